@@ -1,0 +1,26 @@
+"""armik: inverse kinematics for URDF robot arms on Pinocchio."""
+
+from .arm import Arm, load
+from .errors import (
+    ArmikError,
+    ArmikWarning,
+    FrameError,
+    InputError,
+    JointError,
+    OptionError,
+    SolverError,
+    TargetError,
+    URDFError,
+)
+from .result import IKResult
+from .robots import robots
+from .solvers import solvers
+from .targets import Target, parse_target
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Arm", "ArmikError", "ArmikWarning", "FrameError", "IKResult", "InputError",
+    "JointError", "OptionError", "SolverError", "Target", "TargetError", "URDFError",
+    "load", "parse_target", "robots", "solvers",
+]

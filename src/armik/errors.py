@@ -1,0 +1,79 @@
+"""One exception tree for everything armik raises.
+
+Input errors also derive from ``ValueError`` so that generic callers can catch them.
+An unreachable or unconverged target is never an exception: it is an ``IKResult``
+with ``success=False``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+
+class ArmikError(Exception):
+    """Base class of every error armik raises."""
+
+
+class ArmikWarning(UserWarning):
+    """Warnings armik emits (for example a seed clipped into the joint limits)."""
+
+
+class InputError(ArmikError, ValueError):
+    """A value passed by the caller is malformed; the message names it and the fix."""
+
+
+class URDFError(InputError):
+    """The robot description cannot be read or does not describe a usable arm."""
+
+    def __init__(self, message: str, *, path: str | None = None) -> None:
+        super().__init__(message)
+        self.path = path
+
+
+class FrameError(InputError):
+    """An unknown frame, or a base and tip that do not form a chain."""
+
+    def __init__(self, message: str, *, frame: str, candidates: Iterable[str] = ()) -> None:
+        super().__init__(message)
+        self.frame = frame
+        self.candidates = tuple(candidates)
+
+
+class JointError(InputError):
+    """An unknown joint name, or a joint that cannot play the role asked of it."""
+
+    def __init__(self, message: str, *, joint: str, candidates: Iterable[str] = ()) -> None:
+        super().__init__(message)
+        self.joint = joint
+        self.candidates = tuple(candidates)
+
+
+class TargetError(InputError):
+    """A target pose that is not a finite, well-formed pose."""
+
+
+class OptionError(InputError):
+    """A solver option or seed configuration that is out of range or of the wrong shape."""
+
+    def __init__(self, message: str, *, option: str, value: object = None) -> None:
+        super().__init__(message)
+        self.option = option
+        self.value = value
+
+
+class SolverError(InputError):
+    """An unknown solver name, or a solver that does not apply to this arm or target."""
+
+    def __init__(self, message: str, *, solver: str, candidates: Iterable[str] = ()) -> None:
+        super().__init__(message)
+        self.solver = solver
+        self.candidates = tuple(candidates)
+
+
+def listing(names: Iterable[str], limit: int = 40) -> str:
+    """A short comma-separated listing for error messages."""
+    names = list(names)
+    shown = ", ".join(repr(n) for n in names[:limit])
+    if len(names) > limit:
+        shown += f", ... ({len(names) - limit} more)"
+    return shown

@@ -1,0 +1,115 @@
+"""Solver options: one validated, frozen record shared by every solver."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from .errors import OptionError, listing
+
+
+@dataclass(frozen=True)
+class Options:
+    """Options accepted by ``Arm.solve`` and ``Arm.solve_all`` (units: m, rad, s).
+
+    - ``tol_position``, ``tol_orientation``: verification tolerances (1e-6 m, 1e-6 rad).
+    - ``timeout``: wall-clock budget of a numeric solve, restarts included (0.05 s).
+    - ``max_restarts``: random restarts after the first attempt (1000; 0 disables).
+    - ``max_iterations``: iterations per attempt of a numeric solver (100).
+    - ``seed``: random seed of the restarts (0), so the same call gives the same answer.
+    - ``position_only``: ignore the target's orientation.
+    - ``weights``: 6 non-negative weights on (x, y, z, rx, ry, rz) of the error expressed
+      in the tip frame; a zero weight frees that axis (e.g. rotation about the tool axis).
+    - ``qp_solver``: the qpsolvers backend of the ``qp`` solver ("osqp").
+    - ``nullspace_gain``: pull toward q0 in the null space of redundant arms (0.05).
+    - ``max_solutions``: cap on ``solve_all`` answers of numeric solvers (16).
+    """
+
+    tol_position: float = 1e-6
+    tol_orientation: float = 1e-6
+    timeout: float = 0.05
+    max_restarts: int = 1000
+    max_iterations: int = 100
+    seed: int | None = 0
+    position_only: bool = False
+    weights: tuple[float, ...] | None = None
+    qp_solver: str = "osqp"
+    nullspace_gain: float = 0.05
+    max_solutions: int = 16
+
+    @classmethod
+    def from_kwargs(cls, kwargs: dict) -> Options:
+        known = {f.name for f in fields(cls)}
+        for key in kwargs:
+            if key not in known:
+                raise OptionError(f"unknown option {key!r}; options: {listing(sorted(known))}",
+                                  option=key)
+        values = dict(kwargs)
+        for key in ("tol_position", "tol_orientation", "timeout"):
+            if key in values:
+                values[key] = _positive_float(key, values[key])
+        for key in ("max_restarts", "max_iterations", "max_solutions"):
+            if key in values:
+                values[key] = _int(key, values[key], minimum=0 if key == "max_restarts" else 1)
+        if "nullspace_gain" in values:
+            gain = _float(key="nullspace_gain", value=values["nullspace_gain"])
+            if not 0.0 <= gain <= 1.0:
+                raise OptionError(f"nullspace_gain must be in [0, 1], got {gain}",
+                                  option="nullspace_gain", value=gain)
+            values["nullspace_gain"] = gain
+        if values.get("seed") is not None:
+            values["seed"] = _int("seed", values["seed"], minimum=0)
+        if "weights" in values and values["weights"] is not None:
+            values["weights"] = _weights(values["weights"])
+        if "position_only" in values:
+            values["position_only"] = bool(values["position_only"])
+        if "qp_solver" in values and not isinstance(values["qp_solver"], str):
+            raise OptionError(f"qp_solver must be a backend name, got {values['qp_solver']!r}",
+                              option="qp_solver", value=values["qp_solver"])
+        return cls(**values)
+
+    def weight_vector(self, position_only_target: bool) -> np.ndarray:
+        w = np.ones(6) if self.weights is None else np.array(self.weights)
+        if self.position_only or position_only_target:
+            w[3:] = 0.0
+        return w
+
+
+def _float(key: str, value: object) -> float:
+    try:
+        out = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise OptionError(f"{key} must be a number, got {value!r}", option=key,
+                          value=value) from None
+    if not math.isfinite(out):
+        raise OptionError(f"{key} must be finite, got {value!r}", option=key, value=value)
+    return out
+
+
+def _positive_float(key: str, value: object) -> float:
+    out = _float(key, value)
+    if out <= 0:
+        raise OptionError(f"{key} must be > 0, got {value!r}", option=key, value=value)
+    return out
+
+
+def _int(key: str, value: object, minimum: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise OptionError(f"{key} must be an integer >= {minimum}, got {value!r}", option=key,
+                          value=value)
+    if value < minimum:
+        raise OptionError(f"{key} must be >= {minimum}, got {value!r}", option=key, value=value)
+    return int(value)
+
+
+def _weights(value: object) -> tuple[float, ...]:
+    try:
+        w = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        w = np.array([np.nan])
+    if w.shape != (6,) or not np.all(np.isfinite(w)) or np.any(w < 0) or not np.any(w > 0):
+        raise OptionError(f"weights must be 6 finite non-negative numbers (x, y, z, rx, ry, rz), "
+                          f"not all zero; got {value!r}", option="weights", value=value)
+    return tuple(float(v) for v in w)

@@ -1,0 +1,62 @@
+"""The result of an IK solve: one frozen, keyword-only type for every solver."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+
+Status = Literal["converged", "unreachable", "not_converged", "joint_limits"]
+STATUSES: tuple[str, ...] = ("converged", "unreachable", "not_converged", "joint_limits")
+
+
+@dataclass(frozen=True, kw_only=True)
+class IKResult:
+    """One IK answer, verified by Pinocchio forward kinematics.
+
+    ``q``: joint values (rad, m), one per joint, read-only. ``success`` is True only if the
+    FK errors are within tolerance and every joint is within its limits. ``position_error``
+    (m) and ``orientation_error`` (rad, geodesic; None for a position-only target) are
+    measured on ``q``. ``time`` (s) covers the whole call including verification.
+    """
+
+    q: np.ndarray
+    success: bool
+    status: Status
+    reason: str
+    solver: str
+    iterations: int
+    position_error: float
+    orientation_error: float | None
+    time: float
+    branch: str | None = None
+    singular: bool = False
+    restarts: int = 0
+    extra: dict = field(default_factory=dict, compare=False, repr=False)
+
+    def __post_init__(self) -> None:
+        q = np.array(self.q, dtype=float)
+        q.flags.writeable = False
+        object.__setattr__(self, "q", q)
+        if self.status not in STATUSES:
+            raise ValueError(f"status must be one of {STATUSES}, got {self.status!r}")
+
+    def __repr__(self) -> str:
+        ori = "n/a" if self.orientation_error is None else f"{self.orientation_error:.2e} rad"
+        branch = f", branch={self.branch!r}" if self.branch else ""
+        return (f"IKResult(success={self.success}, status={self.status!r}, solver="
+                f"{self.solver!r}{branch}, q={np.round(self.q, 6).tolist()}, "
+                f"position_error={self.position_error:.2e} m, orientation_error={ori}, "
+                f"iterations={self.iterations}, time={self.time * 1e3:.3f} ms, "
+                f"reason={self.reason!r})")
+
+    def as_dict(self) -> dict:
+        """Plain JSON-ready dictionary."""
+        return {
+            "q": self.q.tolist(), "success": self.success, "status": self.status,
+            "reason": self.reason, "solver": self.solver, "iterations": self.iterations,
+            "position_error": self.position_error, "orientation_error": self.orientation_error,
+            "time": self.time, "branch": self.branch, "singular": self.singular,
+            "restarts": self.restarts,
+        }

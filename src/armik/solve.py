@@ -1,0 +1,64 @@
+"""The one path from user input to verified results, shared by every solver."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from .arm import Arm
+from .options import Options
+from .result import IKResult
+from .solvers import registry
+from .solvers.base import Attempt
+from .targets import parse_target
+from .verify import check
+
+_FAILURE_ORDER = {"joint_limits": 0, "not_converged": 1, "unreachable": 2}
+
+
+def solve(arm: Arm, target: object, *, q0: object = None, solver: str = "auto",
+          all_solutions: bool = False, **options: object) -> list[IKResult]:
+    """Parse, choose a solver, run it, verify every answer, rank: best first."""
+    t0 = time.perf_counter()
+    opts = Options.from_kwargs(options)
+    tgt = parse_target(target, arm)
+    seed = arm.seed(q0)
+    spec = registry.choose(solver, arm, tgt, opts)
+    attempts = spec.run(arm, tgt, seed, opts, all_solutions)
+    rows = [_judge(arm, a, tgt, opts) for a in attempts]
+    rows.sort(key=lambda r: _rank(r, seed))
+    if not all_solutions:
+        rows = rows[:1]
+    elapsed = time.perf_counter() - t0
+    return [IKResult(**row, solver=spec.name, time=elapsed) for row in rows]
+
+
+def _judge(arm: Arm, attempt: Attempt, target, opts: Options) -> dict:
+    c = check(arm, attempt.q, target, opts)
+    if c.ok:
+        status, success = "converged", True
+        reason = f"verified by forward kinematics: {c.describe()}"
+        if attempt.claim == "converged" and attempt.reason:
+            reason = f"{attempt.reason}; {reason}"
+    elif attempt.claim == "converged":
+        success = False
+        if c.violations:
+            status = "joint_limits"
+            reason = "outside the joint limits: " + "; ".join(c.violations)
+        else:
+            status = "not_converged"
+            reason = f"forward-kinematics check failed: {c.describe()}"
+    else:
+        status, success, reason = attempt.claim, False, attempt.reason
+    return dict(q=attempt.q, success=success, status=status, reason=reason,
+                iterations=attempt.iterations, position_error=c.position_error,
+                orientation_error=c.orientation_error, branch=attempt.branch,
+                singular=attempt.singular, restarts=attempt.restarts)
+
+
+def _rank(row: dict, seed: np.ndarray) -> tuple:
+    if row["success"]:
+        return (0, float(np.linalg.norm(row["q"] - seed)))
+    ori = row["orientation_error"] or 0.0
+    return (1, _FAILURE_ORDER[row["status"]], row["position_error"] + ori)

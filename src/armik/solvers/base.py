@@ -1,0 +1,20 @@
+"""What a solver hands back before verification."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True, kw_only=True)
+class Attempt:
+    """A candidate answer. ``claim`` is the solver's own status; verification decides."""
+
+    q: np.ndarray
+    claim: str  # "converged", "unreachable", "not_converged", "joint_limits"
+    reason: str
+    iterations: int = 0
+    branch: str | None = None
+    singular: bool = False
+    restarts: int = 0

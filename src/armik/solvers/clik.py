@@ -1,0 +1,54 @@
+"""The classic Pinocchio CLIK loop, kept as a baseline for the benchmark.
+
+As in Pinocchio's inverse-kinematics example: e = log6(T_tip^-1 T_target),
+v = -J^T (J J^T + damp I)^-1 e with J = -Jlog6(...) J_local, q <- integrate(q, v dt) with a
+fixed dt = 0.1, joints clipped into their limits, no restarts. Not chosen by "auto".
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pinocchio as pin
+
+from ..arm import Arm
+from ..options import Options
+from ..targets import Target
+from .base import Attempt
+from .numeric import Problem, converged, evaluate
+from .registry import SolverSpec, register
+
+DT = 0.1
+DAMP = 1e-12
+IT_MAX = 1000
+
+
+def applies(arm: Arm, target: Target | None = None, opts: Options | None = None) -> str | None:
+    return None
+
+
+def run(arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+        ) -> list[Attempt]:
+    deadline = time.perf_counter() + opts.timeout
+    pb = Problem.build(arm, target, q0, opts)
+    s = evaluate(pb, pb.q0_pin.copy())
+    for it in range(IT_MAX):
+        if converged(pb, s):
+            return [Attempt(q=arm.nearest_equivalent(arm.from_pin(s.qp), q0),
+                            claim="converged", iterations=it, reason="CLIK converged")]
+        if time.perf_counter() > deadline:
+            break
+        A, e = s.A, s.e
+        v = A.T @ np.linalg.solve(A @ A.T + DAMP * np.eye(6), e)
+        qn = pin.integrate(arm.model, s.qp, v * DT)
+        arm.clip_pin(qn)
+        s = evaluate(pb, qn)
+    return [Attempt(q=arm.nearest_equivalent(arm.from_pin(s.qp), q0), claim="not_converged",
+                    iterations=it, reason=f"CLIK did not converge: position error {s.pos:.3g} "
+                    f"m, orientation error {s.rot:.3g} rad")]
+
+
+SPEC = register(SolverSpec(
+    name="clik", kind="numeric", enforces_limits=False, priority=0, check=applies, run=run,
+    summary="baseline: Pinocchio's example CLIK loop (fixed step, clipping)", auto=False))

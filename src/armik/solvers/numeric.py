@@ -1,0 +1,191 @@
+"""The iteration shared by the numeric solvers: error, Jacobian, step, restarts.
+
+Error: e = log6(T_tip^-1 T_target), the twist from the tip to the target expressed in the
+tip frame (LOCAL). Its Jacobian is -Jlog6(T_target^-1 T_tip) J_local, so a step dq solving
+A dq = e with A = Jlog6(T_target^-1 T_tip) J_local moves the tip onto the target.
+Configurations are stepped with ``pin.integrate`` so continuous joints (nq = 2) work.
+Per iteration: 3 Pinocchio kinematics calls (computeJointJacobians, updateFramePlacement,
+getFrameJacobian), log6, Jlog6, integrate, and one n x n solve.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from ..arm import Arm
+from ..options import Options
+from ..targets import Target
+from .base import Attempt
+
+MAX_STEP = 0.5  # rad or m per iteration, largest joint move
+STALL_WINDOW = 8  # iterations without a 1 % improvement before a restart
+LAMBDA_MIN = 1e-9
+DUPLICATE_TOL = 1e-4  # rad or m: answers closer than this are one solution
+
+
+@dataclass
+class Problem:
+    """Everything an iteration needs, computed once per solve."""
+
+    arm: Arm
+    T_world_target: pin.SE3
+    w: np.ndarray  # per-axis weights on e
+    mask_pos: np.ndarray
+    mask_rot: np.ndarray
+    tol_pos: float
+    tol_rot: float
+    q0_pin: np.ndarray
+    null_gain: float  # pull toward q0 in the null space (redundant tasks only)
+    lower_v: np.ndarray  # limits per tangent index (-inf/inf for unbounded)
+    upper_v: np.ndarray
+    has_bounds: bool
+
+    @classmethod
+    def build(cls, arm: Arm, target: Target, q0: np.ndarray, opts: Options) -> Problem:
+        w = opts.weight_vector(target.position_only)
+        T_world_target = arm.T_world_base * target.se3()
+        redundant = arm.dof > int(np.count_nonzero(w))
+        return cls(arm, T_world_target, w, w[:3] > 0, w[3:] > 0, 0.5 * opts.tol_position,
+                   0.5 * opts.tol_orientation, arm.to_pin(q0),
+                   opts.nullspace_gain if redundant else 0.0, arm.lower, arm.upper,
+                   arm.bounded.size > 0)
+
+
+@dataclass
+class State:
+    """The pose error at one configuration."""
+
+    qp: np.ndarray
+    e: np.ndarray  # weighted error twist
+    A: np.ndarray  # weighted error Jacobian
+    pos: float
+    rot: float
+
+    @property
+    def cost(self) -> float:
+        return self.pos + self.rot
+
+
+def evaluate(pb: Problem, qp: np.ndarray, with_jacobian: bool = True) -> State:
+    arm, data, model, fid = pb.arm, pb.arm.data, pb.arm.model, pb.arm.tip_frame_id
+    if with_jacobian:
+        pin.computeJointJacobians(model, data, qp)  # also runs forward kinematics
+        T = pin.updateFramePlacement(model, data, fid)
+        J = pin.getFrameJacobian(model, data, fid, pin.LOCAL)
+    else:
+        pin.forwardKinematics(model, data, qp)
+        T = pin.updateFramePlacement(model, data, fid)
+    iMd = T.actInv(pb.T_world_target)
+    e = pin.log6(iMd).vector
+    dp = iMd.translation
+    pos = float(np.sqrt(dp @ dp)) if pb.mask_pos.all() else float(np.linalg.norm(dp[pb.mask_pos]))
+    rot = float(np.linalg.norm(e[3:][pb.mask_rot]))
+    A = None
+    if with_jacobian:
+        A = pin.Jlog6(iMd.inverse()) @ J
+        A *= pb.w[:, None]
+    return State(qp, e * pb.w, A, pos, rot)
+
+
+def converged(pb: Problem, s: State) -> bool:
+    return s.pos <= pb.tol_pos and s.rot <= pb.tol_rot
+
+
+def dls_step(pb: Problem, s: State) -> np.ndarray:
+    """Levenberg-Marquardt step with damping lambda = E + lambda_min (Chan/Sugihara):
+    large far from the target, vanishing near it so convergence stays quadratic."""
+    A, e = s.A, s.e
+    lam = 0.5 * float(e @ e) + LAMBDA_MIN
+    H = A.T @ A
+    H[np.diag_indices_from(H)] += lam
+    g = A.T @ e
+    if pb.null_gain:
+        # The lam * (q0 - q) term acts only where A has no say: a null-space pull.
+        g += lam * pb.null_gain * pin.difference(pb.arm.model, s.qp, pb.q0_pin)
+    return np.linalg.solve(H, g)
+
+
+def limit_box(pb: Problem, s: State) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds on dq that keep every joint within its limits and the step within MAX_STEP."""
+    q = pb.arm.from_pin(s.qp)
+    lb = np.maximum(pb.lower_v - q, -MAX_STEP)
+    ub = np.minimum(pb.upper_v - q, MAX_STEP)
+    return lb, ub
+
+
+def bound_step(dq: np.ndarray) -> np.ndarray:
+    big = np.abs(dq).max()
+    return dq * (MAX_STEP / big) if big > MAX_STEP else dq
+
+
+Step = Callable[[Problem, State], np.ndarray]
+
+
+def descend(pb: Problem, qp: np.ndarray, step: Step, max_iterations: int, deadline: float
+            ) -> tuple[State, int, bool]:
+    """Iterate from ``qp``; returns the best state, the iterations used, and convergence."""
+    arm = pb.arm
+    s = evaluate(pb, qp)
+    best = s
+    since_best = 0
+    for it in range(max_iterations + 1):
+        if converged(pb, s):
+            return s, it, True
+        if it == max_iterations or time.perf_counter() > deadline:
+            break
+        dq = step(pb, s)
+        qn = pin.integrate(arm.model, s.qp, dq)
+        if pb.has_bounds:
+            arm.clip_pin(qn)
+        s = evaluate(pb, qn)
+        if s.cost < 0.99 * best.cost:
+            best, since_best = s, 0
+        else:
+            since_best += 1
+            if since_best >= STALL_WINDOW:
+                break
+    return (s if s.cost < best.cost else best), it, False
+
+
+def run_numeric(arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool,
+                step: Step) -> list[Attempt]:
+    """Descend from q0, then from random seeds until solved, out of time or restarts."""
+    start = time.perf_counter()
+    deadline = start + opts.timeout
+    pb = Problem.build(arm, target, q0, opts)
+    rng = np.random.default_rng(opts.seed)
+    qp = pb.q0_pin.copy()
+    found: list[np.ndarray] = []
+    best: State | None = None
+    iterations = restarts = 0
+    while True:
+        s, its, ok = descend(pb, qp, step, opts.max_iterations, deadline)
+        iterations += its
+        if ok:
+            q = arm.nearest_equivalent(arm.from_pin(s.qp), q0)
+            if not any(np.abs(q - f).max() < DUPLICATE_TOL for f in found):
+                found.append(q)
+            if not all_solutions or len(found) >= opts.max_solutions:
+                break
+        elif best is None or s.cost < best.cost:
+            best = s
+        if restarts >= opts.max_restarts or time.perf_counter() > deadline:
+            break
+        restarts += 1
+        qp = arm.to_pin(arm.random_q(rng))
+    if found:
+        return [Attempt(q=q, claim="converged", iterations=iterations, restarts=restarts,
+                        reason=f"converged after {restarts} restart(s)") for q in found]
+    q = arm.nearest_equivalent(arm.from_pin(best.qp), q0)
+    spent = time.perf_counter() - start
+    why = ("time budget" if spent > opts.timeout else "restart limit")
+    return [Attempt(q=q, claim="not_converged", iterations=iterations, restarts=restarts,
+                    reason=f"no solution within the {why} ({opts.timeout:g} s, {restarts} "
+                           f"restarts); best found: position error {best.pos:.3g} m, "
+                           f"orientation error {best.rot:.3g} rad; the target may be out of "
+                           "reach")]

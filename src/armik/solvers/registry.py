@@ -1,0 +1,84 @@
+"""The solver registry: register once, look up by name, choose with "auto".
+
+A solver is one file that builds a ``SolverSpec`` and calls ``register``. ``check`` returns
+None when the solver applies to an arm and target, else the reason it does not.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Literal
+
+from ..errors import SolverError, listing
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from ..arm import Arm
+    from ..options import Options
+    from ..targets import Target
+    from .base import Attempt
+
+Check = Callable[["Arm", "Target | None", "Options | None"], "str | None"]
+Run = Callable[["Arm", "Target", "np.ndarray", "Options", bool], "list[Attempt]"]
+
+
+@dataclass(frozen=True)
+class SolverSpec:
+    """One registered solver. Higher ``priority`` wins under ``solver="auto"``."""
+
+    name: str
+    kind: Literal["analytic", "numeric"]
+    enforces_limits: bool
+    priority: int
+    check: Check
+    run: Run
+    summary: str
+    auto: bool = True  # False keeps a solver (a baseline) out of "auto"
+
+
+_REGISTRY: dict[str, SolverSpec] = {}
+
+
+def register(spec: SolverSpec) -> SolverSpec:
+    if spec.name in _REGISTRY or spec.name == "auto":
+        raise ValueError(f"solver name {spec.name!r} is taken")
+    _REGISTRY[spec.name] = spec
+    return spec
+
+
+def solvers() -> list[str]:
+    """Registered solver names, highest priority first."""
+    return [s.name for s in sorted(_REGISTRY.values(), key=lambda s: -s.priority)]
+
+
+def get(name: str) -> SolverSpec:
+    try:
+        return _REGISTRY[name]
+    except KeyError:
+        raise SolverError(f"unknown solver {name!r}; registered: {listing(solvers())} or "
+                          "'auto'", solver=name, candidates=solvers()) from None
+
+
+def why_not(name: str, arm: Arm, target: Target | None = None,
+            opts: Options | None = None) -> str | None:
+    """None if solver ``name`` applies, else the check that failed."""
+    return get(name).check(arm, target, opts)
+
+
+def choose(name: str, arm: Arm, target: Target | None = None,
+           opts: Options | None = None) -> SolverSpec:
+    """The solver to run: ``name`` itself (if it applies) or the best one for "auto"."""
+    if name != "auto":
+        spec = get(name)
+        reason = spec.check(arm, target, opts)
+        if reason is not None:
+            raise SolverError(f"solver {name!r} does not apply to arm {arm.name!r}: {reason}",
+                              solver=name, candidates=solvers())
+        return spec
+    for spec in sorted(_REGISTRY.values(), key=lambda s: -s.priority):
+        if spec.auto and spec.check(arm, target, opts) is None:
+            return spec
+    raise SolverError(f"no registered solver applies to arm {arm.name!r}", solver="auto",
+                      candidates=solvers())

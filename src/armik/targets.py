@@ -1,0 +1,127 @@
+"""Turning user input into one Target type.
+
+Accepted: a ``pinocchio.SE3``; a 4x4 homogeneous matrix; a 3-vector (position only);
+``(position, quaternion)`` with the quaternion in (x, y, z, w) order as in Pinocchio and
+scipy (a non-unit quaternion is normalised); a 7-vector (x, y, z, qx, qy, qz, qw); and on a
+planar arm a 2-vector (x, y) in the arm's plane (see ``armik.planar``). Every target is
+expressed in the arm's base frame, in metres.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+import pinocchio as pin
+
+from .errors import TargetError
+
+if TYPE_CHECKING:
+    from .arm import Arm
+
+ROTATION_TOL = 1e-6  # how far from orthonormal a given rotation may be before it is refused
+
+
+@dataclass(frozen=True, eq=False)
+class Target:
+    """A desired tip pose in the base frame. ``rotation`` is None for a position target."""
+
+    position: np.ndarray
+    rotation: np.ndarray | None = None
+    planar: bool = False  # given as (x, y) in the arm's plane
+
+    @property
+    def position_only(self) -> bool:
+        return self.rotation is None
+
+    def se3(self) -> pin.SE3:
+        """The pose as ``T_base_target`` (identity rotation for a position target)."""
+        R = np.eye(3) if self.rotation is None else self.rotation
+        return pin.SE3(R, self.position)
+
+
+def parse_target(value: object, arm: Arm | None = None) -> Target:
+    """Parse any accepted form into a ``Target``; raises ``TargetError`` naming the problem."""
+    if isinstance(value, Target):
+        return value
+    if isinstance(value, pin.SE3):
+        return _pose(value.rotation, value.translation)
+    if isinstance(value, (tuple, list)) and len(value) == 2 and not np.isscalar(value[0]):
+        position, quat = value
+        return _pose(_rotation_from_quat(quat), _vector(position, 3, "target position"))
+    arr = _array(value, "target")
+    if arr.shape == (4, 4):
+        return _from_matrix(arr)
+    if arr.shape == (3,):
+        return Target(_finite(arr, "target position"))
+    if arr.shape == (7,):
+        return _pose(_rotation_from_quat(arr[3:]), _finite(arr[:3], "target position"))
+    if arr.shape == (2,):
+        return _planar(_finite(arr, "target (x, y)"), arm)
+    raise TargetError(
+        f"cannot read a target of shape {arr.shape}: give a pinocchio.SE3, a 4x4 matrix, "
+        "a position (x, y, z), (position, quaternion xyzw), or (x, y) on a planar arm"
+    )
+
+
+def _array(value: object, what: str) -> np.ndarray:
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise TargetError(f"{what} {value!r} is not numeric") from None
+
+
+def _finite(arr: np.ndarray, what: str) -> np.ndarray:
+    if not np.all(np.isfinite(arr)):
+        raise TargetError(f"{what} contains NaN or inf: {arr.tolist()}")
+    return arr.copy()
+
+
+def _vector(value: object, n: int, what: str) -> np.ndarray:
+    arr = _array(value, what)
+    if arr.shape != (n,):
+        raise TargetError(f"{what} must have {n} numbers, got shape {arr.shape}")
+    return _finite(arr, what)
+
+
+def _rotation_from_quat(quat: object) -> np.ndarray:
+    q = _vector(quat, 4, "quaternion (x, y, z, w)")
+    norm = np.linalg.norm(q)
+    if norm < 1e-12:
+        raise TargetError(f"quaternion {q.tolist()} has zero norm: give a unit quaternion "
+                          "(x, y, z, w), e.g. (0, 0, 0, 1) for no rotation")
+    x, y, z, w = q / norm
+    return pin.Quaternion(w, x, y, z).toRotationMatrix()
+
+
+def _from_matrix(M: np.ndarray) -> Target:
+    _finite(M, "4x4 target")
+    if not np.allclose(M[3], [0.0, 0.0, 0.0, 1.0], atol=1e-12, rtol=0):
+        raise TargetError(f"the last row of a 4x4 target must be (0, 0, 0, 1), got "
+                          f"{M[3].tolist()}")
+    return _pose(M[:3, :3], M[:3, 3])
+
+
+def _pose(R: np.ndarray, p: np.ndarray) -> Target:
+    R = _finite(np.asarray(R, float), "target rotation")
+    p = _finite(np.asarray(p, float), "target position")
+    err = np.abs(R.T @ R - np.eye(3)).max()
+    if err > ROTATION_TOL:
+        raise TargetError(f"target rotation is not orthonormal (|R^T R - I| = {err:.2g}): "
+                          "give a rotation matrix, or a quaternion")
+    if np.linalg.det(R) < 0:
+        raise TargetError("target rotation has determinant -1 (a reflection, not a rotation): "
+                          "flip the sign of one axis")
+    # Snap to the nearest rotation so that verification measures the arm, not rounding.
+    U, _, Vt = np.linalg.svd(R)
+    return Target(p, U @ Vt)
+
+
+def _planar(xy: np.ndarray, arm: Arm | None) -> Target:
+    plane = None if arm is None else arm.plane
+    if plane is None:
+        name = "this arm" if arm is None else f"arm {arm.name!r}"
+        raise TargetError(f"a 2-vector target needs a planar arm, and {name} is not planar: "
+                          "give a position (x, y, z) or a full pose")
+    return Target(plane.to_3d(xy), None, planar=True)
