@@ -14,7 +14,7 @@ from .errors import (
 )
 from .result import IKResult
 from .robots import robots
-from .solvers import solvers
+from .ik import solvers
 from .targets import Target, parse_target
 
 __version__ = "0.1.0"

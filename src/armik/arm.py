@@ -227,6 +227,7 @@ class Arm:
                             self.joint_names[i], lo)
         self._set_limits(lower, upper)
         self.prismatic = np.array([t == "prismatic" for t in self.joint_types])
+        self._limit_lists = (self.lower.tolist(), self.upper.tolist(), self.prismatic.tolist())
 
     def _set_limits(self, lower: np.ndarray, upper: np.ndarray) -> None:
         self.lower = lower
@@ -253,6 +254,7 @@ class Arm:
         clone.__dict__.update({k: v for k, v in self.__dict__.items() if k != "_local"})
         clone.__dict__.pop("plane", None)
         clone._set_limits(lower, upper)
+        clone._limit_lists = (lower.tolist(), upper.tolist(), self.prismatic.tolist())
         clone._local = threading.local()
         return clone
 
@@ -347,10 +349,12 @@ class Arm:
         return rng.uniform(lo, hi)
 
     def within_limits(self, q: np.ndarray, tol: float = LIMIT_TOL) -> bool:
-        return bool(np.all(q >= self.lower - tol) and np.all(q <= self.upper + tol))
+        return bool(((q >= self.lower - tol) & (q <= self.upper + tol)).all())
 
     def limit_violations(self, q: np.ndarray, tol: float = LIMIT_TOL) -> list[str]:
         """Human-readable list of the joints outside their limits."""
+        if self.within_limits(q, tol):
+            return []
         bad = np.flatnonzero((q < self.lower - tol) | (q > self.upper + tol))
         return [f"{self.joint_names[i]} = {q[i]:.6g} outside [{self.lower[i]:.6g}, "
                 f"{self.upper[i]:.6g}]" for i in bad]
@@ -388,21 +392,23 @@ class Arm:
         return q
 
     def nearest_equivalent(self, q: np.ndarray, q_ref: np.ndarray) -> np.ndarray:
-        """Shift each angle by multiples of 2 pi to the value nearest ``q_ref`` that stays
-        within the limits (a value already inside is kept if no shift is inside)."""
-        out = np.array(q, dtype=float)
-        for i in range(self.dof):
-            if self.prismatic[i]:
-                continue
-            lo, hi = self.lower[i] - LIMIT_TOL, self.upper[i] + LIMIT_TOL
-            near = q[i] + TWO_PI * round((q_ref[i] - q[i]) / TWO_PI)
-            best = None
-            for c in (near, near - TWO_PI, near + TWO_PI, q[i]):
-                if lo <= c <= hi and (best is None or abs(c - q_ref[i]) < abs(best - q_ref[i])):
-                    best = c
-            if best is not None:
-                out[i] = min(max(best, self.lower[i]), self.upper[i])
-        return out
+        """Shift each angle by a multiple of 2 pi to the value nearest ``q_ref`` that stays
+        within the limits; a joint with no such value keeps its value."""
+        out = []
+        # Plain floats: a per-joint loop over numpy scalars costs ten times more.
+        for qi, ri, lo, hi, linear in zip(np.asarray(q, float).tolist(),
+                                          np.asarray(q_ref, float).tolist(), *self._limit_lists):
+            if not linear:
+                near = qi + TWO_PI * round((ri - qi) / TWO_PI)
+                best = None
+                for c in (near, near - TWO_PI, near + TWO_PI, qi):
+                    if lo - LIMIT_TOL <= c <= hi + LIMIT_TOL and (
+                            best is None or abs(c - ri) < abs(best - ri)):
+                        best = c
+                if best is not None:
+                    qi = min(max(best, lo), hi)
+            out.append(qi)
+        return np.array(out)
 
     # -- structure ------------------------------------------------------------------------
 

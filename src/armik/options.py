@@ -23,7 +23,7 @@ class Options:
     - ``weights``: 6 non-negative weights on (x, y, z, rx, ry, rz) of the error expressed
       in the tip frame; a zero weight frees that axis (e.g. rotation about the tool axis).
     - ``qp_solver``: the qpsolvers backend of the ``qp`` solver ("osqp").
-    - ``nullspace_gain``: pull toward q0 in the null space of redundant arms (0.05).
+    - ``nullspace_gain``: pull toward q0 in the null space of redundant arms (1.0; 0 disables).
     - ``max_solutions``: cap on ``solve_all`` answers of numeric solvers (16).
     """
 
@@ -36,7 +36,7 @@ class Options:
     position_only: bool = False
     weights: tuple[float, ...] | None = None
     qp_solver: str = "osqp"
-    nullspace_gain: float = 0.05
+    nullspace_gain: float = 1.0
     max_solutions: int = 16
 
     @classmethod
@@ -55,8 +55,8 @@ class Options:
                 values[key] = _int(key, values[key], minimum=0 if key == "max_restarts" else 1)
         if "nullspace_gain" in values:
             gain = _float(key="nullspace_gain", value=values["nullspace_gain"])
-            if not 0.0 <= gain <= 1.0:
-                raise OptionError(f"nullspace_gain must be in [0, 1], got {gain}",
+            if not 0.0 <= gain <= 10.0:
+                raise OptionError(f"nullspace_gain must be in [0, 10], got {gain}",
                                   option="nullspace_gain", value=gain)
             values["nullspace_gain"] = gain
         if values.get("seed") is not None:

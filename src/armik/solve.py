@@ -9,8 +9,8 @@ import numpy as np
 from .arm import Arm
 from .options import Options
 from .result import IKResult
-from .solvers import registry
-from .solvers.base import Attempt
+from .ik import registry
+from .ik.base import Attempt
 from .targets import parse_target
 from .verify import check
 

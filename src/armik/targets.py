@@ -113,9 +113,11 @@ def _pose(R: np.ndarray, p: np.ndarray) -> Target:
     if np.linalg.det(R) < 0:
         raise TargetError("target rotation has determinant -1 (a reflection, not a rotation): "
                           "flip the sign of one axis")
-    # Snap to the nearest rotation so that verification measures the arm, not rounding.
-    U, _, Vt = np.linalg.svd(R)
-    return Target(p, U @ Vt)
+    if err > 1e-14:
+        # Snap to the nearest rotation so that verification measures the arm, not rounding.
+        U, _, Vt = np.linalg.svd(R)
+        R = U @ Vt
+    return Target(p, R)
 
 
 def _planar(xy: np.ndarray, arm: Arm | None) -> Target:

@@ -48,12 +48,9 @@ def check(arm: Arm, q: np.ndarray, target: Target, opts: Options) -> Check:
     T = arm.fk_pin(arm.to_pin(q))
     w = opts.weight_vector(target.position_only)
     dp = T.rotation.T @ (target.position - T.translation)
-    if np.all(w[:3] > 0):
-        pos = float(np.linalg.norm(dp))
-    else:
-        pos = float(np.linalg.norm(dp[w[:3] > 0]))
+    pos = float(np.linalg.norm(dp[w[:3] > 0]))
     ori = None
-    if target.rotation is not None and np.any(w[3:] > 0):
+    if target.rotation is not None and w[3:].any():
         dw = pin.log3(T.rotation.T @ target.rotation)
         ori = float(np.linalg.norm(dw[w[3:] > 0]))
     violations = arm.limit_violations(q)

@@ -10,12 +10,14 @@ getFrameJacobian), log6, Jlog6, integrate, and one n x n solve.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
+from scipy.linalg.lapack import dposv
 
 from ..arm import Arm
 from ..options import Options
@@ -23,7 +25,8 @@ from ..targets import Target
 from .base import Attempt
 
 MAX_STEP = 0.5  # rad or m per iteration, largest joint move
-STALL_WINDOW = 8  # iterations without a 1 % improvement before a restart
+STALL_WINDOW = 4  # iterations without a 1 % improvement before a restart
+DAMPING_GAIN = 0.1
 LAMBDA_MIN = 1e-9
 DUPLICATE_TOL = 1e-4  # rad or m: answers closer than this are one solution
 
@@ -44,6 +47,8 @@ class Problem:
     lower_v: np.ndarray  # limits per tangent index (-inf/inf for unbounded)
     upper_v: np.ndarray
     has_bounds: bool
+    full_task: bool  # all six weights are 1: skip the masking
+    diag: np.ndarray  # flat indices of the diagonal of an n x n matrix
 
     @classmethod
     def build(cls, arm: Arm, target: Target, q0: np.ndarray, opts: Options) -> Problem:
@@ -53,16 +58,17 @@ class Problem:
         return cls(arm, T_world_target, w, w[:3] > 0, w[3:] > 0, 0.5 * opts.tol_position,
                    0.5 * opts.tol_orientation, arm.to_pin(q0),
                    opts.nullspace_gain if redundant else 0.0, arm.lower, arm.upper,
-                   arm.bounded.size > 0)
+                   arm.bounded.size > 0, bool(np.all(w == 1.0)),
+                   np.arange(0, arm.dof * arm.dof, arm.dof + 1))
 
 
-@dataclass
+@dataclass(slots=True)
 class State:
     """The pose error at one configuration."""
 
     qp: np.ndarray
     e: np.ndarray  # weighted error twist
-    A: np.ndarray  # weighted error Jacobian
+    A: np.ndarray | None  # weighted error Jacobian
     pos: float
     rot: float
 
@@ -71,51 +77,68 @@ class State:
         return self.pos + self.rot
 
 
-def evaluate(pb: Problem, qp: np.ndarray, with_jacobian: bool = True) -> State:
-    arm, data, model, fid = pb.arm, pb.arm.data, pb.arm.model, pb.arm.tip_frame_id
-    if with_jacobian:
-        pin.computeJointJacobians(model, data, qp)  # also runs forward kinematics
-        T = pin.updateFramePlacement(model, data, fid)
-        J = pin.getFrameJacobian(model, data, fid, pin.LOCAL)
-    else:
-        pin.forwardKinematics(model, data, qp)
-        T = pin.updateFramePlacement(model, data, fid)
-    iMd = T.actInv(pb.T_world_target)
+def evaluate(pb: Problem, qp: np.ndarray) -> State:
+    """Pose error and its Jacobian at ``qp``."""
+    model, data, fid = pb.arm.model, pb.arm.data, pb.arm.tip_frame_id
+    pin.computeJointJacobians(model, data, qp)  # also runs forward kinematics
+    iMd = pin.updateFramePlacement(model, data, fid).actInv(pb.T_world_target)
     e = pin.log6(iMd).vector
     dp = iMd.translation
-    pos = float(np.sqrt(dp @ dp)) if pb.mask_pos.all() else float(np.linalg.norm(dp[pb.mask_pos]))
-    rot = float(np.linalg.norm(e[3:][pb.mask_rot]))
-    A = None
-    if with_jacobian:
-        A = pin.Jlog6(iMd.inverse()) @ J
+    if pb.full_task:
+        pos = math.sqrt(dp.dot(dp))
+        rot = math.sqrt(e[3:].dot(e[3:]))
+        A = pin.Jlog6(iMd.inverse()) @ pin.getFrameJacobian(model, data, fid, pin.LOCAL)
+    else:
+        pos = float(np.linalg.norm(dp[pb.mask_pos]))
+        rot = float(np.linalg.norm(e[3:][pb.mask_rot]))
+        A = pin.Jlog6(iMd.inverse()) @ pin.getFrameJacobian(model, data, fid, pin.LOCAL)
         A *= pb.w[:, None]
-    return State(qp, e * pb.w, A, pos, rot)
+        e = e * pb.w
+    return State(qp, e, A, pos, rot)
 
 
 def converged(pb: Problem, s: State) -> bool:
     return s.pos <= pb.tol_pos and s.rot <= pb.tol_rot
 
 
-def dls_step(pb: Problem, s: State) -> np.ndarray:
-    """Levenberg-Marquardt step with damping lambda = E + lambda_min (Chan/Sugihara):
-    large far from the target, vanishing near it so convergence stays quadratic."""
+def damping(s: State) -> float:
+    """lambda = c E + lambda_min with E = |e|^2 / 2 (Chan, Sugihara): large far from the
+    target, vanishing near it so that the final convergence stays quadratic. c = 0.1 was
+    measured against c = 1 and 0.01 with ``armik bench`` (fewer iterations on the Panda)."""
+    return DAMPING_GAIN * 0.5 * float(s.e.dot(s.e)) + LAMBDA_MIN
+
+
+def normal_equations(pb: Problem, s: State) -> tuple[np.ndarray, np.ndarray]:
+    """H = A^T A + lambda I and g = A^T e (+ null-space pull) of the damped step H dq = g."""
     A, e = s.A, s.e
-    lam = 0.5 * float(e @ e) + LAMBDA_MIN
+    lam = damping(s)
     H = A.T @ A
-    H[np.diag_indices_from(H)] += lam
+    H.flat[pb.diag] += lam
     g = A.T @ e
     if pb.null_gain:
-        # The lam * (q0 - q) term acts only where A has no say: a null-space pull.
-        g += lam * pb.null_gain * pin.difference(pb.arm.model, s.qp, pb.q0_pin)
-    return np.linalg.solve(H, g)
+        # lam * k * (q0 - q) only acts where A has no say: a pull in the null space. k
+        # shrinks with the error so that the pull fades out and convergence stays fast.
+        k = pb.null_gain * min(1.0, math.sqrt(2.0 * lam))
+        g += (lam * k) * pin.difference(pb.arm.model, s.qp, pb.q0_pin)
+    return H, g
+
+
+def dls_step(pb: Problem, s: State) -> np.ndarray:
+    """Levenberg-Marquardt step, limits ignored."""
+    return solve_spd(*normal_equations(pb, s))
+
+
+def solve_spd(H: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """Solve H x = g for symmetric positive definite H (LAPACK dposv: 4x cheaper than
+    numpy.linalg.solve at this size)."""
+    _, x, info = dposv(H, g)
+    return x if info == 0 else np.linalg.lstsq(H, g, rcond=None)[0]
 
 
 def limit_box(pb: Problem, s: State) -> tuple[np.ndarray, np.ndarray]:
-    """Bounds on dq that keep every joint within its limits and the step within MAX_STEP."""
+    """Bounds on dq that keep every joint within its limits (-inf/inf where unlimited)."""
     q = pb.arm.from_pin(s.qp)
-    lb = np.maximum(pb.lower_v - q, -MAX_STEP)
-    ub = np.minimum(pb.upper_v - q, MAX_STEP)
-    return lb, ub
+    return pb.lower_v - q, pb.upper_v - q
 
 
 def bound_step(dq: np.ndarray) -> np.ndarray:

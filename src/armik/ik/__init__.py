@@ -1,4 +1,4 @@
-"""IK solvers. Importing this package registers every built-in solver."""
+"""IK solvers, one per file. Importing this package registers every built-in solver."""
 
 from . import clik, dls, planar2r, qp  # noqa: F401  (registration side effects)
 from .registry import SolverSpec, choose, get, register, solvers, why_not
