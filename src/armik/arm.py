@@ -235,8 +235,9 @@ class Arm:
         self.lower.flags.writeable = False
         self.upper.flags.writeable = False
         self.bounded = np.flatnonzero(np.isfinite(lower) | np.isfinite(upper))
-        self.middle = np.where(np.isfinite(lower) & np.isfinite(upper), 0.5 * (lower + upper), 0.0)
-        self.middle = np.clip(self.middle, lower, upper)
+        finite = np.isfinite(lower) & np.isfinite(upper)
+        self.middle = np.zeros(self.dof)
+        self.middle[finite] = 0.5 * (lower[finite] + upper[finite])
         self.neutral = np.clip(np.zeros(self.dof), lower, upper)
         # Bounds in Pinocchio's tangent space indices, for the solvers.
         self._bounded_q = self._idx_q[self.bounded]
@@ -416,6 +417,27 @@ class Arm:
     def plane(self) -> Plane | None:
         """The plane of motion if every joint is revolute with parallel axes, else None."""
         return find_plane(self)
+
+    @cached_property
+    def reach(self) -> float:
+        """An upper bound (m) on the distance from the first joint's origin to the tip:
+        the sum of the fixed distances between consecutive joint origins and the tip, plus
+        the travel of prismatic joints (inf for an unlimited prismatic joint)."""
+        qp = self.to_pin(self.middle)
+        self.fk_pin(qp)
+        data = self.data
+        pts = [data.oMi[j].translation.copy() for j in range(1, self.model.njoints)]
+        pts.append(data.oMf[self.tip_frame_id].translation.copy())
+        total = sum(float(np.linalg.norm(b - a)) for a, b in zip(pts, pts[1:]))
+        for i in np.flatnonzero(self.prismatic):
+            total += max(abs(self.lower[i] - self.middle[i]), abs(self.upper[i] - self.middle[i]))
+        return total
+
+    @cached_property
+    def first_joint_origin(self) -> np.ndarray:
+        """Origin of the first joint in the base frame (m); it never moves."""
+        self.fk_pin(self.to_pin(self.middle))
+        return self.T_base_world.act(self.data.oMi[1].translation)
 
     def frames(self) -> list[str]:
         return [f.name for f in self.model.frames if f.name != "universe"]

@@ -180,6 +180,9 @@ def run_numeric(arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_sol
     """Descend from q0, then from random seeds until solved, out of time or restarts."""
     start = time.perf_counter()
     deadline = start + opts.timeout
+    far = out_of_reach(arm, target, opts)
+    if far is not None:
+        return [far]
     pb = Problem.build(arm, target, q0, opts)
     rng = np.random.default_rng(opts.seed)
     qp = pb.q0_pin.copy()
@@ -207,8 +210,23 @@ def run_numeric(arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_sol
     q = arm.nearest_equivalent(arm.from_pin(best.qp), q0)
     spent = time.perf_counter() - start
     why = ("time budget" if spent > opts.timeout else "restart limit")
+    errors = f"position error {best.pos:.3g} m"
+    if pb.mask_rot.any():
+        errors += f", orientation error {best.rot:.3g} rad"
     return [Attempt(q=q, claim="not_converged", iterations=iterations, restarts=restarts,
                     reason=f"no solution within the {why} ({opts.timeout:g} s, {restarts} "
-                           f"restarts); best found: position error {best.pos:.3g} m, "
-                           f"orientation error {best.rot:.3g} rad; the target may be out of "
+                           f"restarts); best found: {errors}; the target may be out of "
                            "reach")]
+
+
+def out_of_reach(arm: Arm, target: Target, opts: Options) -> Attempt | None:
+    """A target farther from the first joint than the arm's reach bound is unreachable."""
+    w = opts.weight_vector(target.position_only)
+    if not w[:3].all():
+        return None
+    distance = float(np.linalg.norm(target.position - arm.first_joint_origin))
+    if distance <= arm.reach + opts.tol_position:
+        return None
+    return Attempt(q=arm.middle.copy(), claim="unreachable",
+                   reason=f"target is {distance:.4g} m from the first joint, beyond the arm's "
+                          f"reach of at most {arm.reach:.4g} m; q is the seed, unchanged")

@@ -1,0 +1,228 @@
+"""The ``armik`` command line.
+
+Exit codes: 0 success, 1 no solution found (unreachable, not converged, joint limits),
+2 bad input (one line on stderr, no traceback).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import warnings
+from collections.abc import Sequence
+
+import numpy as np
+import pinocchio as pin
+
+from . import bench as bench_mod
+from .arm import Arm, load
+from .errors import ArmikError
+from .ik import registry
+from .result import IKResult
+from .robots import CATALOGUE, SPATIAL_ARMS
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = _parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 2
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", category=DeprecationWarning)
+            return int(args.func(args) or 0)
+    except ArmikError as exc:
+        print(f"armik: error: {exc}", file=sys.stderr)
+        return 2
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line, exit code 2
+        print(f"armik: error: {message} (see 'armik {self.prog.split()[-1]} --help')",
+              file=sys.stderr)
+        raise SystemExit(2)
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="armik", description="Inverse kinematics for URDF robot arms.")
+    sub = p.add_subparsers(title="commands", parser_class=_Parser)
+
+    def command(name: str, helptext: str, example: str, func) -> argparse.ArgumentParser:
+        c = sub.add_parser(name, help=helptext, description=helptext,
+                           epilog=f"example: {example}",
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
+        c.set_defaults(func=func)
+        return c
+
+    command("robots", "list the bundled arms with their DOF and tip", "armik robots", _robots)
+
+    c = command("info", "show an arm's chain and which solvers apply",
+                "armik info panda", _info)
+    c.add_argument("robot", help="bundled robot name or path to a URDF file")
+    c.add_argument("--base", help="base frame (default: URDF root)")
+    c.add_argument("--tip", help="tip frame (default: catalogue tip or the single leaf)")
+
+    c = command("solve", "solve IK for a target pose",
+                "armik solve ur5 --xyz 0.4 0.2 0.3 --rpy 3.1416 0 0 --solver dls", _solve)
+    c.add_argument("robot", help="bundled robot name or path to a URDF file")
+    c.add_argument("--base", help="base frame")
+    c.add_argument("--tip", help="tip frame")
+    c.add_argument("--xyz", nargs=3, type=float, required=True, metavar=("X", "Y", "Z"),
+                   help="target position in the base frame (m)")
+    rot = c.add_mutually_exclusive_group()
+    rot.add_argument("--rpy", nargs=3, type=float, metavar=("R", "P", "Y"),
+                     help="target roll, pitch, yaw (rad); omit both for a position target")
+    rot.add_argument("--quat", nargs=4, type=float, metavar=("X", "Y", "Z", "W"),
+                     help="target quaternion, (x, y, z, w) order")
+    c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
+    c.add_argument("--all", action="store_true", help="print every solution found")
+    c.add_argument("--q0", nargs="+", type=float, help="seed joint values (rad, m)")
+    c.add_argument("--timeout", type=float, help="time budget of numeric solvers (s)")
+    c.add_argument("--json", action="store_true", help="machine-readable output")
+
+    command("demo", "solve a target on the 2-link arm and on the Panda", "armik demo", _demo)
+
+    c = command("bench", "benchmark the numeric solvers (TRAC-IK's protocol)",
+                "armik bench --arms panda ur5 -n 2000", _bench)
+    c.add_argument("--arms", nargs="+", default=list(SPATIAL_ARMS), help="arms to run")
+    c.add_argument("--solvers", nargs="+", default=list(bench_mod.DEFAULT_SOLVERS))
+    c.add_argument("-n", type=int, default=2000, help="targets per arm (2000)")
+    c.add_argument("--budget", type=float, default=0.005, help="seconds per solve (0.005)")
+    c.add_argument("--seed", type=int, default=42, help="sampling seed (42)")
+    c.add_argument("--tol", type=float, default=1e-5, help="success tolerance, m and rad")
+    c.add_argument("--json", action="store_true", help="print JSON rows")
+
+    c = command("compare", "compare the analytic and numeric solvers, optionally with plots",
+                "armik compare -n 500 --plot out/", _compare)
+    c.add_argument("-n", type=int, default=500, help="targets per experiment (500)")
+    c.add_argument("--seed", type=int, default=7)
+    c.add_argument("--plot", metavar="DIR", help="write PNG figures to DIR (needs matplotlib)")
+    c.add_argument("--json", action="store_true", help="print JSON")
+    return p
+
+
+def _load(args: argparse.Namespace) -> Arm:
+    return load(args.robot, base=getattr(args, "base", None), tip=getattr(args, "tip", None))
+
+
+def _robots(args: argparse.Namespace) -> int:
+    print(f"{'name':<16} {'dof':>3}  {'tip':<24} description")
+    for name, spec in CATALOGUE.items():
+        arm = load(name)
+        print(f"{name:<16} {arm.dof:>3}  {arm.tip:<24} {spec.description}")
+    return 0
+
+
+def _info(args: argparse.Namespace) -> int:
+    arm = _load(args)
+    print(f"{arm.name}: {arm.dof} joints from {arm.base!r} to {arm.tip!r}  ({arm.source})")
+    print(f"  {'joint':<24} {'type':<11} {'lower':>9} {'upper':>9}  link to next (m)")
+    for i, (name, jtype) in enumerate(zip(arm.joint_names, arm.joint_types)):
+        print(f"  {name:<24} {jtype:<11} {arm.lower[i]:>9.4f} {arm.upper[i]:>9.4f}  "
+              f"{_link_lengths(arm)[i]:.4f}")
+    if arm.plane is not None:
+        print(f"  planar: all axes along {np.round(arm.plane.normal, 6).tolist()}")
+    print("solvers:")
+    for name in registry.solvers():
+        reason = registry.why_not(name, arm)
+        spec = registry.get(name)
+        state = "applies" if reason is None else f"does not apply: {reason}"
+        print(f"  {name:<9} ({spec.kind}) {state}")
+    print(f"  auto -> {registry.choose('auto', arm).name}")
+    return 0
+
+
+def _link_lengths(arm: Arm) -> list[float]:
+    """Distance from each joint's origin to the next joint's (the last: to the tip)."""
+    arm.fk(arm.middle)
+    data = arm.data
+    points = [data.oMi[j].translation for j in range(1, arm.model.njoints)]
+    points.append(data.oMf[arm.tip_frame_id].translation)
+    return [float(np.linalg.norm(b - a)) for a, b in zip(points, points[1:])]
+
+
+def _target(args: argparse.Namespace) -> object:
+    xyz = np.array(args.xyz)
+    if args.quat is not None:
+        return (xyz, np.array(args.quat))
+    if args.rpy is not None:
+        return pin.SE3(pin.rpy.rpyToMatrix(*args.rpy), xyz)
+    return xyz
+
+
+def _solve(args: argparse.Namespace) -> int:
+    arm = _load(args)
+    options = {} if args.timeout is None else {"timeout": args.timeout}
+    target = _target(args)
+    if args.all:
+        results = arm.solve_all(target, q0=args.q0, solver=args.solver, **options)
+    else:
+        results = [arm.solve(target, q0=args.q0, solver=args.solver, **options)]
+    if args.json:
+        print(json.dumps({"robot": arm.name, "joints": arm.joint_names,
+                          "results": [r.as_dict() for r in results]}, indent=2))
+    else:
+        for i, r in enumerate(results):
+            if len(results) > 1:
+                print(f"solution {i + 1} of {len(results)}")
+            _print_result(arm, r)
+    return 0 if any(r.success for r in results) else 1
+
+
+def _print_result(arm: Arm, r: IKResult, indent: str = "  ") -> None:
+    print(f"{indent}status   : {r.status} (success={r.success}), solver {r.solver}"
+          + (f", branch {r.branch}" if r.branch else ""))
+    for name, value, jtype in zip(arm.joint_names, r.q, arm.joint_types):
+        unit = "m" if jtype == "prismatic" else f"rad ({math.degrees(value):9.4f} deg)"
+        print(f"{indent}  {name:<22} {value: .9f} {unit}")
+    ori = "n/a" if r.orientation_error is None else f"{r.orientation_error:.2e} rad"
+    print(f"{indent}FK error : position {r.position_error:.2e} m, orientation {ori}")
+    print(f"{indent}time     : {r.time * 1e3:.3f} ms, {r.iterations} iterations")
+    print(f"{indent}reason   : {r.reason}")
+
+
+def _demo(args: argparse.Namespace) -> int:
+    ok = True
+    arm = load("planar_2link")
+    print("planar_2link (l1 = 1.0 m, l2 = 0.8 m), target (x, y) = (1.2, 0.5):")
+    for r in arm.solve_all([1.2, 0.5]):
+        _print_result(arm, r)
+        ok &= r.success
+    panda = load("panda")
+    q_goal = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.6])
+    T = panda.fk(q_goal)
+    print(f"\npanda: full pose target at p = {np.round(T.translation, 4).tolist()} m, "
+          "seeded from the mid-limit configuration:")
+    r = panda.solve(T, q0=panda.middle)
+    _print_result(panda, r)
+    ok &= r.success
+    return 0 if ok else 1
+
+
+def _bench(args: argparse.Namespace) -> int:
+    rows = bench_mod.run(args.arms, args.solvers, n=args.n, budget=args.budget,
+                         seed=args.seed, tol=args.tol, show_progress=not args.json)
+    if args.json:
+        print(json.dumps([r.as_dict() for r in rows], indent=2))
+    else:
+        print(f"N = {args.n} targets per arm, budget {args.budget * 1e3:g} ms, tolerance "
+              f"{args.tol:g} m / rad, seeds from mid-limits, sampling seed {args.seed}")
+        print(bench_mod.table(rows))
+    return 0
+
+
+def _compare(args: argparse.Namespace) -> int:
+    from . import compare
+
+    report = compare.run(n=args.n, seed=args.seed)
+    if args.json:
+        print(json.dumps(report.as_dict(), indent=2))
+    else:
+        print(report.text())
+    if args.plot:
+        for path in compare.plot(report, args.plot):
+            print(f"wrote {path}")
+    return 0

@@ -1,0 +1,66 @@
+"""Shared fixtures and the one table of tolerances the tests use."""
+
+from __future__ import annotations
+
+import functools
+import warnings
+
+import numpy as np
+import pytest
+
+import armik
+
+#: Tolerances, in one place (m, rad).
+TOL = {
+    "closed_form": 1e-12,  # analytic answers against the textbook formula
+    "fk_exact": 1e-9,  # two FK implementations of the same URDF
+    "solve": 1e-6,  # the default verification tolerance
+    "fd_jacobian": 1e-6,  # finite differences, central, h = 1e-6
+}
+
+ALL_ROBOTS = armik.robots()
+SPATIAL = ["panda", "ur5", "ur10", "kinova", "xarm7", "z1"]
+
+
+@functools.cache
+def arm(name: str) -> armik.Arm:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return armik.load(name)
+
+
+@pytest.fixture
+def rng() -> np.random.Generator:
+    return np.random.default_rng(1234)
+
+
+def write_urdf(tmp_path, text: str, name: str = "robot.urdf"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def two_link_urdf(*, l1: float = 1.0, l2: float = 0.8, origin: str = "0 0 0",
+                  rpy: str = "0 0 0", limits2: tuple[float, float] = (-3.14159, 3.14159),
+                  tool: str = "0 0 0", axis: str = "0 0 1") -> str:
+    """A 2R arm whose axes are along ``axis``; the links run along x."""
+    lo2, hi2 = limits2
+    return f"""<?xml version="1.0"?>
+<robot name="two_link">
+  <link name="world"/><link name="base"/><link name="l1"/><link name="l2"/><link name="tip"/>
+  <joint name="mount" type="fixed"><parent link="world"/><child link="base"/>
+    <origin xyz="{origin}" rpy="{rpy}"/></joint>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+    <origin xyz="0 0 0"/><axis xyz="{axis}"/>
+    <limit lower="-3.14159" upper="3.14159" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>
+    <origin xyz="{l1} 0 0"/><axis xyz="{axis}"/>
+    <limit lower="{lo2}" upper="{hi2}" effort="1" velocity="1"/></joint>
+  <joint name="tool" type="fixed"><parent link="l2"/><child link="tip"/>
+    <origin xyz="{tool_xyz(l2, tool)}"/></joint>
+</robot>"""
+
+
+def tool_xyz(l2: float, tool: str) -> str:
+    dx, dy, dz = (float(v) for v in tool.split())
+    return f"{l2 + dx} {dy} {dz}"
