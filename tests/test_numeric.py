@@ -1,0 +1,230 @@
+"""Numeric IK: round trips on every arm, Jacobians against finite differences, limits."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+import qpsolvers
+from scipy import sparse
+
+import armik
+from armik.ik import numeric, qp
+from armik.options import Options
+from armik.targets import parse_target
+
+from .conftest import SPATIAL, TOL, arm
+
+NUMERIC = ["dls", "qp"]
+
+
+@pytest.mark.parametrize("solver", NUMERIC)
+@pytest.mark.parametrize("name", SPATIAL + ["scara", "planar_3link"])
+def test_round_trip(name, solver):
+    a = arm(name)
+    rng = np.random.default_rng(7)
+    for _ in range(8):
+        q_true = a.random_q(rng)
+        target = a.fk(q_true) if name != "planar_3link" else a.fk(q_true).translation
+        r = a.solve(target, q0=a.middle, solver=solver)
+        assert r.success, r
+        T = a.fk(r.q)
+        assert np.linalg.norm(T.translation - a.fk(q_true).translation) <= TOL["solve"]
+        if name != "planar_3link":
+            assert np.linalg.norm(pin.log6(T.actInv(a.fk(q_true))).angular) <= TOL["solve"]
+        assert a.within_limits(np.asarray(r.q), tol=0.0)
+
+
+def test_frame_jacobian_against_finite_differences(rng):
+    a = arm("kinova")  # continuous joints: steps through pin.integrate
+    for _ in range(5):
+        q = a.random_q(rng)
+        J = a.jacobian(q)  # LOCAL
+        qp_ = a.to_pin(q)
+        T0 = a.fk_pin(qp_)
+        h = 1e-6
+        for i in range(a.dof):
+            dv = np.zeros(a.dof)
+            dv[i] = h
+            Tp = a.fk_pin(pin.integrate(a.model, qp_, dv))
+            Tm = a.fk_pin(pin.integrate(a.model, qp_, -dv))
+            fd = (pin.log6(T0.actInv(Tp)).vector - pin.log6(T0.actInv(Tm)).vector) / (2 * h)
+            np.testing.assert_allclose(J[:, i], fd, atol=TOL["fd_jacobian"])
+
+
+def test_error_jacobian_against_finite_differences(rng):
+    a = arm("panda")
+    target = parse_target(a.fk(a.random_q(rng)))
+    pb = numeric.Problem.build(a, target, a.middle, Options())
+    qp_ = a.to_pin(a.random_q(rng))
+    s = numeric.evaluate(pb, qp_)
+    h = 1e-6
+    for i in range(a.dof):
+        dv = np.zeros(a.dof)
+        dv[i] = h
+        ep = numeric.evaluate(pb, pin.integrate(a.model, qp_, dv)).e
+        em = numeric.evaluate(pb, pin.integrate(a.model, qp_, -dv)).e
+        # e decreases along A: de/dq = -A
+        np.testing.assert_allclose(-(ep - em) / (2 * h), s.A[:, i], atol=1e-6)
+
+
+@pytest.mark.parametrize("solver", NUMERIC)
+def test_fixed_point_takes_no_iteration(solver, rng):
+    a = arm("ur5")
+    q = a.random_q(rng)
+    r = a.solve(a.fk(q), q0=q, solver=solver)
+    assert r.success and r.iterations <= 1 and np.allclose(r.q, q, atol=1e-9)
+
+
+def test_qp_stays_inside_limits_near_limits():
+    a = arm("panda")
+    rng = np.random.default_rng(3)
+    for _ in range(10):
+        q_true = a.random_q(rng)
+        j = rng.integers(a.dof)
+        q_true[j] = a.upper[j] - 1e-4 if rng.random() < 0.5 else a.lower[j] + 1e-4
+        r = a.solve(a.fk(q_true), q0=a.middle, solver="qp")
+        assert r.success and a.within_limits(np.asarray(r.q), tol=0.0)
+
+
+def test_qp_problem_has_the_expected_bounds(rng):
+    a = arm("panda")
+    pb = numeric.Problem.build(a, parse_target(a.fk(a.random_q(rng))), a.middle, Options())
+    q = a.random_q(rng)
+    s = numeric.evaluate(pb, a.to_pin(q))
+    problem = qp.build_problem(pb, s)
+    assert isinstance(problem, qpsolvers.Problem)
+    np.testing.assert_allclose(problem.lb, a.lower - q)
+    np.testing.assert_allclose(problem.ub, a.upper - q)
+    P = problem.P.toarray()
+    np.testing.assert_allclose(P, P.T)
+    assert np.all(np.linalg.eigvalsh(P) > 0)
+
+
+def test_active_set_matches_qp_backend(rng):
+    solved = 0
+    for _ in range(200):
+        A = rng.normal(size=(6, 7))
+        H = A.T @ A + 1e-3 * np.eye(7)
+        g = A.T @ rng.normal(size=6)
+        lb, ub = -rng.uniform(0.0, 0.3, 7), rng.uniform(0.0, 0.3, 7)
+        dq = np.linalg.solve(H, g)
+        x = qp.active_set_guess(H, g, lb, ub, dq)
+        if x is None:
+            continue
+        solved += 1
+        ref = qpsolvers.solve_qp(sparse.csc_matrix(H), -g, lb=lb, ub=ub, solver="osqp",
+                                 eps_abs=1e-10, eps_rel=1e-10, max_iter=200000,
+                                 raise_error=False)
+        obj = lambda v: 0.5 * v @ H @ v - g @ v  # noqa: E731
+        assert np.all(x >= lb - 1e-12) and np.all(x <= ub + 1e-12)
+        assert obj(x) <= obj(np.clip(ref, lb, ub)) + 1e-9
+    assert solved > 150  # the shortcut must do most of the work
+
+
+def test_kinova_continuous_answer_nearest_q0(rng):
+    a = arm("kinova")
+    q_true = a.random_q(rng)
+    q0 = q_true.copy()
+    q0[0] += 2 * math.pi + 0.05  # a continuous joint wound one turn further
+    q0 = np.clip(q0, a.lower, a.upper)
+    r = a.solve(a.fk(q_true), q0=q0)
+    assert r.success
+    assert abs(r.q[0] - q0[0]) < math.pi  # the equivalent angle near q0, not in (-pi, pi]
+
+
+@pytest.mark.parametrize("name", SPATIAL)
+def test_out_of_workspace_is_a_result(name):
+    a = arm(name)
+    r = a.solve([5.0, 5.0, 5.0], timeout=0.01)
+    assert not r.success and r.status in ("unreachable", "not_converged")
+    assert np.all(np.isfinite(r.q)) and r.reason
+
+
+def test_not_converged_within_budget_is_honest():
+    a = arm("panda")
+    # within the reach bound (0.99 m from the shoulder) but beyond the real reach (~0.86 m)
+    p = a.first_joint_origin + np.array([0.95, 0.0, 0.0])
+    assert np.linalg.norm(p - a.first_joint_origin) < a.reach
+    r = a.solve(p, timeout=0.01, solver="dls")
+    assert not r.success and r.status == "not_converged" and "best found" in r.reason
+    assert r.position_error > 1e-6 or (r.orientation_error or 0) > 1e-6
+
+
+def test_solve_all_distinct_verified(rng):
+    a = arm("ur5")
+    T = a.fk(a.random_q(rng))
+    results = a.solve_all(T, timeout=0.1, max_solutions=6)
+    assert len(results) >= 2
+    ok = [r for r in results if r.success]
+    assert len(ok) == len(results)
+    for i in range(len(ok)):
+        for j in range(i):
+            assert np.abs(ok[i].q - ok[j].q).max() > 1e-4
+
+
+def test_position_only_and_free_tool_axis(rng):
+    a = arm("panda")
+    T = a.fk(a.random_q(rng))
+    r = a.solve(T.translation)
+    assert r.success and r.orientation_error is None
+    r = a.solve(T, position_only=True)
+    assert r.success and r.orientation_error is None
+    turned = T * pin.SE3(pin.rpy.rpyToMatrix(0, 0, 2.0), np.zeros(3))
+    r = a.solve(turned, weights=(1, 1, 1, 1, 1, 0))
+    assert r.success
+    z_goal, z_got = turned.rotation[:, 2], a.fk(r.q).rotation[:, 2]
+    assert np.linalg.norm(z_goal - z_got) < 1e-5
+
+
+def test_redundant_arm_prefers_solution_near_q0(rng):
+    a = arm("panda")
+    for _ in range(5):
+        q_true = a.random_q(rng)
+        q0 = np.clip(q_true + rng.normal(scale=0.1, size=a.dof), a.lower, a.upper)
+        r = a.solve(a.fk(q_true), q0=q0)
+        assert r.success and np.linalg.norm(r.q - q0) < np.linalg.norm(q_true - q0) + 0.2
+
+
+def test_same_seed_same_answer(rng):
+    a = arm("z1")
+    T = a.fk(a.random_q(rng))
+    q0 = a.random_q(rng)
+    r1 = a.solve(T, q0=q0, seed=5)
+    r2 = a.solve(T, q0=q0, seed=5)
+    np.testing.assert_array_equal(r1.q, r2.q)
+
+
+def test_clik_baseline_runs():
+    a = arm("ur5")
+    q = np.array([0.3, -1.2, 1.4, -1.0, 0.8, 0.2])
+    r = a.solve(a.fk(q), q0=q + 0.05, solver="clik", timeout=0.5)
+    assert r.solver == "clik" and r.success
+
+
+def test_prismatic_solution(rng):
+    a = arm("scara")
+    q_true = a.random_q(rng)
+    r = a.solve(a.fk(q_true).translation, q0=a.middle)
+    assert r.success
+    i = a.joint_index("quill")
+    assert a.lower[i] <= r.q[i] <= a.upper[i]
+
+
+def test_unconverged_never_success(monkeypatch):
+    # A solver that lies about convergence is caught by the FK check.
+    from armik.ik import dls
+    from armik.ik.base import Attempt
+
+    def liar(arm_, target, q0, opts, all_solutions):
+        return [Attempt(q=q0 + 0.1, claim="converged", reason="trust me")]
+
+    import dataclasses
+
+    spec = armik.ik.registry.get("dls")
+    monkeypatch.setitem(armik.ik.registry._REGISTRY, "dls", dataclasses.replace(spec, run=liar))
+    r = arm("ur5").solve(arm("ur5").fk(arm("ur5").middle))
+    assert not r.success and r.status == "not_converged" and "check failed" in r.reason
+    assert dls  # the real module is untouched
