@@ -1,0 +1,29 @@
+"""Helpers shared by the examples: the --out folder for figures."""
+
+from __future__ import annotations
+
+import argparse
+import tempfile
+from pathlib import Path
+
+
+def out_dir(description: str, figures: bool = True) -> Path | None:
+    """Parse the command line; the folder for figures (None for an example without any)."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--out", help="folder for figures (default: a temporary folder)")
+    args = parser.parse_args()
+    if not figures:
+        return None
+    path = Path(args.out) if args.out else Path(tempfile.mkdtemp(prefix="armik-"))
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+def pyplot():
+    """matplotlib on the Agg backend: figures go to files, never to a window."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt

@@ -1,0 +1,239 @@
+"""Analytic versus numeric IK on the same seeded targets: accuracy, speed, success, branches.
+
+``run`` measures; ``Report.text`` prints the tables; ``plot`` writes PNG figures with
+matplotlib (the ``plot`` extra) on the Agg backend, never opening a window.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .arm import Arm, load
+from .ik import registry
+
+BUDGET = 0.005  # s per numeric solve, as in the benchmark
+TIGHT = 1e-12  # m, position tolerance on the 2-link arm
+
+
+@dataclass
+class Row:
+    arm: str
+    solver: str
+    targets: int
+    reachable: int
+    success_rate: float  # % of reachable targets solved
+    honest_failures: float  # % of unreachable targets reported as failures
+    pos_err_median: float
+    pos_err_max: float
+    time_median_ms: float
+    time_p95_ms: float
+    same_branch_as_q0: float | None = None  # % (2-link arm only)
+    max_diff_to_closed_form: float | None = None  # rad, same branch as q0
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+@dataclass
+class Report:
+    rows: list[Row] = field(default_factory=list)
+    samples: dict = field(default_factory=dict)  # per (arm, solver): raw arrays for plots
+    singular: list[dict] = field(default_factory=list)
+
+    def as_dict(self) -> dict:
+        return {"rows": [r.as_dict() for r in self.rows], "near_boundary": self.singular}
+
+    def text(self) -> str:
+        lines = [
+            "| arm | solver | targets | reachable | success % | failures reported % | "
+            "pos err median (m) | pos err max (m) | time median (ms) | time p95 (ms) | "
+            "lands on q0's branch % | max abs(q - closed form) (rad) |",
+            "|" + "---|" * 12,
+        ]
+        for r in self.rows:
+            def fmt(v, spec):
+                return "-" if v is None else format(v, spec)
+            lines.append(
+                f"| {r.arm} | {r.solver} | {r.targets} | {r.reachable} | {r.success_rate:.1f} | "
+                f"{r.honest_failures:.1f} | {r.pos_err_median:.1e} | {r.pos_err_max:.1e} | "
+                f"{r.time_median_ms:.3f} | {r.time_p95_ms:.3f} | "
+                f"{fmt(r.same_branch_as_q0, '.1f')} | {fmt(r.max_diff_to_closed_form, '.1e')} |")
+        lines.append(f"(planar_2link solved to {TIGHT:g} m; the others to the default 1e-6 "
+                     f"m / rad; numeric budget {BUDGET * 1e3:g} ms)")
+        if self.singular:
+            lines += ["", "Near the stretched boundary of planar_2link (r = 1.8 m - d):",
+                      "| solver | d (m) | success | iterations | singular flag | q2 (rad) |",
+                      "|---|---|---|---|---|---|"]
+            for s in self.singular:
+                lines.append(f"| {s['solver']} | {s['d']:.0e} | {s['success']} | "
+                             f"{s['iterations']} | {s['singular']} | {s['q2']:.2e} |")
+        return "\n".join(lines)
+
+
+def _planar_targets(arm: Arm, n: int, rng: np.random.Generator) -> np.ndarray:
+    """Targets uniform in a disc 20 % larger than the reach: some are unreachable."""
+    radius = 1.2 * arm.reach * np.sqrt(rng.uniform(size=n))
+    angle = rng.uniform(-math.pi, math.pi, size=n)
+    return np.stack([radius * np.cos(angle), radius * np.sin(angle)], axis=1)
+
+
+def _measure(arm: Arm, solver: str, targets, q0s, reachable: np.ndarray, key: str,
+             report: Report, closed_form: list | None = None, **options) -> Row:
+    times, errors, successes, branch_hits, diffs = [], [], [], [], []
+    for i, (target, q0) in enumerate(zip(targets, q0s)):
+        t = time.perf_counter()
+        r = arm.solve(target, q0=q0, solver=solver, timeout=BUDGET, seed=i, **options)
+        times.append(time.perf_counter() - t)
+        successes.append(r.success)
+        if r.success:
+            errors.append(r.position_error)
+        if closed_form is not None and r.success and arm.dof == 2:
+            same = np.sign(r.q[1]) == np.sign(q0[1])
+            branch_hits.append(same)
+            ref = closed_form[i]
+            if ref is not None and same:
+                d = np.asarray(r.q) - ref
+                diffs.append(float(np.abs(np.arctan2(np.sin(d), np.cos(d))).max()))
+    successes = np.array(successes)
+    ms = np.array(times) * 1e3
+    err = np.array(errors) if errors else np.array([np.nan])
+    report.samples[key] = {"time_ms": ms, "pos_err": err, "success": successes}
+    n_reach = int(reachable.sum())
+    return Row(
+        arm=arm.name, solver=solver, targets=len(targets), reachable=n_reach,
+        success_rate=100.0 * successes[reachable].mean() if n_reach else float("nan"),
+        honest_failures=100.0 * (~successes[~reachable]).mean() if (~reachable).any()
+        else 100.0,
+        pos_err_median=float(np.nanmedian(err)), pos_err_max=float(np.nanmax(err)),
+        time_median_ms=float(np.median(ms)), time_p95_ms=float(np.percentile(ms, 95)),
+        same_branch_as_q0=100.0 * float(np.mean(branch_hits)) if branch_hits else None,
+        max_diff_to_closed_form=max(diffs) if diffs else None,
+    )
+
+
+def run(n: int = 500, seed: int = 7, spatial: tuple[str, ...] = ("panda", "ur5")) -> Report:
+    """Run every experiment; ``n`` targets each."""
+    report = Report()
+    rng = np.random.default_rng(seed)
+
+    # The 2-link arm: the closed form against the numeric solvers.
+    arm2 = load("planar_2link")
+    xy = _planar_targets(arm2, n, rng)
+    r = np.linalg.norm(xy, axis=1)
+    reachable = (r <= 1.8) & (r >= 0.2)
+    # q0 alternates between an elbow-up and an elbow-down seed near the right answer's
+    # shoulder angle, so the numeric solvers' branch choice can be read off.
+    q0s = [np.array([math.atan2(p[1], p[0]), 0.8 if i % 2 == 0 else -0.8])
+           for i, p in enumerate(xy)]
+    closed = []
+    for p, q0 in zip(xy, q0s):
+        results = arm2.solve_all(p, solver="planar2r")
+        same = [x for x in results if x.success and np.sign(x.q[1]) == np.sign(q0[1])]
+        closed.append(np.asarray(same[0].q) if same else None)
+    report.samples["distance"] = np.minimum(np.abs(r - 1.8), np.abs(r - 0.2)) * np.where(
+        reachable, 1, -1)
+    for solver in ("planar2r", "dls", "qp"):
+        # A tight tolerance, so that the joints can be compared with the closed form.
+        report.rows.append(_measure(arm2, solver, xy, q0s, reachable,
+                                    f"planar_2link/{solver}", report, closed,
+                                    tol_position=TIGHT))
+
+    for d in (1e-3, 1e-6, 1e-9, 0.0):
+        target = [1.8 - d, 0.0]
+        for solver in ("planar2r", "dls", "qp"):
+            res = arm2.solve(target, q0=[0.1, 0.3], solver=solver, timeout=BUDGET)
+            report.singular.append({"solver": solver, "d": d, "success": res.success,
+                                    "iterations": res.iterations, "singular": res.singular,
+                                    "q2": float(res.q[1])})
+
+    # The 3-link planar arm: no closed form registered, the numeric solvers only.
+    arm3 = load("planar_3link")
+    xy3 = _planar_targets(arm3, n, rng)
+    r3 = np.linalg.norm(xy3, axis=1)
+    # Links 1.0, 0.8, 0.5: every point within 2.3 m is reachable without limits; the
+    # limits of joints 2 and 3 (+-2.8 rad) leave the innermost disc (< 0.1 m) doubtful.
+    reach3 = (r3 <= 2.3) & (r3 >= 0.1)
+    q03 = [arm3.middle] * n
+    for solver in ("dls", "qp"):
+        report.rows.append(_measure(arm3, solver, xy3, q03, reach3, f"planar_3link/{solver}",
+                                    report))
+
+    # 6 and 7 DOF arms: full poses of random reachable configurations.
+    for name in spatial:
+        arm = load(name)
+        poses = [arm.fk(arm.random_q(rng)) for _ in range(n)]
+        q0 = [arm.middle] * n
+        for solver in ("dls", "qp", "auto"):
+            report.rows.append(_measure(arm, solver, poses, q0, np.ones(n, bool),
+                                        f"{name}/{solver}", report))
+    return report
+
+
+def plot(report: Report, out_dir: str | Path) -> list[Path]:
+    """Write the comparison figures as PNG files into ``out_dir``; returns their paths."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    keys = [k for k in report.samples if "/" in k]
+    paths = []
+
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    for k in keys:
+        err = report.samples[k]["pos_err"]
+        err = err[np.isfinite(err)]
+        if err.size:
+            ax.hist(np.log10(np.maximum(err, 1e-18)), bins=40, histtype="step", label=k)
+    ax.set_xlabel("log10 position error of successful solves (m)")
+    ax.set_ylabel("count")
+    ax.set_title("Accuracy: verified position error")
+    ax.legend(fontsize=7)
+    paths.append(_save(fig, out / "error_histogram.png"))
+
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    data = [report.samples[k]["time_ms"] for k in keys]
+    ax.boxplot(data, showfliers=False)
+    ax.set_xticks(range(1, len(keys) + 1), keys, rotation=45, ha="right", fontsize=7)
+    ax.set_yscale("log")
+    ax.set_ylabel("time per solve (ms), log scale")
+    ax.set_title("Speed: time per solve, verification included")
+    paths.append(_save(fig, out / "time_distribution.png"))
+
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    dist = report.samples["distance"]
+    bins = np.linspace(-0.4, 0.8, 25)
+    centers = 0.5 * (bins[1:] + bins[:-1])
+    styles = {"planar2r": ("o", "-", 9), "dls": ("s", "--", 6), "qp": ("^", ":", 4)}
+    for solver in ("planar2r", "dls", "qp"):
+        marker, line, size = styles[solver]
+        ok = report.samples[f"planar_2link/{solver}"]["success"]
+        rate = [ok[(dist >= a) & (dist < b)].mean() * 100 if ((dist >= a) & (dist < b)).any()
+                else np.nan for a, b in zip(bins[:-1], bins[1:])]
+        ax.plot(centers, rate, marker=marker, linestyle=line, markersize=size, label=solver)
+    ax.axvline(0.0, color="k", lw=0.8)
+    ax.set_xlabel("signed distance to the workspace boundary (m); < 0 is unreachable")
+    ax.set_ylabel("success %")
+    ax.set_title("planar_2link: success versus distance to the boundary")
+    ax.legend()
+    paths.append(_save(fig, out / "success_vs_boundary.png"))
+    return paths
+
+
+def _save(fig, path: Path) -> Path:
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+    return path
+
+
+__all__ = ["Report", "Row", "plot", "registry", "run"]

@@ -1,0 +1,42 @@
+"""Every example script runs headless and says what it should."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+EXAMPLES = sorted((Path(__file__).parents[1] / "examples").glob("[0-9][0-9]_*.py"))
+EXPECT = {
+    "01_worked_example.py": ["elbow-up", "elbow-down", "88.209"],
+    "02_elbow_branches.py": ["elbow_branches.png"],
+    "03_failure_modes.py": ["too far", "inner dead zone", "singular=True"],
+    "04_choosing_a_solution.py": ["picks elbow-down", "joint_limits"],
+    "05_six_and_seven_dof.py": ["ur5", "panda", "unreachable"],
+    "06_cartesian_path.py": ["100/100 points reached"],
+    "07_compare.py": ["planar2r", "success_vs_boundary.png"],
+}
+
+
+def test_every_example_is_listed():
+    assert [p.name for p in EXAMPLES] == sorted(EXPECT)
+
+
+@pytest.mark.parametrize("script", EXAMPLES, ids=lambda p: p.name)
+def test_example_runs(script, tmp_path):
+    proc = subprocess.run([sys.executable, str(script), "--out", str(tmp_path)],
+                          capture_output=True, text=True, timeout=300,
+                          env={"MPLBACKEND": "Agg", "PATH": "", **_env()})
+    assert proc.returncode == 0, proc.stderr
+    for words in EXPECT[script.name]:
+        assert words in proc.stdout, proc.stdout
+    for png in tmp_path.glob("*.png"):
+        assert png.stat().st_size > 10_000
+
+
+def _env() -> dict:
+    import os
+
+    return {k: v for k, v in os.environ.items() if k != "DISPLAY"}
