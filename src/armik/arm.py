@@ -294,7 +294,7 @@ class Arm:
     def from_pin(self, qp: np.ndarray) -> np.ndarray:
         """Pinocchio configuration -> joint values; continuous angles in (-pi, pi]."""
         if self._identity_q:
-            return np.array(qp, dtype=float)
+            return qp.copy()
         out = np.empty(self.dof)
         out[self._simple] = qp[self._idx_q[self._simple]]
         c = self._idx_q[self._cont]
@@ -303,6 +303,9 @@ class Arm:
 
     def clip_pin(self, qp: np.ndarray) -> None:
         """Clip the bounded joints of a Pinocchio configuration into their limits, in place."""
+        if self._identity_q:  # no continuous joint: q is qp, and inf bounds clip nothing
+            np.minimum(np.maximum(qp, self.lower, out=qp), self.upper, out=qp)
+            return
         b = self._bounded_q
         qp[b] = np.clip(qp[b], self.lower[self.bounded], self.upper[self.bounded])
 

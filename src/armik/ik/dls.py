@@ -20,16 +20,15 @@ from .numeric import Problem, State, bound_step, normal_equations, run_numeric, 
 from .registry import SolverSpec, register
 
 
-ON_LIMIT = 1e-10  # rad or m
-
-
-def step(pb: Problem, s: State) -> np.ndarray:
-    H, g = normal_equations(pb, s)
+def step(pb: Problem, s: State, mu: float = 1.0) -> np.ndarray:
+    H, g = normal_equations(pb, s, mu)
     dq = solve_spd(H, g)
     if pb.has_bounds:
         q = pb.arm.from_pin(s.qp)
-        blocked = ((q <= pb.lower_v + ON_LIMIT) & (dq < 0)) | ((q >= pb.upper_v - ON_LIMIT)
-                                                              & (dq > 0))
+        at_lower, at_upper = q <= pb.near_lower, q >= pb.near_upper
+        if not (at_lower | at_upper).any():  # the usual case: no joint on a limit
+            return bound_step(dq)
+        blocked = (at_lower & (dq < 0)) | (at_upper & (dq > 0))
         if blocked.any():
             free = ~blocked
             dq = np.zeros_like(dq)

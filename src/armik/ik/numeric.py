@@ -24,10 +24,13 @@ from ..options import Options
 from ..targets import Target
 from .base import Attempt
 
-MAX_STEP = 0.5  # rad or m per iteration, largest joint move
+MAX_STEP = 1.0  # rad or m: longest step (Euclidean)
 STALL_WINDOW = 4  # iterations without a 1 % improvement before a restart
 DAMPING_GAIN = 0.1
+MU_UP, MU_DOWN = 4.0, 0.5  # damping multiplier after a rejected / accepted step
+CAREFUL_BELOW = 1e-2  # |e|^2 under which a stalled attempt turns careful, not restarts
 LAMBDA_MIN = 1e-9
+ON_LIMIT = 1e-10  # rad or m: a joint this close to a limit rests on it
 DUPLICATE_TOL = 1e-4  # rad or m: answers closer than this are one solution
 
 
@@ -48,7 +51,9 @@ class Problem:
     upper_v: np.ndarray
     has_bounds: bool
     full_task: bool  # all six weights are 1: skip the masking
-    diag: np.ndarray  # flat indices of the diagonal of an n x n matrix
+    eye: np.ndarray  # n x n identity
+    near_lower: np.ndarray  # lower + ON_LIMIT: a joint at or below this rests on its limit
+    near_upper: np.ndarray
 
     @classmethod
     def build(cls, arm: Arm, target: Target, q0: np.ndarray, opts: Options) -> Problem:
@@ -59,7 +64,8 @@ class Problem:
                    0.5 * opts.tol_orientation, arm.to_pin(q0),
                    opts.nullspace_gain if redundant else 0.0, arm.lower, arm.upper,
                    arm.bounded.size > 0, bool(np.all(w == 1.0)),
-                   np.arange(0, arm.dof * arm.dof, arm.dof + 1))
+                   np.eye(arm.dof), arm.lower + ON_LIMIT,
+                   arm.upper - ON_LIMIT)
 
 
 @dataclass(slots=True)
@@ -72,9 +78,7 @@ class State:
     pos: float
     rot: float
 
-    @property
-    def cost(self) -> float:
-        return self.pos + self.rot
+    sq: float  # the least-squares objective |e|^2 (weighted)
 
 
 def evaluate(pb: Problem, qp: np.ndarray) -> State:
@@ -84,36 +88,36 @@ def evaluate(pb: Problem, qp: np.ndarray) -> State:
     iMd = pin.updateFramePlacement(model, data, fid).actInv(pb.T_world_target)
     e = pin.log6(iMd).vector
     dp = iMd.translation
+    A = pin.Jlog6(iMd.inverse()) @ pin.getFrameJacobian(model, data, fid, pin.LOCAL)
     if pb.full_task:
         pos = math.sqrt(dp.dot(dp))
         rot = math.sqrt(e[3:].dot(e[3:]))
-        A = pin.Jlog6(iMd.inverse()) @ pin.getFrameJacobian(model, data, fid, pin.LOCAL)
     else:
         pos = float(np.linalg.norm(dp[pb.mask_pos]))
         rot = float(np.linalg.norm(e[3:][pb.mask_rot]))
-        A = pin.Jlog6(iMd.inverse()) @ pin.getFrameJacobian(model, data, fid, pin.LOCAL)
         A *= pb.w[:, None]
         e = e * pb.w
-    return State(qp, e, A, pos, rot)
+    return State(qp, e, A, pos, rot, float(e.dot(e)))
 
 
 def converged(pb: Problem, s: State) -> bool:
     return s.pos <= pb.tol_pos and s.rot <= pb.tol_rot
 
 
-def damping(s: State) -> float:
-    """lambda = c E + lambda_min with E = |e|^2 / 2 (Chan, Sugihara): large far from the
+def damping(s: State, mu: float = 1.0) -> float:
+    """lambda = mu c E + lambda_min with E = |e|^2 / 2 (Chan, Sugihara): large far from the
     target, vanishing near it so that the final convergence stays quadratic. c = 0.1 was
-    measured against c = 1 and 0.01 with ``armik bench`` (fewer iterations on the Panda)."""
-    return DAMPING_GAIN * 0.5 * float(s.e.dot(s.e)) + LAMBDA_MIN
+    measured against c = 1 and 0.01 with ``armik bench`` (fewer iterations on the Panda);
+    mu grows when a step is rejected (see ``descend``)."""
+    return mu * DAMPING_GAIN * 0.5 * s.sq + LAMBDA_MIN
 
 
-def normal_equations(pb: Problem, s: State) -> tuple[np.ndarray, np.ndarray]:
+def normal_equations(pb: Problem, s: State, mu: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
     """H = A^T A + lambda I and g = A^T e (+ null-space pull) of the damped step H dq = g."""
     A, e = s.A, s.e
-    lam = damping(s)
+    lam = damping(s, mu)
     H = A.T @ A
-    H.flat[pb.diag] += lam
+    H += lam * pb.eye
     g = A.T @ e
     if pb.null_gain:
         # lam * k * (q0 - q) only acts where A has no say: a pull in the null space. k
@@ -123,9 +127,9 @@ def normal_equations(pb: Problem, s: State) -> tuple[np.ndarray, np.ndarray]:
     return H, g
 
 
-def dls_step(pb: Problem, s: State) -> np.ndarray:
+def dls_step(pb: Problem, s: State, mu: float = 1.0) -> np.ndarray:
     """Levenberg-Marquardt step, limits ignored."""
-    return solve_spd(*normal_equations(pb, s))
+    return solve_spd(*normal_equations(pb, s, mu))
 
 
 def solve_spd(H: np.ndarray, g: np.ndarray) -> np.ndarray:
@@ -142,37 +146,56 @@ def limit_box(pb: Problem, s: State) -> tuple[np.ndarray, np.ndarray]:
 
 
 def bound_step(dq: np.ndarray) -> np.ndarray:
-    big = np.abs(dq).max()
-    return dq * (MAX_STEP / big) if big > MAX_STEP else dq
+    """Scale the step down to a Euclidean length of at most MAX_STEP (rad or m)."""
+    n2 = dq.dot(dq)
+    return dq * (MAX_STEP / math.sqrt(n2)) if n2 > MAX_STEP * MAX_STEP else dq
 
 
-Step = Callable[[Problem, State], np.ndarray]
+Step = Callable[[Problem, State, float], np.ndarray]
 
 
 def descend(pb: Problem, qp: np.ndarray, step: Step, max_iterations: int, deadline: float
             ) -> tuple[State, int, bool]:
-    """Iterate from ``qp``; returns the best state, the iterations used, and convergence."""
+    """Iterate from ``qp``; returns the last state, the iterations used, and convergence.
+
+    Steps are taken without an acceptance test at first: the overshoots help to leave
+    poor basins (measured: accepting only improving steps from the start lowered the
+    success rate on the UR5, Z1 and Panda). When the error stops falling by 2 % within
+    ``STALL_WINDOW`` iterations while already small, the iteration turns careful:
+    Levenberg-Marquardt acceptance, where a step that does not lower |e|^2 is rejected and
+    the damping multiplier mu raised, which ends the cycling between two poses seen near
+    singular boundaries. A careful attempt that stalls too gives way to a restart.
+    """
     arm = pb.arm
     s = evaluate(pb, qp)
-    best = s
+    best_sq = s.sq
+    mu = 1.0
+    careful = False
     since_best = 0
+    model, clip = arm.model, arm.clip_pin if pb.has_bounds else None
     for it in range(max_iterations + 1):
         if converged(pb, s):
             return s, it, True
         if it == max_iterations or time.perf_counter() > deadline:
             break
-        dq = step(pb, s)
-        qn = pin.integrate(arm.model, s.qp, dq)
-        if pb.has_bounds:
-            arm.clip_pin(qn)
-        s = evaluate(pb, qn)
-        if s.cost < 0.99 * best.cost:
-            best, since_best = s, 0
+        qn = pin.integrate(model, s.qp, step(pb, s, mu))
+        if clip is not None:
+            clip(qn)
+        trial = evaluate(pb, qn)
+        if not careful or trial.sq < s.sq:
+            s = trial
+            mu = max(1.0, mu * MU_DOWN)
+        else:
+            mu *= MU_UP
+        if s.sq < 0.98 * best_sq:
+            best_sq, since_best = s.sq, 0
         else:
             since_best += 1
             if since_best >= STALL_WINDOW:
-                break
-    return (s if s.cost < best.cost else best), it, False
+                if careful or s.sq > CAREFUL_BELOW:
+                    break
+                careful, since_best = True, 0
+    return s, it, False
 
 
 def run_numeric(arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool,
@@ -198,7 +221,7 @@ def run_numeric(arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_sol
                 found.append(q)
             if not all_solutions or len(found) >= opts.max_solutions:
                 break
-        elif best is None or s.cost < best.cost:
+        elif best is None or s.sq < best.sq:
             best = s
         if restarts >= opts.max_restarts or time.perf_counter() > deadline:
             break

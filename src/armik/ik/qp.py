@@ -36,9 +36,9 @@ BACKEND_OPTIONS = {
 }
 
 
-def build_problem(pb: Problem, s: State) -> qpsolvers.Problem:
+def build_problem(pb: Problem, s: State, mu: float = 1.0) -> qpsolvers.Problem:
     """The QP of one step, as a ``qpsolvers.Problem`` (sparse P for osqp, box bounds)."""
-    P, g = normal_equations(pb, s)
+    P, g = normal_equations(pb, s, mu)
     lb, ub = limit_box(pb, s)
     return qpsolvers.Problem(sparse.csc_matrix(P), -g, lb=lb, ub=ub)
 
@@ -76,8 +76,8 @@ def active_set_guess(H: np.ndarray, g: np.ndarray, lb: np.ndarray, ub: np.ndarra
 def make_step(backend: str):
     options = BACKEND_OPTIONS.get(backend, {})
 
-    def step(pb: Problem, s: State) -> np.ndarray:
-        H, g = normal_equations(pb, s)
+    def step(pb: Problem, s: State, mu: float = 1.0) -> np.ndarray:
+        H, g = normal_equations(pb, s, mu)
         dq = solve_spd(H, g)
         lb, ub = limit_box(pb, s)
         if not ((dq >= lb) & (dq <= ub)).all():
@@ -85,7 +85,8 @@ def make_step(backend: str):
             if guess is not None:
                 dq = guess
             else:
-                sol = qpsolvers.solve_problem(build_problem(pb, s), solver=backend, **options)
+                sol = qpsolvers.solve_problem(build_problem(pb, s, mu), solver=backend,
+                                              **options)
                 dq = sol.x if sol.found and sol.x is not None else dq
             dq = np.clip(dq, lb, ub)  # backends meet bounds only to their tolerance
         return bound_step(dq)
