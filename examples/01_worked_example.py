@@ -15,6 +15,8 @@ arm = armik.load("planar_2link")
 for r in arm.solve_all([1.2, 0.5]):
     q1, q2 = (math.degrees(v) for v in r.q)
     tip = arm.fk(r.q).translation
-    print(f"{r.branch:<10}  q1 = {q1:8.3f} deg  q2 = {q2:8.3f} deg  "
-          f"tip = ({tip[0]:.12f}, {tip[1]:.12f})  FK error = {r.position_error:.1e} m")
+    print(
+        f"{r.branch:<10}  q1 = {q1:8.3f} deg  q2 = {q2:8.3f} deg  "
+        f"tip = ({tip[0]:.12f}, {tip[1]:.12f})  FK error = {r.position_error:.1e} m"
+    )
     assert r.success and r.position_error < 1e-12

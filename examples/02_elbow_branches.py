@@ -20,12 +20,17 @@ for radius in (geo.l1 + geo.l2, abs(geo.l1 - geo.l2)):
 for target, color in (((1.2, 0.5), "C0"), ((-0.6, 1.1), "C1"), ((0.3, -1.4), "C2")):
     for r in arm.solve_all(list(target)):
         shoulder_angle = geo.alpha1 + geo.s1 * r.q[0]
-        elbow = geo.shoulder + geo.l1 * np.array([np.cos(shoulder_angle),
-                                                  np.sin(shoulder_angle)])
+        elbow = geo.shoulder + geo.l1 * np.array([np.cos(shoulder_angle), np.sin(shoulder_angle)])
         tip = arm.fk(r.q).translation[:2]
         style = "-" if r.branch == "elbow-up" else "--"
-        ax.plot([0, elbow[0], tip[0]], [0, elbow[1], tip[1]], style, color=color, marker="o",
-                label=f"{target} {r.branch}")
+        ax.plot(
+            [0, elbow[0], tip[0]],
+            [0, elbow[1], tip[1]],
+            style,
+            color=color,
+            marker="o",
+            label=f"{target} {r.branch}",
+        )
     ax.plot(*target, "x", color=color, markersize=12)
 ax.set_aspect("equal")
 ax.set_title("2-link arm: both elbow solutions; dotted: reachable annulus")

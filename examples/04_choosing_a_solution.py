@@ -16,7 +16,9 @@ for q0 in ([0.0, 1.0], [1.0, -1.0]):
 
 limited = arm.with_limits({"joint2": (0.0, math.pi)})  # the elbow may only bend one way
 r = limited.solve(target, q0=[1.0, 0.0])
-print(f"joint2 limited to [0, pi], q0 = [1, 0]: picks {r.branch}, q = "
-      f"{[round(float(v), 4) for v in r.q]}")
+print(
+    f"joint2 limited to [0, pi], q0 = [1, 0]: picks {r.branch}, q = "
+    f"{[round(float(v), 4) for v in r.q]}"
+)
 for res in limited.solve_all(target):
     print(f"  {res.branch:<10} success={res.success} status={res.status}")

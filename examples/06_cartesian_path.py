@@ -26,8 +26,15 @@ rows = np.array(rows, dtype=float)
 fig, ax = plt.subplots(figsize=(7, 4))
 ax.plot(line[:, 0], rows[:, 0], label="q1")
 ax.plot(line[:, 0], rows[:, 1], label="q2")
-ax.fill_between(line[:, 0], -1.5, 1.5, where=rows[:, 2] == 0, color="red", alpha=0.15,
-                label="unreachable: closest configuration")
+ax.fill_between(
+    line[:, 0],
+    -1.5,
+    1.5,
+    where=rows[:, 2] == 0,
+    color="red",
+    alpha=0.15,
+    label="unreachable: closest configuration",
+)
 ax.axvline(1.8, color="k", lw=0.8, ls=":")
 ax.set_xlabel("x along the path (m)")
 ax.set_ylabel("joint angle (rad)")
@@ -35,8 +42,11 @@ ax.set_title("2-link arm along a line through the stretched singularity")
 ax.legend(fontsize=8)
 fig.savefig(out / "path_2link.png", dpi=110)
 first_fail = line[np.argmax(rows[:, 2] == 0), 0]
-print(f"2-link: {int(rows[:, 2].sum())}/{len(line)} points reached; first unreachable at "
-      f"x = {first_fail:.3f} m; largest joint jump {np.abs(np.diff(rows[:, :2], axis=0)).max():.3f} rad")
+jump = np.abs(np.diff(rows[:, :2], axis=0)).max()
+print(
+    f"2-link: {int(rows[:, 2].sum())}/{len(line)} points reached; first unreachable at "
+    f"x = {first_fail:.3f} m; largest joint jump {jump:.3f} rad"
+)
 
 panda = armik.load("panda")
 q = np.array([0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8])
@@ -58,6 +68,8 @@ ax.set_ylabel("joint angle (rad)")
 ax.set_title("Panda along a 15 cm circle, fixed orientation")
 ax.legend(fontsize=7)
 fig.savefig(out / "path_panda.png", dpi=110)
-print(f"panda: {ok}/{len(angles)} points reached; largest joint jump "
-      f"{np.abs(np.diff(qs, axis=0)).max():.3f} rad")
+print(
+    f"panda: {ok}/{len(angles)} points reached; largest joint jump "
+    f"{np.abs(np.diff(qs, axis=0)).max():.3f} rad"
+)
 print(f"figures in {out}")

@@ -40,9 +40,16 @@ def write_urdf(tmp_path, text: str, name: str = "robot.urdf"):
     return path
 
 
-def two_link_urdf(*, l1: float = 1.0, l2: float = 0.8, origin: str = "0 0 0",
-                  rpy: str = "0 0 0", limits2: tuple[float, float] = (-3.14159, 3.14159),
-                  tool: str = "0 0 0", axis: str = "0 0 1") -> str:
+def two_link_urdf(
+    *,
+    l1: float = 1.0,
+    l2: float = 0.8,
+    origin: str = "0 0 0",
+    rpy: str = "0 0 0",
+    limits2: tuple[float, float] = (-3.14159, 3.14159),
+    tool: str = "0 0 0",
+    axis: str = "0 0 1",
+) -> str:
     """A 2R arm whose axes are along ``axis``; the links run along x."""
     lo2, hi2 = limits2
     return f"""<?xml version="1.0"?>

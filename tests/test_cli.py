@@ -25,16 +25,18 @@ def test_robots_and_info(capsys):
 
 
 def test_solve_success_json(capsys):
-    code, out, _ = run(capsys, "solve", "planar_2link", "--xyz", "1.2", "0.5", "0", "--all",
-                       "--json")
+    code, out, _ = run(
+        capsys, "solve", "planar_2link", "--xyz", "1.2", "0.5", "0", "--all", "--json"
+    )
     assert code == 0
     data = json.loads(out)
     assert {r["branch"] for r in data["results"]} == {"elbow-up", "elbow-down"}
 
 
 def test_solve_full_pose(capsys):
-    code, out, _ = run(capsys, "solve", "ur5", "--xyz", "0.4", "0.2", "0.3", "--rpy",
-                       "3.1416", "0", "0")
+    code, out, _ = run(
+        capsys, "solve", "ur5", "--xyz", "0.4", "0.2", "0.3", "--rpy", "3.1416", "0", "0"
+    )
     assert code == 0 and "converged" in out
 
 
@@ -43,20 +45,25 @@ def test_solve_unreachable_exit_1(capsys):
     assert code == 1 and "unreachable" in out
 
 
-@pytest.mark.parametrize("argv, words", [
-    (["solve", "nope", "--xyz", "1", "0", "0"], "neither a bundled robot"),
-    (["solve", "ur5", "--xyz", "1", "0"], "expected 3 arguments"),
-    (["solve", "ur5", "--xyz", "nan", "0", "0"], "NaN"),
-    (["solve", "ur5", "--xyz", "0.4", "0", "0", "--quat", "0", "0", "0", "0"], "zero norm"),
-    (["solve", "ur5", "--xyz", "0.4", "0", "0", "--solver", "newton"], "unknown solver"),
-    (["solve", "ur5", "--xyz", "0.4", "0", "0", "--solver", "planar2r"], "does not apply"),
-    (["solve", "ur5", "--xyz", "0.4", "0", "0", "--q0", "1", "2"], "q0 must have 6"),
-    (["solve", "ur5", "--xyz", "0.4", "0", "0", "--q0", "1", "2", "3", "4", "5", "nan"],
-     "finite"),
-    (["solve", "ur5", "--xyz", "0.4", "0", "0", "--timeout", "0"], "timeout must be > 0"),
-    (["solve", "ur5", "--xyz", "0.4", "0", "0", "--tip", "hand"], "unknown tip frame"),
-    (["info", "/no/such/file.urdf"], "does not exist"),
-])
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["solve", "nope", "--xyz", "1", "0", "0"], "neither a bundled robot"),
+        (["solve", "ur5", "--xyz", "1", "0"], "expected 3 arguments"),
+        (["solve", "ur5", "--xyz", "nan", "0", "0"], "NaN"),
+        (["solve", "ur5", "--xyz", "0.4", "0", "0", "--quat", "0", "0", "0", "0"], "zero norm"),
+        (["solve", "ur5", "--xyz", "0.4", "0", "0", "--solver", "newton"], "unknown solver"),
+        (["solve", "ur5", "--xyz", "0.4", "0", "0", "--solver", "planar2r"], "does not apply"),
+        (["solve", "ur5", "--xyz", "0.4", "0", "0", "--q0", "1", "2"], "q0 must have 6"),
+        (
+            ["solve", "ur5", "--xyz", "0.4", "0", "0", "--q0", "1", "2", "3", "4", "5", "nan"],
+            "finite",
+        ),
+        (["solve", "ur5", "--xyz", "0.4", "0", "0", "--timeout", "0"], "timeout must be > 0"),
+        (["solve", "ur5", "--xyz", "0.4", "0", "0", "--tip", "hand"], "unknown tip frame"),
+        (["info", "/no/such/file.urdf"], "does not exist"),
+    ],
+)
 def test_bad_input_exit_2_one_line(capsys, argv, words):
     with pytest.raises(SystemExit) if "expected" in words else _nullcontext() as box:
         code, out, err = run(capsys, *argv)
@@ -79,8 +86,7 @@ class _nullcontext:
 def test_demo_and_bench_small(capsys):
     code, out, _ = run(capsys, "demo")
     assert code == 0 and "elbow-up" in out and "panda" in out
-    code, out, _ = run(capsys, "bench", "--arms", "ur5", "--solvers", "dls", "-n", "20",
-                       "--json")
+    code, out, _ = run(capsys, "bench", "--arms", "ur5", "--solvers", "dls", "-n", "20", "--json")
     rows = json.loads(out)
     assert code == 0 and rows[0]["arm"] == "ur5" and rows[0]["n"] == 20
     assert rows[0]["limit_violations"] == 0

@@ -26,9 +26,13 @@ def test_every_example_is_listed():
 
 @pytest.mark.parametrize("script", EXAMPLES, ids=lambda p: p.name)
 def test_example_runs(script, tmp_path):
-    proc = subprocess.run([sys.executable, str(script), "--out", str(tmp_path)],
-                          capture_output=True, text=True, timeout=300,
-                          env={"MPLBACKEND": "Agg", "PATH": "", **_env()})
+    proc = subprocess.run(
+        [sys.executable, str(script), "--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env={"MPLBACKEND": "Agg", "PATH": "", **_env()},
+    )
     assert proc.returncode == 0, proc.stderr
     for words in EXPECT[script.name]:
         assert words in proc.stdout, proc.stdout

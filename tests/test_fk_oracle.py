@@ -13,8 +13,13 @@ from .conftest import ALL_ROBOTS, TOL, arm
 
 
 def _yourdfpy(path):
-    return yourdfpy.URDF.load(str(path), build_scene_graph=True, load_meshes=False,
-                              build_collision_scene_graph=False, load_collision_meshes=False)
+    return yourdfpy.URDF.load(
+        str(path),
+        build_scene_graph=True,
+        load_meshes=False,
+        build_collision_scene_graph=False,
+        load_collision_meshes=False,
+    )
 
 
 @pytest.mark.parametrize("name", ALL_ROBOTS)

@@ -18,19 +18,22 @@ from armik import ArmikWarning, OptionError
 from .conftest import ALL_ROBOTS, SPATIAL, arm
 
 
-@pytest.mark.parametrize("options, words", [
-    ({"timeout": 0}, "timeout must be > 0"),
-    ({"timeout": -1.0}, "timeout must be > 0"),
-    ({"tol_position": 0.0}, "tol_position must be > 0"),
-    ({"tol_orientation": float("nan")}, "finite"),
-    ({"max_restarts": -1}, "max_restarts must be >= 0"),
-    ({"max_restarts": 1.5}, "integer"),
-    ({"max_iterations": 0}, ">= 1"),
-    ({"weights": (1, 1, 1)}, "6 finite"),
-    ({"weights": (0, 0, 0, 0, 0, 0)}, "not all zero"),
-    ({"qp_solver": 3}, "backend name"),
-    ({"tolerance": 1e-3}, "unknown option 'tolerance'"),
-])
+@pytest.mark.parametrize(
+    "options, words",
+    [
+        ({"timeout": 0}, "timeout must be > 0"),
+        ({"timeout": -1.0}, "timeout must be > 0"),
+        ({"tol_position": 0.0}, "tol_position must be > 0"),
+        ({"tol_orientation": float("nan")}, "finite"),
+        ({"max_restarts": -1}, "max_restarts must be >= 0"),
+        ({"max_restarts": 1.5}, "integer"),
+        ({"max_iterations": 0}, ">= 1"),
+        ({"weights": (1, 1, 1)}, "6 finite"),
+        ({"weights": (0, 0, 0, 0, 0, 0)}, "not all zero"),
+        ({"qp_solver": 3}, "backend name"),
+        ({"tolerance": 1e-3}, "unknown option 'tolerance'"),
+    ],
+)
 def test_bad_options(options, words):
     with pytest.raises(OptionError, match=words):
         arm("ur5").solve([0.4, 0.1, 0.3], **options)
@@ -41,11 +44,14 @@ def test_missing_qp_backend_is_named():
         arm("ur5").solve([0.4, 0.1, 0.3], solver="qp", qp_solver="nosuchqp")
 
 
-@pytest.mark.parametrize("q0, words", [
-    ([0.0] * 5, "q0 must have 6"),
-    ([0.0] * 5 + [math.nan], "finite"),
-    ("abc", "6 numbers"),
-])
+@pytest.mark.parametrize(
+    "q0, words",
+    [
+        ([0.0] * 5, "q0 must have 6"),
+        ([0.0] * 5 + [math.nan], "finite"),
+        ("abc", "6 numbers"),
+    ],
+)
 def test_bad_q0(q0, words):
     with pytest.raises(OptionError, match=words):
         arm("ur5").solve([0.4, 0.1, 0.3], q0=q0)
@@ -98,8 +104,11 @@ def test_target_reachable_only_outside_limits():
 
 
 @settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(name=st.sampled_from(ALL_ROBOTS), seed=st.integers(0, 2**31 - 1),
-       solver=st.sampled_from(["auto", "dls", "qp"]))
+@given(
+    name=st.sampled_from(ALL_ROBOTS),
+    seed=st.integers(0, 2**31 - 1),
+    solver=st.sampled_from(["auto", "dls", "qp"]),
+)
 def test_property_verified_or_honestly_failed(name, seed, solver):
     a = arm(name)
     rng = np.random.default_rng(seed)
@@ -109,8 +118,9 @@ def test_property_verified_or_honestly_failed(name, seed, solver):
     r = a.solve(target, q0=a.random_q(rng), solver=solver, timeout=0.02)
     assert np.all(np.isfinite(r.q))
     if r.success:
-        check = armik.verify.check(a, np.asarray(r.q), armik.parse_target(target, a),
-                                   armik.options.Options())
+        check = armik.verify.check(
+            a, np.asarray(r.q), armik.parse_target(target, a), armik.options.Options()
+        )
         assert check.ok and a.within_limits(np.asarray(r.q))
     else:
         assert r.status in ("not_converged", "unreachable", "joint_limits") and r.reason

@@ -13,14 +13,32 @@ from armik.errors import FrameError, JointError, URDFError
 
 from .conftest import ALL_ROBOTS, arm, two_link_urdf, write_urdf
 
-EXPECTED_DOF = {"planar_2link": 2, "planar_3link": 3, "scara": 4, "panda": 7, "ur5": 6,
-                "ur10": 6, "kinova": 6, "xarm7": 7, "z1": 6, "double_pendulum": 2}
+EXPECTED_DOF = {
+    "planar_2link": 2,
+    "planar_3link": 3,
+    "scara": 4,
+    "panda": 7,
+    "ur5": 6,
+    "ur10": 6,
+    "kinova": 6,
+    "xarm7": 7,
+    "z1": 6,
+    "double_pendulum": 2,
+}
 
 
 def test_catalogue_lists_required_robots():
     names = armik.robots()
-    for required in ["planar_2link", "planar_3link", "panda", "ur5", "ur10", "kinova",
-                     "xarm7", "z1"]:
+    for required in [
+        "planar_2link",
+        "planar_3link",
+        "panda",
+        "ur5",
+        "ur10",
+        "kinova",
+        "xarm7",
+        "z1",
+    ]:
         assert required in names
 
 
@@ -98,11 +116,14 @@ def test_panda_locked_finger_value_moves_nothing_on_hand():
     assert a.dof == 7
 
 
-@pytest.mark.parametrize("content, match", [
-    ("", "empty"),
-    ("<robot name='x'><link name='a'>", "not well-formed"),
-    ("<model/>", "not a URDF"),
-])
+@pytest.mark.parametrize(
+    "content, match",
+    [
+        ("", "empty"),
+        ("<robot name='x'><link name='a'>", "not well-formed"),
+        ("<model/>", "not a URDF"),
+    ],
+)
 def test_bad_files(tmp_path, content, match):
     with pytest.raises(URDFError, match=match):
         armik.load(write_urdf(tmp_path, content))
@@ -150,26 +171,32 @@ def test_missing_meshes_do_not_matter(tmp_path):
     text = two_link_urdf().replace(
         '<link name="l1"/>',
         '<link name="l1"><visual><geometry><mesh filename="package://gone/l1.stl"/>'
-        '</geometry></visual></link>')
+        "</geometry></visual></link>",
+    )
     a = armik.load(write_urdf(tmp_path, text), tip="tip")
     assert a.dof == 2
 
 
 def test_mimic_joint_on_chain_is_refused(tmp_path):
+    limit = '<limit lower="-3.14159" upper="3.14159" effort="1" velocity="1"/>'
     text = two_link_urdf().replace(
-        '<limit lower="-3.14159" upper="3.14159" effort="1" velocity="1"/></joint>\n  <joint name="tool"',
-        '<limit lower="-3.14159" upper="3.14159" effort="1" velocity="1"/>'
-        '<mimic joint="j1" multiplier="1"/></joint>\n  <joint name="tool"')
+        f'{limit}</joint>\n  <joint name="tool"',
+        f'{limit}<mimic joint="j1" multiplier="1"/></joint>\n  <joint name="tool"',
+    )
     assert "mimic" in text
     with pytest.raises(JointError, match="mimic"):
         armik.load(write_urdf(tmp_path, text), tip="tip")
 
 
 def test_no_tip_with_several_leaves_lists_them(tmp_path):
-    text = two_link_urdf().replace(
-        '<link name="tip"/>', '<link name="tip"/><link name="cam"/>').replace(
-        "</robot>", '<joint name="c" type="fixed"><parent link="l1"/><child link="cam"/>'
-                    "</joint></robot>")
+    text = (
+        two_link_urdf()
+        .replace('<link name="tip"/>', '<link name="tip"/><link name="cam"/>')
+        .replace(
+            "</robot>",
+            '<joint name="c" type="fixed"><parent link="l1"/><child link="cam"/></joint></robot>',
+        )
+    )
     with pytest.raises(FrameError, match="leaf links.*'cam'"):
         armik.load(write_urdf(tmp_path, text))
 

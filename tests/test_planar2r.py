@@ -29,8 +29,9 @@ def textbook(x: float, y: float, sign: float) -> tuple[float, float]:
 def test_worked_example_both_branches():
     a = arm("planar_2link")
     results = a.solve_all([1.2, 0.5])
-    assert [r.branch for r in results] == ["elbow-up", "elbow-down"] or \
-           sorted(r.branch for r in results) == ["elbow-down", "elbow-up"]
+    assert [r.branch for r in results] == ["elbow-up", "elbow-down"] or sorted(
+        r.branch for r in results
+    ) == ["elbow-down", "elbow-up"]
     by_branch = {r.branch: r for r in results}
     for branch, sign in (("elbow-up", 1.0), ("elbow-down", -1.0)):
         r = by_branch[branch]
@@ -70,12 +71,15 @@ def test_wrap_uses_equivalent_angle_within_wide_limits():
     assert r.q[0] == pytest.approx(textbook(1.2, 0.5, 1.0)[0] + 2 * math.pi, abs=1e-12)
 
 
-@pytest.mark.parametrize("target, words", [
-    ([3.0, 0.0], "too far"),
-    ([0.0, 1.9], "too far"),
-    ([0.1, 0.0], "inner dead zone"),
-    ([0.0, 0.0], "inner dead zone"),
-])
+@pytest.mark.parametrize(
+    "target, words",
+    [
+        ([3.0, 0.0], "too far"),
+        ([0.0, 1.9], "too far"),
+        ([0.1, 0.0], "inner dead zone"),
+        ([0.0, 0.0], "inner dead zone"),
+    ],
+)
 def test_unreachable_reports_reason_and_closest_configuration(target, words):
     a = arm("planar_2link")
     r = a.solve(target)
@@ -90,8 +94,9 @@ def test_unreachable_reports_reason_and_closest_configuration(target, words):
         assert r.position_error == pytest.approx(abs(d - expected), abs=1e-12)
 
 
-@pytest.mark.parametrize("radius, branch, q2", [(L1 + L2, "stretched", 0.0),
-                                                 (L1 - L2, "folded", math.pi)])
+@pytest.mark.parametrize(
+    "radius, branch, q2", [(L1 + L2, "stretched", 0.0), (L1 - L2, "folded", math.pi)]
+)
 def test_singular_boundary_single_solution(radius, branch, q2):
     a = arm("planar_2link")
     angle = 0.3
@@ -122,11 +127,13 @@ def test_degenerate_equal_links_target_at_base(tmp_path):
     assert not r.success and r.status == "joint_limits"
 
 
-@pytest.mark.parametrize("origin, rpy", [("0.3 -0.2 0.5", "0.4 -0.3 1.2"),
-                                         ("1 2 3", "3.0 0.1 -2.0")])
+@pytest.mark.parametrize(
+    "origin, rpy", [("0.3 -0.2 0.5", "0.4 -0.3 1.2"), ("1 2 3", "3.0 0.1 -2.0")]
+)
 def test_rotated_and_translated_arm(tmp_path, origin, rpy, rng):
-    a = armik.load(write_urdf(tmp_path, two_link_urdf(origin=origin, rpy=rpy, tool="0.1 0.05 0.2")),
-                   tip="tip")
+    a = armik.load(
+        write_urdf(tmp_path, two_link_urdf(origin=origin, rpy=rpy, tool="0.1 0.05 0.2")), tip="tip"
+    )
     assert planar2r.applies(a) is None
     geo = planar2r.geometry(a)
     assert geo.l1 == pytest.approx(1.0) and geo.l2 == pytest.approx(math.hypot(0.9, 0.05))
@@ -183,6 +190,7 @@ def test_vectorised_matches_scalar(rng):
     q_up, q_down, ok = planar2r.solve_many(a, xy)
     r = np.linalg.norm(xy, axis=1)
     np.testing.assert_array_equal(ok, (r <= L1 + L2) & (r >= L1 - L2))
+
     def wrapped(a, b):
         d = np.asarray(a) - np.asarray(b)
         return np.abs(np.arctan2(np.sin(d), np.cos(d))).max()

@@ -18,8 +18,12 @@ def _quat_xyzw(R):
 
 def test_all_pose_forms_round_trip():
     T = pin.SE3.Random()
-    forms = [T, T.homogeneous, (T.translation, _quat_xyzw(T.rotation)),
-             list(T.translation) + list(_quat_xyzw(T.rotation))]
+    forms = [
+        T,
+        T.homogeneous,
+        (T.translation, _quat_xyzw(T.rotation)),
+        list(T.translation) + list(_quat_xyzw(T.rotation)),
+    ]
     for form in forms:
         t = parse_target(form)
         np.testing.assert_allclose(t.position, T.translation, atol=1e-15)
@@ -49,16 +53,19 @@ def test_planar_two_vector():
     assert abs(d.plane.height(t.position)) < 1e-15
 
 
-@pytest.mark.parametrize("value, match", [
-    ([np.nan, 0, 0], "NaN or inf"),
-    ([0, np.inf, 0], "NaN or inf"),
-    ([1, 2, 3, 4], "shape"),
-    (np.zeros((3, 3)), "shape"),
-    ("abc", "not numeric"),
-    (([0, 0, 0], [0, 0, 0, 0]), "zero norm"),
-    (([0, 0], [0, 0, 0, 1]), "3 numbers"),
-    (([0, 0, 0], [0, 0, 1]), "4 numbers"),
-])
+@pytest.mark.parametrize(
+    "value, match",
+    [
+        ([np.nan, 0, 0], "NaN or inf"),
+        ([0, np.inf, 0], "NaN or inf"),
+        ([1, 2, 3, 4], "shape"),
+        (np.zeros((3, 3)), "shape"),
+        ("abc", "not numeric"),
+        (([0, 0, 0], [0, 0, 0, 0]), "zero norm"),
+        (([0, 0], [0, 0, 0, 1]), "3 numbers"),
+        (([0, 0, 0], [0, 0, 1]), "4 numbers"),
+    ],
+)
 def test_malformed_targets(value, match):
     with pytest.raises(TargetError, match=match):
         parse_target(value)

@@ -47,6 +47,7 @@ def test_position_only_and_weights(rng):
     assert c.orientation_error is None and c.ok
     # rotation about the tool's own z axis is free when its weight is zero
     import pinocchio as pin
+
     T_turned = T * pin.SE3(pin.rpy.rpyToMatrix(0, 0, 0.7), np.zeros(3))
     free_z = Options(weights=(1, 1, 1, 1, 1, 0))
     assert check(a, q, parse_target(T_turned), free_z).ok

@@ -12,15 +12,28 @@ from .errors import (
     TargetError,
     URDFError,
 )
+from .ik import solvers
 from .result import IKResult
 from .robots import robots
-from .ik import solvers
 from .targets import Target, parse_target
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "Arm", "ArmikError", "ArmikWarning", "FrameError", "IKResult", "InputError",
-    "JointError", "OptionError", "SolverError", "Target", "TargetError", "URDFError",
-    "load", "parse_target", "robots", "solvers",
+    "Arm",
+    "ArmikError",
+    "ArmikWarning",
+    "FrameError",
+    "IKResult",
+    "InputError",
+    "JointError",
+    "OptionError",
+    "SolverError",
+    "Target",
+    "TargetError",
+    "URDFError",
+    "load",
+    "parse_target",
+    "robots",
+    "solvers",
 ]

@@ -67,8 +67,16 @@ def load(
             )
         name = path.stem
     model, info = read_urdf(path)
-    return Arm(model, info, name=name, base=base, tip=tip, locked=locked or {},
-               tip_offset=tip_offset, source=str(path))
+    return Arm(
+        model,
+        info,
+        name=name,
+        base=base,
+        tip=tip,
+        locked=locked or {},
+        tip_offset=tip_offset,
+        source=str(path),
+    )
 
 
 def _frame_id(model: pin.Model, name: str) -> int:
@@ -113,14 +121,16 @@ class Arm:
             raise FrameError(
                 f"tip {self.tip!r} is not downstream of base {self.base!r}: no chain leads "
                 "from the base to the tip; swap them or pick frames on one branch",
-                frame=self.tip, candidates=frames,
+                frame=self.tip,
+                candidates=frames,
             )
-        chain = [j for j in tip_support[tip_support.index(base_joint) + 1:]]
+        chain = [j for j in tip_support[tip_support.index(base_joint) + 1 :]]
         if not chain:
             raise FrameError(
                 f"the chain from {self.base!r} to {self.tip!r} has no moving joint: "
                 "pick a tip further from the base",
-                frame=self.tip, candidates=frames,
+                frame=self.tip,
+                candidates=frames,
             )
         for j in chain:
             jname = full.names[j]
@@ -143,14 +153,16 @@ class Arm:
             if not full.existJointName(jname):
                 raise JointError(
                     f"locked joint {jname!r} does not exist; joints: {listing(all_joints)}",
-                    joint=jname, candidates=all_joints,
+                    joint=jname,
+                    candidates=all_joints,
                 )
             jid = full.getJointId(jname)
             if jid in chain:
                 raise JointError(
                     f"locked joint {jname!r} lies on the chain from {self.base!r} to "
                     f"{self.tip!r}; only joints off the chain can be locked",
-                    joint=jname, candidates=all_joints,
+                    joint=jname,
+                    candidates=all_joints,
                 )
             _set_joint(full, q_ref, jid, float(value))
         to_lock = [j for j in range(1, full.njoints) if j not in chain]
@@ -161,8 +173,7 @@ class Arm:
             frame = model.frames[tip_frame]
             placement = frame.placement * pin.SE3(np.eye(3), np.asarray(tip_offset, float))
             tip_frame = model.addFrame(
-                pin.Frame(self.tip + "_tool", frame.parentJoint, tip_frame, placement,
-                          pin.OP_FRAME)
+                pin.Frame(self.tip + "_tool", frame.parentJoint, tip_frame, placement, pin.OP_FRAME)
             )
         self.model = model
         self.tip_frame_id = tip_frame
@@ -184,7 +195,8 @@ class Arm:
     def _single_leaf(full: pin.Model, frames: list[str]) -> str:
         parents = {full.frames[i].parentFrame for i in range(full.nframes)}
         leaves = [
-            full.frames[i].name for i in range(1, full.nframes)
+            full.frames[i].name
+            for i in range(1, full.nframes)
             if i not in parents and full.frames[i].type == pin.BODY
         ]
         if len(leaves) == 1:
@@ -192,7 +204,8 @@ class Arm:
         raise FrameError(
             f"no tip given and the URDF has {len(leaves)} leaf links; pass tip= one of "
             f"{listing(leaves)}",
-            frame="", candidates=leaves,
+            frame="",
+            candidates=leaves,
         )
 
     @staticmethod
@@ -202,7 +215,8 @@ class Arm:
         except KeyError:
             raise FrameError(
                 f"unknown {role} frame {name!r}; frames of this URDF: {listing(frames)}",
-                frame=name, candidates=frames,
+                frame=name,
+                candidates=frames,
             ) from None
 
     def _setup_joints(self, info: URDFInfo) -> None:
@@ -223,8 +237,11 @@ class Arm:
             if lo < hi:
                 lower[i], upper[i] = lo, hi
             else:
-                log.warning("joint %r has lower == upper limit (%g); treated as unlimited",
-                            self.joint_names[i], lo)
+                log.warning(
+                    "joint %r has lower == upper limit (%g); treated as unlimited",
+                    self.joint_names[i],
+                    lo,
+                )
         self._set_limits(lower, upper)
         self.prismatic = np.array([t == "prismatic" for t in self.joint_types])
         self._limit_lists = (self.lower.tolist(), self.upper.tolist(), self.prismatic.tolist())
@@ -248,8 +265,10 @@ class Arm:
         for jname, (lo, hi) in limits.items():
             i = self.joint_index(jname)
             if not lo <= hi:
-                raise JointError(f"limits for {jname!r} must satisfy lower <= upper, got "
-                                 f"({lo}, {hi})", joint=jname)
+                raise JointError(
+                    f"limits for {jname!r} must satisfy lower <= upper, got ({lo}, {hi})",
+                    joint=jname,
+                )
             lower[i], upper[i] = lo, hi
         clone = object.__new__(Arm)
         clone.__dict__.update({k: v for k, v in self.__dict__.items() if k != "_local"})
@@ -264,9 +283,11 @@ class Arm:
         try:
             return self.joint_names.index(name)
         except ValueError:
-            raise JointError(f"joint {name!r} is not on this arm's chain; joints: "
-                             f"{listing(self.joint_names)}", joint=name,
-                             candidates=self.joint_names) from None
+            raise JointError(
+                f"joint {name!r} is not on this arm's chain; joints: {listing(self.joint_names)}",
+                joint=name,
+                candidates=self.joint_names,
+            ) from None
 
     # -- per-thread Pinocchio data --------------------------------------------------------
 
@@ -333,15 +354,18 @@ class Arm:
         """
         qp = self.to_pin(self.check_q(q))
         if frame == "local":
-            return pin.computeFrameJacobian(self.model, self.data, qp, self.tip_frame_id,
-                                            pin.LOCAL).copy()
+            return pin.computeFrameJacobian(
+                self.model, self.data, qp, self.tip_frame_id, pin.LOCAL
+            ).copy()
         if frame == "base":
-            J = pin.computeFrameJacobian(self.model, self.data, qp, self.tip_frame_id,
-                                         pin.LOCAL_WORLD_ALIGNED)
+            J = pin.computeFrameJacobian(
+                self.model, self.data, qp, self.tip_frame_id, pin.LOCAL_WORLD_ALIGNED
+            )
             R = self.T_base_world.rotation
             return np.vstack([R @ J[:3], R @ J[3:]])
-        raise OptionError(f"frame must be 'local' or 'base', got {frame!r}", option="frame",
-                          value=frame)
+        raise OptionError(
+            f"frame must be 'local' or 'base', got {frame!r}", option="frame", value=frame
+        )
 
     # -- joint values ---------------------------------------------------------------------
 
@@ -360,23 +384,28 @@ class Arm:
         if self.within_limits(q, tol):
             return []
         bad = np.flatnonzero((q < self.lower - tol) | (q > self.upper + tol))
-        return [f"{self.joint_names[i]} = {q[i]:.6g} outside [{self.lower[i]:.6g}, "
-                f"{self.upper[i]:.6g}]" for i in bad]
+        return [
+            f"{self.joint_names[i]} = {q[i]:.6g} outside [{self.lower[i]:.6g}, {self.upper[i]:.6g}]"
+            for i in bad
+        ]
 
     def check_q(self, q: object, name: str = "q") -> np.ndarray:
         """``q`` as a float array of length ``dof``; raises ``OptionError`` otherwise."""
         try:
             arr = np.asarray(q, dtype=float)
         except (TypeError, ValueError):
-            raise OptionError(f"{name} must be {self.dof} numbers, got {q!r}", option=name,
-                              value=q) from None
+            raise OptionError(
+                f"{name} must be {self.dof} numbers, got {q!r}", option=name, value=q
+            ) from None
         if arr.shape != (self.dof,):
             raise OptionError(
                 f"{name} must have {self.dof} values (one per joint: "
-                f"{', '.join(self.joint_names)}), got shape {arr.shape}", option=name, value=q)
+                f"{', '.join(self.joint_names)}), got shape {arr.shape}",
+                option=name,
+                value=q,
+            )
         if not np.all(np.isfinite(arr)):
-            raise OptionError(f"{name} must be finite, got {arr.tolist()}", option=name,
-                              value=q)
+            raise OptionError(f"{name} must be finite, got {arr.tolist()}", option=name, value=q)
         return arr
 
     def seed(self, q0: object | None) -> np.ndarray:
@@ -391,7 +420,10 @@ class Arm:
         if not self.within_limits(q):
             warnings.warn(
                 "q0 outside the joint limits was clipped into them: "
-                + "; ".join(self.limit_violations(q)), ArmikWarning, stacklevel=3)
+                + "; ".join(self.limit_violations(q)),
+                ArmikWarning,
+                stacklevel=3,
+            )
             q = np.clip(q, self.lower, self.upper)
         return q
 
@@ -400,14 +432,16 @@ class Arm:
         within the limits; a joint with no such value keeps its value."""
         out = []
         # Plain floats: a per-joint loop over numpy scalars costs ten times more.
-        for qi, ri, lo, hi, linear in zip(np.asarray(q, float).tolist(),
-                                          np.asarray(q_ref, float).tolist(), *self._limit_lists):
+        for qi, ri, lo, hi, linear in zip(
+            np.asarray(q, float).tolist(), np.asarray(q_ref, float).tolist(), *self._limit_lists
+        ):
             if not linear:
                 near = qi + TWO_PI * round((ri - qi) / TWO_PI)
                 best = None
                 for c in (near, near - TWO_PI, near + TWO_PI, qi):
                     if lo - LIMIT_TOL <= c <= hi + LIMIT_TOL and (
-                            best is None or abs(c - ri) < abs(best - ri)):
+                        best is None or abs(c - ri) < abs(best - ri)
+                    ):
                         best = c
                 if best is not None:
                     qi = min(max(best, lo), hi)
@@ -446,8 +480,10 @@ class Arm:
         return [f.name for f in self.model.frames if f.name != "universe"]
 
     def __repr__(self) -> str:
-        return (f"Arm({self.name!r}, dof={self.dof}, base={self.base!r}, tip={self.tip!r}, "
-                f"joints={self.joint_names})")
+        return (
+            f"Arm({self.name!r}, dof={self.dof}, base={self.base!r}, tip={self.tip!r}, "
+            f"joints={self.joint_names})"
+        )
 
     # -- solving --------------------------------------------------------------------------
 
@@ -474,7 +510,10 @@ def _set_joint(model: pin.Model, q: np.ndarray, jid: int, value: float) -> None:
     if joint.nq == 1:
         q[joint.idx_q] = value
     elif joint.nq == 2 and joint.nv == 1:
-        q[joint.idx_q:joint.idx_q + 2] = (math.cos(value), math.sin(value))
+        q[joint.idx_q : joint.idx_q + 2] = (math.cos(value), math.sin(value))
     else:
-        raise JointError(f"joint {model.names[jid]!r} has {joint.nq} coordinates; it can only "
-                         "be locked at its neutral value", joint=model.names[jid])
+        raise JointError(
+            f"joint {model.names[jid]!r} has {joint.nq} coordinates; it can only "
+            "be locked at its neutral value",
+            joint=model.names[jid],
+        )

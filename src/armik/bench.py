@@ -44,14 +44,28 @@ def targets(arm: Arm, n: int, seed: int) -> list:
     return [arm.fk(arm.random_q(rng)) for _ in range(n)]
 
 
-def bench_arm(arm: Arm, solver: str, poses: Sequence, *, budget: float = 0.005,
-              tol: float = 1e-5, progress=None) -> BenchRow:
+def bench_arm(
+    arm: Arm,
+    solver: str,
+    poses: Sequence,
+    *,
+    budget: float = 0.005,
+    tol: float = 1e-5,
+    progress=None,
+) -> BenchRow:
     q0 = arm.middle
     times, iters, ok, violations = [], [], 0, 0
     for i, pose in enumerate(poses):
         t = time.perf_counter()
-        r = arm.solve(pose, q0=q0, solver=solver, timeout=budget, tol_position=tol,
-                      tol_orientation=tol, seed=i)
+        r = arm.solve(
+            pose,
+            q0=q0,
+            solver=solver,
+            timeout=budget,
+            tol_position=tol,
+            tol_orientation=tol,
+            seed=i,
+        )
         times.append(time.perf_counter() - t)
         iters.append(r.iterations)
         ok += r.success
@@ -59,14 +73,29 @@ def bench_arm(arm: Arm, solver: str, poses: Sequence, *, budget: float = 0.005,
         if progress is not None:
             progress(i + 1)
     ms = np.array(times) * 1e3
-    return BenchRow(arm.name, solver, len(poses), 100.0 * ok / max(len(poses), 1),
-                    float(ms.mean()), float(np.median(ms)), float(np.percentile(ms, 95)),
-                    float(ms.max()), float(np.mean(iters)), violations)
+    return BenchRow(
+        arm.name,
+        solver,
+        len(poses),
+        100.0 * ok / max(len(poses), 1),
+        float(ms.mean()),
+        float(np.median(ms)),
+        float(np.percentile(ms, 95)),
+        float(ms.max()),
+        float(np.mean(iters)),
+        violations,
+    )
 
 
-def run(arms: Iterable[str] = SPATIAL_ARMS, solvers: Iterable[str] = DEFAULT_SOLVERS,
-        n: int = 2000, budget: float = 0.005, seed: int = 42, tol: float = 1e-5,
-        show_progress: bool = False) -> list[BenchRow]:
+def run(
+    arms: Iterable[str] = SPATIAL_ARMS,
+    solvers: Iterable[str] = DEFAULT_SOLVERS,
+    n: int = 2000,
+    budget: float = 0.005,
+    seed: int = 42,
+    tol: float = 1e-5,
+    show_progress: bool = False,
+) -> list[BenchRow]:
     """Run the benchmark; returns one row per (arm, solver)."""
     rows = []
     solvers = list(solvers)
@@ -75,21 +104,28 @@ def run(arms: Iterable[str] = SPATIAL_ARMS, solvers: Iterable[str] = DEFAULT_SOL
         poses = targets(arm, n, seed)
         for solver in solvers:
             bar = _Progress(f"{name}/{solver}", n) if show_progress else None
-            rows.append(bench_arm(arm, solver, poses, budget=budget, tol=tol,
-                                  progress=bar.update if bar else None))
+            rows.append(
+                bench_arm(
+                    arm, solver, poses, budget=budget, tol=tol, progress=bar.update if bar else None
+                )
+            )
             if bar:
                 bar.close()
     return rows
 
 
 def table(rows: Sequence[BenchRow]) -> str:
-    head = ("| arm | solver | N | success % | mean ms | median ms | p95 ms | max ms | "
-            "mean iters | limit violations |")
+    head = (
+        "| arm | solver | N | success % | mean ms | median ms | p95 ms | max ms | "
+        "mean iters | limit violations |"
+    )
     lines = [head, "|" + "---|" * 10]
     for r in rows:
-        lines.append(f"| {r.arm} | {r.solver} | {r.n} | {r.success_rate:.2f} | {r.mean_ms:.3f} "
-                     f"| {r.median_ms:.3f} | {r.p95_ms:.3f} | {r.max_ms:.2f} | "
-                     f"{r.mean_iterations:.1f} | {r.limit_violations} |")
+        lines.append(
+            f"| {r.arm} | {r.solver} | {r.n} | {r.success_rate:.2f} | {r.mean_ms:.3f} "
+            f"| {r.median_ms:.3f} | {r.p95_ms:.3f} | {r.max_ms:.2f} | "
+            f"{r.mean_iterations:.1f} | {r.limit_violations} |"
+        )
     return "\n".join(lines)
 
 
@@ -104,8 +140,9 @@ class _Progress:
     def update(self, done: int) -> None:
         if self.active and (done % self.step == 0 or done == self.total):
             filled = int(30 * done / self.total)
-            sys.stderr.write(f"\r{self.label:<20} [{'#' * filled}{'.' * (30 - filled)}] "
-                             f"{done}/{self.total}")
+            sys.stderr.write(
+                f"\r{self.label:<20} [{'#' * filled}{'.' * (30 - filled)}] {done}/{self.total}"
+            )
             sys.stderr.flush()
 
     def close(self) -> None:

@@ -41,8 +41,9 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> None:  # one line, exit code 2
-        print(f"armik: error: {message} (see 'armik {self.prog.split()[-1]} --help')",
-              file=sys.stderr)
+        print(
+            f"armik: error: {message} (see 'armik {self.prog.split()[-1]} --help')", file=sys.stderr
+        )
         raise SystemExit(2)
 
 
@@ -51,32 +52,55 @@ def _parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(title="commands", parser_class=_Parser)
 
     def command(name: str, helptext: str, example: str, func) -> argparse.ArgumentParser:
-        c = sub.add_parser(name, help=helptext, description=helptext,
-                           epilog=f"example: {example}",
-                           formatter_class=argparse.RawDescriptionHelpFormatter)
+        c = sub.add_parser(
+            name,
+            help=helptext,
+            description=helptext,
+            epilog=f"example: {example}",
+            formatter_class=argparse.RawDescriptionHelpFormatter,
+        )
         c.set_defaults(func=func)
         return c
 
     command("robots", "list the bundled arms with their DOF and tip", "armik robots", _robots)
 
-    c = command("info", "show an arm's chain and which solvers apply",
-                "armik info panda", _info)
+    c = command("info", "show an arm's chain and which solvers apply", "armik info panda", _info)
     c.add_argument("robot", help="bundled robot name or path to a URDF file")
     c.add_argument("--base", help="base frame (default: URDF root)")
     c.add_argument("--tip", help="tip frame (default: catalogue tip or the single leaf)")
 
-    c = command("solve", "solve IK for a target pose",
-                "armik solve ur5 --xyz 0.4 0.2 0.3 --rpy 3.1416 0 0 --solver dls", _solve)
+    c = command(
+        "solve",
+        "solve IK for a target pose",
+        "armik solve ur5 --xyz 0.4 0.2 0.3 --rpy 3.1416 0 0 --solver dls",
+        _solve,
+    )
     c.add_argument("robot", help="bundled robot name or path to a URDF file")
     c.add_argument("--base", help="base frame")
     c.add_argument("--tip", help="tip frame")
-    c.add_argument("--xyz", nargs=3, type=float, required=True, metavar=("X", "Y", "Z"),
-                   help="target position in the base frame (m)")
+    c.add_argument(
+        "--xyz",
+        nargs=3,
+        type=float,
+        required=True,
+        metavar=("X", "Y", "Z"),
+        help="target position in the base frame (m)",
+    )
     rot = c.add_mutually_exclusive_group()
-    rot.add_argument("--rpy", nargs=3, type=float, metavar=("R", "P", "Y"),
-                     help="target roll, pitch, yaw (rad); omit both for a position target")
-    rot.add_argument("--quat", nargs=4, type=float, metavar=("X", "Y", "Z", "W"),
-                     help="target quaternion, (x, y, z, w) order")
+    rot.add_argument(
+        "--rpy",
+        nargs=3,
+        type=float,
+        metavar=("R", "P", "Y"),
+        help="target roll, pitch, yaw (rad); omit both for a position target",
+    )
+    rot.add_argument(
+        "--quat",
+        nargs=4,
+        type=float,
+        metavar=("X", "Y", "Z", "W"),
+        help="target quaternion, (x, y, z, w) order",
+    )
     c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
     c.add_argument("--all", action="store_true", help="print every solution found")
     c.add_argument("--q0", nargs="+", type=float, help="seed joint values (rad, m)")
@@ -85,8 +109,12 @@ def _parser() -> argparse.ArgumentParser:
 
     command("demo", "solve a target on the 2-link arm and on the Panda", "armik demo", _demo)
 
-    c = command("bench", "benchmark the numeric solvers (TRAC-IK's protocol)",
-                "armik bench --arms panda ur5 -n 2000", _bench)
+    c = command(
+        "bench",
+        "benchmark the numeric solvers (TRAC-IK's protocol)",
+        "armik bench --arms panda ur5 -n 2000",
+        _bench,
+    )
     c.add_argument("--arms", nargs="+", default=list(SPATIAL_ARMS), help="arms to run")
     c.add_argument("--solvers", nargs="+", default=list(bench_mod.DEFAULT_SOLVERS))
     c.add_argument("-n", type=int, default=2000, help="targets per arm (2000)")
@@ -95,8 +123,12 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--tol", type=float, default=1e-5, help="success tolerance, m and rad")
     c.add_argument("--json", action="store_true", help="print JSON rows")
 
-    c = command("compare", "compare the analytic and numeric solvers, optionally with plots",
-                "armik compare -n 500 --plot out/", _compare)
+    c = command(
+        "compare",
+        "compare the analytic and numeric solvers, optionally with plots",
+        "armik compare -n 500 --plot out/",
+        _compare,
+    )
     c.add_argument("-n", type=int, default=500, help="targets per experiment (500)")
     c.add_argument("--seed", type=int, default=7)
     c.add_argument("--plot", metavar="DIR", help="write PNG figures to DIR (needs matplotlib)")
@@ -121,8 +153,10 @@ def _info(args: argparse.Namespace) -> int:
     print(f"{arm.name}: {arm.dof} joints from {arm.base!r} to {arm.tip!r}  ({arm.source})")
     print(f"  {'joint':<24} {'type':<11} {'lower':>9} {'upper':>9}  link to next (m)")
     for i, (name, jtype) in enumerate(zip(arm.joint_names, arm.joint_types)):
-        print(f"  {name:<24} {jtype:<11} {arm.lower[i]:>9.4f} {arm.upper[i]:>9.4f}  "
-              f"{_link_lengths(arm)[i]:.4f}")
+        print(
+            f"  {name:<24} {jtype:<11} {arm.lower[i]:>9.4f} {arm.upper[i]:>9.4f}  "
+            f"{_link_lengths(arm)[i]:.4f}"
+        )
     if arm.plane is not None:
         print(f"  planar: all axes along {np.round(arm.plane.normal, 6).tolist()}")
     print("solvers:")
@@ -162,8 +196,16 @@ def _solve(args: argparse.Namespace) -> int:
     else:
         results = [arm.solve(target, q0=args.q0, solver=args.solver, **options)]
     if args.json:
-        print(json.dumps({"robot": arm.name, "joints": arm.joint_names,
-                          "results": [r.as_dict() for r in results]}, indent=2))
+        print(
+            json.dumps(
+                {
+                    "robot": arm.name,
+                    "joints": arm.joint_names,
+                    "results": [r.as_dict() for r in results],
+                },
+                indent=2,
+            )
+        )
     else:
         for i, r in enumerate(results):
             if len(results) > 1:
@@ -173,8 +215,10 @@ def _solve(args: argparse.Namespace) -> int:
 
 
 def _print_result(arm: Arm, r: IKResult, indent: str = "  ") -> None:
-    print(f"{indent}status   : {r.status} (success={r.success}), solver {r.solver}"
-          + (f", branch {r.branch}" if r.branch else ""))
+    print(
+        f"{indent}status   : {r.status} (success={r.success}), solver {r.solver}"
+        + (f", branch {r.branch}" if r.branch else "")
+    )
     for name, value, jtype in zip(arm.joint_names, r.q, arm.joint_types):
         unit = "m" if jtype == "prismatic" else f"rad ({math.degrees(value):9.4f} deg)"
         print(f"{indent}  {name:<22} {value: .9f} {unit}")
@@ -194,8 +238,10 @@ def _demo(args: argparse.Namespace) -> int:
     panda = load("panda")
     q_goal = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.6])
     T = panda.fk(q_goal)
-    print(f"\npanda: full pose target at p = {np.round(T.translation, 4).tolist()} m, "
-          "seeded from the mid-limit configuration:")
+    print(
+        f"\npanda: full pose target at p = {np.round(T.translation, 4).tolist()} m, "
+        "seeded from the mid-limit configuration:"
+    )
     r = panda.solve(T, q0=panda.middle)
     _print_result(panda, r)
     ok &= r.success
@@ -203,13 +249,22 @@ def _demo(args: argparse.Namespace) -> int:
 
 
 def _bench(args: argparse.Namespace) -> int:
-    rows = bench_mod.run(args.arms, args.solvers, n=args.n, budget=args.budget,
-                         seed=args.seed, tol=args.tol, show_progress=not args.json)
+    rows = bench_mod.run(
+        args.arms,
+        args.solvers,
+        n=args.n,
+        budget=args.budget,
+        seed=args.seed,
+        tol=args.tol,
+        show_progress=not args.json,
+    )
     if args.json:
         print(json.dumps([r.as_dict() for r in rows], indent=2))
     else:
-        print(f"N = {args.n} targets per arm, budget {args.budget * 1e3:g} ms, tolerance "
-              f"{args.tol:g} m / rad, seeds from mid-limits, sampling seed {args.seed}")
+        print(
+            f"N = {args.n} targets per arm, budget {args.budget * 1e3:g} ms, tolerance "
+            f"{args.tol:g} m / rad, seeds from mid-limits, sampling seed {args.seed}"
+        )
         print(bench_mod.table(rows))
     return 0
 

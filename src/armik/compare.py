@@ -56,22 +56,32 @@ class Report:
             "|" + "---|" * 12,
         ]
         for r in self.rows:
+
             def fmt(v, spec):
                 return "-" if v is None else format(v, spec)
+
             lines.append(
                 f"| {r.arm} | {r.solver} | {r.targets} | {r.reachable} | {r.success_rate:.1f} | "
                 f"{r.honest_failures:.1f} | {r.pos_err_median:.1e} | {r.pos_err_max:.1e} | "
                 f"{r.time_median_ms:.3f} | {r.time_p95_ms:.3f} | "
-                f"{fmt(r.same_branch_as_q0, '.1f')} | {fmt(r.max_diff_to_closed_form, '.1e')} |")
-        lines.append(f"(planar_2link solved to {TIGHT:g} m; the others to the default 1e-6 "
-                     f"m / rad; numeric budget {BUDGET * 1e3:g} ms)")
+                f"{fmt(r.same_branch_as_q0, '.1f')} | {fmt(r.max_diff_to_closed_form, '.1e')} |"
+            )
+        lines.append(
+            f"(planar_2link solved to {TIGHT:g} m; the others to the default 1e-6 "
+            f"m / rad; numeric budget {BUDGET * 1e3:g} ms)"
+        )
         if self.singular:
-            lines += ["", "Near the stretched boundary of planar_2link (r = 1.8 m - d):",
-                      "| solver | d (m) | success | iterations | singular flag | q2 (rad) |",
-                      "|---|---|---|---|---|---|"]
+            lines += [
+                "",
+                "Near the stretched boundary of planar_2link (r = 1.8 m - d):",
+                "| solver | d (m) | success | iterations | singular flag | q2 (rad) |",
+                "|---|---|---|---|---|---|",
+            ]
             for s in self.singular:
-                lines.append(f"| {s['solver']} | {s['d']:.0e} | {s['success']} | "
-                             f"{s['iterations']} | {s['singular']} | {s['q2']:.2e} |")
+                lines.append(
+                    f"| {s['solver']} | {s['d']:.0e} | {s['success']} | "
+                    f"{s['iterations']} | {s['singular']} | {s['q2']:.2e} |"
+                )
         return "\n".join(lines)
 
 
@@ -82,8 +92,17 @@ def _planar_targets(arm: Arm, n: int, rng: np.random.Generator) -> np.ndarray:
     return np.stack([radius * np.cos(angle), radius * np.sin(angle)], axis=1)
 
 
-def _measure(arm: Arm, solver: str, targets, q0s, reachable: np.ndarray, key: str,
-             report: Report, closed_form: list | None = None, **options) -> Row:
+def _measure(
+    arm: Arm,
+    solver: str,
+    targets,
+    q0s,
+    reachable: np.ndarray,
+    key: str,
+    report: Report,
+    closed_form: list | None = None,
+    **options,
+) -> Row:
     times, errors, successes, branch_hits, diffs = [], [], [], [], []
     for i, (target, q0) in enumerate(zip(targets, q0s)):
         t = time.perf_counter()
@@ -105,12 +124,16 @@ def _measure(arm: Arm, solver: str, targets, q0s, reachable: np.ndarray, key: st
     report.samples[key] = {"time_ms": ms, "pos_err": err, "success": successes}
     n_reach = int(reachable.sum())
     return Row(
-        arm=arm.name, solver=solver, targets=len(targets), reachable=n_reach,
+        arm=arm.name,
+        solver=solver,
+        targets=len(targets),
+        reachable=n_reach,
         success_rate=100.0 * successes[reachable].mean() if n_reach else float("nan"),
-        honest_failures=100.0 * (~successes[~reachable]).mean() if (~reachable).any()
-        else 100.0,
-        pos_err_median=float(np.nanmedian(err)), pos_err_max=float(np.nanmax(err)),
-        time_median_ms=float(np.median(ms)), time_p95_ms=float(np.percentile(ms, 95)),
+        honest_failures=100.0 * (~successes[~reachable]).mean() if (~reachable).any() else 100.0,
+        pos_err_median=float(np.nanmedian(err)),
+        pos_err_max=float(np.nanmax(err)),
+        time_median_ms=float(np.median(ms)),
+        time_p95_ms=float(np.percentile(ms, 95)),
         same_branch_as_q0=100.0 * float(np.mean(branch_hits)) if branch_hits else None,
         max_diff_to_closed_form=max(diffs) if diffs else None,
     )
@@ -128,28 +151,47 @@ def run(n: int = 500, seed: int = 7, spatial: tuple[str, ...] = ("panda", "ur5")
     reachable = (r <= 1.8) & (r >= 0.2)
     # q0 alternates between an elbow-up and an elbow-down seed near the right answer's
     # shoulder angle, so the numeric solvers' branch choice can be read off.
-    q0s = [np.array([math.atan2(p[1], p[0]), 0.8 if i % 2 == 0 else -0.8])
-           for i, p in enumerate(xy)]
+    q0s = [
+        np.array([math.atan2(p[1], p[0]), 0.8 if i % 2 == 0 else -0.8]) for i, p in enumerate(xy)
+    ]
     closed = []
     for p, q0 in zip(xy, q0s):
         results = arm2.solve_all(p, solver="planar2r")
         same = [x for x in results if x.success and np.sign(x.q[1]) == np.sign(q0[1])]
         closed.append(np.asarray(same[0].q) if same else None)
     report.samples["distance"] = np.minimum(np.abs(r - 1.8), np.abs(r - 0.2)) * np.where(
-        reachable, 1, -1)
+        reachable, 1, -1
+    )
     for solver in ("planar2r", "dls", "qp"):
         # A tight tolerance, so that the joints can be compared with the closed form.
-        report.rows.append(_measure(arm2, solver, xy, q0s, reachable,
-                                    f"planar_2link/{solver}", report, closed,
-                                    tol_position=TIGHT))
+        report.rows.append(
+            _measure(
+                arm2,
+                solver,
+                xy,
+                q0s,
+                reachable,
+                f"planar_2link/{solver}",
+                report,
+                closed,
+                tol_position=TIGHT,
+            )
+        )
 
     for d in (1e-3, 1e-6, 1e-9, 0.0):
         target = [1.8 - d, 0.0]
         for solver in ("planar2r", "dls", "qp"):
             res = arm2.solve(target, q0=[0.1, 0.3], solver=solver, timeout=BUDGET)
-            report.singular.append({"solver": solver, "d": d, "success": res.success,
-                                    "iterations": res.iterations, "singular": res.singular,
-                                    "q2": float(res.q[1])})
+            report.singular.append(
+                {
+                    "solver": solver,
+                    "d": d,
+                    "success": res.success,
+                    "iterations": res.iterations,
+                    "singular": res.singular,
+                    "q2": float(res.q[1]),
+                }
+            )
 
     # The 3-link planar arm: no closed form registered, the numeric solvers only.
     arm3 = load("planar_3link")
@@ -160,8 +202,9 @@ def run(n: int = 500, seed: int = 7, spatial: tuple[str, ...] = ("panda", "ur5")
     reach3 = (r3 <= 2.3) & (r3 >= 0.1)
     q03 = [arm3.middle] * n
     for solver in ("dls", "qp"):
-        report.rows.append(_measure(arm3, solver, xy3, q03, reach3, f"planar_3link/{solver}",
-                                    report))
+        report.rows.append(
+            _measure(arm3, solver, xy3, q03, reach3, f"planar_3link/{solver}", report)
+        )
 
     # 6 and 7 DOF arms: full poses of random reachable configurations.
     for name in spatial:
@@ -169,8 +212,9 @@ def run(n: int = 500, seed: int = 7, spatial: tuple[str, ...] = ("panda", "ur5")
         poses = [arm.fk(arm.random_q(rng)) for _ in range(n)]
         q0 = [arm.middle] * n
         for solver in ("dls", "qp", "auto"):
-            report.rows.append(_measure(arm, solver, poses, q0, np.ones(n, bool),
-                                        f"{name}/{solver}", report))
+            report.rows.append(
+                _measure(arm, solver, poses, q0, np.ones(n, bool), f"{name}/{solver}", report)
+            )
     return report
 
 
@@ -215,8 +259,12 @@ def plot(report: Report, out_dir: str | Path) -> list[Path]:
     for solver in ("planar2r", "dls", "qp"):
         marker, line, size = styles[solver]
         ok = report.samples[f"planar_2link/{solver}"]["success"]
-        rate = [ok[(dist >= a) & (dist < b)].mean() * 100 if ((dist >= a) & (dist < b)).any()
-                else np.nan for a, b in zip(bins[:-1], bins[1:])]
+        rate = [
+            ok[(dist >= a) & (dist < b)].mean() * 100
+            if ((dist >= a) & (dist < b)).any()
+            else np.nan
+            for a, b in zip(bins[:-1], bins[1:])
+        ]
         ax.plot(centers, rate, marker=marker, linestyle=line, markersize=size, label=solver)
     ax.axvline(0.0, color="k", lw=0.8)
     ax.set_xlabel("signed distance to the workspace boundary (m); < 0 is unreachable")

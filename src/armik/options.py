@@ -44,8 +44,9 @@ class Options:
         known = {f.name for f in fields(cls)}
         for key in kwargs:
             if key not in known:
-                raise OptionError(f"unknown option {key!r}; options: {listing(sorted(known))}",
-                                  option=key)
+                raise OptionError(
+                    f"unknown option {key!r}; options: {listing(sorted(known))}", option=key
+                )
         values = dict(kwargs)
         for key in ("tol_position", "tol_orientation", "timeout"):
             if key in values:
@@ -56,8 +57,11 @@ class Options:
         if "nullspace_gain" in values:
             gain = _float(key="nullspace_gain", value=values["nullspace_gain"])
             if not 0.0 <= gain <= 10.0:
-                raise OptionError(f"nullspace_gain must be in [0, 10], got {gain}",
-                                  option="nullspace_gain", value=gain)
+                raise OptionError(
+                    f"nullspace_gain must be in [0, 10], got {gain}",
+                    option="nullspace_gain",
+                    value=gain,
+                )
             values["nullspace_gain"] = gain
         if values.get("seed") is not None:
             values["seed"] = _int("seed", values["seed"], minimum=0)
@@ -66,8 +70,11 @@ class Options:
         if "position_only" in values:
             values["position_only"] = bool(values["position_only"])
         if "qp_solver" in values and not isinstance(values["qp_solver"], str):
-            raise OptionError(f"qp_solver must be a backend name, got {values['qp_solver']!r}",
-                              option="qp_solver", value=values["qp_solver"])
+            raise OptionError(
+                f"qp_solver must be a backend name, got {values['qp_solver']!r}",
+                option="qp_solver",
+                value=values["qp_solver"],
+            )
         return cls(**values)
 
     def weight_vector(self, position_only_target: bool) -> np.ndarray:
@@ -81,8 +88,9 @@ def _float(key: str, value: object) -> float:
     try:
         out = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError):
-        raise OptionError(f"{key} must be a number, got {value!r}", option=key,
-                          value=value) from None
+        raise OptionError(
+            f"{key} must be a number, got {value!r}", option=key, value=value
+        ) from None
     if not math.isfinite(out):
         raise OptionError(f"{key} must be finite, got {value!r}", option=key, value=value)
     return out
@@ -97,8 +105,9 @@ def _positive_float(key: str, value: object) -> float:
 
 def _int(key: str, value: object, minimum: int) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise OptionError(f"{key} must be an integer >= {minimum}, got {value!r}", option=key,
-                          value=value)
+        raise OptionError(
+            f"{key} must be an integer >= {minimum}, got {value!r}", option=key, value=value
+        )
     if value < minimum:
         raise OptionError(f"{key} must be >= {minimum}, got {value!r}", option=key, value=value)
     return int(value)
@@ -110,6 +119,10 @@ def _weights(value: object) -> tuple[float, ...]:
     except (TypeError, ValueError):
         w = np.array([np.nan])
     if w.shape != (6,) or not np.all(np.isfinite(w)) or np.any(w < 0) or not np.any(w > 0):
-        raise OptionError(f"weights must be 6 finite non-negative numbers (x, y, z, rx, ry, rz), "
-                          f"not all zero; got {value!r}", option="weights", value=value)
+        raise OptionError(
+            f"weights must be 6 finite non-negative numbers (x, y, z, rx, ry, rz), "
+            f"not all zero; got {value!r}",
+            option="weights",
+            value=value,
+        )
     return tuple(float(v) for v in w)

@@ -47,13 +47,13 @@ def find_plane(arm: Arm) -> Plane | None:
     if np.any(arm.prismatic):
         return None
     q = arm.to_pin(arm.middle)
-    J = pin.computeFrameJacobian(arm.model, arm.data, q, arm.tip_frame_id,
-                                 pin.LOCAL_WORLD_ALIGNED)
+    J = pin.computeFrameJacobian(arm.model, arm.data, q, arm.tip_frame_id, pin.LOCAL_WORLD_ALIGNED)
     R = arm.T_base_world.rotation
     axes = (R @ J[3:]).T
     normal = axes[0] / np.linalg.norm(axes[0])
     for a in axes[1:]:
-        if abs(np.linalg.norm(a) - 1.0) > 1e-9 or np.linalg.norm(np.cross(a, normal)) > PARALLEL_TOL:
+        revolute = abs(np.linalg.norm(a) - 1.0) <= 1e-9
+        if not revolute or np.linalg.norm(np.cross(a, normal)) > PARALLEL_TOL:
             return None
     signs = np.sign(axes @ normal)
     k = int(np.argmax(np.abs(normal)))

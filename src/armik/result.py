@@ -45,18 +45,27 @@ class IKResult:
     def __repr__(self) -> str:
         ori = "n/a" if self.orientation_error is None else f"{self.orientation_error:.2e} rad"
         branch = f", branch={self.branch!r}" if self.branch else ""
-        return (f"IKResult(success={self.success}, status={self.status!r}, solver="
-                f"{self.solver!r}{branch}, q={np.round(self.q, 6).tolist()}, "
-                f"position_error={self.position_error:.2e} m, orientation_error={ori}, "
-                f"iterations={self.iterations}, time={self.time * 1e3:.3f} ms, "
-                f"reason={self.reason!r})")
+        return (
+            f"IKResult(success={self.success}, status={self.status!r}, solver="
+            f"{self.solver!r}{branch}, q={np.round(self.q, 6).tolist()}, "
+            f"position_error={self.position_error:.2e} m, orientation_error={ori}, "
+            f"iterations={self.iterations}, time={self.time * 1e3:.3f} ms, "
+            f"reason={self.reason!r})"
+        )
 
     def as_dict(self) -> dict:
         """Plain JSON-ready dictionary."""
         return {
-            "q": self.q.tolist(), "success": self.success, "status": self.status,
-            "reason": self.reason, "solver": self.solver, "iterations": self.iterations,
-            "position_error": self.position_error, "orientation_error": self.orientation_error,
-            "time": self.time, "branch": self.branch, "singular": self.singular,
+            "q": self.q.tolist(),
+            "success": self.success,
+            "status": self.status,
+            "reason": self.reason,
+            "solver": self.solver,
+            "iterations": self.iterations,
+            "position_error": self.position_error,
+            "orientation_error": self.orientation_error,
+            "time": self.time,
+            "branch": self.branch,
+            "singular": self.singular,
             "restarts": self.restarts,
         }

@@ -39,28 +39,69 @@ class RobotEntry:
 CATALOGUE: dict[str, RobotEntry] = {
     e.name: e
     for e in [
-        RobotEntry("planar_2link", ARMIK, "planar_2link.urdf", "tip",
-                   "2R planar arm about z, l1 = 1.0 m, l2 = 0.8 m (the worked example)"),
-        RobotEntry("planar_3link", ARMIK, "planar_3link.urdf", "tip",
-                   "3R planar arm about z, links 1.0, 0.8, 0.5 m"),
-        RobotEntry("scara", ARMIK, "scara.urdf", "tool",
-                   "SCARA: 2 revolute, 1 prismatic, 1 continuous joint"),
-        RobotEntry("panda", ERD, "panda_description/urdf/panda.urdf", "panda_hand",
-                   "Franka Emika Panda, 7 DOF, fingers locked"),
-        RobotEntry("ur5", ERD, "ur_description/urdf/ur5_robot.urdf", "tool0",
-                   "Universal Robots UR5, 6 DOF"),
-        RobotEntry("ur10", ERD, "ur_description/urdf/ur10_robot.urdf", "tool0",
-                   "Universal Robots UR10, 6 DOF"),
-        RobotEntry("kinova", ERD, "kinova_description/robots/kinova.urdf",
-                   "j2s6s200_end_effector", "Kinova Jaco 2 (j2s6s200), 6 DOF, 3 continuous joints"),
-        RobotEntry("xarm7", ERD, "xarm_description/urdf/xarm7.urdf", "link_eef",
-                   "UFactory xArm 7, 7 DOF"),
-        RobotEntry("z1", ERD, "z1_description/urdf/z1.urdf", "gripperStator",
-                   "Unitree Z1, 6 DOF, gripper locked"),
-        RobotEntry("double_pendulum", ERD,
-                   "double_pendulum_description/urdf/double_pendulum_simple.urdf", "link2",
-                   "double pendulum, 2R about x; tool point at the end of the 0.2 m link 2",
-                   tip_offset=(0.0, 0.0, 0.2)),
+        RobotEntry(
+            "planar_2link",
+            ARMIK,
+            "planar_2link.urdf",
+            "tip",
+            "2R planar arm about z, l1 = 1.0 m, l2 = 0.8 m (the worked example)",
+        ),
+        RobotEntry(
+            "planar_3link",
+            ARMIK,
+            "planar_3link.urdf",
+            "tip",
+            "3R planar arm about z, links 1.0, 0.8, 0.5 m",
+        ),
+        RobotEntry(
+            "scara",
+            ARMIK,
+            "scara.urdf",
+            "tool",
+            "SCARA: 2 revolute, 1 prismatic, 1 continuous joint",
+        ),
+        RobotEntry(
+            "panda",
+            ERD,
+            "panda_description/urdf/panda.urdf",
+            "panda_hand",
+            "Franka Emika Panda, 7 DOF, fingers locked",
+        ),
+        RobotEntry(
+            "ur5", ERD, "ur_description/urdf/ur5_robot.urdf", "tool0", "Universal Robots UR5, 6 DOF"
+        ),
+        RobotEntry(
+            "ur10",
+            ERD,
+            "ur_description/urdf/ur10_robot.urdf",
+            "tool0",
+            "Universal Robots UR10, 6 DOF",
+        ),
+        RobotEntry(
+            "kinova",
+            ERD,
+            "kinova_description/robots/kinova.urdf",
+            "j2s6s200_end_effector",
+            "Kinova Jaco 2 (j2s6s200), 6 DOF, 3 continuous joints",
+        ),
+        RobotEntry(
+            "xarm7", ERD, "xarm_description/urdf/xarm7.urdf", "link_eef", "UFactory xArm 7, 7 DOF"
+        ),
+        RobotEntry(
+            "z1",
+            ERD,
+            "z1_description/urdf/z1.urdf",
+            "gripperStator",
+            "Unitree Z1, 6 DOF, gripper locked",
+        ),
+        RobotEntry(
+            "double_pendulum",
+            ERD,
+            "double_pendulum_description/urdf/double_pendulum_simple.urdf",
+            "link2",
+            "double pendulum, 2R about x; tool point at the end of the 0.2 m link 2",
+            tip_offset=(0.0, 0.0, 0.2),
+        ),
     ]
 }
 

@@ -7,18 +7,25 @@ import time
 import numpy as np
 
 from .arm import Arm
-from .options import Options
-from .result import IKResult
 from .ik import registry
 from .ik.base import Attempt
+from .options import Options
+from .result import IKResult
 from .targets import parse_target
 from .verify import check
 
 _FAILURE_ORDER = {"joint_limits": 0, "not_converged": 1, "unreachable": 2}
 
 
-def solve(arm: Arm, target: object, *, q0: object = None, solver: str = "auto",
-          all_solutions: bool = False, **options: object) -> list[IKResult]:
+def solve(
+    arm: Arm,
+    target: object,
+    *,
+    q0: object = None,
+    solver: str = "auto",
+    all_solutions: bool = False,
+    **options: object,
+) -> list[IKResult]:
     """Parse, choose a solver, run it, verify every answer, rank: best first."""
     t0 = time.perf_counter()
     opts = Options.from_kwargs(options)
@@ -51,10 +58,18 @@ def _judge(arm: Arm, attempt: Attempt, target, opts: Options) -> dict:
             reason = f"forward-kinematics check failed: {c.describe()}"
     else:
         status, success, reason = attempt.claim, False, attempt.reason
-    return dict(q=attempt.q, success=success, status=status, reason=reason,
-                iterations=attempt.iterations, position_error=c.position_error,
-                orientation_error=c.orientation_error, branch=attempt.branch,
-                singular=attempt.singular, restarts=attempt.restarts)
+    return dict(
+        q=attempt.q,
+        success=success,
+        status=status,
+        reason=reason,
+        iterations=attempt.iterations,
+        position_error=c.position_error,
+        orientation_error=c.orientation_error,
+        branch=attempt.branch,
+        singular=attempt.singular,
+        restarts=attempt.restarts,
+    )
 
 
 def _rank(row: dict, seed: np.ndarray) -> tuple:

@@ -89,8 +89,10 @@ def _rotation_from_quat(quat: object) -> np.ndarray:
     q = _vector(quat, 4, "quaternion (x, y, z, w)")
     norm = np.linalg.norm(q)
     if norm < 1e-12:
-        raise TargetError(f"quaternion {q.tolist()} has zero norm: give a unit quaternion "
-                          "(x, y, z, w), e.g. (0, 0, 0, 1) for no rotation")
+        raise TargetError(
+            f"quaternion {q.tolist()} has zero norm: give a unit quaternion "
+            "(x, y, z, w), e.g. (0, 0, 0, 1) for no rotation"
+        )
     x, y, z, w = q / norm
     return pin.Quaternion(w, x, y, z).toRotationMatrix()
 
@@ -98,8 +100,7 @@ def _rotation_from_quat(quat: object) -> np.ndarray:
 def _from_matrix(M: np.ndarray) -> Target:
     _finite(M, "4x4 target")
     if not np.allclose(M[3], [0.0, 0.0, 0.0, 1.0], atol=1e-12, rtol=0):
-        raise TargetError(f"the last row of a 4x4 target must be (0, 0, 0, 1), got "
-                          f"{M[3].tolist()}")
+        raise TargetError(f"the last row of a 4x4 target must be (0, 0, 0, 1), got {M[3].tolist()}")
     return _pose(M[:3, :3], M[:3, 3])
 
 
@@ -108,11 +109,15 @@ def _pose(R: np.ndarray, p: np.ndarray) -> Target:
     p = _finite(np.asarray(p, float), "target position")
     err = np.abs(R.T @ R - np.eye(3)).max()
     if err > ROTATION_TOL:
-        raise TargetError(f"target rotation is not orthonormal (|R^T R - I| = {err:.2g}): "
-                          "give a rotation matrix, or a quaternion")
+        raise TargetError(
+            f"target rotation is not orthonormal (|R^T R - I| = {err:.2g}): "
+            "give a rotation matrix, or a quaternion"
+        )
     if np.linalg.det(R) < 0:
-        raise TargetError("target rotation has determinant -1 (a reflection, not a rotation): "
-                          "flip the sign of one axis")
+        raise TargetError(
+            "target rotation has determinant -1 (a reflection, not a rotation): "
+            "flip the sign of one axis"
+        )
     if err > 1e-14:
         # Snap to the nearest rotation so that verification measures the arm, not rounding.
         U, _, Vt = np.linalg.svd(R)
@@ -124,6 +129,8 @@ def _planar(xy: np.ndarray, arm: Arm | None) -> Target:
     plane = None if arm is None else arm.plane
     if plane is None:
         name = "this arm" if arm is None else f"arm {arm.name!r}"
-        raise TargetError(f"a 2-vector target needs a planar arm, and {name} is not planar: "
-                          "give a position (x, y, z) or a full pose")
+        raise TargetError(
+            f"a 2-vector target needs a planar arm, and {name} is not planar: "
+            "give a position (x, y, z) or a full pose"
+        )
     return Target(plane.to_3d(xy), None, planar=True)

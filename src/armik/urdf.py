@@ -88,9 +88,7 @@ def _inspect(root: ET.Element, path: str) -> URDFInfo:
             mimic[name] = mim.get("joint", "?")
     roots = [name for name in links if name not in children]
     if len(roots) != 1:
-        raise URDFError(
-            f"URDF {path!r} must have exactly one root link, found {roots}", path=path
-        )
+        raise URDFError(f"URDF {path!r} must have exactly one root link, found {roots}", path=path)
     return URDFInfo(root.get("name", ""), roots[0], joint_types, mimic)
 
 

@@ -38,8 +38,9 @@ class Check:
     def describe(self) -> str:
         parts = [f"position error {self.position_error:.3g} m (tol {self.tol_position:g})"]
         if self.orientation_error is not None:
-            parts.append(f"orientation error {self.orientation_error:.3g} rad "
-                         f"(tol {self.tol_orientation:g})")
+            parts.append(
+                f"orientation error {self.orientation_error:.3g} rad (tol {self.tol_orientation:g})"
+            )
         return ", ".join(parts)
 
 

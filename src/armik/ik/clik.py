@@ -28,15 +28,22 @@ def applies(arm: Arm, target: Target | None = None, opts: Options | None = None)
     return None
 
 
-def run(arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
-        ) -> list[Attempt]:
+def run(
+    arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+) -> list[Attempt]:
     deadline = time.perf_counter() + opts.timeout
     pb = Problem.build(arm, target, q0, opts)
     s = evaluate(pb, pb.q0_pin.copy())
     for it in range(IT_MAX):
         if converged(pb, s):
-            return [Attempt(q=arm.nearest_equivalent(arm.from_pin(s.qp), q0),
-                            claim="converged", iterations=it, reason="CLIK converged")]
+            return [
+                Attempt(
+                    q=arm.nearest_equivalent(arm.from_pin(s.qp), q0),
+                    claim="converged",
+                    iterations=it,
+                    reason="CLIK converged",
+                )
+            ]
         if time.perf_counter() > deadline:
             break
         A, e = s.A, s.e
@@ -44,11 +51,26 @@ def run(arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: 
         qn = pin.integrate(arm.model, s.qp, v * DT)
         arm.clip_pin(qn)
         s = evaluate(pb, qn)
-    return [Attempt(q=arm.nearest_equivalent(arm.from_pin(s.qp), q0), claim="not_converged",
-                    iterations=it, reason=f"CLIK did not converge: position error {s.pos:.3g} "
-                    f"m, orientation error {s.rot:.3g} rad")]
+    return [
+        Attempt(
+            q=arm.nearest_equivalent(arm.from_pin(s.qp), q0),
+            claim="not_converged",
+            iterations=it,
+            reason=f"CLIK did not converge: position error {s.pos:.3g} "
+            f"m, orientation error {s.rot:.3g} rad",
+        )
+    ]
 
 
-SPEC = register(SolverSpec(
-    name="clik", kind="numeric", enforces_limits=False, priority=0, check=applies, run=run,
-    summary="baseline: Pinocchio's example CLIK loop (fixed step, clipping)", auto=False))
+SPEC = register(
+    SolverSpec(
+        name="clik",
+        kind="numeric",
+        enforces_limits=False,
+        priority=0,
+        check=applies,
+        run=run,
+        summary="baseline: Pinocchio's example CLIK loop (fixed step, clipping)",
+        auto=False,
+    )
+)

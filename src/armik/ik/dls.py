@@ -33,8 +33,7 @@ def step(pb: Problem, s: State, mu: float = 1.0) -> np.ndarray:
             free = ~blocked
             dq = np.zeros_like(dq)
             if free.any():
-                dq[free] = solve_spd(np.ascontiguousarray(H[np.ix_(free, free)]),
-                                     g[free])
+                dq[free] = solve_spd(np.ascontiguousarray(H[np.ix_(free, free)]), g[free])
     return bound_step(dq)
 
 
@@ -42,11 +41,20 @@ def applies(arm: Arm, target: Target | None = None, opts: Options | None = None)
     return None
 
 
-def run(arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
-        ) -> list[Attempt]:
+def run(
+    arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+) -> list[Attempt]:
     return run_numeric(arm, target, q0, opts, all_solutions, step)
 
 
-SPEC = register(SolverSpec(
-    name="dls", kind="numeric", enforces_limits=True, priority=50, check=applies, run=run,
-    summary="damped least squares (Levenberg-Marquardt), limits by projection, restarts"))
+SPEC = register(
+    SolverSpec(
+        name="dls",
+        kind="numeric",
+        enforces_limits=True,
+        priority=50,
+        check=applies,
+        run=run,
+        summary="damped least squares (Levenberg-Marquardt), limits by projection, restarts",
+    )
+)

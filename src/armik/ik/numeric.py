@@ -60,12 +60,24 @@ class Problem:
         w = opts.weight_vector(target.position_only)
         T_world_target = arm.T_world_base * target.se3()
         redundant = arm.dof > int(np.count_nonzero(w))
-        return cls(arm, T_world_target, w, w[:3] > 0, w[3:] > 0, 0.5 * opts.tol_position,
-                   0.5 * opts.tol_orientation, arm.to_pin(q0),
-                   opts.nullspace_gain if redundant else 0.0, arm.lower, arm.upper,
-                   arm.bounded.size > 0, bool(np.all(w == 1.0)),
-                   np.eye(arm.dof), arm.lower + ON_LIMIT,
-                   arm.upper - ON_LIMIT)
+        return cls(
+            arm,
+            T_world_target,
+            w,
+            w[:3] > 0,
+            w[3:] > 0,
+            0.5 * opts.tol_position,
+            0.5 * opts.tol_orientation,
+            arm.to_pin(q0),
+            opts.nullspace_gain if redundant else 0.0,
+            arm.lower,
+            arm.upper,
+            arm.bounded.size > 0,
+            bool(np.all(w == 1.0)),
+            np.eye(arm.dof),
+            arm.lower + ON_LIMIT,
+            arm.upper - ON_LIMIT,
+        )
 
 
 @dataclass(slots=True)
@@ -154,8 +166,9 @@ def bound_step(dq: np.ndarray) -> np.ndarray:
 Step = Callable[[Problem, State, float], np.ndarray]
 
 
-def descend(pb: Problem, qp: np.ndarray, step: Step, max_iterations: int, deadline: float
-            ) -> tuple[State, int, bool]:
+def descend(
+    pb: Problem, qp: np.ndarray, step: Step, max_iterations: int, deadline: float
+) -> tuple[State, int, bool]:
     """Iterate from ``qp``; returns the last state, the iterations used, and convergence.
 
     Steps are taken without an acceptance test at first: the overshoots help to leave
@@ -198,8 +211,9 @@ def descend(pb: Problem, qp: np.ndarray, step: Step, max_iterations: int, deadli
     return s, it, False
 
 
-def run_numeric(arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool,
-                step: Step) -> list[Attempt]:
+def run_numeric(
+    arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool, step: Step
+) -> list[Attempt]:
     """Descend from q0, then from random seeds until solved, out of time or restarts."""
     start = time.perf_counter()
     deadline = start + opts.timeout
@@ -228,18 +242,33 @@ def run_numeric(arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_sol
         restarts += 1
         qp = arm.to_pin(arm.random_q(rng))
     if found:
-        return [Attempt(q=q, claim="converged", iterations=iterations, restarts=restarts,
-                        reason=f"converged after {restarts} restart(s)") for q in found]
+        return [
+            Attempt(
+                q=q,
+                claim="converged",
+                iterations=iterations,
+                restarts=restarts,
+                reason=f"converged after {restarts} restart(s)",
+            )
+            for q in found
+        ]
     q = arm.nearest_equivalent(arm.from_pin(best.qp), q0)
     spent = time.perf_counter() - start
-    why = ("time budget" if spent > opts.timeout else "restart limit")
+    why = "time budget" if spent > opts.timeout else "restart limit"
     errors = f"position error {best.pos:.3g} m"
     if pb.mask_rot.any():
         errors += f", orientation error {best.rot:.3g} rad"
-    return [Attempt(q=q, claim="not_converged", iterations=iterations, restarts=restarts,
-                    reason=f"no solution within the {why} ({opts.timeout:g} s, {restarts} "
-                           f"restarts); best found: {errors}; the target may be out of "
-                           "reach")]
+    return [
+        Attempt(
+            q=q,
+            claim="not_converged",
+            iterations=iterations,
+            restarts=restarts,
+            reason=f"no solution within the {why} ({opts.timeout:g} s, {restarts} "
+            f"restarts); best found: {errors}; the target may be out of "
+            "reach",
+        )
+    ]
 
 
 def out_of_reach(arm: Arm, target: Target, opts: Options) -> Attempt | None:
@@ -250,6 +279,9 @@ def out_of_reach(arm: Arm, target: Target, opts: Options) -> Attempt | None:
     distance = float(np.linalg.norm(target.position - arm.first_joint_origin))
     if distance <= arm.reach + opts.tol_position:
         return None
-    return Attempt(q=arm.middle.copy(), claim="unreachable",
-                   reason=f"target is {distance:.4g} m from the first joint, beyond the arm's "
-                          f"reach of at most {arm.reach:.4g} m; q is the seed, unchanged")
+    return Attempt(
+        q=arm.middle.copy(),
+        claim="unreachable",
+        reason=f"target is {distance:.4g} m from the first joint, beyond the arm's "
+        f"reach of at most {arm.reach:.4g} m; q is the seed, unchanged",
+    )

@@ -67,9 +67,16 @@ def geometry(arm: Arm) -> Geometry:
         u1 = plane.to_2d(elbow) - A
         u2 = plane.to_2d(T_tip.translation) - plane.to_2d(elbow)
         a1 = math.atan2(u1[1], u1[0])
-        geo = Geometry(A, float(np.linalg.norm(u1)), float(np.linalg.norm(u2)), a1,
-                       math.atan2(u2[1], u2[0]) - a1, float(plane.signs[0]),
-                       float(plane.signs[1]), T_tip.rotation.copy())
+        geo = Geometry(
+            A,
+            float(np.linalg.norm(u1)),
+            float(np.linalg.norm(u2)),
+            a1,
+            math.atan2(u2[1], u2[0]) - a1,
+            float(plane.signs[0]),
+            float(plane.signs[1]),
+            T_tip.rotation.copy(),
+        )
         _GEOMETRY[arm] = geo
     return geo
 
@@ -95,8 +102,9 @@ def _angle(a: float) -> float:
     return math.atan2(math.sin(a), math.cos(a))
 
 
-def run(arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
-        ) -> list[Attempt]:
+def run(
+    arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+) -> list[Attempt]:
     geo, plane = geometry(arm), arm.plane
     off_plane = plane.height(target.position)
     P = plane.to_2d(target.position)
@@ -113,15 +121,32 @@ def run(arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: 
     if abs(off_plane) > opts.tol_position:
         t2 = math.acos(max(-1.0, min(1.0, c)))
         t1 = heading - math.atan2(l2 * math.sin(t2), l1 + l2 * math.cos(t2))
-        return [Attempt(q=joints(t1, t2), claim="unreachable",
-                        reason=f"target is {off_plane:.6g} m off the arm's plane of motion")]
+        return [
+            Attempt(
+                q=joints(t1, t2),
+                claim="unreachable",
+                reason=f"target is {off_plane:.6g} m off the arm's plane of motion",
+            )
+        ]
 
     if r < ZERO_LENGTH and abs(l1 - l2) < ZERO_LENGTH:
         q1 = q0[0]
         t1 = geo.alpha1 + geo.s1 * q1
-        return _orient(arm, geo, target, opts, [Attempt(
-            q=joints(t1, math.pi), claim="converged", singular=True, branch="folded",
-            reason="target at the shoulder with l1 = l2: joint 1 is free, kept nearest q0")])
+        return _orient(
+            arm,
+            geo,
+            target,
+            opts,
+            [
+                Attempt(
+                    q=joints(t1, math.pi),
+                    claim="converged",
+                    singular=True,
+                    branch="folded",
+                    reason="target at the shoulder with l1 = l2: joint 1 is free, kept nearest q0",
+                )
+            ],
+        )
 
     excess = max(r - (l1 + l2), abs(l1 - l2) - r)
     if abs(c) >= 1.0 - SINGULAR_TOL:
@@ -130,15 +155,36 @@ def run(arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: 
         # Folded with l2 > l1 the tip points away from link 1.
         t1 = heading if (stretched or l1 >= l2) else heading + math.pi
         if excess > opts.tol_position:
-            where = ("too far: beyond the reach l1 + l2 = " f"{l1 + l2:.6g} m" if stretched
-                     else f"inside the inner dead zone: closer than |l1 - l2| = {abs(l1 - l2):.6g} m")
-            return [Attempt(q=joints(t1, t2), claim="unreachable", branch=None,
-                            reason=f"target at distance {r:.6g} m from the shoulder is {where}; "
-                                   "q is the closest reachable configuration")]
+            where = (
+                f"too far: beyond the reach l1 + l2 = {l1 + l2:.6g} m"
+                if stretched
+                else f"inside the inner dead zone: closer than |l1 - l2| = {abs(l1 - l2):.6g} m"
+            )
+            return [
+                Attempt(
+                    q=joints(t1, t2),
+                    claim="unreachable",
+                    branch=None,
+                    reason=f"target at distance {r:.6g} m from the shoulder is {where}; "
+                    "q is the closest reachable configuration",
+                )
+            ]
         name = "stretched" if stretched else "folded"
-        return _orient(arm, geo, target, opts, [Attempt(
-            q=joints(t1, t2), claim="converged", singular=True, branch=name,
-            reason=f"singular: the arm is fully {name}, the two elbow branches coincide")])
+        return _orient(
+            arm,
+            geo,
+            target,
+            opts,
+            [
+                Attempt(
+                    q=joints(t1, t2),
+                    claim="converged",
+                    singular=True,
+                    branch=name,
+                    reason=f"singular: the arm is fully {name}, the two elbow branches coincide",
+                )
+            ],
+        )
 
     attempts = []
     for sign in (1.0, -1.0):
@@ -146,13 +192,20 @@ def run(arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: 
         t1 = heading - math.atan2(l2 * math.sin(t2), l1 + l2 * math.cos(t2))
         q = joints(t1, t2)
         up = geo.s2 * t2 > 0
-        attempts.append(Attempt(q=q, claim="converged", reason="closed form",
-                                branch="elbow-up" if up else "elbow-down"))
+        attempts.append(
+            Attempt(
+                q=q,
+                claim="converged",
+                reason="closed form",
+                branch="elbow-up" if up else "elbow-down",
+            )
+        )
     return _orient(arm, geo, target, opts, attempts)
 
 
-def _orient(arm: Arm, geo: Geometry, target: Target, opts: Options,
-            attempts: list[Attempt]) -> list[Attempt]:
+def _orient(
+    arm: Arm, geo: Geometry, target: Target, opts: Options, attempts: list[Attempt]
+) -> list[Attempt]:
     """A full pose fixes the tip angle too: keep only branches whose angle matches."""
     if target.rotation is None or opts.position_only:
         return attempts
@@ -160,10 +213,17 @@ def _orient(arm: Arm, geo: Geometry, target: Target, opts: Options,
     M = target.rotation @ geo.R_tip0.T  # must be a rotation about the plane normal
     tilt = math.acos(max(-1.0, min(1.0, float(n @ M @ n))))
     if tilt > opts.tol_orientation:
-        return [Attempt(q=a.q, claim="unreachable", branch=a.branch, singular=a.singular,
-                        reason=f"target orientation is tilted {tilt:.3g} rad out of the arm's "
-                               "plane; a planar arm only turns about its joint axis")
-                for a in attempts]
+        return [
+            Attempt(
+                q=a.q,
+                claim="unreachable",
+                branch=a.branch,
+                singular=a.singular,
+                reason=f"target orientation is tilted {tilt:.3g} rad out of the arm's "
+                "plane; a planar arm only turns about its joint axis",
+            )
+            for a in attempts
+        ]
     x = arm.plane.x
     want = math.atan2(float(np.cross(x, M @ x) @ n), float(x @ M @ x))
     out = []
@@ -171,10 +231,15 @@ def _orient(arm: Arm, geo: Geometry, target: Target, opts: Options,
         got = geo.s1 * a.q[0] + geo.s2 * a.q[1]
         miss = abs(_angle(got - want))
         if miss > opts.tol_orientation:
-            a = Attempt(q=a.q, claim="unreachable", branch=a.branch, singular=a.singular,
-                        reason=f"the {a.branch} branch reaches the position with tip angle "
-                               f"{_angle(got):.6g} rad, the target asks {want:.6g} rad; a 2-link "
-                               "arm cannot choose both")
+            a = Attempt(
+                q=a.q,
+                claim="unreachable",
+                branch=a.branch,
+                singular=a.singular,
+                reason=f"the {a.branch} branch reaches the position with tip angle "
+                f"{_angle(got):.6g} rad, the target asks {want:.6g} rad; a 2-link "
+                "arm cannot choose both",
+            )
         out.append(a)
     return out
 
@@ -208,6 +273,14 @@ def solve_many(arm: Arm, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nda
     return q_up, q_down, reachable
 
 
-SPEC = register(SolverSpec(
-    name="planar2r", kind="analytic", enforces_limits=True, priority=100, check=applies,
-    run=run, summary="closed form for planar two-revolute chains: both elbow branches"))
+SPEC = register(
+    SolverSpec(
+        name="planar2r",
+        kind="analytic",
+        enforces_limits=True,
+        priority=100,
+        check=applies,
+        run=run,
+        summary="closed form for planar two-revolute chains: both elbow branches",
+    )
+)

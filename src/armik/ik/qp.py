@@ -48,8 +48,9 @@ def build_problem(pb: Problem, s: State, mu: float = 1.0) -> qpsolvers.Problem:
 KKT_TOL = 1e-12
 
 
-def active_set_guess(H: np.ndarray, g: np.ndarray, lb: np.ndarray, ub: np.ndarray,
-                     dq: np.ndarray) -> np.ndarray | None:
+def active_set_guess(
+    H: np.ndarray, g: np.ndarray, lb: np.ndarray, ub: np.ndarray, dq: np.ndarray
+) -> np.ndarray | None:
     """The box QP's exact solution by a primal-dual active-set iteration (Hintermueller,
     Ito and Kunisch), starting from the bounds the unconstrained step ``dq`` crosses.
 
@@ -87,8 +88,7 @@ def make_step(backend: str):
             if guess is not None:
                 dq = guess
             else:
-                sol = qpsolvers.solve_problem(build_problem(pb, s, mu), solver=backend,
-                                              **options)
+                sol = qpsolvers.solve_problem(build_problem(pb, s, mu), solver=backend, **options)
                 dq = sol.x if sol.found and sol.x is not None else dq
             dq = np.clip(dq, lb, ub)  # backends meet bounds only to their tolerance
         return bound_step(dq)
@@ -99,16 +99,27 @@ def make_step(backend: str):
 def applies(arm: Arm, target: Target | None = None, opts: Options | None = None) -> str | None:
     backend = "osqp" if opts is None else opts.qp_solver
     if backend not in qpsolvers.available_solvers:
-        return (f"QP backend {backend!r} is not installed; installed: "
-                f"{', '.join(qpsolvers.available_solvers) or 'none'}")
+        return (
+            f"QP backend {backend!r} is not installed; installed: "
+            f"{', '.join(qpsolvers.available_solvers) or 'none'}"
+        )
     return None
 
 
-def run(arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
-        ) -> list[Attempt]:
+def run(
+    arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+) -> list[Attempt]:
     return run_numeric(arm, target, q0, opts, all_solutions, make_step(opts.qp_solver))
 
 
-SPEC = register(SolverSpec(
-    name="qp", kind="numeric", enforces_limits=True, priority=40, check=applies, run=run,
-    summary="QP per step with joint limits as constraints (qpsolvers, osqp by default)"))
+SPEC = register(
+    SolverSpec(
+        name="qp",
+        kind="numeric",
+        enforces_limits=True,
+        priority=40,
+        check=applies,
+        run=run,
+        summary="QP per step with joint limits as constraints (qpsolvers, osqp by default)",
+    )
+)

@@ -57,28 +57,37 @@ def get(name: str) -> SolverSpec:
     try:
         return _REGISTRY[name]
     except KeyError:
-        raise SolverError(f"unknown solver {name!r}; registered: {listing(solvers())} or "
-                          "'auto'", solver=name, candidates=solvers()) from None
+        raise SolverError(
+            f"unknown solver {name!r}; registered: {listing(solvers())} or 'auto'",
+            solver=name,
+            candidates=solvers(),
+        ) from None
 
 
-def why_not(name: str, arm: Arm, target: Target | None = None,
-            opts: Options | None = None) -> str | None:
+def why_not(
+    name: str, arm: Arm, target: Target | None = None, opts: Options | None = None
+) -> str | None:
     """None if solver ``name`` applies, else the check that failed."""
     return get(name).check(arm, target, opts)
 
 
-def choose(name: str, arm: Arm, target: Target | None = None,
-           opts: Options | None = None) -> SolverSpec:
+def choose(
+    name: str, arm: Arm, target: Target | None = None, opts: Options | None = None
+) -> SolverSpec:
     """The solver to run: ``name`` itself (if it applies) or the best one for "auto"."""
     if name != "auto":
         spec = get(name)
         reason = spec.check(arm, target, opts)
         if reason is not None:
-            raise SolverError(f"solver {name!r} does not apply to arm {arm.name!r}: {reason}",
-                              solver=name, candidates=solvers())
+            raise SolverError(
+                f"solver {name!r} does not apply to arm {arm.name!r}: {reason}",
+                solver=name,
+                candidates=solvers(),
+            )
         return spec
     for spec in sorted(_REGISTRY.values(), key=lambda s: -s.priority):
         if spec.auto and spec.check(arm, target, opts) is None:
             return spec
-    raise SolverError(f"no registered solver applies to arm {arm.name!r}", solver="auto",
-                      candidates=solvers())
+    raise SolverError(
+        f"no registered solver applies to arm {arm.name!r}", solver="auto", candidates=solvers()
+    )
