@@ -377,7 +377,8 @@ class Arm:
         return rng.uniform(lo, hi)
 
     def within_limits(self, q: np.ndarray, tol: float = LIMIT_TOL) -> bool:
-        return bool(((q >= self.lower - tol) & (q <= self.upper + tol)).all())
+        lower, upper, _ = self._limit_lists
+        return all(lo - tol <= v <= hi + tol for v, lo, hi in zip(q.tolist(), lower, upper))
 
     def limit_violations(self, q: np.ndarray, tol: float = LIMIT_TOL) -> list[str]:
         """Human-readable list of the joints outside their limits."""
@@ -435,7 +436,7 @@ class Arm:
         for qi, ri, lo, hi, linear in zip(
             np.asarray(q, float).tolist(), np.asarray(q_ref, float).tolist(), *self._limit_lists
         ):
-            if not linear:
+            if not linear and not (-math.pi <= qi - ri <= math.pi and lo <= qi <= hi):
                 near = qi + TWO_PI * round((ri - qi) / TWO_PI)
                 best = None
                 for c in (near, near - TWO_PI, near + TWO_PI, qi):

@@ -33,12 +33,34 @@ def solve(
     seed = arm.seed(q0)
     spec = registry.choose(solver, arm, tgt, opts)
     attempts = spec.run(arm, tgt, seed, opts, all_solutions)
-    rows = [_judge(arm, a, tgt, opts) for a in attempts]
+    if all_solutions:
+        rows = [_judge(arm, a, tgt, opts) for a in attempts]
+    else:
+        rows = _first_verified(arm, attempts, tgt, opts, seed)
     rows.sort(key=lambda r: _rank(r, seed))
-    if not all_solutions:
-        rows = rows[:1]
+    rows = rows if all_solutions else rows[:1]
     elapsed = time.perf_counter() - t0
     return [IKResult(**row, solver=spec.name, time=elapsed) for row in rows]
+
+
+def _first_verified(arm: Arm, attempts: list[Attempt], target, opts: Options, seed) -> list:
+    """Verify candidates nearest-first (within limits, claimed converged, then distance to
+    the seed) and stop at the first success: it is the nearest verified answer."""
+
+    def order(a: Attempt) -> tuple:
+        return (a.claim != "converged", not arm.within_limits(a.q), _distance(a.q, seed))
+
+    rows = []
+    for attempt in sorted(attempts, key=order):
+        rows.append(_judge(arm, attempt, target, opts))
+        if rows[-1]["success"]:
+            return rows[-1:]
+    return rows
+
+
+def _distance(q: np.ndarray, seed: np.ndarray) -> float:
+    d = q - seed
+    return float(np.sqrt(d.dot(d)))
 
 
 def _judge(arm: Arm, attempt: Attempt, target, opts: Options) -> dict:
@@ -74,6 +96,6 @@ def _judge(arm: Arm, attempt: Attempt, target, opts: Options) -> dict:
 
 def _rank(row: dict, seed: np.ndarray) -> tuple:
     if row["success"]:
-        return (0, float(np.linalg.norm(row["q"] - seed)))
+        return (0, _distance(row["q"], seed))
     ori = row["orientation_error"] or 0.0
     return (1, _FAILURE_ORDER[row["status"]], row["position_error"] + ori)

@@ -8,6 +8,7 @@ measured; for a position-only target the orientation error is None.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -47,12 +48,18 @@ class Check:
 def check(arm: Arm, q: np.ndarray, target: Target, opts: Options) -> Check:
     """Measure ``q`` against ``target`` with Pinocchio FK and the joint limits."""
     T = arm.fk_pin(arm.to_pin(q))
-    w = opts.weight_vector(target.position_only)
-    dp = T.rotation.T @ (target.position - T.translation)
-    pos = float(np.linalg.norm(dp[w[:3] > 0]))
+    d = target.position - T.translation
     ori = None
-    if target.rotation is not None and w[3:].any():
-        dw = pin.log3(T.rotation.T @ target.rotation)
-        ori = float(np.linalg.norm(dw[w[3:] > 0]))
+    if opts.weights is None:  # the common case, without masks
+        pos = math.sqrt(d.dot(d))
+        if target.rotation is not None and not opts.position_only:
+            dw = pin.log3(T.rotation.T @ target.rotation)
+            ori = math.sqrt(dw.dot(dw))
+    else:
+        w = opts.weight_vector(target.position_only)
+        pos = float(np.linalg.norm((T.rotation.T @ d)[w[:3] > 0]))
+        if target.rotation is not None and w[3:].any():
+            dw = pin.log3(T.rotation.T @ target.rotation)
+            ori = float(np.linalg.norm(dw[w[3:] > 0]))
     violations = arm.limit_violations(q)
     return Check(pos, ori, violations, opts.tol_position, opts.tol_orientation)
