@@ -233,6 +233,6 @@ def test_unconverged_never_success(monkeypatch):
 
     spec = armik.ik.registry.get("dls")
     monkeypatch.setitem(armik.ik.registry._REGISTRY, "dls", dataclasses.replace(spec, run=liar))
-    r = arm("ur5").solve(arm("ur5").fk(arm("ur5").middle))
+    r = arm("ur5").solve(arm("ur5").fk(arm("ur5").middle), solver="dls")
     assert not r.success and r.status == "not_converged" and "check failed" in r.reason
     assert dls  # the real module is untouched

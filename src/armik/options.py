@@ -41,6 +41,8 @@ class Options:
 
     @classmethod
     def from_kwargs(cls, kwargs: dict) -> Options:
+        if not kwargs:
+            return _DEFAULT
         known = {f.name for f in fields(cls)}
         for key in kwargs:
             if key not in known:
@@ -82,6 +84,9 @@ class Options:
         if self.position_only or position_only_target:
             w[3:] = 0.0
         return w
+
+
+_DEFAULT = Options()
 
 
 def _float(key: str, value: object) -> float:

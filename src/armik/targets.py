@@ -29,7 +29,11 @@ class Target:
 
     position: np.ndarray
     rotation: np.ndarray | None = None
-    planar: bool = False  # given as (x, y) in the arm's plane
+    planar_xy: np.ndarray | None = None  # as given, when given as (x, y) in the arm's plane
+
+    @property
+    def planar(self) -> bool:
+        return self.planar_xy is not None
 
     @property
     def position_only(self) -> bool:
@@ -133,4 +137,4 @@ def _planar(xy: np.ndarray, arm: Arm | None) -> Target:
             f"a 2-vector target needs a planar arm, and {name} is not planar: "
             "give a position (x, y, z) or a full pose"
         )
-    return Target(plane.to_3d(xy), None, planar=True)
+    return Target(plane.to_3d(xy), None, planar_xy=xy)

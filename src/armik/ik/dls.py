@@ -33,7 +33,7 @@ def step(pb: Problem, s: State, mu: float = 1.0) -> np.ndarray:
             free = ~blocked
             dq = np.zeros_like(dq)
             if free.any():
-                dq[free] = solve_spd(np.ascontiguousarray(H[np.ix_(free, free)]), g[free])
+                dq[free] = solve_spd(H[free][:, free], g[free])
     return bound_step(dq)
 
 

@@ -106,8 +106,10 @@ def run(
     arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
 ) -> list[Attempt]:
     geo, plane = geometry(arm), arm.plane
-    off_plane = plane.height(target.position)
-    P = plane.to_2d(target.position)
+    if target.planar_xy is not None:  # given in plane coordinates: on the plane
+        off_plane, P = 0.0, target.planar_xy
+    else:
+        off_plane, P = plane.height(target.position), plane.to_2d(target.position)
     d = P - geo.shoulder
     r = math.hypot(d[0], d[1])
     l1, l2 = geo.l1, geo.l2

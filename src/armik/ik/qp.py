@@ -65,8 +65,8 @@ def active_set_guess(
         fixed = at_lb | at_ub
         free = ~fixed
         if free.any():
-            rhs = g[free] - H[np.ix_(free, fixed)] @ x[fixed]
-            x[free] = solve_spd(np.ascontiguousarray(H[np.ix_(free, free)]), rhs)
+            rhs = (g - H @ x)[free]  # x is zero on the free joints here
+            x[free] = solve_spd(H[free][:, free], rhs)
         r = H @ x - g  # multipliers: >= 0 where held at lower, <= 0 where held at upper
         new_lb = (at_lb & (r >= -KKT_TOL)) | (free & (x < lb))
         new_ub = (at_ub & (r <= KKT_TOL)) | (free & (x > ub))

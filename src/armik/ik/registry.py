@@ -41,16 +41,20 @@ class SolverSpec:
 _REGISTRY: dict[str, SolverSpec] = {}
 
 
+_BY_PRIORITY: list[SolverSpec] = []
+
+
 def register(spec: SolverSpec) -> SolverSpec:
     if spec.name in _REGISTRY or spec.name == "auto":
         raise ValueError(f"solver name {spec.name!r} is taken")
     _REGISTRY[spec.name] = spec
+    _BY_PRIORITY[:] = sorted(_REGISTRY.values(), key=lambda s: -s.priority)
     return spec
 
 
 def solvers() -> list[str]:
     """Registered solver names, highest priority first."""
-    return [s.name for s in sorted(_REGISTRY.values(), key=lambda s: -s.priority)]
+    return [s.name for s in _BY_PRIORITY]
 
 
 def get(name: str) -> SolverSpec:
@@ -85,7 +89,7 @@ def choose(
                 candidates=solvers(),
             )
         return spec
-    for spec in sorted(_REGISTRY.values(), key=lambda s: -s.priority):
+    for spec in _BY_PRIORITY:
         if spec.auto and spec.check(arm, target, opts) is None:
             return spec
     raise SolverError(
