@@ -61,18 +61,17 @@ def active_set_guess(
     """
     at_lb, at_ub = dq <= lb, dq >= ub
     for _ in range(2 * len(g)):
+        free = ~(at_lb | at_ub)
         x = np.where(at_lb, lb, np.where(at_ub, ub, 0.0))
-        fixed = at_lb | at_ub
-        free = ~fixed
         if free.any():
-            rhs = (g - H @ x)[free]  # x is zero on the free joints here
-            x[free] = solve_spd(H[free][:, free], rhs)
+            x[free] = solve_spd(H[free][:, free], (g - H @ x)[free])
         r = H @ x - g  # multipliers: >= 0 where held at lower, <= 0 where held at upper
-        new_lb = (at_lb & (r >= -KKT_TOL)) | (free & (x < lb))
-        new_ub = (at_ub & (r <= KKT_TOL)) | (free & (x > ub))
-        if (new_lb == at_lb).all() and (new_ub == at_ub).all():
+        low, high = x < lb, x > ub
+        wrong = (at_lb & (r < -KKT_TOL)) | (at_ub & (r > KKT_TOL)) | (free & (low | high))
+        if not wrong.any():
             return x
-        at_lb, at_ub = new_lb, new_ub
+        at_lb = (at_lb & (r >= -KKT_TOL)) | (free & low)
+        at_ub = (at_ub & (r <= KKT_TOL)) | (free & high)
     return None
 
 
