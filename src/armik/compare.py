@@ -14,7 +14,6 @@ from pathlib import Path
 import numpy as np
 
 from .arm import Arm, load
-from .ik import registry
 
 BUDGET = 0.005  # s per numeric solve, as in the benchmark
 TIGHT = 1e-12  # m, position tolerance on the 2-link arm
@@ -286,4 +285,4 @@ def _save(fig, path: Path) -> Path:
     return path
 
 
-__all__ = ["Report", "Row", "plot", "registry", "run"]
+__all__ = ["Report", "Row", "plot", "run"]
