@@ -236,3 +236,18 @@ def test_unconverged_never_success(monkeypatch):
     r = arm("ur5").solve(arm("ur5").fk(arm("ur5").middle), solver="dls")
     assert not r.success and r.status == "not_converged" and "check failed" in r.reason
     assert dls  # the real module is untouched
+
+
+def test_restart_seeds_cover_the_box_reproducibly():
+    a = arm("kinova")  # bounded and continuous joints
+    s1 = numeric.RestartSeeds(a, np.random.default_rng(3))
+    s2 = numeric.RestartSeeds(a, np.random.default_rng(3))
+    pts = np.array([s1.next() for _ in range(600)])  # wraps around the 512-point table
+    np.testing.assert_array_equal(pts[:10], [s2.next() for _ in range(10)])
+    lo = np.where(np.isfinite(a.lower), a.lower, -np.pi)
+    hi = np.where(np.isfinite(a.upper), a.upper, np.pi)
+    assert np.all(pts >= lo) and np.all(pts <= hi)
+    # even coverage: every joint's range split in 8 bins gets 1/8 of the points, +-30 %
+    for j in range(a.dof):
+        counts = np.histogram(pts[:512, j], bins=8, range=(lo[j], hi[j]))[0]
+        assert np.all(np.abs(counts - 64) <= 20)
