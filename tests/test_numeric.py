@@ -251,3 +251,12 @@ def test_restart_seeds_cover_the_box_reproducibly():
     for j in range(a.dof):
         counts = np.histogram(pts[:512, j], bins=8, range=(lo[j], hi[j]))[0]
         assert np.all(np.abs(counts - 64) <= 20)
+
+
+def test_beyond_reach_returns_the_seed_at_once():
+    a = arm("ur5")
+    q0 = a.middle + 0.2
+    r = a.solve([3.0, 0.0, 0.0], q0=q0)
+    assert r.status == "unreachable" and "beyond the arm's reach" in r.reason
+    np.testing.assert_array_equal(r.q, q0)
+    assert r.iterations == 0

@@ -26,7 +26,7 @@ from ..targets import Target
 from .base import Attempt
 
 MAX_STEP = 1.0  # rad or m: longest step (Euclidean)
-STALL_WINDOW = 4  # iterations without a 1 % improvement before a restart
+STALL_WINDOW = 4  # iterations without a 2 % drop of |e|^2 before a restart
 DAMPING_GAIN = 0.1
 MU_UP, MU_DOWN = 4.0, 0.5  # damping multiplier after a rejected / accepted step
 CAREFUL_BELOW = 1e-2  # |e|^2 under which a stalled attempt turns careful, not restarts
@@ -261,10 +261,10 @@ def _halton(dim: int, n: int = 512) -> np.ndarray:
 def run_numeric(
     arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool, step: Step
 ) -> list[Attempt]:
-    """Descend from q0, then from random seeds until solved, out of time or restarts."""
+    """Descend from q0, then from restart seeds until solved, out of time or restarts."""
     start = time.perf_counter()
     deadline = start + opts.timeout
-    far = out_of_reach(arm, target, opts)
+    far = out_of_reach(arm, target, q0, opts)
     if far is not None:
         return [far]
     pb = Problem.build(arm, target, q0, opts)
@@ -319,7 +319,7 @@ def run_numeric(
     ]
 
 
-def out_of_reach(arm: Arm, target: Target, opts: Options) -> Attempt | None:
+def out_of_reach(arm: Arm, target: Target, q0: np.ndarray, opts: Options) -> Attempt | None:
     """A target farther from the first joint than the arm's reach bound is unreachable."""
     w = opts.weight_vector(target.position_only)
     if not w[:3].all():
@@ -328,7 +328,7 @@ def out_of_reach(arm: Arm, target: Target, opts: Options) -> Attempt | None:
     if distance <= arm.reach + opts.tol_position:
         return None
     return Attempt(
-        q=arm.middle.copy(),
+        q=q0.copy(),
         claim="unreachable",
         reason=f"target is {distance:.4g} m from the first joint, beyond the arm's "
         f"reach of at most {arm.reach:.4g} m; q is the seed, unchanged",
