@@ -227,3 +227,9 @@ def test_jacobian_base_frame_matches_finite_differences(rng):
         w = pin.log3(Tp.rotation @ Tm.rotation.T) / (2 * h)
         np.testing.assert_allclose(J[:3, i], v, atol=1e-6)
         np.testing.assert_allclose(J[3:, i], w, atol=1e-6)
+
+
+@pytest.mark.parametrize("value", ["abc", float("nan"), None])
+def test_bad_locked_value(value):
+    with pytest.raises(JointError, match="finite number"):
+        armik.load("panda", locked={"panda_finger_joint1": value})

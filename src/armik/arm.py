@@ -164,7 +164,16 @@ class Arm:
                     joint=jname,
                     candidates=all_joints,
                 )
-            _set_joint(full, q_ref, jid, float(value))
+            try:
+                number = float(value)
+            except (TypeError, ValueError):
+                number = math.nan
+            if not math.isfinite(number):
+                raise JointError(
+                    f"locked value for {jname!r} must be a finite number (rad or m), got {value!r}",
+                    joint=jname,
+                )
+            _set_joint(full, q_ref, jid, number)
         to_lock = [j for j in range(1, full.njoints) if j not in chain]
         model = pin.buildReducedModel(full, to_lock, q_ref) if to_lock else full.copy()
 
