@@ -136,6 +136,8 @@ def test_missing_file_and_directory(tmp_path):
         armik.load(tmp_path)
     with pytest.raises(URDFError, match="neither a bundled robot"):
         armik.load("no_such_robot")
+    with pytest.raises(URDFError, match="robot name or a path"):
+        armik.load(42)
 
 
 def test_lower_above_upper(tmp_path):

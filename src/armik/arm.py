@@ -48,6 +48,11 @@ def load(
     Raises ``URDFError``, ``FrameError`` or ``JointError`` (all ``ValueError``) naming the
     bad value and the fix.
     """
+    if not isinstance(source, (str, Path)):
+        raise URDFError(
+            f"source must be a robot name or a path to a URDF file, got {source!r}",
+            path=str(source),
+        )
     name = str(source)
     if isinstance(source, str) and source in CATALOGUE:
         spec = entry(source)
