@@ -120,6 +120,12 @@ def run(
         q = np.array([_angle(geo.s1 * (t1 - geo.alpha1)), _angle(geo.s2 * (t2 - geo.alpha2))])
         return arm.nearest_equivalent(q, q0)
 
+    def merged(t1: float, t2: float, branch: str, reason: str) -> list[Attempt]:
+        """The single answer where the two elbow branches coincide."""
+        q = joints(t1, t2)
+        one = Attempt(q=q, claim="converged", singular=True, branch=branch, reason=reason)
+        return _orient(arm, geo, target, opts, [one])
+
     if abs(off_plane) > opts.tol_position:
         t2 = math.acos(max(-1.0, min(1.0, c)))
         t1 = heading - math.atan2(l2 * math.sin(t2), l1 + l2 * math.cos(t2))
@@ -132,23 +138,9 @@ def run(
         ]
 
     if r < ZERO_LENGTH and abs(l1 - l2) < ZERO_LENGTH:
-        q1 = q0[0]
-        t1 = geo.alpha1 + geo.s1 * q1
-        return _orient(
-            arm,
-            geo,
-            target,
-            opts,
-            [
-                Attempt(
-                    q=joints(t1, math.pi),
-                    claim="converged",
-                    singular=True,
-                    branch="folded",
-                    reason="target at the shoulder with l1 = l2: joint 1 is free, kept nearest q0",
-                )
-            ],
-        )
+        t1 = geo.alpha1 + geo.s1 * q0[0]
+        free = "target at the shoulder with l1 = l2: joint 1 is free, kept nearest q0"
+        return merged(t1, math.pi, "folded", free)
 
     excess = max(r - (l1 + l2), abs(l1 - l2) - r)
     if abs(c) >= 1.0 - SINGULAR_TOL:
@@ -172,20 +164,8 @@ def run(
                 )
             ]
         name = "stretched" if stretched else "folded"
-        return _orient(
-            arm,
-            geo,
-            target,
-            opts,
-            [
-                Attempt(
-                    q=joints(t1, t2),
-                    claim="converged",
-                    singular=True,
-                    branch=name,
-                    reason=f"singular: the arm is fully {name}, the two elbow branches coincide",
-                )
-            ],
+        return merged(
+            t1, t2, name, f"singular: the arm is fully {name}, the two elbow branches coincide"
         )
 
     attempts = []
