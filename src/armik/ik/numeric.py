@@ -184,7 +184,6 @@ def descend(
     Levenberg-Marquardt acceptance, where a step that does not lower |e|^2 is rejected and
     the damping multiplier mu raised, which ends the cycling between two poses seen near
     singular boundaries. A careful attempt that stalls too gives way to a restart.
-    (``descend`` reads the module constants at call time, so a study can vary them.)
     """
     arm = pb.arm
     s = evaluate(pb, qp)
