@@ -260,3 +260,10 @@ def test_beyond_reach_returns_the_seed_at_once():
     assert r.status == "unreachable" and "beyond the arm's reach" in r.reason
     np.testing.assert_array_equal(r.q, q0)
     assert r.iterations == 0
+
+
+def test_halton_table_is_the_radical_inverse():
+    table = numeric._halton(3, n=8)
+    np.testing.assert_allclose(table[:4, 0], [1 / 2, 1 / 4, 3 / 4, 1 / 8])
+    np.testing.assert_allclose(table[:4, 1], [1 / 3, 2 / 3, 1 / 9, 4 / 9])
+    np.testing.assert_allclose(table[:4, 2], [1 / 5, 2 / 5, 3 / 5, 4 / 5])

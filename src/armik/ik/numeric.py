@@ -253,13 +253,12 @@ def _halton(dim: int, n: int = 512) -> np.ndarray:
         return np.random.default_rng(0).random((n, dim))
     table = np.zeros((n, dim))
     for j, base in enumerate(_PRIMES[:dim]):
-        for i in range(n):
-            f, k, x = 1.0, i + 1, 0.0
-            while k:
-                f /= base
-                x += f * (k % base)
-                k //= base
-            table[i, j] = x
+        k = np.arange(1, n + 1)
+        f = 1.0
+        while k.any():  # radical inverse, one digit of all n indices at a time
+            f /= base
+            table[:, j] += f * (k % base)
+            k //= base
     return table
 
 
