@@ -102,7 +102,7 @@ def test_locked_joint_upstream_of_base_sets_base_placement():
     assert a.fk(np.array([0.2, 0.3])).isApprox(b.fk(np.array([0.2, 0.3])), 1e-12)
 
 
-def test_locked_value_is_applied(tmp_path):
+def test_locked_joint_must_be_off_the_chain(tmp_path):
     path = write_urdf(tmp_path, two_link_urdf())
     # lock j2 by making the chain stop before it: not allowed to lock a chain joint
     with pytest.raises(JointError, match="lies on the chain"):

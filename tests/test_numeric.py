@@ -244,8 +244,7 @@ def test_restart_seeds_cover_the_box_reproducibly():
     s2 = numeric.RestartSeeds(a, np.random.default_rng(3))
     pts = np.array([s1.next() for _ in range(600)])  # wraps around the 512-point table
     np.testing.assert_array_equal(pts[:10], [s2.next() for _ in range(10)])
-    lo = np.where(np.isfinite(a.lower), a.lower, -np.pi)
-    hi = np.where(np.isfinite(a.upper), a.upper, np.pi)
+    lo, hi = a.sampling_box()
     assert np.all(pts >= lo) and np.all(pts <= hi)
     # even coverage: every joint's range split in 8 bins gets 1/8 of the points, +-30 %
     for j in range(a.dof):

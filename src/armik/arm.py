@@ -326,10 +326,13 @@ class Arm:
         out[c + 1] = np.sin(q[self._cont])
         return out
 
-    def from_pin(self, qp: np.ndarray) -> np.ndarray:
-        """Pinocchio configuration -> joint values; continuous angles in (-pi, pi]."""
+    def from_pin(self, qp: np.ndarray, copy: bool = True) -> np.ndarray:
+        """Pinocchio configuration -> joint values; continuous angles in (-pi, pi].
+
+        ``copy=False`` may return ``qp`` itself (no continuous joint): read-only use only.
+        """
         if self._identity_q:
-            return qp.copy()
+            return qp.copy() if copy else qp
         out = np.empty(self.dof)
         out[self._simple] = qp[self._idx_q[self._simple]]
         c = self._idx_q[self._cont]
@@ -383,12 +386,15 @@ class Arm:
 
     # -- joint values ---------------------------------------------------------------------
 
-    def random_q(self, rng: np.random.Generator | int | None = None) -> np.ndarray:
-        """Uniform joint values within the limits; unlimited joints in [-pi, pi]."""
-        rng = np.random.default_rng(rng)
+    def sampling_box(self) -> tuple[np.ndarray, np.ndarray]:
+        """The box random configurations come from: the limits, [-pi, pi] where unlimited."""
         lo = np.where(np.isfinite(self.lower), self.lower, -math.pi)
         hi = np.where(np.isfinite(self.upper), self.upper, math.pi)
-        return rng.uniform(lo, hi)
+        return lo, hi
+
+    def random_q(self, rng: np.random.Generator | int | None = None) -> np.ndarray:
+        """Uniform joint values within the limits; unlimited joints in [-pi, pi]."""
+        return np.random.default_rng(rng).uniform(*self.sampling_box())
 
     def within_limits(self, q: np.ndarray, tol: float = LIMIT_TOL) -> bool:
         lower, upper, _ = self._limit_lists

@@ -24,7 +24,7 @@ def step(pb: Problem, s: State, mu: float = 1.0) -> np.ndarray:
     H, g = normal_equations(pb, s, mu)
     dq = solve_spd(H, g)
     if pb.has_bounds:
-        q = pb.arm.from_pin(s.qp)
+        q = pb.arm.from_pin(s.qp, copy=False)
         at_lower, at_upper = q <= pb.near_lower, q >= pb.near_upper
         if not (at_lower | at_upper).any():  # the usual case: no joint on a limit
             return bound_step(dq)

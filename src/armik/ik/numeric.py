@@ -53,8 +53,6 @@ class Problem:
     tol_rot: float
     q0_pin: np.ndarray
     null_gain: float  # pull toward q0 in the null space (redundant tasks only)
-    lower_v: np.ndarray  # limits per tangent index (-inf/inf for unbounded)
-    upper_v: np.ndarray
     has_bounds: bool
     full_task: bool  # all six weights are 1: skip the masking
     eye: np.ndarray  # n x n identity
@@ -76,8 +74,6 @@ class Problem:
             0.5 * opts.tol_orientation,
             arm.to_pin(q0),
             opts.nullspace_gain if redundant else 0.0,
-            arm.lower,
-            arm.upper,
             arm.bounded.size > 0,
             bool(np.all(w == 1.0)),
             np.eye(arm.dof),
@@ -145,11 +141,6 @@ def normal_equations(pb: Problem, s: State, mu: float = 1.0) -> tuple[np.ndarray
     return H, g
 
 
-def dls_step(pb: Problem, s: State, mu: float = 1.0) -> np.ndarray:
-    """Levenberg-Marquardt step, limits ignored."""
-    return solve_spd(*normal_equations(pb, s, mu))
-
-
 def solve_spd(H: np.ndarray, g: np.ndarray) -> np.ndarray:
     """Solve H x = g for symmetric positive definite H (LAPACK dposv: 4x cheaper than
     numpy.linalg.solve at this size)."""
@@ -159,8 +150,8 @@ def solve_spd(H: np.ndarray, g: np.ndarray) -> np.ndarray:
 
 def limit_box(pb: Problem, s: State) -> tuple[np.ndarray, np.ndarray]:
     """Bounds on dq that keep every joint within its limits (-inf/inf where unlimited)."""
-    q = pb.arm.from_pin(s.qp)
-    return pb.lower_v - q, pb.upper_v - q
+    q = pb.arm.from_pin(s.qp, copy=False)
+    return pb.arm.lower - q, pb.arm.upper - q
 
 
 def bound_step(dq: np.ndarray) -> np.ndarray:
@@ -228,8 +219,8 @@ class RestartSeeds:
     """
 
     def __init__(self, arm: Arm, rng: np.random.Generator) -> None:
-        self.lo = np.where(np.isfinite(arm.lower), arm.lower, -math.pi)
-        self.span = np.where(np.isfinite(arm.upper), arm.upper, math.pi) - self.lo
+        self.lo, hi = arm.sampling_box()
+        self.span = hi - self.lo
         self.rng = rng
         self.shift: np.ndarray | None = None
         self.k = 0
