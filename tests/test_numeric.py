@@ -110,8 +110,9 @@ def test_active_set_matches_qp_backend(rng):
         H = A.T @ A + 1e-3 * np.eye(7)
         g = A.T @ rng.normal(size=6)
         lb, ub = -rng.uniform(0.0, 0.3, 7), rng.uniform(0.0, 0.3, 7)
-        dq = np.linalg.solve(H, g)
-        x = qp.active_set_guess(H, g, lb, ub, dq)
+        G = np.linalg.inv(H)
+        dq = G @ g
+        x = qp.active_set_guess(G, dq, lb, ub, dq)
         if x is None:
             continue
         solved += 1
