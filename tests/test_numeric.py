@@ -267,3 +267,29 @@ def test_halton_table_is_the_radical_inverse():
     np.testing.assert_allclose(table[:4, 0], [1 / 2, 1 / 4, 3 / 4, 1 / 8])
     np.testing.assert_allclose(table[:4, 1], [1 / 3, 2 / 3, 1 / 9, 4 / 9])
     np.testing.assert_allclose(table[:4, 2], [1 / 5, 2 / 5, 3 / 5, 4 / 5])
+
+
+def test_restart_pick_is_the_candidate_nearest_the_target(rng):
+    a = arm("panda")
+    target = parse_target(a.fk(a.random_q(rng)))
+    pb = numeric.Problem.build(a, target, a.middle, Options())
+    picker = numeric.RestartSeeds(a, np.random.default_rng(5))
+    plain = numeric.RestartSeeds(a, np.random.default_rng(5))
+    for _ in range(3):
+        picked = a.from_pin(picker.pick(pb))
+        candidates = [plain.next() for _ in range(numeric.RESTART_CANDIDATES)]
+        distances = [np.linalg.norm(a.fk(c).translation - target.position) for c in candidates]
+        np.testing.assert_array_equal(picked, candidates[int(np.argmin(distances))])
+
+
+def test_descent_stops_at_a_known_minimum(rng):
+    a = arm("ur5")
+    q_star = a.random_q(rng)
+    pb = numeric.Problem.build(a, parse_target(a.fk(q_star)), a.middle, Options())
+    start = a.to_pin(q_star + 0.01)
+    step = qp.make_step("osqp")
+    *_, ok = numeric.descend(pb, start, step, 100, math.inf)
+    assert ok  # on its own it converges to q_star ...
+    # ... but told that an earlier attempt got stuck there, it gives up on the way
+    s, its, ok = numeric.descend(pb, start, step, 100, math.inf, a.to_pin(q_star)[None, :])
+    assert not ok and its < 5 and s.sq < numeric.CAREFUL_BELOW

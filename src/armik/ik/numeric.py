@@ -38,6 +38,10 @@ CAREFUL_BELOW = 1e-2  # |e|^2 under which a stalled attempt turns careful, not r
 LAMBDA_MIN = 1e-9
 ON_LIMIT = 1e-10  # rad or m: a joint this close to a limit rests on it
 DUPLICATE_TOL = 1e-4  # rad or m: answers closer than this are one solution
+# An attempt that comes this close (max over joints, rad or m) to a local minimum an earlier
+# attempt of the same solve ended in stops there: it would only end in it again.
+KNOWN_MINIMUM_RADIUS = 0.05
+RESTART_CANDIDATES = 4  # restart seeds scored per restart (see RestartSeeds)
 
 
 @dataclass
@@ -58,6 +62,10 @@ class Problem:
     eye: np.ndarray  # n x n identity
     near_lower: np.ndarray  # lower + ON_LIMIT: a joint at or below this rests on its limit
     near_upper: np.ndarray
+    # Looked up once: ``arm.data`` is this thread's Data, found through a thread-local.
+    model: pin.Model
+    data: pin.Data
+    fid: int
 
     @classmethod
     def build(cls, arm: Arm, target: Target, q0: np.ndarray, opts: Options) -> Problem:
@@ -79,6 +87,9 @@ class Problem:
             np.eye(arm.dof),
             arm.lower + ON_LIMIT,
             arm.upper - ON_LIMIT,
+            arm.model,
+            arm.data,
+            arm.tip_frame_id,
         )
 
 
@@ -97,7 +108,7 @@ class State:
 
 def evaluate(pb: Problem, qp: np.ndarray) -> State:
     """Pose error and its Jacobian at ``qp``."""
-    model, data, fid = pb.arm.model, pb.arm.data, pb.arm.tip_frame_id
+    model, data, fid = pb.model, pb.data, pb.fid
     pin.computeJointJacobians(model, data, qp)  # also runs forward kinematics
     iMd = pin.updateFramePlacement(model, data, fid).actInv(pb.T_world_target)
     e = pin.log6(iMd).vector
@@ -164,7 +175,12 @@ Step = Callable[[Problem, State, float], np.ndarray]
 
 
 def descend(
-    pb: Problem, qp: np.ndarray, step: Step, max_iterations: int, deadline: float
+    pb: Problem,
+    qp: np.ndarray,
+    step: Step,
+    max_iterations: int,
+    deadline: float,
+    minima: np.ndarray | None = None,
 ) -> tuple[State, int, bool]:
     """Iterate from ``qp``; returns the last state, the iterations used, and convergence.
 
@@ -174,7 +190,9 @@ def descend(
     ``STALL_WINDOW`` iterations while already small, the iteration turns careful:
     Levenberg-Marquardt acceptance, where a step that does not lower |e|^2 is rejected and
     the damping multiplier mu raised, which ends the cycling between two poses seen near
-    singular boundaries. A careful attempt that stalls too gives way to a restart.
+    singular boundaries. A careful attempt that stalls too gives way to a restart, and so
+    does one that, with a small error, comes within ``KNOWN_MINIMUM_RADIUS`` of one of
+    ``minima`` (rows: configurations where earlier attempts of this solve ended).
     """
     arm = pb.arm
     s = evaluate(pb, qp)
@@ -197,6 +215,12 @@ def descend(
             mu = max(1.0, mu * MU_DOWN)
         else:
             mu *= MU_UP
+        if (
+            minima is not None
+            and s.sq < CAREFUL_BELOW
+            and np.abs(minima - s.qp).max(axis=1).min() < KNOWN_MINIMUM_RADIUS
+        ):
+            break
         if s.sq < PROGRESS * best_sq:
             best_sq, since_best = s.sq, 0
         else:
@@ -216,6 +240,14 @@ class RestartSeeds:
     samples it took dls on the UR5 from 99.90 to 100 % and on the Z1 from 99.85 to 100 %,
     and qp on the Z1 from 99.05 to 99.55 %: hard targets need many restarts, and even
     coverage finds their basin sooner. Unlimited joints are sampled in [-pi, pi].
+
+    ``pick`` scores ``RESTART_CANDIDATES`` consecutive points by how far their tip lands
+    from the target position (one forward-kinematics pass each, a few us) and starts from
+    the nearest. Measured over 10 x 2000 benchmark targets per arm (5 ms budget), together
+    with the stop at known minima (``descend``): failures fell on the Panda from 32 to 15
+    (qp) and 17 to 11 (dls), on the Z1 from 17 to 8 (qp) and 10 to 7 (dls), on the xArm7
+    from 4 to 1 and 3 to 0; on the UR5 and UR10 they rose from 2-3 to 3-6 (still under
+    0.03 %).
     """
 
     def __init__(self, arm: Arm, rng: np.random.Generator) -> None:
@@ -232,6 +264,25 @@ class RestartSeeds:
         u = table[self.k % len(table)] + self.shift
         self.k += 1
         return self.lo + self.span * (u - np.floor(u))
+
+    def pick(self, pb: Problem) -> np.ndarray:
+        """The restart configuration (Pinocchio coordinates) of the next candidates whose
+        tip is nearest the target: position error, or orientation error when the task
+        ignores position."""
+        arm, model, data, fid = pb.arm, pb.model, pb.data, pb.fid
+        best, best_score = None, math.inf
+        for _ in range(RESTART_CANDIDATES):
+            qp = arm.to_pin(self.next())
+            pin.forwardKinematics(model, data, qp)
+            iMd = pin.updateFramePlacement(model, data, fid).actInv(pb.T_world_target)
+            if pb.mask_pos.any():
+                err = iMd.translation * pb.w[:3]
+            else:
+                err = pin.log3(iMd.rotation) * pb.w[3:]
+            score = float(err.dot(err))
+            if score < best_score:
+                best, best_score = qp, score
+        return best
 
 
 _PRIMES = (2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37)
@@ -267,11 +318,14 @@ def run_numeric(
     seeds = RestartSeeds(arm, rng)
     qp = pb.q0_pin.copy()
     found: list[np.ndarray] = []
+    minima: np.ndarray | None = None
     best: State | None = None
     iterations = restarts = 0
     while True:
-        s, its, ok = descend(pb, qp, step, opts.max_iterations, deadline)
+        s, its, ok = descend(pb, qp, step, opts.max_iterations, deadline, minima)
         iterations += its
+        if not ok and s.sq < CAREFUL_BELOW:  # a local minimum near the target
+            minima = s.qp[None, :].copy() if minima is None else np.vstack([minima, s.qp])
         if ok:
             q = arm.nearest_equivalent(arm.from_pin(s.qp), q0)
             if not any(np.abs(q - f).max() < DUPLICATE_TOL for f in found):
@@ -283,7 +337,7 @@ def run_numeric(
         if restarts >= opts.max_restarts or time.perf_counter() > deadline:
             break
         restarts += 1
-        qp = arm.to_pin(seeds.next())
+        qp = seeds.pick(pb)
     if found:
         return [
             Attempt(
