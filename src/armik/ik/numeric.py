@@ -114,14 +114,16 @@ def evaluate(pb: Problem, qp: np.ndarray) -> State:
     e = pin.log6(iMd).vector
     dp = iMd.translation
     A = pin.Jlog6(iMd.inverse()) @ pin.getFrameJacobian(model, data, fid, pin.LOCAL)
-    if pb.full_task:
-        pos = math.sqrt(dp.dot(dp))
-        rot = math.sqrt(e[3:].dot(e[3:]))
-    else:
-        pos = float(np.linalg.norm(dp[pb.mask_pos]))
-        rot = float(np.linalg.norm(e[3:][pb.mask_rot]))
-        A *= pb.w[:, None]
-        e = e * pb.w
+    if pb.full_task:  # on plain floats: 1 us cheaper per iteration than numpy dot products
+        x, y, z = dp.tolist()
+        u, v, w, a, b, c = e.tolist()
+        rot2 = a * a + b * b + c * c
+        pos, rot, sq = math.sqrt(x * x + y * y + z * z), math.sqrt(rot2), u * u + v * v + w * w
+        return State(qp, e, A, pos, rot, sq + rot2)
+    pos = float(np.linalg.norm(dp[pb.mask_pos]))
+    rot = float(np.linalg.norm(e[3:][pb.mask_rot]))
+    A *= pb.w[:, None]
+    e = e * pb.w
     return State(qp, e, A, pos, rot, float(e.dot(e)))
 
 

@@ -113,19 +113,20 @@ def make_step(backend: str):
         x_free = solve_spd(H, g)
         dq = bound_step(x_free)
         lb, ub = limit_box(pb, s)
-        if not ((dq >= lb) & (dq <= ub)).all():
-            _, G, info = dposv(H, pb.eye)
-            guess = None
-            if info == 0:
-                guess = active_set_guess(G, x_free, lb, ub, dq)
-                if guess is None:  # cycled: start again from the joints resting on a bound
-                    guess = active_set_guess(G, x_free, lb, ub, np.zeros_like(dq))
-            if guess is not None:
-                dq = guess  # within the box by construction
-            else:
-                sol = qpsolvers.solve_problem(build_problem(pb, s, mu), solver=backend, **options)
-                dq = sol.x if sol.found and sol.x is not None else dq
-                dq = np.clip(dq, lb, ub)  # backends meet bounds only to their tolerance
+        if all(lo <= d <= hi for d, lo, hi in zip(dq.tolist(), lb.tolist(), ub.tolist())):
+            return dq
+        _, G, info = dposv(H, pb.eye)
+        guess = None
+        if info == 0:
+            guess = active_set_guess(G, x_free, lb, ub, dq)
+            if guess is None:  # cycled: start again from the joints resting on a bound
+                guess = active_set_guess(G, x_free, lb, ub, np.zeros_like(dq))
+        if guess is not None:
+            dq = guess  # within the box by construction
+        else:
+            sol = qpsolvers.solve_problem(build_problem(pb, s, mu), solver=backend, **options)
+            dq = sol.x if sol.found and sol.x is not None else dq
+            dq = np.clip(dq, lb, ub)  # backends meet bounds only to their tolerance
         return bound_step(dq)
 
     return step
