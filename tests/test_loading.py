@@ -235,3 +235,14 @@ def test_jacobian_base_frame_matches_finite_differences(rng):
 def test_bad_locked_value(value):
     with pytest.raises(JointError, match="finite number"):
         armik.load("panda", locked={"panda_finger_joint1": value})
+
+
+def test_with_limits_recomputes_the_reach():
+    a = armik.load("scara")
+    assert a.reach > 0  # cached on the original first
+    longer = a.with_limits({"quill": (0.0, 1.2)})
+    assert longer.reach > a.reach + 0.5  # the quill travels 1 m more
+    # a target 0.5 m below what the original quill reaches is not refused as out of reach
+    q = np.array([0.3, -0.4, 0.7, 0.0])
+    r = longer.solve(longer.fk(q).translation, solver="dls")
+    assert r.success, r.reason
