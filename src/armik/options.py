@@ -43,11 +43,10 @@ class Options:
     def from_kwargs(cls, kwargs: dict) -> Options:
         if not kwargs:
             return _DEFAULT
-        known = {f.name for f in fields(cls)}
         for key in kwargs:
-            if key not in known:
+            if key not in _NAMES:
                 raise OptionError(
-                    f"unknown option {key!r}; options: {listing(sorted(known))}", option=key
+                    f"unknown option {key!r}; options: {listing(sorted(_NAMES))}", option=key
                 )
         values = dict(kwargs)
         for key in ("tol_position", "tol_orientation", "timeout"):
@@ -87,6 +86,7 @@ class Options:
 
 
 _DEFAULT = Options()
+_NAMES = frozenset(f.name for f in fields(Options))
 
 
 def _float(key: str, value: object) -> float:

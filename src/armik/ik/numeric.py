@@ -252,16 +252,17 @@ class RestartSeeds:
     0.03 %).
     """
 
-    def __init__(self, arm: Arm, rng: np.random.Generator) -> None:
-        self.lo, hi = arm.sampling_box()
-        self.span = hi - self.lo
-        self.rng = rng
+    def __init__(self, arm: Arm, seed: int | np.random.Generator | None) -> None:
+        self.arm = arm
+        self.seed = seed
         self.shift: np.ndarray | None = None
         self.k = 0
 
     def next(self) -> np.ndarray:
-        if self.shift is None:  # drawn at the first restart: most solves never need one
-            self.shift = self.rng.random(self.lo.size)
+        if self.shift is None:  # set up at the first restart: most solves never need one
+            self.lo, hi = self.arm.sampling_box()
+            self.span = hi - self.lo
+            self.shift = np.random.default_rng(self.seed).random(self.lo.size)
         table = _halton(self.lo.size)
         u = table[self.k % len(table)] + self.shift
         self.k += 1
@@ -316,8 +317,7 @@ def run_numeric(
     if far is not None:
         return [far]
     pb = Problem.build(arm, target, q0, opts)
-    rng = np.random.default_rng(opts.seed)
-    seeds = RestartSeeds(arm, rng)
+    seeds = RestartSeeds(arm, opts.seed)
     qp = pb.q0_pin.copy()
     found: list[np.ndarray] = []
     minima: np.ndarray | None = None
@@ -375,7 +375,7 @@ def out_of_reach(arm: Arm, target: Target, q0: np.ndarray, opts: Options) -> Att
     w = opts.weight_vector(target.position_only)
     if not w[:3].all():
         return None
-    distance = float(np.linalg.norm(target.position - arm.first_joint_origin))
+    distance = math.dist(target.position.tolist(), arm.first_joint_origin.tolist())
     if distance <= arm.reach + opts.tol_position:
         return None
     return Attempt(
