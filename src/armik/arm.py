@@ -428,7 +428,7 @@ class Arm:
                 option=name,
                 value=q,
             )
-        if not np.all(np.isfinite(arr)):
+        if not np.isfinite(arr).all():
             raise OptionError(f"{name} must be finite, got {arr.tolist()}", option=name, value=q)
         return arr
 

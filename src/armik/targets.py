@@ -77,7 +77,7 @@ def _array(value: object, what: str) -> np.ndarray:
 
 
 def _finite(arr: np.ndarray, what: str) -> np.ndarray:
-    if not np.all(np.isfinite(arr)):
+    if not np.isfinite(arr).all():
         raise TargetError(f"{what} contains NaN or inf: {arr.tolist()}")
     return arr.copy()
 

@@ -70,27 +70,34 @@ class Problem:
     @classmethod
     def build(cls, arm: Arm, target: Target, q0: np.ndarray, opts: Options) -> Problem:
         w = opts.weight_vector(target.position_only)
-        T_world_target = arm.T_world_base * target.se3()
-        redundant = arm.dof > int(np.count_nonzero(w))
+        full_task = opts.weights is None and not (opts.position_only or target.position_only)
+        n_task = 6 if full_task else int(np.count_nonzero(w))
         return cls(
             arm,
-            T_world_target,
+            arm.T_world_base * target.se3(),
             w,
             w[:3] > 0,
             w[3:] > 0,
             0.5 * opts.tol_position,
             0.5 * opts.tol_orientation,
             arm.to_pin(q0),
-            opts.nullspace_gain if redundant else 0.0,
+            opts.nullspace_gain if arm.dof > n_task else 0.0,
             arm.bounded.size > 0,
-            bool(np.all(w == 1.0)),
-            np.eye(arm.dof),
+            full_task or bool((w == 1.0).all()),
+            _identity(arm.dof),
             arm.lower + ON_LIMIT,
             arm.upper - ON_LIMIT,
             arm.model,
             arm.data,
             arm.tip_frame_id,
         )
+
+
+@cache
+def _identity(n: int) -> np.ndarray:
+    eye = np.eye(n)
+    eye.setflags(write=False)  # shared by every solve
+    return eye
 
 
 @dataclass(slots=True)
