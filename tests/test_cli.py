@@ -90,3 +90,18 @@ def test_demo_and_bench_small(capsys):
     rows = json.loads(out)
     assert code == 0 and rows[0]["arm"] == "ur5" and rows[0]["n"] == 20
     assert rows[0]["limit_violations"] == 0
+
+
+def test_bench_repeats_and_bad_values(capsys):
+    code, out, _ = run(
+        capsys, "bench", "--arms", "ur5", "--solvers", "qp", "-n", "5", "--repeats", "2", "--json"
+    )
+    assert code == 0 and json.loads(out)[0]["n"] == 10
+    for flag, value, words in (
+        ("-n", "0", "targets per arm must be at least 1"),
+        ("--repeats", "0", "passes must be at least 1"),
+        ("--budget", "-1", "budget per solve must be > 0"),
+        ("--tol", "0", "tolerance must be > 0"),
+    ):
+        code, _, err = run(capsys, "bench", "--arms", "ur5", "--solvers", "dls", flag, value)
+        assert code == 2 and words in err and "Traceback" not in err

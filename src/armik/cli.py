@@ -121,6 +121,9 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--budget", type=float, default=0.005, help="seconds per solve (0.005)")
     c.add_argument("--seed", type=int, default=42, help="sampling seed (42)")
     c.add_argument("--tol", type=float, default=1e-5, help="success tolerance, m and rad")
+    c.add_argument(
+        "--repeats", type=int, default=1, help="passes over the targets, other solver seeds (1)"
+    )
     c.add_argument("--json", action="store_true", help="print JSON rows")
 
     c = command(
@@ -256,13 +259,15 @@ def _bench(args: argparse.Namespace) -> int:
         budget=args.budget,
         seed=args.seed,
         tol=args.tol,
+        repeats=args.repeats,
         show_progress=not args.json,
     )
     if args.json:
         print(json.dumps([r.as_dict() for r in rows], indent=2))
     else:
+        passes = f" x {args.repeats} passes (other solver seeds)" if args.repeats > 1 else ""
         print(
-            f"N = {args.n} targets per arm, budget {args.budget * 1e3:g} ms, tolerance "
+            f"N = {args.n} targets per arm{passes}, budget {args.budget * 1e3:g} ms, tolerance "
             f"{args.tol:g} m / rad, seeds from mid-limits, sampling seed {args.seed}"
         )
         print(bench_mod.table(rows))
