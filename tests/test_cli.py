@@ -90,6 +90,7 @@ def test_demo_and_bench_small(capsys):
     rows = json.loads(out)
     assert code == 0 and rows[0]["arm"] == "ur5" and rows[0]["n"] == 20
     assert rows[0]["limit_violations"] == 0
+    assert rows[0]["failures"] == round(20 * (1 - rows[0]["success_rate"] / 100))
 
 
 def test_bench_repeats_and_bad_values(capsys):

@@ -34,6 +34,7 @@ class BenchRow:
     solver: str
     n: int
     success_rate: float  # %
+    failures: int
     mean_ms: float
     median_ms: float
     p95_ms: float
@@ -89,6 +90,7 @@ def bench_arm(
         solver,
         len(times),
         100.0 * ok / len(times),
+        len(times) - ok,
         float(ms.mean()),
         float(np.median(ms)),
         float(np.percentile(ms, 95)),
@@ -143,14 +145,14 @@ def _check(ok: bool, option: str, value: object, what: str) -> None:
 
 def table(rows: Sequence[BenchRow]) -> str:
     head = (
-        "| arm | solver | N | success % | mean ms | median ms | p95 ms | max ms | "
+        "| arm | solver | N | success % | failures | mean ms | median ms | p95 ms | max ms | "
         "mean iters | limit violations |"
     )
-    lines = [head, "|" + "---|" * 10]
+    lines = [head, "|" + "---|" * 11]
     for r in rows:
         lines.append(
-            f"| {r.arm} | {r.solver} | {r.n} | {r.success_rate:.2f} | {r.mean_ms:.3f} "
-            f"| {r.median_ms:.3f} | {r.p95_ms:.3f} | {r.max_ms:.2f} | "
+            f"| {r.arm} | {r.solver} | {r.n} | {r.success_rate:.2f} | {r.failures} "
+            f"| {r.mean_ms:.3f} | {r.median_ms:.3f} | {r.p95_ms:.3f} | {r.max_ms:.2f} | "
             f"{r.mean_iterations:.1f} | {r.limit_violations} |"
         )
     return "\n".join(lines)

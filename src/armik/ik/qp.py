@@ -7,9 +7,9 @@ The unconstrained minimiser (the DLS step, scaled to the trust length
 ``numeric.MAX_STEP``) is the QP's solution when it lies in the box. When it crosses some
 bounds, a primal-dual active-set iteration started from those bounds (and, if it cycles,
 from the joints resting on a bound), checked by the KKT conditions, nearly always gives the
-solution: on 2000 Panda targets it failed 10 times in some 25,000 steps, and the second
-start rescued half of those. Only then is the QP backend called through
-``qpsolvers.solve_problem``. The constrained step is scaled to the trust
+solution: over the 2000 Panda targets of ``armik bench`` it ran in about 7400 of 23,000
+steps (10 us each) and left 3 to the QP backend, called through ``qpsolvers.solve_problem``
+(250-400 us a call). The constrained step is scaled to the trust
 length again (scaling keeps it in the box, which contains 0). Scaling before the box test
 took the Panda from 98.4 % to 99.8 % success in ``armik bench``.
 """
