@@ -98,6 +98,8 @@ def test_bench_repeats_and_bad_values(capsys):
         capsys, "bench", "--arms", "ur5", "--solvers", "qp", "-n", "5", "--repeats", "2", "--json"
     )
     assert code == 0 and json.loads(out)[0]["n"] == 10
+    code, out, _ = run(capsys, "bench", "--arms", "ur5", "--solvers", "dls,qp", "-n", "3", "--json")
+    assert code == 0 and [r["solver"] for r in json.loads(out)] == ["dls", "qp"]
     for flag, value, words in (
         ("-n", "0", "targets per arm must be at least 1"),
         ("--repeats", "0", "passes must be at least 1"),

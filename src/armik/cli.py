@@ -116,7 +116,9 @@ def _parser() -> argparse.ArgumentParser:
         _bench,
     )
     c.add_argument("--arms", nargs="+", default=list(SPATIAL_ARMS), help="arms to run")
-    c.add_argument("--solvers", nargs="+", default=list(bench_mod.DEFAULT_SOLVERS))
+    c.add_argument(
+        "--solvers", nargs="+", default=list(bench_mod.DEFAULT_SOLVERS), help="dls qp clik"
+    )
     c.add_argument("-n", type=int, default=2000, help="targets per arm (2000)")
     c.add_argument("--budget", type=float, default=0.005, help="seconds per solve (0.005)")
     c.add_argument("--seed", type=int, default=42, help="sampling seed (42)")
@@ -253,8 +255,8 @@ def _demo(args: argparse.Namespace) -> int:
 
 def _bench(args: argparse.Namespace) -> int:
     rows = bench_mod.run(
-        args.arms,
-        args.solvers,
+        _names(args.arms),
+        _names(args.solvers),
         n=args.n,
         budget=args.budget,
         seed=args.seed,
@@ -272,6 +274,11 @@ def _bench(args: argparse.Namespace) -> int:
         )
         print(bench_mod.table(rows))
     return 0
+
+
+def _names(values: list[str]) -> list[str]:
+    """Names given as separate words or comma-separated ("dls qp" or "dls,qp")."""
+    return [name for value in values for name in value.split(",") if name]
 
 
 def _compare(args: argparse.Namespace) -> int:
