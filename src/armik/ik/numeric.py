@@ -38,8 +38,9 @@ CAREFUL_BELOW = 1e-2  # |e|^2 under which a stalled attempt turns careful, not r
 LAMBDA_MIN = 1e-9
 ON_LIMIT = 1e-10  # rad or m: a joint this close to a limit rests on it
 DUPLICATE_TOL = 1e-4  # rad or m: answers closer than this are one solution
-# An attempt that comes this close (max over joints, rad or m) to a local minimum an earlier
-# attempt of the same solve ended in stops there: it would only end in it again.
+# An attempt that comes this close (max over Pinocchio coordinates: rad, m, or cos/sin of a
+# continuous joint) to a local minimum an earlier attempt of the same solve ended in stops
+# there: it would only end in it again.
 KNOWN_MINIMUM_RADIUS = 0.05
 RESTART_CANDIDATES = 4  # restart seeds scored per restart (see RestartSeeds)
 
