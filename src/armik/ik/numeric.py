@@ -123,11 +123,12 @@ def evaluate(pb: Problem, qp: np.ndarray) -> State:
     dp = iMd.translation
     A = pin.Jlog6(iMd.inverse()) @ pin.getFrameJacobian(model, data, fid, pin.LOCAL)
     if pb.full_task:  # on plain floats: 1 us cheaper per iteration than numpy dot products
-        x, y, z = dp.tolist()
-        u, v, w, a, b, c = e.tolist()
-        rot2 = a * a + b * b + c * c
-        pos, rot, sq = math.sqrt(x * x + y * y + z * z), math.sqrt(rot2), u * u + v * v + w * w
-        return State(qp, e, A, pos, rot, sq + rot2)
+        px, py, pz = dp.tolist()
+        vx, vy, vz, wx, wy, wz = e.tolist()  # linear and angular parts of the twist
+        rot2 = wx * wx + wy * wy + wz * wz
+        lin2 = vx * vx + vy * vy + vz * vz
+        pos, rot = math.sqrt(px * px + py * py + pz * pz), math.sqrt(rot2)
+        return State(qp, e, A, pos, rot, lin2 + rot2)
     pos = float(np.linalg.norm(dp[pb.mask_pos]))
     rot = float(np.linalg.norm(e[3:][pb.mask_rot]))
     A *= pb.w[:, None]
