@@ -225,7 +225,7 @@ def test_prismatic_solution(rng):
 def test_unconverged_never_success(monkeypatch):
     # A solver that lies about convergence is caught by the FK check.
     from armik.ik import dls
-    from armik.ik.base import Attempt
+    from armik.ik.attempt import Attempt
 
     def liar(arm_, target, q0, opts, all_solutions):
         return [Attempt(q=q0 + 0.1, claim="converged", reason="trust me")]

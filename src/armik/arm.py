@@ -12,6 +12,7 @@ import math
 import threading
 import warnings
 from collections.abc import Mapping
+from dataclasses import dataclass, replace
 from functools import cached_property
 from pathlib import Path
 
@@ -72,7 +73,7 @@ def load(
             )
         name = path.stem
     model, info = read_urdf(path)
-    return Arm(
+    arm = Arm(
         model,
         info,
         name=name,
@@ -82,6 +83,38 @@ def load(
         tip_offset=tip_offset,
         source=str(path),
     )
+    arm._recipe = Recipe(str(source), base, tip, dict(locked or {}), arm.tip_offset)
+    return arm
+
+
+@dataclass(frozen=True)
+class Recipe:
+    """How an arm was built: what ``load`` was given and the limits replaced since. An
+    ``Arm`` pickles as its recipe (a Pinocchio model does not pickle portably) and is
+    rebuilt from it, so arms travel to worker processes; the URDF must be readable there."""
+
+    source: str
+    base: str | None
+    tip: str | None
+    locked: dict[str, float]
+    tip_offset: tuple[float, float, float] | None
+    limits: tuple[tuple[str, float, float], ...] = ()
+
+    def build(self) -> Arm:
+        arm = load(
+            self.source,
+            base=self.base,
+            tip=self.tip,
+            locked=self.locked or None,
+            tip_offset=self.tip_offset,
+        )
+        if self.limits:
+            arm = arm.with_limits({name: (lo, hi) for name, lo, hi in self.limits})
+        return arm
+
+
+def _rebuild(recipe: Recipe) -> Arm:
+    return recipe.build()
 
 
 def _frame_id(model: pin.Model, name: str) -> int:
@@ -202,6 +235,7 @@ class Arm:
 
         self._setup_joints(info)
         self._local = threading.local()
+        self._recipe: Recipe | None = None  # set by ``load``; an Arm built directly has none
 
     # -- construction helpers -------------------------------------------------------------
 
@@ -293,6 +327,10 @@ class Arm:
         clone._set_limits(lower, upper)
         clone._limit_lists = (lower.tolist(), upper.tolist(), self.prismatic.tolist())
         clone._local = threading.local()
+        if self._recipe is not None:
+            kept = tuple(x for x in self._recipe.limits if x[0] not in limits)
+            new = tuple((n, float(lo), float(hi)) for n, (lo, hi) in limits.items())
+            clone._recipe = replace(self._recipe, limits=kept + new)
         return clone
 
     def joint_index(self, name: str) -> int:
@@ -499,6 +537,14 @@ class Arm:
         """Origin of the first joint in the base frame (m); it never moves."""
         self.fk_pin(self.to_pin(self.middle))
         return self.T_base_world.act(self.data.oMi[1].translation)
+
+    def __reduce__(self):
+        if self._recipe is None:
+            raise TypeError(
+                f"arm {self.name!r} was not built by armik.load, so it has no recipe to "
+                "pickle; build it with armik.load(...)"
+            )
+        return (_rebuild, (self._recipe,))
 
     def frames(self) -> list[str]:
         return [f.name for f in self.model.frames if f.name != "universe"]

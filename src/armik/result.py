@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Literal
 
 import numpy as np
 
-Status = Literal["converged", "unreachable", "not_converged", "joint_limits"]
-STATUSES: tuple[str, ...] = ("converged", "unreachable", "not_converged", "joint_limits")
+from .status import Status
+
+STATUSES: tuple[str, ...] = tuple(s.value for s in Status)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -39,14 +39,13 @@ class IKResult:
         q = np.array(self.q, dtype=float)
         q.flags.writeable = False
         object.__setattr__(self, "q", q)
-        if self.status not in STATUSES:
-            raise ValueError(f"status must be one of {STATUSES}, got {self.status!r}")
+        object.__setattr__(self, "status", Status.parse(self.status))
 
     def __repr__(self) -> str:
         ori = "n/a" if self.orientation_error is None else f"{self.orientation_error:.2e} rad"
         branch = f", branch={self.branch!r}" if self.branch else ""
         return (
-            f"IKResult(success={self.success}, status={self.status!r}, solver="
+            f"IKResult(success={self.success}, status={self.status.value!r}, solver="
             f"{self.solver!r}{branch}, q={np.round(self.q, 6).tolist()}, "
             f"position_error={self.position_error:.2e} m, orientation_error={ori}, "
             f"iterations={self.iterations}, time={self.time * 1e3:.3f} ms, "
@@ -58,7 +57,7 @@ class IKResult:
         return {
             "q": self.q.tolist(),
             "success": self.success,
-            "status": self.status,
+            "status": self.status.value,
             "reason": self.reason,
             "solver": self.solver,
             "iterations": self.iterations,

@@ -8,13 +8,12 @@ import numpy as np
 
 from .arm import Arm
 from .ik import registry
-from .ik.base import Attempt
+from .ik.attempt import Attempt
 from .options import Options
 from .result import IKResult
+from .status import FAILURE_RANK, Status
 from .targets import parse_target
 from .verify import check
-
-_FAILURE_ORDER = {"joint_limits": 0, "not_converged": 1, "unreachable": 2}
 
 
 def solve(
@@ -48,7 +47,7 @@ def _first_verified(arm: Arm, attempts: list[Attempt], target, opts: Options, se
     the seed) and stop at the first success: it is the nearest verified answer."""
 
     def order(a: Attempt) -> tuple:
-        return (a.claim != "converged", not arm.within_limits(a.q), _distance(a.q, seed))
+        return (a.claim is not Status.CONVERGED, not arm.within_limits(a.q), _distance(a.q, seed))
 
     rows = []
     for attempt in sorted(attempts, key=order):
@@ -66,17 +65,17 @@ def _distance(q: np.ndarray, seed: np.ndarray) -> float:
 def _judge(arm: Arm, attempt: Attempt, target, opts: Options) -> dict:
     c = check(arm, attempt.q, target, opts)
     if c.ok:
-        status, success = "converged", True
+        status, success = Status.CONVERGED, True
         reason = f"verified by forward kinematics: {c.describe()}"
-        if attempt.claim == "converged" and attempt.reason:
+        if attempt.claim is Status.CONVERGED and attempt.reason:
             reason = f"{attempt.reason}; {reason}"
-    elif attempt.claim == "converged":
+    elif attempt.claim is Status.CONVERGED:
         success = False
         if c.violations:
-            status = "joint_limits"
+            status = Status.JOINT_LIMITS
             reason = "outside the joint limits: " + "; ".join(c.violations)
         else:
-            status = "not_converged"
+            status = Status.NOT_CONVERGED
             reason = f"forward-kinematics check failed: {c.describe()}"
     else:
         status, success, reason = attempt.claim, False, attempt.reason
@@ -98,4 +97,4 @@ def _rank(row: dict, seed: np.ndarray) -> tuple:
     if row["success"]:
         return (0, _distance(row["q"], seed))
     ori = row["orientation_error"] or 0.0
-    return (1, _FAILURE_ORDER[row["status"]], row["position_error"] + ori)
+    return (1, FAILURE_RANK[row["status"]], row["position_error"] + ori)

@@ -14,8 +14,9 @@ import pinocchio as pin
 
 from ..arm import Arm
 from ..options import Options
+from ..status import Status
 from ..targets import Target
-from .base import Attempt
+from .attempt import Attempt
 from .numeric import Problem, converged, evaluate
 from .registry import SolverSpec, register
 
@@ -39,7 +40,7 @@ def run(
             return [
                 Attempt(
                     q=arm.nearest_equivalent(arm.from_pin(s.qp), q0),
-                    claim="converged",
+                    claim=Status.CONVERGED,
                     iterations=it,
                     reason="CLIK converged",
                 )
@@ -54,7 +55,7 @@ def run(
     return [
         Attempt(
             q=arm.nearest_equivalent(arm.from_pin(s.qp), q0),
-            claim="not_converged",
+            claim=Status.NOT_CONVERGED,
             iterations=it,
             reason=f"CLIK did not converge: position error {s.pos:.3g} "
             f"m, orientation error {s.rot:.3g} rad",

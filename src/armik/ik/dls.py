@@ -15,7 +15,7 @@ import numpy as np
 from ..arm import Arm
 from ..options import Options
 from ..targets import Target
-from .base import Attempt
+from .attempt import Attempt
 from .numeric import Problem, State, bound_step, normal_equations, run_numeric, solve_spd
 from .registry import SolverSpec, register
 

@@ -22,8 +22,9 @@ from scipy.linalg.lapack import dposv
 
 from ..arm import Arm
 from ..options import Options
+from ..status import Status
 from ..targets import Target
-from .base import Attempt
+from .attempt import Attempt
 
 MAX_STEP = 1.0  # rad or m: longest step (Euclidean)
 STALL_WINDOW = 4  # iterations without enough progress (PROGRESS) before a restart
@@ -354,7 +355,7 @@ def run_numeric(
         return [
             Attempt(
                 q=q,
-                claim="converged",
+                claim=Status.CONVERGED,
                 iterations=iterations,
                 restarts=restarts,
                 reason=f"converged after {restarts} restart(s)",
@@ -370,7 +371,7 @@ def run_numeric(
     return [
         Attempt(
             q=q,
-            claim="not_converged",
+            claim=Status.NOT_CONVERGED,
             iterations=iterations,
             restarts=restarts,
             reason=f"no solution within the {why} ({opts.timeout:g} s, {restarts} "
@@ -390,7 +391,7 @@ def out_of_reach(arm: Arm, target: Target, q0: np.ndarray, opts: Options) -> Att
         return None
     return Attempt(
         q=q0.copy(),
-        claim="unreachable",
+        claim=Status.UNREACHABLE,
         reason=f"target is {distance:.4g} m from the first joint, beyond the arm's "
         f"reach of at most {arm.reach:.4g} m; q is the seed, unchanged",
     )

@@ -21,8 +21,9 @@ import numpy as np
 
 from ..arm import Arm
 from ..options import Options
+from ..status import Status
 from ..targets import Target
-from .base import Attempt
+from .attempt import Attempt
 from .registry import SolverSpec, register
 
 SINGULAR_TOL = 1e-12  # |cos t2| beyond 1 - this: the two branches merge
@@ -123,7 +124,7 @@ def run(
     def merged(t1: float, t2: float, branch: str, reason: str) -> list[Attempt]:
         """The single answer where the two elbow branches coincide."""
         q = joints(t1, t2)
-        one = Attempt(q=q, claim="converged", singular=True, branch=branch, reason=reason)
+        one = Attempt(q=q, claim=Status.CONVERGED, singular=True, branch=branch, reason=reason)
         return _orient(arm, geo, target, opts, [one])
 
     if abs(off_plane) > opts.tol_position:
@@ -132,7 +133,7 @@ def run(
         return [
             Attempt(
                 q=joints(t1, t2),
-                claim="unreachable",
+                claim=Status.UNREACHABLE,
                 reason=f"target is {off_plane:.6g} m off the arm's plane of motion",
             )
         ]
@@ -157,7 +158,7 @@ def run(
             return [
                 Attempt(
                     q=joints(t1, t2),
-                    claim="unreachable",
+                    claim=Status.UNREACHABLE,
                     branch=None,
                     reason=f"target at distance {r:.6g} m from the shoulder is {where}; "
                     "q is the closest reachable configuration",
@@ -177,7 +178,7 @@ def run(
         attempts.append(
             Attempt(
                 q=q,
-                claim="converged",
+                claim=Status.CONVERGED,
                 reason="closed form",
                 branch="elbow-up" if up else "elbow-down",
             )
@@ -198,7 +199,7 @@ def _orient(
         return [
             Attempt(
                 q=a.q,
-                claim="unreachable",
+                claim=Status.UNREACHABLE,
                 branch=a.branch,
                 singular=a.singular,
                 reason=f"target orientation is tilted {tilt:.3g} rad out of the arm's "
@@ -215,7 +216,7 @@ def _orient(
         if miss > opts.tol_orientation:
             a = Attempt(
                 q=a.q,
-                claim="unreachable",
+                claim=Status.UNREACHABLE,
                 branch=a.branch,
                 singular=a.singular,
                 reason=f"the {a.branch} branch reaches the position with tip angle "

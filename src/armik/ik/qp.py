@@ -24,7 +24,7 @@ from scipy.linalg.lapack import dposv
 from ..arm import Arm
 from ..options import Options
 from ..targets import Target
-from .base import Attempt
+from .attempt import Attempt
 from .numeric import (
     Problem,
     State,

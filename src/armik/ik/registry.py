@@ -18,7 +18,7 @@ if TYPE_CHECKING:
     from ..arm import Arm
     from ..options import Options
     from ..targets import Target
-    from .base import Attempt
+    from .attempt import Attempt
 
 Check = Callable[["Arm", "Target | None", "Options | None"], "str | None"]
 Run = Callable[["Arm", "Target", "np.ndarray", "Options", bool], "list[Attempt]"]

@@ -1,0 +1,50 @@
+"""The status of an answer: one type for the solvers' claims, results and batches.
+
+``Status`` is a ``str`` enum, so ``result.status == "converged"`` keeps working and a
+status prints as its plain word. ``code`` is the small integer the compiled kernel and
+batch arrays use; ``FAILURE_RANK`` orders failed answers from most to least useful.
+"""
+
+from __future__ import annotations
+
+from enum import Enum
+
+
+class Status(str, Enum):
+    CONVERGED = "converged"  # verified: within tolerance and within the limits
+    UNREACHABLE = "unreachable"  # no configuration reaches the target (reason says why)
+    NOT_CONVERGED = "not_converged"  # none found within the budget; may still exist
+    JOINT_LIMITS = "joint_limits"  # reached, but only outside the joint limits
+    DISCONTINUOUS = "discontinuous"  # a path waypoint reachable only by a jump
+
+    def __str__(self) -> str:
+        return self.value
+
+    @property
+    def code(self) -> int:
+        return _CODES[self]
+
+    @classmethod
+    def from_code(cls, code: int) -> Status:
+        return _BY_CODE[int(code)]
+
+    @classmethod
+    def parse(cls, value: object) -> Status:
+        """A ``Status`` from itself or its word; ValueError listing the words otherwise."""
+        try:
+            return cls(value)
+        except ValueError:
+            words = ", ".join(s.value for s in cls)
+            raise ValueError(f"status must be one of {words}; got {value!r}") from None
+
+
+_BY_CODE: tuple[Status, ...] = tuple(Status)  # code = position in the declaration
+_CODES = {s: i for i, s in enumerate(_BY_CODE)}
+
+# Failed answers, most useful first: reached but off-limits, then near misses, then the rest.
+FAILURE_RANK = {
+    Status.JOINT_LIMITS: 0,
+    Status.DISCONTINUOUS: 1,
+    Status.NOT_CONVERGED: 2,
+    Status.UNREACHABLE: 3,
+}
