@@ -16,12 +16,15 @@ if TYPE_CHECKING:
     import numpy as np
 
     from ..arm import Arm
+    from ..batch_targets import TargetBatch
     from ..options import Options
     from ..targets import Target
-    from .attempt import Attempt
+    from .attempt import Attempt, AttemptBatch
 
 Check = Callable[["Arm", "Target | None", "Options | None"], "str | None"]
 Run = Callable[["Arm", "Target", "np.ndarray", "Options", bool], "list[Attempt]"]
+# Many targets, one best attempt each: (arm, targets, q0 (N, dof), options) -> arrays.
+RunBatch = Callable[["Arm", "TargetBatch", "np.ndarray", "Options"], "AttemptBatch"]
 
 
 @dataclass(frozen=True)
@@ -36,6 +39,9 @@ class SolverSpec:
     run: Run
     summary: str
     auto: bool = True  # False keeps a solver (a baseline) out of "auto"
+    # Optional: solves many targets without a Python call per target (GIL released).
+    # Solvers without it are batched by calling ``run`` per target.
+    run_batch: RunBatch | None = None
 
 
 _REGISTRY: dict[str, SolverSpec] = {}
