@@ -196,7 +196,8 @@ def test_no_tip_with_several_leaves_lists_them(tmp_path):
         .replace('<link name="tip"/>', '<link name="tip"/><link name="cam"/>')
         .replace(
             "</robot>",
-            '<joint name="c" type="fixed"><parent link="l1"/><child link="cam"/></joint></robot>',
+            '<joint name="c" type="continuous"><parent link="l1"/><child link="cam"/></joint>'
+            "</robot>",
         )
     )
     with pytest.raises(FrameError, match="leaf links.*'cam'"):

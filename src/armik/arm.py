@@ -7,6 +7,7 @@ joints, metres for prismatic ones. Pinocchio stores a continuous joint as (cos, 
 
 from __future__ import annotations
 
+import difflib
 import logging
 import math
 import threading
@@ -19,10 +20,18 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from .errors import ArmikWarning, FrameError, JointError, OptionError, URDFError, listing
+from .errors import (
+    ArmikWarning,
+    FrameError,
+    JointError,
+    OptionError,
+    SolverError,
+    URDFError,
+    listing,
+)
 from .planar import Plane, find_plane
 from .robots import CATALOGUE, entry
-from .urdf import URDFInfo, read_urdf
+from .urdf import MAX_LENGTH, MAX_LIMIT, URDFInfo, read_urdf
 
 log = logging.getLogger(__name__)
 
@@ -42,18 +51,29 @@ def load(
     """Load an arm from a bundled robot name (see ``armik.robots()``) or a URDF path.
 
     The chain runs from ``base`` (default: the URDF root link) to ``tip`` (default: the
-    catalogue tip, else the single leaf frame). Every joint off the chain is locked at the
-    value in ``locked`` (joint name -> rad or m) or at its neutral value. ``tip_offset``
-    (m, in the tip frame) moves the tool point.
+    catalogue tip, else ``tool0`` as in REP 199, else the leaf at the end of the longest
+    chain of moving joints; ``Arm.tip_reason`` says which and why). Every joint off the
+    chain is locked at the value in ``locked`` (joint name -> rad or m) or at its neutral
+    value. ``tip_offset`` (m, in the tip frame) moves the tool point. The arm's name is the
+    catalogue name, else the URDF's ``<robot name>``.
 
-    Raises ``URDFError``, ``FrameError`` or ``JointError`` (all ``ValueError``) naming the
-    bad value and the fix.
+    Raises ``URDFError``, ``FrameError``, ``JointError`` or ``OptionError`` (all
+    ``ValueError``) naming the bad value and the fix.
     """
     if not isinstance(source, (str, Path)):
         raise URDFError(
             f"source must be a robot name or a path to a URDF file, got {source!r}",
             path=str(source),
         )
+    for role, value in (("base", base), ("tip", tip)):
+        if value is not None and not isinstance(value, str):
+            raise FrameError(
+                f"{role} must be a frame name (a str), got {value!r}; "
+                f"'armik info {source} --frames' lists the frames",
+                frame=str(value),
+            )
+    locked = _check_locked(locked)
+    tip_offset = _check_offset(tip_offset)
     name = str(source)
     if isinstance(source, str) and source in CATALOGUE:
         spec = entry(source)
@@ -63,6 +83,7 @@ def load(
         if tip_offset is None and tip == spec.tip:
             tip_offset = spec.tip_offset
         locked = {**spec.locked, **(locked or {})}
+        name_from_urdf = False
     else:
         path = Path(source)
         if not path.exists() and path.suffix.lower() not in (".urdf", ".xml"):
@@ -72,11 +93,12 @@ def load(
                 path=name,
             )
         name = path.stem
+        name_from_urdf = True
     model, info = read_urdf(path)
     arm = Arm(
         model,
         info,
-        name=name,
+        name=info.name if name_from_urdf and info.name else name,
         base=base,
         tip=tip,
         locked=locked or {},
@@ -85,6 +107,73 @@ def load(
     )
     arm._recipe = Recipe(str(source), base, tip, dict(locked or {}), arm.tip_offset)
     return arm
+
+
+def _check_locked(locked: object) -> dict[str, float] | None:
+    if locked is None:
+        return None
+    if not isinstance(locked, Mapping):
+        raise JointError(
+            f"locked must map joint names to values (rad or m), e.g. {{'finger': 0.0}}; "
+            f"got {locked!r}",
+            joint=str(locked),
+        )
+    for key in locked:
+        if not isinstance(key, str):
+            raise JointError(
+                f"locked must map joint names (str) to values, got the key {key!r}",
+                joint=str(key),
+            )
+    return dict(locked)
+
+
+def _check_offset(offset: object) -> tuple[float, float, float] | None:
+    """``tip_offset`` as 3 finite floats (m); raises ``OptionError`` otherwise."""
+    if offset is None:
+        return None
+    fix = "give 3 finite numbers (x, y, z) in metres in the tip frame"
+    if isinstance(offset, (str, bytes)):
+        raise OptionError(
+            f"tip_offset must be numbers, got {offset!r}: {fix}", option="tip_offset", value=offset
+        )
+    try:
+        arr = np.asarray(offset)
+        if np.iscomplexobj(arr):
+            raise TypeError
+        arr = arr.astype(float)
+    except (TypeError, ValueError):
+        raise OptionError(
+            f"tip_offset must be numbers, got {offset!r}: {fix}", option="tip_offset", value=offset
+        ) from None
+    if arr.shape != (3,):
+        raise OptionError(
+            f"tip_offset must have 3 values, got shape {arr.shape}: {fix}",
+            option="tip_offset",
+            value=offset,
+        )
+    if not np.isfinite(arr).all() or np.abs(arr).max() > MAX_LENGTH:
+        raise OptionError(
+            f"tip_offset {arr.tolist()} is not finite or beyond {MAX_LENGTH:g} m: {fix}",
+            option="tip_offset",
+            value=offset,
+        )
+    return tuple(float(v) for v in arr)
+
+
+def _check_limit_value(jname: str, value: object) -> float:
+    try:
+        if isinstance(value, (str, bytes, complex)) or np.iscomplexobj(value):
+            raise TypeError
+        out = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        out = math.nan
+    if math.isnan(out) or (math.isfinite(out) and abs(out) > MAX_LIMIT):
+        raise JointError(
+            f"limits for {jname!r} must be numbers (rad or m) within +-{MAX_LIMIT:g}, or "
+            f"-inf/inf for no limit on that side; got {value!r}",
+            joint=jname,
+        )
+    return out
 
 
 @dataclass(frozen=True)
@@ -146,10 +235,16 @@ class Arm:
     ) -> None:
         self.name = name
         self.source = source
+        self.info = info
         frames = [f.name for f in full.frames if f.name != "universe"]
         self.base = base if base is not None else info.root_link
-        self.tip = tip if tip is not None else self._single_leaf(full, frames)
         base_id = self._lookup_frame(full, self.base, "base", frames)
+        if tip is None:
+            tip, self.tip_reason = _default_tip(info, self.base)
+            log.info("arm %r: tip %r, %s", name, tip, self.tip_reason)
+        else:
+            self.tip_reason = "given"
+        self.tip = tip
         tip_id = self._lookup_frame(full, self.tip, "tip", frames)
 
         base_joint = full.frames[base_id].parentJoint
@@ -213,7 +308,7 @@ class Arm:
                 )
             _set_joint(full, q_ref, jid, number)
         to_lock = [j for j in range(1, full.njoints) if j not in chain]
-        model = pin.buildReducedModel(full, to_lock, q_ref) if to_lock else full.copy()
+        model = _reduce(full, to_lock, q_ref) if to_lock else full.copy()
 
         tip_frame = _frame_id(model, self.tip)
         if tip_offset is not None:
@@ -240,31 +335,21 @@ class Arm:
     # -- construction helpers -------------------------------------------------------------
 
     @staticmethod
-    def _single_leaf(full: pin.Model, frames: list[str]) -> str:
-        parents = {full.frames[i].parentFrame for i in range(full.nframes)}
-        leaves = [
-            full.frames[i].name
-            for i in range(1, full.nframes)
-            if i not in parents and full.frames[i].type == pin.BODY
-        ]
-        if len(leaves) == 1:
-            return leaves[0]
-        raise FrameError(
-            f"no tip given and the URDF has {len(leaves)} leaf links; pass tip= one of "
-            f"{listing(leaves)}",
-            frame="",
-            candidates=leaves,
-        )
-
-    @staticmethod
     def _lookup_frame(full: pin.Model, name: str, role: str, frames: list[str]) -> int:
         try:
             return _frame_id(full, name)
         except KeyError:
+            close = difflib.get_close_matches(name, frames, n=5, cutoff=0.5)
+            hint = f"closest: {listing(close)}; " if close else ""
+            shown = (
+                f"frames: {listing(frames)}"
+                if len(frames) <= 40
+                else (f"'armik info <robot> --frames' lists all {len(frames)} frames")
+            )
             raise FrameError(
-                f"unknown {role} frame {name!r}; frames of this URDF: {listing(frames)}",
+                f"unknown {role} frame {name!r}; {hint}{shown}",
                 frame=name,
-                candidates=frames,
+                candidates=close or frames,
             ) from None
 
     def _setup_joints(self, info: URDFInfo) -> None:
@@ -282,14 +367,10 @@ class Arm:
         upper = np.full(self.dof, np.inf)
         for i in self._simple:
             lo, hi = m.lowerPositionLimit[idx_q[i]], m.upperPositionLimit[idx_q[i]]
-            if lo < hi:
+            # lower == upper == 0 means "not given" (warned about when the URDF was read);
+            # other equal limits pin the joint, as its URDF says.
+            if lo < hi or (lo == hi and self.joint_names[i] not in info.unset_limits):
                 lower[i], upper[i] = lo, hi
-            else:
-                log.warning(
-                    "joint %r has lower == upper limit (%g); treated as unlimited",
-                    self.joint_names[i],
-                    lo,
-                )
         self._set_limits(lower, upper)
         self.prismatic = np.array([t == "prismatic" for t in self.joint_types])
         self._limit_lists = (self.lower.tolist(), self.upper.tolist(), self.prismatic.tolist())
@@ -305,13 +386,40 @@ class Arm:
         self.middle[finite] = 0.5 * (lower[finite] + upper[finite])
         self.neutral = np.clip(np.zeros(self.dof), lower, upper)
         # Bounds in Pinocchio's tangent space indices, for the solvers.
-        self._bounded_q = self._idx_q[self.bounded]
+        simple = np.zeros(self.dof, bool)
+        simple[self._simple] = True
+        self._bounded_q = self._idx_q[self.bounded[simple[self.bounded]]]
+        self._bounded_simple = self.bounded[simple[self.bounded]]
+        # Continuous joints given limits (with_limits): clipped and read as angles, unwrapped
+        # into the window around the middle of their limits.
+        self._bounded_cont = self.bounded[~simple[self.bounded]]
+        lo_c, hi_c = lower[self._bounded_cont], upper[self._bounded_cont]
+        self._cont_centre = np.where(
+            np.isfinite(lo_c) & np.isfinite(hi_c),
+            0.5 * (lo_c + hi_c),
+            np.where(np.isfinite(lo_c), lo_c + math.pi, hi_c - math.pi),
+        )
 
     def with_limits(self, limits: Mapping[str, tuple[float, float]]) -> Arm:
         """A copy of this arm with some joint limits replaced (name -> (lower, upper))."""
+        if not isinstance(limits, Mapping):
+            raise JointError(
+                f"limits must map joint names to (lower, upper), got {limits!r}",
+                joint=str(limits),
+            )
         lower, upper = self.lower.copy(), self.upper.copy()
-        for jname, (lo, hi) in limits.items():
+        checked = {}
+        for jname, pair in limits.items():
+            if not isinstance(jname, str):
+                raise JointError(f"joint names must be str, got {jname!r}", joint=str(jname))
             i = self.joint_index(jname)
+            if isinstance(pair, (str, bytes)) or not hasattr(pair, "__len__") or len(pair) != 2:
+                raise JointError(
+                    f"limits for {jname!r} must be a pair (lower, upper) in rad or m, got {pair!r}",
+                    joint=jname,
+                )
+            lo, hi = (_check_limit_value(jname, v) for v in pair)
+            checked[jname] = (lo, hi)
             if not lo <= hi:
                 raise JointError(
                     f"limits for {jname!r} must satisfy lower <= upper, got ({lo}, {hi})",
@@ -328,8 +436,8 @@ class Arm:
         clone._limit_lists = (lower.tolist(), upper.tolist(), self.prismatic.tolist())
         clone._local = threading.local()
         if self._recipe is not None:
-            kept = tuple(x for x in self._recipe.limits if x[0] not in limits)
-            new = tuple((n, float(lo), float(hi)) for n, (lo, hi) in limits.items())
+            kept = tuple(x for x in self._recipe.limits if x[0] not in checked)
+            new = tuple((n, lo, hi) for n, (lo, hi) in checked.items())
             clone._recipe = replace(self._recipe, limits=kept + new)
         return clone
 
@@ -378,15 +486,34 @@ class Arm:
         out[self._simple] = qp[self._idx_q[self._simple]]
         c = self._idx_q[self._cont]
         out[self._cont] = np.arctan2(qp[c + 1], qp[c])
+        if self._bounded_cont.size:
+            out[self._bounded_cont] = self._unwrap(out[self._bounded_cont])
         return out
 
+    def _unwrap(self, angles: np.ndarray) -> np.ndarray:
+        """Angles of limited continuous joints shifted by 2 pi k into the window of width
+        2 pi centred on the middle of their limits."""
+        centre = self._cont_centre
+        return angles + TWO_PI * np.round((centre - angles) / TWO_PI)
+
     def clip_pin(self, qp: np.ndarray) -> None:
-        """Clip the bounded joints of a Pinocchio configuration into their limits, in place."""
+        """Clip the bounded joints of a Pinocchio configuration into their limits, in place.
+
+        A continuous joint given limits (``with_limits``) is clipped as an angle, not as
+        its (cos, sin) pair."""
         if self._identity_q:  # no continuous joint: q is qp, and inf bounds clip nothing
             np.minimum(np.maximum(qp, self.lower, out=qp), self.upper, out=qp)
             return
         b = self._bounded_q
-        qp[b] = np.clip(qp[b], self.lower[self.bounded], self.upper[self.bounded])
+        if b.size:
+            s = self._bounded_simple
+            qp[b] = np.clip(qp[b], self.lower[s], self.upper[s])
+        if self._bounded_cont.size:
+            k = self._bounded_cont
+            c = self._idx_q[k]
+            angle = self._unwrap(np.arctan2(qp[c + 1], qp[c]))
+            angle = np.clip(angle, self.lower[k], self.upper[k])
+            qp[c], qp[c + 1] = np.cos(angle), np.sin(angle)
 
     # -- kinematics -----------------------------------------------------------------------
 
@@ -412,13 +539,13 @@ class Arm:
         """
         qp = self.to_pin(self.check_q(q))
         if frame == "local":
-            return pin.computeFrameJacobian(
-                self.model, self.data, qp, self.tip_frame_id, pin.LOCAL
-            ).copy()
+            J = pin.computeFrameJacobian(self.model, self.data, qp, self.tip_frame_id, pin.LOCAL)
+            return J.reshape(6, self.dof).copy()  # Pinocchio gives a 1-DOF Jacobian as (6,)
         if frame == "base":
             J = pin.computeFrameJacobian(
                 self.model, self.data, qp, self.tip_frame_id, pin.LOCAL_WORLD_ALIGNED
             )
+            J = J.reshape(6, self.dof)
             R = self.T_base_world.rotation
             return np.vstack([R @ J[:3], R @ J[3:]])
         raise OptionError(
@@ -566,12 +693,14 @@ class Arm:
         """
         from .solve import solve
 
+        _check_solver_name(solver)
         return solve(self, target, q0=q0, solver=solver, all_solutions=False, **options)[0]
 
     def solve_all(self, target, *, q0=None, solver: str = "auto", **options):
         """Every distinct solution the solver finds, each verified, best first."""
         from .solve import solve
 
+        _check_solver_name(solver)
         return solve(self, target, q0=q0, solver=solver, all_solutions=True, **options)
 
 
@@ -587,3 +716,94 @@ def _set_joint(model: pin.Model, q: np.ndarray, jid: int, value: float) -> None:
             "be locked at its neutral value",
             joint=model.names[jid],
         )
+
+
+def _check_solver_name(solver: object) -> None:
+    if not isinstance(solver, str):
+        from .ik import registry
+
+        raise SolverError(
+            f"solver must be one name (a str), got {solver!r}; registered: "
+            f"{listing(registry.solvers())} or 'auto'",
+            solver=str(solver),
+            candidates=registry.solvers(),
+        )
+
+
+def _reduce(full: pin.Model, to_lock: list[int], q_ref: np.ndarray) -> pin.Model:
+    """``pin.buildReducedModel`` that survives frames sharing a name (a link and a joint
+    both called "quill", a link called "universe"): Pinocchio looks frames up by name there
+    and raises "Several frames match the filter". Later duplicates are renamed for the
+    call and get their names back afterwards."""
+    seen: set[str] = set()
+    renamed: dict[str, str] = {}
+    work = full
+    for i, frame in enumerate(full.frames):
+        if frame.name in seen:
+            if work is full:
+                work = full.copy()
+            tmp = f"{frame.name}\x00armik{i}"
+            f = work.frames[i]
+            f.name = tmp
+            work.frames[i] = f
+            renamed[tmp] = frame.name
+        seen.add(frame.name)
+    model = pin.buildReducedModel(work, to_lock, q_ref)
+    if renamed:
+        for i, frame in enumerate(model.frames):
+            if frame.name in renamed:
+                f = model.frames[i]
+                f.name = renamed[frame.name]
+                model.frames[i] = f
+    return model
+
+
+def _default_tip(info: URDFInfo, base: str) -> tuple[str, str]:
+    """The tip when none is given, and why: ``tool0`` downstream of the base (REP 199,
+    the tool flange of ROS-Industrial and UR descriptions); else the leaf at the end of
+    the longest chain of moving joints; leaves tied there that hang on fixed joints from
+    one link give that link. Raises ``FrameError`` listing the leaves when it is a choice."""
+    children = info.children()
+    if base not in children:
+        raise FrameError(
+            f"no tip given and the base {base!r} is not a link of the URDF: pass tip=",
+            frame=base,
+        )
+    leaves: list[tuple[str, int, str | None]] = []
+    stack: list[tuple[str, int, str | None]] = [(base, 0, None)]
+    tool0 = False
+    while stack:  # iterative: trees can be deep
+        link, moving, last = stack.pop()
+        tool0 |= link == "tool0" and moving > 0
+        kids = children.get(link, [])
+        if not kids:
+            leaves.append((link, moving, last))
+        for j in kids:
+            step = j.type != "fixed"
+            stack.append((j.child, moving + step, j.name if step else last))
+    if tool0:
+        return "tool0", "'tool0', the tool flange by convention (REP 199)"
+    best = max(m for _, m, _ in leaves)
+    if best == 0:
+        raise FrameError(
+            f"no tip given and no moving joint lies downstream of {base!r}: pick another base",
+            frame=base,
+        )
+    top = sorted((leaf for leaf in leaves if leaf[1] == best), key=lambda leaf: leaf[0])
+    if len(top) == 1:
+        return top[0][0], f"the leaf at the end of the longest chain ({best} moving joints)"
+    lasts = {last for _, _, last in top}
+    if len(lasts) == 1:
+        joint = info.joints[lasts.pop()]
+        return joint.child, (
+            f"the link after the last moving joint {joint.name!r} of the longest chain "
+            f"({best} moving joints); the leaves {listing(n for n, _, _ in top)} hang from "
+            "it on fixed joints"
+        )
+    names = [n for n, _, _ in top]
+    raise FrameError(
+        f"no tip given and the URDF has {len(names)} leaf links at the end of chains of "
+        f"{best} moving joints: pass tip= one of {listing(names)}",
+        frame="",
+        candidates=names,
+    )

@@ -1,19 +1,71 @@
 """Reading a URDF file into a Pinocchio model, with errors a user can act on.
 
-The XML is checked here before Pinocchio sees it, because Pinocchio's own messages for a
-malformed file are C++ exception texts. Meshes are never loaded: kinematics needs none.
+The XML is checked here before Pinocchio sees it, because Pinocchio's parser (urdfdom)
+reports a malformed file as "not a valid URDF model" and writes its real reason to stderr.
+This pass names the joint or link, the value and the fix. Meshes are never loaded:
+kinematics needs none.
+
+How armik reads a URDF (the README's "How armik reads URDFs" says the same):
+
+- Only regular files up to ``MAX_FILE_BYTES`` are read (never a device or a named pipe),
+  and trees deeper than ``MAX_DEPTH`` links are refused: Pinocchio's parser recurses once
+  per link and crashed the process at about 4000 links on an 8 MB stack (measured).
+- Joint axes follow ROS (Pinocchio, KDL, MoveIt): the unit vector along ``<axis xyz>``.
+  A non-unit axis is normalised with an ``ArmikWarning`` (yourdfpy and pybullet would
+  move a prismatic joint ``norm`` times as far); a zero, tiny (norm below
+  ``AXIS_MIN_NORM``), non-finite or missing ``xyz`` is refused.
+- ``<limit lower="0" upper="0">`` (or no lower/upper) means "not given": the joint is
+  unlimited, with an ``ArmikWarning``. Other equal limits pin the joint at that value.
+- Lengths above ``MAX_LENGTH`` m and limits above ``MAX_LIMIT`` (rad or m) are refused:
+  their arithmetic overflows in the solvers' restarts.
+- A xacro file (``.xacro``, or ``${`` / ``xacro:`` in the text) is expanded with the
+  ``xacro`` package when it is installed (``pip install armik[xacro]``).
 """
 
 from __future__ import annotations
 
+import logging
 import math
+import os
+import re
+import stat
+import tempfile
+import threading
+import warnings
 import xml.etree.ElementTree as ET
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import pinocchio as pin
 
-from .errors import URDFError
+from .errors import ArmikWarning, URDFError
+
+log = logging.getLogger(__name__)
+
+MAX_FILE_BYTES = 64 * 2**20  # the largest URDFs we know of (with inline meshes) are ~10 MB
+# Pinocchio's parser recursed about 2 KB of stack per link and crashed at 4000 links on an
+# 8 MB stack, at 300 links on a 512 kB thread stack (measured on pin 3.x/4.1). armik runs
+# it on a thread of its own with PARSER_STACK bytes of stack, room for about 16000 links.
+MAX_DEPTH = 1000
+PARSER_STACK = 32 * 2**20
+MAX_LENGTH = 1e6  # m: origins and offsets beyond this are a mistake (and overflow)
+MAX_LIMIT = 1e6  # rad or m
+AXIS_MIN_NORM = 1e-6
+AXIS_UNIT_TOL = 1e-9  # |norm - 1| below this is a unit axis already
+JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+MOVING = ("revolute", "continuous", "prismatic", "floating", "planar")
+_NUMBER = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
+
+
+@dataclass(frozen=True)
+class JointXML:
+    """One ``<joint>`` as written in the URDF (after the axis is normalised)."""
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    axis_norm: float = 1.0  # the norm of <axis xyz> as written
 
 
 @dataclass(frozen=True)
@@ -24,82 +76,473 @@ class URDFInfo:
     root_link: str
     joint_types: dict[str, str]
     mimic: dict[str, str]  # mimicking joint -> joint it follows
+    links: tuple[str, ...] = ()
+    joints: dict[str, JointXML] = field(default_factory=dict)
+    unset_limits: frozenset[str] = frozenset()  # revolute/prismatic with lower == upper == 0
+    notes: tuple[str, ...] = ()  # what was read in a way the user should know (armik info)
+
+    def children(self) -> dict[str, list[JointXML]]:
+        """parent link -> the joints that hang from it, in file order."""
+        out: dict[str, list[JointXML]] = {name: [] for name in self.links}
+        for j in self.joints.values():
+            out.setdefault(j.parent, []).append(j)
+        return out
 
 
 def read_urdf(path: str | Path) -> tuple[pin.Model, URDFInfo]:
     """Parse ``path`` into a Pinocchio model. Raises ``URDFError`` naming the problem."""
     path = Path(path)
-    if not path.exists():
-        raise URDFError(f"URDF file {str(path)!r} does not exist: check the path", path=str(path))
-    if path.is_dir():
-        raise URDFError(
-            f"{str(path)!r} is a directory: pass the .urdf file inside it", path=str(path)
-        )
-    text = path.read_text(encoding="utf-8", errors="replace")
+    text = _read_text(path)
+    if _is_xacro(path, text):
+        text = _expand_xacro(path, text)
+    return read_urdf_string(text, str(path))
+
+
+def read_urdf_string(text: str, where: str = "<string>") -> tuple[pin.Model, URDFInfo]:
+    """Check the URDF text, normalise its axes, and build the Pinocchio model."""
     if not text.strip():
-        raise URDFError(f"URDF file {str(path)!r} is empty", path=str(path))
+        raise URDFError(f"URDF file {where!r} is empty", path=where)
     try:
         root = ET.fromstring(text)
     except ET.ParseError as exc:
         raise URDFError(
-            f"URDF file {str(path)!r} is not well-formed XML ({exc}): fix the XML", path=str(path)
+            f"URDF file {where!r} is not well-formed XML ({exc}): fix the XML", path=where
         ) from None
-    info = _inspect(root, str(path))
-    try:
-        model = pin.buildModelFromXML(text)
-    except Exception as exc:  # Pinocchio raises bare RuntimeError/ValueError from C++
-        raise URDFError(
-            f"Pinocchio could not build a model from {str(path)!r}: {exc}", path=str(path)
-        ) from None
+    info, changed = _inspect(root, where)
+    if changed:
+        text = ET.tostring(root, encoding="unicode")
+    model = _build(text, where)
     return model, info
 
 
-def _inspect(root: ET.Element, path: str) -> URDFInfo:
+# -- the file ------------------------------------------------------------------------------
+
+
+def _read_text(path: Path) -> str:
+    where = str(path)
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        raise URDFError(f"URDF file {where!r} does not exist: check the path", path=where) from None
+    except OSError as exc:
+        raise URDFError(f"cannot read URDF file {where!r}: {exc.strerror}", path=where) from None
+    if stat.S_ISDIR(st.st_mode):
+        raise URDFError(f"{where!r} is a directory: pass the .urdf file inside it", path=where)
+    if not stat.S_ISREG(st.st_mode):
+        raise URDFError(
+            f"{where!r} is not a regular file (a device, pipe or socket): armik reads URDF "
+            "files only; save the description to a file first",
+            path=where,
+        )
+    if st.st_size > MAX_FILE_BYTES:
+        raise URDFError(
+            f"URDF file {where!r} is {st.st_size / 2**20:.0f} MB, above the "
+            f"{MAX_FILE_BYTES // 2**20} MB armik reads: is it really a URDF?",
+            path=where,
+        )
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read(MAX_FILE_BYTES + 1)
+    except OSError as exc:
+        raise URDFError(f"cannot read URDF file {where!r}: {exc.strerror}", path=where) from None
+    if len(data) > MAX_FILE_BYTES:  # grew while we looked
+        raise URDFError(f"URDF file {where!r} is larger than {MAX_FILE_BYTES} bytes", path=where)
+    return data.decode("utf-8", errors="replace")
+
+
+def _is_xacro(path: Path, text: str) -> bool:
+    return (
+        path.suffix.lower() == ".xacro"
+        or "xmlns:xacro" in text
+        or "<xacro:" in text
+        or "${" in text
+    )
+
+
+def _expand_xacro(path: Path, text: str) -> str:
+    where = str(path)
+    command = f"xacro {where} > robot.urdf"
+    try:
+        import xacro
+    except ImportError:
+        raise URDFError(
+            f"{where!r} is a xacro file (macros and ${{...}} expressions), not plain URDF: "
+            f"expand it with {command!r} (ROS), or pip install xacro (armik[xacro]) and armik "
+            "expands it itself",
+            path=where,
+        ) from None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            doc = xacro.process_file(where)
+    except (Exception, SystemExit) as exc:  # xacro raises its own types, some exit
+        message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise URDFError(
+            f"{where!r} is a xacro file and the xacro package could not expand it "
+            f"({message}): expand it with {command!r} in its ROS workspace and load the result",
+            path=where,
+        ) from None
+    log.info("expanded xacro file %s", where)
+    return doc.toxml()
+
+
+# -- the XML pass -------------------------------------------------------------------------
+
+
+def _inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
+    """Check the tree; normalise the axes in place. Returns the info and whether the XML
+    was changed."""
     if root.tag != "robot":
         raise URDFError(
             f"{path!r} is XML but not a URDF: its root element is <{root.tag}>, expected <robot>",
             path=path,
         )
-    links = [link.get("name") for link in root.findall("link")]
+    links: list[str] = []
+    for link in root.findall("link"):
+        name = link.get("name")
+        if not name:
+            raise URDFError(f"URDF {path!r} has a <link> without a name: name it", path=path)
+        if name in links:
+            raise URDFError(
+                f"URDF {path!r} has two links named {name!r}: link names must be unique",
+                path=path,
+            )
+        links.append(name)
+        for elem in link.iter("origin"):
+            _origin(elem, f"link {name!r}", path)
+        for elem in link.iter("mass"):
+            _number(elem.get("value", "0"), f"link {name!r}", "mass value", path)
+        for elem in link.iter("inertia"):
+            for key in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"):
+                _number(elem.get(key, "0"), f"link {name!r}", f"inertia {key}", path)
     if not links:
         raise URDFError(f"URDF {path!r} has no <link> element", path=path)
-    joint_types: dict[str, str] = {}
+    link_set = set(links)
+
+    joints: dict[str, JointXML] = {}
     mimic: dict[str, str] = {}
-    children: set[str] = set()
+    unset: set[str] = set()
+    notes: list[str] = []
+    parent_of: dict[str, str] = {}  # child link -> joint
+    changed = False
     for joint in root.findall("joint"):
-        name = joint.get("name", "?")
-        jtype = joint.get("type", "?")
-        joint_types[name] = jtype
-        child = joint.find("child")
-        if child is not None and child.get("link"):
-            children.add(child.get("link"))
+        name = joint.get("name")
+        if not name:
+            raise URDFError(f"URDF {path!r} has a <joint> without a name: name it", path=path)
+        what = f"joint {name!r}"
+        if name in joints:
+            raise URDFError(
+                f"URDF {path!r} has two joints named {name!r}: joint names must be unique",
+                path=path,
+            )
+        jtype = joint.get("type")
+        if jtype not in JOINT_TYPES:
+            raise URDFError(
+                f"{what} in {path!r} has type {jtype!r}; URDF joint types are "
+                f"{', '.join(JOINT_TYPES)}",
+                path=path,
+            )
+        ends = []
+        for tag in ("parent", "child"):
+            elem = joint.find(tag)
+            link = None if elem is None else elem.get("link")
+            if not link:
+                raise URDFError(f'{what} in {path!r} has no <{tag} link="..."/>: add it', path=path)
+            if link not in link_set:
+                raise URDFError(
+                    f"{what} in {path!r} names {tag} link {link!r}, which is not a <link> of "
+                    "the file: add the link or fix the name",
+                    path=path,
+                )
+            ends.append(link)
+        parent, child = ends
+        if child in parent_of:
+            raise URDFError(
+                f"link {child!r} in {path!r} is the child of two joints, {parent_of[child]!r} "
+                f"and {name!r}: a URDF is a tree, each link has one parent joint",
+                path=path,
+            )
+        parent_of[child] = name
+        for elem in joint.findall("origin"):
+            _origin(elem, what, path)
+        norm = 1.0
+        if jtype in ("revolute", "continuous", "prismatic"):
+            norm, moved = _axis(joint, name, jtype, path)
+            changed |= moved
+            if moved:
+                notes.append(
+                    f"joint {name!r}: axis norm {norm:.6g} read as the unit axis (ROS reading)"
+                )
         limit = joint.find("limit")
-        if jtype in ("revolute", "prismatic") and limit is not None:
-            lower = _number(limit.get("lower", "0"), name, "lower", path)
-            upper = _number(limit.get("upper", "0"), name, "upper", path)
+        if jtype in ("revolute", "prismatic"):
+            if limit is None:
+                raise URDFError(
+                    f"{what} in {path!r} is {jtype} but has no <limit>: add "
+                    '<limit lower="..." upper="..." effort="..." velocity="..."/>, or make it '
+                    "continuous if it turns freely",
+                    path=path,
+                )
+            for key in ("effort", "velocity"):
+                if limit.get(key) is None:
+                    raise URDFError(
+                        f"{what} in {path!r}: <limit> has no {key} (urdfdom requires it): "
+                        f'add {key}="1" or the real value',
+                        path=path,
+                    )
+                _number(limit.get(key), what, f"limit {key}", path)
+            lower = _number(limit.get("lower", "0"), what, "lower limit", path)
+            upper = _number(limit.get("upper", "0"), what, "upper limit", path)
+            for value, side in ((lower, "lower"), (upper, "upper")):
+                if abs(value) > MAX_LIMIT:
+                    unit = "m" if jtype == "prismatic" else "rad"
+                    raise URDFError(
+                        f"{what} in {path!r} has a {side} limit of {value:g} {unit}, beyond "
+                        f"the {MAX_LIMIT:g} armik accepts: "
+                        + (
+                            "make it a continuous joint if it turns freely"
+                            if jtype == "revolute"
+                            else "give the real travel"
+                        ),
+                        path=path,
+                    )
             if lower > upper:
                 raise URDFError(
-                    f"joint {name!r} in {path!r} has lower limit {lower} > upper limit {upper}: "
+                    f"{what} in {path!r} has lower limit {lower} > upper limit {upper}: "
                     "swap them in the <limit> element",
                     path=path,
                 )
+            if lower == upper == 0.0:
+                unset.add(name)
+                msg = (
+                    f"joint {name!r} has lower = upper = 0, read as no limits given: "
+                    "it is unlimited; write its real limits in the URDF or use "
+                    "Arm.with_limits"
+                )
+                notes.append(msg)
+                warnings.warn(msg, ArmikWarning, stacklevel=5)
+            elif lower == upper:
+                notes.append(f"joint {name!r}: lower = upper = {lower:g}, the joint is pinned")
+        elif limit is not None:
+            for key in ("lower", "upper", "effort", "velocity"):
+                if limit.get(key) is not None:
+                    _number(limit.get(key), what, f"limit {key}", path)
         mim = joint.find("mimic")
         if mim is not None:
             mimic[name] = mim.get("joint", "?")
-    roots = [name for name in links if name not in children]
+            for key in ("multiplier", "offset"):
+                if mim.get(key) is not None:
+                    _number(mim.get(key), what, f"mimic {key}", path)
+        joints[name] = JointXML(name, jtype, parent, child, norm)
+
+    for name, target in mimic.items():
+        if target not in joints:
+            raise URDFError(
+                f"joint {name!r} in {path!r} mimics {target!r}, which is not a joint of the "
+                "file: fix the name in <mimic joint=...>",
+                path=path,
+            )
+    roots = [name for name in links if name not in parent_of]
     if len(roots) != 1:
-        raise URDFError(f"URDF {path!r} must have exactly one root link, found {roots}", path=path)
-    return URDFInfo(root.get("name", ""), roots[0], joint_types, mimic)
-
-
-def _number(text: str, joint: str, attr: str, path: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not math.isfinite(value):
         raise URDFError(
-            f"joint {joint!r} in {path!r} has a {attr} limit {text!r} that is not a finite number",
+            f"URDF {path!r} must have exactly one root link (a link no joint has as child), "
+            f"found {roots if roots else 'none: the joints form a loop'}",
+            path=path,
+        )
+    _depth(roots[0], joints, len(links))
+    info = URDFInfo(
+        root.get("name") or "",
+        roots[0],
+        {n: j.type for n, j in joints.items()},
+        mimic,
+        tuple(links),
+        joints,
+        frozenset(unset),
+        tuple(notes),
+    )
+    return info, changed
+
+
+def _depth(root: str, joints: dict[str, JointXML], n_links: int) -> int:
+    """The number of joints on the longest path from the root (iterative: no recursion)."""
+    children: dict[str, list[str]] = {}
+    for j in joints.values():
+        children.setdefault(j.parent, []).append(j.child)
+    deepest, seen = 0, 1
+    stack = [(root, 0)]
+    while stack:
+        link, d = stack.pop()
+        if d > MAX_DEPTH:
+            raise URDFError(
+                f"the URDF's tree is more than {MAX_DEPTH} links deep (at link {link!r}): "
+                "armik refuses it because Pinocchio's parser recurses once per link and "
+                "crashes the process on deep trees; no real arm is this deep",
+            )
+        deepest = max(deepest, d)
+        for child in children.get(link, ()):
+            seen += 1
+            stack.append((child, d + 1))
+    if seen != n_links:
+        raise URDFError(
+            "the URDF's joints form a loop or leave links unconnected to the root "
+            f"{root!r}: a URDF is a tree"
+        )
+    return deepest
+
+
+def _axis(joint: ET.Element, name: str, jtype: str, path: str) -> tuple[float, bool]:
+    """Check the joint's axis and write it back as a unit vector. Returns the norm as
+    written and whether the element was changed."""
+    elem = joint.find("axis")
+    if elem is None:
+        return 1.0, False  # the URDF default, (1, 0, 0)
+    text = elem.get("xyz")
+    fix = 'write the axis direction, e.g. <axis xyz="0 0 1"/>'
+    if text is None:
+        raise URDFError(f"joint {name!r} in {path!r} has an <axis> without xyz: {fix}", path=path)
+    v = _vector(text, f"joint {name!r}", "axis xyz", path, finite=False)
+    if not all(math.isfinite(c) for c in v):
+        raise URDFError(
+            f"joint {name!r} in {path!r} has a non-finite axis xyz={text!r}: {fix}", path=path
+        )
+    norm = math.hypot(*v)  # no overflow for 1e300, no underflow for 1e-200
+    if norm < AXIS_MIN_NORM:
+        raise URDFError(
+            f"joint {name!r} in {path!r} has a zero axis xyz={text!r} (norm {norm:.3g}): {fix}",
+            path=path,
+        )
+    if abs(norm - 1.0) <= AXIS_UNIT_TOL:
+        return norm, False
+    unit = [c / norm for c in v]
+    elem.set("xyz", " ".join(repr(c) for c in unit))
+    if jtype == "prismatic":
+        msg = (
+            f"joint {name!r} has a non-unit axis xyz={text!r} (norm {norm:.6g}); armik reads "
+            "it as the unit axis, as Pinocchio, KDL and MoveIt do (1 m of joint value moves "
+            f"1 m); yourdfpy and pybullet would move {norm:.6g} m: write a unit axis to "
+            "silence this"
+        )
+    else:
+        msg = (
+            f"joint {name!r} has a non-unit axis xyz={text!r} (norm {norm:.6g}); armik "
+            "normalises it (the rotation is about the unit axis)"
+        )
+    warnings.warn(msg, ArmikWarning, stacklevel=6)
+    return norm, True
+
+
+def _origin(elem: ET.Element, what: str, path: str) -> None:
+    for key in ("xyz", "rpy"):
+        text = elem.get(key)
+        if text is None:
+            continue
+        v = _vector(text, what, f"origin {key}", path)
+        if max(abs(c) for c in v) > MAX_LENGTH:
+            raise URDFError(
+                f"{what} in {path!r} has origin {key}={text!r}, beyond the {MAX_LENGTH:g} "
+                "armik accepts: give the value in metres or radians",
+                path=path,
+            )
+
+
+def _vector(text: str, what: str, attr: str, path: str, finite: bool = True) -> list[float]:
+    parts = text.split()
+    if len(parts) != 3:
+        raise URDFError(
+            f"{what} in {path!r} has {attr}={text!r}: expected 3 numbers separated by spaces",
+            path=path,
+        )
+    return [_number(p, what, attr, path, finite=finite, whole=text) for p in parts]
+
+
+def _number(
+    text: str | None,
+    what: str,
+    attr: str,
+    path: str,
+    finite: bool = True,
+    whole: str | None = None,
+) -> float:
+    text = (text or "").strip()
+    ok = bool(_NUMBER.match(text))
+    value = float(text) if ok else math.nan
+    if not finite and text.lower().lstrip("+-") in ("inf", "infinity", "nan"):
+        return float(text)
+    if not ok or not math.isfinite(value):
+        shown = whole if whole is not None else text
+        raise URDFError(
+            f"{what} in {path!r} has {attr}={shown!r}: {text!r} is not a finite number; "
+            "write a decimal number such as 0.25 or 1e-3",
             path=path,
         )
     return value
+
+
+# -- Pinocchio ----------------------------------------------------------------------------
+
+_STACK_LOCK = threading.Lock()
+_STDERR_LOCK = threading.Lock()
+
+
+def _build(text: str, where: str) -> pin.Model:
+    """``pin.buildModelFromXML`` on a thread with a large stack, urdfdom's stderr kept."""
+    out: dict[str, object] = {}
+
+    def work() -> None:
+        try:
+            out["model"], out["stderr"] = _with_stderr(pin.buildModelFromXML, text)
+        except _Failed as exc:
+            out["error"], out["stderr"] = exc.error, exc.stderr
+
+    with _STACK_LOCK:
+        old = threading.stack_size(PARSER_STACK)
+        try:
+            thread = threading.Thread(target=work, name="armik-urdf-parser")
+            thread.start()
+        finally:
+            threading.stack_size(old)
+    thread.join()
+    stderr = str(out.get("stderr") or "").strip()
+    if "model" in out:
+        if stderr:
+            log.info("Pinocchio's URDF parser said: %s", stderr)
+        return out["model"]  # type: ignore[return-value]
+    reasons = [
+        line.strip().removeprefix("Error:").strip()
+        for line in stderr.splitlines()
+        if line.strip() and not line.strip().startswith("at line")
+    ]
+    detail = "; ".join(reasons) if reasons else str(out.get("error"))
+    raise URDFError(f"Pinocchio could not build a model from {where!r}: {detail}", path=where)
+
+
+class _Failed(Exception):
+    def __init__(self, error: BaseException, stderr: str) -> None:
+        self.error, self.stderr = error, stderr
+
+
+def _with_stderr(func, *args):
+    """Run ``func`` with file descriptor 2 sent to a temporary file; returns (value, text).
+    urdfdom writes its reasons there from C++, out of Python's reach otherwise."""
+    with _STDERR_LOCK, tempfile.TemporaryFile(mode="w+b") as tmp:
+        try:
+            saved = os.dup(2)
+        except OSError:  # no fd 2 (some embedded interpreters): run as is
+            try:
+                return func(*args), ""
+            except Exception as exc:  # Pinocchio raises bare RuntimeError/ValueError
+                raise _Failed(exc, "") from None
+        try:
+            os.dup2(tmp.fileno(), 2)
+            try:
+                value = func(*args)
+                error = None
+            except Exception as exc:
+                value, error = None, exc
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+        tmp.seek(0)
+        text = tmp.read(64 * 1024).decode("utf-8", errors="replace")
+    if error is not None:
+        raise _Failed(error, text)
+    return value, text

@@ -122,7 +122,10 @@ def evaluate(pb: Problem, qp: np.ndarray) -> State:
     iMd = pin.updateFramePlacement(model, data, fid).actInv(pb.T_world_target)
     e = pin.log6(iMd).vector
     dp = iMd.translation
-    A = pin.Jlog6(iMd.inverse()) @ pin.getFrameJacobian(model, data, fid, pin.LOCAL)
+    J = pin.getFrameJacobian(model, data, fid, pin.LOCAL)
+    if J.ndim == 1:  # Pinocchio returns the 6 x 1 Jacobian of a 1-DOF chain as a 6-vector
+        J = J.reshape(6, 1)
+    A = pin.Jlog6(iMd.inverse()) @ J
     if pb.full_task:  # on plain floats: 1 us cheaper per iteration than numpy dot products
         px, py, pz = dp.tolist()
         vx, vy, vz, wx, wy, wz = e.tolist()  # linear and angular parts of the twist
