@@ -9,6 +9,8 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
+import re
 import sys
 import warnings
 from collections.abc import Sequence
@@ -18,7 +20,7 @@ import pinocchio as pin
 
 from . import bench as bench_mod
 from .arm import Arm, load
-from .errors import ArmikError
+from .errors import ArmikError, ArmikWarning
 from .ik import registry
 from .result import IKResult
 from .robots import CATALOGUE, SPATIAL_ARMS
@@ -33,18 +35,48 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", category=DeprecationWarning)
+            warnings.showwarning = _one_line_warning
             return int(args.func(args) or 0)
     except ArmikError as exc:
         print(f"armik: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        # The reader went away (armik info panda | head -1): stop quietly. Point stdout at
+        # devnull so that the interpreter's final flush does not raise again.
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+        except (OSError, ValueError):  # stdout without a file descriptor (captured)
+            pass
+        return 1
+
+
+def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    if issubclass(category, ArmikWarning):
+        print(f"armik: warning: {message}", file=sys.stderr)
+    else:
+        print(warnings.formatwarning(message, category, filename, lineno, line), file=sys.stderr)
 
 
 class _Parser(argparse.ArgumentParser):
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        # "-1e-3" is a number, not an option: argparse's own pattern misses exponents.
+        self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
+
     def error(self, message: str) -> None:  # one line, exit code 2
-        print(
-            f"armik: error: {message} (see 'armik {self.prog.split()[-1]} --help')", file=sys.stderr
-        )
+        print(f"armik: error: {message} (see '{self.prog} --help')", file=sys.stderr)
         raise SystemExit(2)
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {value}")
+    return value
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -67,7 +99,10 @@ def _parser() -> argparse.ArgumentParser:
     c = command("info", "show an arm's chain and which solvers apply", "armik info panda", _info)
     c.add_argument("robot", help="bundled robot name or path to a URDF file")
     c.add_argument("--base", help="base frame (default: URDF root)")
-    c.add_argument("--tip", help="tip frame (default: catalogue tip or the single leaf)")
+    c.add_argument(
+        "--tip", help="tip frame (default: catalogue tip, tool0, or the end of the longest chain)"
+    )
+    c.add_argument("--frames", action="store_true", help="print the URDF's frames as a tree")
 
     c = command(
         "solve",
@@ -134,7 +169,7 @@ def _parser() -> argparse.ArgumentParser:
         "armik compare -n 500 --plot out/",
         _compare,
     )
-    c.add_argument("-n", type=int, default=500, help="targets per experiment (500)")
+    c.add_argument("-n", type=_positive_int, default=500, help="targets per experiment (500)")
     c.add_argument("--seed", type=int, default=7)
     c.add_argument("--plot", metavar="DIR", help="write PNG figures to DIR (needs matplotlib)")
     c.add_argument("--json", action="store_true", help="print JSON")
@@ -156,6 +191,14 @@ def _robots(args: argparse.Namespace) -> int:
 def _info(args: argparse.Namespace) -> int:
     arm = _load(args)
     print(f"{arm.name}: {arm.dof} joints from {arm.base!r} to {arm.tip!r}  ({arm.source})")
+    if arm.tip_reason != "given":
+        print(f"  tip: {arm.tip_reason}")
+    for note in arm.info.notes:
+        print(f"  note: {note}")
+    if args.frames:
+        print("frames (link, then [joint type] joint -> child link):")
+        for line in frame_tree(arm.info):
+            print(f"  {line}")
     print(f"  {'joint':<24} {'type':<11} {'lower':>9} {'upper':>9}  link to next (m)")
     for i, (name, jtype) in enumerate(zip(arm.joint_names, arm.joint_types)):
         print(
@@ -172,6 +215,24 @@ def _info(args: argparse.Namespace) -> int:
         print(f"  {name:<9} ({spec.kind}) {state}")
     print(f"  auto -> {registry.choose('auto', arm).name}")
     return 0
+
+
+def frame_tree(info) -> list[str]:
+    """The URDF's links and joints as indented tree lines (iterative: trees can be deep)."""
+    children = info.children()
+    lines: list[str] = []
+    stack = [(info.root_link, "", "", None)]
+    while stack:
+        link, lead, tail, joint = stack.pop()
+        label = link if joint is None else f"[{joint.type}] {joint.name} -> {link}"
+        lines.append(lead + label)
+        kids = children.get(link, [])
+        for k, j in reversed(list(enumerate(kids))):
+            last = k == len(kids) - 1
+            stack.append(
+                (j.child, tail + ("`- " if last else "|- "), tail + ("   " if last else "|  "), j)
+            )
+    return lines
 
 
 def _link_lengths(arm: Arm) -> list[float]:
@@ -215,11 +276,13 @@ def _solve(args: argparse.Namespace) -> int:
         for i, r in enumerate(results):
             if len(results) > 1:
                 print(f"solution {i + 1} of {len(results)}")
-            _print_result(arm, r)
+            _print_result(arm, r, show_time=len(results) == 1)
+        if len(results) > 1:
+            print(f"time: {results[0].time * 1e3:.3f} ms for the call ({len(results)} solutions)")
     return 0 if any(r.success for r in results) else 1
 
 
-def _print_result(arm: Arm, r: IKResult, indent: str = "  ") -> None:
+def _print_result(arm: Arm, r: IKResult, indent: str = "  ", show_time: bool = True) -> None:
     print(
         f"{indent}status   : {r.status} (success={r.success}), solver {r.solver}"
         + (f", branch {r.branch}" if r.branch else "")
@@ -229,7 +292,10 @@ def _print_result(arm: Arm, r: IKResult, indent: str = "  ") -> None:
         print(f"{indent}  {name:<22} {value: .9f} {unit}")
     ori = "n/a" if r.orientation_error is None else f"{r.orientation_error:.2e} rad"
     print(f"{indent}FK error : position {r.position_error:.2e} m, orientation {ori}")
-    print(f"{indent}time     : {r.time * 1e3:.3f} ms, {r.iterations} iterations")
+    if show_time:
+        print(f"{indent}time     : {r.time * 1e3:.3f} ms, {r.iterations} iterations")
+    else:
+        print(f"{indent}iterations: {r.iterations}")
     print(f"{indent}reason   : {r.reason}")
 
 

@@ -69,7 +69,14 @@ class Options:
         if "weights" in values and values["weights"] is not None:
             values["weights"] = _weights(values["weights"])
         if "position_only" in values:
-            values["position_only"] = bool(values["position_only"])
+            flag = values["position_only"]
+            if not isinstance(flag, (bool, np.bool_)):
+                raise OptionError(
+                    f"position_only must be True or False, got {flag!r}",
+                    option="position_only",
+                    value=flag,
+                )
+            values["position_only"] = bool(flag)
         if "qp_solver" in values and not isinstance(values["qp_solver"], str):
             raise OptionError(
                 f"qp_solver must be a backend name, got {values['qp_solver']!r}",
@@ -79,13 +86,26 @@ class Options:
         return cls(**values)
 
     def weight_vector(self, position_only_target: bool) -> np.ndarray:
+        """The 6 weights of the task; raises ``OptionError`` when they leave no axis to
+        measure (zero position weights on a position target or with ``position_only``):
+        every answer would then pass the check."""
         w = np.ones(6) if self.weights is None else np.array(self.weights)
         if self.position_only or position_only_target:
             w[3:] = 0.0
+            if not w[:3].any():
+                why = "position_only=True" if self.position_only else "a position target"
+                raise OptionError(
+                    f"weights {self.weights} with {why} leave nothing to measure (the "
+                    "orientation is ignored and every position weight is 0): give x, y or z "
+                    "a positive weight",
+                    option="weights",
+                    value=self.weights,
+                )
         return w
 
 
 _DEFAULT = Options()
+MAX_WEIGHT = 1e6  # larger weights overflow the squared error of far restart candidates
 _NAMES = frozenset(f.name for f in fields(Options))
 
 
@@ -120,13 +140,22 @@ def _int(key: str, value: object, minimum: int) -> int:
 
 def _weights(value: object) -> tuple[float, ...]:
     try:
+        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):
+            raise TypeError
         w = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
         w = np.array([np.nan])
-    if w.shape != (6,) or not np.all(np.isfinite(w)) or np.any(w < 0) or not np.any(w > 0):
+    if (
+        w.shape != (6,)
+        or not np.all(np.isfinite(w))
+        or np.any(w < 0)
+        or not np.any(w > 0)
+        or np.any(w > MAX_WEIGHT)
+    ):
         raise OptionError(
             f"weights must be 6 finite non-negative numbers (x, y, z, rx, ry, rz), "
-            f"not all zero; got {value!r}",
+            f"not all zero, at most {MAX_WEIGHT:g} (only their ratios and zeros matter); "
+            f"got {value!r}",
             option="weights",
             value=value,
         )

@@ -1,10 +1,16 @@
 """Turning user input into one Target type.
 
-Accepted: a ``pinocchio.SE3``; a 4x4 homogeneous matrix; a 3-vector (position only);
-``(position, quaternion)`` with the quaternion in (x, y, z, w) order as in Pinocchio and
-scipy (a non-unit quaternion is normalised); a 7-vector (x, y, z, qx, qy, qz, qw); and on a
-planar arm a 2-vector (x, y) in the arm's plane (see ``armik.planar``). Every target is
-expressed in the arm's base frame, in metres.
+Accepted: a ``pinocchio.SE3``; a spatialmath ``SE3`` holding one pose; a 4x4 homogeneous
+matrix; a 3-vector (position only); ``(position, quaternion)`` with the quaternion in
+(x, y, z, w) order as in Pinocchio and scipy (a non-unit quaternion is normalised);
+``(position, 3x3 rotation matrix)``; ``(position, scipy Rotation)``; a 7-vector
+(x, y, z, qx, qy, qz, qw); and on a planar arm a 2-vector (x, y) in the arm's plane (see
+``armik.planar``). Every target is expressed in the arm's base frame, in metres.
+
+Several poses in one object (an (N, 4, 4) array, a spatialmath ``SE3`` of length N, a
+scipy ``Rotation`` of N rotations) are refused with a pointer to ``Arm.solve_batch``:
+solving the first pose only would be a silent answer to another question. Complex numbers
+are refused, never cast.
 """
 
 from __future__ import annotations
@@ -51,10 +57,23 @@ def parse_target(value: object, arm: Arm | None = None) -> Target:
         return value
     if isinstance(value, pin.SE3):
         return _pose(value.rotation, value.translation)
+    if _is_spatialmath(value):
+        n = len(value)  # type: ignore[arg-type]
+        if n != 1:
+            raise TargetError(_several(f"a spatialmath {type(value).__name__} of {n} poses"))
+        value = value.A  # type: ignore[attr-defined]
+    if (
+        isinstance(value, (tuple, list))
+        and value
+        and all(isinstance(v, pin.SE3) or _is_spatialmath(v) for v in value)
+    ):
+        raise TargetError(_several(f"a {type(value).__name__} of {len(value)} poses"))
     if isinstance(value, (tuple, list)) and len(value) == 2 and not np.isscalar(value[0]):
-        position, quat = value
-        return _pose(_rotation_from_quat(quat), _vector(position, 3, "target position"))
+        position, rotation = value
+        return _pose(_rotation(rotation), _vector(position, 3, "target position"))
     arr = _array(value, "target")
+    if (arr.ndim == 3 and arr.shape[1:] == (4, 4)) or (arr.ndim == 2 and arr.shape[1] in (3, 7)):
+        raise TargetError(_several(f"an array of shape {arr.shape}"))
     if arr.shape == (4, 4):
         return _from_matrix(arr)
     if arr.shape == (3,):
@@ -69,9 +88,23 @@ def parse_target(value: object, arm: Arm | None = None) -> Target:
     )
 
 
+def _several(what: str) -> str:
+    return (
+        f"the target is {what}: solve() takes one pose; solve several with "
+        "Arm.solve_batch(targets), or pass one pose"
+    )
+
+
+def _is_spatialmath(value: object) -> bool:
+    return type(value).__module__.startswith("spatialmath") and hasattr(value, "A")
+
+
 def _array(value: object, what: str) -> np.ndarray:
     try:
-        return np.asarray(value, dtype=float)
+        raw = np.asarray(value)
+        if np.iscomplexobj(raw):
+            raise TargetError(f"{what} {value!r} has complex numbers: give real numbers (m, rad)")
+        return raw.astype(float)
     except (TypeError, ValueError):
         raise TargetError(f"{what} {value!r} is not numeric") from None
 
@@ -89,15 +122,34 @@ def _vector(value: object, n: int, what: str) -> np.ndarray:
     return _finite(arr, what)
 
 
+def _rotation(value: object) -> np.ndarray:
+    """The rotation of ``(position, rotation)``: a quaternion (x, y, z, w), a 3x3 matrix,
+    or a scipy ``Rotation`` holding one rotation."""
+    if type(value).__module__.startswith("scipy.spatial") and hasattr(value, "as_matrix"):
+        if not getattr(value, "single", True):
+            raise TargetError(_several(f"a scipy Rotation of {len(value)} rotations"))
+        return np.asarray(value.as_matrix(), float)
+    arr = _array(value, "target rotation")
+    if arr.shape == (3, 3):
+        return arr
+    if arr.shape == (4,):
+        return _rotation_from_quat(arr)
+    raise TargetError(
+        f"the rotation of (position, rotation) has shape {arr.shape}: give a quaternion "
+        "of 4 numbers (x, y, z, w), a 3x3 rotation matrix or a scipy Rotation"
+    )
+
+
 def _rotation_from_quat(quat: object) -> np.ndarray:
     q = _vector(quat, 4, "quaternion (x, y, z, w)")
-    norm = np.linalg.norm(q)
-    if norm < 1e-12:
+    scale = np.abs(q).max()  # divide first: squares of components above 1e154 overflow
+    if scale < 1e-12:
         raise TargetError(
             f"quaternion {q.tolist()} has zero norm: give a unit quaternion "
             "(x, y, z, w), e.g. (0, 0, 0, 1) for no rotation"
         )
-    x, y, z, w = q / norm
+    q = q / scale
+    x, y, z, w = q / np.linalg.norm(q)
     return pin.Quaternion(w, x, y, z).toRotationMatrix()
 
 

@@ -367,7 +367,12 @@ def run_numeric(
         ]
     q = arm.nearest_equivalent(arm.from_pin(best.qp), q0)
     spent = time.perf_counter() - start
-    why = "time budget" if spent > opts.timeout else "restart limit"
+    if spent > opts.timeout:
+        why = f"the time budget ({opts.timeout:g} s, {restarts} restarts)"
+    elif opts.max_restarts == 0:
+        why = "one descent from q0 (max_restarts=0: no restarts)"
+    else:
+        why = f"the restart limit (max_restarts={opts.max_restarts}, {spent:.3g} s)"
     errors = f"position error {best.pos:.3g} m"
     if pb.mask_rot.any():
         errors += f", orientation error {best.rot:.3g} rad"
@@ -377,9 +382,8 @@ def run_numeric(
             claim=Status.NOT_CONVERGED,
             iterations=iterations,
             restarts=restarts,
-            reason=f"no solution within the {why} ({opts.timeout:g} s, {restarts} "
-            f"restarts); best found: {errors}; the target may be out of "
-            "reach",
+            reason=f"no solution within {why}; best found: {errors}; the target may be out "
+            "of reach",
         )
     ]
 
