@@ -102,8 +102,11 @@ def _is_spatialmath(value: object) -> bool:
 def _array(value: object, what: str) -> np.ndarray:
     try:
         raw = np.asarray(value)
-        if np.iscomplexobj(raw):
-            raise TargetError(f"{what} {value!r} has complex numbers: give real numbers (m, rad)")
+    except (TypeError, ValueError):
+        raise TargetError(f"{what} {value!r} is not numeric") from None
+    if np.iscomplexobj(raw):
+        raise TargetError(f"{what} {value!r} has complex numbers: give real numbers (m, rad)")
+    try:
         return raw.astype(float)
     except (TypeError, ValueError):
         raise TargetError(f"{what} {value!r} is not numeric") from None
