@@ -9,6 +9,7 @@ import warnings
 import numpy as np
 import pinocchio as pin
 import pytest
+import spatialmath as sm
 from scipy.spatial.transform import Rotation
 
 import armik
@@ -105,7 +106,6 @@ def test_position_with_matrix_or_scipy_rotation():
 
 
 def test_spatialmath_single_pose_is_accepted():
-    sm = pytest.importorskip("spatialmath")
     ur5 = arm("ur5")
     T = ur5.fk(ur5.middle + 0.2)
     r = ur5.solve(sm.SE3(T.homogeneous))
@@ -120,12 +120,7 @@ def several_pose_values():
         [pin.SE3.Identity(), pin.SE3.Identity()],
         ([0.3, 0.2, 0.4], Rotation.from_euler("z", [[0.1], [0.2]])),
     ]
-    try:
-        import spatialmath as sm
-
-        values.append(sm.SE3([sm.SE3(0.3, 0.2, 0.4), sm.SE3(0.1, 0.2, 0.3)]))
-    except ImportError:
-        pass
+    values.append(sm.SE3([sm.SE3(0.3, 0.2, 0.4), sm.SE3(0.1, 0.2, 0.3)]))
     return values
 
 

@@ -14,12 +14,11 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
+import yourdfpy
 
 import armik
 from armik.errors import ArmikError
 from armik.robots import entry
-
-yourdfpy = pytest.importorskip("yourdfpy")
 
 ROBOTS = ["planar_3link", "scara", "ur5"]
 MUTANTS_PER_ROBOT = 80

@@ -276,7 +276,6 @@ XACRO = """<?xml version="1.0"?>
 
 
 def test_xacro_is_expanded_when_the_package_is_installed(tmp_path):
-    pytest.importorskip("xacro")
     a = load_text(tmp_path, XACRO, "arm.urdf.xacro")
     assert a.dof == 2 and a.name == "xarm2"
     np.testing.assert_allclose(a.upper, [np.pi / 2] * 2, atol=1e-12)

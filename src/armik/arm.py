@@ -94,7 +94,12 @@ def load(
             )
         name = path.stem
         name_from_urdf = True
-    model, info = read_urdf(path)
+    if name_from_urdf:
+        model, info = read_urdf(path)
+    else:  # bundled files are vetted: what reading them notes is in ``armik info``
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ArmikWarning)
+            model, info = read_urdf(path)
     arm = Arm(
         model,
         info,
@@ -105,6 +110,8 @@ def load(
         tip_offset=tip_offset,
         source=str(path),
     )
+    if not name_from_urdf and tip == spec.tip:
+        arm.tip_reason = f"the catalogue's tip for {name!r}"
     arm._recipe = Recipe(str(source), base, tip, dict(locked or {}), arm.tip_offset)
     return arm
 
