@@ -125,3 +125,11 @@ def test_default_tip_choice_is_shown(capsys, tmp_path):
     )
     code, out, _ = run(capsys, "info", str(write_urdf(tmp_path, text)))
     assert code == 0 and "to 'tool0'" in out and "REP 199" in out
+
+
+def test_unwritable_output_is_one_line(capsys, tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    code, out, err = run(capsys, "compare", "-n", "2", "--plot", str(blocker / "sub"))
+    assert code == 2 and "armik: error:" in err and "Traceback" not in err
+    assert len(err.strip().splitlines()) == 1

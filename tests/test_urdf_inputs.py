@@ -254,6 +254,28 @@ def test_linear_axis_is_an_arm(tmp_path):
 # -- 11. sizes that overflow -------------------------------------------------------------
 
 
+@pytest.mark.parametrize(
+    "target, options",
+    [
+        ([1e300, 0, 0], {"weights": (1, 1, 0, 0, 0, 0)}),
+        ([1e300, 0, 0], {}),
+        ([0, 0, -1e7], {"solver": "qp"}),
+        (np.diag([1.0, 1.0, 1.0, 1.0]) + np.eye(4, k=3) * 1e300, {}),
+    ],
+)
+def test_absurd_target_positions_are_refused(target, options):
+    with pytest.raises(TargetError, match="beyond 1e\\+06 m"):
+        arm("ur5").solve(target, **options)
+    with pytest.raises(TargetError, match="beyond"):
+        arm("planar_2link").solve([1e300, 0.0])
+
+
+@pytest.mark.parametrize("value", ["1e-3", True, b"1"])
+def test_numeric_options_refuse_strings_and_bools(value):
+    with pytest.raises(OptionError, match="tol_position must be a number"):
+        arm("ur5").solve([0.3, 0.2, 0.4], tol_position=value)
+
+
 @pytest.mark.parametrize("weights", [(1e200, 1, 1, 1, 1, 1), (1, 1, 1, 1, 1, 1e7)])
 def test_absurd_weights_are_refused(weights):
     with pytest.raises(OptionError, match="at most"):

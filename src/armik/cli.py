@@ -14,6 +14,7 @@ import re
 import sys
 import warnings
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -49,13 +50,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         except (OSError, ValueError):  # stdout without a file descriptor (captured)
             pass
         return 1
+    except OSError as exc:  # a file armik was told to write or read (--plot DIR, ...)
+        print(f"armik: error: {exc}", file=sys.stderr)
+        return 2
 
 
 def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:
-    if issubclass(category, ArmikWarning):
-        print(f"armik: warning: {message}", file=sys.stderr)
-    else:
-        print(warnings.formatwarning(message, category, filename, lineno, line), file=sys.stderr)
+    kind = "" if issubclass(category, ArmikWarning) else f"{category.__name__}: "
+    where = "" if issubclass(category, ArmikWarning) else f" ({Path(filename).name}:{lineno})"
+    print(f"armik: warning: {kind}{message}{where}", file=sys.stderr)
 
 
 class _Parser(argparse.ArgumentParser):

@@ -110,6 +110,8 @@ _NAMES = frozenset(f.name for f in fields(Options))
 
 
 def _float(key: str, value: object) -> float:
+    if isinstance(value, (str, bytes, bool, np.bool_)):
+        raise OptionError(f"{key} must be a number, got {value!r}", option=key, value=value)
     try:
         out = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError):

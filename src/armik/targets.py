@@ -26,6 +26,7 @@ from .errors import TargetError
 if TYPE_CHECKING:
     from .arm import Arm
 
+MAX_POSITION = 1e6  # m, as armik.urdf.MAX_LENGTH
 ROTATION_TOL = 1e-6  # how far from orthonormal a given rotation may be before it is refused
 
 
@@ -77,9 +78,9 @@ def parse_target(value: object, arm: Arm | None = None) -> Target:
     if arr.shape == (4, 4):
         return _from_matrix(arr)
     if arr.shape == (3,):
-        return Target(_finite(arr, "target position"))
+        return Target(_position(arr))
     if arr.shape == (7,):
-        return _pose(_rotation_from_quat(arr[3:]), _finite(arr[:3], "target position"))
+        return _pose(_rotation_from_quat(arr[3:]), arr[:3])
     if arr.shape == (2,):
         return _planar(_finite(arr, "target (x, y)"), arm)
     raise TargetError(
@@ -116,6 +117,16 @@ def _finite(arr: np.ndarray, what: str) -> np.ndarray:
     if not np.isfinite(arr).all():
         raise TargetError(f"{what} contains NaN or inf: {arr.tolist()}")
     return arr.copy()
+
+
+def _position(arr: np.ndarray) -> np.ndarray:
+    p = _finite(arr, "target position")
+    if np.abs(p).max() > MAX_POSITION:
+        raise TargetError(
+            f"target position {p.tolist()} is beyond {MAX_POSITION:g} m from the base: give "
+            "it in metres (no arm reaches this far, and the error arithmetic would overflow)"
+        )
+    return p
 
 
 def _vector(value: object, n: int, what: str) -> np.ndarray:
@@ -165,7 +176,7 @@ def _from_matrix(M: np.ndarray) -> Target:
 
 def _pose(R: np.ndarray, p: np.ndarray) -> Target:
     R = _finite(np.asarray(R, float), "target rotation")
-    p = _finite(np.asarray(p, float), "target position")
+    p = _position(np.asarray(p, float))
     err = np.abs(R.T @ R - np.eye(3)).max()
     if err > ROTATION_TOL:
         raise TargetError(
@@ -198,4 +209,4 @@ def _planar(xy: np.ndarray, arm: Arm | None) -> Target:
             f"a 2-vector target needs a planar arm, and {name} is not planar: "
             "give a position (x, y, z) or a full pose"
         )
-    return Target(plane.to_3d(xy), None, planar_xy=xy)
+    return Target(_position(plane.to_3d(xy)), None, planar_xy=xy)
