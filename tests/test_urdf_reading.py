@@ -282,6 +282,16 @@ def test_xacro_is_expanded_when_the_package_is_installed(tmp_path):
     np.testing.assert_allclose(a.fk([0, 0]).translation, [0.4, 0, 0], atol=1e-12)
 
 
+def test_expressions_in_a_plain_urdf_are_expanded_only_when_needed(tmp_path):
+    text = arm3().replace('xyz="0.25 0 0"', 'xyz="${0.5 / 2} 0 0"')
+    a = load_text(tmp_path, text)  # fails as URDF ('${0.5' is no number): expanded
+    np.testing.assert_allclose(a.fk([0, 0, 0]).translation, [0.45, 0, 0.4], atol=1e-12)
+    # A stray ${...} where nobody reads it (a comment, as in example-robot-data's xArm 7)
+    # leaves the file as it is.
+    plain = arm3().replace("<link", "<!-- ${prefix}link --><link", 1)
+    assert load_text(tmp_path, plain, "plain.urdf").dof == 3
+
+
 def test_xacro_without_the_package_says_how_to_expand_it(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "xacro", None)  # import xacro -> ImportError
     with pytest.raises(URDFError, match="xacro file.*xacro .*> robot.urdf"):

@@ -18,8 +18,9 @@ How armik reads a URDF (the README's "How armik reads URDFs" says the same):
   unlimited, with an ``ArmikWarning``. Other equal limits pin the joint at that value.
 - Lengths above ``MAX_LENGTH`` m and limits above ``MAX_LIMIT`` (rad or m) are refused:
   their arithmetic overflows in the solvers' restarts.
-- A xacro file (``.xacro``, or ``${`` / ``xacro:`` in the text) is expanded with the
-  ``xacro`` package when it is installed (``pip install armik[xacro]``).
+- A xacro file (``.xacro``, ``<xacro:`` tags, or ``${...}`` / ``$(...)`` in a file that
+  fails as plain URDF) is expanded with the ``xacro`` package when it is installed
+  (``pip install armik[xacro]``); without it the error says how to expand it.
 """
 
 from __future__ import annotations
@@ -44,10 +45,12 @@ log = logging.getLogger(__name__)
 
 MAX_FILE_BYTES = 64 * 2**20  # the largest URDFs we know of (with inline meshes) are ~10 MB
 # Pinocchio's parser recursed about 2 KB of stack per link and crashed at 4000 links on an
-# 8 MB stack, at 300 links on a 512 kB thread stack (measured on pin 3.x/4.1). armik runs
-# it on a thread of its own with PARSER_STACK bytes of stack, room for about 16000 links.
+# 8 MB stack, at 300 links on a 512 kB thread stack (measured with pin 4.1). armik runs
+# it on a thread of its own with PARSER_STACK bytes of stack (room for about 16000 links)
+# when the tree is deeper than SHALLOW_DEPTH.
 MAX_DEPTH = 1000
 PARSER_STACK = 32 * 2**20
+SHALLOW_DEPTH = 100  # up to here the caller's stack will do (200 kB; starting a thread: 1.5 ms)
 MAX_LENGTH = 1e6  # m: origins and offsets beyond this are a mistake (and overflow)
 MAX_LIMIT = 1e6  # rad or m
 AXIS_MIN_NORM = 1e-6
@@ -80,6 +83,7 @@ class URDFInfo:
     joints: dict[str, JointXML] = field(default_factory=dict)
     unset_limits: frozenset[str] = frozenset()  # revolute/prismatic with lower == upper == 0
     notes: tuple[str, ...] = ()  # what was read in a way the user should know (armik info)
+    depth: int = 0  # joints on the longest path from the root
 
     def children(self) -> dict[str, list[JointXML]]:
         """parent link -> the joints that hang from it, in file order."""
@@ -93,9 +97,17 @@ def read_urdf(path: str | Path) -> tuple[pin.Model, URDFInfo]:
     """Parse ``path`` into a Pinocchio model. Raises ``URDFError`` naming the problem."""
     path = Path(path)
     text = _read_text(path)
-    if _is_xacro(path, text):
-        text = _expand_xacro(path, text)
-    return read_urdf_string(text, str(path))
+    if path.suffix.lower() == ".xacro" or "<xacro:" in text:
+        return read_urdf_string(_expand_xacro(path, text), str(path))
+    try:
+        return read_urdf_string(text, str(path))
+    except URDFError:
+        # ${...} or $(...) left in a plain-looking file: xacro syntax. Generated URDFs keep
+        # some in attributes nobody reads (and in comments), so only a file that fails as
+        # plain URDF is expanded.
+        if "${" not in text and "$(" not in text:
+            raise
+    return read_urdf_string(_expand_xacro(path, text), str(path))
 
 
 def read_urdf_string(text: str, where: str = "<string>") -> tuple[pin.Model, URDFInfo]:
@@ -111,7 +123,7 @@ def read_urdf_string(text: str, where: str = "<string>") -> tuple[pin.Model, URD
     info, changed = _inspect(root, where)
     if changed:
         text = ET.tostring(root, encoding="unicode")
-    model = _build(text, where)
+    model = _build(text, where, own_stack=info.depth > SHALLOW_DEPTH)
     return model, info
 
 
@@ -148,15 +160,6 @@ def _read_text(path: Path) -> str:
     if len(data) > MAX_FILE_BYTES:  # grew while we looked
         raise URDFError(f"URDF file {where!r} is larger than {MAX_FILE_BYTES} bytes", path=where)
     return data.decode("utf-8", errors="replace")
-
-
-def _is_xacro(path: Path, text: str) -> bool:
-    return (
-        path.suffix.lower() == ".xacro"
-        or "xmlns:xacro" in text
-        or "<xacro:" in text
-        or "${" in text
-    )
 
 
 def _expand_xacro(path: Path, text: str) -> str:
@@ -348,7 +351,7 @@ def _inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
             f"found {roots if roots else 'none: the joints form a loop'}",
             path=path,
         )
-    _depth(roots[0], joints, len(links))
+    depth = _depth(roots[0], joints, len(links))
     info = URDFInfo(
         root.get("name") or "",
         roots[0],
@@ -358,6 +361,7 @@ def _inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
         joints,
         frozenset(unset),
         tuple(notes),
+        depth,
     )
     return info, changed
 
@@ -483,8 +487,9 @@ _STACK_LOCK = threading.Lock()
 _STDERR_LOCK = threading.Lock()
 
 
-def _build(text: str, where: str) -> pin.Model:
-    """``pin.buildModelFromXML`` on a thread with a large stack, urdfdom's stderr kept."""
+def _build(text: str, where: str, own_stack: bool) -> pin.Model:
+    """``pin.buildModelFromXML`` with urdfdom's stderr kept; on a thread with a large stack
+    when ``own_stack`` (deep trees)."""
     out: dict[str, object] = {}
 
     def work() -> None:
@@ -493,14 +498,17 @@ def _build(text: str, where: str) -> pin.Model:
         except _Failed as exc:
             out["error"], out["stderr"] = exc.error, exc.stderr
 
-    with _STACK_LOCK:
-        old = threading.stack_size(PARSER_STACK)
-        try:
-            thread = threading.Thread(target=work, name="armik-urdf-parser")
-            thread.start()
-        finally:
-            threading.stack_size(old)
-    thread.join()
+    if own_stack:
+        with _STACK_LOCK:
+            old = threading.stack_size(PARSER_STACK)
+            try:
+                thread = threading.Thread(target=work, name="armik-urdf-parser")
+                thread.start()
+            finally:
+                threading.stack_size(old)
+        thread.join()
+    else:
+        work()
     stderr = str(out.get("stderr") or "").strip()
     if "model" in out:
         if stderr:
