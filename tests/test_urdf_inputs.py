@@ -74,6 +74,15 @@ def test_huge_quaternion_is_normalised_without_overflow():
     np.testing.assert_allclose(tiny.rotation, expected, atol=1e-12)
 
 
+@pytest.mark.parametrize("q", [np.array([0.1 + 1j, 0, 0, 0, 0, 0]), [1j, 0, 0, 0, 0, 0], "abcdef"])
+def test_complex_or_text_joint_values_are_refused(q):
+    ur5 = arm("ur5")
+    with pytest.raises(OptionError, match="must be 6 numbers"):
+        ur5.fk(q)
+    with pytest.raises(OptionError, match="must be 6 numbers"):
+        ur5.solve([0.3, 0.2, 0.4], q0=q)
+
+
 @pytest.mark.parametrize(
     "value",
     [

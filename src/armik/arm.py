@@ -224,8 +224,10 @@ class Arm:
     """The kinematic chain of one robot arm; built by ``armik.load``.
 
     Attributes: ``dof``, ``joint_names``, ``joint_types``, ``lower``, ``upper`` (rad or m;
-    -inf/+inf for continuous joints), ``neutral``, ``middle``, ``base``, ``tip``, ``model``
-    (the reduced Pinocchio model, not to be modified).
+    -inf/+inf for continuous joints), ``neutral``, ``middle``, ``base``, ``tip``,
+    ``tip_reason`` (how the tip was chosen when none was given), ``info`` (what the URDF
+    says: its tree, and ``info.notes`` on how it was read), ``model`` (the reduced
+    Pinocchio model, not to be modified).
     """
 
     def __init__(
@@ -588,6 +590,8 @@ class Arm:
     def check_q(self, q: object, name: str = "q") -> np.ndarray:
         """``q`` as a float array of length ``dof``; raises ``OptionError`` otherwise."""
         try:
+            if isinstance(q, (str, bytes)) or np.iscomplexobj(q):
+                raise TypeError  # never drop an imaginary part silently
             arr = np.asarray(q, dtype=float)
         except (TypeError, ValueError):
             raise OptionError(
