@@ -379,7 +379,9 @@ class Arm:
             # lower == upper == 0 means "not given" (warned about when the URDF was read);
             # other equal limits pin the joint, as its URDF says.
             if lo < hi or (lo == hi and self.joint_names[i] not in info.unset_limits):
-                lower[i], upper[i] = lo, hi
+                # Limits beyond MAX_LIMIT mean "free" (warned about when read).
+                lower[i] = lo if lo >= -MAX_LIMIT else -np.inf
+                upper[i] = hi if hi <= MAX_LIMIT else np.inf
         self._set_limits(lower, upper)
         self.prismatic = np.array([t == "prismatic" for t in self.joint_types])
         self._limit_lists = (self.lower.tolist(), self.upper.tolist(), self.prismatic.tolist())

@@ -16,8 +16,9 @@ How armik reads a URDF (the README's "How armik reads URDFs" says the same):
   ``AXIS_MIN_NORM``), non-finite or missing ``xyz`` is refused.
 - ``<limit lower="0" upper="0">`` (or no lower/upper) means "not given": the joint is
   unlimited, with an ``ArmikWarning``. Other equal limits pin the joint at that value.
-- Lengths above ``MAX_LENGTH`` m and limits above ``MAX_LIMIT`` (rad or m) are refused:
-  their arithmetic overflows in the solvers' restarts.
+- Lengths above ``MAX_LENGTH`` m are refused: their arithmetic overflows in the solvers'
+  restarts. Limits beyond ``MAX_LIMIT`` (rad or m; Gazebo models write +-1e16 for "free")
+  mean no limit on that side, with an ``ArmikWarning``.
 - A xacro file (``.xacro``, ``<xacro:`` tags, or ``${...}`` / ``$(...)`` in a file that
   fails as plain URDF) is expanded with the ``xacro`` package when it is installed
   (``pip install armik[xacro]``); without it the error says how to expand it.
@@ -295,19 +296,16 @@ def _inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
                 _number(limit.get(key), what, f"limit {key}", path)
             lower = _number(limit.get("lower", "0"), what, "lower limit", path)
             upper = _number(limit.get("upper", "0"), what, "upper limit", path)
-            for value, side in ((lower, "lower"), (upper, "upper")):
-                if abs(value) > MAX_LIMIT:
-                    unit = "m" if jtype == "prismatic" else "rad"
-                    raise URDFError(
-                        f"{what} in {path!r} has a {side} limit of {value:g} {unit}, beyond "
-                        f"the {MAX_LIMIT:g} armik accepts: "
-                        + (
-                            "make it a continuous joint if it turns freely"
-                            if jtype == "revolute"
-                            else "give the real travel"
-                        ),
-                        path=path,
-                    )
+            huge = [side for v, side in ((lower, "lower"), (upper, "upper")) if abs(v) > MAX_LIMIT]
+            if huge:
+                msg = (
+                    f"joint {name!r} has {' and '.join(huge)} limit(s) beyond +-{MAX_LIMIT:g} "
+                    f"(lower={limit.get('lower')}, upper={limit.get('upper')}), read as no "
+                    "limit on that side"
+                    + (": make it a continuous joint" if jtype == "revolute" else "")
+                )
+                notes.append(msg)
+                warnings.warn(msg, ArmikWarning, stacklevel=5)
             if lower > upper:
                 raise URDFError(
                     f"{what} in {path!r} has lower limit {lower} > upper limit {upper}: "
@@ -338,12 +336,8 @@ def _inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
         joints[name] = JointXML(name, jtype, parent, child, norm)
 
     for name, target in mimic.items():
-        if target not in joints:
-            raise URDFError(
-                f"joint {name!r} in {path!r} mimics {target!r}, which is not a joint of the "
-                "file: fix the name in <mimic joint=...>",
-                path=path,
-            )
+        if target not in joints:  # Pinocchio ignores it; armik refuses mimic joints on a chain
+            notes.append(f"joint {name!r} mimics {target!r}, which is not a joint of the file")
     roots = [name for name in links if name not in parent_of]
     if len(roots) != 1:
         raise URDFError(
