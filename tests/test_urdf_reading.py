@@ -155,6 +155,23 @@ def test_link_named_universe_and_tip_named_like_a_joint(tmp_path):
     assert r.success, r.reason
 
 
+def test_locked_joint_named_like_a_link(tmp_path):
+    # As in example-robot-data's ANYmal C: link "RH_KFE" is the parent of joint "RH_KFE".
+    text = chain(
+        joint("hip", "base", "thigh"),
+        joint("knee", "thigh", "shank", xyz="0.3 0 0", axis='<axis xyz="0 1 0"/>'),
+        joint("foot_fixed", "shank", "foot", jtype="fixed", xyz="0.3 0 0"),
+        joint("other_fixed", "base", "knee2", jtype="fixed", xyz="0 0.2 0"),
+        joint("knee2", "knee2", "other_shank", xyz="0.3 0 0"),
+        joint("tip_fixed", "other_shank", "other_foot", jtype="fixed", xyz="0.2 0 0"),
+    )
+    a = load_text(tmp_path, text, tip="foot", locked={"knee2": 0.4})
+    assert a.joint_names == ["hip", "knee"]
+    assert a.solve(a.fk([0.3, -0.5])).success
+    b = load_text(tmp_path, text, tip="other_foot")
+    assert b.joint_names == ["knee2"] and {f for f in b.frames() if "\x00" in f} == set()
+
+
 # -- 10. deep trees are refused before Pinocchio's parser could crash ---------------------
 
 

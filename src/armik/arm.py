@@ -746,28 +746,36 @@ def _check_solver_name(solver: object) -> None:
 def _reduce(full: pin.Model, to_lock: list[int], q_ref: np.ndarray) -> pin.Model:
     """``pin.buildReducedModel`` that survives frames sharing a name (a link and a joint
     both called "quill", a link called "universe"): Pinocchio looks frames up by name there
-    and raises "Several frames match the filter". Later duplicates are renamed for the
-    call and get their names back afterwards."""
-    seen: set[str] = set()
+    and raises "Several frames match the filter". For the call, later duplicates and the
+    locked joints (whose frames it re-creates under the joint's name) get unique names;
+    the frames get their names back afterwards."""
+    work = full.copy()
     renamed: dict[str, str] = {}
-    work = full
-    for i, frame in enumerate(full.frames):
-        if frame.name in seen:
-            if work is full:
-                work = full.copy()
+    joint_tmp: dict[int, str] = {}
+    for j in to_lock:  # a joint and its JOINT frame keep one (temporary) name
+        joint_tmp[j] = f"{full.names[j]}\x00armik-joint{j}"
+        renamed[joint_tmp[j]] = full.names[j]
+        work.names[j] = joint_tmp[j]
+    seen: set[str] = set()
+    for i, frame in enumerate(work.frames):
+        tmp = None
+        if frame.type == pin.JOINT and frame.parentJoint in joint_tmp:
+            tmp = joint_tmp[frame.parentJoint]
+        elif frame.name in seen:
             tmp = f"{frame.name}\x00armik{i}"
-            f = work.frames[i]
-            f.name = tmp
-            work.frames[i] = f
             renamed[tmp] = frame.name
+        if tmp is not None:
+            frame.name = tmp
+            work.frames[i] = frame
         seen.add(frame.name)
     model = pin.buildReducedModel(work, to_lock, q_ref)
-    if renamed:
-        for i, frame in enumerate(model.frames):
-            if frame.name in renamed:
-                f = model.frames[i]
-                f.name = renamed[frame.name]
-                model.frames[i] = f
+    for i, frame in enumerate(model.frames):
+        if frame.name in renamed:
+            frame.name = renamed[frame.name]
+            model.frames[i] = frame
+    for j in range(model.njoints):
+        if model.names[j] in renamed:
+            model.names[j] = renamed[model.names[j]]
     return model
 
 
