@@ -323,6 +323,9 @@ def test_xacro_without_the_package_says_how_to_expand_it(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "xacro", None)  # import xacro -> ImportError
     with pytest.raises(URDFError, match="xacro file.*xacro .*> robot.urdf"):
         load_text(tmp_path, XACRO, "arm.urdf")  # detected from the text, not the suffix
+    text = arm3().replace('xyz="0.25 0 0"', 'xyz="${0.5 / 2} 0 0"')
+    with pytest.raises(URDFError, match="joint 'j3'.*if it is a xacro file"):
+        load_text(tmp_path, text, "expr.urdf")
 
 
 # -- 16. default tip, 17. name ---------------------------------------------------------
@@ -345,6 +348,13 @@ def test_default_tip_tool0_by_rep199(tmp_path):
     a = load_text(tmp_path, ur_like(), "whatever_file.urdf")
     assert a.tip == "tool0" and "REP 199" in a.tip_reason
     assert a.name == "ur_like"  # 17: <robot name>, not the file name
+
+
+def test_ur_description_loads_without_a_tip():
+    from armik.robots import entry
+
+    a = armik.load(entry("ur5").urdf_path())  # leaves: base, ee_link, tool0
+    assert a.tip == "tool0" and a.dof == 6 and a.name == "ur5"
 
 
 def test_default_tip_fixed_leaves_on_one_link_give_that_link(tmp_path):

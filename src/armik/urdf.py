@@ -102,12 +102,21 @@ def read_urdf(path: str | Path) -> tuple[pin.Model, URDFInfo]:
         return read_urdf_string(_expand_xacro(path, text), str(path))
     try:
         return read_urdf_string(text, str(path))
-    except URDFError:
+    except URDFError as exc:
         # ${...} or $(...) left in a plain-looking file: xacro syntax. Generated URDFs keep
         # some in attributes nobody reads (and in comments), so only a file that fails as
         # plain URDF is expanded.
         if "${" not in text and "$(" not in text:
             raise
+        try:
+            import xacro  # noqa: F401
+        except ImportError:
+            raise URDFError(
+                f"{exc} (the file holds ${{...}} or $(...): if it is a xacro file, expand "
+                f"it with 'xacro {path} > robot.urdf' (ROS), or pip install xacro "
+                "(armik[xacro]) and armik expands it itself)",
+                path=str(path),
+            ) from None
     return read_urdf_string(_expand_xacro(path, text), str(path))
 
 
@@ -345,7 +354,7 @@ def _inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
             f"found {roots if roots else 'none: the joints form a loop'}",
             path=path,
         )
-    depth = _depth(roots[0], joints, len(links))
+    depth = _depth(roots[0], joints, len(links), path)
     info = URDFInfo(
         root.get("name") or "",
         roots[0],
@@ -360,7 +369,7 @@ def _inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
     return info, changed
 
 
-def _depth(root: str, joints: dict[str, JointXML], n_links: int) -> int:
+def _depth(root: str, joints: dict[str, JointXML], n_links: int, path: str) -> int:
     """The number of joints on the longest path from the root (iterative: no recursion)."""
     children: dict[str, list[str]] = {}
     for j in joints.values():
@@ -371,9 +380,10 @@ def _depth(root: str, joints: dict[str, JointXML], n_links: int) -> int:
         link, d = stack.pop()
         if d > MAX_DEPTH:
             raise URDFError(
-                f"the URDF's tree is more than {MAX_DEPTH} links deep (at link {link!r}): "
-                "armik refuses it because Pinocchio's parser recurses once per link and "
-                "crashes the process on deep trees; no real arm is this deep",
+                f"the tree of {path!r} is more than {MAX_DEPTH} links deep (at link "
+                f"{link!r}): armik refuses it because Pinocchio's parser recurses once per "
+                "link and crashes the process on deep trees; no real arm is this deep",
+                path=path,
             )
         deepest = max(deepest, d)
         for child in children.get(link, ()):
@@ -381,8 +391,9 @@ def _depth(root: str, joints: dict[str, JointXML], n_links: int) -> int:
             stack.append((child, d + 1))
     if seen != n_links:
         raise URDFError(
-            "the URDF's joints form a loop or leave links unconnected to the root "
-            f"{root!r}: a URDF is a tree"
+            f"the joints of {path!r} form a loop or leave links unconnected to the root "
+            f"{root!r}: a URDF is a tree",
+            path=path,
         )
     return deepest
 
