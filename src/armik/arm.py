@@ -20,18 +20,11 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from .errors import (
-    ArmikWarning,
-    FrameError,
-    JointError,
-    OptionError,
-    SolverError,
-    URDFError,
-    listing,
-)
+from . import urdf as urdf_reading
+from .errors import ArmikWarning, FrameError, JointError, OptionError, URDFError, listing
 from .planar import Plane, find_plane
 from .robots import CATALOGUE, entry
-from .urdf import MAX_LENGTH, MAX_LIMIT, URDFInfo, read_urdf
+from .urdf import URDFInfo, read_urdf
 
 log = logging.getLogger(__name__)
 
@@ -158,9 +151,10 @@ def _check_offset(offset: object) -> tuple[float, float, float] | None:
             option="tip_offset",
             value=offset,
         )
-    if not np.isfinite(arr).all() or np.abs(arr).max() > MAX_LENGTH:
+    if not np.isfinite(arr).all() or np.abs(arr).max() > urdf_reading.MAX_LENGTH:
         raise OptionError(
-            f"tip_offset {arr.tolist()} is not finite or beyond {MAX_LENGTH:g} m: {fix}",
+            f"tip_offset {arr.tolist()} is not finite or beyond "
+            f"{urdf_reading.MAX_LENGTH:g} m: {fix}",
             option="tip_offset",
             value=offset,
         )
@@ -174,9 +168,10 @@ def _check_limit_value(jname: str, value: object) -> float:
         out = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError):
         out = math.nan
-    if math.isnan(out) or (math.isfinite(out) and abs(out) > MAX_LIMIT):
+    if math.isnan(out) or (math.isfinite(out) and abs(out) > urdf_reading.MAX_LIMIT):
         raise JointError(
-            f"limits for {jname!r} must be numbers (rad or m) within +-{MAX_LIMIT:g}, or "
+            f"limits for {jname!r} must be numbers (rad or m) within "
+            f"+-{urdf_reading.MAX_LIMIT:g}, or "
             f"-inf/inf for no limit on that side; got {value!r}",
             joint=jname,
         )
@@ -379,9 +374,9 @@ class Arm:
             # lower == upper == 0 means "not given" (warned about when the URDF was read);
             # other equal limits pin the joint, as its URDF says.
             if lo < hi or (lo == hi and self.joint_names[i] not in info.unset_limits):
-                # Limits beyond MAX_LIMIT mean "free" (warned about when read).
-                lower[i] = lo if lo >= -MAX_LIMIT else -np.inf
-                upper[i] = hi if hi <= MAX_LIMIT else np.inf
+                # Limits beyond urdf_reading.MAX_LIMIT mean "free" (warned about when read).
+                lower[i] = lo if lo >= -urdf_reading.MAX_LIMIT else -np.inf
+                upper[i] = hi if hi <= urdf_reading.MAX_LIMIT else np.inf
         self._set_limits(lower, upper)
         self.prismatic = np.array([t == "prismatic" for t in self.joint_types])
         self._limit_lists = (self.lower.tolist(), self.upper.tolist(), self.prismatic.tolist())
@@ -733,6 +728,7 @@ def _set_joint(model: pin.Model, q: np.ndarray, jid: int, value: float) -> None:
 
 def _check_solver_name(solver: object) -> None:
     if not isinstance(solver, str):
+        from .errors import SolverError
         from .ik import registry
 
         raise SolverError(
