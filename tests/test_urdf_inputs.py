@@ -65,6 +65,20 @@ def test_numpy_bool_is_a_bool():
 # -- 4. targets that overflow or lose information ------------------------------------------
 
 
+@pytest.mark.parametrize(
+    "value, words",
+    [
+        ([1e308, 1e308, 0.0], "beyond"),
+        (np.diag([1e308, 1e308, 1e308, 1.0]), "not orthonormal"),
+        ([0.3, np.nan, 0.4], "NaN or inf"),
+        (np.diag([1.0, np.inf, 1.0, 1.0]), "NaN or inf"),
+    ],
+)
+def test_huge_or_non_finite_numbers_get_the_right_message(value, words):
+    with pytest.raises(TargetError, match=words):
+        parse_target(value)
+
+
 def test_huge_quaternion_is_normalised_without_overflow():
     s = 1e200
     t = parse_target(([0.3, 0.2, 0.4], [0.0, 0.0, s, s]))

@@ -15,6 +15,7 @@ are refused, never cast.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -105,7 +106,10 @@ def _array(value: object, what: str) -> np.ndarray:
         raw = np.asarray(value)
     except (TypeError, ValueError):
         raise TargetError(f"{what} {value!r} is not numeric") from None
-    if np.iscomplexobj(raw):
+    kind = raw.dtype.kind
+    if kind == "f":
+        return raw
+    if kind == "c":
         raise TargetError(f"{what} {value!r} has complex numbers: give real numbers (m, rad)")
     try:
         return raw.astype(float)
@@ -114,19 +118,24 @@ def _array(value: object, what: str) -> np.ndarray:
 
 
 def _finite(arr: np.ndarray, what: str) -> np.ndarray:
-    if not np.isfinite(arr).all():
+    # A sum on plain floats is finite iff every element is, unless finite huge values
+    # overflow it: then numpy decides (a few us more, never on real targets).
+    if not math.isfinite(sum(arr.ravel().tolist())) and not np.isfinite(arr).all():
         raise TargetError(f"{what} contains NaN or inf: {arr.tolist()}")
     return arr.copy()
 
 
 def _position(arr: np.ndarray) -> np.ndarray:
-    p = _finite(arr, "target position")
-    if np.abs(p).max() > MAX_POSITION:
-        raise TargetError(
-            f"target position {p.tolist()} is beyond {MAX_POSITION:g} m from the base: give "
-            "it in metres (no arm reaches this far, and the error arithmetic would overflow)"
-        )
-    return p
+    """A copy of the 3-vector ``arr``; raises ``TargetError`` if it is not finite or beyond
+    ``MAX_POSITION`` (plain floats: half the cost of numpy at this size)."""
+    x, y, z = arr.tolist()
+    if abs(x) <= MAX_POSITION and abs(y) <= MAX_POSITION and abs(z) <= MAX_POSITION:
+        return np.array((x, y, z))
+    _finite(arr, "target position")  # NaN fails every comparison above
+    raise TargetError(
+        f"target position {arr.tolist()} is beyond {MAX_POSITION:g} m from the base: give "
+        "it in metres (no arm reaches this far, and the error arithmetic would overflow)"
+    )
 
 
 def _vector(value: object, n: int, what: str) -> np.ndarray:
@@ -155,35 +164,54 @@ def _rotation(value: object) -> np.ndarray:
 
 
 def _rotation_from_quat(quat: object) -> np.ndarray:
-    q = _vector(quat, 4, "quaternion (x, y, z, w)")
-    scale = np.abs(q).max()  # divide first: squares of components above 1e154 overflow
+    x, y, z, w = _vector(quat, 4, "quaternion (x, y, z, w)").tolist()
+    scale = max(abs(x), abs(y), abs(z), abs(w))  # divide first: squares above 1e154 overflow
     if scale < 1e-12:
         raise TargetError(
-            f"quaternion {q.tolist()} has zero norm: give a unit quaternion "
+            f"quaternion {[x, y, z, w]} has zero norm: give a unit quaternion "
             "(x, y, z, w), e.g. (0, 0, 0, 1) for no rotation"
         )
-    q = q / scale
-    x, y, z, w = q / np.linalg.norm(q)
-    return pin.Quaternion(w, x, y, z).toRotationMatrix()
+    x, y, z, w = x / scale, y / scale, z / scale, w / scale
+    n = math.sqrt(x * x + y * y + z * z + w * w)
+    x, y, z, w = x / n, y / n, z / n, w / n
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
 
 
 def _from_matrix(M: np.ndarray) -> Target:
-    _finite(M, "4x4 target")
-    if not np.allclose(M[3], [0.0, 0.0, 0.0, 1.0], atol=1e-12, rtol=0):
-        raise TargetError(f"the last row of a 4x4 target must be (0, 0, 0, 1), got {M[3].tolist()}")
-    return _pose(M[:3, :3], M[:3, 3])
+    last = M[3].tolist()
+    if not all(abs(x - y) <= 1e-12 for x, y in zip(last, (0.0, 0.0, 0.0, 1.0))):
+        _finite(M, "4x4 target")
+        raise TargetError(f"the last row of a 4x4 target must be (0, 0, 0, 1), got {last}")
+    return _pose(M[:3, :3], M[:3, 3])  # checks the rest
 
 
 def _pose(R: np.ndarray, p: np.ndarray) -> Target:
-    R = _finite(np.asarray(R, float), "target rotation")
     p = _position(np.asarray(p, float))
-    err = np.abs(R.T @ R - np.eye(3)).max()
-    if err > ROTATION_TOL:
+    R = np.array(R, dtype=float)  # a copy: the target must not change with the caller's array
+    a, b, c, d, e, f, g, h, i = R.ravel().tolist()
+    if not math.isfinite(a + b + c + d + e + f + g + h + i):
+        _finite(R, "target rotation")  # NaN or inf; else huge entries, far from a rotation
+    # |R^T R - I| and det(R) on plain floats: a fifth of the numpy cost for a 3x3.
+    err = max(
+        abs(a * a + d * d + g * g - 1.0),
+        abs(b * b + e * e + h * h - 1.0),
+        abs(c * c + f * f + i * i - 1.0),
+        abs(a * b + d * e + g * h),
+        abs(a * c + d * f + g * i),
+        abs(b * c + e * f + h * i),
+    )
+    if not err <= ROTATION_TOL:
         raise TargetError(
             f"target rotation is not orthonormal (|R^T R - I| = {err:.2g}): "
             "give a rotation matrix, or a quaternion"
         )
-    if _det3(R) < 0:
+    if a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g) < 0:
         raise TargetError(
             "target rotation has determinant -1 (a reflection, not a rotation): "
             "flip the sign of one axis"
@@ -193,12 +221,6 @@ def _pose(R: np.ndarray, p: np.ndarray) -> Target:
         U, _, Vt = np.linalg.svd(R)
         R = U @ Vt
     return Target(p, R)
-
-
-def _det3(R: np.ndarray) -> float:
-    """Determinant of a 3x3 matrix on plain floats (numpy.linalg.det costs 5 us here)."""
-    (a, b, c), (d, e, f), (g, h, i) = R.tolist()
-    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
 
 
 def _planar(xy: np.ndarray, arm: Arm | None) -> Target:
