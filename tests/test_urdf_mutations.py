@@ -104,8 +104,11 @@ def test_mutants_are_refused_or_agree_with_yourdfpy(robot, tmp_path):
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 arm = armik.load(path, tip=spec.tip)
-        except ArmikError:
+        except ArmikError as exc:
             refused += 1
+            # Every refusal says what is wrong, never only Pinocchio's generic line.
+            assert "not contain a valid URDF model" not in str(exc), f"mutant {k} ({what})"
+            assert "\n" not in str(exc)
             continue
         # Anything else raised above fails the test: a raw exception is a bug.
         reference = ET.tostring(normalised_axes(root), encoding="unicode")

@@ -309,6 +309,12 @@ def test_xacro_is_expanded_when_the_package_is_installed(tmp_path):
     np.testing.assert_allclose(a.fk([0, 0]).translation, [0.4, 0, 0], atol=1e-12)
 
 
+def test_xacro_that_cannot_be_expanded_says_so(tmp_path):
+    text = XACRO.replace('value="0.4"', 'value="${undefined_length}"')
+    with pytest.raises(URDFError, match="could not expand it.*undefined_length.*xacro "):
+        load_text(tmp_path, text, "arm.xacro")
+
+
 def test_expressions_in_a_plain_urdf_are_expanded_only_when_needed(tmp_path):
     text = arm3().replace('xyz="0.25 0 0"', 'xyz="${0.5 / 2} 0 0"')
     a = load_text(tmp_path, text)  # fails as URDF ('${0.5' is no number): expanded

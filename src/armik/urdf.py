@@ -189,7 +189,8 @@ def _expand_xacro(path: Path, text: str) -> str:
             warnings.simplefilter("ignore")
             doc = xacro.process_file(where)
     except (Exception, SystemExit) as exc:  # xacro raises its own types, some exit
-        message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        text = str(exc).strip()
+        message = text.splitlines()[0].strip() if text else type(exc).__name__
         raise URDFError(
             f"{where!r} is a xacro file and the xacro package could not expand it "
             f"({message}): expand it with {command!r} in its ROS workspace and load the result",
@@ -287,6 +288,15 @@ def _inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
                     f"joint {name!r}: axis norm {norm:.6g} read as the unit axis (ROS reading)"
                 )
         limit = joint.find("limit")
+        if limit is not None:
+            for key in ("effort", "velocity"):  # urdfdom wants both in any <limit>
+                if limit.get(key) is None:
+                    raise URDFError(
+                        f"{what} in {path!r}: <limit> has no {key} (urdfdom requires it): "
+                        f'add {key}="1" or the real value',
+                        path=path,
+                    )
+                _number(limit.get(key), what, f"limit {key}", path)
         if jtype in ("revolute", "prismatic"):
             if limit is None:
                 raise URDFError(
@@ -295,14 +305,6 @@ def _inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
                     "continuous if it turns freely",
                     path=path,
                 )
-            for key in ("effort", "velocity"):
-                if limit.get(key) is None:
-                    raise URDFError(
-                        f"{what} in {path!r}: <limit> has no {key} (urdfdom requires it): "
-                        f'add {key}="1" or the real value',
-                        path=path,
-                    )
-                _number(limit.get(key), what, f"limit {key}", path)
             lower = _number(limit.get("lower", "0"), what, "lower limit", path)
             upper = _number(limit.get("upper", "0"), what, "upper limit", path)
             huge = [side for v, side in ((lower, "lower"), (upper, "upper")) if abs(v) > MAX_LIMIT]
@@ -333,7 +335,7 @@ def _inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
             elif lower == upper:
                 notes.append(f"joint {name!r}: lower = upper = {lower:g}, the joint is pinned")
         elif limit is not None:
-            for key in ("lower", "upper", "effort", "velocity"):
+            for key in ("lower", "upper"):
                 if limit.get(key) is not None:
                     _number(limit.get(key), what, f"limit {key}", path)
         mim = joint.find("mimic")
