@@ -275,6 +275,11 @@ def test_parser_errors_name_the_element_and_value(tmp_path, edit, words):
     assert "not a valid URDF model" not in message and "\n" not in message
 
 
+def test_default_namespace_is_read_like_urdfdom_reads_it(tmp_path):
+    text = arm3().replace('<robot name="chain">', '<robot name="chain" xmlns="http://x.org/urdf">')
+    assert load_text(tmp_path, text).dof == 3
+
+
 def test_urdfdom_reason_is_captured_when_armik_does_not_know_it(tmp_path, capfd):
     text = arm3().replace('<robot name="chain">', "<robot>")  # urdfdom needs a robot name
     with pytest.raises(URDFError, match="Pinocchio could not build") as info:

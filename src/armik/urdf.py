@@ -130,8 +130,13 @@ def read_urdf_string(text: str, where: str = "<string>") -> tuple[pin.Model, URD
         raise URDFError(
             f"URDF file {where!r} is not well-formed XML ({exc}): fix the XML", path=where
         ) from None
+    namespaced = root.tag.startswith("{")
+    if namespaced:  # <robot xmlns="...">: urdfdom ignores the namespace, so does armik
+        for elem in root.iter():
+            if isinstance(elem.tag, str) and elem.tag.startswith("{"):
+                elem.tag = elem.tag.split("}", 1)[1]
     info, changed = _inspect(root, where)
-    if changed:
+    if changed or namespaced:
         text = ET.tostring(root, encoding="unicode")
     model = _build(text, where, own_stack=info.depth > SHALLOW_DEPTH)
     return model, info
