@@ -20,8 +20,8 @@ import numpy as np
 import pinocchio as pin
 
 from .errors import ArmikWarning, FrameError, JointError, OptionError, URDFError, listing
-from .planar import Plane, find_plane
 from .robots import CATALOGUE, entry
+from .structure import Plane, find_plane
 from .urdf import URDFInfo, read_urdf
 
 log = logging.getLogger(__name__)

@@ -1,0 +1,154 @@
+"""What the closed-form 6R solvers share: the compiled output layout, 2 pi equivalents,
+branch labels, reasons, and the glue from the compiled kernel to ``Attempt``s.
+
+A kernel returns up to 8 rows: ``Q`` (8, 6) joint values, ``n`` the row count, and per row
+``flags`` (bit 1: least squares, the target is not reached; bit 2: singular, a free angle
+kept at q0), ``branch`` (bit 1: second root of the shoulder subproblem, bit 2: of the elbow,
+bit 4: of the wrist), ``code`` (which step was solved only in the least-squares sense) and
+``val`` (2 numbers for the reason: what the target asks, what the arm can do).
+"""
+
+from __future__ import annotations
+
+import math
+import weakref
+
+import numpy as np
+from numba import njit
+
+from ..arm import Arm
+from ..options import Options
+from ..status import Status
+from ..structure import Chain6R
+from ..targets import Target
+from .attempt import Attempt
+
+LS = 1
+SINGULAR = 2
+TWO_PI = 2.0 * math.pi
+LIMIT_TOL = 1e-12
+
+# Reason codes of the kernels.
+SHOULDER_OFFSET = 1
+TOO_FAR = 2
+TOO_CLOSE = 3
+WRIST_ORIENTATION = 4
+ORIENTATION = 5
+
+
+@njit(cache=True)
+def wrap(a):
+    return math.atan2(math.sin(a), math.cos(a))
+
+
+@njit(cache=True)
+def nearest_equivalents(Q, n, q0, lower, upper):
+    """Shift every angle by a multiple of 2 pi to the value nearest q0 within the limits
+    (``Arm.nearest_equivalent``, compiled); a joint with no such value keeps its value."""
+    for r in range(n):
+        for j in range(Q.shape[1]):
+            qi, ri, lo, hi = Q[r, j], q0[j], lower[j], upper[j]
+            if -math.pi <= qi - ri <= math.pi and lo <= qi <= hi:
+                continue
+            near = qi + TWO_PI * round((ri - qi) / TWO_PI)
+            best = math.nan
+            for c in (near, near - TWO_PI, near + TWO_PI, qi):
+                if lo - LIMIT_TOL <= c <= hi + LIMIT_TOL:
+                    if math.isnan(best) or abs(c - ri) < abs(best - ri):
+                        best = c
+            if not math.isnan(best):
+                Q[r, j] = min(max(best, lo), hi)
+
+
+def branch_label(bits: int) -> str:
+    """Branch name from the subproblem roots (first root of SP4/SP3/SP2 or second)."""
+    return "/".join(
+        (
+            "shoulder-right" if bits & 1 else "shoulder-left",
+            "elbow-down" if bits & 2 else "elbow-up",
+            "wrist-flip" if bits & 4 else "wrist-no-flip",
+        )
+    )
+
+
+def reason(code: int, val: np.ndarray, family: str) -> str:
+    a, b = float(val[0]), float(val[1])
+    if code == SHOULDER_OFFSET:
+        where = "wrist centre" if family == "spherical_wrist" else "wrist point"
+        return (
+            f"the target's {where} is {a:.6g} m from axis 1 but the shoulder offset is "
+            f"{b:.6g} m: it lies inside the cylinder the arm cannot enter; q is the closest "
+            "configuration"
+        )
+    if code == TOO_FAR:
+        return (
+            f"target too far: the elbow must span {a:.6g} m, at most {b:.6g} m is "
+            "reachable; q is the closest configuration"
+        )
+    if code == TOO_CLOSE:
+        return (
+            f"target too close: the elbow must span {a:.6g} m, at least {b:.6g} m is "
+            "needed; q is the closest configuration"
+        )
+    if code in (WRIST_ORIENTATION, ORIENTATION):
+        return (
+            "the target orientation is one the arm cannot take at this position; q is the "
+            "closest configuration"
+        )
+    return "no exact solution; q is the closest configuration"
+
+
+_GEOMETRY: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def geometry(arm: Arm, family: str, classify) -> Chain6R | str:
+    """The family's geometry of ``arm`` (cached per arm) or the reason it does not apply."""
+    per_arm = _GEOMETRY.get(arm)
+    if per_arm is None:
+        per_arm = _GEOMETRY[arm] = {}
+    geo = per_arm.get(family)
+    if geo is None:
+        geo = per_arm[family] = classify(arm)
+    return geo
+
+
+def applies(arm: Arm, target: Target | None, opts: Options | None, family: str, classify):
+    geo = geometry(arm, family, classify)
+    if isinstance(geo, str):
+        return geo
+    if target is not None and target.rotation is None:
+        return "a position target leaves the orientation free; the closed form needs a full pose"
+    if opts is not None and (opts.position_only or opts.weights is not None):
+        return "position_only and per-axis weights are for the numeric solvers"
+    return None
+
+
+def attempts(arm: Arm, out, family: str, closed_form: str) -> list[Attempt]:
+    """``Attempt``s from a kernel's output rows."""
+    Q, n, flags, branch, code, val = out
+    result = []
+    for r in range(n):
+        f = int(flags[r])
+        singular = bool(f & SINGULAR)
+        if f & LS:
+            claim, text = Status.UNREACHABLE, reason(int(code[r]), val[r], family)
+        else:
+            claim, text = Status.CONVERGED, closed_form
+            if singular:
+                text += "; singular: a free joint was kept at its q0 value"
+        result.append(
+            Attempt(
+                q=Q[r].copy(),
+                claim=claim,
+                reason=text,
+                branch=branch_label(int(branch[r])),
+                singular=singular,
+            )
+        )
+    return result
+
+
+def pose_arrays(target: Target) -> tuple[np.ndarray, np.ndarray]:
+    return np.ascontiguousarray(target.rotation, dtype=float), np.ascontiguousarray(
+        target.position, dtype=float
+    )

@@ -1,0 +1,198 @@
+"""Closed-form IK of 6R arms with a spherical wrist (Pieper): the last three axes meet in
+the wrist centre, so the first three joints place the wrist centre and the last three
+turn the tool. Covers axes 2 and 3 parallel (the ortho-parallel industrial arms: ABB,
+KUKA, Fanuc, Staubli, the Kinova j2s6s, with any offsets) and axes 1 and 2 meeting.
+
+With the chain in product-of-exponentials form (``structure.Chain6R``; the points on
+axes 4, 5, 6 all at the wrist centre W), for the target (R, p):
+
+    R_06 = R R_tip0^T,   W = p - R_06 p_6T,   p_16 = W - p_01
+    axes 2, 3 parallel:  h2 . rot(h1, q1)^T p_16 = h2 . (p_12 + p_23 + p_34)  -> SP4: q1
+                         |p_23 + rot(h3, q3) p_34| = |rot(h1, q1)^T p_16 - p_12| -> SP3: q3
+                         rot(h2, q2) (p_23 + rot(h3, q3) p_34) = ...            -> SP1: q2
+    axes 1, 2 meeting:   |p_23 + rot(h3, q3) p_34| = |p_16|                     -> SP3: q3
+                         rot(h1, q1) rot(h2, q2) (p_23 + rot(h3, q3) p_34) = p_16 -> SP2
+    wrist:               rot(h4, q4)^T R_36 h6 = rot(h5, q5) h6                -> SP2: q4, q5
+                         rot(h6, q6) = (R_03 R_4 R_5)^T R_06                    -> SP1: q6
+
+Up to 2 x 2 x 2 = 8 solutions. Singular cases keep the free angle at q0 (``singular``):
+the wrist (axes 4 and 6 aligned: q4 free), the shoulder (wrist centre on axis 1: q1 free),
+the elbow stretched or folded (the two elbow roots merge into one).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..arm import Arm
+from ..options import Options
+from ..structure import spherical_wrist
+from ..subproblems import dot, norm, rot, sp1, sp2, sp3, sp4
+from ..targets import Target
+from . import sixr
+from .attempt import Attempt
+from .registry import SolverSpec, register
+from .sixr import LS, SHOULDER_OFFSET, SINGULAR, TOO_CLOSE, TOO_FAR, WRIST_ORIENTATION, wrap
+
+FAMILY = "spherical_wrist"
+
+
+@njit(cache=True)
+def _wrist(R03, R06, h, q0, q1, q2, q3, flag, br, cd, v0, v1, Q, flags, branch, code, val, n):
+    """Append the (up to 2) wrist solutions for a placed wrist centre; returns the count."""
+    h4, h5, h6 = h[3], h[4], h[5]
+    R36 = R03.T @ R06
+    a, b, nw, lsw = sp2(R36 @ h6, h6, -h4, h5, q0[3])
+    sing = False
+    if nw == -1:
+        nw, sing = 1, True
+    for iw in range(nw):
+        q4, q5 = a[iw], b[iw]
+        R6 = (rot(h4, q4) @ rot(h5, q5)).T @ R36
+        q6, _ = sp1(h5, R6 @ h5, h6)
+        Q[n, 0] = wrap(q1)
+        Q[n, 1] = wrap(q2)
+        Q[n, 2] = wrap(q3)
+        Q[n, 3] = wrap(q4)
+        Q[n, 4] = wrap(q5)
+        Q[n, 5] = wrap(q6)
+        f = flag
+        c = cd
+        if lsw:
+            f |= LS
+            if c == 0:
+                c = WRIST_ORIENTATION
+        if sing:
+            f |= SINGULAR
+        flags[n] = f
+        branch[n] = br | (4 if iw == 1 else 0)
+        code[n] = c
+        val[n, 0] = v0
+        val[n, 1] = v1
+        n += 1
+    return n
+
+
+@njit(cache=True)
+def _elbow_code(p23, p34, h3, q3, wanted):
+    """Whether an elbow solved in the least-squares sense asked too much or too little."""
+    got = norm(p23 + rot(h3, q3) @ p34)
+    return (TOO_FAR if wanted > got else TOO_CLOSE), got
+
+
+@njit(cache=True)
+def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant):
+    """All closed-form solutions (see ``sixr`` for the output layout)."""
+    Q = np.zeros((8, 6))
+    flags = np.zeros(8, np.int64)
+    branch = np.zeros(8, np.int64)
+    code = np.zeros(8, np.int64)
+    val = np.zeros((8, 2))
+    h1, h2, h3 = h[0], h[1], h[2]
+    R06 = R @ R_tip0.T
+    p16 = pos - R06 @ p[6] - p[0]
+    n = 0
+    if variant == 0:  # axes 2 and 3 parallel
+        d = dot(h2, p[1] + p[2] + p[3])
+        t1, n1, ls1 = sp4(h2, p16, -h1, d)
+        flag1, cd1, v0, v1 = 0, 0, 0.0, 0.0
+        if n1 == -1:  # wrist centre on axis 1
+            n1, t1[0] = 1, q0[0]
+            flag1 |= SINGULAR
+        if ls1:
+            flag1 |= LS
+            cd1 = SHOULDER_OFFSET
+            v0 = norm(p16 - dot(h1, p16) * h1)
+            v1 = abs(d - dot(h2, h1) * dot(h1, p16))
+        for i1 in range(n1):
+            q1 = t1[i1]
+            R1 = rot(h1, q1)
+            v = R1.T @ p16 - p[1]
+            nv = norm(v)
+            t3, n3, ls3 = sp3(p[3], -p[2], h3, nv)
+            flag3, cd3, w0, w1 = flag1, cd1, v0, v1
+            if n3 == -1:
+                n3, t3[0] = 1, q0[2]
+                flag3 |= SINGULAR
+            elif n3 == 1:
+                flag3 |= SINGULAR  # stretched or folded
+            if ls3:
+                flag3 |= LS
+                if cd3 == 0:
+                    cd3, w1 = _elbow_code(p[2], p[3], h3, t3[0], nv)
+                    w0 = nv
+            for i3 in range(n3):
+                q3 = t3[i3]
+                u = p[2] + rot(h3, q3) @ p[3]
+                q2, _ = sp1(u, v, h2)
+                R03 = R1 @ rot(h2, q2) @ rot(h3, q3)
+                br = i1 + 2 * i3
+                n = _wrist(
+                    R03, R06, h, q0, q1, q2, q3, flag3, br, cd3, w0, w1,
+                    Q, flags, branch, code, val, n,
+                )  # fmt: skip
+    else:  # axes 1 and 2 meet (p_12 = 0)
+        n16 = norm(p16)
+        t3, n3, ls3 = sp3(p[3], -p[2], h3, n16)
+        flag3, cd3, w0, w1 = 0, 0, 0.0, 0.0
+        if n3 == -1:
+            n3, t3[0] = 1, q0[2]
+            flag3 |= SINGULAR
+        elif n3 == 1:
+            flag3 |= SINGULAR
+        if ls3:
+            flag3 |= LS
+            cd3, w1 = _elbow_code(p[2], p[3], h3, t3[0], n16)
+            w0 = n16
+        for i3 in range(n3):
+            q3 = t3[i3]
+            u = p[2] + rot(h3, q3) @ p[3]
+            a, b, n12, ls12 = sp2(p16, u, -h1, h2, q0[0])
+            flag = flag3
+            if n12 == -1:  # wrist centre on axis 1
+                n12 = 1
+                flag |= SINGULAR
+            if ls12 and not ls3:
+                flag |= LS
+            for i12 in range(n12):
+                q1, q2 = a[i12], b[i12]
+                R03 = rot(h1, q1) @ rot(h2, q2) @ rot(h3, q3)
+                br = i12 + 2 * i3
+                n = _wrist(
+                    R03, R06, h, q0, q1, q2, q3, flag, br, cd3, w0, w1,
+                    Q, flags, branch, code, val, n,
+                )  # fmt: skip
+    sixr.nearest_equivalents(Q, n, q0, lower, upper)
+    return Q, n, flags, branch, code, val
+
+
+def _classify(arm: Arm):
+    return spherical_wrist(arm)
+
+
+def applies(arm: Arm, target: Target | None = None, opts: Options | None = None) -> str | None:
+    return sixr.applies(arm, target, opts, FAMILY, _classify)
+
+
+def run(
+    arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+) -> list[Attempt]:
+    geo = sixr.geometry(arm, FAMILY, _classify)
+    R, pos = sixr.pose_arrays(target)
+    variant = 0 if geo.variant == "parallel_23" else 1
+    out = kernel(geo.h, geo.p, geo.R_tip0, R, pos, q0, arm.lower, arm.upper, variant)
+    return sixr.attempts(arm, out, FAMILY, "closed form (spherical wrist)")
+
+
+SPEC = register(
+    SolverSpec(
+        name="spherical",
+        kind="analytic",
+        enforces_limits=True,
+        priority=90,
+        check=applies,
+        run=run,
+        summary="closed form for 6R arms with a spherical wrist: up to 8 solutions",
+    )
+)

@@ -1,0 +1,153 @@
+"""Closed-form IK of 6R arms with axes 2, 3, 4 parallel and axes 5, 6 meeting: the
+Universal Robots family (UR3/5/10/16, Unitree Z1, ...), by subproblem decomposition
+(Hawkins' closed form and IK-Geo's reading of it).
+
+With the chain in product-of-exponentials form (``structure.Chain6R``; the points on axes
+5 and 6 at their meeting point, so p_56 = 0), rot(h2, .) fixes h2 and so does the
+combined turn R_234 = rot(h2, q2 + s3 q3 + s4 q4) of the three parallel joints:
+
+    R_06 = R R_tip0^T,   p_16 = p - R_06 p_6T - p_01
+    h2 . rot(h1, q1)^T p_16 = h2 . (p_12 + p_23 + p_34 + p_45)     -> SP4: q1 (shoulder)
+    h2 . rot(h5, q5) h6 = h2 . rot(h1, q1)^T R_06 h6                -> SP4: q5 (wrist)
+    rot(h6, q6) M^T h2 = rot(h5, q5)^T h2, M = rot(h1, q1)^T R_06   -> SP1: q6
+    R_234 = M rot(h6, q6)^T rot(h5, q5)^T                           -> SP1: q2 + s3 q3 + s4 q4
+    |p_23 + rot(h3, q3) p_34| = |rot(h1, q1)^T p_16 - p_12 - R_234 p_45|  -> SP3: q3 (elbow)
+    rot(h2, q2) (p_23 + rot(h3, q3) p_34) = ...                     -> SP1: q2, then q4
+
+Up to 2 x 2 x 2 = 8 solutions. Singular cases: the wrist (h6 along R_5^T h2: q6 free, kept
+at q0), the elbow stretched or folded (one elbow root).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..arm import Arm
+from ..options import Options
+from ..structure import three_parallel
+from ..subproblems import cross, dot, norm, rot, sp1, sp3, sp4
+from ..targets import Target
+from . import sixr
+from .attempt import Attempt
+from .registry import SolverSpec, register
+from .sixr import LS, ORIENTATION, SHOULDER_OFFSET, SINGULAR, TOO_CLOSE, TOO_FAR, wrap
+
+FAMILY = "three_parallel"
+
+
+@njit(cache=True)
+def kernel(h, p, R_tip0, R, pos, q0, lower, upper):
+    """All closed-form solutions (see ``sixr`` for the output layout)."""
+    Q = np.zeros((8, 6))
+    flags = np.zeros(8, np.int64)
+    branch = np.zeros(8, np.int64)
+    code = np.zeros(8, np.int64)
+    val = np.zeros((8, 2))
+    h1, h2, h3, h4, h5, h6 = h[0], h[1], h[2], h[3], h[4], h[5]
+    s3, s4 = dot(h3, h2), dot(h4, h2)
+    x = cross(h2, h1)
+    x = x / norm(x)  # a direction across the parallel axes
+    R06 = R @ R_tip0.T
+    p16 = pos - R06 @ p[6] - p[0]
+    d1 = dot(h2, p[1] + p[2] + p[3] + p[4])
+    t1, n1, ls1 = sp4(h2, p16, -h1, d1)
+    flag1, cd1, v0, v1 = 0, 0, 0.0, 0.0
+    if n1 == -1:
+        n1, t1[0] = 1, q0[0]
+        flag1 |= SINGULAR
+    if ls1:
+        flag1 |= LS
+        cd1 = SHOULDER_OFFSET
+        v0 = norm(p16 - dot(h1, p16) * h1)
+        v1 = abs(d1 - dot(h2, h1) * dot(h1, p16))
+    n = 0
+    for i1 in range(n1):
+        q1 = t1[i1]
+        R1 = rot(h1, q1)
+        M = R1.T @ R06
+        t5, n5, ls5 = sp4(h2, h6, h5, dot(h2, M @ h6))
+        flag5, cd5 = flag1, cd1
+        if n5 == -1:
+            n5, t5[0] = 1, q0[4]
+            flag5 |= SINGULAR
+        if ls5:
+            flag5 |= LS
+            if cd5 == 0:
+                cd5 = ORIENTATION
+        for i5 in range(n5):
+            q5 = t5[i5]
+            R5 = rot(h5, q5)
+            a = M.T @ h2
+            flag6 = flag5
+            if norm(cross(a, h6)) < 1e-9:  # wrist singular: q6 and q2 + q3 + q4 trade off
+                q6 = q0[5]
+                flag6 |= SINGULAR
+            else:
+                q6, _ = sp1(a, R5.T @ h2, h6)
+            R234 = M @ rot(h6, q6).T @ R5.T
+            q234, _ = sp1(x, R234 @ x, h2)
+            v = R1.T @ p16 - p[1] - R234 @ p[4]
+            nv = norm(v)
+            t3, n3, ls3 = sp3(p[3], -p[2], h3, nv)
+            flag3, cd3, w0, w1 = flag6, cd5, v0, v1
+            if n3 == -1:
+                n3, t3[0] = 1, q0[2]
+                flag3 |= SINGULAR
+            elif n3 == 1:
+                flag3 |= SINGULAR  # stretched or folded
+            if ls3:
+                flag3 |= LS
+                if cd3 == 0:
+                    got = norm(p[2] + rot(h3, t3[0]) @ p[3])
+                    cd3 = TOO_FAR if nv > got else TOO_CLOSE
+                    w0, w1 = nv, got
+            for i3 in range(n3):
+                q3 = t3[i3]
+                u = p[2] + rot(h3, q3) @ p[3]
+                q2, _ = sp1(u, v, h2)
+                q4 = s4 * (q234 - q2 - s3 * q3)
+                Q[n, 0] = wrap(q1)
+                Q[n, 1] = wrap(q2)
+                Q[n, 2] = wrap(q3)
+                Q[n, 3] = wrap(q4)
+                Q[n, 4] = wrap(q5)
+                Q[n, 5] = wrap(q6)
+                flags[n] = flag3
+                branch[n] = i1 + 2 * i3 + 4 * i5
+                code[n] = cd3
+                val[n, 0] = w0
+                val[n, 1] = w1
+                n += 1
+    sixr.nearest_equivalents(Q, n, q0, lower, upper)
+    return Q, n, flags, branch, code, val
+
+
+def _classify(arm: Arm):
+    return three_parallel(arm)
+
+
+def applies(arm: Arm, target: Target | None = None, opts: Options | None = None) -> str | None:
+    return sixr.applies(arm, target, opts, FAMILY, _classify)
+
+
+def run(
+    arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+) -> list[Attempt]:
+    geo = sixr.geometry(arm, FAMILY, _classify)
+    R, pos = sixr.pose_arrays(target)
+    out = kernel(geo.h, geo.p, geo.R_tip0, R, pos, q0, arm.lower, arm.upper)
+    return sixr.attempts(arm, out, FAMILY, "closed form (three parallel axes)")
+
+
+SPEC = register(
+    SolverSpec(
+        name="three_parallel",
+        kind="analytic",
+        enforces_limits=True,
+        priority=90,
+        check=applies,
+        run=run,
+        summary="closed form for 6R arms with axes 2, 3, 4 parallel (UR family): up to 8",
+    )
+)
