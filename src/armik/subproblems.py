@@ -134,7 +134,7 @@ def sp2(p1, p2, k1, k2, free):
     u2 = p2 / n2
     if norm(cross(k1, u1)) <= 1e-9:  # p1 on k1: any theta1 keeps it still
         t1[0] = free
-        target = rot(k1, free) @ u1
+        target = mv(rot(k1, free), u1)
         th, ls2 = sp1(u2, target, k2)
         t2[0] = th
         return t1, t2, -1, ls or ls2
@@ -162,3 +162,60 @@ def sp2(p1, p2, k1, k2, free):
         t1[i], _ = sp1(u1, c, k1)
         t2[i], _ = sp1(u2, c, k2)
     return t1, t2, n, ls
+
+
+# 3x3 products written out: numba sends ``@`` to BLAS, which costs a microsecond a call.
+
+
+@njit(cache=True)
+def mv(A, x):
+    """A x."""
+    return np.array(
+        [
+            A[0, 0] * x[0] + A[0, 1] * x[1] + A[0, 2] * x[2],
+            A[1, 0] * x[0] + A[1, 1] * x[1] + A[1, 2] * x[2],
+            A[2, 0] * x[0] + A[2, 1] * x[1] + A[2, 2] * x[2],
+        ]
+    )
+
+
+@njit(cache=True)
+def mtv(A, x):
+    """A^T x."""
+    return np.array(
+        [
+            A[0, 0] * x[0] + A[1, 0] * x[1] + A[2, 0] * x[2],
+            A[0, 1] * x[0] + A[1, 1] * x[1] + A[2, 1] * x[2],
+            A[0, 2] * x[0] + A[1, 2] * x[1] + A[2, 2] * x[2],
+        ]
+    )
+
+
+@njit(cache=True)
+def mm(A, B):
+    """A B."""
+    C = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            C[i, j] = A[i, 0] * B[0, j] + A[i, 1] * B[1, j] + A[i, 2] * B[2, j]
+    return C
+
+
+@njit(cache=True)
+def mtm(A, B):
+    """A^T B."""
+    C = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            C[i, j] = A[0, i] * B[0, j] + A[1, i] * B[1, j] + A[2, i] * B[2, j]
+    return C
+
+
+@njit(cache=True)
+def mmt(A, B):
+    """A B^T."""
+    C = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            C[i, j] = A[i, 0] * B[j, 0] + A[i, 1] * B[j, 1] + A[i, 2] * B[j, 2]
+    return C

@@ -20,6 +20,7 @@ from ..arm import Arm
 from ..options import Options
 from ..status import Status
 from ..structure import Chain6R
+from ..subproblems import mm, mv, rot
 from ..targets import Target
 from .attempt import Attempt
 
@@ -60,15 +61,62 @@ def nearest_equivalents(Q, n, q0, lower, upper):
                 Q[r, j] = min(max(best, lo), hi)
 
 
-def branch_label(bits: int) -> str:
-    """Branch name from the subproblem roots (first root of SP4/SP3/SP2 or second)."""
-    return "/".join(
+@njit(cache=True)
+def forward(h, p, R_tip0, q):
+    """The chain's own forward kinematics (product of exponentials): (R, p) of the tip."""
+    R = np.eye(3)
+    pos = p[0].copy()
+    for i in range(6):
+        R = mm(R, rot(h[i], q[i]))
+        pos += mv(R, p[i + 1])
+    return mm(R, R_tip0), pos
+
+
+@njit(cache=True)
+def rank(Q, n, flags, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r):
+    """Candidates nearest-first (reached, within limits, distance to q0, as ``solve``
+    orders them) and how many of them ``solve`` needs: up to the first that is reached,
+    within the limits and passes the chain's own forward kinematics. Pinocchio verifies."""
+    key = np.empty(n)
+    ok = np.zeros(n, np.bool_)
+    for r in range(n):
+        inside = True
+        d2 = 0.0
+        for j in range(Q.shape[1]):
+            x = Q[r, j]
+            if x < lower[j] - LIMIT_TOL or x > upper[j] + LIMIT_TOL:
+                inside = False
+            d2 += (x - q0[j]) ** 2
+        key[r] = math.sqrt(d2) + (0.0 if inside else 1e4) + (1e8 if flags[r] & LS else 0.0)
+        ok[r] = inside and not flags[r] & LS
+    order = np.argsort(key)
+    for k in range(n):
+        r = order[k]
+        if ok[r]:
+            Rf, pf = forward(h, p, R_tip0, Q[r])
+            dp = math.sqrt(((pf - pos) ** 2).sum())
+            dr = math.sqrt(((Rf - R) ** 2).sum()) / math.sqrt(2.0)
+            if dp <= 0.5 * tol_p and dr <= 0.5 * tol_r:
+                return order, k + 1
+    return order, n
+
+
+_LABELS = tuple(
+    "/".join(
         (
             "shoulder-right" if bits & 1 else "shoulder-left",
             "elbow-down" if bits & 2 else "elbow-up",
             "wrist-flip" if bits & 4 else "wrist-no-flip",
         )
     )
+    for bits in range(8)
+)
+
+
+def branch_label(bits: int) -> str:
+    """Branch name from the subproblem roots: bit 1 the second root of the shoulder's
+    subproblem ("right"), bit 2 of the elbow's ("down"), bit 4 of the wrist's ("flip")."""
+    return _LABELS[bits]
 
 
 def reason(code: int, val: np.ndarray, family: str) -> str:
@@ -123,11 +171,33 @@ def applies(arm: Arm, target: Target | None, opts: Options | None, family: str, 
     return None
 
 
-def attempts(arm: Arm, out, family: str, closed_form: str) -> list[Attempt]:
-    """``Attempt``s from a kernel's output rows."""
+def attempts(
+    arm: Arm,
+    geo: Chain6R,
+    target: Target,
+    R: np.ndarray,
+    pos: np.ndarray,
+    q0: np.ndarray,
+    opts: Options,
+    all_solutions: bool,
+    out,
+    family: str,
+    closed_form: str,
+) -> list[Attempt]:
+    """``Attempt``s from a kernel's output rows: all of them for ``solve_all``; for
+    ``solve`` the nearest-first ones up to the first that the chain's own forward
+    kinematics confirms (the ones after it could only be picked if it failed)."""
     Q, n, flags, branch, code, val = out
+    if all_solutions:
+        rows = range(n)
+    else:
+        order, keep = rank(
+            Q, n, flags, q0, arm.lower, arm.upper, geo.h, geo.p, geo.R_tip0, R, pos,
+            opts.tol_position, opts.tol_orientation,
+        )  # fmt: skip
+        rows = order[:keep].tolist()
     result = []
-    for r in range(n):
+    for r in rows:
         f = int(flags[r])
         singular = bool(f & SINGULAR)
         if f & LS:
@@ -138,7 +208,7 @@ def attempts(arm: Arm, out, family: str, closed_form: str) -> list[Attempt]:
                 text += "; singular: a free joint was kept at its q0 value"
         result.append(
             Attempt(
-                q=Q[r].copy(),
+                q=Q[r],
                 claim=claim,
                 reason=text,
                 branch=branch_label(int(branch[r])),

@@ -28,7 +28,7 @@ from numba import njit
 from ..arm import Arm
 from ..options import Options
 from ..structure import spherical_wrist
-from ..subproblems import dot, norm, rot, sp1, sp2, sp3, sp4
+from ..subproblems import dot, mm, mmt, mtm, mtv, mv, norm, rot, sp1, sp2, sp3, sp4
 from ..targets import Target
 from . import sixr
 from .attempt import Attempt
@@ -42,15 +42,15 @@ FAMILY = "spherical_wrist"
 def _wrist(R03, R06, h, q0, q1, q2, q3, flag, br, cd, v0, v1, Q, flags, branch, code, val, n):
     """Append the (up to 2) wrist solutions for a placed wrist centre; returns the count."""
     h4, h5, h6 = h[3], h[4], h[5]
-    R36 = R03.T @ R06
-    a, b, nw, lsw = sp2(R36 @ h6, h6, -h4, h5, q0[3])
+    R36 = mtm(R03, R06)
+    a, b, nw, lsw = sp2(mv(R36, h6), h6, -h4, h5, q0[3])
     sing = False
     if nw == -1:
         nw, sing = 1, True
     for iw in range(nw):
         q4, q5 = a[iw], b[iw]
-        R6 = (rot(h4, q4) @ rot(h5, q5)).T @ R36
-        q6, _ = sp1(h5, R6 @ h5, h6)
+        R6 = mtm(mm(rot(h4, q4), rot(h5, q5)), R36)
+        q6, _ = sp1(h5, mv(R6, h5), h6)
         Q[n, 0] = wrap(q1)
         Q[n, 1] = wrap(q2)
         Q[n, 2] = wrap(q3)
@@ -77,7 +77,7 @@ def _wrist(R03, R06, h, q0, q1, q2, q3, flag, br, cd, v0, v1, Q, flags, branch, 
 @njit(cache=True)
 def _elbow_code(p23, p34, h3, q3, wanted):
     """Whether an elbow solved in the least-squares sense asked too much or too little."""
-    got = norm(p23 + rot(h3, q3) @ p34)
+    got = norm(p23 + mv(rot(h3, q3), p34))
     return (TOO_FAR if wanted > got else TOO_CLOSE), got
 
 
@@ -90,8 +90,8 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant):
     code = np.zeros(8, np.int64)
     val = np.zeros((8, 2))
     h1, h2, h3 = h[0], h[1], h[2]
-    R06 = R @ R_tip0.T
-    p16 = pos - R06 @ p[6] - p[0]
+    R06 = mmt(R, R_tip0)
+    p16 = pos - mv(R06, p[6]) - p[0]
     n = 0
     if variant == 0:  # axes 2 and 3 parallel
         d = dot(h2, p[1] + p[2] + p[3])
@@ -108,7 +108,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant):
         for i1 in range(n1):
             q1 = t1[i1]
             R1 = rot(h1, q1)
-            v = R1.T @ p16 - p[1]
+            v = mtv(R1, p16) - p[1]
             nv = norm(v)
             t3, n3, ls3 = sp3(p[3], -p[2], h3, nv)
             flag3, cd3, w0, w1 = flag1, cd1, v0, v1
@@ -124,9 +124,9 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant):
                     w0 = nv
             for i3 in range(n3):
                 q3 = t3[i3]
-                u = p[2] + rot(h3, q3) @ p[3]
+                u = p[2] + mv(rot(h3, q3), p[3])
                 q2, _ = sp1(u, v, h2)
-                R03 = R1 @ rot(h2, q2) @ rot(h3, q3)
+                R03 = mm(mm(R1, rot(h2, q2)), rot(h3, q3))
                 br = i1 + 2 * i3
                 n = _wrist(
                     R03, R06, h, q0, q1, q2, q3, flag3, br, cd3, w0, w1,
@@ -147,7 +147,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant):
             w0 = n16
         for i3 in range(n3):
             q3 = t3[i3]
-            u = p[2] + rot(h3, q3) @ p[3]
+            u = p[2] + mv(rot(h3, q3), p[3])
             a, b, n12, ls12 = sp2(p16, u, -h1, h2, q0[0])
             flag = flag3
             if n12 == -1:  # wrist centre on axis 1
@@ -157,7 +157,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant):
                 flag |= LS
             for i12 in range(n12):
                 q1, q2 = a[i12], b[i12]
-                R03 = rot(h1, q1) @ rot(h2, q2) @ rot(h3, q3)
+                R03 = mm(mm(rot(h1, q1), rot(h2, q2)), rot(h3, q3))
                 br = i12 + 2 * i3
                 n = _wrist(
                     R03, R06, h, q0, q1, q2, q3, flag, br, cd3, w0, w1,
@@ -182,7 +182,19 @@ def run(
     R, pos = sixr.pose_arrays(target)
     variant = 0 if geo.variant == "parallel_23" else 1
     out = kernel(geo.h, geo.p, geo.R_tip0, R, pos, q0, arm.lower, arm.upper, variant)
-    return sixr.attempts(arm, out, FAMILY, "closed form (spherical wrist)")
+    return sixr.attempts(
+        arm,
+        geo,
+        target,
+        R,
+        pos,
+        q0,
+        opts,
+        all_solutions,
+        out,
+        FAMILY,
+        "closed form (spherical wrist)",
+    )
 
 
 SPEC = register(

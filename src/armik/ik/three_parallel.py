@@ -26,7 +26,7 @@ from numba import njit
 from ..arm import Arm
 from ..options import Options
 from ..structure import three_parallel
-from ..subproblems import cross, dot, norm, rot, sp1, sp3, sp4
+from ..subproblems import cross, dot, mmt, mtm, mtv, mv, norm, rot, sp1, sp3, sp4
 from ..targets import Target
 from . import sixr
 from .attempt import Attempt
@@ -48,8 +48,8 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper):
     s3, s4 = dot(h3, h2), dot(h4, h2)
     x = cross(h2, h1)
     x = x / norm(x)  # a direction across the parallel axes
-    R06 = R @ R_tip0.T
-    p16 = pos - R06 @ p[6] - p[0]
+    R06 = mmt(R, R_tip0)
+    p16 = pos - mv(R06, p[6]) - p[0]
     d1 = dot(h2, p[1] + p[2] + p[3] + p[4])
     t1, n1, ls1 = sp4(h2, p16, -h1, d1)
     flag1, cd1, v0, v1 = 0, 0, 0.0, 0.0
@@ -65,8 +65,8 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper):
     for i1 in range(n1):
         q1 = t1[i1]
         R1 = rot(h1, q1)
-        M = R1.T @ R06
-        t5, n5, ls5 = sp4(h2, h6, h5, dot(h2, M @ h6))
+        M = mtm(R1, R06)
+        t5, n5, ls5 = sp4(h2, h6, h5, dot(h2, mv(M, h6)))
         flag5, cd5 = flag1, cd1
         if n5 == -1:
             n5, t5[0] = 1, q0[4]
@@ -78,16 +78,16 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper):
         for i5 in range(n5):
             q5 = t5[i5]
             R5 = rot(h5, q5)
-            a = M.T @ h2
+            a = mtv(M, h2)
             flag6 = flag5
             if norm(cross(a, h6)) < 1e-9:  # wrist singular: q6 and q2 + q3 + q4 trade off
                 q6 = q0[5]
                 flag6 |= SINGULAR
             else:
-                q6, _ = sp1(a, R5.T @ h2, h6)
-            R234 = M @ rot(h6, q6).T @ R5.T
-            q234, _ = sp1(x, R234 @ x, h2)
-            v = R1.T @ p16 - p[1] - R234 @ p[4]
+                q6, _ = sp1(a, mtv(R5, h2), h6)
+            R234 = mmt(mmt(M, rot(h6, q6)), R5)
+            q234, _ = sp1(x, mv(R234, x), h2)
+            v = mtv(R1, p16) - p[1] - mv(R234, p[4])
             nv = norm(v)
             t3, n3, ls3 = sp3(p[3], -p[2], h3, nv)
             flag3, cd3, w0, w1 = flag6, cd5, v0, v1
@@ -99,12 +99,12 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper):
             if ls3:
                 flag3 |= LS
                 if cd3 == 0:
-                    got = norm(p[2] + rot(h3, t3[0]) @ p[3])
+                    got = norm(p[2] + mv(rot(h3, t3[0]), p[3]))
                     cd3 = TOO_FAR if nv > got else TOO_CLOSE
                     w0, w1 = nv, got
             for i3 in range(n3):
                 q3 = t3[i3]
-                u = p[2] + rot(h3, q3) @ p[3]
+                u = p[2] + mv(rot(h3, q3), p[3])
                 q2, _ = sp1(u, v, h2)
                 q4 = s4 * (q234 - q2 - s3 * q3)
                 Q[n, 0] = wrap(q1)
@@ -137,7 +137,19 @@ def run(
     geo = sixr.geometry(arm, FAMILY, _classify)
     R, pos = sixr.pose_arrays(target)
     out = kernel(geo.h, geo.p, geo.R_tip0, R, pos, q0, arm.lower, arm.upper)
-    return sixr.attempts(arm, out, FAMILY, "closed form (three parallel axes)")
+    return sixr.attempts(
+        arm,
+        geo,
+        target,
+        R,
+        pos,
+        q0,
+        opts,
+        all_solutions,
+        out,
+        FAMILY,
+        "closed form (three parallel axes)",
+    )
 
 
 SPEC = register(
