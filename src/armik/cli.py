@@ -17,6 +17,7 @@ import numpy as np
 import pinocchio as pin
 
 from . import bench as bench_mod
+from . import structure
 from .arm import Arm, load
 from .errors import ArmikError
 from .ik import registry
@@ -164,6 +165,13 @@ def _info(args: argparse.Namespace) -> int:
         )
     if arm.plane is not None:
         print(f"  planar: all axes along {np.round(arm.plane.normal, 6).tolist()}")
+    print("structure:")
+    for cls, geo in structure.classify(arm).items():
+        if isinstance(geo, str):
+            print(f"  {cls:<16} no: {geo}")
+        else:
+            text = getattr(geo, "description", "all joint axes parallel")
+            print(f"  {cls:<16} yes: {text}")
     print("solvers:")
     for name in registry.solvers():
         reason = registry.why_not(name, arm)
