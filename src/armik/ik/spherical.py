@@ -115,7 +115,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant):
             if n3 == -1:
                 n3, t3[0] = 1, q0[2]
                 flag3 |= SINGULAR
-            elif n3 == 1:
+            elif n3 == 1 and not ls3:
                 flag3 |= SINGULAR  # stretched or folded
             if ls3:
                 flag3 |= LS
@@ -139,7 +139,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant):
         if n3 == -1:
             n3, t3[0] = 1, q0[2]
             flag3 |= SINGULAR
-        elif n3 == 1:
+        elif n3 == 1 and not ls3:
             flag3 |= SINGULAR
         if ls3:
             flag3 |= LS

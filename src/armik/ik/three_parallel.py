@@ -94,7 +94,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper):
             if n3 == -1:
                 n3, t3[0] = 1, q0[2]
                 flag3 |= SINGULAR
-            elif n3 == 1:
+            elif n3 == 1 and not ls3:
                 flag3 |= SINGULAR  # stretched or folded
             if ls3:
                 flag3 |= LS
