@@ -14,6 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from .arm import Arm, load
+from .ik import registry
+from .targets import parse_target
 
 BUDGET = 0.005  # s per numeric solve, as in the benchmark
 TIGHT = 1e-12  # m, position tolerance on the 2-link arm
@@ -31,8 +33,9 @@ class Row:
     pos_err_max: float
     time_median_ms: float
     time_p95_ms: float
-    same_branch_as_q0: float | None = None  # % (2-link arm only)
-    max_diff_to_closed_form: float | None = None  # rad, same branch as q0
+    same_branch_as_q0: float | None = None  # % (arms with a closed form)
+    # rad: 2-link arm, to the closed form on q0's branch; 6R, to the nearest analytic branch
+    max_diff_to_closed_form: float | None = None
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -68,6 +71,11 @@ class Report:
         lines.append(
             f"(planar_2link solved to {TIGHT:g} m; the others to the default 1e-6 "
             f"m / rad; numeric budget {BUDGET * 1e3:g} ms)"
+        )
+        lines.append(
+            "(6R arms: q0 is the generating configuration disturbed by 0.4 rad; the last "
+            "column is the largest distance, modulo 2 pi, to the nearest analytic branch; "
+            "eaik: all solutions per call, without armik's verification)"
         )
         if self.singular:
             lines += [
@@ -138,8 +146,14 @@ def _measure(
     )
 
 
-def run(n: int = 500, seed: int = 7, spatial: tuple[str, ...] = ("panda", "ur5")) -> Report:
-    """Run every experiment; ``n`` targets each."""
+def run(
+    n: int = 500,
+    seed: int = 7,
+    spatial: tuple[str, ...] = ("panda",),
+    closed_form: tuple[str, ...] = ("ur5", "abb_irb120"),
+) -> Report:
+    """Run every experiment; ``n`` targets each. ``spatial``: arms solved numerically only;
+    ``closed_form``: 6R arms whose analytic family is compared with dls and qp."""
     report = Report()
     rng = np.random.default_rng(seed)
 
@@ -207,7 +221,7 @@ def run(n: int = 500, seed: int = 7, spatial: tuple[str, ...] = ("panda", "ur5")
             _measure(arm3, solver, xy3, q03, reach3, f"planar_3link/{solver}", report)
         )
 
-    # 6 and 7 DOF arms: full poses of random reachable configurations.
+    # 7 DOF arms: full poses of random reachable configurations, numeric solvers only.
     for name in spatial:
         arm = load(name)
         poses = [arm.fk(arm.random_q(rng)) for _ in range(n)]
@@ -216,7 +230,109 @@ def run(n: int = 500, seed: int = 7, spatial: tuple[str, ...] = ("panda", "ur5")
             report.rows.append(
                 _measure(arm, solver, poses, q0, np.ones(n, bool), f"{name}/{solver}", report)
             )
+
+    # 6R arms with a closed form: the analytic family against dls and qp.
+    for name in closed_form:
+        _closed_form_arm(load(name), n, rng, report)
     return report
+
+
+def _wrapped(a: np.ndarray) -> np.ndarray:
+    return np.abs(np.arctan2(np.sin(a), np.cos(a)))
+
+
+def _closed_form_arm(arm: Arm, n: int, rng: np.random.Generator, report: Report) -> None:
+    """Targets from random configurations; q0 is the generating configuration disturbed by
+    0.4 rad (normal, per joint), so "q0's branch" is the closed form's answer nearest q0.
+    A numeric answer lands on it when it equals it modulo 2 pi (1e-4 rad); its distance to
+    the nearest analytic branch is the largest joint difference modulo 2 pi."""
+    family = registry.choose("auto", arm, parse_target(arm.fk(arm.middle), arm)).name
+    qs = [arm.random_q(rng) for _ in range(n)]
+    poses = [arm.fk(q) for q in qs]
+    q0s = [np.clip(q + rng.normal(0.0, 0.4, arm.dof), arm.lower, arm.upper) for q in qs]
+    best = [arm.solve(T, q0=q0, solver=family) for T, q0 in zip(poses, q0s)]
+    branches = [[r.q for r in arm.solve_all(T, solver=family) if r.success] for T in poses]
+    for solver in (family, "dls", "qp"):
+        times, errors, successes, hits, dists = [], [], [], [], []
+        for i, (T, q0) in enumerate(zip(poses, q0s)):
+            t = time.perf_counter()
+            r = arm.solve(T, q0=q0, solver=solver, timeout=BUDGET, seed=i)
+            times.append(time.perf_counter() - t)
+            successes.append(r.success)
+            if not r.success:
+                continue
+            errors.append(r.position_error)
+            if best[i].success:
+                hits.append(_wrapped(r.q - best[i].q).max() < 1e-4)
+            if branches[i]:
+                dists.append(min(_wrapped(r.q - b).max() for b in branches[i]))
+        successes = np.array(successes)
+        ms = np.array(times) * 1e3
+        err = np.array(errors) if errors else np.array([np.nan])
+        report.samples[f"{arm.name}/{solver}"] = {
+            "time_ms": ms,
+            "pos_err": err,
+            "success": successes,
+        }
+        report.rows.append(
+            Row(
+                arm=arm.name,
+                solver=solver,
+                targets=n,
+                reachable=n,
+                success_rate=100.0 * successes.mean(),
+                honest_failures=100.0,
+                pos_err_median=float(np.nanmedian(err)),
+                pos_err_max=float(np.nanmax(err)),
+                time_median_ms=float(np.median(ms)),
+                time_p95_ms=float(np.percentile(ms, 95)),
+                same_branch_as_q0=100.0 * float(np.mean(hits)) if hits else None,
+                max_diff_to_closed_form=max(dists) if dists else None,
+            )
+        )
+    peer = _eaik_row(arm, qs)
+    if peer is not None:
+        report.rows.append(peer)
+
+
+def _eaik_row(arm: Arm, qs: list) -> Row | None:
+    """EAIK (closed form, C++ through Python bindings) on the same configurations, all
+    solutions per call, timed in the same run; None when it is not installed or the arm is
+    not a catalogue URDF. Its success: one of its solutions reproduces the pose by its own
+    forward kinematics within 1e-6."""
+    try:
+        from eaik.IK_URDF import UrdfRobot
+    except ImportError:
+        return None
+    from .robots import CATALOGUE
+
+    if arm.name not in CATALOGUE:
+        return None
+    robot = UrdfRobot(str(CATALOGUE[arm.name].urdf_path()))
+    times, ok, errors = [], [], []
+    for q in qs:
+        T = robot.fwdKin(np.asarray(q))
+        t = time.perf_counter()
+        sol = robot.IK(T)
+        times.append(time.perf_counter() - t)
+        errs = [np.abs(robot.fwdKin(x)[:3, 3] - T[:3, 3]).max() for x in sol.Q]
+        ok.append(bool(errs) and min(errs) < 1e-6)
+        if errs:
+            errors.append(min(errs))
+    ms = np.array(times) * 1e3
+    err = np.array(errors) if errors else np.array([np.nan])
+    return Row(
+        arm=arm.name,
+        solver="eaik (peer)",
+        targets=len(qs),
+        reachable=len(qs),
+        success_rate=100.0 * float(np.mean(ok)),
+        honest_failures=100.0,
+        pos_err_median=float(np.nanmedian(err)),
+        pos_err_max=float(np.nanmax(err)),
+        time_median_ms=float(np.median(ms)),
+        time_p95_ms=float(np.percentile(ms, 95)),
+    )
 
 
 def plot(report: Report, out_dir: str | Path) -> list[Path]:
