@@ -89,14 +89,24 @@ def rank(Q, n, flags, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r):
             d2 += (x - q0[j]) ** 2
         key[r] = math.sqrt(d2) + (0.0 if inside else 1e4) + (1e8 if flags[r] & LS else 0.0)
         ok[r] = inside and not flags[r] & LS
-    order = np.argsort(key)
+    order = np.empty(n, np.int64)
+    for r in range(n):  # insertion sort: at most 8 rows (argsort costs seconds to compile)
+        k = r
+        while k > 0 and key[order[k - 1]] > key[r]:
+            order[k] = order[k - 1]
+            k -= 1
+        order[k] = r
     for k in range(n):
         r = order[k]
         if ok[r]:
             Rf, pf = forward(h, p, R_tip0, Q[r])
-            dp = math.sqrt(((pf - pos) ** 2).sum())
-            dr = math.sqrt(((Rf - R) ** 2).sum()) / math.sqrt(2.0)
-            if dp <= 0.5 * tol_p and dr <= 0.5 * tol_r:
+            dp = 0.0
+            dr = 0.0
+            for i in range(3):
+                dp += (pf[i] - pos[i]) ** 2
+                for j in range(3):
+                    dr += (Rf[i, j] - R[i, j]) ** 2
+            if math.sqrt(dp) <= 0.5 * tol_p and math.sqrt(0.5 * dr) <= 0.5 * tol_r:
                 return order, k + 1
     return order, n
 
