@@ -17,12 +17,13 @@ import numpy as np
 from numba import njit
 
 from ..arm import Arm
+from ..errors import SolverError
 from ..options import Options
 from ..status import Status
 from ..structure import Chain6R
 from ..subproblems import mm, mv, rot
 from ..targets import Target
-from .attempt import Attempt
+from .attempt import Attempt, AttemptBatch
 
 LS = 1
 SINGULAR = 2
@@ -73,16 +74,17 @@ def forward(h, p, R_tip0, q):
 
 
 @njit(cache=True)
-def rank(Q, n, flags, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r):
-    """Candidates nearest-first (reached, within limits, distance to q0, as ``solve``
-    orders them) and how many of them ``solve`` needs: up to the first that is reached,
-    within the limits and passes the chain's own forward kinematics. Pinocchio verifies."""
+def pack(Q, n, flags, branch, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r):
+    """The kernel's rows nearest-first (reached, within limits, distance to q0: the order
+    ``solve`` verifies them in) as one (n, 11) array: q (6), flags, branch, code, val (2);
+    and how many of them ``solve`` needs: up to the first that is reached, within the
+    limits and confirmed by the chain's own forward kinematics. Pinocchio verifies."""
     key = np.empty(n)
     ok = np.zeros(n, np.bool_)
     for r in range(n):
         inside = True
         d2 = 0.0
-        for j in range(Q.shape[1]):
+        for j in range(6):
             x = Q[r, j]
             if x < lower[j] - LIMIT_TOL or x > upper[j] + LIMIT_TOL:
                 inside = False
@@ -96,9 +98,17 @@ def rank(Q, n, flags, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r):
             order[k] = order[k - 1]
             k -= 1
         order[k] = r
+    out = np.empty((n, 11))
+    keep = n
     for k in range(n):
         r = order[k]
-        if ok[r]:
+        out[k, :6] = Q[r]
+        out[k, 6] = flags[r]
+        out[k, 7] = branch[r]
+        out[k, 8] = code[r]
+        out[k, 9] = val[r, 0]
+        out[k, 10] = val[r, 1]
+        if keep == n and ok[r]:
             Rf, pf = forward(h, p, R_tip0, Q[r])
             dp = 0.0
             dr = 0.0
@@ -107,8 +117,8 @@ def rank(Q, n, flags, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r):
                 for j in range(3):
                     dr += (Rf[i, j] - R[i, j]) ** 2
             if math.sqrt(dp) <= 0.5 * tol_p and math.sqrt(0.5 * dr) <= 0.5 * tol_r:
-                return order, k + 1
-    return order, n
+                keep = k + 1
+    return out, keep
 
 
 _LABELS = tuple(
@@ -181,47 +191,26 @@ def applies(arm: Arm, target: Target | None, opts: Options | None, family: str, 
     return None
 
 
-def attempts(
-    arm: Arm,
-    geo: Chain6R,
-    target: Target,
-    R: np.ndarray,
-    pos: np.ndarray,
-    q0: np.ndarray,
-    opts: Options,
-    all_solutions: bool,
-    out,
-    family: str,
-    closed_form: str,
-) -> list[Attempt]:
-    """``Attempt``s from a kernel's output rows: all of them for ``solve_all``; for
-    ``solve`` the nearest-first ones up to the first that the chain's own forward
-    kinematics confirms (the ones after it could only be picked if it failed)."""
-    Q, n, flags, branch, code, val = out
-    if all_solutions:
-        rows = range(n)
-    else:
-        order, keep = rank(
-            Q, n, flags, q0, arm.lower, arm.upper, geo.h, geo.p, geo.R_tip0, R, pos,
-            opts.tol_position, opts.tol_orientation,
-        )  # fmt: skip
-        rows = order[:keep].tolist()
+def attempts(out: np.ndarray, keep: int, all_solutions: bool, family: str, closed_form: str):
+    """``Attempt``s from a kernel's packed rows (see ``pack``): all of them for
+    ``solve_all``; for ``solve`` the nearest-first ones up to the first that the chain's
+    own forward kinematics confirms (the ones after it could only be picked if it failed)."""
     result = []
-    for r in rows:
-        f = int(flags[r])
+    for row in out if all_solutions else out[:keep]:
+        f = int(row[6])
         singular = bool(f & SINGULAR)
         if f & LS:
-            claim, text = Status.UNREACHABLE, reason(int(code[r]), val[r], family)
+            claim, text = Status.UNREACHABLE, reason(int(row[8]), row[9:], family)
         else:
             claim, text = Status.CONVERGED, closed_form
             if singular:
                 text += "; singular: a free joint was kept at its q0 value"
         result.append(
             Attempt(
-                q=Q[r],
+                q=row[:6],
                 claim=claim,
                 reason=text,
-                branch=branch_label(int(branch[r])),
+                branch=_LABELS[int(row[7])],
                 singular=singular,
             )
         )
@@ -232,3 +221,28 @@ def pose_arrays(target: Target) -> tuple[np.ndarray, np.ndarray]:
     return np.ascontiguousarray(target.rotation, dtype=float), np.ascontiguousarray(
         target.position, dtype=float
     )
+
+
+CONVERGED_CODE = Status.CONVERGED.code
+UNREACHABLE_CODE = Status.UNREACHABLE.code
+
+
+def batch(arm: Arm, targets, q0: np.ndarray, opts: Options, solve_many, *extra) -> AttemptBatch:
+    """``run_batch`` of a family: ``solve_many`` (compiled, GIL released) solves every
+    target and keeps its row nearest q0 (reached, within limits first)."""
+    if targets.rotations is None:
+        raise SolverError(
+            "the closed form needs full poses, these targets are positions only: use a "
+            "numeric solver",
+            solver="auto",
+            candidates=[],
+        )
+    n = len(targets)
+    Rs = np.ascontiguousarray(targets.rotations, dtype=float)
+    ps = np.ascontiguousarray(targets.positions, dtype=float)
+    q0s = np.ascontiguousarray(np.broadcast_to(q0, (n, arm.dof)), dtype=float)
+    q, claim = solve_many(
+        Rs, ps, q0s, arm.lower, arm.upper, opts.tol_position, opts.tol_orientation, *extra
+    )
+    zeros = np.zeros(n, np.int64)
+    return AttemptBatch(q=q, claim=claim, iterations=zeros, restarts=zeros.copy())

@@ -31,10 +31,11 @@ from ..structure import spherical_wrist
 from ..subproblems import dot, mm, mmt, mtm, mtv, mv, norm, rot, sp1, sp2, sp3, sp4
 from ..targets import Target
 from . import sixr
-from .attempt import Attempt
+from .attempt import Attempt, AttemptBatch
 from .registry import SolverSpec, register
 from .sixr import LS, SHOULDER_OFFSET, SINGULAR, TOO_CLOSE, TOO_FAR, WRIST_ORIENTATION, wrap
 
+CLOSED_FORM = "closed form (spherical wrist)"
 FAMILY = "spherical_wrist"
 
 
@@ -82,7 +83,7 @@ def _elbow_code(p23, p34, h3, q3, wanted):
 
 
 @njit(cache=True)
-def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant):
+def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, variant):
     """All closed-form solutions (see ``sixr`` for the output layout)."""
     Q = np.zeros((8, 6))
     flags = np.zeros(8, np.int64)
@@ -164,7 +165,22 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant):
                     Q, flags, branch, code, val, n,
                 )  # fmt: skip
     sixr.nearest_equivalents(Q, n, q0, lower, upper)
-    return Q, n, flags, branch, code, val
+    return sixr.pack(
+        Q, n, flags, branch, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r
+    )
+
+
+@njit(cache=True, nogil=True)
+def kernel_many(h, p, R_tip0, Rs, ps, q0s, lower, upper, tol_p, tol_r, variant):
+    """``kernel`` for N targets: the row nearest q0 of each, and its claim code."""
+    N = ps.shape[0]
+    Q = np.empty((N, 6))
+    claim = np.empty(N, np.int8)
+    for i in range(N):
+        out, _ = kernel(h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, tol_p, tol_r, variant)
+        Q[i] = out[0, :6]
+        claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
+    return Q, claim
 
 
 def _classify(arm: Arm):
@@ -181,20 +197,21 @@ def run(
     geo = sixr.geometry(arm, FAMILY, _classify)
     R, pos = sixr.pose_arrays(target)
     variant = 0 if geo.variant == "parallel_23" else 1
-    out = kernel(geo.h, geo.p, geo.R_tip0, R, pos, q0, arm.lower, arm.upper, variant)
-    return sixr.attempts(
-        arm,
-        geo,
-        target,
-        R,
-        pos,
-        q0,
-        opts,
-        all_solutions,
-        out,
-        FAMILY,
-        "closed form (spherical wrist)",
-    )
+    out, keep = kernel(
+        geo.h, geo.p, geo.R_tip0, R, pos, q0, arm.lower, arm.upper,
+        opts.tol_position, opts.tol_orientation, variant,
+    )  # fmt: skip
+    return sixr.attempts(out, keep, all_solutions, FAMILY, CLOSED_FORM)
+
+
+def run_batch(arm: Arm, targets, q0: np.ndarray, opts: Options) -> AttemptBatch:
+    geo = sixr.geometry(arm, FAMILY, _classify)
+    variant = 0 if geo.variant == "parallel_23" else 1
+
+    def many(*args):
+        return kernel_many(geo.h, geo.p, geo.R_tip0, *args)
+
+    return sixr.batch(arm, targets, q0, opts, many, variant)
 
 
 SPEC = register(
@@ -205,6 +222,7 @@ SPEC = register(
         priority=90,
         check=applies,
         run=run,
+        run_batch=run_batch,
         summary="closed form for 6R arms with a spherical wrist: up to 8 solutions",
     )
 )

@@ -29,15 +29,16 @@ from ..structure import three_parallel
 from ..subproblems import cross, dot, mmt, mtm, mtv, mv, norm, rot, sp1, sp3, sp4
 from ..targets import Target
 from . import sixr
-from .attempt import Attempt
+from .attempt import Attempt, AttemptBatch
 from .registry import SolverSpec, register
 from .sixr import LS, ORIENTATION, SHOULDER_OFFSET, SINGULAR, TOO_CLOSE, TOO_FAR, wrap
 
+CLOSED_FORM = "closed form (three parallel axes)"
 FAMILY = "three_parallel"
 
 
 @njit(cache=True)
-def kernel(h, p, R_tip0, R, pos, q0, lower, upper):
+def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r):
     """All closed-form solutions (see ``sixr`` for the output layout)."""
     Q = np.zeros((8, 6))
     flags = np.zeros(8, np.int64)
@@ -120,7 +121,22 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper):
                 val[n, 1] = w1
                 n += 1
     sixr.nearest_equivalents(Q, n, q0, lower, upper)
-    return Q, n, flags, branch, code, val
+    return sixr.pack(
+        Q, n, flags, branch, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r
+    )
+
+
+@njit(cache=True, nogil=True)
+def kernel_many(h, p, R_tip0, Rs, ps, q0s, lower, upper, tol_p, tol_r):
+    """``kernel`` for N targets: the row nearest q0 of each, and its claim code."""
+    N = ps.shape[0]
+    Q = np.empty((N, 6))
+    claim = np.empty(N, np.int8)
+    for i in range(N):
+        out, _ = kernel(h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, tol_p, tol_r)
+        Q[i] = out[0, :6]
+        claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
+    return Q, claim
 
 
 def _classify(arm: Arm):
@@ -136,20 +152,20 @@ def run(
 ) -> list[Attempt]:
     geo = sixr.geometry(arm, FAMILY, _classify)
     R, pos = sixr.pose_arrays(target)
-    out = kernel(geo.h, geo.p, geo.R_tip0, R, pos, q0, arm.lower, arm.upper)
-    return sixr.attempts(
-        arm,
-        geo,
-        target,
-        R,
-        pos,
-        q0,
-        opts,
-        all_solutions,
-        out,
-        FAMILY,
-        "closed form (three parallel axes)",
-    )
+    out, keep = kernel(
+        geo.h, geo.p, geo.R_tip0, R, pos, q0, arm.lower, arm.upper,
+        opts.tol_position, opts.tol_orientation,
+    )  # fmt: skip
+    return sixr.attempts(out, keep, all_solutions, FAMILY, CLOSED_FORM)
+
+
+def run_batch(arm: Arm, targets, q0: np.ndarray, opts: Options) -> AttemptBatch:
+    geo = sixr.geometry(arm, FAMILY, _classify)
+
+    def many(*args):
+        return kernel_many(geo.h, geo.p, geo.R_tip0, *args)
+
+    return sixr.batch(arm, targets, q0, opts, many)
 
 
 SPEC = register(
@@ -160,6 +176,7 @@ SPEC = register(
         priority=90,
         check=applies,
         run=run,
+        run_batch=run_batch,
         summary="closed form for 6R arms with axes 2, 3, 4 parallel (UR family): up to 8",
     )
 )
