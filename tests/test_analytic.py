@@ -213,3 +213,23 @@ def test_run_batch_matches_solve(rng):
             assert np.abs(q - a.solve(T, q0=q0i).q).max() < 1e-9
         with pytest.raises(SolverError, match="full poses"):
             registry.get(solver).run_batch(a, TargetBatch(targets.positions), q0, Options())
+
+
+@pytest.mark.parametrize(
+    "name, joint, at",
+    [("ur5", 4, 0.0), ("ur5", 2, 0.0), ("abb_irb120", 4, 0.0), ("kinova", 4, math.pi)],
+)
+def test_near_singular_configurations(name, joint, at):
+    """Approaching a singularity (wrist or elbow) the answers stay verified; close enough
+    (1e-8 rad) they are flagged singular and the free angle keeps the generating value."""
+    a = arm(name)
+    rng = np.random.default_rng(11)
+    for eps in (1e-4, 1e-6, 1e-7, 1e-8, 1e-10, 0.0):
+        for _ in range(10):
+            q = a.random_q(rng)
+            q[joint] = at + eps
+            r = a.solve(a.fk(q), q0=q)
+            assert r.success, (eps, r.reason)
+            assert pose_error(a, r.q, a.fk(q)) < 1e-6
+            if eps <= 1e-8:
+                assert r.singular and np.abs(r.q - q).max() < 1e-6, (eps, q, r.q)

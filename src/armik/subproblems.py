@@ -29,7 +29,16 @@ import numpy as np
 from numba import njit
 
 EPS = 1e-12
-SINGLE = 1e-9  # a double root: the two solutions of SP3/SP4 closer than this (rad) merge
+# Two roots of SP3/SP4 closer than 2 SINGLE (rad) merge into one: the equation moves by
+# O(SINGLE^2) there. The same bound says when p1 lies on k1 in SP2 (a free angle).
+SINGLE = 1e-7
+DEGENERATE = 1e-9  # SP4's h . rot(k, theta) p varies by less than this (m): theta is free
+
+
+@njit(cache=True)
+def wrap(a):
+    """The angle in (-pi, pi]."""
+    return math.atan2(math.sin(a), math.cos(a))
 
 
 @njit(cache=True)
@@ -90,21 +99,19 @@ def sp4(h, p, k, d):
     c = d - dot(h, k) * dot(k, p)
     rho = math.hypot(a, b)
     scale = max(norm(p), abs(d), 1.0)
-    if rho <= EPS * scale:
-        return out, -1, abs(c) > EPS * scale
+    if rho <= DEGENERATE * scale:
+        return out, -1, abs(c) > DEGENERATE * scale
     phi = math.atan2(a, b)
     x = c / rho
-    if x >= 1.0 - EPS or x <= -1.0 + EPS:
-        out[0] = phi if x > 0 else phi + math.pi
-        out[0] = math.atan2(math.sin(out[0]), math.cos(out[0]))
+    if abs(x) >= 1.0:
+        out[0] = wrap(phi if x > 0 else phi + math.pi)
         return out, 1, abs(x) > 1.0 + EPS
     t = math.acos(x)
-    out[0] = phi + t
-    out[1] = phi - t
-    for i in range(2):
-        out[i] = math.atan2(math.sin(out[i]), math.cos(out[i]))
-    if t < SINGLE:
+    if t < SINGLE or t > math.pi - SINGLE:  # a double root: merging moves f by O(t^2)
+        out[0] = wrap(phi if t < SINGLE else phi + math.pi)
         return out, 1, False
+    out[0] = wrap(phi + t)
+    out[1] = wrap(phi - t)
     return out, 2, False
 
 
@@ -132,12 +139,14 @@ def sp2(p1, p2, k1, k2, free):
     ls = abs(n1 - n2) > EPS * max(n1, n2, 1.0)
     u1 = p1 / n1
     u2 = p2 / n2
-    if norm(cross(k1, u1)) <= 1e-9:  # p1 on k1: any theta1 keeps it still
+    if norm(cross(k1, u1)) <= SINGLE:  # p1 on k1: any theta1 keeps it (nearly) still
         t1[0] = free
         target = mv(rot(k1, free), u1)
-        th, ls2 = sp1(u2, target, k2)
+        th, _ = sp1(u2, target, k2)
         t2[0] = th
-        return t1, t2, -1, ls or ls2
+        # p1 lies within SINGLE of k1, so an exact solution misses by less than that.
+        miss = norm(mv(rot(k2, th), u2) - target)
+        return t1, t2, -1, ls or miss > 10.0 * SINGLE
     k12 = dot(k1, k2)
     den = 1.0 - k12 * k12
     a1 = dot(k1, u1)

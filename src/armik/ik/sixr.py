@@ -21,7 +21,7 @@ from ..errors import SolverError
 from ..options import Options
 from ..status import Status
 from ..structure import Chain6R
-from ..subproblems import mm, mv, rot
+from ..subproblems import mm, mv, rot, wrap  # noqa: F401  (wrap: for the families)
 from ..targets import Target
 from .attempt import Attempt, AttemptBatch
 
@@ -36,11 +36,6 @@ TOO_FAR = 2
 TOO_CLOSE = 3
 WRIST_ORIENTATION = 4
 ORIENTATION = 5
-
-
-@njit(cache=True)
-def wrap(a):
-    return math.atan2(math.sin(a), math.cos(a))
 
 
 @njit(cache=True)

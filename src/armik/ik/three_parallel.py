@@ -26,7 +26,7 @@ from numba import njit
 from ..arm import Arm
 from ..options import Options
 from ..structure import three_parallel
-from ..subproblems import cross, dot, mmt, mtm, mtv, mv, norm, rot, sp1, sp3, sp4
+from ..subproblems import SINGLE, cross, dot, mmt, mtm, mtv, mv, norm, rot, sp1, sp3, sp4
 from ..targets import Target
 from . import sixr
 from .attempt import Attempt, AttemptBatch
@@ -81,11 +81,13 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r):
             R5 = rot(h5, q5)
             a = mtv(M, h2)
             flag6 = flag5
-            if norm(cross(a, h6)) < 1e-9:  # wrist singular: q6 and q2 + q3 + q4 trade off
+            b = mtv(R5, h2)
+            if norm(cross(a, h6)) < SINGLE or norm(cross(b, h6)) < SINGLE:
+                # wrist singular: q6 and q2 + q3 + q4 trade off
                 q6 = q0[5]
                 flag6 |= SINGULAR
             else:
-                q6, _ = sp1(a, mtv(R5, h2), h6)
+                q6, _ = sp1(a, b, h6)
             R234 = mmt(mmt(M, rot(h6, q6)), R5)
             q234, _ = sp1(x, mv(R234, x), h2)
             v = mtv(R1, p16) - p[1] - mv(R234, p[4])
