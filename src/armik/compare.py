@@ -92,6 +92,12 @@ class Report:
         return "\n".join(lines)
 
 
+def _stat(f, values: np.ndarray) -> float:
+    """``f`` of the finite values; NaN, without numpy's all-NaN warning, when there are none."""
+    finite = values[np.isfinite(values)]
+    return float(f(finite)) if finite.size else float("nan")
+
+
 def _planar_targets(arm: Arm, n: int, rng: np.random.Generator) -> np.ndarray:
     """Targets uniform in a disc 20 % larger than the reach: some are unreachable."""
     radius = 1.2 * arm.reach * np.sqrt(rng.uniform(size=n))
@@ -137,8 +143,8 @@ def _measure(
         reachable=n_reach,
         success_rate=100.0 * successes[reachable].mean() if n_reach else float("nan"),
         honest_failures=100.0 * (~successes[~reachable]).mean() if (~reachable).any() else 100.0,
-        pos_err_median=float(np.nanmedian(err)),
-        pos_err_max=float(np.nanmax(err)),
+        pos_err_median=_stat(np.nanmedian, err),
+        pos_err_max=_stat(np.nanmax, err),
         time_median_ms=float(np.median(ms)),
         time_p95_ms=float(np.percentile(ms, 95)),
         same_branch_as_q0=100.0 * float(np.mean(branch_hits)) if branch_hits else None,
@@ -282,8 +288,8 @@ def _closed_form_arm(arm: Arm, n: int, rng: np.random.Generator, report: Report)
                 reachable=n,
                 success_rate=100.0 * successes.mean(),
                 honest_failures=100.0,
-                pos_err_median=float(np.nanmedian(err)),
-                pos_err_max=float(np.nanmax(err)),
+                pos_err_median=_stat(np.nanmedian, err),
+                pos_err_max=_stat(np.nanmax, err),
                 time_median_ms=float(np.median(ms)),
                 time_p95_ms=float(np.percentile(ms, 95)),
                 same_branch_as_q0=100.0 * float(np.mean(hits)) if hits else None,
@@ -328,8 +334,8 @@ def _eaik_row(arm: Arm, qs: list) -> Row | None:
         reachable=len(qs),
         success_rate=100.0 * float(np.mean(ok)),
         honest_failures=100.0,
-        pos_err_median=float(np.nanmedian(err)),
-        pos_err_max=float(np.nanmax(err)),
+        pos_err_median=_stat(np.nanmedian, err),
+        pos_err_max=_stat(np.nanmax, err),
         time_median_ms=float(np.median(ms)),
         time_p95_ms=float(np.percentile(ms, 95)),
     )

@@ -66,6 +66,7 @@ def find_plane(arm: Arm) -> Plane | None:
         return None
     q = arm.to_pin(arm.middle)
     J = pin.computeFrameJacobian(arm.model, arm.data, q, arm.tip_frame_id, pin.LOCAL_WORLD_ALIGNED)
+    J = J.reshape(6, arm.model.nv)  # Pinocchio returns shape (6,) for a 1-DOF model
     R = arm.T_base_world.rotation
     axes = (R @ J[3:]).T
     normal = axes[0] / np.linalg.norm(axes[0])
@@ -112,6 +113,7 @@ def axis_lines(arm: Arm) -> Axes:
     q = arm.to_pin(np.zeros(arm.dof))
     T_tip = arm.fk_pin(q)  # leaves the joint placements in arm.data
     J = pin.computeJointJacobians(arm.model, arm.data, q)  # WORLD: columns are world axes
+    J = J.reshape(6, arm.model.nv)  # Pinocchio returns shape (6,) for a 1-DOF model
     R = arm.T_base_world.rotation
     points, dirs = [], []
     for j in range(1, arm.model.njoints):
