@@ -161,7 +161,8 @@ def run(
     return sixr.attempts(out, keep, all_solutions, FAMILY, CLOSED_FORM)
 
 
-def run_batch(arm: Arm, targets, q0: np.ndarray, opts: Options) -> AttemptBatch:
+def run_batch(arm: Arm, targets, q0: np.ndarray, opts: Options, seeds=None) -> AttemptBatch:
+    """Every target in one compiled call (GIL released); ``seeds`` is unused (no restarts)."""
     geo = sixr.geometry(arm, FAMILY, _classify)
 
     def many(*args):
