@@ -71,7 +71,8 @@ def test_chain_form_reproduces_pinocchio_fk(tmp_path, rng):
             q = a.random_q(rng)
             R, p = forward(geo.h, geo.p, geo.R_tip0, q)
             T = a.fk(q)
-            assert np.linalg.norm(pin.log6(T.inverse() * pin.SE3(R, p)).vector) < 1e-12
+            T_chain = pin.SE3(np.array(R).reshape(3, 3), np.array(p))
+            assert np.linalg.norm(pin.log6(T.inverse() * T_chain).vector) < 1e-12
 
 
 def test_meeting_12_variant(tmp_path):

@@ -21,7 +21,7 @@ from ..errors import SolverError
 from ..options import Options
 from ..status import Status
 from ..structure import Chain6R
-from ..subproblems import mm, mv, rot, wrap  # noqa: F401  (wrap: for the families)
+from ..subproblems import add, mat, mm, mv, rot, vec
 from ..targets import Target
 from .attempt import Attempt, AttemptBatch
 
@@ -59,13 +59,14 @@ def nearest_equivalents(Q, n, q0, lower, upper):
 
 @njit(cache=True)
 def forward(h, p, R_tip0, q):
-    """The chain's own forward kinematics (product of exponentials): (R, p) of the tip."""
-    R = np.eye(3)
-    pos = p[0].copy()
-    for i in range(6):
-        R = mm(R, rot(h[i], q[i]))
-        pos += mv(R, p[i + 1])
-    return mm(R, R_tip0), pos
+    """The chain's own forward kinematics (product of exponentials): the tip's rotation
+    (9-tuple, row-major) and position (3-tuple)."""
+    R = rot(vec(h[0]), q[0])
+    pos = add(vec(p[0]), mv(R, vec(p[1])))
+    for i in range(1, 6):
+        R = mm(R, rot(vec(h[i]), q[i]))
+        pos = add(pos, mv(R, vec(p[i + 1])))
+    return mm(R, mat(R_tip0)), pos
 
 
 @njit(cache=True)
@@ -110,7 +111,7 @@ def pack(Q, n, flags, branch, code, val, q0, lower, upper, h, p, R_tip0, R, pos,
             for i in range(3):
                 dp += (pf[i] - pos[i]) ** 2
                 for j in range(3):
-                    dr += (Rf[i, j] - R[i, j]) ** 2
+                    dr += (Rf[3 * i + j] - R[i, j]) ** 2
             if math.sqrt(dp) <= 0.5 * tol_p and math.sqrt(0.5 * dr) <= 0.5 * tol_r:
                 keep = k + 1
     return out, keep

@@ -28,28 +28,50 @@ from numba import njit
 from ..arm import Arm
 from ..options import Options
 from ..structure import spherical_wrist
-from ..subproblems import dot, mm, mmt, mtm, mtv, mv, norm, rot, sp1, sp2, sp3, sp4
+from ..subproblems import (
+    add,
+    dot,
+    mat,
+    mm,
+    mmt,
+    mtm,
+    mtv,
+    mv,
+    neg,
+    norm,
+    rot,
+    scale,
+    sp1,
+    sp2,
+    sp3,
+    sp4,
+    sub,
+    vec,
+    wrap,
+)  # fmt: skip
 from ..targets import Target
 from . import sixr
 from .attempt import Attempt, AttemptBatch
 from .registry import SolverSpec, register
-from .sixr import LS, SHOULDER_OFFSET, SINGULAR, TOO_CLOSE, TOO_FAR, WRIST_ORIENTATION, wrap
+from .sixr import LS, SHOULDER_OFFSET, SINGULAR, TOO_CLOSE, TOO_FAR, WRIST_ORIENTATION
 
 CLOSED_FORM = "closed form (spherical wrist)"
 FAMILY = "spherical_wrist"
 
 
 @njit(cache=True)
-def _wrist(R03, R06, h, q0, q1, q2, q3, flag, br, cd, v0, v1, Q, flags, branch, code, val, n):
-    """Append the (up to 2) wrist solutions for a placed wrist centre; returns the count."""
-    h4, h5, h6 = h[3], h[4], h[5]
+def _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, br, cd, v0, v1, out, n):
+    """Append the (up to 2) wrist solutions for a placed wrist centre; returns the count.
+    ``out``: the kernel's arrays (Q, flags, branch, code, val)."""
+    Q, flags, branch, code, val = out
     R36 = mtm(R03, R06)
-    a, b, nw, lsw = sp2(mv(R36, h6), h6, -h4, h5, q0[3])
+    a0, a1, b0, b1, nw, lsw = sp2(mv(R36, h6), h6, neg(h4), h5, q0[3])
     sing = False
     if nw == -1:
         nw, sing = 1, True
     for iw in range(nw):
-        q4, q5 = a[iw], b[iw]
+        q4 = a0 if iw == 0 else a1
+        q5 = b0 if iw == 0 else b1
         R6 = mtm(mm(rot(h4, q4), rot(h5, q5)), R36)
         q6, _ = sp1(h5, mv(R6, h5), h6)
         Q[n, 0] = wrap(q1)
@@ -78,78 +100,82 @@ def _wrist(R03, R06, h, q0, q1, q2, q3, flag, br, cd, v0, v1, Q, flags, branch, 
 @njit(cache=True)
 def _elbow_code(p23, p34, h3, q3, wanted):
     """Whether an elbow solved in the least-squares sense asked too much or too little."""
-    got = norm(p23 + mv(rot(h3, q3), p34))
+    got = norm(add(p23, mv(rot(h3, q3), p34)))
     return (TOO_FAR if wanted > got else TOO_CLOSE), got
 
 
 @njit(cache=True)
 def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, variant):
-    """All closed-form solutions (see ``sixr`` for the output layout)."""
+    """All closed-form solutions, packed nearest-first (see ``sixr.pack``)."""
     Q = np.zeros((8, 6))
     flags = np.zeros(8, np.int64)
     branch = np.zeros(8, np.int64)
     code = np.zeros(8, np.int64)
     val = np.zeros((8, 2))
-    h1, h2, h3 = h[0], h[1], h[2]
-    R06 = mmt(R, R_tip0)
-    p16 = pos - mv(R06, p[6]) - p[0]
+    out = (Q, flags, branch, code, val)
+    h1, h2, h3, h4 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[3])
+    h5, h6 = vec(h[4]), vec(h[5])
+    p0, p1, p2, p3, p6 = vec(p[0]), vec(p[1]), vec(p[2]), vec(p[3]), vec(p[6])
+    R06 = mmt(mat(R), mat(R_tip0))
+    p16 = sub(sub(vec(pos), mv(R06, p6)), p0)
     n = 0
     if variant == 0:  # axes 2 and 3 parallel
-        d = dot(h2, p[1] + p[2] + p[3])
-        t1, n1, ls1 = sp4(h2, p16, -h1, d)
+        d = dot(h2, add(add(p1, p2), p3))
+        a0, a1, n1, ls1 = sp4(h2, p16, neg(h1), d)
         flag1, cd1, v0, v1 = 0, 0, 0.0, 0.0
         if n1 == -1:  # wrist centre on axis 1
-            n1, t1[0] = 1, q0[0]
+            n1, a0 = 1, q0[0]
             flag1 |= SINGULAR
         if ls1:
             flag1 |= LS
             cd1 = SHOULDER_OFFSET
-            v0 = norm(p16 - dot(h1, p16) * h1)
+            v0 = norm(sub(p16, scale(h1, dot(h1, p16))))
             v1 = abs(d - dot(h2, h1) * dot(h1, p16))
         for i1 in range(n1):
-            q1 = t1[i1]
+            q1 = a0 if i1 == 0 else a1
             R1 = rot(h1, q1)
-            v = mtv(R1, p16) - p[1]
+            v = sub(mtv(R1, p16), p1)
             nv = norm(v)
-            t3, n3, ls3 = sp3(p[3], -p[2], h3, nv)
+            c0, c1, n3, ls3 = sp3(p3, neg(p2), h3, nv)
             flag3, cd3, w0, w1 = flag1, cd1, v0, v1
             if n3 == -1:
-                n3, t3[0] = 1, q0[2]
+                n3, c0 = 1, q0[2]
                 flag3 |= SINGULAR
             elif n3 == 1 and not ls3:
                 flag3 |= SINGULAR  # stretched or folded
             if ls3:
                 flag3 |= LS
                 if cd3 == 0:
-                    cd3, w1 = _elbow_code(p[2], p[3], h3, t3[0], nv)
+                    cd3, w1 = _elbow_code(p2, p3, h3, c0, nv)
                     w0 = nv
             for i3 in range(n3):
-                q3 = t3[i3]
-                u = p[2] + mv(rot(h3, q3), p[3])
+                q3 = c0 if i3 == 0 else c1
+                R3 = rot(h3, q3)
+                u = add(p2, mv(R3, p3))
                 q2, _ = sp1(u, v, h2)
-                R03 = mm(mm(R1, rot(h2, q2)), rot(h3, q3))
-                br = i1 + 2 * i3
+                R03 = mm(mm(R1, rot(h2, q2)), R3)
                 n = _wrist(
-                    R03, R06, h, q0, q1, q2, q3, flag3, br, cd3, w0, w1,
-                    Q, flags, branch, code, val, n,
+                    R03, R06, h4, h5, h6, q0, q1, q2, q3, flag3, i1 + 2 * i3, cd3, w0, w1,
+                    out, n,
                 )  # fmt: skip
     else:  # axes 1 and 2 meet (p_12 = 0)
         n16 = norm(p16)
-        t3, n3, ls3 = sp3(p[3], -p[2], h3, n16)
+        c0, c1, n3, ls3 = sp3(p3, neg(p2), h3, n16)
         flag3, cd3, w0, w1 = 0, 0, 0.0, 0.0
         if n3 == -1:
-            n3, t3[0] = 1, q0[2]
+            n3, c0 = 1, q0[2]
             flag3 |= SINGULAR
         elif n3 == 1 and not ls3:
             flag3 |= SINGULAR
         if ls3:
             flag3 |= LS
-            cd3, w1 = _elbow_code(p[2], p[3], h3, t3[0], n16)
+            cd3, w1 = _elbow_code(p2, p3, h3, c0, n16)
             w0 = n16
         for i3 in range(n3):
-            q3 = t3[i3]
-            u = p[2] + mv(rot(h3, q3), p[3])
-            a, b, n12, ls12 = sp2(p16, u, -h1, h2, q0[0])
+            q3 = c0 if i3 == 0 else c1
+            R3 = rot(h3, q3)
+            u = add(p2, mv(R3, p3))
+            a0, a1, b0, b1, n12, ls12 = sp2(p16, u, neg(h1), h2, q0[0])
             flag = flag3
             if n12 == -1:  # wrist centre on axis 1
                 n12 = 1
@@ -157,12 +183,12 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, variant):
             if ls12 and not ls3:
                 flag |= LS
             for i12 in range(n12):
-                q1, q2 = a[i12], b[i12]
-                R03 = mm(mm(rot(h1, q1), rot(h2, q2)), rot(h3, q3))
-                br = i12 + 2 * i3
+                q1 = a0 if i12 == 0 else a1
+                q2 = b0 if i12 == 0 else b1
+                R03 = mm(mm(rot(h1, q1), rot(h2, q2)), R3)
                 n = _wrist(
-                    R03, R06, h, q0, q1, q2, q3, flag, br, cd3, w0, w1,
-                    Q, flags, branch, code, val, n,
+                    R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, i12 + 2 * i3, cd3, w0, w1,
+                    out, n,
                 )  # fmt: skip
     sixr.nearest_equivalents(Q, n, q0, lower, upper)
     return sixr.pack(

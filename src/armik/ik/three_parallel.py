@@ -26,12 +26,32 @@ from numba import njit
 from ..arm import Arm
 from ..options import Options
 from ..structure import three_parallel
-from ..subproblems import SINGLE, cross, dot, mmt, mtm, mtv, mv, norm, rot, sp1, sp3, sp4
+from ..subproblems import (
+    SINGLE,
+    add,
+    cross,
+    dot,
+    mat,
+    mmt,
+    mtm,
+    mtv,
+    mv,
+    neg,
+    norm,
+    rot,
+    scale,
+    sp1,
+    sp3,
+    sp4,
+    sub,
+    vec,
+    wrap,
+)  # fmt: skip
 from ..targets import Target
 from . import sixr
 from .attempt import Attempt, AttemptBatch
 from .registry import SolverSpec, register
-from .sixr import LS, ORIENTATION, SHOULDER_OFFSET, SINGULAR, TOO_CLOSE, TOO_FAR, wrap
+from .sixr import LS, ORIENTATION, SHOULDER_OFFSET, SINGULAR, TOO_CLOSE, TOO_FAR
 
 CLOSED_FORM = "closed form (three parallel axes)"
 FAMILY = "three_parallel"
@@ -39,49 +59,51 @@ FAMILY = "three_parallel"
 
 @njit(cache=True)
 def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r):
-    """All closed-form solutions (see ``sixr`` for the output layout)."""
+    """All closed-form solutions, packed nearest-first (see ``sixr.pack``)."""
     Q = np.zeros((8, 6))
     flags = np.zeros(8, np.int64)
     branch = np.zeros(8, np.int64)
     code = np.zeros(8, np.int64)
     val = np.zeros((8, 2))
-    h1, h2, h3, h4, h5, h6 = h[0], h[1], h[2], h[3], h[4], h[5]
+    h1, h2, h3, h4 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[3])
+    h5, h6 = vec(h[4]), vec(h[5])
+    p0, p1, p2, p3, p4, p6 = vec(p[0]), vec(p[1]), vec(p[2]), vec(p[3]), vec(p[4]), vec(p[6])
     s3, s4 = dot(h3, h2), dot(h4, h2)
     x = cross(h2, h1)
-    x = x / norm(x)  # a direction across the parallel axes
-    R06 = mmt(R, R_tip0)
-    p16 = pos - mv(R06, p[6]) - p[0]
-    d1 = dot(h2, p[1] + p[2] + p[3] + p[4])
-    t1, n1, ls1 = sp4(h2, p16, -h1, d1)
+    x = scale(x, 1.0 / norm(x))  # a direction across the parallel axes
+    R06 = mmt(mat(R), mat(R_tip0))
+    p16 = sub(sub(vec(pos), mv(R06, p6)), p0)
+    d1 = dot(h2, add(add(p1, p2), add(p3, p4)))
+    a0, a1, n1, ls1 = sp4(h2, p16, neg(h1), d1)
     flag1, cd1, v0, v1 = 0, 0, 0.0, 0.0
     if n1 == -1:
-        n1, t1[0] = 1, q0[0]
+        n1, a0 = 1, q0[0]
         flag1 |= SINGULAR
     if ls1:
         flag1 |= LS
         cd1 = SHOULDER_OFFSET
-        v0 = norm(p16 - dot(h1, p16) * h1)
+        v0 = norm(sub(p16, scale(h1, dot(h1, p16))))
         v1 = abs(d1 - dot(h2, h1) * dot(h1, p16))
     n = 0
     for i1 in range(n1):
-        q1 = t1[i1]
+        q1 = a0 if i1 == 0 else a1
         R1 = rot(h1, q1)
         M = mtm(R1, R06)
-        t5, n5, ls5 = sp4(h2, h6, h5, dot(h2, mv(M, h6)))
+        b0, b1, n5, ls5 = sp4(h2, h6, h5, dot(h2, mv(M, h6)))
         flag5, cd5 = flag1, cd1
         if n5 == -1:
-            n5, t5[0] = 1, q0[4]
+            n5, b0 = 1, q0[4]
             flag5 |= SINGULAR
         if ls5:
             flag5 |= LS
             if cd5 == 0:
                 cd5 = ORIENTATION
         for i5 in range(n5):
-            q5 = t5[i5]
+            q5 = b0 if i5 == 0 else b1
             R5 = rot(h5, q5)
             a = mtv(M, h2)
-            flag6 = flag5
             b = mtv(R5, h2)
+            flag6 = flag5
             if norm(cross(a, h6)) < SINGLE or norm(cross(b, h6)) < SINGLE:
                 # wrist singular: q6 and q2 + q3 + q4 trade off
                 q6 = q0[5]
@@ -90,24 +112,24 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r):
                 q6, _ = sp1(a, b, h6)
             R234 = mmt(mmt(M, rot(h6, q6)), R5)
             q234, _ = sp1(x, mv(R234, x), h2)
-            v = mtv(R1, p16) - p[1] - mv(R234, p[4])
+            v = sub(sub(mtv(R1, p16), p1), mv(R234, p4))
             nv = norm(v)
-            t3, n3, ls3 = sp3(p[3], -p[2], h3, nv)
+            c0, c1, n3, ls3 = sp3(p3, neg(p2), h3, nv)
             flag3, cd3, w0, w1 = flag6, cd5, v0, v1
             if n3 == -1:
-                n3, t3[0] = 1, q0[2]
+                n3, c0 = 1, q0[2]
                 flag3 |= SINGULAR
             elif n3 == 1 and not ls3:
                 flag3 |= SINGULAR  # stretched or folded
             if ls3:
                 flag3 |= LS
                 if cd3 == 0:
-                    got = norm(p[2] + mv(rot(h3, t3[0]), p[3]))
+                    got = norm(add(p2, mv(rot(h3, c0), p3)))
                     cd3 = TOO_FAR if nv > got else TOO_CLOSE
                     w0, w1 = nv, got
             for i3 in range(n3):
-                q3 = t3[i3]
-                u = p[2] + mv(rot(h3, q3), p[3])
+                q3 = c0 if i3 == 0 else c1
+                u = add(p2, mv(rot(h3, q3), p3))
                 q2, _ = sp1(u, v, h2)
                 q4 = s4 * (q234 - q2 - s3 * q3)
                 Q[n, 0] = wrap(q1)
