@@ -93,6 +93,24 @@ def test_eight_distinct_solutions_labelled():
     assert all(r.branch.count("/") == 2 for r in results)
 
 
+def test_branch_labels_describe_the_pose():
+    """Labels come from the geometry: the IRB 120 reaching forward with the elbow above
+    the shoulder-wrist line and the wrist bent positively; the UR5 in its usual pose."""
+    a = arm("abb_irb120")
+    q = np.array([0.1, 0.2, 0.3, 0.4, 0.5, 0.6])
+    assert a.solve(a.fk(q), q0=q).branch == "shoulder-front/elbow-up/wrist-no-flip"
+    flipped = q + np.array([0, 0, 0, math.pi, 0, math.pi])
+    flipped[4] = -q[4]
+    flipped[3] -= 2 * math.pi
+    r = a.solve(a.fk(q), q0=flipped)
+    assert r.branch == "shoulder-front/elbow-up/wrist-flip" and r.q[4] < 0
+    u = arm("ur5")
+    q = np.array([0.1, -1.2, 1.3, -1.5, -1.5, 0.6])
+    assert u.solve(u.fk(q), q0=q).branch == "shoulder-front/elbow-up/wrist-flip"
+    labels = {r.branch for r in u.solve_all(u.fk(q))}
+    assert len(labels) == 8
+
+
 def test_joint_limits_cut_branches():
     """The IRB 120's axis 3 (-110, +70 deg) excludes some branches: those come back as
     joint_limits failures in solve_all, and solve picks a branch within the limits."""

@@ -1,11 +1,11 @@
 """What the closed-form 6R solvers share: the compiled output layout, 2 pi equivalents,
 branch labels, reasons, and the glue from the compiled kernel to ``Attempt``s.
 
-A kernel returns up to 8 rows: ``Q`` (8, 6) joint values, ``n`` the row count, and per row
+A kernel computes up to 8 rows: ``Q`` (8, 6) joint values, ``n`` the row count, and per row
 ``flags`` (bit 1: least squares, the target is not reached; bit 2: singular, a free angle
-kept at q0), ``branch`` (bit 1: second root of the shoulder subproblem, bit 2: of the elbow,
-bit 4: of the wrist), ``code`` (which step was solved only in the least-squares sense) and
-``val`` (2 numbers for the reason: what the target asks, what the arm can do).
+kept at q0), ``code`` (which step was solved only in the least-squares sense) and ``val``
+(2 numbers for the reason: what the target asks, what the arm can do); ``pack`` orders
+them nearest-first and adds each row's branch, read from its geometry (``branch_bits``).
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from ..errors import SolverError
 from ..options import Options
 from ..status import Status
 from ..structure import Chain6R
-from ..subproblems import add, mat, mm, mv, rot, vec
+from ..subproblems import add, cross, dot, mat, mm, mv, norm, rot, scale, sub, vec
 from ..targets import Target
 from .attempt import Attempt, AttemptBatch
 
@@ -70,7 +70,55 @@ def forward(h, p, R_tip0, q):
 
 
 @njit(cache=True)
-def pack(Q, n, flags, branch, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r):
+def branch_bits(h, p, q):
+    """The branch of configuration ``q``, read from its geometry (bits: 1 shoulder back,
+    2 elbow down, 4 wrist flipped), so that a label means the same pose on every target.
+
+    Shoulder S (a point on axis 2), elbow E (on axis 3), wrist W (on axis 4: the wrist
+    centre of a spherical wrist), P on axis 5 (the wrist centre, or where axes 5 and 6
+    meet). Shoulder "front" when P lies ahead of the arm, along (rot(h1, q1) h2) x h1, as
+    it does at q = 0; elbow "up" when E lies on the side of the line S-W that axis 1
+    points to (in the plane across axis 3; when axes 2 and 3 are not parallel: when the
+    forearm is bent positively about axis 3);
+    wrist "no-flip" when axis 6 turns from axis 4 about axis 5 in the positive sense,
+    h5 . (h4 x rot(h5, q5) h6) > 0: the two sides of the wrist singularity."""
+    h1, h2, h3 = vec(h[0]), vec(h[1]), vec(h[2])
+    h4, h5, h6 = vec(h[3]), vec(h[4]), vec(h[5])
+    p0, p1, p2, p3 = vec(p[0]), vec(p[1]), vec(p[2]), vec(p[3])
+    R1 = rot(h1, q[0])
+    R12 = mm(R1, rot(h2, q[1]))
+    S = add(p0, mv(R1, p1))
+    E = add(S, mv(R12, p2))
+    R123 = mm(R12, rot(h3, q[2]))
+    W = add(E, mv(R123, p3))
+    P = add(W, mv(mm(R123, rot(h4, q[3])), vec(p[4])))  # on axis 5 (W: spherical wrist)
+    bits = 0
+    ahead0 = dot(cross(h2, h1), add(add(p1, p2), add(p3, vec(p[4]))))
+    ahead = dot(cross(mv(R1, h2), h1), sub(P, p0))
+    if ahead * ahead0 < 0.0:
+        bits |= 1
+    if norm(cross(h2, h3)) < 1e-9:  # both elbow branches in one plane, across axis 3
+        k = mv(R12, h3)  # axis 3, turned
+        a = sub(E, S)
+        a = sub(a, scale(k, dot(k, a)))
+        b = sub(W, S)
+        b = sub(b, scale(k, dot(k, b)))
+        nb = norm(b)
+        if nb > 0.0:
+            b = scale(b, 1.0 / nb)
+            a = sub(a, scale(b, dot(a, b)))
+        down = dot(a, h1) < 0.0
+    else:  # the elbow bent one way or the other about axis 3
+        down = dot(h3, cross(p2, mv(rot(h3, q[2]), p3))) < 0.0
+    if down:
+        bits |= 2
+    if dot(h5, cross(h4, mv(rot(h5, q[4]), h6))) < 0.0:
+        bits |= 4
+    return bits
+
+
+@njit(cache=True)
+def pack(Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r):
     """The kernel's rows nearest-first (reached, within limits, distance to q0: the order
     ``solve`` verifies them in) as one (n, 11) array: q (6), flags, branch, code, val (2);
     and how many of them ``solve`` needs: up to the first that is reached, within the
@@ -100,7 +148,7 @@ def pack(Q, n, flags, branch, code, val, q0, lower, upper, h, p, R_tip0, R, pos,
         r = order[k]
         out[k, :6] = Q[r]
         out[k, 6] = flags[r]
-        out[k, 7] = branch[r]
+        out[k, 7] = branch_bits(h, p, Q[r])
         out[k, 8] = code[r]
         out[k, 9] = val[r, 0]
         out[k, 10] = val[r, 1]
@@ -120,7 +168,7 @@ def pack(Q, n, flags, branch, code, val, q0, lower, upper, h, p, R_tip0, R, pos,
 _LABELS = tuple(
     "/".join(
         (
-            "shoulder-right" if bits & 1 else "shoulder-left",
+            "shoulder-back" if bits & 1 else "shoulder-front",
             "elbow-down" if bits & 2 else "elbow-up",
             "wrist-flip" if bits & 4 else "wrist-no-flip",
         )
@@ -130,8 +178,7 @@ _LABELS = tuple(
 
 
 def branch_label(bits: int) -> str:
-    """Branch name from the subproblem roots: bit 1 the second root of the shoulder's
-    subproblem ("right"), bit 2 of the elbow's ("down"), bit 4 of the wrist's ("flip")."""
+    """Branch name from ``branch_bits``."""
     return _LABELS[bits]
 
 

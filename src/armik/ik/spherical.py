@@ -60,10 +60,10 @@ FAMILY = "spherical_wrist"
 
 
 @njit(cache=True)
-def _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, br, cd, v0, v1, out, n):
+def _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, out, n):
     """Append the (up to 2) wrist solutions for a placed wrist centre; returns the count.
-    ``out``: the kernel's arrays (Q, flags, branch, code, val)."""
-    Q, flags, branch, code, val = out
+    ``out``: the kernel's arrays (Q, flags, code, val)."""
+    Q, flags, code, val = out
     R36 = mtm(R03, R06)
     a0, a1, b0, b1, nw, lsw = sp2(mv(R36, h6), h6, neg(h4), h5, q0[3])
     sing = False
@@ -89,7 +89,6 @@ def _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, br, cd, v0, v1, out, n):
         if sing:
             f |= SINGULAR
         flags[n] = f
-        branch[n] = br | (4 if iw == 1 else 0)
         code[n] = c
         val[n, 0] = v0
         val[n, 1] = v1
@@ -109,10 +108,9 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, variant):
     """All closed-form solutions, packed nearest-first (see ``sixr.pack``)."""
     Q = np.zeros((8, 6))
     flags = np.zeros(8, np.int64)
-    branch = np.zeros(8, np.int64)
     code = np.zeros(8, np.int64)
     val = np.zeros((8, 2))
-    out = (Q, flags, branch, code, val)
+    out = (Q, flags, code, val)
     h1, h2, h3, h4 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[3])
     h5, h6 = vec(h[4]), vec(h[5])
     p0, p1, p2, p3, p6 = vec(p[0]), vec(p[1]), vec(p[2]), vec(p[3]), vec(p[6])
@@ -155,7 +153,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, variant):
                 q2, _ = sp1(u, v, h2)
                 R03 = mm(mm(R1, rot(h2, q2)), R3)
                 n = _wrist(
-                    R03, R06, h4, h5, h6, q0, q1, q2, q3, flag3, i1 + 2 * i3, cd3, w0, w1,
+                    R03, R06, h4, h5, h6, q0, q1, q2, q3, flag3, cd3, w0, w1,
                     out, n,
                 )  # fmt: skip
     else:  # axes 1 and 2 meet (p_12 = 0)
@@ -187,13 +185,11 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, variant):
                 q2 = b0 if i12 == 0 else b1
                 R03 = mm(mm(rot(h1, q1), rot(h2, q2)), R3)
                 n = _wrist(
-                    R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, i12 + 2 * i3, cd3, w0, w1,
+                    R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd3, w0, w1,
                     out, n,
                 )  # fmt: skip
     sixr.nearest_equivalents(Q, n, q0, lower, upper)
-    return sixr.pack(
-        Q, n, flags, branch, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r
-    )
+    return sixr.pack(Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r)
 
 
 @njit(cache=True, nogil=True)

@@ -62,7 +62,6 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r):
     """All closed-form solutions, packed nearest-first (see ``sixr.pack``)."""
     Q = np.zeros((8, 6))
     flags = np.zeros(8, np.int64)
-    branch = np.zeros(8, np.int64)
     code = np.zeros(8, np.int64)
     val = np.zeros((8, 2))
     h1, h2, h3, h4 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[3])
@@ -139,15 +138,12 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r):
                 Q[n, 4] = wrap(q5)
                 Q[n, 5] = wrap(q6)
                 flags[n] = flag3
-                branch[n] = i1 + 2 * i3 + 4 * i5
                 code[n] = cd3
                 val[n, 0] = w0
                 val[n, 1] = w1
                 n += 1
     sixr.nearest_equivalents(Q, n, q0, lower, upper)
-    return sixr.pack(
-        Q, n, flags, branch, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r
-    )
+    return sixr.pack(Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r)
 
 
 @njit(cache=True, nogil=True)
