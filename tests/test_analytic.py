@@ -251,3 +251,22 @@ def test_near_singular_configurations(name, joint, at):
             assert pose_error(a, r.q, a.fk(q)) < 1e-6
             if eps <= 1e-8:
                 assert r.singular and np.abs(r.q - q).max() < 1e-6, (eps, q, r.q)
+
+
+def test_base_frame_limits_and_pickling(tmp_path):
+    """A base frame below the root (mount), replaced limits and a pickled arm keep the
+    closed form exact."""
+    import pickle
+
+    path = write_urdf(tmp_path, six_r(UR5, **MOUNTED, **TOOLED))
+    a = armik.load(path, base="l0", tip="tool")
+    assert structure.three_parallel(a).kind == "three_parallel"
+    q = np.array([0.3, -0.9, 1.1, -0.4, 0.7, 0.2])
+    r = a.solve(a.fk(q), q0=q)
+    assert r.solver == "three_parallel" and np.abs(r.q - q).max() < 1e-9
+    tight = a.with_limits({"j3": (0.0, 2.0)})  # only the positive elbow stays
+    results = tight.solve_all(tight.fk(q))
+    assert all(s.q[2] >= 0 for s in results if s.success)
+    assert any(s.status is Status.JOINT_LIMITS for s in results)
+    b = pickle.loads(pickle.dumps(a))
+    assert np.abs(b.solve(b.fk(q), q0=q).q - q).max() < 1e-9
