@@ -118,11 +118,12 @@ def branch_bits(h, p, q):
 
 
 @njit(cache=True)
-def pack(Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r):
+def pack(Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r, every):
     """The kernel's rows nearest-first (reached, within limits, distance to q0: the order
     ``solve`` verifies them in) as one (n, 11) array: q (6), flags, branch, code, val (2);
     and how many of them ``solve`` needs: up to the first that is reached, within the
-    limits and confirmed by the chain's own forward kinematics. Pinocchio verifies."""
+    limits and confirmed by the chain's own forward kinematics. Pinocchio verifies.
+    Branch labels are read for those rows only, or for every row when ``every``."""
     key = np.empty(n)
     ok = np.zeros(n, np.bool_)
     for r in range(n):
@@ -148,7 +149,7 @@ def pack(Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, 
         r = order[k]
         out[k, :6] = Q[r]
         out[k, 6] = flags[r]
-        out[k, 7] = branch_bits(h, p, Q[r])
+        out[k, 7] = 0.0
         out[k, 8] = code[r]
         out[k, 9] = val[r, 0]
         out[k, 10] = val[r, 1]
@@ -162,6 +163,8 @@ def pack(Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, 
                     dr += (Rf[3 * i + j] - R[i, j]) ** 2
             if math.sqrt(dp) <= 0.5 * tol_p and math.sqrt(0.5 * dr) <= 0.5 * tol_r:
                 keep = k + 1
+    for k in range(n if every else keep):  # the branch of each row handed over
+        out[k, 7] = branch_bits(h, p, out[k, :6])
     return out, keep
 
 

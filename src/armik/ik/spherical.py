@@ -104,7 +104,7 @@ def _elbow_code(p23, p34, h3, q3, wanted):
 
 
 @njit(cache=True)
-def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, variant):
+def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, variant, every):
     """All closed-form solutions, packed nearest-first (see ``sixr.pack``)."""
     Q = np.zeros((8, 6))
     flags = np.zeros(8, np.int64)
@@ -189,7 +189,9 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, variant):
                     out, n,
                 )  # fmt: skip
     sixr.nearest_equivalents(Q, n, q0, lower, upper)
-    return sixr.pack(Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r)
+    return sixr.pack(
+        Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r, every
+    )
 
 
 @njit(cache=True, nogil=True)
@@ -199,7 +201,9 @@ def kernel_many(h, p, R_tip0, Rs, ps, q0s, lower, upper, tol_p, tol_r, variant):
     Q = np.empty((N, 6))
     claim = np.empty(N, np.int8)
     for i in range(N):
-        out, _ = kernel(h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, tol_p, tol_r, variant)
+        out, _ = kernel(
+            h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, tol_p, tol_r, variant, False
+        )
         Q[i] = out[0, :6]
         claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
     return Q, claim
@@ -221,7 +225,7 @@ def run(
     variant = 0 if geo.variant == "parallel_23" else 1
     out, keep = kernel(
         geo.h, geo.p, geo.R_tip0, R, pos, q0, arm.lower, arm.upper,
-        opts.tol_position, opts.tol_orientation, variant,
+        opts.tol_position, opts.tol_orientation, variant, all_solutions,
     )  # fmt: skip
     return sixr.attempts(out, keep, all_solutions, FAMILY, CLOSED_FORM)
 

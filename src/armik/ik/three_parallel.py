@@ -58,7 +58,7 @@ FAMILY = "three_parallel"
 
 
 @njit(cache=True)
-def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r):
+def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, every):
     """All closed-form solutions, packed nearest-first (see ``sixr.pack``)."""
     Q = np.zeros((8, 6))
     flags = np.zeros(8, np.int64)
@@ -143,7 +143,9 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r):
                 val[n, 1] = w1
                 n += 1
     sixr.nearest_equivalents(Q, n, q0, lower, upper)
-    return sixr.pack(Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r)
+    return sixr.pack(
+        Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r, every
+    )
 
 
 @njit(cache=True, nogil=True)
@@ -153,7 +155,7 @@ def kernel_many(h, p, R_tip0, Rs, ps, q0s, lower, upper, tol_p, tol_r):
     Q = np.empty((N, 6))
     claim = np.empty(N, np.int8)
     for i in range(N):
-        out, _ = kernel(h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, tol_p, tol_r)
+        out, _ = kernel(h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, tol_p, tol_r, False)
         Q[i] = out[0, :6]
         claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
     return Q, claim
@@ -174,7 +176,7 @@ def run(
     R, pos = sixr.pose_arrays(target)
     out, keep = kernel(
         geo.h, geo.p, geo.R_tip0, R, pos, q0, arm.lower, arm.upper,
-        opts.tol_position, opts.tol_orientation,
+        opts.tol_position, opts.tol_orientation, all_solutions,
     )  # fmt: skip
     return sixr.attempts(out, keep, all_solutions, FAMILY, CLOSED_FORM)
 
