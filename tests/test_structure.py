@@ -110,3 +110,11 @@ def test_info_prints_the_classes(capsys):
     out = capsys.readouterr().out
     assert "spherical_wrist  no: the last three axes do not meet in one point" in out
     assert "auto -> three_parallel" in out
+
+
+def test_compare_speed_table(capsys):
+    from armik.cli import main
+
+    assert main(["compare", "--speed", "-n", "5"]) == 0
+    out = capsys.readouterr().out
+    assert "| ur5 | three_parallel | 5/5 |" in out and "| abb_irb120 | spherical | 5/5 |" in out

@@ -139,6 +139,11 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--seed", type=int, default=7)
     c.add_argument("--plot", metavar="DIR", help="write PNG figures to DIR (needs matplotlib)")
     c.add_argument("--json", action="store_true", help="print JSON")
+    c.add_argument(
+        "--speed",
+        action="store_true",
+        help="only time the closed forms' solve and solve_all against EAIK, interleaved",
+    )
     return p
 
 
@@ -292,6 +297,13 @@ def _names(values: list[str]) -> list[str]:
 def _compare(args: argparse.Namespace) -> int:
     from . import compare
 
+    if args.speed:
+        rows = compare.speed(n=args.n, seed=args.seed)
+        if args.json:
+            print(json.dumps(rows, indent=2))
+        else:
+            print(compare.speed_table(rows))
+        return 0
     report = compare.run(n=args.n, seed=args.seed)
     if args.json:
         print(json.dumps(report.as_dict(), indent=2))

@@ -328,11 +328,9 @@ def _solve_all_row(arm: Arm, family: str, poses: list, q0s: list) -> Row:
     )
 
 
-def _eaik_row(arm: Arm, qs: list) -> Row | None:
-    """EAIK (closed form, C++ through Python bindings) on the same configurations, all
-    solutions per call, timed in the same run; None when it is not installed or the arm is
-    not a catalogue URDF. Its success: one of its solutions reproduces the pose by its own
-    forward kinematics within 1e-6."""
+def _eaik(arm: Arm):
+    """EAIK's model of a catalogue arm (its own URDF reading), None when EAIK is not
+    installed or the arm is not in the catalogue."""
     try:
         from eaik.IK_URDF import UrdfRobot
     except ImportError:
@@ -341,7 +339,17 @@ def _eaik_row(arm: Arm, qs: list) -> Row | None:
 
     if arm.name not in CATALOGUE:
         return None
-    robot = UrdfRobot(str(CATALOGUE[arm.name].urdf_path()))
+    return UrdfRobot(str(CATALOGUE[arm.name].urdf_path()))
+
+
+def _eaik_row(arm: Arm, qs: list) -> Row | None:
+    """EAIK (closed form, C++ through Python bindings) on the same configurations, all
+    solutions per call, timed in the same run; None when it is not installed or the arm is
+    not a catalogue URDF. Its success: one of its solutions reproduces the pose by its own
+    forward kinematics within 1e-6."""
+    robot = _eaik(arm)
+    if robot is None:
+        return None
     times, ok, errors = [], [], []
     for q in qs:
         T = robot.fwdKin(np.asarray(q))
@@ -366,6 +374,73 @@ def _eaik_row(arm: Arm, qs: list) -> Row | None:
         time_median_ms=float(np.median(ms)),
         time_p95_ms=float(np.percentile(ms, 95)),
     )
+
+
+def speed(
+    names: tuple[str, ...] = ("ur5", "abb_irb120"), n: int = 500, seed: int = 7
+) -> list[dict]:
+    """Median times (us) of ``solve`` and ``solve_all`` with the closed form (verification
+    included) and of EAIK's all-solutions ``IK`` (when installed), measured in one loop,
+    interleaved target by target so that machine load hits them alike."""
+    rng = np.random.default_rng(seed)
+    rows = []
+    for name in names:
+        arm = load(name)
+        family = registry.choose("auto", arm, parse_target(arm.fk(arm.middle), arm)).name
+        qs = [arm.random_q(rng) for _ in range(n)]
+        poses = [arm.fk(q) for q in qs]
+        peer = _eaik(arm)
+        mats = [peer.fwdKin(np.asarray(q)) for q in qs] if peer is not None else []
+        for T in poses[:20]:  # warm up: compiled kernels loaded, caches filled
+            arm.solve(T, solver=family)
+            arm.solve_all(T, solver=family)
+        t_one, t_all, t_peer, ok = [], [], [], 0
+        for i, T in enumerate(poses):
+            t = time.perf_counter()
+            r = arm.solve(T, solver=family)
+            t_one.append(time.perf_counter() - t)
+            t = time.perf_counter()
+            arm.solve_all(T, solver=family)
+            t_all.append(time.perf_counter() - t)
+            if peer is not None:
+                t = time.perf_counter()
+                peer.IK(mats[i])
+                t_peer.append(time.perf_counter() - t)
+            ok += r.success
+        us = [1e6 * float(np.median(t)) if t else None for t in (t_one, t_all, t_peer)]
+        rows.append(
+            {
+                "arm": name,
+                "solver": family,
+                "targets": n,
+                "solved": ok,
+                "solve_us": us[0],
+                "solve_all_us": us[1],
+                "eaik_us": us[2],
+            }
+        )
+    return rows
+
+
+def speed_table(rows: list[dict]) -> str:
+    lines = [
+        "| arm | solver | solved | solve (us) | solve_all (us) | EAIK all solutions (us) | "
+        "solve / EAIK | solve_all / EAIK |",
+        "|" + "---|" * 8,
+    ]
+    for r in rows:
+        e = r["eaik_us"]
+
+        def ratio(x, e=e):
+            return "-" if e is None else f"{x / e:.2f}"
+
+        lines.append(
+            f"| {r['arm']} | {r['solver']} | {r['solved']}/{r['targets']} | {r['solve_us']:.1f} | "
+            f"{r['solve_all_us']:.1f} | {'-' if e is None else f'{e:.1f}'} | "
+            f"{ratio(r['solve_us'])} | {ratio(r['solve_all_us'])} |"
+        )
+    lines.append("(medians, interleaved target by target; armik's times include verification)")
+    return "\n".join(lines)
 
 
 def plot(report: Report, out_dir: str | Path) -> list[Path]:
@@ -434,4 +509,4 @@ def _save(fig, path: Path) -> Path:
     return path
 
 
-__all__ = ["Report", "Row", "plot", "run"]
+__all__ = ["Report", "Row", "plot", "run", "speed", "speed_table"]
