@@ -214,10 +214,10 @@ def test_numeric_solvers_still_agree(rng):
 def test_run_batch_matches_solve(rng):
     """The compiled batch path returns, per target, the answer ``solve`` picks."""
     from armik.batch_targets import TargetBatch
-    from armik.ik import registry
+    from armik.ik import spherical, three_parallel
     from armik.options import Options
 
-    for name, solver in (("ur5", "three_parallel"), ("abb_irb120", "spherical")):
+    for name, family in (("ur5", three_parallel), ("abb_irb120", spherical)):
         a = arm(name)
         qs = np.array([a.random_q(rng) for _ in range(30)])
         poses = [a.fk(q) for q in qs]
@@ -225,12 +225,12 @@ def test_run_batch_matches_solve(rng):
             np.array([T.translation for T in poses]), np.array([T.rotation for T in poses])
         )
         q0 = np.clip(qs + 0.2, a.lower, a.upper)
-        out = registry.get(solver).run_batch(a, targets, q0, Options())
+        out = family.run_batch(a, targets, q0, Options())
         assert out.q.shape == (30, 6) and (out.claim == Status.CONVERGED.code).all()
         for T, q, q0i in zip(poses, out.q, q0):
             assert np.abs(q - a.solve(T, q0=q0i).q).max() < 1e-9
         with pytest.raises(SolverError, match="full poses"):
-            registry.get(solver).run_batch(a, TargetBatch(targets.positions), q0, Options())
+            family.run_batch(a, TargetBatch(targets.positions), q0, Options())
 
 
 @pytest.mark.parametrize(

@@ -182,7 +182,10 @@ def run(
 
 
 def run_batch(arm: Arm, targets, q0: np.ndarray, opts: Options, seeds=None) -> AttemptBatch:
-    """Every target in one compiled call (GIL released); ``seeds`` is unused (no restarts)."""
+    """Every target in one compiled call (GIL released), the ``SolverSpec.run_batch``
+    shape; ``seeds`` is unused (no restarts). Not registered on the spec: a batch built
+    from it would lack the per-target failure reasons that ``run`` gives, so batches go
+    through ``run`` target by target."""
     geo = sixr.geometry(arm, FAMILY, _classify)
 
     def many(*args):
@@ -199,7 +202,6 @@ SPEC = register(
         priority=90,
         check=applies,
         run=run,
-        run_batch=run_batch,
         summary="closed form for 6R arms with axes 2, 3, 4 parallel (UR family): up to 8",
     )
 )
