@@ -270,19 +270,25 @@ def three_parallel(arm: Arm, ax: Axes | None = None) -> Chain6R | str:
 CLASSES = ("planar", "spherical_wrist", "three_parallel")
 
 
+def _not_planar(arm: Arm, ax: Axes) -> str:
+    """Why the chain is not planar, with the measured angle."""
+    names = [n for n, p in zip(arm.joint_names, arm.prismatic) if p]
+    if names:
+        return f"joint {names[0]!r} is prismatic"
+    angles = [angle_between(ax.directions[0], d) for d in ax.directions[1:]]
+    i = int(np.argmax(angles))
+    return f"axes 1 and {i + 2} are {_fmt(angles[i])} rad apart (tolerance {PARALLEL_TOL:g} rad)"
+
+
 def classify(arm: Arm) -> dict[str, object]:
     """Each class name -> its geometry (``Plane`` or ``Chain6R``) or the reason it does not
     apply (a string)."""
     out: dict[str, object] = {}
-    plane = arm.plane
-    if plane is not None:
-        out["planar"] = plane
-    else:
-        out["planar"] = "not every joint is revolute with axes parallel to the first"
+    ax = axis_lines(arm)
+    out["planar"] = arm.plane if arm.plane is not None else _not_planar(arm, ax)
     if arm.dof != 6 or np.any(arm.prismatic):
         out["spherical_wrist"] = out["three_parallel"] = _common_6r(arm)
         return out
-    ax = axis_lines(arm)
     out["spherical_wrist"] = spherical_wrist(arm, ax)
     out["three_parallel"] = three_parallel(arm, ax)
     return out
