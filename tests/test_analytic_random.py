@@ -10,6 +10,7 @@ import pytest
 
 import armik
 from armik import structure
+from armik.status import Status
 
 from .analytic_urdfs import six_r
 from .conftest import write_urdf
@@ -85,3 +86,45 @@ def test_random_arms_are_solved_completely(kind, tmp_path):
             assert min(wrapped) < 1e-6, (kind, k, q)
             checked += 1
         assert checked >= 8
+
+
+def test_compiled_equivalents_match_arm_nearest_equivalent():
+    from armik.ik.sixr import nearest_equivalents
+
+    rng = np.random.default_rng(5)
+    a = armik.load("abb_irb120")  # limits narrower than 2 pi and wider (axis 6: 800 deg)
+    for _ in range(300):
+        Q = rng.uniform(-7, 7, size=(3, 6))
+        q0 = a.random_q(rng)
+        expected = [a.nearest_equivalent(row, q0) for row in Q]
+        nearest_equivalents(Q, 3, q0, a.lower, a.upper)
+        assert np.array_equal(Q, np.array(expected))
+
+
+def test_orientation_a_skew_wrist_cannot_take(tmp_path):
+    """A wrist whose axes 5 and 6 meet at 60 degrees cannot turn axis 6 within 30 degrees
+    of axis 4: a branch that would need it is refused with that reason and a finite
+    configuration (other branches, with axis 4 elsewhere, may still reach the target)."""
+    s = np.sin(np.pi / 3)
+    joints = [
+        ("0 0 0", "0 0 0", "0 0 1"),
+        ("0 0 0.3", "0 0 0", "0 1 0"),
+        ("0 0 0.4", "0 0 0", "0 1 0"),
+        ("0.3 0 0.05", "0 0 0", "1 0 0"),
+        ("0 0 0", "0 0 0", "0 1 0"),
+        ("0 0 0", "0 0 0", f"0 0.5 {s}"),
+    ]
+    a = armik.load(
+        write_urdf(tmp_path, six_r(joints, tool_xyz="0.1 0 0")), base="world", tip="tool"
+    )
+    assert structure.spherical_wrist(a).variant == "parallel_23"
+    rng = np.random.default_rng(9)
+    refused = 0
+    for _ in range(40):
+        R = pin.exp3(rng.normal(size=3))
+        for r in a.solve_all(pin.SE3(R, np.array([0.35, 0.1, 0.5]))):
+            assert np.isfinite(r.q).all()
+            if not r.success and "orientation" in r.reason:
+                assert r.status is Status.UNREACHABLE
+                refused += 1
+    assert refused > 0
