@@ -16,7 +16,7 @@ EXPECT = {
     "04_choosing_a_solution.py": ["picks elbow-down", "joint_limits"],
     "05_six_and_seven_dof.py": ["ur5", "panda", "unreachable"],
     "06_cartesian_path.py": ["100/100 points reached"],
-    "07_compare.py": ["planar2r", "success_vs_boundary.png"],
+    "07_compare.py": ["planar2r", "three_parallel", "spherical", "success_vs_boundary.png"],
 }
 
 

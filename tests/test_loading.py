@@ -24,6 +24,7 @@ EXPECTED_DOF = {
     "xarm7": 7,
     "z1": 6,
     "double_pendulum": 2,
+    "abb_irb120": 6,
 }
 
 

@@ -22,8 +22,8 @@ import pinocchio as pin
 
 from . import urdf as urdf_reading
 from .errors import ArmikWarning, FrameError, JointError, OptionError, URDFError, listing
-from .planar import Plane, find_plane
 from .robots import CATALOGUE, entry
+from .structure import Plane, find_plane
 from .urdf import URDFInfo, read_urdf
 
 log = logging.getLogger(__name__)

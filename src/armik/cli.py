@@ -20,6 +20,7 @@ import numpy as np
 import pinocchio as pin
 
 from . import bench as bench_mod
+from . import structure
 from .arm import Arm, load
 from .errors import ArmikError, ArmikWarning
 from .ik import registry
@@ -176,6 +177,11 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--seed", type=int, default=7)
     c.add_argument("--plot", metavar="DIR", help="write PNG figures to DIR (needs matplotlib)")
     c.add_argument("--json", action="store_true", help="print JSON")
+    c.add_argument(
+        "--speed",
+        action="store_true",
+        help="only time the closed forms' solve and solve_all against EAIK, interleaved",
+    )
     return p
 
 
@@ -210,6 +216,13 @@ def _info(args: argparse.Namespace) -> int:
         )
     if arm.plane is not None:
         print(f"  planar: all axes along {np.round(arm.plane.normal, 6).tolist()}")
+    print("structure:")
+    for cls, geo in structure.classify(arm).items():
+        if isinstance(geo, str):
+            print(f"  {cls:<16} no: {geo}")
+        else:
+            text = getattr(geo, "description", "all joint axes parallel")
+            print(f"  {cls:<16} yes: {text}")
     print("solvers:")
     for name in registry.solvers():
         reason = registry.why_not(name, arm)
@@ -353,6 +366,13 @@ def _names(values: list[str]) -> list[str]:
 def _compare(args: argparse.Namespace) -> int:
     from . import compare
 
+    if args.speed:
+        rows = compare.speed(n=args.n, seed=args.seed)
+        if args.json:
+            print(json.dumps(rows, indent=2))
+        else:
+            print(compare.speed_table(rows))
+        return 0
     report = compare.run(n=args.n, seed=args.seed)
     if args.json:
         print(json.dumps(report.as_dict(), indent=2))

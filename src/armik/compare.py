@@ -14,6 +14,9 @@ from pathlib import Path
 import numpy as np
 
 from .arm import Arm, load
+from .ik import registry
+from .options import Options
+from .targets import parse_target
 
 BUDGET = 0.005  # s per numeric solve, as in the benchmark
 TIGHT = 1e-12  # m, position tolerance on the 2-link arm
@@ -31,8 +34,9 @@ class Row:
     pos_err_max: float
     time_median_ms: float
     time_p95_ms: float
-    same_branch_as_q0: float | None = None  # % (2-link arm only)
-    max_diff_to_closed_form: float | None = None  # rad, same branch as q0
+    same_branch_as_q0: float | None = None  # % (arms with a closed form)
+    # rad: 2-link arm, to the closed form on q0's branch; 6R, to the nearest analytic branch
+    max_diff_to_closed_form: float | None = None
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -69,6 +73,11 @@ class Report:
             f"(planar_2link solved to {TIGHT:g} m; the others to the default 1e-6 "
             f"m / rad; numeric budget {BUDGET * 1e3:g} ms)"
         )
+        lines.append(
+            "(6R arms: q0 is the generating configuration disturbed by 0.4 rad; the last "
+            "column is the largest distance, modulo 2 pi, to the nearest analytic branch; "
+            "eaik: all solutions per call, without armik's verification)"
+        )
         if self.singular:
             lines += [
                 "",
@@ -82,6 +91,12 @@ class Report:
                     f"{s['iterations']} | {s['singular']} | {s['q2']:.2e} |"
                 )
         return "\n".join(lines)
+
+
+def _stat(f, values: np.ndarray) -> float:
+    """``f`` of the finite values; NaN, without numpy's all-NaN warning, when there are none."""
+    finite = values[np.isfinite(values)]
+    return float(f(finite)) if finite.size else float("nan")
 
 
 def _planar_targets(arm: Arm, n: int, rng: np.random.Generator) -> np.ndarray:
@@ -129,8 +144,8 @@ def _measure(
         reachable=n_reach,
         success_rate=100.0 * successes[reachable].mean() if n_reach else float("nan"),
         honest_failures=100.0 * (~successes[~reachable]).mean() if (~reachable).any() else 100.0,
-        pos_err_median=float(np.nanmedian(err)),
-        pos_err_max=float(np.nanmax(err)),
+        pos_err_median=_stat(np.nanmedian, err),
+        pos_err_max=_stat(np.nanmax, err),
         time_median_ms=float(np.median(ms)),
         time_p95_ms=float(np.percentile(ms, 95)),
         same_branch_as_q0=100.0 * float(np.mean(branch_hits)) if branch_hits else None,
@@ -138,8 +153,14 @@ def _measure(
     )
 
 
-def run(n: int = 500, seed: int = 7, spatial: tuple[str, ...] = ("panda", "ur5")) -> Report:
-    """Run every experiment; ``n`` targets each."""
+def run(
+    n: int = 500,
+    seed: int = 7,
+    spatial: tuple[str, ...] = ("panda",),
+    closed_form: tuple[str, ...] = ("ur5", "abb_irb120"),
+) -> Report:
+    """Run every experiment; ``n`` targets each. ``spatial``: arms solved numerically only;
+    ``closed_form``: 6R arms whose analytic family is compared with dls and qp."""
     report = Report()
     rng = np.random.default_rng(seed)
 
@@ -207,7 +228,7 @@ def run(n: int = 500, seed: int = 7, spatial: tuple[str, ...] = ("panda", "ur5")
             _measure(arm3, solver, xy3, q03, reach3, f"planar_3link/{solver}", report)
         )
 
-    # 6 and 7 DOF arms: full poses of random reachable configurations.
+    # 7 DOF arms: full poses of random reachable configurations, numeric solvers only.
     for name in spatial:
         arm = load(name)
         poses = [arm.fk(arm.random_q(rng)) for _ in range(n)]
@@ -216,7 +237,224 @@ def run(n: int = 500, seed: int = 7, spatial: tuple[str, ...] = ("panda", "ur5")
             report.rows.append(
                 _measure(arm, solver, poses, q0, np.ones(n, bool), f"{name}/{solver}", report)
             )
+
+    # 6R arms with a closed form: the analytic family against dls and qp.
+    for name in closed_form:
+        _closed_form_arm(load(name), n, rng, report)
     return report
+
+
+def _wrapped(a: np.ndarray) -> np.ndarray:
+    return np.abs(np.arctan2(np.sin(a), np.cos(a)))
+
+
+def _closed_form_arm(arm: Arm, n: int, rng: np.random.Generator, report: Report) -> None:
+    """Targets from random configurations; q0 is the generating configuration disturbed by
+    0.4 rad (normal, per joint), so "q0's branch" is the closed form's answer nearest q0.
+    A numeric answer lands on it when it equals it modulo 2 pi (1e-4 rad); its distance to
+    the nearest analytic branch is the largest joint difference modulo 2 pi."""
+    family = registry.choose("auto", arm, parse_target(arm.fk(arm.middle), arm)).name
+    qs = [arm.random_q(rng) for _ in range(n)]
+    poses = [arm.fk(q) for q in qs]
+    q0s = [np.clip(q + rng.normal(0.0, 0.4, arm.dof), arm.lower, arm.upper) for q in qs]
+    best = [arm.solve(T, q0=q0, solver=family) for T, q0 in zip(poses, q0s)]
+    branches = [[r.q for r in arm.solve_all(T, solver=family) if r.success] for T in poses]
+    for solver in (family, "dls", "qp"):
+        times, errors, successes, hits, dists = [], [], [], [], []
+        for i, (T, q0) in enumerate(zip(poses, q0s)):
+            t = time.perf_counter()
+            r = arm.solve(T, q0=q0, solver=solver, timeout=BUDGET, seed=i)
+            times.append(time.perf_counter() - t)
+            successes.append(r.success)
+            if not r.success:
+                continue
+            errors.append(r.position_error)
+            if best[i].success:
+                hits.append(_wrapped(r.q - best[i].q).max() < 1e-4)
+            if branches[i]:
+                dists.append(min(_wrapped(r.q - b).max() for b in branches[i]))
+        successes = np.array(successes)
+        ms = np.array(times) * 1e3
+        err = np.array(errors) if errors else np.array([np.nan])
+        report.samples[f"{arm.name}/{solver}"] = {
+            "time_ms": ms,
+            "pos_err": err,
+            "success": successes,
+        }
+        report.rows.append(
+            Row(
+                arm=arm.name,
+                solver=solver,
+                targets=n,
+                reachable=n,
+                success_rate=100.0 * successes.mean(),
+                honest_failures=100.0,
+                pos_err_median=_stat(np.nanmedian, err),
+                pos_err_max=_stat(np.nanmax, err),
+                time_median_ms=float(np.median(ms)),
+                time_p95_ms=float(np.percentile(ms, 95)),
+                same_branch_as_q0=100.0 * float(np.mean(hits)) if hits else None,
+                max_diff_to_closed_form=max(dists) if dists else None,
+            )
+        )
+    report.rows.append(_solve_all_row(arm, family, poses, q0s))
+    peer = _eaik_row(arm, qs)
+    if peer is not None:
+        report.rows.append(peer)
+
+
+def _solve_all_row(arm: Arm, family: str, poses: list, q0s: list) -> Row:
+    """``solve_all`` with the closed form: every branch, each verified; success when one
+    is, errors of the best."""
+    times, ok, errors = [], [], []
+    for T, q0 in zip(poses, q0s):
+        t = time.perf_counter()
+        results = arm.solve_all(T, q0=q0, solver=family)
+        times.append(time.perf_counter() - t)
+        ok.append(results[0].success)
+        errors.append(results[0].position_error)
+    ms = np.array(times) * 1e3
+    err = np.array(errors)
+    return Row(
+        arm=arm.name,
+        solver=f"{family} (solve_all)",
+        targets=len(poses),
+        reachable=len(poses),
+        success_rate=100.0 * float(np.mean(ok)),
+        honest_failures=100.0,
+        pos_err_median=_stat(np.nanmedian, err),
+        pos_err_max=_stat(np.nanmax, err),
+        time_median_ms=float(np.median(ms)),
+        time_p95_ms=float(np.percentile(ms, 95)),
+    )
+
+
+def _eaik(arm: Arm):
+    """EAIK's model of a catalogue arm (its own URDF reading), None when EAIK is not
+    installed or the arm is not in the catalogue."""
+    try:
+        from eaik.IK_URDF import UrdfRobot
+    except ImportError:
+        return None
+    from .robots import CATALOGUE
+
+    if arm.name not in CATALOGUE:
+        return None
+    return UrdfRobot(str(CATALOGUE[arm.name].urdf_path()))
+
+
+def _eaik_row(arm: Arm, qs: list) -> Row | None:
+    """EAIK (closed form, C++ through Python bindings) on the same configurations, all
+    solutions per call, timed in the same run; None when it is not installed or the arm is
+    not a catalogue URDF. Its success: one of its solutions reproduces the pose by its own
+    forward kinematics within 1e-6."""
+    robot = _eaik(arm)
+    if robot is None:
+        return None
+    times, ok, errors = [], [], []
+    for q in qs:
+        T = robot.fwdKin(np.asarray(q))
+        t = time.perf_counter()
+        sol = robot.IK(T)
+        times.append(time.perf_counter() - t)
+        errs = [np.abs(robot.fwdKin(x)[:3, 3] - T[:3, 3]).max() for x in sol.Q]
+        ok.append(bool(errs) and min(errs) < 1e-6)
+        if errs:
+            errors.append(min(errs))
+    ms = np.array(times) * 1e3
+    err = np.array(errors) if errors else np.array([np.nan])
+    return Row(
+        arm=arm.name,
+        solver="eaik (peer)",
+        targets=len(qs),
+        reachable=len(qs),
+        success_rate=100.0 * float(np.mean(ok)),
+        honest_failures=100.0,
+        pos_err_median=_stat(np.nanmedian, err),
+        pos_err_max=_stat(np.nanmax, err),
+        time_median_ms=float(np.median(ms)),
+        time_p95_ms=float(np.percentile(ms, 95)),
+    )
+
+
+def speed(
+    names: tuple[str, ...] = ("ur5", "abb_irb120"), n: int = 500, seed: int = 7
+) -> list[dict]:
+    """Median times (us) of the closed form alone (the solver's ``run``), of ``solve`` and
+    ``solve_all`` with it (verification included) and of EAIK's all-solutions ``IK`` (when
+    installed), measured in one loop, interleaved target by target so that machine load
+    hits them alike."""
+    rng = np.random.default_rng(seed)
+    rows = []
+    for name in names:
+        arm = load(name)
+        family = registry.choose("auto", arm, parse_target(arm.fk(arm.middle), arm)).name
+        qs = [arm.random_q(rng) for _ in range(n)]
+        poses = [arm.fk(q) for q in qs]
+        peer = _eaik(arm)
+        mats = [peer.fwdKin(np.asarray(q)) for q in qs] if peer is not None else []
+        spec = registry.get(family)
+        opts = Options()
+        parsed = [parse_target(T, arm) for T in poses]
+        for T in poses[:20]:  # warm up: compiled kernels loaded, caches filled
+            arm.solve(T, solver=family)
+            arm.solve_all(T, solver=family)
+        t_run, t_one, t_all, t_peer, ok = [], [], [], [], 0
+        for i, T in enumerate(poses):
+            t = time.perf_counter()
+            spec.run(arm, parsed[i], arm.middle, opts, False)
+            t_run.append(time.perf_counter() - t)
+            t = time.perf_counter()
+            r = arm.solve(T, solver=family)
+            t_one.append(time.perf_counter() - t)
+            t = time.perf_counter()
+            arm.solve_all(T, solver=family)
+            t_all.append(time.perf_counter() - t)
+            if peer is not None:
+                t = time.perf_counter()
+                peer.IK(mats[i])
+                t_peer.append(time.perf_counter() - t)
+            ok += r.success
+        us = [1e6 * float(np.median(t)) if t else None for t in (t_one, t_all, t_peer, t_run)]
+        rows.append(
+            {
+                "arm": name,
+                "solver": family,
+                "targets": n,
+                "solved": ok,
+                "solve_us": us[0],
+                "solve_all_us": us[1],
+                "eaik_us": us[2],
+                "closed_form_us": us[3],
+            }
+        )
+    return rows
+
+
+def speed_table(rows: list[dict]) -> str:
+    lines = [
+        "| arm | solver | solved | closed form alone (us) | solve (us) | solve_all (us) | "
+        "EAIK all solutions (us) | solve / EAIK | solve_all / EAIK |",
+        "|" + "---|" * 9,
+    ]
+    for r in rows:
+        e = r["eaik_us"]
+
+        def ratio(x, e=e):
+            return "-" if e is None else f"{x / e:.2f}"
+
+        lines.append(
+            f"| {r['arm']} | {r['solver']} | {r['solved']}/{r['targets']} | "
+            f"{r['closed_form_us']:.1f} | {r['solve_us']:.1f} | "
+            f"{r['solve_all_us']:.1f} | {'-' if e is None else f'{e:.1f}'} | "
+            f"{ratio(r['solve_us'])} | {ratio(r['solve_all_us'])} |"
+        )
+    lines.append(
+        "(medians, interleaved target by target; solve and solve_all include parsing and "
+        "verification; 'closed form alone' is the solver's run for solve: the compiled "
+        "kernel, its ranking and the Attempt, before verification)"
+    )
+    return "\n".join(lines)
 
 
 def plot(report: Report, out_dir: str | Path) -> list[Path]:
@@ -285,4 +523,4 @@ def _save(fig, path: Path) -> Path:
     return path
 
 
-__all__ = ["Report", "Row", "plot", "run"]
+__all__ = ["Report", "Row", "plot", "run", "speed", "speed_table"]

@@ -61,6 +61,13 @@ CATALOGUE: dict[str, RobotEntry] = {
             "SCARA: 2 revolute, 1 prismatic, 1 continuous joint",
         ),
         RobotEntry(
+            "abb_irb120",
+            ARMIK,
+            "abb_irb120.urdf",
+            "tool0",
+            "ABB IRB 120, 6 DOF with a spherical wrist (ABB's published dimensions)",
+        ),
+        RobotEntry(
             "panda",
             ERD,
             "panda_description/urdf/panda.urdf",

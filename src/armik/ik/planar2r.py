@@ -1,6 +1,6 @@
 """Closed-form IK of a planar two-revolute chain (the 2-link specialist).
 
-In plane coordinates (see ``armik.planar``) with the shoulder at A, target P, d = P - A,
+In plane coordinates (see ``armik.structure``) with the shoulder at A, target P, d = P - A,
 r = |d|, effective link lengths l1, l2 read from the model:
 
     cos t2 = (r^2 - l1^2 - l2^2) / (2 l1 l2),   t2 = +/- arccos(cos t2)

@@ -1,0 +1,294 @@
+"""What the closed-form 6R solvers share: the compiled output layout, 2 pi equivalents,
+branch labels, reasons, and the glue from the compiled kernel to ``Attempt``s.
+
+A kernel computes up to 8 rows: ``Q`` (8, 6) joint values, ``n`` the row count, and per row
+``flags`` (bit 1: least squares, the target is not reached; bit 2: singular, a free angle
+kept at q0), ``code`` (which step was solved only in the least-squares sense) and ``val``
+(2 numbers for the reason: what the target asks, what the arm can do); ``pack`` orders
+them nearest-first and adds each row's branch, read from its geometry (``branch_bits``).
+"""
+
+from __future__ import annotations
+
+import math
+import weakref
+
+import numpy as np
+from numba import njit
+
+from ..arm import Arm
+from ..errors import SolverError
+from ..options import Options
+from ..status import Status
+from ..structure import Chain6R
+from ..subproblems import add, cross, dot, mat, mm, mv, norm, rot, scale, sub, vec
+from ..targets import Target
+from .attempt import Attempt, AttemptBatch
+
+LS = 1
+SINGULAR = 2
+TWO_PI = 2.0 * math.pi
+LIMIT_TOL = 1e-12
+
+# Reason codes of the kernels.
+SHOULDER_OFFSET = 1
+TOO_FAR = 2
+TOO_CLOSE = 3
+WRIST_ORIENTATION = 4
+ORIENTATION = 5
+
+
+@njit(cache=True)
+def nearest_equivalents(Q, n, q0, lower, upper):
+    """Shift every angle by a multiple of 2 pi to the value nearest q0 within the limits
+    (``Arm.nearest_equivalent``, compiled); a joint with no such value keeps its value."""
+    for r in range(n):
+        for j in range(Q.shape[1]):
+            qi, ri, lo, hi = Q[r, j], q0[j], lower[j], upper[j]
+            if -math.pi <= qi - ri <= math.pi and lo <= qi <= hi:
+                continue
+            near = qi + TWO_PI * round((ri - qi) / TWO_PI)
+            best = math.nan
+            for c in (near, near - TWO_PI, near + TWO_PI, qi):
+                if lo - LIMIT_TOL <= c <= hi + LIMIT_TOL:
+                    if math.isnan(best) or abs(c - ri) < abs(best - ri):
+                        best = c
+            if not math.isnan(best):
+                Q[r, j] = min(max(best, lo), hi)
+
+
+@njit(cache=True)
+def forward(h, p, R_tip0, q):
+    """The chain's own forward kinematics (product of exponentials): the tip's rotation
+    (9-tuple, row-major) and position (3-tuple)."""
+    R = rot(vec(h[0]), q[0])
+    pos = add(vec(p[0]), mv(R, vec(p[1])))
+    for i in range(1, 6):
+        R = mm(R, rot(vec(h[i]), q[i]))
+        pos = add(pos, mv(R, vec(p[i + 1])))
+    return mm(R, mat(R_tip0)), pos
+
+
+@njit(cache=True)
+def branch_bits(h, p, q):
+    """The branch of configuration ``q``, read from its geometry (bits: 1 shoulder back,
+    2 elbow down, 4 wrist flipped), so that a label means the same pose on every target.
+
+    Shoulder S (a point on axis 2), elbow E (on axis 3), wrist W (on axis 4: the wrist
+    centre of a spherical wrist), P on axis 5 (the wrist centre, or where axes 5 and 6
+    meet). Shoulder "front" when P lies ahead of the arm, along (rot(h1, q1) h2) x h1, as
+    it does at q = 0; elbow "up" when E lies on the side of the line S-W that axis 1
+    points to (in the plane across axis 3; when axes 2 and 3 are not parallel: when the
+    forearm is bent positively about axis 3);
+    wrist "no-flip" when axis 6 turns from axis 4 about axis 5 in the positive sense,
+    h5 . (h4 x rot(h5, q5) h6) > 0: the two sides of the wrist singularity."""
+    h1, h2, h3 = vec(h[0]), vec(h[1]), vec(h[2])
+    h4, h5, h6 = vec(h[3]), vec(h[4]), vec(h[5])
+    p0, p1, p2, p3 = vec(p[0]), vec(p[1]), vec(p[2]), vec(p[3])
+    R1 = rot(h1, q[0])
+    R12 = mm(R1, rot(h2, q[1]))
+    S = add(p0, mv(R1, p1))
+    E = add(S, mv(R12, p2))
+    R123 = mm(R12, rot(h3, q[2]))
+    W = add(E, mv(R123, p3))
+    P = add(W, mv(mm(R123, rot(h4, q[3])), vec(p[4])))  # on axis 5 (W: spherical wrist)
+    bits = 0
+    ahead0 = dot(cross(h2, h1), add(add(p1, p2), add(p3, vec(p[4]))))
+    ahead = dot(cross(mv(R1, h2), h1), sub(P, p0))
+    if ahead * ahead0 < 0.0:
+        bits |= 1
+    if norm(cross(h2, h3)) < 1e-9:  # both elbow branches in one plane, across axis 3
+        k = mv(R12, h3)  # axis 3, turned
+        a = sub(E, S)
+        a = sub(a, scale(k, dot(k, a)))
+        b = sub(W, S)
+        b = sub(b, scale(k, dot(k, b)))
+        nb = norm(b)
+        if nb > 0.0:
+            b = scale(b, 1.0 / nb)
+            a = sub(a, scale(b, dot(a, b)))
+        down = dot(a, h1) < 0.0
+    else:  # the elbow bent one way or the other about axis 3
+        down = dot(h3, cross(p2, mv(rot(h3, q[2]), p3))) < 0.0
+    if down:
+        bits |= 2
+    if dot(h5, cross(h4, mv(rot(h5, q[4]), h6))) < 0.0:
+        bits |= 4
+    return bits
+
+
+@njit(cache=True)
+def pack(Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r, every):
+    """The kernel's rows nearest-first (reached, within limits, distance to q0: the order
+    ``solve`` verifies them in) as one (n, 11) array: q (6), flags, branch, code, val (2);
+    and how many of them ``solve`` needs: up to the first that is reached, within the
+    limits and confirmed by the chain's own forward kinematics. Pinocchio verifies.
+    Branch labels are read for those rows only, or for every row when ``every``."""
+    key = np.empty(n)
+    ok = np.zeros(n, np.bool_)
+    for r in range(n):
+        inside = True
+        d2 = 0.0
+        for j in range(6):
+            x = Q[r, j]
+            if x < lower[j] - LIMIT_TOL or x > upper[j] + LIMIT_TOL:
+                inside = False
+            d2 += (x - q0[j]) ** 2
+        key[r] = math.sqrt(d2) + (0.0 if inside else 1e4) + (1e8 if flags[r] & LS else 0.0)
+        ok[r] = inside and not flags[r] & LS
+    order = np.empty(n, np.int64)
+    for r in range(n):  # insertion sort: at most 8 rows (argsort costs seconds to compile)
+        k = r
+        while k > 0 and key[order[k - 1]] > key[r]:
+            order[k] = order[k - 1]
+            k -= 1
+        order[k] = r
+    out = np.empty((n, 11))
+    keep = n
+    for k in range(n):
+        r = order[k]
+        out[k, :6] = Q[r]
+        out[k, 6] = flags[r]
+        out[k, 7] = 0.0
+        out[k, 8] = code[r]
+        out[k, 9] = val[r, 0]
+        out[k, 10] = val[r, 1]
+        if keep == n and ok[r]:
+            Rf, pf = forward(h, p, R_tip0, Q[r])
+            dp = 0.0
+            dr = 0.0
+            for i in range(3):
+                dp += (pf[i] - pos[i]) ** 2
+                for j in range(3):
+                    dr += (Rf[3 * i + j] - R[i, j]) ** 2
+            if math.sqrt(dp) <= 0.5 * tol_p and math.sqrt(0.5 * dr) <= 0.5 * tol_r:
+                keep = k + 1
+    for k in range(n if every else keep):  # the branch of each row handed over
+        out[k, 7] = branch_bits(h, p, out[k, :6])
+    return out, keep
+
+
+_LABELS = tuple(
+    "/".join(
+        (
+            "shoulder-back" if bits & 1 else "shoulder-front",
+            "elbow-down" if bits & 2 else "elbow-up",
+            "wrist-flip" if bits & 4 else "wrist-no-flip",
+        )
+    )
+    for bits in range(8)
+)
+
+
+def branch_label(bits: int) -> str:
+    """Branch name from ``branch_bits``."""
+    return _LABELS[bits]
+
+
+def reason(code: int, val: np.ndarray, family: str) -> str:
+    a, b = float(val[0]), float(val[1])
+    if code == SHOULDER_OFFSET:
+        where = "wrist centre" if family == "spherical_wrist" else "wrist point"
+        return (
+            f"the target's {where} is {a:.6g} m from axis 1 but the shoulder offset is "
+            f"{b:.6g} m: it lies inside the cylinder the arm cannot enter; q is the closest "
+            "configuration"
+        )
+    if code == TOO_FAR:
+        return (
+            f"target too far: the elbow must span {a:.6g} m, at most {b:.6g} m is "
+            "reachable; q is the closest configuration"
+        )
+    if code == TOO_CLOSE:
+        return (
+            f"target too close: the elbow must span {a:.6g} m, at least {b:.6g} m is "
+            "needed; q is the closest configuration"
+        )
+    if code in (WRIST_ORIENTATION, ORIENTATION):
+        return (
+            "the target orientation is one the arm cannot take at this position; q is the "
+            "closest configuration"
+        )
+    return "no exact solution; q is the closest configuration"
+
+
+_GEOMETRY: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def geometry(arm: Arm, family: str, classify) -> Chain6R | str:
+    """The family's geometry of ``arm`` (cached per arm) or the reason it does not apply."""
+    per_arm = _GEOMETRY.get(arm)
+    if per_arm is None:
+        per_arm = _GEOMETRY[arm] = {}
+    geo = per_arm.get(family)
+    if geo is None:
+        geo = per_arm[family] = classify(arm)
+    return geo
+
+
+def applies(arm: Arm, target: Target | None, opts: Options | None, family: str, classify):
+    geo = geometry(arm, family, classify)
+    if isinstance(geo, str):
+        return geo
+    if target is not None and target.rotation is None:
+        return "a position target leaves the orientation free; the closed form needs a full pose"
+    if opts is not None and (opts.position_only or opts.weights is not None):
+        return "position_only and per-axis weights are for the numeric solvers"
+    return None
+
+
+def attempts(out: np.ndarray, keep: int, all_solutions: bool, family: str, closed_form: str):
+    """``Attempt``s from a kernel's packed rows (see ``pack``): all of them for
+    ``solve_all``; for ``solve`` the nearest-first ones up to the first that the chain's
+    own forward kinematics confirms (the ones after it could only be picked if it failed)."""
+    result = []
+    for row in out if all_solutions else out[:keep]:
+        f = int(row[6])
+        singular = bool(f & SINGULAR)
+        if f & LS:
+            claim, text = Status.UNREACHABLE, reason(int(row[8]), row[9:], family)
+        else:
+            claim, text = Status.CONVERGED, closed_form
+            if singular:
+                text += "; singular: a free joint was kept at its q0 value"
+        result.append(
+            Attempt(
+                q=row[:6],
+                claim=claim,
+                reason=text,
+                branch=_LABELS[int(row[7])],
+                singular=singular,
+            )
+        )
+    return result
+
+
+def pose_arrays(target: Target) -> tuple[np.ndarray, np.ndarray]:
+    return np.ascontiguousarray(target.rotation, dtype=float), np.ascontiguousarray(
+        target.position, dtype=float
+    )
+
+
+CONVERGED_CODE = Status.CONVERGED.code
+UNREACHABLE_CODE = Status.UNREACHABLE.code
+
+
+def batch(arm: Arm, targets, q0: np.ndarray, opts: Options, solve_many, *extra) -> AttemptBatch:
+    """``run_batch`` of a family: ``solve_many`` (compiled, GIL released) solves every
+    target and keeps its row nearest q0 (reached, within limits first)."""
+    if targets.rotations is None:
+        raise SolverError(
+            "the closed form needs full poses, these targets are positions only: use a "
+            "numeric solver",
+            solver="auto",
+            candidates=[],
+        )
+    n = len(targets)
+    Rs = np.ascontiguousarray(targets.rotations, dtype=float)
+    ps = np.ascontiguousarray(targets.positions, dtype=float)
+    q0s = np.ascontiguousarray(np.broadcast_to(q0, (n, arm.dof)), dtype=float)
+    q, claim = solve_many(
+        Rs, ps, q0s, arm.lower, arm.upper, opts.tol_position, opts.tol_orientation, *extra
+    )
+    zeros = np.zeros(n, np.int64)
+    return AttemptBatch(q=q, claim=claim, iterations=zeros, restarts=zeros.copy())

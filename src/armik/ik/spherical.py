@@ -1,0 +1,257 @@
+"""Closed-form IK of 6R arms with a spherical wrist (Pieper): the last three axes meet in
+the wrist centre, so the first three joints place the wrist centre and the last three
+turn the tool. Covers axes 2 and 3 parallel (the ortho-parallel industrial arms: ABB,
+KUKA, Fanuc, Staubli, the Kinova j2s6s, with any offsets) and axes 1 and 2 meeting.
+
+With the chain in product-of-exponentials form (``structure.Chain6R``; the points on
+axes 4, 5, 6 all at the wrist centre W), for the target (R, p):
+
+    R_06 = R R_tip0^T,   W = p - R_06 p_6T,   p_16 = W - p_01
+    axes 2, 3 parallel:  h2 . rot(h1, q1)^T p_16 = h2 . (p_12 + p_23 + p_34)  -> SP4: q1
+                         |p_23 + rot(h3, q3) p_34| = |rot(h1, q1)^T p_16 - p_12| -> SP3: q3
+                         rot(h2, q2) (p_23 + rot(h3, q3) p_34) = ...            -> SP1: q2
+    axes 1, 2 meeting:   |p_23 + rot(h3, q3) p_34| = |p_16|                     -> SP3: q3
+                         rot(h1, q1) rot(h2, q2) (p_23 + rot(h3, q3) p_34) = p_16 -> SP2
+    wrist:               rot(h4, q4)^T R_36 h6 = rot(h5, q5) h6                -> SP2: q4, q5
+                         rot(h6, q6) = (R_03 R_4 R_5)^T R_06                    -> SP1: q6
+
+Up to 2 x 2 x 2 = 8 solutions. Singular cases keep the free angle at q0 (``singular``):
+the wrist (axes 4 and 6 aligned: q4 free), the shoulder (wrist centre on axis 1: q1 free),
+the elbow stretched or folded (the two elbow roots merge into one).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..arm import Arm
+from ..options import Options
+from ..structure import spherical_wrist
+from ..subproblems import (
+    add,
+    dot,
+    mat,
+    mm,
+    mmt,
+    mtm,
+    mtv,
+    mv,
+    neg,
+    norm,
+    rot,
+    scale,
+    sp1,
+    sp2,
+    sp3,
+    sp4,
+    sub,
+    vec,
+    wrap,
+)  # fmt: skip
+from ..targets import Target
+from . import sixr
+from .attempt import Attempt, AttemptBatch
+from .registry import SolverSpec, register
+from .sixr import LS, SHOULDER_OFFSET, SINGULAR, TOO_CLOSE, TOO_FAR, WRIST_ORIENTATION
+
+CLOSED_FORM = "closed form (spherical wrist)"
+FAMILY = "spherical_wrist"
+
+
+@njit(cache=True)
+def _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, out, n):
+    """Append the (up to 2) wrist solutions for a placed wrist centre; returns the count.
+    ``out``: the kernel's arrays (Q, flags, code, val)."""
+    Q, flags, code, val = out
+    R36 = mtm(R03, R06)
+    a0, a1, b0, b1, nw, lsw = sp2(mv(R36, h6), h6, neg(h4), h5, q0[3])
+    sing = False
+    if nw == -1:
+        nw, sing = 1, True
+    for iw in range(nw):
+        q4 = a0 if iw == 0 else a1
+        q5 = b0 if iw == 0 else b1
+        R6 = mtm(mm(rot(h4, q4), rot(h5, q5)), R36)
+        q6, _ = sp1(h5, mv(R6, h5), h6)
+        Q[n, 0] = wrap(q1)
+        Q[n, 1] = wrap(q2)
+        Q[n, 2] = wrap(q3)
+        Q[n, 3] = wrap(q4)
+        Q[n, 4] = wrap(q5)
+        Q[n, 5] = wrap(q6)
+        f = flag
+        c = cd
+        if lsw:
+            f |= LS
+            if c == 0:
+                c = WRIST_ORIENTATION
+        if sing:
+            f |= SINGULAR
+        flags[n] = f
+        code[n] = c
+        val[n, 0] = v0
+        val[n, 1] = v1
+        n += 1
+    return n
+
+
+@njit(cache=True)
+def _elbow_code(p23, p34, h3, q3, wanted):
+    """Whether an elbow solved in the least-squares sense asked too much or too little."""
+    got = norm(add(p23, mv(rot(h3, q3), p34)))
+    return (TOO_FAR if wanted > got else TOO_CLOSE), got
+
+
+@njit(cache=True)
+def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, variant, every):
+    """All closed-form solutions, packed nearest-first (see ``sixr.pack``)."""
+    Q = np.zeros((8, 6))
+    flags = np.zeros(8, np.int64)
+    code = np.zeros(8, np.int64)
+    val = np.zeros((8, 2))
+    out = (Q, flags, code, val)
+    h1, h2, h3, h4 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[3])
+    h5, h6 = vec(h[4]), vec(h[5])
+    p0, p1, p2, p3, p6 = vec(p[0]), vec(p[1]), vec(p[2]), vec(p[3]), vec(p[6])
+    R06 = mmt(mat(R), mat(R_tip0))
+    p16 = sub(sub(vec(pos), mv(R06, p6)), p0)
+    n = 0
+    if variant == 0:  # axes 2 and 3 parallel
+        d = dot(h2, add(add(p1, p2), p3))
+        a0, a1, n1, ls1 = sp4(h2, p16, neg(h1), d)
+        flag1, cd1, v0, v1 = 0, 0, 0.0, 0.0
+        if n1 == -1:  # wrist centre on axis 1
+            n1, a0 = 1, q0[0]
+            flag1 |= SINGULAR
+        if ls1:
+            flag1 |= LS
+            cd1 = SHOULDER_OFFSET
+            v0 = norm(sub(p16, scale(h1, dot(h1, p16))))
+            v1 = abs(d - dot(h2, h1) * dot(h1, p16))
+        for i1 in range(n1):
+            q1 = a0 if i1 == 0 else a1
+            R1 = rot(h1, q1)
+            v = sub(mtv(R1, p16), p1)
+            nv = norm(v)
+            c0, c1, n3, ls3 = sp3(p3, neg(p2), h3, nv)
+            flag3, cd3, w0, w1 = flag1, cd1, v0, v1
+            if n3 == -1:
+                n3, c0 = 1, q0[2]
+                flag3 |= SINGULAR
+            elif n3 == 1 and not ls3:
+                flag3 |= SINGULAR  # stretched or folded
+            if ls3:
+                flag3 |= LS
+                if cd3 == 0:
+                    cd3, w1 = _elbow_code(p2, p3, h3, c0, nv)
+                    w0 = nv
+            for i3 in range(n3):
+                q3 = c0 if i3 == 0 else c1
+                R3 = rot(h3, q3)
+                u = add(p2, mv(R3, p3))
+                q2, _ = sp1(u, v, h2)
+                R03 = mm(mm(R1, rot(h2, q2)), R3)
+                n = _wrist(
+                    R03, R06, h4, h5, h6, q0, q1, q2, q3, flag3, cd3, w0, w1,
+                    out, n,
+                )  # fmt: skip
+    else:  # axes 1 and 2 meet (p_12 = 0)
+        n16 = norm(p16)
+        c0, c1, n3, ls3 = sp3(p3, neg(p2), h3, n16)
+        flag3, cd3, w0, w1 = 0, 0, 0.0, 0.0
+        if n3 == -1:
+            n3, c0 = 1, q0[2]
+            flag3 |= SINGULAR
+        elif n3 == 1 and not ls3:
+            flag3 |= SINGULAR
+        if ls3:
+            flag3 |= LS
+            cd3, w1 = _elbow_code(p2, p3, h3, c0, n16)
+            w0 = n16
+        for i3 in range(n3):
+            q3 = c0 if i3 == 0 else c1
+            R3 = rot(h3, q3)
+            u = add(p2, mv(R3, p3))
+            a0, a1, b0, b1, n12, ls12 = sp2(p16, u, neg(h1), h2, q0[0])
+            flag = flag3
+            if n12 == -1:  # wrist centre on axis 1
+                n12 = 1
+                flag |= SINGULAR
+            if ls12 and not ls3:
+                flag |= LS
+            for i12 in range(n12):
+                q1 = a0 if i12 == 0 else a1
+                q2 = b0 if i12 == 0 else b1
+                R03 = mm(mm(rot(h1, q1), rot(h2, q2)), R3)
+                n = _wrist(
+                    R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd3, w0, w1,
+                    out, n,
+                )  # fmt: skip
+    sixr.nearest_equivalents(Q, n, q0, lower, upper)
+    return sixr.pack(
+        Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r, every
+    )
+
+
+@njit(cache=True, nogil=True)
+def kernel_many(h, p, R_tip0, Rs, ps, q0s, lower, upper, tol_p, tol_r, variant):
+    """``kernel`` for N targets: the row nearest q0 of each, and its claim code."""
+    N = ps.shape[0]
+    Q = np.empty((N, 6))
+    claim = np.empty(N, np.int8)
+    for i in range(N):
+        out, _ = kernel(
+            h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, tol_p, tol_r, variant, False
+        )
+        Q[i] = out[0, :6]
+        claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
+    return Q, claim
+
+
+def _classify(arm: Arm):
+    return spherical_wrist(arm)
+
+
+def applies(arm: Arm, target: Target | None = None, opts: Options | None = None) -> str | None:
+    return sixr.applies(arm, target, opts, FAMILY, _classify)
+
+
+def run(
+    arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+) -> list[Attempt]:
+    geo = sixr.geometry(arm, FAMILY, _classify)
+    R, pos = sixr.pose_arrays(target)
+    variant = 0 if geo.variant == "parallel_23" else 1
+    out, keep = kernel(
+        geo.h, geo.p, geo.R_tip0, R, pos, q0, arm.lower, arm.upper,
+        opts.tol_position, opts.tol_orientation, variant, all_solutions,
+    )  # fmt: skip
+    return sixr.attempts(out, keep, all_solutions, FAMILY, CLOSED_FORM)
+
+
+def run_batch(arm: Arm, targets, q0: np.ndarray, opts: Options, seeds=None) -> AttemptBatch:
+    """Every target in one compiled call (GIL released), the ``SolverSpec.run_batch``
+    shape; ``seeds`` is unused (no restarts). Not registered on the spec: a batch built
+    from it would lack the per-target failure reasons that ``run`` gives, so batches go
+    through ``run`` target by target."""
+    geo = sixr.geometry(arm, FAMILY, _classify)
+    variant = 0 if geo.variant == "parallel_23" else 1
+
+    def many(*args):
+        return kernel_many(geo.h, geo.p, geo.R_tip0, *args)
+
+    return sixr.batch(arm, targets, q0, opts, many, variant)
+
+
+SPEC = register(
+    SolverSpec(
+        name="spherical",
+        kind="analytic",
+        enforces_limits=True,
+        priority=90,
+        check=applies,
+        run=run,
+        summary="closed form for 6R arms with a spherical wrist: up to 8 solutions",
+    )
+)

@@ -1,0 +1,207 @@
+"""Closed-form IK of 6R arms with axes 2, 3, 4 parallel and axes 5, 6 meeting: the
+Universal Robots family (UR3/5/10/16, Unitree Z1, ...), by subproblem decomposition
+(Hawkins' closed form and IK-Geo's reading of it).
+
+With the chain in product-of-exponentials form (``structure.Chain6R``; the points on axes
+5 and 6 at their meeting point, so p_56 = 0), rot(h2, .) fixes h2 and so does the
+combined turn R_234 = rot(h2, q2 + s3 q3 + s4 q4) of the three parallel joints:
+
+    R_06 = R R_tip0^T,   p_16 = p - R_06 p_6T - p_01
+    h2 . rot(h1, q1)^T p_16 = h2 . (p_12 + p_23 + p_34 + p_45)     -> SP4: q1 (shoulder)
+    h2 . rot(h5, q5) h6 = h2 . rot(h1, q1)^T R_06 h6                -> SP4: q5 (wrist)
+    rot(h6, q6) M^T h2 = rot(h5, q5)^T h2, M = rot(h1, q1)^T R_06   -> SP1: q6
+    R_234 = M rot(h6, q6)^T rot(h5, q5)^T                           -> SP1: q2 + s3 q3 + s4 q4
+    |p_23 + rot(h3, q3) p_34| = |rot(h1, q1)^T p_16 - p_12 - R_234 p_45|  -> SP3: q3 (elbow)
+    rot(h2, q2) (p_23 + rot(h3, q3) p_34) = ...                     -> SP1: q2, then q4
+
+Up to 2 x 2 x 2 = 8 solutions. Singular cases: the wrist (h6 along R_5^T h2: q6 free, kept
+at q0), the elbow stretched or folded (one elbow root).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..arm import Arm
+from ..options import Options
+from ..structure import three_parallel
+from ..subproblems import (
+    SINGLE,
+    add,
+    cross,
+    dot,
+    mat,
+    mmt,
+    mtm,
+    mtv,
+    mv,
+    neg,
+    norm,
+    rot,
+    scale,
+    sp1,
+    sp3,
+    sp4,
+    sub,
+    vec,
+    wrap,
+)  # fmt: skip
+from ..targets import Target
+from . import sixr
+from .attempt import Attempt, AttemptBatch
+from .registry import SolverSpec, register
+from .sixr import LS, ORIENTATION, SHOULDER_OFFSET, SINGULAR, TOO_CLOSE, TOO_FAR
+
+CLOSED_FORM = "closed form (three parallel axes)"
+FAMILY = "three_parallel"
+
+
+@njit(cache=True)
+def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, every):
+    """All closed-form solutions, packed nearest-first (see ``sixr.pack``)."""
+    Q = np.zeros((8, 6))
+    flags = np.zeros(8, np.int64)
+    code = np.zeros(8, np.int64)
+    val = np.zeros((8, 2))
+    h1, h2, h3, h4 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[3])
+    h5, h6 = vec(h[4]), vec(h[5])
+    p0, p1, p2, p3, p4, p6 = vec(p[0]), vec(p[1]), vec(p[2]), vec(p[3]), vec(p[4]), vec(p[6])
+    s3, s4 = dot(h3, h2), dot(h4, h2)
+    x = cross(h2, h1)
+    x = scale(x, 1.0 / norm(x))  # a direction across the parallel axes
+    R06 = mmt(mat(R), mat(R_tip0))
+    p16 = sub(sub(vec(pos), mv(R06, p6)), p0)
+    d1 = dot(h2, add(add(p1, p2), add(p3, p4)))
+    a0, a1, n1, ls1 = sp4(h2, p16, neg(h1), d1)
+    flag1, cd1, v0, v1 = 0, 0, 0.0, 0.0
+    if n1 == -1:
+        n1, a0 = 1, q0[0]
+        flag1 |= SINGULAR
+    if ls1:
+        flag1 |= LS
+        cd1 = SHOULDER_OFFSET
+        v0 = norm(sub(p16, scale(h1, dot(h1, p16))))
+        v1 = abs(d1 - dot(h2, h1) * dot(h1, p16))
+    n = 0
+    for i1 in range(n1):
+        q1 = a0 if i1 == 0 else a1
+        R1 = rot(h1, q1)
+        M = mtm(R1, R06)
+        b0, b1, n5, ls5 = sp4(h2, h6, h5, dot(h2, mv(M, h6)))
+        flag5, cd5 = flag1, cd1
+        if n5 == -1:
+            n5, b0 = 1, q0[4]
+            flag5 |= SINGULAR
+        if ls5:
+            flag5 |= LS
+            if cd5 == 0:
+                cd5 = ORIENTATION
+        for i5 in range(n5):
+            q5 = b0 if i5 == 0 else b1
+            R5 = rot(h5, q5)
+            a = mtv(M, h2)
+            b = mtv(R5, h2)
+            flag6 = flag5
+            if norm(cross(a, h6)) < SINGLE or norm(cross(b, h6)) < SINGLE:
+                # wrist singular: q6 and q2 + q3 + q4 trade off
+                q6 = q0[5]
+                flag6 |= SINGULAR
+            else:
+                q6, _ = sp1(a, b, h6)
+            R234 = mmt(mmt(M, rot(h6, q6)), R5)
+            q234, _ = sp1(x, mv(R234, x), h2)
+            v = sub(sub(mtv(R1, p16), p1), mv(R234, p4))
+            nv = norm(v)
+            c0, c1, n3, ls3 = sp3(p3, neg(p2), h3, nv)
+            flag3, cd3, w0, w1 = flag6, cd5, v0, v1
+            if n3 == -1:
+                n3, c0 = 1, q0[2]
+                flag3 |= SINGULAR
+            elif n3 == 1 and not ls3:
+                flag3 |= SINGULAR  # stretched or folded
+            if ls3:
+                flag3 |= LS
+                if cd3 == 0:
+                    got = norm(add(p2, mv(rot(h3, c0), p3)))
+                    cd3 = TOO_FAR if nv > got else TOO_CLOSE
+                    w0, w1 = nv, got
+            for i3 in range(n3):
+                q3 = c0 if i3 == 0 else c1
+                u = add(p2, mv(rot(h3, q3), p3))
+                q2, _ = sp1(u, v, h2)
+                q4 = s4 * (q234 - q2 - s3 * q3)
+                Q[n, 0] = wrap(q1)
+                Q[n, 1] = wrap(q2)
+                Q[n, 2] = wrap(q3)
+                Q[n, 3] = wrap(q4)
+                Q[n, 4] = wrap(q5)
+                Q[n, 5] = wrap(q6)
+                flags[n] = flag3
+                code[n] = cd3
+                val[n, 0] = w0
+                val[n, 1] = w1
+                n += 1
+    sixr.nearest_equivalents(Q, n, q0, lower, upper)
+    return sixr.pack(
+        Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r, every
+    )
+
+
+@njit(cache=True, nogil=True)
+def kernel_many(h, p, R_tip0, Rs, ps, q0s, lower, upper, tol_p, tol_r):
+    """``kernel`` for N targets: the row nearest q0 of each, and its claim code."""
+    N = ps.shape[0]
+    Q = np.empty((N, 6))
+    claim = np.empty(N, np.int8)
+    for i in range(N):
+        out, _ = kernel(h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, tol_p, tol_r, False)
+        Q[i] = out[0, :6]
+        claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
+    return Q, claim
+
+
+def _classify(arm: Arm):
+    return three_parallel(arm)
+
+
+def applies(arm: Arm, target: Target | None = None, opts: Options | None = None) -> str | None:
+    return sixr.applies(arm, target, opts, FAMILY, _classify)
+
+
+def run(
+    arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+) -> list[Attempt]:
+    geo = sixr.geometry(arm, FAMILY, _classify)
+    R, pos = sixr.pose_arrays(target)
+    out, keep = kernel(
+        geo.h, geo.p, geo.R_tip0, R, pos, q0, arm.lower, arm.upper,
+        opts.tol_position, opts.tol_orientation, all_solutions,
+    )  # fmt: skip
+    return sixr.attempts(out, keep, all_solutions, FAMILY, CLOSED_FORM)
+
+
+def run_batch(arm: Arm, targets, q0: np.ndarray, opts: Options, seeds=None) -> AttemptBatch:
+    """Every target in one compiled call (GIL released), the ``SolverSpec.run_batch``
+    shape; ``seeds`` is unused (no restarts). Not registered on the spec: a batch built
+    from it would lack the per-target failure reasons that ``run`` gives, so batches go
+    through ``run`` target by target."""
+    geo = sixr.geometry(arm, FAMILY, _classify)
+
+    def many(*args):
+        return kernel_many(geo.h, geo.p, geo.R_tip0, *args)
+
+    return sixr.batch(arm, targets, q0, opts, many)
+
+
+SPEC = register(
+    SolverSpec(
+        name="three_parallel",
+        kind="analytic",
+        enforces_limits=True,
+        priority=90,
+        check=applies,
+        run=run,
+        summary="closed form for 6R arms with axes 2, 3, 4 parallel (UR family): up to 8",
+    )
+)
