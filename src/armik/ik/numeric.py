@@ -33,13 +33,22 @@ from ..kernel.chain import Chain, halton
 from ..kernel.clock import thread_cpu_ns
 from ..kernel.descent import CAREFUL_BELOW, KNOWN_MINIMUM_RADIUS  # noqa: F401 (re-exported)
 from ..kernel.entry import solve_targets
-from ..kernel.problem import NO_LIMIT, STEP_DLS, STEP_QP, Settings, Workspace, workspace
+from ..kernel.problem import (
+    NO_LIMIT,
+    STEP_DLS,
+    STEP_QP,
+    Settings,
+    Workspace,
+    pack_settings,
+    workspace,
+)
 from ..kernel.restarts import RESTART_CANDIDATES  # noqa: F401 (re-exported)
 from ..options import Options
 from ..status import Status
 from ..targets import Target
 from .attempt import Attempt, AttemptBatch
 
+_EYE = np.eye(3)
 _halton = halton  # the restart table (kept under its old name for readers and tests)
 
 
@@ -58,9 +67,16 @@ def qp_step(backend_name: str) -> Step:
 
 
 @lru_cache(maxsize=512)
+def packed_settings(
+    opts: Options, position_only: bool, dof: int, max_found: int, step: Step
+) -> tuple[np.ndarray, np.ndarray]:
+    """``settings`` as the kernel entry takes them (cached: a solve with default options
+    builds nothing)."""
+    return pack_settings(settings(opts, position_only, dof, max_found, step))
+
+
 def settings(opts: Options, position_only: bool, dof: int, max_found: int, step: Step):
-    """The kernel's ``Settings`` for these options, target kind and arm size (cached: a
-    solve with default options builds nothing)."""
+    """The kernel's ``Settings`` for these options, target kind and arm size."""
     w = opts.weight_vector(position_only)
     full_task = opts.weights is None and not (opts.position_only or position_only)
     n_task = 6 if full_task else int(np.count_nonzero(w))
@@ -93,14 +109,16 @@ def run_numeric(
 ) -> list[Attempt]:
     """Descend from q0, then from restart seeds until solved, out of budget or restarts."""
     max_found = opts.max_solutions if all_solutions else 1
-    st = settings(opts, target.position_only, arm.dof, max_found, step)
-    R_t = (np.eye(3) if target.rotation is None else target.rotation)[None]
+    sf, si = packed_settings(opts, target.position_only, arm.dof, max_found, step)
+    R_t = (_EYE if target.rotation is None else target.rotation)[None]
     out_q = np.empty((1, max_found, arm.dof))
     info = np.empty((1, 5), dtype=np.int64)
     err = np.empty((1, 2))
     seeds = np.array([solve_seed(opts)], dtype=np.uint64)
+    kc = arm.kernel_chain
+    p_t = target.position[None]
     solve_targets(
-        arm.kernel_chain, st, R_t, target.position[None], q0[None], seeds, out_q, info, err
+        kc.packed, kc.kind, kc.halton, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err
     )
     claim, found, iterations, restarts, out_of_budget = info[0].tolist()
     if claim == _descent.CONVERGED:
@@ -130,12 +148,12 @@ def run_numeric(
             claim=Status.NOT_CONVERGED,
             iterations=iterations,
             restarts=restarts,
-            reason=_not_converged(opts, st, bool(out_of_budget), restarts, err[0]),
+            reason=_not_converged(opts, sf, bool(out_of_budget), restarts, err[0]),
         )
     ]
 
 
-def _not_converged(opts: Options, st: Settings, out_of_budget: bool, restarts: int, err) -> str:
+def _not_converged(opts: Options, sf: np.ndarray, out_of_budget: bool, restarts: int, err) -> str:
     if not out_of_budget:
         why = f"restart limit ({restarts} restarts)"
     elif opts.iteration_budget is not None:
@@ -143,7 +161,7 @@ def _not_converged(opts: Options, st: Settings, out_of_budget: bool, restarts: i
     else:
         why = f"time budget ({opts.timeout:g} s of CPU time, {restarts} restarts)"
     errors = f"position error {err[0]:.3g} m"
-    if st.w[3:].any():
+    if sf[3:6].any():  # some rotation weight
         errors += f", orientation error {err[1]:.3g} rad"
     return f"no solution within the {why}; best found: {errors}; the target may be out of reach"
 
@@ -165,7 +183,7 @@ def run_numeric_batch(
         seeds = np.full(n_targets, solve_seed(opts), dtype=np.uint64)
     else:
         seeds = np.ascontiguousarray(seeds).astype(np.uint64)
-    st = settings(opts, targets.position_only, dof, 1, step)
+    sf, si = packed_settings(opts, targets.position_only, dof, 1, step)
     if targets.rotations is None:
         R_t = np.broadcast_to(np.eye(3), (n_targets, 3, 3)).copy()
     else:
@@ -174,7 +192,8 @@ def run_numeric_batch(
     out_q = np.empty((n_targets, 1, dof))
     info = np.empty((n_targets, 5), dtype=np.int64)
     err = np.empty((n_targets, 2))
-    solve_targets(arm.kernel_chain, st, R_t, p_t, q0, seeds, out_q, info, err)
+    kc = arm.kernel_chain
+    solve_targets(kc.packed, kc.kind, kc.halton, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
     return AttemptBatch(
         q=out_q[:, 0],
         claim=info[:, 0].astype(np.int8),
@@ -203,7 +222,7 @@ class Problem:
         R = np.eye(3) if target.rotation is None else target.rotation
         return cls(
             arm,
-            arm.kernel_chain,
+            arm.kernel_chain.chain,
             settings(opts, target.position_only, arm.dof, 1, DLS_STEP),
             np.ascontiguousarray(R, dtype=float),
             np.ascontiguousarray(target.position, dtype=float),
@@ -284,7 +303,7 @@ class RestartSeeds:
 
     def __init__(self, arm: Arm, seed: int | None) -> None:
         self.arm = arm
-        self.chain = arm.kernel_chain
+        self.chain = arm.kernel_chain.chain
         self.shift = np.empty(arm.dof)
         _restarts.seed_shift(secrets.randbits(63) if seed is None else int(seed), self.shift)
         self.k = 0

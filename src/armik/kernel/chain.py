@@ -10,11 +10,13 @@ placed in the last joint by ``tip_R, tip_p``. The kernel's FK is therefore ``T_b
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from functools import cache
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 import pinocchio as pin
+from numba import njit
 
 if TYPE_CHECKING:
     from ..arm import Arm
@@ -40,9 +42,76 @@ class Chain(NamedTuple):
     halton: np.ndarray  # (HALTON_POINTS, n) in [0, 1)
     origin: np.ndarray  # (3,) first joint's origin in the base frame (m)
     reach: float  # upper bound on the distance from ``origin`` to the tip (m)
+    base_R: np.ndarray  # (3, 3) T_base_world: the base frame's placement inverted
+    base_p: np.ndarray  # (3,) m
 
 
-def build_chain(arm: Arm) -> Chain:
+@dataclass(frozen=True, eq=False)
+class KernelChain:
+    """An arm's ``Chain``, and the same numbers as three flat arrays (``packed``, ``kind``,
+    ``halton``): compiled entries take those, because numba unboxes a tuple argument from
+    Python ten times slower than a few arrays. ``unpack`` rebuilds the ``Chain`` inside."""
+
+    chain: Chain
+    packed: np.ndarray
+    kind: np.ndarray
+    halton: np.ndarray
+
+    @property
+    def dof(self) -> int:
+        return int(self.kind.shape[0])
+
+
+def flatten(ch: Chain) -> np.ndarray:
+    """The float fields of ``ch`` in one array, in ``unpack``'s order."""
+    parts = [ch.joint_R, ch.joint_p, ch.axis, ch.tip_R, ch.tip_p, ch.lower, ch.upper]
+    parts += [ch.sample_lo, ch.sample_span, ch.origin, np.array([ch.reach]), ch.base_R, ch.base_p]
+    return np.concatenate([np.ravel(x) for x in parts]).astype(np.float64)
+
+
+@njit(cache=True, nogil=True)
+def unpack(packed, kind, halton):
+    """The ``Chain`` whose ``flatten`` is ``packed`` (views, no copy)."""
+    n = kind.shape[0]
+    o = 0
+    joint_R = packed[o : o + 9 * n].reshape((n, 3, 3))
+    o += 9 * n
+    joint_p = packed[o : o + 3 * n].reshape((n, 3))
+    o += 3 * n
+    axis = packed[o : o + 3 * n].reshape((n, 3))
+    o += 3 * n
+    tip_R = packed[o : o + 9].reshape((3, 3))
+    tip_p = packed[o + 9 : o + 12]
+    o += 12
+    lower = packed[o : o + n]
+    upper = packed[o + n : o + 2 * n]
+    sample_lo = packed[o + 2 * n : o + 3 * n]
+    sample_span = packed[o + 3 * n : o + 4 * n]
+    o += 4 * n
+    origin = packed[o : o + 3]
+    reach = packed[o + 3]
+    base_R = packed[o + 4 : o + 13].reshape((3, 3))
+    base_p = packed[o + 13 : o + 16]
+    return Chain(
+        joint_R,
+        joint_p,
+        axis,
+        kind,
+        tip_R,
+        tip_p,
+        lower,
+        upper,
+        sample_lo,
+        sample_span,
+        halton,
+        origin,
+        reach,
+        base_R,
+        base_p,
+    )
+
+
+def build_chain(arm: Arm) -> KernelChain:
     """Read ``arm``'s chain from its Pinocchio model. Raises ``ValueError`` if the model
     is not a serial chain of one-degree-of-freedom joints ending at the tip frame."""
     model = arm.model
@@ -79,7 +148,7 @@ def build_chain(arm: Arm) -> Chain:
         else:
             raise ValueError(f"joint {model.names[j]!r} is neither revolute nor prismatic")
     lo, hi = arm.sampling_box()
-    return Chain(
+    ch = Chain(
         joint_R,
         joint_p,
         axis,
@@ -93,7 +162,10 @@ def build_chain(arm: Arm) -> Chain:
         halton(n).copy(),  # writable: numba types read-only arrays apart
         np.asarray(arm.first_joint_origin, dtype=float).copy(),
         float(arm.reach) if math.isfinite(arm.reach) else math.inf,
+        arm.T_base_world.rotation.copy(),
+        arm.T_base_world.translation.copy(),
     )
+    return KernelChain(ch, flatten(ch), ch.kind, ch.halton)
 
 
 @cache

@@ -36,7 +36,8 @@ class Settings(NamedTuple):
 
 
 class Workspace(NamedTuple):
-    """Scratch for one thread. States live in slots 0 and 1 (current and trial)."""
+    """Scratch for one thread (uninitialised: every reader writes first). States live
+    in slots 0 and 1 (current and trial)."""
 
     q: np.ndarray  # (2, n)
     e: np.ndarray  # (2, 6) weighted error twist
@@ -74,41 +75,72 @@ class Workspace(NamedTuple):
     u: np.ndarray  # (n,) normalised answer
 
 
+def pack_settings(st: Settings) -> tuple[np.ndarray, np.ndarray]:
+    """``st`` as a float and an int array (what compiled entries take; see ``unpack``)."""
+    floats = np.array([*st.w, st.tol_pos, st.tol_rot, st.null_gain, st.reach_slack])
+    ints = [st.full_task, st.measure_position, st.max_iterations, st.max_restarts]
+    ints += [st.max_found, st.timeout_ns, st.iteration_budget, st.step, st.backend]
+    ints += [st.check_reach]
+    return floats, np.array(ints, dtype=np.int64)
+
+
+@njit(cache=True, nogil=True)
+def unpack(sf, si):
+    """The ``Settings`` that ``pack_settings`` flattened into (sf, si)."""
+    return Settings(
+        sf[0:6],
+        si[0] != 0,
+        si[1] != 0,
+        sf[6],
+        sf[7],
+        sf[8],
+        si[2],
+        si[3],
+        si[4],
+        si[5],
+        si[6],
+        si[7],
+        si[8],
+        si[9] != 0,
+        sf[9],
+    )
+
+
 @njit(cache=True, nogil=True)
 def workspace(n, capacity):
     return Workspace(
-        np.zeros((2, n)),
-        np.zeros((2, 6)),
-        np.zeros((2, 6, n)),
-        np.zeros((2, 3)),
-        np.zeros((3, 3)),
-        np.zeros(3),
-        np.zeros((n, 3)),
-        np.zeros((n, 3)),
-        np.zeros((6, n)),
-        np.zeros((3, 3)),
-        np.zeros(3),
-        np.zeros(3),
-        np.zeros((6, 6)),
-        np.zeros((n, n)),
-        np.zeros(n),
-        np.zeros((n, n)),
-        np.zeros((n, n)),
-        np.zeros(n),
-        np.zeros(n),
-        np.zeros(n),
-        np.zeros(n),
-        np.zeros(n),
-        np.ones(n, dtype=np.bool_),
-        np.zeros(n),
-        np.zeros(n, dtype=np.int64),
-        np.zeros(n, dtype=np.int64),
-        np.zeros((n, n)),
-        np.zeros(n),
-        np.zeros(n),
-        np.zeros((max(capacity, 1), n)),
-        np.zeros(n),
-        np.zeros(n),
-        np.zeros(n),
-        np.zeros(n),
+        np.empty((2, n)),
+        np.empty((2, 6)),
+        np.empty((2, 6, n)),
+        np.empty((2, 3)),
+        np.empty((3, 3)),
+        np.empty(3),
+        np.empty((n, 3)),
+        np.empty((n, 3)),
+        np.empty((6, n)),
+        np.empty((3, 3)),
+        np.empty(3),
+        np.empty(3),
+        np.empty((6, 6)),
+        np.empty((n, n)),
+        np.empty(n),
+        np.empty((n, n)),
+        np.empty((n, n)),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n, dtype=np.bool_),
+        np.empty(n),
+        np.empty(n, dtype=np.int64),
+        np.empty(n, dtype=np.int64),
+        np.empty((n, n)),
+        np.empty(n),
+        np.empty(n),
+        np.empty((max(capacity, 1), n)),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
     )
