@@ -10,9 +10,9 @@ from numba import njit
 
 @njit(cache=True, nogil=True)
 def cholesky_solve(H, g, free, L, x):
-    """x[free] solves H[free][:, free] x = g[free] (H symmetric positive definite); x is 0
-    elsewhere. ``L`` is n x n scratch. Returns False when the factorisation fails (H not
-    positive definite in floating point), leaving x unspecified."""
+    """x solves H[F][:, F] x = g[F] on the joints F where ``free`` (ints) is not 0 (H
+    symmetric positive definite); x is 0 elsewhere. ``L`` is n x n scratch. Returns False
+    when the factorisation fails (H not positive definite in floating point)."""
     n = H.shape[0]
     for i in range(n):
         if not free[i]:
