@@ -17,7 +17,7 @@ from numba import njit, objmode
 
 from .backend import solve_box_qp
 from .chain import CONTINUOUS, lower, upper
-from .linalg import cholesky_solve, solve_spd
+from .linalg import cholesky_factor, cholesky_solve, cholesky_substitute, solve_spd
 from .problem import DQ, FREE, GAP, GI, HELD, HH, LB, MULT, SIDE, STEP_DLS, UB, UNIT, XF, G, H, L, X
 
 MAX_STEP = 1.0  # rad or m: longest step (Euclidean)
@@ -111,11 +111,12 @@ def inverse_spd(ws):
     )
     n = Hm.shape[0]
     free[:] = 1
+    if not cholesky_factor(Hm, free, Lm):
+        return False
     for c in range(n):
         unit[:] = 0.0
         unit[c] = 1.0
-        if not cholesky_solve(Hm, unit, free, Lm, x):
-            return False
+        cholesky_substitute(Lm, unit, free, x)
         for r in range(n):
             Gi[r, c] = x[r]
     return True
