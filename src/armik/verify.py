@@ -53,12 +53,19 @@ class Check:
         return ", ".join(parts)
 
 
-@lru_cache(maxsize=256)
 def _measures(opts: Options, position_only: bool) -> tuple[np.ndarray, bool, bool]:
     """(weights, weighted, orientation measured) for a target kind."""
-    w = opts.weight_vector(position_only)
+    return _measures_of(opts.weights, opts.position_only, position_only)
+
+
+@lru_cache(maxsize=256)
+def _measures_of(weights, position_only_option: bool, position_only_target: bool):
+    w = Options(weights=weights, position_only=position_only_option).weight_vector(
+        position_only_target
+    )
+    position_only = position_only_option or position_only_target
     measure_rot = not position_only and bool(w[3:].any())
-    return w, opts.weights is not None, measure_rot
+    return w, weights is not None, measure_rot
 
 
 def check(arm: Arm, q: np.ndarray, target: Target, opts: Options) -> Check:

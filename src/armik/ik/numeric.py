@@ -18,7 +18,6 @@ import math
 import secrets
 import time
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -67,13 +66,36 @@ def qp_step(backend_name: str) -> Step:
     return Step(STEP_QP, backend.code(backend_name))
 
 
-@lru_cache(maxsize=512)
 def packed_settings(
     opts: Options, position_only: bool, dof: int, max_found: int, step: Step
 ) -> tuple[np.ndarray, np.ndarray]:
-    """``settings`` as the kernel entry takes them (cached: a solve with default options
-    builds nothing)."""
-    return pack_settings(settings(opts, position_only, dof, max_found, step))
+    """``settings`` as the kernel entry takes them, remembered: a loop of solves whose
+    options differ only in ``seed`` builds them once."""
+    key = (
+        opts.tol_position,
+        opts.tol_orientation,
+        opts.timeout,
+        opts.max_restarts,
+        opts.max_iterations,
+        opts.position_only,
+        opts.weights,
+        opts.nullspace_gain,
+        opts.iteration_budget,
+        position_only,
+        dof,
+        max_found,
+        step,
+    )
+    packed = _PACKED.get(key)
+    if packed is None:
+        packed = pack_settings(settings(opts, position_only, dof, max_found, step))
+        if len(_PACKED) > 512:
+            _PACKED.clear()
+        _PACKED[key] = packed
+    return packed
+
+
+_PACKED: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
 
 
 def settings(opts: Options, position_only: bool, dof: int, max_found: int, step: Step):
