@@ -5,7 +5,7 @@ active set on limits, the careful Levenberg-Marquardt mode, stall detection, res
 a shifted Halton sequence with candidate picking, known minima, the null-space pull) is
 compiled: see ``armik.kernel`` (``descent.py`` documents the iteration, ``restarts.py`` the
 restarts). ``dls`` and ``qp`` differ only in their step. This module turns options into the
-kernel's ``Settings``, calls its one entry (``kernel.entry.solve_targets``) for one target
+kernel's ``Settings``, calls its entry (``kernel.entry``, one per step) for one target
 (``run_numeric``) or many (``run_numeric_batch``), and turns its arrays into attempts.
 
 ``Problem``, ``evaluate``, ``descend`` and ``RestartSeeds`` expose pieces of the kernel to
@@ -31,7 +31,7 @@ from ..kernel import restarts as _restarts
 from ..kernel.chain import Flat, halton
 from ..kernel.clock import thread_cpu_ns
 from ..kernel.descent import CAREFUL_BELOW, KNOWN_MINIMUM_RADIUS  # noqa: F401 (re-exported)
-from ..kernel.entry import solve_targets
+from ..kernel.entry import ENTRIES
 from ..kernel.problem import (
     NO_LIMIT,
     SHIFT,
@@ -140,7 +140,7 @@ def run_numeric(
     seeds = np.array([solve_seed(opts)], dtype=np.uint64)
     kc = arm.kernel_chain
     p_t = target.position[None]
-    solve_targets(*kc.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
+    ENTRIES[step.kind](*kc.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
     claim, found, iterations, restarts, out_of_budget = info[0].tolist()
     if claim == _descent.CONVERGED:
         return [
@@ -214,7 +214,7 @@ def run_numeric_batch(
     info = np.empty((n_targets, 5), dtype=np.int64)
     err = np.empty((n_targets, 2))
     kc = arm.kernel_chain
-    solve_targets(*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
+    ENTRIES[step.kind](*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
     return AttemptBatch(
         q=out_q[:, 0],
         claim=info[:, 0].astype(np.int8),
@@ -313,7 +313,8 @@ def descend(
     deadline_ns = NO_LIMIT
     if math.isfinite(deadline):
         deadline_ns = thread_cpu_ns() + int(max(deadline - time.perf_counter(), 0.0) * 1e9)
-    its, ok, slot = _descent.descend(
+    entry = _descent.descend_dls if step.kind == STEP_DLS else _descent.descend_qp
+    its, ok, slot = entry(
         pb.chain, pb.settings, pb.R_t, pb.p_t, pb.q0, ws, max_iterations, deadline_ns, count
     )
     return _state(pb, slot), its, ok
