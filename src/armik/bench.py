@@ -87,8 +87,9 @@ def bench_interleaved(
 ) -> list[BenchRow]:
     """Every armik solver and every peer (``armik.peers.Peer``) on the same targets,
     interleaved target by target, so that a busy moment of the machine lands on all of them
-    alike. Peers are timed on their own call only and judged by armik's FK check, with the
-    same tolerance and limits; armik's times include parsing and verification."""
+    alike (the order turns by one per target). Peers are timed on their own call only and
+    judged by armik's FK check, with the same tolerance and limits; armik's times include
+    parsing and verification."""
     q0 = arm.middle
     # One untimed solve first: first-call costs (imports, caches) are not per-solve costs.
     if len(poses):
@@ -104,33 +105,38 @@ def bench_interleaved(
     violations = dict.fromkeys(names, 0)
     opts = Options(tol_position=tol, tol_orientation=tol)
     done = 0
+    # Each target runs every contender; the order turns by one per target, so that none
+    # always runs first (after the others have cooled its caches) or last.
+    contenders = [(s, None) for s in solvers] + [(p.name, p) for p in peers]
     for k in range(repeats):
         for i, pose in enumerate(poses):
-            for solver in solvers:
-                t = time.perf_counter()
-                res = arm.solve(
-                    pose,
-                    q0=q0,
-                    solver=solver,
-                    timeout=budget,
-                    tol_position=tol,
-                    tol_orientation=tol,
-                    seed=k * len(poses) + i,
-                )
-                times[solver].append(time.perf_counter() - t)
-                iters[solver].append(res.iterations)
-                ok[solver] += res.success
-                violations[solver] += not arm.within_limits(np.asarray(res.q))
             if peers:
                 target = parse_target(pose)
                 T = pose.homogeneous
-            for peer in peers:
-                t = time.perf_counter()
-                q = peer.solve(T, q0)
-                times[peer.name].append(time.perf_counter() - t)
-                c = check(arm, q, target, opts)
-                ok[peer.name] += c.ok
-                violations[peer.name] += bool(c.violations)
+            turn = done % len(contenders)
+            for name, peer in contenders[turn:] + contenders[:turn]:
+                if peer is None:
+                    t = time.perf_counter()
+                    res = arm.solve(
+                        pose,
+                        q0=q0,
+                        solver=name,
+                        timeout=budget,
+                        tol_position=tol,
+                        tol_orientation=tol,
+                        seed=k * len(poses) + i,
+                    )
+                    times[name].append(time.perf_counter() - t)
+                    iters[name].append(res.iterations)
+                    ok[name] += res.success
+                    violations[name] += not arm.within_limits(np.asarray(res.q))
+                else:
+                    t = time.perf_counter()
+                    q = peer.solve(T, q0)
+                    times[name].append(time.perf_counter() - t)
+                    c = check(arm, q, target, opts)
+                    ok[name] += c.ok
+                    violations[name] += bool(c.violations)
             done += 1
             if progress is not None:
                 progress(done)
