@@ -12,7 +12,7 @@
   random configurations; of its exact solutions, the one within armik's limits nearest q0
   is kept.
 
-Both are optional (``pip install armik[peers]``). Every answer is judged by armik's FK check,
+Only the library's own call is timed (``Peer.elapsed``). Both are optional (``pip install armik[peers]``). Every answer is judged by armik's FK check,
 never by the peer's own claim.
 """
 
@@ -21,6 +21,7 @@ from __future__ import annotations
 import os
 import re
 import tempfile
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -38,9 +39,14 @@ class PeerUnavailable(Exception):
 
 @dataclass
 class Peer:
+    """A peer solver. ``solve`` returns joint values (rad, m) for a 4x4 target in the arm's
+    base frame and sets ``elapsed`` (s) to the time of the library's own call, without
+    armik's adaptation around it (choosing among EAIK's solutions, for example)."""
+
     name: str
     arm: Arm
     iterations: list[int] = field(default_factory=list)
+    elapsed: float | None = None
 
     def solve(self, T_base_target: np.ndarray, q0: np.ndarray) -> np.ndarray:
         raise NotImplementedError
@@ -95,9 +101,11 @@ class RTBPeer(Peer):
         return self.ets.fkine(q).A
 
     def solve(self, T_base_target: np.ndarray, q0: np.ndarray) -> np.ndarray:
+        t = time.perf_counter()
         sol = self.ets.ik_LM(
             T_base_target, q0=q0, ilimit=30, slimit=100, tol=self.tol, joint_limits=True
         )
+        self.elapsed = time.perf_counter() - t
         self.iterations.append(int(sol.iterations))
         return np.asarray(sol.q, dtype=float)
 
@@ -126,7 +134,10 @@ class EAIKPeer(Peer):
         _check_fk(arm, lambda q: B @ self.robot.fwdKin(q) @ self.E, "EAIK")
 
     def solve(self, T_base_target: np.ndarray, q0: np.ndarray) -> np.ndarray:
-        sol = self.robot.IK(self.B_inv @ T_base_target @ self.E_inv)
+        T = self.B_inv @ T_base_target @ self.E_inv
+        t = time.perf_counter()
+        sol = self.robot.IK(T)
+        self.elapsed = time.perf_counter() - t
         self.iterations.append(0)
         best, best_d = None, np.inf
         for q, ls in zip(sol.Q, sol.is_LS):
