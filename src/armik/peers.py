@@ -12,8 +12,9 @@
   random configurations; of its exact solutions, the one within armik's limits nearest q0
   is kept.
 
-Only the library's own call is timed (``Peer.elapsed``). Both are optional (``pip install armik[peers]``). Every answer is judged by armik's FK check,
-never by the peer's own claim.
+Only the library's own call is timed (``Peer.elapsed``). Both are optional
+(``pip install armik[peers]``). Every answer is judged by armik's FK check, never by the
+peer's own claim.
 """
 
 from __future__ import annotations
