@@ -133,13 +133,15 @@ def run_numeric(
     """Descend from q0, then from restart seeds until solved, out of budget or restarts."""
     max_found = opts.max_solutions if all_solutions else 1
     sf, si = packed_settings(opts, target.position_only, arm.dof, max_found, step)
-    R_t = (_EYE if target.rotation is None else target.rotation)[None]
+    # Fresh C-ordered, writable float64 copies: numba compiles anew for any other layout.
+    R_t = np.array((_EYE if target.rotation is None else target.rotation)[None], dtype=float)
     out_q = np.empty((1, max_found, arm.dof))
     info = np.empty((1, 5), dtype=np.int64)
     err = np.empty((1, 2))
     seeds = np.array([solve_seed(opts)], dtype=np.uint64)
     kc = arm.kernel_chain
-    p_t = target.position[None]
+    p_t = np.array(target.position[None], dtype=float)
+    q0 = np.array(q0, dtype=float)
     ENTRIES[step.kind](*kc.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
     claim, found, iterations, restarts, out_of_budget = info[0].tolist()
     if claim == _descent.CONVERGED:
@@ -199,17 +201,18 @@ def run_numeric_batch(
     first for target i from q0[i] with restart seed ``seeds[i]`` (default: every target
     uses ``opts.seed``, as a loop of ``solve`` with the same options would)."""
     n_targets, dof = len(targets), arm.dof
-    q0 = np.ascontiguousarray(q0, dtype=float).reshape(n_targets, dof)
+    # C-ordered, writable float64 copies: numba compiles anew for any other layout.
+    q0 = np.array(q0, dtype=float).reshape(n_targets, dof)
     if seeds is None:
         seeds = np.full(n_targets, solve_seed(opts), dtype=np.uint64)
     else:
-        seeds = np.ascontiguousarray(seeds).astype(np.uint64)
+        seeds = np.array(seeds).astype(np.uint64)
     sf, si = packed_settings(opts, targets.position_only, dof, 1, step)
     if targets.rotations is None:
         R_t = np.broadcast_to(np.eye(3), (n_targets, 3, 3)).copy()
     else:
-        R_t = np.ascontiguousarray(targets.rotations, dtype=float)
-    p_t = np.ascontiguousarray(targets.positions, dtype=float)
+        R_t = np.array(targets.rotations, dtype=float)
+    p_t = np.array(targets.positions, dtype=float)
     out_q = np.empty((n_targets, 1, dof))
     info = np.empty((n_targets, 5), dtype=np.int64)
     err = np.empty((n_targets, 2))
