@@ -424,7 +424,7 @@ class Arm:
                     f"limits for {jname!r} must be a pair (lower, upper) in rad or m, got {pair!r}",
                     joint=jname,
                 )
-            lo, hi = (_check_limit_value(jname, v) for v in pair)
+            lo, hi = (_check_limit_value(jname, v) + 0.0 for v in pair)  # -0.0 -> 0.0
             checked[jname] = (lo, hi)
             if not lo <= hi:
                 raise JointError(
@@ -666,6 +666,14 @@ class Arm:
         for i in np.flatnonzero(self.prismatic):
             total += max(abs(self.lower[i] - self.middle[i]), abs(self.upper[i] - self.middle[i]))
         return total
+
+    @cached_property
+    def kernel_chain(self):
+        """The compiled kernel's view of this chain (``armik.kernel.chain.Chain``): plain
+        arrays read once from the model."""
+        from .kernel.chain import build_chain
+
+        return build_chain(self)
 
     @cached_property
     def first_joint_origin(self) -> np.ndarray:

@@ -1,0 +1,112 @@
+"""The per-solve settings and the scratch memory of the kernel.
+
+``Settings`` is built once per (options, kind of target, arm size) in Python; ``Workspace``
+is allocated once per kernel call and reused by every target and iteration.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+STEP_DLS, STEP_QP = 0, 1
+NO_LIMIT = -1  # for timeout_ns and iteration_budget: not used
+
+
+class Settings(NamedTuple):
+    """What every target of a kernel call shares. Lengths m, angles rad, time ns."""
+
+    w: np.ndarray  # (6,) weights on (v, w) of the error; 0 for a free axis
+    full_task: bool  # every weight 1: skip the masking
+    measure_position: bool  # some position weight is non-zero
+    tol_pos: float  # the iteration's tolerances: half the verification's
+    tol_rot: float
+    null_gain: float  # pull toward q0 in the null space (0 when the task uses every joint)
+    max_iterations: int  # per attempt
+    max_restarts: int
+    max_found: int  # stop after this many distinct solutions
+    timeout_ns: int  # thread CPU time per target, or NO_LIMIT
+    iteration_budget: int  # iterations per target, or NO_LIMIT
+    step: int  # STEP_DLS or STEP_QP
+    backend: int  # index of the QP backend in ``backend.BACKENDS``
+    check_reach: bool  # every position axis measured: far targets fail at once
+    reach_slack: float  # m, added to the reach bound (the verification's tolerance)
+
+
+# Rows of Workspace.vec (n-vectors), .mat (n x n) and .ivec (integer n-vectors).
+DQ, X, XF, LB, UB, G, UNIT, GAP, MULT, BEST, SHIFT, CAND, U = range(13)
+NVEC = 13
+H, L, GI, HH = range(4)  # normal matrix, Cholesky factor, H^-1, held block of H^-1
+SIDE, HELD, FREE = range(3)
+
+
+class Workspace(NamedTuple):
+    """Scratch for one thread (uninitialised: every reader writes first). States live in
+    slots 0 and 1 (current and trial). Few arrays, grouped by shape: numba's compile time
+    grows with the arrays a tuple argument holds."""
+
+    q: np.ndarray  # (2, n) joint values
+    e: np.ndarray  # (2, 6) weighted error twist
+    A: np.ndarray  # (2, 6, n) weighted error Jacobian
+    val: np.ndarray  # (2, 3): position error, orientation error, |e|^2
+    vec: np.ndarray  # (NVEC, n)
+    mat: np.ndarray  # (4, n, n)
+    ivec: np.ndarray  # (3, n) int64
+    geo: np.ndarray  # (2, n, 3): joint origins and axes in the base frame
+    J: np.ndarray  # (6, n) tip Jacobian, LOCAL
+    m3: np.ndarray  # (2, 3, 3): tip rotation, T_tip^-1 T_target rotation
+    v3: np.ndarray  # (3, 3): tip position, T_tip^-1 T_target translation, rotation vector
+    Jlog: np.ndarray  # (6, 6)
+    minima: np.ndarray  # (capacity, n) where earlier attempts of a solve got stuck
+
+
+def pack_settings(st: Settings) -> tuple[np.ndarray, np.ndarray]:
+    """``st`` as a float and an int array (what compiled entries take; see ``unpack``)."""
+    floats = np.array([*st.w, st.tol_pos, st.tol_rot, st.null_gain, st.reach_slack])
+    ints = [st.full_task, st.measure_position, st.max_iterations, st.max_restarts]
+    ints += [st.max_found, st.timeout_ns, st.iteration_budget, st.step, st.backend]
+    ints += [st.check_reach]
+    return floats, np.array(ints, dtype=np.int64)
+
+
+@njit(cache=True, nogil=True)
+def unpack(sf, si):
+    """The ``Settings`` that ``pack_settings`` flattened into (sf, si)."""
+    return Settings(
+        sf[0:6],
+        si[0] != 0,
+        si[1] != 0,
+        sf[6],
+        sf[7],
+        sf[8],
+        si[2],
+        si[3],
+        si[4],
+        si[5],
+        si[6],
+        si[7],
+        si[8],
+        si[9] != 0,
+        sf[9],
+    )
+
+
+@njit(cache=True, nogil=True)
+def workspace(n, capacity):
+    return Workspace(
+        np.empty((2, n)),
+        np.empty((2, 6)),
+        np.empty((2, 6, n)),
+        np.empty((2, 3)),
+        np.empty((NVEC, n)),
+        np.empty((4, n, n)),
+        np.empty((3, n), dtype=np.int64),
+        np.empty((2, n, 3)),
+        np.empty((6, n)),
+        np.empty((2, 3, 3)),
+        np.empty((3, 3)),
+        np.empty((6, 6)),
+        np.empty((max(capacity, 1), n)),
+    )
