@@ -209,7 +209,7 @@ def test_same_seed_same_answer(rng):
 def test_clik_baseline_runs():
     a = arm("ur5")
     q = np.array([0.3, -1.2, 1.4, -1.0, 0.8, 0.2])
-    r = a.solve(a.fk(q), q0=q + 0.05, solver="clik", timeout=0.5)
+    r = a.solve(a.fk(q), q0=q + 0.05, solver="clik", timeout=0.5, max_iterations=1000)
     assert r.solver == "clik" and r.success
 
 

@@ -33,6 +33,8 @@ from .targets import parse_target
 from .verify import check
 
 DEFAULT_SOLVERS = ("dls", "qp", "clik")
+# clik runs as in Pinocchio's example: up to 1000 iterations (within the budget).
+SOLVER_OPTIONS = {"clik": {"max_iterations": 1000}}
 
 
 @dataclass(frozen=True)
@@ -125,6 +127,7 @@ def bench_interleaved(
                         tol_position=tol,
                         tol_orientation=tol,
                         seed=k * len(poses) + i,
+                        **SOLVER_OPTIONS.get(name, {}),
                     )
                     times[name].append(time.perf_counter() - t)
                     iters[name].append(res.iterations)

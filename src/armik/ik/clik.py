@@ -3,10 +3,16 @@
 As in Pinocchio's inverse-kinematics example: e = log6(T_tip^-1 T_target),
 v = -J^T (J J^T + damp I)^-1 e with J = -Jlog6(...) J_local, q <- integrate(q, v dt) with a
 fixed dt = 0.1, joints clipped into their limits, no restarts. Not chosen by "auto".
+
+Options: ``max_iterations`` caps the loop (Pinocchio's example uses 1000: the benchmark
+passes that), ``iteration_budget`` caps it too, and ``timeout`` counts the solving thread's
+CPU time as for dls and qp. ``max_restarts``, ``seed`` and ``nullspace_gain`` have no effect:
+the loop has no restarts and no null-space term.
 """
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -22,7 +28,6 @@ from .registry import SolverSpec, register
 
 DT = 0.1
 DAMP = 1e-12
-IT_MAX = 1000
 
 
 def applies(arm: Arm, target: Target | None = None, opts: Options | None = None) -> str | None:
@@ -32,10 +37,14 @@ def applies(arm: Arm, target: Target | None = None, opts: Options | None = None)
 def run(
     arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
 ) -> list[Attempt]:
-    deadline = time.perf_counter() + opts.timeout
+    deadline = time.thread_time() + opts.timeout
+    limit = opts.max_iterations
+    if opts.iteration_budget is not None:
+        limit, deadline = min(limit, opts.iteration_budget), math.inf
     pb = Problem.build(arm, target, q0, opts)
     s = evaluate(pb, pb.q0_pin.copy())
-    for it in range(IT_MAX):
+    it = 0
+    for it in range(limit + 1):
         if converged(pb, s):
             return [
                 Attempt(
@@ -45,7 +54,7 @@ def run(
                     reason="CLIK converged",
                 )
             ]
-        if time.perf_counter() > deadline:
+        if it == limit or time.thread_time() > deadline:
             break
         A, e = s.A, s.e
         v = A.T @ np.linalg.solve(A @ A.T + DAMP * np.eye(6), e)
