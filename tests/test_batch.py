@@ -227,3 +227,14 @@ def test_target_batch_indexing():
     with pytest.raises(TypeError):
         b[0]
     assert b.target(2).rotation is None
+
+
+def test_progress_bar_on_request(capsys):
+    a = arm("ur5")
+    solve_batch(a, _poses(a, 3, seed=1), workers=1, progress=True)
+    err = capsys.readouterr().err
+    assert "ur5/dls" in err and "3/3" in err and "#" * 30 in err
+    solve_batch(a, _poses(a, 3, seed=1), workers=1)  # stderr is not a terminal here
+    assert capsys.readouterr().err == ""
+    with pytest.raises(OptionError, match="progress"):
+        solve_batch(a, _poses(a, 1, seed=1), progress="yes")

@@ -364,17 +364,16 @@ def solve_batch(
             done += job(start)
             bar(done, n)
     else:
-        with ThreadPoolExecutor(max_workers=workers, thread_name_prefix="armik") as pool:
+        pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="armik")
+        try:
             pending = {pool.submit(job, s) for s in starts}
             while pending:
                 finished, pending = wait(pending, return_when=FIRST_EXCEPTION)
                 for f in finished:
-                    if f.exception() is not None:
-                        for p in pending:
-                            p.cancel()
-                        raise f.exception()
-                    done += f.result()
+                    done += f.result()  # re-raises a chunk's exception here
                 bar(done, n)
+        finally:  # an error or Ctrl-C: drop the chunks not started, wait for the running
+            pool.shutdown(wait=True, cancel_futures=True)
     bar.close()
     object.__setattr__(out, "time", time.perf_counter() - t0)
     return out
