@@ -533,6 +533,14 @@ class Arm:
         return total
 
     @cached_property
+    def kernel_chain(self):
+        """The compiled kernel's view of this chain (``armik.kernel.chain.Chain``): plain
+        arrays read once from the model."""
+        from .kernel.chain import build_chain
+
+        return build_chain(self)
+
+    @cached_property
     def first_joint_origin(self) -> np.ndarray:
         """Origin of the first joint in the base frame (m); it never moves."""
         self.fk_pin(self.to_pin(self.middle))

@@ -15,7 +15,13 @@ class Options:
     """Options accepted by ``Arm.solve`` and ``Arm.solve_all`` (units: m, rad, s).
 
     - ``tol_position``, ``tol_orientation``: verification tolerances (1e-6 m, 1e-6 rad).
-    - ``timeout``: wall-clock budget of a numeric solve, restarts included (0.05 s).
+    - ``timeout``: budget of a numeric solve, restarts included, in CPU time of the thread
+      that solves (0.05 s): other threads' work does not count, so the same seeded call
+      gives the same answer whether one thread or eight are solving (up to the thread's
+      own timing noise). Checked every 16 iterations and between attempts.
+    - ``iteration_budget``: a deterministic budget instead: at most this many iterations
+      per solve, restarts included (None: off). When given, ``timeout`` is not used, and
+      the same seeded call gives the same answer on every machine.
     - ``max_restarts``: random restarts after the first attempt (1000; 0 disables).
     - ``max_iterations``: iterations per attempt of a numeric solver (100).
     - ``seed``: random seed of the restarts (0), so the same call gives the same answer.
@@ -38,6 +44,7 @@ class Options:
     qp_solver: str = "osqp"
     nullspace_gain: float = 1.0
     max_solutions: int = 16
+    iteration_budget: int | None = None
 
     @classmethod
     def from_kwargs(cls, kwargs: dict) -> Options:
@@ -64,6 +71,8 @@ class Options:
                     value=gain,
                 )
             values["nullspace_gain"] = gain
+        if values.get("iteration_budget") is not None:
+            values["iteration_budget"] = _int("iteration_budget", values["iteration_budget"], 1)
         if values.get("seed") is not None:
             values["seed"] = _int("seed", values["seed"], minimum=0)
         if "weights" in values and values["weights"] is not None:

@@ -1,189 +1,272 @@
-"""The iteration shared by the numeric solvers: error, Jacobian, step, restarts.
+"""The numeric solvers' Python side: settings, the kernel call, attempts and reasons.
 
-Error: e = log6(T_tip^-1 T_target), the twist from the tip to the target expressed in the
-tip frame (LOCAL). Its Jacobian is -Jlog6(T_target^-1 T_tip) J_local, so a step dq solving
-A dq = e with A = Jlog6(T_target^-1 T_tip) J_local moves the tip onto the target.
-Configurations are stepped with ``pin.integrate`` so continuous joints (nq = 2) work.
-Per iteration: 3 Pinocchio kinematics calls (computeJointJacobians, updateFramePlacement,
-getFrameJacobian), log6, Jlog6, integrate, and one n x n solve.
+The iteration itself (pose error and its exact Jacobian, damping, the bounded step, the
+active set on limits, the careful Levenberg-Marquardt mode, stall detection, restarts from
+a shifted Halton sequence with candidate picking, known minima, the null-space pull) is
+compiled: see ``armik.kernel`` (``descent.py`` documents the iteration, ``restarts.py`` the
+restarts). ``dls`` and ``qp`` differ only in their step. This module turns options into the
+kernel's ``Settings``, calls its one entry (``kernel.entry.solve_targets``) for one target
+(``run_numeric``) or many (``run_numeric_batch``), and turns its arrays into attempts.
+
+``Problem``, ``evaluate``, ``descend`` and ``RestartSeeds`` expose pieces of the kernel to
+tests and to readers; they call the compiled functions, they do not copy them.
 """
 
 from __future__ import annotations
 
 import math
+import secrets
 import time
-from collections.abc import Callable
 from dataclasses import dataclass
-from functools import cache
+from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
-import pinocchio as pin
-from scipy.linalg.lapack import dposv
 
 from ..arm import Arm
+from ..batch_targets import TargetBatch
+from ..kernel import backend
+from ..kernel import descent as _descent
+from ..kernel import error as _error
+from ..kernel import restarts as _restarts
+from ..kernel.chain import Chain, halton
+from ..kernel.clock import thread_cpu_ns
+from ..kernel.descent import CAREFUL_BELOW, KNOWN_MINIMUM_RADIUS  # noqa: F401 (re-exported)
+from ..kernel.entry import solve_targets
+from ..kernel.problem import (
+    NO_LIMIT,
+    STEP_DLS,
+    STEP_QP,
+    Settings,
+    Workspace,
+    pack_settings,
+    workspace,
+)
+from ..kernel.restarts import RESTART_CANDIDATES  # noqa: F401 (re-exported)
 from ..options import Options
 from ..status import Status
 from ..targets import Target
-from .attempt import Attempt
+from .attempt import Attempt, AttemptBatch
 
-MAX_STEP = 1.0  # rad or m: longest step (Euclidean)
-STALL_WINDOW = 4  # iterations without enough progress (PROGRESS) before a restart
-DAMPING_GAIN = 0.1
-MU_UP, MU_DOWN = 4.0, 0.5  # damping multiplier after a rejected / accepted step
-# |e|^2 must fall below this fraction of its best within STALL_WINDOW iterations. Measured
-# with the benchmark protocol: 0.7 rather than 0.98 ends attempts caught in a local minimum
-# sooner, leaves time for more restarts, and took qp on the Z1 from 99.80 to 99.90 % and dls
-# on the Panda from 99.90 to 100 %.
-PROGRESS = 0.7
-CAREFUL_BELOW = 1e-2  # |e|^2 under which a stalled attempt turns careful, not restarts
-LAMBDA_MIN = 1e-9
-ON_LIMIT = 1e-10  # rad or m: a joint this close to a limit rests on it
-DUPLICATE_TOL = 1e-4  # rad or m: answers closer than this are one solution
-# An attempt that comes this close (max over Pinocchio coordinates: rad, m, or cos/sin of a
-# continuous joint) to a local minimum an earlier attempt of the same solve ended in stops
-# there: it would only end in it again.
-KNOWN_MINIMUM_RADIUS = 0.05
-RESTART_CANDIDATES = 4  # restart seeds scored per restart (see RestartSeeds)
+_EYE = np.eye(3)
+_halton = halton  # the restart table (kept under its old name for readers and tests)
+
+
+class Step(NamedTuple):
+    """Which step the kernel takes: ``STEP_DLS`` or ``STEP_QP`` (with its QP backend)."""
+
+    kind: int
+    backend: int = 0
+
+
+DLS_STEP = Step(STEP_DLS)
+
+
+def qp_step(backend_name: str) -> Step:
+    return Step(STEP_QP, backend.code(backend_name))
+
+
+@lru_cache(maxsize=512)
+def packed_settings(
+    opts: Options, position_only: bool, dof: int, max_found: int, step: Step
+) -> tuple[np.ndarray, np.ndarray]:
+    """``settings`` as the kernel entry takes them (cached: a solve with default options
+    builds nothing)."""
+    return pack_settings(settings(opts, position_only, dof, max_found, step))
+
+
+def settings(opts: Options, position_only: bool, dof: int, max_found: int, step: Step):
+    """The kernel's ``Settings`` for these options, target kind and arm size."""
+    w = opts.weight_vector(position_only)
+    full_task = opts.weights is None and not (opts.position_only or position_only)
+    n_task = 6 if full_task else int(np.count_nonzero(w))
+    return Settings(
+        w,
+        full_task or bool((w == 1.0).all()),
+        bool(w[:3].any()),
+        0.5 * opts.tol_position,
+        0.5 * opts.tol_orientation,
+        float(opts.nullspace_gain) if dof > n_task else 0.0,
+        int(opts.max_iterations),
+        int(opts.max_restarts),
+        int(max_found),
+        min(int(opts.timeout * 1e9), 2**62),
+        NO_LIMIT if opts.iteration_budget is None else int(opts.iteration_budget),
+        int(step.kind),
+        int(step.backend),
+        bool(w[:3].all()),
+        float(opts.tol_position),
+    )
+
+
+def solve_seed(opts: Options) -> int:
+    """The restart seed of a solve: ``opts.seed``, or a fresh random one when it is None."""
+    return secrets.randbits(63) if opts.seed is None else int(opts.seed)
+
+
+def run_numeric(
+    arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool, step: Step
+) -> list[Attempt]:
+    """Descend from q0, then from restart seeds until solved, out of budget or restarts."""
+    max_found = opts.max_solutions if all_solutions else 1
+    sf, si = packed_settings(opts, target.position_only, arm.dof, max_found, step)
+    R_t = (_EYE if target.rotation is None else target.rotation)[None]
+    out_q = np.empty((1, max_found, arm.dof))
+    info = np.empty((1, 5), dtype=np.int64)
+    err = np.empty((1, 2))
+    seeds = np.array([solve_seed(opts)], dtype=np.uint64)
+    kc = arm.kernel_chain
+    p_t = target.position[None]
+    solve_targets(
+        kc.packed, kc.kind, kc.halton, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err
+    )
+    claim, found, iterations, restarts, out_of_budget = info[0].tolist()
+    if claim == _descent.CONVERGED:
+        return [
+            Attempt(
+                q=out_q[0, k],
+                claim=Status.CONVERGED,
+                iterations=iterations,
+                restarts=restarts,
+                reason=f"converged after {restarts} restart(s)",
+            )
+            for k in range(found)
+        ]
+    if claim == _descent.UNREACHABLE:
+        distance = math.dist(target.position.tolist(), arm.first_joint_origin.tolist())
+        return [
+            Attempt(
+                q=q0.copy(),
+                claim=Status.UNREACHABLE,
+                reason=f"target is {distance:.4g} m from the first joint, beyond the arm's "
+                f"reach of at most {arm.reach:.4g} m; q is the seed, unchanged",
+            )
+        ]
+    return [
+        Attempt(
+            q=out_q[0, 0],
+            claim=Status.NOT_CONVERGED,
+            iterations=iterations,
+            restarts=restarts,
+            reason=_not_converged(opts, sf, bool(out_of_budget), restarts, err[0]),
+        )
+    ]
+
+
+def _not_converged(opts: Options, sf: np.ndarray, out_of_budget: bool, restarts: int, err) -> str:
+    if not out_of_budget:
+        why = f"restart limit ({restarts} restarts)"
+    elif opts.iteration_budget is not None:
+        why = f"iteration budget ({opts.iteration_budget} iterations, {restarts} restarts)"
+    else:
+        why = f"time budget ({opts.timeout:g} s of CPU time, {restarts} restarts)"
+    errors = f"position error {err[0]:.3g} m"
+    if sf[3:6].any():  # some rotation weight
+        errors += f", orientation error {err[1]:.3g} rad"
+    return f"no solution within the {why}; best found: {errors}; the target may be out of reach"
+
+
+def run_numeric_batch(
+    arm: Arm,
+    targets: TargetBatch,
+    q0: np.ndarray,
+    opts: Options,
+    step: Step,
+    seeds: np.ndarray | None = None,
+) -> AttemptBatch:
+    """N solves in one kernel call (GIL released): row i is what ``run_numeric`` returns
+    first for target i from q0[i] with restart seed ``seeds[i]`` (default: every target
+    uses ``opts.seed``, as a loop of ``solve`` with the same options would)."""
+    n_targets, dof = len(targets), arm.dof
+    q0 = np.ascontiguousarray(q0, dtype=float).reshape(n_targets, dof)
+    if seeds is None:
+        seeds = np.full(n_targets, solve_seed(opts), dtype=np.uint64)
+    else:
+        seeds = np.ascontiguousarray(seeds).astype(np.uint64)
+    sf, si = packed_settings(opts, targets.position_only, dof, 1, step)
+    if targets.rotations is None:
+        R_t = np.broadcast_to(np.eye(3), (n_targets, 3, 3)).copy()
+    else:
+        R_t = np.ascontiguousarray(targets.rotations, dtype=float)
+    p_t = np.ascontiguousarray(targets.positions, dtype=float)
+    out_q = np.empty((n_targets, 1, dof))
+    info = np.empty((n_targets, 5), dtype=np.int64)
+    err = np.empty((n_targets, 2))
+    kc = arm.kernel_chain
+    solve_targets(kc.packed, kc.kind, kc.halton, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
+    return AttemptBatch(
+        q=out_q[:, 0],
+        claim=info[:, 0].astype(np.int8),
+        iterations=info[:, 2].copy(),
+        restarts=info[:, 3].copy(),
+    )
+
+
+# -- pieces of the kernel, for tests and readers ------------------------------------------
 
 
 @dataclass
 class Problem:
-    """Everything an iteration needs, computed once per solve."""
+    """One target's settings, chain and scratch, for calling kernel pieces from Python."""
 
     arm: Arm
-    T_world_target: pin.SE3
-    w: np.ndarray  # per-axis weights on e
-    mask_pos: np.ndarray
-    mask_rot: np.ndarray
-    tol_pos: float
-    tol_rot: float
-    q0_pin: np.ndarray
-    null_gain: float  # pull toward q0 in the null space (redundant tasks only)
-    has_bounds: bool
-    full_task: bool  # all six weights are 1: skip the masking
-    eye: np.ndarray  # n x n identity
-    near_lower: np.ndarray  # lower + ON_LIMIT: a joint at or below this rests on its limit
-    near_upper: np.ndarray
-    # Looked up once: ``arm.data`` is this thread's Data, found through a thread-local.
-    model: pin.Model
-    data: pin.Data
-    fid: int
+    chain: Chain
+    settings: Settings
+    R_t: np.ndarray
+    p_t: np.ndarray
+    q0: np.ndarray  # joint values (rad, m)
+    ws: Workspace
 
     @classmethod
     def build(cls, arm: Arm, target: Target, q0: np.ndarray, opts: Options) -> Problem:
-        w = opts.weight_vector(target.position_only)
-        full_task = opts.weights is None and not (opts.position_only or target.position_only)
-        n_task = 6 if full_task else int(np.count_nonzero(w))
+        R = np.eye(3) if target.rotation is None else target.rotation
         return cls(
             arm,
-            arm.T_world_base * target.se3(),
-            w,
-            w[:3] > 0,
-            w[3:] > 0,
-            0.5 * opts.tol_position,
-            0.5 * opts.tol_orientation,
-            arm.to_pin(q0),
-            opts.nullspace_gain if arm.dof > n_task else 0.0,
-            arm.bounded.size > 0,
-            full_task or bool((w == 1.0).all()),
-            _identity(arm.dof),
-            arm.lower + ON_LIMIT,
-            arm.upper - ON_LIMIT,
-            arm.model,
-            arm.data,
-            arm.tip_frame_id,
+            arm.kernel_chain.chain,
+            settings(opts, target.position_only, arm.dof, 1, DLS_STEP),
+            np.ascontiguousarray(R, dtype=float),
+            np.ascontiguousarray(target.position, dtype=float),
+            np.asarray(q0, dtype=float).copy(),
+            workspace(arm.dof, 64),
         )
 
+    @property
+    def q0_pin(self) -> np.ndarray:
+        return self.arm.to_pin(self.q0)
 
-@cache
-def _identity(n: int) -> np.ndarray:
-    eye = np.eye(n)
-    eye.setflags(write=False)  # shared by every solve
-    return eye
+    def with_step(self, step: Step) -> Problem:
+        st = self.settings._replace(step=step.kind, backend=step.backend)
+        return Problem(self.arm, self.chain, st, self.R_t, self.p_t, self.q0, self.ws)
 
 
 @dataclass(slots=True)
 class State:
-    """The pose error at one configuration."""
+    """The pose error at one configuration (``qp``: Pinocchio coordinates)."""
 
     qp: np.ndarray
     e: np.ndarray  # weighted error twist
-    A: np.ndarray | None  # weighted error Jacobian
+    A: np.ndarray  # weighted error Jacobian
     pos: float
     rot: float
-
     sq: float  # the least-squares objective |e|^2 (weighted)
 
 
-def evaluate(pb: Problem, qp: np.ndarray) -> State:
-    """Pose error and its Jacobian at ``qp``."""
-    model, data, fid = pb.model, pb.data, pb.fid
-    pin.computeJointJacobians(model, data, qp)  # also runs forward kinematics
-    iMd = pin.updateFramePlacement(model, data, fid).actInv(pb.T_world_target)
-    e = pin.log6(iMd).vector
-    dp = iMd.translation
-    A = pin.Jlog6(iMd.inverse()) @ pin.getFrameJacobian(model, data, fid, pin.LOCAL)
-    if pb.full_task:  # on plain floats: 1 us cheaper per iteration than numpy dot products
-        px, py, pz = dp.tolist()
-        vx, vy, vz, wx, wy, wz = e.tolist()  # linear and angular parts of the twist
-        rot2 = wx * wx + wy * wy + wz * wz
-        lin2 = vx * vx + vy * vy + vz * vz
-        pos, rot = math.sqrt(px * px + py * py + pz * pz), math.sqrt(rot2)
-        return State(qp, e, A, pos, rot, lin2 + rot2)
-    pos = float(np.linalg.norm(dp[pb.mask_pos]))
-    rot = float(np.linalg.norm(e[3:][pb.mask_rot]))
-    A *= pb.w[:, None]
-    e = e * pb.w
-    return State(qp, e, A, pos, rot, float(e.dot(e)))
+def _state(pb: Problem, slot: int) -> State:
+    ws = pb.ws
+    pos, rot, sq = ws.val[slot].tolist()
+    return State(pb.arm.to_pin(ws.q[slot]), ws.e[slot].copy(), ws.A[slot].copy(), pos, rot, sq)
 
 
 def converged(pb: Problem, s: State) -> bool:
-    return s.pos <= pb.tol_pos and s.rot <= pb.tol_rot
+    """Within the iteration's tolerances (half the verification's)."""
+    return s.pos <= pb.settings.tol_pos and s.rot <= pb.settings.tol_rot
 
 
-def damping(s: State, mu: float = 1.0) -> float:
-    """lambda = mu c E + lambda_min with E = |e|^2 / 2 (Chan, Sugihara): large far from the
-    target, vanishing near it so that the final convergence stays quadratic. c = 0.1 was
-    measured against c = 1 and 0.01 with ``armik bench`` (fewer iterations on the Panda);
-    mu grows when a step is rejected (see ``descend``)."""
-    return mu * DAMPING_GAIN * 0.5 * s.sq + LAMBDA_MIN
-
-
-def normal_equations(pb: Problem, s: State, mu: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-    """H = A^T A + lambda I and g = A^T e (+ null-space pull) of the damped step H dq = g."""
-    A, e = s.A, s.e
-    lam = damping(s, mu)
-    H = A.T @ A
-    H += lam * pb.eye
-    g = A.T @ e
-    if pb.null_gain:
-        # lam * k * (q0 - q) only acts where A has no say: a pull in the null space. k
-        # shrinks with the error so that the pull fades out and convergence stays fast.
-        k = pb.null_gain * min(1.0, math.sqrt(2.0 * lam))
-        g += (lam * k) * pin.difference(pb.arm.model, s.qp, pb.q0_pin)
-    return H, g
-
-
-def solve_spd(H: np.ndarray, g: np.ndarray) -> np.ndarray:
-    """Solve H x = g for symmetric positive definite H (LAPACK dposv: 4x cheaper than
-    numpy.linalg.solve at this size)."""
-    _, x, info = dposv(H, g)
-    return x if info == 0 else np.linalg.lstsq(H, g, rcond=None)[0]
-
-
-def limit_box(pb: Problem, s: State) -> tuple[np.ndarray, np.ndarray]:
-    """Bounds on dq that keep every joint within its limits (-inf/inf where unlimited)."""
-    q = pb.arm.from_pin(s.qp, copy=False)
-    return pb.arm.lower - q, pb.arm.upper - q
-
-
-def bound_step(dq: np.ndarray) -> np.ndarray:
-    """Scale the step down to a Euclidean length of at most MAX_STEP (rad or m)."""
-    n2 = dq.dot(dq)
-    return dq * (MAX_STEP / math.sqrt(n2)) if n2 > MAX_STEP * MAX_STEP else dq
-
-
-Step = Callable[[Problem, State, float], np.ndarray]
+def evaluate(pb: Problem, qp: np.ndarray) -> State:
+    """Pose error and its Jacobian at ``qp`` (Pinocchio coordinates), by the kernel."""
+    pb.ws.q[0] = pb.arm.from_pin(qp)
+    _error.evaluate(pb.chain, pb.settings, pb.R_t, pb.p_t, pb.ws, 0)
+    return _state(pb, 0)
 
 
 def descend(
@@ -194,204 +277,47 @@ def descend(
     deadline: float,
     minima: np.ndarray | None = None,
 ) -> tuple[State, int, bool]:
-    """Iterate from ``qp``; returns the last state, the iterations used, and convergence.
-
-    Steps are taken without an acceptance test at first: the overshoots help to leave
-    poor basins (measured: accepting only improving steps from the start lowered the
-    success rate on the UR5, Z1 and Panda). When the error stops falling by 2 % within
-    ``STALL_WINDOW`` iterations while already small, the iteration turns careful:
-    Levenberg-Marquardt acceptance, where a step that does not lower |e|^2 is rejected and
-    the damping multiplier mu raised, which ends the cycling between two poses seen near
-    singular boundaries. A careful attempt that stalls too gives way to a restart, and so
-    does one that, with a small error, comes within ``KNOWN_MINIMUM_RADIUS`` of one of
-    ``minima`` (rows: configurations where earlier attempts of this solve ended).
-    """
-    arm = pb.arm
-    s = evaluate(pb, qp)
-    best_sq = s.sq
-    mu = 1.0
-    careful = False
-    since_best = 0
-    model, clip = arm.model, arm.clip_pin if pb.has_bounds else None
-    for it in range(max_iterations + 1):
-        if converged(pb, s):
-            return s, it, True
-        if it == max_iterations or time.perf_counter() > deadline:
-            break
-        qn = pin.integrate(model, s.qp, step(pb, s, mu))
-        if clip is not None:
-            clip(qn)
-        trial = evaluate(pb, qn)
-        if not careful or trial.sq < s.sq:
-            s = trial
-            mu = max(1.0, mu * MU_DOWN)
-        else:
-            mu *= MU_UP
-        if (
-            minima is not None
-            and s.sq < CAREFUL_BELOW
-            and np.abs(minima - s.qp).max(axis=1).min() < KNOWN_MINIMUM_RADIUS
-        ):
-            break
-        if s.sq < PROGRESS * best_sq:
-            best_sq, since_best = s.sq, 0
-        else:
-            since_best += 1
-            if since_best >= STALL_WINDOW:
-                if careful or s.sq > CAREFUL_BELOW:
-                    break
-                careful, since_best = True, 0
-    return s, it, False
+    """One attempt of the kernel from ``qp``, until ``max_iterations`` or ``deadline``
+    (a ``time.perf_counter()`` value, inf for none); ``minima`` (rows in Pinocchio
+    coordinates) are where earlier attempts got stuck. Returns the last state, the
+    iterations used, and convergence."""
+    pb = pb.with_step(step)
+    ws = pb.ws
+    count = 0 if minima is None else len(minima)
+    if count > ws.minima.shape[0]:
+        raise ValueError(f"at most {ws.minima.shape[0]} known minima")
+    for k in range(count):
+        ws.minima[k] = pb.arm.from_pin(minima[k])
+    ws.q[0] = pb.arm.from_pin(qp)
+    deadline_ns = NO_LIMIT
+    if math.isfinite(deadline):
+        deadline_ns = thread_cpu_ns() + int(max(deadline - time.perf_counter(), 0.0) * 1e9)
+    its, ok, slot = _descent.descend(
+        pb.chain, pb.settings, pb.R_t, pb.p_t, pb.q0, ws, max_iterations, deadline_ns, count
+    )
+    return _state(pb, slot), its, ok
 
 
 class RestartSeeds:
-    """Restart configurations spread evenly over the joint box: a Halton sequence with a
-    random shift per solve (Cranley-Patterson rotation), so ``seed`` still decides them.
+    """The restart configurations of a solve with seed ``seed`` (see ``kernel.restarts``)."""
 
-    Measured with the benchmark's protocol (2000 targets): against independent uniform
-    samples it took dls on the UR5 from 99.90 to 100 % and on the Z1 from 99.85 to 100 %,
-    and qp on the Z1 from 99.05 to 99.55 %: hard targets need many restarts, and even
-    coverage finds their basin sooner. Unlimited joints are sampled in [-pi, pi].
-
-    ``pick`` scores ``RESTART_CANDIDATES`` consecutive points by how far their tip lands
-    from the target position (one forward-kinematics pass each, a few us) and starts from
-    the nearest. Measured together with the stop at known minima (``descend``) by
-    ``armik bench -n 2000 --solvers dls qp --repeats 10``, against the same code with
-    ``RESTART_CANDIDATES = 1`` and ``KNOWN_MINIMUM_RADIUS = 0``; failures out of 20000,
-    without -> with: Panda qp 28 -> 15, dls 18 -> 9; Z1 qp 38 -> 2, dls 17 -> 0; Kinova
-    5 -> 1 (both); xArm7 4 -> 0 (both); UR10 qp 2 -> 3, dls 3 -> 3; UR5 qp 1 -> 5, dls 5 -> 5.
-    Mean iterations per solve fell by 8 to 17 %.
-    """
-
-    def __init__(self, arm: Arm, seed: int | np.random.Generator | None) -> None:
+    def __init__(self, arm: Arm, seed: int | None) -> None:
         self.arm = arm
-        self.seed = seed
-        self.shift: np.ndarray | None = None
+        self.chain = arm.kernel_chain.chain
+        self.shift = np.empty(arm.dof)
+        _restarts.seed_shift(secrets.randbits(63) if seed is None else int(seed), self.shift)
         self.k = 0
 
     def next(self) -> np.ndarray:
-        if self.shift is None:  # set up at the first restart: most solves never need one
-            self.lo, hi = self.arm.sampling_box()
-            self.span = hi - self.lo
-            self.shift = np.random.default_rng(self.seed).random(self.lo.size)
-        table = _halton(self.lo.size)
-        u = table[self.k % len(table)] + self.shift
+        out = np.empty(self.arm.dof)
+        _restarts.restart_point(self.chain, self.shift, self.k, out)
         self.k += 1
-        return self.lo + self.span * (u - np.floor(u))
+        return out
 
     def pick(self, pb: Problem) -> np.ndarray:
-        """The restart configuration (Pinocchio coordinates) of the next candidates whose
-        tip is nearest the target: position error, or orientation error when the task
-        ignores position."""
-        arm, model, data, fid = pb.arm, pb.model, pb.data, pb.fid
-        best, best_score = None, math.inf
-        for _ in range(RESTART_CANDIDATES):
-            qp = arm.to_pin(self.next())
-            pin.forwardKinematics(model, data, qp)
-            iMd = pin.updateFramePlacement(model, data, fid).actInv(pb.T_world_target)
-            if pb.mask_pos.any():
-                err = iMd.translation * pb.w[:3]
-            else:
-                err = pin.log3(iMd.rotation) * pb.w[3:]
-            score = float(err.dot(err))
-            if score < best_score:
-                best, best_score = qp, score
-        return best
-
-
-_PRIMES = (2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37)
-
-
-@cache
-def _halton(dim: int, n: int = 512) -> np.ndarray:
-    """The first n points of the dim-dimensional Halton sequence, in [0, 1)^dim."""
-    if dim > len(_PRIMES):
-        return np.random.default_rng(0).random((n, dim))
-    table = np.zeros((n, dim))
-    for j, base in enumerate(_PRIMES[:dim]):
-        k = np.arange(1, n + 1)
-        f = 1.0
-        while k.any():  # radical inverse, one digit of all n indices at a time
-            f /= base
-            table[:, j] += f * (k % base)
-            k //= base
-    return table
-
-
-def run_numeric(
-    arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool, step: Step
-) -> list[Attempt]:
-    """Descend from q0, then from restart seeds until solved, out of time or restarts."""
-    start = time.perf_counter()
-    deadline = start + opts.timeout
-    far = out_of_reach(arm, target, q0, opts)
-    if far is not None:
-        return [far]
-    pb = Problem.build(arm, target, q0, opts)
-    seeds = RestartSeeds(arm, opts.seed)
-    qp = pb.q0_pin.copy()
-    found: list[np.ndarray] = []
-    minima: np.ndarray | None = None
-    best: State | None = None
-    iterations = restarts = 0
-    while True:
-        s, its, ok = descend(pb, qp, step, opts.max_iterations, deadline, minima)
-        iterations += its
-        if not ok and s.sq < CAREFUL_BELOW:  # a local minimum near the target
-            minima = s.qp[None, :].copy() if minima is None else np.vstack([minima, s.qp])
-        if ok:
-            q = arm.nearest_equivalent(arm.from_pin(s.qp), q0)
-            if not any(np.abs(q - f).max() < DUPLICATE_TOL for f in found):
-                found.append(q)
-            if not all_solutions or len(found) >= opts.max_solutions:
-                break
-        elif best is None or s.sq < best.sq:
-            best = s
-        if restarts >= opts.max_restarts or time.perf_counter() > deadline:
-            break
-        restarts += 1
-        qp = seeds.pick(pb)
-    if found:
-        return [
-            Attempt(
-                q=q,
-                claim=Status.CONVERGED,
-                iterations=iterations,
-                restarts=restarts,
-                reason=f"converged after {restarts} restart(s)",
-            )
-            for q in found
-        ]
-    q = arm.nearest_equivalent(arm.from_pin(best.qp), q0)
-    spent = time.perf_counter() - start
-    why = "time budget" if spent > opts.timeout else "restart limit"
-    errors = f"position error {best.pos:.3g} m"
-    if pb.mask_rot.any():
-        errors += f", orientation error {best.rot:.3g} rad"
-    return [
-        Attempt(
-            q=q,
-            claim=Status.NOT_CONVERGED,
-            iterations=iterations,
-            restarts=restarts,
-            reason=f"no solution within the {why} ({opts.timeout:g} s, {restarts} "
-            f"restarts); best found: {errors}; the target may be out of "
-            "reach",
-        )
-    ]
-
-
-def out_of_reach(arm: Arm, target: Target, q0: np.ndarray, opts: Options) -> Attempt | None:
-    """A target farther from the first joint than the arm's reach bound is unreachable."""
-    w = opts.weight_vector(target.position_only)
-    if not w[:3].all():
-        return None
-    distance = math.dist(target.position.tolist(), arm.first_joint_origin.tolist())
-    if distance <= arm.reach + opts.tol_position:
-        return None
-    return Attempt(
-        q=q0.copy(),
-        claim=Status.UNREACHABLE,
-        reason=f"target is {distance:.4g} m from the first joint, beyond the arm's "
-        f"reach of at most {arm.reach:.4g} m; q is the seed, unchanged",
-    )
+        """The next candidates' configuration (Pinocchio coordinates) whose tip lands
+        nearest the target."""
+        out = np.empty(self.arm.dof)
+        pb.ws.shift[:] = self.shift
+        self.k = _restarts.pick(pb.chain, pb.settings, pb.R_t, pb.p_t, pb.ws, self.k, out)
+        return self.arm.to_pin(out)

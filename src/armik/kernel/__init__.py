@@ -1,0 +1,25 @@
+"""The compiled numeric core: the descent of ``dls`` and ``qp`` and their restarts.
+
+Small modules because numba's on-disk cache is keyed per source file: editing one
+function recompiles only its module and the ones that call it.
+
+- ``chain``: the kernel's view of an arm, plain arrays read once from Pinocchio's model.
+- ``se3``: log3, log6 and their Jacobians.
+- ``fk``: forward kinematics and the tip Jacobian (LOCAL).
+- ``linalg``: Cholesky solves for the small dense systems of a step.
+- ``clock``: the CPU time of the calling thread (the budget threads cannot steal).
+- ``step``: the damped least-squares step and the box-QP step (active set, QP fallback).
+- ``descent``: the pose error, one attempt (``descend``), restarts.
+- ``entry``: ``solve_targets``, a whole solve for N targets, GIL released.
+- ``check``: the verification errors from Pinocchio placements.
+"""
+
+import warnings
+
+from numba.core.errors import NumbaWarning
+
+# The qp step's rare call to the QP backend runs in object mode (it takes the GIL back for
+# that call only); numba warns about it at compile time.
+warnings.filterwarnings(
+    "ignore", message="Code running in object mode won't allow parallel", category=NumbaWarning
+)

@@ -1,0 +1,37 @@
+"""The QP backend behind the kernel's box-QP step, for the rare step its active set misses.
+
+Called from compiled code through ``numba.objmode`` (which takes the GIL back for the call).
+``box_problem`` is the one place the step's QP is written as a ``qpsolvers.Problem``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import qpsolvers
+from scipy import sparse
+
+BACKENDS: tuple[str, ...] = tuple(qpsolvers.available_solvers)
+BACKEND_OPTIONS = {
+    "osqp": {"eps_abs": 1e-9, "eps_rel": 1e-9, "polish": False, "verbose": False},
+}
+
+
+def code(name: str) -> int:
+    """The index the kernel uses for backend ``name`` (which must be installed)."""
+    return BACKENDS.index(name)
+
+
+def box_problem(H: np.ndarray, g: np.ndarray, lb: np.ndarray, ub: np.ndarray):
+    """minimise 1/2 x^T H x - g^T x subject to lb <= x <= ub (sparse H, as osqp wants)."""
+    return qpsolvers.Problem(sparse.csc_matrix(H), -g, lb=lb, ub=ub)
+
+
+def solve_box_qp(H: np.ndarray, g: np.ndarray, lb: np.ndarray, ub: np.ndarray, which: int):
+    """The backend's solution, or NaNs when it finds none."""
+    name = BACKENDS[which]
+    sol = qpsolvers.solve_problem(
+        box_problem(H, g, lb, ub), solver=name, **BACKEND_OPTIONS.get(name, {})
+    )
+    if sol.found and sol.x is not None:
+        return np.asarray(sol.x, dtype=np.float64)
+    return np.full(H.shape[0], np.nan)

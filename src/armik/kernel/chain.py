@@ -1,0 +1,187 @@
+"""The kernel's view of an arm: plain arrays read once from the reduced Pinocchio model.
+
+Joint values are the user's (one per joint: rad or m); a continuous joint is one angle,
+not Pinocchio's (cos, sin) pair. Frames: joint i is placed in joint i - 1 by
+``joint_R[i], joint_p[i]`` (joint 0 in the arm's base frame: the base transform is folded
+in), turns about or slides along ``axis[i]`` (unit, in its own frame), and the tip frame is
+placed in the last joint by ``tip_R, tip_p``. The kernel's FK is therefore ``T_base_tip``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cache
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+import pinocchio as pin
+from numba import njit
+
+if TYPE_CHECKING:
+    from ..arm import Arm
+
+REVOLUTE, PRISMATIC, CONTINUOUS = 0, 1, 2
+HALTON_POINTS = 512  # restart seeds cycle through this many points of the sequence
+_PRIMES = (2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37)
+
+
+class Chain(NamedTuple):
+    """Plain arrays describing a serial chain (see the module docstring)."""
+
+    joint_R: np.ndarray  # (n, 3, 3)
+    joint_p: np.ndarray  # (n, 3) m
+    axis: np.ndarray  # (n, 3) unit
+    kind: np.ndarray  # (n,) int64: REVOLUTE, PRISMATIC or CONTINUOUS
+    tip_R: np.ndarray  # (3, 3)
+    tip_p: np.ndarray  # (3,) m
+    lower: np.ndarray  # (n,) rad or m, -inf where unlimited
+    upper: np.ndarray  # (n,)
+    sample_lo: np.ndarray  # (n,) the restart box: the limits, [-pi, pi] where unlimited
+    sample_span: np.ndarray  # (n,)
+    halton: np.ndarray  # (HALTON_POINTS, n) in [0, 1)
+    origin: np.ndarray  # (3,) first joint's origin in the base frame (m)
+    reach: float  # upper bound on the distance from ``origin`` to the tip (m)
+    base_R: np.ndarray  # (3, 3) T_base_world: the base frame's placement inverted
+    base_p: np.ndarray  # (3,) m
+
+
+@dataclass(frozen=True, eq=False)
+class KernelChain:
+    """An arm's ``Chain``, and the same numbers as three flat arrays (``packed``, ``kind``,
+    ``halton``): compiled entries take those, because numba unboxes a tuple argument from
+    Python ten times slower than a few arrays. ``unpack`` rebuilds the ``Chain`` inside."""
+
+    chain: Chain
+    packed: np.ndarray
+    kind: np.ndarray
+    halton: np.ndarray
+
+    @property
+    def dof(self) -> int:
+        return int(self.kind.shape[0])
+
+
+def flatten(ch: Chain) -> np.ndarray:
+    """The float fields of ``ch`` in one array, in ``unpack``'s order."""
+    parts = [ch.joint_R, ch.joint_p, ch.axis, ch.tip_R, ch.tip_p, ch.lower, ch.upper]
+    parts += [ch.sample_lo, ch.sample_span, ch.origin, np.array([ch.reach]), ch.base_R, ch.base_p]
+    return np.concatenate([np.ravel(x) for x in parts]).astype(np.float64)
+
+
+@njit(cache=True, nogil=True)
+def unpack(packed, kind, halton):
+    """The ``Chain`` whose ``flatten`` is ``packed`` (views, no copy)."""
+    n = kind.shape[0]
+    o = 0
+    joint_R = packed[o : o + 9 * n].reshape((n, 3, 3))
+    o += 9 * n
+    joint_p = packed[o : o + 3 * n].reshape((n, 3))
+    o += 3 * n
+    axis = packed[o : o + 3 * n].reshape((n, 3))
+    o += 3 * n
+    tip_R = packed[o : o + 9].reshape((3, 3))
+    tip_p = packed[o + 9 : o + 12]
+    o += 12
+    lower = packed[o : o + n]
+    upper = packed[o + n : o + 2 * n]
+    sample_lo = packed[o + 2 * n : o + 3 * n]
+    sample_span = packed[o + 3 * n : o + 4 * n]
+    o += 4 * n
+    origin = packed[o : o + 3]
+    reach = packed[o + 3]
+    base_R = packed[o + 4 : o + 13].reshape((3, 3))
+    base_p = packed[o + 13 : o + 16]
+    return Chain(
+        joint_R,
+        joint_p,
+        axis,
+        kind,
+        tip_R,
+        tip_p,
+        lower,
+        upper,
+        sample_lo,
+        sample_span,
+        halton,
+        origin,
+        reach,
+        base_R,
+        base_p,
+    )
+
+
+def build_chain(arm: Arm) -> KernelChain:
+    """Read ``arm``'s chain from its Pinocchio model. Raises ``ValueError`` if the model
+    is not a serial chain of one-degree-of-freedom joints ending at the tip frame."""
+    model = arm.model
+    n = model.njoints - 1
+    if model.nv != n or arm.dof != n:
+        raise ValueError(f"expected {n} one-degree-of-freedom joints, model has nv = {model.nv}")
+    frame = model.frames[arm.tip_frame_id]
+    if frame.parentJoint != n:
+        raise ValueError(f"tip frame {frame.name!r} is not attached to the last joint")
+    data = model.createData()
+    q = pin.neutral(model)
+    pin.computeJointJacobians(model, data, q)
+    joint_R = np.empty((n, 3, 3))
+    joint_p = np.empty((n, 3))
+    axis = np.empty((n, 3))
+    kind = np.empty(n, dtype=np.int64)
+    for i in range(n):
+        j = i + 1
+        if model.parents[j] != j - 1:
+            raise ValueError(f"joint {model.names[j]!r} does not follow the previous joint")
+        M = model.jointPlacements[j]
+        if j == 1:
+            M = arm.T_base_world * M
+        joint_R[i], joint_p[i] = M.rotation, M.translation
+        # The joint's motion subspace, expressed in its own frame, at the neutral pose.
+        S = pin.getJointJacobian(model, data, j, pin.LOCAL)[:, model.joints[j].idx_v]
+        lin, ang = S[:3], S[3:]
+        if np.linalg.norm(ang) > 0.5 and np.linalg.norm(lin) < 1e-12:
+            axis[i] = ang / np.linalg.norm(ang)
+            kind[i] = CONTINUOUS if model.joints[j].nq == 2 else REVOLUTE
+        elif np.linalg.norm(lin) > 0.5 and np.linalg.norm(ang) < 1e-12:
+            axis[i] = lin / np.linalg.norm(lin)
+            kind[i] = PRISMATIC
+        else:
+            raise ValueError(f"joint {model.names[j]!r} is neither revolute nor prismatic")
+    lo, hi = arm.sampling_box()
+    ch = Chain(
+        joint_R,
+        joint_p,
+        axis,
+        kind,
+        frame.placement.rotation.copy(),
+        frame.placement.translation.copy(),
+        np.asarray(arm.lower, dtype=float).copy(),
+        np.asarray(arm.upper, dtype=float).copy(),
+        lo.astype(float),
+        (hi - lo).astype(float),
+        halton(n).copy(),  # writable: numba types read-only arrays apart
+        np.asarray(arm.first_joint_origin, dtype=float).copy(),
+        float(arm.reach) if math.isfinite(arm.reach) else math.inf,
+        arm.T_base_world.rotation.copy(),
+        arm.T_base_world.translation.copy(),
+    )
+    return KernelChain(ch, flatten(ch), ch.kind, ch.halton)
+
+
+@cache
+def halton(dim: int, n: int = HALTON_POINTS) -> np.ndarray:
+    """The first n points of the dim-dimensional Halton sequence, in [0, 1)^dim (beyond 12
+    dimensions: fixed pseudo-random points)."""
+    if dim > len(_PRIMES):
+        table = np.random.default_rng(0).random((n, dim))
+    else:
+        table = np.zeros((n, dim))
+        for j, base in enumerate(_PRIMES[:dim]):
+            k = np.arange(1, n + 1)
+            f = 1.0
+            while k.any():  # radical inverse, one digit of all n indices at a time
+                f /= base
+                table[:, j] += f * (k % base)
+                k //= base
+    table.setflags(write=False)
+    return table

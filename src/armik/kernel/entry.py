@@ -1,0 +1,31 @@
+"""The kernel's one entry: whole solves (first descent and restarts) for N targets.
+
+``solve_targets`` runs without the GIL: threads calling it on different chunks of targets
+run in parallel (each call allocates its own scratch). Each target gets its own budget
+(CPU time of the calling thread, or iterations) and its own restart stream (its seed).
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+from .chain import unpack as unpack_chain
+from .descent import solve_one
+from .problem import unpack as unpack_settings
+from .problem import workspace
+
+MINIMA_CAPACITY = 256  # known minima kept per solve (the oldest are dropped beyond)
+
+
+@njit(cache=True, nogil=True)
+def solve_targets(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, out_q, info, err):
+    """Solve target i = (R_t[i], p_t[i]) (rotation, position in the base frame) from
+    q0[i] with restart seed seeds[i], for every i. The chain is ``KernelChain``'s arrays,
+    the settings ``pack_settings``'s. Outputs per target as ``solve_one``: out_q (N, S, n),
+    info (N, 5), err (N, 2)."""
+    ch = unpack_chain(packed, kind, halton)
+    st = unpack_settings(sf, si)
+    n = q0.shape[1]
+    ws = workspace(n, min(st.max_restarts + 1, MINIMA_CAPACITY))
+    for i in range(R_t.shape[0]):
+        solve_one(ch, st, R_t[i], p_t[i], q0[i], seeds[i], ws, out_q[i], info[i], err[i])

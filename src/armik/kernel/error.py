@@ -1,0 +1,102 @@
+"""The pose error of the iteration and its exact Jacobian.
+
+e = log6(T_tip^-1 T_target): the twist from the tip to the target in the tip frame (LOCAL).
+Its Jacobian is -Jlog6(T_target^-1 T_tip) J_local, so a step dq solving A dq = e with
+A = Jlog6(T_target^-1 T_tip) J_local moves the tip onto the target. Weights scale the rows
+of e and A; the position and orientation errors are measured on the unweighted twist.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from .fk import forward, jacobian_local
+from .se3 import jlog6, log3, log6
+
+
+@njit(cache=True, nogil=True)
+def relative(ch, q, R_t, p_t, ws):
+    """FK at q, then ws.M, ws.t = T_tip^-1 T_target (rotation, translation in the tip frame)."""
+    R, p, M, t = ws.R, ws.p, ws.M, ws.t
+    forward(ch, q, R, p, ws.origins, ws.axes)
+    d0, d1, d2 = p_t[0] - p[0], p_t[1] - p[1], p_t[2] - p[2]
+    for i in range(3):
+        t[i] = R[0, i] * d0 + R[1, i] * d1 + R[2, i] * d2
+        for j in range(3):
+            M[i, j] = R[0, i] * R_t[0, j] + R[1, i] * R_t[1, j] + R[2, i] * R_t[2, j]
+
+
+@njit(cache=True, nogil=True)
+def evaluate(ch, st, R_t, p_t, ws, slot):
+    """Error (ws.e[slot]), Jacobian (ws.A[slot]) and ws.val[slot] = (position error,
+    orientation error, |e|^2) at the joint values ws.q[slot]."""
+    q = ws.q[slot]
+    relative(ch, q, R_t, p_t, ws)
+    jacobian_local(ch, ws.R, ws.p, ws.origins, ws.axes, ws.J)
+    M, t = ws.M, ws.t
+    e = ws.e[slot]
+    log6(M, t, e)
+    # The inverse of (M, t): (M^T, -M^T t); R and p are free scratch now.
+    Mi, ti = ws.R, ws.p
+    for i in range(3):
+        ti[i] = -(M[0, i] * t[0] + M[1, i] * t[1] + M[2, i] * t[2])
+        for j in range(3):
+            Mi[i, j] = M[j, i]
+    Jl = ws.Jlog
+    jlog6(Mi, ti, Jl, ws.w3)
+    A = ws.A[slot]
+    J = ws.J
+    n = J.shape[1]
+    for c in range(n):  # A = Jlog6 J, with Jlog6's lower-left block zero
+        j0, j1, j2, j3, j4, j5 = J[0, c], J[1, c], J[2, c], J[3, c], J[4, c], J[5, c]
+        for r in range(3):
+            A[r, c] = (
+                Jl[r, 0] * j0
+                + Jl[r, 1] * j1
+                + Jl[r, 2] * j2
+                + Jl[r, 3] * j3
+                + Jl[r, 4] * j4
+                + Jl[r, 5] * j5
+            )
+            A[3 + r, c] = Jl[3 + r, 3] * j3 + Jl[3 + r, 4] * j4 + Jl[3 + r, 5] * j5
+    val = ws.val[slot]
+    w = st.w
+    if st.full_task:
+        pos2 = t[0] * t[0] + t[1] * t[1] + t[2] * t[2]
+        rot2 = e[3] * e[3] + e[4] * e[4] + e[5] * e[5]
+        lin2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2]
+        val[0], val[1], val[2] = math.sqrt(pos2), math.sqrt(rot2), lin2 + rot2
+        return
+    pos2 = rot2 = sq = 0.0
+    for k in range(3):
+        if w[k] > 0.0:
+            pos2 += t[k] * t[k]
+        if w[3 + k] > 0.0:
+            rot2 += e[3 + k] * e[3 + k]
+    for k in range(6):
+        e[k] *= w[k]
+        sq += e[k] * e[k]
+        for c in range(n):
+            A[k, c] *= w[k]
+    val[0], val[1], val[2] = math.sqrt(pos2), math.sqrt(rot2), sq
+
+
+@njit(cache=True, nogil=True)
+def candidate_score(ch, st, q, R_t, p_t, ws):
+    """How far q's tip lands from the target (one FK, no Jacobian): the weighted squared
+    position error, or the orientation error when the task ignores position."""
+    relative(ch, q, R_t, p_t, ws)
+    w, t = st.w, ws.t
+    s = 0.0
+    if st.measure_position:
+        for k in range(3):
+            d = t[k] * w[k]
+            s += d * d
+        return s
+    log3(ws.M, ws.w3)
+    for k in range(3):
+        d = ws.w3[k] * w[3 + k]
+        s += d * d
+    return s

@@ -1,0 +1,106 @@
+"""Forward kinematics and the tip Jacobian of a ``Chain`` (see ``chain.py``), compiled.
+
+``T_base_tip`` for joint values q (rad, m); the Jacobian maps joint velocities to the tip's
+twist (v, w) expressed in the tip frame, Pinocchio's LOCAL. Scratch and outputs belong to
+the caller: nothing is allocated per call.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from .chain import PRISMATIC
+
+
+@njit(cache=True, nogil=True)
+def forward(ch, q, R, p, origins, axes):
+    """T_base_tip = (R, p) for joint values q; ``origins`` and ``axes`` (n x 3) receive each
+    joint's origin and unit axis in the base frame, for ``jacobian_local``."""
+    n = q.shape[0]
+    # (r, t): the running transform, as nine and three scalars
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
+    t0, t1, t2 = 0.0, 0.0, 0.0
+    for i in range(n):
+        P = ch.joint_R[i]
+        d = ch.joint_p[i]
+        # t += r d ; r = r P
+        t0 += r00 * d[0] + r01 * d[1] + r02 * d[2]
+        t1 += r10 * d[0] + r11 * d[1] + r12 * d[2]
+        t2 += r20 * d[0] + r21 * d[1] + r22 * d[2]
+        a00 = r00 * P[0, 0] + r01 * P[1, 0] + r02 * P[2, 0]
+        a01 = r00 * P[0, 1] + r01 * P[1, 1] + r02 * P[2, 1]
+        a02 = r00 * P[0, 2] + r01 * P[1, 2] + r02 * P[2, 2]
+        a10 = r10 * P[0, 0] + r11 * P[1, 0] + r12 * P[2, 0]
+        a11 = r10 * P[0, 1] + r11 * P[1, 1] + r12 * P[2, 1]
+        a12 = r10 * P[0, 2] + r11 * P[1, 2] + r12 * P[2, 2]
+        a20 = r20 * P[0, 0] + r21 * P[1, 0] + r22 * P[2, 0]
+        a21 = r20 * P[0, 1] + r21 * P[1, 1] + r22 * P[2, 1]
+        a22 = r20 * P[0, 2] + r21 * P[1, 2] + r22 * P[2, 2]
+        r00, r01, r02, r10, r11, r12, r20, r21, r22 = a00, a01, a02, a10, a11, a12, a20, a21, a22
+        u = ch.axis[i]
+        ux, uy, uz = u[0], u[1], u[2]
+        wx = r00 * ux + r01 * uy + r02 * uz  # the axis in the base frame
+        wy = r10 * ux + r11 * uy + r12 * uz
+        wz = r20 * ux + r21 * uy + r22 * uz
+        origins[i, 0], origins[i, 1], origins[i, 2] = t0, t1, t2
+        axes[i, 0], axes[i, 1], axes[i, 2] = wx, wy, wz
+        x = q[i]
+        if ch.kind[i] == PRISMATIC:
+            t0 += wx * x
+            t1 += wy * x
+            t2 += wz * x
+        else:
+            # r <- r Rot(u, x), Rot = c I + s [u]x + (1 - c) u u^T (Rodrigues)
+            s, c = math.sin(x), math.cos(x)
+            k = 1.0 - c
+            m00 = c + k * ux * ux
+            m01 = k * ux * uy - s * uz
+            m02 = k * ux * uz + s * uy
+            m10 = k * uy * ux + s * uz
+            m11 = c + k * uy * uy
+            m12 = k * uy * uz - s * ux
+            m20 = k * uz * ux - s * uy
+            m21 = k * uz * uy + s * ux
+            m22 = c + k * uz * uz
+            a00 = r00 * m00 + r01 * m10 + r02 * m20
+            a01 = r00 * m01 + r01 * m11 + r02 * m21
+            a02 = r00 * m02 + r01 * m12 + r02 * m22
+            a10 = r10 * m00 + r11 * m10 + r12 * m20
+            a11 = r10 * m01 + r11 * m11 + r12 * m21
+            a12 = r10 * m02 + r11 * m12 + r12 * m22
+            a20 = r20 * m00 + r21 * m10 + r22 * m20
+            a21 = r20 * m01 + r21 * m11 + r22 * m21
+            a22 = r20 * m02 + r21 * m12 + r22 * m22
+            r00, r01, r02 = a00, a01, a02
+            r10, r11, r12 = a10, a11, a12
+            r20, r21, r22 = a20, a21, a22
+    P = ch.tip_R
+    d = ch.tip_p
+    p[0] = t0 + r00 * d[0] + r01 * d[1] + r02 * d[2]
+    p[1] = t1 + r10 * d[0] + r11 * d[1] + r12 * d[2]
+    p[2] = t2 + r20 * d[0] + r21 * d[1] + r22 * d[2]
+    for j in range(3):
+        R[0, j] = r00 * P[0, j] + r01 * P[1, j] + r02 * P[2, j]
+        R[1, j] = r10 * P[0, j] + r11 * P[1, j] + r12 * P[2, j]
+        R[2, j] = r20 * P[0, j] + r21 * P[1, j] + r22 * P[2, j]
+
+
+@njit(cache=True, nogil=True)
+def jacobian_local(ch, R, p, origins, axes, J):
+    """J (6 x n): the tip Jacobian in the tip frame (LOCAL) from ``forward``'s outputs."""
+    n = origins.shape[0]
+    for i in range(n):
+        wx, wy, wz = axes[i, 0], axes[i, 1], axes[i, 2]
+        if ch.kind[i] == PRISMATIC:
+            vx, vy, vz = wx, wy, wz
+            wx = wy = wz = 0.0
+        else:  # v = w x (p_tip - o_i)
+            dx, dy, dz = p[0] - origins[i, 0], p[1] - origins[i, 1], p[2] - origins[i, 2]
+            vx = wy * dz - wz * dy
+            vy = wz * dx - wx * dz
+            vz = wx * dy - wy * dx
+        for k in range(3):  # rotate into the tip frame: R^T
+            J[k, i] = R[0, k] * vx + R[1, k] * vy + R[2, k] * vz
+            J[3 + k, i] = R[0, k] * wx + R[1, k] * wy + R[2, k] * wz

@@ -1,0 +1,78 @@
+"""Small dense solves of a step: Cholesky on a subset of the joints, no allocation."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True, nogil=True)
+def cholesky_solve(H, g, free, L, x):
+    """x[free] solves H[free][:, free] x = g[free] (H symmetric positive definite); x is 0
+    elsewhere. ``L`` is n x n scratch. Returns False when the factorisation fails (H not
+    positive definite in floating point), leaving x unspecified."""
+    n = H.shape[0]
+    for i in range(n):
+        if not free[i]:
+            continue
+        for j in range(i + 1):
+            if not free[j]:
+                continue
+            s = H[i, j]
+            for k in range(j):
+                if free[k]:
+                    s -= L[i, k] * L[j, k]
+            if i == j:
+                if not s > 0.0:
+                    return False
+                L[i, i] = math.sqrt(s)
+            else:
+                L[i, j] = s / L[j, j]
+    for i in range(n):  # L y = g
+        if not free[i]:
+            x[i] = 0.0
+            continue
+        s = g[i]
+        for k in range(i):
+            if free[k]:
+                s -= L[i, k] * x[k]
+        x[i] = s / L[i, i]
+    for i in range(n - 1, -1, -1):  # L^T x = y
+        if not free[i]:
+            continue
+        s = x[i]
+        for k in range(i + 1, n):
+            if free[k]:
+                s -= L[k, i] * x[k]
+        x[i] = s / L[i, i]
+    return True
+
+
+@njit(cache=True, nogil=True)
+def solve_spd(H, g, free, L, x):
+    """``cholesky_solve``; when H is not positive definite in floating point, the diagonal
+    is raised by 1e-12, 1e-10, ... of its largest entry until it is (x = 0 if never)."""
+    if cholesky_solve(H, g, free, L, x):
+        return
+    n = H.shape[0]
+    scale = 0.0
+    for i in range(n):
+        scale = max(scale, abs(H[i, i]))
+    saved = np.empty(n)
+    for i in range(n):
+        saved[i] = H[i, i]
+    jitter = 1e-12 * max(scale, 1e-300)
+    ok = False
+    for _ in range(12):
+        for i in range(n):
+            H[i, i] = saved[i] + jitter
+        if cholesky_solve(H, g, free, L, x):
+            ok = True
+            break
+        jitter *= 100.0
+    for i in range(n):
+        H[i, i] = saved[i]
+    if not ok:
+        x[:] = 0.0

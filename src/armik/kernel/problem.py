@@ -1,0 +1,146 @@
+"""The per-solve settings and the scratch memory of the kernel.
+
+``Settings`` is built once per (options, kind of target, arm size) in Python; ``Workspace``
+is allocated once per kernel call and reused by every target and iteration.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+STEP_DLS, STEP_QP = 0, 1
+NO_LIMIT = -1  # for timeout_ns and iteration_budget: not used
+
+
+class Settings(NamedTuple):
+    """What every target of a kernel call shares. Lengths m, angles rad, time ns."""
+
+    w: np.ndarray  # (6,) weights on (v, w) of the error; 0 for a free axis
+    full_task: bool  # every weight 1: skip the masking
+    measure_position: bool  # some position weight is non-zero
+    tol_pos: float  # the iteration's tolerances: half the verification's
+    tol_rot: float
+    null_gain: float  # pull toward q0 in the null space (0 when the task uses every joint)
+    max_iterations: int  # per attempt
+    max_restarts: int
+    max_found: int  # stop after this many distinct solutions
+    timeout_ns: int  # thread CPU time per target, or NO_LIMIT
+    iteration_budget: int  # iterations per target, or NO_LIMIT
+    step: int  # STEP_DLS or STEP_QP
+    backend: int  # index of the QP backend in ``backend.BACKENDS``
+    check_reach: bool  # every position axis measured: far targets fail at once
+    reach_slack: float  # m, added to the reach bound (the verification's tolerance)
+
+
+class Workspace(NamedTuple):
+    """Scratch for one thread (uninitialised: every reader writes first). States live
+    in slots 0 and 1 (current and trial)."""
+
+    q: np.ndarray  # (2, n)
+    e: np.ndarray  # (2, 6) weighted error twist
+    A: np.ndarray  # (2, 6, n) weighted error Jacobian
+    val: np.ndarray  # (2, 3): position error, orientation error, |e|^2
+    R: np.ndarray  # (3, 3) tip rotation
+    p: np.ndarray  # (3,) tip position
+    origins: np.ndarray  # (n, 3)
+    axes: np.ndarray  # (n, 3)
+    J: np.ndarray  # (6, n) tip Jacobian, LOCAL
+    M: np.ndarray  # (3, 3) rotation scratch
+    t: np.ndarray  # (3,) vector scratch
+    w3: np.ndarray  # (3,)
+    Jlog: np.ndarray  # (6, 6)
+    H: np.ndarray  # (n, n)
+    g: np.ndarray  # (n,)
+    L: np.ndarray  # (n, n)
+    G: np.ndarray  # (n, n) H^-1
+    dq: np.ndarray  # (n,)
+    x: np.ndarray  # (n,)
+    xf: np.ndarray  # (n,) unconstrained minimiser of a QP step
+    lb: np.ndarray  # (n,)
+    ub: np.ndarray  # (n,)
+    free: np.ndarray  # (n,) bool
+    unit: np.ndarray  # (n,) column of the identity
+    side: np.ndarray  # (n,) int64 active-set sides
+    held: np.ndarray  # (n,) int64
+    Hh: np.ndarray  # (n, n) held block
+    gap: np.ndarray  # (n,)
+    mult: np.ndarray  # (n,)
+    minima: np.ndarray  # (capacity, n) where earlier attempts of a solve got stuck
+    best: np.ndarray  # (n,) best unconverged configuration of a solve
+    shift: np.ndarray  # (n,) the solve's shift of the restart sequence
+    cand: np.ndarray  # (n,) restart candidate
+    u: np.ndarray  # (n,) normalised answer
+
+
+def pack_settings(st: Settings) -> tuple[np.ndarray, np.ndarray]:
+    """``st`` as a float and an int array (what compiled entries take; see ``unpack``)."""
+    floats = np.array([*st.w, st.tol_pos, st.tol_rot, st.null_gain, st.reach_slack])
+    ints = [st.full_task, st.measure_position, st.max_iterations, st.max_restarts]
+    ints += [st.max_found, st.timeout_ns, st.iteration_budget, st.step, st.backend]
+    ints += [st.check_reach]
+    return floats, np.array(ints, dtype=np.int64)
+
+
+@njit(cache=True, nogil=True)
+def unpack(sf, si):
+    """The ``Settings`` that ``pack_settings`` flattened into (sf, si)."""
+    return Settings(
+        sf[0:6],
+        si[0] != 0,
+        si[1] != 0,
+        sf[6],
+        sf[7],
+        sf[8],
+        si[2],
+        si[3],
+        si[4],
+        si[5],
+        si[6],
+        si[7],
+        si[8],
+        si[9] != 0,
+        sf[9],
+    )
+
+
+@njit(cache=True, nogil=True)
+def workspace(n, capacity):
+    return Workspace(
+        np.empty((2, n)),
+        np.empty((2, 6)),
+        np.empty((2, 6, n)),
+        np.empty((2, 3)),
+        np.empty((3, 3)),
+        np.empty(3),
+        np.empty((n, 3)),
+        np.empty((n, 3)),
+        np.empty((6, n)),
+        np.empty((3, 3)),
+        np.empty(3),
+        np.empty(3),
+        np.empty((6, 6)),
+        np.empty((n, n)),
+        np.empty(n),
+        np.empty((n, n)),
+        np.empty((n, n)),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n, dtype=np.bool_),
+        np.empty(n),
+        np.empty(n, dtype=np.int64),
+        np.empty(n, dtype=np.int64),
+        np.empty((n, n)),
+        np.empty(n),
+        np.empty(n),
+        np.empty((max(capacity, 1), n)),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+    )

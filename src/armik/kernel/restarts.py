@@ -1,0 +1,66 @@
+"""Restart seeds: a Halton sequence over the joint box with a shift drawn per solve.
+
+The shift (a Cranley-Patterson rotation) comes from the solve's ``seed`` through SplitMix64,
+so every target of a batch has its own deterministic stream whatever thread runs it.
+Measured with the benchmark's protocol (2000 targets): against independent uniform samples
+the Halton points took dls on the UR5 from 99.90 to 100 % and on the Z1 from 99.85 to
+100 %, and qp on the Z1 from 99.05 to 99.55 %: hard targets need many restarts, and even
+coverage finds their basin sooner. Unlimited joints are sampled in [-pi, pi].
+
+``pick`` scores ``RESTART_CANDIDATES`` consecutive points by how far their tip lands from
+the target (one FK each) and starts from the nearest. Measured together with the stop at
+known minima (``descent.descend``) by ``armik bench -n 2000 --solvers dls qp --repeats 10``
+against ``RESTART_CANDIDATES = 1`` and ``KNOWN_MINIMUM_RADIUS = 0``; failures out of 20000,
+without -> with: Panda qp 28 -> 15, dls 18 -> 9; Z1 qp 38 -> 2, dls 17 -> 0; Kinova 5 -> 1
+(both); xArm7 4 -> 0 (both); UR10 qp 2 -> 3, dls 3 -> 3; UR5 qp 1 -> 5, dls 5 -> 5.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from .error import candidate_score
+
+RESTART_CANDIDATES = 4  # restart seeds scored per restart
+
+
+@njit(cache=True, nogil=True)
+def _mix(z):
+    z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return z ^ (z >> np.uint64(31))
+
+
+@njit(cache=True, nogil=True)
+def seed_shift(seed, shift):
+    """shift (n,) in [0, 1): the SplitMix64 stream of ``seed`` (a non-negative integer)."""
+    x = np.uint64(seed)
+    for j in range(shift.shape[0]):
+        x = x + np.uint64(0x9E3779B97F4A7C15)
+        shift[j] = float(_mix(x) >> np.uint64(11)) * (1.0 / 9007199254740992.0)
+
+
+@njit(cache=True, nogil=True)
+def restart_point(ch, shift, k, out):
+    """out: the k-th restart configuration of the shifted sequence (rad, m)."""
+    row = ch.halton[k % ch.halton.shape[0]]
+    for j in range(out.shape[0]):
+        u = row[j] + shift[j]
+        u -= np.floor(u)
+        out[j] = ch.sample_lo[j] + ch.sample_span[j] * u
+
+
+@njit(cache=True, nogil=True)
+def pick(ch, st, R_t, p_t, ws, k, out):
+    """out: of the restart points k .. k + RESTART_CANDIDATES - 1, the one whose tip lands
+    nearest the target. Returns the index of the next unused point."""
+    best = np.inf
+    for _ in range(RESTART_CANDIDATES):
+        restart_point(ch, ws.shift, k, ws.cand)
+        k += 1
+        score = candidate_score(ch, st, ws.cand, R_t, p_t, ws)
+        if not score >= best:  # NaN scores (overflowing models) never block a pick
+            best = score
+            out[:] = ws.cand
+    return k
