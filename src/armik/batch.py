@@ -406,7 +406,7 @@ def judge(arm: Arm, attempts, targets: TargetBatch, opts: Options) -> BatchResul
     judges one attempt: a verified answer is a success whatever the solver claimed; a
     claimed success that fails the check is ``joint_limits`` (outside the limits) or
     ``not_converged``; any other claim stands."""
-    from .verify import check
+    from .verify import check_batch
 
     n = len(targets)
     part = BatchResult.empty(n, arm.dof, solver="", time=0.0)
@@ -414,35 +414,59 @@ def judge(arm: Arm, attempts, targets: TargetBatch, opts: Options) -> BatchResul
     part.iterations[:] = attempts.iterations
     part.restarts[:] = attempts.restarts
     claim = np.asarray(attempts.claim, dtype=np.int8)
-    for i in range(n):
-        c = check(arm, part.q[i], targets.target(i), opts)
-        part.position_error[i] = c.position_error
-        part.orientation_error[i] = math.nan if c.orientation_error is None else c.orientation_error
-        if c.ok:
-            part.success[i] = True
-            part.status_code[i] = _CONVERGED
-        elif claim[i] == _CONVERGED:
-            if c.violations:
-                part.status_code[i] = Status.JOINT_LIMITS.code
-                part.reasons[i] = "outside the joint limits: " + "; ".join(c.violations)
-            else:
-                part.status_code[i] = Status.NOT_CONVERGED.code
-                part.reasons[i] = f"forward-kinematics check failed: {c.describe()}"
+    c = check_batch(arm, part.q, targets, opts)
+    part.position_error[:] = c.position_error
+    part.orientation_error[:] = c.orientation_error
+    ok = c.ok
+    claimed = claim == _CONVERGED
+    part.success[:] = ok
+    part.status_code[:] = np.where(
+        ok,
+        _CONVERGED,
+        np.where(
+            claimed,
+            np.where(c.within_limits, Status.NOT_CONVERGED.code, Status.JOINT_LIMITS.code),
+            claim,
+        ),
+    )
+    for i in np.flatnonzero(~ok).tolist():  # the rare failures get their reasons
+        errors = _errors(part, i, opts)
+        if claimed[i] and not c.within_limits[i]:
+            part.reasons[i] = "outside the joint limits: " + "; ".join(
+                arm.limit_violations(part.q[i])
+            )
+        elif claimed[i]:
+            part.reasons[i] = f"forward-kinematics check failed: {errors}"
+        elif claim[i] == Status.UNREACHABLE.code:
+            distance = math.dist(targets.positions[i].tolist(), arm.first_joint_origin.tolist())
+            part.reasons[i] = (
+                f"target is {distance:.4g} m from the first joint, beyond the arm's reach of "
+                f"at most {arm.reach:.4g} m; q is the seed, unchanged"
+            )
+        elif claim[i] == Status.NOT_CONVERGED.code:
+            budget = (
+                f"{opts.iteration_budget} iterations"
+                if getattr(opts, "iteration_budget", None) is not None
+                else f"{opts.timeout:g} s of CPU time"
+            )
+            part.reasons[i] = (
+                f"no solution within the budget ({budget}, at most {opts.max_restarts} "
+                f"restarts); best found: {errors}; the target may be out of reach"
+            )
         else:
-            part.status_code[i] = claim[i]
-            part.reasons[i] = _claim_reason(Status.from_code(claim[i]), c.describe(), opts)
+            part.reasons[i] = f"{Status.from_code(claim[i]).value}: {errors}"
     return part
 
 
-def _claim_reason(status: Status, errors: str, opts: Options) -> str:
-    if status is Status.UNREACHABLE:
-        return f"the target is out of the arm's reach; q is the seed; {errors}"
-    if status is Status.NOT_CONVERGED:
-        return (
-            f"no solution within the budget ({opts.timeout:g} s, {opts.max_restarts} "
-            f"restarts at most); best found: {errors}; the target may be out of reach"
+def _errors(part: BatchResult, i: int, opts: Options) -> str:
+    """The check's errors of row i, worded as ``verify.Check.describe``."""
+    text = f"position error {part.position_error[i]:.3g} m (tol {opts.tol_position:g})"
+    if not math.isnan(part.orientation_error[i]):
+        text += (
+            f", orientation error {part.orientation_error[i]:.3g} rad "
+            f"(tol {opts.tol_orientation:g})"
         )
-    return f"{status.value}: {errors}"
+    return text
 
 
 def batch_seeds(arm: Arm, q0: object, n: int) -> np.ndarray:
