@@ -8,8 +8,10 @@ budget 5 ms per target, success 1e-5 m and 1e-5 rad with every joint within its 
 the mid-limit configuration. Each success is checked again here with Pinocchio directly
 (independent of armik's verify) to count false successes. Worker counts are interleaved over
 ``--rounds`` rounds and the best round of each is kept (a noisy machine only slows runs down).
-``--peers rtb`` times a sequential loop of the Robotics Toolbox's C++ ik_LM over the first
-``--peer-n`` targets through ``armik.peers`` when that module and the toolbox are installed.
+``--peers`` times a sequential loop of the Robotics Toolbox's C++ ik_LM over the first
+``--peer-n`` targets (the same URDF file; its FK is checked against armik's first).
+``--reference`` also times a plain compiled loop on 1 and 2 threads: what the machine gives
+two threads at that moment (other processes share the cores).
 ``--memory`` runs each N in a fresh process and prints its peak resident memory (ru_maxrss).
 """
 
@@ -45,6 +47,33 @@ def false_successes(arm: armik.Arm, res, T: np.ndarray, tol: float) -> int:
     return bad
 
 
+def reference_ratio(seconds: float = 0.25) -> float:
+    """Two threads over one on a plain compiled loop (GIL released): the ceiling the machine
+    offers at this moment."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from numba import njit
+
+    @njit(nogil=True, cache=False)
+    def spin(n):
+        s = 0.0
+        for i in range(n):
+            s += np.sin(i * 1e-3)
+        return s
+
+    spin(10)
+    n = int(4e7 * seconds)
+    t = time.perf_counter()
+    spin(n)
+    spin(n)
+    one = time.perf_counter() - t
+    with ThreadPoolExecutor(2) as pool:
+        t = time.perf_counter()
+        list(pool.map(spin, [n, n]))
+        two = time.perf_counter() - t
+    return one / two
+
+
 def run_throughput(args) -> list[dict]:
     rows = []
     opts = dict(timeout=args.budget, tol_position=args.tol, tol_orientation=args.tol)
@@ -54,6 +83,8 @@ def run_throughput(args) -> list[dict]:
         arm.solve_batch(T[:64], q0=arm.middle, solver=args.solver, progress=False, **opts)
         best: dict[int, dict] = {}
         for _ in range(args.rounds):
+            if args.reference:
+                print(json.dumps({"reference_two_thread_ratio": reference_ratio()}), flush=True)
             for w in args.workers:
                 t0 = time.perf_counter()
                 res = arm.solve_batch(
@@ -83,19 +114,58 @@ def run_throughput(args) -> list[dict]:
     return rows
 
 
-def peer_row(arm: armik.Arm, T: np.ndarray, args) -> dict:
-    from armik import peers  # the benchmark's peer wrappers
+def rtb_ets(arm: armik.Arm):
+    """The Robotics Toolbox's chain for the same URDF file (meshes stripped: the toolbox
+    would look for their ROS packages), base to tip."""
+    import re
+    import tempfile
+    import warnings
+    from pathlib import Path
 
-    peer = peers.make("rtb", arm, tol=args.tol)
+    import roboticstoolbox as rtb
+
+    text = Path(arm.source).read_text()
+    text = re.sub(r"<visual\b.*?</visual>|<collision\b.*?</collision>", "", text, flags=re.S)
+    path = Path(tempfile.mkdtemp()) / "robot.urdf"
+    path.write_text(text)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = rtb.Robot.URDF(str(path))
+    ets = robot.ets(start=arm.base, end=arm.tip)
+    q = arm.random_q(0)
+    gap = np.abs(ets.eval(q) - arm.fk(q).homogeneous).max()
+    if gap > 1e-9:
+        raise SystemExit(f"rtb and armik FK disagree by {gap:.3g} on {arm.name}")
+    return ets
+
+
+def peer_row(arm: armik.Arm, T: np.ndarray, args) -> dict:
+    """A sequential loop of the toolbox's C++ ik_LM (30 iterations x 100 searches, joint
+    limits on, tolerance E = |e|^2 / 2 <= 5e-11 so that both errors are within 1e-5), from
+    the same q0 on the same targets; successes checked as armik's are."""
+    ets = rtb_ets(arm)
     q0 = arm.middle
-    ok, t0 = 0, time.perf_counter()
+    tol_e = 0.5 * args.tol**2
+    qs, flags = [], []
+    t0 = time.perf_counter()
     for M in T:
-        q = peer.solve(pin.SE3(M), q0)
-        ok += q is not None
+        sol = ets.ik_LM(M, q0=q0, ilimit=30, slimit=100, tol=tol_e, joint_limits=True)
+        qs.append(sol.q)
+        flags.append(sol.success)
     wall = time.perf_counter() - t0
+    ok = 0
+    for M, q, flag in zip(T, qs, flags):
+        F = arm.fk(np.asarray(q))
+        e = pin.log6(F.actInv(pin.SE3(M))).vector
+        ok += bool(
+            flag
+            and np.linalg.norm(M[:3, 3] - F.translation) <= args.tol
+            and np.linalg.norm(e[3:]) <= args.tol
+            and arm.within_limits(np.asarray(q))
+        )
     return {
         "arm": arm.name,
-        "solver": "rtb ik_LM (sequential)",
+        "solver": "rtb ik_LM, sequential",
         "workers": 1,
         "n": len(T),
         "success_pct": 100.0 * ok / len(T),
@@ -138,6 +208,7 @@ def main() -> None:
     p.add_argument("--tol", type=float, default=1e-5)
     p.add_argument("--peers", action="store_true", help="also time rtb ik_LM sequentially")
     p.add_argument("--peer-n", type=int, default=20000)
+    p.add_argument("--reference", action="store_true", help="also time a plain 2-thread loop")
     p.add_argument("--memory", nargs="+", type=int, help="peak RSS for these N instead")
     args = p.parse_args()
     if args.memory:

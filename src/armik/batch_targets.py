@@ -12,7 +12,9 @@
 Every target is checked as ``parse_target`` checks one (finite, rotation orthonormal with
 determinant +1, last row (0, 0, 0, 1), quaternion not zero) and an error names the index of
 the first bad target. Rotations within ``ROTATION_TOL`` of orthonormal are snapped onto the
-nearest rotation.
+nearest rotation. To keep memory flat for millions of targets, a ``TargetBatch`` read from
+an array may share memory with it (positions and rotations as views): do not modify the
+array while it is being solved.
 """
 
 from __future__ import annotations
@@ -139,7 +141,7 @@ def _from_matrices(T: np.ndarray) -> TargetBatch:
         raise TargetError(
             f"target {i}: the last row of a 4x4 target must be (0, 0, 0, 1), got {T[i, 3].tolist()}"
         )
-    return TargetBatch(T[:, :3, 3].copy(), _rotations(T[:, :3, :3]))
+    return TargetBatch(T[:, :3, 3], _rotations(T[:, :3, :3]))
 
 
 def _rotations(R: np.ndarray) -> np.ndarray:
@@ -160,9 +162,9 @@ def _rotations(R: np.ndarray) -> np.ndarray:
             f"target {i}: rotation has determinant -1 (a reflection, not a rotation): "
             "flip the sign of one axis"
         )
-    R = R.copy()
     off = err > 1e-14
     if off.any():  # the nearest rotation, as parse_target does for one
+        R = R.copy()
         U, _, Vt = np.linalg.svd(R[off])
         R[off] = U @ Vt
     return R
@@ -194,7 +196,7 @@ def _from_rows7(rows: np.ndarray) -> TargetBatch:
     R[:, 2, 0] = 2 * (x * z - y * w)
     R[:, 2, 1] = 2 * (y * z + x * w)
     R[:, 2, 2] = 1 - 2 * (x * x + y * y)
-    return TargetBatch(rows[:, :3].copy(), R)
+    return TargetBatch(rows[:, :3], R)
 
 
 def _from_sequence(values: Sequence, arm: Arm | None) -> TargetBatch:
