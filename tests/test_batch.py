@@ -238,3 +238,15 @@ def test_progress_bar_on_request(capsys):
     assert capsys.readouterr().err == ""
     with pytest.raises(OptionError, match="progress"):
         solve_batch(a, _poses(a, 1, seed=1), progress="yes")
+
+
+def test_thread_count_and_chunking_do_not_change_answers():
+    a = arm("panda")
+    T = np.array([p.homogeneous for p in _poses(a, 40, seed=12)])
+    options = dict(iteration_budget=400, seed=5)  # a budget in iterations: deterministic
+    one = solve_batch(a, T, workers=1, chunk_size=40, **options)
+    two = solve_batch(a, T, workers=2, chunk_size=7, **options)
+    for name in ("q", "success", "status_code", "iterations", "restarts", "position_error"):
+        np.testing.assert_array_equal(getattr(one, name), getattr(two, name), err_msg=name)
+    loop = [a.solve(t, **options) for t in T[:5]]
+    np.testing.assert_array_equal(one.q[:5], np.array([r.q for r in loop]))
