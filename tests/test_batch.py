@@ -250,3 +250,12 @@ def test_thread_count_and_chunking_do_not_change_answers():
         np.testing.assert_array_equal(getattr(one, name), getattr(two, name), err_msg=name)
     loop = [a.solve(t, **options) for t in T[:5]]
     np.testing.assert_array_equal(one.q[:5], np.array([r.q for r in loop]))
+
+
+def test_progress_reports_each_chunk_from_the_thread_pool():
+    a = arm("ur5")
+    seen = []
+    solve_batch(
+        a, _poses(a, 8, seed=3), workers=2, chunk_size=2, progress=lambda d, t: seen.append(d)
+    )
+    assert seen == sorted(seen) and seen[-1] == 8 and len(seen) >= 2
