@@ -28,6 +28,7 @@ import numpy as np
 import pinocchio as pin
 
 import armik
+import armik.batch_targets
 from armik import bench
 
 
@@ -174,6 +175,38 @@ def peer_row(arm: armik.Arm, T: np.ndarray, args) -> dict:
     }
 
 
+def run_split(args) -> None:
+    """Time the compiled solve (GIL released) and the verification (GIL held) apart, chunk
+    by chunk as solve_batch runs them: the share that bounds two threads (Amdahl)."""
+    from armik.ik import registry
+    from armik.options import Options
+    from armik.verify import check_batch
+
+    opts = Options.from_kwargs(
+        dict(timeout=args.budget, tol_position=args.tol, tol_orientation=args.tol)
+    )
+    spec = registry.get(args.solver)
+    for name in args.arms:
+        arm = armik.load(name)
+        tb = armik.batch_targets.parse_targets(targets(arm, args.n))
+        q0 = np.ascontiguousarray(np.broadcast_to(arm.middle, (len(tb), arm.dof)))
+        spec.run_batch(arm, tb[:8], q0[:8], opts)
+        solve_s = check_s = 0.0
+        for s in range(0, len(tb), 256):
+            t = time.perf_counter()
+            ab = spec.run_batch(arm, tb[s : s + 256], q0[s : s + 256], opts)
+            solve_s += time.perf_counter() - t
+            t = time.perf_counter()
+            check_batch(arm, ab.q, tb[s : s + 256], opts)
+            check_s += time.perf_counter() - t
+        share = check_s / (solve_s + check_s)
+        print(
+            f"{name}: solve {solve_s / len(tb) * 1e6:.1f} us/target, verification "
+            f"{check_s / len(tb) * 1e6:.1f} us/target: GIL-held share {share:.3f}, bound for "
+            f"two threads {1 / (share + (1 - share) / 2):.2f}x"
+        )
+
+
 def run_memory(args) -> None:
     for n in args.memory:
         code = (
@@ -210,9 +243,13 @@ def main() -> None:
     p.add_argument("--peer-n", type=int, default=20000)
     p.add_argument("--reference", action="store_true", help="also time a plain 2-thread loop")
     p.add_argument("--memory", nargs="+", type=int, help="peak RSS for these N instead")
+    p.add_argument("--split", action="store_true", help="solve vs verification time instead")
     args = p.parse_args()
     if args.memory:
         run_memory(args)
+        return
+    if args.split:
+        run_split(args)
         return
     rows = run_throughput(args)
     print("\n| arm | solver | workers | N | success % | false successes | s | targets/s | x1 |")
