@@ -50,10 +50,11 @@ def _check_no_silent_jump(q0, r, step):
     assert not silent.any(), f"silent jumps at {np.flatnonzero(silent)}: {moves[silent]}"
 
 
-def test_line_into_the_ur3_elbow_singularity_reports_the_jump():
-    a = ur3()
+@pytest.mark.parametrize("name, length", [("ur3", 0.2), ("ur5", 0.4)])
+def test_line_into_the_elbow_singularity_reports_the_jump(name, length):
+    a = ur3() if name == "ur3" else arm(name)
     q0 = np.array([0.3, -1.2, 0.1, -1.5, -1.2, 0.4])  # elbow nearly stretched
-    poses = _line(a, q0, (0, -1, 0), 0.2, 41)
+    poses = _line(a, q0, (0, -1, 0), length, 41)
     # A loop of solve, each from the previous answer, flips branch silently here...
     q, loop_moves = q0, []
     for T in poses:
