@@ -58,8 +58,9 @@ class TargetBatch:
 
     def target(self, i: int) -> Target:
         """Target ``i`` as the ``Target`` that ``Arm.solve`` reads."""
-        R = None if self.rotations is None else self.rotations[i]
-        return Target(self.positions[i], R)
+        # Contiguous copies: rows of a view are strided, and compiled code specialises on that.
+        R = None if self.rotations is None else np.ascontiguousarray(self.rotations[i])
+        return Target(np.ascontiguousarray(self.positions[i]), R)
 
     def __getitem__(self, index: slice | np.ndarray) -> TargetBatch:
         """A sub-batch (a slice or an index array: views where numpy gives views)."""
