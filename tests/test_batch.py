@@ -62,6 +62,21 @@ def test_one_seed_for_all_targets_and_default_seed():
     np.testing.assert_array_equal(r_default.q[2], a.solve(poses[2]).q)
 
 
+class _PoseArray:
+    """What armik reads of a spatialmath ``SE3`` holding N poses (spatialmath is not a test
+    dependency): ``len()`` and ``.A``, a list of 4x4 arrays (one array when N = 1)."""
+
+    def __init__(self, T: np.ndarray) -> None:
+        self.A = [M for M in T] if len(T) > 1 else T[0]
+
+    def __len__(self) -> int:
+        return len(self.A) if isinstance(self.A, list) else 1
+
+
+def _spatialmath(T: np.ndarray) -> _PoseArray:
+    return _PoseArray(T)
+
+
 def test_targets_in_every_shape_give_the_same_batch():
     a = arm("panda")
     poses = _poses(a, 4, seed=5)
@@ -74,6 +89,7 @@ def test_targets_in_every_shape_give_the_same_batch():
         "se3 list": poses,
         "pairs": [(p, q) for p, q in zip(T[:, :3, 3], quat)],
         "scaled quaternions": np.hstack([T[:, :3, 3], 3.0 * quat]),
+        "spatialmath-like SE3 of N poses": _spatialmath(T),
     }
     ref = parse_targets(T)
     for name, value in forms.items():
@@ -84,6 +100,7 @@ def test_targets_in_every_shape_give_the_same_batch():
     for i in range(len(rows7)):
         one = armik.parse_target(rows7[i])
         np.testing.assert_allclose(parse_targets(rows7).rotations[i], one.rotation, atol=1e-15)
+    assert len(parse_targets(_spatialmath(T[:1]))) == 1
     positions = parse_targets(T[:, :3, 3])
     assert positions.position_only and positions.rotations is None
 

@@ -7,7 +7,8 @@
 - an (N, 3) array of positions (position-only targets);
 - a sequence of anything ``Arm.solve`` accepts (``pinocchio.SE3``, 4x4, ``(position,
   quaternion)``, ...), read one by one with ``armik.targets.parse_target``. Either every
-  element carries an orientation or none does.
+  element carries an orientation or none does;
+- a spatialmath ``SE3`` holding N poses.
 
 Every target is checked as ``parse_target`` checks one (finite, rotation orthonormal with
 determinant +1, last row (0, 0, 0, 1), quaternion not zero) and an error names the index of
@@ -80,6 +81,10 @@ def parse_targets(value: object, arm: Arm | None = None) -> TargetBatch:
             f"expected many targets (an (N, 4, 4), (N, 7) or (N, 3) array, or a list of "
             f"targets), got {type(value).__name__}: use Arm.solve for one target"
         )
+    if hasattr(value, "A") and hasattr(value, "__len__") and not isinstance(value, np.ndarray):
+        # a spatialmath pose array (SE3 holding N poses): its matrices, one per pose
+        A = value.A
+        value = np.asarray(A if isinstance(A, list) else [A], dtype=float)
     arr = _numeric_array(value)
     if arr is not None:
         if arr.ndim == 3 and arr.shape[1:] == (4, 4):
