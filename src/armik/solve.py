@@ -27,7 +27,7 @@ def solve(
 ) -> list[IKResult]:
     """Parse, choose a solver, run it, verify every answer, rank: best first."""
     t0 = time.perf_counter()
-    opts = Options.from_kwargs(options)
+    opts = _options(options)
     tgt = parse_target(target, arm)
     seed = arm.seed(q0)
     spec = registry.choose(solver, arm, tgt, opts)
@@ -36,15 +36,40 @@ def solve(
         rows = [_judge(arm, a, tgt, opts) for a in attempts]
     else:
         rows = _first_verified(arm, attempts, tgt, opts, seed)
-    rows.sort(key=lambda r: _rank(r, seed))
+    if len(rows) > 1:
+        rows.sort(key=lambda r: _rank(r, seed))
     rows = rows if all_solutions else rows[:1]
     elapsed = time.perf_counter() - t0
     return [IKResult(**row, solver=spec.name, time=elapsed) for row in rows]
 
 
+_OPTIONS: dict[tuple, Options] = {}
+
+
+def _options(kwargs: dict) -> Options:
+    """``Options.from_kwargs``, remembered for hashable option values (validation costs
+    a few us; a loop of solves passes the same options every time)."""
+    if not kwargs:
+        return Options.from_kwargs(kwargs)
+    try:
+        # with the types: 1 == True, but validation may accept one and refuse the other
+        key = tuple(sorted((k, type(v).__name__, v) for k, v in kwargs.items()))
+        opts = _OPTIONS.get(key)
+    except TypeError:  # an unhashable value (a list of weights): validate every time
+        return Options.from_kwargs(kwargs)
+    if opts is None:
+        opts = Options.from_kwargs(kwargs)
+        if len(_OPTIONS) > 256:
+            _OPTIONS.clear()
+        _OPTIONS[key] = opts
+    return opts
+
+
 def _first_verified(arm: Arm, attempts: list[Attempt], target, opts: Options, seed) -> list:
     """Verify candidates nearest-first (within limits, claimed converged, then distance to
     the seed) and stop at the first success: it is the nearest verified answer."""
+    if len(attempts) == 1:
+        return [_judge(arm, attempts[0], target, opts)]
 
     def order(a: Attempt) -> tuple:
         return (a.claim is not Status.CONVERGED, not arm.within_limits(a.q), _distance(a.q, seed))

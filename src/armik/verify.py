@@ -80,7 +80,7 @@ def check(arm: Arm, q: np.ndarray, target: Target, opts: Options) -> Check:
         weighted,
         measure_rot,
     )
-    violations = arm.limit_violations(q)
+    violations = [] if arm.within_limits(q) else arm.limit_violations(q)
     return Check(
         pos, ori if measure_rot else None, violations, opts.tol_position, opts.tol_orientation
     )

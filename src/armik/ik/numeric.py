@@ -29,12 +29,13 @@ from ..kernel import backend
 from ..kernel import descent as _descent
 from ..kernel import error as _error
 from ..kernel import restarts as _restarts
-from ..kernel.chain import Chain, halton
+from ..kernel.chain import Flat, halton
 from ..kernel.clock import thread_cpu_ns
 from ..kernel.descent import CAREFUL_BELOW, KNOWN_MINIMUM_RADIUS  # noqa: F401 (re-exported)
 from ..kernel.entry import solve_targets
 from ..kernel.problem import (
     NO_LIMIT,
+    SHIFT,
     STEP_DLS,
     STEP_QP,
     Settings,
@@ -117,9 +118,7 @@ def run_numeric(
     seeds = np.array([solve_seed(opts)], dtype=np.uint64)
     kc = arm.kernel_chain
     p_t = target.position[None]
-    solve_targets(
-        kc.packed, kc.kind, kc.halton, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err
-    )
+    solve_targets(*kc.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
     claim, found, iterations, restarts, out_of_budget = info[0].tolist()
     if claim == _descent.CONVERGED:
         return [
@@ -193,7 +192,7 @@ def run_numeric_batch(
     info = np.empty((n_targets, 5), dtype=np.int64)
     err = np.empty((n_targets, 2))
     kc = arm.kernel_chain
-    solve_targets(kc.packed, kc.kind, kc.halton, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
+    solve_targets(*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
     return AttemptBatch(
         q=out_q[:, 0],
         claim=info[:, 0].astype(np.int8),
@@ -210,7 +209,7 @@ class Problem:
     """One target's settings, chain and scratch, for calling kernel pieces from Python."""
 
     arm: Arm
-    chain: Chain
+    chain: Flat
     settings: Settings
     R_t: np.ndarray
     p_t: np.ndarray
@@ -222,7 +221,7 @@ class Problem:
         R = np.eye(3) if target.rotation is None else target.rotation
         return cls(
             arm,
-            arm.kernel_chain.chain,
+            arm.kernel_chain.flat,
             settings(opts, target.position_only, arm.dof, 1, DLS_STEP),
             np.ascontiguousarray(R, dtype=float),
             np.ascontiguousarray(target.position, dtype=float),
@@ -303,7 +302,7 @@ class RestartSeeds:
 
     def __init__(self, arm: Arm, seed: int | None) -> None:
         self.arm = arm
-        self.chain = arm.kernel_chain.chain
+        self.chain = arm.kernel_chain.flat
         self.shift = np.empty(arm.dof)
         _restarts.seed_shift(secrets.randbits(63) if seed is None else int(seed), self.shift)
         self.k = 0
@@ -318,6 +317,6 @@ class RestartSeeds:
         """The next candidates' configuration (Pinocchio coordinates) whose tip lands
         nearest the target."""
         out = np.empty(self.arm.dof)
-        pb.ws.shift[:] = self.shift
+        pb.ws.vec[SHIFT] = self.shift
         self.k = _restarts.pick(pb.chain, pb.settings, pb.R_t, pb.p_t, pb.ws, self.k, out)
         return self.arm.to_pin(out)

@@ -21,9 +21,8 @@ import qpsolvers
 
 from ..arm import Arm
 from ..batch_targets import TargetBatch
-from ..kernel import backend
+from ..kernel import backend, problem
 from ..kernel import step as _step
-from ..kernel.problem import workspace
 from ..options import Options
 from ..targets import Target
 from .attempt import Attempt, AttemptBatch
@@ -41,7 +40,8 @@ def build_problem(pb: Problem, s: State, mu: float = 1.0) -> qpsolvers.Problem:
     ws.q[0], ws.e[0], ws.A[0] = q, s.e, s.A
     ws.val[0] = (s.pos, s.rot, s.sq)
     _step.normal_equations(pb.chain, pb.settings, ws, 0, pb.q0, mu)
-    return backend.box_problem(ws.H.copy(), ws.g.copy(), pb.arm.lower - q, pb.arm.upper - q)
+    H, g = ws.mat[problem.H].copy(), ws.vec[problem.G].copy()
+    return backend.box_problem(H, g, pb.arm.lower - q, pb.arm.upper - q)
 
 
 def active_set_guess(
@@ -49,11 +49,12 @@ def active_set_guess(
 ) -> np.ndarray | None:
     """The box QP's exact solution by the kernel's active set (``kernel.step.active_set``),
     or None when it finds no set. G = H^-1, x_free = G g."""
-    ws = workspace(len(x_free), 1)
-    x = np.empty(len(x_free))
-    args = (np.ascontiguousarray(G, dtype=float), np.asarray(x_free, dtype=float))
-    bounds = (np.asarray(lb, dtype=float), np.asarray(ub, dtype=float))
-    ok = _step.active_set(*args, *bounds, np.asarray(start, dtype=float), ws, x)
+    n = len(x_free)
+    x = np.empty(n)
+    args = [np.ascontiguousarray(a, dtype=float) for a in (G, x_free, lb, ub, start)]
+    ints = [np.empty(n, dtype=np.int64) for _ in range(3)]
+    scratch = (np.empty((n, n)), np.empty(n), np.empty(n), np.empty((n, n)))
+    ok = _step.active_set(*args, *ints, *scratch, x)
     return x if ok else None
 
 

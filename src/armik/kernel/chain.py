@@ -48,18 +48,24 @@ class Chain(NamedTuple):
 
 @dataclass(frozen=True, eq=False)
 class KernelChain:
-    """An arm's ``Chain``, and the same numbers as three flat arrays (``packed``, ``kind``,
-    ``halton``): compiled entries take those, because numba unboxes a tuple argument from
-    Python ten times slower than a few arrays. ``unpack`` rebuilds the ``Chain`` inside."""
+    """An arm's ``Chain`` (for Python readers) and its ``Flat`` form (for compiled code;
+    compiled entries take the flat arrays one by one, because numba unboxes a tuple argument
+    from Python ten times slower than a few arrays)."""
 
     chain: Chain
-    packed: np.ndarray
-    kind: np.ndarray
-    halton: np.ndarray
+    flat: Flat
 
     @property
-    def dof(self) -> int:
-        return int(self.kind.shape[0])
+    def packed(self) -> np.ndarray:
+        return self.flat.packed
+
+    @property
+    def kind(self) -> np.ndarray:
+        return self.flat.kind
+
+    @property
+    def halton(self) -> np.ndarray:
+        return self.flat.halton
 
 
 def flatten(ch: Chain) -> np.ndarray:
@@ -69,46 +75,56 @@ def flatten(ch: Chain) -> np.ndarray:
     return np.concatenate([np.ravel(x) for x in parts]).astype(np.float64)
 
 
-@njit(cache=True, nogil=True)
-def unpack(packed, kind, halton):
-    """The ``Chain`` whose ``flatten`` is ``packed`` (views, no copy)."""
-    n = kind.shape[0]
-    o = 0
-    joint_R = packed[o : o + 9 * n].reshape((n, 3, 3))
-    o += 9 * n
-    joint_p = packed[o : o + 3 * n].reshape((n, 3))
-    o += 3 * n
-    axis = packed[o : o + 3 * n].reshape((n, 3))
-    o += 3 * n
-    tip_R = packed[o : o + 9].reshape((3, 3))
-    tip_p = packed[o + 9 : o + 12]
-    o += 12
-    lower = packed[o : o + n]
-    upper = packed[o + n : o + 2 * n]
-    sample_lo = packed[o + 2 * n : o + 3 * n]
-    sample_span = packed[o + 3 * n : o + 4 * n]
-    o += 4 * n
-    origin = packed[o : o + 3]
-    reach = packed[o + 3]
-    base_R = packed[o + 4 : o + 13].reshape((3, 3))
-    base_p = packed[o + 13 : o + 16]
-    return Chain(
-        joint_R,
-        joint_p,
-        axis,
-        kind,
-        tip_R,
-        tip_p,
-        lower,
-        upper,
-        sample_lo,
-        sample_span,
-        halton,
-        origin,
-        reach,
-        base_R,
-        base_p,
-    )
+class Flat(NamedTuple):
+    """The chain as compiled code sees it: ``flatten``'s array, joint kinds, restart table.
+    Three arrays: numba's compile time grows with the arrays a tuple argument holds."""
+
+    packed: np.ndarray
+    kind: np.ndarray
+    halton: np.ndarray
+
+
+# Offsets into ``packed`` for a chain of n joints (see ``flatten``).
+@njit(cache=True, nogil=True, inline="always")
+def off_joint_p(n):
+    return 9 * n
+
+
+@njit(cache=True, nogil=True, inline="always")
+def off_axis(n):
+    return 12 * n
+
+
+@njit(cache=True, nogil=True, inline="always")
+def off_tip(n):
+    return 15 * n
+
+
+@njit(cache=True, nogil=True, inline="always")
+def lower(ch):
+    n = ch.kind.shape[0]
+    return ch.packed[15 * n + 12 : 16 * n + 12]
+
+
+@njit(cache=True, nogil=True, inline="always")
+def upper(ch):
+    n = ch.kind.shape[0]
+    return ch.packed[16 * n + 12 : 17 * n + 12]
+
+
+@njit(cache=True, nogil=True, inline="always")
+def sample_box(ch):
+    """(lower corner, span) of the restart box."""
+    n = ch.kind.shape[0]
+    return ch.packed[17 * n + 12 : 18 * n + 12], ch.packed[18 * n + 12 : 19 * n + 12]
+
+
+@njit(cache=True, nogil=True, inline="always")
+def reach(ch):
+    """(first joint's origin in the base frame, reach bound) (m)."""
+    n = ch.kind.shape[0]
+    o = 19 * n + 12
+    return ch.packed[o : o + 3], ch.packed[o + 3]
 
 
 def build_chain(arm: Arm) -> KernelChain:
@@ -165,7 +181,7 @@ def build_chain(arm: Arm) -> KernelChain:
         arm.T_base_world.rotation.copy(),
         arm.T_base_world.translation.copy(),
     )
-    return KernelChain(ch, flatten(ch), ch.kind, ch.halton)
+    return KernelChain(ch, Flat(flatten(ch), ch.kind, ch.halton))
 
 
 @cache

@@ -38,7 +38,7 @@ def _clock_ns(typingctx):
     return types.int64(), codegen
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def thread_cpu_ns():
     """CPU time of the calling thread (ns)."""
     return _clock_ns()

@@ -19,10 +19,10 @@ import numpy as np
 from numba import njit
 
 from ..status import Status
-from .chain import CONTINUOUS, PRISMATIC
+from .chain import CONTINUOUS, PRISMATIC, lower, reach, upper
 from .clock import thread_cpu_ns
 from .error import evaluate
-from .problem import NO_LIMIT
+from .problem import BEST, DQ, NO_LIMIT, SHIFT, U
 from .restarts import pick, seed_shift
 from .step import step, wrapped
 
@@ -48,7 +48,7 @@ UNREACHABLE = Status.UNREACHABLE.code
 NOT_CONVERGED = Status.NOT_CONVERGED.code
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _near_known_minimum(ch, q, minima, count):
     n = q.shape[0]
     for m in range(count):
@@ -63,7 +63,7 @@ def _near_known_minimum(ch, q, minima, count):
     return False
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima):
     """Iterate from ws.q[0] for at most ``limit`` iterations (and, if ``deadline_ns`` is
     not NO_LIMIT, until the thread's CPU clock passes it). Returns (iterations, converged,
@@ -75,6 +75,7 @@ def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima):
     careful = False
     since_best = 0
     n = q0.shape[0]
+    lo, hi = lower(ch), upper(ch)
     it = 0
     while True:
         if ws.val[cur, 0] <= st.tol_pos and ws.val[cur, 1] <= st.tol_rot:
@@ -86,9 +87,9 @@ def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima):
                 break
         step(ch, st, ws, cur, q0, mu)
         trial = 1 - cur
-        q, qn, dq = ws.q[cur], ws.q[trial], ws.dq
+        q, qn, dq = ws.q[cur], ws.q[trial], ws.vec[DQ]
         for i in range(n):
-            qn[i] = min(max(q[i] + dq[i], ch.lower[i]), ch.upper[i])
+            qn[i] = min(max(q[i] + dq[i], lo[i]), hi[i])
         evaluate(ch, st, R_t, p_t, ws, trial)
         it += 1
         if not careful or ws.val[trial, 2] < ws.val[cur, 2]:
@@ -116,16 +117,17 @@ def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima):
     return it, False, cur
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def normalise(ch, q, q_ref, out):
     """out: q with continuous angles in (-pi, pi], then every angle shifted by a multiple
     of 2 pi to the value nearest q_ref that stays within the limits (as
     ``Arm.nearest_equivalent``)."""
+    lows, highs = lower(ch), upper(ch)
     for i in range(q.shape[0]):
         qi = q[i]
         if ch.kind[i] == CONTINUOUS:
             qi = math.atan2(math.sin(qi), math.cos(qi))
-        ri, lo, hi = q_ref[i], ch.lower[i], ch.upper[i]
+        ri, lo, hi = q_ref[i], lows[i], highs[i]
         if ch.kind[i] != PRISMATIC and not (-math.pi <= qi - ri <= math.pi and lo <= qi <= hi):
             near = qi + TWO_PI * np.round((ri - qi) / TWO_PI)
             best = np.nan
@@ -139,7 +141,7 @@ def normalise(ch, q, q_ref, out):
         out[i] = qi
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err):
     """A whole solve of one target: descend from q0, then from restart seeds, until
     ``st.max_found`` distinct solutions, the restart limit or the budget.
@@ -158,14 +160,16 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err):
     info[:] = 0
     err[:] = np.nan
     if st.check_reach:
-        d0, d1, d2 = p_t[0] - ch.origin[0], p_t[1] - ch.origin[1], p_t[2] - ch.origin[2]
-        if math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) > ch.reach + st.reach_slack:
+        origin, bound = reach(ch)
+        d0, d1, d2 = p_t[0] - origin[0], p_t[1] - origin[1], p_t[2] - origin[2]
+        if math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) > bound + st.reach_slack:
             out_q[0, :] = q0
             info[0] = UNREACHABLE
             return
-    seed_shift(seed, ws.shift)
+    seed_shift(seed, ws.vec[SHIFT])
     ws.q[0, :] = q0
-    ws.best[:] = q0
+    best = ws.vec[BEST]
+    best[:] = q0
     found = 0
     n_minima = 0
     stuck = 0
@@ -187,22 +191,23 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err):
             stuck += 1
             n_minima = min(stuck, capacity)
         if ok:
-            normalise(ch, ws.q[cur], q0, ws.u)
+            u = ws.vec[U]
+            normalise(ch, ws.q[cur], q0, u)
             new = True
             for f in range(found):
                 far = 0.0
                 for i in range(n):
-                    far = max(far, abs(ws.u[i] - out_q[f, i]))
+                    far = max(far, abs(u[i] - out_q[f, i]))
                 if far < DUPLICATE_TOL:
                     new = False
             if new:
-                out_q[found, :] = ws.u
+                out_q[found, :] = u
                 found += 1
             if found >= st.max_found:
                 break
         elif not sq >= best_sq:
             best_sq = sq
-            ws.best[:] = ws.q[cur]
+            best[:] = ws.q[cur]
             err[0], err[1] = ws.val[cur, 0], ws.val[cur, 1]
         if restarts >= st.max_restarts:
             break
@@ -218,7 +223,7 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err):
         info[0] = CONVERGED
     else:
         info[0] = NOT_CONVERGED
-        normalise(ch, ws.best, q0, out_q[0])
+        normalise(ch, best, q0, out_q[0])
     info[1] = found
     info[2] = iterations
     info[3] = restarts

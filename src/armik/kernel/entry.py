@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from .chain import unpack as unpack_chain
+from .chain import Flat
 from .descent import solve_one
 from .problem import unpack as unpack_settings
 from .problem import workspace
@@ -20,10 +20,10 @@ MINIMA_CAPACITY = 256  # known minima kept per solve (the oldest are dropped bey
 @njit(cache=True, nogil=True)
 def solve_targets(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, out_q, info, err):
     """Solve target i = (R_t[i], p_t[i]) (rotation, position in the base frame) from
-    q0[i] with restart seed seeds[i], for every i. The chain is ``KernelChain``'s arrays,
+    q0[i] with restart seed seeds[i], for every i. The chain is ``chain.Flat``'s arrays,
     the settings ``pack_settings``'s. Outputs per target as ``solve_one``: out_q (N, S, n),
     info (N, 5), err (N, 2)."""
-    ch = unpack_chain(packed, kind, halton)
+    ch = Flat(packed, kind, halton)
     st = unpack_settings(sf, si)
     n = q0.shape[1]
     ws = workspace(n, min(st.max_restarts + 1, MINIMA_CAPACITY))

@@ -13,14 +13,15 @@ import math
 from numba import njit
 
 from .fk import forward, jacobian_local
-from .se3 import jlog6, log3, log6
+from .se3 import jlog6_of_log, log3, log6
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def relative(ch, q, R_t, p_t, ws):
-    """FK at q, then ws.M, ws.t = T_tip^-1 T_target (rotation, translation in the tip frame)."""
-    R, p, M, t = ws.R, ws.p, ws.M, ws.t
-    forward(ch, q, R, p, ws.origins, ws.axes)
+    """FK at q, then ws.m3[1], ws.v3[1] = T_tip^-1 T_target (rotation, translation in the
+    tip frame)."""
+    R, p, M, t = ws.m3[0], ws.v3[0], ws.m3[1], ws.v3[1]
+    forward(ch, q, R, p, ws.geo[0], ws.geo[1])
     d0, d1, d2 = p_t[0] - p[0], p_t[1] - p[1], p_t[2] - p[2]
     for i in range(3):
         t[i] = R[0, i] * d0 + R[1, i] * d1 + R[2, i] * d2
@@ -32,22 +33,20 @@ def relative(ch, q, R_t, p_t, ws):
 def evaluate(ch, st, R_t, p_t, ws, slot):
     """Error (ws.e[slot]), Jacobian (ws.A[slot]) and ws.val[slot] = (position error,
     orientation error, |e|^2) at the joint values ws.q[slot]."""
-    q = ws.q[slot]
-    relative(ch, q, R_t, p_t, ws)
-    jacobian_local(ch, ws.R, ws.p, ws.origins, ws.axes, ws.J)
-    M, t = ws.M, ws.t
+    relative(ch, ws.q[slot], R_t, p_t, ws)
+    J = ws.J
+    jacobian_local(ch, ws.m3[0], ws.v3[0], ws.geo[0], ws.geo[1], J)
+    M, t = ws.m3[1], ws.v3[1]
     e = ws.e[slot]
-    log6(M, t, e)
-    # The inverse of (M, t): (M^T, -M^T t); R and p are free scratch now.
-    Mi, ti = ws.R, ws.p
+    theta = log6(M, t, e)
+    # Jlog6 of the inverse (M^T, -M^T t), whose log3 is -log3(M) = -e[3:].
+    ti, wi = ws.v3[0], ws.v3[2]
     for i in range(3):
         ti[i] = -(M[0, i] * t[0] + M[1, i] * t[1] + M[2, i] * t[2])
-        for j in range(3):
-            Mi[i, j] = M[j, i]
+        wi[i] = -e[3 + i]
     Jl = ws.Jlog
-    jlog6(Mi, ti, Jl, ws.w3)
+    jlog6_of_log(theta, wi, ti, Jl)
     A = ws.A[slot]
-    J = ws.J
     n = J.shape[1]
     for c in range(n):  # A = Jlog6 J, with Jlog6's lower-left block zero
         j0, j1, j2, j3, j4, j5 = J[0, c], J[1, c], J[2, c], J[3, c], J[4, c], J[5, c]
@@ -83,20 +82,21 @@ def evaluate(ch, st, R_t, p_t, ws, slot):
     val[0], val[1], val[2] = math.sqrt(pos2), math.sqrt(rot2), sq
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def candidate_score(ch, st, q, R_t, p_t, ws):
     """How far q's tip lands from the target (one FK, no Jacobian): the weighted squared
     position error, or the orientation error when the task ignores position."""
     relative(ch, q, R_t, p_t, ws)
-    w, t = st.w, ws.t
+    w, t = st.w, ws.v3[1]
     s = 0.0
     if st.measure_position:
         for k in range(3):
             d = t[k] * w[k]
             s += d * d
         return s
-    log3(ws.M, ws.w3)
+    wv = ws.v3[2]
+    log3(ws.m3[1], wv)
     for k in range(3):
-        d = ws.w3[k] * w[3 + k]
+        d = wv[k] * w[3 + k]
         s += d * d
     return s

@@ -11,36 +11,43 @@ import math
 
 from numba import njit
 
-from .chain import PRISMATIC
+from .chain import PRISMATIC, off_axis, off_joint_p, off_tip
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def forward(ch, q, R, p, origins, axes):
-    """T_base_tip = (R, p) for joint values q; ``origins`` and ``axes`` (n x 3) receive each
-    joint's origin and unit axis in the base frame, for ``jacobian_local``."""
+    """T_base_tip = (R, p) for joint values q (``ch``: a ``chain.Flat``); ``origins`` and
+    ``axes`` (n x 3) receive each joint's origin and unit axis in the base frame, for
+    ``jacobian_local``."""
     n = q.shape[0]
+    X = ch.packed
+    jp, ja, tip = off_joint_p(n), off_axis(n), off_tip(n)
     # (r, t): the running transform, as nine and three scalars
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
     t0, t1, t2 = 0.0, 0.0, 0.0
     for i in range(n):
-        P = ch.joint_R[i]
-        d = ch.joint_p[i]
+        o = 9 * i  # joint i's placement: rotation P (row-major), translation d
+        P00, P01, P02 = X[o], X[o + 1], X[o + 2]
+        P10, P11, P12 = X[o + 3], X[o + 4], X[o + 5]
+        P20, P21, P22 = X[o + 6], X[o + 7], X[o + 8]
+        o = jp + 3 * i
+        d0, d1, d2 = X[o], X[o + 1], X[o + 2]
         # t += r d ; r = r P
-        t0 += r00 * d[0] + r01 * d[1] + r02 * d[2]
-        t1 += r10 * d[0] + r11 * d[1] + r12 * d[2]
-        t2 += r20 * d[0] + r21 * d[1] + r22 * d[2]
-        a00 = r00 * P[0, 0] + r01 * P[1, 0] + r02 * P[2, 0]
-        a01 = r00 * P[0, 1] + r01 * P[1, 1] + r02 * P[2, 1]
-        a02 = r00 * P[0, 2] + r01 * P[1, 2] + r02 * P[2, 2]
-        a10 = r10 * P[0, 0] + r11 * P[1, 0] + r12 * P[2, 0]
-        a11 = r10 * P[0, 1] + r11 * P[1, 1] + r12 * P[2, 1]
-        a12 = r10 * P[0, 2] + r11 * P[1, 2] + r12 * P[2, 2]
-        a20 = r20 * P[0, 0] + r21 * P[1, 0] + r22 * P[2, 0]
-        a21 = r20 * P[0, 1] + r21 * P[1, 1] + r22 * P[2, 1]
-        a22 = r20 * P[0, 2] + r21 * P[1, 2] + r22 * P[2, 2]
+        t0 += r00 * d0 + r01 * d1 + r02 * d2
+        t1 += r10 * d0 + r11 * d1 + r12 * d2
+        t2 += r20 * d0 + r21 * d1 + r22 * d2
+        a00 = r00 * P00 + r01 * P10 + r02 * P20
+        a01 = r00 * P01 + r01 * P11 + r02 * P21
+        a02 = r00 * P02 + r01 * P12 + r02 * P22
+        a10 = r10 * P00 + r11 * P10 + r12 * P20
+        a11 = r10 * P01 + r11 * P11 + r12 * P21
+        a12 = r10 * P02 + r11 * P12 + r12 * P22
+        a20 = r20 * P00 + r21 * P10 + r22 * P20
+        a21 = r20 * P01 + r21 * P11 + r22 * P21
+        a22 = r20 * P02 + r21 * P12 + r22 * P22
         r00, r01, r02, r10, r11, r12, r20, r21, r22 = a00, a01, a02, a10, a11, a12, a20, a21, a22
-        u = ch.axis[i]
-        ux, uy, uz = u[0], u[1], u[2]
+        o = ja + 3 * i
+        ux, uy, uz = X[o], X[o + 1], X[o + 2]
         wx = r00 * ux + r01 * uy + r02 * uz  # the axis in the base frame
         wy = r10 * ux + r11 * uy + r12 * uz
         wz = r20 * ux + r21 * uy + r22 * uz
@@ -76,18 +83,18 @@ def forward(ch, q, R, p, origins, axes):
             r00, r01, r02 = a00, a01, a02
             r10, r11, r12 = a10, a11, a12
             r20, r21, r22 = a20, a21, a22
-    P = ch.tip_R
-    d = ch.tip_p
-    p[0] = t0 + r00 * d[0] + r01 * d[1] + r02 * d[2]
-    p[1] = t1 + r10 * d[0] + r11 * d[1] + r12 * d[2]
-    p[2] = t2 + r20 * d[0] + r21 * d[1] + r22 * d[2]
+    d0, d1, d2 = X[tip + 9], X[tip + 10], X[tip + 11]
+    p[0] = t0 + r00 * d0 + r01 * d1 + r02 * d2
+    p[1] = t1 + r10 * d0 + r11 * d1 + r12 * d2
+    p[2] = t2 + r20 * d0 + r21 * d1 + r22 * d2
     for j in range(3):
-        R[0, j] = r00 * P[0, j] + r01 * P[1, j] + r02 * P[2, j]
-        R[1, j] = r10 * P[0, j] + r11 * P[1, j] + r12 * P[2, j]
-        R[2, j] = r20 * P[0, j] + r21 * P[1, j] + r22 * P[2, j]
+        P0j, P1j, P2j = X[tip + j], X[tip + 3 + j], X[tip + 6 + j]
+        R[0, j] = r00 * P0j + r01 * P1j + r02 * P2j
+        R[1, j] = r10 * P0j + r11 * P1j + r12 * P2j
+        R[2, j] = r20 * P0j + r21 * P1j + r22 * P2j
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def jacobian_local(ch, R, p, origins, axes, J):
     """J (6 x n): the tip Jacobian in the tip frame (LOCAL) from ``forward``'s outputs."""
     n = origins.shape[0]

@@ -9,10 +9,9 @@ from numba import njit
 
 
 @njit(cache=True, nogil=True)
-def cholesky_solve(H, g, free, L, x):
-    """x[free] solves H[free][:, free] x = g[free] (H symmetric positive definite); x is 0
-    elsewhere. ``L`` is n x n scratch. Returns False when the factorisation fails (H not
-    positive definite in floating point), leaving x unspecified."""
+def cholesky_factor(H, free, L):
+    """L: the Cholesky factor of H[F][:, F] (F: the joints where ``free``, ints, is not 0),
+    in the rows and columns of F. Returns False when H is not positive definite there."""
     n = H.shape[0]
     for i in range(n):
         if not free[i]:
@@ -30,6 +29,13 @@ def cholesky_solve(H, g, free, L, x):
                 L[i, i] = math.sqrt(s)
             else:
                 L[i, j] = s / L[j, j]
+    return True
+
+
+@njit(cache=True, nogil=True)
+def cholesky_substitute(L, g, free, x):
+    """x: the solution of L L^T x = g on the joints F of ``cholesky_factor``, 0 elsewhere."""
+    n = L.shape[0]
     for i in range(n):  # L y = g
         if not free[i]:
             x[i] = 0.0
@@ -47,6 +53,16 @@ def cholesky_solve(H, g, free, L, x):
             if free[k]:
                 s -= L[k, i] * x[k]
         x[i] = s / L[i, i]
+
+
+@njit(cache=True, nogil=True)
+def cholesky_solve(H, g, free, L, x):
+    """x solves H[F][:, F] x = g[F] on the joints F where ``free`` (ints) is not 0 (H
+    symmetric positive definite); x is 0 elsewhere. ``L`` is n x n scratch. Returns False
+    when the factorisation fails (H not positive definite in floating point)."""
+    if not cholesky_factor(H, free, L):
+        return False
+    cholesky_substitute(L, g, free, x)
     return True
 
 

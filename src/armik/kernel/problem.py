@@ -35,44 +35,31 @@ class Settings(NamedTuple):
     reach_slack: float  # m, added to the reach bound (the verification's tolerance)
 
 
-class Workspace(NamedTuple):
-    """Scratch for one thread (uninitialised: every reader writes first). States live
-    in slots 0 and 1 (current and trial)."""
+# Rows of Workspace.vec (n-vectors), .mat (n x n) and .ivec (integer n-vectors).
+DQ, X, XF, LB, UB, G, UNIT, GAP, MULT, BEST, SHIFT, CAND, U = range(13)
+NVEC = 13
+H, L, GI, HH = range(4)  # normal matrix, Cholesky factor, H^-1, held block of H^-1
+SIDE, HELD, FREE = range(3)
 
-    q: np.ndarray  # (2, n)
+
+class Workspace(NamedTuple):
+    """Scratch for one thread (uninitialised: every reader writes first). States live in
+    slots 0 and 1 (current and trial). Few arrays, grouped by shape: numba's compile time
+    grows with the arrays a tuple argument holds."""
+
+    q: np.ndarray  # (2, n) joint values
     e: np.ndarray  # (2, 6) weighted error twist
     A: np.ndarray  # (2, 6, n) weighted error Jacobian
     val: np.ndarray  # (2, 3): position error, orientation error, |e|^2
-    R: np.ndarray  # (3, 3) tip rotation
-    p: np.ndarray  # (3,) tip position
-    origins: np.ndarray  # (n, 3)
-    axes: np.ndarray  # (n, 3)
+    vec: np.ndarray  # (NVEC, n)
+    mat: np.ndarray  # (4, n, n)
+    ivec: np.ndarray  # (3, n) int64
+    geo: np.ndarray  # (2, n, 3): joint origins and axes in the base frame
     J: np.ndarray  # (6, n) tip Jacobian, LOCAL
-    M: np.ndarray  # (3, 3) rotation scratch
-    t: np.ndarray  # (3,) vector scratch
-    w3: np.ndarray  # (3,)
+    m3: np.ndarray  # (2, 3, 3): tip rotation, T_tip^-1 T_target rotation
+    v3: np.ndarray  # (3, 3): tip position, T_tip^-1 T_target translation, rotation vector
     Jlog: np.ndarray  # (6, 6)
-    H: np.ndarray  # (n, n)
-    g: np.ndarray  # (n,)
-    L: np.ndarray  # (n, n)
-    G: np.ndarray  # (n, n) H^-1
-    dq: np.ndarray  # (n,)
-    x: np.ndarray  # (n,)
-    xf: np.ndarray  # (n,) unconstrained minimiser of a QP step
-    lb: np.ndarray  # (n,)
-    ub: np.ndarray  # (n,)
-    free: np.ndarray  # (n,) bool
-    unit: np.ndarray  # (n,) column of the identity
-    side: np.ndarray  # (n,) int64 active-set sides
-    held: np.ndarray  # (n,) int64
-    Hh: np.ndarray  # (n, n) held block
-    gap: np.ndarray  # (n,)
-    mult: np.ndarray  # (n,)
     minima: np.ndarray  # (capacity, n) where earlier attempts of a solve got stuck
-    best: np.ndarray  # (n,) best unconverged configuration of a solve
-    shift: np.ndarray  # (n,) the solve's shift of the restart sequence
-    cand: np.ndarray  # (n,) restart candidate
-    u: np.ndarray  # (n,) normalised answer
 
 
 def pack_settings(st: Settings) -> tuple[np.ndarray, np.ndarray]:
@@ -113,34 +100,13 @@ def workspace(n, capacity):
         np.empty((2, 6)),
         np.empty((2, 6, n)),
         np.empty((2, 3)),
-        np.empty((3, 3)),
-        np.empty(3),
-        np.empty((n, 3)),
-        np.empty((n, 3)),
+        np.empty((NVEC, n)),
+        np.empty((4, n, n)),
+        np.empty((3, n), dtype=np.int64),
+        np.empty((2, n, 3)),
         np.empty((6, n)),
+        np.empty((2, 3, 3)),
         np.empty((3, 3)),
-        np.empty(3),
-        np.empty(3),
         np.empty((6, 6)),
-        np.empty((n, n)),
-        np.empty(n),
-        np.empty((n, n)),
-        np.empty((n, n)),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n, dtype=np.bool_),
-        np.empty(n),
-        np.empty(n, dtype=np.int64),
-        np.empty(n, dtype=np.int64),
-        np.empty((n, n)),
-        np.empty(n),
-        np.empty(n),
         np.empty((max(capacity, 1), n)),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
     )

@@ -20,19 +20,21 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .chain import sample_box
 from .error import candidate_score
+from .problem import CAND, SHIFT
 
 RESTART_CANDIDATES = 4  # restart seeds scored per restart
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _mix(z):
     z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
     z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
     return z ^ (z >> np.uint64(31))
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def seed_shift(seed, shift):
     """shift (n,) in [0, 1): the SplitMix64 stream of ``seed`` (a non-negative integer)."""
     x = np.uint64(seed)
@@ -41,14 +43,15 @@ def seed_shift(seed, shift):
         shift[j] = float(_mix(x) >> np.uint64(11)) * (1.0 / 9007199254740992.0)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def restart_point(ch, shift, k, out):
     """out: the k-th restart configuration of the shifted sequence (rad, m)."""
     row = ch.halton[k % ch.halton.shape[0]]
+    lo, span = sample_box(ch)
     for j in range(out.shape[0]):
         u = row[j] + shift[j]
         u -= np.floor(u)
-        out[j] = ch.sample_lo[j] + ch.sample_span[j] * u
+        out[j] = lo[j] + span[j] * u
 
 
 @njit(cache=True, nogil=True)
@@ -56,11 +59,12 @@ def pick(ch, st, R_t, p_t, ws, k, out):
     """out: of the restart points k .. k + RESTART_CANDIDATES - 1, the one whose tip lands
     nearest the target. Returns the index of the next unused point."""
     best = np.inf
+    cand = ws.vec[CAND]
     for _ in range(RESTART_CANDIDATES):
-        restart_point(ch, ws.shift, k, ws.cand)
+        restart_point(ch, ws.vec[SHIFT], k, cand)
         k += 1
-        score = candidate_score(ch, st, ws.cand, R_t, p_t, ws)
+        score = candidate_score(ch, st, cand, R_t, p_t, ws)
         if not score >= best:  # NaN scores (overflowing models) never block a pick
             best = score
-            out[:] = ws.cand
+            out[:] = cand
     return k

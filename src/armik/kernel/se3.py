@@ -29,7 +29,7 @@ def rotation_angle(R):
     return math.atan2(s, c)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def log3(R, w):
     """w = log(R) (rad, the rotation vector); returns its angle theta = |w| in [0, pi]."""
     sx = R[2, 1] - R[1, 2]
@@ -71,7 +71,7 @@ def log3(R, w):
     return theta
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _alpha_beta(theta):
     """alpha = (t/2) cot(t/2) and beta = 1/t^2 - cot(t/2) / (2t), shared by log6, Jlog3 and
     Jlog6 (Pinocchio's forms t sin t / (2 (1 - cos t)) lose digits to 1 - cos t)."""
@@ -84,7 +84,7 @@ def _alpha_beta(theta):
     return 0.5 * theta * cot_half, 1.0 / t2 - cot_half / (2.0 * theta)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def jlog3(theta, w, J):
     """J = Jlog3: the derivative of log3 (Pinocchio's convention: right Jacobian inverse)."""
     alpha, diag = _alpha_beta(theta)
@@ -100,7 +100,7 @@ def jlog3(theta, w, J):
     J[2, 1] += 0.5 * w[0]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def log6(R, p, out):
     """out = log6((R, p)) = (v, w); returns the angle |w| (rad)."""
     w = out[3:]
@@ -114,10 +114,15 @@ def log6(R, p, out):
     return theta
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def jlog6(R, p, J, w):
     """J (6 x 6) = Jlog6((R, p)) = [[Jlog3, B], [0, Jlog3]]; ``w`` is 3-vector scratch."""
-    theta = log3(R, w)
+    jlog6_of_log(log3(R, w), w, p, J)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def jlog6_of_log(theta, w, p, J):
+    """Jlog6 of the transform (exp3(w), p) with |w| = theta: for callers that have log3."""
     A = J[:3, :3]
     jlog3(theta, w, A)
     t2 = theta * theta

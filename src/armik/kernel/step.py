@@ -5,7 +5,7 @@ lambda = mu c E + lambda_min, E = |e|^2 / 2 (Chan, Sugihara), and bound the step
 Euclidean length of MAX_STEP. ``dls`` takes a joint resting on a limit that the step pushes
 further out out of the step (an active set); ``qp`` solves the box QP exactly with a
 primal-dual active set checked by the KKT conditions, and calls the QP backend when that
-fails (a few steps in 10^4).
+fails (a few steps in 10^4). Results land in ws.vec[DQ].
 """
 
 from __future__ import annotations
@@ -16,9 +16,9 @@ import numpy as np
 from numba import njit, objmode
 
 from .backend import solve_box_qp
-from .chain import CONTINUOUS
-from .linalg import cholesky_solve, solve_spd
-from .problem import STEP_DLS
+from .chain import CONTINUOUS, lower, upper
+from .linalg import cholesky_factor, cholesky_solve, cholesky_substitute, solve_spd
+from .problem import DQ, FREE, GAP, GI, HELD, HH, LB, MULT, SIDE, STEP_DLS, UB, UNIT, XF, G, H, L, X
 
 MAX_STEP = 1.0  # rad or m: longest step (Euclidean)
 # lambda = mu DAMPING_GAIN E + LAMBDA_MIN: c = 0.1 was measured against c = 1 and 0.01 with
@@ -29,30 +29,34 @@ ON_LIMIT = 1e-10  # rad or m: a joint this close to a limit rests on it
 KKT_TOL = 1e-12
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def wrapped(d):
     """d shifted by a multiple of 2 pi into [-pi, pi]."""
     return d - 2.0 * math.pi * math.floor((d + math.pi) / (2.0 * math.pi))
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def normal_equations(ch, st, ws, slot, q0, mu):
-    """ws.H = A^T A + lambda I and ws.g = A^T e + the null-space pull, at state ``slot``."""
-    A, e, H, g = ws.A[slot], ws.e[slot], ws.H, ws.g
+    """ws.mat[H] = A^T A + lambda I and ws.vec[G] = A^T e + the null-space pull, at state
+    ``slot``."""
+    A, e, Hm, g = ws.A[slot], ws.e[slot], ws.mat[H], ws.vec[G]
     n = A.shape[1]
     lam = mu * DAMPING_GAIN * 0.5 * ws.val[slot, 2] + LAMBDA_MIN
     for i in range(n):
-        s = 0.0
-        for k in range(6):
-            s += A[k, i] * e[k]
-        g[i] = s
+        a0, a1, a2, a3, a4, a5 = A[0, i], A[1, i], A[2, i], A[3, i], A[4, i], A[5, i]
+        g[i] = a0 * e[0] + a1 * e[1] + a2 * e[2] + a3 * e[3] + a4 * e[4] + a5 * e[5]
         for j in range(i + 1):
-            s = 0.0
-            for k in range(6):
-                s += A[k, i] * A[k, j]
-            H[i, j] = s
-            H[j, i] = s
-        H[i, i] += lam
+            s = (
+                a0 * A[0, j]
+                + a1 * A[1, j]
+                + a2 * A[2, j]
+                + a3 * A[3, j]
+                + a4 * A[4, j]
+                + a5 * A[5, j]
+            )
+            Hm[i, j] = s
+            Hm[j, i] = s
+        Hm[i, i] += lam
     if st.null_gain > 0.0:
         # lam k (q0 - q) only acts where A has no say: a pull in the null space. k shrinks
         # with the error so that the pull fades out and convergence stays fast.
@@ -65,7 +69,7 @@ def normal_equations(ch, st, ws, slot, q0, mu):
             g[i] += lam * k * d
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def bound_step(dq):
     n2 = 0.0
     for i in range(dq.shape[0]):
@@ -76,55 +80,61 @@ def bound_step(dq):
             dq[i] *= f
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def dls_step(ch, ws, slot):
-    """ws.dq: the damped least-squares step with joints on a limit held when pushed out."""
-    H, g, dq, free = ws.H, ws.g, ws.dq, ws.free
+    """ws.vec[DQ]: the damped least-squares step, joints on a limit held when pushed out."""
+    Hm, g, dq, free, Lm = ws.mat[H], ws.vec[G], ws.vec[DQ], ws.ivec[FREE], ws.mat[L]
     q = ws.q[slot]
-    n = q.shape[0]
-    free[:] = True
-    solve_spd(H, g, free, ws.L, dq)
+    lo, hi = lower(ch), upper(ch)
+    free[:] = 1
+    solve_spd(Hm, g, free, Lm, dq)
     blocked = False
-    for i in range(n):
-        if (q[i] <= ch.lower[i] + ON_LIMIT and dq[i] < 0.0) or (
-            q[i] >= ch.upper[i] - ON_LIMIT and dq[i] > 0.0
-        ):
-            free[i] = False
+    for i in range(q.shape[0]):
+        if (q[i] <= lo[i] + ON_LIMIT and dq[i] < 0.0) or (q[i] >= hi[i] - ON_LIMIT and dq[i] > 0.0):
+            free[i] = 0
             blocked = True
     if blocked:
-        solve_spd(H, g, free, ws.L, dq)  # zero on the held joints
+        solve_spd(Hm, g, free, Lm, dq)  # zero on the held joints
     bound_step(dq)
 
 
 @njit(cache=True, nogil=True)
-def inverse_spd(H, ws):
-    """ws.G = H^-1 by Cholesky; False if H is not positive definite."""
-    n = H.shape[0]
-    free = ws.free
-    free[:] = True
+def inverse_spd(ws):
+    """ws.mat[GI] = ws.mat[H]^-1 by Cholesky; False if H is not positive definite."""
+    Hm, Gi, free, unit, x, Lm = (
+        ws.mat[H],
+        ws.mat[GI],
+        ws.ivec[FREE],
+        ws.vec[UNIT],
+        ws.vec[X],
+        ws.mat[L],
+    )
+    n = Hm.shape[0]
+    free[:] = 1
+    if not cholesky_factor(Hm, free, Lm):
+        return False
     for c in range(n):
-        ws.unit[:] = 0.0
-        ws.unit[c] = 1.0
-        if not cholesky_solve(H, ws.unit, free, ws.L, ws.x):
-            return False
+        unit[:] = 0.0
+        unit[c] = 1.0
+        cholesky_substitute(Lm, unit, free, x)
         for r in range(n):
-            ws.G[r, c] = ws.x[r]
+            Gi[r, c] = x[r]
     return True
 
 
 @njit(cache=True, nogil=True)
-def active_set(G, x_free, lb, ub, start, ws, x):
+def active_set(G_, x_free, lb, ub, start, side, held, sub, Hh, gap, mult, Lm, x):
     """The box QP's exact solution x by a primal-dual active-set iteration (Hintermueller,
     Ito and Kunisch), starting from the bounds that ``start`` crosses. Returns False if no
-    set is found in 2n rounds.
+    set is found in 2n rounds. ``side``, ``held``, ``sub`` (int n-vectors), ``Hh``, ``Lm``
+    (n x n), ``gap``, ``mult`` (n-vectors) are scratch.
 
-    G = H^-1 and x_free = G g, the unconstrained minimiser. Holding the joints of a set B
+    G_ = H^-1 and x_free = G_ g, the unconstrained minimiser. Holding the joints of a set B
     at their bounds b with multipliers m (H x - g = m on B, 0 elsewhere) gives
-    x = x_free + G[:, B] m with G_BB m = b - x_free_B. The set is optimal when every free
+    x = x_free + G_[:, B] m with G_BB m = b - x_free_B. The set is optimal when every free
     joint stays in its box and every held joint's multiplier has the right sign (KKT).
     """
     n = x_free.shape[0]
-    side, held, Hh, gap, mult = ws.side, ws.held, ws.Hh, ws.gap, ws.mult
     for i in range(n):  # +1 held at the lower bound, -1 at the upper, 0 free
         side[i] = 1 if start[i] <= lb[i] else (-1 if start[i] >= ub[i] else 0)
     for _ in range(2 * n):
@@ -137,19 +147,18 @@ def active_set(G, x_free, lb, ub, start, ws, x):
             i = held[a]
             gap[a] = (lb[i] if side[i] > 0 else ub[i]) - x_free[i]
             for b in range(h):
-                Hh[a, b] = G[i, held[b]]
+                Hh[a, b] = G_[i, held[b]]
         if h == 1:
             mult[0] = gap[0] / Hh[0, 0]
         elif h > 1:
-            sub = ws.free
-            sub[:] = False
-            sub[:h] = True
-            if not cholesky_solve(Hh, gap, sub, ws.L, mult):
+            sub[:] = 0
+            sub[:h] = 1
+            if not cholesky_solve(Hh, gap, sub, Lm, mult):
                 return False
         for i in range(n):
             s = x_free[i]
             for a in range(h):
-                s += G[i, held[a]] * mult[a]
+                s += G_[i, held[a]] * mult[a]
             x[i] = s
         changed = False
         for a in range(h):  # multipliers: >= 0 held at lower, <= 0 held at upper
@@ -178,37 +187,46 @@ def active_set(G, x_free, lb, ub, start, ws, x):
     return False
 
 
+@njit(cache=True)  # not nogil: object mode needs the GIL
+def backend_step(Hm, g, lb, ub, which):
+    """The QP backend's solution (NaNs if none), called with the GIL held (object mode)."""
+    with objmode(sol="float64[:]"):
+        sol = solve_box_qp(Hm, g, lb, ub, which)
+    return sol
+
+
 @njit(cache=True, nogil=True)
 def qp_step(ch, st, ws, slot):
-    """ws.dq: the box-constrained step (limits as bounds on dq), scaled to MAX_STEP."""
-    H, g, dq, x_free, lb, ub = ws.H, ws.g, ws.dq, ws.xf, ws.lb, ws.ub
+    """ws.vec[DQ]: the box-constrained step (limits as bounds on dq), scaled to MAX_STEP."""
+    Hm, g, dq, x_free = ws.mat[H], ws.vec[G], ws.vec[DQ], ws.vec[XF]
+    lb, ub, x = ws.vec[LB], ws.vec[UB], ws.vec[X]
     q = ws.q[slot]
     n = q.shape[0]
-    ws.free[:] = True
-    solve_spd(H, g, ws.free, ws.L, dq)
+    lo, hi = lower(ch), upper(ch)
+    ws.ivec[FREE][:] = 1
+    solve_spd(Hm, g, ws.ivec[FREE], ws.mat[L], dq)
     x_free[:] = dq
     bound_step(dq)
     inside = True
     for i in range(n):
-        lb[i] = ch.lower[i] - q[i]
-        ub[i] = ch.upper[i] - q[i]
+        lb[i] = lo[i] - q[i]
+        ub[i] = hi[i] - q[i]
         if dq[i] < lb[i] or dq[i] > ub[i]:
             inside = False
     if inside:
         return
     found = False
-    if inverse_spd(H, ws):
-        found = active_set(ws.G, x_free, lb, ub, dq, ws, ws.x)
+    if inverse_spd(ws):
+        scratch = (ws.ivec[SIDE], ws.ivec[HELD], ws.ivec[FREE], ws.mat[HH], ws.vec[GAP])
+        rest = (ws.vec[MULT], ws.mat[L], x)
+        found = active_set(ws.mat[GI], x_free, lb, ub, dq, *scratch, *rest)
         if not found:  # cycled: start again from the joints resting on a bound
-            ws.unit[:] = 0.0
-            found = active_set(ws.G, x_free, lb, ub, ws.unit, ws, ws.x)
+            ws.vec[UNIT][:] = 0.0
+            found = active_set(ws.mat[GI], x_free, lb, ub, ws.vec[UNIT], *scratch, *rest)
     if found:
-        dq[:] = ws.x
+        dq[:] = x
     else:
-        Hc, gc, lbc, ubc = H.copy(), g.copy(), lb.copy(), ub.copy()
-        which = st.backend
-        with objmode(sol="float64[:]"):
-            sol = solve_box_qp(Hc, gc, lbc, ubc, which)
+        sol = backend_step(Hm.copy(), g.copy(), lb.copy(), ub.copy(), st.backend)
         if not np.isnan(sol[0]):
             dq[:] = sol
         for i in range(n):  # backends meet bounds only to their tolerance
@@ -216,9 +234,9 @@ def qp_step(ch, st, ws, slot):
     bound_step(dq)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def step(ch, st, ws, slot, q0, mu):
-    """ws.dq: the step of the solver ``st.step`` from state ``slot``."""
+    """ws.vec[DQ]: the step of the solver ``st.step`` from state ``slot``."""
     normal_equations(ch, st, ws, slot, q0, mu)
     if st.step == STEP_DLS:
         dls_step(ch, ws, slot)
