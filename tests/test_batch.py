@@ -276,3 +276,35 @@ def test_progress_reports_each_chunk_from_the_thread_pool():
         a, _poses(a, 8, seed=3), workers=2, chunk_size=2, progress=lambda d, t: seen.append(d)
     )
     assert seen == sorted(seen) and seen[-1] == 8 and len(seen) >= 2
+
+
+def test_a_lying_batch_solver_is_caught_by_the_fk_check(monkeypatch):
+    import dataclasses
+
+    from armik.ik import registry
+    from armik.ik.attempt import AttemptBatch
+
+    a = arm("ur5")
+    rng = np.random.default_rng(4)
+    q_true = np.array([a.random_q(rng) for _ in range(3)])
+    T = np.array([a.fk(q).homogeneous for q in q_true])
+    lies = q_true.copy()
+    lies[0] = a.middle  # a wrong configuration, within the limits
+    lies[2, 2] = a.upper[2] + 0.5  # outside the elbow's limits
+
+    def liar(arm_, targets, q0, opts, seeds=None):
+        n = len(targets)
+        return AttemptBatch(
+            q=lies[:n].copy(),
+            claim=np.full(n, Status.CONVERGED.code, dtype=np.int8),
+            iterations=np.ones(n, dtype=np.int64),
+            restarts=np.zeros(n, dtype=np.int64),
+        )
+
+    spec = registry.get("dls")
+    monkeypatch.setitem(registry._REGISTRY, "dls", dataclasses.replace(spec, run_batch=liar))
+    r = solve_batch(a, T, solver="dls", workers=1)
+    assert r.success.tolist() == [False, True, False]
+    assert r.status.tolist() == ["not_converged", "converged", "joint_limits"]
+    assert "forward-kinematics check failed" in r.reason(0)
+    assert "elbow_joint" in r.reason(2) and "outside the joint limits" in r.reason(2)
