@@ -112,7 +112,7 @@ def _parser() -> argparse.ArgumentParser:
     c = command(
         "bench",
         "benchmark the numeric solvers (TRAC-IK's protocol)",
-        "armik bench --arms panda ur5 -n 2000",
+        "armik bench --arms panda ur5 -n 2000 --peers rtb eaik",
         _bench,
     )
     c.add_argument("--arms", nargs="+", default=list(SPATIAL_ARMS), help="arms to run")
@@ -125,6 +125,12 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--tol", type=float, default=1e-5, help="success tolerance, m and rad")
     c.add_argument(
         "--repeats", type=int, default=1, help="passes over the targets, other solver seeds (1)"
+    )
+    c.add_argument(
+        "--peers",
+        nargs="+",
+        default=[],
+        help="other IK libraries timed on the same targets: rtb (Robotics Toolbox ik_LM), eaik",
     )
     c.add_argument("--json", action="store_true", help="print JSON rows")
 
@@ -255,6 +261,7 @@ def _demo(args: argparse.Namespace) -> int:
 
 
 def _bench(args: argparse.Namespace) -> int:
+    notes: list[str] = []
     rows = bench_mod.run(
         _names(args.arms),
         _names(args.solvers),
@@ -264,6 +271,8 @@ def _bench(args: argparse.Namespace) -> int:
         tol=args.tol,
         repeats=args.repeats,
         show_progress=not args.json,
+        peers=_names(args.peers),
+        notes=notes,
     )
     if args.json:
         print(json.dumps([r.as_dict() for r in rows], indent=2))
@@ -274,6 +283,8 @@ def _bench(args: argparse.Namespace) -> int:
             f"{args.tol:g} m / rad, seeds from mid-limits, sampling seed {args.seed}"
         )
         print(bench_mod.table(rows))
+        for line in bench_mod.ratios(rows) + notes:
+            print(line)
     return 0
 
 

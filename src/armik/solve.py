@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import time
 
 import numpy as np
@@ -47,13 +48,15 @@ _OPTIONS: dict[tuple, Options] = {}
 
 
 def _options(kwargs: dict) -> Options:
-    """``Options.from_kwargs``, remembered for hashable option values (validation costs
-    a few us; a loop of solves passes the same options every time)."""
+    """``Options.from_kwargs``, remembered for hashable option values other than ``seed``
+    (validation costs a few us, and a loop of solves passes the same options, often with a
+    new seed each time)."""
     if not kwargs:
         return Options.from_kwargs(kwargs)
+    seed = kwargs.get("seed", 0)
     try:
         # with the types: 1 == True, but validation may accept one and refuse the other
-        key = tuple(sorted((k, type(v).__name__, v) for k, v in kwargs.items()))
+        key = tuple((k, type(v), v) for k, v in kwargs.items() if k != "seed")
         opts = _OPTIONS.get(key)
     except TypeError:  # an unhashable value (a list of weights): validate every time
         return Options.from_kwargs(kwargs)
@@ -62,6 +65,11 @@ def _options(kwargs: dict) -> Options:
         if len(_OPTIONS) > 256:
             _OPTIONS.clear()
         _OPTIONS[key] = opts
+    elif opts.seed != seed or type(opts.seed) is not type(seed):
+        opts = copy.copy(opts)
+        # the seed's own validation, as Options.from_kwargs does it
+        checked = Options.from_kwargs({"seed": seed}).seed if seed is not None else None
+        object.__setattr__(opts, "seed", checked)
     return opts
 
 

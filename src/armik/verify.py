@@ -53,12 +53,19 @@ class Check:
         return ", ".join(parts)
 
 
-@lru_cache(maxsize=256)
 def _measures(opts: Options, position_only: bool) -> tuple[np.ndarray, bool, bool]:
     """(weights, weighted, orientation measured) for a target kind."""
-    w = opts.weight_vector(position_only)
+    return _measures_of(opts.weights, opts.position_only, position_only)
+
+
+@lru_cache(maxsize=256)
+def _measures_of(weights, position_only_option: bool, position_only_target: bool):
+    w = Options(weights=weights, position_only=position_only_option).weight_vector(
+        position_only_target
+    )
+    position_only = position_only_option or position_only_target
     measure_rot = not position_only and bool(w[3:].any())
-    return w, opts.weights is not None, measure_rot
+    return w, weights is not None, measure_rot
 
 
 def check(arm: Arm, q: np.ndarray, target: Target, opts: Options) -> Check:
@@ -69,13 +76,15 @@ def check(arm: Arm, q: np.ndarray, target: Target, opts: Options) -> Check:
     w, weighted, measure_rot = _measures(opts, target.position_only)
     R_t = _EYE if target.rotation is None else target.rotation
     ch = arm.kernel_chain.chain
+    # C-ordered, writable float64 copies (Pinocchio's rotations are Fortran-ordered): numba
+    # compiles anew for every other layout.
     pos, ori = pose_error(
         ch.base_R,
         ch.base_p,
-        T.rotation,
-        T.translation,
-        R_t,
-        target.position,
+        np.array(T.rotation, order="C"),
+        np.array(T.translation),
+        np.array(R_t, dtype=float, order="C"),
+        np.array(target.position, dtype=float),
         w,
         weighted,
         measure_rot,
@@ -114,7 +123,7 @@ def check_batch(arm: Arm, Q: np.ndarray, targets: TargetBatch, opts: Options) ->
     FK for the placements, compiled code for the errors and the limits. A row with a
     non-finite value fails (NaN errors, outside the limits). For the violated joints of a row
     by name, call ``arm.limit_violations(Q[i])``."""
-    Q = np.ascontiguousarray(Q, dtype=float)
+    Q = np.array(Q, dtype=float)  # a C-ordered, writable copy (what the kernel is built for)
     n = len(targets)
     if Q.shape != (n, arm.dof):
         raise ValueError(f"Q must have shape ({n}, {arm.dof}), got {Q.shape}")
@@ -143,13 +152,13 @@ def check_batch(arm: Arm, Q: np.ndarray, targets: TargetBatch, opts: Options) ->
         ch.base_p,
         R_w,
         p_w,
-        np.ascontiguousarray(R_t, dtype=float),
-        np.ascontiguousarray(targets.positions, dtype=float),
+        np.array(R_t, dtype=float, order="C"),
+        np.array(targets.positions, dtype=float, order="C"),
         w,
         weighted,
         measure_rot,
         out,
     )
     inside = np.empty(n, dtype=np.bool_)
-    within_limits(Q, arm.lower, arm.upper, LIMIT_TOL, inside)
+    within_limits(Q, ch.lower, ch.upper, LIMIT_TOL, inside)
     return BatchCheck(out[:, 0], out[:, 1], inside, opts.tol_position, opts.tol_orientation)

@@ -5,7 +5,7 @@ active set on limits, the careful Levenberg-Marquardt mode, stall detection, res
 a shifted Halton sequence with candidate picking, known minima, the null-space pull) is
 compiled: see ``armik.kernel`` (``descent.py`` documents the iteration, ``restarts.py`` the
 restarts). ``dls`` and ``qp`` differ only in their step. This module turns options into the
-kernel's ``Settings``, calls its one entry (``kernel.entry.solve_targets``) for one target
+kernel's ``Settings``, calls its entry (``kernel.entry``, one per step) for one target
 (``run_numeric``) or many (``run_numeric_batch``), and turns its arrays into attempts.
 
 ``Problem``, ``evaluate``, ``descend`` and ``RestartSeeds`` expose pieces of the kernel to
@@ -18,7 +18,6 @@ import math
 import secrets
 import time
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -32,7 +31,7 @@ from ..kernel import restarts as _restarts
 from ..kernel.chain import Flat, halton
 from ..kernel.clock import thread_cpu_ns
 from ..kernel.descent import CAREFUL_BELOW, KNOWN_MINIMUM_RADIUS  # noqa: F401 (re-exported)
-from ..kernel.entry import solve_targets
+from ..kernel.entry import ENTRIES
 from ..kernel.problem import (
     NO_LIMIT,
     SHIFT,
@@ -67,13 +66,36 @@ def qp_step(backend_name: str) -> Step:
     return Step(STEP_QP, backend.code(backend_name))
 
 
-@lru_cache(maxsize=512)
 def packed_settings(
     opts: Options, position_only: bool, dof: int, max_found: int, step: Step
 ) -> tuple[np.ndarray, np.ndarray]:
-    """``settings`` as the kernel entry takes them (cached: a solve with default options
-    builds nothing)."""
-    return pack_settings(settings(opts, position_only, dof, max_found, step))
+    """``settings`` as the kernel entry takes them, remembered: a loop of solves whose
+    options differ only in ``seed`` builds them once."""
+    key = (
+        opts.tol_position,
+        opts.tol_orientation,
+        opts.timeout,
+        opts.max_restarts,
+        opts.max_iterations,
+        opts.position_only,
+        opts.weights,
+        opts.nullspace_gain,
+        opts.iteration_budget,
+        position_only,
+        dof,
+        max_found,
+        step,
+    )
+    packed = _PACKED.get(key)
+    if packed is None:
+        packed = pack_settings(settings(opts, position_only, dof, max_found, step))
+        if len(_PACKED) > 512:
+            _PACKED.clear()
+        _PACKED[key] = packed
+    return packed
+
+
+_PACKED: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
 
 
 def settings(opts: Options, position_only: bool, dof: int, max_found: int, step: Step):
@@ -111,14 +133,16 @@ def run_numeric(
     """Descend from q0, then from restart seeds until solved, out of budget or restarts."""
     max_found = opts.max_solutions if all_solutions else 1
     sf, si = packed_settings(opts, target.position_only, arm.dof, max_found, step)
-    R_t = (_EYE if target.rotation is None else target.rotation)[None]
+    # Fresh C-ordered, writable float64 copies: numba compiles anew for any other layout.
+    R_t = np.array((_EYE if target.rotation is None else target.rotation)[None], dtype=float)
     out_q = np.empty((1, max_found, arm.dof))
     info = np.empty((1, 5), dtype=np.int64)
     err = np.empty((1, 2))
     seeds = np.array([solve_seed(opts)], dtype=np.uint64)
     kc = arm.kernel_chain
-    p_t = target.position[None]
-    solve_targets(*kc.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
+    p_t = np.array(target.position[None], dtype=float)
+    q0 = np.array(q0, dtype=float)
+    ENTRIES[step.kind](*kc.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
     claim, found, iterations, restarts, out_of_budget = info[0].tolist()
     if claim == _descent.CONVERGED:
         return [
@@ -177,22 +201,23 @@ def run_numeric_batch(
     first for target i from q0[i] with restart seed ``seeds[i]`` (default: every target
     uses ``opts.seed``, as a loop of ``solve`` with the same options would)."""
     n_targets, dof = len(targets), arm.dof
-    q0 = np.ascontiguousarray(q0, dtype=float).reshape(n_targets, dof)
+    # C-ordered, writable float64 copies: numba compiles anew for any other layout.
+    q0 = np.array(q0, dtype=float).reshape(n_targets, dof)
     if seeds is None:
         seeds = np.full(n_targets, solve_seed(opts), dtype=np.uint64)
     else:
-        seeds = np.ascontiguousarray(seeds).astype(np.uint64)
+        seeds = np.array(seeds).astype(np.uint64)
     sf, si = packed_settings(opts, targets.position_only, dof, 1, step)
     if targets.rotations is None:
         R_t = np.broadcast_to(np.eye(3), (n_targets, 3, 3)).copy()
     else:
-        R_t = np.ascontiguousarray(targets.rotations, dtype=float)
-    p_t = np.ascontiguousarray(targets.positions, dtype=float)
+        R_t = np.array(targets.rotations, dtype=float)
+    p_t = np.array(targets.positions, dtype=float)
     out_q = np.empty((n_targets, 1, dof))
     info = np.empty((n_targets, 5), dtype=np.int64)
     err = np.empty((n_targets, 2))
     kc = arm.kernel_chain
-    solve_targets(*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
+    ENTRIES[step.kind](*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
     return AttemptBatch(
         q=out_q[:, 0],
         claim=info[:, 0].astype(np.int8),
@@ -291,7 +316,8 @@ def descend(
     deadline_ns = NO_LIMIT
     if math.isfinite(deadline):
         deadline_ns = thread_cpu_ns() + int(max(deadline - time.perf_counter(), 0.0) * 1e9)
-    its, ok, slot = _descent.descend(
+    entry = _descent.descend_dls if step.kind == STEP_DLS else _descent.descend_qp
+    its, ok, slot = entry(
         pb.chain, pb.settings, pb.R_t, pb.p_t, pb.q0, ws, max_iterations, deadline_ns, count
     )
     return _state(pb, slot), its, ok

@@ -153,7 +153,9 @@ def build_chain(arm: Arm) -> KernelChain:
             M = arm.T_base_world * M
         joint_R[i], joint_p[i] = M.rotation, M.translation
         # The joint's motion subspace, expressed in its own frame, at the neutral pose.
-        S = pin.getJointJacobian(model, data, j, pin.LOCAL)[:, model.joints[j].idx_v]
+        # (Pinocchio hands a one-column Jacobian back as a vector: reshape it)
+        S = np.reshape(pin.getJointJacobian(model, data, j, pin.LOCAL), (6, -1))
+        S = S[:, model.joints[j].idx_v]
         lin, ang = S[:3], S[3:]
         if np.linalg.norm(ang) > 0.5 and np.linalg.norm(lin) < 1e-12:
             axis[i] = ang / np.linalg.norm(ang)

@@ -24,7 +24,7 @@ from .clock import thread_cpu_ns
 from .error import evaluate
 from .problem import BEST, DQ, NO_LIMIT, SHIFT, U
 from .restarts import pick, seed_shift
-from .step import step, wrapped
+from .step import dls, qp, wrapped
 
 STALL_WINDOW = 4  # iterations without enough progress (PROGRESS) before a restart
 MU_UP, MU_DOWN = 4.0, 0.5  # damping multiplier after a rejected / accepted step
@@ -64,10 +64,10 @@ def _near_known_minimum(ch, q, minima, count):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima):
-    """Iterate from ws.q[0] for at most ``limit`` iterations (and, if ``deadline_ns`` is
-    not NO_LIMIT, until the thread's CPU clock passes it). Returns (iterations, converged,
-    slot of the last state)."""
+def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, step):
+    """Iterate from ws.q[0] with ``step`` (``step.dls`` or ``step.qp``) for at most ``limit``
+    iterations (and, if ``deadline_ns`` is not NO_LIMIT, until the thread's CPU clock passes
+    it). Returns (iterations, converged, slot of the last state)."""
     cur = 0
     evaluate(ch, st, R_t, p_t, ws, cur)
     best_sq = ws.val[cur, 2]
@@ -142,7 +142,7 @@ def normalise(ch, q, q_ref, out):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err):
+def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, step):
     """A whole solve of one target: descend from q0, then from restart seeds, until
     ``st.max_found`` distinct solutions, the restart limit or the budget.
 
@@ -183,7 +183,7 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err):
         limit = st.max_iterations
         if st.iteration_budget != NO_LIMIT:
             limit = min(limit, st.iteration_budget - iterations)
-        its, ok, cur = descend(ch, st, R_t, p_t, q0, ws, limit, deadline, n_minima)
+        its, ok, cur = descend(ch, st, R_t, p_t, q0, ws, limit, deadline, n_minima, step)
         iterations += its
         sq = ws.val[cur, 2]
         if not ok and sq < CAREFUL_BELOW:  # a local minimum near the target
@@ -228,3 +228,15 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err):
     info[2] = iterations
     info[3] = restarts
     info[4] = 1 if out_of_budget else 0
+
+
+@njit(cache=True, nogil=True)
+def descend_dls(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima):
+    """``descend`` with the dls step (an entry for Python callers)."""
+    return descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, dls)
+
+
+@njit(cache=True, nogil=True)
+def descend_qp(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima):
+    """``descend`` with the qp step (an entry for Python callers)."""
+    return descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, qp)

@@ -1,8 +1,10 @@
-"""The kernel's one entry: whole solves (first descent and restarts) for N targets.
+"""The kernel's entries: whole solves (first descent and restarts) for N targets.
 
-``solve_targets`` runs without the GIL: threads calling it on different chunks of targets
-run in parallel (each call allocates its own scratch). Each target gets its own budget
-(CPU time of the calling thread, or iterations) and its own restart stream (its seed).
+``solve_targets_dls`` and ``solve_targets_qp`` (one per step, so that a program that solves
+with one solver compiles only its step) run without the GIL: threads calling them on
+different chunks of targets run in parallel (each call allocates its own scratch). Each
+target gets its own budget (CPU time of the calling thread, or iterations) and its own
+restart stream (its seed).
 """
 
 from __future__ import annotations
@@ -13,19 +15,32 @@ from .chain import Flat
 from .descent import solve_one
 from .problem import unpack as unpack_settings
 from .problem import workspace
+from .step import dls, qp
 
 MINIMA_CAPACITY = 256  # known minima kept per solve (the oldest are dropped beyond)
 
 
 @njit(cache=True, nogil=True)
-def solve_targets(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, out_q, info, err):
+def solve_targets_dls(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, out_q, info, err):
     """Solve target i = (R_t[i], p_t[i]) (rotation, position in the base frame) from
-    q0[i] with restart seed seeds[i], for every i. The chain is ``chain.Flat``'s arrays,
-    the settings ``pack_settings``'s. Outputs per target as ``solve_one``: out_q (N, S, n),
-    info (N, 5), err (N, 2)."""
+    q0[i] with restart seed seeds[i], for every i, with the dls step. The chain is
+    ``chain.Flat``'s arrays, the settings ``pack_settings``'s. Outputs per target as
+    ``descent.solve_one``: out_q (N, S, n), info (N, 5), err (N, 2)."""
     ch = Flat(packed, kind, halton)
     st = unpack_settings(sf, si)
-    n = q0.shape[1]
-    ws = workspace(n, min(st.max_restarts + 1, MINIMA_CAPACITY))
+    ws = workspace(q0.shape[1], min(st.max_restarts + 1, MINIMA_CAPACITY))
     for i in range(R_t.shape[0]):
-        solve_one(ch, st, R_t[i], p_t[i], q0[i], seeds[i], ws, out_q[i], info[i], err[i])
+        solve_one(ch, st, R_t[i], p_t[i], q0[i], seeds[i], ws, out_q[i], info[i], err[i], dls)
+
+
+@njit(cache=True, nogil=True)
+def solve_targets_qp(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, out_q, info, err):
+    """``solve_targets_dls`` with the qp step."""
+    ch = Flat(packed, kind, halton)
+    st = unpack_settings(sf, si)
+    ws = workspace(q0.shape[1], min(st.max_restarts + 1, MINIMA_CAPACITY))
+    for i in range(R_t.shape[0]):
+        solve_one(ch, st, R_t[i], p_t[i], q0[i], seeds[i], ws, out_q[i], info[i], err[i], qp)
+
+
+ENTRIES = (solve_targets_dls, solve_targets_qp)  # indexed by problem.STEP_DLS, STEP_QP

@@ -16,7 +16,7 @@ from .fk import forward, jacobian_local
 from .se3 import jlog6_of_log, log3, log6
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def relative(ch, q, R_t, p_t, ws):
     """FK at q, then ws.m3[1], ws.v3[1] = T_tip^-1 T_target (rotation, translation in the
     tip frame)."""

@@ -5,7 +5,9 @@ lambda = mu c E + lambda_min, E = |e|^2 / 2 (Chan, Sugihara), and bound the step
 Euclidean length of MAX_STEP. ``dls`` takes a joint resting on a limit that the step pushes
 further out out of the step (an active set); ``qp`` solves the box QP exactly with a
 primal-dual active set checked by the KKT conditions, and calls the QP backend when that
-fails (a few steps in 10^4). Results land in ws.vec[DQ].
+fails (a few steps in 10^4). Results land in ws.vec[DQ]. ``dls`` and ``qp`` are the two
+steps; the descent takes one of them as an argument, so that a program that only solves
+with ``dls`` never compiles the QP machinery.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from numba import njit, objmode
 from .backend import solve_box_qp
 from .chain import CONTINUOUS, lower, upper
 from .linalg import cholesky_factor, cholesky_solve, cholesky_substitute, solve_spd
-from .problem import DQ, FREE, GAP, GI, HELD, HH, LB, MULT, SIDE, STEP_DLS, UB, UNIT, XF, G, H, L, X
+from .problem import DQ, FREE, GAP, GI, HELD, HH, LB, MULT, SIDE, UB, UNIT, XF, G, H, L, X
 
 MAX_STEP = 1.0  # rad or m: longest step (Euclidean)
 # lambda = mu DAMPING_GAIN E + LAMBDA_MIN: c = 0.1 was measured against c = 1 and 0.01 with
@@ -195,7 +197,7 @@ def backend_step(Hm, g, lb, ub, which):
     return sol
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def qp_step(ch, st, ws, slot):
     """ws.vec[DQ]: the box-constrained step (limits as bounds on dq), scaled to MAX_STEP."""
     Hm, g, dq, x_free = ws.mat[H], ws.vec[G], ws.vec[DQ], ws.vec[XF]
@@ -234,11 +236,15 @@ def qp_step(ch, st, ws, slot):
     bound_step(dq)
 
 
-@njit(cache=True, nogil=True, inline="always")
-def step(ch, st, ws, slot, q0, mu):
-    """ws.vec[DQ]: the step of the solver ``st.step`` from state ``slot``."""
+@njit(cache=True, nogil=True)
+def dls(ch, st, ws, slot, q0, mu):
+    """ws.vec[DQ]: the dls step from state ``slot`` (damping multiplier mu)."""
     normal_equations(ch, st, ws, slot, q0, mu)
-    if st.step == STEP_DLS:
-        dls_step(ch, ws, slot)
-    else:
-        qp_step(ch, st, ws, slot)
+    dls_step(ch, ws, slot)
+
+
+@njit(cache=True, nogil=True)
+def qp(ch, st, ws, slot, q0, mu):
+    """ws.vec[DQ]: the qp step from state ``slot`` (damping multiplier mu)."""
+    normal_equations(ch, st, ws, slot, q0, mu)
+    qp_step(ch, st, ws, slot)
