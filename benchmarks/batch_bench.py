@@ -9,7 +9,7 @@ the mid-limit configuration. Each success is checked again here with Pinocchio d
 (independent of armik's verify) to count false successes. Worker counts are interleaved over
 ``--rounds`` rounds and the best round of each is kept (a noisy machine only slows runs down).
 ``--peers`` times a sequential loop of the Robotics Toolbox's C++ ik_LM over the first
-``--peer-n`` targets (the same URDF file; its FK is checked against armik's first).
+``--peer-n`` targets through ``armik.peers`` (the same URDF file, its FK checked first).
 ``--reference`` also times a plain compiled loop on 1 and 2 threads: what the machine gives
 two threads at that moment (other processes share the cores).
 ``--memory`` runs each N in a fresh process and prints its peak resident memory (ru_maxrss).
@@ -115,54 +115,30 @@ def run_throughput(args) -> list[dict]:
     return rows
 
 
-def rtb_ets(arm: armik.Arm):
-    """The Robotics Toolbox's chain for the same URDF file (meshes stripped: the toolbox
-    would look for their ROS packages), base to tip."""
-    import re
-    import tempfile
-    import warnings
-    from pathlib import Path
-
-    import roboticstoolbox as rtb
-
-    text = Path(arm.source).read_text()
-    text = re.sub(r"<visual\b.*?</visual>|<collision\b.*?</collision>", "", text, flags=re.S)
-    path = Path(tempfile.mkdtemp()) / "robot.urdf"
-    path.write_text(text)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        robot = rtb.Robot.URDF(str(path))
-    ets = robot.ets(start=arm.base, end=arm.tip)
-    q = arm.random_q(0)
-    gap = np.abs(ets.eval(q) - arm.fk(q).homogeneous).max()
-    if gap > 1e-9:
-        raise SystemExit(f"rtb and armik FK disagree by {gap:.3g} on {arm.name}")
-    return ets
-
-
 def peer_row(arm: armik.Arm, T: np.ndarray, args) -> dict:
-    """A sequential loop of the toolbox's C++ ik_LM (30 iterations x 100 searches, joint
-    limits on, tolerance E = |e|^2 / 2 <= 5e-11 so that both errors are within 1e-5), from
-    the same q0 on the same targets; successes checked as armik's are."""
-    ets = rtb_ets(arm)
+    """A sequential loop of the Robotics Toolbox's C++ ik_LM through ``armik.peers`` (30
+    iterations x 100 searches, joint limits on, tolerance set for 1e-5; the same URDF, its
+    FK checked against armik's), from the same q0 on the same targets; its successes are
+    checked as armik's are. ``seconds`` is the loop's wall time; ``library_seconds`` the sum
+    of the library calls alone."""
+    from armik import peers
+
+    peer = peers.make("rtb", arm, args.tol)
     q0 = arm.middle
-    tol_e = 0.5 * args.tol**2
-    qs, flags = [], []
+    qs, library = [], 0.0
     t0 = time.perf_counter()
     for M in T:
-        sol = ets.ik_LM(M, q0=q0, ilimit=30, slimit=100, tol=tol_e, joint_limits=True)
-        qs.append(sol.q)
-        flags.append(sol.success)
+        qs.append(peer.solve(M, q0))
+        library += peer.elapsed
     wall = time.perf_counter() - t0
     ok = 0
-    for M, q, flag in zip(T, qs, flags):
-        F = arm.fk(np.asarray(q))
+    for M, q in zip(T, qs):
+        F = arm.fk(q)
         e = pin.log6(F.actInv(pin.SE3(M))).vector
         ok += bool(
-            flag
-            and np.linalg.norm(M[:3, 3] - F.translation) <= args.tol
+            np.linalg.norm(M[:3, 3] - F.translation) <= args.tol
             and np.linalg.norm(e[3:]) <= args.tol
-            and arm.within_limits(np.asarray(q))
+            and arm.within_limits(q)
         )
     return {
         "arm": arm.name,
@@ -171,6 +147,7 @@ def peer_row(arm: armik.Arm, T: np.ndarray, args) -> dict:
         "n": len(T),
         "success_pct": 100.0 * ok / len(T),
         "seconds": wall,
+        "library_seconds": library,
         "targets_per_s": len(T) / wall,
     }
 
