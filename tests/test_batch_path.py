@@ -11,18 +11,18 @@ import pytest
 
 import armik
 from armik.errors import OptionError
-from armik.robots import _erd_robot_dir
+from armik.robots import entry
 
 from .conftest import arm
 
 
 @functools.cache
 def ur3() -> armik.Arm:
-    """The UR3 of example-robot-data (not in the catalogue), found as robots.py finds the
-    others."""
+    """The UR3 of example-robot-data (not in the catalogue), next to the catalogue's UR5."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return armik.load(str(_erd_robot_dir() / "ur_description/urdf/ur3_robot.urdf"), tip="tool0")
+        ur3 = entry("ur5").urdf_path().parent / "ur3_robot.urdf"
+        return armik.load(str(ur3), tip="tool0")
 
 
 def _moves(q0: np.ndarray, r) -> np.ndarray:
