@@ -108,6 +108,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--json", action="store_true", help="machine-readable output")
 
     command("demo", "solve a target on the 2-link arm and on the Panda", "armik demo", _demo)
+    _batch_commands(command)  # batch, reach
 
     c = command(
         "bench",
@@ -144,7 +145,6 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--seed", type=int, default=7)
     c.add_argument("--plot", metavar="DIR", help="write PNG figures to DIR (needs matplotlib)")
     c.add_argument("--json", action="store_true", help="print JSON")
-    _batch_commands(command)
     return p
 
 
