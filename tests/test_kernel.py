@@ -286,3 +286,33 @@ def test_bench_times_peers_interleaved_and_judges_them():
     by = {r.solver: r for r in rows}
     assert by["dls"].success_rate == 100 and by["exact"].success_rate == 100
     assert by["wrong"].success_rate == 0 and by["exact"].n == 5
+
+
+def test_qp_backend_fallback_from_compiled_code_solves_the_box_qp():
+    # The step the kernel hands to qpsolvers when its active set fails (object mode).
+    from armik.ik import qp as qp_solver
+    from armik.kernel import backend
+    from armik.kernel.step import backend_step
+
+    rng = np.random.default_rng(2)
+    for _ in range(5):
+        A = rng.normal(size=(6, 7))
+        H = A.T @ A + 1e-3 * np.eye(7)
+        g = A.T @ rng.normal(size=6)
+        lb, ub = -rng.uniform(0.0, 0.3, 7), rng.uniform(0.0, 0.3, 7)
+        x = backend_step(H.copy(), g.copy(), lb.copy(), ub.copy(), backend.code("osqp"))
+        exact = qp_solver.active_set_guess(np.linalg.inv(H), np.linalg.solve(H, g), lb, ub,
+                                           np.linalg.solve(H, g))  # fmt: skip
+        assert exact is not None
+        np.testing.assert_allclose(np.clip(x, lb, ub), exact, atol=1e-6)
+
+
+def test_with_limits_rebuilds_the_kernel_chain():
+    a = arm("panda")
+    narrow = a.with_limits({"panda_joint1": (-0.1, 0.1)})
+    assert narrow.kernel_chain is not a.kernel_chain
+    assert narrow.kernel_chain.chain.upper[0] == 0.1
+    q = a.middle.copy()
+    q[0] = 0.05
+    r = narrow.solve(narrow.fk(q), q0=narrow.middle)
+    assert r.success and -0.1 <= r.q[0] <= 0.1

@@ -8,11 +8,34 @@ import numpy as np
 from numba import njit
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _all(free):
+    for i in range(free.shape[0]):
+        if not free[i]:
+            return False
+    return True
+
+
 @njit(cache=True, nogil=True)
 def cholesky_factor(H, free, L):
     """L: the Cholesky factor of H[F][:, F] (F: the joints where ``free``, ints, is not 0),
-    in the rows and columns of F. Returns False when H is not positive definite there."""
+    in the rows and columns of F, with the INVERSE of its diagonal on the diagonal (one
+    division per row instead of one per entry). Returns False when H is not positive
+    definite there."""
     n = H.shape[0]
+    if _all(free):  # the usual case: no mask to test in the inner loops
+        for i in range(n):
+            for j in range(i + 1):
+                s = H[i, j]
+                for k in range(j):
+                    s -= L[i, k] * L[j, k]
+                if i == j:
+                    if not s > 0.0:
+                        return False
+                    L[i, i] = 1.0 / math.sqrt(s)
+                else:
+                    L[i, j] = s * L[j, j]
+        return True
     for i in range(n):
         if not free[i]:
             continue
@@ -26,9 +49,9 @@ def cholesky_factor(H, free, L):
             if i == j:
                 if not s > 0.0:
                     return False
-                L[i, i] = math.sqrt(s)
+                L[i, i] = 1.0 / math.sqrt(s)
             else:
-                L[i, j] = s / L[j, j]
+                L[i, j] = s * L[j, j]
     return True
 
 
@@ -36,6 +59,18 @@ def cholesky_factor(H, free, L):
 def cholesky_substitute(L, g, free, x):
     """x: the solution of L L^T x = g on the joints F of ``cholesky_factor``, 0 elsewhere."""
     n = L.shape[0]
+    if _all(free):
+        for i in range(n):  # L y = g
+            s = g[i]
+            for k in range(i):
+                s -= L[i, k] * x[k]
+            x[i] = s * L[i, i]
+        for i in range(n - 1, -1, -1):  # L^T x = y
+            s = x[i]
+            for k in range(i + 1, n):
+                s -= L[k, i] * x[k]
+            x[i] = s * L[i, i]
+        return
     for i in range(n):  # L y = g
         if not free[i]:
             x[i] = 0.0
@@ -44,7 +79,7 @@ def cholesky_substitute(L, g, free, x):
         for k in range(i):
             if free[k]:
                 s -= L[i, k] * x[k]
-        x[i] = s / L[i, i]
+        x[i] = s * L[i, i]
     for i in range(n - 1, -1, -1):  # L^T x = y
         if not free[i]:
             continue
@@ -52,7 +87,7 @@ def cholesky_substitute(L, g, free, x):
         for k in range(i + 1, n):
             if free[k]:
                 s -= L[k, i] * x[k]
-        x[i] = s / L[i, i]
+        x[i] = s * L[i, i]
 
 
 @njit(cache=True, nogil=True)
