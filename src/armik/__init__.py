@@ -1,6 +1,7 @@
 """armik: inverse kinematics for URDF robot arms on Pinocchio."""
 
 from .arm import Arm, load
+from .batch import BatchResult
 from .errors import (
     ArmikError,
     ArmikWarning,
@@ -21,6 +22,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "Arm",
+    "BatchResult",
     "ArmikError",
     "ArmikWarning",
     "FrameError",

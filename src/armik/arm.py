@@ -719,6 +719,21 @@ class Arm:
         _check_solver_name(solver)
         return solve(self, target, q0=q0, solver=solver, all_solutions=True, **options)
 
+    def solve_batch(self, targets, *, q0=None, solver: str = "auto", workers=None, **options):
+        """Solve many targets ((N, 4, 4), (N, 7), (N, 3) or a list) on every core; returns a
+        ``BatchResult``. See ``armik.batch.solve_batch``."""
+        from .batch import solve_batch
+
+        return solve_batch(self, targets, q0=q0, solver=solver, workers=workers, **options)
+
+    def solve_path(self, poses, q0, *, max_joint_step=None, **options):
+        """Solve waypoints in order, each from the previous answer, never with a silent
+        jump larger than ``max_joint_step``; returns a ``BatchResult``. See
+        ``armik.path.solve_path``."""
+        from .path import solve_path
+
+        return solve_path(self, poses, q0, max_joint_step=max_joint_step, **options)
+
 
 def _set_joint(model: pin.Model, q: np.ndarray, jid: int, value: float) -> None:
     joint = model.joints[jid]
