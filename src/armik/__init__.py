@@ -16,6 +16,7 @@ from .errors import (
 from .ik import solvers
 from .result import IKResult
 from .robots import robots
+from .status import Status
 from .targets import Target, parse_target
 
 __version__ = "0.1.0"
@@ -31,6 +32,7 @@ __all__ = [
     "JointError",
     "OptionError",
     "SolverError",
+    "Status",
     "Target",
     "TargetError",
     "URDFError",
