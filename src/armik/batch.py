@@ -403,7 +403,17 @@ def solve_chunk(
             out.put_result(start + i, r)
         return
     attempts = spec.run_batch(arm, targets, np.ascontiguousarray(seeds), opts)
-    out.put(start, judge(arm, attempts, targets, opts))
+    part = judge(arm, attempts, targets, opts)
+    out.put(start, part)
+    if spec.kind == "analytic":
+        # A closed form is deterministic: its rare failures are solved again one by one, so
+        # they carry the specific reason (too far, wrist orientation, ...) and the next
+        # verified branch that ``solve`` would fall back to.
+        from .solve import solve
+
+        for i in np.flatnonzero(~part.success).tolist():
+            r = solve(arm, targets.target(i), q0=seeds[i], solver=spec.name, **options)[0]
+            out.put_result(start + i, r)
 
 
 def judge(arm: Arm, attempts, targets: TargetBatch, opts: Options) -> BatchResult:

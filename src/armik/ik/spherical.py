@@ -232,9 +232,8 @@ def run(
 
 def run_batch(arm: Arm, targets, q0: np.ndarray, opts: Options, seeds=None) -> AttemptBatch:
     """Every target in one compiled call (GIL released), the ``SolverSpec.run_batch``
-    shape; ``seeds`` is unused (no restarts). Not registered on the spec: a batch built
-    from it would lack the per-target failure reasons that ``run`` gives, so batches go
-    through ``run`` target by target."""
+    shape; ``seeds`` is unused (no restarts). ``solve_batch`` solves the rows that fail
+    again through ``run``, so that they carry its per-target reasons."""
     geo = sixr.geometry(arm, FAMILY, _classify)
     variant = 0 if geo.variant == "parallel_23" else 1
 
@@ -253,5 +252,6 @@ SPEC = register(
         check=applies,
         run=run,
         summary="closed form for 6R arms with a spherical wrist: up to 8 solutions",
+        run_batch=run_batch,
     )
 )
