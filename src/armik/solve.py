@@ -41,7 +41,10 @@ def solve(
         rows.sort(key=lambda r: _rank(r, seed))
     rows = rows if all_solutions else rows[:1]
     elapsed = time.perf_counter() - t0
-    return [IKResult(**row, solver=spec.name, time=elapsed) for row in rows]
+    for row in rows:
+        row["solver"] = spec.name
+        row["time"] = elapsed
+    return [IKResult._checked(row) for row in rows]
 
 
 _OPTIONS: dict[tuple, Options] = {}

@@ -24,7 +24,8 @@ from .kernel.check import pose_error, pose_errors, within_limits
 from .options import Options
 from .targets import Target
 
-_EYE = np.eye(3)
+_EYE = np.eye(3)  # read only by the kernel
+_FLOAT = np.dtype(float)
 
 
 @dataclass(frozen=True)
@@ -73,26 +74,38 @@ def check(arm: Arm, q: np.ndarray, target: Target, opts: Options) -> Check:
     model, data = arm.model, arm.data
     pin.forwardKinematics(model, data, arm.to_pin(q))
     T = pin.updateFramePlacement(model, data, arm.tip_frame_id)
-    w, weighted, measure_rot = _measures(opts, target.position_only)
-    R_t = _EYE if target.rotation is None else target.rotation
+    w, weighted, measure_rot = _measures_of(
+        opts.weights, opts.position_only, target.rotation is None
+    )
     ch = arm.kernel_chain.chain
-    # C-ordered, writable float64 copies (Pinocchio's rotations are Fortran-ordered): numba
-    # compiles anew for every other layout.
+    # C-ordered, writable float64 arrays (Pinocchio's rotations are Fortran-ordered): numba
+    # compiles anew for every other layout. The kernel only reads them.
     pos, ori = pose_error(
         ch.base_R,
         ch.base_p,
         np.array(T.rotation, order="C"),
         np.array(T.translation),
-        np.array(R_t, dtype=float, order="C"),
-        np.array(target.position, dtype=float),
+        _EYE if target.rotation is None else _c_float(target.rotation),
+        _c_float(target.position),
         w,
         weighted,
         measure_rot,
     )
-    violations = [] if arm.within_limits(q) else arm.limit_violations(q)
+    values = q.tolist()
+    violations = [] if arm._within(values) else arm.limit_violations(q)
     return Check(
         pos, ori if measure_rot else None, violations, opts.tol_position, opts.tol_orientation
     )
+
+
+def _c_float(a: np.ndarray) -> np.ndarray:
+    """``a`` itself when it is already a C-ordered, writable float64 array (a parsed
+    target's arrays are), else such a copy."""
+    if type(a) is np.ndarray and a.dtype == _FLOAT:
+        flags = a.flags
+        if flags.c_contiguous and flags.writeable:
+            return a
+    return np.array(a, dtype=float, order="C")
 
 
 @dataclass(frozen=True)
