@@ -141,19 +141,19 @@ def check_batch(arm: Arm, Q: np.ndarray, targets: TargetBatch, opts: Options) ->
     if Q.shape != (n, arm.dof):
         raise ValueError(f"Q must have shape ({n}, {arm.dof}), got {Q.shape}")
     model, data, fid = arm.model, arm.data, arm.tip_frame_id
-    R_w = np.empty((n, 3, 3))
-    p_w = np.empty((n, 3))
+    # The placements as 4x4 matrices (one conversion per row), NaN for non-finite rows.
+    H_w = np.full((n, 4, 4), np.nan)
     finite = np.isfinite(Q).all(axis=1)
-    to_pin, fk, place = arm.to_pin, pin.forwardKinematics, pin.updateFramePlacement
-    for i in range(n):
-        if finite[i]:
-            fk(model, data, to_pin(Q[i]))
-            T = place(model, data, fid)
-            R_w[i] = T.rotation
-            p_w[i] = T.translation
-        else:
-            R_w[i] = np.nan
-            p_w[i] = np.nan
+    fk, place = pin.forwardKinematics, pin.updateFramePlacement
+    # Without continuous joints (one coordinate per joint) a row of Q is Pinocchio's
+    # configuration itself: no conversion, no copy.
+    rows = Q if model.nq == arm.dof else map(arm.to_pin, Q)
+    for i, (qp, ok) in enumerate(zip(rows, finite.tolist())):
+        if ok:
+            fk(model, data, qp)
+            H_w[i] = place(model, data, fid).homogeneous
+    R_w = np.ascontiguousarray(H_w[:, :3, :3])
+    p_w = np.ascontiguousarray(H_w[:, :3, 3])
     w, weighted, measure_rot = _measures(opts, targets.position_only)
     R_t = targets.rotations
     if R_t is None:

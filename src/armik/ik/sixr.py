@@ -23,7 +23,8 @@ from ..status import Status
 from ..structure import Chain6R
 from ..subproblems import add, cross, dot, mat, mm, mv, norm, rot, scale, sub, vec
 from ..targets import Target
-from .attempt import Attempt, AttemptBatch
+from .attempt import AttemptBatch
+from .numeric import attempt
 
 LS = 1
 SINGULAR = 2
@@ -252,7 +253,7 @@ def attempts(out: np.ndarray, keep: int, all_solutions: bool, family: str, close
             if singular:
                 text += "; singular: a free joint was kept at its q0 value"
         result.append(
-            Attempt(
+            attempt(
                 q=row[:6],
                 claim=claim,
                 reason=text,
