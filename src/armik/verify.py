@@ -72,30 +72,40 @@ def _measures_of(weights, position_only_option: bool, position_only_target: bool
 def check(arm: Arm, q: np.ndarray, target: Target, opts: Options) -> Check:
     """Measure ``q`` against ``target`` with Pinocchio FK and the joint limits."""
     model, data = arm.model, arm.data
-    pin.forwardKinematics(model, data, arm.to_pin(q))
+    # Without continuous joints (one coordinate per joint) a float64 q is Pinocchio's
+    # configuration itself (``to_pin`` would copy it).
+    direct = type(q) is np.ndarray and q.dtype == _FLOAT and model.nq == arm.dof
+    pin.forwardKinematics(model, data, q if direct else arm.to_pin(q))
     T = pin.updateFramePlacement(model, data, arm.tip_frame_id)
     w, weighted, measure_rot = _measures_of(
         opts.weights, opts.position_only, target.rotation is None
     )
     ch = arm.kernel_chain.chain
-    # C-ordered, writable float64 arrays (Pinocchio's rotations are Fortran-ordered): numba
-    # compiles anew for every other layout. The kernel only reads them.
+    # C-ordered, writable float64 arrays: numba compiles anew for every other layout, and
+    # Pinocchio's rotation is Fortran-ordered. ``T.homogeneous`` is a fresh C-ordered 4x4
+    # whose top-left 3x3 block is the rotation: ``pose_error`` reads R_w[a, b] for a, b < 3
+    # only. ``T.translation`` is a C-ordered view. The kernel only reads its arguments.
     pos, ori = pose_error(
         ch.base_R,
         ch.base_p,
-        np.array(T.rotation, order="C"),
-        np.array(T.translation),
+        T.homogeneous,
+        T.translation,
         _EYE if target.rotation is None else _c_float(target.rotation),
         _c_float(target.position),
         w,
         weighted,
         measure_rot,
     )
-    values = q.tolist()
-    violations = [] if arm._within(values) else arm.limit_violations(q)
-    return Check(
-        pos, ori if measure_rot else None, violations, opts.tol_position, opts.tol_orientation
+    violations = [] if arm._within(q.tolist()) else arm.limit_violations(q)
+    c = object.__new__(Check)  # Check(...) without the frozen __init__'s setattr per field
+    c.__dict__.update(
+        position_error=pos,
+        orientation_error=ori if measure_rot else None,
+        violations=violations,
+        tol_position=opts.tol_position,
+        tol_orientation=opts.tol_orientation,
     )
+    return c
 
 
 def _c_float(a: np.ndarray) -> np.ndarray:
