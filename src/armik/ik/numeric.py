@@ -60,12 +60,9 @@ def attempt(**row: object) -> Attempt:
     """``Attempt(**row)``, built without the generated frozen ``__init__`` (a setattr per
     field, a microsecond per solve) when ``claim`` is a ``Status`` and every field without
     a default is given: the object that ``Attempt(**row)`` builds."""
-    if type(row.get("claim")) is not Status or not _ATTEMPT_NAMES.issuperset(row):
-        return Attempt(**row)
-    d = dict(_ATTEMPT_DEFAULTS)
-    d.update(row)
-    if d.keys() != _ATTEMPT_NAMES:
-        return Attempt(**row)
+    d = {**_ATTEMPT_DEFAULTS, **row}
+    if type(row.get("claim")) is not Status or d.keys() != _ATTEMPT_NAMES:
+        return Attempt(**row)  # a field unknown or missing: the dataclass says which
     self = object.__new__(Attempt)
     self.__dict__.update(d)
     return self
