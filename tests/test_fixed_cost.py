@@ -247,3 +247,49 @@ def test_registry_refuses_a_name_that_is_not_a_str(panda):
     assert registry.get(np.str_("dls")).name == "dls"
     with pytest.raises(SolverError):
         panda.solve(panda.fk(panda.middle), solver=["dls"])
+
+
+def test_check_many_is_check_one_by_one(panda, kinova):
+    rng = np.random.default_rng(5)
+    for arm in (panda, kinova):
+        lo, hi = arm.sampling_box()
+        qs = list(rng.uniform(lo - 0.2, hi + 0.2, size=(9, arm.dof)))
+        qs[0] = arm.middle.copy()  # within the limits
+        qs[1] = np.where(np.isfinite(arm.upper), arm.upper + 0.5, 0.0)  # outside
+        qs[2] = qs[2].tolist()  # not an array: converted as check converts it
+        T = arm.fk(arm.random_q(rng))
+        for target, opts in (
+            (parse_target(T), Options()),
+            (parse_target(T.translation), Options()),
+            (parse_target(T), Options(weights=(1, 1, 0, 1, 0, 1))),
+            (parse_target(T), Options(position_only=True)),
+        ):
+            qs_arr = [np.asarray(q, dtype=float) for q in qs]
+            many = verify.check_many(arm, qs_arr, target, opts)
+            one = [verify.check(arm, q, target, opts) for q in qs_arr]
+            assert len(many) == len(one) == len(qs)
+            for a, b in zip(many, one):
+                assert vars(a) == vars(b)
+                assert (a.ok, a.describe()) == (b.ok, b.describe())
+            assert any(c.violations for c in many) and any(not c.violations for c in many)
+
+
+def test_solve_all_verifies_like_solve(panda):
+    ur5 = armik.load("ur5")
+    rng = np.random.default_rng(6)
+    for _ in range(5):
+        T = ur5.fk(ur5.random_q(rng))
+        every = ur5.solve_all(T)
+        assert len(every) > 1 and every[0].success
+        one = ur5.solve(T)
+        assert np.array_equal(one.q, every[0].q)
+        assert (one.position_error, one.orientation_error) == (
+            every[0].position_error,
+            every[0].orientation_error,
+        )
+        for r in every:
+            c = verify.check(ur5, r.q, parse_target(T), Options())
+            assert (r.position_error, r.orientation_error) == (
+                c.position_error,
+                c.orientation_error,
+            )

@@ -14,7 +14,7 @@ from .options import Options
 from .result import IKResult
 from .status import FAILURE_RANK, Status
 from .targets import parse_target
-from .verify import check
+from .verify import Check, check, check_many
 
 
 def solve(
@@ -34,7 +34,8 @@ def solve(
     spec = registry.choose(solver, arm, tgt, opts)
     attempts = spec.run(arm, tgt, seed, opts, all_solutions)
     if all_solutions:
-        rows = [_judge(arm, a, tgt, opts) for a in attempts]
+        checks = check_many(arm, [a.q for a in attempts], tgt, opts)
+        rows = [_verdict(a, c) for a, c in zip(attempts, checks)]
     else:
         rows = _first_verified(arm, attempts, tgt, opts, seed)
     if len(rows) > 1:
@@ -99,7 +100,11 @@ def _distance(q: np.ndarray, seed: np.ndarray) -> float:
 
 
 def _judge(arm: Arm, attempt: Attempt, target, opts: Options) -> dict:
-    c = check(arm, attempt.q, target, opts)
+    return _verdict(attempt, check(arm, attempt.q, target, opts))
+
+
+def _verdict(attempt: Attempt, c: Check) -> dict:
+    """The row of an answer from its check: success only when the check holds."""
     if c.ok:
         status, success = Status.CONVERGED, True
         reason = f"verified by forward kinematics: {c.describe()}"

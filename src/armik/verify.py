@@ -108,6 +108,47 @@ def check(arm: Arm, q: np.ndarray, target: Target, opts: Options) -> Check:
     return c
 
 
+def check_many(arm: Arm, qs: list[np.ndarray], target: Target, opts: Options) -> list[Check]:
+    """``[check(arm, q, target, opts) for q in qs]`` (the same numbers): Pinocchio FK per
+    answer, the errors of all of them in one compiled call."""
+    n = len(qs)
+    if n < 2:
+        return [check(arm, q, target, opts) for q in qs]
+    model, data, fid = arm.model, arm.data, arm.tip_frame_id
+    direct = model.nq == arm.dof
+    R_w = np.empty((n, 3, 3))
+    p_w = np.empty((n, 3))
+    fk, place = pin.forwardKinematics, pin.updateFramePlacement
+    for i, q in enumerate(qs):
+        fk(model, data, q if direct and type(q) is np.ndarray and q.dtype == _FLOAT
+           else arm.to_pin(q))  # fmt: skip
+        T = place(model, data, fid)
+        R_w[i] = T.rotation
+        p_w[i] = T.translation
+    w, weighted, measure_rot = _measures_of(
+        opts.weights, opts.position_only, target.rotation is None
+    )
+    R_t = np.empty((n, 3, 3))
+    R_t[:] = _EYE if target.rotation is None else target.rotation
+    p_t = np.empty((n, 3))
+    p_t[:] = target.position
+    out = np.empty((n, 2))
+    ch = arm.kernel_chain.chain
+    pose_errors(ch.base_R, ch.base_p, R_w, p_w, R_t, p_t, w, weighted, measure_rot, out)
+    checks = []
+    for q, (pos, ori) in zip(qs, out.tolist()):
+        c = object.__new__(Check)
+        c.__dict__.update(
+            position_error=pos,
+            orientation_error=ori if measure_rot else None,
+            violations=[] if arm._within(q.tolist()) else arm.limit_violations(q),
+            tol_position=opts.tol_position,
+            tol_orientation=opts.tol_orientation,
+        )
+        checks.append(c)
+    return checks
+
+
 def _c_float(a: np.ndarray) -> np.ndarray:
     """``a`` itself when it is already a C-ordered, writable float64 array (a parsed
     target's arrays are), else such a copy."""
