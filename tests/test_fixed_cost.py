@@ -293,3 +293,17 @@ def test_solve_all_verifies_like_solve(panda):
                 c.position_error,
                 c.orientation_error,
             )
+
+
+def test_check_takes_any_float_q_as_a_copy_would(panda, kinova):
+    rng = np.random.default_rng(7)
+    for arm in (panda, kinova):
+        q = arm.random_q(rng)
+        target = parse_target(arm.fk(arm.random_q(rng)))
+        strided = np.zeros((arm.dof, 2))
+        strided[:, 0] = q
+        readonly = q.copy()
+        readonly.flags.writeable = False
+        expected = vars(verify.check(arm, q.copy(), target, Options()))
+        for other in (strided[:, 0], readonly, q.copy()[::-1][::-1]):
+            assert vars(verify.check(arm, other, target, Options())) == expected
