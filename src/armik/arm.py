@@ -10,6 +10,7 @@ from __future__ import annotations
 import difflib
 import logging
 import math
+import operator
 import threading
 import warnings
 from collections.abc import Mapping
@@ -30,6 +31,8 @@ log = logging.getLogger(__name__)
 
 TWO_PI = 2.0 * math.pi
 LIMIT_TOL = 1e-12  # joint values this close outside a limit still count as inside
+_FLOAT = np.dtype(float)
+_le = operator.le
 _FRAME_PREFERENCE = (pin.BODY, pin.OP_FRAME, pin.FIXED_JOINT, pin.JOINT, pin.SENSOR)
 
 
@@ -571,8 +574,22 @@ class Arm:
         return np.random.default_rng(rng).uniform(*self.sampling_box())
 
     def within_limits(self, q: np.ndarray, tol: float = LIMIT_TOL) -> bool:
-        lower, upper, _ = self._limit_lists
-        return all(lo - tol <= v <= hi + tol for v, lo, hi in zip(q.tolist(), lower, upper))
+        return self._within(q.tolist(), tol)
+
+    def _within(self, values: list[float], tol: float = LIMIT_TOL) -> bool:
+        """``within_limits`` on plain floats: lower - tol <= v <= upper + tol for every
+        joint (False for NaN), with the widened bounds computed once per limits and tol."""
+        bounds = self.__dict__.get("_tol_bounds")
+        if bounds is None or bounds[0] is not self._limit_lists or bounds[1] != tol:
+            lower, upper, _ = self._limit_lists
+            bounds = (
+                self._limit_lists,
+                tol,
+                [lo - tol for lo in lower],
+                [hi + tol for hi in upper],
+            )
+            self.__dict__["_tol_bounds"] = bounds
+        return all(map(_le, bounds[2], values)) and all(map(_le, values, bounds[3]))
 
     def limit_violations(self, q: np.ndarray, tol: float = LIMIT_TOL) -> list[str]:
         """Human-readable list of the joints outside their limits."""
@@ -613,6 +630,12 @@ class Arm:
         """
         if q0 is None:
             return self.middle.copy()
+        if type(q0) is np.ndarray and q0.dtype == _FLOAT and q0.shape == (self.dof,):
+            # The common case, on plain floats: check_q would return q0 itself, and a sum
+            # of floats is finite only when every one is (else the general path decides).
+            values = q0.tolist()
+            if math.isfinite(sum(values)) and self._within(values):
+                return q0
         q = self.check_q(q0, "q0")
         if not self.within_limits(q):
             warnings.warn(

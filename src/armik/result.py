@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
@@ -41,6 +41,22 @@ class IKResult:
         object.__setattr__(self, "q", q)
         object.__setattr__(self, "status", Status.parse(self.status))
 
+    @classmethod
+    def _checked(cls, row: dict) -> IKResult:
+        """The result ``IKResult(**row)`` gives, built without the generated ``__init__``
+        (one frozen ``__setattr__`` per field) for ``solve``'s rows: every field given,
+        ``status`` a ``Status``. ``q`` is copied into a read-only float array as always."""
+        if type(row["status"]) is not Status or row.keys() != _FIELDS:
+            return cls(**row)
+        q = np.array(row["q"], dtype=float)
+        q.flags.writeable = False
+        self = object.__new__(cls)
+        d = self.__dict__
+        d.update(row)
+        d["q"] = q
+        d["extra"] = {}
+        return self
+
     def __repr__(self) -> str:
         ori = "n/a" if self.orientation_error is None else f"{self.orientation_error:.2e} rad"
         branch = f", branch={self.branch!r}" if self.branch else ""
@@ -68,3 +84,6 @@ class IKResult:
             "singular": self.singular,
             "restarts": self.restarts,
         }
+
+
+_FIELDS = frozenset(f.name for f in fields(IKResult) if f.name != "extra")

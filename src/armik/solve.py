@@ -14,7 +14,7 @@ from .options import Options
 from .result import IKResult
 from .status import FAILURE_RANK, Status
 from .targets import parse_target
-from .verify import check
+from .verify import Check, check, check_many
 
 
 def solve(
@@ -34,14 +34,18 @@ def solve(
     spec = registry.choose(solver, arm, tgt, opts)
     attempts = spec.run(arm, tgt, seed, opts, all_solutions)
     if all_solutions:
-        rows = [_judge(arm, a, tgt, opts) for a in attempts]
+        checks = check_many(arm, [a.q for a in attempts], tgt, opts)
+        rows = [_verdict(a, c) for a, c in zip(attempts, checks)]
     else:
         rows = _first_verified(arm, attempts, tgt, opts, seed)
     if len(rows) > 1:
         rows.sort(key=lambda r: _rank(r, seed))
     rows = rows if all_solutions else rows[:1]
     elapsed = time.perf_counter() - t0
-    return [IKResult(**row, solver=spec.name, time=elapsed) for row in rows]
+    for row in rows:
+        row["solver"] = spec.name
+        row["time"] = elapsed
+    return [IKResult._checked(row) for row in rows]
 
 
 _OPTIONS: dict[tuple, Options] = {}
@@ -96,7 +100,11 @@ def _distance(q: np.ndarray, seed: np.ndarray) -> float:
 
 
 def _judge(arm: Arm, attempt: Attempt, target, opts: Options) -> dict:
-    c = check(arm, attempt.q, target, opts)
+    return _verdict(attempt, check(arm, attempt.q, target, opts))
+
+
+def _verdict(attempt: Attempt, c: Check) -> dict:
+    """The row of an answer from its check: success only when the check holds."""
     if c.ok:
         status, success = Status.CONVERGED, True
         reason = f"verified by forward kinematics: {c.describe()}"

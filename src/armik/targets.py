@@ -58,7 +58,7 @@ def parse_target(value: object, arm: Arm | None = None) -> Target:
     if isinstance(value, Target):
         return value
     if isinstance(value, pin.SE3):
-        return _pose(value.rotation, value.translation)
+        return _se3(value)
     if _is_spatialmath(value):
         n = len(value)  # type: ignore[arg-type]
         if n != 1:
@@ -191,6 +191,40 @@ def _from_matrix(M: np.ndarray) -> Target:
     return _pose(M[:3, :3], M[:3, 3])  # checks the rest
 
 
+def _se3(T: pin.SE3) -> Target:
+    """``_pose(T.rotation, T.translation)``, on the plain floats of one fresh copy of the
+    matrix: a finite position within ``MAX_POSITION`` and a rotation orthonormal to 1e-14
+    with determinant +1 (every pose Pinocchio computes) give the same ``Target`` without
+    ``_pose``'s copies; anything else goes through ``_pose``."""
+    H = T.homogeneous  # a new C-ordered array (T.rotation would be a view into T)
+    (a, b, c, x), (d, e, f, y), (g, h, i, z), _ = H.tolist()
+    if (
+        abs(x) <= MAX_POSITION
+        and abs(y) <= MAX_POSITION
+        and abs(z) <= MAX_POSITION
+        and math.isfinite(a + b + c + d + e + f + g + h + i)
+        and max(
+            abs(a * a + d * d + g * g - 1.0),
+            abs(b * b + e * e + h * h - 1.0),
+            abs(c * c + f * f + i * i - 1.0),
+            abs(a * b + d * e + g * h),
+            abs(a * c + d * f + g * i),
+            abs(b * c + e * f + h * i),
+        )
+        <= 1e-14
+        and a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g) > 0
+    ):
+        return _target(np.array((x, y, z)), np.array(H[:3, :3]))
+    return _pose(T.rotation, T.translation)
+
+
+def _target(p: np.ndarray, R: np.ndarray | None) -> Target:
+    """``Target(p, R)`` without the frozen ``__init__``'s setattr per field."""
+    t = object.__new__(Target)
+    t.__dict__.update(position=p, rotation=R, planar_xy=None)
+    return t
+
+
 def _pose(R: np.ndarray, p: np.ndarray) -> Target:
     p = _position(np.asarray(p, float))
     R = np.array(R, dtype=float)  # a copy: the target must not change with the caller's array
@@ -220,7 +254,7 @@ def _pose(R: np.ndarray, p: np.ndarray) -> Target:
         # Snap to the nearest rotation so that verification measures the arm, not rounding.
         U, _, Vt = np.linalg.svd(R)
         R = U @ Vt
-    return Target(p, R)
+    return _target(p, R)
 
 
 def _planar(xy: np.ndarray, arm: Arm | None) -> Target:

@@ -24,7 +24,8 @@ from .kernel.check import pose_error, pose_errors, within_limits
 from .options import Options
 from .targets import Target
 
-_EYE = np.eye(3)
+_EYE = np.eye(3)  # read only by the kernel
+_FLOAT = np.dtype(float)
 
 
 @dataclass(frozen=True)
@@ -71,28 +72,91 @@ def _measures_of(weights, position_only_option: bool, position_only_target: bool
 def check(arm: Arm, q: np.ndarray, target: Target, opts: Options) -> Check:
     """Measure ``q`` against ``target`` with Pinocchio FK and the joint limits."""
     model, data = arm.model, arm.data
-    pin.forwardKinematics(model, data, arm.to_pin(q))
+    # Without continuous joints (one coordinate per joint) a float64 q is Pinocchio's
+    # configuration itself (``to_pin`` would copy it).
+    direct = type(q) is np.ndarray and q.dtype == _FLOAT and model.nq == arm.dof
+    pin.forwardKinematics(model, data, q if direct else arm.to_pin(q))
     T = pin.updateFramePlacement(model, data, arm.tip_frame_id)
-    w, weighted, measure_rot = _measures(opts, target.position_only)
-    R_t = _EYE if target.rotation is None else target.rotation
+    w, weighted, measure_rot = _measures_of(
+        opts.weights, opts.position_only, target.rotation is None
+    )
     ch = arm.kernel_chain.chain
-    # C-ordered, writable float64 copies (Pinocchio's rotations are Fortran-ordered): numba
-    # compiles anew for every other layout.
+    # C-ordered, writable float64 arrays: numba compiles anew for every other layout, and
+    # Pinocchio's rotation is Fortran-ordered. ``T.homogeneous`` is a fresh C-ordered 4x4
+    # whose top-left 3x3 block is the rotation: ``pose_error`` reads R_w[a, b] for a, b < 3
+    # only. ``T.translation`` is a C-ordered view. The kernel only reads its arguments.
     pos, ori = pose_error(
         ch.base_R,
         ch.base_p,
-        np.array(T.rotation, order="C"),
-        np.array(T.translation),
-        np.array(R_t, dtype=float, order="C"),
-        np.array(target.position, dtype=float),
+        T.homogeneous,
+        T.translation,
+        _EYE if target.rotation is None else _c_float(target.rotation),
+        _c_float(target.position),
         w,
         weighted,
         measure_rot,
     )
-    violations = [] if arm.within_limits(q) else arm.limit_violations(q)
-    return Check(
-        pos, ori if measure_rot else None, violations, opts.tol_position, opts.tol_orientation
+    violations = [] if arm._within(q.tolist()) else arm.limit_violations(q)
+    c = object.__new__(Check)  # Check(...) without the frozen __init__'s setattr per field
+    c.__dict__.update(
+        position_error=pos,
+        orientation_error=ori if measure_rot else None,
+        violations=violations,
+        tol_position=opts.tol_position,
+        tol_orientation=opts.tol_orientation,
     )
+    return c
+
+
+def check_many(arm: Arm, qs: list[np.ndarray], target: Target, opts: Options) -> list[Check]:
+    """``[check(arm, q, target, opts) for q in qs]`` (the same numbers): Pinocchio FK per
+    answer, the errors of all of them in one compiled call."""
+    n = len(qs)
+    if n < 2:
+        return [check(arm, q, target, opts) for q in qs]
+    model, data, fid = arm.model, arm.data, arm.tip_frame_id
+    direct = model.nq == arm.dof
+    R_w = np.empty((n, 3, 3))
+    p_w = np.empty((n, 3))
+    fk, place = pin.forwardKinematics, pin.updateFramePlacement
+    for i, q in enumerate(qs):
+        fk(model, data, q if direct and type(q) is np.ndarray and q.dtype == _FLOAT
+           else arm.to_pin(q))  # fmt: skip
+        T = place(model, data, fid)
+        R_w[i] = T.rotation
+        p_w[i] = T.translation
+    w, weighted, measure_rot = _measures_of(
+        opts.weights, opts.position_only, target.rotation is None
+    )
+    R_t = np.empty((n, 3, 3))
+    R_t[:] = _EYE if target.rotation is None else target.rotation
+    p_t = np.empty((n, 3))
+    p_t[:] = target.position
+    out = np.empty((n, 2))
+    ch = arm.kernel_chain.chain
+    pose_errors(ch.base_R, ch.base_p, R_w, p_w, R_t, p_t, w, weighted, measure_rot, out)
+    checks = []
+    for q, (pos, ori) in zip(qs, out.tolist()):
+        c = object.__new__(Check)
+        c.__dict__.update(
+            position_error=pos,
+            orientation_error=ori if measure_rot else None,
+            violations=[] if arm._within(q.tolist()) else arm.limit_violations(q),
+            tol_position=opts.tol_position,
+            tol_orientation=opts.tol_orientation,
+        )
+        checks.append(c)
+    return checks
+
+
+def _c_float(a: np.ndarray) -> np.ndarray:
+    """``a`` itself when it is already a C-ordered, writable float64 array (a parsed
+    target's arrays are), else such a copy."""
+    if type(a) is np.ndarray and a.dtype == _FLOAT:
+        flags = a.flags
+        if flags.c_contiguous and flags.writeable:
+            return a
+    return np.array(a, dtype=float, order="C")
 
 
 @dataclass(frozen=True)
@@ -128,19 +192,19 @@ def check_batch(arm: Arm, Q: np.ndarray, targets: TargetBatch, opts: Options) ->
     if Q.shape != (n, arm.dof):
         raise ValueError(f"Q must have shape ({n}, {arm.dof}), got {Q.shape}")
     model, data, fid = arm.model, arm.data, arm.tip_frame_id
-    R_w = np.empty((n, 3, 3))
-    p_w = np.empty((n, 3))
+    # The placements as 4x4 matrices (one conversion per row), NaN for non-finite rows.
+    H_w = np.full((n, 4, 4), np.nan)
     finite = np.isfinite(Q).all(axis=1)
-    to_pin, fk, place = arm.to_pin, pin.forwardKinematics, pin.updateFramePlacement
-    for i in range(n):
-        if finite[i]:
-            fk(model, data, to_pin(Q[i]))
-            T = place(model, data, fid)
-            R_w[i] = T.rotation
-            p_w[i] = T.translation
-        else:
-            R_w[i] = np.nan
-            p_w[i] = np.nan
+    fk, place = pin.forwardKinematics, pin.updateFramePlacement
+    # Without continuous joints (one coordinate per joint) a row of Q is Pinocchio's
+    # configuration itself: no conversion, no copy.
+    rows = Q if model.nq == arm.dof else map(arm.to_pin, Q)
+    for i, (qp, ok) in enumerate(zip(rows, finite.tolist())):
+        if ok:
+            fk(model, data, qp)
+            H_w[i] = place(model, data, fid).homogeneous
+    R_w = np.ascontiguousarray(H_w[:, :3, :3])
+    p_w = np.ascontiguousarray(H_w[:, :3, 3])
     w, weighted, measure_rot = _measures(opts, targets.position_only)
     R_t = targets.rotations
     if R_t is None:

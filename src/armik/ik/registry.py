@@ -64,6 +64,15 @@ def solvers() -> list[str]:
 
 
 def get(name: str) -> SolverSpec:
+    """The solver registered as ``name``; ``SolverError`` for an unknown name or a name
+    that is not a str (a list of names, None, ...)."""
+    if not isinstance(name, str):
+        raise SolverError(
+            f"solver must be one name (a str), got {name!r}; registered: "
+            f"{listing(solvers())} or 'auto'",
+            solver=str(name),
+            candidates=solvers(),
+        )
     try:
         return _REGISTRY[name]
     except KeyError:
@@ -84,8 +93,9 @@ def why_not(
 def choose(
     name: str, arm: Arm, target: Target | None = None, opts: Options | None = None
 ) -> SolverSpec:
-    """The solver to run: ``name`` itself (if it applies) or the best one for "auto"."""
-    if name != "auto":
+    """The solver to run: ``name`` itself (if it applies) or the best one for "auto".
+    ``SolverError`` when ``name`` is not a registered name (or not a str)."""
+    if not isinstance(name, str) or name != "auto":
         spec = get(name)
         reason = spec.check(arm, target, opts)
         if reason is not None:

@@ -23,7 +23,8 @@ from ..status import Status
 from ..structure import Chain6R
 from ..subproblems import add, cross, dot, mat, mm, mv, norm, rot, scale, sub, vec
 from ..targets import Target
-from .attempt import Attempt, AttemptBatch
+from .attempt import AttemptBatch
+from .numeric import attempt
 
 LS = 1
 SINGULAR = 2
@@ -185,7 +186,7 @@ def branch_label(bits: int) -> str:
     return _LABELS[bits]
 
 
-def reason(code: int, val: np.ndarray, family: str) -> str:
+def reason(code: int, val: tuple[float, float] | np.ndarray, family: str) -> str:
     a, b = float(val[0]), float(val[1])
     if code == SHOULDER_OFFSET:
         where = "wrist centre" if family == "spherical_wrist" else "wrist point"
@@ -242,21 +243,23 @@ def attempts(out: np.ndarray, keep: int, all_solutions: bool, family: str, close
     ``solve_all``; for ``solve`` the nearest-first ones up to the first that the chain's
     own forward kinematics confirms (the ones after it could only be picked if it failed)."""
     result = []
-    for row in out if all_solutions else out[:keep]:
-        f = int(row[6])
+    rows = out if all_solutions else out[:keep]
+    # The row's flags, branch, code and values as plain floats, read in one call.
+    for k, (f, bits, code, v0, v1) in enumerate(rows[:, 6:11].tolist()):
+        f = int(f)
         singular = bool(f & SINGULAR)
         if f & LS:
-            claim, text = Status.UNREACHABLE, reason(int(row[8]), row[9:], family)
+            claim, text = Status.UNREACHABLE, reason(int(code), (v0, v1), family)
         else:
             claim, text = Status.CONVERGED, closed_form
             if singular:
                 text += "; singular: a free joint was kept at its q0 value"
         result.append(
-            Attempt(
-                q=row[:6],
+            attempt(
+                q=rows[k, :6],
                 claim=claim,
                 reason=text,
-                branch=_LABELS[int(row[7])],
+                branch=_LABELS[int(bits)],
                 singular=singular,
             )
         )
