@@ -231,11 +231,12 @@ def _info(args: argparse.Namespace) -> int:
             text = getattr(geo, "description", "all joint axes parallel")
             print(f"  {cls:<16} yes: {text}")
     print("solvers:")
+    width = max(map(len, registry.solvers()))
     for name in registry.solvers():
         reason = registry.why_not(name, arm)
         spec = registry.get(name)
         state = "applies" if reason is None else f"does not apply: {reason}"
-        print(f"  {name:<9} ({spec.kind}) {state}")
+        print(f"  {name:<{width}} ({spec.kind}) {state}")
     print(f"  auto -> {registry.choose('auto', arm).name}")
     return 0
 
