@@ -370,6 +370,9 @@ class Arm:
         self._cont = np.flatnonzero(continuous)
         self._simple = np.flatnonzero(~continuous)
         self._identity_q = not continuous.any()
+        # to_pin's index arrays, computed once: simple joints, their slots, cos and sin slots
+        c = idx_q[self._cont]
+        self._pin_plan = (self._simple, idx_q[self._simple], c, c + 1)
         lower = np.full(self.dof, -np.inf)
         upper = np.full(self.dof, np.inf)
         for i in self._simple:
@@ -477,11 +480,12 @@ class Arm:
         """Joint values (one per joint) -> Pinocchio configuration (cos, sin for continuous)."""
         if self._identity_q:
             return np.array(q, dtype=float)
+        simple, simple_q, cos_q, sin_q = self._pin_plan
         out = np.empty(self.model.nq)
-        out[self._idx_q[self._simple]] = q[self._simple]
-        c = self._idx_q[self._cont]
-        out[c] = np.cos(q[self._cont])
-        out[c + 1] = np.sin(q[self._cont])
+        out[simple_q] = q[simple]
+        qc = q[self._cont]
+        out[cos_q] = np.cos(qc)
+        out[sin_q] = np.sin(qc)
         return out
 
     def from_pin(self, qp: np.ndarray, copy: bool = True) -> np.ndarray:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import copy
 import time
 
 import numpy as np
@@ -70,10 +69,16 @@ def _options(kwargs: dict) -> Options:
             _OPTIONS.clear()
         _OPTIONS[key] = opts
     elif opts.seed != seed or type(opts.seed) is not type(seed):
-        opts = copy.copy(opts)
-        # the seed's own validation, as Options.from_kwargs does it
-        checked = Options.from_kwargs({"seed": seed}).seed if seed is not None else None
-        object.__setattr__(opts, "seed", checked)
+        # the seed's own validation, as Options.from_kwargs does it; then a copy of the
+        # remembered options with that seed (copy.copy and the frozen __init__ cost us)
+        if type(seed) is int and seed >= 0:
+            checked = seed  # what the validation returns for a plain int
+        else:
+            checked = None if seed is None else Options.from_kwargs({"seed": seed}).seed
+        fields = opts.__dict__.copy()
+        fields["seed"] = checked
+        opts = object.__new__(Options)
+        opts.__dict__.update(fields)
     return opts
 
 

@@ -46,12 +46,27 @@ class Check:
         return self.pose_ok and not self.violations
 
     def describe(self) -> str:
-        parts = [f"position error {self.position_error:.3g} m (tol {self.tol_position:g})"]
-        if self.orientation_error is not None:
-            parts.append(
-                f"orientation error {self.orientation_error:.3g} rad (tol {self.tol_orientation:g})"
-            )
-        return ", ".join(parts)
+        text = f"position error {self.position_error:.3g} m{_tol_text(self.tol_position)}"
+        if self.orientation_error is None:
+            return text
+        return (
+            f"{text}, orientation error {self.orientation_error:.3g} rad"
+            f"{_tol_text(self.tol_orientation)}"
+        )
+
+
+def _tol_text(tol: float) -> str:
+    """' (tol 1e-05)': ``describe``'s tolerance text, formatted once per tolerance."""
+    text = _TOL_TEXT.get(tol)
+    if text is None:
+        text = f" (tol {tol:g})"
+        if len(_TOL_TEXT) > 64:
+            _TOL_TEXT.clear()
+        _TOL_TEXT[tol] = text
+    return text
+
+
+_TOL_TEXT: dict[float, str] = {}
 
 
 def _measures(opts: Options, position_only: bool) -> tuple[np.ndarray, bool, bool]:

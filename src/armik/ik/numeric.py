@@ -48,7 +48,8 @@ from ..status import Status
 from ..targets import Target
 from .attempt import Attempt, AttemptBatch
 
-_EYE = np.eye(3)
+_EYE = np.eye(3)  # read only by the kernel
+_FLOAT = np.dtype(float)
 _CONVERGED = Status.CONVERGED
 _ATTEMPT_DEFAULTS = {
     f.name: f.default for f in fields(Attempt) if f.default is not MISSING and f.init
@@ -65,6 +66,25 @@ def attempt(**row: object) -> Attempt:
         return Attempt(**row)  # a field unknown or missing: the dataclass says which
     self = object.__new__(Attempt)
     self.__dict__.update(d)
+    return self
+
+
+_BRANCH, _SINGULAR = _ATTEMPT_DEFAULTS["branch"], _ATTEMPT_DEFAULTS["singular"]
+
+
+def _converged(q: np.ndarray, iterations: int, restarts: int, reason: str) -> Attempt:
+    """``attempt(q=q, claim=Status.CONVERGED, iterations=iterations, restarts=restarts,
+    reason=reason)``, its fields written directly (the success path of every solve)."""
+    self = object.__new__(Attempt)
+    self.__dict__.update(
+        q=q,
+        claim=_CONVERGED,
+        reason=reason,
+        iterations=iterations,
+        branch=_BRANCH,
+        singular=_SINGULAR,
+        restarts=restarts,
+    )
     return self
 
 
@@ -152,29 +172,21 @@ def run_numeric(
     """Descend from q0, then from restart seeds until solved, out of budget or restarts."""
     max_found = opts.max_solutions if all_solutions else 1
     sf, si = packed_settings(opts, target.position_only, arm.dof, max_found, step)
-    # Fresh C-ordered, writable float64 copies: numba compiles anew for any other layout.
-    R_t = np.array((_EYE if target.rotation is None else target.rotation)[None], dtype=float)
+    # C-ordered, writable float64 rows (numba compiles anew for any other layout): views of
+    # the inputs when they are such arrays already (the kernel only reads them), else copies.
+    R_t = _c_float(_EYE if target.rotation is None else target.rotation)[None]
+    p_t = _c_float(target.position)[None]
+    q0 = _c_float(q0)
     out_q = np.empty((1, max_found, arm.dof))
     info = np.empty((1, 5), dtype=np.int64)
     err = np.empty((1, 2))
-    seeds = np.array([solve_seed(opts)], dtype=np.uint64)
-    kc = arm.kernel_chain
-    p_t = np.array(target.position[None], dtype=float)
-    q0 = np.array(q0, dtype=float)
-    ENTRIES[step.kind](*kc.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
+    seeds = np.empty(1, dtype=np.uint64)
+    seeds[0] = solve_seed(opts)  # (a third of np.array([seed], dtype=np.uint64)'s cost)
+    ENTRIES[step.kind](*arm.kernel_chain.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
     claim, found, iterations, restarts, out_of_budget = info[0].tolist()
     if claim == _descent.CONVERGED:
         reason = f"converged after {restarts} restart(s)"
-        return [
-            attempt(
-                q=out_q[0, k],
-                claim=_CONVERGED,
-                iterations=iterations,
-                restarts=restarts,
-                reason=reason,
-            )
-            for k in range(found)
-        ]
+        return [_converged(out_q[0, k], iterations, restarts, reason) for k in range(found)]
     if claim == _descent.UNREACHABLE:
         distance = math.dist(target.position.tolist(), arm.first_joint_origin.tolist())
         return [
@@ -194,6 +206,15 @@ def run_numeric(
             reason=_not_converged(opts, sf, bool(out_of_budget), restarts, err[0]),
         )
     ]
+
+
+def _c_float(a) -> np.ndarray:
+    """``a`` itself when it is a C-ordered, writable float64 array, else such a copy."""
+    if type(a) is np.ndarray and a.dtype == _FLOAT:
+        flags = a.flags
+        if flags.c_contiguous and flags.writeable:
+            return a
+    return np.array(a, dtype=float, order="C")
 
 
 def _not_converged(opts: Options, sf: np.ndarray, out_of_budget: bool, restarts: int, err) -> str:
