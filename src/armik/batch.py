@@ -283,6 +283,20 @@ class BatchResult:
             **meta,
         )
 
+    @classmethod
+    def for_arm(cls, arm: Arm, n: int, solver: str, opts: Options) -> BatchResult:
+        """``empty`` rows for n targets of ``arm``, labelled with its joints and tolerances."""
+        return cls.empty(
+            n,
+            arm.dof,
+            solver=solver,
+            time=0.0,
+            joint_names=tuple(arm.joint_names),
+            arm=arm.name,
+            tol_position=opts.tol_position,
+            tol_orientation=opts.tol_orientation,
+        )
+
     def put(self, start: int, part: BatchResult) -> None:
         """Copy ``part`` into rows ``start:start + len(part)`` (used while assembling)."""
         stop = start + len(part)
@@ -345,16 +359,7 @@ def solve_batch(
     spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
     workers = _workers(workers, spec)
     chunk = _chunk_size(chunk_size)
-    out = BatchResult.empty(
-        n,
-        arm.dof,
-        solver=spec.name,
-        time=0.0,
-        joint_names=tuple(arm.joint_names),
-        arm=arm.name,
-        tol_position=opts.tol_position,
-        tol_orientation=opts.tol_orientation,
-    )
+    out = BatchResult.for_arm(arm, n, spec.name, opts)
     bar = make_progress(progress, n, f"{arm.name}/{spec.name}")
     starts = range(0, n, chunk)
 

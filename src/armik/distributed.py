@@ -219,16 +219,7 @@ def _run(client, arm, batch, seeds, solver, options, opts, chunk, progress, t0) 
             pure=False,
         )
         futures[f] = start
-    out = BatchResult.empty(
-        n,
-        arm.dof,
-        solver=solver,
-        time=0.0,
-        joint_names=tuple(arm.joint_names),
-        arm=arm.name,
-        tol_position=opts.tol_position,
-        tol_orientation=opts.tol_orientation,
-    )
+    out = BatchResult.for_arm(arm, n, solver, opts)
     bar = make_progress(progress, n, f"{arm.name}/{solver} (cluster)")
     done = 0
     try:

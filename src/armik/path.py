@@ -71,16 +71,7 @@ def solve_path(
     q_prev = arm.seed(q0)
     spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
     local = {**options, "max_restarts": 0}
-    out = BatchResult.empty(
-        n,
-        arm.dof,
-        solver=spec.name,
-        time=0.0,
-        joint_names=tuple(arm.joint_names),
-        arm=arm.name,
-        tol_position=opts.tol_position,
-        tol_orientation=opts.tol_orientation,
-    )
+    out = BatchResult.for_arm(arm, n, spec.name, opts)
     for i in range(n):
         target = batch.target(i)
         r = _unwrapped(arm, solve(arm, target, q0=q_prev, solver=spec.name, **options)[0], q_prev)
