@@ -42,6 +42,9 @@ DUPLICATE_TOL = 1e-4  # rad or m: answers closer than this are one solution
 CLOCK_EVERY = 16  # iterations between two reads of the CPU clock (a read costs ~0.5 us)
 TWO_PI = 2.0 * math.pi
 LIMIT_TOL = 1e-12
+# A typed zero for counters passed to compiled callees: a literal 0 would type them with
+# Literal[int](0) first and compile a second version of each callee.
+ZERO = np.int64(0)
 
 CONVERGED = Status.CONVERGED.code
 UNREACHABLE = Status.UNREACHABLE.code
@@ -68,7 +71,7 @@ def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, step):
     """Iterate from ws.q[0] with ``step`` (``step.dls`` or ``step.qp``) for at most ``limit``
     iterations (and, if ``deadline_ns`` is not NO_LIMIT, until the thread's CPU clock passes
     it). Returns (iterations, converged, slot of the last state)."""
-    cur = 0
+    cur = ZERO
     evaluate(ch, st, R_t, p_t, ws, cur)
     best_sq = ws.val[cur, 2]
     mu = 1.0
@@ -171,13 +174,13 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, step):
     best = ws.vec[BEST]
     best[:] = q0
     found = 0
-    n_minima = 0
+    n_minima = ZERO
     stuck = 0
     capacity = ws.minima.shape[0]
     best_sq = np.inf
     iterations = 0
     restarts = 0
-    k = 0  # next restart point
+    k = ZERO  # next restart point
     out_of_budget = False
     while True:
         limit = st.max_iterations
