@@ -38,6 +38,25 @@ class Row:
     # rad: 2-link arm, to the closed form on q0's branch; 6R, to the nearest analytic branch
     max_diff_to_closed_form: float | None = None
 
+    @classmethod
+    def every_target_reachable(cls, arm: str, solver: str, ok, times_s, errors, **extra) -> Row:
+        """A row for targets that are all reachable (6R targets from configurations)."""
+        ms = np.asarray(times_s, dtype=float) * 1e3
+        err = np.asarray(errors, dtype=float) if len(errors) else np.array([np.nan])
+        return cls(
+            arm=arm,
+            solver=solver,
+            targets=len(ms),
+            reachable=len(ms),
+            success_rate=100.0 * float(np.mean(ok)),
+            honest_failures=100.0,
+            pos_err_median=_stat(np.nanmedian, err),
+            pos_err_max=_stat(np.nanmax, err),
+            time_median_ms=float(np.median(ms)),
+            time_p95_ms=float(np.percentile(ms, 95)),
+            **extra,
+        )
+
     def as_dict(self) -> dict:
         return asdict(self)
 
@@ -273,30 +292,21 @@ def _closed_form_arm(arm: Arm, n: int, rng: np.random.Generator, report: Report)
                 hits.append(_wrapped(r.q - best[i].q).max() < 1e-4)
             if branches[i]:
                 dists.append(min(_wrapped(r.q - b).max() for b in branches[i]))
-        successes = np.array(successes)
-        ms = np.array(times) * 1e3
-        err = np.array(errors) if errors else np.array([np.nan])
-        report.samples[f"{arm.name}/{solver}"] = {
-            "time_ms": ms,
-            "pos_err": err,
-            "success": successes,
-        }
-        report.rows.append(
-            Row(
-                arm=arm.name,
-                solver=solver,
-                targets=n,
-                reachable=n,
-                success_rate=100.0 * successes.mean(),
-                honest_failures=100.0,
-                pos_err_median=_stat(np.nanmedian, err),
-                pos_err_max=_stat(np.nanmax, err),
-                time_median_ms=float(np.median(ms)),
-                time_p95_ms=float(np.percentile(ms, 95)),
-                same_branch_as_q0=100.0 * float(np.mean(hits)) if hits else None,
-                max_diff_to_closed_form=max(dists) if dists else None,
-            )
+        row = Row.every_target_reachable(
+            arm.name,
+            solver,
+            successes,
+            times,
+            errors,
+            same_branch_as_q0=100.0 * float(np.mean(hits)) if hits else None,
+            max_diff_to_closed_form=max(dists) if dists else None,
         )
+        report.samples[f"{arm.name}/{solver}"] = {
+            "time_ms": np.array(times) * 1e3,
+            "pos_err": np.array(errors) if errors else np.array([np.nan]),
+            "success": np.array(successes),
+        }
+        report.rows.append(row)
     report.rows.append(_solve_all_row(arm, family, poses, q0s))
     peer = _eaik_row(arm, qs)
     if peer is not None:
@@ -313,40 +323,24 @@ def _solve_all_row(arm: Arm, family: str, poses: list, q0s: list) -> Row:
         times.append(time.perf_counter() - t)
         ok.append(results[0].success)
         errors.append(results[0].position_error)
-    ms = np.array(times) * 1e3
-    err = np.array(errors)
-    return Row(
-        arm=arm.name,
-        solver=f"{family} (solve_all)",
-        targets=len(poses),
-        reachable=len(poses),
-        success_rate=100.0 * float(np.mean(ok)),
-        honest_failures=100.0,
-        pos_err_median=_stat(np.nanmedian, err),
-        pos_err_max=_stat(np.nanmax, err),
-        time_median_ms=float(np.median(ms)),
-        time_p95_ms=float(np.percentile(ms, 95)),
-    )
+    return Row.every_target_reachable(arm.name, f"{family} (solve_all)", ok, times, errors)
 
 
 def _eaik(arm: Arm):
-    """EAIK's model of a catalogue arm (its own URDF reading), None when EAIK is not
-    installed or the arm is not in the catalogue."""
-    try:
-        from eaik.IK_URDF import UrdfRobot
-    except ImportError:
-        return None
-    from .robots import CATALOGUE
+    """EAIK's model of ``arm`` (``armik.peers``: its decomposition and its FK checked
+    against armik's), None when EAIK is not installed or does not apply."""
+    from .peers import EAIKPeer, PeerUnavailable
 
-    if arm.name not in CATALOGUE:
+    try:
+        return EAIKPeer(arm, tol=1e-6).robot
+    except PeerUnavailable:
         return None
-    return UrdfRobot(str(CATALOGUE[arm.name].urdf_path()))
 
 
 def _eaik_row(arm: Arm, qs: list) -> Row | None:
     """EAIK (closed form, C++ through Python bindings) on the same configurations, all
-    solutions per call, timed in the same run; None when it is not installed or the arm is
-    not a catalogue URDF. Its success: one of its solutions reproduces the pose by its own
+    solutions per call, timed in the same run; None when it is not installed or does not
+    apply. Its success: one of its solutions reproduces the pose by its own
     forward kinematics within 1e-6."""
     robot = _eaik(arm)
     if robot is None:
@@ -361,20 +355,7 @@ def _eaik_row(arm: Arm, qs: list) -> Row | None:
         ok.append(bool(errs) and min(errs) < 1e-6)
         if errs:
             errors.append(min(errs))
-    ms = np.array(times) * 1e3
-    err = np.array(errors) if errors else np.array([np.nan])
-    return Row(
-        arm=arm.name,
-        solver="eaik (peer)",
-        targets=len(qs),
-        reachable=len(qs),
-        success_rate=100.0 * float(np.mean(ok)),
-        honest_failures=100.0,
-        pos_err_median=_stat(np.nanmedian, err),
-        pos_err_max=_stat(np.nanmax, err),
-        time_median_ms=float(np.median(ms)),
-        time_p95_ms=float(np.percentile(ms, 95)),
-    )
+    return Row.every_target_reachable(arm.name, "eaik (peer)", ok, times, errors)
 
 
 def speed(
