@@ -785,16 +785,10 @@ def _solve():
 
 
 def _check_solver_name(solver: object) -> None:
-    if not isinstance(solver, str):
-        from .errors import SolverError
-        from .ik import registry
+    # Before the target is parsed, so that a wrong solver argument is named first.
+    from .ik import registry
 
-        raise SolverError(
-            f"solver must be one name (a str), got {solver!r}; registered: "
-            f"{listing(registry.solvers())} or 'auto'",
-            solver=str(solver),
-            candidates=registry.solvers(),
-        )
+    registry.check_name(solver)
 
 
 def _reduce(full: pin.Model, to_lock: list[int], q_ref: np.ndarray) -> pin.Model:

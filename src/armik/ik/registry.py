@@ -63,9 +63,8 @@ def solvers() -> list[str]:
     return [s.name for s in _BY_PRIORITY]
 
 
-def get(name: str) -> SolverSpec:
-    """The solver registered as ``name``; ``SolverError`` for an unknown name or a name
-    that is not a str (a list of names, None, ...)."""
+def check_name(name: object) -> None:
+    """Raise ``SolverError`` unless ``name`` is a str (a list or None is not a name)."""
     if not isinstance(name, str):
         raise SolverError(
             f"solver must be one name (a str), got {name!r}; registered: "
@@ -73,6 +72,12 @@ def get(name: str) -> SolverSpec:
             solver=str(name),
             candidates=solvers(),
         )
+
+
+def get(name: str) -> SolverSpec:
+    """The solver registered as ``name``; ``SolverError`` for an unknown name or a name
+    that is not a str (a list of names, None, ...)."""
+    check_name(name)
     try:
         return _REGISTRY[name]
     except KeyError:
