@@ -171,12 +171,27 @@ def test_a_lying_kernel_is_caught_by_the_fk_check(monkeypatch):
 
         return lying
 
+    def pose_liar(real):  # the single-pose entries (armik.plan's route)
+        def lying(*args):
+            if not real(*args):
+                return False
+            out_q, info = args[-3], args[-2]
+            out_q += 0.05
+            info[0] = Status.CONVERGED.code
+            info[1] = 1
+            return True
+
+        return lying
+
     monkeypatch.setattr(numeric, "ENTRIES", tuple(liar(e) for e in numeric.ENTRIES))
-    a = arm("ur5")
+    monkeypatch.setattr(numeric, "POSE_ENTRIES", tuple(pose_liar(e) for e in numeric.POSE_ENTRIES))
+    a = armik.load("ur5")  # a fresh arm: its prepared solves use the lying entries
     q = a.random_q(np.random.default_rng(3))
+    T = a.fk(q)
     for solver in ("dls", "qp"):
-        r = a.solve(a.fk(q), q0=a.middle, solver=solver)
-        assert not r.success and r.status == "not_converged" and "check failed" in r.reason
+        for target in (T, (T.translation, T.rotation)):  # prepared and general paths
+            r = a.solve(target, q0=a.middle, solver=solver)
+            assert not r.success and r.status == "not_converged" and "check failed" in r.reason
 
 
 def test_threads_give_the_answers_of_one_thread():

@@ -233,8 +233,10 @@ def test_unconverged_never_success(monkeypatch):
     import dataclasses
 
     spec = armik.ik.registry.get("dls")
-    monkeypatch.setitem(armik.ik.registry._REGISTRY, "dls", dataclasses.replace(spec, run=liar))
-    r = arm("ur5").solve(arm("ur5").fk(arm("ur5").middle), solver="dls")
+    lying = dataclasses.replace(spec, run=liar, prepare_pose=None)  # the general path
+    monkeypatch.setitem(armik.ik.registry._REGISTRY, "dls", lying)
+    a = armik.load("ur5")  # a fresh arm: no solve prepared with the honest spec
+    r = a.solve(a.fk(a.middle), solver="dls")
     assert not r.success and r.status == "not_converged" and "check failed" in r.reason
     assert dls  # the real module is untouched
 

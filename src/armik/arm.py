@@ -734,7 +734,8 @@ class Arm:
         ``q0``), or ``success=False`` with a status and reason. Raises ``InputError`` for
         malformed input only; an unreachable target is a result, not an exception.
         """
-        _check_solver_name(solver)
+        if type(solver) is not str:
+            _check_solver_name(solver)
         return _solve()(self, target, q0=q0, solver=solver, all_solutions=False, **options)[0]
 
     def solve_all(self, target, *, q0=None, solver: str = "auto", **options):

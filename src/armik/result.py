@@ -57,6 +57,19 @@ class IKResult:
         d["extra"] = {}
         return self
 
+    def __getattr__(self, name: str):
+        # Results built by ``armik.plan`` carry their reason as (function, arguments) and
+        # write the text on first read: formatting it costs a microsecond that a loop of
+        # solves rarely needs. Only called for attributes not found the usual way.
+        if name == "reason":
+            d = self.__dict__
+            parts = d.get("_reason")
+            if parts is not None:
+                text = parts[0](*parts[1])
+                d["reason"] = text
+                return text
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
     def __repr__(self) -> str:
         ori = "n/a" if self.orientation_error is None else f"{self.orientation_error:.2e} rad"
         branch = f", branch={self.branch!r}" if self.branch else ""

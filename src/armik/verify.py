@@ -46,13 +46,17 @@ class Check:
         return self.pose_ok and not self.violations
 
     def describe(self) -> str:
-        text = f"position error {self.position_error:.3g} m{_tol_text(self.tol_position)}"
-        if self.orientation_error is None:
-            return text
-        return (
-            f"{text}, orientation error {self.orientation_error:.3g} rad"
-            f"{_tol_text(self.tol_orientation)}"
+        return describe(
+            self.position_error, self.orientation_error, self.tol_position, self.tol_orientation
         )
+
+
+def describe(pos: float, ori: float | None, tol_p: float, tol_r: float) -> str:
+    """'position error 1e-07 m (tol 1e-05), orientation error ...': a check in words."""
+    text = f"position error {pos:.3g} m{_tol_text(tol_p)}"
+    if ori is None:
+        return text
+    return f"{text}, orientation error {ori:.3g} rad{_tol_text(tol_r)}"
 
 
 def _tol_text(tol: float) -> str:

@@ -17,7 +17,7 @@ from ..batch_targets import TargetBatch
 from ..options import Options
 from ..targets import Target
 from .attempt import Attempt, AttemptBatch
-from .numeric import DLS_STEP, run_numeric, run_numeric_batch
+from .numeric import DLS_STEP, pose_runner, run_numeric, run_numeric_batch
 from .registry import SolverSpec, register
 
 step = DLS_STEP  # the kernel's step for ``numeric.descend``
@@ -39,6 +39,10 @@ def run_batch(
     return run_numeric_batch(arm, targets, q0, opts, DLS_STEP, seeds)
 
 
+def prepare_pose(arm: Arm, opts: Options):
+    return pose_runner(arm, opts, DLS_STEP)
+
+
 SPEC = register(
     SolverSpec(
         name="dls",
@@ -48,6 +52,7 @@ SPEC = register(
         check=applies,
         run=run,
         run_batch=run_batch,
+        prepare_pose=prepare_pose,
         summary="damped least squares (Levenberg-Marquardt), limits by projection, restarts",
     )
 )

@@ -43,6 +43,7 @@ from ..kernel.problem import (
     workspace,
 )
 from ..kernel.restarts import RESTART_CANDIDATES  # noqa: F401 (re-exported)
+from ..kernel.single import POSE_ENTRIES
 from ..options import Options
 from ..status import Status
 from ..targets import Target
@@ -183,12 +184,21 @@ def run_numeric(
     seeds = np.empty(1, dtype=np.uint64)
     seeds[0] = solve_seed(opts)  # (a third of np.array([seed], dtype=np.uint64)'s cost)
     ENTRIES[step.kind](*arm.kernel_chain.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
-    claim, found, iterations, restarts, out_of_budget = info[0].tolist()
+    return attempts(arm, target.position, q0, opts, sf, info[0], out_q[0], err[0])
+
+
+def converged_reason(restarts: int) -> str:
+    return f"converged after {restarts} restart(s)"
+
+
+def attempts(arm: Arm, position, q0, opts: Options, sf, info, out_q, err) -> list[Attempt]:
+    """The attempts of one target from the kernel's outputs (see ``descent.solve_one``)."""
+    claim, found, iterations, restarts, out_of_budget = info.tolist()
     if claim == _descent.CONVERGED:
-        reason = f"converged after {restarts} restart(s)"
-        return [_converged(out_q[0, k], iterations, restarts, reason) for k in range(found)]
+        reason = converged_reason(restarts)
+        return [_converged(out_q[k], iterations, restarts, reason) for k in range(found)]
     if claim == _descent.UNREACHABLE:
-        distance = math.dist(target.position.tolist(), arm.first_joint_origin.tolist())
+        distance = math.dist(np.asarray(position).tolist(), arm.first_joint_origin.tolist())
         return [
             Attempt(
                 q=q0.copy(),
@@ -199,13 +209,39 @@ def run_numeric(
         ]
     return [
         Attempt(
-            q=out_q[0, 0],
+            q=out_q[0],
             claim=Status.NOT_CONVERGED,
             iterations=iterations,
             restarts=restarts,
-            reason=_not_converged(opts, sf, bool(out_of_budget), restarts, err[0]),
+            reason=_not_converged(opts, sf, bool(out_of_budget), restarts, err),
         )
     ]
+
+
+def pose_runner(arm: Arm, opts: Options, step: Step):
+    """``run_pose(H, q0, seed)`` for ``plan.py``: one plain 4x4 pose ``H`` (base frame)
+    from ``q0`` through the kernel's single-pose entry. Returns None when ``H`` or ``q0``
+    is not plain (nothing was solved: take the general path); for a converged claim
+    (q, iterations, restarts, branch, singular, reason function, its arguments); else the
+    attempts for the general verdict."""
+    dof = arm.dof
+    sf, si = packed_settings(opts, False, dof, 1, step)
+    entry = POSE_ENTRIES[step.kind]
+    packed, kind, halton_ = arm.kernel_chain.flat
+    converged_code = _descent.CONVERGED
+
+    def run_pose(H: np.ndarray, q0: np.ndarray, seed: int):
+        out_q = np.empty((1, dof))
+        info = np.empty(5, dtype=np.int64)
+        err = np.empty(2)
+        if not entry(packed, kind, halton_, sf, si, H, q0, seed, out_q, info, err):
+            return None
+        if info[0] == converged_code:
+            restarts = int(info[3])
+            return (out_q[0], int(info[2]), restarts, None, False, converged_reason, (restarts,))
+        return attempts(arm, H[:3, 3], q0, opts, sf, info, out_q, err)
+
+    return run_pose
 
 
 def _c_float(a) -> np.ndarray:

@@ -26,7 +26,7 @@ from ..kernel import step as _step
 from ..options import Options
 from ..targets import Target
 from .attempt import Attempt, AttemptBatch
-from .numeric import Problem, State, Step, qp_step, run_numeric, run_numeric_batch
+from .numeric import Problem, State, Step, pose_runner, qp_step, run_numeric, run_numeric_batch
 from .registry import SolverSpec, register
 
 BACKEND_OPTIONS = backend.BACKEND_OPTIONS
@@ -85,6 +85,10 @@ def run_batch(
     return run_numeric_batch(arm, targets, q0, opts, qp_step(opts.qp_solver), seeds)
 
 
+def prepare_pose(arm: Arm, opts: Options):
+    return pose_runner(arm, opts, qp_step(opts.qp_solver))
+
+
 SPEC = register(
     SolverSpec(
         name="qp",
@@ -94,6 +98,7 @@ SPEC = register(
         check=applies,
         run=run,
         run_batch=run_batch,
+        prepare_pose=prepare_pose,
         summary="QP per step with joint limits as constraints (qpsolvers, osqp by default)",
     )
 )

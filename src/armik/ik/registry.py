@@ -25,6 +25,9 @@ Check = Callable[["Arm", "Target | None", "Options | None"], "str | None"]
 Run = Callable[["Arm", "Target", "np.ndarray", "Options", bool], "list[Attempt]"]
 # Many targets, one best attempt each: (arm, targets, q0 (N, dof), options) -> arrays.
 RunBatch = Callable[["Arm", "TargetBatch", "np.ndarray", "Options"], "AttemptBatch"]
+# One plain 4x4 pose at a time, prepared once per arm and options (see ``armik.plan``):
+# (arm, options) -> run_pose(H, q0, seed).
+PreparePose = Callable[["Arm", "Options"], Callable]
 
 
 @dataclass(frozen=True)
@@ -42,18 +45,24 @@ class SolverSpec:
     # Optional: solves many targets without a Python call per target (GIL released).
     # Solvers without it are batched by calling ``run`` per target.
     run_batch: RunBatch | None = None
+    # Optional: a runner for one plain pose with everything that does not depend on the
+    # target decided once (``armik.plan``); solvers without it take the general path.
+    prepare_pose: PreparePose | None = None
 
 
 _REGISTRY: dict[str, SolverSpec] = {}
 
 
 _BY_PRIORITY: list[SolverSpec] = []
+generation = 0  # counts registrations: what was chosen before one may no longer be chosen
 
 
 def register(spec: SolverSpec) -> SolverSpec:
+    global generation
     if spec.name in _REGISTRY or spec.name == "auto":
         raise ValueError(f"solver name {spec.name!r} is taken")
     _REGISTRY[spec.name] = spec
+    generation += 1
     _BY_PRIORITY[:] = sorted(_REGISTRY.values(), key=lambda s: -s.priority)
     return spec
 

@@ -16,6 +16,8 @@ from numba import njit
 
 from .se3 import log3, rotation_angle
 
+LIMIT_TOL = 1e-12  # armik.arm.LIMIT_TOL: this close outside a limit counts as inside
+
 
 @njit(cache=True, nogil=True)
 def pose_error(R_bw, p_bw, R_w, p_w, R_t, p_t, w, weighted, measure_rot):
@@ -72,3 +74,28 @@ def within_limits(Q, lower, upper, tol, out):
                 ok = False
                 break
         out[i] = ok
+
+
+@njit(cache=True, nogil=True)
+def pose_check(T_bw, limits, H_w, H_t, w, measure, q):
+    """(position error, orientation error or NaN, within the limits) of one answer ``q``
+    whose tip placement Pinocchio computed as the 4x4 ``H_w`` (world frame), against the
+    4x4 target ``H_t`` (base frame): ``pose_error`` and ``within_limits`` in one call.
+    ``T_bw``: 4x4 T_base_world; ``limits``: (2, n) lower and upper; ``measure``: bit 1
+    weighted, bit 2 orientation measured."""
+    pos, ori = pose_error(
+        T_bw[:3, :3],
+        T_bw[:3, 3],
+        H_w[:3, :3],
+        H_w[:3, 3],
+        H_t[:3, :3],
+        H_t[:3, 3],
+        w,
+        measure & 1 != 0,
+        measure & 2 != 0,
+    )
+    inside = True
+    for j in range(q.shape[0]):
+        if not (limits[0, j] - LIMIT_TOL <= q[j] <= limits[1, j] + LIMIT_TOL):  # NaN fails
+            inside = False
+    return pos, ori, inside

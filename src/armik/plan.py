@@ -1,0 +1,157 @@
+"""Solves prepared once per arm, solver and options: the common inputs in few steps.
+
+Most of what ``solve`` does does not depend on the target: choosing the solver, building
+its settings, finding what the check measures. A ``Plan`` does it once per (arm, solver
+name, options other than ``seed``) and keeps it. For a target given as a ``pinocchio.SE3``
+or a C-ordered float64 4x4 array, and ``q0`` None or a float64 array of one value per
+joint, the plan hands the 4x4 to the solver's compiled runner (``SolverSpec.prepare_pose``),
+which checks in compiled code that the pose and seed are what the parser and ``Arm.seed``
+would pass unchanged, then solves. Pinocchio computes the answer's tip placement and
+compiled code measures it (``kernel.check.pose_check``), as ``verify.check`` does. The
+result is the one the general path builds, field for field (tests/test_plan.py); its
+reason text is written on first read.
+
+Anything else (another input form, a seed outside the limits, an answer the check refuses,
+a claim other than converged) goes the general way: ``solve.py`` and ``verdict.py``.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pinocchio as pin
+
+from .arm import Arm
+from .ik import registry
+from .ik.attempt import Attempt
+from .ik.numeric import solve_seed
+from .kernel.check import pose_check
+from .options import Options
+from .result import IKResult
+from .status import Status
+from .targets import parse_target
+from .verdict import finish, success_reason
+from .verify import _measures_of
+
+_FLOAT = np.dtype(float)
+_SE3 = pin.SE3
+_CONVERGED = Status.CONVERGED
+_NO_PLAN = object()  # remembered: this solver and options have no plan
+
+
+def plan_for(arm: Arm, solver: str, key: tuple, opts: Options) -> Plan | None:
+    """The plan of ``arm`` for ``solver`` and the options whose ``solve._options`` key is
+    ``key`` (None when the solver has no runner or does not apply to full poses)."""
+    plans = arm.__dict__.get("_plans")
+    if plans is None or plans.get("generation") != registry.generation:
+        plans = arm.__dict__["_plans"] = {"generation": registry.generation}
+    plan = plans.get((solver, key))
+    if plan is None:
+        plan = _build(arm, solver, opts)
+        if len(plans) > 64:
+            plans = arm.__dict__["_plans"] = {"generation": registry.generation}
+        plans[(solver, key)] = plan
+    return None if plan is _NO_PLAN else plan
+
+
+def _build(arm: Arm, solver: str, opts: Options):
+    pose = parse_target(np.eye(4))  # a full pose: what every plain target is
+    try:
+        spec = registry.choose(solver, arm, pose, opts)
+    except Exception:  # the general path raises it with its message
+        return _NO_PLAN
+    if spec.prepare_pose is None:
+        return _NO_PLAN
+    return Plan(arm, spec, opts)
+
+
+class Plan:
+    """One arm, one solver, one set of options (all but ``seed``); see the module."""
+
+    def __init__(self, arm: Arm, spec: registry.SolverSpec, opts: Options) -> None:
+        self.arm = arm
+        self.solver = spec.name
+        self.run_pose = spec.prepare_pose(arm, opts)
+        self.model, self.data, self.frame = arm.model, arm.data, arm.tip_frame_id
+        self.direct = arm.model.nq == arm.dof  # q is Pinocchio's configuration itself
+        self.shape = (arm.dof,)
+        self.middle = arm.middle
+        self.T_bw = np.ascontiguousarray(arm.T_base_world.homogeneous)
+        self.limits = np.ascontiguousarray(np.stack([arm.lower, arm.upper]), dtype=float)
+        w, weighted, measure_rot = _measures_of(opts.weights, opts.position_only, False)
+        self.w = np.ascontiguousarray(w, dtype=float)
+        self.measure = int(weighted) | (2 if measure_rot else 0)
+        self.measure_rot = measure_rot
+        self.tol_p, self.tol_r = opts.tol_position, opts.tol_orientation
+
+    def solve(self, target: object, q0: object, opts: Options, t0: float) -> IKResult | None:
+        """The result of ``solve`` for a plain ``target`` and ``q0``, or None (general path)."""
+        kind = type(target)
+        if kind is _SE3:
+            H = target.homogeneous  # a fresh C-ordered 4x4
+        elif (
+            kind is np.ndarray
+            and target.dtype == _FLOAT
+            and target.shape == (4, 4)
+            and target.flags.c_contiguous
+        ):
+            H = target  # only read
+        else:
+            return None
+        if q0 is None:
+            q0 = self.middle  # only read
+        elif not (
+            type(q0) is np.ndarray
+            and q0.dtype == _FLOAT
+            and q0.shape == self.shape
+            and q0.flags.c_contiguous
+        ):
+            return None
+        got = self.run_pose(H, q0, solve_seed(opts))
+        if got is None:
+            return None
+        if type(got) is list:  # claims other than converged: the general verdict
+            return self._finish(got, H, q0, opts, t0)
+        q, iterations, restarts, branch, singular, why, why_args = got
+        if self.direct:
+            pin.forwardKinematics(self.model, self.data, q)
+        else:
+            pin.forwardKinematics(self.model, self.data, self.arm.to_pin(q))
+        H_w = pin.updateFramePlacement(self.model, self.data, self.frame).homogeneous
+        pos, ori, inside = pose_check(self.T_bw, self.limits, H_w, H, self.w, self.measure, q)
+        ori = ori if self.measure_rot else None
+        if not (inside and pos <= self.tol_p and (ori is None or ori <= self.tol_r)):
+            reason = why(*why_args)
+            claim = Attempt(
+                q=q,
+                claim=_CONVERGED,
+                reason=reason,
+                iterations=iterations,
+                branch=branch,
+                singular=singular,
+                restarts=restarts,
+            )
+            return self._finish([claim], H, q0, opts, t0)
+        q.flags.writeable = False  # q is the runner's own array
+        result = object.__new__(IKResult)
+        result.__dict__.update(
+            q=q,
+            success=True,
+            status=_CONVERGED,
+            solver=self.solver,
+            iterations=iterations,
+            position_error=pos,
+            orientation_error=ori,
+            branch=branch,
+            singular=singular,
+            restarts=restarts,
+            extra={},
+            _reason=(success_reason, (why, why_args, pos, ori, self.tol_p, self.tol_r)),
+            time=time.perf_counter() - t0,
+        )
+        return result
+
+    def _finish(self, attempts: list[Attempt], H, q0, opts: Options, t0: float) -> IKResult:
+        target = parse_target(H, self.arm)
+        return finish(self.arm, self.solver, attempts, target, opts, q0, False, t0)[0]

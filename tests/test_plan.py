@@ -1,0 +1,160 @@
+"""Prepared solves (``armik.plan``) give what the general path gives, field for field.
+
+The general path is taken by passing the already parsed ``Target`` (the plan only takes
+an SE3 or a C-ordered float64 4x4), so the two results of each case come from the same
+solver, seed and options by the two routes.
+"""
+
+from __future__ import annotations
+
+import pickle
+import warnings
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.errors import ArmikWarning, TargetError
+from armik.plan import Plan, plan_for
+from armik.solve import _options
+from armik.targets import parse_target
+
+from .conftest import arm
+
+FIELDS = (
+    "success",
+    "status",
+    "reason",
+    "solver",
+    "iterations",
+    "position_error",
+    "orientation_error",
+    "branch",
+    "singular",
+    "restarts",
+)
+
+
+def _same(fast, general) -> None:
+    assert np.array_equal(fast.q, general.q)
+    for name in FIELDS:
+        assert getattr(fast, name) == getattr(general, name), name
+    assert not fast.q.flags.writeable
+
+
+def _general(a: armik.Arm, T, **kw):
+    return a.solve(parse_target(T, a), **kw)
+
+
+@pytest.mark.parametrize(
+    "name, solver",
+    [
+        ("panda", "dls"),
+        ("panda", "qp"),
+        ("kinova", "dls"),  # continuous joints: q is not Pinocchio's configuration
+        ("ur5", "auto"),  # three_parallel
+        ("ur5", "dls"),
+        ("abb_irb120", "auto"),  # spherical wrist
+        ("z1", "qp"),
+    ],
+)
+def test_plan_result_is_the_general_result(name, solver):
+    a = arm(name)
+    rng = np.random.default_rng(3)
+    for k in range(12):
+        q_true = a.random_q(rng)
+        T = a.fk(q_true)
+        target = T if k % 2 else T.homogeneous
+        q0 = None if k % 3 == 0 else a.random_q(rng)
+        fast = a.solve(target, q0=q0, solver=solver, seed=k)
+        general = _general(a, T, q0=q0, solver=solver, seed=k)
+        assert fast.success
+        _same(fast, general)
+
+
+def test_plan_is_taken_for_plain_input_only():
+    a = arm("panda")
+    opts, key = _options({})
+    plan = plan_for(a, "dls", key, opts)
+    assert isinstance(plan, Plan)
+    T = a.fk(a.random_q(np.random.default_rng(0)))
+    q0 = a.middle.copy()
+    assert plan.solve(T, q0, opts, 0.0) is not None
+    assert plan.solve(T.homogeneous, q0, opts, 0.0) is not None
+    not_plain = [
+        (np.asfortranarray(T.homogeneous), q0),
+        (T.homogeneous.astype(np.float32), q0),
+        ((T.translation, T.rotation), q0),
+        (T, q0.astype(np.float32)),
+        (T, list(q0)),
+        (T, a.upper + 0.1),  # the general path clips it, with a warning
+        (T, np.full(a.dof, np.nan)),
+        (pin.SE3(2.0 * T.rotation, T.translation), q0),  # refused by the parser
+        (pin.SE3(T.rotation + 1e-9, T.translation), q0),  # snapped by the parser
+    ]
+    for target, q in not_plain:
+        assert plan.solve(target, q, opts, 0.0) is None
+
+
+def test_not_plain_input_behaves_as_before():
+    a = arm("panda")
+    T = a.fk(a.random_q(np.random.default_rng(1)))
+    with pytest.warns(ArmikWarning, match="clipped"):
+        r = a.solve(T, q0=a.upper + 0.1, seed=1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        _same(r, _general(a, T, q0=a.upper + 0.1, seed=1))
+    with pytest.raises(TargetError, match="not orthonormal"):
+        a.solve(pin.SE3(2.0 * T.rotation, T.translation))
+    H = T.homogeneous
+    H[3, 3] = 2.0
+    with pytest.raises(TargetError, match="last row"):
+        a.solve(H)
+
+
+def test_failures_take_the_general_verdict():
+    a = arm("panda")
+    far = pin.SE3(np.eye(3), np.array([3.0, 0.0, 0.5]))  # beyond reach
+    r = a.solve(far, seed=0)
+    assert not r.success and r.status == "unreachable"
+    _same(r, _general(a, far, seed=0))
+    # reachable in position, not converged within one short descent
+    T = a.fk(a.random_q(np.random.default_rng(2)))
+    kw = dict(solver="dls", max_restarts=0, max_iterations=2, seed=0)
+    r = a.solve(T, **kw)
+    assert not r.success and r.status == "not_converged"
+    _same(r, _general(a, T, **kw))
+
+
+def test_a_lying_runner_is_caught_by_the_check():
+    a = armik.load("panda")  # a fresh arm: its own plans
+    T = a.fk(a.random_q(np.random.default_rng(4)))
+    opts, key = _options({})
+    plan = plan_for(a, "auto", key, opts)
+    honest = plan.run_pose
+
+    def lying(H, q0, seed):
+        q, *rest = honest(H, q0, seed)
+        q = q.copy()
+        q[0] += 1e-3  # claims converged, is not
+        return (q, *rest)
+
+    plan.run_pose = lying
+    r = a.solve(T)
+    assert not r.success and r.status == "not_converged"
+    assert "forward-kinematics check failed" in r.reason
+    assert r.position_error > 1e-5
+
+
+def test_lazy_reason_pickles_and_compares():
+    a = arm("panda")
+    T = a.fk(a.random_q(np.random.default_rng(5)))
+    r = a.solve(T, seed=0)
+    assert "reason" not in r.__dict__  # not written yet
+    back = pickle.loads(pickle.dumps(r))
+    assert back.reason == r.reason and r.reason.startswith("converged after")
+    assert "verified by forward kinematics" in back.reason
+    assert r.as_dict()["reason"] == r.reason
+    with pytest.raises(AttributeError, match="no attribute 'nothing'"):
+        r.nothing  # noqa: B018
