@@ -158,3 +158,40 @@ def test_lazy_reason_pickles_and_compares():
     assert r.as_dict()["reason"] == r.reason
     with pytest.raises(AttributeError, match="no attribute 'nothing'"):
         r.nothing  # noqa: B018
+
+
+@pytest.mark.parametrize("name", ["ur5", "abb_irb120"])
+def test_plan_solve_all_is_the_general_solve_all(name):
+    a = arm(name)
+    rng = np.random.default_rng(6)
+    seen_failure = False
+    for k in range(10):
+        T = a.fk(a.random_q(rng))
+        q0 = None if k % 2 else a.random_q(rng)
+        fast = a.solve_all(T, q0=q0)
+        general = a.solve_all(parse_target(T, a), q0=q0)
+        assert len(fast) == len(general) >= 1 and fast[0].success
+        for x, y in zip(fast, general):
+            _same(x, y)
+            assert x.time == fast[0].time  # one call, one time
+        seen_failure |= not all(r.success for r in fast)
+    if name == "abb_irb120":  # some branches leave its limits: failures ranked after
+        assert seen_failure
+
+
+def test_threads_get_the_answers_of_one_thread():
+    # Each thread measures with its own Pinocchio Data (arm.data is per thread).
+    from concurrent.futures import ThreadPoolExecutor
+
+    a = arm("panda")
+    rng = np.random.default_rng(7)
+    poses = [a.fk(a.random_q(rng)) for _ in range(300)]
+
+    def run(i):
+        return a.solve(poses[i], seed=i, iteration_budget=2000)
+
+    one = [run(i) for i in range(len(poses))]
+    with ThreadPoolExecutor(4) as pool:
+        four = list(pool.map(run, range(len(poses))))
+    for x, y in zip(one, four):
+        _same(x, y)

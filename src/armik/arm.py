@@ -440,10 +440,10 @@ class Arm:
             lower[i], upper[i] = lo, hi
         clone = object.__new__(Arm)
         # Cached properties (the reach counts prismatic travel) are recomputed for the clone.
+        # So are the prepared solves (``armik.plan``: they hold the limits).
         cached = {k for k, v in vars(Arm).items() if isinstance(v, cached_property)}
-        clone.__dict__.update(
-            {k: v for k, v in self.__dict__.items() if k != "_local" and k not in cached}
-        )
+        cached |= {"_local", "_plans"}
+        clone.__dict__.update({k: v for k, v in self.__dict__.items() if k not in cached})
         clone._set_limits(lower, upper)
         clone._limit_lists = (lower.tolist(), upper.tolist(), self.prismatic.tolist())
         clone._local = threading.local()

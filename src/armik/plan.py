@@ -26,7 +26,7 @@ from .arm import Arm
 from .ik import registry
 from .ik.attempt import Attempt
 from .ik.numeric import solve_seed
-from .kernel.check import pose_check
+from .kernel.check import pose_check, pose_checks
 from .options import Options
 from .result import IKResult
 from .status import Status
@@ -73,7 +73,7 @@ class Plan:
         self.arm = arm
         self.solver = spec.name
         self.run_pose = spec.prepare_pose(arm, opts)
-        self.model, self.data, self.frame = arm.model, arm.data, arm.tip_frame_id
+        self.model, self.frame = arm.model, arm.tip_frame_id  # (Data: per thread, arm.data)
         self.direct = arm.model.nq == arm.dof  # q is Pinocchio's configuration itself
         self.shape = (arm.dof,)
         self.middle = arm.middle
@@ -85,8 +85,8 @@ class Plan:
         self.measure_rot = measure_rot
         self.tol_p, self.tol_r = opts.tol_position, opts.tol_orientation
 
-    def solve(self, target: object, q0: object, opts: Options, t0: float) -> IKResult | None:
-        """The result of ``solve`` for a plain ``target`` and ``q0``, or None (general path)."""
+    def _plain(self, target: object, q0: object):
+        """(H, q0) for the runner when both are plain in type and shape, else None."""
         kind = type(target)
         if kind is _SE3:
             H = target.homogeneous  # a fresh C-ordered 4x4
@@ -100,39 +100,84 @@ class Plan:
         else:
             return None
         if q0 is None:
-            q0 = self.middle  # only read
-        elif not (
+            return H, self.middle  # only read
+        if (
             type(q0) is np.ndarray
             and q0.dtype == _FLOAT
             and q0.shape == self.shape
             and q0.flags.c_contiguous
         ):
+            return H, q0
+        return None
+
+    def solve(self, target: object, q0: object, opts: Options, t0: float) -> IKResult | None:
+        """The result of ``solve`` for a plain ``target`` and ``q0``, or None (general path)."""
+        plain = self._plain(target, q0)
+        if plain is None:
             return None
+        H, q0 = plain
         got = self.run_pose(H, q0, solve_seed(opts))
         if got is None:
             return None
         if type(got) is list:  # claims other than converged: the general verdict
-            return self._finish(got, H, q0, opts, t0)
-        q, iterations, restarts, branch, singular, why, why_args = got
-        if self.direct:
-            pin.forwardKinematics(self.model, self.data, q)
-        else:
-            pin.forwardKinematics(self.model, self.data, self.arm.to_pin(q))
-        H_w = pin.updateFramePlacement(self.model, self.data, self.frame).homogeneous
+            return self._finish(got, H, q0, opts, t0, False)[0]
+        q = got[0]
+        data = self.arm.data
+        pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
+        H_w = pin.updateFramePlacement(self.model, data, self.frame).homogeneous
         pos, ori, inside = pose_check(self.T_bw, self.limits, H_w, H, self.w, self.measure, q)
+        result = self._success(got, pos, ori, inside)
+        if result is None:
+            return self._finish([_claim(got)], H, q0, opts, t0, False)[0]
+        result.__dict__["time"] = time.perf_counter() - t0
+        return result
+
+    def solve_all(self, target: object, q0: object, opts: Options, t0: float):
+        """The results of ``solve_all`` for a plain ``target`` and ``q0``, or None."""
+        plain = self._plain(target, q0)
+        if plain is None:
+            return None
+        H, q0 = plain
+        rows = self.run_pose(H, q0, solve_seed(opts), True)
+        if rows is None:
+            return None
+        claimed = [r for r in rows if type(r) is tuple]
+        n = len(claimed)
+        H_w = np.empty((n, 4, 4))
+        Q = np.empty((n, self.shape[0]))
+        model, data, frame, fk = self.model, self.arm.data, self.frame, pin.forwardKinematics
+        for i, got in enumerate(claimed):
+            q = got[0]
+            fk(model, data, q if self.direct else self.arm.to_pin(q))
+            H_w[i] = pin.updateFramePlacement(model, data, frame).homogeneous
+            Q[i] = q
+        measured = np.empty((n, 3))
+        pose_checks(self.T_bw, self.limits, H_w, H, self.w, self.measure, Q, measured)
+        results, others = [], []
+        it = iter(measured.tolist())
+        for got in rows:
+            if type(got) is not tuple:
+                others.append(got)
+                continue
+            pos, ori, inside = next(it)
+            result = self._success(got, pos, ori, inside > 0.0)
+            if result is None:
+                others.append(_claim(got))
+            else:
+                results.append(result)
+        # verified answers nearest q0 first (the runner's order), then the others ranked
+        results += self._finish(others, H, q0, opts, t0, True) if others else []
+        elapsed = time.perf_counter() - t0
+        for r in results:
+            r.__dict__["time"] = elapsed
+        return results
+
+    def _success(self, got: tuple, pos: float, ori: float, inside: bool) -> IKResult | None:
+        """The successful result of a claimed answer with these measures, or None."""
         ori = ori if self.measure_rot else None
         if not (inside and pos <= self.tol_p and (ori is None or ori <= self.tol_r)):
-            reason = why(*why_args)
-            claim = Attempt(
-                q=q,
-                claim=_CONVERGED,
-                reason=reason,
-                iterations=iterations,
-                branch=branch,
-                singular=singular,
-                restarts=restarts,
-            )
-            return self._finish([claim], H, q0, opts, t0)
+            return None
+        q, iterations, restarts, branch, singular, why, why_args = got
         q.flags.writeable = False  # q is the runner's own array
         result = object.__new__(IKResult)
         result.__dict__.update(
@@ -148,10 +193,23 @@ class Plan:
             restarts=restarts,
             extra={},
             _reason=(success_reason, (why, why_args, pos, ori, self.tol_p, self.tol_r)),
-            time=time.perf_counter() - t0,
         )
         return result
 
-    def _finish(self, attempts: list[Attempt], H, q0, opts: Options, t0: float) -> IKResult:
+    def _finish(self, attempts, H, q0, opts: Options, t0: float, every: bool):
         target = parse_target(H, self.arm)
-        return finish(self.arm, self.solver, attempts, target, opts, q0, False, t0)[0]
+        return finish(self.arm, self.solver, attempts, target, opts, q0, every, t0)
+
+
+def _claim(got: tuple) -> Attempt:
+    """The ``Attempt`` of a runner's claimed answer, for the general verdict."""
+    q, iterations, restarts, branch, singular, why, why_args = got
+    return Attempt(
+        q=q,
+        claim=_CONVERGED,
+        reason=why(*why_args),
+        iterations=iterations,
+        branch=branch,
+        singular=singular,
+        restarts=restarts,
+    )

@@ -25,12 +25,17 @@ def solve(
     """Parse, choose a solver, run it, verify every answer, rank: best first."""
     t0 = time.perf_counter()
     opts, key = _options(options)
-    if not all_solutions and key is not None:
+    if key is not None:
         plan = plan_for(arm, solver, key, opts)
         if plan is not None:
-            result = plan.solve(target, q0, opts, t0)
-            if result is not None:
-                return [result]
+            if all_solutions:
+                results = plan.solve_all(target, q0, opts, t0)
+                if results is not None:
+                    return results
+            else:
+                result = plan.solve(target, q0, opts, t0)
+                if result is not None:
+                    return [result]
     tgt = parse_target(target, arm)
     seed = arm.seed(q0)
     spec = registry.choose(solver, arm, tgt, opts)

@@ -221,7 +221,8 @@ def attempts(arm: Arm, position, q0, opts: Options, sf, info, out_q, err) -> lis
 def pose_runner(arm: Arm, opts: Options, step: Step):
     """``run_pose(H, q0, seed)`` for ``plan.py``: one plain 4x4 pose ``H`` (base frame)
     from ``q0`` through the kernel's single-pose entry. Returns None when ``H`` or ``q0``
-    is not plain (nothing was solved: take the general path); for a converged claim
+    is not plain, or for ``every`` (nothing was solved: take the general path); for a
+    converged claim
     (q, iterations, restarts, branch, singular, reason function, its arguments); else the
     attempts for the general verdict."""
     dof = arm.dof
@@ -230,7 +231,9 @@ def pose_runner(arm: Arm, opts: Options, step: Step):
     packed, kind, halton_ = arm.kernel_chain.flat
     converged_code = _descent.CONVERGED
 
-    def run_pose(H: np.ndarray, q0: np.ndarray, seed: int):
+    def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False):
+        if every:  # solve_all: the general path (max_solutions descents)
+            return None
         out_q = np.empty((1, dof))
         info = np.empty(5, dtype=np.int64)
         err = np.empty(2)

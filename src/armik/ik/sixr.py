@@ -238,6 +238,52 @@ def applies(arm: Arm, target: Target | None, opts: Options | None, family: str, 
     return None
 
 
+def claim_reason(closed_form: str, singular: bool) -> str:
+    if singular:
+        return closed_form + "; singular: a free joint was kept at its q0 value"
+    return closed_form
+
+
+def pose_runner(arm: Arm, opts: Options, family: str, classify, solve_pose, closed_form, *extra):
+    """``run_pose(H, q0, seed, every=False)`` for ``armik.plan`` (see
+    ``numeric.pose_runner``): ``solve_pose`` is the family's compiled kernel for one plain
+    4x4 pose (keep = -1 when the pose or q0 is not plain). When the nearest row is the one
+    ``solve`` verifies first and is reached: (q, 0, 0, branch, singular, reason function,
+    arguments); else the attempts for the general verdict. With ``every`` (``solve_all``):
+    a list with one entry per row, nearest first: that tuple for a row claimed reached, an
+    ``Attempt`` for the others."""
+    geo = geometry(arm, family, classify)
+    h, p, R_tip0 = geo.h, geo.p, geo.R_tip0
+    lower = np.ascontiguousarray(arm.lower, dtype=float)
+    upper = np.ascontiguousarray(arm.upper, dtype=float)
+    tol_p, tol_r = opts.tol_position, opts.tol_orientation
+
+    def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False):
+        out, keep = solve_pose(h, p, R_tip0, H, q0, lower, upper, tol_p, tol_r, every, *extra)
+        if keep < 0:
+            return None
+        if every:  # solve_all: every row, claimed converged rows as tuples
+            rows = []
+            for k, (f, bits) in enumerate(out[:, 6:8].tolist()):
+                f = int(f)
+                if f & LS:
+                    rows.append(attempts(out[k : k + 1], 1, True, family, closed_form)[0])
+                else:
+                    singular = bool(f & SINGULAR)
+                    why = (closed_form, singular)
+                    rows.append((out[k, :6], 0, 0, _LABELS[int(bits)], singular, claim_reason, why))
+            return rows
+        if keep == 1:
+            flags = int(out[0, 6])
+            if not flags & LS:
+                singular = bool(flags & SINGULAR)
+                branch = _LABELS[int(out[0, 7])]
+                return (out[0, :6], 0, 0, branch, singular, claim_reason, (closed_form, singular))
+        return attempts(out, keep, False, family, closed_form)
+
+    return run_pose
+
+
 def attempts(out: np.ndarray, keep: int, all_solutions: bool, family: str, closed_form: str):
     """``Attempt``s from a kernel's packed rows (see ``pack``): all of them for
     ``solve_all``; for ``solve`` the nearest-first ones up to the first that the chain's
@@ -251,9 +297,7 @@ def attempts(out: np.ndarray, keep: int, all_solutions: bool, family: str, close
         if f & LS:
             claim, text = Status.UNREACHABLE, reason(int(code), (v0, v1), family)
         else:
-            claim, text = Status.CONVERGED, closed_form
-            if singular:
-                text += "; singular: a free joint was kept at its q0 value"
+            claim, text = Status.CONVERGED, claim_reason(closed_form, singular)
         result.append(
             attempt(
                 q=rows[k, :6],

@@ -26,6 +26,7 @@ import numpy as np
 from numba import njit
 
 from ..arm import Arm
+from ..kernel.single import plain_pose, plain_seed, split_pose
 from ..options import Options
 from ..structure import spherical_wrist
 from ..subproblems import (
@@ -194,6 +195,16 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, variant, every)
     )
 
 
+@njit(cache=True)
+def solve_pose(h, p, R_tip0, H, q0, lower, upper, tol_p, tol_r, every, variant):
+    """``kernel`` for one 4x4 pose ``H``; keep = -1 and nothing solved
+    when ``H`` or ``q0`` is not plain (``kernel.single``)."""
+    if not plain_pose(H) or not plain_seed(q0, lower, upper):
+        return np.empty((0, 11)), -1
+    R, pos = split_pose(H)
+    return kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, variant, every)
+
+
 @njit(cache=True, nogil=True)
 def kernel_many(h, p, R_tip0, Rs, ps, q0s, lower, upper, tol_p, tol_r, variant):
     """``kernel`` for N targets: the row nearest q0 of each, and its claim code."""
@@ -243,6 +254,12 @@ def run_batch(arm: Arm, targets, q0: np.ndarray, opts: Options, seeds=None) -> A
     return sixr.batch(arm, targets, q0, opts, many, variant)
 
 
+def prepare_pose(arm: Arm, opts: Options):
+    geo = sixr.geometry(arm, FAMILY, _classify)
+    variant = 0 if geo.variant == "parallel_23" else 1
+    return sixr.pose_runner(arm, opts, FAMILY, _classify, solve_pose, CLOSED_FORM, variant)
+
+
 SPEC = register(
     SolverSpec(
         name="spherical",
@@ -253,5 +270,6 @@ SPEC = register(
         run=run,
         summary="closed form for 6R arms with a spherical wrist: up to 8 solutions",
         run_batch=run_batch,
+        prepare_pose=prepare_pose,
     )
 )

@@ -99,3 +99,11 @@ def pose_check(T_bw, limits, H_w, H_t, w, measure, q):
         if not (limits[0, j] - LIMIT_TOL <= q[j] <= limits[1, j] + LIMIT_TOL):  # NaN fails
             inside = False
     return pos, ori, inside
+
+
+@njit(cache=True, nogil=True)
+def pose_checks(T_bw, limits, H_w, H_t, w, measure, Q, out):
+    """out[i] = ``pose_check`` of answer Q[i] with tip placement H_w[i], for every i."""
+    for i in range(Q.shape[0]):
+        out[i, 0], out[i, 1], inside = pose_check(T_bw, limits, H_w[i], H_t, w, measure, Q[i])
+        out[i, 2] = 1.0 if inside else 0.0

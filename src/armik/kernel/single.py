@@ -65,18 +65,25 @@ def plain_seed(q, lo, hi):
     return True
 
 
+@njit(cache=True, nogil=True)
+def split_pose(H):
+    """(R, p) of the 4x4 ``H`` as new C-ordered arrays."""
+    R = np.empty((3, 3))
+    p = np.empty(3)
+    for a in range(3):
+        p[a] = H[a, 3]
+        for b in range(3):
+            R[a, b] = H[a, b]
+    return R, p
+
+
 @njit(cache=True, nogil=True, inline="always")
 def _solve(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err, step):
     ch = Flat(packed, kind, halton)
     if not plain_pose(H) or not plain_seed(q0, lower(ch), upper(ch)):
         return False
     st = unpack_settings(sf, si)
-    R_t = np.empty((3, 3))
-    p_t = np.empty(3)
-    for a in range(3):
-        p_t[a] = H[a, 3]
-        for b in range(3):
-            R_t[a, b] = H[a, b]
+    R_t, p_t = split_pose(H)
     ws = workspace(q0.shape[0], min(st.max_restarts + 1, MINIMA_CAPACITY))
     solve_one(ch, st, R_t, p_t, q0, np.uint64(seed), ws, out_q, info, err, step)
     return True
