@@ -32,6 +32,8 @@ from .conftest import ALL_ROBOTS, SPATIAL, arm
         ({"weights": (0, 0, 0, 0, 0, 0)}, "not all zero"),
         ({"qp_solver": 3}, "backend name"),
         ({"tolerance": 1e-3}, "unknown option 'tolerance'"),
+        ({"seed": 2**63}, "seed must be < 2"),
+        ({"seed": -1}, "seed must be >= 0"),
     ],
 )
 def test_bad_options(options, words):

@@ -75,13 +75,13 @@ def test_plan_result_is_the_general_result(name, solver):
 
 def test_plan_is_taken_for_plain_input_only():
     a = arm("panda")
-    opts, key = _options({})
+    opts, key, _ = _options({})
     plan = plan_for(a, "dls", key, opts)
     assert isinstance(plan, Plan)
     T = a.fk(a.random_q(np.random.default_rng(0)))
     q0 = a.middle.copy()
-    assert plan.solve(T, q0, opts, 0.0) is not None
-    assert plan.solve(T.homogeneous, q0, opts, 0.0) is not None
+    assert plan.solve(T, q0, opts, 0, 0.0) is not None
+    assert plan.solve(T.homogeneous, q0, opts, 0, 0.0) is not None
     not_plain = [
         (np.asfortranarray(T.homogeneous), q0),
         (T.homogeneous.astype(np.float32), q0),
@@ -94,7 +94,7 @@ def test_plan_is_taken_for_plain_input_only():
         (pin.SE3(T.rotation + 1e-9, T.translation), q0),  # snapped by the parser
     ]
     for target, q in not_plain:
-        assert plan.solve(target, q, opts, 0.0) is None
+        assert plan.solve(target, q, opts, 0, 0.0) is None
 
 
 def test_not_plain_input_behaves_as_before():
@@ -130,7 +130,7 @@ def test_failures_take_the_general_verdict():
 def test_a_lying_runner_is_caught_by_the_check():
     a = armik.load("panda")  # a fresh arm: its own plans
     T = a.fk(a.random_q(np.random.default_rng(4)))
-    opts, key = _options({})
+    opts, key, _ = _options({})
     plan = plan_for(a, "auto", key, opts)
     honest = plan.run_pose
 

@@ -736,7 +736,7 @@ class Arm:
         """
         if type(solver) is not str:
             _check_solver_name(solver)
-        return _solve()(self, target, q0=q0, solver=solver, all_solutions=False, **options)[0]
+        return _solve_one()(self, target, q0, solver, options)
 
     def solve_all(self, target, *, q0=None, solver: str = "auto", **options):
         """Every distinct solution the solver finds, each verified, best first."""
@@ -773,16 +773,26 @@ def _set_joint(model: pin.Model, q: np.ndarray, jid: int, value: float) -> None:
         )
 
 
-_SOLVE = []  # armik.solve.solve, imported at the first solve (it imports this module)
+_SOLVE = []  # armik.solve.solve and solve_one, imported at the first solve (they import this)
+
+
+def _import_solve() -> None:
+    # An import statement per call costs 2 us of a 25 us solve.
+    from .solve import solve, solve_one
+
+    _SOLVE[:] = [solve, solve_one]
 
 
 def _solve():
-    # An import statement per call costs 2 us of a 25 us solve.
     if not _SOLVE:
-        from .solve import solve
-
-        _SOLVE.append(solve)
+        _import_solve()
     return _SOLVE[0]
+
+
+def _solve_one():
+    if not _SOLVE:
+        _import_solve()
+    return _SOLVE[1]
 
 
 def _check_solver_name(solver: object) -> None:

@@ -75,6 +75,12 @@ class Options:
             values["iteration_budget"] = _int("iteration_budget", values["iteration_budget"], 1)
         if values.get("seed") is not None:
             values["seed"] = _int("seed", values["seed"], minimum=0)
+            if values["seed"] >= 2**63:  # the compiled restarts take a signed 64-bit seed
+                raise OptionError(
+                    f"seed must be < 2**63, got {values['seed']}: give a smaller seed",
+                    option="seed",
+                    value=values["seed"],
+                )
         if "weights" in values and values["weights"] is not None:
             values["weights"] = _weights(values["weights"])
         if "position_only" in values:

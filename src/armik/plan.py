@@ -17,6 +17,7 @@ a claim other than converged) goes the general way: ``solve.py`` and ``verdict.p
 
 from __future__ import annotations
 
+import secrets
 import time
 
 import numpy as np
@@ -25,7 +26,6 @@ import pinocchio as pin
 from .arm import Arm
 from .ik import registry
 from .ik.attempt import Attempt
-from .ik.numeric import solve_seed
 from .kernel.check import pose_check, pose_checks
 from .options import Options
 from .result import IKResult
@@ -73,7 +73,8 @@ class Plan:
         self.arm = arm
         self.solver = spec.name
         self.run_pose = spec.prepare_pose(arm, opts)
-        self.model, self.frame = arm.model, arm.tip_frame_id  # (Data: per thread, arm.data)
+        self.model, self.frame = arm.model, arm.tip_frame_id
+        self.local = arm._local  # where ``Arm.data`` keeps each thread's Pinocchio Data
         self.direct = arm.model.nq == arm.dof  # q is Pinocchio's configuration itself
         self.shape = (arm.dof,)
         self.middle = arm.middle
@@ -110,19 +111,24 @@ class Plan:
             return H, q0
         return None
 
-    def solve(self, target: object, q0: object, opts: Options, t0: float) -> IKResult | None:
-        """The result of ``solve`` for a plain ``target`` and ``q0``, or None (general path)."""
+    def solve(
+        self, target: object, q0: object, opts: Options, seed: int | None, t0: float
+    ) -> IKResult | None:
+        """The result of ``solve`` for a plain ``target`` and ``q0``, or None (general path).
+        ``seed`` is this call's (``opts`` may carry another: only the rest is read)."""
         plain = self._plain(target, q0)
         if plain is None:
             return None
         H, q0 = plain
-        got = self.run_pose(H, q0, solve_seed(opts))
+        got = self.run_pose(H, q0, secrets.randbits(63) if seed is None else seed)
         if got is None:
             return None
         if type(got) is list:  # claims other than converged: the general verdict
             return self._finish(got, H, q0, opts, t0, False)[0]
         q = got[0]
-        data = self.arm.data
+        data = getattr(self.local, "data", None)  # this thread's Data (``Arm.data``)
+        if data is None:
+            data = self.arm.data
         pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
         H_w = pin.updateFramePlacement(self.model, data, self.frame).homogeneous
         pos, ori, inside = pose_check(self.T_bw, self.limits, H_w, H, self.w, self.measure, q)
@@ -132,13 +138,13 @@ class Plan:
         result.__dict__["time"] = time.perf_counter() - t0
         return result
 
-    def solve_all(self, target: object, q0: object, opts: Options, t0: float):
+    def solve_all(self, target: object, q0: object, opts: Options, seed: int | None, t0: float):
         """The results of ``solve_all`` for a plain ``target`` and ``q0``, or None."""
         plain = self._plain(target, q0)
         if plain is None:
             return None
         H, q0 = plain
-        rows = self.run_pose(H, q0, solve_seed(opts), True)
+        rows = self.run_pose(H, q0, secrets.randbits(63) if seed is None else seed, True)
         if rows is None:
             return None
         claimed = [r for r in rows if type(r) is tuple]

@@ -23,19 +23,34 @@ def solve(
     **options: object,
 ) -> list[IKResult]:
     """Parse, choose a solver, run it, verify every answer, rank: best first."""
+    if not all_solutions:
+        return [solve_one(arm, target, q0, solver, options)]
     t0 = time.perf_counter()
-    opts, key = _options(options)
+    opts, key, seed = _options(options)
     if key is not None:
         plan = plan_for(arm, solver, key, opts)
         if plan is not None:
-            if all_solutions:
-                results = plan.solve_all(target, q0, opts, t0)
-                if results is not None:
-                    return results
-            else:
-                result = plan.solve(target, q0, opts, t0)
-                if result is not None:
-                    return [result]
+            results = plan.solve_all(target, q0, opts, seed, t0)
+            if results is not None:
+                return results
+    return _general(arm, target, q0, solver, _with_seed(opts, seed), True, t0)
+
+
+def solve_one(arm: Arm, target: object, q0: object, solver: str, options: dict) -> IKResult:
+    """``solve(arm, target, q0=q0, solver=solver, **options)[0]`` (``Arm.solve``'s route):
+    a prepared solve (``armik.plan``) when the input is plain, else the general path."""
+    t0 = time.perf_counter()
+    opts, key, seed = _options(options)
+    if key is not None:
+        plan = plan_for(arm, solver, key, opts)
+        if plan is not None:
+            result = plan.solve(target, q0, opts, seed, t0)
+            if result is not None:
+                return result
+    return _general(arm, target, q0, solver, _with_seed(opts, seed), False, t0)[0]
+
+
+def _general(arm, target, q0, solver, opts: Options, all_solutions: bool, t0: float):
     tgt = parse_target(target, arm)
     seed = arm.seed(q0)
     spec = registry.choose(solver, arm, tgt, opts)
@@ -46,36 +61,48 @@ def solve(
 _OPTIONS: dict[tuple, Options] = {}
 
 
-def _options(kwargs: dict) -> tuple[Options, tuple | None]:
-    """``Options.from_kwargs`` and the key it is remembered under (None: not remembered),
-    for hashable option values other than ``seed`` (validation costs a few us, and a loop
-    of solves passes the same options, often with a new seed each time)."""
+def _options(kwargs: dict) -> tuple[Options, tuple | None, int | None]:
+    """(options, key, seed): ``Options.from_kwargs(kwargs)``, remembered under ``key``
+    (None: not remembered) when the values other than ``seed`` are hashable, and this
+    call's validated ``seed``. Validation costs a few us, and a loop of solves passes the
+    same options, often with a new seed each time: the remembered options keep the seed
+    they were first built with (``_with_seed`` gives them this call's)."""
     if not kwargs:
-        return _DEFAULT, ()
+        return _DEFAULT, (), 0
     seed = kwargs.get("seed", 0)
+    if "seed" in kwargs:
+        kwargs = dict(kwargs)
+        del kwargs["seed"]
     try:
         # with the types: 1 == True, but validation may accept one and refuse the other
-        key = tuple((k, type(v), v) for k, v in kwargs.items() if k != "seed")
+        key = (tuple(kwargs.items()), tuple(map(type, kwargs.values())))
         opts = _OPTIONS.get(key)
     except TypeError:  # an unhashable value (a list of weights): validate every time
-        return Options.from_kwargs(kwargs), None
+        return Options.from_kwargs({**kwargs, "seed": seed}), None, _seed(seed)
     if opts is None:
-        opts = Options.from_kwargs(kwargs)
+        opts = Options.from_kwargs({**kwargs, "seed": seed})  # the seed checked with them
         if len(_OPTIONS) > 256:
             _OPTIONS.clear()
         _OPTIONS[key] = opts
-    elif opts.seed != seed or type(opts.seed) is not type(seed):
-        # the seed's own validation, as Options.from_kwargs does it; then a copy of the
-        # remembered options with that seed (copy.copy and the frozen __init__ cost us)
-        if type(seed) is int and seed >= 0:
-            checked = seed  # what the validation returns for a plain int
-        else:
-            checked = None if seed is None else Options.from_kwargs({"seed": seed}).seed
-        fields = opts.__dict__.copy()
-        fields["seed"] = checked
-        opts = object.__new__(Options)
-        opts.__dict__.update(fields)
-    return opts, key
+    return opts, key, _seed(seed)
+
+
+def _seed(seed: object) -> int | None:
+    """``seed`` as ``Options.from_kwargs`` validates it."""
+    if type(seed) is int and 0 <= seed < 2**63:
+        return seed  # what the validation returns for a plain int
+    return None if seed is None else Options.from_kwargs({"seed": seed}).seed
+
+
+def _with_seed(opts: Options, seed: int | None) -> Options:
+    """``opts`` with this seed (a copy, built without the frozen ``__init__``)."""
+    if opts.seed == seed and type(opts.seed) is type(seed):
+        return opts
+    fields = opts.__dict__.copy()
+    fields["seed"] = seed
+    out = object.__new__(Options)
+    out.__dict__.update(fields)
+    return out
 
 
 _DEFAULT = Options()  # frozen: shared by every call without options
