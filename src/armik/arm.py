@@ -597,12 +597,12 @@ class Arm:
 
     def limit_violations(self, q: np.ndarray, tol: float = LIMIT_TOL) -> list[str]:
         """Human-readable list of the joints outside their limits."""
-        if self.within_limits(q, tol):
-            return []
-        bad = np.flatnonzero((q < self.lower - tol) | (q > self.upper + tol))
+        values = np.asarray(q, dtype=float).tolist()  # plain floats: numpy per joint is slow
+        lower, upper, _ = self._limit_lists
         return [
-            f"{self.joint_names[i]} = {q[i]:.6g} outside [{self.lower[i]:.6g}, {self.upper[i]:.6g}]"
-            for i in bad
+            f"{name} = {v:.6g} outside [{lo:.6g}, {hi:.6g}]"
+            for name, v, lo, hi in zip(self.joint_names, values, lower, upper)
+            if not lo - tol <= v <= hi + tol
         ]
 
     def check_q(self, q: object, name: str = "q") -> np.ndarray:

@@ -31,8 +31,8 @@ from .options import Options
 from .result import IKResult
 from .status import Status
 from .targets import parse_target
-from .verdict import finish, success_reason
-from .verify import _measures_of
+from .verdict import finish, ranked, success_reason, verdict
+from .verify import Check, _measures_of
 
 _FLOAT = np.dtype(float)
 _SE3 = pin.SE3
@@ -147,32 +147,35 @@ class Plan:
         rows = self.run_pose(H, q0, secrets.randbits(63) if seed is None else seed, True)
         if rows is None:
             return None
-        claimed = [r for r in rows if type(r) is tuple]
-        n = len(claimed)
+        n = len(rows)
         H_w = np.empty((n, 4, 4))
         Q = np.empty((n, self.shape[0]))
         model, data, frame, fk = self.model, self.arm.data, self.frame, pin.forwardKinematics
-        for i, got in enumerate(claimed):
-            q = got[0]
+        for i, got in enumerate(rows):
+            q = got[0] if type(got) is tuple else got.q
             fk(model, data, q if self.direct else self.arm.to_pin(q))
             H_w[i] = pin.updateFramePlacement(model, data, frame).homogeneous
             Q[i] = q
         measured = np.empty((n, 3))
         pose_checks(self.T_bw, self.limits, H_w, H, self.w, self.measure, Q, measured)
-        results, others = [], []
-        it = iter(measured.tolist())
-        for got in rows:
-            if type(got) is not tuple:
-                others.append(got)
-                continue
-            pos, ori, inside = next(it)
-            result = self._success(got, pos, ori, inside > 0.0)
-            if result is None:
-                others.append(_claim(got))
-            else:
-                results.append(result)
+        results, failed = [], []
+        for got, (pos, ori, inside) in zip(rows, measured.tolist()):
+            if type(got) is tuple:
+                result = self._success(got, pos, ori, inside > 0.0)
+                if result is not None:
+                    results.append(result)
+                    continue
+                got = _claim(got)
+            c = Check(
+                position_error=pos,
+                orientation_error=ori if self.measure_rot else None,
+                violations=[] if inside > 0.0 else self.arm.limit_violations(got.q),
+                tol_position=self.tol_p,
+                tol_orientation=self.tol_r,
+            )
+            failed.append(verdict(got, c))
         # verified answers nearest q0 first (the runner's order), then the others ranked
-        results += self._finish(others, H, q0, opts, t0, True) if others else []
+        results += ranked(failed, self.solver, q0, True, t0)
         elapsed = time.perf_counter() - t0
         for r in results:
             r.__dict__["time"] = elapsed

@@ -37,6 +37,11 @@ def finish(
         rows = [verdict(a, c) for a, c in zip(attempts, checks)]
     else:
         rows = _first_verified(arm, attempts, target, opts, seed)
+    return ranked(rows, solver, seed, all_solutions, t0)
+
+
+def ranked(rows: list[dict], solver: str, seed, all_solutions: bool, t0: float):
+    """The results of verdict rows, best first (the first only unless ``all_solutions``)."""
     if len(rows) > 1:
         rows.sort(key=lambda r: _rank(r, seed))
     rows = rows if all_solutions else rows[:1]
