@@ -1,0 +1,100 @@
+"""What one solve costs outside the iteration, part by part.
+
+For each arm: a target and a q0 at its answer (so the kernel makes one error evaluation
+and no step), then best-of-7 timeit of
+  - ``arm.solve(T, q0=q)``, whole (without options, and with the benchmark's options),
+  - the compiled call alone on the same input (``kernel.single``'s entry for dls, the
+    family's ``solve_pose`` for a closed form): what runs inside compiled code,
+  - Pinocchio's FK and tip placement, and the compiled check of its errors.
+"Outside the kernel" is the whole minus the compiled call.
+
+    python benchmarks/fixed_cost.py [--arms panda ur5 abb_irb120] [--solver dls] [--number N]
+"""
+
+from __future__ import annotations
+
+import argparse
+import timeit
+
+import numpy as np
+import pinocchio as pin
+
+import armik
+from armik.kernel.check import pose_check
+from armik.plan import plan_for
+from armik.solve import _options
+
+BENCH = dict(timeout=0.005, tol_position=1e-5, tol_orientation=1e-5, seed=3)
+
+
+def best(fn, number: int) -> float:
+    return min(timeit.repeat(fn, number=number, repeat=7)) / number * 1e6
+
+
+def measure(name: str, solver: str, number: int) -> dict:
+    arm = armik.load(name)
+    q = arm.random_q(np.random.default_rng(3))
+    T = arm.fk(q)
+    H = T.homogeneous
+    opts, key, _ = _options({})
+    r = arm.solve(T, q0=q, solver=solver)
+    plan = plan_for(arm, r.solver, key, opts)
+    runner = plan.run_pose  # the closure holds the compiled entry and its arrays
+    cells = dict(zip(runner.__code__.co_freevars, runner.__closure__))
+    out = {"arm": name, "solver": r.solver}
+    out["solve_us"] = best(lambda: arm.solve(T, q0=q, solver=solver), number)
+    out["solve_bench_options_us"] = best(lambda: arm.solve(T, q0=q, solver=solver, **BENCH), number)
+    if "entry" in cells:  # numeric: the single-pose entry with the plan's arrays
+        entry = cells["entry"].cell_contents
+        args = [cells[k].cell_contents for k in ("packed", "kind", "halton_", "sf", "si")]
+        dof = arm.dof
+        out_q, info, err = np.empty((1, dof)), np.empty(5, np.int64), np.empty(2)
+        out["compiled_us"] = best(lambda: entry(*args, H, q, 0, out_q, info, err), number)
+    else:  # a closed form: its compiled solve_pose
+        solve_pose = cells["solve_pose"].cell_contents
+        args = [cells[k].cell_contents for k in ("h", "p", "R_tip0")]
+        lo, hi = cells["lower"].cell_contents, cells["upper"].cell_contents
+        extra = cells["extra"].cell_contents
+        tol = opts.tol_position, opts.tol_orientation
+        out["compiled_us"] = best(
+            lambda: solve_pose(*args, H, q, lo, hi, *tol, False, *extra), number
+        )
+    model, data, frame = arm.model, arm.data, arm.tip_frame_id
+    qp = arm.to_pin(q)
+
+    def fk():
+        pin.forwardKinematics(model, data, qp)
+        return pin.updateFramePlacement(model, data, frame).homogeneous
+
+    out["pinocchio_fk_us"] = best(fk, number)
+    H_w = fk()
+    out["check_us"] = best(
+        lambda: pose_check(plan.T_bw, plan.limits, H_w, H, plan.w, plan.measure, q), number
+    )
+    out["outside_us"] = out["solve_us"] - out["compiled_us"]
+    return out
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--arms", nargs="+", default=["panda", "kinova", "ur5", "abb_irb120"])
+    p.add_argument("--solver", default="auto", help="dls, qp, a closed form or auto")
+    p.add_argument("--number", type=int, default=5000)
+    args = p.parse_args()
+    cols = [
+        "solve_us",
+        "solve_bench_options_us",
+        "compiled_us",
+        "outside_us",
+        "pinocchio_fk_us",
+        "check_us",
+    ]
+    print("| arm | solver | " + " | ".join(c.replace("_us", " (us)") for c in cols) + " |")
+    print("|---|---|" + "---|" * len(cols))
+    for name in args.arms:
+        m = measure(name, args.solver, args.number)
+        print(f"| {name} | {m['solver']} | " + " | ".join(f"{m[c]:.2f}" for c in cols) + " |")
+
+
+if __name__ == "__main__":
+    main()
