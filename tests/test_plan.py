@@ -195,3 +195,33 @@ def test_threads_get_the_answers_of_one_thread():
         four = list(pool.map(run, range(len(poses))))
     for x, y in zip(one, four):
         _same(x, y)
+
+
+@pytest.mark.parametrize(
+    "name, load_kw, options",
+    [
+        ("panda", {"base": "panda_link2", "tip_offset": (0.0, 0.02, 0.1)}, {}),
+        ("panda", {"locked": {"panda_finger_joint1": 0.01}}, {"solver": "qp"}),
+        ("kinova", {}, {"solver": "dls", "weights": (1, 1, 1, 0.5, 0.5, 0.0)}),
+        ("ur5", {"tip_offset": (0.0, 0.0, 0.05)}, {"tol_position": 1e-8}),
+        ("panda", {}, {"position_only": True}),
+    ],
+)
+def test_plan_on_variants_and_options(name, load_kw, options):
+    a = armik.load(name, **load_kw)
+    rng = np.random.default_rng(8)
+    for k in range(6):
+        T = a.fk(a.random_q(rng))
+        q0 = None if k % 2 else a.random_q(rng)
+        fast = a.solve(T, q0=q0, seed=k, **options)
+        general = _general(a, T, q0=q0, seed=k, **options)
+        assert fast.success
+        _same(fast, general)
+
+
+def test_position_targets_take_the_general_path():
+    a = arm("panda")
+    T = a.fk(a.random_q(np.random.default_rng(9)))
+    r = a.solve(T.translation, seed=0)
+    assert r.success and r.orientation_error is None
+    assert "reason" in r.__dict__  # built by the general path: its reason written at once
