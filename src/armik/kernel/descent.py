@@ -22,6 +22,7 @@ from ..status import Status
 from .chain import CONTINUOUS, PRISMATIC, lower, reach, upper
 from .clock import thread_cpu_ns
 from .error import evaluate
+from .linalg import copy_to
 from .problem import BEST, DQ, NO_LIMIT, SHIFT, U
 from .restarts import pick, seed_shift
 from .step import dls, qp, wrapped
@@ -166,13 +167,13 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, step):
         origin, bound = reach(ch)
         d0, d1, d2 = p_t[0] - origin[0], p_t[1] - origin[1], p_t[2] - origin[2]
         if math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) > bound + st.reach_slack:
-            out_q[0, :] = q0
+            copy_to(out_q[0], q0)
             info[0] = UNREACHABLE
             return
     seed_shift(seed, ws.vec[SHIFT])
-    ws.q[0, :] = q0
+    copy_to(ws.q[0], q0)
     best = ws.vec[BEST]
-    best[:] = q0
+    copy_to(best, q0)
     found = 0
     n_minima = ZERO
     stuck = 0
@@ -190,7 +191,7 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, step):
         iterations += its
         sq = ws.val[cur, 2]
         if not ok and sq < CAREFUL_BELOW:  # a local minimum near the target
-            ws.minima[stuck % capacity, :] = ws.q[cur]  # the oldest go first when full
+            copy_to(ws.minima[stuck % capacity], ws.q[cur])  # the oldest go first when full
             stuck += 1
             n_minima = min(stuck, capacity)
         if ok:
@@ -204,13 +205,13 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, step):
                 if far < DUPLICATE_TOL:
                     new = False
             if new:
-                out_q[found, :] = u
+                copy_to(out_q[found], u)
                 found += 1
             if found >= st.max_found:
                 break
         elif not sq >= best_sq:
             best_sq = sq
-            best[:] = ws.q[cur]
+            copy_to(best, ws.q[cur])
             err[0], err[1] = ws.val[cur, 0], ws.val[cur, 1]
         if restarts >= st.max_restarts:
             break

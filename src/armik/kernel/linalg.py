@@ -9,6 +9,14 @@ from numba import njit
 
 
 @njit(cache=True, nogil=True, inline="always")
+def copy_to(dst, src):
+    """dst[:] = src for 1-d arrays of one length, as a loop: numba's array-to-array slice
+    assignment compiles its shape-mismatch message (string formatting) at ~2 s per process."""
+    for i in range(dst.shape[0]):
+        dst[i] = src[i]
+
+
+@njit(cache=True, nogil=True, inline="always")
 def _all(free):
     for i in range(free.shape[0]):
         if not free[i]:

@@ -19,7 +19,7 @@ from numba import njit, objmode
 
 from .backend import solve_box_qp
 from .chain import CONTINUOUS, lower, upper
-from .linalg import cholesky_factor, cholesky_solve, cholesky_substitute, solve_spd
+from .linalg import cholesky_factor, cholesky_solve, cholesky_substitute, copy_to, solve_spd
 from .problem import DQ, FREE, GAP, GI, HELD, HH, LB, MULT, SIDE, UB, UNIT, XF, G, H, L, X
 
 MAX_STEP = 1.0  # rad or m: longest step (Euclidean)
@@ -207,7 +207,7 @@ def qp_step(ch, st, ws, slot):
     lo, hi = lower(ch), upper(ch)
     ws.ivec[FREE][:] = 1
     solve_spd(Hm, g, ws.ivec[FREE], ws.mat[L], dq)
-    x_free[:] = dq
+    copy_to(x_free, dq)
     bound_step(dq)
     inside = True
     for i in range(n):
@@ -226,11 +226,11 @@ def qp_step(ch, st, ws, slot):
             ws.vec[UNIT][:] = 0.0
             found = active_set(ws.mat[GI], x_free, lb, ub, ws.vec[UNIT], *scratch, *rest)
     if found:
-        dq[:] = x
+        copy_to(dq, x)
     else:
         sol = backend_step(Hm.copy(), g.copy(), lb.copy(), ub.copy(), st.backend)
         if not np.isnan(sol[0]):
-            dq[:] = sol
+            copy_to(dq, sol)
         for i in range(n):  # backends meet bounds only to their tolerance
             dq[i] = min(max(dq[i], lb[i]), ub[i])
     bound_step(dq)
