@@ -52,7 +52,9 @@ UNREACHABLE = Status.UNREACHABLE.code
 NOT_CONVERGED = Status.NOT_CONVERGED.code
 
 
-@njit(cache=True, nogil=True, inline="always")
+# Step-independent helpers are compiled once and called (not inlined): both entries share
+# them, and each inlined copy would be compiled again.
+@njit(cache=True, nogil=True)
 def _near_known_minimum(ch, q, minima, count):
     n = q.shape[0]
     for m in range(count):
@@ -121,7 +123,7 @@ def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, step):
     return it, False, cur
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def normalise(ch, q, q_ref, out):
     """out: q with continuous angles in (-pi, pi], then every angle shifted by a multiple
     of 2 pi to the value nearest q_ref that stays within the limits (as
@@ -143,6 +145,22 @@ def normalise(ch, q, q_ref, out):
             if not np.isnan(best):
                 qi = min(max(best, lo), hi)
         out[i] = qi
+
+
+@njit(cache=True, nogil=True)
+def _add_solution(ch, q, q0, u, out_q, found):
+    """Append q (normalised near q0, in scratch u) to out_q[:found] unless it is there
+    already; returns the new count."""
+    normalise(ch, q, q0, u)
+    n = q.shape[0]
+    for f in range(found):
+        far = 0.0
+        for i in range(n):
+            far = max(far, abs(u[i] - out_q[f, i]))
+        if far < DUPLICATE_TOL:
+            return found
+    copy_to(out_q[found], u)
+    return found + 1
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -174,7 +192,7 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, step):
     copy_to(ws.q[0], q0)
     best = ws.vec[BEST]
     copy_to(best, q0)
-    found = 0
+    found = ZERO
     n_minima = ZERO
     stuck = 0
     capacity = ws.minima.shape[0]
@@ -195,18 +213,7 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, step):
             stuck += 1
             n_minima = min(stuck, capacity)
         if ok:
-            u = ws.vec[U]
-            normalise(ch, ws.q[cur], q0, u)
-            new = True
-            for f in range(found):
-                far = 0.0
-                for i in range(n):
-                    far = max(far, abs(u[i] - out_q[f, i]))
-                if far < DUPLICATE_TOL:
-                    new = False
-            if new:
-                copy_to(out_q[found], u)
-                found += 1
+            found = _add_solution(ch, ws.q[cur], q0, ws.vec[U], out_q, found)
             if found >= st.max_found:
                 break
         elif not sq >= best_sq:
