@@ -178,7 +178,6 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, step):
     deadline = NO_LIMIT
     if st.iteration_budget == NO_LIMIT and st.timeout_ns != NO_LIMIT:
         deadline = start + st.timeout_ns
-    n = q0.shape[0]
     info[:] = 0
     err[:] = np.nan
     if st.check_reach:
