@@ -22,6 +22,7 @@ from ..status import Status
 from .chain import CONTINUOUS, PRISMATIC, lower, reach, upper
 from .clock import thread_cpu_ns
 from .error import evaluate
+from .linalg import copy_to
 from .problem import BEST, DQ, NO_LIMIT, SHIFT, U
 from .restarts import pick, seed_shift
 from .step import dls, qp, wrapped
@@ -51,7 +52,9 @@ UNREACHABLE = Status.UNREACHABLE.code
 NOT_CONVERGED = Status.NOT_CONVERGED.code
 
 
-@njit(cache=True, nogil=True, inline="always")
+# Step-independent helpers are compiled once and called (not inlined): both entries share
+# them, and each inlined copy would be compiled again.
+@njit(cache=True, nogil=True)
 def _near_known_minimum(ch, q, minima, count):
     n = q.shape[0]
     for m in range(count):
@@ -120,7 +123,7 @@ def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, step):
     return it, False, cur
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def normalise(ch, q, q_ref, out):
     """out: q with continuous angles in (-pi, pi], then every angle shifted by a multiple
     of 2 pi to the value nearest q_ref that stays within the limits (as
@@ -144,6 +147,22 @@ def normalise(ch, q, q_ref, out):
         out[i] = qi
 
 
+@njit(cache=True, nogil=True)
+def _add_solution(ch, q, q0, u, out_q, found):
+    """Append q (normalised near q0, in scratch u) to out_q[:found] unless it is there
+    already; returns the new count."""
+    normalise(ch, q, q0, u)
+    n = q.shape[0]
+    for f in range(found):
+        far = 0.0
+        for i in range(n):
+            far = max(far, abs(u[i] - out_q[f, i]))
+        if far < DUPLICATE_TOL:
+            return found
+    copy_to(out_q[found], u)
+    return found + 1
+
+
 @njit(cache=True, nogil=True, inline="always")
 def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, step):
     """A whole solve of one target: descend from q0, then from restart seeds, until
@@ -159,21 +178,20 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, step):
     deadline = NO_LIMIT
     if st.iteration_budget == NO_LIMIT and st.timeout_ns != NO_LIMIT:
         deadline = start + st.timeout_ns
-    n = q0.shape[0]
     info[:] = 0
     err[:] = np.nan
     if st.check_reach:
         origin, bound = reach(ch)
         d0, d1, d2 = p_t[0] - origin[0], p_t[1] - origin[1], p_t[2] - origin[2]
         if math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) > bound + st.reach_slack:
-            out_q[0, :] = q0
+            copy_to(out_q[0], q0)
             info[0] = UNREACHABLE
             return
     seed_shift(seed, ws.vec[SHIFT])
-    ws.q[0, :] = q0
+    copy_to(ws.q[0], q0)
     best = ws.vec[BEST]
-    best[:] = q0
-    found = 0
+    copy_to(best, q0)
+    found = ZERO
     n_minima = ZERO
     stuck = 0
     capacity = ws.minima.shape[0]
@@ -190,27 +208,16 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, step):
         iterations += its
         sq = ws.val[cur, 2]
         if not ok and sq < CAREFUL_BELOW:  # a local minimum near the target
-            ws.minima[stuck % capacity, :] = ws.q[cur]  # the oldest go first when full
+            copy_to(ws.minima[stuck % capacity], ws.q[cur])  # the oldest go first when full
             stuck += 1
             n_minima = min(stuck, capacity)
         if ok:
-            u = ws.vec[U]
-            normalise(ch, ws.q[cur], q0, u)
-            new = True
-            for f in range(found):
-                far = 0.0
-                for i in range(n):
-                    far = max(far, abs(u[i] - out_q[f, i]))
-                if far < DUPLICATE_TOL:
-                    new = False
-            if new:
-                out_q[found, :] = u
-                found += 1
+            found = _add_solution(ch, ws.q[cur], q0, ws.vec[U], out_q, found)
             if found >= st.max_found:
                 break
         elif not sq >= best_sq:
             best_sq = sq
-            best[:] = ws.q[cur]
+            copy_to(best, ws.q[cur])
             err[0], err[1] = ws.val[cur, 0], ws.val[cur, 1]
         if restarts >= st.max_restarts:
             break

@@ -13,7 +13,7 @@ import math
 from numba import njit
 
 from .fk import forward, jacobian_local
-from .se3 import jlog6_of_log, log3, log6
+from .se3 import jlog6_ab, log3, log6_ab
 
 
 @njit(cache=True, nogil=True)
@@ -38,14 +38,14 @@ def evaluate(ch, st, R_t, p_t, ws, slot):
     jacobian_local(ch, ws.m3[0], ws.v3[0], ws.geo[0], ws.geo[1], J)
     M, t = ws.m3[1], ws.v3[1]
     e = ws.e[slot]
-    theta = log6(M, t, e)
+    theta, alpha, beta, sh = log6_ab(M, t, e)  # alpha, beta: also Jlog6's (same angle)
     # Jlog6 of the inverse (M^T, -M^T t), whose log3 is -log3(M) = -e[3:].
     ti, wi = ws.v3[0], ws.v3[2]
     for i in range(3):
         ti[i] = -(M[0, i] * t[0] + M[1, i] * t[1] + M[2, i] * t[2])
         wi[i] = -e[3 + i]
     Jl = ws.Jlog
-    jlog6_of_log(theta, wi, ti, Jl)
+    jlog6_ab(theta, alpha, beta, sh, wi, ti, Jl)
     A = ws.A[slot]
     n = J.shape[1]
     for c in range(n):  # A = Jlog6 J, with Jlog6's lower-left block zero

@@ -9,10 +9,48 @@ from numba import njit
 
 
 @njit(cache=True, nogil=True, inline="always")
+def copy_to(dst, src):
+    """dst[:] = src for 1-d arrays of one length, as a loop: numba's array-to-array slice
+    assignment compiles its shape-mismatch message (string formatting) at ~2 s per process."""
+    for i in range(dst.shape[0]):
+        dst[i] = src[i]
+
+
+@njit(cache=True, nogil=True, inline="always")
 def _all(free):
     for i in range(free.shape[0]):
         if not free[i]:
             return False
+    return True
+
+
+@njit(cache=True, nogil=True, inline="always")
+def cholesky_dense(H, L, g, x):
+    """x solves H x = g by Cholesky (L: scratch, lower factor with its inverse diagonal),
+    every row free: ``cholesky_solve`` without the mask, for the 6 x 6 task-space system.
+    Returns False when H is not positive definite in floating point."""
+    n = H.shape[0]
+    for i in range(n):
+        for j in range(i + 1):
+            s = H[i, j]
+            for k in range(j):
+                s -= L[i, k] * L[j, k]
+            if i == j:
+                if not s > 0.0:
+                    return False
+                L[i, i] = 1.0 / math.sqrt(s)
+            else:
+                L[i, j] = s * L[j, j]
+    for i in range(n):
+        s = g[i]
+        for k in range(i):
+            s -= L[i, k] * x[k]
+        x[i] = s * L[i, i]
+    for i in range(n - 1, -1, -1):
+        s = x[i]
+        for k in range(i + 1, n):
+            s -= L[k, i] * x[k]
+        x[i] = s * L[i, i]
     return True
 
 

@@ -22,6 +22,7 @@ from numba import njit
 
 from .chain import sample_box
 from .error import candidate_score
+from .linalg import copy_to
 from .problem import CAND, SHIFT
 
 RESTART_CANDIDATES = 4  # restart seeds scored per restart
@@ -66,5 +67,5 @@ def pick(ch, st, R_t, p_t, ws, k, out):
         score = candidate_score(ch, st, cand, R_t, p_t, ws)
         if not score >= best:  # NaN scores (overflowing models) never block a pick
             best = score
-            out[:] = cand
+            copy_to(out, cand)
     return k

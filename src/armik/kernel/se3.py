@@ -72,22 +72,30 @@ def log3(R, w):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _alpha_beta(theta):
-    """alpha = (t/2) cot(t/2) and beta = 1/t^2 - cot(t/2) / (2t), shared by log6, Jlog3 and
-    Jlog6 (Pinocchio's forms t sin t / (2 (1 - cos t)) lose digits to 1 - cos t)."""
+def alpha_beta(theta):
+    """(alpha, beta, sin(theta / 2)): alpha = (t/2) cot(t/2) and beta = 1/t^2 - cot(t/2) / (2t),
+    shared by log6, Jlog3 and Jlog6 (Pinocchio's forms t sin t / (2 (1 - cos t)) lose digits
+    to 1 - cos t); the sine is 0 below SERIES, where the series are used."""
     t2 = theta * theta
     if theta < SERIES:
         alpha = 1.0 - t2 / 12.0 - t2 * t2 / 720.0 - t2 * t2 * t2 / 30240.0
         beta = 1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0 + t2 * t2 * t2 / 1209600.0
-        return alpha, beta
-    cot_half = math.cos(0.5 * theta) / math.sin(0.5 * theta)
-    return 0.5 * theta * cot_half, 1.0 / t2 - cot_half / (2.0 * theta)
+        return alpha, beta, 0.0
+    sh = math.sin(0.5 * theta)
+    cot_half = math.cos(0.5 * theta) / sh
+    return 0.5 * theta * cot_half, 1.0 / t2 - cot_half / (2.0 * theta), sh
 
 
 @njit(cache=True, nogil=True, inline="always")
 def jlog3(theta, w, J):
     """J = Jlog3: the derivative of log3 (Pinocchio's convention: right Jacobian inverse)."""
-    alpha, diag = _alpha_beta(theta)
+    alpha, diag, _ = alpha_beta(theta)
+    jlog3_ab(alpha, diag, w, J)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def jlog3_ab(alpha, diag, w, J):
+    """``jlog3`` from ``alpha_beta(theta)``."""
     for i in range(3):
         for j in range(3):
             J[i, j] = diag * w[i] * w[j]
@@ -103,15 +111,22 @@ def jlog3(theta, w, J):
 @njit(cache=True, nogil=True, inline="always")
 def log6(R, p, out):
     """out = log6((R, p)) = (v, w); returns the angle |w| (rad)."""
+    theta, _, _, _ = log6_ab(R, p, out)
+    return theta
+
+
+@njit(cache=True, nogil=True, inline="always")
+def log6_ab(R, p, out):
+    """``log6``, returning (theta, ``alpha_beta(theta)``) for ``jlog6_ab``."""
     w = out[3:]
     theta = log3(R, w)
-    alpha, beta = _alpha_beta(theta)
+    alpha, beta, sh = alpha_beta(theta)
     wp = w[0] * p[0] + w[1] * p[1] + w[2] * p[2]
     # v = alpha p - 1/2 w x p + beta (w . p) w
     out[0] = alpha * p[0] - 0.5 * (w[1] * p[2] - w[2] * p[1]) + beta * wp * w[0]
     out[1] = alpha * p[1] - 0.5 * (w[2] * p[0] - w[0] * p[2]) + beta * wp * w[1]
     out[2] = alpha * p[2] - 0.5 * (w[0] * p[1] - w[1] * p[0]) + beta * wp * w[2]
-    return theta
+    return theta, alpha, beta, sh
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -123,16 +138,21 @@ def jlog6(R, p, J, w):
 @njit(cache=True, nogil=True, inline="always")
 def jlog6_of_log(theta, w, p, J):
     """Jlog6 of the transform (exp3(w), p) with |w| = theta: for callers that have log3."""
+    alpha, beta, sh = alpha_beta(theta)
+    jlog6_ab(theta, alpha, beta, sh, w, p, J)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def jlog6_ab(theta, alpha, beta, sh, w, p, J):
+    """``jlog6_of_log`` from ``alpha_beta(theta)`` (computed once per evaluation)."""
     A = J[:3, :3]
-    jlog3(theta, w, A)
+    jlog3_ab(alpha, beta, w, A)
     t2 = theta * theta
-    _, beta = _alpha_beta(theta)
     if theta < SERIES:
         beta_dot_over_theta = 1.0 / 360.0 + t2 / 7560.0 + t2 * t2 / 201600.0
     else:
         tinv = 1.0 / theta
         t2inv = tinv * tinv
-        sh = math.sin(0.5 * theta)
         inv_2_2ct = 0.25 / (sh * sh)  # 1 / (2 (1 - cos theta))
         beta_dot_over_theta = (
             -2.0 * t2inv * t2inv + (1.0 + math.sin(theta) * tinv) * t2inv * inv_2_2ct

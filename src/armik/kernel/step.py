@@ -2,12 +2,13 @@
 
 Both solve H dq = g with H = A^T A + lambda I and g = A^T e (+ the null-space pull), with
 lambda = mu c E + lambda_min, E = |e|^2 / 2 (Chan, Sugihara), and bound the step to a
-Euclidean length of MAX_STEP. ``dls`` takes a joint resting on a limit that the step pushes
-further out out of the step (an active set); ``qp`` solves the box QP exactly with a
-primal-dual active set checked by the KKT conditions, and calls the QP backend when that
-fails (a few steps in 10^4). Results land in ws.vec[DQ]. ``dls`` and ``qp`` are the two
-steps; the descent takes one of them as an argument, so that a program that only solves
-with ``dls`` never compiles the QP machinery.
+Euclidean length of MAX_STEP (``dls`` on an arm with more than six joints solves the
+equivalent 6 x 6 system instead: ``task_space_step``). ``dls`` takes a joint resting on a
+limit that the step pushes further out out of the step (an active set); ``qp`` solves
+the box QP exactly with a primal-dual active set checked by the KKT conditions, and calls
+the QP backend when that fails (a few steps in 10^4). Results land in ws.vec[DQ]. ``dls``
+and ``qp`` are the two steps; the descent takes one of them as an argument, so that a
+program that only solves with ``dls`` never compiles the QP machinery.
 """
 
 from __future__ import annotations
@@ -19,7 +20,14 @@ from numba import njit, objmode
 
 from .backend import solve_box_qp
 from .chain import CONTINUOUS, lower, upper
-from .linalg import cholesky_factor, cholesky_solve, cholesky_substitute, solve_spd
+from .linalg import (
+    cholesky_dense,
+    cholesky_factor,
+    cholesky_solve,
+    cholesky_substitute,
+    copy_to,
+    solve_spd,
+)
 from .problem import DQ, FREE, GAP, GI, HELD, HH, LB, MULT, SIDE, UB, UNIT, XF, G, H, L, X
 
 MAX_STEP = 1.0  # rad or m: longest step (Euclidean)
@@ -207,7 +215,7 @@ def qp_step(ch, st, ws, slot):
     lo, hi = lower(ch), upper(ch)
     ws.ivec[FREE][:] = 1
     solve_spd(Hm, g, ws.ivec[FREE], ws.mat[L], dq)
-    x_free[:] = dq
+    copy_to(x_free, dq)
     bound_step(dq)
     inside = True
     for i in range(n):
@@ -226,19 +234,71 @@ def qp_step(ch, st, ws, slot):
             ws.vec[UNIT][:] = 0.0
             found = active_set(ws.mat[GI], x_free, lb, ub, ws.vec[UNIT], *scratch, *rest)
     if found:
-        dq[:] = x
+        copy_to(dq, x)
     else:
         sol = backend_step(Hm.copy(), g.copy(), lb.copy(), ub.copy(), st.backend)
         if not np.isnan(sol[0]):
-            dq[:] = sol
+            copy_to(dq, sol)
         for i in range(n):  # backends meet bounds only to their tolerance
             dq[i] = min(max(dq[i], lb[i]), ub[i])
     bound_step(dq)
 
 
+@njit(cache=True, nogil=True, inline="always")
+def task_space_step(ch, st, ws, slot, q0, mu):
+    """ws.vec[DQ]: the dls step through the 6 x 6 system of an arm with more than six
+    joints; False (nothing decided) when a joint on a limit would be pushed out or the system
+    is not positive definite in floating point: then the joint-space step decides.
+
+    With H = A^T A + lambda I and the pull lambda k d (d = q0 - q), the push-through identity
+    (A^T A + lambda I)^-1 A^T = A^T (A A^T + lambda I)^-1 gives
+    dq = H^-1 (A^T e + lambda k d) = k d + A^T (A A^T + lambda I)^-1 (e - k A d):
+    a 6 x 6 Cholesky instead of an n x n one (measured: 7 joints, ~40 % less time a step)."""
+    A, e, S, Ls = ws.A[slot], ws.e[slot], ws.task[0], ws.task[1]
+    r, y, d, dq = ws.tvec[0], ws.tvec[1], ws.vec[X], ws.vec[DQ]
+    q = ws.q[slot]
+    n = A.shape[1]
+    lam = mu * DAMPING_GAIN * 0.5 * ws.val[slot, 2] + LAMBDA_MIN  # as ``normal_equations``
+    k = 0.0
+    if st.null_gain > 0.0:
+        k = st.null_gain * min(1.0, math.sqrt(2.0 * lam))
+    for i in range(n):
+        di = 0.0
+        if k > 0.0:
+            di = q0[i] - q[i]
+            if ch.kind[i] == CONTINUOUS:
+                di = wrapped(di)
+        d[i] = di
+    for a in range(6):
+        ra = e[a]
+        for i in range(n):
+            ra -= k * A[a, i] * d[i]
+        r[a] = ra
+        for b in range(a + 1):
+            s = 0.0
+            for i in range(n):
+                s += A[a, i] * A[b, i]
+            S[a, b] = s
+        S[a, a] += lam
+    if not cholesky_dense(S, Ls, r, y):
+        return False
+    lo, hi = lower(ch), upper(ch)
+    for i in range(n):
+        s = k * d[i]
+        for a in range(6):
+            s += A[a, i] * y[a]
+        dq[i] = s
+        if (q[i] <= lo[i] + ON_LIMIT and s < 0.0) or (q[i] >= hi[i] - ON_LIMIT and s > 0.0):
+            return False
+    bound_step(dq)
+    return True
+
+
 @njit(cache=True, nogil=True)
 def dls(ch, st, ws, slot, q0, mu):
     """ws.vec[DQ]: the dls step from state ``slot`` (damping multiplier mu)."""
+    if ws.q.shape[1] > 6 and task_space_step(ch, st, ws, slot, q0, mu):
+        return
     normal_equations(ch, st, ws, slot, q0, mu)
     dls_step(ch, ws, slot)
 
