@@ -47,6 +47,8 @@ class SolverSpec:
     run_batch: RunBatch | None = None
     # Optional: a runner for one plain pose with everything that does not depend on the
     # target decided once (``armik.plan``); solvers without it take the general path.
+    # Only for solvers whose ``check`` gives one answer for every full pose: the plan is
+    # chosen once per arm, name and options, on a representative pose.
     prepare_pose: PreparePose | None = None
 
 
