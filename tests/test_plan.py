@@ -225,3 +225,18 @@ def test_position_targets_take_the_general_path():
     r = a.solve(T.translation, seed=0)
     assert r.success and r.orientation_error is None
     assert "reason" in r.__dict__  # built by the general path: its reason written at once
+
+
+def test_to_pin_on_continuous_joints():
+    a = arm("kinova")  # continuous joints: (cos, sin) pairs in Pinocchio's configuration
+    rng = np.random.default_rng(10)
+    for _ in range(20):
+        q = a.random_q(rng) * 3.0  # beyond +-pi too
+        qp = a.to_pin(q)
+        for j in range(a.dof):
+            k = a.model.joints[j + 1].idx_q
+            if a.model.joints[j + 1].nq == 2:
+                assert qp[k] == pytest.approx(np.cos(q[j]), abs=1e-16)
+                assert qp[k + 1] == pytest.approx(np.sin(q[j]), abs=1e-16)
+            else:
+                assert qp[k] == q[j]

@@ -23,6 +23,7 @@ import pinocchio as pin
 
 from . import urdf as urdf_reading
 from .errors import ArmikWarning, FrameError, JointError, OptionError, URDFError, listing
+from .kernel.coordinates import pin_configuration
 from .robots import CATALOGUE, entry
 from .structure import Plane, find_plane
 from .urdf import URDFInfo, read_urdf
@@ -370,9 +371,7 @@ class Arm:
         self._cont = np.flatnonzero(continuous)
         self._simple = np.flatnonzero(~continuous)
         self._identity_q = not continuous.any()
-        # to_pin's index arrays, computed once: simple joints, their slots, cos and sin slots
-        c = idx_q[self._cont]
-        self._pin_plan = (self._simple, idx_q[self._simple], c, c + 1)
+        self._continuous = continuous
         lower = np.full(self.dof, -np.inf)
         upper = np.full(self.dof, np.inf)
         for i in self._simple:
@@ -480,12 +479,11 @@ class Arm:
         """Joint values (one per joint) -> Pinocchio configuration (cos, sin for continuous)."""
         if self._identity_q:
             return np.array(q, dtype=float)
-        simple, simple_q, cos_q, sin_q = self._pin_plan
+        q = np.asarray(q, dtype=float)
+        if q.shape != (self.dof,):
+            raise ValueError(f"q must have {self.dof} values, got shape {q.shape}")
         out = np.empty(self.model.nq)
-        out[simple_q] = q[simple]
-        qc = q[self._cont]
-        out[cos_q] = np.cos(qc)
-        out[sin_q] = np.sin(qc)
+        pin_configuration(q, self._idx_q, self._continuous, out)
         return out
 
     def from_pin(self, qp: np.ndarray, copy: bool = True) -> np.ndarray:
