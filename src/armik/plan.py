@@ -78,7 +78,8 @@ class Plan:
         self.direct = arm.model.nq == arm.dof  # q is Pinocchio's configuration itself
         self.shape = (arm.dof,)
         self.middle = arm.middle
-        self.T_bw = np.ascontiguousarray(arm.T_base_world.homogeneous)
+        self.R_bw = np.ascontiguousarray(arm.T_base_world.rotation, dtype=float)
+        self.p_bw = np.ascontiguousarray(arm.T_base_world.translation, dtype=float)
         self.limits = np.ascontiguousarray(np.stack([arm.lower, arm.upper]), dtype=float)
         w, weighted, measure_rot = _measures_of(opts.weights, opts.position_only, False)
         self.w = np.ascontiguousarray(w, dtype=float)
@@ -131,7 +132,9 @@ class Plan:
             data = self.arm.data
         pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
         H_w = pin.updateFramePlacement(self.model, data, self.frame).homogeneous
-        pos, ori, inside = pose_check(self.T_bw, self.limits, H_w, H, self.w, self.measure, q)
+        pos, ori, inside = pose_check(
+            self.R_bw, self.p_bw, self.limits, H_w, H, self.w, self.measure, q
+        )
         result = self._success(got, pos, ori, inside)
         if result is None:
             return self._finish([_claim(got)], H, q0, opts, t0, False)[0]
@@ -157,7 +160,7 @@ class Plan:
             H_w[i] = pin.updateFramePlacement(model, data, frame).homogeneous
             Q[i] = q
         measured = np.empty((n, 3))
-        pose_checks(self.T_bw, self.limits, H_w, H, self.w, self.measure, Q, measured)
+        pose_checks(self.R_bw, self.p_bw, self.limits, H_w, H, self.w, self.measure, Q, measured)
         results, failed = [], []
         for got, (pos, ori, inside) in zip(rows, measured.tolist()):
             if type(got) is tuple:

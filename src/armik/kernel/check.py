@@ -77,23 +77,21 @@ def within_limits(Q, lower, upper, tol, out):
 
 
 @njit(cache=True, nogil=True)
-def pose_check(T_bw, limits, H_w, H_t, w, measure, q):
+def pose_check(R_bw, p_bw, limits, H_w, H_t, w, measure, q):
     """(position error, orientation error or NaN, within the limits) of one answer ``q``
     whose tip placement Pinocchio computed as the 4x4 ``H_w`` (world frame), against the
     4x4 target ``H_t`` (base frame): ``pose_error`` and ``within_limits`` in one call.
-    ``T_bw``: 4x4 T_base_world; ``limits``: (2, n) lower and upper; ``measure``: bit 1
+    (R_bw, p_bw): T_base_world; ``limits``: (2, n) lower and upper; ``measure``: bit 1
     weighted, bit 2 orientation measured."""
-    pos, ori = pose_error(
-        T_bw[:3, :3],
-        T_bw[:3, 3],
-        H_w[:3, :3],
-        H_w[:3, 3],
-        H_t[:3, :3],
-        H_t[:3, 3],
-        w,
-        measure & 1 != 0,
-        measure & 2 != 0,
-    )
+    # C-ordered copies: ``pose_error`` is then the one ``verify.check`` has compiled
+    R_w, p_w, R_t, p_t = np.empty((3, 3)), np.empty(3), np.empty((3, 3)), np.empty(3)
+    for a in range(3):
+        p_w[a] = H_w[a, 3]
+        p_t[a] = H_t[a, 3]
+        for b in range(3):
+            R_w[a, b] = H_w[a, b]
+            R_t[a, b] = H_t[a, b]
+    pos, ori = pose_error(R_bw, p_bw, R_w, p_w, R_t, p_t, w, measure & 1 != 0, measure & 2 != 0)
     inside = True
     for j in range(q.shape[0]):
         if not (limits[0, j] - LIMIT_TOL <= q[j] <= limits[1, j] + LIMIT_TOL):  # NaN fails
@@ -102,8 +100,8 @@ def pose_check(T_bw, limits, H_w, H_t, w, measure, q):
 
 
 @njit(cache=True, nogil=True)
-def pose_checks(T_bw, limits, H_w, H_t, w, measure, Q, out):
+def pose_checks(R_bw, p_bw, limits, H_w, H_t, w, measure, Q, out):
     """out[i] = ``pose_check`` of answer Q[i] with tip placement H_w[i], for every i."""
     for i in range(Q.shape[0]):
-        out[i, 0], out[i, 1], inside = pose_check(T_bw, limits, H_w[i], H_t, w, measure, Q[i])
+        out[i, 0], out[i, 1], inside = pose_check(R_bw, p_bw, limits, H_w[i], H_t, w, measure, Q[i])
         out[i, 2] = 1.0 if inside else 0.0
