@@ -103,7 +103,23 @@ DLS_STEP = Step(STEP_DLS)
 
 
 def qp_step(backend_name: str) -> Step:
-    return Step(STEP_QP, backend.code(backend_name))
+    which = backend.code(backend_name)
+    if which not in _WARM:
+        _warm(which)
+    return Step(STEP_QP, which)
+
+
+_WARM: set[int] = set()
+
+
+def _warm(which: int) -> None:
+    """Call the backend once from compiled code, on a tiny box QP: the first call through
+    ``numba.objmode`` costs ~40 ms, which would otherwise land inside one solve's budget
+    (measured: one Panda target of 2000 took 47 ms against a 5 ms budget)."""
+    from ..kernel.step import backend_step
+
+    backend_step(2.0 * np.eye(2), np.ones(2), -np.ones(2), np.ones(2), which)
+    _WARM.add(which)
 
 
 def packed_settings(
