@@ -24,6 +24,7 @@ import numpy as np
 import pinocchio as pin
 
 from .arm import Arm
+from .errors import SolverError
 from .ik import registry
 from .ik.attempt import Attempt
 from .kernel.check import pose_check, pose_checks
@@ -59,7 +60,7 @@ def _build(arm: Arm, solver: str, opts: Options):
     pose = parse_target(np.eye(4))  # a full pose: what every plain target is
     try:
         spec = registry.choose(solver, arm, pose, opts)
-    except Exception:  # the general path raises it with its message
+    except SolverError:  # the general path raises it, with its message
         return _NO_PLAN
     if spec.prepare_pose is None:
         return _NO_PLAN

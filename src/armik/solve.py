@@ -27,12 +27,10 @@ def solve(
         return [solve_one(arm, target, q0, solver, options)]
     t0 = time.perf_counter()
     opts, key, seed = _options(options)
-    if key is not None:
-        plan = plan_for(arm, solver, key, opts)
-        if plan is not None:
-            results = plan.solve_all(target, q0, opts, seed, t0)
-            if results is not None:
-                return results
+    plan = None if key is None else plan_for(arm, solver, key, opts)
+    results = None if plan is None else plan.solve_all(target, q0, opts, seed, t0)
+    if results is not None:
+        return results
     return _general(arm, target, q0, solver, _with_seed(opts, seed), True, t0)
 
 
@@ -41,12 +39,10 @@ def solve_one(arm: Arm, target: object, q0: object, solver: str, options: dict) 
     a prepared solve (``armik.plan``) when the input is plain, else the general path."""
     t0 = time.perf_counter()
     opts, key, seed = _options(options)
-    if key is not None:
-        plan = plan_for(arm, solver, key, opts)
-        if plan is not None:
-            result = plan.solve(target, q0, opts, seed, t0)
-            if result is not None:
-                return result
+    plan = None if key is None else plan_for(arm, solver, key, opts)
+    result = None if plan is None else plan.solve(target, q0, opts, seed, t0)
+    if result is not None:
+        return result
     return _general(arm, target, q0, solver, _with_seed(opts, seed), False, t0)[0]
 
 
