@@ -98,16 +98,26 @@ def forward(ch, q, R, p, origins, axes):
 def jacobian_local(ch, R, p, origins, axes, J):
     """J (6 x n): the tip Jacobian in the tip frame (LOCAL) from ``forward``'s outputs."""
     n = origins.shape[0]
+    # R and p read once into locals: the stores into J could alias them as far as the
+    # compiler knows, which made it read them again for every column.
+    r00, r01, r02 = R[0, 0], R[0, 1], R[0, 2]
+    r10, r11, r12 = R[1, 0], R[1, 1], R[1, 2]
+    r20, r21, r22 = R[2, 0], R[2, 1], R[2, 2]
+    px, py, pz = p[0], p[1], p[2]
     for i in range(n):
         wx, wy, wz = axes[i, 0], axes[i, 1], axes[i, 2]
         if ch.kind[i] == PRISMATIC:
             vx, vy, vz = wx, wy, wz
             wx = wy = wz = 0.0
         else:  # v = w x (p_tip - o_i)
-            dx, dy, dz = p[0] - origins[i, 0], p[1] - origins[i, 1], p[2] - origins[i, 2]
+            dx, dy, dz = px - origins[i, 0], py - origins[i, 1], pz - origins[i, 2]
             vx = wy * dz - wz * dy
             vy = wz * dx - wx * dz
             vz = wx * dy - wy * dx
-        for k in range(3):  # rotate into the tip frame: R^T
-            J[k, i] = R[0, k] * vx + R[1, k] * vy + R[2, k] * vz
-            J[3 + k, i] = R[0, k] * wx + R[1, k] * wy + R[2, k] * wz
+        # rotate into the tip frame: R^T
+        J[0, i] = r00 * vx + r10 * vy + r20 * vz
+        J[1, i] = r01 * vx + r11 * vy + r21 * vz
+        J[2, i] = r02 * vx + r12 * vy + r22 * vz
+        J[3, i] = r00 * wx + r10 * wy + r20 * wz
+        J[4, i] = r01 * wx + r11 * wy + r21 * wz
+        J[5, i] = r02 * wx + r12 * wy + r22 * wz

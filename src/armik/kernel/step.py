@@ -21,7 +21,7 @@ from numba import njit, objmode
 from .backend import solve_box_qp
 from .chain import CONTINUOUS, lower, upper
 from .linalg import (
-    cholesky_dense,
+    cholesky6,
     cholesky_factor,
     cholesky_solve,
     cholesky_substitute,
@@ -244,6 +244,45 @@ def qp_step(ch, st, ws, slot):
     bound_step(dq)
 
 
+@njit(cache=True, nogil=True)
+def gram6(A, S):
+    """S[a, b] = sum_i A[a, i] A[b, i] (b <= a) for the 6 rows of A, each sum in the order of
+    i from 0.0 (the numbers of one loop per entry); the 21 sums run side by side in
+    registers, so that each addition need not wait for the one before it (the loop per
+    entry took most of the step's time on the Panda)."""
+    s00 = s10 = s11 = s20 = s21 = s22 = s30 = s31 = s32 = s33 = 0.0
+    s40 = s41 = s42 = s43 = s44 = s50 = s51 = s52 = s53 = s54 = s55 = 0.0
+    for i in range(A.shape[1]):
+        a0, a1, a2, a3, a4, a5 = A[0, i], A[1, i], A[2, i], A[3, i], A[4, i], A[5, i]
+        s00 += a0 * a0
+        s10 += a1 * a0
+        s11 += a1 * a1
+        s20 += a2 * a0
+        s21 += a2 * a1
+        s22 += a2 * a2
+        s30 += a3 * a0
+        s31 += a3 * a1
+        s32 += a3 * a2
+        s33 += a3 * a3
+        s40 += a4 * a0
+        s41 += a4 * a1
+        s42 += a4 * a2
+        s43 += a4 * a3
+        s44 += a4 * a4
+        s50 += a5 * a0
+        s51 += a5 * a1
+        s52 += a5 * a2
+        s53 += a5 * a3
+        s54 += a5 * a4
+        s55 += a5 * a5
+    S[0, 0] = s00
+    S[1, 0], S[1, 1] = s10, s11
+    S[2, 0], S[2, 1], S[2, 2] = s20, s21, s22
+    S[3, 0], S[3, 1], S[3, 2], S[3, 3] = s30, s31, s32, s33
+    S[4, 0], S[4, 1], S[4, 2], S[4, 3], S[4, 4] = s40, s41, s42, s43, s44
+    S[5, 0], S[5, 1], S[5, 2], S[5, 3], S[5, 4], S[5, 5] = s50, s51, s52, s53, s54, s55
+
+
 @njit(cache=True, nogil=True, inline="always")
 def task_space_step(ch, st, ws, slot, q0, mu):
     """ws.vec[DQ]: the dls step through the 6 x 6 system of an arm with more than six
@@ -269,18 +308,20 @@ def task_space_step(ch, st, ws, slot, q0, mu):
             if ch.kind[i] == CONTINUOUS:
                 di = wrapped(di)
         d[i] = di
+    r0, r1, r2, r3, r4, r5 = e[0], e[1], e[2], e[3], e[4], e[5]
+    for i in range(n):  # r = e - k A d, the six sums side by side (each in the order of i)
+        di = d[i]
+        r0 -= k * A[0, i] * di
+        r1 -= k * A[1, i] * di
+        r2 -= k * A[2, i] * di
+        r3 -= k * A[3, i] * di
+        r4 -= k * A[4, i] * di
+        r5 -= k * A[5, i] * di
+    r[0], r[1], r[2], r[3], r[4], r[5] = r0, r1, r2, r3, r4, r5
+    gram6(A, S)
     for a in range(6):
-        ra = e[a]
-        for i in range(n):
-            ra -= k * A[a, i] * d[i]
-        r[a] = ra
-        for b in range(a + 1):
-            s = 0.0
-            for i in range(n):
-                s += A[a, i] * A[b, i]
-            S[a, b] = s
         S[a, a] += lam
-    if not cholesky_dense(S, Ls, r, y):
+    if not cholesky6(S, Ls, r, y):
         return False
     lo, hi = lower(ch), upper(ch)
     for i in range(n):
