@@ -331,3 +331,21 @@ def test_with_limits_rebuilds_the_kernel_chain():
     q[0] = 0.05
     r = narrow.solve(narrow.fk(q), q0=narrow.middle)
     assert r.success and -0.1 <= r.q[0] <= 0.1
+
+
+def test_cholesky6_is_the_general_cholesky_written_out():
+    from armik.kernel.linalg import cholesky6, cholesky_solve
+
+    rng = np.random.default_rng(11)
+    free = np.ones(6, dtype=np.int64)
+    for _ in range(200):
+        A = rng.standard_normal((6, 7))
+        H = A @ A.T + rng.uniform(1e-9, 1.0) * np.eye(6)
+        g = rng.standard_normal(6)
+        x6, L6, x, L = np.empty(6), np.empty((6, 6)), np.empty(6), np.empty((6, 6))
+        assert cholesky6(H, L6, g, x6) and cholesky_solve(H, g, free, L, x)
+        assert np.array_equal(x6, x)  # the same operations in the same order
+        assert np.allclose(H @ x6, g, rtol=1e-9, atol=1e-9 * np.abs(g).max())
+    H = np.eye(6)
+    H[4, 4] = -1.0  # not positive definite
+    assert not cholesky6(H, np.empty((6, 6)), np.ones(6), np.empty(6))
