@@ -71,7 +71,7 @@ def main() -> None:
     st = unpack(*pack_settings(st_py))
     ch = arm.kernel_chain.flat
     ws = workspace(arm.dof, 4)
-    q0 = np.ascontiguousarray(arm.from_pin(arm.middle) if hasattr(arm, "middle") else Q[0])
+    q0 = np.ascontiguousarray(arm.middle)  # joint values (rad, m), as the kernel takes them
     ev = best_ns(_evaluate, ch, st, R_t, p_t, ws, Q, ROUNDS)
     it = best_ns(_iteration, ch, st, R_t, p_t, ws, Q, q0, use_qp, ROUNDS)
     name = "qp" if use_qp else "dls"

@@ -97,7 +97,10 @@ def dls_step(ch, ws, slot):
     q = ws.q[slot]
     lo, hi = lower(ch), upper(ch)
     free[:] = 1
-    solve_spd(Hm, g, free, Lm, dq)
+    # six joints: the written-out Cholesky (the same numbers); else, or when it fails, the
+    # general one (which fails alike, then raises the diagonal)
+    if q.shape[0] != 6 or not cholesky6(Hm, Lm, g, dq):
+        solve_spd(Hm, g, free, Lm, dq)
     blocked = False
     for i in range(q.shape[0]):
         if (q[i] <= lo[i] + ON_LIMIT and dq[i] < 0.0) or (q[i] >= hi[i] - ON_LIMIT and dq[i] > 0.0):
