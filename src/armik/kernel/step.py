@@ -217,7 +217,8 @@ def qp_step(ch, st, ws, slot):
     n = q.shape[0]
     lo, hi = lower(ch), upper(ch)
     ws.ivec[FREE][:] = 1
-    solve_spd(Hm, g, ws.ivec[FREE], ws.mat[L], dq)
+    if n != 6 or not cholesky6(Hm, ws.mat[L], g, dq):  # as in dls_step
+        solve_spd(Hm, g, ws.ivec[FREE], ws.mat[L], dq)
     copy_to(x_free, dq)
     bound_step(dq)
     inside = True
