@@ -240,3 +240,43 @@ def test_to_pin_on_continuous_joints():
                 assert qp[k + 1] == pytest.approx(np.sin(q[j]), abs=1e-16)
             else:
                 assert qp[k] == q[j]
+
+
+def test_plain_pose_agrees_with_the_parser_on_corrupted_matrices():
+    # Whatever the plan's compiled checks let through must be what the parser keeps as is;
+    # everything else must end as the general path ends (same result or same error).
+    from armik.kernel.single import plain_pose
+
+    a = arm("panda")
+    rng = np.random.default_rng(12)
+    base = a.fk(a.random_q(rng)).homogeneous
+    cases = []
+    for scale in (1e-16, 1e-15, 5e-15, 1e-14, 2e-14, 1e-13, 1e-9, 1e-3):
+        H = base.copy()
+        H[:3, :3] += scale * rng.standard_normal((3, 3))
+        cases.append(H)
+    for row in ((0, 0, 0, 1 + 1e-13), (0, 0, 0, 1 + 1e-11), (1e-13, 0, 0, 1), (0, 0, 0, 2)):
+        H = base.copy()
+        H[3] = row
+        cases.append(H)
+    for i, j, v in ((0, 3, np.nan), (1, 1, np.inf), (2, 3, 2e6), (2, 3, 1e6)):
+        H = base.copy()
+        H[i, j] = v
+        cases.append(H)
+    H = base.copy()
+    H[:3, 0] *= -1.0  # a reflection
+    cases.append(H)
+    for H in cases:
+        try:
+            kept = parse_target(H, a)
+        except TargetError:
+            kept = None
+        exact = kept is not None and np.array_equal(kept.rotation, H[:3, :3])
+        exact = exact and np.array_equal(kept.position, H[:3, 3])
+        if plain_pose(H):
+            assert exact  # the plan takes only what the parser keeps unchanged
+        if kept is None:
+            with pytest.raises(TargetError):
+                a.solve(H, seed=0)
+        else:
+            _same(a.solve(H, seed=0), _general(a, H, seed=0))
