@@ -33,7 +33,7 @@ from .result import IKResult
 from .status import Status
 from .targets import parse_target
 from .verdict import finish, ranked, success_reason, verdict
-from .verify import Check, _measures_of
+from .verify import Check, measures_of
 
 _FLOAT = np.dtype(float)
 _SE3 = pin.SE3
@@ -82,7 +82,7 @@ class Plan:
         self.R_bw = np.ascontiguousarray(arm.T_base_world.rotation, dtype=float)
         self.p_bw = np.ascontiguousarray(arm.T_base_world.translation, dtype=float)
         self.limits = np.ascontiguousarray(np.stack([arm.lower, arm.upper]), dtype=float)
-        w, weighted, measure_rot = _measures_of(opts.weights, opts.position_only, False)
+        w, weighted, measure_rot = measures_of(opts.weights, opts.position_only, False)
         self.w = np.ascontiguousarray(w, dtype=float)
         self.measure = int(weighted) | (2 if measure_rot else 0)
         self.measure_rot = measure_rot

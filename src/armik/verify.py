@@ -75,11 +75,11 @@ _TOL_TEXT: dict[float, str] = {}
 
 def _measures(opts: Options, position_only: bool) -> tuple[np.ndarray, bool, bool]:
     """(weights, weighted, orientation measured) for a target kind."""
-    return _measures_of(opts.weights, opts.position_only, position_only)
+    return measures_of(opts.weights, opts.position_only, position_only)
 
 
 @lru_cache(maxsize=256)
-def _measures_of(weights, position_only_option: bool, position_only_target: bool):
+def measures_of(weights, position_only_option: bool, position_only_target: bool):
     w = Options(weights=weights, position_only=position_only_option).weight_vector(
         position_only_target
     )
@@ -96,7 +96,7 @@ def check(arm: Arm, q: np.ndarray, target: Target, opts: Options) -> Check:
     direct = type(q) is np.ndarray and q.dtype == _FLOAT and model.nq == arm.dof
     pin.forwardKinematics(model, data, q if direct else arm.to_pin(q))
     T = pin.updateFramePlacement(model, data, arm.tip_frame_id)
-    w, weighted, measure_rot = _measures_of(
+    w, weighted, measure_rot = measures_of(
         opts.weights, opts.position_only, target.rotation is None
     )
     ch = arm.kernel_chain.chain
@@ -144,7 +144,7 @@ def check_many(arm: Arm, qs: list[np.ndarray], target: Target, opts: Options) ->
         T = place(model, data, fid)
         R_w[i] = T.rotation
         p_w[i] = T.translation
-    w, weighted, measure_rot = _measures_of(
+    w, weighted, measure_rot = measures_of(
         opts.weights, opts.position_only, target.rotation is None
     )
     R_t = np.empty((n, 3, 3))
