@@ -80,6 +80,8 @@ def _measures(opts: Options, position_only: bool) -> tuple[np.ndarray, bool, boo
 
 @lru_cache(maxsize=256)
 def measures_of(weights, position_only_option: bool, position_only_target: bool):
+    """(weights (6,), weighted, orientation measured): what the check measures for these
+    options (``weights``, ``position_only``) and target kind, remembered."""
     w = Options(weights=weights, position_only=position_only_option).weight_vector(
         position_only_target
     )
