@@ -219,12 +219,45 @@ def test_plan_on_variants_and_options(name, load_kw, options):
         _same(fast, general)
 
 
-def test_position_targets_take_the_general_path():
+@pytest.mark.parametrize(
+    "name, options",
+    [
+        ("panda", {}),
+        ("ur5", {}),  # auto: the closed form refuses positions, dls is chosen
+        ("kinova", {"solver": "qp"}),
+        ("planar_3link", {}),
+        ("xarm7", {"weights": (1, 1, 0.5, 0, 0, 0), "tol_position": 1e-8}),
+    ],
+)
+def test_position_targets_are_prepared_too(name, options):
+    a = arm(name)
+    rng = np.random.default_rng(9)
+    for k in range(8):
+        p = a.fk(a.random_q(rng)).translation.copy()
+        q0 = None if k % 2 else a.random_q(rng)
+        fast = a.solve(p, q0=q0, seed=k, **options)
+        general = _general(a, p, q0=q0, seed=k, **options)
+        assert fast.success and fast.orientation_error is None
+        _same(fast, general)
+    assert "_reason" in fast.__dict__  # the prepared path (its reason written lazily)
+
+
+def test_other_vector_targets_take_the_general_path():
     a = arm("panda")
     T = a.fk(a.random_q(np.random.default_rng(9)))
-    r = a.solve(T.translation, seed=0)
-    assert r.success and r.orientation_error is None
-    assert "reason" in r.__dict__  # built by the general path: its reason written at once
+    p = T.translation
+    for target in (list(p), p.astype(np.float32), np.concatenate([p, [0, 0, 0, 1.0]])):
+        r = a.solve(target, seed=0)
+        assert r.success and "reason" in r.__dict__  # general: the reason written at once
+    far = np.array([5.0, 0.0, 0.0])
+    r = a.solve(far, seed=0)
+    assert r.status == "unreachable"
+    _same(r, _general(a, far, seed=0))
+    kw = dict(solver="dls", max_restarts=0, max_iterations=1, seed=0)
+    near = p + 0.05
+    r = a.solve(near, **kw)
+    assert r.status == "not_converged" and r.orientation_error is None
+    _same(r, _general(a, near, **kw))
 
 
 def test_to_pin_on_continuous_joints():

@@ -2,14 +2,15 @@
 
 Most of what ``solve`` does does not depend on the target: choosing the solver, building
 its settings, finding what the check measures. A ``Plan`` does it once per (arm, solver
-name, options other than ``seed``) and keeps it. For a target given as a ``pinocchio.SE3``
-or a C-ordered float64 4x4 array, and ``q0`` None or a float64 array of one value per
-joint, the plan hands the 4x4 to the solver's compiled runner (``SolverSpec.prepare_pose``),
-which checks in compiled code that the pose and seed are what the parser and ``Arm.seed``
-would pass unchanged, then solves. Pinocchio computes the answer's tip placement and
-compiled code measures it (``kernel.check.pose_check``), as ``verify.check`` does. The
-result is the one the general path builds, field for field (tests/test_plan.py); its
-reason text is written on first read.
+name, options other than ``seed``, target kind) and keeps it. For a target given as a
+``pinocchio.SE3`` or a C-ordered float64 4x4 array (a position target: a float64 array of
+3, held as a 4x4 with the identity rotation that the settings ignore), and ``q0`` None or a
+float64 array of one value per joint, the plan hands the 4x4 to the solver's compiled
+runner (``SolverSpec.prepare_pose``), which checks in compiled code that the pose and seed
+are what the parser and ``Arm.seed`` would pass unchanged, then solves. Pinocchio computes
+the answer's tip placement and compiled code measures it (``kernel.check.pose_check``), as
+``verify.check`` does. The result is the one the general path builds, field for field
+(tests/test_plan.py); its reason text is written on first read.
 
 Anything else (another input form, a seed outside the limits, an answer the check refuses,
 a claim other than converged) goes the general way: ``solve.py`` and ``verdict.py``.
@@ -41,39 +42,46 @@ _CONVERGED = Status.CONVERGED
 _NO_PLAN = object()  # remembered: this solver and options have no plan
 
 
-def plan_for(arm: Arm, solver: str, key: tuple, opts: Options) -> Plan | None:
-    """The plan of ``arm`` for ``solver`` and the options whose ``solve._options`` key is
-    ``key`` (None when the solver has no runner or does not apply to full poses)."""
+def plan_for(
+    arm: Arm, solver: str, key: tuple, opts: Options, position: bool = False
+) -> Plan | None:
+    """The plan of ``arm`` for ``solver``, the options whose ``solve._options`` key is
+    ``key`` and full poses (or positions, with ``position``); None when the solver has no
+    runner or does not apply to that kind of target."""
     plans = arm.__dict__.get("_plans")
     if plans is None or plans.get("generation") != registry.generation:
         plans = arm.__dict__["_plans"] = {"generation": registry.generation}
-    plan = plans.get((solver, key))
+    plan = plans.get((solver, key, position))
     if plan is None:
-        plan = _build(arm, solver, opts)
+        plan = _build(arm, solver, opts, position)
         if len(plans) > 64:
             plans = arm.__dict__["_plans"] = {"generation": registry.generation}
-        plans[(solver, key)] = plan
+        plans[(solver, key, position)] = plan
     return None if plan is _NO_PLAN else plan
 
 
-def _build(arm: Arm, solver: str, opts: Options):
-    pose = parse_target(np.eye(4))  # a full pose: what every plain target is
+def _build(arm: Arm, solver: str, opts: Options, position: bool):
+    # a target of the kind every plain target of the plan is
+    target = parse_target(np.zeros(3) if position else np.eye(4), arm)
     try:
-        spec = registry.choose(solver, arm, pose, opts)
+        spec = registry.choose(solver, arm, target, opts)
     except SolverError:  # the general path raises it, with its message
         return _NO_PLAN
     if spec.prepare_pose is None:
         return _NO_PLAN
-    return Plan(arm, spec, opts)
+    return Plan(arm, spec, opts, position)
 
 
 class Plan:
     """One arm, one solver, one set of options (all but ``seed``); see the module."""
 
-    def __init__(self, arm: Arm, spec: registry.SolverSpec, opts: Options) -> None:
+    def __init__(
+        self, arm: Arm, spec: registry.SolverSpec, opts: Options, position: bool = False
+    ) -> None:
         self.arm = arm
         self.solver = spec.name
-        self.run_pose = spec.prepare_pose(arm, opts)
+        self.position = position  # targets are positions (x, y, z), not full poses
+        self.run_pose = spec.prepare_pose(arm, opts, position)
         self.model, self.frame = arm.model, arm.tip_frame_id
         self.local = arm._local  # where ``Arm.data`` keeps each thread's Pinocchio Data
         self.direct = arm.model.nq == arm.dof  # q is Pinocchio's configuration itself
@@ -82,7 +90,7 @@ class Plan:
         self.R_bw = np.ascontiguousarray(arm.T_base_world.rotation, dtype=float)
         self.p_bw = np.ascontiguousarray(arm.T_base_world.translation, dtype=float)
         self.limits = np.ascontiguousarray(np.stack([arm.lower, arm.upper]), dtype=float)
-        w, weighted, measure_rot = measures_of(opts.weights, opts.position_only, False)
+        w, weighted, measure_rot = measures_of(opts.weights, opts.position_only, position)
         self.w = np.ascontiguousarray(w, dtype=float)
         self.measure = int(weighted) | (2 if measure_rot else 0)
         self.measure_rot = measure_rot
@@ -91,7 +99,17 @@ class Plan:
     def _plain(self, target: object, q0: object):
         """(H, q0) for the runner when both are plain in type and shape, else None."""
         kind = type(target)
-        if kind is _SE3:
+        if self.position:
+            if not (
+                kind is np.ndarray
+                and target.dtype == _FLOAT
+                and target.shape == (3,)
+                and target.flags.c_contiguous
+            ):
+                return None
+            H = np.eye(4)  # the rotation is not measured: the identity, as the parser has it
+            H[0, 3], H[1, 3], H[2, 3] = target.tolist()
+        elif kind is _SE3:
             H = target.homogeneous  # a fresh C-ordered 4x4
         elif (
             kind is np.ndarray
@@ -210,7 +228,7 @@ class Plan:
         return result
 
     def _finish(self, attempts, H, q0, opts: Options, t0: float, every: bool):
-        target = parse_target(H, self.arm)
+        target = parse_target(H[:3, 3].copy() if self.position else H, self.arm)
         return finish(self.arm, self.solver, attempts, target, opts, q0, every, t0)
 
 

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import time
 
+import numpy as np
+
 from .arm import Arm
 from .ik import registry
 from .options import Options
@@ -27,7 +29,7 @@ def solve(
         return [solve_one(arm, target, q0, solver, options)]
     t0 = time.perf_counter()
     opts, key, seed = _options(options)
-    plan = None if key is None else plan_for(arm, solver, key, opts)
+    plan = None if key is None else plan_for(arm, solver, key, opts, _is_vector(target))
     results = None if plan is None else plan.solve_all(target, q0, opts, seed, t0)
     if results is not None:
         return results
@@ -39,11 +41,17 @@ def solve_one(arm: Arm, target: object, q0: object, solver: str, options: dict) 
     a prepared solve (``armik.plan``) when the input is plain, else the general path."""
     t0 = time.perf_counter()
     opts, key, seed = _options(options)
-    plan = None if key is None else plan_for(arm, solver, key, opts)
+    plan = None if key is None else plan_for(arm, solver, key, opts, _is_vector(target))
     result = None if plan is None else plan.solve(target, q0, opts, seed, t0)
     if result is not None:
         return result
     return _general(arm, target, q0, solver, _with_seed(opts, seed), False, t0)[0]
+
+
+def _is_vector(target: object) -> bool:
+    """An array of one dimension: a position target for the plan (other lengths are left
+    to the general path by the plan itself)."""
+    return type(target) is np.ndarray and target.ndim == 1
 
 
 def _general(arm, target, q0, solver, opts: Options, all_solutions: bool, t0: float):

@@ -39,8 +39,8 @@ def run_batch(
     return run_numeric_batch(arm, targets, q0, opts, DLS_STEP, seeds)
 
 
-def prepare_pose(arm: Arm, opts: Options):
-    return pose_runner(arm, opts, DLS_STEP)
+def prepare_pose(arm: Arm, opts: Options, position_only: bool):
+    return pose_runner(arm, opts, DLS_STEP, position_only)
 
 
 SPEC = register(

@@ -234,15 +234,15 @@ def attempts(arm: Arm, position, q0, opts: Options, sf, info, out_q, err) -> lis
     ]
 
 
-def pose_runner(arm: Arm, opts: Options, step: Step):
+def pose_runner(arm: Arm, opts: Options, step: Step, position_only: bool = False):
     """``run_pose(H, q0, seed)`` for ``plan.py``: one plain 4x4 pose ``H`` (base frame)
-    from ``q0`` through the kernel's single-pose entry. Returns None when ``H`` or ``q0``
-    is not plain, or for ``every`` (nothing was solved: take the general path); for a
-    converged claim
-    (q, iterations, restarts, branch, singular, reason function, its arguments); else the
-    attempts for the general verdict."""
+    from ``q0`` through the kernel's single-pose entry; with ``position_only``, H holds a
+    position target (its rotation the identity, which the settings then ignore). Returns
+    None when ``H`` or ``q0`` is not plain, or for ``every`` (nothing was solved: take the
+    general path); for a converged claim (q, iterations, restarts, branch, singular, reason
+    function, its arguments); else the attempts for the general verdict."""
     dof = arm.dof
-    sf, si = packed_settings(opts, False, dof, 1, step)
+    sf, si = packed_settings(opts, position_only, dof, 1, step)
     entry = POSE_ENTRIES[step.kind]
     packed, kind, halton_ = arm.kernel_chain.flat
     converged_code = _descent.CONVERGED

@@ -85,8 +85,8 @@ def run_batch(
     return run_numeric_batch(arm, targets, q0, opts, qp_step(opts.qp_solver), seeds)
 
 
-def prepare_pose(arm: Arm, opts: Options):
-    return pose_runner(arm, opts, qp_step(opts.qp_solver))
+def prepare_pose(arm: Arm, opts: Options, position_only: bool):
+    return pose_runner(arm, opts, qp_step(opts.qp_solver), position_only)
 
 
 SPEC = register(

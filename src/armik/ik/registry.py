@@ -25,9 +25,9 @@ Check = Callable[["Arm", "Target | None", "Options | None"], "str | None"]
 Run = Callable[["Arm", "Target", "np.ndarray", "Options", bool], "list[Attempt]"]
 # Many targets, one best attempt each: (arm, targets, q0 (N, dof), options) -> arrays.
 RunBatch = Callable[["Arm", "TargetBatch", "np.ndarray", "Options"], "AttemptBatch"]
-# One plain 4x4 pose at a time, prepared once per arm and options (see ``armik.plan``):
-# (arm, options) -> run_pose(H, q0, seed).
-PreparePose = Callable[["Arm", "Options"], Callable]
+# One plain 4x4 pose at a time, prepared once per arm, options and target kind (see
+# ``armik.plan``): (arm, options, position_only) -> run_pose(H, q0, seed).
+PreparePose = Callable[["Arm", "Options", bool], Callable]
 
 
 @dataclass(frozen=True)

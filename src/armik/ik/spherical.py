@@ -254,7 +254,8 @@ def run_batch(arm: Arm, targets, q0: np.ndarray, opts: Options, seeds=None) -> A
     return sixr.batch(arm, targets, q0, opts, many, variant)
 
 
-def prepare_pose(arm: Arm, opts: Options):
+def prepare_pose(arm: Arm, opts: Options, position_only: bool):
+    # position_only is always False: ``applies`` refuses position targets
     geo = sixr.geometry(arm, FAMILY, _classify)
     variant = 0 if geo.variant == "parallel_23" else 1
     return sixr.pose_runner(arm, opts, FAMILY, _classify, solve_pose, CLOSED_FORM, variant)

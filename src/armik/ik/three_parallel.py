@@ -204,7 +204,8 @@ def run_batch(arm: Arm, targets, q0: np.ndarray, opts: Options, seeds=None) -> A
     return sixr.batch(arm, targets, q0, opts, many)
 
 
-def prepare_pose(arm: Arm, opts: Options):
+def prepare_pose(arm: Arm, opts: Options, position_only: bool):
+    # position_only is always False: ``applies`` refuses position targets
     return sixr.pose_runner(arm, opts, FAMILY, _classify, solve_pose, CLOSED_FORM)
 
 
