@@ -203,7 +203,12 @@ def spherical_wrist(arm: Arm, ax: Axes | None = None) -> Chain6R | str:
     why = _common_6r(arm)
     if why:
         return why
-    ax = ax or axis_lines(arm)
+    return spherical_wrist_axes(ax or axis_lines(arm))
+
+
+def spherical_wrist_axes(ax: Axes) -> Chain6R | str:
+    """The spherical-wrist geometry of six revolute axis lines (``spherical_wrist`` without
+    the arm: for chains built from part of an arm), or the reason it is not one."""
     P, H = ax.points, ax.directions
     for i, j in ((3, 4), (4, 5)):
         ang = angle_between(H[i], H[j])
