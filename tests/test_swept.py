@@ -62,3 +62,15 @@ def test_an_unreachable_target_fails_with_the_reason():
     assert not r.success and r.status == "unreachable"
     assert "too far" in r.reason
     assert np.all(np.isfinite(r.q))
+
+
+@pytest.mark.parametrize("q7", [-2.8973, -1.0, 0.0, 0.3, 2.8973])
+def test_the_sweep_tries_every_cell_once_nearest_first(q7):
+    lo, hi = -2.8973, 2.8973
+    values = [swept.theta_at(k, q7, lo, hi) for k in range(swept.SWEEP + 1)]
+    assert values[0] == q7
+    width = (hi - lo) / swept.SWEEP
+    centres = sorted(lo + (i + 0.5) * width for i in range(swept.SWEEP))
+    assert sorted(values[1:]) == pytest.approx(centres, abs=1e-12)
+    distances = [abs(v - q7) for v in values[1:]]
+    assert all(a <= b + 1e-12 for a, b in zip(distances, distances[1:]))

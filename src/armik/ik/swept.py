@@ -24,17 +24,19 @@ import weakref
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from ..arm import Arm
 from ..options import Options
 from ..status import Status
 from ..structure import Axes, Chain6R, axis_lines, spherical_wrist_axes
+from ..subproblems import rot, vec
 from ..targets import Target
 from . import sixr, spherical
 from .attempt import Attempt
 from .registry import SolverSpec, register
 
-SWEEP = 32  # values of joint 7 tried after q0's, spread over its range
+SWEEP = 128  # values of joint 7 tried after q0's, spread over its range
 
 
 @dataclass(frozen=True)
@@ -92,42 +94,81 @@ def applies(arm: Arm, target: Target | None = None, opts: Options | None = None)
     return None
 
 
-def _rotation(u: np.ndarray, angle: float) -> np.ndarray:
-    """Rotation by ``angle`` about the unit axis ``u`` (Rodrigues)."""
-    K = np.array([[0.0, -u[2], u[1]], [u[2], 0.0, -u[0]], [-u[1], u[0], 0.0]])
-    return np.eye(3) + math.sin(angle) * K + (1.0 - math.cos(angle)) * (K @ K)
-
-
-def thetas(arm: Arm, q7: float) -> list[float]:
-    """q0's value of joint 7, then ``SWEEP`` values over its range, nearest to it first."""
+def sweep_range(arm: Arm, q7: float) -> tuple[float, float]:
+    """The range joint 7 is swept over: its limits ([q7 - pi, q7 + pi] when it has none)."""
     lo, hi = float(arm.lower[6]), float(arm.upper[6])
     if not (math.isfinite(lo) and math.isfinite(hi)):
-        lo, hi = q7 - math.pi, q7 + math.pi
-    grid = [lo + (hi - lo) * (k + 0.5) / SWEEP for k in range(SWEEP)]
-    return [q7] + sorted(grid, key=lambda th: abs(th - q7))
+        return q7 - math.pi, q7 + math.pi
+    return lo, hi
 
 
-def solve_held(arm: Arm, sw: Swept, R: np.ndarray, p: np.ndarray, q0: np.ndarray, theta: float,
-               opts: Options) -> np.ndarray:  # fmt: skip
-    """Every branch with joint 7 at ``theta``, nearest q0 first: ``sixr.pack``'s rows with
-    the joint values mapped back to the 7R chain (q (7), flags, branch, code, values)."""
-    Rg = _rotation(sw.u, -theta)
+@njit(cache=True)
+def theta_at(k, q7, lo, hi):
+    """The k-th value of joint 7 tried: q7 for k = 0, then the ``SWEEP`` cell centres of
+    [lo, hi], nearest q7 first (alternating sides outward from q7's cell)."""
+    if k == 0:
+        return q7
+    width = (hi - lo) / SWEEP
+    i0 = min(max(int((q7 - lo) / width), 0), SWEEP - 1)  # q7's cell
+    left, right = i0, i0 + 1  # the next cell centre on each side
+    for _ in range(k - 1):  # k - 1 values taken before this one
+        go_left = right >= SWEEP or (
+            left >= 0 and q7 - (lo + (left + 0.5) * width) <= lo + (right + 0.5) * width - q7
+        )
+        if go_left:
+            left -= 1
+        else:
+            right += 1
+    go_left = right >= SWEEP or (
+        left >= 0 and q7 - (lo + (left + 0.5) * width) <= lo + (right + 0.5) * width - q7
+    )
+    return lo + ((left if go_left else right) + 0.5) * width
+
+
+@njit(cache=True)
+def held_target(c, u, R, pos, theta):
+    """The target of the reversed chain with joint 7 at ``theta``: T6^-1, T6 = T_target
+    G(theta), G the turn by -theta about the line through ``c`` along ``u`` (tip frame)."""
+    Rg = mat_array(rot(vec(u), -theta))
     R6 = R @ Rg
-    p6 = R @ (sw.c - Rg @ sw.c) + p
+    p6 = R @ (c - Rg @ c) + pos
     R_inv = np.ascontiguousarray(R6.T)
-    p_inv = np.ascontiguousarray(-(R6.T @ p6))
-    rev = slice(5, None, -1)
-    out, _ = spherical.kernel(
-        sw.geo.h, sw.geo.p, sw.geo.R_tip0, R_inv, p_inv,
-        np.ascontiguousarray(q0[rev]), np.ascontiguousarray(arm.lower[rev]),
-        np.ascontiguousarray(arm.upper[rev]), opts.tol_position, opts.tol_orientation,
-        sw.variant, True,
-    )  # fmt: skip
-    rows = np.empty((out.shape[0], 12))
-    rows[:, :6] = out[:, 5::-1]
-    rows[:, 6] = theta
-    rows[:, 7:] = out[:, 6:]
-    return rows
+    return R_inv, -(R_inv @ p6)
+
+
+@njit(cache=True)
+def mat_array(M):
+    """A 9-tuple (row-major) as a 3x3 array."""
+    A = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            A[i, j] = M[3 * i + j]
+    return A
+
+
+@njit(cache=True)
+def first_held(h, p, R_tip0, variant, c, u, R, pos, q0r, lower, upper, q7, lo, hi, tol_p, tol_r):
+    """The first value of joint 7 (``theta_at``) at which joints 6 to 1 (reversed: ``q0r``,
+    ``lower``, ``upper`` in their order) reach the target exactly within their limits: that
+    value and its rows (``sixr.pack``'s, nearest q0 first); (q7, its rows, False) when no
+    value does."""
+    first = np.empty((0, 11))
+    for k in range(SWEEP + 1):
+        theta = theta_at(k, q7, lo, hi)
+        R_inv, p_inv = held_target(c, u, R, pos, theta)
+        out, _ = spherical.kernel(
+            h, p, R_tip0, R_inv, p_inv, q0r, lower, upper, tol_p, tol_r, variant, True
+        )
+        if k == 0:
+            first = out
+        if out.shape[0] > 0 and not int(out[0, 6]) & sixr.LS:
+            inside = True  # row 0 is within the limits if any exact row is (pack's order)
+            for j in range(6):
+                if not lower[j] - sixr.LIMIT_TOL <= out[0, j] <= upper[j] + sixr.LIMIT_TOL:
+                    inside = False
+            if inside:
+                return theta, out, True
+    return q7, first, False
 
 
 def _attempts(rows: np.ndarray, theta: float) -> list[Attempt]:
@@ -149,20 +190,24 @@ def run(
     arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
 ) -> list[Attempt]:
     sw = geometry(arm)
-    R, p = sixr.pose_arrays(target)
+    R, pos = sixr.pose_arrays(target)
     q0 = np.asarray(q0, dtype=float)
-    first = None
-    for theta in thetas(arm, float(q0[6])):
-        rows = solve_held(arm, sw, R, p, q0, theta, opts)
+    rev = slice(5, None, -1)
+    q7 = float(q0[6])
+    theta, out, found = first_held(
+        sw.geo.h, sw.geo.p, sw.geo.R_tip0, sw.variant, sw.c, sw.u, R, pos,
+        np.ascontiguousarray(q0[rev]), np.ascontiguousarray(arm.lower[rev]),
+        np.ascontiguousarray(arm.upper[rev]), q7, *sweep_range(arm, q7),
+        opts.tol_position, opts.tol_orientation,
+    )  # fmt: skip
+    rows = np.empty((out.shape[0], 12))
+    rows[:, :6] = out[:, 5::-1]  # joints 1 to 6 again
+    rows[:, 6] = theta
+    rows[:, 7:] = out[:, 6:]
+    if all_solutions:
         exact = [r for r in rows if not int(r[7]) & sixr.LS]
-        inside = [r for r in exact if arm.within_limits(r[:7])]
-        if first is None:
-            first = (rows, theta)
-        if inside:
-            keep = np.array(exact if all_solutions else inside[:1])
-            return _attempts(keep, theta)
-    rows, theta = first  # nothing within the limits: q0's value, for the verdict's reasons
-    return _attempts(rows if all_solutions else rows[:1], theta)
+        return _attempts(np.array(exact) if exact and found else rows, theta)
+    return _attempts(rows[:1], theta)
 
 
 SPEC = register(
