@@ -8,6 +8,7 @@ import pinocchio as pin
 import pytest
 
 import armik
+from armik import structure
 from armik.ik import swept
 
 from .conftest import arm
@@ -20,6 +21,9 @@ def test_which_arms_it_applies_to():
     assert "do not meet" in why and "m" in why
     T = arm("panda").fk(arm("panda").middle)
     assert arm("panda").solve(T).solver == "dls"  # not chosen by auto
+    classes = structure.classify(arm("panda"))  # what armik info prints
+    assert isinstance(classes["swept_7r"], structure.Swept)
+    assert "joints 6 to 1" in classes["swept_7r"].description
 
 
 @pytest.mark.parametrize("load_kw", [{}, {"tip_offset": (0.02, -0.01, 0.1)}])

@@ -285,6 +285,46 @@ def _not_planar(arm: Arm, ax: Axes) -> str:
     return f"axes 1 and {i + 2} are {_fmt(angles[i])} rad apart (tolerance {PARALLEL_TOL:g} rad)"
 
 
+@dataclass(frozen=True)
+class Swept:
+    """A 7R arm read as joints 6 to 1 from the tip (a 6R chain) and joint 7's axis line in
+    the tip frame at q = 0."""
+
+    geo: Chain6R
+    variant: int  # spherical.kernel's: 0 axes 2, 3 parallel, 1 axes 1, 2 meeting
+    c: np.ndarray  # a point on joint 7's axis (tip frame at q = 0), m
+    u: np.ndarray  # joint 7's unit axis (tip frame)
+
+    @property
+    def description(self) -> str:
+        return f"joint 7 held, joints 6 to 1 read from the tip: {self.geo.description}"
+
+
+def swept_7r(arm: Arm, ax: Axes | None = None) -> Swept | str:
+    """The geometry ``ik.swept`` sweeps over (see there), or the reason this 7R arm is not
+    in the class: joint 7 held, joints 6 to 1 read from the tip form a spherical wrist."""
+    if arm.dof != 7:
+        return f"the chain has {arm.dof} joints, this class needs 7"
+    if np.any(arm.prismatic):
+        return "the chain has a prismatic joint, this class needs 7 revolute joints"
+    ax = ax or axis_lines(arm)
+    Rt = ax.tip_rotation.T
+    t = ax.tip_position
+    order = (5, 4, 3, 2, 1, 0)  # joints 6 to 1
+    reversed_axes = Axes(
+        np.array([Rt @ (ax.points[j] - t) for j in order]),
+        np.array([-(Rt @ ax.directions[j]) for j in order]),
+        np.ones(6, dtype=bool),
+        -(Rt @ t),
+        Rt.copy(),
+    )
+    geo = spherical_wrist_axes(reversed_axes)
+    if isinstance(geo, str):
+        return f"with joint 7 held, joints 6 to 1 from the tip are not a spherical wrist: {geo}"
+    variant = 0 if geo.variant == "parallel_23" else 1
+    return Swept(geo, variant, Rt @ (ax.points[6] - t), Rt @ ax.directions[6])
+
+
 def classify(arm: Arm) -> dict[str, object]:
     """Each class name -> its geometry (``Plane`` or ``Chain6R``) or the reason it does not
     apply (a string)."""
@@ -293,7 +333,8 @@ def classify(arm: Arm) -> dict[str, object]:
     out["planar"] = arm.plane if arm.plane is not None else _not_planar(arm, ax)
     if arm.dof != 6 or np.any(arm.prismatic):
         out["spherical_wrist"] = out["three_parallel"] = _common_6r(arm)
-        return out
-    out["spherical_wrist"] = spherical_wrist(arm, ax)
-    out["three_parallel"] = three_parallel(arm, ax)
+    else:
+        out["spherical_wrist"] = spherical_wrist(arm, ax)
+        out["three_parallel"] = three_parallel(arm, ax)
+    out["swept_7r"] = swept_7r(arm, ax)
     return out

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import math
 import weakref
-from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
@@ -29,7 +28,7 @@ from numba import njit
 from ..arm import Arm
 from ..options import Options
 from ..status import Status
-from ..structure import Axes, Chain6R, axis_lines, spherical_wrist_axes
+from ..structure import Swept, swept_7r
 from ..subproblems import rot, vec
 from ..targets import Target
 from . import sixr, spherical
@@ -39,47 +38,13 @@ from .registry import SolverSpec, register
 SWEEP = 128  # values of joint 7 tried after q0's, spread over its range
 
 
-@dataclass(frozen=True)
-class Swept:
-    """The reversed 6R chain of joints 6 to 1 and joint 7's axis line in the tip frame."""
-
-    geo: Chain6R
-    variant: int  # spherical.kernel's: 0 axes 2, 3 parallel, 1 axes 1, 2 meeting
-    c: np.ndarray  # a point on joint 7's axis (tip frame at q = 0), m
-    u: np.ndarray  # joint 7's unit axis (tip frame)
-
-
-def reversed_chain(arm: Arm) -> Swept | str:
-    """The geometry ``solve`` sweeps over, or the reason this arm is not in the class."""
-    if arm.dof != 7:
-        return f"the chain has {arm.dof} joints, this solver needs 7"
-    if np.any(arm.prismatic):
-        return "the chain has a prismatic joint, this solver needs 7 revolute joints"
-    ax = axis_lines(arm)
-    Rt = ax.tip_rotation.T
-    t = ax.tip_position
-    order = (5, 4, 3, 2, 1, 0)  # joints 6 to 1
-    reversed_axes = Axes(
-        np.array([Rt @ (ax.points[j] - t) for j in order]),
-        np.array([-(Rt @ ax.directions[j]) for j in order]),
-        np.ones(6, dtype=bool),
-        -(Rt @ t),
-        Rt.copy(),
-    )
-    geo = spherical_wrist_axes(reversed_axes)
-    if isinstance(geo, str):
-        return f"with joint 7 held, joints 6 to 1 from the tip are not a spherical wrist: {geo}"
-    variant = 0 if geo.variant == "parallel_23" else 1
-    return Swept(geo, variant, Rt @ (ax.points[6] - t), Rt @ ax.directions[6])
-
-
 _GEOMETRY: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def geometry(arm: Arm) -> Swept | str:
     geo = _GEOMETRY.get(arm)
     if geo is None:
-        geo = _GEOMETRY[arm] = reversed_chain(arm)
+        geo = _GEOMETRY[arm] = swept_7r(arm)
     return geo
 
 
