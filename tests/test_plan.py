@@ -57,6 +57,7 @@ def _general(a: armik.Arm, T, **kw):
         ("ur5", "dls"),
         ("abb_irb120", "auto"),  # spherical wrist
         ("z1", "qp"),
+        ("panda", "swept"),  # 7R: joint 7 held, joints 6 to 1 in closed form
     ],
 )
 def test_plan_result_is_the_general_result(name, solver):

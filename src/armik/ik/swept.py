@@ -26,6 +26,7 @@ import numpy as np
 from numba import njit
 
 from ..arm import Arm
+from ..kernel.single import plain_pose, plain_seed, split_pose
 from ..options import Options
 from ..status import Status
 from ..structure import Swept, swept_7r
@@ -136,8 +137,12 @@ def first_held(h, p, R_tip0, variant, c, u, R, pos, q0r, lower, upper, q7, lo, h
     return q7, first, False
 
 
-def _attempts(rows: np.ndarray, theta: float) -> list[Attempt]:
+def held_reason(theta: float, singular: bool) -> str:
     text = f"closed form with joint 7 held at {theta:.6g} rad (joints 6 to 1 as a spherical wrist)"
+    return sixr.claim_reason(text, singular)
+
+
+def _attempts(rows: np.ndarray, theta: float) -> list[Attempt]:
     result = []
     for row in rows:
         flags = int(row[7])
@@ -146,33 +151,70 @@ def _attempts(rows: np.ndarray, theta: float) -> list[Attempt]:
             reason = sixr.reason(int(row[9]), row[10:12], spherical.FAMILY)
             claim = Status.UNREACHABLE
         else:
-            reason, claim = sixr.claim_reason(text, singular), Status.CONVERGED
+            reason, claim = held_reason(theta, singular), Status.CONVERGED
         result.append(Attempt(q=row[:7].copy(), claim=claim, reason=reason, singular=singular))
     return result
+
+
+@njit(cache=True)
+def held_rows(h, p, R_tip0, variant, c, u, R, pos, q0, lower, upper, lo7, hi7, tol_p, tol_r):
+    """``first_held`` on the 7R chain's own joint order: (theta, rows (n, 12): q (7), flags,
+    branch, code, values, found)."""
+    q0r, lor, hir = np.empty(6), np.empty(6), np.empty(6)
+    for j in range(6):
+        q0r[j], lor[j], hir[j] = q0[5 - j], lower[5 - j], upper[5 - j]
+    theta, out, found = first_held(
+        h, p, R_tip0, variant, c, u, R, pos, q0r, lor, hir, q0[6], lo7, hi7, tol_p, tol_r
+    )
+    rows = np.empty((out.shape[0], 12))
+    for r in range(out.shape[0]):
+        for j in range(6):
+            rows[r, j] = out[r, 5 - j]  # joints 1 to 6 again
+        rows[r, 6] = theta
+        for j in range(5):
+            rows[r, 7 + j] = out[r, 6 + j]
+    return theta, rows, found
+
+
+def _held(arm: Arm, sw, R, pos, q0: np.ndarray, opts: Options):
+    lo7, hi7 = sweep_range(arm, float(q0[6]))
+    return held_rows(
+        sw.geo.h, sw.geo.p, sw.geo.R_tip0, sw.variant, sw.c, sw.u, R, pos, q0,
+        np.ascontiguousarray(arm.lower, dtype=float), np.ascontiguousarray(arm.upper, dtype=float),
+        lo7, hi7, opts.tol_position, opts.tol_orientation,
+    )  # fmt: skip
 
 
 def run(
     arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
 ) -> list[Attempt]:
-    sw = geometry(arm)
     R, pos = sixr.pose_arrays(target)
-    q0 = np.asarray(q0, dtype=float)
-    rev = slice(5, None, -1)
-    q7 = float(q0[6])
-    theta, out, found = first_held(
-        sw.geo.h, sw.geo.p, sw.geo.R_tip0, sw.variant, sw.c, sw.u, R, pos,
-        np.ascontiguousarray(q0[rev]), np.ascontiguousarray(arm.lower[rev]),
-        np.ascontiguousarray(arm.upper[rev]), q7, *sweep_range(arm, q7),
-        opts.tol_position, opts.tol_orientation,
-    )  # fmt: skip
-    rows = np.empty((out.shape[0], 12))
-    rows[:, :6] = out[:, 5::-1]  # joints 1 to 6 again
-    rows[:, 6] = theta
-    rows[:, 7:] = out[:, 6:]
+    theta, rows, found = _held(arm, geometry(arm), R, pos, np.ascontiguousarray(q0, float), opts)
     if all_solutions:
         exact = [r for r in rows if not int(r[7]) & sixr.LS]
         return _attempts(np.array(exact) if exact and found else rows, theta)
     return _attempts(rows[:1], theta)
+
+
+def prepare_pose(arm: Arm, opts: Options, position_only: bool):
+    """``run_pose`` for ``armik.plan`` (see ``numeric.pose_runner``); position_only is
+    always False (``applies`` refuses position targets), ``solve_all`` takes the general
+    path."""
+    sw = geometry(arm)
+    lower = np.ascontiguousarray(arm.lower, dtype=float)
+    upper = np.ascontiguousarray(arm.upper, dtype=float)
+
+    def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False):
+        if every or not plain_pose(H) or not plain_seed(q0, lower, upper):
+            return None
+        R, pos = split_pose(H)
+        theta, rows, found = _held(arm, sw, R, pos, q0, opts)
+        if not found:
+            return _attempts(rows[:1], theta)
+        singular = bool(int(rows[0, 7]) & sixr.SINGULAR)
+        return (rows[0, :7], 0, 0, None, singular, held_reason, (theta, singular))
+
+    return run_pose
 
 
 SPEC = register(
@@ -185,5 +227,6 @@ SPEC = register(
         run=run,
         summary="7R arms: joint 7 held (swept from q0's value), joints 6 to 1 in closed form",
         auto=False,
+        prepare_pose=prepare_pose,
     )
 )
