@@ -20,7 +20,6 @@ chosen by ``solver="auto"``; ask for it with ``solver="swept"``.
 from __future__ import annotations
 
 import math
-import weakref
 
 import numpy as np
 from numba import njit
@@ -39,25 +38,15 @@ from .registry import SolverSpec, register
 SWEEP = 128  # values of joint 7 tried after q0's, spread over its range
 
 
-_GEOMETRY: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+FAMILY = "swept_7r"
 
 
 def geometry(arm: Arm) -> Swept | str:
-    geo = _GEOMETRY.get(arm)
-    if geo is None:
-        geo = _GEOMETRY[arm] = swept_7r(arm)
-    return geo
+    return sixr.geometry(arm, FAMILY, swept_7r)
 
 
 def applies(arm: Arm, target: Target | None = None, opts: Options | None = None) -> str | None:
-    geo = geometry(arm)
-    if isinstance(geo, str):
-        return geo
-    if target is not None and target.rotation is None:
-        return "a position target leaves the orientation free; the closed form needs a full pose"
-    if opts is not None and (opts.position_only or opts.weights is not None):
-        return "position_only and per-axis weights are for the numeric solvers"
-    return None
+    return sixr.applies(arm, target, opts, FAMILY, swept_7r)
 
 
 def sweep_range(arm: Arm, q7: float) -> tuple[float, float]:
