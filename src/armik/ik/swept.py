@@ -36,8 +36,6 @@ from .attempt import Attempt
 from .registry import SolverSpec, register
 
 SWEEP = 128  # values of joint 7 tried after q0's, spread over its range
-
-
 FAMILY = "swept_7r"
 
 
@@ -58,6 +56,17 @@ def sweep_range(arm: Arm, q7: float) -> tuple[float, float]:
 
 
 @njit(cache=True)
+def _left_nearer(left, right, q7, lo, width):
+    """Whether the cell centre ``left`` is nearer q7 than ``right`` (cells off the range
+    never are)."""
+    if right >= SWEEP:
+        return True
+    if left < 0:
+        return False
+    return q7 - (lo + (left + 0.5) * width) <= lo + (right + 0.5) * width - q7
+
+
+@njit(cache=True)
 def theta_at(k, q7, lo, hi):
     """The k-th value of joint 7 tried: q7 for k = 0, then the ``SWEEP`` cell centres of
     [lo, hi], nearest q7 first (alternating sides outward from q7's cell)."""
@@ -66,18 +75,13 @@ def theta_at(k, q7, lo, hi):
     width = (hi - lo) / SWEEP
     i0 = min(max(int((q7 - lo) / width), 0), SWEEP - 1)  # q7's cell
     left, right = i0, i0 + 1  # the next cell centre on each side
-    for _ in range(k - 1):  # k - 1 values taken before this one
-        go_left = right >= SWEEP or (
-            left >= 0 and q7 - (lo + (left + 0.5) * width) <= lo + (right + 0.5) * width - q7
-        )
-        if go_left:
+    for _ in range(k - 1):  # the k - 1 values tried before this one
+        if _left_nearer(left, right, q7, lo, width):
             left -= 1
         else:
             right += 1
-    go_left = right >= SWEEP or (
-        left >= 0 and q7 - (lo + (left + 0.5) * width) <= lo + (right + 0.5) * width - q7
-    )
-    return lo + ((left if go_left else right) + 0.5) * width
+    cell = left if _left_nearer(left, right, q7, lo, width) else right
+    return lo + (cell + 0.5) * width
 
 
 @njit(cache=True)
