@@ -342,10 +342,10 @@ def test_cholesky6_is_the_general_cholesky_written_out():
         A = rng.standard_normal((6, 7))
         H = A @ A.T + rng.uniform(1e-9, 1.0) * np.eye(6)
         g = rng.standard_normal(6)
-        x6, L6, x, L = np.empty(6), np.empty((6, 6)), np.empty(6), np.empty((6, 6))
-        assert cholesky6(H, L6, g, x6) and cholesky_solve(H, g, free, L, x)
+        x6, x, L = np.empty(6), np.empty(6), np.empty((6, 6))
+        assert cholesky6(H, g, x6) and cholesky_solve(H, g, free, L, x)
         assert np.array_equal(x6, x)  # the same operations in the same order
         assert np.allclose(H @ x6, g, rtol=1e-9, atol=1e-9 * np.abs(g).max())
     H = np.eye(6)
     H[4, 4] = -1.0  # not positive definite
-    assert not cholesky6(H, np.empty((6, 6)), np.ones(6), np.empty(6))
+    assert not cholesky6(H, np.ones(6), np.empty(6))

@@ -60,7 +60,7 @@ class Workspace(NamedTuple):
     v3: np.ndarray  # (3, 3): tip position, T_tip^-1 T_target translation, rotation vector
     Jlog: np.ndarray  # (6, 6)
     minima: np.ndarray  # (capacity, n) where earlier attempts of a solve got stuck
-    task: np.ndarray  # (2, 6, 6): the dls step's A A^T + lambda I and its Cholesky factor
+    task: np.ndarray  # (6, 6): the dls step's A A^T + lambda I
     tvec: np.ndarray  # (2, 6): its right-hand side and solution
 
 
@@ -111,6 +111,6 @@ def workspace(n, capacity):
         np.empty((3, 3)),
         np.empty((6, 6)),
         np.empty((max(capacity, 1), n)),
-        np.empty((2, 6, 6)),
+        np.empty((6, 6)),
         np.empty((2, 6)),
     )
