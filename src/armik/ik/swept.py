@@ -25,7 +25,8 @@ import numpy as np
 from numba import njit
 
 from ..arm import Arm
-from ..kernel.single import plain_pose, plain_seed, split_pose
+from ..kernel.check import split_pose
+from ..kernel.single import plain_pose, plain_seed
 from ..options import Options
 from ..status import Status
 from ..structure import Swept, swept_7r

@@ -65,43 +65,57 @@ def pose_errors(R_bw, p_bw, R_w, p_w, R_t, p_t, w, weighted, measure_rot, out):
 
 
 @njit(cache=True, nogil=True)
+def inside_limits(q, lower, upper, tol):
+    """Every value of q within [lower - tol, upper + tol] (NaN is outside)."""
+    for j in range(q.shape[0]):
+        if not (lower[j] - tol <= q[j] <= upper[j] + tol):
+            return False
+    return True
+
+
+@njit(cache=True, nogil=True)
 def within_limits(Q, lower, upper, tol, out):
-    """out[i]: every joint of row i within [lower - tol, upper + tol] (NaN is outside)."""
+    """out[i]: ``inside_limits`` of row i of Q."""
     for i in range(Q.shape[0]):
-        ok = True
-        for j in range(Q.shape[1]):
-            if not (lower[j] - tol <= Q[i, j] <= upper[j] + tol):
-                ok = False
-                break
-        out[i] = ok
+        out[i] = inside_limits(Q[i], lower, upper, tol)
+
+
+@njit(cache=True, nogil=True)
+def split_pose(H):
+    """(R, p) of the 4x4 ``H`` as new C-ordered arrays (the layout ``pose_error`` and the
+    kernels are compiled for)."""
+    R = np.empty((3, 3))
+    p = np.empty(3)
+    for a in range(3):
+        p[a] = H[a, 3]
+        for b in range(3):
+            R[a, b] = H[a, b]
+    return R, p
 
 
 @njit(cache=True, nogil=True)
 def pose_check(R_bw, p_bw, limits, H_w, H_t, w, measure, q):
     """(position error, orientation error or NaN, within the limits) of one answer ``q``
     whose tip placement Pinocchio computed as the 4x4 ``H_w`` (world frame), against the
-    4x4 target ``H_t`` (base frame): ``pose_error`` and ``within_limits`` in one call.
+    4x4 target ``H_t`` (base frame): ``pose_error`` and ``inside_limits`` in one call.
     (R_bw, p_bw): T_base_world; ``limits``: (2, n) lower and upper; ``measure``: bit 1
     weighted, bit 2 orientation measured."""
-    # C-ordered copies: ``pose_error`` is then the one ``verify.check`` has compiled
-    R_w, p_w, R_t, p_t = np.empty((3, 3)), np.empty(3), np.empty((3, 3)), np.empty(3)
-    for a in range(3):
-        p_w[a] = H_w[a, 3]
-        p_t[a] = H_t[a, 3]
-        for b in range(3):
-            R_w[a, b] = H_w[a, b]
-            R_t[a, b] = H_t[a, b]
-    pos, ori = pose_error(R_bw, p_bw, R_w, p_w, R_t, p_t, w, measure & 1 != 0, measure & 2 != 0)
-    inside = True
-    for j in range(q.shape[0]):
-        if not (limits[0, j] - LIMIT_TOL <= q[j] <= limits[1, j] + LIMIT_TOL):  # NaN fails
-            inside = False
-    return pos, ori, inside
+    R_t, p_t = split_pose(H_t)
+    return _check(R_bw, p_bw, limits, H_w, R_t, p_t, w, measure, q)
 
 
 @njit(cache=True, nogil=True)
 def pose_checks(R_bw, p_bw, limits, H_w, H_t, w, measure, Q, out):
-    """out[i] = ``pose_check`` of answer Q[i] with tip placement H_w[i], for every i."""
+    """out[i] = ``pose_check`` of answer Q[i] with tip placement H_w[i], for every i (the
+    target split once)."""
+    R_t, p_t = split_pose(H_t)
     for i in range(Q.shape[0]):
-        out[i, 0], out[i, 1], inside = pose_check(R_bw, p_bw, limits, H_w[i], H_t, w, measure, Q[i])
-        out[i, 2] = 1.0 if inside else 0.0
+        pos, ori, inside = _check(R_bw, p_bw, limits, H_w[i], R_t, p_t, w, measure, Q[i])
+        out[i, 0], out[i, 1], out[i, 2] = pos, ori, 1.0 if inside else 0.0
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _check(R_bw, p_bw, limits, H_w, R_t, p_t, w, measure, q):
+    R_w, p_w = split_pose(H_w)
+    pos, ori = pose_error(R_bw, p_bw, R_w, p_w, R_t, p_t, w, measure & 1 != 0, measure & 2 != 0)
+    return pos, ori, inside_limits(q, limits[0], limits[1], LIMIT_TOL)

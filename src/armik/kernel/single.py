@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from .chain import Flat, lower, upper
-from .check import LIMIT_TOL
+from .check import LIMIT_TOL, inside_limits, split_pose
 from .descent import solve_one
 from .entry import MINIMA_CAPACITY
 from .problem import unpack as unpack_settings
@@ -59,22 +59,7 @@ def plain_pose(H):
 def plain_seed(q, lo, hi):
     """True when every value of ``q`` is finite and within [lo - tol, hi + tol]: the seeds
     ``Arm.seed`` returns unchanged."""
-    for i in range(q.shape[0]):
-        if not (lo[i] - LIMIT_TOL <= q[i] <= hi[i] + LIMIT_TOL):  # NaN fails
-            return False
-    return True
-
-
-@njit(cache=True, nogil=True)
-def split_pose(H):
-    """(R, p) of the 4x4 ``H`` as new C-ordered arrays."""
-    R = np.empty((3, 3))
-    p = np.empty(3)
-    for a in range(3):
-        p[a] = H[a, 3]
-        for b in range(3):
-            R[a, b] = H[a, b]
-    return R, p
+    return inside_limits(q, lo, hi, LIMIT_TOL)
 
 
 @njit(cache=True, nogil=True, inline="always")
