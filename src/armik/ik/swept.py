@@ -57,32 +57,24 @@ def sweep_range(arm: Arm, q7: float) -> tuple[float, float]:
 
 
 @njit(cache=True)
-def _left_nearer(left, right, q7, lo, width):
-    """Whether the cell centre ``left`` is nearer q7 than ``right`` (cells off the range
-    never are)."""
-    if right >= SWEEP:
-        return True
-    if left < 0:
-        return False
-    return q7 - (lo + (left + 0.5) * width) <= lo + (right + 0.5) * width - q7
-
-
-@njit(cache=True)
-def theta_at(k, q7, lo, hi):
-    """The k-th value of joint 7 tried: q7 for k = 0, then the ``SWEEP`` cell centres of
-    [lo, hi], nearest q7 first (alternating sides outward from q7's cell)."""
-    if k == 0:
-        return q7
+def sweep_values(q7, lo, hi):
+    """The values of joint 7 tried, in order: q7, then the ``SWEEP`` cell centres of
+    [lo, hi], nearest q7 first (taken alternately from either side of q7's cell)."""
+    out = np.empty(SWEEP + 1)
+    out[0] = q7
     width = (hi - lo) / SWEEP
-    i0 = min(max(int((q7 - lo) / width), 0), SWEEP - 1)  # q7's cell
-    left, right = i0, i0 + 1  # the next cell centre on each side
-    for _ in range(k - 1):  # the k - 1 values tried before this one
-        if _left_nearer(left, right, q7, lo, width):
+    left = min(max(int((q7 - lo) / width), 0), SWEEP - 1)  # q7's cell: the nearest centre
+    right = left + 1
+    for k in range(1, SWEEP + 1):
+        if right >= SWEEP or (
+            left >= 0 and q7 - (lo + (left + 0.5) * width) <= lo + (right + 0.5) * width - q7
+        ):
+            out[k] = lo + (left + 0.5) * width
             left -= 1
         else:
+            out[k] = lo + (right + 0.5) * width
             right += 1
-    cell = left if _left_nearer(left, right, q7, lo, width) else right
-    return lo + (cell + 0.5) * width
+    return out
 
 
 @njit(cache=True)
@@ -108,13 +100,14 @@ def mat_array(M):
 
 @njit(cache=True)
 def first_held(h, p, R_tip0, variant, c, u, R, pos, q0r, lower, upper, q7, lo, hi, tol_p, tol_r):
-    """The first value of joint 7 (``theta_at``) at which joints 6 to 1 (reversed: ``q0r``,
+    """The first value of joint 7 (``sweep_values``) at which joints 6 to 1 (reversed: ``q0r``,
     ``lower``, ``upper`` in their order) reach the target exactly within their limits: that
     value and its rows (``sixr.pack``'s, nearest q0 first); (q7, its rows, False) when no
     value does."""
     first = np.empty((0, 11))
-    for k in range(SWEEP + 1):
-        theta = theta_at(k, q7, lo, hi)
+    thetas = sweep_values(q7, lo, hi)
+    for k in range(thetas.shape[0]):
+        theta = thetas[k]
         R_inv, p_inv = held_target(c, u, R, pos, theta)
         out, _ = spherical.kernel(
             h, p, R_tip0, R_inv, p_inv, q0r, lower, upper, tol_p, tol_r, variant, True
