@@ -203,19 +203,28 @@ def _se3(T: pin.SE3) -> Target:
         and abs(y) <= MAX_POSITION
         and abs(z) <= MAX_POSITION
         and math.isfinite(a + b + c + d + e + f + g + h + i)
-        and max(
-            abs(a * a + d * d + g * g - 1.0),
-            abs(b * b + e * e + h * h - 1.0),
-            abs(c * c + f * f + i * i - 1.0),
-            abs(a * b + d * e + g * h),
-            abs(a * c + d * f + g * i),
-            abs(b * c + e * f + h * i),
-        )
-        <= 1e-14
-        and a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g) > 0
+        and _orthonormality_error(a, b, c, d, e, f, g, h, i) <= 1e-14
+        and _determinant(a, b, c, d, e, f, g, h, i) > 0
     ):
         return _target(np.array((x, y, z)), np.array(H[:3, :3]))
     return _pose(T.rotation, T.translation)
+
+
+# |R^T R - I| and det(R) of R = [[a, b, c], [d, e, f], [g, h, i]] on plain floats: a fifth
+# of the numpy cost for a 3x3. (kernel.single.plain_pose computes the same in compiled code.)
+def _orthonormality_error(a, b, c, d, e, f, g, h, i) -> float:
+    return max(
+        abs(a * a + d * d + g * g - 1.0),
+        abs(b * b + e * e + h * h - 1.0),
+        abs(c * c + f * f + i * i - 1.0),
+        abs(a * b + d * e + g * h),
+        abs(a * c + d * f + g * i),
+        abs(b * c + e * f + h * i),
+    )
+
+
+def _determinant(a, b, c, d, e, f, g, h, i) -> float:
+    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
 
 
 def _target(p: np.ndarray, R: np.ndarray | None) -> Target:
@@ -231,21 +240,13 @@ def _pose(R: np.ndarray, p: np.ndarray) -> Target:
     a, b, c, d, e, f, g, h, i = R.ravel().tolist()
     if not math.isfinite(a + b + c + d + e + f + g + h + i):
         _finite(R, "target rotation")  # NaN or inf; else huge entries, far from a rotation
-    # |R^T R - I| and det(R) on plain floats: a fifth of the numpy cost for a 3x3.
-    err = max(
-        abs(a * a + d * d + g * g - 1.0),
-        abs(b * b + e * e + h * h - 1.0),
-        abs(c * c + f * f + i * i - 1.0),
-        abs(a * b + d * e + g * h),
-        abs(a * c + d * f + g * i),
-        abs(b * c + e * f + h * i),
-    )
+    err = _orthonormality_error(a, b, c, d, e, f, g, h, i)
     if not err <= ROTATION_TOL:
         raise TargetError(
             f"target rotation is not orthonormal (|R^T R - I| = {err:.2g}): "
             "give a rotation matrix, or a quaternion"
         )
-    if a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g) < 0:
+    if _determinant(a, b, c, d, e, f, g, h, i) < 0:
         raise TargetError(
             "target rotation has determinant -1 (a reflection, not a rotation): "
             "flip the sign of one axis"
