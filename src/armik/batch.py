@@ -21,7 +21,6 @@ scratch memory, so the memory used beyond the targets and results does not grow 
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import sys
@@ -35,8 +34,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from . import npz
 from .batch_targets import TargetBatch, parse_targets
-from .errors import ArmikWarning, InputError, OptionError
+from .errors import ArmikWarning, OptionError
 from .ik import registry
 from .options import Options
 from .result import IKResult
@@ -203,7 +203,6 @@ class BatchResult:
 
     def save(self, path: str | Path) -> Path:
         """Write the arrays and the metadata to an ``.npz`` file (no pickles)."""
-        path = Path(path)
         keys = np.array(sorted(self.reasons), dtype=np.int64)
         meta = {
             "format": FORMAT,
@@ -215,36 +214,24 @@ class BatchResult:
             "tol_orientation": self.tol_orientation,
             "statuses": _WORDS.tolist(),
         }
-        with open(path, "wb") as f:
-            np.savez(
-                f,
-                q=self.q,
-                success=self.success,
-                status_code=self.status_code,
-                status=self.status,
-                position_error=self.position_error,
-                orientation_error=self.orientation_error,
-                iterations=self.iterations,
-                restarts=self.restarts,
-                reason_index=keys,
-                reason_text=np.array([self.reasons[int(k)] for k in keys], dtype=str),
-                meta=np.array(json.dumps(meta)),
-            )
-        return path
+        arrays = dict(
+            q=self.q,
+            success=self.success,
+            status_code=self.status_code,
+            status=self.status,
+            position_error=self.position_error,
+            orientation_error=self.orientation_error,
+            iterations=self.iterations,
+            restarts=self.restarts,
+            reason_index=keys,
+            reason_text=np.array([self.reasons[int(k)] for k in keys], dtype=str),
+        )
+        return npz.save(path, meta, arrays)
 
     @classmethod
     def load(cls, path: str | Path) -> BatchResult:
         """Read a file written by ``save``; raises ``InputError`` if it is not one."""
-        try:
-            with np.load(path, allow_pickle=False) as z:
-                meta = json.loads(str(z["meta"]))
-                if meta.get("format") != FORMAT:
-                    raise KeyError("format")
-                arrays = {k: z[k] for k in z.files}
-        except (OSError, ValueError, KeyError) as exc:
-            raise InputError(
-                f"{str(path)!r} is not a batch result written by BatchResult.save ({exc})"
-            ) from None
+        meta, arrays = npz.load(path, FORMAT, "a batch result written by BatchResult.save")
         words = meta["statuses"]
         codes = np.array([Status(w).code for w in words], dtype=np.int8)
         return cls(

@@ -14,7 +14,6 @@ whole budget: the budget (``timeout``, default here 5 ms) sets the price of a ma
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -22,6 +21,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from . import npz
 from .arm import Arm
 from .batch import ProgressArg, solve_batch
 from .batch_targets import TargetBatch
@@ -61,7 +61,6 @@ class ReachMap:
         )
 
     def save(self, path: str | Path) -> Path:
-        path = Path(path)
         meta = {
             "format": FORMAT,
             "arm": self.arm,
@@ -71,24 +70,13 @@ class ReachMap:
             "time": self.time,
             "solves": self.solves,
         }
-        with open(path, "wb") as f:
-            np.savez(
-                f, xs=self.xs, ys=self.ys, zs=self.zs, fraction=self.fraction,
-                meta=np.array(json.dumps(meta)),
-            )  # fmt: skip
-        return path
+        arrays = dict(xs=self.xs, ys=self.ys, zs=self.zs, fraction=self.fraction)
+        return npz.save(path, meta, arrays)
 
     @classmethod
     def load(cls, path: str | Path) -> ReachMap:
-        try:
-            with np.load(path, allow_pickle=False) as z:
-                meta = json.loads(str(z["meta"]))
-                if meta.get("format") != FORMAT:
-                    raise KeyError("format")
-                arrays = {k: z[k] for k in ("xs", "ys", "zs", "fraction")}
-        except (OSError, ValueError, KeyError) as exc:
-            raise InputError(f"{str(path)!r} is not a reachability map ({exc})") from None
-        meta.pop("format")
+        keys = ("xs", "ys", "zs", "fraction")
+        meta, arrays = npz.load(path, FORMAT, "a reachability map", keys)
         return cls(**arrays, **meta)
 
     def plot(self, path: str | Path, slices: int = 5) -> Path:

@@ -1,0 +1,36 @@
+"""Arrays and their JSON metadata in one ``.npz`` file (no pickles): what ``BatchResult`` and
+``ReachMap`` save and load."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from .errors import InputError
+
+
+def save(path: str | Path, meta: dict, arrays: dict[str, np.ndarray]) -> Path:
+    """Write ``arrays`` and ``meta`` (JSON, with its "format") to ``path``."""
+    path = Path(path)
+    with open(path, "wb") as f:
+        np.savez(f, **arrays, meta=np.array(json.dumps(meta)))
+    return path
+
+
+def load(
+    path: str | Path, format: str, what: str, keys: tuple[str, ...] | None = None
+) -> tuple[dict, dict[str, np.ndarray]]:
+    """(meta without its "format", the arrays ``keys`` or all) of a file ``save`` wrote with
+    this ``format``; ``InputError`` saying the file is not ``what`` otherwise."""
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            meta = json.loads(str(z["meta"]))
+            if meta.get("format") != format:
+                raise KeyError("format")
+            arrays = {k: z[k] for k in (keys or z.files) if k != "meta"}
+    except (OSError, ValueError, KeyError) as exc:
+        raise InputError(f"{str(path)!r} is not {what} ({exc})") from None
+    meta.pop("format")
+    return meta, arrays
