@@ -598,10 +598,9 @@ def _reach(args: argparse.Namespace) -> int:
         )
     finally:
         if client is not None:
-            cluster = client.cluster
-            client.close()
-            if cluster is not None:
-                cluster.close()
+            from .distributed import close
+
+            close(client)
     print(m.summary())
     print(f"wrote {m.save(args.output)}")
     if args.plot:

@@ -143,6 +143,14 @@ def connect(address: str):
         ) from None
 
 
+def close(client) -> None:
+    """Close a client from ``connect`` and, for ``local``, the cluster it started."""
+    cluster = client.cluster
+    client.close()
+    if cluster is not None:
+        cluster.close()
+
+
 def solve_batch(
     arm: Arm,
     targets: object,
@@ -189,10 +197,7 @@ def solve_batch(
         return _run(client, arm, batch, seeds, spec.name, options, opts, chunk, progress, t0)
     finally:
         if own is not None:
-            cluster = own.cluster
-            own.close()
-            if cluster is not None:
-                cluster.close()
+            close(own)
 
 
 def _run(client, arm, batch, seeds, solver, options, opts, chunk, progress, t0) -> BatchResult:
