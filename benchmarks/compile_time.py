@@ -1,0 +1,63 @@
+"""First-call (compile) times from an empty numba cache, and where they go.
+
+Runs a fresh interpreter with ``NUMBA_CACHE_DIR`` set to a new empty directory (so
+nothing cached is read) and times, in order: the first Panda ``solve`` with dls, then one
+with qp, then a ``solve_batch`` with dls; then the same again in a second interpreter on the
+now-filled cache. With ``--events``, the first interpreter also prints the functions numba
+compiled for the first solve and how long each took (nested: a caller's time includes its
+callees'). Extra environment (``NUMBA_OPT=1``, ...) passes through.
+
+    python benchmarks/compile_time.py [--events]
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import tempfile
+
+CHILD = r"""
+import sys, time
+events = "--events" in sys.argv
+if events:
+    from numba.core import event
+    recording = event.install_recorder("numba:compile")
+    recorder = recording.__enter__()
+import numpy as np
+import armik
+a = armik.load("panda")
+T = a.fk(a.random_q(1))
+t = time.perf_counter(); a.solve(T, solver="dls"); dls = time.perf_counter() - t
+if events:
+    recording.__exit__(None, None, None)
+t = time.perf_counter(); a.solve(T, solver="qp"); qp = time.perf_counter() - t
+Ts = np.array([T.homogeneous] * 3)
+t = time.perf_counter(); a.solve_batch(Ts, solver="dls", workers=1); batch = time.perf_counter() - t
+print(f"first dls solve {dls:.2f} s, then qp {qp:.2f} s, then solve_batch {batch:.2f} s")
+if events:
+    starts, rows = {}, []
+    for ts, ev in recorder.buffer:
+        d = ev.data.get("dispatcher")
+        key = (id(d), str(ev.data.get("args")))
+        if ev.is_start:
+            starts[key] = ts
+        else:
+            name = d.py_func.__module__.split(".")[-1] + "." + d.py_func.__qualname__
+            rows.append((ts - starts.get(key, ts), name))
+    for seconds, name in sorted(rows, reverse=True)[:12]:
+        print(f"  {seconds:6.2f} s  {name}")
+"""
+
+
+def main() -> None:
+    events = ["--events"] if "--events" in sys.argv else []
+    with tempfile.TemporaryDirectory() as cache:
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache}
+        for label, extra in (("empty cache", events), ("filled cache", [])):
+            print(f"{label}:", flush=True)
+            subprocess.run([sys.executable, "-c", CHILD, *extra], env=env, check=True)
+
+
+if __name__ == "__main__":
+    main()
