@@ -14,7 +14,6 @@ wall time since the process started (untested on Windows).
 from __future__ import annotations
 
 import sys
-import time
 
 from llvmlite import ir
 from numba import njit, types
@@ -52,8 +51,3 @@ def _clock_ns(typingctx):
 def thread_cpu_ns():
     """CPU time of the calling thread (ns)."""
     return _clock_ns()
-
-
-def python_thread_cpu_ns() -> int:
-    """The same clock from Python (for tests and for time spent outside the kernel)."""
-    return time.thread_time_ns()
