@@ -4,7 +4,7 @@ For each arm: a target and a q0 at its answer (so the kernel makes one error eva
 and no step), then best-of-7 timeit of
   - ``arm.solve(T, q0=q)``, whole (without options, and with the benchmark's options),
   - the compiled call alone on the same input (``kernel.single``'s entry for dls, the
-    family's ``solve_pose`` for a closed form): what runs inside compiled code,
+    family's ``solve_into`` for a closed form): what runs inside compiled code,
   - Pinocchio's FK and tip placement, and the compiled check of its errors.
 "Outside the kernel" is the whole minus the compiled call.
 
@@ -50,15 +50,12 @@ def measure(name: str, solver: str, number: int) -> dict:
         dof = arm.dof
         out_q, info, err = np.empty((1, dof)), np.empty(5, np.int64), np.empty(2)
         out["compiled_us"] = best(lambda: entry(*args, H, q, 0, out_q, info, err), number)
-    else:  # a closed form: its compiled solve_pose
-        solve_pose = cells["solve_pose"].cell_contents
-        args = [cells[k].cell_contents for k in ("h", "p", "R_tip0")]
-        lo, hi = cells["lower"].cell_contents, cells["upper"].cell_contents
-        extra = cells["extra"].cell_contents
-        tol = opts.tol_position, opts.tol_orientation
-        out["compiled_us"] = best(
-            lambda: solve_pose(*args, H, q, lo, hi, *tol, False, *extra), number
-        )
+    else:  # a closed form: its compiled solve_into
+        solve_into = cells["solve_into"].cell_contents
+        chain = cells["chain"].cell_contents
+        tol = cells["tol_p"].cell_contents, cells["tol_r"].cell_contents
+        out8 = np.empty((8, 11))
+        out["compiled_us"] = best(lambda: solve_into(chain, H, q, *tol, False, out8), number)
     model, data, frame = arm.model, arm.data, arm.tip_frame_id
     qp = arm.to_pin(q)
 
@@ -68,7 +65,7 @@ def measure(name: str, solver: str, number: int) -> dict:
 
     out["pinocchio_fk_us"] = best(fk, number)
     H_w = fk()
-    args = (plan.R_bw, plan.p_bw, plan.limits, H_w, H, plan.w, plan.measure, q)
+    args = (plan.measured, H_w, H, q)
     out["check_us"] = best(lambda: pose_check(*args), number)
     out["outside_us"] = out["solve_us"] - out["compiled_us"]
     return out

@@ -28,7 +28,7 @@ from .arm import Arm
 from .errors import SolverError
 from .ik import registry
 from .ik.attempt import Attempt
-from .kernel.check import pose_check, pose_checks
+from .kernel.check import check_frame, pose_check, pose_checks
 from .options import Options
 from .result import IKResult
 from .status import Status
@@ -87,12 +87,15 @@ class Plan:
         self.direct = arm.model.nq == arm.dof  # q is Pinocchio's configuration itself
         self.shape = (arm.dof,)
         self.middle = arm.middle
-        self.R_bw = np.ascontiguousarray(arm.T_base_world.rotation, dtype=float)
-        self.p_bw = np.ascontiguousarray(arm.T_base_world.translation, dtype=float)
-        self.limits = np.ascontiguousarray(np.stack([arm.lower, arm.upper]), dtype=float)
         w, weighted, measure_rot = measures_of(opts.weights, opts.position_only, position)
-        self.w = np.ascontiguousarray(w, dtype=float)
-        self.measure = int(weighted) | (2 if measure_rot else 0)
+        self.measured = check_frame(  # what the compiled check measures against
+            arm.T_base_world.rotation,
+            arm.T_base_world.translation,
+            w,
+            int(weighted) | (2 if measure_rot else 0),
+            arm.lower,
+            arm.upper,
+        )
         self.measure_rot = measure_rot
         self.tol_p, self.tol_r = opts.tol_position, opts.tol_orientation
 
@@ -151,9 +154,7 @@ class Plan:
             data = self.arm.data
         pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
         H_w = pin.updateFramePlacement(self.model, data, self.frame).homogeneous
-        pos, ori, inside = pose_check(
-            self.R_bw, self.p_bw, self.limits, H_w, H, self.w, self.measure, q
-        )
+        pos, ori, inside = pose_check(self.measured, H_w, H, q)
         result = self._success(got, pos, ori, inside)
         if result is None:
             return self._finish([_claim(got)], H, q0, opts, t0, False)[0]
@@ -179,7 +180,7 @@ class Plan:
             H_w[i] = pin.updateFramePlacement(model, data, frame).homogeneous
             Q[i] = q
         measured = np.empty((n, 3))
-        pose_checks(self.R_bw, self.p_bw, self.limits, H_w, H, self.w, self.measure, Q, measured)
+        pose_checks(self.measured, H_w, H, Q, measured)
         results, failed = [], []
         for got, (pos, ori, inside) in zip(rows, measured.tolist()):
             if type(got) is tuple:
@@ -209,7 +210,7 @@ class Plan:
         if not (inside and pos <= self.tol_p and (ori is None or ori <= self.tol_r)):
             return None
         q, iterations, restarts, branch, singular, why, why_args = got
-        q.flags.writeable = False  # q is the runner's own array
+        q.setflags(write=False)  # q is the runner's own array
         result = object.__new__(IKResult)
         result.__dict__.update(
             q=q,

@@ -227,6 +227,53 @@ def geometry(arm: Arm, family: str, classify) -> Chain6R | str:
     return geo
 
 
+def flat(arm: Arm, family: str, classify) -> np.ndarray:
+    """The family's chain and the arm's limits in one float array, cached per arm: h (18),
+    p (21), R_tip0 (9), lower (6), upper (6), variant (``structure.spherical_wrist``'s, as
+    0 for axes 2, 3 parallel and 1 for axes 1, 2 meeting; 0 for other families). One array
+    argument instead of five (numba's dispatch costs ~45 ns an array), and every path
+    (``run``, ``run_batch``, the prepared runner) passes views of it (``unflatten``), so
+    that the kernels are compiled for one set of argument types."""
+    per_arm = _GEOMETRY.get(arm)
+    got = None if per_arm is None else per_arm.get((family, "flat"))
+    if got is None:
+        geo = geometry(arm, family, classify)
+        variant = 1.0 if getattr(geo, "variant", "") == "meeting_12" else 0.0
+        parts = [geo.h, geo.p, geo.R_tip0, arm.lower, arm.upper, [variant]]
+        got = np.concatenate([np.ravel(np.asarray(x, dtype=float)) for x in parts])
+        _GEOMETRY[arm][(family, "flat")] = got
+    return got
+
+
+@njit(cache=True, nogil=True)
+def unflatten(flat):
+    """(h, p, R_tip0, lower, upper, variant) of a ``flat`` array, as views (called from
+    Python too, as ``unflatten.py_func``)."""
+    return (
+        flat[0:18].reshape((6, 3)),
+        flat[18:39].reshape((7, 3)),
+        flat[39:48].reshape((3, 3)),
+        flat[48:54],
+        flat[54:60],
+        int(flat[60]),
+    )
+
+
+@njit(cache=True, nogil=True)
+def hand_over(rows, keep, out):
+    """Copy a kernel's packed rows (``pack``) into ``out`` (8, 11); returns (n, keep, head),
+    head: the first row's branch bits, + 8 when singular, -1 when least squares (so that
+    ``solve`` reads no numpy scalar for the common answer)."""
+    n = rows.shape[0]
+    for r in range(n):
+        for c in range(11):
+            out[r, c] = rows[r, c]
+    head = -1
+    if n > 0 and not int(rows[0, 6]) & LS:
+        head = int(rows[0, 7]) + (8 if int(rows[0, 6]) & SINGULAR else 0)
+    return n, keep, head
+
+
 def applies(arm: Arm, target: Target | None, opts: Options | None, family: str, classify):
     geo = geometry(arm, family, classify)
     if isinstance(geo, str):
@@ -244,42 +291,39 @@ def claim_reason(closed_form: str, singular: bool) -> str:
     return closed_form
 
 
-def pose_runner(arm: Arm, opts: Options, family: str, classify, solve_pose, closed_form, *extra):
+def pose_runner(arm: Arm, opts: Options, family: str, classify, solve_into, closed_form):
     """``run_pose(H, q0, seed, every=False)`` for ``armik.plan`` (see
-    ``numeric.pose_runner``): ``solve_pose`` is the family's compiled kernel for one plain
-    4x4 pose (keep = -1 when the pose or q0 is not plain). When the nearest row is the one
-    ``solve`` verifies first and is reached: (q, 0, 0, branch, singular, reason function,
-    arguments); else the attempts for the general verdict. With ``every`` (``solve_all``):
-    a list with one entry per row, nearest first: that tuple for a row claimed reached, an
-    ``Attempt`` for the others."""
-    geo = geometry(arm, family, classify)
-    h, p, R_tip0 = geo.h, geo.p, geo.R_tip0
-    lower = np.ascontiguousarray(arm.lower, dtype=float)
-    upper = np.ascontiguousarray(arm.upper, dtype=float)
+    ``numeric.pose_runner``): ``solve_into(flat, H, q0, tol_p, tol_r, every, out)`` is the
+    family's compiled kernel for one plain 4x4 pose (n = -1 when the pose or q0 is not
+    plain; see ``hand_over``). When the nearest row is the one ``solve`` verifies first and
+    is reached: (q, 0, 0, branch, singular, reason function, arguments); else the attempts
+    for the general verdict. With ``every`` (``solve_all``): a list with one entry per row,
+    nearest first: that tuple for a row claimed reached, an ``Attempt`` for the others."""
+    chain = flat(arm, family, classify)
     tol_p, tol_r = opts.tol_position, opts.tol_orientation
+    why = ((closed_form, False), (closed_form, True))  # claim_reason's arguments
+    empty = np.empty
 
     def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False):
-        out, keep = solve_pose(h, p, R_tip0, H, q0, lower, upper, tol_p, tol_r, every, *extra)
-        if keep < 0:
+        out = empty((8, 11))
+        n, keep, head = solve_into(chain, H, q0, tol_p, tol_r, every, out)
+        if n < 0:
             return None
         if every:  # solve_all: every row, claimed converged rows as tuples
             rows = []
-            for k, (f, bits) in enumerate(out[:, 6:8].tolist()):
+            for k, (f, bits) in enumerate(out[:n, 6:8].tolist()):
                 f = int(f)
                 if f & LS:
                     rows.append(attempts(out[k : k + 1], 1, True, family, closed_form)[0])
                 else:
                     singular = bool(f & SINGULAR)
-                    why = (closed_form, singular)
-                    rows.append((out[k, :6], 0, 0, _LABELS[int(bits)], singular, claim_reason, why))
+                    label = _LABELS[int(bits)]
+                    rows.append((out[k, :6], 0, 0, label, singular, claim_reason, why[singular]))
             return rows
-        if keep == 1:
-            flags = int(out[0, 6])
-            if not flags & LS:
-                singular = bool(flags & SINGULAR)
-                branch = _LABELS[int(out[0, 7])]
-                return (out[0, :6], 0, 0, branch, singular, claim_reason, (closed_form, singular))
-        return attempts(out, keep, False, family, closed_form)
+        if keep == 1 and head >= 0:
+            singular = head >= 8
+            return (out[0, :6], 0, 0, _LABELS[head & 7], singular, claim_reason, why[singular])
+        return attempts(out[:n], keep, False, family, closed_form)
 
     return run_pose
 
@@ -320,9 +364,10 @@ CONVERGED_CODE = Status.CONVERGED.code
 UNREACHABLE_CODE = Status.UNREACHABLE.code
 
 
-def batch(arm: Arm, targets, q0: np.ndarray, opts: Options, solve_many, *extra) -> AttemptBatch:
-    """``run_batch`` of a family: ``solve_many`` (compiled, GIL released) solves every
-    target and keeps its row nearest q0 (reached, within limits first)."""
+def batch(arm: Arm, targets, q0: np.ndarray, opts: Options, kernel_many, chain) -> AttemptBatch:
+    """``run_batch`` of a family: ``kernel_many(chain, Rs, ps, q0s, tol_p, tol_r)``
+    (compiled, GIL released; ``chain`` the family's ``flat`` array) solves every target and
+    keeps its row nearest q0 (reached, within limits first)."""
     if targets.rotations is None:
         raise SolverError(
             "the closed form needs full poses, these targets are positions only: use a "
@@ -334,8 +379,6 @@ def batch(arm: Arm, targets, q0: np.ndarray, opts: Options, solve_many, *extra) 
     Rs = np.ascontiguousarray(targets.rotations, dtype=float)
     ps = np.ascontiguousarray(targets.positions, dtype=float)
     q0s = np.ascontiguousarray(np.broadcast_to(q0, (n, arm.dof)), dtype=float)
-    q, claim = solve_many(
-        Rs, ps, q0s, arm.lower, arm.upper, opts.tol_position, opts.tol_orientation, *extra
-    )
+    q, claim = kernel_many(chain, Rs, ps, q0s, opts.tol_position, opts.tol_orientation)
     zeros = np.zeros(n, np.int64)
     return AttemptBatch(q=q, claim=claim, iterations=zeros, restarts=zeros.copy())

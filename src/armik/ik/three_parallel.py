@@ -150,19 +150,23 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, every):
     )
 
 
-@njit(cache=True)
-def solve_pose(h, p, R_tip0, H, q0, lower, upper, tol_p, tol_r, every):
-    """``kernel`` for one 4x4 pose ``H``; keep = -1 and nothing solved
-    when ``H`` or ``q0`` is not plain (``kernel.single``)."""
+@njit(cache=True, nogil=True)
+def solve_into(chain, H, q0, tol_p, tol_r, every, out):
+    """``kernel`` for one 4x4 pose ``H``, its rows copied into ``out`` (``sixr.hand_over``);
+    n = -1 and nothing solved when ``H`` or ``q0`` is not plain (``kernel.single``).
+    ``chain``: ``sixr.flat``."""
+    h, p, R_tip0, lower, upper, _ = sixr.unflatten(chain)
     if not plain_pose(H) or not plain_seed(q0, lower, upper):
-        return np.empty((0, 11)), -1
+        return -1, 0, 0
     R, pos = split_pose(H)
-    return kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, every)
+    rows, keep = kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, every)
+    return sixr.hand_over(rows, keep, out)
 
 
 @njit(cache=True, nogil=True)
-def kernel_many(h, p, R_tip0, Rs, ps, q0s, lower, upper, tol_p, tol_r):
+def kernel_many(chain, Rs, ps, q0s, tol_p, tol_r):
     """``kernel`` for N targets: the row nearest q0 of each, and its claim code."""
+    h, p, R_tip0, lower, upper, _ = sixr.unflatten(chain)
     N = ps.shape[0]
     Q = np.empty((N, 6))
     claim = np.empty(N, np.int8)
@@ -184,10 +188,10 @@ def applies(arm: Arm, target: Target | None = None, opts: Options | None = None)
 def run(
     arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
 ) -> list[Attempt]:
-    geo = sixr.geometry(arm, FAMILY, _classify)
+    h, p, R_tip0, lower, upper, _ = sixr.unflatten.py_func(sixr.flat(arm, FAMILY, _classify))
     R, pos = sixr.pose_arrays(target)
     out, keep = kernel(
-        geo.h, geo.p, geo.R_tip0, R, pos, q0, arm.lower, arm.upper,
+        h, p, R_tip0, R, pos, q0, lower, upper,
         opts.tol_position, opts.tol_orientation, all_solutions,
     )  # fmt: skip
     return sixr.attempts(out, keep, all_solutions, FAMILY, CLOSED_FORM)
@@ -197,17 +201,13 @@ def run_batch(arm: Arm, targets, q0: np.ndarray, opts: Options, seeds=None) -> A
     """Every target in one compiled call (GIL released), the ``SolverSpec.run_batch``
     shape; ``seeds`` is unused (no restarts). ``solve_batch`` solves the rows that fail
     again through ``run``, so that they carry its per-target reasons."""
-    geo = sixr.geometry(arm, FAMILY, _classify)
-
-    def many(*args):
-        return kernel_many(geo.h, geo.p, geo.R_tip0, *args)
-
-    return sixr.batch(arm, targets, q0, opts, many)
+    chain = sixr.flat(arm, FAMILY, _classify)
+    return sixr.batch(arm, targets, q0, opts, kernel_many, chain)
 
 
 def prepare_pose(arm: Arm, opts: Options, position_only: bool):
     # position_only is always False: ``applies`` refuses position targets
-    return sixr.pose_runner(arm, opts, FAMILY, _classify, solve_pose, CLOSED_FORM)
+    return sixr.pose_runner(arm, opts, FAMILY, _classify, solve_into, CLOSED_FORM)
 
 
 SPEC = register(

@@ -93,29 +93,60 @@ def split_pose(H):
     return R, p
 
 
+def check_frame(R_bw, p_bw, w, measure: int, lower, upper) -> np.ndarray:
+    """What ``pose_check`` measures against, packed in one float array (one argument to
+    pass instead of six: each array argument costs numba's dispatch ~45 ns):
+    R_bw (9, row-major), p_bw (3), w (6), measure, lower (n), upper (n). (R_bw, p_bw):
+    T_base_world; ``measure``: bit 1 weighted, bit 2 orientation measured."""
+    return np.concatenate(
+        [
+            np.ravel(np.asarray(R_bw, dtype=float)),
+            np.asarray(p_bw, dtype=float),
+            np.asarray(w, dtype=float),
+            [float(measure)],
+            np.asarray(lower, dtype=float),
+            np.asarray(upper, dtype=float),
+        ]
+    )
+
+
 @njit(cache=True, nogil=True)
-def pose_check(R_bw, p_bw, limits, H_w, H_t, w, measure, q):
+def _frame(frame):
+    """(R_bw, p_bw, w, measure, lower, upper) of a ``check_frame`` array (views)."""
+    n = (frame.shape[0] - 19) // 2
+    return (
+        frame[0:9].reshape((3, 3)),
+        frame[9:12],
+        frame[12:18],
+        int(frame[18]),
+        frame[19 : 19 + n],
+        frame[19 + n : 19 + 2 * n],
+    )
+
+
+@njit(cache=True, nogil=True)
+def pose_check(frame, H_w, H_t, q):
     """(position error, orientation error or NaN, within the limits) of one answer ``q``
     whose tip placement Pinocchio computed as the 4x4 ``H_w`` (world frame), against the
-    4x4 target ``H_t`` (base frame): ``pose_error`` and ``inside_limits`` in one call.
-    (R_bw, p_bw): T_base_world; ``limits``: (2, n) lower and upper; ``measure``: bit 1
-    weighted, bit 2 orientation measured."""
+    4x4 target ``H_t`` (base frame): ``pose_error`` and ``inside_limits`` in one call;
+    ``frame`` from ``check_frame``."""
     R_t, p_t = split_pose(H_t)
-    return _check(R_bw, p_bw, limits, H_w, R_t, p_t, w, measure, q)
+    return _check(frame, H_w, R_t, p_t, q)
 
 
 @njit(cache=True, nogil=True)
-def pose_checks(R_bw, p_bw, limits, H_w, H_t, w, measure, Q, out):
+def pose_checks(frame, H_w, H_t, Q, out):
     """out[i] = ``pose_check`` of answer Q[i] with tip placement H_w[i], for every i (the
     target split once)."""
     R_t, p_t = split_pose(H_t)
     for i in range(Q.shape[0]):
-        pos, ori, inside = _check(R_bw, p_bw, limits, H_w[i], R_t, p_t, w, measure, Q[i])
+        pos, ori, inside = _check(frame, H_w[i], R_t, p_t, Q[i])
         out[i, 0], out[i, 1], out[i, 2] = pos, ori, 1.0 if inside else 0.0
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _check(R_bw, p_bw, limits, H_w, R_t, p_t, w, measure, q):
+def _check(frame, H_w, R_t, p_t, q):
+    R_bw, p_bw, w, measure, lower, upper = _frame(frame)
     R_w, p_w = split_pose(H_w)
     pos, ori = pose_error(R_bw, p_bw, R_w, p_w, R_t, p_t, w, measure & 1 != 0, measure & 2 != 0)
-    return pos, ori, inside_limits(q, limits[0], limits[1], LIMIT_TOL)
+    return pos, ori, inside_limits(q, lower, upper, LIMIT_TOL)
