@@ -31,14 +31,15 @@ from .ik.attempt import Attempt
 from .kernel.check import check_frame, pose_check, pose_checks
 from .options import Options
 from .result import IKResult
-from .status import Status
+from .status import FAILURE_RANK, Status
 from .targets import parse_target
-from .verdict import finish, ranked, success_reason, verdict
+from .verdict import finish, success_reason, verdict
 from .verify import Check, measures_of
 
 _FLOAT = np.dtype(float)
 _SE3 = pin.SE3
 _CONVERGED = Status.CONVERGED
+_JOINT_LIMITS = Status.JOINT_LIMITS
 _NO_PLAN = object()  # remembered: this solver and options have no plan
 
 
@@ -181,10 +182,14 @@ class Plan:
             Q[i] = q
         measured = np.empty((n, 3))
         pose_checks(self.measured, H_w, H, Q, measured)
-        results, failed = [], []
+        results, failed = [], []  # failed: (rank key, result), in row order
         for got, (pos, ori, inside) in zip(rows, measured.tolist()):
             if type(got) is tuple:
                 result = self._success(got, pos, ori, inside > 0.0)
+                if result is None and inside == 0.0:  # reached, or not, outside the limits
+                    result = self._outside_limits(got, pos, ori)
+                    failed.append((_rank_key(result), result))
+                    continue
                 if result is not None:
                     results.append(result)
                     continue
@@ -196,13 +201,38 @@ class Plan:
                 tol_position=self.tol_p,
                 tol_orientation=self.tol_r,
             )
-            failed.append(verdict(got, c))
-        # verified answers nearest q0 first (the runner's order), then the others ranked
-        results += ranked(failed, self.solver, q0, True, t0)
+            result = IKResult._checked({**verdict(got, c), "solver": self.solver, "time": 0.0})
+            failed.append((_rank_key(result), result))
+        # verified answers nearest q0 first (the runner's order), then the others ranked as
+        # ``verdict.ranked`` ranks them (a stable sort on the same key)
+        failed.sort(key=lambda pair: pair[0])
+        results += [result for _, result in failed]
         elapsed = time.perf_counter() - t0
         for r in results:
             r.__dict__["time"] = elapsed
         return results
+
+    def _outside_limits(self, got: tuple, pos: float, ori: float) -> IKResult:
+        """The result ``verdict`` gives a claimed answer outside the joint limits, its
+        reason (which joints leave which limits) written on first read."""
+        q, iterations, restarts, branch, singular, _, _ = got
+        q.setflags(write=False)  # q is the runner's own array
+        result = object.__new__(IKResult)
+        result.__dict__.update(
+            q=q,
+            success=False,
+            status=_JOINT_LIMITS,
+            solver=self.solver,
+            iterations=iterations,
+            position_error=pos,
+            orientation_error=ori if self.measure_rot else None,
+            branch=branch,
+            singular=singular,
+            restarts=restarts,
+            extra={},
+            _reason=(_limits_reason, (self.arm, q)),
+        )
+        return result
 
     def _success(self, got: tuple, pos: float, ori: float, inside: bool) -> IKResult | None:
         """The successful result of a claimed answer with these measures, or None."""
@@ -231,6 +261,16 @@ class Plan:
     def _finish(self, attempts, H, q0, opts: Options, t0: float, every: bool):
         target = parse_target(H[:3, 3].copy() if self.position else H, self.arm)
         return finish(self.arm, self.solver, attempts, target, opts, q0, every, t0)
+
+
+def _limits_reason(arm: Arm, q: np.ndarray) -> str:
+    return "outside the joint limits: " + "; ".join(arm.limit_violations(q))
+
+
+def _rank_key(result: IKResult) -> tuple:
+    """``verdict._rank`` of a failed result."""
+    ori = result.orientation_error or 0.0
+    return (FAILURE_RANK[result.status], result.position_error + ori)
 
 
 def _claim(got: tuple) -> Attempt:
