@@ -6,14 +6,32 @@ Called from compiled code through ``numba.objmode`` (which takes the GIL back fo
 
 from __future__ import annotations
 
+from importlib.metadata import version
+
 import numpy as np
 import qpsolvers
 from scipy import sparse
 
 BACKENDS: tuple[str, ...] = tuple(qpsolvers.available_solvers)
-BACKEND_OPTIONS = {
-    "osqp": {"eps_abs": 1e-9, "eps_rel": 1e-9, "polish": False, "verbose": False},
-}
+
+
+def _release(package: str) -> tuple[int, ...]:
+    return tuple(int(x) for x in version(package).split(".")[:2] if x.isdigit())
+
+
+def _osqp_options() -> dict:
+    # Settings of osqp 1.x, which warns at the 0.6 names and, unless told whether a failure
+    # raises, at every solve (the answer is checked here: it must not raise); qpsolvers
+    # passes raise_error on from 4.13.
+    if _release("osqp") < (1, 0):
+        return {"eps_abs": 1e-9, "eps_rel": 1e-9, "polish": False, "verbose": False}
+    opts = {"eps_abs": 1e-9, "eps_rel": 1e-9, "polishing": False, "verbose": False}
+    if _release("qpsolvers") >= (4, 13):
+        opts["raise_error"] = False
+    return opts
+
+
+BACKEND_OPTIONS = {"osqp": _osqp_options()} if "osqp" in BACKENDS else {}
 
 
 def code(name: str) -> int:
