@@ -29,7 +29,7 @@ def rotation_angle(R):
     return math.atan2(s, c)
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def log3(R, w):
     """w = log(R) (rad, the rotation vector); returns its angle theta = |w| in [0, pi]."""
     sx = R[2, 1] - R[1, 2]
