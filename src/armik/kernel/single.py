@@ -19,8 +19,8 @@ from .chain import Flat, lower, upper
 from .check import LIMIT_TOL, inside_limits, split_pose
 from .descent import solve_one
 from .entry import MINIMA_CAPACITY
+from .problem import _workspace
 from .problem import unpack as unpack_settings
-from .problem import workspace
 from .step import dls, qp
 
 MAX_POSITION = 1e6  # m: armik.targets.MAX_POSITION
@@ -75,7 +75,7 @@ def solve_pose_dls(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
         return False
     st = unpack_settings(sf, si)
     R_t, p_t = split_pose(H)
-    ws = workspace(q0.shape[0], min(st.max_restarts + 1, MINIMA_CAPACITY))
+    ws = _workspace(q0.shape[0], min(st.max_restarts + 1, MINIMA_CAPACITY))
     solve_one(ch, st, R_t, p_t, q0, np.uint64(seed), ws, out_q, info, err, dls)
     return True
 
@@ -88,7 +88,7 @@ def solve_pose_qp(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
         return False
     st = unpack_settings(sf, si)
     R_t, p_t = split_pose(H)
-    ws = workspace(q0.shape[0], min(st.max_restarts + 1, MINIMA_CAPACITY))
+    ws = _workspace(q0.shape[0], min(st.max_restarts + 1, MINIMA_CAPACITY))
     solve_one(ch, st, R_t, p_t, q0, np.uint64(seed), ws, out_q, info, err, qp)
     return True
 

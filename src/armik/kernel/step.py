@@ -248,7 +248,7 @@ def qp_step(ch, st, ws, slot):
     bound_step(dq)
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, nogil=True, inline="always")
 def gram6(A, S):
     """S[a, b] = sum_i A[a, i] A[b, i] (b <= a) for the 6 rows of A, each sum in the order of
     i from 0.0 (the numbers of one loop per entry); the 21 sums run side by side in
