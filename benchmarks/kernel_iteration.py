@@ -23,13 +23,15 @@ from armik.options import Options
 ROUNDS = 20_000
 
 
+# error._evaluate: what the descent calls (error.evaluate is its entry for Python callers,
+# one call more in between)
 @njit(nogil=True)
 def _evaluate(ch, st, R_t, p_t, ws, Q, rounds):
     for r in range(rounds):
         k = r % Q.shape[0]
         for i in range(Q.shape[1]):
             ws.q[0, i] = Q[k, i]
-        error.evaluate(ch, st, R_t[k], p_t[k], ws, 0)
+        error._evaluate(ch, st, R_t[k], p_t[k], ws, 0)
 
 
 @njit(nogil=True)
@@ -38,7 +40,7 @@ def _iteration(ch, st, R_t, p_t, ws, Q, q0, use_qp, rounds):
         k = r % Q.shape[0]
         for i in range(Q.shape[1]):
             ws.q[0, i] = Q[k, i]
-        error.evaluate(ch, st, R_t[k], p_t[k], ws, 0)
+        error._evaluate(ch, st, R_t[k], p_t[k], ws, 0)
         if use_qp:
             step.qp(ch, st, ws, 0, q0, 1.0)
         else:

@@ -21,10 +21,10 @@ from numba import njit
 from ..status import Status
 from .chain import CONTINUOUS, PRISMATIC, lower, reach, upper
 from .clock import thread_cpu_ns
-from .error import evaluate
+from .error import _evaluate
 from .linalg import copy_to
 from .problem import BEST, DQ, NO_LIMIT, SHIFT, U
-from .restarts import pick, seed_shift
+from .restarts import _pick, seed_shift
 from .step import dls, qp, wrapped
 
 STALL_WINDOW = 4  # iterations without enough progress (PROGRESS) before a restart
@@ -54,7 +54,7 @@ NOT_CONVERGED = Status.NOT_CONVERGED.code
 
 # Step-independent helpers are compiled once and called (not inlined): both entries share
 # them, and each inlined copy would be compiled again.
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _near_known_minimum(ch, q, minima, count):
     n = q.shape[0]
     for m in range(count):
@@ -75,7 +75,7 @@ def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, step):
     iterations (and, if ``deadline_ns`` is not NO_LIMIT, until the thread's CPU clock passes
     it). Returns (iterations, converged, slot of the last state)."""
     cur = ZERO
-    evaluate(ch, st, R_t, p_t, ws, cur)
+    _evaluate(ch, st, R_t, p_t, ws, cur)
     best_sq = ws.val[cur, 2]
     mu = 1.0
     careful = False
@@ -96,7 +96,7 @@ def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, step):
         q, qn, dq = ws.q[cur], ws.q[trial], ws.vec[DQ]
         for i in range(n):
             qn[i] = min(max(q[i] + dq[i], lo[i]), hi[i])
-        evaluate(ch, st, R_t, p_t, ws, trial)
+        _evaluate(ch, st, R_t, p_t, ws, trial)
         it += 1
         if not careful or ws.val[trial, 2] < ws.val[cur, 2]:
             cur = trial
@@ -123,7 +123,7 @@ def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, step):
     return it, False, cur
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def normalise(ch, q, q_ref, out):
     """out: q with continuous angles in (-pi, pi], then every angle shifted by a multiple
     of 2 pi to the value nearest q_ref that stays within the limits (as
@@ -135,7 +135,9 @@ def normalise(ch, q, q_ref, out):
             qi = math.atan2(math.sin(qi), math.cos(qi))
         ri, lo, hi = q_ref[i], lows[i], highs[i]
         if ch.kind[i] != PRISMATIC and not (-math.pi <= qi - ri <= math.pi and lo <= qi <= hi):
-            near = qi + TWO_PI * np.round((ri - qi) / TWO_PI)
+            # np.rint: np.round's numbers (round half to even) without compiling numba's
+            # round-to-decimals helper (~0.25 s per process)
+            near = qi + TWO_PI * np.rint((ri - qi) / TWO_PI)
             best = np.nan
             for c in (near, near - TWO_PI, near + TWO_PI, qi):
                 if lo - LIMIT_TOL <= c <= hi + LIMIT_TOL and (
@@ -147,7 +149,7 @@ def normalise(ch, q, q_ref, out):
         out[i] = qi
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _add_solution(ch, q, q0, u, out_q, found):
     """Append q (normalised near q0, in scratch u) to out_q[:found] unless it is there
     already; returns the new count."""
@@ -228,7 +230,7 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, step):
             out_of_budget = True
             break
         restarts += 1
-        k = pick(ch, st, R_t, p_t, ws, k, ws.q[0])
+        k = _pick(ch, st, R_t, p_t, ws, k, ws.q[0])
     if found:
         info[0] = CONVERGED
     else:

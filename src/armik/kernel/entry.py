@@ -13,8 +13,8 @@ from numba import njit
 
 from .chain import Flat
 from .descent import solve_one
+from .problem import _workspace
 from .problem import unpack as unpack_settings
-from .problem import workspace
 from .step import dls, qp
 
 MINIMA_CAPACITY = 256  # known minima kept per solve (the oldest are dropped beyond)
@@ -28,7 +28,7 @@ def solve_targets_dls(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, out_q, 
     ``descent.solve_one``: out_q (N, S, n), info (N, 5), err (N, 2)."""
     ch = Flat(packed, kind, halton)
     st = unpack_settings(sf, si)
-    ws = workspace(q0.shape[1], min(st.max_restarts + 1, MINIMA_CAPACITY))
+    ws = _workspace(q0.shape[1], min(st.max_restarts + 1, MINIMA_CAPACITY))
     for i in range(R_t.shape[0]):
         solve_one(ch, st, R_t[i], p_t[i], q0[i], seeds[i], ws, out_q[i], info[i], err[i], dls)
 
@@ -38,7 +38,7 @@ def solve_targets_qp(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, out_q, i
     """``solve_targets_dls`` with the qp step."""
     ch = Flat(packed, kind, halton)
     st = unpack_settings(sf, si)
-    ws = workspace(q0.shape[1], min(st.max_restarts + 1, MINIMA_CAPACITY))
+    ws = _workspace(q0.shape[1], min(st.max_restarts + 1, MINIMA_CAPACITY))
     for i in range(R_t.shape[0]):
         solve_one(ch, st, R_t[i], p_t[i], q0[i], seeds[i], ws, out_q[i], info[i], err[i], qp)
 

@@ -16,7 +16,7 @@ from .fk import forward, jacobian_local
 from .se3 import jlog6_ab, log3, log6_ab
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def relative(ch, q, R_t, p_t, ws):
     """FK at q, then ws.m3[1], ws.v3[1] = T_tip^-1 T_target (rotation, translation in the
     tip frame)."""
@@ -29,8 +29,8 @@ def relative(ch, q, R_t, p_t, ws):
             M[i, j] = R[0, i] * R_t[0, j] + R[1, i] * R_t[1, j] + R[2, i] * R_t[2, j]
 
 
-@njit(cache=True, nogil=True)
-def evaluate(ch, st, R_t, p_t, ws, slot):
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _evaluate(ch, st, R_t, p_t, ws, slot):
     """Error (ws.e[slot]), Jacobian (ws.A[slot]) and ws.val[slot] = (position error,
     orientation error, |e|^2) at the joint values ws.q[slot]."""
     relative(ch, ws.q[slot], R_t, p_t, ws)
@@ -80,6 +80,13 @@ def evaluate(ch, st, R_t, p_t, ws, slot):
         for c in range(n):
             A[k, c] *= w[k]
     val[0], val[1], val[2] = math.sqrt(pos2), math.sqrt(rot2), sq
+
+
+@njit(cache=True, nogil=True)
+def evaluate(ch, st, R_t, p_t, ws, slot):
+    """``_evaluate`` for Python callers: the kernel calls ``_evaluate``, compiled without the
+    CPython wrapper (unboxing its tuple arguments cost compile time in every process)."""
+    _evaluate(ch, st, R_t, p_t, ws, slot)
 
 
 @njit(cache=True, nogil=True, inline="always")

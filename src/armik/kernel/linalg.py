@@ -102,7 +102,7 @@ def cholesky6(H, g, x):
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def cholesky_factor(H, free, L):
     """L: the Cholesky factor of H[F][:, F] (F: the joints where ``free``, ints, is not 0),
     in the rows and columns of F, with the INVERSE of its diagonal on the diagonal (one
@@ -141,7 +141,7 @@ def cholesky_factor(H, free, L):
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def cholesky_substitute(L, g, free, x):
     """x: the solution of L L^T x = g on the joints F of ``cholesky_factor``, 0 elsewhere."""
     n = L.shape[0]
@@ -187,11 +187,14 @@ def cholesky_solve(H, g, free, L, x):
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def solve_spd(H, g, free, L, x):
     """``cholesky_solve``; when H is not positive definite in floating point, the diagonal
     is raised by 1e-12, 1e-10, ... of its largest entry until it is (x = 0 if never)."""
-    if cholesky_solve(H, g, free, L, x):
+    # factor and substitute called directly rather than through ``cholesky_solve``: one
+    # compiled function less between the step and the loops (each costs compile time)
+    if cholesky_factor(H, free, L):
+        cholesky_substitute(L, g, free, x)
         return
     n = H.shape[0]
     scale = 0.0
@@ -205,7 +208,8 @@ def solve_spd(H, g, free, L, x):
     for _ in range(12):
         for i in range(n):
             H[i, i] = saved[i] + jitter
-        if cholesky_solve(H, g, free, L, x):
+        if cholesky_factor(H, free, L):
+            cholesky_substitute(L, g, free, x)
             ok = True
             break
         jitter *= 100.0

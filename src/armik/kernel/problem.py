@@ -95,8 +95,8 @@ def unpack(sf, si):
     )
 
 
-@njit(cache=True, nogil=True)
-def workspace(n, capacity):
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _workspace(n, capacity):
     return Workspace(
         np.empty((2, n)),
         np.empty((2, 6)),
@@ -114,3 +114,10 @@ def workspace(n, capacity):
         np.empty((6, 6)),
         np.empty((2, 6)),
     )
+
+
+@njit(cache=True, nogil=True)
+def workspace(n, capacity):
+    """``_workspace`` for Python callers (the kernel's copy goes without the CPython wrapper,
+    whose boxing of the 15 arrays cost compile time in every process)."""
+    return _workspace(n, capacity)

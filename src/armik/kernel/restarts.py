@@ -55,8 +55,8 @@ def restart_point(ch, shift, k, out):
         out[j] = lo[j] + span[j] * u
 
 
-@njit(cache=True, nogil=True)
-def pick(ch, st, R_t, p_t, ws, k, out):
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _pick(ch, st, R_t, p_t, ws, k, out):
     """out: of the restart points k .. k + RESTART_CANDIDATES - 1, the one whose tip lands
     nearest the target. Returns the index of the next unused point."""
     best = np.inf
@@ -69,3 +69,9 @@ def pick(ch, st, R_t, p_t, ws, k, out):
             best = score
             copy_to(out, cand)
     return k
+
+
+@njit(cache=True, nogil=True)
+def pick(ch, st, R_t, p_t, ws, k, out):
+    """``_pick`` for Python callers (the kernel's copy goes without the CPython wrapper)."""
+    return _pick(ch, st, R_t, p_t, ws, k, out)

@@ -29,7 +29,9 @@ def rotation_angle(R):
     return math.atan2(s, c)
 
 
-@njit(cache=True, nogil=True, inline="always")
+# Compiled once and called, not inlined: inlined, numba copied and compiled it again at
+# each of its three sites (log6_ab, the restart score, the check), ~1.3 s per process.
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def log3(R, w):
     """w = log(R) (rad, the rotation vector); returns its angle theta = |w| in [0, pi]."""
     sx = R[2, 1] - R[1, 2]

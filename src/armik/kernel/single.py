@@ -19,8 +19,8 @@ from .chain import Flat, lower, upper
 from .check import LIMIT_TOL, inside_limits, split_pose
 from .descent import solve_one
 from .entry import MINIMA_CAPACITY
+from .problem import _workspace
 from .problem import unpack as unpack_settings
-from .problem import workspace
 from .step import dls, qp
 
 MAX_POSITION = 1e6  # m: armik.targets.MAX_POSITION
@@ -62,30 +62,35 @@ def plain_seed(q, lo, hi):
     return inside_limits(q, lo, hi, LIMIT_TOL)
 
 
-@njit(cache=True, nogil=True, inline="always")
-def _solve(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err, step):
-    ch = Flat(packed, kind, halton)
-    if not plain_pose(H) or not plain_seed(q0, lower(ch), upper(ch)):
-        return False
-    st = unpack_settings(sf, si)
-    R_t, p_t = split_pose(H)
-    ws = workspace(q0.shape[0], min(st.max_restarts + 1, MINIMA_CAPACITY))
-    solve_one(ch, st, R_t, p_t, q0, np.uint64(seed), ws, out_q, info, err, step)
-    return True
-
-
+# The two entries spell out the same few lines rather than inline one helper taking the
+# step: numba inlines by copying the callee's IR, and that copy would be of solve_one's whole
+# inlined IR once more (~0.5 s per process).
 @njit(cache=True, nogil=True)
 def solve_pose_dls(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
     """One target, the 4x4 pose ``H`` in the base frame, from ``q0`` with restart seed
     ``seed``, with the dls step; outputs as ``descent.solve_one`` (out_q (S, n), info (5,),
     err (2,)). False, without solving, when ``H`` or ``q0`` is not plain."""
-    return _solve(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err, dls)
+    ch = Flat(packed, kind, halton)
+    if not plain_pose(H) or not plain_seed(q0, lower(ch), upper(ch)):
+        return False
+    st = unpack_settings(sf, si)
+    R_t, p_t = split_pose(H)
+    ws = _workspace(q0.shape[0], min(st.max_restarts + 1, MINIMA_CAPACITY))
+    solve_one(ch, st, R_t, p_t, q0, np.uint64(seed), ws, out_q, info, err, dls)
+    return True
 
 
 @njit(cache=True, nogil=True)
 def solve_pose_qp(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
     """``solve_pose_dls`` with the qp step."""
-    return _solve(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err, qp)
+    ch = Flat(packed, kind, halton)
+    if not plain_pose(H) or not plain_seed(q0, lower(ch), upper(ch)):
+        return False
+    st = unpack_settings(sf, si)
+    R_t, p_t = split_pose(H)
+    ws = _workspace(q0.shape[0], min(st.max_restarts + 1, MINIMA_CAPACITY))
+    solve_one(ch, st, R_t, p_t, q0, np.uint64(seed), ws, out_q, info, err, qp)
+    return True
 
 
 POSE_ENTRIES = (solve_pose_dls, solve_pose_qp)  # indexed by problem.STEP_DLS, STEP_QP

@@ -111,7 +111,7 @@ def dls_step(ch, ws, slot):
     bound_step(dq)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def inverse_spd(ws):
     """ws.mat[GI] = ws.mat[H]^-1 by Cholesky; False if H is not positive definite."""
     Hm, Gi, free, unit, x, Lm = (
@@ -248,7 +248,7 @@ def qp_step(ch, st, ws, slot):
     bound_step(dq)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def gram6(A, S):
     """S[a, b] = sum_i A[a, i] A[b, i] (b <= a) for the 6 rows of A, each sum in the order of
     i from 0.0 (the numbers of one loop per entry); the 21 sums run side by side in
@@ -339,7 +339,7 @@ def task_space_step(ch, st, ws, slot, q0, mu):
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def dls(ch, st, ws, slot, q0, mu):
     """ws.vec[DQ]: the dls step from state ``slot`` (damping multiplier mu)."""
     if ws.q.shape[1] > 6 and task_space_step(ch, st, ws, slot, q0, mu):
@@ -348,7 +348,7 @@ def dls(ch, st, ws, slot, q0, mu):
     dls_step(ch, ws, slot)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def qp(ch, st, ws, slot, q0, mu):
     """ws.vec[DQ]: the qp step from state ``slot`` (damping multiplier mu)."""
     normal_equations(ch, st, ws, slot, q0, mu)
