@@ -215,37 +215,27 @@ class Plan:
     def _outside_limits(self, got: tuple, pos: float, ori: float) -> IKResult:
         """The result ``verdict`` gives a claimed answer outside the joint limits, its
         reason (which joints leave which limits) written on first read."""
-        q, iterations, restarts, branch, singular, _, _ = got
-        q.setflags(write=False)  # q is the runner's own array
-        result = object.__new__(IKResult)
-        result.__dict__.update(
-            q=q,
-            success=False,
-            status=_JOINT_LIMITS,
-            solver=self.solver,
-            iterations=iterations,
-            position_error=pos,
-            orientation_error=ori if self.measure_rot else None,
-            branch=branch,
-            singular=singular,
-            restarts=restarts,
-            extra={},
-            _reason=(_limits_reason, (self.arm, q)),
-        )
-        return result
+        ori = ori if self.measure_rot else None
+        return self._result(got, False, _JOINT_LIMITS, pos, ori, _limits_reason, (self.arm, got[0]))
 
     def _success(self, got: tuple, pos: float, ori: float, inside: bool) -> IKResult | None:
         """The successful result of a claimed answer with these measures, or None."""
         ori = ori if self.measure_rot else None
         if not (inside and pos <= self.tol_p and (ori is None or ori <= self.tol_r)):
             return None
-        q, iterations, restarts, branch, singular, why, why_args = got
+        why = (got[5], got[6], pos, ori, self.tol_p, self.tol_r)
+        return self._result(got, True, _CONVERGED, pos, ori, success_reason, why)
+
+    def _result(self, got: tuple, success: bool, status: Status, pos, ori, reason, args):
+        """The ``IKResult`` of a runner's claimed answer ``got``, built without the frozen
+        ``__init__``; its reason is ``reason(*args)``, written on first read."""
+        q, iterations, restarts, branch, singular, _, _ = got
         q.setflags(write=False)  # q is the runner's own array
         result = object.__new__(IKResult)
         result.__dict__.update(
             q=q,
-            success=True,
-            status=_CONVERGED,
+            success=success,
+            status=status,
             solver=self.solver,
             iterations=iterations,
             position_error=pos,
@@ -254,7 +244,7 @@ class Plan:
             singular=singular,
             restarts=restarts,
             extra={},
-            _reason=(success_reason, (why, why_args, pos, ori, self.tol_p, self.tol_r)),
+            _reason=(reason, args),
         )
         return result
 

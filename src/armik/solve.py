@@ -27,25 +27,24 @@ def solve(
     """Parse, choose a solver, run it, verify every answer, rank: best first."""
     if not all_solutions:
         return [solve_one(arm, target, q0, solver, options)]
+    return solve_one(arm, target, q0, solver, options, every=True)
+
+
+def solve_one(
+    arm: Arm, target: object, q0: object, solver: str, options: dict, every: bool = False
+):
+    """``solve(arm, target, q0=q0, solver=solver, **options)[0]`` (``Arm.solve``'s route),
+    or with ``every`` the whole list of ``all_solutions=True``: a prepared solve
+    (``armik.plan``) when the input is plain, else the general path."""
     t0 = time.perf_counter()
     opts, key, seed = _options(options)
     plan = None if key is None else plan_for(arm, solver, key, opts, _is_vector(target))
-    results = None if plan is None else plan.solve_all(target, q0, opts, seed, t0)
-    if results is not None:
-        return results
-    return _general(arm, target, q0, solver, _with_seed(opts, seed), True, t0)
-
-
-def solve_one(arm: Arm, target: object, q0: object, solver: str, options: dict) -> IKResult:
-    """``solve(arm, target, q0=q0, solver=solver, **options)[0]`` (``Arm.solve``'s route):
-    a prepared solve (``armik.plan``) when the input is plain, else the general path."""
-    t0 = time.perf_counter()
-    opts, key, seed = _options(options)
-    plan = None if key is None else plan_for(arm, solver, key, opts, _is_vector(target))
-    result = None if plan is None else plan.solve(target, q0, opts, seed, t0)
-    if result is not None:
-        return result
-    return _general(arm, target, q0, solver, _with_seed(opts, seed), False, t0)[0]
+    if plan is not None:
+        got = (plan.solve_all if every else plan.solve)(target, q0, opts, seed, t0)
+        if got is not None:
+            return got
+    results = _general(arm, target, q0, solver, _with_seed(opts, seed), every, t0)
+    return results if every else results[0]
 
 
 def _is_vector(target: object) -> bool:

@@ -238,7 +238,7 @@ def flat(arm: Arm, family: str, classify) -> np.ndarray:
     got = None if per_arm is None else per_arm.get((family, "flat"))
     if got is None:
         geo = geometry(arm, family, classify)
-        variant = 1.0 if getattr(geo, "variant", "") == "meeting_12" else 0.0
+        variant = 1.0 if geo.variant == "meeting_12" else 0.0
         parts = [geo.h, geo.p, geo.R_tip0, arm.lower, arm.upper, [variant]]
         got = np.concatenate([np.ravel(np.asarray(x, dtype=float)) for x in parts])
         _GEOMETRY[arm][(family, "flat")] = got
