@@ -5,9 +5,10 @@ nothing cached is read) and times, in order: the first Panda ``solve`` with dls,
 with qp, then a ``solve_batch`` with dls; then the same again in a second interpreter on the
 now-filled cache. With ``--events``, the first interpreter also prints the functions numba
 compiled for the first solve and how long each took (nested: a caller's time includes its
-callees'). Extra environment (``NUMBA_OPT=1``, ...) passes through.
+callees'); with ``--profile``, it runs the first solve under cProfile and prints the share
+of LLVM, numba's inlining and its lowering. Extra environment (``NUMBA_OPT=1``, ...) passes through.
 
-    python benchmarks/compile_time.py [--events]
+    python benchmarks/compile_time.py [--events] [--profile]
 """
 
 from __future__ import annotations
@@ -28,7 +29,29 @@ import numpy as np
 import armik
 a = armik.load("panda")
 T = a.fk(a.random_q(1))
+profile = "--profile" in sys.argv
+if profile:
+    import cProfile
+    profiler = cProfile.Profile()
+    profiler.enable()
 t = time.perf_counter(); a.solve(T, solver="dls"); dls = time.perf_counter() - t
+if profile:
+    profiler.disable()
+    import pstats
+    stats = pstats.Stats(profiler).stats  # (file, line, name) -> (cc, nc, tottime, cumtime, _)
+    def share(path, name, column):  # column 2: own time, 3: with callees
+        got = [v[column] for k, v in stats.items() if k[0].endswith(path) and k[2] == name]
+        return max(got, default=0.0)
+    total = share("arm.py", "solve", 3)
+    parts = {
+        "LLVM (llvmlite's calls into it, own time)": share("ffi.py", "__call__", 2),
+        "inlining (numba's InlineInlinables pass)": share("untyped_passes.py", "_do_work", 3),
+        "of which copying IR (copy.deepcopy)": share("copy.py", "deepcopy", 3),
+        "lowering (numba's lower, LLVM inside)": share("lowering.py", "lower", 3),
+    }
+    print(f"under cProfile (slows Python more than LLVM) the first dls solve took {total:.1f} s:")
+    for name, seconds in parts.items():
+        print(f"  {seconds:6.2f} s  {100 * seconds / total:4.1f} %  {name}")
 if events:
     recording.__exit__(None, None, None)
 t = time.perf_counter(); a.solve(T, solver="qp"); qp = time.perf_counter() - t
@@ -51,7 +74,7 @@ if events:
 
 
 def main() -> None:
-    events = ["--events"] if "--events" in sys.argv else []
+    events = [f for f in ("--events", "--profile") if f in sys.argv]
     with tempfile.TemporaryDirectory() as cache:
         env = {**os.environ, "NUMBA_CACHE_DIR": cache}
         for label, extra in (("empty cache", events), ("filled cache", [])):
