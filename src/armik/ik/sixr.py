@@ -181,11 +181,6 @@ _LABELS = tuple(
 )
 
 
-def branch_label(bits: int) -> str:
-    """Branch name from ``branch_bits``."""
-    return _LABELS[bits]
-
-
 def reason(code: int, val: tuple[float, float] | np.ndarray, family: str) -> str:
     a, b = float(val[0]), float(val[1])
     if code == SHOULDER_OFFSET:
