@@ -44,6 +44,7 @@ from ..kernel.problem import (
 )
 from ..kernel.restarts import RESTART_CANDIDATES  # noqa: F401 (re-exported)
 from ..kernel.single import POSE_ENTRIES
+from ..kernel.warmup import prepare
 from ..options import Options
 from ..status import Status
 from ..targets import Target
@@ -199,6 +200,7 @@ def run_numeric(
     err = np.empty((1, 2))
     seeds = np.empty(1, dtype=np.uint64)
     seeds[0] = solve_seed(opts)  # (a third of np.array([seed], dtype=np.uint64)'s cost)
+    prepare(step.kind)
     ENTRIES[step.kind](*arm.kernel_chain.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
     return attempts(arm, target.position, q0, opts, sf, info[0], out_q[0], err[0])
 
@@ -243,6 +245,7 @@ def pose_runner(arm: Arm, opts: Options, step: Step, position_only: bool = False
     function, its arguments); else the attempts for the general verdict."""
     dof = arm.dof
     sf, si = packed_settings(opts, position_only, dof, 1, step)
+    prepare(step.kind)
     entry = POSE_ENTRIES[step.kind]
     packed, kind, halton_ = arm.kernel_chain.flat
     converged_code = _descent.CONVERGED
@@ -315,6 +318,7 @@ def run_numeric_batch(
     info = np.empty((n_targets, 5), dtype=np.int64)
     err = np.empty((n_targets, 2))
     kc = arm.kernel_chain
+    prepare(step.kind)
     ENTRIES[step.kind](*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
     return AttemptBatch(
         q=out_q[:, 0],

@@ -1,0 +1,178 @@
+"""A cold first solve compiled on two cores: the step in a helper process, the rest here.
+
+The first numeric solve on a machine compiles the kernel into numba's on-disk cache: the
+pose error and its Jacobian (``error._evaluate``), the step (``step.dls`` or ``step.qp``),
+the restarts (``restarts._pick``), then the entry that holds the descent and calls them.
+The step and the pose error do not depend on each other. When the step is not in the cache
+and a second CPU is free, ``prepare`` starts a helper process that compiles the step (then
+the verification's ``check.pose_check``) into the cache, while this process compiles the
+pose error and the restarts; the entry then loads the step from the cache instead of
+compiling it. The functions, their types and their machine code are the ones a single
+process would build (the same cache entries); only the wall time changes
+(``benchmarks/compile_time.py``). PyTorch's ``torch.compile`` likewise compiles in worker
+processes.
+
+``prepare(kind)`` runs once per process and step, before the first call of an entry with
+that step. It starts no helper when the step is in the cache already, when this process
+has compiled its share already (a qp solve after a dls one), when only one CPU is usable,
+or when Python is embedded in an application (``sys.executable`` is no interpreter);
+``ARMIK_COMPILE_HELPER=0`` in the environment turns the helper off, ``=1`` starts it even
+on one CPU. A helper that cannot start or fails costs nothing but its CPU: this process
+then compiles the step itself, as it would without it.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import threading
+from pathlib import Path
+
+import numpy as np
+
+from . import check, error, restarts, step
+from .chain import Flat
+from .problem import STEP_DLS, STEP_QP, _workspace, unpack
+
+ENVIRONMENT = "ARMIK_COMPILE_HELPER"  # "0": never start the helper, "1": even on one CPU
+HELPER_TIMEOUT = 300.0  # s: a helper still silent after this is stopped
+STEPS = {STEP_DLS: step.dls, STEP_QP: step.qp}
+
+_prepared: set[int] = set()
+_lock = threading.Lock()
+
+
+def prepare(kind: int) -> None:
+    """Make sure the kernel parts of step ``kind`` (``problem.STEP_DLS`` or ``STEP_QP``)
+    are compiled or loaded in this process, the step by a helper process when the cache
+    lacks it (see the module). Cheap after the first call."""
+    if kind in _prepared:
+        return
+    with _lock:
+        if kind in _prepared:
+            return
+        try:
+            _prepare(kind)
+        finally:
+            _prepared.add(kind)
+
+
+def _prepare(kind: int) -> None:
+    step_types, share = _parts()
+    take_step = STEPS[kind]
+    if (
+        not _helper_allowed()
+        or all(types in dispatcher.overloads for dispatcher, types in share)  # nothing to share
+        or _cached(take_step, step_types)
+    ):
+        return  # the entry compiles or loads everything in order, as always
+    helper = _start_helper(kind)
+    if helper is None:
+        return
+    for dispatcher, types in share:  # this process's share while the helper compiles
+        dispatcher.compile(types)
+    _wait_for(helper, "step")
+    # it goes on with the verification in the background: reap it when it ends
+    threading.Thread(target=helper.communicate, daemon=True).start()
+
+
+def _parts() -> tuple[tuple, list]:
+    """(the step's argument types, [(compiled function, argument types)] for the other
+    parts an entry calls): the numba types the entries pass them. They depend on no arm,
+    only on dtypes, dimensions and layouts, which small samples carry
+    (tests/test_warmup.py checks them against what the entries compile)."""
+    from numba import typeof
+
+    from .descent import _add_solution, _near_known_minimum
+    from .single import plain_pose, plain_seed
+
+    ch = Flat(np.zeros(1), np.zeros(1, dtype=np.int64), np.zeros((1, 1)))
+    sf, si = np.zeros(16), np.zeros(16, dtype=np.int64)
+    st = unpack.py_func(sf, si)
+    ws = _workspace.py_func(1, 1)
+    H = np.eye(4)
+    R_t, p_t = check.split_pose.py_func(H)
+    q, Q = np.zeros(1), np.zeros((1, 1))
+    count = np.int64(0)  # descent.ZERO and what follows from it
+
+    def types(*args):
+        return tuple(map(typeof, args))
+
+    share = [
+        (error._evaluate, types(ch, st, R_t, p_t, ws, count)),
+        (restarts._pick, types(ch, st, R_t, p_t, ws, count, q)),
+        (plain_pose, types(H)),
+        (plain_seed, types(q, q, q)),
+        (unpack, types(sf, si)),
+        (_workspace, types(count, count)),
+        (check.split_pose, types(H)),
+        (_add_solution, types(ch, q, q, q, Q, count)),
+        (_near_known_minimum, types(ch, q, Q, count)),
+    ]
+    return types(ch, st, ws, count, q, 1.0), share
+
+
+def _helper_allowed() -> bool:
+    setting = os.environ.get(ENVIRONMENT)
+    if setting in ("0", "1"):
+        return setting == "1"
+    if getattr(sys, "frozen", False) or not Path(sys.executable).name.lower().startswith("python"):
+        return False  # an application that embeds Python: sys.executable is not an interpreter
+    try:
+        cpus = len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        cpus = os.cpu_count() or 1
+    return cpus >= 2
+
+
+def _cached(dispatcher, types: tuple) -> bool:
+    """Whether numba's on-disk cache holds ``dispatcher`` compiled for ``types`` (numba's own
+    lookup, through an attribute numba does not document: anything unexpected counts as
+    cached, so that no helper starts)."""
+    try:
+        return dispatcher._cache.load_overload(types, dispatcher.targetctx) is not None
+    except Exception:
+        return True
+
+
+def _start_helper(kind: int) -> subprocess.Popen | None:
+    # The helper must import these very source files: numba's cache is keyed on them.
+    root = str(Path(__file__).resolve().parents[2])
+    code = (
+        f"import sys; sys.path.insert(0, {root!r}); "
+        f"from armik.kernel.warmup import helper; helper({kind})"
+    )
+    try:
+        return subprocess.Popen(
+            [sys.executable, "-c", code],
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.DEVNULL,
+            text=True,
+        )
+    except OSError:
+        return None
+
+
+def _wait_for(helper: subprocess.Popen, line: str) -> None:
+    """Read the helper's output until ``line`` (it compiled that part), its end, or the
+    timeout."""
+    timer = threading.Timer(HELPER_TIMEOUT, helper.kill)
+    timer.daemon = True
+    timer.start()
+    try:
+        for got in helper.stdout:
+            if got.strip() == line:
+                return
+    finally:
+        timer.cancel()
+
+
+def helper(kind: int) -> None:
+    """The helper process: the step of ``kind`` into the cache, then the verification."""
+    STEPS[kind].compile(_parts()[0])
+    print("step", flush=True)
+    q = np.zeros(1)
+    check.pose_check(np.zeros(21), np.eye(4), np.eye(4), q)  # the plan's types
+    print("check", flush=True)

@@ -1,0 +1,73 @@
+"""The cold first solve compiled on two cores (``kernel.warmup``): the helper's step is the
+one the entries load, the parts this process compiles are the ones the entries call, and
+the answers are those of a single process."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+import armik
+from armik.kernel import problem, warmup
+
+# A fresh interpreter on an empty cache: a first dls solve and batch, then what compiled.
+COLD = r"""
+import json, numpy as np, armik
+from armik.kernel import step, warmup
+a = armik.load("panda")
+T = a.fk(a.random_q(np.random.default_rng(5)))
+r = a.solve(T, solver="dls", seed=1)
+a.solve_batch(np.array([T.homogeneous] * 2), solver="dls", workers=1, seed=1)
+step_types, share = warmup._parts()
+print(json.dumps({
+    "q": r.q.tolist(),
+    "step_loaded": step.dls.stats.cache_hits.get(step_types, 0),
+    "step_compiled": sum(step.dls.stats.cache_misses.values()),
+    "share": [
+        [d.py_func.__name__, [str(s) for s in d.signatures], str(types)] for d, types in share
+    ],
+}))
+"""
+
+
+def test_cold_first_solve_loads_the_helpers_step(tmp_path):
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path), warmup.ENVIRONMENT: "1"}
+    out = subprocess.run(
+        [sys.executable, "-c", COLD], env=env, capture_output=True, text=True, check=True
+    )
+    got = json.loads(out.stdout.splitlines()[-1])
+    # the step came from the helper's cache entry; this process compiled none
+    assert got["step_loaded"] >= 1 and got["step_compiled"] == 0
+    # each part compiled here has one signature, the warm-up's: the pose and batch entries
+    # called it with exactly those types
+    for name, signatures, types in got["share"]:
+        assert signatures == [types], name
+    # the answer of a single process (whatever its cache holds)
+    a = armik.load("panda")
+    T = a.fk(a.random_q(np.random.default_rng(5)))
+    assert np.array_equal(np.array(got["q"]), a.solve(T, solver="dls", seed=1).q)
+
+
+def test_the_environment_decides_first(monkeypatch):
+    monkeypatch.setenv(warmup.ENVIRONMENT, "0")
+    assert not warmup._helper_allowed()
+    monkeypatch.setenv(warmup.ENVIRONMENT, "1")
+    assert warmup._helper_allowed()
+
+
+def test_no_helper_once_compiled(monkeypatch):
+    a = armik.load("panda")
+    a.solve(a.fk(a.middle), solver="dls")  # compiled or loaded: nothing left to share
+    monkeypatch.setenv(warmup.ENVIRONMENT, "1")
+    monkeypatch.setattr(warmup, "_prepared", set())
+
+    def refuse(kind):
+        raise AssertionError("a helper started with nothing to compile")
+
+    monkeypatch.setattr(warmup, "_start_helper", refuse)
+    warmup.prepare(problem.STEP_DLS)
+    assert problem.STEP_DLS in warmup._prepared
