@@ -6,7 +6,9 @@ with qp, then a ``solve_batch`` with dls; then the same again in a second interp
 now-filled cache. With ``--events``, the first interpreter also prints the functions numba
 compiled for the first solve and how long each took (nested: a caller's time includes its
 callees'); with ``--profile``, it runs the first solve under cProfile and prints the share
-of LLVM, numba's inlining and its lowering. Extra environment (``NUMBA_OPT=1``, ...) passes through.
+of LLVM, numba's inlining and its lowering. Extra environment (``NUMBA_OPT=1``, ...) passes through;
+``ARMIK_COMPILE_HELPER=0`` measures one process compiling alone (``kernel.warmup``), and
+the events then list everything the first solve compiles.
 
     python benchmarks/compile_time.py [--events] [--profile]
 """

@@ -12,6 +12,7 @@ function recompiles only its module and the ones that call it.
 - ``descent``: the pose error, one attempt (``descend``), restarts.
 - ``entry``: ``solve_targets``, a whole solve for N targets, GIL released.
 - ``check``: the verification errors from Pinocchio placements.
+- ``warmup``: a cold first solve compiled on two cores (the step in a helper process).
 """
 
 import warnings
