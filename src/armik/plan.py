@@ -168,24 +168,16 @@ class Plan:
         if plain is None:
             return None
         H, q0 = plain
-        rows = self.run_pose(H, q0, secrets.randbits(63) if seed is None else seed, True)
-        if rows is None:
+        got = self.run_pose(H, q0, secrets.randbits(63) if seed is None else seed, True)
+        if got is None:
             return None
-        n = len(rows)
-        H_w = np.empty((n, 4, 4))
-        Q = np.empty((n, self.shape[0]))
-        model, data, frame, fk = self.model, self.arm.data, self.frame, pin.forwardKinematics
-        for i, got in enumerate(rows):
-            q = got[0] if type(got) is tuple else got.q
-            fk(model, data, q if self.direct else self.arm.to_pin(q))
-            H_w[i] = pin.updateFramePlacement(model, data, frame).homogeneous
-            Q[i] = q
-        measured = np.empty((n, 3))
-        pose_checks(self.measured, H_w, H, Q, measured)
+        Q, rows = got  # Q[i]: the answer of rows[i]
+        measured = np.empty((len(rows), 3))
+        pose_checks(self.measured, self._placements(Q), H, Q, measured)
         results, failed = [], []  # failed: (rank key, result), in row order
         for got, (pos, ori, inside) in zip(rows, measured.tolist()):
             if type(got) is tuple:
-                result = self._success(got, pos, ori, inside > 0.0)
+                result = self._success(got, pos, ori, inside > 0.0, False)
                 if result is None and inside == 0.0:  # reached, or not, outside the limits
                     result = self._outside_limits(got, pos, ori)
                     failed.append((_rank_key(result), result))
@@ -212,25 +204,44 @@ class Plan:
             r.__dict__["time"] = elapsed
         return results
 
+    def _placements(self, Q: np.ndarray) -> np.ndarray:
+        """The tip placements (n, 4, 4) of the answers Q, by Pinocchio."""
+        model, data, frame = self.model, self.arm.data, self.frame
+        fk, place = pin.forwardKinematics, pin.updateFramePlacement
+        if not self.direct:
+            Q = [self.arm.to_pin(q) for q in Q]
+        placements = []
+        for q in Q:
+            fk(model, data, q)
+            placements.append(place(model, data, frame).homogeneous)
+        return np.array(placements) if placements else np.empty((0, 4, 4))
+
     def _outside_limits(self, got: tuple, pos: float, ori: float) -> IKResult:
         """The result ``verdict`` gives a claimed answer outside the joint limits, its
         reason (which joints leave which limits) written on first read."""
         ori = ori if self.measure_rot else None
-        return self._result(got, False, _JOINT_LIMITS, pos, ori, _limits_reason, (self.arm, got[0]))
+        why = (self.arm, got[0])
+        return self._result(got, False, _JOINT_LIMITS, pos, ori, _limits_reason, why, False)
 
-    def _success(self, got: tuple, pos: float, ori: float, inside: bool) -> IKResult | None:
+    def _success(
+        self, got: tuple, pos: float, ori: float, inside: bool, writable: bool = True
+    ) -> IKResult | None:
         """The successful result of a claimed answer with these measures, or None."""
         ori = ori if self.measure_rot else None
         if not (inside and pos <= self.tol_p and (ori is None or ori <= self.tol_r)):
             return None
         why = (got[5], got[6], pos, ori, self.tol_p, self.tol_r)
-        return self._result(got, True, _CONVERGED, pos, ori, success_reason, why)
+        return self._result(got, True, _CONVERGED, pos, ori, success_reason, why, writable)
 
-    def _result(self, got: tuple, success: bool, status: Status, pos, ori, reason, args):
+    def _result(
+        self, got: tuple, success: bool, status: Status, pos, ori, reason, args, writable=True
+    ):
         """The ``IKResult`` of a runner's claimed answer ``got``, built without the frozen
-        ``__init__``; its reason is ``reason(*args)``, written on first read."""
+        ``__init__``; its reason is ``reason(*args)``, written on first read. ``writable``:
+        q is still the runner's writable array (made read-only here)."""
         q, iterations, restarts, branch, singular, _, _ = got
-        q.setflags(write=False)  # q is the runner's own array
+        if writable:
+            q.setflags(write=False)
         result = object.__new__(IKResult)
         result.__dict__.update(
             q=q,

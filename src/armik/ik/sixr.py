@@ -292,11 +292,25 @@ def pose_runner(arm: Arm, opts: Options, family: str, classify, solve_into, clos
     family's compiled kernel for one plain 4x4 pose (n = -1 when the pose or q0 is not
     plain; see ``hand_over``). When the nearest row is the one ``solve`` verifies first and
     is reached: (q, 0, 0, branch, singular, reason function, arguments); else the attempts
-    for the general verdict. With ``every`` (``solve_all``): a list with one entry per row,
-    nearest first: that tuple for a row claimed reached, an ``Attempt`` for the others."""
+    for the general verdict. With ``every`` (``solve_all``): (Q, rows), Q the (n, 6)
+    read-only answers and rows one entry per answer, nearest first: that tuple (its q a row
+    of Q) for an answer claimed reached, an ``Attempt`` for the others."""
     chain = flat(arm, family, classify)
     tol_p, tol_r = opts.tol_position, opts.tol_orientation
     why = ((closed_form, False), (closed_form, True))  # claim_reason's arguments
+    # a reached row's tuple after q, by its (flags, branch bits) as the kernel writes them
+    reached = {
+        (float(f), float(bits)): (
+            0,
+            0,
+            _LABELS[bits],
+            f == SINGULAR,
+            claim_reason,
+            why[f == SINGULAR],
+        )
+        for f in (0, SINGULAR)
+        for bits in range(8)
+    }
     empty = np.empty
 
     def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False):
@@ -305,16 +319,16 @@ def pose_runner(arm: Arm, opts: Options, family: str, classify, solve_into, clos
         if n < 0:
             return None
         if every:  # solve_all: every row, claimed converged rows as tuples
+            Q = out[:n, :6].copy()
+            Q.setflags(write=False)  # the results' q are its rows
             rows = []
-            for k, (f, bits) in enumerate(out[:n, 6:8].tolist()):
-                f = int(f)
-                if f & LS:
+            for k, key in enumerate(zip(out[:n, 6].tolist(), out[:n, 7].tolist())):
+                rest = reached.get(key)  # None: least squares
+                if rest is None:
                     rows.append(attempts(out[k : k + 1], 1, True, family, closed_form)[0])
                 else:
-                    singular = bool(f & SINGULAR)
-                    label = _LABELS[int(bits)]
-                    rows.append((out[k, :6], 0, 0, label, singular, claim_reason, why[singular]))
-            return rows
+                    rows.append((Q[k], *rest))
+            return Q, rows
         if keep == 1 and head >= 0:
             singular = head >= 8
             return (out[0, :6], 0, 0, _LABELS[head & 7], singular, claim_reason, why[singular])
