@@ -738,8 +738,9 @@ class Arm:
 
     def solve_all(self, target, *, q0=None, solver: str = "auto", **options):
         """Every distinct solution the solver finds, each verified, best first."""
-        _check_solver_name(solver)
-        return _solve()(self, target, q0=q0, solver=solver, all_solutions=True, **options)
+        if type(solver) is not str:
+            _check_solver_name(solver)
+        return _solve_one()(self, target, q0, solver, options, True)
 
     def solve_batch(self, targets, *, q0=None, solver: str = "auto", workers=None, **options):
         """Solve many targets ((N, 4, 4), (N, 7), (N, 3) or a list) on every core; returns a
@@ -771,26 +772,20 @@ def _set_joint(model: pin.Model, q: np.ndarray, jid: int, value: float) -> None:
         )
 
 
-_SOLVE = []  # armik.solve.solve and solve_one, imported at the first solve (they import this)
+_SOLVE = []  # armik.solve.solve_one, imported at the first solve (it imports this module)
 
 
 def _import_solve() -> None:
     # An import statement per call costs 2 us of a 25 us solve.
-    from .solve import solve, solve_one
+    from .solve import solve_one
 
-    _SOLVE[:] = [solve, solve_one]
-
-
-def _solve():
-    if not _SOLVE:
-        _import_solve()
-    return _SOLVE[0]
+    _SOLVE[:] = [solve_one]
 
 
 def _solve_one():
     if not _SOLVE:
         _import_solve()
-    return _SOLVE[1]
+    return _SOLVE[0]
 
 
 def _check_solver_name(solver: object) -> None:
