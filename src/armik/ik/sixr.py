@@ -148,7 +148,8 @@ def pack(Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, 
     keep = n
     for k in range(n):
         r = order[k]
-        out[k, :6] = Q[r]
+        for j in range(6):  # a loop: a slice copy compiles numba's shape-error path (1.5 s)
+            out[k, j] = Q[r, j]
         out[k, 6] = flags[r]
         out[k, 7] = 0.0
         out[k, 8] = code[r]

@@ -118,7 +118,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, variant, every)
     p0, p1, p2, p3, p6 = vec(p[0]), vec(p[1]), vec(p[2]), vec(p[3]), vec(p[6])
     R06 = mmt(mat(R), mat(R_tip0))
     p16 = sub(sub(vec(pos), mv(R06, p6)), p0)
-    n = 0
+    n = np.int64(0)  # not a literal 0: numba would compile the callees for it too
     if variant == 0:  # axes 2 and 3 parallel
         d = dot(h2, add(add(p1, p2), p3))
         a0, a1, n1, ls1 = sp4(h2, p16, neg(h1), d)
@@ -220,7 +220,8 @@ def kernel_many(chain, Rs, ps, q0s, tol_p, tol_r):
         out, _ = kernel(
             h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, tol_p, tol_r, variant, False
         )
-        Q[i] = out[0, :6]
+        for j in range(6):  # a loop: a slice copy compiles numba's shape-error path
+            Q[i, j] = out[0, j]
         claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
     return Q, claim
 

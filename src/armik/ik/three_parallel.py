@@ -85,7 +85,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, every):
         cd1 = SHOULDER_OFFSET
         v0 = norm(sub(p16, scale(h1, dot(h1, p16))))
         v1 = abs(d1 - dot(h2, h1) * dot(h1, p16))
-    n = 0
+    n = np.int64(0)  # not a literal 0: numba would compile the callees for it too
     for i1 in range(n1):
         q1 = a0 if i1 == 0 else a1
         R1 = rot(h1, q1)
@@ -172,7 +172,8 @@ def kernel_many(chain, Rs, ps, q0s, tol_p, tol_r):
     claim = np.empty(N, np.int8)
     for i in range(N):
         out, _ = kernel(h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, tol_p, tol_r, False)
-        Q[i] = out[0, :6]
+        for j in range(6):  # a loop: a slice copy compiles numba's shape-error path
+            Q[i, j] = out[0, j]
         claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
     return Q, claim
 
