@@ -180,6 +180,21 @@ def test_plan_solve_all_is_the_general_solve_all(name):
         assert seen_failure
 
 
+def test_plan_solve_all_ranks_a_verified_answer_the_kernel_did_not_claim():
+    # The UR5 at q = 0: elbow stretched, wrist singular. The kernel flags one row as reached
+    # only in the least-squares sense; Pinocchio verifies it: a success, ranked among the
+    # successes by distance to q0, as the general path ranks it.
+    a = arm("ur5")
+    T = a.fk(np.zeros(6))
+    for q0 in (None, np.full(6, 0.3), np.array([-2.9, -3.0, 0.1, 3.0, -2.8, 0.1])):
+        fast = a.solve_all(T, q0=q0)
+        general = a.solve_all(parse_target(T, a), q0=q0)
+        assert sum(r.success for r in fast) >= 2
+        assert len(fast) == len(general)
+        for x, y in zip(fast, general):
+            _same(x, y)
+
+
 def test_threads_get_the_answers_of_one_thread():
     # Each thread measures with its own Pinocchio Data (arm.data is per thread).
     from concurrent.futures import ThreadPoolExecutor

@@ -33,7 +33,7 @@ from .options import Options
 from .result import IKResult
 from .status import FAILURE_RANK, Status
 from .targets import parse_target
-from .verdict import finish, success_reason, verdict
+from .verdict import finish, seed_distance, success_reason, verdict
 from .verify import Check, measures_of
 
 _FLOAT = np.dtype(float)
@@ -175,6 +175,7 @@ class Plan:
         measured = np.empty((len(rows), 3))
         pose_checks(self.measured, self._placements(Q), H, Q, measured)
         results, failed = [], []  # failed: (rank key, result), in row order
+        unclaimed = False
         for got, (pos, ori, inside) in zip(rows, measured.tolist()):
             if type(got) is tuple:
                 result = self._success(got, pos, ori, inside > 0.0, False)
@@ -194,9 +195,16 @@ class Plan:
                 tol_orientation=self.tol_r,
             )
             result = IKResult._checked({**verdict(got, c), "solver": self.solver, "time": 0.0})
+            if result.success:  # claimed unreached (a boundary case), verified all the same
+                results.append(result)
+                unclaimed = True
+                continue
             failed.append((_rank_key(result), result))
-        # verified answers nearest q0 first (the runner's order), then the others ranked as
-        # ``verdict.ranked`` ranks them (a stable sort on the same key)
+        # verified answers nearest q0 first (the runner's order; a verified answer it did
+        # not claim is ranked among them), then the others ranked as ``verdict.ranked`` ranks
+        # them (a stable sort on the same key)
+        if unclaimed:
+            results.sort(key=lambda r: seed_distance(r.q, q0))
         failed.sort(key=lambda pair: pair[0])
         results += [result for _, result in failed]
         elapsed = time.perf_counter() - t0

@@ -59,7 +59,11 @@ def _first_verified(arm: Arm, attempts: list[Attempt], target, opts: Options, se
         return [verdict(attempts[0], check(arm, attempts[0].q, target, opts))]
 
     def order(a: Attempt) -> tuple:
-        return (a.claim is not Status.CONVERGED, not arm.within_limits(a.q), _distance(a.q, seed))
+        return (
+            a.claim is not Status.CONVERGED,
+            not arm.within_limits(a.q),
+            seed_distance(a.q, seed),
+        )
 
     rows = []
     for attempt in sorted(attempts, key=order):
@@ -69,7 +73,7 @@ def _first_verified(arm: Arm, attempts: list[Attempt], target, opts: Options, se
     return rows
 
 
-def _distance(q: np.ndarray, seed: np.ndarray) -> float:
+def seed_distance(q: np.ndarray, seed: np.ndarray) -> float:
     d = q - seed
     return float(np.sqrt(d.dot(d)))
 
@@ -121,6 +125,6 @@ def verdict(attempt: Attempt, c: Check) -> dict:
 
 def _rank(row: dict, seed: np.ndarray) -> tuple:
     if row["success"]:
-        return (0, _distance(row["q"], seed))
+        return (0, seed_distance(row["q"], seed))
     ori = row["orientation_error"] or 0.0
     return (1, FAILURE_RANK[row["status"]], row["position_error"] + ori)
