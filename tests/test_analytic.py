@@ -136,6 +136,52 @@ def test_wrist_singularity_keeps_q4_at_q0():
         assert np.isfinite(r.q).all()
 
 
+def test_wrist_singularity_turns_q6_only_as_far_as_the_elbow_needs():
+    """On the UR family at q5 = 0 or pi, keeping q6 at q0 can put the wrist point out of
+    the elbow's reach (8 % of such targets with a random q0 came back unreachable): q6
+    then turns just enough for the elbow to reach, stretched or folded."""
+    rng = np.random.default_rng(12)
+    for name in ("ur5", "ur10"):
+        a = arm(name)
+        kept = turned = 0
+        for _ in range(150):
+            q = a.random_q(rng)
+            q[4] = rng.choice([0.0, math.pi, -math.pi])
+            T = a.fk(q)
+            q0 = a.random_q(rng)
+            r = a.solve(T, q0=q0)
+            assert r.success and a.within_limits(r.q), r.reason
+            assert pose_error(a, r.q, T) < 1e-6
+            if not r.singular:
+                continue  # the other shoulder branch is not singular: nearer q0
+            if r.q[5] == q0[5]:
+                kept += 1
+            else:
+                turned += 1
+                assert abs(math.sin(r.q[2])) < 1e-4, r.q  # the elbow at the edge of its reach
+        assert kept > 0 and turned > 0
+
+
+def test_joints_on_their_limits():
+    """A target from a configuration with joints exactly on their limits: the closed
+    form's rounding (1e-12) may not put that joint outside its limit."""
+    rng = np.random.default_rng(13)
+    for name in ("kinova", "abb_irb120"):
+        a = arm(name)
+        bounded = np.isfinite(a.lower) & np.isfinite(a.upper)
+        for _ in range(40):
+            q = a.random_q(rng)
+            on = bounded & (rng.random(a.dof) < 0.5)
+            q[on] = np.where(rng.random(on.sum()) < 0.5, a.lower[on], a.upper[on])
+            T = a.fk(q)
+            r = a.solve(T, q0=q)
+            assert r.success and a.within_limits(r.q), r.reason
+            found = [x.q for x in a.solve_all(T, q0=q) if x.success]
+            assert any(wrapped(x - q).max() < 1e-6 for x in found) or any(
+                x.singular for x in a.solve_all(T, q0=q)
+            )
+
+
 def test_elbow_stretched_is_singular_and_branches_merge():
     a = arm("ur5")
     q = np.array([0.2, -1.0, 0.0, -0.5, 0.8, 0.7])  # q3 = 0: upper arm and forearm aligned

@@ -30,6 +30,10 @@ LS = 1
 SINGULAR = 2
 TWO_PI = 2.0 * math.pi
 LIMIT_TOL = 1e-12
+# rad: a closed form's rounding (1e-12 and more) can put a joint that lies on its limit just
+# outside it; a value this close is put on the limit (moving the tip by ~1e-9 m, which the FK
+# check measures as always)
+SNAP = 1e-9
 
 # Reason codes of the kernels.
 SHOULDER_OFFSET = 1
@@ -42,7 +46,8 @@ ORIENTATION = 5
 @njit(cache=True)
 def nearest_equivalents(Q, n, q0, lower, upper):
     """Shift every angle by a multiple of 2 pi to the value nearest q0 within the limits
-    (``Arm.nearest_equivalent``, compiled); a joint with no such value keeps its value."""
+    (``Arm.nearest_equivalent``, compiled; up to ``SNAP`` outside a limit counts as on it);
+    a joint with no such value keeps its value."""
     for r in range(n):
         for j in range(Q.shape[1]):
             qi, ri, lo, hi = Q[r, j], q0[j], lower[j], upper[j]
@@ -51,7 +56,7 @@ def nearest_equivalents(Q, n, q0, lower, upper):
             near = qi + TWO_PI * round((ri - qi) / TWO_PI)
             best = math.nan
             for c in (near, near - TWO_PI, near + TWO_PI, qi):
-                if lo - LIMIT_TOL <= c <= hi + LIMIT_TOL:
+                if lo - SNAP <= c <= hi + SNAP:
                     if math.isnan(best) or abs(c - ri) < abs(best - ri):
                         best = c
             if not math.isnan(best):

@@ -20,6 +20,8 @@ at q0), the elbow stretched or folded (one elbow root).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -56,7 +58,51 @@ from .registry import SolverSpec, register
 from .sixr import LS, ORIENTATION, SHOULDER_OFFSET, SINGULAR, TOO_CLOSE, TOO_FAR
 
 CLOSED_FORM = "closed form (three parallel axes)"
+HAIR = 1e-9  # of cos(theta - phi) in ``reach_turn``: ~1e-10 m inside the elbow's reach
 FAMILY = "three_parallel"
+
+
+@njit(cache=True)
+def elbow_span2(p2, p3, h3):
+    """(min, max) of |p2 + rot(h3, q3) p3|^2 over q3: the squared distances the elbow spans."""
+    a2, a3 = dot(p2, h3), dot(p3, h3)
+    r2 = norm(sub(p2, scale(h3, a2)))
+    r3 = norm(sub(p3, scale(h3, a3)))
+    base = dot(p2, p2) + dot(p3, p3) + 2.0 * a2 * a3
+    return base - 2.0 * r2 * r3, base + 2.0 * r2 * r3
+
+
+@njit(cache=True)
+def reach_turn(c, p4, h2, theta, span2):
+    """At the wrist singularity: the turn t nearest 0 such that, with q2 + q3 + q4 =
+    theta + t, the elbow reaches the wrist, |c - rot(h2, theta + t) p4|^2 within ``span2``
+    (``elbow_span2``); 0 when theta already reaches or no turn does (then the elbow's
+    least-squares answer tells).
+
+    c . rot(h2, theta) p4 = (c . h2)(p4 . h2) + B cos(theta - phi), so the reach is an
+    interval of cos(theta - phi); the nearest turn puts theta - phi on its edge, inside by
+    a hair so that the elbow is solved exactly."""
+    along = dot(p4, h2)
+    u = sub(p4, scale(h2, along))
+    w = cross(h2, u)
+    cu, cw = dot(c, u), dot(c, w)
+    B = math.sqrt(cu * cu + cw * cw)
+    if B < 1e-12:
+        return 0.0
+    k = dot(c, c) + dot(p4, p4) - 2.0 * dot(c, h2) * along
+    low = (k - span2[1]) / (2.0 * B)  # cos(theta - phi) at the longest reach
+    high = (k - span2[0]) / (2.0 * B)  # ... at the shortest
+    if low > high or low > 1.0 + HAIR or high < -1.0 - HAIR:
+        return 0.0  # (a hair past +-1: the edge of the workspace, one turn reaches it)
+    t = wrap(theta - math.atan2(cw, cu))
+    ct = math.cos(t)
+    if ct > high:  # too close: open the angle
+        edge = math.acos(max(high - HAIR, -1.0))
+    elif ct < low:  # too far: close it
+        edge = math.acos(min(low + HAIR, 1.0))
+    else:
+        return 0.0
+    return (edge if t >= 0.0 else -edge) - t
 
 
 @njit(cache=True)
@@ -70,6 +116,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, every):
     h5, h6 = vec(h[4]), vec(h[5])
     p0, p1, p2, p3, p4, p6 = vec(p[0]), vec(p[1]), vec(p[2]), vec(p[3]), vec(p[4]), vec(p[6])
     s3, s4 = dot(h3, h2), dot(h4, h2)
+    span2 = elbow_span2(p2, p3, h3)
     x = cross(h2, h1)
     x = scale(x, 1.0 / norm(x))  # a direction across the parallel axes
     R06 = mmt(mat(R), mat(R_tip0))
@@ -106,9 +153,15 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, every):
             b = mtv(R5, h2)
             flag6 = flag5
             if norm(cross(a, h6)) < SINGLE or norm(cross(b, h6)) < SINGLE:
-                # wrist singular: q6 and q2 + q3 + q4 trade off
+                # wrist singular: q6 and q2 + q3 + q4 trade off; q6 stays at q0 unless the
+                # wrist point is then out of the elbow's reach
                 q6 = q0[5]
                 flag6 |= SINGULAR
+                R234 = mmt(mmt(M, rot(h6, q6)), R5)
+                q234, _ = sp1(x, mv(R234, x), h2)
+                turn = reach_turn(sub(mtv(R1, p16), p1), p4, h2, q234, span2)
+                # turning q6 by t turns q2 + q3 + q4 by -t about M h6 = +-h2
+                q6 -= turn if dot(mv(M, h6), h2) > 0.0 else -turn
             else:
                 q6, _ = sp1(a, b, h6)
             R234 = mmt(mmt(M, rot(h6, q6)), R5)
