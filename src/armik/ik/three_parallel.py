@@ -15,7 +15,9 @@ combined turn R_234 = rot(h2, q2 + s3 q3 + s4 q4) of the three parallel joints:
     rot(h2, q2) (p_23 + rot(h3, q3) p_34) = ...                     -> SP1: q2, then q4
 
 Up to 2 x 2 x 2 = 8 solutions. Singular cases: the wrist (h6 along R_5^T h2: q6 free, kept
-at q0), the elbow stretched or folded (one elbow root).
+at q0 unless the wrist point, which q6 then turns about h2 with q2 + q3 + q4, is out of
+the elbow's reach: then turned just far enough, ``reach_turn``), the elbow stretched or
+folded (one elbow root).
 """
 
 from __future__ import annotations
