@@ -288,7 +288,10 @@ def applies(arm: Arm, target: Target | None, opts: Options | None, family: str, 
 
 def claim_reason(closed_form: str, singular: bool) -> str:
     if singular:
-        return closed_form + "; singular: a free joint was kept at its q0 value"
+        return (
+            closed_form
+            + "; singular: a free joint was kept at its q0 value or as near it as the target allows"
+        )
     return closed_form
 
 
