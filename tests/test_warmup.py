@@ -71,3 +71,40 @@ def test_no_helper_once_compiled(monkeypatch):
     monkeypatch.setattr(warmup, "_start_helper", refuse)
     warmup.prepare(problem.STEP_DLS)
     assert problem.STEP_DLS in warmup._prepared
+
+
+# The same for a closed form: the helper compiles the FK check, this process the family.
+COLD_CLOSED_FORM = r"""
+import json, numpy as np, armik
+from armik.ik import three_parallel
+from armik.kernel import check, warmup
+a = armik.load("ur5")
+T = a.fk(a.random_q(np.random.default_rng(5)))
+r = a.solve(T)
+print(json.dumps({
+    "q": r.q.tolist(),
+    "solver": r.solver,
+    "check_loaded": sum(check.pose_check.stats.cache_hits.values()),
+    "check_compiled": sum(check.pose_check.stats.cache_misses.values()),
+    "closed_form": [str(s) for s in three_parallel.solve_into.signatures],
+    "types": str(warmup.closed_form_types()),
+}))
+"""
+
+
+def test_cold_closed_form_loads_the_helpers_check(tmp_path):
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path), warmup.ENVIRONMENT: "1"}
+    out = subprocess.run(
+        [sys.executable, "-c", COLD_CLOSED_FORM],
+        env=env,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    got = json.loads(out.stdout.splitlines()[-1])
+    assert got["solver"] == "three_parallel"
+    assert got["check_loaded"] >= 1 and got["check_compiled"] == 0
+    assert got["closed_form"] == [got["types"]]  # the runner called what was compiled ahead
+    a = armik.load("ur5")
+    T = a.fk(a.random_q(np.random.default_rng(5)))
+    assert np.array_equal(np.array(got["q"]), a.solve(T).q)
