@@ -18,7 +18,6 @@ from numba import njit
 
 from ..arm import Arm
 from ..errors import SolverError
-from ..kernel import warmup
 from ..options import Options
 from ..status import Status
 from ..structure import Chain6R
@@ -308,7 +307,6 @@ def pose_runner(arm: Arm, opts: Options, family: str, classify, solve_into, clos
     chain = flat(arm, family, classify)
     tol_p, tol_r = opts.tol_position, opts.tol_orientation
     why = ((closed_form, False), (closed_form, True))  # claim_reason's arguments
-    warmup.prepare_closed_form(solve_into)  # on a cold cache: the FK check on another core
     # a reached row's tuple after q, by its (flags, branch bits) as the kernel writes them
     reached = {
         (float(f), float(bits)): (

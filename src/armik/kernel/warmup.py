@@ -12,9 +12,6 @@ process would build (the same cache entries); only the wall time changes
 (``benchmarks/compile_time.py``). PyTorch's ``torch.compile`` likewise compiles in worker
 processes.
 
-A closed form (``prepare_closed_form``) is one compiled function and the FK check: on a
-cold cache the helper compiles the check while this process compiles the closed form.
-
 ``prepare(kind)`` runs once per process and step, before the first call of an entry with
 that step. It starts no helper when the step is in the cache already, when this process
 has compiled its share already (a qp solve after a dls one), when only one CPU is usable,
@@ -70,7 +67,7 @@ def _prepare(kind: int) -> None:
         or _cached(take_step, step_types)
     ):
         return  # the entry compiles or loads everything in order, as always
-    helper = _start_helper(f"helper({kind})")
+    helper = _start_helper(kind)
     if helper is None:
         return
     for dispatcher, types in share:  # this process's share while the helper compiles
@@ -80,62 +77,13 @@ def _prepare(kind: int) -> None:
     threading.Thread(target=helper.communicate, daemon=True).start()
 
 
-def prepare_closed_form(solve_into) -> None:
-    """Before the first call of a closed form's compiled ``solve_into`` in a process (its
-    prepared runner, ``ik.sixr.pose_runner``): when neither it nor the FK check is in the
-    cache, a helper process compiles the check while this process compiles the closed
-    form, and the check then loads from the cache. Cheap after the first call."""
-    if solve_into in _prepared:
-        return
-    with _lock:
-        if solve_into in _prepared:
-            return
-        try:
-            _prepare_closed_form(solve_into)
-        finally:
-            _prepared.add(solve_into)
-
-
-def _prepare_closed_form(solve_into) -> None:
-    types = closed_form_types()
-    check_types = _check_types()
-    if (
-        not _helper_allowed()
-        or check.pose_check.signatures  # compiled here already (a numeric solve)
-        or types in solve_into.overloads
-        or _cached(check.pose_check, check_types)
-        or _cached(solve_into, types)
-    ):
-        return
-    helper = _start_helper("check_helper()")
-    if helper is None:
-        return
-    solve_into.compile(types)
-    _wait_for(helper, "check")
-
-
-def closed_form_types() -> tuple:
-    """The numba types of a closed form's ``solve_into(chain, H, q0, tol_p, tol_r, every,
-    out)`` as its runner calls it (tests/test_warmup.py checks them)."""
-    return _types(np.zeros(1), np.eye(4), np.zeros(1), 1.0, 1.0, False, np.empty((8, 11)))
-
-
-def _check_types() -> tuple:
-    """The numba types of ``check.pose_check(frame, H_w, H, q)`` as the plan calls it."""
-    return _types(np.zeros(21), np.eye(4), np.eye(4), np.zeros(1))
-
-
-def _types(*args) -> tuple:
-    from numba import typeof
-
-    return tuple(map(typeof, args))
-
-
 def _parts() -> tuple[tuple, list]:
     """(the step's argument types, [(compiled function, argument types)] for the other
     parts an entry calls): the numba types the entries pass them. They depend on no arm,
     only on dtypes, dimensions and layouts, which small samples carry
     (tests/test_warmup.py checks them against what the entries compile)."""
+    from numba import typeof
+
     from .descent import _add_solution, _near_known_minimum
     from .single import plain_pose, plain_seed
 
@@ -148,7 +96,9 @@ def _parts() -> tuple[tuple, list]:
     q, Q = np.zeros(1), np.zeros((1, 1))
     count = np.int64(0)  # descent.ZERO and what follows from it
 
-    types = _types
+    def types(*args):
+        return tuple(map(typeof, args))
+
     share = [
         (error._evaluate, types(ch, st, R_t, p_t, ws, count)),
         (restarts._pick, types(ch, st, R_t, p_t, ws, count, q)),
@@ -186,13 +136,12 @@ def _cached(dispatcher, types: tuple) -> bool:
         return True
 
 
-def _start_helper(call: str) -> subprocess.Popen | None:
-    """A helper process running ``call`` (``helper(kind)`` or ``check_helper()``)."""
+def _start_helper(kind: int) -> subprocess.Popen | None:
     # The helper must import these very source files: numba's cache is keyed on them.
     root = str(Path(__file__).resolve().parents[2])
     code = (
         f"import sys; sys.path.insert(0, {root!r}); "
-        f"from armik.kernel.warmup import check_helper, helper; {call}"
+        f"from armik.kernel.warmup import helper; helper({kind})"
     )
     try:
         return subprocess.Popen(
@@ -224,10 +173,6 @@ def helper(kind: int) -> None:
     """The helper process: the step of ``kind`` into the cache, then the verification."""
     STEPS[kind].compile(_parts()[0])
     print("step", flush=True)
-    check_helper()
-
-
-def check_helper() -> None:
-    """The helper process of a closed form: the verification into the cache."""
-    check.pose_check.compile(_check_types())
+    q = np.zeros(1)
+    check.pose_check(np.zeros(21), np.eye(4), np.eye(4), q)  # the plan's types
     print("check", flush=True)
