@@ -307,6 +307,50 @@ def test_absurd_weights_are_refused(weights):
         arm("ur5").solve([0.3, 0.2, 0.4], weights=weights)
 
 
+@pytest.mark.parametrize(
+    "options",
+    [
+        dict(iteration_budget=2**63),
+        dict(max_restarts=2**63),
+        dict(max_iterations=2**64),
+        dict(max_solutions=10**10),
+    ],
+)
+def test_absurd_counts_are_refused(options):
+    ur5 = arm("ur5")
+    T = ur5.fk(ur5.middle)
+    with pytest.raises(OptionError, match="at most"):
+        ur5.solve(T, solver="dls", **options)
+    with pytest.raises(OptionError, match="at most"):
+        ur5.solve_all(T, solver="dls", **options)
+
+
+@pytest.mark.parametrize("solver", ["auto", "dls", "qp"])
+def test_infinite_seed_on_a_continuous_joint_is_refused(solver):
+    # Its limits are +-inf: the range test alone let the compiled entries take inf.
+    kinova = arm("kinova")
+    assert math.isinf(kinova.upper[-1])
+    q0 = kinova.middle.copy()
+    q0[-1] = np.inf
+    T = kinova.fk(kinova.middle)
+    for call in (kinova.solve, kinova.solve_all):
+        with pytest.raises(OptionError, match="q0 must be finite"):
+            call(T, q0=q0, solver=solver)
+
+
+def test_complex_batch_seeds_are_refused():
+    ur5 = arm("ur5")
+    T = ur5.fk(ur5.middle)
+    for q0 in (ur5.middle + 0.5j, np.tile(ur5.middle + 0.5j, (2, 1))):
+        with pytest.raises(OptionError, match="real numbers"):
+            ur5.solve_batch([T, T], q0=q0, progress=False)
+
+
+def test_within_limits_takes_a_list():
+    ur5 = arm("ur5")
+    assert ur5.within_limits(list(ur5.middle)) and not ur5.within_limits([99.0] * 6)
+
+
 def test_largest_accepted_limits_keep_the_arithmetic_finite(tmp_path):
     big = '<limit lower="-1e6" upper="1e6" effort="1" velocity="1"/>'
     text = chain(

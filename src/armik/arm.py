@@ -576,6 +576,8 @@ class Arm:
         return np.random.default_rng(rng).uniform(*self.sampling_box())
 
     def within_limits(self, q: np.ndarray, tol: float = LIMIT_TOL) -> bool:
+        if type(q) is not np.ndarray:
+            q = np.asarray(q, dtype=float)
         return self._within(q.tolist(), tol)
 
     def _within(self, values: list[float], tol: float = LIMIT_TOL) -> bool:

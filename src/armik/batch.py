@@ -482,10 +482,13 @@ def batch_seeds(arm: Arm, q0: object, n: int) -> np.ndarray:
     if q0 is None:
         return np.broadcast_to(arm.middle, (n, arm.dof))
     try:
+        if isinstance(q0, (str, bytes)) or np.iscomplexobj(q0):
+            raise TypeError  # never drop an imaginary part silently
         q = np.asarray(q0, dtype=float)
     except (TypeError, ValueError):
         raise OptionError(
-            f"q0 must be {arm.dof} numbers or an (N, {arm.dof}) array, got {q0!r}", option="q0"
+            f"q0 must be {arm.dof} real numbers or an (N, {arm.dof}) array, got {q0!r}",
+            option="q0",
         ) from None
     if q.shape == (arm.dof,):
         return np.broadcast_to(arm.seed(q), (n, arm.dof))

@@ -61,7 +61,12 @@ class Options:
                 values[key] = _positive_float(key, values[key])
         for key in ("max_restarts", "max_iterations", "max_solutions"):
             if key in values:
-                values[key] = _int(key, values[key], minimum=0 if key == "max_restarts" else 1)
+                values[key] = _int(
+                    key,
+                    values[key],
+                    minimum=0 if key == "max_restarts" else 1,
+                    maximum=MAX_SOLUTIONS if key == "max_solutions" else MAX_COUNT,
+                )
         if "nullspace_gain" in values:
             gain = _float(key="nullspace_gain", value=values["nullspace_gain"])
             if not 0.0 <= gain <= 10.0:
@@ -72,7 +77,9 @@ class Options:
                 )
             values["nullspace_gain"] = gain
         if values.get("iteration_budget") is not None:
-            values["iteration_budget"] = _int("iteration_budget", values["iteration_budget"], 1)
+            values["iteration_budget"] = _int(
+                "iteration_budget", values["iteration_budget"], 1, MAX_COUNT
+            )
         if values.get("seed") is not None:
             values["seed"] = _int("seed", values["seed"], minimum=0)
             if values["seed"] >= 2**63:  # the compiled restarts take a signed 64-bit seed
@@ -121,6 +128,8 @@ class Options:
 
 _DEFAULT = Options()
 MAX_WEIGHT = 1e6  # larger weights overflow the squared error of far restart candidates
+MAX_COUNT = 2**62  # iterations and restarts: the compiled kernel counts in signed 64 bits
+MAX_SOLUTIONS = 10_000  # the kernel allocates a row per solution sought
 _NAMES = frozenset(f.name for f in fields(Options))
 
 
@@ -145,13 +154,19 @@ def _positive_float(key: str, value: object) -> float:
     return out
 
 
-def _int(key: str, value: object, minimum: int) -> int:
+def _int(key: str, value: object, minimum: int, maximum: int | None = None) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise OptionError(
             f"{key} must be an integer >= {minimum}, got {value!r}", option=key, value=value
         )
     if value < minimum:
         raise OptionError(f"{key} must be >= {minimum}, got {value!r}", option=key, value=value)
+    if maximum is not None and value > maximum:
+        raise OptionError(
+            f"{key} must be at most {maximum}, got {value!r}: give a smaller value",
+            option=key,
+            value=value,
+        )
     return int(value)
 
 

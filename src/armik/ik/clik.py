@@ -37,12 +37,14 @@ def applies(arm: Arm, target: Target | None = None, opts: Options | None = None)
 def run(
     arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
 ) -> list[Attempt]:
+    pb = Problem.build(arm, target, q0, opts)
+    s = evaluate(pb, pb.q0_pin.copy())
+    # after the first evaluation, which compiles the kernel's error in a fresh process
+    # (seconds): as for dls and qp, compiling is not the solve's time
     deadline = time.thread_time() + opts.timeout
     limit = opts.max_iterations
     if opts.iteration_budget is not None:
         limit, deadline = min(limit, opts.iteration_budget), math.inf
-    pb = Problem.build(arm, target, q0, opts)
-    s = evaluate(pb, pb.q0_pin.copy())
     it = 0
     for it in range(limit + 1):
         if converged(pb, s):

@@ -59,6 +59,9 @@ def plain_pose(H):
 def plain_seed(q, lo, hi):
     """True when every value of ``q`` is finite and within [lo - tol, hi + tol]: the seeds
     ``Arm.seed`` returns unchanged."""
+    for v in q:  # an unbounded (continuous) joint's limits let inf through
+        if not math.isfinite(v):
+            return False
     return inside_limits(q, lo, hi, LIMIT_TOL)
 
 
