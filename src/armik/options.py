@@ -183,11 +183,12 @@ def _weights(value: object) -> tuple[float, ...]:
         or np.any(w < 0)
         or not np.any(w > 0)
         or np.any(w > MAX_WEIGHT)
+        or w.max() > MAX_WEIGHT * w[w > 0].min()
     ):
         raise OptionError(
             f"weights must be 6 finite non-negative numbers (x, y, z, rx, ry, rz), "
-            f"not all zero, at most {MAX_WEIGHT:g} (only their ratios and zeros matter); "
-            f"got {value!r}",
+            f"not all zero, at most {MAX_WEIGHT:g} and at most {MAX_WEIGHT:g} times the "
+            f"smallest positive one (only their ratios and zeros matter); got {value!r}",
             option="weights",
             value=value,
         )

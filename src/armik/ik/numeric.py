@@ -157,7 +157,10 @@ _PACKED: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
 
 def settings(opts: Options, position_only: bool, dof: int, max_found: int, step: Step):
     """The kernel's ``Settings`` for these options, target kind and arm size."""
+    # only the ratios matter to the task: the smallest measured weight is 1, so that the
+    # lightest rows stay well above the damping's floor (LAMBDA_MIN)
     w = opts.weight_vector(position_only)
+    w = w / w[w > 0.0].min()
     full_task = opts.weights is None and not (opts.position_only or position_only)
     n_task = 6 if full_task else int(np.count_nonzero(w))
     return Settings(

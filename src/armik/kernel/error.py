@@ -3,7 +3,9 @@
 e = log6(T_tip^-1 T_target): the twist from the tip to the target in the tip frame (LOCAL).
 Its Jacobian is -Jlog6(T_target^-1 T_tip) J_local, so a step dq solving A dq = e with
 A = Jlog6(T_target^-1 T_tip) J_local moves the tip onto the target. Weights scale the rows
-of e and A; the position and orientation errors are measured on the unweighted twist.
+of e and A; the position and orientation errors are measured on the unweighted twist. When
+weights free position and rotation axes both, the linear rows are the tip-frame
+translation to the target instead (see ``_evaluate``).
 """
 
 from __future__ import annotations
@@ -68,6 +70,18 @@ def _evaluate(ch, st, R_t, p_t, ws, slot):
         lin2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2]
         val[0], val[1], val[2] = math.sqrt(pos2), math.sqrt(rot2), lin2 + rot2
         return
+    if (w[0] == 0.0 or w[1] == 0.0 or w[2] == 0.0) and (w[3] == 0.0 or w[4] == 0.0 or w[5] == 0.0):
+        # Free position and rotation axes both: log6's linear part V^-1 t mixes the axes
+        # through the rotation left free, so driving its weighted rows to zero does not
+        # zero those of t, which the check measures. Use t itself, the tip-frame
+        # translation to the target: d t / dq = -(J_lin + J_ang x t).
+        for r in range(3):
+            e[r] = t[r]
+        for c in range(n):
+            j3, j4, j5 = J[3, c], J[4, c], J[5, c]
+            A[0, c] = J[0, c] + j4 * t[2] - j5 * t[1]
+            A[1, c] = J[1, c] + j5 * t[0] - j3 * t[2]
+            A[2, c] = J[2, c] + j3 * t[1] - j4 * t[0]
     pos2 = rot2 = sq = 0.0
     for k in range(3):
         if w[k] > 0.0:

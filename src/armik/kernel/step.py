@@ -46,6 +46,17 @@ def wrapped(d):
 
 
 @njit(cache=True, nogil=True, inline="always")
+def pull_gain(st, lam):
+    """k of the null-space pull lam k (q0 - q): the null gain times the error's size,
+    sqrt(2 lam) over the largest weight (lam grows with the weighted error squared; the
+    weights scaled the error by up to their largest: unscaled, a largest weight of 100 made
+    the pull hold 7-joint arms off the lightly weighted rows), at most the null gain."""
+    w = st.w
+    largest = max(max(w[0], w[1], w[2]), max(w[3], w[4], w[5]))
+    return st.null_gain * min(1.0, math.sqrt(2.0 * lam) / largest)
+
+
+@njit(cache=True, nogil=True, inline="always")
 def normal_equations(ch, st, ws, slot, q0, mu):
     """ws.mat[H] = A^T A + lambda I and ws.vec[G] = A^T e + the null-space pull, at state
     ``slot``."""
@@ -70,7 +81,7 @@ def normal_equations(ch, st, ws, slot, q0, mu):
     if st.null_gain > 0.0:
         # lam k (q0 - q) only acts where A has no say: a pull in the null space. k shrinks
         # with the error so that the pull fades out and convergence stays fast.
-        k = st.null_gain * min(1.0, math.sqrt(2.0 * lam))
+        k = pull_gain(st, lam)
         q = ws.q[slot]
         for i in range(n):
             d = q0[i] - q[i]
@@ -304,7 +315,7 @@ def task_space_step(ch, st, ws, slot, q0, mu):
     lam = mu * DAMPING_GAIN * 0.5 * ws.val[slot, 2] + LAMBDA_MIN  # as ``normal_equations``
     k = 0.0
     if st.null_gain > 0.0:
-        k = st.null_gain * min(1.0, math.sqrt(2.0 * lam))
+        k = pull_gain(st, lam)
     for i in range(n):
         di = 0.0
         if k > 0.0:
