@@ -179,6 +179,8 @@ def settings(opts: Options, position_only: bool, dof: int, max_found: int, step:
         int(step.backend),
         bool(w[:3].all()),
         float(opts.tol_position),
+        1.0 / float(w.max()),
+        bool((w[:3] == 0.0).any() and (w[3:] == 0.0).any() and w[:3].any()),
     )
 
 

@@ -70,7 +70,7 @@ def _evaluate(ch, st, R_t, p_t, ws, slot):
         lin2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2]
         val[0], val[1], val[2] = math.sqrt(pos2), math.sqrt(rot2), lin2 + rot2
         return
-    if (w[0] == 0.0 or w[1] == 0.0 or w[2] == 0.0) and (w[3] == 0.0 or w[4] == 0.0 or w[5] == 0.0):
+    if st.translation_rows:
         # Free position and rotation axes both: log6's linear part V^-1 t mixes the axes
         # through the rotation left free, so driving its weighted rows to zero does not
         # zero those of t, which the check measures. Use t itself, the tip-frame

@@ -33,6 +33,8 @@ class Settings(NamedTuple):
     backend: int  # index of the QP backend in ``backend.BACKENDS``
     check_reach: bool  # every position axis measured: far targets fail at once
     reach_slack: float  # m, added to the reach bound (the verification's tolerance)
+    pull_scale: float  # 1 / the largest weight: the null-space pull's measure of the error
+    translation_rows: bool  # free position and rotation axes both (see ``error._evaluate``)
 
 
 # Rows of Workspace.vec (n-vectors), .mat (n x n) and .ivec (integer n-vectors).
@@ -66,11 +68,11 @@ class Workspace(NamedTuple):
 
 def pack_settings(st: Settings) -> tuple[np.ndarray, np.ndarray]:
     """``st`` as a float and an int array (what compiled entries take; see ``unpack``)."""
-    floats = np.array([*st.w, st.tol_pos, st.tol_rot, st.null_gain, st.reach_slack])
+    floats = [*st.w, st.tol_pos, st.tol_rot, st.null_gain, st.reach_slack, st.pull_scale]
     ints = [st.full_task, st.measure_position, st.max_iterations, st.max_restarts]
     ints += [st.max_found, st.timeout_ns, st.iteration_budget, st.step, st.backend]
-    ints += [st.check_reach]
-    return floats, np.array(ints, dtype=np.int64)
+    ints += [st.check_reach, st.translation_rows]
+    return np.array(floats), np.array(ints, dtype=np.int64)
 
 
 @njit(cache=True, nogil=True)
@@ -92,6 +94,8 @@ def unpack(sf, si):
         si[8],
         si[9] != 0,
         sf[9],
+        sf[10],
+        si[10] != 0,
     )
 
 

@@ -51,9 +51,7 @@ def pull_gain(st, lam):
     sqrt(2 lam) over the largest weight (lam grows with the weighted error squared; the
     weights scaled the error by up to their largest: unscaled, a largest weight of 100 made
     the pull hold 7-joint arms off the lightly weighted rows), at most the null gain."""
-    w = st.w
-    largest = max(max(w[0], w[1], w[2]), max(w[3], w[4], w[5]))
-    return st.null_gain * min(1.0, math.sqrt(2.0 * lam) / largest)
+    return st.null_gain * min(1.0, math.sqrt(2.0 * lam) * st.pull_scale)
 
 
 @njit(cache=True, nogil=True, inline="always")
