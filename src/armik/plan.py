@@ -178,7 +178,7 @@ class Plan:
         unclaimed = False
         for got, (pos, ori, inside) in zip(rows, measured.tolist()):
             if type(got) is tuple:
-                result = self._success(got, pos, ori, inside > 0.0, False)
+                result = self._success(got, pos, ori, inside > 0.0)
                 if result is None and inside == 0.0:  # reached, or not, outside the limits
                     result = self._outside_limits(got, pos, ori)
                     failed.append((_rank_key(result), result))
@@ -229,26 +229,21 @@ class Plan:
         reason (which joints leave which limits) written on first read."""
         ori = ori if self.measure_rot else None
         why = (self.arm, got[0])
-        return self._result(got, False, _JOINT_LIMITS, pos, ori, _limits_reason, why, False)
+        return self._result(got, False, _JOINT_LIMITS, pos, ori, _limits_reason, why)
 
-    def _success(
-        self, got: tuple, pos: float, ori: float, inside: bool, writable: bool = True
-    ) -> IKResult | None:
+    def _success(self, got: tuple, pos: float, ori: float, inside: bool) -> IKResult | None:
         """The successful result of a claimed answer with these measures, or None."""
         ori = ori if self.measure_rot else None
         if not (inside and pos <= self.tol_p and (ori is None or ori <= self.tol_r)):
             return None
         why = (got[5], got[6], pos, ori, self.tol_p, self.tol_r)
-        return self._result(got, True, _CONVERGED, pos, ori, success_reason, why, writable)
+        return self._result(got, True, _CONVERGED, pos, ori, success_reason, why)
 
-    def _result(
-        self, got: tuple, success: bool, status: Status, pos, ori, reason, args, writable=True
-    ):
+    def _result(self, got: tuple, success: bool, status: Status, pos, ori, reason, args):
         """The ``IKResult`` of a runner's claimed answer ``got``, built without the frozen
-        ``__init__``; its reason is ``reason(*args)``, written on first read. ``writable``:
-        q is still the runner's writable array (made read-only here)."""
+        ``__init__``; its reason is ``reason(*args)``, written on first read."""
         q, iterations, restarts, branch, singular, _, _ = got
-        if writable:
+        if q.flags.writeable:  # the runner's own array (solve_all's rows are read-only)
             q.setflags(write=False)
         result = object.__new__(IKResult)
         result.__dict__.update(
