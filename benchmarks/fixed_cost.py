@@ -6,7 +6,9 @@ and no step), then best-of-7 timeit of
   - the compiled call alone on the same input (``kernel.single``'s entry for dls, the
     family's ``solve_into`` for a closed form): what runs inside compiled code,
   - Pinocchio's FK and tip placement, and the compiled check of its errors.
-"Outside the kernel" is the whole minus the compiled call.
+"Outside the kernel" is the whole minus the compiled call. For a closed form, also
+``arm.solve_all`` and its parts: the compiled call with every row, Pinocchio's placements of
+every answer, the compiled check of them all (the rest is Python: rows and results).
 
     python benchmarks/fixed_cost.py [--arms panda ur5 abb_irb120] [--solver dls] [--number N]
 """
@@ -20,7 +22,7 @@ import numpy as np
 import pinocchio as pin
 
 import armik
-from armik.kernel.check import pose_check
+from armik.kernel.check import pose_check, pose_checks
 from armik.plan import plan_for
 from armik.solve import _options
 
@@ -56,6 +58,12 @@ def measure(name: str, solver: str, number: int) -> dict:
         tol = cells["tol_p"].cell_contents, cells["tol_r"].cell_contents
         out8 = np.empty((8, 11))
         out["compiled_us"] = best(lambda: solve_into(chain, H, q, *tol, False, out8), number)
+        out["solve_all_us"] = best(lambda: arm.solve_all(T, q0=q), number)
+        out["compiled_every_us"] = best(lambda: solve_into(chain, H, q, *tol, True, out8), number)
+        Q = runner(H, q, 0, True)[0]
+        out["placements_us"] = best(lambda: plan._placements(Q), number)
+        H_all, measured = plan._placements(Q), np.empty((len(Q), 3))
+        out["checks_us"] = best(lambda: pose_checks(plan.measured, H_all, H, Q, measured), number)
     model, data, frame = arm.model, arm.data, arm.tip_frame_id
     qp = arm.to_pin(q)
 
@@ -85,11 +93,13 @@ def main() -> None:
         "pinocchio_fk_us",
         "check_us",
     ]
+    cols += ["solve_all_us", "compiled_every_us", "placements_us", "checks_us"]
     print("| arm | solver | " + " | ".join(c.replace("_us", " (us)") for c in cols) + " |")
     print("|---|---|" + "---|" * len(cols))
     for name in args.arms:
         m = measure(name, args.solver, args.number)
-        print(f"| {name} | {m['solver']} | " + " | ".join(f"{m[c]:.2f}" for c in cols) + " |")
+        cells = (f"{m[c]:.2f}" if c in m else "n/a" for c in cols)  # solve_all: closed forms
+        print(f"| {name} | {m['solver']} | " + " | ".join(cells) + " |")
 
 
 if __name__ == "__main__":
