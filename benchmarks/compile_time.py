@@ -10,7 +10,10 @@ of LLVM, numba's inlining and its lowering. Extra environment (``NUMBA_OPT=1``, 
 ``ARMIK_COMPILE_HELPER=0`` measures one process compiling alone (``kernel.warmup``), and
 the events then list everything the first solve compiles.
 
-    python benchmarks/compile_time.py [--events] [--profile]
+With ``--closed-forms``, the first closed-form solves instead: the UR5 (three parallel
+axes), then the IRB 120 (spherical wrist) in the same interpreter.
+
+    python benchmarks/compile_time.py [--events] [--profile] [--closed-forms]
 """
 
 from __future__ import annotations
@@ -74,14 +77,26 @@ if events:
         print(f"  {seconds:6.2f} s  {name}")
 """
 
+CLOSED_FORMS = r"""
+import time
+import numpy as np
+import armik
+for name in ("ur5", "abb_irb120"):
+    a = armik.load(name)
+    T = a.fk(a.random_q(np.random.default_rng(0)))
+    t = time.perf_counter(); r = a.solve(T); took = time.perf_counter() - t
+    print(f"first {name} solve ({r.solver}) {took:.2f} s")
+"""
+
 
 def main() -> None:
     events = [f for f in ("--events", "--profile") if f in sys.argv]
+    child = CLOSED_FORMS if "--closed-forms" in sys.argv else CHILD
     with tempfile.TemporaryDirectory() as cache:
         env = {**os.environ, "NUMBA_CACHE_DIR": cache}
         for label, extra in (("empty cache", events), ("filled cache", [])):
             print(f"{label}:", flush=True)
-            subprocess.run([sys.executable, "-c", CHILD, *extra], env=env, check=True)
+            subprocess.run([sys.executable, "-c", child, *extra], env=env, check=True)
 
 
 if __name__ == "__main__":
