@@ -55,11 +55,10 @@ def measure(name: str, solver: str, number: int) -> dict:
     else:  # a closed form: its compiled solve_into
         solve_into = cells["solve_into"].cell_contents
         chain = cells["chain"].cell_contents
-        tol = cells["tol_p"].cell_contents, cells["tol_r"].cell_contents
         out8 = np.empty((8, 11))
-        out["compiled_us"] = best(lambda: solve_into(chain, H, q, *tol, False, out8), number)
+        out["compiled_us"] = best(lambda: solve_into(chain, H, q, False, out8), number)
         out["solve_all_us"] = best(lambda: arm.solve_all(T, q0=q), number)
-        out["compiled_every_us"] = best(lambda: solve_into(chain, H, q, *tol, True, out8), number)
+        out["compiled_every_us"] = best(lambda: solve_into(chain, H, q, True, out8), number)
         Q = runner(H, q, 0, True)[0]
         out["placements_us"] = best(lambda: plan._placements(Q), number)
         H_all, measured = plan._placements(Q), np.empty((len(Q), 3))

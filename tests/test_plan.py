@@ -135,7 +135,9 @@ def test_a_lying_runner_is_caught_by_the_check():
     plan = plan_for(a, "auto", key, opts)
     honest = plan.run_pose
 
-    def lying(H, q0, seed):
+    def lying(H, q0, seed, every=False):
+        if every:
+            return honest(H, q0, seed, every)
         q, *rest = honest(H, q0, seed)
         q = q.copy()
         q[0] += 1e-3  # claims converged, is not
@@ -146,6 +148,34 @@ def test_a_lying_runner_is_caught_by_the_check():
     assert not r.success and r.status == "not_converged"
     assert "forward-kinematics check failed" in r.reason
     assert r.position_error > 1e-5
+
+
+def test_a_refused_closed_form_answer_falls_back_to_every_row():
+    # The closed form's first row is the one ``solve`` verifies; when the check refuses it,
+    # the other rows are verified nearest first (here the honest first row passes).
+    a = armik.load("ur5")  # a fresh arm: its own plans
+    q = a.random_q(np.random.default_rng(6))
+    T = a.fk(q)
+    opts, key, _ = _options({})
+    plan = plan_for(a, "auto", key, opts)
+    assert plan.solver == "three_parallel"
+    honest = plan.run_pose
+    expected = a.solve(T, q0=q)
+    assert expected.success
+
+    def lying(H, q0, seed, every=False):
+        if every:
+            return honest(H, q0, seed, every)
+        q, *rest = honest(H, q0, seed)
+        q = q.copy()
+        q[0] += 1e-3  # claims reached, is not
+        return (q, *rest)
+
+    plan.run_pose = lying
+    r = a.solve(T, q0=q)
+    assert r.success and r.solver == "three_parallel"
+    np.testing.assert_array_equal(r.q, expected.q)
+    assert r.branch == expected.branch
 
 
 def test_lazy_reason_pickles_and_compares():

@@ -13,7 +13,8 @@ the answer's tip placement and compiled code measures it (``kernel.check.pose_ch
 (tests/test_plan.py); its reason text is written on first read.
 
 Anything else (another input form, a seed outside the limits, an answer the check refuses,
-a claim other than converged) goes the general way: ``solve.py`` and ``verdict.py``.
+a claim other than converged) goes the general way: ``solve.py`` and ``verdict.py``; when
+the check refuses a closed form's first answer, its every row goes there, nearest first.
 """
 
 from __future__ import annotations
@@ -144,7 +145,9 @@ class Plan:
         if plain is None:
             return None
         H, q0 = plain
-        got = self.run_pose(H, q0, secrets.randbits(63) if seed is None else seed)
+        if seed is None:
+            seed = secrets.randbits(63)
+        got = self.run_pose(H, q0, seed)
         if got is None:
             return None
         if type(got) is list:  # claims other than converged: the general verdict
@@ -156,11 +159,19 @@ class Plan:
         pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
         H_w = pin.updateFramePlacement(self.model, data, self.frame).homogeneous
         pos, ori, inside = pose_check(self.measured, H_w, H, q)
-        result = self._success(got, pos, ori, inside)
+        result = self._success(got, pos, ori, inside, time.perf_counter() - t0)
         if result is None:
-            return self._finish([_claim(got)], H, q0, opts, t0, False)[0]
-        result.__dict__["time"] = time.perf_counter() - t0
+            return self._finish(self._refused(got, H, q0, seed), H, q0, opts, t0, False)[0]
         return result
+
+    def _refused(self, got: tuple, H: np.ndarray, q0: np.ndarray, seed) -> list[Attempt]:
+        """The attempts for the general verdict when the check refuses the runner's answer
+        ``got``: a closed form's every row, nearest first (the next may pass), else the
+        claim alone."""
+        every = self.run_pose(H, q0, seed, True)
+        if every is None:  # a numeric runner (or one with no rows for ``solve_all``)
+            return [_claim(got)]
+        return [_claim(row) if type(row) is tuple else row for row in every[1]]
 
     def solve_all(self, target: object, q0: object, opts: Options, seed: int | None, t0: float):
         """The results of ``solve_all`` for a plain ``target`` and ``q0``, or None."""
@@ -231,20 +242,21 @@ class Plan:
         why = (self.arm, got[0])
         return self._result(got, False, _JOINT_LIMITS, pos, ori, _limits_reason, why)
 
-    def _success(self, got: tuple, pos: float, ori: float, inside: bool) -> IKResult | None:
+    def _success(
+        self, got: tuple, pos: float, ori: float, inside: bool, elapsed: float = 0.0
+    ) -> IKResult | None:
         """The successful result of a claimed answer with these measures, or None."""
         ori = ori if self.measure_rot else None
         if not (inside and pos <= self.tol_p and (ori is None or ori <= self.tol_r)):
             return None
         why = (got[5], got[6], pos, ori, self.tol_p, self.tol_r)
-        return self._result(got, True, _CONVERGED, pos, ori, success_reason, why)
+        return self._result(got, True, _CONVERGED, pos, ori, success_reason, why, elapsed)
 
-    def _result(self, got: tuple, success: bool, status: Status, pos, ori, reason, args):
+    def _result(self, got: tuple, success, status, pos, ori, reason, args, elapsed=0.0):
         """The ``IKResult`` of a runner's claimed answer ``got``, built without the frozen
         ``__init__``; its reason is ``reason(*args)``, written on first read."""
         q, iterations, restarts, branch, singular, _, _ = got
-        if q.flags.writeable:  # the runner's own array (solve_all's rows are read-only)
-            q.setflags(write=False)
+        q.setflags(write=False)  # the runner's own array (solve_all's rows are already)
         result = object.__new__(IKResult)
         result.__dict__.update(
             q=q,
@@ -259,6 +271,7 @@ class Plan:
             restarts=restarts,
             extra={},
             _reason=(reason, args),
+            time=elapsed,
         )
         return result
 

@@ -53,9 +53,12 @@ def nearest_equivalents(Q, n, q0, lower, upper):
             qi, ri, lo, hi = Q[r, j], q0[j], lower[j], upper[j]
             if -math.pi <= qi - ri <= math.pi and lo <= qi <= hi:
                 continue
-            near = qi + TWO_PI * round((ri - qi) / TWO_PI)
+            near = qi + TWO_PI * round((ri - qi) / TWO_PI)  # the nearest of all
+            if lo - SNAP <= near <= hi + SNAP:
+                Q[r, j] = min(max(near, lo), hi)
+                continue
             best = math.nan
-            for c in (near, near - TWO_PI, near + TWO_PI, qi):
+            for c in (near - TWO_PI, near + TWO_PI, qi):
                 if lo - SNAP <= c <= hi + SNAP:
                     if math.isnan(best) or abs(c - ri) < abs(best - ri):
                         best = c
@@ -124,12 +127,12 @@ def branch_bits(h, p, q):
 
 
 @njit(cache=True)
-def pack(Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r, every):
+def pack(Q, n, flags, code, val, q0, lower, upper, h, p, every):
     """The kernel's rows nearest-first (reached, within limits, distance to q0: the order
     ``solve`` verifies them in) as one (n, 11) array: q (6), flags, branch, code, val (2);
-    and how many of them ``solve`` needs: up to the first that is reached, within the
-    limits and confirmed by the chain's own forward kinematics. Pinocchio verifies.
-    Branch labels are read for those rows only, or for every row when ``every``."""
+    and whether the first row is reached and within the limits (then it is ``solve``'s
+    answer if Pinocchio verifies it). Branch labels are read for every row when ``every``,
+    else for the first only."""
     key = np.empty(n)
     ok = np.zeros(n, np.bool_)
     for r in range(n):
@@ -150,7 +153,6 @@ def pack(Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, 
             k -= 1
         order[k] = r
     out = np.empty((n, 11))
-    keep = n
     for k in range(n):
         r = order[k]
         for j in range(6):  # a loop: a slice copy compiles numba's shape-error path (1.5 s)
@@ -160,19 +162,9 @@ def pack(Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, 
         out[k, 8] = code[r]
         out[k, 9] = val[r, 0]
         out[k, 10] = val[r, 1]
-        if keep == n and ok[r]:
-            Rf, pf = forward(h, p, R_tip0, Q[r])
-            dp = 0.0
-            dr = 0.0
-            for i in range(3):
-                dp += (pf[i] - pos[i]) ** 2
-                for j in range(3):
-                    dr += (Rf[3 * i + j] - R[i, j]) ** 2
-            if math.sqrt(dp) <= 0.5 * tol_p and math.sqrt(0.5 * dr) <= 0.5 * tol_r:
-                keep = k + 1
-    for k in range(n if every else keep):  # the branch of each row handed over
+    for k in range(n if every else min(n, 1)):  # the branch of each row handed over
         out[k, 7] = branch_bits(h, p, out[k, :6])
-    return out, keep
+    return out, n > 0 and ok[order[0]]
 
 
 _LABELS = tuple(
@@ -261,18 +253,18 @@ def unflatten(flat):
 
 
 @njit(cache=True, nogil=True)
-def hand_over(rows, keep, out):
-    """Copy a kernel's packed rows (``pack``) into ``out`` (8, 11); returns (n, keep, head),
-    head: the first row's branch bits, + 8 when singular, -1 when least squares (so that
-    ``solve`` reads no numpy scalar for the common answer)."""
+def hand_over(rows, reached, out):
+    """Copy a kernel's packed rows (``pack``) into ``out`` (8, 11); returns (n, head),
+    head: the first row's branch bits, + 8 when singular, -1 unless it is reached within
+    the limits (so that ``solve`` reads no numpy scalar for the common answer)."""
     n = rows.shape[0]
     for r in range(n):
         for c in range(11):
             out[r, c] = rows[r, c]
     head = -1
-    if n > 0 and not int(rows[0, 6]) & LS:
+    if reached:
         head = int(rows[0, 7]) + (8 if int(rows[0, 6]) & SINGULAR else 0)
-    return n, keep, head
+    return n, head
 
 
 def applies(arm: Arm, target: Target | None, opts: Options | None, family: str, classify):
@@ -297,15 +289,15 @@ def claim_reason(closed_form: str, singular: bool) -> str:
 
 def pose_runner(arm: Arm, opts: Options, family: str, classify, solve_into, closed_form):
     """``run_pose(H, q0, seed, every=False)`` for ``armik.plan`` (see
-    ``numeric.pose_runner``): ``solve_into(flat, H, q0, tol_p, tol_r, every, out)`` is the
-    family's compiled kernel for one plain 4x4 pose (n = -1 when the pose or q0 is not
-    plain; see ``hand_over``). When the nearest row is the one ``solve`` verifies first and
-    is reached: (q, 0, 0, branch, singular, reason function, arguments); else the attempts
-    for the general verdict. With ``every`` (``solve_all``): (Q, rows), Q the (n, 6)
-    read-only answers and rows one entry per answer, nearest first: that tuple (its q a row
-    of Q) for an answer claimed reached, an ``Attempt`` for the others."""
+    ``numeric.pose_runner``): ``solve_into(flat, H, q0, every, out)`` is the family's
+    compiled kernel for one plain 4x4 pose (n = -1 when the pose or q0 is not plain; see
+    ``hand_over``). When the nearest row is reached within the limits, the answer ``solve``
+    verifies first: (q, 0, 0, branch, singular, reason function, arguments); else the
+    attempts of every row for the general verdict. With ``every`` (``solve_all``, and
+    ``solve`` when Pinocchio refuses that first answer): (Q, rows), Q the (n, 6) read-only
+    answers and rows one entry per answer, nearest first: that tuple (its q a row of Q)
+    for an answer claimed reached, an ``Attempt`` for the others."""
     chain = flat(arm, family, classify)
-    tol_p, tol_r = opts.tol_position, opts.tol_orientation
     why = ((closed_form, False), (closed_form, True))  # claim_reason's arguments
     # a reached row's tuple after q, by its (flags, branch bits) as the kernel writes them
     reached = {
@@ -324,7 +316,7 @@ def pose_runner(arm: Arm, opts: Options, family: str, classify, solve_into, clos
 
     def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False):
         out = empty((8, 11))
-        n, keep, head = solve_into(chain, H, q0, tol_p, tol_r, every, out)
+        n, head = solve_into(chain, H, q0, every, out)
         if n < 0:
             return None
         if every:  # solve_all: every row, claimed converged rows as tuples
@@ -334,24 +326,23 @@ def pose_runner(arm: Arm, opts: Options, family: str, classify, solve_into, clos
             for k, key in enumerate(zip(out[:n, 6].tolist(), out[:n, 7].tolist())):
                 rest = reached.get(key)  # None: least squares
                 if rest is None:
-                    rows.append(attempts(out[k : k + 1], 1, True, family, closed_form)[0])
+                    rows.append(attempts(out[k : k + 1], family, closed_form)[0])
                 else:
                     rows.append((Q[k], *rest))
             return Q, rows
-        if keep == 1 and head >= 0:
+        if head >= 0:
             singular = head >= 8
             return (out[0, :6], 0, 0, _LABELS[head & 7], singular, claim_reason, why[singular])
-        return attempts(out[:n], keep, False, family, closed_form)
+        n, _ = solve_into(chain, H, q0, True, out)  # every row labelled (a rare path)
+        return attempts(out[:n], family, closed_form)
 
     return run_pose
 
 
-def attempts(out: np.ndarray, keep: int, all_solutions: bool, family: str, closed_form: str):
-    """``Attempt``s from a kernel's packed rows (see ``pack``): all of them for
-    ``solve_all``; for ``solve`` the nearest-first ones up to the first that the chain's
-    own forward kinematics confirms (the ones after it could only be picked if it failed)."""
+def attempts(rows: np.ndarray, family: str, closed_form: str):
+    """The ``Attempt`` of each of a kernel's packed rows (see ``pack``), in their order
+    (nearest first: ``solve``'s verdict stops at the first that Pinocchio verifies)."""
     result = []
-    rows = out if all_solutions else out[:keep]
     # The row's flags, branch, code and values as plain floats, read in one call.
     for k, (f, bits, code, v0, v1) in enumerate(rows[:, 6:11].tolist()):
         f = int(f)
@@ -383,7 +374,7 @@ UNREACHABLE_CODE = Status.UNREACHABLE.code
 
 
 def batch(arm: Arm, targets, q0: np.ndarray, opts: Options, kernel_many, chain) -> AttemptBatch:
-    """``run_batch`` of a family: ``kernel_many(chain, Rs, ps, q0s, tol_p, tol_r)``
+    """``run_batch`` of a family: ``kernel_many(chain, Rs, ps, q0s)``
     (compiled, GIL released; ``chain`` the family's ``flat`` array) solves every target and
     keeps its row nearest q0 (reached, within limits first)."""
     if targets.rotations is None:
@@ -397,6 +388,6 @@ def batch(arm: Arm, targets, q0: np.ndarray, opts: Options, kernel_many, chain) 
     Rs = np.ascontiguousarray(targets.rotations, dtype=float)
     ps = np.ascontiguousarray(targets.positions, dtype=float)
     q0s = np.ascontiguousarray(np.broadcast_to(q0, (n, arm.dof)), dtype=float)
-    q, claim = kernel_many(chain, Rs, ps, q0s, opts.tol_position, opts.tol_orientation)
+    q, claim = kernel_many(chain, Rs, ps, q0s)
     zeros = np.zeros(n, np.int64)
     return AttemptBatch(q=q, claim=claim, iterations=zeros, restarts=zeros.copy())

@@ -106,7 +106,7 @@ def _elbow_code(p23, p34, h3, q3, wanted):
 
 
 @njit(cache=True)
-def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, variant, every):
+def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, every):
     """All closed-form solutions, packed nearest-first (see ``sixr.pack``)."""
     Q = np.zeros((8, 6))
     flags = np.zeros(8, np.int64)
@@ -191,35 +191,31 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, variant, every)
                     out, n,
                 )  # fmt: skip
     sixr.nearest_equivalents(Q, n, q0, lower, upper)
-    return sixr.pack(
-        Q, n, flags, code, val, q0, lower, upper, h, p, R_tip0, R, pos, tol_p, tol_r, every
-    )
+    return sixr.pack(Q, n, flags, code, val, q0, lower, upper, h, p, every)
 
 
 @njit(cache=True, nogil=True)
-def solve_into(chain, H, q0, tol_p, tol_r, every, out):
+def solve_into(chain, H, q0, every, out):
     """``kernel`` for one 4x4 pose ``H``, its rows copied into ``out`` (``sixr.hand_over``);
     n = -1 and nothing solved when ``H`` or ``q0`` is not plain (``kernel.single``).
     ``chain``: ``sixr.flat``."""
     h, p, R_tip0, lower, upper, variant = sixr.unflatten(chain)
     if not plain_pose(H) or not plain_seed(q0, lower, upper):
-        return -1, 0, 0
+        return -1, 0
     R, pos = split_pose(H)
-    rows, keep = kernel(h, p, R_tip0, R, pos, q0, lower, upper, tol_p, tol_r, variant, every)
-    return sixr.hand_over(rows, keep, out)
+    rows, reached = kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, every)
+    return sixr.hand_over(rows, reached, out)
 
 
 @njit(cache=True, nogil=True)
-def kernel_many(chain, Rs, ps, q0s, tol_p, tol_r):
+def kernel_many(chain, Rs, ps, q0s):
     """``kernel`` for N targets: the row nearest q0 of each, and its claim code."""
     h, p, R_tip0, lower, upper, variant = sixr.unflatten(chain)
     N = ps.shape[0]
     Q = np.empty((N, 6))
     claim = np.empty(N, np.int8)
     for i in range(N):
-        out, _ = kernel(
-            h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, tol_p, tol_r, variant, False
-        )
+        out, _ = kernel(h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, variant, False)
         for j in range(6):  # a loop: a slice copy compiles numba's shape-error path
             Q[i, j] = out[0, j]
         claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
@@ -239,11 +235,9 @@ def run(
 ) -> list[Attempt]:
     h, p, R_tip0, lower, upper, variant = sixr.unflatten.py_func(sixr.flat(arm, FAMILY, _classify))
     R, pos = sixr.pose_arrays(target)
-    out, keep = kernel(
-        h, p, R_tip0, R, pos, q0, lower, upper,
-        opts.tol_position, opts.tol_orientation, variant, all_solutions,
-    )  # fmt: skip
-    return sixr.attempts(out, keep, all_solutions, FAMILY, CLOSED_FORM)
+    # every row, labelled: ``solve``'s verdict takes the first that Pinocchio verifies
+    out, _ = kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, True)
+    return sixr.attempts(out, FAMILY, CLOSED_FORM)
 
 
 def run_batch(arm: Arm, targets, q0: np.ndarray, opts: Options, seeds=None) -> AttemptBatch:

@@ -99,7 +99,7 @@ def mat_array(M):
 
 
 @njit(cache=True)
-def first_held(h, p, R_tip0, variant, c, u, R, pos, q0r, lower, upper, q7, lo, hi, tol_p, tol_r):
+def first_held(h, p, R_tip0, variant, c, u, R, pos, q0r, lower, upper, q7, lo, hi):
     """The first value of joint 7 (``sweep_values``) at which joints 6 to 1 (reversed: ``q0r``,
     ``lower``, ``upper`` in their order) reach the target exactly within their limits: that
     value and its rows (``sixr.pack``'s, nearest q0 first); (q7, its rows, False) when no
@@ -109,9 +109,7 @@ def first_held(h, p, R_tip0, variant, c, u, R, pos, q0r, lower, upper, q7, lo, h
     for k in range(thetas.shape[0]):
         theta = thetas[k]
         R_inv, p_inv = held_target(c, u, R, pos, theta)
-        out, _ = spherical.kernel(
-            h, p, R_tip0, R_inv, p_inv, q0r, lower, upper, tol_p, tol_r, variant, True
-        )
+        out, _ = spherical.kernel(h, p, R_tip0, R_inv, p_inv, q0r, lower, upper, variant, True)
         if k == 0:
             first = out
         if out.shape[0] > 0 and not int(out[0, 6]) & sixr.LS:
@@ -144,14 +142,14 @@ def _attempts(rows: np.ndarray, theta: float) -> list[Attempt]:
 
 
 @njit(cache=True)
-def held_rows(h, p, R_tip0, variant, c, u, R, pos, q0, lower, upper, lo7, hi7, tol_p, tol_r):
+def held_rows(h, p, R_tip0, variant, c, u, R, pos, q0, lower, upper, lo7, hi7):
     """``first_held`` on the 7R chain's own joint order: (theta, rows (n, 12): q (7), flags,
     branch, code, values, found)."""
     q0r, lor, hir = np.empty(6), np.empty(6), np.empty(6)
     for j in range(6):
         q0r[j], lor[j], hir[j] = q0[5 - j], lower[5 - j], upper[5 - j]
     theta, out, found = first_held(
-        h, p, R_tip0, variant, c, u, R, pos, q0r, lor, hir, q0[6], lo7, hi7, tol_p, tol_r
+        h, p, R_tip0, variant, c, u, R, pos, q0r, lor, hir, q0[6], lo7, hi7
     )
     rows = np.empty((out.shape[0], 12))
     for r in range(out.shape[0]):
@@ -168,7 +166,7 @@ def _held(arm: Arm, sw, R, pos, q0: np.ndarray, opts: Options):
     return held_rows(
         sw.geo.h, sw.geo.p, sw.geo.R_tip0, sw.variant, sw.c, sw.u, R, pos, q0,
         np.ascontiguousarray(arm.lower, dtype=float), np.ascontiguousarray(arm.upper, dtype=float),
-        lo7, hi7, opts.tol_position, opts.tol_orientation,
+        lo7, hi7,
     )  # fmt: skip
 
 
