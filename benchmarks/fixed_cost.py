@@ -8,7 +8,9 @@ and no step), then best-of-7 timeit of
   - Pinocchio's FK and tip placement, and the compiled check of its errors.
 "Outside the kernel" is the whole minus the compiled call. For a closed form, also
 ``arm.solve_all`` and its parts: the compiled call with every row, Pinocchio's placements of
-every answer, the compiled check of them all (the rest is Python: rows and results).
+every answer, the compiled check of them all (the rest is Python: rows and results); and
+the batch kernel's time per target (``kernel_many`` over 1000 random targets, one call: what
+``solve_batch`` runs before its verification).
 
     python benchmarks/fixed_cost.py [--arms panda ur5 abb_irb120] [--solver dls] [--number N]
 """
@@ -16,6 +18,7 @@ every answer, the compiled check of them all (the rest is Python: rows and resul
 from __future__ import annotations
 
 import argparse
+import sys
 import timeit
 
 import numpy as np
@@ -63,6 +66,15 @@ def measure(name: str, solver: str, number: int) -> dict:
         out["placements_us"] = best(lambda: plan._placements(Q), number)
         H_all, measured = plan._placements(Q), np.empty((len(Q), 3))
         out["checks_us"] = best(lambda: pose_checks(plan.measured, H_all, H, Q, measured), number)
+        module = sys.modules[solve_into.__module__]  # the family's kernel_many beside it
+        rng = np.random.default_rng(4)
+        qs = np.array([arm.random_q(rng) for _ in range(1000)])
+        Hs = np.array([arm.fk(x).homogeneous for x in qs])
+        Rs, ps = np.ascontiguousarray(Hs[:, :3, :3]), np.ascontiguousarray(Hs[:, :3, 3])
+        q0s = np.ascontiguousarray(np.roll(qs, 1, axis=0))  # another target's configuration
+        many = module.kernel_many
+        out["batch_kernel_us"] = best(lambda: many(chain, Rs, ps, q0s), max(1, number // 1000))
+        out["batch_kernel_us"] /= 1000
     model, data, frame = arm.model, arm.data, arm.tip_frame_id
     qp = arm.to_pin(q)
 
@@ -92,7 +104,7 @@ def main() -> None:
         "pinocchio_fk_us",
         "check_us",
     ]
-    cols += ["solve_all_us", "compiled_every_us", "placements_us", "checks_us"]
+    cols += ["solve_all_us", "compiled_every_us", "placements_us", "checks_us", "batch_kernel_us"]
     print("| arm | solver | " + " | ".join(c.replace("_us", " (us)") for c in cols) + " |")
     print("|---|---|" + "---|" * len(cols))
     for name in args.arms:

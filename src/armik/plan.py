@@ -256,7 +256,8 @@ class Plan:
         """The ``IKResult`` of a runner's claimed answer ``got``, built without the frozen
         ``__init__``; its reason is ``reason(*args)``, written on first read."""
         q, iterations, restarts, branch, singular, _, _ = got
-        q.setflags(write=False)  # the runner's own array (solve_all's rows are already)
+        if q.flags.writeable:  # the runner's own array (solve_all's rows are read-only)
+            q.setflags(write=False)
         result = object.__new__(IKResult)
         result.__dict__.update(
             q=q,

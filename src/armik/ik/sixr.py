@@ -127,12 +127,13 @@ def branch_bits(h, p, q):
 
 
 @njit(cache=True)
-def pack(Q, n, flags, code, val, q0, lower, upper, h, p, every):
+def pack(Q, n, flags, code, val, q0, lower, upper, h, p, labelled):
     """The kernel's rows nearest-first (reached, within limits, distance to q0: the order
     ``solve`` verifies them in) as one (n, 11) array: q (6), flags, branch, code, val (2);
     and whether the first row is reached and within the limits (then it is ``solve``'s
-    answer if Pinocchio verifies it). Branch labels are read for every row when ``every``,
-    else for the first only."""
+    answer if Pinocchio verifies it). Branch labels are read for the first ``labelled``
+    rows (every row for ``solve_all``, the first for ``solve``, none for a batch); the
+    others' branch is 0."""
     key = np.empty(n)
     ok = np.zeros(n, np.bool_)
     for r in range(n):
@@ -162,7 +163,7 @@ def pack(Q, n, flags, code, val, q0, lower, upper, h, p, every):
         out[k, 8] = code[r]
         out[k, 9] = val[r, 0]
         out[k, 10] = val[r, 1]
-    for k in range(n if every else min(n, 1)):  # the branch of each row handed over
+    for k in range(min(n, labelled)):
         out[k, 7] = branch_bits(h, p, out[k, :6])
     return out, n > 0 and ok[order[0]]
 

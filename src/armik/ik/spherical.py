@@ -106,8 +106,9 @@ def _elbow_code(p23, p34, h3, q3, wanted):
 
 
 @njit(cache=True)
-def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, every):
-    """All closed-form solutions, packed nearest-first (see ``sixr.pack``)."""
+def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled):
+    """All closed-form solutions, packed nearest-first, the first ``labelled`` with their
+    branch (see ``sixr.pack``)."""
     Q = np.zeros((8, 6))
     flags = np.zeros(8, np.int64)
     code = np.zeros(8, np.int64)
@@ -191,7 +192,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, every):
                     out, n,
                 )  # fmt: skip
     sixr.nearest_equivalents(Q, n, q0, lower, upper)
-    return sixr.pack(Q, n, flags, code, val, q0, lower, upper, h, p, every)
+    return sixr.pack(Q, n, flags, code, val, q0, lower, upper, h, p, labelled)
 
 
 @njit(cache=True, nogil=True)
@@ -203,7 +204,7 @@ def solve_into(chain, H, q0, every, out):
     if not plain_pose(H) or not plain_seed(q0, lower, upper):
         return -1, 0
     R, pos = split_pose(H)
-    rows, reached = kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, every)
+    rows, reached = kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, 8 if every else 1)
     return sixr.hand_over(rows, reached, out)
 
 
@@ -214,8 +215,9 @@ def kernel_many(chain, Rs, ps, q0s):
     N = ps.shape[0]
     Q = np.empty((N, 6))
     claim = np.empty(N, np.int8)
+    unlabelled = np.int64(0)  # no branch labels (not a literal 0: one compile of kernel)
     for i in range(N):
-        out, _ = kernel(h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, variant, False)
+        out, _ = kernel(h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, variant, unlabelled)
         for j in range(6):  # a loop: a slice copy compiles numba's shape-error path
             Q[i, j] = out[0, j]
         claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
@@ -236,7 +238,7 @@ def run(
     h, p, R_tip0, lower, upper, variant = sixr.unflatten.py_func(sixr.flat(arm, FAMILY, _classify))
     R, pos = sixr.pose_arrays(target)
     # every row, labelled: ``solve``'s verdict takes the first that Pinocchio verifies
-    out, _ = kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, True)
+    out, _ = kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, 8)
     return sixr.attempts(out, FAMILY, CLOSED_FORM)
 
 

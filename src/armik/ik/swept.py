@@ -106,10 +106,13 @@ def first_held(h, p, R_tip0, variant, c, u, R, pos, q0r, lower, upper, q7, lo, h
     value does."""
     first = np.empty((0, 11))
     thetas = sweep_values(q7, lo, hi)
+    unlabelled = np.int64(0)  # rows' branches unused (not a literal 0: one compile of kernel)
     for k in range(thetas.shape[0]):
         theta = thetas[k]
         R_inv, p_inv = held_target(c, u, R, pos, theta)
-        out, _ = spherical.kernel(h, p, R_tip0, R_inv, p_inv, q0r, lower, upper, variant, True)
+        out, _ = spherical.kernel(
+            h, p, R_tip0, R_inv, p_inv, q0r, lower, upper, variant, unlabelled
+        )
         if k == 0:
             first = out
         if out.shape[0] > 0 and not int(out[0, 6]) & sixr.LS:

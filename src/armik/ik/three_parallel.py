@@ -108,8 +108,9 @@ def reach_turn(c, p4, h2, theta, span2):
 
 
 @njit(cache=True)
-def kernel(h, p, R_tip0, R, pos, q0, lower, upper, every):
-    """All closed-form solutions, packed nearest-first (see ``sixr.pack``)."""
+def kernel(h, p, R_tip0, R, pos, q0, lower, upper, labelled):
+    """All closed-form solutions, packed nearest-first, the first ``labelled`` with their
+    branch (see ``sixr.pack``)."""
     Q = np.zeros((8, 6))
     flags = np.zeros(8, np.int64)
     code = np.zeros(8, np.int64)
@@ -200,7 +201,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, every):
                 val[n, 1] = w1
                 n += 1
     sixr.nearest_equivalents(Q, n, q0, lower, upper)
-    return sixr.pack(Q, n, flags, code, val, q0, lower, upper, h, p, every)
+    return sixr.pack(Q, n, flags, code, val, q0, lower, upper, h, p, labelled)
 
 
 @njit(cache=True, nogil=True)
@@ -212,7 +213,7 @@ def solve_into(chain, H, q0, every, out):
     if not plain_pose(H) or not plain_seed(q0, lower, upper):
         return -1, 0
     R, pos = split_pose(H)
-    rows, reached = kernel(h, p, R_tip0, R, pos, q0, lower, upper, every)
+    rows, reached = kernel(h, p, R_tip0, R, pos, q0, lower, upper, 8 if every else 1)
     return sixr.hand_over(rows, reached, out)
 
 
@@ -223,8 +224,9 @@ def kernel_many(chain, Rs, ps, q0s):
     N = ps.shape[0]
     Q = np.empty((N, 6))
     claim = np.empty(N, np.int8)
+    unlabelled = np.int64(0)  # no branch labels (not a literal 0: one compile of kernel)
     for i in range(N):
-        out, _ = kernel(h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, False)
+        out, _ = kernel(h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, unlabelled)
         for j in range(6):  # a loop: a slice copy compiles numba's shape-error path
             Q[i, j] = out[0, j]
         claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
@@ -245,7 +247,7 @@ def run(
     h, p, R_tip0, lower, upper, _ = sixr.unflatten.py_func(sixr.flat(arm, FAMILY, _classify))
     R, pos = sixr.pose_arrays(target)
     # every row, labelled: ``solve``'s verdict takes the first that Pinocchio verifies
-    out, _ = kernel(h, p, R_tip0, R, pos, q0, lower, upper, True)
+    out, _ = kernel(h, p, R_tip0, R, pos, q0, lower, upper, 8)
     return sixr.attempts(out, FAMILY, CLOSED_FORM)
 
 
