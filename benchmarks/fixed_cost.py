@@ -10,7 +10,9 @@ and no step), then best-of-7 timeit of
 ``arm.solve_all`` and its parts: the compiled call with every row, Pinocchio's placements of
 every answer, the compiled check of them all (the rest is Python: rows and results); and
 the batch kernel's time per target (``kernel_many`` over 1000 random targets, one call: what
-``solve_batch`` runs before its verification).
+``solve_batch`` runs before its verification). "Bare steps": only what a verified
+closed-form answer needs (``bare_steps``), the floor of ``solve`` from Python; and EAIK's
+all-solutions call on the same pose when it is installed.
 
     python benchmarks/fixed_cost.py [--arms panda ur5 abb_irb120] [--solver dls] [--number N]
 """
@@ -19,14 +21,17 @@ from __future__ import annotations
 
 import argparse
 import sys
+import time
 import timeit
 
 import numpy as np
 import pinocchio as pin
 
 import armik
+from armik.compare import _eaik
 from armik.kernel.check import pose_check, pose_checks
 from armik.plan import plan_for
+from armik.result import IKResult
 from armik.solve import _options
 
 BENCH = dict(timeout=0.005, tol_position=1e-5, tol_orientation=1e-5, seed=3)
@@ -34,6 +39,35 @@ BENCH = dict(timeout=0.005, tol_position=1e-5, tol_orientation=1e-5, seed=3)
 
 def best(fn, number: int) -> float:
     return min(timeit.repeat(fn, number=number, repeat=7)) / number * 1e6
+
+
+def bare_steps(arm, T, q0, plan, solve_into, chain):
+    """The steps a verified closed-form answer cannot do without, and nothing else (no
+    options, plan lookup, branch label, reason or fallback): the floor of ``solve``."""
+    model, data, frame, measured = arm.model, arm.data, arm.tip_frame_id, plan.measured
+    fk, place, clock, new = (
+        pin.forwardKinematics,
+        pin.updateFramePlacement,
+        time.perf_counter,
+        object.__new__,
+    )
+
+    def run():
+        t0 = clock()
+        H = T.homogeneous
+        rows = np.empty((8, 11))
+        solve_into(chain, H, q0, False, rows)
+        q = rows[0, :6]
+        q.setflags(write=False)
+        fk(model, data, q)
+        pos, ori, inside = pose_check(measured, place(model, data, frame).homogeneous, H, q)
+        result = new(IKResult)
+        result.__dict__.update(
+            q=q, success=bool(inside), position_error=pos, orientation_error=ori, time=clock() - t0
+        )
+        return result
+
+    return run
 
 
 def measure(name: str, solver: str, number: int) -> dict:
@@ -60,6 +94,11 @@ def measure(name: str, solver: str, number: int) -> dict:
         chain = cells["chain"].cell_contents
         out8 = np.empty((8, 11))
         out["compiled_us"] = best(lambda: solve_into(chain, H, q, False, out8), number)
+        out["bare_steps_us"] = best(bare_steps(arm, T, q, plan, solve_into, chain), number)
+        peer = _eaik(arm)  # None when EAIK is not installed
+        if peer is not None:  # its all-solutions call, timed the same way on the same pose
+            H_peer = peer.fwdKin(np.asarray(q))
+            out["eaik_us"] = best(lambda: peer.IK(H_peer), number)
         out["solve_all_us"] = best(lambda: arm.solve_all(T, q0=q), number)
         out["compiled_every_us"] = best(lambda: solve_into(chain, H, q, True, out8), number)
         Q = runner(H, q, 0, True)[0]
@@ -101,10 +140,18 @@ def main() -> None:
         "solve_bench_options_us",
         "compiled_us",
         "outside_us",
+        "bare_steps_us",
         "pinocchio_fk_us",
         "check_us",
     ]
-    cols += ["solve_all_us", "compiled_every_us", "placements_us", "checks_us", "batch_kernel_us"]
+    cols += [
+        "eaik_us",
+        "solve_all_us",
+        "compiled_every_us",
+        "placements_us",
+        "checks_us",
+        "batch_kernel_us",
+    ]
     print("| arm | solver | " + " | ".join(c.replace("_us", " (us)") for c in cols) + " |")
     print("|---|---|" + "---|" * len(cols))
     for name in args.arms:
