@@ -5,7 +5,8 @@ A kernel computes up to 8 rows: ``Q`` (8, 6) joint values, ``n`` the row count, 
 ``flags`` (bit 1: least squares, the target is not reached; bit 2: singular, a free angle
 kept at q0), ``code`` (which step was solved only in the least-squares sense) and ``val``
 (2 numbers for the reason: what the target asks, what the arm can do); ``pack`` orders
-them nearest-first and adds each row's branch, read from its geometry (``branch_bits``).
+them nearest-first and adds the branch of the rows handed over, read from their geometry
+(``branch_bits``).
 """
 
 from __future__ import annotations
@@ -69,7 +70,8 @@ def nearest_equivalents(Q, n, q0, lower, upper):
 @njit(cache=True)
 def forward(h, p, R_tip0, q):
     """The chain's own forward kinematics (product of exponentials): the tip's rotation
-    (9-tuple, row-major) and position (3-tuple)."""
+    (9-tuple, row-major) and position (3-tuple). The kernels do not call it (Pinocchio
+    verifies their answers); tests/test_structure.py checks a ``Chain6R`` with it."""
     R = rot(vec(h[0]), q[0])
     pos = add(vec(p[0]), mv(R, vec(p[1])))
     for i in range(1, 6):
