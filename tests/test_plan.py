@@ -16,6 +16,7 @@ import pytest
 
 import armik
 from armik.errors import ArmikWarning, TargetError
+from armik.ik import registry
 from armik.plan import Plan, plan_for
 from armik.solve import _options
 from armik.targets import parse_target
@@ -128,11 +129,9 @@ def test_failures_take_the_general_verdict():
     _same(r, _general(a, T, **kw))
 
 
-def test_a_lying_runner_is_caught_by_the_check():
-    a = armik.load("panda")  # a fresh arm: its own plans
-    T = a.fk(a.random_q(np.random.default_rng(4)))
-    opts, key, _ = _options({})
-    plan = plan_for(a, "auto", key, opts)
+def _lie_about_the_first_answer(plan) -> None:
+    """Make ``plan``'s runner claim a wrong first answer (joint 1 off by 1e-3 rad); asked
+    for every row, it answers honestly."""
     honest = plan.run_pose
 
     def lying(H, q0, seed, every=False):
@@ -140,10 +139,17 @@ def test_a_lying_runner_is_caught_by_the_check():
             return honest(H, q0, seed, every)
         q, *rest = honest(H, q0, seed)
         q = q.copy()
-        q[0] += 1e-3  # claims converged, is not
+        q[0] += 1e-3  # claimed converged, is not
         return (q, *rest)
 
     plan.run_pose = lying
+
+
+def test_a_lying_runner_is_caught_by_the_check():
+    a = armik.load("panda")  # a fresh arm: its own plans
+    T = a.fk(a.random_q(np.random.default_rng(4)))
+    opts, key, _ = _options({})
+    _lie_about_the_first_answer(plan_for(a, "auto", key, opts))
     r = a.solve(T)
     assert not r.success and r.status == "not_converged"
     assert "forward-kinematics check failed" in r.reason
@@ -159,23 +165,33 @@ def test_a_refused_closed_form_answer_falls_back_to_every_row():
     opts, key, _ = _options({})
     plan = plan_for(a, "auto", key, opts)
     assert plan.solver == "three_parallel"
-    honest = plan.run_pose
     expected = a.solve(T, q0=q)
     assert expected.success
-
-    def lying(H, q0, seed, every=False):
-        if every:
-            return honest(H, q0, seed, every)
-        q, *rest = honest(H, q0, seed)
-        q = q.copy()
-        q[0] += 1e-3  # claims reached, is not
-        return (q, *rest)
-
-    plan.run_pose = lying
+    _lie_about_the_first_answer(plan)
     r = a.solve(T, q0=q)
     assert r.success and r.solver == "three_parallel"
     np.testing.assert_array_equal(r.q, expected.q)
     assert r.branch == expected.branch
+
+
+@pytest.mark.parametrize("name", ["ur5", "abb_irb120"])
+def test_an_unreached_closed_form_hands_every_row_over_labelled(name):
+    # The kernel labels only the first row for ``solve``; when that row is not reached,
+    # every row goes to the general verdict and each must carry its own branch, as the
+    # general path's rows do.
+    a = arm(name)
+    q0 = a.random_q(np.random.default_rng(8))
+    far = pin.SE3(np.eye(3), np.array([3.0, 0.5, 0.5]))  # beyond reach
+    opts, key, _ = _options({})
+    plan = plan_for(a, "auto", key, opts)
+    attempts = plan.run_pose(far.homogeneous, q0, 0)
+    assert type(attempts) is list and len(attempts) > 1
+    general = registry.get(plan.solver).run(a, parse_target(far, a), q0, opts, False)
+    branches = [x.branch for x in attempts]
+    assert branches == [x.branch for x in general]
+    assert len(set(branches)) > 1  # not all the unlabelled default
+    for x, y in zip(attempts, general):
+        np.testing.assert_array_equal(x.q, y.q)
 
 
 def test_lazy_reason_pickles_and_compares():

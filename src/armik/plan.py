@@ -252,7 +252,9 @@ class Plan:
         why = (got[5], got[6], pos, ori, self.tol_p, self.tol_r)
         return self._result(got, True, _CONVERGED, pos, ori, success_reason, why, elapsed)
 
-    def _result(self, got: tuple, success, status, pos, ori, reason, args, elapsed=0.0):
+    def _result(
+        self, got: tuple, success: bool, status: Status, pos, ori, reason, args, elapsed=0.0
+    ):
         """The ``IKResult`` of a runner's claimed answer ``got``, built without the frozen
         ``__init__``; its reason is ``reason(*args)``, written on first read."""
         q, iterations, restarts, branch, singular, _, _ = got

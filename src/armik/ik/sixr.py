@@ -256,14 +256,18 @@ def unflatten(flat):
 
 
 @njit(cache=True, nogil=True)
-def hand_over(rows, reached, out):
-    """Copy a kernel's packed rows (``pack``) into ``out`` (8, 11); returns (n, head),
-    head: the first row's branch bits, + 8 when singular, -1 unless it is reached within
-    the limits (so that ``solve`` reads no numpy scalar for the common answer)."""
+def hand_over(rows, reached, labelled, h, p, out):
+    """Copy a kernel's packed rows (``pack``, the first ``labelled`` with their branch)
+    into ``out`` (8, 11); returns (n, head), head: the first row's branch bits, + 8 when
+    singular, -1 unless it is reached within the limits (so that ``solve`` reads no numpy
+    scalar for the common answer). When it is not, every row goes to the general verdict:
+    the rows left unlabelled are labelled here."""
     n = rows.shape[0]
     for r in range(n):
         for c in range(11):
             out[r, c] = rows[r, c]
+        if r >= labelled and not reached:
+            out[r, 7] = branch_bits(h, p, rows[r, :6])
     head = -1
     if reached:
         head = int(rows[0, 7]) + (8 if int(rows[0, 6]) & SINGULAR else 0)
@@ -290,16 +294,16 @@ def claim_reason(closed_form: str, singular: bool) -> str:
     return closed_form
 
 
-def pose_runner(arm: Arm, opts: Options, family: str, classify, solve_into, closed_form):
+def pose_runner(arm: Arm, family: str, classify, solve_into, closed_form):
     """``run_pose(H, q0, seed, every=False)`` for ``armik.plan`` (see
     ``numeric.pose_runner``): ``solve_into(flat, H, q0, every, out)`` is the family's
     compiled kernel for one plain 4x4 pose (n = -1 when the pose or q0 is not plain; see
     ``hand_over``). When the nearest row is reached within the limits, the answer ``solve``
     verifies first: (q, 0, 0, branch, singular, reason function, arguments); else the
-    attempts of every row for the general verdict. With ``every`` (``solve_all``, and
-    ``solve`` when Pinocchio refuses that first answer): (Q, rows), Q the (n, 6) read-only
-    answers and rows one entry per answer, nearest first: that tuple (its q a row of Q)
-    for an answer claimed reached, an ``Attempt`` for the others."""
+    attempts of every row (each labelled) for the general verdict. With ``every``
+    (``solve_all``, and ``solve`` when Pinocchio refuses that first answer): (Q, rows), Q
+    the (n, 6) read-only answers and rows one entry per answer, nearest first: that tuple
+    (its q a row of Q) for an answer claimed reached, an ``Attempt`` for the others."""
     chain = flat(arm, family, classify)
     why = ((closed_form, False), (closed_form, True))  # claim_reason's arguments
     # a reached row's tuple after q, by its (flags, branch bits) as the kernel writes them
@@ -336,7 +340,6 @@ def pose_runner(arm: Arm, opts: Options, family: str, classify, solve_into, clos
         if head >= 0:
             singular = head >= 8
             return (out[0, :6], 0, 0, _LABELS[head & 7], singular, claim_reason, why[singular])
-        n, _ = solve_into(chain, H, q0, True, out)  # every row labelled (a rare path)
         return attempts(out[:n], family, closed_form)
 
     return run_pose
@@ -376,7 +379,7 @@ CONVERGED_CODE = Status.CONVERGED.code
 UNREACHABLE_CODE = Status.UNREACHABLE.code
 
 
-def batch(arm: Arm, targets, q0: np.ndarray, opts: Options, kernel_many, chain) -> AttemptBatch:
+def batch(arm: Arm, targets, q0: np.ndarray, kernel_many, chain) -> AttemptBatch:
     """``run_batch`` of a family: ``kernel_many(chain, Rs, ps, q0s)``
     (compiled, GIL released; ``chain`` the family's ``flat`` array) solves every target and
     keeps its row nearest q0 (reached, within limits first)."""

@@ -204,8 +204,9 @@ def solve_into(chain, H, q0, every, out):
     if not plain_pose(H) or not plain_seed(q0, lower, upper):
         return -1, 0
     R, pos = split_pose(H)
-    rows, reached = kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, 8 if every else 1)
-    return sixr.hand_over(rows, reached, out)
+    labelled = 8 if every else 1
+    rows, reached = kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled)
+    return sixr.hand_over(rows, reached, labelled, h, p, out)
 
 
 @njit(cache=True, nogil=True)
@@ -247,12 +248,12 @@ def run_batch(arm: Arm, targets, q0: np.ndarray, opts: Options, seeds=None) -> A
     shape; ``seeds`` is unused (no restarts). ``solve_batch`` solves the rows that fail
     again through ``run``, so that they carry its per-target reasons."""
     chain = sixr.flat(arm, FAMILY, _classify)
-    return sixr.batch(arm, targets, q0, opts, kernel_many, chain)
+    return sixr.batch(arm, targets, q0, kernel_many, chain)
 
 
 def prepare_pose(arm: Arm, opts: Options, position_only: bool):
     # position_only is always False: ``applies`` refuses position targets
-    return sixr.pose_runner(arm, opts, FAMILY, _classify, solve_into, CLOSED_FORM)
+    return sixr.pose_runner(arm, FAMILY, _classify, solve_into, CLOSED_FORM)
 
 
 SPEC = register(

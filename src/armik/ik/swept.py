@@ -164,7 +164,7 @@ def held_rows(h, p, R_tip0, variant, c, u, R, pos, q0, lower, upper, lo7, hi7):
     return theta, rows, found
 
 
-def _held(arm: Arm, sw, R, pos, q0: np.ndarray, opts: Options):
+def _held(arm: Arm, sw, R, pos, q0: np.ndarray):
     lo7, hi7 = sweep_range(arm, float(q0[6]))
     return held_rows(
         sw.geo.h, sw.geo.p, sw.geo.R_tip0, sw.variant, sw.c, sw.u, R, pos, q0,
@@ -177,7 +177,7 @@ def run(
     arm: Arm, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
 ) -> list[Attempt]:
     R, pos = sixr.pose_arrays(target)
-    theta, rows, found = _held(arm, geometry(arm), R, pos, np.ascontiguousarray(q0, float), opts)
+    theta, rows, found = _held(arm, geometry(arm), R, pos, np.ascontiguousarray(q0, float))
     if all_solutions:
         exact = [r for r in rows if not int(r[7]) & sixr.LS]
         return _attempts(np.array(exact) if exact and found else rows, theta)
@@ -196,7 +196,7 @@ def prepare_pose(arm: Arm, opts: Options, position_only: bool):
         if every or not plain_pose(H) or not plain_seed(q0, lower, upper):
             return None
         R, pos = split_pose(H)
-        theta, rows, found = _held(arm, sw, R, pos, q0, opts)
+        theta, rows, found = _held(arm, sw, R, pos, q0)
         if not found:
             return _attempts(rows[:1], theta)
         singular = bool(int(rows[0, 7]) & sixr.SINGULAR)
