@@ -1,12 +1,13 @@
 """What the closed-form 6R solvers share: the compiled output layout, 2 pi equivalents,
 branch labels, reasons, and the glue from the compiled kernel to ``Attempt``s.
 
-A kernel computes up to 8 rows: ``Q`` (8, 6) joint values, ``n`` the row count, and per row
-``flags`` (bit 1: least squares, the target is not reached; bit 2: singular, a free angle
-kept at q0), ``code`` (which step was solved only in the least-squares sense) and ``val``
-(2 numbers for the reason: what the target asks, what the arm can do); ``pack`` orders
-them nearest-first and adds the branch of the rows handed over, read from their geometry
-(``branch_bits``).
+A kernel computes up to 8 rows in a work array ``W`` (8, 11), ``n`` the row count: per row
+the joint values (columns 0-5), ``flags`` (column 6; bit 1: least squares, the target is
+not reached; bit 2: singular, a free angle kept at q0), ``code`` (column 8: which step was
+solved only in the least-squares sense) and 2 numbers for the reason (columns 9, 10: what
+the target asks, what the arm can do). ``pack`` copies them into the caller's ``out``
+nearest-first and adds the branch (column 7) of the rows handed over, read from their
+geometry (``branch_bits``). The caller owns ``out``, so that a batch allocates it once.
 """
 
 from __future__ import annotations
@@ -46,11 +47,12 @@ ORIENTATION = 5
 
 @njit(cache=True)
 def nearest_equivalents(Q, n, q0, lower, upper):
-    """Shift every angle by a multiple of 2 pi to the value nearest q0 within the limits
-    (``Arm.nearest_equivalent``, compiled; up to ``SNAP`` outside a limit counts as on it);
-    a joint with no such value keeps its value."""
+    """Shift every angle of the first 6 columns of the first ``n`` rows of ``Q`` by a multiple
+    of 2 pi to the value nearest q0 within the limits (``Arm.nearest_equivalent``, compiled;
+    up to ``SNAP`` outside a limit counts as on it); a joint with no such value keeps its
+    value."""
     for r in range(n):
-        for j in range(Q.shape[1]):
+        for j in range(6):
             qi, ri, lo, hi = Q[r, j], q0[j], lower[j], upper[j]
             if -math.pi <= qi - ri <= math.pi and lo <= qi <= hi:
                 continue
@@ -129,45 +131,43 @@ def branch_bits(h, p, q):
 
 
 @njit(cache=True)
-def pack(Q, n, flags, code, val, q0, lower, upper, h, p, labelled):
-    """The kernel's rows nearest-first (reached, within limits, distance to q0: the order
-    ``solve`` verifies them in) as one (n, 11) array: q (6), flags, branch, code, val (2);
-    and whether the first row is reached and within the limits (then it is ``solve``'s
-    answer if Pinocchio verifies it). Branch labels are read for the first ``labelled``
-    rows (every row for ``solve_all``, the first for ``solve``, none for a batch); the
-    others' branch is 0."""
-    key = np.empty(n)
-    ok = np.zeros(n, np.bool_)
+def _inside(W, r, lower, upper):
+    for j in range(6):
+        if not lower[j] - LIMIT_TOL <= W[r, j] <= upper[j] + LIMIT_TOL:
+            return False
+    return True
+
+
+@njit(cache=True)
+def pack(W, n, q0, lower, upper, h, p, labelled, out):
+    """Copy the kernel's ``n`` rows of ``W`` into ``out`` nearest-first (reached, within
+    limits, distance to q0: the order ``solve`` verifies them in); returns whether the first
+    row is reached and within the limits (then it is ``solve``'s answer if Pinocchio
+    verifies it). Branch labels (column 7) are read for the first ``labelled`` rows (every
+    row for ``solve_all``, the first for ``solve``, none for a batch); the others' is 0.
+    ``W``'s column 7 is used for the sort key."""
     for r in range(n):
-        inside = True
         d2 = 0.0
         for j in range(6):
-            x = Q[r, j]
-            if x < lower[j] - LIMIT_TOL or x > upper[j] + LIMIT_TOL:
-                inside = False
-            d2 += (x - q0[j]) ** 2
-        key[r] = math.sqrt(d2) + (0.0 if inside else 1e4) + (1e8 if flags[r] & LS else 0.0)
-        ok[r] = inside and not flags[r] & LS
-    order = np.empty(n, np.int64)
-    for r in range(n):  # insertion sort: at most 8 rows (argsort costs seconds to compile)
-        k = r
-        while k > 0 and key[order[k - 1]] > key[r]:
-            order[k] = order[k - 1]
-            k -= 1
-        order[k] = r
-    out = np.empty((n, 11))
-    for k in range(n):
-        r = order[k]
-        for j in range(6):  # a loop: a slice copy compiles numba's shape-error path (1.5 s)
-            out[k, j] = Q[r, j]
-        out[k, 6] = flags[r]
+            d2 += (W[r, j] - q0[j]) ** 2
+        outside = not _inside(W, r, lower, upper)
+        W[r, 7] = math.sqrt(d2) + (1e4 if outside else 0.0) + (1e8 if int(W[r, 6]) & LS else 0.0)
+    first_ok = False
+    taken = 0  # bit r: row r copied
+    for k in range(n):  # selection sort, stable: at most 8 rows, no allocation
+        best = -1
+        for r in range(n):
+            if not taken & (1 << r) and (best < 0 or W[r, 7] < W[best, 7]):
+                best = r
+        taken |= 1 << best
+        if k == 0:
+            first_ok = not int(W[best, 6]) & LS and _inside(W, best, lower, upper)
+        for c in range(11):
+            out[k, c] = W[best, c]
         out[k, 7] = 0.0
-        out[k, 8] = code[r]
-        out[k, 9] = val[r, 0]
-        out[k, 10] = val[r, 1]
     for k in range(min(n, labelled)):
         out[k, 7] = branch_bits(h, p, out[k, :6])
-    return out, n > 0 and ok[order[0]]
+    return first_ok
 
 
 _LABELS = tuple(
@@ -256,22 +256,17 @@ def unflatten(flat):
 
 
 @njit(cache=True, nogil=True)
-def hand_over(rows, reached, labelled, h, p, out):
-    """Copy a kernel's packed rows (``pack``, the first ``labelled`` with their branch)
-    into ``out`` (8, 11); returns (n, head), head: the first row's branch bits, + 8 when
-    singular, -1 unless it is reached within the limits (so that ``solve`` reads no numpy
-    scalar for the common answer). When it is not, every row goes to the general verdict:
-    the rows left unlabelled are labelled here."""
-    n = rows.shape[0]
-    for r in range(n):
-        for c in range(11):
-            out[r, c] = rows[r, c]
-        if r >= labelled and not reached:
-            out[r, 7] = branch_bits(h, p, rows[r, :6])
-    head = -1
-    if reached:
-        head = int(rows[0, 7]) + (8 if int(rows[0, 6]) & SINGULAR else 0)
-    return n, head
+def hand_over(n, reached, labelled, h, p, out):
+    """(n, head) for a kernel's packed rows in ``out`` (``pack``, the first ``labelled``
+    with their branch); head: the first row's branch bits, + 8 when singular, -1 unless it
+    is reached within the limits (so that ``solve`` reads no numpy scalar for the common
+    answer). When it is not, every row goes to the general verdict: the rows left
+    unlabelled are labelled here."""
+    if not reached:
+        for r in range(labelled, n):
+            out[r, 7] = branch_bits(h, p, out[r, :6])
+        return n, -1
+    return n, int(out[0, 7]) + (8 if int(out[0, 6]) & SINGULAR else 0)
 
 
 def applies(arm: Arm, target: Target | None, opts: Options | None, family: str, classify):
@@ -373,6 +368,12 @@ def pose_arrays(target: Target) -> tuple[np.ndarray, np.ndarray]:
     return np.ascontiguousarray(target.rotation, dtype=float), np.ascontiguousarray(
         target.position, dtype=float
     )
+
+
+@njit(cache=True, nogil=True)
+def column(H):
+    """The position column of the 4x4 ``H``, a 3-tuple."""
+    return (H[0, 3], H[1, 3], H[2, 3])
 
 
 CONVERGED_CODE = Status.CONVERGED.code

@@ -26,7 +26,6 @@ import numpy as np
 from numba import njit
 
 from ..arm import Arm
-from ..kernel.check import split_pose
 from ..kernel.single import plain_pose, plain_seed
 from ..options import Options
 from ..structure import spherical_wrist
@@ -62,10 +61,9 @@ FAMILY = "spherical_wrist"
 
 
 @njit(cache=True)
-def _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, out, n):
-    """Append the (up to 2) wrist solutions for a placed wrist centre; returns the count.
-    ``out``: the kernel's arrays (Q, flags, code, val)."""
-    Q, flags, code, val = out
+def _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, W, n):
+    """Append the (up to 2) wrist solutions for a placed wrist centre to the kernel's rows
+    ``W`` (``sixr``'s layout); returns the count."""
     R36 = mtm(R03, R06)
     a0, a1, b0, b1, nw, lsw = sp2(mv(R36, h6), h6, neg(h4), h5, q0[3])
     sing = False
@@ -76,12 +74,12 @@ def _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, out, n):
         q5 = b0 if iw == 0 else b1
         R6 = mtm(mm(rot(h4, q4), rot(h5, q5)), R36)
         q6, _ = sp1(h5, mv(R6, h5), h6)
-        Q[n, 0] = wrap(q1)
-        Q[n, 1] = wrap(q2)
-        Q[n, 2] = wrap(q3)
-        Q[n, 3] = wrap(q4)
-        Q[n, 4] = wrap(q5)
-        Q[n, 5] = wrap(q6)
+        W[n, 0] = wrap(q1)
+        W[n, 1] = wrap(q2)
+        W[n, 2] = wrap(q3)
+        W[n, 3] = wrap(q4)
+        W[n, 4] = wrap(q5)
+        W[n, 5] = wrap(q6)
         f = flag
         c = cd
         if lsw:
@@ -90,10 +88,10 @@ def _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, out, n):
                 c = WRIST_ORIENTATION
         if sing:
             f |= SINGULAR
-        flags[n] = f
-        code[n] = c
-        val[n, 0] = v0
-        val[n, 1] = v1
+        W[n, 6] = f
+        W[n, 8] = c
+        W[n, 9] = v0
+        W[n, 10] = v1
         n += 1
     return n
 
@@ -106,19 +104,16 @@ def _elbow_code(p23, p34, h3, q3, wanted):
 
 
 @njit(cache=True)
-def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled):
-    """All closed-form solutions, packed nearest-first, the first ``labelled`` with their
-    branch (see ``sixr.pack``)."""
-    Q = np.zeros((8, 6))
-    flags = np.zeros(8, np.int64)
-    code = np.zeros(8, np.int64)
-    val = np.zeros((8, 2))
-    out = (Q, flags, code, val)
+def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
+    """All closed-form solutions for the target rotation ``R`` (9-tuple, row-major) and
+    position ``pos`` (3-tuple), packed nearest-first into ``out`` (8, 11), the first
+    ``labelled`` with their branch; returns (n, first reached) (see ``sixr.pack``)."""
+    W = np.empty((8, 11))
     h1, h2, h3, h4 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[3])
     h5, h6 = vec(h[4]), vec(h[5])
     p0, p1, p2, p3, p6 = vec(p[0]), vec(p[1]), vec(p[2]), vec(p[3]), vec(p[6])
-    R06 = mmt(mat(R), mat(R_tip0))
-    p16 = sub(sub(vec(pos), mv(R06, p6)), p0)
+    R06 = mmt(R, mat(R_tip0))
+    p16 = sub(sub(pos, mv(R06, p6)), p0)
     n = np.int64(0)  # not a literal 0: numba would compile the callees for it too
     if variant == 0:  # axes 2 and 3 parallel
         d = dot(h2, add(add(p1, p2), p3))
@@ -157,7 +152,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled):
                 R03 = mm(mm(R1, rot(h2, q2)), R3)
                 n = _wrist(
                     R03, R06, h4, h5, h6, q0, q1, q2, q3, flag3, cd3, w0, w1,
-                    out, n,
+                    W, n,
                 )  # fmt: skip
     else:  # axes 1 and 2 meet (p_12 = 0)
         n16 = norm(p16)
@@ -189,24 +184,24 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled):
                 R03 = mm(mm(rot(h1, q1), rot(h2, q2)), R3)
                 n = _wrist(
                     R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd3, w0, w1,
-                    out, n,
+                    W, n,
                 )  # fmt: skip
-    sixr.nearest_equivalents(Q, n, q0, lower, upper)
-    return sixr.pack(Q, n, flags, code, val, q0, lower, upper, h, p, labelled)
+    sixr.nearest_equivalents(W, n, q0, lower, upper)
+    return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out)
 
 
 @njit(cache=True, nogil=True)
 def solve_into(chain, H, q0, every, out):
-    """``kernel`` for one 4x4 pose ``H``, its rows copied into ``out`` (``sixr.hand_over``);
-    n = -1 and nothing solved when ``H`` or ``q0`` is not plain (``kernel.single``).
-    ``chain``: ``sixr.flat``."""
+    """``kernel`` for one 4x4 pose ``H``, its rows packed into ``out`` (8, 11); returns
+    ``sixr.hand_over``'s (n, head), or n = -1 and nothing solved when ``H`` or ``q0`` is
+    not plain (``kernel.single``). ``chain``: ``sixr.flat``."""
     h, p, R_tip0, lower, upper, variant = sixr.unflatten(chain)
     if not plain_pose(H) or not plain_seed(q0, lower, upper):
         return -1, 0
-    R, pos = split_pose(H)
     labelled = 8 if every else 1
-    rows, reached = kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled)
-    return sixr.hand_over(rows, reached, labelled, h, p, out)
+    R, pos = mat(H), sixr.column(H)
+    n, reached = kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out)
+    return sixr.hand_over(n, reached, labelled, h, p, out)
 
 
 @njit(cache=True, nogil=True)
@@ -216,9 +211,11 @@ def kernel_many(chain, Rs, ps, q0s):
     N = ps.shape[0]
     Q = np.empty((N, 6))
     claim = np.empty(N, np.int8)
+    out = np.empty((8, 11))  # one for every target
     unlabelled = np.int64(0)  # no branch labels (not a literal 0: one compile of kernel)
     for i in range(N):
-        out, _ = kernel(h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, variant, unlabelled)
+        R, pos = mat(Rs[i]), vec(ps[i])
+        kernel(h, p, R_tip0, R, pos, q0s[i], lower, upper, variant, unlabelled, out)
         for j in range(6):  # a loop: a slice copy compiles numba's shape-error path
             Q[i, j] = out[0, j]
         claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
@@ -238,9 +235,10 @@ def run(
 ) -> list[Attempt]:
     h, p, R_tip0, lower, upper, variant = sixr.unflatten.py_func(sixr.flat(arm, FAMILY, _classify))
     R, pos = sixr.pose_arrays(target)
+    out = np.empty((8, 11))
     # every row, labelled: ``solve``'s verdict takes the first that Pinocchio verifies
-    out, _ = kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, 8)
-    return sixr.attempts(out, FAMILY, CLOSED_FORM)
+    n, _ = kernel(h, p, R_tip0, mat(R), vec(pos), q0, lower, upper, variant, np.int64(8), out)
+    return sixr.attempts(out[:n], FAMILY, CLOSED_FORM)
 
 
 def run_batch(arm: Arm, targets, q0: np.ndarray, opts: Options, seeds=None) -> AttemptBatch:

@@ -30,7 +30,7 @@ from ..kernel.single import plain_pose, plain_seed
 from ..options import Options
 from ..status import Status
 from ..structure import Swept, swept_7r
-from ..subproblems import rot, vec
+from ..subproblems import mat, rot, vec
 from ..targets import Target
 from . import sixr, spherical
 from .attempt import Attempt
@@ -104,25 +104,28 @@ def first_held(h, p, R_tip0, variant, c, u, R, pos, q0r, lower, upper, q7, lo, h
     ``lower``, ``upper`` in their order) reach the target exactly within their limits: that
     value and its rows (``sixr.pack``'s, nearest q0 first); (q7, its rows, False) when no
     value does."""
-    first = np.empty((0, 11))
+    first = np.empty((8, 11))  # the rows at q7
+    out = np.empty((8, 11))  # the rows at the other values
+    n_first = 0
     thetas = sweep_values(q7, lo, hi)
     unlabelled = np.int64(0)  # rows' branches unused (not a literal 0: one compile of kernel)
     for k in range(thetas.shape[0]):
         theta = thetas[k]
         R_inv, p_inv = held_target(c, u, R, pos, theta)
-        out, _ = spherical.kernel(
-            h, p, R_tip0, R_inv, p_inv, q0r, lower, upper, variant, unlabelled
+        rows = first if k == 0 else out
+        n, _ = spherical.kernel(
+            h, p, R_tip0, mat(R_inv), vec(p_inv), q0r, lower, upper, variant, unlabelled, rows
         )
         if k == 0:
-            first = out
-        if out.shape[0] > 0 and not int(out[0, 6]) & sixr.LS:
+            n_first = n
+        if n > 0 and not int(rows[0, 6]) & sixr.LS:
             inside = True  # row 0 is within the limits if any exact row is (pack's order)
             for j in range(6):
-                if not lower[j] - sixr.LIMIT_TOL <= out[0, j] <= upper[j] + sixr.LIMIT_TOL:
+                if not lower[j] - sixr.LIMIT_TOL <= rows[0, j] <= upper[j] + sixr.LIMIT_TOL:
                     inside = False
             if inside:
-                return theta, out, True
-    return q7, first, False
+                return theta, rows[:n], True
+    return q7, first[:n_first], False
 
 
 def held_reason(theta: float, singular: bool) -> str:

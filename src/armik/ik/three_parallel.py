@@ -28,7 +28,6 @@ import numpy as np
 from numba import njit
 
 from ..arm import Arm
-from ..kernel.check import split_pose
 from ..kernel.single import plain_pose, plain_seed
 from ..options import Options
 from ..structure import three_parallel
@@ -108,13 +107,11 @@ def reach_turn(c, p4, h2, theta, span2):
 
 
 @njit(cache=True)
-def kernel(h, p, R_tip0, R, pos, q0, lower, upper, labelled):
-    """All closed-form solutions, packed nearest-first, the first ``labelled`` with their
-    branch (see ``sixr.pack``)."""
-    Q = np.zeros((8, 6))
-    flags = np.zeros(8, np.int64)
-    code = np.zeros(8, np.int64)
-    val = np.zeros((8, 2))
+def kernel(h, p, R_tip0, R, pos, q0, lower, upper, labelled, out):
+    """All closed-form solutions for the target rotation ``R`` (9-tuple, row-major) and
+    position ``pos`` (3-tuple), packed nearest-first into ``out`` (8, 11), the first
+    ``labelled`` with their branch; returns (n, first reached) (see ``sixr.pack``)."""
+    W = np.empty((8, 11))
     h1, h2, h3, h4 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[3])
     h5, h6 = vec(h[4]), vec(h[5])
     p0, p1, p2, p3, p4, p6 = vec(p[0]), vec(p[1]), vec(p[2]), vec(p[3]), vec(p[4]), vec(p[6])
@@ -122,8 +119,8 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, labelled):
     span2 = elbow_span2(p2, p3, h3)
     x = cross(h2, h1)
     x = scale(x, 1.0 / norm(x))  # a direction across the parallel axes
-    R06 = mmt(mat(R), mat(R_tip0))
-    p16 = sub(sub(vec(pos), mv(R06, p6)), p0)
+    R06 = mmt(R, mat(R_tip0))
+    p16 = sub(sub(pos, mv(R06, p6)), p0)
     d1 = dot(h2, add(add(p1, p2), add(p3, p4)))
     a0, a1, n1, ls1 = sp4(h2, p16, neg(h1), d1)
     flag1, cd1, v0, v1 = 0, 0, 0.0, 0.0
@@ -189,33 +186,32 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, labelled):
                 u = add(p2, mv(rot(h3, q3), p3))
                 q2, _ = sp1(u, v, h2)
                 q4 = s4 * (q234 - q2 - s3 * q3)
-                Q[n, 0] = wrap(q1)
-                Q[n, 1] = wrap(q2)
-                Q[n, 2] = wrap(q3)
-                Q[n, 3] = wrap(q4)
-                Q[n, 4] = wrap(q5)
-                Q[n, 5] = wrap(q6)
-                flags[n] = flag3
-                code[n] = cd3
-                val[n, 0] = w0
-                val[n, 1] = w1
+                W[n, 0] = wrap(q1)
+                W[n, 1] = wrap(q2)
+                W[n, 2] = wrap(q3)
+                W[n, 3] = wrap(q4)
+                W[n, 4] = wrap(q5)
+                W[n, 5] = wrap(q6)
+                W[n, 6] = flag3
+                W[n, 8] = cd3
+                W[n, 9] = w0
+                W[n, 10] = w1
                 n += 1
-    sixr.nearest_equivalents(Q, n, q0, lower, upper)
-    return sixr.pack(Q, n, flags, code, val, q0, lower, upper, h, p, labelled)
+    sixr.nearest_equivalents(W, n, q0, lower, upper)
+    return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out)
 
 
 @njit(cache=True, nogil=True)
 def solve_into(chain, H, q0, every, out):
-    """``kernel`` for one 4x4 pose ``H``, its rows copied into ``out`` (``sixr.hand_over``);
-    n = -1 and nothing solved when ``H`` or ``q0`` is not plain (``kernel.single``).
-    ``chain``: ``sixr.flat``."""
+    """``kernel`` for one 4x4 pose ``H``, its rows packed into ``out`` (8, 11); returns
+    ``sixr.hand_over``'s (n, head), or n = -1 and nothing solved when ``H`` or ``q0`` is
+    not plain (``kernel.single``). ``chain``: ``sixr.flat``."""
     h, p, R_tip0, lower, upper, _ = sixr.unflatten(chain)
     if not plain_pose(H) or not plain_seed(q0, lower, upper):
         return -1, 0
-    R, pos = split_pose(H)
     labelled = 8 if every else 1
-    rows, reached = kernel(h, p, R_tip0, R, pos, q0, lower, upper, labelled)
-    return sixr.hand_over(rows, reached, labelled, h, p, out)
+    n, reached = kernel(h, p, R_tip0, mat(H), sixr.column(H), q0, lower, upper, labelled, out)
+    return sixr.hand_over(n, reached, labelled, h, p, out)
 
 
 @njit(cache=True, nogil=True)
@@ -225,9 +221,10 @@ def kernel_many(chain, Rs, ps, q0s):
     N = ps.shape[0]
     Q = np.empty((N, 6))
     claim = np.empty(N, np.int8)
+    out = np.empty((8, 11))  # one for every target
     unlabelled = np.int64(0)  # no branch labels (not a literal 0: one compile of kernel)
     for i in range(N):
-        out, _ = kernel(h, p, R_tip0, Rs[i], ps[i], q0s[i], lower, upper, unlabelled)
+        kernel(h, p, R_tip0, mat(Rs[i]), vec(ps[i]), q0s[i], lower, upper, unlabelled, out)
         for j in range(6):  # a loop: a slice copy compiles numba's shape-error path
             Q[i, j] = out[0, j]
         claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
@@ -247,9 +244,10 @@ def run(
 ) -> list[Attempt]:
     h, p, R_tip0, lower, upper, _ = sixr.unflatten.py_func(sixr.flat(arm, FAMILY, _classify))
     R, pos = sixr.pose_arrays(target)
+    out = np.empty((8, 11))
     # every row, labelled: ``solve``'s verdict takes the first that Pinocchio verifies
-    out, _ = kernel(h, p, R_tip0, R, pos, q0, lower, upper, 8)
-    return sixr.attempts(out, FAMILY, CLOSED_FORM)
+    n, _ = kernel(h, p, R_tip0, mat(R), vec(pos), q0, lower, upper, np.int64(8), out)
+    return sixr.attempts(out[:n], FAMILY, CLOSED_FORM)
 
 
 def run_batch(arm: Arm, targets, q0: np.ndarray, opts: Options, seeds=None) -> AttemptBatch:
