@@ -29,7 +29,7 @@ import pinocchio as pin
 
 import armik
 from armik.compare import _eaik
-from armik.kernel.check import pose_check, pose_checks
+from armik.kernel.check import placement_check, pose_checks
 from armik.plan import plan_for
 from armik.result import IKResult
 from armik.solve import _options
@@ -44,7 +44,8 @@ def best(fn, number: int) -> float:
 def bare_steps(arm, T, q0, plan, solve_into, chain):
     """The steps a verified closed-form answer cannot do without, and nothing else (no
     options, plan lookup, branch label, reason or fallback): the floor of ``solve``."""
-    model, data, frame, measured = arm.model, arm.data, arm.tip_frame_id, plan.measured
+    model, frame, measured = arm.model, arm.tip_frame_id, plan.measured
+    data, R_w, p_w = arm.tip_views()
     fk, place, clock, new = (
         pin.forwardKinematics,
         pin.updateFramePlacement,
@@ -60,7 +61,8 @@ def bare_steps(arm, T, q0, plan, solve_into, chain):
         q = rows[0, :6]
         q.setflags(write=False)
         fk(model, data, q)
-        pos, ori, inside = pose_check(measured, place(model, data, frame).homogeneous, H, q)
+        place(model, data, frame)
+        pos, ori, inside = placement_check(measured, R_w, p_w, H, q)
         result = new(IKResult)
         result.__dict__.update(
             q=q, success=bool(inside), position_error=pos, orientation_error=ori, time=clock() - t0
@@ -114,17 +116,18 @@ def measure(name: str, solver: str, number: int) -> dict:
         many = module.kernel_many
         out["batch_kernel_us"] = best(lambda: many(chain, Rs, ps, q0s), max(1, number // 1000))
         out["batch_kernel_us"] /= 1000
-    model, data, frame = arm.model, arm.data, arm.tip_frame_id
+    model, frame = arm.model, arm.tip_frame_id
     qp = arm.to_pin(q)
+    data, R_w, p_w = arm.tip_views()
 
     def fk():
         pin.forwardKinematics(model, data, qp)
-        return pin.updateFramePlacement(model, data, frame).homogeneous
+        pin.updateFramePlacement(model, data, frame)
 
     out["pinocchio_fk_us"] = best(fk, number)
-    H_w = fk()
-    args = (plan.measured, H_w, H, q)
-    out["check_us"] = best(lambda: pose_check(*args), number)
+    fk()
+    args = (plan.measured, R_w, p_w, H, q)
+    out["check_us"] = best(lambda: placement_check(*args), number)
     out["outside_us"] = out["solve_us"] - out["compiled_us"]
     return out
 

@@ -473,6 +473,19 @@ class Arm:
             d = self._local.data = self.model.createData()
         return d
 
+    def tip_views(self) -> tuple[pin.Data, np.ndarray, np.ndarray]:
+        """(data, R, p): this thread's Pinocchio Data and views of its tip placement's
+        rotation (3x3, column-major) and translation, in Pinocchio's own memory: after
+        ``updateFramePlacement(model, data, tip_frame_id)`` they hold its result without a
+        copy. Keep them with ``data`` (they do not keep it alive) and read them only after
+        that call."""
+        views = getattr(self._local, "tip", None)
+        if views is None:
+            data = self.data
+            placement = data.oMf[self.tip_frame_id]  # a reference into data, not a copy
+            views = self._local.tip = (data, placement.rotation, placement.translation)
+        return views
+
     # -- coordinates ----------------------------------------------------------------------
 
     def to_pin(self, q: np.ndarray) -> np.ndarray:

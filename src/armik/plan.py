@@ -8,7 +8,8 @@ name, options other than ``seed``, target kind) and keeps it. For a target given
 float64 array of one value per joint, the plan hands the 4x4 to the solver's compiled
 runner (``SolverSpec.prepare_pose``), which checks in compiled code that the pose and seed
 are what the parser and ``Arm.seed`` would pass unchanged, then solves. Pinocchio computes
-the answer's tip placement and compiled code measures it (``kernel.check.pose_check``), as
+the answer's tip placement and compiled code measures it in place
+(``kernel.check.placement_check``), as
 ``verify.check`` does. The result is the one the general path builds, field for field
 (tests/test_plan.py); its reason text is written on first read.
 
@@ -29,7 +30,7 @@ from .arm import Arm
 from .errors import SolverError
 from .ik import registry
 from .ik.attempt import Attempt
-from .kernel.check import check_frame, pose_check, pose_checks
+from .kernel.check import check_frame, placement_check, pose_checks
 from .options import Options
 from .result import IKResult
 from .status import FAILURE_RANK, Status
@@ -153,12 +154,13 @@ class Plan:
         if type(got) is list:  # claims other than converged: the general verdict
             return self._finish(got, H, q0, opts, t0, False)[0]
         q = got[0]
-        data = getattr(self.local, "data", None)  # this thread's Data (``Arm.data``)
-        if data is None:
-            data = self.arm.data
+        tip = getattr(self.local, "tip", None)  # this thread's (``Arm.tip_views``)
+        if tip is None:
+            tip = self.arm.tip_views()
+        data, R_w, p_w = tip
         pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
-        H_w = pin.updateFramePlacement(self.model, data, self.frame).homogeneous
-        pos, ori, inside = pose_check(self.measured, H_w, H, q)
+        pin.updateFramePlacement(self.model, data, self.frame)  # into R_w, p_w
+        pos, ori, inside = placement_check(self.measured, R_w, p_w, H, q)
         result = self._success(got, pos, ori, inside, time.perf_counter() - t0)
         if result is None:
             return self._finish(self._refused(got, H, q0, seed), H, q0, opts, t0, False)[0]

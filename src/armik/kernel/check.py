@@ -94,7 +94,7 @@ def split_pose(H):
 
 
 def check_frame(R_bw, p_bw, w, measure: int, lower, upper) -> np.ndarray:
-    """What ``pose_check`` measures against, packed in one float array (one argument to
+    """What ``placement_check`` measures against, packed in one float array (one argument to
     pass instead of six: each array argument costs numba's dispatch ~45 ns):
     R_bw (9, row-major), p_bw (3), w (6), measure, lower (n), upper (n). (R_bw, p_bw):
     T_base_world; ``measure``: bit 1 weighted, bit 2 orientation measured."""
@@ -125,18 +125,20 @@ def _frame(frame):
 
 
 @njit(cache=True, nogil=True)
-def pose_check(frame, H_w, H_t, q):
+def placement_check(frame, R_w, p_w, H_t, q):
     """(position error, orientation error or NaN, within the limits) of one answer ``q``
-    whose tip placement Pinocchio computed as the 4x4 ``H_w`` (world frame), against the
-    4x4 target ``H_t`` (base frame): ``pose_error`` and ``inside_limits`` in one call;
-    ``frame`` from ``check_frame``."""
-    R_t, p_t = split_pose(H_t)
-    return _check(frame, H_w, R_t, p_t, q)
+    whose tip placement Pinocchio computed as (R_w, p_w) (world frame; read in place:
+    ``Arm.tip_views``), against the 4x4 target ``H_t`` (base frame): ``pose_error`` and
+    ``inside_limits`` in one call; ``frame`` from ``check_frame``."""
+    R_bw, p_bw, w, measure, lower, upper = _frame(frame)
+    weighted, measure_rot = measure & 1 != 0, measure & 2 != 0
+    pos, ori = pose_error(R_bw, p_bw, R_w, p_w, H_t, H_t[:3, 3], w, weighted, measure_rot)
+    return pos, ori, inside_limits(q, lower, upper, LIMIT_TOL)
 
 
 @njit(cache=True, nogil=True)
 def pose_checks(frame, H_w, H_t, Q, out):
-    """out[i] = ``pose_check`` of answer Q[i] with tip placement H_w[i], for every i (the
+    """out[i] = ``placement_check`` of answer Q[i] with tip placement H_w[i], for every i (the
     target split once)."""
     R_t, p_t = split_pose(H_t)
     for i in range(Q.shape[0]):

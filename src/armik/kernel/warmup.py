@@ -5,7 +5,7 @@ pose error and its Jacobian (``error._evaluate``), the step (``step.dls`` or ``s
 the restarts (``restarts._pick``), then the entry that holds the descent and calls them.
 The step and the pose error do not depend on each other. When the step is not in the cache
 and a second CPU is free, ``prepare`` starts a helper process that compiles the step (then
-the verification's ``check.pose_check``) into the cache, while this process compiles the
+the verification's ``check.placement_check``) into the cache, while this process compiles the
 pose error and the restarts; the entry then loads the step from the cache instead of
 compiling it. The functions, their types and their machine code are the ones a single
 process would build (the same cache entries); only the wall time changes
@@ -174,5 +174,6 @@ def helper(kind: int) -> None:
     STEPS[kind].compile(_parts()[0])
     print("step", flush=True)
     q = np.zeros(1)
-    check.pose_check(np.zeros(21), np.eye(4), np.eye(4), q)  # the plan's types
+    R_w = np.asfortranarray(np.eye(3))  # as Pinocchio's rotation views are laid out
+    check.placement_check(np.zeros(21), R_w, np.zeros(3), np.eye(4), q)  # the plan's types
     print("check", flush=True)
