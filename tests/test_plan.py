@@ -375,3 +375,30 @@ def test_plain_pose_agrees_with_the_parser_on_corrupted_matrices():
                 a.solve(H, seed=0)
         else:
             _same(a.solve(H, seed=0), _general(a, H, seed=0))
+
+
+@pytest.mark.parametrize("name", ["ur5", "kinova"])  # kinova: continuous joints (to_pin)
+def test_tip_views_hold_pinocchio_placement_in_place(name):
+    # The plan measures Pinocchio's placement through these views without copying it:
+    # after each updateFramePlacement they must hold what Pinocchio returns, and another
+    # thread must get views of its own Data.
+    import threading
+
+    a = arm(name)
+    data, R, p = a.tip_views()
+    assert a.tip_views()[0] is data
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        qp = a.to_pin(a.random_q(rng))
+        pin.forwardKinematics(a.model, data, qp)
+        got = pin.updateFramePlacement(a.model, data, a.tip_frame_id)
+        assert np.array_equal(R, got.rotation) and np.array_equal(p, got.translation)
+        fresh = a.model.createData()
+        pin.framesForwardKinematics(a.model, fresh, qp)
+        assert np.array_equal(R, fresh.oMf[a.tip_frame_id].rotation)
+        assert np.array_equal(p, fresh.oMf[a.tip_frame_id].translation)
+    other = []
+    worker = threading.Thread(target=lambda: other.append(a.tip_views()[0]))
+    worker.start()
+    worker.join()
+    assert other[0] is not data
