@@ -7,9 +7,8 @@ and no step), then best-of-7 timeit of
     family's ``solve_into`` for a closed form): what runs inside compiled code,
   - Pinocchio's FK and tip placement, and the compiled check of its errors.
 "Outside the kernel" is the whole minus the compiled call. For a closed form, also
-``arm.solve_all`` and its parts: the compiled call with every row, the measure of every
-answer (Pinocchio's placement and the compiled check of each; the rest is Python: rows and
-results); and
+``arm.solve_all`` and its parts: the compiled call with every row, Pinocchio's placements of
+every answer, the compiled check of them all (the rest is Python: rows and results); and
 the batch kernel's time per target (``kernel_many`` over 1000 random targets, one call: what
 ``solve_batch`` runs before its verification). "Bare steps": only what a verified
 closed-form answer needs (``bare_steps``), the floor of ``solve`` from Python; and EAIK's
@@ -30,7 +29,7 @@ import pinocchio as pin
 
 import armik
 from armik.compare import _eaik
-from armik.kernel.check import placement_check
+from armik.kernel.check import placement_check, pose_checks
 from armik.plan import plan_for
 from armik.result import IKResult
 from armik.solve import _options
@@ -105,7 +104,9 @@ def measure(name: str, solver: str, number: int) -> dict:
         out["solve_all_us"] = best(lambda: arm.solve_all(T, q0=q), number)
         out["compiled_every_us"] = best(lambda: solve_into(chain, H, q, True, out8), number)
         Q = runner(H, q, 0, True)[0]
-        out["measure_all_us"] = best(lambda: plan._measure(Q, H), number)
+        out["placements_us"] = best(lambda: plan._placements(Q), number)
+        H_all, measured = plan._placements(Q), np.empty((len(Q), 3))
+        out["checks_us"] = best(lambda: pose_checks(plan.measured, H_all, H, Q, measured), number)
         module = sys.modules[solve_into.__module__]  # the family's kernel_many beside it
         rng = np.random.default_rng(4)
         qs = np.array([arm.random_q(rng) for _ in range(1000)])
@@ -150,7 +151,8 @@ def main() -> None:
         "eaik_us",
         "solve_all_us",
         "compiled_every_us",
-        "measure_all_us",
+        "placements_us",
+        "checks_us",
         "batch_kernel_us",
     ]
     print("| arm | solver | " + " | ".join(c.replace("_us", " (us)") for c in cols) + " |")

@@ -30,7 +30,7 @@ from .arm import Arm
 from .errors import SolverError
 from .ik import registry
 from .ik.attempt import Attempt
-from .kernel.check import check_frame, placement_check
+from .kernel.check import check_frame, placement_check, pose_checks
 from .options import Options
 from .result import IKResult
 from .status import FAILURE_RANK, Status
@@ -185,12 +185,14 @@ class Plan:
         if got is None:
             return None
         Q, rows = got  # Q[i]: the answer of rows[i]
+        measured = np.empty((len(rows), 3))
+        pose_checks(self.measured, self._placements(Q), H, Q, measured)
         results, failed = [], []  # failed: (rank key, result), in row order
         unclaimed = False
-        for got, (pos, ori, inside) in zip(rows, self._measure(Q, H)):
+        for got, (pos, ori, inside) in zip(rows, measured.tolist()):
             if type(got) is tuple:
-                result = self._success(got, pos, ori, inside)
-                if result is None and not inside:  # reached, or not, outside the limits
+                result = self._success(got, pos, ori, inside > 0.0)
+                if result is None and inside == 0.0:  # reached, or not, outside the limits
                     result = self._outside_limits(got, pos, ori)
                     failed.append((_rank_key(result), result))
                     continue
@@ -201,7 +203,7 @@ class Plan:
             c = Check(
                 position_error=pos,
                 orientation_error=ori if self.measure_rot else None,
-                violations=[] if inside else self.arm.limit_violations(got.q),
+                violations=[] if inside > 0.0 else self.arm.limit_violations(got.q),
                 tol_position=self.tol_p,
                 tol_orientation=self.tol_r,
             )
@@ -223,19 +225,17 @@ class Plan:
             r.__dict__["time"] = elapsed
         return results
 
-    def _measure(self, Q: np.ndarray, H: np.ndarray) -> list[tuple]:
-        """(position error, orientation error, within the limits) of each answer of Q
-        against the target H, as ``solve`` measures its one answer: Pinocchio's tip
-        placement, read in place."""
-        model, frame, check, measured = self.model, self.frame, placement_check, self.measured
+    def _placements(self, Q: np.ndarray) -> np.ndarray:
+        """The tip placements (n, 4, 4) of the answers Q, by Pinocchio."""
+        model, data, frame = self.model, self.arm.data, self.frame
         fk, place = pin.forwardKinematics, pin.updateFramePlacement
-        data, R_w, p_w = self.arm.tip_views()
-        out = []
+        if not self.direct:
+            Q = [self.arm.to_pin(q) for q in Q]
+        placements = []
         for q in Q:
-            fk(model, data, q if self.direct else self.arm.to_pin(q))
-            place(model, data, frame)
-            out.append(check(measured, R_w, p_w, H, q))
-        return out
+            fk(model, data, q)
+            placements.append(place(model, data, frame).homogeneous)
+        return np.array(placements) if placements else np.empty((0, 4, 4))
 
     def _outside_limits(self, got: tuple, pos: float, ori: float) -> IKResult:
         """The result ``verdict`` gives a claimed answer outside the joint limits, its

@@ -134,3 +134,21 @@ def placement_check(frame, R_w, p_w, H_t, q):
     weighted, measure_rot = measure & 1 != 0, measure & 2 != 0
     pos, ori = pose_error(R_bw, p_bw, R_w, p_w, H_t, H_t[:3, 3], w, weighted, measure_rot)
     return pos, ori, inside_limits(q, lower, upper, LIMIT_TOL)
+
+
+@njit(cache=True, nogil=True)
+def pose_checks(frame, H_w, H_t, Q, out):
+    """out[i] = ``placement_check`` of answer Q[i] with tip placement H_w[i], for every i (the
+    target split once)."""
+    R_t, p_t = split_pose(H_t)
+    for i in range(Q.shape[0]):
+        pos, ori, inside = _check(frame, H_w[i], R_t, p_t, Q[i])
+        out[i, 0], out[i, 1], out[i, 2] = pos, ori, 1.0 if inside else 0.0
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _check(frame, H_w, R_t, p_t, q):
+    R_bw, p_bw, w, measure, lower, upper = _frame(frame)
+    R_w, p_w = split_pose(H_w)
+    pos, ori = pose_error(R_bw, p_bw, R_w, p_w, R_t, p_t, w, measure & 1 != 0, measure & 2 != 0)
+    return pos, ori, inside_limits(q, lower, upper, LIMIT_TOL)
