@@ -86,7 +86,6 @@ class Plan:
         self.position = position  # targets are positions (x, y, z), not full poses
         self.run_pose = spec.prepare_pose(arm, opts, position)
         self.model, self.frame = arm.model, arm.tip_frame_id
-        self.local = arm._local  # where ``Arm.data`` keeps each thread's Pinocchio Data
         self.direct = arm.model.nq == arm.dof  # q is Pinocchio's configuration itself
         self.shape = (arm.dof,)
         self.middle = arm.middle
@@ -154,10 +153,7 @@ class Plan:
         if type(got) is list:  # claims other than converged: the general verdict
             return self._finish(got, H, q0, opts, t0, False)[0]
         q = got[0]
-        tip = getattr(self.local, "tip", None)  # this thread's (``Arm.tip_views``)
-        if tip is None:
-            tip = self.arm.tip_views()
-        data, R_w, p_w = tip
+        data, R_w, p_w = self.arm.tip_views()  # this thread's
         pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
         pin.updateFramePlacement(self.model, data, self.frame)  # into R_w, p_w
         pos, ori, inside = placement_check(self.measured, R_w, p_w, H, q)

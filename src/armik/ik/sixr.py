@@ -23,7 +23,7 @@ from ..errors import SolverError
 from ..options import Options
 from ..status import Status
 from ..structure import Chain6R
-from ..subproblems import add, cross, dot, mat, mm, mv, norm, rot, scale, sub, vec
+from ..subproblems import add, cross, dot, mat, mm, mv, norm, rot, scale, sub, vec, wrap
 from ..targets import Target
 from .attempt import AttemptBatch
 from .numeric import attempt
@@ -43,6 +43,32 @@ TOO_FAR = 2
 TOO_CLOSE = 3
 WRIST_ORIENTATION = 4
 ORIENTATION = 5
+
+
+@njit(cache=True)
+def put_row(W, n, q1, q2, q3, q4, q5, q6, flags, code, v0, v1):
+    """Write row ``n`` of a kernel's work array ``W`` (the layout above), each angle
+    wrapped into (-pi, pi]; returns n + 1."""
+    W[n, 0] = wrap(q1)
+    W[n, 1] = wrap(q2)
+    W[n, 2] = wrap(q3)
+    W[n, 3] = wrap(q4)
+    W[n, 4] = wrap(q5)
+    W[n, 5] = wrap(q6)
+    W[n, 6] = flags
+    W[n, 8] = code
+    W[n, 9] = v0
+    W[n, 10] = v1
+    return n + 1
+
+
+@njit(cache=True)
+def elbow_code(p23, p34, h3, q3, wanted):
+    """(reason code, span reached) of an elbow solved in the least-squares sense for the
+    span ``wanted``: too far when it asked more than the arm's closest span, else too
+    close."""
+    got = norm(add(p23, mv(rot(h3, q3), p34)))
+    return (TOO_FAR if wanted > got else TOO_CLOSE), got
 
 
 @njit(cache=True)

@@ -48,13 +48,12 @@ from ..subproblems import (
     sp4,
     sub,
     vec,
-    wrap,
 )  # fmt: skip
 from ..targets import Target
 from . import sixr
 from .attempt import Attempt, AttemptBatch
 from .registry import SolverSpec, register
-from .sixr import LS, SHOULDER_OFFSET, SINGULAR, TOO_CLOSE, TOO_FAR, WRIST_ORIENTATION
+from .sixr import LS, SHOULDER_OFFSET, SINGULAR, WRIST_ORIENTATION
 
 CLOSED_FORM = "closed form (spherical wrist)"
 FAMILY = "spherical_wrist"
@@ -74,12 +73,6 @@ def _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, W, n):
         q5 = b0 if iw == 0 else b1
         R6 = mtm(mm(rot(h4, q4), rot(h5, q5)), R36)
         q6, _ = sp1(h5, mv(R6, h5), h6)
-        W[n, 0] = wrap(q1)
-        W[n, 1] = wrap(q2)
-        W[n, 2] = wrap(q3)
-        W[n, 3] = wrap(q4)
-        W[n, 4] = wrap(q5)
-        W[n, 5] = wrap(q6)
         f = flag
         c = cd
         if lsw:
@@ -88,19 +81,8 @@ def _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, W, n):
                 c = WRIST_ORIENTATION
         if sing:
             f |= SINGULAR
-        W[n, 6] = f
-        W[n, 8] = c
-        W[n, 9] = v0
-        W[n, 10] = v1
-        n += 1
+        n = sixr.put_row(W, n, q1, q2, q3, q4, q5, q6, f, c, v0, v1)
     return n
-
-
-@njit(cache=True)
-def _elbow_code(p23, p34, h3, q3, wanted):
-    """Whether an elbow solved in the least-squares sense asked too much or too little."""
-    got = norm(add(p23, mv(rot(h3, q3), p34)))
-    return (TOO_FAR if wanted > got else TOO_CLOSE), got
 
 
 @njit(cache=True)
@@ -142,7 +124,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             if ls3:
                 flag3 |= LS
                 if cd3 == 0:
-                    cd3, w1 = _elbow_code(p2, p3, h3, c0, nv)
+                    cd3, w1 = sixr.elbow_code(p2, p3, h3, c0, nv)
                     w0 = nv
             for i3 in range(n3):
                 q3 = c0 if i3 == 0 else c1
@@ -165,7 +147,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             flag3 |= SINGULAR
         if ls3:
             flag3 |= LS
-            cd3, w1 = _elbow_code(p2, p3, h3, c0, n16)
+            cd3, w1 = sixr.elbow_code(p2, p3, h3, c0, n16)
             w0 = n16
         for i3 in range(n3):
             q3 = c0 if i3 == 0 else c1

@@ -56,7 +56,7 @@ from ..targets import Target
 from . import sixr
 from .attempt import Attempt, AttemptBatch
 from .registry import SolverSpec, register
-from .sixr import LS, ORIENTATION, SHOULDER_OFFSET, SINGULAR, TOO_CLOSE, TOO_FAR
+from .sixr import LS, ORIENTATION, SHOULDER_OFFSET, SINGULAR
 
 CLOSED_FORM = "closed form (three parallel axes)"
 HAIR = 1e-9  # of cos(theta - phi) in ``reach_turn``: ~1e-10 m inside the elbow's reach
@@ -178,25 +178,14 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, labelled, out):
             if ls3:
                 flag3 |= LS
                 if cd3 == 0:
-                    got = norm(add(p2, mv(rot(h3, c0), p3)))
-                    cd3 = TOO_FAR if nv > got else TOO_CLOSE
-                    w0, w1 = nv, got
+                    cd3, w1 = sixr.elbow_code(p2, p3, h3, c0, nv)
+                    w0 = nv
             for i3 in range(n3):
                 q3 = c0 if i3 == 0 else c1
                 u = add(p2, mv(rot(h3, q3), p3))
                 q2, _ = sp1(u, v, h2)
                 q4 = s4 * (q234 - q2 - s3 * q3)
-                W[n, 0] = wrap(q1)
-                W[n, 1] = wrap(q2)
-                W[n, 2] = wrap(q3)
-                W[n, 3] = wrap(q4)
-                W[n, 4] = wrap(q5)
-                W[n, 5] = wrap(q6)
-                W[n, 6] = flag3
-                W[n, 8] = cd3
-                W[n, 9] = w0
-                W[n, 10] = w1
-                n += 1
+                n = sixr.put_row(W, n, q1, q2, q3, q4, q5, q6, flag3, cd3, w0, w1)
     sixr.nearest_equivalents(W, n, q0, lower, upper)
     return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out)
 
