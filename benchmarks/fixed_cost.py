@@ -10,9 +10,10 @@ and no step), then best-of-7 timeit of
 ``arm.solve_all`` and its parts: the compiled call with every row, Pinocchio's placements of
 every answer, the compiled check of them all (the rest is Python: rows and results); and
 the batch kernel's time per target (``kernel_many`` over 1000 random targets, one call: what
-``solve_batch`` runs before its verification). "Bare steps": only what a verified
-closed-form answer needs (``bare_steps``), the floor of ``solve`` from Python; and EAIK's
-all-solutions call on the same pose when it is installed.
+``solve_batch`` runs before its verification) and ``solve_batch``'s on one worker, every
+answer verified by Pinocchio. "Bare steps": only what a verified closed-form answer needs
+(``bare_steps``), the floor of ``solve`` from Python; and EAIK's all-solutions call on the
+same pose when it is installed.
 
     python benchmarks/fixed_cost.py [--arms panda ur5 abb_irb120] [--solver dls] [--number N]
 """
@@ -116,6 +117,9 @@ def measure(name: str, solver: str, number: int) -> dict:
         many = module.kernel_many
         out["batch_kernel_us"] = best(lambda: many(chain, Rs, ps, q0s), max(1, number // 1000))
         out["batch_kernel_us"] /= 1000
+        # the same targets through solve_batch on one worker, every answer verified by Pinocchio
+        batch = lambda: arm.solve_batch(Hs, q0=q0s, workers=1)  # noqa: E731
+        out["solve_batch_us"] = best(batch, max(1, number // 1000)) / 1000
     model, frame = arm.model, arm.tip_frame_id
     qp = arm.to_pin(q)
     data, R_w, p_w = arm.tip_views()
@@ -154,6 +158,7 @@ def main() -> None:
         "placements_us",
         "checks_us",
         "batch_kernel_us",
+        "solve_batch_us",
     ]
     print("| arm | solver | " + " | ".join(c.replace("_us", " (us)") for c in cols) + " |")
     print("|---|---|" + "---|" * len(cols))
