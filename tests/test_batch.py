@@ -275,7 +275,8 @@ def test_progress_reports_each_chunk_from_the_thread_pool():
     solve_batch(
         a, _poses(a, 8, seed=3), workers=2, chunk_size=2, progress=lambda d, t: seen.append(d)
     )
-    assert seen == sorted(seen) and seen[-1] == 8 and len(seen) >= 2
+    # one report per finished chunk, whatever order the threads finish in
+    assert seen == [2, 4, 6, 8]
 
 
 def test_a_lying_batch_solver_is_caught_by_the_fk_check(monkeypatch):

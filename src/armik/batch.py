@@ -366,9 +366,9 @@ def solve_batch(
             pending = {pool.submit(job, s) for s in starts}
             while pending:
                 finished, pending = wait(pending, return_when=FIRST_COMPLETED)
-                for f in finished:
+                for f in finished:  # each finished chunk is reported, however many woke us
                     done += f.result()  # re-raises a chunk's exception here
-                bar(done, n)
+                    bar(done, n)
         finally:  # an error or Ctrl-C: drop the chunks not started, wait for the running
             pool.shutdown(wait=True, cancel_futures=True)
     bar.close()
