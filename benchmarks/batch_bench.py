@@ -28,8 +28,8 @@ import numpy as np
 import pinocchio as pin
 
 import armik
-import armik.batch_targets
-from armik import bench
+import armik.targets.batch
+from armik.tools import bench
 
 
 def targets(arm: armik.Arm, n: int, seed: int = 42) -> np.ndarray:
@@ -121,7 +121,7 @@ def peer_row(arm: armik.Arm, T: np.ndarray, args) -> dict:
     FK checked against armik's), from the same q0 on the same targets; its successes are
     checked as armik's are. ``seconds`` is the loop's wall time; ``library_seconds`` the sum
     of the library calls alone."""
-    from armik import peers
+    from armik.tools import peers
 
     peer = peers.make("rtb", arm, args.tol)
     q0 = arm.middle
@@ -155,9 +155,9 @@ def peer_row(arm: armik.Arm, T: np.ndarray, args) -> dict:
 def run_split(args) -> None:
     """Time the compiled solve (GIL released) and the verification (GIL held) apart, chunk
     by chunk as solve_batch runs them: the share that bounds two threads (Amdahl)."""
-    from armik.ik import registry
     from armik.options import Options
-    from armik.verify import check_batch
+    from armik.solvers import registry
+    from armik.verify.measure import measure_batch
 
     opts = Options.from_kwargs(
         dict(timeout=args.budget, tol_position=args.tol, tol_orientation=args.tol)
@@ -165,7 +165,7 @@ def run_split(args) -> None:
     spec = registry.get(args.solver)
     for name in args.arms:
         arm = armik.load(name)
-        tb = armik.batch_targets.parse_targets(targets(arm, args.n))
+        tb = armik.targets.batch.parse_targets(targets(arm, args.n))
         q0 = np.ascontiguousarray(np.broadcast_to(arm.middle, (len(tb), arm.dof)))
         spec.run_batch(arm, tb[:8], q0[:8], opts)
         solve_s = check_s = 0.0
@@ -174,7 +174,7 @@ def run_split(args) -> None:
             ab = spec.run_batch(arm, tb[s : s + 256], q0[s : s + 256], opts)
             solve_s += time.perf_counter() - t
             t = time.perf_counter()
-            check_batch(arm, ab.q, tb[s : s + 256], opts)
+            measure_batch(arm, ab.q, tb[s : s + 256], opts)
             check_s += time.perf_counter() - t
         share = check_s / (solve_s + check_s)
         print(

@@ -29,11 +29,11 @@ import numpy as np
 import pinocchio as pin
 
 import armik
-from armik.compare import _eaik
-from armik.kernel.check import placement_check, pose_checks
-from armik.plan import plan_for
+from armik.kernel.measure import placement_check, pose_checks
 from armik.result import IKResult
-from armik.solve import _options
+from armik.solve.prepared import plan_for
+from armik.solve.single import _options
+from armik.tools.compare import _eaik
 
 BENCH = dict(timeout=0.005, tol_position=1e-5, tol_orientation=1e-5, seed=3)
 

@@ -15,10 +15,10 @@ import numpy as np
 from numba import njit
 
 import armik
-from armik.ik import numeric
 from armik.kernel import error, step
 from armik.kernel.problem import pack_settings, unpack, workspace
 from armik.options import Options
+from armik.solvers.numeric import driver as numeric
 
 ROUNDS = 20_000
 

@@ -20,7 +20,7 @@ import numpy as np
 from batch_bench import reference_ratio  # benchmarks/ is on the path when run as a script
 
 import armik
-from armik import bench
+from armik.tools import bench
 
 OPTIONS = dict(timeout=0.005, tol_position=1e-5, tol_orientation=1e-5)
 

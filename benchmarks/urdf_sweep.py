@@ -12,7 +12,7 @@ from collections import Counter
 import pinocchio as pin
 
 import armik
-from armik.robots import _erd_robot_dir
+from armik.model.catalogue import _erd_robot_dir
 
 warnings.simplefilter("ignore")
 root = _erd_robot_dir()

@@ -7,11 +7,12 @@ import numpy as np
 from _common import out_dir, pyplot
 
 import armik
+from armik.solvers.closed_form import planar2r
 
 out = out_dir(__doc__)
 plt = pyplot()
 arm = armik.load("planar_2link")
-geo = armik.ik.planar2r.geometry(arm)
+geo = planar2r.geometry(arm)
 
 fig, ax = plt.subplots(figsize=(6, 6))
 theta = np.linspace(0, 2 * np.pi, 200)

@@ -8,10 +8,10 @@ branch; EAIK's time as a peer when it is installed.
 
 from _common import out_dir
 
-from armik import compare
+from armik.tools import compare, compare_plots
 
 out = out_dir(__doc__)
 report = compare.run(n=150)
 print(report.text())
-for path in compare.plot(report, out):
+for path in compare_plots.plot(report, out):
     print(f"wrote {path}")

@@ -12,7 +12,7 @@ import numpy as np
 from _common import out_dir
 
 import armik
-from armik.reach import reachability
+from armik.solve.reach import reachability
 
 out = out_dir(__doc__)
 

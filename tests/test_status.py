@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import armik
-from armik.ik.attempt import Attempt
 from armik.result import IKResult
+from armik.solvers.claims import Attempt
 from armik.status import FAILURE_RANK, Status
 
 

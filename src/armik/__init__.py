@@ -1,8 +1,8 @@
 """armik: inverse kinematics for URDF robot arms on Pinocchio."""
 
-from .arm import Arm, load
-from .batch import BatchResult
-from .errors import (
+from armik.arm import Arm, load
+from armik.batch_result import BatchResult
+from armik.errors import (
     ArmikError,
     ArmikWarning,
     FrameError,
@@ -13,11 +13,11 @@ from .errors import (
     TargetError,
     URDFError,
 )
-from .ik import solvers
-from .result import IKResult
-from .robots import robots
-from .status import Status
-from .targets import Target, parse_target
+from armik.model.catalogue import robots
+from armik.result import IKResult
+from armik.solvers import solvers
+from armik.status import Status
+from armik.targets.pose import Target, parse_target
 
 __version__ = "0.1.0"
 

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
+from armik.errors import InputError
 
 
 def save(path: str | Path, meta: dict, arrays: dict[str, np.ndarray]) -> Path:

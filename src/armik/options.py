@@ -7,7 +7,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from .errors import OptionError, listing
+from armik.errors import OptionError, listing
 
 
 @dataclass(frozen=True)

@@ -6,7 +6,8 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from .status import Status
+from armik.frozen import frozen
+from armik.status import Status
 
 STATUSES: tuple[str, ...] = tuple(s.value for s in Status)
 
@@ -43,22 +44,25 @@ class IKResult:
 
     @classmethod
     def _checked(cls, row: dict) -> IKResult:
-        """The result ``IKResult(**row)`` gives, built without the generated ``__init__``
-        (one frozen ``__setattr__`` per field) for ``solve``'s rows: every field given,
+        """The result ``IKResult(**row)`` gives, for ``solve``'s rows: every field given,
         ``status`` a ``Status``. ``q`` is copied into a read-only float array as always."""
         if type(row["status"]) is not Status or row.keys() != _FIELDS:
             return cls(**row)
         q = np.array(row["q"], dtype=float)
         q.flags.writeable = False
-        self = object.__new__(cls)
-        d = self.__dict__
-        d.update(row)
-        d["q"] = q
-        d["extra"] = {}
-        return self
+        row["q"] = q
+        return cls._from_fields(row)
+
+    @classmethod
+    def _from_fields(cls, fields: dict) -> IKResult:
+        """The one constructor of armik's own results: ``fields`` holds every field but
+        ``extra``, ``q`` a read-only float array and ``status`` a ``Status``; instead of
+        ``reason``, ``_reason`` may hold (function, arguments), the text written on first
+        read (prepared solves)."""
+        return frozen(cls, **fields, extra={})
 
     def __getattr__(self, name: str):
-        # Results built by ``armik.plan`` carry their reason as (function, arguments) and
+        # Results built by ``armik.solve.prepared`` carry their reason as (function, arguments) and
         # write the text on first read: formatting it costs a microsecond that a loop of
         # solves rarely needs. Only called for attributes not found the usual way.
         if name == "reason":

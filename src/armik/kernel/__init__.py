@@ -11,7 +11,8 @@ function recompiles only its module and the ones that call it.
 - ``step``: the damped least-squares step and the box-QP step (active set, QP fallback).
 - ``descent``: the pose error, one attempt (``descend``), restarts.
 - ``entry``: ``solve_targets``, a whole solve for N targets, GIL released.
-- ``check``: the verification errors from Pinocchio placements.
+- ``measure``: the verification errors from Pinocchio placements.
+- ``box_qp``: the QP backend the qp step falls back to (object mode, qpsolvers).
 - ``warmup``: a cold first solve compiled on two cores (the step in a helper process).
 """
 

@@ -19,7 +19,7 @@ import pinocchio as pin
 from numba import njit
 
 if TYPE_CHECKING:
-    from ..arm import Arm
+    from armik.model.arm_model import ArmModel
 
 REVOLUTE, PRISMATIC, CONTINUOUS = 0, 1, 2
 HALTON_POINTS = 512  # restart seeds cycle through this many points of the sequence
@@ -127,7 +127,7 @@ def reach(ch):
     return ch.packed[o : o + 3], ch.packed[o + 3]
 
 
-def build_chain(arm: Arm) -> KernelChain:
+def build_chain(arm: ArmModel) -> KernelChain:
     """Read ``arm``'s chain from its Pinocchio model. Raises ``ValueError`` if the model
     is not a serial chain of one-degree-of-freedom joints ending at the tip frame."""
     model = arm.model

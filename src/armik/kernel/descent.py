@@ -18,14 +18,15 @@ import math
 import numpy as np
 from numba import njit
 
-from ..status import Status
-from .chain import CONTINUOUS, PRISMATIC, lower, reach, upper
-from .clock import thread_cpu_ns
-from .error import _evaluate
-from .linalg import copy_to
-from .problem import BEST, DQ, NO_LIMIT, SHIFT, U
-from .restarts import _pick, seed_shift
-from .step import dls, qp, wrapped
+from armik.kernel.chain import CONTINUOUS, PRISMATIC, lower, reach, upper
+from armik.kernel.clock import thread_cpu_ns
+from armik.kernel.error import _evaluate
+from armik.kernel.linalg import copy_to
+from armik.kernel.problem import BEST, DQ, NO_LIMIT, SHIFT, U
+from armik.kernel.restarts import _pick, seed_shift
+from armik.kernel.step import dls, qp, wrapped
+from armik.status import Status
+from armik.tolerances import LIMIT_TOL
 
 STALL_WINDOW = 4  # iterations without enough progress (PROGRESS) before a restart
 MU_UP, MU_DOWN = 4.0, 0.5  # damping multiplier after a rejected / accepted step
@@ -42,7 +43,6 @@ KNOWN_MINIMUM_RADIUS = 0.05
 DUPLICATE_TOL = 1e-4  # rad or m: answers closer than this are one solution
 CLOCK_EVERY = 16  # iterations between two reads of the CPU clock (a read costs ~0.5 us)
 TWO_PI = 2.0 * math.pi
-LIMIT_TOL = 1e-12
 # A typed zero for counters passed to compiled callees: a literal 0 would type them with
 # Literal[int](0) first and compile a second version of each callee.
 ZERO = np.int64(0)

@@ -11,11 +11,11 @@ from __future__ import annotations
 
 from numba import njit
 
-from .chain import Flat
-from .descent import solve_one
-from .problem import _workspace
-from .problem import unpack as unpack_settings
-from .step import dls, qp
+from armik.kernel.chain import Flat
+from armik.kernel.descent import solve_one
+from armik.kernel.problem import _workspace
+from armik.kernel.problem import unpack as unpack_settings
+from armik.kernel.step import dls, qp
 
 MINIMA_CAPACITY = 256  # known minima kept per solve (the oldest are dropped beyond)
 

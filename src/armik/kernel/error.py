@@ -14,8 +14,8 @@ import math
 
 from numba import njit
 
-from .fk import forward, jacobian_local
-from .se3 import jlog6_ab, log3, log6_ab
+from armik.kernel.fk import forward, jacobian_local
+from armik.kernel.se3 import jlog6_ab, log3, log6_ab
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)

@@ -11,7 +11,7 @@ import math
 
 from numba import njit
 
-from .chain import PRISMATIC, off_axis, off_joint_p, off_tip
+from armik.kernel.chain import PRISMATIC, off_axis, off_joint_p, off_tip
 
 
 @njit(cache=True, nogil=True, inline="always")

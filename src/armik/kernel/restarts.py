@@ -20,10 +20,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .chain import sample_box
-from .error import candidate_score
-from .linalg import copy_to
-from .problem import CAND, SHIFT
+from armik.kernel.chain import sample_box
+from armik.kernel.error import candidate_score
+from armik.kernel.linalg import copy_to
+from armik.kernel.problem import CAND, SHIFT
 
 RESTART_CANDIDATES = 4  # restart seeds scored per restart
 

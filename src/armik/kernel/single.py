@@ -15,15 +15,15 @@ import math
 import numpy as np
 from numba import njit
 
-from .chain import Flat, lower, upper
-from .check import LIMIT_TOL, inside_limits, split_pose
-from .descent import solve_one
-from .entry import MINIMA_CAPACITY
-from .problem import _workspace
-from .problem import unpack as unpack_settings
-from .step import dls, qp
+from armik.kernel.chain import Flat, lower, upper
+from armik.kernel.descent import solve_one
+from armik.kernel.entry import MINIMA_CAPACITY
+from armik.kernel.measure import inside_limits, split_pose
+from armik.kernel.problem import _workspace
+from armik.kernel.problem import unpack as unpack_settings
+from armik.kernel.step import dls, qp
+from armik.tolerances import LIMIT_TOL, MAX_POSITION
 
-MAX_POSITION = 1e6  # m: armik.targets.MAX_POSITION
 ORTHONORMAL_TOL = 1e-14  # |R^T R - I| that the parser keeps without snapping to a rotation
 LAST_ROW_TOL = 1e-12  # the parser's tolerance on a 4x4 target's last row (0, 0, 0, 1)
 

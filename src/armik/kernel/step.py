@@ -18,9 +18,9 @@ import math
 import numpy as np
 from numba import njit, objmode
 
-from .backend import solve_box_qp
-from .chain import CONTINUOUS, lower, upper
-from .linalg import (
+from armik.kernel.box_qp import solve_box_qp
+from armik.kernel.chain import CONTINUOUS, lower, upper
+from armik.kernel.linalg import (
     cholesky6,
     cholesky_factor,
     cholesky_solve,
@@ -28,7 +28,24 @@ from .linalg import (
     copy_to,
     solve_spd,
 )
-from .problem import DQ, FREE, GAP, GI, HELD, HH, LB, MULT, SIDE, UB, UNIT, XF, G, H, L, X
+from armik.kernel.problem import (
+    DQ,
+    FREE,
+    GAP,
+    GI,
+    HELD,
+    HH,
+    LB,
+    MULT,
+    SIDE,
+    UB,
+    UNIT,
+    XF,
+    G,
+    H,
+    L,
+    X,
+)
 
 MAX_STEP = 1.0  # rad or m: longest step (Euclidean)
 # lambda = mu DAMPING_GAIN E + LAMBDA_MIN: c = 0.1 was measured against c = 1 and 0.01 with

@@ -31,9 +31,12 @@ from pathlib import Path
 
 import numpy as np
 
-from . import check, error, restarts, step
-from .chain import Flat
-from .problem import STEP_DLS, STEP_QP, _workspace, unpack
+from armik.kernel import error, restarts, step
+from armik.kernel import measure as check
+from armik.kernel.chain import Flat
+from armik.kernel.descent import _add_solution, _near_known_minimum
+from armik.kernel.problem import STEP_DLS, STEP_QP, _workspace, unpack
+from armik.kernel.single import plain_pose, plain_seed
 
 ENVIRONMENT = "ARMIK_COMPILE_HELPER"  # "0": never start the helper, "1": even on one CPU
 HELPER_TIMEOUT = 300.0  # s: a helper still silent after this is stopped
@@ -81,11 +84,8 @@ def _parts() -> tuple[tuple, list]:
     """(the step's argument types, [(compiled function, argument types)] for the other
     parts an entry calls): the numba types the entries pass them. They depend on no arm,
     only on dtypes, dimensions and layouts, which small samples carry
-    (tests/test_warmup.py checks them against what the entries compile)."""
+    (tests/kernel/test_warmup.py checks them against what the entries compile)."""
     from numba import typeof
-
-    from .descent import _add_solution, _near_known_minimum
-    from .single import plain_pose, plain_seed
 
     ch = Flat(np.zeros(1), np.zeros(1, dtype=np.int64), np.zeros((1, 1)))
     sf, si = np.zeros(16), np.zeros(16, dtype=np.int64)

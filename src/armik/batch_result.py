@@ -1,0 +1,285 @@
+"""``BatchResult``: the answers for N targets as arrays, with the field names of ``IKResult``."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from armik import npz
+from armik.options import Options
+from armik.result import IKResult
+from armik.status import Status
+from armik.verify import reasons
+
+if TYPE_CHECKING:
+    from armik.model.arm_model import ArmModel
+
+_WORDS = np.array([s.value for s in Status])
+FORMAT = "armik.BatchResult/1"
+
+
+@dataclass(frozen=True, eq=False)
+class BatchResult:
+    """The answers for N targets, as arrays with the field names of ``IKResult``.
+
+    - ``q`` (N, dof): joint values (rad, m); for a failure, the best configuration found.
+    - ``success`` (N,) bool: verified by Pinocchio FK within the tolerances and the limits.
+    - ``status`` (N,) words (``converged``, ``unreachable``, ...), as in ``IKResult``;
+      stored as the small integer codes ``status_code`` (``Status.code``).
+    - ``position_error`` (N,) m and ``orientation_error`` (N,) rad, measured on ``q``;
+      ``orientation_error`` is NaN where it is not measured (position-only targets).
+    - ``iterations``, ``restarts`` (N,) per target; ``solver``; ``time`` (s) for the whole
+      batch, verification included.
+    - ``reasons``: index -> reason for every target that failed (successes are explained
+      by their errors; see ``reason(i)``).
+
+    ``len(r)``, ``r[i]`` (an ``IKResult``), ``r[mask]`` or ``r[a:b]`` (a ``BatchResult``),
+    iteration over ``IKResult``s, ``save``/``load`` (.npz) and ``summary()``.
+    """
+
+    q: np.ndarray
+    success: np.ndarray
+    status_code: np.ndarray
+    position_error: np.ndarray
+    orientation_error: np.ndarray
+    iterations: np.ndarray
+    restarts: np.ndarray
+    solver: str
+    time: float
+    joint_names: tuple[str, ...] = ()
+    arm: str = ""
+    tol_position: float = Options.tol_position
+    tol_orientation: float = Options.tol_orientation
+    reasons: dict[int, str] = field(default_factory=dict)
+
+    # -- container --------------------------------------------------------------------
+
+    def __len__(self) -> int:
+        return len(self.success)
+
+    @property
+    def status(self) -> np.ndarray:
+        """(N,) status words; ``r.status == "converged"`` compares element-wise."""
+        return _WORDS[self.status_code]
+
+    @property
+    def success_rate(self) -> float:
+        """Fraction of targets solved, in [0, 1] (NaN for an empty batch)."""
+        return float(self.success.mean()) if len(self) else math.nan
+
+    def counts(self) -> dict[str, int]:
+        """How many targets ended in each status, statuses that occur only."""
+        found = np.bincount(self.status_code.astype(np.intp), minlength=len(_WORDS))
+        return {str(_WORDS[i]): int(c) for i, c in enumerate(found) if c}
+
+    def reason(self, i: int) -> str:
+        """Why target ``i`` ended as it did."""
+        i = self._index(i)
+        if i in self.reasons:
+            return self.reasons[i]
+        ori = self.orientation_error[i]
+        measured = reasons.measured(
+            self.position_error[i],
+            None if math.isnan(ori) else ori,
+            self.tol_position,
+            self.tol_orientation,
+        )
+        return reasons.verified(None, measured)
+
+    def _index(self, i: int) -> int:
+        n = len(self)
+        i = int(i)
+        if not -n <= i < n:
+            raise IndexError(f"target index {i} out of range for a batch of {n}")
+        return i + n if i < 0 else i
+
+    def __getitem__(self, index):
+        if isinstance(index, (int, np.integer)):
+            i = self._index(index)
+            ori = float(self.orientation_error[i])
+            return IKResult(
+                q=self.q[i],
+                success=bool(self.success[i]),
+                status=Status.from_code(self.status_code[i]),
+                reason=self.reason(i),
+                solver=self.solver,
+                iterations=int(self.iterations[i]),
+                position_error=float(self.position_error[i]),
+                orientation_error=None if math.isnan(ori) else ori,
+                time=self.time / max(len(self), 1),
+                restarts=int(self.restarts[i]),
+                extra={"index": i, "batch_time": self.time},
+            )
+        picked = np.arange(len(self))[index]
+        if picked.ndim != 1:
+            raise IndexError("index a BatchResult with an int, a slice, a mask or an index list")
+        reasons = {}
+        if self.reasons:
+            keys = np.fromiter(self.reasons, dtype=np.int64, count=len(self.reasons))
+            for j in np.flatnonzero(np.isin(picked, keys)).tolist():
+                reasons[j] = self.reasons[int(picked[j])]
+        return BatchResult(
+            q=self.q[picked],
+            success=self.success[picked],
+            status_code=self.status_code[picked],
+            position_error=self.position_error[picked],
+            orientation_error=self.orientation_error[picked],
+            iterations=self.iterations[picked],
+            restarts=self.restarts[picked],
+            solver=self.solver,
+            time=self.time * len(picked) / max(len(self), 1),  # its share of the batch's time
+            joint_names=self.joint_names,
+            arm=self.arm,
+            tol_position=self.tol_position,
+            tol_orientation=self.tol_orientation,
+            reasons=reasons,
+        )
+
+    def __iter__(self) -> Iterator[IKResult]:
+        for i in range(len(self)):
+            yield self[i]
+
+    def __repr__(self) -> str:
+        return f"BatchResult({self.summary()})"
+
+    def summary(self) -> str:
+        """One line: how many were solved, by status, the time and the throughput."""
+        n = len(self)
+        name = f"{self.arm}/{self.solver}" if self.arm else self.solver
+        if n == 0:
+            return f"{name}: 0 targets"
+        solved = int(self.success.sum())
+        counts = ", ".join(f"{k} {v}" for k, v in self.counts().items())
+        rate = n / self.time if self.time > 0 else math.inf
+        line = (
+            f"{name}: {solved}/{n} solved ({100.0 * solved / n:.2f} %; {counts}) in "
+            f"{self.time:.3g} s, {rate:,.0f} targets/s"
+        )
+        if solved:
+            worst = self.position_error[self.success].max()
+            line += f"; largest error of the solved: {worst:.2g} m"
+            ori = self.orientation_error[self.success]
+            if not np.isnan(ori).all():
+                line += f", {np.nanmax(ori):.2g} rad"
+        return line
+
+    # -- files ------------------------------------------------------------------------
+
+    def save(self, path: str | Path) -> Path:
+        """Write the arrays and the metadata to an ``.npz`` file (no pickles)."""
+        keys = np.array(sorted(self.reasons), dtype=np.int64)
+        meta = {
+            "format": FORMAT,
+            "solver": self.solver,
+            "time": self.time,
+            "arm": self.arm,
+            "joint_names": list(self.joint_names),
+            "tol_position": self.tol_position,
+            "tol_orientation": self.tol_orientation,
+            "statuses": _WORDS.tolist(),
+        }
+        arrays = dict(
+            q=self.q,
+            success=self.success,
+            status_code=self.status_code,
+            status=self.status,
+            position_error=self.position_error,
+            orientation_error=self.orientation_error,
+            iterations=self.iterations,
+            restarts=self.restarts,
+            reason_index=keys,
+            reason_text=np.array([self.reasons[int(k)] for k in keys], dtype=str),
+        )
+        return npz.save(path, meta, arrays)
+
+    @classmethod
+    def load(cls, path: str | Path) -> BatchResult:
+        """Read a file written by ``save``; raises ``InputError`` if it is not one."""
+        meta, arrays = npz.load(path, FORMAT, "a batch result written by BatchResult.save")
+        words = meta["statuses"]
+        codes = np.array([Status(w).code for w in words], dtype=np.int8)
+        return cls(
+            q=arrays["q"],
+            success=arrays["success"],
+            status_code=codes[arrays["status_code"]],  # through the words: codes may move
+            position_error=arrays["position_error"],
+            orientation_error=arrays["orientation_error"],
+            iterations=arrays["iterations"],
+            restarts=arrays["restarts"],
+            solver=meta["solver"],
+            time=float(meta["time"]),
+            joint_names=tuple(meta["joint_names"]),
+            arm=meta["arm"],
+            tol_position=float(meta["tol_position"]),
+            tol_orientation=float(meta["tol_orientation"]),
+            reasons={
+                int(k): str(t)
+                for k, t in zip(arrays["reason_index"].tolist(), arrays["reason_text"])
+            },
+        )
+
+    # -- building ---------------------------------------------------------------------
+
+    @classmethod
+    def empty(cls, n: int, dof: int, **meta) -> BatchResult:
+        """Arrays for n answers, to be filled in place (the solvers' failure state)."""
+        return cls(
+            q=np.zeros((n, dof)),
+            success=np.zeros(n, dtype=bool),
+            status_code=np.full(n, Status.NOT_CONVERGED.code, dtype=np.int8),
+            position_error=np.full(n, np.nan),
+            orientation_error=np.full(n, np.nan),
+            iterations=np.zeros(n, dtype=np.int32),
+            restarts=np.zeros(n, dtype=np.int32),
+            **meta,
+        )
+
+    @classmethod
+    def for_arm(cls, arm: ArmModel, n: int, solver: str, opts: Options) -> BatchResult:
+        """``empty`` rows for n targets of ``arm``, labelled with its joints and tolerances."""
+        return cls.empty(
+            n,
+            arm.dof,
+            solver=solver,
+            time=0.0,
+            joint_names=tuple(arm.joint_names),
+            arm=arm.name,
+            tol_position=opts.tol_position,
+            tol_orientation=opts.tol_orientation,
+        )
+
+    def put(self, start: int, part: BatchResult) -> None:
+        """Copy ``part`` into rows ``start:start + len(part)`` (used while assembling)."""
+        stop = start + len(part)
+        for name in _ARRAYS:
+            getattr(self, name)[start:stop] = getattr(part, name)
+        self.reasons.update({start + i: r for i, r in part.reasons.items()})
+
+    def put_result(self, i: int, r: IKResult) -> None:
+        """Copy one ``IKResult`` into row ``i``."""
+        self.q[i] = r.q
+        self.success[i] = r.success
+        self.status_code[i] = r.status.code
+        self.position_error[i] = r.position_error
+        self.orientation_error[i] = math.nan if r.orientation_error is None else r.orientation_error
+        self.iterations[i] = r.iterations
+        self.restarts[i] = r.restarts
+        if not r.success:
+            self.reasons[i] = r.reason
+
+
+_ARRAYS = (
+    "q",
+    "success",
+    "status_code",
+    "position_error",
+    "orientation_error",
+    "iterations",
+    "restarts",
+)
+

@@ -1,0 +1,153 @@
+"""The verification's errors, computed from Pinocchio's tip placements in compiled code.
+
+Pinocchio computes the placements (``verify.py``); this module only measures them against
+the targets: position error |p_target - p_tip| (m), orientation error the geodesic angle of
+R_tip^T R_target (rad); with weights, the position error is measured in the tip frame on the
+axes with non-zero weight and the orientation error on the rotation-vector components with
+non-zero weight, as ``verify.measure.measure`` documents.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from armik.kernel.se3 import log3, rotation_angle
+from armik.tolerances import LIMIT_TOL
+
+
+@njit(cache=True, nogil=True)
+def pose_error(R_bw, p_bw, R_w, p_w, R_t, p_t, w, weighted, measure_rot):
+    """(position error, orientation error or NaN) of the tip placement T_world_tip =
+    (R_w, p_w) against the target (R_t, p_t) in the base frame; T_base_world = (R_bw, p_bw)."""
+    R = np.empty((3, 3))
+    M = np.empty((3, 3))
+    d = np.empty(3)
+    for a in range(3):  # T_base_tip = T_base_world T_world_tip
+        pa = p_bw[a]
+        for b in range(3):
+            pa += R_bw[a, b] * p_w[b]
+            R[a, b] = R_bw[a, 0] * R_w[0, b] + R_bw[a, 1] * R_w[1, b] + R_bw[a, 2] * R_w[2, b]
+        d[a] = p_t[a] - pa
+    for a in range(3):  # M = R^T R_target
+        for b in range(3):
+            M[a, b] = R[0, a] * R_t[0, b] + R[1, a] * R_t[1, b] + R[2, a] * R_t[2, b]
+    if not weighted:
+        ori = rotation_angle(M) if measure_rot else np.nan
+        return math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]), ori
+    s = 0.0
+    for a in range(3):  # the position error in the tip frame, measured axes only
+        if w[a] > 0.0:
+            x = R[0, a] * d[0] + R[1, a] * d[1] + R[2, a] * d[2]
+            s += x * x
+    pos = math.sqrt(s)
+    if not measure_rot:
+        return pos, np.nan
+    wv = np.empty(3)
+    log3(M, wv)
+    s = 0.0
+    for a in range(3):
+        if w[3 + a] > 0.0:
+            s += wv[a] * wv[a]
+    return pos, math.sqrt(s)
+
+
+@njit(cache=True, nogil=True)
+def pose_errors(R_bw, p_bw, R_w, p_w, R_t, p_t, w, weighted, measure_rot, out):
+    """out[i] = ``pose_error`` of placement i against target i, for every i."""
+    for i in range(R_w.shape[0]):
+        out[i, 0], out[i, 1] = pose_error(
+            R_bw, p_bw, R_w[i], p_w[i], R_t[i], p_t[i], w, weighted, measure_rot
+        )
+
+
+@njit(cache=True, nogil=True)
+def inside_limits(q, lower, upper, tol):
+    """Every value of q within [lower - tol, upper + tol] (NaN is outside)."""
+    for j in range(q.shape[0]):
+        if not (lower[j] - tol <= q[j] <= upper[j] + tol):
+            return False
+    return True
+
+
+@njit(cache=True, nogil=True)
+def within_limits(Q, lower, upper, tol, out):
+    """out[i]: ``inside_limits`` of row i of Q."""
+    for i in range(Q.shape[0]):
+        out[i] = inside_limits(Q[i], lower, upper, tol)
+
+
+@njit(cache=True, nogil=True)
+def split_pose(H):
+    """(R, p) of the 4x4 ``H`` as new C-ordered arrays (the layout ``pose_error`` and the
+    kernels are compiled for)."""
+    R = np.empty((3, 3))
+    p = np.empty(3)
+    for a in range(3):
+        p[a] = H[a, 3]
+        for b in range(3):
+            R[a, b] = H[a, b]
+    return R, p
+
+
+def check_frame(R_bw, p_bw, w, measure: int, lower, upper) -> np.ndarray:
+    """What ``placement_check`` measures against, packed in one float array (one argument to
+    pass instead of six: each array argument costs numba's dispatch ~45 ns):
+    R_bw (9, row-major), p_bw (3), w (6), measure, lower (n), upper (n). (R_bw, p_bw):
+    T_base_world; ``measure``: bit 1 weighted, bit 2 orientation measured."""
+    return np.concatenate(
+        [
+            np.ravel(np.asarray(R_bw, dtype=float)),
+            np.asarray(p_bw, dtype=float),
+            np.asarray(w, dtype=float),
+            [float(measure)],
+            np.asarray(lower, dtype=float),
+            np.asarray(upper, dtype=float),
+        ]
+    )
+
+
+@njit(cache=True, nogil=True)
+def _frame(frame):
+    """(R_bw, p_bw, w, measure, lower, upper) of a ``check_frame`` array (views)."""
+    n = (frame.shape[0] - 19) // 2
+    return (
+        frame[0:9].reshape((3, 3)),
+        frame[9:12],
+        frame[12:18],
+        int(frame[18]),
+        frame[19 : 19 + n],
+        frame[19 + n : 19 + 2 * n],
+    )
+
+
+@njit(cache=True, nogil=True)
+def placement_check(frame, R_w, p_w, H_t, q):
+    """(position error, orientation error or NaN, within the limits) of one answer ``q``
+    whose tip placement Pinocchio computed as (R_w, p_w) (world frame; read in place:
+    ``Arm.tip_views``), against the 4x4 target ``H_t`` (base frame): ``pose_error`` and
+    ``inside_limits`` in one call; ``frame`` from ``check_frame``."""
+    R_bw, p_bw, w, measure, lower, upper = _frame(frame)
+    weighted, measure_rot = measure & 1 != 0, measure & 2 != 0
+    pos, ori = pose_error(R_bw, p_bw, R_w, p_w, H_t, H_t[:3, 3], w, weighted, measure_rot)
+    return pos, ori, inside_limits(q, lower, upper, LIMIT_TOL)
+
+
+@njit(cache=True, nogil=True)
+def pose_checks(frame, H_w, H_t, Q, out):
+    """out[i] = ``placement_check`` of answer Q[i] with tip placement H_w[i], for every i (the
+    target split once)."""
+    R_t, p_t = split_pose(H_t)
+    for i in range(Q.shape[0]):
+        pos, ori, inside = _check(frame, H_w[i], R_t, p_t, Q[i])
+        out[i, 0], out[i, 1], out[i, 2] = pos, ori, 1.0 if inside else 0.0
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _check(frame, H_w, R_t, p_t, q):
+    R_bw, p_bw, w, measure, lower, upper = _frame(frame)
+    R_w, p_w = split_pose(H_w)
+    pos, ori = pose_error(R_bw, p_bw, R_w, p_w, R_t, p_t, w, measure & 1 != 0, measure & 2 != 0)
+    return pos, ori, inside_limits(q, lower, upper, LIMIT_TOL)

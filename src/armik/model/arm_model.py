@@ -1,0 +1,473 @@
+"""The arm model: one chain's Pinocchio model with its joints, limits, coordinates and
+kinematics. It knows no solver: the solve methods are the facade's (``armik.arm.Arm``).
+
+Joint values seen by users are one number per joint: radians for revolute and continuous
+joints, metres for prismatic ones. Pinocchio stores a continuous joint as (cos, sin)
+(nq = 2, nv = 1); the conversion lives here and nowhere else.
+"""
+
+from __future__ import annotations
+
+import math
+import operator
+import threading
+import warnings
+from collections.abc import Callable, Mapping
+from dataclasses import replace
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from armik.errors import ArmikWarning, JointError, OptionError, listing
+from armik.kernel.chain import build_chain
+from armik.kernel.coordinates import pin_configuration
+from armik.model.geometry import Plane, find_plane
+from armik.model.reduce import reduce_chain
+from armik.model.urdf import URDFInfo
+from armik.tolerances import LIMIT_TOL, MAX_LIMIT
+
+TWO_PI = 2.0 * math.pi
+_FLOAT = np.dtype(float)
+_le = operator.le
+
+
+def _check_limit_value(jname: str, value: object) -> float:
+    try:
+        if isinstance(value, (str, bytes, complex)) or np.iscomplexobj(value):
+            raise TypeError
+        out = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        out = math.nan
+    if math.isnan(out) or (math.isfinite(out) and abs(out) > MAX_LIMIT):
+        raise JointError(
+            f"limits for {jname!r} must be numbers (rad or m) within "
+            f"+-{MAX_LIMIT:g}, or "
+            f"-inf/inf for no limit on that side; got {value!r}",
+            joint=jname,
+        )
+    return out
+
+
+class ArmModel:
+    """The kinematic chain of one robot arm (``armik.load`` builds its facade, ``Arm``).
+
+    Attributes: ``dof``, ``joint_names``, ``joint_types``, ``lower``, ``upper`` (rad or m;
+    -inf/+inf for continuous joints), ``neutral``, ``middle``, ``base``, ``tip``,
+    ``tip_reason`` (how the tip was chosen when none was given), ``info`` (what the URDF
+    says: its tree, and ``info.notes`` on how it was read), ``model`` (the reduced
+    Pinocchio model, not to be modified).
+    """
+
+    def __init__(
+        self,
+        full: pin.Model,
+        info: URDFInfo,
+        *,
+        name: str,
+        base: str | None,
+        tip: str | None,
+        locked: Mapping[str, float],
+        tip_offset: tuple[float, float, float] | None,
+        source: str,
+    ) -> None:
+        self.name = name
+        self.source = source
+        self.info = info
+        chain = reduce_chain(
+            full, info, name=name, base=base, tip=tip, locked=locked, tip_offset=tip_offset
+        )
+        self.base, self.tip, self.tip_reason = chain.base, chain.tip, chain.tip_reason
+        self.model = chain.model
+        self.tip_frame_id = chain.tip_frame_id
+        self.tip_offset = chain.tip_offset
+        self.T_world_base = chain.T_world_base
+        self.T_base_world = self.T_world_base.inverse()
+        self._base_is_world = self.T_world_base.isIdentity(1e-15)
+
+        self._setup_joints(info)
+        self._local = threading.local()
+        self._memo: dict[Any, Any] = {}  # see ``memo``
+        self._recipe = None  # how ``armik.load`` built it (``armik.arm.Recipe``), to pickle
+
+    def _setup_joints(self, info: URDFInfo) -> None:
+        m = self.model
+        self.dof = m.nv
+        self.joint_names = [m.names[j] for j in range(1, m.njoints)]
+        self.joint_types = [info.joint_types.get(n, "revolute") for n in self.joint_names]
+        idx_q = np.array([m.joints[j].idx_q for j in range(1, m.njoints)])
+        continuous = np.array([m.joints[j].nq == 2 for j in range(1, m.njoints)])
+        self._idx_q = idx_q
+        self._cont = np.flatnonzero(continuous)
+        self._simple = np.flatnonzero(~continuous)
+        self._identity_q = not continuous.any()
+        self._continuous = continuous
+        lower = np.full(self.dof, -np.inf)
+        upper = np.full(self.dof, np.inf)
+        for i in self._simple:
+            lo, hi = m.lowerPositionLimit[idx_q[i]], m.upperPositionLimit[idx_q[i]]
+            # lower == upper == 0 means "not given" (warned about when the URDF was read);
+            # other equal limits pin the joint, as its URDF says.
+            if lo < hi or (lo == hi and self.joint_names[i] not in info.unset_limits):
+                # Limits beyond MAX_LIMIT mean "free" (warned about when read).
+                lower[i] = lo if lo >= -MAX_LIMIT else -np.inf
+                upper[i] = hi if hi <= MAX_LIMIT else np.inf
+        self._set_limits(lower, upper)
+        self.prismatic = np.array([t == "prismatic" for t in self.joint_types])
+        self._limit_lists = (self.lower.tolist(), self.upper.tolist(), self.prismatic.tolist())
+
+    def _set_limits(self, lower: np.ndarray, upper: np.ndarray) -> None:
+        self.lower = lower
+        self.upper = upper
+        self.lower.flags.writeable = False
+        self.upper.flags.writeable = False
+        self.bounded = np.flatnonzero(np.isfinite(lower) | np.isfinite(upper))
+        finite = np.isfinite(lower) & np.isfinite(upper)
+        self.middle = np.zeros(self.dof)
+        self.middle[finite] = 0.5 * (lower[finite] + upper[finite])
+        self.neutral = np.clip(np.zeros(self.dof), lower, upper)
+        # Bounds in Pinocchio's tangent space indices, for the solvers.
+        simple = np.zeros(self.dof, bool)
+        simple[self._simple] = True
+        self._bounded_q = self._idx_q[self.bounded[simple[self.bounded]]]
+        self._bounded_simple = self.bounded[simple[self.bounded]]
+        # Continuous joints given limits (with_limits): clipped and read as angles, unwrapped
+        # into the window around the middle of their limits.
+        self._bounded_cont = self.bounded[~simple[self.bounded]]
+        lo_c, hi_c = lower[self._bounded_cont], upper[self._bounded_cont]
+        self._cont_centre = np.where(
+            np.isfinite(lo_c) & np.isfinite(hi_c),
+            0.5 * (lo_c + hi_c),
+            np.where(np.isfinite(lo_c), lo_c + math.pi, hi_c - math.pi),
+        )
+
+    def with_limits(self, limits: Mapping[str, tuple[float, float]]) -> ArmModel:
+        """A copy of this arm with some joint limits replaced (name -> (lower, upper))."""
+        if not isinstance(limits, Mapping):
+            raise JointError(
+                f"limits must map joint names to (lower, upper), got {limits!r}",
+                joint=str(limits),
+            )
+        lower, upper = self.lower.copy(), self.upper.copy()
+        checked = {}
+        for jname, pair in limits.items():
+            if not isinstance(jname, str):
+                raise JointError(f"joint names must be str, got {jname!r}", joint=str(jname))
+            i = self.joint_index(jname)
+            if isinstance(pair, (str, bytes)) or not hasattr(pair, "__len__") or len(pair) != 2:
+                raise JointError(
+                    f"limits for {jname!r} must be a pair (lower, upper) in rad or m, got {pair!r}",
+                    joint=jname,
+                )
+            lo, hi = (_check_limit_value(jname, v) + 0.0 for v in pair)  # -0.0 -> 0.0
+            checked[jname] = (lo, hi)
+            if not lo <= hi:
+                raise JointError(
+                    f"limits for {jname!r} must satisfy lower <= upper, got ({lo}, {hi})",
+                    joint=jname,
+                )
+            lower[i], upper[i] = lo, hi
+        clone = object.__new__(type(self))
+        # Cached properties (the reach counts prismatic travel) are recomputed for the clone,
+        # and so is everything solvers remembered (``memo``: prepared solves hold the limits).
+        cached = {k for k, v in vars(ArmModel).items() if isinstance(v, cached_property)}
+        cached |= {"_local", "_memo", "_tol_bounds"}
+        clone.__dict__.update({k: v for k, v in self.__dict__.items() if k not in cached})
+        clone._set_limits(lower, upper)
+        clone._limit_lists = (lower.tolist(), upper.tolist(), self.prismatic.tolist())
+        clone._local = threading.local()
+        clone._memo = {}
+        if self._recipe is not None:
+            kept = tuple(x for x in self._recipe.limits if x[0] not in checked)
+            new = tuple((n, lo, hi) for n, (lo, hi) in checked.items())
+            clone._recipe = replace(self._recipe, limits=kept + new)
+        return clone
+
+    def joint_index(self, name: str) -> int:
+        """Index of joint ``name`` in ``q``; raises ``JointError`` listing the joints."""
+        try:
+            return self.joint_names.index(name)
+        except ValueError:
+            raise JointError(
+                f"joint {name!r} is not on this arm's chain; joints: {listing(self.joint_names)}",
+                joint=name,
+                candidates=self.joint_names,
+            ) from None
+
+    # -- per-thread Pinocchio data --------------------------------------------------------
+
+    @property
+    def data(self) -> pin.Data:
+        """This thread's Pinocchio Data (so that threads never share scratch memory)."""
+        d = getattr(self._local, "data", None)
+        if d is None:
+            d = self._local.data = self.model.createData()
+        return d
+
+    def tip_views(self) -> tuple[pin.Data, np.ndarray, np.ndarray]:
+        """(data, R, p): this thread's Pinocchio Data and views of its tip placement's
+        rotation (3x3, column-major) and translation, in Pinocchio's own memory: after
+        ``updateFramePlacement(model, data, tip_frame_id)`` they hold its result without a
+        copy. Keep them with ``data`` (they do not keep it alive) and read them only after
+        that call."""
+        views = getattr(self._local, "tip", None)
+        if views is None:
+            data = self.data
+            placement = data.oMf[self.tip_frame_id]  # a reference into data, not a copy
+            views = self._local.tip = (data, placement.rotation, placement.translation)
+        return views
+
+    # -- coordinates ----------------------------------------------------------------------
+
+    def to_pin(self, q: np.ndarray) -> np.ndarray:
+        """Joint values (one per joint) -> Pinocchio configuration (cos, sin for continuous)."""
+        if self._identity_q:
+            return np.array(q, dtype=float)
+        q = np.asarray(q, dtype=float)
+        if q.shape != (self.dof,):
+            raise ValueError(f"q must have {self.dof} values, got shape {q.shape}")
+        out = np.empty(self.model.nq)
+        pin_configuration(q, self._idx_q, self._continuous, out)
+        return out
+
+    def from_pin(self, qp: np.ndarray, copy: bool = True) -> np.ndarray:
+        """Pinocchio configuration -> joint values; continuous angles in (-pi, pi].
+
+        ``copy=False`` may return ``qp`` itself (no continuous joint): read-only use only.
+        """
+        if self._identity_q:
+            return qp.copy() if copy else qp
+        out = np.empty(self.dof)
+        out[self._simple] = qp[self._idx_q[self._simple]]
+        c = self._idx_q[self._cont]
+        out[self._cont] = np.arctan2(qp[c + 1], qp[c])
+        if self._bounded_cont.size:
+            out[self._bounded_cont] = self._unwrap(out[self._bounded_cont])
+        return out
+
+    def _unwrap(self, angles: np.ndarray) -> np.ndarray:
+        """Angles of limited continuous joints shifted by 2 pi k into the window of width
+        2 pi centred on the middle of their limits."""
+        centre = self._cont_centre
+        return angles + TWO_PI * np.round((centre - angles) / TWO_PI)
+
+    def clip_pin(self, qp: np.ndarray) -> None:
+        """Clip the bounded joints of a Pinocchio configuration into their limits, in place.
+
+        A continuous joint given limits (``with_limits``) is clipped as an angle, not as
+        its (cos, sin) pair."""
+        if self._identity_q:  # no continuous joint: q is qp, and inf bounds clip nothing
+            np.minimum(np.maximum(qp, self.lower, out=qp), self.upper, out=qp)
+            return
+        b = self._bounded_q
+        if b.size:
+            s = self._bounded_simple
+            qp[b] = np.clip(qp[b], self.lower[s], self.upper[s])
+        if self._bounded_cont.size:
+            k = self._bounded_cont
+            c = self._idx_q[k]
+            angle = self._unwrap(np.arctan2(qp[c + 1], qp[c]))
+            angle = np.clip(angle, self.lower[k], self.upper[k])
+            qp[c], qp[c + 1] = np.cos(angle), np.sin(angle)
+
+    # -- kinematics -----------------------------------------------------------------------
+
+    def fk(self, q: np.ndarray) -> pin.SE3:
+        """Tip pose in the base frame, ``T_base_tip``, for joint values ``q`` (rad, m)."""
+        return self.fk_pin(self.to_pin(self.check_q(q)))
+
+    def fk_pin(self, qp: np.ndarray) -> pin.SE3:
+        """``T_base_tip`` for a Pinocchio configuration (no input checks: for solvers)."""
+        d = self.data
+        pin.forwardKinematics(self.model, d, qp)
+        T_world_tip = pin.updateFramePlacement(self.model, d, self.tip_frame_id)
+        if self._base_is_world:
+            return T_world_tip.copy()
+        return self.T_base_world * T_world_tip
+
+    def jacobian(self, q: np.ndarray, frame: str = "local") -> np.ndarray:
+        """The 6 x dof tip Jacobian, rows (vx, vy, vz, wx, wy, wz), columns per joint.
+
+        ``frame="local"`` (default): the tip's twist expressed in the tip frame (Pinocchio's
+        LOCAL). ``frame="base"``: the same twist with axes aligned with the base frame, at
+        the tip origin (LOCAL_WORLD_ALIGNED rotated into the base). Units: m/rad, rad/rad.
+        """
+        qp = self.to_pin(self.check_q(q))
+        if frame == "local":
+            J = pin.computeFrameJacobian(self.model, self.data, qp, self.tip_frame_id, pin.LOCAL)
+            return J.reshape(6, self.dof).copy()  # Pinocchio gives a 1-DOF Jacobian as (6,)
+        if frame == "base":
+            J = pin.computeFrameJacobian(
+                self.model, self.data, qp, self.tip_frame_id, pin.LOCAL_WORLD_ALIGNED
+            )
+            J = J.reshape(6, self.dof)
+            R = self.T_base_world.rotation
+            return np.vstack([R @ J[:3], R @ J[3:]])
+        raise OptionError(
+            f"frame must be 'local' or 'base', got {frame!r}", option="frame", value=frame
+        )
+
+    # -- joint values ---------------------------------------------------------------------
+
+    def sampling_box(self) -> tuple[np.ndarray, np.ndarray]:
+        """The box random configurations come from: the limits, [-pi, pi] where unlimited."""
+        lo = np.where(np.isfinite(self.lower), self.lower, -math.pi)
+        hi = np.where(np.isfinite(self.upper), self.upper, math.pi)
+        return lo, hi
+
+    def random_q(self, rng: np.random.Generator | int | None = None) -> np.ndarray:
+        """Uniform joint values within the limits; unlimited joints in [-pi, pi]."""
+        return np.random.default_rng(rng).uniform(*self.sampling_box())
+
+    def within_limits(self, q: np.ndarray, tol: float = LIMIT_TOL) -> bool:
+        if type(q) is not np.ndarray:
+            q = np.asarray(q, dtype=float)
+        return self._within(q.tolist(), tol)
+
+    def _within(self, values: list[float], tol: float = LIMIT_TOL) -> bool:
+        """``within_limits`` on plain floats: lower - tol <= v <= upper + tol for every
+        joint (False for NaN), with the widened bounds computed once per limits and tol."""
+        bounds = self.__dict__.get("_tol_bounds")
+        if bounds is None or bounds[0] is not self._limit_lists or bounds[1] != tol:
+            lower, upper, _ = self._limit_lists
+            bounds = (
+                self._limit_lists,
+                tol,
+                [lo - tol for lo in lower],
+                [hi + tol for hi in upper],
+            )
+            self.__dict__["_tol_bounds"] = bounds
+        return all(map(_le, bounds[2], values)) and all(map(_le, values, bounds[3]))
+
+    def limit_violations(self, q: np.ndarray, tol: float = LIMIT_TOL) -> list[str]:
+        """Human-readable list of the joints outside their limits."""
+        values = np.asarray(q, dtype=float).tolist()  # plain floats: numpy per joint is slow
+        lower, upper, _ = self._limit_lists
+        return [
+            f"{name} = {v:.6g} outside [{lo:.6g}, {hi:.6g}]"
+            for name, v, lo, hi in zip(self.joint_names, values, lower, upper)
+            if not lo - tol <= v <= hi + tol
+        ]
+
+    def check_q(self, q: object, name: str = "q") -> np.ndarray:
+        """``q`` as a float array of length ``dof``; raises ``OptionError`` otherwise."""
+        try:
+            if isinstance(q, (str, bytes)) or np.iscomplexobj(q):
+                raise TypeError  # never drop an imaginary part silently
+            arr = np.asarray(q, dtype=float)
+        except (TypeError, ValueError):
+            raise OptionError(
+                f"{name} must be {self.dof} numbers, got {q!r}", option=name, value=q
+            ) from None
+        if arr.shape != (self.dof,):
+            raise OptionError(
+                f"{name} must have {self.dof} values (one per joint: "
+                f"{', '.join(self.joint_names)}), got shape {arr.shape}",
+                option=name,
+                value=q,
+            )
+        if not np.isfinite(arr).all():
+            raise OptionError(f"{name} must be finite, got {arr.tolist()}", option=name, value=q)
+        return arr
+
+    def seed(self, q0: object | None) -> np.ndarray:
+        """Validate a seed configuration; ``None`` gives ``middle``.
+
+        A seed outside the limits is clipped into them with an ``ArmikWarning`` (robot
+        states read from encoders are often a hair outside).
+        """
+        if q0 is None:
+            return self.middle.copy()
+        if type(q0) is np.ndarray and q0.dtype == _FLOAT and q0.shape == (self.dof,):
+            # The common case, on plain floats: check_q would return q0 itself, and a sum
+            # of floats is finite only when every one is (else the general path decides).
+            values = q0.tolist()
+            if math.isfinite(sum(values)) and self._within(values):
+                return q0
+        q = self.check_q(q0, "q0")
+        if not self.within_limits(q):
+            warnings.warn(
+                "q0 outside the joint limits was clipped into them: "
+                + "; ".join(self.limit_violations(q)),
+                ArmikWarning,
+                stacklevel=3,
+            )
+            q = np.clip(q, self.lower, self.upper)
+        return q
+
+    def nearest_equivalent(self, q: np.ndarray, q_ref: np.ndarray) -> np.ndarray:
+        """Shift each angle by a multiple of 2 pi to the value nearest ``q_ref`` that stays
+        within the limits; a joint with no such value keeps its value."""
+        out = []
+        # Plain floats: a per-joint loop over numpy scalars costs ten times more.
+        for qi, ri, lo, hi, linear in zip(
+            np.asarray(q, float).tolist(), np.asarray(q_ref, float).tolist(), *self._limit_lists
+        ):
+            if not linear and not (-math.pi <= qi - ri <= math.pi and lo <= qi <= hi):
+                near = qi + TWO_PI * round((ri - qi) / TWO_PI)
+                best = None
+                for c in (near, near - TWO_PI, near + TWO_PI, qi):
+                    if lo - LIMIT_TOL <= c <= hi + LIMIT_TOL and (
+                        best is None or abs(c - ri) < abs(best - ri)
+                    ):
+                        best = c
+                if best is not None:
+                    qi = min(max(best, lo), hi)
+            out.append(qi)
+        return np.array(out)
+
+    # -- structure ------------------------------------------------------------------------
+
+    @cached_property
+    def plane(self) -> Plane | None:
+        """The plane of motion if every joint is revolute with parallel axes, else None."""
+        return find_plane(self)
+
+    @cached_property
+    def reach(self) -> float:
+        """An upper bound (m) on the distance from the first joint's origin to the tip:
+        the sum of the fixed distances between consecutive joint origins and the tip, plus
+        the travel of prismatic joints (inf for an unlimited prismatic joint)."""
+        qp = self.to_pin(self.middle)
+        self.fk_pin(qp)
+        data = self.data
+        pts = [data.oMi[j].translation.copy() for j in range(1, self.model.njoints)]
+        pts.append(data.oMf[self.tip_frame_id].translation.copy())
+        total = sum(float(np.linalg.norm(b - a)) for a, b in zip(pts, pts[1:]))
+        for i in np.flatnonzero(self.prismatic):
+            total += max(abs(self.lower[i] - self.middle[i]), abs(self.upper[i] - self.middle[i]))
+        return total
+
+    @cached_property
+    def kernel_chain(self):
+        """The compiled kernel's view of this chain (``armik.kernel.chain.Chain``): plain
+        arrays read once from the model."""
+        return build_chain(self)
+
+    @cached_property
+    def first_joint_origin(self) -> np.ndarray:
+        """Origin of the first joint in the base frame (m); it never moves."""
+        self.fk_pin(self.to_pin(self.middle))
+        return self.T_base_world.act(self.data.oMi[1].translation)
+
+    def memo(self, key: object, build: Callable[[ArmModel], Any]) -> Any:
+        """``build(self)``, remembered under ``key`` for this arm: the one place solvers and
+        the solve layer keep what they derive from an arm (a closed form's geometry, prepared
+        solves). ``with_limits`` gives the new arm an empty memo."""
+        memo = self._memo
+        try:
+            return memo[key]
+        except KeyError:
+            value = memo[key] = build(self)
+            return value
+
+    def frames(self) -> list[str]:
+        return [f.name for f in self.model.frames if f.name != "universe"]
+
+    def __repr__(self) -> str:
+        return (
+            f"Arm({self.name!r}, dof={self.dof}, base={self.base!r}, tip={self.tip!r}, "
+            f"joints={self.joint_names})"
+        )
+

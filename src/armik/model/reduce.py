@@ -1,0 +1,326 @@
+"""Building the reduced chain: the base and tip frames looked up, the default tip chosen,
+every joint off the chain locked, the tool offset added.
+
+``reduce_chain`` turns Pinocchio's model of the whole URDF into the model of one chain from
+a base frame to a tip frame; ``armik.model.arm_model.ArmModel`` is built on it.
+"""
+
+from __future__ import annotations
+
+import difflib
+import logging
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from armik.errors import FrameError, JointError, OptionError, listing
+from armik.model.urdf import URDFInfo
+from armik.tolerances import MAX_LENGTH
+
+log = logging.getLogger(__name__)
+
+_FRAME_PREFERENCE = (pin.BODY, pin.OP_FRAME, pin.FIXED_JOINT, pin.JOINT, pin.SENSOR)
+
+
+@dataclass(frozen=True)
+class ReducedChain:
+    """The chain's Pinocchio model and what was decided building it."""
+
+    model: pin.Model
+    base: str
+    tip: str
+    tip_reason: str  # how the tip was chosen ("given" when it was)
+    tip_frame_id: int  # the tip frame, or the tool frame ``tip_offset`` added after it
+    tip_offset: tuple[float, float, float] | None  # m, in the tip frame
+    T_world_base: pin.SE3  # constant: the base frame's own joint is locked
+
+
+def reduce_chain(
+    full: pin.Model,
+    info: URDFInfo,
+    *,
+    name: str,
+    base: str | None,
+    tip: str | None,
+    locked: Mapping[str, float],
+    tip_offset: tuple[float, float, float] | None,
+) -> ReducedChain:
+    """The chain of ``full`` from ``base`` (default: the URDF's root link) to ``tip``
+    (default: ``default_tip``), every other joint locked at ``locked``'s value or its
+    neutral one. Raises ``FrameError`` or ``JointError`` naming the frame or joint."""
+    frames = [f.name for f in full.frames if f.name != "universe"]
+    base = base if base is not None else info.root_link
+    base_id = lookup_frame(full, base, "base", frames)
+    if tip is None:
+        tip, tip_reason = default_tip(info, base)
+        log.info("arm %r: tip %r, %s", name, tip, tip_reason)
+    else:
+        tip_reason = "given"
+    tip_id = lookup_frame(full, tip, "tip", frames)
+
+    base_joint = full.frames[base_id].parentJoint
+    tip_joint = full.frames[tip_id].parentJoint
+    tip_support = list(full.supports[tip_joint])
+    if base_joint not in tip_support:
+        raise FrameError(
+            f"tip {tip!r} is not downstream of base {base!r}: no chain leads "
+            "from the base to the tip; swap them or pick frames on one branch",
+            frame=tip,
+            candidates=frames,
+        )
+    chain = [j for j in tip_support[tip_support.index(base_joint) + 1 :]]
+    if not chain:
+        raise FrameError(
+            f"the chain from {base!r} to {tip!r} has no moving joint: "
+            "pick a tip further from the base",
+            frame=tip,
+            candidates=frames,
+        )
+    for j in chain:
+        jname = full.names[j]
+        if full.joints[j].nv != 1:
+            raise JointError(
+                f"joint {jname!r} ({full.joints[j].shortname()}) has {full.joints[j].nv} "
+                "degrees of freedom; armik handles revolute, continuous and prismatic joints",
+                joint=jname,
+            )
+        if jname in info.mimic:
+            raise JointError(
+                f"joint {jname!r} on the chain mimics {info.mimic[jname]!r}; mimic joints "
+                "on the chain are not supported: pick a tip before it or remove the mimic tag",
+                joint=jname,
+            )
+
+    q_ref = pin.neutral(full)
+    all_joints = list(full.names)[1:]
+    for jname, value in locked.items():
+        if not full.existJointName(jname):
+            raise JointError(
+                f"locked joint {jname!r} does not exist; joints: {listing(all_joints)}",
+                joint=jname,
+                candidates=all_joints,
+            )
+        jid = full.getJointId(jname)
+        if jid in chain:
+            raise JointError(
+                f"locked joint {jname!r} lies on the chain from {base!r} to "
+                f"{tip!r}; only joints off the chain can be locked",
+                joint=jname,
+                candidates=all_joints,
+            )
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            number = math.nan
+        if not math.isfinite(number):
+            raise JointError(
+                f"locked value for {jname!r} must be a finite number (rad or m), got {value!r}",
+                joint=jname,
+            )
+        set_joint(full, q_ref, jid, number)
+    to_lock = [j for j in range(1, full.njoints) if j not in chain]
+    model = reduce_model(full, to_lock, q_ref) if to_lock else full.copy()
+
+    tip_frame = frame_id(model, tip)
+    if tip_offset is not None:
+        frame = model.frames[tip_frame]
+        placement = frame.placement * pin.SE3(np.eye(3), np.asarray(tip_offset, float))
+        tip_frame = model.addFrame(
+            pin.Frame(tip + "_tool", frame.parentJoint, tip_frame, placement, pin.OP_FRAME)
+        )
+
+    # The base frame's own joint is locked, so its world placement is a constant.
+    data_full = full.createData()
+    pin.framesForwardKinematics(full, data_full, q_ref)
+    return ReducedChain(
+        model=model,
+        base=base,
+        tip=tip,
+        tip_reason=tip_reason,
+        tip_frame_id=tip_frame,
+        tip_offset=None if tip_offset is None else tuple(float(v) for v in tip_offset),
+        T_world_base=data_full.oMf[base_id].copy(),
+    )
+
+
+def frame_id(model: pin.Model, name: str) -> int:
+    """The id of frame ``name``, a link's frame before a joint's of the same name; raises
+    ``KeyError`` (``getFrameId`` would return ``nframes`` for an unknown name)."""
+    for ftype in _FRAME_PREFERENCE:
+        if model.existFrame(name, ftype):
+            return model.getFrameId(name, ftype)
+    raise KeyError(name)
+
+
+def lookup_frame(full: pin.Model, name: str, role: str, frames: list[str]) -> int:
+    try:
+        return frame_id(full, name)
+    except KeyError:
+        close = difflib.get_close_matches(name, frames, n=5, cutoff=0.5)
+        hint = f"closest: {listing(close)}; " if close else ""
+        shown = (
+            f"frames: {listing(frames)}"
+            if len(frames) <= 40
+            else (f"'armik info <robot> --frames' lists all {len(frames)} frames")
+        )
+        raise FrameError(
+            f"unknown {role} frame {name!r}; {hint}{shown}",
+            frame=name,
+            candidates=close or frames,
+        ) from None
+
+
+def check_locked(locked: object) -> dict[str, float] | None:
+    if locked is None:
+        return None
+    if not isinstance(locked, Mapping):
+        raise JointError(
+            f"locked must map joint names to values (rad or m), e.g. {{'finger': 0.0}}; "
+            f"got {locked!r}",
+            joint=str(locked),
+        )
+    for key in locked:
+        if not isinstance(key, str):
+            raise JointError(
+                f"locked must map joint names (str) to values, got the key {key!r}",
+                joint=str(key),
+            )
+    return dict(locked)
+
+
+def check_offset(offset: object) -> tuple[float, float, float] | None:
+    """``tip_offset`` as 3 finite floats (m); raises ``OptionError`` otherwise."""
+    if offset is None:
+        return None
+    fix = "give 3 finite numbers (x, y, z) in metres in the tip frame"
+    if isinstance(offset, (str, bytes)):
+        raise OptionError(
+            f"tip_offset must be numbers, got {offset!r}: {fix}", option="tip_offset", value=offset
+        )
+    try:
+        arr = np.asarray(offset)
+        if np.iscomplexobj(arr):
+            raise TypeError
+        arr = arr.astype(float)
+    except (TypeError, ValueError):
+        raise OptionError(
+            f"tip_offset must be numbers, got {offset!r}: {fix}", option="tip_offset", value=offset
+        ) from None
+    if arr.shape != (3,):
+        raise OptionError(
+            f"tip_offset must have 3 values, got shape {arr.shape}: {fix}",
+            option="tip_offset",
+            value=offset,
+        )
+    if not np.isfinite(arr).all() or np.abs(arr).max() > MAX_LENGTH:
+        raise OptionError(
+            f"tip_offset {arr.tolist()} is not finite or beyond "
+            f"{MAX_LENGTH:g} m: {fix}",
+            option="tip_offset",
+            value=offset,
+        )
+    return tuple(float(v) for v in arr)
+
+
+def set_joint(model: pin.Model, q: np.ndarray, jid: int, value: float) -> None:
+    joint = model.joints[jid]
+    if joint.nq == 1:
+        q[joint.idx_q] = value
+    elif joint.nq == 2 and joint.nv == 1:
+        q[joint.idx_q : joint.idx_q + 2] = (math.cos(value), math.sin(value))
+    else:
+        raise JointError(
+            f"joint {model.names[jid]!r} has {joint.nq} coordinates; it can only "
+            "be locked at its neutral value",
+            joint=model.names[jid],
+        )
+
+
+def reduce_model(full: pin.Model, to_lock: list[int], q_ref: np.ndarray) -> pin.Model:
+    """``pin.buildReducedModel`` that survives frames sharing a name (a link and a joint
+    both called "quill", a link called "universe"): Pinocchio looks frames up by name there
+    and raises "Several frames match the filter". For the call, later duplicates and the
+    locked joints (whose frames it re-creates under the joint's name) get unique names;
+    the frames get their names back afterwards."""
+    work = full.copy()
+    renamed: dict[str, str] = {}
+    joint_tmp: dict[int, str] = {}
+    for j in to_lock:  # a joint and its JOINT frame keep one (temporary) name
+        joint_tmp[j] = f"{full.names[j]}\x00armik-joint{j}"
+        renamed[joint_tmp[j]] = full.names[j]
+        work.names[j] = joint_tmp[j]
+    seen: set[str] = set()
+    for i, frame in enumerate(work.frames):
+        tmp = None
+        if frame.type == pin.JOINT and frame.parentJoint in joint_tmp:
+            tmp = joint_tmp[frame.parentJoint]
+        elif frame.name in seen:
+            tmp = f"{frame.name}\x00armik{i}"
+            renamed[tmp] = frame.name
+        if tmp is not None:
+            frame.name = tmp
+            work.frames[i] = frame
+        seen.add(frame.name)
+    model = pin.buildReducedModel(work, to_lock, q_ref)
+    for i, frame in enumerate(model.frames):
+        if frame.name in renamed:
+            frame.name = renamed[frame.name]
+            model.frames[i] = frame
+    for j in range(model.njoints):
+        if model.names[j] in renamed:
+            model.names[j] = renamed[model.names[j]]
+    return model
+
+
+def default_tip(info: URDFInfo, base: str) -> tuple[str, str]:
+    """The tip when none is given, and why: ``tool0`` downstream of the base (REP 199,
+    the tool flange of ROS-Industrial and UR descriptions); else the leaf at the end of
+    the longest chain of moving joints; leaves tied there that hang on fixed joints from
+    one link give that link. Raises ``FrameError`` listing the leaves when it is a choice."""
+    children = info.children()
+    if base not in children:
+        raise FrameError(
+            f"no tip given and the base {base!r} is not a link of the URDF: pass tip=",
+            frame=base,
+        )
+    leaves: list[tuple[str, int, str | None]] = []
+    stack: list[tuple[str, int, str | None]] = [(base, 0, None)]
+    tool0 = False
+    while stack:  # iterative: trees can be deep
+        link, moving, last = stack.pop()
+        tool0 |= link == "tool0" and moving > 0
+        kids = children.get(link, [])
+        if not kids:
+            leaves.append((link, moving, last))
+        for j in kids:
+            step = j.type != "fixed"
+            stack.append((j.child, moving + step, j.name if step else last))
+    if tool0:
+        return "tool0", "'tool0', the tool flange by convention (REP 199)"
+    best = max(m for _, m, _ in leaves)
+    if best == 0:
+        raise FrameError(
+            f"no tip given and no moving joint lies downstream of {base!r}: pick another base",
+            frame=base,
+        )
+    top = sorted((leaf for leaf in leaves if leaf[1] == best), key=lambda leaf: leaf[0])
+    if len(top) == 1:
+        return top[0][0], f"the leaf at the end of the longest chain ({best} moving joints)"
+    lasts = {last for _, _, last in top}
+    if len(lasts) == 1:
+        joint = info.joints[lasts.pop()]
+        return joint.child, (
+            f"the link after the last moving joint {joint.name!r} of the longest chain "
+            f"({best} moving joints); the leaves {listing(n for n, _, _ in top)} hang from "
+            "it on fixed joints"
+        )
+    names = [n for n, _, _ in top]
+    raise FrameError(
+        f"no tip given and the URDF has {len(names)} leaf links at the end of chains of "
+        f"{best} moving joints: pass tip= one of {listing(names)}",
+        frame="",
+        candidates=names,
+    )

@@ -1,0 +1,345 @@
+"""The XML pass over a URDF before Pinocchio sees it: every joint and link checked, axes
+normalised in place, and what armik needs from the file besides the model (``URDFInfo``).
+
+Each refusal names the joint or link, the value and the fix (``armik.model.urdf`` says
+how armik reads a URDF).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import warnings
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+
+from armik.errors import ArmikWarning, URDFError
+from armik.tolerances import MAX_LENGTH, MAX_LIMIT
+
+# Pinocchio's parser recursed about 2 KB of stack per link and crashed at 4000 links on an
+# 8 MB stack (measured with pin 4.1): deeper trees are refused before it sees them.
+MAX_DEPTH = 1000
+AXIS_MIN_NORM = 1e-6
+AXIS_UNIT_TOL = 1e-9  # |norm - 1| below this is a unit axis already
+JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+MOVING = ("revolute", "continuous", "prismatic", "floating", "planar")
+_NUMBER = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
+
+
+
+@dataclass(frozen=True)
+class JointXML:
+    """One ``<joint>`` as written in the URDF (after the axis is normalised)."""
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    axis_norm: float = 1.0  # the norm of <axis xyz> as written
+
+
+@dataclass(frozen=True)
+class URDFInfo:
+    """What armik needs from the XML besides the Pinocchio model."""
+
+    name: str
+    root_link: str
+    joint_types: dict[str, str]
+    mimic: dict[str, str]  # mimicking joint -> joint it follows
+    links: tuple[str, ...] = ()
+    joints: dict[str, JointXML] = field(default_factory=dict)
+    unset_limits: frozenset[str] = frozenset()  # revolute/prismatic with lower == upper == 0
+    notes: tuple[str, ...] = ()  # what was read in a way the user should know (armik info)
+    depth: int = 0  # joints on the longest path from the root
+
+    def children(self) -> dict[str, list[JointXML]]:
+        """parent link -> the joints that hang from it, in file order."""
+        out: dict[str, list[JointXML]] = {name: [] for name in self.links}
+        for j in self.joints.values():
+            out.setdefault(j.parent, []).append(j)
+        return out
+
+
+def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
+    """Check the tree; normalise the axes in place. Returns the info and whether the XML
+    was changed."""
+    if root.tag != "robot":
+        raise URDFError(
+            f"{path!r} is XML but not a URDF: its root element is <{root.tag}>, expected <robot>",
+            path=path,
+        )
+    links: list[str] = []
+    for link in root.findall("link"):
+        name = link.get("name")
+        if not name:
+            raise URDFError(f"URDF {path!r} has a <link> without a name: name it", path=path)
+        if name in links:
+            raise URDFError(
+                f"URDF {path!r} has two links named {name!r}: link names must be unique",
+                path=path,
+            )
+        links.append(name)
+        for elem in link.iter("origin"):
+            _origin(elem, f"link {name!r}", path)
+        for elem in link.iter("mass"):
+            _number(elem.get("value", "0"), f"link {name!r}", "mass value", path)
+        for elem in link.iter("inertia"):
+            for key in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"):
+                _number(elem.get(key, "0"), f"link {name!r}", f"inertia {key}", path)
+    if not links:
+        raise URDFError(f"URDF {path!r} has no <link> element", path=path)
+    link_set = set(links)
+
+    joints: dict[str, JointXML] = {}
+    mimic: dict[str, str] = {}
+    unset: set[str] = set()
+    notes: list[str] = []
+    parent_of: dict[str, str] = {}  # child link -> joint
+    changed = False
+    for joint in root.findall("joint"):
+        name = joint.get("name")
+        if not name:
+            raise URDFError(f"URDF {path!r} has a <joint> without a name: name it", path=path)
+        what = f"joint {name!r}"
+        if name in joints:
+            raise URDFError(
+                f"URDF {path!r} has two joints named {name!r}: joint names must be unique",
+                path=path,
+            )
+        jtype = joint.get("type")
+        if jtype not in JOINT_TYPES:
+            raise URDFError(
+                f"{what} in {path!r} has type {jtype!r}; URDF joint types are "
+                f"{', '.join(JOINT_TYPES)}",
+                path=path,
+            )
+        ends = []
+        for tag in ("parent", "child"):
+            elem = joint.find(tag)
+            link = None if elem is None else elem.get("link")
+            if not link:
+                raise URDFError(f'{what} in {path!r} has no <{tag} link="..."/>: add it', path=path)
+            if link not in link_set:
+                raise URDFError(
+                    f"{what} in {path!r} names {tag} link {link!r}, which is not a <link> of "
+                    "the file: add the link or fix the name",
+                    path=path,
+                )
+            ends.append(link)
+        parent, child = ends
+        if child in parent_of:
+            raise URDFError(
+                f"link {child!r} in {path!r} is the child of two joints, {parent_of[child]!r} "
+                f"and {name!r}: a URDF is a tree, each link has one parent joint",
+                path=path,
+            )
+        parent_of[child] = name
+        for elem in joint.findall("origin"):
+            _origin(elem, what, path)
+        norm = 1.0
+        if jtype in ("revolute", "continuous", "prismatic"):
+            norm, moved = _axis(joint, name, jtype, path)
+            changed |= moved
+            if moved:
+                notes.append(
+                    f"joint {name!r}: axis norm {norm:.6g} read as the unit axis (ROS reading)"
+                )
+        limit = joint.find("limit")
+        if limit is not None:
+            for key in ("effort", "velocity"):  # urdfdom wants both in any <limit>
+                if limit.get(key) is None:
+                    raise URDFError(
+                        f"{what} in {path!r}: <limit> has no {key} (urdfdom requires it): "
+                        f'add {key}="1" or the real value',
+                        path=path,
+                    )
+                _number(limit.get(key), what, f"limit {key}", path)
+        if jtype in ("revolute", "prismatic"):
+            if limit is None:
+                raise URDFError(
+                    f"{what} in {path!r} is {jtype} but has no <limit>: add "
+                    '<limit lower="..." upper="..." effort="..." velocity="..."/>, or make it '
+                    "continuous if it turns freely",
+                    path=path,
+                )
+            lower = _number(limit.get("lower", "0"), what, "lower limit", path)
+            upper = _number(limit.get("upper", "0"), what, "upper limit", path)
+            huge = [side for v, side in ((lower, "lower"), (upper, "upper")) if abs(v) > MAX_LIMIT]
+            if huge:
+                msg = (
+                    f"joint {name!r} has {' and '.join(huge)} limit(s) beyond +-{MAX_LIMIT:g} "
+                    f"(lower={limit.get('lower')}, upper={limit.get('upper')}), read as no "
+                    "limit on that side"
+                    + (": make it a continuous joint" if jtype == "revolute" else "")
+                )
+                notes.append(msg)
+                warnings.warn(msg, ArmikWarning, stacklevel=5)
+            if lower > upper:
+                raise URDFError(
+                    f"{what} in {path!r} has lower limit {lower} > upper limit {upper}: "
+                    "swap them in the <limit> element",
+                    path=path,
+                )
+            if lower == upper == 0.0:
+                unset.add(name)
+                msg = (
+                    f"joint {name!r} has lower = upper = 0, read as no limits given: "
+                    "it is unlimited; write its real limits in the URDF or use "
+                    "Arm.with_limits"
+                )
+                notes.append(msg)
+                warnings.warn(msg, ArmikWarning, stacklevel=5)
+            elif lower == upper:
+                notes.append(f"joint {name!r}: lower = upper = {lower:g}, the joint is pinned")
+        elif limit is not None:
+            for key in ("lower", "upper"):
+                if limit.get(key) is not None:
+                    _number(limit.get(key), what, f"limit {key}", path)
+        mim = joint.find("mimic")
+        if mim is not None:
+            mimic[name] = mim.get("joint", "?")
+            for key in ("multiplier", "offset"):
+                if mim.get(key) is not None:
+                    _number(mim.get(key), what, f"mimic {key}", path)
+        joints[name] = JointXML(name, jtype, parent, child, norm)
+
+    for name, target in mimic.items():
+        if target not in joints:  # Pinocchio ignores it; armik refuses mimic joints on a chain
+            notes.append(f"joint {name!r} mimics {target!r}, which is not a joint of the file")
+    roots = [name for name in links if name not in parent_of]
+    if len(roots) != 1:
+        raise URDFError(
+            f"URDF {path!r} must have exactly one root link (a link no joint has as child), "
+            f"found {roots if roots else 'none: the joints form a loop'}",
+            path=path,
+        )
+    depth = _depth(roots[0], joints, len(links), path)
+    info = URDFInfo(
+        root.get("name") or "",
+        roots[0],
+        {n: j.type for n, j in joints.items()},
+        mimic,
+        tuple(links),
+        joints,
+        frozenset(unset),
+        tuple(notes),
+        depth,
+    )
+    return info, changed
+
+
+def _depth(root: str, joints: dict[str, JointXML], n_links: int, path: str) -> int:
+    """The number of joints on the longest path from the root (iterative: no recursion)."""
+    children: dict[str, list[str]] = {}
+    for j in joints.values():
+        children.setdefault(j.parent, []).append(j.child)
+    deepest, seen = 0, 1
+    stack = [(root, 0)]
+    while stack:
+        link, d = stack.pop()
+        if d > MAX_DEPTH:
+            raise URDFError(
+                f"the tree of {path!r} is more than {MAX_DEPTH} links deep (at link "
+                f"{link!r}): armik refuses it because Pinocchio's parser recurses once per "
+                "link and crashes the process on deep trees; no real arm is this deep",
+                path=path,
+            )
+        deepest = max(deepest, d)
+        for child in children.get(link, ()):
+            seen += 1
+            stack.append((child, d + 1))
+    if seen != n_links:
+        raise URDFError(
+            f"the joints of {path!r} form a loop or leave links unconnected to the root "
+            f"{root!r}: a URDF is a tree",
+            path=path,
+        )
+    return deepest
+
+
+def _axis(joint: ET.Element, name: str, jtype: str, path: str) -> tuple[float, bool]:
+    """Check the joint's axis and write it back as a unit vector. Returns the norm as
+    written and whether the element was changed."""
+    elem = joint.find("axis")
+    if elem is None:
+        return 1.0, False  # the URDF default, (1, 0, 0)
+    text = elem.get("xyz")
+    fix = 'write the axis direction, e.g. <axis xyz="0 0 1"/>'
+    if text is None:
+        raise URDFError(f"joint {name!r} in {path!r} has an <axis> without xyz: {fix}", path=path)
+    v = _vector(text, f"joint {name!r}", "axis xyz", path, finite=False)
+    if not all(math.isfinite(c) for c in v):
+        raise URDFError(
+            f"joint {name!r} in {path!r} has a non-finite axis xyz={text!r}: {fix}", path=path
+        )
+    norm = math.hypot(*v)  # no overflow for 1e300, no underflow for 1e-200
+    if norm < AXIS_MIN_NORM:
+        raise URDFError(
+            f"joint {name!r} in {path!r} has a zero axis xyz={text!r} (norm {norm:.3g}): {fix}",
+            path=path,
+        )
+    if abs(norm - 1.0) <= AXIS_UNIT_TOL:
+        return norm, False
+    unit = [c / norm for c in v]
+    elem.set("xyz", " ".join(repr(c) for c in unit))
+    if jtype == "prismatic":
+        msg = (
+            f"joint {name!r} has a non-unit axis xyz={text!r} (norm {norm:.6g}); armik reads "
+            "it as the unit axis, as Pinocchio, KDL and MoveIt do (1 m of joint value moves "
+            f"1 m); yourdfpy and pybullet would move {norm:.6g} m: write a unit axis to "
+            "silence this"
+        )
+    else:
+        msg = (
+            f"joint {name!r} has a non-unit axis xyz={text!r} (norm {norm:.6g}); armik "
+            "normalises it (the rotation is about the unit axis)"
+        )
+    warnings.warn(msg, ArmikWarning, stacklevel=6)
+    return norm, True
+
+
+def _origin(elem: ET.Element, what: str, path: str) -> None:
+    for key in ("xyz", "rpy"):
+        text = elem.get(key)
+        if text is None:
+            continue
+        v = _vector(text, what, f"origin {key}", path)
+        if max(abs(c) for c in v) > MAX_LENGTH:
+            raise URDFError(
+                f"{what} in {path!r} has origin {key}={text!r}, beyond the {MAX_LENGTH:g} "
+                "armik accepts: give the value in metres or radians",
+                path=path,
+            )
+
+
+def _vector(text: str, what: str, attr: str, path: str, finite: bool = True) -> list[float]:
+    parts = text.split()
+    if len(parts) != 3:
+        raise URDFError(
+            f"{what} in {path!r} has {attr}={text!r}: expected 3 numbers separated by spaces",
+            path=path,
+        )
+    return [_number(p, what, attr, path, finite=finite, whole=text) for p in parts]
+
+
+def _number(
+    text: str | None,
+    what: str,
+    attr: str,
+    path: str,
+    finite: bool = True,
+    whole: str | None = None,
+) -> float:
+    text = (text or "").strip()
+    ok = bool(_NUMBER.match(text))
+    value = float(text) if ok else math.nan
+    if not finite and text.lower().lstrip("+-") in ("inf", "infinity", "nan"):
+        return float(text)
+    if not ok or not math.isfinite(value):
+        shown = whole if whole is not None else text
+        raise URDFError(
+            f"{what} in {path!r} has {attr}={shown!r}: {text!r} is not a finite number; "
+            "write a decimal number such as 0.25 or 1e-3",
+            path=path,
+        )
+    return value

@@ -1,0 +1,210 @@
+"""Many targets at once: ``solve_batch``.
+
+``solve_batch`` reads the targets into one ``TargetBatch``, splits them into chunks and
+solves the chunks on a pool of threads. A solver with a compiled batch entry
+(``SolverSpec.run_batch``: ``dls`` and ``qp``) solves a whole chunk in the compiled kernel
+with the GIL released, then the chunk is verified with ``verify.measure.measure_batch`` (Pinocchio FK
+per row, the errors and limits compiled); only that verification holds the GIL (10 to 14 %
+of the time on the Panda and the UR5). Any other solver is called target by target
+through ``armik.solve``; the GIL then serialises the threads, so such a solver runs on one
+thread unless ``workers`` says otherwise.
+
+Every answer is verified by Pinocchio forward kinematics as ``Arm.solve`` verifies it, and
+each target uses the options of a call of ``Arm.solve`` (``seed`` included): the same seeds
+give the same answers as a loop of ``solve``. The budget is per target: ``timeout`` counts
+the solving thread's CPU time, so other threads do not shorten it; ``iteration_budget``
+makes the answers identical whatever the thread count, the chunking or the machine.
+
+Results go into arrays allocated once for the whole batch; a chunk allocates only its own
+scratch memory, so the memory used beyond the targets and results does not grow with N.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+import warnings
+from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from armik.batch_result import BatchResult
+from armik.errors import ArmikWarning, OptionError
+from armik.frozen import frozen
+from armik.options import Options
+from armik.solve.progress import ProgressArg, make_progress
+from armik.solve.single import solve
+from armik.solvers import registry
+from armik.status import Status
+from armik.targets.batch import TargetBatch, parse_targets
+from armik.verify.verdict import verdict_batch
+
+if TYPE_CHECKING:
+    from armik.model.arm_model import ArmModel
+    from armik.solvers.registry import SolverSpec
+
+DEFAULT_CHUNK = 256  # targets per chunk: small enough to balance threads, large enough
+#                      that the per-chunk overhead (a few Python calls) does not show
+_CONVERGED = Status.CONVERGED.code
+
+
+def solve_batch(
+    arm: ArmModel,
+    targets: object,
+    q0: object = None,
+    solver: str = "auto",
+    workers: int | None = None,
+    chunk_size: int | None = None,
+    progress: ProgressArg = None,
+    **options: object,
+) -> BatchResult:
+    """Solve IK for many targets; returns a ``BatchResult`` in the order of the targets.
+
+    ``targets``: an (N, 4, 4) array, (N, 7) rows ``x y z qx qy qz qw``, (N, 3) positions,
+    or a sequence of anything ``Arm.solve`` accepts (see ``armik.batch_targets``).
+    ``q0``: None (mid-limits), one configuration for all, or one per target (N, dof).
+    ``workers``: threads (default: the number of cores for a solver with a compiled batch
+    entry, else 1). ``chunk_size``: targets per task (default 256). ``progress``: a bar on
+    stderr when True, or a callable ``(done, total)``; default: a bar when stderr is a
+    terminal. ``options``: as for ``Arm.solve`` and applied to every target.
+
+    Raises ``TargetError`` naming the first bad target, ``OptionError`` for bad options;
+    unreachable targets are results with ``success=False``.
+    """
+    t0 = time.perf_counter()
+    opts = Options.from_kwargs(options)
+    batch = parse_targets(targets, arm)
+    n = len(batch)
+    seeds = batch_seeds(arm, q0, n)
+    spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
+    workers = _workers(workers, spec)
+    chunk = _chunk_size(chunk_size)
+    out = BatchResult.for_arm(arm, n, spec.name, opts)
+    bar = make_progress(progress, n, f"{arm.name}/{spec.name}")
+    starts = range(0, n, chunk)
+
+    def job(start: int) -> int:
+        stop = min(start + chunk, n)
+        solve_chunk(arm, spec, batch[start:stop], seeds[start:stop], opts, options, out, start)
+        return stop - start
+
+    done = 0
+    if workers == 1 or len(starts) <= 1:
+        for start in starts:
+            done += job(start)
+            bar(done, n)
+    else:
+        pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="armik")
+        try:
+            pending = {pool.submit(job, s) for s in starts}
+            while pending:
+                finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for f in finished:  # each finished chunk is reported, however many woke us
+                    done += f.result()  # re-raises a chunk's exception here
+                    bar(done, n)
+        finally:  # an error or Ctrl-C: drop the chunks not started, wait for the running
+            pool.shutdown(wait=True, cancel_futures=True)
+    bar.close()
+    out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
+    return out
+
+
+def solve_chunk(
+    arm: ArmModel,
+    spec: SolverSpec,
+    targets: TargetBatch,
+    seeds: np.ndarray,
+    opts: Options,
+    options: dict,
+    out: BatchResult,
+    start: int,
+) -> None:
+    """Solve and verify one chunk, writing rows ``start:start + len(targets)`` of ``out``."""
+    if spec.run_batch is None:
+        for i in range(len(targets)):
+            r = solve(arm, targets.target(i), q0=seeds[i], solver=spec.name, **options)[0]
+            out.put_result(start + i, r)
+        return
+    attempts = spec.run_batch(arm, targets, np.ascontiguousarray(seeds), opts)
+    part = verdict_batch(arm, attempts, targets, opts)
+    out.put(start, part)
+    if spec.kind == "analytic":
+        # A closed form is deterministic: its rare failures are solved again one by one, so
+        # they carry the specific reason (too far, wrist orientation, ...) and the next
+        # verified branch that ``solve`` would fall back to.
+        for i in np.flatnonzero(~part.success).tolist():
+            r = solve(arm, targets.target(i), q0=seeds[i], solver=spec.name, **options)[0]
+            out.put_result(start + i, r)
+
+
+def batch_seeds(arm: ArmModel, q0: object, n: int) -> np.ndarray:
+    """(n, dof) seeds: mid-limits, one configuration for every target, or one per target.
+    Seeds outside the limits are clipped into them with one ``ArmikWarning``."""
+    if q0 is None:
+        return np.broadcast_to(arm.middle, (n, arm.dof))
+    try:
+        if isinstance(q0, (str, bytes)) or np.iscomplexobj(q0):
+            raise TypeError  # never drop an imaginary part silently
+        q = np.asarray(q0, dtype=float)
+    except (TypeError, ValueError):
+        raise OptionError(
+            f"q0 must be {arm.dof} real numbers or an (N, {arm.dof}) array, got {q0!r}",
+            option="q0",
+        ) from None
+    if q.shape == (arm.dof,):
+        return np.broadcast_to(arm.seed(q), (n, arm.dof))
+    if q.shape != (n, arm.dof):
+        raise OptionError(
+            f"q0 must have shape ({arm.dof},) (one seed for every target) or ({n}, {arm.dof}) "
+            f"(one per target), got {q.shape}",
+            option="q0",
+        )
+    bad = ~np.isfinite(q).all(axis=1)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise OptionError(f"q0 of target {i} must be finite, got {q[i].tolist()}", option="q0")
+    outside = ((q < arm.lower) | (q > arm.upper)).any(axis=1)
+    if outside.any():
+        i = int(np.flatnonzero(outside)[0])
+        warnings.warn(
+            f"q0 outside the joint limits was clipped into them for {int(outside.sum())} "
+            f"target(s); the first, target {i}: " + "; ".join(arm.limit_violations(q[i])),
+            ArmikWarning,
+            stacklevel=3,
+        )
+        q = np.clip(q, arm.lower, arm.upper)
+    return q
+
+
+def cores() -> int:
+    """The cores this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def _workers(workers: object, spec: SolverSpec) -> int:
+    if workers is None:
+        return cores() if spec.run_batch is not None else 1
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise OptionError(
+            f"workers must be a whole number >= 1 (threads), got {workers!r}",
+            option="workers",
+            value=workers,
+        )
+    return int(workers)
+
+
+def _chunk_size(chunk: object) -> int:
+    if chunk is None:
+        return DEFAULT_CHUNK
+    if isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or chunk < 1:
+        raise OptionError(
+            f"chunk_size must be a whole number >= 1 (targets per task), got {chunk!r}",
+            option="chunk_size",
+            value=chunk,
+        )
+    return int(chunk)
+

@@ -1,0 +1,243 @@
+"""Batches beyond one machine, on a Dask cluster (``pip install "armik[cluster]"``).
+
+Why Dask: ``dask.distributed`` is a pure-Python wheel that starts in a second on a laptop
+(``LocalCluster``) and connects to a running scheduler by its address
+(``tcp://host:8786``) with the same code; it has the two things a batch of IK solves needs
+and nothing heavier: per-worker state (a ``WorkerPlugin``) and chunked maps whose results
+come back in order. Ray would do the same job with a larger install and a slower start.
+
+How it runs: the arm travels once per worker, as its recipe (an ``Arm`` pickles as the
+source, base, tip, locked joints, tip offset and limit overrides that rebuild it). A
+``WorkerPlugin`` registered under the recipe's digest rebuilds the arm when the worker starts
+(and on workers that join later), so a worker reads the URDF and builds the Pinocchio model
+once, not once per chunk. The targets go out in chunks; each chunk runs the local
+``armik.solve.batch.solve_batch`` on the worker (verification included) and comes back as a
+``BatchResult``, which is copied into its rows of the result. The answers are those of the
+local ``solve_batch`` with the same options.
+
+Every worker must be able to import armik and read the arm's URDF: bundled arms always can;
+a URDF path must exist on every worker's machine.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import pickle
+import time
+from functools import lru_cache
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from armik.batch_result import BatchResult
+from armik.errors import ArmikError, InputError, OptionError
+from armik.frozen import frozen
+from armik.options import Options
+from armik.solve.batch import batch_seeds
+from armik.solve.batch import solve_batch as local_solve_batch
+from armik.solve.progress import ProgressArg, make_progress
+from armik.solvers import registry
+from armik.targets.batch import TargetBatch, parse_targets
+
+if TYPE_CHECKING:
+    from armik.model.arm_model import ArmModel
+
+DEFAULT_CHUNK = 2048  # targets per task: a task should take tens of milliseconds at least
+
+
+def _import_distributed():
+    try:
+        import distributed
+    except ImportError:  # pragma: no cover - the extra is installed for the tests
+        raise ArmikError(
+            'the cluster runner needs Dask: pip install "armik[cluster]" '
+            '(or pip install "dask[distributed]")'
+        ) from None
+    return distributed
+
+
+def _plugin_base():
+    try:
+        from distributed import WorkerPlugin
+    except ImportError:  # pragma: no cover
+        return object
+    return WorkerPlugin
+
+
+class ArmOnWorker(_plugin_base()):
+    """Per-worker state: one arm, rebuilt from its recipe when the worker starts."""
+
+    def __init__(self, blob: bytes, name: str) -> None:
+        self.blob = blob
+        self.name = name
+        self.arm: ArmModel | None = None
+        self.builds = 0
+
+    def setup(self, worker=None) -> None:
+        self.arm = pickle.loads(self.blob)
+        self.builds += 1
+
+
+def plugin_name(blob: bytes) -> str:
+    return "armik-arm-" + hashlib.sha1(blob).hexdigest()[:16]
+
+
+@lru_cache(maxsize=8)
+def _arm_from_blob(blob: bytes) -> ArmModel:  # when a task runs outside a Dask worker
+    return pickle.loads(blob)
+
+
+def _worker_arm(name: str, blob: bytes) -> ArmModel:
+    try:
+        from distributed import get_worker
+
+        plugin = get_worker().plugins.get(name)
+    except (ImportError, ValueError):
+        plugin = None
+    if plugin is not None and plugin.arm is not None:
+        return plugin.arm
+    return _arm_from_blob(blob)
+
+
+def _solve_chunk(
+    name: str,
+    blob: bytes,
+    positions: np.ndarray,
+    rotations: np.ndarray | None,
+    q0: np.ndarray | None,
+    solver: str,
+    options: dict,
+) -> BatchResult:
+    """One task: the local batch solver on this worker's copy of the arm."""
+    arm = _worker_arm(name, blob)
+    return local_solve_batch(
+        arm,
+        TargetBatch(positions, rotations),
+        q0=q0,
+        solver=solver,
+        workers=1,  # Dask runs as many tasks at once as the worker has threads
+        progress=False,
+        **options,
+    )
+
+
+def connect(address: str):
+    """A Dask client for ``address``: a scheduler (``tcp://host:8786``) or ``local`` /
+    ``local:N`` for a new cluster of N worker processes on this machine (default: one per
+    core). Raises ``InputError`` when the scheduler cannot be reached."""
+    distributed = _import_distributed()
+    if address == "local" or address.startswith("local:"):
+        count = address.partition(":")[2]
+        if count and not count.isdigit():
+            raise InputError(f"cluster address {address!r}: give local or local:N (N workers)")
+        cluster = distributed.LocalCluster(
+            n_workers=int(count) if count else None,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+        )
+        return distributed.Client(cluster)
+    try:
+        return distributed.Client(address, timeout=10)
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise InputError(
+            f"cannot reach a Dask scheduler at {address!r} ({exc}): start one with "
+            "'dask scheduler' and 'dask worker ADDRESS', or pass local:N"
+        ) from None
+
+
+def close(client) -> None:
+    """Close a client from ``connect`` and, for ``local``, the cluster it started."""
+    cluster = client.cluster
+    client.close()
+    if cluster is not None:
+        cluster.close()
+
+
+def solve_batch(
+    arm: ArmModel,
+    targets: object,
+    q0: object = None,
+    solver: str = "auto",
+    *,
+    client=None,
+    address: str | None = None,
+    chunk_size: int | None = None,
+    progress: ProgressArg = None,
+    **options: object,
+) -> BatchResult:
+    """``armik.solve.batch.solve_batch`` on a Dask cluster; the same arguments and answers.
+
+    ``client``: a ``distributed.Client``; or ``address`` (see ``connect``); or neither, to
+    use the current default client. ``chunk_size``: targets per task (2048).
+    """
+    t0 = time.perf_counter()
+    opts = Options.from_kwargs(options)  # refuse bad options here, not on the workers
+    batch = parse_targets(targets, arm)
+    n = len(batch)
+    seeds = batch_seeds(arm, q0, n)
+    spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
+    chunk = DEFAULT_CHUNK if chunk_size is None else chunk_size
+    if isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or chunk < 1:
+        raise OptionError(
+            f"chunk_size must be a whole number >= 1, got {chunk_size!r}",
+            option="chunk_size",
+            value=chunk_size,
+        )
+    own = None
+    if client is None:
+        if address is not None:
+            client = own = connect(address)
+        else:
+            distributed = _import_distributed()
+            try:
+                client = distributed.get_client()
+            except ValueError:
+                raise InputError(
+                    "no Dask client: pass client= or address= (e.g. tcp://host:8786 or local:2)"
+                ) from None
+    try:
+        return _run(client, arm, batch, seeds, spec.name, options, opts, chunk, progress, t0)
+    finally:
+        if own is not None:
+            close(own)
+
+
+def _run(client, arm, batch, seeds, solver, options, opts, chunk, progress, t0) -> BatchResult:
+    distributed = _import_distributed()
+    n = len(batch)
+    blob = pickle.dumps(arm)
+    name = plugin_name(blob)
+    client.register_plugin(ArmOnWorker(blob, name), name=name)
+    one_seed = n > 0 and seeds.strides[0] == 0  # the same seed for every target
+    futures = {}
+    for start in range(0, n, chunk):
+        stop = min(start + chunk, n)
+        rot = None if batch.rotations is None else batch.rotations[start:stop]
+        q0 = seeds[0].copy() if one_seed else np.ascontiguousarray(seeds[start:stop])
+        f = client.submit(
+            _solve_chunk,
+            name,
+            blob,
+            batch.positions[start:stop],
+            rot,
+            q0,
+            solver,
+            options,
+            pure=False,
+        )
+        futures[f] = start
+    out = BatchResult.for_arm(arm, n, solver, opts)
+    bar = make_progress(progress, n, f"{arm.name}/{solver} (cluster)")
+    done = 0
+    try:
+        for f in distributed.as_completed(list(futures)):
+            part = f.result()
+            out.put(futures[f], part)
+            done += len(part)
+            bar(done, n)
+            f.release()
+    finally:
+        bar.close()
+    out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
+    return out

@@ -1,0 +1,194 @@
+"""Paths: waypoints solved in order, without silent jumps between branches.
+
+``solve_path`` solves each waypoint from the previous answer (the first from ``q0``, the
+configuration the arm is in). Angles are unwrapped onto the previous answer: a continuous
+joint, or a joint with limits wider than 2 pi, takes the equivalent value modulo 2 pi
+nearest the previous one that lies within its limits, so a tool spun through 360 degrees
+turns on rather than snapping back.
+
+An answer that would move any joint by more than ``max_joint_step`` from the previous
+answer is not accepted as it is. The waypoint is re-solved near the previous configuration:
+
+1. a local descent from the previous answer, without random restarts;
+2. a continuation: the pose is moved from the previous one to the waypoint through 2, 4,
+   ... up to ``MAX_SUBSTEPS`` intermediate poses, each solved locally from the last.
+
+If neither reaches the waypoint within ``max_joint_step``, the waypoint is reported with
+status ``discontinuous`` (``success=False``) and the reason names the joint and the size of
+the jump, and whether the pose is reachable without it at all; ``q`` then holds the
+answer with the smallest jump found, and the path goes on from it. A waypoint that cannot
+be reached keeps its own status (``unreachable``, ...), and the next waypoint starts from
+the last answer that was reached.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+
+import numpy as np
+import pinocchio as pin
+
+from armik.batch_result import BatchResult
+from armik.errors import OptionError
+from armik.frozen import frozen
+from armik.model.arm_model import ArmModel
+from armik.options import Options
+from armik.result import IKResult
+from armik.solve.single import solve
+from armik.solvers import registry
+from armik.status import Status
+from armik.targets.batch import parse_targets
+from armik.targets.pose import Target
+
+DEFAULT_MAX_JOINT_STEP = 0.5  # rad (or m for a prismatic joint) between two waypoints
+MAX_SUBSTEPS = 64  # finest continuation between two waypoints (intermediate poses)
+
+
+def solve_path(
+    arm: ArmModel,
+    poses: object,
+    q0: object,
+    max_joint_step: float | np.ndarray | None = None,
+    solver: str = "auto",
+    **options: object,
+) -> BatchResult:
+    """Solve ``poses`` in order from ``q0``; returns a ``BatchResult`` (one row per pose).
+
+    ``poses``: anything ``solve_batch`` accepts ((N, 4, 4), (N, 7), (N, 3), a list).
+    ``q0``: the configuration the arm starts from (rad, m); the first pose is held to
+    ``max_joint_step`` from it too. ``max_joint_step``: the largest move of any joint
+    between consecutive answers (rad for revolute joints, m for prismatic ones; one number
+    or one per joint; default 0.5). ``options``: as for ``Arm.solve``.
+
+    Every answer is verified by Pinocchio FK (``Arm.solve``). A waypoint reachable only by
+    a larger move gets status ``discontinuous`` and a reason; never a silent jump.
+    """
+    t0 = time.perf_counter()
+    opts = Options.from_kwargs(options)
+    batch = parse_targets(poses, arm)
+    n = len(batch)
+    step = _max_step(arm, max_joint_step)
+    q_prev = arm.seed(q0)
+    spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
+    local = {**options, "max_restarts": 0}
+    out = BatchResult.for_arm(arm, n, spec.name, opts)
+    for i in range(n):
+        target = batch.target(i)
+        r = _unwrapped(arm, solve(arm, target, q0=q_prev, solver=spec.name, **options)[0], q_prev)
+        if r.success and _jump(r.q, q_prev, step) > 1.0:
+            r = _near(arm, target, q_prev, step, spec.name, local, r, first=i == 0)
+        out.put_result(i, r)
+        if r.success or r.status is Status.DISCONTINUOUS:
+            q_prev = np.array(r.q)
+    out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
+    return out
+
+
+def _max_step(arm: ArmModel, value: object) -> np.ndarray:
+    if value is None:
+        return np.full(arm.dof, DEFAULT_MAX_JOINT_STEP)
+    try:
+        step = np.broadcast_to(np.asarray(value, dtype=float), (arm.dof,)).copy()
+    except (TypeError, ValueError):
+        raise OptionError(
+            f"max_joint_step must be one number or {arm.dof} numbers (rad or m), got {value!r}",
+            option="max_joint_step",
+            value=value,
+        ) from None
+    if not (np.isfinite(step).all() and (step > 0).all()):
+        raise OptionError(
+            f"max_joint_step must be finite and > 0, got {value!r}",
+            option="max_joint_step",
+            value=value,
+        )
+    return step
+
+
+def _jump(q: np.ndarray, q_prev: np.ndarray, step: np.ndarray) -> float:
+    """The largest joint move as a multiple of its allowed step (> 1: too large)."""
+    return float((np.abs(np.asarray(q) - q_prev) / step).max())
+
+
+def _unwrapped(arm: ArmModel, r: IKResult, q_prev: np.ndarray) -> IKResult:
+    """``r`` with its angles moved by multiples of 2 pi next to ``q_prev`` (within limits);
+    the pose, hence the verification, is unchanged."""
+    q = arm.nearest_equivalent(r.q, q_prev)
+    return r if np.array_equal(q, r.q) else dataclasses.replace(r, q=q)
+
+
+def _near(
+    arm: ArmModel,
+    target: Target,
+    q_prev: np.ndarray,
+    step: np.ndarray,
+    solver: str,
+    local: dict,
+    jumped: IKResult,
+    first: bool,
+) -> IKResult:
+    """Re-solve ``target`` near ``q_prev``; the answer if within ``step``, else the smallest
+    jump found, reported as discontinuous."""
+    candidates = [jumped]
+    r = _unwrapped(arm, solve(arm, target, q0=q_prev, solver=solver, **local)[0], q_prev)
+    if r.success:
+        if _jump(r.q, q_prev, step) <= 1.0:
+            return r
+        candidates.append(r)
+    continuous = None  # the continuation's answer, reached in small moves
+    T_from = arm.fk(q_prev)
+    k = 2
+    while k <= MAX_SUBSTEPS:
+        q, ok = q_prev, True
+        for pose in _between(T_from, target, k):
+            s = _unwrapped(arm, solve(arm, pose, q0=q, solver=solver, **local)[0], q)
+            if not s.success or _jump(s.q, q, step) > 1.0:
+                ok = False
+                break
+            q = np.array(s.q)
+        if ok:
+            if _jump(s.q, q_prev, step) <= 1.0:
+                return dataclasses.replace(
+                    s, reason=f"{s.reason}; reached through {k - 1} intermediate poses"
+                )
+            continuous = s
+            break
+        k *= 2
+    best = continuous or min(candidates, key=lambda c: _jump(c.q, q_prev, step))
+    moved = np.abs(np.asarray(best.q) - q_prev)
+    j = int(np.argmax(moved / step))
+    unit = "m" if arm.prismatic[j] else "rad"
+    start = "q0 (the start)" if first else "the previous waypoint's answer"
+    if continuous is not None:
+        why = (
+            f"the motion to it is continuous but moves {arm.joint_names[j]} by "
+            f"{moved[j]:.3g} {unit} from {start} (max_joint_step {step[j]:g}): add "
+            "waypoints here or raise max_joint_step"
+        )
+    else:
+        why = (
+            f"the nearest answer found moves {arm.joint_names[j]} by {moved[j]:.3g} {unit} "
+            f"from {start} (max_joint_step {step[j]:g}), and no continuous motion through "
+            f"{MAX_SUBSTEPS - 1} intermediate poses reaches it (a singularity, a joint limit "
+            "or a branch change on the way)"
+        )
+    return dataclasses.replace(
+        best,
+        success=False,
+        status=Status.DISCONTINUOUS,
+        reason=f"reachable only by a jump: {why}; q is that answer, verified: "
+        f"position error {best.position_error:.3g} m",
+    )
+
+
+def _between(T_from: pin.SE3, target: Target, k: int) -> list[Target]:
+    """k poses from ``T_from`` (excluded) to ``target`` (included), evenly spaced along the
+    screw motion between them (positions only for a position target)."""
+    if target.rotation is None:
+        return [
+            Target(T_from.translation + (target.position - T_from.translation) * (j / k))
+            for j in range(1, k + 1)
+        ]
+    twist = pin.log6(T_from.actInv(target.se3()))
+    poses = [T_from * pin.exp6(twist * (j / k)) for j in range(1, k)]
+    return [Target(T.translation.copy(), T.rotation.copy()) for T in poses] + [target]

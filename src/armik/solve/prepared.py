@@ -1,0 +1,292 @@
+"""Solves prepared once per arm, solver and options: the common inputs in few steps.
+
+Most of what ``solve`` does does not depend on the target: choosing the solver, building
+its settings, finding what the check measures. A ``Plan`` does it once per (arm, solver
+name, options other than ``seed``, target kind) and keeps it. For a target given as a
+``pinocchio.SE3`` or a C-ordered float64 4x4 array (a position target: a float64 array of
+3, held as a 4x4 with the identity rotation that the settings ignore), and ``q0`` None or a
+float64 array of one value per joint, the plan hands the 4x4 to the solver's compiled
+runner (``SolverSpec.prepare_pose``), which checks in compiled code that the pose and seed
+are what the parser and ``Arm.seed`` would pass unchanged, then solves. Pinocchio computes
+the answer's tip placement and compiled code measures it in place
+(``kernel.check.placement_check``), as
+``verify.measure.measure`` does. The result is the one the general path builds, field for field
+(tests/solve/test_prepared.py); its reason text is written on first read.
+
+Anything else (another input form, a seed outside the limits, an answer the check refuses,
+a claim other than converged) goes the general way: ``armik.solve.single`` and ``armik.verify.verdict``; when
+the check refuses a closed form's first answer, its every row goes there, nearest first.
+"""
+
+from __future__ import annotations
+
+import secrets
+import time
+
+import numpy as np
+import pinocchio as pin
+
+from armik.errors import SolverError
+from armik.kernel.measure import check_frame, placement_check, pose_checks
+from armik.model.arm_model import ArmModel
+from armik.options import Options
+from armik.result import IKResult
+from armik.solvers import registry
+from armik.solvers.claims import Attempt, Claim
+from armik.status import Status
+from armik.targets.pose import parse_target
+from armik.verify.measure import Measure, measures_of
+from armik.verify.verdict import (
+    failure_rank,
+    finish,
+    limits_reason,
+    seed_distance,
+    success_reason,
+    verdict,
+)
+
+_FLOAT = np.dtype(float)
+_SE3 = pin.SE3
+_CONVERGED = Status.CONVERGED
+_JOINT_LIMITS = Status.JOINT_LIMITS
+_NO_PLAN = object()  # remembered: this solver and options have no plan
+
+
+def plan_for(
+    arm: ArmModel, solver: str, key: tuple, opts: Options, position: bool = False
+) -> Plan | None:
+    """The plan of ``arm`` for ``solver``, the options whose ``solve._options`` key is
+    ``key`` and full poses (or positions, with ``position``); None when the solver has no
+    runner or does not apply to that kind of target."""
+    # a registration may change what "auto" chooses: plans of each generation apart
+    plans = arm.memo(("prepared solves", registry.generation), _no_plans)
+    plan = plans.get((solver, key, position))
+    if plan is None:
+        plan = _build(arm, solver, opts, position)
+        if len(plans) > 64:
+            plans.clear()
+        plans[(solver, key, position)] = plan
+    return None if plan is _NO_PLAN else plan
+
+
+def _no_plans(arm: ArmModel) -> dict:
+    return {}
+
+
+def _build(arm: ArmModel, solver: str, opts: Options, position: bool):
+    # a target of the kind every plain target of the plan is
+    target = parse_target(np.zeros(3) if position else np.eye(4), arm)
+    try:
+        spec = registry.choose(solver, arm, target, opts)
+    except SolverError:  # the general path raises it, with its message
+        return _NO_PLAN
+    if spec.prepare_pose is None:
+        return _NO_PLAN
+    return Plan(arm, spec, opts, position)
+
+
+class Plan:
+    """One arm, one solver, one set of options (all but ``seed``); see the module."""
+
+    def __init__(
+        self, arm: ArmModel, spec: registry.SolverSpec, opts: Options, position: bool = False
+    ) -> None:
+        self.arm = arm
+        self.solver = spec.name
+        self.position = position  # targets are positions (x, y, z), not full poses
+        self.run_pose = spec.prepare_pose(arm, opts, position)
+        self.model, self.frame = arm.model, arm.tip_frame_id
+        self.direct = arm.model.nq == arm.dof  # q is Pinocchio's configuration itself
+        self.shape = (arm.dof,)
+        self.middle = arm.middle
+        w, weighted, measure_rot = measures_of(opts.weights, opts.position_only, position)
+        self.measured = check_frame(  # what the compiled check measures against
+            arm.T_base_world.rotation,
+            arm.T_base_world.translation,
+            w,
+            int(weighted) | (2 if measure_rot else 0),
+            arm.lower,
+            arm.upper,
+        )
+        self.measure_rot = measure_rot
+        self.tol_p, self.tol_r = opts.tol_position, opts.tol_orientation
+
+    def _plain(self, target: object, q0: object):
+        """(H, q0) for the runner when both are plain in type and shape, else None."""
+        kind = type(target)
+        if self.position:
+            if not (
+                kind is np.ndarray
+                and target.dtype == _FLOAT
+                and target.shape == (3,)
+                and target.flags.c_contiguous
+            ):
+                return None
+            H = np.eye(4)  # the rotation is not measured: the identity, as the parser has it
+            H[0, 3], H[1, 3], H[2, 3] = target.tolist()
+        elif kind is _SE3:
+            H = target.homogeneous  # a fresh C-ordered 4x4
+        elif (
+            kind is np.ndarray
+            and target.dtype == _FLOAT
+            and target.shape == (4, 4)
+            and target.flags.c_contiguous
+        ):
+            H = target  # only read
+        else:
+            return None
+        if q0 is None:
+            return H, self.middle  # only read
+        if (
+            type(q0) is np.ndarray
+            and q0.dtype == _FLOAT
+            and q0.shape == self.shape
+            and q0.flags.c_contiguous
+        ):
+            return H, q0
+        return None
+
+    def solve(
+        self, target: object, q0: object, opts: Options, seed: int | None, t0: float
+    ) -> IKResult | None:
+        """The result of ``solve`` for a plain ``target`` and ``q0``, or None (general path).
+        ``seed`` is this call's (``opts`` may carry another: only the rest is read)."""
+        plain = self._plain(target, q0)
+        if plain is None:
+            return None
+        H, q0 = plain
+        if seed is None:
+            seed = secrets.randbits(63)
+        got = self.run_pose(H, q0, seed)
+        if got is None:
+            return None
+        if type(got) is not Claim:  # claims other than converged: the general verdict
+            return self._finish(got, H, q0, opts, t0, False)[0]
+        q = got.q
+        data, R_w, p_w = self.arm.tip_views()  # this thread's
+        pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
+        pin.updateFramePlacement(self.model, data, self.frame)  # into R_w, p_w
+        pos, ori, inside = placement_check(self.measured, R_w, p_w, H, q)
+        fields = self._success(got, pos, ori, inside)
+        if fields is None:
+            return self._finish(self._refused(got, H, q0, seed), H, q0, opts, t0, False)[0]
+        fields["time"] = time.perf_counter() - t0
+        return IKResult._from_fields(fields)
+
+    def _refused(self, got: Claim, H: np.ndarray, q0: np.ndarray, seed) -> list[Attempt]:
+        """The attempts for the general verdict when the check refuses the runner's answer
+        ``got``: a closed form's every row, nearest first (the next may pass), else the
+        claim alone."""
+        every = self.run_pose(H, q0, seed, True)
+        if every is None:  # a numeric runner (or one with no rows for ``solve_all``)
+            return [got.attempt()]
+        return [row.attempt() if type(row) is Claim else row for row in every[1]]
+
+    def solve_all(self, target: object, q0: object, opts: Options, seed: int | None, t0: float):
+        """The results of ``solve_all`` for a plain ``target`` and ``q0``, or None."""
+        plain = self._plain(target, q0)
+        if plain is None:
+            return None
+        H, q0 = plain
+        got = self.run_pose(H, q0, secrets.randbits(63) if seed is None else seed, True)
+        if got is None:
+            return None
+        Q, rows = got  # Q[i]: the answer of rows[i]
+        measured = np.empty((len(rows), 3))
+        pose_checks(self.measured, self._placements(Q), H, Q, measured)
+        verified, failed = [], []  # the results' fields; failed: (rank key, fields)
+        unclaimed = False
+        for got, (pos, ori, inside) in zip(rows, measured.tolist()):
+            if type(got) is Claim:
+                fields = self._success(got, pos, ori, inside > 0.0)
+                if fields is None and inside == 0.0:  # reached, or not, outside the limits
+                    fields = self._outside_limits(got, pos, ori)
+                    failed.append((_rank_key(fields), fields))
+                    continue
+                if fields is not None:
+                    verified.append(fields)
+                    continue
+                got = got.attempt()
+            m = Measure(
+                position_error=pos,
+                orientation_error=ori if self.measure_rot else None,
+                violations=[] if inside > 0.0 else self.arm.limit_violations(got.q),
+                tol_position=self.tol_p,
+                tol_orientation=self.tol_r,
+            )
+            fields = {**verdict(got, m), "solver": self.solver}
+            if fields["success"]:  # claimed unreached (a boundary case), verified all the same
+                verified.append(fields)
+                unclaimed = True
+                continue
+            failed.append((_rank_key(fields), fields))
+        # verified answers nearest q0 first (the runner's order; a verified answer it did
+        # not claim is ranked among them), then the others ranked as ``verdict.ranked`` ranks
+        # them (a stable sort on the same key)
+        if unclaimed:
+            verified.sort(key=lambda f: seed_distance(f["q"], q0))
+        failed.sort(key=lambda pair: pair[0])
+        elapsed = time.perf_counter() - t0
+        results = []
+        for fields in verified + [fields for _, fields in failed]:
+            fields["time"] = elapsed
+            # the runner's claims hold their q read-only already; a verdict row's q is copied
+            results.append(
+                IKResult._from_fields(fields) if "_reason" in fields else IKResult._checked(fields)
+            )
+        return results
+
+    def _placements(self, Q: np.ndarray) -> np.ndarray:
+        """The tip placements (n, 4, 4) of the answers Q, by Pinocchio."""
+        model, data, frame = self.model, self.arm.data, self.frame
+        fk, place = pin.forwardKinematics, pin.updateFramePlacement
+        if not self.direct:
+            Q = [self.arm.to_pin(q) for q in Q]
+        placements = []
+        for q in Q:
+            fk(model, data, q)
+            placements.append(place(model, data, frame).homogeneous)
+        return np.array(placements) if placements else np.empty((0, 4, 4))
+
+    def _outside_limits(self, got: Claim, pos: float, ori: float) -> dict:
+        """The result's fields ``verdict`` gives a claimed answer outside the joint limits,
+        its reason (which joints leave which limits) written on first read."""
+        ori = ori if self.measure_rot else None
+        why = (self.arm, got.q)
+        return self._fields(got, False, _JOINT_LIMITS, pos, ori, limits_reason, why)
+
+    def _success(self, got: Claim, pos: float, ori: float, inside: bool) -> dict | None:
+        """The successful result's fields of a claimed answer with these measures, or None."""
+        ori = ori if self.measure_rot else None
+        if not (inside and pos <= self.tol_p and (ori is None or ori <= self.tol_r)):
+            return None
+        why = (got.reason, got.reason_args, pos, ori, self.tol_p, self.tol_r)
+        return self._fields(got, True, _CONVERGED, pos, ori, success_reason, why)
+
+    def _fields(self, got: Claim, success: bool, status: Status, pos, ori, reason, args):
+        """The fields of the ``IKResult`` of a runner's claimed answer ``got`` (all but
+        ``time``); its reason is ``reason(*args)``, written on first read."""
+        q = got.q
+        if q.flags.writeable:  # the runner's own array (solve_all's rows are read-only)
+            q.setflags(write=False)
+        return dict(
+            q=q,
+            success=success,
+            status=status,
+            solver=self.solver,
+            iterations=got.iterations,
+            position_error=pos,
+            orientation_error=ori,
+            branch=got.branch,
+            singular=got.singular,
+            restarts=got.restarts,
+            _reason=(reason, args),
+        )
+
+    def _finish(self, attempts, H, q0, opts: Options, t0: float, every: bool):
+        target = parse_target(H[:3, 3].copy() if self.position else H, self.arm)
+        return finish(self.arm, self.solver, attempts, target, opts, q0, every, t0)
+
+
+def _rank_key(fields: dict) -> tuple:
+    return failure_rank(fields["status"], fields["position_error"], fields["orientation_error"])

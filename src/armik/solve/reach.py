@@ -1,0 +1,228 @@
+"""Reachability maps: per voxel of the workspace, the fraction of tool orientations reached.
+
+The workspace is a grid of cubic voxels (side ``resolution``, m) around the first joint,
+over the ball of the arm's reach bound (``Arm.reach``). At every voxel centre the same
+``orientations`` tool orientations (uniformly distributed rotations, seeded) are solved
+with ``solve_batch``; a voxel's value is the fraction of them that were solved and
+verified. This is the reachability part of a capability map (Zacharias et al., 2007):
+1 where the arm reaches the point in every sampled orientation, 0 where it reaches it in
+none. Voxels outside the reach bound are not sampled (NaN).
+
+Most targets of such a map are unreachable, and an unreachable target costs the solver's
+whole budget: the budget (``timeout``, default here 5 ms) sets the price of a map.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from armik import npz
+from armik.errors import InputError, OptionError
+from armik.model.arm_model import ArmModel
+from armik.solve.batch import solve_batch
+from armik.solve.distributed import solve_batch as cluster_solve
+from armik.solve.progress import ProgressArg
+from armik.targets.batch import TargetBatch
+
+FORMAT = "armik.ReachMap/1"
+MAX_SOLVES = 50_000_000
+DEFAULT_OPTIONS = {"timeout": 0.005, "tol_position": 1e-5, "tol_orientation": 1e-5}
+
+
+@dataclass(frozen=True, eq=False)
+class ReachMap:
+    """``fraction[i, j, k]``: the share of orientations solved at (xs[i], ys[j], zs[k])
+    (m, base frame); NaN outside the reach bound."""
+
+    arm: str
+    xs: np.ndarray
+    ys: np.ndarray
+    zs: np.ndarray
+    fraction: np.ndarray
+    orientations: int
+    resolution: float
+    solver: str
+    time: float
+    solves: int
+
+    def summary(self) -> str:
+        sampled = np.isfinite(self.fraction)
+        f = self.fraction[sampled]
+        any_ = int((f > 0).sum())
+        full = int((f == 1).sum())
+        return (
+            f"{self.arm}: {sampled.sum()} voxels of {self.resolution:g} m x {self.orientations} "
+            f"orientations ({self.solves} solves, {self.solver}) in {self.time:.3g} s; "
+            f"reached in some orientation: {any_}, in every orientation: {full}; "
+            f"mean fraction {f.mean() if f.size else 0.0:.3f}"
+        )
+
+    def save(self, path: str | Path) -> Path:
+        meta = {
+            "format": FORMAT,
+            "arm": self.arm,
+            "orientations": self.orientations,
+            "resolution": self.resolution,
+            "solver": self.solver,
+            "time": self.time,
+            "solves": self.solves,
+        }
+        arrays = dict(xs=self.xs, ys=self.ys, zs=self.zs, fraction=self.fraction)
+        return npz.save(path, meta, arrays)
+
+    @classmethod
+    def load(cls, path: str | Path) -> ReachMap:
+        keys = ("xs", "ys", "zs", "fraction")
+        meta, arrays = npz.load(path, FORMAT, "a reachability map", keys)
+        return cls(**arrays, **meta)
+
+    def plot(self, path: str | Path, slices: int = 5) -> Path:
+        """Write a PNG: a vertical slice (x, z) through the first joint and ``slices``
+        horizontal slices (x, y) at evenly spaced heights. Needs matplotlib (``plot``
+        extra)."""
+        try:
+            import matplotlib
+
+            matplotlib.use("Agg")
+            import matplotlib.pyplot as plt
+        except ImportError:
+            raise InputError('plotting needs matplotlib: pip install "armik[plot]"') from None
+        cols = 3
+        rows = math.ceil((slices + 1) / cols)
+        fig, axes = plt.subplots(
+            rows, cols, figsize=(4.2 * cols, 3.8 * rows), squeeze=False, layout="constrained"
+        )
+        extent_xz = _extent(self.xs, self.zs)
+        j0 = len(self.ys) // 2
+        panels = [("x (m)", "z (m)", self.fraction[:, j0, :].T, extent_xz,
+                   f"vertical slice y = {self.ys[j0]:.2f} m")]  # fmt: skip
+        filled = np.flatnonzero(np.isfinite(self.fraction).any(axis=(0, 1)))
+        if filled.size:
+            for k in np.linspace(filled[0], filled[-1], slices).round().astype(int):
+                panels.append(("x (m)", "y (m)", self.fraction[:, :, k].T,
+                               _extent(self.xs, self.ys), f"z = {self.zs[k]:.2f} m"))  # fmt: skip
+        image = None
+        for ax, (xl, yl, data, extent, title) in zip(axes.flat, panels):
+            image = ax.imshow(
+                np.ma.masked_invalid(data), origin="lower", extent=extent, vmin=0, vmax=1,
+                cmap="viridis", interpolation="nearest",
+            )  # fmt: skip
+            ax.set_xlabel(xl)
+            ax.set_ylabel(yl)
+            ax.set_title(title, fontsize=9)
+        for ax in list(axes.flat)[len(panels) :]:
+            ax.axis("off")
+        fig.suptitle(
+            f"{self.arm}: fraction of {self.orientations} tool orientations reached "
+            f"({self.resolution:g} m voxels)"
+        )
+        if image is not None:
+            fig.colorbar(image, ax=axes.ravel().tolist(), shrink=0.8, label="fraction reached")
+        path = Path(path)
+        fig.savefig(path, dpi=100)
+        plt.close(fig)
+        return path
+
+
+def _extent(a: np.ndarray, b: np.ndarray) -> tuple[float, float, float, float]:
+    ha = (a[1] - a[0]) / 2 if len(a) > 1 else 0.5
+    hb = (b[1] - b[0]) / 2 if len(b) > 1 else 0.5
+    return (a[0] - ha, a[-1] + ha, b[0] - hb, b[-1] + hb)
+
+
+def grid(arm: ArmModel, resolution: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Voxel centres around the first joint (xs, ys, zs) and the mask of those within the
+    reach bound (plus half a voxel diagonal)."""
+    reach = arm.reach
+    if not math.isfinite(reach):
+        raise InputError(
+            f"arm {arm.name!r} has an unlimited prismatic joint, so its workspace has no "
+            "bound to grid: set its limits with Arm.with_limits"
+        )
+    half = math.ceil(reach / resolution)
+    offsets = np.arange(-half, half + 1) * resolution
+    o = arm.first_joint_origin
+    xs, ys, zs = o[0] + offsets, o[1] + offsets, o[2] + offsets
+    X, Y, Z = np.meshgrid(offsets, offsets, offsets, indexing="ij")
+    inside = np.sqrt(X**2 + Y**2 + Z**2) <= reach + resolution * math.sqrt(3) / 2
+    return xs, ys, zs, inside
+
+
+def reachability(
+    arm: ArmModel,
+    resolution: float = 0.1,
+    orientations: int = 16,
+    *,
+    solver: str = "auto",
+    workers: int | None = None,
+    seed: int = 0,
+    progress: ProgressArg = None,
+    client=None,
+    **options: object,
+) -> ReachMap:
+    """Compute a reachability map (see the module docstring).
+
+    ``resolution``: voxel side (m). ``orientations``: tool orientations per voxel.
+    ``seed``: the orientation sample. ``workers`` / ``progress``: as for ``solve_batch``;
+    ``client``: a Dask client to run on a cluster instead (``armik.distributed``).
+    ``options``: solver options (default ``timeout=0.005``, tolerances 1e-5 m / rad).
+    """
+    try:
+        resolution = float(resolution)
+    except (TypeError, ValueError):
+        resolution = math.nan
+    if not (math.isfinite(resolution) and resolution > 0):
+        raise OptionError(
+            f"resolution must be a voxel side > 0 (m), got {resolution!r}",
+            option="resolution",
+            value=resolution,
+        )
+    if isinstance(orientations, bool) or not isinstance(orientations, int) or orientations < 1:
+        raise OptionError(
+            f"orientations must be a whole number >= 1, got {orientations!r}",
+            option="orientations",
+            value=orientations,
+        )
+    voxels = 4.0 / 3.0 * math.pi * (arm.reach / resolution) ** 3  # about; before allocating
+    if voxels * orientations > MAX_SOLVES:
+        raise OptionError(
+            f"about {voxels:.3g} voxels x {orientations} orientations is too many solves "
+            f"(more than {MAX_SOLVES:.0e}): raise resolution or lower orientations",
+            option="resolution",
+            value=resolution,
+        )
+    xs, ys, zs, inside = grid(arm, resolution)
+    centres = np.stack(np.meshgrid(xs, ys, zs, indexing="ij"), axis=-1)[inside]  # (V, 3)
+    rotations = Rotation.random(orientations, random_state=seed).as_matrix()  # (K, 3, 3)
+    v, k = len(centres), orientations
+    targets = TargetBatch(
+        np.repeat(centres, k, axis=0), np.tile(rotations, (v, 1, 1))
+    )  # voxel-major: rows v k .. v k + k - 1 are voxel v
+    opts = {**DEFAULT_OPTIONS, **options}
+    if client is not None:
+        result = cluster_solve(
+            arm, targets, solver=solver, client=client, progress=progress, **opts
+        )
+    else:
+        result = solve_batch(
+            arm, targets, solver=solver, workers=workers, progress=progress, **opts
+        )
+    fraction = np.full(inside.shape, np.nan)
+    fraction[inside] = result.success.reshape(v, k).mean(axis=1)
+    return ReachMap(
+        arm=arm.name,
+        xs=xs,
+        ys=ys,
+        zs=zs,
+        fraction=fraction,
+        orientations=k,
+        resolution=resolution,
+        solver=result.solver,
+        time=result.time,
+        solves=len(result),
+    )

@@ -1,0 +1,108 @@
+"""The one path from user input to verified results, shared by every solver."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from armik.frozen import frozen
+from armik.model.arm_model import ArmModel
+from armik.options import Options
+from armik.result import IKResult
+from armik.solve.prepared import plan_for
+from armik.solvers import registry
+from armik.targets.pose import parse_target
+from armik.verify.verdict import finish
+
+
+def solve(
+    arm: ArmModel,
+    target: object,
+    *,
+    q0: object = None,
+    solver: str = "auto",
+    all_solutions: bool = False,
+    **options: object,
+) -> list[IKResult]:
+    """Parse, choose a solver, run it, verify every answer, rank: best first."""
+    if not all_solutions:
+        return [solve_one(arm, target, q0, solver, options)]
+    return solve_one(arm, target, q0, solver, options, every=True)
+
+
+def solve_one(
+    arm: ArmModel, target: object, q0: object, solver: str, options: dict, every: bool = False
+):
+    """``solve(arm, target, q0=q0, solver=solver, **options)[0]`` (``Arm.solve``'s route),
+    or with ``every`` the whole list of ``all_solutions=True``: a prepared solve
+    (``armik.solve.prepared``) when the input is plain, else the general path."""
+    t0 = time.perf_counter()
+    opts, key, seed = _options(options)
+    plan = None if key is None else plan_for(arm, solver, key, opts, _is_vector(target))
+    if plan is not None:
+        got = (plan.solve_all if every else plan.solve)(target, q0, opts, seed, t0)
+        if got is not None:
+            return got
+    results = _general(arm, target, q0, solver, _with_seed(opts, seed), every, t0)
+    return results if every else results[0]
+
+
+def _is_vector(target: object) -> bool:
+    """An array of one dimension: a position target for the plan (other lengths are left
+    to the general path by the plan itself)."""
+    return type(target) is np.ndarray and target.ndim == 1
+
+
+def _general(arm, target, q0, solver, opts: Options, all_solutions: bool, t0: float):
+    tgt = parse_target(target, arm)
+    seed = arm.seed(q0)
+    spec = registry.choose(solver, arm, tgt, opts)
+    attempts = spec.run(arm, tgt, seed, opts, all_solutions)
+    return finish(arm, spec.name, attempts, tgt, opts, seed, all_solutions, t0)
+
+
+_OPTIONS: dict[tuple, Options] = {}
+
+
+def _options(kwargs: dict) -> tuple[Options, tuple | None, int | None]:
+    """(options, key, seed): ``Options.from_kwargs(kwargs)``, remembered under ``key``
+    (None: not remembered) when the values other than ``seed`` are hashable, and this
+    call's validated ``seed``. Validation costs a few us, and a loop of solves passes the
+    same options, often with a new seed each time: the remembered options keep the seed
+    they were first built with (``_with_seed`` gives them this call's)."""
+    if not kwargs:
+        return _DEFAULT, (), 0
+    seed = kwargs.get("seed", 0)
+    if "seed" in kwargs:
+        kwargs = dict(kwargs)
+        del kwargs["seed"]
+    try:
+        # with the types: 1 == True, but validation may accept one and refuse the other
+        key = (tuple(kwargs.items()), tuple(map(type, kwargs.values())))
+        opts = _OPTIONS.get(key)
+    except TypeError:  # an unhashable value (a list of weights): validate every time
+        return Options.from_kwargs({**kwargs, "seed": seed}), None, _seed(seed)
+    if opts is None:
+        opts = Options.from_kwargs({**kwargs, "seed": seed})  # the seed checked with them
+        if len(_OPTIONS) > 256:
+            _OPTIONS.clear()
+        _OPTIONS[key] = opts
+    return opts, key, _seed(seed)
+
+
+def _seed(seed: object) -> int | None:
+    """``seed`` as ``Options.from_kwargs`` validates it."""
+    if type(seed) is int and 0 <= seed < 2**63:
+        return seed  # what the validation returns for a plain int
+    return None if seed is None else Options.from_kwargs({"seed": seed}).seed
+
+
+def _with_seed(opts: Options, seed: int | None) -> Options:
+    """``opts`` with this seed (a copy, built without the frozen ``__init__``)."""
+    if opts.seed == seed and type(opts.seed) is type(seed):
+        return opts
+    return frozen(Options, **{**opts.__dict__, "seed": seed})
+
+
+_DEFAULT = Options()  # frozen: shared by every call without options

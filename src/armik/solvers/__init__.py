@@ -1,0 +1,13 @@
+"""Solvers: the registry, the claims between solver and verdict, the numeric solvers and the
+closed forms. Importing this package registers every built-in solver."""
+
+from armik.solvers.closed_form import (  # noqa: F401  (registration)
+    planar2r,
+    spherical_wrist,
+    swept_7r,
+    three_parallel,
+)
+from armik.solvers.numeric import clik, dls, qp  # noqa: F401  (registration)
+from armik.solvers.registry import SolverSpec, choose, get, register, solvers, why_not
+
+__all__ = ["SolverSpec", "choose", "get", "register", "solvers", "why_not"]

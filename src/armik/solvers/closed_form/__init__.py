@@ -1,0 +1,2 @@
+"""The closed forms: Paden-Kahan subproblems, the shared 6R code, and one file per family
+(each with its classifier beside its solver)."""

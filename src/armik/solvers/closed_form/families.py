@@ -1,0 +1,28 @@
+"""The closed-form families, each classified by its own file: what ``armik info`` prints.
+
+A new family adds its line here and its classifier in its own file.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from armik.model.geometry import axis_lines
+from armik.solvers.closed_form import planar2r, spherical_wrist, swept_7r, three_parallel
+
+if TYPE_CHECKING:
+    from armik.model.arm_model import ArmModel
+
+FAMILIES = {
+    "planar": planar2r.classify,
+    "spherical_wrist": spherical_wrist.classify,
+    "three_parallel": three_parallel.classify,
+    "swept_7r": swept_7r.classify,
+}
+
+
+def classify(arm: ArmModel) -> dict[str, object]:
+    """Each family name -> its geometry (a ``Plane``, ``Chain6R`` or ``Swept``) or the
+    reason it does not apply (a string)."""
+    ax = axis_lines(arm)
+    return {name: classifier(arm, ax) for name, classifier in FAMILIES.items()}

@@ -1,0 +1,467 @@
+"""What the closed-form 6R solvers share: the compiled output layout, 2 pi equivalents,
+branch labels, reasons, and the glue from the compiled kernel to ``Attempt``s.
+
+A kernel computes up to 8 rows in a work array ``W`` (8, 11), ``n`` the row count: per row
+the joint values (columns 0-5), ``flags`` (column 6; bit 1: least squares, the target is
+not reached; bit 2: singular, a free angle kept at q0), ``code`` (column 8: which step was
+solved only in the least-squares sense) and 2 numbers for the reason (columns 9, 10: what
+the target asks, what the arm can do). ``pack`` copies them into the caller's ``out``
+nearest-first and adds the branch (column 7) of the rows handed over, read from their
+geometry (``branch_bits``). The caller owns ``out``, so that a batch allocates it once.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from armik.errors import SolverError
+from armik.model.arm_model import ArmModel
+from armik.model.geometry import Axes
+from armik.options import Options
+from armik.solvers.claims import AttemptBatch, attempt, claim
+from armik.solvers.closed_form.subproblems import (
+    add,
+    cross,
+    dot,
+    mat,
+    mm,
+    mv,
+    norm,
+    rot,
+    scale,
+    sub,
+    vec,
+    wrap,
+)
+from armik.status import Status
+from armik.targets.pose import Target
+from armik.tolerances import LIMIT_TOL
+
+LS = 1
+SINGULAR = 2
+TWO_PI = 2.0 * math.pi
+# rad: a closed form's rounding (1e-12 and more) can put a joint that lies on its limit just
+# outside it; a value this close is put on the limit (moving the tip by ~1e-9 m, which the FK
+# check measures as always)
+SNAP = 1e-9
+
+# Reason codes of the kernels.
+SHOULDER_OFFSET = 1
+TOO_FAR = 2
+TOO_CLOSE = 3
+WRIST_ORIENTATION = 4
+ORIENTATION = 5
+
+
+@dataclass(frozen=True)
+class Chain6R:
+    """A 6R chain in product-of-exponentials form for the subproblem solvers.
+
+    With R_i = rot(h_i, q_i) and R_0i = R_1 ... R_i:
+    p_tip = p[0] + R_01 p[1] + R_02 p[2] + ... + R_06 p[6],  R_tip = R_06 R_tip0.
+    ``h``: (6, 3) unit axes at q = 0 in the base frame; ``p``: (7, 3) vectors between the
+    chosen points on consecutive axes (the first from the base origin, the last to the tip).
+    """
+
+    kind: str  # "spherical_wrist" or "three_parallel"
+    variant: str  # for the spherical wrist: "parallel_23" or "meeting_12"
+    h: np.ndarray
+    p: np.ndarray
+    R_tip0: np.ndarray
+    description: str
+
+
+def chain_6r(kind: str, variant: str, ax: Axes, points: list[np.ndarray], text: str) -> Chain6R:
+    p = np.empty((7, 3))
+    p[0] = points[0]
+    for i in range(1, 6):
+        p[i] = points[i] - points[i - 1]
+    p[6] = ax.tip_position - points[5]
+    h = np.ascontiguousarray(ax.directions)
+    return Chain6R(kind, variant, h, p, np.ascontiguousarray(ax.tip_rotation), text)
+
+
+def not_6r(arm: ArmModel) -> str | None:
+    """Why ``arm`` is not a 6R chain, or None."""
+    if arm.dof != 6:
+        return f"the chain has {arm.dof} joints, this class needs 6"
+    if np.any(arm.prismatic):
+        names = [n for n, p in zip(arm.joint_names, arm.prismatic) if p]
+        return f"joint {names[0]!r} is prismatic, this class needs 6 revolute joints"
+    return None
+
+
+
+@njit(cache=True)
+def put_row(W, n, q1, q2, q3, q4, q5, q6, flags, code, v0, v1):
+    """Write row ``n`` of a kernel's work array ``W`` (the layout above), each angle
+    wrapped into (-pi, pi]; returns n + 1."""
+    W[n, 0] = wrap(q1)
+    W[n, 1] = wrap(q2)
+    W[n, 2] = wrap(q3)
+    W[n, 3] = wrap(q4)
+    W[n, 4] = wrap(q5)
+    W[n, 5] = wrap(q6)
+    W[n, 6] = flags
+    W[n, 8] = code
+    W[n, 9] = v0
+    W[n, 10] = v1
+    return n + 1
+
+
+@njit(cache=True)
+def elbow_code(p23, p34, h3, q3, wanted):
+    """(reason code, span reached) of an elbow solved in the least-squares sense for the
+    span ``wanted``: too far when it asked more than the arm's closest span, else too
+    close."""
+    got = norm(add(p23, mv(rot(h3, q3), p34)))
+    return (TOO_FAR if wanted > got else TOO_CLOSE), got
+
+
+@njit(cache=True)
+def nearest_equivalents(Q, n, q0, lower, upper):
+    """Shift every angle of the first 6 columns of the first ``n`` rows of ``Q`` by a multiple
+    of 2 pi to the value nearest q0 within the limits (``Arm.nearest_equivalent``, compiled;
+    up to ``SNAP`` outside a limit counts as on it); a joint with no such value keeps its
+    value."""
+    for r in range(n):
+        for j in range(6):
+            qi, ri, lo, hi = Q[r, j], q0[j], lower[j], upper[j]
+            if -math.pi <= qi - ri <= math.pi and lo <= qi <= hi:
+                continue
+            near = qi + TWO_PI * round((ri - qi) / TWO_PI)  # the nearest of all
+            if lo - SNAP <= near <= hi + SNAP:
+                Q[r, j] = min(max(near, lo), hi)
+                continue
+            best = math.nan
+            for c in (near - TWO_PI, near + TWO_PI, qi):
+                if lo - SNAP <= c <= hi + SNAP:
+                    if math.isnan(best) or abs(c - ri) < abs(best - ri):
+                        best = c
+            if not math.isnan(best):
+                Q[r, j] = min(max(best, lo), hi)
+
+
+@njit(cache=True)
+def forward(h, p, R_tip0, q):
+    """The chain's own forward kinematics (product of exponentials): the tip's rotation
+    (9-tuple, row-major) and position (3-tuple). The kernels do not call it (Pinocchio
+    verifies their answers); tests/model/test_geometry.py checks a ``Chain6R`` with it."""
+    R = rot(vec(h[0]), q[0])
+    pos = add(vec(p[0]), mv(R, vec(p[1])))
+    for i in range(1, 6):
+        R = mm(R, rot(vec(h[i]), q[i]))
+        pos = add(pos, mv(R, vec(p[i + 1])))
+    return mm(R, mat(R_tip0)), pos
+
+
+@njit(cache=True)
+def branch_bits(h, p, q):
+    """The branch of configuration ``q``, read from its geometry (bits: 1 shoulder back,
+    2 elbow down, 4 wrist flipped), so that a label means the same pose on every target.
+
+    Shoulder S (a point on axis 2), elbow E (on axis 3), wrist W (on axis 4: the wrist
+    centre of a spherical wrist), P on axis 5 (the wrist centre, or where axes 5 and 6
+    meet). Shoulder "front" when P lies ahead of the arm, along (rot(h1, q1) h2) x h1, as
+    it does at q = 0; elbow "up" when E lies on the side of the line S-W that axis 1
+    points to (in the plane across axis 3; when axes 2 and 3 are not parallel: when the
+    forearm is bent positively about axis 3);
+    wrist "no-flip" when axis 6 turns from axis 4 about axis 5 in the positive sense,
+    h5 . (h4 x rot(h5, q5) h6) > 0: the two sides of the wrist singularity."""
+    h1, h2, h3 = vec(h[0]), vec(h[1]), vec(h[2])
+    h4, h5, h6 = vec(h[3]), vec(h[4]), vec(h[5])
+    p0, p1, p2, p3 = vec(p[0]), vec(p[1]), vec(p[2]), vec(p[3])
+    R1 = rot(h1, q[0])
+    R12 = mm(R1, rot(h2, q[1]))
+    S = add(p0, mv(R1, p1))
+    E = add(S, mv(R12, p2))
+    R123 = mm(R12, rot(h3, q[2]))
+    W = add(E, mv(R123, p3))
+    P = add(W, mv(mm(R123, rot(h4, q[3])), vec(p[4])))  # on axis 5 (W: spherical wrist)
+    bits = 0
+    ahead0 = dot(cross(h2, h1), add(add(p1, p2), add(p3, vec(p[4]))))
+    ahead = dot(cross(mv(R1, h2), h1), sub(P, p0))
+    if ahead * ahead0 < 0.0:
+        bits |= 1
+    if norm(cross(h2, h3)) < 1e-9:  # both elbow branches in one plane, across axis 3
+        k = mv(R12, h3)  # axis 3, turned
+        a = sub(E, S)
+        a = sub(a, scale(k, dot(k, a)))
+        b = sub(W, S)
+        b = sub(b, scale(k, dot(k, b)))
+        nb = norm(b)
+        if nb > 0.0:
+            b = scale(b, 1.0 / nb)
+            a = sub(a, scale(b, dot(a, b)))
+        down = dot(a, h1) < 0.0
+    else:  # the elbow bent one way or the other about axis 3
+        down = dot(h3, cross(p2, mv(rot(h3, q[2]), p3))) < 0.0
+    if down:
+        bits |= 2
+    if dot(h5, cross(h4, mv(rot(h5, q[4]), h6))) < 0.0:
+        bits |= 4
+    return bits
+
+
+@njit(cache=True)
+def _inside(W, r, lower, upper):
+    for j in range(6):
+        if not lower[j] - LIMIT_TOL <= W[r, j] <= upper[j] + LIMIT_TOL:
+            return False
+    return True
+
+
+@njit(cache=True)
+def pack(W, n, q0, lower, upper, h, p, labelled, out):
+    """Copy the kernel's ``n`` rows of ``W`` into ``out`` nearest-first (reached, within
+    limits, distance to q0: the order ``solve`` verifies them in); returns whether the first
+    row is reached and within the limits (then it is ``solve``'s answer if Pinocchio
+    verifies it). Branch labels (column 7) are read for the first ``labelled`` rows (every
+    row for ``solve_all``, the first for ``solve``, none for a batch); the others' is 0.
+    ``W``'s column 7 is used for the sort key."""
+    for r in range(n):
+        d2 = 0.0
+        for j in range(6):
+            d2 += (W[r, j] - q0[j]) ** 2
+        outside = not _inside(W, r, lower, upper)
+        W[r, 7] = math.sqrt(d2) + (1e4 if outside else 0.0) + (1e8 if int(W[r, 6]) & LS else 0.0)
+    first_ok = False
+    taken = 0  # bit r: row r copied
+    for k in range(n):  # selection sort, stable: at most 8 rows, no allocation
+        best = -1
+        for r in range(n):
+            if not taken & (1 << r) and (best < 0 or W[r, 7] < W[best, 7]):
+                best = r
+        taken |= 1 << best
+        if k == 0:
+            first_ok = not int(W[best, 6]) & LS and _inside(W, best, lower, upper)
+        for c in range(11):
+            out[k, c] = W[best, c]
+        out[k, 7] = 0.0
+    for k in range(min(n, labelled)):
+        out[k, 7] = branch_bits(h, p, out[k, :6])
+    return first_ok
+
+
+_LABELS = tuple(
+    "/".join(
+        (
+            "shoulder-back" if bits & 1 else "shoulder-front",
+            "elbow-down" if bits & 2 else "elbow-up",
+            "wrist-flip" if bits & 4 else "wrist-no-flip",
+        )
+    )
+    for bits in range(8)
+)
+
+
+def reason(code: int, val: tuple[float, float] | np.ndarray, family: str) -> str:
+    a, b = float(val[0]), float(val[1])
+    if code == SHOULDER_OFFSET:
+        where = "wrist centre" if family == "spherical_wrist" else "wrist point"
+        return (
+            f"the target's {where} is {a:.6g} m from axis 1 but the shoulder offset is "
+            f"{b:.6g} m: it lies inside the cylinder the arm cannot enter; q is the closest "
+            "configuration"
+        )
+    if code == TOO_FAR:
+        return (
+            f"target too far: the elbow must span {a:.6g} m, at most {b:.6g} m is "
+            "reachable; q is the closest configuration"
+        )
+    if code == TOO_CLOSE:
+        return (
+            f"target too close: the elbow must span {a:.6g} m, at least {b:.6g} m is "
+            "needed; q is the closest configuration"
+        )
+    if code in (WRIST_ORIENTATION, ORIENTATION):
+        return (
+            "the target orientation is one the arm cannot take at this position; q is the "
+            "closest configuration"
+        )
+    return "no exact solution; q is the closest configuration"
+
+
+def geometry(arm: ArmModel, family: str, classify) -> Chain6R | str:
+    """The family's geometry of ``arm`` (remembered per arm) or the reason it does not
+    apply."""
+    return arm.memo(("6R geometry", family), classify)
+
+
+def flat(arm: ArmModel, family: str, classify) -> np.ndarray:
+    """The family's chain and the arm's limits in one float array, cached per arm: h (18),
+    p (21), R_tip0 (9), lower (6), upper (6), variant (``spherical_wrist.classify``'s, as
+    0 for axes 2, 3 parallel and 1 for axes 1, 2 meeting; 0 for other families). One array
+    argument instead of five (numba's dispatch costs ~45 ns an array), and every path
+    (``run``, ``run_batch``, the prepared runner) passes views of it (``unflatten``), so
+    that the kernels are compiled for one set of argument types."""
+    def build(arm: ArmModel) -> np.ndarray:
+        geo = geometry(arm, family, classify)
+        variant = 1.0 if geo.variant == "meeting_12" else 0.0
+        parts = [geo.h, geo.p, geo.R_tip0, arm.lower, arm.upper, [variant]]
+        return np.concatenate([np.ravel(np.asarray(x, dtype=float)) for x in parts])
+
+    return arm.memo(("6R flat chain", family), build)
+
+
+@njit(cache=True, nogil=True)
+def unflatten(flat):
+    """(h, p, R_tip0, lower, upper, variant) of a ``flat`` array, as views (called from
+    Python too, as ``unflatten.py_func``)."""
+    return (
+        flat[0:18].reshape((6, 3)),
+        flat[18:39].reshape((7, 3)),
+        flat[39:48].reshape((3, 3)),
+        flat[48:54],
+        flat[54:60],
+        int(flat[60]),
+    )
+
+
+@njit(cache=True, nogil=True)
+def hand_over(n, reached, labelled, h, p, out):
+    """(n, head) for a kernel's packed rows in ``out`` (``pack``, the first ``labelled``
+    with their branch); head: the first row's branch bits, + 8 when singular, -1 unless it
+    is reached within the limits (so that ``solve`` reads no numpy scalar for the common
+    answer). When it is not, every row goes to the general verdict: the rows left
+    unlabelled are labelled here."""
+    if not reached:
+        for r in range(labelled, n):
+            out[r, 7] = branch_bits(h, p, out[r, :6])
+        return n, -1
+    return n, int(out[0, 7]) + (8 if int(out[0, 6]) & SINGULAR else 0)
+
+
+def applies(arm: ArmModel, target: Target | None, opts: Options | None, family: str, classify):
+    geo = geometry(arm, family, classify)
+    if isinstance(geo, str):
+        return geo
+    if target is not None and target.rotation is None:
+        return "a position target leaves the orientation free; the closed form needs a full pose"
+    if opts is not None and (opts.position_only or opts.weights is not None):
+        return "position_only and per-axis weights are for the numeric solvers"
+    return None
+
+
+def claim_reason(closed_form: str, singular: bool) -> str:
+    if singular:
+        return (
+            closed_form
+            + "; singular: a free joint was kept at its q0 value or as near it as the target allows"
+        )
+    return closed_form
+
+
+def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form):
+    """``run_pose(H, q0, seed, every=False)`` for ``armik.solve.prepared`` (see
+    ``armik.solvers.numeric.driver.pose_runner``): ``solve_into(flat, H, q0, every, out)`` is the family's
+    compiled kernel for one plain 4x4 pose (n = -1 when the pose or q0 is not plain; see
+    ``hand_over``). When the nearest row is reached within the limits, the answer ``solve``
+    verifies first, a ``Claim``; else the
+    attempts of every row (each labelled) for the general verdict. With ``every``
+    (``solve_all``, and ``solve`` when Pinocchio refuses that first answer): (Q, rows), Q
+    the (n, 6) read-only answers and rows one entry per answer, nearest first: a ``Claim``
+    (its q a row of Q) for an answer claimed reached, an ``Attempt`` for the others."""
+    chain = flat(arm, family, classify)
+    why = ((closed_form, False), (closed_form, True))  # claim_reason's arguments
+    # a reached row's claim after q, by its (flags, branch bits) as the kernel writes them
+    reached = {
+        (float(f), float(bits)): (
+            0,
+            0,
+            _LABELS[bits],
+            f == SINGULAR,
+            claim_reason,
+            why[f == SINGULAR],
+        )
+        for f in (0, SINGULAR)
+        for bits in range(8)
+    }
+    empty = np.empty
+
+    def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False):
+        out = empty((8, 11))
+        n, head = solve_into(chain, H, q0, every, out)
+        if n < 0:
+            return None
+        if every:  # solve_all: every row, claimed converged rows as claims
+            Q = out[:n, :6].copy()
+            Q.setflags(write=False)  # the results' q are its rows
+            rows = []
+            for k, key in enumerate(zip(out[:n, 6].tolist(), out[:n, 7].tolist())):
+                rest = reached.get(key)  # None: least squares
+                if rest is None:
+                    rows.append(attempts(out[k : k + 1], family, closed_form)[0])
+                else:
+                    rows.append(claim(Q[k], *rest))
+            return Q, rows
+        if head >= 0:
+            singular = head >= 8
+            return claim(out[0, :6], 0, 0, _LABELS[head & 7], singular, claim_reason, why[singular])
+        return attempts(out[:n], family, closed_form)
+
+    return run_pose
+
+
+def attempts(rows: np.ndarray, family: str, closed_form: str):
+    """The ``Attempt`` of each of a kernel's packed rows (see ``pack``), in their order
+    (nearest first: ``solve``'s verdict stops at the first that Pinocchio verifies)."""
+    result = []
+    # The row's flags, branch, code and values as plain floats, read in one call.
+    for k, (f, bits, code, v0, v1) in enumerate(rows[:, 6:11].tolist()):
+        f = int(f)
+        singular = bool(f & SINGULAR)
+        if f & LS:
+            claim, text = Status.UNREACHABLE, reason(int(code), (v0, v1), family)
+        else:
+            claim, text = Status.CONVERGED, claim_reason(closed_form, singular)
+        result.append(
+            attempt(
+                q=rows[k, :6],
+                claim=claim,
+                reason=text,
+                branch=_LABELS[int(bits)],
+                singular=singular,
+            )
+        )
+    return result
+
+
+def pose_arrays(target: Target) -> tuple[np.ndarray, np.ndarray]:
+    return np.ascontiguousarray(target.rotation, dtype=float), np.ascontiguousarray(
+        target.position, dtype=float
+    )
+
+
+@njit(cache=True, nogil=True)
+def column(H):
+    """The position column of the 4x4 ``H``, a 3-tuple."""
+    return (H[0, 3], H[1, 3], H[2, 3])
+
+
+CONVERGED_CODE = Status.CONVERGED.code
+UNREACHABLE_CODE = Status.UNREACHABLE.code
+
+
+def batch(arm: ArmModel, targets, q0: np.ndarray, kernel_many, chain) -> AttemptBatch:
+    """``run_batch`` of a family: ``kernel_many(chain, Rs, ps, q0s)``
+    (compiled, GIL released; ``chain`` the family's ``flat`` array) solves every target and
+    keeps its row nearest q0 (reached, within limits first)."""
+    if targets.rotations is None:
+        raise SolverError(
+            "the closed form needs full poses, these targets are positions only: use a "
+            "numeric solver",
+            solver="auto",
+            candidates=[],
+        )
+    n = len(targets)
+    Rs = np.ascontiguousarray(targets.rotations, dtype=float)
+    ps = np.ascontiguousarray(targets.positions, dtype=float)
+    q0s = np.ascontiguousarray(np.broadcast_to(q0, (n, arm.dof)), dtype=float)
+    q, claim = kernel_many(chain, Rs, ps, q0s)
+    zeros = np.zeros(n, np.int64)
+    return AttemptBatch(q=q, claim=claim, iterations=zeros, restarts=zeros.copy())

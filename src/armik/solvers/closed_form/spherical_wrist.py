@@ -1,0 +1,294 @@
+"""Closed-form IK of 6R arms with a spherical wrist (Pieper): the last three axes meet in
+the wrist centre, so the first three joints place the wrist centre and the last three
+turn the tool. Covers axes 2 and 3 parallel (the ortho-parallel industrial arms: ABB,
+KUKA, Fanuc, Staubli, the Kinova j2s6s, with any offsets) and axes 1 and 2 meeting.
+
+With the chain in product-of-exponentials form (``sixr.Chain6R``; the points on
+axes 4, 5, 6 all at the wrist centre W), for the target (R, p):
+
+    R_06 = R R_tip0^T,   W = p - R_06 p_6T,   p_16 = W - p_01
+    axes 2, 3 parallel:  h2 . rot(h1, q1)^T p_16 = h2 . (p_12 + p_23 + p_34)  -> SP4: q1
+                         |p_23 + rot(h3, q3) p_34| = |rot(h1, q1)^T p_16 - p_12| -> SP3: q3
+                         rot(h2, q2) (p_23 + rot(h3, q3) p_34) = ...            -> SP1: q2
+    axes 1, 2 meeting:   |p_23 + rot(h3, q3) p_34| = |p_16|                     -> SP3: q3
+                         rot(h1, q1) rot(h2, q2) (p_23 + rot(h3, q3) p_34) = p_16 -> SP2
+    wrist:               rot(h4, q4)^T R_36 h6 = rot(h5, q5) h6                -> SP2: q4, q5
+                         rot(h6, q6) = (R_03 R_4 R_5)^T R_06                    -> SP1: q6
+
+Up to 2 x 2 x 2 = 8 solutions. Singular cases keep the free angle at q0 (``singular``):
+the wrist (axes 4 and 6 aligned: q4 free), the shoulder (wrist centre on axis 1: q1 free),
+the elbow stretched or folded (the two elbow roots merge into one).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from armik.kernel.single import plain_pose, plain_seed
+from armik.model.arm_model import ArmModel
+from armik.model.geometry import Axes, angle_between, axis_lines, fmt, meeting_point
+from armik.options import Options
+from armik.solvers.claims import Attempt, AttemptBatch
+from armik.solvers.closed_form import sixr
+from armik.solvers.closed_form.sixr import LS, SHOULDER_OFFSET, SINGULAR, WRIST_ORIENTATION
+from armik.solvers.closed_form.subproblems import (
+    add,
+    dot,
+    mat,
+    mm,
+    mmt,
+    mtm,
+    mtv,
+    mv,
+    neg,
+    norm,
+    rot,
+    scale,
+    sp1,
+    sp2,
+    sp3,
+    sp4,
+    sub,
+    vec,
+)
+from armik.solvers.registry import SolverSpec, register
+from armik.targets.pose import Target
+from armik.tolerances import ANGLE_TOL, DISTANCE_TOL
+
+CLOSED_FORM = "closed form (spherical wrist)"
+FAMILY = "spherical_wrist"
+
+
+def classify(arm: ArmModel, ax: Axes | None = None) -> sixr.Chain6R | str:
+    """The 6R spherical-wrist geometry of ``arm``, or the reason it is not one."""
+    why = sixr.not_6r(arm)
+    if why:
+        return why
+    return classify_axes(ax or axis_lines(arm))
+
+
+def classify_axes(ax: Axes) -> sixr.Chain6R | str:
+    """The spherical-wrist geometry of six revolute axis lines (``classify`` without
+    the arm: for chains built from part of an arm), or the reason it is not one."""
+    P, H = ax.points, ax.directions
+    for i, j in ((3, 4), (4, 5)):
+        ang = angle_between(H[i], H[j])
+        if ang < ANGLE_TOL:
+            return f"axes {i + 1} and {j + 1} are parallel, so the last three do not form a wrist"
+    w, miss = meeting_point(P[3:], H[3:])
+    if miss > DISTANCE_TOL:
+        return (
+            f"the last three axes do not meet in one point: they miss by {fmt(miss)} m "
+            f"(tolerance {DISTANCE_TOL:g} m)"
+        )
+    a23 = angle_between(H[1], H[2])
+    a12 = angle_between(H[0], H[1])
+    if a12 < ANGLE_TOL:
+        return "axes 1 and 2 are parallel; the closed form needs them to cross"
+    if a23 < ANGLE_TOL:
+        text = f"spherical wrist at {np.round(w, 6).tolist()} m, axes 2 and 3 parallel"
+        pts = [P[0], P[1], P[2], w, w, w]
+        return sixr.chain_6r("spherical_wrist", "parallel_23", ax, pts, text)
+    c12, d12 = meeting_point(P[:2], H[:2])
+    if d12 <= DISTANCE_TOL:
+        text = f"spherical wrist at {np.round(w, 6).tolist()} m, axes 1 and 2 meet"
+        pts = [c12, c12, P[2], w, w, w]
+        return sixr.chain_6r("spherical_wrist", "meeting_12", ax, pts, text)
+    return (
+        "the last three axes meet in a point, but axes 2 and 3 are not parallel (angle "
+        f"{fmt(a23)} rad) and axes 1 and 2 do not meet (they miss by {fmt(d12)} m): "
+        "no closed form here for that case"
+    )
+
+
+@njit(cache=True)
+def _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, W, n):
+    """Append the (up to 2) wrist solutions for a placed wrist centre to the kernel's rows
+    ``W`` (``sixr``'s layout); returns the count."""
+    R36 = mtm(R03, R06)
+    a0, a1, b0, b1, nw, lsw = sp2(mv(R36, h6), h6, neg(h4), h5, q0[3])
+    sing = False
+    if nw == -1:
+        nw, sing = 1, True
+    for iw in range(nw):
+        q4 = a0 if iw == 0 else a1
+        q5 = b0 if iw == 0 else b1
+        R6 = mtm(mm(rot(h4, q4), rot(h5, q5)), R36)
+        q6, _ = sp1(h5, mv(R6, h5), h6)
+        f = flag
+        c = cd
+        if lsw:
+            f |= LS
+            if c == 0:
+                c = WRIST_ORIENTATION
+        if sing:
+            f |= SINGULAR
+        n = sixr.put_row(W, n, q1, q2, q3, q4, q5, q6, f, c, v0, v1)
+    return n
+
+
+@njit(cache=True)
+def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
+    """All closed-form solutions for the target rotation ``R`` (9-tuple, row-major) and
+    position ``pos`` (3-tuple), packed nearest-first into ``out`` (8, 11), the first
+    ``labelled`` with their branch; returns (n, first reached) (see ``sixr.pack``)."""
+    W = np.empty((8, 11))
+    h1, h2, h3, h4 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[3])
+    h5, h6 = vec(h[4]), vec(h[5])
+    p0, p1, p2, p3, p6 = vec(p[0]), vec(p[1]), vec(p[2]), vec(p[3]), vec(p[6])
+    R06 = mmt(R, mat(R_tip0))
+    p16 = sub(sub(pos, mv(R06, p6)), p0)
+    n = np.int64(0)  # not a literal 0: numba would compile the callees for it too
+    if variant == 0:  # axes 2 and 3 parallel
+        d = dot(h2, add(add(p1, p2), p3))
+        a0, a1, n1, ls1 = sp4(h2, p16, neg(h1), d)
+        flag1, cd1, v0, v1 = 0, 0, 0.0, 0.0
+        if n1 == -1:  # wrist centre on axis 1
+            n1, a0 = 1, q0[0]
+            flag1 |= SINGULAR
+        if ls1:
+            flag1 |= LS
+            cd1 = SHOULDER_OFFSET
+            v0 = norm(sub(p16, scale(h1, dot(h1, p16))))
+            v1 = abs(d - dot(h2, h1) * dot(h1, p16))
+        for i1 in range(n1):
+            q1 = a0 if i1 == 0 else a1
+            R1 = rot(h1, q1)
+            v = sub(mtv(R1, p16), p1)
+            nv = norm(v)
+            c0, c1, n3, ls3 = sp3(p3, neg(p2), h3, nv)
+            flag3, cd3, w0, w1 = flag1, cd1, v0, v1
+            if n3 == -1:
+                n3, c0 = 1, q0[2]
+                flag3 |= SINGULAR
+            elif n3 == 1 and not ls3:
+                flag3 |= SINGULAR  # stretched or folded
+            if ls3:
+                flag3 |= LS
+                if cd3 == 0:
+                    cd3, w1 = sixr.elbow_code(p2, p3, h3, c0, nv)
+                    w0 = nv
+            for i3 in range(n3):
+                q3 = c0 if i3 == 0 else c1
+                R3 = rot(h3, q3)
+                u = add(p2, mv(R3, p3))
+                q2, _ = sp1(u, v, h2)
+                R03 = mm(mm(R1, rot(h2, q2)), R3)
+                n = _wrist(
+                    R03, R06, h4, h5, h6, q0, q1, q2, q3, flag3, cd3, w0, w1,
+                    W, n,
+                )  # fmt: skip
+    else:  # axes 1 and 2 meet (p_12 = 0)
+        n16 = norm(p16)
+        c0, c1, n3, ls3 = sp3(p3, neg(p2), h3, n16)
+        flag3, cd3, w0, w1 = 0, 0, 0.0, 0.0
+        if n3 == -1:
+            n3, c0 = 1, q0[2]
+            flag3 |= SINGULAR
+        elif n3 == 1 and not ls3:
+            flag3 |= SINGULAR
+        if ls3:
+            flag3 |= LS
+            cd3, w1 = sixr.elbow_code(p2, p3, h3, c0, n16)
+            w0 = n16
+        for i3 in range(n3):
+            q3 = c0 if i3 == 0 else c1
+            R3 = rot(h3, q3)
+            u = add(p2, mv(R3, p3))
+            a0, a1, b0, b1, n12, ls12 = sp2(p16, u, neg(h1), h2, q0[0])
+            flag = flag3
+            if n12 == -1:  # wrist centre on axis 1
+                n12 = 1
+                flag |= SINGULAR
+            if ls12 and not ls3:
+                flag |= LS
+            for i12 in range(n12):
+                q1 = a0 if i12 == 0 else a1
+                q2 = b0 if i12 == 0 else b1
+                R03 = mm(mm(rot(h1, q1), rot(h2, q2)), R3)
+                n = _wrist(
+                    R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd3, w0, w1,
+                    W, n,
+                )  # fmt: skip
+    sixr.nearest_equivalents(W, n, q0, lower, upper)
+    return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out)
+
+
+@njit(cache=True, nogil=True)
+def solve_into(chain, H, q0, every, out):
+    """``kernel`` for one 4x4 pose ``H``, its rows packed into ``out`` (8, 11); returns
+    ``sixr.hand_over``'s (n, head), or n = -1 and nothing solved when ``H`` or ``q0`` is
+    not plain (``kernel.single``). ``chain``: ``sixr.flat``."""
+    h, p, R_tip0, lower, upper, variant = sixr.unflatten(chain)
+    if not plain_pose(H) or not plain_seed(q0, lower, upper):
+        return -1, 0
+    labelled = 8 if every else 1
+    R, pos = mat(H), sixr.column(H)
+    n, reached = kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out)
+    return sixr.hand_over(n, reached, labelled, h, p, out)
+
+
+@njit(cache=True, nogil=True)
+def kernel_many(chain, Rs, ps, q0s):
+    """``kernel`` for N targets: the row nearest q0 of each, and its claim code."""
+    h, p, R_tip0, lower, upper, variant = sixr.unflatten(chain)
+    N = ps.shape[0]
+    Q = np.empty((N, 6))
+    claim = np.empty(N, np.int8)
+    out = np.empty((8, 11))  # one for every target
+    unlabelled = np.int64(0)  # no branch labels (not a literal 0: one compile of kernel)
+    for i in range(N):
+        R, pos = mat(Rs[i]), vec(ps[i])
+        kernel(h, p, R_tip0, R, pos, q0s[i], lower, upper, variant, unlabelled, out)
+        for j in range(6):  # a loop: a slice copy compiles numba's shape-error path
+            Q[i, j] = out[0, j]
+        claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
+    return Q, claim
+
+
+def _classify(arm: ArmModel):
+    return classify(arm)
+
+
+def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
+    return sixr.applies(arm, target, opts, FAMILY, _classify)
+
+
+def run(
+    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+) -> list[Attempt]:
+    h, p, R_tip0, lower, upper, variant = sixr.unflatten.py_func(sixr.flat(arm, FAMILY, _classify))
+    R, pos = sixr.pose_arrays(target)
+    out = np.empty((8, 11))
+    # every row, labelled: ``solve``'s verdict takes the first that Pinocchio verifies
+    n, _ = kernel(h, p, R_tip0, mat(R), vec(pos), q0, lower, upper, variant, np.int64(8), out)
+    return sixr.attempts(out[:n], FAMILY, CLOSED_FORM)
+
+
+def run_batch(arm: ArmModel, targets, q0: np.ndarray, opts: Options, seeds=None) -> AttemptBatch:
+    """Every target in one compiled call (GIL released), the ``SolverSpec.run_batch``
+    shape; ``seeds`` is unused (no restarts). ``solve_batch`` solves the rows that fail
+    again through ``run``, so that they carry its per-target reasons."""
+    chain = sixr.flat(arm, FAMILY, _classify)
+    return sixr.batch(arm, targets, q0, kernel_many, chain)
+
+
+def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):
+    # position_only is always False: ``applies`` refuses position targets
+    return sixr.pose_runner(arm, FAMILY, _classify, solve_into, CLOSED_FORM)
+
+
+SPEC = register(
+    SolverSpec(
+        name="spherical",
+        kind="analytic",
+        enforces_limits=True,
+        priority=90,
+        why_not=applies,
+        run=run,
+        summary="closed form for 6R arms with a spherical wrist: up to 8 solutions",
+        run_batch=run_batch,
+        prepare_pose=prepare_pose,
+    )
+)

@@ -1,0 +1,265 @@
+"""7R arms by one swept joint: joint 7 held, joints 1 to 6 in closed form.
+
+Held at theta, joint 7 turns the tip about its axis, so joints 1-6 (with the tip at its
+q = 0 pose M0, a geometry that does not change with theta) must reach
+T6 = T_target G(theta), G(theta) the turn by -theta about joint 7's axis line in the tip
+frame. Read from the tip back to the base, joints 6, 5, ..., 1 form a 6R chain that reaches
+T6^-1 (joint j becomes joint 7 - j, its axis negated, its angle the same). When that chain
+is in the spherical-wrist class (its last three axes meet: joints 3, 2, 1, a spherical
+shoulder; and its first two meet: joints 6 and 5), as on the Franka Panda, its closed form
+(``spherical.kernel``) gives every branch exactly.
+
+``solve`` holds joint 7 at q0's value first, then at ``SWEEP`` values over its range,
+nearest q0's first, and stops at the first value with an exact answer within the limits:
+the answer keeps joint 7 as near q0 as the target allows. ``solve_all`` returns every
+branch of that value of joint 7 (a redundant arm has infinitely many solutions: these are
+the ones with joint 7 there). Every answer is verified by Pinocchio FK as always. Not
+chosen by ``solver="auto"``; ask for it with ``solver="swept"``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from armik.kernel.measure import split_pose
+from armik.kernel.single import plain_pose, plain_seed
+from armik.model.arm_model import ArmModel
+from armik.model.geometry import Axes, axis_lines
+from armik.options import Options
+from armik.solvers.claims import Attempt, claim
+from armik.solvers.closed_form import sixr
+from armik.solvers.closed_form import spherical_wrist as spherical
+from armik.solvers.closed_form.subproblems import mat, rot, vec
+from armik.solvers.registry import SolverSpec, register
+from armik.status import Status
+from armik.targets.pose import Target
+
+SWEEP = 128  # values of joint 7 tried after q0's, spread over its range
+FAMILY = "swept_7r"
+
+
+@dataclass(frozen=True)
+class Swept:
+    """A 7R arm read as joints 6 to 1 from the tip (a 6R chain) and joint 7's axis line in
+    the tip frame at q = 0."""
+
+    geo: sixr.Chain6R
+    variant: int  # spherical.kernel's: 0 axes 2, 3 parallel, 1 axes 1, 2 meeting
+    c: np.ndarray  # a point on joint 7's axis (tip frame at q = 0), m
+    u: np.ndarray  # joint 7's unit axis (tip frame)
+
+    @property
+    def description(self) -> str:
+        return f"joint 7 held, joints 6 to 1 read from the tip: {self.geo.description}"
+
+
+def classify(arm: ArmModel, ax: Axes | None = None) -> Swept | str:
+    """The geometry the swept solver sweeps over (see the module), or the reason this 7R arm is not
+    in the class: joint 7 held, joints 6 to 1 read from the tip form a spherical wrist."""
+    if arm.dof != 7:
+        return f"the chain has {arm.dof} joints, this class needs 7"
+    if np.any(arm.prismatic):
+        return "the chain has a prismatic joint, this class needs 7 revolute joints"
+    ax = ax or axis_lines(arm)
+    Rt = ax.tip_rotation.T
+    t = ax.tip_position
+    order = (5, 4, 3, 2, 1, 0)  # joints 6 to 1
+    reversed_axes = Axes(
+        np.array([Rt @ (ax.points[j] - t) for j in order]),
+        np.array([-(Rt @ ax.directions[j]) for j in order]),
+        np.ones(6, dtype=bool),
+        -(Rt @ t),
+        Rt.copy(),
+    )
+    geo = spherical.classify_axes(reversed_axes)
+    if isinstance(geo, str):
+        return f"with joint 7 held, joints 6 to 1 from the tip are not a spherical wrist: {geo}"
+    variant = 0 if geo.variant == "parallel_23" else 1
+    return Swept(geo, variant, Rt @ (ax.points[6] - t), Rt @ ax.directions[6])
+
+
+def geometry(arm: ArmModel) -> Swept | str:
+    return sixr.geometry(arm, FAMILY, classify)
+
+
+def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
+    return sixr.applies(arm, target, opts, FAMILY, classify)
+
+
+def sweep_range(arm: ArmModel, q7: float) -> tuple[float, float]:
+    """The range joint 7 is swept over: its limits ([q7 - pi, q7 + pi] when it has none)."""
+    lo, hi = float(arm.lower[6]), float(arm.upper[6])
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        return q7 - math.pi, q7 + math.pi
+    return lo, hi
+
+
+@njit(cache=True)
+def sweep_values(q7, lo, hi):
+    """The values of joint 7 tried, in order: q7, then the ``SWEEP`` cell centres of
+    [lo, hi], nearest q7 first (taken alternately from either side of q7's cell)."""
+    out = np.empty(SWEEP + 1)
+    out[0] = q7
+    width = (hi - lo) / SWEEP
+    left = min(max(int((q7 - lo) / width), 0), SWEEP - 1)  # q7's cell: the nearest centre
+    right = left + 1
+    for k in range(1, SWEEP + 1):
+        if right >= SWEEP or (
+            left >= 0 and q7 - (lo + (left + 0.5) * width) <= lo + (right + 0.5) * width - q7
+        ):
+            out[k] = lo + (left + 0.5) * width
+            left -= 1
+        else:
+            out[k] = lo + (right + 0.5) * width
+            right += 1
+    return out
+
+
+@njit(cache=True)
+def held_target(c, u, R, pos, theta):
+    """The target of the reversed chain with joint 7 at ``theta``: T6^-1, T6 = T_target
+    G(theta), G the turn by -theta about the line through ``c`` along ``u`` (tip frame)."""
+    Rg = mat_array(rot(vec(u), -theta))
+    R6 = R @ Rg
+    p6 = R @ (c - Rg @ c) + pos
+    R_inv = np.ascontiguousarray(R6.T)
+    return R_inv, -(R_inv @ p6)
+
+
+@njit(cache=True)
+def mat_array(M):
+    """A 9-tuple (row-major) as a 3x3 array."""
+    A = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            A[i, j] = M[3 * i + j]
+    return A
+
+
+@njit(cache=True)
+def first_held(h, p, R_tip0, variant, c, u, R, pos, q0r, lower, upper, q7, lo, hi):
+    """The first value of joint 7 (``sweep_values``) at which joints 6 to 1 (reversed: ``q0r``,
+    ``lower``, ``upper`` in their order) reach the target exactly within their limits: that
+    value and its rows (``sixr.pack``'s, nearest q0 first); (q7, its rows, False) when no
+    value does."""
+    first = np.empty((8, 11))  # the rows at q7
+    out = np.empty((8, 11))  # the rows at the other values
+    n_first = 0
+    thetas = sweep_values(q7, lo, hi)
+    unlabelled = np.int64(0)  # rows' branches unused (not a literal 0: one compile of kernel)
+    for k in range(thetas.shape[0]):
+        theta = thetas[k]
+        R_inv, p_inv = held_target(c, u, R, pos, theta)
+        rows = first if k == 0 else out
+        n, _ = spherical.kernel(
+            h, p, R_tip0, mat(R_inv), vec(p_inv), q0r, lower, upper, variant, unlabelled, rows
+        )
+        if k == 0:
+            n_first = n
+        if n > 0 and not int(rows[0, 6]) & sixr.LS:
+            inside = True  # row 0 is within the limits if any exact row is (pack's order)
+            for j in range(6):
+                if not lower[j] - sixr.LIMIT_TOL <= rows[0, j] <= upper[j] + sixr.LIMIT_TOL:
+                    inside = False
+            if inside:
+                return theta, rows[:n], True
+    return q7, first[:n_first], False
+
+
+def held_reason(theta: float, singular: bool) -> str:
+    text = f"closed form with joint 7 held at {theta:.6g} rad (joints 6 to 1 as a spherical wrist)"
+    return sixr.claim_reason(text, singular)
+
+
+def _attempts(rows: np.ndarray, theta: float) -> list[Attempt]:
+    result = []
+    for row in rows:
+        flags = int(row[7])
+        singular = bool(flags & sixr.SINGULAR)
+        if flags & sixr.LS:
+            reason = sixr.reason(int(row[9]), row[10:12], spherical.FAMILY)
+            claim = Status.UNREACHABLE
+        else:
+            reason, claim = held_reason(theta, singular), Status.CONVERGED
+        result.append(Attempt(q=row[:7].copy(), claim=claim, reason=reason, singular=singular))
+    return result
+
+
+@njit(cache=True)
+def held_rows(h, p, R_tip0, variant, c, u, R, pos, q0, lower, upper, lo7, hi7):
+    """``first_held`` on the 7R chain's own joint order: (theta, rows (n, 12): q (7), flags,
+    branch, code, values, found)."""
+    q0r, lor, hir = np.empty(6), np.empty(6), np.empty(6)
+    for j in range(6):
+        q0r[j], lor[j], hir[j] = q0[5 - j], lower[5 - j], upper[5 - j]
+    theta, out, found = first_held(
+        h, p, R_tip0, variant, c, u, R, pos, q0r, lor, hir, q0[6], lo7, hi7
+    )
+    rows = np.empty((out.shape[0], 12))
+    for r in range(out.shape[0]):
+        for j in range(6):
+            rows[r, j] = out[r, 5 - j]  # joints 1 to 6 again
+        rows[r, 6] = theta
+        for j in range(5):
+            rows[r, 7 + j] = out[r, 6 + j]
+    return theta, rows, found
+
+
+def _held(arm: ArmModel, sw, R, pos, q0: np.ndarray):
+    lo7, hi7 = sweep_range(arm, float(q0[6]))
+    return held_rows(
+        sw.geo.h, sw.geo.p, sw.geo.R_tip0, sw.variant, sw.c, sw.u, R, pos, q0,
+        np.ascontiguousarray(arm.lower, dtype=float), np.ascontiguousarray(arm.upper, dtype=float),
+        lo7, hi7,
+    )  # fmt: skip
+
+
+def run(
+    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+) -> list[Attempt]:
+    R, pos = sixr.pose_arrays(target)
+    theta, rows, found = _held(arm, geometry(arm), R, pos, np.ascontiguousarray(q0, float))
+    if all_solutions:
+        exact = [r for r in rows if not int(r[7]) & sixr.LS]
+        return _attempts(np.array(exact) if exact and found else rows, theta)
+    return _attempts(rows[:1], theta)
+
+
+def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):
+    """``run_pose`` for ``armik.solve.prepared`` (see ``armik.solvers.numeric.driver.pose_runner``); position_only is
+    always False (``applies`` refuses position targets), ``solve_all`` takes the general
+    path."""
+    sw = geometry(arm)
+    lower = np.ascontiguousarray(arm.lower, dtype=float)
+    upper = np.ascontiguousarray(arm.upper, dtype=float)
+
+    def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False):
+        if every or not plain_pose(H) or not plain_seed(q0, lower, upper):
+            return None
+        R, pos = split_pose(H)
+        theta, rows, found = _held(arm, sw, R, pos, q0)
+        if not found:
+            return _attempts(rows[:1], theta)
+        singular = bool(int(rows[0, 7]) & sixr.SINGULAR)
+        return claim(rows[0, :7], 0, 0, None, singular, held_reason, (theta, singular))
+
+    return run_pose
+
+
+SPEC = register(
+    SolverSpec(
+        name="swept",
+        kind="analytic",
+        enforces_limits=True,
+        priority=80,
+        why_not=applies,
+        run=run,
+        summary="7R arms: joint 7 held (swept from q0's value), joints 6 to 1 in closed form",
+        auto=False,
+        prepare_pose=prepare_pose,
+    )
+)

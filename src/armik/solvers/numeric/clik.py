@@ -1,0 +1,88 @@
+"""The classic Pinocchio CLIK loop, kept as a baseline for the benchmark.
+
+As in Pinocchio's inverse-kinematics example: e = log6(T_tip^-1 T_target),
+v = -J^T (J J^T + damp I)^-1 e with J = -Jlog6(...) J_local, q <- integrate(q, v dt) with a
+fixed dt = 0.1, joints clipped into their limits, no restarts. Not chosen by "auto".
+
+Options: ``max_iterations`` caps the loop (Pinocchio's example uses 1000: the benchmark
+passes that), ``iteration_budget`` caps it too, and ``timeout`` counts the solving thread's
+CPU time as for dls and qp. ``max_restarts``, ``seed`` and ``nullspace_gain`` have no effect:
+the loop has no restarts and no null-space term.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import pinocchio as pin
+
+from armik.model.arm_model import ArmModel
+from armik.options import Options
+from armik.solvers.claims import Attempt
+from armik.solvers.numeric.driver import Problem, converged, evaluate
+from armik.solvers.registry import SolverSpec, register
+from armik.status import Status
+from armik.targets.pose import Target
+
+DT = 0.1
+DAMP = 1e-12
+
+
+def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
+    return None
+
+
+def run(
+    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+) -> list[Attempt]:
+    pb = Problem.build(arm, target, q0, opts)
+    s = evaluate(pb, pb.q0_pin.copy())
+    # after the first evaluation, which compiles the kernel's error in a fresh process
+    # (seconds): as for dls and qp, compiling is not the solve's time
+    deadline = time.thread_time() + opts.timeout
+    limit = opts.max_iterations
+    if opts.iteration_budget is not None:
+        limit, deadline = min(limit, opts.iteration_budget), math.inf
+    it = 0
+    for it in range(limit + 1):
+        if converged(pb, s):
+            return [
+                Attempt(
+                    q=arm.nearest_equivalent(arm.from_pin(s.qp), q0),
+                    claim=Status.CONVERGED,
+                    iterations=it,
+                    reason="CLIK converged",
+                )
+            ]
+        if it == limit or time.thread_time() > deadline:
+            break
+        A, e = s.A, s.e
+        v = A.T @ np.linalg.solve(A @ A.T + DAMP * np.eye(6), e)
+        qn = pin.integrate(arm.model, s.qp, v * DT)
+        arm.clip_pin(qn)
+        s = evaluate(pb, qn)
+    return [
+        Attempt(
+            q=arm.nearest_equivalent(arm.from_pin(s.qp), q0),
+            claim=Status.NOT_CONVERGED,
+            iterations=it,
+            reason=f"CLIK did not converge: position error {s.pos:.3g} "
+            f"m, orientation error {s.rot:.3g} rad",
+        )
+    ]
+
+
+SPEC = register(
+    SolverSpec(
+        name="clik",
+        kind="numeric",
+        enforces_limits=False,
+        priority=0,
+        why_not=applies,
+        run=run,
+        summary="baseline: Pinocchio's example CLIK loop (fixed step, clipping)",
+        auto=False,
+    )
+)

@@ -1,0 +1,417 @@
+"""The numeric solvers' Python side: settings, the kernel call, attempts and reasons.
+
+The iteration itself (pose error and its exact Jacobian, damping, the bounded step, the
+active set on limits, the careful Levenberg-Marquardt mode, stall detection, restarts from
+a shifted Halton sequence with candidate picking, known minima, the null-space pull) is
+compiled: see ``armik.kernel`` (``descent.py`` documents the iteration, ``restarts.py`` the
+restarts). ``dls`` and ``qp`` differ only in their step. This module turns options into the
+kernel's ``Settings``, calls its entry (``kernel.entry``, one per step) for one target
+(``run_numeric``) or many (``run_numeric_batch``), and turns its arrays into attempts.
+
+``Problem``, ``evaluate``, ``descend`` and ``RestartSeeds`` expose pieces of the kernel to
+tests and to readers; they call the compiled functions, they do not copy them.
+"""
+
+from __future__ import annotations
+
+import math
+import secrets
+import time
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from armik.kernel import box_qp as backend
+from armik.kernel import descent as _descent
+from armik.kernel import error as _error
+from armik.kernel import restarts as _restarts
+from armik.kernel.chain import Flat, halton
+from armik.kernel.clock import thread_cpu_ns
+from armik.kernel.descent import CAREFUL_BELOW, KNOWN_MINIMUM_RADIUS  # noqa: F401 (re-exported)
+from armik.kernel.entry import ENTRIES
+from armik.kernel.problem import (
+    NO_LIMIT,
+    SHIFT,
+    STEP_DLS,
+    STEP_QP,
+    Settings,
+    Workspace,
+    pack_settings,
+    workspace,
+)
+from armik.kernel.restarts import RESTART_CANDIDATES  # noqa: F401 (re-exported)
+from armik.kernel.single import POSE_ENTRIES
+from armik.kernel.step import backend_step
+from armik.kernel.warmup import prepare
+from armik.model.arm_model import ArmModel
+from armik.options import Options
+from armik.solvers.claims import Attempt, AttemptBatch, claim, converged_attempt
+from armik.status import Status
+from armik.targets.batch import TargetBatch
+from armik.targets.pose import Target
+from armik.verify import reasons
+
+_EYE = np.eye(3)  # read only by the kernel
+_FLOAT = np.dtype(float)
+_CONVERGED = Status.CONVERGED
+_halton = halton  # the restart table (kept under its old name for readers and tests)
+
+
+class Step(NamedTuple):
+    """Which step the kernel takes: ``STEP_DLS`` or ``STEP_QP`` (with its QP backend)."""
+
+    kind: int
+    backend: int = 0
+
+
+DLS_STEP = Step(STEP_DLS)
+
+
+def qp_step(backend_name: str) -> Step:
+    which = backend.code(backend_name)
+    if which not in _WARM:
+        _warm(which)
+    return Step(STEP_QP, which)
+
+
+_WARM: set[int] = set()
+
+
+def _warm(which: int) -> None:
+    """Call the backend once from compiled code, on a tiny box QP: the first call through
+    ``numba.objmode`` costs ~40 ms, which would otherwise land inside one solve's budget
+    (measured: one Panda target of 2000 took 47 ms against a 5 ms budget)."""
+    backend_step(2.0 * np.eye(2), np.ones(2), -np.ones(2), np.ones(2), which)
+    _WARM.add(which)
+
+
+def packed_settings(
+    opts: Options, position_only: bool, dof: int, max_found: int, step: Step
+) -> tuple[np.ndarray, np.ndarray]:
+    """``settings`` as the kernel entry takes them, remembered: a loop of solves whose
+    options differ only in ``seed`` builds them once."""
+    key = (
+        opts.tol_position,
+        opts.tol_orientation,
+        opts.timeout,
+        opts.max_restarts,
+        opts.max_iterations,
+        opts.position_only,
+        opts.weights,
+        opts.nullspace_gain,
+        opts.iteration_budget,
+        position_only,
+        dof,
+        max_found,
+        step,
+    )
+    packed = _PACKED.get(key)
+    if packed is None:
+        packed = pack_settings(settings(opts, position_only, dof, max_found, step))
+        if len(_PACKED) > 512:
+            _PACKED.clear()
+        _PACKED[key] = packed
+    return packed
+
+
+_PACKED: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+
+
+def settings(opts: Options, position_only: bool, dof: int, max_found: int, step: Step):
+    """The kernel's ``Settings`` for these options, target kind and arm size."""
+    # only the ratios matter to the task: the smallest measured weight is 1, so that the
+    # lightest rows stay well above the damping's floor (LAMBDA_MIN)
+    w = opts.weight_vector(position_only)
+    w = w / w[w > 0.0].min()
+    full_task = opts.weights is None and not (opts.position_only or position_only)
+    n_task = 6 if full_task else int(np.count_nonzero(w))
+    return Settings(
+        w,
+        full_task or bool((w == 1.0).all()),
+        bool(w[:3].any()),
+        0.5 * opts.tol_position,
+        0.5 * opts.tol_orientation,
+        float(opts.nullspace_gain) if dof > n_task else 0.0,
+        int(opts.max_iterations),
+        int(opts.max_restarts),
+        int(max_found),
+        min(int(opts.timeout * 1e9), 2**62),
+        NO_LIMIT if opts.iteration_budget is None else int(opts.iteration_budget),
+        int(step.kind),
+        int(step.backend),
+        bool(w[:3].all()),
+        float(opts.tol_position),
+        1.0 / float(w.max()),
+        bool((w[:3] == 0.0).any() and (w[3:] == 0.0).any() and w[:3].any()),
+    )
+
+
+def solve_seed(opts: Options) -> int:
+    """The restart seed of a solve: ``opts.seed``, or a fresh random one when it is None."""
+    return secrets.randbits(63) if opts.seed is None else int(opts.seed)
+
+
+def run_numeric(
+    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool, step: Step
+) -> list[Attempt]:
+    """Descend from q0, then from restart seeds until solved, out of budget or restarts."""
+    max_found = opts.max_solutions if all_solutions else 1
+    sf, si = packed_settings(opts, target.position_only, arm.dof, max_found, step)
+    # C-ordered, writable float64 rows (numba compiles anew for any other layout): views of
+    # the inputs when they are such arrays already (the kernel only reads them), else copies.
+    R_t = _c_float(_EYE if target.rotation is None else target.rotation)[None]
+    p_t = _c_float(target.position)[None]
+    q0 = _c_float(q0)
+    out_q = np.empty((1, max_found, arm.dof))
+    info = np.empty((1, 5), dtype=np.int64)
+    err = np.empty((1, 2))
+    seeds = np.empty(1, dtype=np.uint64)
+    seeds[0] = solve_seed(opts)  # (a third of np.array([seed], dtype=np.uint64)'s cost)
+    prepare(step.kind)
+    ENTRIES[step.kind](*arm.kernel_chain.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
+    return attempts(arm, target.position, q0, opts, sf, info[0], out_q[0], err[0])
+
+
+def converged_reason(restarts: int) -> str:
+    return f"converged after {restarts} restart(s)"
+
+
+def attempts(arm: ArmModel, position, q0, opts: Options, sf, info, out_q, err) -> list[Attempt]:
+    """The attempts of one target from the kernel's outputs (see ``descent.solve_one``)."""
+    claim, found, iterations, restarts, out_of_budget = info.tolist()
+    if claim == _descent.CONVERGED:
+        reason = converged_reason(restarts)
+        return [converged_attempt(out_q[k], iterations, restarts, reason) for k in range(found)]
+    if claim == _descent.UNREACHABLE:
+        distance = math.dist(np.asarray(position).tolist(), arm.first_joint_origin.tolist())
+        return [
+            Attempt(
+                q=q0.copy(),
+                claim=Status.UNREACHABLE,
+                reason=reasons.unreachable(distance, arm.reach),
+            )
+        ]
+    return [
+        Attempt(
+            q=out_q[0],
+            claim=Status.NOT_CONVERGED,
+            iterations=iterations,
+            restarts=restarts,
+            reason=_not_converged(opts, sf, bool(out_of_budget), restarts, err),
+        )
+    ]
+
+
+def pose_runner(arm: ArmModel, opts: Options, step: Step, position_only: bool = False):
+    """``run_pose(H, q0, seed)`` for ``armik.solve.prepared``: one plain 4x4 pose ``H`` (base frame)
+    from ``q0`` through the kernel's single-pose entry; with ``position_only``, H holds a
+    position target (its rotation the identity, which the settings then ignore). Returns
+    None when ``H`` or ``q0`` is not plain, or for ``every`` (nothing was solved: take the
+    general path); for a converged claim (q, iterations, restarts, branch, singular, reason
+    function, its arguments); else the attempts for the general verdict."""
+    dof = arm.dof
+    sf, si = packed_settings(opts, position_only, dof, 1, step)
+    prepare(step.kind)
+    entry = POSE_ENTRIES[step.kind]
+    packed, kind, halton_ = arm.kernel_chain.flat
+    converged_code = _descent.CONVERGED
+
+    def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False):
+        if every:  # solve_all: the general path (max_solutions descents)
+            return None
+        out_q = np.empty((1, dof))
+        info = np.empty(5, dtype=np.int64)
+        err = np.empty(2)
+        if not entry(packed, kind, halton_, sf, si, H, q0, seed, out_q, info, err):
+            return None
+        if info[0] == converged_code:
+            restarts = int(info[3])
+            return claim(out_q[0], int(info[2]), restarts, None, False, converged_reason, (restarts,))
+        return attempts(arm, H[:3, 3], q0, opts, sf, info, out_q, err)
+
+    return run_pose
+
+
+def _c_float(a) -> np.ndarray:
+    """``a`` itself when it is a C-ordered, writable float64 array, else such a copy."""
+    if type(a) is np.ndarray and a.dtype == _FLOAT:
+        flags = a.flags
+        if flags.c_contiguous and flags.writeable:
+            return a
+    return np.array(a, dtype=float, order="C")
+
+
+def _not_converged(opts: Options, sf: np.ndarray, out_of_budget: bool, restarts: int, err) -> str:
+    if not out_of_budget and opts.max_restarts == 0:
+        why = "one descent from q0 (max_restarts=0: no restarts)"
+    elif not out_of_budget:
+        why = f"the restart limit (max_restarts={opts.max_restarts})"
+    elif opts.iteration_budget is not None:
+        why = f"the iteration budget ({opts.iteration_budget} iterations, {restarts} restarts)"
+    else:
+        why = f"the time budget ({opts.timeout:g} s of CPU time, {restarts} restarts)"
+    errors = f"position error {err[0]:.3g} m"
+    if sf[3:6].any():  # some rotation weight
+        errors += f", orientation error {err[1]:.3g} rad"
+    return reasons.not_converged(why, errors)
+
+
+def run_numeric_batch(
+    arm: ArmModel,
+    targets: TargetBatch,
+    q0: np.ndarray,
+    opts: Options,
+    step: Step,
+    seeds: np.ndarray | None = None,
+) -> AttemptBatch:
+    """N solves in one kernel call (GIL released): row i is what ``run_numeric`` returns
+    first for target i from q0[i] with restart seed ``seeds[i]`` (default: every target
+    uses ``opts.seed``, as a loop of ``solve`` with the same options would)."""
+    n_targets, dof = len(targets), arm.dof
+    # C-ordered, writable float64 copies: numba compiles anew for any other layout.
+    q0 = np.array(q0, dtype=float).reshape(n_targets, dof)
+    if seeds is None:
+        seeds = np.full(n_targets, solve_seed(opts), dtype=np.uint64)
+    else:
+        seeds = np.array(seeds).astype(np.uint64)
+    sf, si = packed_settings(opts, targets.position_only, dof, 1, step)
+    if targets.rotations is None:
+        R_t = np.broadcast_to(np.eye(3), (n_targets, 3, 3)).copy()
+    else:
+        R_t = np.array(targets.rotations, dtype=float)
+    p_t = np.array(targets.positions, dtype=float)
+    out_q = np.empty((n_targets, 1, dof))
+    info = np.empty((n_targets, 5), dtype=np.int64)
+    err = np.empty((n_targets, 2))
+    kc = arm.kernel_chain
+    prepare(step.kind)
+    ENTRIES[step.kind](*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
+    return AttemptBatch(
+        q=out_q[:, 0],
+        claim=info[:, 0].astype(np.int8),
+        iterations=info[:, 2].copy(),
+        restarts=info[:, 3].copy(),
+    )
+
+
+# -- pieces of the kernel, for tests and readers ------------------------------------------
+
+
+@dataclass
+class Problem:
+    """One target's settings, chain and scratch, for calling kernel pieces from Python."""
+
+    arm: ArmModel
+    chain: Flat
+    settings: Settings
+    R_t: np.ndarray
+    p_t: np.ndarray
+    q0: np.ndarray  # joint values (rad, m)
+    ws: Workspace
+
+    @classmethod
+    def build(cls, arm: ArmModel, target: Target, q0: np.ndarray, opts: Options) -> Problem:
+        R = np.eye(3) if target.rotation is None else target.rotation
+        return cls(
+            arm,
+            arm.kernel_chain.flat,
+            settings(opts, target.position_only, arm.dof, 1, DLS_STEP),
+            np.ascontiguousarray(R, dtype=float),
+            np.ascontiguousarray(target.position, dtype=float),
+            np.asarray(q0, dtype=float).copy(),
+            workspace(arm.dof, 64),
+        )
+
+    @property
+    def q0_pin(self) -> np.ndarray:
+        return self.arm.to_pin(self.q0)
+
+    def with_step(self, step: Step) -> Problem:
+        st = self.settings._replace(step=step.kind, backend=step.backend)
+        return Problem(self.arm, self.chain, st, self.R_t, self.p_t, self.q0, self.ws)
+
+
+@dataclass(slots=True)
+class State:
+    """The pose error at one configuration (``qp``: Pinocchio coordinates)."""
+
+    qp: np.ndarray
+    e: np.ndarray  # weighted error twist
+    A: np.ndarray  # weighted error Jacobian
+    pos: float
+    rot: float
+    sq: float  # the least-squares objective |e|^2 (weighted)
+
+
+def _state(pb: Problem, slot: int) -> State:
+    ws = pb.ws
+    pos, rot, sq = ws.val[slot].tolist()
+    return State(pb.arm.to_pin(ws.q[slot]), ws.e[slot].copy(), ws.A[slot].copy(), pos, rot, sq)
+
+
+def converged(pb: Problem, s: State) -> bool:
+    """Within the iteration's tolerances (half the verification's)."""
+    return s.pos <= pb.settings.tol_pos and s.rot <= pb.settings.tol_rot
+
+
+def evaluate(pb: Problem, qp: np.ndarray) -> State:
+    """Pose error and its Jacobian at ``qp`` (Pinocchio coordinates), by the kernel."""
+    pb.ws.q[0] = pb.arm.from_pin(qp)
+    _error.evaluate(pb.chain, pb.settings, pb.R_t, pb.p_t, pb.ws, 0)
+    return _state(pb, 0)
+
+
+def descend(
+    pb: Problem,
+    qp: np.ndarray,
+    step: Step,
+    max_iterations: int,
+    deadline: float,
+    minima: np.ndarray | None = None,
+) -> tuple[State, int, bool]:
+    """One attempt of the kernel from ``qp``, until ``max_iterations`` or ``deadline``
+    (a ``time.perf_counter()`` value, inf for none); ``minima`` (rows in Pinocchio
+    coordinates) are where earlier attempts got stuck. Returns the last state, the
+    iterations used, and convergence."""
+    pb = pb.with_step(step)
+    ws = pb.ws
+    count = 0 if minima is None else len(minima)
+    if count > ws.minima.shape[0]:
+        raise ValueError(f"at most {ws.minima.shape[0]} known minima")
+    for k in range(count):
+        ws.minima[k] = pb.arm.from_pin(minima[k])
+    ws.q[0] = pb.arm.from_pin(qp)
+    deadline_ns = NO_LIMIT
+    if math.isfinite(deadline):
+        deadline_ns = thread_cpu_ns() + int(max(deadline - time.perf_counter(), 0.0) * 1e9)
+    entry = _descent.descend_dls if step.kind == STEP_DLS else _descent.descend_qp
+    its, ok, slot = entry(
+        pb.chain, pb.settings, pb.R_t, pb.p_t, pb.q0, ws, max_iterations, deadline_ns, count
+    )
+    return _state(pb, slot), its, ok
+
+
+class RestartSeeds:
+    """The restart configurations of a solve with seed ``seed`` (see ``kernel.restarts``)."""
+
+    def __init__(self, arm: ArmModel, seed: int | None) -> None:
+        self.arm = arm
+        self.chain = arm.kernel_chain.flat
+        self.shift = np.empty(arm.dof)
+        _restarts.seed_shift(secrets.randbits(63) if seed is None else int(seed), self.shift)
+        self.k = 0
+
+    def next(self) -> np.ndarray:
+        out = np.empty(self.arm.dof)
+        _restarts.restart_point(self.chain, self.shift, self.k, out)
+        self.k += 1
+        return out
+
+    def pick(self, pb: Problem) -> np.ndarray:
+        """The next candidates' configuration (Pinocchio coordinates) whose tip lands
+        nearest the target."""
+        out = np.empty(self.arm.dof)
+        pb.ws.vec[SHIFT] = self.shift
+        self.k = _restarts.pick(pb.chain, pb.settings, pb.R_t, pb.p_t, pb.ws, self.k, out)
+        return self.arm.to_pin(out)

@@ -1,0 +1,129 @@
+"""The solver registry: register once, look up by name, choose with "auto".
+
+A solver is one file that builds a ``SolverSpec`` and calls ``register``. ``why_not`` returns
+None when the solver applies to an arm and target, else the reason it does not.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Literal
+
+from armik.errors import SolverError, listing
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from armik.model.arm_model import ArmModel
+    from armik.options import Options
+    from armik.solvers.claims import Attempt, AttemptBatch
+    from armik.targets.batch import TargetBatch
+    from armik.targets.pose import Target
+
+WhyNot = Callable[["ArmModel", "Target | None", "Options | None"], "str | None"]
+Run = Callable[["ArmModel", "Target", "np.ndarray", "Options", bool], "list[Attempt]"]
+# Many targets, one best attempt each: (arm, targets, q0 (N, dof), options) -> arrays.
+RunBatch = Callable[["ArmModel", "TargetBatch", "np.ndarray", "Options"], "AttemptBatch"]
+# One plain 4x4 pose at a time, prepared once per arm, options and target kind (see
+# ``armik.solve.prepared``): (arm, options, position_only) -> run_pose(H, q0, seed).
+PreparePose = Callable[["ArmModel", "Options", bool], Callable]
+
+
+@dataclass(frozen=True)
+class SolverSpec:
+    """One registered solver. Higher ``priority`` wins under ``solver="auto"``."""
+
+    name: str
+    kind: Literal["analytic", "numeric"]
+    enforces_limits: bool
+    priority: int
+    why_not: WhyNot  # None when the solver applies to the arm and target, else why not
+    run: Run
+    summary: str
+    auto: bool = True  # False keeps a solver (a baseline) out of "auto"
+    # Optional: solves many targets without a Python call per target (GIL released).
+    # Solvers without it are batched by calling ``run`` per target.
+    run_batch: RunBatch | None = None
+    # Optional: a runner for one plain pose with everything that does not depend on the
+    # target decided once (``armik.solve.prepared``); solvers without it take the general path.
+    # Only for solvers whose ``check`` gives one answer for every full pose: the plan is
+    # chosen once per arm, name and options, on a representative pose.
+    prepare_pose: PreparePose | None = None
+
+
+_REGISTRY: dict[str, SolverSpec] = {}
+
+
+_BY_PRIORITY: list[SolverSpec] = []
+generation = 0  # counts registrations: what was chosen before one may no longer be chosen
+
+
+def register(spec: SolverSpec) -> SolverSpec:
+    global generation
+    if spec.name in _REGISTRY or spec.name == "auto":
+        raise ValueError(f"solver name {spec.name!r} is taken")
+    _REGISTRY[spec.name] = spec
+    generation += 1
+    _BY_PRIORITY[:] = sorted(_REGISTRY.values(), key=lambda s: -s.priority)
+    return spec
+
+
+def solvers() -> list[str]:
+    """Registered solver names, highest priority first."""
+    return [s.name for s in _BY_PRIORITY]
+
+
+def validate_name(name: object) -> None:
+    """Raise ``SolverError`` unless ``name`` is a str (a list or None is not a name)."""
+    if not isinstance(name, str):
+        raise SolverError(
+            f"solver must be one name (a str), got {name!r}; registered: "
+            f"{listing(solvers())} or 'auto'",
+            solver=str(name),
+            candidates=solvers(),
+        )
+
+
+def get(name: str) -> SolverSpec:
+    """The solver registered as ``name``; ``SolverError`` for an unknown name or a name
+    that is not a str (a list of names, None, ...)."""
+    validate_name(name)
+    try:
+        return _REGISTRY[name]
+    except KeyError:
+        raise SolverError(
+            f"unknown solver {name!r}; registered: {listing(solvers())} or 'auto'",
+            solver=name,
+            candidates=solvers(),
+        ) from None
+
+
+def why_not(
+    name: str, arm: ArmModel, target: Target | None = None, opts: Options | None = None
+) -> str | None:
+    """None if solver ``name`` applies, else the check that failed."""
+    return get(name).why_not(arm, target, opts)
+
+
+def choose(
+    name: str, arm: ArmModel, target: Target | None = None, opts: Options | None = None
+) -> SolverSpec:
+    """The solver to run: ``name`` itself (if it applies) or the best one for "auto".
+    ``SolverError`` when ``name`` is not a registered name (or not a str)."""
+    if not isinstance(name, str) or name != "auto":
+        spec = get(name)
+        reason = spec.why_not(arm, target, opts)
+        if reason is not None:
+            raise SolverError(
+                f"solver {name!r} does not apply to arm {arm.name!r}: {reason}",
+                solver=name,
+                candidates=solvers(),
+            )
+        return spec
+    for spec in _BY_PRIORITY:
+        if spec.auto and spec.why_not(arm, target, opts) is None:
+            return spec
+    raise SolverError(
+        f"no registered solver applies to arm {arm.name!r}", solver="auto", candidates=solvers()
+    )

@@ -1,0 +1,7 @@
+"""Targets: one pose (``pose``: ``Target``, ``parse_target``) and many poses (``batch``:
+``TargetBatch``, ``parse_targets``), read from every form a user gives, in the base frame."""
+
+from armik.targets.batch import TargetBatch, parse_targets
+from armik.targets.pose import Target, parse_target
+
+__all__ = ["Target", "TargetBatch", "parse_target", "parse_targets"]

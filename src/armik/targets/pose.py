@@ -1,0 +1,267 @@
+"""Turning user input into one Target type.
+
+Accepted: a ``pinocchio.SE3``; a spatialmath ``SE3`` holding one pose; a 4x4 homogeneous
+matrix; a 3-vector (position only); ``(position, quaternion)`` with the quaternion in
+(x, y, z, w) order as in Pinocchio and scipy (a non-unit quaternion is normalised);
+``(position, 3x3 rotation matrix)``; ``(position, scipy Rotation)``; a 7-vector
+(x, y, z, qx, qy, qz, qw); and on a planar arm a 2-vector (x, y) in the arm's plane (see
+``armik.planar``). Every target is expressed in the arm's base frame, in metres.
+
+Several poses in one object (an (N, 4, 4) array, a spatialmath ``SE3`` of length N, a
+scipy ``Rotation`` of N rotations) are refused with a pointer to ``Arm.solve_batch``:
+solving the first pose only would be a silent answer to another question. Complex numbers
+are refused, never cast.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+import pinocchio as pin
+
+from armik.errors import TargetError
+from armik.frozen import frozen
+from armik.tolerances import MAX_POSITION, ROTATION_TOL
+
+if TYPE_CHECKING:
+    from armik.model.arm_model import ArmModel
+
+
+
+@dataclass(frozen=True, eq=False)
+class Target:
+    """A desired tip pose in the base frame. ``rotation`` is None for a position target."""
+
+    position: np.ndarray
+    rotation: np.ndarray | None = None
+    planar_xy: np.ndarray | None = None  # as given, when given as (x, y) in the arm's plane
+
+    @property
+    def planar(self) -> bool:
+        return self.planar_xy is not None
+
+    @property
+    def position_only(self) -> bool:
+        return self.rotation is None
+
+    def se3(self) -> pin.SE3:
+        """The pose as ``T_base_target`` (identity rotation for a position target)."""
+        R = np.eye(3) if self.rotation is None else self.rotation
+        return pin.SE3(R, self.position)
+
+
+def parse_target(value: object, arm: ArmModel | None = None) -> Target:
+    """Parse any accepted form into a ``Target``; raises ``TargetError`` naming the problem."""
+    if isinstance(value, Target):
+        return value
+    if isinstance(value, pin.SE3):
+        return _se3(value)
+    if _is_spatialmath(value):
+        n = len(value)  # type: ignore[arg-type]
+        if n != 1:
+            raise TargetError(_several(f"a spatialmath {type(value).__name__} of {n} poses"))
+        value = value.A  # type: ignore[attr-defined]
+    if (
+        isinstance(value, (tuple, list))
+        and value
+        and all(isinstance(v, pin.SE3) or _is_spatialmath(v) for v in value)
+    ):
+        raise TargetError(_several(f"a {type(value).__name__} of {len(value)} poses"))
+    if isinstance(value, (tuple, list)) and len(value) == 2 and not np.isscalar(value[0]):
+        position, rotation = value
+        return _pose(_rotation(rotation), _vector(position, 3, "target position"))
+    arr = _array(value, "target")
+    if (arr.ndim == 3 and arr.shape[1:] == (4, 4)) or (arr.ndim == 2 and arr.shape[1] in (3, 7)):
+        raise TargetError(_several(f"an array of shape {arr.shape}"))
+    if arr.shape == (4, 4):
+        return _from_matrix(arr)
+    if arr.shape == (3,):
+        return Target(_position(arr))
+    if arr.shape == (7,):
+        return _pose(_rotation_from_quat(arr[3:]), arr[:3])
+    if arr.shape == (2,):
+        return _planar(_finite(arr, "target (x, y)"), arm)
+    raise TargetError(
+        f"cannot read a target of shape {arr.shape}: give a pinocchio.SE3, a 4x4 matrix, "
+        "a position (x, y, z), (position, quaternion xyzw), or (x, y) on a planar arm"
+    )
+
+
+def _several(what: str) -> str:
+    return (
+        f"the target is {what}: solve() takes one pose; solve several with "
+        "Arm.solve_batch(targets), or pass one pose"
+    )
+
+
+def _is_spatialmath(value: object) -> bool:
+    return type(value).__module__.startswith("spatialmath") and hasattr(value, "A")
+
+
+def _array(value: object, what: str) -> np.ndarray:
+    try:
+        raw = np.asarray(value)
+    except (TypeError, ValueError):
+        raise TargetError(f"{what} {value!r} is not numeric") from None
+    kind = raw.dtype.kind
+    if kind == "f":
+        return raw
+    if kind == "c":
+        raise TargetError(f"{what} {value!r} has complex numbers: give real numbers (m, rad)")
+    try:
+        return raw.astype(float)
+    except (TypeError, ValueError):
+        raise TargetError(f"{what} {value!r} is not numeric") from None
+
+
+def _finite(arr: np.ndarray, what: str) -> np.ndarray:
+    # A sum on plain floats is finite iff every element is, unless finite huge values
+    # overflow it: then numpy decides (a few us more, never on real targets).
+    if not math.isfinite(sum(arr.ravel().tolist())) and not np.isfinite(arr).all():
+        raise TargetError(f"{what} contains NaN or inf: {arr.tolist()}")
+    return arr.copy()
+
+
+def _position(arr: np.ndarray) -> np.ndarray:
+    """A copy of the 3-vector ``arr``; raises ``TargetError`` if it is not finite or beyond
+    ``MAX_POSITION`` (plain floats: half the cost of numpy at this size)."""
+    x, y, z = arr.tolist()
+    if abs(x) <= MAX_POSITION and abs(y) <= MAX_POSITION and abs(z) <= MAX_POSITION:
+        return np.array((x, y, z))
+    _finite(arr, "target position")  # NaN fails every comparison above
+    raise TargetError(
+        f"target position {arr.tolist()} is beyond {MAX_POSITION:g} m from the base: give "
+        "it in metres (no arm reaches this far, and the error arithmetic would overflow)"
+    )
+
+
+def _vector(value: object, n: int, what: str) -> np.ndarray:
+    arr = _array(value, what)
+    if arr.shape != (n,):
+        raise TargetError(f"{what} must have {n} numbers, got shape {arr.shape}")
+    return _finite(arr, what)
+
+
+def _rotation(value: object) -> np.ndarray:
+    """The rotation of ``(position, rotation)``: a quaternion (x, y, z, w), a 3x3 matrix,
+    or a scipy ``Rotation`` holding one rotation."""
+    if type(value).__module__.startswith("scipy.spatial") and hasattr(value, "as_matrix"):
+        if not getattr(value, "single", True):
+            raise TargetError(_several(f"a scipy Rotation of {len(value)} rotations"))
+        return np.asarray(value.as_matrix(), float)
+    arr = _array(value, "target rotation")
+    if arr.shape == (3, 3):
+        return arr
+    if arr.shape == (4,):
+        return _rotation_from_quat(arr)
+    raise TargetError(
+        f"the rotation of (position, rotation) has shape {arr.shape}: give a quaternion "
+        "of 4 numbers (x, y, z, w), a 3x3 rotation matrix or a scipy Rotation"
+    )
+
+
+def _rotation_from_quat(quat: object) -> np.ndarray:
+    x, y, z, w = _vector(quat, 4, "quaternion (x, y, z, w)").tolist()
+    scale = max(abs(x), abs(y), abs(z), abs(w))  # divide first: squares above 1e154 overflow
+    if scale < 1e-12:
+        raise TargetError(
+            f"quaternion {[x, y, z, w]} has zero norm: give a unit quaternion "
+            "(x, y, z, w), e.g. (0, 0, 0, 1) for no rotation"
+        )
+    x, y, z, w = x / scale, y / scale, z / scale, w / scale
+    n = math.sqrt(x * x + y * y + z * z + w * w)
+    x, y, z, w = x / n, y / n, z / n, w / n
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def _from_matrix(M: np.ndarray) -> Target:
+    last = M[3].tolist()
+    if not all(abs(x - y) <= 1e-12 for x, y in zip(last, (0.0, 0.0, 0.0, 1.0))):
+        _finite(M, "4x4 target")
+        raise TargetError(f"the last row of a 4x4 target must be (0, 0, 0, 1), got {last}")
+    return _pose(M[:3, :3], M[:3, 3])  # checks the rest
+
+
+def _se3(T: pin.SE3) -> Target:
+    """``_pose(T.rotation, T.translation)``, on the plain floats of one fresh copy of the
+    matrix: a finite position within ``MAX_POSITION`` and a rotation orthonormal to 1e-14
+    with determinant +1 (every pose Pinocchio computes) give the same ``Target`` without
+    ``_pose``'s copies; anything else goes through ``_pose``."""
+    H = T.homogeneous  # a new C-ordered array (T.rotation would be a view into T)
+    (a, b, c, x), (d, e, f, y), (g, h, i, z), _ = H.tolist()
+    if (
+        abs(x) <= MAX_POSITION
+        and abs(y) <= MAX_POSITION
+        and abs(z) <= MAX_POSITION
+        and math.isfinite(a + b + c + d + e + f + g + h + i)
+        and _orthonormality_error(a, b, c, d, e, f, g, h, i) <= 1e-14
+        and _determinant(a, b, c, d, e, f, g, h, i) > 0
+    ):
+        return _target(np.array((x, y, z)), np.array(H[:3, :3]))
+    return _pose(T.rotation, T.translation)
+
+
+# |R^T R - I| and det(R) of R = [[a, b, c], [d, e, f], [g, h, i]] on plain floats: a fifth
+# of the numpy cost for a 3x3. (kernel.single.plain_pose computes the same in compiled code.)
+def _orthonormality_error(a, b, c, d, e, f, g, h, i) -> float:
+    return max(
+        abs(a * a + d * d + g * g - 1.0),
+        abs(b * b + e * e + h * h - 1.0),
+        abs(c * c + f * f + i * i - 1.0),
+        abs(a * b + d * e + g * h),
+        abs(a * c + d * f + g * i),
+        abs(b * c + e * f + h * i),
+    )
+
+
+def _determinant(a, b, c, d, e, f, g, h, i) -> float:
+    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
+
+
+def _target(p: np.ndarray, R: np.ndarray | None) -> Target:
+    """``Target(p, R)`` without the frozen ``__init__``'s setattr per field."""
+    return frozen(Target, position=p, rotation=R, planar_xy=None)
+
+
+def _pose(R: np.ndarray, p: np.ndarray) -> Target:
+    p = _position(np.asarray(p, float))
+    R = np.array(R, dtype=float)  # a copy: the target must not change with the caller's array
+    a, b, c, d, e, f, g, h, i = R.ravel().tolist()
+    if not math.isfinite(a + b + c + d + e + f + g + h + i):
+        _finite(R, "target rotation")  # NaN or inf; else huge entries, far from a rotation
+    err = _orthonormality_error(a, b, c, d, e, f, g, h, i)
+    if not err <= ROTATION_TOL:
+        raise TargetError(
+            f"target rotation is not orthonormal (|R^T R - I| = {err:.2g}): "
+            "give a rotation matrix, or a quaternion"
+        )
+    if _determinant(a, b, c, d, e, f, g, h, i) < 0:
+        raise TargetError(
+            "target rotation has determinant -1 (a reflection, not a rotation): "
+            "flip the sign of one axis"
+        )
+    if err > 1e-14:
+        # Snap to the nearest rotation so that verification measures the arm, not rounding.
+        U, _, Vt = np.linalg.svd(R)
+        R = U @ Vt
+    return _target(p, R)
+
+
+def _planar(xy: np.ndarray, arm: ArmModel | None) -> Target:
+    plane = None if arm is None else arm.plane
+    if plane is None:
+        name = "this arm" if arm is None else f"arm {arm.name!r}"
+        raise TargetError(
+            f"a 2-vector target needs a planar arm, and {name} is not planar: "
+            "give a position (x, y, z) or a full pose"
+        )
+    return Target(_position(plane.to_3d(xy)), None, planar_xy=xy)

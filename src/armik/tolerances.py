@@ -1,0 +1,24 @@
+"""Every tolerance and bound shared across armik, in one place (SI units: m, rad).
+
+Compiled kernels read these as constants when they are compiled: after changing one, clear
+the numba cache (``CONTRIBUTING.md``).
+"""
+
+# Joint limits: a value this close outside a limit still counts as inside (rad or m).
+LIMIT_TOL = 1e-12
+
+# Sizes: origins, tool offsets and target positions beyond MAX_LENGTH are a mistake (their
+# arithmetic overflows in the solvers' restarts); limits beyond MAX_LIMIT mean "free".
+MAX_LENGTH = 1e6  # m
+MAX_POSITION = MAX_LENGTH  # m: the farthest target position accepted
+MAX_LIMIT = 1e6  # rad or m
+
+# Targets: how far from orthonormal a given rotation may be before it is refused.
+ROTATION_TOL = 1e-6
+
+# Structure: two axes are parallel when the angle between them is below ANGLE_TOL; lines
+# meet when they pass within DISTANCE_TOL of one point. A near miss is refused with the
+# measured number, never given a closed form that is only approximately right.
+ANGLE_TOL = 1e-9  # rad
+DISTANCE_TOL = 1e-9  # m
+PARALLEL_TOL = 1e-9  # the planar chains' axes (norm of the cross product of unit axes)

@@ -1,0 +1,9 @@
+"""The ``armik`` command line.
+
+Exit codes: 0 success, 1 no solution found (unreachable, not converged, joint limits),
+2 bad input (one line on stderr, no traceback).
+"""
+
+from armik.tools.cli.main import main
+
+__all__ = ["main"]

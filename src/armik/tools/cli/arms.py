@@ -1,0 +1,167 @@
+"""Commands on one arm: ``robots``, ``info``, ``solve`` and ``demo``."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+
+import numpy as np
+import pinocchio as pin
+
+from armik.arm import Arm, load
+from armik.model.catalogue import CATALOGUE
+from armik.result import IKResult
+from armik.solvers import registry
+from armik.solvers.closed_form import families
+
+
+def load_arm(args: argparse.Namespace) -> Arm:
+    return load(args.robot, base=getattr(args, "base", None), tip=getattr(args, "tip", None))
+
+
+def cmd_robots(args: argparse.Namespace) -> int:
+    print(f"{'name':<16} {'dof':>3}  {'tip':<24} description")
+    for name, spec in CATALOGUE.items():
+        arm = load(name)
+        print(f"{name:<16} {arm.dof:>3}  {arm.tip:<24} {spec.description}")
+    return 0
+
+
+def cmd_info(args: argparse.Namespace) -> int:
+    arm = load_arm(args)
+    print(f"{arm.name}: {arm.dof} joints from {arm.base!r} to {arm.tip!r}  ({arm.source})")
+    if arm.tip_reason != "given":
+        print(f"  tip: {arm.tip_reason}")
+    for note in arm.info.notes:
+        print(f"  note: {note}")
+    if args.frames:
+        print("frames (link, then [joint type] joint -> child link):")
+        for line in frame_tree(arm.info):
+            print(f"  {line}")
+    print(f"  {'joint':<24} {'type':<11} {'lower':>9} {'upper':>9}  link to next (m)")
+    for i, (name, jtype) in enumerate(zip(arm.joint_names, arm.joint_types)):
+        print(
+            f"  {name:<24} {jtype:<11} {arm.lower[i]:>9.4f} {arm.upper[i]:>9.4f}  "
+            f"{_link_lengths(arm)[i]:.4f}"
+        )
+    if arm.plane is not None:
+        print(f"  planar: all axes along {np.round(arm.plane.normal, 6).tolist()}")
+    print("structure:")
+    for cls, geo in families.classify(arm).items():
+        if isinstance(geo, str):
+            print(f"  {cls:<16} no: {geo}")
+        else:
+            text = getattr(geo, "description", "all joint axes parallel")
+            print(f"  {cls:<16} yes: {text}")
+    print("solvers:")
+    width = max(map(len, registry.solvers()))
+    for name in registry.solvers():
+        reason = registry.why_not(name, arm)
+        spec = registry.get(name)
+        state = "applies" if reason is None else f"does not apply: {reason}"
+        print(f"  {name:<{width}} ({spec.kind}) {state}")
+    print(f"  auto -> {registry.choose('auto', arm).name}")
+    return 0
+
+
+def frame_tree(info) -> list[str]:
+    """The URDF's links and joints as indented tree lines (iterative: trees can be deep)."""
+    children = info.children()
+    lines: list[str] = []
+    stack = [(info.root_link, "", "", None)]
+    while stack:
+        link, lead, tail, joint = stack.pop()
+        label = link if joint is None else f"[{joint.type}] {joint.name} -> {link}"
+        lines.append(lead + label)
+        kids = children.get(link, [])
+        for k, j in reversed(list(enumerate(kids))):
+            last = k == len(kids) - 1
+            stack.append(
+                (j.child, tail + ("`- " if last else "|- "), tail + ("   " if last else "|  "), j)
+            )
+    return lines
+
+
+def _link_lengths(arm: Arm) -> list[float]:
+    """Distance from each joint's origin to the next joint's (the last: to the tip)."""
+    arm.fk(arm.middle)
+    data = arm.data
+    points = [data.oMi[j].translation for j in range(1, arm.model.njoints)]
+    points.append(data.oMf[arm.tip_frame_id].translation)
+    return [float(np.linalg.norm(b - a)) for a, b in zip(points, points[1:])]
+
+
+def _target(args: argparse.Namespace) -> object:
+    xyz = np.array(args.xyz)
+    if args.quat is not None:
+        return (xyz, np.array(args.quat))
+    if args.rpy is not None:
+        return pin.SE3(pin.rpy.rpyToMatrix(*args.rpy), xyz)
+    return xyz
+
+
+def cmd_solve(args: argparse.Namespace) -> int:
+    arm = load_arm(args)
+    options = {} if args.timeout is None else {"timeout": args.timeout}
+    target = _target(args)
+    if args.all:
+        results = arm.solve_all(target, q0=args.q0, solver=args.solver, **options)
+    else:
+        results = [arm.solve(target, q0=args.q0, solver=args.solver, **options)]
+    if args.json:
+        print(
+            json.dumps(
+                {
+                    "robot": arm.name,
+                    "joints": arm.joint_names,
+                    "results": [r.as_dict() for r in results],
+                },
+                indent=2,
+            )
+        )
+    else:
+        for i, r in enumerate(results):
+            if len(results) > 1:
+                print(f"solution {i + 1} of {len(results)}")
+            _print_result(arm, r, show_time=len(results) == 1)
+        if len(results) > 1:
+            print(f"time: {results[0].time * 1e3:.3f} ms for the call ({len(results)} solutions)")
+    return 0 if any(r.success for r in results) else 1
+
+
+def _print_result(arm: Arm, r: IKResult, indent: str = "  ", show_time: bool = True) -> None:
+    print(
+        f"{indent}status   : {r.status} (success={r.success}), solver {r.solver}"
+        + (f", branch {r.branch}" if r.branch else "")
+    )
+    for name, value, jtype in zip(arm.joint_names, r.q, arm.joint_types):
+        unit = "m" if jtype == "prismatic" else f"rad ({math.degrees(value):9.4f} deg)"
+        print(f"{indent}  {name:<22} {value: .9f} {unit}")
+    ori = "n/a" if r.orientation_error is None else f"{r.orientation_error:.2e} rad"
+    print(f"{indent}FK error : position {r.position_error:.2e} m, orientation {ori}")
+    if show_time:
+        print(f"{indent}time     : {r.time * 1e3:.3f} ms, {r.iterations} iterations")
+    else:
+        print(f"{indent}iterations: {r.iterations}")
+    print(f"{indent}reason   : {r.reason}")
+
+
+def cmd_demo(args: argparse.Namespace) -> int:
+    ok = True
+    arm = load("planar_2link")
+    print("planar_2link (l1 = 1.0 m, l2 = 0.8 m), target (x, y) = (1.2, 0.5):")
+    for r in arm.solve_all([1.2, 0.5]):
+        _print_result(arm, r)
+        ok &= r.success
+    panda = load("panda")
+    q_goal = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.6])
+    T = panda.fk(q_goal)
+    print(
+        f"\npanda: full pose target at p = {np.round(T.translation, 4).tolist()} m, "
+        "seeded from the mid-limit configuration:"
+    )
+    r = panda.solve(T, q0=panda.middle)
+    _print_result(panda, r)
+    ok &= r.success
+    return 0 if ok else 1

@@ -1,0 +1,182 @@
+"""``armik``'s entry point and its argument parser: one sub-command per job."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import sys
+import warnings
+from collections.abc import Sequence
+from pathlib import Path
+
+from armik.errors import ArmikError, ArmikWarning
+from armik.model.catalogue import SPATIAL_ARMS
+from armik.tools import bench as bench_mod
+from armik.tools.cli.arms import cmd_demo, cmd_info, cmd_robots, cmd_solve
+from armik.tools.cli.many import add_many_commands
+from armik.tools.cli.studies import cmd_bench, cmd_compare
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = _parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 2
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", category=DeprecationWarning)
+            warnings.showwarning = _one_line_warning
+            return int(args.func(args) or 0)
+    except ArmikError as exc:
+        print(f"armik: error: {exc}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:
+        # The reader went away (armik info panda | head -1): stop quietly. Point stdout at
+        # devnull so that the interpreter's final flush does not raise again.
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+        except (OSError, ValueError):  # stdout without a file descriptor (captured)
+            pass
+        return 1
+    except OSError as exc:  # a file armik was told to write or read (--plot DIR, ...)
+        print(f"armik: error: {exc}", file=sys.stderr)
+        return 2
+
+
+def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    kind = "" if issubclass(category, ArmikWarning) else f"{category.__name__}: "
+    where = "" if issubclass(category, ArmikWarning) else f" ({Path(filename).name}:{lineno})"
+    print(f"armik: warning: {kind}{message}{where}", file=sys.stderr)
+
+
+class _Parser(argparse.ArgumentParser):
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        # "-1e-3" is a number, not an option: argparse's own pattern misses exponents.
+        self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
+
+    def error(self, message: str) -> None:  # one line, exit code 2
+        print(f"armik: error: {message} (see '{self.prog} --help')", file=sys.stderr)
+        raise SystemExit(2)
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {value}")
+    return value
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="armik", description="Inverse kinematics for URDF robot arms.")
+    sub = p.add_subparsers(title="commands", parser_class=_Parser)
+
+    def command(name: str, helptext: str, example: str, func) -> argparse.ArgumentParser:
+        c = sub.add_parser(
+            name,
+            help=helptext,
+            description=helptext,
+            epilog=f"example: {example}",
+            formatter_class=argparse.RawDescriptionHelpFormatter,
+        )
+        c.set_defaults(func=func)
+        return c
+
+    command("robots", "list the bundled arms with their DOF and tip", "armik robots", cmd_robots)
+
+    c = command("info", "show an arm's chain and which solvers apply", "armik info panda", cmd_info)
+    c.add_argument("robot", help="bundled robot name or path to a URDF file")
+    c.add_argument("--base", help="base frame (default: URDF root)")
+    c.add_argument(
+        "--tip", help="tip frame (default: catalogue tip, tool0, or the end of the longest chain)"
+    )
+    c.add_argument("--frames", action="store_true", help="print the URDF's frames as a tree")
+
+    c = command(
+        "solve",
+        "solve IK for a target pose",
+        "armik solve ur5 --xyz 0.4 0.2 0.3 --rpy 3.1416 0 0 --solver dls",
+        cmd_solve,
+    )
+    c.add_argument("robot", help="bundled robot name or path to a URDF file")
+    c.add_argument("--base", help="base frame")
+    c.add_argument("--tip", help="tip frame")
+    c.add_argument(
+        "--xyz",
+        nargs=3,
+        type=float,
+        required=True,
+        metavar=("X", "Y", "Z"),
+        help="target position in the base frame (m)",
+    )
+    rot = c.add_mutually_exclusive_group()
+    rot.add_argument(
+        "--rpy",
+        nargs=3,
+        type=float,
+        metavar=("R", "P", "Y"),
+        help="target roll, pitch, yaw (rad); omit both for a position target",
+    )
+    rot.add_argument(
+        "--quat",
+        nargs=4,
+        type=float,
+        metavar=("X", "Y", "Z", "W"),
+        help="target quaternion, (x, y, z, w) order",
+    )
+    c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
+    c.add_argument("--all", action="store_true", help="print every solution found")
+    c.add_argument("--q0", nargs="+", type=float, help="seed joint values (rad, m)")
+    c.add_argument("--timeout", type=float, help="time budget of numeric solvers (s)")
+    c.add_argument("--json", action="store_true", help="machine-readable output")
+
+    command("demo", "solve a target on the 2-link arm and on the Panda", "armik demo", cmd_demo)
+    add_many_commands(command)  # batch, reach
+
+    c = command(
+        "bench",
+        "benchmark the numeric solvers (TRAC-IK's protocol)",
+        "armik bench --arms panda ur5 -n 2000 --peers rtb eaik",
+        cmd_bench,
+    )
+    c.add_argument("--arms", nargs="+", default=list(SPATIAL_ARMS), help="arms to run")
+    c.add_argument(
+        "--solvers", nargs="+", default=list(bench_mod.DEFAULT_SOLVERS), help="dls qp clik"
+    )
+    c.add_argument("-n", type=int, default=2000, help="targets per arm (2000)")
+    c.add_argument("--budget", type=float, default=0.005, help="seconds per solve (0.005)")
+    c.add_argument("--seed", type=int, default=42, help="sampling seed (42)")
+    c.add_argument("--tol", type=float, default=1e-5, help="success tolerance, m and rad")
+    c.add_argument(
+        "--repeats", type=int, default=1, help="passes over the targets, other solver seeds (1)"
+    )
+    c.add_argument(
+        "--peers",
+        nargs="+",
+        default=[],
+        help="other IK libraries timed on the same targets: rtb (Robotics Toolbox ik_LM), eaik",
+    )
+    c.add_argument("--json", action="store_true", help="print JSON rows")
+
+    c = command(
+        "compare",
+        "compare the analytic and numeric solvers, optionally with plots",
+        "armik compare -n 500 --plot out/",
+        cmd_compare,
+    )
+    c.add_argument("-n", type=_positive_int, default=500, help="targets per experiment (500)")
+    c.add_argument("--seed", type=int, default=7)
+    c.add_argument("--plot", metavar="DIR", help="write PNG figures to DIR (needs matplotlib)")
+    c.add_argument("--json", action="store_true", help="print JSON")
+    c.add_argument(
+        "--speed",
+        action="store_true",
+        help="only time the closed forms' solve and solve_all against EAIK, interleaved",
+    )
+    return p

@@ -1,0 +1,204 @@
+"""Commands on many targets: ``batch`` (from a file, on every core or a Dask cluster)
+and ``reach`` (a reachability map)."""
+
+from __future__ import annotations
+
+import argparse
+import csv
+from pathlib import Path
+
+import numpy as np
+
+from armik.errors import InputError
+from armik.solve import distributed
+from armik.solve.batch import solve_batch
+from armik.solve.reach import reachability
+from armik.tools.cli.arms import load_arm
+
+
+def add_many_commands(command) -> None:
+    c = command(
+        "batch",
+        "solve IK for many targets read from a file, on every core or on a Dask cluster; "
+        "exit 0 once the results are written, whatever their success",
+        "armik batch panda targets.npy -o out.npz --workers 2",
+        cmd_batch,
+    )
+    c.add_argument("robot", help="bundled robot name or path to a URDF file")
+    c.add_argument(
+        "targets",
+        help="targets file: .npy or .npz (the array 'targets', or the only array; an array "
+        "'q0' gives seeds) or .csv; rows x y z (positions), x y z qx qy qz qw, 16 numbers of "
+        "a 4x4 transform, or an (N, 4, 4) array",
+    )
+    c.add_argument("-o", "--output", required=True, help="results file (.npz)")
+    c.add_argument("--base", help="base frame")
+    c.add_argument("--tip", help="tip frame")
+    c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
+    c.add_argument("--workers", type=int, help="threads (default: one per core)")
+    c.add_argument(
+        "--cluster",
+        metavar="ADDRESS",
+        help="run on a Dask cluster: tcp://host:8786, or local:N for N local processes",
+    )
+    c.add_argument("--q0", nargs="+", type=float, help="one seed for every target (rad, m)")
+    c.add_argument("--timeout", type=float, help="time budget per target (s)")
+    c.add_argument("--tol", type=float, help="success tolerance, m and rad")
+    c.add_argument("--seed", type=int, help="seed of the random restarts (0)")
+    c.add_argument("--chunk-size", type=int, help="targets per task")
+
+    c = command(
+        "reach",
+        "reachability map: per voxel, the fraction of tool orientations the arm reaches",
+        "armik reach panda --resolution 0.1 --orientations 16 -o reach.npz --plot reach.png",
+        cmd_reach,
+    )
+    c.add_argument("robot", help="bundled robot name or path to a URDF file")
+    c.add_argument("--base", help="base frame")
+    c.add_argument("--tip", help="tip frame")
+    c.add_argument("--resolution", type=float, default=0.1, help="voxel side, m (0.1)")
+    c.add_argument("--orientations", type=int, default=16, help="per voxel (16)")
+    c.add_argument("--timeout", type=float, default=0.005, help="budget per solve, s (0.005)")
+    c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
+    c.add_argument("--workers", type=int, help="threads (default: one per core)")
+    c.add_argument("--cluster", metavar="ADDRESS", help="run on a Dask cluster (see batch)")
+    c.add_argument("--seed", type=int, default=0, help="orientation sample seed (0)")
+    c.add_argument("-o", "--output", default="reach.npz", help="map file (reach.npz)")
+    c.add_argument("--plot", metavar="PNG", help="also draw slices into this PNG")
+
+
+def read_targets_file(path: str) -> tuple[np.ndarray, np.ndarray | None]:
+    """The targets array of a .npy, .npz or .csv file, and the seeds if the file has them.
+
+    Raises ``InputError`` with one line naming the file and the problem."""
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"targets file {path!r} does not exist (or is not a file)")
+    suffix = p.suffix.lower()
+    q0 = None
+    try:
+        if suffix == ".npy":
+            arr = np.load(p, allow_pickle=False)
+        elif suffix == ".npz":
+            with np.load(p, allow_pickle=False) as z:
+                names = list(z.files)
+                if "targets" in names:
+                    arr = z["targets"]
+                elif len([n for n in names if n != "q0"]) == 1:
+                    arr = z[next(n for n in names if n != "q0")]
+                else:
+                    raise InputError(
+                        f"{path!r} holds the arrays {names}: name the targets array 'targets'"
+                    )
+                q0 = z["q0"] if "q0" in names else None
+        elif suffix == ".csv":
+            arr = _read_csv(p)
+        else:
+            raise InputError(f"targets file {path!r}: give a .npy, .npz or .csv file")
+    except InputError:
+        raise
+    except (OSError, ValueError, EOFError) as exc:
+        first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise InputError(f"cannot read targets from {path!r}: {first}") from None
+    if arr.ndim == 2 and arr.shape[1] == 16:
+        arr = arr.reshape(-1, 4, 4)
+    return arr, q0
+
+
+def _read_csv(path) -> np.ndarray:
+    with open(path, newline="") as f:
+        rows = [r for r in csv.reader(f) if r and not r[0].lstrip().startswith("#")]
+    if rows and not _numeric(rows[0]):
+        rows = rows[1:]  # a header line
+    widths = {len(r) for r in rows}
+    if len(widths) > 1:
+        raise ValueError(f"rows have different numbers of columns: {sorted(widths)}")
+    out = np.empty((len(rows), widths.pop() if widths else 0))
+    for i, r in enumerate(rows):
+        try:
+            out[i] = [float(v) for v in r]
+        except ValueError:
+            raise ValueError(f"row {i + 1} is not numbers: {','.join(r)[:80]}") from None
+    return out
+
+
+def _numeric(row: list[str]) -> bool:
+    try:
+        [float(v) for v in row]
+    except ValueError:
+        return False
+    return True
+
+
+def _solve_options(args: argparse.Namespace) -> dict:
+    options: dict = {}
+    if args.timeout is not None:
+        options["timeout"] = args.timeout
+    if getattr(args, "tol", None) is not None:
+        options["tol_position"] = options["tol_orientation"] = args.tol
+    if getattr(args, "seed", None) is not None:
+        options["seed"] = args.seed
+    return options
+
+
+def cmd_batch(args: argparse.Namespace) -> int:
+    out = Path(args.output)
+    if out.suffix.lower() != ".npz":
+        raise InputError(f"output {args.output!r}: results are written as .npz; name it *.npz")
+    if not out.parent.is_dir():
+        raise InputError(f"output folder {str(out.parent)!r} does not exist")
+    arm = load_arm(args)
+    targets, q0 = read_targets_file(args.targets)
+    if args.q0 is not None:
+        q0 = np.array(args.q0)
+    options = _solve_options(args)
+    if args.cluster:
+        result = distributed.solve_batch(
+            arm,
+            targets,
+            q0=q0,
+            solver=args.solver,
+            address=args.cluster,
+            chunk_size=args.chunk_size,
+            **options,
+        )
+    else:
+        result = solve_batch(
+            arm,
+            targets,
+            q0=q0,
+            solver=args.solver,
+            workers=args.workers,
+            chunk_size=args.chunk_size,
+            **options,
+        )
+    result.save(out)
+    print(result.summary())
+    print(f"wrote {out}")
+    return 0
+
+
+def cmd_reach(args: argparse.Namespace) -> int:
+    arm = load_arm(args)
+    client = None
+    if args.cluster:
+        client = distributed.connect(args.cluster)
+    try:
+        m = reachability(
+            arm,
+            args.resolution,
+            args.orientations,
+            solver=args.solver,
+            workers=args.workers,
+            seed=args.seed,
+            client=client,
+            timeout=args.timeout,
+        )
+    finally:
+        if client is not None:
+            distributed.close(client)
+    print(m.summary())
+    print(f"wrote {m.save(args.output)}")
+    if args.plot:
+        print(f"wrote {m.plot(args.plot)}")
+    return 0

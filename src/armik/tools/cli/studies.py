@@ -1,0 +1,61 @@
+"""Commands that measure armik: ``bench`` and ``compare``."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+from armik.tools import bench as bench_mod
+from armik.tools import compare, compare_plots
+
+
+def cmd_bench(args: argparse.Namespace) -> int:
+    notes: list[str] = []
+    rows = bench_mod.run(
+        _names(args.arms),
+        _names(args.solvers),
+        n=args.n,
+        budget=args.budget,
+        seed=args.seed,
+        tol=args.tol,
+        repeats=args.repeats,
+        show_progress=not args.json,
+        peers=_names(args.peers),
+        notes=notes,
+    )
+    if args.json:
+        print(json.dumps([r.as_dict() for r in rows], indent=2))
+    else:
+        passes = f" x {args.repeats} passes (other solver seeds)" if args.repeats > 1 else ""
+        print(
+            f"N = {args.n} targets per arm{passes}, budget {args.budget * 1e3:g} ms, tolerance "
+            f"{args.tol:g} m / rad, seeds from mid-limits, sampling seed {args.seed}"
+        )
+        print(bench_mod.table(rows))
+        for line in bench_mod.ratios(rows) + notes:
+            print(line)
+    return 0
+
+
+def _names(values: list[str]) -> list[str]:
+    """Names given as separate words or comma-separated ("dls qp" or "dls,qp")."""
+    return [name for value in values for name in value.split(",") if name]
+
+
+def cmd_compare(args: argparse.Namespace) -> int:
+    if args.speed:
+        rows = compare.speed(n=args.n, seed=args.seed)
+        if args.json:
+            print(json.dumps(rows, indent=2))
+        else:
+            print(compare.speed_table(rows))
+        return 0
+    report = compare.run(n=args.n, seed=args.seed)
+    if args.json:
+        print(json.dumps(report.as_dict(), indent=2))
+    else:
+        print(report.text())
+    if args.plot:
+        for path in compare_plots.plot(report, args.plot):
+            print(f"wrote {path}")
+    return 0

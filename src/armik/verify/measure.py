@@ -1,0 +1,229 @@
+"""The forward-kinematics check that every solver's answer passes through.
+
+Errors are recomputed from the returned joints, never taken from a solver: Pinocchio
+computes the tip placement (its forward kinematics is the source of truth), compiled code
+(``armik.kernel.measure``) measures it against the target. Position error:
+|p_target - p_tip| (m). Orientation error: the geodesic angle |log3(R_tip^T R_target)|
+(rad). Axes with zero weight (see ``Options.weights``) are not measured: the position error
+is then taken in the tip frame on the weighted axes, the orientation error on the weighted
+components of the rotation vector; for a position-only target the orientation error is
+None (NaN in ``measure_batch``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+import pinocchio as pin
+
+from armik.frozen import frozen
+from armik.kernel.measure import pose_error, pose_errors, within_limits
+from armik.model.arm_model import ArmModel
+from armik.options import Options
+from armik.targets.batch import TargetBatch
+from armik.targets.pose import Target
+from armik.tolerances import LIMIT_TOL
+from armik.verify import reasons
+
+_EYE = np.eye(3)  # read only by the kernel
+_FLOAT = np.dtype(float)
+
+
+@dataclass(frozen=True)
+class Measure:
+    position_error: float
+    orientation_error: float | None
+    violations: list[str]
+    tol_position: float
+    tol_orientation: float
+
+    @property
+    def pose_ok(self) -> bool:
+        ori_ok = self.orientation_error is None or self.orientation_error <= self.tol_orientation
+        return self.position_error <= self.tol_position and ori_ok
+
+    @property
+    def ok(self) -> bool:
+        return self.pose_ok and not self.violations
+
+    def describe(self) -> str:
+        return reasons.measured(
+            self.position_error, self.orientation_error, self.tol_position, self.tol_orientation
+        )
+
+
+def _measures(opts: Options, position_only: bool) -> tuple[np.ndarray, bool, bool]:
+    """(weights, weighted, orientation measured) for a target kind."""
+    return measures_of(opts.weights, opts.position_only, position_only)
+
+
+@lru_cache(maxsize=256)
+def measures_of(weights, position_only_option: bool, position_only_target: bool):
+    """(weights (6,), weighted, orientation measured): what the check measures for these
+    options (``weights``, ``position_only``) and target kind, remembered."""
+    w = Options(weights=weights, position_only=position_only_option).weight_vector(
+        position_only_target
+    )
+    position_only = position_only_option or position_only_target
+    measure_rot = not position_only and bool(w[3:].any())
+    return w, weights is not None, measure_rot
+
+
+def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: Options) -> Measure:
+    """Measure ``q`` against ``target`` with Pinocchio FK and the joint limits."""
+    model, data = arm.model, arm.data
+    # Without continuous joints (one coordinate per joint) a float64 q is Pinocchio's
+    # configuration itself (``to_pin`` would copy it).
+    direct = type(q) is np.ndarray and q.dtype == _FLOAT and model.nq == arm.dof
+    pin.forwardKinematics(model, data, q if direct else arm.to_pin(q))
+    T = pin.updateFramePlacement(model, data, arm.tip_frame_id)
+    w, weighted, measure_rot = measures_of(
+        opts.weights, opts.position_only, target.rotation is None
+    )
+    ch = arm.kernel_chain.chain
+    # C-ordered, writable float64 arrays: numba compiles anew for every other layout, and
+    # Pinocchio's rotation is Fortran-ordered. ``T.homogeneous`` is a fresh C-ordered 4x4
+    # whose top-left 3x3 block is the rotation: ``pose_error`` reads R_w[a, b] for a, b < 3
+    # only. ``T.translation`` is a C-ordered view. The kernel only reads its arguments.
+    pos, ori = pose_error(
+        ch.base_R,
+        ch.base_p,
+        T.homogeneous,
+        T.translation,
+        _EYE if target.rotation is None else _c_float(target.rotation),
+        _c_float(target.position),
+        w,
+        weighted,
+        measure_rot,
+    )
+    violations = [] if arm._within(q.tolist()) else arm.limit_violations(q)
+    return frozen(
+        Measure,
+        position_error=pos,
+        orientation_error=ori if measure_rot else None,
+        violations=violations,
+        tol_position=opts.tol_position,
+        tol_orientation=opts.tol_orientation,
+    )
+
+
+def measure_many(arm: ArmModel, qs: list[np.ndarray], target: Target, opts: Options) -> list[Measure]:
+    """``[measure(arm, q, target, opts) for q in qs]`` (the same numbers): Pinocchio FK per
+    answer, the errors of all of them in one compiled call."""
+    n = len(qs)
+    if n < 2:
+        return [measure(arm, q, target, opts) for q in qs]
+    model, data, fid = arm.model, arm.data, arm.tip_frame_id
+    direct = model.nq == arm.dof
+    R_w = np.empty((n, 3, 3))
+    p_w = np.empty((n, 3))
+    fk, place = pin.forwardKinematics, pin.updateFramePlacement
+    for i, q in enumerate(qs):
+        fk(model, data, q if direct and type(q) is np.ndarray and q.dtype == _FLOAT
+           else arm.to_pin(q))  # fmt: skip
+        T = place(model, data, fid)
+        R_w[i] = T.rotation
+        p_w[i] = T.translation
+    w, weighted, measure_rot = measures_of(
+        opts.weights, opts.position_only, target.rotation is None
+    )
+    R_t = np.empty((n, 3, 3))
+    R_t[:] = _EYE if target.rotation is None else target.rotation
+    p_t = np.empty((n, 3))
+    p_t[:] = target.position
+    out = np.empty((n, 2))
+    ch = arm.kernel_chain.chain
+    pose_errors(ch.base_R, ch.base_p, R_w, p_w, R_t, p_t, w, weighted, measure_rot, out)
+    checks = []
+    for q, (pos, ori) in zip(qs, out.tolist()):
+        c = frozen(
+            Measure,
+            position_error=pos,
+            orientation_error=ori if measure_rot else None,
+            violations=[] if arm._within(q.tolist()) else arm.limit_violations(q),
+            tol_position=opts.tol_position,
+            tol_orientation=opts.tol_orientation,
+        )
+        checks.append(c)
+    return checks
+
+
+def _c_float(a: np.ndarray) -> np.ndarray:
+    """``a`` itself when it is already a C-ordered, writable float64 array (a parsed
+    target's arrays are), else such a copy."""
+    if type(a) is np.ndarray and a.dtype == _FLOAT:
+        flags = a.flags
+        if flags.c_contiguous and flags.writeable:
+            return a
+    return np.array(a, dtype=float, order="C")
+
+
+@dataclass(frozen=True)
+class BatchMeasure:
+    """The check of N answers as arrays: position_error (N,) m, orientation_error (N,) rad
+    (NaN where not measured), within_limits (N,) bool, and the tolerances."""
+
+    position_error: np.ndarray
+    orientation_error: np.ndarray
+    within_limits: np.ndarray
+    tol_position: float
+    tol_orientation: float
+
+    @property
+    def pose_ok(self) -> np.ndarray:
+        ori = self.orientation_error
+        ori_ok = np.isnan(ori) | (ori <= self.tol_orientation)
+        return (self.position_error <= self.tol_position) & ori_ok
+
+    @property
+    def ok(self) -> np.ndarray:
+        """(N,) bool: within tolerance and within the limits: the only success there is."""
+        return self.pose_ok & self.within_limits
+
+
+def measure_batch(arm: ArmModel, Q: np.ndarray, targets: TargetBatch, opts: Options) -> BatchMeasure:
+    """Measure row i of ``Q`` (N, dof) against target i, as ``measure`` does for one: Pinocchio
+    FK for the placements, compiled code for the errors and the limits. A row with a
+    non-finite value fails (NaN errors, outside the limits). For the violated joints of a row
+    by name, call ``arm.limit_violations(Q[i])``."""
+    Q = np.array(Q, dtype=float)  # a C-ordered, writable copy (what the kernel is built for)
+    n = len(targets)
+    if Q.shape != (n, arm.dof):
+        raise ValueError(f"Q must have shape ({n}, {arm.dof}), got {Q.shape}")
+    model, data, fid = arm.model, arm.data, arm.tip_frame_id
+    # The placements as 4x4 matrices (one conversion per row), NaN for non-finite rows.
+    H_w = np.full((n, 4, 4), np.nan)
+    finite = np.isfinite(Q).all(axis=1)
+    fk, place = pin.forwardKinematics, pin.updateFramePlacement
+    # Without continuous joints (one coordinate per joint) a row of Q is Pinocchio's
+    # configuration itself: no conversion, no copy.
+    rows = Q if model.nq == arm.dof else map(arm.to_pin, Q)
+    for i, (qp, ok) in enumerate(zip(rows, finite.tolist())):
+        if ok:
+            fk(model, data, qp)
+            H_w[i] = place(model, data, fid).homogeneous
+    R_w = np.ascontiguousarray(H_w[:, :3, :3])
+    p_w = np.ascontiguousarray(H_w[:, :3, 3])
+    w, weighted, measure_rot = _measures(opts, targets.position_only)
+    R_t = targets.rotations
+    if R_t is None:
+        R_t = np.broadcast_to(_EYE, (n, 3, 3))
+    out = np.empty((n, 2))
+    ch = arm.kernel_chain.chain
+    pose_errors(
+        ch.base_R,
+        ch.base_p,
+        R_w,
+        p_w,
+        np.array(R_t, dtype=float, order="C"),
+        np.array(targets.positions, dtype=float, order="C"),
+        w,
+        weighted,
+        measure_rot,
+        out,
+    )
+    inside = np.empty(n, dtype=np.bool_)
+    within_limits(Q, ch.lower, ch.upper, LIMIT_TOL, inside)
+    return BatchMeasure(out[:, 0], out[:, 1], inside, opts.tol_position, opts.tol_orientation)

@@ -1,0 +1,58 @@
+"""Every reason text a result can carry, written once: the verdicts of single, prepared and
+batch solves and the solvers' own claims all word their reasons here."""
+
+from __future__ import annotations
+
+
+def measured(pos: float, ori: float | None, tol_p: float, tol_r: float) -> str:
+    """'position error 1e-07 m (tol 1e-05), orientation error ...': a measure in words
+    (``ori`` None: not measured)."""
+    text = f"position error {pos:.3g} m{_tol_text(tol_p)}"
+    if ori is None:
+        return text
+    return f"{text}, orientation error {ori:.3g} rad{_tol_text(tol_r)}"
+
+
+def verified(claim_reason: str | None, measured_text: str) -> str:
+    """The reason of a success: the solver's own words, then the measure."""
+    reason = f"verified by forward kinematics: {measured_text}"
+    return f"{claim_reason}; {reason}" if claim_reason else reason
+
+
+def outside_limits(violations: list[str]) -> str:
+    """A claimed answer that reaches the target outside the joint limits (``violations``:
+    ``ArmModel.limit_violations``)."""
+    return "outside the joint limits: " + "; ".join(violations)
+
+
+def check_failed(measured_text: str) -> str:
+    """A claimed answer within the limits that Pinocchio's FK does not confirm."""
+    return f"forward-kinematics check failed: {measured_text}"
+
+
+def unreachable(distance: float, reach: float) -> str:
+    """A target beyond the reach bound (m), refused before any iteration."""
+    return (
+        f"target is {distance:.4g} m from the first joint, beyond the arm's reach of at "
+        f"most {reach:.4g} m; q is the seed, unchanged"
+    )
+
+
+def not_converged(why: str, best: str) -> str:
+    """No answer within ``why`` (the budget or the restart limit, in words); ``best``: the
+    errors of the best attempt."""
+    return f"no solution within {why}; best found: {best}; the target may be out of reach"
+
+
+def _tol_text(tol: float) -> str:
+    """' (tol 1e-05)': ``measured``'s tolerance text, formatted once per tolerance."""
+    text = _TOL_TEXT.get(tol)
+    if text is None:
+        text = f" (tol {tol:g})"
+        if len(_TOL_TEXT) > 64:
+            _TOL_TEXT.clear()
+        _TOL_TEXT[tol] = text
+    return text
+
+
+_TOL_TEXT: dict[float, str] = {}

@@ -1,0 +1,197 @@
+"""The verdict every answer gets: from a solver's claims and their measures to ranked,
+verified results. Success only when the measure holds, whatever the solver claimed.
+
+Single solves (``finish``), prepared solves (``armik.solve.prepared``, through ``verdict``,
+``success_reason`` and ``failure_rank``) and batches (``verdict_batch``) all decide here, in
+the words of ``armik.verify.reasons``.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from armik.batch_result import BatchResult
+from armik.result import IKResult
+from armik.solvers.claims import Attempt, AttemptBatch
+from armik.status import FAILURE_RANK, Status
+from armik.verify import reasons
+from armik.verify.measure import Measure, measure, measure_batch, measure_many
+
+if TYPE_CHECKING:
+    from armik.model.arm_model import ArmModel
+    from armik.options import Options
+    from armik.targets.batch import TargetBatch
+
+_CONVERGED = Status.CONVERGED.code
+
+
+def finish(
+    arm: ArmModel,
+    solver: str,
+    attempts: list[Attempt],
+    target,
+    opts: Options,
+    seed: np.ndarray,
+    all_solutions: bool,
+    t0: float,
+) -> list[IKResult]:
+    """Verify ``attempts`` (all of them, or nearest-first up to the first success), rank
+    them best first and build the results; ``t0`` is the call's ``perf_counter`` start."""
+    if all_solutions:
+        measures = measure_many(arm, [a.q for a in attempts], target, opts)
+        rows = [verdict(a, m) for a, m in zip(attempts, measures)]
+    else:
+        rows = _first_verified(arm, attempts, target, opts, seed)
+    return ranked(rows, solver, seed, all_solutions, t0)
+
+
+def ranked(rows: list[dict], solver: str, seed, all_solutions: bool, t0: float):
+    """The results of verdict rows, best first (the first only unless ``all_solutions``)."""
+    if len(rows) > 1:
+        rows.sort(key=lambda r: _rank(r, seed))
+    rows = rows if all_solutions else rows[:1]
+    elapsed = time.perf_counter() - t0
+    for row in rows:
+        row["solver"] = solver
+        row["time"] = elapsed
+    return [IKResult._checked(row) for row in rows]
+
+
+def _first_verified(arm: ArmModel, attempts: list[Attempt], target, opts: Options, seed) -> list:
+    """Verify candidates nearest-first (within limits, claimed converged, then distance to
+    the seed) and stop at the first success: it is the nearest verified answer."""
+    if len(attempts) == 1:
+        return [verdict(attempts[0], measure(arm, attempts[0].q, target, opts))]
+
+    def order(a: Attempt) -> tuple:
+        return (
+            a.claim is not Status.CONVERGED,
+            not arm.within_limits(a.q),
+            seed_distance(a.q, seed),
+        )
+
+    rows = []
+    for attempt in sorted(attempts, key=order):
+        rows.append(verdict(attempt, measure(arm, attempt.q, target, opts)))
+        if rows[-1]["success"]:
+            return rows[-1:]
+    return rows
+
+
+def seed_distance(q: np.ndarray, seed: np.ndarray) -> float:
+    d = q - seed
+    return float(np.sqrt(d.dot(d)))
+
+
+def success_reason(claim_reason, claim_args, pos, ori, tol_p, tol_r) -> str:
+    """The reason of a success from its parts: the claim's reason is ``claim_reason``
+    itself, or ``claim_reason(*claim_args)`` when it is a function (results of prepared
+    solves write their reason on first read, see ``IKResult``)."""
+    if callable(claim_reason):
+        claim_reason = claim_reason(*claim_args)
+    return reasons.verified(claim_reason, reasons.measured(pos, ori, tol_p, tol_r))
+
+
+def limits_reason(arm: ArmModel, q: np.ndarray) -> str:
+    """The reason of a claimed answer outside the joint limits."""
+    return reasons.outside_limits(arm.limit_violations(q))
+
+
+def verdict(attempt: Attempt, m: Measure) -> dict:
+    """The row of an answer from its measure: success only when the measure holds."""
+    if m.ok:
+        status, success = Status.CONVERGED, True
+        claim = attempt.reason if attempt.claim is Status.CONVERGED else None
+        reason = reasons.verified(claim, m.describe())
+    elif attempt.claim is Status.CONVERGED:
+        success = False
+        if m.violations:
+            status = Status.JOINT_LIMITS
+            reason = reasons.outside_limits(m.violations)
+        else:
+            status = Status.NOT_CONVERGED
+            reason = reasons.check_failed(m.describe())
+    else:
+        status, success, reason = attempt.claim, False, attempt.reason
+    return dict(
+        q=attempt.q,
+        success=success,
+        status=status,
+        reason=reason,
+        iterations=attempt.iterations,
+        position_error=m.position_error,
+        orientation_error=m.orientation_error,
+        branch=attempt.branch,
+        singular=attempt.singular,
+        restarts=attempt.restarts,
+    )
+
+
+def failure_rank(status: Status, position_error: float, orientation_error) -> tuple:
+    """How failed results are ranked among themselves: by status, then by their errors."""
+    return (FAILURE_RANK[status], position_error + (orientation_error or 0.0))
+
+
+def _rank(row: dict, seed: np.ndarray) -> tuple:
+    if row["success"]:
+        return (0, seed_distance(row["q"], seed))
+    return (1, *failure_rank(row["status"], row["position_error"], row["orientation_error"]))
+
+
+def verdict_batch(
+    arm: ArmModel, attempts: AttemptBatch, targets: TargetBatch, opts: Options
+) -> BatchResult:
+    """The verdict of a chunk of attempts, as ``verdict`` decides one: a verified answer is
+    a success whatever the solver claimed; a claimed success that fails the measure is
+    ``joint_limits`` (outside the limits) or ``not_converged``; any other claim stands."""
+    n = len(targets)
+    part = BatchResult.empty(n, arm.dof, solver="", time=0.0)
+    part.q[:] = attempts.q
+    part.iterations[:] = attempts.iterations
+    part.restarts[:] = attempts.restarts
+    claim = np.asarray(attempts.claim, dtype=np.int8)
+    m = measure_batch(arm, part.q, targets, opts)
+    part.position_error[:] = m.position_error
+    part.orientation_error[:] = m.orientation_error
+    ok = m.ok
+    claimed = claim == _CONVERGED
+    part.success[:] = ok
+    part.status_code[:] = np.where(
+        ok,
+        _CONVERGED,
+        np.where(
+            claimed,
+            np.where(m.within_limits, Status.NOT_CONVERGED.code, Status.JOINT_LIMITS.code),
+            claim,
+        ),
+    )
+    for i in np.flatnonzero(~ok).tolist():  # the rare failures get their reasons
+        ori = part.orientation_error[i]
+        errors = reasons.measured(
+            part.position_error[i],
+            None if math.isnan(ori) else ori,
+            opts.tol_position,
+            opts.tol_orientation,
+        )
+        if claimed[i] and not m.within_limits[i]:
+            part.reasons[i] = limits_reason(arm, part.q[i])
+        elif claimed[i]:
+            part.reasons[i] = reasons.check_failed(errors)
+        elif claim[i] == Status.UNREACHABLE.code:
+            distance = math.dist(targets.positions[i].tolist(), arm.first_joint_origin.tolist())
+            part.reasons[i] = reasons.unreachable(distance, arm.reach)
+        elif claim[i] == Status.NOT_CONVERGED.code:
+            budget = (
+                f"{opts.iteration_budget} iterations"
+                if getattr(opts, "iteration_budget", None) is not None
+                else f"{opts.timeout:g} s of CPU time"
+            )
+            why = f"the budget ({budget}, at most {opts.max_restarts} restarts)"
+            part.reasons[i] = reasons.not_converged(why, errors)
+        else:
+            part.reasons[i] = f"{Status.from_code(claim[i]).value}: {errors}"
+    return part

@@ -1,0 +1,121 @@
+"""Structure detection: axis lines from the model and the closed-form classes."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.errors import SolverError
+from armik.model import geometry
+from armik.solvers import registry
+from armik.solvers.closed_form import families, spherical_wrist, three_parallel
+
+from ..analytic_urdfs import IRB120, IRB120_NEAR_MISS, MEETING_12, UR5, UR5_NEAR_MISS, six_r
+from ..conftest import arm, write_urdf
+
+
+def load6(tmp_path, joints, **kw):
+    return armik.load(write_urdf(tmp_path, six_r(joints, **kw)), base="world", tip="tool")
+
+
+@pytest.mark.parametrize(
+    "name, cls",
+    [
+        ("ur5", "three_parallel"),
+        ("ur10", "three_parallel"),
+        ("z1", "three_parallel"),
+        ("abb_irb120", "spherical_wrist"),
+        ("kinova", "spherical_wrist"),
+        ("planar_2link", "planar"),
+    ],
+)
+def test_bundled_arms_classify(name, cls):
+    classes = families.classify(arm(name))
+    assert not isinstance(classes[cls], str)
+    others = [v for k, v in classes.items() if k != cls]
+    assert all(isinstance(v, str) and v for v in others)  # each says why not
+
+
+def test_seven_dof_and_prismatic_refused_with_reason():
+    c = families.classify(arm("panda"))
+    assert (
+        c["spherical_wrist"]
+        == c["three_parallel"]
+        == ("the chain has 7 joints, this class needs 6")
+    )
+    assert "4 joints" in families.classify(arm("scara"))["spherical_wrist"]
+
+
+def test_axis_lines_are_the_jacobian_columns(rng):
+    """Each axis line, moved by the joints before it, is the Jacobian's twist column."""
+    a = arm("ur5")
+    ax = geometry.axis_lines(a)
+    assert np.allclose(np.linalg.norm(ax.directions, axis=1), 1.0)
+    J0 = a.jacobian(np.zeros(6), frame="base")
+    tip = ax.tip_position
+    for i in range(6):
+        w, c = ax.directions[i], ax.points[i]
+        assert np.allclose(J0[3:, i], w, atol=1e-12)
+        assert np.allclose(J0[:3, i], np.cross(w, tip - c), atol=1e-12)
+
+
+def test_chain_form_reproduces_pinocchio_fk(tmp_path, rng):
+    from armik.solvers.closed_form.sixr import forward
+
+    for a in (arm("ur5"), arm("abb_irb120"), load6(tmp_path, MEETING_12, mount_rpy="0.2 0 1")):
+        geo = spherical_wrist.classify(a)
+        if isinstance(geo, str):
+            geo = three_parallel.classify(a)
+        for _ in range(20):
+            q = a.random_q(rng)
+            R, p = forward(geo.h, geo.p, geo.R_tip0, q)
+            T = a.fk(q)
+            T_chain = pin.SE3(np.array(R).reshape(3, 3), np.array(p))
+            assert np.linalg.norm(pin.log6(T.inverse() * T_chain).vector) < 1e-12
+
+
+def test_meeting_12_variant(tmp_path):
+    geo = spherical_wrist.classify(load6(tmp_path, MEETING_12))
+    assert geo.variant == "meeting_12" and "axes 1 and 2 meet" in geo.description
+
+
+def test_near_misses_refused_with_measured_numbers(tmp_path):
+    a = load6(tmp_path, IRB120_NEAR_MISS)
+    why = spherical_wrist.classify(a)
+    assert isinstance(why, str) and "miss by 0.0005 m" in why
+    assert registry.choose("auto", a, armik.parse_target(a.fk(np.zeros(6)))).name == "dls"
+    b = load6(tmp_path, UR5_NEAR_MISS)
+    why = three_parallel.classify(b)
+    assert isinstance(why, str) and "axes 2 and 3 are 0.001 rad apart" in why
+    with pytest.raises(SolverError, match="does not apply.*0.001 rad apart"):
+        b.solve(b.fk(np.zeros(6)), solver="three_parallel")
+
+
+def test_mount_and_tool_do_not_change_the_class(tmp_path):
+    kw = dict(mount_xyz="1 2 3", mount_rpy="0.4 -1.2 2.0", tool_xyz="0 0.1 0.2", tool_rpy="1 2 3")
+    assert spherical_wrist.classify(load6(tmp_path, IRB120, **kw)).variant == "parallel_23"
+    assert three_parallel.classify(load6(tmp_path, UR5, **kw)).kind == "three_parallel"
+
+
+def test_info_prints_the_classes(capsys):
+    from armik.tools.cli import main
+
+    assert main(["info", "abb_irb120"]) == 0
+    out = capsys.readouterr().out
+    assert "spherical_wrist  yes: spherical wrist at [0.302, 0.0, 0.63] m" in out
+    assert "three_parallel   no: axes 2, 3, 4 are not parallel" in out
+    assert "auto -> spherical" in out
+    main(["info", "ur5"])
+    out = capsys.readouterr().out
+    assert "spherical_wrist  no: the last three axes do not meet in one point" in out
+    assert "auto -> three_parallel" in out
+
+
+def test_compare_speed_table(capsys):
+    from armik.tools.cli import main
+
+    assert main(["compare", "--speed", "-n", "5"]) == 0
+    out = capsys.readouterr().out
+    assert "| ur5 | three_parallel | 5/5 |" in out and "| abb_irb120 | spherical | 5/5 |" in out

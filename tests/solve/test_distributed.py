@@ -1,0 +1,78 @@
+"""The Dask runner on a local cluster of two worker processes: the local answers."""
+
+from __future__ import annotations
+
+import pickle
+
+import distributed  # the "cluster" extra, part of the "test" extra
+import numpy as np
+import pytest
+
+from armik import BatchResult
+from armik.errors import InputError
+from armik.solve import distributed as armik_distributed
+from armik.solve.batch import solve_batch
+from armik.tools.cli import main
+
+from ..conftest import arm
+
+
+@pytest.fixture(scope="module")
+def client():
+    cluster = distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    )
+    c = distributed.Client(cluster)
+    yield c
+    c.close()
+    cluster.close()
+
+
+def _targets(name: str, n: int) -> np.ndarray:
+    a = arm(name)
+    rng = np.random.default_rng(21)
+    T = np.array([a.fk(a.random_q(rng)).homogeneous for _ in range(n)])
+    T[3, :3, 3] = (4.0, 0.0, 0.0)  # out of reach
+    return T
+
+
+@pytest.mark.parametrize("name", ["panda", "kinova"])
+def test_cluster_gives_the_local_answers(client, name):
+    a = arm(name)
+    T = _targets(name, 24)
+    q0 = np.array([a.random_q(k) for k in range(len(T))])
+    options = dict(timeout=1.0, max_restarts=50, seed=2)
+    local = solve_batch(a, T, q0=q0, workers=1, **options)
+    remote = armik_distributed.solve_batch(a, T, q0=q0, client=client, chunk_size=5, **options)
+    assert isinstance(remote, BatchResult) and len(remote) == len(T)
+    for field in ("q", "success", "status_code", "position_error", "iterations", "restarts"):
+        np.testing.assert_array_equal(getattr(remote, field), getattr(local, field), err_msg=field)
+    assert remote.reasons == local.reasons and remote.status[3] == "unreachable"
+    assert remote.solver == local.solver and remote.arm == name
+
+
+def test_each_worker_builds_the_arm_once(client):
+    a = arm("ur5")
+    T = _targets("ur5", 10)
+    for _ in range(2):
+        armik_distributed.solve_batch(a, T, client=client, chunk_size=2)
+    name = armik_distributed.plugin_name(pickle.dumps(a))
+    builds = client.run(lambda dask_worker: dask_worker.plugins[name].builds)
+    assert sorted(builds.values()) == [1, 1]
+
+
+def test_cli_cluster_address(client, tmp_path, capsys):
+    T = _targets("ur5", 8)
+    np.save(tmp_path / "t.npy", T)
+    out = tmp_path / "o.npz"
+    address = client.scheduler.address
+    argv = ["batch", "ur5", str(tmp_path / "t.npy"), "-o", str(out), "--cluster", address]
+    assert main(argv + ["--chunk-size", "3"]) == 0
+    assert "7/8 solved" in capsys.readouterr().out
+    local = solve_batch(arm("ur5"), T, workers=1)
+    np.testing.assert_array_equal(BatchResult.load(out).q, local.q)
+
+
+def test_bad_local_address():
+    with pytest.raises(InputError, match="local:N"):
+        armik_distributed.connect("local:two")

@@ -1,0 +1,56 @@
+"""Reachability maps: the fraction per voxel is the success rate of its orientations."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from armik.errors import InputError, OptionError
+from armik.solve.reach import ReachMap, grid, reachability
+
+from ..conftest import arm
+
+
+def test_planar_arm_map_matches_its_annulus(tmp_path):
+    # The 2-link arm (l1 = 1.0, l2 = 0.8) on position targets reaches the annulus
+    # 0.2 <= r <= 1.8 in its plane (z = 0) and nothing off it.
+    a = arm("planar_2link")
+    m = reachability(a, resolution=0.3, orientations=1, workers=1, position_only=True)
+    X, Y, Z = np.meshgrid(m.xs, m.ys, m.zs, indexing="ij")
+    r = np.hypot(X, Y)
+    sampled = np.isfinite(m.fraction)
+    on_plane = np.isclose(Z, 0.0) & sampled
+    assert (m.fraction[on_plane & (r > 0.25) & (r < 1.75)] == 1).all()
+    assert (m.fraction[on_plane & (r > 1.85)] == 0).all()
+    assert (m.fraction[sampled & ~np.isclose(Z, 0.0)] == 0).all()
+    back = ReachMap.load(m.save(tmp_path / "m.npz"))
+    np.testing.assert_array_equal(back.fraction, m.fraction)
+    assert back.arm == "planar_2link" and back.solves == m.solves == int(sampled.sum())
+
+
+def test_fraction_is_the_mean_of_orientation_successes():
+    a = arm("ur5")
+    m = reachability(a, resolution=0.5, orientations=3, workers=1, timeout=0.002, seed=1)
+    f = m.fraction[np.isfinite(m.fraction)]
+    assert set(np.round(f * 3).astype(int)) <= {0, 1, 2, 3}
+    assert (f > 0).any() and (f == 0).any()
+
+
+def test_grid_covers_the_reach_ball():
+    a = arm("panda")
+    xs, ys, zs, inside = grid(a, 0.2)
+    o = a.first_joint_origin
+    assert xs[0] <= o[0] - a.reach and xs[-1] >= o[0] + a.reach
+    assert inside.sum() < inside.size
+
+
+def test_bad_arguments():
+    a = arm("ur5")
+    with pytest.raises(OptionError, match="resolution"):
+        reachability(a, resolution=0)
+    with pytest.raises(OptionError, match="orientations"):
+        reachability(a, orientations=0)
+    with pytest.raises(OptionError, match="too many solves"):
+        reachability(a, resolution=0.001)
+    with pytest.raises(InputError, match="not a reachability map"):
+        ReachMap.load(__file__)

@@ -1,0 +1,234 @@
+"""The closed-form 2-link specialist against the textbook formula and Pinocchio FK."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import armik
+from armik.solvers.closed_form import planar2r
+
+from ...conftest import TOL, arm, two_link_urdf, write_urdf
+
+L1, L2 = 1.0, 0.8
+
+
+def textbook(x: float, y: float, sign: float) -> tuple[float, float]:
+    """The lesson's formula, written independently of the solver."""
+    c2 = (x * x + y * y - L1 * L1 - L2 * L2) / (2 * L1 * L2)
+    q2 = sign * math.acos(c2)
+    q1 = math.atan2(y, x) - math.atan2(L2 * math.sin(q2), L1 + L2 * math.cos(q2))
+    return q1, q2
+
+
+def test_worked_example_both_branches():
+    a = arm("planar_2link")
+    results = a.solve_all([1.2, 0.5])
+    assert [r.branch for r in results] == ["elbow-up", "elbow-down"] or sorted(
+        r.branch for r in results
+    ) == ["elbow-down", "elbow-up"]
+    by_branch = {r.branch: r for r in results}
+    for branch, sign in (("elbow-up", 1.0), ("elbow-down", -1.0)):
+        r = by_branch[branch]
+        assert r.success and r.solver == "planar2r" and r.status == "converged"
+        np.testing.assert_allclose(r.q, textbook(1.2, 0.5, sign), atol=TOL["closed_form"])
+        assert r.position_error < 1e-14
+    assert by_branch["elbow-up"].q[1] > 0 > by_branch["elbow-down"].q[1]
+
+
+def test_solve_picks_branch_nearest_q0():
+    a = arm("planar_2link")
+    up = a.solve([1.2, 0.5], q0=[0.0, 1.0])
+    down = a.solve([1.2, 0.5], q0=[1.0, -1.0])
+    assert up.branch == "elbow-up" and down.branch == "elbow-down"
+
+
+def test_joint_limits_exclude_one_branch():
+    a = arm("planar_2link").with_limits({"joint2": (0.0, math.pi)})
+    with pytest.warns(armik.ArmikWarning, match="clipped"):
+        r = a.solve([1.2, 0.5], q0=[1.0, -1.0])  # q0 prefers elbow-down, limits forbid it
+    assert r.success and r.branch == "elbow-up"
+    results = a.solve_all([1.2, 0.5])
+    assert [r.success for r in results] == [True, False]
+    assert results[1].status == "joint_limits"
+
+
+def test_both_branches_outside_limits():
+    a = arm("planar_2link").with_limits({"joint2": (-0.1, 0.1)})
+    r = a.solve([1.2, 0.5])
+    assert not r.success and r.status == "joint_limits" and "joint2" in r.reason
+
+
+def test_wrap_uses_equivalent_angle_within_wide_limits():
+    a = arm("planar_2link").with_limits({"joint1": (0.0, 2 * math.pi)})
+    r = a.solve([1.2, 0.5], q0=[6.0, 1.0])
+    assert r.success and r.branch == "elbow-up"
+    assert r.q[0] == pytest.approx(textbook(1.2, 0.5, 1.0)[0] + 2 * math.pi, abs=1e-12)
+
+
+@pytest.mark.parametrize(
+    "target, words",
+    [
+        ([3.0, 0.0], "too far"),
+        ([0.0, 1.9], "too far"),
+        ([0.1, 0.0], "inner dead zone"),
+        ([0.0, 0.0], "inner dead zone"),
+    ],
+)
+def test_unreachable_reports_reason_and_closest_configuration(target, words):
+    a = arm("planar_2link")
+    r = a.solve(target)
+    assert not r.success and r.status == "unreachable" and words in r.reason
+    assert np.all(np.isfinite(r.q))
+    # q is the closest reachable configuration: the arm points at the target
+    tip = a.fk(r.q).translation[:2]
+    d = np.linalg.norm(target)
+    expected = (L1 + L2) if d > L1 + L2 else (L1 - L2)
+    assert np.linalg.norm(tip) == pytest.approx(expected, abs=1e-12)
+    if d > 0:
+        assert r.position_error == pytest.approx(abs(d - expected), abs=1e-12)
+
+
+@pytest.mark.parametrize(
+    "radius, branch, q2", [(L1 + L2, "stretched", 0.0), (L1 - L2, "folded", math.pi)]
+)
+def test_singular_boundary_single_solution(radius, branch, q2):
+    a = arm("planar_2link")
+    angle = 0.3
+    target = [radius * math.cos(angle), radius * math.sin(angle)]
+    results = a.solve_all(target)
+    assert len(results) == 1
+    r = results[0]
+    assert r.success and r.singular and r.branch == branch and "singular" in r.reason
+    assert abs(abs(r.q[1]) - q2) < 1e-12 and np.all(np.isfinite(r.q))
+
+
+def test_no_nan_just_beyond_the_boundary():
+    a = arm("planar_2link")
+    r = a.solve([L1 + L2 + 1e-15, 0.0])
+    assert np.all(np.isfinite(r.q)) and r.success and r.singular
+
+
+def test_degenerate_equal_links_target_at_base(tmp_path):
+    urdf = two_link_urdf(l1=0.7, l2=0.7, limits2=(-3.2, 3.2))
+    a = armik.load(write_urdf(tmp_path, urdf), tip="tip")
+    r = a.solve([0.0, 0.0], q0=[0.4, 2.0])
+    assert r.success and r.singular and "free" in r.reason
+    assert r.q[0] == pytest.approx(0.4)  # kept at q0
+    assert abs(r.q[1]) == pytest.approx(math.pi)
+    # the same arm whose elbow cannot fold that far says so instead of pretending
+    tight = a.with_limits({"j2": (-3.0, 3.0)})
+    r = tight.solve([0.0, 0.0], q0=[0.4, 2.0])
+    assert not r.success and r.status == "joint_limits"
+
+
+@pytest.mark.parametrize(
+    "origin, rpy", [("0.3 -0.2 0.5", "0.4 -0.3 1.2"), ("1 2 3", "3.0 0.1 -2.0")]
+)
+def test_rotated_and_translated_arm(tmp_path, origin, rpy, rng):
+    a = armik.load(
+        write_urdf(tmp_path, two_link_urdf(origin=origin, rpy=rpy, tool="0.1 0.05 0.2")), tip="tip"
+    )
+    assert planar2r.applies(a) is None
+    geo = planar2r.geometry(a)
+    assert geo.l1 == pytest.approx(1.0) and geo.l2 == pytest.approx(math.hypot(0.9, 0.05))
+    for _ in range(20):
+        q = a.random_q(rng)
+        p = a.fk(q).translation  # a 3-vector in the base frame
+        results = a.solve_all(p)
+        assert len(results) == 2 and all(r.success for r in results)
+        assert min(np.linalg.norm(r.q - q) for r in results) < 1e-9
+        assert all(r.position_error < 1e-12 for r in results)
+
+
+def test_off_plane_target_is_unreachable(tmp_path):
+    a = arm("planar_2link")
+    r = a.solve([1.0, 0.5, 0.2])
+    assert r.status == "unreachable" and "off the arm's plane" in r.reason
+
+
+def test_full_pose_orientation_consistency():
+    a = arm("planar_2link")
+    q = np.array([0.3, 0.9])
+    T = a.fk(q)
+    results = a.solve_all(T)
+    ok = [r for r in results if r.success]
+    assert len(ok) == 1 and np.allclose(ok[0].q, q, atol=1e-12)
+    other = [r for r in results if not r.success][0]
+    assert other.status == "unreachable" and "cannot choose both" in other.reason
+    tilted = T * pin.SE3(pin.rpy.rpyToMatrix(0.2, 0, 0), np.zeros(3))
+    r = a.solve(tilted)
+    assert r.status == "unreachable" and "tilted" in r.reason
+
+
+def test_double_pendulum_axes_along_x(rng):
+    a = arm("double_pendulum")
+    assert planar2r.applies(a) is None
+    np.testing.assert_allclose(np.abs(a.plane.normal), [1, 0, 0], atol=1e-12)
+    for _ in range(20):
+        q = a.random_q(rng)
+        results = a.solve_all(a.fk(q).translation)
+        assert all(r.success and r.solver == "planar2r" for r in results)
+        assert min(np.linalg.norm(r.q - q) for r in results) < 1e-9
+
+
+def test_zero_length_link_is_refused_with_reason(tmp_path):
+    a = armik.load(write_urdf(tmp_path, two_link_urdf(l2=0.0)), tip="tip")
+    assert "zero length" in planar2r.applies(a)
+    r = a.solve([1.0, 0.0, 0.0])  # auto falls back to a numeric solver
+    assert r.solver == "dls" and r.success
+
+
+def test_vectorised_matches_scalar(rng):
+    a = arm("planar_2link")
+    xy = rng.uniform(-2.0, 2.0, size=(500, 2))
+    q_up, q_down, ok = planar2r.solve_many(a, xy)
+    r = np.linalg.norm(xy, axis=1)
+    np.testing.assert_array_equal(ok, (r <= L1 + L2) & (r >= L1 - L2))
+
+    def wrapped(a, b):
+        d = np.asarray(a) - np.asarray(b)
+        return np.abs(np.arctan2(np.sin(d), np.cos(d))).max()
+
+    for i in np.flatnonzero(ok)[:50]:
+        assert wrapped(q_up[i], textbook(*xy[i], 1.0)) < TOL["closed_form"]
+        assert wrapped(q_down[i], textbook(*xy[i], -1.0)) < TOL["closed_form"]
+    geo = planar2r.geometry(a)
+    np.testing.assert_allclose(geo.forward(q_up[ok, 0], q_up[ok, 1]), xy[ok], atol=1e-12)
+    np.testing.assert_allclose(geo.forward(q_down[ok, 0], q_down[ok, 1]), xy[ok], atol=1e-12)
+    assert np.all(np.isnan(q_up[~ok]))
+
+
+annulus = st.tuples(st.floats(L1 - L2 + 1e-6, L1 + L2 - 1e-6), st.floats(-math.pi, math.pi))
+
+
+@settings(max_examples=200, deadline=None)
+@given(annulus)
+def test_property_every_reachable_point_reached_by_both_branches(polar):
+    radius, angle = polar
+    a = arm("planar_2link")
+    target = [radius * math.cos(angle), radius * math.sin(angle)]
+    results = a.solve_all(target)
+    assert len(results) == 2 and {r.branch for r in results} == {"elbow-up", "elbow-down"}
+    for r in results:
+        assert r.success and np.linalg.norm(a.fk(r.q).translation[:2] - target) < 1e-12
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.floats(0.0, 5.0), st.floats(-math.pi, math.pi))
+def test_property_outside_the_annulus_is_unreachable(radius, angle):
+    a = arm("planar_2link")
+    if L1 - L2 + 1e-9 <= radius <= L1 + L2 - 1e-9:
+        return
+    r = a.solve([radius * math.cos(angle), radius * math.sin(angle)])
+    if radius > L1 + L2 + 1e-6:
+        assert r.status == "unreachable" and "too far" in r.reason
+    elif radius < L1 - L2 - 1e-6:
+        assert r.status == "unreachable" and "dead zone" in r.reason
+    else:
+        assert r.singular  # within tolerance of the boundary: merged branches

@@ -1,0 +1,96 @@
+"""Target parsing: every accepted form, and every malformed one refused by name."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from armik import TargetError, parse_target
+
+from ..conftest import arm
+
+
+def _quat_xyzw(R):
+    q = pin.Quaternion(R)
+    return np.array([q.x, q.y, q.z, q.w])
+
+
+def test_all_pose_forms_round_trip():
+    T = pin.SE3.Random()
+    forms = [
+        T,
+        T.homogeneous,
+        (T.translation, _quat_xyzw(T.rotation)),
+        list(T.translation) + list(_quat_xyzw(T.rotation)),
+    ]
+    for form in forms:
+        t = parse_target(form)
+        np.testing.assert_allclose(t.position, T.translation, atol=1e-15)
+        np.testing.assert_allclose(t.rotation, T.rotation, atol=1e-12)
+        assert not t.position_only
+
+
+def test_position_only():
+    t = parse_target([0.1, 0.2, 0.3])
+    assert t.position_only and t.rotation is None
+    np.testing.assert_allclose(t.se3().translation, [0.1, 0.2, 0.3])
+
+
+def test_non_unit_quaternion_is_normalised():
+    t = parse_target(([0, 0, 0], [0, 0, 2.0, 2.0]))  # 90 deg about z, scaled
+    np.testing.assert_allclose(t.rotation, pin.rpy.rpyToMatrix(0, 0, np.pi / 2), atol=1e-12)
+
+
+def test_planar_two_vector():
+    a = arm("planar_2link")
+    t = parse_target([1.2, 0.5], a)
+    np.testing.assert_allclose(t.position, [1.2, 0.5, 0.0])
+    assert t.planar
+    d = arm("double_pendulum")  # axes along x: plane coordinates are base (y, z)
+    t = parse_target([0.1, 0.2], d)
+    np.testing.assert_allclose(d.plane.to_2d(t.position), [0.1, 0.2], atol=1e-15)
+    assert abs(d.plane.height(t.position)) < 1e-15
+
+
+@pytest.mark.parametrize(
+    "value, match",
+    [
+        ([np.nan, 0, 0], "NaN or inf"),
+        ([0, np.inf, 0], "NaN or inf"),
+        ([1, 2, 3, 4], "shape"),
+        (np.zeros((3, 3)), "shape"),
+        ("abc", "not numeric"),
+        (([0, 0, 0], [0, 0, 0, 0]), "zero norm"),
+        (([0, 0], [0, 0, 0, 1]), "3 numbers"),
+        (([0, 0, 0], [0, 0, 1]), "4 numbers"),
+    ],
+)
+def test_malformed_targets(value, match):
+    with pytest.raises(TargetError, match=match):
+        parse_target(value)
+
+
+def test_bad_matrices():
+    M = np.eye(4)
+    M[3] = [0, 0, 1, 1]
+    with pytest.raises(TargetError, match="last row"):
+        parse_target(M)
+    M = np.eye(4)
+    M[0, 0] = 2.0
+    with pytest.raises(TargetError, match="not orthonormal"):
+        parse_target(M)
+    M = np.eye(4)
+    M[2, 2] = -1.0
+    with pytest.raises(TargetError, match="determinant -1"):
+        parse_target(M)
+    M = np.eye(4)
+    M[1, 3] = np.nan
+    with pytest.raises(TargetError, match="NaN"):
+        parse_target(M)
+
+
+def test_two_vector_needs_planar_arm():
+    with pytest.raises(TargetError, match="planar arm.*'panda'"):
+        parse_target([0.3, 0.2], arm("panda"))
+    assert isinstance(TargetError("x"), ValueError)

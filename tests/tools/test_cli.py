@@ -1,0 +1,115 @@
+"""The command line: output, exit codes, and one-line errors."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import pytest
+
+from armik.tools.cli import main
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_robots_and_info(capsys):
+    code, out, _ = run(capsys, "robots")
+    assert code == 0 and "panda" in out and "planar_2link" in out
+    code, out, _ = run(capsys, "info", "planar_2link")
+    assert (
+        code == 0
+        and re.search(r"planar2r +\(analytic\) applies", out)
+        and "auto -> planar2r" in out
+    )
+    code, out, _ = run(capsys, "info", "panda")
+    assert "exactly 2" in out and "auto -> dls" in out
+
+
+def test_solve_success_json(capsys):
+    code, out, _ = run(
+        capsys, "solve", "planar_2link", "--xyz", "1.2", "0.5", "0", "--all", "--json"
+    )
+    assert code == 0
+    data = json.loads(out)
+    assert {r["branch"] for r in data["results"]} == {"elbow-up", "elbow-down"}
+
+
+def test_solve_full_pose(capsys):
+    code, out, _ = run(
+        capsys, "solve", "ur5", "--xyz", "0.4", "0.2", "0.3", "--rpy", "3.1416", "0", "0"
+    )
+    assert code == 0 and "converged" in out
+
+
+def test_solve_unreachable_exit_1(capsys):
+    code, out, _ = run(capsys, "solve", "ur5", "--xyz", "4", "0", "0")
+    assert code == 1 and "unreachable" in out
+
+
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["solve", "nope", "--xyz", "1", "0", "0"], "neither a bundled robot"),
+        (["solve", "ur5", "--xyz", "1", "0"], "expected 3 arguments"),
+        (["solve", "ur5", "--xyz", "nan", "0", "0"], "NaN"),
+        (["solve", "ur5", "--xyz", "0.4", "0", "0", "--quat", "0", "0", "0", "0"], "zero norm"),
+        (["solve", "ur5", "--xyz", "0.4", "0", "0", "--solver", "newton"], "unknown solver"),
+        (["solve", "ur5", "--xyz", "0.4", "0", "0", "--solver", "planar2r"], "does not apply"),
+        (["solve", "ur5", "--xyz", "0.4", "0", "0", "--q0", "1", "2"], "q0 must have 6"),
+        (
+            ["solve", "ur5", "--xyz", "0.4", "0", "0", "--q0", "1", "2", "3", "4", "5", "nan"],
+            "finite",
+        ),
+        (["solve", "ur5", "--xyz", "0.4", "0", "0", "--timeout", "0"], "timeout must be > 0"),
+        (["solve", "ur5", "--xyz", "0.4", "0", "0", "--tip", "hand"], "unknown tip frame"),
+        (["info", "/no/such/file.urdf"], "does not exist"),
+    ],
+)
+def test_bad_input_exit_2_one_line(capsys, argv, words):
+    with pytest.raises(SystemExit) if "expected" in words else _nullcontext() as box:
+        code, out, err = run(capsys, *argv)
+    if box is not None and hasattr(box, "value"):
+        code = box.value.code
+        err = capsys.readouterr().err
+    assert code == 2
+    assert words in err
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+class _nullcontext:
+    def __enter__(self):
+        return None
+
+    def __exit__(self, *exc):
+        return False
+
+
+def test_demo_and_bench_small(capsys):
+    code, out, _ = run(capsys, "demo")
+    assert code == 0 and "elbow-up" in out and "panda" in out
+    code, out, _ = run(capsys, "bench", "--arms", "ur5", "--solvers", "dls", "-n", "20", "--json")
+    rows = json.loads(out)
+    assert code == 0 and rows[0]["arm"] == "ur5" and rows[0]["n"] == 20
+    assert rows[0]["limit_violations"] == 0
+    assert rows[0]["failures"] == round(20 * (1 - rows[0]["success_rate"] / 100))
+
+
+def test_bench_repeats_and_bad_values(capsys):
+    code, out, _ = run(
+        capsys, "bench", "--arms", "ur5", "--solvers", "qp", "-n", "5", "--repeats", "2", "--json"
+    )
+    assert code == 0 and json.loads(out)[0]["n"] == 10
+    code, out, _ = run(capsys, "bench", "--arms", "ur5", "--solvers", "dls,qp", "-n", "3", "--json")
+    assert code == 0 and [r["solver"] for r in json.loads(out)] == ["dls", "qp"]
+    for flag, value, words in (
+        ("-n", "0", "targets per arm must be at least 1"),
+        ("--repeats", "0", "passes must be at least 1"),
+        ("--budget", "-1", "budget per solve must be > 0"),
+        ("--tol", "0", "tolerance must be > 0"),
+    ):
+        code, _, err = run(capsys, "bench", "--arms", "ur5", "--solvers", "dls", flag, value)
+        assert code == 2 and words in err and "Traceback" not in err

@@ -1,0 +1,109 @@
+"""armik batch and armik reach on good and bad files."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from armik import BatchResult
+from armik.solve.reach import ReachMap
+from armik.tools.cli import main
+
+from ..conftest import arm
+
+
+@pytest.fixture(scope="module")
+def poses() -> np.ndarray:
+    a = arm("ur5")
+    rng = np.random.default_rng(11)
+    return np.array([a.fk(a.random_q(rng)).homogeneous for _ in range(12)])
+
+
+def _rows7(T: np.ndarray) -> np.ndarray:
+    from scipy.spatial.transform import Rotation
+
+    return np.hstack([T[:, :3, 3], Rotation.from_matrix(T[:, :3, :3]).as_quat()])
+
+
+def test_batch_files_of_every_kind_agree(tmp_path, poses, capsys):
+    files = {
+        "t.npy": lambda p: np.save(p, poses),
+        "t.npz": lambda p: np.savez(p, targets=_rows7(poses)),
+        "t.csv": lambda p: np.savetxt(
+            p, _rows7(poses), delimiter=",", header="x,y,z,qx,qy,qz,qw", comments=""
+        ),
+        "flat.csv": lambda p: np.savetxt(p, poses.reshape(-1, 16), delimiter=","),
+    }
+    results = []
+    for name, write in files.items():
+        write(tmp_path / name)
+        out = tmp_path / f"{name}.out.npz"
+        assert main(["batch", "ur5", str(tmp_path / name), "-o", str(out), "--workers", "1"]) == 0
+        text = capsys.readouterr().out
+        assert "12/12 solved" in text and f"wrote {out}" in text
+        results.append(BatchResult.load(out))
+    for r in results[1:]:
+        np.testing.assert_allclose(r.q, results[0].q, atol=1e-6)
+        assert r.success.all()
+
+
+def test_batch_options_and_seeds_from_the_file(tmp_path, poses, capsys):
+    q0 = np.tile(arm("ur5").middle, (len(poses), 1))
+    np.savez(tmp_path / "t.npz", targets=poses[:, :3, 3], q0=q0)  # positions, with seeds
+    out = tmp_path / "o.npz"
+    argv = ["batch", "ur5", str(tmp_path / "t.npz"), "-o", str(out), "--timeout", "0.02"]
+    assert main(argv + ["--tol", "1e-5", "--seed", "3", "--solver", "qp", "--workers", "2"]) == 0
+    r = BatchResult.load(out)
+    assert r.solver == "qp" and r.success.all() and np.isnan(r.orientation_error).all()
+    assert r.tol_position == 1e-5
+
+
+BAD_FILES = [
+    ("missing.npy", None, "does not exist"),
+    ("t.txt", b"1 2 3\n", "give a .npy, .npz or .csv"),
+    ("t.npy", b"garbage", "cannot read targets"),
+    ("t.csv", b"1,2,3\n4,5\n", "different numbers of columns"),
+    ("t.csv", b"x,y,z\n1,2,abc\n", "row 1 is not numbers"),
+    ("t.csv", b"0.1,0.2,nan\n", "target 0: position contains NaN"),
+    ("t.csv", b"1,2,3,4\n", r"shape \(1, 4\)"),
+]
+
+
+@pytest.mark.parametrize("name, content, words", BAD_FILES, ids=[b[2] for b in BAD_FILES])
+def test_bad_files_one_line_exit_2(tmp_path, capsys, name, content, words):
+    if content is not None:
+        (tmp_path / name).write_bytes(content)
+    code = main(["batch", "ur5", str(tmp_path / name), "-o", str(tmp_path / "o.npz")])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert len(err.strip().splitlines()) == 1 and err.startswith("armik: error:"), err
+    assert words in err or __import__("re").search(words, err), err
+
+
+def test_bad_npz_and_output(tmp_path, poses, capsys):
+    np.savez(tmp_path / "two.npz", a=poses, b=poses)
+    assert main(["batch", "ur5", str(tmp_path / "two.npz"), "-o", str(tmp_path / "o.npz")]) == 2
+    assert "name the targets array 'targets'" in capsys.readouterr().err
+    obj = np.empty(2, dtype=object)
+    np.save(tmp_path / "obj.npy", obj, allow_pickle=True)
+    assert main(["batch", "ur5", str(tmp_path / "obj.npy"), "-o", str(tmp_path / "o.npz")]) == 2
+    assert "cannot read targets" in capsys.readouterr().err
+    np.save(tmp_path / "t.npy", poses)
+    assert main(["batch", "ur5", str(tmp_path / "t.npy"), "-o", str(tmp_path / "o.txt")]) == 2
+    assert "*.npz" in capsys.readouterr().err
+    nowhere = tmp_path / "no" / "o.npz"
+    assert main(["batch", "ur5", str(tmp_path / "t.npy"), "-o", str(nowhere)]) == 2
+    assert "does not exist" in capsys.readouterr().err
+
+
+def test_reach_command_saves_and_plots(tmp_path, capsys):
+    out, png = tmp_path / "reach.npz", tmp_path / "reach.png"
+    argv = ["reach", "planar_2link", "--resolution", "0.4", "--orientations", "2"]
+    assert main(argv + ["-o", str(out), "--plot", str(png), "--workers", "1"]) == 0
+    text = capsys.readouterr().out
+    assert "voxels" in text and f"wrote {png}" in text
+    m = ReachMap.load(out)
+    assert m.orientations == 2 and m.fraction.ndim == 3
+    assert png.stat().st_size > 10_000
+    assert main(["reach", "ur5", "--resolution", "-1"]) == 2
+    assert "resolution must be" in capsys.readouterr().err

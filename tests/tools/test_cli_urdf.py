@@ -1,0 +1,135 @@
+"""The command line's habits (issue items 2, 5, 14, 16, 19): one line per error, exit 2,
+no traceback; closed pipes; negative numbers; the frame tree."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from armik.tools.cli import main
+
+from ..conftest import arm, write_urdf
+from ..urdf_cases import arm3, chain, joint
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def parse_error(capsys, *argv) -> tuple[int, str]:
+    with pytest.raises(SystemExit) as box:
+        main(list(argv))
+    return box.value.code, capsys.readouterr().err
+
+
+def test_info_frames_prints_the_tree(capsys):
+    code, out, _ = run(capsys, "info", "ur5", "--frames")
+    assert code == 0
+    assert "[revolute] wrist_3_joint -> wrist_3_link" in out
+    assert "-> tool0" in out and "-> ee_link" in out
+    lines = out.splitlines()
+    tool0 = next(i for i, line in enumerate(lines) if line.endswith("-> tool0"))
+    wrist3 = next(i for i, line in enumerate(lines) if line.endswith("-> wrist_3_link"))
+    indent = len(lines[wrist3]) - len(lines[wrist3].lstrip(" |`-"))
+    assert tool0 > wrist3 and len(lines[tool0]) - len(lines[tool0].lstrip(" |`-")) > indent
+
+
+def test_info_says_how_the_urdf_was_read(capsys, tmp_path):
+    text = arm3(
+        axis2="0 0 2",
+        jtype2="prismatic",
+        limit2='<limit lower="0" upper="0" effort="1" velocity="1"/>',
+    )
+    path = write_urdf(tmp_path, text)
+    code, out, err = run(capsys, "info", str(path))
+    assert code == 0
+    assert "tip: the leaf at the end of the longest chain (3 moving joints)" in out
+    assert "note: joint 'j2': axis norm 2 read as the unit axis" in out
+    assert "note: joint 'j2' has lower = upper = 0" in out
+    warnings = [line for line in err.splitlines() if line.startswith("armik: warning:")]
+    assert len(warnings) == 2 and "Traceback" not in err
+    assert all("'j2'" in line for line in warnings)
+
+
+def test_bad_urdf_is_one_line_exit_2(capsys, tmp_path):
+    path = write_urdf(tmp_path, arm3().replace('name="j3"', 'name="j1"'))
+    code, out, err = run(capsys, "info", str(path))
+    assert code == 2 and "two joints named 'j1'" in err
+    assert len(err.strip().splitlines()) == 1
+
+
+def test_closed_pipe_ends_quietly(tmp_path):
+    read_end, write_end = os.pipe()
+    os.close(read_end)  # the reader is gone before armik writes (armik info panda | true)
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    code = "import sys; from armik.tools.cli import main; sys.exit(main(['info', 'panda', '--frames']))"
+    try:
+        done = subprocess.run(
+            [sys.executable, "-c", code], stdout=write_end, stderr=subprocess.PIPE, env=env
+        )
+    finally:
+        os.close(write_end)
+    err = done.stderr.decode()
+    assert "Traceback" not in err and "BrokenPipe" not in err, err
+    assert done.returncode == 1
+
+
+def test_negative_numbers_in_exponent_form(capsys):
+    code, out, err = run(capsys, "solve", "ur5", "--xyz", "-1e-3", "0.3", "0.4", "--json")
+    assert code == 0, err
+    code, out, err = run(
+        capsys, "solve", "ur5", "--xyz", "0.3", "-2E-1", "0.4", "--rpy", "-3.1e0", "0", "0"
+    )
+    assert code in (0, 1) and "error" not in err
+
+
+def test_usage_hint_names_the_command_once(capsys):
+    code, err = parse_error(capsys, "--bogus")
+    assert code == 2 and "'armik --help'" in err and "armik armik" not in err
+    code, err = parse_error(capsys, "solve", "ur5")
+    assert code == 2 and "'armik solve --help'" in err
+
+
+@pytest.mark.parametrize("n", ["0", "-3", "x"])
+def test_compare_needs_one_target_or_more(capsys, n):
+    code, err = parse_error(capsys, "compare", "-n", n)
+    assert code == 2 and "whole number >= 1" in err and len(err.strip().splitlines()) == 1
+
+
+def test_all_prints_the_call_time_once(capsys):
+    code, out, _ = run(capsys, "solve", "planar_2link", "--xyz", "1.2", "0.5", "0", "--all")
+    assert code == 0
+    assert out.count("ms") == 1 and "for the call (2 solutions)" in out
+
+
+def test_max_restarts_zero_names_the_real_cause():
+    panda = arm("panda")
+    T = panda.fk(np.array([2.0, 1.2, -2.0, -0.5, 2.0, 3.0, -2.0]))
+    r = panda.solve(T, q0=panda.middle, max_restarts=0, max_iterations=3)
+    assert not r.success
+    assert "max_restarts=0" in r.reason and "time budget" not in r.reason
+
+
+def test_default_tip_choice_is_shown(capsys, tmp_path):
+    text = chain(
+        joint("j1", "base", "l1"),
+        joint("j2", "l1", "l2", xyz="0.3 0 0"),
+        joint("flange", "l2", "tool0", jtype="fixed", xyz="0.1 0 0"),
+        joint("cam", "l1", "camera", jtype="fixed"),
+    )
+    code, out, _ = run(capsys, "info", str(write_urdf(tmp_path, text)))
+    assert code == 0 and "to 'tool0'" in out and "REP 199" in out
+
+
+def test_unwritable_output_is_one_line(capsys, tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    code, out, err = run(capsys, "compare", "-n", "2", "--plot", str(blocker / "sub"))
+    assert code == 2 and "armik: error:" in err and "Traceback" not in err
+    assert len(err.strip().splitlines()) == 1
