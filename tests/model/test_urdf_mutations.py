@@ -1,7 +1,7 @@
 """Seeded mutations of the bundled URDFs: each mutant either is refused with an
 ``ArmikError`` or loads into an arm whose FK agrees with yourdfpy's, an independent reader
 (given the same file with its axes normalised: armik follows the ROS reading of a
-non-unit axis, yourdfpy scales by the norm; see ``armik.urdf``)."""
+non-unit axis, yourdfpy scales by the norm; see ``armik.model.urdf``)."""
 
 from __future__ import annotations
 
@@ -121,3 +121,23 @@ def test_mutants_are_refused_or_agree_with_yourdfpy(robot, tmp_path):
             assert np.abs(T - T_ref).max() < 1e-9, f"mutant {k} ({what}): FK differs"
             compared += 1
     assert refused > 0 and compared > 0, (refused, compared)
+
+
+@pytest.mark.parametrize("robot", ["panda", "ur5"])
+def test_a_joint_named_universe_reads_as_yourdfpy_reads_it(tmp_path, robot):
+    # Pinocchio calls its root joint and frame "universe": a URDF joint of that name must
+    # still get its own placement when the joints off the chain are locked (the Panda's
+    # fingers), where a lookup by name would find the root frame instead.
+    base = armik.load(robot)
+    text = open(base.source).read()
+    rng = np.random.default_rng(3)
+    for joint in base.joint_names:
+        path = tmp_path / f"{joint}.urdf"
+        path.write_text(text.replace(f'"{joint}"', '"universe"'))
+        a = armik.load(path, tip=base.tip)
+        assert "universe" in a.joint_names
+        reader = yourdfpy.URDF.load(str(path), load_meshes=False, build_scene_graph=True)
+        for q in (np.zeros(a.dof), a.random_q(rng)):
+            reader.update_cfg(dict(zip(a.joint_names, q)))
+            T_ref = reader.get_transform(a.tip, a.base)
+            np.testing.assert_allclose(a.fk(q).homogeneous, T_ref, atol=1e-9)

@@ -242,13 +242,15 @@ def set_joint(model: pin.Model, q: np.ndarray, jid: int, value: float) -> None:
 def reduce_model(full: pin.Model, to_lock: list[int], q_ref: np.ndarray) -> pin.Model:
     """``pin.buildReducedModel`` that survives frames sharing a name (a link and a joint
     both called "quill", a link called "universe"): Pinocchio looks frames up by name there
-    and raises "Several frames match the filter". For the call, later duplicates and the
-    locked joints (whose frames it re-creates under the joint's name) get unique names;
-    the frames get their names back afterwards."""
+    and raises "Several frames match the filter". For the call, later duplicates, the
+    locked joints (whose frames it re-creates under the joint's name) and joints named
+    "universe" (it would take the root frame, of that name, for the joint's: a wrong
+    placement, not an error) get unique names; the frames get their names back afterwards."""
     work = full.copy()
     renamed: dict[str, str] = {}
     joint_tmp: dict[int, str] = {}
-    for j in to_lock:  # a joint and its JOINT frame keep one (temporary) name
+    universe = [j for j in range(1, full.njoints) if full.names[j] == "universe"]
+    for j in [*to_lock, *universe]:  # a joint and its JOINT frame keep one (temporary) name
         joint_tmp[j] = f"{full.names[j]}\x00armik-joint{j}"
         renamed[joint_tmp[j]] = full.names[j]
         work.names[j] = joint_tmp[j]
