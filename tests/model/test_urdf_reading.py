@@ -184,6 +184,26 @@ def test_tree_deeper_than_the_limit_is_refused(tmp_path):
         urdf_mod.read_urdf_string(deep_chain(urdf_mod.MAX_DEPTH + 5))
 
 
+def test_a_huge_file_of_fixed_links_after_the_tip_is_refused_by_the_depth_limit(tmp_path):
+    # 45 000 fixed links hanging after a 2-link arm's tip (about 5 MB): refused by the depth
+    # limit, naming where the tree gets too deep. Reading it took 28 s while the links'
+    # names were checked against a list (quadratic); a set makes it linear, 1.8 s here.
+    arm = chain(
+        joint("j1", "base", "l1", xyz="0 0 0.1"),
+        joint("j2", "l1", "tip", xyz="0.5 0 0"),
+    )
+    n = 45_000
+    hanging = "".join(
+        f'<link name="f{i}"/><joint name="fj{i}" type="fixed"><parent link="'
+        f'{"tip" if i == 0 else f"f{i - 1}"}"/><child link="f{i}"/></joint>'
+        for i in range(n)
+    )
+    text = arm.replace("</robot>", hanging + "</robot>")
+    assert len(text) > 4_000_000
+    with pytest.raises(URDFError, match=f"more than {urdf_mod.MAX_DEPTH} links deep.*'f9"):
+        armik.load(write_urdf(tmp_path, text), tip="tip")
+
+
 def test_deep_tree_parses_on_a_small_thread_stack(tmp_path):
     # 600 links crashed Pinocchio's parser on a 512 kB thread stack (measured at 300);
     # armik parses on a thread of its own with a large stack. In a subprocess: a crash

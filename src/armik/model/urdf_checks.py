@@ -69,16 +69,18 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
             path=path,
         )
     links: list[str] = []
+    named: set[str] = set()  # links' names so far: a list's ``in`` made huge files quadratic
     for link in root.findall("link"):
         name = link.get("name")
         if not name:
             raise URDFError(f"URDF {path!r} has a <link> without a name: name it", path=path)
-        if name in links:
+        if name in named:
             raise URDFError(
                 f"URDF {path!r} has two links named {name!r}: link names must be unique",
                 path=path,
             )
         links.append(name)
+        named.add(name)
         for elem in link.iter("origin"):
             _origin(elem, f"link {name!r}", path)
         for elem in link.iter("mass"):
