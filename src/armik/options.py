@@ -8,6 +8,13 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from armik.errors import OptionError, listing
+from armik.tolerances import (
+    MAX_COUNT,
+    MAX_LENGTH,
+    MAX_SOLUTIONS,
+    MAX_TIMEOUT,
+    MAX_WEIGHT,
+)
 
 
 @dataclass(frozen=True)
@@ -56,9 +63,9 @@ class Options:
                     f"unknown option {key!r}; options: {listing(sorted(_NAMES))}", option=key
                 )
         values = dict(kwargs)
-        for key in ("tol_position", "tol_orientation", "timeout"):
+        for key, most, unit in _BOUNDED:
             if key in values:
-                values[key] = _positive_float(key, values[key])
+                values[key] = _positive_float(key, values[key], most, unit)
         for key in ("max_restarts", "max_iterations", "max_solutions"):
             if key in values:
                 values[key] = _int(
@@ -127,9 +134,6 @@ class Options:
 
 
 _DEFAULT = Options()
-MAX_WEIGHT = 1e6  # larger weights overflow the squared error of far restart candidates
-MAX_COUNT = 2**62  # iterations and restarts: the compiled kernel counts in signed 64 bits
-MAX_SOLUTIONS = 10_000  # the kernel allocates a row per solution sought
 _NAMES = frozenset(f.name for f in fields(Options))
 
 
@@ -147,11 +151,27 @@ def _float(key: str, value: object) -> float:
     return out
 
 
-def _positive_float(key: str, value: object) -> float:
+def _positive_float(key: str, value: object, most: float, unit: str) -> float:
     out = _float(key, value)
     if out <= 0:
         raise OptionError(f"{key} must be > 0, got {value!r}", option=key, value=value)
+    if out > most:
+        hint = " (iteration_budget gives a budget that is not time)" if key == "timeout" else ""
+        raise OptionError(
+            f"{key} must be at most {most:g} {unit}, got {value!r}{hint}",
+            option=key,
+            value=value,
+        )
     return out
+
+
+# (option, largest value, unit): a tolerance beyond these passes every answer; a timeout
+# beyond MAX_TIMEOUT overflows the kernel's budget in nanoseconds
+_BOUNDED = (
+    ("tol_position", MAX_LENGTH, "m"),
+    ("tol_orientation", math.pi, "rad"),
+    ("timeout", MAX_TIMEOUT, "s"),
+)
 
 
 def _int(key: str, value: object, minimum: int, maximum: int | None = None) -> int:

@@ -13,6 +13,15 @@ MAX_LENGTH = 1e6  # m
 MAX_POSITION = MAX_LENGTH  # m: the farthest target position accepted
 MAX_LIMIT = 1e6  # rad or m
 
+# Options: a timeout beyond MAX_TIMEOUT would overflow the kernel's budget, counted in
+# signed 64-bit nanoseconds (and is no budget at all); counts above MAX_COUNT would overflow
+# its iteration and restart counters; MAX_SOLUTIONS rows are allocated for solve_all; weights
+# further apart than MAX_WEIGHT overflow the squared error of far restart candidates.
+MAX_TIMEOUT = 1e6  # s (11.6 days)
+MAX_COUNT = 2**62
+MAX_SOLUTIONS = 10_000
+MAX_WEIGHT = 1e6
+
 # Targets: how far from orthonormal a given rotation may be before it is refused.
 ROTATION_TOL = 1e-6
 

@@ -35,6 +35,10 @@ from ..conftest import ALL_ROBOTS, SPATIAL, arm
         ({"tolerance": 1e-3}, "unknown option 'tolerance'"),
         ({"seed": 2**63}, "seed must be < 2"),
         ({"seed": -1}, "seed must be >= 0"),
+        ({"timeout": 1e300}, "timeout must be at most 1e\\+06 s"),  # overflowed the budget
+        ({"timeout": float("inf")}, "timeout must be finite"),
+        ({"tol_position": 1e300}, "tol_position must be at most"),
+        ({"tol_orientation": 4.0}, "tol_orientation must be at most 3.14"),
     ],
 )
 def test_bad_options(options, words):

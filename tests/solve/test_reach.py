@@ -52,5 +52,7 @@ def test_bad_arguments():
         reachability(a, orientations=0)
     with pytest.raises(OptionError, match="too many solves"):
         reachability(a, resolution=0.001)
+    with pytest.raises(OptionError, match="too many solves"):  # not an OverflowError
+        reachability(a, resolution=1e-300)
     with pytest.raises(InputError, match="not a reachability map"):
         ReachMap.load(__file__)

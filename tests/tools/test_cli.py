@@ -65,6 +65,8 @@ def test_solve_unreachable_exit_1(capsys):
             "finite",
         ),
         (["solve", "ur5", "--xyz", "0.4", "0", "0", "--timeout", "0"], "timeout must be > 0"),
+        (["solve", "ur5", "--xyz", "0.4", "0", "0", "--timeout", "1e300"], "at most 1e+06 s"),
+        (["reach", "ur5", "--resolution", "1e-300"], "too many solves"),
         (["solve", "ur5", "--xyz", "0.4", "0", "0", "--tip", "hand"], "unknown tip frame"),
         (["info", "/no/such/file.urdf"], "does not exist"),
     ],

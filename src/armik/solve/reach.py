@@ -188,7 +188,8 @@ def reachability(
             option="orientations",
             value=orientations,
         )
-    voxels = 4.0 / 3.0 * math.pi * (arm.reach / resolution) ** 3  # about; before allocating
+    ratio = arm.reach / resolution  # a tiny resolution: its cube would overflow a float
+    voxels = 4.0 / 3.0 * math.pi * ratio**3 if ratio < 1e100 else math.inf  # about
     if voxels * orientations > MAX_SOLVES:
         raise OptionError(
             f"about {voxels:.3g} voxels x {orientations} orientations is too many solves "
