@@ -78,3 +78,20 @@ def test_the_sweep_tries_every_cell_once_nearest_first(q7):
     assert sorted(values[1:]) == pytest.approx(centres, abs=1e-12)
     distances = [abs(v - q7) for v in values[1:]]
     assert all(a <= b + 1e-12 for a, b in zip(distances, distances[1:]))
+
+
+def test_every_held_answer_is_labelled_by_its_branch():
+    # The closed form's labels of joints 6 to 1, named after the arm's own parts: distinct
+    # for the distinct answers of one held joint 7, the same for solve and solve_all.
+    a = arm("panda")
+    rng = np.random.default_rng(12)
+    for _ in range(5):
+        q = a.random_q(rng)
+        T = a.fk(q)
+        every = a.solve_all(T, q0=q, solver="swept")
+        labels = [r.branch for r in every]
+        assert all(isinstance(b, str) and b.count("/") == 2 for b in labels)
+        assert len(set(labels)) == len(labels)
+        one = a.solve(T, q0=q, solver="swept")
+        same = [r for r in every if np.allclose(r.q, one.q, atol=1e-12)]
+        assert same and same[0].branch == one.branch

@@ -175,7 +175,7 @@ def held_reason(theta: float, singular: bool) -> str:
     return sixr.claim_reason(text, singular)
 
 
-def _attempts(rows: np.ndarray, theta: float) -> list[Attempt]:
+def _attempts(sw: Swept, rows: np.ndarray, theta: float) -> list[Attempt]:
     result = []
     for row in rows:
         flags = int(row[7])
@@ -185,8 +185,32 @@ def _attempts(rows: np.ndarray, theta: float) -> list[Attempt]:
             claim = Status.UNREACHABLE
         else:
             reason, claim = held_reason(theta, singular), Status.CONVERGED
-        result.append(Attempt(q=row[:7].copy(), claim=claim, reason=reason, singular=singular))
+        q = row[:7].copy()
+        result.append(
+            Attempt(q=q, claim=claim, reason=reason, branch=branch(sw, q), singular=singular)
+        )
     return result
+
+
+# The 6R chain the closed form solves is joints 6 to 1 read from the tip: its "shoulder"
+# is the arm's wrist (joints 6, 5, 4) and its "wrist" the arm's shoulder (joints 3, 2, 1).
+_HELD_LABELS = tuple(
+    "/".join(
+        (
+            "wrist-back" if bits & 1 else "wrist-front",
+            "elbow-down" if bits & 2 else "elbow-up",
+            "shoulder-flip" if bits & 4 else "shoulder-no-flip",
+        )
+    )
+    for bits in range(8)
+)
+
+
+def branch(sw: Swept, q: np.ndarray) -> str:
+    """The branch of a 7R answer ``q`` with joint 7 held: the closed form's label of its
+    joints 6 to 1, named after the arm's own wrist, elbow and shoulder."""
+    reversed_q = np.ascontiguousarray(q[5::-1], dtype=float)
+    return _HELD_LABELS[sixr.branch_bits(sw.geo.h, sw.geo.p, reversed_q)]
 
 
 @njit(cache=True)
@@ -222,11 +246,12 @@ def run(
     arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
 ) -> list[Attempt]:
     R, pos = sixr.pose_arrays(target)
-    theta, rows, found = _held(arm, geometry(arm), R, pos, np.ascontiguousarray(q0, float))
+    sw = geometry(arm)
+    theta, rows, found = _held(arm, sw, R, pos, np.ascontiguousarray(q0, float))
     if all_solutions:
         exact = [r for r in rows if not int(r[7]) & sixr.LS]
-        return _attempts(np.array(exact) if exact and found else rows, theta)
-    return _attempts(rows[:1], theta)
+        return _attempts(sw, np.array(exact) if exact and found else rows, theta)
+    return _attempts(sw, rows[:1], theta)
 
 
 def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):
@@ -243,9 +268,10 @@ def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):
         R, pos = split_pose(H)
         theta, rows, found = _held(arm, sw, R, pos, q0)
         if not found:
-            return _attempts(rows[:1], theta)
+            return _attempts(sw, rows[:1], theta)
         singular = bool(int(rows[0, 7]) & sixr.SINGULAR)
-        return claim(rows[0, :7], 0, 0, None, singular, held_reason, (theta, singular))
+        q = rows[0, :7]
+        return claim(q, 0, 0, branch(sw, q), singular, held_reason, (theta, singular))
 
     return run_pose
 
