@@ -248,3 +248,9 @@ def test_with_limits_recomputes_the_reach():
     q = np.array([0.3, -0.4, 0.7, 0.0])
     r = longer.solve(longer.fk(q).translation, solver="dls")
     assert r.success, r.reason
+
+
+def test_repr_shows_the_tool_offset():
+    a = armik.load("ur5", tip_offset=(0.0, 0.0, 0.12))
+    assert "tip_offset=(0.0, 0.0, 0.12)" in repr(a)
+    assert "tip_offset" not in repr(armik.load("ur5"))

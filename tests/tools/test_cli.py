@@ -93,6 +93,10 @@ class _nullcontext:
 def test_demo_and_bench_small(capsys):
     code, out, _ = run(capsys, "demo")
     assert code == 0 and "elbow-up" in out and "panda" in out
+    # the 2-link solve_all's time is the call's, printed once, not once per solution
+    two_link = out.split("panda:")[0]
+    assert two_link.count("ms for the call (2 solutions)") == 1
+    assert "ms," not in two_link
     code, out, _ = run(capsys, "bench", "--arms", "ur5", "--solvers", "dls", "-n", "20", "--json")
     rows = json.loads(out)
     assert code == 0 and rows[0]["arm"] == "ur5" and rows[0]["n"] == 20

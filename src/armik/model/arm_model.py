@@ -466,8 +466,9 @@ class ArmModel:
         return [f.name for f in self.model.frames if f.name != "universe"]
 
     def __repr__(self) -> str:
+        offset = "" if self.tip_offset is None else f", tip_offset={self.tip_offset}"
         return (
-            f"Arm({self.name!r}, dof={self.dof}, base={self.base!r}, tip={self.tip!r}, "
-            f"joints={self.joint_names})"
+            f"Arm({self.name!r}, dof={self.dof}, base={self.base!r}, tip={self.tip!r}"
+            f"{offset}, joints={self.joint_names})"
         )
 

@@ -151,9 +151,11 @@ def cmd_demo(args: argparse.Namespace) -> int:
     ok = True
     arm = load("planar_2link")
     print("planar_2link (l1 = 1.0 m, l2 = 0.8 m), target (x, y) = (1.2, 0.5):")
-    for r in arm.solve_all([1.2, 0.5]):
-        _print_result(arm, r)
+    results = arm.solve_all([1.2, 0.5])
+    for r in results:
+        _print_result(arm, r, show_time=False)  # r.time is the whole call's
         ok &= r.success
+    print(f"  time     : {results[0].time * 1e3:.3f} ms for the call ({len(results)} solutions)")
     panda = load("panda")
     q_goal = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.6])
     T = panda.fk(q_goal)
