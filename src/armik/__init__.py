@@ -14,6 +14,7 @@ from armik.errors import (
     URDFError,
 )
 from armik.model.catalogue import robots
+from armik.precompile import compile
 from armik.result import IKResult
 from armik.solvers import solvers
 from armik.status import Status
@@ -35,6 +36,7 @@ __all__ = [
     "Status",
     "Target",
     "TargetError",
+    "compile",
     "URDFError",
     "load",
     "parse_target",

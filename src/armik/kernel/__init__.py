@@ -14,6 +14,7 @@ function recompiles only its module and the ones that call it.
 - ``measure``: the verification errors from Pinocchio placements.
 - ``box_qp``: the QP backend the qp step falls back to (object mode, qpsolvers).
 - ``warmup``: a cold first solve compiled on two cores (the step in a helper process).
+- ``notice``: the line on stderr while a first call compiles.
 """
 
 import warnings
@@ -25,3 +26,5 @@ from numba.core.errors import NumbaWarning
 warnings.filterwarnings(
     "ignore", message="Code running in object mode won't allow parallel", category=NumbaWarning
 )
+
+from armik.kernel import notice  # noqa: E402, F401 (registers the compile notice)

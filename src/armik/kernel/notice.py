@@ -1,0 +1,134 @@
+"""A one-line notice on stderr while armik's compiled code is built for this machine.
+
+numba compiles a kernel at its first call and keeps the machine code in its on-disk cache;
+later processes load it in milliseconds. A first call that compiles can take seconds, so
+armik says so, once per part and process: "armik: compiling the dls and qp solvers for this
+machine (once, about 9 s)". On a terminal the line counts the seconds and ends with the
+time taken. A call served from the cache says nothing.
+
+numba announces only real compilations ("numba:compile" events, not cache loads); the
+first outermost one of an armik function in a burst names the part.
+``ARMIK_COMPILE_NOTICE=0`` in the environment silences the notice. ``armik.compile``
+(``armik compile``) builds every part ahead of time.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import threading
+import time
+
+from numba.core import event
+
+ENVIRONMENT = "ARMIK_COMPILE_NOTICE"  # "0": no notice
+
+# (module prefix, what it is, about how long its first call compiles (s): measured with
+# benchmarks/compile_time.py on an empty cache of this project's 2-core machine, rounded up)
+PARTS = (
+    ("armik.kernel.measure", "the forward-kinematics check", 2),
+    ("armik.kernel", "the numeric solvers", 25),
+    ("armik.solvers.closed_form.spherical_wrist", "the spherical-wrist closed form", 20),
+    ("armik.solvers.closed_form.three_parallel", "the three-parallel-axes closed form", 15),
+    ("armik.solvers.closed_form.swept_7r", "the swept 7R closed form", 10),
+    ("armik.solvers.closed_form", "the 6R closed forms' shared code", 5),
+    ("armik", "armik's compiled code", 5),
+)
+BURST_GAP = 1.0  # s: compilations this close together are one wait, told in one line
+
+
+def part_of(module: str) -> tuple[str, float]:
+    """(what, about how many seconds) of the part a compiled function's module belongs to."""
+    for prefix, what, seconds in PARTS:
+        if module == prefix or module.startswith(prefix + "."):
+            return what, seconds
+    return "armik's compiled code", 5.0
+
+
+class _Notice(event.Listener):
+    """Tells when armik functions compile: one line per burst of outermost compilations
+    (a first call compiles several functions in a row), named after the first."""
+
+    def __init__(self, stream=None) -> None:
+        self.stream = stream
+        self.depth = 0  # nested compilations (callees) inside the outermost one
+        self.line: _Line | None = None
+        self.closing: threading.Timer | None = None
+        self.lock = threading.Lock()
+
+    def on_start(self, ev: event.Event) -> None:
+        self.depth += 1
+        if self.depth > 1 or os.environ.get(ENVIRONMENT, "1") == "0":
+            return
+        dispatcher = ev.data["dispatcher"]
+        module = getattr(getattr(dispatcher, "py_func", None), "__module__", "") or ""
+        if not module.startswith("armik"):
+            return
+        what, seconds = part_of(module)
+        with self.lock:
+            if self.closing is not None:
+                self.closing.cancel()
+                self.closing = None
+            if self.line is not None and self.line.what != what:
+                self.line.close()
+                self.line = None
+            if self.line is None:
+                self.line = _Line(what, seconds, self.stream or sys.stderr)
+
+    def on_end(self, ev: event.Event) -> None:
+        self.depth -= 1
+        if self.depth == 0:
+            with self.lock:
+                if self.line is not None and self.closing is None:
+                    self.closing = threading.Timer(BURST_GAP, self._close)
+                    self.closing.daemon = True
+                    self.closing.start()
+
+    def _close(self) -> None:
+        with self.lock:
+            if self.line is not None:
+                self.line.close()
+                self.line = None
+            self.closing = None
+
+
+class _Line:
+    """The notice's line: written at once; on a terminal, redrawn with the seconds so far."""
+
+    def __init__(self, what: str, seconds: float, stream) -> None:
+        self.what = what
+        self.text = f"armik: compiling {what} for this machine (once, about {seconds:g} s)"
+        self.stream = stream
+        self.t0 = time.perf_counter()
+        self.live = _is_terminal(stream)
+        self.done = threading.Event()
+        self._write(self.text + ("" if self.live else "\n"))
+        if self.live:
+            threading.Thread(target=self._tick, name="armik-compile-notice", daemon=True).start()
+
+    def _tick(self) -> None:
+        while not self.done.wait(0.5):
+            self._write(f"\r{self.text}: {time.perf_counter() - self.t0:.0f} s")
+
+    def close(self) -> None:
+        self.done.set()
+        if self.live:
+            self._write(f"\r{self.text}: done in {time.perf_counter() - self.t0:.1f} s\n")
+
+    def _write(self, text: str) -> None:
+        try:
+            self.stream.write(text)
+            self.stream.flush()
+        except (OSError, ValueError):  # a closed or broken stream: the notice is optional
+            pass
+
+
+def _is_terminal(stream) -> bool:
+    try:
+        return stream.isatty()
+    except (AttributeError, ValueError):
+        return False
+
+
+NOTICE = _Notice()
+event.register("numba:compile", NOTICE)

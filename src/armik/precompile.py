@@ -1,0 +1,121 @@
+"""``armik.compile``: build every compiled part into numba's on-disk cache ahead of time.
+
+Each part is compiled at its first call otherwise (a few seconds each, announced on
+stderr); after ``armik compile`` a new process loads them from the cache instead. A part is
+compiled by calling it the way users do, on bundled arms, with the variants options select
+(weights, position targets, solve_all, batches, paths), so what is cached is exactly what
+those calls load.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+
+import numpy as np
+
+from armik.arm import Arm, load
+from armik.errors import OptionError, listing
+from armik.solve.progress import make_progress
+
+_BUDGET = {"iteration_budget": 200, "seed": 0}  # a few iterations suffice to compile
+
+
+def _pose(arm: Arm, seed: int):
+    return arm.fk(arm.random_q(np.random.default_rng(seed)))
+
+
+def _numeric(solver: str) -> Callable[[], None]:
+    def run() -> None:
+        for name in ("ur5", "panda", "kinova"):  # 6 and 7 joints, continuous joints
+            arm = load(name)
+            T = _pose(arm, 1)
+            arm.solve(T, solver=solver, **_BUDGET)
+            arm.solve(T.translation, solver=solver, **_BUDGET)
+            arm.solve(T, solver=solver, weights=(1, 1, 1, 1, 1, 0), **_BUDGET)
+            arm.solve(T, solver=solver, position_only=True, **_BUDGET)
+            arm.solve_all(T, solver=solver, max_solutions=2, **_BUDGET)
+        # options that are data, not code: none may compile anything new
+        arm.solve(T, solver=solver, timeout=0.01, max_restarts=0, seed=1)
+        arm.solve(T, solver=solver, tol_position=1e-4, tol_orientation=1e-3, **_BUDGET)
+        arm.solve(T, solver=solver, nullspace_gain=0.0, max_iterations=20, **_BUDGET)
+
+    return run
+
+
+def _clik() -> None:
+    arm = load("ur5")
+    arm.solve(_pose(arm, 1), solver="clik", max_iterations=5)
+
+
+def _closed_form(robot: str, solver: str) -> Callable[[], None]:
+    def run() -> None:
+        arm = load(robot)
+        T = _pose(arm, 2)
+        target = T.translation[:2] if solver == "planar2r" else T
+        arm.solve(target, solver=solver)
+        arm.solve(target, q0=arm.middle + 0.1, solver=solver)
+        arm.solve_all(target, solver=solver)
+
+    return run
+
+
+def _batch() -> None:
+    for robot, solver in (("ur5", "dls"), ("ur5", "qp"), ("ur5", "three_parallel")):
+        arm = load(robot)
+        poses = np.array([_pose(arm, s).homogeneous for s in range(4)])
+        arm.solve_batch(poses, solver=solver, workers=1, progress=False, **_numeric_only(solver))
+    arm = load("abb_irb120")
+    poses = np.array([_pose(arm, s).homogeneous for s in range(4)])
+    arm.solve_batch(poses, solver="spherical", workers=1, progress=False)
+
+
+def _numeric_only(solver: str) -> dict:
+    return _BUDGET if solver in ("dls", "qp") else {}
+
+
+def _path() -> None:
+    arm = load("ur5")
+    q = arm.random_q(np.random.default_rng(3))
+    poses = [arm.fk(q + 0.01 * k) for k in range(3)]
+    arm.solve_path(poses, q, **_BUDGET)
+
+
+PARTS: dict[str, Callable[[], None]] = {
+    "dls": _numeric("dls"),
+    "qp": _numeric("qp"),
+    "clik": _clik,
+    "planar2r": _closed_form("planar_2link", "planar2r"),
+    "spherical": _closed_form("abb_irb120", "spherical"),
+    "three_parallel": _closed_form("ur5", "three_parallel"),
+    "swept": _closed_form("panda", "swept"),
+    "batch": _batch,
+    "path": _path,
+}
+
+
+def compile(names: Sequence[str] | None = None, *, progress: bool | None = None) -> dict:
+    """Compile the parts ``names`` (default: every part, ``PARTS``) into numba's cache and
+    return how long each took (s): compiling where the cache lacked them, loading where it
+    had them. ``progress``: a bar on stderr (default: when stderr is a terminal). Raises
+    ``OptionError`` for an unknown name, listing the parts."""
+    if names is None:
+        names = list(PARTS)
+    if isinstance(names, str):
+        names = [names]
+    unknown = [n for n in names if n not in PARTS]
+    if unknown:
+        raise OptionError(
+            f"unknown part {unknown[0]!r} to compile; parts: {listing(PARTS)}",
+            option="names",
+            value=unknown[0],
+        )
+    bar = make_progress(progress, len(names), "compile")
+    took: dict[str, float] = {}
+    for i, name in enumerate(names):
+        t0 = time.perf_counter()
+        PARTS[name]()
+        took[name] = time.perf_counter() - t0
+        bar(i + 1, len(names))
+    bar.close()
+    return took

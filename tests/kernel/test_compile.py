@@ -1,0 +1,84 @@
+"""Compiling ahead of time (``armik.compile``), the notice a compiling first call gives, and
+options that are data: a tour of every option compiles each kernel for one signature."""
+
+from __future__ import annotations
+
+import importlib
+import os
+import pkgutil
+import subprocess
+import sys
+import textwrap
+
+import pytest
+from numba.core.registry import CPUDispatcher
+
+import armik
+from armik.errors import OptionError
+from armik.tools.cli import main
+
+SMALL = textwrap.dedent(
+    """
+    import numpy as np
+    from armik.kernel.measure import split_pose
+    split_pose(np.eye(4))
+    """
+)
+
+
+def _dispatchers() -> dict[str, CPUDispatcher]:
+    out = {}
+    for package in ("armik.kernel", "armik.solvers.closed_form"):
+        for info in pkgutil.iter_modules(sys.modules[package].__path__):
+            module = importlib.import_module(f"{package}.{info.name}")
+            for name, value in vars(module).items():
+                if isinstance(value, CPUDispatcher) and value.py_func.__module__ == module.__name__:
+                    out[f"{module.__name__}.{name}"] = value
+    return out
+
+
+def test_a_tour_of_every_option_compiles_each_kernel_once():
+    took = armik.compile()  # every part, the option variants included (loads when cached)
+    assert set(took) == set(armik.precompile.PARTS)
+    counts = {name: len(d.signatures) for name, d in _dispatchers().items()}
+    # the entries called from Python (their callees are compiled into them)
+    for entry in (
+        "armik.kernel.single.solve_pose_dls",
+        "armik.kernel.single.solve_pose_qp",
+        "armik.kernel.entry.solve_targets_dls",
+        "armik.kernel.entry.solve_targets_qp",
+        "armik.kernel.measure.placement_check",
+        "armik.solvers.closed_form.three_parallel.solve_into",
+        "armik.solvers.closed_form.spherical_wrist.kernel_many",
+        "armik.solvers.closed_form.swept_7r.held_rows",
+    ):
+        assert counts[entry] == 1, entry
+    assert {name: n for name, n in counts.items() if n > 1} == {}
+
+
+def _run(code: str, cache, **env) -> subprocess.CompletedProcess:
+    environ = {**os.environ, "NUMBA_CACHE_DIR": str(cache), **env}
+    environ["PYTHONPATH"] = os.pathsep.join(sys.path)
+    return subprocess.run(
+        [sys.executable, "-c", code], env=environ, capture_output=True, text=True, check=True
+    )
+
+
+def test_a_compiling_first_call_says_so_once_and_a_cached_one_says_nothing(tmp_path):
+    first = _run(SMALL, tmp_path / "cache")
+    assert "armik: compiling the forward-kinematics check for this machine" in first.stderr
+    assert first.stderr.count("armik: compiling") == 1
+    again = _run(SMALL, tmp_path / "cache")  # a new process, the kernel in the cache
+    assert "armik: compiling" not in again.stderr
+    quiet = _run(SMALL, tmp_path / "other", ARMIK_COMPILE_NOTICE="0")
+    assert "armik: compiling" not in quiet.stderr
+
+
+def test_compile_command_and_bad_names(capsys):
+    assert main(["compile", "clik"]) == 0
+    out = capsys.readouterr().out
+    assert "clik" in out and "compiled 1 parts" in out
+    assert main(["compile", "nothing"]) == 2
+    assert "unknown part 'nothing'" in capsys.readouterr().err
+    with pytest.raises(OptionError, match="unknown part 'warp'.*parts: 'dls'"):
+        armik.compile(["dls", "warp"])
