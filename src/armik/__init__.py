@@ -1,6 +1,6 @@
 """armik: inverse kinematics for URDF robot arms on Pinocchio."""
 
-from armik.arm import Arm, load
+from armik.arm import Arm, load, load_string
 from armik.batch_result import BatchResult
 from armik.errors import (
     ArmikError,
@@ -39,6 +39,7 @@ __all__ = [
     "compile",
     "URDFError",
     "load",
+    "load_string",
     "parse_target",
     "robots",
     "solvers",

@@ -7,15 +7,15 @@ never imports it.
 from __future__ import annotations
 
 import warnings
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 from armik.errors import ArmikWarning, FrameError, URDFError, listing
 from armik.model.arm_model import ArmModel
 from armik.model.catalogue import CATALOGUE, entry
-from armik.model.reduce import check_locked, check_offset
-from armik.model.urdf import read_urdf
+from armik.model.reduce import check_locked, check_offset, check_package_dirs
+from armik.model.urdf import read_urdf, read_urdf_string
 from armik.solve.batch import solve_batch
 from armik.solve.path import solve_path
 from armik.solve.single import solve_one
@@ -29,33 +29,38 @@ def load(
     tip: str | None = None,
     locked: Mapping[str, float] | None = None,
     tip_offset: tuple[float, float, float] | None = None,
+    package_dirs: Sequence[str | Path] | None = None,
 ) -> Arm:
-    """Load an arm from a bundled robot name (see ``armik.robots()``) or a URDF path.
+    """Load an arm from a bundled robot name (see ``armik.robots()``), a URDF path, or the
+    URDF's XML itself (a string that starts with ``<``, as ROS hands out
+    ``robot_description``; see ``load_string``).
 
     The chain runs from ``base`` (default: the URDF root link) to ``tip`` (default: the
     catalogue tip, else ``tool0`` as in REP 199, else the leaf at the end of the longest
     chain of moving joints; ``Arm.tip_reason`` says which and why). Every joint off the
     chain is locked at the value in ``locked`` (joint name -> rad or m) or at its neutral
-    value. ``tip_offset`` (m, in the tip frame) moves the tool point. The arm's name is the
-    catalogue name, else the URDF's ``<robot name>``.
+    value. ``tip_offset`` (m, in the tip frame) moves the tool point. ``package_dirs``:
+    folders where ``package://`` mesh paths are looked up (for meshes: collision geometry,
+    the viewer). The arm's name is the catalogue name, else the URDF's ``<robot name>``.
 
     Raises ``URDFError``, ``FrameError``, ``JointError`` or ``OptionError`` (all
     ``ValueError``) naming the bad value and the fix.
     """
+    if isinstance(source, str) and source.lstrip().startswith("<"):
+        return load_string(
+            source, base=base, tip=tip, locked=locked, tip_offset=tip_offset,
+            package_dirs=package_dirs,
+        )  # fmt: skip
     if not isinstance(source, (str, Path)):
         raise URDFError(
-            f"source must be a robot name or a path to a URDF file, got {source!r}",
+            f"source must be a robot name, a path to a URDF file or the URDF's XML, got "
+            f"{source!r}",
             path=str(source),
         )
-    for role, value in (("base", base), ("tip", tip)):
-        if value is not None and not isinstance(value, str):
-            raise FrameError(
-                f"{role} must be a frame name (a str), got {value!r}; "
-                f"'armik info {source} --frames' lists the frames",
-                frame=str(value),
-            )
+    _check_frames(base, tip, str(source))
     locked = check_locked(locked)
     tip_offset = check_offset(tip_offset)
+    dirs = check_package_dirs(package_dirs)
     name = str(source)
     if isinstance(source, str) and source in CATALOGUE:
         spec = entry(source)
@@ -68,10 +73,10 @@ def load(
         name_from_urdf = False
     else:
         path = Path(source)
-        if not path.exists() and path.suffix.lower() not in (".urdf", ".xml"):
+        if not _exists(path) and path.suffix.lower() not in (".urdf", ".xml"):
             raise URDFError(
-                f"{name!r} is neither a bundled robot ({listing(CATALOGUE)}) nor an existing "
-                "URDF file: check the name or the path",
+                f"{_shown(name)!r} is neither a bundled robot ({listing(CATALOGUE)}) nor an "
+                "existing URDF file: check the name or the path",
                 path=name,
             )
         name = path.stem
@@ -94,8 +99,73 @@ def load(
     )
     if not name_from_urdf and tip == spec.tip:
         arm.tip_reason = f"the catalogue's tip for {name!r}"
-    arm._recipe = Recipe(str(source), base, tip, dict(locked or {}), arm.tip_offset)
+    arm.package_dirs = dirs
+    arm._recipe = Recipe(str(source), base, tip, dict(locked or {}), arm.tip_offset, (), dirs)
     return arm
+
+
+def load_string(
+    xml: str,
+    *,
+    base: str | None = None,
+    tip: str | None = None,
+    locked: Mapping[str, float] | None = None,
+    tip_offset: tuple[float, float, float] | None = None,
+    package_dirs: Sequence[str | Path] | None = None,
+) -> Arm:
+    """Load an arm from a URDF's XML text (ROS 2's ``robot_description``), with the same
+    arguments, checks, errors and default tip as ``load`` of a file. The arm pickles with
+    its text, so it travels to worker processes as a file-loaded arm does. Xacro is not
+    expanded here: pass the expanded URDF (``xacro robot.urdf.xacro``)."""
+    if not isinstance(xml, str):
+        raise URDFError(f"xml must be the URDF's text (a str), got {type(xml).__name__}")
+    _check_frames(base, tip, "ROBOT")
+    locked = check_locked(locked)
+    tip_offset = check_offset(tip_offset)
+    dirs = check_package_dirs(package_dirs)
+    model, info = read_urdf_string(xml.lstrip(), STRING_SOURCE)  # <?xml ...?> comes first
+    arm = Arm(
+        model,
+        info,
+        name=info.name or "robot",
+        base=base,
+        tip=tip,
+        locked=locked or {},
+        tip_offset=tip_offset,
+        source=STRING_SOURCE,
+    )
+    arm.package_dirs = dirs
+    arm._recipe = Recipe(
+        STRING_SOURCE, base, tip, dict(locked or {}), arm.tip_offset, (), dirs, text=xml
+    )
+    return arm
+
+
+STRING_SOURCE = "<string>"  # Arm.source of an arm read from XML text
+
+
+def _check_frames(base: object, tip: object, source: str) -> None:
+    for role, value in (("base", base), ("tip", tip)):
+        if value is not None and not isinstance(value, str):
+            raise FrameError(
+                f"{role} must be a frame name (a str), got {value!r}; "
+                f"'armik info {source} --frames' lists the frames",
+                frame=str(value),
+            )
+
+
+def _exists(path: Path) -> bool:
+    """Whether ``path`` exists; False for a name the system cannot look up at all (too
+    long, an embedded NUL): such a name is no file either."""
+    try:
+        return path.exists()
+    except (OSError, ValueError):
+        return False
+
+
+def _shown(name: str) -> str:
+    """``name`` shortened for an error message (a long string is no robot name)."""
+    return name if len(name) <= 80 else name[:77] + "..."
 
 
 @dataclass(frozen=True)
@@ -110,14 +180,17 @@ class Recipe:
     locked: dict[str, float]
     tip_offset: tuple[float, float, float] | None
     limits: tuple[tuple[str, float, float], ...] = ()
+    package_dirs: tuple[str, ...] = ()
+    text: str | None = None  # the URDF itself, for an arm read from XML text
 
     def build(self) -> Arm:
-        arm = load(
-            self.source,
+        arm = (load if self.text is None else load_string)(
+            self.source if self.text is None else self.text,
             base=self.base,
             tip=self.tip,
             locked=self.locked or None,
             tip_offset=self.tip_offset,
+            package_dirs=self.package_dirs or None,
         )
         if self.limits:
             arm = arm.with_limits({name: (lo, hi) for name, lo, hi in self.limits})

@@ -60,6 +60,8 @@ class ArmModel:
     Pinocchio model, not to be modified).
     """
 
+    package_dirs: tuple[str, ...] = ()  # where package:// paths are looked up (meshes)
+
     def __init__(
         self,
         full: pin.Model,

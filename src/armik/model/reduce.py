@@ -12,6 +12,7 @@ import logging
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -223,6 +224,33 @@ def check_offset(offset: object) -> tuple[float, float, float] | None:
             value=offset,
         )
     return tuple(float(v) for v in arr)
+
+
+def check_package_dirs(dirs: object) -> tuple[str, ...]:
+    """``package_dirs`` as a tuple of existing folders; raises ``OptionError`` otherwise."""
+    if dirs is None:
+        return ()
+    if isinstance(dirs, (str, Path)):
+        dirs = [dirs]
+    try:
+        items = list(dirs)  # type: ignore[call-overload]
+    except TypeError:
+        raise OptionError(
+            f"package_dirs must be a list of folders, got {dirs!r}",
+            option="package_dirs",
+            value=dirs,
+        ) from None
+    out = []
+    for d in items:
+        if not isinstance(d, (str, Path)) or not Path(d).is_dir():
+            raise OptionError(
+                f"package_dirs: {d!r} is not an existing folder; give the folders that hold "
+                "the packages package:// paths name",
+                option="package_dirs",
+                value=d,
+            )
+        out.append(str(Path(d).resolve()))
+    return tuple(out)
 
 
 def set_joint(model: pin.Model, q: np.ndarray, jid: int, value: float) -> None:

@@ -1,0 +1,62 @@
+"""URDFs given as text (ROS 2's robot_description): load_string, and load given XML."""
+
+from __future__ import annotations
+
+import pickle
+
+import numpy as np
+import pytest
+
+import armik
+from armik.errors import FrameError, OptionError, URDFError
+
+from ..conftest import arm
+
+
+@pytest.fixture(scope="module")
+def ur5_xml() -> str:
+    return open(arm("ur5").source).read()
+
+
+def test_text_loads_as_the_file_does(ur5_xml):
+    from_file = armik.load(arm("ur5").source)
+    for a in (armik.load_string(ur5_xml), armik.load("\n  " + ur5_xml)):
+        assert a.joint_names == from_file.joint_names
+        assert (a.tip, a.tip_reason, a.name) == (from_file.tip, from_file.tip_reason, "ur5")
+        assert a.source == "<string>"
+        q = a.random_q(np.random.default_rng(1))
+        np.testing.assert_array_equal(a.fk(q).homogeneous, from_file.fk(q).homogeneous)
+        assert a.solve(a.fk(q)).success
+
+
+def test_text_takes_the_load_arguments_and_pickles_with_them(ur5_xml):
+    a = armik.load_string(
+        ur5_xml, base="base_link", tip="wrist_3_link", tip_offset=(0, 0, 0.1)
+    ).with_limits({"shoulder_pan_joint": (-1.0, 1.0)})
+    b = pickle.loads(pickle.dumps(a))
+    assert (b.base, b.tip, b.tip_offset) == ("base_link", "wrist_3_link", (0.0, 0.0, 0.1))
+    assert b.lower[0] == -1.0 and b.upper[0] == 1.0
+    q = a.random_q(np.random.default_rng(2))
+    np.testing.assert_array_equal(a.fk(q).homogeneous, b.fk(q).homogeneous)
+
+
+def test_bad_text_and_names_are_one_line_armik_errors(ur5_xml):
+    with pytest.raises(URDFError, match="not well-formed XML"):
+        armik.load("<robot name='r'><link name='a'/>")
+    with pytest.raises(URDFError, match="the URDF's text"):
+        armik.load_string(b"<robot/>")
+    with pytest.raises(URDFError, match="neither a bundled robot nor|neither a bundled robot"):
+        armik.load("x" * 5000)  # too long a name for the file system: no OSError
+    with pytest.raises(URDFError, match="does not exist"):
+        armik.load("/no/such/robot.urdf")
+    with pytest.raises(FrameError, match="unknown tip frame 'hand'"):
+        armik.load_string(ur5_xml, tip="hand")
+    with pytest.raises(OptionError, match="not an existing folder"):
+        armik.load_string(ur5_xml, package_dirs=["/no/such/folder"])
+
+
+def test_package_dirs_are_kept(tmp_path, ur5_xml):
+    a = armik.load_string(ur5_xml, package_dirs=[tmp_path])
+    assert a.package_dirs == (str(tmp_path.resolve()),)
+    assert pickle.loads(pickle.dumps(a)).package_dirs == a.package_dirs
+    assert armik.load("ur5").package_dirs == ()
