@@ -3,12 +3,17 @@
 from __future__ import annotations
 
 import functools
+import os
 import warnings
 
 import numpy as np
 import pytest
 
-import armik
+# The compile notice goes to stderr whenever a kernel is compiled, which in a test run
+# depends on the numba cache and the order of the tests: off here, on where it is tested.
+os.environ["ARMIK_COMPILE_NOTICE"] = "0"
+
+import armik  # noqa: E402
 
 #: Tolerances, in one place (m, rad).
 TOL = {

@@ -53,8 +53,8 @@ def load(
         )  # fmt: skip
     if not isinstance(source, (str, Path)):
         raise URDFError(
-            f"source must be a robot name, a path to a URDF file or the URDF's XML, got "
-            f"{source!r}",
+            f"source must be a robot name or a path to a URDF file (or the URDF's XML), "
+            f"got {source!r}",
             path=str(source),
         )
     _check_frames(base, tip, str(source))

@@ -201,8 +201,9 @@ def test_no_tip_with_several_leaves_lists_them(tmp_path):
             "</robot>",
         )
     )
-    with pytest.raises(FrameError, match="leaf links.*'cam'"):
+    with pytest.raises(FrameError, match="leaf links.*'cam'.*") as box:
         armik.load(write_urdf(tmp_path, text))
+    assert "pass tip=" in str(box.value)  # the Python argument; the CLI says --tip
 
 
 def test_single_leaf_is_default_tip(tmp_path):

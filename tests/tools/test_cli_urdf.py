@@ -34,7 +34,8 @@ def test_info_frames_prints_the_tree(capsys):
     assert "[revolute] wrist_3_joint -> wrist_3_link" in out
     assert "-> tool0" in out and "-> ee_link" in out
     lines = out.splitlines()
-    tool0 = next(i for i, line in enumerate(lines) if line.endswith("-> tool0"))
+    assert any(line.endswith("-> tool0  (the tip)") for line in lines)
+    tool0 = next(i for i, line in enumerate(lines) if "-> tool0" in line)
     wrist3 = next(i for i, line in enumerate(lines) if line.endswith("-> wrist_3_link"))
     indent = len(lines[wrist3]) - len(lines[wrist3].lstrip(" |`-"))
     assert tool0 > wrist3 and len(lines[tool0]) - len(lines[tool0].lstrip(" |`-")) > indent
@@ -133,3 +134,31 @@ def test_unwritable_output_is_one_line(capsys, tmp_path):
     code, out, err = run(capsys, "compare", "-n", "2", "--plot", str(blocker / "sub"))
     assert code == 2 and "armik: error:" in err and "Traceback" not in err
     assert len(err.strip().splitlines()) == 1
+
+
+def _two_leaves(tmp_path):
+    from ..conftest import two_link_urdf
+
+    text = (
+        two_link_urdf()
+        .replace('<link name="tip"/>', '<link name="tip"/><link name="cam"/>')
+        .replace(
+            "</robot>",
+            '<joint name="c" type="continuous"><parent link="l1"/><child link="cam"/></joint>'
+            "</robot>",
+        )
+    )
+    return str(write_urdf(tmp_path, text))
+
+
+def test_info_frames_without_a_tip_lists_the_frames_to_choose_from(capsys, tmp_path):
+    path = _two_leaves(tmp_path)
+    code, out, err = run(capsys, "info", path, "--frames")
+    assert code == 0 and not err
+    assert "no tip chosen" in out and "pass --tip one of 'cam', 'tip'" in out
+    assert "-> cam  (leaf: a tip to choose, --tip)" in out
+    assert "-> tip  (leaf: a tip to choose, --tip)" in out
+    code, out, err = run(capsys, "info", path)  # without --frames it is an error
+    assert code == 2 and "pass --tip one of" in err and "tip=" not in err
+    code, out, _ = run(capsys, "info", path, "--tip", "cam", "--frames")
+    assert code == 0 and "-> cam  (the tip)" in out and "-> tip  (leaf)" in out

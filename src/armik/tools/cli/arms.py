@@ -10,7 +10,9 @@ import numpy as np
 import pinocchio as pin
 
 from armik.arm import Arm, load
-from armik.model.catalogue import CATALOGUE
+from armik.errors import FrameError
+from armik.model.catalogue import CATALOGUE, entry
+from armik.model.urdf import read_urdf, read_urdf_string
 from armik.result import IKResult
 from armik.solvers import registry
 from armik.solvers.closed_form import families
@@ -29,16 +31,23 @@ def cmd_robots(args: argparse.Namespace) -> int:
 
 
 def cmd_info(args: argparse.Namespace) -> int:
-    arm = load_arm(args)
+    try:
+        arm = load_arm(args)
+    except FrameError as exc:
+        if not args.frames or getattr(args, "tip", None) is not None:
+            raise
+        # no tip could be chosen: the frames are what was asked for, to choose one
+        info = _urdf_info(args.robot)
+        print(f"{info.name}: no tip chosen: {for_cli(str(exc))}")
+        _print_frames(info, set(exc.candidates or ()), None)
+        return 0
     print(f"{arm.name}: {arm.dof} joints from {arm.base!r} to {arm.tip!r}  ({arm.source})")
     if arm.tip_reason != "given":
         print(f"  tip: {arm.tip_reason}")
     for note in arm.info.notes:
         print(f"  note: {note}")
     if args.frames:
-        print("frames (link, then [joint type] joint -> child link):")
-        for line in frame_tree(arm.info):
-            print(f"  {line}")
+        _print_frames(arm.info, set(), arm.tip)
     print(f"  {'joint':<24} {'type':<11} {'lower':>9} {'upper':>9}  link to next (m)")
     for i, (name, jtype) in enumerate(zip(arm.joint_names, arm.joint_types)):
         print(
@@ -65,15 +74,44 @@ def cmd_info(args: argparse.Namespace) -> int:
     return 0
 
 
-def frame_tree(info) -> list[str]:
-    """The URDF's links and joints as indented tree lines (iterative: trees can be deep)."""
+def _print_frames(info, candidates: set[str], tip: str | None) -> None:
+    children = info.children()
+    marks = {link: "  (leaf)" for link in info.links if not children.get(link)}
+    for link in candidates:
+        marks[link] = "  (leaf: a tip to choose, --tip)"
+    if tip is not None:
+        marks[tip] = "  (the tip)"
+    print("frames (link, then [joint type] joint -> child link):")
+    for line in frame_tree(info, marks):
+        print(f"  {line}")
+
+
+def _urdf_info(source: str):
+    """What the URDF of ``source`` (a bundled name, a path or XML text) says."""
+    if source in CATALOGUE:
+        return read_urdf(entry(source).urdf_path())[1]
+    if source.lstrip().startswith("<"):
+        return read_urdf_string(source.lstrip())[1]
+    return read_urdf(source)[1]
+
+
+def for_cli(message: str) -> str:
+    """An error's words for the command line: Python's ``tip=`` and ``base=`` are the
+    ``--tip`` and ``--base`` flags here."""
+    return message.replace("pass tip=", "pass --tip").replace("pass base=", "pass --base")
+
+
+def frame_tree(info, marks: dict[str, str] | None = None) -> list[str]:
+    """The URDF's links and joints as indented tree lines (iterative: trees can be deep),
+    each link followed by its mark in ``marks`` (link -> text), if any."""
+    marks = marks or {}
     children = info.children()
     lines: list[str] = []
     stack = [(info.root_link, "", "", None)]
     while stack:
         link, lead, tail, joint = stack.pop()
         label = link if joint is None else f"[{joint.type}] {joint.name} -> {link}"
-        lines.append(lead + label)
+        lines.append(lead + label + marks.get(link, ""))
         kids = children.get(link, [])
         for k, j in reversed(list(enumerate(kids))):
             last = k == len(kids) - 1

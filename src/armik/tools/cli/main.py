@@ -13,7 +13,7 @@ from pathlib import Path
 from armik.errors import ArmikError, ArmikWarning
 from armik.model.catalogue import SPATIAL_ARMS
 from armik.tools import bench as bench_mod
-from armik.tools.cli.arms import cmd_demo, cmd_info, cmd_robots, cmd_solve
+from armik.tools.cli.arms import cmd_demo, cmd_info, cmd_robots, cmd_solve, for_cli
 from armik.tools.cli.compile import add_compile_command
 from armik.tools.cli.many import add_many_commands
 from armik.tools.cli.studies import cmd_bench, cmd_compare
@@ -31,7 +31,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             warnings.showwarning = _one_line_warning
             return int(args.func(args) or 0)
     except ArmikError as exc:
-        print(f"armik: error: {exc}", file=sys.stderr)
+        print(f"armik: error: {for_cli(str(exc))}", file=sys.stderr)
         return 2
     except BrokenPipeError:
         # The reader went away (armik info panda | head -1): stop quietly. Point stdout at
