@@ -81,6 +81,11 @@ def _path() -> None:
     arm.solve_path(poses, q, **_BUDGET)
 
 
+def _fk_batch() -> None:
+    arm = load("ur5")
+    arm.fk_batch(arm.random_q(0, n=2))
+
+
 PARTS: dict[str, Callable[[], None]] = {
     "dls": _numeric("dls"),
     "qp": _numeric("qp"),
@@ -91,6 +96,7 @@ PARTS: dict[str, Callable[[], None]] = {
     "swept": _closed_form("panda", "swept"),
     "batch": _batch,
     "path": _path,
+    "fk_batch": _fk_batch,
 }
 
 

@@ -27,6 +27,7 @@ ENVIRONMENT = "ARMIK_COMPILE_NOTICE"  # "0": no notice
 # benchmarks/compile_time.py on an empty cache of this project's 2-core machine, rounded up)
 PARTS = (
     ("armik.kernel.measure", "the forward-kinematics check", 2),
+    ("armik.kernel.fk_many", "the batch forward kinematics", 3),
     ("armik.kernel", "the numeric solvers", 25),
     ("armik.solvers.closed_form.spherical_wrist", "the spherical-wrist closed form", 20),
     ("armik.solvers.closed_form.three_parallel", "the three-parallel-axes closed form", 15),

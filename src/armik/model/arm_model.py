@@ -23,6 +23,7 @@ import pinocchio as pin
 from armik.errors import ArmikWarning, JointError, OptionError, listing
 from armik.kernel.chain import build_chain
 from armik.kernel.coordinates import pin_configuration
+from armik.kernel.fk_many import fk_many
 from armik.model.geometry import Plane, find_plane
 from armik.model.reduce import reduce_chain
 from armik.model.urdf import URDFInfo
@@ -318,9 +319,46 @@ class ArmModel:
         hi = np.where(np.isfinite(self.upper), self.upper, math.pi)
         return lo, hi
 
-    def random_q(self, rng: np.random.Generator | int | None = None) -> np.ndarray:
-        """Uniform joint values within the limits; unlimited joints in [-pi, pi]."""
-        return np.random.default_rng(rng).uniform(*self.sampling_box())
+    def random_q(
+        self, rng: np.random.Generator | int | None = None, n: int | None = None
+    ) -> np.ndarray:
+        """Uniform joint values within the limits, unlimited joints in [-pi, pi]: one
+        configuration (dof,), or ``n`` of them (n, dof). ``rng``: a generator or a seed."""
+        lo, hi = self.sampling_box()
+        if n is None:
+            return np.random.default_rng(rng).uniform(lo, hi)
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 0 <= n <= 10**8:
+            raise OptionError(
+                f"n must be a whole number of configurations in [0, 1e8], got {n!r}",
+                option="n",
+                value=n,
+            )
+        return np.random.default_rng(rng).uniform(lo, hi, size=(int(n), self.dof))
+
+    def fk_batch(self, Q: object) -> np.ndarray:
+        """Tip poses ``T_base_tip`` (N, 4, 4) of joint values Q (N, dof), rad or m: compiled
+        forward kinematics over the arm's chain (the GIL released), the same placements as
+        ``fk`` row by row (to 1e-12, tests/model/test_fk_batch.py)."""
+        try:
+            if isinstance(Q, (str, bytes)) or np.iscomplexobj(Q):
+                raise TypeError
+            Q = np.array(Q, dtype=float, order="C", ndmin=2)
+        except (TypeError, ValueError):
+            raise OptionError(
+                f"Q must be an (N, {self.dof}) array of joint values, got {Q!r}", option="Q"
+            ) from None
+        if Q.ndim != 2 or Q.shape[1] != self.dof:
+            raise OptionError(
+                f"Q must have shape (N, {self.dof}), one row per configuration, got {Q.shape}",
+                option="Q",
+            )
+        if not np.isfinite(Q).all():
+            i = int(np.flatnonzero(~np.isfinite(Q).all(axis=1))[0])
+            raise OptionError(f"row {i} of Q is not finite: {Q[i].tolist()}", option="Q")
+        out = np.empty((len(Q), 4, 4))
+        packed, kind, halton = self.kernel_chain.flat
+        fk_many(packed, kind, halton, Q, out)
+        return out
 
     def within_limits(self, q: np.ndarray, tol: float = LIMIT_TOL) -> bool:
         if type(q) is not np.ndarray:
