@@ -119,3 +119,22 @@ def test_bench_repeats_and_bad_values(capsys):
     ):
         code, _, err = run(capsys, "bench", "--arms", "ur5", "--solvers", "dls", flag, value)
         assert code == 2 and words in err and "Traceback" not in err
+
+
+def test_solve_flags_are_the_python_options(capsys):
+    import numpy as np
+    import pinocchio as pin
+
+    import armik
+
+    args = ["--xyz", "0.4", "0.2", "0.3", "--rpy", "3.1", "0.1", "0", "--solver", "dls"]
+    flags = ["--weights", "1", "1", "1", "1", "1", "0", "--tip-offset", "0", "0", "0.1"]
+    code, out, _ = run(capsys, "solve", "ur5", *args, *flags, "--seed", "3", "--json")
+    assert code == 0
+    got = json.loads(out)["results"][0]
+    a = armik.load("ur5", tip_offset=(0, 0, 0.1))
+    T = pin.SE3(pin.rpy.rpyToMatrix(3.1, 0.1, 0.0), np.array([0.4, 0.2, 0.3]))
+    r = a.solve(T, solver="dls", weights=(1, 1, 1, 1, 1, 0), seed=3)
+    assert got["success"] and got["q"] == r.q.tolist()
+    code, out, _ = run(capsys, "solve", "ur5", *args, "--position-only", "--json")
+    assert code == 0 and json.loads(out)["results"][0]["orientation_error"] is None

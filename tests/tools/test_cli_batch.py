@@ -107,3 +107,17 @@ def test_reach_command_saves_and_plots(tmp_path, capsys):
     assert png.stat().st_size > 10_000
     assert main(["reach", "ur5", "--resolution", "-1"]) == 2
     assert "resolution must be" in capsys.readouterr().err
+
+
+def test_batch_takes_the_solve_flags(tmp_path, capsys):
+    a = arm("ur5")
+    T = np.array([a.fk(q).homogeneous for q in a.random_q(4, n=5)])
+    np.save(tmp_path / "t.npy", T)
+    out = tmp_path / "r.npz"
+    code = main(
+        ["batch", "ur5", str(tmp_path / "t.npy"), "-o", str(out), "--workers", "1",
+         "--position-only", "--weights", "1", "1", "1", "0", "0", "0", "--seed", "2"]
+    )  # fmt: skip
+    assert code == 0
+    r = BatchResult.load(out)
+    assert r.success.all() and np.isnan(r.orientation_error).all()

@@ -19,7 +19,51 @@ from armik.solvers.closed_form import families
 
 
 def load_arm(args: argparse.Namespace) -> Arm:
-    return load(args.robot, base=getattr(args, "base", None), tip=getattr(args, "tip", None))
+    return load(
+        args.robot,
+        base=getattr(args, "base", None),
+        tip=getattr(args, "tip", None),
+        tip_offset=getattr(args, "tip_offset", None),
+    )
+
+
+def add_solve_options(c: argparse.ArgumentParser) -> None:
+    """The options of a solve as flags (``solve`` and ``batch``)."""
+    c.add_argument(
+        "--tip-offset",
+        nargs=3,
+        type=float,
+        metavar=("X", "Y", "Z"),
+        help="tool point in the tip frame (m)",
+    )
+    c.add_argument(
+        "--weights",
+        nargs=6,
+        type=float,
+        metavar=("X", "Y", "Z", "RX", "RY", "RZ"),
+        help="weights of the error in the tip frame; 0 frees an axis",
+    )
+    c.add_argument(
+        "--position-only", action="store_true", help="ignore the target's orientation"
+    )
+    c.add_argument("--timeout", type=float, help="time budget of numeric solvers (s)")
+    c.add_argument("--seed", type=int, help="seed of the random restarts (0)")
+
+
+def solve_options(args: argparse.Namespace) -> dict:
+    """The keyword options of ``Arm.solve`` the flags of ``add_solve_options`` give."""
+    options: dict = {}
+    if args.timeout is not None:
+        options["timeout"] = args.timeout
+    if getattr(args, "tol", None) is not None:
+        options["tol_position"] = options["tol_orientation"] = args.tol
+    if args.seed is not None:
+        options["seed"] = args.seed
+    if args.weights is not None:
+        options["weights"] = tuple(args.weights)
+    if args.position_only:
+        options["position_only"] = True
+    return options
 
 
 def cmd_robots(args: argparse.Namespace) -> int:
@@ -141,7 +185,7 @@ def _target(args: argparse.Namespace) -> object:
 
 def cmd_solve(args: argparse.Namespace) -> int:
     arm = load_arm(args)
-    options = {} if args.timeout is None else {"timeout": args.timeout}
+    options = solve_options(args)
     target = _target(args)
     if args.all:
         results = arm.solve_all(target, q0=args.q0, solver=args.solver, **options)

@@ -13,7 +13,14 @@ from pathlib import Path
 from armik.errors import ArmikError, ArmikWarning
 from armik.model.catalogue import SPATIAL_ARMS
 from armik.tools import bench as bench_mod
-from armik.tools.cli.arms import cmd_demo, cmd_info, cmd_robots, cmd_solve, for_cli
+from armik.tools.cli.arms import (
+    add_solve_options,
+    cmd_demo,
+    cmd_info,
+    cmd_robots,
+    cmd_solve,
+    for_cli,
+)
 from armik.tools.cli.compile import add_compile_command
 from armik.tools.cli.many import add_many_commands
 from armik.tools.cli.studies import cmd_bench, cmd_compare
@@ -134,7 +141,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
     c.add_argument("--all", action="store_true", help="print every solution found")
     c.add_argument("--q0", nargs="+", type=float, help="seed joint values (rad, m)")
-    c.add_argument("--timeout", type=float, help="time budget of numeric solvers (s)")
+    add_solve_options(c)
     c.add_argument("--json", action="store_true", help="machine-readable output")
 
     command("demo", "solve a target on the 2-link arm and on the Panda", "armik demo", cmd_demo)

@@ -13,7 +13,7 @@ from armik.errors import InputError
 from armik.solve import distributed
 from armik.solve.batch import solve_batch
 from armik.solve.reach import reachability
-from armik.tools.cli.arms import load_arm
+from armik.tools.cli.arms import add_solve_options, load_arm, solve_options
 
 
 def add_many_commands(command) -> None:
@@ -42,9 +42,8 @@ def add_many_commands(command) -> None:
         help="run on a Dask cluster: tcp://host:8786, or local:N for N local processes",
     )
     c.add_argument("--q0", nargs="+", type=float, help="one seed for every target (rad, m)")
-    c.add_argument("--timeout", type=float, help="time budget per target (s)")
     c.add_argument("--tol", type=float, help="success tolerance, m and rad")
-    c.add_argument("--seed", type=int, help="seed of the random restarts (0)")
+    add_solve_options(c)
     c.add_argument("--chunk-size", type=int, help="targets per task")
 
     c = command(
@@ -130,17 +129,6 @@ def _numeric(row: list[str]) -> bool:
     return True
 
 
-def _solve_options(args: argparse.Namespace) -> dict:
-    options: dict = {}
-    if args.timeout is not None:
-        options["timeout"] = args.timeout
-    if getattr(args, "tol", None) is not None:
-        options["tol_position"] = options["tol_orientation"] = args.tol
-    if getattr(args, "seed", None) is not None:
-        options["seed"] = args.seed
-    return options
-
-
 def cmd_batch(args: argparse.Namespace) -> int:
     out = Path(args.output)
     if out.suffix.lower() != ".npz":
@@ -151,7 +139,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
     targets, q0 = read_targets_file(args.targets)
     if args.q0 is not None:
         q0 = np.array(args.q0)
-    options = _solve_options(args)
+    options = solve_options(args)
     if args.cluster:
         result = distributed.solve_batch(
             arm,
