@@ -36,6 +36,7 @@ def _numeric(solver: str) -> Callable[[], None]:
             arm.solve(T, solver=solver, position_only=True, **_BUDGET)
             arm.solve_all(T, solver=solver, max_solutions=2, **_BUDGET)
         # options that are data, not code: none may compile anything new
+        _from_a_result(arm, T, solver, **_BUDGET)
         arm.solve(T, solver=solver, timeout=0.01, max_restarts=0, seed=1)
         arm.solve(T, solver=solver, tol_position=1e-4, tol_orientation=1e-3, **_BUDGET)
         arm.solve(T, solver=solver, nullspace_gain=0.0, max_iterations=20, **_BUDGET)
@@ -56,15 +57,31 @@ def _closed_form(robot: str, solver: str) -> Callable[[], None]:
         arm.solve(target, solver=solver)
         arm.solve(target, q0=arm.middle + 0.1, solver=solver)
         arm.solve_all(target, solver=solver)
+        if solver != "planar2r":
+            _from_a_result(arm, T, solver)
 
     return run
+
+
+def _from_a_result(arm: Arm, T, solver: str, **options) -> None:
+    """Solves seeded from an earlier answer (read-only arrays, as a path passes them) and
+    a read-only 4x4 target: the same compiled code as any other seed and target."""
+    r = arm.solve(T, solver=solver, **options)
+    H = T.homogeneous
+    H.flags.writeable = False
+    arm.solve(H, q0=r.q, solver=solver, **options)
+    arm.solve_all(H, q0=r.q, solver=solver, **options)
 
 
 def _batch() -> None:
     for robot, solver in (("ur5", "dls"), ("ur5", "qp"), ("ur5", "three_parallel")):
         arm = load(robot)
         poses = np.array([_pose(arm, s).homogeneous for s in range(4)])
-        arm.solve_batch(poses, solver=solver, workers=1, progress=False, **_numeric_only(solver))
+        options = _numeric_only(solver)
+        arm.solve_batch(poses, solver=solver, workers=1, progress=False, **options)
+        q0 = arm.solve_batch(poses, solver=solver, workers=1, progress=False, **options).q
+        q0.flags.writeable = False
+        arm.solve_batch(poses, q0=q0, solver=solver, workers=1, progress=False, **options)
     arm = load("abb_irb120")
     poses = np.array([_pose(arm, s).homogeneous for s in range(4)])
     arm.solve_batch(poses, solver="spherical", workers=1, progress=False)

@@ -424,7 +424,9 @@ class ArmModel:
             # of floats is finite only when every one is (else the general path decides).
             values = q0.tolist()
             if math.isfinite(sum(values)) and self._within(values):
-                return q0
+                # a read-only array (a result's q) is copied: compiled code taking it would
+                # be compiled a second time, for read-only arrays
+                return q0 if q0.flags.writeable else q0.copy()
         q = self.check_q(q0, "q0")
         if not self.within_limits(q):
             warnings.warn(
@@ -434,7 +436,7 @@ class ArmModel:
                 stacklevel=3,
             )
             q = np.clip(q, self.lower, self.upper)
-        return q
+        return q if q.flags.writeable and q.flags.c_contiguous else np.array(q)
 
     def nearest_equivalent(self, q: np.ndarray, q_ref: np.ndarray) -> np.ndarray:
         """Shift each angle by a multiple of 2 pi to the value nearest ``q_ref`` that stays

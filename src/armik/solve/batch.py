@@ -126,7 +126,11 @@ def solve_chunk(
             r = solve(arm, targets.target(i), q0=seeds[i], solver=spec.name, **options)[0]
             out.put_result(start + i, r)
         return
-    attempts = spec.run_batch(arm, targets, np.ascontiguousarray(seeds), opts)
+    # C-ordered and writable, as the compiled entries are compiled for (a broadcast or a
+    # read-only seed would compile them again)
+    if not (seeds.flags.c_contiguous and seeds.flags.writeable):
+        seeds = np.array(seeds, order="C")
+    attempts = spec.run_batch(arm, targets, seeds, opts)
     part = verdict_batch(arm, attempts, targets, opts)
     out.put(start, part)
     if spec.kind == "analytic":

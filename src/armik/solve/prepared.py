@@ -132,7 +132,9 @@ class Plan:
             and target.shape == (4, 4)
             and target.flags.c_contiguous
         ):
-            H = target  # only read
+            # only read; a read-only array is copied (compiled code would be compiled again
+            # for read-only arrays)
+            H = target if target.flags.writeable else target.copy()
         else:
             return None
         if q0 is None:
@@ -143,7 +145,7 @@ class Plan:
             and q0.shape == self.shape
             and q0.flags.c_contiguous
         ):
-            return H, q0
+            return H, (q0 if q0.flags.writeable else q0.copy())  # a result's q is read-only
         return None
 
     def solve(
