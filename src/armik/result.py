@@ -6,9 +6,9 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from armik.frozen import frozen
 from armik.status import Status
 
+_new = object.__new__
 STATUSES: tuple[str, ...] = tuple(s.value for s in Status)
 
 
@@ -58,8 +58,29 @@ class IKResult:
         """The one constructor of armik's own results: ``fields`` holds every field but
         ``extra``, ``q`` a read-only float array and ``status`` a ``Status``; instead of
         ``reason``, ``_reason`` may hold (function, arguments), the text written on first
-        read (prepared solves)."""
-        return frozen(cls, **fields, extra={})
+        read (prepared solves). Built as ``frozen`` builds, inline: a solve makes one."""
+        self = _new(cls)
+        d = self.__dict__
+        d.update(fields)
+        d["extra"] = {}
+        return self
+
+    @classmethod
+    def _from_rows(cls, rows: list[dict]) -> list[IKResult]:
+        """The results of rows, each ``_from_fields``'s (a runner's claim, its q read-only
+        already) or ``_checked``'s (a verdict row, its q copied): one call for a
+        ``solve_all``'s rows."""
+        out = []
+        for row in rows:
+            if "_reason" in row:
+                self = _new(cls)
+                d = self.__dict__
+                d.update(row)
+                d["extra"] = {}
+                out.append(self)
+            else:
+                out.append(cls._checked(row))
+        return out
 
     def __getattr__(self, name: str):
         # Results built by ``armik.solve.prepared`` carry their reason as (function, arguments) and

@@ -19,7 +19,7 @@ import pinocchio as pin
 
 from armik.errors import FrameError, JointError, OptionError, listing
 from armik.model.urdf import URDFInfo
-from armik.tolerances import MAX_LENGTH
+from armik.tolerances import MAX_LENGTH, MAX_LIMIT
 
 log = logging.getLogger(__name__)
 
@@ -251,6 +251,25 @@ def check_package_dirs(dirs: object) -> tuple[str, ...]:
             )
         out.append(str(Path(d).resolve()))
     return tuple(out)
+
+
+def check_limit_value(jname: str, value: object) -> float:
+    """A joint limit given to ``with_limits`` as a float (rad or m; +-inf: no limit on
+    that side); raises ``JointError`` naming the joint otherwise."""
+    try:
+        if isinstance(value, (str, bytes, complex)) or np.iscomplexobj(value):
+            raise TypeError
+        out = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        out = math.nan
+    if math.isnan(out) or (math.isfinite(out) and abs(out) > MAX_LIMIT):
+        raise JointError(
+            f"limits for {jname!r} must be numbers (rad or m) within "
+            f"+-{MAX_LIMIT:g}, or "
+            f"-inf/inf for no limit on that side; got {value!r}",
+            joint=jname,
+        )
+    return out
 
 
 def set_joint(model: pin.Model, q: np.ndarray, jid: int, value: float) -> None:

@@ -58,19 +58,21 @@ def plan_for(
     """The plan of ``arm`` for ``solver``, the options whose ``solve._options`` key is
     ``key`` and full poses (or positions, with ``position``); None when the solver has no
     runner or does not apply to that kind of target."""
-    # a registration may change what "auto" chooses: plans of each generation apart
-    plans = arm.memo(("prepared solves", registry.generation), _no_plans)
+    # a registration may change what "auto" chooses: plans of each generation apart. The
+    # arm's memo read directly, not through ArmModel.memo: this runs on every solve.
+    plans = arm._memo.get(_PLANS)
+    if plans is None or plans["generation"] != registry.generation:
+        plans = arm._memo[_PLANS] = {"generation": registry.generation}
     plan = plans.get((solver, key, position))
     if plan is None:
         plan = _build(arm, solver, opts, position)
         if len(plans) > 64:
-            plans.clear()
+            plans = arm._memo[_PLANS] = {"generation": registry.generation}
         plans[(solver, key, position)] = plan
     return None if plan is _NO_PLAN else plan
 
 
-def _no_plans(arm: ArmModel) -> dict:
-    return {}
+_PLANS = "prepared solves"  # the arm's memo key
 
 
 def _build(arm: ArmModel, solver: str, opts: Options, position: bool):
@@ -228,15 +230,12 @@ class Plan:
         if unclaimed:
             verified.sort(key=lambda f: seed_distance(f["q"], q0))
         failed.sort(key=lambda pair: pair[0])
+        if failed:
+            verified += [fields for _, fields in failed]
         elapsed = time.perf_counter() - t0
-        results = []
-        for fields in verified + [fields for _, fields in failed]:
+        for fields in verified:
             fields["time"] = elapsed
-            # the runner's claims hold their q read-only already; a verdict row's q is copied
-            results.append(
-                IKResult._from_fields(fields) if "_reason" in fields else IKResult._checked(fields)
-            )
-        return results
+        return IKResult._from_rows(verified)
 
     def _placements(self, Q: np.ndarray) -> np.ndarray:
         """The tip placements (n, 4, 4) of the answers Q, by Pinocchio."""

@@ -25,7 +25,6 @@ from armik import npz
 from armik.errors import InputError, OptionError
 from armik.model.arm_model import ArmModel
 from armik.solve.batch import solve_batch
-from armik.solve.distributed import solve_batch as cluster_solve
 from armik.solve.progress import ProgressArg
 from armik.targets.batch import TargetBatch
 
@@ -206,6 +205,9 @@ def reachability(
     )  # voxel-major: rows v k .. v k + k - 1 are voxel v
     opts = {**DEFAULT_OPTIONS, **options}
     if client is not None:
+        # Dask is imported only when a cluster is used: it takes a second to import
+        from armik.solve.distributed import solve_batch as cluster_solve
+
         result = cluster_solve(
             arm, targets, solver=solver, client=client, progress=progress, **opts
         )

@@ -397,11 +397,12 @@ def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form):
                 if rest is None:
                     rows.append(attempts(out[k : k + 1], family, closed_form)[0])
                 else:
-                    rows.append(claim(Q[k], *rest))
+                    rows.append(claim((Q[k], *rest)))
             return Q, rows
         if head >= 0:
             singular = head >= 8
-            return claim(out[0, :6], 0, 0, _LABELS[head & 7], singular, claim_reason, why[singular])
+            label = _LABELS[head & 7]
+            return claim((out[0, :6], 0, 0, label, singular, claim_reason, why[singular]))
         return attempts(out[:n], family, closed_form)
 
     return run_pose

@@ -271,7 +271,7 @@ def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):
             return _attempts(sw, rows[:1], theta)
         singular = bool(int(rows[0, 7]) & sixr.SINGULAR)
         q = rows[0, :7]
-        return claim(q, 0, 0, branch(sw, q), singular, held_reason, (theta, singular))
+        return claim((q, 0, 0, branch(sw, q), singular, held_reason, (theta, singular)))
 
     return run_pose
 

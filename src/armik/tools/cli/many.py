@@ -10,7 +10,6 @@ from pathlib import Path
 import numpy as np
 
 from armik.errors import InputError
-from armik.solve import distributed
 from armik.solve.batch import solve_batch
 from armik.solve.reach import reachability
 from armik.tools.cli.arms import add_solve_options, load_arm, solve_options
@@ -141,6 +140,8 @@ def cmd_batch(args: argparse.Namespace) -> int:
         q0 = np.array(args.q0)
     options = solve_options(args)
     if args.cluster:
+        from armik.solve import distributed  # Dask: a second to import, only for a cluster
+
         result = distributed.solve_batch(
             arm,
             targets,
@@ -170,6 +171,8 @@ def cmd_reach(args: argparse.Namespace) -> int:
     arm = load_arm(args)
     client = None
     if args.cluster:
+        from armik.solve import distributed  # Dask: a second to import, only for a cluster
+
         client = distributed.connect(args.cluster)
     try:
         m = reachability(
