@@ -16,6 +16,7 @@ from armik.tools import bench as bench_mod
 from armik.tools.cli.arms import cmd_demo, cmd_info, cmd_robots, cmd_solve
 from armik.tools.cli.many import add_many_commands
 from armik.tools.cli.studies import cmd_bench, cmd_compare
+from armik.tools.cli.view import add_view_command
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -138,6 +139,7 @@ def _parser() -> argparse.ArgumentParser:
 
     command("demo", "solve a target on the 2-link arm and on the Panda", "armik demo", cmd_demo)
     add_many_commands(command)  # batch, reach
+    add_view_command(command)
 
     c = command(
         "bench",
