@@ -17,6 +17,13 @@ def wxyz_position(T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.array([w, x, y, z]), np.array(T[:3, 3])
 
 
+def pose_of(wxyz, position) -> pin.SE3:
+    """viser's (w, x, y, z) quaternion and position (m) as a pose (the gizmo's target)."""
+    w, x, y, z = (float(v) for v in wxyz)
+    R = pin.Quaternion(w, x, y, z).normalized().matrix()
+    return pin.SE3(R, np.array(position, dtype=float))
+
+
 class BodyNodes:
     """``body`` under the scene node ``prefix``. ``ghost``: an (r, g, b) colour drawn at
     ``opacity``, from each part's convex hull (a ghost's outline is what one compares, and

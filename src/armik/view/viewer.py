@@ -20,7 +20,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
-import pinocchio as pin
 
 from armik.batch_result import BatchResult
 from armik.errors import ArmikError, InputError, OptionError, ViewerError
@@ -30,7 +29,7 @@ from armik.shapes import Box, Shape, as_shapes
 from armik.solve.reach import ReachMap
 from armik.solvers import registry
 from armik.targets.pose import parse_target
-from armik.view.nodes import BodyNodes, wxyz_position
+from armik.view.nodes import BodyNodes, pose_of, wxyz_position
 from armik.view.panel import Panel
 from armik.view.scene import arm_body
 from armik.view.stick import size, skeleton
@@ -337,8 +336,7 @@ class Viewer:
     def _dragged(self, handle) -> None:
         """The gizmo moved: solve for it, the latest pose first (drags come faster than
         numeric solves; the poses in between are skipped)."""
-        w, x, y, z = handle.wxyz
-        T = pin.SE3(pin.Quaternion(w, x, y, z).normalized().matrix(), np.array(handle.position))
+        T = pose_of(handle.wxyz, handle.position)
         with self._lock:
             self._pending = T.translation.copy() if self._position_only else T
             if self._solving:
