@@ -93,7 +93,7 @@ def _draw(ax, arm, q, color, width, label, s, joints: bool) -> np.ndarray:
     ax.plot(p[1:-1, 0], p[1:-1, 1], p[1:-1, 2], "o", color=color, ms=4 if joints else 2.5)
     ax.plot(*p[0], "s", color=color, ms=6 if joints else 3)
     if joints:
-        half = 0.07 * s
+        half = 0.05 * s
         for origin, axis, slides in zip(p[1:-1], sk.axes, sk.prismatic):
             a, b = origin - half * axis, origin + half * axis
             rgb = np.array(PRISMATIC_AXIS if slides else REVOLUTE_AXIS)[:3] / 255
