@@ -4,6 +4,7 @@ for a configuration, in the arm's base frame."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -24,6 +25,11 @@ class Part:
     placement: np.ndarray
     mesh: trimesh.Trimesh
     link: str  # the URDF link it belongs to, or what the stick figure draws
+
+    @cached_property
+    def hull(self) -> trimesh.Trimesh:
+        """The mesh's convex hull: a ghost's outline at a fraction of the mesh's size."""
+        return self.mesh.convex_hull
 
 
 @dataclass(frozen=True, eq=False)

@@ -50,7 +50,7 @@ class BodyNodes:
             if ghost is None:
                 node = scene.add_mesh_trimesh(f"{prefix}/part{i}/solid", part.mesh)
             else:
-                hull = part.mesh.convex_hull if body.kind == "meshes" else part.mesh
+                hull = part.hull if body.kind == "meshes" else part.mesh
                 node = scene.add_mesh_simple(
                     f"{prefix}/part{i}/ghost",
                     np.asarray(hull.vertices, np.float32),

@@ -275,7 +275,7 @@ class Viewer:
         keep = np.isfinite(f) & ((f > 0) | unreached)
         points = np.stack([X[keep], Y[keep], Z[keep]], axis=1).astype(np.float32)
         self._server.scene.add_point_cloud(
-            "/reach", points, reach_colors(f[keep]), point_size=0.5 * reach_map.resolution,
+            "/reach", points, reach_colors(f[keep]), point_size=0.2 * reach_map.resolution,
             point_shape="circle",
         )  # fmt: skip
         return len(points)
