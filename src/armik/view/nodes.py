@@ -3,10 +3,15 @@ meshes' own colours), red (a failed answer) or as a translucent ghost of one col
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 import pinocchio as pin
 
 from armik.view.body import Body
+
+if TYPE_CHECKING:
+    import viser
 
 FAILED = (230, 40, 40)
 
@@ -31,7 +36,7 @@ class BodyNodes:
 
     def __init__(
         self,
-        scene,
+        scene: viser.SceneApi,
         prefix: str,
         body: Body,
         *,
@@ -41,9 +46,9 @@ class BodyNodes:
         self._scene = scene
         self._body = body
         self.prefix = prefix
-        self._frames = []
-        self._solid = []
-        self._failed: list = []  # red copies, made at the first failure
+        self._frames: list[viser.FrameHandle] = []
+        self._solid: list[viser.SceneNodeHandle] = []
+        self._failed: list[viser.MeshHandle] = []  # red copies, made at the first failure
         for i, part in enumerate(body.parts):
             frame = scene.add_frame(f"{prefix}/part{i}", show_axes=False)
             self._frames.append(frame)

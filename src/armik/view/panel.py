@@ -5,12 +5,16 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from armik.model.arm_model import ArmModel
 from armik.result import IKResult
 from armik.solvers import registry
+
+if TYPE_CHECKING:
+    import viser
 
 #: Panel rows (label, IKResult field), in order.
 FIELDS = (
@@ -43,7 +47,7 @@ class Panel:
 
     def __init__(
         self,
-        gui,
+        gui: viser.GuiApi,
         arm: ArmModel,
         *,
         solver: str,

@@ -35,6 +35,8 @@ from armik.view.scene import arm_body
 from armik.view.stick import size, skeleton
 
 if TYPE_CHECKING:
+    import viser
+
     from armik.arm import Arm
 
 log = logging.getLogger(__name__)
@@ -101,7 +103,7 @@ class Viewer:
         self._target: object = None
         self._pending: object = None
         self._solving = False
-        self._ghosts: list[tuple[BodyNodes, object]] = []
+        self._ghosts: list[tuple[BodyNodes, viser.LabelHandle]] = []
         self._ghosts_on = False
         self._position_only = arm.dof < 6
 
@@ -333,7 +335,7 @@ class Viewer:
 
     # -- what the browser does ------------------------------------------------------------
 
-    def _dragged(self, handle) -> None:
+    def _dragged(self, handle: viser.TransformControlsHandle) -> None:
         """The gizmo moved: solve for it, the latest pose first (drags come faster than
         numeric solves; the poses in between are skipped)."""
         T = pose_of(handle.wxyz, handle.position)
