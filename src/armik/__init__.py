@@ -12,19 +12,40 @@ from armik.errors import (
     SolverError,
     TargetError,
     URDFError,
+    ViewerError,
 )
 from armik.model.catalogue import robots
 from armik.precompile import compile
 from armik.result import IKResult
+from armik.shapes import Box, Sphere
 from armik.solvers import solvers
 from armik.status import Status
 from armik.targets.pose import Target, parse_target
 
 __version__ = "0.1.0"
 
+# The viewer and plots load on first use, so that ``import armik`` imports neither viser
+# nor matplotlib: ``armik.view`` (the package, callable: ``armik.view(arm)``),
+# ``armik.plot`` and ``armik.Viewer``.
+_LAZY = {"view": ("armik.view", None), "plot": ("armik.view.plot", "plot"),
+         "Viewer": ("armik.view.viewer", "Viewer")}  # fmt: skip
+
+
+def __getattr__(name: str):
+    if name not in _LAZY:
+        raise AttributeError(f"module 'armik' has no attribute {name!r}")
+    import importlib
+
+    module, attr = _LAZY[name]
+    value = importlib.import_module(module)
+    value = globals()[name] = value if attr is None else getattr(value, attr)
+    return value
+
+
 __all__ = [
     "Arm",
     "BatchResult",
+    "Box",
     "ArmikError",
     "ArmikWarning",
     "FrameError",
@@ -33,14 +54,19 @@ __all__ = [
     "JointError",
     "OptionError",
     "SolverError",
+    "Sphere",
     "Status",
     "Target",
     "TargetError",
     "compile",
     "URDFError",
+    "Viewer",
+    "ViewerError",
     "load",
     "load_string",
     "parse_target",
+    "plot",
     "robots",
     "solvers",
+    "view",
 ]

@@ -70,6 +70,15 @@ class SolverError(InputError):
         self.candidates = tuple(candidates)
 
 
+class ViewerError(ArmikError):
+    """The viewer cannot start or draw: its optional dependency is missing, or its port is
+    taken (``port`` then holds it)."""
+
+    def __init__(self, message: str, *, port: int | None = None) -> None:
+        super().__init__(message)
+        self.port = port
+
+
 def listing(names: Iterable[str], limit: int = 40) -> str:
     """A short comma-separated listing for error messages."""
     names = list(names)

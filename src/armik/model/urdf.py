@@ -40,7 +40,15 @@ import pinocchio as pin
 from armik.errors import URDFError
 from armik.model.urdf_checks import MAX_DEPTH, JointXML, URDFInfo, inspect
 
-__all__ = ["MAX_DEPTH", "MAX_FILE_BYTES", "JointXML", "URDFInfo", "read_urdf", "read_urdf_string"]
+__all__ = [
+    "MAX_DEPTH",
+    "MAX_FILE_BYTES",
+    "JointXML",
+    "URDFInfo",
+    "read_urdf",
+    "read_urdf_string",
+    "urdf_text",
+]
 
 log = logging.getLogger(__name__)
 
@@ -50,7 +58,6 @@ MAX_FILE_BYTES = 64 * 2**20  # the largest URDFs we know of (with inline meshes)
 # crashed at 300 links on a 512 kB thread stack).
 PARSER_STACK = 32 * 2**20
 SHALLOW_DEPTH = 100  # up to here the caller's stack will do (200 kB; starting a thread: 1.5 ms)
-
 
 
 def read_urdf(path: str | Path) -> tuple[pin.Model, URDFInfo]:
@@ -77,6 +84,16 @@ def read_urdf(path: str | Path) -> tuple[pin.Model, URDFInfo]:
                 path=str(path),
             ) from None
     return read_urdf_string(_expand_xacro(path, text), str(path))
+
+
+def urdf_text(path: str | Path) -> str:
+    """The XML of the URDF at ``path``, a xacro file expanded: the text its visuals are read
+    from (``armik.view``). Raises ``URDFError`` as ``read_urdf`` does."""
+    path = Path(path)
+    text = _read_text(path)
+    if path.suffix.lower() == ".xacro" or "<xacro:" in text:
+        return _expand_xacro(path, text)
+    return text
 
 
 def read_urdf_string(text: str, where: str = "<string>") -> tuple[pin.Model, URDFInfo]:
@@ -237,4 +254,3 @@ def _with_stderr(func, *args):
     if error is not None:
         raise _Failed(error, text)
     return value, text
-

@@ -1,0 +1,131 @@
+"""The viewer's GUI panel: the last answer (status, solver, errors, time, branch, iterations,
+the reason of a failure), the solver, the ghosts toggle and one slider per joint."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from armik.model.arm_model import ArmModel
+from armik.result import IKResult
+from armik.solvers import registry
+
+if TYPE_CHECKING:
+    import viser
+
+#: Panel rows (label, IKResult field), in order.
+FIELDS = (
+    ("status", "status"),
+    ("solver", "solver"),
+    ("position error (m)", "position_error"),
+    ("orientation error (rad)", "orientation_error"),
+    ("time (ms)", "time"),
+    ("branch", "branch"),
+    ("iterations", "iterations"),
+)
+
+
+def slider_range(arm: ArmModel, k: int) -> tuple[float, float]:
+    """Joint ``k``'s slider range: its limits, [-pi, pi] (or [-1, 1] m) where unlimited."""
+    span = 1.0 if arm.prismatic[k] else math.pi
+    lo = arm.lower[k] if math.isfinite(arm.lower[k]) else -span
+    hi = arm.upper[k] if math.isfinite(arm.upper[k]) else span
+    return float(lo), float(max(hi, lo + 1e-9))
+
+
+def solver_choices(arm: ArmModel) -> list[str]:
+    """'auto' and every registered solver that applies to ``arm``."""
+    return ["auto", *(n for n in registry.solvers() if registry.why_not(n, arm) is None)]
+
+
+class Panel:
+    """The panel of one viewer. The callbacks run on viser's threads: ``on_joints(q)`` when
+    a slider moves, ``on_solver(name)``, ``on_ghosts(bool)``, ``on_position_only(bool)``."""
+
+    def __init__(
+        self,
+        gui: viser.GuiApi,
+        arm: ArmModel,
+        *,
+        solver: str,
+        position_only: bool,
+        on_joints: Callable[[np.ndarray], None],
+        on_solver: Callable[[str], None],
+        on_ghosts: Callable[[bool], None],
+        on_position_only: Callable[[bool], None],
+    ) -> None:
+        self._arm = arm
+        with gui.add_folder("IK answer"):
+            self.message = gui.add_text("target", "none yet", disabled=True)
+            self._fields = {attr: gui.add_text(label, "", disabled=True) for label, attr in FIELDS}
+            self.reason = gui.add_text("reason", "", multiline=True, disabled=True)
+        with gui.add_folder("IK settings"):
+            choices = solver_choices(arm)
+            self.solver = gui.add_dropdown(
+                "solver", choices, initial_value=solver if solver in choices else "auto"
+            )
+            self.ghosts = gui.add_checkbox(
+                "all solutions", False, hint="every solve_all answer as a ghost, by branch"
+            )
+            self.position_only = gui.add_checkbox(
+                "position only", position_only, hint="drag targets the tip position only"
+            )
+        self.sliders = []
+        with gui.add_folder("joints (FK)"):
+            for k, name in enumerate(arm.joint_names):
+                lo, hi = slider_range(arm, k)
+                unit = "m" if arm.prismatic[k] else "rad"
+                value = float(np.clip(arm.middle[k], lo, hi))
+                self.sliders.append(
+                    gui.add_slider(f"{name} ({unit})", lo, hi, (hi - lo) / 1000, value)
+                )
+
+        def from_user(callback):
+            def handler(event) -> None:
+                if event.client is not None:  # not a value the server set itself
+                    callback(event.target.value)
+
+            return handler
+
+        for s in self.sliders:
+            s.on_update(from_user(lambda _value: on_joints(self.slider_q())))
+        self.solver.on_update(from_user(on_solver))
+        self.ghosts.on_update(from_user(on_ghosts))
+        self.position_only.on_update(from_user(on_position_only))
+
+    def slider_q(self) -> np.ndarray:
+        return np.array([s.value for s in self.sliders], dtype=float)
+
+    def set_q(self, q: np.ndarray) -> None:
+        """Move the sliders to ``q`` (clipped into their ranges); the server's own changes
+        call no callback (``from_user``)."""
+        for k, s in enumerate(self.sliders):
+            lo, hi = slider_range(self._arm, k)
+            s.value = float(np.clip(q[k], lo, hi))
+
+    def show_result(self, r: IKResult, what: str) -> None:
+        """Fill the answer rows from ``r``; ``what`` says what was solved."""
+        self.message.value = what
+        for attr, handle in self._fields.items():
+            handle.value = _text(attr, getattr(r, attr))
+        self.reason.value = "" if r.success else r.reason
+
+    def show_note(self, what: str, reason: str = "") -> None:
+        """No answer to show (FK from the sliders, a waypoint, an error): say what instead."""
+        self.message.value = what
+        for handle in self._fields.values():
+            handle.value = ""
+        self.reason.value = reason
+
+
+def _text(attr: str, value: object) -> str:
+    if value is None:
+        return "-"
+    if attr == "time":
+        return f"{1e3 * float(value):.3f}"
+    if attr in ("position_error", "orientation_error"):
+        return f"{float(value):.3g}"
+    return str(getattr(value, "value", value))

@@ -1,0 +1,119 @@
+"""A picture of an arm without a browser: the stick figure of one configuration, and others
+beside it (the branches of ``solve_all``), drawn with matplotlib into a PNG or an axes."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from armik.errors import InputError, ViewerError
+from armik.model.arm_model import ArmModel
+from armik.result import IKResult
+from armik.targets.pose import parse_target
+from armik.view.stick import PRISMATIC_AXIS, REVOLUTE_AXIS, size, skeleton
+
+OTHERS = ["C0", "C1", "C2", "C3", "C4", "C5", "C6", "C8", "C9"]
+
+
+def plot(
+    arm: ArmModel,
+    q: object,
+    path: str | Path | None = None,
+    *,
+    others: Sequence[object] = (),
+    target: object = None,
+    title: str | None = None,
+    elev: float = 25.0,
+    azim: float = -60.0,
+    ax=None,
+):
+    """Draw ``arm`` at joints ``q`` (rad, m, or an ``IKResult``) as a stick figure: links
+    as lines, joints as dots with their axes (orange: revolute, blue: prismatic), the tip
+    frame as red/green/blue axes. ``others``: more configurations or ``IKResult``s, drawn
+    thinner in colours of their own and named in the legend by branch; ``target``: a pose
+    (any form ``Arm.solve`` takes) marked with dashed axes. ``elev``/``azim``: the view (deg).
+
+    Writes a PNG to ``path`` and returns its ``Path``, or draws into the matplotlib 3D
+    ``ax`` given and returns it. Needs matplotlib (``pip install "armik[plot]"``, in
+    ``armik[view]`` too); raises ``InputError`` for a bad ``q`` or neither path nor ax.
+    """
+    if path is None and ax is None:
+        raise InputError("plot needs a path for the PNG (plot(arm, q, 'arm.png')) or an ax")
+    try:
+        from matplotlib.figure import Figure
+    except ImportError:
+        raise ViewerError('plotting needs matplotlib: pip install "armik[plot]"') from None
+    main = _configuration(arm, q, "q")
+    rest = [(_configuration(arm, o, f"others[{i}]"), _name(o, i)) for i, o in enumerate(others)]
+    fig = None
+    if ax is None:
+        fig = Figure(figsize=(6.4, 5.6), layout="constrained")
+        ax = fig.add_subplot(projection="3d")
+    s = size(arm)
+    seen = [_draw(ax, arm, main, "0.15", 2.6, "solution" if rest else None, s, joints=True)]
+    for k, (qk, name) in enumerate(rest):
+        seen.append(_draw(ax, arm, qk, OTHERS[k % len(OTHERS)], 1.4, name, s, joints=False))
+    if target is not None:
+        T = parse_target(target, arm).se3()
+        _frame(ax, T.translation, T.rotation, 0.14 * s, linestyle="--")
+        seen.append(T.translation[None])
+    _square(ax, np.vstack(seen))
+    ax.view_init(elev=elev, azim=azim)
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_zlabel("z (m)")
+    ax.set_title(title if title is not None else arm.name, fontsize=10)
+    if rest:
+        ax.legend(fontsize=7, loc="upper left")
+    if fig is None:
+        return ax
+    path = Path(path)
+    fig.savefig(path, dpi=110)
+    return path
+
+
+def _configuration(arm: ArmModel, value: object, what: str) -> np.ndarray:
+    if isinstance(value, IKResult):
+        value = value.q
+    return arm.check_q(value, what)
+
+
+def _name(value: object, i: int) -> str:
+    if isinstance(value, IKResult) and value.branch:
+        return value.branch if value.success else f"{value.branch} ({value.status.value})"
+    return f"configuration {i + 1}"
+
+
+def _draw(ax, arm, q, color, width, label, s, joints: bool) -> np.ndarray:
+    sk = skeleton(arm, q)
+    p = sk.points
+    ax.plot(p[:, 0], p[:, 1], p[:, 2], "-", color=color, lw=width, label=label)
+    ax.plot(p[1:-1, 0], p[1:-1, 1], p[1:-1, 2], "o", color=color, ms=4 if joints else 2.5)
+    ax.plot(*p[0], "s", color=color, ms=6 if joints else 3)
+    if joints:
+        half = 0.05 * s
+        for origin, axis, slides in zip(p[1:-1], sk.axes, sk.prismatic):
+            a, b = origin - half * axis, origin + half * axis
+            rgb = np.array(PRISMATIC_AXIS if slides else REVOLUTE_AXIS)[:3] / 255
+            ax.plot(*np.stack([a, b]).T, "-", color=rgb, lw=3.0, solid_capstyle="butt")
+        T = arm.fk(q)
+        _frame(ax, T.translation, T.rotation, 0.1 * s)
+    return p
+
+
+def _frame(ax, origin, R, length, linestyle="-") -> None:
+    for k, color in enumerate(("tab:red", "tab:green", "tab:blue")):
+        end = origin + length * R[:, k]
+        ax.plot(*np.stack([origin, end]).T, linestyle, color=color, lw=1.6)
+
+
+def _square(ax, points: np.ndarray) -> None:
+    """Equal scales on x, y and z around everything drawn."""
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    centre, half = (lo + hi) / 2, max(float((hi - lo).max()) / 2, 1e-3) * 1.1
+    ax.set_xlim(centre[0] - half, centre[0] + half)
+    ax.set_ylim(centre[1] - half, centre[1] + half)
+    ax.set_zlim(centre[2] - half, centre[2] + half)
+    ax.set_box_aspect((1, 1, 1))

@@ -1,0 +1,53 @@
+"""Obstacle shapes: checked on construction, read from their plain (JSON) form."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+import armik
+from armik.shapes import as_shapes, read_shapes
+
+
+def test_plain_shapes_and_their_checks(tmp_path):
+    path = tmp_path / "obstacles.json"
+    path.write_text(json.dumps([
+        {"type": "box", "size": [0.2, 0.2, 0.4], "position": [0.5, 0, 0.2],
+         "quaternion": [0, 0, 0, 2]},
+        {"type": "sphere", "radius": 0.1, "center": [0.3, 0.3, 0.5]},
+    ]))  # fmt: skip
+    box, sphere = read_shapes(path)
+    assert box == armik.Box((0.2, 0.2, 0.4), (0.5, 0, 0.2))  # the quaternion normalised
+    assert sphere == armik.Sphere(0.1, (0.3, 0.3, 0.5))
+    assert as_shapes([box, {"type": "sphere", "radius": 1}]) == [box, armik.Sphere(1.0)]
+
+
+@pytest.mark.parametrize(
+    "bad, words",
+    [
+        ([{"type": "cone"}], "'box' or 'sphere'"),
+        ([{"type": "box"}], "needs 'size'"),
+        ([{"type": "box", "size": [1, 1]}], "Box size must be 3"),
+        ([{"type": "box", "size": [1, 1, 0]}], "> 0"),
+        ([{"type": "sphere", "radius": 1, "centre": [0, 0, 0]}], "unknown keys ['centre']"),
+        ([{"type": "box", "size": [1, 1, 1], "quaternion": [0, 0, 0, 0]}], "zero length"),
+        ([3], "give an armik.Box"),
+        ({"type": "sphere", "radius": 1}, "list of shapes"),
+    ],
+)
+def test_bad_shapes_name_the_problem(bad, words):
+    with pytest.raises(armik.InputError) as info:
+        as_shapes(bad)
+    assert words in str(info.value)
+
+
+def test_obstacles_file_errors(tmp_path):
+    with pytest.raises(armik.InputError, match="cannot read"):
+        read_shapes(tmp_path / "missing.json")
+    (tmp_path / "x.json").write_text("{not json")
+    with pytest.raises(armik.InputError, match="not JSON"):
+        read_shapes(tmp_path / "x.json")
+    (tmp_path / "y.json").write_text('{"type": "sphere"}')
+    with pytest.raises(armik.InputError, match="JSON list"):
+        read_shapes(tmp_path / "y.json")

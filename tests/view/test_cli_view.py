@@ -1,0 +1,76 @@
+"""``armik view``: it serves the page, stops cleanly on Ctrl-C (exit 0, no traceback), and
+a port in use is one line naming the port."""
+
+from __future__ import annotations
+
+import queue
+import re
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import urllib.request
+
+import pytest
+
+pytest.importorskip("viser")
+
+COMMAND = [sys.executable, "-m", "armik.tools.cli", "view"]
+
+
+def start(*args: str) -> tuple[subprocess.Popen, queue.Queue]:
+    proc = subprocess.Popen(
+        [*COMMAND, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
+    lines: queue.Queue = queue.Queue()
+    threading.Thread(target=lambda: [lines.put(x) for x in proc.stdout], daemon=True).start()
+    return proc, lines
+
+
+def test_view_serves_until_ctrl_c_and_exits_cleanly():
+    proc, lines = start("planar_2link", "--port", "0", "--no-browser")
+    try:
+        line = lines.get(timeout=300)  # the first line once the viewer is up
+        url = re.search(r"http://\S+", line)
+        assert url, line
+        with urllib.request.urlopen(url.group(0), timeout=60) as page:
+            assert page.status == 200 and b"<html" in page.read().lower()
+        proc.send_signal(signal.SIGINT)
+        code = proc.wait(timeout=120)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    stderr = proc.stderr.read()
+    assert code == 0, stderr
+    assert "Traceback" not in stderr and "viewer stopped" in stderr
+
+
+def test_view_on_a_port_in_use_is_one_line_naming_it():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        s.listen()
+        port = s.getsockname()[1]
+        proc = subprocess.run(
+            [*COMMAND, "planar_2link", "--port", str(port), "--no-browser"],
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+    assert proc.returncode == 2
+    (line,) = proc.stderr.strip().splitlines()
+    assert line.startswith("armik: error: port") and str(port) in line and "--port" in line
+
+
+def test_view_reads_obstacles_from_a_json_file(tmp_path):
+    bad = tmp_path / "obstacles.json"
+    bad.write_text('[{"type": "cone"}]')
+    proc = subprocess.run(
+        [*COMMAND, "planar_2link", "--port", "0", "--no-browser", "--obstacles", str(bad)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert proc.returncode == 2
+    assert "obstacle 0: 'type' must be 'box' or 'sphere'" in proc.stderr
