@@ -1,10 +1,13 @@
 """armik: inverse kinematics for URDF robot arms on Pinocchio."""
 
+from armik import collision
 from armik.arm import Arm, load, load_string
 from armik.batch_result import BatchResult
+from armik.constraints.shapes import Box, Capsule, Cylinder, HalfSpace, Mesh, Sphere
 from armik.errors import (
     ArmikError,
     ArmikWarning,
+    CollisionError,
     FrameError,
     InputError,
     JointError,
@@ -27,15 +30,23 @@ __all__ = [
     "BatchResult",
     "ArmikError",
     "ArmikWarning",
+    "Box",
+    "Capsule",
+    "CollisionError",
+    "Cylinder",
     "FrameError",
+    "HalfSpace",
     "IKResult",
     "InputError",
     "JointError",
+    "Mesh",
     "OptionError",
     "SolverError",
+    "Sphere",
     "Status",
     "Target",
     "TargetError",
+    "collision",
     "compile",
     "URDFError",
     "load",

@@ -25,30 +25,13 @@ from armik.kernel.chain import build_chain
 from armik.kernel.coordinates import pin_configuration
 from armik.kernel.fk_many import fk_many
 from armik.model.geometry import Plane, find_plane
-from armik.model.reduce import reduce_chain
+from armik.model.reduce import check_limit_value, reduce_chain
 from armik.model.urdf import URDFInfo
 from armik.tolerances import LIMIT_TOL, MAX_LIMIT
 
 TWO_PI = 2.0 * math.pi
 _FLOAT = np.dtype(float)
 _le = operator.le
-
-
-def _check_limit_value(jname: str, value: object) -> float:
-    try:
-        if isinstance(value, (str, bytes, complex)) or np.iscomplexobj(value):
-            raise TypeError
-        out = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        out = math.nan
-    if math.isnan(out) or (math.isfinite(out) and abs(out) > MAX_LIMIT):
-        raise JointError(
-            f"limits for {jname!r} must be numbers (rad or m) within "
-            f"+-{MAX_LIMIT:g}, or "
-            f"-inf/inf for no limit on that side; got {value!r}",
-            joint=jname,
-        )
-    return out
 
 
 class ArmModel:
@@ -62,6 +45,7 @@ class ArmModel:
     """
 
     package_dirs: tuple[str, ...] = ()  # where package:// paths are looked up (meshes)
+    disabled_pairs: frozenset[tuple[str, str]] = frozenset()  # an SRDF's, sorted link names
 
     def __init__(
         self,
@@ -83,6 +67,7 @@ class ArmModel:
         )
         self.base, self.tip, self.tip_reason = chain.base, chain.tip, chain.tip_reason
         self.model = chain.model
+        self.chain = chain  # how it was cut from the URDF's model (collision geometry)
         self.tip_frame_id = chain.tip_frame_id
         self.tip_offset = chain.tip_offset
         self.T_world_base = chain.T_world_base
@@ -163,7 +148,7 @@ class ArmModel:
                     f"limits for {jname!r} must be a pair (lower, upper) in rad or m, got {pair!r}",
                     joint=jname,
                 )
-            lo, hi = (_check_limit_value(jname, v) + 0.0 for v in pair)  # -0.0 -> 0.0
+            lo, hi = (check_limit_value(jname, v) + 0.0 for v in pair)  # -0.0 -> 0.0
             checked[jname] = (lo, hi)
             if not lo <= hi:
                 raise JointError(

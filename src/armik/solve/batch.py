@@ -78,7 +78,8 @@ def solve_batch(
     n = len(batch)
     seeds = batch_seeds(arm, q0, n)
     spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
-    workers = _workers(workers, spec)
+    # a collision-checked target is solved through ``solve``, holding the GIL: one thread
+    workers = 1 if workers is None and opts.collisions else _workers(workers, spec)
     chunk = _chunk_size(chunk_size)
     out = BatchResult.for_arm(arm, n, spec.name, opts)
     bar = make_progress(progress, n, f"{arm.name}/{spec.name}")
@@ -121,7 +122,7 @@ def solve_chunk(
     start: int,
 ) -> None:
     """Solve and verify one chunk, writing rows ``start:start + len(targets)`` of ``out``."""
-    if spec.run_batch is None:
+    if spec.run_batch is None or opts.collisions:
         for i in range(len(targets)):
             r = solve(arm, targets.target(i), q0=seeds[i], solver=spec.name, **options)[0]
             out.put_result(start + i, r)

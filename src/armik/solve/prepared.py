@@ -74,6 +74,8 @@ def _no_plans(arm: ArmModel) -> dict:
 
 
 def _build(arm: ArmModel, solver: str, opts: Options, position: bool):
+    if opts.collisions:  # checked on the general path (armik.solve.avoid)
+        return _NO_PLAN
     # a target of the kind every plain target of the plan is
     target = parse_target(np.zeros(3) if position else np.eye(4), arm)
     try:
