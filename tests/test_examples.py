@@ -18,6 +18,7 @@ EXPECT = {
     "06_cartesian_path.py": ["100/100 points reached"],
     "07_compare.py": ["planar2r", "three_parallel", "spherical", "success_vs_boundary.png"],
     "08_many_targets.py": ["batch:", "no snap back", "discontinuous", "reach_panda.png"],
+    "09_collisions.py": ["in collision", "collision: in collision", "collision-free: True"],
 }
 
 
