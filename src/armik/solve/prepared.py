@@ -15,7 +15,8 @@ the answer's tip placement and compiled code measures it in place
 
 Anything else (another input form, a seed outside the limits, an answer the check refuses,
 a claim other than converged, collisions asked for) goes the general way:
-``armik.solve.single`` and ``armik.verify.verdict``; when the check refuses a closed form's first answer, its every row goes there, nearest first.
+``armik.solve.single`` and ``armik.verify.verdict``; when the check refuses a closed form's
+first answer, its every row goes there, nearest first.
 """
 
 from __future__ import annotations
