@@ -37,6 +37,8 @@ def solve_avoiding(
     """The verified, collision-checked results of ``spec`` for ``target`` (best first; the
     first only unless ``every``)."""
     check = checker(arm, opts.obstacles, opts.self_collision)
+    if not seed.flags.writeable:  # a read-only seed (a result's q) is another kernel type
+        seed = seed.copy()
     if every:
         attempts = spec.run(arm, target, seed, opts, True)
         measures = measure_many(arm, [a.q for a in attempts], target, opts)
