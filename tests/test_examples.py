@@ -19,6 +19,7 @@ EXPECT = {
     "07_compare.py": ["planar2r", "three_parallel", "spherical", "success_vs_boundary.png"],
     "08_many_targets.py": ["batch:", "no snap back", "discontinuous", "reach_panda.png"],
     "09_view.py": ["8 branches, all verified: True", "ur5_branches.png"],
+    "10_collisions.py": ["in collision", "collision: in collision", "collision-free: True"],
 }
 
 

@@ -1,10 +1,13 @@
 """armik: inverse kinematics for URDF robot arms on Pinocchio."""
 
+from armik import collision
 from armik.arm import Arm, load, load_string
 from armik.batch_result import BatchResult
+from armik.constraints.shapes import Box, Capsule, Cylinder, HalfSpace, Mesh, Sphere
 from armik.errors import (
     ArmikError,
     ArmikWarning,
+    CollisionError,
     FrameError,
     InputError,
     JointError,
@@ -17,7 +20,6 @@ from armik.errors import (
 from armik.model.catalogue import robots
 from armik.precompile import compile
 from armik.result import IKResult
-from armik.shapes import Box, Sphere
 from armik.solvers import solvers
 from armik.status import Status
 from armik.targets.pose import Target, parse_target
@@ -45,19 +47,25 @@ def __getattr__(name: str):
 __all__ = [
     "Arm",
     "BatchResult",
-    "Box",
     "ArmikError",
     "ArmikWarning",
+    "Box",
+    "Capsule",
+    "CollisionError",
+    "Cylinder",
     "FrameError",
+    "HalfSpace",
     "IKResult",
     "InputError",
     "JointError",
+    "Mesh",
     "OptionError",
     "SolverError",
     "Sphere",
     "Status",
     "Target",
     "TargetError",
+    "collision",
     "compile",
     "URDFError",
     "Viewer",

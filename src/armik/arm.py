@@ -11,6 +11,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from armik.constraints import collision
 from armik.errors import ArmikWarning, FrameError, URDFError, listing
 from armik.model.arm_model import ArmModel
 from armik.model.catalogue import CATALOGUE, entry
@@ -30,6 +31,7 @@ def load(
     locked: Mapping[str, float] | None = None,
     tip_offset: tuple[float, float, float] | None = None,
     package_dirs: Sequence[str | Path] | None = None,
+    srdf: str | Path | None = None,
 ) -> Arm:
     """Load an arm from a bundled robot name (see ``armik.robots()``), a URDF path, or the
     URDF's XML itself (a string that starts with ``<``, as ROS hands out
@@ -41,7 +43,9 @@ def load(
     chain is locked at the value in ``locked`` (joint name -> rad or m) or at its neutral
     value. ``tip_offset`` (m, in the tip frame) moves the tool point. ``package_dirs``:
     folders where ``package://`` mesh paths are looked up (for meshes: collision geometry,
-    the viewer). The arm's name is the catalogue name, else the URDF's ``<robot name>``.
+    the viewer). ``srdf``: an SRDF file whose ``<disable_collisions>`` pairs of links are
+    not checked for self-collision. The arm's name is the catalogue name, else the URDF's
+    ``<robot name>``.
 
     Raises ``URDFError``, ``FrameError``, ``JointError`` or ``OptionError`` (all
     ``ValueError``) naming the bad value and the fix.
@@ -49,7 +53,7 @@ def load(
     if isinstance(source, str) and source.lstrip().startswith("<"):
         return load_string(
             source, base=base, tip=tip, locked=locked, tip_offset=tip_offset,
-            package_dirs=package_dirs,
+            package_dirs=package_dirs, srdf=srdf,
         )  # fmt: skip
     if not isinstance(source, (str, Path)):
         raise URDFError(
@@ -100,7 +104,10 @@ def load(
     if not name_from_urdf and tip == spec.tip:
         arm.tip_reason = f"the catalogue's tip for {name!r}"
     arm.package_dirs = dirs
-    arm._recipe = Recipe(str(source), base, tip, dict(locked or {}), arm.tip_offset, (), dirs)
+    srdf = _read_srdf(arm, srdf)
+    arm._recipe = Recipe(
+        str(source), base, tip, dict(locked or {}), arm.tip_offset, (), dirs, srdf=srdf
+    )
     return arm
 
 
@@ -112,6 +119,7 @@ def load_string(
     locked: Mapping[str, float] | None = None,
     tip_offset: tuple[float, float, float] | None = None,
     package_dirs: Sequence[str | Path] | None = None,
+    srdf: str | Path | None = None,
 ) -> Arm:
     """Load an arm from a URDF's XML text (ROS 2's ``robot_description``), with the same
     arguments, checks, errors and default tip as ``load`` of a file. The arm pickles with
@@ -135,10 +143,20 @@ def load_string(
         source=STRING_SOURCE,
     )
     arm.package_dirs = dirs
+    srdf = _read_srdf(arm, srdf)
     arm._recipe = Recipe(
-        STRING_SOURCE, base, tip, dict(locked or {}), arm.tip_offset, (), dirs, text=xml
-    )
+        STRING_SOURCE, base, tip, dict(locked or {}), arm.tip_offset, (), dirs, text=xml,
+        srdf=srdf,
+    )  # fmt: skip
     return arm
+
+
+def _read_srdf(arm: Arm, srdf: object) -> str | None:
+    """Read the SRDF's disabled pairs into ``arm``; its resolved path, for the recipe."""
+    if srdf is None:
+        return None
+    arm.disabled_pairs = collision.read_srdf(srdf, arm.info.links)
+    return str(Path(srdf).resolve())  # type: ignore[arg-type]
 
 
 STRING_SOURCE = "<string>"  # Arm.source of an arm read from XML text
@@ -182,6 +200,7 @@ class Recipe:
     limits: tuple[tuple[str, float, float], ...] = ()
     package_dirs: tuple[str, ...] = ()
     text: str | None = None  # the URDF itself, for an arm read from XML text
+    srdf: str | None = None
 
     def build(self) -> Arm:
         arm = (load if self.text is None else load_string)(
@@ -191,6 +210,7 @@ class Recipe:
             locked=self.locked or None,
             tip_offset=self.tip_offset,
             package_dirs=self.package_dirs or None,
+            srdf=self.srdf,
         )
         if self.limits:
             arm = arm.with_limits({name: (lo, hi) for name, lo, hi in self.limits})
@@ -250,3 +270,15 @@ class Arm(ArmModel):
         ``armik.solve.path.solve_path``."""
         return solve_path(self, poses, q0, max_joint_step=max_joint_step, **options)
 
+    # -- collisions -----------------------------------------------------------------------
+
+    def min_distance(self, q, obstacles=(), self_collision: bool = False):
+        """(distance m, (name_a, name_b)): the closest pair at joint values ``q`` (rad, m)
+        among the arm's links and ``obstacles`` (shapes in the base frame) and, with
+        ``self_collision``, the arm's own non-adjacent links; negative when they overlap.
+        Raises ``CollisionError`` when the URDF has no collision geometry."""
+        return collision.min_distance(self, q, obstacles, self_collision)
+
+    def in_collision(self, q, obstacles=(), self_collision: bool = False, margin=0.0) -> bool:
+        """Whether some pair ``min_distance`` checks is closer than ``margin`` (m) at ``q``."""
+        return collision.in_collision(self, q, obstacles, self_collision, margin)

@@ -61,6 +61,15 @@ class OptionError(InputError):
         self.value = value
 
 
+class CollisionError(OptionError):
+    """A bad obstacle (a negative size, a NaN pose, a mesh that does not exist), an arm with
+    no collision geometry asked for collisions, an obstacle overlapping a link that never
+    moves, or an SRDF that cannot be read."""
+
+    def __init__(self, message: str, *, option: str = "obstacles", value: object = None) -> None:
+        super().__init__(message, option=option, value=value)
+
+
 class SolverError(InputError):
     """An unknown solver name, or a solver that does not apply to this arm or target."""
 

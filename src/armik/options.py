@@ -7,6 +7,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from armik.constraints.shapes import Shape, check_obstacles
 from armik.errors import OptionError, listing
 from armik.tolerances import (
     MAX_COUNT,
@@ -38,6 +39,11 @@ class Options:
     - ``qp_solver``: the qpsolvers backend of the ``qp`` solver ("osqp").
     - ``nullspace_gain``: pull toward q0 in the null space of redundant arms (1.0; 0 disables).
     - ``max_solutions``: cap on ``solve_all`` answers of numeric solvers (16).
+    - ``obstacles``: shapes in the base frame (``armik.Box``, ``armik.HalfSpace``, ...)
+      every answer must keep clear of; ``self_collision``: also the arm's own links (the
+      URDF's ``<collision>`` geometry, minus adjacent links and an SRDF's pairs).
+    - ``margin``: the distance (m) every checked pair must keep (0.0); needs obstacles or
+      ``self_collision``.
     """
 
     tol_position: float = 1e-6
@@ -52,6 +58,14 @@ class Options:
     nullspace_gain: float = 1.0
     max_solutions: int = 16
     iteration_budget: int | None = None
+    obstacles: tuple[Shape, ...] = ()
+    self_collision: bool = False
+    margin: float = 0.0
+
+    @property
+    def collisions(self) -> bool:
+        """Whether answers are checked for collisions (obstacles or ``self_collision``)."""
+        return bool(self.obstacles) or self.self_collision
 
     @classmethod
     def from_kwargs(cls, kwargs: dict) -> Options:
@@ -106,6 +120,7 @@ class Options:
                     value=flag,
                 )
             values["position_only"] = bool(flag)
+        _collision_options(values)
         if "qp_solver" in values and not isinstance(values["qp_solver"], str):
             raise OptionError(
                 f"qp_solver must be a backend name, got {values['qp_solver']!r}",
@@ -134,6 +149,37 @@ class Options:
 
 
 _DEFAULT = Options()
+
+
+def _collision_options(values: dict) -> None:
+    """Validate ``obstacles``, ``self_collision`` and ``margin`` in ``values``, in place."""
+    if "obstacles" in values:
+        values["obstacles"] = check_obstacles(values["obstacles"])
+    if "self_collision" in values:
+        flag = values["self_collision"]
+        if not isinstance(flag, (bool, np.bool_)):
+            raise OptionError(
+                f"self_collision must be True or False, got {flag!r}",
+                option="self_collision",
+                value=flag,
+            )
+        values["self_collision"] = bool(flag)
+    if "margin" in values:
+        margin = _float("margin", values["margin"])
+        if not 0.0 <= margin <= MAX_LENGTH:
+            raise OptionError(
+                f"margin must be a distance in [0, {MAX_LENGTH:g}] m, got {margin!r}",
+                option="margin",
+                value=margin,
+            )
+        if margin > 0 and not (values.get("obstacles") or values.get("self_collision")):
+            raise OptionError(
+                f"margin={margin:g} m with no obstacles and self_collision off checks "
+                "nothing: give obstacles=[...] or self_collision=True",
+                option="margin",
+                value=margin,
+            )
+        values["margin"] = margin + 0.0
 _NAMES = frozenset(f.name for f in fields(Options))
 
 

@@ -16,6 +16,7 @@ class Status(str, Enum):
     NOT_CONVERGED = "not_converged"  # none found within the budget; may still exist
     JOINT_LIMITS = "joint_limits"  # reached, but only outside the joint limits
     DISCONTINUOUS = "discontinuous"  # a path waypoint reachable only by a jump
+    COLLISION = "collision"  # reached within the limits, but only closer than the margin
 
     def __str__(self) -> str:
         return self.value
@@ -44,7 +45,8 @@ _CODES = {s: i for i, s in enumerate(_BY_CODE)}
 # Failed answers, most useful first: reached but off-limits, then near misses, then the rest.
 FAILURE_RANK = {
     Status.JOINT_LIMITS: 0,
-    Status.DISCONTINUOUS: 1,
-    Status.NOT_CONVERGED: 2,
-    Status.UNREACHABLE: 3,
+    Status.COLLISION: 1,
+    Status.DISCONTINUOUS: 2,
+    Status.NOT_CONVERGED: 3,
+    Status.UNREACHABLE: 4,
 }

@@ -31,3 +31,8 @@ ROTATION_TOL = 1e-6
 ANGLE_TOL = 1e-9  # rad
 DISTANCE_TOL = 1e-9  # m
 PARALLEL_TOL = 1e-9  # the planar chains' axes (norm of the cross product of unit axes)
+
+# Collisions: a link that never moves relative to the base may sink this far into an
+# obstacle before the obstacle is refused (a base resting on its table: the UR5's base
+# mesh reaches 3 mm below its own origin); such pairs are checked once, not per answer.
+FIXED_OVERLAP_TOL = 0.01  # m

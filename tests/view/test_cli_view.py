@@ -73,4 +73,4 @@ def test_view_reads_obstacles_from_a_json_file(tmp_path):
         timeout=300,
     )
     assert proc.returncode == 2
-    assert "obstacle 0: 'type' must be 'box' or 'sphere'" in proc.stderr
+    assert "obstacle 0: 'type' must be one of 'box', 'sphere'" in proc.stderr

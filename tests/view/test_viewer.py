@@ -169,8 +169,11 @@ def test_show_reach_draws_the_reached_voxels(viewer):
 
 def test_obstacles_are_drawn_and_kept(viewer):
     shapes = viewer.add_obstacles(
-        [armik.Box(size=(0.2, 0.2, 0.2), position=(0.5, 0, 0.3)),
-         {"type": "sphere", "radius": 0.1, "center": [0.3, 0.3, 0.5]}]
+        [armik.Box(size=(0.2, 0.2, 0.2), pose=(0.5, 0, 0.3)),
+         {"type": "sphere", "radius": 0.1, "center": [0.3, 0.3, 0.5]},
+         armik.Cylinder(0.05, 0.4, pose=(0.3, -0.3, 0.2)),
+         armik.Capsule(0.05, 0.3, pose=(0.3, 0.3, 0.2)),
+         armik.HalfSpace((0, 0, 1), -0.5)]
     )  # fmt: skip
     assert shapes == viewer.obstacles and isinstance(shapes[1], armik.Sphere)
     with pytest.raises(armik.InputError, match="list of shapes"):

@@ -45,6 +45,7 @@ class ArmModel:
     """
 
     package_dirs: tuple[str, ...] = ()  # where package:// paths are looked up (meshes)
+    disabled_pairs: frozenset[tuple[str, str]] = frozenset()  # an SRDF's, sorted link names
 
     def __init__(
         self,
@@ -66,6 +67,7 @@ class ArmModel:
         )
         self.base, self.tip, self.tip_reason = chain.base, chain.tip, chain.tip_reason
         self.model = chain.model
+        self.chain = chain  # how it was cut from the URDF's model (collision geometry)
         self.tip_frame_id = chain.tip_frame_id
         self.tip_offset = chain.tip_offset
         self.T_world_base = chain.T_world_base
@@ -480,12 +482,9 @@ class ArmModel:
         """``build(self)``, remembered under ``key`` for this arm: the one place solvers and
         the solve layer keep what they derive from an arm (a closed form's geometry, prepared
         solves). ``with_limits`` gives the new arm an empty memo."""
-        memo = self._memo
-        try:
-            return memo[key]
-        except KeyError:
-            value = memo[key] = build(self)
-            return value
+        if key not in self._memo:
+            self._memo[key] = build(self)
+        return self._memo[key]
 
     def frames(self) -> list[str]:
         return [f.name for f in self.model.frames if f.name != "universe"]

@@ -150,3 +150,12 @@ def _erd_robot_dir() -> Path:
             "the example-robot-data package is not installed: pip install example-robot-data"
         ) from None
     return Path(str(dist.locate_file("cmeel.prefix/share/example-robot-data/robots")))
+
+
+def erd_share() -> str | None:
+    """The share folder of example-robot-data (its meshes' ``package://`` root), or None
+    when it is not installed."""
+    try:
+        return str(_erd_robot_dir().parents[1])
+    except InputError:
+        return None

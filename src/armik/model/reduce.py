@@ -37,6 +37,10 @@ class ReducedChain:
     tip_frame_id: int  # the tip frame, or the tool frame ``tip_offset`` added after it
     tip_offset: tuple[float, float, float] | None  # m, in the tip frame
     T_world_base: pin.SE3  # constant: the base frame's own joint is locked
+    # how the chain was cut from the whole URDF's model, to cut its collision geometry alike
+    full: pin.Model | None = None
+    locked_joints: tuple[int, ...] = ()
+    q_ref: np.ndarray | None = None
 
 
 def reduce_chain(
@@ -144,6 +148,9 @@ def reduce_chain(
         tip_frame_id=tip_frame,
         tip_offset=None if tip_offset is None else tuple(float(v) for v in tip_offset),
         T_world_base=data_full.oMf[base_id].copy(),
+        full=full,
+        locked_joints=tuple(to_lock),
+        q_ref=q_ref,
     )
 
 
@@ -286,13 +293,14 @@ def set_joint(model: pin.Model, q: np.ndarray, jid: int, value: float) -> None:
         )
 
 
-def reduce_model(full: pin.Model, to_lock: list[int], q_ref: np.ndarray) -> pin.Model:
+def reduce_model(full: pin.Model, to_lock: list[int], q_ref: np.ndarray, geom=None):
     """``pin.buildReducedModel`` that survives frames sharing a name (a link and a joint
     both called "quill", a link called "universe"): Pinocchio looks frames up by name there
     and raises "Several frames match the filter". For the call, later duplicates, the
     locked joints (whose frames it re-creates under the joint's name) and joints named
     "universe" (it would take the root frame, of that name, for the joint's: a wrong
-    placement, not an error) get unique names; the frames get their names back afterwards."""
+    placement, not an error) get unique names; the frames get their names back afterwards.
+    With ``geom`` (a ``pin.GeometryModel`` on ``full``), returns (model, reduced geometry)."""
     work = full.copy()
     renamed: dict[str, str] = {}
     joint_tmp: dict[int, str] = {}
@@ -313,7 +321,10 @@ def reduce_model(full: pin.Model, to_lock: list[int], q_ref: np.ndarray) -> pin.
             frame.name = tmp
             work.frames[i] = frame
         seen.add(frame.name)
-    model = pin.buildReducedModel(work, to_lock, q_ref)
+    if geom is None:
+        model = pin.buildReducedModel(work, to_lock, q_ref)
+    else:
+        model, (geom,) = pin.buildReducedModel(work, [geom], to_lock, q_ref)
     for i, frame in enumerate(model.frames):
         if frame.name in renamed:
             frame.name = renamed[frame.name]
@@ -321,7 +332,7 @@ def reduce_model(full: pin.Model, to_lock: list[int], q_ref: np.ndarray) -> pin.
     for j in range(model.njoints):
         if model.names[j] in renamed:
             model.names[j] = renamed[model.names[j]]
-    return model
+    return model if geom is None else (model, geom)
 
 
 def default_tip(info: URDFInfo, base: str) -> tuple[str, str]:
@@ -373,3 +384,20 @@ def default_tip(info: URDFInfo, base: str) -> tuple[str, str]:
         frame="",
         candidates=names,
     )
+
+
+def check_limit_value(jname: str, value: object) -> float:
+    try:
+        if isinstance(value, (str, bytes, complex)) or np.iscomplexobj(value):
+            raise TypeError
+        out = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        out = math.nan
+    if math.isnan(out) or (math.isfinite(out) and abs(out) > MAX_LIMIT):
+        raise JointError(
+            f"limits for {jname!r} must be numbers (rad or m) within "
+            f"+-{MAX_LIMIT:g}, or "
+            f"-inf/inf for no limit on that side; got {value!r}",
+            joint=jname,
+        )
+    return out

@@ -33,6 +33,7 @@ import tempfile
 import threading
 import warnings
 import xml.etree.ElementTree as ET
+from dataclasses import replace
 from pathlib import Path
 
 import pinocchio as pin
@@ -115,7 +116,7 @@ def read_urdf_string(text: str, where: str = "<string>") -> tuple[pin.Model, URD
     if changed or namespaced:
         text = ET.tostring(root, encoding="unicode")
     model = _build(text, where, own_stack=info.depth > SHALLOW_DEPTH)
-    return model, info
+    return model, replace(info, text=text)  # the text: collision geometry is read from it
 
 
 # -- the file ------------------------------------------------------------------------------

@@ -51,6 +51,7 @@ class URDFInfo:
     unset_limits: frozenset[str] = frozenset()  # revolute/prismatic with lower == upper == 0
     notes: tuple[str, ...] = ()  # what was read in a way the user should know (armik info)
     depth: int = 0  # joints on the longest path from the root
+    text: str = field(default="", repr=False, compare=False)  # the XML the model was built from
 
     def children(self) -> dict[str, list[JointXML]]:
         """parent link -> the joints that hang from it, in file order."""

@@ -3,11 +3,11 @@
 ``solve_batch`` reads the targets into one ``TargetBatch``, splits them into chunks and
 solves the chunks on a pool of threads. A solver with a compiled batch entry
 (``SolverSpec.run_batch``: ``dls`` and ``qp``) solves a whole chunk in the compiled kernel
-with the GIL released, then the chunk is verified with ``verify.measure.measure_batch`` (Pinocchio FK
-per row, the errors and limits compiled); only that verification holds the GIL (10 to 14 %
-of the time on the Panda and the UR5). Any other solver is called target by target
+with the GIL released, then the chunk is verified with ``verify.measure.measure_batch``
+(Pinocchio FK per row, the errors and limits compiled); only that verification holds the
+GIL (10 to 14 % of the time on the Panda and the UR5). Any other solver is called target by target
 through ``armik.solve``; the GIL then serialises the threads, so such a solver runs on one
-thread unless ``workers`` says otherwise.
+thread unless ``workers`` says otherwise. So does a batch with collisions checked.
 
 Every answer is verified by Pinocchio forward kinematics as ``Arm.solve`` verifies it, and
 each target uses the options of a call of ``Arm.solve`` (``seed`` included): the same seeds
@@ -78,7 +78,8 @@ def solve_batch(
     n = len(batch)
     seeds = batch_seeds(arm, q0, n)
     spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
-    workers = _workers(workers, spec)
+    # a collision-checked target is solved through ``solve``, holding the GIL: one thread
+    workers = 1 if workers is None and opts.collisions else _workers(workers, spec)
     chunk = _chunk_size(chunk_size)
     out = BatchResult.for_arm(arm, n, spec.name, opts)
     bar = make_progress(progress, n, f"{arm.name}/{spec.name}")
@@ -121,7 +122,7 @@ def solve_chunk(
     start: int,
 ) -> None:
     """Solve and verify one chunk, writing rows ``start:start + len(targets)`` of ``out``."""
-    if spec.run_batch is None:
+    if spec.run_batch is None or opts.collisions:
         for i in range(len(targets)):
             r = solve(arm, targets.target(i), q0=seeds[i], solver=spec.name, **options)[0]
             out.put_result(start + i, r)

@@ -10,6 +10,7 @@ from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.result import IKResult
+from armik.solve.avoid import solve_avoiding
 from armik.solve.prepared import plan_for
 from armik.solvers import registry
 from armik.targets.pose import parse_target
@@ -58,6 +59,8 @@ def _general(arm, target, q0, solver, opts: Options, all_solutions: bool, t0: fl
     tgt = parse_target(target, arm)
     seed = arm.seed(q0)
     spec = registry.choose(solver, arm, tgt, opts)
+    if opts.collisions:
+        return solve_avoiding(arm, spec, tgt, seed, opts, all_solutions, t0)
     attempts = spec.run(arm, tgt, seed, opts, all_solutions)
     return finish(arm, spec.name, attempts, tgt, opts, seed, all_solutions, t0)
 

@@ -44,6 +44,23 @@ def not_converged(why: str, best: str) -> str:
     return f"no solution within {why}; best found: {best}; the target may be out of reach"
 
 
+def _pair_text(pair: tuple[str, str] | None, distance: float) -> str:
+    if pair is None:
+        return "no pair to check"
+    gap = f"{distance:.3g} m apart" if distance >= 0 else f"overlapping by {-distance:.3g} m"
+    return f"{pair[0]} and {pair[1]} {gap}"
+
+
+def in_collision(pair: tuple[str, str] | None, distance: float, margin: float) -> str:
+    """A verified answer whose closest checked pair is nearer than ``margin`` (m)."""
+    return f"in collision: {_pair_text(pair, distance)} (margin {margin:g} m)"
+
+
+def clear(pair: tuple[str, str] | None, distance: float, margin: float) -> str:
+    """What a collision-checked success adds to its reason: the closest pair."""
+    return f"collision-free: closest {_pair_text(pair, distance)} (margin {margin:g} m)"
+
+
 def _tol_text(tol: float) -> str:
     """' (tol 1e-05)': ``measured``'s tolerance text, formatted once per tolerance."""
     text = _TOL_TEXT.get(tol)

@@ -131,6 +131,22 @@ def verdict(attempt: Attempt, m: Measure) -> dict:
     )
 
 
+def collision_verdict(row: dict, check, margin: float) -> dict:
+    """``row`` (a ``verdict`` row) with the collision check of its ``q``: a success stays
+    one only when the closest checked pair (``check.distance``) is at least ``margin`` (m)
+    apart; else ``Status.COLLISION``. The distance and pair go to the result's ``extra``
+    (``min_distance`` m, ``closest_pair``)."""
+    distance, pair = check.distance(row["q"])
+    row["extra"] = {"min_distance": distance, "closest_pair": pair}
+    if row["success"]:
+        if distance < margin:
+            row["success"], row["status"] = False, Status.COLLISION
+            row["reason"] = reasons.in_collision(pair, distance, margin)
+        else:
+            row["reason"] = f"{row['reason']}; {reasons.clear(pair, distance, margin)}"
+    return row
+
+
 def failure_rank(status: Status, position_error: float, orientation_error) -> tuple:
     """How failed results are ranked among themselves: by status, then by their errors."""
     return (FAILURE_RANK[status], position_error + (orientation_error or 0.0))

@@ -20,12 +20,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
+import trimesh
 
 from armik.batch_result import BatchResult
+from armik.constraints.shapes import Box, Capsule, Cylinder, HalfSpace, Mesh, Shape, Sphere
+from armik.constraints.shapes_file import as_shapes
 from armik.errors import ArmikError, InputError, OptionError, ViewerError
 from armik.options import Options
 from armik.result import IKResult
-from armik.shapes import Box, Shape, as_shapes
 from armik.solve.reach import ReachMap
 from armik.solvers import registry
 from armik.targets.pose import parse_target
@@ -283,21 +285,16 @@ class Viewer:
         return len(points)
 
     def add_obstacles(self, shapes: list[Shape]) -> list[Shape]:
-        """Draw obstacles: a list of ``armik.Box`` and ``armik.Sphere`` (or their plain
-        mappings, ``armik.shapes``), in the base frame (m). Returns every obstacle added so
-        far. They are drawn only: the solvers do not avoid them yet."""
+        """Draw obstacles: a list of shapes (``armik.Box``, ``Sphere``, ``Capsule``,
+        ``Cylinder``, ``HalfSpace``, ``Mesh``, or their plain mappings,
+        ``armik.constraints.shapes_file``), in the base frame (m). Returns every obstacle
+        added so far. Pass the same shapes as ``obstacles=`` to solve clear of them."""
         shapes = as_shapes(shapes)
         scene = self._server.scene
         with self._lock:
             for shape in shapes:
                 name = f"/obstacles/{len(self.obstacles)}"
-                if isinstance(shape, Box):
-                    x, y, z, w = shape.quaternion
-                    scene.add_box(name, color=OBSTACLE, dimensions=shape.size, opacity=0.6,
-                                  wxyz=(w, x, y, z), position=shape.position)  # fmt: skip
-                else:
-                    scene.add_icosphere(name, radius=shape.radius, color=OBSTACLE,
-                                        opacity=0.6, position=shape.center)  # fmt: skip
+                _draw_obstacle(scene, name, shape)
                 self.obstacles.append(shape)
             return list(self.obstacles)
 
@@ -444,3 +441,32 @@ def _port_free(host: str, port: int) -> bool:
         except OSError:
             return False
     return True
+
+
+def _draw_obstacle(scene, name: str, shape: Shape) -> None:
+    """One obstacle in the scene, translucent, at its placement in the base frame."""
+    wxyz, position = wxyz_position(shape.T)
+    if isinstance(shape, Box):
+        scene.add_box(name, color=OBSTACLE, dimensions=shape.size, opacity=0.6,
+                      wxyz=wxyz, position=position)  # fmt: skip
+    elif isinstance(shape, Sphere):
+        scene.add_icosphere(name, radius=shape.radius, color=OBSTACLE, opacity=0.6,
+                            position=shape.center)  # fmt: skip
+    else:
+        if isinstance(shape, Cylinder):
+            mesh = trimesh.creation.cylinder(radius=shape.radius, height=shape.length)
+        elif isinstance(shape, Capsule):
+            mesh = trimesh.creation.capsule(radius=shape.radius, height=shape.length)
+        elif isinstance(shape, HalfSpace):  # a wide slab under its surface
+            n = np.asarray(shape.normal, dtype=float)
+            mesh = trimesh.creation.box((4.0, 4.0, 0.02))
+            z = np.array([0.0, 0.0, 1.0])
+            T = trimesh.geometry.align_vectors(z, n)
+            T[:3, 3] = n * (shape.offset - 0.01)
+            wxyz, position = wxyz_position(T)
+        else:
+            assert isinstance(shape, Mesh)
+            mesh = trimesh.load(shape.path, force="mesh")
+            mesh.apply_scale(shape.scale)
+        scene.add_mesh_simple(name, mesh.vertices, mesh.faces, color=OBSTACLE, opacity=0.6,
+                              wxyz=wxyz, position=position)  # fmt: skip

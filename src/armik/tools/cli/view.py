@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from armik.shapes import read_shapes
+from armik.constraints.shapes_file import read_shapes
 from armik.tools.cli.arms import load_arm
 
 

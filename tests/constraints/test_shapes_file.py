@@ -1,13 +1,14 @@
-"""Obstacle shapes: checked on construction, read from their plain (JSON) form."""
+"""Obstacles in their plain (JSON) form, read into the shapes collisions and the viewer use."""
 
 from __future__ import annotations
 
 import json
 
+import numpy as np
 import pytest
 
 import armik
-from armik.shapes import as_shapes, read_shapes
+from armik.constraints.shapes_file import as_shapes, read_shapes
 
 
 def test_plain_shapes_and_their_checks(tmp_path):
@@ -16,28 +17,36 @@ def test_plain_shapes_and_their_checks(tmp_path):
         {"type": "box", "size": [0.2, 0.2, 0.4], "position": [0.5, 0, 0.2],
          "quaternion": [0, 0, 0, 2]},
         {"type": "sphere", "radius": 0.1, "center": [0.3, 0.3, 0.5]},
+        {"type": "cylinder", "radius": 0.05, "length": 0.5, "pose": np.eye(4).tolist()},
+        {"type": "halfspace", "normal": [0, 0, 1], "offset": 0},
     ]))  # fmt: skip
-    box, sphere = read_shapes(path)
+    box, sphere, cylinder, table = read_shapes(path)
     assert box == armik.Box((0.2, 0.2, 0.4), (0.5, 0, 0.2))  # the quaternion normalised
     assert sphere == armik.Sphere(0.1, (0.3, 0.3, 0.5))
+    assert cylinder == armik.Cylinder(0.05, 0.5)
+    assert table == armik.HalfSpace((0, 0, 1), 0.0)
+    turned = as_shapes([{"type": "box", "size": [1, 1, 1], "quaternion": [0, 0, 1, 1]}])[0]
+    np.testing.assert_allclose(turned.T[:3, 0], [0, 1, 0], atol=1e-12)  # 90 deg about z
     assert as_shapes([box, {"type": "sphere", "radius": 1}]) == [box, armik.Sphere(1.0)]
 
 
 @pytest.mark.parametrize(
     "bad, words",
     [
-        ([{"type": "cone"}], "'box' or 'sphere'"),
+        ([{"type": "cone"}], "'type' must be one of 'box', 'sphere'"),
         ([{"type": "box"}], "needs 'size'"),
         ([{"type": "box", "size": [1, 1]}], "Box size must be 3"),
-        ([{"type": "box", "size": [1, 1, 0]}], "> 0"),
+        ([{"type": "box", "size": [1, 1, 0]}], "size"),
         ([{"type": "sphere", "radius": 1, "centre": [0, 0, 0]}], "unknown keys ['centre']"),
         ([{"type": "box", "size": [1, 1, 1], "quaternion": [0, 0, 0, 0]}], "zero length"),
-        ([3], "give an armik.Box"),
+        ([{"type": "box", "size": [1, 1, 1], "pose": np.eye(4).tolist(), "position": [0, 0, 0]}],
+         "not both"),
+        ([3], "give a shape"),
         ({"type": "sphere", "radius": 1}, "list of shapes"),
     ],
 )
 def test_bad_shapes_name_the_problem(bad, words):
-    with pytest.raises(armik.InputError) as info:
+    with pytest.raises(armik.CollisionError) as info:
         as_shapes(bad)
     assert words in str(info.value)
 

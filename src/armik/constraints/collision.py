@@ -1,0 +1,271 @@
+"""Collisions: the arm's collision geometry, its self-collision pairs, obstacles, and the
+distance the verdict measures.
+
+The geometry is the URDF's ``<collision>`` elements, read by Pinocchio's
+``buildGeomFromUrdfString`` onto the whole URDF's model and cut like the chain
+(``pin.buildReducedModel`` with the geometry), every mesh replaced by its convex hull.
+Self-collision pairs are the pairs of geometry objects on bodies that move relative to one
+another, minus adjacent bodies (the two sides of one moving joint, links joined by fixed
+joints being one body) and minus the pairs an SRDF disables. Links that never move relative
+to the base are checked against the obstacles once, when a ``Checker`` is built.
+"""
+
+from __future__ import annotations
+
+import threading
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from itertools import combinations
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import coal
+import numpy as np
+import pinocchio as pin
+
+from armik.constraints.shapes import Shape, check_obstacles, convex_hull
+from armik.errors import CollisionError
+from armik.model.catalogue import erd_share
+from armik.model.reduce import reduce_model
+from armik.tolerances import FIXED_OVERLAP_TOL
+
+if TYPE_CHECKING:
+    from armik.model.arm_model import ArmModel
+
+Pair = tuple[str, str]
+
+
+@dataclass(frozen=True)
+class ArmGeometry:
+    """The collision geometry of one arm's chain (on ``arm.model``) and its pairs."""
+
+    model: pin.GeometryModel  # convex hulls for meshes
+    links: tuple[str, ...]  # the link of each geometry object
+    moving: tuple[bool, ...]  # whether it moves relative to the base
+    candidates: tuple[tuple[int, int], ...]  # pairs that can touch (not adjacent, not rigid)
+    self_pairs: tuple[tuple[int, int], ...]  # candidates minus the SRDF's disabled pairs
+
+
+def arm_geometry(arm: ArmModel) -> ArmGeometry:
+    """The arm's collision geometry, built once (``ArmModel.memo``). Raises
+    ``CollisionError`` when the URDF has none or a mesh cannot be found."""
+    return arm.memo("collision geometry", _build_geometry)
+
+
+def _build_geometry(arm: ArmModel) -> ArmGeometry:
+    chain = arm.chain
+    full = chain.full
+    dirs = list(arm.package_dirs)
+    if Path(arm.source).is_file():
+        dirs.append(str(Path(arm.source).resolve().parent))
+    share = erd_share()
+    if share is not None:
+        dirs.append(share)
+    try:
+        geom = pin.buildGeomFromUrdfString(full, arm.info.text, pin.COLLISION, package_dirs=dirs)
+    except (ValueError, RuntimeError, OSError) as exc:
+        raise CollisionError(
+            f"the collision geometry of arm {arm.name!r} could not be read ({exc}); give the "
+            "folders that hold its meshes' packages with armik.load(..., package_dirs=[...])",
+            option="package_dirs",
+        ) from None
+    if geom.ngeoms == 0:
+        raise CollisionError(
+            f"arm {arm.name!r} has no <collision> geometry in its URDF, so collisions cannot "
+            "be checked: add <collision> elements to its links, or solve without obstacles= "
+            "and self_collision=",
+            option="obstacles",
+        )
+    links = tuple(full.frames[o.parentFrame].name for o in geom.geometryObjects)
+    if chain.locked_joints:
+        _, geom = reduce_model(full, list(chain.locked_joints), chain.q_ref, geom)
+    for o in geom.geometryObjects:
+        if isinstance(o.geometry, coal.BVHModelBase):
+            o.geometry = convex_hull(o.geometry)
+    bodies = [o.parentJoint for o in geom.geometryObjects]
+    parents = arm.model.parents
+    touching = {tuple(sorted((j.parent, j.child))) for j in arm.info.joints.values()}
+    candidates = []
+    for a, b in combinations(range(geom.ngeoms), 2):
+        ja, jb = bodies[a], bodies[b]
+        if ja == jb or parents[ja] == jb or parents[jb] == ja:
+            continue  # rigidly joined, or the two sides of one joint
+        if tuple(sorted((links[a], links[b]))) in touching:
+            continue
+        candidates.append((a, b))
+    disabled = arm.disabled_pairs
+    self_pairs = tuple(
+        (a, b) for a, b in candidates if tuple(sorted((links[a], links[b]))) not in disabled
+    )
+    return ArmGeometry(
+        model=geom,
+        links=links,
+        moving=tuple(j != 0 for j in bodies),
+        candidates=tuple(candidates),
+        self_pairs=self_pairs,
+    )
+
+
+def obstacle_name(i: int, shape: Shape) -> str:
+    return f"obstacles[{i}] ({type(shape).__name__})"
+
+
+class Checker:
+    """The distances of one arm to one set of obstacles (and itself, with
+    ``self_collision``): ``distance(q)`` is the smallest over every checked pair."""
+
+    def __init__(
+        self, arm: ArmModel, obstacles: tuple[Shape, ...], self_collision: bool
+    ) -> None:
+        g = arm_geometry(arm)
+        model = g.model.copy()
+        names = list(g.links)
+        pairs = list(g.self_pairs) if self_collision else []
+        for k, shape in enumerate(obstacles):
+            placement = arm.T_world_base * shape.placement()
+            obj = pin.GeometryObject(obstacle_name(k, shape), 0, 0, placement, shape.geometry())
+            index = model.addGeometryObject(obj)
+            names.append(obstacle_name(k, shape))
+            for i, moving in enumerate(g.moving):
+                if moving:
+                    pairs.append((i, index))
+                else:
+                    _check_fixed(arm, g, i, obj, shape, k)
+        for a, b in pairs:
+            model.addCollisionPair(pin.CollisionPair(a, b))
+        self.arm = arm
+        self.model = model
+        self.pair_names = [(names[a], names[b]) for a, b in pairs]
+        self._local = threading.local()
+
+    def distance(self, q: np.ndarray) -> tuple[float, Pair | None]:
+        """(distance m, (name_a, name_b)) of the closest checked pair at joint values ``q``
+        (rad, m); negative when they overlap (the depth); (inf, None) with no pair."""
+        if not self.pair_names:
+            return float("inf"), None
+        gd = getattr(self._local, "data", None)
+        if gd is None:
+            gd = self._local.data = pin.GeometryData(self.model)
+        arm = self.arm
+        pin.updateGeometryPlacements(arm.model, arm.data, self.model, gd, arm.to_pin(q))
+        k = pin.computeDistances(self.model, gd)
+        return float(gd.distanceResults[k].min_distance), self.pair_names[k]
+
+
+def _check_fixed(arm, g: ArmGeometry, i: int, obj, shape: Shape, k: int) -> None:
+    """Refuse an obstacle that a link fixed to the base sinks into (beyond a base resting
+    on its table: ``FIXED_OVERLAP_TOL``)."""
+    data = arm.model.createData()
+    pin.forwardKinematics(arm.model, data, arm.to_pin(arm.middle))
+    link = g.model.geometryObjects[i]
+    T_link = data.oMi[link.parentJoint] * link.placement
+    d = coal.distance(
+        link.geometry,
+        coal.Transform3s(T_link.rotation, T_link.translation),
+        obj.geometry,
+        coal.Transform3s(obj.placement.rotation, obj.placement.translation),
+        coal.DistanceRequest(),
+        coal.DistanceResult(),
+    )
+    if d < -FIXED_OVERLAP_TOL:
+        raise CollisionError(
+            f"{obstacle_name(k, shape)} overlaps link {g.links[i]!r}, which never moves "
+            f"relative to the base, by {-d:.3g} m: move or shrink the obstacle (a link "
+            f"may sink at most {FIXED_OVERLAP_TOL:g} m into one, as a base into its table)",
+            value=shape,
+        )
+
+
+def checker(arm: ArmModel, obstacles: tuple[Shape, ...], self_collision: bool) -> Checker:
+    """The ``Checker`` of these obstacles, built once per arm (``ArmModel.memo``)."""
+    checkers = arm.memo("collision checkers", lambda _: {})
+    key = (obstacles, bool(self_collision))
+    found = checkers.get(key)
+    if found is None:
+        if len(checkers) > 32:
+            checkers.clear()
+        found = checkers[key] = Checker(arm, obstacles, bool(self_collision))
+    return found
+
+
+def min_distance(arm: ArmModel, q, obstacles=(), self_collision: bool = False):
+    """(distance m, (name_a, name_b)): the closest checked pair at ``q`` (rad, m)."""
+    from_obstacles = check_obstacles(obstacles)
+    if not from_obstacles and not self_collision:
+        raise CollisionError(
+            "nothing to measure: give obstacles=[...] or self_collision=True",
+            option="obstacles",
+        )
+    return checker(arm, from_obstacles, self_collision).distance(arm.check_q(q))
+
+
+def in_collision(arm: ArmModel, q, obstacles=(), self_collision=False, margin=0.0) -> bool:
+    """Whether some checked pair at ``q`` is closer than ``margin`` (m)."""
+    return min_distance(arm, q, obstacles, self_collision)[0] < margin
+
+
+# -- SRDF -----------------------------------------------------------------------------------
+
+
+def read_srdf(path: object, links: tuple[str, ...]) -> frozenset[Pair]:
+    """The link pairs an SRDF's ``<disable_collisions link1= link2=>`` name, sorted.
+    Raises ``CollisionError`` for a missing or malformed file or an unknown link."""
+    if not isinstance(path, (str, Path)) or not Path(path).is_file():
+        raise CollisionError(
+            f"srdf {str(path)!r} is not an existing file: give the path of an SRDF",
+            option="srdf",
+            value=path,
+        )
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as exc:
+        raise CollisionError(
+            f"srdf {str(path)!r} is not well-formed XML ({exc}): fix the XML",
+            option="srdf",
+            value=path,
+        ) from None
+    known = set(links)
+    out = set()
+    for elem in root.iter("disable_collisions"):
+        pair = (elem.get("link1"), elem.get("link2"))
+        for name in pair:
+            if name not in known:
+                raise CollisionError(
+                    f"srdf {str(path)!r}: <disable_collisions> names link {name!r}, which is "
+                    "not a link of the URDF: fix the name or load the SRDF of this robot",
+                    option="srdf",
+                    value=name,
+                )
+        out.add(tuple(sorted(pair)))
+    return frozenset(out)  # type: ignore[arg-type]
+
+
+def never_colliding_pairs(arm: ArmModel, n: int = 1000, seed: int = 0) -> list[Pair]:
+    """The link pairs that can touch (not adjacent) yet never do over ``n`` random
+    configurations within the limits, sorted: what MoveIt's setup assistant disables as
+    "Never". Ignores the arm's own SRDF. ``write_srdf`` writes them."""
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise CollisionError(f"n must be a whole number >= 1, got {n!r}", option="n", value=n)
+    g = arm_geometry(arm)
+    model = g.model.copy()
+    for a, b in g.candidates:
+        model.addCollisionPair(pin.CollisionPair(a, b))
+    gd = pin.GeometryData(model)
+    touched = np.zeros(len(g.candidates), bool)
+    data = arm.model.createData()
+    for q in arm.random_q(seed, n=int(n)):
+        pin.updateGeometryPlacements(arm.model, data, model, gd, arm.to_pin(q))
+        pin.computeCollisions(model, gd, False)
+        touched |= np.array([r.isCollision() for r in gd.collisionResults])
+    pairs = {tuple(sorted((g.links[a], g.links[b]))) for a, b in g.candidates}
+    hit = {tuple(sorted((g.links[a], g.links[b]))) for (a, b), t in zip(g.candidates, touched) if t}
+    return sorted(pairs - hit)  # type: ignore[return-value]
+
+
+def write_srdf(pairs, path, robot: str = "robot") -> None:
+    """Write ``pairs`` of link names as an SRDF's ``<disable_collisions reason="Never">``."""
+    root = ET.Element("robot", name=robot)
+    for a, b in pairs:
+        ET.SubElement(root, "disable_collisions", link1=str(a), link2=str(b), reason="Never")
+    ET.indent(root)
+    ET.ElementTree(root).write(path, encoding="unicode", xml_declaration=True)

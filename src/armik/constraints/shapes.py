@@ -1,0 +1,288 @@
+"""Obstacles in the arm's base frame (m): frozen, hashable shapes that convert to coal.
+
+Each shape validates its values when built and raises ``CollisionError`` (an
+``OptionError``, so a ``ValueError``) naming the bad value and the fix. Poses are given as
+a 4x4 matrix, a ``pinocchio.SE3`` or a position (x, y, z) and kept as 16 floats, so that
+shapes (and the ``Options`` holding them) hash and compare by value.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import coal
+import numpy as np
+import pinocchio as pin
+
+from armik.errors import CollisionError
+from armik.tolerances import MAX_LENGTH, ROTATION_TOL
+
+_IDENTITY = tuple(np.eye(4).ravel().tolist())
+
+
+def _pose(shape: str, value: object) -> tuple[float, ...]:
+    """A pose as 16 floats (row-major 4x4); raises ``CollisionError`` naming ``shape``."""
+    fix = "give a 4x4 homogeneous matrix, a pinocchio.SE3 or a position (x, y, z) in m"
+    if value is None:
+        return _IDENTITY
+    if isinstance(value, pin.SE3):
+        value = value.homogeneous
+    try:
+        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):
+            raise TypeError
+        arr = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise CollisionError(f"{shape} pose {value!r} is not a pose: {fix}", value=value) from None
+    if arr.shape == (3,):
+        T = np.eye(4)
+        T[:3, 3] = arr
+        arr = T
+    if arr.shape != (4, 4):
+        raise CollisionError(f"{shape} pose has shape {arr.shape}: {fix}", value=value)
+    if not np.isfinite(arr).all() or np.abs(arr[:3, 3]).max() > MAX_LENGTH:
+        raise CollisionError(
+            f"{shape} pose must be finite and within {MAX_LENGTH:g} m, got {arr.tolist()}: {fix}",
+            value=value,
+        )
+    R = arr[:3, :3]
+    off = float(np.abs(R.T @ R - np.eye(3)).max())
+    if off > ROTATION_TOL or np.linalg.det(R) < 0 or arr[3].tolist() != [0.0, 0.0, 0.0, 1.0]:
+        raise CollisionError(
+            f"{shape} pose's rotation is not a rotation (R^T R off the identity by {off:.2g}, "
+            f"det {np.linalg.det(R):.3g}, last row {arr[3].tolist()}): {fix}",
+            value=value,
+        )
+    return tuple(arr.ravel().tolist())
+
+
+def _length(shape: str, name: str, value: object, zero: bool = False) -> float:
+    """A length in m, > 0 (>= 0 with ``zero``) and finite; else ``CollisionError``."""
+    try:
+        if isinstance(value, (str, bytes, bool)):
+            raise TypeError
+        out = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        out = math.nan
+    if not (math.isfinite(out) and (out >= 0 if zero else out > 0) and out <= MAX_LENGTH):
+        bound = ">= 0" if zero else "> 0"
+        raise CollisionError(
+            f"{shape} {name} must be a number of metres {bound} and at most {MAX_LENGTH:g}, "
+            f"got {value!r}",
+            value=value,
+        )
+    return out
+
+
+def _vector(shape: str, name: str, value: object) -> tuple[float, float, float]:
+    try:
+        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):
+            raise TypeError
+        arr = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        arr = np.array([np.nan])
+    if arr.shape != (3,) or not np.isfinite(arr).all() or np.abs(arr).max() > MAX_LENGTH:
+        raise CollisionError(
+            f"{shape} {name} must be 3 finite numbers (x, y, z), got {value!r}", value=value
+        )
+    return tuple(float(v) for v in arr)  # type: ignore[return-value]
+
+
+class Shape:
+    """What every obstacle offers: its coal geometry and its placement in the base frame."""
+
+    pose: tuple[float, ...] = _IDENTITY
+
+    @property
+    def T(self) -> np.ndarray:
+        """The placement of the shape's own frame in the arm's base frame, 4x4 (m)."""
+        return np.array(self.pose).reshape(4, 4)
+
+    def placement(self) -> pin.SE3:
+        T = self.T
+        return pin.SE3(T[:3, :3], T[:3, 3])
+
+    def geometry(self) -> coal.CollisionGeometry:  # pragma: no cover - every shape has one
+        raise NotImplementedError
+
+
+@dataclass(frozen=True, init=False)
+class Box(Shape):
+    """A box of full side lengths ``size`` (m) centred at ``pose``'s origin, its sides
+    along ``pose``'s axes."""
+
+    size: tuple[float, float, float]
+    pose: tuple[float, ...]
+
+    def __init__(self, size, pose=None) -> None:
+        try:
+            sides = list(size)  # type: ignore[call-overload]
+        except TypeError:
+            sides = [size]
+        if isinstance(size, (str, bytes)) or len(sides) != 3:
+            raise CollisionError(
+                f"Box size must be 3 full side lengths (x, y, z) in m, got {size!r}", value=size
+            )
+        dims = tuple(_length("Box", "size", v) for v in sides)
+        object.__setattr__(self, "size", dims)
+        object.__setattr__(self, "pose", _pose("Box", pose))
+
+    def geometry(self) -> coal.CollisionGeometry:
+        return coal.Box(*self.size)
+
+
+@dataclass(frozen=True, init=False)
+class Sphere(Shape):
+    """A sphere of ``radius`` (m) around ``center`` (x, y, z, m)."""
+
+    radius: float
+    center: tuple[float, float, float]
+
+    def __init__(self, radius, center=(0.0, 0.0, 0.0)) -> None:
+        object.__setattr__(self, "radius", _length("Sphere", "radius", radius))
+        object.__setattr__(self, "center", _vector("Sphere", "center", center))
+
+    @property
+    def pose(self) -> tuple[float, ...]:  # type: ignore[override]
+        return _pose("Sphere", self.center)
+
+    def geometry(self) -> coal.CollisionGeometry:
+        return coal.Sphere(self.radius)
+
+
+@dataclass(frozen=True, init=False)
+class Capsule(Shape):
+    """A capsule: the points within ``radius`` (m) of the segment of ``length`` (m) along
+    ``pose``'s z axis, centred at its origin."""
+
+    radius: float
+    length: float
+    pose: tuple[float, ...]
+
+    def __init__(self, radius, length, pose=None) -> None:
+        object.__setattr__(self, "radius", _length("Capsule", "radius", radius))
+        object.__setattr__(self, "length", _length("Capsule", "length", length, zero=True))
+        object.__setattr__(self, "pose", _pose("Capsule", pose))
+
+    def geometry(self) -> coal.CollisionGeometry:
+        return coal.Capsule(self.radius, self.length)
+
+
+@dataclass(frozen=True, init=False)
+class Cylinder(Shape):
+    """A cylinder of ``radius`` and ``length`` (m) along ``pose``'s z axis, centred at its
+    origin."""
+
+    radius: float
+    length: float
+    pose: tuple[float, ...]
+
+    def __init__(self, radius, length, pose=None) -> None:
+        object.__setattr__(self, "radius", _length("Cylinder", "radius", radius))
+        object.__setattr__(self, "length", _length("Cylinder", "length", length))
+        object.__setattr__(self, "pose", _pose("Cylinder", pose))
+
+    def geometry(self) -> coal.CollisionGeometry:
+        return coal.Cylinder(self.radius, self.length)
+
+
+@dataclass(frozen=True, init=False)
+class HalfSpace(Shape):
+    """The solid ``normal . x <= offset`` (x in the base frame, m; ``normal`` is
+    normalised, ``offset`` is then in m along it). A table top at z = 0:
+    ``HalfSpace((0, 0, 1), 0)``."""
+
+    normal: tuple[float, float, float]
+    offset: float
+
+    def __init__(self, normal, offset=0.0) -> None:
+        n = np.array(_vector("HalfSpace", "normal", normal))
+        norm = float(np.linalg.norm(n))
+        if norm < 1e-9:
+            raise CollisionError(
+                f"HalfSpace normal must not be zero, got {normal!r}: give the direction out "
+                "of the solid, e.g. (0, 0, 1) for a table top",
+                value=normal,
+            )
+        try:
+            if isinstance(offset, (str, bytes, bool)):
+                raise TypeError
+            d = float(offset)
+        except (TypeError, ValueError):
+            d = math.nan
+        if not math.isfinite(d) or abs(d) > MAX_LENGTH:
+            raise CollisionError(
+                f"HalfSpace offset must be a finite number of metres, got {offset!r}",
+                value=offset,
+            )
+        object.__setattr__(self, "normal", tuple((n / norm).tolist()))
+        object.__setattr__(self, "offset", d / norm)
+
+    def geometry(self) -> coal.CollisionGeometry:
+        return coal.Halfspace(np.array(self.normal), self.offset)
+
+
+@dataclass(frozen=True, init=False)
+class Mesh(Shape):
+    """The convex hull of the mesh file at ``path`` (STL, OBJ, DAE, ... as coal's loader
+    reads them), scaled by ``scale`` and placed at ``pose``."""
+
+    path: str
+    pose: tuple[float, ...]
+    scale: float
+
+    def __init__(self, path, pose=None, scale=1.0) -> None:
+        if not isinstance(path, (str, Path)) or not Path(path).is_file():
+            raise CollisionError(
+                f"Mesh path {str(path)!r} is not an existing file: give the path of a mesh "
+                "file (STL, OBJ, DAE)",
+                value=path,
+            )
+        object.__setattr__(self, "path", str(Path(path).resolve()))
+        object.__setattr__(self, "pose", _pose("Mesh", pose))
+        object.__setattr__(self, "scale", _length("Mesh", "scale", scale))
+
+    def geometry(self) -> coal.CollisionGeometry:
+        try:
+            bvh = coal.MeshLoader().load(self.path, np.full(3, self.scale))
+        except Exception as exc:  # coal's loader raises its own types
+            raise CollisionError(
+                f"Mesh {self.path!r} could not be read ({exc}): give a mesh file coal reads "
+                "(STL, OBJ, DAE)",
+                value=self.path,
+            ) from None
+        return convex_hull(bvh)
+
+
+def convex_hull(bvh: coal.BVHModelBase) -> coal.ConvexBase:
+    """The convex hull of a triangle mesh: distances to it cost a hundredth of the mesh's
+    (docs/collisions.md)."""
+    bvh.buildConvexHull(True, "Qt")
+    return bvh.convex
+
+
+SHAPES = (Box, Sphere, Capsule, Cylinder, HalfSpace, Mesh)
+
+
+def check_obstacles(value: object) -> tuple[Shape, ...]:
+    """``obstacles`` as a tuple of shapes; raises ``CollisionError`` otherwise."""
+    if value is None:
+        return ()
+    if isinstance(value, Shape):
+        return (value,)
+    names = ", ".join(f"armik.{s.__name__}" for s in SHAPES)
+    try:
+        if isinstance(value, (str, bytes)):
+            raise TypeError
+        items = tuple(value)  # type: ignore[call-overload]
+    except TypeError:
+        raise CollisionError(
+            f"obstacles must be a list of shapes ({names}), got {value!r}", value=value
+        ) from None
+    for i, item in enumerate(items):
+        if not isinstance(item, Shape):
+            raise CollisionError(
+                f"obstacles[{i}] is {item!r}, not a shape: give {names}", value=item
+            )
+    return items

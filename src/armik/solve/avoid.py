@@ -1,0 +1,117 @@
+"""Solves with collisions checked (options ``obstacles``, ``self_collision``, ``margin``).
+
+Every answer gets the verdict of any solve (FK and limits), then the collision check
+(``verify.verdict.collision_verdict``): a success must keep every checked pair ``margin``
+apart. A closed form's branches are checked nearest the seed first, and the first
+collision-free verified one is the answer. A numeric solver whose verified answer collides
+is run again from a random configuration, within what is left of the budget (``timeout``
+or ``iteration_budget``, and ``max_restarts``); when none is free the result is
+``Status.COLLISION`` naming the closest pair.
+
+The solvers do not yet see the obstacles while they step: they find an answer, the check
+refuses it, a restart finds another.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from armik.constraints.collision import checker
+from armik.frozen import frozen
+from armik.options import Options
+from armik.status import Status
+from armik.verify.measure import measure, measure_many
+from armik.verify.verdict import collision_verdict, ranked, seed_distance, verdict
+
+if TYPE_CHECKING:
+    from armik.model.arm_model import ArmModel
+    from armik.solvers.registry import SolverSpec
+
+
+def solve_avoiding(
+    arm: ArmModel, spec: SolverSpec, target, seed: np.ndarray, opts: Options, every: bool, t0
+):
+    """The verified, collision-checked results of ``spec`` for ``target`` (best first; the
+    first only unless ``every``)."""
+    check = checker(arm, opts.obstacles, opts.self_collision)
+    if not seed.flags.writeable:  # a read-only seed (a result's q) is another kernel type
+        seed = seed.copy()
+    if every:
+        attempts = spec.run(arm, target, seed, opts, True)
+        measures = measure_many(arm, [a.q for a in attempts], target, opts)
+        rows = [
+            collision_verdict(verdict(a, m), check, opts.margin)
+            for a, m in zip(attempts, measures)
+        ]
+        return ranked(rows, spec.name, seed, True, t0)
+    if spec.kind == "analytic":
+        rows = _first_free(arm, spec.run(arm, target, seed, opts, True), target, opts, check, seed)
+        return ranked(rows, spec.name, seed, False, t0)
+    return ranked(_restarting(arm, spec, target, seed, opts, check), spec.name, seed, False, t0)
+
+
+def _first_free(arm, attempts, target, opts: Options, check, seed) -> list[dict]:
+    """Check the branches nearest the seed first (claimed converged and within the limits
+    before the rest); stop at the first verified, collision-free one."""
+
+    def order(a) -> tuple:
+        return (
+            a.claim is not Status.CONVERGED,
+            not arm.within_limits(a.q),
+            seed_distance(a.q, seed),
+        )
+
+    rows = []
+    for attempt in sorted(attempts, key=order):
+        row = verdict(attempt, measure(arm, attempt.q, target, opts))
+        rows.append(collision_verdict(row, check, opts.margin))
+        if row["success"]:
+            return [row]
+    return rows
+
+
+def _restarting(arm, spec, target, seed: np.ndarray, opts: Options, check) -> list[dict]:
+    """Run the numeric solver, from the seed then from random configurations, until its
+    verified answer is collision-free or the budget is spent; the rows of every run."""
+    start_cpu = time.thread_time()
+    rng = np.random.default_rng(opts.seed)
+    used_iterations = used_restarts = 0
+    rows: list[dict] = []
+    q_start = seed
+    for run in range(opts.max_restarts + 1):
+        left = _left(opts, start_cpu, used_iterations, used_restarts)
+        if left is None:
+            break
+        attempts = spec.run(arm, target, q_start, left, False)
+        best = min(
+            (verdict(a, measure(arm, a.q, target, left)) for a in attempts),
+            key=lambda r: (not r["success"], seed_distance(r["q"], seed)),
+        )
+        row = collision_verdict(best, check, opts.margin)
+        used_iterations += row["iterations"]
+        used_restarts += row["restarts"] + (run > 0)
+        row["iterations"], row["restarts"] = used_iterations, used_restarts
+        rows.append(row)
+        if row["success"] or row["status"] is not Status.COLLISION:
+            break  # free, or the solver itself found nothing within what was left
+        q_start = arm.random_q(rng)
+    return rows
+
+
+def _left(opts: Options, start_cpu: float, iterations: int, restarts: int) -> Options | None:
+    """The options of the next run: what is left of the budget, or None when spent."""
+    changes: dict = {"seed": None if opts.seed is None else (opts.seed + restarts) % 2**63}
+    if opts.iteration_budget is not None:
+        if iterations >= opts.iteration_budget:
+            return None
+        changes["iteration_budget"] = opts.iteration_budget - iterations
+    else:
+        remaining = opts.timeout - (time.thread_time() - start_cpu)
+        if remaining <= 0:
+            return None
+        changes["timeout"] = remaining
+    changes["max_restarts"] = max(opts.max_restarts - restarts, 0)
+    return frozen(Options, **{**opts.__dict__, **changes})

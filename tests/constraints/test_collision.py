@@ -1,0 +1,163 @@
+"""Collision checking: distances against an independent coal model, the pairs, SRDFs."""
+
+from __future__ import annotations
+
+import pickle
+
+import coal
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.constraints.collision import arm_geometry
+from armik.model.catalogue import erd_share
+
+from ..conftest import arm
+
+TABLE = armik.HalfSpace((0, 0, 1), 0)
+BOX = armik.Box((0.2, 0.3, 0.4), (0.45, 0.1, 0.2))
+SPHERE = armik.Sphere(0.1, (0.3, -0.3, 0.5))
+
+
+def _independent(a: armik.Arm, locked: dict):
+    """The whole URDF's model and collision geometry, meshes as hulls, built here."""
+    full = pin.buildModelFromUrdf(a.source)
+    geom = pin.buildGeomFromUrdf(full, a.source, pin.COLLISION, package_dirs=[erd_share()])
+    hulls = []
+    for o in geom.geometryObjects:
+        if isinstance(o.geometry, coal.BVHModelBase):
+            o.geometry.buildConvexHull(True, "Qt")
+            hulls.append(o.geometry.convex)
+        else:
+            hulls.append(o.geometry)
+    q_full = pin.neutral(full)
+    for name, value in locked.items():
+        q_full[full.joints[full.getJointId(name)].idx_q] = value
+    return full, geom, hulls, q_full
+
+
+def _distance(g1, T1: pin.SE3, g2, T2: pin.SE3) -> float:
+    return coal.distance(
+        g1,
+        coal.Transform3s(T1.rotation, T1.translation),
+        g2,
+        coal.Transform3s(T2.rotation, T2.translation),
+        coal.DistanceRequest(),
+        coal.DistanceResult(),
+    )
+
+
+@pytest.mark.parametrize(
+    "name, locked", [("ur5", {}), ("panda", {"panda_finger_joint1": 0.03})]
+)
+def test_obstacle_distances_match_an_independent_coal_model(name, locked):
+    a = armik.load(name, locked=locked)
+    full, geom, hulls, q_full = _independent(a, locked)
+    data = full.createData()
+    shapes = (BOX, SPHERE)
+    for q in a.random_q(7, n=15):
+        for jname, value in zip(a.joint_names, q):
+            q_full[full.joints[full.getJointId(jname)].idx_q] = value
+        pin.forwardKinematics(full, data, q_full)
+        pin.updateGeometryPlacements(full, data, geom, geom.createData())
+        best = np.inf
+        for o, hull in zip(geom.geometryObjects, hulls):
+            if o.parentJoint == 0:
+                continue  # fixed links: checked once, not per configuration
+            T = data.oMi[o.parentJoint] * o.placement
+            for s in shapes:
+                best = min(best, _distance(hull, T, s.geometry(), s.placement()))
+        d, pair = a.min_distance(q, obstacles=shapes)
+        assert d == pytest.approx(best, abs=1e-9)
+        assert pair[1].startswith("obstacles[")
+
+
+def test_self_distances_match_an_independent_coal_model():
+    a = arm("ur5")
+    full, geom, hulls, q_full = _independent(a, {})
+    g = arm_geometry(a)
+    data = full.createData()
+    for q in a.random_q(3, n=10):
+        pin.forwardKinematics(full, data, q)
+        T = [data.oMi[o.parentJoint] * o.placement for o in geom.geometryObjects]
+        expected = min(_distance(hulls[i], T[i], hulls[j], T[j]) for i, j in g.self_pairs)
+        d, pair = a.min_distance(q, self_collision=True)
+        assert d == pytest.approx(expected, abs=1e-6)  # EPA depths: to its tolerance
+        assert pair[0] in g.links and pair[1] in g.links
+
+
+def _link_pairs(a, which="self_pairs"):
+    g = arm_geometry(a)
+    return {tuple(sorted((g.links[i], g.links[j]))) for i, j in getattr(g, which)}
+
+
+def test_adjacent_and_rigidly_joined_links_are_not_pairs():
+    ur5 = _link_pairs(arm("ur5"))
+    chain = ["base_link", "shoulder_link", "upper_arm_link", "forearm_link", "wrist_1_link",
+             "wrist_2_link", "wrist_3_link"]  # fmt: skip
+    for a, b in zip(chain, chain[1:]):
+        assert tuple(sorted((a, b))) not in ur5
+    assert ("base_link", "forearm_link") in ur5
+    panda = _link_pairs(arm("panda"))
+    assert ("panda_hand", "panda_link7") not in panda  # joined by fixed joints
+    assert ("panda_hand", "panda_link6") not in panda  # across joint 7
+    assert ("panda_leftfinger", "panda_rightfinger") not in panda  # fingers locked: rigid
+    assert ("panda_hand", "panda_link5") in panda
+
+
+def test_an_srdf_disables_its_pairs_and_the_arm_pickles_with_it(tmp_path):
+    path = tmp_path / "ur5.srdf"
+    armik.collision.write_srdf([("base_link", "forearm_link")], path, robot="ur5")
+    a = armik.load("ur5", srdf=path)
+    assert ("base_link", "forearm_link") not in _link_pairs(a)
+    assert ("base_link", "forearm_link") in _link_pairs(a, "candidates")
+    assert len(_link_pairs(a)) == len(_link_pairs(arm("ur5"))) - 1
+    copy = pickle.loads(pickle.dumps(a))
+    assert copy.disabled_pairs == a.disabled_pairs == {("base_link", "forearm_link")}
+    # a configuration folding the forearm onto the base: the pair is no longer reported
+    for q in a.random_q(5, n=50):
+        assert a.min_distance(q, self_collision=True)[1] != ("base_link", "forearm_link")
+
+
+def test_srdf_errors_name_the_file_and_the_link(tmp_path):
+    with pytest.raises(armik.CollisionError, match="not an existing file"):
+        armik.load("ur5", srdf=tmp_path / "missing.srdf")
+    bad = tmp_path / "bad.srdf"
+    armik.collision.write_srdf([("base_link", "elbow")], bad)
+    with pytest.raises(armik.CollisionError, match="'elbow'"):
+        armik.load("ur5", srdf=bad)
+
+
+def test_never_colliding_pairs_round_trip_through_an_srdf(tmp_path):
+    a = arm("ur5")
+    never = armik.collision.never_colliding_pairs(a, n=200)
+    assert never and set(never) <= _link_pairs(a, "candidates")
+    path = tmp_path / "never.srdf"
+    armik.collision.write_srdf(never, path)
+    b = armik.load("ur5", srdf=path)
+    assert _link_pairs(b) == _link_pairs(a) - set(never)
+
+
+def test_in_collision_and_margin():
+    a = arm("ur5")
+    q = a.random_q(11)
+    d, _ = a.min_distance(q, obstacles=[BOX])
+    assert a.in_collision(q, [BOX]) == (d < 0)
+    assert a.in_collision(q, [BOX], margin=d + 1e-3)
+    assert not a.in_collision(q, [BOX], margin=d - 1e-3) or d - 1e-3 < 0
+
+
+def test_a_table_under_the_base_is_accepted_an_obstacle_through_it_is_refused():
+    a = arm("ur5")
+    a.min_distance(a.middle, obstacles=[TABLE])  # the base sits 3 mm into its table
+    with pytest.raises(armik.CollisionError, match="base_link.*never moves"):
+        a.min_distance(a.middle, obstacles=[armik.Box((0.3, 0.3, 0.3))])
+
+
+def test_an_arm_without_collision_geometry_says_so():
+    a = arm("planar_2link")
+    with pytest.raises(armik.CollisionError, match="no <collision> geometry"):
+        a.solve([1.2, 0.5], obstacles=[armik.Sphere(0.1, (5, 5, 0))])
+    with pytest.raises(armik.CollisionError, match="no <collision> geometry"):
+        a.min_distance([0.0, 0.0], self_collision=True)

@@ -1,0 +1,93 @@
+"""Obstacles: validation with errors that name the value and the fix; coal conversion."""
+
+from __future__ import annotations
+
+import math
+
+import coal
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+
+
+def test_every_shape_converts_to_its_coal_geometry(tmp_path):
+    T = pin.SE3(pin.utils.rpyToMatrix(0.1, 0.2, 0.3), np.array([0.1, 0.2, 0.3]))
+    cases = [
+        (armik.Box((0.1, 0.2, 0.3), T), coal.Box),
+        (armik.Box((0.1, 0.2, 0.3), T.homogeneous), coal.Box),
+        (armik.Box((0.1, 0.2, 0.3), (0.1, 0.2, 0.3)), coal.Box),
+        (armik.Sphere(0.2, (1, 2, 3)), coal.Sphere),
+        (armik.Capsule(0.05, 0.4), coal.Capsule),
+        (armik.Cylinder(0.05, 0.4, T), coal.Cylinder),
+        (armik.HalfSpace((0, 0, 2), 1.0), coal.Halfspace),
+    ]
+    for shape, kind in cases:
+        assert isinstance(shape.geometry(), kind)
+        hash(shape)
+    assert cases[0][0] == cases[1][0]  # the same pose given two ways
+    np.testing.assert_allclose(cases[0][0].T, T.homogeneous)
+    assert armik.Sphere(0.2, (1, 2, 3)).placement().translation.tolist() == [1, 2, 3]
+    assert armik.Box((0.1, 0.2, 0.3)).geometry().halfSide.tolist() == pytest.approx(
+        [0.05, 0.1, 0.15]
+    )
+    half = armik.HalfSpace((0, 0, 2), 1.0)
+    assert half.normal == (0, 0, 1) and half.offset == 0.5  # normalised: z <= 0.5
+    stl = tmp_path / "tetra.stl"
+    stl.write_text(
+        "solid t\n"
+        + "".join(
+            f"facet normal 0 0 0\nouter loop\n{a}\n{b}\n{c}\nendloop\nendfacet\n"
+            for a, b, c in [
+                ("vertex 0 0 0", "vertex 1 0 0", "vertex 0 1 0"),
+                ("vertex 0 0 0", "vertex 0 1 0", "vertex 0 0 1"),
+                ("vertex 0 0 0", "vertex 0 0 1", "vertex 1 0 0"),
+                ("vertex 1 0 0", "vertex 0 1 0", "vertex 0 0 1"),
+            ]
+        )
+        + "endsolid t\n"
+    )
+    hull = armik.Mesh(stl, scale=0.5).geometry()
+    assert isinstance(hull, coal.ConvexBase) and hull.num_points == 4
+
+
+@pytest.mark.parametrize(
+    "build, match",
+    [
+        (lambda: armik.Box((-0.1, 0.2, 0.3)), r"Box size must be .*> 0.*-0.1"),
+        (lambda: armik.Box((0.1, 0.2)), "3 full side lengths"),
+        (lambda: armik.Box((0.1, 0.2, math.nan)), "Box size"),
+        (lambda: armik.Box((0.1, 0.2, 0.3), np.full((4, 4), np.nan)), "pose must be finite"),
+        (lambda: armik.Box((0.1, 0.2, 0.3), [0, math.nan, 0]), "pose must be finite"),
+        (lambda: armik.Box((0.1, 0.2, 0.3), 2 * np.eye(4)), "not a rotation"),
+        (lambda: armik.Box((0.1, 0.2, 0.3), "here"), "not a pose"),
+        (lambda: armik.Sphere(0.0, (0, 0, 0)), "Sphere radius"),
+        (lambda: armik.Sphere(0.1, (0, 0)), "Sphere center must be 3"),
+        (lambda: armik.Capsule(0.1, -1.0), r"Capsule length must be .*>= 0"),
+        (lambda: armik.Cylinder("thin", 1.0), "Cylinder radius"),
+        (lambda: armik.HalfSpace((0, 0, 0), 0), "normal must not be zero"),
+        (lambda: armik.HalfSpace((0, 0, 1), math.inf), "offset must be a finite"),
+        (lambda: armik.Mesh("/no/such/mesh.stl"), "not an existing file"),
+        (lambda: armik.Mesh(__file__, scale=-1), "Mesh scale"),
+    ],
+)
+def test_bad_shapes_are_refused_naming_the_value(build, match):
+    with pytest.raises(armik.CollisionError, match=match) as info:
+        build()
+    assert isinstance(info.value, armik.OptionError) and isinstance(info.value, ValueError)
+
+
+def test_bad_collision_options_are_refused():
+    ur5 = armik.load("ur5")
+    T = ur5.fk(ur5.middle)
+    with pytest.raises(armik.CollisionError, match=r"obstacles\[1\] is 3"):
+        ur5.solve(T, obstacles=[armik.Sphere(0.1, (2, 2, 2)), 3])
+    with pytest.raises(armik.CollisionError, match="list of shapes"):
+        ur5.solve(T, obstacles="table")
+    with pytest.raises(armik.OptionError, match="margin must be"):
+        ur5.solve(T, obstacles=[armik.Sphere(0.1, (2, 2, 2))], margin=-0.1)
+    with pytest.raises(armik.OptionError, match="checks nothing"):
+        ur5.solve(T, margin=0.01)
+    with pytest.raises(armik.OptionError, match="self_collision must be True or False"):
+        ur5.solve(T, self_collision="yes")

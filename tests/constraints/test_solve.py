@@ -1,0 +1,145 @@
+"""Solving with collisions checked: branches, the collision status, lying solvers, batches."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.solvers import registry
+from armik.solvers.claims import Attempt
+
+from ..conftest import arm
+
+TABLE = armik.HalfSpace((0, 0, 1), 0)
+
+
+def _elbow_sphere(a, q, radius=0.06):
+    """A sphere around the elbow joint at ``q``, in the base frame."""
+    a.fk(q)
+    return armik.Sphere(radius, a.T_base_world.act(a.data.oMi[3].translation))
+
+
+def test_an_obstacle_across_the_seeds_branch_forces_another_branch():
+    ur5 = arm("ur5")
+    found = 0
+    for q in ur5.random_q(21, n=40):
+        T = ur5.fk(q)
+        plain = ur5.solve(T, q0=q)
+        sphere = _elbow_sphere(ur5, q)
+        every = ur5.solve_all(T, q0=q, obstacles=[sphere])
+        free = [r for r in every if r.success]
+        if not free or not ur5.in_collision(plain.q, [sphere]):
+            continue
+        r = ur5.solve(T, q0=q, obstacles=[sphere])
+        assert r.success and r.branch != plain.branch
+        assert not ur5.in_collision(r.q, [sphere])
+        np.testing.assert_array_equal(r.q, free[0].q)  # the nearest free branch
+        assert r.extra["min_distance"] >= 0 and r.extra["closest_pair"][1].startswith("obst")
+        assert "collision-free: closest" in r.reason
+        assert any(x.status == "collision" for x in every)
+        found += 1
+    assert found >= 5
+
+
+@pytest.mark.parametrize("name, solver", [("ur5", "auto"), ("panda", "dls")])
+def test_a_target_reachable_only_in_collision_is_collision_naming_the_pair(name, solver):
+    a = arm(name)
+    T = a.fk(a.random_q(4))
+    blob = armik.Sphere(0.05, T.translation)  # every answer puts the tip inside it
+    r = a.solve(T, solver=solver, obstacles=[blob], timeout=0.01)
+    assert not r.success and r.status == armik.Status.COLLISION
+    assert "in collision" in r.reason and "obstacles[0] (Sphere)" in r.reason
+    assert r.extra["min_distance"] < 0 and r.extra["closest_pair"][1] == "obstacles[0] (Sphere)"
+    assert r.position_error < 1e-6  # reached, within the limits: only the collision fails
+    budget = a.solve(T, solver=solver, obstacles=[blob], iteration_budget=300)
+    assert budget.status == "collision" and budget.iterations <= 300 + 100
+
+
+def test_numeric_solvers_restart_until_free():
+    panda = arm("panda")
+    rng = np.random.default_rng(5)
+    restarted = 0
+    for _ in range(30):
+        q = panda.random_q(rng)
+        T = panda.fk(q)
+        plain = panda.solve(T)
+        sphere = _elbow_sphere(panda, plain.q, 0.05)
+        if panda.in_collision(q, [sphere]):
+            continue  # the target's own configuration must stay free
+        r = panda.solve(T, obstacles=[sphere], self_collision=False)
+        assert r.success and not panda.in_collision(r.q, [sphere])
+        restarted += r.restarts > plain.restarts
+    assert restarted >= 3
+
+
+def test_a_lying_solver_is_caught_by_the_collision_check(monkeypatch):
+    ur5 = armik.load("ur5")  # a fresh arm: nothing prepared with the honest spec
+    q_bad = ur5.random_q(8)
+    T = ur5.fk(q_bad)
+    box = armik.Sphere(0.08, T.translation)
+
+    def liar(arm_, target, q0, opts, all_solutions):
+        return [Attempt(q=q_bad.copy(), claim="converged", reason="trust me")]
+
+    lying = dataclasses.replace(registry.get("dls"), run=liar, prepare_pose=None)
+    monkeypatch.setitem(registry._REGISTRY, "dls", lying)
+    honest = ur5.solve(T, solver="dls")
+    assert honest.success  # it does reach the pose
+    r = ur5.solve(T, solver="dls", obstacles=[box], timeout=0.005)
+    assert not r.success and r.status == "collision" and "obstacles[0]" in r.reason
+
+
+def test_margin_refuses_near_misses():
+    ur5 = arm("ur5")
+    q = ur5.random_q(2)
+    T = ur5.fk(q)
+    r = ur5.solve(T, q0=q, obstacles=[TABLE])
+    d = r.extra["min_distance"]
+    assert r.success and d > 0
+    tight = ur5.solve_all(T, q0=q, obstacles=[TABLE], margin=d + 1e-4)
+    assert all(x.extra["min_distance"] >= d + 1e-4 for x in tight if x.success)
+    assert not any(np.array_equal(x.q, r.q) and x.success for x in tight)
+
+
+def test_collisions_off_keep_the_answers_and_the_prepared_path():
+    ur5 = arm("ur5")
+    T = ur5.fk(ur5.random_q(9))
+    a = ur5.solve(T)
+    b = ur5.solve(T, obstacles=[], self_collision=False)
+    np.testing.assert_array_equal(a.q, b.q)
+    assert a.reason == b.reason and "collision" not in a.reason and a.extra == {}
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_solve_batch_equals_a_loop_of_solve_with_obstacles(name):
+    a = arm(name)
+    obstacles = (TABLE, armik.Box((0.2, 0.2, 0.2), (0.45, 0.0, 0.3)))
+    Q = a.random_q(13, n=12)
+    T = a.fk_batch(Q)
+    opts = dict(obstacles=obstacles, self_collision=True, iteration_budget=2000)
+    res = a.solve_batch(T, q0=a.middle, progress=False, **opts)
+    for i in range(len(T)):
+        r = a.solve(T[i], q0=a.middle, **opts)
+        assert res.status[i] == r.status.value
+        np.testing.assert_array_equal(res.q[i], r.q)
+        if r.success:
+            assert not a.in_collision(r.q, obstacles, self_collision=True)
+    assert res.success.any()
+
+
+def test_solve_path_keeps_clear_of_an_obstacle():
+    ur5 = arm("ur5")
+    q = ur5.random_q(1)
+    T = ur5.fk(q)
+    line = [pin.SE3(T.rotation, T.translation + [0, 0.005 * k, 0]) for k in range(6)]
+    box = armik.Box((0.05, 0.05, 0.05), T.translation + [0.0, 0.0, 0.6])
+    if ur5.in_collision(q, [box]):
+        pytest.skip("the start collides")
+    path = ur5.solve_path(line, q, obstacles=[box])
+    for i in np.flatnonzero(path.success):
+        assert not ur5.in_collision(path.q[i], [box])
+    assert path.success.all()
