@@ -10,6 +10,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.arm import Arm, load
+from armik.errors import InputError
 from armik.model.catalogue import CATALOGUE
 from armik.result import IKResult
 from armik.solvers import registry
@@ -17,7 +18,53 @@ from armik.solvers.closed_form import families
 
 
 def load_arm(args: argparse.Namespace) -> Arm:
-    return load(args.robot, base=getattr(args, "base", None), tip=getattr(args, "tip", None))
+    return load(
+        args.robot,
+        base=getattr(args, "base", None),
+        tip=getattr(args, "tip", None),
+        locked=locked_joints(getattr(args, "lock", None)),
+    )
+
+
+def lock_pair(text: str) -> tuple[str, float]:
+    """``NAME=VALUE`` (rad or m) as (name, value); argparse reports a bad one in one line."""
+    name, sep, value = text.partition("=")
+    name = name.strip()
+    if not sep or not name:
+        raise argparse.ArgumentTypeError(
+            f"expected NAME=VALUE (a joint name and its value in rad or m), got {text!r}"
+        )
+    try:
+        number = float(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"the value of {name!r} must be a number (rad or m), got {value.strip()!r}"
+        ) from None
+    return name, number
+
+
+def add_lock_option(c: argparse.ArgumentParser) -> None:
+    c.add_argument(
+        "--lock",
+        action="append",
+        type=lock_pair,
+        metavar="NAME=VALUE",
+        help="hold a joint at a value (rad or m), on or off the chain; repeatable",
+    )
+
+
+def locked_joints(pairs: list[tuple[str, float]] | None) -> dict[str, float] | None:
+    """The ``--lock`` pairs as a mapping; a joint given twice is an ``InputError``."""
+    if not pairs:
+        return None
+    out: dict[str, float] = {}
+    for name, value in pairs:
+        if name in out:
+            raise InputError(
+                f"--lock gives joint {name!r} twice ({out[name]:g} and {value:g}): give it once"
+            )
+        out[name] = value
+    return out
 
 
 def cmd_robots(args: argparse.Namespace) -> int:
@@ -35,6 +82,10 @@ def cmd_info(args: argparse.Namespace) -> int:
         print(f"  tip: {arm.tip_reason}")
     for note in arm.info.notes:
         print(f"  note: {note}")
+    for jname, value in arm.locked.items():
+        where = "on the chain" if jname in arm.locked_on_chain else "off the chain"
+        unit = "m" if arm.info.joint_types.get(jname) == "prismatic" else "rad"
+        print(f"  locked: {jname} = {value:g} {unit} ({where})")
     if args.frames:
         print("frames (link, then [joint type] joint -> child link):")
         for line in frame_tree(arm.info):
