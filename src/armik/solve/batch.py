@@ -3,9 +3,9 @@
 ``solve_batch`` reads the targets into one ``TargetBatch``, splits them into chunks and
 solves the chunks on a pool of threads. A solver with a compiled batch entry
 (``SolverSpec.run_batch``: ``dls`` and ``qp``) solves a whole chunk in the compiled kernel
-with the GIL released, then the chunk is verified with ``verify.measure.measure_batch`` (Pinocchio FK
-per row, the errors and limits compiled); only that verification holds the GIL (10 to 14 %
-of the time on the Panda and the UR5). Any other solver is called target by target
+with the GIL released, then the chunk is verified with ``verify.measure.measure_batch``
+(Pinocchio FK per row, the errors and limits compiled); only that verification holds the
+GIL (10 to 14 % of the time on the Panda and the UR5). Any other solver is called target by target
 through ``armik.solve``; the GIL then serialises the threads, so such a solver runs on one
 thread unless ``workers`` says otherwise.
 

@@ -14,8 +14,9 @@ the answer's tip placement and compiled code measures it in place
 (tests/solve/test_prepared.py); its reason text is written on first read.
 
 Anything else (another input form, a seed outside the limits, an answer the check refuses,
-a claim other than converged) goes the general way: ``armik.solve.single`` and ``armik.verify.verdict``; when
-the check refuses a closed form's first answer, its every row goes there, nearest first.
+a claim other than converged) goes the general way: ``armik.solve.single`` and
+``armik.verify.verdict``; when the check refuses a closed form's first answer, its every row
+goes there, nearest first.
 """
 
 from __future__ import annotations

@@ -227,7 +227,9 @@ def pose_runner(arm: ArmModel, opts: Options, step: Step, position_only: bool = 
             return None
         if info[0] == converged_code:
             restarts = int(info[3])
-            return claim(out_q[0], int(info[2]), restarts, None, False, converged_reason, (restarts,))
+            return claim(
+                out_q[0], int(info[2]), restarts, None, False, converged_reason, (restarts,)
+            )
         return attempts(arm, H[:3, 3], q0, opts, sf, info, out_q, err)
 
     return run_pose
