@@ -62,6 +62,7 @@ def test_quick_start_covers_the_api():
         "tip_offset=",
         "locked=",
         ".with_limits(",
+        ".with_locked(",
         ".solve(",
         ".solve_all(",
         ".solve_batch(",

@@ -8,11 +8,11 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from armik.constraints import collision
-from armik.errors import ArmikWarning, FrameError, URDFError, listing
+from armik.errors import ArmikWarning, FrameError, JointError, URDFError, listing
 from armik.model.arm_model import ArmModel
 from armik.model.catalogue import CATALOGUE, entry
 from armik.model.reduce import check_locked, check_offset, check_package_dirs
@@ -39,13 +39,15 @@ def load(
 
     The chain runs from ``base`` (default: the URDF root link) to ``tip`` (default: the
     catalogue tip, else ``tool0`` as in REP 199, else the leaf at the end of the longest
-    chain of moving joints; ``Arm.tip_reason`` says which and why). Every joint off the
-    chain is locked at the value in ``locked`` (joint name -> rad or m) or at its neutral
-    value. ``tip_offset`` (m, in the tip frame) moves the tool point. ``package_dirs``:
-    folders where ``package://`` mesh paths are looked up (for meshes: collision geometry,
-    the viewer). ``srdf``: an SRDF file whose ``<disable_collisions>`` pairs of links are
-    not checked for self-collision. The arm's name is the catalogue name, else the URDF's
-    ``<robot name>``.
+    chain of moving joints; ``Arm.tip_reason`` says which and why). A joint named in
+    ``locked`` (joint name -> rad or m, within its URDF limits) is held at that value: off
+    the chain, or on it, where it becomes a fixed transform and the results carry only the
+    free joints (``Arm.locked`` lists them). Every other joint off the chain is held at its
+    neutral value. ``tip_offset`` (m, in the tip frame) moves the tool point.
+    ``package_dirs``: folders where ``package://`` mesh paths are looked up (for meshes:
+    collision geometry, the viewer). ``srdf``: an SRDF file whose ``<disable_collisions>``
+    pairs of links are not checked for self-collision. The arm's name is the catalogue
+    name, else the URDF's ``<robot name>``.
 
     Raises ``URDFError``, ``FrameError``, ``JointError`` or ``OptionError`` (all
     ``ValueError``) naming the bad value and the fix.
@@ -226,9 +228,11 @@ class Arm(ArmModel):
 
     Attributes: ``dof``, ``joint_names``, ``joint_types``, ``lower``, ``upper`` (rad or m;
     -inf/+inf for continuous joints), ``neutral``, ``middle``, ``base``, ``tip``,
-    ``tip_reason`` (how the tip was chosen when none was given), ``info`` (what the URDF
-    says: its tree, and ``info.notes`` on how it was read), ``model`` (the reduced
-    Pinocchio model, not to be modified).
+    ``tip_reason`` (how the tip was chosen when none was given), ``locked`` (read-only:
+    every joint locked by value, on or off the chain, name -> rad or m), ``locked_on_chain``
+    (those between the base and the tip), ``info`` (what the URDF says: its tree, and
+    ``info.notes`` on how it was read), ``model`` (the reduced Pinocchio model, not to be
+    modified).
     """
 
     def __reduce__(self):
@@ -239,6 +243,33 @@ class Arm(ArmModel):
             )
         return (_rebuild, (self._recipe,))
 
+    def with_locked(self, locked: Mapping[str, float]) -> Arm:
+        """A new arm with the joints of ``locked`` (name -> rad or m) locked at those values,
+        on or off the chain, besides those this arm already locks (a joint locked again takes
+        the new value). Built from the arm's recipe, as ``armik.load`` would; the limits
+        replaced by ``with_limits`` are kept for the joints that stay free.
+
+        Raises ``JointError`` as ``armik.load`` does: an unknown joint, a value that is not
+        finite or lies outside the joint's URDF limits, no moving joint left.
+        """
+        if self._recipe is None:
+            raise TypeError(
+                f"arm {self.name!r} was not built by armik.load, so it has no recipe to "
+                "rebuild from; build it with armik.load(..., locked=...)"
+            )
+        new = check_locked(locked)
+        if new is None:
+            raise JointError(
+                "locked must map joint names to values (rad or m), e.g. "
+                f"{{{self.joint_names[-1]!r}: 0.0}}; got None",
+                joint="None",
+            )
+        recipe = replace(
+            self._recipe,
+            locked={**self._recipe.locked, **new},
+            limits=tuple(x for x in self._recipe.limits if x[0] not in new),
+        )
+        return recipe.build()
 
     # -- solving --------------------------------------------------------------------------
 

@@ -103,13 +103,14 @@ def test_locked_joint_upstream_of_base_sets_base_placement():
     assert a.fk(np.array([0.2, 0.3])).isApprox(b.fk(np.array([0.2, 0.3])), 1e-12)
 
 
-def test_locked_joint_must_be_off_the_chain(tmp_path):
+def test_locked_joint_on_the_chain_is_a_fixed_transform(tmp_path):
     path = write_urdf(tmp_path, two_link_urdf())
-    # lock j2 by making the chain stop before it: not allowed to lock a chain joint
-    with pytest.raises(JointError, match="lies on the chain"):
-        armik.load(path, tip="tip", locked={"j2": 0.3})
-    a = armik.load(path, tip="l1", locked={"j2": 0.3})
-    assert a.joint_names == ["j1"]
+    a = armik.load(path, tip="tip", locked={"j2": 0.3})
+    assert a.joint_names == ["j1"] and a.locked_on_chain == ("j2",)
+    full = armik.load(path, tip="tip")
+    assert a.fk([0.2]).isApprox(full.fk([0.2, 0.3]), 1e-12)
+    b = armik.load(path, tip="l1", locked={"j2": 0.3})  # off the chain: not on it
+    assert b.joint_names == ["j1"] and b.locked_on_chain == () and dict(b.locked) == {"j2": 0.3}
 
 
 def test_panda_locked_finger_value_moves_nothing_on_hand():

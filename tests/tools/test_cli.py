@@ -69,10 +69,21 @@ def test_solve_unreachable_exit_1(capsys):
         (["reach", "ur5", "--resolution", "1e-300"], "too many solves"),
         (["solve", "ur5", "--xyz", "0.4", "0", "0", "--tip", "hand"], "unknown tip frame"),
         (["info", "/no/such/file.urdf"], "does not exist"),
+        (["info", "panda", "--lock", "panda_joint7"], "expected NAME=VALUE"),
+        (["info", "panda", "--lock", "=0.3"], "expected NAME=VALUE"),
+        (["info", "panda", "--lock", "panda_joint7=abc"], "must be a number"),
+        (["info", "panda", "--lock", "panda_joint7=nan"], "finite number"),
+        (["info", "panda", "--lock", "panda_joint7=9"], "outside its URDF limits"),
+        (["info", "panda", "--lock", "panda_joint9=0"], "does not exist"),
+        (["info", "panda", "--lock", "panda_joint7=0", "--lock", "panda_joint7=1"], "twice"),
+        (["solve", "ur5", "--xyz", "0.4", "0", "0", "--lock", "elbow_joint"], "expected NAME="),
+        (["batch", "ur5", "t.npy", "-o", "o.npz", "--lock", "elbow_joint:1"], "expected NAME="),
+        (["reach", "ur5", "--lock", "elbow_joint=x"], "must be a number"),
     ],
 )
 def test_bad_input_exit_2_one_line(capsys, argv, words):
-    with pytest.raises(SystemExit) if "expected" in words else _nullcontext() as box:
+    parser_error = "expected" in words or "must be a number" in words
+    with pytest.raises(SystemExit) if parser_error else _nullcontext() as box:
         code, out, err = run(capsys, *argv)
     if box is not None and hasattr(box, "value"):
         code = box.value.code
@@ -80,6 +91,28 @@ def test_bad_input_exit_2_one_line(capsys, argv, words):
     assert code == 2
     assert words in err
     assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+def test_lock_on_the_chain(capsys):
+    code, out, _ = run(capsys, "info", "panda", "--lock", "panda_joint7=0.3")
+    assert code == 0 and "panda: 6 joints" in out
+    assert "locked: panda_joint7 = 0.3 rad (on the chain)" in out and "auto -> dls" in out
+    code, out, _ = run(
+        capsys,
+        "solve",
+        "ur5",
+        "--lock",
+        "wrist_1_joint=-1.2",
+        "--lock",
+        "shoulder_pan_joint=0.1",
+        "--xyz",
+        "0.4",
+        "0.2",
+        "0.3",
+        "--json",
+    )
+    data = json.loads(out)
+    assert code == 0 and "wrist_1_joint" not in data["joints"] and len(data["joints"]) == 4
 
 
 class _nullcontext:

@@ -69,7 +69,10 @@ def test_closed_pipe_ends_quietly(tmp_path):
     read_end, write_end = os.pipe()
     os.close(read_end)  # the reader is gone before armik writes (armik info panda | true)
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
-    code = "import sys; from armik.tools.cli import main; sys.exit(main(['info', 'panda', '--frames']))"
+    code = (
+        "import sys; from armik.tools.cli import main; "
+        "sys.exit(main(['info', 'panda', '--frames']))"
+    )
     try:
         done = subprocess.run(
             [sys.executable, "-c", code], stdout=write_end, stderr=subprocess.PIPE, env=env

@@ -15,6 +15,7 @@ import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import replace
 from functools import cached_property
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -35,14 +36,8 @@ _le = operator.le
 
 
 class ArmModel:
-    """The kinematic chain of one robot arm (``armik.load`` builds its facade, ``Arm``).
-
-    Attributes: ``dof``, ``joint_names``, ``joint_types``, ``lower``, ``upper`` (rad or m;
-    -inf/+inf for continuous joints), ``neutral``, ``middle``, ``base``, ``tip``,
-    ``tip_reason`` (how the tip was chosen when none was given), ``info`` (what the URDF
-    says: its tree, and ``info.notes`` on how it was read), ``model`` (the reduced
-    Pinocchio model, not to be modified).
-    """
+    """The kinematic chain of one robot arm (``armik.load`` builds its facade, ``Arm``,
+    whose docstring lists the attributes)."""
 
     package_dirs: tuple[str, ...] = ()  # where package:// paths are looked up (meshes)
     disabled_pairs: frozenset[tuple[str, str]] = frozenset()  # an SRDF's, sorted link names
@@ -71,6 +66,8 @@ class ArmModel:
         self.tip_frame_id = chain.tip_frame_id
         self.tip_offset = chain.tip_offset
         self.T_world_base = chain.T_world_base
+        self.locked = MappingProxyType(chain.locked)
+        self.locked_on_chain = chain.locked_on_chain
         self.T_base_world = self.T_world_base.inverse()
         self._base_is_world = self.T_world_base.isIdentity(1e-15)
 

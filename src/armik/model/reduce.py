@@ -19,7 +19,7 @@ import pinocchio as pin
 
 from armik.errors import FrameError, JointError, OptionError, listing
 from armik.model.urdf import URDFInfo
-from armik.tolerances import MAX_LENGTH, MAX_LIMIT
+from armik.tolerances import LIMIT_TOL, MAX_LENGTH, MAX_LIMIT
 
 log = logging.getLogger(__name__)
 
@@ -37,6 +37,8 @@ class ReducedChain:
     tip_frame_id: int  # the tip frame, or the tool frame ``tip_offset`` added after it
     tip_offset: tuple[float, float, float] | None  # m, in the tip frame
     T_world_base: pin.SE3  # constant: the base frame's own joint is locked
+    locked: dict[str, float]  # every joint locked by value, on or off the chain (rad or m)
+    locked_on_chain: tuple[str, ...]  # those between the base and the tip, base first
     # how the chain was cut from the whole URDF's model, to cut its collision geometry alike
     full: pin.Model | None = None
     locked_joints: tuple[int, ...] = ()
@@ -54,8 +56,11 @@ def reduce_chain(
     tip_offset: tuple[float, float, float] | None,
 ) -> ReducedChain:
     """The chain of ``full`` from ``base`` (default: the URDF's root link) to ``tip``
-    (default: ``default_tip``), every other joint locked at ``locked``'s value or its
-    neutral one. Raises ``FrameError`` or ``JointError`` naming the frame or joint."""
+    (default: ``default_tip``). Every joint off the chain is locked at ``locked``'s value or
+    its neutral one; a joint of the chain named in ``locked`` becomes a fixed transform at
+    that value (rad or m), and the chain keeps the other joints. Raises ``FrameError`` or
+    ``JointError`` naming the frame or joint: an unknown locked joint, a locked value that is
+    not finite or lies outside the joint's URDF limits, every joint of the chain locked."""
     frames = [f.name for f in full.frames if f.name != "universe"]
     base = base if base is not None else info.root_link
     base_id = lookup_frame(full, base, "base", frames)
@@ -76,13 +81,31 @@ def reduce_chain(
             frame=tip,
             candidates=frames,
         )
-    chain = [j for j in tip_support[tip_support.index(base_joint) + 1 :]]
-    if not chain:
+    path = list(tip_support[tip_support.index(base_joint) + 1 :])
+    if not path:
         raise FrameError(
             f"the chain from {base!r} to {tip!r} has no moving joint: "
             "pick a tip further from the base",
             frame=tip,
             candidates=frames,
+        )
+
+    q_ref = pin.neutral(full)
+    values: dict[str, float] = {}
+    for jname, value in locked.items():
+        jid = _locked_joint(full, jname)
+        number = locked_value(full, info, jid, value)
+        set_joint(full, q_ref, jid, number)
+        values[jname] = number
+    held = [j for j in path if full.names[j] in values]
+    chain = [j for j in path if j not in held]
+    if not chain:
+        names = [full.names[j] for j in held]
+        raise JointError(
+            f"locking {listing(names)} leaves no moving joint on the chain from {base!r} to "
+            f"{tip!r}: leave at least one of them free, or pick another base or tip",
+            joint=names[0],
+            candidates=names,
         )
     for j in chain:
         jname = full.names[j]
@@ -95,37 +118,12 @@ def reduce_chain(
         if jname in info.mimic:
             raise JointError(
                 f"joint {jname!r} on the chain mimics {info.mimic[jname]!r}; mimic joints "
-                "on the chain are not supported: pick a tip before it or remove the mimic tag",
+                "on the chain are not supported: lock it at a value (locked=), pick a tip "
+                "before it or remove the mimic tag",
                 joint=jname,
             )
-
-    q_ref = pin.neutral(full)
-    all_joints = list(full.names)[1:]
-    for jname, value in locked.items():
-        if not full.existJointName(jname):
-            raise JointError(
-                f"locked joint {jname!r} does not exist; joints: {listing(all_joints)}",
-                joint=jname,
-                candidates=all_joints,
-            )
-        jid = full.getJointId(jname)
-        if jid in chain:
-            raise JointError(
-                f"locked joint {jname!r} lies on the chain from {base!r} to "
-                f"{tip!r}; only joints off the chain can be locked",
-                joint=jname,
-                candidates=all_joints,
-            )
-        try:
-            number = float(value)
-        except (TypeError, ValueError):
-            number = math.nan
-        if not math.isfinite(number):
-            raise JointError(
-                f"locked value for {jname!r} must be a finite number (rad or m), got {value!r}",
-                joint=jname,
-            )
-        set_joint(full, q_ref, jid, number)
+    # Every joint off the chain, and the chain's locked joints, become fixed transforms at
+    # their value in q_ref.
     to_lock = [j for j in range(1, full.njoints) if j not in chain]
     model = reduce_model(full, to_lock, q_ref) if to_lock else full.copy()
 
@@ -148,10 +146,59 @@ def reduce_chain(
         tip_frame_id=tip_frame,
         tip_offset=None if tip_offset is None else tuple(float(v) for v in tip_offset),
         T_world_base=data_full.oMf[base_id].copy(),
+        locked=values,
+        locked_on_chain=tuple(full.names[j] for j in held),
         full=full,
         locked_joints=tuple(to_lock),
         q_ref=q_ref,
     )
+
+
+def _locked_joint(full: pin.Model, jname: str) -> int:
+    """The id of the locked joint ``jname``; raises ``JointError`` listing the joints."""
+    if not full.existJointName(jname):
+        all_joints = list(full.names)[1:]
+        close = difflib.get_close_matches(jname, all_joints, n=5, cutoff=0.5)
+        hint = f"closest: {listing(close)}; " if close else ""
+        raise JointError(
+            f"locked joint {jname!r} does not exist; {hint}joints: {listing(all_joints)}",
+            joint=jname,
+            candidates=all_joints,
+        )
+    return full.getJointId(jname)
+
+
+def locked_value(full: pin.Model, info: URDFInfo, jid: int, value: object) -> float:
+    """``value`` as the float a joint is locked at (rad or m). Raises ``JointError`` naming
+    the joint, the value and the limits when it is not a finite number or lies outside the
+    joint's URDF limits (a continuous joint, or a side without a limit, takes any value)."""
+    jname = full.names[jid]
+    try:
+        if isinstance(value, (str, bytes, complex)) or np.iscomplexobj(value):
+            raise TypeError  # never parse text or drop an imaginary part
+        number = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        number = math.nan
+    if not math.isfinite(number):
+        raise JointError(
+            f"locked value for {jname!r} must be a finite number (rad or m), got {value!r}",
+            joint=jname,
+        )
+    joint = full.joints[jid]
+    if joint.nq != 1 or jname in info.unset_limits:  # continuous, or limits "0 0"
+        return number
+    lo = float(full.lowerPositionLimit[joint.idx_q])
+    hi = float(full.upperPositionLimit[joint.idx_q])
+    lo = lo if lo >= -MAX_LIMIT else -math.inf  # beyond MAX_LIMIT: free on that side
+    hi = hi if hi <= MAX_LIMIT else math.inf
+    if not lo - LIMIT_TOL <= number <= hi + LIMIT_TOL:
+        unit = "m" if info.joint_types.get(jname) == "prismatic" else "rad"
+        raise JointError(
+            f"locked value {number:g} {unit} for {jname!r} is outside its URDF limits "
+            f"[{lo:g}, {hi:g}] {unit}: lock it at a value within them",
+            joint=jname,
+        )
+    return number
 
 
 def frame_id(model: pin.Model, name: str) -> int:
@@ -384,20 +431,3 @@ def default_tip(info: URDFInfo, base: str) -> tuple[str, str]:
         frame="",
         candidates=names,
     )
-
-
-def check_limit_value(jname: str, value: object) -> float:
-    try:
-        if isinstance(value, (str, bytes, complex)) or np.iscomplexobj(value):
-            raise TypeError
-        out = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        out = math.nan
-    if math.isnan(out) or (math.isfinite(out) and abs(out) > MAX_LIMIT):
-        raise JointError(
-            f"limits for {jname!r} must be numbers (rad or m) within "
-            f"+-{MAX_LIMIT:g}, or "
-            f"-inf/inf for no limit on that side; got {value!r}",
-            joint=jname,
-        )
-    return out

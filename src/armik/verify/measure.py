@@ -109,7 +109,9 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: Options) -> Meas
     )
 
 
-def measure_many(arm: ArmModel, qs: list[np.ndarray], target: Target, opts: Options) -> list[Measure]:
+def measure_many(
+    arm: ArmModel, qs: list[np.ndarray], target: Target, opts: Options
+) -> list[Measure]:
     """``[measure(arm, q, target, opts) for q in qs]`` (the same numbers): Pinocchio FK per
     answer, the errors of all of them in one compiled call."""
     n = len(qs)
@@ -183,7 +185,9 @@ class BatchMeasure:
         return self.pose_ok & self.within_limits
 
 
-def measure_batch(arm: ArmModel, Q: np.ndarray, targets: TargetBatch, opts: Options) -> BatchMeasure:
+def measure_batch(
+    arm: ArmModel, Q: np.ndarray, targets: TargetBatch, opts: Options
+) -> BatchMeasure:
     """Measure row i of ``Q`` (N, dof) against target i, as ``measure`` does for one: Pinocchio
     FK for the placements, compiled code for the errors and the limits. A row with a
     non-finite value fails (NaN errors, outside the limits). For the violated joints of a row

@@ -358,14 +358,14 @@ def claim_reason(closed_form: str, singular: bool) -> str:
 
 def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form):
     """``run_pose(H, q0, seed, every=False)`` for ``armik.solve.prepared`` (see
-    ``armik.solvers.numeric.driver.pose_runner``): ``solve_into(flat, H, q0, every, out)`` is the family's
-    compiled kernel for one plain 4x4 pose (n = -1 when the pose or q0 is not plain; see
-    ``hand_over``). When the nearest row is reached within the limits, the answer ``solve``
-    verifies first, a ``Claim``; else the
-    attempts of every row (each labelled) for the general verdict. With ``every``
-    (``solve_all``, and ``solve`` when Pinocchio refuses that first answer): (Q, rows), Q
-    the (n, 6) read-only answers and rows one entry per answer, nearest first: a ``Claim``
-    (its q a row of Q) for an answer claimed reached, an ``Attempt`` for the others."""
+    ``armik.solvers.numeric.driver.pose_runner``): ``solve_into(flat, H, q0, every, out)``
+    is the family's compiled kernel for one plain 4x4 pose (n = -1 when the pose or q0 is
+    not plain; see ``hand_over``). When the nearest row is reached within the limits, the
+    answer ``solve`` verifies first, a ``Claim``; else the attempts of every row (each
+    labelled) for the general verdict. With ``every`` (``solve_all``, and ``solve`` when
+    Pinocchio refuses that first answer): (Q, rows), Q the (n, 6) read-only answers and rows
+    one entry per answer, nearest first: a ``Claim`` (its q a row of Q) for an answer
+    claimed reached, an ``Attempt`` for the others."""
     chain = flat(arm, family, classify)
     why = ((closed_form, False), (closed_form, True))  # claim_reason's arguments
     # a reached row's claim after q, by its (flags, branch bits) as the kernel writes them

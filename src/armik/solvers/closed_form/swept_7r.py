@@ -255,9 +255,9 @@ def run(
 
 
 def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):
-    """``run_pose`` for ``armik.solve.prepared`` (see ``armik.solvers.numeric.driver.pose_runner``); position_only is
-    always False (``applies`` refuses position targets), ``solve_all`` takes the general
-    path."""
+    """``run_pose`` for ``armik.solve.prepared`` (see
+    ``armik.solvers.numeric.driver.pose_runner``); position_only is always False
+    (``applies`` refuses position targets), ``solve_all`` takes the general path."""
     sw = geometry(arm)
     lower = np.ascontiguousarray(arm.lower, dtype=float)
     upper = np.ascontiguousarray(arm.upper, dtype=float)

@@ -10,7 +10,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.arm import Arm, load
-from armik.errors import FrameError
+from armik.errors import FrameError, InputError
 from armik.model.catalogue import CATALOGUE, entry
 from armik.model.urdf import read_urdf, read_urdf_string
 from armik.result import IKResult
@@ -24,6 +24,7 @@ def load_arm(args: argparse.Namespace) -> Arm:
         base=getattr(args, "base", None),
         tip=getattr(args, "tip", None),
         tip_offset=getattr(args, "tip_offset", None),
+        locked=locked_joints(getattr(args, "lock", None)),
     )
 
 
@@ -66,6 +67,47 @@ def solve_options(args: argparse.Namespace) -> dict:
     return options
 
 
+def lock_pair(text: str) -> tuple[str, float]:
+    """``NAME=VALUE`` (rad or m) as (name, value); argparse reports a bad one in one line."""
+    name, sep, value = text.partition("=")
+    name = name.strip()
+    if not sep or not name:
+        raise argparse.ArgumentTypeError(
+            f"expected NAME=VALUE (a joint name and its value in rad or m), got {text!r}"
+        )
+    try:
+        number = float(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"the value of {name!r} must be a number (rad or m), got {value.strip()!r}"
+        ) from None
+    return name, number
+
+
+def add_lock_option(c: argparse.ArgumentParser) -> None:
+    c.add_argument(
+        "--lock",
+        action="append",
+        type=lock_pair,
+        metavar="NAME=VALUE",
+        help="hold a joint at a value (rad or m), on or off the chain; repeatable",
+    )
+
+
+def locked_joints(pairs: list[tuple[str, float]] | None) -> dict[str, float] | None:
+    """The ``--lock`` pairs as a mapping; a joint given twice is an ``InputError``."""
+    if not pairs:
+        return None
+    out: dict[str, float] = {}
+    for name, value in pairs:
+        if name in out:
+            raise InputError(
+                f"--lock gives joint {name!r} twice ({out[name]:g} and {value:g}): give it once"
+            )
+        out[name] = value
+    return out
+
+
 def cmd_robots(args: argparse.Namespace) -> int:
     print(f"{'name':<16} {'dof':>3}  {'tip':<24} description")
     for name, spec in CATALOGUE.items():
@@ -90,6 +132,10 @@ def cmd_info(args: argparse.Namespace) -> int:
         print(f"  tip: {arm.tip_reason}")
     for note in arm.info.notes:
         print(f"  note: {note}")
+    for jname, value in arm.locked.items():
+        where = "on the chain" if jname in arm.locked_on_chain else "off the chain"
+        unit = "m" if arm.info.joint_types.get(jname) == "prismatic" else "rad"
+        print(f"  locked: {jname} = {value:g} {unit} ({where})")
     if args.frames:
         _print_frames(arm.info, set(), arm.tip)
     print(f"  {'joint':<24} {'type':<11} {'lower':>9} {'upper':>9}  link to next (m)")

@@ -14,6 +14,7 @@ from armik.errors import ArmikError, ArmikWarning
 from armik.model.catalogue import SPATIAL_ARMS
 from armik.tools import bench as bench_mod
 from armik.tools.cli.arms import (
+    add_lock_option,
     add_solve_options,
     cmd_demo,
     cmd_info,
@@ -106,6 +107,7 @@ def _parser() -> argparse.ArgumentParser:
         "--tip", help="tip frame (default: catalogue tip, tool0, or the end of the longest chain)"
     )
     c.add_argument("--frames", action="store_true", help="print the URDF's frames as a tree")
+    add_lock_option(c)
 
     c = command(
         "solve",
@@ -116,6 +118,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("robot", help="bundled robot name or path to a URDF file")
     c.add_argument("--base", help="base frame")
     c.add_argument("--tip", help="tip frame")
+    add_lock_option(c)
     c.add_argument(
         "--xyz",
         nargs=3,

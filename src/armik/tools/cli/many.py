@@ -12,7 +12,7 @@ import numpy as np
 from armik.errors import InputError
 from armik.solve.batch import solve_batch
 from armik.solve.reach import reachability
-from armik.tools.cli.arms import add_solve_options, load_arm, solve_options
+from armik.tools.cli.arms import add_lock_option, add_solve_options, load_arm, solve_options
 
 
 def add_many_commands(command) -> None:
@@ -33,6 +33,7 @@ def add_many_commands(command) -> None:
     c.add_argument("-o", "--output", required=True, help="results file (.npz)")
     c.add_argument("--base", help="base frame")
     c.add_argument("--tip", help="tip frame")
+    add_lock_option(c)
     c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
     c.add_argument("--workers", type=int, help="threads (default: one per core)")
     c.add_argument(
@@ -54,6 +55,7 @@ def add_many_commands(command) -> None:
     c.add_argument("robot", help="bundled robot name or path to a URDF file")
     c.add_argument("--base", help="base frame")
     c.add_argument("--tip", help="tip frame")
+    add_lock_option(c)
     c.add_argument("--resolution", type=float, default=0.1, help="voxel side, m (0.1)")
     c.add_argument("--orientations", type=int, default=16, help="per voxel (16)")
     c.add_argument("--timeout", type=float, default=0.005, help="budget per solve, s (0.005)")
