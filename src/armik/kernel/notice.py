@@ -35,6 +35,7 @@ PARTS = (
     ("armik.solvers.closed_form", "the 6R closed forms' shared code", 5),
     ("armik", "armik's compiled code", 5),
 )
+_CHECK = PARTS[0][1]  # the forward-kinematics check
 BURST_GAP = 1.0  # s: compilations this close together are one wait, told in one line
 
 
@@ -48,7 +49,8 @@ def part_of(module: str) -> tuple[str, float]:
 
 class _Notice(event.Listener):
     """Tells when armik functions compile: one line per burst of outermost compilations
-    (a first call compiles several functions in a row), named after the first."""
+    (a first call compiles several functions in a row, the FK check among them), named
+    after the first."""
 
     def __init__(self, stream=None) -> None:
         self.stream = stream
@@ -70,7 +72,8 @@ class _Notice(event.Listener):
             if self.closing is not None:
                 self.closing.cancel()
                 self.closing = None
-            if self.line is not None and self.line.what != what:
+            # the FK check compiles within the solves' bursts: it goes on under their line
+            if self.line is not None and what not in (self.line.what, _CHECK):
                 self.line.close()
                 self.line = None
             if self.line is None:
