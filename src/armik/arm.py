@@ -93,23 +93,11 @@ def load(
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ArmikWarning)
             model, info = read_urdf(path)
-    arm = Arm(
-        model,
-        info,
-        name=info.name if name_from_urdf and info.name else name,
-        base=base,
-        tip=tip,
-        locked=locked or {},
-        tip_offset=tip_offset,
-        source=str(path),
-    )
+    name = info.name if name_from_urdf and info.name else name
+    arm = _built(model, info, name, str(path), base, tip, locked, tip_offset, dirs, srdf)
     if not name_from_urdf and tip == spec.tip:
         arm.tip_reason = f"the catalogue's tip for {name!r}"
-    arm.package_dirs = dirs
-    srdf = _read_srdf(arm, srdf)
-    arm._recipe = Recipe(
-        str(source), base, tip, dict(locked or {}), arm.tip_offset, (), dirs, srdf=srdf
-    )
+    arm._recipe = replace(arm._recipe, source=str(source))
     return arm
 
 
@@ -134,31 +122,33 @@ def load_string(
     tip_offset = check_offset(tip_offset)
     dirs = check_package_dirs(package_dirs)
     model, info = read_urdf_string(xml.lstrip(), STRING_SOURCE)  # <?xml ...?> comes first
+    name = info.name or "robot"
+    arm = _built(model, info, name, STRING_SOURCE, base, tip, locked, tip_offset, dirs, srdf)
+    arm._recipe = replace(arm._recipe, text=xml)
+    return arm
+
+
+def _built(model, info, name, source, base, tip, locked, tip_offset, dirs, srdf) -> Arm:
+    """The arm of a read URDF, its package folders and SRDF pairs set, and its recipe
+    (``load`` and ``load_string`` then say where the URDF came from)."""
     arm = Arm(
         model,
         info,
-        name=info.name or "robot",
+        name=name,
         base=base,
         tip=tip,
         locked=locked or {},
         tip_offset=tip_offset,
-        source=STRING_SOURCE,
+        source=source,
     )
     arm.package_dirs = dirs
-    srdf = _read_srdf(arm, srdf)
+    if srdf is not None:
+        arm.disabled_pairs = collision.read_srdf(srdf, arm.info.links)
+        srdf = str(Path(srdf).resolve())  # type: ignore[arg-type]
     arm._recipe = Recipe(
-        STRING_SOURCE, base, tip, dict(locked or {}), arm.tip_offset, (), dirs, text=xml,
-        srdf=srdf,
-    )  # fmt: skip
+        source, base, tip, dict(locked or {}), arm.tip_offset, (), dirs, srdf=srdf
+    )
     return arm
-
-
-def _read_srdf(arm: Arm, srdf: object) -> str | None:
-    """Read the SRDF's disabled pairs into ``arm``; its resolved path, for the recipe."""
-    if srdf is None:
-        return None
-    arm.disabled_pairs = collision.read_srdf(srdf, arm.info.links)
-    return str(Path(srdf).resolve())  # type: ignore[arg-type]
 
 
 STRING_SOURCE = "<string>"  # Arm.source of an arm read from XML text
