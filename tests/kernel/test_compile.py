@@ -96,3 +96,26 @@ def test_compile_command_and_bad_names(capsys):
     assert "unknown part 'nothing'" in capsys.readouterr().err
     with pytest.raises(OptionError, match="unknown part 'warp'.*parts: 'dls'"):
         armik.compile(["dls", "warp"])
+
+
+PARALLEL = textwrap.dedent(
+    """
+    import json
+    import armik
+    print(json.dumps(sorted(armik.compile(["planar2r", "fk_batch"], jobs=2))))
+    """
+)
+
+
+def test_compiling_in_two_processes_fills_the_cache_a_new_process_loads(tmp_path):
+    cache = tmp_path / "cache"
+    done = _run(PARALLEL, cache, ARMIK_COMPILE_NOTICE="1")
+    assert json.loads(done.stdout.strip().splitlines()[-1]) == ["fk_batch", "planar2r"]
+    again = _run(PARALLEL.replace("jobs=2", "jobs=1"), cache, ARMIK_COMPILE_NOTICE="1")
+    assert "armik: compiling" not in again.stderr
+
+
+@pytest.mark.parametrize("jobs", [0, -1, 1.5, True, "2"])
+def test_bad_jobs_are_refused_with_the_value(jobs):
+    with pytest.raises(OptionError, match=f"jobs must be a positive int.*got {jobs!r}"):
+        armik.compile(["clik"], jobs=jobs)
