@@ -179,6 +179,7 @@ def _timed(name: str) -> float:
 
 def _quiet() -> None:
     os.environ["ARMIK_COMPILE_NOTICE"] = "0"  # the progress bar tells it; notices would mix in
+    os.environ["ARMIK_COMPILE_HELPER"] = "0"  # the cores are taken by the other processes
 
 
 def _in_processes(names: Sequence[str], jobs: int, bar) -> dict[str, float]:
