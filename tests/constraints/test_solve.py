@@ -115,7 +115,7 @@ def test_collisions_off_keep_the_answers_and_the_prepared_path():
 
 
 @pytest.mark.parametrize("name", ["ur5", "panda"])
-def test_solve_batch_equals_a_loop_of_solve_with_obstacles(name):
+def test_solve_batch_equals_a_loop_of_solve_with_obstacles(name, tmp_path):
     a = arm(name)
     obstacles = (TABLE, armik.Box((0.2, 0.2, 0.2), (0.45, 0.0, 0.3)))
     Q = a.random_q(13, n=12)
@@ -126,9 +126,21 @@ def test_solve_batch_equals_a_loop_of_solve_with_obstacles(name):
         r = a.solve(T[i], q0=a.middle, **opts)
         assert res.status[i] == r.status.value
         np.testing.assert_array_equal(res.q[i], r.q)
+        # coal's GJK starts from the last call's guess: the same q, the last bits may differ
+        assert res.min_distance[i] == pytest.approx(r.min_distance, abs=1e-9)
+        assert res.closest_pair(i) == r.closest_pair
+        assert res[i].closest_pair == r.closest_pair
         if r.success:
             assert not a.in_collision(r.q, obstacles, self_collision=True)
-    assert res.success.any()
+    assert res.success.any() and np.isfinite(res.min_distance).all()
+    loaded = armik.BatchResult.load(res.save(tmp_path / "r.npz"))
+    np.testing.assert_array_equal(loaded.min_distance, res.min_distance)
+    assert [loaded.closest_pair(i) for i in range(len(T))] == [
+        res.closest_pair(i) for i in range(len(T))
+    ]
+    plain = a.solve_batch(T[:3], progress=False, iteration_budget=2000)
+    assert np.isnan(plain.min_distance).all() and plain.closest_pair(0) is None
+    assert plain[0].min_distance is None
 
 
 def test_solve_path_keeps_clear_of_an_obstacle():

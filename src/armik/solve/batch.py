@@ -14,6 +14,8 @@ each target uses the options of a call of ``Arm.solve`` (``seed`` included): the
 give the same answers as a loop of ``solve``. The budget is per target: ``timeout`` counts
 the solving thread's CPU time, so other threads do not shorten it; ``iteration_budget``
 makes the answers identical whatever the thread count, the chunking or the machine.
+With collisions checked, ``min_distance`` and ``pair_index`` hold each answer's closest
+pair (its names in ``pair_names``, the checker's pairs in their order).
 
 Results go into arrays allocated once for the whole batch; a chunk allocates only its own
 scratch memory, so the memory used beyond the targets and results does not grow with N.
@@ -30,6 +32,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from armik.batch_result import BatchResult
+from armik.constraints.collision import checker
 from armik.errors import ArmikWarning, OptionError
 from armik.frozen import frozen
 from armik.options import Options
@@ -82,6 +85,8 @@ def solve_batch(
     workers = 1 if workers is None and opts.collisions else _workers(workers, spec)
     chunk = _chunk_size(chunk_size)
     out = BatchResult.for_arm(arm, n, spec.name, opts)
+    if opts.collisions:  # the pairs in the checker's order, whatever order rows finish in
+        out.pair_names.extend(checker(arm, opts.obstacles, opts.self_collision).pair_names)
     bar = make_progress(progress, n, f"{arm.name}/{spec.name}")
     starts = range(0, n, chunk)
 
