@@ -18,6 +18,9 @@ coal's convex hulls (as armik's contract says), every pair of objects on bodies 
 relative to one another (a locked joint moving nothing) except a joint's two sides, and
 the obstacles as coal shapes built from the same numbers as the scene.
 
+``--slide always``: a numeric answer in collision is first slid out of contact
+(``armik.solve.slide``), as on paths, before any restart.
+
 Run: PYTHONPATH=src python benchmarks/collision_scenes.py -n 1000 [--scenes panda ur5]
 """
 
@@ -33,6 +36,7 @@ import pinocchio as pin
 
 import armik
 from armik.model.catalogue import erd_share
+from armik.solve import avoid
 
 warnings.simplefilter("ignore")
 TOL = 1e-6  # m: two GJK runs on the same pair agree to far better than this
@@ -201,7 +205,15 @@ def main() -> None:
     p.add_argument("--scenes", nargs="+", default=list(SCENES), choices=list(SCENES))
     p.add_argument("--workers", type=int, default=2, help="solve_batch threads (2)")
     p.add_argument("--seed", type=int, default=0, help="target sampling seed (0)")
+    p.add_argument(
+        "--slide",
+        choices=["paths", "always"],
+        default="paths",
+        help="slide a colliding numeric answer out of contact before restarting: on paths "
+        "only (armik's default; these solves restart at once) or in every solve",
+    )
     args = p.parse_args()
+    avoid.SLIDE = True if args.slide == "always" else "paths"
     for name in args.scenes:
         run(name, args.n, args.workers, args.seed)
 

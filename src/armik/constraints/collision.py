@@ -175,9 +175,7 @@ class Checker:
         (rad, m); negative when they overlap (the depth); (inf, None) with no pair."""
         if not self.pair_names:
             return float("inf"), None
-        gd = getattr(self._local, "data", None)
-        if gd is None:
-            gd = self._local.data = pin.GeometryData(self.model)
+        gd = self.geometry_data()
         arm = self.arm
         model = self.model
         pin.updateGeometryPlacements(arm.model, arm.data, model, gd, arm.to_pin(q))
@@ -191,6 +189,13 @@ class Checker:
             if d < best:
                 best, k_best = d, k
         return float(best), self.pair_names[k_best]
+
+    def geometry_data(self) -> pin.GeometryData:
+        """This thread's ``GeometryData`` of the checker's model."""
+        gd = getattr(self._local, "data", None)
+        if gd is None:
+            gd = self._local.data = pin.GeometryData(self.model)
+        return gd
 
     def bounds(self) -> np.ndarray:
         """A lower bound (m) on the distance of every pair, from the joint placements of
