@@ -104,7 +104,9 @@ def _restarting(arm, spec, target, seed: np.ndarray, opts: Options, check) -> li
         rows.append(row)
         if row["success"] or row["status"] is not Status.COLLISION:
             break  # free, or the solver itself found nothing within what was left
-        if SLIDE is True or (SLIDE == "paths" and ON_PATH.get()):
+        if run == 0 and (SLIDE is True or (SLIDE == "paths" and ON_PATH.get())):
+            # the first answer only: it starts from the seed (a path's previous answer);
+            # a restart's lands anywhere, where sliding buys no continuity
             slid = _slid(arm, target, row, opts, check, start_cpu, used_iterations)
             if slid is not None:
                 used_iterations = slid["iterations"]
