@@ -37,6 +37,9 @@ class BatchResult:
       batch, verification included.
     - ``reasons``: index -> reason for every target that failed (successes are explained
       by their errors; see ``reason(i)``).
+    - ``min_distance`` (N,) m: the distance of the closest checked pair at ``q`` (negative:
+      overlapping), NaN where collisions were not checked; ``pair_index`` (N,) the index
+      of that pair in ``pair_names`` (-1 where not checked); ``closest_pair(i)`` its names.
 
     ``len(r)``, ``r[i]`` (an ``IKResult``), ``r[mask]`` or ``r[a:b]`` (a ``BatchResult``),
     iteration over ``IKResult``s, ``save``/``load`` (.npz) and ``summary()``.
@@ -56,6 +59,16 @@ class BatchResult:
     tol_position: float = Options.tol_position
     tol_orientation: float = Options.tol_orientation
     reasons: dict[int, str] = field(default_factory=dict)
+    min_distance: np.ndarray | None = None  # (N,) m; NaN filled when None is given
+    pair_index: np.ndarray | None = None  # (N,) index into pair_names, -1: none
+    pair_names: list[tuple[str, str]] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        n = len(self.success)
+        if self.min_distance is None:
+            object.__setattr__(self, "min_distance", np.full(n, np.nan))
+        if self.pair_index is None:
+            object.__setattr__(self, "pair_index", np.full(n, -1, dtype=np.int32))
 
     # -- container --------------------------------------------------------------------
 
@@ -91,6 +104,11 @@ class BatchResult:
         )
         return reasons.verified(None, measured)
 
+    def closest_pair(self, i: int) -> tuple[str, str] | None:
+        """The names of target ``i``'s closest checked pair; None where not checked."""
+        k = int(self.pair_index[self._index(i)])
+        return None if k < 0 else self.pair_names[k]
+
     def _index(self, i: int) -> int:
         n = len(self)
         i = int(i)
@@ -102,6 +120,10 @@ class BatchResult:
         if isinstance(index, (int, np.integer)):
             i = self._index(index)
             ori = float(self.orientation_error[i])
+            extra: dict = {"index": i, "batch_time": self.time}
+            if self.pair_index[i] >= 0 or not math.isnan(self.min_distance[i]):
+                extra["min_distance"] = float(self.min_distance[i])
+                extra["closest_pair"] = self.closest_pair(i)
             return IKResult(
                 q=self.q[i],
                 success=bool(self.success[i]),
@@ -113,7 +135,7 @@ class BatchResult:
                 orientation_error=None if math.isnan(ori) else ori,
                 time=self.time / max(len(self), 1),
                 restarts=int(self.restarts[i]),
-                extra={"index": i, "batch_time": self.time},
+                extra=extra,
             )
         picked = np.arange(len(self))[index]
         if picked.ndim != 1:
@@ -138,6 +160,9 @@ class BatchResult:
             tol_position=self.tol_position,
             tol_orientation=self.tol_orientation,
             reasons=reasons,
+            min_distance=self.min_distance[picked],
+            pair_index=self.pair_index[picked],
+            pair_names=list(self.pair_names),
         )
 
     def __iter__(self) -> Iterator[IKResult]:
@@ -166,6 +191,12 @@ class BatchResult:
             ori = self.orientation_error[self.success]
             if not np.isnan(ori).all():
                 line += f", {np.nanmax(ori):.2g} rad"
+            d = self.min_distance[self.success]
+            if not np.isnan(d).all():
+                k = int(np.nanargmin(d))
+                pair = self.closest_pair(int(np.flatnonzero(self.success)[k]))
+                names = "" if pair is None else f" ({pair[0]} / {pair[1]})"
+                line += f"; smallest clearance of the solved: {d[k]:.3g} m{names}"
         return line
 
     # -- files ------------------------------------------------------------------------
@@ -182,6 +213,7 @@ class BatchResult:
             "tol_position": self.tol_position,
             "tol_orientation": self.tol_orientation,
             "statuses": _WORDS.tolist(),
+            "pair_names": [list(p) for p in self.pair_names],
         }
         arrays = dict(
             q=self.q,
@@ -194,6 +226,8 @@ class BatchResult:
             restarts=self.restarts,
             reason_index=keys,
             reason_text=np.array([self.reasons[int(k)] for k in keys], dtype=str),
+            min_distance=self.min_distance,
+            pair_index=self.pair_index,
         )
         return npz.save(path, meta, arrays)
 
@@ -221,6 +255,9 @@ class BatchResult:
                 int(k): str(t)
                 for k, t in zip(arrays["reason_index"].tolist(), arrays["reason_text"])
             },
+            min_distance=arrays.get("min_distance"),  # absent from files of armik <= 0.x
+            pair_index=arrays.get("pair_index"),
+            pair_names=[tuple(p) for p in meta.get("pair_names", [])],
         )
 
     # -- building ---------------------------------------------------------------------
@@ -259,6 +296,11 @@ class BatchResult:
         for name in _ARRAYS:
             getattr(self, name)[start:stop] = getattr(part, name)
         self.reasons.update({start + i: r for i, r in part.reasons.items()})
+        if part.pair_names:
+            mine = np.array([self._pair(p) for p in part.pair_names] + [-1], dtype=np.int32)
+            self.pair_index[start:stop] = mine[part.pair_index]  # -1 stays -1
+        else:
+            self.pair_index[start:stop] = part.pair_index
 
     def put_result(self, i: int, r: IKResult) -> None:
         """Copy one ``IKResult`` into row ``i``."""
@@ -269,8 +311,22 @@ class BatchResult:
         self.orientation_error[i] = math.nan if r.orientation_error is None else r.orientation_error
         self.iterations[i] = r.iterations
         self.restarts[i] = r.restarts
+        d = r.extra.get("min_distance")
+        if d is not None:
+            self.min_distance[i] = d
+            pair = r.extra.get("closest_pair")
+            self.pair_index[i] = -1 if pair is None else self._pair(pair)
         if not r.success:
             self.reasons[i] = r.reason
+
+    def _pair(self, pair: tuple[str, str]) -> int:
+        """The index of ``pair`` in ``pair_names``, appended when new."""
+        pair = tuple(pair)
+        try:
+            return self.pair_names.index(pair)
+        except ValueError:
+            self.pair_names.append(pair)  # type: ignore[arg-type]
+            return len(self.pair_names) - 1
 
 
 _ARRAYS = (
@@ -281,5 +337,6 @@ _ARRAYS = (
     "orientation_error",
     "iterations",
     "restarts",
+    "min_distance",
 )
 

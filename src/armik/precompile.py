@@ -23,6 +23,7 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 import numpy as np
 
 from armik.arm import Arm, load
+from armik.constraints.shapes import Box, HalfSpace
 from armik.errors import OptionError, listing
 from armik.solve.progress import make_progress
 
@@ -111,6 +112,12 @@ def _fk_batch() -> None:
     arm.fk_batch(arm.random_q(0, n=2))
 
 
+def _collisions() -> None:
+    arm = load("ur5")
+    scene = [HalfSpace((0, 0, 1), 0.0), Box((0.2, 0.2, 0.2), (0.5, 0.0, 0.3))]
+    arm.min_distance(arm.middle, scene, self_collision=True)
+
+
 PARTS: dict[str, Callable[[], None]] = {
     "dls": _numeric("dls"),
     "qp": _numeric("qp"),
@@ -122,6 +129,7 @@ PARTS: dict[str, Callable[[], None]] = {
     "batch": _batch,
     "path": _path,
     "fk_batch": _fk_batch,
+    "collisions": _collisions,
 }
 
 

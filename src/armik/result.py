@@ -95,6 +95,19 @@ class IKResult:
                 return text
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
+    @property
+    def min_distance(self) -> float | None:
+        """The distance (m) of the closest checked pair at ``q`` (negative: their depth of
+        overlap); None when collisions were not checked (no ``obstacles``, no
+        ``self_collision``)."""
+        return self.extra.get("min_distance")
+
+    @property
+    def closest_pair(self) -> tuple[str, str] | None:
+        """The names of the closest checked pair (a link, and a link or
+        ``obstacles[i] (Shape)``); None when collisions were not checked."""
+        return self.extra.get("closest_pair")
+
     def __repr__(self) -> str:
         ori = "n/a" if self.orientation_error is None else f"{self.orientation_error:.2e} rad"
         branch = f", branch={self.branch!r}" if self.branch else ""
@@ -107,8 +120,9 @@ class IKResult:
         )
 
     def as_dict(self) -> dict:
-        """Plain JSON-ready dictionary."""
-        return {
+        """Plain JSON-ready dictionary; with ``min_distance`` and ``closest_pair`` when
+        collisions were checked."""
+        out = {
             "q": self.q.tolist(),
             "success": self.success,
             "status": self.status.value,
@@ -122,6 +136,10 @@ class IKResult:
             "singular": self.singular,
             "restarts": self.restarts,
         }
+        if self.min_distance is not None:
+            out["min_distance"] = self.min_distance
+            out["closest_pair"] = None if self.closest_pair is None else list(self.closest_pair)
+        return out
 
 
 _FIELDS = frozenset(f.name for f in fields(IKResult) if f.name != "extra")

@@ -10,7 +10,7 @@ import pinocchio as pin
 import pytest
 
 import armik
-from armik.constraints.collision import arm_geometry
+from armik.constraints.collision import arm_geometry, checker
 from armik.model.catalogue import erd_share
 
 from ..conftest import arm
@@ -161,3 +161,24 @@ def test_an_arm_without_collision_geometry_says_so():
         a.solve([1.2, 0.5], obstacles=[armik.Sphere(0.1, (5, 5, 0))])
     with pytest.raises(armik.CollisionError, match="no <collision> geometry"):
         a.min_distance([0.0, 0.0], self_collision=True)
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_pair_bounds_never_exceed_coal_and_the_closest_pair_is_every_pairs(name):
+    a = arm(name)
+    shapes = (
+        TABLE,
+        BOX,
+        SPHERE,
+        armik.Capsule(0.05, 0.3, (0.2, -0.2, 0.5)),
+        armik.HalfSpace((-0.3, -1, 0), -0.5),  # oblique, its solid side away from the base
+    )
+    ch = checker(a, shapes, True)
+    gd = pin.GeometryData(ch.model)
+    for q in a.random_q(3, n=60):
+        pin.updateGeometryPlacements(a.model, a.data, ch.model, gd, a.to_pin(q))
+        k = pin.computeDistances(ch.model, gd)
+        every = np.array([r.min_distance for r in gd.distanceResults])
+        assert (every >= ch.bounds() - 1e-9).all()
+        d, pair = ch.distance(q)
+        assert d == pytest.approx(every[k], abs=1e-6) and pair == ch.pair_names[k]

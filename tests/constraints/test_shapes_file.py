@@ -58,5 +58,5 @@ def test_obstacles_file_errors(tmp_path):
     with pytest.raises(armik.InputError, match="not JSON"):
         read_shapes(tmp_path / "x.json")
     (tmp_path / "y.json").write_text('{"type": "sphere"}')
-    with pytest.raises(armik.InputError, match="JSON list"):
+    with pytest.raises(armik.InputError, match="list of shapes"):
         read_shapes(tmp_path / "y.json")

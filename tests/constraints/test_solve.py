@@ -115,7 +115,7 @@ def test_collisions_off_keep_the_answers_and_the_prepared_path():
 
 
 @pytest.mark.parametrize("name", ["ur5", "panda"])
-def test_solve_batch_equals_a_loop_of_solve_with_obstacles(name):
+def test_solve_batch_equals_a_loop_of_solve_with_obstacles(name, tmp_path):
     a = arm(name)
     obstacles = (TABLE, armik.Box((0.2, 0.2, 0.2), (0.45, 0.0, 0.3)))
     Q = a.random_q(13, n=12)
@@ -126,9 +126,21 @@ def test_solve_batch_equals_a_loop_of_solve_with_obstacles(name):
         r = a.solve(T[i], q0=a.middle, **opts)
         assert res.status[i] == r.status.value
         np.testing.assert_array_equal(res.q[i], r.q)
+        # coal's GJK starts from the last call's guess: the same q, the last bits may differ
+        assert res.min_distance[i] == pytest.approx(r.min_distance, abs=1e-9)
+        assert res.closest_pair(i) == r.closest_pair
+        assert res[i].closest_pair == r.closest_pair
         if r.success:
             assert not a.in_collision(r.q, obstacles, self_collision=True)
-    assert res.success.any()
+    assert res.success.any() and np.isfinite(res.min_distance).all()
+    loaded = armik.BatchResult.load(res.save(tmp_path / "r.npz"))
+    np.testing.assert_array_equal(loaded.min_distance, res.min_distance)
+    assert [loaded.closest_pair(i) for i in range(len(T))] == [
+        res.closest_pair(i) for i in range(len(T))
+    ]
+    plain = a.solve_batch(T[:3], progress=False, iteration_budget=2000)
+    assert np.isnan(plain.min_distance).all() and plain.closest_pair(0) is None
+    assert plain[0].min_distance is None
 
 
 def test_solve_path_keeps_clear_of_an_obstacle():
@@ -143,3 +155,61 @@ def test_solve_path_keeps_clear_of_an_obstacle():
     for i in np.flatnonzero(path.success):
         assert not ur5.in_collision(path.q[i], [box])
     assert path.success.all()
+
+
+def test_a_folded_elbow_self_collides_and_is_never_a_success():
+    ur5 = arm("ur5")
+    rng = np.random.default_rng(0)
+    caught = other_branch = 0
+    for _ in range(12):
+        q = ur5.random_q(rng)
+        q[2] = rng.choice([-1.0, 1.0]) * rng.uniform(2.8, 3.1)  # the forearm folded back
+        d, pair = ur5.min_distance(q, self_collision=True)
+        if d >= 0:
+            continue
+        caught += 1
+        assert "upper_arm_link" in pair or "forearm_link" in pair
+        assert ur5.in_collision(q, self_collision=True)
+        T = ur5.fk(q)
+        plain = ur5.solve(T, q0=q)
+        assert plain.success and np.allclose(plain.q, q, atol=1e-6)  # blind: the folded arm
+        r = ur5.solve(T, q0=q, self_collision=True)
+        if r.success:
+            assert r.branch != plain.branch and r.min_distance >= 0
+            assert not ur5.in_collision(r.q, self_collision=True)
+            other_branch += 1
+        else:
+            assert r.status == "collision" and r.closest_pair is not None
+            assert f"{r.closest_pair[0]} and {r.closest_pair[1]}" in r.reason
+    assert caught >= 8 and other_branch >= 1
+
+
+def test_paths_around_an_obstacle_go_round_it_or_say_where_they_cannot():
+    panda = arm("panda")
+    budget = dict(iteration_budget=3000)
+    around = checked = 0
+    for seed in range(40):
+        q = panda.random_q(seed)
+        T = panda.fk(q)
+        line = [pin.SE3(T.rotation, T.translation + [0, 0.01 * k, 0]) for k in range(8)]
+        plain = panda.solve_path(line, q, **budget)
+        if not plain.success.all():
+            continue
+        panda.fk(plain.q[-1])  # a sphere beside the elbow at the end of the blind path
+        sphere = armik.Sphere(0.06, panda.data.oMi[4].translation + [0, 0.1, 0])
+        hit = [panda.in_collision(x, [sphere]) for x in plain.q]
+        if hit[0] or not any(hit):
+            continue
+        checked += 1
+        path = panda.solve_path(line, q, obstacles=[sphere], **budget)
+        previous = q
+        for i in range(len(line)):
+            if path.success[i]:
+                assert not panda.in_collision(path.q[i], [sphere])
+                assert np.abs(path.q[i] - previous).max() <= 0.5  # no silent jump
+            else:
+                assert path.status[i] in ("discontinuous", "collision")
+            if path.success[i] or path.status[i] == "discontinuous":
+                previous = path.q[i]
+        around += bool(path.success.all())
+    assert checked >= 4 and around >= 1

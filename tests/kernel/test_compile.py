@@ -31,7 +31,7 @@ TOUR = textwrap.dedent(
     import armik
     took = armik.compile()
     counts = {}
-    for package in ("armik.kernel", "armik.solvers.closed_form"):
+    for package in ("armik.kernel", "armik.solvers.closed_form", "armik.constraints"):
         for info in pkgutil.iter_modules(sys.modules[package].__path__):
             module = importlib.import_module(f"{package}.{info.name}")
             for name, value in vars(module).items():
@@ -65,6 +65,7 @@ def test_a_tour_of_every_option_compiles_each_kernel_once():
         "armik.solvers.closed_form.three_parallel.solve_into",
         "armik.solvers.closed_form.spherical_wrist.kernel_many",
         "armik.solvers.closed_form.swept_7r.held_rows",
+        "armik.constraints.bounds.pair_bounds",
     ):
         assert counts[entry] == 1, entry
     assert {name: n for name, n in counts.items() if n > 1} == {}

@@ -1,5 +1,6 @@
-"""Obstacles in their plain form: the mappings a JSON file holds (``armik view
---obstacles FILE``), read into the shapes of ``armik.constraints.shapes``::
+"""Obstacles in their plain form: the mappings a JSON or YAML file holds (``--obstacles
+FILE`` of ``armik solve``, ``batch`` and ``view``), read into the shapes of
+``armik.constraints.shapes``::
 
     [{"type": "box", "size": [0.2, 0.2, 0.4], "position": [0.5, 0, 0.2]},
      {"type": "box", "size": [1, 1, 0.02], "position": [0, 0, -0.01],
@@ -61,23 +62,47 @@ def as_shapes(items: Iterable[Shape | Mapping]) -> list[Shape]:
 
 
 def read_shapes(path: str | Path) -> list[Shape]:
-    """The shapes of a JSON file holding a list of plain shapes; raises ``CollisionError``."""
+    """The shapes of a file holding a list of plain shapes: JSON, or YAML (``.yaml``,
+    ``.yml``) when PyYAML is installed. Raises ``CollisionError`` naming the file."""
     p = Path(path)
     try:
-        data = json.loads(p.read_text())
+        text = p.read_text()
     except OSError as exc:
         raise CollisionError(
             f"cannot read obstacles file {str(p)!r}: {exc.strerror}", value=str(p)
         ) from None
-    except json.JSONDecodeError as exc:
-        raise CollisionError(
-            f"obstacles file {str(p)!r} is not JSON: {exc}", value=str(p)
-        ) from None
+    if p.suffix.lower() in (".yaml", ".yml"):
+        data = _yaml(p, text)
+    else:
+        try:
+            data = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise CollisionError(
+                f"obstacles file {str(p)!r} is not JSON: {exc}", value=str(p)
+            ) from None
     if not isinstance(data, list):
         raise CollisionError(
-            f"obstacles file {str(p)!r} must hold a JSON list of shapes", value=str(p)
+            f"obstacles file {str(p)!r} must hold a list of shapes", value=str(p)
         )
     return as_shapes(data)
+
+
+def _yaml(p: Path, text: str):
+    try:
+        import yaml  # optional: only for .yaml files
+    except ImportError:
+        raise CollisionError(
+            f"obstacles file {str(p)!r} is YAML, which needs PyYAML (pip install pyyaml); "
+            "or write the same list as JSON",
+            value=str(p),
+        ) from None
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        first = str(exc).splitlines()[0]
+        raise CollisionError(
+            f"obstacles file {str(p)!r} is not YAML: {first}", value=str(p)
+        ) from None
 
 
 def _from_mapping(i: int, item: Mapping) -> Shape:

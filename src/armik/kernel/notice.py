@@ -33,6 +33,7 @@ PARTS = (
     ("armik.solvers.closed_form.three_parallel", "the three-parallel-axes closed form", 15),
     ("armik.solvers.closed_form.swept_7r", "the swept 7R closed form", 10),
     ("armik.solvers.closed_form", "the 6R closed forms' shared code", 5),
+    ("armik.constraints", "the collision checks' bounds", 3),
     ("armik", "armik's compiled code", 5),
 )
 _CHECK = PARTS[0][1]  # the forward-kinematics check

@@ -8,12 +8,17 @@ is run again from a random configuration, within what is left of the budget (``t
 or ``iteration_budget``, and ``max_restarts``); when none is free the result is
 ``Status.COLLISION`` naming the closest pair.
 
-The solvers do not yet see the obstacles while they step: they find an answer, the check
-refuses it, a restart finds another.
+On a path (``solve_path``), a numeric answer that reaches the pose but collides is first
+slid out of contact (``solve.slide``: damped least squares on the pose with each close
+pair a velocity damper on the step), near the previous waypoint's answer, then restarted
+if that fails. Single solves and batches restart at once: sliding measured slower there
+for no more successes (docs/collisions.md).
 """
 
 from __future__ import annotations
 
+import contextvars
+import math
 import time
 from typing import TYPE_CHECKING
 
@@ -22,6 +27,8 @@ import numpy as np
 from armik.constraints.collision import checker
 from armik.frozen import frozen
 from armik.options import Options
+from armik.solve.slide import slide
+from armik.solvers.claims import Attempt
 from armik.status import Status
 from armik.verify.measure import measure, measure_many
 from armik.verify.verdict import collision_verdict, ranked, seed_distance, verdict
@@ -97,8 +104,44 @@ def _restarting(arm, spec, target, seed: np.ndarray, opts: Options, check) -> li
         rows.append(row)
         if row["success"] or row["status"] is not Status.COLLISION:
             break  # free, or the solver itself found nothing within what was left
+        if run == 0 and (SLIDE is True or (SLIDE == "paths" and ON_PATH.get())):
+            # the first answer only: it starts from the seed (a path's previous answer);
+            # a restart's lands anywhere, where sliding buys no continuity
+            slid = _slid(arm, target, row, opts, check, start_cpu, used_iterations)
+            if slid is not None:
+                used_iterations = slid["iterations"]
+                slid["restarts"] = used_restarts
+                rows.append(slid)
+                if slid["success"]:
+                    break
         q_start = arm.random_q(rng)
     return rows
+
+
+# Slide a colliding answer out of contact before restarting (solve/slide.py): on paths
+# only, where it measured worth its time (docs/collisions.md): True or False for every
+# solve (benchmarks/collision_scenes.py --slide).
+SLIDE: bool | str = "paths"
+ON_PATH: contextvars.ContextVar[bool] = contextvars.ContextVar("armik_on_path", default=False)
+SLIDE_STEPS = 30  # steps of one slide, at most
+
+
+def _slid(arm, target, row: dict, opts: Options, check, start_cpu: float, used: int):
+    """The verdict row of ``row``'s answer slid out of contact, within what is left of
+    the budget; None when nothing is left."""
+    steps = SLIDE_STEPS
+    if opts.iteration_budget is not None:
+        steps = min(steps, opts.iteration_budget - used)
+    if steps <= 0:
+        return None
+    deadline = math.inf if opts.iteration_budget is not None else start_cpu + opts.timeout
+    tol = min(opts.tol_position, opts.tol_orientation) * 0.1
+    q, taken = slide(arm, target, row["q"], check, opts.margin, steps, deadline, tol)
+    attempt = Attempt(
+        q=q, claim=Status.CONVERGED, reason="slid out of contact", iterations=used + taken
+    )
+    out = verdict(attempt, measure(arm, q, target, opts))
+    return collision_verdict(out, check, opts.margin)
 
 
 def _left(opts: Options, start_cpu: float, iterations: int, restarts: int) -> Options | None:

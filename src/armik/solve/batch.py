@@ -7,13 +7,17 @@ with the GIL released, then the chunk is verified with ``verify.measure.measure_
 (Pinocchio FK per row, the errors and limits compiled); only that verification holds the
 GIL (10 to 14 % of the time on the Panda and the UR5). Any other solver is called target by target
 through ``armik.solve``; the GIL then serialises the threads, so such a solver runs on one
-thread unless ``workers`` says otherwise. So does a batch with collisions checked.
+thread unless ``workers`` says otherwise. With collisions checked, a compiled chunk's
+verified answers are checked for collisions (holding the GIL, as the verification), and
+only the targets whose answer fails are solved again through ``armik.solve``.
 
 Every answer is verified by Pinocchio forward kinematics as ``Arm.solve`` verifies it, and
 each target uses the options of a call of ``Arm.solve`` (``seed`` included): the same seeds
 give the same answers as a loop of ``solve``. The budget is per target: ``timeout`` counts
 the solving thread's CPU time, so other threads do not shorten it; ``iteration_budget``
 makes the answers identical whatever the thread count, the chunking or the machine.
+With collisions checked, ``min_distance`` and ``pair_index`` hold each answer's closest
+pair (its names in ``pair_names``, the checker's pairs in their order).
 
 Results go into arrays allocated once for the whole batch; a chunk allocates only its own
 scratch memory, so the memory used beyond the targets and results does not grow with N.
@@ -30,6 +34,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from armik.batch_result import BatchResult
+from armik.constraints.collision import checker
 from armik.errors import ArmikWarning, OptionError
 from armik.frozen import frozen
 from armik.options import Options
@@ -78,10 +83,11 @@ def solve_batch(
     n = len(batch)
     seeds = batch_seeds(arm, q0, n)
     spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
-    # a collision-checked target is solved through ``solve``, holding the GIL: one thread
-    workers = 1 if workers is None and opts.collisions else _workers(workers, spec)
+    workers = _workers(workers, spec)
     chunk = _chunk_size(chunk_size)
     out = BatchResult.for_arm(arm, n, spec.name, opts)
+    if opts.collisions:  # the pairs in the checker's order, whatever order rows finish in
+        out.pair_names.extend(checker(arm, opts.obstacles, opts.self_collision).pair_names)
     bar = make_progress(progress, n, f"{arm.name}/{spec.name}")
     starts = range(0, n, chunk)
 
@@ -122,7 +128,7 @@ def solve_chunk(
     start: int,
 ) -> None:
     """Solve and verify one chunk, writing rows ``start:start + len(targets)`` of ``out``."""
-    if spec.run_batch is None or opts.collisions:
+    if spec.run_batch is None:
         for i in range(len(targets)):
             r = solve(arm, targets.target(i), q0=seeds[i], solver=spec.name, **options)[0]
             out.put_result(start + i, r)
@@ -134,13 +140,33 @@ def solve_chunk(
     attempts = spec.run_batch(arm, targets, seeds, opts)
     part = verdict_batch(arm, attempts, targets, opts)
     out.put(start, part)
-    if spec.kind == "analytic":
+    if opts.collisions:
+        _collisions(arm, spec, targets, seeds, opts, options, out, start, part)
+    elif spec.kind == "analytic":
         # A closed form is deterministic: its rare failures are solved again one by one, so
         # they carry the specific reason (too far, wrist orientation, ...) and the next
         # verified branch that ``solve`` would fall back to.
         for i in np.flatnonzero(~part.success).tolist():
             r = solve(arm, targets.target(i), q0=seeds[i], solver=spec.name, **options)[0]
             out.put_result(start + i, r)
+
+
+def _collisions(arm, spec, targets, seeds, opts, options, out, start, part) -> None:
+    """The collision check of a chunk's verified answers: each success whose closest pair
+    keeps ``margin`` stands (it is the answer ``solve`` gives: its first run, from the same
+    seed, ends there); every other target is solved again by ``solve``, which restarts
+    (numeric) or tries the other branches (closed forms)."""
+    check = checker(arm, opts.obstacles, opts.self_collision)
+    pair_index = {p: k for k, p in enumerate(out.pair_names)}
+    for i in range(len(targets)):
+        if part.success[i]:
+            d, pair = check.distance(part.q[i])
+            if d >= opts.margin:
+                out.min_distance[start + i] = d
+                out.pair_index[start + i] = -1 if pair is None else pair_index[pair]
+                continue
+        r = solve(arm, targets.target(i), q0=seeds[i], solver=spec.name, **options)[0]
+        out.put_result(start + i, r)
 
 
 def batch_seeds(arm: ArmModel, q0: object, n: int) -> np.ndarray:

@@ -35,6 +35,7 @@ from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.result import IKResult
+from armik.solve.avoid import ON_PATH
 from armik.solve.single import solve
 from armik.solvers import registry
 from armik.status import Status
@@ -73,7 +74,18 @@ def solve_path(
     spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
     local = {**options, "max_restarts": 0}
     out = BatchResult.for_arm(arm, n, spec.name, opts)
-    for i in range(n):
+    token = ON_PATH.set(True)  # a colliding answer is slid out of contact (solve/avoid.py)
+    try:
+        _walk(arm, batch, q_prev, step, spec, options, local, out)
+    finally:
+        ON_PATH.reset(token)
+    out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
+    return out
+
+
+def _walk(arm, batch, q_prev, step, spec, options, local, out) -> None:
+    """Solve the waypoints in order, each from the previous answer, into ``out``."""
+    for i in range(len(batch)):
         target = batch.target(i)
         r = _unwrapped(arm, solve(arm, target, q0=q_prev, solver=spec.name, **options)[0], q_prev)
         if r.success and _jump(r.q, q_prev, step) > 1.0:
@@ -81,8 +93,6 @@ def solve_path(
         out.put_result(i, r)
         if r.success or r.status is Status.DISCONTINUOUS:
             q_prev = np.array(r.q)
-    out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
-    return out
 
 
 def _max_step(arm: ArmModel, value: object) -> np.ndarray:

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import dataclasses
 import time
 
 import numpy as np
 
+from armik.constraints.collision import checker
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.options import Options
@@ -14,6 +16,7 @@ from armik.solve.avoid import solve_avoiding
 from armik.solve.prepared import plan_for
 from armik.solvers import registry
 from armik.targets.pose import parse_target
+from armik.verify import reasons
 from armik.verify.verdict import finish
 
 
@@ -40,6 +43,10 @@ def solve_one(
     (``armik.solve.prepared``) when the input is plain, else the general path."""
     t0 = time.perf_counter()
     opts, key, seed = _options(options)
+    if opts.collisions and not every:
+        clear = _clear_at_once(arm, target, q0, solver, options, opts, t0)
+        if clear is not None:
+            return clear
     plan = None if key is None else plan_for(arm, solver, key, opts, _is_vector(target))
     if plan is not None:
         got = (plan.solve_all if every else plan.solve)(target, q0, opts, seed, t0)
@@ -47,6 +54,29 @@ def solve_one(
             return got
     results = _general(arm, target, q0, solver, _with_seed(opts, seed), every, t0)
     return results if every else results[0]
+
+
+_COLLISION_OPTIONS = ("obstacles", "self_collision", "margin")
+
+
+def _clear_at_once(arm, target, q0, solver, options: dict, opts: Options, t0: float):
+    """The plain solve's answer when it is a success and collision-free, with its distance
+    and pair (the answer the collision-checked search starts with: a numeric solver's
+    first run, a closed form's nearest verified branch, as ``solve_batch``'s chunks); else
+    None, and the search (``armik.solve.avoid``) goes on."""
+    plain = {k: v for k, v in options.items() if k not in _COLLISION_OPTIONS}
+    r = solve_one(arm, target, q0, solver, plain)
+    if not r.success:
+        return None
+    distance, pair = checker(arm, opts.obstacles, opts.self_collision).distance(r.q)
+    if distance < opts.margin:
+        return None
+    return dataclasses.replace(
+        r,
+        reason=f"{r.reason}; {reasons.clear(pair, distance, opts.margin)}",
+        time=time.perf_counter() - t0,
+        extra={"min_distance": distance, "closest_pair": pair},
+    )
 
 
 def _is_vector(target: object) -> bool:

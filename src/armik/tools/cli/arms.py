@@ -10,6 +10,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.arm import Arm, load
+from armik.constraints.shapes_file import read_shapes
 from armik.errors import FrameError, InputError
 from armik.model.catalogue import CATALOGUE, entry
 from armik.model.urdf import read_urdf, read_urdf_string
@@ -49,6 +50,23 @@ def add_solve_options(c: argparse.ArgumentParser) -> None:
     )
     c.add_argument("--timeout", type=float, help="time budget of numeric solvers (s)")
     c.add_argument("--seed", type=int, help="seed of the random restarts (0)")
+    c.add_argument(
+        "--obstacles",
+        metavar="FILE",
+        help="obstacles to keep clear of, in the base frame: a JSON (or YAML) list such as "
+        '[{"type": "box", "size": [0.2, 0.2, 0.4], "position": [0.5, 0, 0.2]}, '
+        '{"type": "halfspace", "normal": [0, 0, 1], "offset": 0}] (see docs/collisions.md)',
+    )
+    c.add_argument(
+        "--self-collision", action="store_true", help="keep the arm's links clear of each other"
+    )
+    c.add_argument(
+        "--margin",
+        type=float,
+        metavar="M",
+        help="distance every checked pair must keep (m, 0); needs --obstacles or "
+        "--self-collision",
+    )
 
 
 def solve_options(args: argparse.Namespace) -> dict:
@@ -64,6 +82,12 @@ def solve_options(args: argparse.Namespace) -> dict:
         options["weights"] = tuple(args.weights)
     if args.position_only:
         options["position_only"] = True
+    if args.obstacles is not None:
+        options["obstacles"] = read_shapes(args.obstacles)
+    if args.self_collision:
+        options["self_collision"] = True
+    if args.margin is not None:
+        options["margin"] = args.margin
     return options
 
 
@@ -186,9 +210,16 @@ def _urdf_info(source: str):
 
 
 def for_cli(message: str) -> str:
-    """An error's words for the command line: Python's ``tip=`` and ``base=`` are the
-    ``--tip`` and ``--base`` flags here."""
-    return message.replace("pass tip=", "pass --tip").replace("pass base=", "pass --base")
+    """An error's words for the command line: Python's ``tip=``, ``base=``, ``obstacles=``
+    and ``self_collision=`` are the flags ``--tip``, ``--base``, ``--obstacles`` and
+    ``--self-collision`` here."""
+    return (
+        message.replace("pass tip=", "pass --tip")
+        .replace("pass base=", "pass --base")
+        .replace(
+            "give obstacles=[...] or self_collision=True", "give --obstacles or --self-collision"
+        )
+    )
 
 
 def frame_tree(info, marks: dict[str, str] | None = None) -> list[str]:
@@ -272,6 +303,9 @@ def _print_result(arm: Arm, r: IKResult, indent: str = "  ", show_time: bool = T
         print(f"{indent}time     : {r.time * 1e3:.3f} ms, {r.iterations} iterations")
     else:
         print(f"{indent}iterations: {r.iterations}")
+    if r.min_distance is not None:
+        a, b = r.closest_pair or ("-", "-")
+        print(f"{indent}clearance: {r.min_distance:.4g} m, closest pair {a} / {b}")
     print(f"{indent}reason   : {r.reason}")
 
 

@@ -1,0 +1,60 @@
+"""Lower bounds on the distances of a checker's pairs, compiled: one small kernel over plain
+arrays (``collision.Checker.bounds`` gathers them). A link object is a sphere (its centre
+in its joint's frame, its radius); an obstacle is a box (rotation, centre, half sides).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True, nogil=True)
+def pair_bounds(
+    H: np.ndarray,  # (J, 4, 4) the joints' placements in the base frame
+    joint_of: np.ndarray,  # (n,) each link object's row of H
+    centre: np.ndarray,  # (n, 3) each link object's sphere centre in its joint's frame (m)
+    radius: np.ndarray,  # (n,) its radius (m)
+    self_a: np.ndarray,  # (s,) the arm's pairs: link objects a and b
+    self_b: np.ndarray,
+    link: np.ndarray,  # (o,) the obstacle pairs' link objects
+    box_R: np.ndarray,  # (o, 3, 3) their obstacle's box: rotation, centre, half sides
+    box_t: np.ndarray,  # (o, 3)
+    box_half: np.ndarray,  # (o, 3)
+    out: np.ndarray,  # (s + o,) the bounds (m, signed)
+) -> None:
+    n = centre.shape[0]
+    c = np.empty((n, 3))
+    for i in range(n):
+        j = joint_of[i]
+        for r in range(3):
+            c[i, r] = (
+                H[j, r, 0] * centre[i, 0]
+                + H[j, r, 1] * centre[i, 1]
+                + H[j, r, 2] * centre[i, 2]
+                + H[j, r, 3]
+            )
+    s = self_a.shape[0]
+    for k in range(s):
+        a = self_a[k]
+        b = self_b[k]
+        dx = c[a, 0] - c[b, 0]
+        dy = c[a, 1] - c[b, 1]
+        dz = c[a, 2] - c[b, 2]
+        out[k] = math.sqrt(dx * dx + dy * dy + dz * dz) - radius[a] - radius[b]
+    for k in range(link.shape[0]):
+        a = link[k]
+        outside = 0.0
+        inside = -math.inf
+        for r in range(3):
+            v = 0.0
+            for m in range(3):
+                v += box_R[k, m, r] * (c[a, m] - box_t[k, m])
+            e = abs(v) - box_half[k, r]
+            if e > 0.0:
+                outside += e * e
+            if e > inside:
+                inside = e
+        out[s + k] = math.sqrt(outside) + min(inside, 0.0) - radius[a]

@@ -1,0 +1,75 @@
+"""Sliding a colliding answer out of contact (solve/slide.py): the damper's rows against
+finite differences, and a slide that keeps the pose and ends clear."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pinocchio as pin
+
+import armik
+from armik.constraints.collision import checker
+from armik.solve import slide as S
+from armik.targets.pose import parse_target
+
+from ..conftest import arm
+
+BOX = armik.Box((0.3, 0.3, 0.3), (0.5, 0.2, 0.4))
+
+
+def _distances(a, ch, q, pairs):
+    gd = ch.geometry_data()
+    pin.updateGeometryPlacements(a.model, a.data, ch.model, gd, a.to_pin(q))
+    return np.array([pin.computeDistance(ch.model, gd, k).min_distance for k in pairs])
+
+
+def test_the_rows_are_the_distances_rates():
+    a = arm("panda")
+    ch = checker(a, (BOX,), True)
+    rng = np.random.default_rng(1)
+    compared = 0
+    for _ in range(8):
+        q = a.random_q(rng)
+        pin.computeJointJacobians(a.model, a.data, a.to_pin(q))
+        A, b, _ = S._rows(a, ch, 0.0)
+        gd = ch.geometry_data()
+        pairs = [
+            k
+            for k in range(len(ch.pair_names))
+            if pin.computeDistance(ch.model, gd, k).min_distance < S.D_ACT
+        ]
+        assert len(A) == len(pairs) == len(b)
+        dq = rng.normal(size=a.dof) * 1e-6
+        fd = (_distances(a, ch, q + dq, pairs) - _distances(a, ch, q - dq, pairs)) / 2
+        if len(fd):
+            # a witness point may jump between faces of a hull: most rows, not every one
+            close = np.abs(A @ dq - fd) <= 1e-3 * np.abs(fd).max() + 1e-12
+            assert close.mean() >= 0.8
+            compared += len(fd)
+    assert compared >= 10
+
+
+def test_a_colliding_answer_slides_out_of_contact_keeping_the_pose():
+    a = arm("panda")
+    rng = np.random.default_rng(5)
+    slid = 0
+    for _ in range(30):
+        q = a.random_q(rng)
+        a.fk(q)
+        sphere = armik.Sphere(0.05, a.data.oMi[4].translation + rng.normal(size=3) * 0.03)
+        if not a.in_collision(q, [sphere]):
+            continue
+        ch = checker(a, (sphere,), False)
+        target = parse_target(a.fk(q))
+        out, used = S.slide(a, target, q, ch, 0.0, 30, time.thread_time() + 1.0, 1e-7)
+        T = a.fk(out)
+        assert a.within_limits(out) and 0 < used <= 30
+        if used == 30:
+            continue  # the elbow cannot leave it near this pose: the restarts' job
+        # stopped early: clear of the sphere, at the pose
+        assert ch.distance(out)[0] >= 0
+        assert np.linalg.norm(T.translation - target.position) < 1e-6
+        assert np.linalg.norm(pin.log3(T.rotation.T @ target.rotation)) < 1e-6
+        slid += 1
+    assert slid >= 3
