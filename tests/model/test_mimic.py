@@ -321,3 +321,15 @@ def test_bad_mimics_are_clear_errors():
     narrow = five_joint_urdf(1.0, 5.0)  # j3 = j2 + 5 within [-1, 1]: j2 in [-6, -4]
     with pytest.raises(JointError, match="'j2'.*leave it no value"):
         armik.load_string(narrow)
+
+
+def test_armik_info_lists_the_mimic_joints(capsys, tmp_path):
+    from armik.tools.cli import main
+
+    path = tmp_path / "mimicky.urdf"
+    path.write_text(five_joint_urdf())
+    assert main(["info", str(path), "--lock", "j1=0.5"]) == 0
+    out = capsys.readouterr().out
+    assert "mimic: j3 = -0.5 x j2 + 0.2" in out
+    assert "mimic: j4 fixed at 0.125" in out  # 0.05 x 0.5 + 0.1
+    assert "joint 'j3' mimics 'j2'" in out
