@@ -56,7 +56,10 @@ def forward(ch, q, R, p, origins, axes):
         wz = r20 * ux + r21 * uy + r22 * uz
         origins[i, 0], origins[i, 1], origins[i, 2] = t0, t1, t2
         axes[i, 0], axes[i, 1], axes[i, 2] = wx, wy, wz
-        x = X[mim + i] * q[kinds[n + N + i]] + X[mim + N + i]  # q[i] exactly without mimic
+        if N == n:  # no mimic joint: every joint is its own driver
+            x = q[i]
+        else:
+            x = X[mim + i] * q[kinds[n + N + i]] + X[mim + N + i]
         if kinds[n + i] == PRISMATIC:
             t0 += wx * x
             t1 += wy * x
@@ -110,9 +113,11 @@ def jacobian_local(ch, R, p, origins, axes, J):
     r10, r11, r12 = R[1, 0], R[1, 1], R[1, 2]
     r20, r21, r22 = R[2, 0], R[2, 1], R[2, 2]
     px, py, pz = p[0], p[1], p[2]
-    for c in range(n):
-        for r in range(6):
-            J[r, c] = 0.0
+    own = N == n  # no mimic joint: column i is joint i's alone
+    if not own:
+        for c in range(n):
+            for r in range(6):
+                J[r, c] = 0.0
     for i in range(N):
         wx, wy, wz = axes[i, 0], axes[i, 1], axes[i, 2]
         if kinds[n + i] == PRISMATIC:
@@ -123,8 +128,16 @@ def jacobian_local(ch, R, p, origins, axes, J):
             vx = wy * dz - wz * dy
             vy = wz * dx - wx * dz
             vz = wx * dy - wy * dx
-        # rotate into the tip frame (R^T), into the driver's column (0 + 1 x: exact)
-        c, m = kinds[n + N + i], X[mim + i]
+        # rotate into the tip frame: R^T
+        if own:
+            J[0, i] = r00 * vx + r10 * vy + r20 * vz
+            J[1, i] = r01 * vx + r11 * vy + r21 * vz
+            J[2, i] = r02 * vx + r12 * vy + r22 * vz
+            J[3, i] = r00 * wx + r10 * wy + r20 * wz
+            J[4, i] = r01 * wx + r11 * wy + r21 * wz
+            J[5, i] = r02 * wx + r12 * wy + r22 * wz
+            continue
+        c, m = kinds[n + N + i], X[mim + i]  # into the driver's column, times the multiplier
         J[0, c] += m * (r00 * vx + r10 * vy + r20 * vz)
         J[1, c] += m * (r01 * vx + r11 * vy + r21 * vz)
         J[2, c] += m * (r02 * vx + r12 * vy + r22 * vz)
