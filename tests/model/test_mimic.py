@@ -333,3 +333,41 @@ def test_armik_info_lists_the_mimic_joints(capsys, tmp_path):
     assert "mimic: j3 = -0.5 x j2 + 0.2" in out
     assert "mimic: j4 fixed at 0.125" in out  # 0.05 x 0.5 + 0.1
     assert "joint 'j3' mimics 'j2'" in out
+
+
+def test_a_tip_offset_applies_to_a_mimic_chain(case, rng):
+    xml, a = case
+    b = armik.load_string(xml, tip_offset=(0.0, 0.05, 0.1))
+    offset = pin.SE3(np.eye(3), np.array([0.0, 0.05, 0.1]))
+    Q = b.random_q(rng, 3)
+    batch = b.fk_batch(Q)
+    for i, q in enumerate(Q):
+        assert dist(b.fk(q), pin_mimic_fk(xml, b, q) * offset) < TOL["fk_exact"]
+        np.testing.assert_allclose(batch[i], b.fk(q).homogeneous, atol=1e-12)
+    assert b.solve(b.fk(Q[0]), solver="dls").success
+
+
+def test_a_prismatic_mimic_of_a_prismatic_driver(rng):
+    """Two fingers: jm = -1 x jp + 0.3, both prismatic in [0, 0.3] (jp kept in [0, 0.3])."""
+    links = "".join(f'<link name="{n}"/>' for n in ("base", "l1", "l2", "l3", "tip"))
+    xml = (
+        f'<robot name="slides">{links}'
+        + joint("j1", "revolute", "base", "l1", "0 0 0.1", "0 0 1")
+        + joint("jp", "prismatic", "l1", "l2", "0.1 0 0", "1 0 0", 0.0, 0.3)
+        + joint("jm", "prismatic", "l2", "l3", "0 0 0.1", "0 0 1", 0.0, 0.25,
+                mimic_tag("jp", -1.0, 0.3))  # fmt: skip
+        + joint("j3", "revolute", "l3", "tip", "0 0.1 0", "0 1 0")
+        + "</robot>"
+    )
+    a = armik.load_string(xml)
+    assert a.joint_names == ["j1", "jp", "j3"]
+    assert (a.lower[1], a.upper[1]) == pytest.approx((0.05, 0.3))  # jm <= 0.25: jp >= 0.05
+    Q = a.random_q(rng, 4)
+    batch = a.fk_batch(Q)
+    for i, q in enumerate(Q):
+        assert dist(a.fk(q), pin_mimic_fk(xml, a, q)) < TOL["fk_exact"]
+        np.testing.assert_allclose(batch[i], a.fk(q).homogeneous, atol=1e-12)
+        np.testing.assert_allclose(kernel_jacobian(a, q), a.jacobian(q), atol=1e-12)
+    assert dist(a.fk(Q[0]), yourdfpy_fk(xml, mimic_values(a, Q[0]))) < TOL["fk_exact"]
+    r = a.solve(a.fk(Q[1]), solver="qp", q0=a.middle)
+    assert r.success and mimic_limits_hold(a, r.q, {"jm": (0.0, 0.25)})

@@ -135,9 +135,6 @@ def reduce_chain(
     # their value in q_ref.
     to_lock = [j for j in range(1, full.njoints) if j not in chain]
     model = reduce_model(full, to_lock, q_ref) if to_lock else full.copy()
-    plain = model
-    if mimics:
-        model = _mimic.follow(plain, mimics)
 
     tip_frame = frame_id(model, tip)
     if tip_offset is not None:
@@ -146,6 +143,9 @@ def reduce_chain(
         tip_frame = model.addFrame(
             pin.Frame(tip + "_tool", frame.parentJoint, tip_frame, placement, pin.OP_FRAME)
         )
+    plain = model  # the mimic model keeps its frames, the tool frame included
+    if mimics:
+        model = _mimic.follow(plain, mimics)
 
     # The base frame's own joint is locked, so its world placement is a constant.
     data_full = full.createData()
