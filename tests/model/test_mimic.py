@@ -371,3 +371,22 @@ def test_a_prismatic_mimic_of_a_prismatic_driver(rng):
     assert dist(a.fk(Q[0]), yourdfpy_fk(xml, mimic_values(a, Q[0]))) < TOL["fk_exact"]
     r = a.solve(a.fk(Q[1]), solver="qp", q0=a.middle)
     assert r.success and mimic_limits_hold(a, r.q, {"jm": (0.0, 0.25)})
+
+
+def test_the_stick_figure_draws_every_joint_of_a_mimic_chain(case, rng, tmp_path):
+    """The view's skeleton has a point and an axis per physical joint, the mimic joints
+    placed at their values (the physical chain's FK)."""
+    from armik.view.stick import skeleton
+
+    _, a = case
+    q = a.random_q(rng)
+    sk = skeleton(a, q)
+    model = a.physical_model
+    data = model.createData()
+    cfg = mimic_values(a, q)
+    pin.forwardKinematics(model, data, np.array([cfg[model.names[j]] for j in range(1, 6)]))
+    origins = [(a.T_base_world * data.oMi[j]).translation for j in range(1, 6)]
+    np.testing.assert_allclose(sk.points[1:-1], origins, atol=1e-12)
+    assert sk.axes.shape == (5, 3) and sk.prismatic.tolist() == [0, 0, 0, 1, 0]
+    pytest.importorskip("matplotlib")
+    assert armik.plot(a, q, tmp_path / "m.png").exists()
