@@ -390,3 +390,31 @@ def test_the_stick_figure_draws_every_joint_of_a_mimic_chain(case, rng, tmp_path
     assert sk.axes.shape == (5, 3) and sk.prismatic.tolist() == [0, 0, 0, 1, 0]
     pytest.importorskip("matplotlib")
     assert armik.plot(a, q, tmp_path / "m.png").exists()
+
+
+def test_a_mimic_driver_is_never_shifted_by_two_pi(rng):
+    """2 pi is no period of a driver whose mimic turns by multiplier x 2 pi: neither
+    ``nearest_equivalent`` nor the kernel's answers shift it (the pose would change)."""
+    xml = five_joint_urdf(-0.5, 0.2).replace(
+        'lower="-1.0" upper="1.0"', 'lower="-4" upper="4"'
+    ).replace(
+        '<axis xyz="0 1 0"/><limit lower="-2.0" upper="2.0"',
+        '<axis xyz="0 1 0"/><limit lower="-6.2" upper="6.2"',
+    )
+    a = armik.load_string(xml)
+    assert (a.lower[1], a.upper[1]) == (-6.2, 6.2)
+    q = np.array([0.3, -2.5, 0.2])
+    ref = np.array([0.3, 2.5, 0.2])
+    assert a.nearest_equivalent(q, ref)[1] == -2.5
+    plain = armik.load_string(xml.replace("<mimic", "<nomimic"))  # no mimic: j2 is shifted
+    assert plain.nearest_equivalent(q, ref)[1] == pytest.approx(-2.5 + 2 * math.pi)
+    ok = 0
+    for _ in range(6):
+        q = a.random_q(rng)
+        q0 = np.clip(q + np.array([0.0, 4.0 if q[1] < 0 else -4.0, 0.0]), a.lower, a.upper)
+        for solver in ("dls", "qp"):
+            r = a.solve(a.fk(q), solver=solver, q0=q0)
+            ok += r.success
+            if r.success:
+                assert dist(a.fk(r.q), a.fk(q)) < 1e-5
+    assert ok >= 8

@@ -36,7 +36,8 @@ class Chain(NamedTuple):
     joint_R: np.ndarray  # (N, 3, 3)
     joint_p: np.ndarray  # (N, 3) m
     axis: np.ndarray  # (N, 3) unit
-    kind: np.ndarray  # (n,) int64: REVOLUTE, PRISMATIC or CONTINUOUS, per driving joint
+    kind: np.ndarray  # (n,) int64: REVOLUTE, PRISMATIC or CONTINUOUS per driving joint (a
+    # driver of mimic joints: PRISMATIC, never shifted by 2 pi; see ``build_chain``)
     tip_R: np.ndarray  # (3, 3)
     tip_p: np.ndarray  # (3,) m
     lower: np.ndarray  # (n,) rad or m, -inf where unlimited
@@ -205,6 +206,10 @@ def build_chain(arm: ArmModel) -> KernelChain:
     kind = np.empty(arm.dof, dtype=np.int64)
     for k, i in enumerate(arm.driving_joints):
         kind[k] = joint_kind[i]
+    # A driver of mimic joints has no 2 pi period (they would turn by multiplier x 2 pi):
+    # the descent reads only whether a joint wraps, so it is not shifted, as a prismatic.
+    for i in set(range(N)) - set(arm.driving_joints):  # the mimic joints
+        kind[driver[i]] = PRISMATIC
     lo, hi = arm.sampling_box()
     n = arm.dof
     ch = Chain(

@@ -103,7 +103,7 @@ class ArmModel:
         self.joint_map, self.driving_joints, self._mimic_box = _mimic.joint_map(self)
         self._set_limits(*_mimic.narrow(lower, upper, self._mimic_box, self))
         self.prismatic = np.array([t == "prismatic" for t in self.joint_types])
-        self._limit_lists = (self.lower.tolist(), self.upper.tolist(), self.prismatic.tolist())
+        self._limit_lists = (self.lower.tolist(), self.upper.tolist(), _mimic.no_period(self))
 
     def _set_limits(self, lower: np.ndarray, upper: np.ndarray) -> None:
         self.lower = lower
@@ -164,7 +164,7 @@ class ArmModel:
         clone.__dict__.update({k: v for k, v in self.__dict__.items() if k not in cached})
         lower, upper = _mimic.narrow(lower, upper, self._mimic_box, self)
         clone._set_limits(lower, upper)
-        clone._limit_lists = (lower.tolist(), upper.tolist(), self.prismatic.tolist())
+        clone._limit_lists = (lower.tolist(), upper.tolist(), self._limit_lists[2])
         clone._local = threading.local()
         clone._memo = {}
         if self._recipe is not None:

@@ -163,6 +163,14 @@ def narrow(lower: np.ndarray, upper: np.ndarray, box, arm) -> tuple[np.ndarray, 
     return lo, hi
 
 
+def no_period(arm) -> list[bool]:
+    """Per driving joint of ``arm``: True where 2 pi is no period of the pose, so that
+    ``nearest_equivalent`` and the kernel leave its value alone: a prismatic joint, or a
+    driver of mimic joints (they would move by multiplier x 2 pi)."""
+    drivers = {x.driver for x in arm.mimics}
+    return [bool(p) or n in drivers for n, p in zip(arm.joint_names, arm.prismatic)]
+
+
 def travel(arm) -> float:
     """How far (m) the prismatic mimic joints of ``arm`` slide from the middle of their
     drivers' limits: |multiplier| x the driver's travel (for ``ArmModel.reach``)."""
