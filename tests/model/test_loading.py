@@ -181,15 +181,15 @@ def test_missing_meshes_do_not_matter(tmp_path):
     assert a.dof == 2
 
 
-def test_mimic_joint_on_chain_is_refused(tmp_path):
+def test_mimic_joint_on_chain_follows_its_driver(tmp_path):
     limit = '<limit lower="-3.14159" upper="3.14159" effort="1" velocity="1"/>'
     text = two_link_urdf().replace(
         f'{limit}</joint>\n  <joint name="tool"',
         f'{limit}<mimic joint="j1" multiplier="1"/></joint>\n  <joint name="tool"',
     )
     assert "mimic" in text
-    with pytest.raises(JointError, match="mimic"):
-        armik.load(write_urdf(tmp_path, text), tip="tip")
+    a = armik.load(write_urdf(tmp_path, text), tip="tip")
+    assert a.joint_names == ["j1"] and [m.name for m in a.mimics] == ["j2"]
 
 
 def test_no_tip_with_several_leaves_lists_them(tmp_path):

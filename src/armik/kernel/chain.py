@@ -1,7 +1,11 @@
 """The kernel's view of an arm: plain arrays read once from the reduced Pinocchio model.
 
 Joint values are the user's (one per joint: rad or m); a continuous joint is one angle,
-not Pinocchio's (cos, sin) pair. Frames: joint i is placed in joint i - 1 by
+not Pinocchio's (cos, sin) pair. The chain has N physical joints and n <= N driving ones,
+the joint values q (n,): physical joint i takes the value
+``multiplier[i] * q[driver[i]] + offset[i]`` (a URDF mimic joint follows its driver; every
+other joint is its own driver with multiplier 1 and offset 0, which gives q[i] exactly).
+Frames: physical joint i is placed in joint i - 1 by
 ``joint_R[i], joint_p[i]`` (joint 0 in the arm's base frame: the base transform is folded
 in), turns about or slides along ``axis[i]`` (unit, in its own frame), and the tip frame is
 placed in the last joint by ``tip_R, tip_p``. The kernel's FK is therefore ``T_base_tip``.
@@ -29,10 +33,11 @@ _PRIMES = (2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37)
 class Chain(NamedTuple):
     """Plain arrays describing a serial chain (see the module docstring)."""
 
-    joint_R: np.ndarray  # (n, 3, 3)
-    joint_p: np.ndarray  # (n, 3) m
-    axis: np.ndarray  # (n, 3) unit
-    kind: np.ndarray  # (n,) int64: REVOLUTE, PRISMATIC or CONTINUOUS
+    joint_R: np.ndarray  # (N, 3, 3)
+    joint_p: np.ndarray  # (N, 3) m
+    axis: np.ndarray  # (N, 3) unit
+    kind: np.ndarray  # (n,) int64: REVOLUTE, PRISMATIC or CONTINUOUS per driving joint (a
+    # driver of mimic joints: PRISMATIC, never shifted by 2 pi; see ``build_chain``)
     tip_R: np.ndarray  # (3, 3)
     tip_p: np.ndarray  # (3,) m
     lower: np.ndarray  # (n,) rad or m, -inf where unlimited
@@ -44,6 +49,10 @@ class Chain(NamedTuple):
     reach: float  # upper bound on the distance from ``origin`` to the tip (m)
     base_R: np.ndarray  # (3, 3) T_base_world: the base frame's placement inverted
     base_p: np.ndarray  # (3,) m
+    joint_kind: np.ndarray  # (N,) int64: the kind of each physical joint
+    driver: np.ndarray  # (N,) int64: the index in q of the joint that drives it
+    multiplier: np.ndarray  # (N,)
+    offset: np.ndarray  # (N,) rad or m
 
 
 @dataclass(frozen=True, eq=False)
@@ -61,7 +70,8 @@ class KernelChain:
 
     @property
     def kind(self) -> np.ndarray:
-        return self.flat.kind
+        """The driving joints' kinds (n,)."""
+        return self.chain.kind
 
     @property
     def halton(self) -> np.ndarray:
@@ -72,79 +82,107 @@ def flatten(ch: Chain) -> np.ndarray:
     """The float fields of ``ch`` in one array, in ``unpack``'s order."""
     parts = [ch.joint_R, ch.joint_p, ch.axis, ch.tip_R, ch.tip_p, ch.lower, ch.upper]
     parts += [ch.sample_lo, ch.sample_span, ch.origin, np.array([ch.reach]), ch.base_R, ch.base_p]
+    parts += [ch.multiplier, ch.offset]
     return np.concatenate([np.ravel(x) for x in parts]).astype(np.float64)
 
 
+def flat_kinds(ch: Chain) -> np.ndarray:
+    """``Flat.kind``: the driving joints' kinds (n), the physical joints' (N), their
+    drivers (N)."""
+    return np.concatenate([ch.kind, ch.joint_kind, ch.driver]).astype(np.int64)
+
+
 class Flat(NamedTuple):
-    """The chain as compiled code sees it: ``flatten``'s array, joint kinds, restart table.
-    Three arrays: numba's compile time grows with the arrays a tuple argument holds."""
+    """The chain as compiled code sees it: ``flatten``'s array, ``flat_kinds``' array and
+    the restart table (n columns: the number of driving joints). Three arrays: numba's
+    compile time grows with the arrays a tuple argument holds."""
 
     packed: np.ndarray
     kind: np.ndarray
     halton: np.ndarray
 
 
-# Offsets into ``packed`` for a chain of n joints (see ``flatten``).
 @njit(cache=True, nogil=True, inline="always")
-def off_joint_p(n):
-    return 9 * n
-
-
-@njit(cache=True, nogil=True, inline="always")
-def off_axis(n):
-    return 12 * n
+def dof(ch):
+    """n, the number of driving joints (joint values)."""
+    return ch.halton.shape[1]
 
 
 @njit(cache=True, nogil=True, inline="always")
-def off_tip(n):
-    return 15 * n
+def joints(ch):
+    """N, the number of physical joints."""
+    return (ch.kind.shape[0] - ch.halton.shape[1]) // 2
+
+
+# Offsets into ``packed`` for a chain of N physical joints (see ``flatten``).
+@njit(cache=True, nogil=True, inline="always")
+def off_joint_p(N):
+    return 9 * N
+
+
+@njit(cache=True, nogil=True, inline="always")
+def off_axis(N):
+    return 12 * N
+
+
+@njit(cache=True, nogil=True, inline="always")
+def off_tip(N):
+    return 15 * N
+
+
+@njit(cache=True, nogil=True, inline="always")
+def off_mimic(N, n):
+    """Where the multipliers start (N of them, then N offsets)."""
+    return 15 * N + 4 * n + 28
 
 
 @njit(cache=True, nogil=True, inline="always")
 def lower(ch):
-    n = ch.kind.shape[0]
-    return ch.packed[15 * n + 12 : 16 * n + 12]
+    n, o = dof(ch), 15 * joints(ch) + 12
+    return ch.packed[o : o + n]
 
 
 @njit(cache=True, nogil=True, inline="always")
 def upper(ch):
-    n = ch.kind.shape[0]
-    return ch.packed[16 * n + 12 : 17 * n + 12]
+    n, o = dof(ch), 15 * joints(ch) + 12
+    return ch.packed[o + n : o + 2 * n]
 
 
 @njit(cache=True, nogil=True, inline="always")
 def sample_box(ch):
     """(lower corner, span) of the restart box."""
-    n = ch.kind.shape[0]
-    return ch.packed[17 * n + 12 : 18 * n + 12], ch.packed[18 * n + 12 : 19 * n + 12]
+    n, o = dof(ch), 15 * joints(ch) + 12
+    return ch.packed[o + 2 * n : o + 3 * n], ch.packed[o + 3 * n : o + 4 * n]
 
 
 @njit(cache=True, nogil=True, inline="always")
 def reach(ch):
     """(first joint's origin in the base frame, reach bound) (m)."""
-    n = ch.kind.shape[0]
-    o = 19 * n + 12
+    o = 15 * joints(ch) + 12 + 4 * dof(ch)
     return ch.packed[o : o + 3], ch.packed[o + 3]
 
 
 def build_chain(arm: ArmModel) -> KernelChain:
-    """Read ``arm``'s chain from its Pinocchio model. Raises ``ValueError`` if the model
-    is not a serial chain of one-degree-of-freedom joints ending at the tip frame."""
-    model = arm.model
-    n = model.njoints - 1
-    if model.nv != n or arm.dof != n:
-        raise ValueError(f"expected {n} one-degree-of-freedom joints, model has nv = {model.nv}")
+    """Read ``arm``'s chain from its Pinocchio model of physical joints
+    (``arm.physical_model``: a mimic joint there is a joint of its own) and its mimic map
+    (``arm.joint_map``). Raises ``ValueError`` if the model is not a serial chain of
+    one-degree-of-freedom joints ending at the tip frame."""
+    model = arm.physical_model
+    N = model.njoints - 1
+    driver, multiplier, offset = arm.joint_map
+    if model.nv != N or len(driver) != N:
+        raise ValueError(f"expected {N} one-degree-of-freedom joints, model has nv = {model.nv}")
     frame = model.frames[arm.tip_frame_id]
-    if frame.parentJoint != n:
+    if frame.parentJoint != N:
         raise ValueError(f"tip frame {frame.name!r} is not attached to the last joint")
     data = model.createData()
     q = pin.neutral(model)
     pin.computeJointJacobians(model, data, q)
-    joint_R = np.empty((n, 3, 3))
-    joint_p = np.empty((n, 3))
-    axis = np.empty((n, 3))
-    kind = np.empty(n, dtype=np.int64)
-    for i in range(n):
+    joint_R = np.empty((N, 3, 3))
+    joint_p = np.empty((N, 3))
+    axis = np.empty((N, 3))
+    joint_kind = np.empty(N, dtype=np.int64)
+    for i in range(N):
         j = i + 1
         if model.parents[j] != j - 1:
             raise ValueError(f"joint {model.names[j]!r} does not follow the previous joint")
@@ -159,13 +197,21 @@ def build_chain(arm: ArmModel) -> KernelChain:
         lin, ang = S[:3], S[3:]
         if np.linalg.norm(ang) > 0.5 and np.linalg.norm(lin) < 1e-12:
             axis[i] = ang / np.linalg.norm(ang)
-            kind[i] = CONTINUOUS if model.joints[j].nq == 2 else REVOLUTE
+            joint_kind[i] = CONTINUOUS if model.joints[j].nq == 2 else REVOLUTE
         elif np.linalg.norm(lin) > 0.5 and np.linalg.norm(ang) < 1e-12:
             axis[i] = lin / np.linalg.norm(lin)
-            kind[i] = PRISMATIC
+            joint_kind[i] = PRISMATIC
         else:
             raise ValueError(f"joint {model.names[j]!r} is neither revolute nor prismatic")
+    kind = np.empty(arm.dof, dtype=np.int64)
+    for k, i in enumerate(arm.driving_joints):
+        kind[k] = joint_kind[i]
+    # A driver of mimic joints has no 2 pi period (they would turn by multiplier x 2 pi):
+    # the descent reads only whether a joint wraps, so it is not shifted, as a prismatic.
+    for i in set(range(N)) - set(arm.driving_joints):  # the mimic joints
+        kind[driver[i]] = PRISMATIC
     lo, hi = arm.sampling_box()
+    n = arm.dof
     ch = Chain(
         joint_R,
         joint_p,
@@ -182,8 +228,12 @@ def build_chain(arm: ArmModel) -> KernelChain:
         float(arm.reach) if math.isfinite(arm.reach) else math.inf,
         arm.T_base_world.rotation.copy(),
         arm.T_base_world.translation.copy(),
+        joint_kind,
+        np.asarray(driver, dtype=np.int64).copy(),
+        np.asarray(multiplier, dtype=float).copy(),
+        np.asarray(offset, dtype=float).copy(),
     )
-    return KernelChain(ch, Flat(flatten(ch), ch.kind, ch.halton))
+    return KernelChain(ch, Flat(flatten(ch), flat_kinds(ch), ch.halton))
 
 
 @cache

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from armik.kernel.chain import Flat
+from armik.kernel.chain import Flat, joints
 from armik.kernel.descent import solve_one
 from armik.kernel.problem import _workspace
 from armik.kernel.problem import unpack as unpack_settings
@@ -28,7 +28,7 @@ def solve_targets_dls(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, out_q, 
     ``descent.solve_one``: out_q (N, S, n), info (N, 5), err (N, 2)."""
     ch = Flat(packed, kind, halton)
     st = unpack_settings(sf, si)
-    ws = _workspace(q0.shape[1], min(st.max_restarts + 1, MINIMA_CAPACITY))
+    ws = _workspace(q0.shape[1], min(st.max_restarts + 1, MINIMA_CAPACITY), joints(ch))
     for i in range(R_t.shape[0]):
         solve_one(ch, st, R_t[i], p_t[i], q0[i], seeds[i], ws, out_q[i], info[i], err[i], dls)
 
@@ -38,7 +38,7 @@ def solve_targets_qp(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, out_q, i
     """``solve_targets_dls`` with the qp step."""
     ch = Flat(packed, kind, halton)
     st = unpack_settings(sf, si)
-    ws = _workspace(q0.shape[1], min(st.max_restarts + 1, MINIMA_CAPACITY))
+    ws = _workspace(q0.shape[1], min(st.max_restarts + 1, MINIMA_CAPACITY), joints(ch))
     for i in range(R_t.shape[0]):
         solve_one(ch, st, R_t[i], p_t[i], q0[i], seeds[i], ws, out_q[i], info[i], err[i], qp)
 

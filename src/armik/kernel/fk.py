@@ -1,8 +1,10 @@
 """Forward kinematics and the tip Jacobian of a ``Chain`` (see ``chain.py``), compiled.
 
 ``T_base_tip`` for joint values q (rad, m); the Jacobian maps joint velocities to the tip's
-twist (v, w) expressed in the tip frame, Pinocchio's LOCAL. Scratch and outputs belong to
-the caller: nothing is allocated per call.
+twist (v, w) expressed in the tip frame, Pinocchio's LOCAL. A mimic joint takes the value
+``multiplier * q[driver] + offset`` and its Jacobian column is folded into its driver's,
+times the multiplier (see ``chain.py``). Scratch and outputs belong to the caller: nothing
+is allocated per call.
 """
 
 from __future__ import annotations
@@ -11,21 +13,22 @@ import math
 
 from numba import njit
 
-from armik.kernel.chain import PRISMATIC, off_axis, off_joint_p, off_tip
+from armik.kernel.chain import PRISMATIC, dof, joints, off_axis, off_joint_p, off_mimic, off_tip
 
 
 @njit(cache=True, nogil=True, inline="always")
 def forward(ch, q, R, p, origins, axes):
     """T_base_tip = (R, p) for joint values q (``ch``: a ``chain.Flat``); ``origins`` and
-    ``axes`` (n x 3) receive each joint's origin and unit axis in the base frame, for
-    ``jacobian_local``."""
-    n = q.shape[0]
+    ``axes`` (N x 3) receive each physical joint's origin and unit axis in the base frame,
+    for ``jacobian_local``."""
+    n, N = dof(ch), joints(ch)
     X = ch.packed
-    jp, ja, tip = off_joint_p(n), off_axis(n), off_tip(n)
+    jp, ja, tip, mim = off_joint_p(N), off_axis(N), off_tip(N), off_mimic(N, n)
+    kinds = ch.kind
     # (r, t): the running transform, as nine and three scalars
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
     t0, t1, t2 = 0.0, 0.0, 0.0
-    for i in range(n):
+    for i in range(N):
         o = 9 * i  # joint i's placement: rotation P (row-major), translation d
         P00, P01, P02 = X[o], X[o + 1], X[o + 2]
         P10, P11, P12 = X[o + 3], X[o + 4], X[o + 5]
@@ -53,8 +56,11 @@ def forward(ch, q, R, p, origins, axes):
         wz = r20 * ux + r21 * uy + r22 * uz
         origins[i, 0], origins[i, 1], origins[i, 2] = t0, t1, t2
         axes[i, 0], axes[i, 1], axes[i, 2] = wx, wy, wz
-        x = q[i]
-        if ch.kind[i] == PRISMATIC:
+        if N == n:  # no mimic joint: every joint is its own driver
+            x = q[i]
+        else:
+            x = X[mim + i] * q[kinds[n + N + i]] + X[mim + N + i]
+        if kinds[n + i] == PRISMATIC:
             t0 += wx * x
             t1 += wy * x
             t2 += wz * x
@@ -96,17 +102,25 @@ def forward(ch, q, R, p, origins, axes):
 
 @njit(cache=True, nogil=True, inline="always")
 def jacobian_local(ch, R, p, origins, axes, J):
-    """J (6 x n): the tip Jacobian in the tip frame (LOCAL) from ``forward``'s outputs."""
-    n = origins.shape[0]
+    """J (6 x n): the tip Jacobian in the tip frame (LOCAL) from ``forward``'s outputs, a
+    mimic joint's column added to its driver's times the multiplier."""
+    n, N = dof(ch), joints(ch)
+    mim = off_mimic(N, n)
+    X, kinds = ch.packed, ch.kind
     # R and p read once into locals: the stores into J could alias them as far as the
     # compiler knows, which made it read them again for every column.
     r00, r01, r02 = R[0, 0], R[0, 1], R[0, 2]
     r10, r11, r12 = R[1, 0], R[1, 1], R[1, 2]
     r20, r21, r22 = R[2, 0], R[2, 1], R[2, 2]
     px, py, pz = p[0], p[1], p[2]
-    for i in range(n):
+    own = N == n  # no mimic joint: column i is joint i's alone
+    if not own:
+        for c in range(n):
+            for r in range(6):
+                J[r, c] = 0.0
+    for i in range(N):
         wx, wy, wz = axes[i, 0], axes[i, 1], axes[i, 2]
-        if ch.kind[i] == PRISMATIC:
+        if kinds[n + i] == PRISMATIC:
             vx, vy, vz = wx, wy, wz
             wx = wy = wz = 0.0
         else:  # v = w x (p_tip - o_i)
@@ -115,9 +129,18 @@ def jacobian_local(ch, R, p, origins, axes, J):
             vy = wz * dx - wx * dz
             vz = wx * dy - wy * dx
         # rotate into the tip frame: R^T
-        J[0, i] = r00 * vx + r10 * vy + r20 * vz
-        J[1, i] = r01 * vx + r11 * vy + r21 * vz
-        J[2, i] = r02 * vx + r12 * vy + r22 * vz
-        J[3, i] = r00 * wx + r10 * wy + r20 * wz
-        J[4, i] = r01 * wx + r11 * wy + r21 * wz
-        J[5, i] = r02 * wx + r12 * wy + r22 * wz
+        if own:
+            J[0, i] = r00 * vx + r10 * vy + r20 * vz
+            J[1, i] = r01 * vx + r11 * vy + r21 * vz
+            J[2, i] = r02 * vx + r12 * vy + r22 * vz
+            J[3, i] = r00 * wx + r10 * wy + r20 * wz
+            J[4, i] = r01 * wx + r11 * wy + r21 * wz
+            J[5, i] = r02 * wx + r12 * wy + r22 * wz
+            continue
+        c, m = kinds[n + N + i], X[mim + i]  # into the driver's column, times the multiplier
+        J[0, c] += m * (r00 * vx + r10 * vy + r20 * vz)
+        J[1, c] += m * (r01 * vx + r11 * vy + r21 * vz)
+        J[2, c] += m * (r02 * vx + r12 * vy + r22 * vz)
+        J[3, c] += m * (r00 * wx + r10 * wy + r20 * wz)
+        J[4, c] += m * (r01 * wx + r11 * wy + r21 * wz)
+        J[5, c] += m * (r02 * wx + r12 * wy + r22 * wz)

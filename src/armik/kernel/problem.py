@@ -56,7 +56,7 @@ class Workspace(NamedTuple):
     vec: np.ndarray  # (NVEC, n)
     mat: np.ndarray  # (4, n, n)
     ivec: np.ndarray  # (3, n) int64
-    geo: np.ndarray  # (2, n, 3): joint origins and axes in the base frame
+    geo: np.ndarray  # (2, N, 3): the physical joints' origins and axes in the base frame
     J: np.ndarray  # (6, n) tip Jacobian, LOCAL
     m3: np.ndarray  # (2, 3, 3): tip rotation, T_tip^-1 T_target rotation
     v3: np.ndarray  # (3, 3): tip position, T_tip^-1 T_target translation, rotation vector
@@ -100,7 +100,8 @@ def unpack(sf, si):
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _workspace(n, capacity):
+def _workspace(n, capacity, nj):
+    """Scratch for n joint values and nj physical joints (nj > n with mimic joints)."""
     return Workspace(
         np.empty((2, n)),
         np.empty((2, 6)),
@@ -109,7 +110,7 @@ def _workspace(n, capacity):
         np.empty((NVEC, n)),
         np.empty((4, n, n)),
         np.empty((3, n), dtype=np.int64),
-        np.empty((2, n, 3)),
+        np.empty((2, nj, 3)),
         np.empty((6, n)),
         np.empty((2, 3, 3)),
         np.empty((3, 3)),
@@ -121,7 +122,7 @@ def _workspace(n, capacity):
 
 
 @njit(cache=True, nogil=True)
-def workspace(n, capacity):
+def workspace(n, capacity, nj):
     """``_workspace`` for Python callers (the kernel's copy goes without the CPython wrapper,
     whose boxing of the 15 arrays cost compile time in every process)."""
-    return _workspace(n, capacity)
+    return _workspace(n, capacity, nj)

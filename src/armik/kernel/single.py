@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
-from armik.kernel.chain import Flat, lower, upper
+from armik.kernel.chain import Flat, joints, lower, upper
 from armik.kernel.descent import solve_one
 from armik.kernel.entry import MINIMA_CAPACITY
 from armik.kernel.measure import inside_limits, split_pose
@@ -78,7 +78,7 @@ def solve_pose_dls(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
         return False
     st = unpack_settings(sf, si)
     R_t, p_t = split_pose(H)
-    ws = _workspace(q0.shape[0], min(st.max_restarts + 1, MINIMA_CAPACITY))
+    ws = _workspace(q0.shape[0], min(st.max_restarts + 1, MINIMA_CAPACITY), joints(ch))
     solve_one(ch, st, R_t, p_t, q0, np.uint64(seed), ws, out_q, info, err, dls)
     return True
 
@@ -91,7 +91,7 @@ def solve_pose_qp(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
         return False
     st = unpack_settings(sf, si)
     R_t, p_t = split_pose(H)
-    ws = _workspace(q0.shape[0], min(st.max_restarts + 1, MINIMA_CAPACITY))
+    ws = _workspace(q0.shape[0], min(st.max_restarts + 1, MINIMA_CAPACITY), joints(ch))
     solve_one(ch, st, R_t, p_t, q0, np.uint64(seed), ws, out_q, info, err, qp)
     return True
 

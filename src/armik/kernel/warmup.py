@@ -87,10 +87,10 @@ def _parts() -> tuple[tuple, list]:
     (tests/kernel/test_warmup.py checks them against what the entries compile)."""
     from numba import typeof
 
-    ch = Flat(np.zeros(1), np.zeros(1, dtype=np.int64), np.zeros((1, 1)))
+    ch = Flat(np.zeros(1), np.zeros(3, dtype=np.int64), np.zeros((1, 1)))
     sf, si = np.zeros(16), np.zeros(16, dtype=np.int64)
     st = unpack.py_func(sf, si)
-    ws = _workspace.py_func(1, 1)
+    ws = _workspace.py_func(1, 1, 1)
     H = np.eye(4)
     R_t, p_t = check.split_pose.py_func(H)
     q, Q = np.zeros(1), np.zeros((1, 1))
@@ -105,7 +105,7 @@ def _parts() -> tuple[tuple, list]:
         (plain_pose, types(H)),
         (plain_seed, types(q, q, q)),
         (unpack, types(sf, si)),
-        (_workspace, types(count, count)),
+        (_workspace, types(count, count, count)),
         (check.split_pose, types(H)),
         (_add_solution, types(ch, q, q, q, Q, count)),
         (_near_known_minimum, types(ch, q, Q, count)),

@@ -25,6 +25,7 @@ from armik.errors import ArmikWarning, JointError, OptionError, listing
 from armik.kernel.chain import build_chain
 from armik.kernel.coordinates import pin_configuration
 from armik.kernel.fk_many import fk_many
+from armik.model import mimic as _mimic
 from armik.model.geometry import Plane, find_plane
 from armik.model.reduce import check_limit_value, reduce_chain
 from armik.model.urdf import URDFInfo
@@ -62,6 +63,7 @@ class ArmModel:
         )
         self.base, self.tip, self.tip_reason = chain.base, chain.tip, chain.tip_reason
         self.model = chain.model
+        self.mimics, self.physical_model = chain.mimics, chain.plain  # see ReducedChain
         self.chain = chain  # how it was cut from the URDF's model (collision geometry)
         self.tip_frame_id = chain.tip_frame_id
         self.tip_offset = chain.tip_offset
@@ -79,17 +81,17 @@ class ArmModel:
     def _setup_joints(self, info: URDFInfo) -> None:
         m = self.model
         self.dof = m.nv
-        self.joint_names = [m.names[j] for j in range(1, m.njoints)]
+        ids = [j for j in range(1, m.njoints) if m.joints[j].nq > 0]  # not mimic: driving
+        self.joint_names = [m.names[j] for j in ids]
         self.joint_types = [info.joint_types.get(n, "revolute") for n in self.joint_names]
-        idx_q = np.array([m.joints[j].idx_q for j in range(1, m.njoints)])
-        continuous = np.array([m.joints[j].nq == 2 for j in range(1, m.njoints)])
+        idx_q = np.array([m.joints[j].idx_q for j in ids])
+        continuous = np.array([m.joints[j].nq == 2 for j in ids])
         self._idx_q = idx_q
         self._cont = np.flatnonzero(continuous)
         self._simple = np.flatnonzero(~continuous)
         self._identity_q = not continuous.any()
         self._continuous = continuous
-        lower = np.full(self.dof, -np.inf)
-        upper = np.full(self.dof, np.inf)
+        lower, upper = np.full(self.dof, -np.inf), np.full(self.dof, np.inf)
         for i in self._simple:
             lo, hi = m.lowerPositionLimit[idx_q[i]], m.upperPositionLimit[idx_q[i]]
             # lower == upper == 0 means "not given" (warned about when the URDF was read);
@@ -98,9 +100,10 @@ class ArmModel:
                 # Limits beyond MAX_LIMIT mean "free" (warned about when read).
                 lower[i] = lo if lo >= -MAX_LIMIT else -np.inf
                 upper[i] = hi if hi <= MAX_LIMIT else np.inf
-        self._set_limits(lower, upper)
+        self.joint_map, self.driving_joints, self._mimic_box = _mimic.joint_map(self)
+        self._set_limits(*_mimic.narrow(lower, upper, self._mimic_box, self))
         self.prismatic = np.array([t == "prismatic" for t in self.joint_types])
-        self._limit_lists = (self.lower.tolist(), self.upper.tolist(), self.prismatic.tolist())
+        self._limit_lists = (self.lower.tolist(), self.upper.tolist(), _mimic.no_period(self))
 
     def _set_limits(self, lower: np.ndarray, upper: np.ndarray) -> None:
         self.lower = lower
@@ -159,8 +162,9 @@ class ArmModel:
         cached = {k for k, v in vars(ArmModel).items() if isinstance(v, cached_property)}
         cached |= {"_local", "_memo", "_tol_bounds"}
         clone.__dict__.update({k: v for k, v in self.__dict__.items() if k not in cached})
+        lower, upper = _mimic.narrow(lower, upper, self._mimic_box, self)
         clone._set_limits(lower, upper)
-        clone._limit_lists = (lower.tolist(), upper.tolist(), self.prismatic.tolist())
+        clone._limit_lists = (lower.tolist(), upper.tolist(), self._limit_lists[2])
         clone._local = threading.local()
         clone._memo = {}
         if self._recipe is not None:
@@ -461,7 +465,7 @@ class ArmModel:
         total = sum(float(np.linalg.norm(b - a)) for a, b in zip(pts, pts[1:]))
         for i in np.flatnonzero(self.prismatic):
             total += max(abs(self.lower[i] - self.middle[i]), abs(self.upper[i] - self.middle[i]))
-        return total
+        return total + _mimic.travel(self)
 
     @cached_property
     def kernel_chain(self):

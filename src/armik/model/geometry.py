@@ -52,7 +52,7 @@ class Plane:
 
 
 def find_plane(arm: ArmModel) -> Plane | None:
-    if np.any(arm.prismatic):
+    if np.any(arm.prismatic) or arm.mimics:
         return None
     q = arm.to_pin(arm.middle)
     J = pin.computeFrameJacobian(arm.model, arm.data, q, arm.tip_frame_id, pin.LOCAL_WORLD_ALIGNED)

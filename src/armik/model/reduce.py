@@ -18,6 +18,8 @@ import numpy as np
 import pinocchio as pin
 
 from armik.errors import FrameError, JointError, OptionError, listing
+from armik.model import mimic as _mimic
+from armik.model.mimic import Mimic
 from armik.model.urdf import URDFInfo
 from armik.tolerances import LIMIT_TOL, MAX_LENGTH, MAX_LIMIT
 
@@ -43,6 +45,11 @@ class ReducedChain:
     full: pin.Model | None = None
     locked_joints: tuple[int, ...] = ()
     q_ref: np.ndarray | None = None
+    # mimic joints: those that follow a driver on the chain (``model`` holds them as
+    # Pinocchio mimic joints, ``plain`` as joints of their own), those fixed at a value
+    mimics: tuple[Mimic, ...] = ()
+    plain: pin.Model | None = None
+    fixed_mimics: dict[str, float] | None = None
 
 
 def reduce_chain(
@@ -115,12 +122,14 @@ def reduce_chain(
                 "degrees of freedom; armik handles revolute, continuous and prismatic joints",
                 joint=jname,
             )
-        if jname in info.mimic:
+    mimics, fixed = _chain_mimics(full, info, chain, q_ref)
+    if fixed:
+        chain = [j for j in chain if full.names[j] not in fixed]
+        if not chain:
             raise JointError(
-                f"joint {jname!r} on the chain mimics {info.mimic[jname]!r}; mimic joints "
-                "on the chain are not supported: lock it at a value (locked=), pick a tip "
-                "before it or remove the mimic tag",
-                joint=jname,
+                f"the chain from {base!r} to {tip!r} has no moving joint once its mimic "
+                f"joints {listing(fixed)} are fixed: pick another base or tip",
+                joint=next(iter(fixed)),
             )
     # Every joint off the chain, and the chain's locked joints, become fixed transforms at
     # their value in q_ref.
@@ -134,6 +143,9 @@ def reduce_chain(
         tip_frame = model.addFrame(
             pin.Frame(tip + "_tool", frame.parentJoint, tip_frame, placement, pin.OP_FRAME)
         )
+    plain = model  # the mimic model keeps its frames, the tool frame included
+    if mimics:
+        model = _mimic.follow(plain, mimics)
 
     # The base frame's own joint is locked, so its world placement is a constant.
     data_full = full.createData()
@@ -151,7 +163,28 @@ def reduce_chain(
         full=full,
         locked_joints=tuple(to_lock),
         q_ref=q_ref,
+        mimics=mimics,
+        plain=plain,
+        fixed_mimics=fixed,
     )
+
+
+def _chain_mimics(
+    full: pin.Model, info: URDFInfo, chain: list[int], q_ref: np.ndarray
+) -> tuple[tuple[Mimic, ...], dict[str, float]]:
+    """The mimic joints of ``chain``: those that follow a driver on it, and those fixed at a
+    value (written into ``q_ref``, to be locked there). See ``armik.model.mimic.resolve``."""
+    mimics: list[Mimic] = []
+    fixed: dict[str, float] = {}
+    for j in chain:
+        if full.names[j] in info.mimic:
+            got = _mimic.resolve(full, info, j, chain, q_ref)
+            if isinstance(got, Mimic):
+                mimics.append(got)
+            else:
+                set_joint(full, q_ref, j, got)
+                fixed[full.names[j]] = got
+    return tuple(mimics), fixed
 
 
 def _locked_joint(full: pin.Model, jname: str) -> int:

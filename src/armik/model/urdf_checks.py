@@ -52,6 +52,8 @@ class URDFInfo:
     notes: tuple[str, ...] = ()  # what was read in a way the user should know (armik info)
     depth: int = 0  # joints on the longest path from the root
     text: str = field(default="", repr=False, compare=False)  # the XML the model was built from
+    # mimicking joint -> (multiplier, offset) of <mimic>: q = multiplier * q_driver + offset
+    mimic_factors: dict[str, tuple[float, float]] = field(default_factory=dict)
 
     def children(self) -> dict[str, list[JointXML]]:
         """parent link -> the joints that hang from it, in file order."""
@@ -95,6 +97,7 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
 
     joints: dict[str, JointXML] = {}
     mimic: dict[str, str] = {}
+    factors: dict[str, tuple[float, float]] = {}
     unset: set[str] = set()
     notes: list[str] = []
     parent_of: dict[str, str] = {}  # child link -> joint
@@ -201,13 +204,15 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
         mim = joint.find("mimic")
         if mim is not None:
             mimic[name] = mim.get("joint", "?")
-            for key in ("multiplier", "offset"):
+            pair = [1.0, 0.0]  # the URDF defaults
+            for k, key in enumerate(("multiplier", "offset")):
                 if mim.get(key) is not None:
-                    _number(mim.get(key), what, f"mimic {key}", path)
+                    pair[k] = _number(mim.get(key), what, f"mimic {key}", path)
+            factors[name] = (pair[0], pair[1])
         joints[name] = JointXML(name, jtype, parent, child, norm)
 
     for name, target in mimic.items():
-        if target not in joints:  # Pinocchio ignores it; armik refuses mimic joints on a chain
+        if target not in joints:  # Pinocchio ignores it; armik refuses it on a chain
             notes.append(f"joint {name!r} mimics {target!r}, which is not a joint of the file")
     roots = [name for name in links if name not in parent_of]
     if len(roots) != 1:
@@ -227,6 +232,7 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
         frozenset(unset),
         tuple(notes),
         depth,
+        mimic_factors=factors,
     )
     return info, changed
 

@@ -8,8 +8,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import pinocchio as pin
 
+from armik.kernel.chain import PRISMATIC
 from armik.model.arm_model import ArmModel
 from armik.view.body import Body, Part, joint_poses
 
@@ -22,8 +22,9 @@ PRISMATIC_AXIS = (0, 150, 255, 255)  # blue: slides along this line
 @dataclass(frozen=True, eq=False)
 class Skeleton:
     """The chain for one configuration, in the base frame (m): ``points`` the base origin,
-    every joint origin and the tip, in chain order; ``axes`` (dof, 3) the unit joint axes;
-    ``prismatic`` (dof,) which joints slide."""
+    every joint origin and the tip, in chain order; ``axes`` (N, 3) the unit joint axes;
+    ``prismatic`` (N,) which joints slide (N: the joints of ``arm.model``, mimic joints
+    included)."""
 
     points: np.ndarray
     axes: np.ndarray
@@ -43,18 +44,14 @@ def size(arm: ArmModel) -> float:
 
 
 def local_axes(arm: ArmModel) -> np.ndarray:
-    """(dof, 3): each joint's axis in its own frame (constant: Pinocchio's motion subspace)."""
+    """(N, 3): each joint's unit axis in its own frame, for every joint of ``arm.model``
+    (mimic joints included: the kernel chain's axes, Pinocchio's motion subspaces)."""
+    return arm.kernel_chain.chain.axis
 
-    def build(arm: ArmModel) -> np.ndarray:
-        m, d = arm.model, arm.data
-        pin.computeJointJacobians(m, d, arm.to_pin(arm.middle))
-        out = np.zeros((arm.dof, 3))
-        for k, j in enumerate(range(1, m.njoints)):
-            column = pin.getJointJacobian(m, d, j, pin.LOCAL)[:, m.joints[j].idx_v]
-            out[k] = column[:3] if arm.prismatic[k] else column[3:]
-        return out
 
-    return arm.memo("armik.view.local_axes", build)
+def slides(arm: ArmModel) -> np.ndarray:
+    """(N,) bool: which joints of ``arm.model`` are prismatic (mimic joints included)."""
+    return arm.kernel_chain.chain.joint_kind == PRISMATIC
 
 
 def skeleton(arm: ArmModel, q: np.ndarray) -> Skeleton:
@@ -63,7 +60,7 @@ def skeleton(arm: ArmModel, q: np.ndarray) -> Skeleton:
     tip = arm.fk(q).translation
     points = np.vstack([np.zeros(3), poses[1:, :3, 3], tip])
     axes = np.einsum("nij,nj->ni", poses[1:, :3, :3], local_axes(arm))
-    return Skeleton(points=points, axes=axes, prismatic=arm.prismatic.copy())
+    return Skeleton(points=points, axes=axes, prismatic=slides(arm).copy())
 
 
 def stick_body(arm: ArmModel, note: str) -> Body:
@@ -97,9 +94,9 @@ def stick_body(arm: ArmModel, note: str) -> Body:
             rod_between(j, np.zeros(3), tip_frame.placement.translation, "link to the tip")
         add(j, trimesh.creation.icosphere(subdivisions=2, radius=ball), BALL, name)
         axis = local_axes(arm)[j - 1]
-        k = j - 1
-        color = PRISMATIC_AXIS if arm.prismatic[k] else REVOLUTE_AXIS
-        width = 0.5 * rod if arm.prismatic[k] else 0.7 * rod
+        slide = bool(slides(arm)[j - 1])
+        color = PRISMATIC_AXIS if slide else REVOLUTE_AXIS
+        width = 0.5 * rod if slide else 0.7 * rod
         add(j, trimesh.creation.cylinder(width, segment=[-bar * axis, bar * axis]), color,
             f"axis of {name}")  # fmt: skip
     return Body(parts=tuple(parts), kind="stick", note=note)

@@ -8,6 +8,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from armik.model.geometry import axis_lines
+from armik.model.mimic import reason as mimic_reason
 from armik.solvers.closed_form import planar2r, spherical_wrist, swept_7r, three_parallel
 
 if TYPE_CHECKING:
@@ -24,5 +25,7 @@ FAMILIES = {
 def classify(arm: ArmModel) -> dict[str, object]:
     """Each family name -> its geometry (a ``Plane``, ``Chain6R`` or ``Swept``) or the
     reason it does not apply (a string)."""
+    if arm.mimics:
+        return {name: mimic_reason(arm.mimics) for name in FAMILIES}
     ax = axis_lines(arm)
     return {name: classifier(arm, ax) for name, classifier in FAMILIES.items()}

@@ -20,6 +20,7 @@ import numpy as np
 
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, Plane, angle_between, axis_lines, fmt
+from armik.model.mimic import reason as mimic_reason
 from armik.options import Options
 from armik.solvers.claims import Attempt
 from armik.solvers.registry import SolverSpec, register
@@ -56,6 +57,8 @@ class Geometry:
 def classify(arm: ArmModel, ax: Axes | None = None) -> Plane | str:
     """The plane of motion of ``arm`` (every joint revolute, all axes parallel), or why it
     is not planar, with the measured angle."""
+    if arm.mimics:
+        return mimic_reason(arm.mimics)
     if arm.plane is not None:
         return arm.plane
     ax = ax or axis_lines(arm)
@@ -96,6 +99,8 @@ def _measure_geometry(arm: ArmModel) -> Geometry:
 
 
 def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
+    if arm.mimics:
+        return mimic_reason(arm.mimics)
     if arm.dof != 2:
         return f"the chain has {arm.dof} joints, the specialist needs exactly 2"
     if any(t == "prismatic" for t in arm.joint_types):

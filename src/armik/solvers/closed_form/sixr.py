@@ -21,6 +21,7 @@ from numba import njit
 from armik.errors import SolverError
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes
+from armik.model.mimic import reason as mimic_reason
 from armik.options import Options
 from armik.solvers.claims import AttemptBatch, attempt, claim
 from armik.solvers.closed_form.subproblems import (
@@ -87,6 +88,8 @@ def chain_6r(kind: str, variant: str, ax: Axes, points: list[np.ndarray], text: 
 
 def not_6r(arm: ArmModel) -> str | None:
     """Why ``arm`` is not a 6R chain, or None."""
+    if arm.mimics:
+        return mimic_reason(arm.mimics)
     if arm.dof != 6:
         return f"the chain has {arm.dof} joints, this class needs 6"
     if np.any(arm.prismatic):

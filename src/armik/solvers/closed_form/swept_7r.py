@@ -29,6 +29,7 @@ from armik.kernel.measure import split_pose
 from armik.kernel.single import plain_pose, plain_seed
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, axis_lines
+from armik.model.mimic import reason as mimic_reason
 from armik.options import Options
 from armik.solvers.claims import Attempt, claim
 from armik.solvers.closed_form import sixr
@@ -60,6 +61,8 @@ class Swept:
 def classify(arm: ArmModel, ax: Axes | None = None) -> Swept | str:
     """The geometry the swept solver sweeps over (see the module), or the reason this 7R arm is not
     in the class: joint 7 held, joints 6 to 1 read from the tip form a spherical wrist."""
+    if arm.mimics:
+        return mimic_reason(arm.mimics)
     if arm.dof != 7:
         return f"the chain has {arm.dof} joints, this class needs 7"
     if np.any(arm.prismatic):

@@ -321,7 +321,7 @@ class Problem:
             np.ascontiguousarray(R, dtype=float),
             np.ascontiguousarray(target.position, dtype=float),
             np.asarray(q0, dtype=float).copy(),
-            workspace(arm.dof, 64),
+            workspace(arm.dof, 64, arm.kernel_chain.chain.joint_kind.shape[0]),
         )
 
     @property

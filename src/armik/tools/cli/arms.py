@@ -160,6 +160,10 @@ def cmd_info(args: argparse.Namespace) -> int:
         where = "on the chain" if jname in arm.locked_on_chain else "off the chain"
         unit = "m" if arm.info.joint_types.get(jname) == "prismatic" else "rad"
         print(f"  locked: {jname} = {value:g} {unit} ({where})")
+    for m in arm.mimics:
+        print(f"  mimic: {m.name} = {m.multiplier:g} x {m.driver} + {m.offset:g}")
+    for jname, value in (arm.chain.fixed_mimics or {}).items():
+        print(f"  mimic: {jname} fixed at {value:g} (its driver does not move on the chain)")
     if args.frames:
         _print_frames(arm.info, set(), arm.tip)
     print(f"  {'joint':<24} {'type':<11} {'lower':>9} {'upper':>9}  link to next (m)")
@@ -243,10 +247,11 @@ def frame_tree(info, marks: dict[str, str] | None = None) -> list[str]:
 
 
 def _link_lengths(arm: Arm) -> list[float]:
-    """Distance from each joint's origin to the next joint's (the last: to the tip)."""
+    """Distance from each joint's origin to the next joint's (the last: to the tip); mimic
+    joints are not joints of the arm: the distance goes on to the next driving joint."""
     arm.fk(arm.middle)
     data = arm.data
-    points = [data.oMi[j].translation for j in range(1, arm.model.njoints)]
+    points = [data.oMi[i + 1].translation for i in arm.driving_joints]
     points.append(data.oMf[arm.tip_frame_id].translation)
     return [float(np.linalg.norm(b - a)) for a, b in zip(points, points[1:])]
 

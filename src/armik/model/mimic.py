@@ -1,0 +1,194 @@
+"""Mimic joints on the chain: a URDF ``<mimic joint= multiplier= offset=>`` joint follows its
+driver, q_mimic = multiplier * q_driver + offset.
+
+``reduce.reduce_chain`` asks ``resolve`` what becomes of each mimic joint of the chain: it
+follows a driver that moves on the chain (a ``Mimic``), or it is fixed (its driver is off
+the chain or locked, or its multiplier is zero). ``follow`` turns the reduced model's
+mimicking joints into Pinocchio mimic joints (``pin.transformJointIntoMimic``: one
+configuration coordinate per driving joint, the mimic joint's Jacobian column folded into
+its driver's), and ``driver_range`` is the driver's range that keeps the mimic joint within
+its own limits.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+import pinocchio as pin
+
+from armik.errors import JointError, URDFError, listing
+from armik.model.urdf import URDFInfo
+from armik.tolerances import MAX_LIMIT
+
+
+class Mimic(NamedTuple):
+    """A joint of the chain that follows another joint of the chain."""
+
+    name: str
+    driver: str
+    multiplier: float
+    offset: float  # rad or m
+
+
+def resolve(
+    full: pin.Model, info: URDFInfo, jid: int, moving: list[int], q_ref: np.ndarray
+) -> Mimic | float:
+    """What the mimic joint ``jid`` of the chain becomes: a ``Mimic`` of a driver among
+    ``moving`` (the chain's joints left free, base first), or the value (rad or m) it is
+    fixed at: multiplier x the driver's value in ``q_ref`` + offset, or the offset for a
+    zero multiplier. Raises ``URDFError`` for a driver that is unknown or is itself a mimic
+    joint (a cycle included), ``JointError`` for a pair Pinocchio cannot model."""
+    name = full.names[jid]
+    driver = info.mimic[name]
+    multiplier, offset = info.mimic_factors.get(name, (1.0, 0.0))
+    if driver not in info.joints or not full.existJointName(driver):
+        raise URDFError(
+            f"joint {name!r} on the chain mimics {driver!r}, which is not a moving joint of "
+            "the URDF: name an existing joint in its <mimic joint=...>, or remove the tag"
+        )
+    if driver in info.mimic:
+        loop = [name, driver]
+        while loop[-1] in info.mimic and loop[-1] not in loop[:-1]:
+            loop.append(info.mimic[loop[-1]])  # ends: each step adds a new name or stops
+        if loop[-1] in loop[:-1]:
+            raise URDFError(
+                f"the mimic joints {' -> '.join(repr(n) for n in loop)} form a cycle: "
+                "no joint drives them; let one of them be an ordinary joint"
+            )
+        raise URDFError(
+            f"joint {name!r} on the chain mimics {driver!r}, which itself mimics "
+            f"{info.mimic[driver]!r}: make {name!r} mimic a joint that is not a mimic "
+            "joint (multipliers and offsets compose)"
+        )
+    did = full.getJointId(driver)
+    if multiplier == 0.0:
+        return offset + 0.0
+    if did not in moving:  # off the chain, or locked: fixed at its driver's value
+        return multiplier * joint_value(full, q_ref, did) + offset
+    for j, role in ((jid, "mimic"), (did, "driver")):
+        if full.joints[j].nq != 1:
+            raise JointError(
+                f"joint {name!r} mimics {driver!r}, and the {role} {full.names[j]!r} is "
+                "continuous: armik follows revolute and prismatic mimic pairs only; lock "
+                f"{name!r} (locked=) or give the {role} limits in the URDF",
+                joint=name,
+            )
+    if moving.index(did) > moving.index(jid):
+        raise JointError(
+            f"joint {name!r} mimics {driver!r}, which comes after it on the chain: Pinocchio "
+            "models a mimic joint after its driver only; lock it (locked=) or pick a tip "
+            "before it",
+            joint=name,
+        )
+    return Mimic(name, driver, float(multiplier), float(offset))
+
+
+def joint_value(model: pin.Model, q: np.ndarray, jid: int) -> float:
+    """The value (rad or m) of joint ``jid`` in the configuration ``q``."""
+    joint = model.joints[jid]
+    if joint.nq == 2:
+        return math.atan2(q[joint.idx_q + 1], q[joint.idx_q])
+    return float(q[joint.idx_q])
+
+
+def follow(plain: pin.Model, mimics: tuple[Mimic, ...]) -> pin.Model:
+    """``plain`` (the reduced model, every joint its own) with each mimic joint of
+    ``mimics`` turned into a Pinocchio mimic joint of its driver."""
+    model = plain
+    for m in mimics:
+        model = pin.transformJointIntoMimic(
+            model, model.getJointId(m.driver), model.getJointId(m.name), m.multiplier, m.offset
+        )
+    return model
+
+
+def driver_range(plain: pin.Model, info: URDFInfo, m: Mimic) -> tuple[float, float]:
+    """The driver's values (rad or m) that keep the mimic joint ``m`` within its URDF limits:
+    (limits - offset) / multiplier, in order for a negative multiplier; (-inf, inf) for a
+    mimic joint without limits."""
+    joint = plain.joints[plain.getJointId(m.name)]
+    if joint.nq != 1 or m.name in info.unset_limits:
+        return -math.inf, math.inf
+    lo = float(plain.lowerPositionLimit[joint.idx_q])
+    hi = float(plain.upperPositionLimit[joint.idx_q])
+    lo = lo if lo >= -MAX_LIMIT else -math.inf
+    hi = hi if hi <= MAX_LIMIT else math.inf
+    a, b = (lo - m.offset) / m.multiplier, (hi - m.offset) / m.multiplier
+    return (a, b) if a <= b else (b, a)
+
+
+def joint_map(arm) -> tuple[tuple, list[int], tuple[np.ndarray, np.ndarray]]:
+    """For the physical joints of ``arm.physical_model`` (the reduced model, mimic joints as
+    joints of their own) and the driving joints ``arm.joint_names``: (driver, multiplier,
+    offset), physical
+    joint i taking multiplier[i] * q[driver[i]] + offset[i] (rad or m); the physical index of
+    each driving joint; and the driving joints' ranges (lower, upper) that keep their mimic
+    joints within limits (``driver_range``; -inf, inf without a mimic)."""
+    plain, info, joint_names, mimics = arm.physical_model, arm.info, arm.joint_names, arm.mimics
+    names = [plain.names[j] for j in range(1, plain.njoints)]
+    following = {x.name: x for x in mimics}
+    driver = np.empty(len(names), dtype=np.int64)
+    multiplier, offset = np.ones(len(names)), np.zeros(len(names))
+    for i, jname in enumerate(names):
+        x = following.get(jname)
+        driver[i] = joint_names.index(jname if x is None else x.driver)
+        if x is not None:
+            multiplier[i], offset[i] = x.multiplier, x.offset
+    lo, hi = np.full(len(joint_names), -np.inf), np.full(len(joint_names), np.inf)
+    for x in mimics:
+        k = joint_names.index(x.driver)
+        a, b = driver_range(plain, info, x)
+        lo[k], hi[k] = max(lo[k], a), min(hi[k], b)
+    driving = [names.index(jname) for jname in joint_names]
+    return (driver, multiplier, offset), driving, (lo, hi)
+
+
+def narrow(lower: np.ndarray, upper: np.ndarray, box, arm) -> tuple[np.ndarray, np.ndarray]:
+    """The limits ``lower``, ``upper`` of ``arm``'s driving joints narrowed to ``box`` (from
+    ``joint_map``); raises ``JointError`` naming the driver when nothing is left."""
+    if not arm.mimics:
+        return lower, upper
+    lo, hi = np.maximum(lower, box[0]), np.minimum(upper, box[1])
+    for k in np.flatnonzero(lo > hi):
+        jname = arm.joint_names[k]
+        names = [x.name for x in arm.mimics if x.driver == jname]
+        raise JointError(
+            f"the limits [{lower[k]:g}, {upper[k]:g}] of joint {jname!r} and those of its "
+            f"mimic joints {listing(names)} leave it no value: widen them (in the URDF or "
+            "with_limits) or lock the mimic joint (locked=)",
+            joint=jname,
+        )
+    return lo, hi
+
+
+def no_period(arm) -> list[bool]:
+    """Per driving joint of ``arm``: True where 2 pi is no period of the pose, so that
+    ``nearest_equivalent`` and the kernel leave its value alone: a prismatic joint, or a
+    driver of mimic joints (they would move by multiplier x 2 pi)."""
+    drivers = {x.driver for x in arm.mimics}
+    return [bool(p) or n in drivers for n, p in zip(arm.joint_names, arm.prismatic)]
+
+
+def travel(arm) -> float:
+    """How far (m) the prismatic mimic joints of ``arm`` slide from the middle of their
+    drivers' limits: |multiplier| x the driver's travel (for ``ArmModel.reach``)."""
+    total = 0.0
+    for x in arm.mimics:
+        if arm.info.joint_types.get(x.name) == "prismatic":
+            k = arm.joint_names.index(x.driver)
+            mid = arm.middle[k]
+            total += abs(x.multiplier) * max(abs(arm.lower[k] - mid), abs(arm.upper[k] - mid))
+    return total
+
+
+def reason(mimics: tuple[Mimic, ...]) -> str | None:
+    """Why a closed form does not apply to a chain with mimic joints, or None."""
+    if not mimics:
+        return None
+    m = mimics[0]
+    return (
+        f"joint {m.name!r} mimics {m.driver!r} (multiplier {m.multiplier:g}, offset "
+        f"{m.offset:g}); the closed forms need independent joints: use dls or qp"
+    )
