@@ -111,6 +111,7 @@ PARTS: dict[str, Callable[[], None]] = {
     "spherical": _closed_form("abb_irb120", "spherical"),
     "three_parallel": _closed_form("ur5", "three_parallel"),
     "swept": _closed_form("panda", "swept"),
+    "general_6r": _closed_form("ur5", "general_6r"),
     "batch": _batch,
     "path": _path,
     "fk_batch": _fk_batch,
