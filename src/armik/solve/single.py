@@ -11,6 +11,7 @@ from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.result import IKResult
 from armik.solve.avoid import solve_avoiding
+from armik.solve.held import solve_held
 from armik.solve.prepared import plan_for
 from armik.solvers import registry
 from armik.targets.pose import parse_target
@@ -40,6 +41,8 @@ def solve_one(
     (``armik.solve.prepared``) when the input is plain, else the general path."""
     t0 = time.perf_counter()
     opts, key, seed = _options(options)
+    if opts.hold is not None:
+        return solve_held(arm, target, q0, solver, _with_seed(opts, seed), every, t0, _general)
     plan = None if key is None else plan_for(arm, solver, key, opts, _is_vector(target))
     if plan is not None:
         got = (plan.solve_all if every else plan.solve)(target, q0, opts, seed, t0)
