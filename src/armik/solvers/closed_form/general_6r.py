@@ -61,10 +61,11 @@ from armik.targets.pose import Target
 FAMILY = "general_6r"
 CLOSED_FORM = "2-D search (joints 1 and 2) with SP5, every root polished by Newton steps"
 GRID = 72  # samples of q1 and of q2 over the circle
-THRESHOLD = 0.6  # alignment error (|R_05 h6 - R_06 h6|) below which a grid minimum is a seed
+THRESHOLD = 1.0  # alignment error (|R_05 h6 - R_06 h6|) below which a grid minimum is a seed
 SHEET = 0.3  # rad: SP5 branches of neighbouring cells this close (q3, q4, q5) are one sheet
-SEEDS = 96  # seeds polished at most, the lowest first
+SEEDS = 128  # seeds polished at most, the lowest first
 ROWS = 16  # at most 16 solutions
+TRIES, GIVE_UP = 12, 1e-5  # Newton steps after which a seed this far from the target is left
 EXACT = 1e-11  # m and rad: a polished configuration this close to the target is an answer
 SAME = 1e-7  # rad: answers this close (each joint, modulo 2 pi) are one
 LENGTH = 0.1  # m: the shift along axis 6 that keeps the point on it off axis 5
@@ -250,14 +251,15 @@ def _solve6(A, b, x):
 @njit(cache=True)
 def polish(h, p, R_tip0, R, pos, q, iters):
     """Damped Newton steps (Levenberg-Marquardt) on the 6-D pose error from ``q`` (changed
-    in place); returns the final |error|."""
+    in place); returns the final |error|. A seed still ``GIVE_UP`` away after ``TRIES``
+    steps is left (a root converges in a few: most seeds lead nowhere)."""
     J, e, A, b, dq, qn = (np.empty((6, 6)), np.empty(6), np.empty((6, 6)), np.empty(6),
                           np.empty(6), np.empty(6))  # fmt: skip
     Jn, en = np.empty((6, 6)), np.empty(6)
     r = pose_error(h, p, R_tip0, R, pos, q, J, e)
     mu = 1e-12
-    for _ in range(iters):
-        if r < 1e-14:
+    for it in range(iters):
+        if r < 1e-14 or (it == TRIES and r > GIVE_UP):
             break
         for a in range(6):
             b[a] = 0.0
