@@ -129,3 +129,15 @@ def test_out_of_reach_is_no_success(arms):
     assert results and not any(r.success for r in results)
     assert results[0].status is Status.UNREACHABLE
     assert np.isfinite(results[0].q).all()
+
+
+def test_a_search_that_finds_nothing_hands_over_to_dls(arms, monkeypatch):
+    arm = arms[0][2]
+    rng = np.random.default_rng(6)
+    q = arm.random_q(rng)
+    T = arm.fk(q)
+    monkeypatch.setattr(general_6r, "THRESHOLD", -1.0)  # no seed at all
+    results = arm.solve_all(T, iteration_budget=2000)
+    assert results[0].success and results[0].solver == "general_6r"
+    assert results[0].reason.startswith(general_6r.SEARCH_FAILED + "; dls: ")
+    assert _pose_error(arm, results[0].q, T) < 1e-6

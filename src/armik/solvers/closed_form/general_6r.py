@@ -27,6 +27,7 @@ found. Branch labels are the answers' indices, nearest q0 first.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 from numba import njit
@@ -54,20 +55,22 @@ from armik.solvers.closed_form.subproblems import (
     wrap,
 )
 from armik.solvers.closed_form.subproblems_56 import _circle, _on, _pairs
-from armik.solvers.registry import SolverSpec, register
+from armik.solvers.registry import SolverSpec, get, register
 from armik.status import Status
 from armik.targets.pose import Target
 
 FAMILY = "general_6r"
 CLOSED_FORM = "2-D search (joints 1 and 2) with SP5, every root polished by Newton steps"
+SEARCH_FAILED = "the 2-D search found no configuration reaching the target"
 GRID = 72  # samples of q1 and of q2 over the circle
 THRESHOLD = 1.0  # alignment error (|R_05 h6 - R_06 h6|) below which a grid minimum is a seed
 SHEET = 0.3  # rad: SP5 branches of neighbouring cells this close (q3, q4, q5) are one sheet
 SEEDS = 128  # seeds polished at most, the lowest first
 ROWS = 16  # at most 16 solutions
-TRIES, GIVE_UP = 12, 1e-5  # Newton steps after which a seed this far from the target is left
+ITERATIONS = 60  # Newton steps at most (a root where the Jacobian is singular converges slowly)
+TRIES, GIVE_UP = 12, 1e-3  # Newton steps after which a seed this far from the target is left
 EXACT = 1e-11  # m and rad: a polished configuration this close to the target is an answer
-SAME = 1e-7  # rad: answers this close (each joint, modulo 2 pi) are one
+SAME = 1e-6  # rad: answers this close (each joint, modulo 2 pi) are one
 LENGTH = 0.1  # m: the shift along axis 6 that keeps the point on it off axis 5
 
 
@@ -332,7 +335,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, N, threshold, out):
     n = np.int64(0)
     for s in range(m):
         _seed_q(h, R06, S[s, 0], S[s, 1], T[S[s, 0], S[s, 1], S[s, 2]], N, q)
-        r = polish(h, p, R_tip0, R9, P3, q, 40)
+        r = polish(h, p, R_tip0, R9, P3, q, ITERATIONS)
         if r < rbest:
             rbest = r
             for k in range(6):
@@ -374,13 +377,15 @@ def run(
     # numba type and would compile the kernel again
     R, pos, q0 = np.array(R), np.array(pos), np.array(q0, dtype=float)
     n, _ = kernel(h, p, R_tip0, R, pos, q0, lower, upper, GRID, THRESHOLD, out)
+    if n == 1 and int(out[0, 6]) & sixr.LS:
+        # none found: a solution at a tangency of SP5's circles (an elbow folded or
+        # stretched) can hide from the grid; the numeric solver tries from q0, its answers
+        # verified like any other
+        attempts = get("dls").run(arm, target, q0, opts, all_solutions)
+        return [replace(a, reason=f"{SEARCH_FAILED}; dls: {a.reason}") for a in attempts]
     result = []
     for k, row in enumerate(out[:n]):
-        if int(row[6]) & sixr.LS:
-            claim = Status.UNREACHABLE
-            reason = "the 2-D search found no configuration reaching the target; q is the closest"
-        else:
-            claim, reason = Status.CONVERGED, CLOSED_FORM
+        claim, reason = Status.CONVERGED, CLOSED_FORM
         result.append(
             Attempt(q=row[:6].copy(), claim=claim, reason=reason, branch=str(k), singular=False)
         )
