@@ -2,6 +2,7 @@
 axis random: completeness, false successes, median time of a verified ``solve_all``.
 
     python benchmarks/general_6r.py -n 60 --seed 0
+    python benchmarks/general_6r.py --held -n 30
 
 Each arm has 6 revolute joints with random unit axes through random points (within 0.4 m),
 random fixed transforms before joint 1 and after joint 6, limits +-2 pi; one target per arm
@@ -10,6 +11,10 @@ among the answers (every joint within 1e-6 rad modulo 2 pi). A false success: an
 called a success whose pose error, measured here with Pinocchio (``pin.log6``), exceeds
 1e-9. Times: ``solve_all`` after one warm-up call per arm, the median over the arms, wall clock and
 the process's CPU time (the second is less sensitive to other work on a shared machine).
+
+``--held``: the Panda with joint 7, then joint 1, held at the generating configuration's
+value (``hold=``), ``-n`` targets each: completeness, the solver that solved the six others,
+median ``solve_all`` time with a new held value (the locked arm is built) and again.
 """
 
 from __future__ import annotations
@@ -57,11 +62,42 @@ def random_urdf(rng: np.random.Generator) -> str:
     return "\n".join(parts)
 
 
+def held(n: int, seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    arm = armik.load("panda")
+    for joint in ("panda_joint7", "panda_joint1"):
+        k = arm.joint_names.index(joint)
+        first, again, complete, solvers = [], [], 0, set()
+        for _ in range(n):
+            q = arm.random_q(rng)
+            T = arm.fk(q)
+            hold = {joint: float(q[k])}
+            t0 = time.perf_counter()
+            arm.solve_all(T, hold=hold)
+            first.append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            results = arm.solve_all(T, hold=hold)
+            again.append(time.perf_counter() - t0)
+            ok = [r for r in results if r.success]
+            solvers |= {r.solver for r in ok}
+            wrapped = [np.abs(np.angle(np.exp(1j * (r.q - q)))).max() for r in ok]
+            complete += bool(wrapped) and min(wrapped) < 1e-6
+        print(
+            f"panda, {joint} held: complete {complete}/{n}, solvers {sorted(solvers)}, "
+            f"solve_all median {1e3 * statistics.median(first):.2f} ms with a new value, "
+            f"{1e3 * statistics.median(again):.2f} ms again"
+        )
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("-n", type=int, default=60, help="random arms (one target each)")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--held", action="store_true", help="the Panda with one joint held")
     args = ap.parse_args()
+    if args.held:
+        held(args.n, args.seed)
+        return
     rng = np.random.default_rng(args.seed)
     times, cpu, complete, false_ok, counts = [], [], 0, 0, []
     for _ in range(args.n):

@@ -120,3 +120,17 @@ def test_bad_hold_values_are_refused_with_the_fix(iiwa):
     with pytest.raises(OptionError, match="7-joint arms.*6 joints.*with_locked"):
         ur5.solve(ur5.fk(np.zeros(6)), hold={"shoulder_pan_joint": 0.0})
     assert issubclass(OptionError, InputError)
+
+
+def test_hold_in_a_batch_is_refused_with_the_fix(iiwa):
+    poses = np.array([iiwa.fk(np.zeros(7)).homogeneous])
+    with pytest.raises(OptionError, match=r"hold= is for solve and solve_all.*with_locked"):
+        iiwa.solve_batch(poses, hold={"j3": 0.0}, workers=1, progress=False)
+
+
+def test_a_path_with_a_joint_held_keeps_it_there(iiwa):
+    rng = np.random.default_rng(8)
+    q = iiwa.random_q(rng)
+    poses = [iiwa.fk(q + 0.01 * k * np.array([1, 1, 0, 1, 1, 1, 1.0])) for k in range(3)]
+    out = iiwa.solve_path(poses, q, hold={"j3": float(q[2])})
+    assert out.success.all() and np.all(out.q[:, 2] == q[2])
