@@ -79,14 +79,25 @@ def _check_complete(arm, joint: str, seeds: int, rng) -> set[str]:
     return solvers
 
 
-def test_panda_with_joint_7_held():
+def test_panda_with_joint_7_held_is_the_swept_closed_form():
     arm = armik.load("panda")
-    assert _check_complete(arm, "panda_joint7", 4, np.random.default_rng(1))
+    assert _check_complete(arm, "panda_joint7", 6, np.random.default_rng(1)) == {"swept"}
+
+
+def test_panda_with_joint_7_held_by_the_general_search_asked_by_name():
+    arm = armik.load("panda")
+    rng = np.random.default_rng(5)
+    q = arm.random_q(rng)
+    T = arm.fk(q)
+    every = arm.solve_all(T, hold={"panda_joint7": float(q[6])}, solver="general_6r")
+    ok = [r for r in every if r.success]
+    assert ok and {r.solver for r in ok} == {"general_6r"}
+    assert min(_wrapped(r.q, q) for r in ok) < 1e-6
 
 
 def test_panda_with_joint_1_held():
     arm = armik.load("panda")
-    assert _check_complete(arm, "panda_joint1", 4, np.random.default_rng(2))
+    assert _check_complete(arm, "panda_joint1", 4, np.random.default_rng(2)) == {"general_6r"}
 
 
 def test_iiwa_like_arm_with_joint_3_held_is_a_closed_form(iiwa):

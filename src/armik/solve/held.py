@@ -3,10 +3,12 @@
 Held at a value, the joint is a fixed transform and the other six form a 6R chain: the arm
 with that joint locked (``Arm.with_locked``, built once per joint and value and kept, the
 last ``KEPT``), solved by whichever solver applies to it ("auto": a closed-form family
-when one fits, else the general 6R search). Its answers are mapped back to the 7 joints,
-the held joint at its value, and verified against the 7-joint arm's own FK and limits like
-every answer. ``solve_all`` returns every solution with the joint there (a redundant arm has
-infinitely many; these are the ones at that value), ``solve`` the nearest q0.
+when one fits, else the general 6R search); joint 7 of an arm in the ``swept`` class (the
+Panda) by that solver's closed form at exactly the value. The answers are mapped back to
+the 7 joints, the held joint at its value, and verified against the 7-joint arm's own FK
+and limits like every answer. ``solve_all`` returns every solution with the joint there
+(a redundant arm has infinitely many; these are the ones at that value), ``solve`` the
+nearest q0.
 
 ``hold={"joint": None}`` holds the joint at q0's value (the middle of its limits without
 q0). No sweep over other values: each held value is a 6R chain of its own (the ``swept``
@@ -25,6 +27,7 @@ from armik.errors import JointError, OptionError, listing
 from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.solvers.claims import Attempt
+from armik.solvers.closed_form import swept_7r
 from armik.status import Status
 from armik.targets.pose import parse_target
 from armik.tolerances import LIMIT_TOL
@@ -88,6 +91,12 @@ def solve_held(
     seed = arm.seed(q0)
     k, value = held_joint(arm, opts.hold, seed)
     name = arm.joint_names[k]
+    tgt = parse_target(target, arm)
+    if k == 6 and solver in ("auto", "swept") and swept_7r.applies(arm, tgt, opts) is None:
+        # joint 7 of a Panda-like arm: the swept solver's closed form at exactly that value
+        attempts = swept_7r.at_value(arm, tgt, seed, value)
+        results = finish(arm, "swept", attempts, tgt, opts, seed, every, t0)
+        return results if every else results[0]
     sub = locked_arm(arm, name, value)
     free = np.delete(seed, k)
     found = general(sub, target, free, solver, replace(opts, hold=None), True, t0)
@@ -99,7 +108,6 @@ def solve_held(
         attempts.append(
             Attempt(q=q, claim=claim, reason=reason, branch=r.branch, singular=r.singular)
         )
-    tgt = parse_target(target, arm)
     name_of = found[0].solver if found else solver
     results = finish(arm, name_of, attempts, tgt, opts, seed, every, t0)
     return results if every else results[0]
