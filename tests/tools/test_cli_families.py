@@ -30,7 +30,7 @@ def test_seven_r_arms_name_the_joints_to_hold(capsys, tmp_path):
     code, out, _ = run(capsys, "info", "panda")
     assert code == 0
     assert re.search(r"panda_joint1 +general_6r \(general 6R \(2-D search\)\)", out)
-    assert re.search(r"panda_joint7 +general_6r .*also the swept solver's closed form", out)
+    assert re.search(r"panda_joint7 +swept_7r \(the swept solver's closed form", out)
     assert "analytic with one joint held: panda_joint7\n" in out
     path = write_urdf(tmp_path, iiwa_urdf(), name="iiwa.urdf")
     code, out, _ = run(capsys, "info", str(path), "--base", "base", "--tip", "tool")

@@ -199,11 +199,11 @@ def family_lines(arm: Arm) -> list[str]:
     lines = ["hold one joint (hold={name: value}) and the other six are:"]
     analytic = []
     for k, name in enumerate(arm.joint_names):
-        sub = arm.with_locked({name: held_value(arm, k)})
-        text = six_r_family(sub) or "not a 6R chain"
         if k == 6 and not isinstance(families.classify(arm)["swept_7r"], str):
-            text += "; also the swept solver's closed form (joints 6 to 1 from the tip)"
-        if not text.startswith("general_6r") or "swept" in text:
+            text = "swept_7r (the swept solver's closed form: joints 6 to 1 read from the tip)"
+        else:
+            text = six_r_family(arm.with_locked({name: held_value(arm, k)})) or "not a 6R chain"
+        if not text.startswith(("general_6r", "not a 6R")):
             analytic.append(name)
         lines.append(f"  {name:<24} {text}")
     which = ", ".join(analytic) if analytic else "none (each leaves the general 6R search)"
