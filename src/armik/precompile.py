@@ -78,12 +78,14 @@ def _hold() -> None:
     (the general 6R search on the locked arm), at two values each: a held value is data."""
     arm = load("panda")
     T = _pose(arm, 4)
-    for joint, k in (("panda_joint7", 6), ("panda_joint1", 0)):
+    q0 = arm.middle.copy()
+    q0.flags.writeable = False  # a read-only seed, as a result's q is
+    for joint in ("panda_joint7", "panda_joint1"):
         for value in (0.1, 0.2):
             arm.solve(T, hold={joint: value})
             arm.solve_all(T, hold={joint: value})
-        r = arm.solve(T, hold={joint: None})
-        arm.solve_all(T, q0=r.q, hold={joint: float(r.q[k])})
+        arm.solve(T, q0=q0, hold={joint: None})
+        arm.solve_all(T, q0=q0, hold={joint: None})
 
 
 def _batch() -> None:
