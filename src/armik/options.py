@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, fields
 
 import numpy as np
@@ -44,6 +45,9 @@ class Options:
       URDF's ``<collision>`` geometry, minus adjacent links and an SRDF's pairs).
     - ``margin``: the distance (m) every checked pair must keep (0.0); needs obstacles or
       ``self_collision``.
+    - ``hold``: on a 7-joint arm, ``{"joint_name": value}`` (rad) holds that joint at that
+      value and solves the other six (``armik.solve.held``); a value of None holds it at
+      q0's value. Stored as the pair (name, value). Checked against the arm when solving.
     """
 
     tol_position: float = 1e-6
@@ -61,6 +65,7 @@ class Options:
     obstacles: tuple[Shape, ...] = ()
     self_collision: bool = False
     margin: float = 0.0
+    hold: tuple[str, float | None] | None = None
 
     @property
     def collisions(self) -> bool:
@@ -121,6 +126,8 @@ class Options:
                 )
             values["position_only"] = bool(flag)
         _collision_options(values)
+        if values.get("hold") is not None:
+            values["hold"] = _hold(values["hold"])
         if "qp_solver" in values and not isinstance(values["qp_solver"], str):
             raise OptionError(
                 f"qp_solver must be a backend name, got {values['qp_solver']!r}",
@@ -234,6 +241,31 @@ def _int(key: str, value: object, minimum: int, maximum: int | None = None) -> i
             value=value,
         )
     return int(value)
+
+
+def _hold(value: object) -> tuple[str, float | None]:
+    """``hold``'s one (joint name, value or None) pair, from a one-entry mapping."""
+    items = list(value.items()) if isinstance(value, Mapping) else None
+    if items is None or len(items) != 1 or not isinstance(items[0][0], str):
+        raise OptionError(
+            f"hold must map one joint name to its value (rad) or None, e.g. "
+            f"{{'joint_3': 0.5}}; got {value!r}",
+            option="hold",
+            value=value,
+        )
+    name, v = items[0]
+    if v is None:
+        return name, None
+    try:
+        out = _float("hold", v)
+    except OptionError:
+        raise OptionError(
+            f"hold's value for joint {name!r} must be a finite number (rad) or None (q0's "
+            f"value), got {v!r}",
+            option="hold",
+            value=v,
+        ) from None
+    return name, out
 
 
 def _weights(value: object) -> tuple[float, ...]:

@@ -82,6 +82,21 @@ def _from_a_result(arm: Arm, T, solver: str, **options) -> None:
     arm.solve_all(H, q0=r.q, solver=solver, **options)
 
 
+def _hold() -> None:
+    """``hold=`` on the Panda: joint 7 (the swept closed form at one value) and joint 1
+    (the general 6R search on the locked arm), at two values each: a held value is data."""
+    arm = load("panda")
+    T = _pose(arm, 4)
+    q0 = arm.middle.copy()
+    q0.flags.writeable = False  # a read-only seed, as a result's q is
+    for joint in ("panda_joint7", "panda_joint1"):
+        for value in (0.1, 0.2):
+            arm.solve(T, hold={joint: value})
+            arm.solve_all(T, hold={joint: value})
+        arm.solve(T, q0=q0, hold={joint: None})
+        arm.solve_all(T, q0=q0, hold={joint: None})
+
+
 def _batch() -> None:
     for robot, solver in (("ur5", "dls"), ("ur5", "qp"), ("ur5", "three_parallel")):
         arm = load(robot)
@@ -126,6 +141,8 @@ PARTS: dict[str, Callable[[], None]] = {
     "spherical": _closed_form("abb_irb120", "spherical"),
     "three_parallel": _closed_form("ur5", "three_parallel"),
     "swept": _closed_form("panda", "swept"),
+    "general_6r": _closed_form("ur5", "general_6r"),
+    "hold": _hold,
     "batch": _batch,
     "path": _path,
     "fk_batch": _fk_batch,

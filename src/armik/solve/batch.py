@@ -79,6 +79,13 @@ def solve_batch(
     """
     t0 = time.perf_counter()
     opts = Options.from_kwargs(options)
+    if opts.hold is not None:
+        raise OptionError(
+            "hold= is for solve and solve_all; for many targets with a joint held, solve "
+            "them on arm.with_locked({joint: value})",
+            option="hold",
+            value=opts.hold[0],
+        )
     batch = parse_targets(targets, arm)
     n = len(batch)
     seeds = batch_seeds(arm, q0, n)

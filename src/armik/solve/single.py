@@ -13,6 +13,7 @@ from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.result import IKResult
 from armik.solve.avoid import solve_avoiding
+from armik.solve.held import solve_held
 from armik.solve.prepared import plan_for
 from armik.solvers import registry
 from armik.targets.pose import parse_target
@@ -43,6 +44,8 @@ def solve_one(
     (``armik.solve.prepared``) when the input is plain, else the general path."""
     t0 = time.perf_counter()
     opts, key, seed = _options(options)
+    if opts.hold is not None:
+        return solve_held(arm, target, q0, solver, _with_seed(opts, seed), every, t0, _general)
     if opts.collisions and not every:
         clear = _clear_at_once(arm, target, q0, solver, options, opts, t0)
         if clear is not None:

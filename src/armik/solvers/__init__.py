@@ -2,6 +2,7 @@
 closed forms. Importing this package registers every built-in solver."""
 
 from armik.solvers.closed_form import (  # noqa: F401  (registration)
+    general_6r,
     planar2r,
     spherical_wrist,
     swept_7r,

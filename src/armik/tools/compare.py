@@ -176,9 +176,12 @@ def run(
     seed: int = 7,
     spatial: tuple[str, ...] = ("panda",),
     closed_form: tuple[str, ...] = ("ur5", "abb_irb120"),
+    general: tuple[str, ...] = ("panda",),
 ) -> Report:
     """Run every experiment; ``n`` targets each. ``spatial``: arms solved numerically only;
-    ``closed_form``: 6R arms whose analytic family is compared with dls and qp."""
+    ``closed_form``: 6R arms whose analytic family is compared with dls and qp;
+    ``general``: 7R arms with their last joint locked at 0.3 rad, 6R arms no closed form
+    fits, where ``general_6r`` (the 2-D search) is compared with dls and qp the same way."""
     report = Report()
     rng = np.random.default_rng(seed)
 
@@ -259,6 +262,10 @@ def run(
     # 6R arms with a closed form: the analytic family against dls and qp.
     for name in closed_form:
         _closed_form_arm(load(name), n, rng, report)
+    for name in general:
+        arm = load(name)
+        locked = arm.with_locked({arm.joint_names[-1]: 0.3})
+        _closed_form_arm(locked, n, rng, report, label=f"{name} (joint 7 locked)")
     return report
 
 
@@ -266,11 +273,16 @@ def _wrapped(a: np.ndarray) -> np.ndarray:
     return np.abs(np.arctan2(np.sin(a), np.cos(a)))
 
 
-def _closed_form_arm(arm: Arm, n: int, rng: np.random.Generator, report: Report) -> None:
+def _closed_form_arm(
+    arm: Arm, n: int, rng: np.random.Generator, report: Report, label: str | None = None
+) -> None:
     """Targets from random configurations; q0 is the generating configuration disturbed by
     0.4 rad (normal, per joint), so "q0's branch" is the closed form's answer nearest q0.
     A numeric answer lands on it when it equals it modulo 2 pi (1e-4 rad); its distance to
-    the nearest analytic branch is the largest joint difference modulo 2 pi."""
+    the nearest analytic branch is the largest joint difference modulo 2 pi (so a numeric
+    answer the analytic solver did not find shows as a large distance). ``label``: the
+    rows' arm name (the arm's own by default)."""
+    name = label or arm.name
     family = registry.choose("auto", arm, parse_target(arm.fk(arm.middle), arm)).name
     qs = [arm.random_q(rng) for _ in range(n)]
     poses = [arm.fk(q) for q in qs]
@@ -292,7 +304,7 @@ def _closed_form_arm(arm: Arm, n: int, rng: np.random.Generator, report: Report)
             if branches[i]:
                 dists.append(min(_wrapped(r.q - b).max() for b in branches[i]))
         row = Row.every_target_reachable(
-            arm.name,
+            name,
             solver,
             successes,
             times,
@@ -300,19 +312,19 @@ def _closed_form_arm(arm: Arm, n: int, rng: np.random.Generator, report: Report)
             same_branch_as_q0=100.0 * float(np.mean(hits)) if hits else None,
             max_diff_to_closed_form=max(dists) if dists else None,
         )
-        report.samples[f"{arm.name}/{solver}"] = {
+        report.samples[f"{name}/{solver}"] = {
             "time_ms": np.array(times) * 1e3,
             "pos_err": np.array(errors) if errors else np.array([np.nan]),
             "success": np.array(successes),
         }
         report.rows.append(row)
-    report.rows.append(_solve_all_row(arm, family, poses, q0s))
+    report.rows.append(_solve_all_row(arm, family, poses, q0s, name))
     peer = _eaik_row(arm, qs)
     if peer is not None:
         report.rows.append(peer)
 
 
-def _solve_all_row(arm: Arm, family: str, poses: list, q0s: list) -> Row:
+def _solve_all_row(arm: Arm, family: str, poses: list, q0s: list, name: str) -> Row:
     """``solve_all`` with the closed form: every branch, each verified; success when one
     is, errors of the best."""
     times, ok, errors = [], [], []
@@ -322,7 +334,7 @@ def _solve_all_row(arm: Arm, family: str, poses: list, q0s: list) -> Row:
         times.append(time.perf_counter() - t)
         ok.append(results[0].success)
         errors.append(results[0].position_error)
-    return Row.every_target_reachable(arm.name, f"{family} (solve_all)", ok, times, errors)
+    return Row.every_target_reachable(name, f"{family} (solve_all)", ok, times, errors)
 
 
 def _eaik(arm: Arm):

@@ -9,7 +9,13 @@ from typing import TYPE_CHECKING
 
 from armik.model.geometry import axis_lines
 from armik.model.mimic import reason as mimic_reason
-from armik.solvers.closed_form import planar2r, spherical_wrist, swept_7r, three_parallel
+from armik.solvers.closed_form import (
+    general_6r,
+    planar2r,
+    spherical_wrist,
+    swept_7r,
+    three_parallel,
+)
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
@@ -19,6 +25,7 @@ FAMILIES = {
     "spherical_wrist": spherical_wrist.classify,
     "three_parallel": three_parallel.classify,
     "swept_7r": swept_7r.classify,
+    "general_6r": general_6r.classify,
 }
 
 

@@ -245,6 +245,26 @@ def _held(arm: ArmModel, sw, R, pos, q0: np.ndarray):
     )  # fmt: skip
 
 
+def at_value(arm: ArmModel, target: Target, q0: np.ndarray, theta: float) -> list[Attempt]:
+    """Every branch with joint 7 held at exactly ``theta`` (rad), nearest q0 first: joints
+    6 to 1 by the spherical closed form, no sweep (``hold=`` on joint 7; ``applies`` must
+    hold)."""
+    sw = geometry(arm)
+    R, pos = (np.array(x) for x in sixr.pose_arrays(target))  # writable: one signature
+    R_inv, p_inv = held_target(sw.c, sw.u, R, pos, float(theta))
+    q0r, lor, hir = (np.array(x[5::-1], dtype=float) for x in (q0, arm.lower, arm.upper))
+    out = np.empty((8, 11))
+    n, _ = spherical.kernel(
+        sw.geo.h, sw.geo.p, sw.geo.R_tip0, mat(R_inv), vec(p_inv), q0r, lor, hir,
+        sw.variant, np.int64(0), out,
+    )  # fmt: skip
+    rows = np.empty((n, 12))
+    rows[:, :6] = out[:n, 5::-1]  # joints 1 to 6 again
+    rows[:, 6] = theta
+    rows[:, 7:] = out[:n, 6:11]
+    return _attempts(sw, rows, theta)
+
+
 def run(
     arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
 ) -> list[Attempt]:

@@ -181,6 +181,8 @@ def cmd_info(args: argparse.Namespace) -> int:
         else:
             text = getattr(geo, "description", "all joint axes parallel")
             print(f"  {cls:<16} yes: {text}")
+    for line in family_lines(arm):
+        print(line)
     print("solvers:")
     width = max(map(len, registry.solvers()))
     for name in registry.solvers():
@@ -190,6 +192,51 @@ def cmd_info(args: argparse.Namespace) -> int:
         print(f"  {name:<{width}} ({spec.kind}) {state}")
     print(f"  auto -> {registry.choose('auto', arm).name}")
     return 0
+
+
+def six_r_family(arm: Arm) -> str | None:
+    """The family of a 6R arm: the first closed-form family that fits it, else the general
+    6R search; None for an arm that is not 6R (all revolute)."""
+    found = families.classify(arm)
+    general = found.get("general_6r")
+    if isinstance(general, str):
+        return None
+    for name, geo in found.items():
+        if name not in ("general_6r", "planar") and not isinstance(geo, str):
+            return f"{name} ({getattr(geo, 'description', name)})"
+    return f"general_6r ({general.description})"
+
+
+def held_value(arm: Arm, k: int) -> float:
+    """A value to hold joint ``k`` at that is no special angle (the classes do not change
+    with it, but a value such as 0 can line axes up by chance)."""
+    lo, hi = float(arm.lower[k]), float(arm.upper[k])
+    if math.isfinite(lo) and math.isfinite(hi):
+        return lo + 0.37 * (hi - lo)
+    return 0.37
+
+
+def family_lines(arm: Arm) -> list[str]:
+    """``armik info``'s family lines: a 6R arm's family; for a 7R arm, the family of the
+    6R chain left by holding each joint (``hold=``), and which joints make it analytic."""
+    family = six_r_family(arm)
+    if family is not None:
+        return [f"family: {family}"]
+    if arm.dof != 7 or any(t == "prismatic" for t in arm.joint_types):
+        return []
+    lines = ["hold one joint (hold={name: value}) and the other six are:"]
+    analytic = []
+    for k, name in enumerate(arm.joint_names):
+        if k == 6 and not isinstance(families.classify(arm)["swept_7r"], str):
+            text = "swept_7r (the swept solver's closed form: joints 6 to 1 read from the tip)"
+        else:
+            text = six_r_family(arm.with_locked({name: held_value(arm, k)})) or "not a 6R chain"
+        if not text.startswith(("general_6r", "not a 6R")):
+            analytic.append(name)
+        lines.append(f"  {name:<24} {text}")
+    which = ", ".join(analytic) if analytic else "none (each leaves the general 6R search)"
+    lines.append(f"  analytic with one joint held: {which}")
+    return lines
 
 
 def _print_frames(info, candidates: set[str], tip: str | None) -> None:

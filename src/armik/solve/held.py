@@ -1,0 +1,113 @@
+"""7-joint arms with one joint held: ``arm.solve_all(T, hold={"joint": value})``.
+
+Held at a value, the joint is a fixed transform and the other six form a 6R chain: the arm
+with that joint locked (``Arm.with_locked``, built once per joint and value and kept, the
+last ``KEPT``), solved by whichever solver applies to it ("auto": a closed-form family
+when one fits, else the general 6R search); joint 7 of an arm in the ``swept`` class (the
+Panda) by that solver's closed form at exactly the value. The answers are mapped back to
+the 7 joints, the held joint at its value, and verified against the 7-joint arm's own FK
+and limits like every answer. ``solve_all`` returns every solution with the joint there
+(a redundant arm has infinitely many; these are the ones at that value), ``solve`` the
+nearest q0.
+
+``hold={"joint": None}`` holds the joint at q0's value (the middle of its limits without
+q0). No sweep over other values: each held value is a 6R chain of its own (the ``swept``
+solver sweeps joint 7 of a Panda-like arm, whose chain does not change with it).
+"""
+
+from __future__ import annotations
+
+import math
+from collections import OrderedDict
+from dataclasses import replace
+
+import numpy as np
+
+from armik.errors import JointError, OptionError, listing
+from armik.model.arm_model import ArmModel
+from armik.options import Options
+from armik.solvers.claims import Attempt
+from armik.solvers.closed_form import swept_7r
+from armik.status import Status
+from armik.targets.pose import parse_target
+from armik.tolerances import LIMIT_TOL
+from armik.verify.verdict import finish
+
+KEPT = 16  # locked arms kept per arm (one per joint and held value)
+
+
+def held_joint(arm: ArmModel, hold: tuple[str, float | None], seed: np.ndarray):
+    """(index, value) of the held joint, or an ``armik.errors`` error naming the bad value
+    and the fix: an arm without 7 joints, an unknown joint, a value outside its limits."""
+    name, value = hold
+    if arm.dof != 7:
+        raise OptionError(
+            f"hold={{{name!r}: {value!r}}} is for 7-joint arms; arm {arm.name!r} has "
+            f"{arm.dof} joints: lock joints with arm.with_locked({{...}}) or "
+            "armik.load(..., locked={...}) instead",
+            option="hold",
+            value=name,
+        )
+    if name not in arm.joint_names:
+        raise JointError(
+            f"hold: unknown joint {name!r}; the arm's joints: {listing(arm.joint_names)}",
+            joint=name,
+            candidates=arm.joint_names,
+        )
+    k = arm.joint_names.index(name)
+    if value is None:
+        value = float(seed[k])
+    lo, hi = float(arm.lower[k]), float(arm.upper[k])
+    if not (math.isfinite(value) and lo - LIMIT_TOL <= value <= hi + LIMIT_TOL):
+        raise JointError(
+            f"hold: {value!r} rad is outside joint {name!r}'s limits [{lo:.6g}, {hi:.6g}]: "
+            "give a value within them",
+            joint=name,
+        )
+    return k, min(max(value, lo), hi)
+
+
+def locked_arm(arm: ArmModel, name: str, value: float):
+    """``arm.with_locked({name: value})``, kept per arm (the last ``KEPT``)."""
+    kept = arm.memo(("held arms",), lambda _: OrderedDict())
+    key = (name, value)
+    sub = kept.get(key)
+    if sub is None:
+        sub = arm.with_locked({name: value})  # type: ignore[attr-defined]
+        kept[key] = sub
+        if len(kept) > KEPT:
+            kept.popitem(last=False)
+    else:
+        kept.move_to_end(key)
+    return sub
+
+
+def solve_held(
+    arm: ArmModel, target, q0, solver: str, opts: Options, every: bool, t0: float, general
+):
+    """The verified results of a solve with ``opts.hold`` (see the module): a list with
+    ``every``, else one result. ``general``: ``armik.solve.single``'s general path, which
+    solves the locked arm (passed in: that module calls this one)."""
+    seed = arm.seed(q0)
+    k, value = held_joint(arm, opts.hold, seed)
+    name = arm.joint_names[k]
+    tgt = parse_target(target, arm)
+    if k == 6 and solver in ("auto", "swept") and swept_7r.applies(arm, tgt, opts) is None:
+        # joint 7 of a Panda-like arm: the swept solver's closed form at exactly that value
+        attempts = swept_7r.at_value(arm, tgt, seed, value)
+        results = finish(arm, "swept", attempts, tgt, opts, seed, every, t0)
+        return results if every else results[0]
+    sub = locked_arm(arm, name, value)
+    free = np.delete(seed, k)
+    found = general(sub, target, free, solver, replace(opts, hold=None), True, t0)
+    attempts = []
+    for r in found:
+        q = np.insert(np.asarray(r.q, dtype=float), k, value)
+        claim = Status.CONVERGED if r.success else r.status
+        reason = f"joint {name!r} held at {value:.6g} rad; the other six by {r.solver}: {r.reason}"
+        attempts.append(
+            Attempt(q=q, claim=claim, reason=reason, branch=r.branch, singular=r.singular)
+        )
+    name_of = found[0].solver if found else solver
+    results = finish(arm, name_of, attempts, tgt, opts, seed, every, t0)
+    return results if every else results[0]

@@ -1,0 +1,147 @@
+"""7-joint arms with one joint held (``hold=``): every answer has the joint at its value and
+reaches the target (Pinocchio on the 7-joint arm), the configuration that made the target
+is among ``solve_all``'s answers, and bad ``hold=`` values get a clear error."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.errors import InputError, JointError, OptionError
+
+from ..conftest import write_urdf
+
+D = math.radians
+
+# A KUKA iiwa 14's kinematics: a spherical shoulder (axes 1, 2, 3 meet) and wrist (5, 6, 7).
+IIWA = [
+    ("0 0 0.1575", "0 0 1", 170),
+    ("0 0 0.2025", "0 1 0", 120),
+    ("0 0 0.2045", "0 0 1", 170),
+    ("0 0 0.2155", "0 -1 0", 120),
+    ("0 0 0.1845", "0 0 1", 170),
+    ("0 0 0.2155", "0 1 0", 120),
+    ("0 0 0.081", "0 0 1", 175),
+]
+
+
+def iiwa_urdf() -> str:
+    parts = ['<?xml version="1.0"?>', '<robot name="iiwa_like">', '<link name="base"/>']
+    parts += [f'<link name="l{i}"/>' for i in range(1, 8)] + ['<link name="tool"/>']
+    parent = "base"
+    for i, (xyz, axis, lim) in enumerate(IIWA, start=1):
+        parts.append(
+            f'<joint name="j{i}" type="revolute"><parent link="{parent}"/><child link="l{i}"/>'
+            f'<origin xyz="{xyz}"/><axis xyz="{axis}"/>'
+            f'<limit lower="{-D(lim)}" upper="{D(lim)}" effort="1" velocity="1"/></joint>'
+        )
+        parent = f"l{i}"
+    parts.append(
+        '<joint name="flange" type="fixed"><parent link="l7"/><child link="tool"/>'
+        '<origin xyz="0 0 0.045"/></joint></robot>'
+    )
+    return "\n".join(parts)
+
+
+@pytest.fixture(scope="module")
+def iiwa(tmp_path_factory):
+    path = write_urdf(tmp_path_factory.mktemp("iiwa"), iiwa_urdf(), name="iiwa.urdf")
+    return armik.load(path, base="base", tip="tool")
+
+
+def _wrapped(a, b) -> float:
+    return float(np.abs(np.angle(np.exp(1j * (np.asarray(a) - np.asarray(b))))).max())
+
+
+def _check_complete(arm, joint: str, seeds: int, rng) -> set[str]:
+    k = arm.joint_names.index(joint)
+    solvers = set()
+    for _ in range(seeds):
+        q = arm.random_q(rng)
+        T = arm.fk(q)
+        results = arm.solve_all(T, hold={joint: float(q[k])})
+        ok = [r for r in results if r.success]
+        assert ok
+        for r in ok:
+            assert r.q.shape == (7,)
+            assert r.q[k] == pytest.approx(q[k], abs=1e-12)
+            assert np.linalg.norm(pin.log6(arm.fk(r.q).inverse() * T).vector) < 1e-9
+            assert np.all(r.q >= arm.lower) and np.all(r.q <= arm.upper)
+            assert "held at" in r.reason
+        assert min(_wrapped(r.q, q) for r in ok) < 1e-6, (joint, q)
+        solvers.add(ok[0].solver)
+        one = arm.solve(T, hold={joint: float(q[k])}, q0=q)
+        assert one.success and _wrapped(one.q, q) < 1e-6  # from q itself: q is nearest
+    return solvers
+
+
+def test_panda_with_joint_7_held_is_the_swept_closed_form():
+    arm = armik.load("panda")
+    assert _check_complete(arm, "panda_joint7", 6, np.random.default_rng(1)) == {"swept"}
+
+
+def test_panda_with_joint_7_held_by_the_general_search_asked_by_name():
+    arm = armik.load("panda")
+    rng = np.random.default_rng(5)
+    q = arm.random_q(rng)
+    T = arm.fk(q)
+    every = arm.solve_all(T, hold={"panda_joint7": float(q[6])}, solver="general_6r")
+    ok = [r for r in every if r.success]
+    assert ok and {r.solver for r in ok} == {"general_6r"}
+    assert min(_wrapped(r.q, q) for r in ok) < 1e-6
+
+
+def test_panda_with_joint_1_held():
+    arm = armik.load("panda")
+    assert _check_complete(arm, "panda_joint1", 4, np.random.default_rng(2)) == {"general_6r"}
+
+
+def test_iiwa_like_arm_with_joint_3_held_is_a_closed_form(iiwa):
+    solvers = _check_complete(iiwa, "j3", 6, np.random.default_rng(3))
+    assert solvers == {"spherical"}  # axes 1, 2 meet and the wrist is spherical
+
+
+def test_hold_none_is_q0s_value(iiwa):
+    rng = np.random.default_rng(4)
+    q = iiwa.random_q(rng)
+    T = iiwa.fk(q)
+    r = iiwa.solve(T, hold={"j3": None}, q0=q)
+    assert r.success and r.q[2] == q[2]
+    every = iiwa.solve_all(T, hold={"j3": None}, q0=q)
+    assert all(x.q[2] == q[2] for x in every)
+
+
+def test_bad_hold_values_are_refused_with_the_fix(iiwa):
+    T = iiwa.fk(np.zeros(7))
+    with pytest.raises(JointError, match="unknown joint 'j9'.*'j1'"):
+        iiwa.solve(T, hold={"j9": 0.0})
+    with pytest.raises(JointError, match=r"outside joint 'j3'.*limits.*within them"):
+        iiwa.solve(T, hold={"j3": 4.0})
+    with pytest.raises(OptionError, match="finite number"):
+        iiwa.solve(T, hold={"j3": float("nan")})
+    with pytest.raises(OptionError, match="map one joint name"):
+        iiwa.solve(T, hold={"j3": 0.0, "j4": 0.0})
+    with pytest.raises(OptionError, match="map one joint name"):
+        iiwa.solve(T, hold="j3")
+    ur5 = armik.load("ur5")
+    with pytest.raises(OptionError, match="7-joint arms.*6 joints.*with_locked"):
+        ur5.solve(ur5.fk(np.zeros(6)), hold={"shoulder_pan_joint": 0.0})
+    assert issubclass(OptionError, InputError)
+
+
+def test_hold_in_a_batch_is_refused_with_the_fix(iiwa):
+    poses = np.array([iiwa.fk(np.zeros(7)).homogeneous])
+    with pytest.raises(OptionError, match=r"hold= is for solve and solve_all.*with_locked"):
+        iiwa.solve_batch(poses, hold={"j3": 0.0}, workers=1, progress=False)
+
+
+def test_a_path_with_a_joint_held_keeps_it_there(iiwa):
+    rng = np.random.default_rng(8)
+    q = iiwa.random_q(rng)
+    poses = [iiwa.fk(q + 0.01 * k * np.array([1, 1, 0, 1, 1, 1, 1.0])) for k in range(3)]
+    out = iiwa.solve_path(poses, q, hold={"j3": float(q[2])})
+    assert out.success.all() and np.all(out.q[:, 2] == q[2])

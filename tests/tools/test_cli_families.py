@@ -1,0 +1,40 @@
+"""``armik info`` names the family of every 6R arm and, for a 7R arm, the family of the six
+joints left by holding each one (and which holds make them analytic)."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+
+from ..conftest import write_urdf
+from ..solve.test_held import iiwa_urdf
+from ..solvers.closed_form.test_general_6r import random_arm_urdf
+from .test_cli import run
+
+
+def test_six_r_families(capsys, tmp_path):
+    code, out, _ = run(capsys, "info", "ur5")
+    assert code == 0 and "family: three_parallel (axes 2, 3, 4 parallel" in out
+    code, out, _ = run(capsys, "info", "abb_irb120")
+    assert code == 0 and "family: spherical_wrist (spherical wrist at" in out
+    path = write_urdf(tmp_path, random_arm_urdf(np.random.default_rng(0)), name="g6.urdf")
+    code, out, _ = run(capsys, "info", str(path), "--base", "world", "--tip", "tool")
+    assert code == 0 and "family: general_6r (general 6R (2-D search))" in out
+    assert "auto -> general_6r" in out
+    code, out, _ = run(capsys, "info", "planar_2link")
+    assert code == 0 and "family:" not in out and "hold one joint" not in out
+
+
+def test_seven_r_arms_name_the_joints_to_hold(capsys, tmp_path):
+    code, out, _ = run(capsys, "info", "panda")
+    assert code == 0
+    assert re.search(r"panda_joint1 +general_6r \(general 6R \(2-D search\)\)", out)
+    assert re.search(r"panda_joint7 +swept_7r \(the swept solver's closed form", out)
+    assert "analytic with one joint held: panda_joint7\n" in out
+    path = write_urdf(tmp_path, iiwa_urdf(), name="iiwa.urdf")
+    code, out, _ = run(capsys, "info", str(path), "--base", "base", "--tip", "tool")
+    assert code == 0
+    assert re.search(r"\n  j3 +spherical_wrist \(spherical wrist at .*axes 1 and 2 meet\)", out)
+    held = re.search(r"analytic with one joint held: (.*)\n", out).group(1).split(", ")
+    assert held == ["j1", "j2", "j3", "j4", "j7"]  # j5, j6 leave the 2-D search
