@@ -3,6 +3,7 @@ closed forms. Importing this package registers every built-in solver."""
 
 from armik.solvers.closed_form import (  # noqa: F401  (registration)
     planar2r,
+    spherical_general,
     spherical_wrist,
     swept_7r,
     three_parallel,

@@ -8,7 +8,13 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from armik.model.geometry import axis_lines
-from armik.solvers.closed_form import planar2r, spherical_wrist, swept_7r, three_parallel
+from armik.solvers.closed_form import (
+    planar2r,
+    spherical_general,
+    spherical_wrist,
+    swept_7r,
+    three_parallel,
+)
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
@@ -17,6 +23,7 @@ FAMILIES = {
     "planar": planar2r.classify,
     "spherical_wrist": spherical_wrist.classify,
     "three_parallel": three_parallel.classify,
+    "spherical_general": spherical_general.classify,
     "swept_7r": swept_7r.classify,
 }
 

@@ -55,6 +55,7 @@ TOO_FAR = 2
 TOO_CLOSE = 3
 WRIST_ORIENTATION = 4
 ORIENTATION = 5
+MISSED = 6  # a position subproblem (SP5, SP6) solved only in the least-squares sense
 
 
 @dataclass(frozen=True)
@@ -282,6 +283,11 @@ def reason(code: int, val: tuple[float, float] | np.ndarray, family: str) -> str
         return (
             "the target orientation is one the arm cannot take at this position; q is the "
             "closest configuration"
+        )
+    if code == MISSED:
+        return (
+            f"target out of reach: the closest configuration found misses its wrist point "
+            f"by {a:.6g} m; q is that configuration"
         )
     return "no exact solution; q is the closest configuration"
 
