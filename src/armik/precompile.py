@@ -118,6 +118,9 @@ PARTS: dict[str, Callable[[], None]] = {
     "spherical": _closed_form("abb_irb120", "spherical"),
     "three_parallel": _closed_form("ur5", "three_parallel"),
     "spherical_general": _closed_form("random:spherical", "spherical_general"),
+    "three_parallel_general": _closed_form(
+        "random:three_parallel_free", "three_parallel_general"
+    ),
     "swept": _closed_form("panda", "swept"),
     "batch": _batch,
     "path": _path,

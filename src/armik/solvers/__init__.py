@@ -7,6 +7,7 @@ from armik.solvers.closed_form import (  # noqa: F401  (registration)
     spherical_wrist,
     swept_7r,
     three_parallel,
+    three_parallel_general,
 )
 from armik.solvers.numeric import clik, dls, qp  # noqa: F401  (registration)
 from armik.solvers.registry import SolverSpec, choose, get, register, solvers, why_not

@@ -14,6 +14,7 @@ from armik.solvers.closed_form import (
     spherical_wrist,
     swept_7r,
     three_parallel,
+    three_parallel_general,
 )
 
 if TYPE_CHECKING:
@@ -24,6 +25,7 @@ FAMILIES = {
     "spherical_wrist": spherical_wrist.classify,
     "three_parallel": three_parallel.classify,
     "spherical_general": spherical_general.classify,
+    "three_parallel_general": three_parallel_general.classify,
     "swept_7r": swept_7r.classify,
 }
 
