@@ -121,6 +121,8 @@ PARTS: dict[str, Callable[[], None]] = {
     "three_parallel_general": _closed_form(
         "random:three_parallel_free", "three_parallel_general"
     ),
+    "two_parallel": _closed_form("random:two_parallel", "two_parallel"),
+    "two_intersecting": _closed_form("random:two_intersecting", "two_intersecting"),
     "swept": _closed_form("panda", "swept"),
     "batch": _batch,
     "path": _path,

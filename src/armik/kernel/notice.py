@@ -33,6 +33,8 @@ PARTS = (
     ("armik.solvers.closed_form.three_parallel", "the three-parallel-axes closed form", 15),
     ("armik.solvers.closed_form.spherical_general", "the general spherical-wrist closed form", 30),
     ("armik.solvers.closed_form.three_parallel_general", "the general 3-parallel closed form", 30),
+    ("armik.solvers.closed_form.two_parallel", "the two-parallel-axes search", 30),
+    ("armik.solvers.closed_form.two_intersecting", "the two-intersecting-axes search", 30),
     ("armik.solvers.closed_form.swept_7r", "the swept 7R closed form", 10),
     ("armik.solvers.closed_form", "the 6R closed forms' shared code", 5),
     ("armik", "armik's compiled code", 5),

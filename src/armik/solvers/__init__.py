@@ -8,6 +8,8 @@ from armik.solvers.closed_form import (  # noqa: F401  (registration)
     swept_7r,
     three_parallel,
     three_parallel_general,
+    two_intersecting,
+    two_parallel,
 )
 from armik.solvers.numeric import clik, dls, qp  # noqa: F401  (registration)
 from armik.solvers.registry import SolverSpec, choose, get, register, solvers, why_not

@@ -15,6 +15,8 @@ from armik.solvers.closed_form import (
     swept_7r,
     three_parallel,
     three_parallel_general,
+    two_intersecting,
+    two_parallel,
 )
 
 if TYPE_CHECKING:
@@ -26,6 +28,8 @@ FAMILIES = {
     "three_parallel": three_parallel.classify,
     "spherical_general": spherical_general.classify,
     "three_parallel_general": three_parallel_general.classify,
+    "two_parallel": two_parallel.classify,
+    "two_intersecting": two_intersecting.classify,
     "swept_7r": swept_7r.classify,
 }
 
