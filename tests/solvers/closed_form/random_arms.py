@@ -29,10 +29,12 @@ def wrapped_distance(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.abs(np.angle(np.exp(1j * (np.asarray(a) - np.asarray(b))))).max())
 
 
-def check_round_trips(arm: armik.Arm, solver: str, rng, n: int) -> int:
+def check_round_trips(arm: armik.Arm, solver: str, rng, n: int, misses: list | None = None) -> int:
     """Solve ``n`` targets of random configurations with ``solve_all``: every success is
     within the limits and reaches the target (Pinocchio's FK); the generating configuration
-    is among them unless an answer is singular. Returns how many were checked completely."""
+    is among them unless an answer is singular (or, with a list ``misses``, the
+    configurations not found are appended to it instead). Returns how many were checked
+    completely."""
     checked = 0
     for _ in range(n):
         q = arm.random_q(rng)
@@ -47,6 +49,9 @@ def check_round_trips(arm: armik.Arm, solver: str, rng, n: int) -> int:
         if any(r.singular for r in results):
             continue
         best = min((wrapped_distance(r.q, q) for r in results if r.success), default=np.inf)
+        if misses is not None and best >= 1e-6:
+            misses.append(q)
+            continue
         assert best < 1e-6, (solver, q.tolist())
         checked += 1
     return checked

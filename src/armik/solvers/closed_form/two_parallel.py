@@ -23,7 +23,7 @@ from numba import njit
 
 from armik.kernel.single import plain_pose, plain_seed
 from armik.model.arm_model import ArmModel
-from armik.model.geometry import Axes, angle_between, axis_lines, fmt
+from armik.model.geometry import Axes, angle_between, axis_lines, fmt, meeting_point
 from armik.options import Options
 from armik.solvers.claims import Attempt, AttemptBatch
 from armik.solvers.closed_form import sixr
@@ -72,7 +72,7 @@ from armik.solvers.closed_form.subproblems import (
 )
 from armik.solvers.registry import SolverSpec, register
 from armik.targets.pose import Target
-from armik.tolerances import ANGLE_TOL
+from armik.tolerances import ANGLE_TOL, DISTANCE_TOL
 
 CLOSED_FORM = "one-dimensional search (axes 2 and 3 parallel)"
 FAMILY = "two_parallel"
@@ -93,6 +93,18 @@ def classify(arm: ArmModel, ax: Axes | None = None) -> sixr.Chain6R | str:
         return (
             f"axes 2 and 3 are not parallel: they are {fmt(ang)} rad apart (tolerance "
             f"{ANGLE_TOL:g} rad)"
+        )
+    if angle_between(H[3], H[1]) < ANGLE_TOL:
+        return (
+            "axis 4 is parallel to axes 2 and 3: the search's SP6 loses q4; "
+            "three_parallel_general solves this arm in closed form"
+        )
+    w, miss = meeting_point(P[3:], H[3:])
+    if miss <= DISTANCE_TOL:
+        return (
+            f"the last three axes meet (a spherical wrist at {np.round(w, 6).tolist()} m): "
+            "the search's SP6 has no wrist offsets to work on; spherical_general solves "
+            "this arm in closed form"
         )
     text = f"axes 2 and 3 parallel along {np.round(H[1], 6).tolist()}"
     return sixr.chain_6r(FAMILY, "", ax, [P[0], P[1], P[2], P[3], P[4], P[5]], text)
