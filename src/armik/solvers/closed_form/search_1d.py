@@ -63,7 +63,7 @@ SUB = 8  # ... this many times finer
 ZEROS = 16  # at most this many zeros (solutions) are kept
 ITERATIONS = 60  # of regula falsi in one bracket
 CANDIDATES = 32  # brackets kept (a zero may be bracketed twice: at a fold and by samples)
-FOLD_STEPS = 14  # bisections locating where a branch is born or dies (2^-14 of a step)
+FOLD_STEPS = 14  # bisections locating where a branch is born or dies (2^-14 of a sub-step)
 DIP_STEPS = 24  # golden-section steps locating a dip's extremum (0.618^24 of two steps)
 GOLDEN = 0.6180339887498949
 POLISH_TOL = 1e-13  # m and rad: Newton on the pose stops below this error
@@ -217,7 +217,7 @@ def update(a, fa, b, fb, x, e, s, m, st, jump):
     """One Illinois step: the branch at ``x`` (``e``, ``s``: its ``m`` branches) nearest
     the followed state ``st`` (the state at b, updated in place) replaces an end of the
     bracket, if it moved by at most ``jump`` (rad). Returns (a, fa, b, fb, status): status
-    0 go on, 1 converged (x is the zero, to 1e-13 rad), -1 the branch ended inside the
+    0 go on, 1 converged (x is the zero, to 1e-11 rad: ``polish`` does the rest), -1 the branch ended inside the
     bracket (no zero on it)."""
     jj, dd = nearest(s, m, st)
     if jj < 0 or dd > jump:
@@ -225,7 +225,7 @@ def update(a, fa, b, fb, x, e, s, m, st, jump):
     fx = e[jj]
     for c in range(STATE):
         st[c] = s[jj, c]
-    if abs(fx) < 1e-15 or abs(x - b) < 1e-13:
+    if abs(fx) < 1e-15 or abs(x - b) < 1e-11:
         return a, fa, b, fb, 1
     if (fx < 0.0) != (fb < 0.0):
         a, fa = b, fb
