@@ -217,8 +217,8 @@ def update(a, fa, b, fb, x, e, s, m, st, jump):
     """One Illinois step: the branch at ``x`` (``e``, ``s``: its ``m`` branches) nearest
     the followed state ``st`` (the state at b, updated in place) replaces an end of the
     bracket, if it moved by at most ``jump`` (rad). Returns (a, fa, b, fb, status): status
-    0 go on, 1 converged (x is the zero, to 1e-11 rad: ``polish`` does the rest), -1 the branch ended inside the
-    bracket (no zero on it)."""
+    0 go on, 1 converged (x is the zero, to 1e-11 rad: ``polish`` does the rest), -1 the
+    branch ended inside the bracket (no zero on it)."""
     jj, dd = nearest(s, m, st)
     if jj < 0 or dd > jump:
         return a, fa, b, fb, -1
