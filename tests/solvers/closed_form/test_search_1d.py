@@ -116,3 +116,12 @@ def test_batch_equals_solve(kind):
         r = a.solve(H, solver=kind)
         assert b.success[i] == r.success
         np.testing.assert_allclose(b.q[i], r.q, atol=1e-12)
+
+
+def test_a_spherical_shoulder_is_refused_by_the_search_over_q4():
+    """The Panda with joint 7 locked: axes 1, 2, 3 meet and axes 5, 6 meet, but SP5 has no
+    shoulder offsets to work on; refused with the reason, auto falls back to dls."""
+    a = armik.load("panda", locked={"panda_joint7": 0.3})
+    why = two_intersecting.classify(a)
+    assert isinstance(why, str) and "spherical shoulder" in why, why
+    assert a.solve(a.fk(a.middle)).solver == "dls"

@@ -89,6 +89,12 @@ def classify(arm: ArmModel, ax: Axes | None = None) -> sixr.Chain6R | str:
     c56, d56 = meeting_point(P[4:], H[4:])
     if d56 > DISTANCE_TOL:
         return f"axes 5 and 6 do not meet: they miss by {fmt(d56)} m (tolerance {DISTANCE_TOL:g} m)"
+    s, d123 = meeting_point(P[:3], H[:3])
+    if d123 <= DISTANCE_TOL:
+        return (
+            f"axes 1, 2, 3 meet in one point (a spherical shoulder at "
+            f"{np.round(s, 6).tolist()} m): the search's SP5 degenerates"
+        )
     text = f"axes 5 and 6 meet at {np.round(c56, 6).tolist()} m"
     return sixr.chain_6r(FAMILY, "", ax, [P[0], P[1], P[2], P[3], c56, c56], text)
 
