@@ -146,14 +146,14 @@ def _zeros(h, p, R06, p16, X, XS):
     Es, Ss = np.empty((SUB + 1, BRANCHES)), np.zeros((SUB + 1, BRANCHES, STATE))
     Ms = np.empty(SUB + 1, np.int64)
     step = 2.0 * np.pi / GRID
-    nb = 0
+    nb = np.int64(0)  # not a literal 0: the callees would compile for it too
     for k in range(GRID):
         k2, xa = (k + 1) % GRID, angle(k)
         if not rough(E[k], S[k], M[k], E[k2], S[k2], M[k2]):
             nb = pair_brackets(xa, E[k], S[k], M[k], xa + step, E[k2], S[k2], M[k2], Bx, Bs, nb)
             continue
-        copy_sample(E, S, M, k, Es, Ss, Ms, 0)  # sampled finer
-        copy_sample(E, S, M, k2, Es, Ss, Ms, SUB)
+        copy_sample(E, S, M, k, Es, Ss, Ms, np.int64(0))  # sampled finer
+        copy_sample(E, S, M, k2, Es, Ss, Ms, np.int64(SUB))
         for u in range(1, SUB):
             Ms[u] = _branches(xa + step * u / SUB, h, p, R06, p16, Es[u], Ss[u])
         for u in range(SUB):
@@ -264,9 +264,9 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, labelled, out):
     for z in range(nz):
         _configuration(h, p, R06, p16, X[z], XS[z], q)
         if n < ZEROS and polish(h, p, R_tip0, R, pos, q) <= REACHED and is_new(W, n, q):
-            n = put(W, n, q, 0, 0)
+            n = put(W, n, q, 0.0, 0.0)
     if n == 0:
-        n = put(W, n, q0, LS, NOT_FOUND)
+        n = put(W, n, q0, float(LS), float(NOT_FOUND))
     sixr.nearest_equivalents(W, n, q0, lower, upper)
     return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out)
 
