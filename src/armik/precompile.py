@@ -22,9 +22,10 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 
 import numpy as np
 
-from armik.arm import Arm, load
+from armik.arm import Arm, load, load_string
 from armik.constraints.shapes import Box, HalfSpace
 from armik.errors import OptionError, listing
+from armik.model.random_arms import random_urdf
 from armik.solve.progress import make_progress
 
 _BUDGET = {"iteration_budget": 200, "seed": 0}  # a few iterations suffice to compile
@@ -58,9 +59,15 @@ def _clik() -> None:
     arm.solve(_pose(arm, 1), solver="clik", max_iterations=5)
 
 
+def _random_arm(kind: str):
+    """A random arm of ``kind`` (``armik.model.random_arms``), for families no bundled arm
+    belongs to."""
+    return load_string(random_urdf(kind, np.random.default_rng(0)), base="world", tip="tool")
+
+
 def _closed_form(robot: str, solver: str) -> Callable[[], None]:
     def run() -> None:
-        arm = load(robot)
+        arm = _random_arm(robot[7:]) if robot.startswith("random:") else load(robot)
         T = _pose(arm, 2)
         target = T.translation[:2] if solver == "planar2r" else T
         arm.solve(target, solver=solver)
@@ -140,6 +147,12 @@ PARTS: dict[str, Callable[[], None]] = {
     "planar2r": _closed_form("planar_2link", "planar2r"),
     "spherical": _closed_form("abb_irb120", "spherical"),
     "three_parallel": _closed_form("ur5", "three_parallel"),
+    "spherical_general": _closed_form("random:spherical", "spherical_general"),
+    "three_parallel_general": _closed_form(
+        "random:three_parallel_free", "three_parallel_general"
+    ),
+    "two_parallel": _closed_form("random:two_parallel", "two_parallel"),
+    "two_intersecting": _closed_form("random:two_intersecting", "two_intersecting"),
     "swept": _closed_form("panda", "swept"),
     "general_6r": _closed_form("ur5", "general_6r"),
     "hold": _hold,

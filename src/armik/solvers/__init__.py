@@ -4,9 +4,13 @@ closed forms. Importing this package registers every built-in solver."""
 from armik.solvers.closed_form import (  # noqa: F401  (registration)
     general_6r,
     planar2r,
+    spherical_general,
     spherical_wrist,
     swept_7r,
     three_parallel,
+    three_parallel_general,
+    two_intersecting,
+    two_parallel,
 )
 from armik.solvers.numeric import clik, dls, qp  # noqa: F401  (registration)
 from armik.solvers.registry import SolverSpec, choose, get, register, solvers, why_not

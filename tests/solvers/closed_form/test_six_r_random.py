@@ -14,48 +14,7 @@ from armik.status import Status
 
 from ...analytic_urdfs import six_r
 from ...conftest import write_urdf
-
-
-def unit(v):
-    return v / np.linalg.norm(v)
-
-
-def fmt(v) -> str:
-    return " ".join(repr(float(x)) for x in v)
-
-
-def random_arm(kind: str, rng: np.random.Generator):
-    """Axis lines (points, directions) of a random arm of ``kind``."""
-    h = [unit(rng.normal(size=3)) for _ in range(6)]
-    c = [rng.uniform(-0.4, 0.4, size=3) for _ in range(6)]
-    if kind in ("parallel_23", "meeting_12"):
-        wrist = rng.uniform(-0.5, 0.5, size=3)
-        c[3] = c[4] = c[5] = wrist
-        if kind == "parallel_23":
-            h[2] = h[1] * rng.choice([-1.0, 1.0])
-        else:
-            c[1] = c[0] + rng.uniform(-0.3, 0.3) * h[0]  # axis 2 crosses axis 1 at c[1]
-    else:  # three_parallel: axes 2, 3, 4 parallel, axes 5 and 6 meet
-        h[2] = h[1] * rng.choice([-1.0, 1.0])
-        h[3] = h[1] * rng.choice([-1.0, 1.0])
-        c[5] = c[4]
-    return c, h
-
-
-def urdf(c, h, rng) -> str:
-    joints = []
-    prev = np.zeros(3)
-    for ci, hi in zip(c, h):
-        joints.append((fmt(ci - prev), "0 0 0", fmt(hi)))
-        prev = ci
-    tool = c[5] + rng.uniform(-0.2, 0.2, size=3)
-    return six_r(
-        joints,
-        mount_xyz=fmt(rng.uniform(-1, 1, size=3)),
-        mount_rpy=fmt(rng.uniform(-3, 3, size=3)),
-        tool_xyz=fmt(tool - c[5]),
-        tool_rpy=fmt(rng.uniform(-3, 3, size=3)),
-    )
+from .random_arms import load_arm
 
 
 @pytest.mark.parametrize("kind", ["parallel_23", "meeting_12", "three_parallel"])
@@ -63,9 +22,7 @@ def test_random_arms_are_solved_completely(kind, tmp_path):
     rng = np.random.default_rng({"parallel_23": 1, "meeting_12": 2, "three_parallel": 3}[kind])
     solver = "three_parallel" if kind == "three_parallel" else "spherical"
     for k in range(6):
-        c, h = random_arm(kind, rng)
-        path = write_urdf(tmp_path, urdf(c, h, rng), name=f"{kind}_{k}.urdf")
-        a = armik.load(path, base="world", tip="tool")
+        a = load_arm(kind, rng)
         geo = spherical_wrist.classify(a) if solver == "spherical" else three_parallel.classify(a)
         assert not isinstance(geo, str), geo
         if solver == "spherical":

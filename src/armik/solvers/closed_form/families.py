@@ -12,9 +12,13 @@ from armik.model.mimic import reason as mimic_reason
 from armik.solvers.closed_form import (
     general_6r,
     planar2r,
+    spherical_general,
     spherical_wrist,
     swept_7r,
     three_parallel,
+    three_parallel_general,
+    two_intersecting,
+    two_parallel,
 )
 
 if TYPE_CHECKING:
@@ -24,6 +28,10 @@ FAMILIES = {
     "planar": planar2r.classify,
     "spherical_wrist": spherical_wrist.classify,
     "three_parallel": three_parallel.classify,
+    "spherical_general": spherical_general.classify,
+    "three_parallel_general": three_parallel_general.classify,
+    "two_parallel": two_parallel.classify,
+    "two_intersecting": two_intersecting.classify,
     "swept_7r": swept_7r.classify,
     "general_6r": general_6r.classify,
 }

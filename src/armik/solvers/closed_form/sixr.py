@@ -1,13 +1,14 @@
 """What the closed-form 6R solvers share: the compiled output layout, 2 pi equivalents,
 branch labels, reasons, and the glue from the compiled kernel to ``Attempt``s.
 
-A kernel computes up to 8 rows in a work array ``W`` (8, 11), ``n`` the row count: per row
-the joint values (columns 0-5), ``flags`` (column 6; bit 1: least squares, the target is
-not reached; bit 2: singular, a free angle kept at q0), ``code`` (column 8: which step was
-solved only in the least-squares sense) and 2 numbers for the reason (columns 9, 10: what
-the target asks, what the arm can do). ``pack`` copies them into the caller's ``out``
-nearest-first and adds the branch (column 7) of the rows handed over, read from their
-geometry (``branch_bits``). The caller owns ``out``, so that a batch allocates it once.
+A kernel computes up to 8 rows in a work array ``W`` (8, 11; 16 rows for a one-dimensional
+search), ``n`` the row count: per row the joint values (columns 0-5), ``flags`` (column 6;
+bit 1: least squares, the target is not reached; bit 2: singular, a free angle kept at
+q0), ``code`` (column 8: which step was solved only in the least-squares sense) and 2
+numbers for the reason (columns 9, 10: what the target asks, what the arm can do). ``pack``
+copies them into the caller's ``out`` nearest-first and adds the branch (column 7) of the
+rows handed over, read from their geometry (``branch_bits``). The caller owns ``out``, so
+that a batch allocates it once.
 """
 
 from __future__ import annotations
@@ -56,6 +57,8 @@ TOO_FAR = 2
 TOO_CLOSE = 3
 WRIST_ORIENTATION = 4
 ORIENTATION = 5
+MISSED = 6  # a position subproblem (SP5, SP6) solved only in the least-squares sense
+NOT_FOUND = 7  # a one-dimensional search found no solution
 
 
 @dataclass(frozen=True)
@@ -96,7 +99,6 @@ def not_6r(arm: ArmModel) -> str | None:
         names = [n for n, p in zip(arm.joint_names, arm.prismatic) if p]
         return f"joint {names[0]!r} is prismatic, this class needs 6 revolute joints"
     return None
-
 
 
 @njit(cache=True)
@@ -234,7 +236,7 @@ def pack(W, n, q0, lower, upper, h, p, labelled, out):
         W[r, 7] = math.sqrt(d2) + (1e4 if outside else 0.0) + (1e8 if int(W[r, 6]) & LS else 0.0)
     first_ok = False
     taken = 0  # bit r: row r copied
-    for k in range(n):  # selection sort, stable: at most 8 rows, no allocation
+    for k in range(n):  # selection sort, stable: at most 16 rows, no allocation
         best = -1
         for r in range(n):
             if not taken & (1 << r) and (best < 0 or W[r, 7] < W[best, 7]):
@@ -286,6 +288,16 @@ def reason(code: int, val: tuple[float, float] | np.ndarray, family: str) -> str
             "the target orientation is one the arm cannot take at this position; q is the "
             "closest configuration"
         )
+    if code == MISSED:
+        return (
+            f"target out of reach: the closest configuration found misses its wrist point "
+            f"by {a:.6g} m; q is that configuration"
+        )
+    if code == NOT_FOUND:
+        return (
+            "the one-dimensional search found no solution: the target is out of reach, or "
+            "its solutions lie closer together than the search grid; q is q0"
+        )
     return "no exact solution; q is the closest configuration"
 
 
@@ -302,6 +314,7 @@ def flat(arm: ArmModel, family: str, classify) -> np.ndarray:
     argument instead of five (numba's dispatch costs ~45 ns an array), and every path
     (``run``, ``run_batch``, the prepared runner) passes views of it (``unflatten``), so
     that the kernels are compiled for one set of argument types."""
+
     def build(arm: ArmModel) -> np.ndarray:
         geo = geometry(arm, family, classify)
         variant = 1.0 if geo.variant == "meeting_12" else 0.0
@@ -359,7 +372,7 @@ def claim_reason(closed_form: str, singular: bool) -> str:
     return closed_form
 
 
-def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form):
+def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form, size: int = 8):
     """``run_pose(H, q0, seed, every=False)`` for ``armik.solve.prepared`` (see
     ``armik.solvers.numeric.driver.pose_runner``): ``solve_into(flat, H, q0, every, out)``
     is the family's compiled kernel for one plain 4x4 pose (n = -1 when the pose or q0 is
@@ -387,7 +400,7 @@ def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form):
     empty = np.empty
 
     def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False):
-        out = empty((8, 11))
+        out = empty((size, 11))  # size: the kernel's most rows
         n, head = solve_into(chain, H, q0, every, out)
         if n < 0:
             return None

@@ -275,18 +275,8 @@ def _pack5(sol, n, ls):
 
 
 @njit(cache=True)
-def sp5(p0, p1, p2, p3, k1, k2, k3):
-    """Angles with p0 + rot(k1, t1) p1 = rot(k2, t2) (p2 + rot(k3, t3) p3).
-
-    Returns (t1, t2, t3, n, ls): 4-tuples of angles (rad), solution i being
-    (t1[i], t2[i], t3[i]) for i < |n|; see the module docstring."""
-    q0, q1, q2, q3 = vec(p0), vec(p1), vec(p2), vec(p3)
-    e1, e2, e3 = vec(k1), vec(k2), vec(k3)
-    size = max(norm(q0), norm(q1), norm(q2), norm(q3))
-    sol = np.zeros((4, 3))
-    res = np.full(4, math.inf)
-    if size == 0.0:  # everything is zero: every angle solves it
-        return _pack5(sol, -1, False)
+def _system5(q0, q1, q2, q3, e1, e2, e3, size):
+    """SP5's two equations in (sin, cos) of t1 and of t3 (``_pairs``' form): (M, f)."""
     c1, a1, b1 = _circle(q0, e1, q1)
     c3, a3, b3 = _circle(q2, e3, q3)
     # The same height along k2 (row 1) and the same |v| (row 2, over 2 size): linear in
@@ -305,6 +295,23 @@ def sp5(p0, p1, p2, p3, k1, k2, k3):
     )
     lengths = dot(c3, c3) + dot(a3, a3) - dot(c1, c1) - dot(a1, a1)
     f = np.array((dot(e2, c3) - dot(e2, c1), 0.5 * lengths / size))
+    return M, f
+
+
+@njit(cache=True)
+def sp5(p0, p1, p2, p3, k1, k2, k3):
+    """Angles with p0 + rot(k1, t1) p1 = rot(k2, t2) (p2 + rot(k3, t3) p3).
+
+    Returns (t1, t2, t3, n, ls): 4-tuples of angles (rad), solution i being
+    (t1[i], t2[i], t3[i]) for i < |n|; see the module docstring."""
+    q0, q1, q2, q3 = vec(p0), vec(p1), vec(p2), vec(p3)
+    e1, e2, e3 = vec(k1), vec(k2), vec(k3)
+    size = max(norm(q0), norm(q1), norm(q2), norm(q3))
+    sol = np.zeros((4, 3))
+    res = np.full(4, math.inf)
+    if size == 0.0:  # everything is zero: every angle solves it
+        return _pack5(sol, -1, False)
+    M, f = _system5(q0, q1, q2, q3, e1, e2, e3, size)
     pairs = np.zeros((8, 2))
     m, free = _pairs(M, f, size, pairs)
     n = 0
@@ -414,12 +421,8 @@ def _pack6(sol, n, ls):
 
 
 @njit(cache=True)
-def sp6(h, k, p, d1, d2):
-    """Angles with h[0] . rot(k[0], t1) p[0] + h[1] . rot(k[1], t2) p[1] = d1 and
-    h[2] . rot(k[2], t1) p[2] + h[3] . rot(k[3], t2) p[3] = d2.
-
-    Returns (t1, t2, n, ls): 4-tuples of angles (rad), solution i being (t1[i], t2[i]) for
-    i < |n|; see the module docstring."""
+def _system6(h, k, p, d1, d2):
+    """SP6's two equations in (sin, cos) of t1 and t2 (``_pairs``' form): (M, f, size)."""
     e0, a0, b0 = _term(vec(h[0]), vec(k[0]), vec(p[0]))
     e1, a1, b1 = _term(vec(h[1]), vec(k[1]), vec(p[1]))
     e2, a2, b2 = _term(vec(h[2]), vec(k[2]), vec(p[2]))
@@ -431,6 +434,17 @@ def sp6(h, k, p, d1, d2):
     for i in range(4):
         size = max(size, norm(vec(h[i])) * norm(vec(p[i])))
     size = max(size, abs(d1), abs(d2))
+    return M, f, size
+
+
+@njit(cache=True)
+def sp6(h, k, p, d1, d2):
+    """Angles with h[0] . rot(k[0], t1) p[0] + h[1] . rot(k[1], t2) p[1] = d1 and
+    h[2] . rot(k[2], t1) p[2] + h[3] . rot(k[3], t2) p[3] = d2.
+
+    Returns (t1, t2, n, ls): 4-tuples of angles (rad), solution i being (t1[i], t2[i]) for
+    i < |n|; see the module docstring."""
+    M, f, size = _system6(h, k, p, d1, d2)
     sol = np.zeros((4, 2))
     res = np.full(4, math.inf)
     if size == 0.0:

@@ -1,0 +1,101 @@
+"""Every 6R family on random arms: completeness, false successes, limit violations and the
+time of a verified ``solve_all``.
+
+For each family, ``--arms`` random arms of its kind (``armik.model.random_arms``: random
+axes with the family's structure and nothing else, random fixed transforms before joint 1
+and after joint 6), ``--configs`` random configurations within the limits each; the target
+is the configuration's FK. Per family:
+
+- complete: the generating configuration is among ``solve_all``'s successes (modulo 2 pi),
+  out of the targets whose answers are not singular;
+- false: successes whose pose Pinocchio's FK puts more than 1e-9 (m or rad, ``log6``) from
+  the target (0 expected: every success is verified);
+- limits: successes outside the joint limits (0 expected);
+- the median and 90th percentile of a verified ``solve_all`` (one call each, after one
+  warm-up call per arm, compile time excluded), the median number of solutions.
+
+    python benchmarks/families_6r.py [--arms 5] [--configs 20] [--families two_parallel ...]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+import pinocchio as pin
+
+import armik
+from armik.model.random_arms import random_urdf
+
+# family (solver name) -> the kind of random arm it is measured on
+FAMILIES = {
+    "spherical": "parallel_23",
+    "three_parallel": "three_parallel",
+    "spherical_general": "spherical",
+    "three_parallel_general": "three_parallel_free",
+    "two_parallel": "two_parallel",
+    "two_intersecting": "two_intersecting",
+}
+
+
+def measure(solver: str, kind: str, arms: int, configs: int, seed: int) -> dict:
+    rng = np.random.default_rng(seed)
+    found = checked = false = outside = 0
+    times: list[float] = []
+    counts: list[int] = []
+    for _ in range(arms):
+        arm = armik.load_string(random_urdf(kind, rng), base="world", tip="tool")
+        arm.solve_all(arm.fk(arm.random_q(rng)), solver=solver)  # compile, warm up
+        for _ in range(configs):
+            q = arm.random_q(rng)
+            T = arm.fk(q)
+            t0 = time.perf_counter()
+            results = arm.solve_all(T, solver=solver)
+            times.append(time.perf_counter() - t0)
+            ok = [r for r in results if r.success]
+            counts.append(len(ok))
+            for r in ok:
+                if np.linalg.norm(pin.log6(arm.fk(r.q).inverse() * T).vector) > 1e-9:
+                    false += 1
+                if np.any(r.q < arm.lower - 1e-12) or np.any(r.q > arm.upper + 1e-12):
+                    outside += 1
+            if any(r.singular for r in results):
+                continue
+            checked += 1
+            d = [np.abs(np.angle(np.exp(1j * (r.q - q)))).max() for r in ok]
+            found += bool(d) and min(d) < 1e-6
+    t = np.array(times) * 1e6
+    return {
+        "found": found,
+        "checked": checked,
+        "false": false,
+        "limits": outside,
+        "median_us": float(np.median(t)),
+        "p90_us": float(np.percentile(t, 90)),
+        "solutions": float(np.median(counts)),
+    }
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--arms", type=int, default=5)
+    ap.add_argument("--configs", type=int, default=20)
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--families", nargs="*", default=list(FAMILIES), choices=list(FAMILIES))
+    args = ap.parse_args()
+    print(f"{args.arms} random arms x {args.configs} configurations per family")
+    print(
+        f"{'family':24} {'complete':>12} {'false':>6} {'limits':>7} {'median us':>10} "
+        f"{'p90 us':>8} {'solutions':>9}"
+    )
+    for solver in args.families:
+        m = measure(solver, FAMILIES[solver], args.arms, args.configs, args.seed)
+        print(
+            f"{solver:24} {m['found']:>5}/{m['checked']:<6} {m['false']:>6} {m['limits']:>7} "
+            f"{m['median_us']:>10.0f} {m['p90_us']:>8.0f} {m['solutions']:>9.0f}"
+        )
+
+
+if __name__ == "__main__":
+    main()

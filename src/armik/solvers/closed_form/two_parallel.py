@@ -1,0 +1,388 @@
+"""IK of 6R arms with axes 2 and 3 parallel and nothing else, by a one-dimensional search
+over q1 (IK-Geo's ``IK_2_parallel``; the machinery in ``search_1d``).
+
+With the chain in product-of-exponentials form (``sixr.Chain6R``, the points on the axes
+as the URDF puts them), R_13 = rot(h2, q2 + s3 q3) fixes h2 (s3 = +-1: axis 3 along or
+against axis 2). For the target (R, p) and a trial q1, with a = R_06^T rot(h1, q1) h2:
+
+    a . rot(-h6, q6) p_56 + h2 . rot(h4, q4) p_45 = h2 . (R_01^T p_16 - p_12 - p_23 - p_34)
+    a . rot(-h6, q6) h5 - h2 . rot(h4, q4) h5 = 0                       -> SP6: q6, q4
+    rot(h2, q2 + s3 q3) rot(h4, q4) h5 = R_01^T R_06 rot(h6, q6)^T h5  -> SP1: q2 + s3 q3
+    v = R_01^T p_16 - p_12 - R_13 (p_34 + R_34 p_45) - R_01^T R_05 p_56, error |v| - |p_23|
+
+The error vanishes at the solutions' q1 (up to 4 branches, one per SP6 solution), then
+rot(h2, q2) p_23 = v (SP1: q2) and rot(-h5, q5) R_34^T h2 = R_56 R_06^T R_01 h2 (SP1: q5).
+Up to 16 solutions; branch labels as the closed forms read them, two solutions may share
+one.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from armik.kernel.single import plain_pose, plain_seed
+from armik.model.arm_model import ArmModel
+from armik.model.geometry import Axes, angle_between, axis_lines, fmt, meeting_point
+from armik.options import Options
+from armik.solvers.claims import Attempt, AttemptBatch
+from armik.solvers.closed_form import sixr
+from armik.solvers.closed_form.search_1d import (
+    BRANCHES,
+    CANDIDATES,
+    DIP_STEPS,
+    FOLD_STEPS,
+    GOLDEN,
+    GRID,
+    ITERATIONS,
+    JUMP,
+    STATE,
+    SUB,
+    ZEROS,
+    add_bracket,
+    angle,
+    copy_sample,
+    dips,
+    falsi,
+    fold_brackets,
+    is_new,
+    nearest,
+    pair_brackets,
+    polish,
+    put,
+    rough,
+    sp6_roots,
+    update,
+)
+from armik.solvers.closed_form.sixr import LS, NOT_FOUND
+from armik.solvers.closed_form.subproblems import (
+    add,
+    dot,
+    mat,
+    mmt,
+    mtm,
+    mtv,
+    mv,
+    neg,
+    norm,
+    rot,
+    sp1,
+    sub,
+    vec,
+)
+from armik.solvers.registry import SolverSpec, register
+from armik.targets.pose import Target
+from armik.tolerances import ANGLE_TOL, DISTANCE_TOL
+
+CLOSED_FORM = "one-dimensional search (axes 2 and 3 parallel)"
+FAMILY = "two_parallel"
+PRIORITY = 60
+SUMMARY = "1-D search over q1 for 6R arms with axes 2, 3 parallel: up to 16 solutions"
+REACHED = 1e-10  # m and rad: a polished zero reaches the target (Pinocchio verifies it)
+
+
+def classify(arm: ArmModel, ax: Axes | None = None) -> sixr.Chain6R | str:
+    """The geometry of a 6R arm with axes 2 and 3 parallel, or the reason it is not one."""
+    why = sixr.not_6r(arm)
+    if why:
+        return why
+    ax = ax or axis_lines(arm)
+    P, H = ax.points, ax.directions
+    ang = angle_between(H[1], H[2])
+    if ang > ANGLE_TOL:
+        return (
+            f"axes 2 and 3 are not parallel: they are {fmt(ang)} rad apart (tolerance "
+            f"{ANGLE_TOL:g} rad)"
+        )
+    if angle_between(H[3], H[1]) < ANGLE_TOL:
+        return (
+            "axis 4 is parallel to axes 2 and 3: the search's SP6 loses q4; "
+            "three_parallel_general solves this arm in closed form"
+        )
+    w, miss = meeting_point(P[3:], H[3:])
+    if miss <= DISTANCE_TOL:
+        return (
+            f"the last three axes meet (a spherical wrist at {np.round(w, 6).tolist()} m): "
+            "the search's SP6 has no wrist offsets to work on; spherical_general solves "
+            "this arm in closed form"
+        )
+    text = f"axes 2 and 3 parallel along {np.round(H[1], 6).tolist()}"
+    return sixr.chain_6r(FAMILY, "", ax, [P[0], P[1], P[2], P[3], P[4], P[5]], text)
+
+
+@njit(cache=True)
+def _sp6_at(h, p, R06, p16, q1):
+    """SP6's (q6, q4) solutions at the trial ``q1`` and the pieces that follow."""
+    h1, h2, h4, h5, h6 = vec(h[0]), vec(h[1]), vec(h[3]), vec(h[4]), vec(h[5])
+    R1 = rot(h1, q1)
+    a = mtv(R06, mv(R1, h2))
+    H6, K6, P6 = np.empty((4, 3)), np.empty((4, 3)), np.empty((4, 3))
+    p4, p5 = vec(p[4]), vec(p[5])
+    for c in range(3):
+        H6[0, c], H6[1, c], H6[2, c], H6[3, c] = a[c], h2[c], a[c], h2[c]
+        K6[0, c], K6[1, c], K6[2, c], K6[3, c] = -h6[c], h4[c], -h6[c], h4[c]
+        P6[0, c], P6[1, c], P6[2, c], P6[3, c] = p5[c], p4[c], h5[c], -h5[c]
+    u = sub(sub(sub(mtv(R1, p16), vec(p[1])), vec(p[2])), vec(p[3]))
+    T = np.empty((8, 2))
+    m = sp6_roots(H6, K6, P6, dot(h2, u), 0.0, T)
+    return R1, T, max(m, 0)
+
+
+@njit(cache=True)
+def _rest(h, p, R06, R1, q4, q6):
+    """(v, q23, M) for a trial: v the vector rot(h2, q2) p_23 must equal, q23 = q2 + s3 q3,
+    M = R_01^T R_06 rot(h6, q6)^T."""
+    h2, h4, h5, h6 = vec(h[1]), vec(h[3]), vec(h[4]), vec(h[5])
+    R4 = rot(h4, q4)
+    M = mmt(mtm(R1, R06), rot(h6, q6))
+    q23, _ = sp1(mv(R4, h5), mv(M, h5), h2)
+    R13 = rot(h2, q23)
+    return R4, M, q23, R13
+
+
+@njit(cache=True)
+def _v(p, R1, p16, R13, R4, M):
+    w = mv(R13, add(vec(p[3]), mv(R4, vec(p[4]))))
+    return sub(sub(sub(mtv(R1, p16), vec(p[1])), w), mv(M, vec(p[5])))
+
+
+@njit(cache=True)
+def _branches(x, h, p, R06, p16, e, s):
+    """The branches at the trial angle ``x`` (``search_1d``)."""
+    R1, T, m = _sp6_at(h, p, R06, p16, x)
+    n23 = norm(vec(p[2]))
+    m = min(m, BRANCHES)
+    for i in range(m):
+        R4, M, q23, R13 = _rest(h, p, R06, R1, T[i, 1], T[i, 0])
+        e[i] = norm(_v(p, R1, p16, R13, R4, M)) - n23
+        s[i, 0], s[i, 1], s[i, 2] = T[i, 0], T[i, 1], 0.0
+    return m
+
+
+@njit(cache=True)
+def _configuration(h, p, R06, p16, x, state, q):
+    """The configuration of the zero at q1 = ``x`` on the branch ``state`` (q6, q4)."""
+    h1, h2, h3, h5 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[4])
+    q6, q4 = state[0], state[1]
+    R1 = rot(h1, x)
+    R4, M, q23, R13 = _rest(h, p, R06, R1, q4, q6)
+    v = _v(p, R1, p16, R13, R4, M)
+    q2, _ = sp1(vec(p[2]), v, h2)
+    q5, _ = sp1(mtv(R4, h2), mtv(M, h2), neg(h5))
+    q[0], q[1], q[2], q[3], q[4], q[5] = x, q2, dot(h3, h2) * (q23 - q2), q4, q5, q6
+
+
+@njit(cache=True)
+def _zeros(h, p, R06, p16, X, XS):
+    """Every bracketed zero of the error over one turn (``search_1d``), at folds and dips
+    too: the angles into ``X``, each branch's state there into ``XS`` (``CANDIDATES``
+    rows); returns the count."""
+    E = np.empty((GRID, BRANCHES))
+    S = np.zeros((GRID, BRANCHES, STATE))
+    M = np.empty(GRID, np.int64)
+    for k in range(GRID):
+        M[k] = _branches(angle(k), h, p, R06, p16, E[k], S[k])
+    Bx, Bs = np.empty((CANDIDATES, 5)), np.empty((CANDIDATES, STATE))
+    e, s, st = np.empty(BRANCHES), np.zeros((BRANCHES, STATE)), np.empty(STATE)
+    Es, Ss = np.empty((SUB + 1, BRANCHES)), np.zeros((SUB + 1, BRANCHES, STATE))
+    Ms = np.empty(SUB + 1, np.int64)
+    step = 2.0 * np.pi / GRID
+    nb = np.int64(0)  # not a literal 0: the callees would compile for it too
+    for k in range(GRID):
+        k2, xa = (k + 1) % GRID, angle(k)
+        if not rough(E[k], S[k], M[k], E[k2], S[k2], M[k2]):
+            nb = pair_brackets(xa, E[k], S[k], M[k], xa + step, E[k2], S[k2], M[k2], Bx, Bs, nb)
+            continue
+        copy_sample(E, S, M, k, Es, Ss, Ms, np.int64(0))  # sampled finer
+        copy_sample(E, S, M, k2, Es, Ss, Ms, np.int64(SUB))
+        for u in range(1, SUB):
+            Ms[u] = _branches(xa + step * u / SUB, h, p, R06, p16, Es[u], Ss[u])
+        for u in range(SUB):
+            lo, hi = xa + step * u / SUB, xa + step * (u + 1) / SUB
+            nb = pair_brackets(
+                lo, Es[u], Ss[u], Ms[u], hi, Es[u + 1], Ss[u + 1], Ms[u + 1], Bx, Bs, nb
+            )
+            if Ms[u] == Ms[u + 1]:
+                continue
+            x0, x1 = lo, hi  # a fold: Ms[u] branches at x0, Ms[u + 1] at x1
+            for _ in range(FOLD_STEPS):
+                mid = 0.5 * (x0 + x1)
+                if _branches(mid, h, p, R06, p16, e, s) == Ms[u + 1]:
+                    x1 = mid
+                else:
+                    x0 = mid
+            near, far, xf = (x1, u + 1, hi) if Ms[u + 1] > Ms[u] else (x0, u, lo)
+            m = _branches(near, h, p, R06, p16, e, s)
+            nb = fold_brackets(near, e, s, m, xf, Es[far], Ss[far], Ms[far], Bx, Bs, nb)
+    D = np.empty((CANDIDATES, 3), np.int64)
+    count = 0
+    for z in range(dips(E, S, M, D)):  # the branch's extremum between its neighbours
+        k, i = D[z, 0], D[z, 1]
+        sign = 1.0 if E[k, i] > 0.0 else -1.0
+        for c in range(STATE):
+            st[c] = S[k, i, c]
+        a = angle(k) - (step if D[z, 2] <= 0 else 0.0)
+        b = angle(k) + (step if D[z, 2] >= 0 else 0.0)
+        lo, hi = a, b
+        x1, x2 = hi - GOLDEN * (hi - lo), lo + GOLDEN * (hi - lo)
+        f1 = sign * _follow(x1, h, p, R06, p16, e, s, st)
+        f2 = sign * _follow(x2, h, p, R06, p16, e, s, st)
+        for _ in range(DIP_STEPS):  # golden section on sign * error, one trial a step
+            if f1 < f2:
+                hi, x2, f2 = x2, x1, f1
+                x1 = hi - GOLDEN * (hi - lo)
+                f1 = sign * _follow(x1, h, p, R06, p16, e, s, st)
+            else:
+                lo, x1, f1 = x1, x2, f2
+                x2 = lo + GOLDEN * (hi - lo)
+                f2 = sign * _follow(x2, h, p, R06, p16, e, s, st)
+            if f1 < 0.0 or f2 < 0.0:
+                break  # past zero: the dip holds two zeros
+        xm = x1 if f1 < f2 else x2
+        fm = _follow(xm, h, p, R06, p16, e, s, st)
+        if (fm < 0.0) != (sign < 0.0):  # two zeros, one each side of the extremum
+            nb = _bracket(a, xm, fm, st, h, p, R06, p16, e, s, Bx, Bs, nb)
+            nb = _bracket(b, xm, fm, st, h, p, R06, p16, e, s, Bx, Bs, nb)
+        elif abs(fm) < 1e-12 and count < X.shape[0]:  # a tangency: the extremum is the zero
+            X[count] = xm
+            for c in range(STATE):
+                XS[count, c] = st[c]
+            count += 1
+    for z in range(nb):
+        a, fa, b, fb, jump = Bx[z, 0], Bx[z, 1], Bx[z, 2], Bx[z, 3], Bx[z, 4]
+        for c in range(STATE):
+            st[c] = Bs[z, c]
+        x, status = b, 0
+        for _ in range(ITERATIONS):
+            x = falsi(a, fa, b, fb)
+            m = _branches(x, h, p, R06, p16, e, s)
+            a, fa, b, fb, status = update(a, fa, b, fb, x, e, s, m, st, jump)
+            if status != 0:
+                break
+        if status == 1 and count < X.shape[0]:
+            X[count] = x
+            for c in range(STATE):
+                XS[count, c] = st[c]
+            count += 1
+    return count
+
+
+@njit(cache=True)
+def _follow(x, h, p, R06, p16, e, s, st):
+    """The error at ``x`` of the branch nearest the state ``st`` (updated); nan if none."""
+    m = _branches(x, h, p, R06, p16, e, s)
+    j, _ = nearest(s, m, st)
+    if j < 0:
+        return np.nan
+    for c in range(STATE):
+        st[c] = s[j, c]
+    return e[j]
+
+
+@njit(cache=True)
+def _bracket(xa, xm, fm, st, h, p, R06, p16, e, s, Bx, Bs, nb):
+    """The bracket (xa, xm) of a dip's branch (its state ``st`` at xm), if it changes sign."""
+    keep = st.copy()
+    fa = _follow(xa, h, p, R06, p16, e, s, keep)
+    if fa == fa and (fa < 0.0) != (fm < 0.0):
+        nb = add_bracket(Bx, Bs, nb, xa, fa, xm, fm, st, JUMP)
+    return nb
+
+
+@njit(cache=True)
+def kernel(h, p, R_tip0, R, pos, q0, lower, upper, labelled, out):
+    """Every solution the search finds for the target rotation ``R`` (9-tuple, row-major)
+    and position ``pos`` (3-tuple), each polished on the whole pose, packed nearest-first
+    into ``out`` (16, 11), the first ``labelled`` with their branch; returns (n, first
+    reached) (see ``sixr.pack``). None found: one row, q0, flagged least squares."""
+    W = np.empty((ZEROS, 11))
+    R06 = mmt(R, mat(R_tip0))
+    p16 = sub(sub(pos, mv(R06, vec(p[6]))), vec(p[0]))
+    X, XS = np.empty(CANDIDATES), np.zeros((CANDIDATES, STATE))
+    nz = _zeros(h, p, R06, p16, X, XS)
+    n = np.int64(0)
+    q = np.empty(6)
+    for z in range(nz):
+        _configuration(h, p, R06, p16, X[z], XS[z], q)
+        if n < ZEROS and polish(h, p, R_tip0, R, pos, q) <= REACHED and is_new(W, n, q):
+            n = put(W, n, q, 0.0, 0.0)
+    if n == 0:
+        n = put(W, n, q0, float(LS), float(NOT_FOUND))
+    sixr.nearest_equivalents(W, n, q0, lower, upper)
+    return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out)
+
+
+@njit(cache=True, nogil=True)
+def solve_into(chain, H, q0, every, out):
+    """``kernel`` for one 4x4 pose ``H``, its rows packed into ``out`` (16, 11); returns
+    ``sixr.hand_over``'s (n, head), or n = -1 and nothing solved when ``H`` or ``q0`` is
+    not plain (``kernel.single``). ``chain``: ``sixr.flat``."""
+    h, p, R_tip0, lower, upper, _ = sixr.unflatten(chain)
+    if not plain_pose(H) or not plain_seed(q0, lower, upper):
+        return -1, 0
+    labelled = ZEROS if every else 1
+    n, reached = kernel(h, p, R_tip0, mat(H), sixr.column(H), q0, lower, upper, labelled, out)
+    return sixr.hand_over(n, reached, labelled, h, p, out)
+
+
+@njit(cache=True, nogil=True)
+def kernel_many(chain, Rs, ps, q0s):
+    """``kernel`` for N targets: the row nearest q0 of each, and its claim code."""
+    h, p, R_tip0, lower, upper, _ = sixr.unflatten(chain)
+    N = ps.shape[0]
+    Q = np.empty((N, 6))
+    claim = np.empty(N, np.int8)
+    out = np.empty((ZEROS, 11))  # one for every target
+    unlabelled = np.int64(0)  # no branch labels (not a literal 0: one compile of kernel)
+    for i in range(N):
+        kernel(h, p, R_tip0, mat(Rs[i]), vec(ps[i]), q0s[i], lower, upper, unlabelled, out)
+        for j in range(6):  # a loop: a slice copy compiles numba's shape-error path
+            Q[i, j] = out[0, j]
+        claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
+    return Q, claim
+
+
+def _classify(arm: ArmModel):
+    return classify(arm)
+
+
+def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
+    return sixr.applies(arm, target, opts, FAMILY, _classify)
+
+
+def run(
+    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+) -> list[Attempt]:
+    h, p, R_tip0, lower, upper, _ = sixr.unflatten.py_func(sixr.flat(arm, FAMILY, _classify))
+    R, pos = sixr.pose_arrays(target)
+    out = np.empty((ZEROS, 11))
+    # every row, labelled: ``solve``'s verdict takes the first that Pinocchio verifies
+    n, _ = kernel(h, p, R_tip0, mat(R), vec(pos), q0, lower, upper, np.int64(ZEROS), out)
+    return sixr.attempts(out[:n], FAMILY, CLOSED_FORM)
+
+
+def run_batch(arm: ArmModel, targets, q0: np.ndarray, opts: Options, seeds=None) -> AttemptBatch:
+    """Every target in one compiled call (GIL released), the ``SolverSpec.run_batch``
+    shape; ``seeds`` is unused (no restarts)."""
+    chain = sixr.flat(arm, FAMILY, _classify)
+    return sixr.batch(arm, targets, q0, kernel_many, chain)
+
+
+def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):
+    # position_only is always False: ``applies`` refuses position targets
+    return sixr.pose_runner(arm, FAMILY, _classify, solve_into, CLOSED_FORM, ZEROS)
+
+
+SPEC = register(
+    SolverSpec(
+        name=FAMILY,
+        kind="analytic",
+        enforces_limits=True,
+        priority=PRIORITY,
+        why_not=applies,
+        run=run,
+        summary=SUMMARY,
+        run_batch=run_batch,
+        prepare_pose=prepare_pose,
+    )
+)
