@@ -121,3 +121,21 @@ def test_compiling_in_two_processes_fills_the_cache_a_new_process_loads(tmp_path
 def test_bad_jobs_are_refused_with_the_value(jobs):
     with pytest.raises(OptionError, match=f"jobs must be a positive int.*got {jobs!r}"):
         armik.compile(["clik"], jobs=jobs)
+
+
+OBJMODE = textwrap.dedent(
+    """
+    import numpy as np
+    from armik.kernel.step import backend_step
+    print(backend_step(2.0 * np.eye(2), np.ones(2), -np.ones(2), np.ones(2), 0))
+    """
+)
+
+
+def test_an_objmode_block_lifted_from_the_cache_is_not_announced(tmp_path):
+    # the QP backend's objmode block is lifted again in every process (a fraction of a
+    # second); from the cache, the notice must not announce a compilation of the solvers
+    _run(OBJMODE, tmp_path / "cache", ARMIK_COMPILE_NOTICE="1")
+    again = _run(OBJMODE, tmp_path / "cache", ARMIK_COMPILE_NOTICE="1")
+    assert "[0.5 0.5]" in again.stdout
+    assert "armik: compiling" not in again.stderr

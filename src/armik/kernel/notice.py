@@ -20,6 +20,7 @@ import threading
 import time
 
 from numba.core import event
+from numba.core.dispatcher import LiftedCode
 
 ENVIRONMENT = "ARMIK_COMPILE_NOTICE"  # "0": no notice
 
@@ -70,6 +71,8 @@ class _Notice(event.Listener):
         if self.depth > 1 or os.environ.get(ENVIRONMENT, "1") == "0":
             return
         dispatcher = ev.data["dispatcher"]
+        if isinstance(dispatcher, LiftedCode):
+            return  # an objmode block, lifted again in each process at its first run: fast
         module = getattr(getattr(dispatcher, "py_func", None), "__module__", "") or ""
         if not module.startswith("armik"):
             return
