@@ -3,6 +3,7 @@ a port in use is one line naming the port."""
 
 from __future__ import annotations
 
+import os
 import queue
 import re
 import signal
@@ -21,7 +22,11 @@ COMMAND = [sys.executable, "-m", "armik.tools.cli", "view"]
 
 def start(*args: str) -> tuple[subprocess.Popen, queue.Queue]:
     proc = subprocess.Popen(
-        [*COMMAND, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+        [*COMMAND, *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONFAULTHANDLER": "1"},  # SIGABRT dumps every thread's stack
     )
     lines: queue.Queue = queue.Queue()
     threading.Thread(target=lambda: [lines.put(x) for x in proc.stdout], daemon=True).start()
@@ -37,7 +42,12 @@ def test_view_serves_until_ctrl_c_and_exits_cleanly():
         with urllib.request.urlopen(url.group(0), timeout=60) as page:
             assert page.status == 200 and b"<html" in page.read().lower()
         proc.send_signal(signal.SIGINT)
-        code = proc.wait(timeout=120)
+        try:
+            code = proc.wait(timeout=120)
+        except subprocess.TimeoutExpired:  # say where it hangs
+            proc.send_signal(signal.SIGABRT)
+            proc.wait()
+            pytest.fail(f"no exit 120 s after Ctrl-C; stacks:\n{proc.stderr.read()[-8000:]}")
     finally:
         if proc.poll() is None:
             proc.kill()
