@@ -79,6 +79,14 @@ def _closed_form(robot: str, solver: str) -> Callable[[], None]:
     return run
 
 
+def _in_turn(*parts: Callable[[], None]) -> Callable[[], None]:
+    def run() -> None:
+        for part in parts:
+            part()
+
+    return run
+
+
 def _from_a_result(arm: Arm, T, solver: str, **options) -> None:
     """Solves seeded from an earlier answer (read-only arrays, as a path passes them) and
     a read-only 4x4 target: the same compiled code as any other seed and target."""
@@ -151,8 +159,11 @@ PARTS: dict[str, Callable[[], None]] = {
     "three_parallel_general": _closed_form(
         "random:three_parallel_free", "three_parallel_general"
     ),
-    "two_parallel": _closed_form("random:two_parallel", "two_parallel"),
-    "two_intersecting": _closed_form("random:two_intersecting", "two_intersecting"),
+    # one part: both families share the search's compiled zero finder (search_zeros)
+    "search_1d": _in_turn(
+        _closed_form("random:two_parallel", "two_parallel"),
+        _closed_form("random:two_intersecting", "two_intersecting"),
+    ),
     "swept": _closed_form("panda", "swept"),
     "general_6r": _closed_form("ur5", "general_6r"),
     "hold": _hold,

@@ -14,10 +14,11 @@ and a fold is located by bisection and bracketed from its side (``fold_brackets`
 a branch comes close to zero without changing sign at the samples (``dips``), its
 extremum is searched for two zeros closer than a grid step. The family refines every
 bracket by regula falsi (Illinois: ``falsi`` and ``update``) on the same branch to full
-precision. (The loops that call ``branches`` are the family's: numba cannot cache a
-compiled function that receives another as an argument.) ``polish`` then takes the
-configuration built from a zero to the target by Newton steps on the whole pose; the
-family keeps it if it reaches the target, and Pinocchio verifies it as every answer.
+precision. (The loops that call ``branches`` are in ``search_zeros``, which calls each
+family's by a code: numba cannot cache a compiled function that receives another as an
+argument.) ``polish`` then takes the configuration built from a zero to the target by
+Newton steps on the whole pose; the family keeps it if it reaches the target, and
+Pinocchio verifies it as every answer.
 
 What can still be missed: a zero closer to a fold than 2^-14 of a grid step, or two zeros
 of one branch within a grid step whose samples do not dip (``dips``' test); neither is

@@ -72,7 +72,7 @@ class Chain6R:
     """
 
     kind: str  # "spherical_wrist" or "three_parallel"
-    variant: str  # for the spherical wrist: "parallel_23" or "meeting_12"
+    variant: str  # spherical wrist: "parallel_23" or "meeting_12"; searches: "over_q1", "over_q4"
     h: np.ndarray
     p: np.ndarray
     R_tip0: np.ndarray
@@ -309,15 +309,15 @@ def geometry(arm: ArmModel, family: str, classify) -> Chain6R | str:
 
 def flat(arm: ArmModel, family: str, classify) -> np.ndarray:
     """The family's chain and the arm's limits in one float array, cached per arm: h (18),
-    p (21), R_tip0 (9), lower (6), upper (6), variant (``spherical_wrist.classify``'s, as
-    0 for axes 2, 3 parallel and 1 for axes 1, 2 meeting; 0 for other families). One array
+    p (21), R_tip0 (9), lower (6), upper (6), variant (1 for ``spherical_wrist``'s axes
+    1, 2 meeting and the search over q4, ``search_zeros.OVER_Q4``; else 0). One array
     argument instead of five (numba's dispatch costs ~45 ns an array), and every path
     (``run``, ``run_batch``, the prepared runner) passes views of it (``unflatten``), so
     that the kernels are compiled for one set of argument types."""
 
     def build(arm: ArmModel) -> np.ndarray:
         geo = geometry(arm, family, classify)
-        variant = 1.0 if geo.variant == "meeting_12" else 0.0
+        variant = 1.0 if geo.variant in ("meeting_12", "over_q4") else 0.0
         parts = [geo.h, geo.p, geo.R_tip0, arm.lower, arm.upper, [variant]]
         return np.concatenate([np.ravel(np.asarray(x, dtype=float)) for x in parts])
 

@@ -1,80 +1,24 @@
 """IK of 6R arms with axes 5 and 6 meeting and nothing else, by a one-dimensional search
-over q4 (IK-Geo's ``IK_2_intersecting``; the machinery in ``search_1d``).
-
-With the chain in product-of-exponentials form (``sixr.Chain6R``; the points on axes 5 and
-6 at their meeting point, so p_56 = 0), for the target (R, p) and a trial q4:
-
-    -p_12 + rot(-h1, q1) p_16 = rot(h2, q2) (p_23 + rot(h3, q3) (p_34 + rot(h4, q4) p_45))
-                                                                       -> SP5: q1, q2, q3
-    error h5 . R_04^T R_06 h6 - h5 . h6 (axis 6 must keep its angle to axis 5)
-
-The error vanishes at the solutions' q4 (up to 4 branches, one per SP5 solution), then
-rot(h5, q5) h6 = R_04^T R_06 h6 and rot(-h6, q6) h5 = R_06^T R_04 h5 (SP1: q5, q6). Up to
-16 solutions; branch labels as the closed forms read them, two solutions may share one.
+over q4 (IK-Geo's ``IK_2_intersecting``): the classifier and the solver's registration.
+The search's equations and branches are in ``search_q4``, its zero finder in
+``search_zeros``. Up to 16 solutions; branch labels as the closed forms read them, two
+solutions may share one.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
-from armik.kernel.single import plain_pose, plain_seed
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, angle_between, axis_lines, fmt, meeting_point
-from armik.options import Options
-from armik.solvers.claims import Attempt, AttemptBatch
 from armik.solvers.closed_form import sixr
-from armik.solvers.closed_form.search_1d import (
-    BRANCHES,
-    CANDIDATES,
-    DIP_STEPS,
-    FOLD_STEPS,
-    GOLDEN,
-    GRID,
-    ITERATIONS,
-    JUMP,
-    STATE,
-    SUB,
-    ZEROS,
-    add_bracket,
-    angle,
-    copy_sample,
-    dips,
-    falsi,
-    fold_brackets,
-    is_new,
-    nearest,
-    pair_brackets,
-    polish,
-    put,
-    rough,
-    sp5_roots,
-    update,
-)
-from armik.solvers.closed_form.sixr import LS, NOT_FOUND
-from armik.solvers.closed_form.subproblems import (
-    add,
-    dot,
-    mat,
-    mm,
-    mmt,
-    mtv,
-    mv,
-    neg,
-    rot,
-    sp1,
-    sub,
-    vec,
-)
-from armik.solvers.registry import SolverSpec, register
-from armik.targets.pose import Target
+from armik.solvers.closed_form.search_zeros import Search
 from armik.tolerances import ANGLE_TOL, DISTANCE_TOL
 
 CLOSED_FORM = "one-dimensional search (axes 5 and 6 meet)"
 FAMILY = "two_intersecting"
 PRIORITY = 60
 SUMMARY = "1-D search over q4 for 6R arms with axes 5, 6 meeting: up to 16 solutions"
-REACHED = 1e-10  # m and rad: a polished zero reaches the target (Pinocchio verifies it)
 
 
 def classify(arm: ArmModel, ax: Axes | None = None) -> sixr.Chain6R | str:
@@ -96,252 +40,11 @@ def classify(arm: ArmModel, ax: Axes | None = None) -> sixr.Chain6R | str:
             f"{np.round(s, 6).tolist()} m): the search's SP5 degenerates"
         )
     text = f"axes 5 and 6 meet at {np.round(c56, 6).tolist()} m"
-    return sixr.chain_6r(FAMILY, "", ax, [P[0], P[1], P[2], P[3], c56, c56], text)
-
-
-@njit(cache=True)
-def _R04(h, q1, q2, q3, q4):
-    R = mm(rot(vec(h[0]), q1), rot(vec(h[1]), q2))
-    return mm(mm(R, rot(vec(h[2]), q3)), rot(vec(h[3]), q4))
-
-
-@njit(cache=True)
-def _branches(x, h, p, R06, p16, e, s):
-    """The branches at the trial angle ``x`` (``search_1d``)."""
-    h5, h6 = vec(h[4]), vec(h[5])
-    p35 = add(vec(p[3]), mv(rot(vec(h[3]), x), vec(p[4])))
-    h1, h2, h3 = vec(h[0]), vec(h[1]), vec(h[2])
-    T = np.empty((8, 3))
-    m = min(max(sp5_roots(neg(vec(p[1])), p16, vec(p[2]), p35, neg(h1), h2, h3, T), 0), BRANCHES)
-    g = mv(R06, h6)
-    c56 = dot(h5, h6)
-    for i in range(m):
-        e[i] = dot(h5, mtv(_R04(h, T[i, 0], T[i, 1], T[i, 2], x), g)) - c56
-        s[i, 0], s[i, 1], s[i, 2] = T[i, 0], T[i, 1], T[i, 2]
-    return m
-
-
-@njit(cache=True)
-def _configuration(h, p, R06, p16, x, state, q):
-    """The configuration of the zero at q4 = ``x`` on the branch ``state`` (q1, q2, q3)."""
-    h5, h6 = vec(h[4]), vec(h[5])
-    R04 = _R04(h, state[0], state[1], state[2], x)
-    q5, _ = sp1(h6, mtv(R04, mv(R06, h6)), h5)
-    q6, _ = sp1(h5, mtv(R06, mv(R04, h5)), neg(h6))
-    q[0], q[1], q[2], q[3], q[4], q[5] = state[0], state[1], state[2], x, q5, q6
-
-
-@njit(cache=True)
-def _zeros(h, p, R06, p16, X, XS):
-    """Every bracketed zero of the error over one turn (``search_1d``), at folds and dips
-    too: the angles into ``X``, each branch's state there into ``XS`` (``CANDIDATES``
-    rows); returns the count."""
-    E = np.empty((GRID, BRANCHES))
-    S = np.zeros((GRID, BRANCHES, STATE))
-    M = np.empty(GRID, np.int64)
-    for k in range(GRID):
-        M[k] = _branches(angle(k), h, p, R06, p16, E[k], S[k])
-    Bx, Bs = np.empty((CANDIDATES, 5)), np.empty((CANDIDATES, STATE))
-    e, s, st = np.empty(BRANCHES), np.zeros((BRANCHES, STATE)), np.empty(STATE)
-    Es, Ss = np.empty((SUB + 1, BRANCHES)), np.zeros((SUB + 1, BRANCHES, STATE))
-    Ms = np.empty(SUB + 1, np.int64)
-    step = 2.0 * np.pi / GRID
-    nb = np.int64(0)  # not a literal 0: the callees would compile for it too
-    for k in range(GRID):
-        k2, xa = (k + 1) % GRID, angle(k)
-        if not rough(E[k], S[k], M[k], E[k2], S[k2], M[k2]):
-            nb = pair_brackets(xa, E[k], S[k], M[k], xa + step, E[k2], S[k2], M[k2], Bx, Bs, nb)
-            continue
-        copy_sample(E, S, M, k, Es, Ss, Ms, np.int64(0))  # sampled finer
-        copy_sample(E, S, M, k2, Es, Ss, Ms, np.int64(SUB))
-        for u in range(1, SUB):
-            Ms[u] = _branches(xa + step * u / SUB, h, p, R06, p16, Es[u], Ss[u])
-        for u in range(SUB):
-            lo, hi = xa + step * u / SUB, xa + step * (u + 1) / SUB
-            nb = pair_brackets(
-                lo, Es[u], Ss[u], Ms[u], hi, Es[u + 1], Ss[u + 1], Ms[u + 1], Bx, Bs, nb
-            )
-            if Ms[u] == Ms[u + 1]:
-                continue
-            x0, x1 = lo, hi  # a fold: Ms[u] branches at x0, Ms[u + 1] at x1
-            for _ in range(FOLD_STEPS):
-                mid = 0.5 * (x0 + x1)
-                if _branches(mid, h, p, R06, p16, e, s) == Ms[u + 1]:
-                    x1 = mid
-                else:
-                    x0 = mid
-            near, far, xf = (x1, u + 1, hi) if Ms[u + 1] > Ms[u] else (x0, u, lo)
-            m = _branches(near, h, p, R06, p16, e, s)
-            nb = fold_brackets(near, e, s, m, xf, Es[far], Ss[far], Ms[far], Bx, Bs, nb)
-    D = np.empty((CANDIDATES, 3), np.int64)
-    count = 0
-    for z in range(dips(E, S, M, D)):  # the branch's extremum between its neighbours
-        k, i = D[z, 0], D[z, 1]
-        sign = 1.0 if E[k, i] > 0.0 else -1.0
-        for c in range(STATE):
-            st[c] = S[k, i, c]
-        a = angle(k) - (step if D[z, 2] <= 0 else 0.0)
-        b = angle(k) + (step if D[z, 2] >= 0 else 0.0)
-        lo, hi = a, b
-        x1, x2 = hi - GOLDEN * (hi - lo), lo + GOLDEN * (hi - lo)
-        f1 = sign * _follow(x1, h, p, R06, p16, e, s, st)
-        f2 = sign * _follow(x2, h, p, R06, p16, e, s, st)
-        for _ in range(DIP_STEPS):  # golden section on sign * error, one trial a step
-            if f1 < f2:
-                hi, x2, f2 = x2, x1, f1
-                x1 = hi - GOLDEN * (hi - lo)
-                f1 = sign * _follow(x1, h, p, R06, p16, e, s, st)
-            else:
-                lo, x1, f1 = x1, x2, f2
-                x2 = lo + GOLDEN * (hi - lo)
-                f2 = sign * _follow(x2, h, p, R06, p16, e, s, st)
-            if f1 < 0.0 or f2 < 0.0:
-                break  # past zero: the dip holds two zeros
-        xm = x1 if f1 < f2 else x2
-        fm = _follow(xm, h, p, R06, p16, e, s, st)
-        if (fm < 0.0) != (sign < 0.0):  # two zeros, one each side of the extremum
-            nb = _bracket(a, xm, fm, st, h, p, R06, p16, e, s, Bx, Bs, nb)
-            nb = _bracket(b, xm, fm, st, h, p, R06, p16, e, s, Bx, Bs, nb)
-        elif abs(fm) < 1e-12 and count < X.shape[0]:  # a tangency: the extremum is the zero
-            X[count] = xm
-            for c in range(STATE):
-                XS[count, c] = st[c]
-            count += 1
-    for z in range(nb):
-        a, fa, b, fb, jump = Bx[z, 0], Bx[z, 1], Bx[z, 2], Bx[z, 3], Bx[z, 4]
-        for c in range(STATE):
-            st[c] = Bs[z, c]
-        x, status = b, 0
-        for _ in range(ITERATIONS):
-            x = falsi(a, fa, b, fb)
-            m = _branches(x, h, p, R06, p16, e, s)
-            a, fa, b, fb, status = update(a, fa, b, fb, x, e, s, m, st, jump)
-            if status != 0:
-                break
-        if status == 1 and count < X.shape[0]:
-            X[count] = x
-            for c in range(STATE):
-                XS[count, c] = st[c]
-            count += 1
-    return count
-
-
-@njit(cache=True)
-def _follow(x, h, p, R06, p16, e, s, st):
-    """The error at ``x`` of the branch nearest the state ``st`` (updated); nan if none."""
-    m = _branches(x, h, p, R06, p16, e, s)
-    j, _ = nearest(s, m, st)
-    if j < 0:
-        return np.nan
-    for c in range(STATE):
-        st[c] = s[j, c]
-    return e[j]
-
-
-@njit(cache=True)
-def _bracket(xa, xm, fm, st, h, p, R06, p16, e, s, Bx, Bs, nb):
-    """The bracket (xa, xm) of a dip's branch (its state ``st`` at xm), if it changes sign."""
-    keep = st.copy()
-    fa = _follow(xa, h, p, R06, p16, e, s, keep)
-    if fa == fa and (fa < 0.0) != (fm < 0.0):
-        nb = add_bracket(Bx, Bs, nb, xa, fa, xm, fm, st, JUMP)
-    return nb
-
-
-@njit(cache=True)
-def kernel(h, p, R_tip0, R, pos, q0, lower, upper, labelled, out):
-    """Every solution the search finds for the target rotation ``R`` (9-tuple, row-major)
-    and position ``pos`` (3-tuple), each polished on the whole pose, packed nearest-first
-    into ``out`` (16, 11), the first ``labelled`` with their branch; returns (n, first
-    reached) (see ``sixr.pack``). None found: one row, q0, flagged least squares."""
-    W = np.empty((ZEROS, 11))
-    R06 = mmt(R, mat(R_tip0))
-    p16 = sub(sub(pos, mv(R06, vec(p[6]))), vec(p[0]))
-    X, XS = np.empty(CANDIDATES), np.zeros((CANDIDATES, STATE))
-    nz = _zeros(h, p, R06, p16, X, XS)
-    n = np.int64(0)
-    q = np.empty(6)
-    for z in range(nz):
-        _configuration(h, p, R06, p16, X[z], XS[z], q)
-        if n < ZEROS and polish(h, p, R_tip0, R, pos, q) <= REACHED and is_new(W, n, q):
-            n = put(W, n, q, 0.0, 0.0)
-    if n == 0:
-        n = put(W, n, q0, float(LS), float(NOT_FOUND))
-    sixr.nearest_equivalents(W, n, q0, lower, upper)
-    return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out)
-
-
-@njit(cache=True, nogil=True)
-def solve_into(chain, H, q0, every, out):
-    """``kernel`` for one 4x4 pose ``H``, its rows packed into ``out`` (16, 11); returns
-    ``sixr.hand_over``'s (n, head), or n = -1 and nothing solved when ``H`` or ``q0`` is
-    not plain (``kernel.single``). ``chain``: ``sixr.flat``."""
-    h, p, R_tip0, lower, upper, _ = sixr.unflatten(chain)
-    if not plain_pose(H) or not plain_seed(q0, lower, upper):
-        return -1, 0
-    labelled = ZEROS if every else 1
-    n, reached = kernel(h, p, R_tip0, mat(H), sixr.column(H), q0, lower, upper, labelled, out)
-    return sixr.hand_over(n, reached, labelled, h, p, out)
-
-
-@njit(cache=True, nogil=True)
-def kernel_many(chain, Rs, ps, q0s):
-    """``kernel`` for N targets: the row nearest q0 of each, and its claim code."""
-    h, p, R_tip0, lower, upper, _ = sixr.unflatten(chain)
-    N = ps.shape[0]
-    Q = np.empty((N, 6))
-    claim = np.empty(N, np.int8)
-    out = np.empty((ZEROS, 11))  # one for every target
-    unlabelled = np.int64(0)  # no branch labels (not a literal 0: one compile of kernel)
-    for i in range(N):
-        kernel(h, p, R_tip0, mat(Rs[i]), vec(ps[i]), q0s[i], lower, upper, unlabelled, out)
-        for j in range(6):  # a loop: a slice copy compiles numba's shape-error path
-            Q[i, j] = out[0, j]
-        claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
-    return Q, claim
+    return sixr.chain_6r(FAMILY, "over_q4", ax, [P[0], P[1], P[2], P[3], c56, c56], text)
 
 
 def _classify(arm: ArmModel):
     return classify(arm)
 
 
-def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
-    return sixr.applies(arm, target, opts, FAMILY, _classify)
-
-
-def run(
-    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
-) -> list[Attempt]:
-    h, p, R_tip0, lower, upper, _ = sixr.unflatten.py_func(sixr.flat(arm, FAMILY, _classify))
-    R, pos = sixr.pose_arrays(target)
-    out = np.empty((ZEROS, 11))
-    # every row, labelled: ``solve``'s verdict takes the first that Pinocchio verifies
-    n, _ = kernel(h, p, R_tip0, mat(R), vec(pos), q0, lower, upper, np.int64(ZEROS), out)
-    return sixr.attempts(out[:n], FAMILY, CLOSED_FORM)
-
-
-def run_batch(arm: ArmModel, targets, q0: np.ndarray, opts: Options, seeds=None) -> AttemptBatch:
-    """Every target in one compiled call (GIL released), the ``SolverSpec.run_batch``
-    shape; ``seeds`` is unused (no restarts)."""
-    chain = sixr.flat(arm, FAMILY, _classify)
-    return sixr.batch(arm, targets, q0, kernel_many, chain)
-
-
-def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):
-    # position_only is always False: ``applies`` refuses position targets
-    return sixr.pose_runner(arm, FAMILY, _classify, solve_into, CLOSED_FORM, ZEROS)
-
-
-SPEC = register(
-    SolverSpec(
-        name=FAMILY,
-        kind="analytic",
-        enforces_limits=True,
-        priority=PRIORITY,
-        why_not=applies,
-        run=run,
-        summary=SUMMARY,
-        run_batch=run_batch,
-        prepare_pose=prepare_pose,
-    )
-)
+SPEC = Search(FAMILY, _classify, CLOSED_FORM).register(PRIORITY, SUMMARY)

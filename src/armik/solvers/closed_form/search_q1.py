@@ -1,0 +1,98 @@
+"""The branches of the search over q1 for 6R arms with axes 2 and 3 parallel (IK-Geo's
+``IK_2_parallel``; ``two_parallel`` classifies the arms, ``search_zeros`` finds the zeros).
+
+With the chain in product-of-exponentials form (``sixr.Chain6R``, the points on the axes
+as the URDF puts them), R_13 = rot(h2, q2 + s3 q3) fixes h2 (s3 = +-1: axis 3 along or
+against axis 2). For the target (R, p) and a trial q1, with a = R_06^T rot(h1, q1) h2:
+
+    a . rot(-h6, q6) p_56 + h2 . rot(h4, q4) p_45 = h2 . (R_01^T p_16 - p_12 - p_23 - p_34)
+    a . rot(-h6, q6) h5 - h2 . rot(h4, q4) h5 = 0                       -> SP6: q6, q4
+    rot(h2, q2 + s3 q3) rot(h4, q4) h5 = R_01^T R_06 rot(h6, q6)^T h5  -> SP1: q2 + s3 q3
+    v = R_01^T p_16 - p_12 - R_13 (p_34 + R_34 p_45) - R_01^T R_05 p_56, error |v| - |p_23|
+
+The error vanishes at the solutions' q1 (up to 4 branches, one per SP6 solution), then
+rot(h2, q2) p_23 = v (SP1: q2) and rot(-h5, q5) R_34^T h2 = R_56 R_06^T R_01 h2 (SP1: q5).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from armik.solvers.closed_form.search_1d import BRANCHES, sp6_roots
+from armik.solvers.closed_form.subproblems import (
+    add,
+    dot,
+    mmt,
+    mtm,
+    mtv,
+    mv,
+    neg,
+    norm,
+    rot,
+    sp1,
+    sub,
+    vec,
+)
+
+
+@njit(cache=True)
+def _sp6_at(h, p, R06, p16, q1):
+    """SP6's (q6, q4) solutions at the trial ``q1`` and the pieces that follow."""
+    h1, h2, h4, h5, h6 = vec(h[0]), vec(h[1]), vec(h[3]), vec(h[4]), vec(h[5])
+    R1 = rot(h1, q1)
+    a = mtv(R06, mv(R1, h2))
+    H6, K6, P6 = np.empty((4, 3)), np.empty((4, 3)), np.empty((4, 3))
+    p4, p5 = vec(p[4]), vec(p[5])
+    for c in range(3):
+        H6[0, c], H6[1, c], H6[2, c], H6[3, c] = a[c], h2[c], a[c], h2[c]
+        K6[0, c], K6[1, c], K6[2, c], K6[3, c] = -h6[c], h4[c], -h6[c], h4[c]
+        P6[0, c], P6[1, c], P6[2, c], P6[3, c] = p5[c], p4[c], h5[c], -h5[c]
+    u = sub(sub(sub(mtv(R1, p16), vec(p[1])), vec(p[2])), vec(p[3]))
+    T = np.empty((8, 2))
+    m = sp6_roots(H6, K6, P6, dot(h2, u), 0.0, T)
+    return R1, T, max(m, 0)
+
+
+@njit(cache=True)
+def _rest(h, p, R06, R1, q4, q6):
+    """(v, q23, M) for a trial: v the vector rot(h2, q2) p_23 must equal, q23 = q2 + s3 q3,
+    M = R_01^T R_06 rot(h6, q6)^T."""
+    h2, h4, h5, h6 = vec(h[1]), vec(h[3]), vec(h[4]), vec(h[5])
+    R4 = rot(h4, q4)
+    M = mmt(mtm(R1, R06), rot(h6, q6))
+    q23, _ = sp1(mv(R4, h5), mv(M, h5), h2)
+    R13 = rot(h2, q23)
+    return R4, M, q23, R13
+
+
+@njit(cache=True)
+def _v(p, R1, p16, R13, R4, M):
+    w = mv(R13, add(vec(p[3]), mv(R4, vec(p[4]))))
+    return sub(sub(sub(mtv(R1, p16), vec(p[1])), w), mv(M, vec(p[5])))
+
+
+@njit(cache=True)
+def branches(x, h, p, R06, p16, e, s):
+    """The branches at the trial angle ``x`` (``search_1d``, ``search_zeros``)."""
+    R1, T, m = _sp6_at(h, p, R06, p16, x)
+    n23 = norm(vec(p[2]))
+    m = min(m, BRANCHES)
+    for i in range(m):
+        R4, M, q23, R13 = _rest(h, p, R06, R1, T[i, 1], T[i, 0])
+        e[i] = norm(_v(p, R1, p16, R13, R4, M)) - n23
+        s[i, 0], s[i, 1], s[i, 2] = T[i, 0], T[i, 1], 0.0
+    return m
+
+
+@njit(cache=True)
+def configuration(h, p, R06, p16, x, state, q):
+    """The configuration of the zero at q1 = ``x`` on the branch ``state`` (q6, q4)."""
+    h1, h2, h3, h5 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[4])
+    q6, q4 = state[0], state[1]
+    R1 = rot(h1, x)
+    R4, M, q23, R13 = _rest(h, p, R06, R1, q4, q6)
+    v = _v(p, R1, p16, R13, R4, M)
+    q2, _ = sp1(vec(p[2]), v, h2)
+    q5, _ = sp1(mtv(R4, h2), mtv(M, h2), neg(h5))
+    q[0], q[1], q[2], q[3], q[4], q[5] = x, q2, dot(h3, h2) * (q23 - q2), q4, q5, q6
