@@ -179,6 +179,6 @@ def test_pair_bounds_never_exceed_coal_and_the_closest_pair_is_every_pairs(name)
         pin.updateGeometryPlacements(a.model, a.data, ch.model, gd, a.to_pin(q))
         k = pin.computeDistances(ch.model, gd)
         every = np.array([r.min_distance for r in gd.distanceResults])
-        assert (every >= ch.bounds() - 1e-9).all()
+        assert (every >= ch.bounds(q) - 1e-9).all()
         d, pair = ch.distance(q)
         assert d == pytest.approx(every[k], abs=1e-6) and pair == ch.pair_names[k]

@@ -65,7 +65,7 @@ def test_a_tour_of_every_option_compiles_each_kernel_once():
         "armik.solvers.closed_form.three_parallel.solve_into",
         "armik.solvers.closed_form.spherical_wrist.kernel_many",
         "armik.solvers.closed_form.swept_7r.held_rows",
-        "armik.constraints.bounds.pair_bounds",
+        "armik.constraints.bounds.ordered_bounds",
         "armik.solvers.closed_form.general_6r.kernel",
     ):
         assert counts[entry] == 1, entry

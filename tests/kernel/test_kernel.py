@@ -61,6 +61,21 @@ def test_fk_and_jacobian_match_pinocchio(name, kw):
         np.testing.assert_allclose(J, np.reshape(a.jacobian(q), (6, n)), rtol=0, atol=EXACT)
 
 
+@pytest.mark.parametrize(("name", "kw"), CHAINS)
+def test_joint_frames_match_pinocchio(name, kw):
+    # the collision bounds place the link spheres by these frames
+    a = _load(name, **kw)
+    H = np.empty((a.model.njoints, 4, 4))
+    rng = np.random.default_rng(12)
+    for _ in range(50):
+        q = a.random_q(rng)
+        fk.joint_frames(a.kernel_chain.flat, q, H)
+        pin.forwardKinematics(a.model, a.data, a.to_pin(q))
+        for j in range(a.model.njoints):
+            want = (a.T_base_world * a.data.oMi[j]).homogeneous
+            np.testing.assert_allclose(H[j], want, rtol=0, atol=EXACT)
+
+
 def test_joint_kinds_read_from_the_model():
     assert list(arm("scara").kernel_chain.kind) == [0, 0, PRISMATIC, CONTINUOUS]
     kinds = arm("kinova").kernel_chain.kind

@@ -16,6 +16,7 @@ import yourdfpy
 
 import armik
 from armik.errors import JointError, SolverError, URDFError
+from armik.kernel import fk
 from armik.options import Options
 from armik.solvers import registry
 from armik.solvers.closed_form import families
@@ -155,6 +156,17 @@ def test_compiled_jacobian_folds_the_mimic_columns(case, rng):
         J = kernel_jacobian(a, q)
         np.testing.assert_allclose(J, a.jacobian(q), atol=1e-12)  # Pinocchio's mimic Jacobian
         np.testing.assert_allclose(J, fd_jacobian(a, q), atol=1e-7)
+
+
+def test_joint_frames_follow_the_mimic_model(case, rng):
+    _, a = case
+    H = np.empty((a.model.njoints, 4, 4))
+    for q in a.random_q(rng, 5):
+        fk.joint_frames(a.kernel_chain.flat, q, H)
+        pin.forwardKinematics(a.model, a.data, a.to_pin(q))  # Pinocchio's mimic model
+        for j in range(a.model.njoints):
+            want = (a.T_base_world * a.data.oMi[j]).homogeneous
+            np.testing.assert_allclose(H[j], want, rtol=0, atol=1e-12)
 
 
 def mimic_limits_hold(a, q, xml_limits) -> bool:

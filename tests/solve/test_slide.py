@@ -32,7 +32,7 @@ def test_the_rows_are_the_distances_rates():
     for _ in range(8):
         q = a.random_q(rng)
         pin.computeJointJacobians(a.model, a.data, a.to_pin(q))
-        A, b, _ = S._rows(a, ch, 0.0)
+        A, b, _ = S._rows(a, ch, q, 0.0)
         gd = ch.geometry_data()
         pairs = [
             k

@@ -1,6 +1,9 @@
 """Lower bounds on the distances of a checker's pairs, compiled: one small kernel over plain
 arrays (``collision.Checker.bounds`` gathers them). A link object is a sphere (its centre
-in its joint's frame, its radius); an obstacle is a box (rotation, centre, half sides).
+in its joint's frame, its radius); an obstacle is a box (rotation, centre, half sides), all
+in the arm's base frame. ``ordered_bounds`` places the joints by the chain's own FK
+(``kernel.fk.joint_frames``) and sorts the pairs by their bounds in the same call: reading
+Pinocchio's joint placements one by one from Python cost more than coal's distances.
 """
 
 from __future__ import annotations
@@ -9,6 +12,22 @@ import math
 
 import numpy as np
 from numba import njit
+
+from armik.kernel.chain import Flat
+from armik.kernel.fk import joint_frames
+
+
+@njit(cache=True, nogil=True)
+def ordered_bounds(
+    packed, kind, halton, q, H, joint_of, centre, radius, self_a, self_b, link,
+    box_R, box_t, box_half, out, order,
+):  # fmt: skip
+    """``pair_bounds`` at joint values ``q`` (rad, m) of the chain ``chain.Flat``'s arrays
+    (``H``: (N + 1, 4, 4) scratch for the joint frames, ``joint_of``: each link object's
+    Pinocchio joint), and ``order``: the pairs by increasing bound (ties in pair order)."""
+    joint_frames(Flat(packed, kind, halton), q, H)
+    pair_bounds(H, joint_of, centre, radius, self_a, self_b, link, box_R, box_t, box_half, out)
+    order[:] = np.argsort(out, kind="mergesort")
 
 
 @njit(cache=True, nogil=True)

@@ -24,7 +24,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from armik.constraints.bounds import pair_bounds
+from armik.constraints.bounds import ordered_bounds
 from armik.constraints.shapes import Shape, check_obstacles, convex_hull
 from armik.errors import CollisionError
 from armik.model.catalogue import erd_share
@@ -143,7 +143,8 @@ class Checker:
                     pairs.append((i, index))
                 else:
                     _check_fixed(arm, g, i, obj, shape, k)
-            boxes.extend([_box_of(obj)] * (len(pairs) - first))
+            box = _box_of(obj.geometry, arm.T_base_world * placement)
+            boxes.extend([box] * (len(pairs) - first))
         for a, b in pairs:
             model.addCollisionPair(pin.CollisionPair(a, b))
         self.arm = arm
@@ -151,13 +152,11 @@ class Checker:
         self.pair_names = [(names[a], names[b]) for a, b in pairs]
         self._local = threading.local()
         # bounds: each link object's sphere (its centre in its joint's frame), each
-        # obstacle's box (a half space: a box reaching far below its plane)
+        # obstacle's box (a half space: a box reaching far below its plane), in the base
+        # frame, where the chain's FK places the joints (``bounds.ordered_bounds``)
         centre, self._radius = _spheres(g.model)
-        self._joints = sorted({o.parentJoint for o in g.model.geometryObjects})
-        where = {j: k for k, j in enumerate(self._joints)}
-        self._joint_of = np.array(
-            [where[o.parentJoint] for o in g.model.geometryObjects], dtype=np.intp
-        )
+        self._joint_of = np.array([o.parentJoint for o in g.model.geometryObjects], dtype=np.intp)
+        self._frames = arm.model.njoints
         self._centre = np.array(
             [o.placement.act(c) for o, c in zip(g.model.geometryObjects, centre)]
         ).reshape(-1, 3)
@@ -179,10 +178,10 @@ class Checker:
         arm = self.arm
         model = self.model
         pin.updateGeometryPlacements(arm.model, arm.data, model, gd, arm.to_pin(q))
-        bound = self.bounds()
+        bound, order = self._ordered(q)
         best, k_best = math.inf, 0
         compute = pin.computeDistance
-        for k in np.argsort(bound, kind="stable").tolist():
+        for k in order.tolist():
             if bound[k] - BOUND_SLACK >= best:
                 break
             d = compute(model, gd, k).min_distance
@@ -197,19 +196,34 @@ class Checker:
             gd = self._local.data = pin.GeometryData(self.model)
         return gd
 
-    def bounds(self) -> np.ndarray:
-        """A lower bound (m) on the distance of every pair, from the joint placements of
-        the arm's last FK (``updateGeometryPlacements``): sphere to sphere for the arm's
-        pairs, sphere to box (signed) for the obstacles' (``bounds.pair_bounds``)."""
-        oMi = self.arm.data.oMi
-        H = np.array([oMi[j].homogeneous for j in self._joints])
-        out = np.empty(len(self.pair_names))
+    def bounds(self, q: np.ndarray) -> np.ndarray:
+        """A lower bound (m) on the distance of every pair at joint values ``q`` (rad, m):
+        sphere to sphere for the arm's pairs, sphere to box (signed) for the obstacles'
+        (``bounds.pair_bounds``). A view of this thread's scratch: copy it to keep it."""
+        return self._ordered(q)[0]
+
+    def _ordered(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(bounds, the pairs in increasing order of their bounds) at ``q``, in this
+        thread's scratch."""
+        scratch = getattr(self._local, "scratch", None)
+        if scratch is None:
+            n = len(self.pair_names)
+            scratch = self._local.scratch = (
+                np.empty(self.arm.dof),
+                np.empty((self._frames, 4, 4)),
+                np.empty(n),
+                np.empty(n, dtype=np.intp),
+            )
+        qs, H, out, order = scratch
+        qs[:] = q  # a read-only or strided q would be another compiled type
+        flat = self.arm.kernel_chain.flat
         a, b = self._self
-        pair_bounds(
-            H, self._joint_of, self._centre, self._radius, a, b, self._link,
-            self._box_R, self._box_t, self._box_half, out,
+        ordered_bounds(
+            flat.packed, flat.kind, flat.halton, qs, H, self._joint_of, self._centre,
+            self._radius, a, b, self._link, self._box_R, self._box_t, self._box_half, out,
+            order,
         )  # fmt: skip
-        return out
+        return out, order
 
 
 BOUND_SLACK = 1e-6  # m: coal's distances may fall this far below an exact lower bound
@@ -239,9 +253,9 @@ def _sphere(geom) -> tuple[np.ndarray, float]:
 FAR = 100.0  # m: the depth of a half space's box, beyond any arm's reach
 
 
-def _box_of(obj: pin.GeometryObject) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(rotation, centre, half sides) of a box holding the obstacle, in the base frame."""
-    geom, M = obj.geometry, obj.placement
+def _box_of(geom, M: pin.SE3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(rotation, centre, half sides) of a box holding the obstacle ``geom`` placed at
+    ``M`` in the base frame."""
     if isinstance(geom, coal.Halfspace):  # the solid side: normal . x <= d
         normal = M.rotation @ np.array(geom.n)
         offset = float(geom.d + normal @ M.translation)

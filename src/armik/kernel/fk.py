@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from armik.kernel.chain import PRISMATIC, dof, joints, off_axis, off_joint_p, off_mimic, off_tip
@@ -144,3 +145,59 @@ def jacobian_local(ch, R, p, origins, axes, J):
         J[3, c] += m * (r00 * wx + r10 * wy + r20 * wz)
         J[4, c] += m * (r01 * wx + r11 * wy + r21 * wz)
         J[5, c] += m * (r02 * wx + r12 * wy + r22 * wz)
+
+
+@njit(cache=True, nogil=True)
+def joint_frames(ch, q, H):
+    """H (N + 1, 4, 4): the base frame's world placement inverted (row 0, where the model's
+    fixed bodies hang), then each physical joint's frame after its motion, all in the base
+    frame: Pinocchio's ``T_base_world * oMi[j]`` for j = 0..N. For the collision bounds;
+    ``forward`` keeps its unrolled arithmetic for the solvers."""
+    n, N = dof(ch), joints(ch)
+    X = ch.packed
+    jp, ja, mim = off_joint_p(N), off_axis(N), off_mimic(N, n)
+    kinds = ch.kind
+    base = mim - 12  # base_R (9), base_p (3) just before the multipliers (``flatten``)
+    for a in range(4):
+        for b in range(4):
+            H[0, a, b] = 0.0
+        H[0, 3, 3] = 1.0
+    for a in range(3):
+        for b in range(3):
+            H[0, a, b] = X[base + 3 * a + b]
+        H[0, a, 3] = X[base + 9 + a]
+    R, t = np.eye(3), np.zeros(3)
+    M, A = np.empty((3, 3)), np.empty((3, 3))
+    for i in range(N):
+        for a in range(3):  # t += R d ; R = R P
+            t[a] += (
+                R[a, 0] * X[jp + 3 * i] + R[a, 1] * X[jp + 3 * i + 1] + R[a, 2] * X[jp + 3 * i + 2]
+            )
+        for a in range(3):
+            for b in range(3):
+                A[a, b] = (
+                    R[a, 0] * X[9 * i + b] + R[a, 1] * X[9 * i + 3 + b] + R[a, 2] * X[9 * i + 6 + b]
+                )
+        ux, uy, uz = X[ja + 3 * i], X[ja + 3 * i + 1], X[ja + 3 * i + 2]
+        x = q[i] if N == n else X[mim + i] * q[kinds[n + N + i]] + X[mim + N + i]
+        if kinds[n + i] == PRISMATIC:
+            for a in range(3):
+                t[a] += (A[a, 0] * ux + A[a, 1] * uy + A[a, 2] * uz) * x
+            M[:] = 0.0
+            M[0, 0] = M[1, 1] = M[2, 2] = 1.0
+        else:  # Rodrigues: c I + s [u]x + (1 - c) u u^T
+            s, c = math.sin(x), math.cos(x)
+            k = 1.0 - c
+            M[0, 0], M[0, 1], M[0, 2] = c + k * ux * ux, k * ux * uy - s * uz, k * ux * uz + s * uy
+            M[1, 0], M[1, 1], M[1, 2] = k * uy * ux + s * uz, c + k * uy * uy, k * uy * uz - s * ux
+            M[2, 0], M[2, 1], M[2, 2] = k * uz * ux - s * uy, k * uz * uy + s * ux, c + k * uz * uz
+        for a in range(3):
+            for b in range(3):
+                R[a, b] = A[a, 0] * M[0, b] + A[a, 1] * M[1, b] + A[a, 2] * M[2, b]
+        F = H[i + 1]
+        for a in range(3):
+            for b in range(3):
+                F[a, b] = R[a, b]
+            F[a, 3] = t[a]
+            F[3, a] = 0.0
+        F[3, 3] = 1.0

@@ -62,10 +62,10 @@ def slide(
         else:
             e = pin.log6(M.actInv(T_goal)).vector
             J = pin.getFrameJacobian(model, data, frame, pin.LOCAL)
-        A, b, d_min = _rows(arm, check, margin)
-        if d_min >= margin and np.abs(e).max() < tol:
-            return arm.from_pin(qp), it
         q_now = arm.from_pin(qp)
+        A, b, d_min = _rows(arm, check, q_now, margin)
+        if d_min >= margin and np.abs(e).max() < tol:
+            return q_now, it
         A = np.vstack([A, np.eye(arm.dof), -np.eye(arm.dof)])
         b = np.concatenate([b, lower - q_now, q_now - upper])
         keep = np.isfinite(b)
@@ -77,14 +77,17 @@ def slide(
     return arm.from_pin(qp), iterations
 
 
-def _rows(arm: ArmModel, check: Checker, margin: float) -> tuple[np.ndarray, np.ndarray, float]:
+def _rows(
+    arm: ArmModel, check: Checker, q: np.ndarray, margin: float
+) -> tuple[np.ndarray, np.ndarray, float]:
     """The damper's rows (A, b) of the pairs closer than ``margin + D_ACT`` at the arm's
-    last FK, and the smallest distance among them (inf when none is that close)."""
+    last FK, at joint values ``q``, and the smallest distance among them (inf when none is
+    that close)."""
     model, data = arm.model, arm.data
     gm = check.model
     gd = check.geometry_data()
     pin.updateGeometryPlacements(model, data, gm, gd)
-    bound = check.bounds()
+    bound = check.bounds(q)
     reach = margin + D_ACT
     rows, rhs = [], []
     d_min = np.inf
