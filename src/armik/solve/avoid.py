@@ -20,6 +20,7 @@ from __future__ import annotations
 import contextvars
 import math
 import time
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -38,11 +39,27 @@ if TYPE_CHECKING:
     from armik.solvers.registry import SolverSpec
 
 
+@dataclass(frozen=True)
+class First:
+    """A numeric solver's first run, done already (the plain solve ``solve`` tries first):
+    its verdict row and the thread's CPU time when it started (the budget counts it)."""
+
+    row: dict
+    started: float
+
+
 def solve_avoiding(
-    arm: ArmModel, spec: SolverSpec, target, seed: np.ndarray, opts: Options, every: bool, t0
+    arm: ArmModel,
+    spec: SolverSpec,
+    target,
+    seed: np.ndarray,
+    opts: Options,
+    every: bool,
+    t0,
+    first: First | None = None,
 ):
     """The verified, collision-checked results of ``spec`` for ``target`` (best first; the
-    first only unless ``every``)."""
+    first only unless ``every``); a numeric solver goes on from ``first`` when given."""
     check = checker(arm, opts.obstacles, opts.self_collision)
     if not seed.flags.writeable:  # a read-only seed (a result's q) is another kernel type
         seed = seed.copy()
@@ -57,7 +74,8 @@ def solve_avoiding(
     if spec.kind == "analytic":
         rows = _first_free(arm, spec.run(arm, target, seed, opts, True), target, opts, check, seed)
         return ranked(rows, spec.name, seed, False, t0)
-    return ranked(_restarting(arm, spec, target, seed, opts, check), spec.name, seed, False, t0)
+    rows = _restarting(arm, spec, target, seed, opts, check, first)
+    return ranked(rows, spec.name, seed, False, t0)
 
 
 def _first_free(arm, attempts, target, opts: Options, check, seed) -> list[dict]:
@@ -80,24 +98,32 @@ def _first_free(arm, attempts, target, opts: Options, check, seed) -> list[dict]
     return rows
 
 
-def _restarting(arm, spec, target, seed: np.ndarray, opts: Options, check) -> list[dict]:
-    """Run the numeric solver, from the seed then from random configurations, until its
-    verified answer is collision-free or the budget is spent; the rows of every run."""
-    start_cpu = time.thread_time()
+def _restarting(
+    arm, spec, target, seed: np.ndarray, opts: Options, check, first: First | None
+) -> list[dict]:
+    """Run the numeric solver, from the seed (or go on from its ``first`` run) then from
+    random configurations, until its verified answer is collision-free or the budget is
+    spent; the rows of every run."""
+    start_cpu = time.thread_time() if first is None else first.started
     rng = np.random.default_rng(opts.seed)
     used_iterations = used_restarts = 0
     rows: list[dict] = []
     q_start = seed
     for run in range(opts.max_restarts + 1):
-        left = _left(opts, start_cpu, used_iterations, used_restarts)
-        if left is None:
-            break
-        attempts = spec.run(arm, target, q_start, left, False)
-        best = min(
-            (verdict(a, measure(arm, a.q, target, left)) for a in attempts),
-            key=lambda r: (not r["success"], seed_distance(r["q"], seed)),
-        )
-        row = collision_verdict(best, check, opts.margin)
+        if run == 0 and first is not None:
+            row = first.row
+            if "extra" not in row:  # a failure: its distance measured here, as below
+                row = collision_verdict(row, check, opts.margin)
+        else:
+            left = _left(opts, start_cpu, used_iterations, used_restarts)
+            if left is None:
+                break
+            attempts = spec.run(arm, target, q_start, left, False)
+            best = min(
+                (verdict(a, measure(arm, a.q, target, left)) for a in attempts),
+                key=lambda r: (not r["success"], seed_distance(r["q"], seed)),
+            )
+            row = collision_verdict(best, check, opts.margin)
         used_iterations += row["iterations"]
         used_restarts += row["restarts"] + (run > 0)
         row["iterations"], row["restarts"] = used_iterations, used_restarts

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
 
 import numpy as np
@@ -12,13 +13,13 @@ from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.result import IKResult
-from armik.solve.avoid import solve_avoiding
+from armik.solve.avoid import First, solve_avoiding
 from armik.solve.held import solve_held
 from armik.solve.prepared import plan_for
 from armik.solvers import registry
 from armik.targets.pose import parse_target
 from armik.verify import reasons
-from armik.verify.verdict import finish
+from armik.verify.verdict import distance_verdict, finish
 
 
 def solve(
@@ -46,8 +47,9 @@ def solve_one(
     opts, key, seed = _options(options)
     if opts.hold is not None:
         return solve_held(arm, target, q0, solver, _with_seed(opts, seed), every, t0, _general)
+    first = None
     if opts.collisions and not every:
-        clear = _clear_at_once(arm, target, q0, solver, options, opts, t0)
+        clear, first = _clear_at_once(arm, target, q0, solver, options, opts, t0)
         if clear is not None:
             return clear
     plan = None if key is None else plan_for(arm, solver, key, opts, _is_vector(target))
@@ -55,7 +57,7 @@ def solve_one(
         got = (plan.solve_all if every else plan.solve)(target, q0, opts, seed, t0)
         if got is not None:
             return got
-    results = _general(arm, target, q0, solver, _with_seed(opts, seed), every, t0)
+    results = _general(arm, target, q0, solver, _with_seed(opts, seed), every, t0, first)
     return results if every else results[0]
 
 
@@ -63,23 +65,40 @@ _COLLISION_OPTIONS = ("obstacles", "self_collision", "margin")
 
 
 def _clear_at_once(arm, target, q0, solver, options: dict, opts: Options, t0: float):
-    """The plain solve's answer when it is a success and collision-free, with its distance
-    and pair (the answer the collision-checked search starts with: a numeric solver's
-    first run, a closed form's nearest verified branch, as ``solve_batch``'s chunks); else
-    None, and the search (``armik.solve.avoid``) goes on."""
+    """(result, first): the plain solve's answer when it is a success and collision-free,
+    with its distance and pair (the answer the collision-checked search starts with: a
+    numeric solver's first run, a closed form's nearest verified branch, as
+    ``solve_batch``'s chunks), and None; else None and ``First``, that run for the search
+    (``armik.solve.avoid``) to go on from."""
+    started = time.thread_time()
     plain = {k: v for k, v in options.items() if k not in _COLLISION_OPTIONS}
     r = solve_one(arm, target, q0, solver, plain)
     if not r.success:
-        return None
+        return None, First(_row(r, math.nan, None, opts.margin), started)
     distance, pair = checker(arm, opts.obstacles, opts.self_collision).distance(r.q)
     if distance < opts.margin:
-        return None
-    return dataclasses.replace(
+        return None, First(_row(r, distance, pair, opts.margin), started)
+    clear = dataclasses.replace(
         r,
         reason=f"{r.reason}; {reasons.clear(pair, distance, opts.margin)}",
         time=time.perf_counter() - t0,
         extra={"min_distance": distance, "closest_pair": pair},
     )
+    return clear, None
+
+
+_ROW = tuple(
+    f.name for f in dataclasses.fields(IKResult) if f.name not in ("solver", "time", "extra")
+)
+
+
+def _row(r: IKResult, distance: float, pair, margin: float) -> dict:
+    """The verdict row of a plain solve's result with its collision check (a failure's
+    distance is measured when the search needs it)."""
+    row = {name: getattr(r, name) for name in _ROW}
+    if math.isnan(distance):
+        return row
+    return distance_verdict(row, distance, pair, margin)
 
 
 def _is_vector(target: object) -> bool:
@@ -88,12 +107,12 @@ def _is_vector(target: object) -> bool:
     return type(target) is np.ndarray and target.ndim == 1
 
 
-def _general(arm, target, q0, solver, opts: Options, all_solutions: bool, t0: float):
+def _general(arm, target, q0, solver, opts: Options, all_solutions: bool, t0: float, first=None):
     tgt = parse_target(target, arm)
     seed = arm.seed(q0)
     spec = registry.choose(solver, arm, tgt, opts)
     if opts.collisions:
-        return solve_avoiding(arm, spec, tgt, seed, opts, all_solutions, t0)
+        return solve_avoiding(arm, spec, tgt, seed, opts, all_solutions, t0, first)
     attempts = spec.run(arm, tgt, seed, opts, all_solutions)
     return finish(arm, spec.name, attempts, tgt, opts, seed, all_solutions, t0)
 

@@ -136,7 +136,11 @@ def collision_verdict(row: dict, check, margin: float) -> dict:
     one only when the closest checked pair (``check.distance``) is at least ``margin`` (m)
     apart; else ``Status.COLLISION``. The distance and pair go to the result's ``extra``
     (``min_distance`` m, ``closest_pair``)."""
-    distance, pair = check.distance(row["q"])
+    return distance_verdict(row, *check.distance(row["q"]), margin)
+
+
+def distance_verdict(row: dict, distance: float, pair, margin: float) -> dict:
+    """``collision_verdict`` with the closest pair's ``distance`` (m) and ``pair`` known."""
     row["extra"] = {"min_distance": distance, "closest_pair": pair}
     if row["success"]:
         if distance < margin:

@@ -90,17 +90,17 @@ def packed_settings(
     opts: Options, position_only: bool, dof: int, max_found: int, step: Step
 ) -> tuple[np.ndarray, np.ndarray]:
     """``settings`` as the kernel entry takes them, remembered: a loop of solves whose
-    options differ only in ``seed`` builds them once."""
+    options differ only in ``seed`` builds them once. Options that differ only in their
+    budget (``timeout``, ``iteration_budget``, ``max_restarts``: what a collision-checked
+    solve's restarts leave of it, different every time) patch the remembered ints."""
+    budget = (opts.timeout, opts.max_restarts, opts.iteration_budget)
     key = (
         opts.tol_position,
         opts.tol_orientation,
-        opts.timeout,
-        opts.max_restarts,
         opts.max_iterations,
         opts.position_only,
         opts.weights,
         opts.nullspace_gain,
-        opts.iteration_budget,
         position_only,
         dof,
         max_found,
@@ -111,11 +111,26 @@ def packed_settings(
         packed = pack_settings(settings(opts, position_only, dof, max_found, step))
         if len(_PACKED) > 512:
             _PACKED.clear()
-        _PACKED[key] = packed
-    return packed
+        _PACKED[key] = (budget, packed)
+        return packed
+    remembered, packed = packed
+    if budget == remembered:
+        return packed
+    sf, si = packed
+    si = si.copy()
+    si[_MAX_RESTARTS] = int(opts.max_restarts)
+    si[_TIMEOUT_NS] = _timeout_ns(opts.timeout)
+    budget_its = opts.iteration_budget
+    si[_ITERATION_BUDGET] = NO_LIMIT if budget_its is None else int(budget_its)
+    return sf, si
 
 
-_PACKED: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+_PACKED: dict[tuple, tuple[tuple, tuple[np.ndarray, np.ndarray]]] = {}
+_MAX_RESTARTS, _TIMEOUT_NS, _ITERATION_BUDGET = 3, 5, 6  # in ``problem.pack_settings``' ints
+
+
+def _timeout_ns(timeout: float) -> int:
+    return min(int(timeout * 1e9), 2**62)
 
 
 def settings(opts: Options, position_only: bool, dof: int, max_found: int, step: Step):
@@ -136,7 +151,7 @@ def settings(opts: Options, position_only: bool, dof: int, max_found: int, step:
         int(opts.max_iterations),
         int(opts.max_restarts),
         int(max_found),
-        min(int(opts.timeout * 1e9), 2**62),
+        _timeout_ns(opts.timeout),
         NO_LIMIT if opts.iteration_budget is None else int(opts.iteration_budget),
         int(step.kind),
         int(step.backend),
