@@ -76,3 +76,12 @@ def two_link_urdf(
 def tool_xyz(l2: float, tool: str) -> str:
     dx, dy, dz = (float(v) for v in tool.split())
     return f"{l2 + dx} {dy} {dz}"
+
+
+def pytest_collection_modifyitems(session, config, items) -> None:
+    """The tour of every option (tests/kernel/test_compile.py) compiles every kernel into
+    numba's cache, one process per core: run first, the rest of the suite loads what it
+    compiled instead of compiling it again on one core."""
+    name = "test_a_tour_of_every_option_compiles_each_kernel_once"
+    tour = [item for item in items if item.name == name]
+    items[:] = tour + [item for item in items if item not in tour]
