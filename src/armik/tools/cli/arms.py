@@ -175,12 +175,14 @@ def cmd_info(args: argparse.Namespace) -> int:
     if arm.plane is not None:
         print(f"  planar: all axes along {np.round(arm.plane.normal, 6).tolist()}")
     print("structure:")
-    for cls, geo in families.classify(arm).items():
+    classes = families.classify(arm)
+    wide = max(map(len, classes))
+    for cls, geo in classes.items():
         if isinstance(geo, str):
-            print(f"  {cls:<16} no: {geo}")
+            print(f"  {cls:<{wide}} no: {geo}")
         else:
             text = getattr(geo, "description", "all joint axes parallel")
-            print(f"  {cls:<16} yes: {text}")
+            print(f"  {cls:<{wide}} yes: {text}")
     for line in family_lines(arm):
         print(line)
     print("solvers:")
