@@ -59,6 +59,7 @@ class BatchResult:
     tol_position: float = Options.tol_position
     tol_orientation: float = Options.tol_orientation
     reasons: dict[int, str] = field(default_factory=dict)
+    margin: float = Options.margin  # m: what a collision-checked success kept
     min_distance: np.ndarray | None = None  # (N,) m; NaN filled when None is given
     pair_index: np.ndarray | None = None  # (N,) index into pair_names, -1: none
     pair_names: list[tuple[str, str]] = field(default_factory=list)
@@ -95,14 +96,17 @@ class BatchResult:
         i = self._index(i)
         if i in self.reasons:
             return self.reasons[i]
-        ori = self.orientation_error[i]
         measured = reasons.measured(
             self.position_error[i],
-            None if math.isnan(ori) else ori,
+            self.orientation_error[i],
             self.tol_position,
             self.tol_orientation,
         )
-        return reasons.verified(None, measured)
+        text = reasons.verified(None, measured)
+        if self.pair_index[i] >= 0 or not math.isnan(self.min_distance[i]):  # checked
+            clear = reasons.clear(self.closest_pair(i), float(self.min_distance[i]), self.margin)
+            text = f"{text}; {clear}"
+        return text
 
     def closest_pair(self, i: int) -> tuple[str, str] | None:
         """The names of target ``i``'s closest checked pair; None where not checked."""
@@ -212,6 +216,7 @@ class BatchResult:
             "joint_names": list(self.joint_names),
             "tol_position": self.tol_position,
             "tol_orientation": self.tol_orientation,
+            "margin": self.margin,
             "statuses": _WORDS.tolist(),
             "pair_names": [list(p) for p in self.pair_names],
         }
@@ -251,6 +256,7 @@ class BatchResult:
             arm=meta["arm"],
             tol_position=float(meta["tol_position"]),
             tol_orientation=float(meta["tol_orientation"]),
+            margin=float(meta.get("margin", Options.margin)),
             reasons={
                 int(k): str(t)
                 for k, t in zip(arrays["reason_index"].tolist(), arrays["reason_text"])
@@ -288,6 +294,7 @@ class BatchResult:
             arm=arm.name,
             tol_position=opts.tol_position,
             tol_orientation=opts.tol_orientation,
+            margin=opts.margin,
         )
 
     def put(self, start: int, part: BatchResult) -> None:

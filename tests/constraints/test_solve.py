@@ -132,9 +132,12 @@ def test_solve_batch_equals_a_loop_of_solve_with_obstacles(name, tmp_path):
         assert res[i].closest_pair == r.closest_pair
         if r.success:
             assert not a.in_collision(r.q, obstacles, self_collision=True)
+            # the clearance in words, as the single solve's reason ends
+            assert res.reason(i).endswith(r.reason.rsplit("; ", 1)[1])
     assert res.success.any() and np.isfinite(res.min_distance).all()
     loaded = armik.BatchResult.load(res.save(tmp_path / "r.npz"))
     np.testing.assert_array_equal(loaded.min_distance, res.min_distance)
+    assert [loaded.reason(i) for i in range(len(T))] == [res.reason(i) for i in range(len(T))]
     assert [loaded.closest_pair(i) for i in range(len(T))] == [
         res.closest_pair(i) for i in range(len(T))
     ]

@@ -6,9 +6,9 @@ from __future__ import annotations
 
 def measured(pos: float, ori: float | None, tol_p: float, tol_r: float) -> str:
     """'position error 1e-07 m (tol 1e-05), orientation error ...': a measure in words
-    (``ori`` None: not measured)."""
+    (``ori`` None or NaN, as batches hold it: not measured)."""
     text = f"position error {pos:.3g} m{_tol_text(tol_p)}"
-    if ori is None:
+    if ori is None or ori != ori:
         return text
     return f"{text}, orientation error {ori:.3g} rad{_tol_text(tol_r)}"
 

@@ -190,10 +190,9 @@ def verdict_batch(
         ),
     )
     for i in np.flatnonzero(~ok).tolist():  # the rare failures get their reasons
-        ori = part.orientation_error[i]
         errors = reasons.measured(
             part.position_error[i],
-            None if math.isnan(ori) else ori,
+            part.orientation_error[i],
             opts.tol_position,
             opts.tol_orientation,
         )
