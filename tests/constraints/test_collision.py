@@ -10,6 +10,7 @@ import pinocchio as pin
 import pytest
 
 import armik
+from armik.constraints.bounds import PREFIX
 from armik.constraints.collision import arm_geometry, checker
 from armik.model.catalogue import erd_share
 
@@ -161,6 +162,32 @@ def test_an_arm_without_collision_geometry_says_so():
         a.solve([1.2, 0.5], obstacles=[armik.Sphere(0.1, (5, 5, 0))])
     with pytest.raises(armik.CollisionError, match="no <collision> geometry"):
         a.min_distance([0.0, 0.0], self_collision=True)
+
+
+def test_the_pairs_come_smallest_bound_first():
+    a = arm("panda")
+    ch = checker(a, (TABLE, BOX, SPHERE), True)
+    for q in a.random_q(5, n=20):
+        bound, order, m = ch._ordered(q)
+        assert m == min(PREFIX, len(bound)) and sorted(order.tolist()) == list(range(len(bound)))
+        head = [(bound[k], k) for k in order[:m]]
+        assert head == sorted(head)  # in order, ties in pair order
+        assert (bound[order[m:]] >= bound[order[m - 1]]).all()
+
+
+def test_a_check_past_the_ordered_pairs_still_finds_the_closest(monkeypatch):
+    # none in order: every pair is looked at, none skipped wrongly
+    a = arm("panda")
+    ch = checker(a, (TABLE, BOX), True)
+    gd = pin.GeometryData(ch.model)
+    ordered = ch._ordered
+    monkeypatch.setattr(ch, "_ordered", lambda q: (*ordered(q)[:2], 0))
+    for q in a.random_q(6, n=10):
+        pin.updateGeometryPlacements(a.model, a.data, ch.model, gd, a.to_pin(q))
+        k = pin.computeDistances(ch.model, gd)
+        d, pair = ch.distance(q)
+        assert d == pytest.approx(gd.distanceResults[k].min_distance, abs=1e-9)
+        assert pair == ch.pair_names[k]
 
 
 @pytest.mark.parametrize("name", ["ur5", "panda"])

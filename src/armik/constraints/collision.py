@@ -178,12 +178,14 @@ class Checker:
         arm = self.arm
         model = self.model
         pin.updateGeometryPlacements(arm.model, arm.data, model, gd, arm.to_pin(q))
-        bound, order = self._ordered(q)
+        bound, order, ranked = self._ordered(q)
         best, k_best = math.inf, 0
         compute = pin.computeDistance
-        for k in order.tolist():
+        for position, k in enumerate(order.tolist()):
             if bound[k] - BOUND_SLACK >= best:
-                break
+                if position < ranked:
+                    break  # every later bound is at least this one
+                continue
             d = compute(model, gd, k).min_distance
             if d < best:
                 best, k_best = d, k
@@ -202,9 +204,10 @@ class Checker:
         (``bounds.pair_bounds``). A view of this thread's scratch: copy it to keep it."""
         return self._ordered(q)[0]
 
-    def _ordered(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(bounds, the pairs in increasing order of their bounds) at ``q``, in this
-        thread's scratch."""
+    def _ordered(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
+        """(bounds, pairs, m) at ``q`` in this thread's scratch: the first m pairs in
+        increasing order of their bounds, then the others, none of whose bounds is smaller
+        (``bounds.ordered_bounds``)."""
         scratch = getattr(self._local, "scratch", None)
         if scratch is None:
             n = len(self.pair_names)
@@ -218,12 +221,12 @@ class Checker:
         qs[:] = q  # a read-only or strided q would be another compiled type
         flat = self.arm.kernel_chain.flat
         a, b = self._self
-        ordered_bounds(
+        ranked = ordered_bounds(
             flat.packed, flat.kind, flat.halton, qs, H, self._joint_of, self._centre,
             self._radius, a, b, self._link, self._box_R, self._box_t, self._box_half, out,
             order,
         )  # fmt: skip
-        return out, order
+        return out, order, ranked
 
 
 BOUND_SLACK = 1e-6  # m: coal's distances may fall this far below an exact lower bound

@@ -166,8 +166,12 @@ def joint_frames(ch, q, H):
         for b in range(3):
             H[0, a, b] = X[base + 3 * a + b]
         H[0, a, 3] = X[base + 9 + a]
-    R, t = np.eye(3), np.zeros(3)
+    R, t = np.empty((3, 3)), np.empty(3)
     M, A = np.empty((3, 3)), np.empty((3, 3))
+    for a in range(3):  # the identity, by loops (np.eye compiles a helper of its own)
+        t[a] = 0.0
+        for b in range(3):
+            R[a, b] = 1.0 if a == b else 0.0
     for i in range(N):
         for a in range(3):  # t += R d ; R = R P
             t[a] += (
@@ -183,8 +187,9 @@ def joint_frames(ch, q, H):
         if kinds[n + i] == PRISMATIC:
             for a in range(3):
                 t[a] += (A[a, 0] * ux + A[a, 1] * uy + A[a, 2] * uz) * x
-            M[:] = 0.0
-            M[0, 0] = M[1, 1] = M[2, 2] = 1.0
+            for a in range(3):
+                for b in range(3):
+                    M[a, b] = 1.0 if a == b else 0.0
         else:  # Rodrigues: c I + s [u]x + (1 - c) u u^T
             s, c = math.sin(x), math.cos(x)
             k = 1.0 - c
