@@ -430,3 +430,51 @@ def test_a_mimic_driver_is_never_shifted_by_two_pi(rng):
             if r.success:
                 assert dist(a.fk(r.q), a.fk(q)) < 1e-5
     assert ok >= 8
+
+
+def fingers_urdf() -> str:
+    """A 2R arm with a gripper off the chain: f1 drives, f2 mimics it (2 f1 + 0.1)."""
+    names = ("base", "l1", "tip", "g1", "g2")
+    links = "".join(f'<link name="{n}"/>' for n in names)
+    return (
+        f'<robot name="g">{links}'
+        + joint("j1", "revolute", "base", "l1", "0 0 0.1", "0 0 1")
+        + joint("j2", "revolute", "l1", "tip", "0.3 0 0", "0 1 0")
+        + joint("f1", "prismatic", "tip", "g1", "0 0.05 0", "0 1 0", 0.0, 0.04)
+        + joint("f2", "prismatic", "tip", "g2", "0 -0.05 0", "0 -1 0", 0.0, 0.2,
+                mimic_tag("f1", 2.0, 0.1))  # fmt: skip
+        + "</robot>"
+    )
+
+
+@pytest.mark.parametrize("locked", [{"f1": 0.03}, {}])
+def test_mimic_joints_off_the_chain_follow_their_locked_driver(locked, rng):
+    # the gripper's links carry collision geometry: they must be where the URDF puts them
+    xml = fingers_urdf()
+    a = armik.load_string(xml, tip="tip", locked=locked)
+    f1 = locked.get("f1", 0.0)
+    cfg = {"f1": f1, "f2": 2.0 * f1 + 0.1}
+    for q in a.random_q(rng, 3):
+        pin.framesForwardKinematics(a.model, a.data, a.to_pin(q))
+        reader = yourdfpy.URDF.load(
+            io.StringIO(xml), load_meshes=False, build_collision_scene_graph=False
+        )
+        reader.update_cfg({"j1": q[0], "j2": q[1], "f1": f1})  # yourdfpy follows the mimics
+        for link in ("g1", "g2"):
+            mine = a.data.oMf[a.model.getFrameId(link)]
+            theirs = pin.SE3(reader.get_transform(frame_to=link, frame_from="base"))
+            assert dist(mine, theirs) < TOL["fk_exact"], link
+    values = {n: a.chain.q_ref[a.chain.full.idx_qs[a.chain.full.getJointId(n)]] for n in cfg}
+    assert values == pytest.approx(cfg)
+
+
+def test_a_mimic_joint_locked_by_name_keeps_its_own_value():
+    a = armik.load_string(fingers_urdf(), tip="tip", locked={"f1": 0.03, "f2": 0.05})
+    full = a.chain.full
+    assert a.chain.q_ref[full.idx_qs[full.getJointId("f2")]] == 0.05
+
+
+def test_the_pandas_second_finger_follows_the_first():
+    a = armik.load("panda", locked={"panda_finger_joint1": 0.03})
+    full = a.chain.full
+    assert a.chain.q_ref[full.idx_qs[full.getJointId("panda_finger_joint2")]] == 0.03

@@ -85,6 +85,30 @@ def resolve(
     return Mimic(name, driver, float(multiplier), float(offset))
 
 
+def off_chain_values(
+    full: pin.Model, info: URDFInfo, moving: list[int], q_ref: np.ndarray, locked: set[str]
+) -> list[tuple[int, float]]:
+    """(joint id, value) for the mimic joints off the chain: each is locked at multiplier x
+    its driver's value in ``q_ref`` (its lock, or neutral) + offset, as a gripper's second
+    finger follows the first. Left as they are: joints ``locked`` by name, and mimics of
+    an unknown joint, of another mimic joint (readers differ there: yourdfpy takes the
+    offset alone) or of a joint that moves on the chain (``moving``; off the chain they move
+    nothing the solvers see)."""
+    values = []
+    for name, driver in info.mimic.items():
+        if not full.existJointName(name) or name in locked or driver in info.mimic:
+            continue
+        jid = full.getJointId(name)
+        if jid in moving or not full.existJointName(driver):
+            continue
+        did = full.getJointId(driver)
+        if did in moving:
+            continue
+        multiplier, offset = info.mimic_factors.get(name, (1.0, 0.0))
+        values.append((jid, multiplier * joint_value(full, q_ref, did) + offset))
+    return values
+
+
 def joint_value(model: pin.Model, q: np.ndarray, jid: int) -> float:
     """The value (rad or m) of joint ``jid`` in the configuration ``q``."""
     joint = model.joints[jid]

@@ -123,6 +123,8 @@ def reduce_chain(
                 joint=jname,
             )
     mimics, fixed = _chain_mimics(full, info, chain, q_ref)
+    for j, value in _mimic.off_chain_values(full, info, chain, q_ref, set(values)):
+        set_joint(full, q_ref, j, value)
     if fixed:
         chain = [j for j in chain if full.names[j] not in fixed]
         if not chain:
