@@ -50,7 +50,7 @@ for name in ["ur5", "panda"]:
     raw = raw_meshes(a, ch)
     gd = pin.GeometryData(raw)
 
-    def mesh_distance(q):
+    def mesh_distance(q, a=a, raw=raw, gd=gd):  # this pass's arm, bound now
         pin.updateGeometryPlacements(a.model, a.data, raw, gd, a.to_pin(q))
         pin.computeDistances(raw, gd)
 
@@ -67,5 +67,5 @@ for name in ["ur5", "panda"]:
             targets.append(a.fk(q))
     for label, kw in [("plain", {}), ("collisions", dict(obstacles=SCENE, self_collision=True))]:
         solved = sum(a.solve(T, q0=a.middle, **kw).success for T in targets)
-        dt = per_call(lambda T, kw=kw: a.solve(T, q0=a.middle, **kw), targets)
+        dt = per_call(lambda T, kw=kw, a=a: a.solve(T, q0=a.middle, **kw), targets)
         print(f"  solve, {label}: {dt * 1e3:.3f} ms mean, {solved}/{len(targets)} solved")

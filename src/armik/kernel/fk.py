@@ -199,10 +199,15 @@ def joint_frames(ch, q, H):
         for a in range(3):
             for b in range(3):
                 R[a, b] = A[a, 0] * M[0, b] + A[a, 1] * M[1, b] + A[a, 2] * M[2, b]
-        F = H[i + 1]
-        for a in range(3):
-            for b in range(3):
-                F[a, b] = R[a, b]
-            F[a, 3] = t[a]
-            F[3, a] = 0.0
-        F[3, 3] = 1.0
+        homogeneous(R, t, H[i + 1])
+
+
+@njit(cache=True, nogil=True)
+def homogeneous(R, p, T):
+    """T (4 x 4) = [[R, p], [0, 0, 0, 1]] for the rotation R (3 x 3) and translation p."""
+    for a in range(3):
+        for b in range(3):
+            T[a, b] = R[a, b]
+        T[a, 3] = p[a]
+        T[3, a] = 0.0
+    T[3, 3] = 1.0

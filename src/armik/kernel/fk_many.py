@@ -6,7 +6,7 @@ import numpy as np
 from numba import njit
 
 from armik.kernel.chain import Flat, joints
-from armik.kernel.fk import forward
+from armik.kernel.fk import forward, homogeneous
 
 
 @njit(cache=True, nogil=True)
@@ -19,10 +19,4 @@ def fk_many(packed, kind, halton, Q, out):
     origins, axes = np.empty((N, 3)), np.empty((N, 3))
     for i in range(Q.shape[0]):
         forward(ch, Q[i], R, p, origins, axes)
-        T = out[i]
-        for a in range(3):
-            for b in range(3):
-                T[a, b] = R[a, b]
-            T[a, 3] = p[a]
-            T[3, a] = 0.0
-        T[3, 3] = 1.0
+        homogeneous(R, p, out[i])
