@@ -7,9 +7,10 @@ compiled by calling it the way users do, on bundled arms, with the variants opti
 those calls load.
 
 numba compiles on one core, so the parts are shared out to one process per core, longest
-first. Two processes may write the same cache index at once and one entry can be lost, so
-the calling process then runs every part itself: from the cache that takes a fraction of a
-second, and it compiles again whatever was lost.
+first; the numeric solvers' parts, which share most of their compiled code, go to one
+process one after another (``_TOGETHER``). Two processes may write the same cache index at
+once and one entry can be lost, so the calling process then runs every part itself: from
+the cache that takes a fraction of a second, and it compiles again whatever was lost.
 """
 
 from __future__ import annotations
@@ -174,9 +175,23 @@ PARTS: dict[str, Callable[[], None]] = {
 }
 
 
-# s, roughly, from an empty cache on one core: the order parts go to the processes in
-# (longest first, so that the processes finish together); a new part defaults to 10
-_COST = {"dls": 35, "qp": 35, "spherical": 30, "batch": 25, "swept": 18, "three_parallel": 10}
+# s, roughly, from an empty cache on one core (measured 2026-12-02, `armik compile --all`):
+# the order tasks go to the processes in (longest first, so that the processes finish
+# together); a new part defaults to 10
+_COST = {
+    "dls": 45,
+    "qp": 45,
+    "search_1d": 29,
+    "spherical_general": 24,
+    "three_parallel_general": 23,
+    "batch": 16,
+    "spherical": 13,
+    "general_6r": 11,
+    "swept": 8,
+}
+# Parts one process compiles one after another: they share most of their compiled code,
+# which the later ones then find in memory (qp after dls compiles its own step only).
+_TOGETHER = (("dls", "qp", "batch", "hold", "path"),)
 
 
 def compile(
@@ -232,13 +247,34 @@ def _quiet() -> None:
 
 
 def _in_processes(names: Sequence[str], jobs: int, bar) -> dict[str, float]:
-    order = sorted(names, key=lambda n: -_COST.get(n, 10))
+    tasks = _tasks(names, jobs)
     # spawned, not forked: a fork copies numba's and the threads' state mid-flight
     context = multiprocessing.get_context("spawn")
     took: dict[str, float] = {}
     with ProcessPoolExecutor(jobs, mp_context=context, initializer=_quiet) as pool:
-        futures = {pool.submit(_timed, name): name for name in order}
+        futures = [pool.submit(_timed_each, task) for task in tasks]
         for future in as_completed(futures):
-            took[futures[future]] = future.result()
+            took.update(future.result())
             bar(len(took), len(names))
     return took
+
+
+def _tasks(names: Sequence[str], jobs: int) -> list[tuple[str, ...]]:
+    """``names`` as the processes' tasks, longest first: the parts of a ``_TOGETHER``
+    group in one task, in the group's order, every other part alone; every part alone when
+    that leaves fewer tasks than ``jobs`` processes (``armik compile dls qp``)."""
+    left = list(names)
+    tasks = []
+    for group in _TOGETHER:
+        task = tuple(n for n in group if n in left)
+        if task:
+            tasks.append(task)
+            left = [n for n in left if n not in task]
+    tasks += [(n,) for n in left]
+    if len(tasks) < jobs:
+        tasks = [(n,) for n in names]
+    return sorted(tasks, key=lambda t: -sum(_COST.get(n, 10) for n in t))
+
+
+def _timed_each(task: tuple[str, ...]) -> dict[str, float]:
+    return {name: _timed(name) for name in task}

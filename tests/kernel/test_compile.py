@@ -139,3 +139,13 @@ def test_an_objmode_block_lifted_from_the_cache_is_not_announced(tmp_path):
     again = _run(OBJMODE, tmp_path / "cache", ARMIK_COMPILE_NOTICE="1")
     assert "[0.5 0.5]" in again.stdout
     assert "armik: compiling" not in again.stderr
+
+
+def test_the_numeric_parts_compile_in_one_process_when_there_are_tasks_enough():
+    from armik.precompile import PARTS, _tasks
+
+    tasks = _tasks(list(PARTS), 2)
+    assert sorted(n for t in tasks for n in t) == sorted(PARTS)  # each part once
+    assert ("dls", "qp", "batch", "hold", "path") in tasks  # one after another, dls first
+    assert _tasks(["qp", "dls"], 2) in ([("dls",), ("qp",)], [("qp",), ("dls",)])
+    assert _tasks(["qp", "dls", "swept"], 2) == [("dls", "qp"), ("swept",)]
