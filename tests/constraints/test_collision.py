@@ -209,3 +209,21 @@ def test_pair_bounds_never_exceed_coal_and_the_closest_pair_is_every_pairs(name)
         assert (every >= ch.bounds(q) - 1e-9).all()
         d, pair = ch.distance(q)
         assert d == pytest.approx(every[k], abs=1e-6) and pair == ch.pair_names[k]
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_each_capsule_holds_its_objects_points(name):
+    # a capsule holding every point holds their hull: the bounds stay below coal's
+    from armik.constraints.collision import _points
+
+    a = arm(name)
+    g = arm_geometry(a)
+    caps = checker(a, (), True)._capsule
+    for o, cap in zip(g.model.geometryObjects, caps):
+        p = _points(o.geometry) @ o.placement.rotation.T + o.placement.translation
+        end0, end1, radius = cap[:3], cap[3:6], cap[6]
+        d = end1 - end0
+        s = np.clip((p - end0) @ d / max(d @ d, 1e-300), 0.0, 1.0)
+        far = np.linalg.norm(p - (end0 + np.outer(s, d)), axis=1)
+        assert (far <= radius).all()
+        assert radius <= np.linalg.norm(p - p.mean(axis=0), axis=1).max() + 1e-9  # not loose

@@ -21,7 +21,7 @@ PREFIX = 16  # pairs put in order of their bounds; a check rarely asks coal for 
 
 @njit(cache=True, nogil=True)
 def ordered_bounds(
-    packed, kind, halton, q, H, joint_of, centre, radius, self_a, self_b, link,
+    packed, kind, halton, q, H, joint_of, centre, radius, capsule, self_a, self_b, link,
     box_R, box_t, box_half, out, order,
 ):  # fmt: skip
     """``pair_bounds`` at joint values ``q`` (rad, m) of the chain ``chain.Flat``'s arrays
@@ -31,7 +31,9 @@ def ordered_bounds(
     how many are in order. (A selection, not a sort: the few pairs a check needs, in a
     fraction of np.argsort's compile time.)"""
     joint_frames(Flat(packed, kind, halton), q, H)
-    pair_bounds(H, joint_of, centre, radius, self_a, self_b, link, box_R, box_t, box_half, out)
+    pair_bounds(
+        H, joint_of, centre, radius, capsule, self_a, self_b, link, box_R, box_t, box_half, out
+    )
     n = out.shape[0]
     for k in range(n):
         order[k] = k
@@ -52,6 +54,7 @@ def pair_bounds(
     joint_of: np.ndarray,  # (n,) each link object's row of H
     centre: np.ndarray,  # (n, 3) each link object's sphere centre in its joint's frame (m)
     radius: np.ndarray,  # (n,) its radius (m)
+    capsule: np.ndarray,  # (n, 7) a capsule holding it: two ends (joint frame), radius (m)
     self_a: np.ndarray,  # (s,) the arm's pairs: link objects a and b
     self_b: np.ndarray,
     link: np.ndarray,  # (o,) the obstacle pairs' link objects
@@ -62,15 +65,14 @@ def pair_bounds(
 ) -> None:
     n = centre.shape[0]
     c = np.empty((n, 3))
+    ends = np.empty((2, n, 3))  # the capsules' ends in the base frame
     for i in range(n):
         j = joint_of[i]
         for r in range(3):
-            c[i, r] = (
-                H[j, r, 0] * centre[i, 0]
-                + H[j, r, 1] * centre[i, 1]
-                + H[j, r, 2] * centre[i, 2]
-                + H[j, r, 3]
-            )
+            c[i, r] = _placed(H, j, r, centre[i, 0], centre[i, 1], centre[i, 2])
+            for e in range(2):
+                x, y, z = capsule[i, 3 * e], capsule[i, 3 * e + 1], capsule[i, 3 * e + 2]
+                ends[e, i, r] = _placed(H, j, r, x, y, z)
     s = self_a.shape[0]
     for k in range(s):
         a = self_a[k]
@@ -78,7 +80,9 @@ def pair_bounds(
         dx = c[a, 0] - c[b, 0]
         dy = c[a, 1] - c[b, 1]
         dz = c[a, 2] - c[b, 2]
-        out[k] = math.sqrt(dx * dx + dy * dy + dz * dz) - radius[a] - radius[b]
+        spheres = math.sqrt(dx * dx + dy * dy + dz * dz) - radius[a] - radius[b]
+        capsules = _segment_distance(ends, a, b) - capsule[a, 6] - capsule[b, 6]
+        out[k] = max(spheres, capsules)  # both are lower bounds: the larger is tighter
     for k in range(link.shape[0]):
         a = link[k]
         outside = 0.0
@@ -93,3 +97,56 @@ def pair_bounds(
             if e > inside:
                 inside = e
         out[s + k] = math.sqrt(outside) + min(inside, 0.0) - radius[a]
+
+
+@njit(cache=True, nogil=True)
+def _placed(H, j, r, x, y, z):
+    """Row r of the point (x, y, z) of joint j's frame, in the base frame."""
+    return H[j, r, 0] * x + H[j, r, 1] * y + H[j, r, 2] * z + H[j, r, 3]
+
+
+@njit(cache=True, nogil=True)
+def _segment_distance(ends, a, b):
+    """The distance between the segments ``ends[:, a]`` and ``ends[:, b]`` (Ericson,
+    Real-Time Collision Detection, 5.1.9: the closest points, each clamped to its
+    segment); scalars only (array arithmetic would compile numba's ufunc machinery)."""
+    d1x, d1y, d1z = (
+        ends[1, a, 0] - ends[0, a, 0],
+        ends[1, a, 1] - ends[0, a, 1],
+        ends[1, a, 2] - ends[0, a, 2],
+    )
+    d2x, d2y, d2z = (
+        ends[1, b, 0] - ends[0, b, 0],
+        ends[1, b, 1] - ends[0, b, 1],
+        ends[1, b, 2] - ends[0, b, 2],
+    )
+    wx, wy, wz = (
+        ends[0, a, 0] - ends[0, b, 0],
+        ends[0, a, 1] - ends[0, b, 1],
+        ends[0, a, 2] - ends[0, b, 2],
+    )
+    aa = d1x * d1x + d1y * d1y + d1z * d1z
+    ee = d2x * d2x + d2y * d2y + d2z * d2z
+    f = d2x * wx + d2y * wy + d2z * wz
+    tiny = 1e-18
+    if aa <= tiny and ee <= tiny:
+        s = t = 0.0
+    elif aa <= tiny:
+        s, t = 0.0, min(max(f / ee, 0.0), 1.0)
+    else:
+        cc = d1x * wx + d1y * wy + d1z * wz
+        if ee <= tiny:
+            s, t = min(max(-cc / aa, 0.0), 1.0), 0.0
+        else:
+            bb = d1x * d2x + d1y * d2y + d1z * d2z
+            den = aa * ee - bb * bb
+            s = min(max((bb * f - cc * ee) / den, 0.0), 1.0) if den > tiny else 0.0
+            t = (bb * s + f) / ee
+            if t < 0.0:
+                s, t = min(max(-cc / aa, 0.0), 1.0), 0.0
+            elif t > 1.0:
+                s, t = min(max((bb - cc) / aa, 0.0), 1.0), 1.0
+    gx = wx + d1x * s - d2x * t
+    gy = wy + d1y * s - d2y * t
+    gz = wz + d1z * s - d2z * t
+    return math.sqrt(gx * gx + gy * gy + gz * gz)

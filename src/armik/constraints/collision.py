@@ -155,6 +155,7 @@ class Checker:
         # obstacle's box (a half space: a box reaching far below its plane), in the base
         # frame, where the chain's FK places the joints (``bounds.ordered_bounds``)
         centre, self._radius = _spheres(g.model)
+        self._capsule = _capsules(g.model)
         self._joint_of = np.array([o.parentJoint for o in g.model.geometryObjects], dtype=np.intp)
         self._frames = arm.model.njoints
         self._centre = np.array(
@@ -223,8 +224,8 @@ class Checker:
         a, b = self._self
         ranked = ordered_bounds(
             flat.packed, flat.kind, flat.halton, qs, H, self._joint_of, self._centre,
-            self._radius, a, b, self._link, self._box_R, self._box_t, self._box_half, out,
-            order,
+            self._radius, self._capsule, a, b, self._link, self._box_R, self._box_t,
+            self._box_half, out, order,
         )  # fmt: skip
         return out, order, ranked
 
@@ -240,6 +241,46 @@ def _spheres(model: pin.GeometryModel) -> tuple[np.ndarray, np.ndarray]:
     for i, o in enumerate(model.geometryObjects):
         centres[i], radii[i] = _sphere(o.geometry)
     return centres, radii
+
+
+def _capsules(model: pin.GeometryModel) -> np.ndarray:
+    """(n, 7): for each object of ``model`` a capsule holding it, in its joint's frame: the
+    segment's two ends and the radius. Its axis is the hull's principal one, its radius
+    the hull's farthest point from that axis, its ends drawn in as far as every point stays
+    within the radius; a capsule holding every point holds their hull (it is convex). For a
+    long link it bounds the distance far closer than a sphere (docs/collisions.md)."""
+    out = np.empty((model.ngeoms, 7))
+    for i, o in enumerate(model.geometryObjects):
+        points = _points(o.geometry)
+        placed = points @ o.placement.rotation.T + o.placement.translation
+        out[i] = _capsule(placed)
+    return out
+
+
+def _points(geom) -> np.ndarray:
+    """Points whose hull holds ``geom``: a hull's own, else coal's bounding box corners."""
+    if isinstance(geom, coal.ConvexBase):
+        return np.asarray(geom.points(), dtype=float)
+    geom.computeLocalAABB()
+    lo, hi = np.array(geom.aabb_local.min_), np.array(geom.aabb_local.max_)
+    corners = [(x, y, z) for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
+    return np.array(corners)
+
+
+def _capsule(points: np.ndarray) -> np.ndarray:
+    centre = points.mean(axis=0)
+    rel = points - centre
+    axis = np.linalg.svd(rel, full_matrices=False)[2][0]
+    t = rel @ axis
+    r = np.linalg.norm(rel - np.outer(t, axis), axis=1)
+    reach = np.sqrt(np.maximum(r.max() ** 2 - r**2, 0.0))
+    t1, t2 = float(np.min(t + reach)), float(np.max(t - reach))
+    if t1 > t2:  # round enough for one point: a sphere about the middle
+        t1 = t2 = (t1 + t2) / 2
+    # the radius measured to the segment as drawn, with a margin for rounding
+    s = np.clip(t, t1, t2)
+    radius = float(np.linalg.norm(rel - np.outer(s, axis), axis=1).max()) * (1 + 1e-9) + 1e-12
+    return np.concatenate([centre + t1 * axis, centre + t2 * axis, [radius]])
 
 
 def _sphere(geom) -> tuple[np.ndarray, float]:
