@@ -1,9 +1,10 @@
 """Lower bounds on the distances of a checker's pairs, compiled: one small kernel over plain
-arrays (``collision.Checker.bounds`` gathers them). A link object is a sphere (its centre
-in its joint's frame, its radius); an obstacle is a box (rotation, centre, half sides), all
-in the arm's base frame. ``ordered_bounds`` places the joints by the chain's own FK
-(``kernel.fk.joint_frames``) and sorts the pairs by their bounds in the same call: reading
-Pinocchio's joint placements one by one from Python cost more than coal's distances.
+arrays (``collision.Checker.bounds`` gathers them). A link object is held by a sphere (its
+centre in its joint's frame, its radius) and by a capsule (two ends, a radius); an obstacle
+by a box (rotation, centre, half sides), all in the arm's base frame. ``ordered_bounds``
+places the joints by the chain's own FK (``kernel.fk.joint_frames``) and puts the pairs of
+smallest bounds in order in the same call: reading Pinocchio's joint placements one by one
+from Python cost more than coal's distances.
 """
 
 from __future__ import annotations

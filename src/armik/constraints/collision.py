@@ -151,8 +151,8 @@ class Checker:
         self.model = model
         self.pair_names = [(names[a], names[b]) for a, b in pairs]
         self._local = threading.local()
-        # bounds: each link object's sphere (its centre in its joint's frame), each
-        # obstacle's box (a half space: a box reaching far below its plane), in the base
+        # bounds: each link object's sphere (its centre in its joint's frame) and capsule,
+        # each obstacle's box (a half space: a box reaching far below its plane), in the base
         # frame, where the chain's FK places the joints (``bounds.ordered_bounds``)
         centre, self._radius = _spheres(g.model)
         self._capsule = _capsules(g.model)
@@ -201,8 +201,9 @@ class Checker:
 
     def bounds(self, q: np.ndarray) -> np.ndarray:
         """A lower bound (m) on the distance of every pair at joint values ``q`` (rad, m):
-        sphere to sphere for the arm's pairs, sphere to box (signed) for the obstacles'
-        (``bounds.pair_bounds``). A view of this thread's scratch: copy it to keep it."""
+        the larger of sphere to sphere and capsule to capsule for the arm's pairs, sphere to
+        box (signed) for the obstacles' (``bounds.pair_bounds``). A view of this thread's
+        scratch: copy it to keep it."""
         return self._ordered(q)[0]
 
     def _ordered(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:

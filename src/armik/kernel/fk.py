@@ -158,14 +158,7 @@ def joint_frames(ch, q, H):
     jp, ja, mim = off_joint_p(N), off_axis(N), off_mimic(N, n)
     kinds = ch.kind
     base = mim - 12  # base_R (9), base_p (3) just before the multipliers (``flatten``)
-    for a in range(4):
-        for b in range(4):
-            H[0, a, b] = 0.0
-        H[0, 3, 3] = 1.0
-    for a in range(3):
-        for b in range(3):
-            H[0, a, b] = X[base + 3 * a + b]
-        H[0, a, 3] = X[base + 9 + a]
+    homogeneous(X[base : base + 9].reshape((3, 3)), X[base + 9 : base + 12], H[0])
     R, t = np.empty((3, 3)), np.empty(3)
     M, A = np.empty((3, 3)), np.empty((3, 3))
     for a in range(3):  # the identity, by loops (np.eye compiles a helper of its own)
@@ -184,21 +177,20 @@ def joint_frames(ch, q, H):
                 )
         ux, uy, uz = X[ja + 3 * i], X[ja + 3 * i + 1], X[ja + 3 * i + 2]
         x = q[i] if N == n else X[mim + i] * q[kinds[n + N + i]] + X[mim + N + i]
-        if kinds[n + i] == PRISMATIC:
+        if kinds[n + i] == PRISMATIC:  # slides: R = A
             for a in range(3):
                 t[a] += (A[a, 0] * ux + A[a, 1] * uy + A[a, 2] * uz) * x
-            for a in range(3):
                 for b in range(3):
-                    M[a, b] = 1.0 if a == b else 0.0
-        else:  # Rodrigues: c I + s [u]x + (1 - c) u u^T
+                    R[a, b] = A[a, b]
+        else:  # turns: R = A M, M by Rodrigues: c I + s [u]x + (1 - c) u u^T
             s, c = math.sin(x), math.cos(x)
             k = 1.0 - c
             M[0, 0], M[0, 1], M[0, 2] = c + k * ux * ux, k * ux * uy - s * uz, k * ux * uz + s * uy
             M[1, 0], M[1, 1], M[1, 2] = k * uy * ux + s * uz, c + k * uy * uy, k * uy * uz - s * ux
             M[2, 0], M[2, 1], M[2, 2] = k * uz * ux - s * uy, k * uz * uy + s * ux, c + k * uz * uz
-        for a in range(3):
-            for b in range(3):
-                R[a, b] = A[a, 0] * M[0, b] + A[a, 1] * M[1, b] + A[a, 2] * M[2, b]
+            for a in range(3):
+                for b in range(3):
+                    R[a, b] = A[a, 0] * M[0, b] + A[a, 1] * M[1, b] + A[a, 2] * M[2, b]
         homogeneous(R, t, H[i + 1])
 
 
