@@ -170,23 +170,23 @@ def targets(arm: armik.Arm, shapes, n: int, seed: int) -> list[pin.SE3]:
     return out
 
 
-def run(name: str, n: int, workers: int, seed: int) -> None:
+def run(name: str, n: int, workers: int, seed: int, solver: str = "auto") -> None:
     arm = armik.load(name)
     shapes = armik_shapes(SCENES[name])
-    opts = dict(obstacles=shapes, self_collision=True)
+    opts = dict(obstacles=shapes, self_collision=True, solver=solver)
     T = targets(arm, shapes, n, seed)
     # compile what the timed solves use (a colliding answer's restarts run the batch entry,
     # which the first targets may not reach), then warm up
     armik.compile(["dls", "qp", "batch", "collisions", "three_parallel"], progress=False)
     for t in T[:10]:
         arm.solve(t, q0=arm.middle, **opts)
-        arm.solve(t, q0=arm.middle)
+        arm.solve(t, q0=arm.middle, solver=solver)
     t0, c0 = time.perf_counter(), time.process_time()
     results = [arm.solve(t, q0=arm.middle, **opts) for t in T]
     per_solve = (time.perf_counter() - t0) / n
     cpu_solve = (time.process_time() - c0) / n
     t0, c0 = time.perf_counter(), time.process_time()
-    plain = [arm.solve(t, q0=arm.middle) for t in T]
+    plain = [arm.solve(t, q0=arm.middle, solver=solver) for t in T]
     per_plain = (time.perf_counter() - t0) / n
     cpu_plain = (time.process_time() - c0) / n
     check = checker(arm, tuple(shapes), True)
@@ -238,6 +238,7 @@ def main() -> None:
     p.add_argument("--scenes", nargs="+", default=list(SCENES), choices=list(SCENES))
     p.add_argument("--workers", type=int, default=2, help="solve_batch threads (2)")
     p.add_argument("--seed", type=int, default=0, help="target sampling seed (0)")
+    p.add_argument("--solver", default="auto", help="the solver of every solve (auto)")
     p.add_argument(
         "--slide",
         choices=["paths", "always"],
@@ -256,7 +257,7 @@ def main() -> None:
     if args.all_pairs:
         Checker.distance = every_pair  # type: ignore[method-assign]
     for name in args.scenes:
-        run(name, args.n, args.workers, args.seed)
+        run(name, args.n, args.workers, args.seed, args.solver)
 
 
 if __name__ == "__main__":

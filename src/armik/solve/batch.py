@@ -6,10 +6,11 @@ solves the chunks on a pool of threads. A solver with a compiled batch entry
 with the GIL released, then the chunk is verified with ``verify.measure.measure_batch``
 (Pinocchio FK per row, the errors and limits compiled); only that verification holds the
 GIL (10 to 14 % of the time on the Panda and the UR5). Any other solver is called target by target
-through ``armik.solve``; the GIL then serialises the threads, so such a solver runs on one
-thread unless ``workers`` says otherwise. With collisions checked, a compiled chunk's
-verified answers are checked for collisions (holding the GIL, as the verification), and
-only the targets whose answer fails are solved again through ``armik.solve``.
+through ``armik.solve``, one worker unless ``workers`` says otherwise. With collisions
+checked, a compiled chunk's verified answers are checked for collisions, and only the
+targets whose answer fails are solved again through ``armik.solve``. Such work holds the
+GIL (coal and Python) and two threads would run it no faster than one, so it goes to
+forked processes instead where that is safe (``armik.solve.forked``).
 
 Every answer is verified by Pinocchio forward kinematics as ``Arm.solve`` verifies it, and
 each target uses the options of a call of ``Arm.solve`` (``seed`` included): the same seeds
@@ -38,6 +39,7 @@ from armik.constraints.collision import checker
 from armik.errors import ArmikWarning, OptionError
 from armik.frozen import frozen
 from armik.options import Options
+from armik.solve import forked
 from armik.solve.progress import ProgressArg, make_progress
 from armik.solve.single import solve
 from armik.solvers import registry
@@ -69,8 +71,9 @@ def solve_batch(
     ``targets``: an (N, 4, 4) array, (N, 7) rows ``x y z qx qy qz qw``, (N, 3) positions,
     or a sequence of anything ``Arm.solve`` accepts (see ``armik.batch_targets``).
     ``q0``: None (mid-limits), one configuration for all, or one per target (N, dof).
-    ``workers``: threads (default: the number of cores for a solver with a compiled batch
-    entry, else 1). ``chunk_size``: targets per task (default 256). ``progress``: a bar on
+    ``workers``: threads, or processes for collision checks and solvers without a compiled
+    batch entry (``armik.solve.forked``; default: the number of cores for a solver with a
+    compiled batch entry, else 1). ``chunk_size``: targets per task (default 256). ``progress``: a bar on
     stderr when True, or a callable ``(done, total)``; default: a bar when stderr is a
     terminal. ``options``: as for ``Arm.solve`` and applied to every target.
 
@@ -98,8 +101,8 @@ def solve_batch(
     bar = make_progress(progress, n, f"{arm.name}/{spec.name}")
     starts = range(0, n, chunk)
 
-    def job(start: int) -> int:
-        stop = min(start + chunk, n)
+    def job(start: int, stop: int | None = None) -> int:
+        stop = min(start + chunk, n) if stop is None else stop
         solve_chunk(arm, spec, batch[start:stop], seeds[start:stop], opts, options, out, start)
         return stop - start
 
@@ -108,6 +111,8 @@ def solve_batch(
         for start in starts:
             done += job(start)
             bar(done, n)
+    elif _holds_gil(spec, opts) and forked.usable():
+        _on_processes(job, out, n, chunk, workers, bar)
     else:
         pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="armik")
         try:
@@ -122,6 +127,36 @@ def solve_batch(
     bar.close()
     out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     return out
+
+
+def _on_processes(job, out: BatchResult, n: int, chunk: int, workers: int, bar) -> None:
+    """The chunks on ``workers`` processes (``armik.solve.forked``). The first few targets
+    are solved here before the fork, so that what they compile or load from the cache is
+    compiled or loaded once, and the children start with it."""
+    first = min(_BEFORE_FORK, n)
+    done = job(0, first)
+    bar(done, n)
+
+    def rows(start: int) -> BatchResult:  # a chunk's rows, sent from a child
+        job(start)
+        return out[start : min(start + chunk, n)]
+
+    def collect(start: int, part: BatchResult) -> None:
+        nonlocal done
+        out.put(start, part)
+        done += len(part)
+        bar(done, n)
+
+    forked.run(rows, range(first, n, chunk), workers, collect)
+
+
+_BEFORE_FORK = 16  # targets: enough to reach each compiled part a batch's chunk runs
+
+
+def _holds_gil(spec: SolverSpec, opts: Options) -> bool:
+    """Whether most of a chunk's work holds the GIL (threads would wait for each other):
+    collision checks, or a solver without a compiled batch entry."""
+    return opts.collisions or spec.run_batch is None
 
 
 def solve_chunk(
@@ -228,7 +263,7 @@ def _workers(workers: object, spec: SolverSpec) -> int:
         return cores() if spec.run_batch is not None else 1
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
         raise OptionError(
-            f"workers must be a whole number >= 1 (threads), got {workers!r}",
+            f"workers must be a whole number >= 1 (threads or processes), got {workers!r}",
             option="workers",
             value=workers,
         )

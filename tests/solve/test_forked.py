@@ -1,0 +1,97 @@
+"""Batches on forked processes: every chunk collected once, a child's failure raised here,
+and a collision-checked batch on processes equal to one solved in this process."""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+
+import numpy as np
+import pytest
+
+import armik
+from armik.errors import ArmikError
+from armik.solve import batch, forked
+
+pytestmark = pytest.mark.skipif(
+    "fork" not in multiprocessing.get_all_start_methods(), reason="no fork on this platform"
+)
+WAIT = 60.0  # s: only a broken fork waits this long; every test passes without waiting it
+
+
+def _child_takes_one(child_work):
+    """A work function whose parent side waits until a child has taken a chunk, so that
+    a child runs ``child_work`` whatever the scheduling."""
+    parent = os.getpid()
+    started = multiprocessing.get_context("fork").Event()
+
+    def work(start):
+        if os.getpid() == parent:
+            assert started.wait(WAIT), "no child took a chunk"
+            return start, parent
+        started.set()
+        return child_work(start)
+
+    return work
+
+
+def test_every_chunk_is_collected_once_and_children_do_work():
+    got = {}
+    work = _child_takes_one(lambda start: (start, os.getpid()))
+    forked.run(work, range(0, 40, 4), 2, lambda start, value: got.setdefault(start, value))
+    assert sorted(got) == list(range(0, 40, 4))
+    assert all(value[0] == start for start, value in got.items())
+    assert any(pid != os.getpid() for _, pid in got.values())
+
+
+def test_an_exception_in_a_child_is_raised_here():
+    def fail(start):
+        raise ValueError(f"bad chunk {start}")
+
+    with pytest.raises(ValueError, match="bad chunk"):
+        forked.run(_child_takes_one(fail), range(3), 2, lambda start, value: None)
+
+
+def test_a_child_that_dies_is_an_armik_error_with_its_exit_code():
+    with pytest.raises(ArmikError, match="exit code 3"):
+        forked.run(_child_takes_one(lambda start: os._exit(3)), range(3), 2, lambda s, v: None)
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_a_collision_checked_batch_on_processes_equals_one_in_this_process(
+    name, monkeypatch
+):
+    a = armik.load(name)
+    obstacles = (armik.HalfSpace((0, 0, 1), 0.0), armik.Box((0.2, 0.2, 0.2), (0.45, 0.0, 0.3)))
+    T = a.fk_batch(a.random_q(5, n=40))
+    opts = dict(obstacles=obstacles, self_collision=True, iteration_budget=2000)
+    here = a.solve_batch(T, q0=a.middle, workers=1, progress=False, **opts)
+    runs = []
+    run = forked.run
+    monkeypatch.setattr(forked, "usable", lambda: True)
+    monkeypatch.setattr(forked, "run", lambda *args: runs.append(1) or run(*args))
+    seen = []
+    there = a.solve_batch(
+        T, q0=a.middle, workers=2, chunk_size=4, progress=lambda d, n: seen.append(d), **opts
+    )
+    assert runs == [1]  # the processes' path was taken
+    assert seen[-1] == len(T) and seen == sorted(seen)
+    np.testing.assert_array_equal(there.q, here.q)
+    np.testing.assert_array_equal(there.status_code, here.status_code)
+    np.testing.assert_allclose(there.min_distance, here.min_distance, atol=1e-9)
+    assert [there.closest_pair(i) for i in range(len(T))] == [
+        here.closest_pair(i) for i in range(len(T))
+    ]
+    assert there.reasons == here.reasons
+
+
+def test_a_batch_falls_back_to_threads_when_another_thread_runs(monkeypatch):
+    monkeypatch.setattr(forked.threading, "active_count", lambda: 2)
+    assert not forked.usable()
+    ur5 = armik.load("ur5")
+    T = ur5.fk_batch(ur5.random_q(2, n=8))
+    monkeypatch.setattr(forked, "run", lambda *a: pytest.fail("forked with threads alive"))
+    r = batch.solve_batch(ur5, T, workers=2, chunk_size=2, progress=False, self_collision=True)
+    one = batch.solve_batch(ur5, T, workers=1, progress=False, self_collision=True)
+    np.testing.assert_array_equal(r.q, one.q)
+    assert r.success.sum() >= 6
