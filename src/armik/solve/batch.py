@@ -73,9 +73,9 @@ def solve_batch(
     ``q0``: None (mid-limits), one configuration for all, or one per target (N, dof).
     ``workers``: threads, or processes for collision checks and solvers without a compiled
     batch entry (``armik.solve.forked``; default: the number of cores for a solver with a
-    compiled batch entry, else 1). ``chunk_size``: targets per task (default 256). ``progress``: a bar on
-    stderr when True, or a callable ``(done, total)``; default: a bar when stderr is a
-    terminal. ``options``: as for ``Arm.solve`` and applied to every target.
+    compiled batch entry, else 1). ``chunk_size``: targets per task (default 256).
+    ``progress``: a bar on stderr when True, or a callable ``(done, total)``; default: a bar
+    when stderr is a terminal. ``options``: as for ``Arm.solve`` and applied to every target.
 
     Raises ``TargetError`` naming the first bad target, ``OptionError`` for bad options;
     unreachable targets are results with ``success=False``.
