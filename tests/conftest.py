@@ -6,8 +6,12 @@ import functools
 import os
 import warnings
 
-import numpy as np
-import pytest
+from tests.golden.blas_kernels import pin_openblas
+
+BLAS_PINNED = pin_openblas()  # before numpy loads OpenBLAS: the golden answers need it
+
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
 
 # The compile notice goes to stderr whenever a kernel is compiled, which in a test run
 # depends on the numba cache and the order of the tests: off here, on where it is tested.

@@ -22,10 +22,16 @@ import sys
 import warnings
 from pathlib import Path
 
-import numpy as np
-import pinocchio as pin
+if __name__ == "__main__":  # the kernels the tests pin (tests/golden/blas_kernels.py)
+    sys.path.insert(0, str(Path(__file__).parents[2]))
+    from tests.golden.blas_kernels import pin_openblas
 
-import armik
+    pin_openblas()
+
+import numpy as np  # noqa: E402
+import pinocchio as pin  # noqa: E402
+
+import armik  # noqa: E402
 
 ANSWERS = Path(__file__).with_name("answers.json")
 FORMAT = "armik-golden/1"

@@ -7,7 +7,8 @@ solver and "auto"; full poses in several forms, positions, unreachable targets, 
 position_only) must reproduce tests/golden/answers.json exactly: q and the errors compared
 as ``float.hex()`` strings, status, solver, iterations, restarts, branch, singular,
 success and reason as recorded. Numeric calls run on ``iteration_budget`` with a fixed
-``seed``, so the answers do not depend on the machine's load.
+``seed``, so the answers do not depend on the machine's load, and the tests pin
+OpenBLAS's kernels (``blas_kernels``), so they do not depend on the CPU's vector units.
 
 When a change of answers is intended, regenerate and commit the file with the change:
 
@@ -17,9 +18,11 @@ When a change of answers is intended, regenerate and commit the file with the ch
 from __future__ import annotations
 
 import json
+import os
 
 import pytest
 
+from .blas_kernels import CORETYPE
 from .make_golden import ANSWERS, FORMAT, compute
 
 RECORDED = json.loads(ANSWERS.read_text()) if ANSWERS.exists() else {"groups": {}}
@@ -80,6 +83,8 @@ def test_same_groups(computed):
 def test_group(computed, group):
     found = differences(RECORDED["groups"][group], computed.get(group), group)
     more = f"\n... and {len(found) - SHOWN} more" if len(found) > SHOWN else ""
+    pinned = os.environ.get("OPENBLAS_CORETYPE") == CORETYPE
     assert not found, (
-        f"{len(found)} answers differ from {ANSWERS.name}:\n" + "\n".join(found[:SHOWN]) + more
+        f"{len(found)} answers differ from {ANSWERS.name} (OpenBLAS kernels pinned to "
+        f"{CORETYPE}: {pinned}; see blas_kernels.py):\n" + "\n".join(found[:SHOWN]) + more
     )
