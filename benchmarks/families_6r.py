@@ -7,7 +7,9 @@ and after joint 6), ``--configs`` random configurations within the limits each; 
 is the configuration's FK. Per family:
 
 - complete: the generating configuration is among ``solve_all``'s successes (modulo 2 pi),
-  out of the targets whose answers are not singular;
+  out of the targets away from singularities; near-singular: the same count for the
+  targets where an answer is flagged singular or the generating configuration's Jacobian
+  has a singular value below ``NEAR`` (1e-2: two solutions close to merging);
 - false: successes whose pose Pinocchio's FK puts more than 1e-9 (m or rad, ``log6``) from
   the target (0 expected: every success is verified);
 - limits: successes outside the joint limits (0 expected);
@@ -39,9 +41,18 @@ FAMILIES = {
 }
 
 
+NEAR = 1e-2  # the smallest singular value of the Jacobian (m, rad) of a near-singular target
+
+
+def smallest_singular_value(arm: armik.Arm, q: np.ndarray) -> float:
+    """Of the tip's Jacobian (local frame) at ``q``: near zero, two solutions merge."""
+    J = pin.computeFrameJacobian(arm.model, arm.data, arm.to_pin(q), arm.tip_frame_id, pin.LOCAL)
+    return float(np.linalg.svd(J, compute_uv=False)[-1])
+
+
 def measure(solver: str, kind: str, arms: int, configs: int, seed: int) -> dict:
     rng = np.random.default_rng(seed)
-    found = checked = false = outside = 0
+    found = checked = false = outside = near = near_found = 0
     times: list[float] = []
     counts: list[int] = []
     for _ in range(arms):
@@ -60,15 +71,20 @@ def measure(solver: str, kind: str, arms: int, configs: int, seed: int) -> dict:
                     false += 1
                 if np.any(r.q < arm.lower - 1e-12) or np.any(r.q > arm.upper + 1e-12):
                     outside += 1
-            if any(r.singular for r in results):
+            d = [np.abs(np.angle(np.exp(1j * (r.q - q)))).max() for r in ok]
+            hit = bool(d) and min(d) < 1e-6
+            if any(r.singular for r in results) or smallest_singular_value(arm, q) < NEAR:
+                near += 1
+                near_found += hit
                 continue
             checked += 1
-            d = [np.abs(np.angle(np.exp(1j * (r.q - q)))).max() for r in ok]
-            found += bool(d) and min(d) < 1e-6
+            found += hit
     t = np.array(times) * 1e6
     return {
         "found": found,
         "checked": checked,
+        "near": near,
+        "near_found": near_found,
         "false": false,
         "limits": outside,
         "median_us": float(np.median(t)),
@@ -86,13 +102,14 @@ def main() -> None:
     args = ap.parse_args()
     print(f"{args.arms} random arms x {args.configs} configurations per family")
     print(
-        f"{'family':24} {'complete':>12} {'false':>6} {'limits':>7} {'median us':>10} "
-        f"{'p90 us':>8} {'solutions':>9}"
+        f"{'family':24} {'complete':>12} {'near-singular':>14} {'false':>6} {'limits':>7} "
+        f"{'median us':>10} {'p90 us':>8} {'solutions':>9}"
     )
     for solver in args.families:
         m = measure(solver, FAMILIES[solver], args.arms, args.configs, args.seed)
         print(
-            f"{solver:24} {m['found']:>5}/{m['checked']:<6} {m['false']:>6} {m['limits']:>7} "
+            f"{solver:24} {m['found']:>5}/{m['checked']:<6} "
+            f"{m['near_found']:>6}/{m['near']:<7} {m['false']:>6} {m['limits']:>7} "
             f"{m['median_us']:>10.0f} {m['p90_us']:>8.0f} {m['solutions']:>9.0f}"
         )
 

@@ -9,9 +9,11 @@ samples e on a grid of ``GRID`` angles over one turn (``angle``). ``pair_bracket
 follows each branch from a sample to the next by its state (the nearest state, wrapped,
 within ``JUMP``: the subproblem's solutions come in no fixed order) and brackets every
 change of sign. Where the branches move fast or their count changes (``rough``: a fold,
-where two branches are born or die together) the interval is sampled ``SUB`` times finer,
-and a fold is located by bisection and bracketed from its side (``fold_brackets``); where
-a branch comes close to zero without changing sign at the samples (``dips``), its
+where two branches are born or die together) the interval is halved, and halved again
+where it is still rough (at most ``DEPTH`` times: two folds between two samples leave the
+count unchanged but not the branches), and a fold is located by bisection and bracketed
+from its side (``fold_brackets``); where a branch comes close to zero without changing
+sign at the samples (``dips``), its
 extremum is searched for two zeros closer than a grid step. The family refines every
 bracket by regula falsi (Illinois: ``falsi`` and ``update``) on the same branch to full
 precision. (The loops that call ``branches`` are in ``search_zeros``, which calls each
@@ -20,7 +22,7 @@ argument.) ``polish`` then takes the configuration built from a zero to the targ
 Newton steps on the whole pose; the family keeps it if it reaches the target, and
 Pinocchio verifies it as every answer.
 
-What can still be missed: a zero closer to a fold than 2^-14 of a grid step, or two zeros
+What can still be missed: a zero closer to a fold than 2^-17 of a grid step, or two zeros
 of one branch within a grid step whose samples do not dip (``dips``' test); neither is
 expected for a target away from a singularity, and ``benchmarks/families_6r.py`` counts
 what is missed on random arms.
@@ -60,11 +62,11 @@ STATE = 3  # angles a branch is followed by
 GRID = 200  # samples over one turn
 JUMP = 0.5  # rad: a branch's state moves less than this between neighbouring samples
 SMOOTH = 0.2  # rad: a branch moving more than this between samples is sampled finer
-SUB = 8  # ... this many times finer
+DEPTH = 10  # ... halved at most this many times (to 2^-10 of a grid step)
 ZEROS = 16  # at most this many zeros (solutions) are kept
 ITERATIONS = 60  # of regula falsi in one bracket
 CANDIDATES = 32  # brackets kept (a zero may be bracketed twice: at a fold and by samples)
-FOLD_STEPS = 14  # bisections locating where a branch is born or dies (2^-14 of a sub-step)
+FOLD_STEPS = 7  # bisections locating a fold in a piece (2^-17 of a grid step in all)
 DIP_STEPS = 24  # golden-section steps locating a dip's extremum (0.618^24 of two steps)
 GOLDEN = 0.6180339887498949
 POLISH_TOL = 1e-13  # m and rad: Newton on the pose stops below this error
@@ -93,7 +95,7 @@ def nearest(S, m, s):
 def rough(Ea, Sa, ma, Eb, Sb, mb):
     """Whether the branches change too much between two samples to be bracketed from them
     alone (a different count: a fold between them; or a branch whose state moves more than
-    ``SMOOTH``): then the family samples the interval ``SUB`` times finer."""
+    ``SMOOTH``): then the family halves the interval."""
     if ma != mb:
         return True
     for i in range(ma):
@@ -116,16 +118,6 @@ def pair_brackets(xa, Ea, Sa, ma, xb, Eb, Sb, mb, Bx, Bs, count):
             continue
         count = add_bracket(Bx, Bs, count, xa, Ea[i], xb, Eb[j], Sb[j], JUMP)
     return count
-
-
-@njit(cache=True)
-def copy_sample(E, S, M, k, Es, Ss, Ms, u):
-    """Sample k of (E, S, M) into row u of (Es, Ss, Ms)."""
-    Ms[u] = M[k]
-    for i in range(M[k]):
-        Es[u, i] = E[k, i]
-        for c in range(STATE):
-            Ss[u, i, c] = S[k, i, c]
 
 
 @njit(cache=True)

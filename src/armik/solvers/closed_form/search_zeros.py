@@ -20,6 +20,7 @@ from armik.solvers.closed_form import search_q1, search_q4, sixr
 from armik.solvers.closed_form.search_1d import (
     BRANCHES,
     CANDIDATES,
+    DEPTH,
     DIP_STEPS,
     FOLD_STEPS,
     GOLDEN,
@@ -27,11 +28,9 @@ from armik.solvers.closed_form.search_1d import (
     ITERATIONS,
     JUMP,
     STATE,
-    SUB,
     ZEROS,
     add_bracket,
     angle,
-    copy_sample,
     dips,
     falsi,
     fold_brackets,
@@ -49,6 +48,7 @@ from armik.solvers.registry import SolverSpec, register
 from armik.targets.pose import Target
 
 OVER_Q1, OVER_Q4 = 0, 1  # the family codes, as ``sixr.flat`` writes them
+FOLD_ZERO = 1e-3  # m: a branch this near zero next to a fold is polished as a candidate
 REACHED = 1e-10  # m and rad: a polished zero reaches the target (Pinocchio verifies it)
 
 
@@ -81,8 +81,6 @@ def _zeros(family, h, p, R06, p16, X, XS):
         M[k] = _branches(family, angle(k), h, p, R06, p16, E[k], S[k])
     Bx, Bs = np.empty((CANDIDATES, 5)), np.empty((CANDIDATES, STATE))
     e, s, st = np.empty(BRANCHES), np.zeros((BRANCHES, STATE)), np.empty(STATE)
-    Es, Ss = np.empty((SUB + 1, BRANCHES)), np.zeros((SUB + 1, BRANCHES, STATE))
-    Ms = np.empty(SUB + 1, np.int64)
     step = 2.0 * np.pi / GRID
     nb = np.int64(0)  # not a literal 0: the callees would compile for it too
     for k in range(GRID):
@@ -90,27 +88,9 @@ def _zeros(family, h, p, R06, p16, X, XS):
         if not rough(E[k], S[k], M[k], E[k2], S[k2], M[k2]):
             nb = pair_brackets(xa, E[k], S[k], M[k], xa + step, E[k2], S[k2], M[k2], Bx, Bs, nb)
             continue
-        copy_sample(E, S, M, k, Es, Ss, Ms, np.int64(0))  # sampled finer
-        copy_sample(E, S, M, k2, Es, Ss, Ms, np.int64(SUB))
-        for u in range(1, SUB):
-            Ms[u] = _branches(family, xa + step * u / SUB, h, p, R06, p16, Es[u], Ss[u])
-        for u in range(SUB):
-            lo, hi = xa + step * u / SUB, xa + step * (u + 1) / SUB
-            nb = pair_brackets(
-                lo, Es[u], Ss[u], Ms[u], hi, Es[u + 1], Ss[u + 1], Ms[u + 1], Bx, Bs, nb
-            )
-            if Ms[u] == Ms[u + 1]:
-                continue
-            x0, x1 = lo, hi  # a fold: Ms[u] branches at x0, Ms[u + 1] at x1
-            for _ in range(FOLD_STEPS):
-                mid = 0.5 * (x0 + x1)
-                if _branches(family, mid, h, p, R06, p16, e, s) == Ms[u + 1]:
-                    x1 = mid
-                else:
-                    x0 = mid
-            near, far, xf = (x1, u + 1, hi) if Ms[u + 1] > Ms[u] else (x0, u, lo)
-            m = _branches(family, near, h, p, R06, p16, e, s)
-            nb = fold_brackets(near, e, s, m, xf, Es[far], Ss[far], Ms[far], Bx, Bs, nb)
+        nb = _refine(
+            family, xa, E[k], S[k], M[k], xa + step, E[k2], S[k2], M[k2], h, p, R06, p16, Bx, Bs, nb
+        )  # fmt: skip
     D = np.empty((CANDIDATES, 3), np.int64)
     count = 0
     for z in range(dips(E, S, M, D)):  # the branch's extremum between its neighbours
@@ -149,6 +129,13 @@ def _zeros(family, h, p, R06, p16, X, XS):
         a, fa, b, fb, jump = Bx[z, 0], Bx[z, 1], Bx[z, 2], Bx[z, 3], Bx[z, 4]
         for c in range(STATE):
             st[c] = Bs[z, c]
+        if jump < 0.0:  # a point next to a fold (``_refine``): polish takes it or not
+            if count < X.shape[0]:
+                X[count] = a
+                for c in range(STATE):
+                    XS[count, c] = st[c]
+                count += 1
+            continue
         x, status = b, 0
         for _ in range(ITERATIONS):
             x = falsi(a, fa, b, fb)
@@ -162,6 +149,63 @@ def _zeros(family, h, p, R06, p16, X, XS):
                 XS[count, c] = st[c]
             count += 1
     return count
+
+
+@njit(cache=True)
+def _refine(family, xa, Ea, Sa, ma, xb, Eb, Sb, mb, h, p, R06, p16, Bx, Bs, nb):
+    """The brackets of a rough grid interval (xa, xb) (``search_1d.rough``): halved where
+    the branches still change too much, at most ``DEPTH`` times, and each piece bracketed
+    from its ends; where a piece's ends count different branches, the fold between them is
+    located by bisection and bracketed from its side. A fold where two branches die and two
+    others are born between two samples leaves the counts equal, so halving on roughness,
+    not only on counts, is what finds the zeros next to such folds."""
+    # pieces left to right: the left end in (xl, El, Sl, ml), the right ends still to
+    # reach on a stack (X, Es, Ss, Ms), each with the number of halvings that made it
+    n = DEPTH + 2
+    X, Es, Ss = np.empty(n), np.empty((n, BRANCHES)), np.zeros((n, BRANCHES, STATE))
+    Ms, Ds = np.empty(n, np.int64), np.empty(n, np.int64)
+    El, Sl, ml, xl = Ea.copy(), Sa.copy(), ma, xa
+    e, s = np.empty(BRANCHES), np.zeros((BRANCHES, STATE))
+    top = 0
+    X[0], Ms[0], Ds[0] = xb, mb, 0
+    for i in range(mb):
+        Es[0, i] = Eb[i]
+        for c in range(STATE):
+            Ss[0, i, c] = Sb[i, c]
+    while top >= 0:
+        xr, mr = X[top], Ms[top]
+        if Ds[top] < DEPTH and rough(El, Sl, ml, Es[top], Ss[top], mr):
+            Ds[top] += 1  # the right half keeps this end; the left half's end is pushed
+            mid = 0.5 * (xl + xr)
+            Ms[top + 1] = _branches(family, mid, h, p, R06, p16, Es[top + 1], Ss[top + 1])
+            X[top + 1], Ds[top + 1] = mid, Ds[top]
+            top += 1
+            continue
+        nb = pair_brackets(xl, El, Sl, ml, xr, Es[top], Ss[top], mr, Bx, Bs, nb)
+        if ml != mr:
+            x0, x1 = xl, xr  # a fold: ml branches at x0, mr at x1
+            for _ in range(FOLD_STEPS):
+                mid = 0.5 * (x0 + x1)
+                if _branches(family, mid, h, p, R06, p16, e, s) == mr:
+                    x1 = mid
+                else:
+                    x0 = mid
+            near = x1 if mr > ml else x0
+            m = _branches(family, near, h, p, R06, p16, e, s)
+            if mr > ml:
+                nb = fold_brackets(near, e, s, m, xr, Es[top], Ss[top], mr, Bx, Bs, nb)
+            else:
+                nb = fold_brackets(near, e, s, m, xl, El, Sl, ml, Bx, Bs, nb)
+            for i in range(m):  # a zero closer to the fold than the bisection: the fold's
+                if abs(e[i]) < FOLD_ZERO:  # point is one, as near as polish needs
+                    nb = add_bracket(Bx, Bs, nb, near, e[i], near, e[i], s[i], -1.0)
+        xl, ml = xr, mr  # on to the next piece
+        for i in range(mr):
+            El[i] = Es[top, i]
+            for c in range(STATE):
+                Sl[i, c] = Ss[top, i, c]
+        top -= 1
+    return nb
 
 
 @njit(cache=True)
