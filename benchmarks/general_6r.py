@@ -12,7 +12,9 @@ called a success whose pose error, measured here with Pinocchio (``pin.log6``), 
 1e-9. Times: ``solve_all`` after one warm-up call per arm, the median over the arms, wall clock and
 the process's CPU time (the second is less sensitive to other work on a shared machine).
 
-``--held``: the Panda with joint 7, then joint 1, held at the generating configuration's
+``--held``: the Panda with joint 7, then joint 1, and an iiwa-like arm (a spherical
+shoulder and wrist: ``armik.model.random_arms.iiwa_like_urdf``) with joint 3, held at the
+generating configuration's
 value (``hold=``), ``-n`` targets each: completeness, the solver that solved the six others,
 median ``solve_all`` time with a new held value (the locked arm is built) and again.
 """
@@ -27,6 +29,7 @@ import numpy as np
 import pinocchio as pin
 
 import armik
+from armik.model.random_arms import iiwa_like_urdf
 from armik.solvers.closed_form import general_6r
 
 
@@ -64,8 +67,9 @@ def random_urdf(rng: np.random.Generator) -> str:
 
 def held(n: int, seed: int) -> None:
     rng = np.random.default_rng(seed)
-    arm = armik.load("panda")
-    for joint in ("panda_joint7", "panda_joint1"):
+    panda = armik.load("panda")
+    iiwa = armik.load_string(iiwa_like_urdf(), base="base", tip="tool")
+    for arm, joint in ((panda, "panda_joint7"), (panda, "panda_joint1"), (iiwa, "j3")):
         k = arm.joint_names.index(joint)
         first, again, complete, solvers = [], [], 0, set()
         for _ in range(n):
@@ -83,7 +87,7 @@ def held(n: int, seed: int) -> None:
             wrapped = [np.abs(np.angle(np.exp(1j * (r.q - q)))).max() for r in ok]
             complete += bool(wrapped) and min(wrapped) < 1e-6
         print(
-            f"panda, {joint} held: complete {complete}/{n}, solvers {sorted(solvers)}, "
+            f"{arm.name}, {joint} held: complete {complete}/{n}, solvers {sorted(solvers)}, "
             f"solve_all median {1e3 * statistics.median(first):.2f} ms with a new value, "
             f"{1e3 * statistics.median(again):.2f} ms again"
         )

@@ -4,47 +4,17 @@ is among ``solve_all``'s answers, and bad ``hold=`` values get a clear error."""
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pinocchio as pin
 import pytest
 
 import armik
 from armik.errors import InputError, JointError, OptionError
+from armik.model.random_arms import iiwa_like_urdf
 
 from ..conftest import write_urdf
 
-D = math.radians
-
-# A KUKA iiwa 14's kinematics: a spherical shoulder (axes 1, 2, 3 meet) and wrist (5, 6, 7).
-IIWA = [
-    ("0 0 0.1575", "0 0 1", 170),
-    ("0 0 0.2025", "0 1 0", 120),
-    ("0 0 0.2045", "0 0 1", 170),
-    ("0 0 0.2155", "0 -1 0", 120),
-    ("0 0 0.1845", "0 0 1", 170),
-    ("0 0 0.2155", "0 1 0", 120),
-    ("0 0 0.081", "0 0 1", 175),
-]
-
-
-def iiwa_urdf() -> str:
-    parts = ['<?xml version="1.0"?>', '<robot name="iiwa_like">', '<link name="base"/>']
-    parts += [f'<link name="l{i}"/>' for i in range(1, 8)] + ['<link name="tool"/>']
-    parent = "base"
-    for i, (xyz, axis, lim) in enumerate(IIWA, start=1):
-        parts.append(
-            f'<joint name="j{i}" type="revolute"><parent link="{parent}"/><child link="l{i}"/>'
-            f'<origin xyz="{xyz}"/><axis xyz="{axis}"/>'
-            f'<limit lower="{-D(lim)}" upper="{D(lim)}" effort="1" velocity="1"/></joint>'
-        )
-        parent = f"l{i}"
-    parts.append(
-        '<joint name="flange" type="fixed"><parent link="l7"/><child link="tool"/>'
-        '<origin xyz="0 0 0.045"/></joint></robot>'
-    )
-    return "\n".join(parts)
+iiwa_urdf = iiwa_like_urdf  # a KUKA iiwa 14's kinematics (armik.model.random_arms)
 
 
 @pytest.fixture(scope="module")

@@ -16,6 +16,9 @@ Kinds (IK-Geo's classification of 6R arms):
 - ``two_parallel``: axes 2 and 3 parallel, nothing else
 - ``two_intersecting``: axes 5 and 6 meeting, nothing else
 - ``general``: every axis random
+
+``iiwa_like_urdf()``: not random, a 7R arm with a KUKA iiwa 14's kinematics (a spherical
+shoulder and wrist), for the solves with one joint held.
 """
 
 from __future__ import annotations
@@ -104,3 +107,37 @@ def random_urdf(kind: str, rng: np.random.Generator) -> str:
     """The URDF text of a random arm of ``kind`` (``random_axes``, ``urdf_text``)."""
     c, h = random_axes(kind, rng)
     return urdf_text(c, h, rng)
+
+
+# (origin, axis, limit in degrees) of each joint of a KUKA iiwa 14: axes 1, 2, 3 meet
+# (a spherical shoulder), and so do 5, 6, 7 (a spherical wrist)
+IIWA = (
+    ("0 0 0.1575", "0 0 1", 170),
+    ("0 0 0.2025", "0 1 0", 120),
+    ("0 0 0.2045", "0 0 1", 170),
+    ("0 0 0.2155", "0 -1 0", 120),
+    ("0 0 0.1845", "0 0 1", 170),
+    ("0 0 0.2155", "0 1 0", 120),
+    ("0 0 0.081", "0 0 1", 175),
+)
+
+
+def iiwa_like_urdf() -> str:
+    """A URDF of the iiwa's kinematics: links ``base``, ``l1`` ... ``l7``, ``tool``, joints
+    ``j1`` ... ``j7``, no geometry."""
+    parts = ['<?xml version="1.0"?>', '<robot name="iiwa_like">', '<link name="base"/>']
+    parts += [f'<link name="l{i}"/>' for i in range(1, 8)] + ['<link name="tool"/>']
+    parent = "base"
+    for i, (xyz, axis, limit) in enumerate(IIWA, start=1):
+        rad = np.radians(limit)
+        parts.append(
+            f'<joint name="j{i}" type="revolute"><parent link="{parent}"/><child link="l{i}"/>'
+            f'<origin xyz="{xyz}"/><axis xyz="{axis}"/>'
+            f'<limit lower="{-rad}" upper="{rad}" effort="1" velocity="1"/></joint>'
+        )
+        parent = f"l{i}"
+    parts.append(
+        '<joint name="flange" type="fixed"><parent link="l7"/><child link="tool"/>'
+        '<origin xyz="0 0 0.045"/></joint></robot>'
+    )
+    return "\n".join(parts)
