@@ -30,7 +30,7 @@ class Settings(NamedTuple):
     timeout_ns: int  # thread CPU time per target, or NO_LIMIT
     iteration_budget: int  # iterations per target, or NO_LIMIT
     step: int  # STEP_DLS or STEP_QP
-    backend: int  # index of the QP backend in ``backend.BACKENDS``
+    backend: int  # index of the QP backend in ``box_qp.backends()``
     check_reach: bool  # every position axis measured: far targets fail at once
     reach_slack: float  # m, added to the reach bound (the verification's tolerance)
     pull_scale: float  # 1 / the largest weight: the null-space pull's measure of the error

@@ -16,8 +16,9 @@ before the box test took the Panda from 98.4 % to 99.8 % success in ``armik benc
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import qpsolvers
 
 from armik.kernel import box_qp as backend
 from armik.kernel import problem
@@ -38,7 +39,8 @@ from armik.solvers.registry import SolverSpec, register
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 
-BACKEND_OPTIONS = backend.BACKEND_OPTIONS
+if TYPE_CHECKING:
+    import qpsolvers
 
 
 def build_problem(pb: Problem, s: State, mu: float = 1.0) -> qpsolvers.Problem:
@@ -74,10 +76,10 @@ def make_step(backend_name: str) -> Step:
 
 def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
     name = "osqp" if opts is None else opts.qp_solver
-    if name not in backend.BACKENDS:
+    if name not in backend.backends():
         return (
             f"QP backend {name!r} is not installed; installed: "
-            f"{', '.join(backend.BACKENDS) or 'none'}"
+            f"{', '.join(backend.backends()) or 'none'}"
         )
     return None
 
