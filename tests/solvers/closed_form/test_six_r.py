@@ -270,12 +270,12 @@ def test_run_batch_matches_solve(rng):
             np.array([T.translation for T in poses]), np.array([T.rotation for T in poses])
         )
         q0 = np.clip(qs + 0.2, a.lower, a.upper)
-        out = family.run_batch(a, targets, q0, Options())
+        out = family.SPEC.run_batch(a, targets, q0, Options())
         assert out.q.shape == (30, 6) and (out.claim == Status.CONVERGED.code).all()
         for T, q, q0i in zip(poses, out.q, q0):
             assert np.abs(q - a.solve(T, q0=q0i).q).max() < 1e-9
         with pytest.raises(SolverError, match="full poses"):
-            family.run_batch(a, TargetBatch(targets.positions), q0, Options())
+            family.SPEC.run_batch(a, TargetBatch(targets.positions), q0, Options())
 
 
 @pytest.mark.parametrize(

@@ -13,9 +13,6 @@ import numpy as np
 from numba import njit
 
 from armik.kernel.single import plain_pose, plain_seed
-from armik.model.arm_model import ArmModel
-from armik.options import Options
-from armik.solvers.claims import Attempt, AttemptBatch
 from armik.solvers.closed_form import search_q1, search_q4, sixr
 from armik.solvers.closed_form.search_1d import (
     BRANCHES,
@@ -44,8 +41,6 @@ from armik.solvers.closed_form.search_1d import (
 )
 from armik.solvers.closed_form.sixr import LS, NOT_FOUND
 from armik.solvers.closed_form.subproblems import mat, mmt, mv, sub, vec
-from armik.solvers.registry import SolverSpec, register
-from armik.targets.pose import Target
 
 OVER_Q1, OVER_Q4 = 0, 1  # the family codes, as ``sixr.flat`` writes them
 FOLD_ZERO = 1e-3  # m: a branch this near zero next to a fold is polished as a candidate
@@ -231,7 +226,7 @@ def _bracket(family, xa, xm, fm, st, h, p, R06, p16, e, s, Bx, Bs, nb):
 
 
 @njit(cache=True)
-def kernel(family, h, p, R_tip0, R, pos, q0, lower, upper, labelled, out):
+def kernel(h, p, R_tip0, R, pos, q0, lower, upper, family, labelled, out):
     """Every solution the search finds for the target rotation ``R`` (9-tuple, row-major)
     and position ``pos`` (3-tuple), each polished on the whole pose, packed nearest-first
     into ``out`` (16, 11), the first ``labelled`` with their branch; returns (n, first
@@ -263,7 +258,7 @@ def solve_into(chain, H, q0, every, out):
         return -1, 0
     labelled = ZEROS if every else 1
     n, reached = kernel(
-        family, h, p, R_tip0, mat(H), sixr.column(H), q0, lower, upper, labelled, out
+        h, p, R_tip0, mat(H), sixr.column(H), q0, lower, upper, family, labelled, out
     )
     return sixr.hand_over(n, reached, labelled, h, p, out)
 
@@ -278,61 +273,8 @@ def kernel_many(chain, Rs, ps, q0s):
     out = np.empty((ZEROS, 11))  # one for every target
     unlabelled = np.int64(0)  # no branch labels (not a literal 0: one compile of kernel)
     for i in range(N):
-        kernel(family, h, p, R_tip0, mat(Rs[i]), vec(ps[i]), q0s[i], lower, upper, unlabelled, out)
+        kernel(h, p, R_tip0, mat(Rs[i]), vec(ps[i]), q0s[i], lower, upper, family, unlabelled, out)
         for j in range(6):  # a loop: a slice copy compiles numba's shape-error path
             Q[i, j] = out[0, j]
         claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
     return Q, claim
-
-
-class Search:
-    """A searching family's Python side: ``run``, ``run_batch`` and ``prepare_pose`` for
-    its ``SolverSpec``."""
-
-    def __init__(self, family: str, classify, closed_form: str):
-        self.family, self.classify, self.closed_form = family, classify, closed_form
-
-    def applies(self, arm: ArmModel, target: Target | None = None, opts: Options | None = None):
-        return sixr.applies(arm, target, opts, self.family, self.classify)
-
-    def run(
-        self, arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
-    ) -> list[Attempt]:
-        chain = sixr.flat(arm, self.family, self.classify)
-        h, p, R_tip0, lower, upper, code = sixr.unflatten.py_func(chain)
-        R, pos = sixr.pose_arrays(target)
-        out = np.empty((ZEROS, 11))
-        # every row, labelled: ``solve``'s verdict takes the first that Pinocchio verifies
-        n, _ = kernel(
-            np.int64(code), h, p, R_tip0, mat(R), vec(pos), q0, lower, upper, np.int64(ZEROS), out
-        )
-        return sixr.attempts(out[:n], self.family, self.closed_form)
-
-    def run_batch(
-        self, arm: ArmModel, targets, q0: np.ndarray, opts: Options, seeds=None
-    ) -> AttemptBatch:
-        """Every target in one compiled call (GIL released), the ``SolverSpec.run_batch``
-        shape; ``seeds`` is unused (no restarts)."""
-        chain = sixr.flat(arm, self.family, self.classify)
-        return sixr.batch(arm, targets, q0, kernel_many, chain)
-
-    def prepare_pose(self, arm: ArmModel, opts: Options, position_only: bool):
-        # position_only is always False: ``applies`` refuses position targets
-        return sixr.pose_runner(
-            arm, self.family, self.classify, solve_into, self.closed_form, ZEROS
-        )
-
-    def register(self, priority: int, summary: str) -> SolverSpec:
-        return register(
-            SolverSpec(
-                name=self.family,
-                kind="analytic",
-                enforces_limits=True,
-                priority=priority,
-                why_not=self.applies,
-                run=self.run,
-                summary=summary,
-                run_batch=self.run_batch,
-                prepare_pose=self.prepare_pose,
-            )
-        )

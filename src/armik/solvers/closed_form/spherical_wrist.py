@@ -28,9 +28,8 @@ from numba import njit
 from armik.kernel.single import plain_pose, plain_seed
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, angle_between, axis_lines, fmt, meeting_point
-from armik.options import Options
-from armik.solvers.claims import Attempt, AttemptBatch
 from armik.solvers.closed_form import sixr
+from armik.solvers.closed_form.family import Family
 from armik.solvers.closed_form.sixr import LS, SHOULDER_OFFSET, SINGULAR, WRIST_ORIENTATION
 from armik.solvers.closed_form.subproblems import (
     add,
@@ -52,8 +51,6 @@ from armik.solvers.closed_form.subproblems import (
     sub,
     vec,
 )
-from armik.solvers.registry import SolverSpec, register
-from armik.targets.pose import Target
 from armik.tolerances import ANGLE_TOL, DISTANCE_TOL
 
 CLOSED_FORM = "closed form (spherical wrist)"
@@ -251,44 +248,6 @@ def _classify(arm: ArmModel):
     return classify(arm)
 
 
-def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
-    return sixr.applies(arm, target, opts, FAMILY, _classify)
-
-
-def run(
-    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
-) -> list[Attempt]:
-    h, p, R_tip0, lower, upper, variant = sixr.unflatten.py_func(sixr.flat(arm, FAMILY, _classify))
-    R, pos = sixr.pose_arrays(target)
-    out = np.empty((8, 11))
-    # every row, labelled: ``solve``'s verdict takes the first that Pinocchio verifies
-    n, _ = kernel(h, p, R_tip0, mat(R), vec(pos), q0, lower, upper, variant, np.int64(8), out)
-    return sixr.attempts(out[:n], FAMILY, CLOSED_FORM)
-
-
-def run_batch(arm: ArmModel, targets, q0: np.ndarray, opts: Options, seeds=None) -> AttemptBatch:
-    """Every target in one compiled call (GIL released), the ``SolverSpec.run_batch``
-    shape; ``seeds`` is unused (no restarts). ``solve_batch`` solves the rows that fail
-    again through ``run``, so that they carry its per-target reasons."""
-    chain = sixr.flat(arm, FAMILY, _classify)
-    return sixr.batch(arm, targets, q0, kernel_many, chain)
-
-
-def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):
-    # position_only is always False: ``applies`` refuses position targets
-    return sixr.pose_runner(arm, FAMILY, _classify, solve_into, CLOSED_FORM)
-
-
-SPEC = register(
-    SolverSpec(
-        name="spherical",
-        kind="analytic",
-        enforces_limits=True,
-        priority=90,
-        why_not=applies,
-        run=run,
-        summary="closed form for 6R arms with a spherical wrist: up to 8 solutions",
-        run_batch=run_batch,
-        prepare_pose=prepare_pose,
-    )
+SPEC = Family(FAMILY, _classify, CLOSED_FORM, kernel, solve_into, kernel_many).register(
+    "spherical", 90, "closed form for 6R arms with a spherical wrist: up to 8 solutions"
 )

@@ -30,9 +30,8 @@ from numba import njit
 from armik.kernel.single import plain_pose, plain_seed
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, angle_between, axis_lines, fmt, meeting_point
-from armik.options import Options
-from armik.solvers.claims import Attempt, AttemptBatch
 from armik.solvers.closed_form import sixr
+from armik.solvers.closed_form.family import Family
 from armik.solvers.closed_form.sixr import LS, ORIENTATION, SHOULDER_OFFSET, SINGULAR
 from armik.solvers.closed_form.subproblems import (
     SINGLE,
@@ -55,8 +54,6 @@ from armik.solvers.closed_form.subproblems import (
     vec,
     wrap,
 )
-from armik.solvers.registry import SolverSpec, register
-from armik.targets.pose import Target
 from armik.tolerances import ANGLE_TOL, DISTANCE_TOL
 
 CLOSED_FORM = "closed form (three parallel axes)"
@@ -140,10 +137,11 @@ def reach_turn(c, p4, h2, theta, span2):
 
 
 @njit(cache=True)
-def kernel(h, p, R_tip0, R, pos, q0, lower, upper, labelled, out):
+def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
     """All closed-form solutions for the target rotation ``R`` (9-tuple, row-major) and
     position ``pos`` (3-tuple), packed nearest-first into ``out`` (8, 11), the first
-    ``labelled`` with their branch; returns (n, first reached) (see ``sixr.pack``)."""
+    ``labelled`` with their branch; returns (n, first reached) (see ``sixr.pack``).
+    ``variant`` is unused: the arguments every family's kernel takes (``family``)."""
     W = np.empty((8, 11))
     h1, h2, h3, h4 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[3])
     h5, h6 = vec(h[4]), vec(h[5])
@@ -228,25 +226,29 @@ def solve_into(chain, H, q0, every, out):
     """``kernel`` for one 4x4 pose ``H``, its rows packed into ``out`` (8, 11); returns
     ``sixr.hand_over``'s (n, head), or n = -1 and nothing solved when ``H`` or ``q0`` is
     not plain (``kernel.single``). ``chain``: ``sixr.flat``."""
-    h, p, R_tip0, lower, upper, _ = sixr.unflatten(chain)
+    h, p, R_tip0, lower, upper, variant = sixr.unflatten(chain)
     if not plain_pose(H) or not plain_seed(q0, lower, upper):
         return -1, 0
     labelled = 8 if every else 1
-    n, reached = kernel(h, p, R_tip0, mat(H), sixr.column(H), q0, lower, upper, labelled, out)
+    n, reached = kernel(
+        h, p, R_tip0, mat(H), sixr.column(H), q0, lower, upper, variant, labelled, out
+    )
     return sixr.hand_over(n, reached, labelled, h, p, out)
 
 
 @njit(cache=True, nogil=True)
 def kernel_many(chain, Rs, ps, q0s):
     """``kernel`` for N targets: the row nearest q0 of each, and its claim code."""
-    h, p, R_tip0, lower, upper, _ = sixr.unflatten(chain)
+    h, p, R_tip0, lower, upper, variant = sixr.unflatten(chain)
     N = ps.shape[0]
     Q = np.empty((N, 6))
     claim = np.empty(N, np.int8)
     out = np.empty((8, 11))  # one for every target
     unlabelled = np.int64(0)  # no branch labels (not a literal 0: one compile of kernel)
     for i in range(N):
-        kernel(h, p, R_tip0, mat(Rs[i]), vec(ps[i]), q0s[i], lower, upper, unlabelled, out)
+        kernel(
+            h, p, R_tip0, mat(Rs[i]), vec(ps[i]), q0s[i], lower, upper, variant, unlabelled, out
+        )
         for j in range(6):  # a loop: a slice copy compiles numba's shape-error path
             Q[i, j] = out[0, j]
         claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
@@ -257,44 +259,6 @@ def _classify(arm: ArmModel):
     return classify(arm)
 
 
-def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
-    return sixr.applies(arm, target, opts, FAMILY, _classify)
-
-
-def run(
-    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
-) -> list[Attempt]:
-    h, p, R_tip0, lower, upper, _ = sixr.unflatten.py_func(sixr.flat(arm, FAMILY, _classify))
-    R, pos = sixr.pose_arrays(target)
-    out = np.empty((8, 11))
-    # every row, labelled: ``solve``'s verdict takes the first that Pinocchio verifies
-    n, _ = kernel(h, p, R_tip0, mat(R), vec(pos), q0, lower, upper, np.int64(8), out)
-    return sixr.attempts(out[:n], FAMILY, CLOSED_FORM)
-
-
-def run_batch(arm: ArmModel, targets, q0: np.ndarray, opts: Options, seeds=None) -> AttemptBatch:
-    """Every target in one compiled call (GIL released), the ``SolverSpec.run_batch``
-    shape; ``seeds`` is unused (no restarts). ``solve_batch`` solves the rows that fail
-    again through ``run``, so that they carry its per-target reasons."""
-    chain = sixr.flat(arm, FAMILY, _classify)
-    return sixr.batch(arm, targets, q0, kernel_many, chain)
-
-
-def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):
-    # position_only is always False: ``applies`` refuses position targets
-    return sixr.pose_runner(arm, FAMILY, _classify, solve_into, CLOSED_FORM)
-
-
-SPEC = register(
-    SolverSpec(
-        name="three_parallel",
-        kind="analytic",
-        enforces_limits=True,
-        priority=90,
-        why_not=applies,
-        run=run,
-        summary="closed form for 6R arms with axes 2, 3, 4 parallel (UR family): up to 8",
-        run_batch=run_batch,
-        prepare_pose=prepare_pose,
-    )
+SPEC = Family(FAMILY, _classify, CLOSED_FORM, kernel, solve_into, kernel_many).register(
+    "three_parallel", 90, "closed form for 6R arms with axes 2, 3, 4 parallel (UR family): up to 8"
 )

@@ -11,8 +11,8 @@ import numpy as np
 
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, angle_between, axis_lines, fmt, meeting_point
-from armik.solvers.closed_form import sixr
-from armik.solvers.closed_form.search_zeros import Search
+from armik.solvers.closed_form import search_zeros, sixr
+from armik.solvers.closed_form.family import Family
 from armik.tolerances import ANGLE_TOL, DISTANCE_TOL
 
 CLOSED_FORM = "one-dimensional search (axes 2 and 3 parallel)"
@@ -54,4 +54,7 @@ def _classify(arm: ArmModel):
     return classify(arm)
 
 
-SPEC = Search(FAMILY, _classify, CLOSED_FORM).register(PRIORITY, SUMMARY)
+SPEC = Family(
+    FAMILY, _classify, CLOSED_FORM, search_zeros.kernel, search_zeros.solve_into,
+    search_zeros.kernel_many, search_zeros.ZEROS,
+).register(FAMILY, PRIORITY, SUMMARY)  # fmt: skip
