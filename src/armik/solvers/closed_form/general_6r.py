@@ -37,6 +37,7 @@ from armik.model.geometry import Axes, axis_lines
 from armik.options import Options
 from armik.solvers.claims import Attempt
 from armik.solvers.closed_form import sixr
+from armik.solvers.closed_form.search_1d import solve6
 from armik.solvers.closed_form.subproblems import (
     add,
     cross,
@@ -223,35 +224,6 @@ def pose_error(h, p, R_tip0, R, pos, q, J, e):
 
 
 @njit(cache=True)
-def _solve6(A, b, x):
-    """x = A^-1 b for the 6 x 6 ``A`` (overwritten) by Gaussian elimination with partial
-    pivoting; False when A is singular."""
-    for c in range(6):
-        x[c] = b[c]
-    for c in range(6):
-        piv = c
-        for r in range(c + 1, 6):
-            if abs(A[r, c]) > abs(A[piv, c]):
-                piv = r
-        if abs(A[piv, c]) < 1e-300:
-            return False
-        if piv != c:
-            for k in range(6):
-                A[c, k], A[piv, k] = A[piv, k], A[c, k]
-            x[c], x[piv] = x[piv], x[c]
-        for r in range(c + 1, 6):
-            m = A[r, c] / A[c, c]
-            for k in range(c, 6):
-                A[r, k] -= m * A[c, k]
-            x[r] -= m * x[c]
-    for c in range(5, -1, -1):
-        for k in range(c + 1, 6):
-            x[c] -= A[c, k] * x[k]
-        x[c] /= A[c, c]
-    return True
-
-
-@njit(cache=True)
 def polish(h, p, R_tip0, R, pos, q, iters):
     """Damped Newton steps (Levenberg-Marquardt) on the 6-D pose error from ``q`` (changed
     in place); returns the final |error|. A seed still ``GIVE_UP`` away after ``TRIES``
@@ -273,7 +245,9 @@ def polish(h, p, R_tip0, R, pos, q, iters):
                 for k in range(6):
                     s += J[k, a] * J[k, c]
                 A[a, c] = s + (mu if a == c else 0.0)
-        if not _solve6(A, b, dq):
+        for a in range(6):
+            dq[a] = b[a]
+        if not solve6(A, dq, 1e-300):
             mu = max(mu * 100.0, 1e-9)
             continue
         for a in range(6):

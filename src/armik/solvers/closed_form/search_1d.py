@@ -259,16 +259,16 @@ def _pose_error(h, p, R_tip0, R, pos, q, J, r):
 
 
 @njit(cache=True)
-def _solve6(A, b):
-    """x with A x = b (6 x 6, Gaussian elimination with partial pivoting; A and b are
-    overwritten); returns (x, ok)."""
+def solve6(A, b, tiny):
+    """b = A^-1 b for the 6 x 6 ``A`` by Gaussian elimination with partial pivoting, in place
+    (A is overwritten); False, b left half done, when a pivot is below ``tiny``."""
     for col in range(6):
         piv, big = col, abs(A[col, col])
         for r in range(col + 1, 6):
             if abs(A[r, col]) > big:
                 piv, big = r, abs(A[r, col])
-        if big < 1e-14:
-            return b, False
+        if big < tiny:
+            return False
         if piv != col:
             for c in range(6):
                 A[col, c], A[piv, c] = A[piv, c], A[col, c]
@@ -283,7 +283,7 @@ def _solve6(A, b):
         for c in range(r + 1, 6):
             acc -= A[r, c] * b[c]
         b[r] = acc / A[r, r]
-    return b, True
+    return True
 
 
 @njit(cache=True)
@@ -296,11 +296,10 @@ def polish(h, p, R_tip0, R, pos, q):
     for _ in range(6):
         if err <= POLISH_TOL:
             break
-        dq, ok = _solve6(J, r)
-        if not ok:
+        if not solve6(J, r, 1e-14):
             break
         for i in range(6):
-            q[i] += dq[i]
+            q[i] += r[i]
         err = _pose_error(h, p, R_tip0, R, pos, q, J, r)
     return err
 
