@@ -41,6 +41,7 @@ from armik.verify.verdict import (
     failure_rank,
     finish,
     limits_reason,
+    number_repeated_branches,
     seed_distance,
     success_reason,
     verdict,
@@ -235,6 +236,7 @@ class Plan:
         failed.sort(key=lambda pair: pair[0])
         if failed:
             verified += [fields for _, fields in failed]
+        number_repeated_branches(verified)
         elapsed = time.perf_counter() - t0
         for fields in verified:
             fields["time"] = elapsed

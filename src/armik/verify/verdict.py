@@ -54,11 +54,29 @@ def ranked(rows: list[dict], solver: str, seed, all_solutions: bool, t0: float):
     if len(rows) > 1:
         rows.sort(key=lambda r: _rank(r, seed))
     rows = rows if all_solutions else rows[:1]
+    if all_solutions:
+        number_repeated_branches(rows)
     elapsed = time.perf_counter() - t0
     for row in rows:
         row["solver"] = solver
         row["time"] = elapsed
     return [IKResult._checked(row) for row in rows]
+
+
+def number_repeated_branches(rows: list[dict]) -> None:
+    """Make the branch labels of ``solve_all``'s rows distinct, in their order: a label
+    met again gets "#2", "#3" (a search family has up to 16 solutions and 8 labels)."""
+    if len(rows) < 2:
+        return
+    seen: dict[str, int] = {}
+    for row in rows:
+        label = row.get("branch")
+        if label is None:
+            continue
+        count = seen.get(label, 0) + 1
+        seen[label] = count
+        if count > 1:
+            row["branch"] = f"{label}#{count}"
 
 
 def _first_verified(arm: ArmModel, attempts: list[Attempt], target, opts: Options, seed) -> list:

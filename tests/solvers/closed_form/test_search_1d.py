@@ -160,3 +160,14 @@ def test_zeros_next_to_folds_are_found(kind, arm_index, config):
     results = arm.solve_all(arm.fk(q), solver=kind)
     found = [np.abs(np.angle(np.exp(1j * (r.q - q)))).max() for r in results if r.success]
     assert min(found) < 1e-6, found
+
+
+@pytest.mark.parametrize("kind", list(FAMILIES))
+def test_solve_all_numbers_the_branch_labels_two_solutions_share(kind):
+    arm, q = _replayed(kind, 0, 0)
+    T = arm.fk(q)
+    labels = [r.branch for r in arm.solve_all(T, solver=kind)]
+    assert len(set(labels)) == len(labels) and any("#2" in b for b in labels), labels
+    # the general path (a list seed is not plain) labels them alike
+    general = arm.solve_all(T, q0=arm.middle.tolist(), solver=kind)
+    assert [r.branch for r in general] == labels

@@ -2,7 +2,7 @@
 over q4 (IK-Geo's ``IK_2_intersecting``): the classifier and the solver's registration.
 The search's equations and branches are in ``search_q4``, its zero finder in
 ``search_zeros``. Up to 16 solutions; branch labels as the closed forms read them, two
-solutions may share one.
+solutions sharing one numbered ("...#2").
 """
 
 from __future__ import annotations

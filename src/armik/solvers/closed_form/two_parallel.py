@@ -1,8 +1,8 @@
 """IK of 6R arms with axes 2 and 3 parallel and nothing else, by a one-dimensional search
 over q1 (IK-Geo's ``IK_2_parallel``): the classifier and the solver's registration. The
 search's equations and branches are in ``search_q1``, its zero finder in ``search_zeros``.
-Up to 16 solutions; branch labels as the closed forms read them, two solutions may share
-one.
+Up to 16 solutions; branch labels as the closed forms read them, numbered where two
+solutions share one ("...#2").
 """
 
 from __future__ import annotations
