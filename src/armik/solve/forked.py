@@ -9,7 +9,7 @@ milliseconds and loads nothing. The parent works too; every process takes the ne
 from a shared counter, a child sends each chunk's rows back through a pipe, and the parent
 puts them in place and reports them.
 
-Fork is used only where it is safe: the platform has it, and the calling process runs one
+Fork is used only where it is safe: on Linux, and when the calling process runs one
 thread. A fork copies only the thread that calls it, so a lock some other thread held
 would stay locked in the child for ever; with other threads alive, the batch runs on
 threads instead (``usable``).
@@ -18,6 +18,7 @@ threads instead (``usable``).
 from __future__ import annotations
 
 import multiprocessing
+import sys
 import threading
 from collections.abc import Callable, Sequence
 from multiprocessing.connection import wait
@@ -26,9 +27,10 @@ from armik.errors import ArmikError
 
 
 def usable() -> bool:
-    """Whether chunks may go to forked processes here: the platform can fork and this
-    process runs one thread."""
-    return "fork" in multiprocessing.get_all_start_methods() and threading.active_count() == 1
+    """Whether chunks may go to forked processes here: Linux (macOS can fork, but its
+    system libraries, Accelerate among them, are not safe to use in a forked child) and
+    this process runs one thread."""
+    return sys.platform.startswith("linux") and threading.active_count() == 1
 
 
 def run(
