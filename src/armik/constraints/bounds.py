@@ -1,10 +1,12 @@
 """Lower bounds on the distances of a checker's pairs, compiled: one small kernel over plain
 arrays (``collision.Checker.bounds`` gathers them). A link object is held by a sphere (its
 centre in its joint's frame, its radius) and by a capsule (two ends, a radius); an obstacle
-by a box (rotation, centre, half sides), all in the arm's base frame. ``ordered_bounds``
-places the joints by the chain's own FK (``kernel.fk.joint_frames``) and puts the pairs of
-smallest bounds in order in the same call: reading Pinocchio's joint placements one by one
-from Python cost more than coal's distances.
+by a box (rotation, centre, half sides), all in the arm's base frame. A pair of two link
+objects is bounded by the larger of sphere to sphere and segment to segment, a link and an
+obstacle by the larger of sphere to box and the capsule's separation along a box axis.
+``ordered_bounds`` places the joints by the chain's own FK (``kernel.fk.joint_frames``) and
+puts the pairs of smallest bounds in order in the same call: reading Pinocchio's joint
+placements one by one from Python cost more than coal's distances.
 """
 
 from __future__ import annotations
@@ -88,16 +90,23 @@ def pair_bounds(
         a = link[k]
         outside = 0.0
         inside = -math.inf
+        gap = -math.inf  # the capsule's segment apart from the box along one box axis
         for r in range(3):
-            v = 0.0
+            v = v0 = v1 = 0.0
             for m in range(3):
                 v += box_R[k, m, r] * (c[a, m] - box_t[k, m])
+                v0 += box_R[k, m, r] * (ends[0, a, m] - box_t[k, m])
+                v1 += box_R[k, m, r] * (ends[1, a, m] - box_t[k, m])
             e = abs(v) - box_half[k, r]
             if e > 0.0:
                 outside += e * e
             if e > inside:
                 inside = e
-        out[s + k] = math.sqrt(outside) + min(inside, 0.0) - radius[a]
+            gap = max(gap, min(v0, v1) - box_half[k, r], -box_half[k, r] - max(v0, v1))
+        sphere = math.sqrt(outside) + min(inside, 0.0) - radius[a]
+        # a segment ``gap`` > 0 apart along an axis: moving the capsule by its radius - gap
+        # along it parts them, so the signed distance is at least gap - radius
+        out[s + k] = max(sphere, gap - capsule[a, 6]) if gap > 0.0 else sphere
 
 
 @njit(cache=True, nogil=True)
