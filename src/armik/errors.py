@@ -13,6 +13,19 @@ from collections.abc import Iterable
 class ArmikError(Exception):
     """Base class of every error armik raises."""
 
+    def __reduce__(self):
+        # pickled with its fields: the subclasses' fields are keyword-only, which
+        # Exception's own pickling (``cls(*args)``) does not pass (a worker process or a
+        # cluster sends its errors pickled)
+        return (_rebuilt, (type(self), self.args, dict(self.__dict__)))
+
+
+def _rebuilt(cls: type, args: tuple, fields: dict) -> ArmikError:
+    error = cls.__new__(cls, *args)
+    error.args = args
+    error.__dict__.update(fields)
+    return error
+
 
 class ArmikWarning(UserWarning):
     """Warnings armik emits (for example a seed clipped into the joint limits)."""

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import armik
-from armik.errors import ArmikError
+from armik.errors import ArmikError, OptionError
 from armik.solve import batch, forked
 
 pytestmark = pytest.mark.skipif(
@@ -96,3 +96,12 @@ def test_a_batch_falls_back_to_threads_when_another_thread_runs(monkeypatch):
     one = batch.solve_batch(ur5, T, workers=1, progress=False, self_collision=True)
     np.testing.assert_array_equal(r.q, one.q)
     assert r.success.sum() >= 6
+
+
+def test_an_armik_error_in_a_child_comes_back_with_its_fields():
+    def fail(start):
+        raise OptionError("bad value", option="timeout", value=start)
+
+    with pytest.raises(OptionError, match="bad value") as caught:
+        forked.run(_child_takes_one(fail), range(3), 2, lambda start, value: None)
+    assert caught.value.option == "timeout"

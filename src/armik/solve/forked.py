@@ -18,6 +18,7 @@ threads instead (``usable``).
 from __future__ import annotations
 
 import multiprocessing
+import pickle
 import sys
 import threading
 from collections.abc import Callable, Sequence
@@ -85,8 +86,9 @@ def _child(work, starts, taken, send) -> None:
         send.send(_DONE)
     except BaseException as error:  # noqa: BLE001 - every failure goes to the parent
         try:
+            pickle.loads(pickle.dumps(error))  # it must come back whole, or as its text
             send.send(_Failed(error))
-        except Exception:  # an exception that does not pickle: its text
+        except Exception:
             send.send(_Failed(ArmikError(f"a batch worker process failed: {error!r}")))
     finally:
         send.close()
