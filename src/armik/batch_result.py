@@ -303,7 +303,7 @@ class BatchResult:
         for name in _ARRAYS:
             getattr(self, name)[start:stop] = getattr(part, name)
         self.reasons.update({start + i: r for i, r in part.reasons.items()})
-        if part.pair_names:
+        if part.pair_names and part.pair_names != self.pair_names:
             mine = np.array([self._pair(p) for p in part.pair_names] + [-1], dtype=np.int32)
             self.pair_index[start:stop] = mine[part.pair_index]  # -1 stays -1
         else:
