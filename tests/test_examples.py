@@ -21,6 +21,8 @@ EXPECT = {
         "three_parallel",
         "spherical",
         "| panda (joint 7 locked) | general_6r |",
+        "| random two_parallel arm | two_parallel |",
+        "| random two_intersecting arm | two_intersecting |",
         "success_vs_boundary.png",
     ],
     "08_many_targets.py": ["batch:", "no snap back", "discontinuous", "reach_panda.png"],

@@ -12,7 +12,8 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from armik.arm import Arm, load
+from armik.arm import Arm, load, load_string
+from armik.model.random_arms import random_urdf
 from armik.options import Options
 from armik.solvers import registry
 from armik.targets.pose import parse_target
@@ -171,17 +172,25 @@ def _measure(
     )
 
 
+# random arms of the 6R families no bundled arm belongs to: the general spherical wrist,
+# three parallel axes without a wrist, and the two searches' families
+RANDOM_FAMILIES = ("spherical", "three_parallel_free", "two_parallel", "two_intersecting")
+
+
 def run(
     n: int = 500,
     seed: int = 7,
     spatial: tuple[str, ...] = ("panda",),
     closed_form: tuple[str, ...] = ("ur5", "abb_irb120"),
     general: tuple[str, ...] = ("panda",),
+    families: tuple[str, ...] = RANDOM_FAMILIES,
 ) -> Report:
     """Run every experiment; ``n`` targets each. ``spatial``: arms solved numerically only;
     ``closed_form``: 6R arms whose analytic family is compared with dls and qp;
     ``general``: 7R arms with their last joint locked at 0.3 rad, 6R arms no closed form
-    fits, where ``general_6r`` (the 2-D search) is compared with dls and qp the same way."""
+    fits, where ``general_6r`` (the 2-D search) is compared with dls and qp the same way;
+    ``families``: kinds of random 6R arm (``armik.model.random_arms``) for the families no
+    bundled arm belongs to, compared the same way."""
     report = Report()
     rng = np.random.default_rng(seed)
 
@@ -266,6 +275,9 @@ def run(
         arm = load(name)
         locked = arm.with_locked({arm.joint_names[-1]: 0.3})
         _closed_form_arm(locked, n, rng, report, label=f"{name} (joint 7 locked)")
+    for kind in families:
+        arm = load_string(random_urdf(kind, rng), base="world", tip="tool")
+        _closed_form_arm(arm, n, rng, report, label=f"random {kind} arm")
     return report
 
 

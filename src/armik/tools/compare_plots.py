@@ -19,7 +19,8 @@ def plot(report: Report, out_dir: str | Path) -> list[Path]:
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    keys = [k for k in report.samples if "/" in k]
+    # the bundled arms (the random family arms' rows are in the table only)
+    keys = [k for k in report.samples if "/" in k and not k.startswith("random ")]
     paths = []
 
     fig, ax = plt.subplots(figsize=(8, 4.5))
