@@ -4,6 +4,9 @@ and after joint 6, near misses refused with their number, out-of-reach targets r
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -171,3 +174,29 @@ def test_solve_all_numbers_the_branch_labels_two_solutions_share(kind):
     # the general path (a list seed is not plain) labels them alike
     general = arm.solve_all(T, q0=arm.middle.tolist(), solver=kind)
     assert [r.branch for r in general] == labels
+
+
+NEAR_FOLDS = json.loads((Path(__file__).parent / "two_parallel_near_folds.json").read_text())
+
+
+@pytest.mark.parametrize(
+    "config",
+    [
+        # two branches born together, each followed to the same state at the next sample:
+        # one's change of sign was missed until such an interval counted as rough
+        "449",
+        # a branch just born dips through zero and back between finer samples
+        "433",
+        # a dip narrower than the grid's parabola shows, between two samples: the midpoints
+        "265",
+        # a dip two samples wide, the branch dying at a fold after it: the probe between them
+        "164",
+    ],
+)
+def test_zeros_in_dips_next_to_folds_are_found(config):
+    # a random two_parallel arm (armik compare's) on which the search missed these
+    arm = armik.load_string(NEAR_FOLDS["urdf"], base="world", tip="tool")
+    q = np.array(NEAR_FOLDS["configurations"][config])
+    results = arm.solve_all(arm.fk(q), solver="two_parallel")
+    found = [np.abs(np.angle(np.exp(1j * (r.q - q)))).max() for r in results if r.success]
+    assert found and min(found) < 1e-6, found

@@ -9,11 +9,12 @@ samples e on a grid of ``GRID`` angles over one turn (``angle``). ``pair_bracket
 follows each branch from a sample to the next by its state (the nearest state, wrapped,
 within ``JUMP``: the subproblem's solutions come in no fixed order) and brackets every
 change of sign. Where the branches move fast or their count changes (``rough``: a fold,
-where two branches are born or die together) the interval is halved, and halved again
-where it is still rough (at most ``DEPTH`` times: two folds between two samples leave the
-count unchanged but not the branches), and a fold is located by bisection and bracketed
-from its side (``fold_brackets``); where a branch comes close to zero without changing
-sign at the samples (``dips``), its
+where two branches are born or die together) the interval is sampled ``SUB`` times finer,
+each finer piece halved where it is still rough (at most ``DEPTH`` times: two folds
+between two samples leave the count unchanged but not the branches), and a fold is
+located by bisection and bracketed from its side (``fold_brackets``); where a branch comes
+close to zero without changing sign at the samples, the grid's or the finer ones
+(``dips``), its
 extremum is searched for two zeros closer than a grid step. The family refines every
 bracket by regula falsi (Illinois: ``falsi`` and ``update``) on the same branch to full
 precision. (The loops that call ``branches`` are in ``search_zeros``, which calls each
@@ -62,7 +63,8 @@ STATE = 3  # angles a branch is followed by
 GRID = 200  # samples over one turn
 JUMP = 0.5  # rad: a branch's state moves less than this between neighbouring samples
 SMOOTH = 0.2  # rad: a branch moving more than this between samples is sampled finer
-DEPTH = 10  # ... halved at most this many times (to 2^-10 of a grid step)
+SUB = 8  # ... sampled this many times finer (the grid's dip test then runs on those)
+DEPTH = 7  # ... and each finer piece halved at most this many times (to 2^-10 of a step)
 ZEROS = 16  # at most this many zeros (solutions) are kept
 ITERATIONS = 60  # of regula falsi in one bracket
 CANDIDATES = 32  # brackets kept (a zero may be bracketed twice: at a fold and by samples)
@@ -94,14 +96,18 @@ def nearest(S, m, s):
 @njit(cache=True)
 def rough(Ea, Sa, ma, Eb, Sb, mb):
     """Whether the branches change too much between two samples to be bracketed from them
-    alone (a different count: a fold between them; or a branch whose state moves more than
-    ``SMOOTH``): then the family halves the interval."""
+    alone (a different count: a fold between them; a branch whose state moves more than
+    ``SMOOTH``; or two branches whose nearest states at the other sample are one, as next
+    to a fold where they were born: each would be followed to it and the other's change
+    of sign missed): then the family samples the interval finer."""
     if ma != mb:
         return True
+    taken = 0  # the branches at b already followed to, as bits
     for i in range(ma):
-        _, d = nearest(Sb, mb, Sa[i])
-        if d > SMOOTH:
-            return True
+        j, d = nearest(Sb, mb, Sa[i])
+        if d > SMOOTH or taken & (1 << j):
+            return True  # moving fast, or two branches nearest one: near a fold, told apart finer
+        taken |= 1 << j
     return False
 
 
@@ -118,6 +124,16 @@ def pair_brackets(xa, Ea, Sa, ma, xb, Eb, Sb, mb, Bx, Bs, count):
             continue
         count = add_bracket(Bx, Bs, count, xa, Ea[i], xb, Eb[j], Sb[j], JUMP)
     return count
+
+
+@njit(cache=True)
+def copy_sample(E, S, M, k, Es, Ss, Ms, u):
+    """Sample k of (E, S, M) into row u of (Es, Ss, Ms)."""
+    Ms[u] = M[k]
+    for i in range(M[k]):
+        Es[u, i] = E[k, i]
+        for c in range(STATE):
+            Ss[u, i, c] = S[k, i, c]
 
 
 @njit(cache=True)
@@ -148,16 +164,21 @@ def fold_brackets(x, e, s, m, xf, Ef, Sf, mf, Bx, Bs, count):
 
 
 @njit(cache=True)
-def dips(E, S, M, D):
+def dips(E, S, M, D, wrap):
     """Where a branch comes close to zero between samples without changing sign at them:
     a sample k whose |error| is below its neighbours' on its branch and whose parabola
     through the three dips to zero or past it, or is below half theirs (two zeros closer
     than a grid step, or a tangency); next to a fold (one neighbour missing), below half
-    the other's. Rows (k, branch, side) into ``D`` (``CANDIDATES``, 3; side: -1 search
-    from sample k - 1 to k, 1 from k to k + 1, 0 from k - 1 to k + 1); returns the count."""
+    the other's; a local minimum of |error| whose parabola stays on its side gets side 2
+    (the search looks between the samples first). Rows (k, branch, side) into ``D``
+    (``CANDIDATES``, 3; side: -1 search from sample k - 1 to k, 1 from k to k + 1, 0 from
+    k - 1 to k + 1); returns the count.
+    ``wrap``: the samples go round a turn (the grid); else only the inner samples of a
+    row of them are tested (a grid interval sampled finer)."""
     count = 0
-    for k in range(GRID):
-        kp, kn = (k - 1) % GRID, (k + 1) % GRID
+    n = M.shape[0]
+    for k in range(0 if wrap else 1, n if wrap else n - 1):
+        kp, kn = (k - 1) % n, (k + 1) % n
         for i in range(M[k]):
             jp, dp = nearest(S[kp], M[kp], S[k, i])
             jn, dn = nearest(S[kn], M[kn], S[k, i])
@@ -176,7 +197,7 @@ def dips(E, S, M, D):
                 low = e0 - slope * slope / (4.0 * curve) if curve != 0.0 else e0
                 deep = abs(e0) < 0.5 * min(abs(ep), abs(en))  # sharper than a parabola
                 if (low < 0.0) == (e0 < 0.0) and not deep:
-                    continue
+                    side = 2  # a dip may still be sharper than the parabola: look between
             elif has_n and abs(e0) < 0.5 * abs(en):
                 side = 1
             elif has_p and abs(e0) < 0.5 * abs(ep):

@@ -25,9 +25,11 @@ from armik.solvers.closed_form.search_1d import (
     ITERATIONS,
     JUMP,
     STATE,
+    SUB,
     ZEROS,
     add_bracket,
     angle,
+    copy_sample,
     dips,
     falsi,
     fold_brackets,
@@ -40,10 +42,11 @@ from armik.solvers.closed_form.search_1d import (
     update,
 )
 from armik.solvers.closed_form.sixr import LS, NOT_FOUND
-from armik.solvers.closed_form.subproblems import mat, mmt, mv, sub, vec
+from armik.solvers.closed_form.subproblems import mat, mmt, mv, norm, sub, vec
 
 OVER_Q1, OVER_Q4 = 0, 1  # the family codes, as ``sixr.flat`` writes them
 FOLD_ZERO = 1e-3  # m: a branch this near zero next to a fold is polished as a candidate
+PROBE = 0.01  # of the arm's length: a branch this near zero at two samples is probed between
 REACHED = 1e-10  # m and rad: a polished zero reaches the target (Pinocchio verifies it)
 
 
@@ -77,49 +80,25 @@ def _zeros(family, h, p, R06, p16, X, XS):
     Bx, Bs = np.empty((CANDIDATES, 5)), np.empty((CANDIDATES, STATE))
     e, s, st = np.empty(BRANCHES), np.zeros((BRANCHES, STATE)), np.empty(STATE)
     step = 2.0 * np.pi / GRID
+    small = 0.0  # m: PROBE of the arm's length, the links' offsets added
+    for r in range(1, 6):
+        small += PROBE * norm(vec(p[r]))
     nb = np.int64(0)  # not a literal 0: the callees would compile for it too
     for k in range(GRID):
         k2, xa = (k + 1) % GRID, angle(k)
         if not rough(E[k], S[k], M[k], E[k2], S[k2], M[k2]):
             nb = pair_brackets(xa, E[k], S[k], M[k], xa + step, E[k2], S[k2], M[k2], Bx, Bs, nb)
+            nb = _probe(family, xa, step, E, S, M, k, small, h, p, R06, p16, Bx, Bs, nb)
             continue
-        nb = _refine(
-            family, xa, E[k], S[k], M[k], xa + step, E[k2], S[k2], M[k2], h, p, R06, p16, Bx, Bs, nb
-        )  # fmt: skip
-    D = np.empty((CANDIDATES, 3), np.int64)
-    count = 0
-    for z in range(dips(E, S, M, D)):  # the branch's extremum between its neighbours
+        nb = _sampled_finer(family, xa, step, E, S, M, k, k2, h, p, R06, p16, Bx, Bs, nb)
+    D = np.empty((2 * CANDIDATES, 3), np.int64)  # side-2 rows too (see ``dips``)
+    count = np.int64(0)
+    for z in range(dips(E, S, M, D, True)):  # the branch's extremum between its neighbours
         k, i = D[z, 0], D[z, 1]
-        sign = 1.0 if E[k, i] > 0.0 else -1.0
-        for c in range(STATE):
-            st[c] = S[k, i, c]
-        a = angle(k) - (step if D[z, 2] <= 0 else 0.0)
-        b = angle(k) + (step if D[z, 2] >= 0 else 0.0)
-        lo, hi = a, b
-        x1, x2 = hi - GOLDEN * (hi - lo), lo + GOLDEN * (hi - lo)
-        f1 = sign * _follow(family, x1, h, p, R06, p16, e, s, st)
-        f2 = sign * _follow(family, x2, h, p, R06, p16, e, s, st)
-        for _ in range(DIP_STEPS):  # golden section on sign * error, one trial a step
-            if f1 < f2:
-                hi, x2, f2 = x2, x1, f1
-                x1 = hi - GOLDEN * (hi - lo)
-                f1 = sign * _follow(family, x1, h, p, R06, p16, e, s, st)
-            else:
-                lo, x1, f1 = x1, x2, f2
-                x2 = lo + GOLDEN * (hi - lo)
-                f2 = sign * _follow(family, x2, h, p, R06, p16, e, s, st)
-            if f1 < 0.0 or f2 < 0.0:
-                break  # past zero: the dip holds two zeros
-        xm = x1 if f1 < f2 else x2
-        fm = _follow(family, xm, h, p, R06, p16, e, s, st)
-        if (fm < 0.0) != (sign < 0.0):  # two zeros, one each side of the extremum
-            nb = _bracket(family, a, xm, fm, st, h, p, R06, p16, e, s, Bx, Bs, nb)
-            nb = _bracket(family, b, xm, fm, st, h, p, R06, p16, e, s, Bx, Bs, nb)
-        elif abs(fm) < 1e-12 and count < X.shape[0]:  # a tangency: the extremum is the zero
-            X[count] = xm
-            for c in range(STATE):
-                XS[count, c] = st[c]
-            count += 1
+        nb, count = _dip(
+            family, angle(k), step, D[z, 2], E[k, i], S[k, i], h, p, R06, p16, Bx, Bs, nb,
+            X, XS, count,
+        )  # fmt: skip
     for z in range(nb):
         a, fa, b, fb, jump = Bx[z, 0], Bx[z, 1], Bx[z, 2], Bx[z, 3], Bx[z, 4]
         for c in range(STATE):
@@ -144,6 +123,125 @@ def _zeros(family, h, p, R06, p16, X, XS):
                 XS[count, c] = st[c]
             count += 1
     return count
+
+
+@njit(cache=True)
+def _sampled_finer(family, xa, step, E, S, M, k, k2, h, p, R06, p16, Bx, Bs, nb):
+    """The brackets of the rough grid interval from sample k to k2 (at xa, xa + step):
+    sampled ``SUB`` times finer, each piece refined (``_refine``), and the dips among the
+    finer samples searched (``_dip``): next to a fold a branch may dip through zero and back
+    within a grid step, where the grid's own dip test does not look."""
+    Es, Ss = np.empty((SUB + 1, BRANCHES)), np.zeros((SUB + 1, BRANCHES, STATE))
+    Ms = np.empty(SUB + 1, np.int64)
+    copy_sample(E, S, M, k, Es, Ss, Ms, np.int64(0))
+    copy_sample(E, S, M, k2, Es, Ss, Ms, np.int64(SUB))
+    sub = step / SUB
+    for u in range(1, SUB):
+        Ms[u] = _branches(family, xa + sub * u, h, p, R06, p16, Es[u], Ss[u])
+    for u in range(SUB):
+        nb = _refine(
+            family, xa + sub * u, Es[u], Ss[u], Ms[u], xa + sub * (u + 1), Es[u + 1],
+            Ss[u + 1], Ms[u + 1], h, p, R06, p16, Bx, Bs, nb,
+        )  # fmt: skip
+    D = np.empty((2 * CANDIDATES, 3), np.int64)  # side-2 rows too (see ``dips``)
+    X, XS = np.empty(1), np.zeros((1, STATE))  # a tangency here is left to the polish of
+    count = np.int64(1)  # its neighbours' brackets: none is kept from this call
+    for z in range(dips(Es, Ss, Ms, D, False)):
+        u, i = D[z, 0], D[z, 1]
+        nb, _ = _dip(
+            family, xa + sub * u, sub, D[z, 2], Es[u, i], Ss[u, i], h, p, R06, p16, Bx, Bs,
+            nb, X, XS, count,
+        )  # fmt: skip
+    return nb
+
+
+@njit(cache=True)
+def _probe(family, xa, step, E, S, M, k, small, h, p, R06, p16, Bx, Bs, nb):
+    """Between grid samples k and k + 1 (at xa, xa + step), where a branch keeps its sign,
+    stays within ``small`` of zero at both and is nearer zero there than at the samples
+    either side (a minimum of |error| two samples wide), the branch at the midpoint: a dip
+    through zero and back narrower than a grid step, which the three-sample parabola
+    (``dips``) cannot see, shows there as a change of sign, one bracket each side."""
+    e, s, st = np.empty(BRANCHES), np.zeros((BRANCHES, STATE)), np.empty(STATE)
+    k2, kp, kn = (k + 1) % GRID, (k - 1) % GRID, (k + 2) % GRID
+    for i in range(M[k]):
+        ea = E[k, i]
+        if abs(ea) > small:
+            continue
+        j, d = nearest(S[k2], M[k2], S[k, i])
+        if j < 0 or d > JUMP or (ea < 0.0) != (E[k2, j] < 0.0) or abs(E[k2, j]) > small:
+            continue
+        jp, dp = nearest(S[kp], M[kp], S[k, i])
+        if jp >= 0 and dp <= JUMP and abs(E[kp, jp]) <= abs(ea):
+            continue  # still falling towards k: not a minimum here
+        jn, dn = nearest(S[kn], M[kn], S[k2, j])
+        if jn >= 0 and dn <= JUMP and abs(E[kn, jn]) <= abs(E[k2, j]):
+            continue  # still falling past k + 1
+        for c in range(STATE):
+            st[c] = S[k, i, c]
+        xm = xa + 0.5 * step
+        fm = _follow(family, xm, h, p, R06, p16, e, s, st)
+        if fm == fm and (fm < 0.0) != (ea < 0.0):
+            nb = _bracket(family, xa, xm, fm, st, h, p, R06, p16, e, s, Bx, Bs, nb)
+            nb = _bracket(family, xa + step, xm, fm, st, h, p, R06, p16, e, s, Bx, Bs, nb)
+    return nb
+
+
+@njit(cache=True)
+def _dip(family, xk, step, side, ek, sk, h, p, R06, p16, Bx, Bs, nb, X, XS, count):
+    """A dip at the sample ``xk`` (its branch's error ``ek``, state ``sk``; ``side`` as
+    ``dips`` writes it, ``step`` to the neighbours): the extremum between the neighbours by
+    golden section on the branch; two brackets if it passes zero, the extremum itself
+    (into X, XS) if it touches it. Side 2 first looks at the two midpoints: only a change
+    of sign there, or their parabola through zero, leads to the search. Returns (nb,
+    count)."""
+    e, s, st = np.empty(BRANCHES), np.zeros((BRANCHES, STATE)), np.empty(STATE)
+    sign = 1.0 if ek > 0.0 else -1.0
+    if side == 2:  # a local minimum the samples' parabola keeps on its side: the midpoints
+        for c in range(STATE):
+            st[c] = sk[c]
+        fl = sign * _follow(family, xk - 0.5 * step, h, p, R06, p16, e, s, st)
+        for c in range(STATE):
+            st[c] = sk[c]
+        fr = sign * _follow(family, xk + 0.5 * step, h, p, R06, p16, e, s, st)
+        if not (fl == fl and fr == fr):
+            return nb, count
+        if fl > 0.0 and fr > 0.0:  # no change of sign there: the finer parabola decides
+            curve = 0.5 * (fl + fr) - sign * ek
+            slope = 0.5 * (fr - fl)
+            if curve <= 0.0 or sign * ek - slope * slope / (4.0 * curve) > 0.0:
+                return nb, count
+        side = 0
+    for c in range(STATE):
+        st[c] = sk[c]
+    a = xk - (step if side <= 0 else 0.0)
+    b = xk + (step if side >= 0 else 0.0)
+    lo, hi = a, b
+    x1, x2 = hi - GOLDEN * (hi - lo), lo + GOLDEN * (hi - lo)
+    f1 = sign * _follow(family, x1, h, p, R06, p16, e, s, st)
+    f2 = sign * _follow(family, x2, h, p, R06, p16, e, s, st)
+    for _ in range(DIP_STEPS):  # golden section on sign * error, one trial a step
+        if f1 < f2:
+            hi, x2, f2 = x2, x1, f1
+            x1 = hi - GOLDEN * (hi - lo)
+            f1 = sign * _follow(family, x1, h, p, R06, p16, e, s, st)
+        else:
+            lo, x1, f1 = x1, x2, f2
+            x2 = lo + GOLDEN * (hi - lo)
+            f2 = sign * _follow(family, x2, h, p, R06, p16, e, s, st)
+        if f1 < 0.0 or f2 < 0.0:
+            break  # past zero: the dip holds two zeros
+    xm = x1 if f1 < f2 else x2
+    fm = _follow(family, xm, h, p, R06, p16, e, s, st)
+    if (fm < 0.0) != (sign < 0.0):  # two zeros, one each side of the extremum
+        nb = _bracket(family, a, xm, fm, st, h, p, R06, p16, e, s, Bx, Bs, nb)
+        nb = _bracket(family, b, xm, fm, st, h, p, R06, p16, e, s, Bx, Bs, nb)
+    elif abs(fm) < 1e-12 and count < X.shape[0]:  # a tangency: the extremum is the zero
+        X[count] = xm
+        for c in range(STATE):
+            XS[count, c] = st[c]
+        count += 1
+    return nb, count
 
 
 @njit(cache=True)
