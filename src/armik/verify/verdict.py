@@ -66,7 +66,8 @@ def ranked(rows: list[dict], solver: str, seed, all_solutions: bool, t0: float):
 def number_repeated_branches(rows: list[dict]) -> None:
     """Make the branch labels of ``solve_all``'s rows distinct, in their order: a label
     met again gets "#2", "#3" (a search family has up to 16 solutions and 8 labels)."""
-    if len(rows) < 2:
+    labels = [row.get("branch") for row in rows]
+    if len(set(labels)) == len(labels):  # distinct already: the closed forms' usual case
         return
     seen: dict[str, int] = {}
     for row in rows:
