@@ -33,7 +33,7 @@ from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.result import IKResult
 from armik.solvers import registry
-from armik.solvers.claims import Attempt, Claim
+from armik.solvers.claims import Attempt, Claim, claim
 from armik.status import Status
 from armik.targets.pose import parse_target
 from armik.verify.measure import Measure, measures_of
@@ -188,7 +188,9 @@ class Plan:
         every = self.run_pose(H, q0, seed, True)
         if every is None:  # a numeric runner (or one with no rows for ``solve_all``)
             return [got.attempt()]
-        return [row.attempt() if type(row) is Claim else row for row in every[1]]
+        return [
+            claim((q, *row)).attempt() if type(row) is tuple else row for q, row in zip(*every)
+        ]
 
     def solve_all(self, target: object, q0: object, opts: Options, seed: int | None, t0: float):
         """The results of ``solve_all`` for a plain ``target`` and ``q0``, or None."""
@@ -199,13 +201,33 @@ class Plan:
         got = self.run_pose(H, q0, secrets.randbits(63) if seed is None else seed, True)
         if got is None:
             return None
-        Q, rows = got  # Q[i]: the answer of rows[i]
+        Q, rows = got  # Q[i]: the answer of rows[i] (read-only)
         measured = np.empty((len(rows), 3))
         pose_checks(self.measured, self._placements(Q), H, Q, measured)
         verified, failed = [], []  # the results' fields; failed: (rank key, fields)
         unclaimed = False
-        for got, (pos, ori, inside) in zip(rows, measured.tolist()):
-            if type(got) is Claim:
+        tol_p, tol_r, rot, solver = self.tol_p, self.tol_r, self.measure_rot, self.solver
+        for q, got, (pos, ori, inside) in zip(Q, rows, measured.tolist()):
+            if type(got) is tuple:  # claimed reached: the claim's fields after q
+                if inside > 0.0 and pos <= tol_p and (not rot or ori <= tol_r):
+                    ori = ori if rot else None  # ``_success``'s fields, inline: most rows
+                    verified.append(
+                        {
+                            "q": q,
+                            "success": True,
+                            "status": _CONVERGED,
+                            "solver": solver,
+                            "iterations": got[0],
+                            "position_error": pos,
+                            "orientation_error": ori,
+                            "branch": got[2],
+                            "singular": got[3],
+                            "restarts": got[1],
+                            "_reason": (success_reason, (got[4], got[5], pos, ori, tol_p, tol_r)),
+                        }
+                    )
+                    continue
+                got = claim((q, *got))
                 fields = self._success(got, pos, ori, inside > 0.0)
                 if fields is None and inside == 0.0:  # reached, or not, outside the limits
                     fields = self._outside_limits(got, pos, ori)

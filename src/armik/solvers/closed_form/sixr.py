@@ -380,8 +380,9 @@ def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form, s
     answer ``solve`` verifies first, a ``Claim``; else the attempts of every row (each
     labelled) for the general verdict. With ``every`` (``solve_all``, and ``solve`` when
     Pinocchio refuses that first answer): (Q, rows), Q the (n, 6) read-only answers and rows
-    one entry per answer, nearest first: a ``Claim`` (its q a row of Q) for an answer
-    claimed reached, an ``Attempt`` for the others."""
+    one entry per answer, nearest first: for an answer claimed reached, its ``Claim``'s
+    fields after q (a tuple: ``claim((Q[k], *rows[k]))`` is the claim; no object is built
+    for the results' common case), an ``Attempt`` for the others."""
     chain = flat(arm, family, classify)
     why = ((closed_form, False), (closed_form, True))  # claim_reason's arguments
     # a reached row's claim after q, by its (flags, branch bits) as the kernel writes them
@@ -404,16 +405,15 @@ def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form, s
         n, head = solve_into(chain, H, q0, every, out)
         if n < 0:
             return None
-        if every:  # solve_all: every row, claimed converged rows as claims
+        if every:  # solve_all: every row; a claimed converged row as its claim after q
             Q = out[:n, :6].copy()
             Q.setflags(write=False)  # the results' q are its rows
             rows = []
             for k, key in enumerate(zip(out[:n, 6].tolist(), out[:n, 7].tolist())):
                 rest = reached.get(key)  # None: least squares
                 if rest is None:
-                    rows.append(attempts(out[k : k + 1], family, closed_form)[0])
-                else:
-                    rows.append(claim((Q[k], *rest)))
+                    rest = attempts(out[k : k + 1], family, closed_form)[0]
+                rows.append(rest)
             return Q, rows
         if head >= 0:
             singular = head >= 8
