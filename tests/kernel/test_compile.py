@@ -149,3 +149,35 @@ def test_the_numeric_parts_compile_in_one_process_when_there_are_tasks_enough():
     assert ("dls", "qp", "batch", "hold", "path") in tasks  # one after another, dls first
     assert _tasks(["qp", "dls"], 2) in ([("dls",), ("qp",)], [("qp",), ("dls",)])
     assert _tasks(["qp", "dls", "swept"], 2) == [("dls", "qp"), ("swept",)]
+
+
+def test_every_compiled_module_has_its_own_line_in_the_notice():
+    """Each module with compiled functions is named by a part of its own (not the catch-all
+    "armik's compiled code"), and each part's prefix names a module that exists."""
+    import importlib
+    import pkgutil
+
+    from numba.core.registry import CPUDispatcher
+
+    from armik.kernel import notice
+
+    compiled = set()
+    for info in pkgutil.walk_packages(armik.__path__, "armik."):
+        if info.name.endswith("__main__"):
+            continue  # running it is the CLI
+        module = importlib.import_module(info.name)
+        if any(
+            isinstance(v, CPUDispatcher) and v.py_func.__module__ == info.name
+            for v in vars(module).values()
+        ):
+            compiled.add(info.name)
+    assert "armik.solvers.closed_form.search_zeros" in compiled
+    # the searches' entry, first to compile at their first call, names them
+    assert notice.part_of("armik.solvers.closed_form.search_zeros")[0] == (
+        "the one-dimensional searches"
+    )
+    for name in sorted(compiled):
+        what, _ = notice.part_of(name)
+        assert what != "armik's compiled code", f"{name} has no part in notice.PARTS"
+    for prefix, _, _ in notice.PARTS:
+        assert any(m == prefix or m.startswith(prefix + ".") for m in compiled), prefix

@@ -34,8 +34,11 @@ PARTS = (
     ("armik.solvers.closed_form.three_parallel", "the three-parallel-axes closed form", 15),
     ("armik.solvers.closed_form.spherical_general", "the general spherical-wrist closed form", 30),
     ("armik.solvers.closed_form.three_parallel_general", "the general 3-parallel closed form", 30),
-    ("armik.solvers.closed_form.two_parallel", "the two-parallel-axes search", 30),
-    ("armik.solvers.closed_form.two_intersecting", "the two-intersecting-axes search", 30),
+    # both searches' compiled code is shared (search_zeros calls search_1d, search_q1, _q4)
+    ("armik.solvers.closed_form.search_zeros", "the one-dimensional searches", 50),
+    ("armik.solvers.closed_form.search_1d", "the one-dimensional searches", 50),
+    ("armik.solvers.closed_form.search_q1", "the one-dimensional searches", 50),
+    ("armik.solvers.closed_form.search_q4", "the one-dimensional searches", 50),
     ("armik.solvers.closed_form.swept_7r", "the swept 7R closed form", 10),
     ("armik.solvers.closed_form.general_6r", "the general 6R search", 15),
     ("armik.solvers.closed_form", "the 6R closed forms' shared code", 5),
