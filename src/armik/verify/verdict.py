@@ -70,8 +70,7 @@ def number_repeated_branches(rows: list[dict]) -> None:
     if len(set(labels)) == len(labels):  # distinct already: the closed forms' usual case
         return
     seen: dict[str, int] = {}
-    for row in rows:
-        label = row.get("branch")
+    for row, label in zip(rows, labels):
         if label is None:
             continue
         count = seen.get(label, 0) + 1

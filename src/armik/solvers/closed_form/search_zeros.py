@@ -88,7 +88,7 @@ def _zeros(family, h, p, R06, p16, X, XS):
         k2, xa = (k + 1) % GRID, angle(k)
         if not rough(E[k], S[k], M[k], E[k2], S[k2], M[k2]):
             nb = pair_brackets(xa, E[k], S[k], M[k], xa + step, E[k2], S[k2], M[k2], Bx, Bs, nb)
-            nb = _probe(family, xa, step, E, S, M, k, small, h, p, R06, p16, Bx, Bs, nb)
+            nb = _probe(family, xa, step, E, S, M, k, small, h, p, R06, p16, Bx, Bs, nb, e, s, st)
             continue
         nb = _sampled_finer(family, xa, step, E, S, M, k, k2, h, p, R06, p16, Bx, Bs, nb)
     D = np.empty((2 * CANDIDATES, 3), np.int64)  # side-2 rows too (see ``dips``)
@@ -156,13 +156,13 @@ def _sampled_finer(family, xa, step, E, S, M, k, k2, h, p, R06, p16, Bx, Bs, nb)
 
 
 @njit(cache=True)
-def _probe(family, xa, step, E, S, M, k, small, h, p, R06, p16, Bx, Bs, nb):
+def _probe(family, xa, step, E, S, M, k, small, h, p, R06, p16, Bx, Bs, nb, e, s, st):
     """Between grid samples k and k + 1 (at xa, xa + step), where a branch keeps its sign,
     stays within ``small`` of zero at both and is nearer zero there than at the samples
     either side (a minimum of |error| two samples wide), the branch at the midpoint: a dip
     through zero and back narrower than a grid step, which the three-sample parabola
-    (``dips``) cannot see, shows there as a change of sign, one bracket each side."""
-    e, s, st = np.empty(BRANCHES), np.zeros((BRANCHES, STATE)), np.empty(STATE)
+    (``dips``) cannot see, shows there as a change of sign, one bracket each side.
+    ``e``, ``s``, ``st``: scratch (called for every smooth grid interval)."""
     k2, kp, kn = (k + 1) % GRID, (k - 1) % GRID, (k + 2) % GRID
     for i in range(M[k]):
         ea = E[k, i]
