@@ -41,8 +41,9 @@ if TYPE_CHECKING:
 
 @dataclass(frozen=True)
 class First:
-    """A numeric solver's first run, done already (the plain solve ``solve`` tries first):
-    its verdict row and the thread's CPU time when it started (the budget counts it)."""
+    """The plain solve ``solve`` tries first, done already: a numeric solver's first run or a
+    closed form's nearest verified branch, its verdict row and the thread's CPU time when it
+    started (a numeric budget counts it)."""
 
     row: dict
     started: float
@@ -59,7 +60,8 @@ def solve_avoiding(
     first: First | None = None,
 ):
     """The verified, collision-checked results of ``spec`` for ``target`` (best first; the
-    first only unless ``every``); a numeric solver goes on from ``first`` when given."""
+    first only unless ``every``); a numeric solver goes on from ``first`` when given, a
+    closed form does not check its branch again."""
     check = checker(arm, opts.obstacles, opts.self_collision)
     if not seed.flags.writeable:  # a read-only seed (a result's q) is another kernel type
         seed = seed.copy()
@@ -72,15 +74,18 @@ def solve_avoiding(
         ]
         return ranked(rows, spec.name, seed, True, t0)
     if spec.kind == "analytic":
-        rows = _first_free(arm, spec.run(arm, target, seed, opts, True), target, opts, check, seed)
+        attempts = spec.run(arm, target, seed, opts, True)
+        rows = _first_free(arm, attempts, target, opts, check, seed, first)
         return ranked(rows, spec.name, seed, False, t0)
     rows = _restarting(arm, spec, target, seed, opts, check, first)
     return ranked(rows, spec.name, seed, False, t0)
 
 
-def _first_free(arm, attempts, target, opts: Options, check, seed) -> list[dict]:
+def _first_free(arm, attempts, target, opts: Options, check, seed, first=None) -> list[dict]:
     """Check the branches nearest the seed first (claimed converged and within the limits
-    before the rest); stop at the first verified, collision-free one."""
+    before the rest); stop at the first verified, collision-free one. The branch of
+    ``first`` (the plain solve's answer, verified and checked already) keeps its row."""
+    known = first.row if first is not None and "extra" in first.row else None
 
     def order(a) -> tuple:
         return (
@@ -91,8 +96,12 @@ def _first_free(arm, attempts, target, opts: Options, check, seed) -> list[dict]
 
     rows = []
     for attempt in sorted(attempts, key=order):
-        row = verdict(attempt, measure(arm, attempt.q, target, opts))
-        rows.append(collision_verdict(row, check, opts.margin))
+        if known is not None and np.array_equal(attempt.q, known["q"]):
+            row, known = known, None
+        else:
+            row = verdict(attempt, measure(arm, attempt.q, target, opts))
+            row = collision_verdict(row, check, opts.margin)
+        rows.append(row)
         if row["success"]:
             return [row]
     return rows
