@@ -374,5 +374,6 @@ def kernel_many(chain, Rs, ps, q0s):
         kernel(h, p, R_tip0, mat(Rs[i]), vec(ps[i]), q0s[i], lower, upper, family, unlabelled, out)
         for j in range(6):  # a loop: a slice copy compiles numba's shape-error path
             Q[i, j] = out[0, j]
-        claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
+        # finding nothing is no proof of unreachability: not converged, never unreachable
+        claim[i] = sixr.NOT_CONVERGED_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE
     return Q, claim

@@ -295,8 +295,8 @@ def reason(code: int, val: tuple[float, float] | np.ndarray, family: str) -> str
         )
     if code == NOT_FOUND:
         return (
-            "the one-dimensional search found no solution: the target is out of reach, or "
-            "its solutions lie closer together than the search grid; q is q0"
+            "the one-dimensional search found no solution, which does not show the target "
+            "out of reach (a numeric solver may still find one); q is q0"
         )
     return "no exact solution; q is the closest configuration"
 
@@ -433,7 +433,9 @@ def attempts(rows: np.ndarray, family: str, closed_form: str):
         f = int(f)
         singular = bool(f & SINGULAR)
         if f & LS:
-            claim, text = Status.UNREACHABLE, reason(int(code), (v0, v1), family)
+            # a search that finds nothing has not shown the target out of reach
+            claim = Status.NOT_CONVERGED if int(code) == NOT_FOUND else Status.UNREACHABLE
+            text = reason(int(code), (v0, v1), family)
         else:
             claim, text = Status.CONVERGED, claim_reason(closed_form, singular)
         result.append(
@@ -462,6 +464,7 @@ def column(H):
 
 CONVERGED_CODE = Status.CONVERGED.code
 UNREACHABLE_CODE = Status.UNREACHABLE.code
+NOT_CONVERGED_CODE = Status.NOT_CONVERGED.code
 
 
 def batch(arm: ArmModel, targets, q0: np.ndarray, kernel_many, chain) -> AttemptBatch:

@@ -178,7 +178,10 @@ def held_reason(theta: float, singular: bool) -> str:
     return sixr.claim_reason(text, singular)
 
 
-def _attempts(sw: Swept, rows: np.ndarray, theta: float) -> list[Attempt]:
+def _attempts(sw: Swept, rows: np.ndarray, theta: float, swept: bool = True) -> list[Attempt]:
+    """The attempts of ``rows``; ``swept``: joint 7 took a few values of its range, so a
+    row the closed form could not reach shows nothing about the values not tried (not
+    converged); held at one value (``hold=``), the closed form's verdict is a proof."""
     result = []
     for row in rows:
         flags = int(row[7])
@@ -186,6 +189,12 @@ def _attempts(sw: Swept, rows: np.ndarray, theta: float) -> list[Attempt]:
         if flags & sixr.LS:
             reason = sixr.reason(int(row[9]), row[10:12], spherical.FAMILY)
             claim = Status.UNREACHABLE
+            if swept:
+                claim = Status.NOT_CONVERGED
+                reason = (
+                    f"no value of joint 7 swept gave an exact solution; at {theta:.6g} rad: "
+                    f"{reason}"
+                )
         else:
             reason, claim = held_reason(theta, singular), Status.CONVERGED
         q = row[:7].copy()
@@ -262,7 +271,7 @@ def at_value(arm: ArmModel, target: Target, q0: np.ndarray, theta: float) -> lis
     rows[:, :6] = out[:n, 5::-1]  # joints 1 to 6 again
     rows[:, 6] = theta
     rows[:, 7:] = out[:n, 6:11]
-    return _attempts(sw, rows, theta)
+    return _attempts(sw, rows, theta, swept=False)
 
 
 def run(
