@@ -42,6 +42,11 @@ class SolverSpec:
     run: Run
     summary: str
     auto: bool = True  # False keeps a solver (a baseline) out of "auto"
+    # False for a search (a grid over one or two joints): it may miss solutions, so a
+    # target it finds nothing for is not shown out of reach. "auto" takes such a solver only
+    # for every solution (``solve_all``), where its branches are the point; for one answer
+    # (``solve``, batches, paths) a numeric solver is faster and misses nothing it could find.
+    complete: bool = True
     # Optional: solves many targets without a Python call per target (GIL released).
     # Solvers without it are batched by calling ``run`` per target.
     run_batch: RunBatch | None = None
@@ -107,10 +112,16 @@ def why_not(
 
 
 def choose(
-    name: str, arm: ArmModel, target: Target | None = None, opts: Options | None = None
+    name: str,
+    arm: ArmModel,
+    target: Target | None = None,
+    opts: Options | None = None,
+    every: bool = False,
 ) -> SolverSpec:
-    """The solver to run: ``name`` itself (if it applies) or the best one for "auto".
-    ``SolverError`` when ``name`` is not a registered name (or not a str)."""
+    """The solver to run: ``name`` itself (if it applies) or the best one for "auto":
+    the applicable solver of highest priority, where a search (``complete=False``) counts
+    only with ``every`` (every solution, ``solve_all``). ``SolverError`` when ``name`` is not
+    a registered name (or not a str)."""
     if not isinstance(name, str) or name != "auto":
         spec = get(name)
         reason = spec.why_not(arm, target, opts)
@@ -122,7 +133,7 @@ def choose(
             )
         return spec
     for spec in _BY_PRIORITY:
-        if spec.auto and spec.why_not(arm, target, opts) is None:
+        if spec.auto and (every or spec.complete) and spec.why_not(arm, target, opts) is None:
             return spec
     raise SolverError(
         f"no registered solver applies to arm {arm.name!r}", solver="auto", candidates=solvers()

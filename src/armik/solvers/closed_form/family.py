@@ -76,8 +76,10 @@ class Family:
             arm, self.family, self.classify, self.solve_into, self.closed_form, self.rows
         )
 
-    def register(self, name: str, priority: int, summary: str) -> SolverSpec:
-        """Register the family as solver ``name``."""
+    def register(
+        self, name: str, priority: int, summary: str, complete: bool = True
+    ) -> SolverSpec:
+        """Register the family as solver ``name`` (``complete``: see ``SolverSpec``)."""
         return register(
             SolverSpec(
                 name=name,
@@ -89,5 +91,6 @@ class Family:
                 summary=summary,
                 run_batch=self.run_batch,
                 prepare_pose=self.prepare_pose,
+                complete=complete,
             )
         )

@@ -375,5 +375,6 @@ SPEC = register(
         why_not=applies,
         run=run,
         summary="every 6R arm: a 2-D search over joints 1 and 2 with SP5, up to 16 solutions",
+        complete=False,
     )
 )

@@ -319,5 +319,6 @@ SPEC = register(
         summary="7R arms: joint 7 held (swept from q0's value), joints 6 to 1 in closed form",
         auto=False,
         prepare_pose=prepare_pose,
+        complete=False,
     )
 )

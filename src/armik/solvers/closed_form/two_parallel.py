@@ -57,4 +57,4 @@ def _classify(arm: ArmModel):
 SPEC = Family(
     FAMILY, _classify, CLOSED_FORM, search_zeros.kernel, search_zeros.solve_into,
     search_zeros.kernel_many, search_zeros.ZEROS,
-).register(FAMILY, PRIORITY, SUMMARY)  # fmt: skip
+).register(FAMILY, PRIORITY, SUMMARY, complete=False)  # fmt: skip
