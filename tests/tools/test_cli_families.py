@@ -21,7 +21,7 @@ def test_six_r_families(capsys, tmp_path):
     path = write_urdf(tmp_path, random_arm_urdf(np.random.default_rng(0)), name="g6.urdf")
     code, out, _ = run(capsys, "info", str(path), "--base", "world", "--tip", "tool")
     assert code == 0 and "family: general_6r (general 6R (2-D search))" in out
-    assert "auto -> general_6r" in out
+    assert "auto -> dls (one answer); solve_all -> general_6r" in out
     code, out, _ = run(capsys, "info", "planar_2link")
     assert code == 0 and "family:" not in out and "hold one joint" not in out
 

@@ -55,35 +55,41 @@ _NO_PLAN = object()  # remembered: this solver and options have no plan
 
 
 def plan_for(
-    arm: ArmModel, solver: str, key: tuple, opts: Options, position: bool = False
+    arm: ArmModel,
+    solver: str,
+    key: tuple,
+    opts: Options,
+    position: bool = False,
+    every: bool = False,
 ) -> Plan | None:
     """The plan of ``arm`` for ``solver``, the options whose ``solve._options`` key is
-    ``key`` and full poses (or positions, with ``position``); None when the solver has no
-    runner or does not apply to that kind of target."""
+    ``key`` and full poses (or positions, with ``position``), for one answer or, with
+    ``every``, every solution ("auto" may choose apart: ``registry.choose``); None when the
+    solver has no runner or does not apply to that kind of target."""
     # a registration may change what "auto" chooses: plans of each generation apart. The
     # arm's memo read directly, not through ArmModel.memo: this runs on every solve.
     plans = arm._memo.get(_PLANS)
     if plans is None or plans["generation"] != registry.generation:
         plans = arm._memo[_PLANS] = {"generation": registry.generation}
-    plan = plans.get((solver, key, position))
+    plan = plans.get((solver, key, position, every))
     if plan is None:
-        plan = _build(arm, solver, opts, position)
+        plan = _build(arm, solver, opts, position, every)
         if len(plans) > 64:
             plans = arm._memo[_PLANS] = {"generation": registry.generation}
-        plans[(solver, key, position)] = plan
+        plans[(solver, key, position, every)] = plan
     return None if plan is _NO_PLAN else plan
 
 
 _PLANS = "prepared solves"  # the arm's memo key
 
 
-def _build(arm: ArmModel, solver: str, opts: Options, position: bool):
+def _build(arm: ArmModel, solver: str, opts: Options, position: bool, every: bool):
     if opts.collisions:  # checked on the general path (armik.solve.avoid)
         return _NO_PLAN
     # a target of the kind every plain target of the plan is
     target = parse_target(np.zeros(3) if position else np.eye(4), arm)
     try:
-        spec = registry.choose(solver, arm, target, opts)
+        spec = registry.choose(solver, arm, target, opts, every)
     except SolverError:  # the general path raises it, with its message
         return _NO_PLAN
     if spec.prepare_pose is None:

@@ -52,13 +52,28 @@ def solve_one(
         clear, first = _clear_at_once(arm, target, q0, solver, options, opts, t0)
         if clear is not None:
             return clear
-    plan = None if key is None else plan_for(arm, solver, key, opts, _is_vector(target))
+    plan = None if key is None else plan_for(arm, solver, key, opts, _is_vector(target), every)
     if plan is not None:
         got = (plan.solve_all if every else plan.solve)(target, q0, opts, seed, t0)
         if got is not None:
-            return got
+            return _beyond_search(arm, target, q0, solver, opts, seed, got, t0) if every else got
     results = _general(arm, target, q0, solver, _with_seed(opts, seed), every, t0, first)
-    return results if every else results[0]
+    if every:
+        return _beyond_search(arm, target, q0, solver, opts, seed, results, t0)
+    return results[0]
+
+
+def _beyond_search(arm, target, q0, solver: str, opts: Options, seed, results: list, t0: float):
+    """``solve_all``'s ``results``, or where "auto" chose a search that verified nothing
+    (a search's miss shows nothing about the target), the answer "auto" gives for one
+    answer, with the search's miss in its reason."""
+    if solver != "auto" or any(r.success for r in results) or not results:
+        return results
+    if registry.get(results[0].solver).complete:
+        return results
+    one = _general(arm, target, q0, solver, _with_seed(opts, seed), False, t0)[0]
+    searched = reasons.search_missed(results[0].solver, results[0].reason)
+    return [dataclasses.replace(one, reason=f"{searched}; {one.solver}: {one.reason}")]
 
 
 _COLLISION_OPTIONS = ("obstacles", "self_collision", "margin")
@@ -110,7 +125,7 @@ def _is_vector(target: object) -> bool:
 def _general(arm, target, q0, solver, opts: Options, all_solutions: bool, t0: float, first=None):
     tgt = parse_target(target, arm)
     seed = arm.seed(q0)
-    spec = registry.choose(solver, arm, tgt, opts)
+    spec = registry.choose(solver, arm, tgt, opts, all_solutions)
     if opts.collisions:
         return solve_avoiding(arm, spec, tgt, seed, opts, all_solutions, t0, first)
     attempts = spec.run(arm, tgt, seed, opts, all_solutions)

@@ -44,6 +44,12 @@ def not_converged(why: str, best: str) -> str:
     return f"no solution within {why}; best found: {best}; the target may be out of reach"
 
 
+def search_missed(solver: str, reason: str) -> str:
+    """What "auto" says when the search it chose for every solution verified none and it
+    went on to one answer from another solver (``reason``: the search's own)."""
+    return f"{solver} (a search) verified no solution ({reason})"
+
+
 def _pair_text(pair: tuple[str, str] | None, distance: float) -> str:
     if pair is None:
         return "no pair to check"

@@ -30,7 +30,9 @@ def test_random_arms_are_solved_completely(kind):
         a = load_arm(kind, rng)
         geo = FAMILIES[kind].classify(a)
         assert not isinstance(geo, str), geo
-        assert a.solve(a.fk(a.random_q(rng))).solver == kind  # auto takes the search
+        T = a.fk(a.random_q(rng))
+        assert a.solve_all(T)[0].solver == kind  # auto takes the search for every solution
+        assert a.solve(T).solver == "dls"  # and the numeric solver for one answer
         checked += check_round_trips(a, kind, rng, 10, misses)
     # a search, not a closed form: a zero within 2^-17 of a grid step of a fold may be
     # missed (benchmarks/families_6r.py counts them); these seeds miss none
@@ -94,7 +96,7 @@ def test_other_families_are_refused():
     general = load_arm("general", rng)
     assert "axes 2 and 3 are not parallel" in two_parallel.classify(general)
     assert "axes 5 and 6 do not meet" in two_intersecting.classify(general)
-    r = general.solve(general.fk(np.zeros(6)))
+    r = general.solve_all(general.fk(np.zeros(6)))[0]
     assert r.success and r.solver == "general_6r"  # the 2-D search takes what no family fits
     assert "7 joints" in two_parallel.classify(armik.load("panda"))
 
@@ -105,7 +107,9 @@ def test_out_of_reach_is_unreachable(kind):
     a = load_arm(kind, rng)
     far = pin.SE3(a.fk(a.random_q(rng)).rotation, np.array([50.0, 0.0, 0.0]))
     r = a.solve(far, solver=kind)
+    # a search's miss is a proof only beyond the reach bound
     assert not r.success and r.status is Status.UNREACHABLE
+    assert "beyond the arm's reach" in r.reason
     assert "one-dimensional search found no solution" in r.reason
     results = a.solve_all(far, solver=kind)
     assert len(results) == 1 and not results[0].success
@@ -129,7 +133,7 @@ def test_a_spherical_shoulder_is_refused_by_the_search_over_q4():
     a = armik.load("panda", locked={"panda_joint7": 0.3})
     why = two_intersecting.classify(a)
     assert isinstance(why, str) and "spherical shoulder" in why, why
-    r = a.solve(a.fk(a.middle))
+    r = a.solve_all(a.fk(a.middle))[0]
     assert r.success and r.solver == "general_6r"
 
 

@@ -59,7 +59,8 @@ class Family:
             h, p, R_tip0, mat(R), vec(pos), q0, lower, upper, np.int64(variant),
             np.int64(self.rows), out,
         )  # fmt: skip
-        return sixr.attempts(out[:n], self.family, self.closed_form)
+        beyond = sixr.beyond_reach(arm, pos)
+        return sixr.attempts(out[:n], self.family, self.closed_form, beyond)
 
     def run_batch(
         self, arm: ArmModel, targets, q0: np.ndarray, opts: Options, seeds=None

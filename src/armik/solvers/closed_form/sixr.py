@@ -42,6 +42,7 @@ from armik.solvers.closed_form.subproblems import (
 from armik.status import Status
 from armik.targets.pose import Target
 from armik.tolerances import LIMIT_TOL
+from armik.verify import reasons
 
 LS = 1
 SINGULAR = 2
@@ -412,30 +413,40 @@ def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form, s
             for k, key in enumerate(zip(out[:n, 6].tolist(), out[:n, 7].tolist())):
                 rest = reached.get(key)  # None: least squares
                 if rest is None:
-                    rest = attempts(out[k : k + 1], family, closed_form)[0]
+                    beyond = beyond_reach(arm, H[:3, 3])
+                    rest = attempts(out[k : k + 1], family, closed_form, beyond)[0]
                 rows.append(rest)
             return Q, rows
         if head >= 0:
             singular = head >= 8
             label = _LABELS[head & 7]
             return claim((out[0, :6], 0, 0, label, singular, claim_reason, why[singular]))
-        return attempts(out[:n], family, closed_form)
+        return attempts(out[:n], family, closed_form, beyond_reach(arm, H[:3, 3]))
 
     return run_pose
 
 
-def attempts(rows: np.ndarray, family: str, closed_form: str):
+def beyond_reach(arm: ArmModel, position) -> str | None:
+    """The reason a target at ``position`` (m, base frame) is out of reach when it lies
+    beyond the arm's reach bound, else None: a search that finds nothing proves no more."""
+    distance = math.dist(list(position), arm.first_joint_origin.tolist())
+    return reasons.unreachable(distance, arm.reach) if distance > arm.reach else None
+
+
+def attempts(rows: np.ndarray, family: str, closed_form: str, beyond: str | None = None):
     """The ``Attempt`` of each of a kernel's packed rows (see ``pack``), in their order
-    (nearest first: ``solve``'s verdict stops at the first that Pinocchio verifies)."""
+    (nearest first: ``solve``'s verdict stops at the first that Pinocchio verifies).
+    ``beyond``: ``beyond_reach``'s reason, which makes a search's miss unreachable."""
     result = []
     # The row's flags, branch, code and values as plain floats, read in one call.
     for k, (f, bits, code, v0, v1) in enumerate(rows[:, 6:11].tolist()):
         f = int(f)
         singular = bool(f & SINGULAR)
         if f & LS:
-            # a search that finds nothing has not shown the target out of reach
-            claim = Status.NOT_CONVERGED if int(code) == NOT_FOUND else Status.UNREACHABLE
-            text = reason(int(code), (v0, v1), family)
+            claim, text = Status.UNREACHABLE, reason(int(code), (v0, v1), family)
+            if int(code) == NOT_FOUND:  # a search's miss: no proof unless beyond reach
+                claim = Status.NOT_CONVERGED if beyond is None else Status.UNREACHABLE
+                text = text if beyond is None else f"{beyond}; {text}"
         else:
             claim, text = Status.CONVERGED, claim_reason(closed_form, singular)
         result.append(

@@ -178,10 +178,14 @@ def held_reason(theta: float, singular: bool) -> str:
     return sixr.claim_reason(text, singular)
 
 
-def _attempts(sw: Swept, rows: np.ndarray, theta: float, swept: bool = True) -> list[Attempt]:
+def _attempts(
+    sw: Swept, rows: np.ndarray, theta: float, swept: bool = True, beyond: str | None = None
+) -> list[Attempt]:
     """The attempts of ``rows``; ``swept``: joint 7 took a few values of its range, so a
     row the closed form could not reach shows nothing about the values not tried (not
-    converged); held at one value (``hold=``), the closed form's verdict is a proof."""
+    converged) unless the target lies beyond the reach bound (``beyond``:
+    ``sixr.beyond_reach``'s reason); held at one value (``hold=``), the closed form's
+    verdict is a proof."""
     result = []
     for row in rows:
         flags = int(row[7])
@@ -190,11 +194,12 @@ def _attempts(sw: Swept, rows: np.ndarray, theta: float, swept: bool = True) -> 
             reason = sixr.reason(int(row[9]), row[10:12], spherical.FAMILY)
             claim = Status.UNREACHABLE
             if swept:
-                claim = Status.NOT_CONVERGED
+                claim = Status.NOT_CONVERGED if beyond is None else Status.UNREACHABLE
                 reason = (
                     f"no value of joint 7 swept gave an exact solution; at {theta:.6g} rad: "
                     f"{reason}"
                 )
+                reason = reason if beyond is None else f"{beyond}; {reason}"
         else:
             reason, claim = held_reason(theta, singular), Status.CONVERGED
         q = row[:7].copy()
@@ -282,8 +287,16 @@ def run(
     theta, rows, found = _held(arm, sw, R, pos, np.ascontiguousarray(q0, float))
     if all_solutions:
         exact = [r for r in rows if not int(r[7]) & sixr.LS]
-        return _attempts(sw, np.array(exact) if exact and found else rows, theta)
-    return _attempts(sw, rows[:1], theta)
+        rows = np.array(exact) if exact and found else rows
+    rows = rows if all_solutions else rows[:1]
+    return _attempts(sw, rows, theta, True, _beyond(arm, pos, rows))
+
+
+def _beyond(arm: ArmModel, position, rows: np.ndarray) -> str | None:
+    """``sixr.beyond_reach`` where a row is not reached (the reason is then needed)."""
+    if all(not int(r[7]) & sixr.LS for r in rows):
+        return None
+    return sixr.beyond_reach(arm, position)
 
 
 def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):
@@ -300,7 +313,7 @@ def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):
         R, pos = split_pose(H)
         theta, rows, found = _held(arm, sw, R, pos, q0)
         if not found:
-            return _attempts(sw, rows[:1], theta)
+            return _attempts(sw, rows[:1], theta, True, _beyond(arm, pos, rows[:1]))
         singular = bool(int(rows[0, 7]) & sixr.SINGULAR)
         q = rows[0, :7]
         return claim((q, 0, 0, branch(sw, q), singular, held_reason, (theta, singular)))

@@ -194,7 +194,11 @@ def cmd_info(args: argparse.Namespace) -> int:
         spec = registry.get(name)
         state = "applies" if reason is None else f"does not apply: {reason}"
         print(f"  {name:<{width}} ({spec.kind}) {state}")
-    print(f"  auto -> {registry.choose('auto', arm).name}")
+    one, every = registry.choose("auto", arm).name, registry.choose("auto", arm, every=True).name
+    if one == every:
+        print(f"  auto -> {one}")
+    else:  # a search: for every solution only (registry.choose)
+        print(f"  auto -> {one} (one answer); solve_all -> {every} (every solution, a search)")
     return 0
 
 
