@@ -30,12 +30,18 @@ def check_failed(measured_text: str) -> str:
     return f"forward-kinematics check failed: {measured_text}"
 
 
-def unreachable(distance: float, reach: float) -> str:
-    """A target beyond the reach bound (m), refused before any iteration."""
+def beyond_reach(distance: float, reach: float) -> str:
+    """Why a target ``distance`` m from the first joint is out of reach (the proof a
+    search's miss needs)."""
     return (
         f"target is {distance:.4g} m from the first joint, beyond the arm's reach of at "
-        f"most {reach:.4g} m; q is the seed, unchanged"
+        f"most {reach:.4g} m"
     )
+
+
+def unreachable(distance: float, reach: float) -> str:
+    """A target beyond the reach bound (m), refused before any iteration."""
+    return f"{beyond_reach(distance, reach)}; q is the seed, unchanged"
 
 
 def not_converged(why: str, best: str) -> str:

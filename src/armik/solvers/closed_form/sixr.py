@@ -430,7 +430,7 @@ def beyond_reach(arm: ArmModel, position) -> str | None:
     """The reason a target at ``position`` (m, base frame) is out of reach when it lies
     beyond the arm's reach bound, else None: a search that finds nothing proves no more."""
     distance = math.dist(list(position), arm.first_joint_origin.tolist())
-    return reasons.unreachable(distance, arm.reach) if distance > arm.reach else None
+    return reasons.beyond_reach(distance, arm.reach) if distance > arm.reach else None
 
 
 def attempts(rows: np.ndarray, family: str, closed_form: str, beyond: str | None = None):
@@ -446,7 +446,7 @@ def attempts(rows: np.ndarray, family: str, closed_form: str, beyond: str | None
             claim, text = Status.UNREACHABLE, reason(int(code), (v0, v1), family)
             if int(code) == NOT_FOUND:  # a search's miss: no proof unless beyond reach
                 claim = Status.NOT_CONVERGED if beyond is None else Status.UNREACHABLE
-                text = text if beyond is None else f"{beyond}; {text}"
+                text = text if beyond is None else f"{beyond}; q is q0"
         else:
             claim, text = Status.CONVERGED, claim_reason(closed_form, singular)
         result.append(

@@ -193,13 +193,14 @@ def _attempts(
         if flags & sixr.LS:
             reason = sixr.reason(int(row[9]), row[10:12], spherical.FAMILY)
             claim = Status.UNREACHABLE
-            if swept:
-                claim = Status.NOT_CONVERGED if beyond is None else Status.UNREACHABLE
+            if swept and beyond is not None:
+                reason = f"{beyond}; joint 7 at {theta:.6g} rad: {reason}"
+            elif swept:
+                claim = Status.NOT_CONVERGED
                 reason = (
                     f"no value of joint 7 swept gave an exact solution; at {theta:.6g} rad: "
                     f"{reason}"
                 )
-                reason = reason if beyond is None else f"{beyond}; {reason}"
         else:
             reason, claim = held_reason(theta, singular), Status.CONVERGED
         q = row[:7].copy()
