@@ -99,7 +99,7 @@ def test_near_misses_refused_with_measured_numbers(tmp_path):
     assert isinstance(why, str) and "miss by 0.0005 m" in why
     # its axes 5 and 6 still meet: the search over q4 solves it exactly
     target = armik.parse_target(a.fk(np.zeros(6)))
-    assert registry.choose("auto", a, target).name == "two_intersecting"
+    assert registry.choose("auto", a, target, every=True).name == "two_intersecting"
     b = load6(tmp_path, UR5_NEAR_MISS)
     why = three_parallel.classify(b)
     assert isinstance(why, str) and "axes 2 and 3 are 0.001 rad apart" in why

@@ -19,6 +19,7 @@ import pinocchio as pin
 
 from armik.errors import FrameError, JointError, OptionError, listing
 from armik.model import mimic as _mimic
+from armik.model.default_tip import default_tip
 from armik.model.mimic import Mimic
 from armik.model.urdf import URDFInfo
 from armik.tolerances import LIMIT_TOL, MAX_LENGTH, MAX_LIMIT
@@ -415,54 +416,3 @@ def reduce_model(full: pin.Model, to_lock: list[int], q_ref: np.ndarray, geom=No
         if model.names[j] in renamed:
             model.names[j] = renamed[model.names[j]]
     return model if geom is None else (model, geom)
-
-
-def default_tip(info: URDFInfo, base: str) -> tuple[str, str]:
-    """The tip when none is given, and why: ``tool0`` downstream of the base (REP 199,
-    the tool flange of ROS-Industrial and UR descriptions); else the leaf at the end of
-    the longest chain of moving joints; leaves tied there that hang on fixed joints from
-    one link give that link. Raises ``FrameError`` listing the leaves when it is a choice."""
-    children = info.children()
-    if base not in children:
-        raise FrameError(
-            f"no tip given and the base {base!r} is not a link of the URDF: pass tip=",
-            frame=base,
-        )
-    leaves: list[tuple[str, int, str | None]] = []
-    stack: list[tuple[str, int, str | None]] = [(base, 0, None)]
-    tool0 = False
-    while stack:  # iterative: trees can be deep
-        link, moving, last = stack.pop()
-        tool0 |= link == "tool0" and moving > 0
-        kids = children.get(link, [])
-        if not kids:
-            leaves.append((link, moving, last))
-        for j in kids:
-            step = j.type != "fixed"
-            stack.append((j.child, moving + step, j.name if step else last))
-    if tool0:
-        return "tool0", "'tool0', the tool flange by convention (REP 199)"
-    best = max(m for _, m, _ in leaves)
-    if best == 0:
-        raise FrameError(
-            f"no tip given and no moving joint lies downstream of {base!r}: pick another base",
-            frame=base,
-        )
-    top = sorted((leaf for leaf in leaves if leaf[1] == best), key=lambda leaf: leaf[0])
-    if len(top) == 1:
-        return top[0][0], f"the leaf at the end of the longest chain ({best} moving joints)"
-    lasts = {last for _, _, last in top}
-    if len(lasts) == 1:
-        joint = info.joints[lasts.pop()]
-        return joint.child, (
-            f"the link after the last moving joint {joint.name!r} of the longest chain "
-            f"({best} moving joints); the leaves {listing(n for n, _, _ in top)} hang from "
-            "it on fixed joints"
-        )
-    names = [n for n, _, _ in top]
-    raise FrameError(
-        f"no tip given and the URDF has {len(names)} leaf links at the end of chains of "
-        f"{best} moving joints: pass tip= one of {listing(names)}",
-        frame="",
-        candidates=names,
-    )
