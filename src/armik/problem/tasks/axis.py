@@ -1,0 +1,40 @@
+"""A frame's axis pointing along a direction of the base frame, within a cone: "the suction
+cup points down within 3 degrees"; with ``within=0``, a 5-joint arm's "this point, pointing
+that way" together with a ``Position``."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from armik.problem.tasks import cone
+from armik.problem.tasks.base import Task, TaskError, check_angle, check_frame, unit
+
+
+class Axis(Task):
+    """``axis`` (in ``frame``'s own axes; None: the tip) within ``within`` rad of
+    ``direction`` (in the base frame)."""
+
+    def __init__(
+        self, axis: object, direction: object, within: object = 0.0, frame: str | None = None
+    ) -> None:
+        self.axis = unit(axis, "Axis axis")
+        self.direction = unit(direction, "Axis direction")
+        self.within = check_angle(within, "Axis within")
+        self.frame = check_frame(frame)
+
+    @property
+    def rows(self) -> int:
+        return 3
+
+    def residual(self, T: pin.SE3) -> np.ndarray:
+        return cone.residual(self.axis, T.rotation.T @ self.direction, self.within)
+
+    def jacobian(self, T: pin.SE3, J: np.ndarray) -> np.ndarray:
+        w = T.rotation.T @ self.direction
+        return cone.jacobian(self.axis, w, cone.skew(w) @ J[3:], self.within)
+
+    def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
+        w = T.rotation.T @ self.direction
+        beyond = max(cone.angle(self.axis, w) - self.within, 0.0)
+        return TaskError(None, beyond, beyond <= tol_orientation)

@@ -1,0 +1,124 @@
+"""What every task shares: its measure, the dead zone that makes a region a residual, and
+the checks of its inputs.
+
+A task asks one frame of the arm for something: a pose, a position, an axis's direction.
+It gives the numeric step a residual that is zero exactly where it holds and the
+residual's Jacobian, and it measures itself on a placement computed by Pinocchio, so that
+the verdict asks every task whether it holds. Lengths are in m, angles in rad, placements
+``T_base_frame`` in the arm's base frame, Jacobians in Pinocchio's LOCAL convention (the
+frame's own axes: ``v = R^T dp/dt``, ``w`` with ``dR/dt = R [w]x``).
+"""
+
+from __future__ import annotations
+
+import math
+from abc import ABC, abstractmethod
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from armik.errors import TargetError
+
+
+@dataclass(frozen=True)
+class TaskError:
+    """A task measured on one placement: how far it is from holding (m and rad, 0 inside
+    its region; None where it does not measure that part) and whether it holds."""
+
+    position: float | None
+    orientation: float | None
+    within: bool
+
+
+class Task(ABC):
+    """One thing asked of one frame (``frame``: None for the arm's tip)."""
+
+    frame: str | None = None
+
+    @property
+    @abstractmethod
+    def rows(self) -> int:
+        """The number of residual rows."""
+
+    @abstractmethod
+    def residual(self, T: pin.SE3) -> np.ndarray:
+        """(rows,): zero where the task holds, growing with the distance from its region."""
+
+    @abstractmethod
+    def jacobian(self, T: pin.SE3, J: np.ndarray) -> np.ndarray:
+        """(rows, nv): the residual's derivative, from the frame's LOCAL Jacobian ``J``
+        (6, nv) at the same configuration."""
+
+    @abstractmethod
+    def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
+        """The task on ``T``, within the tolerances (m, rad) added to its region."""
+
+
+def dead_zone(e: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(residual, active): each component of ``e`` shrunk towards 0 by its bound, 0 inside
+    it (``inf`` frees the component); ``active`` marks the rows with a derivative."""
+    active = np.abs(e) > bounds
+    residual = np.where(active, e - np.copysign(np.where(np.isinf(bounds), 0.0, bounds), e), 0.0)
+    return residual, active
+
+
+def check_bounds(bounds: object, n: int, what: str) -> np.ndarray:
+    """``bounds`` as n non-negative numbers (``math.inf`` frees an axis); ``TargetError``
+    naming the value otherwise."""
+    try:
+        arr = np.array(bounds, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise TargetError(f"{what} must be {n} numbers (m or rad), got {bounds!r}") from None
+    if arr.shape != (n,):
+        raise TargetError(f"{what} must be {n} numbers (m or rad), got {bounds!r}")
+    if np.isnan(arr).any() or (arr < 0).any():
+        raise TargetError(
+            f"{what} must be >= 0 (a tolerance on each side; math.inf frees an axis), got "
+            f"{arr.tolist()}"
+        )
+    return arr
+
+
+def check_weights(weights: object, n: int, what: str) -> np.ndarray:
+    """``weights`` as n finite numbers >= 0, not all 0; ``TargetError`` otherwise."""
+    try:
+        arr = np.array(weights, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise TargetError(f"{what} must be {n} numbers >= 0, got {weights!r}") from None
+    if arr.shape != (n,) or not np.isfinite(arr).all() or (arr < 0).any() or not arr.any():
+        raise TargetError(
+            f"{what} must be {n} finite numbers >= 0, not all 0 (0 frees an axis), got {weights!r}"
+        )
+    return arr
+
+
+def unit(vector: object, what: str) -> np.ndarray:
+    """``vector`` as a unit 3-vector; ``TargetError`` for a zero-length or non-finite one."""
+    try:
+        arr = np.array(vector, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise TargetError(f"{what} must be 3 numbers, got {vector!r}") from None
+    if arr.shape != (3,) or not np.isfinite(arr).all():
+        raise TargetError(f"{what} must be 3 finite numbers, got {vector!r}")
+    norm = float(np.linalg.norm(arr))
+    if norm < 1e-9:
+        raise TargetError(f"{what} must have a length, got {arr.tolist()} (zero length)")
+    return arr / norm
+
+
+def check_angle(within: object, what: str) -> float:
+    """``within`` as an angle in [0, pi] rad; ``TargetError`` otherwise."""
+    try:
+        angle = float(within)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise TargetError(f"{what} must be an angle in rad, got {within!r}") from None
+    if not 0.0 <= angle <= math.pi:
+        raise TargetError(f"{what} must lie in [0, pi] rad, got {within!r}")
+    return angle
+
+
+def check_frame(frame: object) -> str | None:
+    if frame is not None and not isinstance(frame, str):
+        raise TargetError(f"frame must be a frame's name (a str) or None, got {frame!r}")
+    return frame

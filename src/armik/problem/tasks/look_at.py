@@ -1,0 +1,65 @@
+"""A frame's axis pointing at a point of the base frame, within a cone: a camera or a
+nozzle aimed at a spot."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from armik.problem.tasks import cone
+from armik.problem.tasks.base import Task, TaskError, check_angle, check_frame, unit
+from armik.targets.pose import _vector
+
+_AT = 1e-9  # m: a point this close to the frame's origin is looked at from any direction
+
+
+class LookAt(Task):
+    """``axis`` (in ``frame``'s own axes; None: the tip) within ``within`` rad of the line
+    from the frame's origin to ``point`` (m, base frame)."""
+
+    def __init__(
+        self,
+        point: object,
+        axis: object = (0.0, 0.0, 1.0),
+        within: object = 0.0,
+        frame: str | None = None,
+    ) -> None:
+        self.point = _vector(point, 3, "LookAt point")
+        self.axis = unit(axis, "LookAt axis")
+        self.within = check_angle(within, "LookAt within")
+        self.frame = check_frame(frame)
+
+    @property
+    def rows(self) -> int:
+        return 3
+
+    def _sight(self, T: pin.SE3) -> tuple[np.ndarray, float]:
+        """The unit line of sight in the base frame and the distance to the point."""
+        v = self.point - T.translation
+        distance = float(np.linalg.norm(v))
+        return (v / distance if distance > _AT else v), distance
+
+    def residual(self, T: pin.SE3) -> np.ndarray:
+        d, distance = self._sight(T)
+        if distance <= _AT:
+            return np.zeros(3)
+        return cone.residual(self.axis, T.rotation.T @ d, self.within)
+
+    def jacobian(self, T: pin.SE3, J: np.ndarray) -> np.ndarray:
+        d, distance = self._sight(T)
+        if distance <= _AT:
+            return np.zeros((3, J.shape[1]))
+        R = T.rotation
+        w = R.T @ d
+        # d moves with the origin (dp = R v dq) and w with the frame's rotation too
+        dd = (np.eye(3) - np.outer(d, d)) / distance @ (-R @ J[:3])
+        return cone.jacobian(self.axis, w, cone.skew(w) @ J[3:] + R.T @ dd, self.within)
+
+    def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
+        d, distance = self._sight(T)
+        beyond = (
+            0.0
+            if distance <= _AT
+            else max(cone.angle(self.axis, T.rotation.T @ d) - self.within, 0.0)
+        )
+        return TaskError(None, beyond, beyond <= tol_orientation)

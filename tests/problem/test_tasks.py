@@ -1,0 +1,141 @@
+"""The tasks' residuals, Jacobians and measures: Jacobians against finite differences
+through ``pin.integrate`` (continuous joints included), bounds against a hand-built error
+twist, regions that need no step, and bad input named."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.errors import TargetError
+from armik.problem import Axis, LookAt, Pose, Position
+
+from ..conftest import arm as bundled
+
+H = 1e-6
+
+
+def numeric_jacobian(a: armik.Arm, task, q: np.ndarray) -> np.ndarray:
+    """Central differences of the residual, stepping Pinocchio's configuration with
+    ``pin.integrate`` along each joint's velocity."""
+    qp = a.to_pin(q)
+    columns = []
+    for i in range(a.dof):
+        dv = np.zeros(a.model.nv)
+        dv[i] = H
+        plus = task.residual(a.fk_pin(pin.integrate(a.model, qp, dv)))
+        minus = task.residual(a.fk_pin(pin.integrate(a.model, qp, -dv)))
+        columns.append((plus - minus) / (2 * H))
+    return np.array(columns).T
+
+
+def tasks_for(a: armik.Arm, rng: np.random.Generator) -> list:
+    """Tasks whose residual is away from zero (and from the dead zones' edges) at the
+    configurations the test draws."""
+    T = a.fk(a.random_q(rng))
+    return [
+        Pose(T),
+        Pose(T, bounds=(0.01, 0.0, math.inf, 0.05, 0.0, math.inf)),
+        Pose(T, weights=(1, 2, 0.5, 1, 1, 0)),
+        Position(T.translation),
+        Position(T.translation, bounds=(0.02, math.inf, 0.0)),
+        Axis((0, 0, 1), (0.3, -0.2, -1.0)),
+        Axis((1, 0, 0), (0.0, 1.0, 0.2), within=0.1),
+        LookAt(T.translation + np.array([0.5, 0.3, -0.4])),
+        LookAt(T.translation + np.array([0.0, 0.8, 0.1]), axis=(0, 1, 0), within=0.05),
+    ]
+
+
+@pytest.mark.parametrize("robot", ["panda", "ur5", "kinova"])  # kinova: continuous joints
+def test_jacobians_match_finite_differences(robot):
+    a = bundled(robot)
+    rng = np.random.default_rng(3)
+    tasks = tasks_for(a, rng)
+    for _ in range(4):
+        q = a.random_q(rng)
+        T, J = a.fk(q), a.jacobian(q)
+        for task in tasks:
+            r = task.residual(T)
+            assert r.shape == (task.rows,)
+            analytic = task.jacobian(T, J)
+            numeric = numeric_jacobian(a, task, q)
+            np.testing.assert_allclose(analytic, numeric, atol=2e-6, err_msg=repr(task))
+
+
+def hand_built(e: np.ndarray, T_t: pin.SE3) -> pin.SE3:
+    """The placement whose error twist relative to ``T_t``, in ``T_t``'s frame, is ``e``."""
+    R = T_t.rotation @ pin.exp3(e[3:])
+    return pin.SE3(R, T_t.translation + T_t.rotation @ e[:3])
+
+
+def test_bounds_mean_the_error_twist_in_the_target_frame():
+    T_t = pin.SE3.Random()
+    e = np.array([0.004, -0.003, 0.02, 0.03, -0.01, 0.5])
+    T = hand_built(e, T_t)
+    task = Pose(T_t, bounds=(0.005, 0.005, 0.005, 0.05, 0.05, math.inf))
+    np.testing.assert_allclose(task.twist(T), e, atol=1e-12)
+    r = task.residual(T)  # only z is outside its bound, by 0.015 m
+    np.testing.assert_allclose(r, [0, 0, 0.015, 0, 0, 0], atol=1e-12)
+    m = task.measure(T, 1e-6, 1e-6)
+    assert not m.within and m.position == pytest.approx(0.015) and m.orientation == 0.0
+    wider = Pose(T_t, bounds=(0.005, 0.005, 0.021, 0.05, 0.05, math.inf))
+    assert wider.measure(T, 1e-6, 1e-6).within
+    tight_spin = Pose(T_t, bounds=(0.005, 0.005, 0.021, 0.05, 0.05, 0.4))
+    assert tight_spin.measure(T, 1e-6, 1e-6).orientation == pytest.approx(0.1)
+
+
+def test_a_target_inside_its_region_needs_no_step():
+    a = bundled("panda")
+    q = a.random_q(np.random.default_rng(8))
+    T, J = a.fk(q), a.jacobian(q)
+    R = T.rotation
+    inside = [
+        Pose(
+            hand_built(np.array([0.001, 0, -0.002, 0.01, 0, 2.0]), T),
+            bounds=[0.005] * 3 + [0.05, 0.05, math.inf],
+        ),
+        Position(T.translation + [0.003, 0, 0], bounds=(0.005, 0.005, 0.005)),
+        Axis((0, 0, 1), R @ [0.0, 0.05, 1.0], within=0.06),
+        LookAt(T.translation + R @ [0.02, 0.0, 0.7], within=0.05),
+    ]
+    for task in inside:
+        assert not task.residual(T).any() and not task.jacobian(T, J).any(), task
+        assert task.measure(T, 1e-9, 1e-9).within, task
+
+
+def test_the_cone_residual_is_the_angle_beyond_the_cone():
+    T = pin.SE3(pin.exp3(np.array([0.0, 0.3, 0.0])), np.zeros(3))  # tip z tilted by 0.3 rad
+    for within in (0.0, 0.1, 0.29):
+        task = Axis((0, 0, 1), (0, 0, 1), within=within)
+        assert np.linalg.norm(task.residual(T)) == pytest.approx(0.3 - within)
+        assert task.measure(T, 1e-9, 1e-9).orientation == pytest.approx(0.3 - within)
+    assert Axis((0, 0, 1), (0, 0, 1), within=0.31).measure(T, 1e-9, 1e-9).within
+    upside_down = Axis((0, 0, 1), (0, 0, -1))
+    assert np.linalg.norm(upside_down.residual(pin.SE3.Identity())) == pytest.approx(math.pi)
+
+
+@pytest.mark.parametrize(
+    ("build", "words"),
+    [
+        (lambda: Pose(np.eye(4), bounds=(0.1, -0.1, 0, 0, 0, 0)), "must be >= 0"),
+        (lambda: Pose(np.eye(4), bounds=(0.1, math.nan, 0, 0, 0, 0)), "nan"),
+        (lambda: Pose(np.eye(4), bounds=(0.1, 0.1)), "6 numbers"),
+        (lambda: Pose(np.zeros(3)), "armik.Position"),
+        (lambda: Pose(np.eye(4), weights=(0, 0, 0, 0, 0, 0)), "not all 0"),
+        (lambda: Position((0, 0, math.nan)), "NaN"),
+        (lambda: Position((0, 0, 1), bounds=(-1, 0, 0)), "-1.0"),
+        (lambda: Axis((0, 0, 0), (0, 0, 1)), "zero length"),
+        (lambda: Axis((0, 0, 1), (0, 0, 1), within=4.0), "[0, pi]"),
+        (lambda: Axis((0, 0, 1), (0, 0, 1), within=-0.1), "[0, pi]"),
+        (lambda: LookAt((1, 0, 0), axis=(0, 0, 0)), "zero length"),
+        (lambda: Axis((0, 0, 1), (0, 0, 1), frame=3), "frame"),
+    ],
+)
+def test_bad_input_is_named(build, words):
+    with pytest.raises(TargetError) as info:
+        build()
+    assert words.lower() in str(info.value).lower()
