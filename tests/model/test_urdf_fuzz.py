@@ -3,6 +3,7 @@ accepted or refused with an ``ArmikError``; nothing else escapes."""
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -116,3 +117,12 @@ def test_load_arguments_accept_or_refuse(tip_offset, locked):
     except ArmikError:
         return
     assert isinstance(a.fk(a.middle), pin.SE3)
+
+
+def test_one_sided_limits_sample_beside_the_limit():
+    """The example the fuzzing above once drew: (-inf, -4) sampled [-4 - 2 pi, -4]."""
+    for pair, (lo, hi) in {(-math.inf, -4.0): (-4.0 - 2 * math.pi, -4.0),
+                           (4.0, math.inf): (4.0, 4.0 + 2 * math.pi)}.items():  # fmt: skip
+        a = arm("ur5").with_limits({"shoulder_pan_joint": pair})
+        q = a.random_q(0, n=200)[:, 0]
+        assert (q >= lo).all() and (q <= hi).all() and q.max() - q.min() > 5.0

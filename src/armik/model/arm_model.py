@@ -300,10 +300,11 @@ class ArmModel:
     # -- joint values ---------------------------------------------------------------------
 
     def sampling_box(self) -> tuple[np.ndarray, np.ndarray]:
-        """The box random configurations come from: the limits, [-pi, pi] where unlimited."""
-        lo = np.where(np.isfinite(self.lower), self.lower, -math.pi)
-        hi = np.where(np.isfinite(self.upper), self.upper, math.pi)
-        return lo, hi
+        """Where random configurations come from: the limits (2 pi wide beside a one-sided
+        limit), [-pi, pi] where unlimited."""
+        low, up, pi = np.isfinite(self.lower), np.isfinite(self.upper), math.pi
+        lo = np.where(low, self.lower, np.where(up, self.upper - 2 * pi, -pi))
+        return lo, np.where(up, self.upper, np.where(low, self.lower + 2 * pi, pi))
 
     def random_q(
         self, rng: np.random.Generator | int | None = None, n: int | None = None
