@@ -295,7 +295,7 @@ def _closed_form_arm(
     answer the analytic solver did not find shows as a large distance). ``label``: the
     rows' arm name (the arm's own by default)."""
     name = label or arm.name
-    family = registry.choose("auto", arm, parse_target(arm.fk(arm.middle), arm)).name
+    family = registry.choose("auto", arm, parse_target(arm.fk(arm.middle), arm), every=True).name
     qs = [arm.random_q(rng) for _ in range(n)]
     poses = [arm.fk(q) for q in qs]
     q0s = [np.clip(q + rng.normal(0.0, 0.4, arm.dof), arm.lower, arm.upper) for q in qs]
@@ -393,7 +393,9 @@ def speed(
     rows = []
     for name in names:
         arm = load(name)
-        family = registry.choose("auto", arm, parse_target(arm.fk(arm.middle), arm)).name
+        family = registry.choose(
+            "auto", arm, parse_target(arm.fk(arm.middle), arm), every=True
+        ).name
         qs = [arm.random_q(rng) for _ in range(n)]
         poses = [arm.fk(q) for q in qs]
         peer = _eaik(arm)
