@@ -37,6 +37,12 @@ class Options:
     - ``position_only``: ignore the target's orientation.
     - ``weights``: 6 non-negative weights on (x, y, z, rx, ry, rz) of the error expressed
       in the tip frame; a zero weight frees that axis (e.g. rotation about the tool axis).
+      With ``bounds``, the weights act on the error in the target frame, as the bounds do.
+    - ``bounds``: a region around the target, with TRAC-IK's meaning: the error twist of
+      the reached tip pose relative to the target, in the target frame (position
+      ``R_t^T (p - p_t)`` m, rotation ``log3(R_t^T R)`` rad), each component within +- its
+      bound (bx, by, bz, brx, bry, brz); ``math.inf`` frees an axis. A success lies within
+      the bounds (plus the tolerances); its errors are its distance outside them.
     - ``qp_solver``: the qpsolvers backend of the ``qp`` solver ("osqp").
     - ``nullspace_gain``: pull toward q0 in the null space of redundant arms (1.0; 0 disables).
     - ``max_solutions``: cap on ``solve_all`` answers of numeric solvers (16).
@@ -58,6 +64,7 @@ class Options:
     seed: int | None = 0
     position_only: bool = False
     weights: tuple[float, ...] | None = None
+    bounds: tuple[float, ...] | None = None
     qp_solver: str = "osqp"
     nullspace_gain: float = 1.0
     max_solutions: int = 16
@@ -116,6 +123,8 @@ class Options:
                 )
         if "weights" in values and values["weights"] is not None:
             values["weights"] = _weights(values["weights"])
+        if values.get("bounds") is not None:
+            values["bounds"] = _bounds(values["bounds"])
         if "position_only" in values:
             flag = values["position_only"]
             if not isinstance(flag, (bool, np.bool_)):
@@ -291,3 +300,22 @@ def _weights(value: object) -> tuple[float, ...]:
             value=value,
         )
     return tuple(float(v) for v in w)
+
+
+def _bounds(value: object) -> tuple[float, ...]:
+    """6 bounds >= 0 (m, m, m, rad, rad, rad), ``inf`` allowed (a free axis)."""
+    try:
+        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):
+            raise TypeError
+        b = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        b = np.array([np.nan])
+    if b.shape != (6,) or np.isnan(b).any() or (b < 0).any():
+        raise OptionError(
+            "bounds must be 6 numbers >= 0 (bx, by, bz in m, brx, bry, brz in rad: how far "
+            f"each component of the error may lie on either side; math.inf frees it); got "
+            f"{value!r}",
+            option="bounds",
+            value=value,
+        )
+    return tuple(float(v) for v in b)

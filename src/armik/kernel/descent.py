@@ -23,6 +23,7 @@ from armik.kernel.clock import thread_cpu_ns
 from armik.kernel.error import _evaluate
 from armik.kernel.linalg import copy_to
 from armik.kernel.problem import BEST, DQ, NO_LIMIT, SHIFT, U
+from armik.kernel.region import _evaluate_region
 from armik.kernel.restarts import _pick, seed_shift
 from armik.kernel.step import dls, qp, wrapped
 from armik.status import Status
@@ -70,12 +71,22 @@ def _near_known_minimum(ch, q, minima, count):
 
 
 @njit(cache=True, nogil=True, inline="always")
+def _measure(ch, st, R_t, p_t, ws, slot):
+    """The error, its Jacobian and the measures at ws.q[slot]: of the exact target, or of
+    its region when the target has bounds."""
+    if st.region:
+        _evaluate_region(ch, st.bounds, st.w, R_t, p_t, ws, slot)
+    else:
+        _evaluate(ch, st, R_t, p_t, ws, slot)
+
+
+@njit(cache=True, nogil=True, inline="always")
 def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, step):
     """Iterate from ws.q[0] with ``step`` (``step.dls`` or ``step.qp``) for at most ``limit``
     iterations (and, if ``deadline_ns`` is not NO_LIMIT, until the thread's CPU clock passes
     it). Returns (iterations, converged, slot of the last state)."""
     cur = ZERO
-    _evaluate(ch, st, R_t, p_t, ws, cur)
+    _measure(ch, st, R_t, p_t, ws, cur)
     best_sq = ws.val[cur, 2]
     mu = 1.0
     careful = False
@@ -96,7 +107,7 @@ def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, step):
         q, qn, dq = ws.q[cur], ws.q[trial], ws.vec[DQ]
         for i in range(n):
             qn[i] = min(max(q[i] + dq[i], lo[i]), hi[i])
-        _evaluate(ch, st, R_t, p_t, ws, trial)
+        _measure(ch, st, R_t, p_t, ws, trial)
         it += 1
         if not careful or ws.val[trial, 2] < ws.val[cur, 2]:
             cur = trial

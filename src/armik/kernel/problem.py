@@ -35,6 +35,8 @@ class Settings(NamedTuple):
     reach_slack: float  # m, added to the reach bound (the verification's tolerance)
     pull_scale: float  # 1 / the largest weight: the null-space pull's measure of the error
     translation_rows: bool  # free position and rotation axes both (see ``error._evaluate``)
+    region: bool  # the target has bounds: ``region._evaluate_region`` measures the error
+    bounds: np.ndarray  # (6,) the region's bounds (m, rad; inf: free), read when ``region``
 
 
 # Rows of Workspace.vec (n-vectors), .mat (n x n) and .ivec (integer n-vectors).
@@ -69,9 +71,10 @@ class Workspace(NamedTuple):
 def pack_settings(st: Settings) -> tuple[np.ndarray, np.ndarray]:
     """``st`` as a float and an int array (what compiled entries take; see ``unpack``)."""
     floats = [*st.w, st.tol_pos, st.tol_rot, st.null_gain, st.reach_slack, st.pull_scale]
+    floats += [*st.bounds]
     ints = [st.full_task, st.measure_position, st.max_iterations, st.max_restarts]
     ints += [st.max_found, st.timeout_ns, st.iteration_budget, st.step, st.backend]
-    ints += [st.check_reach, st.translation_rows]
+    ints += [st.check_reach, st.translation_rows, st.region]
     return np.array(floats), np.array(ints, dtype=np.int64)
 
 
@@ -96,6 +99,8 @@ def unpack(sf, si):
         sf[9],
         sf[10],
         si[10] != 0,
+        si[11] != 0,
+        sf[11:17],
     )
 
 

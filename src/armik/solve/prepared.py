@@ -84,7 +84,7 @@ _PLANS = "prepared solves"  # the arm's memo key
 
 
 def _build(arm: ArmModel, solver: str, opts: Options, position: bool, every: bool):
-    if opts.collisions:  # checked on the general path (armik.solve.avoid)
+    if opts.collisions or opts.bounds is not None:  # the general path checks them
         return _NO_PLAN
     # a target of the kind every plain target of the plan is
     target = parse_target(np.zeros(3) if position else np.eye(4), arm)

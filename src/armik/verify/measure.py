@@ -26,6 +26,7 @@ from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 from armik.tolerances import LIMIT_TOL
 from armik.verify import reasons
+from armik.verify.region import region_errors
 
 _EYE = np.eye(3)  # read only by the kernel
 _FLOAT = np.dtype(float)
@@ -38,6 +39,7 @@ class Measure:
     violations: list[str]
     tol_position: float
     tol_orientation: float
+    region: bool = False  # the errors are the distances outside the target's bounds
 
     @property
     def pose_ok(self) -> bool:
@@ -49,9 +51,10 @@ class Measure:
         return self.pose_ok and not self.violations
 
     def describe(self) -> str:
-        return reasons.measured(
+        text = reasons.measured(
             self.position_error, self.orientation_error, self.tol_position, self.tol_orientation
         )
+        return reasons.outside_bounds(text) if self.region else text
 
 
 def _measures(opts: Options, position_only: bool) -> tuple[np.ndarray, bool, bool]:
@@ -83,21 +86,28 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: Options) -> Meas
         opts.weights, opts.position_only, target.rotation is None
     )
     ch = arm.kernel_chain.chain
+    if opts.bounds is not None:
+        R_t = _EYE if target.rotation is None else target.rotation
+        (pos, ori), = region_errors(
+            arm.T_base_world, T.rotation[None], T.translation[None], R_t[None],
+            target.position[None], np.array(opts.bounds), w,
+        ).tolist()  # fmt: skip
     # C-ordered, writable float64 arrays: numba compiles anew for every other layout, and
     # Pinocchio's rotation is Fortran-ordered. ``T.homogeneous`` is a fresh C-ordered 4x4
     # whose top-left 3x3 block is the rotation: ``pose_error`` reads R_w[a, b] for a, b < 3
     # only. ``T.translation`` is a C-ordered view. The kernel only reads its arguments.
-    pos, ori = pose_error(
-        ch.base_R,
-        ch.base_p,
-        T.homogeneous,
-        T.translation,
-        _EYE if target.rotation is None else _c_float(target.rotation),
-        _c_float(target.position),
-        w,
-        weighted,
-        measure_rot,
-    )
+    else:
+        pos, ori = pose_error(
+            ch.base_R,
+            ch.base_p,
+            T.homogeneous,
+            T.translation,
+            _EYE if target.rotation is None else _c_float(target.rotation),
+            _c_float(target.position),
+            w,
+            weighted,
+            measure_rot,
+        )
     violations = [] if arm._within(q.tolist()) else arm.limit_violations(q)
     return frozen(
         Measure,
@@ -106,6 +116,7 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: Options) -> Meas
         violations=violations,
         tol_position=opts.tol_position,
         tol_orientation=opts.tol_orientation,
+        region=opts.bounds is not None,
     )
 
 
@@ -137,7 +148,10 @@ def measure_many(
     p_t[:] = target.position
     out = np.empty((n, 2))
     ch = arm.kernel_chain.chain
-    pose_errors(ch.base_R, ch.base_p, R_w, p_w, R_t, p_t, w, weighted, measure_rot, out)
+    if opts.bounds is not None:
+        out = region_errors(arm.T_base_world, R_w, p_w, R_t, p_t, np.array(opts.bounds), w)
+    else:
+        pose_errors(ch.base_R, ch.base_p, R_w, p_w, R_t, p_t, w, weighted, measure_rot, out)
     checks = []
     for q, (pos, ori) in zip(qs, out.tolist()):
         c = frozen(
@@ -147,6 +161,7 @@ def measure_many(
             violations=[] if arm._within(q.tolist()) else arm.limit_violations(q),
             tol_position=opts.tol_position,
             tol_orientation=opts.tol_orientation,
+            region=opts.bounds is not None,
         )
         checks.append(c)
     return checks
@@ -216,18 +231,26 @@ def measure_batch(
         R_t = np.broadcast_to(_EYE, (n, 3, 3))
     out = np.empty((n, 2))
     ch = arm.kernel_chain.chain
-    pose_errors(
-        ch.base_R,
-        ch.base_p,
-        R_w,
-        p_w,
-        np.array(R_t, dtype=float, order="C"),
-        np.array(targets.positions, dtype=float, order="C"),
-        w,
-        weighted,
-        measure_rot,
-        out,
-    )
+    if opts.bounds is not None:
+        R_t = np.array(R_t, dtype=float)
+        out = region_errors(
+            arm.T_base_world, R_w, p_w, R_t, targets.positions, np.array(opts.bounds), w
+        )
+        if not measure_rot:
+            out[:, 1] = np.nan
+    else:
+        pose_errors(
+            ch.base_R,
+            ch.base_p,
+            R_w,
+            p_w,
+            np.array(R_t, dtype=float, order="C"),
+            np.array(targets.positions, dtype=float, order="C"),
+            w,
+            weighted,
+            measure_rot,
+            out,
+        )
     inside = np.empty(n, dtype=np.bool_)
     within_limits(Q, ch.lower, ch.upper, LIMIT_TOL, inside)
     return BatchMeasure(out[:, 0], out[:, 1], inside, opts.tol_position, opts.tol_orientation)

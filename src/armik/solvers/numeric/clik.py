@@ -31,6 +31,8 @@ DAMP = 1e-12
 
 
 def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
+    if opts is not None and opts.bounds is not None:
+        return "the baseline follows the exact target: bounds are for dls and qp"
     return None
 
 

@@ -100,6 +100,7 @@ def packed_settings(
         opts.max_iterations,
         opts.position_only,
         opts.weights,
+        opts.bounds,
         opts.nullspace_gain,
         position_only,
         dof,
@@ -140,7 +141,11 @@ def settings(opts: Options, position_only: bool, dof: int, max_found: int, step:
     w = opts.weight_vector(position_only)
     w = w / w[w > 0.0].min()
     full_task = opts.weights is None and not (opts.position_only or position_only)
-    n_task = 6 if full_task else int(np.count_nonzero(w))
+    region = opts.bounds is not None
+    bounds = np.array(opts.bounds if region else (0.0,) * 6)
+    # rows a bound frees do not count as task rows; a box lets a far target come closer
+    n_task = 6 if full_task and not region else int(np.count_nonzero(w * np.isfinite(bounds)))
+    reach_slack = float(opts.tol_position) + float(np.linalg.norm(bounds[:3]))
     return Settings(
         w,
         full_task or bool((w == 1.0).all()),
@@ -155,10 +160,12 @@ def settings(opts: Options, position_only: bool, dof: int, max_found: int, step:
         NO_LIMIT if opts.iteration_budget is None else int(opts.iteration_budget),
         int(step.kind),
         int(step.backend),
-        bool(w[:3].all()),
-        float(opts.tol_position),
+        bool(w[:3].all()) and bool(np.isfinite(bounds[:3]).all()),
+        reach_slack,
         1.0 / float(w.max()),
         bool((w[:3] == 0.0).any() and (w[3:] == 0.0).any() and w[:3].any()),
+        region,
+        bounds,
     )
 
 
@@ -270,6 +277,8 @@ def _not_converged(opts: Options, sf: np.ndarray, out_of_budget: bool, restarts:
     errors = f"position error {err[0]:.3g} m"
     if sf[3:6].any():  # some rotation weight
         errors += f", orientation error {err[1]:.3g} rad"
+    if opts.bounds is not None:  # the kernel measured the distances outside the bounds
+        errors = reasons.outside_bounds(errors)
     return reasons.not_converged(why, errors)
 
 

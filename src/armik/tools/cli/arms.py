@@ -48,6 +48,14 @@ def add_solve_options(c: argparse.ArgumentParser) -> None:
         help="weights of the error in the tip frame; 0 frees an axis",
     )
     c.add_argument(
+        "--bounds",
+        nargs=6,
+        type=float,
+        metavar=("BX", "BY", "BZ", "BRX", "BRY", "BRZ"),
+        help="a region around the target: each component of the error in the target frame "
+        "within +- its bound (m, rad); inf frees it (TRAC-IK's bounds)",
+    )
+    c.add_argument(
         "--position-only", action="store_true", help="ignore the target's orientation"
     )
     c.add_argument("--timeout", type=float, help="time budget of numeric solvers (s)")
@@ -82,6 +90,8 @@ def solve_options(args: argparse.Namespace) -> dict:
         options["seed"] = args.seed
     if args.weights is not None:
         options["weights"] = tuple(args.weights)
+    if args.bounds is not None:
+        options["bounds"] = tuple(args.bounds)
     if args.position_only:
         options["position_only"] = True
     if args.obstacles is not None:
