@@ -28,6 +28,12 @@ EXPECT = {
     "08_many_targets.py": ["batch:", "no snap back", "discontinuous", "reach_panda.png"],
     "09_view.py": ["8 branches, all verified: True", "ur5_branches.png"],
     "10_collisions.py": ["in collision", "collision: in collision", "collision-free: True"],
+    "11_tolerances.py": [
+        "point and direction: converged",
+        "200/200 solved",
+        "converged in 0 iterations",
+        "a region 2 m away: unreachable",
+    ],
 }
 
 

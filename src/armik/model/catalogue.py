@@ -102,6 +102,13 @@ CATALOGUE: dict[str, RobotEntry] = {
             "Unitree Z1, 6 DOF, gripper locked",
         ),
         RobotEntry(
+            "so101",
+            ERD,
+            "so_arm_description/urdf/so101.urdf",
+            "gripper_frame_link",
+            "SO-101 (LeRobot), 5 DOF, gripper locked: a position and a tool direction",
+        ),
+        RobotEntry(
             "double_pendulum",
             ERD,
             "double_pendulum_description/urdf/double_pendulum_simple.urdf",
