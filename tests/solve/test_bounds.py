@@ -130,6 +130,13 @@ def test_batch_and_solve_all_take_bounds():
         np.testing.assert_allclose(b.q[i], r.q, atol=1e-12)
     every = a.solve_all(poses[0], **opts)
     assert every and all(r.success for r in every)
+    q = a.random_q(rng)  # a path of spun poses along a short joint-space line
+    line = [
+        a.fk(q + 0.02 * s) * pin.SE3(pin.exp3(np.array([0, 0, 0.3 * s])), np.zeros(3))
+        for s in range(5)
+    ]
+    path = a.solve_path(np.array([T.homogeneous for T in line]), q0=q, **opts)
+    assert path.success.all(), path.reasons
 
 
 @pytest.mark.parametrize(
