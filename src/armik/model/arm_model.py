@@ -497,4 +497,3 @@ class ArmModel:
             f"Arm({self.name!r}, dof={self.dof}, base={self.base!r}, tip={self.tip!r}"
             f"{offset}, joints={self.joint_names})"
         )
-

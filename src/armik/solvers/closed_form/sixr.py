@@ -429,8 +429,7 @@ def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form, s
 
 
 def beyond_reach(arm: ArmModel, position) -> str | None:
-    """The reason a target at ``position`` (m, base frame) is out of reach when it lies
-    beyond the arm's reach bound, else None: a search that finds nothing proves no more."""
+    """Why a target at ``position`` (m) is out of reach when beyond the reach bound."""
     distance = math.dist(list(position), arm.first_joint_origin.tolist())
     return reasons.beyond_reach(distance, arm.reach) if distance > arm.reach else None
 
