@@ -6,6 +6,7 @@ from armik.solvers.closed_form import (  # noqa: F401  (registration)
     planar2r,
     spherical_general,
     spherical_wrist,
+    spin,
     swept_7r,
     three_parallel,
     three_parallel_general,

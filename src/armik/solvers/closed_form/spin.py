@@ -1,0 +1,194 @@
+"""A closed form over a free or bounded spin: the target's bounds hold its position and two
+of its rotation components exactly and free the third (a suction cup, a drill: the spin
+about the tool axis does not matter), so the arm's closed form solves each pose of a sweep
+of that angle, and the admissible answer nearest q0 over the whole swept range is kept, not
+the nearest local one as a numeric solver would.
+
+A sweep, not a proof: an admissible window narrower than its grid (5 degrees) can be
+missed, so ``auto`` takes it only for every solution (``solve_all``); ``solver="spin"``
+asks for it for one answer. ``solve`` returns the answer nearest q0 over the range (the
+grid's best, refined by Brent's method); ``solve_all`` returns, for each branch of the
+closed form, that branch's answer nearest q0 over the range.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pinocchio as pin
+from scipy.optimize import minimize_scalar
+
+from armik.errors import SolverError
+from armik.model.arm_model import ArmModel
+from armik.options import Options
+from armik.solvers import registry
+from armik.solvers.claims import Attempt
+from armik.status import Status
+from armik.targets.batch import TargetBatch
+from armik.targets.pose import Target
+
+STEP = math.radians(5.0)  # rad between samples of the spin
+XATOL = 1e-10  # rad: Brent's tolerance on the refined angle
+AXES = "xyz"
+
+
+def spin_of(bounds: tuple[float, ...] | None) -> tuple[int, float] | None:
+    """(k, half-width): the one rotation component of the target frame the bounds free
+    (rad, at most pi), the others and the position held exactly; else None."""
+    if bounds is None:
+        return None
+    b = np.asarray(bounds, dtype=float)
+    free = np.flatnonzero(b[3:])
+    if b[:3].any() or len(free) != 1:
+        return None
+    k = int(free[0])
+    return k, min(float(b[3 + k]), math.pi)
+
+
+def family(arm: ArmModel, target: Target | None) -> registry.SolverSpec | str:
+    """The complete closed form that solves the arm's exact poses, or why there is none."""
+    try:
+        spec = registry.choose("auto", arm, target, None)
+    except SolverError as error:
+        return str(error)
+    if spec.kind != "analytic" or not spec.complete:
+        return f"no complete closed form solves this arm's poses ('auto' takes {spec.name!r})"
+    return spec
+
+
+def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
+    if opts is None or spin_of(opts.bounds) is None:
+        return (
+            "the sweep needs bounds that free one rotation component (bounds (0, 0, 0, 0, 0, "
+            "inf) frees the spin about the target's z axis) and hold the rest at 0"
+        )
+    if opts.weights is not None or opts.position_only:
+        return "position_only and per-axis weights are for the numeric solvers"
+    if target is not None and target.rotation is None:
+        return "a position target has no spin to sweep: the sweep needs a full pose"
+    spec = family(arm, target)
+    return spec if isinstance(spec, str) else None
+
+
+def _turned(target: Target, k: int, thetas: np.ndarray) -> TargetBatch:
+    """The target turned by each angle about its own axis k."""
+    axis = np.zeros(3)
+    axis[k] = 1.0
+    R = np.array([target.rotation @ pin.exp3(axis * t) for t in thetas])
+    return TargetBatch(np.tile(target.position, (len(thetas), 1)), R)
+
+
+def run(
+    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+) -> list[Attempt]:
+    k, half = spin_of(opts.bounds)  # type: ignore[misc]  # applies() checked it
+    spec = family(arm, target)
+    assert not isinstance(spec, str)  # applies() checked it
+    plain = dataclasses.replace(opts, bounds=None)
+    n = max(3, math.ceil(2.0 * half / STEP) + 1)
+    thetas = np.linspace(-half, half, n, endpoint=half < math.pi)
+    if all_solutions:
+        return _every_branch(arm, spec, target, q0, plain, k, half, thetas)
+    return _nearest(arm, spec, target, q0, plain, k, half, thetas)
+
+
+def _distances(arm: ArmModel, spec, target: Target, q0: np.ndarray, opts, k, thetas):
+    """(answers, distances): the closed form's answer nearest q0 at each angle and its
+    distance to q0 (inf where it is not exact within the limits)."""
+    q0s = np.ascontiguousarray(np.broadcast_to(q0, (len(thetas), arm.dof)))
+    got = spec.run_batch(arm, _turned(target, k, thetas), q0s, opts)
+    d = np.linalg.norm(got.q - q0, axis=1)
+    admissible = (got.claim == Status.CONVERGED.code) & np.array(
+        [arm.within_limits(q) for q in got.q]
+    )
+    return got.q, np.where(admissible, d, np.inf)
+
+
+def _bracket(thetas: np.ndarray, i: int, half: float) -> tuple[float, float]:
+    """The interval around sample i to refine in (a full turn wraps around)."""
+    step = thetas[1] - thetas[0]
+    lo, hi = thetas[i] - step, thetas[i] + step
+    return (lo, hi) if half >= math.pi else (max(lo, -half), min(hi, half))
+
+
+def _nearest(arm, spec, target, q0, opts, k, half, thetas) -> list[Attempt]:
+    Q, d = _distances(arm, spec, target, q0, opts, k, thetas)
+    i = int(np.argmin(d))
+    if not math.isfinite(d[i]):
+        return [_missed(q0, k, len(thetas))]
+
+    def f(t: float) -> float:
+        return float(_distances(arm, spec, target, q0, opts, k, np.array([t]))[1][0])
+
+    best = minimize_scalar(f, bounds=_bracket(thetas, i, half), method="bounded",
+                           options={"xatol": XATOL})  # fmt: skip
+    theta = float(best.x) if best.fun < d[i] else float(thetas[i])
+    Q1, d1 = _distances(arm, spec, target, q0, opts, k, np.array([theta]))
+    return [_found(Q1[0], k, theta, spec.name)]
+
+
+def _every_branch(arm, spec, target, q0, opts, k, half, thetas) -> list[Attempt]:
+    """Each branch's answer nearest q0 over the range (branches by the closed form's
+    labels)."""
+    samples: dict[str, list[tuple[float, float]]] = {}
+    for t in thetas.tolist():
+        for a in _exact(arm, spec, target, q0, opts, k, t):
+            samples.setdefault(a.branch, []).append((float(np.linalg.norm(a.q - q0)), t))
+    if not samples:
+        return [_missed(q0, k, len(thetas))]
+    result = []
+    for label, found in samples.items():
+        d0, t0 = min(found)
+
+        def f(t: float, label: str = label) -> float:
+            rows = [a for a in _exact(arm, spec, target, q0, opts, k, t) if a.branch == label]
+            return float(np.linalg.norm(rows[0].q - q0)) if rows else math.inf
+
+        i = int(np.argmin(np.abs(thetas - t0)))
+        best = minimize_scalar(f, bounds=_bracket(thetas, i, half), method="bounded",
+                               options={"xatol": XATOL})  # fmt: skip
+        theta = float(best.x) if best.fun < d0 else t0
+        rows = [a for a in _exact(arm, spec, target, q0, opts, k, theta) if a.branch == label]
+        result.append(dataclasses.replace(_found(rows[0].q, k, theta, spec.name), branch=label))
+    return result
+
+
+def _exact(arm, spec, target, q0, opts, k, t: float) -> list[Attempt]:
+    """The closed form's exact answers within the limits at spin t."""
+    one = _turned(target, k, np.array([t])).target(0)
+    rows = spec.run(arm, one, q0, opts, True)
+    return [a for a in rows if a.claim is Status.CONVERGED and arm.within_limits(a.q)]
+
+
+def _found(q: np.ndarray, k: int, theta: float, name: str) -> Attempt:
+    return Attempt(
+        q=np.array(q, dtype=float),
+        claim=Status.CONVERGED,
+        reason=f"{name} over the spin about the target's {AXES[k]} axis, at {theta:.6g} rad "
+        "(nearest q0 over the swept range)",
+    )
+
+
+def _missed(q0: np.ndarray, k: int, n: int) -> Attempt:
+    return Attempt(
+        q=np.array(q0, dtype=float),
+        claim=Status.NOT_CONVERGED,
+        reason=f"none of {n} spins about the target's {AXES[k]} axis gave an exact answer "
+        "within the limits (a sweep: a narrower window may still hold one); q is q0",
+    )
+
+
+SPEC = registry.register(
+    registry.SolverSpec(
+        name="spin",
+        kind="analytic",
+        enforces_limits=True,
+        priority=85,
+        why_not=applies,
+        run=run,
+        summary="a 6R closed form over a free or bounded spin (bounds freeing one rotation)",
+        complete=False,
+    )
+)
