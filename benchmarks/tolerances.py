@@ -23,6 +23,9 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
+import re
+import tempfile
 import time
 
 import numpy as np
@@ -71,11 +74,26 @@ def independent_fk(a: armik.Arm):
 
 
 def tracik(a: armik.Arm):
+    """TRAC-IK on the arm's URDF under a massless root link (KDL warns of a root link with
+    an inertia, the Panda's and the SO-101's), with armik's joint limits."""
     try:
         from trac_ik import TracIK
     except ImportError:
         return None
-    return TracIK(a.base, a.tip, str(a.source), timeout=0.005, epsilon=1e-5)
+    text = open(a.source).read()
+    children = set(re.findall(r"<child\s+link=\"([^\"]+)\"", text))
+    root = next(n for n in re.findall(r"<link\s+name=\"([^\"]+)\"", text) if n not in children)
+    dummy = (
+        '<link name="tracik_root"/><joint name="tracik_root_joint" type="fixed">'
+        f'<parent link="tracik_root"/><child link="{root}"/></joint>'
+    )
+    text = re.sub(r"(<robot\b[^>]*>)", lambda m: m.group(1) + dummy, text, count=1)
+    fd, path = tempfile.mkstemp(suffix=".urdf")
+    with os.fdopen(fd, "w") as f:
+        f.write(text)
+    peer = TracIK(a.base, a.tip, path, timeout=0.005, epsilon=1e-5)
+    peer.joint_limits = (a.lower, a.upper)  # KDL reads the Panda's as [0, 0]: armik's
+    return peer
 
 
 def run(name: str, case: str, n: int) -> None:
