@@ -10,11 +10,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from armik import npz
+from armik import npz, reasons
 from armik.options import Options
 from armik.result import IKResult
 from armik.status import Status
-from armik.verify import reasons
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel

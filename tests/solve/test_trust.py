@@ -13,12 +13,12 @@ import pinocchio as pin
 import pytest
 
 import armik
+from armik import reasons
 from armik.solvers import registry
 from armik.solvers.closed_form import sixr
 from armik.status import Status
 from armik.targets.pose import parse_target
 from armik.tools.cli import main
-from armik.verify import reasons
 
 from .. import conftest
 

@@ -8,6 +8,7 @@ import time
 
 import numpy as np
 
+from armik import reasons
 from armik.constraints.collision import checker
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
@@ -18,7 +19,6 @@ from armik.solve.held import solve_held
 from armik.solve.prepared import plan_for
 from armik.solvers import registry
 from armik.targets.pose import parse_target
-from armik.verify import reasons
 from armik.verify.verdict import distance_verdict, finish
 
 

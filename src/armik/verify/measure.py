@@ -18,6 +18,7 @@ from functools import lru_cache
 import numpy as np
 import pinocchio as pin
 
+from armik import reasons
 from armik.frozen import frozen
 from armik.kernel.measure import pose_error, pose_errors, within_limits
 from armik.model.arm_model import ArmModel
@@ -25,7 +26,6 @@ from armik.options import Options
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 from armik.tolerances import LIMIT_TOL
-from armik.verify import reasons
 from armik.verify.region import region_errors
 
 _EYE = np.eye(3)  # read only by the kernel

@@ -3,7 +3,7 @@ verified results. Success only when the measure holds, whatever the solver claim
 
 Single solves (``finish``), prepared solves (``armik.solve.prepared``, through ``verdict``,
 ``success_reason`` and ``failure_rank``) and batches (``verdict_batch``) all decide here, in
-the words of ``armik.verify.reasons``.
+the words of ``armik.reasons``.
 """
 
 from __future__ import annotations
@@ -14,11 +14,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from armik import reasons
 from armik.batch_result import BatchResult
 from armik.result import IKResult
 from armik.solvers.claims import Attempt, AttemptBatch
 from armik.status import FAILURE_RANK, Status
-from armik.verify import reasons
 from armik.verify.measure import Measure, measure, measure_batch, measure_many
 
 if TYPE_CHECKING:

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from armik import reasons
 from armik.errors import SolverError
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes
@@ -42,7 +43,6 @@ from armik.solvers.closed_form.subproblems import (
 from armik.status import Status
 from armik.targets.pose import Target
 from armik.tolerances import LIMIT_TOL
-from armik.verify import reasons
 
 LS = 1
 SINGULAR = 2

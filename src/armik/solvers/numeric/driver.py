@@ -22,6 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from armik import reasons
 from armik.kernel import box_qp as backend
 from armik.kernel import descent as _descent
 from armik.kernel import error as _error
@@ -50,7 +51,6 @@ from armik.solvers.claims import Attempt, AttemptBatch, claim, converged_attempt
 from armik.status import Status
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
-from armik.verify import reasons
 
 _EYE = np.eye(3)  # read only by the kernel
 _FLOAT = np.dtype(float)
