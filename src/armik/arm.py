@@ -145,9 +145,7 @@ def _built(model, info, name, source, base, tip, locked, tip_offset, dirs, srdf)
     if srdf is not None:
         arm.disabled_pairs = collision.read_srdf(srdf, arm.info.links)
         srdf = str(Path(srdf).resolve())  # type: ignore[arg-type]
-    arm._recipe = Recipe(
-        source, base, tip, dict(locked or {}), arm.tip_offset, (), dirs, srdf=srdf
-    )
+    arm._recipe = Recipe(source, base, tip, dict(locked or {}), arm.tip_offset, (), dirs, srdf=srdf)
     return arm
 
 

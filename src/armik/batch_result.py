@@ -345,4 +345,3 @@ _ARRAYS = (
     "restarts",
     "min_distance",
 )
-

@@ -196,6 +196,8 @@ def _collision_options(values: dict) -> None:
                 value=margin,
             )
         values["margin"] = margin + 0.0
+
+
 _NAMES = frozenset(f.name for f in fields(Options))
 
 

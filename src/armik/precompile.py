@@ -157,9 +157,7 @@ PARTS: dict[str, Callable[[], None]] = {
     "spherical": _closed_form("abb_irb120", "spherical"),
     "three_parallel": _closed_form("ur5", "three_parallel"),
     "spherical_general": _closed_form("random:spherical", "spherical_general"),
-    "three_parallel_general": _closed_form(
-        "random:three_parallel_free", "three_parallel_general"
-    ),
+    "three_parallel_general": _closed_form("random:three_parallel_free", "three_parallel_general"),
     # one part: both families share the search's compiled zero finder (search_zeros)
     "search_1d": _in_turn(
         _closed_form("random:two_parallel", "two_parallel"),

@@ -49,9 +49,7 @@ def _distance(g1, T1: pin.SE3, g2, T2: pin.SE3) -> float:
     )
 
 
-@pytest.mark.parametrize(
-    "name, locked", [("ur5", {}), ("panda", {"panda_finger_joint1": 0.03})]
-)
+@pytest.mark.parametrize("name, locked", [("ur5", {}), ("panda", {"panda_finger_joint1": 0.03})])
 def test_obstacle_distances_match_an_independent_coal_model(name, locked):
     a = armik.load(name, locked=locked)
     full, geom, hulls, q_full = _independent(a, locked)

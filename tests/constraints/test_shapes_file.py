@@ -39,8 +39,10 @@ def test_plain_shapes_and_their_checks(tmp_path):
         ([{"type": "box", "size": [1, 1, 0]}], "size"),
         ([{"type": "sphere", "radius": 1, "centre": [0, 0, 0]}], "unknown keys ['centre']"),
         ([{"type": "box", "size": [1, 1, 1], "quaternion": [0, 0, 0, 0]}], "zero length"),
-        ([{"type": "box", "size": [1, 1, 1], "pose": np.eye(4).tolist(), "position": [0, 0, 0]}],
-         "not both"),
+        (
+            [{"type": "box", "size": [1, 1, 1], "pose": np.eye(4).tolist(), "position": [0, 0, 0]}],
+            "not both",
+        ),
         ([3], "give a shape"),
         ({"type": "sphere", "radius": 1}, "list of shapes"),
     ],

@@ -48,10 +48,20 @@ def five_joint_urdf(multiplier=-0.5, offset=0.2, extra="") -> str:
         f'<robot name="mimicky">{links}'
         + joint("j1", "revolute", "base", "l1", "0 0 0.1", "0 0 1")
         + joint("j2", "revolute", "l1", "l2", "0 0 0.3", "0 1 0", rpy="0.1 0.2 0.3")
-        + joint("j3", "revolute", "l2", "l3", "0.3 0 0", "0 1 0", -1.0, 1.0,
-                mimic_tag("j2", multiplier, offset))  # fmt: skip
-        + joint("j4", "prismatic", "l3", "l4", "0.2 0 0", "1 0 0", 0.0, 0.2,
-                mimic_tag("j1", 0.05, 0.1))  # fmt: skip
+        + joint(
+            "j3",
+            "revolute",
+            "l2",
+            "l3",
+            "0.3 0 0",
+            "0 1 0",
+            -1.0,
+            1.0,
+            mimic_tag("j2", multiplier, offset),
+        )  # fmt: skip
+        + joint(
+            "j4", "prismatic", "l3", "l4", "0.2 0 0", "1 0 0", 0.0, 0.2, mimic_tag("j1", 0.05, 0.1)
+        )  # fmt: skip
         + joint("j5", "revolute", "l4", "tip", "0.1 0 0.05", "1 0 0")
         + extra
         + "</robot>"
@@ -271,8 +281,17 @@ def branch_urdf(multiplier: float, offset: float) -> str:
         f'<robot name="b">{links}'
         + joint("j1", "revolute", "base", "l1", "0 0 0.1", "0 0 1")
         + joint("jx", "revolute", "l1", "lx", "0 0.1 0", "0 1 0")
-        + joint("j2", "revolute", "l1", "l2", "0 0 0.3", "0 1 0", -2, 2,
-                mimic_tag("jx", multiplier, offset))  # fmt: skip
+        + joint(
+            "j2",
+            "revolute",
+            "l1",
+            "l2",
+            "0 0 0.3",
+            "0 1 0",
+            -2,
+            2,
+            mimic_tag("jx", multiplier, offset),
+        )  # fmt: skip
         + joint("j3", "revolute", "l2", "tip", "0.3 0 0", "1 0 0")
         + "</robot>"
     )
@@ -323,11 +342,15 @@ def test_bad_mimics_are_clear_errors():
     later = five_joint_urdf().replace('mimic joint="j2"', 'mimic joint="j5"')
     with pytest.raises(JointError, match="'j3' mimics 'j5', which comes after it"):
         armik.load_string(later)
-    continuous = five_joint_urdf().replace(
-        joint("j5", "revolute", "l4", "tip", "0.1 0 0.05", "1 0 0"),
-        joint("j5", "continuous", "l4", "tip", "0.1 0 0.05", "1 0 0")
-        + joint("jy", "revolute", "tip", "tip2", "0 0 0", "1 0 0", mimic=mimic_tag("j5", 1, 0)),
-    ).replace('<link name="tip"/>', '<link name="tip"/><link name="tip2"/>')
+    continuous = (
+        five_joint_urdf()
+        .replace(
+            joint("j5", "revolute", "l4", "tip", "0.1 0 0.05", "1 0 0"),
+            joint("j5", "continuous", "l4", "tip", "0.1 0 0.05", "1 0 0")
+            + joint("jy", "revolute", "tip", "tip2", "0 0 0", "1 0 0", mimic=mimic_tag("j5", 1, 0)),
+        )
+        .replace('<link name="tip"/>', '<link name="tip"/><link name="tip2"/>')
+    )
     with pytest.raises(JointError, match="the driver 'j5' is continuous"):
         armik.load_string(continuous, tip="tip2")
     narrow = five_joint_urdf(1.0, 5.0)  # j3 = j2 + 5 within [-1, 1]: j2 in [-6, -4]
@@ -366,8 +389,9 @@ def test_a_prismatic_mimic_of_a_prismatic_driver(rng):
         f'<robot name="slides">{links}'
         + joint("j1", "revolute", "base", "l1", "0 0 0.1", "0 0 1")
         + joint("jp", "prismatic", "l1", "l2", "0.1 0 0", "1 0 0", 0.0, 0.3)
-        + joint("jm", "prismatic", "l2", "l3", "0 0 0.1", "0 0 1", 0.0, 0.25,
-                mimic_tag("jp", -1.0, 0.3))  # fmt: skip
+        + joint(
+            "jm", "prismatic", "l2", "l3", "0 0 0.1", "0 0 1", 0.0, 0.25, mimic_tag("jp", -1.0, 0.3)
+        )  # fmt: skip
         + joint("j3", "revolute", "l3", "tip", "0 0.1 0", "0 1 0")
         + "</robot>"
     )
@@ -407,11 +431,13 @@ def test_the_stick_figure_draws_every_joint_of_a_mimic_chain(case, rng, tmp_path
 def test_a_mimic_driver_is_never_shifted_by_two_pi(rng):
     """2 pi is no period of a driver whose mimic turns by multiplier x 2 pi: neither
     ``nearest_equivalent`` nor the kernel's answers shift it (the pose would change)."""
-    xml = five_joint_urdf(-0.5, 0.2).replace(
-        'lower="-1.0" upper="1.0"', 'lower="-4" upper="4"'
-    ).replace(
-        '<axis xyz="0 1 0"/><limit lower="-2.0" upper="2.0"',
-        '<axis xyz="0 1 0"/><limit lower="-6.2" upper="6.2"',
+    xml = (
+        five_joint_urdf(-0.5, 0.2)
+        .replace('lower="-1.0" upper="1.0"', 'lower="-4" upper="4"')
+        .replace(
+            '<axis xyz="0 1 0"/><limit lower="-2.0" upper="2.0"',
+            '<axis xyz="0 1 0"/><limit lower="-6.2" upper="6.2"',
+        )
     )
     a = armik.load_string(xml)
     assert (a.lower[1], a.upper[1]) == (-6.2, 6.2)
@@ -441,8 +467,17 @@ def fingers_urdf() -> str:
         + joint("j1", "revolute", "base", "l1", "0 0 0.1", "0 0 1")
         + joint("j2", "revolute", "l1", "tip", "0.3 0 0", "0 1 0")
         + joint("f1", "prismatic", "tip", "g1", "0 0.05 0", "0 1 0", 0.0, 0.04)
-        + joint("f2", "prismatic", "tip", "g2", "0 -0.05 0", "0 -1 0", 0.0, 0.2,
-                mimic_tag("f1", 2.0, 0.1))  # fmt: skip
+        + joint(
+            "f2",
+            "prismatic",
+            "tip",
+            "g2",
+            "0 -0.05 0",
+            "0 -1 0",
+            0.0,
+            0.2,
+            mimic_tag("f1", 2.0, 0.1),
+        )  # fmt: skip
         + "</robot>"
     )
 

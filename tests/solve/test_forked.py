@@ -59,9 +59,7 @@ def test_a_child_that_dies_is_an_armik_error_with_its_exit_code():
 
 
 @pytest.mark.parametrize("name", ["ur5", "panda"])
-def test_a_collision_checked_batch_on_processes_equals_one_in_this_process(
-    name, monkeypatch
-):
+def test_a_collision_checked_batch_on_processes_equals_one_in_this_process(name, monkeypatch):
     a = armik.load(name)
     obstacles = (armik.HalfSpace((0, 0, 1), 0.0), armik.Box((0.2, 0.2, 0.2), (0.45, 0.0, 0.3)))
     T = a.fk_batch(a.random_q(5, n=40))

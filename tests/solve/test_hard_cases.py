@@ -125,9 +125,7 @@ def test_property_verified_or_honestly_failed(name, seed, solver):
     r = a.solve(target, q0=a.random_q(rng), solver=solver, timeout=0.02)
     assert np.all(np.isfinite(r.q))
     if r.success:
-        check = measure(
-            a, np.asarray(r.q), armik.parse_target(target, a), armik.options.Options()
-        )
+        check = measure(a, np.asarray(r.q), armik.parse_target(target, a), armik.options.Options())
         assert check.ok and a.within_limits(np.asarray(r.q))
     else:
         assert r.status in ("not_converged", "unreachable", "joint_limits") and r.reason

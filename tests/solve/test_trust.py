@@ -115,9 +115,7 @@ def test_a_search_miss_is_not_converged_unless_beyond_reach():
     assert too_far.claim is Status.UNREACHABLE
 
 
-def test_auto_goes_on_to_the_numeric_solver_when_a_search_verifies_nothing(
-    irb140, monkeypatch
-):
+def test_auto_goes_on_to_the_numeric_solver_when_a_search_verifies_nothing(irb140, monkeypatch):
     """solve_all with auto: a search that finds nothing hands over, and says so."""
     spec = registry.get("two_parallel")
 

@@ -123,9 +123,7 @@ class Checker:
     distance found: the same answer as asking for every pair, for a few of coal's calls
     (docs/collisions.md)."""
 
-    def __init__(
-        self, arm: ArmModel, obstacles: tuple[Shape, ...], self_collision: bool
-    ) -> None:
+    def __init__(self, arm: ArmModel, obstacles: tuple[Shape, ...], self_collision: bool) -> None:
         g = arm_geometry(arm)
         model = g.model.copy()
         names = list(g.links)

@@ -81,9 +81,7 @@ def read_shapes(path: str | Path) -> list[Shape]:
                 f"obstacles file {str(p)!r} is not JSON: {exc}", value=str(p)
             ) from None
     if not isinstance(data, list):
-        raise CollisionError(
-            f"obstacles file {str(p)!r} must hold a list of shapes", value=str(p)
-        )
+        raise CollisionError(f"obstacles file {str(p)!r} must hold a list of shapes", value=str(p))
     return as_shapes(data)
 
 

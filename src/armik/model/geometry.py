@@ -27,7 +27,6 @@ if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
 
 
-
 @dataclass(frozen=True)
 class Plane:
     """Plane of motion, in the arm's base frame (m)."""

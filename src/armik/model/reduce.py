@@ -308,8 +308,7 @@ def check_offset(offset: object) -> tuple[float, float, float] | None:
         )
     if not np.isfinite(arr).all() or np.abs(arr).max() > MAX_LENGTH:
         raise OptionError(
-            f"tip_offset {arr.tolist()} is not finite or beyond "
-            f"{MAX_LENGTH:g} m: {fix}",
+            f"tip_offset {arr.tolist()} is not finite or beyond {MAX_LENGTH:g} m: {fix}",
             option="tip_offset",
             value=offset,
         )

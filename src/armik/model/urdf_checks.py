@@ -26,7 +26,6 @@ MOVING = ("revolute", "continuous", "prismatic", "floating", "planar")
 _NUMBER = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
 
 
-
 @dataclass(frozen=True)
 class JointXML:
     """One ``<joint>`` as written in the URDF (after the axis is normalised)."""

@@ -69,8 +69,7 @@ def solve_avoiding(
         attempts = spec.run(arm, target, seed, opts, True)
         measures = measure_many(arm, [a.q for a in attempts], target, opts)
         rows = [
-            collision_verdict(verdict(a, m), check, opts.margin)
-            for a, m in zip(attempts, measures)
+            collision_verdict(verdict(a, m), check, opts.margin) for a, m in zip(attempts, measures)
         ]
         return ranked(rows, spec.name, seed, True, t0)
     if spec.kind == "analytic":

@@ -280,4 +280,3 @@ def _chunk_size(chunk: object) -> int:
             value=chunk,
         )
     return int(chunk)
-

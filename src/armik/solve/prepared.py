@@ -194,9 +194,7 @@ class Plan:
         every = self.run_pose(H, q0, seed, True)
         if every is None:  # a numeric runner (or one with no rows for ``solve_all``)
             return [got.attempt()]
-        return [
-            claim((q, *row)).attempt() if type(row) is tuple else row for q, row in zip(*every)
-        ]
+        return [claim((q, *row)).attempt() if type(row) is tuple else row for q, row in zip(*every)]
 
     def solve_all(self, target: object, q0: object, opts: Options, seed: int | None, t0: float):
         """The results of ``solve_all`` for a plain ``target`` and ``q0``, or None."""

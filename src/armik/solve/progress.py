@@ -68,4 +68,3 @@ def make_progress(progress: ProgressArg, total: int, label: str):
         option="progress",
         value=progress,
     )
-

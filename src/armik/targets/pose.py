@@ -30,7 +30,6 @@ if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
 
 
-
 @dataclass(frozen=True, eq=False)
 class Target:
     """A desired tip pose in the base frame. ``rotation`` is None for a position target."""

@@ -77,9 +77,7 @@ class Family:
             arm, self.family, self.classify, self.solve_into, self.closed_form, self.rows
         )
 
-    def register(
-        self, name: str, priority: int, summary: str, complete: bool = True
-    ) -> SolverSpec:
+    def register(self, name: str, priority: int, summary: str, complete: bool = True) -> SolverSpec:
         """Register the family as solver ``name`` (``complete``: see ``SolverSpec``)."""
         return register(
             SolverSpec(

@@ -126,9 +126,7 @@ def kernel_many(chain, Rs, ps, q0s):
     out = np.empty((8, 11))  # one for every target
     unlabelled = np.int64(0)  # no branch labels (not a literal 0: one compile of kernel)
     for i in range(N):
-        kernel(
-            h, p, R_tip0, mat(Rs[i]), vec(ps[i]), q0s[i], lower, upper, variant, unlabelled, out
-        )
+        kernel(h, p, R_tip0, mat(Rs[i]), vec(ps[i]), q0s[i], lower, upper, variant, unlabelled, out)
         for j in range(6):  # a loop: a slice copy compiles numba's shape-error path
             Q[i, j] = out[0, j]
         claim[i] = sixr.UNREACHABLE_CODE if int(out[0, 6]) & LS else sixr.CONVERGED_CODE

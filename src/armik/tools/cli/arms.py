@@ -55,9 +55,7 @@ def add_solve_options(c: argparse.ArgumentParser) -> None:
         help="a region around the target: each component of the error in the target frame "
         "within +- its bound (m, rad); inf frees it (TRAC-IK's bounds)",
     )
-    c.add_argument(
-        "--position-only", action="store_true", help="ignore the target's orientation"
-    )
+    c.add_argument("--position-only", action="store_true", help="ignore the target's orientation")
     c.add_argument("--timeout", type=float, help="time budget of numeric solvers (s)")
     c.add_argument("--seed", type=int, help="seed of the random restarts (0)")
     c.add_argument(
@@ -74,8 +72,7 @@ def add_solve_options(c: argparse.ArgumentParser) -> None:
         "--margin",
         type=float,
         metavar="M",
-        help="distance every checked pair must keep (m, 0); needs --obstacles or "
-        "--self-collision",
+        help="distance every checked pair must keep (m, 0); needs --obstacles or --self-collision",
     )
 
 
