@@ -69,7 +69,7 @@ def solve_batch(
     """Solve IK for many targets; returns a ``BatchResult`` in the order of the targets.
 
     ``targets``: an (N, 4, 4) array, (N, 7) rows ``x y z qx qy qz qw``, (N, 3) positions,
-    or a sequence of anything ``Arm.solve`` accepts (see ``armik.batch_targets``).
+    or a sequence of anything ``Arm.solve`` accepts (see ``armik.targets.batch``).
     ``q0``: None (mid-limits), one configuration for all, or one per target (N, dof).
     ``workers``: threads, or processes for collision checks and solvers without a compiled
     batch entry (``armik.solve.forked``; default: the number of cores for a solver with a

@@ -9,7 +9,7 @@ float64 array of one value per joint, the plan hands the 4x4 to the solver's com
 runner (``SolverSpec.prepare_pose``), which checks in compiled code that the pose and seed
 are what the parser and ``Arm.seed`` would pass unchanged, then solves. Pinocchio computes
 the answer's tip placement and compiled code measures it in place
-(``kernel.check.placement_check``), as
+(``armik.kernel.measure.placement_check``), as
 ``verify.measure.measure`` does. The result is the one the general path builds, field for field
 (tests/solve/test_prepared.py); its reason text is written on first read.
 

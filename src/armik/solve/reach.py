@@ -168,7 +168,7 @@ def reachability(
 
     ``resolution``: voxel side (m). ``orientations``: tool orientations per voxel.
     ``seed``: the orientation sample. ``workers`` / ``progress``: as for ``solve_batch``;
-    ``client``: a Dask client to run on a cluster instead (``armik.distributed``).
+    ``client``: a Dask client to run on a cluster instead (``armik.solve.distributed``).
     ``options``: solver options (default ``timeout=0.005``, tolerances 1e-5 m / rad).
     """
     try:

@@ -5,7 +5,7 @@ matrix; a 3-vector (position only); ``(position, quaternion)`` with the quaterni
 (x, y, z, w) order as in Pinocchio and scipy (a non-unit quaternion is normalised);
 ``(position, 3x3 rotation matrix)``; ``(position, scipy Rotation)``; a 7-vector
 (x, y, z, qx, qy, qz, qw); and on a planar arm a 2-vector (x, y) in the arm's plane (see
-``armik.planar``). Every target is expressed in the arm's base frame, in metres.
+``armik.model.geometry.Plane``). Every target is expressed in the arm's base frame, in metres.
 
 Several poses in one object (an (N, 4, 4) array, a spatialmath ``SE3`` of length N, a
 scipy ``Rotation`` of N rotations) are refused with a pointer to ``Arm.solve_batch``:

@@ -5,7 +5,7 @@ their FK poses as targets, every solve seeded from the mid-limit configuration, 
 budget per solve (5 ms), success = position error <= 1e-5 m and orientation error <= 1e-5
 rad with every joint inside its limits, as verified by armik's FK check. The Pinocchio CLIK
 loop (solver "clik") runs in the same process as a baseline; with ``peers`` the Robotics
-Toolbox's C++ ``ik_LM`` and EAIK (see ``armik.peers``) run on the same targets, interleaved
+Toolbox's C++ ``ik_LM`` and EAIK (see ``armik.tools.peers``) run on the same targets, interleaved
 target by target with armik's solvers. One untimed solve per arm and solver comes first, so
 that first-call costs do not land on the first target.
 
@@ -87,7 +87,7 @@ def bench_interleaved(
     repeats: int = 1,
     progress=None,
 ) -> list[BenchRow]:
-    """Every armik solver and every peer (``armik.peers.Peer``) on the same targets,
+    """Every armik solver and every peer (``armik.tools.peers.Peer``) on the same targets,
     interleaved target by target, so that a busy moment of the machine lands on all of them
     alike (the order turns by one per target). Peers are timed on their library call only and
     judged by armik's FK check, with the same tolerance and limits; armik's times include

@@ -350,7 +350,7 @@ def _solve_all_row(arm: Arm, family: str, poses: list, q0s: list, name: str) -> 
 
 
 def _eaik(arm: Arm):
-    """EAIK's model of ``arm`` (``armik.peers``: its decomposition and its FK checked
+    """EAIK's model of ``arm`` (``armik.tools.peers``: its decomposition and its FK checked
     against armik's), None when EAIK is not installed or does not apply."""
     from armik.tools.peers import EAIKPeer, PeerUnavailable
 
