@@ -61,6 +61,7 @@ _REGISTRY: dict[str, SolverSpec] = {}
 
 
 _BY_PRIORITY: list[SolverSpec] = []
+_AUTO = "auto's choices"  # the arm's memo key: (position target, options, every) -> spec
 generation = 0  # counts registrations: what was chosen before one may no longer be chosen
 
 
@@ -132,8 +133,21 @@ def choose(
                 candidates=solvers(),
             )
         return spec
+    # remembered per arm: applicability reads the target only for whether it is a position
+    key = (target is not None and target.rotation is None, opts, every, generation)
+    chosen = arm._memo.get(_AUTO, {})
+    try:
+        spec = chosen.get(key)
+    except TypeError:  # options holding arrays (obstacle shapes): not remembered
+        key = spec = None
+    if spec is not None:
+        return spec
     for spec in _BY_PRIORITY:
         if spec.auto and (every or spec.complete) and spec.why_not(arm, target, opts) is None:
+            if key is not None:
+                if len(chosen) > 64:
+                    chosen = {}
+                arm._memo[_AUTO] = {**chosen, key: spec}
             return spec
     raise SolverError(
         f"no registered solver applies to arm {arm.name!r}", solver="auto", candidates=solvers()
