@@ -158,7 +158,8 @@ class Plan:
             and q0.flags.c_contiguous
         ):
             return H, (q0 if q0.flags.writeable else q0.copy())  # a result's q is read-only
-        return None
+        seed = _seed_copy(q0, self.shape)
+        return None if seed is None else (H, seed)
 
     def solve(
         self, target: object, q0: object, opts: Options, seed: int | None, t0: float
@@ -318,6 +319,20 @@ class Plan:
     def _finish(self, attempts, H, q0, opts: Options, t0: float, every: bool):
         target = parse_target(H[:3, 3].copy() if self.position else H, self.arm)
         return finish(self.arm, self.solver, attempts, target, opts, q0, every, t0)
+
+
+def _seed_copy(q0: object, shape: tuple) -> np.ndarray | None:
+    """A contiguous float64 copy of a seed spelled another plain way (a list or tuple of
+    Python numbers, a strided float64 row: what ``Arm.seed`` reads to the same values),
+    else None. The runner still checks the values (finite, within the limits)."""
+    kind = type(q0)
+    if kind is list or kind is tuple:
+        if len(q0) != shape[0] or not all(type(v) is float or type(v) is int for v in q0):
+            return None
+        return np.array(q0, dtype=float)
+    if kind is np.ndarray and q0.dtype == _FLOAT and q0.shape == shape:
+        return np.ascontiguousarray(q0) if q0.flags.writeable else q0.copy()
+    return None
 
 
 def _rank_key(fields: dict) -> tuple:
