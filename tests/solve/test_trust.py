@@ -54,6 +54,52 @@ def test_auto_solves_every_reachable_irb140_target(irb140):
         assert every[0].success, every[0].reason
 
 
+RTB = os.path.join(os.path.dirname(rtbdata.__file__), "xacro")
+REAL_ARMS = {  # every 6R arm of rtb-data and example-robot-data a search applies to
+    "irb140": (IRB140, "tool0"),
+    "irb140QT": (os.path.join(RTB, "abb_irb140_description", "urdf", "irb140QT.urdf"), "tool0"),
+    "kr16": (os.path.join(RTB, "kuka_description", "kuka_kr16", "urdf", "kr16_2.urdf"), "tool0"),
+    "kr120": (
+        os.path.join(RTB, "kuka_description", "kuka_kr120", "urdf", "kr120r2500pro.urdf"),
+        "tool0",
+    ),
+    "puma560": (
+        os.path.join(RTB, "unimation_puma560_description", "urdf", "puma560_robot.urdf"),
+        "link7",
+    ),
+    "kinova": ("kinova", None),
+    "ur5": ("ur5", None),
+    "ur10": ("ur10", None),
+    "z1": ("z1", None),
+    "abb_irb120": ("abb_irb120", None),
+}
+
+
+def _wrapped(a):
+    return np.remainder(a + np.pi, 2.0 * np.pi) - np.pi
+
+
+@pytest.mark.parametrize("name", sorted(REAL_ARMS))
+def test_the_searches_find_every_generating_configuration_on_real_arms(name):
+    """Each one-dimensional search that applies to a real arm: the configuration that
+    made an FK target is among solve_all's answers (modulo 2 pi), every time; and auto's
+    one answer is a success."""
+    source, tip = REAL_ARMS[name]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        arm = armik.load(source, tip=tip) if tip else armik.load(source)
+    searches = [s for s in ("two_parallel", "two_intersecting") if registry.why_not(s, arm) is None]
+    assert searches, f"no search applies to {name}"
+    rng = np.random.default_rng(36)
+    for _ in range(30):
+        q = arm.random_q(rng)
+        T = arm.fk(q)
+        assert arm.solve(T).success
+        for search in searches:
+            found = [r.q for r in arm.solve_all(T, solver=search) if r.success]
+            assert any(np.abs(_wrapped(x - q)).max() < 1e-6 for x in found), (search, q)
+
+
 def test_the_cli_exits_0_on_a_reachable_irb140_target(irb140, capsys):
     T = irb140.fk(irb140.random_q(3))
     xyz = [f"{v:.12g}" for v in T.translation]

@@ -12,9 +12,19 @@ against axis 2). For the target (R, p) and a trial q1, with a = R_06^T rot(h1, q
 
 The error vanishes at the solutions' q1 (up to 4 branches, one per SP6 solution), then
 rot(h2, q2) p_23 = v (SP1: q2) and rot(-h5, q5) R_34^T h2 = R_56 R_06^T R_01 h2 (SP1: q5).
+
+Where SP6 has solutions at all: its first equation's q6 term is at most |p_56| and its q4
+term varies by at most |h2 x h4| |p_45 - (h4 . p_45) h4|, while its right-hand side is a
+sinusoid in q1 of the wrist's reach. On an arm whose wrist is nearly spherical (the IRB
+140's 0.02 m between axes 5 and 6) that holds on two windows of q1 narrower than a grid
+step, which a uniform grid steps over. So the search runs over a parameter t whose turn
+is mapped onto q1 piecewise linearly (``_window``, ``q1_of``), nine tenths of its samples
+in the windows; outside them SP6 has no solution, so nothing is lost there.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from numba import njit
@@ -22,6 +32,7 @@ from numba import njit
 from armik.solvers.closed_form.search_1d import BRANCHES, sp6_roots
 from armik.solvers.closed_form.subproblems import (
     add,
+    cross,
     dot,
     mmt,
     mtm,
@@ -30,10 +41,60 @@ from armik.solvers.closed_form.subproblems import (
     neg,
     norm,
     rot,
+    scale,
     sp1,
     sub,
     vec,
+    wrap,
 )
+
+IN_WINDOWS = 0.9  # of the search's samples, where SP6 can have solutions
+MARGIN = 1e-6  # relative widening of the windows: rounding never shuts a solution out
+
+
+@njit(cache=True)
+def _window(h, p, p16):
+    """The windows of q1 where SP6 can have solutions, as (phi0, ua, ub, empty): q1 - phi0
+    within [ua, ub] or [-ub, -ua] (ua = 0, ub = pi: the whole turn)."""
+    h1, h2, h4 = vec(h[0]), vec(h[1]), vec(h[3])
+    p4 = vec(p[4])
+    k = cross(h1, h2)  # (R1 h2) . p16 = e + alpha sin q1 + beta cos q1
+    e = dot(h1, h2) * dot(h1, p16)
+    alpha, beta = dot(p16, k), dot(p16, h2) - e
+    c = e - dot(h2, add(add(vec(p[1]), vec(p[2])), vec(p[3]))) - dot(h2, h4) * dot(h4, p4)
+    off = sub(p4, scale(h4, dot(h4, p4)))
+    rho = norm(vec(p[5])) + norm(cross(h2, h4)) * norm(off)
+    amp = math.hypot(alpha, beta)
+    rho += MARGIN * (rho + amp + abs(c)) + 1e-12
+    if amp <= 1e-12:  # the wrist centre on axis 1: every q1 or none, by c alone
+        return 0.0, 0.0, math.pi, abs(c) > rho
+    lo, hi = (-rho - c) / amp, (rho - c) / amp  # cos(q1 - phi0) within [lo, hi]
+    if lo > 1.0 or hi < -1.0:
+        return 0.0, 0.0, math.pi, True
+    return math.atan2(alpha, beta), math.acos(min(hi, 1.0)), math.acos(max(lo, -1.0)), False
+
+
+@njit(cache=True)
+def q1_of(t, phi0, ua, ub):
+    """q1 at the search's parameter ``t`` (rad, any turn): the turn t in [-pi, pi) runs
+    over the window [ua, ub], the gap through pi, the window [-ub, -ua], the gap through
+    0, with ``IN_WINDOWS`` of it in the windows (or their share, if larger)."""
+    if ua <= 0.0 and ub >= math.pi:
+        return t
+    L = (ub - ua, 2.0 * (math.pi - ub), ub - ua, 2.0 * ua)
+    inside, outside = 2.0 * (ub - ua), 2.0 * math.pi - 2.0 * (ub - ua)
+    dense = max(1.0, IN_WINDOWS / (1.0 - IN_WINDOWS) * outside / max(inside, 1e-300))
+    total = inside * dense + outside
+    tt = (t + math.pi) % (2.0 * math.pi)
+    start = ua
+    for i in range(4):
+        tau = L[i] * (dense if i % 2 == 0 else 1.0) * 2.0 * math.pi / total
+        if tt < tau or i == 3:
+            u = start + (tt / tau * L[i] if tau > 0.0 else 0.0)
+            return wrap(u + phi0)
+        tt -= tau
+        start += L[i]
+    return t
 
 
 @njit(cache=True)
@@ -74,8 +135,12 @@ def _v(p, R1, p16, R13, R4, M):
 
 @njit(cache=True)
 def branches(x, h, p, R06, p16, e, s):
-    """The branches at the trial angle ``x`` (``search_1d``, ``search_zeros``)."""
-    R1, T, m = _sp6_at(h, p, R06, p16, x)
+    """The branches at the search's parameter ``x`` (``search_1d``, ``search_zeros``):
+    q1 = ``q1_of(x, ...)``."""
+    phi0, ua, ub, empty = _window(h, p, p16)
+    if empty:
+        return 0
+    R1, T, m = _sp6_at(h, p, R06, p16, q1_of(x, phi0, ua, ub))
     n23 = norm(vec(p[2]))
     m = min(m, BRANCHES)
     for i in range(m):
@@ -87,9 +152,12 @@ def branches(x, h, p, R06, p16, e, s):
 
 @njit(cache=True)
 def configuration(h, p, R06, p16, x, state, q):
-    """The configuration of the zero at q1 = ``x`` on the branch ``state`` (q6, q4)."""
+    """The configuration of the zero at the parameter ``x`` on the branch ``state``
+    (q6, q4)."""
     h1, h2, h3, h5 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[4])
     q6, q4 = state[0], state[1]
+    phi0, ua, ub, _ = _window(h, p, p16)
+    x = q1_of(x, phi0, ua, ub)
     R1 = rot(h1, x)
     R4, M, q23, R13 = _rest(h, p, R06, R1, q4, q6)
     v = _v(p, R1, p16, R13, R4, M)
