@@ -61,3 +61,18 @@ def test_the_parameter_covers_the_turn_once_in_order(windows):
     share = np.mean([_inside(x, phi0, ua, ub) for x in q1])
     assert share >= search_q1.IN_WINDOWS - 0.01
     assert search_q1.q1_of(0.7, 0.0, 0.0, math.pi) == 0.7  # no window: the identity
+
+
+@pytest.mark.parametrize("q4", [0.0, math.pi, -math.pi + 1e-3])
+def test_the_wrist_pose_where_the_rotation_does_not_split_q23_from_q5(q4):
+    """The IRB 140 with q4 = 0 or pi (axes 2, 3, 5 parallel; the arm is not singular):
+    solve_all finds the configuration that made the target, every time."""
+    arm = armik.load(IRB140, tip="tool0")
+    rng = np.random.default_rng(4)
+    for _ in range(25):
+        q = arm.random_q(rng)
+        q[3] = q4
+        assert np.linalg.svd(arm.jacobian(q), compute_uv=False)[-1] > 1e-3
+        found = [r.q for r in arm.solve_all(arm.fk(q), solver="two_parallel") if r.success]
+        wrapped = [np.remainder(x - q + math.pi, 2.0 * math.pi) - math.pi for x in found]
+        assert any(np.abs(d).max() < 1e-6 for d in wrapped), q

@@ -20,6 +20,13 @@ sinusoid in q1 of the wrist's reach. On an arm whose wrist is nearly spherical (
 step, which a uniform grid steps over. So the search runs over a parameter t whose turn
 is mapped onto q1 piecewise linearly (``_window``, ``q1_of``), nine tenths of its samples
 in the windows; outside them SP6 has no solution, so nothing is lost there.
+
+Where rot(h4, q4) h5 is parallel to h2 (the IRB 140 at q4 = 0 or pi: axes 2, 3 and 5
+parallel, a pose the arm reaches without being singular), the rotation fixes only
+q2 + s3 q3 + q5 and SP1's q2 + s3 q3 is noise, so e(q1) spikes there and its zeros are
+missed. The search then also polishes, from the grid sample where a branch comes nearest
+that pose (``coupling``), the configurations whose q2 + s3 q3 the position fixes instead
+(SP3, its two solutions: state[2] = 1 or 2).
 """
 
 from __future__ import annotations
@@ -43,6 +50,7 @@ from armik.solvers.closed_form.subproblems import (
     rot,
     scale,
     sp1,
+    sp3,
     sub,
     vec,
     wrap,
@@ -50,6 +58,7 @@ from armik.solvers.closed_form.subproblems import (
 
 IN_WINDOWS = 0.9  # of the search's samples, where SP6 can have solutions
 MARGIN = 1e-6  # relative widening of the windows: rounding never shuts a solution out
+DEGENERATE = 0.05  # ``coupling`` below this: q2 + s3 q3 from the rotation is ill-conditioned
 
 
 @njit(cache=True)
@@ -151,6 +160,34 @@ def branches(x, h, p, R06, p16, e, s):
 
 
 @njit(cache=True)
+def coupling(h, state):
+    """How well the rotation alone fixes q2 + s3 q3 on the branch ``state``: the part of
+    rot(h4, q4) h5 across h2 (0 where axes 2, 3 and 5 are parallel), and which of the two
+    such poses it is near (0: h5 along h2, 1: against it)."""
+    h2, u = vec(h[1]), mv(rot(vec(h[3]), state[1]), vec(h[4]))
+    return norm(cross(h2, u)), 0 if dot(h2, u) >= 0.0 else 1
+
+
+@njit(cache=True)
+def _split_by_position(h, p, R06, p16, x, state, q):
+    """The configuration at q1 = ``x`` whose q2 + s3 q3 the position fixes (SP3's
+    solution ``state[2]``: 1 or 2) and q5 the rest of the rotation."""
+    h1, h2, h3, h4, h5, h6 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[3]), vec(h[4]), vec(h[5])
+    q6, q4 = state[0], state[1]
+    R1, R4 = rot(h1, x), rot(h4, q4)
+    M = mmt(mtm(R1, R06), rot(h6, q6))
+    w0 = add(vec(p[3]), mv(R4, vec(p[4])))
+    c = sub(sub(mtv(R1, p16), vec(p[1])), mv(M, vec(p[5])))
+    t0, t1, _, _ = sp3(w0, c, h2, norm(vec(p[2])))
+    q23 = t0 if state[2] < 1.5 else t1
+    R13 = rot(h2, q23)
+    q2, _ = sp1(vec(p[2]), sub(c, mv(R13, w0)), h2)
+    y = cross(h5, (1.0, 0.0, 0.0)) if abs(h5[0]) < 0.9 else cross(h5, (0.0, 1.0, 0.0))
+    q5, _ = sp1(y, mtv(R4, mtv(R13, mv(M, y))), h5)
+    q[0], q[1], q[2], q[3], q[4], q[5] = x, q2, dot(h3, h2) * (q23 - q2), q4, q5, q6
+
+
+@njit(cache=True)
 def configuration(h, p, R06, p16, x, state, q):
     """The configuration of the zero at the parameter ``x`` on the branch ``state``
     (q6, q4)."""
@@ -158,6 +195,9 @@ def configuration(h, p, R06, p16, x, state, q):
     q6, q4 = state[0], state[1]
     phi0, ua, ub, _ = _window(h, p, p16)
     x = q1_of(x, phi0, ua, ub)
+    if state[2] > 0.5:
+        _split_by_position(h, p, R06, p16, x, state, q)
+        return
     R1 = rot(h1, x)
     R4, M, q23, R13 = _rest(h, p, R06, R1, q4, q6)
     v = _v(p, R1, p16, R13, R4, M)

@@ -45,7 +45,7 @@ from armik.solvers.closed_form.sixr import LS, NOT_FOUND
 from armik.solvers.closed_form.subproblems import mat, mmt, mv, norm, sub, vec
 
 OVER_Q1, OVER_Q4 = 0, 1  # the family codes, as ``sixr.flat`` writes them
-FOLD_ZERO = 1e-3  # m: a branch this near zero next to a fold is polished as a candidate
+FOLD_ZERO = 0.02  # of the arm's length: a branch this near zero at a fold is polished
 PROBE = 0.01  # of the arm's length: a branch this near zero at two samples is probed between
 REACHED = 1e-10  # m and rad: a polished zero reaches the target (Pinocchio verifies it)
 
@@ -122,6 +122,37 @@ def _zeros(family, h, p, R06, p16, X, XS):
             for c in range(STATE):
                 XS[count, c] = st[c]
             count += 1
+    if family == OVER_Q1:  # after the zeros: these may only fill what room is left
+        count = _split_candidates(h, E, S, M, X, XS, count)
+    return count
+
+
+@njit(cache=True)
+def _split_candidates(h, E, S, M, X, XS, count):
+    """``search_q1``'s candidates where the rotation does not split q2 + s3 q3 from q5:
+    at each grid sample where the branches come nearest that pose (a local minimum of
+    ``search_q1.coupling`` below ``DEGENERATE``), the two configurations whose split the
+    position fixes, for polish to take or not."""
+    C = np.full((GRID, 2), np.inf)  # per sample and pose (h5 along h2, against)
+    best = np.zeros((GRID, 2), np.int64)
+    for k in range(GRID):
+        for i in range(M[k]):
+            c, side = search_q1.coupling(h, S[k, i])
+            if c < C[k, side]:
+                C[k, side], best[k, side] = c, i
+    for k in range(GRID):
+        for side in range(2):
+            c = C[k, side]
+            low = c <= C[(k - 1) % GRID, side] and c <= C[(k + 1) % GRID, side]
+            if c >= search_q1.DEGENERATE or not low:
+                continue
+            for solution in (1.0, 2.0):
+                if count < X.shape[0]:
+                    X[count] = angle(k)
+                    XS[count, 0] = S[k, best[k, side], 0]
+                    XS[count, 1] = S[k, best[k, side], 1]
+                    XS[count, 2] = solution
+                    count += 1
     return count
 
 
@@ -289,8 +320,14 @@ def _refine(family, xa, Ea, Sa, ma, xb, Eb, Sb, mb, h, p, R06, p16, Bx, Bs, nb):
                 nb = fold_brackets(near, e, s, m, xr, Es[top], Ss[top], mr, Bx, Bs, nb)
             else:
                 nb = fold_brackets(near, e, s, m, xl, El, Sl, ml, Bx, Bs, nb)
-            for i in range(m):  # a zero closer to the fold than the bisection: the fold's
-                if abs(e[i]) < FOLD_ZERO:  # point is one, as near as polish needs
+            # a zero closer to the fold than the bisection (the error grows as the root of
+            # the distance from a fold, so a zero a few mrad of q4 away can be 1e-5 rad of
+            # q1 from it): the fold's point is near enough for polish to take it there
+            near_zero = 0.0
+            for r in range(1, 6):
+                near_zero += FOLD_ZERO * norm(vec(p[r]))
+            for i in range(m):
+                if abs(e[i]) < near_zero:
                     nb = add_bracket(Bx, Bs, nb, near, e[i], near, e[i], s[i], -1.0)
         xl, ml = xr, mr  # on to the next piece
         for i in range(mr):
