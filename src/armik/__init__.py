@@ -19,6 +19,7 @@ from armik.errors import (
 )
 from armik.model.catalogue import robots
 from armik.precompile import compile
+from armik.problem import Axis, LookAt, Pose, Position
 from armik.result import IKResult
 from armik.solvers import solvers
 from armik.status import Status
@@ -45,6 +46,10 @@ def __getattr__(name: str):
 
 
 __all__ = [
+    "Axis",
+    "LookAt",
+    "Pose",
+    "Position",
     "Arm",
     "BatchResult",
     "ArmikError",

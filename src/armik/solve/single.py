@@ -13,10 +13,13 @@ from armik.constraints.collision import checker
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.options import Options
+from armik.problem.problem import as_problem, lower, tightened
+from armik.problem.tasks import Task
 from armik.result import IKResult
 from armik.solve.avoid import First, solve_avoiding
 from armik.solve.held import solve_held
 from armik.solve.prepared import plan_for
+from armik.solve.tasks import check_options, check_said_twice, solve_tasks
 from armik.solvers import registry
 from armik.targets.pose import parse_target
 from armik.verify.verdict import distance_verdict, finish
@@ -44,6 +47,18 @@ def solve_one(
     or with ``every`` the whole list of ``all_solutions=True``: a prepared solve
     (``armik.solve.prepared``) when the input is plain, else the general path."""
     t0 = time.perf_counter()
+    if type(target) in (list, tuple) or isinstance(target, Task):  # perhaps tasks
+        problem = as_problem(target)
+        if problem is not None:
+            lowered = lower(problem)
+            if lowered is None:
+                opts = _with_seed(*_options(options)[::2])
+                check_options(opts, solver)
+                one = solve_tasks(arm, problem, q0, opts, t0, _centre(arm, problem, q0, options))
+                return [one] if every else one
+            target, said = lowered
+            check_said_twice(options, said)
+            options = {**options, **said}
     opts, key, seed = _options(options)
     if opts.hold is not None:
         return solve_held(arm, target, q0, solver, _with_seed(opts, seed), every, t0, _general)
@@ -61,6 +76,16 @@ def solve_one(
     if every:
         return _beyond_search(arm, target, q0, solver, opts, seed, results, t0)
     return results[0]
+
+
+def _centre(arm, problem, q0, options: dict):
+    """The compiled answer to the problem's centre (``tightened``), if it has a form: an
+    answer to the problem itself, or a start for the task solver; else None."""
+    lowered = lower(tightened(problem))
+    if lowered is None:
+        return None
+    target, said = lowered
+    return solve_one(arm, target, q0, "auto", {**options, **said})
 
 
 def _beyond_search(arm, target, q0, solver: str, opts: Options, seed, results: list, t0: float):

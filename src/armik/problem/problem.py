@@ -1,0 +1,110 @@
+"""A problem: the tasks a user asks for, parsed once (docs/problem-model.md).
+
+Today a problem is its primary tasks; constraints other than the joint limits, secondary
+tasks and scores join it as the later features land. ``lower`` gives a problem the solve
+path already has a compiled form for (one pose of the tip, with weights or bounds; one
+position of the tip) back as the target and options of that path, so the old route keeps
+its speed; every other problem goes to ``armik.solve.tasks``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from armik.errors import TargetError
+from armik.problem.tasks import Axis, Pose, Position, Task
+
+
+@dataclass(frozen=True)
+class Problem:
+    """Primary tasks: each must hold, measured on Pinocchio's FK, for a success."""
+
+    tasks: tuple[Task, ...]
+
+
+def as_problem(target: object) -> Problem | None:
+    """The problem ``target`` asks for when it is a task or a list of tasks; None for the
+    other target spellings (a pose, a position: ``armik.targets.pose``)."""
+    if isinstance(target, Task):
+        return Problem((target,))
+    if not isinstance(target, (list, tuple)) or not target:
+        return None
+    if not any(isinstance(t, Task) for t in target):
+        return None
+    for i, t in enumerate(target):
+        if not isinstance(t, Task):
+            raise TargetError(
+                f"a list of tasks holds only tasks (armik.Pose, armik.Position, armik.Axis, "
+                f"armik.LookAt), but item {i} is {t!r}"
+            )
+    return Problem(tuple(target))
+
+
+def tightened(problem: Problem) -> Problem:
+    """The problem with every cone and box shrunk to its centre: each of its answers
+    answers ``problem`` too, and it may have a compiled form ``problem`` has not."""
+    tasks = []
+    for t in problem.tasks:
+        if type(t) is Axis and t.within > 0.0:
+            t = Axis(t.axis, t.direction, 0.0, t.frame)
+        elif type(t) is Position and t.bounds.any():
+            t = Position(t.p, None, t.frame)
+        tasks.append(t)
+    return Problem(tuple(tasks))
+
+
+def lower(problem: Problem) -> tuple[object, dict] | None:
+    """(target, options) of the compiled path for a problem it has a form for, else None."""
+    if any(t.frame is not None for t in problem.tasks):
+        return None
+    if len(problem.tasks) == 2:
+        return _point_and_axis(*problem.tasks)
+    if len(problem.tasks) != 1:
+        return None
+    (task,) = problem.tasks
+    if type(task) is Pose:
+        options: dict = {}
+        # with bounds the option's weights act in the target frame, as the task's do
+        if task.bounds.any() or (task.weights != 1.0).any():
+            options["bounds"] = tuple(task.bounds.tolist())
+        if (task.weights != 1.0).any():
+            options["weights"] = tuple(task.weights.tolist())
+        return pin.SE3(task.T), options
+    if type(task) is Position and not task.bounds.any():
+        return np.array(task.p), {}
+    return None
+
+
+def _point_and_axis(a: Task, b: Task) -> tuple[object, dict] | None:
+    """A position with an axis along a direction exactly (a 5-joint arm's "this point,
+    pointing that way"), the axis one of the tip's own: a pose whose rotation about that
+    axis is free, exactly. The target's rotation takes the axis onto the direction; every
+    rotation that does is it turned about the axis, whose log3 lies along the axis."""
+    if type(a) is Axis:
+        a, b = b, a
+    if type(a) is not Position or type(b) is not Axis or a.bounds.any() or b.within != 0.0:
+        return None
+    along = np.flatnonzero(np.abs(b.axis) == 1.0)
+    if along.size != 1:
+        return None
+    R = _onto(b.axis, b.direction)
+    bounds = [0.0] * 6
+    bounds[3 + int(along[0])] = math.inf
+    return pin.SE3(R, np.array(a.p)), {"bounds": tuple(bounds)}
+
+
+def _onto(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """A rotation taking the unit vector ``u`` onto the unit vector ``v``."""
+    axis = np.cross(u, v)
+    s, c = float(np.linalg.norm(axis)), float(u @ v)
+    if s < 1e-12:
+        if c > 0.0:
+            return np.eye(3)
+        other = np.eye(3)[int(np.argmin(np.abs(u)))]  # half a turn about an axis across u
+        axis = np.cross(u, other)
+        return pin.exp3(math.pi * axis / np.linalg.norm(axis))
+    return pin.exp3(math.atan2(s, c) * axis / s)

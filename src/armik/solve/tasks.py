@@ -1,0 +1,221 @@
+"""Solve a problem of tasks (``armik.problem``) that the compiled path has no form for: a
+position with an axis in a cone, a look-at, a position within bounds.
+
+Damped least squares (Levenberg-Marquardt) on the stacked task residuals, each step
+clipped into the joint limits; random restarts within the budget (``timeout`` in CPU time
+of the solving thread, or the deterministic ``iteration_budget``); the answer nearest
+meeting every task is kept. Every answer is measured by each task on Pinocchio's FK
+(``Task.measure``) with the call's tolerances, and by the limits, before it is called a
+success. A miss is ``not_converged``: a numeric search does not show a target out of reach.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+
+import numpy as np
+import pinocchio as pin
+
+from armik.errors import OptionError, TargetError
+from armik.model.arm_model import ArmModel
+from armik.options import Options
+from armik.problem.problem import Problem
+from armik.problem.tasks import Task, TaskError
+from armik.result import IKResult
+from armik.status import Status
+
+SOLVER = "tasks"
+LAMBDA0 = 1e-3  # the damping's start, relative to the largest diagonal of J^T J
+# options of the compiled path a task list says in its tasks instead
+_SAID_BY_TASKS = ("position_only", "weights", "bounds")
+_NOT_YET = ("obstacles", "self_collision", "hold")
+
+
+def check_options(opts: Options, solver: str) -> None:
+    """Refuse what a task list cannot take yet, naming the option and the way round."""
+    if solver not in ("auto", SOLVER):
+        raise OptionError(
+            f"a list of tasks is solved by solver='auto' (the task solver), got {solver!r}",
+            option="solver",
+            value=solver,
+        )
+    defaults = Options()
+    for name in _SAID_BY_TASKS + _NOT_YET:
+        if getattr(opts, name) != getattr(defaults, name):
+            how = (
+                "say it in the tasks (armik.Pose(T, bounds=..., weights=...), armik.Position)"
+                if name in _SAID_BY_TASKS
+                else "give a single pose target for that option"
+            )
+            raise OptionError(
+                f"{name} does not apply to a list of tasks: {how}", option=name, value=None
+            )
+
+
+def check_said_twice(options: dict, said: dict) -> None:
+    """A task that says its bounds or weights, given the same option too: which one?"""
+    for name in said:
+        if name in options:
+            raise OptionError(
+                f"{name} is given both by the task and as an option: give it in the task "
+                f"(armik.Pose(T, {name}=...))",
+                option=name,
+                value=options[name],
+            )
+
+
+def _tip_only(arm: ArmModel, tasks: tuple[Task, ...]) -> None:
+    for t in tasks:
+        if t.frame is not None and t.frame != arm.tip:
+            raise TargetError(
+                f"{type(t).__name__} asks for frame {t.frame!r}, but this arm's tip is "
+                f"{arm.tip!r}: load the arm with tip={t.frame!r} (one tip per arm for now)"
+            )
+
+
+def _placed(arm: ArmModel, q: np.ndarray):
+    """(T_base_tip, LOCAL Jacobian) at ``q`` from one pass of Pinocchio's kinematics."""
+    model, data = arm.model, arm.data
+    qp = arm.to_pin(q)
+    pin.computeJointJacobians(model, data, qp)
+    T = pin.updateFramePlacement(model, data, arm.tip_frame_id)
+    T = arm.T_base_world * T
+    J = pin.getFrameJacobian(model, data, arm.tip_frame_id, pin.LOCAL).reshape(6, arm.dof)
+    return T, J
+
+
+def _stack(tasks: tuple[Task, ...], T, J):
+    r = np.concatenate([t.residual(T) for t in tasks])
+    A = np.vstack([t.jacobian(T, J) for t in tasks])
+    return r, A
+
+
+def _measure(arm: ArmModel, tasks, q: np.ndarray, opts: Options, T=None) -> list[TaskError]:
+    T = arm.fk(q) if T is None else T
+    return [t.measure(T, opts.tol_position, opts.tol_orientation) for t in tasks]
+
+
+def _descend(arm: ArmModel, tasks, q: np.ndarray, opts: Options, iterations: int):
+    """(q, iterations used): Levenberg-Marquardt from ``q`` until every task holds (on
+    Pinocchio's placement) or the iterations run out, each step clipped into the limits."""
+    lo, hi = arm.lower, arm.upper
+    T, J = _placed(arm, q)
+    r, A = _stack(tasks, T, J)
+    cost = float(r @ r)
+    lam = None
+    for k in range(iterations):
+        if all(e.within for e in _measure(arm, tasks, q, opts, T)):
+            return q, k
+        H = A.T @ A
+        g = A.T @ r
+        if lam is None:
+            lam = LAMBDA0 * max(float(np.max(np.diag(H))), 1e-12)
+        dq = np.linalg.solve(H + lam * np.eye(len(q)), -g)
+        trial = np.clip(q + dq, lo, hi)
+        T2, J2 = _placed(arm, trial)
+        r2, A2 = _stack(tasks, T2, J2)
+        cost2 = float(r2 @ r2)
+        if cost2 < cost:
+            q, T, r, A, cost = trial, T2, r2, A2, cost2
+            lam = max(lam / 3.0, 1e-12)
+        else:
+            lam *= 4.0
+            if lam > 1e12:
+                return q, k + 1
+    return q, iterations
+
+
+def _total(errors: list[TaskError]) -> float:
+    return sum((e.position or 0.0) + (e.orientation or 0.0) for e in errors)
+
+
+def _describe(tasks, errors: list[TaskError]) -> str:
+    parts = []
+    for t, e in zip(tasks, errors):
+        words = []
+        if e.position is not None:
+            words.append(f"{e.position:.3g} m")
+        if e.orientation is not None:
+            words.append(f"{e.orientation:.3g} rad")
+        parts.append(f"{type(t).__name__} {' and '.join(words)} outside")
+    return ", ".join(parts)
+
+
+def solve_tasks(
+    arm: ArmModel,
+    problem: Problem,
+    q0: object,
+    opts: Options,
+    t0: float,
+    centre: IKResult | None = None,
+) -> IKResult:
+    """The verified answer to ``problem`` from ``q0`` (see the module docstring). ``centre``:
+    the compiled answer to the problem with its regions shrunk to their centres: taken as
+    it is when every task holds on it, else the descent starts from it."""
+    tasks = problem.tasks
+    _tip_only(arm, tasks)
+    q = arm.seed(q0)
+    if centre is not None:
+        errors = _measure(arm, tasks, centre.q, opts)
+        if centre.success and all(e.within for e in errors):
+            return dataclasses.replace(
+                centre,
+                reason=f"{centre.reason}; every task holds on it",
+                time=time.perf_counter() - t0,
+                extra={**centre.extra, "task_errors": errors},
+            )
+        q = np.array(centre.q)
+    rng = np.random.default_rng(opts.seed)
+    budget = opts.iteration_budget
+    started = time.thread_time()
+    used = restarts = 0
+    best, best_errors = q, _measure(arm, tasks, q, opts)
+    while True:
+        left = opts.max_iterations if budget is None else min(opts.max_iterations, budget - used)
+        q, k = _descend(arm, tasks, q, opts, left)
+        used += k
+        errors = _measure(arm, tasks, q, opts)
+        if _total(errors) < _total(best_errors) or all(e.within for e in errors):
+            best, best_errors = q, errors
+        done = all(e.within for e in errors)
+        out_of_budget = (
+            used >= budget if budget is not None else time.thread_time() - started > opts.timeout
+        )
+        if done or out_of_budget or restarts >= opts.max_restarts:
+            break
+        q = arm.random_q(rng)
+        restarts += 1
+    return _result(arm, tasks, best, best_errors, opts, used, restarts, t0)
+
+
+def _result(arm, tasks, q, errors, opts: Options, iterations, restarts, t0) -> IKResult:
+    success = all(e.within for e in errors) and arm.within_limits(q)
+    positions = [e.position for e in errors if e.position is not None]
+    orientations = [e.orientation for e in errors if e.orientation is not None]
+    if success:
+        status = Status.CONVERGED
+        reason = (
+            f"every task holds (tol {opts.tol_position:g} m, {opts.tol_orientation:g} rad) "
+            f"after {restarts} restart(s); verified by forward kinematics"
+        )
+    else:
+        status = Status.NOT_CONVERGED
+        reason = (
+            f"no configuration meeting every task found within the budget ({restarts} "
+            f"restart(s), {iterations} iterations), which does not show the tasks "
+            f"impossible; closest: {_describe(tasks, errors)}; q is that configuration"
+        )
+    return IKResult(
+        q=q,
+        success=success,
+        status=status,
+        reason=reason,
+        solver=SOLVER,
+        iterations=iterations,
+        position_error=max(positions, default=0.0),
+        orientation_error=max(orientations) if orientations else None,
+        time=time.perf_counter() - t0,
+        restarts=restarts,
+        extra={"task_errors": errors},
+    )

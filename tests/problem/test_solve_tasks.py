@@ -1,0 +1,134 @@
+"""Lists of tasks on ``Arm.solve``: lowered to the compiled path where it has a form
+(``armik.problem.problem.lower``), else the task solver (``armik.solve.tasks``); every
+success holds every task on an FK computed here, and a miss is never "unreachable"."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import armik
+from armik.options import Options
+from armik.problem.problem import Problem, as_problem, lower, tightened
+from armik.solve.tasks import solve_tasks
+from armik.status import Status
+
+from .. import conftest
+
+
+def _angle(u, v):
+    return math.acos(float(np.clip(u @ v, -1.0, 1.0)))
+
+
+def _holds(arm, q, p, axis, direction, within, tol=1e-6):
+    T = arm.fk(q)
+    return (
+        np.linalg.norm(T.translation - p) <= tol
+        and _angle(T.rotation @ np.array(axis, float), np.array(direction, float)) <= within + tol
+    )
+
+
+@pytest.mark.parametrize("within", [0.0, 0.03])
+def test_a_five_joint_arm_reaches_a_point_pointing_a_way(within):
+    """SO-101: 'this point, tool pointing that way' on FK targets of random configurations;
+    the exact one by the compiled path, the cone through its centre."""
+    arm = conftest.arm("so101")
+    rng = np.random.default_rng(101)
+    for _ in range(30):
+        T = arm.fk(arm.random_q(rng))
+        d = T.rotation[:, 2]
+        r = arm.solve([armik.Position(T.translation), armik.Axis((0, 0, 1), d, within)])
+        assert r.success, r.reason
+        assert r.solver != "tasks"  # the centre's compiled answer holds the cone too
+        assert _holds(arm, r.q, T.translation, (0, 0, 1), d, within)
+        assert arm.within_limits(r.q)
+
+
+def test_the_task_solver_alone_meets_a_cone_and_says_what_it_measured():
+    """The descent with no compiled start, on the Panda: a point with the tool's z within
+    0.1 rad of the direction it had; each success holds on an independent FK."""
+    arm = conftest.arm("panda")
+    rng = np.random.default_rng(7)
+    opts = Options(iteration_budget=400)
+    solved = 0
+    for _ in range(20):
+        T = arm.fk(arm.random_q(rng))
+        d = T.rotation[:, 2]
+        problem = Problem((armik.Position(T.translation), armik.Axis((0, 0, 1), d, 0.1)))
+        r = solve_tasks(arm, problem, None, opts, 0.0)
+        assert r.solver == "tasks" and len(r.extra["task_errors"]) == 2
+        if r.success:
+            solved += 1
+            assert _holds(arm, r.q, T.translation, (0, 0, 1), d, 0.1)
+            assert r.status is Status.CONVERGED and arm.within_limits(r.q)
+        else:
+            assert r.status is Status.NOT_CONVERGED
+    assert solved >= 18
+
+
+def test_a_look_at_with_a_position():
+    """The Panda's hand at a point, its z axis pointing at another point."""
+    arm = conftest.arm("panda")
+    T = arm.fk(arm.middle)
+    look = T.translation + 0.5 * T.rotation[:, 2] + np.array([0.1, 0.05, 0.0])
+    r = arm.solve([armik.Position(T.translation), armik.LookAt(look, (0, 0, 1), 0.01)])
+    assert r.success, r.reason
+    Tq = arm.fk(r.q)
+    to = (look - Tq.translation) / np.linalg.norm(look - Tq.translation)
+    assert _angle(Tq.rotation[:, 2], to) <= 0.01 + 1e-6
+    assert np.linalg.norm(Tq.translation - T.translation) <= 1e-6
+
+
+def test_an_impossible_list_is_not_converged_with_the_task_that_fails():
+    """A point 10 m away: no answer, and no claim that it is out of reach."""
+    arm = conftest.arm("panda")
+    r = arm.solve(
+        [armik.Position((10.0, 0.0, 0.5)), armik.Axis((0, 0, 1), (0, 0, -1), 0.1)],
+        iteration_budget=200,
+    )
+    assert not r.success and r.status is Status.NOT_CONVERGED
+    assert "Position" in r.reason and "does not show" in r.reason
+
+
+def test_one_task_goes_the_compiled_way_with_the_same_answer():
+    arm = conftest.arm("ur5")
+    T = arm.fk(arm.random_q(3))
+    bounds = (0.0, 0.0, 0.0, 0.0, 0.0, math.inf)
+    a = arm.solve(armik.Pose(T, bounds=bounds))
+    b = arm.solve(T, bounds=bounds)
+    assert a.success and a.solver == b.solver and np.array_equal(a.q, b.q)
+    c = arm.solve([armik.Position(T.translation)])
+    d = arm.solve(T.translation)
+    assert c.success and np.array_equal(c.q, d.q)
+
+
+def test_lowering_and_tightening():
+    p = armik.Position((0.3, 0.0, 0.4))
+    exact = armik.Axis((0, 0, 1), (0, 0, -1))
+    target, said = lower(Problem((p, exact)))
+    assert np.allclose(target.rotation @ [0, 0, 1], [0, 0, -1])
+    assert said == {"bounds": (0.0, 0.0, 0.0, 0.0, 0.0, math.inf)}
+    cone = armik.Axis((0, 0, 1), (0, 0, -1), 0.1)
+    assert lower(Problem((p, cone))) is None
+    assert lower(tightened(Problem((p, cone)))) is not None
+    tilted = armik.Axis((1, 1, 0), (0, 0, -1))  # not one of the tip's axes
+    assert lower(Problem((p, tilted))) is None
+    assert as_problem((0.3, 0.0, 0.4)) is None and as_problem(p).tasks == (p,)
+
+
+def test_bad_task_lists_get_armik_errors():
+    arm = conftest.arm("panda")
+    p = armik.Position((0.3, 0.0, 0.4))
+    cone = armik.Axis((0, 0, 1), (0, 0, -1), 0.1)
+    with pytest.raises(armik.InputError, match="item 1"):
+        arm.solve([p, "down"])
+    with pytest.raises(armik.InputError, match="solver='auto'"):
+        arm.solve([p, cone], solver="dls")
+    with pytest.raises(armik.InputError, match="obstacles"):
+        arm.solve([p, cone], obstacles=[armik.Sphere(0.05, (1.0, 1.0, 1.0))])
+    with pytest.raises(armik.InputError, match="bounds is given both"):
+        arm.solve(armik.Pose(arm.fk(arm.middle), bounds=[0.1] * 6), bounds=[0.1] * 6)
+    with pytest.raises(armik.InputError, match="panda_link3"):
+        arm.solve([armik.Position((0.3, 0.0, 0.4), frame="panda_link3"), cone])
