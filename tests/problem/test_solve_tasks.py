@@ -132,3 +132,36 @@ def test_bad_task_lists_get_armik_errors():
         arm.solve(armik.Pose(arm.fk(arm.middle), bounds=[0.1] * 6), bounds=[0.1] * 6)
     with pytest.raises(armik.InputError, match="panda_link3"):
         arm.solve([armik.Position((0.3, 0.0, 0.4), frame="panda_link3"), cone])
+
+
+def test_batches_and_paths_of_task_lists():
+    """A batch of point-and-axis rows takes the compiled batch, cones the task solver row
+    by row; a path of them keeps its continuity checks. Each row verified here."""
+    arm = conftest.arm("so101")
+    rng = np.random.default_rng(5)
+    poses = [arm.fk(arm.random_q(rng)) for _ in range(40)]
+    exact = [
+        [armik.Position(T.translation), armik.Axis((0, 0, 1), T.rotation[:, 2])] for T in poses
+    ]
+    b = arm.solve_batch(exact, workers=1, progress=False)
+    assert b.success.all() and b[0].solver == "dls"
+    cones = [
+        [armik.Position(T.translation), armik.Axis((0, 0, 1), T.rotation[:, 2], 0.05)]
+        for T in poses[:10]
+    ]
+    c = arm.solve_batch(cones, workers=1, progress=False)
+    assert c.success.all()
+    for rows, result, within in ((exact, b, 0.0), (cones, c, 0.05)):
+        for tasks, q in zip(rows, result.q):
+            assert _holds(arm, q, tasks[0].p, (0, 0, 1), tasks[1].direction, within)
+    Q = [arm.middle + 0.01 * i for i in range(15)]
+    path = [
+        [armik.Position(arm.fk(q).translation), armik.Axis((0, 0, 1), arm.fk(q).rotation[:, 2])]
+        for q in Q
+    ]
+    p = arm.solve_path(path, Q[0], max_joint_step=0.1)
+    assert p.success.all() and np.abs(np.diff(p.q, axis=0)).max() <= 0.1
+    with pytest.raises(armik.InputError, match="target 1"):
+        arm.solve_batch([[armik.Position((0.2, 0.0, 0.2))], (0.2, 0.0, 0.2)])
+    with pytest.raises(armik.InputError, match="path of task lists"):
+        arm.solve_path([c_row for c_row in cones[:2]], Q[0])

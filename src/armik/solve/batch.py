@@ -42,6 +42,7 @@ from armik.options import Options
 from armik.solve import forked
 from armik.solve.progress import ProgressArg, make_progress
 from armik.solve.single import solve
+from armik.solve.tasks import SOLVER, lower_all, task_problems
 from armik.solvers import registry
 from armik.status import Status
 from armik.targets.batch import TargetBatch, parse_targets
@@ -81,6 +82,12 @@ def solve_batch(
     unreachable targets are results with ``success=False``.
     """
     t0 = time.perf_counter()
+    problems = task_problems(targets)
+    if problems is not None:
+        lowered = lower_all(problems, options)
+        if lowered is None:  # no compiled form: the task solver, target by target
+            return _each(arm, problems, q0, solver, progress, options, t0)
+        targets, options = lowered
     opts = Options.from_kwargs(options)
     if opts.hold is not None:
         raise OptionError(
@@ -256,6 +263,22 @@ def cores() -> int:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # not on Linux
         return os.cpu_count() or 1
+
+
+def _each(arm, problems, q0, solver: str, progress, options: dict, t0: float) -> BatchResult:
+    """Task lists the compiled path has no form for, one after another."""
+    n = len(problems)
+    seeds = batch_seeds(arm, q0, n)
+    out = BatchResult.for_arm(arm, n, SOLVER, Options.from_kwargs(options))
+    bar = make_progress(progress, n, f"{arm.name}/{SOLVER}")
+    for i, problem in enumerate(problems):
+        r = solve(arm, list(problem.tasks), q0=seeds[i], solver=solver, **options)[0]
+        out.put_result(i, r)
+        if not r.success:
+            out.reasons[i] = r.reason
+        bar(i + 1, n)
+    bar.close()
+    return frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
 
 
 def _workers(workers: object, spec: SolverSpec) -> int:

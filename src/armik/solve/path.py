@@ -30,13 +30,14 @@ import numpy as np
 import pinocchio as pin
 
 from armik.batch_result import BatchResult
-from armik.errors import OptionError
+from armik.errors import OptionError, TargetError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.result import IKResult
 from armik.solve.avoid import ON_PATH
 from armik.solve.single import solve
+from armik.solve.tasks import lower_all, task_problems
 from armik.solvers import registry
 from armik.status import Status
 from armik.targets.batch import parse_targets
@@ -66,6 +67,17 @@ def solve_path(
     a larger move gets status ``discontinuous`` and a reason; never a silent jump.
     """
     t0 = time.perf_counter()
+    problems = task_problems(poses)
+    if problems is not None:
+        lowered = lower_all(problems, options)
+        if lowered is None:
+            raise TargetError(
+                "a path of task lists takes tasks the compiled path has a form for (a pose "
+                "with bounds or weights, a position, a position with a tip axis along a "
+                "direction exactly, the same in every row); solve cones and look-ats with "
+                "solve or solve_batch"
+            )
+        poses, options = lowered
     opts = Options.from_kwargs(options)
     batch = parse_targets(poses, arm)
     n = len(batch)

@@ -20,7 +20,7 @@ import pinocchio as pin
 from armik.errors import OptionError, TargetError
 from armik.model.arm_model import ArmModel
 from armik.options import Options
-from armik.problem.problem import Problem
+from armik.problem.problem import Problem, as_problem, lower
 from armik.problem.tasks import Task, TaskError
 from armik.result import IKResult
 from armik.status import Status
@@ -219,3 +219,39 @@ def _result(arm, tasks, q, errors, opts: Options, iterations, restarts, t0) -> I
         restarts=restarts,
         extra={"task_errors": errors},
     )
+
+
+def task_problems(targets: object) -> list[Problem] | None:
+    """The problems of a batch whose targets are tasks or lists of tasks; None for the
+    other batch spellings (arrays of poses or positions, lists of them)."""
+    if type(targets) not in (list, tuple) or not targets:
+        return None
+    first = targets[0]  # type: ignore[index]
+    if not isinstance(first, Task) and not (
+        type(first) in (list, tuple) and any(isinstance(t, Task) for t in first)
+    ):
+        return None
+    problems = []
+    for i, t in enumerate(targets):  # type: ignore[arg-type]
+        problem = as_problem(t)
+        if problem is None:
+            raise TargetError(
+                f"target {i} is {t!r}: a batch of tasks holds a task or a list of tasks in "
+                "every row"
+            )
+        problems.append(problem)
+    return problems
+
+
+def lower_all(problems: list[Problem], options: dict) -> tuple[list, dict] | None:
+    """(targets, options) of the compiled batch when every problem lowers to the same
+    options (``armik.problem.problem.lower``), else None."""
+    targets, said = [], None
+    for problem in problems:
+        lowered = lower(problem)
+        if lowered is None or (said is not None and lowered[1] != said):
+            return None
+        targets.append(lowered[0])
+        said = lowered[1]
+    check_said_twice(options, said or {})
+    return targets, {**options, **(said or {})}
