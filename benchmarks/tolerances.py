@@ -8,7 +8,9 @@ random configuration q within the limits:
   (0, 0, 0, 0, 0, inf): the tool's position and z direction, its spin free (on the 5-joint
   SO-101, "this point, pointing that way");
 - ``box``: a pose whose error twist to q's tip pose lies at up to 80 % of +-5 mm and
-  +-0.05 rad, bounds (0.005,) * 3 + (0.05,) * 3.
+  +-0.05 rad, bounds (0.005,) * 3 + (0.05,) * 3;
+- ``cone``: a task list, q's tip position and its z axis within 0.05 rad of a direction
+  up to 0.04 rad from q's (``[armik.Position(p), armik.Axis((0, 0, 1), d, 0.05)]``).
 
 armik solves with ``solver="auto"`` from mid-limits with a 5 ms budget; a success is
 checked again by yourdfpy's FK against the bounds (plus 1e-6). TRAC-IK (the ``pytracik``
@@ -34,7 +36,7 @@ import yourdfpy
 
 import armik
 from armik.model.catalogue import _erd_robot_dir
-from armik.problem import Pose
+from armik.problem import Axis, Pose, Position
 
 SPIN = (0.0, 0.0, 0.0, 0.0, 0.0, math.inf)
 BOX = (0.005, 0.005, 0.005, 0.05, 0.05, 0.05)
@@ -46,8 +48,14 @@ def load(name: str) -> armik.Arm:
     return armik.load(name)
 
 
-def target(a: armik.Arm, case: str, rng: np.random.Generator) -> pin.SE3:
+CONE = 0.05
+
+
+def target(a: armik.Arm, case: str, rng: np.random.Generator):
     T = a.fk(a.random_q(rng))
+    if case == "cone":
+        tilt = pin.exp3(rng.uniform(-1.0, 1.0, 3) * 0.8 * CONE / math.sqrt(3.0))
+        return [Position(T.translation), Axis((0, 0, 1), tilt @ T.rotation[:, 2], CONE)], T
     if case == "spin":
         return T * pin.SE3(
             pin.exp3(np.array([0.0, 0.0, rng.uniform(-math.pi, math.pi)])), np.zeros(3)
@@ -99,19 +107,24 @@ def tracik(a: armik.Arm):
 def run(name: str, case: str, n: int) -> None:
     a = load(name)
     bounds = SPIN if case == "spin" else BOX
+    options = {} if case == "cone" else {"bounds": bounds}
     rng = np.random.default_rng(0)
     targets = [target(a, case, rng) for _ in range(n)]
     fk, peer = independent_fk(a), tracik(a)
-    a.solve(targets[0], bounds=bounds)  # compiled before the clock runs
+    first = targets[0][0] if case == "cone" else targets[0]
+    a.solve(first, **options)  # compiled before the clock runs
     ok = false = outside = peer_ok = 0
     t_armik = t_peer = 0.0
     for T in targets:
+        tasks, T = T if case == "cone" else ([Pose(T, bounds=bounds)], T)
+        asked = tasks if case == "cone" else T
         t0 = time.perf_counter()
-        r = a.solve(T, q0=a.middle, bounds=bounds, timeout=0.005)
+        r = a.solve(asked, q0=a.middle, timeout=0.005, **options)
         t_armik += time.perf_counter() - t0
         if r.success:
             ok += 1
-            false += not Pose(T, bounds=bounds).measure(fk(r.q), 1e-6, 1e-6).within
+            reached = fk(r.q)
+            false += not all(t.measure(reached, 1e-6, 1e-6).within for t in tasks)
             outside += not a.within_limits(r.q)
         if peer is not None:
             t0 = time.perf_counter()
@@ -134,7 +147,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("-n", type=int, default=200, help="targets per arm and case (200)")
     parser.add_argument("--arms", nargs="+", default=["ur5", "panda", "abb_irb120", "so101"])
-    parser.add_argument("--cases", nargs="+", default=["spin", "box"])
+    parser.add_argument("--cases", nargs="+", default=["spin", "box", "cone"])
     args = parser.parse_args()
     for name in args.arms:
         for case in args.cases:

@@ -19,7 +19,7 @@ from armik.result import IKResult
 from armik.solve.avoid import First, solve_avoiding
 from armik.solve.held import solve_held
 from armik.solve.prepared import plan_for
-from armik.solve.tasks import check_options, check_said_twice, solve_tasks
+from armik.solve.tasks import CENTRE_RESTARTS, check_options, check_said_twice, solve_tasks
 from armik.solvers import registry
 from armik.targets.pose import parse_target
 from armik.verify.verdict import distance_verdict, finish
@@ -85,7 +85,8 @@ def _centre(arm, problem, q0, options: dict):
     if lowered is None:
         return None
     target, said = lowered
-    return solve_one(arm, target, q0, "auto", {**options, **said})
+    restarts = min(options.get("max_restarts", CENTRE_RESTARTS), CENTRE_RESTARTS)
+    return solve_one(arm, target, q0, "auto", {**options, **said, "max_restarts": restarts})
 
 
 def _beyond_search(arm, target, q0, solver: str, opts: Options, seed, results: list, t0: float):

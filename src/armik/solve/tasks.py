@@ -27,6 +27,10 @@ from armik.status import Status
 
 SOLVER = "tasks"
 LAMBDA0 = 1e-3  # the damping's start, relative to the largest diagonal of J^T J
+AIM = 0.9  # the descent aims at the regions scaled by this (``Task.shrunk``)
+CENTRE_RESTARTS = (
+    20  # the centre's compiled attempt: it may be out of reach where the region is not
+)
 # options of the compiled path a task list says in its tasks instead
 _SAID_BY_TASKS = ("position_only", "weights", "bounds")
 _NOT_YET = ("obstacles", "self_collision", "hold")
@@ -100,8 +104,9 @@ def _descend(arm: ArmModel, tasks, q: np.ndarray, opts: Options, iterations: int
     """(q, iterations used): Levenberg-Marquardt from ``q`` until every task holds (on
     Pinocchio's placement) or the iterations run out, each step clipped into the limits."""
     lo, hi = arm.lower, arm.upper
+    aims = tuple(t.shrunk(AIM) for t in tasks)
     T, J = _placed(arm, q)
-    r, A = _stack(tasks, T, J)
+    r, A = _stack(aims, T, J)
     cost = float(r @ r)
     lam = None
     for k in range(iterations):
@@ -114,7 +119,7 @@ def _descend(arm: ArmModel, tasks, q: np.ndarray, opts: Options, iterations: int
         dq = np.linalg.solve(H + lam * np.eye(len(q)), -g)
         trial = np.clip(q + dq, lo, hi)
         T2, J2 = _placed(arm, trial)
-        r2, A2 = _stack(tasks, T2, J2)
+        r2, A2 = _stack(aims, T2, J2)
         cost2 = float(r2 @ r2)
         if cost2 < cost:
             q, T, r, A, cost = trial, T2, r2, A2, cost2

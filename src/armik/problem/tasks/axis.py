@@ -8,7 +8,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.problem.tasks import cone
-from armik.problem.tasks.base import Task, TaskError, check_angle, check_frame, unit
+from armik.problem.tasks.base import Task, TaskError, check_angle, check_frame, scaled, unit
 
 
 class Axis(Task):
@@ -38,3 +38,6 @@ class Axis(Task):
         w = T.rotation.T @ self.direction
         beyond = max(cone.angle(self.axis, w) - self.within, 0.0)
         return TaskError(None, beyond, beyond <= tol_orientation)
+
+    def shrunk(self, factor: float) -> Task:
+        return scaled(self, within=self.within * factor)

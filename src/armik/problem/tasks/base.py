@@ -11,6 +11,7 @@ frame's own axes: ``v = R^T dp/dt``, ``w`` with ``dR/dt = R [w]x``).
 
 from __future__ import annotations
 
+import copy
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
@@ -53,6 +54,19 @@ class Task(ABC):
     @abstractmethod
     def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
         """The task on ``T``, within the tolerances (m, rad) added to its region."""
+
+    def shrunk(self, factor: float) -> Task:
+        """The task with its region scaled by ``factor`` about its centre (a task without
+        a region: itself). A descent aimed inside the region ends inside it, not on the
+        region's edge where the residual has a kink and the steps chatter."""
+        return self
+
+
+def scaled(task: Task, **fields: object) -> Task:
+    """A copy of ``task`` with ``fields`` replaced (for ``Task.shrunk``)."""
+    twin = copy.copy(task)
+    twin.__dict__.update(fields)
+    return twin
 
 
 def dead_zone(e: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -21,6 +21,7 @@ from armik.problem.tasks.base import (
     check_frame,
     check_weights,
     dead_zone,
+    scaled,
 )
 from armik.targets.pose import parse_target
 
@@ -71,3 +72,7 @@ class Pose(Task):
         outside = dead_zone(self.twist(T), self._free)[0]  # the distance from the region
         pos, ori = float(np.linalg.norm(outside[:3])), float(np.linalg.norm(outside[3:]))
         return TaskError(pos, ori, pos <= tol_position and ori <= tol_orientation)
+
+    def shrunk(self, factor: float) -> Task:
+        free = np.where(self.weights == 0.0, math.inf, self.bounds * factor)
+        return scaled(self, bounds=self.bounds * factor, _free=free)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from armik.problem.tasks.base import Task, TaskError, check_bounds, check_frame, dead_zone
+from armik.problem.tasks.base import Task, TaskError, check_bounds, check_frame, dead_zone, scaled
 from armik.targets.pose import _vector
 
 
@@ -32,3 +32,6 @@ class Position(Task):
     def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
         pos = float(np.linalg.norm(self.residual(T)))
         return TaskError(pos, None, pos <= tol_position)
+
+    def shrunk(self, factor: float) -> Task:
+        return scaled(self, bounds=self.bounds * factor)
