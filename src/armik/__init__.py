@@ -19,7 +19,7 @@ from armik.errors import (
 )
 from armik.model.catalogue import robots
 from armik.precompile import compile
-from armik.problem import Axis, LookAt, Pose, Position
+from armik.problem import Axis, LookAt, Pose, Position, Posture
 from armik.result import IKResult
 from armik.solvers import solvers
 from armik.status import Status
@@ -50,6 +50,7 @@ __all__ = [
     "LookAt",
     "Pose",
     "Position",
+    "Posture",
     "Arm",
     "BatchResult",
     "ArmikError",

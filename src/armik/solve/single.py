@@ -14,10 +14,12 @@ from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.problem.problem import as_problem, lower, tightened
+from armik.problem.scores import parse_score
 from armik.problem.tasks import Task
 from armik.result import IKResult
 from armik.solve.avoid import First, solve_avoiding
 from armik.solve.held import solve_held
+from armik.solve.prefer import rank
 from armik.solve.prepared import plan_for
 from armik.solve.tasks import CENTRE_RESTARTS, check_options, check_said_twice, solve_tasks
 from armik.solvers import registry
@@ -47,6 +49,13 @@ def solve_one(
     or with ``every`` the whole list of ``all_solutions=True``: a prepared solve
     (``armik.solve.prepared``) when the input is plain, else the general path."""
     t0 = time.perf_counter()
+    if "prefer" in options:
+        options = dict(options)
+        score = parse_score(options.pop("prefer"))
+        if score is not None:
+            every_answer = solve_one(arm, target, q0, solver, options, True)
+            ranked = rank(arm, every_answer, score, arm.seed(q0), t0)
+            return ranked if every else ranked[0]
     if type(target) in (list, tuple) or isinstance(target, Task):  # perhaps tasks
         problem = as_problem(target)
         if problem is not None:

@@ -1,0 +1,184 @@
+"""Scores: which of several verified answers is best (lower is better).
+
+A score ranks answers that already hold every task; it never makes an answer a success.
+``prefer=`` names one: ``"nearest"`` (closest to q0), ``"manipulability"`` (Yoshikawa's
+``sqrt(det(J J^T))`` of the tip Jacobian, larger is better), ``"limits"`` (the largest
+smallest normalised distance to a joint limit), ``Posture(q_ref, weights)``, or any
+callable ``cost(q) -> float``.
+"""
+
+from __future__ import annotations
+
+import math
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+
+import numpy as np
+
+from armik.errors import OptionError
+
+
+class Score(ABC):
+    """A cost of one configuration of an arm (lower is better). ``per_joint`` tells how a
+    turn of 2 pi on one joint changes it: ``None`` when the cost does not split by joints
+    (every combination of turns is scored), else the joint's own term, so that each
+    joint's best turn is chosen alone. ``turns_matter`` False: a turn never changes it."""
+
+    name: str = "score"
+    turns_matter: bool = True
+
+    def per_joint(self, arm, i: int, qi: float, q0: np.ndarray) -> float | None:
+        return None
+
+    @abstractmethod
+    def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
+        """The cost of ``q`` on ``arm``; ``q0`` is the call's seed."""
+
+
+class Nearest(Score):
+    """The distance from q0: the Euclidean norm of q - q0 (rad and m), as TRAC-IK's
+    Distance mode."""
+
+    name = "nearest"
+
+    def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
+        return float(np.linalg.norm(q - q0))
+
+    def per_joint(self, arm, i: int, qi: float, q0: np.ndarray) -> float | None:
+        return abs(qi - float(q0[i]))
+
+
+def manipulability(J: np.ndarray) -> float:
+    """Yoshikawa's measure ``sqrt(det(J J^T))`` of a 6 x n Jacobian (``J^T J`` when n < 6)."""
+    M = J @ J.T if J.shape[1] >= J.shape[0] else J.T @ J
+    return math.sqrt(max(float(np.linalg.det(M)), 0.0))
+
+
+class Manipulability(Score):
+    """Minus the tip Jacobian's manipulability: the best-conditioned answer first."""
+
+    name = "manipulability"
+    turns_matter = False  # the Jacobian depends on the angles' sines and cosines only
+
+    def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
+        return -manipulability(arm.jacobian(q))
+
+
+def limit_margin(arm, q: np.ndarray) -> float:
+    """The smallest distance to a joint limit over the joints, each as a fraction of its
+    range (0.5 at the middle); joints without finite limits are not counted (1.0 when
+    none has)."""
+    lo, hi = np.asarray(arm.lower), np.asarray(arm.upper)
+    bounded = np.isfinite(lo) & np.isfinite(hi) & (hi > lo)
+    if not bounded.any():
+        return 1.0
+    span = hi[bounded] - lo[bounded]
+    x = np.asarray(q)[bounded]
+    return float(np.min(np.minimum(x - lo[bounded], hi[bounded] - x) / span))
+
+
+class Limits(Score):
+    """Minus ``limit_margin``: the answer farthest from its nearest limit first."""
+
+    name = "limits"
+
+    def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
+        return -limit_margin(arm, q)
+
+    def per_joint(self, arm, i: int, qi: float, q0: np.ndarray) -> float | None:
+        lo, hi = float(arm.lower[i]), float(arm.upper[i])  # the minimum is largest when
+        return -min(qi - lo, hi - qi)  # each joint is as far inside as it can be
+
+
+class Posture(Score):
+    """``sum(weights * (q - q_ref)^2)``: the answer nearest a reference posture."""
+
+    name = "posture"
+
+    def __init__(self, q_ref: object, weights: object = None) -> None:
+        self.q_ref = np.asarray(q_ref, dtype=float).reshape(-1)
+        if not np.isfinite(self.q_ref).all():
+            raise OptionError(
+                f"Posture q_ref must be finite numbers, got {q_ref!r}", option="prefer"
+            )
+        n = self.q_ref.size
+        self.weights = (
+            np.ones(n) if weights is None else np.asarray(weights, dtype=float).reshape(-1)
+        )
+        if (
+            self.weights.shape != (n,)
+            or not np.isfinite(self.weights).all()
+            or (self.weights < 0).any()
+        ):
+            raise OptionError(
+                f"Posture weights must be {n} finite numbers >= 0, got {weights!r}",
+                option="prefer",
+            )
+
+    def _fits(self, arm) -> None:
+        if self.q_ref.size != arm.dof:
+            raise OptionError(
+                f"Posture q_ref has {self.q_ref.size} values, the arm {arm.dof} joints: give "
+                f"one per joint of {list(arm.joint_names)}",
+                option="prefer",
+            )
+
+    def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
+        self._fits(arm)
+        return float(self.weights @ (q - self.q_ref) ** 2)
+
+    def per_joint(self, arm, i: int, qi: float, q0: np.ndarray) -> float | None:
+        self._fits(arm)
+        return float(self.weights[i] * (qi - self.q_ref[i]) ** 2)
+
+
+class Cost(Score):
+    """A user's ``cost(q) -> float``; an exception or a non-finite value is an armik error
+    naming the callable."""
+
+    def __init__(self, fn: Callable[[np.ndarray], float]) -> None:
+        self.fn = fn
+        self.name = getattr(fn, "__name__", repr(fn))
+
+    def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
+        try:
+            value = float(self.fn(np.array(q)))
+        except Exception as exc:
+            raise OptionError(
+                f"prefer={self.name} raised {type(exc).__name__}: {exc} (at q = "
+                f"{np.round(q, 6).tolist()}); a cost takes q (rad, m) and returns a number",
+                option="prefer",
+            ) from exc
+        if not math.isfinite(value):
+            raise OptionError(
+                f"prefer={self.name} returned {value} at q = {np.round(q, 6).tolist()}: a "
+                "cost must be a finite number (lower is better)",
+                option="prefer",
+            )
+        return value
+
+
+_NAMED = {"nearest": Nearest, "manipulability": Manipulability, "limits": Limits}
+
+
+def parse_score(value: object) -> Score | None:
+    """``prefer=``'s value as a ``Score``; None for None. ``OptionError`` otherwise."""
+    if value is None or isinstance(value, Score):
+        return value
+    if isinstance(value, str):
+        if value in _NAMED:
+            return _NAMED[value]()
+        raise OptionError(
+            f"prefer must be None, one of {sorted(_NAMED)}, armik.Posture(q_ref) or a "
+            f"callable cost(q), got {value!r}",
+            option="prefer",
+            value=value,
+        )
+    if callable(value):
+        return Cost(value)
+    raise OptionError(
+        f"prefer must be None, one of {sorted(_NAMED)}, armik.Posture(q_ref) or a callable "
+        f"cost(q), got {value!r}",
+        option="prefer",
+        value=value,
+    )

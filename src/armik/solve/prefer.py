@@ -1,0 +1,85 @@
+"""The rank stage with a score: every verified answer found, each 2 pi variant of it that
+the limits allow, scored (``armik.problem.scores``); the best first.
+
+Closed forms give every branch, so their best is the best over the finite set of
+solutions within the limits; numeric solvers give the distinct answers their budget finds
+(``solve_all`` spends the whole budget), so theirs is the best found.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import math
+import time
+
+import numpy as np
+
+from armik.model.arm_model import ArmModel
+from armik.problem.scores import Score
+from armik.result import IKResult
+
+TWO_PI = 2.0 * math.pi
+MAX_VARIANTS = 256  # per answer: 2 pi shifts of every joint that allows them, combined
+
+
+def _turns(arm: ArmModel, q: np.ndarray) -> list[list[float]]:
+    """Per joint: its value and the values 2 pi turns away within its limits, on the
+    revolute joints whose limits span more than one turn."""
+    lower, upper, no_period = arm._limit_lists  # no period: prismatic, or a mimic's driver
+    choices = []
+    for qi, lo, hi, linear in zip(q.tolist(), lower, upper, no_period):
+        values = [qi]
+        if not linear and math.isfinite(lo) and math.isfinite(hi) and hi - lo > TWO_PI:
+            k_lo, k_hi = math.ceil((lo - qi) / TWO_PI), math.floor((hi - qi) / TWO_PI)
+            values += [qi + k * TWO_PI for k in range(k_lo, k_hi + 1) if k != 0]
+        choices.append(values)
+    return choices
+
+
+def best_variant(arm: ArmModel, q: np.ndarray, score: Score, q0: np.ndarray) -> np.ndarray:
+    """The 2 pi variant of ``q`` within the limits that ``score`` ranks first: ``q`` when
+    turns do not change the score, each joint's best turn when it splits by joints, else
+    the best of every combination (at most ``MAX_VARIANTS``, ``q``'s own first)."""
+    if not score.turns_matter:
+        return q
+    choices = _turns(arm, q)
+    if all(len(c) == 1 for c in choices):
+        return q
+    if score.per_joint(arm, 0, float(q[0]), q0) is not None:
+        return np.array(
+            [
+                min(c, key=lambda v, i=i: score.per_joint(arm, i, v, q0))
+                for i, c in enumerate(choices)
+            ]
+        )
+    combos = itertools.islice(itertools.product(*choices), MAX_VARIANTS)
+    return min((np.array(c) for c in combos), key=lambda x: score(arm, x, q0))
+
+
+def rank(
+    arm: ArmModel, results: list[IKResult], score: Score, q0: np.ndarray, t0: float
+) -> list[IKResult]:
+    """The successes of ``results``, each as its best 2 pi variant, best ``score`` first
+    (ties: in the order found), then the failures as they were; each success carries its
+    score in ``extra["score"]`` and the score's name in its reason."""
+    scored = []
+    for r in results:
+        if r.success:
+            q = best_variant(arm, np.asarray(r.q), score, q0)
+            if not any(np.allclose(q, other[3], rtol=0.0, atol=1e-9) for other in scored):
+                scored.append((score(arm, q, q0), len(scored), r, q))
+    scored.sort(key=lambda item: (item[0], item[1]))
+    elapsed = time.perf_counter() - t0
+    ranked = [
+        dataclasses.replace(
+            r,
+            q=q,
+            reason=f"{r.reason}; {score.name} {value:.6g}, ranked among {len(scored)} verified"
+            + ("" if np.array_equal(q, r.q) else " (a 2 pi variant within the limits)"),
+            time=elapsed,
+            extra={**r.extra, "score": value},
+        )
+        for value, _, r, q in scored
+    ]
+    return ranked + [r for r in results if not r.success]

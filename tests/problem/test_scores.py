@@ -1,0 +1,111 @@
+"""Preferences (``prefer=``): each score against a hand computation, the closed forms'
+choice equal to a brute-force scan of every branch and 2 pi variant, bad costs named."""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+import armik
+from armik.problem.scores import Limits, Manipulability, Nearest, limit_margin, manipulability
+
+from .. import conftest
+
+
+def test_each_score_by_hand():
+    J = np.array([[1.0, 2.0], [0.0, 3.0], [0.0, 0.0], [0.0, 0.0], [0.0, 0.0], [1.0, 1.0]])
+    # J^T J = [[2, 3], [3, 14]]: det 19 (fewer joints than rows: J^T J)
+    assert manipulability(J) == pytest.approx(math.sqrt(19.0))
+    arm = conftest.arm("planar_2link")
+    lo, hi = arm.lower, arm.upper
+    q = lo + np.array([0.1, 0.5]) * (hi - lo)
+    assert limit_margin(arm, q) == pytest.approx(0.1)
+    assert Limits()(arm, q, q) == pytest.approx(-0.1)
+    q0 = q + np.array([0.3, -0.4])
+    assert Nearest()(arm, q, q0) == pytest.approx(0.5)
+    posture = armik.Posture([0.0, 1.0], weights=[2.0, 3.0])
+    assert posture(arm, np.array([1.0, 3.0]), q0) == pytest.approx(2.0 * 1.0 + 3.0 * 4.0)
+    assert Manipulability()(arm, q, q0) == pytest.approx(-manipulability(arm.jacobian(q)))
+
+
+def _every_variant(arm, q):
+    turns = []
+    for qi, lo, hi in zip(q, arm.lower, arm.upper):
+        ks = range(math.ceil((lo - qi) / (2 * math.pi)), math.floor((hi - qi) / (2 * math.pi)) + 1)
+        turns.append([qi + 2 * math.pi * k for k in ks] or [qi])
+    return [np.array(c) for c in itertools.product(*turns)]
+
+
+@pytest.mark.parametrize("robot", ["ur5", "abb_irb120"])
+@pytest.mark.parametrize("prefer", ["manipulability", "limits", "nearest", "cost"])
+def test_the_closed_form_choice_is_the_best_of_every_branch(robot, prefer):
+    """The chosen answer's score equals the best over every branch of solve_all and every
+    2 pi variant within the limits (brute force)."""
+    arm = conftest.arm(robot)
+    rng = np.random.default_rng(34)
+    weights = rng.uniform(0.5, 2.0, arm.dof)
+
+    def cost(q):
+        return float(weights @ np.cos(q) + 0.1 * q.sum())
+
+    score = {
+        "manipulability": Manipulability(),
+        "limits": Limits(),
+        "nearest": Nearest(),
+        "cost": armik.problem.scores.Cost(cost),
+    }[prefer]
+    for _ in range(5):
+        T = arm.fk(arm.random_q(rng))
+        q0 = arm.random_q(rng)
+        r = arm.solve(T, q0=q0, prefer=cost if prefer == "cost" else prefer)
+        assert r.success
+        branches = [b.q for b in arm.solve_all(T, q0=q0) if b.success]
+        best = min(
+            score(arm, v, q0)
+            for b in branches
+            for v in _every_variant(arm, b)
+            if arm.within_limits(v)
+        )
+        assert r.extra["score"] == pytest.approx(best, abs=1e-9)
+        assert score(arm, r.q, q0) == pytest.approx(best, abs=1e-9)
+        assert np.allclose(arm.fk(r.q).homogeneous, T.homogeneous, atol=1e-6)
+
+
+def test_solve_all_is_ordered_by_the_score():
+    arm = conftest.arm("ur5")
+    T = arm.fk(arm.random_q(2))
+    ranked = arm.solve_all(T, prefer="manipulability")
+    scores = [r.extra["score"] for r in ranked if r.success]
+    assert len(scores) >= 2 and scores == sorted(scores)
+
+
+def test_a_bad_cost_is_named():
+    arm = conftest.arm("ur5")
+    T = arm.fk(arm.random_q(3))
+
+    def broken(q):
+        raise RuntimeError("no model")
+
+    with pytest.raises(armik.InputError, match="broken raised RuntimeError"):
+        arm.solve(T, prefer=broken)
+    with pytest.raises(armik.InputError, match="returned nan"):
+        arm.solve(T, prefer=lambda q: math.nan)
+    with pytest.raises(armik.InputError, match="prefer must be"):
+        arm.solve(T, prefer="best")
+    with pytest.raises(armik.InputError, match="one per joint"):
+        arm.solve(T, prefer=armik.Posture([0.0, 0.0]))
+
+
+def test_prefer_with_bounds_and_collisions():
+    """A free spin and an obstacle with a preference: every answer still verified."""
+    arm = conftest.arm("ur5")
+    T = arm.fk(arm.random_q(4))
+    spin = (0.0, 0.0, 0.0, 0.0, 0.0, math.inf)
+    r = arm.solve(T, bounds=spin, prefer="limits")
+    assert r.success and "limits" in r.reason
+    floor = armik.HalfSpace((0.0, 0.0, 1.0), -0.5)
+    c = arm.solve(T, obstacles=[floor], prefer="manipulability")
+    assert c.success and "manipulability" in c.reason
