@@ -109,3 +109,44 @@ def test_prefer_with_bounds_and_collisions():
     floor = armik.HalfSpace((0.0, 0.0, 1.0), -0.5)
     c = arm.solve(T, obstacles=[floor], prefer="manipulability")
     assert c.success and "manipulability" in c.reason
+
+
+def test_the_panda_sweep_finds_the_self_motion_optimum():
+    """prefer='manipulability' on the Panda searches joint 7 (grid, then golden section):
+    its answer is within 1 % of a dense scan of joint 7 over its range."""
+    from armik.solvers.closed_form import swept_7r
+    from armik.targets.pose import parse_target
+
+    arm = conftest.arm("panda")
+    rng = np.random.default_rng(7)
+    for _ in range(3):
+        T = arm.fk(arm.random_q(rng))
+        r = arm.solve(T, prefer="manipulability", timeout=0.005)
+        assert r.success and r.solver == "swept"
+        target = parse_target(T, arm)
+        lo, hi = swept_7r.sweep_range(arm, float(arm.middle[6]))
+        dense = max(
+            manipulability(arm.jacobian(a.q))
+            for theta in np.linspace(lo, hi, 721)
+            for a in swept_7r.at_value(arm, target, arm.middle, float(theta))
+            if a.claim.name == "CONVERGED" and arm.within_limits(a.q)
+        )
+        assert manipulability(arm.jacobian(r.q)) >= 0.99 * dense
+
+
+def test_a_numeric_answer_moves_along_the_self_motion():
+    """On the xArm7 (no closed form): the descent in the null space raises manipulability
+    and keeps the pose."""
+    import pinocchio as pin
+
+    from armik.solve.nullspace import descend
+
+    arm = conftest.arm("xarm7")
+    q = arm.random_q(11)
+    T = arm.fk(q)
+    moved = descend(arm, q, T, Manipulability(), arm.middle, budget=1.0)
+    assert manipulability(arm.jacobian(moved)) > manipulability(arm.jacobian(q))
+    assert np.abs(pin.log6(arm.fk(moved).inverse() * T).vector).max() <= 1e-9
+    assert arm.within_limits(moved)
+    r = arm.solve(T, prefer="manipulability", iteration_budget=2000)
+    assert r.success and r.extra["score"] <= Manipulability()(arm, r.q, arm.middle) + 1e-12

@@ -30,6 +30,10 @@ class Score(ABC):
     def per_joint(self, arm, i: int, qi: float, q0: np.ndarray) -> float | None:
         return None
 
+    def gradient(self, arm, q: np.ndarray, q0: np.ndarray) -> np.ndarray | None:
+        """The cost's gradient in q where it has a closed form; None: finite differences."""
+        return None
+
     @abstractmethod
     def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
         """The cost of ``q`` on ``arm``; ``q0`` is the call's seed."""
@@ -46,6 +50,11 @@ class Nearest(Score):
 
     def per_joint(self, arm, i: int, qi: float, q0: np.ndarray) -> float | None:
         return abs(qi - float(q0[i]))
+
+    def gradient(self, arm, q: np.ndarray, q0: np.ndarray) -> np.ndarray | None:
+        d = q - q0
+        n = float(np.linalg.norm(d))
+        return d / n if n > 0.0 else np.zeros_like(d)
 
 
 def manipulability(J: np.ndarray) -> float:
@@ -130,6 +139,10 @@ class Posture(Score):
     def per_joint(self, arm, i: int, qi: float, q0: np.ndarray) -> float | None:
         self._fits(arm)
         return float(self.weights[i] * (qi - self.q_ref[i]) ** 2)
+
+    def gradient(self, arm, q: np.ndarray, q0: np.ndarray) -> np.ndarray | None:
+        self._fits(arm)
+        return 2.0 * self.weights * (q - self.q_ref)
 
 
 class Cost(Score):

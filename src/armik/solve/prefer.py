@@ -63,11 +63,13 @@ def rank(
     """The successes of ``results``, each as its best 2 pi variant, best ``score`` first
     (ties: in the order found), then the failures as they were; each success carries its
     score in ``extra["score"]`` and the score's name in its reason."""
-    scored = []
+    scored, seen = [], set()
     for r in results:
         if r.success:
             q = best_variant(arm, np.asarray(r.q), score, q0)
-            if not any(np.allclose(q, other[3], rtol=0.0, atol=1e-9) for other in scored):
+            key = tuple(np.round(q, 9).tolist())  # one answer found twice counts once
+            if key not in seen:
+                seen.add(key)
                 scored.append((score(arm, q, q0), len(scored), r, q))
     scored.sort(key=lambda item: (item[0], item[1]))
     elapsed = time.perf_counter() - t0
@@ -83,3 +85,54 @@ def rank(
         for value, _, r, q in scored
     ]
     return ranked + [r for r in results if not r.success]
+
+
+SWEEP_GRID = 32  # values of the held joint over its range, before the refinement
+REFINE_STEPS = 16  # golden-section steps between the best grid value's neighbours
+GOLDEN = 0.6180339887498949
+
+
+def sweep_held(arm: ArmModel, target, q0: np.ndarray, opts, score: Score, t0: float):
+    """On a 7R arm the ``swept`` closed form applies to: the self-motion searched for the
+    score, joint 7 on a grid over its range and then refined by golden section around the
+    best value (every branch in closed form at each value, scored at its best 2 pi
+    variant); the best configurations verified (``finish``). None where it does not apply."""
+    from armik.solvers import registry
+    from armik.solvers.closed_form import swept_7r
+    from armik.verify.verdict import finish
+
+    if arm.dof != 7 or registry.why_not("swept", arm, target, opts) is not None:
+        return None
+    lo, hi = (float(x) for x in swept_7r.sweep_range(arm, float(q0[6])))
+
+    def at(theta: float) -> list[tuple[float, np.ndarray]]:
+        found = []
+        for a in swept_7r.at_value(arm, target, q0, theta):
+            if a.claim.name == "CONVERGED" and arm.within_limits(a.q):
+                q = best_variant(arm, a.q, score, q0)
+                found.append((score(arm, q, q0), q))
+        return found
+
+    def best_at(theta: float) -> float:
+        return min((s for s, _ in at(theta)), default=math.inf)
+
+    grid = np.linspace(lo, hi, SWEEP_GRID)
+    values = [best_at(float(t)) for t in grid]
+    k = int(np.argmin(values))
+    if not math.isfinite(values[k]):
+        return []
+    a, b = float(grid[max(k - 1, 0)]), float(grid[min(k + 1, len(grid) - 1)])
+    c, d = b - GOLDEN * (b - a), a + GOLDEN * (b - a)
+    fc, fd = best_at(c), best_at(d)
+    for _ in range(REFINE_STEPS):
+        if fc <= fd:
+            b, d, fd = d, c, fc
+            c = b - GOLDEN * (b - a)
+            fc = best_at(c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + GOLDEN * (b - a)
+            fd = best_at(d)
+    theta = min((float(grid[k]), values[k]), (c, fc), (d, fd), key=lambda x: x[1])[0]
+    attempts = swept_7r.at_value(arm, target, q0, theta)
+    return finish(arm, "swept", attempts, target, opts, q0, True, t0)

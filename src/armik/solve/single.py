@@ -7,6 +7,7 @@ import math
 import time
 
 import numpy as np
+import pinocchio as pin
 
 from armik import reasons
 from armik.constraints.collision import checker
@@ -19,10 +20,13 @@ from armik.problem.tasks import Task
 from armik.result import IKResult
 from armik.solve.avoid import First, solve_avoiding
 from armik.solve.held import solve_held
-from armik.solve.prefer import rank
+from armik.solve.nullspace import descend
+from armik.solve.prefer import rank, sweep_held
 from armik.solve.prepared import plan_for
 from armik.solve.tasks import CENTRE_RESTARTS, check_options, check_said_twice, solve_tasks
 from armik.solvers import registry
+from armik.solvers.claims import Attempt
+from armik.status import Status
 from armik.targets.pose import parse_target
 from armik.verify.verdict import distance_verdict, finish
 
@@ -53,9 +57,7 @@ def solve_one(
         options = dict(options)
         score = parse_score(options.pop("prefer"))
         if score is not None:
-            every_answer = solve_one(arm, target, q0, solver, options, True)
-            ranked = rank(arm, every_answer, score, arm.seed(q0), t0)
-            return ranked if every else ranked[0]
+            return _preferred(arm, target, q0, solver, options, every, score, t0)
     if type(target) in (list, tuple) or isinstance(target, Task):  # perhaps tasks
         problem = as_problem(target)
         if problem is not None:
@@ -85,6 +87,51 @@ def solve_one(
     if every:
         return _beyond_search(arm, target, q0, solver, opts, seed, results, t0)
     return results[0]
+
+
+def _preferred(arm, target, q0, solver: str, options: dict, every: bool, score, t0: float):
+    """The rank stage with a score: the answers solve_all finds, or on a 7R arm the swept
+    closed form applies to, the self-motion searched for the score (every solution has
+    some value of joint 7) with the plain answer beside it."""
+    swept = None
+    if solver == "auto" and not isinstance(target, (list, Task)):
+        opts = _with_seed(*_options(options)[::2])
+        plain = not (opts.bounds or opts.weights or opts.collisions or opts.hold)
+        if plain and not opts.position_only:
+            swept = sweep_held(arm, parse_target(target, arm), arm.seed(q0), opts, score, t0)
+    if swept and any(r.success for r in swept):
+        found = [solve_one(arm, target, q0, solver, options), *swept]
+    else:  # half the budget gathers answers, the rest moves the best along the self-motion
+        opts = _with_seed(*_options(options)[::2])
+        found = solve_one(arm, target, q0, solver, {**options, "timeout": opts.timeout * 0.4}, True)
+    ranked = rank(arm, found, score, arm.seed(q0), t0)
+    if not swept and ranked[0].success and arm.dof > 6 and not isinstance(target, (list, Task)):
+        ranked = _along_self_motion(arm, target, q0, options, score, ranked, t0)
+    return ranked if every else ranked[0]
+
+
+DESCENTS = 1  # the best answers moved along the self-motion
+
+
+def _along_self_motion(arm, target, q0, options: dict, score, ranked: list, t0: float):
+    """A redundant arm's best numeric answer moved along its self-motion to a lower score
+    (``armik.solve.nullspace``), verified again, ranked again."""
+    opts = _with_seed(*_options(options)[::2])
+    if opts.bounds or opts.weights or opts.position_only or opts.collisions or opts.hold:
+        return ranked
+    tgt = parse_target(target, arm)
+    T = pin.SE3(tgt.rotation, tgt.position)
+    seed = arm.seed(q0)
+    starts = [r for r in ranked[:DESCENTS] if r.success]
+    again = []
+    for k, start in enumerate(starts):  # the rest of the budget shared by the best starts
+        left = max(0.9 * opts.timeout - (time.perf_counter() - t0), 0.0) / (len(starts) - k)
+        if opts.iteration_budget is not None:  # deterministic: the descent's own step cap
+            left = math.inf
+        moved = descend(arm, np.asarray(start.q), T, score, seed, left)
+        claim = Attempt(q=moved, claim=Status.CONVERGED, reason="moved along the self-motion")
+        again += finish(arm, start.solver, [claim], tgt, opts, seed, True, t0)
+    return rank(arm, [*again, *ranked], score, seed, t0)
 
 
 def _centre(arm, problem, q0, options: dict):

@@ -1,0 +1,110 @@
+"""Preferences beside TRAC-IK's modes on the same targets: manipulability against its
+Manip1 mode, distance to q0 against its Distance mode, success checked by yourdfpy's FK.
+
+Per arm, ``-n`` targets from FK of random configurations within the limits; armik solves
+with ``prefer="manipulability"`` or ``prefer="nearest"`` from mid-limits with a 5 ms
+budget (on the Panda the swept closed form searches joint 7 over its range; elsewhere the
+numeric ``solve_all`` gathers answers within the budget); TRAC-IK (``pytracik``) runs
+Manip1 or Distance with a 5 ms timeout from the same seed, target by target in the same
+loop. Reported: each side's success (an answer within 1e-5 of the target by yourdfpy's
+FK), mean time, and on the targets both solve, how often armik's answer is at least as
+good (manipulability >= TRAC-IK's; distance to q0 <= TRAC-IK's, plus 1e-9).
+
+    python benchmarks/preferences.py [-n 150] [--arms panda xarm7]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+
+import numpy as np
+import pinocchio as pin
+
+import armik
+from armik.problem.scores import manipulability
+
+sys.path.insert(0, os.path.dirname(__file__))
+from tolerances import independent_fk, load  # noqa: E402
+
+MODES = {"manipulability": "Manip1", "nearest": "Distance"}
+
+
+def _rebuilt(a: armik.Arm, mode: str):
+    import re
+    import tempfile
+
+    from trac_ik import TracIK
+
+    text = open(a.source).read()
+    children = set(re.findall(r"<child\s+link=\"([^\"]+)\"", text))
+    root = next(n for n in re.findall(r"<link\s+name=\"([^\"]+)\"", text) if n not in children)
+    dummy = (
+        '<link name="tracik_root"/><joint name="tracik_root_joint" type="fixed">'
+        f'<parent link="tracik_root"/><child link="{root}"/></joint>'
+    )
+    text = re.sub(r"(<robot\b[^>]*>)", lambda m: m.group(1) + dummy, text, count=1)
+    fd, path = tempfile.mkstemp(suffix=".urdf")
+    with os.fdopen(fd, "w") as f:
+        f.write(text)
+    solver = TracIK(a.base, a.tip, path, timeout=0.005, epsilon=1e-5, solver_type=mode)
+    solver.joint_limits = (a.lower, a.upper)
+    return solver
+
+
+def close(fk, q, T: pin.SE3) -> bool:
+    err = pin.log6(T.inverse() * fk(q)).vector
+    return bool(np.abs(err).max() <= 1e-5)
+
+
+def run(name: str, prefer: str, n: int) -> None:
+    a = load(name)
+    rng = np.random.default_rng(0)
+    targets = [a.fk(a.random_q(rng)) for _ in range(n)]
+    fk, other = independent_fk(a), _rebuilt(a, MODES[prefer])
+    seed = a.middle
+    a.solve(targets[0], prefer=prefer, timeout=0.005)  # compiled before the clock runs
+    ok = peer_ok = both = better = 0
+    t_armik = t_peer = 0.0
+    for T in targets:
+        t0 = time.perf_counter()
+        r = a.solve(T, q0=seed, prefer=prefer, timeout=0.005)
+        t_armik += time.perf_counter() - t0
+        mine = r.success and close(fk, r.q, T) and a.within_limits(r.q)
+        ok += mine
+        t0 = time.perf_counter()
+        got = other.ik(T.translation, T.rotation, seed)
+        t_peer += time.perf_counter() - t0
+        theirs = got is not None and close(fk, np.asarray(got), T)
+        peer_ok += theirs
+        if mine and theirs:
+            both += 1
+            if prefer == "manipulability":
+                better += manipulability(a.jacobian(r.q)) >= manipulability(a.jacobian(got)) - 1e-9
+            else:
+                better += (
+                    np.linalg.norm(r.q - seed) <= np.linalg.norm(np.asarray(got) - seed) + 1e-9
+                )
+    print(
+        f"{name:<7} {prefer:<15} n={n}  armik {100 * ok / n:5.1f} % {1e3 * t_armik / n:.2f} ms  "
+        f"TRAC-IK {MODES[prefer]} {100 * peer_ok / n:5.1f} % {1e3 * t_peer / n:.2f} ms  "
+        f"armik at least as good on {better}/{both} ({100 * better / max(both, 1):.1f} %)",
+        flush=True,
+    )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("-n", type=int, default=150)
+    parser.add_argument("--arms", nargs="+", default=["panda", "xarm7"])
+    parser.add_argument("--prefer", nargs="+", default=list(MODES))
+    args = parser.parse_args()
+    for name in args.arms:
+        for prefer in args.prefer:
+            run(name, prefer, args.n)
+
+
+if __name__ == "__main__":
+    main()
