@@ -283,11 +283,12 @@ class Arm(ArmModel):
         ``BatchResult``. See ``armik.solve.batch.solve_batch``."""
         return solve_batch(self, targets, q0=q0, solver=solver, workers=workers, **options)
 
-    def solve_path(self, poses, q0, *, max_joint_step=None, **options):
-        """Solve waypoints in order, each from the previous answer, never with a silent
-        jump larger than ``max_joint_step``; returns a ``BatchResult``. See
-        ``armik.solve.path.solve_path``."""
-        return solve_path(self, poses, q0, max_joint_step=max_joint_step, **options)
+    def solve_path(self, poses, q0, *, max_joint_step=None, plan: str = "follow", **options):
+        """Solve waypoints in order, never with a silent jump larger than
+        ``max_joint_step``: each from the previous answer (``plan="follow"``), or the path
+        of least joint motion over every branch (``plan="global"``); returns a
+        ``BatchResult``. See ``armik.solve.path.solve_path``."""
+        return solve_path(self, poses, q0, max_joint_step=max_joint_step, plan=plan, **options)
 
     # -- collisions -----------------------------------------------------------------------
 

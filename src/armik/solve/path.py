@@ -35,6 +35,7 @@ from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.result import IKResult
+from armik.solve import ladder
 from armik.solve.avoid import ON_PATH
 from armik.solve.single import solve
 from armik.solve.tasks import lower_all, task_problems
@@ -53,6 +54,7 @@ def solve_path(
     q0: object,
     max_joint_step: float | np.ndarray | None = None,
     solver: str = "auto",
+    plan: str = "follow",
     **options: object,
 ) -> BatchResult:
     """Solve ``poses`` in order from ``q0``; returns a ``BatchResult`` (one row per pose).
@@ -61,12 +63,22 @@ def solve_path(
     ``q0``: the configuration the arm starts from (rad, m); the first pose is held to
     ``max_joint_step`` from it too. ``max_joint_step``: the largest move of any joint
     between consecutive answers (rad for revolute joints, m for prismatic ones; one number
-    or one per joint; default 0.5). ``options``: as for ``Arm.solve``.
+    or one per joint; default 0.5). ``plan``: ``"follow"`` (each waypoint from the previous
+    answer, below) or ``"global"`` (every branch at every waypoint, the path of least joint
+    motion: ``armik.solve.ladder``; closed-form arms; with ``q0=None`` the path may start
+    on any branch). ``options``: as for ``Arm.solve``.
 
     Every answer is verified by Pinocchio FK (``Arm.solve``). A waypoint reachable only by
     a larger move gets status ``discontinuous`` and a reason; never a silent jump.
     """
     t0 = time.perf_counter()
+    if plan not in ("follow", "global"):
+        raise OptionError(
+            f"plan must be 'follow' (each waypoint from the previous answer) or 'global' "
+            f"(every branch at every waypoint, the least motion), got {plan!r}",
+            option="plan",
+            value=plan,
+        )
     problems = task_problems(poses)
     if problems is not None:
         lowered = lower_all(problems, options)
@@ -86,6 +98,21 @@ def solve_path(
     spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
     local = {**options, "max_restarts": 0}
     out = BatchResult.for_arm(arm, n, spec.name, opts)
+    if plan == "global":
+        ladder.check_plannable(spec)
+        rungs = [  # a pose as a 4x4 array takes the prepared path
+            solve(
+                arm,
+                _plain(batch.target(i)),
+                q0=q_prev,
+                solver=spec.name,
+                all_solutions=True,
+                **options,
+            )
+            for i in range(n)
+        ]
+        ladder.plan(arm, rungs, None if q0 is None else q_prev, step, out)
+        return frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     token = ON_PATH.set(True)  # a colliding answer is slid out of contact (solve/avoid.py)
     try:
         _walk(arm, batch, q_prev, step, spec, options, local, out)
@@ -105,6 +132,15 @@ def _walk(arm, batch, q_prev, step, spec, options, local, out) -> None:
         out.put_result(i, r)
         if r.success or r.status is Status.DISCONTINUOUS:
             q_prev = np.array(r.q)
+
+
+def _plain(target: Target):
+    """A pose as its 4x4 array (a position as its 3 numbers): the prepared path's input."""
+    if target.rotation is None:
+        return target.position
+    H = np.eye(4)
+    H[:3, :3], H[:3, 3] = target.rotation, target.position
+    return H
 
 
 def _max_step(arm: ArmModel, value: object) -> np.ndarray:

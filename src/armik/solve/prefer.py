@@ -23,7 +23,7 @@ TWO_PI = 2.0 * math.pi
 MAX_VARIANTS = 256  # per answer: 2 pi shifts of every joint that allows them, combined
 
 
-def _turns(arm: ArmModel, q: np.ndarray) -> list[list[float]]:
+def turns(arm: ArmModel, q: np.ndarray) -> list[list[float]]:
     """Per joint: its value and the values 2 pi turns away within its limits, on the
     revolute joints whose limits span more than one turn."""
     lower, upper, no_period = arm._limit_lists  # no period: prismatic, or a mimic's driver
@@ -43,7 +43,7 @@ def best_variant(arm: ArmModel, q: np.ndarray, score: Score, q0: np.ndarray) -> 
     the best of every combination (at most ``MAX_VARIANTS``, ``q``'s own first)."""
     if not score.turns_matter:
         return q
-    choices = _turns(arm, q)
+    choices = turns(arm, q)
     if all(len(c) == 1 for c in choices):
         return q
     if score.per_joint(arm, 0, float(q[0]), q0) is not None:
