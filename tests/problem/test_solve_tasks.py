@@ -130,8 +130,8 @@ def test_bad_task_lists_get_armik_errors():
         arm.solve([p, cone], obstacles=[armik.Sphere(0.05, (1.0, 1.0, 1.0))])
     with pytest.raises(armik.InputError, match="bounds is given both"):
         arm.solve(armik.Pose(arm.fk(arm.middle), bounds=[0.1] * 6), bounds=[0.1] * 6)
-    with pytest.raises(armik.InputError, match="panda_link3"):
-        arm.solve([armik.Position((0.3, 0.0, 0.4), frame="panda_link3"), cone])
+    with pytest.raises(armik.InputError, match="'no_such_link'.*its frames"):
+        arm.solve([armik.Position((0.3, 0.0, 0.4), frame="no_such_link"), cone])
 
 
 def test_batches_and_paths_of_task_lists():
@@ -165,3 +165,33 @@ def test_batches_and_paths_of_task_lists():
         arm.solve_batch([[armik.Position((0.2, 0.0, 0.2))], (0.2, 0.0, 0.2)])
     with pytest.raises(armik.InputError, match="path of task lists"):
         arm.solve_path([c_row for c_row in cones[:2]], Q[0])
+
+
+def test_a_task_on_another_frame_of_the_chain():
+    """The Panda's hand at a pose and its elbow (panda_link4) within a 2 cm box of where it
+    was: both checked here on Pinocchio's placement of each frame."""
+    import pinocchio as pin
+
+    arm = conftest.arm("panda")
+    rng = np.random.default_rng(33)
+    elbow_id = arm.model.getFrameId("panda_link4")
+    solved = 0
+    for _ in range(10):
+        q = arm.random_q(rng)
+        pin.forwardKinematics(arm.model, arm.data, arm.to_pin(q))
+        elbow = (
+            arm.T_base_world * pin.updateFramePlacement(arm.model, arm.data, elbow_id)
+        ).translation
+        T = arm.fk(q)
+        r = arm.solve(
+            [armik.Pose(T), armik.Position(elbow, bounds=[0.02] * 3, frame="panda_link4")]
+        )
+        if not r.success:
+            assert r.status is Status.NOT_CONVERGED
+            continue
+        solved += 1
+        pin.forwardKinematics(arm.model, arm.data, arm.to_pin(r.q))
+        reached = arm.T_base_world * pin.updateFramePlacement(arm.model, arm.data, elbow_id)
+        assert (np.abs(reached.translation - elbow) <= 0.02 + 1e-6).all()
+        assert np.allclose(arm.fk(r.q).homogeneous, T.homogeneous, atol=1e-6)
+    assert solved >= 7

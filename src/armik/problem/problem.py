@@ -57,9 +57,10 @@ def tightened(problem: Problem) -> Problem:
     return Problem(tuple(tasks))
 
 
-def lower(problem: Problem) -> tuple[object, dict] | None:
-    """(target, options) of the compiled path for a problem it has a form for, else None."""
-    if any(t.frame is not None for t in problem.tasks):
+def lower(problem: Problem, tip: str | None = None) -> tuple[object, dict] | None:
+    """(target, options) of the compiled path for a problem it has a form for, else None;
+    a task on frame ``tip`` is on the arm's tip, as one on no frame."""
+    if any(t.frame is not None and t.frame != tip for t in problem.tasks):
         return None
     if len(problem.tasks) == 2:
         return _point_and_axis(*problem.tasks)

@@ -84,7 +84,7 @@ def solve_batch(
     t0 = time.perf_counter()
     problems = task_problems(targets)
     if problems is not None:
-        lowered = lower_all(problems, options)
+        lowered = lower_all(problems, options, arm.tip)
         if lowered is None:  # no compiled form: the task solver, target by target
             return _each(arm, problems, q0, solver, progress, options, t0)
         targets, options = lowered

@@ -81,7 +81,7 @@ def solve_path(
         )
     problems = task_problems(poses)
     if problems is not None:
-        lowered = lower_all(problems, options)
+        lowered = lower_all(problems, options, arm.tip)
         if lowered is None:
             raise TargetError(
                 "a path of task lists takes tasks the compiled path has a form for (a pose "

@@ -61,7 +61,7 @@ def solve_one(
     if type(target) in (list, tuple) or isinstance(target, Task):  # perhaps tasks
         problem = as_problem(target)
         if problem is not None:
-            lowered = lower(problem)
+            lowered = lower(problem, arm.tip)
             if lowered is None:
                 opts = _with_seed(*_options(options)[::2])
                 check_options(opts, solver)
@@ -137,7 +137,7 @@ def _along_self_motion(arm, target, q0, options: dict, score, ranked: list, t0: 
 def _centre(arm, problem, q0, options: dict):
     """The compiled answer to the problem's centre (``tightened``), if it has a form: an
     answer to the problem itself, or a start for the task solver; else None."""
-    lowered = lower(tightened(problem))
+    lowered = lower(tightened(problem), arm.tip)
     if lowered is None:
         return None
     target, said = lowered

@@ -69,48 +69,68 @@ def check_said_twice(options: dict, said: dict) -> None:
             )
 
 
-def _tip_only(arm: ArmModel, tasks: tuple[Task, ...]) -> None:
+def frame_ids(arm: ArmModel, tasks: tuple[Task, ...]) -> tuple[int, ...]:
+    """Each task's frame as an index of the arm's Pinocchio model (None: the tip); an
+    ``armik`` error naming a frame the model does not have."""
+    ids = []
     for t in tasks:
-        if t.frame is not None and t.frame != arm.tip:
+        if t.frame is None or t.frame == arm.tip:
+            ids.append(arm.tip_frame_id)
+        elif arm.model.existFrame(t.frame):
+            ids.append(arm.model.getFrameId(t.frame))
+        else:
+            names = sorted(f.name for f in arm.model.frames)
             raise TargetError(
-                f"{type(t).__name__} asks for frame {t.frame!r}, but this arm's tip is "
-                f"{arm.tip!r}: load the arm with tip={t.frame!r} (one tip per arm for now)"
+                f"{type(t).__name__} asks for frame {t.frame!r}, which this arm's model does "
+                f"not have; its frames: {names}"
             )
+    return tuple(ids)
 
 
-def _placed(arm: ArmModel, q: np.ndarray):
-    """(T_base_tip, LOCAL Jacobian) at ``q`` from one pass of Pinocchio's kinematics."""
+def _placed(arm: ArmModel, q: np.ndarray, ids: tuple[int, ...]) -> dict:
+    """Each frame's (T_base_frame, LOCAL Jacobian) at ``q`` from one pass of Pinocchio's
+    kinematics; a frame the chain does not move keeps a zero Jacobian."""
     model, data = arm.model, arm.data
-    qp = arm.to_pin(q)
-    pin.computeJointJacobians(model, data, qp)
-    T = pin.updateFramePlacement(model, data, arm.tip_frame_id)
-    T = arm.T_base_world * T
-    J = pin.getFrameJacobian(model, data, arm.tip_frame_id, pin.LOCAL).reshape(6, arm.dof)
-    return T, J
+    pin.computeJointJacobians(model, data, arm.to_pin(q))
+    placed = {}
+    for i in set(ids):
+        T = arm.T_base_world * pin.updateFramePlacement(model, data, i)
+        placed[i] = (T, pin.getFrameJacobian(model, data, i, pin.LOCAL).reshape(6, arm.dof))
+    return placed
 
 
-def _stack(tasks: tuple[Task, ...], T, J):
-    r = np.concatenate([t.residual(T) for t in tasks])
-    A = np.vstack([t.jacobian(T, J) for t in tasks])
+def _stack(tasks: tuple[Task, ...], ids: tuple[int, ...], placed: dict):
+    r = np.concatenate([t.residual(placed[i][0]) for t, i in zip(tasks, ids)])
+    A = np.vstack([t.jacobian(*placed[i]) for t, i in zip(tasks, ids)])
     return r, A
 
 
-def _measure(arm: ArmModel, tasks, q: np.ndarray, opts: Options, T=None) -> list[TaskError]:
-    T = arm.fk(q) if T is None else T
-    return [t.measure(T, opts.tol_position, opts.tol_orientation) for t in tasks]
+def _measure(
+    arm: ArmModel, tasks, ids, q: np.ndarray, opts: Options, placed=None
+) -> list[TaskError]:
+    """Each task on its frame's placement by Pinocchio's FK (the verdict's)."""
+    if placed is None:
+        model, data = arm.model, arm.data
+        pin.forwardKinematics(model, data, arm.to_pin(q))
+        placed = {
+            i: (arm.T_base_world * pin.updateFramePlacement(model, data, i), None) for i in set(ids)
+        }
+    return [
+        t.measure(placed[i][0], opts.tol_position, opts.tol_orientation) for t, i in zip(tasks, ids)
+    ]
 
 
-def _descend(arm: ArmModel, tasks, q: np.ndarray, opts: Options, iterations: int):
+def _descend(arm: ArmModel, tasks, ids, q: np.ndarray, opts: Options, iterations: int):
     """(q, iterations used): Levenberg-Marquardt from ``q`` until every task holds (on
-    Pinocchio's placement) or the iterations run out, each step clipped into the limits."""
+    Pinocchio's placements) or the iterations run out, each step clipped into the limits."""
     lo, hi = arm.lower, arm.upper
     aims = tuple(t.shrunk(AIM) for t in tasks)
-    T, J = _placed(arm, q)
-    r, A = _stack(aims, T, J)
+    placed = _placed(arm, q, ids)
+    r, A = _stack(aims, ids, placed)
     cost = float(r @ r)
     lam = None
     for k in range(iterations):
-        if all(e.within for e in _measure(arm, tasks, q, opts, T)):
+        if all(e.within for e in _measure(arm, tasks, ids, q, opts, placed)):
             return q, k
         H = A.T @ A
         g = A.T @ r
@@ -118,11 +138,11 @@ def _descend(arm: ArmModel, tasks, q: np.ndarray, opts: Options, iterations: int
             lam = LAMBDA0 * max(float(np.max(np.diag(H))), 1e-12)
         dq = np.linalg.solve(H + lam * np.eye(len(q)), -g)
         trial = np.clip(q + dq, lo, hi)
-        T2, J2 = _placed(arm, trial)
-        r2, A2 = _stack(aims, T2, J2)
+        placed2 = _placed(arm, trial, ids)
+        r2, A2 = _stack(aims, ids, placed2)
         cost2 = float(r2 @ r2)
         if cost2 < cost:
-            q, T, r, A, cost = trial, T2, r2, A2, cost2
+            q, placed, r, A, cost = trial, placed2, r2, A2, cost2
             lam = max(lam / 3.0, 1e-12)
         else:
             lam *= 4.0
@@ -159,10 +179,10 @@ def solve_tasks(
     the compiled answer to the problem with its regions shrunk to their centres: taken as
     it is when every task holds on it, else the descent starts from it."""
     tasks = problem.tasks
-    _tip_only(arm, tasks)
+    ids = frame_ids(arm, tasks)
     q = arm.seed(q0)
     if centre is not None:
-        errors = _measure(arm, tasks, centre.q, opts)
+        errors = _measure(arm, tasks, ids, centre.q, opts)
         if centre.success and all(e.within for e in errors):
             return dataclasses.replace(
                 centre,
@@ -175,12 +195,12 @@ def solve_tasks(
     budget = opts.iteration_budget
     started = time.thread_time()
     used = restarts = 0
-    best, best_errors = q, _measure(arm, tasks, q, opts)
+    best, best_errors = q, _measure(arm, tasks, ids, q, opts)
     while True:
         left = opts.max_iterations if budget is None else min(opts.max_iterations, budget - used)
-        q, k = _descend(arm, tasks, q, opts, left)
+        q, k = _descend(arm, tasks, ids, q, opts, left)
         used += k
-        errors = _measure(arm, tasks, q, opts)
+        errors = _measure(arm, tasks, ids, q, opts)
         if _total(errors) < _total(best_errors) or all(e.within for e in errors):
             best, best_errors = q, errors
         done = all(e.within for e in errors)
@@ -248,12 +268,14 @@ def task_problems(targets: object) -> list[Problem] | None:
     return problems
 
 
-def lower_all(problems: list[Problem], options: dict) -> tuple[list, dict] | None:
+def lower_all(
+    problems: list[Problem], options: dict, tip: str | None = None
+) -> tuple[list, dict] | None:
     """(targets, options) of the compiled batch when every problem lowers to the same
     options (``armik.problem.problem.lower``), else None."""
     targets, said = [], None
     for problem in problems:
-        lowered = lower(problem)
+        lowered = lower(problem, tip)
         if lowered is None or (said is not None and lowered[1] != said):
             return None
         targets.append(lowered[0])
