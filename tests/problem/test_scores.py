@@ -150,3 +150,15 @@ def test_a_numeric_answer_moves_along_the_self_motion():
     assert arm.within_limits(moved)
     r = arm.solve(T, prefer="manipulability", iteration_budget=2000)
     assert r.success and r.extra["score"] <= Manipulability()(arm, r.q, arm.middle) + 1e-12
+
+
+def test_a_batch_takes_the_preferred_answer_of_each_target():
+    arm = conftest.arm("ur5")
+    rng = np.random.default_rng(12)
+    poses = np.array([arm.fk(arm.random_q(rng)).homogeneous for _ in range(6)])
+    b = arm.solve_batch(poses, prefer="limits", progress=False)
+    assert b.success.all()
+    for H, q in zip(poses, b.q):
+        assert np.array_equal(q, arm.solve(H, prefer="limits").q)
+    with pytest.raises(armik.InputError, match="a path keeps its branch"):
+        arm.solve_path(poses, arm.middle, prefer="limits")

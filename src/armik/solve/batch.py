@@ -86,8 +86,14 @@ def solve_batch(
     if problems is not None:
         lowered = lower_all(problems, options, arm.tip)
         if lowered is None:  # no compiled form: the task solver, target by target
-            return _each(arm, problems, q0, solver, progress, options, t0)
+            rows = [list(p.tasks) for p in problems]
+            return _each(arm, rows, q0, solver, progress, options, t0)
         targets, options = lowered
+    if options.get("prefer") is not None:  # every answer of each target ranked: one by one
+        batch = parse_targets(targets, arm)
+        rows = [batch.target(i) for i in range(len(batch))]
+        return _each(arm, rows, q0, solver, progress, options, t0, f"{solver}, prefer")
+    options = {k: v for k, v in options.items() if k != "prefer"}
     opts = Options.from_kwargs(options)
     if opts.hold is not None:
         raise OptionError(
@@ -265,14 +271,18 @@ def cores() -> int:
         return os.cpu_count() or 1
 
 
-def _each(arm, problems, q0, solver: str, progress, options: dict, t0: float) -> BatchResult:
-    """Task lists the compiled path has no form for, one after another."""
-    n = len(problems)
+def _each(
+    arm, targets: list, q0, solver: str, progress, options: dict, t0: float, label: str = SOLVER
+) -> BatchResult:
+    """Targets the compiled batch has no form for (task lists it cannot lower, a score to
+    rank by), one after another through ``solve``."""
+    n = len(targets)
     seeds = batch_seeds(arm, q0, n)
-    out = BatchResult.for_arm(arm, n, SOLVER, Options.from_kwargs(options))
-    bar = make_progress(progress, n, f"{arm.name}/{SOLVER}")
-    for i, problem in enumerate(problems):
-        r = solve(arm, list(problem.tasks), q0=seeds[i], solver=solver, **options)[0]
+    plain = {k: v for k, v in options.items() if k != "prefer"}
+    out = BatchResult.for_arm(arm, n, label, Options.from_kwargs(plain))
+    bar = make_progress(progress, n, f"{arm.name}/{label}")
+    for i, target in enumerate(targets):
+        r = solve(arm, target, q0=seeds[i], solver=solver, **options)[0]
         out.put_result(i, r)
         if not r.success:
             out.reasons[i] = r.reason

@@ -79,6 +79,14 @@ def solve_path(
             option="plan",
             value=plan,
         )
+    if options.get("prefer") is not None:
+        raise OptionError(
+            "prefer= ranks the answers of solve, solve_all and solve_batch; a path keeps its "
+            "branch instead: plan='global' gives the least total joint motion",
+            option="prefer",
+            value=options["prefer"],
+        )
+    options = {k: v for k, v in options.items() if k != "prefer"}
     problems = task_problems(poses)
     if problems is not None:
         lowered = lower_all(problems, options, arm.tip)
