@@ -34,6 +34,16 @@ EXPECT = {
         "converged in 0 iterations",
         "a region 2 m away: unreachable",
     ],
+    "12_preferences.py": [
+        "manipulability |    True",
+        "by swept",
+        "prefer=broken raised ValueError",
+    ],
+    "13_global_path.py": [
+        "follow: 149/150 waypoints; at 100: discontinuous",
+        "global: 150/150 waypoints",
+        "a forced jump at waypoint 10: discontinuous",
+    ],
 }
 
 
