@@ -11,7 +11,7 @@ import pinocchio as pin
 import pytest
 
 import armik
-from armik.solve import ladder
+from armik.kernel.ladder import _child
 from armik.solve.single import solve
 from armik.status import Status
 
@@ -61,12 +61,17 @@ def test_the_plan_is_the_brute_force_optimum_on_a_short_path():
         [np.asarray(r.q) for r in solve(arm, T, q0=q0, all_solutions=True) if r.success]
         for T in poses
     ]
+    lo, hi = arm.lower, arm.upper
+    periodic = ~np.array(arm._limit_lists[2], dtype=bool)
     best = math.inf
     for choice in itertools.product(*rungs):
         prev, cost = q0, 0.0
         for b in choice:
-            nxt = ladder._moves(arm, prev[None, :], b[None, :])[0, 0]
-            if np.isnan(nxt).any() or (np.abs(nxt - prev) > step).any():
+            nxt, turn = np.empty(arm.dof), np.zeros(arm.dof, np.int64)
+            if not _child(b[None, :], 0, prev, lo, hi, periodic, nxt, turn):
+                cost = math.inf
+                break
+            if (np.abs(nxt - prev) > step).any():
                 cost = math.inf
                 break
             cost += float(np.linalg.norm(nxt - prev))
