@@ -21,13 +21,19 @@ How armik reads a URDF (docs/urdf.md says the same):
   mean no limit on that side, with an ``ArmikWarning``.
 - A xacro file (``.xacro``, ``<xacro:`` tags, or ``${...}`` / ``$(...)`` in a file that
   fails as plain URDF) is expanded with the ``xacro`` package when it is installed
-  (``pip install armik[xacro]``); without it the error says how to expand it.
+  (``pip install armik[xacro]``); without it the error says how to expand it. ``<xacro:``
+  tags without ``xmlns:xacro`` declared are not xacro (xacro refuses them; urdfdom ignores
+  them): the file is read as plain URDF.
+- XML that urdfdom's parser (TinyXML2) accepts and Python's refuses (comments nested or
+  holding ``--``, undeclared prefixes) is read as urdfdom reads it, with an
+  ``ArmikWarning`` naming the lines (``armik.model.urdf_lenient``).
 """
 
 from __future__ import annotations
 
 import logging
 import os
+import re
 import stat
 import tempfile
 import threading
@@ -40,6 +46,7 @@ import pinocchio as pin
 
 from armik.errors import URDFError
 from armik.model.urdf_checks import MAX_DEPTH, JointXML, URDFInfo, inspect
+from armik.model.urdf_lenient import forgiving_parse
 
 __all__ = [
     "MAX_DEPTH",
@@ -65,7 +72,7 @@ def read_urdf(path: str | Path) -> tuple[pin.Model, URDFInfo]:
     """Parse ``path`` into a Pinocchio model. Raises ``URDFError`` naming the problem."""
     path = Path(path)
     text = _read_text(path)
-    if path.suffix.lower() == ".xacro" or "<xacro:" in text:
+    if _is_xacro(path, text):
         return read_urdf_string(_expand_xacro(path, text), str(path))
     try:
         return read_urdf_string(text, str(path))
@@ -92,8 +99,13 @@ def urdf_text(path: str | Path) -> str:
     from (``armik.view``). Raises ``URDFError`` as ``read_urdf`` does."""
     path = Path(path)
     text = _read_text(path)
-    if path.suffix.lower() == ".xacro" or "<xacro:" in text:
+    if _is_xacro(path, text):
         return _expand_xacro(path, text)
+    try:
+        ET.fromstring(text)
+    except ET.ParseError as exc:  # read as urdfdom reads it (warned when the arm loaded)
+        root, _ = forgiving_parse(text, str(path), exc, warn=False)
+        return ET.tostring(root, encoding="unicode")
     return text
 
 
@@ -101,22 +113,24 @@ def read_urdf_string(text: str, where: str = "<string>") -> tuple[pin.Model, URD
     """Check the URDF text, normalise its axes, and build the Pinocchio model."""
     if not text.strip():
         raise URDFError(f"URDF file {where!r} is empty", path=where)
+    forgiven: tuple[str, ...] = ()
+    lenient = False
     try:
         root = ET.fromstring(text)
-    except ET.ParseError as exc:
-        raise URDFError(
-            f"URDF file {where!r} is not well-formed XML ({exc}): fix the XML", path=where
-        ) from None
+    except ET.ParseError as exc:  # only then: well-formed files pay nothing for this
+        root, forgiven = forgiving_parse(text, where, exc)
+        lenient = True  # Pinocchio gets the text as armik read it
     namespaced = root.tag.startswith("{")
     if namespaced:  # <robot xmlns="...">: urdfdom ignores the namespace, so does armik
         for elem in root.iter():
             if isinstance(elem.tag, str) and elem.tag.startswith("{"):
                 elem.tag = elem.tag.split("}", 1)[1]
     info, changed = inspect(root, where)
-    if changed or namespaced:
+    if changed or namespaced or lenient:
         text = ET.tostring(root, encoding="unicode")
     model = _build(text, where, own_stack=info.depth > SHALLOW_DEPTH)
-    return model, replace(info, text=text)  # the text: collision geometry is read from it
+    # the text: collision geometry is read from it
+    return model, replace(info, text=text, notes=forgiven + info.notes)
 
 
 # -- the file ------------------------------------------------------------------------------
@@ -152,6 +166,17 @@ def _read_text(path: Path) -> str:
     if len(data) > MAX_FILE_BYTES:  # grew while we looked
         raise URDFError(f"URDF file {where!r} is larger than {MAX_FILE_BYTES} bytes", path=where)
     return data.decode("utf-8", errors="replace")
+
+
+def _is_xacro(path: Path, text: str) -> bool:
+    """Whether the file is xacro to expand: ``<xacro:`` tags with the prefix declared (xacro
+    itself refuses them undeclared, and urdfdom ignores them: such files are plain URDF)."""
+    if path.suffix.lower() == ".xacro":
+        return True
+    return "<xacro:" in text and _XACRO_DECLARED.search(text) is not None
+
+
+_XACRO_DECLARED = re.compile(r"xmlns:xacro\s*=")
 
 
 def _expand_xacro(path: Path, text: str) -> str:
