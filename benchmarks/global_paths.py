@@ -1,0 +1,93 @@
+"""Global path plans against greedy following on Cartesian lines and spins.
+
+Per arm, ``--paths`` paths from random configurations within the limits: a straight line
+of ``-n`` waypoints 5 mm apart in a random direction (orientation held), or the tool spun
+about its own axis by up to two turns; only paths whose every waypoint a closed form
+reaches are kept. Each is solved with ``plan="follow"`` and ``plan="global"`` from the
+start configuration (and the global plan again with ``q0=None``), ``max_joint_step`` 0.3
+rad. Reported per plan: the paths solved end to end, the waypoints flagged
+``discontinuous``, the largest joint step, the mean total joint motion of the paths both
+plans solve, and the mean time, interleaved path by path.
+
+    python benchmarks/global_paths.py [--arms ur5 ur10 abb_irb120] [--paths 40] [-n 200]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+import numpy as np
+import pinocchio as pin
+
+import armik
+
+STEP = 0.3
+
+
+def paths(arm: armik.Arm, count: int, n: int, rng: np.random.Generator):
+    made = 0
+    while made < count:
+        q = arm.random_q(rng)
+        T0 = arm.fk(q)
+        if made % 2 == 0:
+            d = rng.normal(size=3)
+            d *= 0.005 / np.linalg.norm(d)
+            poses = [pin.SE3(T0.rotation, T0.translation + k * d) for k in range(n)]
+        else:
+            turns = rng.uniform(0.5, 2.0) * 2.0 * math.pi
+            poses = [
+                T0 * pin.SE3(pin.exp3(np.array([0.0, 0.0, turns * k / (n - 1)])), np.zeros(3))
+                for k in range(n)
+            ]
+        if all(arm.solve_all(T.homogeneous, q0=q)[0].success for T in poses[:: n // 10]):
+            made += 1
+            yield q, poses
+
+
+def motion(q0, Q) -> float:
+    return float(np.linalg.norm(np.diff(np.vstack([q0, Q]), axis=0), axis=1).sum())
+
+
+def run(name: str, count: int, n: int) -> None:
+    arm = armik.load(name)
+    rng = np.random.default_rng(35)
+    plans = {"follow": [], "global": [], "global, any start": []}
+    T = arm.fk(arm.middle)
+    arm.solve_path([T, T], arm.middle, plan="global")  # compiled before the clock runs
+    for q, poses in paths(arm, count, n, rng):
+        for label, plan, q0 in (
+            ("follow", "follow", q), ("global", "global", q), ("global, any start", "global", None)
+        ):  # fmt: skip
+            t0 = time.perf_counter()
+            p = arm.solve_path(poses, q0, max_joint_step=STEP, plan=plan)
+            dt = time.perf_counter() - t0
+            start = q if q0 is not None else p.q[0]
+            plans[label].append((p.success.all(), int((~p.success).sum()), p, start, dt))
+    both = [i for i in range(count) if plans["follow"][i][0] and plans["global"][i][0]]
+    for label, rows in plans.items():
+        solved = sum(r[0] for r in rows)
+        flagged = sum(r[1] for r in rows)
+        steps = max(np.abs(np.diff(r[2].q, axis=0)).max() for r in rows if r[0]) if solved else 0
+        moved = np.mean([motion(rows[i][3], rows[i][2].q) for i in both]) if both else math.nan
+        print(
+            f"{name:<10} {label:<18} solved {solved:3d}/{count}  flagged waypoints {flagged:5d}  "
+            f"largest step {steps:.3f}  motion (both solved) {moved:7.3f}  "
+            f"{1e3 * np.mean([r[4] for r in rows]):6.1f} ms",
+            flush=True,
+        )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--arms", nargs="+", default=["ur5", "ur10", "abb_irb120"])
+    parser.add_argument("--paths", type=int, default=40)
+    parser.add_argument("-n", type=int, default=200)
+    args = parser.parse_args()
+    for name in args.arms:
+        run(name, args.paths, args.n)
+
+
+if __name__ == "__main__":
+    main()
