@@ -56,6 +56,11 @@ def add_solve_options(c: argparse.ArgumentParser) -> None:
         "within +- its bound (m, rad); inf frees it (TRAC-IK's bounds)",
     )
     c.add_argument("--position-only", action="store_true", help="ignore the target's orientation")
+    c.add_argument(
+        "--prefer",
+        choices=["nearest", "manipulability", "limits"],
+        help="the best verified answer by this score, over every branch (docs/preferences.md)",
+    )
     c.add_argument("--timeout", type=float, help="time budget of numeric solvers (s)")
     c.add_argument("--seed", type=int, help="seed of the random restarts (0)")
     c.add_argument(
@@ -91,6 +96,8 @@ def solve_options(args: argparse.Namespace) -> dict:
         options["bounds"] = tuple(args.bounds)
     if args.position_only:
         options["position_only"] = True
+    if getattr(args, "prefer", None) is not None:
+        options["prefer"] = args.prefer
     if args.obstacles is not None:
         options["obstacles"] = read_shapes(args.obstacles)
     if args.self_collision:

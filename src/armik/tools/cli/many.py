@@ -1,5 +1,6 @@
-"""Commands on many targets: ``batch`` (from a file, on every core or a Dask cluster)
-and ``reach`` (a reachability map)."""
+"""Commands on many targets: ``batch`` (from a file, on every core or a Dask cluster),
+``path`` (waypoints in order, followed or planned over every branch) and ``reach`` (a
+reachability map)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ import numpy as np
 
 from armik.errors import InputError
 from armik.solve.batch import solve_batch
+from armik.solve.path import solve_path
 from armik.solve.reach import reachability
 from armik.tools.cli.arms import add_lock_option, add_solve_options, load_arm, solve_options
 
@@ -45,6 +47,43 @@ def add_many_commands(command) -> None:
     c.add_argument("--tol", type=float, help="success tolerance, m and rad")
     add_solve_options(c)
     c.add_argument("--chunk-size", type=int, help="targets per task")
+
+    c = command(
+        "path",
+        "solve waypoints read from a file in order, never with a silent jump: followed from "
+        "the previous answer, or planned over every branch (--plan global); exit 0 once the "
+        "results are written, whatever their success",
+        "armik path ur5 seam.npy -o path.npz --plan global --max-joint-step 0.3",
+        cmd_path,
+    )
+    c.add_argument("robot", help="bundled robot name or path to a URDF file")
+    c.add_argument("targets", help="waypoints file, as for batch (one seed array is ignored)")
+    c.add_argument("-o", "--output", required=True, help="results file (.npz)")
+    c.add_argument("--base", help="base frame")
+    c.add_argument("--tip", help="tip frame")
+    add_lock_option(c)
+    c.add_argument(
+        "--q0",
+        nargs="+",
+        type=float,
+        help="the configuration the arm starts from (rad, m); default: the middle of the "
+        "limits, or with --plan global any branch",
+    )
+    c.add_argument(
+        "--plan",
+        choices=["follow", "global"],
+        default="follow",
+        help="follow: each waypoint from the previous answer (default); global: every branch "
+        "at every waypoint, the least total joint motion (closed-form arms)",
+    )
+    c.add_argument(
+        "--max-joint-step",
+        type=float,
+        help="largest move of any joint between consecutive answers (rad or m; 0.5)",
+    )
+    c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
+    c.add_argument("--tol", type=float, help="success tolerance, m and rad")
+    add_solve_options(c)
 
     c = command(
         "reach",
@@ -131,11 +170,7 @@ def _numeric(row: list[str]) -> bool:
 
 
 def cmd_batch(args: argparse.Namespace) -> int:
-    out = Path(args.output)
-    if out.suffix.lower() != ".npz":
-        raise InputError(f"output {args.output!r}: results are written as .npz; name it *.npz")
-    if not out.parent.is_dir():
-        raise InputError(f"output folder {str(out.parent)!r} does not exist")
+    out = _output(args.output)
     arm = load_arm(args)
     targets, q0 = read_targets_file(args.targets)
     if args.q0 is not None:
@@ -163,6 +198,37 @@ def cmd_batch(args: argparse.Namespace) -> int:
             chunk_size=args.chunk_size,
             **options,
         )
+    result.save(out)
+    print(result.summary())
+    print(f"wrote {out}")
+    return 0
+
+
+def _output(path: str) -> Path:
+    out = Path(path)
+    if out.suffix.lower() != ".npz":
+        raise InputError(f"output {path!r}: results are written as .npz; name it *.npz")
+    if not out.parent.is_dir():
+        raise InputError(f"output folder {str(out.parent)!r} does not exist")
+    return out
+
+
+def cmd_path(args: argparse.Namespace) -> int:
+    out = _output(args.output)
+    arm = load_arm(args)
+    targets, _ = read_targets_file(args.targets)
+    q0 = None if args.q0 is None else np.array(args.q0)
+    if q0 is None and args.plan == "follow":
+        q0 = arm.middle
+    result = solve_path(
+        arm,
+        targets,
+        q0,
+        max_joint_step=args.max_joint_step,
+        solver=args.solver,
+        plan=args.plan,
+        **solve_options(args),
+    )
     result.save(out)
     print(result.summary())
     print(f"wrote {out}")

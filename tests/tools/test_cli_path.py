@@ -1,0 +1,53 @@
+"""``armik path`` (waypoints from a file, followed or planned) and ``--prefer``."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from armik.batch_result import BatchResult
+from armik.problem.scores import manipulability
+from armik.tools.cli import main
+
+from ..conftest import arm
+
+
+def _spun(n: int = 90) -> tuple[np.ndarray, np.ndarray]:
+    a = arm("ur5")
+    q = a.middle.copy()
+    q[4] = 1.0
+    T0 = a.fk(q)
+    turn = [pin.exp3(np.array([0.0, 0.0, 3.0 * math.pi * k / (n - 1)])) for k in range(n)]
+    return np.array([(T0 * pin.SE3(R, np.zeros(3))).homogeneous for R in turn]), q
+
+
+def test_path_follows_or_plans_from_a_file(tmp_path, capsys):
+    poses, q = _spun()
+    np.save(tmp_path / "spin.npy", poses)
+    base = ["path", "ur5", str(tmp_path / "spin.npy"), "--max-joint-step", "0.3"]
+    q0 = ["--q0", *map(str, q)]
+    assert main(base + ["-o", str(tmp_path / "f.npz"), *q0]) == 0
+    assert main(base + ["-o", str(tmp_path / "g.npz"), "--plan", "global"]) == 0
+    follow, planned = BatchResult.load(tmp_path / "f.npz"), BatchResult.load(tmp_path / "g.npz")
+    assert not follow.success.all() and "discontinuous" in set(follow.status)
+    assert planned.success.all() and np.abs(np.diff(planned.q, axis=0)).max() <= 0.3
+    assert "wrote" in capsys.readouterr().out
+    assert main(base + ["-o", str(tmp_path / "x.txt")]) == 2  # a bad input: exit 2
+
+
+def test_solve_prefers_by_a_score(capsys):
+    a = arm("ur5")
+    T = a.fk(a.random_q(4))
+    xyz = [f"{v:.15g}" for v in T.translation]
+    rpy = [f"{v:.15g}" for v in pin.rpy.matrixToRpy(T.rotation)]
+    argv = ["solve", "ur5", "--xyz", *xyz, "--rpy", *rpy, "--json", "--prefer", "manipulability"]
+    assert main(argv) == 0
+    got = json.loads(capsys.readouterr().out)
+    best = a.solve(T, prefer="manipulability")  # mirrored branches may tie: the score counts
+    assert manipulability(a.jacobian(got["results"][0]["q"])) == pytest.approx(
+        -best.extra["score"], abs=1e-9
+    )
