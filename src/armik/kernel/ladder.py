@@ -77,7 +77,13 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step):
     m_max = 1
     for i in range(n):
         m_max = max(m_max, offs[i + 1] - offs[i])
-    table = np.full(m_max * TURNS**d, -1, np.int64)
+    base = np.ones(d, np.int64)  # a joint without a period takes one turn, 0
+    size = m_max
+    for j in range(d):
+        if periodic[j]:
+            base[j] = TURNS
+            size *= TURNS
+    table = np.full(size, -1, np.int64)
     touched = np.empty(table.shape[0], np.int64)
     cap = 256
     s_rung, s_parent = np.empty(cap, np.int64), np.empty(cap, np.int64)
@@ -110,7 +116,7 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step):
                         while ok:
                             code = r - offs[i]
                             for j in range(d):
-                                code = code * TURNS + turn[j] + 2
+                                code = code * base[j] + (turn[j] + 2 if periodic[j] else 0)
                             s_rung, s_parent = _grow(s_rung, count), _grow(s_parent, count)
                             s_turn, s_cost = _grow(s_turn, count), _grow(s_cost, count)
                             s_rung[count], s_parent[count], s_cost[count] = r, -1, 0.0
@@ -142,7 +148,7 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step):
                     cost = (0.0 if src < 0 else s_cost[src]) + math.sqrt(norm2)
                     code = r - offs[i]
                     for j in range(d):
-                        code = code * TURNS + turn[j] + 2
+                        code = code * base[j] + (turn[j] + 2 if periodic[j] else 0)
                     at = table[code]
                     if at >= 0:
                         if cost < s_cost[at]:
