@@ -2,6 +2,7 @@
 
 from armik import collision
 from armik.arm import Arm, load, load_string
+from armik.arms import Arms
 from armik.batch_result import BatchResult
 from armik.constraints.shapes import Box, Capsule, Cylinder, HalfSpace, Mesh, Sphere
 from armik.errors import (
@@ -46,6 +47,7 @@ def __getattr__(name: str):
 
 
 __all__ = [
+    "Arms",
     "Axis",
     "LookAt",
     "Pose",

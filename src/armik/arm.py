@@ -11,8 +11,9 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from armik.arms import Arms
 from armik.constraints import collision
-from armik.errors import ArmikWarning, FrameError, JointError, URDFError, listing
+from armik.errors import ArmikWarning, FrameError, JointError, OptionError, URDFError, listing
 from armik.model.arm_model import ArmModel
 from armik.model.catalogue import CATALOGUE, entry
 from armik.model.reduce import check_locked, check_offset, check_package_dirs
@@ -32,6 +33,7 @@ def load(
     tip_offset: tuple[float, float, float] | None = None,
     package_dirs: Sequence[str | Path] | None = None,
     srdf: str | Path | None = None,
+    tips: Sequence[str] | None = None,
 ) -> Arm:
     """Load an arm from a bundled robot name (see ``armik.robots()``), a URDF path, or the
     URDF's XML itself (a string that starts with ``<``, as ROS hands out
@@ -49,9 +51,16 @@ def load(
     pairs of links are not checked for self-collision. The arm's name is the catalogue
     name, else the URDF's ``<robot name>``.
 
+    ``tips`` (instead of ``tip``): several tips of one robot from one base, an
+    ``armik.arms.Arms`` whose chains share no moving joint, solved together
+    (``Arms.solve({tip: target, ...})``).
+
     Raises ``URDFError``, ``FrameError``, ``JointError`` or ``OptionError`` (all
     ``ValueError``) naming the bad value and the fix.
     """
+    if tips is not None:
+        return _several(source, tips, tip, base=base, locked=locked, tip_offset=tip_offset,
+                        package_dirs=package_dirs, srdf=srdf)  # fmt: skip
     if isinstance(source, str) and source.lstrip().startswith("<"):
         return load_string(
             source, base=base, tip=tip, locked=locked, tip_offset=tip_offset,
@@ -99,6 +108,21 @@ def load(
         arm.tip_reason = f"the catalogue's tip for {name!r}"
     arm._recipe = replace(arm._recipe, source=str(source))
     return arm
+
+
+def _several(source, tips, tip, **kwargs) -> Arms:  # type: ignore[no-untyped-def]
+    """``load``'s ``tips``: one chain per tip, as an ``Arms``."""
+    if tip is not None:
+        raise OptionError(
+            f"give tip= for one chain or tips= for several, not both (tip={tip!r})",
+            option="tips",
+            value=tips,
+        )
+    if isinstance(tips, str) or not tips or not all(isinstance(t, str) for t in tips):
+        raise OptionError(
+            f"tips must be a list of frame names, got {tips!r}", option="tips", value=tips
+        )
+    return Arms({t: load(source, tip=t, **kwargs) for t in dict.fromkeys(tips)})
 
 
 def load_string(

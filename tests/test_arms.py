@@ -1,0 +1,96 @@
+"""Several tips at once (``armik.load(..., tips=[...])``): a dual-arm cell of two IRB 120s
+on one base, each arm by its own closed form; the Baxter's two 7-joint arms; chains that
+share joints refused with the way round."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.status import Status
+
+ROBOTS = Path(__file__).resolve().parents[1] / "robots"
+
+
+def dual_irb120() -> str:
+    """Two IRB 120s, 1 m apart on a common base: their links and joints prefixed."""
+    text = (ROBOTS / "abb_irb120.urdf").read_text()
+    body = text[text.index("<robot") :]
+    body = body[body.index(">") + 1 : body.rindex("</robot>")]
+    body = re.sub(r"<!--.*?-->", "", body, flags=re.S)
+    arms = []
+    for side, y in (("l_", 0.5), ("r_", -0.5)):
+        part = re.sub(
+            r'(name|link)="([^"]+)"', lambda m, s=side: f'{m.group(1)}="{s}{m.group(2)}"', body
+        )
+        arms.append(
+            part + f'<joint name="{side}mount" type="fixed"><parent link="cell"/>'
+            f'<child link="{side}base_link"/><origin xyz="0 {y} 0" rpy="0 0 0"/></joint>'
+        )
+    return '<robot name="dual_irb120"><link name="cell"/>' + "".join(arms) + "</robot>"
+
+
+@pytest.fixture(scope="module")
+def cell() -> armik.Arms:
+    return armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
+
+
+def test_two_arms_each_by_its_closed_form(cell):
+    assert cell.tips == ("l_tool0", "r_tool0") and cell.dof == 12
+    assert cell.joint_names[:2] == ("l_joint_1", "l_joint_2")
+    rng = np.random.default_rng(33)
+    for _ in range(20):
+        q = cell.random_q(rng)
+        targets = {"l_tool0": cell.fk(q, "l_tool0"), "r_tool0": cell.fk(q, "r_tool0").translation}
+        r = cell.solve(targets)
+        assert r.success and r.status is Status.CONVERGED, r.reason
+        assert "l_tool0 by spherical" in r.reason
+        assert set(r.extra["errors"]) == {"l_tool0", "r_tool0"}
+        assert r.extra["errors"]["r_tool0"][1] is None  # a position target
+        parts = cell.split(r.q)
+        left = cell.chain("l_tool0").fk(parts["l_tool0"])
+        assert np.allclose(left.homogeneous, targets["l_tool0"].homogeneous, atol=1e-9)
+        # the cell's own FK, as Pinocchio reads the whole URDF
+        full = pin.buildModelFromXML(dual_irb120())
+        data = full.createData()
+        qf = pin.neutral(full)
+        for name, value in zip(cell.joint_names, r.q):
+            qf[full.joints[full.getJointId(name)].idx_q] = value
+        pin.framesForwardKinematics(full, data, qf)
+        right = data.oMf[full.getFrameId("r_tool0")].translation
+        assert np.allclose(right, targets["r_tool0"], atol=1e-6)  # the solve's tolerance
+
+
+def test_a_failing_tip_is_named(cell):
+    q = cell.middle
+    r = cell.solve({"l_tool0": cell.fk(q, "l_tool0"), "r_tool0": np.array([5.0, 0.0, 0.0])})
+    assert not r.success and r.reason.startswith("r_tool0: unreachable")
+    assert r.extra["results"]["l_tool0"].success
+
+
+def test_the_baxter_two_arms():
+    path = armik.load("panda").source  # example-robot-data's folder, beside the Panda's
+    baxter = Path(path).parents[2] / "baxter_description" / "urdf" / "baxter.urdf"
+    robot = armik.load(baxter, tips=["left_gripper", "right_gripper"])
+    rng = np.random.default_rng(1)
+    q = robot.random_q(rng)
+    r = robot.solve({tip: robot.fk(q, tip) for tip in robot.tips}, iteration_budget=3000)
+    assert r.success, r.reason
+    J = robot.jacobian(r.q, "right_gripper")
+    assert J.shape == (6, 14) and not J[:, :7].any()
+
+
+def test_shared_joints_and_bad_tips_are_armik_errors(cell):
+    with pytest.raises(armik.InputError, match="share the joints .*locked="):
+        armik.load("panda", tips=["panda_hand", "panda_link5"])
+    with pytest.raises(armik.InputError, match="not both"):
+        armik.load("panda", tip="panda_hand", tips=["panda_hand"])
+    with pytest.raises(armik.FrameError, match="unknown tips"):
+        cell.solve({"hand": np.zeros(3)})
+    with pytest.raises(armik.InputError, match="12 values"):
+        cell.split([0.0] * 6)
