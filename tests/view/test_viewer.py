@@ -196,3 +196,21 @@ def test_bad_input_is_refused_with_the_fix(viewer):
         armik.view(a, port=0, open_browser=False, solver="nope")
     with pytest.raises(armik.InputError, match="armik.load"):
         armik.view("abb_irb120", port=0, open_browser=False)
+
+
+def test_the_panel_prefers_and_shows_the_score():
+    """A viewer opened with prefer= solves as arm.solve with it, the panel shows the score,
+    and choosing another preference re-solves the target."""
+    a = arm("abb_irb120")
+    with armik.view(a, port=0, open_browser=False, prefer="manipulability") as v:
+        T = a.fk(a.random_q(9))
+        r = v.set_target(T)
+        assert_same_answer(r, a.solve(T, q0=a.middle, prefer="manipulability"))
+        assert v.panel._fields["score"].value == f"{r.extra['score']:.3g}"
+        assert v.panel.prefer.value == "manipulability"
+        v._chose_prefer("limits")
+        assert v.result.extra["score"] == a.solve(T, q0=r.q, prefer="limits").extra["score"]
+        v._chose_prefer("none")
+        assert "prefer" not in v.options and v.panel._fields["score"].value == "-"
+    with pytest.raises(armik.InputError, match="prefer must be"):
+        armik.view(a, port=0, open_browser=False, prefer="best")

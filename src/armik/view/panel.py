@@ -1,5 +1,6 @@
 """The viewer's GUI panel: the last answer (status, solver, errors, time, branch, iterations,
-the reason of a failure), the solver, the ghosts toggle and one slider per joint."""
+the score of a preferred answer, the reason of a failure), the solver, the preference, the
+ghosts toggle and one slider per joint."""
 
 from __future__ import annotations
 
@@ -25,7 +26,11 @@ FIELDS = (
     ("time (ms)", "time"),
     ("branch", "branch"),
     ("iterations", "iterations"),
+    ("score (prefer=)", "score"),
 )
+
+#: The preferences the panel offers ("none": the first verified answer).
+PREFERENCES = ("none", "nearest", "manipulability", "limits")
 
 
 def slider_range(arm: ArmModel, k: int) -> tuple[float, float]:
@@ -43,7 +48,8 @@ def solver_choices(arm: ArmModel) -> list[str]:
 
 class Panel:
     """The panel of one viewer. The callbacks run on viser's threads: ``on_joints(q)`` when
-    a slider moves, ``on_solver(name)``, ``on_ghosts(bool)``, ``on_position_only(bool)``."""
+    a slider moves, ``on_solver(name)``, ``on_prefer(name)``, ``on_ghosts(bool)``,
+    ``on_position_only(bool)``."""
 
     def __init__(
         self,
@@ -56,6 +62,8 @@ class Panel:
         on_solver: Callable[[str], None],
         on_ghosts: Callable[[bool], None],
         on_position_only: Callable[[bool], None],
+        on_prefer: Callable[[str], None] | None = None,
+        prefer: str = "none",
     ) -> None:
         self._arm = arm
         with gui.add_folder("IK answer"):
@@ -66,6 +74,9 @@ class Panel:
             choices = solver_choices(arm)
             self.solver = gui.add_dropdown(
                 "solver", choices, initial_value=solver if solver in choices else "auto"
+            )
+            self.prefer = gui.add_dropdown(
+                "prefer", PREFERENCES, initial_value=prefer if prefer in PREFERENCES else "none"
             )
             self.ghosts = gui.add_checkbox(
                 "all solutions", False, hint="every solve_all answer as a ghost, by branch"
@@ -93,6 +104,8 @@ class Panel:
         for s in self.sliders:
             s.on_update(from_user(lambda _value: on_joints(self.slider_q())))
         self.solver.on_update(from_user(on_solver))
+        if on_prefer is not None:
+            self.prefer.on_update(from_user(on_prefer))
         self.ghosts.on_update(from_user(on_ghosts))
         self.position_only.on_update(from_user(on_position_only))
 
@@ -110,7 +123,8 @@ class Panel:
         """Fill the answer rows from ``r``; ``what`` says what was solved."""
         self.message.value = what
         for attr, handle in self._fields.items():
-            handle.value = _text(attr, getattr(r, attr))
+            value = r.extra.get("score") if attr == "score" else getattr(r, attr)
+            handle.value = _text(attr, value)
         self.reason.value = "" if r.success else r.reason
 
     def show_note(self, what: str, reason: str = "") -> None:
@@ -126,6 +140,6 @@ def _text(attr: str, value: object) -> str:
         return "-"
     if attr == "time":
         return f"{1e3 * float(value):.3f}"
-    if attr in ("position_error", "orientation_error"):
+    if attr in ("position_error", "orientation_error", "score"):
         return f"{float(value):.3g}"
     return str(getattr(value, "value", value))

@@ -27,6 +27,7 @@ from armik.constraints.shapes import Box, Capsule, Cylinder, HalfSpace, Mesh, Sh
 from armik.constraints.shapes_file import as_shapes
 from armik.errors import ArmikError, InputError, OptionError, ViewerError
 from armik.options import Options
+from armik.problem.scores import parse_score
 from armik.result import IKResult
 from armik.solve.reach import ReachMap
 from armik.solvers import registry
@@ -91,7 +92,9 @@ class Viewer:
                 value=port,
             )
         registry.choose(solver, arm)  # SolverError for an unknown or inapplicable name
-        Options.from_kwargs(dict(options))  # OptionError now rather than at the first drag
+        # OptionError now rather than at the first drag
+        Options.from_kwargs({k: v for k, v in options.items() if k != "prefer"})
+        parse_score(options.get("prefer"))
         viser = import_viser()
         self.arm = arm
         self.solver = solver
@@ -157,6 +160,8 @@ class Viewer:
             on_solver=self._chose_solver,
             on_ghosts=self._toggled_ghosts,
             on_position_only=self._toggled_position_only,
+            on_prefer=self._chose_prefer,
+            prefer=str(self.options.get("prefer") or "none"),
         )
         self._gizmo.on_update(lambda event: self._dragged(event.target))
         self.show(self._q)
@@ -366,6 +371,15 @@ class Viewer:
                 self._solve(self._target, None, place=False)
             except ArmikError as exc:
                 self.panel.show_note(f"solver {name!r} refused the target", str(exc))
+
+    def _chose_prefer(self, name: str) -> None:
+        with self._lock:
+            if name == "none":
+                self.options.pop("prefer", None)
+            else:
+                self.options["prefer"] = name
+            if self._target is not None:
+                self._solve(self._target, None, place=False)
 
     def _toggled_position_only(self, on: bool) -> None:
         self._position_only = bool(on)
