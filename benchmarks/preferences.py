@@ -23,35 +23,12 @@ import time
 import numpy as np
 import pinocchio as pin
 
-import armik
 from armik.problem.scores import manipulability
 
 sys.path.insert(0, os.path.dirname(__file__))
-from tolerances import independent_fk, load  # noqa: E402
+from tolerances import independent_fk, load, tracik  # noqa: E402
 
 MODES = {"manipulability": "Manip1", "nearest": "Distance"}
-
-
-def _rebuilt(a: armik.Arm, mode: str):
-    import re
-    import tempfile
-
-    from trac_ik import TracIK
-
-    text = open(a.source).read()
-    children = set(re.findall(r"<child\s+link=\"([^\"]+)\"", text))
-    root = next(n for n in re.findall(r"<link\s+name=\"([^\"]+)\"", text) if n not in children)
-    dummy = (
-        '<link name="tracik_root"/><joint name="tracik_root_joint" type="fixed">'
-        f'<parent link="tracik_root"/><child link="{root}"/></joint>'
-    )
-    text = re.sub(r"(<robot\b[^>]*>)", lambda m: m.group(1) + dummy, text, count=1)
-    fd, path = tempfile.mkstemp(suffix=".urdf")
-    with os.fdopen(fd, "w") as f:
-        f.write(text)
-    solver = TracIK(a.base, a.tip, path, timeout=0.005, epsilon=1e-5, solver_type=mode)
-    solver.joint_limits = (a.lower, a.upper)
-    return solver
 
 
 def close(fk, q, T: pin.SE3) -> bool:
@@ -63,7 +40,7 @@ def run(name: str, prefer: str, n: int) -> None:
     a = load(name)
     rng = np.random.default_rng(0)
     targets = [a.fk(a.random_q(rng)) for _ in range(n)]
-    fk, other = independent_fk(a), _rebuilt(a, MODES[prefer])
+    fk, other = independent_fk(a), tracik(a, MODES[prefer])
     seed = a.middle
     a.solve(targets[0], prefer=prefer, timeout=0.005)  # compiled before the clock runs
     ok = peer_ok = both = better = 0

@@ -81,9 +81,10 @@ def independent_fk(a: armik.Arm):
     return fk
 
 
-def tracik(a: armik.Arm):
-    """TRAC-IK on the arm's URDF under a massless root link (KDL warns of a root link with
-    an inertia, the Panda's and the SO-101's), with armik's joint limits."""
+def tracik(a: armik.Arm, mode: str = "Speed"):
+    """TRAC-IK (``mode``: Speed, Distance, Manip1, Manip2) on the arm's URDF under a
+    massless root link (KDL warns of a root link with an inertia, the Panda's and the
+    SO-101's), with armik's joint limits."""
     try:
         from trac_ik import TracIK
     except ImportError:
@@ -99,7 +100,7 @@ def tracik(a: armik.Arm):
     fd, path = tempfile.mkstemp(suffix=".urdf")
     with os.fdopen(fd, "w") as f:
         f.write(text)
-    peer = TracIK(a.base, a.tip, path, timeout=0.005, epsilon=1e-5)
+    peer = TracIK(a.base, a.tip, path, timeout=0.005, epsilon=1e-5, solver_type=mode)
     peer.joint_limits = (a.lower, a.upper)  # KDL reads the Panda's as [0, 0]: armik's
     return peer
 

@@ -198,10 +198,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
             chunk_size=args.chunk_size,
             **options,
         )
-    result.save(out)
-    print(result.summary())
-    print(f"wrote {out}")
-    return 0
+    return _written(result, out)
 
 
 def _output(path: str) -> Path:
@@ -229,6 +226,10 @@ def cmd_path(args: argparse.Namespace) -> int:
         plan=args.plan,
         **solve_options(args),
     )
+    return _written(result, out)
+
+
+def _written(result, out: Path) -> int:
     result.save(out)
     print(result.summary())
     print(f"wrote {out}")
