@@ -4,8 +4,10 @@ Most of what ``solve`` does does not depend on the target: choosing the solver, 
 its settings, finding what the check measures. A ``Plan`` does it once per (arm, solver
 name, options other than ``seed``, target kind) and keeps it. For a target given as a
 ``pinocchio.SE3`` or a C-ordered float64 4x4 array (a position target: a float64 array of
-3, held as a 4x4 with the identity rotation that the settings ignore), and ``q0`` None or a
-float64 array of one value per joint, the plan hands the 4x4 to the solver's compiled
+3, held as a 4x4 with the identity rotation that the settings ignore; on a planar arm whose
+runner says ``takes_xy``, also a float64 array of 2, (x, y) in the arm's plane, placed in
+the base frame as the parser places it and handed to the runner as given), and ``q0`` None
+or a float64 array of one value per joint, the plan hands the 4x4 to the solver's compiled
 runner (``SolverSpec.prepare_pose``), which checks in compiled code that the pose and seed
 are what the parser and ``Arm.seed`` would pass unchanged, then solves. Pinocchio computes
 the answer's tip placement and compiled code measures it in place
@@ -52,6 +54,7 @@ _SE3 = pin.SE3
 _CONVERGED = Status.CONVERGED
 _JOINT_LIMITS = Status.JOINT_LIMITS
 _NO_PLAN = object()  # remembered: this solver and options have no plan
+_IDENTITY = np.eye(4)  # copied for a position target (a copy costs an eighth of np.eye)
 
 
 def plan_for(
@@ -107,6 +110,11 @@ class Plan:
         self.solver = spec.name
         self.position = position  # targets are positions (x, y, z), not full poses
         self.run_pose = spec.prepare_pose(arm, opts, position)
+        # a runner that also takes (x, y) targets in a planar arm's plane: those too
+        self.plane = None
+        if position and getattr(self.run_pose, "takes_xy", False) and arm.plane is not None:
+            p = arm.plane
+            self.plane = (*p.origin.tolist(), *p.x.tolist(), *p.y.tolist())
         self.model, self.frame = arm.model, arm.tip_frame_id
         self.direct = arm.model.nq == arm.dof  # q is Pinocchio's configuration itself
         self.shape = (arm.dof,)
@@ -124,18 +132,28 @@ class Plan:
         self.tol_p, self.tol_r = opts.tol_position, opts.tol_orientation
 
     def _plain(self, target: object, q0: object):
-        """(H, q0) for the runner when both are plain in type and shape, else None."""
+        """(H, q0, xy) for the runner when both are plain in type and shape, else None; xy:
+        a planar arm's (x, y) target as two floats (H holds it in the base frame), else
+        None."""
         kind = type(target)
+        xy = None
         if self.position:
-            if not (
-                kind is np.ndarray
-                and target.dtype == _FLOAT
-                and target.shape == (3,)
-                and target.flags.c_contiguous
-            ):
+            if not (kind is np.ndarray and target.dtype == _FLOAT and target.flags.c_contiguous):
                 return None
-            H = np.eye(4)  # the rotation is not measured: the identity, as the parser has it
-            H[0, 3], H[1, 3], H[2, 3] = target.tolist()
+            shape = target.shape
+            if shape != (3,) and (shape != (2,) or self.plane is None):
+                return None
+            H = _IDENTITY.copy()  # the rotation is not measured: the identity, as parsed
+            if shape == (3,):
+                H[0, 3], H[1, 3], H[2, 3] = target.tolist()
+            else:
+                xy = x, y = target.tolist()
+                o0, o1, o2, a0, a1, a2, b0, b1, b2 = self.plane
+                # ``Plane.to_3d``'s arithmetic, as the parser places it (a non-finite or
+                # too distant one fails the runner's check: the general path refuses it)
+                H[0, 3] = o0 + x * a0 + y * b0
+                H[1, 3] = o1 + x * a1 + y * b1
+                H[2, 3] = o2 + x * a2 + y * b2
         elif kind is _SE3:
             H = target.homogeneous  # a fresh C-ordered 4x4
         elif (
@@ -150,16 +168,16 @@ class Plan:
         else:
             return None
         if q0 is None:
-            return H, self.middle  # only read
+            return H, self.middle, xy  # only read
         if (
             type(q0) is np.ndarray
             and q0.dtype == _FLOAT
             and q0.shape == self.shape
             and q0.flags.c_contiguous
         ):
-            return H, (q0 if q0.flags.writeable else q0.copy())  # a result's q is read-only
+            return H, (q0 if q0.flags.writeable else q0.copy()), xy  # a result's q is read-only
         seed = _seed_copy(q0, self.shape)
-        return None if seed is None else (H, seed)
+        return None if seed is None else (H, seed, xy)
 
     def solve(
         self, target: object, q0: object, opts: Options, seed: int | None, t0: float
@@ -169,14 +187,14 @@ class Plan:
         plain = self._plain(target, q0)
         if plain is None:
             return None
-        H, q0 = plain
+        H, q0, xy = plain
         if seed is None:
             seed = secrets.randbits(63)
-        got = self.run_pose(H, q0, seed)
+        got = self.run_pose(H, q0, seed) if xy is None else self.run_pose(H, q0, seed, False, xy)
         if got is None:
             return None
         if type(got) is not Claim:  # claims other than converged: the general verdict
-            return self._finish(got, H, q0, opts, t0, False)[0]
+            return self._finish(got, H, q0, opts, t0, False, xy)[0]
         q = got.q
         data, R_w, p_w = self.arm.tip_views()  # this thread's
         pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
@@ -184,15 +202,18 @@ class Plan:
         pos, ori, inside = placement_check(self.measured, R_w, p_w, H, q)
         fields = self._success(got, pos, ori, inside)
         if fields is None:
-            return self._finish(self._refused(got, H, q0, seed), H, q0, opts, t0, False)[0]
+            attempts = self._refused(got, H, q0, seed, xy)
+            return self._finish(attempts, H, q0, opts, t0, False, xy)[0]
         fields["time"] = time.perf_counter() - t0
         return IKResult._from_fields(fields)
 
-    def _refused(self, got: Claim, H: np.ndarray, q0: np.ndarray, seed) -> list[Attempt]:
+    def _refused(self, got: Claim, H: np.ndarray, q0: np.ndarray, seed, xy) -> list[Attempt]:
         """The attempts for the general verdict when the check refuses the runner's answer
         ``got``: a closed form's every row, nearest first (the next may pass), else the
         claim alone."""
-        every = self.run_pose(H, q0, seed, True)
+        every = (
+            self.run_pose(H, q0, seed, True) if xy is None else self.run_pose(H, q0, seed, True, xy)
+        )
         if every is None:  # a numeric runner (or one with no rows for ``solve_all``)
             return [got.attempt()]
         return [claim((q, *row)).attempt() if type(row) is tuple else row for q, row in zip(*every)]
@@ -202,8 +223,11 @@ class Plan:
         plain = self._plain(target, q0)
         if plain is None:
             return None
-        H, q0 = plain
-        got = self.run_pose(H, q0, secrets.randbits(63) if seed is None else seed, True)
+        H, q0, xy = plain
+        seed = secrets.randbits(63) if seed is None else seed
+        got = (
+            self.run_pose(H, q0, seed, True) if xy is None else self.run_pose(H, q0, seed, True, xy)
+        )
         if got is None:
             return None
         Q, rows = got  # Q[i]: the answer of rows[i] (read-only)
@@ -316,8 +340,11 @@ class Plan:
             _reason=(reason, args),
         )
 
-    def _finish(self, attempts, H, q0, opts: Options, t0: float, every: bool):
-        target = parse_target(H[:3, 3].copy() if self.position else H, self.arm)
+    def _finish(self, attempts, H, q0, opts: Options, t0: float, every: bool, xy=None):
+        if xy is not None:  # as the user gave it: the closed form reads it as given
+            target = parse_target(np.array(xy), self.arm)
+        else:
+            target = parse_target(H[:3, 3].copy() if self.position else H, self.arm)
         return finish(self.arm, self.solver, attempts, target, opts, q0, every, t0)
 
 

@@ -9,6 +9,11 @@ r = |d|, effective link lengths l1, l2 read from the model:
 t1, t2 are the geometric link angles; the joint values follow from the zero-configuration
 offsets and the axis signs: q_i = s_i (t_i - alpha_i). Branch "elbow-up" turns the elbow
 counter-clockwise about its own axis (q2 > 0 on an arm without offsets).
+
+The arithmetic is compiled (``planar2r_kernel``), one kernel for the general path (``run``)
+and the prepared solve (``prepare_pose``, for ``armik.solve.prepared``): (x, y), 3-vector
+and full-pose targets get the same answers and claims both ways; this file writes the
+reasons.
 """
 
 from __future__ import annotations
@@ -22,14 +27,15 @@ from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, Plane, angle_between, axis_lines, fmt
 from armik.model.mimic import reason as mimic_reason
 from armik.options import Options
-from armik.solvers.claims import Attempt
+from armik.solvers.claims import Attempt, attempt, claim
+from armik.solvers.closed_form import planar2r_kernel as kernel
 from armik.solvers.registry import SolverSpec, register
 from armik.status import Status
 from armik.targets.pose import Target
 from armik.tolerances import PARALLEL_TOL
 
-SINGULAR_TOL = 1e-12  # |cos t2| beyond 1 - this: the two branches merge
-ZERO_LENGTH = 1e-9  # m
+SINGULAR_TOL = kernel.SINGULAR_TOL  # |cos t2| beyond 1 - this: the two branches merge
+ZERO_LENGTH = kernel.ZERO_LENGTH  # m
 
 
 @dataclass(frozen=True)
@@ -119,132 +125,153 @@ def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = 
     return None
 
 
-def _angle(a: float) -> float:
-    return math.atan2(math.sin(a), math.cos(a))
+def flat(arm: ArmModel, opts: Options, orient: bool) -> np.ndarray:
+    """The kernel's ``flat`` array (``planar2r_kernel``): the arm's geometry, plane and
+    limits (remembered per arm) and the tolerances of ``opts``; ``orient``: the target's
+    orientation is checked (a full pose, not ``position_only``)."""
+    chain = arm.memo("planar 2R flat chain", _flat_chain)
+    tail = (opts.tol_position, opts.tol_orientation, 1.0 if orient else 0.0)
+    return np.concatenate((chain, tail))
+
+
+def _flat_chain(arm: ArmModel) -> np.ndarray:
+    geo, plane = geometry(arm), arm.plane
+    parts = [
+        geo.shoulder,
+        [geo.l1, geo.l2, geo.alpha1, geo.alpha2, geo.s1, geo.s2],
+        geo.R_tip0,
+        plane.origin,
+        plane.x,
+        plane.y,
+        plane.normal,
+        arm.lower,
+        arm.upper,
+    ]
+    chain = np.concatenate([np.ravel(np.asarray(x, dtype=float)) for x in parts])
+    assert chain.size == kernel.TOL_POSITION
+    return chain
 
 
 def run(
     arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
 ) -> list[Attempt]:
-    geo, plane = geometry(arm), arm.plane
-    if target.planar_xy is not None:  # given in plane coordinates: on the plane
-        off_plane, P = 0.0, target.planar_xy
-    else:
-        off_plane, P = plane.height(target.position), plane.to_2d(target.position)
-    d = P - geo.shoulder
-    r = math.hypot(d[0], d[1])
-    l1, l2 = geo.l1, geo.l2
-    c = (r * r - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
-    heading = math.atan2(d[1], d[0])
+    orient = target.rotation is not None and not opts.position_only
+    H = np.eye(4)
+    H[:3, 3] = target.position
+    if target.rotation is not None:
+        H[:3, :3] = target.rotation
+    xy = target.planar_xy
+    planar = xy is not None  # given in plane coordinates: on the plane
+    x, y = (float(xy[0]), float(xy[1])) if planar else (0.0, 0.0)
+    if not (q0.dtype == float and q0.flags.c_contiguous and q0.flags.writeable):
+        q0 = np.array(q0, dtype=float)  # one compiled signature: a writeable C array
+    out = np.empty((2, 8))
+    n = kernel.rows(flat(arm, opts, orient), H, q0, planar, x, y, out)
+    return _attempts(out[:n], out[:n, :2].copy())
 
-    def joints(t1: float, t2: float) -> np.ndarray:
-        q = np.array([_angle(geo.s1 * (t1 - geo.alpha1)), _angle(geo.s2 * (t2 - geo.alpha2))])
-        return arm.nearest_equivalent(q, q0)
 
-    def merged(t1: float, t2: float, branch: str, reason: str) -> list[Attempt]:
-        """The single answer where the two elbow branches coincide."""
-        q = joints(t1, t2)
-        one = Attempt(q=q, claim=Status.CONVERGED, singular=True, branch=branch, reason=reason)
-        return _orient(arm, geo, target, opts, [one])
+_BRANCHES = {
+    kernel.NO_BRANCH: None,
+    kernel.UP: "elbow-up",
+    kernel.DOWN: "elbow-down",
+    kernel.STRETCHED: "stretched",
+    kernel.FOLDED: "folded",
+}
+_FREE = "target at the shoulder with l1 = l2: joint 1 is free, kept nearest q0"
+_CLOSEST = "q is the closest reachable configuration"
 
-    if abs(off_plane) > opts.tol_position:
-        t2 = math.acos(max(-1.0, min(1.0, c)))
-        t1 = heading - math.atan2(l2 * math.sin(t2), l1 + l2 * math.cos(t2))
-        return [
-            Attempt(
-                q=joints(t1, t2),
-                claim=Status.UNREACHABLE,
-                reason=f"target is {off_plane:.6g} m off the arm's plane of motion",
-            )
-        ]
 
-    if r < ZERO_LENGTH and abs(l1 - l2) < ZERO_LENGTH:
-        t1 = geo.alpha1 + geo.s1 * q0[0]
-        free = "target at the shoulder with l1 = l2: joint 1 is free, kept nearest q0"
-        return merged(t1, math.pi, "folded", free)
+def _merged(name: str) -> str:
+    return f"singular: the arm is fully {name}, the two elbow branches coincide"
 
-    excess = max(r - (l1 + l2), abs(l1 - l2) - r)
-    if abs(c) >= 1.0 - SINGULAR_TOL:
-        stretched = c > 0
-        t2 = 0.0 if stretched else math.pi
-        # Folded with l2 > l1 the tip points away from link 1.
-        t1 = heading if (stretched or l1 >= l2) else heading + math.pi
-        if excess > opts.tol_position:
-            where = (
-                f"too far: beyond the reach l1 + l2 = {l1 + l2:.6g} m"
-                if stretched
-                else f"inside the inner dead zone: closer than |l1 - l2| = {abs(l1 - l2):.6g} m"
-            )
-            return [
-                Attempt(
-                    q=joints(t1, t2),
-                    claim=Status.UNREACHABLE,
-                    branch=None,
-                    reason=f"target at distance {r:.6g} m from the shoulder is {where}; "
-                    "q is the closest reachable configuration",
-                )
-            ]
-        name = "stretched" if stretched else "folded"
-        return merged(
-            t1, t2, name, f"singular: the arm is fully {name}, the two elbow branches coincide"
+
+def _reason(code: float, v0: float, v1: float, branch: str | None) -> str:
+    """The text of a kernel row's reason code and values."""
+    if code == kernel.CLOSED_FORM:
+        return "closed form"
+    if code == kernel.MERGED:
+        return _merged(branch)
+    if code == kernel.FREE:
+        return _FREE
+    if code == kernel.OFF_PLANE:
+        return f"target is {v0:.6g} m off the arm's plane of motion"
+    if code == kernel.TOO_FAR:
+        where = f"too far: beyond the reach l1 + l2 = {v1:.6g} m"
+        return f"target at distance {v0:.6g} m from the shoulder is {where}; {_CLOSEST}"
+    if code == kernel.DEAD_ZONE:
+        where = f"inside the inner dead zone: closer than |l1 - l2| = {v1:.6g} m"
+        return f"target at distance {v0:.6g} m from the shoulder is {where}; {_CLOSEST}"
+    if code == kernel.TILTED:
+        return (
+            f"target orientation is tilted {v0:.3g} rad out of the arm's "
+            "plane; a planar arm only turns about its joint axis"
         )
-
-    attempts = []
-    for sign in (1.0, -1.0):
-        t2 = sign * math.acos(c)
-        t1 = heading - math.atan2(l2 * math.sin(t2), l1 + l2 * math.cos(t2))
-        q = joints(t1, t2)
-        up = geo.s2 * t2 > 0
-        attempts.append(
-            Attempt(
-                q=q,
-                claim=Status.CONVERGED,
-                reason="closed form",
-                branch="elbow-up" if up else "elbow-down",
-            )
-        )
-    return _orient(arm, geo, target, opts, attempts)
+    return (
+        f"the {branch} branch reaches the position with tip angle "
+        f"{v0:.6g} rad, the target asks {v1:.6g} rad; a 2-link "
+        "arm cannot choose both"
+    )
 
 
-def _orient(
-    arm: ArmModel, geo: Geometry, target: Target, opts: Options, attempts: list[Attempt]
-) -> list[Attempt]:
-    """A full pose fixes the tip angle too: keep only branches whose angle matches."""
-    if target.rotation is None or opts.position_only:
-        return attempts
-    n = arm.plane.normal
-    M = target.rotation @ geo.R_tip0.T  # must be a rotation about the plane normal
-    tilt = math.acos(max(-1.0, min(1.0, float(n @ M @ n))))
-    if tilt > opts.tol_orientation:
-        return [
-            Attempt(
-                q=a.q,
-                claim=Status.UNREACHABLE,
-                branch=a.branch,
-                singular=a.singular,
-                reason=f"target orientation is tilted {tilt:.3g} rad out of the arm's "
-                "plane; a planar arm only turns about its joint axis",
-            )
-            for a in attempts
-        ]
-    x = arm.plane.x
-    want = math.atan2(float(np.cross(x, M @ x) @ n), float(x @ M @ x))
+def _attempts(rows: np.ndarray, Q: np.ndarray) -> list[Attempt]:
+    """The ``Attempt`` of each of the kernel's rows, in their order, q the rows of ``Q``."""
     out = []
-    for a in attempts:
-        got = geo.s1 * a.q[0] + geo.s2 * a.q[1]
-        miss = abs(_angle(got - want))
-        if miss > opts.tol_orientation:
-            a = Attempt(
-                q=a.q,
-                claim=Status.UNREACHABLE,
-                branch=a.branch,
-                singular=a.singular,
-                reason=f"the {a.branch} branch reaches the position with tip angle "
-                f"{_angle(got):.6g} rad, the target asks {want:.6g} rad; a 2-link "
-                "arm cannot choose both",
+    for k, (claimed, branch, singular, code, v0, v1) in enumerate(rows[:, 2:].tolist()):
+        label = _BRANCHES[branch]
+        out.append(
+            attempt(
+                q=Q[k],
+                claim=Status.CONVERGED if claimed == kernel.CONVERGED else Status.UNREACHABLE,
+                reason=_reason(code, v0, v1, label),
+                branch=label,
+                singular=bool(singular),
             )
-        out.append(a)
+        )
     return out
+
+
+# A claim of the prepared solve by its kind (``kernel.solve_into``'s head >> 1): its
+# branch, singular, and reason (as ``Claim.reason(*reason_args)``: str(text))
+_CLAIMS = (
+    ("elbow-up", False, ("closed form",)),
+    ("elbow-down", False, ("closed form",)),
+    ("stretched", True, (_merged("stretched"),)),
+    ("folded", True, (_merged("folded"),)),
+    ("folded", True, (_FREE,)),
+)
+
+
+def prepare_pose(arm: ArmModel, opts: Options, position: bool):
+    """``run_pose(H, q0, seed, every=False, xy=None)`` for ``armik.solve.prepared``: the
+    kernel's answer for one plain 4x4 target ``H`` (a position's: ``position``), or with
+    ``xy`` the target (x, y) in plane coordinates (then ``H`` holds it in the base frame):
+    the ``Claim`` of the row the general verdict would verify first when it is claimed
+    converged within the limits; else every row's ``Attempt`` for the general verdict; with
+    ``every``: (Q, attempts), Q the (n, 2) read-only answers; None when ``H`` or ``q0`` is
+    not plain."""
+    chain = flat(arm, opts, not position and not opts.position_only)
+    solve_into = kernel.solve_into
+    empty = np.empty
+
+    def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False, xy=None):
+        out = empty((2, 8))
+        if xy is None:
+            n, head = solve_into(chain, H, q0, False, 0.0, 0.0, every, out)
+        else:
+            n, head = solve_into(chain, H, q0, True, xy[0], xy[1], every, out)
+        if head >= 0:
+            label, singular, text = _CLAIMS[head >> 1]
+            return claim((out[head & 1, :2], 0, 0, label, singular, str, text))
+        if n < 0:
+            return None
+        Q = out[:n, :2].copy()
+        if not every:
+            return _attempts(out[:n], Q)
+        Q.setflags(write=False)  # the results' q are its rows
+        return Q, _attempts(out[:n], Q)
+
+    run_pose.takes_xy = True  # ``armik.solve.prepared``: (x, y) targets too
+    return run_pose
 
 
 def solve_many(arm: ArmModel, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -285,5 +312,6 @@ SPEC = register(
         why_not=applies,
         run=run,
         summary="closed form for planar two-revolute chains: both elbow branches",
+        prepare_pose=prepare_pose,
     )
 )
