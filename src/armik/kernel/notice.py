@@ -29,6 +29,7 @@ ENVIRONMENT = "ARMIK_COMPILE_NOTICE"  # "0": no notice
 PARTS = (
     ("armik.kernel.measure", "the forward-kinematics check", 2),
     ("armik.kernel.fk_many", "the batch forward kinematics", 3),
+    ("armik.kernel.ladder", "the global path plan", 10),
     ("armik.kernel", "the numeric solvers", 25),
     ("armik.solvers.closed_form.spherical_wrist", "the spherical-wrist closed form", 20),
     ("armik.solvers.closed_form.three_parallel", "the three-parallel-axes closed form", 15),
@@ -41,6 +42,7 @@ PARTS = (
     ("armik.solvers.closed_form.search_q4", "the one-dimensional searches", 50),
     ("armik.solvers.closed_form.swept_7r", "the swept 7R closed form", 10),
     ("armik.solvers.closed_form.general_6r", "the general 6R search", 15),
+    ("armik.solvers.closed_form.planar2r_kernel", "the planar 2-link closed form", 3),
     ("armik.solvers.closed_form", "the 6R closed forms' shared code", 5),
     ("armik.constraints", "the collision checks' bounds", 3),
     ("armik", "armik's compiled code", 5),
