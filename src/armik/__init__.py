@@ -1,5 +1,7 @@
 """armik: inverse kinematics for URDF robot arms on Pinocchio."""
 
+from typing import Any as _Any  # private: the package namespace is its API
+
 from armik import collision
 from armik.arm import Arm, load, load_string
 from armik.arms import Arms
@@ -35,7 +37,7 @@ _LAZY = {"view": ("armik.view", None), "plot": ("armik.view.plot", "plot"),
          "Viewer": ("armik.view.viewer", "Viewer")}  # fmt: skip
 
 
-def __getattr__(name: str):
+def __getattr__(name: str) -> _Any:  # a module, a function or a class
     if name not in _LAZY:
         raise AttributeError(f"module 'armik' has no attribute {name!r}")
     import importlib

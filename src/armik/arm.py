@@ -7,9 +7,10 @@ never imports it.
 from __future__ import annotations
 
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, overload
 
 from armik.arms import Arms
 from armik.constraints import collision
@@ -23,6 +24,44 @@ from armik.solve.path import solve_path
 from armik.solve.single import solve_one
 from armik.solvers.registry import validate_name
 
+if TYPE_CHECKING:
+    import numpy as np
+    import pinocchio as pin
+    from numpy.typing import ArrayLike
+
+    from armik.batch_result import BatchResult
+    from armik.constraints.collision import Pair
+    from armik.model.urdf import URDFInfo
+    from armik.result import IKResult
+
+
+@overload
+def load(
+    source: str | Path,
+    *,
+    base: str | None = None,
+    tip: str | None = None,
+    locked: Mapping[str, float] | None = None,
+    tip_offset: tuple[float, float, float] | None = None,
+    package_dirs: Sequence[str | Path] | None = None,
+    srdf: str | Path | None = None,
+    tips: None = None,
+) -> Arm: ...
+
+
+@overload
+def load(
+    source: str | Path,
+    *,
+    base: str | None = None,
+    tip: str | None = None,
+    locked: Mapping[str, float] | None = None,
+    tip_offset: tuple[float, float, float] | None = None,
+    package_dirs: Sequence[str | Path] | None = None,
+    srdf: str | Path | None = None,
+    tips: Sequence[str],
+) -> Arms: ...
+
 
 def load(
     source: str | Path,
@@ -34,7 +73,7 @@ def load(
     package_dirs: Sequence[str | Path] | None = None,
     srdf: str | Path | None = None,
     tips: Sequence[str] | None = None,
-) -> Arm:
+) -> Arm | Arms:
     """Load an arm from a bundled robot name (see ``armik.robots()``), a URDF path, or the
     URDF's XML itself (a string that starts with ``<``, as ROS hands out
     ``robot_description``; see ``load_string``).
@@ -103,14 +142,15 @@ def load(
             warnings.simplefilter("ignore", ArmikWarning)
             model, info = read_urdf(path)
     name = info.name if name_from_urdf and info.name else name
-    arm = _built(model, info, name, str(path), base, tip, locked, tip_offset, dirs, srdf)
+    arm = _built(
+        model, info, name, str(path), base, tip, locked, tip_offset, dirs, srdf, given=str(source)
+    )
     if not name_from_urdf and tip == spec.tip:
         arm.tip_reason = f"the catalogue's tip for {name!r}"
-    arm._recipe = replace(arm._recipe, source=str(source))
     return arm
 
 
-def _several(source, tips, tip, **kwargs) -> Arms:  # type: ignore[no-untyped-def]
+def _several(source: str | Path, tips: Sequence[str], tip: str | None, **kwargs: Any) -> Arms:
     """``load``'s ``tips``: one chain per tip, as an ``Arms``."""
     if tip is not None:
         raise OptionError(
@@ -147,14 +187,29 @@ def load_string(
     dirs = check_package_dirs(package_dirs)
     model, info = read_urdf_string(xml.lstrip(), STRING_SOURCE)  # <?xml ...?> comes first
     name = info.name or "robot"
-    arm = _built(model, info, name, STRING_SOURCE, base, tip, locked, tip_offset, dirs, srdf)
-    arm._recipe = replace(arm._recipe, text=xml)
-    return arm
+    return _built(
+        model, info, name, STRING_SOURCE, base, tip, locked, tip_offset, dirs, srdf, text=xml
+    )
 
 
-def _built(model, info, name, source, base, tip, locked, tip_offset, dirs, srdf) -> Arm:
-    """The arm of a read URDF, its package folders and SRDF pairs set, and its recipe
-    (``load`` and ``load_string`` then say where the URDF came from)."""
+def _built(
+    model: pin.Model,
+    info: URDFInfo,
+    name: str,
+    source: str,
+    base: str | None,
+    tip: str | None,
+    locked: Mapping[str, float] | None,
+    tip_offset: tuple[float, float, float] | None,
+    dirs: tuple[str, ...],
+    srdf: str | Path | None,
+    *,
+    given: str | None = None,
+    text: str | None = None,
+) -> Arm:
+    """The arm of a read URDF, its package folders and SRDF pairs set, and its recipe:
+    ``given`` is what ``load`` was given (a robot name, a path; default ``source``),
+    ``text`` the XML of ``load_string``."""
     arm = Arm(
         model,
         info,
@@ -168,8 +223,18 @@ def _built(model, info, name, source, base, tip, locked, tip_offset, dirs, srdf)
     arm.package_dirs = dirs
     if srdf is not None:
         arm.disabled_pairs = collision.read_srdf(srdf, arm.info.links)
-        srdf = str(Path(srdf).resolve())  # type: ignore[arg-type]
-    arm._recipe = Recipe(source, base, tip, dict(locked or {}), arm.tip_offset, (), dirs, srdf=srdf)
+        srdf = str(Path(srdf).resolve())
+    arm._recipe = Recipe(
+        source if given is None else given,
+        base,
+        tip,
+        dict(locked or {}),
+        arm.tip_offset,
+        (),
+        dirs,
+        text=text,
+        srdf=srdf,
+    )
     return arm
 
 
@@ -247,7 +312,9 @@ class Arm(ArmModel):
     modified).
     """
 
-    def __reduce__(self):
+    _recipe: Recipe | None  # set by ``armik.load``; None for an arm built otherwise
+
+    def __reduce__(self) -> tuple[Callable[[Recipe], Arm], tuple[Recipe]]:
         if self._recipe is None:
             raise TypeError(
                 f"arm {self.name!r} was not built by armik.load, so it has no recipe to "
@@ -285,7 +352,14 @@ class Arm(ArmModel):
 
     # -- solving --------------------------------------------------------------------------
 
-    def solve(self, target, *, q0=None, solver: str = "auto", **options):
+    def solve(
+        self,
+        target: object,
+        *,
+        q0: ArrayLike | None = None,
+        solver: str = "auto",
+        **options: Any,
+    ) -> IKResult:
         """Solve IK for ``target`` (SE3, 4x4, xyz, (xyz, quat xyzw), or xy on a planar arm).
 
         Returns one verified ``IKResult``: the best solution (within limits, nearest
@@ -294,20 +368,45 @@ class Arm(ArmModel):
         """
         if type(solver) is not str:
             validate_name(solver)
-        return solve_one(self, target, q0, solver, options)
+        result: IKResult = solve_one(self, target, q0, solver, options)
+        return result
 
-    def solve_all(self, target, *, q0=None, solver: str = "auto", **options):
+    def solve_all(
+        self,
+        target: object,
+        *,
+        q0: ArrayLike | None = None,
+        solver: str = "auto",
+        **options: Any,
+    ) -> list[IKResult]:
         """Every distinct solution the solver finds, each verified, best first."""
         if type(solver) is not str:
             validate_name(solver)
-        return solve_one(self, target, q0, solver, options, True)
+        results: list[IKResult] = solve_one(self, target, q0, solver, options, True)
+        return results
 
-    def solve_batch(self, targets, *, q0=None, solver: str = "auto", workers=None, **options):
+    def solve_batch(
+        self,
+        targets: object,
+        *,
+        q0: ArrayLike | None = None,
+        solver: str = "auto",
+        workers: int | None = None,
+        **options: Any,
+    ) -> BatchResult:
         """Solve many targets ((N, 4, 4), (N, 7), (N, 3) or a list) on every core; returns a
         ``BatchResult``. See ``armik.solve.batch.solve_batch``."""
         return solve_batch(self, targets, q0=q0, solver=solver, workers=workers, **options)
 
-    def solve_path(self, poses, q0, *, max_joint_step=None, plan: str = "follow", **options):
+    def solve_path(
+        self,
+        poses: object,
+        q0: ArrayLike,
+        *,
+        max_joint_step: float | np.ndarray | None = None,
+        plan: str = "follow",
+        **options: Any,
+    ) -> BatchResult:
         """Solve waypoints in order, never with a silent jump larger than
         ``max_joint_step``: each from the previous answer (``plan="follow"``), or the path
         of least joint motion over every branch (``plan="global"``); returns a
@@ -316,13 +415,21 @@ class Arm(ArmModel):
 
     # -- collisions -----------------------------------------------------------------------
 
-    def min_distance(self, q, obstacles=(), self_collision: bool = False):
+    def min_distance(
+        self, q: ArrayLike, obstacles: object = (), self_collision: bool = False
+    ) -> tuple[float, Pair | None]:
         """(distance m, (name_a, name_b)): the closest pair at joint values ``q`` (rad, m)
         among the arm's links and ``obstacles`` (shapes in the base frame) and, with
         ``self_collision``, the arm's own non-adjacent links; negative when they overlap.
         Raises ``CollisionError`` when the URDF has no collision geometry."""
         return collision.min_distance(self, q, obstacles, self_collision)
 
-    def in_collision(self, q, obstacles=(), self_collision: bool = False, margin=0.0) -> bool:
+    def in_collision(
+        self,
+        q: ArrayLike,
+        obstacles: object = (),
+        self_collision: bool = False,
+        margin: float = 0.0,
+    ) -> bool:
         """Whether some pair ``min_distance`` checks is closer than ``margin`` (m) at ``q``."""
         return collision.in_collision(self, q, obstacles, self_collision, margin)

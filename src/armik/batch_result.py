@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, cast, overload
 
 import numpy as np
 
@@ -76,9 +76,20 @@ class BatchResult:
         return len(self.success)
 
     @property
+    def _distances(self) -> np.ndarray:
+        """``min_distance``: an array once built (``__post_init__`` fills a None)."""
+        return cast(np.ndarray, self.min_distance)
+
+    @property
+    def _pairs(self) -> np.ndarray:
+        """``pair_index``: an array once built (``__post_init__`` fills a None)."""
+        return cast(np.ndarray, self.pair_index)
+
+    @property
     def status(self) -> np.ndarray:
         """(N,) status words; ``r.status == "converged"`` compares element-wise."""
-        return _WORDS[self.status_code]
+        words: np.ndarray = _WORDS[self.status_code]
+        return words
 
     @property
     def success_rate(self) -> float:
@@ -102,30 +113,40 @@ class BatchResult:
             self.tol_orientation,
         )
         text = reasons.verified(None, measured)
-        if self.pair_index[i] >= 0 or not math.isnan(self.min_distance[i]):  # checked
-            clear = reasons.clear(self.closest_pair(i), float(self.min_distance[i]), self.margin)
+        if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):  # checked
+            clear = reasons.clear(self.closest_pair(i), float(self._distances[i]), self.margin)
             text = f"{text}; {clear}"
         return text
 
     def closest_pair(self, i: int) -> tuple[str, str] | None:
         """The names of target ``i``'s closest checked pair; None where not checked."""
-        k = int(self.pair_index[self._index(i)])
+        k = int(self._pairs[self._index(i)])
         return None if k < 0 else self.pair_names[k]
 
-    def _index(self, i: int) -> int:
+    def _index(self, i: int | np.integer[Any]) -> int:
         n = len(self)
         i = int(i)
         if not -n <= i < n:
             raise IndexError(f"target index {i} out of range for a batch of {n}")
         return i + n if i < 0 else i
 
-    def __getitem__(self, index):
+    @overload
+    def __getitem__(self, index: int | np.integer[Any]) -> IKResult: ...
+
+    @overload
+    def __getitem__(
+        self, index: slice | np.ndarray | Sequence[int] | Sequence[bool]
+    ) -> BatchResult: ...
+
+    def __getitem__(
+        self, index: int | np.integer[Any] | slice | np.ndarray | Sequence[int] | Sequence[bool]
+    ) -> IKResult | BatchResult:
         if isinstance(index, (int, np.integer)):
             i = self._index(index)
             ori = float(self.orientation_error[i])
-            extra: dict = {"index": i, "batch_time": self.time}
-            if self.pair_index[i] >= 0 or not math.isnan(self.min_distance[i]):
-                extra["min_distance"] = float(self.min_distance[i])
+            extra: dict[str, Any] = {"index": i, "batch_time": self.time}
+            if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):
+                extra["min_distance"] = float(self._distances[i])
                 extra["closest_pair"] = self.closest_pair(i)
             return IKResult(
                 q=self.q[i],
@@ -163,8 +184,8 @@ class BatchResult:
             tol_position=self.tol_position,
             tol_orientation=self.tol_orientation,
             reasons=reasons,
-            min_distance=self.min_distance[picked],
-            pair_index=self.pair_index[picked],
+            min_distance=self._distances[picked],
+            pair_index=self._pairs[picked],
             pair_names=list(self.pair_names),
         )
 
@@ -194,7 +215,7 @@ class BatchResult:
             ori = self.orientation_error[self.success]
             if not np.isnan(ori).all():
                 line += f", {np.nanmax(ori):.2g} rad"
-            d = self.min_distance[self.success]
+            d = self._distances[self.success]
             if not np.isnan(d).all():
                 k = int(np.nanargmin(d))
                 pair = self.closest_pair(int(np.flatnonzero(self.success)[k]))
@@ -230,8 +251,8 @@ class BatchResult:
             restarts=self.restarts,
             reason_index=keys,
             reason_text=np.array([self.reasons[int(k)] for k in keys], dtype=str),
-            min_distance=self.min_distance,
-            pair_index=self.pair_index,
+            min_distance=self._distances,
+            pair_index=self._pairs,
         )
         return npz.save(path, meta, arrays)
 
@@ -268,7 +289,7 @@ class BatchResult:
     # -- building ---------------------------------------------------------------------
 
     @classmethod
-    def empty(cls, n: int, dof: int, **meta) -> BatchResult:
+    def empty(cls, n: int, dof: int, **meta: Any) -> BatchResult:
         """Arrays for n answers, to be filled in place (the solvers' failure state)."""
         return cls(
             q=np.zeros((n, dof)),
@@ -304,9 +325,9 @@ class BatchResult:
         self.reasons.update({start + i: r for i, r in part.reasons.items()})
         if part.pair_names and part.pair_names != self.pair_names:
             mine = np.array([self._pair(p) for p in part.pair_names] + [-1], dtype=np.int32)
-            self.pair_index[start:stop] = mine[part.pair_index]  # -1 stays -1
+            self._pairs[start:stop] = mine[part._pairs]  # -1 stays -1
         else:
-            self.pair_index[start:stop] = part.pair_index
+            self._pairs[start:stop] = part._pairs
 
     def put_result(self, i: int, r: IKResult) -> None:
         """Copy one ``IKResult`` into row ``i``."""
@@ -319,19 +340,19 @@ class BatchResult:
         self.restarts[i] = r.restarts
         d = r.extra.get("min_distance")
         if d is not None:
-            self.min_distance[i] = d
+            self._distances[i] = d
             pair = r.extra.get("closest_pair")
-            self.pair_index[i] = -1 if pair is None else self._pair(pair)
+            self._pairs[i] = -1 if pair is None else self._pair(pair)
         if not r.success:
             self.reasons[i] = r.reason
 
     def _pair(self, pair: tuple[str, str]) -> int:
         """The index of ``pair`` in ``pair_names``, appended when new."""
-        pair = tuple(pair)
+        pair = cast("tuple[str, str]", tuple(pair))  # given as any sequence of two names
         try:
             return self.pair_names.index(pair)
         except ValueError:
-            self.pair_names.append(pair)  # type: ignore[arg-type]
+            self.pair_names.append(pair)
             return len(self.pair_names) - 1
 
 

@@ -7,20 +7,22 @@ with ``success=False``.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 
 
 class ArmikError(Exception):
     """Base class of every error armik raises."""
 
-    def __reduce__(self):
+    def __reduce__(self) -> tuple[Callable[..., ArmikError], tuple[object, ...]]:
         # pickled with its fields: the subclasses' fields are keyword-only, which
         # Exception's own pickling (``cls(*args)``) does not pass (a worker process or a
         # cluster sends its errors pickled)
         return (_rebuilt, (type(self), self.args, dict(self.__dict__)))
 
 
-def _rebuilt(cls: type, args: tuple, fields: dict) -> ArmikError:
+def _rebuilt(
+    cls: type[ArmikError], args: tuple[object, ...], fields: dict[str, object]
+) -> ArmikError:
     error = cls.__new__(cls, *args)
     error.args = args
     error.__dict__.update(fields)

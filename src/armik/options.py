@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, fields
+from typing import Any
 
 import numpy as np
 
@@ -80,7 +81,7 @@ class Options:
         return bool(self.obstacles) or self.self_collision
 
     @classmethod
-    def from_kwargs(cls, kwargs: dict) -> Options:
+    def from_kwargs(cls, kwargs: dict[str, Any]) -> Options:
         if not kwargs:
             return _DEFAULT
         for key in kwargs:
@@ -167,7 +168,7 @@ class Options:
 _DEFAULT = Options()
 
 
-def _collision_options(values: dict) -> None:
+def _collision_options(values: dict[str, Any]) -> None:
     """Validate ``obstacles``, ``self_collision`` and ``margin`` in ``values``, in place."""
     if "obstacles" in values:
         values["obstacles"] = check_obstacles(values["obstacles"])
@@ -281,7 +282,7 @@ def _hold(value: object) -> tuple[str, float | None]:
 
 def _weights(value: object) -> tuple[float, ...]:
     try:
-        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):
+        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
             raise TypeError
         w = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
@@ -307,7 +308,7 @@ def _weights(value: object) -> tuple[float, ...]:
 def _bounds(value: object) -> tuple[float, ...]:
     """6 bounds >= 0 (m, m, m, rad, rad, rad), ``inf`` allowed (a free axis)."""
     try:
-        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):
+        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
             raise TypeError
         b = np.asarray(value, dtype=float)
     except (TypeError, ValueError):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -34,7 +35,7 @@ class IKResult:
     branch: str | None = None
     singular: bool = False
     restarts: int = 0
-    extra: dict = field(default_factory=dict, compare=False, repr=False)
+    extra: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
 
     def __post_init__(self) -> None:
         q = np.array(self.q, dtype=float)
@@ -43,7 +44,7 @@ class IKResult:
         object.__setattr__(self, "status", Status.parse(self.status))
 
     @classmethod
-    def _checked(cls, row: dict) -> IKResult:
+    def _checked(cls, row: dict[str, Any]) -> IKResult:
         """The result ``IKResult(**row)`` gives, for ``solve``'s rows: every field given,
         ``status`` a ``Status``. ``q`` is copied into a read-only float array as always."""
         if type(row["status"]) is not Status or row.keys() != _FIELDS:
@@ -54,7 +55,7 @@ class IKResult:
         return cls._from_fields(row)
 
     @classmethod
-    def _from_fields(cls, fields: dict) -> IKResult:
+    def _from_fields(cls, fields: dict[str, Any]) -> IKResult:
         """The one constructor of armik's own results: ``fields`` holds every field but
         ``extra``, ``q`` a read-only float array and ``status`` a ``Status``; instead of
         ``reason``, ``_reason`` may hold (function, arguments), the text written on first
@@ -66,7 +67,7 @@ class IKResult:
         return self
 
     @classmethod
-    def _from_rows(cls, rows: list[dict]) -> list[IKResult]:
+    def _from_rows(cls, rows: list[dict[str, Any]]) -> list[IKResult]:
         """The results of rows, each ``_from_fields``'s (a runner's claim, its q read-only
         already) or ``_checked``'s (a verdict row, its q copied): one call for a
         ``solve_all``'s rows."""
@@ -82,18 +83,21 @@ class IKResult:
                 out.append(cls._checked(row))
         return out
 
-    def __getattr__(self, name: str):
-        # Results built by ``armik.solve.prepared`` carry their reason as (function, arguments) and
-        # write the text on first read: formatting it costs a microsecond that a loop of
-        # solves rarely needs. Only called for attributes not found the usual way.
-        if name == "reason":
-            d = self.__dict__
-            parts = d.get("_reason")
-            if parts is not None:
-                text = parts[0](*parts[1])
-                d["reason"] = text
-                return text
-        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+    if not TYPE_CHECKING:  # to a type checker the fields are all there is: a typo is an error
+
+        def __getattr__(self, name: str) -> str:
+            # Results built by ``armik.solve.prepared`` carry their reason as (function,
+            # arguments) and write the text on first read: formatting it costs a microsecond
+            # that a loop of solves rarely needs. Only called for attributes not found the
+            # usual way.
+            if name == "reason":
+                d = self.__dict__
+                parts = d.get("_reason")
+                if parts is not None:
+                    text = parts[0](*parts[1])
+                    d["reason"] = text
+                    return text
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     @property
     def min_distance(self) -> float | None:
@@ -119,7 +123,7 @@ class IKResult:
             f"reason={self.reason!r})"
         )
 
-    def as_dict(self) -> dict:
+    def as_dict(self) -> dict[str, Any]:
         """Plain JSON-ready dictionary; with ``min_distance`` and ``closest_pair`` when
         collisions were checked."""
         out = {

@@ -356,7 +356,9 @@ def checker(arm: ArmModel, obstacles: tuple[Shape, ...], self_collision: bool) -
     return found
 
 
-def min_distance(arm: ArmModel, q, obstacles=(), self_collision: bool = False):
+def min_distance(
+    arm: ArmModel, q: object, obstacles: object = (), self_collision: bool = False
+) -> tuple[float, Pair | None]:
     """(distance m, (name_a, name_b)): the closest checked pair at ``q`` (rad, m)."""
     from_obstacles = check_obstacles(obstacles)
     if not from_obstacles and not self_collision:
@@ -367,7 +369,13 @@ def min_distance(arm: ArmModel, q, obstacles=(), self_collision: bool = False):
     return checker(arm, from_obstacles, self_collision).distance(arm.check_q(q))
 
 
-def in_collision(arm: ArmModel, q, obstacles=(), self_collision=False, margin=0.0) -> bool:
+def in_collision(
+    arm: ArmModel,
+    q: object,
+    obstacles: object = (),
+    self_collision: bool = False,
+    margin: float = 0.0,
+) -> bool:
     """Whether some checked pair at ``q`` is closer than ``margin`` (m)."""
     return min_distance(arm, q, obstacles, self_collision)[0] < margin
 
@@ -393,19 +401,25 @@ def read_srdf(path: object, links: tuple[str, ...]) -> frozenset[Pair]:
             value=path,
         ) from None
     known = set(links)
-    out = set()
+    out: set[Pair] = set()
     for elem in root.iter("disable_collisions"):
-        pair = (elem.get("link1"), elem.get("link2"))
-        for name in pair:
-            if name not in known:
+        names = []
+        for name in (elem.get("link1"), elem.get("link2")):
+            if name is None or name not in known:
                 raise CollisionError(
                     f"srdf {str(path)!r}: <disable_collisions> names link {name!r}, which is "
                     "not a link of the URDF: fix the name or load the SRDF of this robot",
                     option="srdf",
                     value=name,
                 )
-        out.add(tuple(sorted(pair)))
-    return frozenset(out)  # type: ignore[arg-type]
+            names.append(name)
+        out.add(_sorted_pair(*names))
+    return frozenset(out)
+
+
+def _sorted_pair(a: str, b: str) -> Pair:
+    """``tuple(sorted((a, b)))``, typed as a pair."""
+    return (a, b) if a <= b else (b, a)
 
 
 def never_colliding_pairs(arm: ArmModel, n: int = 1000, seed: int = 0) -> list[Pair]:
@@ -425,9 +439,9 @@ def never_colliding_pairs(arm: ArmModel, n: int = 1000, seed: int = 0) -> list[P
         pin.updateGeometryPlacements(arm.model, data, model, gd, arm.to_pin(q))
         pin.computeCollisions(model, gd, False)
         touched |= np.array([r.isCollision() for r in gd.collisionResults])
-    pairs = {tuple(sorted((g.links[a], g.links[b]))) for a, b in g.candidates}
-    hit = {tuple(sorted((g.links[a], g.links[b]))) for (a, b), t in zip(g.candidates, touched) if t}
-    return sorted(pairs - hit)  # type: ignore[return-value]
+    pairs = {_sorted_pair(g.links[a], g.links[b]) for a, b in g.candidates}
+    hit = {_sorted_pair(g.links[a], g.links[b]) for (a, b), t in zip(g.candidates, touched) if t}
+    return sorted(pairs - hit)
 
 
 def write_srdf(pairs, path, robot: str = "robot") -> None:

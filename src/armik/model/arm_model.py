@@ -16,13 +16,13 @@ from collections.abc import Callable, Mapping
 from dataclasses import replace
 from functools import cached_property
 from types import MappingProxyType
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 import pinocchio as pin
 
 from armik.errors import ArmikWarning, JointError, OptionError, listing
-from armik.kernel.chain import build_chain
+from armik.kernel.chain import KernelChain, build_chain
 from armik.kernel.coordinates import pin_configuration
 from armik.kernel.fk_many import fk_many
 from armik.model import mimic as _mimic
@@ -34,6 +34,7 @@ from armik.tolerances import LIMIT_TOL, MAX_LIMIT
 TWO_PI = 2.0 * math.pi
 _FLOAT = np.dtype(float)
 _le = operator.le
+_Arm = TypeVar("_Arm", bound="ArmModel")
 
 
 class ArmModel:
@@ -76,7 +77,7 @@ class ArmModel:
         self._setup_joints(info)
         self._local = threading.local()
         self._memo: dict[Any, Any] = {}  # see ``memo``
-        self._recipe = None  # how ``armik.load`` built it (``armik.arm.Recipe``), to pickle
+        self._recipe: Any = None  # how ``armik.load`` built it (``armik.arm.Recipe``), to pickle
 
     def _setup_joints(self, info: URDFInfo) -> None:
         m = self.model
@@ -130,7 +131,7 @@ class ArmModel:
             np.where(np.isfinite(lo_c), lo_c + math.pi, hi_c - math.pi),
         )
 
-    def with_limits(self, limits: Mapping[str, tuple[float, float]]) -> ArmModel:
+    def with_limits(self: _Arm, limits: Mapping[str, tuple[float, float]]) -> _Arm:
         """A copy of this arm with some joint limits replaced (name -> (lower, upper))."""
         if not isinstance(limits, Mapping):
             raise JointError(
@@ -327,7 +328,7 @@ class ArmModel:
         forward kinematics over the arm's chain (the GIL released), the same placements as
         ``fk`` row by row (to 1e-12, tests/model/test_fk_batch.py)."""
         try:
-            if isinstance(Q, (str, bytes)) or np.iscomplexobj(Q):
+            if isinstance(Q, (str, bytes)) or np.iscomplexobj(Q):  # type: ignore[arg-type]
                 raise TypeError
             Q = np.array(Q, dtype=float, order="C", ndmin=2)
         except (TypeError, ValueError):
@@ -380,7 +381,7 @@ class ArmModel:
     def check_q(self, q: object, name: str = "q") -> np.ndarray:
         """``q`` as a float array of length ``dof``; raises ``OptionError`` otherwise."""
         try:
-            if isinstance(q, (str, bytes)) or np.iscomplexobj(q):
+            if isinstance(q, (str, bytes)) or np.iscomplexobj(q):  # type: ignore[arg-type]
                 raise TypeError  # never drop an imaginary part silently
             arr = np.asarray(q, dtype=float)
         except (TypeError, ValueError):
@@ -469,7 +470,7 @@ class ArmModel:
         return total + _mimic.travel(self)
 
     @cached_property
-    def kernel_chain(self):
+    def kernel_chain(self) -> KernelChain:
         """The compiled kernel's view of this chain (``armik.kernel.chain.Chain``): plain
         arrays read once from the model."""
         return build_chain(self)

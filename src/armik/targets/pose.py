@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pinocchio as pin
@@ -148,9 +148,10 @@ def _rotation(value: object) -> np.ndarray:
     """The rotation of ``(position, rotation)``: a quaternion (x, y, z, w), a 3x3 matrix,
     or a scipy ``Rotation`` holding one rotation."""
     if type(value).__module__.startswith("scipy.spatial") and hasattr(value, "as_matrix"):
-        if not getattr(value, "single", True):
-            raise TargetError(_several(f"a scipy Rotation of {len(value)} rotations"))
-        return np.asarray(value.as_matrix(), float)
+        rotation: Any = value  # a scipy Rotation (scipy has no type information)
+        if not getattr(rotation, "single", True):
+            raise TargetError(_several(f"a scipy Rotation of {len(rotation)} rotations"))
+        return np.asarray(rotation.as_matrix(), float)
     arr = _array(value, "target rotation")
     if arr.shape == (3, 3):
         return arr
@@ -211,7 +212,9 @@ def _se3(T: pin.SE3) -> Target:
 
 # |R^T R - I| and det(R) of R = [[a, b, c], [d, e, f], [g, h, i]] on plain floats: a fifth
 # of the numpy cost for a 3x3. (kernel.single.plain_pose computes the same in compiled code.)
-def _orthonormality_error(a, b, c, d, e, f, g, h, i) -> float:
+def _orthonormality_error(
+    a: float, b: float, c: float, d: float, e: float, f: float, g: float, h: float, i: float
+) -> float:
     return max(
         abs(a * a + d * d + g * g - 1.0),
         abs(b * b + e * e + h * h - 1.0),
@@ -222,7 +225,9 @@ def _orthonormality_error(a, b, c, d, e, f, g, h, i) -> float:
     )
 
 
-def _determinant(a, b, c, d, e, f, g, h, i) -> float:
+def _determinant(
+    a: float, b: float, c: float, d: float, e: float, f: float, g: float, h: float, i: float
+) -> float:
     return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
 
 
