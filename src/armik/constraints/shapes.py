@@ -9,8 +9,10 @@ shapes (and the ``Options`` holding them) hash and compare by value.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any, cast
 
 import coal
 import numpy as np
@@ -30,7 +32,7 @@ def _pose(shape: str, value: object) -> tuple[float, ...]:
     if isinstance(value, pin.SE3):
         value = value.homogeneous
     try:
-        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):
+        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
             raise TypeError
         arr = np.array(value, dtype=float)
     except (TypeError, ValueError):
@@ -77,7 +79,7 @@ def _length(shape: str, name: str, value: object, zero: bool = False) -> float:
 
 def _vector(shape: str, name: str, value: object) -> tuple[float, float, float]:
     try:
-        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):
+        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
             raise TypeError
         arr = np.array(value, dtype=float)
     except (TypeError, ValueError):
@@ -117,7 +119,7 @@ class Box(Shape):
 
     def __init__(self, size, pose=None) -> None:
         try:
-            sides = list(size)  # type: ignore[call-overload]
+            sides = list(size)
         except TypeError:
             sides = [size]
         if isinstance(size, (str, bytes)) or len(sides) != 3:
@@ -275,7 +277,7 @@ def check_obstacles(value: object) -> tuple[Shape, ...]:
     try:
         if isinstance(value, (str, bytes)):
             raise TypeError
-        items = tuple(value)  # type: ignore[call-overload]
+        items = tuple(cast("Iterable[Any]", value))  # not iterable: TypeError, caught below
     except TypeError:
         raise CollisionError(
             f"obstacles must be a list of shapes ({names}), got {value!r}", value=value

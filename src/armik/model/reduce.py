@@ -10,7 +10,7 @@ from __future__ import annotations
 import difflib
 import logging
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -43,14 +43,14 @@ class ReducedChain:
     locked: dict[str, float]  # every joint locked by value, on or off the chain (rad or m)
     locked_on_chain: tuple[str, ...]  # those between the base and the tip, base first
     # how the chain was cut from the whole URDF's model, to cut its collision geometry alike
-    full: pin.Model | None = None
-    locked_joints: tuple[int, ...] = ()
-    q_ref: np.ndarray | None = None
+    full: pin.Model
+    locked_joints: tuple[int, ...]
+    q_ref: np.ndarray
     # mimic joints: those that follow a driver on the chain (``model`` holds them as
     # Pinocchio mimic joints, ``plain`` as joints of their own), those fixed at a value
-    mimics: tuple[Mimic, ...] = ()
-    plain: pin.Model | None = None
-    fixed_mimics: dict[str, float] | None = None
+    mimics: tuple[Mimic, ...]
+    plain: pin.Model
+    fixed_mimics: dict[str, float] | None
 
 
 def reduce_chain(
@@ -159,7 +159,7 @@ def reduce_chain(
         tip=tip,
         tip_reason=tip_reason,
         tip_frame_id=tip_frame,
-        tip_offset=None if tip_offset is None else tuple(float(v) for v in tip_offset),
+        tip_offset=None if tip_offset is None else _three(tip_offset),
         T_world_base=data_full.oMf[base_id].copy(),
         locked=values,
         locked_on_chain=tuple(full.names[j] for j in held),
@@ -210,7 +210,7 @@ def locked_value(full: pin.Model, info: URDFInfo, jid: int, value: object) -> fl
     joint's URDF limits (a continuous joint, or a side without a limit, takes any value)."""
     jname = full.names[jid]
     try:
-        if isinstance(value, (str, bytes, complex)) or np.iscomplexobj(value):
+        if isinstance(value, (str, bytes, complex)) or np.iscomplexobj(value):  # type: ignore[arg-type]
             raise TypeError  # never parse text or drop an imaginary part
         number = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError):
@@ -312,7 +312,13 @@ def check_offset(offset: object) -> tuple[float, float, float] | None:
             option="tip_offset",
             value=offset,
         )
-    return tuple(float(v) for v in arr)
+    return _three(arr)
+
+
+def _three(values: Iterable[float]) -> tuple[float, float, float]:
+    """Three numbers as three floats."""
+    x, y, z = (float(v) for v in values)
+    return x, y, z
 
 
 def check_package_dirs(dirs: object) -> tuple[str, ...]:
@@ -346,7 +352,7 @@ def check_limit_value(jname: str, value: object) -> float:
     """A joint limit given to ``with_limits`` as a float (rad or m; +-inf: no limit on
     that side); raises ``JointError`` naming the joint otherwise."""
     try:
-        if isinstance(value, (str, bytes, complex)) or np.iscomplexobj(value):
+        if isinstance(value, (str, bytes, complex)) or np.iscomplexobj(value):  # type: ignore[arg-type]
             raise TypeError
         out = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError):

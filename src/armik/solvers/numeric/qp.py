@@ -62,10 +62,12 @@ def active_set_guess(
     or None when it finds no set. G = H^-1, x_free = G g."""
     n = len(x_free)
     x = np.empty(n)
-    args = [np.ascontiguousarray(a, dtype=float) for a in (G, x_free, lb, ub, start)]
-    ints = [np.empty(n, dtype=np.int64) for _ in range(3)]
+    G, x_free, lb, ub, start = (
+        np.ascontiguousarray(a, dtype=float) for a in (G, x_free, lb, ub, start)
+    )
+    side, held, sub = (np.empty(n, dtype=np.int64) for _ in range(3))
     scratch = (np.empty((n, n)), np.empty(n), np.empty(n), np.empty((n, n)))
-    ok = _step.active_set(*args, *ints, *scratch, x)
+    ok = _step.active_set(G, x_free, lb, ub, start, side, held, sub, *scratch, x)
     return x if ok else None
 
 
