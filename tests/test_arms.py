@@ -85,9 +85,42 @@ def test_the_baxter_two_arms():
     assert J.shape == (6, 14) and not J[:, :7].any()
 
 
-def test_shared_joints_and_bad_tips_are_armik_errors(cell):
-    with pytest.raises(armik.InputError, match="share the joints .*locked="):
-        armik.load("panda", tips=["panda_hand", "panda_link5"])
+def test_two_hands_over_a_shared_torso():
+    """TALOS (example-robot-data): both grippers' poses, the torso's two joints shared;
+    every success checked on Pinocchio's model of the whole URDF."""
+    robots = Path(armik.load("panda").source).parents[2]
+    urdf = robots / "talos_data" / "robots" / "talos_reduced.urdf"
+    tips = ["gripper_left_base_link", "gripper_right_base_link"]
+    robot = armik.load(urdf, tips=tips)
+    assert robot.shared == ("torso_1_joint", "torso_2_joint") and robot.dof == 16
+    full = pin.buildModelFromUrdf(str(urdf))
+    data = full.createData()
+    rng = np.random.default_rng(5)
+    solved = 0
+    for _ in range(20):
+        q = robot.random_q(rng)
+        qf = pin.neutral(full)
+        for name, value in zip(robot.joint_names, q):
+            qf[full.joints[full.getJointId(name)].idx_q] = value
+        pin.framesForwardKinematics(full, data, qf)
+        targets = {tip: data.oMf[full.getFrameId(tip)].copy() for tip in tips}
+        r = robot.solve(targets, iteration_budget=3000)  # deterministic, not timed
+        if not r.success:
+            assert r.status is Status.NOT_CONVERGED
+            continue
+        solved += 1
+        for name, value in zip(robot.joint_names, r.q):
+            qf[full.joints[full.getJointId(name)].idx_q] = value
+        pin.framesForwardKinematics(full, data, qf)
+        for tip in tips:
+            err = pin.log6(targets[tip].inverse() * data.oMf[full.getFrameId(tip)]).vector
+            assert np.abs(err).max() <= 2e-6
+        assert (r.q >= robot.lower - 1e-9).all() and (r.q <= robot.upper + 1e-9).all()
+        assert set(r.extra["errors"]) == set(tips)
+    assert solved >= 18
+
+
+def test_bad_tips_are_armik_errors(cell):
     with pytest.raises(armik.InputError, match="not both"):
         armik.load("panda", tip="panda_hand", tips=["panda_hand"])
     with pytest.raises(armik.FrameError, match="unknown tips"):

@@ -1,11 +1,13 @@
 """Several tips of one robot at once: ``armik.load(source, tips=[...])``.
 
-Each tip's chain from the common base is an ``Arm`` of its own, solved by its own best
-solver (a closed form where one applies), and verified by Pinocchio's FK as every answer
-is; the robot's configuration is the chains' joints side by side, in the order of
-``tips``. Chains that share a moving joint (a torso, a lift) are refused for now, naming
-the joints and the way round (hold them with ``locked=``): solving over a shared joint
-needs the union of the chains in one model, the next step of docs/problem-model.md.
+Each tip's chain from the common base is an ``Arm`` of its own. Chains that share no
+moving joint are solved side by side, each by its own best solver (a closed form where
+one applies); the robot's configuration is the chains' joints side by side, in the order
+of ``tips``. Chains that share joints (a torso, a lift) are solved together: one model
+holds their union (``armik.model.union``) and the task solver (``armik.solve.tasks``)
+takes one task per tip over every joint at once, with restarts within the budget; the
+configuration is the union's joints in the model's order. Every answer is verified by
+Pinocchio's FK of every tip.
 
 A result is one ``IKResult`` for the whole robot: ``q`` over every joint, ``success`` when
 every tip's answer is one, the worst tip's status and errors, a reason naming each tip
@@ -15,14 +17,23 @@ rad)) and ``"results"`` (tip -> that chain's ``IKResult``).
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 import time
 from collections.abc import Mapping
 
 import numpy as np
+import pinocchio as pin
 
-from armik.errors import FrameError, OptionError
+from armik.errors import ArmikError, FrameError, OptionError, TargetError
+from armik.model.union import Union
+from armik.options import Options
+from armik.problem.problem import Problem, as_problem
+from armik.problem.tasks import Pose, Position, Task
 from armik.result import IKResult
+from armik.solve.tasks import check_options, solve_tasks
 from armik.status import Status
+from armik.targets.pose import parse_target
 
 
 class Arms:
@@ -31,25 +42,27 @@ class Arms:
     def __init__(self, chains: Mapping[str, object]) -> None:
         names = [j for arm in chains.values() for j in arm.joint_names]  # type: ignore[attr-defined]
         shared = sorted({n for n in names if names.count(n) > 1})
-        if shared:
-            raise OptionError(
-                f"the chains of {list(chains)} share the joints {shared}: several tips with a "
-                "shared joint are not solved yet; hold those joints with locked={...} to solve "
-                "the chains on their own",
-                option="tips",
-                value=list(chains),
-            )
         self._chains = dict(chains)
         self.tips: tuple[str, ...] = tuple(chains)
-        self.joint_names: tuple[str, ...] = tuple(names)
-        self.dof = len(names)
-        self._slices, start = {}, 0
-        for tip, arm in self._chains.items():
-            self._slices[tip] = slice(start, start + arm.dof)  # type: ignore[attr-defined]
-            start += arm.dof  # type: ignore[attr-defined]
-        self.lower = np.concatenate([a.lower for a in self._chains.values()])  # type: ignore[attr-defined]
-        self.upper = np.concatenate([a.upper for a in self._chains.values()])  # type: ignore[attr-defined]
-        self.middle = np.concatenate([a.middle for a in self._chains.values()])  # type: ignore[attr-defined]
+        self.shared: tuple[str, ...] = tuple(shared)
+        # chains sharing a joint are solved together, in one model (``model.union``)
+        self._union = Union(list(self._chains.values())) if shared else None
+        if self._union is not None:
+            self.joint_names: tuple[str, ...] = self._union.joint_names
+            self.lower, self.upper = self._union.lower, self._union.upper
+            self.middle = self._union.middle
+        else:
+            self.joint_names = tuple(names)
+            arms = list(self._chains.values())
+            self.lower = np.concatenate([a.lower for a in arms])  # type: ignore[attr-defined]
+            self.upper = np.concatenate([a.upper for a in arms])  # type: ignore[attr-defined]
+            self.middle = np.concatenate([a.middle for a in arms])  # type: ignore[attr-defined]
+        self.dof = len(self.joint_names)
+        index = {n: k for k, n in enumerate(self.joint_names)}
+        self._columns = {
+            tip: np.array([index[n] for n in arm.joint_names])  # type: ignore[attr-defined]
+            for tip, arm in self._chains.items()
+        }
 
     def __repr__(self) -> str:
         return f"Arms(tips={list(self.tips)}, dof={self.dof})"
@@ -74,7 +87,7 @@ class Arms:
                 option="q",
                 value=q,
             )
-        return {tip: arr[s] for tip, s in self._slices.items()}
+        return {tip: arr[cols] for tip, cols in self._columns.items()}
 
     def fk(self, q: object, frame: str | None = None):
         """``T_base_frame`` of a tip (default: the first) at ``q``."""
@@ -82,14 +95,17 @@ class Arms:
         return self.chain(tip).fk(self.split(q)[tip])
 
     def jacobian(self, q: object, frame: str | None = None) -> np.ndarray:
-        """A tip's 6 x dof LOCAL Jacobian over every joint (zero for other chains')."""
+        """A tip's 6 x dof LOCAL Jacobian over every joint (zero for the joints not on its
+        chain)."""
         tip = self.tips[0] if frame is None else frame
         J = np.zeros((6, self.dof))
-        J[:, self._slices[tip]] = self.chain(tip).jacobian(self.split(q)[tip])
+        J[:, self._columns[tip]] = self.chain(tip).jacobian(self.split(q)[tip])
         return J
 
     def random_q(self, rng: np.random.Generator | int | None = None) -> np.ndarray:
         rng = np.random.default_rng(rng)
+        if self._union is not None:
+            return self._union.random_q(rng)
         return np.concatenate([a.random_q(rng) for a in self._chains.values()])  # type: ignore[attr-defined]
 
     def solve(self, targets: Mapping[str, object], *, q0: object = None, **options) -> IKResult:
@@ -97,12 +113,58 @@ class Arms:
         each chain by its own solver; one ``IKResult`` for the robot (module docstring)."""
         t0 = time.perf_counter()
         self._check_targets(targets)
+        if self._union is not None:
+            return self._solve_together(targets, q0, options, t0)
         seeds = self.split(self.middle if q0 is None else q0)
         results = {
             tip: self._chains[tip].solve(target, q0=seeds[tip], **options)  # type: ignore[attr-defined]
             for tip, target in targets.items()
         }
         return _joined(self, results, seeds, time.perf_counter() - t0)
+
+    def _solve_together(self, targets: Mapping[str, object], q0, options: dict, t0: float):
+        """Chains sharing joints: one task per tip on the union model, the task solver."""
+        tasks = []
+        for tip, target in targets.items():
+            tasks += [_on(t, tip) for t in _as_tasks(target)]
+        opts = Options.from_kwargs(options)
+        check_options(opts, "auto")
+        start = self._start(targets, self._union.seed(q0), options)
+        r = solve_tasks(self._union, Problem(tuple(tasks)), start, opts, t0)
+        errors: dict[str, tuple] = {}
+        failed: list[str] = []
+        for task, e in zip(tasks, r.extra["task_errors"]):
+            pos, ori = errors.get(task.frame, (None, None))
+            worst = (
+                max(x for x in (pos, e.position) if x is not None)
+                if e.position is not None or pos is not None
+                else None,
+                max(x for x in (ori, e.orientation) if x is not None)
+                if e.orientation is not None or ori is not None
+                else None,
+            )
+            errors[task.frame] = worst
+            if not e.within and task.frame not in failed:
+                failed.append(task.frame)
+        reason = r.reason if not failed else f"tips not within their tasks: {failed}; {r.reason}"
+        return dataclasses.replace(r, reason=reason, extra={**r.extra, "errors": errors})
+
+    def _start(self, targets: Mapping[str, object], q: np.ndarray, options: dict):
+        """Where the descent over every joint starts: each chain in turn solved by its own
+        compiled solver from ``q``, the joints an earlier chain set (a torso) kept at its
+        values; the descent then reconciles the chains."""
+        q = q.copy()
+        fixed = np.zeros(self.dof, dtype=bool)
+        for tip, target in targets.items():
+            cols = self._columns[tip]
+            try:
+                r = self._chains[tip].solve(target, q0=q[cols], **options)  # type: ignore[attr-defined]
+            except ArmikError:  # a task this chain's solver does not take: start as is
+                continue
+            free = ~fixed[cols]
+            q[cols[free]] = r.q[free]
+            fixed[cols] = True
+        return q
 
     def _check_targets(self, targets: object) -> None:
         if not isinstance(targets, Mapping) or not targets:
@@ -118,6 +180,30 @@ class Arms:
                 frame=str(unknown[0]),
                 candidates=self.tips,
             )
+
+
+def _as_tasks(target: object) -> list[Task]:
+    """A tip's target as tasks: a task or list of them as given, a position as a
+    ``Position``, any pose as a ``Pose``."""
+    problem = as_problem(target)
+    if problem is not None:
+        return list(problem.tasks)
+    parsed = parse_target(target)
+    if parsed.rotation is None:
+        return [Position(parsed.position)]
+    return [Pose(pin.SE3(parsed.rotation, parsed.position))]
+
+
+def _on(task: Task, tip: str) -> Task:
+    """``task`` on ``tip`` (a task given for one tip names no other frame)."""
+    if task.frame not in (None, tip):
+        raise TargetError(
+            f"the target of tip {tip!r} holds a task on frame {task.frame!r}: give each tip "
+            "its own tasks"
+        )
+    twin = copy.copy(task)
+    twin.frame = tip
+    return twin
 
 
 def _joined(arms: Arms, results: dict[str, IKResult], seeds, elapsed: float) -> IKResult:

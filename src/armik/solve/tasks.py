@@ -137,6 +137,12 @@ def _descend(arm: ArmModel, tasks, ids, q: np.ndarray, opts: Options, iterations
         if lam is None:
             lam = LAMBDA0 * max(float(np.max(np.diag(H))), 1e-12)
         dq = np.linalg.solve(H + lam * np.eye(len(q)), -g)
+        # joints a step would push through their limits are held for it (an active set):
+        # clipping them alone leaves a step that no longer lowers the cost next to a limit
+        pushing = ((q <= lo) & (dq < 0.0)) | ((q >= hi) & (dq > 0.0))
+        if pushing.any():
+            Af = A * ~pushing
+            dq = np.linalg.solve(Af.T @ Af + lam * np.eye(len(q)), -(Af.T @ r))
         trial = np.clip(q + dq, lo, hi)
         placed2 = _placed(arm, trial, ids)
         r2, A2 = _stack(aims, ids, placed2)

@@ -1,0 +1,112 @@
+"""Several chains of one URDF from one base in one Pinocchio model: the joints on any chain
+free, every other joint held at its value in the chains' arms (neutral, or ``locked``).
+
+``armik.arms.Arms`` solves chains that share a joint (a torso, a lift) on it with the task
+solver (``armik.solve.tasks``), one task per tip, verified by Pinocchio's FK of this model.
+It gives that solver what it reads of an arm: the model, per-thread data, joint values to
+Pinocchio's configuration, limits, seeds and the base frame. Revolute, prismatic and
+continuous joints; a chain with a mimic joint is refused.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+
+import numpy as np
+import pinocchio as pin
+
+from armik.errors import JointError
+from armik.model.reduce import reduce_model
+from armik.model.urdf import read_urdf
+from armik.tolerances import LIMIT_TOL
+
+TWO_PI = 2.0 * math.pi
+
+
+class Union:
+    """The union of ``chains`` (``Arm`` objects of one URDF, one base) in one model."""
+
+    def __init__(self, chains: list) -> None:
+        first = chains[0]
+        full, _ = read_urdf(first.source)
+        names = list(dict.fromkeys(j for arm in chains for j in arm.joint_names))
+        for arm in chains:
+            if arm.mimics:
+                raise JointError(
+                    f"the chain to {arm.tip!r} has mimic joints: several tips over shared "
+                    "joints take chains without them for now",
+                    joint=next(iter(arm.mimics)),
+                )
+        q_ref = pin.neutral(full)
+        for arm in chains:
+            for jname, value in arm.locked.items():
+                jid = full.getJointId(jname)
+                if full.joints[jid].nq == 1:
+                    q_ref[full.joints[jid].idx_q] = value
+        keep = {full.getJointId(n) for n in names}
+        lock = [j for j in range(1, full.njoints) if full.joints[j].nq > 0 and j not in keep]
+        self.model = reduce_model(full, lock, q_ref)
+        self.tip = first.tip
+        self.tip_frame_id = self.model.getFrameId(first.tip)
+        base = self.model.getFrameId(first.base)
+        data = self.model.createData()
+        pin.framesForwardKinematics(self.model, data, pin.neutral(self.model))
+        self.T_base_world = data.oMf[base].inverse()
+        ids = [self.model.getJointId(n) for n in names]
+        self._order = sorted(range(len(ids)), key=lambda k: self.model.joints[ids[k]].idx_v)
+        self.joint_names = tuple(names[k] for k in self._order)
+        self.dof = self.model.nv
+        joints = [self.model.joints[self.model.getJointId(n)] for n in self.joint_names]
+        self._continuous = [j.nq == 2 for j in joints]
+        lo = [
+            -math.inf if c else self.model.lowerPositionLimit[j.idx_q]
+            for c, j in zip(self._continuous, joints)
+        ]
+        hi = [
+            math.inf if c else self.model.upperPositionLimit[j.idx_q]
+            for c, j in zip(self._continuous, joints)
+        ]
+        self.lower, self.upper = np.array(lo), np.array(hi)
+        self.middle = np.where(
+            np.isfinite(self.lower + self.upper), 0.5 * (self.lower + self.upper), 0.0
+        )
+        self._local = threading.local()
+
+    @property
+    def data(self) -> pin.Data:
+        data = getattr(self._local, "data", None)
+        if data is None:
+            data = self._local.data = self.model.createData()
+        return data
+
+    def to_pin(self, q: np.ndarray) -> np.ndarray:
+        """Joint values (rad, m; one angle per continuous joint) as Pinocchio's q."""
+        qp = np.empty(self.model.nq)
+        k = 0
+        for value, continuous in zip(np.asarray(q, dtype=float), self._continuous):
+            if continuous:
+                qp[k], qp[k + 1] = math.cos(value), math.sin(value)
+                k += 2
+            else:
+                qp[k] = value
+                k += 1
+        return qp
+
+    def fk(self, q: np.ndarray, frame: str | None = None) -> pin.SE3:
+        fid = self.tip_frame_id if frame is None else self.model.getFrameId(frame)
+        pin.forwardKinematics(self.model, self.data, self.to_pin(q))
+        return self.T_base_world * pin.updateFramePlacement(self.model, self.data, fid)
+
+    def seed(self, q0: object) -> np.ndarray:
+        return self.middle.copy() if q0 is None else np.asarray(q0, dtype=float).copy()
+
+    def random_q(self, rng: np.random.Generator | int | None = None) -> np.ndarray:
+        rng = np.random.default_rng(rng)
+        lo = np.where(np.isfinite(self.lower), self.lower, -math.pi)
+        hi = np.where(np.isfinite(self.upper), self.upper, math.pi)
+        return rng.uniform(lo, hi)
+
+    def within_limits(self, q: np.ndarray, tol: float = LIMIT_TOL) -> bool:
+        q = np.asarray(q, dtype=float)
+        return bool(np.all(q >= self.lower - tol) and np.all(q <= self.upper + tol))
