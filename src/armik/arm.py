@@ -27,7 +27,6 @@ from armik.solvers.registry import validate_name
 if TYPE_CHECKING:
     import numpy as np
     import pinocchio as pin
-    from numpy.typing import ArrayLike
 
     from armik.batch_result import BatchResult
     from armik.constraints.collision import Pair
@@ -353,12 +352,7 @@ class Arm(ArmModel):
     # -- solving --------------------------------------------------------------------------
 
     def solve(
-        self,
-        target: object,
-        *,
-        q0: ArrayLike | None = None,
-        solver: str = "auto",
-        **options: Any,
+        self, target: object, *, q0: object = None, solver: str = "auto", **options: Any
     ) -> IKResult:
         """Solve IK for ``target`` (SE3, 4x4, xyz, (xyz, quat xyzw), or xy on a planar arm).
 
@@ -372,12 +366,7 @@ class Arm(ArmModel):
         return result
 
     def solve_all(
-        self,
-        target: object,
-        *,
-        q0: ArrayLike | None = None,
-        solver: str = "auto",
-        **options: Any,
+        self, target: object, *, q0: object = None, solver: str = "auto", **options: Any
     ) -> list[IKResult]:
         """Every distinct solution the solver finds, each verified, best first."""
         if type(solver) is not str:
@@ -389,7 +378,7 @@ class Arm(ArmModel):
         self,
         targets: object,
         *,
-        q0: ArrayLike | None = None,
+        q0: object = None,
         solver: str = "auto",
         workers: int | None = None,
         **options: Any,
@@ -401,7 +390,7 @@ class Arm(ArmModel):
     def solve_path(
         self,
         poses: object,
-        q0: ArrayLike,
+        q0: object,
         *,
         max_joint_step: float | np.ndarray | None = None,
         plan: str = "follow",
@@ -416,7 +405,7 @@ class Arm(ArmModel):
     # -- collisions -----------------------------------------------------------------------
 
     def min_distance(
-        self, q: ArrayLike, obstacles: object = (), self_collision: bool = False
+        self, q: object, obstacles: object = (), self_collision: bool = False
     ) -> tuple[float, Pair | None]:
         """(distance m, (name_a, name_b)): the closest pair at joint values ``q`` (rad, m)
         among the arm's links and ``obstacles`` (shapes in the base frame) and, with
@@ -425,11 +414,7 @@ class Arm(ArmModel):
         return collision.min_distance(self, q, obstacles, self_collision)
 
     def in_collision(
-        self,
-        q: ArrayLike,
-        obstacles: object = (),
-        self_collision: bool = False,
-        margin: float = 0.0,
+        self, q: object, obstacles: object = (), self_collision: bool = False, margin: float = 0.0
     ) -> bool:
         """Whether some pair ``min_distance`` checks is closer than ``margin`` (m) at ``q``."""
         return collision.in_collision(self, q, obstacles, self_collision, margin)
