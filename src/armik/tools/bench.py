@@ -101,8 +101,8 @@ def bench_interleaved(
             peer.solve(poses[0].homogeneous, q0)
             peer.iterations.clear()
     names = list(solvers) + [p.name for p in peers]
-    times = {name: [] for name in names}
-    iters = {name: [] for name in names}
+    times: dict[str, list[float]] = {name: [] for name in names}
+    iters: dict[str, list[int]] = {name: [] for name in names}
     ok = dict.fromkeys(names, 0)
     violations = dict.fromkeys(names, 0)
     opts = Options(tol_position=tol, tol_orientation=tol)

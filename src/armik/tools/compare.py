@@ -151,18 +151,18 @@ def _measure(
             if ref is not None and same:
                 d = np.asarray(r.q) - ref
                 diffs.append(float(np.abs(np.arctan2(np.sin(d), np.cos(d))).max()))
-    successes = np.array(successes)
+    solved = np.array(successes)
     ms = np.array(times) * 1e3
     err = np.array(errors) if errors else np.array([np.nan])
-    report.samples[key] = {"time_ms": ms, "pos_err": err, "success": successes}
+    report.samples[key] = {"time_ms": ms, "pos_err": err, "success": solved}
     n_reach = int(reachable.sum())
     return Row(
         arm=arm.name,
         solver=solver,
         targets=len(targets),
         reachable=n_reach,
-        success_rate=100.0 * successes[reachable].mean() if n_reach else float("nan"),
-        honest_failures=100.0 * (~successes[~reachable]).mean() if (~reachable).any() else 100.0,
+        success_rate=100.0 * solved[reachable].mean() if n_reach else float("nan"),
+        honest_failures=100.0 * (~solved[~reachable]).mean() if (~reachable).any() else 100.0,
         pos_err_median=_stat(np.nanmedian, err),
         pos_err_max=_stat(np.nanmax, err),
         time_median_ms=float(np.median(ms)),
@@ -262,10 +262,10 @@ def run(
     for name in spatial:
         arm = load(name)
         poses = [arm.fk(arm.random_q(rng)) for _ in range(n)]
-        q0 = [arm.middle] * n
+        q0s = [arm.middle] * n
         for solver in ("dls", "qp", "auto"):
             report.rows.append(
-                _measure(arm, solver, poses, q0, np.ones(n, bool), f"{name}/{solver}", report)
+                _measure(arm, solver, poses, q0s, np.ones(n, bool), f"{name}/{solver}", report)
             )
 
     # 6R arms with a closed form: the analytic family against dls and qp.
@@ -403,7 +403,10 @@ def speed(
         opts = Options()
         # the closed form's prepared runner (what a prepared solve calls): compiled kernel
         # and ranking, no verification
-        run_pose = registry.get(family).prepare_pose(arm, opts, False)
+        prepare = registry.get(family).prepare_pose
+        if prepare is None:
+            raise TypeError(f"{name}'s solver {family!r} has no prepared runner to time")
+        run_pose = prepare(arm, opts, False)
         mats_armik = [T.homogeneous for T in poses]
         for T in poses[:20]:  # warm up: compiled kernels loaded, caches filled
             arm.solve(T, solver=family)

@@ -53,7 +53,9 @@ class BodyNodes:
             frame = scene.add_frame(f"{prefix}/part{i}", show_axes=False)
             self._frames.append(frame)
             if ghost is None:
-                node = scene.add_mesh_trimesh(f"{prefix}/part{i}/solid", part.mesh)
+                node: viser.SceneNodeHandle = scene.add_mesh_trimesh(
+                    f"{prefix}/part{i}/solid", part.mesh
+                )
             else:
                 hull = part.hull if body.kind == "meshes" else part.mesh
                 node = scene.add_mesh_simple(

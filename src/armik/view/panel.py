@@ -112,34 +112,37 @@ class Panel:
     def slider_q(self) -> np.ndarray:
         return np.array([s.value for s in self.sliders], dtype=float)
 
+    # The ``[misc]`` ignores below: viser defines its handles' ``value`` setter apart from
+    # the getter, which mypy then reads as a read-only property.
+
     def set_q(self, q: np.ndarray) -> None:
         """Move the sliders to ``q`` (clipped into their ranges); the server's own changes
         call no callback (``from_user``)."""
         for k, s in enumerate(self.sliders):
             lo, hi = slider_range(self._arm, k)
-            s.value = float(np.clip(q[k], lo, hi))
+            s.value = float(np.clip(q[k], lo, hi))  # type: ignore[misc]
 
     def show_result(self, r: IKResult, what: str) -> None:
         """Fill the answer rows from ``r``; ``what`` says what was solved."""
-        self.message.value = what
+        self.message.value = what  # type: ignore[misc]
         for attr, handle in self._fields.items():
             value = r.extra.get("score") if attr == "score" else getattr(r, attr)
-            handle.value = _text(attr, value)
-        self.reason.value = "" if r.success else r.reason
+            handle.value = _text(attr, value)  # type: ignore[misc]
+        self.reason.value = "" if r.success else r.reason  # type: ignore[misc]
 
     def show_note(self, what: str, reason: str = "") -> None:
         """No answer to show (FK from the sliders, a waypoint, an error): say what instead."""
-        self.message.value = what
+        self.message.value = what  # type: ignore[misc]
         for handle in self._fields.values():
-            handle.value = ""
-        self.reason.value = reason
+            handle.value = ""  # type: ignore[misc]
+        self.reason.value = reason  # type: ignore[misc]
 
 
 def _text(attr: str, value: object) -> str:
     if value is None:
         return "-"
     if attr == "time":
-        return f"{1e3 * float(value):.3f}"
+        return f"{1e3 * float(value):.3f}"  # type: ignore[arg-type]
     if attr in ("position_error", "orientation_error", "score"):
-        return f"{float(value):.3g}"
+        return f"{float(value):.3g}"  # type: ignore[arg-type]
     return str(getattr(value, "value", value))

@@ -67,7 +67,7 @@ def plot(
     ax.set_title(title if title is not None else arm.name, fontsize=10)
     if rest:
         ax.legend(fontsize=7, loc="upper left")
-    if fig is None:
+    if fig is None or path is None:  # path is None only with an ax given: fig is None
         return ax
     path = Path(path)
     fig.savefig(path, dpi=110)

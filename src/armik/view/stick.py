@@ -73,7 +73,7 @@ def stick_body(arm: ArmModel, note: str) -> Body:
     parts: list[Part] = []
 
     def add(joint: int, mesh: trimesh.Trimesh, color, what: str, placement=None) -> None:
-        mesh.visual.face_colors = color
+        mesh.visual.face_colors = color  # type: ignore[union-attr]  # a new mesh's: ColorVisuals
         parts.append(Part(joint, np.eye(4) if placement is None else placement, mesh, what))
 
     def rod_between(joint: int, a: np.ndarray, b: np.ndarray, what: str) -> None:

@@ -72,6 +72,8 @@ class Viewer:
     (the last ``IKResult``), ``solutions`` (the answers drawn as ghosts), ``obstacles``.
     """
 
+    _ghosts: list[tuple[BodyNodes, viser.LabelHandle]]  # here: __init__ has a local ``viser``
+
     def __init__(
         self,
         arm: Arm,
@@ -108,7 +110,7 @@ class Viewer:
         self._target: object = None
         self._pending: object = None
         self._solving = False
-        self._ghosts: list[tuple[BodyNodes, viser.LabelHandle]] = []
+        self._ghosts = []
         self._ghosts_on = False
         self._position_only = arm.dof < 6
 

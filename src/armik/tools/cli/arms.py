@@ -19,6 +19,7 @@ from armik.model.urdf import read_urdf, read_urdf_string
 from armik.result import IKResult
 from armik.solvers import registry
 from armik.solvers.closed_form import families
+from armik.solvers.closed_form.sixr import Chain6R
 
 
 def load_arm(args: argparse.Namespace) -> Arm:
@@ -221,7 +222,7 @@ def six_r_family(arm: Arm) -> str | None:
     6R search; None for an arm that is not 6R (all revolute)."""
     found = families.classify(arm)
     general = found.get("general_6r")
-    if isinstance(general, str):
+    if not isinstance(general, Chain6R):  # the reason it does not apply
         return None
     for name, geo in found.items():
         if name not in ("general_6r", "planar") and not isinstance(geo, str):

@@ -9,6 +9,7 @@ import sys
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
+from typing import NoReturn
 
 from armik.errors import ArmikError, ArmikWarning
 from armik.model.catalogue import SPATIAL_ARMS
@@ -68,7 +69,7 @@ class _Parser(argparse.ArgumentParser):
         # "-1e-3" is a number, not an option: argparse's own pattern misses exponents.
         self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
 
-    def error(self, message: str) -> None:  # one line, exit code 2
+    def error(self, message: str) -> NoReturn:  # one line, exit code 2
         print(f"armik: error: {message} (see '{self.prog} --help')", file=sys.stderr)
         raise SystemExit(2)
 
