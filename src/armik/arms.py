@@ -21,6 +21,7 @@ import copy
 import dataclasses
 import time
 from collections.abc import Mapping
+from typing import cast
 
 import numpy as np
 import pinocchio as pin
@@ -114,7 +115,7 @@ class Arms:
         t0 = time.perf_counter()
         self._check_targets(targets)
         if self._union is not None:
-            return self._solve_together(targets, q0, options, t0)
+            return self._solve_together(self._union, targets, q0, options, t0)
         seeds = self.split(self.middle if q0 is None else q0)
         results = {
             tip: self._chains[tip].solve(target, q0=seeds[tip], **options)  # type: ignore[attr-defined]
@@ -122,19 +123,23 @@ class Arms:
         }
         return _joined(self, results, seeds, time.perf_counter() - t0)
 
-    def _solve_together(self, targets: Mapping[str, object], q0, options: dict, t0: float):
-        """Chains sharing joints: one task per tip on the union model, the task solver."""
+    def _solve_together(
+        self, union: Union, targets: Mapping[str, object], q0, options: dict, t0: float
+    ):
+        """Chains sharing joints: one task per tip on ``union``, the task solver."""
         tasks = []
         for tip, target in targets.items():
             tasks += [_on(t, tip) for t in _as_tasks(target)]
         opts = Options.from_kwargs(options)
         check_options(opts, "auto")
-        start = self._start(targets, self._union.seed(q0), options)
-        r = solve_tasks(self._union, Problem(tuple(tasks)), start, opts, t0)
+        start = self._start(targets, union.seed(q0), options)
+        # the union serves as the arm: it has what solve_tasks reads (annotated ArmModel)
+        r = solve_tasks(union, Problem(tuple(tasks)), start, opts, t0)  # type: ignore[arg-type]
         errors: dict[str, tuple] = {}
         failed: list[str] = []
         for task, e in zip(tasks, r.extra["task_errors"]):
-            pos, ori = errors.get(task.frame, (None, None))
+            tip = cast(str, task.frame)  # ``_on`` named the tip
+            pos, ori = errors.get(tip, (None, None))
             worst = (
                 max(x for x in (pos, e.position) if x is not None)
                 if e.position is not None or pos is not None
@@ -143,9 +148,9 @@ class Arms:
                 if e.orientation is not None or ori is not None
                 else None,
             )
-            errors[task.frame] = worst
-            if not e.within and task.frame not in failed:
-                failed.append(task.frame)
+            errors[tip] = worst
+            if not e.within and tip not in failed:
+                failed.append(tip)
         reason = r.reason if not failed else f"tips not within their tasks: {failed}; {r.reason}"
         return dataclasses.replace(r, reason=reason, extra={**r.extra, "errors": errors})
 
@@ -208,7 +213,8 @@ def _on(task: Task, tip: str) -> Task:
 
 def _joined(arms: Arms, results: dict[str, IKResult], seeds, elapsed: float) -> IKResult:
     # one loop over the tips: this runs on every solve of a cell
-    parts, solvers, failed, errors = [], {}, [], {}
+    solvers: dict[str, None] = {}  # the solvers' names, in order, once each
+    parts, failed, errors = [], [], {}
     iterations = restarts = 0
     position, orientation, singular = 0.0, None, False
     for tip in arms.tips:
