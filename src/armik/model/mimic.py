@@ -207,10 +207,9 @@ def travel(arm) -> float:
     return total
 
 
-def reason(mimics: tuple[Mimic, ...]) -> str | None:
-    """Why a closed form does not apply to a chain with mimic joints, or None."""
-    if not mimics:
-        return None
+def reason(mimics: tuple[Mimic, ...]) -> str:
+    """Why a closed form does not apply to a chain with the mimic joints ``mimics`` (one
+    at least: its callers ask only for an arm with mimic joints)."""
     m = mimics[0]
     return (
         f"joint {m.name!r} mimics {m.driver!r} (multiplier {m.multiplier:g}, offset "

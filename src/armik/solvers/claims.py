@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import MISSING, dataclass, fields
 from functools import partial
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -83,7 +83,7 @@ _ATTEMPT_DEFAULTS = {
 _ATTEMPT_NAMES = frozenset(f.name for f in fields(Attempt))
 
 
-def attempt(**row: object) -> Attempt:
+def attempt(**row: Any) -> Attempt:
     """``Attempt(**row)``, built without the generated frozen ``__init__`` (a setattr per
     field, a microsecond per solve) when ``claim`` is a ``Status`` and every field without
     a default is given: the object that ``Attempt(**row)`` builds."""

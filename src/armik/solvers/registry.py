@@ -123,6 +123,7 @@ def choose(
     the applicable solver of highest priority, where a search (``complete=False``) counts
     only with ``every`` (every solution, ``solve_all``). ``SolverError`` when ``name`` is not
     a registered name (or not a str)."""
+    spec: SolverSpec | None
     if not isinstance(name, str) or name != "auto":
         spec = get(name)
         reason = spec.why_not(arm, target, opts)
@@ -134,6 +135,7 @@ def choose(
             )
         return spec
     # remembered per arm: applicability reads the target only for whether it is a position
+    key: tuple[bool, Options | None, bool, int] | None
     key = (target is not None and target.rotation is None, opts, every, generation)
     chosen = arm._memo.get(_AUTO, {})
     try:

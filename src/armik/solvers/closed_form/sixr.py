@@ -302,9 +302,9 @@ def reason(code: int, val: tuple[float, float] | np.ndarray, family: str) -> str
     return "no exact solution; q is the closest configuration"
 
 
-def geometry(arm: ArmModel, family: str, classify) -> Chain6R | str:
+def geometry(arm: ArmModel, family: str, classify):
     """The family's geometry of ``arm`` (remembered per arm) or the reason it does not
-    apply."""
+    apply: what ``classify(arm)`` returns (a ``Chain6R`` or, for ``swept_7r``, a ``Swept``)."""
     return arm.memo(("6R geometry", family), classify)
 
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 from numba import njit
@@ -264,7 +265,7 @@ def at_value(arm: ArmModel, target: Target, q0: np.ndarray, theta: float) -> lis
     """Every branch with joint 7 held at exactly ``theta`` (rad), nearest q0 first: joints
     6 to 1 by the spherical closed form, no sweep (``hold=`` on joint 7; ``applies`` must
     hold)."""
-    sw = geometry(arm)
+    sw = cast(Swept, geometry(arm))  # ``applies`` holds: the geometry, no reason
     R, pos = (np.array(x) for x in sixr.pose_arrays(target))  # writable: one signature
     R_inv, p_inv = held_target(sw.c, sw.u, R, pos, float(theta))
     q0r, lor, hir = (np.array(x[5::-1], dtype=float) for x in (q0, arm.lower, arm.upper))
@@ -284,7 +285,7 @@ def run(
     arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
 ) -> list[Attempt]:
     R, pos = sixr.pose_arrays(target)
-    sw = geometry(arm)
+    sw = cast(Swept, geometry(arm))  # ``applies`` holds: the geometry, no reason
     theta, rows, found = _held(arm, sw, R, pos, np.ascontiguousarray(q0, float))
     if all_solutions:
         exact = [r for r in rows if not int(r[7]) & sixr.LS]
@@ -304,7 +305,7 @@ def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):
     """``run_pose`` for ``armik.solve.prepared`` (see
     ``armik.solvers.numeric.driver.pose_runner``); position_only is always False
     (``applies`` refuses position targets), ``solve_all`` takes the general path."""
-    sw = geometry(arm)
+    sw = cast(Swept, geometry(arm))  # ``applies`` holds: the geometry, no reason
     lower = np.ascontiguousarray(arm.lower, dtype=float)
     upper = np.ascontiguousarray(arm.upper, dtype=float)
 

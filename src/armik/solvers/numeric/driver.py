@@ -107,14 +107,14 @@ def packed_settings(
         max_found,
         step,
     )
-    packed = _PACKED.get(key)
-    if packed is None:
+    found = _PACKED.get(key)
+    if found is None:
         packed = pack_settings(settings(opts, position_only, dof, max_found, step))
         if len(_PACKED) > 512:
             _PACKED.clear()
         _PACKED[key] = (budget, packed)
         return packed
-    remembered, packed = packed
+    remembered, packed = found
     if budget == remembered:
         return packed
     sf, si = packed
@@ -404,8 +404,8 @@ def descend(
     count = 0 if minima is None else len(minima)
     if count > ws.minima.shape[0]:
         raise ValueError(f"at most {ws.minima.shape[0]} known minima")
-    for k in range(count):
-        ws.minima[k] = pb.arm.from_pin(minima[k])
+    for k, row in enumerate(() if minima is None else minima):
+        ws.minima[k] = pb.arm.from_pin(row)
     ws.q[0] = pb.arm.from_pin(qp)
     deadline_ns = NO_LIMIT
     if math.isfinite(deadline):
