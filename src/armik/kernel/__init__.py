@@ -15,6 +15,13 @@ function recompiles only its module and the ones that call it.
 - ``box_qp``: the QP backend the qp step falls back to (object mode, qpsolvers).
 - ``warmup``: a cold first solve compiled on two cores (the step in a helper process).
 - ``notice``: the line on stderr while a first call compiles.
+
+The solve (``descent.solve_one_dls``, ``solve_one_qp``) and the functions its loop calls are
+compiled with ``_nrt=False``: without numba's reference counting, whose atomic increments
+and decrements for every view of the workspace and every tuple passed on took half the time
+of an iteration. Nothing compiled so allocates; the entries own the arrays. A function that
+allocates and may be called from there says ``_nrt=True``: a function that does not set it
+is compiled with its first caller's setting.
 """
 
 import warnings

@@ -12,10 +12,9 @@ from __future__ import annotations
 from numba import njit
 
 from armik.kernel.chain import Flat, joints
-from armik.kernel.descent import solve_one
+from armik.kernel.descent import solve_one_dls, solve_one_qp
 from armik.kernel.problem import _workspace
 from armik.kernel.problem import unpack as unpack_settings
-from armik.kernel.step import dls, qp
 
 MINIMA_CAPACITY = 256  # known minima kept per solve (the oldest are dropped beyond)
 
@@ -30,7 +29,7 @@ def solve_targets_dls(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, out_q, 
     st = unpack_settings(sf, si)
     ws = _workspace(q0.shape[1], min(st.max_restarts + 1, MINIMA_CAPACITY), joints(ch))
     for i in range(R_t.shape[0]):
-        solve_one(ch, st, R_t[i], p_t[i], q0[i], seeds[i], ws, out_q[i], info[i], err[i], dls)
+        solve_one_dls(ch, st, R_t[i], p_t[i], q0[i], seeds[i], ws, out_q[i], info[i], err[i])
 
 
 @njit(cache=True, nogil=True)
@@ -40,7 +39,7 @@ def solve_targets_qp(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, out_q, i
     st = unpack_settings(sf, si)
     ws = _workspace(q0.shape[1], min(st.max_restarts + 1, MINIMA_CAPACITY), joints(ch))
     for i in range(R_t.shape[0]):
-        solve_one(ch, st, R_t[i], p_t[i], q0[i], seeds[i], ws, out_q[i], info[i], err[i], qp)
+        solve_one_qp(ch, st, R_t[i], p_t[i], q0[i], seeds[i], ws, out_q[i], info[i], err[i])
 
 
 ENTRIES = (solve_targets_dls, solve_targets_qp)  # indexed by problem.STEP_DLS, STEP_QP

@@ -18,7 +18,7 @@ from armik.kernel.fk import forward, jacobian_local
 from armik.kernel.se3 import jlog6_ab, log3, log6_ab
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 def relative(ch, q, R_t, p_t, ws):
     """FK at q, then ws.m3[1], ws.v3[1] = T_tip^-1 T_target (rotation, translation in the
     tip frame)."""
@@ -31,7 +31,7 @@ def relative(ch, q, R_t, p_t, ws):
             M[i, j] = R[0, i] * R_t[0, j] + R[1, i] * R_t[1, j] + R[2, i] * R_t[2, j]
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 def _evaluate(ch, st, R_t, p_t, ws, slot):
     """Error (ws.e[slot]), Jacobian (ws.A[slot]) and ws.val[slot] = (position error,
     orientation error, |e|^2) at the joint values ws.q[slot]."""

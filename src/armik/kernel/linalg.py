@@ -102,7 +102,7 @@ def cholesky6(H, g, x):
     return True
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 def cholesky_factor(H, free, L):
     """L: the Cholesky factor of H[F][:, F] (F: the joints where ``free``, ints, is not 0),
     in the rows and columns of F, with the INVERSE of its diagonal on the diagonal (one
@@ -141,7 +141,7 @@ def cholesky_factor(H, free, L):
     return True
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 def cholesky_substitute(L, g, free, x):
     """x: the solution of L L^T x = g on the joints F of ``cholesky_factor``, 0 elsewhere."""
     n = L.shape[0]
@@ -187,7 +187,7 @@ def cholesky_solve(H, g, free, L, x):
     return True
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 def solve_spd(H, g, free, L, x):
     """``cholesky_solve``; when H is not positive definite in floating point, the diagonal
     is raised by 1e-12, 1e-10, ... of its largest entry until it is (x = 0 if never)."""
@@ -196,6 +196,14 @@ def solve_spd(H, g, free, L, x):
     if cholesky_factor(H, free, L):
         cholesky_substitute(L, g, free, x)
         return
+    _solve_jittered(H, g, free, L, x)
+
+
+# _nrt=True spelled out: a callee that does not set it inherits its caller's setting
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=True)
+def _solve_jittered(H, g, free, L, x):
+    """``solve_spd`` once the plain factorisation failed (it allocates: compiled with the
+    runtime that ``solve_spd`` goes without)."""
     n = H.shape[0]
     scale = 0.0
     for i in range(n):

@@ -21,7 +21,7 @@ from armik.kernel.fk import jacobian_local
 from armik.kernel.se3 import jlog3, log3
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 def _evaluate_region(ch, bounds, w, R_t, p_t, ws, slot):
     """ws.e[slot], ws.A[slot] and ws.val[slot] at ws.q[slot] for the target (R_t, p_t)
     within ``bounds`` (6,), weighted by ``w`` (6,)."""

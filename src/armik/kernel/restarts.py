@@ -55,7 +55,7 @@ def restart_point(ch, shift, k, out):
         out[j] = lo[j] + span[j] * u
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 def _pick(ch, st, R_t, p_t, ws, k, out):
     """out: of the restart points k .. k + RESTART_CANDIDATES - 1, the one whose tip lands
     nearest the target. Returns the index of the next unused point."""

@@ -31,7 +31,7 @@ def rotation_angle(R):
 
 # Compiled once and called, not inlined: inlined, numba copied and compiled it again at
 # each of its three sites (log6_ab, the restart score, the check), ~1.3 s per process.
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 def log3(R, w):
     """w = log(R) (rad, the rotation vector); returns its angle theta = |w| in [0, pi]."""
     sx = R[2, 1] - R[1, 2]

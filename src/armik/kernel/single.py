@@ -16,12 +16,11 @@ import numpy as np
 from numba import njit
 
 from armik.kernel.chain import Flat, joints, lower, upper
-from armik.kernel.descent import solve_one
+from armik.kernel.descent import solve_one_dls, solve_one_qp
 from armik.kernel.entry import MINIMA_CAPACITY
 from armik.kernel.measure import inside_limits, split_pose
 from armik.kernel.problem import _workspace
 from armik.kernel.problem import unpack as unpack_settings
-from armik.kernel.step import dls, qp
 from armik.tolerances import LIMIT_TOL, MAX_POSITION
 
 ORTHONORMAL_TOL = 1e-14  # |R^T R - I| that the parser keeps without snapping to a rotation
@@ -66,8 +65,9 @@ def plain_seed(q, lo, hi):
 
 
 # The two entries spell out the same few lines rather than inline one helper taking the
-# step: numba inlines by copying the callee's IR, and that copy would be of solve_one's whole
-# inlined IR once more (~0.5 s per process).
+# step: numba inlines by copying the callee's IR (compile time in every process). The solve
+# itself is ``descent.solve_one_dls`` (or ``_qp``), compiled once for these entries and
+# ``entry``'s.
 @njit(cache=True, nogil=True)
 def solve_pose_dls(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
     """One target, the 4x4 pose ``H`` in the base frame, from ``q0`` with restart seed
@@ -79,7 +79,7 @@ def solve_pose_dls(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
     st = unpack_settings(sf, si)
     R_t, p_t = split_pose(H)
     ws = _workspace(q0.shape[0], min(st.max_restarts + 1, MINIMA_CAPACITY), joints(ch))
-    solve_one(ch, st, R_t, p_t, q0, np.uint64(seed), ws, out_q, info, err, dls)
+    solve_one_dls(ch, st, R_t, p_t, q0, np.uint64(seed), ws, out_q, info, err)
     return True
 
 
@@ -92,7 +92,7 @@ def solve_pose_qp(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
     st = unpack_settings(sf, si)
     R_t, p_t = split_pose(H)
     ws = _workspace(q0.shape[0], min(st.max_restarts + 1, MINIMA_CAPACITY), joints(ch))
-    solve_one(ch, st, R_t, p_t, q0, np.uint64(seed), ws, out_q, info, err, qp)
+    solve_one_qp(ch, st, R_t, p_t, q0, np.uint64(seed), ws, out_q, info, err)
     return True
 
 

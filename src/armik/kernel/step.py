@@ -226,7 +226,7 @@ def active_set(G_, x_free, lb, ub, start, side, held, sub, Hh, gap, mult, Lm, x)
     return False
 
 
-@njit(cache=True)  # not nogil: object mode needs the GIL
+@njit(cache=True, _nrt=True)  # not nogil: object mode needs the GIL
 def backend_step(Hm, g, lb, ub, which):
     """The QP backend's solution (NaNs if none), called with the GIL held (object mode)."""
     with objmode(sol="float64[:]"):
@@ -365,7 +365,7 @@ def task_space_step(ch, st, ws, slot, q0, mu):
     return True
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 def dls(ch, st, ws, slot, q0, mu):
     """ws.vec[DQ]: the dls step from state ``slot`` (damping multiplier mu)."""
     if ws.q.shape[1] > 6 and task_space_step(ch, st, ws, slot, q0, mu):
@@ -374,7 +374,7 @@ def dls(ch, st, ws, slot, q0, mu):
     dls_step(ch, ws, slot)
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=True)
 def qp(ch, st, ws, slot, q0, mu):
     """ws.vec[DQ]: the qp step from state ``slot`` (damping multiplier mu)."""
     normal_equations(ch, st, ws, slot, q0, mu)
