@@ -15,7 +15,8 @@ def save(path: str | Path, meta: dict, arrays: dict[str, np.ndarray]) -> Path:
     """Write ``arrays`` and ``meta`` (JSON, with its "format") to ``path``."""
     path = Path(path)
     with open(path, "wb") as f:
-        np.savez(f, **arrays, meta=np.array(json.dumps(meta)))
+        # arg-type: numpy's stubs let the ** fill savez's allow_pickle, a bool
+        np.savez(f, **arrays, meta=np.array(json.dumps(meta)))  # type: ignore[arg-type]
     return path
 
 

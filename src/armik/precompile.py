@@ -20,6 +20,7 @@ import os
 import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from typing import Any
 
 import numpy as np
 
@@ -29,7 +30,8 @@ from armik.errors import OptionError, listing
 from armik.model.random_arms import random_urdf
 from armik.solve.progress import make_progress
 
-_BUDGET = {"iteration_budget": 200, "seed": 0}  # a few iterations suffice to compile
+# a few iterations suffice to compile
+_BUDGET: dict[str, Any] = {"iteration_budget": 200, "seed": 0}
 
 
 def _pose(arm: Arm, seed: int):

@@ -162,7 +162,7 @@ def _wait_for(helper: subprocess.Popen, line: str) -> None:
     timer.daemon = True
     timer.start()
     try:
-        for got in helper.stdout:
+        for got in helper.stdout or ():  # a pipe (stdout=PIPE): never None
             if got.strip() == line:
                 return
     finally:

@@ -44,7 +44,7 @@ def default_tip(info: URDFInfo, base: str) -> tuple[str, str]:
         return tool
     if len(top) == 1:
         return top[0][0], f"the leaf at the end of the longest chain ({best} moving joints)"
-    lasts = {last for _, _, last in top}
+    lasts = {last for _, _, last in top if last is not None}  # each: best > 0 moving joints
     if len(lasts) == 1:
         joint = info.joints[lasts.pop()]
         return joint.child, (

@@ -25,7 +25,7 @@ import hashlib
 import pickle
 import time
 from functools import lru_cache
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -64,7 +64,13 @@ def _plugin_base():
     return WorkerPlugin
 
 
-class ArmOnWorker(_plugin_base()):
+if TYPE_CHECKING:
+    from distributed import WorkerPlugin as _PluginBase
+else:
+    _PluginBase = _plugin_base()
+
+
+class ArmOnWorker(_PluginBase):
     """Per-worker state: one arm, rebuilt from its recipe when the worker starts."""
 
     def __init__(self, blob: bytes, name: str) -> None:
@@ -91,7 +97,7 @@ def _worker_arm(name: str, blob: bytes) -> ArmModel:
     try:
         from distributed import get_worker
 
-        plugin = get_worker().plugins.get(name)
+        plugin = cast("ArmOnWorker | None", get_worker().plugins.get(name))  # ours, by name
     except (ImportError, ValueError):
         plugin = None
     if plugin is not None and plugin.arm is not None:

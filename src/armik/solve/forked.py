@@ -22,7 +22,8 @@ import pickle
 import sys
 import threading
 from collections.abc import Callable, Sequence
-from multiprocessing.connection import wait
+from multiprocessing.connection import Connection, wait
+from typing import cast
 
 from armik.errors import ArmikError
 
@@ -105,7 +106,8 @@ class _Failed:
 def _receive(open_: dict, collect, block: bool) -> None:
     """Collect what the children have sent (with ``block``, wait for at least one message
     or end); a child that ended or failed is closed and removed from ``open_``."""
-    for receive in wait(list(open_), timeout=None if block else 0):
+    for ready in wait(list(open_), timeout=None if block else 0):
+        receive = cast(Connection, ready)  # a key of open_: a pipe's receiving end
         child = open_[receive]
         try:
             message = receive.recv()

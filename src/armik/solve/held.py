@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 from collections import OrderedDict
 from dataclasses import replace
+from typing import cast
 
 import numpy as np
 
@@ -89,7 +90,8 @@ def solve_held(
     ``every``, else one result. ``general``: ``armik.solve.single``'s general path, which
     solves the locked arm (passed in: that module calls this one)."""
     seed = arm.seed(q0)
-    k, value = held_joint(arm, opts.hold, seed)
+    hold = cast("tuple[str, float | None]", opts.hold)  # set: the caller checked
+    k, value = held_joint(arm, hold, seed)
     name = arm.joint_names[k]
     tgt = parse_target(target, arm)
     if k == 6 and solver in ("auto", "swept") and swept_7r.applies(arm, tgt, opts) is None:

@@ -12,6 +12,8 @@ import dataclasses
 import itertools
 import math
 import time
+from collections.abc import Callable
+from typing import cast
 
 import numpy as np
 
@@ -46,13 +48,12 @@ def best_variant(arm: ArmModel, q: np.ndarray, score: Score, q0: np.ndarray) -> 
     choices = turns(arm, q)
     if all(len(c) == 1 for c in choices):
         return q
-    if score.per_joint(arm, 0, float(q[0]), q0) is not None:
-        return np.array(
-            [
-                min(c, key=lambda v, i=i: score.per_joint(arm, i, v, q0))
-                for i, c in enumerate(choices)
-            ]
-        )
+    if score.per_joint(arm, 0, float(q[0]), q0) is not None:  # then a float for each joint
+
+        def by_joint(i: int) -> Callable[[float], float]:
+            return lambda v: cast(float, score.per_joint(arm, i, v, q0))
+
+        return np.array([min(c, key=by_joint(i)) for i, c in enumerate(choices)])
     combos = itertools.islice(itertools.product(*choices), MAX_VARIANTS)
     return min((np.array(c) for c in combos), key=lambda x: score(arm, x, q0))
 
@@ -63,7 +64,8 @@ def rank(
     """The successes of ``results``, each as its best 2 pi variant, best ``score`` first
     (ties: in the order found), then the failures as they were; each success carries its
     score in ``extra["score"]`` and the score's name in its reason."""
-    scored, seen = [], set()
+    scored: list[tuple[float, int, IKResult, np.ndarray]] = []
+    seen: set[tuple[float, ...]] = set()
     for r in results:
         if r.success:
             q = best_variant(arm, np.asarray(r.q), score, q0)

@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -78,7 +79,8 @@ class ReachMap:
     def load(cls, path: str | Path) -> ReachMap:
         keys = ("xs", "ys", "zs", "fraction")
         meta, arrays = npz.load(path, FORMAT, "a reachability map", keys)
-        return cls(**arrays, **meta)
+        xs, ys, zs, fraction = (arrays[k] for k in keys)
+        return cls(xs=xs, ys=ys, zs=zs, fraction=fraction, **meta)
 
     def plot(self, path: str | Path, slices: int = 5) -> Path:
         """Write a PNG: a vertical slice (x, z) through the first joint and ``slices``
@@ -203,7 +205,7 @@ def reachability(
     targets = TargetBatch(
         np.repeat(centres, k, axis=0), np.tile(rotations, (v, 1, 1))
     )  # voxel-major: rows v k .. v k + k - 1 are voxel v
-    opts = {**DEFAULT_OPTIONS, **options}
+    opts: dict[str, Any] = {**DEFAULT_OPTIONS, **options}
     if client is not None:
         # Dask is imported only when a cluster is used: it takes a second to import
         from armik.solve.distributed import solve_batch as cluster_solve

@@ -224,7 +224,7 @@ def _from_rows7(rows: np.ndarray) -> TargetBatch:
     return TargetBatch(rows[:, :3], R)
 
 
-def _from_sequence(values: Sequence, arm: ArmModel | None) -> TargetBatch:
+def _from_sequence(values: Sequence | np.ndarray, arm: ArmModel | None) -> TargetBatch:
     n = len(values)
     if n == 2 and _looks_like_one_pose(values):
         raise TargetError(
@@ -253,7 +253,7 @@ def _from_sequence(values: Sequence, arm: ArmModel | None) -> TargetBatch:
     return TargetBatch(positions, rotations if has_rotation else None)
 
 
-def _looks_like_one_pose(values: Sequence) -> bool:
+def _looks_like_one_pose(values: Sequence | np.ndarray) -> bool:
     shapes = []
     for v in values:
         arr = _numeric_array(v) if not hasattr(v, "as_matrix") else np.zeros((3, 3))

@@ -154,7 +154,8 @@ def collision_verdict(row: dict, check, margin: float) -> dict:
     one only when the closest checked pair (``check.distance``) is at least ``margin`` (m)
     apart; else ``Status.COLLISION``. The distance and pair go to the result's ``extra``
     (``min_distance`` m, ``closest_pair``)."""
-    return distance_verdict(row, *check.distance(row["q"]), margin)
+    distance, pair = check.distance(row["q"])
+    return distance_verdict(row, distance, pair, margin)
 
 
 def distance_verdict(row: dict, distance: float, pair, margin: float) -> dict:

@@ -132,7 +132,7 @@ def _nearest(arm, spec, target, q0, opts, k, half, thetas) -> list[Attempt]:
 def _every_branch(arm, spec, target, q0, opts, k, half, thetas) -> list[Attempt]:
     """Each branch's answer nearest q0 over the range (branches by the closed form's
     labels)."""
-    samples: dict[str, list[tuple[float, float]]] = {}
+    samples: dict[str | None, list[tuple[float, float]]] = {}
     for t in thetas.tolist():
         for a in _exact(arm, spec, target, q0, opts, k, t):
             samples.setdefault(a.branch, []).append((float(np.linalg.norm(a.q - q0)), t))
@@ -142,7 +142,7 @@ def _every_branch(arm, spec, target, q0, opts, k, half, thetas) -> list[Attempt]
     for label, found in samples.items():
         d0, t0 = min(found)
 
-        def f(t: float, label: str = label) -> float:
+        def f(t: float, label: str | None = label) -> float:
             rows = [a for a in _exact(arm, spec, target, q0, opts, k, t) if a.branch == label]
             return float(np.linalg.norm(rows[0].q - q0)) if rows else math.inf
 
