@@ -23,9 +23,11 @@ import sys
 import threading
 from collections.abc import Callable, Sequence
 from multiprocessing.connection import Connection, wait
-from typing import cast
+from typing import TypeVar, cast
 
 from armik.errors import ArmikError
+
+T = TypeVar("T")  # what a chunk's work returns and collect takes
 
 
 def usable() -> bool:
@@ -36,10 +38,10 @@ def usable() -> bool:
 
 
 def run(
-    work: Callable[[int], object],
+    work: Callable[[int], T],
     starts: Sequence[int],
     workers: int,
-    collect: Callable[[int, object], None],
+    collect: Callable[[int, T], None],
 ) -> None:
     """``collect(start, work(start))`` in this process for every ``start``, the work shared
     with ``workers - 1`` forked children; ``collect`` runs in this process only, in the
