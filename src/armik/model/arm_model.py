@@ -471,8 +471,7 @@ class ArmModel:
 
     @cached_property
     def kernel_chain(self) -> KernelChain:
-        """The compiled kernel's view of this chain (``armik.kernel.chain.Chain``): plain
-        arrays read once from the model."""
+        """The compiled kernel's view of this chain: plain arrays read once from the model."""
         return build_chain(self)
 
     @cached_property
