@@ -1,42 +1,69 @@
-"""Every Python block of docs/*.md runs, as the README's do (tests/test_readme.py): the
-blocks of one page in order, in one namespace, in a scratch folder. A block that cannot
-run here (a cluster's address, a file the user has) is marked just before it with
-``<!-- not-run: the reason -->``, and the reason must be given."""
+"""Every Python block of docs/*.md runs, as the README's do (tests/test_readme.py, the same
+helper: tests/doc_blocks.py): the blocks of one page in order, in one namespace, in a
+scratch folder, with no network. A block that cannot run here (a cluster's address, a file
+the user has) is marked on the line just before it with ``<!-- not-run: the reason -->``,
+and the reason must be given."""
 
 from __future__ import annotations
 
 import re
-import warnings
+import socket
 from pathlib import Path
 
 import pytest
 
+from tests.doc_blocks import blocks, run
+
 DOCS = Path(__file__).resolve().parents[1] / "docs"
-BLOCK = re.compile(r"(<!-- not-run:(?P<why>[^>]*)-->\s*\n)?```python\n(?P<code>.*?)```", re.S)
-PAGES = sorted(p for p in DOCS.glob("*.md") if "```python" in p.read_text())
+ALL_PAGES = sorted(DOCS.glob("*.md"))
+PAGES = [p for p in ALL_PAGES if blocks(p.read_text(), p.name)]
+needs_docs = pytest.mark.skipif(not ALL_PAGES, reason="docs/ is not part of this tree (an sdist)")
 
 
-def blocks(page: Path) -> list[tuple[str, str | None]]:
-    """(code, reason not run or None) of each Python block of ``page``, in order."""
-    return [(m["code"], m["why"]) for m in BLOCK.finditer(page.read_text())]
-
-
+@needs_docs
 def test_every_page_with_code_is_found():
     assert {p.name for p in PAGES} >= {"batch.md", "tolerances.md", "preferences.md"}
+
+
+@needs_docs
+@pytest.mark.parametrize("page", ALL_PAGES, ids=lambda p: p.name)
+def test_no_python_escapes_the_test(page):
+    """Python is fenced as ```python (other spellings would not be run), and every
+    not-run marker sits on the line just before a Python block's fence."""
+    text = page.read_text()
+    other = re.findall(r"^```(py|python3|pycon|ipython)\b", text, flags=re.M)
+    assert not other, f"{page.name}: fence Python blocks as ```python, not {other}"
+    marked = sum(block.not_run is not None for block in blocks(text, page.name))
+    assert text.count("<!-- not-run:") == marked, (
+        f"{page.name}: a <!-- not-run: ... --> marker is not on the line before a ```python fence"
+    )
+
+
+def test_a_not_run_marker_needs_a_reason():
+    text = "<!-- not-run: needs a cluster -->\n```python\nx = 1\n```\n"
+    assert [b.not_run for b in blocks(text)] == ["needs a cluster"]
+    with pytest.raises(ValueError, match="must say why"):
+        blocks(text.replace("needs a cluster", " "))
+
+
+_connect = socket.socket.connect
+
+
+def _no_network(self, address):
+    if self.family in (socket.AF_INET, socket.AF_INET6):
+        raise OSError(f"a docs block tried to connect to {address}: nothing may download")
+    return _connect(self, address)
 
 
 @pytest.mark.parametrize("page", PAGES, ids=lambda p: p.name)
 def test_the_blocks_of_a_page_run(page, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     monkeypatch.setenv("MPLBACKEND", "Agg")
-    namespace: dict = {}
+    monkeypatch.setattr(socket.socket, "connect", _no_network)
+    namespace: dict = {"__name__": "__docs__"}
     ran = 0
-    for code, why in blocks(page):
-        if why is not None:
-            assert why.strip(), f"{page.name}: a not-run block must say why"
-            continue
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            exec(compile(code, f"{page.name} block", "exec"), namespace)
-        ran += 1
+    for block in blocks(page.read_text(), page.name):
+        if block.not_run is None:
+            run(block.code, str(page), namespace, block.line)
+            ran += 1
     assert ran, f"{page.name}: every block is marked not-run"

@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 
 import armik
+from tests.doc_blocks import python_blocks, run
 
 ROOT = Path(__file__).parents[1]
 README = (ROOT / "README.md").read_text()
@@ -21,22 +22,11 @@ GUIDES = [p for p in (ROOT / "CONTRIBUTING.md", ROOT / "CHANGELOG.md") if p.exis
 needs_docs = pytest.mark.skipif(not PAGES, reason="docs/ is not part of this tree (an sdist)")
 
 
-def python_blocks(text: str) -> list[str]:
-    return re.findall(r"```python\n(.*?)```", text, flags=re.S)
-
-
 def section(text: str, heading: str) -> str:
     """The text under a '## heading' up to the next '## '."""
     match = re.search(rf"^## {re.escape(heading)}\n(.*?)(?=^## |\Z)", text, flags=re.S | re.M)
     assert match, f"no '## {heading}' section"
     return match.group(1)
-
-
-def run(code: str, where: str) -> str:
-    out = io.StringIO()
-    with contextlib.redirect_stdout(out):
-        exec(compile(code, where, "exec"), {})
-    return out.getvalue()
 
 
 def test_python_use_block_runs():
