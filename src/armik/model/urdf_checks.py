@@ -118,19 +118,19 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
                 f"{', '.join(JOINT_TYPES)}",
                 path=path,
             )
-        ends = []
+        ends: list[str] = []
         for tag in ("parent", "child"):
-            elem = joint.find(tag)
-            link = None if elem is None else elem.get("link")
-            if not link:
+            end = joint.find(tag)
+            end_link = None if end is None else end.get("link")
+            if not end_link:
                 raise URDFError(f'{what} in {path!r} has no <{tag} link="..."/>: add it', path=path)
-            if link not in link_set:
+            if end_link not in link_set:
                 raise URDFError(
-                    f"{what} in {path!r} names {tag} link {link!r}, which is not a <link> of "
+                    f"{what} in {path!r} names {tag} link {end_link!r}, which is not a <link> of "
                     "the file: add the link or fix the name",
                     path=path,
                 )
-            ends.append(link)
+            ends.append(end_link)
         parent, child = ends
         if child in parent_of:
             raise URDFError(

@@ -171,7 +171,11 @@ class Cost(Score):
         return value
 
 
-_NAMED = {"nearest": Nearest, "manipulability": Manipulability, "limits": Limits}
+_NAMED: dict[str, Callable[[], Score]] = {
+    "nearest": Nearest,
+    "manipulability": Manipulability,
+    "limits": Limits,
+}
 
 
 def parse_score(value: object) -> Score | None:

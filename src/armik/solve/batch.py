@@ -91,8 +91,8 @@ def solve_batch(
         targets, options = lowered
     if options.get("prefer") is not None:  # every answer of each target ranked: one by one
         batch = parse_targets(targets, arm)
-        rows = [batch.target(i) for i in range(len(batch))]
-        return _each(arm, rows, q0, solver, progress, options, t0, f"{solver}, prefer")
+        each: list = [batch.target(i) for i in range(len(batch))]
+        return _each(arm, each, q0, solver, progress, options, t0, f"{solver}, prefer")
     options = {k: v for k, v in options.items() if k != "prefer"}
     opts = Options.from_kwargs(options)
     if opts.hold is not None:
@@ -230,7 +230,7 @@ def batch_seeds(arm: ArmModel, q0: object, n: int) -> np.ndarray:
     if q0 is None:
         return np.broadcast_to(arm.middle, (n, arm.dof))
     try:
-        if isinstance(q0, (str, bytes)) or np.iscomplexobj(q0):
+        if isinstance(q0, (str, bytes)) or np.iscomplexobj(q0):  # type: ignore[arg-type]  # any object: numpy reads it
             raise TypeError  # never drop an imaginary part silently
         q = np.asarray(q0, dtype=float)
     except (TypeError, ValueError):

@@ -79,10 +79,14 @@ def solve_one(
         if clear is not None:
             return clear
     plan = None if key is None else plan_for(arm, solver, key, opts, _is_vector(target), every)
-    if plan is not None:
-        got = (plan.solve_all if every else plan.solve)(target, q0, opts, seed, t0)
+    if plan is not None and not every:
+        got = plan.solve(target, q0, opts, seed, t0)
         if got is not None:
-            return _beyond_search(arm, target, q0, solver, opts, seed, got, t0) if every else got
+            return got
+    elif plan is not None:
+        found = plan.solve_all(target, q0, opts, seed, t0)
+        if found is not None:
+            return _beyond_search(arm, target, q0, solver, opts, seed, found, t0)
     results = _general(arm, target, q0, solver, _with_seed(opts, seed), every, t0, first)
     if every:
         return _beyond_search(arm, target, q0, solver, opts, seed, results, t0)

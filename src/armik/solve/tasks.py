@@ -263,11 +263,12 @@ def task_problems(targets: object) -> list[Problem] | None:
     ):
         return None
     problems = []
-    for i, t in enumerate(targets):  # type: ignore[arg-type]
-        problem = as_problem(t)
+    row: object
+    for i, row in enumerate(targets):  # type: ignore[arg-type]
+        problem = as_problem(row)
         if problem is None:
             raise TargetError(
-                f"target {i} is {t!r}: a batch of tasks holds a task or a list of tasks in "
+                f"target {i} is {row!r}: a batch of tasks holds a task or a list of tasks in "
                 "every row"
             )
         problems.append(problem)

@@ -52,11 +52,13 @@ def jacobian(a: np.ndarray, w: np.ndarray, dw: np.ndarray, within: float) -> np.
     dtheta = k * ds - s * (a @ dw)  # |a| = |w| = 1: s^2 + k^2 = 1
     f = h / s
     df = (dtheta * s - h * ds) / (s * s)
-    return dc * f + np.outer(c, df)
+    out: np.ndarray = dc * f + np.outer(c, df)
+    return out
 
 
 def _across(a: np.ndarray) -> np.ndarray:
     """A unit vector across ``a``."""
     other = np.array([1.0, 0.0, 0.0]) if abs(a[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
     v = np.cross(a, other)
-    return v / np.linalg.norm(v)
+    out: np.ndarray = v / np.linalg.norm(v)
+    return out

@@ -60,7 +60,8 @@ class Pose(Task):
         return np.concatenate([R_t.T @ (T.translation - self.T.translation), pin.log3(M)])
 
     def residual(self, T: pin.SE3) -> np.ndarray:
-        return self.weights * dead_zone(self.twist(T), self._free)[0]
+        out: np.ndarray = self.weights * dead_zone(self.twist(T), self._free)[0]
+        return out
 
     def jacobian(self, T: pin.SE3, J: np.ndarray) -> np.ndarray:
         M = self.T.rotation.T @ T.rotation

@@ -83,6 +83,7 @@ def geometry(arm: ArmModel) -> Geometry:
 
 def _measure_geometry(arm: ArmModel) -> Geometry:
     plane = arm.plane
+    assert plane is not None  # planar2r applies to planar arms only (``classify``)
     zero = np.zeros(arm.model.nq)
     zero[:] = arm.to_pin(np.zeros(arm.dof))
     T_tip = arm.fk_pin(zero)
@@ -136,6 +137,7 @@ def flat(arm: ArmModel, opts: Options, orient: bool) -> np.ndarray:
 
 def _flat_chain(arm: ArmModel) -> np.ndarray:
     geo, plane = geometry(arm), arm.plane
+    assert plane is not None  # planar2r applies to planar arms only (``classify``)
     parts = [
         geo.shoulder,
         [geo.l1, geo.l2, geo.alpha1, geo.alpha2, geo.s1, geo.s2],
@@ -162,7 +164,7 @@ def run(
         H[:3, :3] = target.rotation
     xy = target.planar_xy
     planar = xy is not None  # given in plane coordinates: on the plane
-    x, y = (float(xy[0]), float(xy[1])) if planar else (0.0, 0.0)
+    x, y = (float(xy[0]), float(xy[1])) if xy is not None else (0.0, 0.0)
     if not (q0.dtype == float and q0.flags.c_contiguous and q0.flags.writeable):
         q0 = np.array(q0, dtype=float)  # one compiled signature: a writeable C array
     out = np.empty((2, 8))
@@ -190,7 +192,7 @@ def _reason(code: float, v0: float, v1: float, branch: str | None) -> str:
     if code == kernel.CLOSED_FORM:
         return "closed form"
     if code == kernel.MERGED:
-        return _merged(branch)
+        return _merged(branch or "")
     if code == kernel.FREE:
         return _FREE
     if code == kernel.OFF_PLANE:
@@ -270,7 +272,7 @@ def prepare_pose(arm: ArmModel, opts: Options, position: bool):
         Q.setflags(write=False)  # the results' q are its rows
         return Q, _attempts(out[:n], Q)
 
-    run_pose.takes_xy = True  # ``armik.solve.prepared``: (x, y) targets too
+    run_pose.takes_xy = True  # type: ignore[attr-defined]  # prepared reads it: (x, y) too
     return run_pose
 
 
