@@ -125,31 +125,34 @@ def _descend(arm: ArmModel, tasks, ids, q: np.ndarray, opts: Options, iterations
     Pinocchio's placements) or the iterations run out, each step clipped into the limits."""
     lo, hi = arm.lower, arm.upper
     aims = tuple(t.shrunk(AIM) for t in tasks)
+    eye = np.eye(len(q))
     placed = _placed(arm, q, ids)
+    if all(e.within for e in _measure(arm, tasks, ids, q, opts, placed)):
+        return q, 0
     r, A = _stack(aims, ids, placed)
     cost = float(r @ r)
     lam = None
     for k in range(iterations):
-        if all(e.within for e in _measure(arm, tasks, ids, q, opts, placed)):
-            return q, k
         H = A.T @ A
         g = A.T @ r
         if lam is None:
             lam = LAMBDA0 * max(float(np.max(np.diag(H))), 1e-12)
-        dq = np.linalg.solve(H + lam * np.eye(len(q)), -g)
+        dq = np.linalg.solve(H + lam * eye, -g)
         # joints a step would push through their limits are held for it (an active set):
         # clipping them alone leaves a step that no longer lowers the cost next to a limit
         pushing = ((q <= lo) & (dq < 0.0)) | ((q >= hi) & (dq > 0.0))
         if pushing.any():
             Af = A * ~pushing
-            dq = np.linalg.solve(Af.T @ Af + lam * np.eye(len(q)), -(Af.T @ r))
+            dq = np.linalg.solve(Af.T @ Af + lam * eye, -(Af.T @ r))
         trial = np.clip(q + dq, lo, hi)
         placed2 = _placed(arm, trial, ids)
         r2, A2 = _stack(aims, ids, placed2)
         cost2 = float(r2 @ r2)
-        if cost2 < cost:
+        if cost2 < cost:  # measured only where q moved: a rejected step leaves it as it was
             q, placed, r, A, cost = trial, placed2, r2, A2, cost2
             lam = max(lam / 3.0, 1e-12)
+            if all(e.within for e in _measure(arm, tasks, ids, q, opts, placed)):
+                return q, k + 1
         else:
             lam *= 4.0
             if lam > 1e12:
