@@ -17,7 +17,6 @@ rad)) and ``"results"`` (tip -> that chain's ``IKResult``).
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 import time
 from collections.abc import Mapping
@@ -31,6 +30,7 @@ from armik.model.union import Union
 from armik.options import Options
 from armik.problem.problem import Problem, as_problem
 from armik.problem.tasks import Pose, Position, Task
+from armik.problem.tasks.base import replaced
 from armik.result import IKResult
 from armik.solve.tasks import check_options, solve_tasks
 from armik.status import Status
@@ -206,9 +206,7 @@ def _on(task: Task, tip: str) -> Task:
             f"the target of tip {tip!r} holds a task on frame {task.frame!r}: give each tip "
             "its own tasks"
         )
-    twin = copy.copy(task)
-    twin.frame = tip
-    return twin
+    return replaced(task, frame=tip)
 
 
 def _joined(arms: Arms, results: dict[str, IKResult], seeds, elapsed: float) -> IKResult:

@@ -45,16 +45,9 @@ def as_problem(target: object) -> Problem | None:
 
 
 def tightened(problem: Problem) -> Problem:
-    """The problem with every cone and box shrunk to its centre: each of its answers
-    answers ``problem`` too, and it may have a compiled form ``problem`` has not."""
-    tasks = []
-    for t in problem.tasks:
-        if type(t) is Axis and t.within > 0.0:
-            t = Axis(t.axis, t.direction, 0.0, t.frame)
-        elif type(t) is Position and t.bounds.any():
-            t = Position(t.p, None, t.frame)
-        tasks.append(t)
-    return Problem(tuple(tasks))
+    """The problem with every region shrunk to its centre (``Task.shrunk(0)``): each of its
+    answers answers ``problem`` too, and it may have a compiled form ``problem`` has not."""
+    return Problem(tuple(t.shrunk(0.0) for t in problem.tasks))
 
 
 def lower(problem: Problem, tip: str | None = None) -> tuple[object, dict] | None:

@@ -8,7 +8,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.problem.tasks import cone
-from armik.problem.tasks.base import Task, TaskError, check_angle, check_frame, scaled, unit
+from armik.problem.tasks.base import Task, TaskError, check_angle, check_frame, replaced, unit
 
 
 class Axis(Task):
@@ -40,4 +40,4 @@ class Axis(Task):
         return TaskError(None, beyond, beyond <= tol_orientation)
 
     def shrunk(self, factor: float) -> Task:
-        return scaled(self, within=self.within * factor)
+        return replaced(self, within=self.within * factor)

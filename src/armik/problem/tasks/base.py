@@ -62,8 +62,8 @@ class Task(ABC):
         return self
 
 
-def scaled(task: Task, **fields: object) -> Task:
-    """A copy of ``task`` with ``fields`` replaced (for ``Task.shrunk``)."""
+def replaced(task: Task, **fields: object) -> Task:
+    """A copy of ``task`` with ``fields`` replaced (``Task.shrunk``, a task put on a frame)."""
     twin = copy.copy(task)
     twin.__dict__.update(fields)
     return twin

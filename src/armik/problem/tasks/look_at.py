@@ -7,7 +7,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.problem.tasks import cone
-from armik.problem.tasks.base import Task, TaskError, check_angle, check_frame, scaled, unit
+from armik.problem.tasks.base import Task, TaskError, check_angle, check_frame, replaced, unit
 from armik.targets.pose import _vector
 
 _AT = 1e-9  # m: a point this close to the frame's origin is looked at from any direction
@@ -65,4 +65,4 @@ class LookAt(Task):
         return TaskError(None, beyond, beyond <= tol_orientation)
 
     def shrunk(self, factor: float) -> Task:
-        return scaled(self, within=self.within * factor)
+        return replaced(self, within=self.within * factor)

@@ -21,7 +21,7 @@ from armik.problem.tasks.base import (
     check_frame,
     check_weights,
     dead_zone,
-    scaled,
+    replaced,
 )
 from armik.targets.pose import parse_target
 
@@ -76,4 +76,4 @@ class Pose(Task):
 
     def shrunk(self, factor: float) -> Task:
         free = np.where(self.weights == 0.0, math.inf, self.bounds * factor)
-        return scaled(self, bounds=self.bounds * factor, _free=free)
+        return replaced(self, bounds=self.bounds * factor, _free=free)
