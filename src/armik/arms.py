@@ -140,15 +140,7 @@ class Arms:
         for task, e in zip(tasks, r.extra["task_errors"]):
             tip = cast(str, task.frame)  # ``_on`` named the tip
             pos, ori = errors.get(tip, (None, None))
-            worst = (
-                max(x for x in (pos, e.position) if x is not None)
-                if e.position is not None or pos is not None
-                else None,
-                max(x for x in (ori, e.orientation) if x is not None)
-                if e.orientation is not None or ori is not None
-                else None,
-            )
-            errors[tip] = worst
+            errors[tip] = (_worse(pos, e.position), _worse(ori, e.orientation))
             if not e.within and tip not in failed:
                 failed.append(tip)
         reason = r.reason if not failed else f"tips not within their tasks: {failed}; {r.reason}"
@@ -185,6 +177,11 @@ class Arms:
                 frame=str(unknown[0]),
                 candidates=self.tips,
             )
+
+
+def _worse(a: float | None, b: float | None) -> float | None:
+    """The larger of two errors, either of which may be unmeasured (None)."""
+    return b if a is None else a if b is None else max(a, b)
 
 
 def _as_tasks(target: object) -> list[Task]:

@@ -26,13 +26,14 @@ def _pose_error(arm: ArmModel, q: np.ndarray, target: pin.SE3) -> np.ndarray:
     return pin.log6(arm.fk(q).inverse() * target).vector
 
 
-def _onto(arm: ArmModel, q: np.ndarray, target: pin.SE3) -> np.ndarray:
+def _onto(arm: ArmModel, q: np.ndarray, target: pin.SE3) -> tuple[np.ndarray, float]:
+    """``q`` taken back onto ``target`` by Newton steps, and its remaining pose error."""
     for _ in range(NEWTON):
         e = _pose_error(arm, q, target)
         if np.abs(e).max() <= HOLD:
-            break
+            return q, float(np.abs(e).max())
         q = np.clip(q + np.linalg.pinv(arm.jacobian(q)) @ e, arm.lower, arm.upper)
-    return q
+    return q, float(np.abs(_pose_error(arm, q, target)).max())
 
 
 def _gradient(arm: ArmModel, score: Score, q: np.ndarray, q0: np.ndarray) -> np.ndarray:
@@ -64,10 +65,9 @@ def descend(
         norm = float(np.linalg.norm(d))
         if norm < 1e-12:
             break
-        trial = _onto(arm, np.clip(q - step * d / norm, arm.lower, arm.upper), target)
+        trial, error = _onto(arm, np.clip(q - step * d / norm, arm.lower, arm.upper), target)
         value = score(arm, trial, q0)
-        held = np.abs(_pose_error(arm, trial, target)).max() <= HOLD
-        if held and value < best:
+        if error <= HOLD and value < best:
             q, best, step = trial, value, step * 1.5
         else:
             step *= 0.5

@@ -63,7 +63,7 @@ def solve_one(
         if problem is not None:
             lowered = lower(problem, arm.tip)
             if lowered is None:
-                opts = _with_seed(*_options(options)[::2])
+                opts = _validated(options)
                 check_options(opts, solver)
                 one = solve_tasks(arm, problem, q0, opts, t0, _centre(arm, problem, q0, options))
                 return [one] if every else one
@@ -97,44 +97,46 @@ def _preferred(arm, target, q0, solver: str, options: dict, every: bool, score, 
     """The rank stage with a score: the answers solve_all finds, or on a 7R arm the swept
     closed form applies to, the self-motion searched for the score (every solution has
     some value of joint 7) with the plain answer beside it."""
+    opts = _validated(options)
+    pose = not isinstance(target, (list, Task)) and _plain_pose(opts)
+    seed = arm.seed(q0)
     swept = None
-    if solver == "auto" and not isinstance(target, (list, Task)):
-        opts = _with_seed(*_options(options)[::2])
-        plain = not (opts.bounds or opts.weights or opts.collisions or opts.hold)
-        if plain and not opts.position_only:
-            swept = sweep_held(arm, parse_target(target, arm), arm.seed(q0), opts, score, t0)
+    if pose and solver == "auto":
+        swept = sweep_held(arm, parse_target(target, arm), seed, opts, score, t0)
     if swept and any(r.success for r in swept):
         found = [solve_one(arm, target, q0, solver, options), *swept]
-    else:  # half the budget gathers answers, the rest moves the best along the self-motion
-        opts = _with_seed(*_options(options)[::2])
+    else:  # part of the budget gathers answers, the rest moves the best along the self-motion
         found = solve_one(arm, target, q0, solver, {**options, "timeout": opts.timeout * 0.4}, True)
-    ranked = rank(arm, found, score, arm.seed(q0), t0)
-    if not swept and ranked[0].success and arm.dof > 6 and not isinstance(target, (list, Task)):
-        ranked = _along_self_motion(arm, target, q0, options, score, ranked, t0)
+    ranked = rank(arm, found, score, seed, t0)
+    if not swept and ranked[0].success and arm.dof > 6 and pose:
+        ranked = _along_self_motion(arm, target, seed, opts, score, ranked, t0)
     return ranked if every else ranked[0]
 
 
-DESCENTS = 1  # the best answers moved along the self-motion
+def _validated(options: dict) -> Options:
+    """``options`` as ``Options``, this call's seed in them."""
+    opts, _, seed = _options(options)
+    return _with_seed(opts, seed)
 
 
-def _along_self_motion(arm, target, q0, options: dict, score, ranked: list, t0: float):
+def _plain_pose(opts: Options) -> bool:
+    """Whether the options ask for the plain pose: no region, weights, held joint or
+    collisions (what the swept search and the self-motion descent assume)."""
+    return not (opts.bounds or opts.weights or opts.position_only or opts.collisions or opts.hold)
+
+
+def _along_self_motion(arm, target, seed, opts: Options, score, ranked: list, t0: float):
     """A redundant arm's best numeric answer moved along its self-motion to a lower score
-    (``armik.solve.nullspace``), verified again, ranked again."""
-    opts = _with_seed(*_options(options)[::2])
-    if opts.bounds or opts.weights or opts.position_only or opts.collisions or opts.hold:
-        return ranked
+    (``armik.solve.nullspace``) with the rest of the budget, verified again, ranked again."""
     tgt = parse_target(target, arm)
-    T = pin.SE3(tgt.rotation, tgt.position)
-    seed = arm.seed(q0)
-    starts = [r for r in ranked[:DESCENTS] if r.success]
-    again = []
-    for k, start in enumerate(starts):  # the rest of the budget shared by the best starts
-        left = max(0.9 * opts.timeout - (time.perf_counter() - t0), 0.0) / (len(starts) - k)
-        if opts.iteration_budget is not None:  # deterministic: the descent's own step cap
-            left = math.inf
-        moved = descend(arm, np.asarray(start.q), T, score, seed, left)
-        claim = Attempt(q=moved, claim=Status.CONVERGED, reason="moved along the self-motion")
-        again += finish(arm, start.solver, [claim], tgt, opts, seed, True, t0)
+    left = max(0.9 * opts.timeout - (time.perf_counter() - t0), 0.0)
+    if opts.iteration_budget is not None:  # deterministic: the descent's own step cap
+        left = math.inf
+    moved = descend(
+        arm, np.asarray(ranked[0].q), pin.SE3(tgt.rotation, tgt.position), score, seed, left
+    )
+    claim = Attempt(q=moved, claim=Status.CONVERGED, reason="moved along the self-motion")
+    again = finish(arm, ranked[0].solver, [claim], tgt, opts, seed, True, t0)
     return rank(arm, [*again, *ranked], score, seed, t0)
 
 
