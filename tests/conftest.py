@@ -96,3 +96,26 @@ def pytest_collection_modifyitems(session, config, items) -> None:
     name = "test_a_tour_of_every_option_compiles_each_kernel_once"
     tour = [item for item in items if item.name == name]
     items[:] = tour + [item for item in items if item not in tour]
+
+
+RESULT_FIELDS = (  # every IKResult field but q, time and extra
+    "success",
+    "status",
+    "reason",
+    "solver",
+    "iterations",
+    "position_error",
+    "orientation_error",
+    "branch",
+    "singular",
+    "restarts",
+)
+
+
+def assert_same_result(fast, general) -> None:
+    """A prepared solve's result equal to the general path's, field for field, q bit for
+    bit and read-only."""
+    assert np.array_equal(fast.q, general.q), (fast.q, general.q)
+    for name in RESULT_FIELDS:
+        assert getattr(fast, name) == getattr(general, name), name
+    assert not fast.q.flags.writeable

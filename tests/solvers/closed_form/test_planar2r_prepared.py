@@ -23,28 +23,9 @@ from armik.solve.single import _options
 from armik.solvers.closed_form import planar2r_kernel
 from armik.targets.pose import parse_target
 
-from ...conftest import arm, two_link_urdf, write_urdf
+from ...conftest import arm, assert_same_result, two_link_urdf, write_urdf
 
 L1, L2 = 1.0, 0.8  # planar_2link
-FIELDS = (
-    "success",
-    "status",
-    "reason",
-    "solver",
-    "iterations",
-    "position_error",
-    "orientation_error",
-    "branch",
-    "singular",
-    "restarts",
-)
-
-
-def _same(fast, general) -> None:
-    assert np.array_equal(fast.q, general.q), (fast.q, general.q)
-    for name in FIELDS:
-        assert getattr(fast, name) == getattr(general, name), name
-    assert not fast.q.flags.writeable
 
 
 def _both(a: armik.Arm, target, q0, **kw):
@@ -53,12 +34,12 @@ def _both(a: armik.Arm, target, q0, **kw):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # a q0 outside the limits: clipped, said on both
         fast = a.solve(target, q0=q0, **kw)
-        _same(fast, a.solve(general_target, q0=q0, **kw))
+        assert_same_result(fast, a.solve(general_target, q0=q0, **kw))
         every = a.solve_all(target, q0=q0, **kw)
         general = a.solve_all(general_target, q0=q0, **kw)
     assert len(every) == len(general)
     for x, y in zip(every, general):
-        _same(x, y)
+        assert_same_result(x, y)
     return fast, every
 
 
@@ -215,7 +196,7 @@ def test_a_refused_answer_falls_back_to_every_row():
     r = a.solve(xy, q0=q0)
     assert r.success and r.branch == "elbow-up"  # the honest row, verified
     assert "reason" in r.__dict__  # the general verdict's
-    _same(r, a.solve(parse_target(xy, a), q0=q0))
+    assert_same_result(r, a.solve(parse_target(xy, a), q0=q0))
 
 
 def test_other_spellings_take_the_general_path():
