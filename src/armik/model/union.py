@@ -82,6 +82,8 @@ class Union:
 
     def to_pin(self, q: np.ndarray) -> np.ndarray:
         """Joint values (rad, m; one angle per continuous joint) as Pinocchio's q."""
+        if self.model.nq == self.dof:  # no continuous joint: q is Pinocchio's q (the solver's loop)
+            return np.array(q, dtype=float)
         qp = np.empty(self.model.nq)
         k = 0
         for value, continuous in zip(np.asarray(q, dtype=float), self._continuous):
