@@ -20,6 +20,7 @@ import numpy as np
 from armik.model.arm_model import ArmModel
 from armik.problem.scores import Score
 from armik.result import IKResult
+from armik.status import Status
 
 TWO_PI = 2.0 * math.pi
 MAX_VARIANTS = 256  # per answer: 2 pi shifts of every joint that allows them, combined
@@ -107,16 +108,14 @@ def sweep_held(arm: ArmModel, target, q0: np.ndarray, opts, score: Score, t0: fl
         return None
     lo, hi = (float(x) for x in swept_7r.sweep_range(arm, float(q0[6])))
 
-    def at(theta: float) -> list[tuple[float, np.ndarray]]:
-        found = []
-        for a in swept_7r.at_value(arm, target, q0, theta):
-            if a.claim.name == "CONVERGED" and arm.within_limits(a.q):
-                q = best_variant(arm, a.q, score, q0)
-                found.append((score(arm, q, q0), q))
-        return found
-
     def best_at(theta: float) -> float:
-        return min((s for s, _ in at(theta)), default=math.inf)
+        """The best score over the branches at joint 7 = ``theta`` (inf: none reached)."""
+        scores = [
+            score(arm, best_variant(arm, a.q, score, q0), q0)
+            for a in swept_7r.at_value(arm, target, q0, theta)
+            if a.claim is Status.CONVERGED and arm.within_limits(a.q)
+        ]
+        return min(scores, default=math.inf)
 
     grid = np.linspace(lo, hi, SWEEP_GRID)
     values = [best_at(float(t)) for t in grid]
