@@ -40,7 +40,7 @@ class Pose(Task):
         if target.rotation is None:
             raise TargetError(
                 f"Pose needs a full pose, got a position {target.position.tolist()}: use "
-                "armik.problem.Position for a position alone"
+                "armik.Position for a position alone"
             )
         self.T = pin.SE3(target.rotation, target.position)
         self.frame = check_frame(frame)
