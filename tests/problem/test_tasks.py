@@ -124,7 +124,7 @@ def test_the_cone_residual_is_the_angle_beyond_the_cone():
         (lambda: Pose(np.eye(4), bounds=(0.1, -0.1, 0, 0, 0, 0)), "must be >= 0"),
         (lambda: Pose(np.eye(4), bounds=(0.1, math.nan, 0, 0, 0, 0)), "nan"),
         (lambda: Pose(np.eye(4), bounds=(0.1, 0.1)), "6 numbers"),
-        (lambda: Pose(np.zeros(3)), "armik.problem.Position"),
+        (lambda: Pose(np.zeros(3)), "armik.Position"),
         (lambda: Pose(np.eye(4), weights=(0, 0, 0, 0, 0, 0)), "not all 0"),
         (lambda: Position((0, 0, math.nan)), "NaN"),
         (lambda: Position((0, 0, 1), bounds=(-1, 0, 0)), "-1.0"),
