@@ -22,7 +22,7 @@ from armik.errors import (
 )
 from armik.model.catalogue import robots
 from armik.precompile import compile
-from armik.problem import Axis, LookAt, Pose, Position, Posture
+from armik.problem import Axis, LookAt, Pose, Position, Posture, Relative
 from armik.result import IKResult
 from armik.solvers import solvers
 from armik.status import Status
@@ -55,6 +55,7 @@ __all__ = [
     "Pose",
     "Position",
     "Posture",
+    "Relative",
     "Arm",
     "BatchResult",
     "ArmikError",

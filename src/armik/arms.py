@@ -29,7 +29,7 @@ from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.model.union import Union
 from armik.options import Options
 from armik.problem.problem import Problem, as_problem
-from armik.problem.tasks import Pose, Position, Task
+from armik.problem.tasks import Pose, Position, Relative, Task
 from armik.problem.tasks.base import replaced
 from armik.result import IKResult
 from armik.solve.tasks import check_options, solve_tasks
@@ -59,6 +59,10 @@ class Arms:
             self.upper = np.concatenate([a.upper for a in arms])  # type: ignore[attr-defined]
             self.middle = np.concatenate([a.middle for a in arms])  # type: ignore[attr-defined]
         self.dof = len(self.joint_names)
+        # chains sharing no joint in one model, built for the first coupling task, and
+        # the column of each of ``joint_names`` in it
+        self._coupled: Union | None = None
+        self._permutation: np.ndarray | None = None
         index = {n: k for k, n in enumerate(self.joint_names)}
         self._columns = {
             tip: np.array([index[n] for n in arm.joint_names])  # type: ignore[attr-defined]
@@ -117,11 +121,38 @@ class Arms:
         if self._union is not None:
             return self._solve_together(self._union, targets, q0, options, t0)
         seeds = self.split(self.middle if q0 is None else q0)
-        results = {
-            tip: self._chains[tip].solve(target, q0=seeds[tip], **options)  # type: ignore[attr-defined]
-            for tip, target in targets.items()
+        order = _in_order(targets)
+        if order is None:  # tips placed relative to each other in a cycle: all at once
+            return self._solve_together(self._joint(), targets, q0, options, t0)
+        results: dict[str, IKResult] = {}
+        for tip in order:
+            # a pose relative to a chain already solved is a pose in the base: exactly,
+            # bounds included, since the chains share no joint
+            target = _absolute(targets[tip], self._placements(results, seeds))
+            results[tip] = self._chains[tip].solve(target, q0=seeds[tip], **options)  # type: ignore[attr-defined]
+        joined = _joined(self, results, seeds, time.perf_counter() - t0)
+        if joined.success or not _relative(targets):
+            return joined
+        # the reference chain's answer may be one the other cannot reach from: together
+        together = self._solve_together(self._joint(), targets, joined.q, options, t0)
+        return together if together.success else joined
+
+    def _placements(self, results: dict[str, IKResult], seeds: dict) -> dict[str, pin.SE3]:
+        """Each tip's placement: at its answer where solved, else at its seed."""
+        return {
+            tip: arm.fk(results[tip].q if tip in results else seeds[tip])  # type: ignore[attr-defined]
+            for tip, arm in self._chains.items()
         }
-        return _joined(self, results, seeds, time.perf_counter() - t0)
+
+    def _joint(self) -> Union:
+        """Every chain in one model, for tasks that couple chains sharing no joint."""
+        if self._union is not None:
+            return self._union
+        if self._coupled is None:
+            self._coupled = Union(list(self._chains.values()))
+            names = self._coupled.joint_names
+            self._permutation = np.array([names.index(n) for n in self.joint_names])
+        return self._coupled
 
     def _solve_together(
         self, union: Union, targets: Mapping[str, object], q0, options: dict, t0: float
@@ -132,9 +163,13 @@ class Arms:
             tasks += [_on(t, tip) for t in _as_tasks(target)]
         opts = Options.from_kwargs(options)
         check_options(opts, "auto")
-        start = self._start(targets, union.seed(q0), options)
+        start = self._start(targets, self.middle if q0 is None else np.asarray(q0, float), options)
         # the union serves as the arm: it has what solve_tasks reads (annotated ArmModel)
+        order = self._permutation
+        start = start if order is None else _scatter(start, order)
         r = solve_tasks(union, Problem(tuple(tasks)), start, opts, t0)  # type: ignore[arg-type]
+        if order is not None:  # back to the chains' joints side by side
+            r = dataclasses.replace(r, q=r.q[order])
         errors: dict[str, tuple] = {}
         failed: list[str] = []
         for task, e in zip(tasks, r.extra["task_errors"]):
@@ -152,9 +187,11 @@ class Arms:
         values; the descent then reconciles the chains."""
         q = q.copy()
         fixed = np.zeros(self.dof, dtype=bool)
-        for tip, target in targets.items():
+        for tip in _in_order(targets) or list(targets):
             cols = self._columns[tip]
+            placements = {t: self._chains[t].fk(q[c]) for t, c in self._columns.items()}  # type: ignore[attr-defined]
             try:
+                target = _absolute(targets[tip], placements)
                 r = self._chains[tip].solve(target, q0=q[cols], **options)  # type: ignore[attr-defined]
             except ArmikError:  # a task this chain's solver does not take: start as is
                 continue
@@ -171,6 +208,11 @@ class Arms:
                 value=targets,
             )
         unknown = [t for t in targets if t not in self._chains]
+        for tip, rel in _relative(targets).items():
+            if tip in self._chains:
+                unknown += [t.relative_to for t in rel if t.relative_to not in self._chains]
+                for t in rel:
+                    _on(t, tip)  # a pose of this tip's frame, not another's
         if unknown:
             raise FrameError(
                 f"unknown tips {unknown}; this robot's tips: {list(self.tips)}",
@@ -204,6 +246,54 @@ def _on(task: Task, tip: str) -> Task:
             "its own tasks"
         )
     return replaced(task, frame=tip)
+
+
+def _relative(targets: Mapping[str, object]) -> dict[str, list[Relative]]:
+    """Each tip's ``Relative`` tasks."""
+    out: dict[str, list[Relative]] = {}
+    for tip, target in targets.items():
+        problem = as_problem(target)
+        found = [t for t in problem.tasks if isinstance(t, Relative)] if problem else []
+        if found:
+            out[tip] = found
+    return out
+
+
+def _in_order(targets: Mapping[str, object]) -> list[str] | None:
+    """The tips, each after the tips its ``Relative`` tasks are relative to; None when they
+    are relative to each other in a cycle."""
+    after = {tip: {t.relative_to for t in rel} for tip, rel in _relative(targets).items()}
+    order: list[str] = []
+    pending = list(targets)
+    while pending:
+        ready = [t for t in pending if not (after.get(t, set()) & set(pending) - {t})]
+        if not ready:
+            return None
+        order += ready
+        pending = [t for t in pending if t not in ready]
+    return order
+
+
+def _absolute(target: object, placements: Mapping[str, pin.SE3]) -> object:
+    """``target`` with each ``Relative`` task a ``Pose`` in the base, its reference frame
+    at ``placements``; any other target as it is."""
+    problem = as_problem(target)
+    if problem is None or not any(isinstance(t, Relative) for t in problem.tasks):
+        return target
+    tasks: list[Task] = []
+    for t in problem.tasks:
+        if isinstance(t, Relative):
+            ref = cast(str, t.relative_to)
+            t = Pose(placements[ref] * t.pose.T, bounds=t.pose.bounds, weights=t.pose.weights)
+        tasks.append(t)
+    return tasks
+
+
+def _scatter(q: np.ndarray, order: np.ndarray) -> np.ndarray:
+    """Joint values in ``joint_names`` order as the union's (``order``: their columns)."""
+    out = np.empty_like(q)
+    out[order] = q
+    return out
 
 
 def _joined(arms: Arms, results: dict[str, IKResult], seeds, elapsed: float) -> IKResult:

@@ -18,7 +18,6 @@ import pinocchio as pin
 
 from armik.errors import JointError
 from armik.model.reduce import reduce_model
-from armik.model.urdf import read_urdf
 from armik.tolerances import LIMIT_TOL
 
 TWO_PI = 2.0 * math.pi
@@ -29,7 +28,7 @@ class Union:
 
     def __init__(self, chains: list) -> None:
         first = chains[0]
-        full, _ = read_urdf(first.source)
+        full = first.chain.full  # the URDF's whole model, as the chains were cut from it
         names = list(dict.fromkeys(j for arm in chains for j in arm.joint_names))
         for arm in chains:
             if arm.mimics:

@@ -2,6 +2,16 @@
 next (docs/problem-model.md)."""
 
 from armik.problem.scores import Posture, Score
-from armik.problem.tasks import Axis, LookAt, Pose, Position, Task, TaskError
+from armik.problem.tasks import Axis, LookAt, Pose, Position, Relative, Task, TaskError
 
-__all__ = ["Axis", "LookAt", "Pose", "Position", "Posture", "Score", "Task", "TaskError"]
+__all__ = [
+    "Axis",
+    "LookAt",
+    "Pose",
+    "Position",
+    "Posture",
+    "Relative",
+    "Score",
+    "Task",
+    "TaskError",
+]

@@ -69,54 +69,62 @@ def check_said_twice(options: dict, said: dict) -> None:
             )
 
 
-def frame_ids(arm: ArmModel, tasks: tuple[Task, ...]) -> tuple[int, ...]:
-    """Each task's frame as an index of the arm's Pinocchio model (None: the tip); an
-    ``armik`` error naming a frame the model does not have."""
-    ids = []
-    for t in tasks:
-        if t.frame is None or t.frame == arm.tip:
-            ids.append(arm.tip_frame_id)
-        elif arm.model.existFrame(t.frame):
-            ids.append(arm.model.getFrameId(t.frame))
-        else:
-            names = sorted(f.name for f in arm.model.frames)
-            raise TargetError(
-                f"{type(t).__name__} asks for frame {t.frame!r}, which this arm's model does "
-                f"not have; its frames: {names}"
-            )
-    return tuple(ids)
+def frame_ids(arm: ArmModel, tasks: tuple[Task, ...]) -> tuple[tuple[int, ...], ...]:
+    """Each task's frames (``Task.frames``) as indices of the arm's Pinocchio model (None:
+    the tip); an ``armik`` error naming a frame the model does not have."""
+    return tuple(tuple(_frame_id(arm, t, f) for f in t.frames) for t in tasks)
 
 
-def _placed(arm: ArmModel, q: np.ndarray, ids: tuple[int, ...]) -> dict:
+def _frame_id(arm: ArmModel, task: Task, frame: str | None) -> int:
+    if frame is None or frame == arm.tip:
+        return arm.tip_frame_id
+    if arm.model.existFrame(frame):
+        return int(arm.model.getFrameId(frame))
+    names = sorted(f.name for f in arm.model.frames)
+    raise TargetError(
+        f"{type(task).__name__} asks for frame {frame!r}, which this arm's model does not "
+        f"have; its frames: {names}"
+    )
+
+
+def _placed(arm: ArmModel, q: np.ndarray, ids) -> dict:
     """Each frame's (T_base_frame, LOCAL Jacobian) at ``q`` from one pass of Pinocchio's
     kinematics; a frame the chain does not move keeps a zero Jacobian."""
     model, data = arm.model, arm.data
     pin.computeJointJacobians(model, data, arm.to_pin(q))
     placed = {}
-    for i in set(ids):
+    for i in {i for frames in ids for i in frames}:
         T = arm.T_base_world * pin.updateFramePlacement(model, data, i)
         placed[i] = (T, pin.getFrameJacobian(model, data, i, pin.LOCAL).reshape(6, arm.dof))
     return placed
 
 
-def _stack(tasks: tuple[Task, ...], ids: tuple[int, ...], placed: dict):
-    r = np.concatenate([t.residual(placed[i][0]) for t, i in zip(tasks, ids)])
-    A = np.vstack([t.jacobian(*placed[i]) for t, i in zip(tasks, ids)])
+def _on(tasks, ids, placed: dict) -> list:
+    """Each task's (placement, Jacobian) from its frames' (``Task.placement``)."""
+    return [t.placement([placed[i] for i in frames]) for t, frames in zip(tasks, ids)]
+
+
+def _stack(tasks: tuple[Task, ...], ids, placed: dict):
+    on = _on(tasks, ids, placed)
+    r = np.concatenate([t.residual(T) for t, (T, _) in zip(tasks, on)])
+    A = np.vstack([t.jacobian(T, J) for t, (T, J) in zip(tasks, on)])
     return r, A
 
 
 def _measure(
     arm: ArmModel, tasks, ids, q: np.ndarray, opts: Options, placed=None
 ) -> list[TaskError]:
-    """Each task on its frame's placement by Pinocchio's FK (the verdict's)."""
+    """Each task on its frames' placements by Pinocchio's FK (the verdict's)."""
     if placed is None:
         model, data = arm.model, arm.data
         pin.forwardKinematics(model, data, arm.to_pin(q))
         placed = {
-            i: (arm.T_base_world * pin.updateFramePlacement(model, data, i), None) for i in set(ids)
+            i: (arm.T_base_world * pin.updateFramePlacement(model, data, i), None)
+            for i in {i for frames in ids for i in frames}
         }
     return [
-        t.measure(placed[i][0], opts.tol_position, opts.tol_orientation) for t, i in zip(tasks, ids)
+        t.measure(T, opts.tol_position, opts.tol_orientation)
+        for t, (T, _) in zip(tasks, _on(tasks, ids, placed))
     ]
 
 

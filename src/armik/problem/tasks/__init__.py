@@ -5,5 +5,6 @@ from armik.problem.tasks.base import Task, TaskError
 from armik.problem.tasks.look_at import LookAt
 from armik.problem.tasks.pose import Pose
 from armik.problem.tasks.position import Position
+from armik.problem.tasks.relative import Relative
 
-__all__ = ["Axis", "LookAt", "Pose", "Position", "Task", "TaskError"]
+__all__ = ["Axis", "LookAt", "Pose", "Position", "Relative", "Task", "TaskError"]

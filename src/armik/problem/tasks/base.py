@@ -21,6 +21,9 @@ import pinocchio as pin
 
 from armik.errors import TargetError
 
+#: A frame's placement ``T_base_frame`` and its LOCAL Jacobian (None where only measured).
+Placed = tuple[pin.SE3, np.ndarray | None]
+
 
 @dataclass(frozen=True)
 class TaskError:
@@ -36,6 +39,16 @@ class Task(ABC):
     """One thing asked of one frame (``frame``: None for the arm's tip)."""
 
     frame: str | None = None
+
+    @property
+    def frames(self) -> tuple[str | None, ...]:
+        """The frames whose placements the task reads, in the order ``placement`` takes."""
+        return (self.frame,)
+
+    def placement(self, placed: list[Placed]) -> Placed:
+        """The (placement, LOCAL Jacobian or None) the task measures, from its frames'
+        (``placed``, in the order of ``frames``): its one frame's, as they are."""
+        return placed[0]
 
     @property
     @abstractmethod
