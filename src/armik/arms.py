@@ -25,10 +25,11 @@ from typing import cast
 import numpy as np
 import pinocchio as pin
 
+from armik import arms_many
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.model.union import Union
 from armik.options import Options
-from armik.problem.problem import Problem, as_problem
+from armik.problem.problem import Problem, as_problem, relative_tasks
 from armik.problem.tasks import Pose, Position, Relative, Task
 from armik.problem.tasks.base import replaced
 from armik.result import IKResult
@@ -136,6 +137,26 @@ class Arms:
         # the reference chain's answer may be one the other cannot reach from: together
         together = self._solve_together(self._joint(), targets, joined.q, options, t0)
         return together if together.success else joined
+
+    def solve_batch(self, targets: Mapping[str, object], *, q0: object = None, **options):
+        """Many targets per tip (tip -> N targets): a ``BatchResult`` over every joint, each
+        chain's own batch where the chains are independent (``armik.arms_many``)."""
+        return arms_many.solve_batch(self, targets, q0=q0, **options)
+
+    def solve_path(
+        self,
+        waypoints: Mapping[str, object],
+        q0: object,
+        *,
+        max_joint_step: float | np.ndarray | None = None,
+        plan: str = "follow",
+        **options,
+    ):
+        """Waypoints per tip (tip -> N waypoints) in order from ``q0``, never with a silent
+        jump larger than ``max_joint_step`` (``armik.arms_many``)."""
+        return arms_many.solve_path(
+            self, waypoints, q0, max_joint_step=max_joint_step, plan=plan, **options
+        )
 
     def _placements(self, results: dict[str, IKResult], seeds: dict) -> dict[str, pin.SE3]:
         """Each tip's placement: at its answer where solved, else at its seed."""
@@ -250,13 +271,7 @@ def _on(task: Task, tip: str) -> Task:
 
 def _relative(targets: Mapping[str, object]) -> dict[str, list[Relative]]:
     """Each tip's ``Relative`` tasks."""
-    out: dict[str, list[Relative]] = {}
-    for tip, target in targets.items():
-        problem = as_problem(target)
-        found = [t for t in problem.tasks if isinstance(t, Relative)] if problem else []
-        if found:
-            out[tip] = found
-    return out
+    return {tip: found for tip, target in targets.items() if (found := relative_tasks(target))}
 
 
 def _in_order(targets: Mapping[str, object]) -> list[str] | None:

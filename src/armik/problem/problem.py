@@ -16,7 +16,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.errors import TargetError
-from armik.problem.tasks import Axis, Pose, Position, Task
+from armik.problem.tasks import Axis, Pose, Position, Relative, Task
 
 
 @dataclass(frozen=True)
@@ -42,6 +42,12 @@ def as_problem(target: object) -> Problem | None:
                 f"armik.LookAt), but item {i} is {t!r}"
             )
     return Problem(tuple(target))
+
+
+def relative_tasks(target: object) -> list[Relative]:
+    """The ``Relative`` tasks of a target (none for a pose or a position)."""
+    problem = as_problem(target)
+    return [t for t in problem.tasks if isinstance(t, Relative)] if problem else []
 
 
 def tightened(problem: Problem) -> Problem:

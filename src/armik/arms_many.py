@@ -1,0 +1,233 @@
+"""Many targets for several tips: ``Arms.solve_batch`` and ``Arms.solve_path``.
+
+Targets are a mapping tip -> that tip's N targets (anything ``Arm.solve_batch`` takes for
+one tip: (N, 4, 4), (N, 7), (N, 3), a list of targets or of task lists). Chains that share
+no joint, with no ``Relative`` task coupling them, are each solved by their own batch (the
+compiled path, on every core) or path, and the rows joined: a row succeeds when every
+tip's does, its status is the first failing tip's, its errors the worst tip's, its reason
+names each tip that failed. Other robots (a shared torso, relative tasks) are solved row by
+row with ``Arms.solve``; a path then seeds each waypoint with the previous answer and
+reports a larger move than ``max_joint_step`` as ``discontinuous``, naming the joint.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from armik.batch_result import BatchResult
+from armik.errors import OptionError, TargetError
+from armik.options import Options
+from armik.problem.problem import relative_tasks
+from armik.result import IKResult
+from armik.status import Status
+
+if TYPE_CHECKING:
+    from armik.arms import Arms
+
+DEFAULT_MAX_JOINT_STEP = 0.5  # rad or m, as a single arm's path (armik.solve.path)
+_CONVERGED = Status.CONVERGED.code
+
+
+def solve_batch(
+    arms: Arms, targets: Mapping[str, Any], q0: object = None, **options: Any
+) -> BatchResult:
+    """Every row of ``targets`` (tip -> N targets) from ``q0`` (None: mid-limits, one
+    configuration, or one per row (N, dof)); one ``BatchResult`` over every joint."""
+    t0 = time.perf_counter()
+    n = _rows(arms, targets)
+    seeds = _seeds(arms, q0, n)
+    if _independent(arms, targets):
+        parts = {
+            tip: arms.chain(tip).solve_batch(rows, q0=seeds[:, arms._columns[tip]], **options)
+            for tip, rows in targets.items()
+        }
+        return _joined(arms, parts, seeds, options, time.perf_counter() - t0)
+    out = _empty(arms, n, "arms", options)
+    for i in range(n):
+        row = {tip: rows[i] for tip, rows in targets.items()}
+        out.put_result(i, arms.solve(row, q0=seeds[i], **options))
+    return _timed(out, t0)
+
+
+def solve_path(
+    arms: Arms,
+    waypoints: Mapping[str, Any],
+    q0: object,
+    max_joint_step: float | np.ndarray | None = None,
+    plan: str = "follow",
+    **options: Any,
+) -> BatchResult:
+    """The waypoints (tip -> N waypoints) in order from ``q0``, never with a silent jump
+    larger than ``max_joint_step`` (one number or one per joint of ``joint_names``)."""
+    t0 = time.perf_counter()
+    n = _rows(arms, waypoints)
+    start = arms.middle if q0 is None else _seeds(arms, q0, 1)[0]
+    step = _step(arms, max_joint_step)
+    if _independent(arms, waypoints):
+        parts = {
+            tip: arms.chain(tip).solve_path(
+                rows,
+                None if q0 is None and plan == "global" else start[arms._columns[tip]],
+                max_joint_step=step[arms._columns[tip]],
+                plan=plan,
+                **options,
+            )
+            for tip, rows in waypoints.items()
+        }
+        return _joined(arms, parts, np.tile(start, (n, 1)), options, time.perf_counter() - t0)
+    if plan != "follow":
+        raise OptionError(
+            f"plan={plan!r} over several tips needs chains that share no joint and no "
+            "Relative task between them; here use plan='follow'",
+            option="plan",
+            value=plan,
+        )
+    out = _empty(arms, n, "arms, path", options)
+    q_prev = start
+    for i in range(n):
+        row = {tip: rows[i] for tip, rows in waypoints.items()}
+        r = arms.solve(row, q0=q_prev, **options)
+        if r.success:
+            r = _held(arms, r, q_prev, step, first=i == 0)
+        out.put_result(i, r)
+        if r.success:
+            q_prev = np.array(r.q)
+    return _timed(out, t0)
+
+
+def _held(arms: Arms, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: bool):
+    """``r``, or ``r`` reported ``discontinuous`` when a joint moves by more than its step."""
+    moved = np.abs(np.asarray(r.q) - q_prev)
+    j = int(np.argmax(moved / step))
+    if moved[j] <= step[j]:
+        return r
+    start = "q0 (the start)" if first else "the previous waypoint's answer"
+    return dataclasses.replace(
+        r,
+        success=False,
+        status=Status.DISCONTINUOUS,
+        reason=f"reachable only by a jump: the answer found moves {arms.joint_names[j]} by "
+        f"{moved[j]:.3g} from {start} (max_joint_step {step[j]:g}): add waypoints here or "
+        f"raise max_joint_step; q is that answer, verified: {r.reason}",
+    )
+
+
+def _rows(arms: Arms, targets: object) -> int:
+    if not isinstance(targets, Mapping) or not targets:
+        raise OptionError(
+            f"targets must map tip names {list(arms.tips)} to each tip's targets, got "
+            f"{type(targets).__name__}",
+            option="targets",
+            value=targets,
+        )
+    arms._check_targets({tip: None for tip in targets})
+    sizes = {tip: len(rows) for tip, rows in targets.items()}
+    if len(set(sizes.values())) != 1:
+        raise TargetError(f"every tip needs as many targets as the others, got {sizes}")
+    return next(iter(sizes.values()))
+
+
+def _seeds(arms: Arms, q0: object, n: int) -> np.ndarray:
+    """(n, dof) seeds from None, one configuration or one per row."""
+    if q0 is None:
+        return np.tile(arms.middle, (n, 1))
+    q = np.asarray(q0, dtype=float)
+    if q.shape == (arms.dof,):
+        return np.tile(q, (n, 1))
+    if q.shape == (n, arms.dof):
+        return q.copy()
+    raise OptionError(
+        f"q0 must be None, one configuration ({arms.dof} values, one per joint of "
+        f"{list(arms.joint_names)}) or one per target ({n}, {arms.dof}), got shape {q.shape}",
+        option="q0",
+        value=q0,
+    )
+
+
+def _step(arms: Arms, max_joint_step: object) -> np.ndarray:
+    step = np.broadcast_to(
+        np.asarray(DEFAULT_MAX_JOINT_STEP if max_joint_step is None else max_joint_step, float),
+        (arms.dof,),
+    ).copy()
+    if not (np.isfinite(step).all() and (step > 0).all()):
+        raise OptionError(
+            f"max_joint_step must be positive and finite, got {max_joint_step!r}",
+            option="max_joint_step",
+            value=max_joint_step,
+        )
+    return step
+
+
+def _independent(arms: Arms, targets: Mapping[str, Any]) -> bool:
+    """Whether every tip's rows can go to its own chain's batch: no shared joint and no
+    ``Relative`` task in any row."""
+    if arms._union is not None:
+        return False
+    return not any(
+        isinstance(rows, (list, tuple)) and any(relative_tasks(row) for row in rows)
+        for rows in targets.values()
+    )
+
+
+def _empty(arms: Arms, n: int, solver: str, options: Mapping[str, Any]) -> BatchResult:
+    opts = Options.from_kwargs(dict(options))
+    return BatchResult.empty(
+        n,
+        arms.dof,
+        solver=solver,
+        time=0.0,
+        joint_names=arms.joint_names,
+        arm="+".join(arms.tips),
+        tol_position=opts.tol_position,
+        tol_orientation=opts.tol_orientation,
+    )
+
+
+def _timed(out: BatchResult, t0: float) -> BatchResult:
+    object.__setattr__(out, "time", time.perf_counter() - t0)
+    return out
+
+
+def _joined(
+    arms: Arms,
+    parts: dict[str, BatchResult],
+    seeds: np.ndarray,
+    options: Mapping[str, Any],
+    elapsed: float,
+) -> BatchResult:
+    """One row per target over every joint from each tip's rows (module docstring)."""
+    n = len(seeds)
+    solvers = "+".join(dict.fromkeys(b.solver for b in parts.values()))
+    out = _empty(arms, n, solvers, options)
+    out.q[:] = seeds
+    out.success[:] = True
+    out.status_code[:] = _CONVERGED
+    out.position_error[:] = 0.0
+    out.iterations[:] = 0
+    out.restarts[:] = 0
+    for tip in reversed(list(parts)):  # the first failing tip's status wins
+        b = parts[tip]
+        out.q[:, arms._columns[tip]] = b.q
+        out.status_code[:] = np.where(b.success, out.status_code, b.status_code)
+    orientation = np.full(n, math.nan)
+    for b in parts.values():
+        np.logical_and(out.success, b.success, out=out.success)
+        out.position_error[:] = np.fmax(out.position_error, b.position_error)
+        orientation = np.fmax(orientation, b.orientation_error)
+        out.iterations[:] += b.iterations
+        out.restarts[:] += b.restarts
+    out.orientation_error[:] = orientation
+    for i in np.flatnonzero(~out.success):
+        out.reasons[int(i)] = "; ".join(
+            f"{tip}: {b.status[i]}: {b.reason(int(i))}"
+            for tip, b in parts.items()
+            if not b.success[i]
+        )
+    object.__setattr__(out, "time", elapsed)
+    return out

@@ -1,0 +1,118 @@
+"""Several tips over many targets: ``Arms.solve_batch`` (tip -> N targets) and
+``Arms.solve_path`` (tip -> N waypoints). Independent chains by each chain's own batch,
+equal to solving each arm alone; a shared torso and relative tasks row by row; a jump on
+a path reported, naming the joint; bad input named."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.errors import FrameError, OptionError, TargetError
+
+from .test_arms import dual_irb120
+
+
+@pytest.fixture(scope="module")
+def cell() -> armik.Arms:
+    return armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
+
+
+def test_a_batch_of_independent_chains_is_each_arm_alone(cell):
+    rng = np.random.default_rng(11)
+    qs = np.array([cell.random_q(rng) for _ in range(30)])
+    left = np.array([cell.fk(q, "l_tool0").homogeneous for q in qs])
+    right = np.array([cell.fk(q, "r_tool0").translation for q in qs])
+    right[3] = [5.0, 0.0, 0.0]  # out of reach
+    b = cell.solve_batch({"l_tool0": left, "r_tool0": right})
+    assert len(b) == 30 and b.q.shape == (30, 12) and b.joint_names == cell.joint_names
+    alone = cell.chain("l_tool0").solve_batch(left, q0=cell.split(cell.middle)["l_tool0"])
+    np.testing.assert_array_equal(b.q[:, :6], alone.q)
+    assert b.success.sum() == 29 and not b.success[3]
+    assert b.status[3] == "unreachable" and b.reason(3).startswith("r_tool0: unreachable")
+    assert np.isnan(b.orientation_error).sum() == 0  # the left tip measures orientation
+    for i in np.flatnonzero(b.success):
+        parts = cell.split(b.q[i])
+        T = cell.chain("l_tool0").fk(parts["l_tool0"])
+        assert np.allclose(T.homogeneous, left[i], atol=1e-6)
+        assert np.allclose(
+            cell.chain("r_tool0").fk(parts["r_tool0"]).translation, right[i], atol=1e-6
+        )
+
+
+def test_a_batch_with_relative_tasks_goes_row_by_row(cell):
+    rng = np.random.default_rng(12)
+    left, grips = [], []
+    for _ in range(5):
+        q = cell.random_q(rng)
+        T_l, T_r = cell.fk(q, "l_tool0"), cell.fk(q, "r_tool0")
+        left.append(T_l)
+        grips.append(armik.Relative("r_tool0", "l_tool0", T_l.actInv(T_r)))
+    b = cell.solve_batch({"l_tool0": left, "r_tool0": grips})
+    assert b.success.all() and b.solver == "arms"
+    for i, row in enumerate(b.q):
+        parts = cell.split(row)
+        T_l = cell.chain("l_tool0").fk(parts["l_tool0"])
+        T_r = cell.chain("r_tool0").fk(parts["r_tool0"])
+        err = pin.log6(grips[i].pose.T.inverse() * T_l.actInv(T_r)).vector
+        assert np.abs(err).max() <= 2e-6
+
+
+def line(T: pin.SE3, dx: np.ndarray, n: int) -> list[pin.SE3]:
+    return [pin.SE3(T.rotation, T.translation + dx * k / (n - 1)) for k in range(n)]
+
+
+def test_a_path_of_two_independent_arms(cell):
+    q0 = cell.middle + 0.2
+    T_l, T_r = cell.fk(q0, "l_tool0"), cell.fk(q0, "r_tool0")
+    ways = {
+        "l_tool0": line(T_l, np.array([0.0, 0.0, 0.1]), 20),
+        "r_tool0": line(T_r, np.array([0.05, 0.0, 0.0]), 20),
+    }
+    for plan in ("follow", "global"):
+        b = cell.solve_path(ways, q0, max_joint_step=0.2, plan=plan)
+        assert b.success.all(), b.summary()
+        steps = np.abs(np.diff(np.vstack([q0, b.q]), axis=0))
+        assert steps.max() <= 0.2 + 1e-12
+
+
+def talos() -> armik.Arms:
+    robots = Path(armik.load("panda").source).parents[2]
+    urdf = robots / "talos_data" / "robots" / "talos_reduced.urdf"
+    return armik.load(urdf, tips=["gripper_left_base_link", "gripper_right_base_link"])
+
+
+def test_a_path_over_a_shared_torso_reports_a_jump():
+    robot = talos()
+    tips = robot.tips
+    union = robot._union
+    q0 = robot.middle
+    T = {tip: union.fk(q0, tip) for tip in tips}
+    ways = {tip: line(T[tip], np.array([0.0, 0.0, 0.06]), 7) for tip in tips}
+    b = robot.solve_path(ways, q0, max_joint_step=0.3, iteration_budget=3000)
+    assert b.success.all(), b.summary()
+    assert np.abs(np.diff(np.vstack([q0, b.q]), axis=0)).max() <= 0.3 + 1e-12
+    far = robot.random_q(np.random.default_rng(1))
+    jump = {tip: [union.fk(far, tip)] for tip in tips}
+    r = robot.solve_path(jump, q0, max_joint_step=0.05, iteration_budget=3000)
+    assert r.status[0] == "discontinuous" and not r.success[0]
+    assert "reachable only by a jump" in r.reason(0) and "max_joint_step 0.05" in r.reason(0)
+    with pytest.raises(OptionError, match="plan='follow'"):
+        robot.solve_path(ways, q0, plan="global")
+
+
+def test_bad_many_targets_are_named(cell):
+    with pytest.raises(TargetError, match="as many targets"):
+        cell.solve_batch({"l_tool0": np.zeros((3, 3)), "r_tool0": np.zeros((2, 3))})
+    with pytest.raises(FrameError, match="unknown tips"):
+        cell.solve_batch({"hand": np.zeros((2, 3))})
+    with pytest.raises(OptionError, match="one per target"):
+        cell.solve_batch({"l_tool0": np.zeros((2, 3))}, q0=np.zeros((3, 12)))
+    with pytest.raises(OptionError, match="map tip names"):
+        cell.solve_batch(np.zeros((2, 3)))
+    with pytest.raises(OptionError, match="positive and finite"):
+        cell.solve_path({"l_tool0": np.zeros((2, 3))}, cell.middle, max_joint_step=-1.0)
