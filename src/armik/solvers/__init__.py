@@ -7,6 +7,7 @@ from armik.solvers.closed_form import (  # noqa: F401  (registration)
     spherical_general,
     spherical_wrist,
     spin,
+    spin_joint,
     swept_7r,
     three_parallel,
     three_parallel_general,

@@ -32,6 +32,7 @@ from armik.targets.pose import Target
 STEP = math.radians(5.0)  # rad between samples of the spin
 XATOL = 1e-10  # rad: Brent's tolerance on the refined angle
 AXES = "xyz"
+FAR = 1e6  # the refined distance where a spin has no admissible answer (Brent's needs finite)
 
 
 def spin_of(bounds: tuple[float, ...] | None) -> tuple[int, float] | None:
@@ -120,7 +121,7 @@ def _nearest(arm, spec, target, q0, opts, k, half, thetas) -> list[Attempt]:
         return [_missed(q0, k, len(thetas))]
 
     def f(t: float) -> float:
-        return float(_distances(arm, spec, target, q0, opts, k, np.array([t]))[1][0])
+        return min(float(_distances(arm, spec, target, q0, opts, k, np.array([t]))[1][0]), FAR)
 
     best = minimize_scalar(f, bounds=_bracket(thetas, i, half), method="bounded",
                            options={"xatol": XATOL})  # fmt: skip
@@ -144,7 +145,7 @@ def _every_branch(arm, spec, target, q0, opts, k, half, thetas) -> list[Attempt]
 
         def f(t: float, label: str | None = label) -> float:
             rows = [a for a in _exact(arm, spec, target, q0, opts, k, t) if a.branch == label]
-            return float(np.linalg.norm(rows[0].q - q0)) if rows else math.inf
+            return float(np.linalg.norm(rows[0].q - q0)) if rows else FAR
 
         i = int(np.argmin(np.abs(thetas - t0)))
         best = minimize_scalar(f, bounds=_bracket(thetas, i, half), method="bounded",

@@ -1,0 +1,71 @@
+"""A spin that is the last joint's (``spin_joint``): every branch from one closed-form
+call, its last joint nearest q0's value; the answer nearest q0 over the whole range, no
+farther than a dense brute-force sweep's best; auto takes it for one answer; an arm whose
+tool is off that axis goes to the sweep."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.solvers import registry
+from armik.solvers.closed_form import spin_joint
+from armik.status import Status
+
+from ...conftest import arm
+from .test_spin import FREE, brute_force, spin_options, turned
+
+
+def spun_about_z(T_target: pin.SE3, T: pin.SE3) -> float:
+    """The angle of ``T`` about the target's z; asserts nothing else moved."""
+    M = T_target.actInv(T)
+    w = pin.log3(M.rotation)
+    assert np.abs(M.translation).max() <= 1e-6 and np.abs(w[:2]).max() <= 1e-6
+    return float(w[2])
+
+
+@pytest.mark.parametrize("robot", ["ur5", "abb_irb120", "ur10"])
+def test_every_branch_nearest_q0_over_the_whole_spin(robot):
+    a = arm(robot)
+    rng = np.random.default_rng(23)
+    for _ in range(3):
+        T = turned(a.fk(a.random_q(rng)), rng.uniform(-3, 3))
+        q0 = a.random_q(rng)
+        r = a.solve(T, q0=q0, bounds=FREE)
+        assert r.success and r.solver == "spin_joint", r.reason
+        spun_about_z(T, a.fk(r.q))
+        brute = brute_force(a, T, q0, math.pi, n=721)
+        assert float(np.linalg.norm(r.q - q0)) <= min(brute.values()) + 1e-9
+        every = a.solve_all(T, q0=q0, bounds=FREE)
+        assert {x.branch for x in every} == set(brute)
+        for x in every:
+            assert x.success and x.q[-1] == pytest.approx(np.clip(q0[-1], a.lower[-1], a.upper[-1]))
+            assert float(np.linalg.norm(x.q - q0)) <= brute[x.branch] + 1e-9
+
+
+def test_a_bounded_spin_and_the_limits():
+    a = arm("ur5")
+    rng = np.random.default_rng(3)
+    T, q0 = a.fk(a.random_q(rng)), a.random_q(rng)
+    r = a.solve(T, q0=q0, bounds=(0.0, 0.0, 0.0, 0.0, 0.0, 0.3))
+    assert r.success and r.solver == "spin_joint"
+    assert abs(spun_about_z(T, a.fk(r.q))) <= 0.3 + 1e-9
+    narrow = a.with_limits({"wrist_3_joint": (0.0, 0.01)})
+    T = turned(narrow.fk(np.array([0.3, -1.0, 1.2, -1.0, 1.2, 0.005])), 1.5)
+    r = narrow.solve(T, bounds=(0.0, 0.0, 0.0, 0.0, 0.0, 0.2))
+    assert not r.success and r.status is Status.JOINT_LIMITS, r.reason
+    assert narrow.solve(T, bounds=(0.0, 0.0, 0.0, 0.0, 0.0, 1.6)).success
+
+
+def test_a_tool_off_the_last_axis_goes_to_the_sweep():
+    a = armik.load("ur5", tip_offset=(0.05, 0.0, 0.1))
+    why = registry.why_not("spin_joint", a, None, spin_options(FREE))
+    assert why and "does not turn the tool" in why
+    T = a.fk(a.random_q(np.random.default_rng(2)))
+    assert a.solve(T, bounds=FREE).solver == "dls"
+    assert a.solve_all(T, bounds=FREE)[0].solver == "spin"
+    assert spin_joint.aligned(arm("ur5"), 2) and not spin_joint.aligned(arm("ur5"), 0)
