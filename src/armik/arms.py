@@ -33,7 +33,9 @@ from armik.problem.problem import Problem, as_problem, relative_tasks
 from armik.problem.tasks import Pose, Position, Relative, Task
 from armik.problem.tasks.base import replaced
 from armik.result import IKResult
+from armik.solve.single import solve_one
 from armik.solve.tasks import check_options, solve_tasks
+from armik.solvers.registry import validate_name
 from armik.status import Status
 from armik.targets.pose import parse_target
 
@@ -69,6 +71,7 @@ class Arms:
             tip: np.array([index[n] for n in arm.joint_names])  # type: ignore[attr-defined]
             for tip, arm in self._chains.items()
         }
+        self._middle_seeds = self.split(self.middle)  # each chain's seed when q0 is None: read only
 
     def __repr__(self) -> str:
         return f"Arms(tips={list(self.tips)}, dof={self.dof})"
@@ -118,21 +121,33 @@ class Arms:
         """Every tip at its target (any target form ``Arm.solve`` takes, or a task list),
         each chain by its own solver; one ``IKResult`` for the robot (module docstring)."""
         t0 = time.perf_counter()
-        self._check_targets(targets)
+        relative = self._check_targets(targets)
         if self._union is not None:
             return self._solve_together(self._union, targets, q0, options, t0)
-        seeds = self.split(self.middle if q0 is None else q0)
-        order = _in_order(targets)
+        seeds = self._middle_seeds if q0 is None else self.split(q0)
+        if not relative:  # each chain alone: the common case, kept short
+            solver = options.pop("solver", "auto")  # Arm.solve's route, without its frame
+            if type(solver) is not str:
+                validate_name(solver)
+            chains = self._chains
+            results = {
+                tip: solve_one(chains[tip], target, seeds[tip], solver, options)  # type: ignore[arg-type]
+                for tip, target in targets.items()
+            }
+            return _joined(self, results, seeds, time.perf_counter() - t0)
+        order = _in_order(targets, relative)
         if order is None:  # tips placed relative to each other in a cycle: all at once
             return self._solve_together(self._joint(), targets, q0, options, t0)
-        results: dict[str, IKResult] = {}
+        results = {}
         for tip in order:
             # a pose relative to a chain already solved is a pose in the base: exactly,
             # bounds included, since the chains share no joint
-            target = _absolute(targets[tip], self._placements(results, seeds))
+            target = targets[tip]
+            if tip in relative:
+                target = _absolute(target, self._placements(results, seeds))
             results[tip] = self._chains[tip].solve(target, q0=seeds[tip], **options)  # type: ignore[attr-defined]
         joined = _joined(self, results, seeds, time.perf_counter() - t0)
-        if joined.success or not _relative(targets):
+        if joined.success:
             return joined
         # the reference chain's answer may be one the other cannot reach from: together
         together = self._solve_together(self._joint(), targets, joined.q, options, t0)
@@ -208,7 +223,7 @@ class Arms:
         values; the descent then reconciles the chains."""
         q = q.copy()
         fixed = np.zeros(self.dof, dtype=bool)
-        for tip in _in_order(targets) or list(targets):
+        for tip in _in_order(targets, _relative(targets)) or list(targets):
             cols = self._columns[tip]
             placements = {t: self._chains[t].fk(q[c]) for t, c in self._columns.items()}  # type: ignore[attr-defined]
             try:
@@ -221,7 +236,13 @@ class Arms:
             fixed[cols] = True
         return q
 
-    def _check_targets(self, targets: object) -> None:
+    def _check_targets(self, targets: object) -> dict[str, list[Relative]]:
+        """Each tip's ``Relative`` tasks, once the targets are checked: a mapping of known
+        tips, each relative task on its own tip and relative to a known one."""
+        if type(targets) is dict and targets.keys() <= self._chains.keys():
+            relative = _relative(targets)  # the common case: known tips, checked below
+            if not relative:
+                return relative
         if not isinstance(targets, Mapping) or not targets:
             raise OptionError(
                 f"targets must map tip names {list(self.tips)} to targets, got {targets!r}",
@@ -229,7 +250,8 @@ class Arms:
                 value=targets,
             )
         unknown = [t for t in targets if t not in self._chains]
-        for tip, rel in _relative(targets).items():
+        relative = _relative(targets)
+        for tip, rel in relative.items():
             if tip in self._chains:
                 unknown += [t.relative_to for t in rel if t.relative_to not in self._chains]
                 for t in rel:
@@ -240,6 +262,7 @@ class Arms:
                 frame=str(unknown[0]),
                 candidates=self.tips,
             )
+        return relative
 
 
 def _worse(a: float | None, b: float | None) -> float | None:
@@ -271,13 +294,20 @@ def _on(task: Task, tip: str) -> Task:
 
 def _relative(targets: Mapping[str, object]) -> dict[str, list[Relative]]:
     """Each tip's ``Relative`` tasks."""
-    return {tip: found for tip, target in targets.items() if (found := relative_tasks(target))}
+    return {
+        tip: found
+        for tip, target in targets.items()
+        if type(target) not in _PLAIN and (found := relative_tasks(target))
+    }
 
 
-def _in_order(targets: Mapping[str, object]) -> list[str] | None:
-    """The tips, each after the tips its ``Relative`` tasks are relative to; None when they
-    are relative to each other in a cycle."""
-    after = {tip: {t.relative_to for t in rel} for tip, rel in _relative(targets).items()}
+_PLAIN = (np.ndarray, pin.SE3)  # target types that hold no task: skipped without a look
+
+
+def _in_order(targets: Mapping[str, object], relative: dict) -> list[str] | None:
+    """The tips, each after the tips their ``Relative`` tasks (``relative``) are relative
+    to; None when they are relative to each other in a cycle."""
+    after = {tip: {t.relative_to for t in rel} for tip, rel in relative.items()}
     order: list[str] = []
     pending = list(targets)
     while pending:
@@ -312,9 +342,10 @@ def _scatter(q: np.ndarray, order: np.ndarray) -> np.ndarray:
 
 
 def _joined(arms: Arms, results: dict[str, IKResult], seeds, elapsed: float) -> IKResult:
-    # one loop over the tips: this runs on every solve of a cell
-    solvers: dict[str, None] = {}  # the solvers' names, in order, once each
+    # one pass over the tips, on each result's fields read once: this runs on every solve
+    # of a cell, beside two closed-form solves of a few microseconds each
     parts, failed, errors = [], [], {}
+    solvers: dict[str, None] = {}  # the solvers' names, in order, once each
     iterations = restarts = 0
     position, orientation, singular = 0.0, None, False
     for tip in arms.tips:
@@ -322,39 +353,47 @@ def _joined(arms: Arms, results: dict[str, IKResult], seeds, elapsed: float) -> 
         if r is None:
             parts.append(seeds[tip])
             continue
-        parts.append(r.q)
-        solvers[r.solver] = None
-        if not r.success:
+        d = r.__dict__
+        parts.append(d["q"])
+        solvers[d["solver"]] = None
+        if not d["success"]:
             failed.append(tip)
-        errors[tip] = (r.position_error, r.orientation_error)
-        iterations += r.iterations
-        restarts += r.restarts
-        position = max(position, r.position_error)
-        if r.orientation_error is not None:
-            orientation = max(orientation or 0.0, r.orientation_error)
-        singular = singular or r.singular
-    if failed:
-        status = results[failed[0]].status
-        reason = "; ".join(f"{t}: {results[t].status.value}: {results[t].reason}" for t in failed)
-    else:
-        status = Status.CONVERGED
-        reason = "every tip verified: " + "; ".join(
-            f"{t} by {r.solver}" for t, r in results.items()
-        )
-    row = {
-        "q": np.concatenate(parts),
-        "success": not failed,
-        "status": status,
-        "reason": reason,
-        "solver": "+".join(solvers),
-        "iterations": iterations,
-        "position_error": position,
-        "orientation_error": orientation,
-        "time": elapsed,
-        "branch": None,
-        "singular": singular,
-        "restarts": restarts,
-    }
-    joined = IKResult._checked(row)  # every field, status a Status: the fast constructor
-    object.__setattr__(joined, "extra", {"errors": errors, "results": results})
+        pos, ori = d["position_error"], d["orientation_error"]
+        errors[tip] = (pos, ori)
+        iterations += d["iterations"]
+        restarts += d["restarts"]
+        if pos > position:
+            position = pos
+        if ori is not None and (orientation is None or ori > orientation):
+            orientation = ori
+        singular = singular or d["singular"]
+    q = np.concatenate(parts)
+    q.setflags(write=False)  # a result's q is read-only; setflags is the cheaper spelling
+    joined = _new(IKResult)
+    joined.__dict__.update(
+        q=q,
+        success=not failed,
+        status=results[failed[0]].status if failed else _CONVERGED,
+        _reason=(_reason, (results, failed)),  # written on first read, as prepared solves do
+        solver="+".join(solvers),
+        iterations=iterations,
+        position_error=position,
+        orientation_error=orientation,
+        time=elapsed,
+        branch=None,
+        singular=singular,
+        restarts=restarts,
+        extra={"errors": errors, "results": results},
+    )
     return joined
+
+
+_new = object.__new__
+_CONVERGED = Status.CONVERGED
+
+
+def _reason(results: dict[str, IKResult], failed: list[str]) -> str:
+    """A joined result's reason: each failing tip's, else the solver of each tip."""
+    if failed:
+        return "; ".join(f"{t}: {results[t].status.value}: {results[t].reason}" for t in failed)
+    return "every tip verified: " + "; ".join(f"{t} by {r.solver}" for t, r in results.items())
