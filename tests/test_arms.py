@@ -97,7 +97,7 @@ def test_two_hands_over_a_shared_torso():
     data = full.createData()
     rng = np.random.default_rng(5)
     solved = 0
-    for _ in range(20):
+    for _ in range(40):
         q = robot.random_q(rng)
         qf = pin.neutral(full)
         for name, value in zip(robot.joint_names, q):
@@ -117,7 +117,9 @@ def test_two_hands_over_a_shared_torso():
             assert np.abs(err).max() <= 2e-6
         assert (r.q >= robot.lower - 1e-9).all() and (r.q <= robot.upper + 1e-9).all()
         assert set(r.extra["errors"]) == set(tips)
-    assert solved >= 18
+    # restarts from each chain's compiled answer, chains in a random order, short descents:
+    # every one of these (18 of 20 from random restarts with 100-step descents)
+    assert solved == 40
 
 
 def test_bad_tips_are_armik_errors(cell):

@@ -39,6 +39,8 @@ from armik.solvers.registry import validate_name
 from armik.status import Status
 from armik.targets.pose import parse_target
 
+UNION_ITERATIONS = 40  # a restart's descent over chains that share joints (_solve_together)
+
 
 class Arms:
     """The chains of ``tips`` of one robot, each an ``Arm`` (``chain(tip)``)."""
@@ -111,11 +113,14 @@ class Arms:
         J[:, self._columns[tip]] = self.chain(tip).jacobian(self.split(q)[tip])
         return J
 
-    def random_q(self, rng: np.random.Generator | int | None = None) -> np.ndarray:
-        rng = np.random.default_rng(rng)
+    def _random(self, rng: np.random.Generator) -> np.ndarray:
+        """A random configuration within the limits, in ``joint_names``'s order."""
         if self._union is not None:
             return self._union.random_q(rng)
         return np.concatenate([a.random_q(rng) for a in self._chains.values()])  # type: ignore[attr-defined]
+
+    def random_q(self, rng: np.random.Generator | int | None = None) -> np.ndarray:
+        return self._random(np.random.default_rng(rng))
 
     def solve(self, targets: Mapping[str, object], *, q0: object = None, **options) -> IKResult:
         """Every tip at its target (any target form ``Arm.solve`` takes, or a task list),
@@ -199,11 +204,26 @@ class Arms:
             tasks += [_on(t, tip) for t in _as_tasks(target)]
         opts = Options.from_kwargs(options)
         check_options(opts, "auto")
+        if "max_iterations" not in options:
+            # short descents, many restarts: over every chain's joints a descent that has not
+            # closed in after 40 steps seldom does (TALOS's hands: 3 misses in 1200 targets
+            # against 11 with the default 100), and one closing in goes on (solve_tasks)
+            opts = dataclasses.replace(opts, max_iterations=UNION_ITERATIONS)
         start = self._start(targets, self.middle if q0 is None else np.asarray(q0, float), options)
         # the union serves as the arm: it has what solve_tasks reads (annotated ArmModel)
         order = self._permutation
         start = start if order is None else _scatter(start, order)
-        r = solve_tasks(union, Problem(tuple(tasks)), start, opts, t0)  # type: ignore[arg-type]
+
+        def reseed(rng: np.random.Generator) -> np.ndarray:
+            # a random configuration, each chain then solved by its own compiled solver in a
+            # random order (the first sets the torso): nearer an answer than a random one
+            # over many joints, and not always the same basin (TALOS's two hands: 6 misses
+            # in 1000 targets against 14 from a random configuration alone)
+            q = self._start(targets, self._random(rng), options, rng)
+            return q if order is None else _scatter(q, order)
+
+        problem = Problem(tuple(tasks))
+        r = solve_tasks(union, problem, start, opts, t0, reseed=reseed)  # type: ignore[arg-type]
         if order is not None:  # back to the chains' joints side by side
             r = dataclasses.replace(r, q=r.q[order])
         errors: dict[str, tuple] = {}
@@ -217,17 +237,30 @@ class Arms:
         reason = r.reason if not failed else f"tips not within their tasks: {failed}; {r.reason}"
         return dataclasses.replace(r, reason=reason, extra={**r.extra, "errors": errors})
 
-    def _start(self, targets: Mapping[str, object], q: np.ndarray, options: dict):
+    def _start(
+        self,
+        targets: Mapping[str, object],
+        q: np.ndarray,
+        options: dict,
+        rng: np.random.Generator | None = None,
+    ):
         """Where the descent over every joint starts: each chain in turn solved by its own
         compiled solver from ``q``, the joints an earlier chain set (a torso) kept at its
-        values; the descent then reconciles the chains."""
+        values; the descent then reconciles the chains. With ``rng``, the chains that no
+        relative task orders go in a random order (a restart: another chain sets the torso)."""
         q = q.copy()
         fixed = np.zeros(self.dof, dtype=bool)
-        for tip in _in_order(targets, _relative(targets)) or list(targets):
+        relative = _relative(targets)
+        order = _in_order(targets, relative) or list(targets)
+        if rng is not None and not relative:
+            order = [order[i] for i in rng.permutation(len(order))]
+        for tip in order:
             cols = self._columns[tip]
-            placements = {t: self._chains[t].fk(q[c]) for t, c in self._columns.items()}  # type: ignore[attr-defined]
+            target = targets[tip]
             try:
-                target = _absolute(targets[tip], placements)
+                if tip in relative:
+                    placements = {t: self._chains[t].fk(q[c]) for t, c in self._columns.items()}  # type: ignore[attr-defined]
+                    target = _absolute(target, placements)
                 r = self._chains[tip].solve(target, q0=q[cols], **options)  # type: ignore[attr-defined]
             except ArmikError:  # a task this chain's solver does not take: start as is
                 continue

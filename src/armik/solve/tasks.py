@@ -12,7 +12,9 @@ success. A miss is ``not_converged``: a numeric search does not show a target ou
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
+from collections.abc import Callable
 
 import numpy as np
 import pinocchio as pin
@@ -27,6 +29,8 @@ from armik.status import Status
 
 SOLVER = "tasks"
 LAMBDA0 = 1e-3  # the damping's start, relative to the largest diagonal of J^T J
+NEAR = 1e-3  # m + rad: a descent ending this close goes on (``solve_tasks``) ...
+CLOSING = 0.5  # ... while each run of iterations at least halves its error
 AIM = 0.9  # the descent aims at the regions scaled by this (``Task.shrunk``)
 CENTRE_RESTARTS = (
     20  # the centre's compiled attempt: it may be out of reach where the region is not
@@ -191,10 +195,12 @@ def solve_tasks(
     opts: Options,
     t0: float,
     centre: IKResult | None = None,
+    reseed: Callable[[np.random.Generator], np.ndarray] | None = None,
 ) -> IKResult:
     """The verified answer to ``problem`` from ``q0`` (see the module docstring). ``centre``:
     the compiled answer to the problem with its regions shrunk to their centres: taken as
-    it is when every task holds on it, else the descent starts from it."""
+    it is when every task holds on it, else the descent starts from it. ``reseed``: where
+    a restart starts (default: a random configuration within the limits)."""
     tasks = problem.tasks
     ids = frame_ids(arm, tasks)
     q = arm.seed(q0)
@@ -213,6 +219,7 @@ def solve_tasks(
     started = time.thread_time()
     used = restarts = 0
     best, best_errors = q, _measure(arm, tasks, ids, q, opts)
+    before = math.inf  # the last descent's end error: one still closing in goes on
     while True:
         left = opts.max_iterations if budget is None else min(opts.max_iterations, budget - used)
         q, k = _descend(arm, tasks, ids, q, opts, left)
@@ -226,7 +233,15 @@ def solve_tasks(
         )
         if done or out_of_budget or restarts >= opts.max_restarts:
             break
-        q = arm.random_q(rng)
+        # a descent that ran its iterations out near an answer and still closing in (its
+        # error down by a good part since the last) goes on from where it is: a restart
+        # would throw away what many joints and an active limit make slow to reach
+        end = _total(errors)
+        if k == left and end < NEAR and end < CLOSING * before:
+            before = end
+            continue
+        before = math.inf
+        q = arm.random_q(rng) if reseed is None else reseed(rng)
         restarts += 1
     return _result(arm, tasks, best, best_errors, opts, used, restarts, t0)
 
