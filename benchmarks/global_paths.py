@@ -6,10 +6,13 @@ about its own axis by up to two turns; only paths whose every waypoint a closed 
 reaches are kept. Each is solved with ``plan="follow"`` and ``plan="global"`` from the
 start configuration (and the global plan again with ``q0=None``), ``max_joint_step`` 0.3
 rad. Reported per plan: the paths solved end to end, the waypoints flagged
-``discontinuous``, the largest joint step, the mean total joint motion of the paths both
-plans solve, and the mean time, interleaved path by path.
+``discontinuous`` (and of them, those the global plan reaches only through steps that
+hide a jump halfway), the largest joint step, the mean total joint motion of the paths
+both plans solve, and the mean time, interleaved path by path. ``--spacing`` sets the
+lines' step (m).
 
     python benchmarks/global_paths.py [--arms ur5 ur10 abb_irb120] [--paths 40] [-n 200]
+        [--spacing 0.005]
 
 ``--spin`` times instead, best of ``--repeats``, interleaved, one path: the UR5's tool spun
 one and a half turns over ``-n`` waypoints from mid-limits with wrist 2 at 1 rad (the
@@ -28,16 +31,17 @@ import pinocchio as pin
 import armik
 
 STEP = 0.3
+HIDDEN = "hides a jump"  # in the reason of a waypoint only a step with a hidden jump reaches
 
 
-def paths(arm: armik.Arm, count: int, n: int, rng: np.random.Generator):
+def paths(arm: armik.Arm, count: int, n: int, rng: np.random.Generator, spacing: float = 0.005):
     made = 0
     while made < count:
         q = arm.random_q(rng)
         T0 = arm.fk(q)
         if made % 2 == 0:
             d = rng.normal(size=3)
-            d *= 0.005 / np.linalg.norm(d)
+            d *= spacing / np.linalg.norm(d)
             poses = [pin.SE3(T0.rotation, T0.translation + k * d) for k in range(n)]
         else:
             turns = rng.uniform(0.5, 2.0) * 2.0 * math.pi
@@ -54,13 +58,13 @@ def motion(q0, Q) -> float:
     return float(np.linalg.norm(np.diff(np.vstack([q0, Q]), axis=0), axis=1).sum())
 
 
-def run(name: str, count: int, n: int) -> None:
+def run(name: str, count: int, n: int, spacing: float) -> None:
     arm = armik.load(name)
     rng = np.random.default_rng(35)
     plans = {"follow": [], "global": [], "global, any start": []}
     T = arm.fk(arm.middle)
     arm.solve_path([T, T], arm.middle, plan="global")  # compiled before the clock runs
-    for q, poses in paths(arm, count, n, rng):
+    for q, poses in paths(arm, count, n, rng, spacing):
         for label, plan, q0 in (
             ("follow", "follow", q), ("global", "global", q), ("global, any start", "global", None)
         ):  # fmt: skip
@@ -68,15 +72,18 @@ def run(name: str, count: int, n: int) -> None:
             p = arm.solve_path(poses, q0, max_joint_step=STEP, plan=plan)
             dt = time.perf_counter() - t0
             start = q if q0 is not None else p.q[0]
-            plans[label].append((p.success.all(), int((~p.success).sum()), p, start, dt))
+            hidden = sum(HIDDEN in text for text in p.reasons.values())
+            plans[label].append((p.success.all(), int((~p.success).sum()), p, start, dt, hidden))
     both = [i for i in range(count) if plans["follow"][i][0] and plans["global"][i][0]]
     for label, rows in plans.items():
         solved = sum(r[0] for r in rows)
         flagged = sum(r[1] for r in rows)
+        hidden = sum(r[5] for r in rows)
         steps = max(np.abs(np.diff(r[2].q, axis=0)).max() for r in rows if r[0]) if solved else 0
         moved = np.mean([motion(rows[i][3], rows[i][2].q) for i in both]) if both else math.nan
         print(
-            f"{name:<10} {label:<18} solved {solved:3d}/{count}  flagged waypoints {flagged:5d}  "
+            f"{name:<10} {label:<18} solved {solved:3d}/{count}  flagged waypoints {flagged:5d} "
+            f"(hidden jumps: {hidden})  "
             f"largest step {steps:.3f}  motion (both solved) {moved:7.3f}  "
             f"{1e3 * np.mean([r[4] for r in rows]):6.1f} ms",
             flush=True,
@@ -113,6 +120,7 @@ def main() -> None:
     parser.add_argument("--arms", nargs="+", default=["ur5", "ur10", "abb_irb120"])
     parser.add_argument("--paths", type=int, default=40)
     parser.add_argument("-n", type=int, default=200)
+    parser.add_argument("--spacing", type=float, default=0.005, help="m between line waypoints")
     parser.add_argument("--spin", action="store_true", help="time the spun tool path instead")
     parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args()
@@ -120,7 +128,7 @@ def main() -> None:
         spin(args.n, args.repeats)
         return
     for name in args.arms:
-        run(name, args.paths, args.n)
+        run(name, args.paths, args.n, args.spacing)
 
 
 if __name__ == "__main__":

@@ -105,6 +105,11 @@ def test_the_first_step_honours_q0():
     assert np.abs(planned.q[0] - other).max() <= 0.3
 
 
+def test_an_empty_path_is_an_empty_plan():
+    arm = conftest.arm("ur5")
+    assert len(arm.solve_path(np.zeros((0, 4, 4)), arm.middle, plan="global")) == 0
+
+
 def test_plans_need_a_closed_form_and_a_known_plan():
     panda = conftest.arm("panda")
     T = panda.fk(panda.middle)
@@ -112,3 +117,94 @@ def test_plans_need_a_closed_form_and_a_known_plan():
         panda.solve_path([T, T], panda.middle, plan="global")
     with pytest.raises(armik.InputError, match="plan must be"):
         panda.solve_path([T, T], panda.middle, plan="best")
+
+
+def _across_the_wrist_singularity(arm):
+    """Two UR5 poses whose wrist 2 goes from 0.2 to -0.2 rad with wrist 1 turned 0.1 rad:
+    the pose halfway lies next to the wrist singularity, where wrist 1 swings."""
+    qa = np.array([0.3, -1.2, 1.5, -1.0, 0.2, 0.4])
+    qb = qa + np.array([0.0, 0.0, 0.0, 0.1, -0.4, 0.0])
+    return qa, arm.fk(qa), arm.fk(qb)
+
+
+def test_a_jump_hidden_between_two_waypoints_is_reported():
+    """The step from qa to a solution of the second pose moves no joint by more than 0.5,
+    but halfway the wrist swings: the plan refuses the step, and the same poses sampled
+    65 times show the swing the check saw."""
+    arm = conftest.arm("ur5")
+    qa, Ta, Tb = _across_the_wrist_singularity(arm)
+    near = [r.q for r in arm.solve_all(Tb, q0=qa) if r.success]
+    assert min(np.abs(np.asarray(q) - qa).max() for q in near) <= 0.5  # the step rule: fine
+    planned = arm.solve_path([Ta, Tb], qa, max_joint_step=0.5, plan="global")
+    assert planned.success.tolist() == [True, False]
+    assert planned.status[1] == Status.DISCONTINUOUS.value
+    assert "every step within max_joint_step hides a jump" in planned[1].reason
+    w = pin.log3(Ta.rotation.T @ Tb.rotation)
+    dense = [
+        pin.SE3(
+            Ta.rotation @ pin.exp3(w * t), Ta.translation + t * (Tb.translation - Ta.translation)
+        )
+        for t in np.linspace(0.0, 1.0, 65)
+    ]
+    followed = arm.solve_path(dense, qa, max_joint_step=0.5)
+    assert not followed.success.all()
+    assert np.abs(np.diff(followed.q[:, 3])).max() > 0.5  # wrist 1 swings between samples
+
+
+def test_a_line_through_the_inner_hole_is_a_hidden_jump():
+    """Planar 2-link (links 1 and 0.8 m: a hole of 0.2 m), positions 0.21 m out at +-0.4
+    rad: the elbow stays folded and joint 1 turns 0.8 rad, within the step, but the
+    line between passes 0.193 m from the base, out of reach. Its closed form has no compiled
+    batch: the check solves the poses halfway one by one. The same turn 1 m out is clean."""
+    arm = conftest.arm("planar_2link")
+    for r, ok in ((0.21, False), (1.0, True)):
+        pts = np.array([[r * math.cos(0.4), s * r * math.sin(0.4), 0.0] for s in (1, -1)])
+        q0 = [x.q for x in arm.solve_all(pts[0]) if x.success][0]
+        planned = arm.solve_path(pts, q0, max_joint_step=1.0, plan="global")
+        assert planned.success.tolist() == [True, ok]
+        if not ok:
+            assert "hides a jump" in planned[1].reason
+
+
+def test_a_refused_step_is_dropped_and_the_path_planned_again():
+    """From any start, the least motion crosses the singularity on the shoulder-front
+    branches (a refused step); the plan goes round it on a shoulder-back branch."""
+    arm = conftest.arm("ur5")
+    qa, Ta, Tb = _across_the_wrist_singularity(arm)
+    planned = arm.solve_path([Ta, Tb], None, max_joint_step=0.7, plan="global")
+    assert planned.success.all()
+    assert np.abs(np.diff(planned.q, axis=0)).max() <= 0.7
+    assert abs(math.remainder(planned.q[0, 0] - qa[0], 2 * math.pi)) > 2.0  # the other shoulder
+    for T, qi in zip([Ta, Tb], planned.q):
+        assert np.allclose(arm.fk(qi).homogeneous, T.homogeneous, atol=1e-9)
+    motion = float(np.linalg.norm(planned.q[1] - planned.q[0]))
+    assert motion > float(np.linalg.norm([0.1, 0.4]))  # more than the refused step's
+
+
+def _elbow(arm, q, radius=0.06):
+    """A sphere around the elbow joint at ``q``, in the base frame."""
+    arm.fk(q)
+    return armik.Sphere(radius, arm.T_base_world.act(arm.data.oMi[3].translation))
+
+
+def test_collisions_remove_rungs():
+    """A sphere at the elbow of the plan's answer halfway up a line: with the obstacle the
+    plan takes branches clear of it; from q0, inside it, the first step is a jump."""
+    arm = conftest.arm("ur5")
+    q = arm.random_q(3)
+    T0 = arm.fk(q)
+    poses = [
+        pin.SE3(T0.rotation, T0.translation + np.array([0.0, 0.0, 0.01 * k])) for k in range(20)
+    ]
+    free = arm.solve_path(poses, None, max_joint_step=0.3, plan="global")
+    ball = _elbow(arm, free.q[10])
+    assert free.success.all() and arm.in_collision(free.q[10], [ball])
+    clear = arm.solve_path(poses, None, max_joint_step=0.3, plan="global", obstacles=[ball])
+    assert clear.success.all()
+    assert np.abs(np.diff(clear.q, axis=0)).max() <= 0.3
+    assert not any(arm.in_collision(qi, [ball]) for qi in clear.q)
+    assert (clear.min_distance >= 0).all()
+    stuck = arm.solve_path(poses, q, max_joint_step=0.3, plan="global", obstacles=[ball])
+    assert arm.in_collision(q, [ball])
+    assert stuck.status[0] == Status.DISCONTINUOUS.value and "q0 (the start)" in stuck[0].reason
+    assert not any(arm.in_collision(qi, [ball]) for qi in stuck.q)

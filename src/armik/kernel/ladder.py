@@ -8,8 +8,9 @@ parent's cost plus the step's Euclidean norm. Children that are the same rung wi
 same turns are one state (the cheapest parent kept), found in a table indexed by the rung
 and the turns, so a layer costs its candidates, not their square. Where no child is kept,
 every path breaks at that waypoint: it is flagged with the smallest jump's joint and size,
-and its children are taken without the step bound. Without q0 the first waypoint's
-states are every turn within the limits of every rung.
+and its children are taken without the step bound. An edge in ``forbidden`` (a pair of
+rungs a jump hides between: ``armik.solve.ladder``) counts as a jump too. Without q0 the
+first waypoint's states are every turn within the limits of every rung.
 """
 
 from __future__ import annotations
@@ -68,11 +69,19 @@ def _turn_range(b, lo, hi, periodic):
 
 
 @njit(cache=True)
-def plan(B, offs, q0, has_q0, lo, hi, periodic, step):
+def edge_code(a, b, n_rungs):
+    """The code of the edge from rung ``a`` (-1: q0) to rung ``b`` in ``forbidden``."""
+    return (a + 1) * n_rungs + b
+
+
+@njit(cache=True)
+def plan(B, offs, q0, has_q0, lo, hi, periodic, step, forbidden):
     """The least-motion path over the rungs ``B`` (rows ``offs[i]:offs[i + 1]`` for
-    waypoint i) from ``q0`` (``has_q0`` False: from any turn of any first rung). Returns
-    (rung per waypoint, -1 where it has none; q per waypoint; broken per waypoint; the
-    smallest jump's joint and size where broken)."""
+    waypoint i) from ``q0`` (``has_q0`` False: from any turn of any first rung), without
+    the edges ``forbidden`` (sorted ``edge_code``s) unless every path breaks. Returns (rung
+    per waypoint, -1 where it has none; q per waypoint; broken per waypoint; hidden: broken
+    where some step within the bound was forbidden; the smallest other jump's joint, -1
+    where none, and size)."""
     n, d = offs.shape[0] - 1, B.shape[1]
     m_max = 1
     for i in range(n):
@@ -89,7 +98,7 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step):
     s_rung, s_parent = np.empty(cap, np.int64), np.empty(cap, np.int64)
     s_turn, s_cost = np.empty((cap, d), np.int64), np.empty(cap)
     layer = np.full(n, -1, np.int64)
-    broken = np.zeros(n, np.bool_)
+    broken, hidden = np.zeros(n, np.bool_), np.zeros(n, np.bool_)
     jump_joint, jump_size = np.full(n, -1, np.int64), np.zeros(n)
     count, prev_lo, prev_hi = 0, 0, 0
     started = False
@@ -100,7 +109,7 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step):
             continue  # no solution: the path goes on from the states before
         start, n_touched = count, 0
         for bounded in (True, False):
-            best_ratio, best_joint, best_size = math.inf, -1, 0.0
+            best_ratio, best_joint, best_size, seen = math.inf, -1, 0.0, False
             sources = 1 if not started else prev_hi - prev_lo
             for s in range(sources):
                 src = -1 if not started else prev_lo + s
@@ -141,6 +150,13 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step):
                         norm2 += dq * dq
                         if dq / step[j] > ratio:
                             ratio, joint, size = dq / step[j], j, dq
+                    if bounded and ratio <= 1.0 and forbidden.shape[0] > 0:
+                        a = -1 if src < 0 else s_rung[src]
+                        e = edge_code(a, r, B.shape[0])
+                        k = np.searchsorted(forbidden, e)
+                        if k < forbidden.shape[0] and forbidden[k] == e:
+                            seen = True
+                            continue
                     if ratio < best_ratio:
                         best_ratio, best_joint, best_size = ratio, joint, size
                     if bounded and ratio > 1.0:
@@ -164,14 +180,15 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step):
                     count += 1
             if count > start or not bounded or (not started and not has_q0):
                 break
-            broken[i], jump_joint[i], jump_size[i] = True, best_joint, best_size
+            broken[i], hidden[i] = True, seen
+            jump_joint[i], jump_size[i] = best_joint, best_size
         for t in range(n_touched):
             table[touched[t]] = -1
         if count > start:
             layer[i], prev_lo, prev_hi, started = start, start, count, True
     rung_out, q_out = np.full(n, -1, np.int64), np.full((n, d), np.nan)
     if not started:
-        return rung_out, q_out, broken, jump_joint, jump_size
+        return rung_out, q_out, broken, hidden, jump_joint, jump_size
     state = prev_lo
     for s in range(prev_lo, prev_hi):
         if s_cost[s] < s_cost[state]:
@@ -184,4 +201,4 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step):
             v = B[s_rung[state], j] + TWO_PI * s_turn[state, j]
             q_out[i, j] = min(max(v, lo[j]), hi[j])
         state = s_parent[state]
-    return rung_out, q_out, broken, jump_joint, jump_size
+    return rung_out, q_out, broken, hidden, jump_joint, jump_size

@@ -11,6 +11,20 @@ leaves a waypoint's rungs, every path breaks there: the waypoint is ``discontinu
 the joint and the size of the smallest possible jump, and the plan goes on from every rung
 after it. The first step is held to ``max_joint_step`` from q0 as every other; without q0
 the path may start on any rung.
+
+A step within the bound may still hide a jump between its waypoints (a wrist swinging
+through half a turn near a singularity, a joint out of its limits or the pose out of reach
+halfway). Each step the plan takes is checked halfway, on the pose with the translation
+halved and the rotation halved along its geodesic: the closed form's solution there
+nearest the step's middle must lie within ``max_joint_step`` of both ends, as it must if a
+waypoint were added halfway. Where that solution bends more than ``BEND`` of the bound away
+from the step's middle, both halves are checked the same way, ``DEPTH`` rounds at most. A
+step that fails is taken out, with every other step onto its waypoint that fails, and the
+path is planned again until every step taken passes; a waypoint that every path reaches
+only through such a step is ``discontinuous``. Only the steps taken are checked, each
+round in one compiled call.
+Collisions, when asked for, act through the rungs: ``solve_all`` with the same options
+marks a colliding branch failed, and a failed branch is no rung.
 """
 
 from __future__ import annotations
@@ -18,15 +32,22 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import pinocchio as pin
 
 from armik import reasons
 from armik.batch_result import BatchResult
 from armik.errors import OptionError
 from armik.kernel import ladder as kernel
 from armik.model.arm_model import ArmModel
+from armik.options import Options
 from armik.result import IKResult
 from armik.solvers.registry import SolverSpec
 from armik.status import Status
+from armik.targets.batch import TargetBatch
+from armik.targets.pose import Target
+
+BEND = 0.125  # of max_joint_step: a halfway solution this far off the middle: halves checked
+DEPTH = 3  # rounds of halving at most: the poses at 1/2, then 1/4 and 3/4, then the eighths
 
 
 def check_plannable(spec: SolverSpec) -> None:
@@ -43,51 +64,235 @@ def check_plannable(spec: SolverSpec) -> None:
 
 def plan(
     arm: ArmModel,
+    spec: SolverSpec,
+    targets: TargetBatch,
     rungs: list[list[IKResult]],
     q0: np.ndarray | None,
     step: np.ndarray,
+    opts: Options,
     out: BatchResult,
 ) -> None:
-    """The least-motion path over ``rungs`` (each waypoint's ``solve_all`` results) from
-    ``q0`` (None: from any turn of any rung of the first waypoint), into ``out``'s rows
-    (the dynamic programming in ``armik.kernel.ladder``)."""
+    """The least-motion path over ``rungs`` (each waypoint's ``solve_all`` results for
+    ``targets``, by ``spec``) from ``q0`` (None: from any turn of any rung of the first
+    waypoint), every step taken checked halfway, into ``out``'s rows (the dynamic
+    programming in ``armik.kernel.ladder``)."""
     good = [[r for r in rs if r.success] for rs in rungs]
     offs = np.zeros(len(rungs) + 1, dtype=np.int64)
     offs[1:] = np.cumsum([len(g) for g in good])
     B = np.array([np.asarray(r.q) for g in good for r in g]).reshape(-1, arm.dof)
     lower, upper, no_period = arm._limit_lists
     start = np.zeros(arm.dof) if q0 is None else np.asarray(q0, dtype=float)
-    rung, Q, broken, joint, size = kernel.plan(
+    args = (
         B, offs, start, q0 is not None, np.array(lower), np.array(upper),
         ~np.array(no_period, dtype=bool), np.asarray(step, dtype=float),
     )  # fmt: skip
+    rung, Q, broken, hidden, joint, size = _checked(arm, spec, opts, targets, args)
     first = True
     for i, rs in enumerate(rungs):
         if rung[i] < 0:  # no solution at all: the waypoint's own failure
             out.put_result(i, rs[0])
             out.reasons[i] = rs[0].reason
             continue
-        r = dataclasses.replace(good[i][int(rung[i] - offs[i])], q=Q[i])  # a turn: same pose
+        r = good[i][int(rung[i] - offs[i])]
         if broken[i]:
-            r = _broken(arm, r, int(joint[i]), float(size[i]), float(step[joint[i]]), first, out)
+            j = int(joint[i])
+            r = _broken(arm, r, j, float(size[i]), float(step[j]), bool(hidden[i]), first, out)
             out.reasons[i] = r.reason
-        else:
-            r = dataclasses.replace(r, reason=f"{r.reason}; planned over every branch")
-        out.put_result(i, r)
+        out.put_result(i, r)  # a success's reason is the row's, written when read
+        out.q[i] = Q[i]  # the rung turned by 2 pi: the same pose
         first = False
 
 
-def _broken(arm, r: IKResult, j: int, size: float, step: float, first: bool, out) -> IKResult:
-    unit = "m" if arm.prismatic[j] else "rad"
+def _checked(arm, spec: SolverSpec, opts: Options, targets: TargetBatch, args: tuple):
+    """``kernel.plan(*args, forbidden)`` where no step taken hides a jump: the steps taken
+    are checked, and where one fails, every other step onto its waypoint too; those that
+    fail are forbidden and the path planned again, until the steps taken pass."""
+    B, offs, start, has_q0, lower, upper, periodic, step = args
+    forbidden, clean = set(), set()
+    while True:
+        got = kernel.plan(*args, np.array(sorted(forbidden), dtype=np.int64))
+        rung, Q, broken = got[:3]
+        i, a, code = _steps(rung, broken, has_q0, len(B))
+        new = np.array([c not in clean and c not in forbidden for c in code.tolist()], bool)
+        i, a, code = i[new], a[new], code[new]
+        Qa = np.where((a < 0)[:, None], start, Q[np.maximum(i - 1, 0)])
+        jumped = _jumps(arm, spec, opts, targets, i, Qa, Q[i], start, step)
+        clean.update(code[~jumped].tolist())
+        if not jumped.any():
+            return got
+        forbidden.update(code[jumped].tolist())
+        for w in np.unique(i[jumped]).tolist():  # the other ways onto the waypoint
+            Qa, Qb, code = _onto(w, B, offs, start, (lower, upper, periodic), step)
+            fresh = np.array([c not in clean and c not in forbidden for c in code.tolist()], bool)
+            at = np.full(int(fresh.sum()), w)
+            bad = _jumps(arm, spec, opts, targets, at, Qa[fresh], Qb[fresh], start, step)
+            forbidden.update(code[fresh][bad].tolist())
+            clean.update(code[fresh][~bad].tolist())
+
+
+def _onto(w: int, B, offs, start, limits, step):
+    """(q before, q at ``w``, edge code) of every step onto waypoint ``w`` within the
+    bound, each angle turned nearest the one before (kept where that is within the
+    limits, as the plan turns it)."""
+    lower, upper, periodic = limits
+    if w == 0:
+        a, Qa = np.array([-1]), start[None]
+    else:
+        a = np.arange(offs[w - 1], offs[w])
+        Qa = B[a]
+    b = np.arange(offs[w], offs[w + 1])
+    d = B[b][None] - Qa[:, None]
+    d[..., periodic] -= 2.0 * np.pi * np.round(d[..., periodic] / (2.0 * np.pi))
+    Qb = Qa[:, None] + d
+    ok = (np.abs(d) <= step).all(axis=2) & ((Qb >= lower) & (Qb <= upper)).all(axis=2)
+    ka, kb = np.nonzero(ok)
+    return Qa[ka], Qb[ka, kb], (a[ka] + 1) * len(B) + b[kb]
+
+
+def _steps(rung: np.ndarray, broken: np.ndarray, has_q0: bool, n_rungs: int):
+    """(waypoint, rung before it (-1: q0), edge code) of each step the plan takes between
+    adjacent waypoints: not onto a waypoint where every path breaks (a jump, reported), nor
+    across one without a solution (reported as its own failure)."""
+    before = np.concatenate(([-1], rung[:-1]))
+    take = (rung >= 0) & ~broken
+    take[1:] &= rung[:-1] >= 0
+    take[:1] &= has_q0  # no step onto the first waypoint without q0 (none on an empty path)
+    i = np.flatnonzero(take)
+    return i, before[i], (before[i] + 1) * n_rungs + rung[i]  # kernel.edge_code
+
+
+def _jumps(arm, spec, opts, targets: TargetBatch, i, Qa, Qb, q0, step) -> np.ndarray:
+    """Whether a jump hides in each step ``Qa[k]`` -> ``Qb[k]`` onto waypoint ``i[k]``
+    (from the waypoint before, or from ``q0`` at waypoint 0): checked halfway (``BEND``,
+    ``DEPTH``), every step of a round in one call of the solver."""
+    if not len(i):
+        return np.zeros(0, dtype=bool)
+    Pb = targets.positions[i]
+    Rb = None if targets.rotations is None else targets.rotations[i]
+    Pa, Ra = targets.positions[np.maximum(i - 1, 0)], None
+    if Rb is not None:
+        Ra = targets.rotations[np.maximum(i - 1, 0)]
+    first = i == 0  # the first step: from q0's own pose
+    if first.any():
+        T0 = arm.fk(q0)
+        Pa = Pa.copy()
+        Pa[first] = T0.translation
+        if Ra is not None:
+            Ra = Ra.copy()
+            Ra[first] = T0.rotation
+    jumped = np.zeros(len(i), dtype=bool)
+    which = np.arange(len(i))
+    for _ in range(DEPTH):
+        P, R = _halfway(Pa, Ra, Pb, Rb)
+        middle = 0.5 * (Qa + Qb)
+        q = _nearest(arm, spec, opts, P, R, middle)
+        near = (np.abs(q - Qa) <= step).all(axis=1) & (np.abs(q - Qb) <= step).all(axis=1)
+        far = ~near  # NaN (no solution) too
+        jumped[which[far]] = True
+        bend = np.max(np.abs(q - middle) / step, axis=1)
+        closer = (bend > BEND) & ~far
+        closer &= ~jumped[which]
+        if not closer.any():
+            break
+        which = np.concatenate((which[closer], which[closer]))
+        Qa, Qb = np.vstack((Qa[closer], q[closer])), np.vstack((q[closer], Qb[closer]))
+        Pa, Pb = np.vstack((Pa[closer], P[closer])), np.vstack((P[closer], Pb[closer]))
+        if R is not None:
+            Ra, Rb = (
+                np.concatenate((Ra[closer], R[closer])),
+                np.concatenate((R[closer], Rb[closer])),
+            )
+    return jumped
+
+
+def _halfway(Pa, Ra, Pb, Rb):
+    """The poses halfway: the translations' mean, the rotations halfway along their
+    geodesic (positions only when ``Rb`` is None)."""
+    P = 0.5 * (Pa + Pb)
+    if Rb is None:
+        return P, None
+    D = np.einsum("kji,kjl->kil", Ra, Rb)  # Ra^T Rb: a turn by t about u
+    c = np.sqrt(np.maximum(1.0 + np.trace(D, axis1=1, axis2=2), 0.0)) / 2.0  # cos(t / 2)
+    # D's quaternion is (c, sin(t / 2) u), with 2 sin(t) u read off D; half the turn's is
+    # (1 + c, sin(t / 2) u), normalised
+    v = np.stack((D[:, 2, 1] - D[:, 1, 2], D[:, 0, 2] - D[:, 2, 0], D[:, 1, 0] - D[:, 0, 1]), 1)
+    v /= 4.0 * np.maximum(c, 1e-3)[:, None]
+    norm = np.sqrt(2.0 + 2.0 * c)
+    w, (x, y, z) = (1.0 + c) / norm, (v / norm[:, None]).T
+    H = np.stack(
+        (1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
+         2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+         2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)),
+        axis=1,
+    ).reshape(-1, 3, 3)  # fmt: skip
+    for k in np.flatnonzero(c < 1e-3):  # t near pi: u from the log, not from sin(t)
+        H[k] = pin.exp3(0.5 * pin.log3(D[k]))
+    return P, np.einsum("kij,kjl->kil", Ra, H)
+
+
+def _nearest(arm, spec: SolverSpec, opts: Options, P, R, seeds) -> np.ndarray:
+    """Per pose, the solution nearest its seed, each angle turned nearest it within the
+    limits; a row of NaN where there is none. An answer not claimed exact counts where its
+    FK is within the tolerances (a least-squares answer on the edge of the workspace)."""
+    if spec.run_batch is not None and R is not None:  # the compiled batch: one call
+        got = spec.run_batch(arm, TargetBatch(P, R), seeds, opts)
+        q = np.array(got.q, dtype=float)
+        ok = got.claim == Status.CONVERGED.code
+        ok[~ok] = _reached(arm, q[~ok], P[~ok], R[~ok], opts)
+    else:
+        q = np.full_like(seeds, np.nan)
+        for k, seed in enumerate(seeds):
+            Pk, Rk = P[k : k + 1], None if R is None else R[k : k + 1]
+            target = Target(Pk[0].copy(), None if Rk is None else Rk[0].copy())
+            for a in spec.run(arm, target, seed.copy(), opts, True):
+                c = arm.nearest_equivalent(a.q, seed)
+                nearer = not np.abs(q[k] - seed).max() <= np.abs(c - seed).max()  # NaN: none yet
+                if nearer and (
+                    a.claim is Status.CONVERGED or _reached(arm, c[None], Pk, Rk, opts)[0]
+                ):
+                    q[k] = c
+        ok = ~np.isnan(q).any(axis=1)
+    ok &= ((q >= arm.lower - 1e-9) & (q <= arm.upper + 1e-9)).all(axis=1)
+    q[~ok] = np.nan
+    return q
+
+
+def _reached(arm, Q, P, R, opts: Options) -> np.ndarray:
+    """Whether the FK of each row of ``Q`` is on its pose within the tolerances."""
+    if not len(Q):
+        return np.zeros(0, dtype=bool)
+    T = arm.fk_batch(Q)
+    ok = np.linalg.norm(T[:, :3, 3] - P, axis=1) <= opts.tol_position
+    if R is not None:  # the angle between the rotations, accurate near 0 and near pi
+        D = np.einsum("kji,kjl->kil", T[:, :3, :3], R)
+        w = np.stack((D[:, 2, 1] - D[:, 1, 2], D[:, 0, 2] - D[:, 2, 0], D[:, 1, 0] - D[:, 0, 1]))
+        cos = np.trace(D, axis1=1, axis2=2) - 1.0
+        ok &= np.arctan2(np.linalg.norm(w, axis=0), cos) <= opts.tol_orientation
+    return ok
+
+
+def _broken(arm, r: IKResult, j: int, size: float, step: float, hidden: bool, first, out):
     start = "q0 (the start)" if first else "every solution of the waypoint before"
     measured = reasons.measured(
         r.position_error, r.orientation_error, out.tol_position, out.tol_orientation
     )
+    why = []
+    if hidden:
+        why.append(
+            "every step within max_joint_step hides a jump between the waypoints (halfway, "
+            "no solution lies near the step's middle: a singularity, a joint limit or the "
+            "edge of the workspace crossed)"
+        )
+    if j >= 0:
+        unit = "m" if arm.prismatic[j] else "rad"
+        why.append(
+            f"the smallest {'other ' if hidden else ''}possible jump moves "
+            f"{arm.joint_names[j]} by {size:.3g} {unit} (max_joint_step {step:g})"
+        )
     return dataclasses.replace(
         r,
         success=False,
         status=Status.DISCONTINUOUS,
-        reason=f"reachable only by a jump: every path breaks here: from {start}, the "
-        f"smallest possible jump moves {arm.joint_names[j]} by {size:.3g} {unit} "
-        f"(max_joint_step {step:g}); q is the planned answer, verified: {measured}",
+        reason=f"reachable only by a jump: every path breaks here: from {start}, "
+        f"{'; '.join(why)}; q is the planned answer, verified: {measured}",
     )

@@ -119,7 +119,7 @@ def solve_path(
             )
             for i in range(n)
         ]
-        ladder.plan(arm, rungs, None if q0 is None else q_prev, step, out)
+        ladder.plan(arm, spec, batch, rungs, None if q0 is None else q_prev, step, opts, out)
         return frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     token = ON_PATH.set(True)  # a colliding answer is slid out of contact (solve/avoid.py)
     try:
