@@ -164,3 +164,25 @@ def test_a_batch_takes_the_preferred_answer_of_each_target():
         assert np.array_equal(q, arm.solve(H, prefer="limits").q)
     with pytest.raises(armik.InputError, match="a path keeps its branch"):
         arm.solve_path(poses, arm.middle, prefer="limits")
+
+
+@pytest.mark.parametrize("robot", ["xarm7", "ur5"])
+def test_each_joint_turns_to_the_best_variant(robot):
+    """The per-joint scores' turns (chosen at once, nearest each score's centre) score as
+    the best of every combination of turns within the limits (brute force)."""
+    from armik.solve.prefer import best_variant
+
+    arm = conftest.arm(robot)
+    rng = np.random.default_rng(35)
+    scores = [
+        Nearest(),
+        Limits(),
+        armik.Posture(arm.random_q(rng), rng.uniform(0.0, 2.0, arm.dof)),
+    ]
+    for _ in range(40):
+        q, q0 = arm.random_q(rng), arm.random_q(rng)
+        for score in scores:
+            chosen = best_variant(arm, q, score, q0)
+            assert arm.within_limits(chosen)
+            best = min(score(arm, v, q0) for v in _every_variant(arm, q) if arm.within_limits(v))
+            assert score(arm, chosen, q0) == pytest.approx(best, abs=1e-12)

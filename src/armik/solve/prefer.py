@@ -2,23 +2,25 @@
 the limits allow, scored (``armik.problem.scores``); the best first.
 
 Closed forms give every branch, so their best is the best over the finite set of
-solutions within the limits; numeric solvers give the distinct answers their budget finds
-(``solve_all`` spends the whole budget), so theirs is the best found.
+solutions within the limits; numeric solvers give the distinct answers their budget finds,
+so theirs is the best found: ``solve_all``'s answers from q0 and its restarts, then
+answers from starts near the score's centre (``near_answers``: q0, or a ``Posture``'s
+reference), in boxes around it that grow to the whole range.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import itertools
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import cast
 
 import numpy as np
 
+from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
-from armik.problem.scores import Score
+from armik.problem.scores import Limits, Nearest, Posture, Score
 from armik.result import IKResult
 from armik.status import Status
 
@@ -46,6 +48,10 @@ def best_variant(arm: ArmModel, q: np.ndarray, score: Score, q0: np.ndarray) -> 
     the best of every combination (at most ``MAX_VARIANTS``, ``q``'s own first)."""
     if not score.turns_matter:
         return q
+    centre = _turn_centre(arm, score, q0)
+    if centre is not None:
+        k = _turns_towards(arm, q, centre)
+        return q + TWO_PI * k if k.any() else q
     choices = turns(arm, q)
     if all(len(c) == 1 for c in choices):
         return q
@@ -59,35 +65,117 @@ def best_variant(arm: ArmModel, q: np.ndarray, score: Score, q0: np.ndarray) -> 
     return min((np.array(c) for c in combos), key=lambda x: score(arm, x, q0))
 
 
+def _turn_centre(arm: ArmModel, score: Score, q0: np.ndarray) -> np.ndarray | None:
+    """Per joint, the value the named per-joint scores want each joint's turn nearest:
+    q0 (``nearest``), the reference (``Posture``), the middle of the range (``limits``);
+    each joint's term grows with the distance from it, so the best turn is the nearest
+    one. None for other scores."""
+    if isinstance(score, Nearest):
+        return q0
+    if isinstance(score, Posture) and score.q_ref.size == arm.dof:
+        return score.q_ref
+    if isinstance(score, Limits):
+        return (arm.lower + arm.upper) / 2.0
+    return None
+
+
+def _turns_towards(arm: ArmModel, Q: np.ndarray, centre: np.ndarray) -> np.ndarray:
+    """For configurations ``Q`` (rows, or one), the whole turns of 2 pi that bring each
+    joint ``turns`` lets turn nearest ``centre`` within its limits (0 for the others)."""
+    bounded = np.isfinite(arm.lower) & np.isfinite(arm.upper)
+    free = bounded & (arm.upper - arm.lower > TWO_PI) & ~np.array(arm._limit_lists[2], bool)
+    if not free.any():
+        return np.zeros_like(Q)
+    with np.errstate(invalid="ignore"):  # the unlimited joints' bounds: masked below
+        k = np.round((centre - Q) / TWO_PI)
+        k = np.clip(k, np.ceil((arm.lower - Q) / TWO_PI), np.floor((arm.upper - Q) / TWO_PI))
+    return np.where(free, k, 0.0)
+
+
 def rank(
-    arm: ArmModel, results: list[IKResult], score: Score, q0: np.ndarray, t0: float
+    arm: ArmModel,
+    results: list[IKResult],
+    score: Score,
+    q0: np.ndarray,
+    t0: float,
+    known: dict | None = None,
+    count: int | None = None,
 ) -> list[IKResult]:
     """The successes of ``results``, each as its best 2 pi variant, best ``score`` first
     (ties: in the order found), then the failures as they were; each success carries its
-    score in ``extra["score"]`` and the score's name in its reason."""
-    scored: list[tuple[float, int, IKResult, np.ndarray]] = []
-    seen: set[tuple[float, ...]] = set()
-    for r in results:
-        if r.success:
-            q = best_variant(arm, np.asarray(r.q), score, q0)
-            key = tuple(np.round(q, 9).tolist())  # one answer found twice counts once
-            if key not in seen:
-                seen.add(key)
-                scored.append((score(arm, q, q0), len(scored), r, q))
-    scored.sort(key=lambda item: (item[0], item[1]))
+    score in ``extra["score"]`` and the score's name in its reason. ``known``: as for
+    ``ordered``; ``count``: the first ``count`` results only (all ranked all the same)."""
+    scored = ordered(arm, results, score, q0, known)
     elapsed = time.perf_counter() - t0
     ranked = [
-        dataclasses.replace(
-            r,
-            q=q,
-            reason=f"{r.reason}; {score.name} {value:.6g}, ranked among {len(scored)} verified"
-            + ("" if np.array_equal(q, r.q) else " (a 2 pi variant within the limits)"),
-            time=elapsed,
-            extra={**r.extra, "score": value},
+        frozen(
+            IKResult,
+            **{
+                **r.__dict__,
+                "q": q,
+                "reason": f"{r.reason}; {score.name} {value:.6g}, ranked among "
+                f"{len(scored)} verified"
+                + ("" if q is r.q else " (a 2 pi variant within the limits)"),
+                "time": elapsed,
+                "extra": {**r.extra, "score": value},
+            },
         )
-        for value, _, r, q in scored
+        for value, r, q in scored[:count]
     ]
-    return ranked + [r for r in results if not r.success]
+    return (ranked + [r for r in results if not r.success])[:count]
+
+
+def ordered(
+    arm: ArmModel,
+    results: list[IKResult],
+    score: Score,
+    q0: np.ndarray,
+    known: dict | None = None,
+) -> list[tuple[float, IKResult, np.ndarray]]:
+    """(score, result, its best 2 pi variant) for each distinct success of ``results``,
+    best first (ties: in the order found). ``known``: scores by answer, read and filled in
+    (a search that ranks its answers again with the ones it moved scores each once)."""
+    known = {} if known is None else known
+    found = [r for r in results if r.success]
+    variants = _variants(arm, found, score, q0)
+    scored: list[tuple[float, int, IKResult, np.ndarray]] = []
+    seen: set[tuple[float, ...]] = set()
+    for r, q, row in zip(found, variants, np.round(variants, 9).tolist()):
+        key = tuple(row)  # one answer found twice counts once
+        if key not in seen:
+            seen.add(key)
+            value = known.get(key)
+            if value is None:
+                value = known[key] = score(arm, q, q0)
+            scored.append((value, len(scored), r, q))
+    scored.sort(key=lambda item: (item[0], item[1]))
+    return [(value, r, q) for value, _, r, q in scored]
+
+
+def _variants(arm: ArmModel, found: list[IKResult], score: Score, q0: np.ndarray) -> list:
+    """Each answer's best 2 pi variant (``best_variant``): its own read-only ``q`` where no
+    joint turns, else a new read-only array; for the named per-joint scores at once."""
+    qs = [r.q for r in found]
+    centre = _turn_centre(arm, score, q0) if score.turns_matter and qs else None
+    if centre is None:
+        out = []
+        for q in qs:
+            v = best_variant(arm, q, score, q0)
+            if v is not q and np.array_equal(v, q):
+                v = q
+            elif v is not q:
+                v = np.array(v, dtype=float)
+                v.flags.writeable = False
+            out.append(v)
+        return out
+    Q = np.array(qs)
+    K = _turns_towards(arm, Q, centre)
+    turned: list = np.any(K, axis=1).tolist()
+    if not any(turned):
+        return qs
+    moved = Q + TWO_PI * K
+    moved.flags.writeable = False
+    return [moved[i] if turned[i] else q for i, q in enumerate(qs)]
 
 
 SWEEP_GRID = 32  # values of the held joint over its range, before the refinement
@@ -137,3 +225,79 @@ def sweep_held(arm: ArmModel, target, q0: np.ndarray, opts, score: Score, t0: fl
     theta = min((float(grid[k]), values[k]), (c, fc), (d, fd), key=lambda x: x[1])[0]
     attempts = swept_7r.at_value(arm, target, q0, theta)
     return finish(arm, "swept", attempts, target, opts, q0, True, t0)
+
+
+# The numeric search's shares of the budget (``timeout``, or ``iteration_budget``): solve_all
+# from q0 and its restarts; the starts near the centre until NEAR_UNTIL of the timeout has
+# passed (or the other half of the iterations is spent); the self-motion descents of the
+# best answers until DESCENT_UNTIL (``armik.solve.nullspace``).
+GATHER = 0.25  # of the timeout (CPU time of the kernel)
+GATHER_ITERATIONS = 0.5  # of the iteration budget
+NEAR_UNTIL = 0.35
+DESCENT_UNTIL = 0.7
+NEAR_STARTS = 32  # starts near the centre at most, one descent each (and max_restarts)
+NEAR_FIRST = 0.1  # the first box's half-width, a fraction of each joint's half-range
+NEAR_GROWTH = 1.1  # each next box this much wider, until it holds the whole range
+DESCENTS = 4  # distinct answers moved along the self-motion, best first
+
+
+def centre(arm: ArmModel, score: Score, q0: np.ndarray) -> np.ndarray:
+    """Where the best answer is likely near: a ``Posture``'s reference, else q0."""
+    if isinstance(score, Posture) and score.q_ref.size == arm.dof:
+        return np.clip(score.q_ref, arm.lower, arm.upper)
+    return q0
+
+
+def near_starts(arm: ArmModel, middle: np.ndarray, rng: np.random.Generator) -> Iterator:
+    """Starts drawn uniformly in boxes around ``middle`` (within the limits), the k-th of
+    half-width ``NEAR_FIRST * NEAR_GROWTH**k`` times each joint's half-range (pi at most,
+    unlimited joints pi): perturbations of growing size, the last ones over the whole
+    range (the solver's own restarts cover the range evenly; these search near q0 first,
+    where the nearest answer lies)."""
+    half = np.minimum((arm.upper - arm.lower) / 2.0, math.pi)
+    size = NEAR_FIRST
+    while True:
+        lo = np.maximum(arm.lower, middle - size * half)
+        hi = np.minimum(arm.upper, middle + size * half)
+        yield lo + rng.random(arm.dof) * (hi - lo)
+        size = min(size * NEAR_GROWTH, 2.0)
+
+
+def near_answers(
+    arm: ArmModel,
+    solve_from: Callable[[np.ndarray], IKResult],
+    middle: np.ndarray,
+    opts,
+    t0: float,
+) -> list[IKResult]:
+    """The verified answers of one descent from each of ``near_starts`` (``solve_from``
+    runs it), at most ``NEAR_STARTS`` and ``opts.max_restarts`` of them, until
+    ``NEAR_UNTIL`` of the timeout has passed since ``t0``, or with an iteration budget
+    until the starts have run ``1 - GATHER_ITERATIONS`` of it (deterministic: the starts
+    come from ``opts.seed``)."""
+    rng = np.random.default_rng(opts.seed)
+    budget = opts.iteration_budget
+    left = math.inf if budget is None else (1.0 - GATHER_ITERATIONS) * budget
+    deadline = t0 + NEAR_UNTIL * opts.timeout
+    found = []
+    starts = near_starts(arm, middle, rng)
+    for _ in range(min(NEAR_STARTS, opts.max_restarts)):
+        if left <= 0 or (budget is None and time.perf_counter() > deadline):
+            break
+        r = solve_from(next(starts))
+        left -= r.iterations
+        if r.success:
+            found.append(r)
+    return found
+
+
+def distinct(qs: list[np.ndarray], count: int, tol: float = 1e-3) -> list[np.ndarray]:
+    """The first ``count`` of ``qs`` that differ from every earlier one kept by more than
+    ``tol`` on some joint (answers a few solver tolerances apart move to the same place)."""
+    kept: list[np.ndarray] = []
+    for q in qs:
+        if len(kept) == count:
+            break
+        if all(np.abs(q - k).max() > tol for k in kept):
+            kept.append(q)
+    return kept

@@ -18,6 +18,7 @@ from armik.problem.problem import as_problem, lower, tightened
 from armik.problem.scores import parse_score
 from armik.problem.tasks import Task
 from armik.result import IKResult
+from armik.solve import prefer
 from armik.solve.avoid import First, solve_avoiding
 from armik.solve.held import solve_held
 from armik.solve.nullspace import descend
@@ -94,9 +95,11 @@ def solve_one(
 
 
 def _preferred(arm, target, q0, solver: str, options: dict, every: bool, score, t0: float):
-    """The rank stage with a score: the answers solve_all finds, or on a 7R arm the swept
-    closed form applies to, the self-motion searched for the score (every solution has
-    some value of joint 7) with the plain answer beside it."""
+    """The rank stage with a score: on a 7R arm the swept closed form applies to, the
+    self-motion searched for the score (every solution has some value of joint 7) with
+    the plain answer beside it; else the answers solve_all finds, and where a numeric
+    solver found them, those of starts near q0 too (``prefer.near_answers``), the best
+    moved along the self-motion on a redundant arm (``_along_self_motion``)."""
     opts = _validated(options)
     pose = not isinstance(target, (list, Task)) and _plain_pose(opts)
     seed = arm.seed(q0)
@@ -104,12 +107,29 @@ def _preferred(arm, target, q0, solver: str, options: dict, every: bool, score, 
     if pose and solver == "auto":
         swept = sweep_held(arm, parse_target(target, arm), seed, opts, score, t0)
     if swept and any(r.success for r in swept):
-        found = [solve_one(arm, target, q0, solver, options), *swept]
-    else:  # part of the budget gathers answers, the rest moves the best along the self-motion
-        found = solve_one(arm, target, q0, solver, {**options, "timeout": opts.timeout * 0.4}, True)
-    ranked = rank(arm, found, score, seed, t0)
-    if not swept and ranked[0].success and arm.dof > 6 and pose:
-        ranked = _along_self_motion(arm, target, seed, opts, score, ranked, t0)
+        ranked = rank(arm, [solve_one(arm, target, q0, solver, options), *swept], score, seed, t0)
+        return ranked if every else ranked[0]
+    budget = opts.iteration_budget
+    share: dict = {"timeout": opts.timeout * prefer.GATHER}
+    if budget is not None:
+        share = {"iteration_budget": max(int(budget * prefer.GATHER_ITERATIONS), 1)}
+    found = solve_one(arm, target, q0, solver, {**options, **share}, True)
+    searched = bool(found) and registry.get(found[0].solver).kind == "numeric"
+    if searched and pose:  # one descent from each start, by the solver that searched
+
+        def solve_from(start: np.ndarray) -> IKResult:
+            return solve_one(arm, target, start, found[0].solver, {**options, "max_restarts": 0})
+
+        middle = prefer.centre(arm, score, seed)
+        found = [*found, *prefer.near_answers(arm, solve_from, middle, opts, t0)]
+    known: dict = {}  # each answer's score, computed once
+    if arm.dof > 6 and pose:
+        best = [q for _, _, q in prefer.ordered(arm, found, score, seed, known)]
+        if best:
+            moved = _along_self_motion(arm, target, seed, opts, score, best, found[0].solver, t0)
+            found = [*moved, *found]
+    count = (opts.max_solutions if searched else None) if every else 1
+    ranked = rank(arm, found, score, seed, t0, known, count)
     return ranked if every else ranked[0]
 
 
@@ -125,19 +145,27 @@ def _plain_pose(opts: Options) -> bool:
     return not (opts.bounds or opts.weights or opts.position_only or opts.collisions or opts.hold)
 
 
-def _along_self_motion(arm, target, seed, opts: Options, score, ranked: list, t0: float):
-    """A redundant arm's best numeric answer moved along its self-motion to a lower score
-    (``armik.solve.nullspace``) with the rest of the budget, verified again, ranked again."""
+def _along_self_motion(
+    arm, target, seed, opts: Options, score, best: list, solver: str, t0: float
+) -> list[IKResult]:
+    """A redundant arm's best answers (``prefer.DESCENTS`` distinct ones of ``best``, the
+    configurations best first) each moved along its self-motion to a lower score
+    (``armik.solve.nullspace``) until ``prefer.DESCENT_UNTIL`` of the budget, verified
+    again as ``solver``'s: the moved answers, to be ranked with the rest."""
     tgt = parse_target(target, arm)
-    left = max(0.9 * opts.timeout - (time.perf_counter() - t0), 0.0)
-    if opts.iteration_budget is not None:  # deterministic: the descent's own step cap
-        left = math.inf
-    moved = descend(
-        arm, np.asarray(ranked[0].q), pin.SE3(tgt.rotation, tgt.position), score, seed, left
-    )
-    claim = Attempt(q=moved, claim=Status.CONVERGED, reason="moved along the self-motion")
-    again = finish(arm, ranked[0].solver, [claim], tgt, opts, seed, True, t0)
-    return rank(arm, [*again, *ranked], score, seed, t0)
+    pose = pin.SE3(tgt.rotation, tgt.position)
+    claims: list[Attempt] = []
+    for q in prefer.distinct(best, prefer.DESCENTS):
+        left = prefer.DESCENT_UNTIL * opts.timeout - (time.perf_counter() - t0)
+        if opts.iteration_budget is not None:  # deterministic: the descent's own step cap
+            left = math.inf
+        elif left <= 0.0:
+            break
+        moved = descend(arm, q, pose, score, seed, left, ends=[c.q for c in claims])
+        claims.append(
+            Attempt(q=moved, claim=Status.CONVERGED, reason="moved along the self-motion")
+        )
+    return finish(arm, solver, claims, tgt, opts, seed, True, t0) if claims else []
 
 
 def _centre(arm, problem, q0, options: dict):
