@@ -140,3 +140,46 @@ def test_the_panel_is_in_the_page(page):
 
     shown = browser.poll(answer_shown, WAIT)
     assert shown, "the panel did not show the answer"
+
+
+def test_a_region_and_the_paths_are_on_the_page(page):
+    viewer, chromium = page
+    a = viewer.arm
+    q = a.middle + np.array([0.6, 0.3, -0.2, 0.5, 0.4, 0.2])
+    viewer.show(q)
+    before = browser.poll(lambda: settled(chromium), WAIT)
+    assert before is not None
+    p = a.fk(q).translation
+    r = viewer.set_target([armik.Position(p, bounds=(0.08, 0.08, 0.08))])
+    assert r.success and len(viewer.regions) == 1
+
+    def tinted(image: np.ndarray) -> np.ndarray:
+        """Pixels the translucent blue box turned bluer than they were."""
+        now, was = image.astype(int), before.astype(int)
+        bluer = (now[..., 2] - now[..., 0]) - (was[..., 2] - was[..., 0]) > 20
+        return bluer & view_region(image)
+
+    def boxed() -> np.ndarray | None:
+        image = chromium.screenshot()
+        return image if tinted(image).sum() >= 400 else None
+
+    try:
+        image = browser.poll(boxed, WAIT)
+        assert image is not None, "the region's box did not appear"
+        # around the box's centre on the page: the tinted pixels are one blob, not noise
+        ys, xs = np.nonzero(tinted(image))
+        assert np.ptp(ys) < image.shape[0] / 2 and np.ptp(xs) < image.shape[1] / 2
+        line = [a.fk(q + 0.02 * k) for k in range(5)]
+        viewer.play_paths({"follow": a.solve_path(line, q),
+                           "global": a.solve_path(line, q, plan="global")})  # fmt: skip
+
+        def paths_panel() -> str | None:
+            text = chromium.evaluate("document.body.innerText") or ""
+            return text if "waypoint" in text and "global" in text else None
+
+        assert browser.poll(paths_panel, WAIT), "the paths' slider did not appear"
+    finally:
+        if viewer.paths is not None:
+            viewer.paths.remove()
+        viewer.set_target(a.fk(q))  # a plain pose: no region
+        assert viewer.regions == []

@@ -105,10 +105,10 @@ def test_ghosts_are_every_solution_of_solve_all(viewer):
     assert len(expected) > 1
     for got, want in zip(viewer.solutions, expected):
         assert np.array_equal(got.q, want.q)
-    labels = [label.text for _, label in viewer._ghosts if label.visible]
+    labels = [label.text for _, label in viewer._ghosts.nodes if label.visible]
     assert labels == [r.branch if r.success else f"{r.branch} ({r.status.value})" for r in expected]
     viewer._toggled_ghosts(False)
-    assert viewer.solutions == [] and not any(n.visible for n, _ in viewer._ghosts)
+    assert viewer.solutions == [] and not any(n.visible for n, _ in viewer._ghosts.nodes)
 
 
 def test_play_walks_every_waypoint_and_marks_the_failed_ones(viewer, monkeypatch):

@@ -1,6 +1,7 @@
 """The viewer's GUI panel: the last answer (status, solver, errors, time, branch, iterations,
-the score of a preferred answer, the reason of a failure), the solver, the preference, the
-ghosts toggle and one slider per joint."""
+the score of a preferred answer, each tip's errors where there are several, the reason of a
+failure), the solver, the preference, the ghosts toggle (one arm) and one slider per
+joint."""
 
 from __future__ import annotations
 
@@ -10,12 +11,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from armik.model.arm_model import ArmModel
 from armik.result import IKResult
-from armik.solvers import registry
 
 if TYPE_CHECKING:
     import viser
+
+    from armik.view.robot import Robot
 
 #: Panel rows (label, IKResult field), in order.
 FIELDS = (
@@ -33,28 +34,23 @@ FIELDS = (
 PREFERENCES = ("none", "nearest", "manipulability", "limits")
 
 
-def slider_range(arm: ArmModel, k: int) -> tuple[float, float]:
+def slider_range(robot: Robot, k: int) -> tuple[float, float]:
     """Joint ``k``'s slider range: its limits, [-pi, pi] (or [-1, 1] m) where unlimited."""
-    span = 1.0 if arm.prismatic[k] else math.pi
-    lo = arm.lower[k] if math.isfinite(arm.lower[k]) else -span
-    hi = arm.upper[k] if math.isfinite(arm.upper[k]) else span
+    span = 1.0 if robot.prismatic[k] else math.pi
+    lo = robot.lower[k] if math.isfinite(robot.lower[k]) else -span
+    hi = robot.upper[k] if math.isfinite(robot.upper[k]) else span
     return float(lo), float(max(hi, lo + 1e-9))
-
-
-def solver_choices(arm: ArmModel) -> list[str]:
-    """'auto' and every registered solver that applies to ``arm``."""
-    return ["auto", *(n for n in registry.solvers() if registry.why_not(n, arm) is None)]
 
 
 class Panel:
     """The panel of one viewer. The callbacks run on viser's threads: ``on_joints(q)`` when
     a slider moves, ``on_solver(name)``, ``on_prefer(name)``, ``on_ghosts(bool)``,
-    ``on_position_only(bool)``."""
+    ``on_position_only(bool)``. ``tip_errors``: tip -> its row, for several tips."""
 
     def __init__(
         self,
         gui: viser.GuiApi,
-        arm: ArmModel,
+        robot: Robot,
         *,
         solver: str,
         position_only: bool,
@@ -65,13 +61,17 @@ class Panel:
         on_prefer: Callable[[str], None] | None = None,
         prefer: str = "none",
     ) -> None:
-        self._arm = arm
+        self._robot = robot
         with gui.add_folder("IK answer"):
             self.message = gui.add_text("target", "none yet", disabled=True)
             self._fields = {attr: gui.add_text(label, "", disabled=True) for label, attr in FIELDS}
+            self.tip_errors = {
+                tip: gui.add_text(f"{tip} (m, rad)", "", disabled=True, hint="this tip's errors")
+                for tip in (robot.tips if robot.several else ())
+            }
             self.reason = gui.add_text("reason", "", multiline=True, disabled=True)
         with gui.add_folder("IK settings"):
-            choices = solver_choices(arm)
+            choices = robot.solver_choices()
             self.solver = gui.add_dropdown(
                 "solver", choices, initial_value=solver if solver in choices else "auto"
             )
@@ -79,17 +79,20 @@ class Panel:
                 "prefer", PREFERENCES, initial_value=prefer if prefer in PREFERENCES else "none"
             )
             self.ghosts = gui.add_checkbox(
-                "all solutions", False, hint="every solve_all answer as a ghost, by branch"
+                "all solutions",
+                False,
+                hint="every solve_all answer as a ghost, by branch",
+                visible=not robot.several,  # solve_all is one arm's
             )
             self.position_only = gui.add_checkbox(
                 "position only", position_only, hint="drag targets the tip position only"
             )
         self.sliders = []
         with gui.add_folder("joints (FK)"):
-            for k, name in enumerate(arm.joint_names):
-                lo, hi = slider_range(arm, k)
-                unit = "m" if arm.prismatic[k] else "rad"
-                value = float(np.clip(arm.middle[k], lo, hi))
+            for k, name in enumerate(robot.joint_names):
+                lo, hi = slider_range(robot, k)
+                unit = "m" if robot.prismatic[k] else "rad"
+                value = float(np.clip(robot.middle[k], lo, hi))
                 self.sliders.append(
                     gui.add_slider(f"{name} ({unit})", lo, hi, (hi - lo) / 1000, value)
                 )
@@ -119,21 +122,26 @@ class Panel:
         """Move the sliders to ``q`` (clipped into their ranges); the server's own changes
         call no callback (``from_user``)."""
         for k, s in enumerate(self.sliders):
-            lo, hi = slider_range(self._arm, k)
+            lo, hi = slider_range(self._robot, k)
             s.value = float(np.clip(q[k], lo, hi))  # type: ignore[misc]
 
-    def show_result(self, r: IKResult, what: str) -> None:
+    def show_result(self, r: IKResult, what: str, tol: tuple = (1e-6, 1e-6)) -> None:
         """Fill the answer rows from ``r``; ``what`` says what was solved."""
         self.message.value = what  # type: ignore[misc]
         for attr, handle in self._fields.items():
             value = r.extra.get("score") if attr == "score" else getattr(r, attr)
             handle.value = _text(attr, value)  # type: ignore[misc]
+        for tip, (ok, (pos, ori)) in self._robot.tip_results(r, tol).items():
+            if tip not in self.tip_errors:  # one tip: the rows above say it
+                continue
+            text = f"{_text('position_error', pos)}, {_text('orientation_error', ori)}"
+            self.tip_errors[tip].value = text if ok else f"{text} (failed)"  # type: ignore[misc]
         self.reason.value = "" if r.success else r.reason  # type: ignore[misc]
 
     def show_note(self, what: str, reason: str = "") -> None:
         """No answer to show (FK from the sliders, a waypoint, an error): say what instead."""
         self.message.value = what  # type: ignore[misc]
-        for handle in self._fields.values():
+        for handle in [*self._fields.values(), *self.tip_errors.values()]:
             handle.value = ""  # type: ignore[misc]
         self.reason.value = reason  # type: ignore[misc]
 

@@ -6,7 +6,9 @@ one of its meshes cannot be found or read (then with one warning naming the mesh
 ancestors (as ``example-robot-data`` lays its robots out), in NAME under each folder of
 ``ROS_PACKAGE_PATH``, in ``share/NAME`` under each prefix of ``AMENT_PREFIX_PATH`` and
 ``CMAKE_PREFIX_PATH``, and finally REST under each of the URDF's ancestors. ``file://``
-paths are absolute; other relative paths start at the URDF's folder.
+paths are absolute; other relative paths start at the URDF's folder. A URDF read from text
+(``armik.load_string``) has no folder: its boxes, cylinders and spheres are drawn, and its
+meshes found by ``package://`` through the environment or by ``file://``.
 """
 
 from __future__ import annotations
@@ -66,9 +68,13 @@ def visual_parts(arm: ArmModel) -> tuple[list[Part], list[str]]:
     import trimesh
     import yourdfpy
 
-    source = Path(arm.source)
+    # an arm read from XML text (load_string) keeps the text in its recipe; its meshes
+    # have no folder of their own: package:// and file:// paths only
+    text = getattr(getattr(arm, "_recipe", None), "text", None)
+    source = None if text is not None else Path(arm.source)
+    xml = str(text) if source is None else urdf_text(source)
     urdf = yourdfpy.URDF.load(
-        io.BytesIO(urdf_text(source).encode()),
+        io.BytesIO(xml.encode()),
         build_scene_graph=False,
         build_collision_scene_graph=False,
         load_meshes=False,
@@ -95,7 +101,7 @@ def visual_parts(arm: ArmModel) -> tuple[list[Part], list[str]]:
     return parts, missing
 
 
-def _geometry(geometry, source: Path, color, trimesh) -> tuple[list, str]:
+def _geometry(geometry, source: Path | None, color, trimesh) -> tuple[list, str]:
     """The trimeshes of one visual (in the visual's frame) or why there are none."""
     if geometry is None:
         return [], ""
@@ -146,10 +152,11 @@ def _color(material, named: dict) -> tuple[int, int, int, int] | None:
     return tuple(int(round(255 * v)) for v in rgba)  # type: ignore[return-value]
 
 
-def resolve(filename: str, urdf_path: str | Path) -> Path | None:
-    """The file a URDF's mesh ``filename`` names (see the module docstring), or None."""
-    here = Path(urdf_path).resolve().parent
-    ancestors = [here, *here.parents]
+def resolve(filename: str, urdf_path: str | Path | None) -> Path | None:
+    """The file a URDF's mesh ``filename`` names (see the module docstring), or None;
+    ``urdf_path`` None: a URDF read from text, whose folder is unknown."""
+    here = None if urdf_path is None else Path(urdf_path).resolve().parent
+    ancestors = [] if here is None else [here, *here.parents]
     if filename.startswith("file://"):
         candidates = [Path(filename[len("file://") :])]
     elif filename.startswith("package://"):
@@ -163,7 +170,7 @@ def resolve(filename: str, urdf_path: str | Path) -> Path | None:
             candidates.append(prefix / "share" / package / rest)
         candidates += [a / rest for a in ancestors]
     else:
-        candidates = [here / filename]
+        candidates = [] if here is None else [here / filename]
     return next((c for c in candidates if c.is_file()), None)
 
 

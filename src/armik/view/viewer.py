@@ -1,82 +1,66 @@
-"""The browser viewer: an arm, its target, its answers, paths, reach maps and obstacles in a
-viser scene, with a transform gizmo on the target that solves as it is dragged.
+"""The browser viewer: a robot (one arm, or several tips of one robot), its targets and
+their tolerance regions, its answers, paths, reach maps and obstacles in a viser scene,
+with a transform gizmo on each tip's target that solves as it is dragged.
 
-Everything is in the arm's base frame (m). The scene is served at ``Viewer.url`` until
+Everything is in the robot's base frame (m). The scene is served at ``Viewer.url`` until
 ``close()``; any number of browser tabs may watch it. viser is an optional dependency
 (``pip install "armik[view]"``): without it ``armik.view`` raises ``ViewerError``.
 """
 
 from __future__ import annotations
 
-import contextlib
-import io
 import logging
 import math
-import socket
 import threading
 import time
 import webbrowser
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 
 from armik.batch_result import BatchResult
-from armik.constraints.shapes import Box, Capsule, Cylinder, HalfSpace, Mesh, Shape, Sphere
+from armik.constraints.shapes import Shape
 from armik.constraints.shapes_file import as_shapes
-from armik.errors import ArmikError, InputError, OptionError, ViewerError
+from armik.errors import ArmikError, InputError, OptionError
 from armik.options import Options
 from armik.problem.scores import parse_score
 from armik.result import IKResult
 from armik.solve.reach import ReachMap
-from armik.solvers import registry
-from armik.targets.pose import parse_target
+from armik.view import regions, server
+from armik.view.ghosts import MAX_GHOSTS, Ghosts
 from armik.view.nodes import BodyNodes, pose_of, wxyz_position
 from armik.view.panel import Panel
-from armik.view.scene import arm_body
-from armik.view.stick import size, skeleton
+from armik.view.paths import PathPlayer, check_paths, draw_trace
+from armik.view.robot import Robot
+from armik.view.scenery import REACHED, UNREACHED, draw_obstacle, draw_reach
+from armik.view.targets import dragged, gizmo_pose, per_tip, tasks_of
 
 if TYPE_CHECKING:
     import viser
 
-    from armik.arm import Arm
-
 log = logging.getLogger(__name__)
-
-GHOST_COLORS = [(31, 119, 180), (255, 127, 14), (44, 160, 44), (214, 39, 40),
-                (148, 103, 189), (140, 86, 75), (227, 119, 194), (23, 190, 207)]  # fmt: skip
-MAX_GHOSTS = 16
-OBSTACLE = (255, 150, 60)
-REACHED, UNREACHED = (40, 170, 70), (220, 50, 50)
-
-
-def import_viser():
-    """The viser module, or ``ViewerError`` telling how to install it."""
-    try:
-        import viser
-    except ImportError:
-        raise ViewerError(
-            'the viewer needs viser, an optional extra: pip install "armik[view]"'
-        ) from None
-    return viser
 
 
 class Viewer:
-    """An arm in the browser (build it with ``armik.view``). Methods: ``show(q)``,
-    ``set_target(T, q0=None)``, ``play(batch_result, fps=30)``, ``show_reach(reach_map)``,
+    """A robot in the browser (build it with ``armik.view``): an ``Arm``, or an ``Arms``
+    (``armik.load(..., tips=[...])``: the whole robot, a gizmo per tip, every tip solved
+    at once). Methods: ``show(q)``, ``set_target(T, q0=None)``, ``play(batch_result,
+    fps=30)``, ``play_paths({name: batch_result})``, ``show_reach(reach_map)``,
     ``add_obstacles(shapes)``, ``wait()``, ``close()``; also a context manager.
 
-    Attributes: ``arm``, ``url``, ``port``, ``solver`` (the name the viewer solves with),
-    ``options`` (the solve options), ``q`` (the configuration shown, rad or m), ``result``
-    (the last ``IKResult``), ``solutions`` (the answers drawn as ghosts), ``obstacles``.
+    Attributes: ``arm`` (the ``Arm`` or ``Arms`` given), ``robot`` (what the viewer reads
+    of it: tips, joints, parts), ``url``, ``port``, ``solver`` (the name the viewer solves
+    with), ``options`` (the solve options), ``q`` (the configuration shown, rad or m),
+    ``targets`` (tip -> its target), ``result`` (the last ``IKResult``), ``solutions``
+    (the answers drawn as ghosts), ``regions`` (the tolerance regions drawn), ``paths``
+    (the ``PathPlayer`` of ``play_paths``, or None), ``obstacles``.
     """
-
-    _ghosts: list[tuple[BodyNodes, viser.LabelHandle]]  # here: __init__ has a local ``viser``
 
     def __init__(
         self,
-        arm: Arm,
+        arm: object,
         *,
         port: int = 8080,
         host: str = "127.0.0.1",
@@ -85,61 +69,61 @@ class Viewer:
         q: object = None,
         **options: object,
     ) -> None:
-        if not callable(getattr(arm, "solve", None)) or not hasattr(arm, "model"):
-            raise InputError(f"the viewer takes an arm from armik.load(...), got {arm!r}")
+        robot = Robot(arm)  # InputError for anything but an Arm or an Arms
         if isinstance(port, bool) or not isinstance(port, int) or not 0 <= port <= 65535:
             raise OptionError(
                 f"port must be a whole number in 0..65535 (0: any free port), got {port!r}",
                 option="port",
                 value=port,
             )
-        registry.choose(solver, arm)  # SolverError for an unknown or inapplicable name
+        robot.check_solver(solver)  # SolverError for an unknown or inapplicable name
         # OptionError now rather than at the first drag
-        Options.from_kwargs({k: v for k, v in options.items() if k != "prefer"})
+        checked = Options.from_kwargs({k: v for k, v in options.items() if k != "prefer"})
+        self._tol = (checked.tol_position, checked.tol_orientation)
         parse_score(options.get("prefer"))
-        viser = import_viser()
+        server.import_viser()
         self.arm = arm
+        self.robot = robot
         self.solver = solver
         self.options = dict(options)
         self._lock = threading.RLock()
         self._closed = threading.Event()
-        self._q = arm.seed(q) if q is not None else arm.middle.copy()
+        if q is None:
+            self._q = robot.middle.copy()
+        elif robot.several:
+            self._q = np.clip(robot.check_q(q), robot.lower, robot.upper)
+        else:
+            self._q = robot.chains[robot.tips[0]].seed(q)
+        self.targets: dict[str, object] = {}
         self.result: IKResult | None = None
         self.solutions: list[IKResult] = []
+        self.regions: list[regions.Region] = []
+        self.paths: PathPlayer | None = None
         self.obstacles: list[Shape] = []
-        self._target: object = None
-        self._pending: object = None
+        self._region_nodes: list = []
+        self._pending: dict[str, object] = {}
         self._solving = False
-        self._ghosts = []
         self._ghosts_on = False
-        self._position_only = arm.dof < 6
+        self._position_only = min(a.dof for a in robot.chains.values()) < 6
 
-        _check_port(host, port)
-        with contextlib.redirect_stdout(io.StringIO()):  # viser's banner: the URL is self.url
-            self._server = server = viser.ViserServer(
-                host=host, port=port, label=f"armik: {arm.name}", verbose=False
-            )
-        self.host, self.port = host, int(server.get_port())
-        if port and self.port != port:  # taken between the check and the bind
-            server.stop()
-            raise _port_error(host, port)
+        self._server, self.port = server.start(host, port, f"armik: {robot.name}")
+        self.host = host
         try:
             self._build_scene()
         except BaseException:
-            server.stop()
+            self._server.stop()
             raise
-        log.info("viewer of %r at %s", arm.name, self.url)
+        log.info("viewer of %r at %s", robot.name, self.url)
         if open_browser:
             webbrowser.open(self.url)
 
     # -- the scene ------------------------------------------------------------------------
 
     def _build_scene(self) -> None:
-        arm, scene = self.arm, self._server.scene
-        s = self._size = size(arm)
-        self.body = arm_body(arm)
-        flat = arm.plane is not None and abs(arm.plane.normal[2]) > 0.9
-        centre = arm.first_joint_origin + (0.0, 0.0, 0.0 if flat else 0.25 * s)
+        robot, scene = self.robot, self._server.scene
+        s = self._size = robot.size
+        flat = robot.plane is not None and abs(robot.plane.normal[2]) > 0.9
+        centre = robot.centre + (0.0, 0.0, 0.0 if flat else 0.25 * s)
         view = np.array([0.3, -0.55, 1.0] if flat else [1.0, -1.25, 0.7])
         cam = self._server.initial_camera
         cam.position = centre + 1.5 * s * view / np.linalg.norm(view)
@@ -148,14 +132,27 @@ class Viewer:
         cell = 10 ** math.floor(math.log10(s / 2))
         scene.add_grid("/grid", width=4 * s, height=4 * s, cell_size=cell, section_size=10 * cell,
                        position=(0.0, 0.0, -1e-3 * s))  # fmt: skip
-        self._arm_nodes = BodyNodes(scene, "/arm", self.body)
-        self._tip = scene.add_frame("/tip", axes_length=0.12 * s, axes_radius=0.005 * s)
-        self._gizmo = scene.add_transform_controls("/target", scale=0.3 * s)
-        scene.add_frame("/target/axes", axes_length=0.08 * s, axes_radius=0.004 * s)
-        self._mark = scene.add_icosphere("/target/mark", radius=0.02 * s, color=REACHED)
+        self._arm_nodes = BodyNodes(scene, "/arm", robot.body)
+        self._ghosts = Ghosts(scene, robot)
+        self._tip_frames: dict[str, viser.FrameHandle] = {}
+        self._gizmos: dict[str, viser.TransformControlsHandle] = {}
+        self._marks: dict[str, viser.IcosphereHandle] = {}
+        for k, tip in enumerate(robot.tips):
+            # one tip keeps the names it always had; several are numbered in tips' order
+            n = str(k) if robot.several else ""
+            tip_name, target = f"/tip{n}", f"/target{n}"
+            self._tip_frames[tip] = scene.add_frame(tip_name, axes_length=0.12 * s,
+                                                    axes_radius=0.005 * s)  # fmt: skip
+            gizmo = self._gizmos[tip] = scene.add_transform_controls(target, scale=0.3 * s)
+            scene.add_frame(f"{target}/axes", axes_length=0.08 * s, axes_radius=0.004 * s)
+            self._marks[tip] = scene.add_icosphere(f"{target}/mark", radius=0.02 * s,
+                                                   color=REACHED)  # fmt: skip
+            if robot.several:
+                scene.add_label(f"{target}/label", tip)
+            gizmo.on_update(self._on_drag(tip))
         self.panel = Panel(
             self._server.gui,
-            arm,
+            robot,
             solver=self.solver,
             position_only=self._position_only,
             on_joints=self._slid,
@@ -165,22 +162,43 @@ class Viewer:
             on_prefer=self._chose_prefer,
             prefer=str(self.options.get("prefer") or "none"),
         )
-        self._gizmo.on_update(lambda event: self._dragged(event.target))
         self.show(self._q)
 
     def _put(self, q: np.ndarray, failed: bool) -> None:
-        """Draw the arm at ``q`` (red if ``failed``) with its tip frame and sliders."""
-        poses = self.body.poses(self.arm, q)
+        """Draw the robot at ``q`` (red if ``failed``) with its tip frames, sliders and
+        regions."""
+        robot = self.robot
         with self._server.atomic():
-            self._arm_nodes.pose(poses)
+            self._arm_nodes.pose(robot.poses(q))
             self._arm_nodes.mark_failed(failed)
-            self._tip.wxyz, self._tip.position = wxyz_position(self.arm.fk(q).homogeneous)
+            if not self._arm_nodes.visible:  # hidden by play_paths
+                self._arm_nodes.visible = True
+            for tip, frame in self._tip_frames.items():
+                frame.wxyz, frame.position = wxyz_position(robot.fk(q, tip).homogeneous)
         self.panel.set_q(q)
         self._q = np.array(q, dtype=float)
+        self._draw_regions()
 
-    def _place_target(self, T: np.ndarray, success: bool | None) -> None:
-        self._gizmo.wxyz, self._gizmo.position = wxyz_position(T)
-        self._mark.color = UNREACHED if success is False else REACHED
+    def _place_gizmo(self, tip: str, ok: bool | None) -> None:
+        """``tip``'s gizmo at its target's anchor (or the tip), its ball red if not ``ok``."""
+        T = gizmo_pose(self.targets.get(tip), self.robot, self._q, tip)
+        self._gizmos[tip].wxyz, self._gizmos[tip].position = wxyz_position(T)
+        self._marks[tip].color = UNREACHED if ok is False else REACHED
+
+    def _draw_regions(self) -> None:
+        """Every task list's regions (``armik.view.regions``) at the configuration shown."""
+        shapes: list[regions.Region] = []
+        for k, tip in enumerate(self.robot.tips):
+            for j, task in enumerate(tasks_of(self.targets.get(tip)) or ()):
+                T = self.robot.frame_pose(self._q, tip, task)
+                shapes += regions.task_regions(task, T, self._size, f"/regions/{k}/{j}")
+        old = self._region_nodes
+        self._region_nodes = regions.draw(self._server.scene, shapes, self._size)
+        names = {h.name for h in self._region_nodes}
+        for handle in old:  # a node added again under its name replaced the old one
+            if handle.name not in names:
+                handle.remove()
+        self.regions = shapes
 
     # -- the API --------------------------------------------------------------------------
 
@@ -195,61 +213,70 @@ class Viewer:
         return self._q.copy()
 
     def show(self, q: object, *, failed: bool = False) -> None:
-        """Put the arm at joints ``q`` (rad, m), drawn red if ``failed``; the target gizmo
-        moves to its tip. Raises ``OptionError`` for a ``q`` of the wrong shape."""
-        q = self.arm.check_q(q)
+        """Put the robot at joints ``q`` (rad, m), drawn red if ``failed``; the gizmos move
+        to the tips. Raises ``OptionError`` for a ``q`` of the wrong shape."""
+        q = self.robot.check_q(q)
         with self._lock:
             self._put(q, failed)
-            self._place_target(self.arm.fk(q).homogeneous, None)
+            for tip, gizmo in self._gizmos.items():
+                gizmo.wxyz, gizmo.position = wxyz_position(self.robot.fk(q, tip).homogeneous)
+                self._marks[tip].color = REACHED
             self.panel.show_note("joints set (FK)")
 
     def set_target(self, T: object, q0: object = None) -> IKResult:
-        """Solve for target ``T`` (any form ``Arm.solve`` takes) from ``q0`` (default: the
-        configuration shown) with the viewer's solver and options, and show the answer.
-        Returns ``arm.solve(T, q0=..., solver=viewer.solver, **viewer.options)``'s result;
-        the arm moves only when it succeeds (a failure is shown in the panel, the target
-        marked red). Raises what ``Arm.solve`` raises for malformed input."""
-        return self._solve(T, q0, place=True)
+        """Solve for target ``T`` from ``q0`` (default: the configuration shown) with the
+        viewer's solver and options, and show the answer. One arm: ``T`` is any target
+        ``Arm.solve`` takes (a pose, a position, a task list, whose tolerance regions are
+        drawn); several tips: ``{tip: target, ...}``. Returns what ``arm.solve(T, q0=...,
+        solver=viewer.solver, **viewer.options)`` returns; the robot moves only when it
+        succeeds (a failure is shown in the panel, the target marked red). Raises what the
+        solve raises for malformed input, ``InputError`` for a robot's targets not given
+        per tip."""
+        return self._solve(per_tip(T, self.robot), q0, place=True)
 
-    def _solve(self, T: object, q0: object, place: bool) -> IKResult:
+    def _solve(
+        self, targets: dict[str, object], q0: object, place: bool, held: tuple = ()
+    ) -> IKResult:
+        """Solve ``targets`` and show the answer; the gizmos of ``held`` (being dragged)
+        stay where the user holds them."""
         with self._lock:
-            seed = self._q if q0 is None else q0
-            r = self.arm.solve(T, q0=seed, solver=self.solver, **self.options)
-            self._target, self.result = T, r
-            if place:
-                self._place_target(parse_target(T, self.arm).se3().homogeneous, r.success)
-            else:
-                self._mark.color = REACHED if r.success else UNREACHED
+            seed: object = self._q if q0 is None else q0
+            r = self.robot.solve(targets, seed, self.solver, self.options)
+            self.targets, self.result = dict(targets), r
             if r.success:
                 self._put(r.q, False)
-            self.panel.show_result(r, "target" if place else "dragged target")
+            else:
+                self._draw_regions()
+            verified = self.robot.tip_results(r, self._tol)
+            for tip in self.robot.tips:
+                if tip not in held:
+                    ok = verified[tip][0] if tip in verified else None
+                    self._place_gizmo(tip, ok if tip in targets else None)
+                elif tip in verified:
+                    self._marks[tip].color = REACHED if verified[tip][0] else UNREACHED
+            self.panel.show_result(r, "target" if place else "dragged target", self._tol)
             if self._ghosts_on:
-                self._draw_ghosts(T, seed)
+                self._draw_ghosts(seed)
             return r
 
     def play(self, batch_result: BatchResult, fps: float = 30.0) -> None:
         """Walk every waypoint of a ``solve_path`` (or ``solve_batch``) result in order,
-        ``fps`` a second; failed waypoints are drawn red, and the tip's path is drawn as
+        ``fps`` a second; failed waypoints are drawn red, and each tip's path is drawn as
         points (green reached, red not). Blocks until the last waypoint is shown."""
         if not isinstance(batch_result, BatchResult):
             raise InputError(
                 f"play takes the BatchResult of arm.solve_path(...), got "
                 f"{type(batch_result).__name__}"
             )
-        if batch_result.q.ndim != 2 or batch_result.q.shape[1] != self.arm.dof:
+        if batch_result.q.ndim != 2 or batch_result.q.shape[1] != self.robot.dof:
             raise InputError(
                 f"the batch result holds configurations of shape {batch_result.q.shape[1:]}, "
-                f"not ({self.arm.dof},) of arm {self.arm.name!r}: play a result of this arm"
+                f"not ({self.robot.dof},) of {self.robot.name!r}: play a result of this arm"
             )
-        try:
-            fps = float(fps)
-        except (TypeError, ValueError):
-            fps = math.nan
-        if not (math.isfinite(fps) and fps > 0):
-            raise OptionError(f"fps must be a number > 0, got {fps!r}", option="fps", value=fps)
+        fps = _check_fps(fps)
         n = len(batch_result)
         if n:
-            self._draw_path(batch_result)
+            draw_trace(self._server.scene, self.robot, batch_result)
         for i in range(n):
             ok = bool(batch_result.success[i])
             self.show(batch_result.q[i], failed=not ok)
@@ -258,16 +285,26 @@ class Viewer:
             if i + 1 < n:
                 time.sleep(1.0 / fps)
 
-    def _draw_path(self, batch: BatchResult) -> None:
-        tips = np.array([self.arm.fk(q).translation for q in batch.q], dtype=np.float32)
-        colors = np.where(batch.success[:, None], REACHED, UNREACHED).astype(np.uint8)
-        scene = self._server.scene
-        scene.add_point_cloud("/path/points", tips, colors, point_size=0.02 * self._size,
-                              point_shape="circle")  # fmt: skip
-        if len(tips) > 1:
-            segments = np.stack([tips[:-1], tips[1:]], axis=1)
-            scene.add_line_segments("/path/line", segments, (120, 120, 120),
-                                    thickness=0.004 * self._size)  # fmt: skip
+    def play_paths(self, paths: Mapping[str, BatchResult], fps: float | None = None) -> PathPlayer:
+        """Show several ``solve_path`` results over the same waypoints side by side, e.g.
+        ``{"follow": arm.solve_path(poses, q0), "global": arm.solve_path(poses, q0,
+        plan="global")}``: a ghost of the robot per path, each tip's trace, discontinuous
+        waypoints marked orange and other failures red, and a "waypoint" slider in the
+        panel that steps them together (``armik.view.paths``). The solid robot is hidden
+        until it is shown again (``show``, ``set_target``, the sliders). With ``fps``,
+        walks every waypoint first (blocking). Returns the ``PathPlayer`` (``show(i)``,
+        ``play(fps)``, ``remove()``), also ``viewer.paths``; raises ``InputError`` for
+        paths of another robot or of different lengths."""
+        paths = check_paths(self.robot, paths)
+        rate = None if fps is None else _check_fps(fps)
+        with self._lock:
+            if self.paths is not None:
+                self.paths.remove()
+            self._arm_nodes.visible = False
+            self.paths = player = PathPlayer(self._server, self.robot, paths, self._lock)
+        if rate is not None:
+            player.play(rate)
+        return player
 
     def show_reach(self, reach_map: ReachMap | str | Path, *, unreached: bool = False) -> int:
         """Draw a reach map (``armik.solve.reach``, or the path of its .npz) as a point
@@ -281,15 +318,7 @@ class Viewer:
                 f"show_reach takes a ReachMap (armik reach ... -o map.npz, or "
                 f"armik.solve.reach.reachability), got {type(reach_map).__name__}"
             )
-        X, Y, Z = np.meshgrid(reach_map.xs, reach_map.ys, reach_map.zs, indexing="ij")
-        f = reach_map.fraction
-        keep = np.isfinite(f) & ((f > 0) | unreached)
-        points = np.stack([X[keep], Y[keep], Z[keep]], axis=1).astype(np.float32)
-        self._server.scene.add_point_cloud(
-            "/reach", points, reach_colors(f[keep]), point_size=0.2 * reach_map.resolution,
-            point_shape="circle",
-        )  # fmt: skip
-        return len(points)
+        return draw_reach(self._server.scene, reach_map, unreached)
 
     def add_obstacles(self, shapes: list[Shape]) -> list[Shape]:
         """Draw obstacles: a list of shapes (``armik.Box``, ``Sphere``, ``Capsule``,
@@ -300,8 +329,7 @@ class Viewer:
         scene = self._server.scene
         with self._lock:
             for shape in shapes:
-                name = f"/obstacles/{len(self.obstacles)}"
-                _draw_obstacle(scene, name, shape)
+                draw_obstacle(scene, f"/obstacles/{len(self.obstacles)}", shape)
                 self.obstacles.append(shape)
             return list(self.obstacles)
 
@@ -321,11 +349,7 @@ class Viewer:
             if self._closed.is_set():
                 return
             self._closed.set()
-        with contextlib.redirect_stdout(io.StringIO()):  # viser's "server stopped"
-            self._server.stop()
-        deadline = time.monotonic() + 10.0
-        while not _port_free(self.host, self.port) and time.monotonic() < deadline:
-            time.sleep(0.05)
+        server.stop(self._server, self.host, self.port)
 
     def __enter__(self) -> Viewer:
         return self
@@ -335,29 +359,37 @@ class Viewer:
 
     def __repr__(self) -> str:
         state = "closed" if self._closed.is_set() else self.url
-        return f"Viewer({self.arm.name!r}, {state}, solver={self.solver!r})"
+        tips = f", tips={list(self.robot.tips)}" if self.robot.several else ""
+        return f"Viewer({self.robot.name!r}{tips}, {state}, solver={self.solver!r})"
 
     # -- what the browser does ------------------------------------------------------------
 
-    def _dragged(self, handle: viser.TransformControlsHandle) -> None:
-        """The gizmo moved: solve for it, the latest pose first (drags come faster than
-        numeric solves; the poses in between are skipped)."""
+    def _dragged(self, handle: viser.TransformControlsHandle, tip: str | None = None) -> None:
+        """A gizmo moved: solve every tip's target with it, the latest pose first (drags
+        come faster than numeric solves; the poses in between are skipped)."""
+        tip = self.robot.tips[0] if tip is None else tip
         T = pose_of(handle.wxyz, handle.position)
         with self._lock:
-            self._pending = T.translation.copy() if self._position_only else T
+            self._pending[tip] = T
             if self._solving:
                 return
             self._solving = True
         while True:
             with self._lock:
-                target, self._pending = self._pending, None
-                if target is None:
+                moved, self._pending = self._pending, {}
+                if not moved:
                     self._solving = False
                     return
+                targets = dict(self.targets)
+                for t, pose in moved.items():
+                    targets[t] = dragged(targets.get(t), pose, self._position_only, t)
                 try:
-                    self._solve(target, None, place=False)
+                    self._solve(targets, None, place=False, held=tuple(moved))
                 except ArmikError as exc:
                     self.panel.show_note("target refused", str(exc))
+
+    def _on_drag(self, tip: str):
+        return lambda event: self._dragged(event.target, tip)
 
     def _slid(self, q: np.ndarray) -> None:
         with self._lock:
@@ -367,10 +399,10 @@ class Viewer:
     def _chose_solver(self, name: str) -> None:
         with self._lock:
             self.solver = name
-            if self._target is None:
+            if not self.targets:
                 return
             try:
-                self._solve(self._target, None, place=False)
+                self._solve(self.targets, None, place=False)
             except ArmikError as exc:
                 self.panel.show_note(f"solver {name!r} refused the target", str(exc))
 
@@ -380,8 +412,8 @@ class Viewer:
                 self.options.pop("prefer", None)
             else:
                 self.options["prefer"] = name
-            if self._target is not None:
-                self._solve(self._target, None, place=False)
+            if self.targets:
+                self._solve(self.targets, None, place=False)
 
     def _toggled_position_only(self, on: bool) -> None:
         self._position_only = bool(on)
@@ -389,100 +421,32 @@ class Viewer:
     def _toggled_ghosts(self, on: bool) -> None:
         with self._lock:
             self._ghosts_on = bool(on)
-            if on and self._target is not None:
-                self._draw_ghosts(self._target, self._q)
+            if on and self.targets:
+                self._draw_ghosts(self._q)
             elif not on:
-                for nodes, label in self._ghosts:
-                    nodes.visible = label.visible = False
+                self._ghosts.hide()
                 self.solutions = []
 
-    def _draw_ghosts(self, T: object, q0: object) -> None:
-        """Every answer of ``solve_all`` as a translucent ghost labelled by its branch."""
+    def _draw_ghosts(self, q0: object) -> None:
+        """Every answer of ``solve_all`` for the target (one arm) as a ghost."""
+        if self.robot.several:
+            return  # solve_all is one arm's
+        (target,) = self.targets.values()
+        arm = self.robot.source
         try:
-            found = self.arm.solve_all(T, q0=q0, solver=self.solver, **self.options)
+            found = arm.solve_all(target, q0=q0, solver=self.solver, **self.options)  # type: ignore[attr-defined]
         except ArmikError as exc:
             self.panel.show_note("all solutions refused", str(exc))
             found = []
         self.solutions = found = found[:MAX_GHOSTS]
-        scene = self._server.scene
-        while len(self._ghosts) < len(found):
-            i = len(self._ghosts)
-            nodes = BodyNodes(scene, f"/ghosts/{i}", self.body,
-                              ghost=GHOST_COLORS[i % len(GHOST_COLORS)])  # fmt: skip
-            self._ghosts.append((nodes, scene.add_label(f"/ghosts/label{i}", "")))
-        for i, (nodes, label) in enumerate(self._ghosts):
-            shown = i < len(found)
-            nodes.visible = label.visible = shown
-            if shown:
-                r = found[i]
-                nodes.pose(self.body.poses(self.arm, r.q))
-                # at the middle joint: every answer shares the tip, not the elbow
-                label.position = skeleton(self.arm, r.q).points[1 + self.arm.dof // 2]
-                name = r.branch or f"solution {i + 1}"
-                label.text = name if r.success else f"{name} ({r.status.value})"
+        self._ghosts.draw(found)
 
 
-def reach_colors(fraction: np.ndarray) -> np.ndarray:
-    """(n, 3) uint8: red at 0 through yellow to green at 1; grey where nothing was reached."""
-    f = np.clip(np.asarray(fraction, float), 0, 1)[:, None]
-    low, mid, high = np.array(UNREACHED), np.array([230, 200, 40]), np.array(REACHED)
-    rgb = np.where(f < 0.5, low + (mid - low) * 2 * f, mid + (high - mid) * (2 * f - 1))
-    rgb[f[:, 0] == 0] = (160, 160, 160)
-    return rgb.round().astype(np.uint8)
-
-
-def _port_error(host: str, port: int) -> ViewerError:
-    return ViewerError(
-        f"port {port} is in use on {host} (another viewer, or another program): pass another "
-        f"port (--port {port + 1}, or port={port + 1}), or port 0 for any free one",
-        port=port,
-    )
-
-
-def _check_port(host: str, port: int) -> None:
-    if port and not _port_free(host, port):
-        raise _port_error(host, port)
-
-
-def _port_free(host: str, port: int) -> bool:
-    """Whether a server could listen on ``host:port`` now (SO_REUSEADDR, as servers bind)."""
+def _check_fps(fps: object) -> float:
     try:
-        family = socket.getaddrinfo(host or None, port, type=socket.SOCK_STREAM)[0][0]
-    except socket.gaierror:
-        family = socket.AF_INET
-    with socket.socket(family, socket.SOCK_STREAM) as s:
-        s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        try:
-            s.bind((host, port))
-        except OSError:
-            return False
-    return True
-
-
-def _draw_obstacle(scene, name: str, shape: Shape) -> None:
-    """One obstacle in the scene, translucent, at its placement in the base frame."""
-    wxyz, position = wxyz_position(shape.T)
-    if isinstance(shape, Box):
-        scene.add_box(name, color=OBSTACLE, dimensions=shape.size, opacity=0.6,
-                      wxyz=wxyz, position=position)  # fmt: skip
-    elif isinstance(shape, Sphere):
-        scene.add_icosphere(name, radius=shape.radius, color=OBSTACLE, opacity=0.6,
-                            position=shape.center)  # fmt: skip
-    else:
-        if isinstance(shape, Cylinder):
-            mesh = trimesh.creation.cylinder(radius=shape.radius, height=shape.length)
-        elif isinstance(shape, Capsule):
-            mesh = trimesh.creation.capsule(radius=shape.radius, height=shape.length)
-        elif isinstance(shape, HalfSpace):  # a wide slab under its surface
-            n = np.asarray(shape.normal, dtype=float)
-            mesh = trimesh.creation.box((4.0, 4.0, 0.02))
-            z = np.array([0.0, 0.0, 1.0])
-            T = trimesh.geometry.align_vectors(z, n)
-            T[:3, 3] = n * (shape.offset - 0.01)
-            wxyz, position = wxyz_position(T)
-        else:
-            assert isinstance(shape, Mesh)
-            mesh = trimesh.load(shape.path, force="mesh")
-            mesh.apply_scale(shape.scale)
-        scene.add_mesh_simple(name, mesh.vertices, mesh.faces, color=OBSTACLE, opacity=0.6,
-                              wxyz=wxyz, position=position)  # fmt: skip
+        rate = float(fps)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        rate = math.nan
+    if not (math.isfinite(rate) and rate > 0):
+        raise OptionError(f"fps must be a number > 0, got {fps!r}", option="fps", value=fps)
+    return rate

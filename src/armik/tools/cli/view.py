@@ -1,13 +1,19 @@
-"""``armik view``: an arm in the browser, its target on a gizmo that solves as it is dragged;
-Ctrl-C stops it (exit 0)."""
+"""``armik view``: an arm (or several tips of one robot) in the browser, each target on a
+gizmo that solves as it is dragged; ``--path`` shows a path's plans side by side. Ctrl-C
+stops it (exit 0)."""
 
 from __future__ import annotations
 
 import argparse
 import sys
 
+import numpy as np
+
+from armik.arm import load
 from armik.constraints.shapes_file import read_shapes
+from armik.errors import InputError
 from armik.tools.cli.arms import load_arm
+from armik.tools.cli.many import read_targets_file
 
 
 def add_view_command(command) -> None:
@@ -20,6 +26,12 @@ def add_view_command(command) -> None:
     c.add_argument("robot", help="bundled robot name or path to a URDF file")
     c.add_argument("--base", help="base frame")
     c.add_argument("--tip", help="tip frame")
+    c.add_argument(
+        "--tips",
+        nargs="+",
+        metavar="TIP",
+        help="several tips of one robot (instead of --tip): the whole robot, a gizmo per tip",
+    )
     c.add_argument("--port", type=int, default=8080, help="port to serve on (8080; 0: any free)")
     c.add_argument(
         "--host", default="127.0.0.1", help="address to serve on (127.0.0.1; 0.0.0.0: all)"
@@ -32,6 +44,31 @@ def add_view_command(command) -> None:
         help='JSON list of boxes and spheres to draw, e.g. [{"type": "sphere", "radius": 0.1, '
         '"center": [0.4, 0, 0.3]}] (drawn only: the solvers do not avoid them yet)',
     )
+    c.add_argument(
+        "--path",
+        metavar="FILE",
+        help="waypoints file, as for armik path: solved with each --plan and shown side by "
+        "side, a slider stepping through the waypoints",
+    )
+    c.add_argument(
+        "--plan",
+        nargs="+",
+        choices=["follow", "global"],
+        default=["follow", "global"],
+        help="the plans of --path to show (default: both)",
+    )
+    c.add_argument(
+        "--max-joint-step",
+        type=float,
+        help="largest move of any joint between consecutive answers of --path (rad or m; 0.5)",
+    )
+    c.add_argument(
+        "--q0",
+        nargs="+",
+        type=float,
+        help="the configuration --path starts from (rad, m); default: the middle of the "
+        "limits, or for the global plan any branch",
+    )
     c.add_argument("--no-browser", action="store_true", help="do not open a browser tab")
 
 
@@ -41,10 +78,18 @@ def cmd_view(args: argparse.Namespace) -> int:
     viewer = None
     try:
         obstacles = read_shapes(args.obstacles) if args.obstacles else []
-        arm = load_arm(args)
+        if args.tips:
+            if args.path:
+                raise InputError(
+                    "--path takes the waypoints of one tip: give --tip (or none), not --tips"
+                )
+            robot = load(args.robot, base=args.base, tip=args.tip, tips=args.tips)
+        else:
+            robot = load_arm(args)
+        paths = _solve_paths(robot, args) if args.path else {}
         options = {} if args.timeout is None else {"timeout": args.timeout}
         viewer = Viewer(
-            arm,
+            robot,
             port=args.port,
             host=args.host,
             open_browser=not args.no_browser,
@@ -53,7 +98,13 @@ def cmd_view(args: argparse.Namespace) -> int:
         )
         if obstacles:
             viewer.add_obstacles(obstacles)
-        print(f"armik: {arm.name} at {viewer.url} (Ctrl-C to stop)", flush=True)
+        for plan, batch in paths.items():
+            bad = np.flatnonzero(~batch.success)
+            where = f", failed at {bad[:10].tolist()}" if len(bad) else ""
+            print(f"armik: {plan}: {int(batch.success.sum())}/{len(batch)} waypoints{where}")
+        if paths:
+            viewer.play_paths(paths)
+        print(f"armik: {viewer.robot.name} at {viewer.url} (Ctrl-C to stop)", flush=True)
         viewer.wait()
     except KeyboardInterrupt:  # before the viewer was up: loading, compiling
         pass
@@ -62,3 +113,19 @@ def cmd_view(args: argparse.Namespace) -> int:
             viewer.close()
     print("armik: viewer stopped", file=sys.stderr)
     return 0
+
+
+def _solve_paths(arm, args: argparse.Namespace) -> dict:
+    """Each ``--plan``'s ``solve_path`` over the waypoints of ``--path``."""
+    poses, _ = read_targets_file(args.path)
+    q0 = None if args.q0 is None else np.array(args.q0)
+    return {
+        plan: arm.solve_path(
+            poses,
+            arm.middle if q0 is None and plan == "follow" else q0,
+            max_joint_step=args.max_joint_step,
+            plan=plan,
+            solver=args.solver,
+        )
+        for plan in dict.fromkeys(args.plan)
+    }

@@ -1,0 +1,73 @@
+"""Serving the viewer's page: viser imported on demand, the port checked before and after
+the server binds it, and closing that waits until the port is free again."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import socket
+import time
+from typing import TYPE_CHECKING
+
+from armik.errors import ViewerError
+
+if TYPE_CHECKING:
+    import viser
+
+
+def import_viser():
+    """The viser module, or ``ViewerError`` telling how to install it."""
+    try:
+        import viser
+    except ImportError:
+        raise ViewerError(
+            'the viewer needs viser, an optional extra: pip install "armik[view]"'
+        ) from None
+    return viser
+
+
+def start(host: str, port: int, label: str) -> tuple[viser.ViserServer, int]:
+    """A viser server on ``host:port`` (0: any free port) and the port it took; a
+    ``ViewerError`` naming the port and the fix when it is in use."""
+    viser = import_viser()
+    if port and not port_free(host, port):
+        raise port_error(host, port)
+    with contextlib.redirect_stdout(io.StringIO()):  # viser's banner: the viewer's url says it
+        server = viser.ViserServer(host=host, port=port, label=label, verbose=False)
+    taken = int(server.get_port())
+    if port and taken != port:  # taken between the check and the bind
+        server.stop()
+        raise port_error(host, port)
+    return server, taken
+
+
+def stop(server: viser.ViserServer, host: str, port: int) -> None:
+    """Stop serving and wait, up to 10 s, until the port can be bound again."""
+    with contextlib.redirect_stdout(io.StringIO()):  # viser's "server stopped"
+        server.stop()
+    deadline = time.monotonic() + 10.0
+    while not port_free(host, port) and time.monotonic() < deadline:
+        time.sleep(0.05)
+
+
+def port_error(host: str, port: int) -> ViewerError:
+    return ViewerError(
+        f"port {port} is in use on {host} (another viewer, or another program): pass another "
+        f"port (--port {port + 1}, or port={port + 1}), or port 0 for any free one",
+        port=port,
+    )
+
+
+def port_free(host: str, port: int) -> bool:
+    """Whether a server could listen on ``host:port`` now (SO_REUSEADDR, as servers bind)."""
+    try:
+        family = socket.getaddrinfo(host or None, port, type=socket.SOCK_STREAM)[0][0]
+    except socket.gaierror:
+        family = socket.AF_INET
+    with socket.socket(family, socket.SOCK_STREAM) as s:
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        try:
+            s.bind((host, port))
+        except OSError:
+            return False
+    return True
