@@ -5,13 +5,13 @@ from __future__ import annotations
 import argparse
 import json
 import math
+from collections.abc import Sequence
 
 import numpy as np
-import pinocchio as pin
 
 from armik.arm import Arm, load
 from armik.constraints.shapes_file import read_shapes
-from armik.errors import FrameError, InputError
+from armik.errors import FrameError, InputError, OptionError
 from armik.kernel import warmup
 from armik.kernel.problem import STEP_DLS
 from armik.model.catalogue import CATALOGUE, entry
@@ -20,13 +20,23 @@ from armik.result import IKResult
 from armik.solvers import registry
 from armik.solvers.closed_form import families
 from armik.solvers.closed_form.sixr import Chain6R
+from armik.tools.cli.targets import (
+    flag_targets,
+    for_flags,
+    task_errors,
+    task_lines,
+    task_names,
+)
 
 
 def load_arm(args: argparse.Namespace) -> Arm:
+    tip = getattr(args, "tip", None)
+    if isinstance(tip, list):  # --tip repeatable (info, solve): one here
+        tip = tip[0] if tip else None
     return load(
         args.robot,
         base=getattr(args, "base", None),
-        tip=getattr(args, "tip", None),
+        tip=tip,
         tip_offset=getattr(args, "tip_offset", None),
         locked=locked_joints(getattr(args, "lock", None)),
     )
@@ -326,30 +336,25 @@ def _link_lengths(arm: Arm) -> list[float]:
     return [float(np.linalg.norm(b - a)) for a, b in zip(points, points[1:])]
 
 
-def _target(args: argparse.Namespace) -> object:
-    xyz = np.array(args.xyz)
-    if args.quat is not None:
-        return (xyz, np.array(args.quat))
-    if args.rpy is not None:
-        return pin.SE3(pin.rpy.rpyToMatrix(*args.rpy), xyz)
-    return xyz
-
-
 def cmd_solve(args: argparse.Namespace) -> int:
-    arm = load_arm(args)
     options = solve_options(args)
-    target = _target(args)
-    if args.all:
-        results = arm.solve_all(target, q0=args.q0, solver=args.solver, **options)
-    else:
-        results = [arm.solve(target, q0=args.q0, solver=args.solver, **options)]
+    (target,) = flag_targets(args, options, several=False)
+    names = task_names(target)
+    arm = load_arm(args)
+    try:
+        if args.all:
+            results = arm.solve_all(target, q0=args.q0, solver=args.solver, **options)
+        else:
+            results = [arm.solve(target, q0=args.q0, solver=args.solver, **options)]
+    except OptionError as exc:
+        raise for_flags(exc) from None
     if args.json:
         print(
             json.dumps(
                 {
                     "robot": arm.name,
                     "joints": arm.joint_names,
-                    "results": [r.as_dict() for r in results],
+                    "results": [_as_dict(r, names) for r in results],
                 },
                 indent=2,
             )
@@ -358,13 +363,25 @@ def cmd_solve(args: argparse.Namespace) -> int:
         for i, r in enumerate(results):
             if len(results) > 1:
                 print(f"solution {i + 1} of {len(results)}")
-            _print_result(arm, r, show_time=len(results) == 1)
+            print_result(arm, r, show_time=len(results) == 1, tasks=names)
         if len(results) > 1:
             print(f"time: {results[0].time * 1e3:.3f} ms for the call ({len(results)} solutions)")
     return 0 if any(r.success for r in results) else 1
 
 
-def _print_result(arm: Arm, r: IKResult, indent: str = "  ", show_time: bool = True) -> None:
+def _as_dict(r: IKResult, names: list[str]) -> dict:
+    out = r.as_dict()
+    rows = task_errors(r, names)
+    if rows is not None:
+        out["task_errors"] = rows
+    return out
+
+
+def print_result(
+    arm, r: IKResult, indent: str = "  ", show_time: bool = True, tasks: Sequence[str] = ()
+) -> None:
+    """A result as text; ``arm`` gives the joints' names and types (an ``Arm``, or the
+    several tips' joints side by side)."""
     print(
         f"{indent}status   : {r.status} (success={r.success}), solver {r.solver}"
         + (f", branch {r.branch}" if r.branch else "")
@@ -374,6 +391,13 @@ def _print_result(arm: Arm, r: IKResult, indent: str = "  ", show_time: bool = T
         print(f"{indent}  {name:<22} {value: .9f} {unit}")
     ori = "n/a" if r.orientation_error is None else f"{r.orientation_error:.2e} rad"
     print(f"{indent}FK error : position {r.position_error:.2e} m, orientation {ori}")
+    for tip, errors in r.extra.get("errors", {}).items():  # several tips: each tip's
+        pos, tip_ori = (
+            "n/a" if e is None else f"{e:.2e} {u}" for e, u in zip(errors, ("m", "rad"))
+        )
+        print(f"{indent}  {tip}: position {pos}, orientation {tip_ori}")
+    for line in task_lines(r, list(tasks), indent):
+        print(line)
     if show_time:
         print(f"{indent}time     : {r.time * 1e3:.3f} ms, {r.iterations} iterations")
     else:
@@ -394,7 +418,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
     print("planar_2link (l1 = 1.0 m, l2 = 0.8 m), target (x, y) = (1.2, 0.5):")
     results = arm.solve_all([1.2, 0.5])
     for r in results:
-        _print_result(arm, r, show_time=False)  # r.time is the whole call's
+        print_result(arm, r, show_time=False)  # r.time is the whole call's
         ok &= r.success
     print(f"  time     : {results[0].time * 1e3:.3f} ms for the call ({len(results)} solutions)")
     panda = load("panda")
@@ -405,6 +429,6 @@ def cmd_demo(args: argparse.Namespace) -> int:
         "seeded from the mid-limit configuration:"
     )
     r = panda.solve(T, q0=panda.middle)
-    _print_result(panda, r)
+    print_result(panda, r)
     ok &= r.success
     return 0 if ok else 1

@@ -26,6 +26,7 @@ from armik.tools.cli.arms import (
 from armik.tools.cli.compile import add_compile_command
 from armik.tools.cli.many import add_many_commands
 from armik.tools.cli.studies import cmd_bench, cmd_compare
+from armik.tools.cli.tips import cmd_info_tips, cmd_solve_tips
 from armik.tools.cli.view import add_view_command
 
 
@@ -74,6 +75,14 @@ class _Parser(argparse.ArgumentParser):
         raise SystemExit(2)
 
 
+def _info(args: argparse.Namespace) -> int:
+    return cmd_info_tips(args) if len(args.tip or ()) > 1 else cmd_info(args)
+
+
+def _solve(args: argparse.Namespace) -> int:
+    return cmd_solve_tips(args) if len(args.tip or ()) > 1 else cmd_solve(args)
+
+
 def _positive_int(text: str) -> int:
     try:
         value = int(text)
@@ -101,11 +110,21 @@ def _parser() -> argparse.ArgumentParser:
 
     command("robots", "list the bundled arms with their DOF and tip", "armik robots", cmd_robots)
 
-    c = command("info", "show an arm's chain and which solvers apply", "armik info panda", cmd_info)
+    c = command(
+        "info",
+        "show an arm's chain and which solvers apply",
+        "armik info panda\n"
+        "         armik info talos_reduced.urdf --tip gripper_left_base_link "
+        "--tip gripper_right_base_link",
+        _info,
+    )
     c.add_argument("robot", help="bundled robot name or path to a URDF file")
     c.add_argument("--base", help="base frame (default: URDF root)")
     c.add_argument(
-        "--tip", help="tip frame (default: catalogue tip, tool0, or the end of the longest chain)"
+        "--tip",
+        action="append",
+        help="tip frame (default: catalogue tip, tool0, or the end of the longest chain); "
+        "repeat it for several tips of one robot: each chain and the joints they share",
     )
     c.add_argument("--frames", action="store_true", help="print the URDF's frames as a tree")
     add_lock_option(c)
@@ -113,26 +132,36 @@ def _parser() -> argparse.ArgumentParser:
     c = command(
         "solve",
         "solve IK for a target pose",
-        "armik solve ur5 --xyz 0.4 0.2 0.3 --rpy 3.1416 0 0 --solver dls",
-        cmd_solve,
+        "armik solve ur5 --xyz 0.4 0.2 0.3 --rpy 3.1416 0 0 --solver dls\n"
+        "         armik solve ur5 --xyz 0.4 0.2 0.3 --axis 0 0 1 --toward 0 0 -1 --within 0.05\n"
+        "         armik solve ROBOT --tip A --xyz 0.4 0.3 0.3 --rpy 0 0 0 "
+        "--tip B --xyz 0.4 -0.3 0.3 --rpy 0 0 0",
+        _solve,
     )
     c.add_argument("robot", help="bundled robot name or path to a URDF file")
     c.add_argument("--base", help="base frame")
-    c.add_argument("--tip", help="tip frame")
+    # the target flags are repeatable: the n-th of each goes with the n-th --tip
+    c.add_argument(
+        "--tip",
+        action="append",
+        help="tip frame; repeat it, each followed by its target, for several tips of one robot",
+    )
     add_lock_option(c)
     c.add_argument(
         "--xyz",
         nargs=3,
         type=float,
         required=True,
+        action="append",
         metavar=("X", "Y", "Z"),
-        help="target position in the base frame (m)",
+        help="target position in the base frame (m); once per --tip",
     )
     rot = c.add_mutually_exclusive_group()
     rot.add_argument(
         "--rpy",
         nargs=3,
         type=float,
+        action="append",
         metavar=("R", "P", "Y"),
         help="target roll, pitch, yaw (rad); omit both for a position target",
     )
@@ -140,8 +169,33 @@ def _parser() -> argparse.ArgumentParser:
         "--quat",
         nargs=4,
         type=float,
+        action="append",
         metavar=("X", "Y", "Z", "W"),
         help="target quaternion, (x, y, z, w) order",
+    )
+    c.add_argument(
+        "--axis",
+        nargs=3,
+        type=float,
+        action="append",
+        metavar=("AX", "AY", "AZ"),
+        help="instead of --rpy/--quat: this axis of the tip (its own frame) points along "
+        "--toward, within --within; its spin about the axis is free",
+    )
+    c.add_argument(
+        "--toward",
+        nargs=3,
+        type=float,
+        action="append",
+        metavar=("DX", "DY", "DZ"),
+        help="the direction --axis points along, in the base frame",
+    )
+    c.add_argument(
+        "--within",
+        type=float,
+        action="append",
+        metavar="ANGLE",
+        help="how far --axis may lie from --toward (rad, 0 by default)",
     )
     c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
     c.add_argument("--all", action="store_true", help="print every solution found")

@@ -1,0 +1,158 @@
+"""``armik solve`` with a region or a direction: ``--bounds`` on a pose (an ``armik.Pose``),
+``--axis``/``--toward``/``--within`` with ``--xyz`` (``armik.Position`` and ``armik.Axis``),
+each answer checked on the arm's FK; the bad spellings refused in one line, exit 2."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.tools.cli import main
+from tests.conftest import TOL, arm
+
+
+def run(capsys, *argv):
+    try:
+        code = main(list(argv))
+    except SystemExit as exc:  # argparse's own errors
+        code = exc.code
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def words(values) -> list[str]:
+    return [repr(float(v)) for v in values]
+
+
+def test_bounds_on_a_pose_is_the_pose_task(capsys):
+    ur5 = arm("ur5")
+    T = ur5.fk(np.array([0.3, -1.1, 1.4, -0.6, -1.5, 0.9]))
+    rpy = pin.rpy.matrixToRpy(T.rotation)
+    bounds = ["0", "0", "0", "0", "0", "inf"]
+    code, out, _ = run(
+        capsys,
+        *("solve", "ur5", "--xyz", *words(T.translation), "--rpy", *words(rpy)),
+        *("--bounds", *bounds, "--json"),
+    )
+    assert code == 0
+    got = json.loads(out)["results"][0]
+    T = pin.SE3(pin.rpy.rpyToMatrix(*rpy), T.translation)  # as the flags say it
+    r = ur5.solve([armik.Pose(T, bounds=(0, 0, 0, 0, 0, math.inf))])
+    assert got["success"] and got["q"] == r.q.tolist() and got["solver"] == r.solver
+    reached = ur5.fk(np.array(got["q"]))
+    assert np.linalg.norm(reached.translation - T.translation) <= TOL["solve"]
+    # the spin about the target's z is free, the z axis is held
+    assert np.linalg.norm(reached.rotation[:, 2] - T.rotation[:, 2]) <= TOL["solve"]
+    # a region with --weights: the weights go into the Pose with the bounds
+    code, out, _ = run(
+        capsys,
+        *("solve", "ur5", "--xyz", *words(T.translation), "--rpy", *words(rpy)),
+        *("--bounds", "0.01", "0.01", "0.01", "0", "0", "inf", "--weights", "1", "1", "1"),
+        *("1", "1", "0.5", "--solver", "dls"),
+    )
+    assert code == 0 and "converged" in out
+
+
+def test_axis_toward_within(capsys):
+    ur5 = arm("ur5")
+    T = ur5.fk(np.array([0.3, -1.1, 1.4, -0.6, -1.5, 0.9]))
+    toward = T.rotation[:, 2] + np.array([0.05, 0.0, 0.0])  # 0.05 rad or so off the z axis
+    argv = ["solve", "ur5", "--xyz", *words(T.translation), "--axis", "0", "0", "1"]
+    argv += ["--toward", *words(toward), "--within", "0.1"]
+    code, out, _ = run(capsys, *argv, "--json")
+    assert code == 0
+    got = json.loads(out)["results"][0]
+    assert got["success"]
+    assert [t["task"] for t in got["task_errors"]] == ["Position", "Axis"]
+    assert all(t["within"] for t in got["task_errors"])
+    reached = ur5.fk(np.array(got["q"]))
+    assert np.linalg.norm(reached.translation - T.translation) <= TOL["solve"]
+    z = reached.rotation[:, 2]
+    angle = math.acos(np.clip(z @ toward / np.linalg.norm(toward), -1, 1))
+    assert angle <= 0.1 + TOL["solve"]
+    code, out, _ = run(capsys, *argv)
+    assert code == 0 and "tasks    : Position" in out and "Axis" in out and "(holds)" in out
+    # exactly along --toward (no --within): the point and the axis, the spin free
+    code, out, _ = run(
+        capsys,
+        "solve",
+        "so101",
+        "--xyz",
+        *words(arm("so101").fk(arm("so101").middle).translation),
+        "--axis",
+        "0",
+        "0",
+        "1",
+        "--toward",
+        *words(arm("so101").fk(arm("so101").middle).rotation[:, 2]),
+    )
+    assert code == 0 and "success=True" in out
+
+
+def test_axis_out_of_reach_exit_1(capsys):
+    code, out, _ = run(
+        capsys,
+        "solve",
+        "ur5",
+        "--xyz",
+        "4",
+        "0",
+        "0",
+        "--axis",
+        "0",
+        "0",
+        "1",
+        "--toward",
+        "0",
+        "0",
+        "-1",
+        "--within",
+        "0.1",
+        "--timeout",
+        "0.02",
+        "--json",
+    )
+    got = json.loads(out)["results"][0]
+    assert code == 1 and not got["success"]
+    assert got["task_errors"][0]["task"] == "Position" and not got["task_errors"][0]["within"]
+
+
+XYZ = ["--xyz", "0.4", "0.2", "0.3"]
+RPY = ["--rpy", "3.1", "0", "0"]
+AXIS = ["--axis", "0", "0", "1", "--toward", "0", "0", "-1"]
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        ([*XYZ, *RPY, *AXIS], "--axis does not go with --rpy"),
+        ([*XYZ, "--quat", "0", "0", "0", "1", *AXIS], "--axis does not go with --quat"),
+        ([*XYZ, "--toward", "0", "0", "-1"], "--toward goes with --axis"),
+        ([*XYZ, "--within", "0.1"], "--within goes with --axis"),
+        ([*XYZ, "--axis", "0", "0", "1"], "--toward is given 0 time(s) for 1 --axis"),
+        ([*XYZ, *AXIS, "--within", "0.1", "--within", "0.2"], "--within is given 2 time(s)"),
+        ([*XYZ, "--axis", "0", "0", "0", "--toward", "0", "0", "-1"], "--axis 0 0 0 is no dir"),
+        ([*XYZ, "--axis", "0", "0", "1", "--toward", "nan", "0", "1"], "--toward nan 0 1 is no"),
+        ([*XYZ, *AXIS, "--within", "4"], "--within 4 is no angle"),
+        ([*XYZ, *AXIS, "--within", "nan"], "--within nan is no angle"),
+        ([*XYZ, *AXIS, "--bounds", "0", "0", "0", "0", "0", "inf"], "--bounds does not go with"),
+        ([*XYZ, *AXIS, "--weights", "1", "1", "1", "1", "1", "0"], "--weights does not go with"),
+        ([*XYZ, *AXIS, "--position-only"], "--position-only does not go with --axis"),
+        ([*XYZ, *RPY, "--bounds", "0", "0", "0", "0", "0", "-1"], "--bounds must be 6 numbers"),
+        ([*XYZ, *RPY, "--bounds", "0", "0", "nan", "0", "0", "0"], "--bounds must be 6 numbers"),
+        ([*XYZ, *XYZ], "--xyz is given 2 times for one tip"),
+        ([*XYZ, *RPY, *RPY], "--rpy is given 2 times for 1 --tip"),
+        ([*XYZ, *AXIS, "--solver", "dls", "--within", "0.1"], "--solver dls does not apply"),
+        ([*XYZ, *AXIS, "--within", "0.1", "--self-collision"], "takes no --self-collision"),
+        ([*XYZ, "--axis", "0", "0", "1", "--toward", "0", "0"], "expected 3 arguments"),
+    ],
+)
+def test_bad_task_flags_exit_2_one_line(capsys, argv, message):
+    code, _, err = run(capsys, "solve", "ur5", *argv)
+    assert code == 2 and message in err, err
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
