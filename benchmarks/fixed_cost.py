@@ -47,6 +47,8 @@ def bare_steps(arm, T, q0, plan, solve_into, chain):
     options, plan lookup, branch label, reason or fallback): the floor of ``solve``."""
     model, frame, measured = arm.model, arm.tip_frame_id, plan.measured
     data, R_w, p_w = arm.tip_views()
+    # Pinocchio's q: a continuous joint takes (cos, sin); the identity where there is none
+    to_pin = (lambda q: q) if arm.model.nq == arm.dof else arm.to_pin
     fk, place, clock, new = (
         pin.forwardKinematics,
         pin.updateFramePlacement,
@@ -61,7 +63,7 @@ def bare_steps(arm, T, q0, plan, solve_into, chain):
         solve_into(chain, H, q0, False, rows)
         q = rows[0, :6]
         q.setflags(write=False)
-        fk(model, data, q)
+        fk(model, data, to_pin(q))
         place(model, data, frame)
         pos, ori, inside = placement_check(measured, R_w, p_w, H, q)
         result = new(IKResult)

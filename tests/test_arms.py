@@ -122,6 +122,23 @@ def test_two_hands_over_a_shared_torso():
     assert solved == 40
 
 
+def test_a_shared_torso_takes_a_solver_name_and_refuses_prefer():
+    """``solver=`` names the chains' own solver (the descent's starts); ``prefer=`` cannot
+    act on one answer over every joint and is refused by name, not as an unknown option."""
+    robots = Path(armik.load("panda").source).parents[2]
+    urdf = robots / "talos_data" / "robots" / "talos_reduced.urdf"
+    robot = armik.load(urdf, tips=["gripper_left_base_link", "gripper_right_base_link"])
+    q = robot.random_q(np.random.default_rng(3))
+    targets = {tip: robot.fk(q, frame=tip) for tip in robot.tips}
+    for solver in ("dls", "qp"):
+        r = robot.solve(targets, solver=solver, iteration_budget=3000)
+        assert r.success, r.reason
+    with pytest.raises(armik.SolverError, match="unknown solver 'nope'"):
+        robot.solve(targets, solver="nope")
+    with pytest.raises(armik.OptionError, match="prefer='nearest' is not available.*torso_1"):
+        robot.solve(targets, prefer="nearest")
+
+
 def test_bad_tips_are_armik_errors(cell):
     with pytest.raises(armik.InputError, match="not both"):
         armik.load("panda", tip="panda_hand", tips=["panda_hand"])

@@ -35,6 +35,7 @@ from armik.problem.tasks.base import replaced
 from armik.result import IKResult
 from armik.solve.single import solve_one
 from armik.solve.tasks import check_options, solve_tasks
+from armik.solvers.registry import get as get_solver
 from armik.solvers.registry import validate_name
 from armik.status import Status
 from armik.targets.pose import parse_target
@@ -198,11 +199,27 @@ class Arms:
     def _solve_together(
         self, union: Union, targets: Mapping[str, object], q0, options: dict, t0: float
     ):
-        """Chains sharing joints: one task per tip on ``union``, the task solver."""
+        """Chains sharing joints: one task per tip on ``union``, the task solver. ``solver``
+        names the chains' own solver, which gives the descent its starts."""
+        options = dict(options)
+        if options.get("prefer") is not None:
+            raise OptionError(
+                f"prefer={options['prefer']!r} is not available on tips that share joints "
+                f"{list(self.shared)} (or are placed relative to each other): one answer over "
+                "every joint is searched for; drop prefer=, or solve each chain "
+                "(Arms.chain(tip).solve(..., prefer=...))",
+                option="prefer",
+                value=options["prefer"],
+            )
+        options.pop("prefer", None)
+        solver = options.pop("solver", "auto")
+        if solver != "auto":
+            get_solver(solver)  # an unknown name refused here, not skipped by ``_start``
         tasks = []
         for tip, target in targets.items():
             tasks += [_on(t, tip) for t in _as_tasks(target)]
         opts = Options.from_kwargs(options)
+        options["solver"] = solver  # each chain's start (``_start``)
         check_options(opts, "auto")
         if "max_iterations" not in options:
             # short descents, many restarts: over every chain's joints a descent that has not

@@ -67,8 +67,9 @@ class Union:
             for c, j in zip(self._continuous, joints)
         ]
         self.lower, self.upper = np.array(lo), np.array(hi)
-        self.middle = np.where(
-            np.isfinite(self.lower + self.upper), 0.5 * (self.lower + self.upper), 0.0
+        bounded = np.isfinite(self.lower) & np.isfinite(self.upper)
+        self.middle = 0.5 * (
+            np.where(bounded, self.lower, 0.0) + np.where(bounded, self.upper, 0.0)
         )
         self._local = threading.local()
 

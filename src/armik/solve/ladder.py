@@ -108,9 +108,10 @@ def _checked(arm, spec: SolverSpec, opts: Options, targets: TargetBatch, args: t
     are checked, and where one fails, every other step onto its waypoint too; those that
     fail are forbidden and the path planned again, until the steps taken pass."""
     B, offs, start, has_q0, lower, upper, periodic, step = args
-    forbidden, clean = set(), set()
+    forbidden: set[int] = set()
+    clean: set[int] = set()
     while True:
-        got = kernel.plan(*args, np.array(sorted(forbidden), dtype=np.int64))
+        got = kernel.plan(*args, np.array(sorted(forbidden), dtype=np.int64))  # type: ignore[call-arg]
         rung, Q, broken = got[:3]
         i, a, code = _steps(rung, broken, has_q0, len(B))
         new = np.array([c not in clean and c not in forbidden for c in code.tolist()], bool)
@@ -168,10 +169,11 @@ def _jumps(arm, spec, opts, targets: TargetBatch, i, Qa, Qb, q0, step) -> np.nda
     if not len(i):
         return np.zeros(0, dtype=bool)
     Pb = targets.positions[i]
-    Rb = None if targets.rotations is None else targets.rotations[i]
-    Pa, Ra = targets.positions[np.maximum(i - 1, 0)], None
-    if Rb is not None:
-        Ra = targets.rotations[np.maximum(i - 1, 0)]
+    Pa = targets.positions[np.maximum(i - 1, 0)]
+    rotations = targets.rotations
+    Ra = Rb = None
+    if rotations is not None:
+        Ra, Rb = rotations[np.maximum(i - 1, 0)], rotations[i]
     first = i == 0  # the first step: from q0's own pose
     if first.any():
         T0 = arm.fk(q0)
@@ -197,7 +199,7 @@ def _jumps(arm, spec, opts, targets: TargetBatch, i, Qa, Qb, q0, step) -> np.nda
         which = np.concatenate((which[closer], which[closer]))
         Qa, Qb = np.vstack((Qa[closer], q[closer])), np.vstack((q[closer], Qb[closer]))
         Pa, Pb = np.vstack((Pa[closer], P[closer])), np.vstack((P[closer], Pb[closer]))
-        if R is not None:
+        if R is not None and Ra is not None and Rb is not None:
             Ra, Rb = (
                 np.concatenate((Ra[closer], R[closer])),
                 np.concatenate((R[closer], Rb[closer])),

@@ -75,6 +75,11 @@ class Task(ABC):
         return self
 
 
+def scaled(bounds: np.ndarray, factor: float) -> np.ndarray:
+    """``bounds * factor`` with a free (infinite) bound kept free, ``factor`` 0 included."""
+    return np.where(np.isinf(bounds), math.inf, np.where(np.isinf(bounds), 0.0, bounds) * factor)
+
+
 def replaced(task: Task, **fields: object) -> Task:
     """A copy of ``task`` with ``fields`` replaced (``Task.shrunk``, a task put on a frame)."""
     twin = copy.copy(task)

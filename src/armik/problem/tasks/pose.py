@@ -22,6 +22,7 @@ from armik.problem.tasks.base import (
     check_weights,
     dead_zone,
     replaced,
+    scaled,
 )
 from armik.targets.pose import parse_target
 
@@ -75,5 +76,5 @@ class Pose(Task):
         return TaskError(pos, ori, pos <= tol_position and ori <= tol_orientation)
 
     def shrunk(self, factor: float) -> Task:
-        free = np.where(self.weights == 0.0, math.inf, self.bounds * factor)
-        return replaced(self, bounds=self.bounds * factor, _free=free)
+        bounds = scaled(self.bounds, factor)
+        return replaced(self, bounds=bounds, _free=np.where(self.weights == 0.0, math.inf, bounds))

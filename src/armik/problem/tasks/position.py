@@ -5,7 +5,15 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from armik.problem.tasks.base import Task, TaskError, check_bounds, check_frame, dead_zone, replaced
+from armik.problem.tasks.base import (
+    Task,
+    TaskError,
+    check_bounds,
+    check_frame,
+    dead_zone,
+    replaced,
+    scaled,
+)
 from armik.targets.pose import _vector
 
 
@@ -34,4 +42,4 @@ class Position(Task):
         return TaskError(pos, None, pos <= tol_position)
 
     def shrunk(self, factor: float) -> Task:
-        return replaced(self, bounds=self.bounds * factor)
+        return replaced(self, bounds=scaled(self.bounds, factor))
