@@ -155,7 +155,11 @@ def test_view_tips_shows_the_whole_robot(tmp_path, capsys, served):
         "l_tool0",
         "r_tool0",
     }
-    code = main(["view", str(urdf), "--tips", "l_tool0", "r_tool0", "--path", "x.npy",
+    # --tip repeated, as info and solve take several tips, is the same
+    assert main(["view", str(urdf), "--tip", "l_tool0", "--tip", "r_tool0", "--port", "0",
+                 "--no-browser"]) == 0  # fmt: skip
+    assert served[1].robot.tips == ("l_tool0", "r_tool0")
+    code = main(["view", str(urdf), "--tip", "l_tool0", "--tip", "r_tool0", "--path", "x.npy",
                  "--port", "0", "--no-browser"])  # fmt: skip
     assert code == 2
-    assert "--path takes the waypoints of one tip" in capsys.readouterr().err
+    assert "--path takes the waypoints of one tip, got 2 tips" in capsys.readouterr().err

@@ -25,12 +25,17 @@ def add_view_command(command) -> None:
     )
     c.add_argument("robot", help="bundled robot name or path to a URDF file")
     c.add_argument("--base", help="base frame")
-    c.add_argument("--tip", help="tip frame")
+    c.add_argument(
+        "--tip",
+        action="append",
+        help="tip frame; repeat it for several tips of one robot (as info and solve take "
+        "them): the whole robot, a gizmo per tip",
+    )
     c.add_argument(
         "--tips",
         nargs="+",
         metavar="TIP",
-        help="several tips of one robot (instead of --tip): the whole robot, a gizmo per tip",
+        help="several tips at once: --tips A B is --tip A --tip B",
     )
     c.add_argument("--port", type=int, default=8080, help="port to serve on (8080; 0: any free)")
     c.add_argument(
@@ -78,12 +83,14 @@ def cmd_view(args: argparse.Namespace) -> int:
     viewer = None
     try:
         obstacles = read_shapes(args.obstacles) if args.obstacles else []
-        if args.tips:
+        tips = [*(args.tip or ()), *(args.tips or ())]
+        if len(tips) > 1:
             if args.path:
                 raise InputError(
-                    "--path takes the waypoints of one tip: give --tip (or none), not --tips"
+                    f"--path takes the waypoints of one tip, got {len(tips)} tips {tips}: "
+                    "give one --tip (or none)"
                 )
-            robot = load(args.robot, base=args.base, tip=args.tip, tips=args.tips)
+            robot = load(args.robot, base=args.base, tips=tips)
         else:
             robot = load_arm(args)
         paths = _solve_paths(robot, args) if args.path else {}
