@@ -22,7 +22,10 @@ from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.problem.scores import Limits, Nearest, Posture, Score
 from armik.result import IKResult
+from armik.solvers import registry
+from armik.solvers.closed_form import swept_7r
 from armik.status import Status
+from armik.verify.verdict import finish
 
 TWO_PI = 2.0 * math.pi
 MAX_VARIANTS = 256  # per answer: 2 pi shifts of every joint that allows them, combined
@@ -188,10 +191,6 @@ def sweep_held(arm: ArmModel, target, q0: np.ndarray, opts, score: Score, t0: fl
     score, joint 7 on a grid over its range and then refined by golden section around the
     best value (every branch in closed form at each value, scored at its best 2 pi
     variant); the best configurations verified (``finish``). None where it does not apply."""
-    from armik.solvers import registry
-    from armik.solvers.closed_form import swept_7r
-    from armik.verify.verdict import finish
-
     if arm.dof != 7 or registry.why_not("swept", arm, target, opts) is not None:
         return None
     lo, hi = (float(x) for x in swept_7r.sweep_range(arm, float(q0[6])))
