@@ -13,6 +13,7 @@ import pytest
 
 import armik
 from armik.solve.reach import ReachMap
+from armik.view.ghosts import BEST, GHOST_COLORS, UNSCORED, WORST
 from armik.view.nodes import pose_of
 
 from ..conftest import arm
@@ -109,6 +110,32 @@ def test_ghosts_are_every_solution_of_solve_all(viewer):
     assert labels == [r.branch if r.success else f"{r.branch} ({r.status.value})" for r in expected]
     viewer._toggled_ghosts(False)
     assert viewer.solutions == [] and not any(n.visible for n, _ in viewer._ghosts.nodes)
+
+
+def test_with_a_preference_the_ghosts_are_coloured_by_score(viewer):
+    """solve_all(prefer=) ranks the branches best first: the first ghost is the best's
+    colour, the last the worst's, each label carries the score."""
+    a = viewer.arm
+    T = a.fk(a.random_q(12))  # 8 branches within the limits
+    viewer.set_target(T)
+    viewer._chose_prefer("manipulability")
+    viewer._toggled_ghosts(True)
+    expected = a.solve_all(T, q0=viewer.q, prefer="manipulability")
+    scores = [r.extra["score"] for r in expected if r.success]
+    assert len(scores) > 2 and scores == sorted(scores) and scores[0] < scores[-1]
+    assert [r.branch for r in viewer.solutions] == [r.branch for r in expected]
+    shown = [(nodes, label) for nodes, label in viewer._ghosts.nodes if label.visible]
+    colors = [tuple(nodes._solid[0].color) for nodes, _ in shown]
+    ok = [c for c, r in zip(colors, expected) if r.success]
+    assert ok[0] == BEST and ok[-1] == WORST
+    assert all(c == UNSCORED for c, r in zip(colors, expected) if not r.success)
+    for (_, label), r in zip(shown, expected):
+        if r.success:
+            assert label.text == f"{r.branch}: score {r.extra['score']:.4g}"
+    viewer._chose_prefer("none")  # back to the branches' own colours
+    viewer._toggled_ghosts(False)
+    viewer._toggled_ghosts(True)
+    assert tuple(viewer._ghosts.nodes[0][0]._solid[0].color) == GHOST_COLORS[0]
 
 
 def test_play_walks_every_waypoint_and_marks_the_failed_ones(viewer, monkeypatch):

@@ -75,6 +75,12 @@ class BodyNodes:
         for frame, T in zip(self._frames, poses):
             frame.wxyz, frame.position = wxyz_position(T)
 
+    def tint(self, color: tuple[int, int, int]) -> None:
+        """Recolour a ghost (the parts' solid colours stay as the meshes have them)."""
+        for node in self._solid:
+            if hasattr(node, "opacity"):  # a ghost's part, not a mesh in its own colours
+                node.color = color  # type: ignore[attr-defined]
+
     def mark_failed(self, failed: bool) -> None:
         """Draw the body red (``failed``) or in its own colours."""
         if failed and not self._failed:
