@@ -9,7 +9,8 @@ import sys
 
 import numpy as np
 
-from armik.arm import load
+from armik.arm import Arm, load
+from armik.arms import Arms
 from armik.constraints.shapes_file import read_shapes
 from armik.errors import InputError
 from armik.tools.cli.arms import load_arm
@@ -90,8 +91,9 @@ def cmd_view(args: argparse.Namespace) -> int:
                     f"--path takes the waypoints of one tip, got {len(tips)} tips {tips}: "
                     "give one --tip (or none)"
                 )
-            robot = load(args.robot, base=args.base, tips=tips)
+            robot: Arm | Arms = load(args.robot, base=args.base, tips=tips)
         else:
+            args.tip = tips or None  # --tips A alone is --tip A
             robot = load_arm(args)
         paths = _solve_paths(robot, args) if args.path else {}
         options = {} if args.timeout is None else {"timeout": args.timeout}
