@@ -67,31 +67,9 @@ def run(
     family = spin.family(arm, target)
     assert not isinstance(family, str)  # applies() checked it
     rows = family.run(arm, target, q0, dataclasses.replace(opts, bounds=None), True)
-    lo, hi = arm.lower[-1], arm.upper[-1]
-    found = []
-    for a in rows:
-        if a.claim is not Status.CONVERGED:
-            continue
-        # a full turn (half = pi) is every value: the spin's 2 pi turns are the joint's too
-        low, high = (
-            (lo, hi) if half >= math.pi else (max(a.q[-1] - half, lo), min(a.q[-1] + half, hi))
-        )
-        if low > high:  # the bound and the limits do not meet on this branch
-            continue
-        q = np.array(a.q, dtype=float)
-        q[-1] = min(max(q0[-1], low), high)
-        if arm.within_limits(q):
-            turn = abs(q[-1] - a.q[-1])
-            found.append(
-                dataclasses.replace(
-                    a,
-                    q=q,
-                    reason=f"{family.name}, the spin about the target's {spin.AXES[k]} axis "
-                    f"turned by the last joint ({turn:.6g} rad): nearest q0 over the range",
-                )
-            )
-    if not found:  # the closed form is complete: no branch, no answer over the range
-        reached = any(a.claim is Status.CONVERGED for a in rows)
+    reached = [a for a in rows if a.claim is Status.CONVERGED]
+    last, turned, ok = _turned(arm, reached, float(q0[-1]), half)
+    if not ok.any():  # the closed form is complete: no branch, no answer over the range
         return [
             Attempt(
                 q=np.array(q0, dtype=float),
@@ -100,8 +78,55 @@ def run(
                 f"within +-{half:g} rad of the spin and every joint within its limits; q is q0",
             )
         ]
-    found.sort(key=lambda a: float(np.linalg.norm(a.q - q0)))
-    return found if all_solutions else found[:1]
+    Q = np.array([a.q for a in reached], dtype=float)
+    Q[:, -1] = last
+    distance = np.where(ok, np.linalg.norm(Q - q0, axis=1), np.inf)
+    order = np.argsort(distance, kind="stable")[: int(ok.sum())]
+    axis = spin.AXES[k]
+    return [
+        dataclasses.replace(
+            reached[i],
+            q=Q[i],
+            reason=f"{family.name}, the spin about the target's {axis} axis turned by the "
+            f"last joint ({turned[i]:.6g} rad): nearest q0 over the range",
+        )
+        for i in (order if all_solutions else order[:1])
+    ]
+
+
+def _turned(
+    arm: ArmModel, reached: list[Attempt], q0_last: float, half: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per branch: the last joint's value nearest ``q0_last`` within +-``half`` of the
+    branch's value or of one of its 2 pi turns (the same spin) and within the limits, the
+    turn that takes, and whether such a value exists with every joint within the limits."""
+    lo, hi = float(arm.lower[-1]), float(arm.upper[-1])
+    # a full turn is every value of the joint; else the windows about the branch's value
+    # and its turns (a joint may span 4 pi); plain floats: a handful of branches
+    shifts = (0.0,) if half >= math.pi else tuple(2 * math.pi * k for k in (0, -1, 1, -2, 2))
+    last, turned, ok = [], [], []
+    for a in reached:
+        centre = float(a.q[-1])
+        best, gap = math.nan, math.inf
+        for shift in shifts:
+            low, high = (
+                (lo, hi)
+                if half >= math.pi
+                else (
+                    max(centre + shift - half, lo),
+                    min(centre + shift + half, hi),
+                )
+            )
+            value = min(max(q0_last, low), high)
+            if low <= high and abs(value - q0_last) < gap:
+                best, gap = value, abs(value - q0_last)
+        q = a.q.copy()
+        q[-1] = best
+        last.append(best)
+        # the spin the answer turns through: from the branch's value, modulo whole turns
+        turned.append(abs(math.remainder(best - centre, 2 * math.pi)) if gap < math.inf else 0.0)
+        ok.append(gap < math.inf and arm.within_limits(q))
+    return np.array(last), np.array(turned), np.array(ok, dtype=bool)
 
 
 SPEC = registry.register(
