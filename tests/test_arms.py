@@ -142,6 +142,8 @@ def test_a_shared_torso_takes_a_solver_name_and_refuses_prefer():
 def test_bad_tips_are_armik_errors(cell):
     with pytest.raises(armik.InputError, match="not both"):
         armik.load("panda", tip="panda_hand", tips=["panda_hand"])
+    with pytest.raises(armik.InputError, match=r"name \['panda_hand'\] more than once"):
+        armik.load("panda", tips=["panda_hand", "panda_link7", "panda_hand"])
     with pytest.raises(armik.FrameError, match="unknown tips"):
         cell.solve({"hand": np.zeros(3)})
     with pytest.raises(armik.InputError, match="12 values"):

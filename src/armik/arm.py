@@ -161,7 +161,14 @@ def _several(source: str | Path, tips: Sequence[str], tip: str | None, **kwargs:
         raise OptionError(
             f"tips must be a list of frame names, got {tips!r}", option="tips", value=tips
         )
-    return Arms({t: load(source, tip=t, **kwargs) for t in dict.fromkeys(tips)})
+    twice = sorted({t for t in tips if list(tips).count(t) > 1})
+    if twice:
+        raise OptionError(
+            f"tips {list(tips)} name {twice} more than once: list each tip once",
+            option="tips",
+            value=tips,
+        )
+    return Arms({t: load(source, tip=t, **kwargs) for t in tips})
 
 
 def load_string(
