@@ -139,6 +139,33 @@ def test_a_shared_torso_takes_a_solver_name_and_refuses_prefer():
         robot.solve(targets, prefer="nearest")
 
 
+def test_a_tip_beyond_reach_over_a_shared_torso_is_named_and_the_other_solved():
+    """The right hand's target beyond its chain's reach: unreachable (a proof, not a
+    search's miss), the reason naming that tip first; the left hand solved without it, its
+    error Pinocchio's; the right hand's error measured at the answer."""
+    robots = Path(armik.load("panda").source).parents[2]
+    urdf = robots / "talos_data" / "robots" / "talos_reduced.urdf"
+    left, right = "gripper_left_base_link", "gripper_right_base_link"
+    robot = armik.load(urdf, tips=[left, right])
+    T_left = robot.fk(robot.random_q(np.random.default_rng(4)), frame=left)
+    far = pin.SE3(np.eye(3), np.array([2.0, -1.0, 1.0]))
+    r = robot.solve({left: T_left, right: far}, iteration_budget=3000)
+    assert not r.success and r.status is Status.UNREACHABLE
+    assert r.reason.startswith(f"tip '{right}': target is ") and "beyond" in r.reason
+    assert f"the other tips ['{left}'], solved without it: converged" in r.reason
+    err = pin.log6(T_left.actInv(robot.fk(r.q, frame=left))).vector
+    assert np.abs(err).max() <= 1e-6
+    assert r.extra["errors"][left][0] <= 1e-6
+    X = robot.fk(r.q, frame=right)
+    assert r.extra["errors"][right][0] == pytest.approx(
+        np.linalg.norm(X.translation - far.translation)
+    )
+    assert r.position_error == r.extra["errors"][right][0]
+    both = robot.solve({left: np.array([2.0, 1.0, 1.0]), right: far})  # nothing to solve
+    assert both.status is Status.UNREACHABLE and both.reason.count("beyond") == 2
+    assert both.extra["errors"][left][1] is None  # a position target: no orientation
+
+
 def test_bad_tips_are_armik_errors(cell):
     with pytest.raises(armik.InputError, match="not both"):
         armik.load("panda", tip="panda_hand", tips=["panda_hand"])

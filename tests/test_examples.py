@@ -44,6 +44,13 @@ EXPECT = {
         "global: 150/150 waypoints",
         "a forced jump at waypoint 10: discontinuous",
     ],
+    "14_two_hands.py": [
+        "shared joints ['torso_1_joint', 'torso_2_joint']",
+        "both poses: converged",
+        "a box in both hands, lifted: converged",
+        "batch: 20/20 solved",
+        "a right hand 2 m away: unreachable: tip 'gripper_right_base_link'",
+    ],
 }
 
 

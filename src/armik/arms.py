@@ -18,6 +18,7 @@ rad)) and ``"results"`` (tip -> that chain's ``IKResult``).
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
 from collections.abc import Mapping
 from typing import cast
@@ -25,7 +26,7 @@ from typing import cast
 import numpy as np
 import pinocchio as pin
 
-from armik import arms_many
+from armik import arms_many, arms_reach
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.model.union import Union
 from armik.options import Options
@@ -129,6 +130,9 @@ class Arms:
         t0 = time.perf_counter()
         relative = self._check_targets(targets)
         if self._union is not None:
+            beyond = {} if relative else arms_reach.beyond_reach(self._chains, targets)
+            if beyond:
+                return self._reaching(beyond, targets, q0, options, t0)
             return self._solve_together(self._union, targets, q0, options, t0)
         seeds = self._middle_seeds if q0 is None else self.split(q0)
         if not relative:  # each chain alone: the common case, kept short
@@ -195,6 +199,22 @@ class Arms:
             names = self._coupled.joint_names
             self._permutation = np.array([names.index(n) for n in self.joint_names])
         return self._coupled
+
+    def _reaching(self, beyond: dict[str, str], targets, q0, options: dict, t0: float):
+        """Tips sharing joints, some provably beyond reach (``arms_reach``): the others
+        solved together, the failure naming the tips that cannot reach."""
+        union = cast(Union, self._union)
+        rest = {t: v for t, v in targets.items() if t not in beyond}
+        if rest:
+            r = self._solve_together(union, rest, q0, options, t0)
+        else:  # nothing to solve: the start, as a solve that fails leaves it
+            q = self.middle if q0 is None else np.asarray(q0, dtype=float)
+            r = IKResult(
+                q=q, success=False, status=Status.UNREACHABLE, reason="", solver="task",
+                iterations=0, position_error=math.inf, orientation_error=None, time=0.0,
+            )  # fmt: skip
+        placements = {t: union.fk(r.q, t) for t in beyond}
+        return arms_reach.with_unreachable(r, targets, beyond, placements, time.perf_counter() - t0)
 
     def _solve_together(
         self, union: Union, targets: Mapping[str, object], q0, options: dict, t0: float

@@ -1,0 +1,84 @@
+"""Tips provably out of reach, for chains solved together (``Arms``): a target farther from
+a chain's first joint than the chain can reach is refused before any descent, and the
+other tips are solved without it, so that the failure names the tip that cannot reach
+and the others' answer and errors are those of a solve, not of a compromise."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Mapping
+
+import numpy as np
+import pinocchio as pin
+
+from armik import reasons
+from armik.errors import ArmikError
+from armik.problem.tasks.base import Task
+from armik.result import IKResult
+from armik.status import Status
+from armik.targets.pose import Target, parse_target
+
+
+def beyond_reach(chains: Mapping[str, object], targets: Mapping[str, object]) -> dict[str, str]:
+    """Each tip whose target (a pose or a position; task lists are not read) lies beyond
+    its chain's reach bound, with the reason that proves it."""
+    out = {}
+    for tip, value in targets.items():
+        target = _parsed(value)
+        if target is None:
+            continue
+        arm = chains[tip]
+        distance = math.dist(target.position.tolist(), arm.first_joint_origin.tolist())  # type: ignore[attr-defined]
+        if distance > arm.reach:  # type: ignore[attr-defined]
+            out[tip] = reasons.beyond_reach(distance, arm.reach)  # type: ignore[attr-defined]
+    return out
+
+
+def with_unreachable(
+    r: IKResult,
+    targets: Mapping[str, object],
+    beyond: dict[str, str],
+    placements: Mapping[str, pin.SE3],
+    elapsed: float,
+) -> IKResult:
+    """``r``, the other tips' solve (or the start where every tip is beyond reach), as the
+    robot's failure: unreachable, the reason naming each tip out of reach first, every
+    tip's errors at ``r.q`` (``placements``: each tip's pose there)."""
+    errors = dict(r.extra.get("errors", {}))
+    for tip in beyond:
+        target = _parsed(targets[tip])
+        assert target is not None  # ``beyond_reach`` read it
+        X = placements[tip]
+        ori = None  # a position target has no orientation to miss
+        if target.rotation is not None:
+            ori = float(np.linalg.norm(pin.log3(target.rotation.T @ X.rotation)))
+        errors[tip] = (float(np.linalg.norm(X.translation - target.position)), ori)
+    said = "; ".join(f"tip {tip!r}: {why}" for tip, why in beyond.items())
+    others = [t for t in targets if t not in beyond]
+    if others:
+        said += f"; the other tips {others}, solved without it: {r.status.value} ({r.reason})"
+    kept = {t: errors[t] for t in targets if t in errors}
+    oris = [o for _, o in kept.values() if o is not None]
+    return dataclasses.replace(
+        r,
+        position_error=max(p for p, _ in kept.values()),
+        orientation_error=max(oris) if oris else None,
+        success=False,
+        status=Status.UNREACHABLE,
+        reason=said,
+        time=elapsed,
+        extra={**r.extra, "errors": kept},
+    )
+
+
+def _parsed(value: object) -> Target | None:
+    """``value`` as a ``Target`` where it is one pose or position, else None."""
+    if isinstance(value, Task) or (
+        isinstance(value, list | tuple) and any(isinstance(v, Task) for v in value)
+    ):
+        return None  # tasks: their regions are the task solver's to measure
+    try:
+        return parse_target(value)
+    except ArmikError:
+        return None
