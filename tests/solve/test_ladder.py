@@ -111,12 +111,37 @@ def test_an_empty_path_is_an_empty_plan():
 
 
 def test_plans_need_a_closed_form_and_a_known_plan():
-    panda = conftest.arm("panda")
-    T = panda.fk(panda.middle)
+    xarm = conftest.arm("xarm7")  # no closed form with a joint held: no rungs
+    T = xarm.fk(xarm.middle)
     with pytest.raises(armik.InputError, match="plan='global' needs every solution"):
-        panda.solve_path([T, T], panda.middle, plan="global")
+        xarm.solve_path([T, T], xarm.middle, plan="global")
     with pytest.raises(armik.InputError, match="plan must be"):
-        panda.solve_path([T, T], panda.middle, plan="best")
+        xarm.solve_path([T, T], xarm.middle, plan="best")
+
+
+def test_a_7r_plan_samples_joint_7_and_moves_no_more_than_following():
+    """The Panda: rungs at joint 7 values about the followed path's and on a grid, every
+    branch of the swept closed form at each, and the followed answers themselves; the plan
+    is verified, within the step bound, and moves no more than following."""
+    panda = conftest.arm("panda")
+    rng = np.random.default_rng(5)
+    for _ in range(5):  # the fifth line drawn: one the Panda follows end to end
+        q = panda.random_q(rng)
+        T = panda.fk(q)
+        d = rng.normal(size=3)
+        d *= 0.005 / np.linalg.norm(d)
+    poses = [pin.SE3(T.rotation, T.translation + k * d) for k in range(40)]
+    follow = panda.solve_path(poses, q, max_joint_step=0.3)
+    planned = panda.solve_path(poses, q, max_joint_step=0.3, plan="global")
+    assert follow.success.all() and planned.success.all(), planned.summary()
+    assert planned.solver == "swept"
+    for pose, x in zip(poses, planned.q):
+        err = pin.log6(pose.actInv(panda.fk(x))).vector
+        assert np.abs(err).max() <= 1e-6 and panda.within_limits(x)
+    steps = np.abs(np.diff(np.vstack([q, planned.q]), axis=0))
+    assert steps.max() <= 0.3 + 1e-12
+    assert motion(q, planned.q) <= motion(q, follow.q) + 1e-9
+    assert len({round(x, 6) for x in planned.q[:, 6]}) > 1  # joint 7 moves with the path
 
 
 def _across_the_wrist_singularity(arm):
@@ -208,3 +233,8 @@ def test_collisions_remove_rungs():
     assert arm.in_collision(q, [ball])
     assert stuck.status[0] == Status.DISCONTINUOUS.value and "q0 (the start)" in stuck[0].reason
     assert not any(arm.in_collision(qi, [ball]) for qi in stuck.q)
+
+
+def motion(q0: np.ndarray, Q: np.ndarray) -> float:
+    """A path's total joint motion: the sum of its steps' Euclidean norms, from q0."""
+    return float(np.linalg.norm(np.diff(np.vstack([q0, Q]), axis=0), axis=1).sum())

@@ -107,19 +107,30 @@ def solve_path(
     local = {**options, "max_restarts": 0}
     out = BatchResult.for_arm(arm, n, spec.name, opts)
     if plan == "global":
-        ladder.check_plannable(spec)
-        rungs = [  # a pose as a 4x4 array takes the prepared path
-            solve(
-                arm,
-                _plain(batch.target(i)),
-                q0=q_prev,
-                solver=spec.name,
-                all_solutions=True,
-                **options,
-            )
-            for i in range(n)
-        ]
-        ladder.plan(arm, spec, batch, rungs, None if q0 is None else q_prev, step, opts, out)
+        # every solution: what solve_all would run (a search where one is not complete)
+        first = batch.target(0) if n else None
+        every = registry.choose(solver, arm, first, opts, True)
+        if every.kind == "numeric" and registry.why_not("swept", arm, first, opts) is None:
+            every = registry.get("swept")  # a 7R arm whose joint 7 can be held
+        ladder.check_plannable(every)
+        if every.name == "swept":  # a 7R arm: joint 7 sampled about the followed path
+            followed = BatchResult.for_arm(arm, n, spec.name, opts)
+            _walk(arm, batch, q_prev, step, spec, options, local, followed)
+            rungs = _held_rungs(arm, batch, q_prev, followed, options)
+        else:
+            rungs = [  # a pose as a 4x4 array takes the prepared path
+                solve(
+                    arm,
+                    _plain(batch.target(i)),
+                    q0=q_prev,
+                    solver=every.name,
+                    all_solutions=True,
+                    **options,
+                )
+                for i in range(n)
+            ]
+        out = BatchResult.for_arm(arm, n, every.name, opts)
+        ladder.plan(arm, every, batch, rungs, None if q0 is None else q_prev, step, opts, out)
         return frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     token = ON_PATH.set(True)  # a colliding answer is slid out of contact (solve/avoid.py)
     try:
@@ -140,6 +151,33 @@ def _walk(arm, batch, q_prev, step, spec, options, local, out) -> None:
         out.put_result(i, r)
         if r.success or r.status is Status.DISCONTINUOUS:
             q_prev = np.array(r.q)
+
+
+HELD_OFFSETS = 0.1 * np.arange(-2, 3)  # rad: joint 7's values about the followed path's
+HELD_GRID = 6  # values across joint 7's range beside them: other branches, missed waypoints
+
+
+def _held_rungs(arm: ArmModel, batch, q_start: np.ndarray, followed, options) -> list:
+    """A 7R arm's rungs: at each waypoint, every branch of the swept closed form with
+    joint 7 at values about the followed path's (the last value it reached where it
+    missed) and on a grid over its range, and the followed path's own answers: so the plan
+    moves no more than it (unless a hidden jump rules a step out), and may change branch
+    where it breaks."""
+    lo, hi = float(arm.lower[6]), float(arm.upper[6])
+    grid = np.linspace(lo, hi, HELD_GRID + 2)[1:-1]
+    theta, seed = float(q_start[6]), np.array(q_start, dtype=float)
+    rungs = []
+    for i in range(len(batch)):
+        found: list = []
+        if followed.success[i]:
+            theta = float(followed.q[i, 6])
+            found.append(followed[i])  # where joint 7 admits no closed form exactly there
+        target = _plain(batch.target(i))
+        for value in np.concatenate((np.clip(theta + HELD_OFFSETS, lo, hi), grid)):
+            seed[6] = value  # where the swept closed form holds joint 7 first
+            found += solve(arm, target, q0=seed, solver="swept", all_solutions=True, **options)
+        rungs.append(found)
+    return rungs
 
 
 def _plain(target: Target):
