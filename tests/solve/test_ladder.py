@@ -238,3 +238,21 @@ def test_collisions_remove_rungs():
 def motion(q0: np.ndarray, Q: np.ndarray) -> float:
     """A path's total joint motion: the sum of its steps' Euclidean norms, from q0."""
     return float(np.linalg.norm(np.diff(np.vstack([q0, Q]), axis=0), axis=1).sum())
+
+
+def test_a_spin_off_the_last_axis_is_planned_over_the_spin_sweep():
+    """A free spin the last joint does not give (a tool off its axis): the rungs are the
+    ``spin`` sweep's, every branch nearest over the spin; each answer holds the tool's
+    position and z axis exactly."""
+    arm = armik.load("ur5", tip_offset=(0.05, 0.0, 0.1))
+    q = np.array([0.3, -1.2, 1.5, -1.0, 1.0, 0.4])
+    T = arm.fk(q)
+    poses = [pin.SE3(T.rotation, T.translation + [0.0, 0.005 * k, 0.0]) for k in range(8)]
+    free = (0.0, 0.0, 0.0, 0.0, 0.0, math.inf)
+    planned = arm.solve_path(poses, q, max_joint_step=0.3, plan="global", bounds=free)
+    assert planned.success.all() and planned.solver == "spin", planned.summary()
+    for pose, x in zip(poses, planned.q):
+        M = pose.actInv(arm.fk(x))
+        assert np.abs(M.translation).max() <= 1e-6
+        assert np.abs(M.rotation[:, 2] - [0.0, 0.0, 1.0]).max() <= 1e-6
+    assert np.abs(np.diff(np.vstack([q, planned.q]), axis=0)).max() <= 0.3 + 1e-12
