@@ -17,6 +17,7 @@ from armik.model.random_arms import random_urdf
 from armik.options import Options
 from armik.solvers import registry
 from armik.targets.pose import parse_target
+from armik.tools.peers import EAIKPeer, PeerUnavailable
 
 BUDGET = 0.005  # s per numeric solve, as in the benchmark
 TIGHT = 1e-12  # m, position tolerance on the 2-link arm
@@ -352,8 +353,6 @@ def _solve_all_row(arm: Arm, family: str, poses: list, q0s: list, name: str) -> 
 def _eaik(arm: Arm):
     """EAIK's model of ``arm`` (``armik.tools.peers``: its decomposition and its FK checked
     against armik's), None when EAIK is not installed or does not apply."""
-    from armik.tools.peers import EAIKPeer, PeerUnavailable
-
     try:
         return EAIKPeer(arm, tol=1e-6).robot
     except PeerUnavailable:
