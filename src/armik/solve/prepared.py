@@ -13,7 +13,9 @@ are what the parser and ``Arm.seed`` would pass unchanged, then solves. Pinocchi
 the answer's tip placement and compiled code measures it in place
 (``armik.kernel.measure.placement_check``), as
 ``verify.measure.measure`` does. The result is the one the general path builds, field for field
-(tests/solve/test_prepared.py); its reason text is written on first read.
+(tests/solve/test_prepared.py); its reason text is written on first read. The verdict
+is ``armik.verify.verdict``'s: ``claimed_verdict`` for a runner's claimed answers from the
+compiled measure, ``verdict`` for the rest.
 
 Anything else (another input form, a seed outside the limits, an answer the check refuses,
 a claim other than converged, collisions asked for) goes the general way:
@@ -40,12 +42,11 @@ from armik.status import Status
 from armik.targets.pose import parse_target
 from armik.verify.measure import Measure, measures_of
 from armik.verify.verdict import (
+    claimed_verdict,
     failure_rank,
     finish,
-    limits_reason,
     number_repeated_branches,
     seed_distance,
-    success_reason,
     verdict,
 )
 
@@ -200,11 +201,13 @@ class Plan:
         pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
         pin.updateFramePlacement(self.model, data, self.frame)  # into R_w, p_w
         pos, ori, inside = placement_check(self.measured, R_w, p_w, H, q)
-        fields = self._success(got, pos, ori, inside)
-        if fields is None:
+        fields = claimed_verdict(
+            self.arm, got, pos, ori if self.measure_rot else None, inside, self.tol_p, self.tol_r
+        )
+        if fields is None or not fields["success"]:  # the next row may pass: every row
             attempts = self._refused(got, H, q0, seed, xy)
             return self._finish(attempts, H, q0, opts, t0, False, xy)[0]
-        fields["time"] = time.perf_counter() - t0
+        fields["solver"], fields["time"] = self.solver, time.perf_counter() - t0
         return IKResult._from_fields(fields)
 
     def _refused(self, got: Claim, H: np.ndarray, q0: np.ndarray, seed, xy) -> list[Attempt]:
@@ -235,35 +238,21 @@ class Plan:
         pose_checks(self.measured, self._placements(Q), H, Q, measured)
         verified, failed = [], []  # the results' fields; failed: (rank key, fields)
         unclaimed = False
-        tol_p, tol_r, rot, solver = self.tol_p, self.tol_r, self.measure_rot, self.solver
+        tol_p, tol_r, rot, solver, arm = (
+            self.tol_p, self.tol_r, self.measure_rot, self.solver, self.arm
+        )  # fmt: skip
         for q, got, (pos, ori, inside) in zip(Q, rows, measured.tolist()):
             if type(got) is tuple:  # claimed reached: the claim's fields after q
-                if inside > 0.0 and pos <= tol_p and (not rot or ori <= tol_r):
-                    ori = ori if rot else None  # ``_success``'s fields, inline: most rows
-                    verified.append(
-                        {
-                            "q": q,
-                            "success": True,
-                            "status": _CONVERGED,
-                            "solver": solver,
-                            "iterations": got[0],
-                            "position_error": pos,
-                            "orientation_error": ori,
-                            "branch": got[2],
-                            "singular": got[3],
-                            "restarts": got[1],
-                            "_reason": (success_reason, (got[4], got[5], pos, ori, tol_p, tol_r)),
-                        }
-                    )
-                    continue
                 got = claim((q, *got))
-                fields = self._success(got, pos, ori, inside > 0.0)
-                if fields is None and inside == 0.0:  # reached, or not, outside the limits
-                    fields = self._outside_limits(got, pos, ori)
-                    failed.append((_rank_key(fields), fields))
-                    continue
+                fields = claimed_verdict(
+                    arm, got, pos, ori if rot else None, inside > 0.0, tol_p, tol_r
+                )
                 if fields is not None:
-                    verified.append(fields)
+                    fields["solver"] = solver
+                    if fields["success"]:
+                        verified.append(fields)
+                    else:  # outside the limits
+                        failed.append((_rank_key(fields), fields))
                     continue
                 got = got.attempt()
             m = Measure(
@@ -304,41 +293,6 @@ class Plan:
             fk(model, data, q)
             placements.append(place(model, data, frame).homogeneous)
         return np.array(placements) if placements else np.empty((0, 4, 4))
-
-    def _outside_limits(self, got: Claim, pos: float, ori: float) -> dict:
-        """The result's fields ``verdict`` gives a claimed answer outside the joint limits,
-        its reason (which joints leave which limits) written on first read."""
-        ori = ori if self.measure_rot else None
-        why = (self.arm, got.q)
-        return self._fields(got, False, _JOINT_LIMITS, pos, ori, limits_reason, why)
-
-    def _success(self, got: Claim, pos: float, ori: float, inside: bool) -> dict | None:
-        """The successful result's fields of a claimed answer with these measures, or None."""
-        ori = ori if self.measure_rot else None
-        if not (inside and pos <= self.tol_p and (ori is None or ori <= self.tol_r)):
-            return None
-        why = (got.reason, got.reason_args, pos, ori, self.tol_p, self.tol_r)
-        return self._fields(got, True, _CONVERGED, pos, ori, success_reason, why)
-
-    def _fields(self, got: Claim, success: bool, status: Status, pos, ori, reason, args):
-        """The fields of the ``IKResult`` of a runner's claimed answer ``got`` (all but
-        ``time``); its reason is ``reason(*args)``, written on first read."""
-        q = got.q
-        if q.flags.writeable:  # the runner's own array (solve_all's rows are read-only)
-            q.setflags(write=False)
-        return dict(
-            q=q,
-            success=success,
-            status=status,
-            solver=self.solver,
-            iterations=got.iterations,
-            position_error=pos,
-            orientation_error=ori,
-            branch=got.branch,
-            singular=got.singular,
-            restarts=got.restarts,
-            _reason=(reason, args),
-        )
 
     def _finish(self, attempts, H, q0, opts: Options, t0: float, every: bool, xy=None):
         if xy is not None:  # as the user gave it: the closed form reads it as given

@@ -1,9 +1,9 @@
 """The verdict every answer gets: from a solver's claims and their measures to ranked,
 verified results. Success only when the measure holds, whatever the solver claimed.
 
-Single solves (``finish``), prepared solves (``armik.solve.prepared``, through ``verdict``,
-``success_reason`` and ``failure_rank``) and batches (``verdict_batch``) all decide here, in
-the words of ``armik.reasons``.
+Single solves (``finish``), prepared solves (``armik.solve.prepared``, through
+``claimed_verdict``, ``verdict`` and ``failure_rank``) and batches (``verdict_batch``) all
+decide here, in the words of ``armik.reasons``.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import numpy as np
 from armik import reasons
 from armik.batch_result import BatchResult
 from armik.result import IKResult
-from armik.solvers.claims import Attempt, AttemptBatch
+from armik.solvers.claims import Attempt, AttemptBatch, Claim
 from armik.status import FAILURE_RANK, Status
 from armik.verify.measure import Measure, measure, measure_batch, measure_many
 
@@ -146,6 +146,47 @@ def verdict(attempt: Attempt, m: Measure) -> dict:
         branch=attempt.branch,
         singular=attempt.singular,
         restarts=attempt.restarts,
+    )
+
+
+def claimed_verdict(
+    arm: ArmModel,
+    got: Claim,
+    pos: float,
+    ori: float | None,
+    inside: bool,
+    tol_p: float,
+    tol_r: float,
+) -> dict | None:
+    """``verdict`` of a prepared runner's claimed answer ``got`` from its compiled measure
+    (``ori`` None where the orientation is not measured; ``inside``: within the limits),
+    without building the ``Attempt`` and ``Measure``: a success within the tolerances and
+    the limits, ``joint_limits`` outside the limits, else None (the general ``verdict``
+    decides: ``check_failed``'s reason needs the target's region). The fields of an
+    ``IKResult`` but ``solver`` and ``time``; the reason written on first read."""
+    if not inside:
+        return _claimed(got, False, Status.JOINT_LIMITS, pos, ori, limits_reason, (arm, got.q))
+    if pos <= tol_p and (ori is None or ori <= tol_r):
+        why = (got.reason, got.reason_args, pos, ori, tol_p, tol_r)
+        return _claimed(got, True, Status.CONVERGED, pos, ori, success_reason, why)
+    return None
+
+
+def _claimed(got: Claim, success: bool, status: Status, pos, ori, reason, args) -> dict:
+    q = got.q
+    if q.flags.writeable:  # the runner's own array (solve_all's rows are read-only)
+        q.setflags(write=False)
+    return dict(
+        q=q,
+        success=success,
+        status=status,
+        iterations=got.iterations,
+        position_error=pos,
+        orientation_error=ori,
+        branch=got.branch,
+        singular=got.singular,
+        restarts=got.restarts,
+        _reason=(reason, args),
     )
 
 
