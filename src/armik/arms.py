@@ -66,6 +66,10 @@ class Arms:
             self.upper = np.concatenate([a.upper for a in arms])  # type: ignore[attr-defined]
             self.middle = np.concatenate([a.middle for a in arms])  # type: ignore[attr-defined]
         self.dof = len(self.joint_names)
+        kinds: dict[str, bool] = {}  # each joint's kind, read from the chains that hold it
+        for arm in chains.values():
+            kinds.update(zip(arm.joint_names, arm.prismatic.tolist()))  # type: ignore[attr-defined]
+        self.prismatic = np.array([kinds[n] for n in self.joint_names], dtype=np.bool_)
         # chains sharing no joint in one model, built for the first coupling task, and
         # the column of each of ``joint_names`` in it
         self._coupled: Union | None = None

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from armik import reasons
 from armik.batch_result import BatchResult
 from armik.errors import OptionError, TargetError
 from armik.options import Options
@@ -108,13 +109,17 @@ def _held(arms: Arms, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: 
     if moved[j] <= step[j]:
         return r
     start = "q0 (the start)" if first else "the previous waypoint's answer"
+    unit = "m" if arms.prismatic[j] else "rad"
+    move = reasons.moved(arms.joint_names[j], moved[j], unit, start, step[j])
     return dataclasses.replace(
         r,
         success=False,
         status=Status.DISCONTINUOUS,
-        reason=f"reachable only by a jump: the answer found moves {arms.joint_names[j]} by "
-        f"{moved[j]:.3g} from {start} (max_joint_step {step[j]:g}): add waypoints here or "
-        f"raise max_joint_step; q is that answer, verified: {r.reason}",
+        reason=reasons.jump(
+            f"the answer found {move}: add waypoints here or raise max_joint_step",
+            "that answer",
+            f"position error {r.position_error:.3g} m",
+        ),
     )
 
 

@@ -61,6 +61,18 @@ def search_missed(solver: str, reason: str) -> str:
     return f"{solver} (a search) verified no solution ({reason})"
 
 
+def jump(why: str, answer: str, measured_text: str) -> str:
+    """A waypoint reached only by a move larger than ``max_joint_step`` (``discontinuous``):
+    ``why`` in words, ``answer`` what q is, ``measured_text`` its measure."""
+    return f"reachable only by a jump: {why}; q is {answer}, verified: {measured_text}"
+
+
+def moved(joint: str, size: float, unit: str, start: str, step: float) -> str:
+    """A step beside its bound: 'moves panda_joint5 by 1.44 rad from the previous
+    waypoint's answer (max_joint_step 0.3)'."""
+    return f"moves {joint} by {size:.3g} {unit} from {start} (max_joint_step {step:g})"
+
+
 def _pair_text(pair: tuple[str, str] | None, distance: float) -> str:
     if pair is None:
         return "no pair to check"

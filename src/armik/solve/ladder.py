@@ -295,6 +295,9 @@ def _broken(arm, r: IKResult, j: int, size: float, step: float, hidden: bool, fi
         r,
         success=False,
         status=Status.DISCONTINUOUS,
-        reason=f"reachable only by a jump: every path breaks here: from {start}, "
-        f"{'; '.join(why)}; q is the planned answer, verified: {measured}",
+        reason=reasons.jump(
+            f"every path breaks here: from {start}, {'; '.join(why)}",
+            "the planned answer",
+            measured,
+        ),
     )

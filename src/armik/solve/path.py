@@ -29,6 +29,7 @@ import time
 import numpy as np
 import pinocchio as pin
 
+from armik import reasons
 from armik.batch_result import BatchResult
 from armik.errors import OptionError, TargetError
 from armik.frozen import frozen
@@ -263,25 +264,23 @@ def _near(
     j = int(np.argmax(moved / step))
     unit = "m" if arm.prismatic[j] else "rad"
     start = "q0 (the start)" if first else "the previous waypoint's answer"
+    move = reasons.moved(arm.joint_names[j], moved[j], unit, start, step[j])
     if continuous is not None:
         why = (
-            f"the motion to it is continuous but moves {arm.joint_names[j]} by "
-            f"{moved[j]:.3g} {unit} from {start} (max_joint_step {step[j]:g}): add "
-            "waypoints here or raise max_joint_step"
+            f"the motion to it is continuous but {move}: add waypoints here or raise max_joint_step"
         )
     else:
         why = (
-            f"the nearest answer found moves {arm.joint_names[j]} by {moved[j]:.3g} {unit} "
-            f"from {start} (max_joint_step {step[j]:g}), and no continuous motion through "
+            f"the nearest answer found {move}, and no continuous motion through "
             f"{MAX_SUBSTEPS - 1} intermediate poses reaches it (a singularity, a joint limit "
             "or a branch change on the way)"
         )
+    measured = f"position error {best.position_error:.3g} m"
     return dataclasses.replace(
         best,
         success=False,
         status=Status.DISCONTINUOUS,
-        reason=f"reachable only by a jump: {why}; q is that answer, verified: "
-        f"position error {best.position_error:.3g} m",
+        reason=reasons.jump(why, "that answer", measured),
     )
 
 
