@@ -45,15 +45,18 @@ def _pose_error(arm: ArmModel, q: np.ndarray, target: pin.SE3) -> np.ndarray:
     return pin.log6(arm.fk(q).inverse() * target).vector
 
 
-def _onto(arm: ArmModel, q: np.ndarray, target: pin.SE3) -> tuple[np.ndarray, float]:
-    """``q`` taken back onto ``target`` by Newton steps, and its remaining pose error."""
+def _onto(
+    arm: ArmModel, q: np.ndarray, target: pin.SE3, box: tuple[np.ndarray, np.ndarray]
+) -> tuple[np.ndarray, float]:
+    """``q`` taken back onto ``target`` by Newton steps within ``box`` (lower, upper), and
+    its remaining pose error."""
     for _ in range(NEWTON):
         e = _pose_error(arm, q, target)
         error = float(np.abs(e).max())
         if error <= HOLD:
             return q, error
         J = arm.jacobian(q)
-        q = np.clip(q + J.T @ _row_solve(J, e), arm.lower, arm.upper)
+        q = np.clip(q + J.T @ _row_solve(J, e), *box)
     return q, float(np.abs(_pose_error(arm, q, target)).max())
 
 
@@ -90,6 +93,7 @@ def descend(
     budget: float,
     steps: int = STEPS,
     ends: Sequence[np.ndarray] = (),
+    box: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> np.ndarray:
     """``q`` moved along the self-motion while the score falls, within ``budget`` seconds
     of the thread's CPU time and ``steps`` gradient steps; ``q`` itself when no step helps.
@@ -100,7 +104,10 @@ def descend(
     halved until the score falls with the pose held; the descent ends where ``HALVINGS``
     halvings did not help, the model's step is shorter than ``SHORTEST``, or (no model)
     a step lowered the score by less than ``FLAT`` of it, or the step came within ``MEET``
-    of one of ``ends`` (where earlier descents from other answers ended)."""
+    of one of ``ends`` (where earlier descents from other answers ended). ``box``: the
+    (lower, upper) every configuration stays within (default: the joint limits; a path
+    passes its step's box about the previous answer)."""
+    box = (arm.lower, arm.upper) if box is None else box
     started = time.thread_time()
     best = score(arm, q, q0)
     length = FIRST
@@ -118,8 +125,8 @@ def descend(
         for _ in range(HALVINGS + 1):
             if trial < SHORTEST or time.thread_time() - started > budget:
                 return q
-            step = np.clip(q + (trial / norm) * d, arm.lower, arm.upper)
-            moved, error = _onto(arm, step, target)
+            step = np.clip(q + (trial / norm) * d, *box)
+            moved, error = _onto(arm, step, target, box)
             value = score(arm, moved, q0)
             if error <= HOLD and value < best:
                 flat = scale is None and best - value <= FLAT * max(abs(best), 1.0)

@@ -35,9 +35,11 @@ from armik.errors import OptionError, TargetError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.options import Options
+from armik.problem.scores import parse_score
 from armik.result import IKResult
 from armik.solve import ladder
 from armik.solve.avoid import ON_PATH
+from armik.solve.path_score import preferred
 from armik.solve.single import solve
 from armik.solve.tasks import lower_all, task_problems
 from armik.solvers import registry
@@ -80,10 +82,12 @@ def solve_path(
             option="plan",
             value=plan,
         )
-    if options.get("prefer") is not None:
+    score = parse_score(options.get("prefer"))
+    if score is not None and plan == "global":
         raise OptionError(
-            "prefer= ranks the answers of solve, solve_all and solve_batch; a path keeps its "
-            "branch instead: plan='global' gives the least total joint motion",
+            "prefer= on plan='global': the plan's least total joint motion decides; with "
+            "plan='follow' a preference picks, at each waypoint, the best answer within "
+            "max_joint_step of the previous one",
             option="prefer",
             value=options["prefer"],
         )
@@ -135,23 +139,39 @@ def solve_path(
         return frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     token = ON_PATH.set(True)  # a colliding answer is slid out of contact (solve/avoid.py)
     try:
-        _walk(arm, batch, q_prev, step, spec, options, local, out)
+        chooser = None if score is None else _chooser(arm, score, q_prev, step, options, opts)
+        _walk(arm, batch, q_prev, step, spec, options, local, out, chooser)
     finally:
         ON_PATH.reset(token)
     out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     return out
 
 
-def _walk(arm, batch, q_prev, step, spec, options, local, out) -> None:
-    """Solve the waypoints in order, each from the previous answer, into ``out``."""
+def _walk(arm, batch, q_prev, step, spec, options, local, out, chooser=None) -> None:
+    """Solve the waypoints in order, each from the previous answer, into ``out``;
+    ``chooser(target, r, q_prev)``: the answer kept among those within the step (a
+    preference), else ``r``."""
     for i in range(len(batch)):
         target = batch.target(i)
         r = _unwrapped(arm, solve(arm, target, q0=q_prev, solver=spec.name, **options)[0], q_prev)
         if r.success and _jump(r.q, q_prev, step) > 1.0:
             r = _near(arm, target, q_prev, step, spec.name, local, r, first=i == 0)
+        elif chooser is not None:
+            r = chooser(target, r, q_prev)
         out.put_result(i, r)
         if r.success or r.status is Status.DISCONTINUOUS:
             q_prev = np.array(r.q)
+
+
+def _chooser(arm, score, start: np.ndarray, step: np.ndarray, options: dict, opts: Options):
+    """A preference's choice at each waypoint (``path_score.preferred``), scored against
+    the path's start."""
+    reference = np.array(start, dtype=float)
+
+    def choose(target: Target, r: IKResult, q_prev: np.ndarray) -> IKResult:
+        return preferred(arm, target, r, q_prev, step, score, reference, options, opts)
+
+    return choose
 
 
 HELD_OFFSETS = 0.1 * np.arange(-2, 3)  # rad: joint 7's values about the followed path's

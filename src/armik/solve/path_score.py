@@ -1,0 +1,91 @@
+"""A followed path's preference (``solve_path(..., prefer=)``): continuity first, then the
+score. At each waypoint the followed answer stands unless another verified answer within
+``max_joint_step`` of the previous one scores better: another branch or turn of a closed
+form (``solve_all`` from the previous answer), or, on a redundant arm, the followed answer
+moved a few steps along its self-motion (``armik.solve.nullspace``). A few steps a
+waypoint: the path drifts toward the score as it goes instead of jumping to the best
+configuration of each pose, which would break it."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+
+from armik.model.arm_model import ArmModel
+from armik.options import Options
+from armik.problem.scores import Score
+from armik.result import IKResult
+from armik.solve.nullspace import descend
+from armik.solve.single import solve
+from armik.solvers import registry
+from armik.solvers.claims import Attempt
+from armik.status import Status
+from armik.targets.pose import Target
+from armik.verify.verdict import finish
+
+STEPS = 3  # self-motion steps at a waypoint at most (deterministic: no time budget)
+
+
+def preferred(
+    arm: ArmModel,
+    target: Target,
+    r: IKResult,
+    q_prev: np.ndarray,
+    step: np.ndarray,
+    score: Score,
+    reference: np.ndarray,
+    options: dict,
+    opts: Options,
+) -> IKResult:
+    """The best-scored verified answer at ``target`` within ``step`` of ``q_prev``, the
+    followed answer ``r`` among them (``reference``: the score's q0, the path's start)."""
+    if not r.success:
+        return r
+    candidates = [r]
+    if registry.get(r.solver).kind != "numeric":  # every branch and turn, nearest first
+        found = solve(arm, target, q0=q_prev, solver=r.solver, all_solutions=True, **options)
+        candidates += [_turned(arm, c, q_prev) for c in found if c.success]
+    elif arm.dof > 6 and _plain_pose(target, opts):
+        pose = pin.SE3(target.rotation, target.position)
+        box = (np.maximum(arm.lower, q_prev - step), np.minimum(arm.upper, q_prev + step))
+        moved = descend(arm, r.q, pose, score, reference, math.inf, steps=STEPS, box=box)
+        if not np.array_equal(moved, r.q):
+            claim = Attempt(q=moved, claim=Status.CONVERGED, reason="moved along the self-motion")
+            candidates += finish(arm, r.solver, [claim], target, opts, q_prev, False, 0.0)
+    within = [
+        c for c in candidates if c.success and bool((np.abs(c.q - q_prev) <= step + 1e-12).all())
+    ]
+    if len(within) < 2:
+        return r
+    values = [score(arm, c.q, reference) for c in within]
+    k = int(np.argmin(values))  # ties: the followed answer, first
+    best = within[k]
+    return IKResult(
+        **{
+            **{f: getattr(best, f) for f in _FIELDS},
+            "reason": f"{best.reason}; {score.name} {values[k]:.6g}, the best of "
+            f"{len(within)} answers within max_joint_step",
+            "time": r.time,
+            "extra": {**best.extra, "score": values[k]},
+        }
+    )
+
+
+_FIELDS = tuple(f for f in IKResult.__dataclass_fields__ if f not in ("reason", "time", "extra"))
+
+
+def _turned(arm: ArmModel, r: IKResult, q_prev: np.ndarray) -> IKResult:
+    """``r`` with each angle turned by 2 pi to its value nearest ``q_prev`` (the pose and
+    the verdict unchanged)."""
+    q = arm.nearest_equivalent(r.q, q_prev)
+    if np.array_equal(q, r.q):
+        return r
+    return IKResult(**{**{f: getattr(r, f) for f in _FIELDS}, "q": q, "reason": r.reason,
+                       "time": r.time, "extra": r.extra})  # fmt: skip
+
+
+def _plain_pose(target: Target, opts: Options) -> bool:
+    """A full pose without a region or weights: what the self-motion descent holds."""
+    return target.rotation is not None and not (opts.bounds or opts.weights or opts.collisions)

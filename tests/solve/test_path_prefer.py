@@ -1,0 +1,60 @@
+"""``solve_path(..., prefer=)``: continuity first, then the score. Each answer within
+``max_joint_step`` of the one before; on a redundant arm the path drifts along the
+self-motion toward the score; where one branch alone lies within the step the path is the
+followed one; a global plan refuses a preference with the way round."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.problem.scores import manipulability
+
+from .. import conftest
+
+
+def line(arm, q: np.ndarray, rng: np.random.Generator, n: int = 20) -> list[pin.SE3]:
+    T = arm.fk(q)
+    d = rng.normal(size=3)
+    d *= 0.005 / np.linalg.norm(d)
+    return [pin.SE3(T.rotation, T.translation + k * d) for k in range(n)]
+
+
+def test_a_redundant_arm_drifts_toward_the_score_within_the_step():
+    panda = conftest.arm("panda")
+    rng = np.random.default_rng(7)
+    panda.random_q(rng)  # the second draw: a line the Panda follows end to end
+    q = panda.random_q(rng)
+    poses = line(panda, q, rng)
+    followed = panda.solve_path(poses, q, max_joint_step=0.3)
+    path = panda.solve_path(poses, q, max_joint_step=0.3, prefer="manipulability")
+    assert followed.success.all() and path.success.all(), path.summary()
+    assert np.abs(np.diff(np.vstack([q, path.q]), axis=0)).max() <= 0.3 + 1e-12
+    for pose, x in zip(poses, path.q):
+        assert np.abs(pin.log6(pose.actInv(panda.fk(x))).vector).max() <= 1e-6
+    first = [manipulability(panda.jacobian(x[0])) for x in (followed.q, path.q)]
+    assert first[1] > first[0]  # moved along the self-motion at the first waypoint
+    mean = [np.mean([manipulability(panda.jacobian(x)) for x in p.q]) for p in (followed, path)]
+    assert mean[1] > mean[0]
+
+
+def test_one_branch_within_the_step_is_the_followed_path():
+    ur5 = conftest.arm("ur5")
+    rng = np.random.default_rng(3)
+    q = np.array([0.3, -1.2, 1.5, -1.0, 1.0, 0.4])
+    poses = line(ur5, q, rng)
+    followed = ur5.solve_path(poses, q, max_joint_step=0.3)
+    path = ur5.solve_path(poses, q, max_joint_step=0.3, prefer="limits")
+    assert followed.success.all() and path.success.all()
+    assert np.allclose(path.q, followed.q, atol=1e-9)
+
+
+def test_a_global_plan_refuses_a_preference_with_the_way_round():
+    ur5 = conftest.arm("ur5")
+    T = ur5.fk(ur5.middle)
+    with pytest.raises(armik.OptionError, match="plan='follow'"):
+        ur5.solve_path([T, T], ur5.middle, plan="global", prefer="manipulability")
+    with pytest.raises(armik.InputError, match="prefer"):
+        ur5.solve_path([T, T], ur5.middle, prefer="most_beautiful")
