@@ -122,12 +122,16 @@ def test_two_hands_over_a_shared_torso():
     assert solved == 40
 
 
-def test_a_shared_torso_takes_a_solver_name_and_refuses_prefer():
-    """``solver=`` names the chains' own solver (the descent's starts); ``prefer=`` cannot
-    act on one answer over every joint and is refused by name, not as an unknown option."""
+def talos() -> armik.Arms:
     robots = Path(armik.load("panda").source).parents[2]
     urdf = robots / "talos_data" / "robots" / "talos_reduced.urdf"
-    robot = armik.load(urdf, tips=["gripper_left_base_link", "gripper_right_base_link"])
+    return armik.load(urdf, tips=["gripper_left_base_link", "gripper_right_base_link"])
+
+
+def test_a_shared_torso_takes_a_solver_name():
+    """``solver=`` names the chains' own solver (the descent's starts); an unknown name is
+    refused by name, not skipped."""
+    robot = talos()
     q = robot.random_q(np.random.default_rng(3))
     targets = {tip: robot.fk(q, frame=tip) for tip in robot.tips}
     for solver in ("dls", "qp"):
@@ -135,8 +139,38 @@ def test_a_shared_torso_takes_a_solver_name_and_refuses_prefer():
         assert r.success, r.reason
     with pytest.raises(armik.SolverError, match="unknown solver 'nope'"):
         robot.solve(targets, solver="nope")
-    with pytest.raises(armik.OptionError, match="prefer='nearest' is not available.*torso_1"):
-        robot.solve(targets, prefer="nearest")
+
+
+def test_a_posture_over_a_shared_torso_moves_the_answer_along_the_tasks_null_space():
+    """``prefer=armik.Posture(...)`` weighted on the torso: the answer found moved along
+    what the hands' tasks leave free while the score falls, every hand still on its target
+    by Pinocchio's FK: a score no higher than the plain answer's from the same start, and
+    the score reported is the hand computation's. ``manipulability`` (one tip's Jacobian)
+    is refused by name."""
+    robot = talos()
+    torso = [robot.joint_names.index(j) for j in robot.shared]
+    weights = np.zeros(robot.dof)
+    weights[torso] = 1.0
+    upright = armik.Posture(robot.middle, weights)
+    rng = np.random.default_rng(9)
+    lowered = 0
+    for _ in range(6):
+        q = robot.random_q(rng)
+        targets = {tip: robot.fk(q, frame=tip).translation for tip in robot.tips}
+        plain = robot.solve(targets, iteration_budget=3000, seed=1)
+        r = robot.solve(targets, iteration_budget=3000, seed=1, prefer=upright)
+        assert plain.success and r.success, r.reason
+        for tip in robot.tips:
+            assert np.linalg.norm(robot.fk(r.q, frame=tip).translation - targets[tip]) <= 1e-6
+        assert (r.q >= robot.lower - 1e-9).all() and (r.q <= robot.upper + 1e-9).all()
+        score = float(weights @ (r.q - robot.middle) ** 2)
+        assert r.extra["score"] == pytest.approx(score, rel=1e-12, abs=1e-15)
+        assert "prefer=posture" in r.reason
+        assert score <= float(weights @ (plain.q - robot.middle) ** 2) + 1e-12
+        lowered += score < float(weights @ (plain.q - robot.middle) ** 2) - 1e-6
+    assert lowered >= 3  # hands' positions leave the torso free: it moves upright
+    with pytest.raises(armik.OptionError, match="manipulability.*torso_1"):
+        robot.solve(targets, prefer="manipulability")
 
 
 def test_a_tip_beyond_reach_over_a_shared_torso_is_named_and_the_other_solved():

@@ -27,10 +27,13 @@ import numpy as np
 import pinocchio as pin
 
 from armik import arms_many, arms_reach
+from armik.arms_joined import joined
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
+from armik.model.arm_model import ArmModel
 from armik.model.union import Union
 from armik.options import Options
 from armik.problem.problem import Problem, as_problem, relative_tasks
+from armik.problem.scores import Manipulability, Score, parse_score
 from armik.problem.tasks import Pose, Position, Relative, Task
 from armik.problem.tasks.base import replaced
 from armik.result import IKResult
@@ -148,7 +151,7 @@ class Arms:
                 tip: solve_one(chains[tip], target, seeds[tip], solver, options)  # type: ignore[arg-type]
                 for tip, target in targets.items()
             }
-            return _joined(self, results, seeds, time.perf_counter() - t0)
+            return joined(self.tips, results, seeds, time.perf_counter() - t0)
         order = _in_order(targets, relative)
         if order is None:  # tips placed relative to each other in a cycle: all at once
             return self._solve_together(self._joint(), targets, q0, options, t0)
@@ -160,12 +163,12 @@ class Arms:
             if tip in relative:
                 target = _absolute(target, self._placements(results, seeds))
             results[tip] = self._chains[tip].solve(target, q0=seeds[tip], **options)  # type: ignore[attr-defined]
-        joined = _joined(self, results, seeds, time.perf_counter() - t0)
-        if joined.success:
-            return joined
+        each = joined(self.tips, results, seeds, time.perf_counter() - t0)
+        if each.success:
+            return each
         # the reference chain's answer may be one the other cannot reach from: together
-        together = self._solve_together(self._joint(), targets, joined.q, options, t0)
-        return together if together.success else joined
+        together = self._solve_together(self._joint(), targets, each.q, options, t0)
+        return together if together.success else each
 
     def solve_batch(self, targets: Mapping[str, object], *, q0: object = None, **options):
         """Many targets per tip (tip -> N targets): a ``BatchResult`` over every joint, each
@@ -226,16 +229,7 @@ class Arms:
         """Chains sharing joints: one task per tip on ``union``, the task solver. ``solver``
         names the chains' own solver, which gives the descent its starts."""
         options = dict(options)
-        if options.get("prefer") is not None:
-            raise OptionError(
-                f"prefer={options['prefer']!r} is not available on tips that share joints "
-                f"{list(self.shared)} (or are placed relative to each other): one answer over "
-                "every joint is searched for; drop prefer=, or solve each chain "
-                "(Arms.chain(tip).solve(..., prefer=...))",
-                option="prefer",
-                value=options["prefer"],
-            )
-        options.pop("prefer", None)
+        score = self._score(options.pop("prefer", None))
         solver = options.pop("solver", "auto")
         if solver != "auto":
             get_solver(solver)  # an unknown name refused here, not skipped by ``_start``
@@ -250,8 +244,8 @@ class Arms:
             # closed in after 40 steps seldom does (TALOS's hands: 3 misses in 1200 targets
             # against 11 with the default 100), and one closing in goes on (solve_tasks)
             opts = dataclasses.replace(opts, max_iterations=UNION_ITERATIONS)
-        start = self._start(targets, self.middle if q0 is None else np.asarray(q0, float), options)
-        # the union serves as the arm: it has what solve_tasks reads (annotated ArmModel)
+        seed = self.middle if q0 is None else np.asarray(q0, float)
+        start = self._start(targets, seed, options)
         order = self._permutation
         start = start if order is None else _scatter(start, order)
 
@@ -264,7 +258,11 @@ class Arms:
             return q if order is None else _scatter(q, order)
 
         problem = Problem(tuple(tasks))
-        r = solve_tasks(union, problem, start, opts, t0, reseed=reseed)  # type: ignore[arg-type]
+        reference = seed if order is None else _scatter(seed, order)  # the score's q0
+        r = solve_tasks(  # the union serves as the arm (what solve_tasks reads of one)
+            cast(ArmModel, union), problem, start, opts, t0,
+            reseed=reseed, score=score, reference=reference,
+        )  # fmt: skip
         if order is not None:  # back to the chains' joints side by side
             r = dataclasses.replace(r, q=r.q[order])
         errors: dict[str, tuple] = {}
@@ -277,6 +275,31 @@ class Arms:
                 failed.append(tip)
         reason = r.reason if not failed else f"tips not within their tasks: {failed}; {r.reason}"
         return dataclasses.replace(r, reason=reason, extra={**r.extra, "errors": errors})
+
+    def _score(self, prefer: object) -> Score | None:
+        """The score of ``prefer=`` over shared joints (the answer moved along the tasks'
+        null space, ``solve_tasks``), or None; an ``OptionError`` where it has no meaning
+        over several tips."""
+        score = parse_score(prefer)
+        if score is None:
+            return None
+        if self._union is None:
+            raise OptionError(
+                f"prefer={prefer!r} is not available on tips placed relative to each other "
+                "that share no joint: drop prefer=, or solve each chain "
+                "(Arms.chain(tip).solve(..., prefer=...))",
+                option="prefer",
+                value=prefer,
+            )
+        if isinstance(score, Manipulability):
+            raise OptionError(
+                f"prefer='manipulability' over the joints {list(self.shared)} shared by "
+                f"several tips: the measure is of one tip's Jacobian; use 'nearest', "
+                "'limits', armik.Posture(q_ref, weights) or a cost over every joint",
+                option="prefer",
+                value=prefer,
+            )
+        return score
 
     def _start(
         self,
@@ -413,61 +436,3 @@ def _scatter(q: np.ndarray, order: np.ndarray) -> np.ndarray:
     out = np.empty_like(q)
     out[order] = q
     return out
-
-
-def _joined(arms: Arms, results: dict[str, IKResult], seeds, elapsed: float) -> IKResult:
-    # one pass over the tips, on each result's fields read once: this runs on every solve
-    # of a cell, beside two closed-form solves of a few microseconds each
-    parts, failed, errors = [], [], {}
-    solvers: dict[str, None] = {}  # the solvers' names, in order, once each
-    iterations = restarts = 0
-    position, orientation, singular = 0.0, None, False
-    for tip in arms.tips:
-        r = results.get(tip)
-        if r is None:
-            parts.append(seeds[tip])
-            continue
-        d = r.__dict__
-        parts.append(d["q"])
-        solvers[d["solver"]] = None
-        if not d["success"]:
-            failed.append(tip)
-        pos, ori = d["position_error"], d["orientation_error"]
-        errors[tip] = (pos, ori)
-        iterations += d["iterations"]
-        restarts += d["restarts"]
-        if pos > position:
-            position = pos
-        if ori is not None and (orientation is None or ori > orientation):
-            orientation = ori
-        singular = singular or d["singular"]
-    q = np.concatenate(parts)
-    q.setflags(write=False)  # a result's q is read-only; setflags is the cheaper spelling
-    joined = _new(IKResult)
-    joined.__dict__.update(
-        q=q,
-        success=not failed,
-        status=results[failed[0]].status if failed else _CONVERGED,
-        _reason=(_reason, (results, failed)),  # written on first read, as prepared solves do
-        solver="+".join(solvers),
-        iterations=iterations,
-        position_error=position,
-        orientation_error=orientation,
-        time=elapsed,
-        branch=None,
-        singular=singular,
-        restarts=restarts,
-        extra={"errors": errors, "results": results},
-    )
-    return joined
-
-
-_new = object.__new__
-_CONVERGED = Status.CONVERGED
-
-
-def _reason(results: dict[str, IKResult], failed: list[str]) -> str:
-    """A joined result's reason: each failing tip's, else the solver of each tip."""
-    if failed:
-        return "; ".join(f"{t}: {results[t].status.value}: {results[t].reason}" for t in failed)
-    return "every tip verified: " + "; ".join(f"{t} by {r.solver}" for t, r in results.items())

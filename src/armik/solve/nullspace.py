@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
+from typing import Protocol
 
 import numpy as np
 import pinocchio as pin
@@ -40,24 +41,42 @@ def _row_solve(J: np.ndarray, v: np.ndarray) -> np.ndarray:
         return np.linalg.lstsq(J @ J.T, v, rcond=None)[0]
 
 
-def _pose_error(arm: ArmModel, q: np.ndarray, target: pin.SE3) -> np.ndarray:
-    """The tip's error twist to ``target`` in the tip frame (LOCAL, as the Jacobian)."""
-    return pin.log6(arm.fk(q).inverse() * target).vector
+class Held(Protocol):
+    """What a moved configuration must keep: residual rows, zero where it holds, and their
+    Jacobian (rows x dof)."""
+
+    def residual(self, q: np.ndarray) -> np.ndarray: ...
+
+    def jacobian(self, q: np.ndarray) -> np.ndarray: ...
+
+
+class HeldPose:
+    """The tip held at ``target``: the error twist of the tip to it, in the tip frame
+    (LOCAL, as the Jacobian), with its sign for ``q - J^T (J J^T)^-1 r``."""
+
+    def __init__(self, arm: ArmModel, target: pin.SE3) -> None:
+        self.arm, self.target = arm, target
+
+    def residual(self, q: np.ndarray) -> np.ndarray:
+        return -pin.log6(self.arm.fk(q).inverse() * self.target).vector
+
+    def jacobian(self, q: np.ndarray) -> np.ndarray:
+        return self.arm.jacobian(q)
 
 
 def _onto(
-    arm: ArmModel, q: np.ndarray, target: pin.SE3, box: tuple[np.ndarray, np.ndarray]
+    held: Held, q: np.ndarray, box: tuple[np.ndarray, np.ndarray]
 ) -> tuple[np.ndarray, float]:
-    """``q`` taken back onto ``target`` by Newton steps within ``box`` (lower, upper), and
-    its remaining pose error."""
+    """``q`` taken back onto what is ``held`` by Newton steps within ``box`` (lower,
+    upper), and its remaining residual."""
     for _ in range(NEWTON):
-        e = _pose_error(arm, q, target)
-        error = float(np.abs(e).max())
+        r = held.residual(q)
+        error = float(np.abs(r).max(initial=0.0))
         if error <= HOLD:
             return q, error
-        J = arm.jacobian(q)
-        q = np.clip(q + J.T @ _row_solve(J, e), *box)
-    return q, float(np.abs(_pose_error(arm, q, target)).max())
+        J = held.jacobian(q)
+        q = np.clip(q - J.T @ _row_solve(J, r), *box)
+    return q, float(np.abs(held.residual(q)).max(initial=0.0))
 
 
 def _gradient(arm: ArmModel, score: Score, q: np.ndarray, q0: np.ndarray) -> np.ndarray:
@@ -87,7 +106,7 @@ def _model_scale(score: Score, value: float) -> float | None:
 def descend(
     arm: ArmModel,
     q: np.ndarray,
-    target: pin.SE3,
+    target: pin.SE3 | Held,
     score: Score,
     q0: np.ndarray,
     budget: float,
@@ -104,17 +123,19 @@ def descend(
     halved until the score falls with the pose held; the descent ends where ``HALVINGS``
     halvings did not help, the model's step is shorter than ``SHORTEST``, or (no model)
     a step lowered the score by less than ``FLAT`` of it, or the step came within ``MEET``
-    of one of ``ends`` (where earlier descents from other answers ended). ``box``: the
-    (lower, upper) every configuration stays within (default: the joint limits; a path
-    passes its step's box about the previous answer)."""
+    of one of ``ends`` (where earlier descents from other answers ended). ``target``: the
+    tip's pose, or any residual rows to hold (``Held``: the tasks of a task list, several
+    tips). ``box``: the (lower, upper) every configuration stays within (default: the
+    joint limits; a path passes its step's box about the previous answer)."""
     box = (arm.lower, arm.upper) if box is None else box
+    held = HeldPose(arm, target) if isinstance(target, pin.SE3) else target
     started = time.thread_time()
     best = score(arm, q, q0)
     length = FIRST
     for _ in range(steps):
         if time.thread_time() - started > budget:
             break
-        J = arm.jacobian(q)
+        J = held.jacobian(q)
         g = _gradient(arm, score, q, q0)
         d = J.T @ _row_solve(J, J @ g) - g  # -N g
         norm = float(np.linalg.norm(d))
@@ -126,7 +147,7 @@ def descend(
             if trial < SHORTEST or time.thread_time() - started > budget:
                 return q
             step = np.clip(q + (trial / norm) * d, *box)
-            moved, error = _onto(arm, step, target, box)
+            moved, error = _onto(held, step, box)
             value = score(arm, moved, q0)
             if error <= HOLD and value < best:
                 flat = scale is None and best - value <= FLAT * max(abs(best), 1.0)

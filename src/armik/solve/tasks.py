@@ -7,6 +7,12 @@ of the solving thread, or the deterministic ``iteration_budget``); the answer ne
 meeting every task is kept. Every answer is measured by each task on Pinocchio's FK
 (``Task.measure``) with the call's tolerances, and by the limits, before it is called a
 success. A miss is ``not_converged``: a numeric search does not show a target out of reach.
+
+With a score (``prefer=`` over several tips' shared joints: ``nearest``, ``limits``, an
+``armik.Posture``, a cost), the answer found is moved along what the tasks leave free
+(their null space: the self-motion, a region's slack) while the score falls
+(``armik.solve.nullspace``), and kept only where every task still holds on Pinocchio's
+FK: a posture task for the joints no task fixes. A local descent from the answer found.
 """
 
 from __future__ import annotations
@@ -23,8 +29,10 @@ from armik.errors import OptionError, TargetError
 from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.problem.problem import Problem, as_problem, lower
+from armik.problem.scores import Score
 from armik.problem.tasks import Task, TaskError
 from armik.result import IKResult
+from armik.solve.nullspace import descend
 from armik.status import Status
 
 SOLVER = "tasks"
@@ -32,6 +40,7 @@ LAMBDA0 = 1e-3  # the damping's start, relative to the largest diagonal of J^T J
 NEAR = 1e-3  # m + rad: a descent ending this close goes on (``solve_tasks``) ...
 CLOSING = 0.5  # ... while each run of iterations at least halves its error
 AIM = 0.9  # the descent aims at the regions scaled by this (``Task.shrunk``)
+SCORE_STEPS = 40  # null-space steps for a score at most (each a few Newton steps)
 CENTRE_RESTARTS = (
     20  # the centre's compiled attempt: it may be out of reach where the region is not
 )
@@ -115,6 +124,29 @@ def _stack(tasks: tuple[Task, ...], ids, placed: dict):
     return r, A
 
 
+class HeldTasks:
+    """The tasks' residual rows (``nullspace.Held``), the rows no task constrains at ``q``
+    (a region's slack: zero residual, zero Jacobian) dropped, so that they are left free."""
+
+    def __init__(self, arm: ArmModel, tasks: tuple[Task, ...], ids) -> None:
+        self.arm, self.tasks, self.ids = arm, tasks, ids
+        self._at: tuple[bytes, np.ndarray, np.ndarray] | None = None
+
+    def _rows(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        key = q.tobytes()
+        if self._at is None or self._at[0] != key:
+            r, A = _stack(self.tasks, self.ids, _placed(self.arm, q, self.ids))
+            active = (r != 0.0) | np.any(A != 0.0, axis=1)
+            self._at = (key, r[active], A[active])
+        return self._at[1], self._at[2]
+
+    def residual(self, q: np.ndarray) -> np.ndarray:
+        return self._rows(q)[0]
+
+    def jacobian(self, q: np.ndarray) -> np.ndarray:
+        return self._rows(q)[1]
+
+
 def _measure(
     arm: ArmModel, tasks, ids, q: np.ndarray, opts: Options, placed=None
 ) -> list[TaskError]:
@@ -196,14 +228,19 @@ def solve_tasks(
     t0: float,
     centre: IKResult | None = None,
     reseed: Callable[[np.random.Generator], np.ndarray] | None = None,
+    score: Score | None = None,
+    reference: np.ndarray | None = None,
 ) -> IKResult:
     """The verified answer to ``problem`` from ``q0`` (see the module docstring). ``centre``:
     the compiled answer to the problem with its regions shrunk to their centres: taken as
     it is when every task holds on it, else the descent starts from it. ``reseed``: where
-    a restart starts (default: a random configuration within the limits)."""
+    a restart starts (default: a random configuration within the limits). ``score``: the
+    answer moved along the tasks' null space while it falls, ``reference`` its q0
+    (default: q0)."""
     tasks = problem.tasks
     ids = frame_ids(arm, tasks)
     q = arm.seed(q0)
+    reference = q.copy() if reference is None else reference
     if centre is not None:
         errors = _measure(arm, tasks, ids, centre.q, opts)
         if centre.success and all(e.within for e in errors):
@@ -243,7 +280,45 @@ def solve_tasks(
         before = math.inf
         q = arm.random_q(rng) if reseed is None else reseed(rng)
         restarts += 1
-    return _result(arm, tasks, best, best_errors, opts, used, restarts, t0)
+    moved = False
+    if score is not None and all(e.within for e in best_errors):
+        q, best_errors = _scored(
+            arm, tasks, ids, best, best_errors, score, reference, opts, started
+        )
+        moved, best = q is not best, q
+    r = _result(arm, tasks, best, best_errors, opts, used, restarts, t0)
+    if score is None or not r.success:
+        return r
+    value = score(arm, r.q, reference)
+    how = (
+        "moved along the tasks' null space"
+        if moved
+        else "no move along the tasks' null space lowered it"
+    )
+    return dataclasses.replace(
+        r,
+        reason=f"{r.reason}; prefer={score.name}: score {value:.6g} ({how})",
+        extra={**r.extra, "score": value},
+    )
+
+
+def _scored(arm: ArmModel, tasks, ids, q, errors, score: Score, reference, opts: Options, started):
+    """(q, errors) moved along the tasks' null space while ``score`` falls, within what is
+    left of the budget; as they were where a moved answer does not hold every task on
+    Pinocchio's FK or leaves the limits."""
+    left = math.inf  # deterministic with an iteration budget: the step cap alone
+    if opts.iteration_budget is None:
+        left = opts.timeout - (time.thread_time() - started)
+        if left <= 0.0:
+            return q, errors
+    aims = tuple(t.shrunk(AIM) for t in tasks)
+    moved = descend(arm, q, HeldTasks(arm, aims, ids), score, reference, left, SCORE_STEPS)
+    if moved is q:
+        return q, errors
+    moved_errors = _measure(arm, tasks, ids, moved, opts)
+    if all(e.within for e in moved_errors) and arm.within_limits(moved):
+        return moved, moved_errors
+    return q, errors
 
 
 def _result(arm, tasks, q, errors, opts: Options, iterations, restarts, t0) -> IKResult:

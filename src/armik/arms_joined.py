@@ -1,0 +1,71 @@
+"""One result for a robot of several tips (``armik.Arms``) from each chain's own: the
+joints side by side, a success only when every tip is verified, the reason naming each
+tip that failed."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from armik.result import IKResult
+from armik.status import Status
+
+
+def joined(tips, results: dict[str, IKResult], seeds, elapsed: float) -> IKResult:
+    """One result over every joint from each tip's (``results``; a tip not solved keeps its
+    seed): a success when every tip's is, the first failing tip's status, the worst errors,
+    each tip's errors and result in ``extra``."""
+    # one pass over the tips, on each result's fields read once: this runs on every solve
+    # of a cell, beside two closed-form solves of a few microseconds each
+    parts, failed, errors = [], [], {}
+    solvers: dict[str, None] = {}  # the solvers' names, in order, once each
+    iterations = restarts = 0
+    position, orientation, singular = 0.0, None, False
+    for tip in tips:
+        r = results.get(tip)
+        if r is None:
+            parts.append(seeds[tip])
+            continue
+        d = r.__dict__
+        parts.append(d["q"])
+        solvers[d["solver"]] = None
+        if not d["success"]:
+            failed.append(tip)
+        pos, ori = d["position_error"], d["orientation_error"]
+        errors[tip] = (pos, ori)
+        iterations += d["iterations"]
+        restarts += d["restarts"]
+        if pos > position:
+            position = pos
+        if ori is not None and (orientation is None or ori > orientation):
+            orientation = ori
+        singular = singular or d["singular"]
+    q = np.concatenate(parts)
+    q.setflags(write=False)  # a result's q is read-only; setflags is the cheaper spelling
+    out = _new(IKResult)
+    out.__dict__.update(
+        q=q,
+        success=not failed,
+        status=results[failed[0]].status if failed else _CONVERGED,
+        _reason=(_reason, (results, failed)),  # written on first read, as prepared solves do
+        solver="+".join(solvers),
+        iterations=iterations,
+        position_error=position,
+        orientation_error=orientation,
+        time=elapsed,
+        branch=None,
+        singular=singular,
+        restarts=restarts,
+        extra={"errors": errors, "results": results},
+    )
+    return out
+
+
+_new = object.__new__
+_CONVERGED = Status.CONVERGED
+
+
+def _reason(results: dict[str, IKResult], failed: list[str]) -> str:
+    """A joined result's reason: each failing tip's, else the solver of each tip."""
+    if failed:
+        return "; ".join(f"{t}: {results[t].status.value}: {results[t].reason}" for t in failed)
+    return "every tip verified: " + "; ".join(f"{t} by {r.solver}" for t, r in results.items())
