@@ -26,7 +26,7 @@ from armik.options import Options
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 from armik.tolerances import LIMIT_TOL
-from armik.verify.region import region_errors
+from armik.verify.region import region_error, region_errors
 
 _EYE = np.eye(3)  # read only by the kernel
 _FLOAT = np.dtype(float)
@@ -88,10 +88,9 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: Options) -> Meas
     ch = arm.kernel_chain.chain
     if opts.bounds is not None:
         R_t = _EYE if target.rotation is None else target.rotation
-        (pos, ori), = region_errors(
-            arm.T_base_world, T.rotation[None], T.translation[None], R_t[None],
-            target.position[None], np.array(opts.bounds), w,
-        ).tolist()  # fmt: skip
+        pos, ori = region_error(
+            arm.T_base_world, T.rotation, T.translation, R_t, target.position, opts.bounds, w
+        )
     # C-ordered, writable float64 arrays: numba compiles anew for every other layout, and
     # Pinocchio's rotation is Fortran-ordered. ``T.homogeneous`` is a fresh C-ordered 4x4
     # whose top-left 3x3 block is the rotation: ``pose_error`` reads R_w[a, b] for a, b < 3

@@ -30,17 +30,38 @@ def region_errors(
     tip placements (``R_w`` (n, 3, 3), ``p_w`` (n, 3), in the world frame) against the
     targets ``R_t`` (n, 3, 3), ``p_t`` (n, 3) in the base frame. A row with a non-finite
     placement gets NaN."""
-    R_b = T_base_world.rotation
-    R = np.einsum("ij,njk->nik", R_b, R_w)
-    p = p_w @ R_b.T + T_base_world.translation
-    free = np.where(np.asarray(weights) == 0.0, math.inf, np.asarray(bounds, dtype=float))
-    out = np.full((len(R), 2), np.nan)
-    for i in range(len(R)):
-        if not (np.isfinite(R[i]).all() and np.isfinite(p[i]).all()):
-            continue
-        M = R_t[i].T @ R[i]
-        e = np.concatenate([R_t[i].T @ (p[i] - p_t[i]), pin.log3(M)])
-        outside = np.where(np.isinf(free), 0.0, np.maximum(np.abs(e) - free, 0.0))
-        out[i, 0] = math.sqrt(float(outside[:3] @ outside[:3]))
-        out[i, 1] = math.sqrt(float(outside[3:] @ outside[3:]))
+    bounds = tuple(np.asarray(bounds, dtype=float).tolist())
+    weights = np.asarray(weights, dtype=float)
+    out = np.empty((len(R_w), 2))
+    for i in range(len(R_w)):
+        out[i] = region_error(T_base_world, R_w[i], p_w[i], R_t[i], p_t[i], bounds, weights)
     return out
+
+
+def region_error(
+    T_base_world: pin.SE3,
+    R_w: np.ndarray,
+    p_w: np.ndarray,
+    R_t: np.ndarray,
+    p_t: np.ndarray,
+    bounds: tuple[float, ...],
+    weights: np.ndarray,
+) -> tuple[float, float]:
+    """The position (m) and orientation (rad) error outside the region of one tip placement
+    (``R_w`` (3, 3), ``p_w`` (3,), in the world frame) against one target (``R_t``, ``p_t``
+    in the base frame); NaN for a non-finite placement. Plain floats past the products and
+    ``log3``: a single solve's check."""
+    R_b = T_base_world.rotation
+    R = R_b @ R_w
+    p = p_w @ R_b.T + T_base_world.translation
+    if not (np.isfinite(R).all() and np.isfinite(p).all()):
+        return math.nan, math.nan
+    e = (R_t.T @ (p - p_t)).tolist() + pin.log3(R_t.T @ R).tolist()
+    out = [
+        0.0 if w == 0.0 or math.isinf(b) else max(abs(x) - b, 0.0)
+        for x, b, w in zip(e, bounds, weights.tolist())
+    ]
+    return (
+        math.sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]),
+        math.sqrt(out[3] * out[3] + out[4] * out[4] + out[5] * out[5]),
+    )

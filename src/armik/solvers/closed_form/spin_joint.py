@@ -21,7 +21,7 @@ import pinocchio as pin
 from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.solvers import registry
-from armik.solvers.claims import Attempt
+from armik.solvers.claims import Attempt, claim
 from armik.solvers.closed_form import spin
 from armik.status import Status
 from armik.targets.pose import Target
@@ -63,13 +63,25 @@ def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = 
 def run(
     arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
 ) -> list[Attempt]:
-    k, half = spin.spin_of(opts.bounds)  # type: ignore[misc]  # applies() checked it
+    k, half = _spin(opts.bounds)
     family = spin.family(arm, target)
     assert not isinstance(family, str)  # applies() checked it
-    rows = family.run(arm, target, q0, dataclasses.replace(opts, bounds=None), True)
-    reached = [a for a in rows if a.claim is Status.CONVERGED]
-    last, turned, ok = _turned(arm, reached, float(q0[-1]), half)
-    if not ok.any():  # the closed form is complete: no branch, no answer over the range
+    Q, reached = _branches(arm, family, target, q0, opts)
+    centre = Q[:, -1].tolist()
+    Q[:, -1] = _turned(arm, centre, float(q0[-1]), half)  # NaN: no value within the bound
+    # nearest q0 first (ties: the branch order), the limits checked in that order only as
+    # far as needed: the first that holds them is one answer's
+    distance = np.linalg.norm(Q - q0, axis=1).tolist()
+    nearest = sorted(
+        (i for i in range(len(Q)) if distance[i] == distance[i]), key=distance.__getitem__
+    )
+    order = []
+    for i in nearest:
+        if arm._within(Q[i].tolist()):
+            order.append(i)
+            if not all_solutions:
+                break
+    if not order:  # the closed form is complete: no answer over the range
         return [
             Attempt(
                 q=np.array(q0, dtype=float),
@@ -78,55 +90,98 @@ def run(
                 f"within +-{half:g} rad of the spin and every joint within its limits; q is q0",
             )
         ]
-    Q = np.array([a.q for a in reached], dtype=float)
-    Q[:, -1] = last
-    distance = np.where(ok, np.linalg.norm(Q - q0, axis=1), np.inf)
-    order = np.argsort(distance, kind="stable")[: int(ok.sum())]
     axis = spin.AXES[k]
     return [
         dataclasses.replace(
-            reached[i],
+            _attempt(reached[i], Q[i]),
             q=Q[i],
+            # the spin the answer turns through: from the branch's value, modulo whole turns
             reason=f"{family.name}, the spin about the target's {axis} axis turned by the "
-            f"last joint ({turned[i]:.6g} rad): nearest q0 over the range",
+            f"last joint ({abs(math.remainder(Q[i, -1] - centre[i], 2 * math.pi)):.6g} rad): "
+            "nearest q0 over the range",
         )
-        for i in (order if all_solutions else order[:1])
+        for i in order
     ]
 
 
-def _turned(
-    arm: ArmModel, reached: list[Attempt], q0_last: float, half: float
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Per branch: the last joint's value nearest ``q0_last`` within +-``half`` of the
-    branch's value or of one of its 2 pi turns (the same spin) and within the limits, the
-    turn that takes, and whether such a value exists with every joint within the limits."""
-    lo, hi = float(arm.lower[-1]), float(arm.upper[-1])
-    # a full turn is every value of the joint; else the windows about the branch's value
-    # and its turns (a joint may span 4 pi); plain floats: a handful of branches
-    shifts = (0.0,) if half >= math.pi else tuple(2 * math.pi * k for k in (0, -1, 1, -2, 2))
-    last, turned, ok = [], [], []
-    for a in reached:
-        centre = float(a.q[-1])
+def _branches(arm: ArmModel, family, target: Target, q0: np.ndarray, opts: Options):
+    """(Q, rows): the closed form's branches that reach the target (rows of Q, nearest q0
+    first) and for each its claim (a ``Claim``'s fields after q) or ``Attempt``. The family's
+    prepared runner where it takes the pose and seed as they are (no object built per
+    branch), else the family's attempts."""
+    if family.prepare_pose is not None:
+        run_pose = arm.memo((_RUNNER, family.name), lambda a: family.prepare_pose(a, opts, False))
+        H = np.empty((4, 4))
+        H[:3, :3], H[:3, 3], H[3] = target.rotation, target.position, (0.0, 0.0, 0.0, 1.0)
+        got = run_pose(H, q0, 0, True)
+        if got is not None:
+            Q_all, rows = got
+            keep = [k for k, r in enumerate(rows) if type(r) is tuple or r.claim is _CONVERGED]
+            return np.array(Q_all[keep], dtype=float), [rows[k] for k in keep]
+    attempts = family.run(arm, target, q0, _exact(opts), True)
+    reached = [a for a in attempts if a.claim is _CONVERGED]
+    return np.array([a.q for a in reached], dtype=float).reshape(-1, arm.dof), reached
+
+
+def _attempt(row, q: np.ndarray) -> Attempt:
+    """The ``Attempt`` of a branch's row of ``_branches`` (answer ``q``)."""
+    return claim((q, *row)).attempt() if type(row) is tuple else row
+
+
+_RUNNER = "spin_joint's closed-form runner"  # the arm's memo key, with the family's name
+_CONVERGED = Status.CONVERGED
+_SHIFTS = tuple(2 * math.pi * k for k in (0, -1, 1, -2, 2))  # a branch's value's turns
+
+
+def _turned(arm: ArmModel, centre: list[float], q0_last: float, half: float) -> list[float]:
+    """Per branch (its last joint's value in ``centre``): the last joint's value nearest
+    ``q0_last`` within +-``half`` of the branch's value or of one of its 2 pi turns (the
+    same spin) and within that joint's limits, NaN where there is none. A full turn is
+    every value of the joint; else the windows about the branch's value and its turns (a
+    joint may span 4 pi), the first nearest in ``_SHIFTS``' order. Plain floats: a handful
+    of branches, where array calls cost more than the sums."""
+    lower, upper, _ = arm._limit_lists
+    lo, hi = lower[-1], upper[-1]
+    if half >= math.pi:
+        return [min(max(q0_last, lo), hi)] * len(centre)
+    out = []
+    for c in centre:
         best, gap = math.nan, math.inf
-        for shift in shifts:
-            low, high = (
-                (lo, hi)
-                if half >= math.pi
-                else (
-                    max(centre + shift - half, lo),
-                    min(centre + shift + half, hi),
-                )
-            )
+        for shift in _SHIFTS:
+            low = max(c + shift - half, lo)
+            high = min(c + shift + half, hi)
             value = min(max(q0_last, low), high)
             if low <= high and abs(value - q0_last) < gap:
                 best, gap = value, abs(value - q0_last)
-        q = a.q.copy()
-        q[-1] = best
-        last.append(best)
-        # the spin the answer turns through: from the branch's value, modulo whole turns
-        turned.append(abs(math.remainder(best - centre, 2 * math.pi)) if gap < math.inf else 0.0)
-        ok.append(gap < math.inf and arm.within_limits(q))
-    return np.array(last), np.array(turned), np.array(ok, dtype=bool)
+        out.append(best)
+    return out
+
+
+_SPINS: dict[tuple, tuple[int, float]] = {}  # bounds -> (k, half): each call passes them again
+_EXACTS: dict[Options, Options] = {}  # options -> the same without bounds, for the family
+
+
+def _spin(bounds) -> tuple[int, float]:
+    found = _SPINS.get(bounds)
+    if found is None:
+        found = spin.spin_of(bounds)  # type: ignore[assignment]  # applies() checked it
+        if len(_SPINS) > 64:
+            _SPINS.clear()
+        _SPINS[bounds] = found  # type: ignore[assignment]
+    return found  # type: ignore[return-value]
+
+
+def _exact(opts: Options) -> Options:
+    try:
+        exact = _EXACTS.get(opts)
+    except TypeError:  # options holding arrays: not remembered
+        return dataclasses.replace(opts, bounds=None)
+    if exact is None:
+        exact = dataclasses.replace(opts, bounds=None)
+        if len(_EXACTS) > 64:
+            _EXACTS.clear()
+        _EXACTS[opts] = exact
+    return exact
 
 
 SPEC = registry.register(
