@@ -17,6 +17,7 @@ import pinocchio as pin
 
 from armik.errors import TargetError
 from armik.problem.tasks import Axis, Pose, Position, Relative, Task
+from armik.problem.tasks.cone import cross
 
 
 @dataclass(frozen=True)
@@ -54,6 +55,17 @@ def tightened(problem: Problem) -> Problem:
     """The problem with every region shrunk to its centre (``Task.shrunk(0)``): each of its
     answers answers ``problem`` too, and it may have a compiled form ``problem`` has not."""
     return Problem(tuple(t.shrunk(0.0) for t in problem.tasks))
+
+
+def rims(problem: Problem, count: int) -> list[Problem]:
+    """Problems each of whose answers answers ``problem``: every task at its centre but one,
+    exactly on a point of that one's rim (``Task.rim``), for each task with a rim."""
+    centres = [t.shrunk(0.0) for t in problem.tasks]
+    return [
+        Problem(tuple(edge if j == i else c for j, c in enumerate(centres)))
+        for i, task in enumerate(problem.tasks)
+        for edge in task.rim(count)
+    ]
 
 
 def lower(problem: Problem, tip: str | None = None) -> tuple[object, dict] | None:
@@ -99,12 +111,12 @@ def _point_and_axis(a: Task, b: Task) -> tuple[object, dict] | None:
 
 def _onto(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     """A rotation taking the unit vector ``u`` onto the unit vector ``v``."""
-    axis = np.cross(u, v)
+    axis = cross(u, v)
     s, c = float(np.linalg.norm(axis)), float(u @ v)
     if s < 1e-12:
         if c > 0.0:
             return np.eye(3)
         other = np.eye(3)[int(np.argmin(np.abs(u)))]  # half a turn about an axis across u
-        axis = np.cross(u, other)
+        axis = cross(u, other)
         return pin.exp3(math.pi * axis / np.linalg.norm(axis))
     return pin.exp3(math.atan2(s, c) * axis / s)

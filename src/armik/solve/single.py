@@ -14,7 +14,7 @@ from armik.constraints.collision import checker
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.options import Options
-from armik.problem.problem import as_problem, lower, tightened
+from armik.problem.problem import as_problem, lower, rims, tightened
 from armik.problem.scores import parse_score
 from armik.problem.tasks import Task
 from armik.result import IKResult
@@ -170,13 +170,25 @@ def _along_self_motion(
 
 def _centre(arm, problem, q0, options: dict):
     """The compiled answer to the problem's centre (``tightened``), if it has a form: an
-    answer to the problem itself, or a start for the task solver; else None."""
+    answer to the problem itself, or a start for the task solver; else None. Where a
+    closed form shows the centre out of reach, the nearest q0 of its answers on the
+    region's rim (``rims``: a cone's axis tilted to its edge), if any reaches."""
     lowered = lower(tightened(problem), arm.tip)
     if lowered is None:
         return None
     target, said = lowered
     restarts = min(options.get("max_restarts", CENTRE_RESTARTS), CENTRE_RESTARTS)
-    return solve_one(arm, target, q0, "auto", {**options, **said, "max_restarts": restarts})
+    centre = solve_one(arm, target, q0, "auto", {**options, **said, "max_restarts": restarts})
+    if centre.success or registry.get(centre.solver).kind != "analytic":
+        return centre  # a numeric miss shows nothing: the task solver goes on from it
+    found = []
+    for rim in rims(problem, RIM_SAMPLES):
+        lowered = lower(rim, arm.tip)
+        if lowered is not None:
+            r = solve_one(arm, lowered[0], q0, "auto", {**options, **lowered[1]})
+            found += [r] if r.success else []
+    seed = arm.seed(q0)
+    return min(found, key=lambda r: float(np.linalg.norm(r.q - seed)), default=centre)
 
 
 def _beyond_search(arm, target, q0, solver: str, opts: Options, seed, results: list, t0: float):
@@ -192,6 +204,7 @@ def _beyond_search(arm, target, q0, solver: str, opts: Options, seed, results: l
     return [dataclasses.replace(one, reason=f"{searched}; {one.solver}: {one.reason}")]
 
 
+RIM_SAMPLES = 8  # points on a region's rim tried where a closed form misses its centre
 _COLLISION_OPTIONS = ("obstacles", "self_collision", "margin")
 
 

@@ -30,11 +30,11 @@ def region_errors(
     tip placements (``R_w`` (n, 3, 3), ``p_w`` (n, 3), in the world frame) against the
     targets ``R_t`` (n, 3, 3), ``p_t`` (n, 3) in the base frame. A row with a non-finite
     placement gets NaN."""
-    bounds = tuple(np.asarray(bounds, dtype=float).tolist())
-    weights = np.asarray(weights, dtype=float)
+    b = tuple(np.asarray(bounds, dtype=float).tolist())
+    w = np.asarray(weights, dtype=float)
     out = np.empty((len(R_w), 2))
     for i in range(len(R_w)):
-        out[i] = region_error(T_base_world, R_w[i], p_w[i], R_t[i], p_t[i], bounds, weights)
+        out[i] = region_error(T_base_world, R_w[i], p_w[i], R_t[i], p_t[i], b, w)
     return out
 
 

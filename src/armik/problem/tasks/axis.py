@@ -4,11 +4,15 @@ that way" together with a ``Position``."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pinocchio as pin
 
 from armik.problem.tasks import cone
 from armik.problem.tasks.base import Task, TaskError, check_angle, check_frame, replaced, unit
+
+RIM = 0.9  # of the cone's angle: a rim direction's tilt, inside the cone by the rest
 
 
 class Axis(Task):
@@ -41,3 +45,20 @@ class Axis(Task):
 
     def shrunk(self, factor: float) -> Task:
         return replaced(self, within=self.within * factor)
+
+    def rim(self, count: int) -> list[Task]:
+        """The axis exactly along ``count`` directions tilted from ``direction`` by
+        ``RIM`` of the cone's angle, evenly around it."""
+        if self.within == 0.0:
+            return []
+        u = cone.across(self.direction)
+        v = cone.cross(self.direction, u)
+        tilt = RIM * self.within
+        out: list[Task] = []
+        for k in range(count):
+            phi = 2.0 * math.pi * k / count
+            d = math.cos(tilt) * self.direction + math.sin(tilt) * (
+                math.cos(phi) * u + math.sin(phi) * v
+            )
+            out.append(replaced(self, direction=d, within=0.0))
+        return out

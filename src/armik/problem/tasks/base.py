@@ -74,6 +74,12 @@ class Task(ABC):
         region's edge where the residual has a kink and the steps chatter."""
         return self
 
+    def rim(self, count: int) -> list[Task]:
+        """Exact tasks at ``count`` points spread around the rim of the region, just inside
+        it (each answer of one answers this task): where the region's centre is out of
+        reach, its rim may not be, and a compiled form may solve it. Default: none."""
+        return []
+
 
 def scaled(bounds: np.ndarray, factor: float) -> np.ndarray:
     """``bounds * factor`` with a free (infinite) bound kept free, ``factor`` 0 included."""
