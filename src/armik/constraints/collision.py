@@ -28,6 +28,7 @@ from armik.constraints.bounds import ordered_bounds
 from armik.constraints.shapes import Shape, check_obstacles, convex_hull
 from armik.errors import CollisionError
 from armik.model.catalogue import erd_share
+from armik.model.derived import Derived
 from armik.model.reduce import reduce_model
 from armik.tolerances import FIXED_OVERLAP_TOL
 
@@ -49,9 +50,9 @@ class ArmGeometry:
 
 
 def arm_geometry(arm: ArmModel) -> ArmGeometry:
-    """The arm's collision geometry, built once (``ArmModel.memo``). Raises
+    """The arm's collision geometry, built once . Raises
     ``CollisionError`` when the URDF has none or a mesh cannot be found."""
-    return arm.memo("collision geometry", _build_geometry)
+    return _GEOMETRY(arm)
 
 
 def _build_geometry(arm: ArmModel) -> ArmGeometry:
@@ -106,6 +107,9 @@ def _build_geometry(arm: ArmModel) -> ArmGeometry:
         candidates=tuple(candidates),
         self_pairs=self_pairs,
     )
+
+
+_GEOMETRY = Derived("collision geometry", _build_geometry)
 
 
 def obstacle_name(i: int, shape: Shape) -> str:
@@ -344,9 +348,12 @@ def _check_fixed(arm, g: ArmGeometry, i: int, obj, shape: Shape, k: int) -> None
         )
 
 
+_CHECKERS: Derived[dict] = Derived("collision checkers", lambda _: {})  # per obstacles
+
+
 def checker(arm: ArmModel, obstacles: tuple[Shape, ...], self_collision: bool) -> Checker:
-    """The ``Checker`` of these obstacles, built once per arm (``ArmModel.memo``)."""
-    checkers = arm.memo("collision checkers", lambda _: {})
+    """The ``Checker`` of these obstacles, built once per arm."""
+    checkers = _CHECKERS(arm)
     key = (obstacles, bool(self_collision))
     found = checkers.get(key)
     if found is None:

@@ -12,7 +12,7 @@ import math
 import operator
 import threading
 import warnings
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import replace
 from functools import cached_property
 from types import MappingProxyType
@@ -76,7 +76,7 @@ class ArmModel:
 
         self._setup_joints(info)
         self._local = threading.local()
-        self._memo: dict[Any, Any] = {}  # see ``memo``
+        self._derived: dict[Any, Any] = {}  # ``armik.model.derived``: what modules keep
         self._recipe: Any = None  # how ``armik.load`` built it (``armik.arm.Recipe``), to pickle
 
     def _setup_joints(self, info: URDFInfo) -> None:
@@ -159,15 +159,16 @@ class ArmModel:
             lower[i], upper[i] = lo, hi
         clone = object.__new__(type(self))
         # Cached properties (the reach counts prismatic travel) are recomputed for the clone,
-        # and so is everything solvers remembered (``memo``: prepared solves hold the limits).
+        # and so is everything modules derived (``armik.model.derived``: prepared solves hold
+        # the limits).
         cached = {k for k, v in vars(ArmModel).items() if isinstance(v, cached_property)}
-        cached |= {"_local", "_memo", "_tol_bounds"}
+        cached |= {"_local", "_derived", "_tol_bounds"}
         clone.__dict__.update({k: v for k, v in self.__dict__.items() if k not in cached})
         lower, upper = _mimic.narrow(lower, upper, self._mimic_box, self)
         clone._set_limits(lower, upper)
         clone._limit_lists = (lower.tolist(), upper.tolist(), self._limit_lists[2])
         clone._local = threading.local()
-        clone._memo = {}
+        clone._derived = {}
         if self._recipe is not None:
             kept = tuple(x for x in self._recipe.limits if x[0] not in checked)
             new = tuple((n, lo, hi) for n, (lo, hi) in checked.items())
@@ -479,14 +480,6 @@ class ArmModel:
         """Origin of the first joint in the base frame (m); it never moves."""
         self.fk_pin(self.to_pin(self.middle))
         return self.T_base_world.act(self.data.oMi[1].translation)
-
-    def memo(self, key: object, build: Callable[[ArmModel], Any]) -> Any:
-        """``build(self)``, remembered under ``key`` for this arm: the one place solvers and
-        the solve layer keep what they derive from an arm (a closed form's geometry, prepared
-        solves). ``with_limits`` gives the new arm an empty memo."""
-        if key not in self._memo:
-            self._memo[key] = build(self)
-        return self._memo[key]
 
     def frames(self) -> list[str]:
         return [f.name for f in self.model.frames if f.name != "universe"]

@@ -26,6 +26,7 @@ import numpy as np
 
 from armik.errors import JointError, OptionError, listing
 from armik.model.arm_model import ArmModel
+from armik.model.derived import Derived
 from armik.options import Options
 from armik.solvers.claims import Attempt
 from armik.solvers.closed_form import swept_7r
@@ -68,9 +69,12 @@ def held_joint(arm: ArmModel, hold: tuple[str, float | None], seed: np.ndarray):
     return k, min(max(value, lo), hi)
 
 
+_KEPT: Derived[OrderedDict] = Derived("held arms", lambda _: OrderedDict())  # (name, value)
+
+
 def locked_arm(arm: ArmModel, name: str, value: float):
     """``arm.with_locked({name: value})``, kept per arm (the last ``KEPT``)."""
-    kept = arm.memo(("held arms",), lambda _: OrderedDict())
+    kept = _KEPT(arm)
     key = (name, value)
     sub = kept.get(key)
     if sub is None:

@@ -34,6 +34,7 @@ import pinocchio as pin
 from armik.errors import SolverError
 from armik.kernel.measure import check_frame, placement_check, pose_checks
 from armik.model.arm_model import ArmModel
+from armik.model.derived import Derived
 from armik.options import Options
 from armik.result import IKResult
 from armik.solvers import registry
@@ -71,20 +72,20 @@ def plan_for(
     ``every``, every solution ("auto" may choose apart: ``registry.choose``); None when the
     solver has no runner or does not apply to that kind of target."""
     # a registration may change what "auto" chooses: plans of each generation apart. The
-    # arm's memo read directly, not through ArmModel.memo: this runs on every solve.
-    plans = arm._memo.get(_PLANS)
+    # arm's store read as a dict, not through a call: this runs on every solve.
+    plans = arm._derived.get(_PLANS)
     if plans is None or plans["generation"] != registry.generation:
-        plans = arm._memo[_PLANS] = {"generation": registry.generation}
+        plans = arm._derived[_PLANS] = {"generation": registry.generation}
     plan = plans.get((solver, key, position, every))
     if plan is None:
         plan = _build(arm, solver, opts, position, every)
         if len(plans) > 64:
-            plans = arm._memo[_PLANS] = {"generation": registry.generation}
+            plans = arm._derived[_PLANS] = {"generation": registry.generation}
         plans[(solver, key, position, every)] = plan
     return None if plan is _NO_PLAN else plan
 
 
-_PLANS = "prepared solves"  # the arm's memo key
+_PLANS: Derived[dict] = Derived("prepared solves", lambda _: {})  # read as a key, not called
 
 
 def _build(arm: ArmModel, solver: str, opts: Options, position: bool, every: bool):

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal
 
 from armik.errors import SolverError, listing
+from armik.model.derived import Derived
 
 if TYPE_CHECKING:
     import numpy as np
@@ -61,7 +62,9 @@ _REGISTRY: dict[str, SolverSpec] = {}
 
 
 _BY_PRIORITY: list[SolverSpec] = []
-_AUTO = "auto's choices"  # the arm's memo key: (position target, options, every) -> spec
+# (position target, options, every, generation) -> spec; read as a key, not called: each solve
+_AUTO: Derived[dict] = Derived("auto's choices", lambda _: {})
+_NONE: dict = {}  # no choice kept yet (never written: a new dict replaces it)
 generation = 0  # counts registrations: what was chosen before one may no longer be chosen
 
 
@@ -137,7 +140,7 @@ def choose(
     # remembered per arm: applicability reads the target only for whether it is a position
     key: tuple[bool, Options | None, bool, int] | None
     key = (target is not None and target.rotation is None, opts, every, generation)
-    chosen = arm._memo.get(_AUTO, {})
+    chosen = arm._derived.get(_AUTO, _NONE)
     try:
         spec = chosen.get(key)
     except TypeError:  # options holding arrays (obstacle shapes): not remembered
@@ -149,7 +152,7 @@ def choose(
             if key is not None:
                 if len(chosen) > 64:
                     chosen = {}
-                arm._memo[_AUTO] = {**chosen, key: spec}
+                arm._derived[_AUTO] = {**chosen, key: spec}
             return spec
     raise SolverError(
         f"no registered solver applies to arm {arm.name!r}", solver="auto", candidates=solvers()

@@ -24,6 +24,7 @@ import pinocchio as pin
 
 from armik.errors import ArmikWarning
 from armik.model.arm_model import ArmModel
+from armik.model.derived import Derived
 from armik.model.urdf import urdf_text
 from armik.view.body import Body, Part
 from armik.view.stick import stick_body
@@ -34,8 +35,8 @@ DEFAULT_COLOR = (200, 200, 205, 255)
 
 
 def arm_body(arm: ArmModel) -> Body:
-    """The body the viewer draws for ``arm``, built once per arm (``ArmModel.memo``)."""
-    return arm.memo("armik.view.body", _build)
+    """The body the viewer draws for ``arm``, built once per arm."""
+    return _BODY(arm)
 
 
 def _build(arm: ArmModel) -> Body:
@@ -60,6 +61,9 @@ def _build(arm: ArmModel) -> Body:
         log.info("arm %r: the URDF has no visual geometry; drawing the stick figure", arm.name)
         return stick_body(arm, "the URDF has no visual geometry")
     return Body(parts=tuple(parts), kind="meshes")
+
+
+_BODY = Derived("the viewer's body", _build)
 
 
 def visual_parts(arm: ArmModel) -> tuple[list[Part], list[str]]:

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from armik.model.arm_model import ArmModel
+from armik.model.derived import Derived
 from armik.model.geometry import Axes, Plane, angle_between, axis_lines, fmt
 from armik.model.mimic import reason as mimic_reason
 from armik.options import Options
@@ -78,7 +79,7 @@ def classify(arm: ArmModel, ax: Axes | None = None) -> Plane | str:
 
 def geometry(arm: ArmModel) -> Geometry:
     """Link lengths and offsets read from the Pinocchio model (remembered per arm)."""
-    return arm.memo("planar 2R geometry", _measure_geometry)
+    return _GEOMETRY(arm)
 
 
 def _measure_geometry(arm: ArmModel) -> Geometry:
@@ -103,6 +104,9 @@ def _measure_geometry(arm: ArmModel) -> Geometry:
         T_tip.rotation.copy(),
     )
     return geo
+
+
+_GEOMETRY = Derived("planar 2R geometry", _measure_geometry)
 
 
 def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
@@ -130,7 +134,7 @@ def flat(arm: ArmModel, opts: Options, orient: bool) -> np.ndarray:
     """The kernel's ``flat`` array (``planar2r_kernel``): the arm's geometry, plane and
     limits (remembered per arm) and the tolerances of ``opts``; ``orient``: the target's
     orientation is checked (a full pose, not ``position_only``)."""
-    chain = arm.memo("planar 2R flat chain", _flat_chain)
+    chain = _FLAT(arm)
     tail = (opts.tol_position, opts.tol_orientation, 1.0 if orient else 0.0)
     return np.concatenate((chain, tail))
 
@@ -152,6 +156,9 @@ def _flat_chain(arm: ArmModel) -> np.ndarray:
     chain = np.concatenate([np.ravel(np.asarray(x, dtype=float)) for x in parts])
     assert chain.size == kernel.TOL_POSITION
     return chain
+
+
+_FLAT = Derived("planar 2R flat chain", _flat_chain)
 
 
 def run(

@@ -7,8 +7,7 @@ bit 1: least squares, the target is not reached; bit 2: singular, a free angle k
 q0), ``code`` (column 8: which step was solved only in the least-squares sense) and 2
 numbers for the reason (columns 9, 10: what the target asks, what the arm can do). ``pack``
 copies them into the caller's ``out`` nearest-first and adds the branch (column 7) of the
-rows handed over, read from their geometry (``branch_bits``). The caller owns ``out``, so
-that a batch allocates it once.
+rows handed over (``branch_bits``). The caller owns ``out``: a batch allocates it once.
 """
 
 from __future__ import annotations
@@ -22,6 +21,7 @@ from numba import njit
 from armik import reasons
 from armik.errors import SolverError
 from armik.model.arm_model import ArmModel
+from armik.model.derived import DerivedBy
 from armik.model.geometry import Axes
 from armik.model.mimic import reason as mimic_reason
 from armik.options import Options
@@ -303,26 +303,27 @@ def reason(code: int, val: tuple[float, float] | np.ndarray, family: str) -> str
 
 
 def geometry(arm: ArmModel, family: str, classify):
-    """The family's geometry of ``arm`` (remembered per arm) or the reason it does not
-    apply: what ``classify(arm)`` returns (a ``Chain6R`` or, for ``swept_7r``, a ``Swept``)."""
-    return arm.memo(("6R geometry", family), classify)
+    """``classify(arm)``, kept per arm: a ``Chain6R`` (``swept_7r``: a ``Swept``) or why not."""
+    return _GEOMETRY(arm, (family, classify))
 
 
 def flat(arm: ArmModel, family: str, classify) -> np.ndarray:
-    """The family's chain and the arm's limits in one float array, cached per arm: h (18),
-    p (21), R_tip0 (9), lower (6), upper (6), variant (1 for ``spherical_wrist``'s axes
-    1, 2 meeting and the search over q4, ``search_zeros.OVER_Q4``; else 0). One array
-    argument instead of five (numba's dispatch costs ~45 ns an array), and every path
-    (``run``, ``run_batch``, the prepared runner) passes views of it (``unflatten``), so
-    that the kernels are compiled for one set of argument types."""
+    """The family's chain and the arm's limits in one float array, kept per arm: h (18), p
+    (21), R_tip0 (9), lower (6), upper (6), variant (1 for ``spherical_wrist``'s meeting
+    axes 1, 2 and ``search_zeros.OVER_Q4``, else 0): one array argument on every path
+    (views by ``unflatten``), one dispatch and one set of compiled argument types."""
+    return _FLAT(arm, (family, classify))
 
-    def build(arm: ArmModel) -> np.ndarray:
-        geo = geometry(arm, family, classify)
-        variant = 1.0 if geo.variant in ("meeting_12", "over_q4") else 0.0
-        parts = [geo.h, geo.p, geo.R_tip0, arm.lower, arm.upper, [variant]]
-        return np.concatenate([np.ravel(np.asarray(x, dtype=float)) for x in parts])
 
-    return arm.memo(("6R flat chain", family), build)
+def _flat_of(arm: ArmModel, key: tuple) -> np.ndarray:
+    geo = geometry(arm, *key)
+    variant = 1.0 if geo.variant in ("meeting_12", "over_q4") else 0.0
+    parts = [geo.h, geo.p, geo.R_tip0, arm.lower, arm.upper, [variant]]
+    return np.concatenate([np.ravel(np.asarray(x, dtype=float)) for x in parts])
+
+
+_GEOMETRY = DerivedBy("6R geometry", lambda arm, key: key[1](arm))  # key: (family, classify)
+_FLAT = DerivedBy("6R flat chain", _flat_of)
 
 
 @njit(cache=True, nogil=True)
@@ -463,9 +464,8 @@ def attempts(rows: np.ndarray, family: str, closed_form: str, beyond: str | None
 
 
 def pose_arrays(target: Target) -> tuple[np.ndarray, np.ndarray]:
-    return np.ascontiguousarray(target.rotation, dtype=float), np.ascontiguousarray(
-        target.position, dtype=float
-    )
+    c = np.ascontiguousarray
+    return c(target.rotation, dtype=float), c(target.position, dtype=float)
 
 
 @njit(cache=True, nogil=True)

@@ -19,14 +19,13 @@ import numpy as np
 import pinocchio as pin
 
 from armik.model.arm_model import ArmModel
+from armik.model.derived import DerivedBy
 from armik.options import Options
 from armik.solvers import registry
 from armik.solvers.claims import Attempt, claim
 from armik.solvers.closed_form import spin
 from armik.status import Status
 from armik.targets.pose import Target
-
-_ALIGNED = "spin axes that are the last joint's"  # the arm's memo key
 
 
 def aligned(arm: ArmModel, k: int) -> bool:
@@ -47,12 +46,15 @@ def aligned(arm: ArmModel, k: int) -> bool:
     return True
 
 
+_ALIGNED = DerivedBy("spin axes that are the last joint's", aligned)  # per axis k
+
+
 def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
     why = spin.applies(arm, target, opts)
     if why is not None:
         return why
     k, _ = spin.spin_of(opts.bounds)  # type: ignore[misc,union-attr]  # spin.applies checked it
-    if not arm.memo((_ALIGNED, k), lambda a: aligned(a, k)):
+    if not _ALIGNED(arm, k):
         return (
             f"turning the last joint does not turn the tool about its {spin.AXES[k]} axis "
             "(the 'spin' solver sweeps that angle instead)"
@@ -110,7 +112,7 @@ def _branches(arm: ArmModel, family, target: Target, q0: np.ndarray, opts: Optio
     prepared runner where it takes the pose and seed as they are (no object built per
     branch), else the family's attempts."""
     if family.prepare_pose is not None:
-        run_pose = arm.memo((_RUNNER, family.name), lambda a: family.prepare_pose(a, opts, False))
+        run_pose = _RUNNER(arm, family.name)
         H = np.empty((4, 4))
         H[:3, :3], H[:3, 3], H[3] = target.rotation, target.position, (0.0, 0.0, 0.0, 1.0)
         got = run_pose(H, q0, 0, True)
@@ -128,7 +130,11 @@ def _attempt(row, q: np.ndarray) -> Attempt:
     return claim((q, *row)).attempt() if type(row) is tuple else row
 
 
-_RUNNER = "spin_joint's closed-form runner"  # the arm's memo key, with the family's name
+# per family name: the closed form's prepared runner (the families' runners take no option)
+_RUNNER = DerivedBy(
+    "spin_joint's closed-form runner",
+    lambda arm, name: registry.get(name).prepare_pose(arm, Options(), False),  # type: ignore[misc]
+)
 _CONVERGED = Status.CONVERGED
 _SHIFTS = tuple(2 * math.pi * k for k in (0, -1, 1, -2, 2))  # a branch's value's turns
 
