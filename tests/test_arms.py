@@ -164,7 +164,9 @@ def test_a_posture_over_a_shared_torso_moves_the_answer_along_the_tasks_null_spa
             assert np.linalg.norm(robot.fk(r.q, frame=tip).translation - targets[tip]) <= 1e-6
         assert (r.q >= robot.lower - 1e-9).all() and (r.q <= robot.upper + 1e-9).all()
         score = float(weights @ (r.q - robot.middle) ** 2)
-        assert r.extra["score"] == pytest.approx(score, rel=1e-12, abs=1e-15)
+        assert r.score == r.extra["score"] == pytest.approx(score, rel=1e-12, abs=1e-15)
+        assert set(r.errors) == set(robot.tips) and max(p for p, _ in r.errors.values()) <= 1e-6
+        assert r.as_dict()["score"] == r.score and set(r.as_dict()["errors"]) == set(robot.tips)
         assert "prefer=posture" in r.reason
         assert score <= float(weights @ (plain.q - robot.middle) ** 2) + 1e-12
         lowered += score < float(weights @ (plain.q - robot.middle) ** 2) - 1e-6

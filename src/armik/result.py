@@ -112,6 +112,17 @@ class IKResult:
         ``obstacles[i] (Shape)``); None when collisions were not checked."""
         return self.extra.get("closest_pair")
 
+    @property
+    def errors(self) -> dict[str, tuple[float, float | None]] | None:
+        """Per tip of several (``armik.load(..., tips=[...])``): its (position m,
+        orientation rad or None) error at ``q``, by Pinocchio's FK; None for one tip."""
+        return self.extra.get("errors")
+
+    @property
+    def score(self) -> float | None:
+        """The answer's score with ``prefer=`` (lower is better); None without."""
+        return self.extra.get("score")
+
     def __repr__(self) -> str:
         ori = "n/a" if self.orientation_error is None else f"{self.orientation_error:.2e} rad"
         branch = f", branch={self.branch!r}" if self.branch else ""
@@ -125,7 +136,8 @@ class IKResult:
 
     def as_dict(self) -> dict[str, Any]:
         """Plain JSON-ready dictionary; with ``min_distance`` and ``closest_pair`` when
-        collisions were checked."""
+        collisions were checked, ``score`` with a preference, ``errors`` per tip with
+        several."""
         out = {
             "q": self.q.tolist(),
             "success": self.success,
@@ -143,6 +155,10 @@ class IKResult:
         if self.min_distance is not None:
             out["min_distance"] = self.min_distance
             out["closest_pair"] = None if self.closest_pair is None else list(self.closest_pair)
+        if self.score is not None:
+            out["score"] = self.score
+        if self.errors is not None:
+            out["errors"] = {tip: list(e) for tip, e in self.errors.items()}
         return out
 
 

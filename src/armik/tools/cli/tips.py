@@ -139,6 +139,7 @@ def _as_dict(robot: Arms, r, targets: list[object]) -> dict:
     (with its chain's status, solver and reason where it was solved alone, and its tasks'
     errors where measured)."""
     result = r.as_dict()
+    result.pop("errors", None)  # each tip's row below holds its errors
     alone = r.extra.get("results", {})
     tips: dict = {}
     names = [task_names(t) for t in targets]
