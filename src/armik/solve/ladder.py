@@ -1,9 +1,11 @@
 """A globally planned path (``solve_path(..., plan="global")``): a ladder graph, as
 ROS-Industrial's Descartes builds it, over every solution at every waypoint.
 
-The rungs of a waypoint are every verified branch of its closed form (``solve_all``); a
-joint whose limits allow more than one turn takes, at each step, the value of its branch
-2 pi turns away that lies within the limits nearest the previous rung. An edge joins two
+The rungs of a waypoint are every verified branch of its closed form (``solve_all``), or
+on other arms the answers ``armik.solve.rungs`` gathers (the numeric solver's tracked
+answers: there a break is one no tracked path passes, and says so); a joint whose limits
+allow more than one turn takes, at each step, the value of its branch 2 pi turns away
+that lies within the limits nearest the previous rung. An edge joins two
 consecutive rungs where no joint moves by more than ``max_joint_step``; dynamic
 programming keeps, for every rung, the least total joint motion (the sum of the steps'
 Euclidean norms) from q0, and the path is read back from the best last rung. Where no edge
@@ -15,7 +17,7 @@ the path may start on any rung.
 A step within the bound may still hide a jump between its waypoints (a wrist swinging
 through half a turn near a singularity, a joint out of its limits or the pose out of reach
 halfway). Each step the plan takes is checked halfway, on the pose with the translation
-halved and the rotation halved along its geodesic: the closed form's solution there
+halved and the rotation halved along its geodesic: the solver's solution there
 nearest the step's middle must lie within ``max_joint_step`` of both ends, as it must if a
 waypoint were added halfway. Where that solution bends more than ``BEND`` of the bound away
 from the step's middle, both halves are checked the same way, ``DEPTH`` rounds at most. A
@@ -36,7 +38,6 @@ import pinocchio as pin
 
 from armik import reasons
 from armik.batch_result import BatchResult
-from armik.errors import OptionError
 from armik.kernel import ladder as kernel
 from armik.model.arm_model import ArmModel
 from armik.options import Options
@@ -48,18 +49,6 @@ from armik.targets.pose import Target
 
 BEND = 0.125  # of max_joint_step: a halfway solution this far off the middle: halves checked
 DEPTH = 3  # rounds of halving at most: the poses at 1/2, then 1/4 and 3/4, then the eighths
-
-
-def check_plannable(spec: SolverSpec) -> None:
-    """A ladder needs every solution of every waypoint: a closed form's."""
-    if spec.kind == "numeric":
-        raise OptionError(
-            f"plan='global' needs every solution at every waypoint, which the numeric solver "
-            f"{spec.name!r} does not give: use plan='follow', or on a 7-joint arm hold a "
-            "joint (arm.with_locked) so that a closed form applies",
-            option="plan",
-            value="global",
-        )
 
 
 def plan(
@@ -96,7 +85,10 @@ def plan(
         r = good[i][int(rung[i] - offs[i])]
         if broken[i]:
             j = int(joint[i])
-            r = _broken(arm, r, j, float(size[i]), float(step[j]), bool(hidden[i]), first, out)
+            every = spec.kind != "numeric"  # a numeric solver's rungs: the answers tracked
+            r = _broken(
+                arm, r, j, float(size[i]), float(step[j]), bool(hidden[i]), first, every, out
+            )
             out.reasons[i] = r.reason
         out.put_result(i, r)  # a success's reason is the row's, written when read
         out.q[i] = Q[i]  # the rung turned by 2 pi: the same pose
@@ -273,8 +265,9 @@ def _reached(arm, Q, P, R, opts: Options) -> np.ndarray:
     return ok
 
 
-def _broken(arm, r: IKResult, j: int, size: float, step: float, hidden: bool, first, out):
-    start = "q0 (the start)" if first else "every solution of the waypoint before"
+def _broken(arm, r: IKResult, j: int, size: float, step: float, hidden: bool, first, every, out):
+    before = "every solution" if every else "every answer tracked at"
+    start = "q0 (the start)" if first else f"{before} the waypoint before"
     measured = reasons.measured(
         r.position_error, r.orientation_error, out.tol_position, out.tol_orientation
     )
@@ -296,7 +289,7 @@ def _broken(arm, r: IKResult, j: int, size: float, step: float, hidden: bool, fi
         success=False,
         status=Status.DISCONTINUOUS,
         reason=reasons.jump(
-            f"every path breaks here: from {start}, {'; '.join(why)}",
+            f"every {'' if every else 'tracked '}path breaks here: from {start}, {'; '.join(why)}",
             "the planned answer",
             measured,
         ),

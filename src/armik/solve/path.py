@@ -37,9 +37,10 @@ from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.problem.scores import parse_score
 from armik.result import IKResult
-from armik.solve import ladder
+from armik.solve import ladder, rungs
 from armik.solve.avoid import ON_PATH
 from armik.solve.path_score import preferred
+from armik.solve.rungs import unwrapped
 from armik.solve.single import solve
 from armik.solve.tasks import lower_all, task_problems
 from armik.solvers import registry
@@ -117,25 +118,18 @@ def solve_path(
         every = registry.choose(solver, arm, first, opts, True)
         if every.kind == "numeric" and registry.why_not("swept", arm, first, opts) is None:
             every = registry.get("swept")  # a 7R arm whose joint 7 can be held
-        ladder.check_plannable(every)
-        if every.name == "swept":  # a 7R arm: joint 7 sampled about the followed path
+        if every.name == "swept" or every.kind == "numeric":  # rungs about the followed path
             followed = BatchResult.for_arm(arm, n, spec.name, opts)
             _walk(arm, batch, q_prev, step, spec, options, local, followed)
-            rungs = _held_rungs(arm, batch, q_prev, followed, options)
+        if every.name == "swept":  # a 7R arm: joint 7 sampled about the followed path
+            found = rungs.held(arm, batch, q_prev, followed, options)
+        elif every.kind == "numeric":  # answers tracked from the start and the breaks
+            found = rungs.tracked(arm, batch, q_prev, every.name, followed, options)
         else:
-            rungs = [  # a pose as a 4x4 array takes the prepared path
-                solve(
-                    arm,
-                    _plain(batch.target(i)),
-                    q0=q_prev,
-                    solver=every.name,
-                    all_solutions=True,
-                    **options,
-                )
-                for i in range(n)
-            ]
+            found = rungs.every_branch(arm, batch, q_prev, every.name, options)
         out = BatchResult.for_arm(arm, n, every.name, opts)
-        ladder.plan(arm, every, batch, rungs, None if q0 is None else q_prev, step, opts, out)
+        start = None if q0 is None else q_prev
+        ladder.plan(arm, every, batch, found, start, step, opts, out)
         return frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     token = ON_PATH.set(True)  # a colliding answer is slid out of contact (solve/avoid.py)
     try:
@@ -153,7 +147,7 @@ def _walk(arm, batch, q_prev, step, spec, options, local, out, chooser=None) -> 
     preference), else ``r``."""
     for i in range(len(batch)):
         target = batch.target(i)
-        r = _unwrapped(arm, solve(arm, target, q0=q_prev, solver=spec.name, **options)[0], q_prev)
+        r = unwrapped(arm, solve(arm, target, q0=q_prev, solver=spec.name, **options)[0], q_prev)
         if r.success and _jump(r.q, q_prev, step) > 1.0:
             r = _near(arm, target, q_prev, step, spec.name, local, r, first=i == 0)
         elif chooser is not None:
@@ -172,42 +166,6 @@ def _chooser(arm, score, start: np.ndarray, step: np.ndarray, options: dict, opt
         return preferred(arm, target, r, q_prev, step, score, reference, options, opts)
 
     return choose
-
-
-HELD_OFFSETS = 0.1 * np.arange(-2, 3)  # rad: joint 7's values about the followed path's
-HELD_GRID = 6  # values across joint 7's range beside them: other branches, missed waypoints
-
-
-def _held_rungs(arm: ArmModel, batch, q_start: np.ndarray, followed, options) -> list:
-    """A 7R arm's rungs: at each waypoint, every branch of the swept closed form with
-    joint 7 at values about the followed path's (the last value it reached where it
-    missed) and on a grid over its range, and the followed path's own answers: so the plan
-    moves no more than it (unless a hidden jump rules a step out), and may change branch
-    where it breaks."""
-    lo, hi = float(arm.lower[6]), float(arm.upper[6])
-    grid = np.linspace(lo, hi, HELD_GRID + 2)[1:-1]
-    theta, seed = float(q_start[6]), np.array(q_start, dtype=float)
-    rungs = []
-    for i in range(len(batch)):
-        found: list = []
-        if followed.success[i]:
-            theta = float(followed.q[i, 6])
-            found.append(followed[i])  # where joint 7 admits no closed form exactly there
-        target = _plain(batch.target(i))
-        for value in np.concatenate((np.clip(theta + HELD_OFFSETS, lo, hi), grid)):
-            seed[6] = value  # where the swept closed form holds joint 7 first
-            found += solve(arm, target, q0=seed, solver="swept", all_solutions=True, **options)
-        rungs.append(found)
-    return rungs
-
-
-def _plain(target: Target):
-    """A pose as its 4x4 array (a position as its 3 numbers): the prepared path's input."""
-    if target.rotation is None:
-        return target.position
-    H = np.eye(4)
-    H[:3, :3], H[:3, 3] = target.rotation, target.position
-    return H
 
 
 def _max_step(arm: ArmModel, value: object) -> np.ndarray:
@@ -235,13 +193,6 @@ def _jump(q: np.ndarray, q_prev: np.ndarray, step: np.ndarray) -> float:
     return float((np.abs(np.asarray(q) - q_prev) / step).max())
 
 
-def _unwrapped(arm: ArmModel, r: IKResult, q_prev: np.ndarray) -> IKResult:
-    """``r`` with its angles moved by multiples of 2 pi next to ``q_prev`` (within limits);
-    the pose, hence the verification, is unchanged."""
-    q = arm.nearest_equivalent(r.q, q_prev)
-    return r if np.array_equal(q, r.q) else dataclasses.replace(r, q=q)
-
-
 def _near(
     arm: ArmModel,
     target: Target,
@@ -255,7 +206,7 @@ def _near(
     """Re-solve ``target`` near ``q_prev``; the answer if within ``step``, else the smallest
     jump found, reported as discontinuous."""
     candidates = [jumped]
-    r = _unwrapped(arm, solve(arm, target, q0=q_prev, solver=solver, **local)[0], q_prev)
+    r = unwrapped(arm, solve(arm, target, q0=q_prev, solver=solver, **local)[0], q_prev)
     if r.success:
         if _jump(r.q, q_prev, step) <= 1.0:
             return r
@@ -266,7 +217,7 @@ def _near(
     while k <= MAX_SUBSTEPS:
         q, ok = q_prev, True
         for pose in _between(T_from, target, k):
-            s = _unwrapped(arm, solve(arm, pose, q0=q, solver=solver, **local)[0], q)
+            s = unwrapped(arm, solve(arm, pose, q0=q, solver=solver, **local)[0], q)
             if not s.success or _jump(s.q, q, step) > 1.0:
                 ok = False
                 break

@@ -1,0 +1,120 @@
+"""Where a global plan's rungs come from (``armik.solve.ladder``): the answers at each
+waypoint that a path may pass through.
+
+- A closed form: every branch of ``solve_all`` at every waypoint (``every_branch``).
+- A 7R arm whose joint 7 the swept closed form holds: every branch at joint 7 values about
+  the followed path's and on a grid over its range, and the followed answers (``held``).
+- Any other arm, by its numeric solver: answers tracked along the path (``tracked``): the
+  followed path's own, and from distinct answers of ``solve_all`` at the first waypoint and
+  where following breaks, each waypoint solved from the track's answer at the one before,
+  forward and backward. Not every solution: the plan is the least motion over what was
+  tracked, and a break it reports is one no tracked answer passes.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from armik.model.arm_model import ArmModel
+from armik.result import IKResult
+from armik.solve.single import solve
+from armik.targets.pose import Target
+
+HELD_OFFSETS = 0.1 * np.arange(-2, 3)  # rad: joint 7's values about the followed path's
+HELD_GRID = 6  # values across joint 7's range beside them: other branches, missed waypoints
+TRACKS = 8  # answers of solve_all tracked from a waypoint (the first, each break)
+BREAKS = 8  # breaks of the followed path reseeded at most (the first ones)
+SAME = 1e-6  # rad or m: a track this near another's answer has merged with it
+
+
+def every_branch(arm: ArmModel, batch, q_prev: np.ndarray, solver: str, options) -> list:
+    """Each waypoint's ``solve_all`` results by ``solver`` (a pose as a 4x4 array takes the
+    prepared path)."""
+    return [
+        solve(arm, plain(batch.target(i)), q0=q_prev, solver=solver, all_solutions=True, **options)
+        for i in range(len(batch))
+    ]
+
+
+def held(arm: ArmModel, batch, q_start: np.ndarray, followed, options) -> list:
+    """A 7R arm's rungs: at each waypoint, every branch of the swept closed form with
+    joint 7 at values about the followed path's (the last value it reached where it
+    missed) and on a grid over its range, and the followed path's own answers: so the plan
+    moves no more than it (unless a hidden jump rules a step out), and may change branch
+    where it breaks."""
+    lo, hi = float(arm.lower[6]), float(arm.upper[6])
+    grid = np.linspace(lo, hi, HELD_GRID + 2)[1:-1]
+    theta, seed = float(q_start[6]), np.array(q_start, dtype=float)
+    rungs = []
+    for i in range(len(batch)):
+        found: list = []
+        if followed.success[i]:
+            theta = float(followed.q[i, 6])
+            found.append(followed[i])  # where joint 7 admits no closed form exactly there
+        target = plain(batch.target(i))
+        for value in np.concatenate((np.clip(theta + HELD_OFFSETS, lo, hi), grid)):
+            seed[6] = value  # where the swept closed form holds joint 7 first
+            found += solve(arm, target, q0=seed, solver="swept", all_solutions=True, **options)
+        rungs.append(found)
+    return rungs
+
+
+def tracked(arm: ArmModel, batch, q_start: np.ndarray, solver: str, followed, options) -> list:
+    """A numeric arm's rungs (see the module): each waypoint's followed result (its own
+    failure where nothing reaches it) and every distinct answer a track reached there."""
+    n = len(batch)
+    targets = [plain(batch.target(i)) for i in range(n)]
+    local = {**options, "max_restarts": 0}
+    rungs: list[list[IKResult]] = [[followed[i]] for i in range(n)]
+    ok = np.asarray(followed.success, dtype=bool)
+    breaks = [i for i in range(1, n) if not ok[i] and ok[i - 1]][:BREAKS]
+    for s in [0, *breaks]:
+        seed = q_start if s == 0 else np.asarray(followed.q[s - 1])
+        found = solve(arm, targets[s], q0=seed, solver=solver, all_solutions=True, **options)
+        for start in [r for r in found if r.success][:TRACKS]:
+            if not _add(rungs[s], unwrapped(arm, start, seed)):
+                continue  # an answer already there: its track is run
+            for indices in (range(s + 1, n), range(s - 1, -1, -1)):
+                _track(arm, targets, np.asarray(rungs[s][-1].q), indices, solver, local, rungs)
+    return rungs
+
+
+def _track(arm, targets, start: np.ndarray, indices, solver: str, local, rungs) -> None:
+    """Solve the waypoints ``indices`` in turn, each from the track's last answer, adding
+    each answer to its waypoint's rungs; a track that reaches an answer already there has
+    merged with another, and stops."""
+    prev = start
+    for i in indices:
+        r = solve(arm, targets[i], q0=prev, solver=solver, **local)[0]
+        if not r.success:
+            continue  # out of reach here: the track goes on from its last answer
+        r = unwrapped(arm, r, prev)
+        if not _add(rungs[i], r):
+            return
+        prev = np.asarray(r.q)
+
+
+def _add(found: list[IKResult], r: IKResult) -> bool:
+    """Add ``r`` to a waypoint's rungs unless an answer within ``SAME`` is there."""
+    if any(x.success and np.abs(np.asarray(x.q) - r.q).max() <= SAME for x in found):
+        return False
+    found.append(r)
+    return True
+
+
+def plain(target: Target):
+    """A pose as its 4x4 array (a position as its 3 numbers): the prepared path's input."""
+    if target.rotation is None:
+        return target.position
+    H = np.eye(4)
+    H[:3, :3], H[:3, 3] = target.rotation, target.position
+    return H
+
+
+def unwrapped(arm: ArmModel, r: IKResult, q_prev: np.ndarray) -> IKResult:
+    """``r`` with its angles moved by multiples of 2 pi next to ``q_prev`` (within limits);
+    the pose, hence the verification, is unchanged."""
+    q = arm.nearest_equivalent(r.q, q_prev)
+    return r if np.array_equal(q, r.q) else dataclasses.replace(r, q=q)
