@@ -34,21 +34,28 @@ STEP = 0.3
 HIDDEN = "hides a jump"  # in the reason of a waypoint only a step with a hidden jump reaches
 
 
+def line(T0: pin.SE3, n: int, rng: np.random.Generator, spacing: float = 0.005) -> list:
+    """``n`` poses ``spacing`` apart from ``T0`` along a random direction, orientation held."""
+    d = rng.normal(size=3)
+    d *= spacing / np.linalg.norm(d)
+    return [pin.SE3(T0.rotation, T0.translation + k * d) for k in range(n)]
+
+
+def spun(T0: pin.SE3, n: int, rng: np.random.Generator) -> list:
+    """``n`` poses of ``T0``'s tool spun about its own z by half a turn to two turns."""
+    turns = rng.uniform(0.5, 2.0) * 2.0 * math.pi
+    return [
+        T0 * pin.SE3(pin.exp3(np.array([0.0, 0.0, turns * k / (n - 1)])), np.zeros(3))
+        for k in range(n)
+    ]
+
+
 def paths(arm: armik.Arm, count: int, n: int, rng: np.random.Generator, spacing: float = 0.005):
     made = 0
     while made < count:
         q = arm.random_q(rng)
         T0 = arm.fk(q)
-        if made % 2 == 0:
-            d = rng.normal(size=3)
-            d *= spacing / np.linalg.norm(d)
-            poses = [pin.SE3(T0.rotation, T0.translation + k * d) for k in range(n)]
-        else:
-            turns = rng.uniform(0.5, 2.0) * 2.0 * math.pi
-            poses = [
-                T0 * pin.SE3(pin.exp3(np.array([0.0, 0.0, turns * k / (n - 1)])), np.zeros(3))
-                for k in range(n)
-            ]
+        poses = line(T0, n, rng, spacing) if made % 2 == 0 else spun(T0, n, rng)
         if all(arm.solve_all(T.homogeneous, q0=q)[0].success for T in poses[:: n // 10]):
             made += 1
             yield q, poses

@@ -27,12 +27,17 @@ from __future__ import annotations
 import argparse
 import itertools
 import math
+import os
+import sys
 
 import numpy as np
 import pinocchio as pin
 
 import armik
 from armik.tools.peers import EAIKPeer, PeerUnavailable
+
+sys.path.insert(0, os.path.dirname(__file__))
+from global_paths import line, spun  # noqa: E402
 
 STEP = 0.3
 EXACT = 1e-6
@@ -48,9 +53,7 @@ def paths(arm: armik.Arm, count: int, n: int, rng: np.random.Generator):
         q = arm.random_q(rng)
         T0 = arm.fk(q)
         if kind == "line":
-            d = rng.normal(size=3)
-            d *= 0.005 / np.linalg.norm(d)
-            poses = [pin.SE3(T0.rotation, T0.translation + k * d) for k in range(n)]
+            poses = line(T0, n, rng)
         elif kind == "arc":
             radius = rng.uniform(0.05, 0.15)
             u, v = np.linalg.qr(rng.normal(size=(3, 2)))[0].T  # the circle's plane
@@ -61,11 +64,7 @@ def paths(arm: armik.Arm, count: int, n: int, rng: np.random.Generator):
                 for k in range(n)
             ]
         else:
-            turns = rng.uniform(0.5, 2.0) * 2.0 * math.pi
-            poses = [
-                T0 * pin.SE3(pin.exp3(np.array([0.0, 0.0, turns * k / (n - 1)])), np.zeros(3))
-                for k in range(n)
-            ]
+            poses = spun(T0, n, rng)
         if all(arm.solve_all(T.homogeneous, q0=q)[0].success for T in poses[:: n // 10]):
             made += 1
             yield kind, q, poses
