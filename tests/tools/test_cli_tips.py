@@ -75,6 +75,11 @@ def test_info_each_chain_and_the_shared_joints(capsys):
         capsys, "info", BAXTER, "--tip", "left_gripper", "--tip", "right_gripper", "--frames"
     )
     assert code == 0 and "-> left_gripper  (a tip)" in out and "-> right_gripper  (a tip)" in out
+    # --tips A B is --tip A --tip B
+    assert (
+        run(capsys, "info", TALOS, "--tips", left, right)[1]
+        == run(capsys, "info", TALOS, "--tip", left, "--tip", right)[1]
+    )
     # one --tip is the one-arm info, as before
     code, out, _ = run(capsys, "info", BAXTER, "--tip", "left_gripper")
     assert code == 0 and "structure:" in out and "auto ->" in out

@@ -76,6 +76,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _info(args: argparse.Namespace) -> int:
+    args.tip = [*(args.tip or ()), *(args.tips or ())] or None  # --tips A B: --tip A --tip B
     return cmd_info_tips(args) if len(args.tip or ()) > 1 else cmd_info(args)
 
 
@@ -125,6 +126,12 @@ def _parser() -> argparse.ArgumentParser:
         action="append",
         help="tip frame (default: catalogue tip, tool0, or the end of the longest chain); "
         "repeat it for several tips of one robot: each chain and the joints they share",
+    )
+    c.add_argument(
+        "--tips",
+        nargs="+",
+        metavar="TIP",
+        help="several tips at once: --tips A B is --tip A --tip B",
     )
     c.add_argument("--frames", action="store_true", help="print the URDF's frames as a tree")
     add_lock_option(c)
