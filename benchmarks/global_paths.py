@@ -14,6 +14,9 @@ lines' step (m).
     python benchmarks/global_paths.py [--arms ur5 ur10 abb_irb120] [--paths 40] [-n 200]
         [--spacing 0.005]
 
+``--prefer`` plans each path from any start with no preference, ``"manipulability"`` and
+``"limits"``: the answers' mean manipulability and limit margin, the time.
+
 ``--spin`` times instead, best of ``--repeats``, interleaved, one path: the UR5's tool spun
 one and a half turns over ``-n`` waypoints from mid-limits with wrist 2 at 1 rad (the
 path of docs/paths.md), followed from there, planned from there, planned from any start.
@@ -29,6 +32,7 @@ import numpy as np
 import pinocchio as pin
 
 import armik
+from armik.problem.scores import manipulability
 
 STEP = 0.3
 HIDDEN = "hides a jump"  # in the reason of a waypoint only a step with a hidden jump reaches
@@ -122,6 +126,36 @@ def spin(n: int, repeats: int) -> None:
         )
 
 
+def prefer(names: list[str], count: int, n: int) -> None:
+    """The global plan from any start with each preference: waypoints solved, the mean
+    manipulability and smallest limit margin (each joint's distance to its nearer limit
+    over its range) of the answers, the mean time."""
+    print("| arm | prefer | waypoints solved | mean manipulability | mean limit margin | ms |")
+    print("|---|---|---|---|---|---|")
+    for name in names:
+        arm = armik.load(name)
+        lo, hi = arm.lower, arm.upper
+        rows: dict = {None: [], "manipulability": [], "limits": []}
+        for _, poses in paths(arm, count, n, np.random.default_rng(35)):
+            for score, kept in rows.items():
+                t0 = time.perf_counter()
+                p = arm.solve_path(poses, None, max_joint_step=STEP, plan="global", prefer=score)
+                dt = time.perf_counter() - t0
+                Q = p.q[p.success]
+                m = [manipulability(arm.jacobian(x)) for x in Q]
+                g = [float(np.min(np.minimum(x - lo, hi - x) / (hi - lo))) for x in Q]
+                kept.append(
+                    (len(Q), np.mean(m) if m else math.nan, np.mean(g) if g else math.nan, dt)
+                )
+        for score, kept in rows.items():
+            v = np.array(kept, dtype=float)
+            print(
+                f"| {name} | {score} | {int(v[:, 0].sum())} | {np.nanmean(v[:, 1]):.4f} | "
+                f"{np.nanmean(v[:, 2]):.3f} | {1e3 * v[:, 3].mean():.0f} |",
+                flush=True,
+            )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--arms", nargs="+", default=["ur5", "ur10", "abb_irb120"])
@@ -130,7 +164,11 @@ def main() -> None:
     parser.add_argument("--spacing", type=float, default=0.005, help="m between line waypoints")
     parser.add_argument("--spin", action="store_true", help="time the spun tool path instead")
     parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--prefer", action="store_true", help="the plan with each preference")
     args = parser.parse_args()
+    if args.prefer:
+        prefer(args.arms, args.paths, args.n)
+        return
     if args.spin:
         spin(args.n, args.repeats)
         return

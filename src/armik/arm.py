@@ -404,9 +404,10 @@ class Arm(ArmModel):
         **options: Any,
     ) -> BatchResult:
         """Solve waypoints in order, never with a silent jump larger than
-        ``max_joint_step``: each from the previous answer (``plan="follow"``), or the path
-        of least joint motion over every branch (``plan="global"``); returns a
-        ``BatchResult``. See ``armik.solve.path.solve_path``."""
+        ``max_joint_step``: each from the previous answer (``plan="follow"``), or the
+        continuous path of least joint motion over every branch, of the best summed score
+        with ``prefer=`` (``plan="global"``); returns a ``BatchResult``. See
+        ``armik.solve.path.solve_path``."""
         return solve_path(self, poses, q0, max_joint_step=max_joint_step, plan=plan, **options)
 
     # -- collisions -----------------------------------------------------------------------

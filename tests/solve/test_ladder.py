@@ -80,6 +80,59 @@ def test_the_plan_is_the_brute_force_optimum_on_a_short_path():
     assert total == pytest.approx(best, abs=1e-9)
 
 
+@pytest.mark.parametrize("prefer", ["limits", "manipulability"])
+def test_a_preferred_plan_is_the_brute_force_best_score_among_continuous_paths(prefer):
+    """With ``prefer=``, the plan is the continuous path (every step within the bound) of
+    the least summed score, the motion breaking ties (``ladder.TIE``): equal to a brute
+    force over every branch at every turn within the limits on a 3-waypoint IRB 120 path
+    from any start (scored against mid-limits); the far-from-limits plan beats the least
+    motion's."""
+    from armik.problem.scores import parse_score
+    from armik.solve.ladder import TIE
+
+    arm = conftest.arm("abb_irb120")
+    rng = np.random.default_rng(37)
+    T0 = arm.fk(arm.random_q(rng))
+    poses = [
+        pin.SE3(T0.rotation, T0.translation + np.array([0.0, 0.004 * k, 0.0])) for k in range(3)
+    ]
+    score = parse_score(prefer)
+    planned = arm.solve_path(poses, None, max_joint_step=0.4, plan="global", prefer=prefer)
+    assert planned.success.all()
+
+    def summed(path) -> float:
+        return sum(score(arm, q, arm.middle) for q in path)
+
+    def cost(path) -> float:
+        steps = np.diff(path, axis=0)
+        if (np.abs(steps) > 0.4 + 1e-12).any():
+            return math.inf
+        return summed(path) + TIE * float(np.linalg.norm(steps, axis=1).sum())
+
+    lo, hi = arm.lower, arm.upper
+    variants = []
+    for T in poses:
+        found = []
+        for r in solve(arm, T, all_solutions=True):
+            if not r.success:
+                continue
+            turns = [
+                [
+                    v + 2 * math.pi * k
+                    for k in range(-2, 3)
+                    if lo[j] - 1e-12 <= v + 2 * math.pi * k <= hi[j] + 1e-12
+                ]
+                for j, v in enumerate(np.asarray(r.q).tolist())
+            ]
+            found += [np.array(c) for c in itertools.product(*turns)]
+        variants.append(found)
+    best = min(cost(np.array(choice)) for choice in itertools.product(*variants))
+    assert math.isfinite(best) and cost(planned.q) == pytest.approx(best, abs=1e-9)
+    least_motion = arm.solve_path(poses, None, max_joint_step=0.4, plan="global")
+    if prefer == "limits":  # another branch lies farther from the limits
+        assert summed(planned.q) < summed(least_motion.q) - 0.1
+
+
 def test_a_forced_flip_is_reported_at_its_waypoint():
     """The tool turned a quarter turn between waypoints 10 and 11: every path breaks at 11,
     and only there; the reason names the joint and the jump."""

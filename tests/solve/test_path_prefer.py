@@ -1,7 +1,7 @@
 """``solve_path(..., prefer=)``: continuity first, then the score. Each answer within
 ``max_joint_step`` of the one before; on a redundant arm the path drifts along the
 self-motion toward the score; where one branch alone lies within the step the path is the
-followed one; a global plan refuses a preference with the way round."""
+followed one (a global plan's preference: tests/solve/test_ladder.py)."""
 
 from __future__ import annotations
 
@@ -51,10 +51,9 @@ def test_one_branch_within_the_step_is_the_followed_path():
     assert np.allclose(path.q, followed.q, atol=1e-9)
 
 
-def test_a_global_plan_refuses_a_preference_with_the_way_round():
+def test_an_unknown_preference_is_named():
     ur5 = conftest.arm("ur5")
     T = ur5.fk(ur5.middle)
-    with pytest.raises(armik.OptionError, match="plan='follow'"):
-        ur5.solve_path([T, T], ur5.middle, plan="global", prefer="manipulability")
-    with pytest.raises(armik.InputError, match="prefer"):
-        ur5.solve_path([T, T], ur5.middle, prefer="most_beautiful")
+    for plan in ("follow", "global"):
+        with pytest.raises(armik.InputError, match="prefer"):
+            ur5.solve_path([T, T], ur5.middle, prefer="most_beautiful", plan=plan)

@@ -75,10 +75,12 @@ def edge_code(a, b, n_rungs):
 
 
 @njit(cache=True)
-def plan(B, offs, q0, has_q0, lo, hi, periodic, step, forbidden):
-    """The least-motion path over the rungs ``B`` (rows ``offs[i]:offs[i + 1]`` for
+def plan(B, offs, q0, has_q0, lo, hi, periodic, step, forbidden, node, weight):
+    """The least-cost path over the rungs ``B`` (rows ``offs[i]:offs[i + 1]`` for
     waypoint i) from ``q0`` (``has_q0`` False: from any turn of any first rung), without
-    the edges ``forbidden`` (sorted ``edge_code``s) unless every path breaks. Returns (rung
+    the edges ``forbidden`` (sorted ``edge_code``s) unless every path breaks. A path's cost:
+    ``weight`` times its total motion plus ``node[r]`` for each rung r it passes (a
+    preference's score; zeros and 1 for the least motion). Returns (rung
     per waypoint, -1 where it has none; q per waypoint; broken per waypoint; hidden: broken
     where some step within the bound was forbidden; the smallest other jump's joint, -1
     where none, and size)."""
@@ -128,7 +130,7 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step, forbidden):
                                 code = code * base[j] + (turn[j] + 2 if periodic[j] else 0)
                             s_rung, s_parent = _grow(s_rung, count), _grow(s_parent, count)
                             s_turn, s_cost = _grow(s_turn, count), _grow(s_cost, count)
-                            s_rung[count], s_parent[count], s_cost[count] = r, -1, 0.0
+                            s_rung[count], s_parent[count], s_cost[count] = r, -1, node[r]
                             s_turn[count] = turn
                             table[code] = count
                             touched[n_touched] = code
@@ -161,7 +163,7 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step, forbidden):
                         best_ratio, best_joint, best_size = ratio, joint, size
                     if bounded and ratio > 1.0:
                         continue
-                    cost = (0.0 if src < 0 else s_cost[src]) + math.sqrt(norm2)
+                    cost = (0.0 if src < 0 else s_cost[src]) + weight * math.sqrt(norm2) + node[r]
                     code = r - offs[i]
                     for j in range(d):
                         code = code * base[j] + (turn[j] + 2 if periodic[j] else 0)

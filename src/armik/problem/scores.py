@@ -38,6 +38,11 @@ class Score(ABC):
     def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
         """The cost of ``q`` on ``arm``; ``q0`` is the call's seed."""
 
+    def many(self, arm, Q: np.ndarray, q0: np.ndarray) -> np.ndarray:
+        """The cost of each row of ``Q`` (a path's rungs): one call per row unless the
+        score has an array form."""
+        return np.array([self(arm, q, q0) for q in Q], dtype=float).reshape(len(Q))
+
 
 class Nearest(Score):
     """The distance from q0: the Euclidean norm of q - q0 (rad and m), as TRAC-IK's
@@ -47,6 +52,10 @@ class Nearest(Score):
 
     def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
         return float(np.linalg.norm(q - q0))
+
+    def many(self, arm, Q: np.ndarray, q0: np.ndarray) -> np.ndarray:
+        out: np.ndarray = np.linalg.norm(Q - q0, axis=1)
+        return out
 
     def per_joint(self, arm, i: int, qi: float, q0: np.ndarray) -> float | None:
         return abs(qi - float(q0[i]))
@@ -94,6 +103,16 @@ class Limits(Score):
     def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
         return -limit_margin(arm, q)
 
+    def many(self, arm, Q: np.ndarray, q0: np.ndarray) -> np.ndarray:
+        lo, hi = np.asarray(arm.lower), np.asarray(arm.upper)
+        bounded = np.isfinite(lo) & np.isfinite(hi) & (hi > lo)
+        if not bounded.any():
+            return np.full(len(Q), -1.0)
+        span = hi[bounded] - lo[bounded]
+        X = Q[:, bounded]
+        out: np.ndarray = -np.min(np.minimum(X - lo[bounded], hi[bounded] - X) / span, axis=1)
+        return out
+
     def per_joint(self, arm, i: int, qi: float, q0: np.ndarray) -> float | None:
         lo, hi = float(arm.lower[i]), float(arm.upper[i])  # the minimum is largest when
         return -min(qi - lo, hi - qi)  # each joint is as far inside as it can be
@@ -135,6 +154,11 @@ class Posture(Score):
     def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
         self._fits(arm)
         return float(self.weights @ (q - self.q_ref) ** 2)
+
+    def many(self, arm, Q: np.ndarray, q0: np.ndarray) -> np.ndarray:
+        self._fits(arm)
+        out: np.ndarray = ((Q - self.q_ref) ** 2) @ self.weights
+        return out
 
     def per_joint(self, arm, i: int, qi: float, q0: np.ndarray) -> float | None:
         self._fits(arm)

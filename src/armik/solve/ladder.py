@@ -32,6 +32,8 @@ marks a colliding branch failed, and a failed branch is no rung.
 from __future__ import annotations
 
 import dataclasses
+import itertools
+import math
 
 import numpy as np
 import pinocchio as pin
@@ -39,6 +41,7 @@ import pinocchio as pin
 from armik import reasons
 from armik.batch_result import BatchResult
 from armik.kernel import ladder as kernel
+from armik.kernel.ladder import EDGE, TWO_PI
 from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.result import IKResult
@@ -47,6 +50,7 @@ from armik.status import Status
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 
+TIE = 1e-6  # with a preference: the motion's weight beside the scores, a tie-break
 BEND = 0.125  # of max_joint_step: a halfway solution this far off the middle: halves checked
 DEPTH = 3  # rounds of halving at most: the poses at 1/2, then 1/4 and 3/4, then the eighths
 
@@ -60,22 +64,32 @@ def plan(
     step: np.ndarray,
     opts: Options,
     out: BatchResult,
+    score=None,
+    reference: np.ndarray | None = None,
 ) -> None:
     """The least-motion path over ``rungs`` (each waypoint's ``solve_all`` results for
     ``targets``, by ``spec``) from ``q0`` (None: from any turn of any rung of the first
     waypoint), every step taken checked halfway, into ``out``'s rows (the dynamic
     programming in ``armik.kernel.ladder``)."""
     good = [[r for r in rs if r.success] for rs in rungs]
+    lower, upper, no_period = arm._limit_lists
+    periodic = ~np.array(no_period, dtype=bool)
+    if score is not None and score.turns_matter:  # each turn a rung of its own, scored
+        good = [[t for r in g for t in _turns(arm, r, periodic)] for g in good]
+        periodic = np.zeros_like(periodic)
     offs = np.zeros(len(rungs) + 1, dtype=np.int64)
     offs[1:] = np.cumsum([len(g) for g in good])
     B = np.array([np.asarray(r.q) for g in good for r in g]).reshape(-1, arm.dof)
-    lower, upper, no_period = arm._limit_lists
+    node, weight = np.zeros(len(B)), 1.0
+    if score is not None:  # the score decides, the motion breaks its ties
+        node = score.many(arm, B, reference)
+        weight = TIE
     start = np.zeros(arm.dof) if q0 is None else np.asarray(q0, dtype=float)
     args = (
-        B, offs, start, q0 is not None, np.array(lower), np.array(upper),
-        ~np.array(no_period, dtype=bool), np.asarray(step, dtype=float),
+        B, offs, start, q0 is not None, np.array(lower), np.array(upper), periodic,
+        np.asarray(step, dtype=float),
     )  # fmt: skip
-    rung, Q, broken, hidden, joint, size = _checked(arm, spec, opts, targets, args)
+    rung, Q, broken, hidden, joint, size = _checked(arm, spec, opts, targets, args, node, weight)
     first = True
     for i, rs in enumerate(rungs):
         if rung[i] < 0:  # no solution at all: the waypoint's own failure
@@ -95,15 +109,31 @@ def plan(
         first = False
 
 
-def _checked(arm, spec: SolverSpec, opts: Options, targets: TargetBatch, args: tuple):
-    """``kernel.plan(*args, forbidden)`` where no step taken hides a jump: the steps taken
-    are checked, and where one fails, every other step onto its waypoint too; those that
-    fail are forbidden and the path planned again, until the steps taken pass."""
+def _turns(arm, r: IKResult, periodic: np.ndarray) -> list[IKResult]:
+    """``r`` at every combination of 2 pi turns of its periodic joints within the limits
+    (as the dynamic programming would take them, -2 to 2): the same pose, each scored
+    apart."""
+    lo, hi = arm.lower, arm.upper
+    choices = []
+    for j, v in enumerate(np.asarray(r.q).tolist()):
+        if not periodic[j]:
+            choices.append([v])
+            continue
+        k0 = max(-2, math.ceil((lo[j] - EDGE - v) / TWO_PI))
+        k1 = min(2, math.floor((hi[j] + EDGE - v) / TWO_PI))
+        choices.append([min(max(v + TWO_PI * k, lo[j]), hi[j]) for k in range(k0, k1 + 1)])
+    return [dataclasses.replace(r, q=np.array(c)) for c in itertools.product(*choices)]
+
+
+def _checked(arm, spec: SolverSpec, opts: Options, targets: TargetBatch, args: tuple, node, weight):
+    """``kernel.plan(*args, forbidden, node, weight)`` where no step taken hides a jump: the
+    steps taken are checked, and where one fails, every other step onto its waypoint too;
+    those that fail are forbidden and the path planned again, until the steps taken pass."""
     B, offs, start, has_q0, lower, upper, periodic, step = args
     forbidden: set[int] = set()
     clean: set[int] = set()
     while True:
-        got = kernel.plan(*args, np.array(sorted(forbidden), dtype=np.int64))  # type: ignore[call-arg]
+        got = kernel.plan(*args, np.array(sorted(forbidden), dtype=np.int64), node, weight)  # type: ignore[call-arg]
         rung, Q, broken = got[:3]
         i, a, code = _steps(rung, broken, has_q0, len(B))
         new = np.array([c not in clean and c not in forbidden for c in code.tolist()], bool)

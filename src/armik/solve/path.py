@@ -68,9 +68,10 @@ def solve_path(
     ``max_joint_step`` from it too. ``max_joint_step``: the largest move of any joint
     between consecutive answers (rad for revolute joints, m for prismatic ones; one number
     or one per joint; default 0.5). ``plan``: ``"follow"`` (each waypoint from the previous
-    answer, below) or ``"global"`` (every branch at every waypoint, the path of least joint
-    motion: ``armik.solve.ladder``; closed-form arms; with ``q0=None`` the path may start
-    on any branch). ``options``: as for ``Arm.solve``.
+    answer, below) or ``"global"`` (every branch at every waypoint, or a numeric arm's
+    tracked answers, ``armik.solve.rungs``: the continuous path of least joint motion, or
+    with ``prefer=`` of the best summed score, ``armik.solve.ladder``; with ``q0=None`` the
+    path may start on any branch). ``options``: as for ``Arm.solve``.
 
     Every answer is verified by Pinocchio FK (``Arm.solve``). A waypoint reachable only by
     a larger move gets status ``discontinuous`` and a reason; never a silent jump.
@@ -84,14 +85,6 @@ def solve_path(
             value=plan,
         )
     score = parse_score(options.get("prefer"))
-    if score is not None and plan == "global":
-        raise OptionError(
-            "prefer= on plan='global': the plan's least total joint motion decides; with "
-            "plan='follow' a preference picks, at each waypoint, the best answer within "
-            "max_joint_step of the previous one",
-            option="prefer",
-            value=options["prefer"],
-        )
     options = {k: v for k, v in options.items() if k != "prefer"}
     problems = task_problems(poses)
     if problems is not None:
@@ -129,7 +122,8 @@ def solve_path(
             found = rungs.every_branch(arm, batch, q_prev, every.name, options)
         out = BatchResult.for_arm(arm, n, every.name, opts)
         start = None if q0 is None else q_prev
-        ladder.plan(arm, every, batch, found, start, step, opts, out)
+        # with a preference, the continuous path of the best summed score (ladder.TIE)
+        ladder.plan(arm, every, batch, found, start, step, opts, out, score, q_prev)
         return frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     token = ON_PATH.set(True)  # a colliding answer is slid out of contact (solve/avoid.py)
     try:
