@@ -9,7 +9,7 @@ import pytest
 
 from armik import BatchResult
 from armik.constraints.shapes_file import read_shapes
-from armik.tools.cli import main
+from tests.tools.cli_run import run
 
 from ..conftest import arm
 
@@ -18,12 +18,6 @@ SCENE = [
     {"type": "box", "size": [0.2, 0.2, 0.3], "position": [0.45, -0.3, 0.15]},
 ]
 XYZ = ["--xyz", "0.4", "0.2", "0.3", "--rpy", "3.1416", "0", "0"]
-
-
-def run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 @pytest.fixture

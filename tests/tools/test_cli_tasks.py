@@ -12,21 +12,8 @@ import pinocchio as pin
 import pytest
 
 import armik
-from armik.tools.cli import main
 from tests.conftest import TOL, arm
-
-
-def run(capsys, *argv):
-    try:
-        code = main(list(argv))
-    except SystemExit as exc:  # argparse's own errors
-        code = exc.code
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def words(values) -> list[str]:
-    return [repr(float(v)) for v in values]
+from tests.tools.cli_run import run, words
 
 
 def test_bounds_on_a_pose_is_the_pose_task(capsys):

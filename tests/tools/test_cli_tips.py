@@ -13,8 +13,8 @@ import pinocchio as pin
 import pytest
 
 import armik
-from armik.tools.cli import main
 from tests.conftest import TOL
+from tests.tools.cli_run import run, words
 
 ROBOTS = Path(armik.load("panda").source).parents[2]  # example-robot-data's folder
 BAXTER = str(ROBOTS / "baxter_description" / "urdf" / "baxter.urdf")
@@ -23,19 +23,6 @@ HANDS = {
     BAXTER: ("left_gripper", "right_gripper"),
     TALOS: ("gripper_left_base_link", "gripper_right_base_link"),
 }
-
-
-def run(capsys, *argv):
-    try:
-        code = main(list(argv))
-    except SystemExit as exc:  # argparse's own errors
-        code = exc.code
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def words(values) -> list[str]:
-    return [repr(float(v)) for v in values]
 
 
 def placements(urdf: str, names, values) -> dict[str, pin.SE3]:

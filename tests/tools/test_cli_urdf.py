@@ -11,15 +11,10 @@ import numpy as np
 import pytest
 
 from armik.tools.cli import main
+from tests.tools.cli_run import run
 
 from ..conftest import arm, write_urdf
 from ..urdf_cases import arm3, chain, joint
-
-
-def run(capsys, *argv):
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def parse_error(capsys, *argv) -> tuple[int, str]:
