@@ -39,6 +39,7 @@ class BatchResult:
     - ``min_distance`` (N,) m: the distance of the closest checked pair at ``q`` (negative:
       overlapping), NaN where collisions were not checked; ``pair_index`` (N,) the index
       of that pair in ``pair_names`` (-1 where not checked); ``closest_pair(i)`` its names.
+    - ``score`` (N,): each answer's score with ``prefer=`` (lower is better), NaN without.
 
     ``len(r)``, ``r[i]`` (an ``IKResult``), ``r[mask]`` or ``r[a:b]`` (a ``BatchResult``),
     iteration over ``IKResult``s, ``save``/``load`` (.npz) and ``summary()``.
@@ -62,11 +63,14 @@ class BatchResult:
     min_distance: np.ndarray | None = None  # (N,) m; NaN filled when None is given
     pair_index: np.ndarray | None = None  # (N,) index into pair_names, -1: none
     pair_names: list[tuple[str, str]] = field(default_factory=list)
+    score: np.ndarray | None = None  # (N,) with prefer=; NaN filled when None is given
 
     def __post_init__(self) -> None:
         n = len(self.success)
         if self.min_distance is None:
             object.__setattr__(self, "min_distance", np.full(n, np.nan))
+        if self.score is None:
+            object.__setattr__(self, "score", np.full(n, np.nan))
         if self.pair_index is None:
             object.__setattr__(self, "pair_index", np.full(n, -1, dtype=np.int32))
 
@@ -74,6 +78,11 @@ class BatchResult:
 
     def __len__(self) -> int:
         return len(self.success)
+
+    @property
+    def _scores(self) -> np.ndarray:
+        """``score``: an array once built (``__post_init__`` fills a None)."""
+        return cast(np.ndarray, self.score)
 
     @property
     def _distances(self) -> np.ndarray:
@@ -148,6 +157,8 @@ class BatchResult:
             if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):
                 extra["min_distance"] = float(self._distances[i])
                 extra["closest_pair"] = self.closest_pair(i)
+            if not math.isnan(self._scores[i]):
+                extra["score"] = float(self._scores[i])
             return IKResult(
                 q=self.q[i],
                 success=bool(self.success[i]),
@@ -187,6 +198,7 @@ class BatchResult:
             min_distance=self._distances[picked],
             pair_index=self._pairs[picked],
             pair_names=list(self.pair_names),
+            score=self._scores[picked],
         )
 
     def __iter__(self) -> Iterator[IKResult]:
@@ -253,6 +265,7 @@ class BatchResult:
             reason_text=np.array([self.reasons[int(k)] for k in keys], dtype=str),
             min_distance=self._distances,
             pair_index=self._pairs,
+            score=self._scores,
         )
         return npz.save(path, meta, arrays)
 
@@ -284,6 +297,7 @@ class BatchResult:
             min_distance=arrays.get("min_distance"),  # absent from files of armik <= 0.x
             pair_index=arrays.get("pair_index"),
             pair_names=[tuple(p) for p in meta.get("pair_names", [])],
+            score=arrays.get("score"),  # absent from files written before preferences
         )
 
     # -- building ---------------------------------------------------------------------
@@ -338,6 +352,9 @@ class BatchResult:
         self.orientation_error[i] = math.nan if r.orientation_error is None else r.orientation_error
         self.iterations[i] = r.iterations
         self.restarts[i] = r.restarts
+        s = r.extra.get("score")
+        if s is not None:
+            self._scores[i] = s
         d = r.extra.get("min_distance")
         if d is not None:
             self._distances[i] = d
@@ -365,4 +382,5 @@ _ARRAYS = (
     "iterations",
     "restarts",
     "min_distance",
+    "score",
 )

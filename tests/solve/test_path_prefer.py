@@ -57,3 +57,24 @@ def test_an_unknown_preference_is_named():
     for plan in ("follow", "global"):
         with pytest.raises(armik.InputError, match="prefer"):
             ur5.solve_path([T, T], ur5.middle, prefer="most_beautiful", plan=plan)
+
+
+@pytest.mark.parametrize("plan", ["follow", "global"])
+def test_each_waypoint_carries_its_score(plan, tmp_path):
+    """``BatchResult.score``: each answer's score with ``prefer=`` (the hand computation's,
+    negative manipulability), row by row as ``r[i].score``, kept by slicing and by a saved
+    file; NaN without a preference."""
+    ur5 = conftest.arm("ur5")
+    q = np.array([0.4, -1.2, 1.5, -0.8, 1.1, 0.3])
+    T0 = ur5.fk(q)
+    poses = [pin.SE3(T0.rotation, T0.translation + [0.0, 0.005 * k, 0.0]) for k in range(12)]
+    path = ur5.solve_path(poses, q, max_joint_step=0.3, plan=plan, prefer="manipulability")
+    assert path.success.all()
+    by_hand = [-manipulability(ur5.jacobian(x)) for x in path.q]
+    assert np.allclose(path.score, by_hand, rtol=1e-12, atol=1e-15)
+    assert path[4].score == pytest.approx(by_hand[4], rel=1e-12)
+    assert np.array_equal(path[2:6].score, path.score[2:6])
+    back = armik.BatchResult.load(path.save(tmp_path / "path.npz"))
+    assert np.array_equal(back.score, path.score)
+    plain = ur5.solve_path(poses, q, max_joint_step=0.3, plan=plan)
+    assert np.isnan(plain.score).all() and plain[0].score is None

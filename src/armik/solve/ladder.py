@@ -106,6 +106,8 @@ def plan(
             out.reasons[i] = r.reason
         out.put_result(i, r)  # a success's reason is the row's, written when read
         out.q[i] = Q[i]  # the rung turned by 2 pi: the same pose
+        if score is not None:
+            out._scores[i] = node[int(rung[i])]  # the rung's score, at its turn when scored so
         first = False
 
 

@@ -8,6 +8,7 @@ configuration of each pose, which would break it."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -57,8 +58,8 @@ def preferred(
     within = [
         c for c in candidates if c.success and bool((np.abs(c.q - q_prev) <= step + 1e-12).all())
     ]
-    if len(within) < 2:
-        return r
+    if len(within) < 2:  # the followed answer, its score reported all the same
+        return dataclasses.replace(r, extra={**r.extra, "score": score(arm, r.q, reference)})
     values = [score(arm, c.q, reference) for c in within]
     k = int(np.argmin(values))  # ties: the followed answer, first
     best = within[k]
