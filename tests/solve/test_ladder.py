@@ -148,6 +148,26 @@ def test_a_forced_flip_is_reported_at_its_waypoint():
     assert "every path breaks here" in planned[11].reason and "rad" in planned[11].reason
 
 
+@pytest.mark.parametrize("robot", ["panda", "xarm7"])
+def test_a_break_among_answers_found_claims_no_more(robot):
+    """A quarter turn of the tool between two waypoints of a 7-joint arm: the plan over the
+    swept closed form's samples (the Panda) or the numeric solver's tracks (the xArm7)
+    flags the waypoint, naming the joint, and says the break is among the answers found,
+    not that every path breaks (it has not seen every solution)."""
+    arm = conftest.arm(robot)
+    q = arm.random_q(8)
+    T0 = arm.fk(q)
+    turn = pin.SE3(pin.exp3(np.array([0.0, 0.0, math.pi / 2])), np.zeros(3))
+    poses = [T0 if k <= 10 else T0 * turn for k in range(20)]
+    planned = arm.solve_path(
+        poses, q, max_joint_step=0.2, plan="global", iteration_budget=3000, seed=0
+    )
+    assert np.flatnonzero(~planned.success).tolist() == [11]
+    reason = planned[11].reason
+    assert "every path through the answers found breaks here" in reason
+    assert "every path breaks here" not in reason and "joint7 by" in reason
+
+
 def test_the_first_step_honours_q0():
     arm = conftest.arm("ur5")
     q = arm.random_q(9)

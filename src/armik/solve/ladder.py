@@ -2,8 +2,9 @@
 ROS-Industrial's Descartes builds it, over every solution at every waypoint.
 
 The rungs of a waypoint are every verified branch of its closed form (``solve_all``), or
-on other arms the answers ``armik.solve.rungs`` gathers (the numeric solver's tracked
-answers: there a break is one no tracked path passes, and says so); a joint whose limits
+on other arms the answers ``armik.solve.rungs`` gathers (a search's, a sweep's, the 7R
+sweep's samples, the numeric solver's tracks: there a break is one no path through the
+answers found passes, and says so); a joint whose limits
 allow more than one turn takes, at each step, the value of its branch 2 pi turns away
 that lies within the limits nearest the previous rung. An edge joins two
 consecutive rungs where no joint moves by more than ``max_joint_step``; dynamic
@@ -70,7 +71,8 @@ def plan(
     """The least-motion path over ``rungs`` (each waypoint's ``solve_all`` results for
     ``targets``, by ``spec``) from ``q0`` (None: from any turn of any rung of the first
     waypoint), every step taken checked halfway, into ``out``'s rows (the dynamic
-    programming in ``armik.kernel.ladder``)."""
+    programming in ``armik.kernel.ladder``). With ``score``: the continuous path of the
+    least summed score against ``reference``, the motion breaking ties (``TIE``)."""
     good = [[r for r in rs if r.success] for rs in rungs]
     lower, upper, no_period = arm._limit_lists
     periodic = ~np.array(no_period, dtype=bool)
@@ -99,7 +101,9 @@ def plan(
         r = good[i][int(rung[i] - offs[i])]
         if broken[i]:
             j = int(joint[i])
-            every = spec.kind != "numeric"  # a numeric solver's rungs: the answers tracked
+            # every solution only from a complete closed form: a search, a sweep, a
+            # sample of the self-motion or a numeric solver's tracks show the answers found
+            every = spec.kind != "numeric" and spec.complete
             r = _broken(
                 arm, r, j, float(size[i]), float(step[j]), bool(hidden[i]), first, every, out
             )
@@ -298,7 +302,7 @@ def _reached(arm, Q, P, R, opts: Options) -> np.ndarray:
 
 
 def _broken(arm, r: IKResult, j: int, size: float, step: float, hidden: bool, first, every, out):
-    before = "every solution" if every else "every answer tracked at"
+    before = "every solution of" if every else "every answer found at"
     start = "q0 (the start)" if first else f"{before} the waypoint before"
     measured = reasons.measured(
         r.position_error, r.orientation_error, out.tol_position, out.tol_orientation
@@ -321,7 +325,8 @@ def _broken(arm, r: IKResult, j: int, size: float, step: float, hidden: bool, fi
         success=False,
         status=Status.DISCONTINUOUS,
         reason=reasons.jump(
-            f"every {'' if every else 'tracked '}path breaks here: from {start}, {'; '.join(why)}",
+            f"every path {'' if every else 'through the answers found '}breaks here: from "
+            f"{start}, {'; '.join(why)}",
             "the planned answer",
             measured,
         ),
