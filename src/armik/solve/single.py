@@ -171,7 +171,7 @@ def _along_self_motion(
 def _centre(arm, problem, q0, options: dict):
     """The compiled answer to the problem's centre (``tightened``), if it has a form: an
     answer to the problem itself, or a start for the task solver; else None. Where a
-    closed form shows the centre out of reach, the nearest q0 of its answers on the
+    closed form finds no answer at the centre, the nearest q0 of its answers on the
     region's rim (``rims``: a cone's axis tilted to its edge), if any reaches."""
     lowered = lower(tightened(problem), arm.tip)
     if lowered is None:
