@@ -133,6 +133,22 @@ def test_a_preferred_plan_is_the_brute_force_best_score_among_continuous_paths(p
         assert summed(planned.q) < summed(least_motion.q) - 0.1
 
 
+def test_a_preference_on_an_arm_with_continuous_joints():
+    """The Kinova's continuous joints have no turns to score apart: the plan still turns
+    them next to the previous rung (no step above the bound), each waypoint scored."""
+    arm = conftest.arm("kinova")
+    q = arm.random_q(3)
+    T0 = arm.fk(q)
+    poses = [pin.SE3(T0.rotation, T0.translation + [0.0, 0.004 * k, 0.0]) for k in range(8)]
+    budget = {"iteration_budget": 2000, "seed": 0}  # deterministic, not timed
+    planned = arm.solve_path(
+        poses, q, max_joint_step=0.3, plan="global", prefer="nearest", **budget
+    )
+    assert planned.success.all()
+    assert np.abs(np.diff(np.vstack([q, planned.q]), axis=0)).max() <= 0.3 + 1e-9
+    assert np.allclose(planned.score, np.linalg.norm(planned.q - q, axis=1), atol=1e-9)
+
+
 def test_a_forced_flip_is_reported_at_its_waypoint():
     """The tool turned a quarter turn between waypoints 10 and 11: every path breaks at 11,
     and only there; the reason names the joint and the jump."""

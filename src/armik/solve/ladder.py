@@ -34,7 +34,6 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-import math
 
 import numpy as np
 import pinocchio as pin
@@ -42,10 +41,10 @@ import pinocchio as pin
 from armik import reasons
 from armik.batch_result import BatchResult
 from armik.kernel import ladder as kernel
-from armik.kernel.ladder import EDGE, TWO_PI
 from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.result import IKResult
+from armik.solve.prefer import turns
 from armik.solvers.registry import SolverSpec
 from armik.status import Status
 from armik.targets.batch import TargetBatch
@@ -77,8 +76,10 @@ def plan(
     lower, upper, no_period = arm._limit_lists
     periodic = ~np.array(no_period, dtype=bool)
     if score is not None and score.turns_matter:  # each turn a rung of its own, scored
-        good = [[t for r in g for t in _turns(arm, r, periodic)] for g in good]
-        periodic = np.zeros_like(periodic)
+        good = [[t for r in g for t in _turns(r, turns(arm, np.asarray(r.q)))] for g in good]
+        # the limited joints' turns are rungs now; an unlimited one the dynamic
+        # programming still turns next to the previous rung, its score taken as given
+        periodic &= ~(np.isfinite(arm.lower) & np.isfinite(arm.upper))
     offs = np.zeros(len(rungs) + 1, dtype=np.int64)
     offs[1:] = np.cumsum([len(g) for g in good])
     B = np.array([np.asarray(r.q) for g in good for r in g]).reshape(-1, arm.dof)
@@ -110,24 +111,14 @@ def plan(
             out.reasons[i] = r.reason
         out.put_result(i, r)  # a success's reason is the row's, written when read
         out.q[i] = Q[i]  # the rung turned by 2 pi: the same pose
-        if score is not None:
-            out._scores[i] = node[int(rung[i])]  # the rung's score, at its turn when scored so
+        if score is not None:  # measured at the answer as given (its turns included)
+            out._scores[i] = score(arm, out.q[i], reference)
         first = False
 
 
-def _turns(arm, r: IKResult, periodic: np.ndarray) -> list[IKResult]:
-    """``r`` at every combination of 2 pi turns of its periodic joints within the limits
-    (as the dynamic programming would take them, -2 to 2): the same pose, each scored
-    apart."""
-    lo, hi = arm.lower, arm.upper
-    choices = []
-    for j, v in enumerate(np.asarray(r.q).tolist()):
-        if not periodic[j]:
-            choices.append([v])
-            continue
-        k0 = max(-2, math.ceil((lo[j] - EDGE - v) / TWO_PI))
-        k1 = min(2, math.floor((hi[j] + EDGE - v) / TWO_PI))
-        choices.append([min(max(v + TWO_PI * k, lo[j]), hi[j]) for k in range(k0, k1 + 1)])
+def _turns(r: IKResult, choices: list[list[float]]) -> list[IKResult]:
+    """``r`` at every combination of its joints' ``choices`` (``prefer.turns``: the values
+    2 pi apart within the limits): the same pose, each scored apart."""
     return [dataclasses.replace(r, q=np.array(c)) for c in itertools.product(*choices)]
 
 
