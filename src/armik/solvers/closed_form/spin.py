@@ -40,12 +40,12 @@ def spin_of(bounds: tuple[float, ...] | None) -> tuple[int, float] | None:
     (rad, at most pi), the others and the position held exactly; else None."""
     if bounds is None:
         return None
-    b = np.asarray(bounds, dtype=float)
-    free = np.flatnonzero(b[3:])
-    if b[:3].any() or len(free) != 1:
+    b = [float(x) for x in bounds]  # plain floats: this runs on every spin solve
+    free = [k for k in range(3) if b[3 + k] != 0.0]
+    if any(x != 0.0 for x in b[:3]) or len(free) != 1:
         return None
-    k = int(free[0])
-    return k, min(float(b[3 + k]), math.pi)
+    k = free[0]
+    return k, min(b[3 + k], math.pi)
 
 
 def family(arm: ArmModel, target: Target | None) -> registry.SolverSpec | str:

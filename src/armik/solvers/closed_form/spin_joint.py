@@ -65,7 +65,7 @@ def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = 
 def run(
     arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
 ) -> list[Attempt]:
-    k, half = _spin(opts.bounds)
+    k, half = spin.spin_of(opts.bounds)  # type: ignore[misc]  # applies() checked it
     family = spin.family(arm, target)
     assert not isinstance(family, str)  # applies() checked it
     Q, reached = _branches(arm, family, target, q0, opts)
@@ -120,7 +120,7 @@ def _branches(arm: ArmModel, family, target: Target, q0: np.ndarray, opts: Optio
             Q_all, rows = got
             keep = [k for k, r in enumerate(rows) if type(r) is tuple or r.claim is _CONVERGED]
             return np.array(Q_all[keep], dtype=float), [rows[k] for k in keep]
-    attempts = family.run(arm, target, q0, _exact(opts), True)
+    attempts = family.run(arm, target, q0, dataclasses.replace(opts, bounds=None), True)
     reached = [a for a in attempts if a.claim is _CONVERGED]
     return np.array([a.q for a in reached], dtype=float).reshape(-1, arm.dof), reached
 
@@ -161,33 +161,6 @@ def _turned(arm: ArmModel, centre: list[float], q0_last: float, half: float) -> 
                 best, gap = value, abs(value - q0_last)
         out.append(best)
     return out
-
-
-_SPINS: dict[tuple, tuple[int, float]] = {}  # bounds -> (k, half): each call passes them again
-_EXACTS: dict[Options, Options] = {}  # options -> the same without bounds, for the family
-
-
-def _spin(bounds) -> tuple[int, float]:
-    found = _SPINS.get(bounds)
-    if found is None:
-        found = spin.spin_of(bounds)  # type: ignore[assignment]  # applies() checked it
-        if len(_SPINS) > 64:
-            _SPINS.clear()
-        _SPINS[bounds] = found  # type: ignore[assignment]
-    return found  # type: ignore[return-value]
-
-
-def _exact(opts: Options) -> Options:
-    try:
-        exact = _EXACTS.get(opts)
-    except TypeError:  # options holding arrays: not remembered
-        return dataclasses.replace(opts, bounds=None)
-    if exact is None:
-        exact = dataclasses.replace(opts, bounds=None)
-        if len(_EXACTS) > 64:
-            _EXACTS.clear()
-        _EXACTS[opts] = exact
-    return exact
 
 
 SPEC = registry.register(
