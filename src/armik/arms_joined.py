@@ -41,26 +41,26 @@ def joined(tips, results: dict[str, IKResult], seeds, elapsed: float) -> IKResul
         singular = singular or d["singular"]
     q = np.concatenate(parts)
     q.setflags(write=False)  # a result's q is read-only; setflags is the cheaper spelling
-    out = _new(IKResult)
-    out.__dict__.update(
-        q=q,
-        success=not failed,
-        status=results[failed[0]].status if failed else _CONVERGED,
-        _reason=(_reason, (results, failed)),  # written on first read, as prepared solves do
-        solver="+".join(solvers),
-        iterations=iterations,
-        position_error=position,
-        orientation_error=orientation,
-        time=elapsed,
-        branch=None,
-        singular=singular,
-        restarts=restarts,
-        extra={"errors": errors, "results": results},
+    out = IKResult._from_fields(
+        {
+            "q": q,
+            "success": not failed,
+            "status": results[failed[0]].status if failed else _CONVERGED,
+            "_reason": (_reason, (results, failed)),  # written on first read, as prepared's
+            "solver": "+".join(solvers),
+            "iterations": iterations,
+            "position_error": position,
+            "orientation_error": orientation,
+            "time": elapsed,
+            "branch": None,
+            "singular": singular,
+            "restarts": restarts,
+        }
     )
+    out.__dict__["extra"] = {"errors": errors, "results": results}
     return out
 
 
-_new = object.__new__
 _CONVERGED = Status.CONVERGED
 
 
