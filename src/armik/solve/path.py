@@ -114,10 +114,11 @@ def solve_path(
         if every.name == "swept" or every.kind == "numeric":  # rungs about the followed path
             followed = BatchResult.for_arm(arm, n, spec.name, opts)
             _walk(arm, batch, q_prev, step, spec, options, local, followed)
-        if every.name == "swept":  # a 7R arm: joint 7 sampled about the followed path
-            found = rungs.held(arm, batch, q_prev, followed, options)
-        elif every.kind == "numeric":  # answers tracked from the start and the breaks
-            found = rungs.tracked(arm, batch, q_prev, every.name, followed, options)
+            found = (  # a 7R arm: joint 7 sampled; else answers tracked from start and breaks
+                rungs.held(arm, batch, q_prev, followed, options)
+                if every.name == "swept"
+                else rungs.tracked(arm, batch, q_prev, every.name, followed, options)
+            )
         else:
             found = rungs.every_branch(arm, batch, q_prev, every.name, options)
         out = BatchResult.for_arm(arm, n, every.name, opts)
