@@ -15,7 +15,8 @@ lines' step (m).
         [--spacing 0.005]
 
 ``--prefer`` plans each path from any start with no preference, ``"manipulability"`` and
-``"limits"``: the answers' mean manipulability and limit margin, the time.
+``"limits"``: the answers' mean manipulability and limit margin, the time; with
+``--follow``, each path followed from its start configuration instead.
 
 ``--spin`` times instead, best of ``--repeats``, interleaved, one path: the UR5's tool spun
 one and a half turns over ``-n`` waypoints from mid-limits with wrist 2 at 1 rad (the
@@ -126,8 +127,9 @@ def spin(n: int, repeats: int) -> None:
         )
 
 
-def prefer(names: list[str], count: int, n: int) -> None:
-    """The global plan from any start with each preference: waypoints solved, the mean
+def prefer(names: list[str], count: int, n: int, plan: str = "global") -> None:
+    """Each path with each preference, planned globally from any start or (``plan``
+    "follow") followed from its start configuration: waypoints solved, the mean
     manipulability and smallest limit margin (each joint's distance to its nearer limit
     over its range) of the answers, the mean time."""
     print("| arm | prefer | waypoints solved | mean manipulability | mean limit margin | ms |")
@@ -136,10 +138,11 @@ def prefer(names: list[str], count: int, n: int) -> None:
         arm = armik.load(name)
         lo, hi = arm.lower, arm.upper
         rows: dict = {None: [], "manipulability": [], "limits": []}
-        for _, poses in paths(arm, count, n, np.random.default_rng(35)):
+        for q, poses in paths(arm, count, n, np.random.default_rng(35)):
+            q0 = None if plan == "global" else q
             for score, kept in rows.items():
                 t0 = time.perf_counter()
-                p = arm.solve_path(poses, None, max_joint_step=STEP, plan="global", prefer=score)
+                p = arm.solve_path(poses, q0, max_joint_step=STEP, plan=plan, prefer=score)
                 dt = time.perf_counter() - t0
                 Q = p.q[p.success]
                 m = [manipulability(arm.jacobian(x)) for x in Q]
@@ -165,9 +168,10 @@ def main() -> None:
     parser.add_argument("--spin", action="store_true", help="time the spun tool path instead")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--prefer", action="store_true", help="the plan with each preference")
+    parser.add_argument("--follow", action="store_true", help="with --prefer: followed paths")
     args = parser.parse_args()
     if args.prefer:
-        prefer(args.arms, args.paths, args.n)
+        prefer(args.arms, args.paths, args.n, "follow" if args.follow else "global")
         return
     if args.spin:
         spin(args.n, args.repeats)
