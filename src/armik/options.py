@@ -44,6 +44,10 @@ class Options:
       ``R_t^T (p - p_t)`` m, rotation ``log3(R_t^T R)`` rad), each component within +- its
       bound (bx, by, bz, brx, bry, brz); ``math.inf`` frees an axis. A success lies within
       the bounds (plus the tolerances); its errors are its distance outside them.
+    - ``cone``: (ax, ay, az, within): the tip's axis (ax, ay, az), in the tip frame, within
+      ``within`` rad of the target rotation's image of it (``R_t a``), its spin free; the
+      position as ``bounds`` say (exact without them). What ``armik.Position`` with an
+      ``armik.Axis`` lowers to (say it with those tasks); solved by ``dls`` and ``qp``.
     - ``qp_solver``: the qpsolvers backend of the ``qp`` solver ("osqp").
     - ``nullspace_gain``: pull toward q0 in the null space of redundant arms (1.0; 0 disables).
     - ``max_solutions``: cap on ``solve_all`` answers of numeric solvers (16).
@@ -66,6 +70,7 @@ class Options:
     position_only: bool = False
     weights: tuple[float, ...] | None = None
     bounds: tuple[float, ...] | None = None
+    cone: tuple[float, float, float, float] | None = None
     qp_solver: str = "osqp"
     nullspace_gain: float = 1.0
     max_solutions: int = 16
@@ -79,6 +84,18 @@ class Options:
     def collisions(self) -> bool:
         """Whether answers are checked for collisions (obstacles or ``self_collision``)."""
         return bool(self.obstacles) or self.self_collision
+
+    @property
+    def region(self) -> bool:
+        """Whether the target has a region around it (``bounds`` or ``cone``): the errors are
+        measured outside it."""
+        return self.bounds is not None or self.cone is not None
+
+    @property
+    def region_bounds(self) -> tuple[float, ...]:
+        """The bounds of the region (a cone alone: the position exact; the rotation
+        components are the cone's to measure then)."""
+        return self.bounds if self.bounds is not None else (0.0,) * 6
 
     @classmethod
     def from_kwargs(cls, kwargs: dict[str, Any]) -> Options:
@@ -126,6 +143,8 @@ class Options:
             values["weights"] = _weights(values["weights"])
         if values.get("bounds") is not None:
             values["bounds"] = _bounds(values["bounds"])
+        if values.get("cone") is not None:
+            values["cone"] = _cone(values["cone"])
         if "position_only" in values:
             flag = values["position_only"]
             if not isinstance(flag, (bool, np.bool_)):
@@ -322,3 +341,23 @@ def _bounds(value: object) -> tuple[float, ...]:
             value=value,
         )
     return tuple(float(v) for v in b)
+
+
+def _cone(value: object) -> tuple[float, float, float, float]:
+    """(ax, ay, az, within): a non-zero axis (made unit) and an angle in [0, pi]."""
+    try:
+        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
+            raise TypeError
+        c = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        c = np.array([np.nan])
+    length = float(np.linalg.norm(c[:3])) if c.shape == (4,) else math.nan
+    if not (np.isfinite(c).all() and 1e-9 < length < math.inf and 0.0 <= c[3] <= math.pi):
+        raise OptionError(
+            "cone must be (ax, ay, az, within): a non-zero axis of the tip frame and an angle "
+            f"within [0, pi] rad (say it with armik.Position and armik.Axis); got {value!r}",
+            option="cone",
+            value=value,
+        )
+    a = c[:3] / length
+    return (float(a[0]), float(a[1]), float(a[2]), float(c[3]))

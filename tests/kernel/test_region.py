@@ -1,5 +1,6 @@
 """The compiled error of a pose within bounds equals ``armik.problem.Pose``'s residual and
-Jacobian (which the problem tests hold against finite differences)."""
+Jacobian, and with a cone ``armik.Position`` and ``armik.Axis``'s (which the problem tests
+hold against finite differences)."""
 
 from __future__ import annotations
 
@@ -9,13 +10,15 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from armik.kernel.problem import workspace
+from armik.kernel.problem import NO_CONE, workspace
 from armik.kernel.region import evaluate_region
-from armik.problem import Pose
+from armik.problem import Axis, Pose, Position
+from armik.problem.problem import Problem, lower
 
 from ..conftest import arm
 
 EXACT = 1e-12
+AXIS = np.array([0.0, 0.0, 1.0])  # read only with a cone
 BOUNDS = [
     (0.0,) * 6,
     (0.005, 0.005, 0.005, 0.05, 0.05, 0.05),
@@ -41,7 +44,7 @@ def test_the_region_error_is_the_pose_task(robot, bounds):
         ws.q[0][:] = q
         b = np.array(bounds, dtype=float)
         R_t, p_t = np.ascontiguousarray(T_t.rotation), np.ascontiguousarray(T_t.translation)
-        evaluate_region(ch, b, w, R_t, p_t, ws, 0)
+        evaluate_region(ch, b, w, NO_CONE, AXIS, R_t, p_t, ws, 0)
         np.testing.assert_allclose(ws.e[0], -task.residual(T), rtol=0, atol=EXACT)
         J = a.jacobian(q)
         np.testing.assert_allclose(ws.A[0], task.jacobian(T, J), rtol=0, atol=EXACT)
@@ -60,5 +63,44 @@ def test_inside_the_region_the_error_is_zero():
     ws.q[0][:] = q
     bounds = np.array([0.005, 0.005, 0.005, 0.05, 0.05, 0.05])
     R_t, p_t = np.ascontiguousarray(T.rotation), np.ascontiguousarray(T.translation)
-    evaluate_region(a.kernel_chain.flat, bounds, np.ones(6), R_t, p_t, ws, 0)
+    evaluate_region(a.kernel_chain.flat, bounds, np.ones(6), NO_CONE, AXIS, R_t, p_t, ws, 0)
     assert not ws.e[0].any() and not ws.A[0].any() and not ws.val[0].any()
+
+
+@pytest.mark.parametrize("robot", ["panda", "ur5", "so101"])
+@pytest.mark.parametrize("within", [0.0, 0.05, 0.6])
+def test_the_cone_rows_are_the_axis_task(robot, within):
+    """A position with an axis in a cone, lowered (``lower``) to a pose, bounds and a cone:
+    the compiled rows equal the two tasks' residuals and Jacobians, stacked."""
+    a = arm(robot)
+    ch = a.kernel_chain.flat
+    ws = workspace(a.dof, 1, a.kernel_chain.chain.joint_kind.shape[0])
+    rng = np.random.default_rng(5)
+    outside = 0
+    for k in range(12):
+        q = a.random_q(rng)
+        T = a.fk(q)
+        axis = (0.0, 0.0, 1.0) if k % 3 == 0 else rng.normal(size=3)
+        direction = rng.normal(size=3) if k % 2 else T.rotation @ np.array([0.0, 0.0, 1.0])
+        near = T.translation + rng.normal(scale=0.02, size=3)
+        tasks = [Position(near), Axis(axis, direction, within)]
+        target, said = lower(Problem(tuple(tasks)))
+        # exactly along a coordinate axis it lowers to a free spin: the cone rows all the same
+        cone = said.get("cone", (*tasks[1].axis, within))
+        ws.q[0][:] = q
+        R_t = np.ascontiguousarray(target.rotation)
+        p_t = np.ascontiguousarray(target.translation)
+        bounds = np.zeros(6)  # the position exact; the rotation's bounds are not read
+        evaluate_region(ch, bounds, np.ones(6), cone[3], np.array(cone[:3]), R_t, p_t, ws, 0)
+        # the position rows are in the target frame: R_t^T (p - p_t)
+        pos = tasks[0]
+        np.testing.assert_allclose(R_t @ ws.e[0, :3], -pos.residual(T), rtol=0, atol=EXACT)
+        J = a.jacobian(q)
+        np.testing.assert_allclose(R_t @ ws.A[0, :3], pos.jacobian(T, J), rtol=0, atol=EXACT)
+        axis_task = tasks[1]
+        np.testing.assert_allclose(ws.e[0, 3:], -axis_task.residual(T), rtol=0, atol=EXACT)
+        np.testing.assert_allclose(ws.A[0, 3:], axis_task.jacobian(T, J), rtol=0, atol=1e-10)
+        m = axis_task.measure(T, 0.0, 0.0)
+        assert ws.val[0, 1] == pytest.approx(m.orientation, abs=EXACT)
+        outside += m.orientation > 0.0
+    assert outside >= 4  # the cone's rows were tested outside it, not only at zero

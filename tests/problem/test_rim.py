@@ -12,6 +12,7 @@ import armik
 from armik import Axis, Position
 from armik.problem.problem import as_problem, lower, rims, tightened
 from armik.problem.tasks.axis import RIM
+from armik.solve.single import _centre
 from tests import conftest
 
 
@@ -33,7 +34,8 @@ def test_a_cone_rim_is_directions_tilted_evenly_around_it():
 def test_a_cone_whose_centre_is_out_of_reach_is_solved_on_its_rim_in_closed_form():
     """A UR5 target (found by search over seeded random targets) whose cone's centre
     direction no configuration reaches with the tool at the point: the closed form on the
-    rim answers, the point exact and the tool's axis within the cone by Pinocchio's FK."""
+    rim answers (``_centre``, the task solver's start), the point exact and the tool's axis
+    within the cone by Pinocchio's FK; the cone itself is the compiled step's."""
     arm = conftest.arm("ur5")
     rng = np.random.default_rng(0)
     for _ in range(64):  # the 64th of these targets: its centre is out of reach
@@ -43,9 +45,13 @@ def test_a_cone_whose_centre_is_out_of_reach_is_solved_on_its_rim_in_closed_form
     target, said = lower(tightened(as_problem(tasks)), arm.tip)
     centre = arm.solve(target, q0=arm.middle, **said)
     assert not centre.success and centre.status is armik.Status.UNREACHABLE
-    r = arm.solve(tasks, q0=arm.middle)
-    assert r.success and r.solver == "spin_joint", r.reason
-    X = arm.fk(r.q)
-    assert np.linalg.norm(X.translation - T.translation) <= 1e-9
-    angle = math.acos(min(1.0, float(X.rotation[:, 2] @ tasks[1].direction)))
-    assert angle <= 0.05 + 1e-9 and arm.within_limits(r.q)
+    on_rim = _centre(arm, as_problem(tasks), arm.middle, {})
+    cone = arm.solve(tasks, q0=arm.middle)
+    assert cone.success and cone.solver == "dls", cone.reason
+    for r in (on_rim, cone):
+        assert r.success, r.reason
+        X = arm.fk(r.q)
+        assert np.linalg.norm(X.translation - T.translation) <= 1e-6
+        angle = math.acos(min(1.0, float(X.rotation[:, 2] @ tasks[1].direction)))
+        assert angle <= 0.05 + 1e-6 and arm.within_limits(r.q)
+    assert on_rim.solver == "spin_joint"

@@ -82,14 +82,17 @@ def test_a_look_at_with_a_position():
 
 
 def test_an_impossible_list_is_not_converged_with_the_task_that_fails():
-    """A point 10 m away: no answer, and no claim that it is out of reach."""
+    """A point 10 m away with a box around it (the task solver's): no answer, and no claim
+    that it is out of reach; as a cone around an exact point (the compiled path's), out of
+    the reach bound."""
     arm = conftest.arm("panda")
-    r = arm.solve(
-        [armik.Position((10.0, 0.0, 0.5)), armik.Axis((0, 0, 1), (0, 0, -1), 0.1)],
-        iteration_budget=200,
-    )
-    assert not r.success and r.status is Status.NOT_CONVERGED
+    cone = armik.Axis((0, 0, 1), (0, 0, -1), 0.1)
+    boxed = armik.Position((10.0, 0.0, 0.5), bounds=(0.01, 0.01, 0.01))
+    r = arm.solve([boxed, cone], iteration_budget=200)
+    assert not r.success and r.status is Status.NOT_CONVERGED and r.solver == "tasks"
     assert "Position" in r.reason and "does not show" in r.reason
+    r = arm.solve([armik.Position((10.0, 0.0, 0.5)), cone], iteration_budget=200)
+    assert not r.success and r.status is Status.UNREACHABLE and "reach" in r.reason
 
 
 def test_one_task_goes_the_compiled_way_with_the_same_answer():
@@ -111,10 +114,16 @@ def test_lowering_and_tightening():
     assert np.allclose(target.rotation @ [0, 0, 1], [0, 0, -1])
     assert said == {"bounds": (0.0, 0.0, 0.0, 0.0, 0.0, math.inf)}
     cone = armik.Axis((0, 0, 1), (0, 0, -1), 0.1)
-    assert lower(Problem((p, cone))) is None
-    assert lower(tightened(Problem((p, cone)))) is not None
-    tilted = armik.Axis((1, 1, 0), (0, 0, -1))  # not one of the tip's axes
-    assert lower(Problem((p, tilted))) is None
+    target, said = lower(Problem((p, cone)))
+    assert np.allclose(target.rotation @ [0, 0, 1], [0, 0, -1])
+    assert said == {"cone": (0.0, 0.0, 1.0, 0.1)}
+    assert lower(tightened(Problem((p, cone))))[1] == {"bounds": (0.0,) * 5 + (math.inf,)}
+    tilted = armik.Axis((1, 1, 0), (0, 0, -1))  # not one of the tip's axes: a cone of 0
+    target, said = lower(Problem((p, tilted)))
+    assert np.allclose(said["cone"], (0.5**0.5, 0.5**0.5, 0.0, 0.0))
+    assert np.allclose(target.rotation @ tilted.axis, [0, 0, -1])
+    boxed = armik.Position((0.3, 0.0, 0.4), bounds=(0.01, 0.01, 0.01))
+    assert lower(Problem((boxed, cone))) is None
     assert as_problem((0.3, 0.0, 0.4)) is None and as_problem(p).tasks == (p,)
 
 
@@ -122,12 +131,13 @@ def test_bad_task_lists_get_armik_errors():
     arm = conftest.arm("panda")
     p = armik.Position((0.3, 0.0, 0.4))
     cone = armik.Axis((0, 0, 1), (0, 0, -1), 0.1)
+    look = armik.LookAt((0.6, 0.0, 0.0), (0, 0, 1), 0.1)  # no compiled form: the task solver's
     with pytest.raises(armik.InputError, match="item 1"):
         arm.solve([p, "down"])
     with pytest.raises(armik.InputError, match="solver='auto'"):
-        arm.solve([p, cone], solver="dls")
+        arm.solve([p, look], solver="dls")
     with pytest.raises(armik.InputError, match="obstacles"):
-        arm.solve([p, cone], obstacles=[armik.Sphere(0.05, (1.0, 1.0, 1.0))])
+        arm.solve([p, look], obstacles=[armik.Sphere(0.05, (1.0, 1.0, 1.0))])
     with pytest.raises(armik.InputError, match="bounds is given both"):
         arm.solve(armik.Pose(arm.fk(arm.middle), bounds=[0.1] * 6), bounds=[0.1] * 6)
     with pytest.raises(armik.InputError, match="'no_such_link'.*its frames"):
@@ -135,8 +145,9 @@ def test_bad_task_lists_get_armik_errors():
 
 
 def test_batches_and_paths_of_task_lists():
-    """A batch of point-and-axis rows takes the compiled batch, cones the task solver row
-    by row; a path of them keeps its continuity checks. Each row verified here."""
+    """A batch of point-and-axis rows takes the compiled batch, cones too; a path of them
+    keeps its continuity checks; look-ats go to the task solver row by row. Each row
+    verified here."""
     arm = conftest.arm("so101")
     rng = np.random.default_rng(5)
     poses = [arm.fk(arm.random_q(rng)) for _ in range(40)]
@@ -150,7 +161,7 @@ def test_batches_and_paths_of_task_lists():
         for T in poses[:10]
     ]
     c = arm.solve_batch(cones, workers=1, progress=False)
-    assert c.success.all()
+    assert c.success.all() and c[0].solver == "dls"
     for rows, result, within in ((exact, b, 0.0), (cones, c, 0.05)):
         for tasks, q in zip(rows, result.q):
             assert _holds(arm, q, tasks[0].p, (0, 0, 1), tasks[1].direction, within)
@@ -163,8 +174,15 @@ def test_batches_and_paths_of_task_lists():
     assert p.success.all() and np.abs(np.diff(p.q, axis=0)).max() <= 0.1
     with pytest.raises(armik.InputError, match="target 1"):
         arm.solve_batch([[armik.Position((0.2, 0.0, 0.2))], (0.2, 0.0, 0.2)])
+    cone_path = [[tasks[0], armik.Axis((0, 0, 1), tasks[1].direction, 0.05)] for tasks in path]
+    p = arm.solve_path(cone_path, Q[0], max_joint_step=0.1)
+    assert p.success.all() and np.abs(np.diff(p.q, axis=0)).max() <= 0.1
+    for tasks, q in zip(cone_path, p.q):
+        assert _holds(arm, q, tasks[0].p, (0, 0, 1), tasks[1].direction, 0.05)
+    look = [[armik.Position(tasks[0].p), armik.LookAt((0.0, 0.0, -1.0), (0, 0, 1), 0.3)]
+            for tasks in path[:2]]  # fmt: skip
     with pytest.raises(armik.InputError, match="path of task lists"):
-        arm.solve_path([c_row for c_row in cones[:2]], Q[0])
+        arm.solve_path(look, Q[0])
 
 
 def test_a_task_on_another_frame_of_the_chain():

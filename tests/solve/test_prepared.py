@@ -382,3 +382,42 @@ def test_tip_views_hold_pinocchio_placement_in_place(name):
     worker.start()
     worker.join()
     assert other[0] is not data
+
+
+@pytest.mark.parametrize(
+    "name, options",
+    [
+        ("panda", {"bounds": (0.005, 0.005, 0.005, 0.05, 0.05, 0.05)}),
+        ("ur5", {"bounds": (0.0, 0.0, 0.0, 0.0, 0.0, np.inf), "solver": "dls"}),
+        ("panda", {"cone": (0.0, 0.0, 1.0, 0.05)}),
+        ("so101", {"cone": (0.0, 0.0, 1.0, 0.05)}),
+        ("ur5", {"cone": (0.6, 0.0, 0.8, 0.0), "solver": "qp"}),
+    ],
+)
+def test_a_region_on_a_numeric_solver_is_prepared_as_the_general_path(name, options):
+    """Bounds and cones (what ``armik.Axis`` lowers to) take the plan on the numeric solvers,
+    measured outside the region as the general path measures them: the same results."""
+    a = arm(name)
+    options = dict(options)
+    solver = options.pop("solver", "auto")
+    opts, key, _ = _options(options)
+    assert isinstance(plan_for(a, solver, key, opts), Plan)
+    rng = np.random.default_rng(8)
+    solved = 0
+    for k in range(8):
+        turn = np.r_[np.zeros(3), rng.normal(scale=0.04, size=3)]  # the point reachable
+        T = a.fk(a.random_q(rng)) * pin.exp6(pin.Motion(turn))
+        q0 = a.random_q(rng)
+        fast = a.solve(T, q0=q0, solver=solver, seed=k, **options)
+        general = _general(a, T, q0=q0, solver=solver, seed=k, **options)
+        assert fast.solver == ("dls" if solver == "auto" else solver)
+        assert_same_result(fast, general)
+        solved += fast.success
+    assert solved >= 4  # successes compared, not only failures
+
+
+def test_a_closed_form_over_a_region_is_not_prepared():
+    """A free spin on the UR5 is the closed form's sweep: the general path's."""
+    a = arm("ur5")
+    opts, key, _ = _options({"bounds": (0.0, 0.0, 0.0, 0.0, 0.0, np.inf)})
+    assert plan_for(a, "auto", key, opts) is None

@@ -134,8 +134,6 @@ AXIS = ["--axis", "0", "0", "1", "--toward", "0", "0", "-1"]
         ([*XYZ, *RPY, "--bounds", "0", "0", "nan", "0", "0", "0"], "--bounds must be 6 numbers"),
         ([*XYZ, *XYZ], "--xyz is given 2 times for one tip"),
         ([*XYZ, *RPY, *RPY], "--rpy is given 2 times for 1 --tip"),
-        ([*XYZ, *AXIS, "--solver", "dls", "--within", "0.1"], "--solver dls does not apply"),
-        ([*XYZ, *AXIS, "--within", "0.1", "--self-collision"], "takes no --self-collision"),
         ([*XYZ, "--axis", "0", "0", "1", "--toward", "0", "0"], "expected 3 arguments"),
     ],
 )
@@ -143,3 +141,17 @@ def test_bad_task_flags_exit_2_one_line(capsys, argv, message):
     code, _, err = run(capsys, "solve", "ur5", *argv)
     assert code == 2 and message in err, err
     assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+def test_a_cone_takes_a_solver_and_collisions(capsys):
+    """A point with the tool in a cone is the compiled path's: ``--solver`` and
+    ``--self-collision`` apply to it, its tasks measured all the same."""
+    T = arm("ur5").fk(arm("ur5").middle)
+    xyz = ["--xyz", *words(T.translation)]
+    cone = ["--axis", "0", "0", "1", "--toward", *words(T.rotation[:, 2]), "--within", "0.1"]
+    for extra in (["--solver", "qp"], ["--self-collision"]):
+        code, out, _ = run(capsys, "solve", "ur5", *xyz, *cone, *extra, "--json")
+        got = json.loads(out)["results"][0]
+        assert code == 0 and got["success"], got
+        assert [row["task"] for row in got["task_errors"]] == ["Position", "Axis"]
+        assert all(row["within"] for row in got["task_errors"])

@@ -13,6 +13,7 @@ from numba import njit
 
 STEP_DLS, STEP_QP = 0, 1
 NO_LIMIT = -1  # for timeout_ns and iteration_budget: not used
+NO_CONE = -1.0  # for Settings.cone: the rotation rows are the bounds'
 
 
 class Settings(NamedTuple):
@@ -37,6 +38,8 @@ class Settings(NamedTuple):
     translation_rows: bool  # free position and rotation axes both (see ``error._evaluate``)
     region: bool  # the target has bounds: ``region._evaluate_region`` measures the error
     bounds: np.ndarray  # (6,) the region's bounds (m, rad; inf: free), read when ``region``
+    cone: float  # the tip axis' cone angle (rad), replacing the rotation rows; NO_CONE: none
+    cone_axis: np.ndarray  # (3,) that axis, unit, in the tip frame
 
 
 # Rows of Workspace.vec (n-vectors), .mat (n x n) and .ivec (integer n-vectors).
@@ -71,7 +74,7 @@ class Workspace(NamedTuple):
 def pack_settings(st: Settings) -> tuple[np.ndarray, np.ndarray]:
     """``st`` as a float and an int array (what compiled entries take; see ``unpack``)."""
     floats = [*st.w, st.tol_pos, st.tol_rot, st.null_gain, st.reach_slack, st.pull_scale]
-    floats += [*st.bounds]
+    floats += [*st.bounds, *st.cone_axis, st.cone]
     ints = [st.full_task, st.measure_position, st.max_iterations, st.max_restarts]
     ints += [st.max_found, st.timeout_ns, st.iteration_budget, st.step, st.backend]
     ints += [st.check_reach, st.translation_rows, st.region]
@@ -101,6 +104,8 @@ def unpack(sf, si):
         si[10] != 0,
         si[11] != 0,
         sf[11:17],
+        sf[20],
+        sf[17:20],
     )
 
 

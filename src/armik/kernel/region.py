@@ -8,6 +8,11 @@ with ``e = -w r`` and ``A = w dE/dq`` on the rows outside the box (``w``: the we
 distance from the box (position m, orientation rad) and ``|e|^2``, as ``error._evaluate``
 does for an exact target. ``armik.problem.Pose`` is the same task in Python: the tests hold
 the two equal.
+
+With a cone (``cone >= 0``), the rotation rows are instead those of ``armik.Axis``: the tip
+axis ``a`` (tip frame) within ``cone`` rad of the target's image of it, ``w = R^T R_t a``
+in the tip frame; the residual is ``(a x w) (theta - cone) / |a x w|`` outside the cone
+(``armik.problem.tasks.cone``, the same floats up to rounding), zero inside.
 """
 
 from __future__ import annotations
@@ -22,9 +27,10 @@ from armik.kernel.se3 import jlog3, log3
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
-def _evaluate_region(ch, bounds, w, R_t, p_t, ws, slot):
+def _evaluate_region(ch, bounds, w, cone, a, R_t, p_t, ws, slot):
     """ws.e[slot], ws.A[slot] and ws.val[slot] at ws.q[slot] for the target (R_t, p_t)
-    within ``bounds`` (6,), weighted by ``w`` (6,)."""
+    within ``bounds`` (6,), weighted by ``w`` (6,); with ``cone >= 0`` the tip axis ``a``
+    (3,) within that cone instead of the rotation bounds."""
     relative(ch, ws.q[slot], R_t, p_t, ws)  # M = R^T R_t, t = R^T (p_t - p)
     J = ws.J
     jacobian_local(ch, ws.m3[0], ws.v3[0], ws.geo[0], ws.geo[1], J)
@@ -38,7 +44,11 @@ def _evaluate_region(ch, bounds, w, R_t, p_t, ws, slot):
     jlog3(theta, v, Jl)  # of M^T, into Jl's upper-left block
     n = J.shape[1]
     pos2 = rot2 = sq = 0.0
-    for k in range(6):
+    if cone >= 0.0:
+        h = _cone_rows(M, J, a, cone, e, A, n)
+        rot2 = h * h
+        sq = e[3] * e[3] + e[4] * e[4] + e[5] * e[5]
+    for k in range(3 if cone >= 0.0 else 6):
         b = bounds[k]
         E = e[k]
         if not abs(E) > b:  # inside (or free): no residual, no derivative
@@ -65,7 +75,52 @@ def _evaluate_region(ch, bounds, w, R_t, p_t, ws, slot):
     val[0], val[1], val[2] = math.sqrt(pos2), math.sqrt(rot2), sq
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _cone_rows(M, J, a, cone, e, A, n):
+    """Rows 3-5 of e and A for the axis ``a`` within ``cone`` of ``w = M a`` (M = R^T R_t);
+    returns the angle beyond the cone. With ``c = a x w``, ``s = |c|``, ``k = a . w`` and
+    J's angular rows ``j``: dw = w x j, so ds = -k (c . j) / s and dtheta = -(c . j) / s."""
+    w0 = M[0, 0] * a[0] + M[0, 1] * a[1] + M[0, 2] * a[2]
+    w1 = M[1, 0] * a[0] + M[1, 1] * a[1] + M[1, 2] * a[2]
+    w2 = M[2, 0] * a[0] + M[2, 1] * a[1] + M[2, 2] * a[2]
+    c0, c1, c2 = a[1] * w2 - a[2] * w1, a[2] * w0 - a[0] * w2, a[0] * w1 - a[1] * w0
+    s = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+    k = a[0] * w0 + a[1] * w1 + a[2] * w2
+    h = math.atan2(s, k) - cone
+    if h <= 0.0:
+        for i in range(3, 6):
+            e[i] = 0.0
+            for col in range(n):
+                A[i, col] = 0.0
+        return 0.0
+    if s < _SMALL:  # the axis (anti)parallel to w: at the axis (cone 0) r = a x w itself
+        f = 1.0 if k > 0.0 else 0.0  # opposite: no useful derivative (a restart's to leave)
+        e[3], e[4], e[5] = -c0, -c1, -c2
+        for col in range(n):
+            j0, j1, j2 = J[3, col], J[4, col], J[5, col]
+            aj = a[0] * j0 + a[1] * j1 + a[2] * j2
+            A[3, col] = f * (w0 * aj - k * j0)
+            A[4, col] = f * (w1 * aj - k * j1)
+            A[5, col] = f * (w2 * aj - k * j2)
+        return h
+    f = h / s
+    e[3], e[4], e[5] = -c0 * f, -c1 * f, -c2 * f
+    for col in range(n):
+        j0, j1, j2 = J[3, col], J[4, col], J[5, col]
+        aj = a[0] * j0 + a[1] * j1 + a[2] * j2
+        cj = c0 * j0 + c1 * j1 + c2 * j2
+        ds = -k * cj / s
+        df = (-cj - h * ds) / (s * s)  # (dtheta s - h ds) / s^2
+        A[3, col] = (w0 * aj - k * j0) * f + c0 * df  # d(a x w) = w (a . j) - k j
+        A[4, col] = (w1 * aj - k * j1) * f + c1 * df
+        A[5, col] = (w2 * aj - k * j2) * f + c2 * df
+    return h
+
+
+_SMALL = 1e-12  # |a x w| below this: a and w (anti)parallel, as ``tasks.cone`` reads it
+
+
 @njit(cache=True, nogil=True)
-def evaluate_region(ch, bounds, w, R_t, p_t, ws, slot):
+def evaluate_region(ch, bounds, w, cone, a, R_t, p_t, ws, slot):
     """``_evaluate_region`` for Python callers (the tests)."""
-    _evaluate_region(ch, bounds, w, R_t, p_t, ws, slot)
+    _evaluate_region(ch, bounds, w, cone, a, R_t, p_t, ws, slot)

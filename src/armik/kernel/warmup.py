@@ -88,7 +88,7 @@ def _parts() -> tuple[tuple, list]:
     from numba import typeof
 
     ch = Flat(np.zeros(1), np.zeros(3, dtype=np.int64), np.zeros((1, 1)))
-    sf, si = np.zeros(16), np.zeros(16, dtype=np.int64)
+    sf, si = np.zeros(32), np.zeros(32, dtype=np.int64)  # longer than pack_settings makes
     st = unpack.py_func(sf, si)
     ws = _workspace.py_func(1, 1, 1)
     H = np.eye(4)

@@ -3,7 +3,8 @@
 Today a problem is its primary tasks; constraints other than the joint limits, secondary
 tasks and scores join it as the later features land. ``lower`` gives a problem the solve
 path already has a compiled form for (one pose of the tip, with weights or bounds; one
-position of the tip) back as the target and options of that path, so the old route keeps
+position of the tip; a position with an axis in a cone) back as the target and options of
+that path, so the old route keeps
 its speed; every other problem goes to ``armik.solve.tasks``.
 """
 
@@ -92,21 +93,25 @@ def lower(problem: Problem, tip: str | None = None) -> tuple[object, dict] | Non
 
 
 def _point_and_axis(a: Task, b: Task) -> tuple[object, dict] | None:
-    """A position with an axis along a direction exactly (a 5-joint arm's "this point,
-    pointing that way"), the axis one of the tip's own: a pose whose rotation about that
-    axis is free, exactly. The target's rotation takes the axis onto the direction; every
-    rotation that does is it turned about the axis, whose log3 lies along the axis."""
+    """A position with an axis within a cone of a direction: a pose whose rotation takes
+    the axis onto the direction. Exactly along it and the axis one of the tip's own (a
+    5-joint arm's "this point, pointing that way"): bounds that free the rotation about
+    that axis, exactly (every rotation taking the axis onto the direction is the target's
+    turned about the axis, whose log3 lies along it), so that a closed form's sweep
+    applies; else the cone (``Options.cone``), which the compiled step and the verdict
+    measure as ``Axis`` does."""
     if type(a) is Axis:
         a, b = b, a
-    if type(a) is not Position or type(b) is not Axis or a.bounds.any() or b.within != 0.0:
-        return None
-    along = np.flatnonzero(np.abs(b.axis) == 1.0)
-    if along.size != 1:
+    if type(a) is not Position or type(b) is not Axis or a.bounds.any():
         return None
     R = _onto(b.axis, b.direction)
-    bounds = [0.0] * 6
-    bounds[3 + int(along[0])] = math.inf
-    return pin.SE3(R, np.array(a.p)), {"bounds": tuple(bounds)}
+    along = np.flatnonzero(np.abs(b.axis) == 1.0)
+    if b.within == 0.0 and along.size == 1:
+        bounds = [0.0] * 6
+        bounds[3 + int(along[0])] = math.inf
+        return pin.SE3(R, np.array(a.p)), {"bounds": tuple(bounds)}
+    cone = (*(float(x) for x in b.axis), float(b.within))
+    return pin.SE3(R, np.array(a.p)), {"cone": cone}
 
 
 def _onto(u: np.ndarray, v: np.ndarray) -> np.ndarray:

@@ -41,7 +41,7 @@ from armik.solve import ladder, rungs
 from armik.solve.avoid import ON_PATH
 from armik.solve.path_score import preferred
 from armik.solve.rungs import unwrapped
-from armik.solve.single import solve
+from armik.solve.single import solve_parsed
 from armik.solve.tasks import lower_all, task_problems
 from armik.solvers import registry
 from armik.status import Status
@@ -93,8 +93,8 @@ def solve_path(
             raise TargetError(
                 "a path of task lists takes tasks the compiled path has a form for (a pose "
                 "with bounds or weights, a position, a position with a tip axis along a "
-                "direction exactly, the same in every row); solve cones and look-ats with "
-                "solve or solve_batch"
+                "direction or within a cone of it, the same in every row); solve look-ats "
+                "and boxes around a position with solve or solve_batch"
             )
         poses, options = lowered
     opts = Options.from_kwargs(options)
@@ -142,7 +142,7 @@ def _walk(arm, batch, q_prev, step, spec, options, local, out, chooser=None) -> 
     preference), else ``r``."""
     for i in range(len(batch)):
         target = batch.target(i)
-        r = unwrapped(arm, solve(arm, target, q0=q_prev, solver=spec.name, **options)[0], q_prev)
+        r = unwrapped(arm, solve_parsed(arm, target, q_prev, spec.name, options), q_prev)
         if r.success and _jump(r.q, q_prev, step) > 1.0:
             r = _near(arm, target, q_prev, step, spec.name, local, r, first=i == 0)
         elif chooser is not None:
@@ -201,7 +201,7 @@ def _near(
     """Re-solve ``target`` near ``q_prev``; the answer if within ``step``, else the smallest
     jump found, reported as discontinuous."""
     candidates = [jumped]
-    r = unwrapped(arm, solve(arm, target, q0=q_prev, solver=solver, **local)[0], q_prev)
+    r = unwrapped(arm, solve_parsed(arm, target, q_prev, solver, local), q_prev)
     if r.success:
         if _jump(r.q, q_prev, step) <= 1.0:
             return r
@@ -212,7 +212,7 @@ def _near(
     while k <= MAX_SUBSTEPS:
         q, ok = q_prev, True
         for pose in _between(T_from, target, k):
-            s = unwrapped(arm, solve(arm, pose, q0=q, solver=solver, **local)[0], q)
+            s = unwrapped(arm, solve_parsed(arm, pose, q, solver, local), q)
             if not s.success or _jump(s.q, q, step) > 1.0:
                 ok = False
                 break

@@ -11,8 +11,9 @@ or a float64 array of one value per joint, the plan hands the 4x4 to the solver'
 runner (``SolverSpec.prepare_pose``), which checks in compiled code that the pose and seed
 are what the parser and ``Arm.seed`` would pass unchanged, then solves. Pinocchio computes
 the answer's tip placement and compiled code measures it in place
-(``armik.kernel.measure.placement_check``), as
-``verify.measure.measure`` does. The result is the one the general path builds, field for field
+(``armik.kernel.measure.placement_check``), as ``verify.measure.measure`` does; a target
+with a region (bounds, a cone) on a numeric solver is measured by ``armik.verify.region``,
+as there. The result is the one the general path builds, field for field
 (tests/solve/test_prepared.py); its reason text is written on first read. The verdict
 is ``armik.verify.verdict``'s: ``claimed_verdict`` for a runner's claimed answers from the
 compiled measure, ``verdict`` for the rest.
@@ -42,6 +43,7 @@ from armik.solvers.claims import Attempt, Claim, claim
 from armik.status import Status
 from armik.targets.pose import parse_target
 from armik.verify.measure import Measure, measures_of
+from armik.verify.region import region_error
 from armik.verify.verdict import (
     claimed_verdict,
     failure_rank,
@@ -89,7 +91,7 @@ _PLANS: Derived[dict] = Derived("prepared solves", lambda _: {})  # read as a ke
 
 
 def _build(arm: ArmModel, solver: str, opts: Options, position: bool, every: bool):
-    if opts.collisions or opts.bounds is not None:  # the general path checks them
+    if opts.collisions:  # the general path checks them
         return _NO_PLAN
     # a target of the kind every plain target of the plan is
     target = parse_target(np.zeros(3) if position else np.eye(4), arm)
@@ -97,8 +99,8 @@ def _build(arm: ArmModel, solver: str, opts: Options, position: bool, every: boo
         spec = registry.choose(solver, arm, target, opts, every)
     except SolverError:  # the general path raises it, with its message
         return _NO_PLAN
-    if spec.prepare_pose is None:
-        return _NO_PLAN
+    if spec.prepare_pose is None or (opts.region and spec.kind != "numeric"):
+        return _NO_PLAN  # a closed form over a region: its sweep's general path
     return Plan(arm, spec, opts, position)
 
 
@@ -131,6 +133,8 @@ class Plan:
             arm.upper,
         )
         self.measure_rot = measure_rot
+        # a region (bounds, a cone): measured by ``verify.region``, as the general path does
+        self.region = (opts.region_bounds, w, opts.cone) if opts.region else None
         self.tol_p, self.tol_r = opts.tol_position, opts.tol_orientation
 
     def _plain(self, target: object, q0: object):
@@ -201,9 +205,16 @@ class Plan:
         data, R_w, p_w = self.arm.tip_views()  # this thread's
         pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
         pin.updateFramePlacement(self.model, data, self.frame)  # into R_w, p_w
-        pos, ori, inside = placement_check(self.measured, R_w, p_w, H, q)
+        region = self.region
+        if region is None:
+            pos, ori, inside = placement_check(self.measured, R_w, p_w, H, q)
+        else:
+            T_bw = self.arm.T_base_world
+            pos, ori = region_error(T_bw, R_w, p_w, H[:3, :3], H[:3, 3], *region)
+            inside = self.arm._within(q.tolist())
+        ori = ori if self.measure_rot else None
         fields = claimed_verdict(
-            self.arm, got, pos, ori if self.measure_rot else None, inside, self.tol_p, self.tol_r
+            self.arm, got, pos, ori, inside, self.tol_p, self.tol_r, region is not None
         )
         if fields is None or not fields["success"]:  # the next row may pass: every row
             attempts = self._refused(got, H, q0, seed, xy)
@@ -224,8 +235,8 @@ class Plan:
 
     def solve_all(self, target: object, q0: object, opts: Options, seed: int | None, t0: float):
         """The results of ``solve_all`` for a plain ``target`` and ``q0``, or None."""
-        plain = self._plain(target, q0)
-        if plain is None:
+        plain = None if self.region is not None else self._plain(target, q0)
+        if plain is None:  # a region's answers: the general path measures them
             return None
         H, q0, xy = plain
         seed = secrets.randbits(63) if seed is None else seed

@@ -1,5 +1,5 @@
 """Solve a problem of tasks (``armik.problem``) that the compiled path has no form for: a
-position with an axis in a cone, a look-at, a position within bounds.
+look-at, a position within bounds with an axis, a task on another frame.
 
 Damped least squares (Levenberg-Marquardt) on the stacked task residuals, each step
 clipped into the joint limits; random restarts within the budget (``timeout`` in CPU time
@@ -162,6 +162,12 @@ def _measure(
         t.measure(T, opts.tol_position, opts.tol_orientation)
         for t, (T, _) in zip(tasks, _on(tasks, ids, placed))
     ]
+
+
+def measure_tasks(arm: ArmModel, problem: Problem, q: np.ndarray, opts: Options) -> list[TaskError]:
+    """Each of ``problem``'s tasks measured at ``q`` on Pinocchio's FK, with the tolerances
+    of ``opts``: what ``extra["task_errors"]`` holds where the task solver answered."""
+    return _measure(arm, problem.tasks, frame_ids(arm, problem.tasks), q, opts)
 
 
 def _descend(arm: ArmModel, tasks, ids, q: np.ndarray, opts: Options, iterations: int):

@@ -86,10 +86,17 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: Options) -> Meas
         opts.weights, opts.position_only, target.rotation is None
     )
     ch = arm.kernel_chain.chain
-    if opts.bounds is not None:
+    if opts.region:
         R_t = _EYE if target.rotation is None else target.rotation
         pos, ori = region_error(
-            arm.T_base_world, T.rotation, T.translation, R_t, target.position, opts.bounds, w
+            arm.T_base_world,
+            T.rotation,
+            T.translation,
+            R_t,
+            target.position,
+            opts.region_bounds,
+            w,
+            opts.cone,
         )
     # C-ordered, writable float64 arrays: numba compiles anew for every other layout, and
     # Pinocchio's rotation is Fortran-ordered. ``T.homogeneous`` is a fresh C-ordered 4x4
@@ -115,7 +122,7 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: Options) -> Meas
         violations=violations,
         tol_position=opts.tol_position,
         tol_orientation=opts.tol_orientation,
-        region=opts.bounds is not None,
+        region=opts.region,
     )
 
 
@@ -147,8 +154,10 @@ def measure_many(
     p_t[:] = target.position
     out = np.empty((n, 2))
     ch = arm.kernel_chain.chain
-    if opts.bounds is not None:
-        out = region_errors(arm.T_base_world, R_w, p_w, R_t, p_t, np.array(opts.bounds), w)
+    if opts.region:
+        out = region_errors(
+            arm.T_base_world, R_w, p_w, R_t, p_t, np.array(opts.region_bounds), w, opts.cone
+        )
     else:
         pose_errors(ch.base_R, ch.base_p, R_w, p_w, R_t, p_t, w, weighted, measure_rot, out)
     checks = []
@@ -160,7 +169,7 @@ def measure_many(
             violations=[] if arm._within(q.tolist()) else arm.limit_violations(q),
             tol_position=opts.tol_position,
             tol_orientation=opts.tol_orientation,
-            region=opts.bounds is not None,
+            region=opts.region,
         )
         checks.append(c)
     return checks
@@ -230,10 +239,11 @@ def measure_batch(
         R_t = np.broadcast_to(_EYE, (n, 3, 3))
     out = np.empty((n, 2))
     ch = arm.kernel_chain.chain
-    if opts.bounds is not None:
+    if opts.region:
         R_t = np.array(R_t, dtype=float)
+        bounds = np.array(opts.region_bounds)
         out = region_errors(
-            arm.T_base_world, R_w, p_w, R_t, targets.positions, np.array(opts.bounds), w
+            arm.T_base_world, R_w, p_w, R_t, targets.positions, bounds, w, opts.cone
         )
         if not measure_rot:
             out[:, 1] = np.nan

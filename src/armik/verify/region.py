@@ -6,7 +6,8 @@ The error twist of the reached pose relative to the target, in the target frame
 (``R_t^T (p - p_t)``, ``log3(R_t^T R)``), is compared component by component with its
 bound (``inf`` or a zero weight frees the component); the position and orientation errors
 are the lengths of what lies outside: 0 inside the region, so that the tolerances mean
-what they mean for an exact target.
+what they mean for an exact target. With a cone (``Options.cone``), the orientation error
+is the angle by which the tip axis ``a`` lies outside the cone around ``R_t a`` instead.
 """
 
 from __future__ import annotations
@@ -15,6 +16,8 @@ import math
 
 import numpy as np
 import pinocchio as pin
+
+from armik.problem.tasks.cone import angle
 
 
 def region_errors(
@@ -25,6 +28,7 @@ def region_errors(
     p_t: np.ndarray,
     bounds: np.ndarray,
     weights: np.ndarray,
+    cone: tuple[float, ...] | None = None,
 ) -> np.ndarray:
     """(n, 2): position (m) and orientation (rad) error outside the region of each of n
     tip placements (``R_w`` (n, 3, 3), ``p_w`` (n, 3), in the world frame) against the
@@ -34,7 +38,7 @@ def region_errors(
     w = np.asarray(weights, dtype=float)
     out = np.empty((len(R_w), 2))
     for i in range(len(R_w)):
-        out[i] = region_error(T_base_world, R_w[i], p_w[i], R_t[i], p_t[i], b, w)
+        out[i] = region_error(T_base_world, R_w[i], p_w[i], R_t[i], p_t[i], b, w, cone)
     return out
 
 
@@ -46,6 +50,7 @@ def region_error(
     p_t: np.ndarray,
     bounds: tuple[float, ...],
     weights: np.ndarray,
+    cone: tuple[float, ...] | None = None,
 ) -> tuple[float, float]:
     """The position (m) and orientation (rad) error outside the region of one tip placement
     (``R_w`` (3, 3), ``p_w`` (3,), in the world frame) against one target (``R_t``, ``p_t``
@@ -56,12 +61,15 @@ def region_error(
     p = p_w @ R_b.T + T_base_world.translation
     if not (np.isfinite(R).all() and np.isfinite(p).all()):
         return math.nan, math.nan
-    e = (R_t.T @ (p - p_t)).tolist() + pin.log3(R_t.T @ R).tolist()
+    e = (R_t.T @ (p - p_t)).tolist()
+    if cone is None:  # a cone replaces the rotation components
+        e += pin.log3(R_t.T @ R).tolist()
     out = [
         0.0 if w == 0.0 or math.isinf(b) else max(abs(x) - b, 0.0)
         for x, b, w in zip(e, bounds, weights.tolist())
     ]
-    return (
-        math.sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]),
-        math.sqrt(out[3] * out[3] + out[4] * out[4] + out[5] * out[5]),
-    )
+    position = math.sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2])
+    if cone is not None:
+        a = cone[:3]
+        return position, max(angle(R @ a, R_t @ a) - cone[3], 0.0)
+    return position, math.sqrt(out[3] * out[3] + out[4] * out[4] + out[5] * out[5])

@@ -105,13 +105,15 @@ def seed_distance(q: np.ndarray, seed: np.ndarray) -> float:
     return float(np.sqrt(d.dot(d)))
 
 
-def success_reason(claim_reason, claim_args, pos, ori, tol_p, tol_r) -> str:
+def success_reason(claim_reason, claim_args, pos, ori, tol_p, tol_r, region=False) -> str:
     """The reason of a success from its parts: the claim's reason is ``claim_reason``
     itself, or ``claim_reason(*claim_args)`` when it is a function (results of prepared
-    solves write their reason on first read, see ``IKResult``)."""
+    solves write their reason on first read, see ``IKResult``); ``region``: the errors are
+    the distances outside the target's region."""
     if callable(claim_reason):
         claim_reason = claim_reason(*claim_args)
-    return reasons.verified(claim_reason, reasons.measured(pos, ori, tol_p, tol_r))
+    text = reasons.measured(pos, ori, tol_p, tol_r)
+    return reasons.verified(claim_reason, reasons.outside_bounds(text) if region else text)
 
 
 def limits_reason(arm: ArmModel, q: np.ndarray) -> str:
@@ -157,9 +159,11 @@ def claimed_verdict(
     inside: bool,
     tol_p: float,
     tol_r: float,
+    region: bool = False,
 ) -> dict | None:
-    """``verdict`` of a prepared runner's claimed answer ``got`` from its compiled measure
-    (``ori`` None where the orientation is not measured; ``inside``: within the limits),
+    """``verdict`` of a prepared runner's claimed answer ``got`` from its measure (``ori``
+    None where the orientation is not measured; ``inside``: within the limits; ``region``:
+    the errors are the distances outside the target's region),
     without building the ``Attempt`` and ``Measure``: a success within the tolerances and
     the limits, ``joint_limits`` outside the limits, else None (the general ``verdict``
     decides: ``check_failed``'s reason needs the target's region). The fields of an
@@ -167,7 +171,7 @@ def claimed_verdict(
     if not inside:
         return _claimed(got, False, Status.JOINT_LIMITS, pos, ori, limits_reason, (arm, got.q))
     if pos <= tol_p and (ori is None or ori <= tol_r):
-        why = (got.reason, got.reason_args, pos, ori, tol_p, tol_r)
+        why = (got.reason, got.reason_args, pos, ori, tol_p, tol_r, region)
         return _claimed(got, True, Status.CONVERGED, pos, ori, success_reason, why)
     return None
 

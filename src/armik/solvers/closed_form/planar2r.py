@@ -125,7 +125,7 @@ def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = 
         return "link 2 has zero length in the plane (the tip sits on the elbow axis)"
     if opts is not None and opts.weights is not None:
         return "per-axis weights are for the numeric solvers"
-    if opts is not None and opts.bounds is not None:
+    if opts is not None and opts.region:
         return "bounds are for the numeric solvers (dls, qp)"
     return None
 

@@ -362,7 +362,7 @@ def applies(arm: ArmModel, target: Target | None, opts: Options | None, family: 
         return "a position target leaves the orientation free; the closed form needs a full pose"
     if opts is not None and (opts.position_only or opts.weights is not None):
         return "position_only and per-axis weights are for the numeric solvers"
-    if opts is not None and opts.bounds is not None:
+    if opts is not None and opts.region:
         return "bounds are for the numeric solvers (dls, qp): no closed form sweeps a region yet"
     return None
 

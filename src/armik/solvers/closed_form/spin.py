@@ -60,7 +60,7 @@ def family(arm: ArmModel, target: Target | None) -> registry.SolverSpec | str:
 
 
 def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
-    if opts is None or spin_of(opts.bounds) is None:
+    if opts is None or opts.cone is not None or spin_of(opts.bounds) is None:
         return (
             "the sweep needs bounds that free one rotation component (bounds (0, 0, 0, 0, 0, "
             "inf) frees the spin about the target's z axis) and hold the rest at 0"

@@ -31,7 +31,7 @@ DAMP = 1e-12
 
 
 def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
-    if opts is not None and opts.bounds is not None:
+    if opts is not None and opts.region:
         return "the baseline follows the exact target: bounds are for dls and qp"
     return None
 

@@ -32,6 +32,7 @@ from armik.kernel.clock import thread_cpu_ns
 from armik.kernel.descent import CAREFUL_BELOW, KNOWN_MINIMUM_RADIUS  # noqa: F401 (re-exported)
 from armik.kernel.entry import ENTRIES
 from armik.kernel.problem import (
+    NO_CONE,
     NO_LIMIT,
     SHIFT,
     STEP_DLS,
@@ -101,6 +102,7 @@ def packed_settings(
         opts.position_only,
         opts.weights,
         opts.bounds,
+        opts.cone,
         opts.nullspace_gain,
         position_only,
         dof,
@@ -141,10 +143,14 @@ def settings(opts: Options, position_only: bool, dof: int, max_found: int, step:
     w = opts.weight_vector(position_only)
     w = w / w[w > 0.0].min()
     full_task = opts.weights is None and not (opts.position_only or position_only)
-    region = opts.bounds is not None
-    bounds = np.array(opts.bounds if region else (0.0,) * 6)
-    # rows a bound frees do not count as task rows; a box lets a far target come closer
+    region = opts.region
+    bounds = np.array(opts.region_bounds)
+    cone = opts.cone
+    # rows a bound frees do not count as task rows (a cone's rotation counts 2: a direction);
+    # a box lets a far target come closer
     n_task = 6 if full_task and not region else int(np.count_nonzero(w * np.isfinite(bounds)))
+    if cone is not None:
+        n_task = int(np.count_nonzero(w[:3] * np.isfinite(bounds[:3]))) + 2
     reach_slack = float(opts.tol_position) + float(np.linalg.norm(bounds[:3]))
     return Settings(
         w,
@@ -166,6 +172,8 @@ def settings(opts: Options, position_only: bool, dof: int, max_found: int, step:
         bool((w[:3] == 0.0).any() and (w[3:] == 0.0).any() and w[:3].any()),
         region,
         bounds,
+        NO_CONE if cone is None else float(cone[3]),
+        np.array((0.0, 0.0, 1.0) if cone is None else cone[:3]),
     )
 
 
@@ -277,7 +285,7 @@ def _not_converged(opts: Options, sf: np.ndarray, out_of_budget: bool, restarts:
     errors = f"position error {err[0]:.3g} m"
     if sf[3:6].any():  # some rotation weight
         errors += f", orientation error {err[1]:.3g} rad"
-    if opts.bounds is not None:  # the kernel measured the distances outside the bounds
+    if opts.region:  # the kernel measured the distances outside the region
         errors = reasons.outside_bounds(errors)
     return reasons.not_converged(why, errors)
 

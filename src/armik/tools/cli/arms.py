@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 from collections.abc import Sequence
@@ -16,7 +17,10 @@ from armik.kernel import warmup
 from armik.kernel.problem import STEP_DLS
 from armik.model.catalogue import CATALOGUE, entry
 from armik.model.urdf import read_urdf, read_urdf_string
+from armik.options import Options
+from armik.problem.problem import as_problem
 from armik.result import IKResult
+from armik.solve.tasks import measure_tasks
 from armik.solvers import registry
 from armik.solvers.closed_form import families
 from armik.solvers.closed_form.sixr import Chain6R
@@ -348,6 +352,8 @@ def cmd_solve(args: argparse.Namespace) -> int:
             results = [arm.solve(target, q0=args.q0, solver=args.solver, **options)]
     except OptionError as exc:
         raise for_flags(exc) from None
+    if names:  # a task list the compiled path solved: each task measured all the same
+        results = [_with_task_errors(arm, target, r, options) for r in results]
     if args.json:
         print(
             json.dumps(
@@ -367,6 +373,16 @@ def cmd_solve(args: argparse.Namespace) -> int:
         if len(results) > 1:
             print(f"time: {results[0].time * 1e3:.3f} ms for the call ({len(results)} solutions)")
     return 0 if any(r.success for r in results) else 1
+
+
+def _with_task_errors(arm: Arm, tasks, r: IKResult, options: dict) -> IKResult:
+    """``r`` with each task's error at its ``q`` (Pinocchio's FK) where it has none."""
+    if "task_errors" in r.extra:
+        return r
+    problem = as_problem(tasks)
+    assert problem is not None  # names were found: a task list
+    errors = measure_tasks(arm, problem, r.q, Options.from_kwargs(options))
+    return dataclasses.replace(r, extra={**r.extra, "task_errors": errors})
 
 
 def _as_dict(r: IKResult, names: list[str]) -> dict:

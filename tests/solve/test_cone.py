@@ -1,0 +1,121 @@
+"""A position with the tip's axis in a cone (``armik.Position`` with ``armik.Axis``), lowered
+to a pose with ``Options.cone``: solved by the compiled step, measured by the verdict as the
+``Axis`` task measures it on Pinocchio's FK; bad cones are named."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.errors import OptionError
+
+from ..conftest import arm
+
+
+def _angle(u: np.ndarray, v: np.ndarray) -> float:
+    return math.atan2(np.linalg.norm(np.cross(u, v)), float(u @ v))
+
+
+def _cones(a: armik.Arm, rng, count: int, within: float, axis=(0.0, 0.0, 1.0)):
+    """(tasks, q) with an answer: q's tip position, ``axis`` within ``within`` of a
+    direction tilted from q's by up to 80 % of the cone."""
+    out = []
+    for _ in range(count):
+        q = a.random_q(rng)
+        T = a.fk(q)
+        tilt = pin.exp3(rng.uniform(-1.0, 1.0, 3) * 0.8 * within / math.sqrt(3.0))
+        d = tilt @ T.rotation @ np.array(axis)
+        out.append(([armik.Position(T.translation), armik.Axis(axis, d, within)], q))
+    return out
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda", "abb_irb120", "so101"])
+def test_a_cone_is_solved_by_the_compiled_step_within_it(name):
+    a = arm(name)
+    rng = np.random.default_rng(11)
+    for tasks, _ in _cones(a, rng, 10, 0.05):
+        r = a.solve(tasks, iteration_budget=5000)
+        assert r.success, r.reason
+        assert r.solver == "dls" and "outside the bounds" in r.reason
+        T = a.fk(r.q)
+        position, axis = tasks
+        assert np.linalg.norm(T.translation - position.p) <= 1e-6
+        tilt = _angle(T.rotation @ axis.axis, axis.direction)
+        assert tilt <= axis.within + 1e-6
+        assert r.orientation_error == pytest.approx(max(tilt - axis.within, 0.0), abs=1e-9)
+        assert a.within_limits(r.q)
+
+
+def test_a_slanted_axis_and_an_exact_direction_take_the_cone_too():
+    """Any axis of the tip, and ``within=0`` on an axis that is not one of the tip's own:
+    the cone's rows, not a free spin."""
+    a = arm("panda")
+    rng = np.random.default_rng(12)
+    axis = np.array([0.6, 0.0, 0.8])
+    for within in (0.0, 0.2):
+        for tasks, _ in _cones(a, rng, 5, max(within, 1e-9), axis):
+            tasks[1] = armik.Axis(axis, tasks[1].direction, within)
+            r = a.solve(tasks, iteration_budget=5000)
+            assert r.success and r.solver == "dls", r.reason
+            tilt = _angle(a.fk(r.q).rotation @ axis, tasks[1].direction)
+            assert tilt <= within + 1e-6
+
+
+def test_an_answer_inside_the_cone_needs_no_step():
+    a = arm("ur5")
+    q = a.random_q(np.random.default_rng(13))
+    T = a.fk(q)
+    near = pin.exp3(np.array([0.02, 0.0, 0.0])) @ T.rotation[:, 2]  # 0.02 rad off, cone 0.05
+    r = a.solve([armik.Position(T.translation), armik.Axis((0, 0, 1), near, 0.05)], q0=q)
+    assert r.success and r.iterations == 0 and np.array_equal(r.q, q)
+
+
+def test_the_cone_option_on_a_pose_is_the_tasks():
+    """``cone=`` on a pose target: what the task list lowers to, the same answer."""
+    a = arm("panda")
+    rng = np.random.default_rng(14)
+    for tasks, _ in _cones(a, rng, 4, 0.1):
+        position, axis = tasks
+        by_tasks = a.solve(tasks, seed=3)
+        R = pin.exp3(_rotation_vector(axis.axis, axis.direction))
+        by_option = a.solve(pin.SE3(R, position.p), cone=(*axis.axis, 0.1), seed=3)
+        assert by_tasks.success and by_option.success
+        np.testing.assert_allclose(by_tasks.q, by_option.q, atol=1e-9)
+
+
+def _rotation_vector(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    axis = np.cross(u, v)
+    return _angle(u, v) * axis / np.linalg.norm(axis)
+
+
+def test_a_batch_of_cones_is_the_loop_of_solves():
+    a = arm("so101")
+    rng = np.random.default_rng(15)
+    rows = [tasks for tasks, _ in _cones(a, rng, 8, 0.05)]
+    b = a.solve_batch(rows, workers=1, progress=False, iteration_budget=5000)
+    assert b.success.all()
+    for i, tasks in enumerate(rows):
+        r = a.solve(tasks, iteration_budget=5000)
+        np.testing.assert_allclose(b.q[i], r.q, atol=1e-12)
+        assert _angle(a.fk(b.q[i]).rotation[:, 2], tasks[1].direction) <= 0.05 + 1e-6
+
+
+def test_an_unreachable_cone_fails_with_a_reason():
+    a = arm("ur5")
+    far = [armik.Position((3.0, 0.0, 0.5)), armik.Axis((0, 0, 1), (0, 0, -1), 0.1)]
+    r = a.solve(far)
+    assert not r.success and r.status == "unreachable" and "reach" in r.reason
+
+
+@pytest.mark.parametrize(
+    "cone", [(0.0, 0.0, 0.0, 0.1), (0.0, 0.0, 1.0, -0.1), (0.0, 0.0, 1.0, 4.0),
+             (0.0, math.nan, 1.0, 0.1), (0.0, 0.0, 1.0), "down"],
+)  # fmt: skip
+def test_bad_cones_are_named(cone):
+    with pytest.raises(OptionError, match="cone must be") as info:
+        arm("ur5").solve(np.eye(4), cone=cone)
+    assert info.value.option == "cone"
