@@ -41,7 +41,7 @@ from armik.frozen import frozen
 from armik.options import Options
 from armik.solve import forked
 from armik.solve.progress import ProgressArg, make_progress
-from armik.solve.single import solve
+from armik.solve.single import solve, solve_parsed
 from armik.solve.tasks import SOLVER, lower_all, task_problems
 from armik.solvers import registry
 from armik.status import Status
@@ -185,7 +185,7 @@ def solve_chunk(
     """Solve and verify one chunk, writing rows ``start:start + len(targets)`` of ``out``."""
     if spec.run_batch is None:
         for i in range(len(targets)):
-            r = solve(arm, targets.target(i), q0=seeds[i], solver=spec.name, **options)[0]
+            r = solve_parsed(arm, targets.target(i), seeds[i], spec.name, options)
             out.put_result(start + i, r)
         return
     # C-ordered and writable, as the compiled entries are compiled for (a broadcast or a
@@ -202,14 +202,14 @@ def solve_chunk(
         # they carry the specific reason (too far, wrist orientation, ...) and the next
         # verified branch that ``solve`` would fall back to.
         for i in np.flatnonzero(~part.success).tolist():
-            r = solve(arm, targets.target(i), q0=seeds[i], solver=spec.name, **options)[0]
+            r = solve_parsed(arm, targets.target(i), seeds[i], spec.name, options)
             out.put_result(start + i, r)
 
 
 def _collisions(arm, spec, targets, seeds, opts, options, out, start, part) -> None:
     """The collision check of a chunk's verified answers: each success whose closest pair
     keeps ``margin`` stands (it is the answer ``solve`` gives: its first run, from the same
-    seed, ends there); every other target is solved again by ``solve``, which restarts
+    seed, ends there); every other target is solved again (``solve_parsed``), which restarts
     (numeric) or tries the other branches (closed forms)."""
     check = checker(arm, opts.obstacles, opts.self_collision)
     pair_index = {p: k for k, p in enumerate(out.pair_names)}
@@ -220,7 +220,7 @@ def _collisions(arm, spec, targets, seeds, opts, options, out, start, part) -> N
                 out.min_distance[start + i] = d
                 out.pair_index[start + i] = -1 if pair is None else pair_index[pair]
                 continue
-        r = solve(arm, targets.target(i), q0=seeds[i], solver=spec.name, **options)[0]
+        r = solve_parsed(arm, targets.target(i), seeds[i], spec.name, options)
         out.put_result(start + i, r)
 
 

@@ -19,7 +19,7 @@ from armik.options import Options
 from armik.problem.scores import Score
 from armik.result import IKResult
 from armik.solve.nullspace import descend
-from armik.solve.single import solve
+from armik.solve.single import solve_parsed
 from armik.solvers import registry
 from armik.solvers.claims import Attempt
 from armik.status import Status
@@ -46,7 +46,7 @@ def preferred(
         return r
     candidates = [r]
     if registry.get(r.solver).kind != "numeric":  # every branch and turn, nearest first
-        found = solve(arm, target, q0=q_prev, solver=r.solver, all_solutions=True, **options)
+        found = solve_parsed(arm, target, q_prev, r.solver, options, True)
         candidates += [_turned(arm, c, q_prev) for c in found if c.success]
     elif arm.dof > 6 and _plain_pose(target, opts):
         pose = pin.SE3(target.rotation, target.position)
@@ -89,4 +89,4 @@ def _turned(arm: ArmModel, r: IKResult, q_prev: np.ndarray) -> IKResult:
 
 def _plain_pose(target: Target, opts: Options) -> bool:
     """A full pose without a region or weights: what the self-motion descent holds."""
-    return target.rotation is not None and not (opts.bounds or opts.weights or opts.collisions)
+    return target.rotation is not None and not (opts.region or opts.weights or opts.collisions)

@@ -19,7 +19,7 @@ import numpy as np
 
 from armik.model.arm_model import ArmModel
 from armik.result import IKResult
-from armik.solve.single import solve
+from armik.solve.single import solve_parsed
 from armik.targets.pose import Target
 
 HELD_OFFSETS = 0.1 * np.arange(-2, 3)  # rad: joint 7's values about the followed path's
@@ -33,7 +33,7 @@ def every_branch(arm: ArmModel, batch, q_prev: np.ndarray, solver: str, options)
     """Each waypoint's ``solve_all`` results by ``solver`` (a pose as a 4x4 array takes the
     prepared path)."""
     return [
-        solve(arm, plain(batch.target(i)), q0=q_prev, solver=solver, all_solutions=True, **options)
+        solve_parsed(arm, plain(batch.target(i)), q_prev, solver, options, True)
         for i in range(len(batch))
     ]
 
@@ -56,7 +56,7 @@ def held(arm: ArmModel, batch, q_start: np.ndarray, followed, options) -> list:
         target = plain(batch.target(i))
         for value in np.concatenate((np.clip(theta + HELD_OFFSETS, lo, hi), grid)):
             seed[6] = value  # where the swept closed form holds joint 7 first
-            found += solve(arm, target, q0=seed, solver="swept", all_solutions=True, **options)
+            found += solve_parsed(arm, target, seed, "swept", options, True)
         rungs.append(found)
     return rungs
 
@@ -72,7 +72,7 @@ def tracked(arm: ArmModel, batch, q_start: np.ndarray, solver: str, followed, op
     breaks = [i for i in range(1, n) if not ok[i] and ok[i - 1]][:BREAKS]
     for s in [0, *breaks]:
         seed = q_start if s == 0 else np.asarray(followed.q[s - 1])
-        found = solve(arm, targets[s], q0=seed, solver=solver, all_solutions=True, **options)
+        found = solve_parsed(arm, targets[s], seed, solver, options, True)
         for start in [r for r in found if r.success][:TRACKS]:
             if not _add(rungs[s], unwrapped(arm, start, seed)):
                 continue  # an answer already there: its track is run
@@ -87,7 +87,7 @@ def _track(arm, targets, start: np.ndarray, indices, solver: str, local, rungs) 
     merged with another, and stops."""
     prev = start
     for i in indices:
-        r = solve(arm, targets[i], q0=prev, solver=solver, **local)[0]
+        r = solve_parsed(arm, targets[i], prev, solver, local)
         if not r.success:
             continue  # out of reach here: the track goes on from its last answer
         r = unwrapped(arm, r, prev)

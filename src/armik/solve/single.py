@@ -51,26 +51,50 @@ def solve_one(
     arm: ArmModel, target: object, q0: object, solver: str, options: dict, every: bool = False
 ):
     """``solve(arm, target, q0=q0, solver=solver, **options)[0]`` (``Arm.solve``'s route),
-    or with ``every`` the whole list of ``all_solutions=True``: a prepared solve
-    (``armik.solve.prepared``) when the input is plain, else the general path."""
+    or with ``every`` the whole list of ``all_solutions=True``: the problem parsed (a
+    preference taken out, a task list lowered to the compiled path's target and options
+    where it has a form), then ranked by the preference, solved by the task solver, or
+    solved as parsed (``solve_parsed``)."""
     t0 = time.perf_counter()
+    score = None
     if "prefer" in options:
         options = dict(options)
         score = parse_score(options.pop("prefer"))
-        if score is not None:
-            return _preferred(arm, target, q0, solver, options, every, score, t0)
+    problem = None
     if type(target) in (list, tuple) or isinstance(target, Task):  # perhaps tasks
         problem = as_problem(target)
         if problem is not None:
             lowered = lower(problem, arm.tip)
-            if lowered is None:
-                opts = _validated(options)
-                check_options(opts, solver)
-                one = solve_tasks(arm, problem, q0, opts, t0, _centre(arm, problem, q0, options))
-                return [one] if every else one
-            target, said = lowered
-            check_said_twice(options, said)
-            options = {**options, **said}
+            if lowered is not None:
+                target, said = lowered
+                check_said_twice(options, said)
+                options = {**options, **said}
+                problem = None
+    if score is not None:
+        return _preferred(arm, target, q0, solver, options, every, score, t0, problem)
+    if problem is not None:
+        opts = _validated(options)
+        check_options(opts, solver)
+        one = solve_tasks(arm, problem, q0, opts, t0, _centre(arm, problem, q0, options))
+        return [one] if every else one
+    return solve_parsed(arm, target, q0, solver, options, every, t0)
+
+
+def solve_parsed(
+    arm: ArmModel,
+    target: object,
+    q0: object,
+    solver: str,
+    options: dict,
+    every: bool = False,
+    t0: float | None = None,
+):
+    """The stages after parsing, for a target the compiled path takes (a pose, a position,
+    a parsed ``Target``; no preference among ``options``): a held joint, the collision
+    retry (``_clear_at_once``, then ``armik.solve.avoid``), the prepared plan, the general
+    path. What paths, their rungs, a region's centre and a preference call for each answer
+    (``solve_one`` without the parsing): the result, or with ``every`` the list."""
+    t0 = time.perf_counter() if t0 is None else t0
     opts, key, seed = _options(options)
     if opts.hold is not None:
         return solve_held(arm, target, q0, solver, _with_seed(opts, seed), every, t0, _general)
@@ -79,6 +103,12 @@ def solve_one(
         clear, first = _clear_at_once(arm, target, q0, solver, options, opts, t0)
         if clear is not None:
             return clear
+    return _answer(arm, target, q0, solver, opts, key, seed, every, t0, first)
+
+
+def _answer(arm, target, q0, solver: str, opts: Options, key, seed, every: bool, t0, first=None):
+    """The prepared plan's answer where it takes the input, else the general path's (the
+    verdict of every candidate, collisions checked when ``opts`` asks)."""
     plan = None if key is None else plan_for(arm, solver, key, opts, _is_vector(target), every)
     if plan is not None and not every:
         got = plan.solve(target, q0, opts, seed, t0)
@@ -94,31 +124,36 @@ def solve_one(
     return results[0]
 
 
-def _preferred(arm, target, q0, solver: str, options: dict, every: bool, score, t0: float):
+def _preferred(
+    arm, target, q0, solver: str, options: dict, every: bool, score, t0: float, problem=None
+):
     """The rank stage with a score: on a 7R arm the swept closed form applies to, the
     self-motion searched for the score (every solution has some value of joint 7) with
     the plain answer beside it; else the answers solve_all finds, and where a numeric
     solver found them, those of starts near q0 too (``prefer.near_answers``), the best
-    moved along the self-motion on a redundant arm (``_along_self_motion``)."""
+    moved along the self-motion on a redundant arm (``_along_self_motion``). ``problem``:
+    a task list without a compiled form (``target`` then), whose solve the task solver's."""
     opts = _validated(options)
-    pose = not isinstance(target, (list, Task)) and _plain_pose(opts)
+    pose = problem is None and _plain_pose(opts)
     seed = arm.seed(q0)
     swept = None
     if pose and solver == "auto":
         swept = sweep_held(arm, parse_target(target, arm), seed, opts, score, t0)
     if swept and any(r.success for r in swept):
-        ranked = rank(arm, [solve_one(arm, target, q0, solver, options), *swept], score, seed, t0)
+        plain = solve_parsed(arm, target, q0, solver, options)
+        ranked = rank(arm, [plain, *swept], score, seed, t0)
         return ranked if every else ranked[0]
     budget = opts.iteration_budget
     share: dict = {"timeout": opts.timeout * prefer.GATHER}
     if budget is not None:
         share = {"iteration_budget": max(int(budget * prefer.GATHER_ITERATIONS), 1)}
-    found = solve_one(arm, target, q0, solver, {**options, **share}, True)
+    found = _found(arm, target, q0, solver, {**options, **share}, problem)
     searched = bool(found) and registry.get(found[0].solver).kind == "numeric"
     if searched and pose:  # one descent from each start, by the solver that searched
 
         def solve_from(start: np.ndarray) -> IKResult:
-            return solve_one(arm, target, start, found[0].solver, {**options, "max_restarts": 0})
+            once = {**options, "max_restarts": 0}
+            return solve_parsed(arm, target, start, found[0].solver, once)  # type: ignore
 
         middle = prefer.centre(arm, score, seed)
         found = [*found, *prefer.near_answers(arm, solve_from, middle, opts, t0)]
@@ -133,6 +168,16 @@ def _preferred(arm, target, q0, solver: str, options: dict, every: bool, score, 
     return ranked if every else ranked[0]
 
 
+def _found(arm, target, q0, solver: str, options: dict, problem) -> list[IKResult]:
+    """The answers a preference ranks: ``solve_all``'s, or the task solver's one."""
+    if problem is None:
+        return solve_parsed(arm, target, q0, solver, options, True)  # type: ignore[no-any-return]
+    opts = _validated(options)
+    check_options(opts, solver)
+    t0 = time.perf_counter()
+    return [solve_tasks(arm, problem, q0, opts, t0, _centre(arm, problem, q0, options))]
+
+
 def _validated(options: dict) -> Options:
     """``options`` as ``Options``, this call's seed in them."""
     opts, _, seed = _options(options)
@@ -142,7 +187,7 @@ def _validated(options: dict) -> Options:
 def _plain_pose(opts: Options) -> bool:
     """Whether the options ask for the plain pose: no region, weights, held joint or
     collisions (what the swept search and the self-motion descent assume)."""
-    return not (opts.bounds or opts.weights or opts.position_only or opts.collisions or opts.hold)
+    return not (opts.region or opts.weights or opts.position_only or opts.collisions or opts.hold)
 
 
 def _along_self_motion(
@@ -178,14 +223,14 @@ def _centre(arm, problem, q0, options: dict):
         return None
     target, said = lowered
     restarts = min(options.get("max_restarts", CENTRE_RESTARTS), CENTRE_RESTARTS)
-    centre = solve_one(arm, target, q0, "auto", {**options, **said, "max_restarts": restarts})
+    centre = solve_parsed(arm, target, q0, "auto", {**options, **said, "max_restarts": restarts})
     if centre.success or registry.get(centre.solver).kind != "analytic":
         return centre  # a numeric miss shows nothing: the task solver goes on from it
     found = []
     for rim in rims(problem, RIM_SAMPLES):
         lowered = lower(rim, arm.tip)
         if lowered is not None:
-            r = solve_one(arm, lowered[0], q0, "auto", {**options, **lowered[1]})
+            r = solve_parsed(arm, lowered[0], q0, "auto", {**options, **lowered[1]})
             found += [r] if r.success else []
     seed = arm.seed(q0)
     return min(found, key=lambda r: float(np.linalg.norm(r.q - seed)), default=centre)
@@ -215,8 +260,8 @@ def _clear_at_once(arm, target, q0, solver, options: dict, opts: Options, t0: fl
     ``solve_batch``'s chunks), and None; else None and ``First``, that run for the search
     (``armik.solve.avoid``) to go on from."""
     started = time.thread_time()
-    plain = {k: v for k, v in options.items() if k not in _COLLISION_OPTIONS}
-    r = solve_one(arm, target, q0, solver, plain)
+    plain, key, seed = _options({k: v for k, v in options.items() if k not in _COLLISION_OPTIONS})
+    r = _answer(arm, target, q0, solver, plain, key, seed, False, time.perf_counter())
     if not r.success:
         return None, First(_row(r, math.nan, None, opts.margin), started)
     distance, pair = checker(arm, opts.obstacles, opts.self_collision).distance(r.q)
