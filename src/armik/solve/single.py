@@ -61,7 +61,12 @@ def solve_one(
         options = dict(options)
         score = parse_score(options.pop("prefer"))
     problem = None
-    if type(target) in (list, tuple) or isinstance(target, Task):  # perhaps tasks
+    kind = type(target)  # the common poses first: ``Task``'s isinstance is an ABC's check
+    if (
+        kind is not _SE3
+        and kind is not np.ndarray
+        and (kind in (list, tuple) or isinstance(target, Task))
+    ):
         problem = as_problem(target)
         if problem is not None:
             lowered = lower(problem, arm.tip)
@@ -109,7 +114,8 @@ def solve_parsed(
 def _answer(arm, target, q0, solver: str, opts: Options, key, seed, every: bool, t0, first=None):
     """The prepared plan's answer where it takes the input, else the general path's (the
     verdict of every candidate, collisions checked when ``opts`` asks)."""
-    plan = None if key is None else plan_for(arm, solver, key, opts, _is_vector(target), every)
+    vector = type(target) is np.ndarray and target.ndim == 1  # a position, for the plan
+    plan = None if key is None else plan_for(arm, solver, key, opts, vector, every)
     if plan is not None and not every:
         got = plan.solve(target, q0, opts, seed, t0)
         if got is not None:
@@ -290,12 +296,6 @@ def _row(r: IKResult, distance: float, pair, margin: float) -> dict:
     return distance_verdict(row, distance, pair, margin)
 
 
-def _is_vector(target: object) -> bool:
-    """An array of one dimension: a position target for the plan (other lengths are left
-    to the general path by the plan itself)."""
-    return type(target) is np.ndarray and target.ndim == 1
-
-
 def _general(arm, target, q0, solver, opts: Options, all_solutions: bool, t0: float, first=None):
     tgt = parse_target(target, arm)
     seed = arm.seed(q0)
@@ -349,4 +349,5 @@ def _with_seed(opts: Options, seed: int | None) -> Options:
     return frozen(Options, **{**opts.__dict__, "seed": seed})
 
 
+_SE3 = pin.SE3
 _DEFAULT = Options()  # frozen: shared by every call without options
