@@ -82,7 +82,8 @@ def solve_one(
         check_options(opts, solver)
         one = solve_tasks(arm, problem, q0, opts, t0, _centre(arm, problem, q0, options))
         return [one] if every else one
-    return solve_parsed(arm, target, q0, solver, options, every, t0)
+    opts, key, seed = _options(options)
+    return _stages(arm, target, q0, solver, opts, key, seed, every, t0)
 
 
 def solve_parsed(
@@ -101,19 +102,18 @@ def solve_parsed(
     (``solve_one`` without the parsing): the result, or with ``every`` the list."""
     t0 = time.perf_counter() if t0 is None else t0
     opts, key, seed = _options(options)
+    return _stages(arm, target, q0, solver, opts, key, seed, every, t0)
+
+
+def _stages(arm, target, q0, solver: str, opts: Options, key, seed, every: bool, t0: float):
+    """``solve_parsed`` with the options validated (``_options``)."""
     if opts.hold is not None:
         return solve_held(arm, target, q0, solver, _with_seed(opts, seed), every, t0, _general)
     first = None
-    if opts.collisions and not every:
-        clear, first = _clear_at_once(arm, target, q0, solver, options, opts, t0)
+    if not every and (opts.obstacles or opts.self_collision):  # ``opts.collisions``, inline
+        clear, first = _clear_at_once(arm, target, q0, solver, opts, key, seed, t0)
         if clear is not None:
             return clear
-    return _answer(arm, target, q0, solver, opts, key, seed, every, t0, first)
-
-
-def _answer(arm, target, q0, solver: str, opts: Options, key, seed, every: bool, t0, first=None):
-    """The prepared plan's answer where it takes the input, else the general path's (the
-    verdict of every candidate, collisions checked when ``opts`` asks)."""
     vector = type(target) is np.ndarray and target.ndim == 1  # a position, for the plan
     plan = None if key is None else plan_for(arm, solver, key, opts, vector, every)
     if plan is not None and not every:
@@ -256,18 +256,19 @@ def _beyond_search(arm, target, q0, solver: str, opts: Options, seed, results: l
 
 
 RIM_SAMPLES = 8  # points on a region's rim tried where a closed form misses its centre
-_COLLISION_OPTIONS = ("obstacles", "self_collision", "margin")
+_NO_COLLISIONS = {"obstacles": (), "self_collision": False, "margin": 0.0}
 
 
-def _clear_at_once(arm, target, q0, solver, options: dict, opts: Options, t0: float):
+def _clear_at_once(arm, target, q0, solver, opts: Options, key, seed, t0: float):
     """(result, first): the plain solve's answer when it is a success and collision-free,
     with its distance and pair (the answer the collision-checked search starts with: a
     numeric solver's first run, a closed form's nearest verified branch, as
     ``solve_batch``'s chunks), and None; else None and ``First``, that run for the search
     (``armik.solve.avoid``) to go on from."""
     started = time.thread_time()
-    plain, key, seed = _options({k: v for k, v in options.items() if k not in _COLLISION_OPTIONS})
-    r = _answer(arm, target, q0, solver, plain, key, seed, False, time.perf_counter())
+    plain = frozen(Options, **{**opts.__dict__, **_NO_COLLISIONS})
+    key = None if key is None else (key, "without collisions")  # the plan's, apart
+    r = _stages(arm, target, q0, solver, plain, key, seed, False, time.perf_counter())
     if not r.success:
         return None, First(_row(r, math.nan, None, opts.margin), started)
     distance, pair = checker(arm, opts.obstacles, opts.self_collision).distance(r.q)
