@@ -9,6 +9,8 @@ as TRAC-IK reads its bounds; ``math.inf`` frees an axis.
    free.
 2. A UR5 target within +-5 mm and +-0.05 rad: q0 already inside the box needs no step.
 3. A region out of reach is a failure with its reason, never an exception.
+4. Tasks: a suction cup at a point, pointing down within 3 degrees (``armik.Position`` and
+   ``armik.Axis``), on the SO-101 and the UR5: the compiled step follows the cone.
 """
 
 import math
@@ -60,3 +62,14 @@ print(f"from mid-limits: {r.status} after {r.iterations} iterations")
 # 3. out of reach
 r = ur5.solve(pin.SE3(np.eye(3), np.array([2.0, 0.0, 0.5])), bounds=BOX)
 print(f"a region 2 m away: {r.status}: {r.reason}")
+
+# 4. a point, the tool's z within 3 degrees of straight down
+WITHIN = math.radians(3.0)
+for a, p in ((so101, (0.2, 0.05, 0.05)), (ur5, (0.4, 0.2, 0.3))):
+    r = a.solve([armik.Position(p), armik.Axis((0, 0, 1), (0, 0, -1), WITHIN)])
+    if r.success:
+        z = a.fk(r.q).rotation[:, 2]
+        tilt = math.degrees(math.acos(min(1.0, -float(z[2]))))
+        print(f"{a.name}: {r.status} by {r.solver}, tool {tilt:.2f} degrees from straight down")
+    else:
+        print(f"{a.name}: {r.status}: {r.reason}")

@@ -33,6 +33,8 @@ EXPECT = {
         "200/200 solved",
         "converged in 0 iterations",
         "a region 2 m away: unreachable",
+        "so101: converged by dls",
+        "ur5: converged by dls",
     ],
     "12_preferences.py": [
         "manipulability |    True",
