@@ -6,6 +6,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -103,3 +104,16 @@ def test_an_armik_error_in_a_child_comes_back_with_its_fields():
     with pytest.raises(OptionError, match="bad value") as caught:
         forked.run(_child_takes_one(fail), range(3), 2, lambda start, value: None)
     assert caught.value.option == "timeout"
+
+
+def test_children_end_on_their_own_after_a_run():
+    """The parent returns once every child has said it is done, without waiting for their
+    exit; they end all the same (reaped by multiprocessing), none left running."""
+    got = {}
+    forked.run(lambda s: s, list(range(8)), 3, got.__setitem__)
+    assert sorted(got) == list(range(8))
+    for _ in range(int(WAIT / 0.01)):
+        if not multiprocessing.active_children():  # reaps the ended ones
+            break
+        time.sleep(0.01)
+    assert not multiprocessing.active_children()
