@@ -299,13 +299,19 @@ def _hold(value: object) -> tuple[str, float | None]:
     return name, out
 
 
-def _weights(value: object) -> tuple[float, ...]:
+def _numbers(value: object) -> np.ndarray:
+    """``value`` as a float array, or [nan] for what is not numbers (a string, complex
+    numbers, ragged lists): the callers' checks then refuse it."""
     try:
         if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
             raise TypeError
-        w = np.asarray(value, dtype=float)
+        return np.asarray(value, dtype=float)
     except (TypeError, ValueError):
-        w = np.array([np.nan])
+        return np.array([np.nan])
+
+
+def _weights(value: object) -> tuple[float, ...]:
+    w = _numbers(value)
     if (
         w.shape != (6,)
         or not np.all(np.isfinite(w))
@@ -326,12 +332,7 @@ def _weights(value: object) -> tuple[float, ...]:
 
 def _bounds(value: object) -> tuple[float, ...]:
     """6 bounds >= 0 (m, m, m, rad, rad, rad), ``inf`` allowed (a free axis)."""
-    try:
-        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
-            raise TypeError
-        b = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        b = np.array([np.nan])
+    b = _numbers(value)
     if b.shape != (6,) or np.isnan(b).any() or (b < 0).any():
         raise OptionError(
             "bounds must be 6 numbers >= 0 (bx, by, bz in m, brx, bry, brz in rad: how far "
@@ -345,12 +346,7 @@ def _bounds(value: object) -> tuple[float, ...]:
 
 def _cone(value: object) -> tuple[float, float, float, float]:
     """(ax, ay, az, within): a non-zero axis (made unit) and an angle in [0, pi]."""
-    try:
-        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
-            raise TypeError
-        c = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        c = np.array([np.nan])
+    c = _numbers(value)
     length = float(np.linalg.norm(c[:3])) if c.shape == (4,) else math.nan
     if not (np.isfinite(c).all() and 1e-9 < length < math.inf and 0.0 <= c[3] <= math.pi):
         raise OptionError(
