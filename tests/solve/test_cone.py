@@ -122,3 +122,16 @@ def test_bad_cones_are_named(cone):
     with pytest.raises(OptionError, match="cone must be") as info:
         arm("ur5").solve(np.eye(4), cone=cone)
     assert info.value.option == "cone"
+
+
+def test_an_axis_alone_is_a_cone_with_the_position_free():
+    """``[armik.Axis(...)]``: the tip's direction only, lowered to a cone with unbounded
+    position rows; every success within the cone by yourdfpy's FK."""
+    a = arm("so101")
+    independent = Independent(a)
+    rng = np.random.default_rng(16)
+    for _ in range(8):
+        d = a.fk(a.random_q(rng)).rotation[:, 2]  # a direction the tool takes somewhere
+        r = a.solve([armik.Axis((0, 0, 1), d, 0.05)], iteration_budget=5000)
+        assert r.success and r.solver == "dls" and r.position_error == 0.0, r.reason
+        assert _angle(independent.fk(r.q).rotation[:, 2], d) <= 0.05 + 1e-6

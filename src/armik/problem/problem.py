@@ -3,8 +3,8 @@
 Today a problem is its primary tasks; constraints other than the joint limits, secondary
 tasks and scores join it as the later features land. ``lower`` gives a problem the solve
 path already has a compiled form for (one pose of the tip, with weights or bounds; one
-position of the tip; a position with an axis in a cone) back as the target and options of
-that path, so the old route keeps
+position of the tip; a position with an axis in a cone; an axis in a cone alone) back as
+the target and options of that path, so the old route keeps
 its speed; every other problem goes to ``armik.solve.tasks``.
 """
 
@@ -89,6 +89,13 @@ def lower(problem: Problem, tip: str | None = None) -> tuple[object, dict] | Non
         return pin.SE3(task.T), options
     if type(task) is Position and not task.bounds.any():
         return np.array(task.p), {}
+    if type(task) is Axis:  # a direction alone: the position free, the axis in its cone
+        cone = (*(float(x) for x in task.axis), float(task.within))
+        free = (math.inf,) * 3 + (0.0,) * 3
+        return pin.SE3(_onto(task.axis, task.direction), np.zeros(3)), {
+            "bounds": free,
+            "cone": cone,
+        }
     return None
 
 
