@@ -2,6 +2,8 @@
 
 from typing import Any as _Any  # private: the package namespace is its API
 
+# first: numba picks the cache of a compiled function when it is decorated
+from armik import compiled_cache as _compiled_cache  # noqa: F401  # isort: skip
 from armik import collision
 from armik.arm import Arm, load, load_string
 from armik.arms import Arms

@@ -1,7 +1,8 @@
 """The compiled numeric core: the descent of ``dls`` and ``qp`` and their restarts.
 
-Small modules because numba's on-disk cache is keyed per source file: editing one
-function recompiles only its module and the ones that call it.
+Small modules, one concept each. numba's on-disk cache is keyed by armik's every compiled
+source together (``armik.compiled_cache``): editing one compiles the kernels again, so
+that no cached caller keeps a callee's old code.
 
 - ``chain``: the kernel's view of an arm, plain arrays read once from Pinocchio's model.
 - ``se3``: log3, log6 and their Jacobians.

@@ -1,0 +1,96 @@
+"""numba's on-disk cache of armik's compiled code, stamped by every source it depends on.
+
+numba checks a cached function against its own source file only (its modification time
+and size), yet a cached function holds the machine code of the compiled functions it calls
+in other modules and the constants it reads from them. After an edit to a callee, a cached
+caller would run the callee's old code. armik's functions are cached instead under a stamp
+of every compiled module of the package (a file that uses ``njit``) and every armik module
+they import from: any edit to one of them compiles armik's code again, and nothing stale
+runs. The cache stays where numba puts it (``NUMBA_CACHE_DIR``, else the source tree's
+``__pycache__``, else the user's cache directory); only the stamp differs.
+
+Imported by ``armik/__init__.py`` before any compiled module: numba picks a function's
+cache locator when the function is decorated.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import re
+import sys
+from functools import cache
+from pathlib import Path
+
+from numba.core import caching
+
+PACKAGE = Path(__file__).resolve().parent
+# "from armik.x import a, b" and "from armik.x import (\n a,\n b,\n)": the module, the names
+_IMPORT = re.compile(r"^from (armik(?:\.\w+)*) import (\([^)]*\)|[^\n]*)", re.MULTILINE)
+
+
+def depended_on(root: Path = PACKAGE) -> list[Path]:
+    """The package's compiled modules (their text says ``njit``) and the package's modules
+    they import from, sorted."""
+    found: set[Path] = set()
+    for path in root.rglob("*.py"):
+        text = path.read_text(encoding="utf-8")
+        if "njit" not in text:
+            continue
+        found.add(path)
+        for module, names in _IMPORT.findall(text):
+            parts = module.split(".")[1:]
+            # the module, or a module it holds by each name imported (from armik import x)
+            for where in [parts] + [[*parts, n] for n in re.findall(r"\w+", names)]:
+                for candidate in (root.joinpath(*where).with_suffix(".py"),
+                                  root.joinpath(*where, "__init__.py")):  # fmt: skip
+                    if candidate.is_file():
+                        found.add(candidate)
+    return sorted(found)
+
+
+def stamp(root: Path = PACKAGE) -> str:
+    """A digest of each depended-on source's path, modification time and size: what numba
+    reads of a source to decide whether its cache is current."""
+    digest = hashlib.sha256()
+    for path in depended_on(root):
+        st = path.stat()
+        digest.update(f"{path.relative_to(root)}:{st.st_mtime_ns}:{st.st_size};".encode())
+    return digest.hexdigest()
+
+
+@cache
+def _stamp() -> str:
+    return stamp()
+
+
+def _stamped(base: type) -> type:
+    """``base``, a numba cache locator, for armik's sources only and stamped by them all."""
+
+    class Stamped(base):  # type: ignore[valid-type, misc]
+        def get_source_stamp(self) -> str:
+            return _stamp()
+
+        @classmethod
+        def from_function(cls, py_func, py_file):
+            if getattr(sys, "frozen", False) or not Path(py_file).resolve().is_relative_to(PACKAGE):
+                return None
+            return super().from_function(py_func, py_file)
+
+    Stamped.__name__ = Stamped.__qualname__ = f"Armik{base.__name__}"
+    return Stamped
+
+
+def _numba(name: str):
+    """numba's class ``name`` (older releases spell it with a leading underscore)."""
+    return getattr(caching, name, None) or getattr(caching, f"_{name}")
+
+
+# where numba would cache a function, in its order: NUMBA_CACHE_DIR, the source tree, the
+# user's cache directory
+LOCATORS = tuple(
+    _stamped(_numba(name))
+    for name in ("UserProvidedCacheLocator", "InTreeCacheLocator", "UserWideCacheLocator")
+)
+_CLASSES = _numba("CacheImpl")._locator_classes
+if not any(c.__name__ == LOCATORS[0].__name__ for c in _CLASSES):  # once, if reloaded
+    _CLASSES[:0] = list(LOCATORS)
