@@ -25,7 +25,9 @@ def _package(tmp_path: Path) -> Path:
     (root / "sub").mkdir(parents=True)
     files = {
         "kernel.py": "from numba import njit\nfrom armik.consts import X\n"
-        "from armik import (\n    helper,\n)\n\n@njit\ndef f():\n    return X\n",
+        "from armik import (\n    helper,\n)\nfrom armik.api import Options\n\n"
+        "@njit\ndef f():\n    return X\n",
+        "api.py": "class Options:\n    pass\n",
         "consts.py": "X = 1\n",
         "helper.py": "Y = 2\n",
         "other.py": "Z = 3\n",
@@ -49,8 +51,9 @@ def test_the_stamp_follows_compiled_modules_and_what_they_import(tmp_path):
     before = compiled_cache.stamp(root)
     _touch(root / "other.py")  # no compiled module reads it
     _touch(root / "sub" / "plain.py")
+    _touch(root / "api.py")  # a class, which compiled code cannot read
     assert compiled_cache.stamp(root) == before
-    for name in names:  # the compiled module, a constant it reads, a module it imports
+    for name in names:  # the compiled module, a module it reads a constant of, one it imports
         _touch(root / name)
         after = compiled_cache.stamp(root)
         assert after != before

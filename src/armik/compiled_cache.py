@@ -4,9 +4,9 @@ numba checks a cached function against its own source file only (its modificatio
 and size), yet a cached function holds the machine code of the compiled functions it calls
 in other modules and the constants it reads from them. After an edit to a callee, a cached
 caller would run the callee's old code. armik's functions are cached instead under a stamp
-of every compiled module of the package (a file that uses ``njit``) and every armik module
-they import from: any edit to one of them compiles armik's code again, and nothing stale
-runs. The cache stays where numba puts it (``NUMBA_CACHE_DIR``, else the source tree's
+of every compiled module of the package (one that imports ``njit``) and every armik module
+they import a constant from: any edit to one of them compiles armik's code again, and
+nothing stale runs. The cache stays where numba puts it (``NUMBA_CACHE_DIR``, else the source tree's
 ``__pycache__``, else the user's cache directory); only the stamp differs.
 
 Imported by ``armik/__init__.py`` before any compiled module: numba picks a function's
@@ -24,23 +24,32 @@ from pathlib import Path
 from numba.core import caching
 
 PACKAGE = Path(__file__).resolve().parent
-# "from armik.x import a, b" and "from armik.x import (\n a,\n b,\n)": the module, the names
+_COMPILED = re.compile(r"^from numba import [^\n]*\bnjit\b", re.MULTILINE)  # compiles code
+# a "from" import of the package, on one line or in parentheses: the module, the names
+_CONSTANT = re.compile(r"[A-Z][A-Z0-9_]*")
 _IMPORT = re.compile(r"^from (armik(?:\.\w+)*) import (\([^)]*\)|[^\n]*)", re.MULTILINE)
 
 
 def depended_on(root: Path = PACKAGE) -> list[Path]:
-    """The package's compiled modules (their text says ``njit``) and the package's modules
-    they import from, sorted."""
+    """The package's compiled modules (they import ``njit`` from numba) and what their
+    compiled code can read of other modules, sorted: compiled code calls compiled functions
+    only, and reads globals: the modules a compiled module imports whole, and those it
+    imports a constant (an upper-case name) from. A module it takes classes or Python
+    functions from (``Options``, the registry) does not count: an edit there compiles
+    nothing again."""
     found: set[Path] = set()
     for path in root.rglob("*.py"):
         text = path.read_text(encoding="utf-8")
-        if "njit" not in text:
+        if not _COMPILED.search(text):
             continue
         found.add(path)
         for module, names in _IMPORT.findall(text):
             parts = module.split(".")[1:]
-            # the module, or a module it holds by each name imported (from armik import x)
-            for where in [parts] + [[*parts, n] for n in re.findall(r"\w+", names)]:
+            words = re.findall(r"\w+", names)
+            wheres = [[*parts, n] for n in words]  # a module imported by its name
+            if parts and any(_CONSTANT.fullmatch(n) for n in words):
+                wheres.append(parts)
+            for where in wheres:
                 for candidate in (root.joinpath(*where).with_suffix(".py"),
                                   root.joinpath(*where, "__init__.py")):  # fmt: skip
                     if candidate.is_file():
