@@ -135,3 +135,32 @@ def test_an_axis_alone_is_a_cone_with_the_position_free():
         r = a.solve([armik.Axis((0, 0, 1), d, 0.05)], iteration_budget=5000)
         assert r.success and r.solver == "dls" and r.position_error == 0.0, r.reason
         assert _angle(independent.fk(r.q).rotation[:, 2], d) <= 0.05 + 1e-6
+
+
+@pytest.mark.parametrize("name", ["ur5", "so101"])
+def test_a_look_at_from_a_held_position_is_the_cone_toward_its_point(name):
+    """``[armik.Position(p), armik.LookAt(point, axis, within)]``: the cone along the line
+    from p to the point, solved by the compiled step, then held to the look-at itself on
+    Pinocchio's FK (``extra["task_errors"]``) and on yourdfpy's."""
+    a = arm(name)
+    independent = Independent(a)
+    rng = np.random.default_rng(17)
+    for _ in range(8):
+        T = a.fk(a.random_q(rng))
+        point = T.translation + rng.uniform(0.2, 1.0) * T.rotation[:, 2]
+        point = point + rng.normal(scale=0.01, size=3)
+        tasks = [armik.Position(T.translation), armik.LookAt(point, (0, 0, 1), 0.05)]
+        r = a.solve(tasks, iteration_budget=5000)
+        assert r.success and r.solver == "dls", r.reason
+        assert [e.within for e in r.extra["task_errors"]] == [True, True]
+        X = independent.fk(r.q)
+        assert np.linalg.norm(X.translation - T.translation) <= 1e-6
+        sight = (point - X.translation) / np.linalg.norm(point - X.translation)
+        assert _angle(X.rotation[:, 2], sight) <= 0.05 + 1e-6
+
+
+def test_a_look_at_of_the_point_it_stands_on_is_the_task_solvers():
+    a = arm("ur5")
+    p = a.fk(a.middle).translation
+    r = a.solve([armik.Position(p), armik.LookAt(p, (0, 0, 1), 0.0)])
+    assert r.success and r.solver == "tasks"  # any axis looks at it

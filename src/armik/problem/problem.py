@@ -17,7 +17,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.errors import TargetError
-from armik.problem.tasks import Axis, Pose, Position, Relative, Task
+from armik.problem.tasks import Axis, LookAt, Pose, Position, Relative, Task
 from armik.problem.tasks.cone import cross
 
 
@@ -56,6 +56,31 @@ def tightened(problem: Problem) -> Problem:
     """The problem with every region shrunk to its centre (``Task.shrunk(0)``): each of its
     answers answers ``problem`` too, and it may have a compiled form ``problem`` has not."""
     return Problem(tuple(t.shrunk(0.0) for t in problem.tasks))
+
+
+def aimed(problem: Problem) -> Problem | None:
+    """A position held exactly with an axis looking at a point (a camera at a spot, aimed
+    at an object): the same problem with the look-at as an ``Axis`` along the line from
+    the position to the point, which the compiled path has a form for; None for other
+    problems. Equal up to the position's error over the distance to the point: its answers
+    are checked against the problem's own tasks (``armik.solve.tasks``)."""
+    if len(problem.tasks) != 2:
+        return None
+    a, b = problem.tasks
+    if type(a) is LookAt:
+        a, b = b, a
+    if type(a) is not Position or type(b) is not LookAt or a.bounds.any():
+        return None
+    if a.frame != b.frame:
+        return None
+    sight = b.point - a.p
+    distance = float(np.linalg.norm(sight))
+    if not distance > LOOK_FROM:  # looking at the very point it stands on: any axis holds
+        return None
+    return Problem((a, Axis(b.axis, sight / distance, b.within, frame=b.frame)))
+
+
+LOOK_FROM = 1e-6  # m: a point nearer the position than this is no direction to aim at
 
 
 def rims(problem: Problem, count: int) -> list[Problem]:

@@ -14,7 +14,7 @@ from armik.constraints.collision import checker
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.options import Options
-from armik.problem.problem import as_problem, lower, rims, tightened
+from armik.problem.problem import aimed, as_problem, lower, rims, tightened
 from armik.problem.scores import parse_score
 from armik.problem.tasks import Task
 from armik.result import IKResult
@@ -221,10 +221,12 @@ def _along_self_motion(
 
 def _centre(arm, problem, q0, options: dict):
     """The compiled answer to the problem's centre (``tightened``), if it has a form: an
-    answer to the problem itself, or a start for the task solver; else None. Where a
-    closed form finds no answer at the centre, the nearest q0 of its answers on the
-    region's rim (``rims``: a cone's axis tilted to its edge), if any reaches."""
-    lowered = lower(tightened(problem), arm.tip)
+    answer to the problem itself, or a start for the task solver; else None. A look-at
+    from a held position is its cone toward the point instead (``aimed``), the region
+    whole. Where a closed form finds no answer at the centre, the nearest q0 of its answers
+    on the region's rim (``rims``: a cone's axis tilted to its edge), if any reaches."""
+    near = aimed(problem)
+    lowered = lower(tightened(problem) if near is None else near, arm.tip)
     if lowered is None:
         return None
     target, said = lowered
