@@ -10,7 +10,10 @@ random configuration q within the limits:
 - ``box``: a pose whose error twist to q's tip pose lies at up to 80 % of +-5 mm and
   +-0.05 rad, bounds (0.005,) * 3 + (0.05,) * 3;
 - ``cone``: a task list, q's tip position and its z axis within 0.05 rad of a direction
-  up to 0.04 rad from q's (``[armik.Position(p), armik.Axis((0, 0, 1), d, 0.05)]``).
+  up to 0.04 rad from q's (``[armik.Position(p), armik.Axis((0, 0, 1), d, 0.05)]``);
+- ``look``: a task list, q's tip position and its z axis within 0.05 rad of the line to a
+  point 0.2-1 m along q's z axis, moved up to 1 cm
+  (``[armik.Position(p), armik.LookAt(point, (0, 0, 1), 0.05)]``).
 
 armik solves with ``solver="auto"`` from mid-limits with a 5 ms budget; a success is
 checked again by yourdfpy's FK against the bounds (plus 1e-6). TRAC-IK (the ``pytracik``
@@ -19,6 +22,7 @@ target by target; its Python call takes no bounds, so it solves the exact pose: 
 ``spin`` targets of a 5-joint arm that pose is out of reach and TRAC-IK spends its budget.
 
     python benchmarks/tolerances.py [-n 200] [--arms ur5 panda abb_irb120 so101]
+        [--cases spin box cone look]
 """
 
 from __future__ import annotations
@@ -36,7 +40,7 @@ import yourdfpy
 
 import armik
 from armik.model.catalogue import _erd_robot_dir
-from armik.problem import Axis, Pose, Position
+from armik.problem import Axis, LookAt, Pose, Position
 
 SPIN = (0.0, 0.0, 0.0, 0.0, 0.0, math.inf)
 BOX = (0.005, 0.005, 0.005, 0.05, 0.05, 0.05)
@@ -49,13 +53,18 @@ def load(name: str) -> armik.Arm:
 
 
 CONE = 0.05
+TASKS = ("cone", "look")  # the cases whose targets are task lists
 
 
 def target(a: armik.Arm, case: str, rng: np.random.Generator):
     T = a.fk(a.random_q(rng))
-    if case == "cone":
+    if case in TASKS:
         tilt = pin.exp3(rng.uniform(-1.0, 1.0, 3) * 0.8 * CONE / math.sqrt(3.0))
         return [Position(T.translation), Axis((0, 0, 1), tilt @ T.rotation[:, 2], CONE)], T
+    if case == "look":
+        point = T.translation + rng.uniform(0.2, 1.0) * T.rotation[:, 2]
+        point = point + rng.uniform(-0.01, 0.01, 3)
+        return [Position(T.translation), LookAt(point, (0, 0, 1), CONE)], T
     if case == "spin":
         return T * pin.SE3(
             pin.exp3(np.array([0.0, 0.0, rng.uniform(-math.pi, math.pi)])), np.zeros(3)
@@ -108,17 +117,17 @@ def tracik(a: armik.Arm, mode: str = "Speed"):
 def run(name: str, case: str, n: int) -> None:
     a = load(name)
     bounds = SPIN if case == "spin" else BOX
-    options = {} if case == "cone" else {"bounds": bounds}
+    options = {} if case in TASKS else {"bounds": bounds}
     rng = np.random.default_rng(0)
     targets = [target(a, case, rng) for _ in range(n)]
     fk, peer = independent_fk(a), tracik(a)
-    first = targets[0][0] if case == "cone" else targets[0]
+    first = targets[0][0] if case in TASKS else targets[0]
     a.solve(first, **options)  # compiled before the clock runs
     ok = false = outside = peer_ok = 0
     t_armik = t_peer = 0.0
     for T in targets:
-        tasks, T = T if case == "cone" else ([Pose(T, bounds=bounds)], T)
-        asked = tasks if case == "cone" else T
+        tasks, T = T if case in TASKS else ([Pose(T, bounds=bounds)], T)
+        asked = tasks if case in TASKS else T
         t0 = time.perf_counter()
         r = a.solve(asked, q0=a.middle, timeout=0.005, **options)
         t_armik += time.perf_counter() - t0
@@ -148,7 +157,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("-n", type=int, default=200, help="targets per arm and case (200)")
     parser.add_argument("--arms", nargs="+", default=["ur5", "panda", "abb_irb120", "so101"])
-    parser.add_argument("--cases", nargs="+", default=["spin", "box", "cone"])
+    parser.add_argument("--cases", nargs="+", default=["spin", "box", *TASKS])
     args = parser.parse_args()
     for name in args.arms:
         for case in args.cases:

@@ -136,20 +136,20 @@ def _point_and_axis(a: Task, b: Task) -> tuple[object, dict] | None:
         a, b = b, a
     if type(a) is not Position or type(b) is not Axis or a.bounds.any():
         return None
-    R = _onto(b.axis, b.direction)
-    along = np.flatnonzero(np.abs(b.axis) == 1.0)
-    if b.within == 0.0 and along.size == 1:
+    T = pin.SE3(_onto(b.axis, b.direction), a.p.copy())
+    axis = b.axis.tolist()
+    along = [k for k in range(3) if abs(axis[k]) == 1.0]
+    if b.within == 0.0 and len(along) == 1:
         bounds = [0.0] * 6
-        bounds[3 + int(along[0])] = math.inf
-        return pin.SE3(R, np.array(a.p)), {"bounds": tuple(bounds)}
-    cone = (*(float(x) for x in b.axis), float(b.within))
-    return pin.SE3(R, np.array(a.p)), {"cone": cone}
+        bounds[3 + along[0]] = math.inf
+        return T, {"bounds": tuple(bounds)}
+    return T, {"cone": (*axis, float(b.within))}
 
 
 def _onto(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     """A rotation taking the unit vector ``u`` onto the unit vector ``v``."""
     axis = cross(u, v)
-    s, c = float(np.linalg.norm(axis)), float(u @ v)
+    s, c = math.sqrt(float(axis @ axis)), float(u @ v)
     if s < 1e-12:
         if c > 0.0:
             return np.eye(3)

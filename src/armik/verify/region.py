@@ -69,7 +69,7 @@ def region_error(
         for x, b, w in zip(e, bounds, weights.tolist())
     ]
     position = math.sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2])
-    if cone is not None:
-        a = cone[:3]
+    if cone is not None:  # the angle between the tip's axis and the target's image of it
+        a = np.array(cone[:3])
         return position, max(angle(R @ a, R_t @ a) - cone[3], 0.0)
     return position, math.sqrt(out[3] * out[3] + out[4] * out[4] + out[5] * out[5])
