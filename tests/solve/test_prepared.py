@@ -416,8 +416,25 @@ def test_a_region_on_a_numeric_solver_is_prepared_as_the_general_path(name, opti
     assert solved >= 4  # successes compared, not only failures
 
 
-def test_a_closed_form_over_a_region_is_not_prepared():
-    """A free spin on the UR5 is the closed form's sweep: the general path's."""
-    a = arm("ur5")
-    opts, key, _ = _options({"bounds": (0.0, 0.0, 0.0, 0.0, 0.0, np.inf)})
-    assert plan_for(a, "auto", key, opts) is None
+@pytest.mark.parametrize("name", ["ur5", "abb_irb120"])
+@pytest.mark.parametrize("half", [np.inf, 0.3])
+def test_a_spin_on_the_last_joint_is_prepared_as_the_general_path(name, half):
+    """A free or bounded spin on the UR5 and the IRB 120 (``spin_joint``) takes the plan:
+    the same results as the general path, field for field."""
+    a = arm(name)
+    options = {"bounds": (0.0, 0.0, 0.0, 0.0, 0.0, half)}
+    opts, key, _ = _options(options)
+    plan = plan_for(a, "auto", key, opts)
+    assert isinstance(plan, Plan) and plan.solver == "spin_joint"
+    rng = np.random.default_rng(9)
+    solved = 0
+    for k in range(10):
+        spun = pin.SE3(pin.exp3(np.array([0.0, 0.0, rng.uniform(-np.pi, np.pi)])), np.zeros(3))
+        T = a.fk(a.random_q(rng)) * spun
+        q0 = a.random_q(rng)
+        fast = a.solve(T, q0=q0, seed=k, **options)
+        general = _general(a, T, q0=q0, seed=k, **options)
+        assert fast.solver == "spin_joint"
+        assert_same_result(fast, general)
+        solved += fast.success
+    assert solved >= 5

@@ -99,8 +99,8 @@ def _build(arm: ArmModel, solver: str, opts: Options, position: bool, every: boo
         spec = registry.choose(solver, arm, target, opts, every)
     except SolverError:  # the general path raises it, with its message
         return _NO_PLAN
-    if spec.prepare_pose is None or (opts.region and spec.kind != "numeric"):
-        return _NO_PLAN  # a closed form over a region: its sweep's general path
+    if spec.prepare_pose is None:
+        return _NO_PLAN
     return Plan(arm, spec, opts, position)
 
 

@@ -69,10 +69,65 @@ def run(
     family = spin.family(arm, target)
     assert not isinstance(family, str)  # applies() checked it
     Q, reached = _branches(arm, family, target, q0, opts)
+    centre, order = _chosen(arm, Q, q0, half, all_solutions)
+    if not order:  # the closed form is complete: no answer over the range
+        return [_none(family.name, q0, half, bool(reached))]
+    return [
+        dataclasses.replace(
+            _attempt(reached[i], Q[i]),
+            q=Q[i],
+            reason=_reason(family.name, spin.AXES[k], float(Q[i, -1]), centre[i]),
+        )
+        for i in order
+    ]
+
+
+def prepare_pose(arm: ArmModel, opts: Options, position: bool):
+    """``run_pose(H, q0, seed, every=False)`` for ``armik.solve.prepared``: ``run`` on a
+    plain 4x4 pose through the family's prepared runner, the nearest answer a ``Claim``
+    (with ``every``: every branch's answer, (Q, rows)); None where the family has no
+    runner or it does not take the input (the general path then)."""
+    spin_k, half = spin.spin_of(opts.bounds)  # type: ignore[misc]  # applies() checked it
+    family = spin.family(arm, None)
+    if position or isinstance(family, str) or family.prepare_pose is None:
+        return None
+    runner = _RUNNER(arm, family.name)
+    name, axis = family.name, spin.AXES[spin_k]
+
+    def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False):
+        got = runner(H, q0, 0, True)
+        if got is None:
+            return None
+        Q_all, rows = got
+        keep = [k for k, r in enumerate(rows) if type(r) is tuple or r.claim is _CONVERGED]
+        Q = np.array(Q_all[keep], dtype=float)
+        reached = [rows[k] for k in keep]
+        centre, order = _chosen(arm, Q, q0, half, every)
+        if not order:
+            return [_none(name, q0, half, bool(reached))]
+        out = []
+        for i in order:
+            why = (name, axis, float(Q[i, -1]), centre[i])
+            row = reached[i]
+            if type(row) is tuple:  # a claim's fields after q: its reason is the spin's
+                out.append((*row[:4], _reason, why))
+            else:
+                out.append(dataclasses.replace(row, q=Q[i], reason=_reason(*why)))
+        if every:
+            return Q[order], out
+        first = out[0]
+        return claim((Q[order[0]], *first)) if type(first) is tuple else [first]
+
+    return run_pose
+
+
+def _chosen(arm: ArmModel, Q: np.ndarray, q0: np.ndarray, half: float, every: bool):
+    """(centre, order): each branch's last joint turned to the value nearest q0's within
+    the bound (in place in Q; ``centre``: the branch's own values), and the branches that
+    hold the limits, nearest q0 first (ties: the branch order), checked only as far as one
+    answer needs unless ``every``."""
     centre = Q[:, -1].tolist()
     Q[:, -1] = _turned(arm, centre, float(q0[-1]), half)  # NaN: no value within the bound
-    # nearest q0 first (ties: the branch order), the limits checked in that order only as
-    # far as needed: the first that holds them is one answer's
     distance = np.linalg.norm(Q - q0, axis=1).tolist()
     nearest = sorted(
         (i for i in range(len(Q)) if distance[i] == distance[i]), key=distance.__getitem__
@@ -81,29 +136,28 @@ def run(
     for i in nearest:
         if arm._within(Q[i].tolist()):
             order.append(i)
-            if not all_solutions:
+            if not every:
                 break
-    if not order:  # the closed form is complete: no answer over the range
-        return [
-            Attempt(
-                q=np.array(q0, dtype=float),
-                claim=Status.JOINT_LIMITS if reached else Status.UNREACHABLE,
-                reason=f"no branch of {family.name} reaches the target with its last joint "
-                f"within +-{half:g} rad of the spin and every joint within its limits; q is q0",
-            )
-        ]
-    axis = spin.AXES[k]
-    return [
-        dataclasses.replace(
-            _attempt(reached[i], Q[i]),
-            q=Q[i],
-            # the spin the answer turns through: from the branch's value, modulo whole turns
-            reason=f"{family.name}, the spin about the target's {axis} axis turned by the "
-            f"last joint ({abs(math.remainder(Q[i, -1] - centre[i], 2 * math.pi)):.6g} rad): "
-            "nearest q0 over the range",
-        )
-        for i in order
-    ]
+    return centre, order
+
+
+def _none(name: str, q0: np.ndarray, half: float, reached: bool) -> Attempt:
+    """No branch holds the limits over the range: the closed form is complete."""
+    return Attempt(
+        q=np.array(q0, dtype=float),
+        claim=Status.JOINT_LIMITS if reached else Status.UNREACHABLE,
+        reason=f"no branch of {name} reaches the target with its last joint within "
+        f"+-{half:g} rad of the spin and every joint within its limits; q is q0",
+    )
+
+
+def _reason(name: str, axis: str, last: float, centre: float) -> str:
+    """The spin an answer turns through: from the branch's value, modulo whole turns."""
+    turned = abs(math.remainder(last - centre, 2 * math.pi))
+    return (
+        f"{name}, the spin about the target's {axis} axis turned by the last joint "
+        f"({turned:.6g} rad): nearest q0 over the range"
+    )
 
 
 def _branches(arm: ArmModel, family, target: Target, q0: np.ndarray, opts: Options):
@@ -171,6 +225,7 @@ SPEC = registry.register(
         priority=86,
         why_not=applies,
         run=run,
+        prepare_pose=prepare_pose,
         summary="a free or bounded spin that is the last joint's: every branch, exactly",
     )
 )
