@@ -135,6 +135,9 @@ AXIS = ["--axis", "0", "0", "1", "--toward", "0", "0", "-1"]
         ([*XYZ, *XYZ], "--xyz is given 2 times for one tip"),
         ([*XYZ, *RPY, *RPY], "--rpy is given 2 times for 1 --tip"),
         ([*XYZ, "--axis", "0", "0", "1", "--toward", "0", "0"], "expected 3 arguments"),
+        ([*XYZ, *AXIS, "--look-at", "1", "0", "0"], "--toward and --look-at both say"),
+        ([*XYZ, "--look-at", "1", "0", "0"], "--look-at goes with --axis"),
+        ([*XYZ, "--axis", "0", "0", "1", "--look-at", "nan", "0", "0"], "is no point"),
     ],
 )
 def test_bad_task_flags_exit_2_one_line(capsys, argv, message):
@@ -155,3 +158,22 @@ def test_a_cone_takes_a_solver_and_collisions(capsys):
         assert code == 0 and got["success"], got
         assert [row["task"] for row in got["task_errors"]] == ["Position", "Axis"]
         assert all(row["within"] for row in got["task_errors"])
+
+
+def test_axis_look_at_within(capsys):
+    """``--axis`` with ``--look-at``: the tool at the point, its axis aimed at another
+    within ``--within``, each task measured (``task_errors``)."""
+    ur5 = arm("ur5")
+    T = ur5.fk(ur5.middle)
+    point = T.translation + 0.5 * T.rotation[:, 2] + np.array([0.02, 0.0, 0.0])
+    xyz = ["--xyz", *words(T.translation)]
+    look = ["--axis", "0", "0", "1", "--look-at", *words(point), "--within", "0.05"]
+    code, out, _ = run(capsys, "solve", "ur5", *xyz, *look, "--json")
+    got = json.loads(out)["results"][0]
+    assert code == 0 and got["success"], got
+    assert [row["task"] for row in got["task_errors"]] == ["Position", "LookAt"]
+    reached = ur5.fk(np.array(got["q"]))
+    sight = (point - reached.translation) / np.linalg.norm(point - reached.translation)
+    angle = math.acos(np.clip(reached.rotation[:, 2] @ sight, -1, 1))
+    assert angle <= 0.05 + TOL["solve"]
+    assert np.linalg.norm(reached.translation - T.translation) <= TOL["solve"]

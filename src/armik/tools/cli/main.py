@@ -141,6 +141,7 @@ def _parser() -> argparse.ArgumentParser:
         "solve IK for a target pose",
         "armik solve ur5 --xyz 0.4 0.2 0.3 --rpy 3.1416 0 0 --solver dls\n"
         "         armik solve ur5 --xyz 0.4 0.2 0.3 --axis 0 0 1 --toward 0 0 -1 --within 0.05\n"
+        "         armik solve ur5 --xyz 0.4 0.2 0.3 --axis 0 0 1 --look-at 0.6 0.2 0\n"
         "         armik solve ROBOT --tip A --xyz 0.4 0.3 0.3 --rpy 0 0 0 "
         "--tip B --xyz 0.4 -0.3 0.3 --rpy 0 0 0",
         _solve,
@@ -187,7 +188,7 @@ def _parser() -> argparse.ArgumentParser:
         action="append",
         metavar=("AX", "AY", "AZ"),
         help="instead of --rpy/--quat: this axis of the tip (its own frame) points along "
-        "--toward, within --within; its spin about the axis is free",
+        "--toward (or at the point --look-at), within --within; its spin about it is free",
     )
     c.add_argument(
         "--toward",
@@ -198,11 +199,19 @@ def _parser() -> argparse.ArgumentParser:
         help="the direction --axis points along, in the base frame",
     )
     c.add_argument(
+        "--look-at",
+        nargs=3,
+        type=float,
+        action="append",
+        metavar=("PX", "PY", "PZ"),
+        help="instead of --toward: the point --axis points at, in the base frame (m)",
+    )
+    c.add_argument(
         "--within",
         type=float,
         action="append",
         metavar="ANGLE",
-        help="how far --axis may lie from --toward (rad, 0 by default)",
+        help="how far --axis may lie from --toward or --look-at (rad, 0 by default)",
     )
     c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
     c.add_argument("--all", action="store_true", help="print every solution found")

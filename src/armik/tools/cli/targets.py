@@ -2,7 +2,8 @@
 
 Each tip takes ``--xyz`` with ``--rpy`` or ``--quat`` (a pose), with ``--axis``,
 ``--toward`` and ``--within`` (a point and a direction of the tip's axis, within a cone:
-``[armik.Position, armik.Axis]``), or alone (a position). A pose with ``--bounds`` is an
+``[armik.Position, armik.Axis]``) or ``--look-at`` instead of ``--toward`` (the axis aimed at
+a point: ``[armik.Position, armik.LookAt]``), or alone (a position). A pose with ``--bounds`` is an
 ``armik.Pose`` with those bounds (and ``--weights``, which then weigh the error in the
 target frame, as without a task list).
 """
@@ -16,10 +17,10 @@ import numpy as np
 import pinocchio as pin
 
 from armik.errors import InputError, OptionError, TargetError
-from armik.problem.tasks import Axis, Pose, Position, Task
+from armik.problem.tasks import Axis, LookAt, Pose, Position, Task
 
 # the flags given once per tip (argparse ``append``), matched to the tips in order
-PER_TIP = ("xyz", "rpy", "quat", "axis", "toward", "within")
+PER_TIP = ("xyz", "rpy", "quat", "axis", "toward", "look_at", "within")
 
 
 def flag_targets(args: argparse.Namespace, options: dict, several: bool) -> list[object]:
@@ -50,7 +51,12 @@ def flag_targets(args: argparse.Namespace, options: dict, several: bool) -> list
         xyz = np.array(given["xyz"][i], dtype=float)
         if given["axis"]:
             within = given["within"][i] if given["within"] else 0.0
-            targets.append(_point_and_axis(xyz, given["axis"][i], given["toward"][i], within))
+            if given["look_at"]:
+                point = given["look_at"][i]
+                targets.append(_point_and_look(xyz, given["axis"][i], point, within))
+            else:
+                toward = given["toward"][i]
+                targets.append(_point_and_axis(xyz, given["axis"][i], toward, within))
         elif posed:
             if given["rpy"]:
                 pose: object = pin.SE3(pin.rpy.rpyToMatrix(*given["rpy"][i]), xyz)
@@ -104,17 +110,25 @@ def _check_counts(tips: list[str], given: dict[str, list], n: int) -> None:
             f"about the axis free, {which} gives the whole orientation; give one of them"
         )
     axes = len(given["axis"])
-    for name in ("toward", "within"):
+    if given["toward"] and given["look_at"]:
+        raise InputError(
+            "--toward and --look-at both say where --axis points: give one of them (a "
+            "direction, or a point to aim at)"
+        )
+    aim = "look_at" if given["look_at"] else "toward"
+    for name in ("toward", "look_at", "within"):
         count = len(given[name])
+        flag = "--" + name.replace("_", "-")
         if count and not axes:
             raise InputError(
-                f"--{name} goes with --axis: give the tip's axis too (--axis 0 0 1 --toward "
+                f"{flag} goes with --axis: give the tip's axis too (--axis 0 0 1 --toward "
                 "0 0 -1 for the tool's z pointing down)"
             )
-        if name == "toward" and count != axes:
+        if name == aim and count != axes:
             raise InputError(
-                f"--toward is given {count} time(s) for {axes} --axis: give one direction "
-                "(DX DY DZ, base frame) after each --axis"
+                f"{flag} is given {count} time(s) for {axes} --axis: give one direction "
+                "(--toward DX DY DZ) or point (--look-at PX PY PZ, base frame) after each "
+                "--axis"
             )
         if name == "within" and count not in (0, axes):
             raise InputError(
@@ -139,6 +153,17 @@ def _check_bounds(bounds: tuple[float, ...]) -> None:
             f"--bounds must be 6 numbers >= 0 (m, m, m, rad, rad, rad: how far each component "
             f"of the error may lie on either side; inf frees it), got {list(bounds)}"
         )
+
+
+def _point_and_look(xyz: np.ndarray, axis, point, within: float) -> list[Task]:
+    """``[Position(xyz), LookAt(point, axis, within)]``, each value checked under its flag."""
+    if not all(math.isfinite(v) for v in point):
+        raise TargetError(
+            f"--look-at {' '.join(f'{v:g}' for v in point)} is no point: give 3 finite "
+            "numbers (m, base frame)"
+        )
+    _, axis_task = _point_and_axis(xyz, axis, (0.0, 0.0, 1.0), within)
+    return [Position(xyz), LookAt(point, axis_task.axis, within)]
 
 
 def _point_and_axis(xyz: np.ndarray, axis, toward, within: float) -> list[Task]:
