@@ -13,9 +13,10 @@ def measured(pos: float, ori: float | None, tol_p: float, tol_r: float) -> str:
     return f"{text}, orientation error {ori:.3g} rad{_tol_text(tol_r)}"
 
 
-def outside_bounds(measured_text: str) -> str:
-    """A measure of a target with bounds: its errors are the distances outside them."""
-    return f"outside the bounds: {measured_text}"
+def outside_region(measured_text: str) -> str:
+    """A measure of a target with a region (bounds, a cone): its errors are the distances
+    outside it."""
+    return f"outside the region: {measured_text}"
 
 
 def verified(claim_reason: str | None, measured_text: str) -> str:

@@ -86,7 +86,7 @@ def test_a_target_inside_its_bounds_needs_no_step():
     r = a.solve(boxed(a, q, np.random.default_rng(2)), bounds=BOX, q0=q)
     assert r.success and r.iterations == 0
     np.testing.assert_array_equal(r.q, q)
-    assert "outside the bounds: position error 0 m" in r.reason
+    assert "outside the region: position error 0 m" in r.reason
 
 
 def test_no_bounds_is_the_exact_target():
@@ -115,7 +115,7 @@ def test_an_unreachable_region_fails_with_its_reason():
     assert not r.success and r.status == "unreachable" and "beyond the arm's reach" in r.reason
     just_out = pin.SE3(np.eye(3), np.array([0.0, 0.0, -0.5]))  # under the base, no box
     r = a.solve(just_out, bounds=(0.001,) * 6, iteration_budget=500)
-    assert not r.success and r.status == "not_converged" and "outside the bounds" in r.reason
+    assert not r.success and r.status == "not_converged" and "outside the region" in r.reason
 
 
 def test_batch_and_solve_all_take_bounds():

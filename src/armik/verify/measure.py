@@ -54,7 +54,7 @@ class Measure:
         text = reasons.measured(
             self.position_error, self.orientation_error, self.tol_position, self.tol_orientation
         )
-        return reasons.outside_bounds(text) if self.region else text
+        return reasons.outside_region(text) if self.region else text
 
 
 def _measures(opts: Options, position_only: bool) -> tuple[np.ndarray, bool, bool]:

@@ -113,7 +113,7 @@ def success_reason(claim_reason, claim_args, pos, ori, tol_p, tol_r, region=Fals
     if callable(claim_reason):
         claim_reason = claim_reason(*claim_args)
     text = reasons.measured(pos, ori, tol_p, tol_r)
-    return reasons.verified(claim_reason, reasons.outside_bounds(text) if region else text)
+    return reasons.verified(claim_reason, reasons.outside_region(text) if region else text)
 
 
 def limits_reason(arm: ArmModel, q: np.ndarray) -> str:

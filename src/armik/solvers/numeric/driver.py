@@ -286,7 +286,7 @@ def _not_converged(opts: Options, sf: np.ndarray, out_of_budget: bool, restarts:
     if sf[3:6].any():  # some rotation weight
         errors += f", orientation error {err[1]:.3g} rad"
     if opts.region:  # the kernel measured the distances outside the region
-        errors = reasons.outside_bounds(errors)
+        errors = reasons.outside_region(errors)
     return reasons.not_converged(why, errors)
 
 
