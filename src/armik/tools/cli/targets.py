@@ -162,8 +162,8 @@ def _point_and_look(xyz: np.ndarray, axis, point, within: float) -> list[Task]:
             f"--look-at {' '.join(f'{v:g}' for v in point)} is no point: give 3 finite "
             "numbers (m, base frame)"
         )
-    _, axis_task = _point_and_axis(xyz, axis, (0.0, 0.0, 1.0), within)
-    return [Position(xyz), LookAt(point, axis_task.axis, within)]
+    _point_and_axis(xyz, axis, (0.0, 0.0, 1.0), within)  # --axis and --within checked
+    return [Position(xyz), LookAt(point, axis, within)]
 
 
 def _point_and_axis(xyz: np.ndarray, axis, toward, within: float) -> list[Task]:
