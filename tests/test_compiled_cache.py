@@ -58,3 +58,13 @@ def test_the_stamp_follows_compiled_modules_and_what_they_import(tmp_path):
         after = compiled_cache.stamp(root)
         assert after != before
         before = after
+
+
+def test_every_module_with_compiled_code_is_stamped():
+    """A module that compiles (``@njit``, ``njit(``) is found by its import of ``njit``: one
+    that spelled it otherwise would cache stale code unseen."""
+    stamped = set(compiled_cache.depended_on())
+    for path in compiled_cache.PACKAGE.rglob("*.py"):
+        text = path.read_text(encoding="utf-8")
+        if "@njit" in text or "= njit(" in text:
+            assert path in stamped, path
