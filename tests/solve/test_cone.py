@@ -164,3 +164,21 @@ def test_a_look_at_of_the_point_it_stands_on_is_the_task_solvers():
     p = a.fk(a.middle).translation
     r = a.solve([armik.Position(p), armik.LookAt(p, (0, 0, 1), 0.0)])
     assert r.success and r.solver == "tasks"  # any axis looks at it
+
+
+@pytest.mark.parametrize("option", [{"position_only": True}, {"weights": (1, 1, 1, 0, 0, 0)}])
+def test_an_option_that_would_leave_the_axis_unmeasured_is_refused(option):
+    """``position_only`` or ``weights`` with an Axis: the verdict would not measure the axis,
+    so a success could miss it unseen; named, for solve, batches and paths."""
+    a = arm("ur5")
+    T = a.fk(a.middle)
+    tasks = [armik.Position(T.translation), armik.Axis((0, 0, 1), T.rotation[:, 2], 0.05)]
+    (name,) = option
+    for call in (
+        lambda: a.solve(tasks, **option),
+        lambda: a.solve_batch([tasks, tasks], progress=False, **option),
+        lambda: a.solve_path([tasks, tasks], a.middle, **option),
+    ):
+        with pytest.raises(OptionError, match=f"{name} does not apply") as info:
+            call()
+        assert info.value.option == name

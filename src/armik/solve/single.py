@@ -72,7 +72,7 @@ def solve_one(
             lowered = lower(problem, arm.tip)
             if lowered is not None:
                 target, said = lowered
-                check_said_twice(options, said)
+                check_said_twice(options, said, problem)
                 options = {**options, **said}
                 problem = None
     if score is not None:

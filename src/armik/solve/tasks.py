@@ -30,7 +30,7 @@ from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.problem.problem import Problem, as_problem, lower
 from armik.problem.scores import Score
-from armik.problem.tasks import Task, TaskError
+from armik.problem.tasks import Axis, LookAt, Task, TaskError
 from armik.result import IKResult
 from armik.solve.nullspace import descend
 from armik.status import Status
@@ -70,13 +70,29 @@ def check_options(opts: Options, solver: str) -> None:
             )
 
 
-def check_said_twice(options: dict, said: dict) -> None:
-    """A task that says its bounds or weights, given the same option too: which one?"""
+_AIMED = (Axis, LookAt)  # tasks on the orientation that position_only or weights would free
+
+
+def check_said_twice(options: dict, said: dict, problem: Problem | None = None) -> None:
+    """A task that says its bounds or weights, given the same option too: which one? And
+    an option that would leave a task of ``problem`` unmeasured: an ``Axis`` or a
+    ``LookAt`` with ``position_only`` or ``weights`` (the orientation they free)."""
     for name in said:
         if name in options:
             raise OptionError(
                 f"{name} is given both by the task and as an option: give it in the task "
                 f"(armik.Pose(T, {name}=...))",
+                option=name,
+                value=options[name],
+            )
+    if problem is None or not any(isinstance(t, _AIMED) for t in problem.tasks):
+        return
+    for name in ("position_only", "weights"):
+        if options.get(name) not in (None, False):
+            raise OptionError(
+                f"{name} does not apply to a list of tasks with an Axis or a LookAt: the "
+                "axis would go unmeasured; say what is free in the tasks (an Axis leaves its "
+                "spin free, armik.Position alone drops the orientation)",
                 option=name,
                 value=options[name],
             )
@@ -394,5 +410,6 @@ def lower_all(
             return None
         targets.append(lowered[0])
         said = lowered[1]
-    check_said_twice(options, said or {})
+    directed = next((p for p in problems if any(isinstance(t, _AIMED) for t in p.tasks)), None)
+    check_said_twice(options, said or {}, directed)
     return targets, {**options, **(said or {})}
