@@ -68,3 +68,9 @@ def test_every_module_with_compiled_code_is_stamped():
         text = path.read_text(encoding="utf-8")
         if "@njit" in text or "= njit(" in text:
             assert path in stamped, path
+
+
+def test_this_numba_takes_the_stamped_locators():
+    """The locators registered (an unknown numba's caching module would leave numba's own:
+    this catches the day that happens)."""
+    assert len(compiled_cache.LOCATORS) == 3

@@ -94,12 +94,24 @@ def _numba(name: str):
     return getattr(caching, name, None) or getattr(caching, f"_{name}")
 
 
-# where numba would cache a function, in its order: NUMBA_CACHE_DIR, the source tree, the
-# user's cache directory
-LOCATORS = tuple(
-    _stamped(_numba(name))
-    for name in ("UserProvidedCacheLocator", "InTreeCacheLocator", "UserWideCacheLocator")
-)
-_CLASSES = _numba("CacheImpl")._locator_classes
-if not any(c.__name__ == LOCATORS[0].__name__ for c in _CLASSES):  # once, if reloaded
-    _CLASSES[:0] = list(LOCATORS)
+def _register() -> tuple:
+    """The stamped locators, put before numba's own; none where this numba's caching
+    module is not the one they were written for (its classes are not public API): numba's
+    own stamps then, as before, rather than an import that fails."""
+    try:
+        bases = [
+            _numba(name)
+            for name in ("UserProvidedCacheLocator", "InTreeCacheLocator", "UserWideCacheLocator")
+        ]
+        classes = _numba("CacheImpl")._locator_classes
+    except AttributeError:
+        return ()
+    # where numba would cache a function, in its order: NUMBA_CACHE_DIR, the source tree,
+    # the user's cache directory
+    locators = tuple(_stamped(base) for base in bases)
+    if not any(c.__name__ == locators[0].__name__ for c in classes):  # once, if reloaded
+        classes[:0] = list(locators)
+    return locators
+
+
+LOCATORS = _register()
