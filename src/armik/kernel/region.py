@@ -36,18 +36,20 @@ def _evaluate_region(ch, bounds, w, cone, a, R_t, p_t, ws, slot):
     jacobian_local(ch, ws.m3[0], ws.v3[0], ws.geo[0], ws.geo[1], J)
     M, t, v = ws.m3[1], ws.v3[1], ws.v3[2]
     e, A, Jl = ws.e[slot], ws.A[slot], ws.Jlog
-    theta = log3(M, v)
     for i in range(3):
         e[i] = -(M[0, i] * t[0] + M[1, i] * t[1] + M[2, i] * t[2])  # R_t^T (p - p_t)
-        v[i] = -v[i]  # log3(M^T) = -log3(M)
-        e[3 + i] = v[i]
-    jlog3(theta, v, Jl)  # of M^T, into Jl's upper-left block
     n = J.shape[1]
     pos2 = rot2 = sq = 0.0
-    if cone >= 0.0:
+    if cone >= 0.0:  # the cone's rows: no log3 of the rotation, no Jlog3
         h = _cone_rows(M, J, a, cone, e, A, n)
         rot2 = h * h
         sq = e[3] * e[3] + e[4] * e[4] + e[5] * e[5]
+    else:
+        theta = log3(M, v)
+        for i in range(3):
+            v[i] = -v[i]  # log3(M^T) = -log3(M)
+            e[3 + i] = v[i]
+        jlog3(theta, v, Jl)  # of M^T, into Jl's upper-left block
     for k in range(3 if cone >= 0.0 else 6):
         b = bounds[k]
         E = e[k]
