@@ -115,12 +115,9 @@ def lower(problem: Problem, tip: str | None = None) -> tuple[object, dict] | Non
     if type(task) is Position and not task.bounds.any():
         return np.array(task.p), {}
     if type(task) is Axis:  # a direction alone: the position free, the axis in its cone
-        cone = (*(float(x) for x in task.axis), float(task.within))
         free = (math.inf,) * 3 + (0.0,) * 3
-        return pin.SE3(_onto(task.axis, task.direction), np.zeros(3)), {
-            "bounds": free,
-            "cone": cone,
-        }
+        T = pin.SE3(_onto(task.axis, task.direction), np.zeros(3))
+        return T, {"bounds": free, "cone": _cone(task)}
     return None
 
 
@@ -137,13 +134,17 @@ def _point_and_axis(a: Task, b: Task) -> tuple[object, dict] | None:
     if type(a) is not Position or type(b) is not Axis or a.bounds.any():
         return None
     T = pin.SE3(_onto(b.axis, b.direction), a.p.copy())
-    axis = b.axis.tolist()
-    along = [k for k in range(3) if abs(axis[k]) == 1.0]
+    along = [k for k, x in enumerate(b.axis.tolist()) if abs(x) == 1.0]
     if b.within == 0.0 and len(along) == 1:
         bounds = [0.0] * 6
         bounds[3 + along[0]] = math.inf
         return T, {"bounds": tuple(bounds)}
-    return T, {"cone": (*axis, float(b.within))}
+    return T, {"cone": _cone(b)}
+
+
+def _cone(task: Axis) -> tuple[float, ...]:
+    """``Options.cone`` of an ``Axis``: its axis (unit, tip frame) and angle."""
+    return (*task.axis.tolist(), float(task.within))
 
 
 def _onto(u: np.ndarray, v: np.ndarray) -> np.ndarray:

@@ -98,10 +98,7 @@ def prepare_pose(arm: ArmModel, opts: Options, position: bool):
         got = runner(H, q0, 0, True)
         if got is None:
             return None
-        Q_all, rows = got
-        keep = [k for k, r in enumerate(rows) if type(r) is tuple or r.claim is _CONVERGED]
-        Q = np.array(Q_all[keep], dtype=float)
-        reached = [rows[k] for k in keep]
+        Q, reached = _reached(*got)
         centre, order = _chosen(arm, Q, q0, half, every)
         if not order:
             return [_none(name, q0, half, bool(reached))]
@@ -171,12 +168,17 @@ def _branches(arm: ArmModel, family, target: Target, q0: np.ndarray, opts: Optio
         H[:3, :3], H[:3, 3], H[3] = target.rotation, target.position, (0.0, 0.0, 0.0, 1.0)
         got = run_pose(H, q0, 0, True)
         if got is not None:
-            Q_all, rows = got
-            keep = [k for k, r in enumerate(rows) if type(r) is tuple or r.claim is _CONVERGED]
-            return np.array(Q_all[keep], dtype=float), [rows[k] for k in keep]
+            return _reached(*got)
     attempts = family.run(arm, target, q0, dataclasses.replace(opts, bounds=None), True)
     reached = [a for a in attempts if a.claim is _CONVERGED]
     return np.array([a.q for a in reached], dtype=float).reshape(-1, arm.dof), reached
+
+
+def _reached(Q_all: np.ndarray, rows: list) -> tuple[np.ndarray, list]:
+    """(Q, rows) of a runner's every-branch answer, the branches claimed reached only (Q a
+    writable copy: the spin turns its last column)."""
+    keep = [k for k, r in enumerate(rows) if type(r) is tuple or r.claim is _CONVERGED]
+    return np.array(Q_all[keep], dtype=float), [rows[k] for k in keep]
 
 
 def _attempt(row, q: np.ndarray) -> Attempt:

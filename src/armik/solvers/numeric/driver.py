@@ -148,9 +148,11 @@ def settings(opts: Options, position_only: bool, dof: int, max_found: int, step:
     cone = opts.cone
     # rows a bound frees do not count as task rows (a cone's rotation counts 2: a direction);
     # a box lets a far target come closer
-    n_task = 6 if full_task and not region else int(np.count_nonzero(w * np.isfinite(bounds)))
+    measured = w * np.isfinite(bounds)
     if cone is not None:
-        n_task = int(np.count_nonzero(w[:3] * np.isfinite(bounds[:3]))) + 2
+        n_task = int(np.count_nonzero(measured[:3])) + 2
+    else:
+        n_task = 6 if full_task and not region else int(np.count_nonzero(measured))
     reach_slack = float(opts.tol_position) + float(np.linalg.norm(bounds[:3]))
     return Settings(
         w,

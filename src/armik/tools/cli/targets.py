@@ -162,24 +162,33 @@ def _point_and_look(xyz: np.ndarray, axis, point, within: float) -> list[Task]:
             f"--look-at {' '.join(f'{v:g}' for v in point)} is no point: give 3 finite "
             "numbers (m, base frame)"
         )
-    _point_and_axis(xyz, axis, (0.0, 0.0, 1.0), within)  # --axis and --within checked
+    _check_direction("axis", axis, "0 0 1")
+    _check_within(within)
     return [Position(xyz), LookAt(point, axis, within)]
 
 
 def _point_and_axis(xyz: np.ndarray, axis, toward, within: float) -> list[Task]:
     """``[Position(xyz), Axis(axis, toward, within)]``, each vector checked under its flag."""
-    for flag, vector, example in (("axis", axis, "0 0 1"), ("toward", toward, "0 0 -1")):
-        if not all(math.isfinite(v) for v in vector) or not any(vector):
-            raise TargetError(
-                f"--{flag} {' '.join(f'{v:g}' for v in vector)} is no direction: give 3 finite "
-                f"numbers, not all 0 (such as --{flag} {example})"
-            )
+    _check_direction("axis", axis, "0 0 1")
+    _check_direction("toward", toward, "0 0 -1")
+    _check_within(within)
+    return [Position(xyz), Axis(axis, toward, within)]
+
+
+def _check_direction(flag: str, vector, example: str) -> None:
+    if not all(math.isfinite(v) for v in vector) or not any(vector):
+        raise TargetError(
+            f"--{flag} {' '.join(f'{v:g}' for v in vector)} is no direction: give 3 finite "
+            f"numbers, not all 0 (such as --{flag} {example})"
+        )
+
+
+def _check_within(within: float) -> None:
     if not 0.0 <= within <= math.pi:  # NaN too
         raise TargetError(
             f"--within {within:g} is no angle between two directions: give one in [0, pi] "
-            "rad (0: exactly along --toward)"
+            "rad (0: exactly along --toward or --look-at)"
         )
-    return [Position(xyz), Axis(axis, toward, within)]
 
 
 def task_errors(result, names: list[str]) -> list[dict] | None:
