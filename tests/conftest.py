@@ -25,6 +25,7 @@ settings.load_profile("explore" if os.environ.get("ARMIK_FUZZ") == "1" else "fix
 os.environ["ARMIK_COMPILE_NOTICE"] = "0"
 
 import armik  # noqa: E402
+from armik.model.arm_model import ArmModel  # noqa: E402
 
 #: Tolerances, in one place (m, rad).
 TOL = {
@@ -43,6 +44,12 @@ def arm(name: str) -> armik.Arm:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return armik.load(name)
+
+
+def model(name: str) -> ArmModel:
+    """The arm model of bundled robot ``name`` (``arm(name).kinematics``): what the
+    modules below the facade take."""
+    return arm(name).kinematics
 
 
 @pytest.fixture

@@ -1,13 +1,13 @@
-"""The facade: ``armik.load`` builds an ``Arm``, the arm model with the solve methods.
+"""The facade: ``armik.load`` builds an ``Arm``, which has an arm model
+(``Arm.kinematics``, an ``armik.model.arm_model.ArmModel``) and solves on it.
 
-Everything below this module works on the model (``armik.model.arm_model.ArmModel``) and
-never imports it.
+Everything below this module works on the model and never imports the facade.
 """
 
 from __future__ import annotations
 
 import warnings
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, overload
@@ -23,6 +23,7 @@ from armik.solve.batch import solve_batch
 from armik.solve.path import solve_path
 from armik.solve.single import solve_one
 from armik.solvers.registry import validate_name
+from armik.tolerances import LIMIT_TOL
 
 if TYPE_CHECKING:
     import numpy as np
@@ -145,7 +146,7 @@ def load(
         model, info, name, str(path), base, tip, locked, tip_offset, dirs, srdf, given=str(source)
     )
     if not name_from_urdf and tip == spec.tip:
-        arm.tip_reason = f"the catalogue's tip for {name!r}"
+        arm.kinematics.tip_reason = f"the catalogue's tip for {name!r}"
     return arm
 
 
@@ -216,7 +217,7 @@ def _built(
     """The arm of a read URDF, its package folders and SRDF pairs set, and its recipe:
     ``given`` is what ``load`` was given (a robot name, a path; default ``source``),
     ``text`` the XML of ``load_string``."""
-    arm = Arm(
+    kinematics = ArmModel(
         model,
         info,
         name=name,
@@ -226,22 +227,22 @@ def _built(
         tip_offset=tip_offset,
         source=source,
     )
-    arm.package_dirs = dirs
+    kinematics.package_dirs = dirs
     if srdf is not None:
-        arm.disabled_pairs = collision.read_srdf(srdf, arm.info.links)
+        kinematics.disabled_pairs = collision.read_srdf(srdf, info.links)
         srdf = str(Path(srdf).resolve())
-    arm._recipe = Recipe(
+    kinematics._recipe = Recipe(
         source if given is None else given,
         base,
         tip,
         dict(locked or {}),
-        arm.tip_offset,
+        kinematics.tip_offset,
         (),
         dirs,
         text=text,
         srdf=srdf,
     )
-    return arm
+    return Arm(kinematics)
 
 
 STRING_SOURCE = "<string>"  # Arm.source of an arm read from XML text
@@ -287,6 +288,24 @@ class Recipe:
     text: str | None = None  # the URDF itself, for an arm read from XML text
     srdf: str | None = None
 
+    def locked_model(self, locked: object) -> ArmModel:
+        """The arm model of this recipe with the joints of ``locked`` (name -> rad or m)
+        locked too; the limits replaced for them dropped (``ArmModel.with_locked``)."""
+        new = check_locked(locked)
+        if new is None:
+            raise JointError(
+                "locked must map joint names to values (rad or m), e.g. "
+                "{'joint_name': 0.0}; got None",
+                joint="None",
+            )
+        locking = {**self.locked, **new}
+        kept = tuple(x for x in self.limits if x[0] not in new)
+        return replace(self, locked=locking, limits=kept).build_model()
+
+    def build_model(self) -> ArmModel:
+        """The arm model this recipe builds (how an ``ArmModel`` unpickles)."""
+        return self.build().kinematics
+
     def build(self) -> Arm:
         arm = (load if self.text is None else load_string)(
             self.source if self.text is None else self.text,
@@ -302,31 +321,89 @@ class Recipe:
         return arm
 
 
-def _rebuild(recipe: Recipe) -> Arm:
-    return recipe.build()
+class _OfModel:
+    """A read-only attribute of the arm's model, ``Arm.kinematics``."""
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name = name
+
+    def __get__(self, arm: Arm | None, owner: type | None = None) -> Any:
+        return self if arm is None else getattr(arm.kinematics, self.name)
 
 
-class Arm(ArmModel):
-    """The kinematic chain of one robot arm and its solvers; built by ``armik.load``.
+class Arm:
+    """One robot arm's chain and its solvers; built by ``armik.load``.
 
-    Attributes: ``dof``, ``joint_names``, ``joint_types``, ``lower``, ``upper`` (rad or m;
-    -inf/+inf for continuous joints), ``neutral``, ``middle``, ``base``, ``tip``,
-    ``tip_reason`` (how the tip was chosen when none was given), ``locked`` (read-only:
-    every joint locked by value, on or off the chain, name -> rad or m), ``locked_on_chain``
-    (those between the base and the tip), ``info`` (what the URDF says: its tree, and
-    ``info.notes`` on how it was read), ``model`` (the reduced Pinocchio model, not to be
-    modified).
+    Attributes (read-only): ``name``, ``dof``, ``joint_names``, ``joint_types``, ``lower``,
+    ``upper`` (rad or m; -inf/+inf for continuous joints), ``neutral``, ``middle``,
+    ``base``, ``tip``, ``tip_reason`` (how the tip was chosen when none was given),
+    ``locked`` (every joint locked by value, on or off the chain, name -> rad or m),
+    ``info`` (what the URDF says: its tree, and ``info.notes`` on how it was read),
+    ``model`` (the reduced Pinocchio model, not to be modified) and ``kinematics``, the
+    arm model everything else reads (``armik.model.arm_model.ArmModel``: the tip offset,
+    the joints locked on the chain, Pinocchio coordinates, the compiled chain, ...).
     """
 
-    _recipe: Recipe | None  # set by ``armik.load``; None for an arm built otherwise
+    __slots__ = ("kinematics",)
 
-    def __reduce__(self) -> tuple[Callable[[Recipe], Arm], tuple[Recipe]]:
-        if self._recipe is None:
-            raise TypeError(
-                f"arm {self.name!r} was not built by armik.load, so it has no recipe to "
-                "pickle; build it with armik.load(...)"
-            )
-        return (_rebuild, (self._recipe,))
+    name = _OfModel()
+    dof = _OfModel()
+    joint_names = _OfModel()
+    joint_types = _OfModel()
+    lower = _OfModel()
+    upper = _OfModel()
+    neutral = _OfModel()
+    middle = _OfModel()
+    base = _OfModel()
+    tip = _OfModel()
+    tip_reason = _OfModel()
+    locked = _OfModel()
+    info = _OfModel()
+    model = _OfModel()
+
+    def __init__(self, kinematics: ArmModel) -> None:
+        self.kinematics = kinematics
+
+    def __reduce__(self) -> tuple[type[Arm], tuple[ArmModel]]:
+        return (Arm, (self.kinematics,))  # the model travels as its recipe
+
+    def __repr__(self) -> str:
+        return repr(self.kinematics)
+
+    # -- kinematics -----------------------------------------------------------------------
+
+    def fk(self, q: object) -> pin.SE3:
+        """Tip pose in the base frame, ``T_base_tip``, for joint values ``q`` (rad, m)."""
+        return self.kinematics.fk(q)  # type: ignore[arg-type]
+
+    def jacobian(self, q: object, frame: str = "local") -> np.ndarray:
+        """The 6 x dof tip Jacobian (see ``ArmModel.jacobian``): ``frame="local"``, the
+        tip's twist in the tip frame; ``"base"``, with axes along the base frame's."""
+        return self.kinematics.jacobian(q, frame)  # type: ignore[arg-type]
+
+    def random_q(
+        self, rng: np.random.Generator | int | None = None, n: int | None = None
+    ) -> np.ndarray:
+        """Uniform joint values within the limits, unlimited joints in [-pi, pi]: one
+        configuration (dof,), or ``n`` of them (n, dof). ``rng``: a generator or a seed."""
+        return self.kinematics.random_q(rng, n)
+
+    def fk_batch(self, Q: object) -> np.ndarray:
+        """Tip poses ``T_base_tip`` (N, 4, 4) of joint values Q (N, dof), rad or m, by the
+        compiled forward kinematics (the same placements as ``fk``, to 1e-12)."""
+        return self.kinematics.fk_batch(Q)
+
+    def within_limits(self, q: object, tol: float = LIMIT_TOL) -> bool:
+        """Whether every joint of ``q`` lies within its limits (``tol`` rad or m beyond)."""
+        return self.kinematics.within_limits(q, tol)  # type: ignore[arg-type]
+
+    def frames(self) -> list[str]:
+        """The names of the URDF's frames on this arm's model (tips to choose from)."""
+        return self.kinematics.frames()
+
+    def with_limits(self, limits: Mapping[str, tuple[float, float]]) -> Arm:
+        """A copy of this arm with some joint limits replaced (name -> (lower, upper))."""
+        return Arm(self.kinematics.with_limits(limits))
 
     def with_locked(self, locked: Mapping[str, float]) -> Arm:
         """A new arm with the joints of ``locked`` (name -> rad or m) locked at those values,
@@ -337,24 +414,7 @@ class Arm(ArmModel):
         Raises ``JointError`` as ``armik.load`` does: an unknown joint, a value that is not
         finite or lies outside the joint's URDF limits, no moving joint left.
         """
-        if self._recipe is None:
-            raise TypeError(
-                f"arm {self.name!r} was not built by armik.load, so it has no recipe to "
-                "rebuild from; build it with armik.load(..., locked=...)"
-            )
-        new = check_locked(locked)
-        if new is None:
-            raise JointError(
-                "locked must map joint names to values (rad or m), e.g. "
-                f"{{{self.joint_names[-1]!r}: 0.0}}; got None",
-                joint="None",
-            )
-        recipe = replace(
-            self._recipe,
-            locked={**self._recipe.locked, **new},
-            limits=tuple(x for x in self._recipe.limits if x[0] not in new),
-        )
-        return recipe.build()
+        return Arm(self.kinematics.with_locked(locked))
 
     # -- solving --------------------------------------------------------------------------
 
@@ -369,7 +429,7 @@ class Arm(ArmModel):
         """
         if type(solver) is not str:
             validate_name(solver)
-        result: IKResult = solve_one(self, target, q0, solver, options)
+        result: IKResult = solve_one(self.kinematics, target, q0, solver, options)
         return result
 
     def solve_all(
@@ -378,7 +438,7 @@ class Arm(ArmModel):
         """Every distinct solution the solver finds, each verified, best first."""
         if type(solver) is not str:
             validate_name(solver)
-        results: list[IKResult] = solve_one(self, target, q0, solver, options, True)
+        results: list[IKResult] = solve_one(self.kinematics, target, q0, solver, options, True)
         return results
 
     def solve_batch(
@@ -392,7 +452,9 @@ class Arm(ArmModel):
     ) -> BatchResult:
         """Solve many targets ((N, 4, 4), (N, 7), (N, 3) or a list) on every core; returns a
         ``BatchResult``. See ``armik.solve.batch.solve_batch``."""
-        return solve_batch(self, targets, q0=q0, solver=solver, workers=workers, **options)
+        return solve_batch(
+            self.kinematics, targets, q0=q0, solver=solver, workers=workers, **options
+        )
 
     def solve_path(
         self,
@@ -408,7 +470,9 @@ class Arm(ArmModel):
         continuous path of least joint motion over every branch, of the best summed score
         with ``prefer=`` (``plan="global"``); returns a ``BatchResult``. See
         ``armik.solve.path.solve_path``."""
-        return solve_path(self, poses, q0, max_joint_step=max_joint_step, plan=plan, **options)
+        return solve_path(
+            self.kinematics, poses, q0, max_joint_step=max_joint_step, plan=plan, **options
+        )
 
     # -- collisions -----------------------------------------------------------------------
 
@@ -419,10 +483,10 @@ class Arm(ArmModel):
         among the arm's links and ``obstacles`` (shapes in the base frame) and, with
         ``self_collision``, the arm's own non-adjacent links; negative when they overlap.
         Raises ``CollisionError`` when the URDF has no collision geometry."""
-        return collision.min_distance(self, q, obstacles, self_collision)
+        return collision.min_distance(self.kinematics, q, obstacles, self_collision)
 
     def in_collision(
         self, q: object, obstacles: object = (), self_collision: bool = False, margin: float = 0.0
     ) -> bool:
         """Whether some pair ``min_distance`` checks is closer than ``margin`` (m) at ``q``."""
-        return collision.in_collision(self, q, obstacles, self_collision, margin)
+        return collision.in_collision(self.kinematics, q, obstacles, self_collision, margin)

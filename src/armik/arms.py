@@ -52,9 +52,16 @@ class Arms:
     """The chains of ``tips`` of one robot, each an ``Arm`` (``chain(tip)``)."""
 
     def __init__(self, chains: Mapping[str, object]) -> None:
-        names = [j for arm in chains.values() for j in arm.joint_names]  # type: ignore[attr-defined]
+        """``chains``: tip -> its ``Arm`` (the facade, kept for ``chain``); everything
+        else reads their models (``Arm.kinematics``)."""
+        self._facades = dict(chains)
+        self._chains: dict[str, ArmModel] = {
+            tip: arm.kinematics  # type: ignore[attr-defined]
+            for tip, arm in chains.items()
+        }
+        chains = self._chains
+        names = [j for arm in chains.values() for j in arm.joint_names]
         shared = sorted({n for n in names if names.count(n) > 1})
-        self._chains = dict(chains)
         self.tips: tuple[str, ...] = tuple(chains)
         self.shared: tuple[str, ...] = tuple(shared)
         # chains sharing a joint are solved together, in one model (``model.union``)
@@ -66,13 +73,13 @@ class Arms:
         else:
             self.joint_names = tuple(names)
             arms = list(self._chains.values())
-            self.lower = np.concatenate([a.lower for a in arms])  # type: ignore[attr-defined]
-            self.upper = np.concatenate([a.upper for a in arms])  # type: ignore[attr-defined]
-            self.middle = np.concatenate([a.middle for a in arms])  # type: ignore[attr-defined]
+            self.lower = np.concatenate([a.lower for a in arms])
+            self.upper = np.concatenate([a.upper for a in arms])
+            self.middle = np.concatenate([a.middle for a in arms])
         self.dof = len(self.joint_names)
         kinds: dict[str, bool] = {}  # each joint's kind, read from the chains that hold it
         for arm in chains.values():
-            kinds.update(zip(arm.joint_names, arm.prismatic.tolist()))  # type: ignore[attr-defined]
+            kinds.update(zip(arm.joint_names, arm.prismatic.tolist()))
         self.prismatic = np.array([kinds[n] for n in self.joint_names], dtype=np.bool_)
         # chains sharing no joint in one model, built for the first coupling task, and
         # the column of each of ``joint_names`` in it
@@ -80,8 +87,7 @@ class Arms:
         self._permutation: np.ndarray | None = None
         index = {n: k for k, n in enumerate(self.joint_names)}
         self._columns = {
-            tip: np.array([index[n] for n in arm.joint_names])  # type: ignore[attr-defined]
-            for tip, arm in self._chains.items()
+            tip: np.array([index[n] for n in arm.joint_names]) for tip, arm in self._chains.items()
         }
         self._middle_seeds = self.split(self.middle)  # each chain's seed when q0 is None: read only
 
@@ -90,13 +96,17 @@ class Arms:
 
     def chain(self, tip: str):
         """The ``Arm`` from the base to ``tip``."""
+        return self._facades[self._known(tip)]
+
+    def _known(self, tip: str) -> str:
+        """``tip``, or ``FrameError`` naming the robot's tips."""
         if tip not in self._chains:
             raise FrameError(
                 f"unknown tip {tip!r}; this robot's tips: {list(self.tips)}",
                 frame=tip,
                 candidates=self.tips,
             )
-        return self._chains[tip]
+        return tip
 
     def split(self, q: object) -> dict[str, np.ndarray]:
         """``q`` (one value per joint of ``joint_names``) as each chain's joint values."""
@@ -127,7 +137,7 @@ class Arms:
         """A random configuration within the limits, in ``joint_names``'s order."""
         if self._union is not None:
             return self._union.random_q(rng)
-        return np.concatenate([a.random_q(rng) for a in self._chains.values()])  # type: ignore[attr-defined]
+        return np.concatenate([a.random_q(rng) for a in self._chains.values()])
 
     def random_q(self, rng: np.random.Generator | int | None = None) -> np.ndarray:
         return self._random(np.random.default_rng(rng))
@@ -150,7 +160,7 @@ class Arms:
             chains = self._chains
             if options or solver != "auto":
                 results = {
-                    tip: solve_one(chains[tip], target, seeds[tip], solver, options)  # type: ignore[arg-type]
+                    tip: solve_one(chains[tip], target, seeds[tip], solver, options)
                     for tip, target in targets.items()
                 }
             else:  # plain poses: each chain's prepared solve, as solve_one would take it
@@ -166,7 +176,7 @@ class Arms:
             target = targets[tip]
             if tip in relative:
                 target = _absolute(target, self._placements(results, seeds))
-            results[tip] = self._chains[tip].solve(target, q0=seeds[tip], **options)  # type: ignore[attr-defined]
+            results[tip] = self._facades[tip].solve(target, q0=seeds[tip], **options)  # type: ignore[attr-defined]
         each = joined(self.tips, results, seeds, time.perf_counter() - t0)
         if each.success:
             return each
@@ -197,7 +207,7 @@ class Arms:
     def _placements(self, results: dict[str, IKResult], seeds: dict) -> dict[str, pin.SE3]:
         """Each tip's placement: at its answer where solved, else at its seed."""
         return {
-            tip: arm.fk(results[tip].q if tip in results else seeds[tip])  # type: ignore[attr-defined]
+            tip: arm.fk(results[tip].q if tip in results else seeds[tip])
             for tip, arm in self._chains.items()
         }
 
@@ -327,9 +337,9 @@ class Arms:
             target = targets[tip]
             try:
                 if tip in relative:
-                    placements = {t: self._chains[t].fk(q[c]) for t, c in self._columns.items()}  # type: ignore[attr-defined]
+                    placements = {t: self._chains[t].fk(q[c]) for t, c in self._columns.items()}
                     target = _absolute(target, placements)
-                r = self._chains[tip].solve(target, q0=q[cols], **options)  # type: ignore[attr-defined]
+                r = self._facades[tip].solve(target, q0=q[cols], **options)  # type: ignore[attr-defined]
             except ArmikError:  # a task this chain's solver does not take: start as is
                 continue
             free = ~fixed[cols]

@@ -16,7 +16,7 @@ import armik
 from tests.conftest import TOL
 from tests.tools.cli_run import run, words
 
-ROBOTS = Path(armik.load("panda").source).parents[2]  # example-robot-data's folder
+ROBOTS = Path(armik.load("panda").kinematics.source).parents[2]  # example-robot-data's folder
 BAXTER = str(ROBOTS / "baxter_description" / "urdf" / "baxter.urdf")
 TALOS = str(ROBOTS / "talos_data" / "robots" / "talos_reduced.urdf")
 HANDS = {

@@ -27,6 +27,7 @@ import pinocchio as pin
 from armik.constraints.bounds import ordered_bounds
 from armik.constraints.shapes import Shape, check_obstacles, convex_hull
 from armik.errors import CollisionError
+from armik.model.arm_model import model_of
 from armik.model.catalogue import erd_share
 from armik.model.derived import Derived
 from armik.model.reduce import reduce_model
@@ -429,10 +430,11 @@ def _sorted_pair(a: str, b: str) -> Pair:
     return (a, b) if a <= b else (b, a)
 
 
-def never_colliding_pairs(arm: ArmModel, n: int = 1000, seed: int = 0) -> list[Pair]:
+def never_colliding_pairs(arm: object, n: int = 1000, seed: int = 0) -> list[Pair]:
     """The link pairs that can touch (not adjacent) yet never do over ``n`` random
     configurations within the limits, sorted: what MoveIt's setup assistant disables as
     "Never". Ignores the arm's own SRDF. ``write_srdf`` writes them."""
+    arm = model_of(arm)
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise CollisionError(f"n must be a whole number >= 1, got {n!r}", option="n", value=n)
     g = arm_geometry(arm)

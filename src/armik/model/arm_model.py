@@ -1,5 +1,5 @@
 """The arm model: one chain's Pinocchio model with its joints, limits, coordinates and
-kinematics. It knows no solver: the solve methods are the facade's (``armik.arm.Arm``).
+kinematics. It knows no solver: the facade (``armik.arm.Arm``) has one and solves on it.
 
 Joint values seen by users are one number per joint: radians for revolute and continuous
 joints, metres for prismatic ones. Pinocchio stores a continuous joint as (cos, sin)
@@ -16,30 +16,29 @@ from collections.abc import Mapping
 from dataclasses import replace
 from functools import cached_property
 from types import MappingProxyType
-from typing import Any, TypeVar
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
 
-from armik.errors import ArmikWarning, JointError, OptionError, listing
+from armik.errors import ArmikWarning, InputError, JointError, OptionError, listing
 from armik.kernel.chain import KernelChain, build_chain
 from armik.kernel.coordinates import pin_configuration
 from armik.kernel.fk_many import fk_many
 from armik.model import mimic as _mimic
 from armik.model.geometry import Plane, find_plane
-from armik.model.reduce import check_limit_value, reduce_chain
+from armik.model.reduce import check_limits, reduce_chain
 from armik.model.urdf import URDFInfo
 from armik.tolerances import LIMIT_TOL, MAX_LIMIT
 
 TWO_PI = 2.0 * math.pi
 _FLOAT = np.dtype(float)
 _le = operator.le
-_Arm = TypeVar("_Arm", bound="ArmModel")
 
 
 class ArmModel:
-    """The kinematic chain of one robot arm (``armik.load`` builds its facade, ``Arm``,
-    whose docstring lists the attributes)."""
+    """The kinematic chain of one robot arm: what every solver, check and tool reads
+    (``armik.load`` builds one inside its facade, ``Arm.kinematics``)."""
 
     package_dirs: tuple[str, ...] = ()  # where package:// paths are looked up (meshes)
     disabled_pairs: frozenset[tuple[str, str]] = frozenset()  # an SRDF's, sorted link names
@@ -78,6 +77,10 @@ class ArmModel:
         self._local = threading.local()
         self._derived: dict[Any, Any] = {}  # ``armik.model.derived``: what modules keep
         self._recipe: Any = None  # how ``armik.load`` built it (``armik.arm.Recipe``), to pickle
+
+    def __reduce__(self) -> tuple[Any, tuple[()]]:
+        # A Pinocchio model does not pickle portably: the arm travels as its recipe.
+        return (self._built_by("pickle").build_model, ())
 
     def _setup_joints(self, info: URDFInfo) -> None:
         m = self.model
@@ -131,31 +134,12 @@ class ArmModel:
             np.where(np.isfinite(lo_c), lo_c + math.pi, hi_c - math.pi),
         )
 
-    def with_limits(self: _Arm, limits: Mapping[str, tuple[float, float]]) -> _Arm:
+    def with_limits(self, limits: Mapping[str, tuple[float, float]]) -> ArmModel:
         """A copy of this arm with some joint limits replaced (name -> (lower, upper))."""
-        if not isinstance(limits, Mapping):
-            raise JointError(
-                f"limits must map joint names to (lower, upper), got {limits!r}",
-                joint=str(limits),
-            )
+        checked = check_limits(limits, self.joint_index)
         lower, upper = self.lower.copy(), self.upper.copy()
-        checked = {}
-        for jname, pair in limits.items():
-            if not isinstance(jname, str):
-                raise JointError(f"joint names must be str, got {jname!r}", joint=str(jname))
+        for jname, (lo, hi) in checked.items():
             i = self.joint_index(jname)
-            if isinstance(pair, (str, bytes)) or not hasattr(pair, "__len__") or len(pair) != 2:
-                raise JointError(
-                    f"limits for {jname!r} must be a pair (lower, upper) in rad or m, got {pair!r}",
-                    joint=jname,
-                )
-            lo, hi = (check_limit_value(jname, v) + 0.0 for v in pair)  # -0.0 -> 0.0
-            checked[jname] = (lo, hi)
-            if not lo <= hi:
-                raise JointError(
-                    f"limits for {jname!r} must satisfy lower <= upper, got ({lo}, {hi})",
-                    joint=jname,
-                )
             lower[i], upper[i] = lo, hi
         clone = object.__new__(type(self))
         # Cached properties (the reach counts prismatic travel) are recomputed for the clone,
@@ -174,6 +158,20 @@ class ArmModel:
             new = tuple((n, lo, hi) for n, (lo, hi) in checked.items())
             clone._recipe = replace(self._recipe, limits=kept + new)
         return clone
+
+    def with_locked(self, locked: Mapping[str, float]) -> ArmModel:
+        """A new model with ``locked``'s joints locked too (see ``Arm.with_locked``)."""
+        model: ArmModel = self._built_by("rebuild from").locked_model(locked)
+        return model
+
+    def _built_by(self, what: str) -> Any:
+        """The recipe ``armik.load`` built this model by, or ``TypeError`` (no ``what``)."""
+        if self._recipe is None:
+            raise TypeError(
+                f"arm {self.name!r} was not built by armik.load, so it has no recipe to "
+                f"{what}; build it with armik.load(...)"
+            )
+        return self._recipe
 
     def joint_index(self, name: str) -> int:
         """Index of joint ``name`` in ``q``; raises ``JointError`` listing the joints."""
@@ -490,3 +488,12 @@ class ArmModel:
             f"Arm({self.name!r}, dof={self.dof}, base={self.base!r}, tip={self.tip!r}"
             f"{offset}, joints={self.joint_names})"
         )
+
+
+def model_of(arm: object) -> ArmModel:
+    """The model of an ``Arm`` (``kinematics``) or ``arm`` itself: what public functions
+    below the facade take. ``InputError`` for anything else."""
+    kinematics = getattr(arm, "kinematics", arm)
+    if not isinstance(kinematics, ArmModel):
+        raise InputError(f"expected an arm from armik.load(...), got {arm!r}")
+    return kinematics

@@ -10,7 +10,7 @@ from __future__ import annotations
 import difflib
 import logging
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -346,6 +346,37 @@ def check_package_dirs(dirs: object) -> tuple[str, ...]:
             )
         out.append(str(Path(d).resolve()))
     return tuple(out)
+
+
+def check_limits(
+    limits: object, joint_index: Callable[[str], int]
+) -> dict[str, tuple[float, float]]:
+    """``with_limits``' mapping (joint name -> (lower, upper), rad or m) checked:
+    ``JointError`` naming the joint for an unknown one (``joint_index`` raises it), a
+    value that is not a pair of limits, or lower > upper."""
+    if not isinstance(limits, Mapping):
+        raise JointError(
+            f"limits must map joint names to (lower, upper), got {limits!r}",
+            joint=str(limits),
+        )
+    checked = {}
+    for jname, pair in limits.items():
+        if not isinstance(jname, str):
+            raise JointError(f"joint names must be str, got {jname!r}", joint=str(jname))
+        joint_index(jname)
+        if isinstance(pair, (str, bytes)) or not hasattr(pair, "__len__") or len(pair) != 2:
+            raise JointError(
+                f"limits for {jname!r} must be a pair (lower, upper) in rad or m, got {pair!r}",
+                joint=jname,
+            )
+        lo, hi = (check_limit_value(jname, v) + 0.0 for v in pair)  # -0.0 -> 0.0
+        if not lo <= hi:
+            raise JointError(
+                f"limits for {jname!r} must satisfy lower <= upper, got ({lo}, {hi})",
+                joint=jname,
+            )
+        checked[jname] = (lo, hi)
+    return checked
 
 
 def check_limit_value(jname: str, value: object) -> float:

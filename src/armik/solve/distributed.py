@@ -32,6 +32,7 @@ import numpy as np
 from armik.batch_result import BatchResult
 from armik.errors import ArmikError, InputError, OptionError
 from armik.frozen import frozen
+from armik.model.arm_model import model_of
 from armik.options import Options
 from armik.solve.batch import batch_seeds
 from armik.solve.batch import solve_batch as local_solve_batch
@@ -161,7 +162,7 @@ def close(client) -> None:
 
 
 def solve_batch(
-    arm: ArmModel,
+    arm: object,
     targets: object,
     q0: object = None,
     solver: str = "auto",
@@ -178,6 +179,7 @@ def solve_batch(
     use the current default client. ``chunk_size``: targets per task (2048).
     """
     t0 = time.perf_counter()
+    arm = model_of(arm)
     opts = Options.from_kwargs(options)  # refuse bad options here, not on the workers
     batch = parse_targets(targets, arm)
     n = len(batch)

@@ -1,7 +1,7 @@
 """7-joint arms with one joint held: ``arm.solve_all(T, hold={"joint": value})``.
 
 Held at a value, the joint is a fixed transform and the other six form a 6R chain: the arm
-with that joint locked (``Arm.with_locked``, built once per joint and value and kept, the
+with that joint locked (``ArmModel.with_locked``, built once per joint and value and kept, the
 last ``KEPT``), solved by whichever solver applies to it ("auto": a closed-form family
 when one fits, else the general 6R search); joint 7 of an arm in the ``swept`` class (the
 Panda) by that solver's closed form at exactly the value. The answers are mapped back to
@@ -78,7 +78,7 @@ def locked_arm(arm: ArmModel, name: str, value: float):
     key = (name, value)
     sub = kept.get(key)
     if sub is None:
-        sub = arm.with_locked({name: value})  # type: ignore[attr-defined]
+        sub = arm.with_locked({name: value})
         kept[key] = sub
         if len(kept) > KEPT:
             kept.popitem(last=False)

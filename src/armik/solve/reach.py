@@ -24,7 +24,7 @@ from scipy.spatial.transform import Rotation
 
 from armik import npz
 from armik.errors import InputError, OptionError
-from armik.model.arm_model import ArmModel
+from armik.model.arm_model import ArmModel, model_of
 from armik.solve.batch import solve_batch
 from armik.solve.progress import ProgressArg
 from armik.targets.batch import TargetBatch
@@ -155,7 +155,7 @@ def grid(arm: ArmModel, resolution: float) -> tuple[np.ndarray, np.ndarray, np.n
 
 
 def reachability(
-    arm: ArmModel,
+    arm: object,
     resolution: float = 0.1,
     orientations: int = 16,
     *,
@@ -173,6 +173,7 @@ def reachability(
     ``client``: a Dask client to run on a cluster instead (``armik.solve.distributed``).
     ``options``: solver options (default ``timeout=0.005``, tolerances 1e-5 m / rad).
     """
+    arm = model_of(arm)
     try:
         resolution = float(resolution)
     except (TypeError, ValueError):

@@ -139,7 +139,7 @@ def bench_interleaved(
                     q = peer.solve(T, q0)
                     spent = time.perf_counter() - t
                     times[name].append(spent if peer.elapsed is None else peer.elapsed)
-                    c = measure(arm, q, target, opts)
+                    c = measure(arm.kinematics, q, target, opts)
                     ok[name] += c.ok
                     violations[name] += bool(c.violations)
             done += 1

@@ -121,7 +121,7 @@ def _stat(f, values: np.ndarray) -> float:
 
 def _planar_targets(arm: Arm, n: int, rng: np.random.Generator) -> np.ndarray:
     """Targets uniform in a disc 20 % larger than the reach: some are unreachable."""
-    radius = 1.2 * arm.reach * np.sqrt(rng.uniform(size=n))
+    radius = 1.2 * arm.kinematics.reach * np.sqrt(rng.uniform(size=n))
     angle = rng.uniform(-math.pi, math.pi, size=n)
     return np.stack([radius * np.cos(angle), radius * np.sin(angle)], axis=1)
 
@@ -296,7 +296,8 @@ def _closed_form_arm(
     answer the analytic solver did not find shows as a large distance). ``label``: the
     rows' arm name (the arm's own by default)."""
     name = label or arm.name
-    family = registry.choose("auto", arm, parse_target(arm.fk(arm.middle), arm), every=True).name
+    kin = arm.kinematics
+    family = registry.choose("auto", kin, parse_target(arm.fk(arm.middle), kin), every=True).name
     qs = [arm.random_q(rng) for _ in range(n)]
     poses = [arm.fk(q) for q in qs]
     q0s = [np.clip(q + rng.normal(0.0, 0.4, arm.dof), arm.lower, arm.upper) for q in qs]
@@ -392,8 +393,9 @@ def speed(
     rows = []
     for name in names:
         arm = load(name)
+        kin = arm.kinematics
         family = registry.choose(
-            "auto", arm, parse_target(arm.fk(arm.middle), arm), every=True
+            "auto", kin, parse_target(arm.fk(arm.middle), kin), every=True
         ).name
         qs = [arm.random_q(rng) for _ in range(n)]
         poses = [arm.fk(q) for q in qs]
@@ -405,7 +407,7 @@ def speed(
         prepare = registry.get(family).prepare_pose
         if prepare is None:
             raise TypeError(f"{name}'s solver {family!r} has no prepared runner to time")
-        run_pose = prepare(arm, opts, False)
+        run_pose = prepare(kin, opts, False)
         mats_armik = [T.homogeneous for T in poses]
         for T in poses[:20]:  # warm up: compiled kernels loaded, caches filled
             arm.solve(T, solver=family)

@@ -83,7 +83,7 @@ class RTBPeer(Peer):
             from spatialmath import SE3
         except ImportError:
             raise PeerUnavailable("roboticstoolbox-python is not installed") from None
-        path = _kinematics_only(arm.source)
+        path = _kinematics_only(arm.kinematics.source)
         try:
             robot = rtb.Robot.URDF(path)
             self.ets = robot.ets(start=arm.base, end=arm.tip)
@@ -93,8 +93,8 @@ class RTBPeer(Peer):
             os.unlink(path)
         if self.ets.n != arm.dof:
             raise PeerUnavailable(f"the Toolbox's chain has {self.ets.n} joints, armik's {arm.dof}")
-        if arm.tip_offset is not None:  # the tool point, as a last fixed transform
-            self.ets = self.ets * rtb.ET.SE3(SE3(*arm.tip_offset))
+        if arm.kinematics.tip_offset is not None:  # the tool point, as a last fixed transform
+            self.ets = self.ets * rtb.ET.SE3(SE3(*arm.kinematics.tip_offset))
         self.tol = 0.5 * tol * tol  # E = |e|^2 / 2 < tol^2 / 2: each error under tol
         _check_fk(arm, self.fk, "the Robotics Toolbox")
 
@@ -119,12 +119,12 @@ class EAIKPeer(Peer):
         except ImportError:
             raise PeerUnavailable("EAIK is not installed") from None
         try:
-            self.robot = UrdfRobot(arm.source)
+            self.robot = UrdfRobot(arm.kinematics.source)
         except Exception as exc:  # EAIK refuses what it cannot decompose
             raise PeerUnavailable(f"EAIK does not apply to {arm.name}: {exc}") from None
         if not self.robot.hasKnownDecomposition():
             raise PeerUnavailable(f"EAIK knows no decomposition of {arm.name}")
-        B = arm.T_base_world.homogeneous
+        B = arm.kinematics.T_base_world.homogeneous
         q = np.zeros(arm.dof)
         try:
             self.E = np.linalg.inv(B @ self.robot.fwdKin(q)) @ arm.fk(q).homogeneous
@@ -144,7 +144,7 @@ class EAIKPeer(Peer):
         for q, ls in zip(sol.Q, sol.is_LS):
             if ls:
                 continue
-            q = self.arm.nearest_equivalent(np.asarray(q, dtype=float), q0)
+            q = self.arm.kinematics.nearest_equivalent(np.asarray(q, dtype=float), q0)
             if not self.arm.within_limits(q):
                 continue
             d = float(np.linalg.norm(q - q0))

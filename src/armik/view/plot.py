@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from armik.errors import InputError, ViewerError
-from armik.model.arm_model import ArmModel
+from armik.model.arm_model import ArmModel, model_of
 from armik.result import IKResult
 from armik.targets.pose import parse_target
 from armik.view.stick import PRISMATIC_AXIS, REVOLUTE_AXIS, size, skeleton
@@ -18,7 +18,7 @@ OTHERS = ["C0", "C1", "C2", "C3", "C4", "C5", "C6", "C8", "C9"]
 
 
 def plot(
-    arm: ArmModel,
+    arm: object,
     q: object,
     path: str | Path | None = None,
     *,
@@ -39,6 +39,7 @@ def plot(
     ``ax`` given and returns it. Needs matplotlib (``pip install "armik[plot]"``, in
     ``armik[view]`` too); raises ``InputError`` for a bad ``q`` or neither path nor ax.
     """
+    arm = model_of(arm)
     if path is None and ax is None:
         raise InputError("plot needs a path for the PNG (plot(arm, q, 'arm.png')) or an ax")
     try:

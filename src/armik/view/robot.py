@@ -30,21 +30,21 @@ from armik.view.scene import arm_body
 from armik.view.stick import size, stick_body
 
 if TYPE_CHECKING:
-    from armik.arm import Arm
+    from armik.model.arm_model import ArmModel
 
 
 class Robot:
     """``robot`` (an ``Arm`` or an ``Arms``) as the viewer sees it. Attributes: ``tips``,
-    ``chains`` (tip -> ``Arm``), ``name``, ``joint_names``, ``dof``, ``lower``, ``upper``,
-    ``middle``, ``prismatic``, ``body`` (every part drawn, once), ``size`` (m) and
-    ``centre`` (m, where the camera looks)."""
+    ``chains`` (tip -> its arm model, ``Arm.kinematics``), ``name``, ``joint_names``,
+    ``dof``, ``lower``, ``upper``, ``middle``, ``prismatic``, ``body`` (every part drawn,
+    once), ``size`` (m) and ``centre`` (m, where the camera looks)."""
 
     def __init__(self, robot: object) -> None:
         if isinstance(robot, Arms):
-            chains = {tip: robot.chain(tip) for tip in robot.tips}
+            chains = {tip: robot.chain(tip).kinematics for tip in robot.tips}
             names = tuple(robot.joint_names)
-        elif callable(getattr(robot, "solve", None)) and hasattr(robot, "model"):
-            chains = {robot.tip: robot}  # type: ignore[attr-defined]
+        elif callable(getattr(robot, "solve", None)) and hasattr(robot, "kinematics"):
+            chains = {robot.tip: robot.kinematics}  # type: ignore[attr-defined]
             names = tuple(robot.joint_names)  # type: ignore[attr-defined]
         else:
             raise InputError(
@@ -52,7 +52,7 @@ class Robot:
                 f"armik.load(..., tips=[...]), got {robot!r}"
             )
         self.source = robot
-        self.chains: dict[str, Arm] = chains
+        self.chains: dict[str, ArmModel] = chains
         self.tips = tuple(chains)
         first = next(iter(chains.values()))
         self.name = first.name

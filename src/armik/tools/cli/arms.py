@@ -15,6 +15,7 @@ from armik.constraints.shapes_file import read_shapes
 from armik.errors import FrameError, InputError, OptionError
 from armik.kernel import warmup
 from armik.kernel.problem import STEP_DLS
+from armik.model.arm_model import ArmModel
 from armik.model.catalogue import CATALOGUE, entry
 from armik.model.urdf import read_urdf, read_urdf_string
 from armik.options import Options
@@ -173,7 +174,7 @@ def cmd_robots(args: argparse.Namespace) -> int:
 
 def cmd_info(args: argparse.Namespace) -> int:
     try:
-        arm = load_arm(args)
+        arm = load_arm(args).kinematics  # everything it prints is the model's
     except FrameError as exc:
         if not args.frames or getattr(args, "tip", None) is not None:
             raise
@@ -231,7 +232,7 @@ def cmd_info(args: argparse.Namespace) -> int:
     return 0
 
 
-def six_r_family(arm: Arm) -> str | None:
+def six_r_family(arm: ArmModel) -> str | None:
     """The family of a 6R arm: the first closed-form family that fits it, else the general
     6R search; None for an arm that is not 6R (all revolute)."""
     found = families.classify(arm)
@@ -244,7 +245,7 @@ def six_r_family(arm: Arm) -> str | None:
     return f"general_6r ({general.description})"
 
 
-def held_value(arm: Arm, k: int) -> float:
+def held_value(arm: ArmModel, k: int) -> float:
     """A value to hold joint ``k`` at that is no special angle (the classes do not change
     with it, but a value such as 0 can line axes up by chance)."""
     lo, hi = float(arm.lower[k]), float(arm.upper[k])
@@ -253,7 +254,7 @@ def held_value(arm: Arm, k: int) -> float:
     return 0.37
 
 
-def family_lines(arm: Arm) -> list[str]:
+def family_lines(arm: ArmModel) -> list[str]:
     """``armik info``'s family lines: a 6R arm's family; for a 7R arm, the family of the
     6R chain left by holding each joint (``hold=``), and which joints make it analytic."""
     family = six_r_family(arm)
@@ -330,7 +331,7 @@ def frame_tree(info, marks: dict[str, str] | None = None) -> list[str]:
     return lines
 
 
-def _link_lengths(arm: Arm) -> list[float]:
+def _link_lengths(arm: ArmModel) -> list[float]:
     """Distance from each joint's origin to the next joint's (the last: to the tip); mimic
     joints are not joints of the arm: the distance goes on to the next driving joint."""
     arm.fk(arm.middle)
@@ -381,7 +382,7 @@ def _with_task_errors(arm: Arm, tasks, r: IKResult, options: dict) -> IKResult:
         return r
     problem = as_problem(tasks)
     assert problem is not None  # names were found: a task list
-    errors = measure_tasks(arm, problem, r.q, Options.from_kwargs(options))
+    errors = measure_tasks(arm.kinematics, problem, r.q, Options.from_kwargs(options))
     return dataclasses.replace(r, extra={**r.extra, "task_errors": errors})
 
 

@@ -171,7 +171,7 @@ def _numeric(row: list[str]) -> bool:
 
 def cmd_batch(args: argparse.Namespace) -> int:
     out = _output(args.output)
-    arm = load_arm(args)
+    arm = load_arm(args).kinematics
     targets, q0 = read_targets_file(args.targets)
     if args.q0 is not None:
         q0 = np.array(args.q0)
@@ -212,7 +212,7 @@ def _output(path: str) -> Path:
 
 def cmd_path(args: argparse.Namespace) -> int:
     out = _output(args.output)
-    arm = load_arm(args)
+    arm = load_arm(args).kinematics
     targets, _ = read_targets_file(args.targets)
     q0 = None if args.q0 is None else np.array(args.q0)
     if q0 is None and args.plan == "follow":
@@ -237,7 +237,7 @@ def _written(result, out: Path) -> int:
 
 
 def cmd_reach(args: argparse.Namespace) -> int:
-    arm = load_arm(args)
+    arm = load_arm(args).kinematics
     client = None
     if args.cluster:
         from armik.solve import distributed  # Dask: a second to import, only for a cluster

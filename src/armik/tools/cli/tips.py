@@ -38,7 +38,7 @@ def load_tips(args: argparse.Namespace) -> Arms:
 
 def cmd_info_tips(args: argparse.Namespace) -> int:
     robot = load_tips(args)
-    first = robot.chain(robot.tips[0])
+    first = robot.chain(robot.tips[0]).kinematics
     shared = f", {len(robot.shared)} shared" if robot.shared else ""
     print(
         f"{first.name}: {len(robot.tips)} tips from {first.base!r}, {robot.dof} joints"
@@ -55,7 +55,7 @@ def cmd_info_tips(args: argparse.Namespace) -> int:
         for line in frame_tree(first.info, marks):
             print(f"  {line}")
     for tip in robot.tips:
-        arm = robot.chain(tip)
+        arm = robot.chain(tip).kinematics
         auto = registry.choose("auto", arm).name
         print(f"tip {tip!r}: {arm.dof} joints; this chain alone: auto -> {auto}")
         print(f"  {'joint':<24} {'type':<11} {'lower':>9} {'upper':>9}")
@@ -128,7 +128,7 @@ def _joints(robot: Arms) -> SimpleNamespace:
     """The robot's joints' names and types, as ``print_result`` reads them off an arm."""
     types: dict[str, str] = {}
     for tip in robot.tips:
-        arm = robot.chain(tip)
+        arm = robot.chain(tip).kinematics
         types.update(zip(arm.joint_names, arm.joint_types))
     names = list(robot.joint_names)
     return SimpleNamespace(joint_names=names, joint_types=[types[n] for n in names])
