@@ -165,16 +165,17 @@ def run_split(args) -> None:
     spec = registry.get(args.solver)
     for name in args.arms:
         arm = armik.load(name)
+        kin = arm.kinematics
         tb = armik.targets.batch.parse_targets(targets(arm, args.n))
         q0 = np.ascontiguousarray(np.broadcast_to(arm.middle, (len(tb), arm.dof)))
-        spec.run_batch(arm, tb[:8], q0[:8], opts)
+        spec.run_batch(kin, tb[:8], q0[:8], opts)
         solve_s = check_s = 0.0
         for s in range(0, len(tb), 256):
             t = time.perf_counter()
-            ab = spec.run_batch(arm, tb[s : s + 256], q0[s : s + 256], opts)
+            ab = spec.run_batch(kin, tb[s : s + 256], q0[s : s + 256], opts)
             solve_s += time.perf_counter() - t
             t = time.perf_counter()
-            measure_batch(arm, ab.q, tb[s : s + 256], opts)
+            measure_batch(kin, ab.q, tb[s : s + 256], opts)
             check_s += time.perf_counter() - t
         share = check_s / (solve_s + check_s)
         print(

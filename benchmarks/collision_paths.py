@@ -37,7 +37,8 @@ def cases(panda: armik.Arm, seeds: int) -> list:
         if not plain.success.all():
             continue
         panda.fk(plain.q[-1])
-        sphere = armik.Sphere(0.06, panda.data.oMi[4].translation + np.array([0, 0.1, 0]))
+        elbow = panda.kinematics.data.oMi[4].translation  # placed by that fk
+        sphere = armik.Sphere(0.06, elbow + np.array([0, 0.1, 0]))
         hit = [panda.in_collision(x, [sphere]) for x in plain.q]
         if hit[0] or not any(hit):
             continue

@@ -82,9 +82,10 @@ class Independent:
     """Distances, FK and limits of an arm from its URDF, built with Pinocchio and coal."""
 
     def __init__(self, arm: armik.Arm, scene) -> None:
-        self.model = full = pin.buildModelFromUrdf(arm.source)
+        source = arm.kinematics.source
+        self.model = full = pin.buildModelFromUrdf(source)
         self.data = full.createData()
-        geom = pin.buildGeomFromUrdf(full, arm.source, pin.COLLISION, package_dirs=[erd_share()])
+        geom = pin.buildGeomFromUrdf(full, source, pin.COLLISION, package_dirs=[erd_share()])
         self.objects = []
         for o in geom.geometryObjects:
             g = o.geometry
@@ -190,7 +191,7 @@ def run(name: str, n: int, workers: int, seed: int, solver: str = "auto") -> Non
     plain = [arm.solve(t, q0=arm.middle, solver=solver) for t in T]
     per_plain = (time.perf_counter() - t0) / n
     cpu_plain = (time.process_time() - c0) / n
-    check = checker(arm, tuple(shapes), True)
+    check = checker(arm.kinematics, tuple(shapes), True)
     Q = [r.q for r in results]
     passes = {"bounded": [], "every pair": []}
     for _ in range(5):  # interleaved: the machine is shared

@@ -20,7 +20,8 @@ SCENE = (armik.HalfSpace((0, 0, 1), 0.0), armik.Box((0.2, 0.2, 0.3), (0.45, -0.3
 
 
 def raw_meshes(a, ch):
-    """The checker's pairs on the URDF's meshes as they are (no hulls)."""
+    """The checker's pairs on the URDF's meshes as they are (no hulls); ``a``: the arm's
+    model (``Arm.kinematics``)."""
     full = pin.buildModelFromUrdf(a.source)
     raw = pin.buildGeomFromUrdf(full, a.source, pin.COLLISION, package_dirs=[erd_share()])
     if a.chain.locked_joints:
@@ -44,14 +45,15 @@ def per_call(f, items) -> float:
 
 for name in ["ur5", "panda"]:
     a = armik.load(name)
-    ch = checker(a, SCENE, True)
+    kin = a.kinematics
+    ch = checker(kin, SCENE, True)
     Q = list(a.random_q(0, n=200))
     hull = per_call(ch.distance, Q)
-    raw = raw_meshes(a, ch)
+    raw = raw_meshes(kin, ch)
     gd = pin.GeometryData(raw)
 
-    def mesh_distance(q, a=a, raw=raw, gd=gd):  # this pass's arm, bound now
-        pin.updateGeometryPlacements(a.model, a.data, raw, gd, a.to_pin(q))
+    def mesh_distance(q, kin=kin, raw=raw, gd=gd):  # this pass's arm model, bound now
+        pin.updateGeometryPlacements(kin.model, kin.data, raw, gd, kin.to_pin(q))
         pin.computeDistances(raw, gd)
 
     mesh = per_call(mesh_distance, Q[:30])

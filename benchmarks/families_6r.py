@@ -49,7 +49,8 @@ NEAR = 1e-2  # the smallest singular value of the Jacobian (m, rad) of a near-si
 
 def smallest_singular_value(arm: armik.Arm, q: np.ndarray) -> float:
     """Of the tip's Jacobian (local frame) at ``q``: near zero, two solutions merge."""
-    J = pin.computeFrameJacobian(arm.model, arm.data, arm.to_pin(q), arm.tip_frame_id, pin.LOCAL)
+    kin = arm.kinematics
+    J = pin.computeFrameJacobian(kin.model, kin.data, kin.to_pin(q), kin.tip_frame_id, pin.LOCAL)
     return float(np.linalg.svd(J, compute_uv=False)[-1])
 
 

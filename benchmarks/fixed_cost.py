@@ -44,7 +44,8 @@ def best(fn, number: int) -> float:
 
 def bare_steps(arm, T, q0, plan, solve_into, chain):
     """The steps a verified closed-form answer cannot do without, and nothing else (no
-    options, plan lookup, branch label, reason or fallback): the floor of ``solve``."""
+    options, plan lookup, branch label, reason or fallback): the floor of ``solve``.
+    ``arm``: the arm's model (``Arm.kinematics``)."""
     model, frame, measured = arm.model, arm.tip_frame_id, plan.measured
     data, R_w, p_w = arm.tip_views()
     # Pinocchio's q: a continuous joint takes (cos, sin); the identity where there is none
@@ -77,12 +78,13 @@ def bare_steps(arm, T, q0, plan, solve_into, chain):
 
 def measure(name: str, solver: str, number: int) -> dict:
     arm = armik.load(name)
+    kin = arm.kinematics
     q = arm.random_q(np.random.default_rng(3))
     T = arm.fk(q)
     H = T.homogeneous
     opts, key, _ = _options({})
     r = arm.solve(T, q0=q, solver=solver)
-    plan = plan_for(arm, r.solver, key, opts)
+    plan = plan_for(kin, r.solver, key, opts)
     runner = plan.run_pose  # the closure holds the compiled entry and its arrays
     cells = dict(zip(runner.__code__.co_freevars, runner.__closure__))
     out = {"arm": name, "solver": r.solver}
@@ -99,7 +101,7 @@ def measure(name: str, solver: str, number: int) -> dict:
         chain = cells["chain"].cell_contents
         out8 = np.empty((8, 11))
         out["compiled_us"] = best(lambda: solve_into(chain, H, q, False, out8), number)
-        out["bare_steps_us"] = best(bare_steps(arm, T, q, plan, solve_into, chain), number)
+        out["bare_steps_us"] = best(bare_steps(kin, T, q, plan, solve_into, chain), number)
         peer = _eaik(arm)  # None when EAIK is not installed
         if peer is not None:  # its all-solutions call, timed the same way on the same pose
             H_peer = peer.fwdKin(np.asarray(q))
@@ -122,9 +124,9 @@ def measure(name: str, solver: str, number: int) -> dict:
         # the same targets through solve_batch on one worker, every answer verified by Pinocchio
         batch = lambda: arm.solve_batch(Hs, q0=q0s, workers=1)  # noqa: E731
         out["solve_batch_us"] = best(batch, max(1, number // 1000)) / 1000
-    model, frame = arm.model, arm.tip_frame_id
-    qp = arm.to_pin(q)
-    data, R_w, p_w = arm.tip_views()
+    model, frame = kin.model, kin.tip_frame_id
+    qp = kin.to_pin(q)
+    data, R_w, p_w = kin.tip_views()
 
     def fk():
         pin.forwardKinematics(model, data, qp)

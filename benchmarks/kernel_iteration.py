@@ -71,8 +71,9 @@ def main() -> None:
     R_t, p_t = np.ascontiguousarray(R_t), np.ascontiguousarray(p_t)
     st_py = numeric.settings(Options(), False, arm.dof, 1, numeric.DLS_STEP)
     st = unpack(*pack_settings(st_py))
-    ch = arm.kernel_chain.flat
-    ws = workspace(arm.dof, 4, arm.kernel_chain.chain.joint_kind.shape[0])
+    kernel_chain = arm.kinematics.kernel_chain
+    ch = kernel_chain.flat
+    ws = workspace(arm.dof, 4, kernel_chain.chain.joint_kind.shape[0])
     q0 = np.ascontiguousarray(arm.middle)  # joint values (rad, m), as the kernel takes them
     ev = best_ns(_evaluate, ch, st, R_t, p_t, ws, Q, ROUNDS)
     it = best_ns(_iteration, ch, st, R_t, p_t, ws, Q, q0, use_qp, ROUNDS)

@@ -49,7 +49,8 @@ def cell(n: int) -> None:
 
 
 def baxter(n: int) -> None:
-    path = Path(armik.load("panda").source).parents[2] / "baxter_description/urdf/baxter.urdf"
+    robots = Path(armik.load("panda").kinematics.source).parents[2]
+    path = robots / "baxter_description/urdf/baxter.urdf"
     robot = armik.load(path, tips=["left_gripper", "right_gripper"])
     rng = np.random.default_rng(1)
     targets = []

@@ -64,7 +64,7 @@ STEPS = 500
 
 
 def robots_folder() -> Path:
-    return Path(armik.load("panda").source).parents[2]
+    return Path(armik.load("panda").kinematics.source).parents[2]
 
 
 def targets_for(case: str, a: str, b: str, T_a: pin.SE3, T_b: pin.SE3) -> dict:
@@ -108,7 +108,7 @@ class Robot:
         self.path = robots_folder() / rel
         self.arms = armik.load(self.path, tips=[self.a, self.b])
         # the chains' union, also where they share no joint (Baxter)
-        self.union = Union([self.arms.chain(t) for t in self.arms.tips])
+        self.union = Union([self.arms.chain(t).kinematics for t in self.arms.tips])
         # the union's joint values from armik's q (ordered as arms.joint_names)
         self.cols = np.array([self.arms.joint_names.index(n) for n in self.union.joint_names])
         model = self.union.model

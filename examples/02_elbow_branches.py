@@ -12,7 +12,7 @@ from armik.solvers.closed_form import planar2r
 out = out_dir(__doc__)
 plt = pyplot()
 arm = armik.load("planar_2link")
-geo = planar2r.geometry(arm)
+geo = planar2r.geometry(arm.kinematics)  # the closed form reads the arm model
 
 fig, ax = plt.subplots(figsize=(6, 6))
 theta = np.linspace(0, 2 * np.pi, 200)

@@ -334,19 +334,21 @@ class _OfModel:
 class Arm:
     """One robot arm's chain and its solvers; built by ``armik.load``.
 
-    Attributes (read-only): ``name``, ``dof``, ``joint_names``, ``joint_types``, ``lower``,
-    ``upper`` (rad or m; -inf/+inf for continuous joints), ``neutral``, ``middle``,
-    ``base``, ``tip``, ``tip_reason`` (how the tip was chosen when none was given),
-    ``locked`` (every joint locked by value, on or off the chain, name -> rad or m),
-    ``info`` (what the URDF says: its tree, and ``info.notes`` on how it was read),
-    ``model`` (the reduced Pinocchio model, not to be modified) and ``kinematics``, the
-    arm model everything else reads (``armik.model.arm_model.ArmModel``: the tip offset,
-    the joints locked on the chain, Pinocchio coordinates, the compiled chain, ...).
+    Attributes (read-only): ``name``, ``source`` (the URDF's path, or "<string>"),
+    ``dof``, ``joint_names``, ``joint_types``, ``lower``, ``upper`` (rad or m; -inf/+inf
+    for continuous joints), ``neutral``, ``middle``, ``base``, ``tip``, ``tip_reason``
+    (how the tip was chosen when none was given), ``locked`` (every joint locked by
+    value, on or off the chain, name -> rad or m), ``info`` (what the URDF says: its tree,
+    and ``info.notes`` on how it was read), ``model`` (the reduced Pinocchio model, not
+    to be modified) and ``kinematics``, the arm model everything else reads
+    (``armik.model.arm_model.ArmModel``: the tip offset, the joints locked on the chain,
+    Pinocchio coordinates, the compiled chain, ...).
     """
 
     __slots__ = ("kinematics",)
 
     name = _OfModel()
+    source = _OfModel()
     dof = _OfModel()
     joint_names = _OfModel()
     joint_types = _OfModel()

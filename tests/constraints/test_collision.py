@@ -14,7 +14,7 @@ from armik.constraints.bounds import PREFIX
 from armik.constraints.collision import arm_geometry, checker
 from armik.model.catalogue import erd_share
 
-from ..conftest import arm
+from ..conftest import arm, model
 
 TABLE = armik.HalfSpace((0, 0, 1), 0)
 BOX = armik.Box((0.2, 0.3, 0.4), (0.45, 0.1, 0.2))
@@ -23,8 +23,10 @@ SPHERE = armik.Sphere(0.1, (0.3, -0.3, 0.5))
 
 def _independent(a: armik.Arm, locked: dict):
     """The whole URDF's model and collision geometry, meshes as hulls, built here."""
-    full = pin.buildModelFromUrdf(a.source)
-    geom = pin.buildGeomFromUrdf(full, a.source, pin.COLLISION, package_dirs=[erd_share()])
+    full = pin.buildModelFromUrdf(a.kinematics.source)
+    geom = pin.buildGeomFromUrdf(
+        full, a.kinematics.source, pin.COLLISION, package_dirs=[erd_share()]
+    )
     hulls = []
     for o in geom.geometryObjects:
         if isinstance(o.geometry, coal.BVHModelBase):
@@ -75,7 +77,7 @@ def test_obstacle_distances_match_an_independent_coal_model(name, locked):
 def test_self_distances_match_an_independent_coal_model():
     a = arm("ur5")
     full, geom, hulls, q_full = _independent(a, {})
-    g = arm_geometry(a)
+    g = arm_geometry(a.kinematics)
     data = full.createData()
     for q in a.random_q(3, n=10):
         pin.forwardKinematics(full, data, q)
@@ -87,7 +89,7 @@ def test_self_distances_match_an_independent_coal_model():
 
 
 def _link_pairs(a, which="self_pairs"):
-    g = arm_geometry(a)
+    g = arm_geometry(a.kinematics)
     return {tuple(sorted((g.links[i], g.links[j]))) for i, j in getattr(g, which)}
 
 
@@ -113,7 +115,11 @@ def test_an_srdf_disables_its_pairs_and_the_arm_pickles_with_it(tmp_path):
     assert ("base_link", "forearm_link") in _link_pairs(a, "candidates")
     assert len(_link_pairs(a)) == len(_link_pairs(arm("ur5"))) - 1
     copy = pickle.loads(pickle.dumps(a))
-    assert copy.disabled_pairs == a.disabled_pairs == {("base_link", "forearm_link")}
+    assert (
+        copy.kinematics.disabled_pairs
+        == a.kinematics.disabled_pairs
+        == {("base_link", "forearm_link")}
+    )
     # a configuration folding the forearm onto the base: the pair is no longer reported
     for q in a.random_q(5, n=50):
         assert a.min_distance(q, self_collision=True)[1] != ("base_link", "forearm_link")
@@ -163,7 +169,7 @@ def test_an_arm_without_collision_geometry_says_so():
 
 
 def test_the_pairs_come_smallest_bound_first():
-    a = arm("panda")
+    a = model("panda")
     ch = checker(a, (TABLE, BOX, SPHERE), True)
     for q in a.random_q(5, n=20):
         bound, order, m = ch._ordered(q)
@@ -175,7 +181,7 @@ def test_the_pairs_come_smallest_bound_first():
 
 def test_a_check_past_the_ordered_pairs_still_finds_the_closest(monkeypatch):
     # none in order: every pair is looked at, none skipped wrongly
-    a = arm("panda")
+    a = model("panda")
     ch = checker(a, (TABLE, BOX), True)
     gd = pin.GeometryData(ch.model)
     ordered = ch._ordered
@@ -190,7 +196,7 @@ def test_a_check_past_the_ordered_pairs_still_finds_the_closest(monkeypatch):
 
 @pytest.mark.parametrize("name", ["ur5", "panda"])
 def test_pair_bounds_never_exceed_coal_and_the_closest_pair_is_every_pairs(name):
-    a = arm(name)
+    a = model(name)
     shapes = (
         TABLE,
         BOX,
@@ -214,7 +220,7 @@ def test_each_capsule_holds_its_objects_points(name):
     # a capsule holding every point holds their hull: the bounds stay below coal's
     from armik.constraints.collision import _points
 
-    a = arm(name)
+    a = model(name)
     g = arm_geometry(a)
     caps = checker(a, (), True)._capsule
     for o, cap in zip(g.model.geometryObjects, caps):

@@ -20,7 +20,8 @@ TABLE = armik.HalfSpace((0, 0, 1), 0)
 def _elbow_sphere(a, q, radius=0.06):
     """A sphere around the elbow joint at ``q``, in the base frame."""
     a.fk(q)
-    return armik.Sphere(radius, a.T_base_world.act(a.data.oMi[3].translation))
+    m = a.kinematics
+    return armik.Sphere(radius, m.T_base_world.act(m.data.oMi[3].translation))
 
 
 def test_an_obstacle_across_the_seeds_branch_forces_another_branch():
@@ -199,7 +200,7 @@ def test_paths_around_an_obstacle_go_round_it_or_say_where_they_cannot():
         if not plain.success.all():
             continue
         panda.fk(plain.q[-1])  # a sphere beside the elbow at the end of the blind path
-        sphere = armik.Sphere(0.06, panda.data.oMi[4].translation + [0, 0.1, 0])
+        sphere = armik.Sphere(0.06, panda.kinematics.data.oMi[4].translation + [0, 0.1, 0])
         hit = [panda.in_collision(x, [sphere]) for x in plain.q]
         if hit[0] or not any(hit):
             continue

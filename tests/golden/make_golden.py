@@ -8,11 +8,12 @@ them against the file bit for bit.
 
 Every call goes through the public API only (``armik.load``, ``Arm.solve``,
 ``Arm.solve_all``, ``Arm.solve_batch``, ``Arm.solve_path``, ``Arm.fk``, ``Arm.random_q``,
-the result fields). The targets come from ``Arm.fk`` of seeded ``Arm.random_q``
-configurations. Numeric solves (``dls``, ``qp``, ``clik``, and ``auto`` where it picks
-one) always get ``iteration_budget`` and a fixed ``seed``: the default budget is CPU
-time, which depends on the machine's load. Floats are stored as ``float.hex()`` strings,
-so the comparison is exact (the sign of a zero included).
+the result fields), but for the seeds near an answer, clipped to the arm model's
+``sampling_box`` (``Arm.kinematics``). The targets come from ``Arm.fk`` of seeded
+``Arm.random_q`` configurations. Numeric solves (``dls``, ``qp``, ``clik``, and ``auto``
+where it picks one) always get ``iteration_budget`` and a fixed ``seed``: the default
+budget is CPU time, which depends on the machine's load. Floats are stored as
+``float.hex()`` strings, so the comparison is exact (the sign of a zero included).
 """
 
 from __future__ import annotations
@@ -151,7 +152,7 @@ def seed_q(a: armik.Arm, q_true: np.ndarray, form: str, rng: np.random.Generator
     if form == "randlist":
         return a.random_q(rng).tolist()
     if form == "near":
-        lo, hi = a.sampling_box()
+        lo, hi = a.kinematics.sampling_box()
         return np.clip(q_true + rng.normal(0.0, 0.05, a.dof), lo, hi)
     if form == "exact":
         return np.array(q_true)

@@ -22,7 +22,7 @@ from armik.targets.batch import TargetBatch
 from armik.targets.pose import parse_target
 from armik.verify.measure import measure, measure_batch
 
-from ..conftest import ALL_ROBOTS, SPATIAL, arm
+from ..conftest import ALL_ROBOTS, SPATIAL, arm, model
 
 EXACT = 1e-12  # the kernel's kinematics against Pinocchio's
 
@@ -45,7 +45,7 @@ CHAINS = [(name, {}) for name in ALL_ROBOTS] + [
 @pytest.mark.parametrize(("name", "kw"), CHAINS)
 def test_fk_and_jacobian_match_pinocchio(name, kw):
     a = _load(name, **kw)
-    flat = a.kernel_chain.flat
+    flat = a.kinematics.kernel_chain.flat
     n = a.dof
     R, p = np.empty((3, 3)), np.empty(3)
     origins, axes, J = np.empty((n, 3)), np.empty((n, 3)), np.empty((6, n))
@@ -64,7 +64,7 @@ def test_fk_and_jacobian_match_pinocchio(name, kw):
 @pytest.mark.parametrize(("name", "kw"), CHAINS)
 def test_joint_frames_match_pinocchio(name, kw):
     # the collision bounds place the link spheres by these frames
-    a = _load(name, **kw)
+    a = _load(name, **kw).kinematics
     H = np.empty((a.model.njoints, 4, 4))
     rng = np.random.default_rng(12)
     for _ in range(50):
@@ -77,8 +77,8 @@ def test_joint_frames_match_pinocchio(name, kw):
 
 
 def test_joint_kinds_read_from_the_model():
-    assert list(arm("scara").kernel_chain.kind) == [0, 0, PRISMATIC, CONTINUOUS]
-    kinds = arm("kinova").kernel_chain.kind
+    assert list(model("scara").kernel_chain.kind) == [0, 0, PRISMATIC, CONTINUOUS]
+    kinds = model("kinova").kernel_chain.kind
     assert sum(k == CONTINUOUS for k in kinds) == 3
     assert _load("panda", base="panda_link2").dof == 5
 
@@ -128,7 +128,7 @@ def _batch(a, n, seed, position_only=False):
 @pytest.mark.parametrize("solver", ["dls", "qp"])
 @pytest.mark.parametrize("name", SPATIAL + ["scara", "planar_3link", "double_pendulum"])
 def test_batch_round_trip_verified(name, solver):
-    a = arm(name)
+    a = model(name)
     position_only = name in ("planar_3link", "double_pendulum")
     _, targets = _batch(a, 12, 3, position_only)
     opts = Options(timeout=0.2)
@@ -147,7 +147,7 @@ def test_batch_rows_equal_single_solves(solver):
     _, targets = _batch(a, 10, 8)
     q0 = np.tile(a.middle, (10, 1))
     kw = dict(timeout=0.05, seed=4)
-    out = registry.get(solver).run_batch(a, targets, q0, Options(**kw))
+    out = registry.get(solver).run_batch(a.kinematics, targets, q0, Options(**kw))
     for i in range(10):
         T = pin.SE3(targets.rotations[i], targets.positions[i])
         r = a.solve(T, q0=a.middle, solver=solver, **kw)
@@ -156,7 +156,7 @@ def test_batch_rows_equal_single_solves(solver):
 
 
 def test_batch_fixed_point_takes_no_iteration():
-    a = arm("kinova")
+    a = model("kinova")
     Q, targets = _batch(a, 8, 2)
     out = registry.get("dls").run_batch(a, targets, Q, Options())
     assert np.all(out.iterations == 0) and np.all(out.restarts == 0)
@@ -164,7 +164,7 @@ def test_batch_fixed_point_takes_no_iteration():
 
 
 def test_qp_batch_stays_inside_limits_near_limits():
-    a = arm("panda")
+    a = model("panda")
     rng = np.random.default_rng(9)
     Q = np.array([a.random_q(rng) for _ in range(10)])
     for k, q in enumerate(Q):
@@ -215,13 +215,13 @@ def test_threads_give_the_answers_of_one_thread():
     a = arm("panda")
     _, targets = _batch(a, 40, 21)
     q0 = np.tile(a.middle, (40, 1))
-    spec = registry.get("dls")
+    spec, m = registry.get("dls"), a.kinematics
     opts = Options(iteration_budget=400, seed=3)  # deterministic: no clock involved
-    alone = spec.run_batch(a, targets, q0, opts)
+    alone = spec.run_batch(m, targets, q0, opts)
 
     def chunk(k):
         part = slice(10 * k, 10 * k + 10)
-        return spec.run_batch(a, TargetBatch(targets.positions[part], targets.rotations[part]),
+        return spec.run_batch(m, TargetBatch(targets.positions[part], targets.rotations[part]),
                               q0[part], opts)  # fmt: skip
 
     with ThreadPoolExecutor(4) as pool:
@@ -237,7 +237,8 @@ def test_threads_give_the_answers_of_one_thread():
 
 def test_iteration_budget_bounds_the_work_and_names_itself():
     a = arm("panda")
-    p = a.first_joint_origin + np.array([0.95, 0.0, 0.0])  # inside the bound, out of reach
+    # inside the bound, out of reach
+    p = a.kinematics.first_joint_origin + np.array([0.95, 0.0, 0.0])
     r = a.solve(p, iteration_budget=50)
     assert not r.success and r.iterations <= 50 and "iteration budget (50 iterations" in r.reason
     r2 = a.solve(p, iteration_budget=50)
@@ -251,7 +252,7 @@ def test_timeout_is_thread_cpu_time():
     """An unreachable point: the budget, not the restart count, ends the solve (a million
     restarts take far longer than 0.01 s, however fast an attempt is)."""
     a = arm("panda")
-    p = a.first_joint_origin + np.array([0.95, 0.0, 0.0])
+    p = a.kinematics.first_joint_origin + np.array([0.95, 0.0, 0.0])
     r = a.solve(p, timeout=0.01, max_restarts=1_000_000)
     assert not r.success and "0.01 s of CPU time" in r.reason
 
@@ -277,13 +278,14 @@ def test_check_batch_agrees_with_check():
     j = int(np.flatnonzero(np.isfinite(a.upper))[0])
     Q[3, j] = a.upper[j] + 0.1  # outside its limits
     Q[5, 0] = np.nan
+    m = a.kinematics
     for opts in (Options(), Options(weights=(1, 1, 0, 1, 0.5, 0)), Options(position_only=True)):
-        c = measure_batch(a, Q, targets, opts)
+        c = measure_batch(m, Q, targets, opts)
         for i in range(30):
             if i == 5:
                 assert np.isnan(c.position_error[i]) and not c.ok[i]
                 continue
-            one = measure(a, Q[i], parse_target(
+            one = measure(m, Q[i], parse_target(
                 pin.SE3(targets.rotations[i], targets.positions[i])), opts)  # fmt: skip
             assert c.position_error[i] == pytest.approx(one.position_error, abs=1e-15)
             if one.orientation_error is None:
@@ -293,7 +295,7 @@ def test_check_batch_agrees_with_check():
             assert c.within_limits[i] == (not one.violations) and c.ok[i] == one.ok
     assert not c.within_limits[3]
     with pytest.raises(ValueError, match="shape"):
-        measure_batch(a, Q[:, :2], targets, Options())
+        measure_batch(m, Q[:, :2], targets, Options())
 
 
 def test_bench_times_peers_interleaved_and_judges_them():
@@ -344,8 +346,8 @@ def test_qp_backend_fallback_from_compiled_code_solves_the_box_qp():
 def test_with_limits_rebuilds_the_kernel_chain():
     a = arm("panda")
     narrow = a.with_limits({"panda_joint1": (-0.1, 0.1)})
-    assert narrow.kernel_chain is not a.kernel_chain
-    assert narrow.kernel_chain.chain.upper[0] == 0.1
+    assert narrow.kinematics.kernel_chain is not a.kinematics.kernel_chain
+    assert narrow.kinematics.kernel_chain.chain.upper[0] == 0.1
     q = a.middle.copy()
     q[0] = 0.05
     r = narrow.solve(narrow.fk(q), q0=narrow.middle)

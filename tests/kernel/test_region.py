@@ -15,7 +15,7 @@ from armik.kernel.region import evaluate_region
 from armik.problem import Axis, Pose, Position
 from armik.problem.problem import Problem, lower
 
-from ..conftest import arm
+from ..conftest import model
 
 EXACT = 1e-12
 AXIS = np.array([0.0, 0.0, 1.0])  # read only with a cone
@@ -30,7 +30,7 @@ BOUNDS = [
 @pytest.mark.parametrize("robot", ["panda", "ur5", "kinova"])
 @pytest.mark.parametrize("bounds", BOUNDS)
 def test_the_region_error_is_the_pose_task(robot, bounds):
-    a = arm(robot)
+    a = model(robot)
     ch = a.kernel_chain.flat
     ws = workspace(a.dof, 1, a.kernel_chain.chain.joint_kind.shape[0])
     rng = np.random.default_rng(21)
@@ -56,7 +56,7 @@ def test_the_region_error_is_the_pose_task(robot, bounds):
 
 
 def test_inside_the_region_the_error_is_zero():
-    a = arm("ur5")
+    a = model("ur5")
     ws = workspace(a.dof, 1, a.kernel_chain.chain.joint_kind.shape[0])
     q = a.random_q(np.random.default_rng(4))
     T = a.fk(q) * pin.SE3(pin.exp3(np.array([0.0, 0.0, 0.04])), np.array([0.003, 0.0, 0.0]))
@@ -72,7 +72,7 @@ def test_inside_the_region_the_error_is_zero():
 def test_the_cone_rows_are_the_axis_task(robot, within):
     """A position with an axis in a cone, lowered (``lower``) to a pose, bounds and a cone:
     the compiled rows equal the two tasks' residuals and Jacobians, stacked."""
-    a = arm(robot)
+    a = model(robot)
     ch = a.kernel_chain.flat
     ws = workspace(a.dof, 1, a.kernel_chain.chain.joint_kind.shape[0])
     rng = np.random.default_rng(5)

@@ -15,7 +15,7 @@ from armik.solvers import registry
 from armik.solvers.closed_form import families, spherical_wrist, three_parallel
 
 from ..analytic_urdfs import IRB120, IRB120_NEAR_MISS, MEETING_12, UR5, UR5_NEAR_MISS, six_r
-from ..conftest import arm, write_urdf
+from ..conftest import model, write_urdf
 
 
 def load6(tmp_path, joints, **kw):
@@ -34,7 +34,7 @@ def load6(tmp_path, joints, **kw):
     ],
 )
 def test_bundled_arms_classify(name, cls):
-    classes = families.classify(arm(name))
+    classes = families.classify(model(name))
     assert not isinstance(classes[cls], str)
     # the families that contain the class (a UR is also a three-parallel arm of any wrist
     # and an arm whose axes 5, 6 meet; a spherical wrist is also a general one)
@@ -51,18 +51,18 @@ def test_bundled_arms_classify(name, cls):
 
 
 def test_seven_dof_and_prismatic_refused_with_reason():
-    c = families.classify(arm("panda"))
+    c = families.classify(model("panda"))
     assert (
         c["spherical_wrist"]
         == c["three_parallel"]
         == ("the chain has 7 joints, this class needs 6")
     )
-    assert "4 joints" in families.classify(arm("scara"))["spherical_wrist"]
+    assert "4 joints" in families.classify(model("scara"))["spherical_wrist"]
 
 
 def test_axis_lines_are_the_jacobian_columns(rng):
     """Each axis line, moved by the joints before it, is the Jacobian's twist column."""
-    a = arm("ur5")
+    a = model("ur5")
     ax = geometry.axis_lines(a)
     assert np.allclose(np.linalg.norm(ax.directions, axis=1), 1.0)
     J0 = a.jacobian(np.zeros(6), frame="base")
@@ -76,7 +76,11 @@ def test_axis_lines_are_the_jacobian_columns(rng):
 def test_chain_form_reproduces_pinocchio_fk(tmp_path, rng):
     from armik.solvers.closed_form.sixr import forward
 
-    for a in (arm("ur5"), arm("abb_irb120"), load6(tmp_path, MEETING_12, mount_rpy="0.2 0 1")):
+    for a in (
+        model("ur5"),
+        model("abb_irb120"),
+        load6(tmp_path, MEETING_12, mount_rpy="0.2 0 1").kinematics,
+    ):
         geo = spherical_wrist.classify(a)
         if isinstance(geo, str):
             geo = three_parallel.classify(a)
@@ -89,19 +93,19 @@ def test_chain_form_reproduces_pinocchio_fk(tmp_path, rng):
 
 
 def test_meeting_12_variant(tmp_path):
-    geo = spherical_wrist.classify(load6(tmp_path, MEETING_12))
+    geo = spherical_wrist.classify(load6(tmp_path, MEETING_12).kinematics)
     assert geo.variant == "meeting_12" and "axes 1 and 2 meet" in geo.description
 
 
 def test_near_misses_refused_with_measured_numbers(tmp_path):
     a = load6(tmp_path, IRB120_NEAR_MISS)
-    why = spherical_wrist.classify(a)
+    why = spherical_wrist.classify(a.kinematics)
     assert isinstance(why, str) and "miss by 0.0005 m" in why
     # its axes 5 and 6 still meet: the search over q4 solves it exactly
     target = armik.parse_target(a.fk(np.zeros(6)))
-    assert registry.choose("auto", a, target, every=True).name == "two_intersecting"
+    assert registry.choose("auto", a.kinematics, target, every=True).name == "two_intersecting"
     b = load6(tmp_path, UR5_NEAR_MISS)
-    why = three_parallel.classify(b)
+    why = three_parallel.classify(b.kinematics)
     assert isinstance(why, str) and "axes 2 and 3 are 0.001 rad apart" in why
     with pytest.raises(SolverError, match="does not apply.*0.001 rad apart"):
         b.solve(b.fk(np.zeros(6)), solver="three_parallel")
@@ -109,8 +113,10 @@ def test_near_misses_refused_with_measured_numbers(tmp_path):
 
 def test_mount_and_tool_do_not_change_the_class(tmp_path):
     kw = dict(mount_xyz="1 2 3", mount_rpy="0.4 -1.2 2.0", tool_xyz="0 0.1 0.2", tool_rpy="1 2 3")
-    assert spherical_wrist.classify(load6(tmp_path, IRB120, **kw)).variant == "parallel_23"
-    assert three_parallel.classify(load6(tmp_path, UR5, **kw)).kind == "three_parallel"
+    assert (
+        spherical_wrist.classify(load6(tmp_path, IRB120, **kw).kinematics).variant == "parallel_23"
+    )
+    assert three_parallel.classify(load6(tmp_path, UR5, **kw).kinematics).kind == "three_parallel"
 
 
 def test_info_prints_the_classes(capsys):
@@ -127,7 +133,7 @@ def test_info_prints_the_classes(capsys):
     assert "auto -> three_parallel" in out
     # one column for the verdicts, however long the class names
     structure = out.split("structure:\n")[1].split("family:")[0].splitlines()
-    assert len(structure) == len(families.classify(arm("ur5")))
+    assert len(structure) == len(families.classify(model("ur5")))
     assert len({line.index(" yes: " if " yes: " in line else " no: ") for line in structure}) == 1
 
 

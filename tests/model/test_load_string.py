@@ -34,7 +34,11 @@ def test_text_takes_the_load_arguments_and_pickles_with_them(ur5_xml):
         ur5_xml, base="base_link", tip="wrist_3_link", tip_offset=(0, 0, 0.1)
     ).with_limits({"shoulder_pan_joint": (-1.0, 1.0)})
     b = pickle.loads(pickle.dumps(a))
-    assert (b.base, b.tip, b.tip_offset) == ("base_link", "wrist_3_link", (0.0, 0.0, 0.1))
+    assert (b.base, b.tip, b.kinematics.tip_offset) == (
+        "base_link",
+        "wrist_3_link",
+        (0.0, 0.0, 0.1),
+    )
     assert b.lower[0] == -1.0 and b.upper[0] == 1.0
     q = a.random_q(np.random.default_rng(2))
     np.testing.assert_array_equal(a.fk(q).homogeneous, b.fk(q).homogeneous)
@@ -57,6 +61,6 @@ def test_bad_text_and_names_are_one_line_armik_errors(ur5_xml):
 
 def test_package_dirs_are_kept(tmp_path, ur5_xml):
     a = armik.load_string(ur5_xml, package_dirs=[tmp_path])
-    assert a.package_dirs == (str(tmp_path.resolve()),)
-    assert pickle.loads(pickle.dumps(a)).package_dirs == a.package_dirs
-    assert armik.load("ur5").package_dirs == ()
+    assert a.kinematics.package_dirs == (str(tmp_path.resolve()),)
+    assert pickle.loads(pickle.dumps(a)).kinematics.package_dirs == a.kinematics.package_dirs
+    assert armik.load("ur5").kinematics.package_dirs == ()

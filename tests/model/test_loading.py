@@ -73,12 +73,13 @@ def test_kinova_continuous_joints_are_one_angle_each(rng):
     q2 = q.copy()
     q2[0] += 2 * math.pi
     assert a.fk(q).isApprox(a.fk(q2), 1e-12)
-    np.testing.assert_allclose(a.from_pin(a.to_pin(q)), q, atol=1e-15)
+    m = a.kinematics
+    np.testing.assert_allclose(m.from_pin(m.to_pin(q)), q, atol=1e-15)
 
 
 def test_prismatic_joint_of_the_scara(rng):
     a = arm("scara")
-    i = a.joint_index("quill")
+    i = a.kinematics.joint_index("quill")
     assert a.joint_types[i] == "prismatic"
     q = a.middle.copy()
     z0 = a.fk(q).translation[2]
@@ -98,7 +99,9 @@ def test_locked_joint_upstream_of_base_sets_base_placement():
     # joint1 lies above the base link1, so it is locked; its value places the base.
     a = armik.load("planar_3link", base="link1", locked={"joint1": 0.5})
     assert a.joint_names == ["joint2", "joint3"]
-    np.testing.assert_allclose(pin.log3(a.T_world_base.rotation), [0, 0, 0.5], atol=1e-12)
+    np.testing.assert_allclose(
+        pin.log3(a.kinematics.T_world_base.rotation), [0, 0, 0.5], atol=1e-12
+    )
     # the chain's own kinematics, in the base frame, do not depend on it
     b = armik.load("planar_3link", base="link1")
     assert a.fk(np.array([0.2, 0.3])).isApprox(b.fk(np.array([0.2, 0.3])), 1e-12)
@@ -107,11 +110,15 @@ def test_locked_joint_upstream_of_base_sets_base_placement():
 def test_locked_joint_on_the_chain_is_a_fixed_transform(tmp_path):
     path = write_urdf(tmp_path, two_link_urdf())
     a = armik.load(path, tip="tip", locked={"j2": 0.3})
-    assert a.joint_names == ["j1"] and a.locked_on_chain == ("j2",)
+    assert a.joint_names == ["j1"] and a.kinematics.locked_on_chain == ("j2",)
     full = armik.load(path, tip="tip")
     assert a.fk([0.2]).isApprox(full.fk([0.2, 0.3]), 1e-12)
     b = armik.load(path, tip="l1", locked={"j2": 0.3})  # off the chain: not on it
-    assert b.joint_names == ["j1"] and b.locked_on_chain == () and dict(b.locked) == {"j2": 0.3}
+    assert (
+        b.joint_names == ["j1"]
+        and b.kinematics.locked_on_chain == ()
+        and dict(b.locked) == {"j2": 0.3}
+    )
 
 
 def test_panda_locked_finger_value_moves_nothing_on_hand():
@@ -190,7 +197,7 @@ def test_mimic_joint_on_chain_follows_its_driver(tmp_path):
     )
     assert "mimic" in text
     a = armik.load(write_urdf(tmp_path, text), tip="tip")
-    assert a.joint_names == ["j1"] and [m.name for m in a.mimics] == ["j2"]
+    assert a.joint_names == ["j1"] and [m.name for m in a.kinematics.mimics] == ["j2"]
 
 
 def test_no_tip_with_several_leaves_lists_them(tmp_path):
@@ -244,9 +251,9 @@ def test_bad_locked_value(value):
 
 def test_with_limits_recomputes_the_reach():
     a = armik.load("scara")
-    assert a.reach > 0  # cached on the original first
+    assert a.kinematics.reach > 0  # cached on the original first
     longer = a.with_limits({"quill": (0.0, 1.2)})
-    assert longer.reach > a.reach + 0.5  # the quill travels 1 m more
+    assert longer.kinematics.reach > a.kinematics.reach + 0.5  # the quill travels 1 m more
     # a target 0.5 m below what the original quill reaches is not refused as out of reach
     q = np.array([0.3, -0.4, 0.7, 0.0])
     r = longer.solve(longer.fk(q).translation, solver="dls")

@@ -92,7 +92,7 @@ def test_locked_chain_fk_matches_the_full_arm(name, locked, rng):
     full = arm(name)
     assert a.dof == full.dof - len(locked)
     assert set(a.joint_names) == set(full.joint_names) - set(locked)
-    assert dict(a.locked) == locked and set(a.locked_on_chain) == set(locked)
+    assert dict(a.locked) == locked and set(a.kinematics.locked_on_chain) == set(locked)
     for i in range(10):
         q = a.random_q(rng)
         qf = full_q(full, a, q)
@@ -136,8 +136,8 @@ def test_locked_is_read_only():
 def test_locked_lists_off_chain_joints_given_by_value():
     a = _load("panda", locked={"panda_finger_joint1": 0.02, "panda_joint7": 0.3})
     assert dict(a.locked) == {"panda_finger_joint1": 0.02, "panda_joint7": 0.3}
-    assert a.locked_on_chain == ("panda_joint7",)
-    assert dict(arm("panda").locked) == {} and arm("panda").locked_on_chain == ()
+    assert a.kinematics.locked_on_chain == ("panda_joint7",)
+    assert dict(arm("panda").locked) == {} and arm("panda").kinematics.locked_on_chain == ()
 
 
 def test_the_reduced_panda_is_a_6r_arm():
@@ -179,7 +179,7 @@ def test_pickling_keeps_the_locked_joints(make):
     a = make()
     copy = pickle.loads(pickle.dumps(a))
     assert copy.joint_names == a.joint_names and dict(copy.locked) == dict(a.locked)
-    assert copy.locked_on_chain == a.locked_on_chain
+    assert copy.kinematics.locked_on_chain == a.kinematics.locked_on_chain
     np.testing.assert_array_equal(copy.lower, a.lower)
     np.testing.assert_array_equal(copy.upper, a.upper)
     q = a.random_q(3)

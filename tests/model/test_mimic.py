@@ -74,7 +74,7 @@ FACTORS = [(-0.5, 0.2), (1.5, -0.1)]  # a negative multiplier and one above 1, o
 def mimic_values(a, q) -> dict[str, float]:
     """Every moving joint's value (rad or m) for the arm's joint values q."""
     cfg = dict(zip(a.joint_names, np.asarray(q, float).tolist()))
-    for m in a.mimics:
+    for m in a.kinematics.mimics:
         cfg[m.name] = m.multiplier * cfg[m.driver] + m.offset
     return cfg
 
@@ -113,7 +113,7 @@ def case(request):
 def test_only_the_driving_joints_are_joints_of_the_arm(case):
     _, a = case
     assert a.joint_names == ["j1", "j2", "j5"] and a.dof == 3
-    assert [m.name for m in a.mimics] == ["j3", "j4"]
+    assert [m.name for m in a.kinematics.mimics] == ["j3", "j4"]
     assert a.random_q(0).shape == (3,)
 
 
@@ -133,18 +133,19 @@ def test_fk_agrees_with_pinocchio_mimic_model_and_yourdfpy(case, rng):
 def test_the_physical_chain_with_mimic_values_filled_in_is_the_same_arm(case, rng):
     """The model the kernel is read from (each mimic joint its own) at the mimic values."""
     _, a = case
-    model = a.physical_model
+    m = a.kinematics
+    model = m.physical_model
     data = model.createData()
     for q in a.random_q(rng, 5):
         cfg = mimic_values(a, q)
         qp = np.array([cfg[model.names[j]] for j in range(1, model.njoints)])
         pin.framesForwardKinematics(model, data, qp)
-        assert dist(a.fk(q), a.T_base_world * data.oMf[a.tip_frame_id]) < 1e-12
+        assert dist(a.fk(q), m.T_base_world * data.oMf[m.tip_frame_id]) < 1e-12
 
 
 def kernel_jacobian(a, q) -> np.ndarray:
-    pb = driver.Problem.build(a, parse_target(a.fk(q).homogeneous), q, Options())
-    driver.evaluate(pb, a.to_pin(q))
+    pb = driver.Problem.build(a.kinematics, parse_target(a.fk(q).homogeneous), q, Options())
+    driver.evaluate(pb, a.kinematics.to_pin(q))
     return pb.ws.J.copy()
 
 
@@ -170,12 +171,13 @@ def test_compiled_jacobian_folds_the_mimic_columns(case, rng):
 
 def test_joint_frames_follow_the_mimic_model(case, rng):
     _, a = case
+    m = a.kinematics
     H = np.empty((a.model.njoints, 4, 4))
     for q in a.random_q(rng, 5):
-        fk.joint_frames(a.kernel_chain.flat, q, H)
-        pin.forwardKinematics(a.model, a.data, a.to_pin(q))  # Pinocchio's mimic model
+        fk.joint_frames(m.kernel_chain.flat, q, H)
+        pin.forwardKinematics(a.model, m.data, m.to_pin(q))  # Pinocchio's mimic model
         for j in range(a.model.njoints):
-            want = (a.T_base_world * a.data.oMi[j]).homogeneous
+            want = (m.T_base_world * m.data.oMi[j]).homogeneous
             np.testing.assert_allclose(H[j], want, rtol=0, atol=1e-12)
 
 
@@ -189,7 +191,7 @@ def mimic_limits_hold(a, q, xml_limits) -> bool:
 
 def test_limits_are_enforced_through_the_driver(case):
     _, a = case
-    (m3,) = [m for m in a.mimics if m.name == "j3"]
+    (m3,) = [m for m in a.kinematics.mimics if m.name == "j3"]
     ends = sorted(((-1.0 - m3.offset) / m3.multiplier, (1.0 - m3.offset) / m3.multiplier))
     assert a.lower[1] == pytest.approx(max(-2.0, ends[0]))
     assert a.upper[1] == pytest.approx(min(2.0, ends[1]))
@@ -233,10 +235,10 @@ def test_solves_refuse_a_pose_the_mimic_limits_exclude(case):
 
 def test_closed_forms_refuse_with_the_reason(case):
     _, a = case
-    reasons = families.classify(a)
+    reasons = families.classify(a.kinematics)
     assert reasons and all("joint 'j3' mimics 'j2'" in str(v) for v in reasons.values())
     for name in ("planar2r", "spherical", "three_parallel", "swept"):
-        why = registry.why_not(name, a)
+        why = registry.why_not(name, a.kinematics)
         assert why is not None and "mimics" in why
     with pytest.raises(SolverError, match="mimics"):
         a.solve(a.fk(a.middle), solver="spherical")
@@ -254,8 +256,8 @@ def test_a_planar_pair_with_a_mimic_is_not_planar2r():
         + "</robot>"
     )
     a = armik.load_string(xml, tip="tip")
-    assert a.dof == 1 and a.plane is None
-    assert "joint 'j2' mimics 'j1'" in registry.why_not("planar2r", a)
+    assert a.dof == 1 and a.kinematics.plane is None
+    assert "joint 'j2' mimics 'j1'" in registry.why_not("planar2r", a.kinematics)
     x = 0.4
     np.testing.assert_allclose(
         a.fk([x]).translation,
@@ -267,7 +269,7 @@ def test_a_planar_pair_with_a_mimic_is_not_planar2r():
 def test_the_arm_pickles(case, rng):
     _, a = case
     b = pickle.loads(pickle.dumps(a))
-    assert b.joint_names == a.joint_names and b.mimics == a.mimics
+    assert b.joint_names == a.joint_names and b.kinematics.mimics == a.kinematics.mimics
     np.testing.assert_array_equal(b.lower, a.lower)
     q = a.random_q(rng)
     np.testing.assert_array_equal(b.fk(q).homogeneous, a.fk(q).homogeneous)
@@ -301,7 +303,7 @@ def branch_urdf(multiplier: float, offset: float) -> str:
 def test_a_mimic_whose_driver_is_off_the_chain_is_fixed(locked, rng):
     xml = branch_urdf(2.0, 0.3)
     a = armik.load_string(xml, tip="tip", locked=locked)
-    assert a.joint_names == ["j1", "j3"] and not a.mimics
+    assert a.joint_names == ["j1", "j3"] and not a.kinematics.mimics
     fixed = 2.0 * locked.get("jx", 0.0) + 0.3
     for q in a.random_q(rng, 2):
         cfg = {"j1": q[0], "j3": q[1], "j2": fixed, **locked}
@@ -311,13 +313,13 @@ def test_a_mimic_whose_driver_is_off_the_chain_is_fixed(locked, rng):
 def test_a_locked_driver_or_a_zero_multiplier_fixes_the_mimic(rng):
     xml = five_joint_urdf(-0.5, 0.2)
     a = armik.load_string(xml, locked={"j2": 0.4})
-    assert a.joint_names == ["j1", "j5"] and [m.name for m in a.mimics] == ["j4"]
+    assert a.joint_names == ["j1", "j5"] and [m.name for m in a.kinematics.mimics] == ["j4"]
     for q in a.random_q(rng, 2):
         cfg = {"j1": q[0], "j2": 0.4, "j3": -0.5 * 0.4 + 0.2, "j4": 0.05 * q[0] + 0.1, "j5": q[1]}
         assert dist(a.fk(q), yourdfpy_fk(xml, cfg)) < TOL["fk_exact"]
     zero = five_joint_urdf(0, 0.25)
     b = armik.load_string(zero)
-    assert b.joint_names == ["j1", "j2", "j5"] and [m.name for m in b.mimics] == ["j4"]
+    assert b.joint_names == ["j1", "j2", "j5"] and [m.name for m in b.kinematics.mimics] == ["j4"]
     q = b.random_q(rng)
     cfg = {"j1": q[0], "j2": q[1], "j3": 0.25, "j4": 0.05 * q[0] + 0.1, "j5": q[2]}
     assert dist(b.fk(q), yourdfpy_fk(zero, cfg)) < TOL["fk_exact"]
@@ -325,7 +327,7 @@ def test_a_locked_driver_or_a_zero_multiplier_fixes_the_mimic(rng):
 
 def test_the_mimic_joint_itself_can_be_locked():
     a = armik.load_string(five_joint_urdf(), locked={"j3": 0.1})
-    assert a.joint_names == ["j1", "j2", "j5"] and [m.name for m in a.mimics] == ["j4"]
+    assert a.joint_names == ["j1", "j2", "j5"] and [m.name for m in a.kinematics.mimics] == ["j4"]
     assert (a.lower[1], a.upper[1]) == (-2.0, 2.0)  # j3 no longer narrows j2
 
 
@@ -416,12 +418,12 @@ def test_the_stick_figure_draws_every_joint_of_a_mimic_chain(case, rng, tmp_path
 
     _, a = case
     q = a.random_q(rng)
-    sk = skeleton(a, q)
-    model = a.physical_model
+    sk = skeleton(a.kinematics, q)
+    model = a.kinematics.physical_model
     data = model.createData()
     cfg = mimic_values(a, q)
     pin.forwardKinematics(model, data, np.array([cfg[model.names[j]] for j in range(1, 6)]))
-    origins = [(a.T_base_world * data.oMi[j]).translation for j in range(1, 6)]
+    origins = [(a.kinematics.T_base_world * data.oMi[j]).translation for j in range(1, 6)]
     np.testing.assert_allclose(sk.points[1:-1], origins, atol=1e-12)
     assert sk.axes.shape == (5, 3) and sk.prismatic.tolist() == [0, 0, 0, 1, 0]
     pytest.importorskip("matplotlib")
@@ -443,9 +445,9 @@ def test_a_mimic_driver_is_never_shifted_by_two_pi(rng):
     assert (a.lower[1], a.upper[1]) == (-6.2, 6.2)
     q = np.array([0.3, -2.5, 0.2])
     ref = np.array([0.3, 2.5, 0.2])
-    assert a.nearest_equivalent(q, ref)[1] == -2.5
+    assert a.kinematics.nearest_equivalent(q, ref)[1] == -2.5
     plain = armik.load_string(xml.replace("<mimic", "<nomimic"))  # no mimic: j2 is shifted
-    assert plain.nearest_equivalent(q, ref)[1] == pytest.approx(-2.5 + 2 * math.pi)
+    assert plain.kinematics.nearest_equivalent(q, ref)[1] == pytest.approx(-2.5 + 2 * math.pi)
     ok = 0
     for _ in range(6):
         q = a.random_q(rng)
@@ -490,26 +492,27 @@ def test_mimic_joints_off_the_chain_follow_their_locked_driver(locked, rng):
     f1 = locked.get("f1", 0.0)
     cfg = {"f1": f1, "f2": 2.0 * f1 + 0.1}
     for q in a.random_q(rng, 3):
-        pin.framesForwardKinematics(a.model, a.data, a.to_pin(q))
+        pin.framesForwardKinematics(a.model, a.kinematics.data, a.kinematics.to_pin(q))
         reader = yourdfpy.URDF.load(
             io.StringIO(xml), load_meshes=False, build_collision_scene_graph=False
         )
         reader.update_cfg({"j1": q[0], "j2": q[1], "f1": f1})  # yourdfpy follows the mimics
         for link in ("g1", "g2"):
-            mine = a.data.oMf[a.model.getFrameId(link)]
+            mine = a.kinematics.data.oMf[a.model.getFrameId(link)]
             theirs = pin.SE3(reader.get_transform(frame_to=link, frame_from="base"))
             assert dist(mine, theirs) < TOL["fk_exact"], link
-    values = {n: a.chain.q_ref[a.chain.full.idx_qs[a.chain.full.getJointId(n)]] for n in cfg}
+    chain = a.kinematics.chain
+    values = {n: chain.q_ref[chain.full.idx_qs[chain.full.getJointId(n)]] for n in cfg}
     assert values == pytest.approx(cfg)
 
 
 def test_a_mimic_joint_locked_by_name_keeps_its_own_value():
     a = armik.load_string(fingers_urdf(), tip="tip", locked={"f1": 0.03, "f2": 0.05})
-    full = a.chain.full
-    assert a.chain.q_ref[full.idx_qs[full.getJointId("f2")]] == 0.05
+    full = a.kinematics.chain.full
+    assert a.kinematics.chain.q_ref[full.idx_qs[full.getJointId("f2")]] == 0.05
 
 
 def test_the_pandas_second_finger_follows_the_first():
     a = armik.load("panda", locked={"panda_finger_joint1": 0.03})
-    full = a.chain.full
-    assert a.chain.q_ref[full.idx_qs[full.getJointId("panda_finger_joint2")]] == 0.03
+    full = a.kinematics.chain.full
+    assert a.kinematics.chain.q_ref[full.idx_qs[full.getJointId("panda_finger_joint2")]] == 0.03

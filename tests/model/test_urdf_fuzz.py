@@ -16,7 +16,7 @@ from armik.errors import ArmikError
 from armik.options import Options
 from armik.targets.pose import Target, parse_target
 
-from ..conftest import arm
+from ..conftest import arm, model
 
 FLOATS = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True),
@@ -62,7 +62,7 @@ QUICK = settings(max_examples=200, deadline=None, suppress_health_check=[HealthC
 @given(targets())
 def test_parse_target_accepts_or_refuses(value):
     try:
-        t = parse_target(value, arm("planar_2link"))
+        t = parse_target(value, model("planar_2link"))
     except ArmikError:
         return
     assert isinstance(t, Target) and t.position.shape == (3,)

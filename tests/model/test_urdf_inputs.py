@@ -168,9 +168,10 @@ def test_with_limits_on_continuous_joints_clips_angles(tmp_path, limits):
     rev = armik.load(write_urdf(tmp_path, roll_arm("revolute", limits), "r.urdf"))
     lo, hi = limits
     # clip_pin works on the angle, not on (cos, sin).
-    qp = cont.to_pin(np.array([hi + 0.5, 0.0, lo - 0.3, 0.0]))
-    cont.clip_pin(qp)
-    np.testing.assert_allclose(cont.from_pin(qp)[[0, 2]], [hi, lo], atol=1e-12)
+    m = cont.kinematics
+    qp = m.to_pin(np.array([hi + 0.5, 0.0, lo - 0.3, 0.0]))
+    m.clip_pin(qp)
+    np.testing.assert_allclose(m.from_pin(qp)[[0, 2]], [hi, lo], atol=1e-12)
     rng = np.random.default_rng(5)
     counts = {"cont": 0, "rev": 0}
     for k in range(15):

@@ -14,15 +14,17 @@ import pytest
 
 import armik
 from armik.errors import FrameError, TargetError
+from armik.model.arm_model import ArmModel
 
 from ..conftest import arm as bundled
+from ..conftest import model
 from ..test_arms import dual_irb120
 
 H = 1e-6
 
 
-def placed(a: armik.Arm, qp: np.ndarray, frames: list[str]) -> list:
-    """Each frame's (T_base_frame, LOCAL Jacobian) at Pinocchio's ``qp``."""
+def placed(a: ArmModel, qp: np.ndarray, frames: list[str]) -> list:
+    """Each frame's (T_base_frame, LOCAL Jacobian) at Pinocchio's ``qp`` on the arm model."""
     data = a.model.createData()
     pin.computeJointJacobians(a.model, data, qp)
     out = []
@@ -34,7 +36,7 @@ def placed(a: armik.Arm, qp: np.ndarray, frames: list[str]) -> list:
 
 
 def test_the_jacobian_matches_finite_differences():
-    a = bundled("panda")
+    a = model("panda")
     rng = np.random.default_rng(8)
     frames = [a.tip, "panda_link4"]
     for bounds in (None, (0.01, 0.0, np.inf, 0.05, 0.0, 0.02)):
@@ -75,11 +77,13 @@ def test_one_arm_holds_its_tool_in_a_frame_of_its_own():
     rng = np.random.default_rng(2)
     for _ in range(5):
         q = a.random_q(rng)
-        (T_tip, _), (T_4, _) = placed(a, a.to_pin(q), [a.tip, "panda_link4"])
+        (T_tip, _), (T_4, _) = placed(a.kinematics, a.kinematics.to_pin(q), [a.tip, "panda_link4"])
         task = armik.Relative(a.tip, "panda_link4", T_4.actInv(T_tip))
         r = a.solve([task], iteration_budget=3000)
         assert r.success, r.reason
-        (T_tip, _), (T_4, _) = placed(a, a.to_pin(r.q), [a.tip, "panda_link4"])
+        (T_tip, _), (T_4, _) = placed(
+            a.kinematics, a.kinematics.to_pin(r.q), [a.tip, "panda_link4"]
+        )
         err = pin.log6(task.pose.T.inverse() * T_4.actInv(T_tip)).vector
         assert np.abs(err).max() <= 2e-6
 

@@ -45,7 +45,7 @@ def test_a_cone_whose_centre_is_out_of_reach_is_solved_on_its_rim_in_closed_form
     target, said = lower(tightened(as_problem(tasks)), arm.tip)
     centre = arm.solve(target, q0=arm.middle, **said)
     assert not centre.success and centre.status is armik.Status.UNREACHABLE
-    on_rim = _centre(arm, as_problem(tasks), arm.middle, {})
+    on_rim = _centre(arm.kinematics, as_problem(tasks), arm.middle, {})
     cone = arm.solve(tasks, q0=arm.middle)
     assert cone.success and cone.solver == "dls", cone.reason
     for r in (on_rim, cone):

@@ -19,7 +19,7 @@ def test_each_score_by_hand():
     J = np.array([[1.0, 2.0], [0.0, 3.0], [0.0, 0.0], [0.0, 0.0], [0.0, 0.0], [1.0, 1.0]])
     # J^T J = [[2, 3], [3, 14]]: det 19 (fewer joints than rows: J^T J)
     assert manipulability(J) == pytest.approx(math.sqrt(19.0))
-    arm = conftest.arm("planar_2link")
+    arm = conftest.model("planar_2link")
     lo, hi = arm.lower, arm.upper
     q = lo + np.array([0.1, 0.5]) * (hi - lo)
     assert limit_margin(arm, q) == pytest.approx(0.1)
@@ -64,13 +64,13 @@ def test_the_closed_form_choice_is_the_best_of_every_branch(robot, prefer):
         assert r.success
         branches = [b.q for b in arm.solve_all(T, q0=q0) if b.success]
         best = min(
-            score(arm, v, q0)
+            score(arm.kinematics, v, q0)
             for b in branches
             for v in _every_variant(arm, b)
             if arm.within_limits(v)
         )
         assert r.extra["score"] == pytest.approx(best, abs=1e-9)
-        assert score(arm, r.q, q0) == pytest.approx(best, abs=1e-9)
+        assert score(arm.kinematics, r.q, q0) == pytest.approx(best, abs=1e-9)
         assert np.allclose(arm.fk(r.q).homogeneous, T.homogeneous, atol=1e-6)
 
 
@@ -123,12 +123,12 @@ def test_the_panda_sweep_finds_the_self_motion_optimum():
         T = arm.fk(arm.random_q(rng))
         r = arm.solve(T, prefer="manipulability", timeout=0.005)
         assert r.success and r.solver == "swept"
-        target = parse_target(T, arm)
-        lo, hi = swept_7r.sweep_range(arm, float(arm.middle[6]))
+        target = parse_target(T, arm.kinematics)
+        lo, hi = swept_7r.sweep_range(arm.kinematics, float(arm.middle[6]))
         dense = max(
             manipulability(arm.jacobian(a.q))
             for theta in np.linspace(lo, hi, 721)
-            for a in swept_7r.at_value(arm, target, arm.middle, float(theta))
+            for a in swept_7r.at_value(arm.kinematics, target, arm.middle, float(theta))
             if a.claim.name == "CONVERGED" and arm.within_limits(a.q)
         )
         assert manipulability(arm.jacobian(r.q)) >= 0.99 * dense
@@ -144,7 +144,7 @@ def test_a_numeric_answer_moves_along_the_self_motion():
     arm = conftest.arm("xarm7")
     q = arm.random_q(11)
     T = arm.fk(q)
-    moved = descend(arm, q, T, Manipulability(), arm.middle, budget=1.0)
+    moved = descend(arm.kinematics, q, T, Manipulability(), arm.middle, budget=1.0)
     assert manipulability(arm.jacobian(moved)) > manipulability(arm.jacobian(q))
     assert np.abs(pin.log6(arm.fk(moved).inverse() * T).vector).max() <= 1e-9
     assert arm.within_limits(moved)
@@ -175,7 +175,7 @@ def test_each_joint_turns_to_the_best_variant(robot):
     the best of every combination of turns within the limits (brute force)."""
     from armik.solve.prefer import best_variant
 
-    arm = conftest.arm(robot)
+    arm = conftest.model(robot)
     rng = np.random.default_rng(35)
     scores = [
         Nearest(),

@@ -57,7 +57,7 @@ def test_the_task_solver_alone_meets_a_cone_and_says_what_it_measured():
         T = arm.fk(arm.random_q(rng))
         d = T.rotation[:, 2]
         problem = Problem((armik.Position(T.translation), armik.Axis((0, 0, 1), d, 0.1)))
-        r = solve_tasks(arm, problem, None, opts, 0.0)
+        r = solve_tasks(arm.kinematics, problem, None, opts, 0.0)
         assert r.solver == "tasks" and len(r.extra["task_errors"]) == 2
         if r.success:
             solved += 1
@@ -191,15 +191,14 @@ def test_a_task_on_another_frame_of_the_chain():
     import pinocchio as pin
 
     arm = conftest.arm("panda")
+    m = arm.kinematics
     rng = np.random.default_rng(33)
     elbow_id = arm.model.getFrameId("panda_link4")
     solved = 0
     for _ in range(10):
         q = arm.random_q(rng)
-        pin.forwardKinematics(arm.model, arm.data, arm.to_pin(q))
-        elbow = (
-            arm.T_base_world * pin.updateFramePlacement(arm.model, arm.data, elbow_id)
-        ).translation
+        pin.forwardKinematics(arm.model, m.data, m.to_pin(q))
+        elbow = (m.T_base_world * pin.updateFramePlacement(arm.model, m.data, elbow_id)).translation
         T = arm.fk(q)
         r = arm.solve(
             [armik.Pose(T), armik.Position(elbow, bounds=[0.02] * 3, frame="panda_link4")]
@@ -208,8 +207,8 @@ def test_a_task_on_another_frame_of_the_chain():
             assert r.status is Status.NOT_CONVERGED
             continue
         solved += 1
-        pin.forwardKinematics(arm.model, arm.data, arm.to_pin(r.q))
-        reached = arm.T_base_world * pin.updateFramePlacement(arm.model, arm.data, elbow_id)
+        pin.forwardKinematics(arm.model, m.data, m.to_pin(r.q))
+        reached = m.T_base_world * pin.updateFramePlacement(arm.model, m.data, elbow_id)
         assert (np.abs(reached.translation - elbow) <= 0.02 + 1e-6).all()
         assert np.allclose(arm.fk(r.q).homogeneous, T.homogeneous, atol=1e-6)
     assert solved >= 7

@@ -12,6 +12,7 @@ import pytest
 
 import armik
 from armik.errors import TargetError
+from armik.model.arm_model import ArmModel
 from armik.problem import Axis, LookAt, Pose, Position
 
 from ..conftest import arm as bundled
@@ -19,9 +20,9 @@ from ..conftest import arm as bundled
 H = 1e-6
 
 
-def numeric_jacobian(a: armik.Arm, task, q: np.ndarray) -> np.ndarray:
+def numeric_jacobian(a: ArmModel, task, q: np.ndarray) -> np.ndarray:
     """Central differences of the residual, stepping Pinocchio's configuration with
-    ``pin.integrate`` along each joint's velocity."""
+    ``pin.integrate`` along each joint's velocity (on the arm model)."""
     qp = a.to_pin(q)
     columns = []
     for i in range(a.dof):
@@ -62,7 +63,7 @@ def test_jacobians_match_finite_differences(robot):
             r = task.residual(T)
             assert r.shape == (task.rows,)
             analytic = task.jacobian(T, J)
-            numeric = numeric_jacobian(a, task, q)
+            numeric = numeric_jacobian(a.kinematics, task, q)
             np.testing.assert_allclose(analytic, numeric, atol=2e-6, err_msg=repr(task))
 
 

@@ -49,7 +49,7 @@ class Independent:
     def __init__(self, a: armik.Arm) -> None:
         self.arm = a
         self.model = yourdfpy.URDF.load(
-            str(a.source), build_scene_graph=True, load_meshes=False,
+            str(a.kinematics.source), build_scene_graph=True, load_meshes=False,
             build_collision_scene_graph=False, load_collision_meshes=False,
         )  # fmt: skip
 

@@ -14,7 +14,7 @@ from armik.solve import distributed as armik_distributed
 from armik.solve.batch import solve_batch
 from armik.tools.cli import main
 
-from ..conftest import arm
+from ..conftest import arm, model
 
 
 @pytest.fixture(scope="module")
@@ -42,7 +42,7 @@ def test_cluster_gives_the_local_answers(client, name):
     T = _targets(name, 24)
     q0 = np.array([a.random_q(k) for k in range(len(T))])
     options = dict(timeout=1.0, max_restarts=50, seed=2)
-    local = solve_batch(a, T, q0=q0, workers=1, **options)
+    local = solve_batch(a.kinematics, T, q0=q0, workers=1, **options)
     remote = armik_distributed.solve_batch(a, T, q0=q0, client=client, chunk_size=5, **options)
     assert isinstance(remote, BatchResult) and len(remote) == len(T)
     for field in ("q", "success", "status_code", "position_error", "iterations", "restarts"):
@@ -56,7 +56,7 @@ def test_each_worker_builds_the_arm_once(client):
     T = _targets("ur5", 10)
     for _ in range(2):
         armik_distributed.solve_batch(a, T, client=client, chunk_size=2)
-    name = armik_distributed.plugin_name(pickle.dumps(a))
+    name = armik_distributed.plugin_name(pickle.dumps(a.kinematics))
     builds = client.run(lambda dask_worker: dask_worker.plugins[name].builds)
     assert sorted(builds.values()) == [1, 1]
 
@@ -69,7 +69,7 @@ def test_cli_cluster_address(client, tmp_path, capsys):
     argv = ["batch", "ur5", str(tmp_path / "t.npy"), "-o", str(out), "--cluster", address]
     assert main(argv + ["--chunk-size", "3"]) == 0
     assert "7/8 solved" in capsys.readouterr().out
-    local = solve_batch(arm("ur5"), T, workers=1)
+    local = solve_batch(model("ur5"), T, workers=1)
     np.testing.assert_array_equal(BatchResult.load(out).q, local.q)
 
 

@@ -49,10 +49,10 @@ def test_se3_target_is_the_general_pose(panda):
     rng = np.random.default_rng(0)
     for _ in range(50):
         T = panda.fk(panda.random_q(rng))
-        fast = parse_target(T, panda)
+        fast = parse_target(T, panda.kinematics)
         _same_target(fast, _pose(T.rotation, T.translation))
-        _same_target(fast, parse_target(T.homogeneous, panda))
-        _same_target(fast, parse_target((T.translation, T.rotation), panda))
+        _same_target(fast, parse_target(T.homogeneous, panda.kinematics))
+        _same_target(fast, parse_target((T.translation, T.rotation), panda.kinematics))
         assert fast.rotation.flags.c_contiguous and fast.rotation.flags.writeable
         # the target owns its arrays: changing the SE3 afterwards changes nothing
         R = fast.rotation.copy()
@@ -91,7 +91,7 @@ def _reference_within(arm, q, tol=armik.tolerances.LIMIT_TOL) -> bool:
 def test_within_limits_matches_its_definition(panda, kinova):
     rng = np.random.default_rng(1)
     narrow = panda.with_limits({"panda_joint1": (-0.5, 0.5)})
-    for arm in (panda, kinova, narrow):
+    for arm in (panda.kinematics, kinova.kinematics, narrow.kinematics):
         lo, hi = arm.sampling_box()
         for _ in range(200):
             q = rng.uniform(lo - 0.3, hi + 0.3)
@@ -108,11 +108,11 @@ def test_within_limits_matches_its_definition(panda, kinova):
     q = panda.middle.copy()
     q[0] = 0.9
     assert panda.within_limits(q) and not narrow.within_limits(q)
-    assert narrow.limit_violations(q) and not panda.limit_violations(q)
+    assert narrow.kinematics.limit_violations(q) and not panda.kinematics.limit_violations(q)
 
 
 def _general_seed(arm, q0):
-    """Arm.seed's general path, spelled out."""
+    """ArmModel.seed's general path, spelled out."""
     q = arm.check_q(q0, "q0")
     if not arm.within_limits(q):
         return np.clip(q, arm.lower, arm.upper), True
@@ -121,7 +121,7 @@ def _general_seed(arm, q0):
 
 def test_seed_fast_path_is_the_general_path(panda, kinova):
     rng = np.random.default_rng(2)
-    for arm in (panda, kinova):
+    for arm in (panda.kinematics, kinova.kinematics):
         lo, hi = arm.sampling_box()
         for _ in range(100):
             q0 = rng.uniform(lo - 0.2, hi + 0.2)
@@ -136,17 +136,17 @@ def test_seed_fast_path_is_the_general_path(panda, kinova):
                     warnings.simplefilter("ignore", ArmikWarning)
                     assert np.array_equal(arm.seed(other), _general_seed(arm, other)[0])
     q0 = panda.middle.copy()
-    assert panda.seed(q0) is q0  # as check_q gives it: no copy
+    assert panda.kinematics.seed(q0) is q0  # as check_q gives it: no copy
     for bad in (np.nan, np.inf, -np.inf):
         q = kinova.middle.copy()
         q[0] = bad  # joint 0 of the kinova is continuous: no limit stops an inf
         with pytest.raises(OptionError, match="finite"):
-            kinova.seed(q)
+            kinova.kinematics.seed(q)
     huge = np.full(panda.dof, 1e308)  # finite, but its sum overflows
     with pytest.warns(ArmikWarning):
-        assert np.array_equal(panda.seed(huge), panda.upper)
+        assert np.array_equal(panda.kinematics.seed(huge), panda.upper)
     with pytest.raises(OptionError):
-        panda.seed(np.zeros(panda.dof + 1))
+        panda.kinematics.seed(np.zeros(panda.dof + 1))
 
 
 def test_result_and_attempt_built_fast_equal_their_init():
@@ -190,7 +190,7 @@ def test_result_and_attempt_built_fast_equal_their_init():
 def test_check_batch_equals_check_row_by_row(panda, kinova):
     rng = np.random.default_rng(3)
     opts = Options()
-    for arm in (panda, kinova):
+    for arm in (panda.kinematics, kinova.kinematics):
         lo, hi = arm.sampling_box()
         Q = rng.uniform(lo - 0.1, hi + 0.1, size=(20, arm.dof))
         Q_t = rng.uniform(lo, hi, size=(20, arm.dof))
@@ -238,9 +238,9 @@ def test_registry_refuses_a_name_that_is_not_a_str(panda):
         with pytest.raises(SolverError, match="one name"):
             registry.get(bad)  # type: ignore[arg-type]
         with pytest.raises(SolverError, match="one name"):
-            registry.choose(bad, panda)  # type: ignore[arg-type]
+            registry.choose(bad, panda.kinematics)  # type: ignore[arg-type]
         with pytest.raises(SolverError, match="one name"):
-            registry.why_not(bad, panda)  # type: ignore[arg-type]
+            registry.why_not(bad, panda.kinematics)  # type: ignore[arg-type]
     with pytest.raises(SolverError, match="unknown solver"):
         registry.get("nope")
     assert registry.get(np.str_("dls")).name == "dls"
@@ -250,7 +250,7 @@ def test_registry_refuses_a_name_that_is_not_a_str(panda):
 
 def test_check_many_is_check_one_by_one(panda, kinova):
     rng = np.random.default_rng(5)
-    for arm in (panda, kinova):
+    for arm in (panda.kinematics, kinova.kinematics):
         lo, hi = arm.sampling_box()
         qs = list(rng.uniform(lo - 0.2, hi + 0.2, size=(9, arm.dof)))
         qs[0] = arm.middle.copy()  # within the limits
@@ -287,7 +287,7 @@ def test_solve_all_verifies_like_solve(panda):
             every[0].orientation_error,
         )
         for r in every:
-            c = verify.measure(ur5, r.q, parse_target(T), Options())
+            c = verify.measure(ur5.kinematics, r.q, parse_target(T), Options())
             assert (r.position_error, r.orientation_error) == (
                 c.position_error,
                 c.orientation_error,
@@ -296,7 +296,7 @@ def test_solve_all_verifies_like_solve(panda):
 
 def test_check_takes_any_float_q_as_a_copy_would(panda, kinova):
     rng = np.random.default_rng(7)
-    for arm in (panda, kinova):
+    for arm in (panda.kinematics, kinova.kinematics):
         q = arm.random_q(rng)
         target = parse_target(arm.fk(arm.random_q(rng)))
         strided = np.zeros((arm.dof, 2))

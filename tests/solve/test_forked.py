@@ -91,8 +91,10 @@ def test_a_batch_falls_back_to_threads_when_another_thread_runs(monkeypatch):
     ur5 = armik.load("ur5")
     T = ur5.fk_batch(ur5.random_q(2, n=8))
     monkeypatch.setattr(forked, "run", lambda *a: pytest.fail("forked with threads alive"))
-    r = batch.solve_batch(ur5, T, workers=2, chunk_size=2, progress=False, self_collision=True)
-    one = batch.solve_batch(ur5, T, workers=1, progress=False, self_collision=True)
+    r = batch.solve_batch(
+        ur5.kinematics, T, workers=2, chunk_size=2, progress=False, self_collision=True
+    )
+    one = batch.solve_batch(ur5.kinematics, T, workers=1, progress=False, self_collision=True)
     np.testing.assert_array_equal(r.q, one.q)
     assert r.success.sum() >= 6
 

@@ -121,11 +121,16 @@ def test_property_verified_or_honestly_failed(name, seed, solver):
     rng = np.random.default_rng(seed)
     q_true = a.random_q(rng)
     T = a.fk(q_true)
-    target = T.translation if a.plane is not None else T
+    target = T.translation if a.kinematics.plane is not None else T
     r = a.solve(target, q0=a.random_q(rng), solver=solver, timeout=0.02)
     assert np.all(np.isfinite(r.q))
     if r.success:
-        check = measure(a, np.asarray(r.q), armik.parse_target(target, a), armik.options.Options())
+        check = measure(
+            a.kinematics,
+            np.asarray(r.q),
+            armik.parse_target(target, a.kinematics),
+            armik.options.Options(),
+        )
         assert check.ok and a.within_limits(np.asarray(r.q))
     else:
         assert r.status in ("not_converged", "unreachable", "joint_limits") and r.reason

@@ -58,11 +58,11 @@ def test_the_plan_is_the_brute_force_optimum_on_a_short_path():
     assert planned.success.all()
     total = np.linalg.norm(np.diff(np.vstack([q0, planned.q]), axis=0), axis=1).sum()
     rungs = [
-        [np.asarray(r.q) for r in solve(arm, T, q0=q0, all_solutions=True) if r.success]
+        [np.asarray(r.q) for r in solve(arm.kinematics, T, q0=q0, all_solutions=True) if r.success]
         for T in poses
     ]
     lo, hi = arm.lower, arm.upper
-    periodic = ~np.array(arm._limit_lists[2], dtype=bool)
+    periodic = ~np.array(arm.kinematics._limit_lists[2], dtype=bool)
     best = math.inf
     for choice in itertools.product(*rungs):
         prev, cost = q0, 0.0
@@ -101,7 +101,7 @@ def test_a_preferred_plan_is_the_brute_force_best_score_among_continuous_paths(p
     assert planned.success.all()
 
     def summed(path) -> float:
-        return sum(score(arm, q, arm.middle) for q in path)
+        return sum(score(arm.kinematics, q, arm.middle) for q in path)
 
     def cost(path) -> float:
         steps = np.diff(path, axis=0)
@@ -113,7 +113,7 @@ def test_a_preferred_plan_is_the_brute_force_best_score_among_continuous_paths(p
     variants = []
     for T in poses:
         found = []
-        for r in solve(arm, T, all_solutions=True):
+        for r in solve(arm.kinematics, T, all_solutions=True):
             if not r.success:
                 continue
             turns = [
@@ -334,7 +334,7 @@ def test_collisions_remove_rungs():
         pin.SE3(T0.rotation, T0.translation + np.array([0.0, 0.0, 0.01 * k])) for k in range(20)
     ]
     free = arm.solve_path(poses, None, max_joint_step=0.3, plan="global")
-    ball = _elbow(arm, free.q[10])
+    ball = _elbow(arm.kinematics, free.q[10])
     assert free.success.all() and arm.in_collision(free.q[10], [ball])
     clear = arm.solve_path(poses, None, max_joint_step=0.3, plan="global", obstacles=[ball])
     assert clear.success.all()

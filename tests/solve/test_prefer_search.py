@@ -66,7 +66,7 @@ def test_the_descent_ends_where_the_distance_is_stationary_along_the_self_motion
         q = arm.random_q(rng)
         T = arm.fk(q)
         q0 = np.clip(q + rng.normal(scale=0.4, size=arm.dof), arm.lower, arm.upper)
-        moved = descend(arm, q, T, Nearest(), q0, budget=math.inf)
+        moved = descend(arm.kinematics, q, T, Nearest(), q0, budget=math.inf)
         assert np.linalg.norm(moved - q0) < np.linalg.norm(q - q0)
         assert np.linalg.norm(_null_projector(arm, moved) @ (moved - q0)) <= 1e-6
         assert np.abs(pin.log6(arm.fk(moved).inverse() * T).vector).max() <= 1e-9
@@ -76,7 +76,7 @@ def test_the_descent_ends_where_the_distance_is_stationary_along_the_self_motion
 def test_the_starts_near_q0_grow_from_q0_to_the_whole_range():
     arm = conftest.arm("xarm7")
     q0 = arm.random_q(8)
-    starts = prefer.near_starts(arm, q0, np.random.default_rng(0))
+    starts = prefer.near_starts(arm.kinematics, q0, np.random.default_rng(0))
     drawn = np.array([next(starts) for _ in range(prefer.NEAR_STARTS)])
     half = np.minimum((arm.upper - arm.lower) / 2.0, math.pi)
     assert (np.abs(drawn[0] - q0) <= prefer.NEAR_FIRST * half + 1e-12).all()
@@ -112,9 +112,9 @@ def test_the_starts_count_as_restarts_and_spend_their_share_of_the_iterations():
         return arm.solve(T, q0=start, solver="dls", max_restarts=0)
 
     opts = Options(max_restarts=3, timeout=10.0)
-    prefer.near_answers(arm, solve_from, arm.middle, opts, time.perf_counter())
+    prefer.near_answers(arm.kinematics, solve_from, arm.middle, opts, time.perf_counter())
     assert len(calls) == 3
     calls.clear()
     opts = Options(iteration_budget=40)  # the starts' share: 20 iterations
-    prefer.near_answers(arm, solve_from, arm.middle, opts, 0.0)
+    prefer.near_answers(arm.kinematics, solve_from, arm.middle, opts, 0.0)
     assert 1 <= len(calls) <= 20

@@ -25,7 +25,7 @@ from ..conftest import arm, assert_same_result
 
 
 def _general(a: armik.Arm, T, **kw):
-    return a.solve(parse_target(T, a), **kw)
+    return a.solve(parse_target(T, a.kinematics), **kw)
 
 
 @pytest.mark.parametrize(
@@ -58,7 +58,7 @@ def test_plan_result_is_the_general_result(name, solver):
 def test_plan_is_taken_for_plain_input_only():
     a = arm("panda")
     opts, key, _ = _options({})
-    plan = plan_for(a, "dls", key, opts)
+    plan = plan_for(a.kinematics, "dls", key, opts)
     assert isinstance(plan, Plan)
     T = a.fk(a.random_q(np.random.default_rng(0)))
     q0 = a.middle.copy()
@@ -129,7 +129,7 @@ def test_a_lying_runner_is_caught_by_the_check():
     a = armik.load("panda")  # a fresh arm: its own plans
     T = a.fk(a.random_q(np.random.default_rng(4)))
     opts, key, _ = _options({})
-    _lie_about_the_first_answer(plan_for(a, "auto", key, opts))
+    _lie_about_the_first_answer(plan_for(a.kinematics, "auto", key, opts))
     r = a.solve(T)
     assert not r.success and r.status == "not_converged"
     assert "forward-kinematics check failed" in r.reason
@@ -143,7 +143,7 @@ def test_a_refused_closed_form_answer_falls_back_to_every_row():
     q = a.random_q(np.random.default_rng(6))
     T = a.fk(q)
     opts, key, _ = _options({})
-    plan = plan_for(a, "auto", key, opts)
+    plan = plan_for(a.kinematics, "auto", key, opts)
     assert plan.solver == "three_parallel"
     expected = a.solve(T, q0=q)
     assert expected.success
@@ -163,10 +163,12 @@ def test_an_unreached_closed_form_hands_every_row_over_labelled(name):
     q0 = a.random_q(np.random.default_rng(8))
     far = pin.SE3(np.eye(3), np.array([3.0, 0.5, 0.5]))  # beyond reach
     opts, key, _ = _options({})
-    plan = plan_for(a, "auto", key, opts)
+    plan = plan_for(a.kinematics, "auto", key, opts)
     attempts = plan.run_pose(far.homogeneous, q0, 0)
     assert type(attempts) is list and len(attempts) > 1
-    general = registry.get(plan.solver).run(a, parse_target(far, a), q0, opts, False)
+    general = registry.get(plan.solver).run(
+        a.kinematics, parse_target(far, a.kinematics), q0, opts, False
+    )
     branches = [x.branch for x in attempts]
     assert branches == [x.branch for x in general]
     assert len(set(branches)) > 1  # not all the unlabelled default
@@ -196,7 +198,7 @@ def test_plan_solve_all_is_the_general_solve_all(name):
         T = a.fk(a.random_q(rng))
         q0 = None if k % 2 else a.random_q(rng)
         fast = a.solve_all(T, q0=q0)
-        general = a.solve_all(parse_target(T, a), q0=q0)
+        general = a.solve_all(parse_target(T, a.kinematics), q0=q0)
         assert len(fast) == len(general) >= 1 and fast[0].success
         for x, y in zip(fast, general):
             assert_same_result(x, y)
@@ -214,7 +216,7 @@ def test_plan_solve_all_ranks_a_verified_answer_the_kernel_did_not_claim():
     T = a.fk(np.zeros(6))
     for q0 in (None, np.full(6, 0.3), np.array([-2.9, -3.0, 0.1, 3.0, -2.8, 0.1])):
         fast = a.solve_all(T, q0=q0)
-        general = a.solve_all(parse_target(T, a), q0=q0)
+        general = a.solve_all(parse_target(T, a.kinematics), q0=q0)
         assert sum(r.success for r in fast) >= 2
         assert len(fast) == len(general)
         for x, y in zip(fast, general):
@@ -307,7 +309,7 @@ def test_to_pin_on_continuous_joints():
     rng = np.random.default_rng(10)
     for _ in range(20):
         q = a.random_q(rng) * 3.0  # beyond +-pi too
-        qp = a.to_pin(q)
+        qp = a.kinematics.to_pin(q)
         for j in range(a.dof):
             k = a.model.joints[j + 1].idx_q
             if a.model.joints[j + 1].nq == 2:
@@ -343,7 +345,7 @@ def test_plain_pose_agrees_with_the_parser_on_corrupted_matrices():
     cases.append(H)
     for H in cases:
         try:
-            kept = parse_target(H, a)
+            kept = parse_target(H, a.kinematics)
         except TargetError:
             kept = None
         exact = kept is not None and np.array_equal(kept.rotation, H[:3, :3])
@@ -365,20 +367,20 @@ def test_tip_views_hold_pinocchio_placement_in_place(name):
     import threading
 
     a = arm(name)
-    data, R, p = a.tip_views()
-    assert a.tip_views()[0] is data
+    data, R, p = a.kinematics.tip_views()
+    assert a.kinematics.tip_views()[0] is data
     rng = np.random.default_rng(3)
     for _ in range(5):
-        qp = a.to_pin(a.random_q(rng))
+        qp = a.kinematics.to_pin(a.random_q(rng))
         pin.forwardKinematics(a.model, data, qp)
-        got = pin.updateFramePlacement(a.model, data, a.tip_frame_id)
+        got = pin.updateFramePlacement(a.model, data, a.kinematics.tip_frame_id)
         assert np.array_equal(R, got.rotation) and np.array_equal(p, got.translation)
         fresh = a.model.createData()
         pin.framesForwardKinematics(a.model, fresh, qp)
-        assert np.array_equal(R, fresh.oMf[a.tip_frame_id].rotation)
-        assert np.array_equal(p, fresh.oMf[a.tip_frame_id].translation)
+        assert np.array_equal(R, fresh.oMf[a.kinematics.tip_frame_id].rotation)
+        assert np.array_equal(p, fresh.oMf[a.kinematics.tip_frame_id].translation)
     other = []
-    worker = threading.Thread(target=lambda: other.append(a.tip_views()[0]))
+    worker = threading.Thread(target=lambda: other.append(a.kinematics.tip_views()[0]))
     worker.start()
     worker.join()
     assert other[0] is not data
@@ -401,7 +403,7 @@ def test_a_region_on_a_numeric_solver_is_prepared_as_the_general_path(name, opti
     options = dict(options)
     solver = options.pop("solver", "auto")
     opts, key, _ = _options(options)
-    assert isinstance(plan_for(a, solver, key, opts), Plan)
+    assert isinstance(plan_for(a.kinematics, solver, key, opts), Plan)
     rng = np.random.default_rng(8)
     solved = 0
     for k in range(8):
@@ -424,7 +426,7 @@ def test_a_spin_on_the_last_joint_is_prepared_as_the_general_path(name, half):
     a = arm(name)
     options = {"bounds": (0.0, 0.0, 0.0, 0.0, 0.0, half)}
     opts, key, _ = _options(options)
-    plan = plan_for(a, "auto", key, opts)
+    plan = plan_for(a.kinematics, "auto", key, opts)
     assert isinstance(plan, Plan) and plan.solver == "spin_joint"
     rng = np.random.default_rng(9)
     solved = 0

@@ -8,7 +8,7 @@ import pytest
 from armik.errors import InputError, OptionError
 from armik.solve.reach import ReachMap, grid, reachability
 
-from ..conftest import arm
+from ..conftest import arm, model
 
 
 def test_planar_arm_map_matches_its_annulus(tmp_path):
@@ -37,7 +37,7 @@ def test_fraction_is_the_mean_of_orientation_successes():
 
 
 def test_grid_covers_the_reach_ball():
-    a = arm("panda")
+    a = model("panda")
     xs, ys, zs, inside = grid(a, 0.2)
     o = a.first_joint_origin
     assert xs[0] <= o[0] - a.reach and xs[-1] >= o[0] + a.reach

@@ -13,7 +13,7 @@ from armik.constraints.collision import checker
 from armik.solve import slide as S
 from armik.targets.pose import parse_target
 
-from ..conftest import arm
+from ..conftest import arm, model
 
 BOX = armik.Box((0.3, 0.3, 0.3), (0.5, 0.2, 0.4))
 
@@ -25,7 +25,7 @@ def _distances(a, ch, q, pairs):
 
 
 def test_the_rows_are_the_distances_rates():
-    a = arm("panda")
+    a = model("panda")
     ch = checker(a, (BOX,), True)
     rng = np.random.default_rng(1)
     compared = 0
@@ -57,12 +57,14 @@ def test_a_colliding_answer_slides_out_of_contact_keeping_the_pose():
     for _ in range(30):
         q = a.random_q(rng)
         a.fk(q)
-        sphere = armik.Sphere(0.05, a.data.oMi[4].translation + rng.normal(size=3) * 0.03)
+        sphere = armik.Sphere(
+            0.05, a.kinematics.data.oMi[4].translation + rng.normal(size=3) * 0.03
+        )
         if not a.in_collision(q, [sphere]):
             continue
-        ch = checker(a, (sphere,), False)
+        ch = checker(a.kinematics, (sphere,), False)
         target = parse_target(a.fk(q))
-        out, used = S.slide(a, target, q, ch, 0.0, 30, time.thread_time() + 1.0, 1e-7)
+        out, used = S.slide(a.kinematics, target, q, ch, 0.0, 30, time.thread_time() + 1.0, 1e-7)
         T = a.fk(out)
         assert a.within_limits(out) and 0 < used <= 30
         if used == 30:

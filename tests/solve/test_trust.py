@@ -36,8 +36,8 @@ def irb140() -> armik.Arm:
 def test_the_irb140_is_a_searched_arm(irb140):
     """The arm this file is about: its family is a search, which auto keeps for solve_all."""
     T = irb140.fk(irb140.random_q(0))
-    assert registry.choose("auto", irb140, None, None, every=True).name == "two_parallel"
-    assert registry.choose("auto", irb140).name == "dls"
+    assert registry.choose("auto", irb140.kinematics, None, None, every=True).name == "two_parallel"
+    assert registry.choose("auto", irb140.kinematics).name == "dls"
     assert irb140.solve_all(T)[0].solver == "two_parallel"
 
 
@@ -88,7 +88,11 @@ def test_the_searches_find_every_generating_configuration_on_real_arms(name):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         arm = armik.load(source, tip=tip) if tip else armik.load(source)
-    searches = [s for s in ("two_parallel", "two_intersecting") if registry.why_not(s, arm) is None]
+    searches = [
+        s
+        for s in ("two_parallel", "two_intersecting")
+        if registry.why_not(s, arm.kinematics) is None
+    ]
     assert searches, f"no search applies to {name}"
     rng = np.random.default_rng(36)
     for _ in range(30):
@@ -122,10 +126,10 @@ def test_auto_takes_no_search_for_one_answer():
     searches = [s for s in searches if not s.complete]
     assert {s.name for s in searches} >= {"two_parallel", "two_intersecting", "general_6r"}
     for name, arm in _searched_arms():
-        assert registry.why_not(name, arm) is None
-        one = registry.choose("auto", arm)
+        assert registry.why_not(name, arm.kinematics) is None
+        one = registry.choose("auto", arm.kinematics)
         assert one.complete and one.name != name
-        assert registry.choose("auto", arm, every=True).name == name
+        assert registry.choose("auto", arm.kinematics, every=True).name == name
 
 
 @pytest.mark.parametrize("robot", ["planar_2link", "ur5", "panda", "abb_irb120", "irb140"])
@@ -138,7 +142,10 @@ def test_no_solver_calls_a_reachable_target_unreachable(robot, irb140):
     if robot == "planar_2link":
         targets = [T.translation[:2].copy() for T in targets]
     for name in registry.solvers():
-        if registry.why_not(name, arm, parse_target(targets[0], arm)) is not None:
+        if (
+            registry.why_not(name, arm.kinematics, parse_target(targets[0], arm.kinematics))
+            is not None
+        ):
             continue
         for T in targets:
             opts = {"iteration_budget": 300} if registry.get(name).kind == "numeric" else {}

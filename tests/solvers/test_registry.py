@@ -8,7 +8,7 @@ import armik
 from armik import SolverError
 from armik.solvers import registry
 
-from ..conftest import arm
+from ..conftest import arm, model
 
 
 def test_registered_solvers():
@@ -22,8 +22,8 @@ def test_registered_solvers():
 
 def test_auto_picks_specialist_or_numeric():
     assert arm("planar_2link").solve([1.2, 0.5]).solver == "planar2r"
-    assert registry.choose("auto", arm("planar_3link")).name == "dls"
-    assert registry.choose("auto", arm("panda")).name == "dls"
+    assert registry.choose("auto", model("planar_3link")).name == "dls"
+    assert registry.choose("auto", model("panda")).name == "dls"
 
 
 def test_unknown_solver_lists_registered():

@@ -8,7 +8,7 @@ import pytest
 
 from armik import TargetError, parse_target
 
-from ..conftest import arm
+from ..conftest import model
 
 
 def _quat_xyzw(R):
@@ -43,11 +43,11 @@ def test_non_unit_quaternion_is_normalised():
 
 
 def test_planar_two_vector():
-    a = arm("planar_2link")
+    a = model("planar_2link")
     t = parse_target([1.2, 0.5], a)
     np.testing.assert_allclose(t.position, [1.2, 0.5, 0.0])
     assert t.planar
-    d = arm("double_pendulum")  # axes along x: plane coordinates are base (y, z)
+    d = model("double_pendulum")  # axes along x: plane coordinates are base (y, z)
     t = parse_target([0.1, 0.2], d)
     np.testing.assert_allclose(d.plane.to_2d(t.position), [0.1, 0.2], atol=1e-15)
     assert abs(d.plane.height(t.position)) < 1e-15
@@ -92,5 +92,5 @@ def test_bad_matrices():
 
 def test_two_vector_needs_planar_arm():
     with pytest.raises(TargetError, match="planar arm.*'panda'"):
-        parse_target([0.3, 0.2], arm("panda"))
+        parse_target([0.3, 0.2], model("panda"))
     assert isinstance(TargetError("x"), ValueError)

@@ -9,18 +9,18 @@ from armik.options import Options
 from armik.targets.pose import parse_target
 from armik.verify.measure import measure
 
-from ..conftest import arm
+from ..conftest import model
 
 
 def test_known_good_joints_pass(rng):
-    a = arm("panda")
+    a = model("panda")
     q = a.random_q(rng)
     c = measure(a, q, parse_target(a.fk(q)), Options())
     assert c.ok and c.position_error < 1e-14 and c.orientation_error < 1e-14
 
 
 def test_wrong_joints_fail_with_measured_errors(rng):
-    a = arm("panda")
+    a = model("panda")
     q = a.random_q(rng)
     target = parse_target(a.fk(q))
     q_bad = q.copy()
@@ -31,7 +31,7 @@ def test_wrong_joints_fail_with_measured_errors(rng):
 
 
 def test_limits_are_checked():
-    a = arm("panda")
+    a = model("panda")
     q = a.middle.copy()
     q[3] = 0.5  # joint 4 is limited to [-3.07, -0.07]
     c = measure(a, q, parse_target(a.fk(q)), Options())
@@ -40,7 +40,7 @@ def test_limits_are_checked():
 
 
 def test_position_only_and_weights(rng):
-    a = arm("ur5")
+    a = model("ur5")
     q = a.random_q(rng)
     T = a.fk(q)
     c = measure(a, q, parse_target(T.translation), Options())

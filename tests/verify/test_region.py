@@ -13,7 +13,8 @@ from armik.verify.region import region_errors
 
 
 def test_region_errors_are_the_pose_task_measure():
-    a = armik.load("panda", base="panda_link1")  # a base frame that is not the world's
+    # a base frame that is not the world's
+    a = armik.load("panda", base="panda_link1").kinematics
     assert not a.T_base_world.isIdentity()
     rng = np.random.default_rng(2)
     bounds = np.array([0.005, 0.0, math.inf, 0.05, 0.05, 0.0])

@@ -196,7 +196,8 @@ def test_a_task_on_another_frame_is_drawn_at_that_frame(viewer):
     tasks = [armik.Pose(a.fk(r.q)), armik.Axis((1, 0, 0), (0, 0, 1), 0.5, frame=elbow)]
     viewer.set_target(tasks, q0=r.q)
     (c,) = viewer.regions
-    d = a.data
-    pin.forwardKinematics(a.model, d, a.to_pin(viewer.q))
-    T_elbow = a.T_base_world * pin.updateFramePlacement(a.model, d, a.model.getFrameId(elbow))
+    m = a.kinematics
+    d = m.data
+    pin.forwardKinematics(a.model, d, m.to_pin(viewer.q))
+    T_elbow = m.T_base_world * pin.updateFramePlacement(a.model, d, a.model.getFrameId(elbow))
     assert np.allclose(c.apex, T_elbow.translation) and np.allclose(c.now, T_elbow.rotation[:, 0])

@@ -9,10 +9,11 @@ import numpy as np
 import pytest
 
 import armik
+from armik.model.arm_model import ArmModel
 from armik.view.scene import arm_body, resolve
 from armik.view.stick import skeleton
 
-from ..conftest import arm, two_link_urdf, write_urdf
+from ..conftest import model, two_link_urdf, write_urdf
 
 trimesh = pytest.importorskip("trimesh")
 
@@ -23,13 +24,14 @@ def _with_visual(geometry: str, material: str = "") -> str:
     return two_link_urdf().replace('<link name="l2"/>', f'<link name="l2">{visual}</link>')
 
 
-def _load(path) -> armik.Arm:
+def _load(path) -> ArmModel:
+    """The arm model of the URDF at ``path`` (what the viewer's modules take)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return armik.load(str(path), tip="tip")
+        return armik.load(str(path), tip="tip").kinematics
 
 
-def _body(a: armik.Arm):
+def _body(a: ArmModel):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         body = arm_body(a)
@@ -37,7 +39,7 @@ def _body(a: armik.Arm):
 
 
 def test_urdf_without_visuals_is_a_stick_figure_without_warning():
-    body, caught = _body(arm("planar_2link"))
+    body, caught = _body(model("planar_2link"))
     assert body.kind == "stick" and caught == []
     assert "no visual geometry" in body.note
     names = {p.link for p in body.parts}
@@ -109,7 +111,7 @@ def test_primitives_become_parts_in_their_links_frame(tmp_path):
 
 @pytest.mark.parametrize("name", ["planar_2link", "scara", "abb_irb120", "panda"])
 def test_stick_figure_follows_the_arms_fk(name):
-    a = arm(name)
+    a = model(name)
     q = a.random_q(3)
     sk = skeleton(a, q)
     assert len(sk.points) == a.dof + 2
@@ -122,6 +124,6 @@ def test_stick_figure_follows_the_arms_fk(name):
 
 
 def test_bundled_meshes_are_found():
-    body, caught = _body(arm("panda"))
+    body, caught = _body(model("panda"))
     assert body.kind == "meshes" and caught == []
     assert {"panda_link0", "panda_link7", "panda_hand"} <= {p.link for p in body.parts}

@@ -1,4 +1,4 @@
-"""Joint values to Pinocchio's configuration, compiled (``Arm.to_pin``).
+"""Joint values to Pinocchio's configuration, compiled (``ArmModel.to_pin``).
 
 A continuous joint is one angle for armik and a (cos, sin) pair for Pinocchio. numpy's
 fancy indexing costs about 2 us per conversion at arm sizes; this loop a tenth of that.

@@ -138,7 +138,7 @@ def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, step):
 def normalise(ch, q, q_ref, out):
     """out: q with continuous angles in (-pi, pi], then every angle shifted by a multiple
     of 2 pi to the value nearest q_ref that stays within the limits (as
-    ``Arm.nearest_equivalent``)."""
+    ``ArmModel.nearest_equivalent``)."""
     lows, highs = lower(ch), upper(ch)
     for i in range(q.shape[0]):
         qi = q[i]

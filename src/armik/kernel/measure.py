@@ -127,7 +127,7 @@ def _frame(frame):
 def placement_check(frame, R_w, p_w, H_t, q):
     """(position error, orientation error or NaN, within the limits) of one answer ``q``
     whose tip placement Pinocchio computed as (R_w, p_w) (world frame; read in place:
-    ``Arm.tip_views``), against the 4x4 target ``H_t`` (base frame): ``pose_error`` and
+    ``ArmModel.tip_views``), against the 4x4 target ``H_t`` (base frame): ``pose_error`` and
     ``inside_limits`` in one call; ``frame`` from ``check_frame``."""
     R_bw, p_bw, w, measure, lower, upper = _frame(frame)
     weighted, measure_rot = measure & 1 != 0, measure & 2 != 0

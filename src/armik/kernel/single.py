@@ -3,7 +3,7 @@
 ``solve`` spends most of its time outside the iteration when the target is easy; these
 entries take the target as the 4x4 matrix the caller has (``SE3.homogeneous`` or the user's
 array) and the seed as given, check in compiled code that both are what the parser and
-``Arm.seed`` would pass through unchanged (``plain_pose``, ``plain_seed``), and only then
+``ArmModel.seed`` would pass through unchanged (``plain_pose``, ``plain_seed``), and only then
 solve. Anything else returns False at once, and the caller takes the general path, which
 parses, clips or refuses with the reason.
 """
@@ -57,7 +57,7 @@ def plain_pose(H):
 @njit(cache=True, nogil=True)
 def plain_seed(q, lo, hi):
     """True when every value of ``q`` is finite and within [lo - tol, hi + tol]: the seeds
-    ``Arm.seed`` returns unchanged."""
+    ``ArmModel.seed`` returns unchanged."""
     for v in q:  # an unbounded (continuous) joint's limits let inf through
         if not math.isfinite(v):
             return False

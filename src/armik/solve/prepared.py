@@ -9,7 +9,7 @@ runner says ``takes_xy``, also a float64 array of 2, (x, y) in the arm's plane, 
 the base frame as the parser places it and handed to the runner as given), and ``q0`` None
 or a float64 array of one value per joint, the plan hands the 4x4 to the solver's compiled
 runner (``SolverSpec.prepare_pose``), which checks in compiled code that the pose and seed
-are what the parser and ``Arm.seed`` would pass unchanged, then solves. Pinocchio computes
+are what the parser and ``ArmModel.seed`` would pass unchanged, then solves. Pinocchio computes
 the answer's tip placement and compiled code measures it in place
 (``armik.kernel.measure.placement_check``), as ``verify.measure.measure`` does; a target
 with a region (bounds, a cone) on a numeric solver is measured by ``armik.verify.region``,
@@ -316,7 +316,7 @@ class Plan:
 
 def _seed_copy(q0: object, shape: tuple) -> np.ndarray | None:
     """A contiguous float64 copy of a seed spelled another plain way (a list or tuple of
-    Python numbers, a strided float64 row: what ``Arm.seed`` reads to the same values),
+    Python numbers, a strided float64 row: what ``ArmModel.seed`` reads to the same values),
     else None. The runner still checks the values (finite, within the limits)."""
     kind = type(q0)
     if kind is list or kind is tuple:

@@ -1,7 +1,7 @@
 """Reachability maps: per voxel of the workspace, the fraction of tool orientations reached.
 
 The workspace is a grid of cubic voxels (side ``resolution``, m) around the first joint,
-over the ball of the arm's reach bound (``Arm.reach``). At every voxel centre the same
+over the ball of the arm's reach bound (``ArmModel.reach``). At every voxel centre the same
 ``orientations`` tool orientations (uniformly distributed rotations, seeded) are solved
 with ``solve_batch``; a voxel's value is the fraction of them that were solved and
 verified. This is the reachability part of a capability map (Zacharias et al., 2007):

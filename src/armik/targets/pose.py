@@ -17,17 +17,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
 
 from armik.errors import TargetError
 from armik.frozen import frozen
+from armik.model.arm_model import model_of
 from armik.tolerances import MAX_POSITION, ROTATION_TOL
-
-if TYPE_CHECKING:
-    from armik.model.arm_model import ArmModel
 
 
 @dataclass(frozen=True, eq=False)
@@ -52,8 +50,9 @@ class Target:
         return pin.SE3(R, self.position)
 
 
-def parse_target(value: object, arm: ArmModel | None = None) -> Target:
-    """Parse any accepted form into a ``Target``; raises ``TargetError`` naming the problem."""
+def parse_target(value: object, arm: object = None) -> Target:
+    """Parse any accepted form into a ``Target``; raises ``TargetError`` naming the problem.
+    ``arm`` (an ``Arm`` or its model) places a 2-vector on a planar arm's plane."""
     if isinstance(value, Target):
         return value
     if isinstance(value, pin.SE3):
@@ -260,7 +259,8 @@ def _pose(R: np.ndarray, p: np.ndarray) -> Target:
     return _target(p, R)
 
 
-def _planar(xy: np.ndarray, arm: ArmModel | None) -> Target:
+def _planar(xy: np.ndarray, arm: object) -> Target:
+    arm = None if arm is None else model_of(arm)  # armik.parse_target takes an Arm too
     plane = None if arm is None else arm.plane
     if plane is None:
         name = "this arm" if arm is None else f"arm {arm.name!r}"

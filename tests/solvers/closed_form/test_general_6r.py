@@ -55,7 +55,7 @@ def arms():
 
 def test_any_6r_arm_is_classified_and_auto_picks_it_last(arms):
     for arm in arms[0]:
-        geo = general_6r.classify(arm)
+        geo = general_6r.classify(arm.kinematics)
         assert not isinstance(geo, str), geo
         assert geo.description == "general 6R (2-D search)"
         T = arm.fk(arm.middle)
@@ -71,7 +71,7 @@ def test_any_6r_arm_is_classified_and_auto_picks_it_last(arms):
 
 
 def test_not_a_6r_arm_is_refused_with_the_reason():
-    why = general_6r.classify(armik.load("panda"))
+    why = general_6r.classify(armik.load("panda").kinematics)
     assert why == "the chain has 7 joints, this class needs 6"
     with pytest.raises(armik.errors.SolverError, match="7 joints"):
         armik.load("panda").solve(armik.load("panda").fk(np.zeros(7)), solver="general_6r")

@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 import armik
 from armik.solvers.closed_form import planar2r
 
-from ...conftest import TOL, arm, two_link_urdf, write_urdf
+from ...conftest import TOL, arm, model, two_link_urdf, write_urdf
 
 L1, L2 = 1.0, 0.8
 
@@ -134,8 +134,8 @@ def test_rotated_and_translated_arm(tmp_path, origin, rpy, rng):
     a = armik.load(
         write_urdf(tmp_path, two_link_urdf(origin=origin, rpy=rpy, tool="0.1 0.05 0.2")), tip="tip"
     )
-    assert planar2r.applies(a) is None
-    geo = planar2r.geometry(a)
+    assert planar2r.applies(a.kinematics) is None
+    geo = planar2r.geometry(a.kinematics)
     assert geo.l1 == pytest.approx(1.0) and geo.l2 == pytest.approx(math.hypot(0.9, 0.05))
     for _ in range(20):
         q = a.random_q(rng)
@@ -168,8 +168,8 @@ def test_full_pose_orientation_consistency():
 
 def test_double_pendulum_axes_along_x(rng):
     a = arm("double_pendulum")
-    assert planar2r.applies(a) is None
-    np.testing.assert_allclose(np.abs(a.plane.normal), [1, 0, 0], atol=1e-12)
+    assert planar2r.applies(a.kinematics) is None
+    np.testing.assert_allclose(np.abs(a.kinematics.plane.normal), [1, 0, 0], atol=1e-12)
     for _ in range(20):
         q = a.random_q(rng)
         results = a.solve_all(a.fk(q).translation)
@@ -179,13 +179,13 @@ def test_double_pendulum_axes_along_x(rng):
 
 def test_zero_length_link_is_refused_with_reason(tmp_path):
     a = armik.load(write_urdf(tmp_path, two_link_urdf(l2=0.0)), tip="tip")
-    assert "zero length" in planar2r.applies(a)
+    assert "zero length" in planar2r.applies(a.kinematics)
     r = a.solve([1.0, 0.0, 0.0])  # auto falls back to a numeric solver
     assert r.solver == "dls" and r.success
 
 
 def test_vectorised_matches_scalar(rng):
-    a = arm("planar_2link")
+    a = model("planar_2link")
     xy = rng.uniform(-2.0, 2.0, size=(500, 2))
     q_up, q_down, ok = planar2r.solve_many(a, xy)
     r = np.linalg.norm(xy, axis=1)

@@ -30,7 +30,7 @@ L1, L2 = 1.0, 0.8  # planar_2link
 
 def _both(a: armik.Arm, target, q0, **kw):
     """(prepared, general) results of ``solve`` and of ``solve_all``, checked equal."""
-    general_target = parse_target(target, a)
+    general_target = parse_target(target, a.kinematics)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # a q0 outside the limits: clipped, said on both
         fast = a.solve(target, q0=q0, **kw)
@@ -77,7 +77,7 @@ def test_the_plan_is_taken_for_xy_positions_and_poses():
     a = armik.load("planar_2link")  # a fresh arm: its own plans
     opts, key, _ = _options({})
     for position in (False, True):
-        plan = plan_for(a, "auto", key, opts, position)
+        plan = plan_for(a.kinematics, "auto", key, opts, position)
         assert isinstance(plan, Plan) and plan.solver == "planar2r"
     T = a.fk(np.array([0.4, 1.1]))
     for target in (T.translation[:2].copy(), T.translation.copy(), T, T.homogeneous):
@@ -158,7 +158,7 @@ def test_rotated_and_translated_arm(tmp_path, origin, rpy, tool):
     rng = np.random.default_rng(14)
     for _ in range(30):
         T = a.fk(a.random_q(rng))
-        xy = a.plane.to_2d(T.translation)
+        xy = a.kinematics.plane.to_2d(T.translation)
         for target in (xy, T.translation.copy(), T, T.homogeneous):
             for q0 in (None, a.random_q(rng)):
                 fast, _ = _both(a, target, q0)
@@ -178,7 +178,7 @@ def test_a_refused_answer_falls_back_to_every_row():
     # every row goes to the general verdict, which verifies the other branch.
     a = armik.load("planar_2link")
     opts, key, _ = _options({})
-    plan = plan_for(a, "auto", key, opts, position=True)
+    plan = plan_for(a.kinematics, "auto", key, opts, position=True)
     honest = plan.run_pose
 
     def lying(H, q0, seed, every=False, xy=None):
@@ -196,7 +196,7 @@ def test_a_refused_answer_falls_back_to_every_row():
     r = a.solve(xy, q0=q0)
     assert r.success and r.branch == "elbow-up"  # the honest row, verified
     assert "reason" in r.__dict__  # the general verdict's
-    assert_same_result(r, a.solve(parse_target(xy, a), q0=q0))
+    assert_same_result(r, a.solve(parse_target(xy, a.kinematics), q0=q0))
 
 
 def test_other_spellings_take_the_general_path():

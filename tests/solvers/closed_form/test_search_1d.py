@@ -28,7 +28,7 @@ def test_random_arms_are_solved_completely(kind):
     checked = 0
     for _ in range(4):
         a = load_arm(kind, rng)
-        geo = FAMILIES[kind].classify(a)
+        geo = FAMILIES[kind].classify(a.kinematics)
         assert not isinstance(geo, str), geo
         T = a.fk(a.random_q(rng))
         assert a.solve_all(T)[0].solver == kind  # auto takes the search for every solution
@@ -52,9 +52,9 @@ def test_degenerate_layouts_are_left_to_their_closed_forms():
     """With a spherical wrist, or axis 4 parallel to axes 2 and 3, the search over q1 would
     meet a degenerate SP6: refused, naming the closed form that solves the arm."""
     rng = np.random.default_rng(39)
-    why = two_parallel.classify(load_arm("parallel_23", rng))
+    why = two_parallel.classify(load_arm("parallel_23", rng).kinematics)
     assert isinstance(why, str) and "spherical_general solves" in why
-    why = two_parallel.classify(load_arm("three_parallel_free", rng))
+    why = two_parallel.classify(load_arm("three_parallel_free", rng).kinematics)
     assert isinstance(why, str) and "three_parallel_general solves" in why
 
 
@@ -77,7 +77,7 @@ def test_near_misses_are_refused_with_their_number():
     axis = np.cross(h[2], [0.0, 0.0, 1.0])
     h[2] = pin.exp3(3e-6 * axis / np.linalg.norm(axis)) @ h[2]
     a = load_arm("two_parallel", rng, c, h)
-    why = two_parallel.classify(a)
+    why = two_parallel.classify(a.kinematics)
     assert isinstance(why, str) and "3e-06 rad apart (tolerance 1e-09 rad)" in why, why
     with pytest.raises(armik.SolverError, match="3e-06 rad apart"):
         a.solve(a.fk(np.zeros(6)), solver="two_parallel")
@@ -86,7 +86,7 @@ def test_near_misses_are_refused_with_their_number():
     across = np.cross(h[4], h[5])
     c[5] = c[5] + 4e-7 * across / np.linalg.norm(across)  # axis 6 moved off axis 5
     a = load_arm("two_intersecting", rng, c, h)
-    why = two_intersecting.classify(a)
+    why = two_intersecting.classify(a.kinematics)
     # the measure: how far the point nearest both lines is from each, half their gap
     assert isinstance(why, str) and "miss by 2e-07 m (tolerance 1e-09 m)" in why, why
 
@@ -94,11 +94,11 @@ def test_near_misses_are_refused_with_their_number():
 def test_other_families_are_refused():
     rng = np.random.default_rng(36)
     general = load_arm("general", rng)
-    assert "axes 2 and 3 are not parallel" in two_parallel.classify(general)
-    assert "axes 5 and 6 do not meet" in two_intersecting.classify(general)
+    assert "axes 2 and 3 are not parallel" in two_parallel.classify(general.kinematics)
+    assert "axes 5 and 6 do not meet" in two_intersecting.classify(general.kinematics)
     r = general.solve_all(general.fk(np.zeros(6)))[0]
     assert r.success and r.solver == "general_6r"  # the 2-D search takes what no family fits
-    assert "7 joints" in two_parallel.classify(armik.load("panda"))
+    assert "7 joints" in two_parallel.classify(armik.load("panda").kinematics)
 
 
 @pytest.mark.parametrize("kind", list(FAMILIES))
@@ -130,7 +130,7 @@ def test_a_spherical_shoulder_is_refused_by_the_search_over_q4():
     """The Panda with joint 7 locked: axes 1, 2, 3 meet and axes 5, 6 meet, but SP5 has no
     shoulder offsets to work on; refused with the reason, auto falls back to the 2-D search."""
     a = armik.load("panda", locked={"panda_joint7": 0.3})
-    why = two_intersecting.classify(a)
+    why = two_intersecting.classify(a.kinematics)
     assert isinstance(why, str) and "spherical shoulder" in why, why
     r = a.solve_all(a.fk(a.middle))[0]
     assert r.success and r.solver == "general_6r"

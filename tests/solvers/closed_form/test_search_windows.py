@@ -21,7 +21,7 @@ IRB140 = os.path.join(
 
 @pytest.fixture(scope="module")
 def chain():
-    return two_parallel.classify(armik.load(IRB140, tip="tool0"))
+    return two_parallel.classify(armik.load(IRB140, tip="tool0").kinematics)
 
 
 def _pieces(g, q):

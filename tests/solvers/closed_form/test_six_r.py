@@ -195,7 +195,7 @@ def test_elbow_stretched_is_singular_and_branches_merge():
 
 def test_shoulder_singularity_keeps_q1_at_q0():
     a = arm("abb_irb120")
-    geo = spherical_wrist.classify(a)
+    geo = spherical_wrist.classify(a.kinematics)
     R = pin.rpy.rpyToMatrix(0.1, 2.5, 0.3)
     wrist = np.array([0.0, 0.0, 0.8])  # on axis 1
     p = wrist + R @ geo.R_tip0.T @ geo.p[6]
@@ -210,13 +210,13 @@ def test_unreachable_says_why_and_gives_a_configuration():
     far = a.solve(pin.SE3(R, np.array([2.0, 0.0, 0.5])))
     assert not far.success and far.status is Status.UNREACHABLE
     assert "too far" in far.reason and np.isfinite(far.q).all()
-    geo = spherical_wrist.classify(a)
+    geo = spherical_wrist.classify(a.kinematics)
     p = np.array([0.02, 0.0, 0.29]) + R @ geo.R_tip0.T @ geo.p[6]  # wrist near axis 2
     close = a.solve(pin.SE3(R, p))
     assert not close.success and "too close" in close.reason and np.isfinite(close.q).all()
 
     u = arm("ur5")
-    geo = three_parallel.classify(u)
+    geo = three_parallel.classify(u.kinematics)
     R = pin.rpy.rpyToMatrix(0.3, 0.2, 0.1)
     p = np.array([0.01, 0.0, 0.4]) + geo.p[0] + R @ geo.R_tip0.T @ geo.p[6]
     inside = u.solve(pin.SE3(R, p))
@@ -270,12 +270,12 @@ def test_run_batch_matches_solve(rng):
             np.array([T.translation for T in poses]), np.array([T.rotation for T in poses])
         )
         q0 = np.clip(qs + 0.2, a.lower, a.upper)
-        out = family.SPEC.run_batch(a, targets, q0, Options())
+        out = family.SPEC.run_batch(a.kinematics, targets, q0, Options())
         assert out.q.shape == (30, 6) and (out.claim == Status.CONVERGED.code).all()
         for T, q, q0i in zip(poses, out.q, q0):
             assert np.abs(q - a.solve(T, q0=q0i).q).max() < 1e-9
         with pytest.raises(SolverError, match="full poses"):
-            family.SPEC.run_batch(a, TargetBatch(targets.positions), q0, Options())
+            family.SPEC.run_batch(a.kinematics, TargetBatch(targets.positions), q0, Options())
 
 
 @pytest.mark.parametrize(
@@ -305,7 +305,7 @@ def test_base_frame_limits_and_pickling(tmp_path):
 
     path = write_urdf(tmp_path, six_r(UR5, **MOUNTED, **TOOLED))
     a = armik.load(path, base="l0", tip="tool")
-    assert three_parallel.classify(a).kind == "three_parallel"
+    assert three_parallel.classify(a.kinematics).kind == "three_parallel"
     q = np.array([0.3, -0.9, 1.1, -0.4, 0.7, 0.2])
     r = a.solve(a.fk(q), q0=q)
     assert r.solver == "three_parallel" and np.abs(r.q - q).max() < 1e-9

@@ -23,7 +23,8 @@ def test_random_arms_are_solved_completely(kind, tmp_path):
     solver = "three_parallel" if kind == "three_parallel" else "spherical"
     for k in range(6):
         a = load_arm(kind, rng)
-        geo = spherical_wrist.classify(a) if solver == "spherical" else three_parallel.classify(a)
+        family = spherical_wrist if solver == "spherical" else three_parallel
+        geo = family.classify(a.kinematics)
         assert not isinstance(geo, str), geo
         if solver == "spherical":
             assert geo.variant == kind
@@ -53,7 +54,7 @@ def test_compiled_equivalents_match_arm_nearest_equivalent():
     for _ in range(300):
         Q = rng.uniform(-7, 7, size=(3, 6))
         q0 = a.random_q(rng)
-        expected = [a.nearest_equivalent(row, q0) for row in Q]
+        expected = [a.kinematics.nearest_equivalent(row, q0) for row in Q]
         nearest_equivalents(Q, 3, q0, a.lower, a.upper)
         assert np.array_equal(Q, np.array(expected))
 
@@ -74,7 +75,7 @@ def test_orientation_a_skew_wrist_cannot_take(tmp_path):
     a = armik.load(
         write_urdf(tmp_path, six_r(joints, tool_xyz="0.1 0 0")), base="world", tip="tool"
     )
-    assert spherical_wrist.classify(a).variant == "parallel_23"
+    assert spherical_wrist.classify(a.kinematics).variant == "parallel_23"
     rng = np.random.default_rng(9)
     refused = 0
     for _ in range(40):

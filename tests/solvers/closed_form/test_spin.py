@@ -11,13 +11,14 @@ import pinocchio as pin
 import pytest
 
 import armik
+from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.solvers import registry
 from armik.solvers.closed_form import spin
 from armik.status import Status
 from armik.targets.pose import parse_target
 
-from ...conftest import arm
+from ...conftest import arm, model
 
 FREE = (0.0, 0.0, 0.0, 0.0, 0.0, math.inf)
 
@@ -26,8 +27,9 @@ def turned(T: pin.SE3, theta: float) -> pin.SE3:
     return T * pin.SE3(pin.exp3(np.array([0.0, 0.0, theta])), np.zeros(3))
 
 
-def brute_force(a, T, q0, half: float, n: int = 3601) -> dict:
-    """Each branch's smallest distance to q0 over n spins in [-half, half]."""
+def brute_force(a: ArmModel, T, q0, half: float, n: int = 3601) -> dict:
+    """Each branch's smallest distance to q0 over n spins in [-half, half] (on the arm
+    model ``a``)."""
     family = spin.family(a, parse_target(T, a))
     best: dict = {}
     for t in np.linspace(-half, half, n):
@@ -52,7 +54,7 @@ def test_the_sweep_finds_the_nearest_answer_over_the_range(robot):
         q0 = a.random_q(rng)
         r = a.solve(T, q0=q0, bounds=FREE, solver="spin")
         assert r.success and r.solver == "spin", r.reason
-        brute = brute_force(a, T, q0, math.pi)
+        brute = brute_force(a.kinematics, T, q0, math.pi)
         d = float(np.linalg.norm(r.q - q0))
         assert d <= min(brute.values()) + 1e-9
         assert d >= min(brute.values()) - 2e-3  # the grid of 3601 is 1.7 mrad apart
@@ -72,7 +74,7 @@ def test_a_bounded_spin_stays_within_its_bound():
     assert r.success
     spin_angle = pin.log3(T.rotation.T @ a.fk(r.q).rotation)
     assert abs(spin_angle[2]) <= 0.3 + 1e-9 and np.abs(spin_angle[:2]).max() < 1e-9
-    brute = brute_force(a, T, q0, 0.3, n=601)
+    brute = brute_force(a.kinematics, T, q0, 0.3, n=601)
     assert float(np.linalg.norm(r.q - q0)) <= min(brute.values()) + 1e-9
 
 
@@ -85,12 +87,12 @@ def test_auto_takes_the_sweep_for_every_solution_only():
 
 
 def test_the_sweep_says_when_it_does_not_apply():
-    a = arm("ur5")
+    a = model("ur5")
     box = (0.005, 0.005, 0.005, 0.05, 0.05, 0.05)
     why = registry.why_not("spin", a, None, spin_options(box))
     assert why and "free one rotation component" in why
     assert "no complete closed form" in registry.why_not(
-        "spin", arm("panda"), None, spin_options(FREE)
+        "spin", model("panda"), None, spin_options(FREE)
     )
 
 

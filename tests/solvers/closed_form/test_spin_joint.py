@@ -16,7 +16,7 @@ from armik.solvers import registry
 from armik.solvers.closed_form import spin_joint
 from armik.status import Status
 
-from ...conftest import arm
+from ...conftest import arm, model
 from .test_spin import FREE, brute_force, spin_options, turned
 
 
@@ -38,7 +38,7 @@ def test_every_branch_nearest_q0_over_the_whole_spin(robot):
         r = a.solve(T, q0=q0, bounds=FREE)
         assert r.success and r.solver == "spin_joint", r.reason
         spun_about_z(T, a.fk(r.q))
-        brute = brute_force(a, T, q0, math.pi, n=721)
+        brute = brute_force(a.kinematics, T, q0, math.pi, n=721)
         assert float(np.linalg.norm(r.q - q0)) <= min(brute.values()) + 1e-9
         every = a.solve_all(T, q0=q0, bounds=FREE)
         assert {x.branch for x in every} == set(brute)
@@ -63,9 +63,9 @@ def test_a_bounded_spin_and_the_limits():
 
 def test_a_tool_off_the_last_axis_goes_to_the_sweep():
     a = armik.load("ur5", tip_offset=(0.05, 0.0, 0.1))
-    why = registry.why_not("spin_joint", a, None, spin_options(FREE))
+    why = registry.why_not("spin_joint", a.kinematics, None, spin_options(FREE))
     assert why and "does not turn the tool" in why
     T = a.fk(a.random_q(np.random.default_rng(2)))
     assert a.solve(T, bounds=FREE).solver == "dls"
     assert a.solve_all(T, bounds=FREE)[0].solver == "spin"
-    assert spin_joint.aligned(arm("ur5"), 2) and not spin_joint.aligned(arm("ur5"), 0)
+    assert spin_joint.aligned(model("ur5"), 2) and not spin_joint.aligned(model("ur5"), 0)

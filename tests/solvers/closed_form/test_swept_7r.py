@@ -11,17 +11,17 @@ import armik
 from armik.solvers.closed_form import families
 from armik.solvers.closed_form import swept_7r as swept
 
-from ...conftest import arm
+from ...conftest import arm, model
 
 
 def test_which_arms_it_applies_to():
-    assert swept.applies(arm("panda")) is None  # spherical shoulder, joints 5 and 6 meet
-    assert "needs 7" in swept.applies(arm("ur5"))
-    why = swept.applies(arm("xarm7"))  # its shoulder misses by a rounding of its URDF
+    assert swept.applies(model("panda")) is None  # spherical shoulder, joints 5 and 6 meet
+    assert "needs 7" in swept.applies(model("ur5"))
+    why = swept.applies(model("xarm7"))  # its shoulder misses by a rounding of its URDF
     assert "do not meet" in why and "m" in why
     T = arm("panda").fk(arm("panda").middle)
     assert arm("panda").solve(T).solver == "dls"  # not chosen by auto
-    classes = families.classify(arm("panda"))  # what armik info prints
+    classes = families.classify(model("panda"))  # what armik info prints
     assert isinstance(classes["swept_7r"], swept.Swept)
     assert "joints 6 to 1" in classes["swept_7r"].description
 

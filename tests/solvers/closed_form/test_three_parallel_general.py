@@ -19,7 +19,7 @@ def test_random_arms_are_solved_completely(kind):
     rng = np.random.default_rng({"three_parallel_free": 21, "three_parallel": 22}[kind])
     for _ in range(4 if kind == "three_parallel_free" else 2):
         a = load_arm(kind, rng)
-        geo = three_parallel_general.classify(a)
+        geo = three_parallel_general.classify(a.kinematics)
         assert not isinstance(geo, str), geo
         assert check_round_trips(a, "three_parallel_general", rng, 10) >= 7
 
@@ -41,7 +41,7 @@ def test_near_miss_parallel_axes_are_refused_with_their_number():
     )
     h[3] = tilt @ h[3]
     a = load_arm("three_parallel_free", rng, c, h)
-    why = three_parallel_general.classify(a)
+    why = three_parallel_general.classify(a.kinematics)
     assert isinstance(why, str) and "axes 2 and 4 are 2e-06 rad apart" in why, why
     assert "tolerance 1e-09 rad" in why
     with pytest.raises(armik.SolverError, match="2e-06 rad apart"):
@@ -50,9 +50,9 @@ def test_near_miss_parallel_axes_are_refused_with_their_number():
 
 def test_other_families_are_refused():
     rng = np.random.default_rng(25)
-    why = three_parallel_general.classify(load_arm("two_parallel", rng))
+    why = three_parallel_general.classify(load_arm("two_parallel", rng).kinematics)
     assert isinstance(why, str) and "axes 2, 3, 4 are not parallel" in why
-    assert "7 joints" in three_parallel_general.classify(armik.load("panda"))
+    assert "7 joints" in three_parallel_general.classify(armik.load("panda").kinematics)
 
 
 def test_out_of_reach_is_not_a_success():

@@ -17,7 +17,7 @@ from armik.solvers.numeric import driver as numeric
 from armik.solvers.numeric import qp
 from armik.targets.pose import parse_target
 
-from ...conftest import SPATIAL, TOL, arm
+from ...conftest import SPATIAL, TOL, arm, model
 
 NUMERIC = ["dls", "qp"]
 
@@ -40,7 +40,7 @@ def test_round_trip(name, solver):
 
 
 def test_frame_jacobian_against_finite_differences(rng):
-    a = arm("kinova")  # continuous joints: steps through pin.integrate
+    a = model("kinova")  # continuous joints: steps through pin.integrate
     for _ in range(5):
         q = a.random_q(rng)
         J = a.jacobian(q)  # LOCAL
@@ -57,7 +57,7 @@ def test_frame_jacobian_against_finite_differences(rng):
 
 
 def test_error_jacobian_against_finite_differences(rng):
-    a = arm("panda")
+    a = model("panda")
     target = parse_target(a.fk(a.random_q(rng)))
     pb = numeric.Problem.build(a, target, a.middle, Options())
     qp_ = a.to_pin(a.random_q(rng))
@@ -92,7 +92,7 @@ def test_qp_stays_inside_limits_near_limits():
 
 
 def test_qp_problem_has_the_expected_bounds(rng):
-    a = arm("panda")
+    a = model("panda")
     pb = numeric.Problem.build(a, parse_target(a.fk(a.random_q(rng))), a.middle, Options())
     q = a.random_q(rng)
     s = numeric.evaluate(pb, a.to_pin(q))
@@ -157,8 +157,8 @@ def test_out_of_workspace_is_a_result(name):
 def test_not_converged_within_budget_is_honest():
     a = arm("panda")
     # within the reach bound (0.99 m from the shoulder) but beyond the real reach (~0.86 m)
-    p = a.first_joint_origin + np.array([0.95, 0.0, 0.0])
-    assert np.linalg.norm(p - a.first_joint_origin) < a.reach
+    p = a.kinematics.first_joint_origin + np.array([0.95, 0.0, 0.0])
+    assert np.linalg.norm(p - a.kinematics.first_joint_origin) < a.kinematics.reach
     r = a.solve(p, timeout=0.01, solver="dls")
     assert not r.success and r.status == "not_converged" and "best found" in r.reason
     assert r.position_error > 1e-6 or (r.orientation_error or 0) > 1e-6
@@ -257,7 +257,7 @@ def test_prismatic_solution(rng):
     q_true = a.random_q(rng)
     r = a.solve(a.fk(q_true).translation, q0=a.middle)
     assert r.success
-    i = a.joint_index("quill")
+    i = a.kinematics.joint_index("quill")
     assert a.lower[i] <= r.q[i] <= a.upper[i]
 
 
@@ -281,7 +281,7 @@ def test_unconverged_never_success(monkeypatch):
 
 
 def test_restart_seeds_cover_the_box_reproducibly():
-    a = arm("kinova")  # bounded and continuous joints
+    a = model("kinova")  # bounded and continuous joints
     s1 = numeric.RestartSeeds(a, 3)
     s2 = numeric.RestartSeeds(a, 3)
     pts = np.array([s1.next() for _ in range(600)])  # wraps around the 512-point table
@@ -311,7 +311,7 @@ def test_halton_table_is_the_radical_inverse():
 
 
 def test_restart_pick_is_the_candidate_nearest_the_target(rng):
-    a = arm("panda")
+    a = model("panda")
     target = parse_target(a.fk(a.random_q(rng)))
     pb = numeric.Problem.build(a, target, a.middle, Options())
     picker = numeric.RestartSeeds(a, 5)
@@ -324,7 +324,7 @@ def test_restart_pick_is_the_candidate_nearest_the_target(rng):
 
 
 def test_descent_stops_at_a_known_minimum(rng):
-    a = arm("ur5")
+    a = model("ur5")
     q_star = a.random_q(rng)
     pb = numeric.Problem.build(a, parse_target(a.fk(q_star)), a.middle, Options())
     start = a.to_pin(q_star + 0.01)

@@ -131,7 +131,7 @@ def elbow_code(p23, p34, h3, q3, wanted):
 @njit(cache=True)
 def nearest_equivalents(Q, n, q0, lower, upper):
     """Shift every angle of the first 6 columns of the first ``n`` rows of ``Q`` by a multiple
-    of 2 pi to the value nearest q0 within the limits (``Arm.nearest_equivalent``, compiled;
+    of 2 pi to the value nearest q0 within the limits (``ArmModel.nearest_equivalent``, compiled;
     up to ``SNAP`` outside a limit counts as on it); a joint with no such value keeps its
     value."""
     for r in range(n):
