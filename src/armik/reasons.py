@@ -50,6 +50,14 @@ def unreachable(distance: float, reach: float) -> str:
     return f"{beyond_reach(distance, reach)}; q is the seed, unchanged"
 
 
+def budget(timeout: float, iteration_budget: int | None, restarts: str) -> str:
+    """The budget a numeric solve ran out of, in words (``restarts``: "12 restarts", or
+    "at most 5 restarts" where the count is not kept)."""
+    if iteration_budget is not None:
+        return f"the iteration budget ({iteration_budget} iterations, {restarts})"
+    return f"the time budget ({timeout:g} s of CPU time, {restarts})"
+
+
 def not_converged(why: str, best: str) -> str:
     """No answer within ``why`` (the budget or the restart limit, in words); ``best``: the
     errors of the best attempt."""

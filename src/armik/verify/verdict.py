@@ -3,7 +3,8 @@ verified results. Success only when the measure holds, whatever the solver claim
 
 Single solves (``finish``), prepared solves (``armik.solve.prepared``, through
 ``claimed_verdict``, ``verdict`` and ``failure_rank``) and batches (``verdict_batch``) all
-decide here, in the words of ``armik.reasons``.
+decide here by one ``RULE`` (``status_of`` one answer, ``status_codes`` N), in the words of
+``armik.reasons``.
 """
 
 from __future__ import annotations
@@ -27,6 +28,31 @@ if TYPE_CHECKING:
     from armik.targets.batch import TargetBatch
 
 _CONVERGED = Status.CONVERGED.code
+_NOT_CONVERGED = Status.NOT_CONVERGED.code
+_JOINT_LIMITS = Status.JOINT_LIMITS.code
+
+# The verdict's one rule, for one answer and for N, indexed [claimed converged, measure
+# holds, within the limits]: a measure that holds is a success whatever the solver
+# claimed; a claimed success the measure refutes is joint_limits outside the limits, else
+# not_converged; any other claim stands (-1).
+RULE = np.full((2, 2, 2), -1, dtype=np.int8)
+RULE[:, 1, :] = _CONVERGED
+RULE[1, 0, 0] = _JOINT_LIMITS
+RULE[1, 0, 1] = _NOT_CONVERGED
+# one answer: nested lists of statuses (None: the claim stands), indexed without a call
+_DECIDED = [[[None if c < 0 else Status.from_code(c) for c in w] for w in o] for o in RULE.tolist()]
+
+
+def status_of(claim: Status, ok: bool, within: bool) -> Status:
+    """The status ``RULE`` gives one answer."""
+    decided = _DECIDED[claim is Status.CONVERGED][1 if ok else 0][1 if within else 0]
+    return claim if decided is None else decided
+
+
+def status_codes(claim: np.ndarray, ok: np.ndarray, within: np.ndarray) -> np.ndarray:
+    """The status codes ``RULE`` gives N answers (int8 claims, bool measures)."""
+    code = RULE[(claim == _CONVERGED).view(np.int8), ok.view(np.int8), within.view(np.int8)]
+    return np.where(code < 0, claim, code).astype(np.int8)
 
 
 def finish(
@@ -123,20 +149,17 @@ def limits_reason(arm: ArmModel, q: np.ndarray) -> str:
 
 def verdict(attempt: Attempt, m: Measure) -> dict:
     """The row of an answer from its measure: success only when the measure holds."""
-    if m.ok:
-        status, success = Status.CONVERGED, True
-        claim = attempt.reason if attempt.claim is Status.CONVERGED else None
-        reason = reasons.verified(claim, m.describe())
-    elif attempt.claim is Status.CONVERGED:
-        success = False
-        if m.violations:
-            status = Status.JOINT_LIMITS
-            reason = reasons.outside_limits(m.violations)
-        else:
-            status = Status.NOT_CONVERGED
-            reason = reasons.check_failed(m.describe())
+    claimed = attempt.claim is Status.CONVERGED
+    status = status_of(attempt.claim, m.ok, not m.violations)
+    success = status is Status.CONVERGED
+    if success:
+        reason = reasons.verified(attempt.reason if claimed else None, m.describe())
+    elif not claimed:
+        reason = attempt.reason
+    elif status is Status.JOINT_LIMITS:
+        reason = reasons.outside_limits(m.violations)
     else:
-        status, success, reason = attempt.claim, False, attempt.reason
+        reason = reasons.check_failed(m.describe())
     return dict(
         q=attempt.q,
         success=success,
@@ -168,11 +191,13 @@ def claimed_verdict(
     the limits, ``joint_limits`` outside the limits, else None (the general ``verdict``
     decides: ``check_failed``'s reason needs the target's region). The fields of an
     ``IKResult`` but ``solver`` and ``time``; the reason written on first read."""
-    if not inside:
-        return _claimed(got, False, Status.JOINT_LIMITS, pos, ori, limits_reason, (arm, got.q))
-    if pos <= tol_p and (ori is None or ori <= tol_r):
+    ok = inside and pos <= tol_p and (ori is None or ori <= tol_r)
+    status = _DECIDED[1][1 if ok else 0][1 if inside else 0]  # status_of a claimed answer
+    if status is Status.JOINT_LIMITS:
+        return _claimed(got, False, status, pos, ori, limits_reason, (arm, got.q))
+    if status is Status.CONVERGED:
         why = (got.reason, got.reason_args, pos, ori, tol_p, tol_r, region)
-        return _claimed(got, True, Status.CONVERGED, pos, ori, success_reason, why)
+        return _claimed(got, True, status, pos, ori, success_reason, why)
     return None
 
 
@@ -229,9 +254,8 @@ def _rank(row: dict, seed: np.ndarray) -> tuple:
 def verdict_batch(
     arm: ArmModel, attempts: AttemptBatch, targets: TargetBatch, opts: Options
 ) -> BatchResult:
-    """The verdict of a chunk of attempts, as ``verdict`` decides one: a verified answer is
-    a success whatever the solver claimed; a claimed success that fails the measure is
-    ``joint_limits`` (outside the limits) or ``not_converged``; any other claim stands."""
+    """The verdict of a chunk of attempts, by the ``RULE`` that decides one (``verdict``);
+    the rare failures get their reasons row by row."""
     n = len(targets)
     part = BatchResult.empty(n, arm.dof, solver="", time=0.0)
     part.q[:] = attempts.q
@@ -244,15 +268,7 @@ def verdict_batch(
     ok = m.ok
     claimed = claim == _CONVERGED
     part.success[:] = ok
-    part.status_code[:] = np.where(
-        ok,
-        _CONVERGED,
-        np.where(
-            claimed,
-            np.where(m.within_limits, Status.NOT_CONVERGED.code, Status.JOINT_LIMITS.code),
-            claim,
-        ),
-    )
+    part.status_code[:] = status_codes(claim, ok, m.within_limits)
     for i in np.flatnonzero(~ok).tolist():  # the rare failures get their reasons
         errors = reasons.measured(
             part.position_error[i],
@@ -268,12 +284,8 @@ def verdict_batch(
             distance = math.dist(targets.positions[i].tolist(), arm.first_joint_origin.tolist())
             part.reasons[i] = reasons.unreachable(distance, arm.reach)
         elif claim[i] == Status.NOT_CONVERGED.code:
-            budget = (
-                f"{opts.iteration_budget} iterations"
-                if getattr(opts, "iteration_budget", None) is not None
-                else f"{opts.timeout:g} s of CPU time"
-            )
-            why = f"the budget ({budget}, at most {opts.max_restarts} restarts)"
+            restarts = f"at most {opts.max_restarts} restarts"
+            why = reasons.budget(opts.timeout, opts.iteration_budget, restarts)
             part.reasons[i] = reasons.not_converged(why, errors)
         else:
             part.reasons[i] = f"{Status.from_code(claim[i]).value}: {errors}"

@@ -280,10 +280,8 @@ def _not_converged(opts: Options, sf: np.ndarray, out_of_budget: bool, restarts:
         why = "one descent from q0 (max_restarts=0: no restarts)"
     elif not out_of_budget:
         why = f"the restart limit (max_restarts={opts.max_restarts})"
-    elif opts.iteration_budget is not None:
-        why = f"the iteration budget ({opts.iteration_budget} iterations, {restarts} restarts)"
     else:
-        why = f"the time budget ({opts.timeout:g} s of CPU time, {restarts} restarts)"
+        why = reasons.budget(opts.timeout, opts.iteration_budget, f"{restarts} restarts")
     errors = f"position error {err[0]:.3g} m"
     if sf[3:6].any():  # some rotation weight
         errors += f", orientation error {err[1]:.3g} rad"
