@@ -18,7 +18,6 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from itertools import combinations
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import coal
 import numpy as np
@@ -27,14 +26,11 @@ import pinocchio as pin
 from armik.constraints.bounds import ordered_bounds
 from armik.constraints.shapes import Shape, check_obstacles, convex_hull
 from armik.errors import CollisionError
-from armik.model.arm_model import model_of
+from armik.model.arm_model import ArmModel, model_of
 from armik.model.catalogue import erd_share
 from armik.model.derived import Derived
 from armik.model.reduce import reduce_model
 from armik.tolerances import FIXED_OVERLAP_TOL
-
-if TYPE_CHECKING:
-    from armik.model.arm_model import ArmModel
 
 Pair = tuple[str, str]
 

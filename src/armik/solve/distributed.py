@@ -32,16 +32,13 @@ import numpy as np
 from armik.batch_result import BatchResult
 from armik.errors import ArmikError, InputError, OptionError
 from armik.frozen import frozen
-from armik.model.arm_model import model_of
+from armik.model.arm_model import ArmModel, model_of
 from armik.options import Options
 from armik.solve.batch import batch_seeds
 from armik.solve.batch import solve_batch as local_solve_batch
 from armik.solve.progress import ProgressArg, make_progress
 from armik.solvers import registry
 from armik.targets.batch import TargetBatch, parse_targets
-
-if TYPE_CHECKING:
-    from armik.model.arm_model import ArmModel
 
 DEFAULT_CHUNK = 2048  # targets per task: a task should take tens of milliseconds at least
 
