@@ -10,7 +10,10 @@ import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, overload
+from typing import TYPE_CHECKING, Any, Generic, TypeVar, overload
+
+import numpy as np
+import pinocchio as pin
 
 from armik.arms import Arms
 from armik.constraints import collision
@@ -18,7 +21,7 @@ from armik.errors import ArmikWarning, FrameError, JointError, OptionError, URDF
 from armik.model.arm_model import ArmModel
 from armik.model.catalogue import CATALOGUE, entry
 from armik.model.reduce import check_locked, check_offset, check_package_dirs
-from armik.model.urdf import read_urdf, read_urdf_string
+from armik.model.urdf import URDFInfo, read_urdf, read_urdf_string
 from armik.solve.batch import solve_batch
 from armik.solve.path import solve_path
 from armik.solve.single import solve_one
@@ -26,13 +29,11 @@ from armik.solvers.registry import validate_name
 from armik.tolerances import LIMIT_TOL
 
 if TYPE_CHECKING:
-    import numpy as np
-    import pinocchio as pin
-
     from armik.batch_result import BatchResult
     from armik.constraints.collision import Pair
-    from armik.model.urdf import URDFInfo
     from armik.result import IKResult
+
+T = TypeVar("T")
 
 
 @overload
@@ -321,13 +322,17 @@ class Recipe:
         return arm
 
 
-class _OfModel:
-    """A read-only attribute of the arm's model, ``Arm.kinematics``."""
+class _OfModel(Generic[T]):
+    """A read-only attribute of the arm's model, ``Arm.kinematics``, of type ``T``."""
 
     def __set_name__(self, owner: type, name: str) -> None:
         self.name = name
 
-    def __get__(self, arm: Arm | None, owner: type | None = None) -> Any:
+    @overload
+    def __get__(self, arm: None, owner: type | None = None) -> _OfModel[T]: ...
+    @overload
+    def __get__(self, arm: Arm, owner: type | None = None) -> T: ...
+    def __get__(self, arm: Arm | None, owner: type | None = None) -> T | _OfModel[T]:
         return self if arm is None else getattr(arm.kinematics, self.name)
 
 
@@ -347,21 +352,21 @@ class Arm:
 
     __slots__ = ("kinematics",)
 
-    name = _OfModel()
-    source = _OfModel()
-    dof = _OfModel()
-    joint_names = _OfModel()
-    joint_types = _OfModel()
-    lower = _OfModel()
-    upper = _OfModel()
-    neutral = _OfModel()
-    middle = _OfModel()
-    base = _OfModel()
-    tip = _OfModel()
-    tip_reason = _OfModel()
-    locked = _OfModel()
-    info = _OfModel()
-    model = _OfModel()
+    name = _OfModel[str]()
+    source = _OfModel[str]()
+    dof = _OfModel[int]()
+    joint_names = _OfModel[list[str]]()
+    joint_types = _OfModel[list[str]]()
+    lower = _OfModel[np.ndarray]()
+    upper = _OfModel[np.ndarray]()
+    neutral = _OfModel[np.ndarray]()
+    middle = _OfModel[np.ndarray]()
+    base = _OfModel[str]()
+    tip = _OfModel[str]()
+    tip_reason = _OfModel[str]()
+    locked = _OfModel[Mapping[str, float]]()
+    info = _OfModel[URDFInfo]()
+    model = _OfModel[pin.Model]()
 
     def __init__(self, kinematics: ArmModel) -> None:
         self.kinematics = kinematics
