@@ -116,7 +116,7 @@ def _held(arms: Arms, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: 
         success=False,
         status=Status.DISCONTINUOUS,
         reason=reasons.jump(
-            f"the answer found {move}: add waypoints here or raise max_joint_step",
+            reasons.jump_found(move),
             "that answer",
             f"position error {r.position_error:.3g} m",
         ),

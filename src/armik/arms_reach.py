@@ -54,10 +54,8 @@ def with_unreachable(
         if target.rotation is not None:
             ori = float(np.linalg.norm(pin.log3(target.rotation.T @ X.rotation)))
         errors[tip] = (float(np.linalg.norm(X.translation - target.position)), ori)
-    said = "; ".join(f"tip {tip!r}: {why}" for tip, why in beyond.items())
     others = [t for t in targets if t not in beyond]
-    if others:
-        said += f"; the other tips {others}, solved without it: {r.status.value} ({r.reason})"
+    said = reasons.tips_beyond(beyond, others, r.status.value, r.reason)
     kept = {t: errors[t] for t in targets if t in errors}
     oris = [o for _, o in kept.values() if o is not None]
     return dataclasses.replace(

@@ -123,8 +123,8 @@ class BatchResult:
         )
         text = reasons.verified(None, measured)
         if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):  # checked
-            clear = reasons.clear(self.closest_pair(i), float(self._distances[i]), self.margin)
-            text = f"{text}; {clear}"
+            pair, distance = self.closest_pair(i), float(self._distances[i])
+            text = reasons.and_clear(text, pair, distance, self.margin)
         return text
 
     def closest_pair(self, i: int) -> tuple[str, str] | None:

@@ -1,5 +1,7 @@
-"""Every reason text a result can carry, written once: the verdicts of single, prepared and
-batch solves and the solvers' own claims all word their reasons here."""
+"""Every reason text the pipeline gives a result, written once: the verdicts of single,
+prepared and batch solves, collisions, paths, held joints, task lists and several tips
+word their reasons here; solvers word their own claims, in these words where they share
+them (a target beyond reach, a budget run out)."""
 
 from __future__ import annotations
 
@@ -64,10 +66,88 @@ def not_converged(why: str, best: str) -> str:
     return f"no solution within {why}; best found: {best}; the target may be out of reach"
 
 
-def search_missed(solver: str, reason: str) -> str:
+def search_missed(search: str, search_reason: str, solver: str, reason: str) -> str:
     """What "auto" says when the search it chose for every solution verified none and it
-    went on to one answer from another solver (``reason``: the search's own)."""
-    return f"{solver} (a search) verified no solution ({reason})"
+    went on to one answer from ``solver`` (each with its own reason)."""
+    return f"{search} (a search) verified no solution ({search_reason}); {solver}: {reason}"
+
+
+def claimed(status: str, measured_text: str) -> str:
+    """A solver's claim other than converged, where it gave no words (a batch's row)."""
+    return f"{status}: {measured_text}"
+
+
+SELF_MOTION = "moved along the self-motion"  # a 7-joint answer moved for a preference
+SLID = "slid out of contact"  # a colliding answer moved off its contact on a path
+
+
+def held(joint: str, value: float, solver: str, reason: str) -> str:
+    """A 7-joint arm's answer with ``joint`` held at ``value`` (rad), the rest by ``solver``."""
+    return f"joint {joint!r} held at {value:.6g} rad; the other six by {solver}: {reason}"
+
+
+def tasks_hold(tol_p: float, tol_r: float, restarts: int) -> str:
+    """A task list's answer: every task within its region or tolerance."""
+    return (
+        f"every task holds (tol {tol_p:g} m, {tol_r:g} rad) after {restarts} restart(s); "
+        "verified by forward kinematics"
+    )
+
+
+def tasks_missed(restarts: int, iterations: int, closest: str) -> str:
+    """A task list with no answer found within the budget; ``closest``: each task's error."""
+    return (
+        f"no configuration meeting every task found within the budget ({restarts} "
+        f"restart(s), {iterations} iterations), which does not show the tasks "
+        f"impossible; closest: {closest}; q is that configuration"
+    )
+
+
+def on_centre(reason: str) -> str:
+    """A task list answered by its centre's compiled answer (``reason``: that answer's)."""
+    return f"{reason}; every task holds on it"
+
+
+def preferred(reason: str, score: str, value: float, moved: bool) -> str:
+    """A task list's answer with a preference, moved along the tasks' null space or not."""
+    how = (
+        "moved along the tasks' null space"
+        if moved
+        else "no move along the tasks' null space lowered it"
+    )
+    return f"{reason}; prefer={score}: score {value:.6g} ({how})"
+
+
+def tips_beyond(beyond: dict[str, str], others: list[str], status: str, reason: str) -> str:
+    """Several tips, some beyond reach (tip -> why), the ``others`` solved without them."""
+    said = "; ".join(f"tip {tip!r}: {why}" for tip, why in beyond.items())
+    if others:
+        said += f"; the other tips {others}, solved without it: {status} ({reason})"
+    return said
+
+
+def through(reason: str, poses: int) -> str:
+    """A waypoint reached continuously through ``poses`` intermediate poses."""
+    return f"{reason}; reached through {poses} intermediate poses"
+
+
+def jump_found(move: str) -> str:
+    """Why a waypoint is a jump: the answer found makes ``move`` (``moved``)."""
+    return f"the answer found {move}: add waypoints here or raise max_joint_step"
+
+
+def continuous_but(move: str) -> str:
+    """Why a waypoint is a jump: continuous motion reaches it, but in too large a step."""
+    return f"the motion to it is continuous but {move}: add waypoints here or raise max_joint_step"
+
+
+def not_continuous(move: str, poses: int) -> str:
+    """Why a waypoint is a jump: no continuous motion through ``poses`` poses reaches it."""
+    return (
+        f"the nearest answer found {move}, and no continuous motion through {poses} "
+        "intermediate poses reaches it (a singularity, a joint limit or a branch change on "
+        "the way)"
+    )
 
 
 def jump(why: str, answer: str, measured_text: str) -> str:
@@ -97,6 +177,11 @@ def in_collision(pair: tuple[str, str] | None, distance: float, margin: float) -
 def clear(pair: tuple[str, str] | None, distance: float, margin: float) -> str:
     """What a collision-checked success adds to its reason: the closest pair."""
     return f"collision-free: closest {_pair_text(pair, distance)} (margin {margin:g} m)"
+
+
+def and_clear(reason: str, pair: tuple[str, str] | None, distance: float, margin: float) -> str:
+    """``reason`` of a collision-checked success, with its closest pair (``clear``)."""
+    return f"{reason}; {clear(pair, distance, margin)}"
 
 
 def _tol_text(tol: float) -> str:

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from armik import reasons
 from armik.constraints.collision import checker
 from armik.frozen import frozen
 from armik.options import Options
@@ -171,9 +172,7 @@ def _slid(arm, target, row: dict, opts: Options, check, start_cpu: float, used: 
     deadline = math.inf if opts.iteration_budget is not None else start_cpu + opts.timeout
     tol = min(opts.tol_position, opts.tol_orientation) * 0.1
     q, taken = slide(arm, target, row["q"], check, opts.margin, steps, deadline, tol)
-    attempt = Attempt(
-        q=q, claim=Status.CONVERGED, reason="slid out of contact", iterations=used + taken
-    )
+    attempt = Attempt(q=q, claim=Status.CONVERGED, reason=reasons.SLID, iterations=used + taken)
     out = verdict(attempt, measure(arm, q, target, opts))
     return collision_verdict(out, check, opts.margin)
 

@@ -24,6 +24,7 @@ from typing import cast
 
 import numpy as np
 
+from armik import reasons
 from armik.errors import JointError, OptionError, listing
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
@@ -110,7 +111,7 @@ def solve_held(
     for r in found:
         q = np.insert(np.asarray(r.q, dtype=float), k, value)
         claim = Status.CONVERGED if r.success else r.status
-        reason = f"joint {name!r} held at {value:.6g} rad; the other six by {r.solver}: {r.reason}"
+        reason = reasons.held(name, value, r.solver, r.reason)
         attempts.append(
             Attempt(q=q, claim=claim, reason=reason, branch=r.branch, singular=r.singular)
         )

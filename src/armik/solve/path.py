@@ -219,9 +219,7 @@ def _near(
             q = np.array(s.q)
         if ok:
             if _jump(s.q, q_prev, step) <= 1.0:
-                return dataclasses.replace(
-                    s, reason=f"{s.reason}; reached through {k - 1} intermediate poses"
-                )
+                return dataclasses.replace(s, reason=reasons.through(s.reason, k - 1))
             continuous = s
             break
         k *= 2
@@ -232,15 +230,9 @@ def _near(
     start = "q0 (the start)" if first else "the previous waypoint's answer"
     move = reasons.moved(arm.joint_names[j], moved[j], unit, start, step[j])
     if continuous is not None:
-        why = (
-            f"the motion to it is continuous but {move}: add waypoints here or raise max_joint_step"
-        )
+        why = reasons.continuous_but(move)
     else:
-        why = (
-            f"the nearest answer found {move}, and no continuous motion through "
-            f"{MAX_SUBSTEPS - 1} intermediate poses reaches it (a singularity, a joint limit "
-            "or a branch change on the way)"
-        )
+        why = reasons.not_continuous(move, MAX_SUBSTEPS - 1)
     measured = f"position error {best.position_error:.3g} m"
     return dataclasses.replace(
         best,

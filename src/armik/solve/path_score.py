@@ -14,6 +14,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
+from armik import reasons
 from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.problem.scores import Score
@@ -53,7 +54,7 @@ def preferred(
         box = (np.maximum(arm.lower, q_prev - step), np.minimum(arm.upper, q_prev + step))
         moved = descend(arm, r.q, pose, score, reference, math.inf, steps=STEPS, box=box)
         if not np.array_equal(moved, r.q):
-            claim = Attempt(q=moved, claim=Status.CONVERGED, reason="moved along the self-motion")
+            claim = Attempt(q=moved, claim=Status.CONVERGED, reason=reasons.SELF_MOTION)
             candidates += finish(arm, r.solver, [claim], target, opts, q_prev, False, 0.0)
     within = [
         c for c in candidates if c.success and bool((np.abs(c.q - q_prev) <= step + 1e-12).all())

@@ -213,9 +213,7 @@ def _along_self_motion(
         elif left <= 0.0:
             break
         moved = descend(arm, q, pose, score, seed, left, ends=[c.q for c in claims])
-        claims.append(
-            Attempt(q=moved, claim=Status.CONVERGED, reason="moved along the self-motion")
-        )
+        claims.append(Attempt(q=moved, claim=Status.CONVERGED, reason=reasons.SELF_MOTION))
     return finish(arm, solver, claims, tgt, opts, seed, True, t0) if claims else []
 
 
@@ -253,8 +251,8 @@ def _beyond_search(arm, target, q0, solver: str, opts: Options, seed, results: l
     if registry.get(results[0].solver).complete:
         return results
     one = _general(arm, target, q0, solver, _with_seed(opts, seed), False, t0)[0]
-    searched = reasons.search_missed(results[0].solver, results[0].reason)
-    return [dataclasses.replace(one, reason=f"{searched}; {one.solver}: {one.reason}")]
+    said = reasons.search_missed(results[0].solver, results[0].reason, one.solver, one.reason)
+    return [dataclasses.replace(one, reason=said)]
 
 
 RIM_SAMPLES = 8  # points on a region's rim tried where a closed form misses its centre
@@ -278,7 +276,7 @@ def _clear_at_once(arm, target, q0, solver, opts: Options, key, seed, t0: float)
         return None, First(_row(r, distance, pair, opts.margin), started)
     clear = dataclasses.replace(
         r,
-        reason=f"{r.reason}; {reasons.clear(pair, distance, opts.margin)}",
+        reason=reasons.and_clear(r.reason, pair, distance, opts.margin),
         time=time.perf_counter() - t0,
         extra={"min_distance": distance, "closest_pair": pair},
     )

@@ -25,6 +25,7 @@ from collections.abc import Callable
 import numpy as np
 import pinocchio as pin
 
+from armik import reasons
 from armik.errors import OptionError, TargetError
 from armik.model.arm_model import ArmModel
 from armik.options import Options
@@ -34,6 +35,7 @@ from armik.problem.tasks import Axis, LookAt, Task, TaskError
 from armik.result import IKResult
 from armik.solve.nullspace import descend
 from armik.status import Status
+from armik.verify.verdict import status_of
 
 SOLVER = "tasks"
 LAMBDA0 = 1e-3  # the damping's start, relative to the largest diagonal of J^T J
@@ -268,7 +270,7 @@ def solve_tasks(
         if centre.success and all(e.within for e in errors):
             return dataclasses.replace(
                 centre,
-                reason=f"{centre.reason}; every task holds on it",
+                reason=reasons.on_centre(centre.reason),
                 time=time.perf_counter() - t0,
                 extra={**centre.extra, "task_errors": errors},
             )
@@ -312,14 +314,9 @@ def solve_tasks(
     if score is None or not r.success:
         return r
     value = score(arm, r.q, reference)
-    how = (
-        "moved along the tasks' null space"
-        if moved
-        else "no move along the tasks' null space lowered it"
-    )
     return dataclasses.replace(
         r,
-        reason=f"{r.reason}; prefer={score.name}: score {value:.6g} ({how})",
+        reason=reasons.preferred(r.reason, score.name, value, moved),
         extra={**r.extra, "score": value},
     )
 
@@ -344,22 +341,16 @@ def _scored(arm: ArmModel, tasks, ids, q, errors, score: Score, reference, opts:
 
 
 def _result(arm, tasks, q, errors, opts: Options, iterations, restarts, t0) -> IKResult:
-    success = all(e.within for e in errors) and arm.within_limits(q)
+    # the descent claims nothing: the verdict's rule on its measure alone
+    within = arm.within_limits(q)
+    status = status_of(Status.NOT_CONVERGED, all(e.within for e in errors) and within, within)
+    success = status is Status.CONVERGED
     positions = [e.position for e in errors if e.position is not None]
     orientations = [e.orientation for e in errors if e.orientation is not None]
     if success:
-        status = Status.CONVERGED
-        reason = (
-            f"every task holds (tol {opts.tol_position:g} m, {opts.tol_orientation:g} rad) "
-            f"after {restarts} restart(s); verified by forward kinematics"
-        )
+        reason = reasons.tasks_hold(opts.tol_position, opts.tol_orientation, restarts)
     else:
-        status = Status.NOT_CONVERGED
-        reason = (
-            f"no configuration meeting every task found within the budget ({restarts} "
-            f"restart(s), {iterations} iterations), which does not show the tasks "
-            f"impossible; closest: {_describe(tasks, errors)}; q is that configuration"
-        )
+        reason = reasons.tasks_missed(restarts, iterations, _describe(tasks, errors))
     return IKResult(
         q=q,
         success=success,

@@ -236,7 +236,7 @@ def distance_verdict(row: dict, distance: float, pair, margin: float) -> dict:
             row["success"], row["status"] = False, Status.COLLISION
             row["reason"] = reasons.in_collision(pair, distance, margin)
         else:
-            row["reason"] = f"{row['reason']}; {reasons.clear(pair, distance, margin)}"
+            row["reason"] = reasons.and_clear(row["reason"], pair, distance, margin)
     return row
 
 
@@ -288,5 +288,5 @@ def verdict_batch(
             why = reasons.budget(opts.timeout, opts.iteration_budget, restarts)
             part.reasons[i] = reasons.not_converged(why, errors)
         else:
-            part.reasons[i] = f"{Status.from_code(claim[i]).value}: {errors}"
+            part.reasons[i] = reasons.claimed(Status.from_code(claim[i]).value, errors)
     return part
