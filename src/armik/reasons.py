@@ -150,6 +150,31 @@ def not_continuous(move: str, poses: int) -> str:
     )
 
 
+def every_path_breaks(
+    every: bool, first: bool, hidden: bool, smallest: tuple[str, float, str, float] | None
+) -> str:
+    """Why a planned path's waypoint is a jump (``every``: over every solution, else the
+    answers found; ``first``: from q0): a jump hidden inside every step (``hidden``)
+    and/or the smallest possible one (joint, size, unit, max_joint_step)."""
+    before = "every solution of" if every else "every answer found at"
+    start = "q0 (the start)" if first else f"{before} the waypoint before"
+    why = []
+    if hidden:
+        why.append(
+            "every step within max_joint_step hides a jump between the waypoints (halfway, "
+            "no solution lies near the step's middle: a singularity, a joint limit or the "
+            "edge of the workspace crossed)"
+        )
+    if smallest is not None:
+        joint, size, unit, step = smallest
+        why.append(
+            f"the smallest {'other ' if hidden else ''}possible jump moves "
+            f"{joint} by {size:.3g} {unit} (max_joint_step {step:g})"
+        )
+    found = "" if every else "through the answers found "
+    return f"every path {found}breaks here: from {start}, {'; '.join(why)}"
+
+
 def jump(why: str, answer: str, measured_text: str) -> str:
     """A waypoint reached only by a move larger than ``max_joint_step`` (``discontinuous``):
     ``why`` in words, ``answer`` what q is, ``measured_text`` its measure."""

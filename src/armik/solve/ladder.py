@@ -293,31 +293,19 @@ def _reached(arm, Q, P, R, opts: Options) -> np.ndarray:
 
 
 def _broken(arm, r: IKResult, j: int, size: float, step: float, hidden: bool, first, every, out):
-    before = "every solution of" if every else "every answer found at"
-    start = "q0 (the start)" if first else f"{before} the waypoint before"
     measured = reasons.measured(
         r.position_error, r.orientation_error, out.tol_position, out.tol_orientation
     )
-    why = []
-    if hidden:
-        why.append(
-            "every step within max_joint_step hides a jump between the waypoints (halfway, "
-            "no solution lies near the step's middle: a singularity, a joint limit or the "
-            "edge of the workspace crossed)"
-        )
+    smallest = None
     if j >= 0:
         unit = "m" if arm.prismatic[j] else "rad"
-        why.append(
-            f"the smallest {'other ' if hidden else ''}possible jump moves "
-            f"{arm.joint_names[j]} by {size:.3g} {unit} (max_joint_step {step:g})"
-        )
+        smallest = (arm.joint_names[j], size, unit, step)
     return dataclasses.replace(
         r,
         success=False,
         status=Status.DISCONTINUOUS,
         reason=reasons.jump(
-            f"every path {'' if every else 'through the answers found '}breaks here: from "
-            f"{start}, {'; '.join(why)}",
+            reasons.every_path_breaks(every, first, hidden, smallest),
             "the planned answer",
             measured,
         ),
