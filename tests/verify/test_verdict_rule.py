@@ -30,3 +30,12 @@ def test_one_and_n_answers_follow_the_same_rule():
         assert code == expected(claim, o, w).code
     # numpy booleans, as a measure of numpy floats gives them, decide as Python's do
     assert status_of(Status.CONVERGED, np.False_, np.True_) is Status.NOT_CONVERGED
+
+
+def test_n_answers_take_any_array_of_flags():
+    claims = np.array([Status.CONVERGED.code] * 3 + [Status.UNREACHABLE.code], dtype=np.int8)
+    ok = np.array([1.0, 0.0, 0.0, 0.0])  # flags as numbers: read as booleans, not bytes
+    within = [True, True, False, True]
+    codes = status_codes(claims, ok, within).tolist()
+    expect = [Status.CONVERGED, Status.NOT_CONVERGED, Status.JOINT_LIMITS, Status.UNREACHABLE]
+    assert codes == [s.code for s in expect]

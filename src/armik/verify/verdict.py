@@ -51,8 +51,14 @@ def status_of(claim: Status, ok: bool, within: bool) -> Status:
 
 def status_codes(claim: np.ndarray, ok: np.ndarray, within: np.ndarray) -> np.ndarray:
     """The status codes ``RULE`` gives N answers (int8 claims, bool measures)."""
-    code = RULE[(claim == _CONVERGED).view(np.int8), ok.view(np.int8), within.view(np.int8)]
+    claim = np.asarray(claim, dtype=np.int8)
+    code = RULE[_index(claim == _CONVERGED), _index(ok), _index(within)]
     return np.where(code < 0, claim, code).astype(np.int8)
+
+
+def _index(flags: np.ndarray) -> np.ndarray:
+    """Booleans as 0/1 indices (a view where they are booleans already)."""
+    return np.asarray(flags, dtype=np.bool_).view(np.int8)
 
 
 def finish(
