@@ -45,6 +45,8 @@ def test_the_facade_reads_its_model():
     assert arm.within_limits(q) and not arm.within_limits(arm.upper + 0.1)
     with pytest.raises(AttributeError):
         arm.dof = 3  # read-only: the model says how many joints there are
+    assert repr(arm).startswith("Arm('panda', dof=6")
+    assert repr(kin).startswith("ArmModel('panda', dof=6")
 
 
 def test_variants_are_facades_of_new_models():

@@ -375,7 +375,7 @@ class Arm:
         return (Arm, (self.kinematics,))  # the model travels as its recipe
 
     def __repr__(self) -> str:
-        return repr(self.kinematics)
+        return "Arm" + repr(self.kinematics).removeprefix(type(self.kinematics).__name__)
 
     # -- kinematics -----------------------------------------------------------------------
 

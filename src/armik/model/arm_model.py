@@ -485,8 +485,8 @@ class ArmModel:
     def __repr__(self) -> str:
         offset = "" if self.tip_offset is None else f", tip_offset={self.tip_offset}"
         return (
-            f"Arm({self.name!r}, dof={self.dof}, base={self.base!r}, tip={self.tip!r}"
-            f"{offset}, joints={self.joint_names})"
+            f"{type(self).__name__}({self.name!r}, dof={self.dof}, base={self.base!r}, "
+            f"tip={self.tip!r}{offset}, joints={self.joint_names})"
         )
 
 
