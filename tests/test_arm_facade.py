@@ -82,6 +82,8 @@ def test_a_model_without_a_recipe_says_how_to_get_one():
         pickle.dumps(bare)
     with pytest.raises(TypeError, match="no recipe to rebuild from"):
         bare.with_locked({"wrist_3_joint": 0.0})
+    with pytest.raises(armik.JointError, match=r"e\.g\. \{'wrist_3_joint': 0\.0\}; got None"):
+        kin.with_locked(None)  # type: ignore[arg-type]
 
 
 def test_public_functions_below_the_facade_take_either():

@@ -289,14 +289,14 @@ class Recipe:
     text: str | None = None  # the URDF itself, for an arm read from XML text
     srdf: str | None = None
 
-    def locked_model(self, locked: object) -> ArmModel:
-        """The arm model of this recipe with the joints of ``locked`` (name -> rad or m)
-        locked too; the limits replaced for them dropped (``ArmModel.with_locked``)."""
+    def locked_model(self, locked: object, example: str) -> ArmModel:
+        """This recipe's arm model with ``locked``'s joints (name -> rad or m) locked too, their
+        replaced limits dropped; ``example``: a joint for the error to name."""
         new = check_locked(locked)
         if new is None:
             raise JointError(
                 "locked must map joint names to values (rad or m), e.g. "
-                "{'joint_name': 0.0}; got None",
+                f"{{{example!r}: 0.0}}; got None",
                 joint="None",
             )
         locking = {**self.locked, **new}

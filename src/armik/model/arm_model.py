@@ -161,8 +161,7 @@ class ArmModel:
 
     def with_locked(self, locked: Mapping[str, float]) -> ArmModel:
         """A new model with ``locked``'s joints locked too (see ``Arm.with_locked``)."""
-        model: ArmModel = self._built_by("rebuild from").locked_model(locked)
-        return model
+        return self._built_by("rebuild from").locked_model(locked, self.joint_names[-1])
 
     def _built_by(self, what: str) -> Any:
         """The recipe ``armik.load`` built this model by, or ``TypeError`` (no ``what``)."""

@@ -78,9 +78,7 @@ def solve_one(
     if score is not None:
         return _preferred(arm, target, q0, solver, options, every, score, t0, problem)
     if problem is not None:
-        opts = _validated(options)
-        check_options(opts, solver)
-        one = solve_tasks(arm, problem, q0, opts, t0, _centre(arm, problem, q0, options))
+        one = _tasks(arm, problem, q0, solver, options, t0)
         return [one] if every else one
     opts, key, seed = _options(options)
     return _stages(arm, target, q0, solver, opts, key, seed, every, t0)
@@ -178,10 +176,14 @@ def _found(arm, target, q0, solver: str, options: dict, problem) -> list[IKResul
     """The answers a preference ranks: ``solve_all``'s, or the task solver's one."""
     if problem is None:
         return solve_parsed(arm, target, q0, solver, options, True)  # type: ignore[no-any-return]
+    return [_tasks(arm, problem, q0, solver, options, time.perf_counter())]
+
+
+def _tasks(arm, problem, q0, solver: str, options: dict, t0: float) -> IKResult:
+    """A task list without a compiled form: the task solver, from its centre's answer."""
     opts = _validated(options)
     check_options(opts, solver)
-    t0 = time.perf_counter()
-    return [solve_tasks(arm, problem, q0, opts, t0, _centre(arm, problem, q0, options))]
+    return solve_tasks(arm, problem, q0, opts, t0, _centre(arm, problem, q0, options))
 
 
 def _validated(options: dict) -> Options:
