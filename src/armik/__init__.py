@@ -8,6 +8,8 @@ from armik import collision
 from armik.arm import Arm, load, load_string
 from armik.arms import Arms
 from armik.batch_result import BatchResult
+from armik.constraints.clear import Collisions
+from armik.constraints.hold import Hold
 from armik.constraints.shapes import Box, Capsule, Cylinder, HalfSpace, Mesh, Sphere
 from armik.errors import (
     ArmikError,
@@ -64,10 +66,12 @@ __all__ = [
     "ArmikWarning",
     "Box",
     "Capsule",
+    "Collisions",
     "CollisionError",
     "Cylinder",
     "FrameError",
     "HalfSpace",
+    "Hold",
     "IKResult",
     "InputError",
     "JointError",

@@ -252,7 +252,7 @@ class Arms:
             tasks += [_on(t, tip) for t in _as_tasks(target)]
         opts = Options.from_kwargs(options)
         options["solver"] = solver  # each chain's start (``_start``)
-        check_options(opts, "auto")
+        check_options(opts, "auto", several_tips=True)
         if "max_iterations" not in options:
             # short descents, many restarts: over every chain's joints a descent that has not
             # closed in after 40 steps seldom does (TALOS's hands: 3 misses in 1200 targets

@@ -9,7 +9,11 @@ from typing import Any
 
 import numpy as np
 
-from armik.constraints.shapes import Shape, check_obstacles
+from armik.constraints.base import Constraint
+from armik.constraints.clear import Collisions, collision_options
+from armik.constraints.hold import Hold
+from armik.constraints.limits import JointLimits
+from armik.constraints.shapes import Shape
 from armik.errors import OptionError, listing
 from armik.tolerances import (
     MAX_COUNT,
@@ -59,6 +63,9 @@ class Options:
     - ``hold``: on a 7-joint arm, ``{"joint_name": value}`` (rad) holds that joint at that
       value and solves the other six (``armik.solve.held``); a value of None holds it at
       q0's value. Stored as the pair (name, value). Checked against the arm when solving.
+    - ``constraints``: the last two as objects (``armik.Collisions``, ``armik.Hold``),
+      spelled here as those options (``Options.constraints`` gives them back); a list of
+      tasks honours them too, a ``Hold`` there on any arm.
     """
 
     tol_position: float = 1e-6
@@ -86,6 +93,17 @@ class Options:
         return bool(self.obstacles) or self.self_collision
 
     @property
+    def constraints(self) -> tuple[Constraint, ...]:
+        """The constraints these options spell: the joint limits, a held joint, the
+        collisions (``armik.constraints``); what ``constraints=[...]`` gave them."""
+        found: list[Constraint] = [JointLimits()]
+        if self.hold is not None:
+            found.append(Hold(*self.hold))
+        if self.collisions:
+            found.append(Collisions(self.obstacles, self.self_collision, self.margin))
+        return tuple(found)
+
+    @property
     def region(self) -> bool:
         """Whether the target has a region around it (``bounds`` or ``cone``): the errors are
         measured outside it."""
@@ -101,6 +119,8 @@ class Options:
     def from_kwargs(cls, kwargs: dict[str, Any]) -> Options:
         if not kwargs:
             return _DEFAULT
+        if "constraints" in kwargs:
+            kwargs = spelled(kwargs)
         for key in kwargs:
             if key not in _NAMES:
                 raise OptionError(
@@ -154,9 +174,10 @@ class Options:
                     value=flag,
                 )
             values["position_only"] = bool(flag)
-        _collision_options(values)
+        collision_options(values)
         if values.get("hold") is not None:
-            values["hold"] = _hold(values["hold"])
+            held = Hold.parse(values["hold"])
+            values["hold"] = (held.joint, held.value)
         if "qp_solver" in values and not isinstance(values["qp_solver"], str):
             raise OptionError(
                 f"qp_solver must be a backend name, got {values['qp_solver']!r}",
@@ -187,38 +208,45 @@ class Options:
 _DEFAULT = Options()
 
 
-def _collision_options(values: dict[str, Any]) -> None:
-    """Validate ``obstacles``, ``self_collision`` and ``margin`` in ``values``, in place."""
-    if "obstacles" in values:
-        values["obstacles"] = check_obstacles(values["obstacles"])
-    if "self_collision" in values:
-        flag = values["self_collision"]
-        if not isinstance(flag, (bool, np.bool_)):
-            raise OptionError(
-                f"self_collision must be True or False, got {flag!r}",
-                option="self_collision",
-                value=flag,
-            )
-        values["self_collision"] = bool(flag)
-    if "margin" in values:
-        margin = _float("margin", values["margin"])
-        if not 0.0 <= margin <= MAX_LENGTH:
-            raise OptionError(
-                f"margin must be a distance in [0, {MAX_LENGTH:g}] m, got {margin!r}",
-                option="margin",
-                value=margin,
-            )
-        if margin > 0 and not (values.get("obstacles") or values.get("self_collision")):
-            raise OptionError(
-                f"margin={margin:g} m with no obstacles and self_collision off checks "
-                "nothing: give obstacles=[...] or self_collision=True",
-                option="margin",
-                value=margin,
-            )
-        values["margin"] = margin + 0.0
+_NAMES = frozenset(f.name for f in fields(Options)) | {"constraints"}
 
 
-_NAMES = frozenset(f.name for f in fields(Options))
+def spelled(kwargs: dict[str, Any]) -> dict[str, Any]:
+    """``kwargs`` with ``constraints=[...]`` spelled as the options it stands for
+    (``Constraint.said``): an ``OptionError`` for what is not a constraint, and for an
+    option given both by a constraint and as itself."""
+    values = dict(kwargs)
+    given = values.pop("constraints")
+    items = (given,) if isinstance(given, Constraint) else given
+    if items is None or isinstance(items, (str, bytes, Mapping)):
+        items = [given]
+    try:
+        items = list(items)
+    except TypeError:
+        items = [given]
+    said: dict[str, Any] = {}
+    for item in items:
+        if not isinstance(item, Constraint):
+            raise OptionError(
+                f"constraints holds armik.Hold and armik.Collisions objects, got {item!r}",
+                option="constraints",
+                value=item,
+            )
+        for name, value in item.said().items():
+            if name in said or name in values:
+                raise OptionError(_twice(name, name in said), option=name, value=value)
+            said[name] = value
+    return {**values, **said}
+
+
+def _twice(name: str, by_two: bool) -> str:
+    if name == "hold" and by_two:
+        return (
+            "two armik.Hold constraints: a solve holds one joint (to fix several, lock "
+            "them: arm.with_locked({...}) or armik.load(..., locked={...}))"
+        )
+    by = "by two constraints" if by_two else "by a constraint and as an option"
+    return f"{name} is given twice ({by}): give it once"
 
 
 def _float(key: str, value: object) -> float:
@@ -272,31 +300,6 @@ def _int(key: str, value: object, minimum: int, maximum: int | None = None) -> i
             value=value,
         )
     return int(value)
-
-
-def _hold(value: object) -> tuple[str, float | None]:
-    """``hold``'s one (joint name, value or None) pair, from a one-entry mapping."""
-    items = list(value.items()) if isinstance(value, Mapping) else None
-    if items is None or len(items) != 1 or not isinstance(items[0][0], str):
-        raise OptionError(
-            f"hold must map one joint name to its value (rad) or None, e.g. "
-            f"{{'joint_3': 0.5}}; got {value!r}",
-            option="hold",
-            value=value,
-        )
-    name, v = items[0]
-    if v is None:
-        return name, None
-    try:
-        out = _float("hold", v)
-    except OptionError:
-        raise OptionError(
-            f"hold's value for joint {name!r} must be a finite number (rad) or None (q0's "
-            f"value), got {v!r}",
-            option="hold",
-            value=v,
-        ) from None
-    return name, out
 
 
 def _numbers(value: object) -> np.ndarray:

@@ -86,6 +86,16 @@ def held(joint: str, value: float, solver: str, reason: str) -> str:
     return f"joint {joint!r} held at {value:.6g} rad; the other six by {solver}: {reason}"
 
 
+def off_hold(joint: str, at: float, value: float) -> str:
+    """An answer whose held ``joint`` is not at its ``value``."""
+    return f"joint {joint!r} at {at:.6g}, held at {value:.6g}"
+
+
+def and_held(reason: str, joint: str, value: float) -> str:
+    """``reason`` of a success with ``joint`` held at ``value``."""
+    return f"{reason}; joint {joint!r} held at {value:.6g}"
+
+
 def tasks_hold(tol_p: float, tol_r: float, restarts: int) -> str:
     """A task list's answer: every task within its region or tolerance."""
     return (

@@ -136,8 +136,8 @@ def test_bad_task_lists_get_armik_errors():
         arm.solve([p, "down"])
     with pytest.raises(armik.InputError, match="solver='auto'"):
         arm.solve([p, look], solver="dls")
-    with pytest.raises(armik.InputError, match="obstacles"):
-        arm.solve([p, look], obstacles=[armik.Sphere(0.05, (1.0, 1.0, 1.0))])
+    with pytest.raises(armik.InputError, match="constraints holds armik.Hold.*'wall'"):
+        arm.solve([p, look], constraints=["wall"])
     with pytest.raises(armik.InputError, match="bounds is given both"):
         arm.solve(armik.Pose(arm.fk(arm.middle), bounds=[0.1] * 6), bounds=[0.1] * 6)
     with pytest.raises(armik.InputError, match="'no_such_link'.*its frames"):

@@ -1,7 +1,8 @@
 """A problem: the tasks a user asks for, parsed once (docs/problem-model.md).
 
-Today a problem is its primary tasks; constraints other than the joint limits, secondary
-tasks and scores join it as the later features land. ``lower`` gives a problem the solve
+A problem is its primary tasks and its constraints (``armik.constraints``: the joint
+limits always, a held joint, collisions); secondary tasks and scores join it as the later
+features land. ``lower`` gives a problem the solve
 path already has a compiled form for (one pose of the tip, with weights or bounds; one
 position of the tip; a position with an axis in a cone; an axis in a cone alone) back as
 the target and options of that path, so the old route keeps
@@ -16,6 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from armik.constraints.base import Constraint
+from armik.constraints.limits import JointLimits
 from armik.errors import TargetError
 from armik.problem.tasks import Axis, LookAt, Pose, Position, Relative, Task
 from armik.problem.tasks.cone import cross
@@ -23,9 +26,11 @@ from armik.problem.tasks.cone import cross
 
 @dataclass(frozen=True)
 class Problem:
-    """Primary tasks: each must hold, measured on Pinocchio's FK, for a success."""
+    """Primary tasks, each of which must hold, measured on Pinocchio's FK, and constraints,
+    each of which every answer must satisfy, for a success."""
 
     tasks: tuple[Task, ...]
+    constraints: tuple[Constraint, ...] = (JointLimits(),)
 
 
 def as_problem(target: object) -> Problem | None:
@@ -55,7 +60,7 @@ def relative_tasks(target: object) -> list[Relative]:
 def tightened(problem: Problem) -> Problem:
     """The problem with every region shrunk to its centre (``Task.shrunk(0)``): each of its
     answers answers ``problem`` too, and it may have a compiled form ``problem`` has not."""
-    return Problem(tuple(t.shrunk(0.0) for t in problem.tasks))
+    return Problem(tuple(t.shrunk(0.0) for t in problem.tasks), problem.constraints)
 
 
 def aimed(problem: Problem) -> Problem | None:
@@ -77,7 +82,9 @@ def aimed(problem: Problem) -> Problem | None:
     distance = float(np.linalg.norm(sight))
     if not distance > LOOK_FROM:  # looking at the very point it stands on: any axis holds
         return None
-    return Problem((a, Axis(b.axis, sight / distance, b.within, frame=b.frame)))
+    return Problem(
+        (a, Axis(b.axis, sight / distance, b.within, frame=b.frame)), problem.constraints
+    )
 
 
 LOOK_FROM = 1e-6  # m: a point nearer the position than this is no direction to aim at
@@ -88,7 +95,7 @@ def rims(problem: Problem, count: int) -> list[Problem]:
     exactly on a point of that one's rim (``Task.rim``), for each task with a rim."""
     centres = [t.shrunk(0.0) for t in problem.tasks]
     return [
-        Problem(tuple(edge if j == i else c for j, c in enumerate(centres)))
+        Problem(tuple(edge if j == i else c for j, c in enumerate(centres)), problem.constraints)
         for i, task in enumerate(problem.tasks)
         for edge in task.rim(count)
     ]

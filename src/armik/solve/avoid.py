@@ -1,7 +1,7 @@
 """Solves with collisions checked (options ``obstacles``, ``self_collision``, ``margin``).
 
 Every answer gets the verdict of any solve (FK and limits), then the collision check
-(``verify.verdict.collision_verdict``): a success must keep every checked pair ``margin``
+(``armik.constraints.clear``): a success must keep every checked pair ``margin``
 apart. A closed form's branches are checked nearest the seed first, and the first
 collision-free verified one is the answer. A numeric solver whose verified answer collides
 is run again from a random configuration, within what is left of the budget (``timeout``
@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from armik import reasons
+from armik.constraints.clear import collision_verdict
 from armik.constraints.collision import checker
 from armik.frozen import frozen
 from armik.options import Options
@@ -33,7 +34,7 @@ from armik.solve.slide import slide
 from armik.solvers.claims import Attempt
 from armik.status import Status
 from armik.verify.measure import measure, measure_many
-from armik.verify.verdict import collision_verdict, ranked, seed_distance, verdict
+from armik.verify.verdict import ranked, seed_distance, verdict
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel

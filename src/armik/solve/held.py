@@ -17,7 +17,6 @@ solver sweeps joint 7 of a Panda-like arm, whose chain does not change with it).
 
 from __future__ import annotations
 
-import math
 from collections import OrderedDict
 from dataclasses import replace
 from typing import cast
@@ -25,7 +24,8 @@ from typing import cast
 import numpy as np
 
 from armik import reasons
-from armik.errors import JointError, OptionError, listing
+from armik.constraints.hold import Hold
+from armik.errors import OptionError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.options import Options
@@ -33,7 +33,6 @@ from armik.solvers.claims import Attempt
 from armik.solvers.closed_form import swept_7r
 from armik.status import Status
 from armik.targets.pose import parse_target
-from armik.tolerances import LIMIT_TOL
 from armik.verify.verdict import finish
 
 KEPT = 16  # locked arms kept per arm (one per joint and held value)
@@ -47,27 +46,13 @@ def held_joint(arm: ArmModel, hold: tuple[str, float | None], seed: np.ndarray):
         raise OptionError(
             f"hold={{{name!r}: {value!r}}} is for 7-joint arms; arm {arm.name!r} has "
             f"{arm.dof} joints: lock joints with arm.with_locked({{...}}) or "
-            "armik.load(..., locked={...}) instead",
+            "armik.load(..., locked={...}), or give the target as tasks (armik.Position, "
+            "armik.Pose), which hold a joint of any arm",
             option="hold",
             value=name,
         )
-    if name not in arm.joint_names:
-        raise JointError(
-            f"hold: unknown joint {name!r}; the arm's joints: {listing(arm.joint_names)}",
-            joint=name,
-            candidates=arm.joint_names,
-        )
-    k = arm.joint_names.index(name)
-    if value is None:
-        value = float(seed[k])
-    lo, hi = float(arm.lower[k]), float(arm.upper[k])
-    if not (math.isfinite(value) and lo - LIMIT_TOL <= value <= hi + LIMIT_TOL):
-        raise JointError(
-            f"hold: {value!r} rad is outside joint {name!r}'s limits [{lo:.6g}, {hi:.6g}]: "
-            "give a value within them",
-            joint=name,
-        )
-    return k, min(max(value, lo), hi)
+    held = Hold(name, value).at(arm, seed)  # a joint of the arm, a value within its limits
+    return held.index(arm), cast(float, held.value)
 
 
 _KEPT: Derived[OrderedDict] = Derived("held arms", lambda _: OrderedDict())  # (name, value)

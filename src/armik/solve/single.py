@@ -10,10 +10,11 @@ import numpy as np
 import pinocchio as pin
 
 from armik import reasons
+from armik.constraints.clear import distances
 from armik.constraints.collision import checker
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
-from armik.options import Options
+from armik.options import Options, spelled
 from armik.problem.problem import aimed, as_problem, lower, rims, tightened
 from armik.problem.scores import parse_score
 from armik.problem.tasks import Task
@@ -29,7 +30,7 @@ from armik.solvers import registry
 from armik.solvers.claims import Attempt
 from armik.status import Status
 from armik.targets.pose import parse_target
-from armik.verify.verdict import distance_verdict, finish
+from armik.verify.verdict import finish
 
 
 def solve(
@@ -70,7 +71,8 @@ def solve_one(
         problem = as_problem(target)
         if problem is not None:
             lowered = lower(problem, arm.tip)
-            if lowered is not None:
+            held = "hold" in options or "constraints" in options  # a call only then
+            if lowered is not None and not (held and _held_apart(arm, options)):
                 target, said = lowered
                 check_said_twice(options, said, problem)
                 options = {**options, **said}
@@ -82,6 +84,24 @@ def solve_one(
         return [one] if every else one
     opts, key, seed = _options(options)
     return _stages(arm, target, q0, solver, opts, key, seed, every, t0)
+
+
+def _held_apart(arm: ArmModel, options: dict) -> bool:
+    """Whether ``options`` hold a joint the compiled path cannot (it holds one of a
+    7-joint arm): the task solver holds it, as a box row of its steps."""
+    return arm.dof != 7 and _spelled_apart(options) is not options
+
+
+def _spelled_apart(options: dict) -> dict:
+    """``options`` spelled out (``armik.options.spelled``) without a held joint, or
+    ``options`` itself where they hold none."""
+    if "hold" not in options and "constraints" not in options:
+        return options
+    out = spelled(options) if "constraints" in options else dict(options)
+    if out.get("hold") is None:
+        return options
+    del out["hold"]
+    return out
 
 
 def solve_parsed(
@@ -183,6 +203,7 @@ def _tasks(arm, problem, q0, solver: str, options: dict, t0: float) -> IKResult:
     """A task list without a compiled form: the task solver, from its centre's answer."""
     opts = _validated(options)
     check_options(opts, solver)
+    problem = dataclasses.replace(problem, constraints=opts.constraints)  # the options' too
     return solve_tasks(arm, problem, q0, opts, t0, _centre(arm, problem, q0, options))
 
 
@@ -230,6 +251,8 @@ def _centre(arm, problem, q0, options: dict):
     if lowered is None:
         return None
     target, said = lowered
+    if arm.dof != 7:  # a held joint the compiled path cannot hold: the task solver's box
+        options = _spelled_apart(options)
     restarts = min(options.get("max_restarts", CENTRE_RESTARTS), CENTRE_RESTARTS)
     centre = solve_parsed(arm, target, q0, "auto", {**options, **said, "max_restarts": restarts})
     if centre.success or registry.get(centre.solver).kind != "analytic":
@@ -296,7 +319,7 @@ def _row(r: IKResult, distance: float, pair, margin: float) -> dict:
     row = {name: getattr(r, name) for name in _ROW}
     if math.isnan(distance):
         return row
-    return distance_verdict(row, distance, pair, margin)
+    return distances([(distance, pair)], margin).judge(0, row)
 
 
 def _general(arm, target, q0, solver, opts: Options, all_solutions: bool, t0: float, first=None):

@@ -26,6 +26,9 @@ import numpy as np
 import pinocchio as pin
 
 from armik import reasons
+from armik.constraints.base import Constraint, box_of, judged, satisfied
+from armik.constraints.hold import Hold
+from armik.constraints.limits import JointLimits
 from armik.errors import OptionError, TargetError
 from armik.model.arm_model import ArmModel
 from armik.options import Options
@@ -48,11 +51,12 @@ CENTRE_RESTARTS = (
 )
 # options of the compiled path a task list says in its tasks instead
 _SAID_BY_TASKS = ("position_only", "weights", "bounds")
-_NOT_YET = ("obstacles", "self_collision", "hold")
+_CONSTRAINTS = ("obstacles", "self_collision", "hold")  # not yet for several tips
 
 
-def check_options(opts: Options, solver: str) -> None:
-    """Refuse what a task list cannot take yet, naming the option and the way round."""
+def check_options(opts: Options, solver: str, several_tips: bool = False) -> None:
+    """Refuse what a task list cannot take (yet, for ``several_tips``), naming the option
+    and the way round."""
     if solver not in ("auto", SOLVER):
         raise OptionError(
             f"a list of tasks is solved by solver='auto' (the task solver), got {solver!r}",
@@ -60,15 +64,19 @@ def check_options(opts: Options, solver: str) -> None:
             value=solver,
         )
     defaults = Options()
-    for name in _SAID_BY_TASKS + _NOT_YET:
+    refused = _SAID_BY_TASKS + (_CONSTRAINTS if several_tips else ())
+    for name in refused:
         if getattr(opts, name) != getattr(defaults, name):
             how = (
                 "say it in the tasks (armik.Pose(T, bounds=..., weights=...), armik.Position)"
                 if name in _SAID_BY_TASKS
-                else "give a single pose target for that option"
+                else "solve each tip's arm for that option"
             )
             raise OptionError(
-                f"{name} does not apply to a list of tasks: {how}", option=name, value=None
+                f"{name} does not apply to a list of tasks{' on several tips' * several_tips}: "
+                f"{how}",
+                option=name,
+                value=None,
             )
 
 
@@ -188,10 +196,11 @@ def measure_tasks(arm: ArmModel, problem: Problem, q: np.ndarray, opts: Options)
     return _measure(arm, problem.tasks, frame_ids(arm, problem.tasks), q, opts)
 
 
-def _descend(arm: ArmModel, tasks, ids, q: np.ndarray, opts: Options, iterations: int):
+def _descend(arm: ArmModel, tasks, ids, q: np.ndarray, opts: Options, iterations: int, box):
     """(q, iterations used): Levenberg-Marquardt from ``q`` until every task holds (on
-    Pinocchio's placements) or the iterations run out, each step clipped into the limits."""
-    lo, hi = arm.lower, arm.upper
+    Pinocchio's placements) or the iterations run out, each step clipped into ``box``
+    (lower, upper: the constraints' rows, ``box_of``)."""
+    lo, hi = box
     aims = tuple(t.shrunk(AIM) for t in tasks)
     eye = np.eye(len(q))
     placed = _placed(arm, q, ids)
@@ -265,9 +274,18 @@ def solve_tasks(
     ids = frame_ids(arm, tasks)
     q = arm.seed(q0)
     reference = q.copy() if reference is None else reference
+    # the constraints at this seed (a held joint's value), their box the step's rows, the
+    # checks beyond the limits run on each descent's end
+    constraints = tuple(c.at(arm, q) for c in problem.constraints)
+    box = box_of(arm, constraints)
+    checked = tuple(c for c in constraints if type(c) is not JointLimits)
     if centre is not None:
         errors = _measure(arm, tasks, ids, centre.q, opts)
-        if centre.success and all(e.within for e in errors):
+        if (
+            centre.success
+            and all(e.within for e in errors)
+            and satisfied(arm, _unsaid(checked, centre), centre.q)
+        ):
             return dataclasses.replace(
                 centre,
                 reason=reasons.on_centre(centre.reason),
@@ -275,20 +293,23 @@ def solve_tasks(
                 extra={**centre.extra, "task_errors": errors},
             )
         q = np.array(centre.q)
+    q = np.clip(q, *box)
     rng = np.random.default_rng(opts.seed)
     budget = opts.iteration_budget
     started = time.thread_time()
     used = restarts = 0
     best, best_errors = q, _measure(arm, tasks, ids, q, opts)
+    best_done = False
     before = math.inf  # the last descent's end error: one still closing in goes on
     while True:
         left = opts.max_iterations if budget is None else min(opts.max_iterations, budget - used)
-        q, k = _descend(arm, tasks, ids, q, opts, left)
+        q, k = _descend(arm, tasks, ids, q, opts, left, box)
         used += k
         errors = _measure(arm, tasks, ids, q, opts)
-        if _total(errors) < _total(best_errors) or all(e.within for e in errors):
-            best, best_errors = q, errors
-        done = all(e.within for e in errors)
+        # done: every task holds and every constraint (a collision check only then)
+        done = all(e.within for e in errors) and satisfied(arm, checked, q)
+        if done or (not best_done and _total(errors) < _total(best_errors)):
+            best, best_errors, best_done = q, errors, done
         out_of_budget = (
             used >= budget if budget is not None else time.thread_time() - started > opts.timeout
         )
@@ -302,15 +323,15 @@ def solve_tasks(
             before = end
             continue
         before = math.inf
-        q = arm.random_q(rng) if reseed is None else reseed(rng)
+        q = np.clip(arm.random_q(rng) if reseed is None else reseed(rng), *box)
         restarts += 1
     moved = False
-    if score is not None and all(e.within for e in best_errors):
+    if score is not None and best_done:
         q, best_errors = _scored(
-            arm, tasks, ids, best, best_errors, score, reference, opts, started
+            arm, tasks, ids, best, best_errors, score, reference, opts, started, checked
         )
         moved, best = q is not best, q
-    r = _result(arm, tasks, best, best_errors, opts, used, restarts, t0)
+    r = _result(arm, tasks, best, best_errors, opts, used, restarts, t0, checked)
     if score is None or not r.success:
         return r
     value = score(arm, r.q, reference)
@@ -321,10 +342,19 @@ def solve_tasks(
     )
 
 
-def _scored(arm: ArmModel, tasks, ids, q, errors, score: Score, reference, opts: Options, started):
+def _unsaid(checked: tuple[Constraint, ...], centre: IKResult) -> tuple[Constraint, ...]:
+    """The constraints a centre's success has not checked: a held joint the compiled path
+    did not hold (``armik.solve.single._centre``); collisions it checked (``min_distance``
+    in its ``extra``)."""
+    return tuple(c for c in checked if type(c) is Hold or "min_distance" not in centre.extra)
+
+
+def _scored(
+    arm: ArmModel, tasks, ids, q, errors, score: Score, reference, opts: Options, started, checked
+):
     """(q, errors) moved along the tasks' null space while ``score`` falls, within what is
     left of the budget; as they were where a moved answer does not hold every task on
-    Pinocchio's FK or leaves the limits."""
+    Pinocchio's FK, leaves the limits or breaks a constraint of ``checked``."""
     left = math.inf  # deterministic with an iteration budget: the step cap alone
     if opts.iteration_budget is None:
         left = opts.timeout - (time.thread_time() - started)
@@ -335,13 +365,18 @@ def _scored(arm: ArmModel, tasks, ids, q, errors, score: Score, reference, opts:
     if moved is q:
         return q, errors
     moved_errors = _measure(arm, tasks, ids, moved, opts)
-    if all(e.within for e in moved_errors) and arm.within_limits(moved):
+    if (
+        all(e.within for e in moved_errors)
+        and arm.within_limits(moved)
+        and satisfied(arm, checked, moved)
+    ):
         return moved, moved_errors
     return q, errors
 
 
-def _result(arm, tasks, q, errors, opts: Options, iterations, restarts, t0) -> IKResult:
-    # the descent claims nothing: the verdict's rule on its measure alone
+def _result(arm, tasks, q, errors, opts: Options, iterations, restarts, t0, checked) -> IKResult:
+    # the descent claims nothing: the verdict's rule on its measure alone, then the
+    # constraints' checks
     within = arm.within_limits(q)
     status = status_of(Status.NOT_CONVERGED, all(e.within for e in errors) and within, within)
     success = status is Status.CONVERGED
@@ -351,18 +386,21 @@ def _result(arm, tasks, q, errors, opts: Options, iterations, restarts, t0) -> I
         reason = reasons.tasks_hold(opts.tol_position, opts.tol_orientation, restarts)
     else:
         reason = reasons.tasks_missed(restarts, iterations, _describe(tasks, errors))
+    row = judged(
+        arm,
+        checked,
+        q,
+        {"success": success, "status": status, "reason": reason, "extra": {"task_errors": errors}},
+    )
     return IKResult(
         q=q,
-        success=success,
-        status=status,
-        reason=reason,
         solver=SOLVER,
         iterations=iterations,
         position_error=max(positions, default=0.0),
         orientation_error=max(orientations) if orientations else None,
         time=time.perf_counter() - t0,
         restarts=restarts,
-        extra={"task_errors": errors},
+        **row,
     )
 
 

@@ -225,27 +225,6 @@ def _claimed(got: Claim, success: bool, status: Status, pos, ori, reason, args) 
     )
 
 
-def collision_verdict(row: dict, check, margin: float) -> dict:
-    """``row`` (a ``verdict`` row) with the collision check of its ``q``: a success stays
-    one only when the closest checked pair (``check.distance``) is at least ``margin`` (m)
-    apart; else ``Status.COLLISION``. The distance and pair go to the result's ``extra``
-    (``min_distance`` m, ``closest_pair``)."""
-    distance, pair = check.distance(row["q"])
-    return distance_verdict(row, distance, pair, margin)
-
-
-def distance_verdict(row: dict, distance: float, pair, margin: float) -> dict:
-    """``collision_verdict`` with the closest pair's ``distance`` (m) and ``pair`` known."""
-    row["extra"] = {"min_distance": distance, "closest_pair": pair}
-    if row["success"]:
-        if distance < margin:
-            row["success"], row["status"] = False, Status.COLLISION
-            row["reason"] = reasons.in_collision(pair, distance, margin)
-        else:
-            row["reason"] = reasons.and_clear(row["reason"], pair, distance, margin)
-    return row
-
-
 def failure_rank(status: Status, position_error: float, orientation_error) -> tuple:
     """How failed results are ranked among themselves: by status, then by their errors."""
     return (FAILURE_RANK[status], position_error + (orientation_error or 0.0))

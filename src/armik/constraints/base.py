@@ -1,0 +1,101 @@
+"""A constraint: what every answer must satisfy besides its tasks (joint limits, a held
+joint, keeping clear of collisions).
+
+A constraint gives the step its box rows (``lower <= q <= upper``, where it has any: the
+limits, a held joint) and the verify stage its check of N answers (``Check``): whether each
+satisfies it, and each answer's verdict row with it applied. ``said`` is the constraint in
+the options of the compiled path (``hold``, ``obstacles``, ...), which spell it there, so
+that the old keywords and the objects are one problem (``armik.options``).
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+
+from armik.status import Status
+
+if TYPE_CHECKING:
+    from armik.model.arm_model import ArmModel
+
+
+def _unchanged(i: int, reason: str) -> str:
+    return reason
+
+
+def _nothing(i: int) -> dict:
+    return {}
+
+
+class Check(NamedTuple):
+    """A constraint's check of N answers: ``ok[i]``, whether answer i satisfies it; a
+    failing answer's ``status`` and ``why(i)``; a success's reason with what was measured
+    (``holds(i, reason)``) and what each answer's result keeps in ``extra`` (``extra(i)``)."""
+
+    ok: np.ndarray  # (N,) bool
+    status: Status
+    why: Callable[[int], str]
+    holds: Callable[[int, str], str] = _unchanged
+    extra: Callable[[int], dict] = _nothing
+
+    def judge(self, i: int, row: dict) -> dict:
+        """The verdict row of answer ``i`` (fields of an ``IKResult``) with this check
+        applied: a success stays one only where the constraint holds."""
+        more = self.extra(i)
+        if more:
+            row["extra"] = {**row.get("extra", {}), **more}
+        if row["success"]:
+            if self.ok[i]:
+                row["reason"] = self.holds(i, row["reason"])
+            else:
+                row["success"], row["status"], row["reason"] = False, self.status, self.why(i)
+        return row
+
+
+class Constraint(ABC):
+    """What every answer must satisfy; checked on each answer before it is a success."""
+
+    @abstractmethod
+    def said(self) -> dict[str, object]:
+        """The constraint as the compiled path's options (``Options`` fields)."""
+
+    def at(self, arm: ArmModel, seed: np.ndarray) -> Constraint:
+        """The constraint for one solve of ``arm`` from ``seed`` (its values resolved and
+        checked against the arm: a joint's name, a value taken from the seed)."""
+        return self
+
+    def box(self, arm: ArmModel) -> tuple[np.ndarray, np.ndarray] | None:
+        """(lower, upper): the box every step stays in (rad or m), None where it has none."""
+        return None
+
+    @abstractmethod
+    def check(self, arm: ArmModel, Q: np.ndarray) -> Check:
+        """The check of the answers ``Q`` (N, dof)."""
+
+
+def box_of(arm: ArmModel, constraints: tuple[Constraint, ...]) -> tuple[np.ndarray, np.ndarray]:
+    """The box of every step: the intersection of the constraints' boxes and the limits."""
+    lo, hi = arm.lower.copy(), arm.upper.copy()
+    for c in constraints:
+        b = c.box(arm)
+        if b is not None:
+            np.maximum(lo, b[0], out=lo)
+            np.minimum(hi, b[1], out=hi)
+    return lo, hi
+
+
+def judged(arm: ArmModel, constraints: tuple[Constraint, ...], q: np.ndarray, row: dict) -> dict:
+    """``row``, the verdict row of answer ``q``, with every constraint's check applied."""
+    Q = q.reshape(1, -1)
+    for c in constraints:
+        row = c.check(arm, Q).judge(0, row)
+    return row
+
+
+def satisfied(arm: ArmModel, constraints: tuple[Constraint, ...], q: np.ndarray) -> bool:
+    """Whether ``q`` satisfies every constraint."""
+    Q = q.reshape(1, -1)
+    return all(bool(c.check(arm, Q).ok[0]) for c in constraints)

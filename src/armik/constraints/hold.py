@@ -1,0 +1,132 @@
+"""A held joint: ``armik.Hold("joint_3", 0.5)`` keeps that joint at that value (rad or m)
+and solves the others; ``armik.Hold("joint_3")`` keeps it at q0's value (the middle of its
+limits without q0). The old spelling is the option ``hold={"joint_3": 0.5}``.
+
+A held joint is the box row ``value <= q_j <= value`` of every step, and its check an
+answer with that joint at the value. The compiled path solves a 7-joint arm with one joint
+held as a 6R chain (``armik.solve.held``); a list of tasks holds any joints of any arm.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from armik import reasons
+from armik.constraints.base import Check, Constraint
+from armik.errors import JointError, OptionError, listing
+from armik.status import Status
+from armik.tolerances import LIMIT_TOL
+
+if TYPE_CHECKING:
+    from armik.model.arm_model import ArmModel
+
+
+@dataclass(frozen=True)
+class Hold(Constraint):
+    """Joint ``joint`` held at ``value`` (rad or m; None: q0's value)."""
+
+    joint: str
+    value: float | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.joint, str):
+            raise OptionError(
+                f"Hold's joint must be a joint's name, got {self.joint!r}: e.g. "
+                "armik.Hold('joint_3', 0.5)",
+                option="hold",
+                value=self.joint,
+            )
+        if self.value is not None:
+            object.__setattr__(self, "value", _value(self.joint, self.value))
+
+    @classmethod
+    def parse(cls, value: object) -> Hold:
+        """The ``Hold`` of the option ``hold={"joint": value}`` (one entry)."""
+        items = list(value.items()) if isinstance(value, Mapping) else None
+        if items is None or len(items) != 1 or not isinstance(items[0][0], str):
+            raise OptionError(
+                f"hold must map one joint name to its value (rad) or None, e.g. "
+                f"{{'joint_3': 0.5}}; got {value!r}",
+                option="hold",
+                value=value,
+            )
+        return cls(*items[0])
+
+    def said(self) -> dict[str, object]:
+        return {"hold": {self.joint: self.value}}
+
+    def index(self, arm: ArmModel) -> int:
+        """The held joint's index among the arm's joints; a ``JointError`` naming the arm's
+        joints when it has none of that name."""
+        if self.joint not in arm.joint_names:
+            raise JointError(
+                f"hold: unknown joint {self.joint!r}; the arm's joints: {listing(arm.joint_names)}",
+                joint=self.joint,
+                candidates=arm.joint_names,
+            )
+        return arm.joint_names.index(self.joint)
+
+    def at(self, arm: ArmModel, seed: np.ndarray) -> Hold:
+        """The hold at its value (the seed's where it has none), which must lie within the
+        joint's limits (clipped to them within ``LIMIT_TOL``)."""
+        k = self.index(arm)
+        value = float(seed[k]) if self.value is None else self.value
+        lo, hi = float(arm.lower[k]), float(arm.upper[k])
+        if not lo - LIMIT_TOL <= value <= hi + LIMIT_TOL:
+            raise JointError(
+                f"hold: {value!r} rad is outside joint {self.joint!r}'s limits "
+                f"[{lo:.6g}, {hi:.6g}]: give a value within them",
+                joint=self.joint,
+            )
+        return Hold(self.joint, min(max(value, lo), hi))
+
+    def box(self, arm: ArmModel) -> tuple[np.ndarray, np.ndarray]:
+        k, value = self.index(arm), self._value()
+        lo, hi = arm.lower.copy(), arm.upper.copy()
+        lo[k] = hi[k] = value
+        return lo, hi
+
+    def check(self, arm: ArmModel, Q: np.ndarray) -> Check:
+        k, value = self.index(arm), self._value()
+        ok = np.abs(Q[:, k] - value) <= HELD_TOL
+        return Check(
+            ok,
+            Status.NOT_CONVERGED,
+            lambda i: reasons.off_hold(self.joint, float(Q[i, k]), value),
+            lambda i, reason: reasons.and_held(reason, self.joint, value),
+        )
+
+    def _value(self) -> float:
+        if self.value is None:
+            raise OptionError(
+                f"Hold({self.joint!r}) takes its value from q0: resolve it with "
+                "Hold.at(arm, seed) before its box or check",
+                option="hold",
+                value=self.joint,
+            )
+        return self.value
+
+
+HELD_TOL = 1e-9  # rad or m: a held joint this near its value holds (the step puts it there)
+
+
+def _value(joint: str, value: object) -> float:
+    try:
+        if isinstance(value, (str, bytes, bool, np.bool_)):
+            raise TypeError
+        out = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        out = math.nan
+    if not math.isfinite(out):
+        raise OptionError(
+            f"hold's value for joint {joint!r} must be a finite number (rad) or None (q0's "
+            f"value), got {value!r}",
+            option="hold",
+            value=value,
+        )
+    return out

@@ -1,0 +1,199 @@
+"""Constraints as objects (armik.constraints): the joint limits, a held joint and
+collisions, each a check over N answers and, for the limits and a held joint, the box of
+every step. The old keywords and the objects are one problem; a list of tasks honours
+them, a held joint on any arm."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.constraints.base import box_of, judged
+from armik.constraints.limits import JointLimits
+from armik.options import Options
+from armik.status import Status
+from tests import conftest
+
+BUDGET = {"iteration_budget": 4000}  # deterministic: no test depends on timing
+
+
+def test_old_spellings_equal_the_objects():
+    arm = conftest.arm("panda")
+    rng = np.random.default_rng(3)
+    wall = armik.Box((0.05, 0.6, 0.6), (0.25, 0.0, 0.5))
+    for _ in range(4):
+        T = arm.fk(arm.random_q(rng))
+        q0 = arm.random_q(rng)
+        old = arm.solve(T, q0=q0, hold={"panda_joint7": 0.4}, **BUDGET)
+        new = arm.solve(T, q0=q0, constraints=[armik.Hold("panda_joint7", 0.4)], **BUDGET)
+        assert np.array_equal(old.q, new.q) and old.reason == new.reason
+        said = {"obstacles": [wall], "self_collision": True, "margin": 0.005}
+        old = arm.solve(T, q0=q0, **said, **BUDGET)
+        new = arm.solve(T, q0=q0, constraints=[armik.Collisions(**said)], **BUDGET)
+        assert np.array_equal(old.q, new.q) and old.reason == new.reason
+        assert old.status == new.status and old.extra.keys() == new.extra.keys()
+        # coal's warm start may move the last bits of a distance between two queries
+        assert old.extra["min_distance"] == pytest.approx(new.extra["min_distance"], abs=1e-12)
+    targets = [arm.fk(arm.random_q(rng)) for _ in range(6)]
+    old_b = arm.solve_batch(targets, obstacles=[wall], workers=1, progress=False, **BUDGET)
+    new_b = arm.solve_batch(
+        targets, constraints=armik.Collisions([wall]), workers=1, progress=False, **BUDGET
+    )
+    assert np.array_equal(old_b.q, new_b.q) and list(old_b.status) == list(new_b.status)
+
+
+def test_options_give_their_constraints_back():
+    wall = armik.HalfSpace((0, 0, 1), -0.1)
+    opts = Options.from_kwargs({"hold": {"j2": None}, "obstacles": [wall], "margin": 0.01})
+    assert opts.constraints == (
+        JointLimits(),
+        armik.Hold("j2"),
+        armik.Collisions(obstacles=(wall,), margin=0.01),
+    )
+    again = Options.from_kwargs({"constraints": opts.constraints[1:]})
+    assert again == opts
+    assert Options().constraints == (JointLimits(),)
+
+
+def test_constraints_said_twice_or_not_constraints_are_refused():
+    arm = conftest.arm("panda")
+    T = arm.fk(arm.middle)
+    hold = armik.Hold("panda_joint7", 0.1)
+    with pytest.raises(armik.OptionError, match="hold is given twice.*as an option"):
+        arm.solve(T, constraints=[hold], hold={"panda_joint7": 0.2})
+    with pytest.raises(armik.OptionError, match="two armik.Hold.*with_locked"):
+        arm.solve(T, constraints=[hold, armik.Hold("panda_joint6", 0.1)])
+    with pytest.raises(armik.OptionError, match="margin is given twice"):
+        arm.solve(T, constraints=[armik.Collisions(self_collision=True)], margin=0.01)
+    with pytest.raises(armik.OptionError, match="constraints holds.*'hold'"):
+        arm.solve(T, constraints={"hold": 1})
+    with pytest.raises(armik.OptionError, match="constraints holds.*None"):
+        arm.solve(T, constraints=[None])
+
+
+@pytest.mark.parametrize(
+    "build, match",
+    [
+        (lambda: armik.Hold(3, 0.1), "joint must be a joint's name, got 3"),
+        (lambda: armik.Hold("j", math.nan), "finite number.*nan"),
+        (lambda: armik.Hold("j", "up"), "finite number.*'up'"),
+        (lambda: armik.Collisions(margin=-0.1, self_collision=True), "margin.*-0.1"),
+        (lambda: armik.Collisions(margin=0.1), "checks nothing"),
+        (lambda: armik.Collisions(self_collision="yes"), "True or False, got 'yes'"),
+        (lambda: armik.Collisions(obstacles="box"), "list of shapes"),
+    ],
+)
+def test_bad_constraints_get_armik_errors(build, match):
+    with pytest.raises(armik.InputError, match=match):
+        build()
+
+
+def test_a_held_joint_is_checked_against_the_arm():
+    arm = conftest.model("ur5")
+    with pytest.raises(armik.JointError, match="unknown joint 'elbow'.*shoulder_pan_joint"):
+        armik.Hold("elbow", 0.1).at(arm, arm.middle)
+    with pytest.raises(armik.JointError, match="outside joint 'elbow_joint'"):
+        armik.Hold("elbow_joint", 9.0).at(arm, arm.middle)
+    with pytest.raises(armik.OptionError, match="resolve it with Hold.at"):
+        armik.Hold("elbow_joint").check(arm, arm.middle[None])
+    seed = arm.random_q(0)
+    held = armik.Hold("elbow_joint").at(arm, seed)
+    assert held.value == seed[2]
+    lo, hi = box_of(arm, (JointLimits(), held))
+    assert lo[2] == hi[2] == seed[2]
+    assert np.array_equal(np.delete(lo, 2), np.delete(arm.lower, 2))
+
+
+def test_checks_over_rows_agree_with_each_answer():
+    arm = conftest.arm("panda")
+    model = arm.kinematics
+    rng = np.random.default_rng(7)
+    Q = arm.random_q(rng, 12)
+    Q[3, 1] = arm.upper[1] + 0.2  # one row outside the limits
+    limits = JointLimits().check(model, Q)
+    assert limits.ok.tolist() == [model.within_limits(q) for q in Q]
+    assert not limits.ok[3] and "panda_joint2" in limits.why(3)
+    held = armik.Hold("panda_joint4", float(Q[5, 3])).check(model, Q)
+    assert held.ok.tolist() == [i == 5 for i in range(12)]
+    assert "'panda_joint4' at" in held.why(0)
+    ball = armik.Sphere(0.15, (0.3, 0.0, 0.5))
+    clear = armik.Collisions([ball], self_collision=True, margin=0.01).check(model, Q)
+    for i, q in enumerate(Q):
+        distance, pair = arm.min_distance(q, obstacles=[ball], self_collision=True)
+        assert clear.extra(i)["closest_pair"] == pair
+        assert clear.extra(i)["min_distance"] == pytest.approx(distance, abs=1e-12)  # coal
+        assert clear.ok[i] == (distance >= 0.01)
+
+
+def test_a_check_turns_only_successes_into_failures():
+    model = conftest.model("panda")
+    Q = np.stack([model.middle, model.middle])
+    check = armik.Hold("panda_joint1", 0.5).check(model, Q)
+    failed = {"success": False, "status": Status.NOT_CONVERGED, "reason": "missed"}
+    assert check.judge(0, dict(failed)) == failed
+    won = check.judge(1, {"success": True, "status": Status.CONVERGED, "reason": "ok"})
+    assert not won["success"] and won["status"] is Status.NOT_CONVERGED
+    assert won["reason"] == "joint 'panda_joint1' at 0, held at 0.5"
+    kept = judged(model, (armik.Hold("panda_joint1", 0.0),), model.middle, {**won, "success": True})
+    assert kept["success"] and kept["reason"].endswith("joint 'panda_joint1' held at 0")
+
+
+def _looks_at(arm, q, point, within):
+    T = arm.fk(q)
+    sight = (np.asarray(point) - T.translation) / np.linalg.norm(point - T.translation)
+    return math.acos(min(1.0, float(T.rotation[:, 2] @ sight))) <= within + 1e-6
+
+
+def test_a_task_list_holds_a_joint_of_any_arm():
+    """A 6-joint arm's position with its last joint held (the compiled path holds a joint
+    of 7-joint arms only, so the task solver does, as a box row of its steps); a look-at on
+    a Panda with joint 4 held. Each checked on the arm's FK."""
+    ur5 = conftest.arm("ur5")
+    rng = np.random.default_rng(11)
+    for _ in range(5):
+        p = ur5.fk(ur5.random_q(rng)).translation
+        r = ur5.solve([armik.Position(p)], constraints=[armik.Hold("wrist_3_joint", 0.7)])
+        assert r.success and r.solver == "tasks" and r.q[5] == 0.7
+        assert np.linalg.norm(ur5.fk(r.q).translation - p) <= 1e-6
+        assert "held at 0.7" in r.reason
+    with pytest.raises(armik.OptionError, match="give the target as tasks"):
+        ur5.solve(p, constraints=[armik.Hold("wrist_3_joint", 0.7)])
+    panda = conftest.arm("panda")
+    q = panda.random_q(rng)
+    T = panda.fk(q)
+    point = T.translation + 0.4 * T.rotation[:, 2]
+    look = [armik.LookAt(point, (0, 0, 1), 0.02)]
+    r = panda.solve(look, constraints=[armik.Hold("panda_joint4", -1.2)], **BUDGET)
+    assert r.success and r.q[3] == -1.2 and _looks_at(panda, r.q, point, 0.02)
+
+
+def test_a_task_list_keeps_clear_of_obstacles():
+    """A look-at whose first answer would sit in a ball placed on it: the answer found
+    keeps clear (by coal, through the arm's own query); a ball over the shoulder, which
+    every configuration sinks into, leaves none: a collision naming its pair."""
+    panda = conftest.arm("panda")
+    q = panda.random_q(np.random.default_rng(2))
+    T = panda.fk(q)
+    point = T.translation + 0.4 * T.rotation[:, 2]
+    look = [armik.LookAt(point, (0, 0, 1), 0.02)]
+    model = panda.kinematics
+    pin.framesForwardKinematics(model.model, model.data, model.to_pin(q))
+    link4 = model.T_base_world * model.data.oMf[model.model.getFrameId("panda_link4")]
+    elbow = link4.translation
+    ball = armik.Sphere(0.08, elbow)
+    assert panda.in_collision(q, obstacles=[ball])
+    r = panda.solve(look, q0=q, constraints=[armik.Collisions([ball])], **BUDGET)
+    assert r.success and not panda.in_collision(r.q, obstacles=[ball])
+    assert _looks_at(panda, r.q, point, 0.02)
+    assert r.extra["min_distance"] == pytest.approx(panda.min_distance(r.q, [ball])[0], abs=1e-12)
+    assert r.extra["min_distance"] >= 0.0
+    assert "collision-free" in r.reason
+    over = armik.Sphere(0.7, (0.0, 0.0, 0.95))
+    r = panda.solve(look, q0=q, obstacles=[over], iteration_budget=300)
+    assert not r.success and r.status is Status.COLLISION
+    assert "obstacles[0] (Sphere)" in r.reason and r.extra["min_distance"] < 0.0
+    assert r.extra["min_distance"] == pytest.approx(panda.min_distance(r.q, [over])[0], abs=1e-12)
