@@ -6,6 +6,9 @@
 3. A target inside the box: reachable only in collision, so the status is ``collision``
    and the reason names the pair.
 4. ``solve_batch`` with obstacles and self-collision: every success is collision-free.
+5. The same as constraint objects (``armik.Collisions``, ``armik.Hold``), which a list of
+   tasks takes too: the camera on the wrist looks at a point on the table from anywhere,
+   clear of the box, with the last joint held.
 """
 
 import numpy as np
@@ -56,3 +59,13 @@ res = ur5.solve_batch(targets, obstacles=scene, self_collision=True, progress=Fa
 print("batch:", res.summary())
 ok = all(not ur5.in_collision(x, scene, self_collision=True) for x in res.q[res.success])
 print(f"every success collision-free: {ok}")
+
+# 5. constraints as objects: a look-at from anywhere, clear of the scene, wrist 3 held
+clear = armik.Collisions(obstacles=scene, self_collision=True, margin=0.01)
+look = armik.LookAt((0.45, 0.2, 0.0), axis=(0, 0, 1), within=0.02)
+r = ur5.solve([look], q0=q, constraints=[clear, armik.Hold("wrist_3_joint", 0.0)])
+T = ur5.fk(r.q)
+sight = np.array([0.45, 0.2, 0.0]) - T.translation
+angle = np.arccos(np.clip(T.rotation[:, 2] @ sight / np.linalg.norm(sight), -1.0, 1.0))
+print(f"look-at with constraints: {r.status} by {r.solver}, {angle:.4f} rad off the point,")
+print(f"  wrist_3 at {r.q[5]:.3f}, collision-free: {not ur5.in_collision(r.q, scene, True, 0.01)}")

@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from armik.batch_result import BatchResult
+from armik.constraints.clear import Collisions
 from armik.constraints.collision import checker
 from armik.errors import ArmikWarning, OptionError
 from armik.frozen import frozen
@@ -215,17 +216,22 @@ def _collisions(arm, spec, targets, seeds, opts, options, out, start, part) -> N
     keeps ``margin`` stands (it is the answer ``solve`` gives: its first run, from the same
     seed, ends there); every other target is solved again (``solve_parsed``), which restarts
     (numeric) or tries the other branches (closed forms)."""
-    check = checker(arm, opts.obstacles, opts.self_collision)
+    clear = Collisions(opts.obstacles, opts.self_collision, opts.margin)
     pair_index = {p: k for k, p in enumerate(out.pair_names)}
+    rows = np.flatnonzero(part.success)
+    checked = clear.check(arm, part.q[rows])  # the verified answers, over the chunk
+    kept = set()
+    for k, i in enumerate(rows.tolist()):
+        if checked.ok[k]:
+            found = checked.extra(k)
+            pair = found["closest_pair"]
+            out.min_distance[start + i] = found["min_distance"]
+            out.pair_index[start + i] = -1 if pair is None else pair_index[pair]
+            kept.add(i)
     for i in range(len(targets)):
-        if part.success[i]:
-            d, pair = check.distance(part.q[i])
-            if d >= opts.margin:
-                out.min_distance[start + i] = d
-                out.pair_index[start + i] = -1 if pair is None else pair_index[pair]
-                continue
-        r = solve_parsed(arm, targets.target(i), seeds[i], spec.name, options)
-        out.put_result(start + i, r)
+        if i not in kept:
+            r = solve_parsed(arm, targets.target(i), seeds[i], spec.name, options)
+            out.put_result(start + i, r)
 
 
 def batch_seeds(arm: ArmModel, q0: object, n: int) -> np.ndarray:
