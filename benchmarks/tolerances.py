@@ -13,7 +13,9 @@ random configuration q within the limits:
   up to 0.04 rad from q's (``[armik.Position(p), armik.Axis((0, 0, 1), d, 0.05)]``);
 - ``look``: a task list, q's tip position and its z axis within 0.05 rad of the line to a
   point 0.2-1 m along q's z axis, moved up to 1 cm
-  (``[armik.Position(p), armik.LookAt(point, (0, 0, 1), 0.05)]``).
+  (``[armik.Position(p), armik.LookAt(point, (0, 0, 1), 0.05)]``);
+- ``aim``: the look-at alone, the position free (``[armik.LookAt(point, (0, 0, 1), 0.05)]``
+  with the point built as for ``look``): a camera aimed at a spot from anywhere.
 
 armik solves with ``solver="auto"`` from mid-limits with a 5 ms budget; a success is
 checked again by yourdfpy's FK against the bounds (plus 1e-6). TRAC-IK (the ``pytracik``
@@ -22,7 +24,7 @@ target by target; its Python call takes no bounds, so it solves the exact pose: 
 ``spin`` targets of a 5-joint arm that pose is out of reach and TRAC-IK spends its budget.
 
     python benchmarks/tolerances.py [-n 200] [--arms ur5 panda abb_irb120 so101]
-        [--cases spin box cone look]
+        [--cases spin box cone look aim]
 """
 
 from __future__ import annotations
@@ -53,7 +55,7 @@ def load(name: str) -> armik.Arm:
 
 
 CONE = 0.05
-TASKS = ("cone", "look")  # the cases whose targets are task lists
+TASKS = ("cone", "look", "aim")  # the cases whose targets are task lists
 
 
 def target(a: armik.Arm, case: str, rng: np.random.Generator):
@@ -61,10 +63,11 @@ def target(a: armik.Arm, case: str, rng: np.random.Generator):
     if case == "cone":
         tilt = pin.exp3(rng.uniform(-1.0, 1.0, 3) * 0.8 * CONE / math.sqrt(3.0))
         return [Position(T.translation), Axis((0, 0, 1), tilt @ T.rotation[:, 2], CONE)], T
-    if case == "look":
+    if case in ("look", "aim"):
         point = T.translation + rng.uniform(0.2, 1.0) * T.rotation[:, 2]
         point = point + rng.uniform(-0.01, 0.01, 3)
-        return [Position(T.translation), LookAt(point, (0, 0, 1), CONE)], T
+        look = LookAt(point, (0, 0, 1), CONE)
+        return ([Position(T.translation), look] if case == "look" else [look]), T
     if case == "spin":
         return T * pin.SE3(
             pin.exp3(np.array([0.0, 0.0, rng.uniform(-math.pi, math.pi)])), np.zeros(3)

@@ -15,6 +15,7 @@ from armik.constraints.hold import Hold
 from armik.constraints.limits import JointLimits
 from armik.constraints.shapes import Shape
 from armik.errors import OptionError, listing
+from armik.frozen import frozen
 from armik.tolerances import (
     MAX_COUNT,
     MAX_LENGTH,
@@ -52,6 +53,8 @@ class Options:
       ``within`` rad of the target rotation's image of it (``R_t a``), its spin free; the
       position as ``bounds`` say (exact without them). What ``armik.Position`` with an
       ``armik.Axis`` lowers to (say it with those tasks); solved by ``dls`` and ``qp``.
+    - ``look_at``: (px, py, pz), m, base frame: the cone is around the line from the tip
+      to that point instead (what ``armik.LookAt`` lowers to; say it with that task).
     - ``qp_solver``: the qpsolvers backend of the ``qp`` solver ("osqp").
     - ``nullspace_gain``: pull toward q0 in the null space of redundant arms (1.0; 0 disables).
     - ``max_solutions``: cap on ``solve_all`` answers of numeric solvers (16).
@@ -78,6 +81,7 @@ class Options:
     weights: tuple[float, ...] | None = None
     bounds: tuple[float, ...] | None = None
     cone: tuple[float, float, float, float] | None = None
+    look_at: tuple[float, float, float] | None = None
     qp_solver: str = "osqp"
     nullspace_gain: float = 1.0
     max_solutions: int = 16
@@ -165,6 +169,7 @@ class Options:
             values["bounds"] = _bounds(values["bounds"])
         if values.get("cone") is not None:
             values["cone"] = _cone(values["cone"])
+        look = values.pop("look_at", None)
         if "position_only" in values:
             flag = values["position_only"]
             if not isinstance(flag, (bool, np.bool_)):
@@ -184,7 +189,8 @@ class Options:
                 option="qp_solver",
                 value=values["qp_solver"],
             )
-        return cls(**values)
+        made = cls(**values)
+        return made if look is None else with_look_at(made, look)
 
     def weight_vector(self, position_only_target: bool) -> np.ndarray:
         """The 6 weights of the task; raises ``OptionError`` when they leave no axis to
@@ -360,3 +366,26 @@ def _cone(value: object) -> tuple[float, float, float, float]:
         )
     a = c[:3] / length
     return (float(a[0]), float(a[1]), float(a[2]), float(c[3]))
+
+
+def with_look_at(opts: Options, value: object) -> Options:
+    """``opts`` with the option ``look_at`` (validated: a finite point, and a cone to look
+    with): a copy, built without the frozen ``__init__``. Kept apart from the rest, as the
+    seed is, so that a loop of look-ats at new points validates and plans its options
+    once (``armik.solve.single._options``)."""
+    p = _numbers(value)
+    if p.shape != (3,) or not np.isfinite(p).all():
+        raise OptionError(
+            f"look_at must be a point (px, py, pz) in m, base frame (say it with "
+            f"armik.LookAt); got {value!r}",
+            option="look_at",
+            value=value,
+        )
+    if opts.cone is None:
+        raise OptionError(
+            "look_at needs cone=(ax, ay, az, within): the tip's axis that looks at the point "
+            "(say it with armik.LookAt)",
+            option="look_at",
+            value=value,
+        )
+    return frozen(Options, **{**opts.__dict__, "look_at": (float(p[0]), float(p[1]), float(p[2]))})

@@ -36,3 +36,5 @@ PARALLEL_TOL = 1e-9  # the planar chains' axes (norm of the cross product of uni
 # obstacle before the obstacle is refused (a base resting on its table: the UR5's base
 # mesh reaches 3 mm below its own origin); such pairs are checked once, not per answer.
 FIXED_OVERLAP_TOL = 0.01  # m
+
+LOOK_AT = 1e-9  # m: a point this close to a frame's origin is looked at from any direction

@@ -12,13 +12,14 @@ import pytest
 
 from armik.kernel.problem import NO_CONE, workspace
 from armik.kernel.region import evaluate_region
-from armik.problem import Axis, Pose, Position
+from armik.problem import Axis, LookAt, Pose, Position
 from armik.problem.problem import Problem, lower
 
 from ..conftest import model
 
 EXACT = 1e-12
 AXIS = np.array([0.0, 0.0, 1.0])  # read only with a cone
+ORIGIN = np.zeros(3)  # the look-at point, read only with ``look``
 BOUNDS = [
     (0.0,) * 6,
     (0.005, 0.005, 0.005, 0.05, 0.05, 0.05),
@@ -44,7 +45,7 @@ def test_the_region_error_is_the_pose_task(robot, bounds):
         ws.q[0][:] = q
         b = np.array(bounds, dtype=float)
         R_t, p_t = np.ascontiguousarray(T_t.rotation), np.ascontiguousarray(T_t.translation)
-        evaluate_region(ch, b, w, NO_CONE, AXIS, R_t, p_t, ws, 0)
+        evaluate_region(ch, b, w, NO_CONE, AXIS, False, ORIGIN, R_t, p_t, ws, 0)
         np.testing.assert_allclose(ws.e[0], -task.residual(T), rtol=0, atol=EXACT)
         J = a.jacobian(q)
         np.testing.assert_allclose(ws.A[0], task.jacobian(T, J), rtol=0, atol=EXACT)
@@ -63,7 +64,9 @@ def test_inside_the_region_the_error_is_zero():
     ws.q[0][:] = q
     bounds = np.array([0.005, 0.005, 0.005, 0.05, 0.05, 0.05])
     R_t, p_t = np.ascontiguousarray(T.rotation), np.ascontiguousarray(T.translation)
-    evaluate_region(a.kernel_chain.flat, bounds, np.ones(6), NO_CONE, AXIS, R_t, p_t, ws, 0)
+    evaluate_region(
+        a.kernel_chain.flat, bounds, np.ones(6), NO_CONE, AXIS, False, ORIGIN, R_t, p_t, ws, 0
+    )
     assert not ws.e[0].any() and not ws.A[0].any() and not ws.val[0].any()
 
 
@@ -91,7 +94,9 @@ def test_the_cone_rows_are_the_axis_task(robot, within):
         R_t = np.ascontiguousarray(target.rotation)
         p_t = np.ascontiguousarray(target.translation)
         bounds = np.zeros(6)  # the position exact; the rotation's bounds are not read
-        evaluate_region(ch, bounds, np.ones(6), cone[3], np.array(cone[:3]), R_t, p_t, ws, 0)
+        evaluate_region(
+            ch, bounds, np.ones(6), cone[3], np.array(cone[:3]), False, ORIGIN, R_t, p_t, ws, 0
+        )
         # the position rows are in the target frame: R_t^T (p - p_t)
         pos = tasks[0]
         np.testing.assert_allclose(R_t @ ws.e[0, :3], -pos.residual(T), rtol=0, atol=EXACT)
@@ -104,3 +109,43 @@ def test_the_cone_rows_are_the_axis_task(robot, within):
         assert ws.val[0, 1] == pytest.approx(m.orientation, abs=EXACT)
         outside += m.orientation > 0.0
     assert outside >= 4  # the cone's rows were tested outside it, not only at zero
+
+
+@pytest.mark.parametrize("robot", ["panda", "ur5", "so101"])
+@pytest.mark.parametrize("within", [0.0, 0.05, 0.6])
+def test_the_look_rows_are_the_look_at_task(robot, within):
+    """A look-at lowered to a cone around the line of sight (``look``): the compiled rows
+    equal the ``LookAt`` task's residual and Jacobian, whose direction moves with the tip's
+    position too, and its measure."""
+    a = model(robot)
+    ch = a.kernel_chain.flat
+    ws = workspace(a.dof, 1, a.kernel_chain.chain.joint_kind.shape[0])
+    rng = np.random.default_rng(8)
+    outside = 0
+    for k in range(12):
+        q = a.random_q(rng)
+        T = a.fk(q)
+        axis = (0.0, 0.0, 1.0) if k % 3 == 0 else rng.normal(size=3)
+        point = T.translation + rng.normal(scale=0.4, size=3)
+        if k % 4 == 1:  # nearly along the tip's own z axis: the near-parallel branch
+            point = T.translation + 0.3 * T.rotation[:, 2] + rng.normal(scale=1e-14, size=3)
+        task = LookAt(point, axis, within)
+        target, said = lower(Problem((task,)))
+        cone = said["cone"]
+        assert np.array_equal(said["look_at"], point)
+        ws.q[0][:] = q
+        R_t = np.ascontiguousarray(target.rotation)
+        p_t = np.ascontiguousarray(target.translation)
+        bounds = np.array(said["bounds"])
+        look = np.array(said["look_at"])
+        evaluate_region(
+            ch, bounds, np.ones(6), cone[3], np.array(cone[:3]), True, look, R_t, p_t, ws, 0
+        )
+        assert not ws.e[0, :3].any() and not ws.A[0, :3].any()  # the position free
+        J = a.jacobian(q)
+        np.testing.assert_allclose(ws.e[0, 3:], -task.residual(T), rtol=0, atol=EXACT)
+        np.testing.assert_allclose(ws.A[0, 3:], task.jacobian(T, J), rtol=0, atol=1e-10)
+        m = task.measure(T, 0.0, 0.0)
+        assert ws.val[0, 1] == pytest.approx(m.orientation, abs=EXACT)
+        outside += m.orientation > 0.0
+    assert outside >= 4

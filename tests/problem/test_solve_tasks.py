@@ -131,11 +131,13 @@ def test_bad_task_lists_get_armik_errors():
     arm = conftest.arm("panda")
     p = armik.Position((0.3, 0.0, 0.4))
     cone = armik.Axis((0, 0, 1), (0, 0, -1), 0.1)
-    look = armik.LookAt((0.6, 0.0, 0.0), (0, 0, 1), 0.1)  # no compiled form: the task solver's
+    look = armik.LookAt((0.6, 0.0, 0.0), (0, 0, 1), 0.1)
+    boxed = armik.Position((0.3, 0.0, 0.4), bounds=(0.01, 0.01, 0.01))  # with an Axis: no
+    # compiled form, the task solver's
     with pytest.raises(armik.InputError, match="item 1"):
         arm.solve([p, "down"])
     with pytest.raises(armik.InputError, match="solver='auto'"):
-        arm.solve([p, look], solver="dls")
+        arm.solve([boxed, cone], solver="dls")
     with pytest.raises(armik.InputError, match="constraints holds armik.Hold.*'wall'"):
         arm.solve([p, look], constraints=["wall"])
     with pytest.raises(armik.InputError, match="bounds is given both"):
@@ -179,10 +181,15 @@ def test_batches_and_paths_of_task_lists():
     assert p.success.all() and np.abs(np.diff(p.q, axis=0)).max() <= 0.1
     for tasks, q in zip(cone_path, p.q):
         assert _holds(arm, q, tasks[0].p, (0, 0, 1), tasks[1].direction, 0.05)
-    look = [[armik.Position(tasks[0].p), armik.LookAt((0.0, 0.0, -1.0), (0, 0, 1), 0.3)]
-            for tasks in path[:2]]  # fmt: skip
+    T0 = arm.fk(Q[0])
+    spot = armik.LookAt(T0.translation + 0.3 * T0.rotation[:, 2], (0, 0, 1), 0.3)
+    look = [[armik.Position(tasks[0].p), spot] for tasks in path]  # one point: alike
+    p = arm.solve_path(look, Q[0], max_joint_step=0.5)
+    assert p.success.all() and p[0].solver == "dls"
+    assert all(spot.measure(arm.fk(q), 1e-6, 1e-6).within for q in p.q)
+    boxed = [[armik.Position(tasks[0].p, bounds=(0.01,) * 3), tasks[1]] for tasks in path[:2]]
     with pytest.raises(armik.InputError, match="path of task lists"):
-        arm.solve_path(look, Q[0])
+        arm.solve_path(boxed, Q[0])
 
 
 def test_a_task_on_another_frame_of_the_chain():

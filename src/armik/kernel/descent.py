@@ -75,7 +75,9 @@ def _measure(ch, st, R_t, p_t, ws, slot):
     """The error, its Jacobian and the measures at ws.q[slot]: of the exact target, or of
     its region when the target has bounds."""
     if st.region:
-        _evaluate_region(ch, st.bounds, st.w, st.cone, st.cone_axis, R_t, p_t, ws, slot)
+        _evaluate_region(
+            ch, st.bounds, st.w, st.cone, st.cone_axis, st.look, st.look_point, R_t, p_t, ws, slot
+        )
     else:
         _evaluate(ch, st, R_t, p_t, ws, slot)
 

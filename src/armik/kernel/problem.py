@@ -40,6 +40,8 @@ class Settings(NamedTuple):
     bounds: np.ndarray  # (6,) the region's bounds (m, rad; inf: free), read when ``region``
     cone: float  # the tip axis' cone angle (rad), replacing the rotation rows; NO_CONE: none
     cone_axis: np.ndarray  # (3,) that axis, unit, in the tip frame
+    look: bool  # the cone is around the line from the tip to ``look_point`` (a LookAt)
+    look_point: np.ndarray  # (3,) that point, m, in the base frame
 
 
 # Rows of Workspace.vec (n-vectors), .mat (n x n) and .ivec (integer n-vectors).
@@ -74,10 +76,10 @@ class Workspace(NamedTuple):
 def pack_settings(st: Settings) -> tuple[np.ndarray, np.ndarray]:
     """``st`` as a float and an int array (what compiled entries take; see ``unpack``)."""
     floats = [*st.w, st.tol_pos, st.tol_rot, st.null_gain, st.reach_slack, st.pull_scale]
-    floats += [*st.bounds, *st.cone_axis, st.cone]
+    floats += [*st.bounds, *st.cone_axis, st.cone, *st.look_point]
     ints = [st.full_task, st.measure_position, st.max_iterations, st.max_restarts]
     ints += [st.max_found, st.timeout_ns, st.iteration_budget, st.step, st.backend]
-    ints += [st.check_reach, st.translation_rows, st.region]
+    ints += [st.check_reach, st.translation_rows, st.region, st.look]
     return np.array(floats), np.array(ints, dtype=np.int64)
 
 
@@ -106,6 +108,8 @@ def unpack(sf, si):
         sf[11:17],
         sf[20],
         sf[17:20],
+        si[12] != 0,
+        sf[21:24],
     )
 
 

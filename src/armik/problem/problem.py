@@ -63,30 +63,6 @@ def tightened(problem: Problem) -> Problem:
     return Problem(tuple(t.shrunk(0.0) for t in problem.tasks), problem.constraints)
 
 
-def aimed(problem: Problem) -> Problem | None:
-    """A position held exactly with an axis looking at a point (a camera at a spot, aimed
-    at an object): the same problem with the look-at as an ``Axis`` along the line from
-    the position to the point, which the compiled path has a form for; None for other
-    problems. Equal up to the position's error over the distance to the point: its answers
-    are checked against the problem's own tasks (``armik.solve.tasks``)."""
-    if len(problem.tasks) != 2:
-        return None
-    a, b = problem.tasks
-    if type(a) is LookAt:
-        a, b = b, a
-    if type(a) is not Position or type(b) is not LookAt or a.bounds.any():
-        return None
-    if a.frame != b.frame:
-        return None
-    sight = b.point - a.p
-    distance = float(np.linalg.norm(sight))
-    if not distance > LOOK_FROM:  # looking at the very point it stands on: any axis holds
-        return None
-    return Problem(
-        (a, Axis(b.axis, sight / distance, b.within, frame=b.frame)), problem.constraints
-    )
-
-
 LOOK_FROM = 1e-6  # m: a point nearer the position than this is no direction to aim at
 
 
@@ -107,10 +83,14 @@ def lower(problem: Problem, tip: str | None = None) -> tuple[object, dict] | Non
     if any(t.frame is not None and t.frame != tip for t in problem.tasks):
         return None
     if len(problem.tasks) == 2:
-        return _point_and_axis(*problem.tasks)
+        return _point_and_axis(*problem.tasks) or _point_and_look(*problem.tasks)
     if len(problem.tasks) != 1:
         return None
     (task,) = problem.tasks
+    if type(task) is LookAt:  # the position free, the axis within its cone of the sight
+        free = (math.inf,) * 3 + (0.0,) * 3
+        said = {"bounds": free, "cone": _look(task), "look_at": tuple(task.point.tolist())}
+        return pin.SE3(np.eye(3), task.point.copy()), said
     if type(task) is Pose:
         options: dict = {}
         # with bounds the option's weights act in the target frame, as the task's do
@@ -147,6 +127,31 @@ def _point_and_axis(a: Task, b: Task) -> tuple[object, dict] | None:
         bounds[3 + along[0]] = math.inf
         return T, {"bounds": tuple(bounds)}
     return T, {"cone": _cone(b)}
+
+
+def _point_and_look(a: Task, b: Task) -> tuple[object, dict] | None:
+    """A position (exact, or within its bounds in the base frame) with an axis looking at a
+    point: the cone around the line of sight (``Options.cone`` and ``look_at``), which the
+    compiled step and the verdict measure as ``LookAt`` does; None where the point is the
+    position itself (any axis holds there, the task solver's)."""
+    if type(a) is LookAt:
+        a, b = b, a
+    if type(a) is not Position or type(b) is not LookAt:
+        return None
+    sight = b.point - a.p
+    distance = float(np.linalg.norm(sight))
+    if not distance > LOOK_FROM:
+        return None
+    said: dict = {"cone": _look(b), "look_at": tuple(b.point.tolist())}
+    if a.bounds.any():  # a box in the base frame: the target's rotation the identity
+        said["bounds"] = (*a.bounds.tolist(), 0.0, 0.0, 0.0)
+        return pin.SE3(np.eye(3), a.p.copy()), said
+    return pin.SE3(_onto(b.axis, sight / distance), a.p.copy()), said
+
+
+def _look(task: LookAt) -> tuple[float, ...]:
+    """``Options.cone`` of a ``LookAt``: its axis and angle (its point: ``look_at``)."""
+    return (*task.axis.tolist(), float(task.within))
 
 
 def _cone(task: Axis) -> tuple[float, ...]:

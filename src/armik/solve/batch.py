@@ -284,21 +284,25 @@ def cores() -> int:
 def _each(
     arm, targets: list, q0, solver: str, progress, options: dict, t0: float, label: str = SOLVER
 ) -> BatchResult:
-    """Targets the compiled batch has no form for (task lists it cannot lower, a score to
-    rank by), one after another through ``solve``."""
+    """Targets the compiled batch has no form for (task lists it cannot lower together, a
+    score to rank by), one after another through ``solve``; the batch's solver is the one
+    every row's result names, where they name one."""
     n = len(targets)
     seeds = batch_seeds(arm, q0, n)
     plain = {k: v for k, v in options.items() if k != "prefer"}
     out = BatchResult.for_arm(arm, n, label, Options.from_kwargs(plain))
     bar = make_progress(progress, n, f"{arm.name}/{label}")
+    names = set()
     for i, target in enumerate(targets):
         r = solve(arm, target, q0=seeds[i], solver=solver, **options)[0]
         out.put_result(i, r)
+        names.add(r.solver)
         if not r.success:
             out.reasons[i] = r.reason
         bar(i + 1, n)
     bar.close()
-    return frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
+    named = names.pop() if len(names) == 1 and label == SOLVER else label
+    return frozen(BatchResult, **{**vars(out), "solver": named, "time": time.perf_counter() - t0})
 
 
 def _workers(workers: object, spec: SolverSpec) -> int:

@@ -93,8 +93,9 @@ def solve_path(
             raise TargetError(
                 "a path of task lists takes tasks the compiled path has a form for (a pose "
                 "with bounds or weights, a position, a position with a tip axis along a "
-                "direction or within a cone of it, the same in every row); solve look-ats "
-                "and boxes around a position with solve or solve_batch"
+                "direction or within a cone of it, a look-at at one point, the same in "
+                "every row); solve other look-ats and boxes around a position with an axis "
+                "with solve or solve_batch"
             )
         poses, options = lowered
     opts = Options.from_kwargs(options)

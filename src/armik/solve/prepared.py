@@ -196,7 +196,12 @@ class Plan:
         H, q0, xy = plain
         if seed is None:
             seed = secrets.randbits(63)
-        got = self.run_pose(H, q0, seed) if xy is None else self.run_pose(H, q0, seed, False, xy)
+        if xy is not None:
+            got = self.run_pose(H, q0, seed, False, xy)
+        elif opts.look_at is not None:  # this call's point (the plan is shared by points)
+            got = self.run_pose(H, q0, seed, False, opts.look_at)
+        else:
+            got = self.run_pose(H, q0, seed)
         if got is None:
             return None
         if type(got) is not Claim:  # claims other than converged: the general verdict
@@ -210,7 +215,7 @@ class Plan:
             pos, ori, inside = placement_check(self.measured, R_w, p_w, H, q)
         else:
             T_bw = self.arm.T_base_world
-            pos, ori = region_error(T_bw, R_w, p_w, H[:3, :3], H[:3, 3], *region)
+            pos, ori = region_error(T_bw, R_w, p_w, H[:3, :3], H[:3, 3], *region, opts.look_at)
             inside = self.arm._within(q.tolist())
         ori = ori if self.measure_rot else None
         fields = claimed_verdict(

@@ -14,8 +14,8 @@ from armik.constraints.clear import distances
 from armik.constraints.collision import checker
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
-from armik.options import Options, spelled
-from armik.problem.problem import aimed, as_problem, lower, rims, tightened
+from armik.options import Options, spelled, with_look_at
+from armik.problem.problem import as_problem, lower, rims, tightened
 from armik.problem.scores import parse_score
 from armik.problem.tasks import Task
 from armik.result import IKResult
@@ -242,12 +242,10 @@ def _along_self_motion(
 
 def _centre(arm, problem, q0, options: dict):
     """The compiled answer to the problem's centre (``tightened``), if it has a form: an
-    answer to the problem itself, or a start for the task solver; else None. A look-at
-    from a held position is its cone toward the point instead (``aimed``), the region
-    whole. Where a closed form finds no answer at the centre, the nearest q0 of its answers
-    on the region's rim (``rims``: a cone's axis tilted to its edge), if any reaches."""
-    near = aimed(problem)
-    lowered = lower(tightened(problem) if near is None else near, arm.tip)
+    answer to the problem itself, or a start for the task solver; else None. Where a
+    closed form finds no answer at the centre, the nearest q0 of its answers on the
+    region's rim (``rims``: a cone's axis tilted to its edge), if any reaches."""
+    lowered = lower(tightened(problem), arm.tip)
     if lowered is None:
         return None
     target, said = lowered
@@ -340,25 +338,34 @@ def _options(kwargs: dict) -> tuple[Options, tuple | None, int | None]:
     (None: not remembered) when the values other than ``seed`` are hashable, and this
     call's validated ``seed``. Validation costs a few us, and a loop of solves passes the
     same options, often with a new seed each time: the remembered options keep the seed
-    they were first built with (``_with_seed`` gives them this call's)."""
+    they were first built with (``_with_seed`` gives them this call's). A look-at's point
+    (``look_at``), new in each of a loop of look-ats, is kept out of the key too, and
+    written into this call's copy."""
     if not kwargs:
         return _DEFAULT, (), 0
     seed = kwargs.get("seed", 0)
-    if "seed" in kwargs:
+    look = kwargs.get("look_at")
+    if "seed" in kwargs or look is not None:
         kwargs = dict(kwargs)
-        del kwargs["seed"]
+        kwargs.pop("seed", None)
+        kwargs.pop("look_at", None)
     try:
         # with the types: 1 == True, but validation may accept one and refuse the other
-        key = (tuple(kwargs.items()), tuple(map(type, kwargs.values())))
+        key = (tuple(kwargs.items()), tuple(map(type, kwargs.values())), look is not None)
         opts = _OPTIONS.get(key)
     except TypeError:  # an unhashable value (a list of weights): validate every time
-        return Options.from_kwargs({**kwargs, "seed": seed}), None, _seed(seed)
+        opts = Options.from_kwargs({**kwargs, "seed": seed})
+        return _looking(opts, look), None, _seed(seed)
     if opts is None:
         opts = Options.from_kwargs({**kwargs, "seed": seed})  # the seed checked with them
         if len(_OPTIONS) > 256:
             _OPTIONS.clear()
         _OPTIONS[key] = opts
-    return opts, key, _seed(seed)
+    return _looking(opts, look), key, _seed(seed)
+
+
+def _looking(opts: Options, look: object) -> Options:
+    return opts if look is None else with_look_at(opts, look)
 
 
 def _seed(seed: object) -> int | None:

@@ -97,6 +97,7 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: Options) -> Meas
             opts.region_bounds,
             w,
             opts.cone,
+            opts.look_at,
         )
     # C-ordered, writable float64 arrays: numba compiles anew for every other layout, and
     # Pinocchio's rotation is Fortran-ordered. ``T.homogeneous`` is a fresh C-ordered 4x4
@@ -156,7 +157,15 @@ def measure_many(
     ch = arm.kernel_chain.chain
     if opts.region:
         out = region_errors(
-            arm.T_base_world, R_w, p_w, R_t, p_t, np.array(opts.region_bounds), w, opts.cone
+            arm.T_base_world,
+            R_w,
+            p_w,
+            R_t,
+            p_t,
+            np.array(opts.region_bounds),
+            w,
+            opts.cone,
+            opts.look_at,
         )
     else:
         pose_errors(ch.base_R, ch.base_p, R_w, p_w, R_t, p_t, w, weighted, measure_rot, out)
@@ -243,7 +252,15 @@ def measure_batch(
         R_t = np.array(R_t, dtype=float)
         bounds = np.array(opts.region_bounds)
         out = region_errors(
-            arm.T_base_world, R_w, p_w, R_t, targets.positions, bounds, w, opts.cone
+            arm.T_base_world,
+            R_w,
+            p_w,
+            R_t,
+            targets.positions,
+            bounds,
+            w,
+            opts.cone,
+            opts.look_at,
         )
         if not measure_rot:
             out[:, 1] = np.nan

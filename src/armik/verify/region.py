@@ -7,7 +7,8 @@ The error twist of the reached pose relative to the target, in the target frame
 bound (``inf`` or a zero weight frees the component); the position and orientation errors
 are the lengths of what lies outside: 0 inside the region, so that the tolerances mean
 what they mean for an exact target. With a cone (``Options.cone``), the orientation error
-is the angle by which the tip axis ``a`` lies outside the cone around ``R_t a`` instead.
+is the angle by which the tip axis ``a`` lies outside the cone around ``R_t a`` instead,
+or, for a look-at, around the line from the tip to its point.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.problem.tasks.cone import angle
+from armik.tolerances import LOOK_AT
 
 
 def region_errors(
@@ -29,6 +31,7 @@ def region_errors(
     bounds: np.ndarray,
     weights: np.ndarray,
     cone: tuple[float, ...] | None = None,
+    look_at: tuple[float, ...] | None = None,
 ) -> np.ndarray:
     """(n, 2): position (m) and orientation (rad) error outside the region of each of n
     tip placements (``R_w`` (n, 3, 3), ``p_w`` (n, 3), in the world frame) against the
@@ -38,7 +41,7 @@ def region_errors(
     w = np.asarray(weights, dtype=float)
     out = np.empty((len(R_w), 2))
     for i in range(len(R_w)):
-        out[i] = region_error(T_base_world, R_w[i], p_w[i], R_t[i], p_t[i], b, w, cone)
+        out[i] = region_error(T_base_world, R_w[i], p_w[i], R_t[i], p_t[i], b, w, cone, look_at)
     return out
 
 
@@ -51,6 +54,7 @@ def region_error(
     bounds: tuple[float, ...],
     weights: np.ndarray,
     cone: tuple[float, ...] | None = None,
+    look_at: tuple[float, ...] | None = None,
 ) -> tuple[float, float]:
     """The position (m) and orientation (rad) error outside the region of one tip placement
     (``R_w`` (3, 3), ``p_w`` (3,), in the world frame) against one target (``R_t``, ``p_t``
@@ -69,6 +73,12 @@ def region_error(
         for x, b, w in zip(e, bounds, weights.tolist())
     ]
     position = math.sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2])
+    if cone is not None and look_at is not None:  # around the line of sight (``LookAt``)
+        sight = np.array(look_at) - p
+        distance = float(np.linalg.norm(sight))
+        if not distance > LOOK_AT:
+            return position, 0.0  # at the point: any axis looks at it
+        return position, max(angle(R @ np.array(cone[:3]), sight / distance) - cone[3], 0.0)
     if cone is not None:  # the angle between the tip's axis and the target's image of it
         a = np.array(cone[:3])
         return position, max(angle(R @ a, R_t @ a) - cone[3], 0.0)

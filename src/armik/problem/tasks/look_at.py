@@ -9,8 +9,7 @@ import pinocchio as pin
 from armik.problem.tasks import cone
 from armik.problem.tasks.base import Task, TaskError, check_angle, check_frame, replaced, unit
 from armik.targets.pose import _vector
-
-_AT = 1e-9  # m: a point this close to the frame's origin is looked at from any direction
+from armik.tolerances import LOOK_AT
 
 
 class LookAt(Task):
@@ -37,17 +36,17 @@ class LookAt(Task):
         """The unit line of sight in the base frame and the distance to the point."""
         v = self.point - T.translation
         distance = float(np.linalg.norm(v))
-        return (v / distance if distance > _AT else v), distance
+        return (v / distance if distance > LOOK_AT else v), distance
 
     def residual(self, T: pin.SE3) -> np.ndarray:
         d, distance = self._sight(T)
-        if distance <= _AT:
+        if distance <= LOOK_AT:
             return np.zeros(3)
         return cone.residual(self.axis, T.rotation.T @ d, self.within)
 
     def jacobian(self, T: pin.SE3, J: np.ndarray) -> np.ndarray:
         d, distance = self._sight(T)
-        if distance <= _AT:
+        if distance <= LOOK_AT:
             return np.zeros((3, J.shape[1]))
         R = T.rotation
         w = R.T @ d
@@ -59,7 +58,7 @@ class LookAt(Task):
         d, distance = self._sight(T)
         beyond = (
             0.0
-            if distance <= _AT
+            if distance <= LOOK_AT
             else max(cone.angle(self.axis, T.rotation.T @ d) - self.within, 0.0)
         )
         return TaskError(None, beyond, beyond <= tol_orientation)

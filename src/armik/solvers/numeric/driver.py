@@ -103,6 +103,7 @@ def packed_settings(
         opts.weights,
         opts.bounds,
         opts.cone,
+        opts.look_at is not None,  # the point itself written in below, per call
         opts.nullspace_gain,
         position_only,
         dof,
@@ -115,11 +116,11 @@ def packed_settings(
         if len(_PACKED) > 512:
             _PACKED.clear()
         _PACKED[key] = (budget, packed)
-        return packed
+        return packed if opts.look_at is None else _looking(packed, opts)
     remembered, packed = found
     if budget == remembered:
-        return packed
-    sf, si = packed
+        return packed if opts.look_at is None else _looking(packed, opts)
+    sf, si = packed if opts.look_at is None else _looking(packed, opts)
     si = si.copy()
     si[_MAX_RESTARTS] = int(opts.max_restarts)
     si[_TIMEOUT_NS] = _timeout_ns(opts.timeout)
@@ -128,6 +129,15 @@ def packed_settings(
     return sf, si
 
 
+def _looking(packed: tuple[np.ndarray, np.ndarray], opts: Options):
+    """``packed`` with this call's look-at point (a copy: the remembered settings are
+    shared by threads)."""
+    sf = packed[0].copy()
+    sf[_LOOK_POINT] = opts.look_at  # set: the callers checked
+    return sf, packed[1]
+
+
+_LOOK_POINT = slice(21, 24)  # in ``problem.pack_settings``' floats
 _PACKED: dict[tuple, tuple[tuple, tuple[np.ndarray, np.ndarray]]] = {}
 _MAX_RESTARTS, _TIMEOUT_NS, _ITERATION_BUDGET = 3, 5, 6  # in ``problem.pack_settings``' ints
 
@@ -176,6 +186,8 @@ def settings(opts: Options, position_only: bool, dof: int, max_found: int, step:
         bounds,
         NO_CONE if cone is None else float(cone[3]),
         np.array((0.0, 0.0, 1.0) if cone is None else cone[:3]),
+        opts.look_at is not None,
+        np.array((0.0, 0.0, 0.0) if opts.look_at is None else opts.look_at),
     )
 
 
@@ -249,13 +261,17 @@ def pose_runner(arm: ArmModel, opts: Options, step: Step, position_only: bool = 
     packed, kind, halton_ = arm.kernel_chain.flat
     converged_code = _descent.CONVERGED
 
-    def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False):
+    def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False, point=None):
         if every:  # solve_all: the general path (max_solutions descents)
             return None
+        s = sf
+        if point is not None:  # a look-at's point, this call's (``Options.look_at``)
+            s = sf.copy()
+            s[_LOOK_POINT] = point
         out_q = np.empty((1, dof))
         info = np.empty(5, dtype=np.int64)
         err = np.empty(2)
-        if not entry(packed, kind, halton_, sf, si, H, q0, seed, out_q, info, err):
+        if not entry(packed, kind, halton_, s, si, H, q0, seed, out_q, info, err):
             return None
         if info[0] == converged_code:
             restarts = int(info[3])
