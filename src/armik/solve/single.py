@@ -344,28 +344,26 @@ def _options(kwargs: dict) -> tuple[Options, tuple | None, int | None]:
     if not kwargs:
         return _DEFAULT, (), 0
     seed = kwargs.get("seed", 0)
-    look = kwargs.get("look_at")
-    if "seed" in kwargs or look is not None:
+    look = kwargs["look_at"] if "look_at" in kwargs else None  # a lookup, not a call
+    if "seed" in kwargs or "look_at" in kwargs:
         kwargs = dict(kwargs)
-        kwargs.pop("seed", None)
-        kwargs.pop("look_at", None)
+        if "seed" in kwargs:
+            del kwargs["seed"]
+        if "look_at" in kwargs:
+            del kwargs["look_at"]
     try:
         # with the types: 1 == True, but validation may accept one and refuse the other
         key = (tuple(kwargs.items()), tuple(map(type, kwargs.values())), look is not None)
         opts = _OPTIONS.get(key)
     except TypeError:  # an unhashable value (a list of weights): validate every time
         opts = Options.from_kwargs({**kwargs, "seed": seed})
-        return _looking(opts, look), None, _seed(seed)
+        return (opts if look is None else with_look_at(opts, look)), None, _seed(seed)
     if opts is None:
         opts = Options.from_kwargs({**kwargs, "seed": seed})  # the seed checked with them
         if len(_OPTIONS) > 256:
             _OPTIONS.clear()
         _OPTIONS[key] = opts
-    return _looking(opts, look), key, _seed(seed)
-
-
-def _looking(opts: Options, look: object) -> Options:
-    return opts if look is None else with_look_at(opts, look)
+    return (opts if look is None else with_look_at(opts, look)), key, _seed(seed)
 
 
 def _seed(seed: object) -> int | None:
