@@ -369,10 +369,26 @@ def _cone(value: object) -> tuple[float, float, float, float]:
 
 
 def with_look_at(opts: Options, value: object) -> Options:
-    """``opts`` with the option ``look_at`` (validated: a finite point, and a cone to look
-    with): a copy, built without the frozen ``__init__``. Kept apart from the rest, as the
+    """``opts`` with the option ``look_at`` (validated: a cone to look with, and a finite
+    point): a copy, built without the frozen ``__init__``. Kept apart from the rest, as the
     seed is, so that a loop of look-ats at new points validates and plans its options
     once (``armik.solve.single._options``)."""
+    if opts.cone is None:
+        raise OptionError(
+            "look_at needs cone=(ax, ay, az, within): the tip's axis that looks at the point "
+            "(say it with armik.LookAt)",
+            option="look_at",
+            value=value,
+        )
+    if (  # a task's point, three floats already: checked without numpy
+        type(value) is tuple
+        and len(value) == 3
+        and type(value[0]) is float
+        and type(value[1]) is float
+        and type(value[2]) is float
+        and math.isfinite(value[0] + value[1] + value[2])
+    ):
+        return frozen(Options, **{**opts.__dict__, "look_at": value})
     p = _numbers(value)
     if p.shape != (3,) or not np.isfinite(p).all():
         raise OptionError(
@@ -381,11 +397,5 @@ def with_look_at(opts: Options, value: object) -> Options:
             option="look_at",
             value=value,
         )
-    if opts.cone is None:
-        raise OptionError(
-            "look_at needs cone=(ax, ay, az, within): the tip's axis that looks at the point "
-            "(say it with armik.LookAt)",
-            option="look_at",
-            value=value,
-        )
-    return frozen(Options, **{**opts.__dict__, "look_at": (float(p[0]), float(p[1]), float(p[2]))})
+    point = (float(p[0]), float(p[1]), float(p[2]))
+    return frozen(Options, **{**opts.__dict__, "look_at": point})

@@ -139,14 +139,14 @@ def _point_and_look(a: Task, b: Task) -> tuple[object, dict] | None:
     if type(a) is not Position or type(b) is not LookAt:
         return None
     sight = b.point - a.p
-    distance = float(np.linalg.norm(sight))
-    if not distance > LOOK_FROM:
+    if not float(sight @ sight) > LOOK_FROM * LOOK_FROM:
         return None
+    # the target's rotation is not read: the cone's direction is the line of sight, and the
+    # position's box is in the base frame
     said: dict = {"cone": _look(b), "look_at": tuple(b.point.tolist())}
-    if a.bounds.any():  # a box in the base frame: the target's rotation the identity
+    if a.bounds.any():
         said["bounds"] = (*a.bounds.tolist(), 0.0, 0.0, 0.0)
-        return pin.SE3(np.eye(3), a.p.copy()), said
-    return pin.SE3(_onto(b.axis, sight / distance), a.p.copy()), said
+    return pin.SE3(np.eye(3), a.p.copy()), said
 
 
 def _look(task: LookAt) -> tuple[float, ...]:
