@@ -86,6 +86,25 @@ def _evaluate_region(ch, bounds, w, cone, a, look, x, R_t, p_t, ws, slot):
 
 
 @njit(cache=True, nogil=True, inline="always")
+def _beyond(a, w0, w1, w2, cone):
+    """(c = a x w, s = |c|, k = a . w, the angle of a from w beyond ``cone``)."""
+    c0, c1, c2 = a[1] * w2 - a[2] * w1, a[2] * w0 - a[0] * w2, a[0] * w1 - a[1] * w0
+    s = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+    k = a[0] * w0 + a[1] * w1 + a[2] * w2
+    return c0, c1, c2, s, k, math.atan2(s, k) - cone
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _inside(e, A, n):
+    """Rows 3-5 of e and A zero (the axis within its cone); the angle beyond it, 0."""
+    for i in range(3, 6):
+        e[i] = 0.0
+        for col in range(n):
+            A[i, col] = 0.0
+    return 0.0
+
+
+@njit(cache=True, nogil=True, inline="always")
 def _cone_rows(M, J, a, cone, e, A, n):
     """Rows 3-5 of e and A for the axis ``a`` within ``cone`` of ``w = M a`` (M = R^T R_t);
     returns the angle beyond the cone. With ``c = a x w``, ``s = |c|``, ``k = a . w`` and
@@ -93,16 +112,9 @@ def _cone_rows(M, J, a, cone, e, A, n):
     w0 = M[0, 0] * a[0] + M[0, 1] * a[1] + M[0, 2] * a[2]
     w1 = M[1, 0] * a[0] + M[1, 1] * a[1] + M[1, 2] * a[2]
     w2 = M[2, 0] * a[0] + M[2, 1] * a[1] + M[2, 2] * a[2]
-    c0, c1, c2 = a[1] * w2 - a[2] * w1, a[2] * w0 - a[0] * w2, a[0] * w1 - a[1] * w0
-    s = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
-    k = a[0] * w0 + a[1] * w1 + a[2] * w2
-    h = math.atan2(s, k) - cone
+    c0, c1, c2, s, k, h = _beyond(a, w0, w1, w2, cone)
     if h <= 0.0:
-        for i in range(3, 6):
-            e[i] = 0.0
-            for col in range(n):
-                A[i, col] = 0.0
-        return 0.0
+        return _inside(e, A, n)
     if s < _SMALL:  # the axis (anti)parallel to w: at the axis (cone 0) r = a x w itself
         f = 1.0 if k > 0.0 else 0.0  # opposite: no useful derivative (a restart's to leave)
         e[3], e[4], e[5] = -c0, -c1, -c2
@@ -144,16 +156,9 @@ def _look_rows(R, p, x, J, a, cone, e, A, n):
         w0 = (R[0, 0] * d0 + R[1, 0] * d1 + R[2, 0] * d2) / L
         w1 = (R[0, 1] * d0 + R[1, 1] * d1 + R[2, 1] * d2) / L
         w2 = (R[0, 2] * d0 + R[1, 2] * d1 + R[2, 2] * d2) / L
-        c0, c1, c2 = a[1] * w2 - a[2] * w1, a[2] * w0 - a[0] * w2, a[0] * w1 - a[1] * w0
-        s = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
-        k = a[0] * w0 + a[1] * w1 + a[2] * w2
-        h = math.atan2(s, k) - cone
+        c0, c1, c2, s, k, h = _beyond(a, w0, w1, w2, cone)
     if h <= 0.0:
-        for i in range(3, 6):
-            e[i] = 0.0
-            for col in range(n):
-                A[i, col] = 0.0
-        return 0.0
+        return _inside(e, A, n)
     near = s < _SMALL  # (anti)parallel: at the axis r = a x w itself, as ``_cone_rows``
     f = (1.0 if k > 0.0 else 0.0) if near else h / s
     e[3], e[4], e[5] = -c0 * f, -c1 * f, -c2 * f
