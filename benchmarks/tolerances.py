@@ -15,7 +15,10 @@ random configuration q within the limits:
   point 0.2-1 m along q's z axis, moved up to 1 cm
   (``[armik.Position(p), armik.LookAt(point, (0, 0, 1), 0.05)]``);
 - ``aim``: the look-at alone, the position free (``[armik.LookAt(point, (0, 0, 1), 0.05)]``
-  with the point built as for ``look``): a camera aimed at a spot from anywhere.
+  with the point built as for ``look``): a camera aimed at a spot from anywhere;
+- ``boxcone``: q's tip position moved up to 4 mm within a +-5 mm box, and the cone's axis
+  as for ``cone`` (``[armik.Position(p, bounds=(0.005,) * 3), armik.Axis(...)]``): "place
+  it within 5 mm, the tool down within 3 degrees".
 
 armik solves with ``solver="auto"`` from mid-limits with a 5 ms budget; a success is
 checked again by yourdfpy's FK against the bounds (plus 1e-6). TRAC-IK (the ``pytracik``
@@ -24,7 +27,7 @@ target by target; its Python call takes no bounds, so it solves the exact pose: 
 ``spin`` targets of a 5-joint arm that pose is out of reach and TRAC-IK spends its budget.
 
     python benchmarks/tolerances.py [-n 200] [--arms ur5 panda abb_irb120 so101]
-        [--cases spin box cone look aim]
+        [--cases spin box cone look aim boxcone]
 """
 
 from __future__ import annotations
@@ -55,14 +58,18 @@ def load(name: str) -> armik.Arm:
 
 
 CONE = 0.05
-TASKS = ("cone", "look", "aim")  # the cases whose targets are task lists
+TASKS = ("cone", "look", "aim", "boxcone")  # the cases whose targets are task lists
 
 
 def target(a: armik.Arm, case: str, rng: np.random.Generator):
     T = a.fk(a.random_q(rng))
-    if case == "cone":
+    if case in ("cone", "boxcone"):
         tilt = pin.exp3(rng.uniform(-1.0, 1.0, 3) * 0.8 * CONE / math.sqrt(3.0))
-        return [Position(T.translation), Axis((0, 0, 1), tilt @ T.rotation[:, 2], CONE)], T
+        axis = Axis((0, 0, 1), tilt @ T.rotation[:, 2], CONE)
+        if case == "cone":
+            return [Position(T.translation), axis], T
+        moved = T.translation + rng.uniform(-0.8, 0.8, 3) * BOX[0]
+        return [Position(moved, bounds=BOX[:3]), axis], T
     if case in ("look", "aim"):
         point = T.translation + rng.uniform(0.2, 1.0) * T.rotation[:, 2]
         point = point + rng.uniform(-0.01, 0.01, 3)

@@ -55,6 +55,9 @@ class Options:
       ``armik.Axis`` lowers to (say it with those tasks); solved by ``dls`` and ``qp``.
     - ``look_at``: (px, py, pz), m, base frame: the cone is around the line from the tip
       to that point instead (what ``armik.LookAt`` lowers to; say it with that task).
+    - ``toward``: (dx, dy, dz), base frame: the cone is around that direction instead,
+      whatever the target's rotation (what ``armik.Axis`` with a box around a position
+      lowers to: the box in the base frame, the target's rotation the identity).
     - ``qp_solver``: the qpsolvers backend of the ``qp`` solver ("osqp").
     - ``nullspace_gain``: pull toward q0 in the null space of redundant arms (1.0; 0 disables).
     - ``max_solutions``: cap on ``solve_all`` answers of numeric solvers (16).
@@ -82,6 +85,7 @@ class Options:
     bounds: tuple[float, ...] | None = None
     cone: tuple[float, float, float, float] | None = None
     look_at: tuple[float, float, float] | None = None
+    toward: tuple[float, float, float] | None = None
     qp_solver: str = "osqp"
     nullspace_gain: float = 1.0
     max_solutions: int = 16
@@ -169,7 +173,7 @@ class Options:
             values["bounds"] = _bounds(values["bounds"])
         if values.get("cone") is not None:
             values["cone"] = _cone(values["cone"])
-        look = values.pop("look_at", None)
+        look, toward = values.pop("look_at", None), values.pop("toward", None)
         if "position_only" in values:
             flag = values["position_only"]
             if not isinstance(flag, (bool, np.bool_)):
@@ -190,7 +194,7 @@ class Options:
                 value=values["qp_solver"],
             )
         made = cls(**values)
-        return made if look is None else with_look_at(made, look)
+        return made if look is None and toward is None else with_sight(made, look, toward)
 
     def weight_vector(self, position_only_target: bool) -> np.ndarray:
         """The 6 weights of the task; raises ``OptionError`` when they leave no axis to
@@ -368,34 +372,48 @@ def _cone(value: object) -> tuple[float, float, float, float]:
     return (float(a[0]), float(a[1]), float(a[2]), float(c[3]))
 
 
-def with_look_at(opts: Options, value: object) -> Options:
-    """``opts`` with the option ``look_at`` (validated: a cone to look with, and a finite
-    point): a copy, built without the frozen ``__init__``. Kept apart from the rest, as the
-    seed is, so that a loop of look-ats at new points validates and plans its options
-    once (``armik.solve.single._options``)."""
+def with_sight(opts: Options, look_at: object = None, toward: object = None) -> Options:
+    """``opts`` with the option ``look_at`` (a point) or ``toward`` (a direction, made
+    unit), validated: one of them, a cone to aim, a finite point or non-zero direction. A
+    copy, built without the frozen ``__init__``. Kept apart from the rest, as the seed is,
+    so that a loop of targets at new points validates and plans its options once
+    (``armik.solve.single._options``)."""
+    name, value = ("look_at", look_at) if toward is None else ("toward", toward)
+    if look_at is not None and toward is not None:
+        raise OptionError(
+            "look_at and toward both say where the cone points: give one of them",
+            option="toward",
+            value=toward,
+        )
     if opts.cone is None:
         raise OptionError(
-            "look_at needs cone=(ax, ay, az, within): the tip's axis that looks at the point "
-            "(say it with armik.LookAt)",
-            option="look_at",
+            f"{name} needs cone=(ax, ay, az, within): the tip's axis that points there "
+            "(say it with armik.LookAt or armik.Axis)",
+            option=name,
             value=value,
         )
-    if (  # a task's point, three floats already: checked without numpy
+    if (  # a task's point or direction, three floats already: checked without numpy
         type(value) is tuple
         and len(value) == 3
         and type(value[0]) is float
         and type(value[1]) is float
         and type(value[2]) is float
         and math.isfinite(value[0] + value[1] + value[2])
+        and (name == "look_at" or abs(value[0] ** 2 + value[1] ** 2 + value[2] ** 2 - 1) < 1e-12)
     ):
-        return frozen(Options, **{**opts.__dict__, "look_at": value})
+        return frozen(Options, **{**opts.__dict__, name: value})
     p = _numbers(value)
-    if p.shape != (3,) or not np.isfinite(p).all():
+    length = float(np.linalg.norm(p)) if p.shape == (3,) else math.nan
+    if not (np.isfinite(p).all() and math.isfinite(length)) or (
+        name == "toward" and not length > 1e-9
+    ):
+        what = "a point (px, py, pz) in m" if name == "look_at" else "a non-zero direction"
         raise OptionError(
-            f"look_at must be a point (px, py, pz) in m, base frame (say it with "
-            f"armik.LookAt); got {value!r}",
-            option="look_at",
+            f"{name} must be {what}, base frame (say it with armik.LookAt or armik.Axis); "
+            f"got {value!r}",
+            option=name,
             value=value,
         )
-    point = (float(p[0]), float(p[1]), float(p[2]))
-    return frozen(Options, **{**opts.__dict__, "look_at": point})
+    if name == "toward":
+        p = p / length
+    return frozen(Options, **{**opts.__dict__, name: (float(p[0]), float(p[1]), float(p[2]))})

@@ -10,7 +10,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from armik.kernel.problem import NO_CONE, workspace
+from armik.kernel.problem import LOOK_POINT, LOOK_TOWARD, NO_CONE, NO_LOOK, workspace
 from armik.kernel.region import evaluate_region
 from armik.problem import Axis, LookAt, Pose, Position
 from armik.problem.problem import Problem, lower
@@ -45,7 +45,7 @@ def test_the_region_error_is_the_pose_task(robot, bounds):
         ws.q[0][:] = q
         b = np.array(bounds, dtype=float)
         R_t, p_t = np.ascontiguousarray(T_t.rotation), np.ascontiguousarray(T_t.translation)
-        evaluate_region(ch, b, w, NO_CONE, AXIS, False, ORIGIN, R_t, p_t, ws, 0)
+        evaluate_region(ch, b, w, NO_CONE, AXIS, NO_LOOK, ORIGIN, R_t, p_t, ws, 0)
         np.testing.assert_allclose(ws.e[0], -task.residual(T), rtol=0, atol=EXACT)
         J = a.jacobian(q)
         np.testing.assert_allclose(ws.A[0], task.jacobian(T, J), rtol=0, atol=EXACT)
@@ -65,7 +65,7 @@ def test_inside_the_region_the_error_is_zero():
     bounds = np.array([0.005, 0.005, 0.005, 0.05, 0.05, 0.05])
     R_t, p_t = np.ascontiguousarray(T.rotation), np.ascontiguousarray(T.translation)
     evaluate_region(
-        a.kernel_chain.flat, bounds, np.ones(6), NO_CONE, AXIS, False, ORIGIN, R_t, p_t, ws, 0
+        a.kernel_chain.flat, bounds, np.ones(6), NO_CONE, AXIS, NO_LOOK, ORIGIN, R_t, p_t, ws, 0
     )
     assert not ws.e[0].any() and not ws.A[0].any() and not ws.val[0].any()
 
@@ -95,7 +95,7 @@ def test_the_cone_rows_are_the_axis_task(robot, within):
         p_t = np.ascontiguousarray(target.translation)
         bounds = np.zeros(6)  # the position exact; the rotation's bounds are not read
         evaluate_region(
-            ch, bounds, np.ones(6), cone[3], np.array(cone[:3]), False, ORIGIN, R_t, p_t, ws, 0
+            ch, bounds, np.ones(6), cone[3], np.array(cone[:3]), NO_LOOK, ORIGIN, R_t, p_t, ws, 0
         )
         # the position rows are in the target frame: R_t^T (p - p_t)
         pos = tasks[0]
@@ -139,13 +139,54 @@ def test_the_look_rows_are_the_look_at_task(robot, within):
         bounds = np.array(said["bounds"])
         look = np.array(said["look_at"])
         evaluate_region(
-            ch, bounds, np.ones(6), cone[3], np.array(cone[:3]), True, look, R_t, p_t, ws, 0
+            ch, bounds, np.ones(6), cone[3], np.array(cone[:3]), LOOK_POINT, look, R_t, p_t, ws, 0
         )
         assert not ws.e[0, :3].any() and not ws.A[0, :3].any()  # the position free
         J = a.jacobian(q)
         np.testing.assert_allclose(ws.e[0, 3:], -task.residual(T), rtol=0, atol=EXACT)
         np.testing.assert_allclose(ws.A[0, 3:], task.jacobian(T, J), rtol=0, atol=1e-10)
         m = task.measure(T, 0.0, 0.0)
+        assert ws.val[0, 1] == pytest.approx(m.orientation, abs=EXACT)
+        outside += m.orientation > 0.0
+    assert outside >= 4
+
+
+@pytest.mark.parametrize("robot", ["panda", "ur5", "so101"])
+@pytest.mark.parametrize("within", [0.0, 0.05, 0.6])
+def test_the_toward_rows_are_a_box_and_the_axis_task(robot, within):
+    """A position within a box with an axis in a cone, lowered to the identity rotation,
+    the box's bounds and the cone around the direction itself (``toward``): the compiled
+    rows equal the ``Position`` task's (its dead zone) and the ``Axis`` task's."""
+    a = model(robot)
+    ch = a.kernel_chain.flat
+    ws = workspace(a.dof, 1, a.kernel_chain.chain.joint_kind.shape[0])
+    rng = np.random.default_rng(12)
+    outside = 0
+    for k in range(12):
+        q = a.random_q(rng)
+        T = a.fk(q)
+        axis = (0.0, 0.0, 1.0) if k % 3 == 0 else rng.normal(size=3)
+        direction = rng.normal(size=3) if k % 2 else T.rotation @ np.array([0.0, 0.0, 1.0])
+        near = T.translation + rng.normal(scale=0.02, size=3)
+        box = Position(near, bounds=(0.01, 0.005, math.inf))
+        tasks = [box, Axis(axis, direction, within)]
+        target, said = lower(Problem(tuple(tasks)))
+        assert np.array_equal(target.rotation, np.eye(3))
+        cone, toward = said["cone"], np.array(said["toward"])
+        ws.q[0][:] = q
+        R_t = np.ascontiguousarray(target.rotation)
+        p_t = np.ascontiguousarray(target.translation)
+        evaluate_region(
+            ch, np.array(said["bounds"]), np.ones(6), cone[3], np.array(cone[:3]),
+            LOOK_TOWARD, toward, R_t, p_t, ws, 0,
+        )  # fmt: skip
+        J = a.jacobian(q)
+        np.testing.assert_allclose(ws.e[0, :3], -box.residual(T), rtol=0, atol=EXACT)
+        np.testing.assert_allclose(ws.A[0, :3], box.jacobian(T, J), rtol=0, atol=EXACT)
+        axis_task = tasks[1]
+        np.testing.assert_allclose(ws.e[0, 3:], -axis_task.residual(T), rtol=0, atol=EXACT)
+        np.testing.assert_allclose(ws.A[0, 3:], axis_task.jacobian(T, J), rtol=0, atol=1e-10)
+        m = axis_task.measure(T, 0.0, 0.0)
         assert ws.val[0, 1] == pytest.approx(m.orientation, abs=EXACT)
         outside += m.orientation > 0.0
     assert outside >= 4

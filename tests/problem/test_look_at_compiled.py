@@ -1,7 +1,8 @@
 """A look-at in the compiled path: alone, from a held position or from a box it lowers to
 the cone around the line of sight (options ``cone`` and ``look_at``), which ``dls`` and
-``qp`` solve in the kernel and the verdict measures as the ``LookAt`` task does. Every
-answer here is checked again by the task's own measure on the arm's FK."""
+``qp`` solve in the kernel and the verdict measures as the ``LookAt`` task does; a box
+around a position with an ``Axis``, to the cone around the direction itself (``toward``).
+Every answer here is checked again by the tasks' own measures on the arm's FK."""
 
 from __future__ import annotations
 
@@ -107,9 +108,28 @@ def test_batches_of_look_ats():
     assert all(_holds(arm, row, q) for row, q in zip(many, b.q))
 
 
+@pytest.mark.parametrize("robot", ["ur5", "panda", "so101"])
+def test_a_box_with_an_axis_is_solved_in_the_kernel(robot):
+    """ "Within 5 mm of the spot, the tool within 0.05 rad of down-ish": built from a
+    configuration, so an answer exists."""
+    arm = conftest.arm(robot)
+    rng = np.random.default_rng(14)
+    for _ in range(20):
+        T = arm.fk(arm.random_q(rng))
+        p = T.translation + rng.uniform(-0.004, 0.004, 3)
+        direction = T.rotation[:, 2] + rng.uniform(-0.02, 0.02, 3)
+        tasks = [armik.Position(p, bounds=(0.005,) * 3), armik.Axis((0, 0, 1), direction, 0.05)]
+        r = arm.solve(tasks, q0=arm.middle, **BUDGET)
+        assert r.success and r.solver == "dls", r.reason
+        assert _holds(arm, tasks, r.q) and arm.within_limits(r.q)
+
+
 @pytest.mark.parametrize(
     "given, match",
     [
+        ({"cone": (0, 0, 1, 0.1), "toward": (0, 0, 0)}, "toward must be a non-zero direction"),
+        ({"cone": (0, 0, 1, 0.1), "look_at": (1, 0, 0), "toward": (0, 0, 1)}, "both say"),
+        ({"toward": (0.0, 0.0, 1.0)}, "toward needs cone"),
         ({"look_at": (0.1, 0.2, 0.3)}, "look_at needs cone"),
         ({"cone": (0, 0, 1, 0.1), "look_at": (0.1, math.nan, 0.3)}, "look_at must be a point"),
         ({"cone": (0, 0, 1, 0.1), "look_at": (0.1, 0.2)}, r"look_at.*\(0\.1, 0\.2\)"),

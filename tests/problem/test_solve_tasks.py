@@ -82,17 +82,19 @@ def test_a_look_at_with_a_position():
 
 
 def test_an_impossible_list_is_not_converged_with_the_task_that_fails():
-    """A point 10 m away with a box around it (the task solver's): no answer, and no claim
-    that it is out of reach; as a cone around an exact point (the compiled path's), out of
-    the reach bound."""
+    """The elbow within a box 10 m away (the task solver's: a task on another frame): no
+    answer, and no claim that it is out of reach; the tip there, exactly or within the
+    box, with a cone (the compiled path's), out of the reach bound."""
     arm = conftest.arm("panda")
     cone = armik.Axis((0, 0, 1), (0, 0, -1), 0.1)
-    boxed = armik.Position((10.0, 0.0, 0.5), bounds=(0.01, 0.01, 0.01))
-    r = arm.solve([boxed, cone], iteration_budget=200)
+    far = (10.0, 0.0, 0.5)
+    elbow = armik.Position(far, bounds=(0.01, 0.01, 0.01), frame="panda_link4")
+    r = arm.solve([elbow, cone], iteration_budget=200)
     assert not r.success and r.status is Status.NOT_CONVERGED and r.solver == "tasks"
     assert "Position" in r.reason and "does not show" in r.reason
-    r = arm.solve([armik.Position((10.0, 0.0, 0.5)), cone], iteration_budget=200)
-    assert not r.success and r.status is Status.UNREACHABLE and "reach" in r.reason
+    for tip in (armik.Position(far), armik.Position(far, bounds=(0.01, 0.01, 0.01))):
+        r = arm.solve([tip, cone], iteration_budget=200)
+        assert not r.success and r.status is Status.UNREACHABLE and "reach" in r.reason
 
 
 def test_one_task_goes_the_compiled_way_with_the_same_answer():
@@ -123,7 +125,9 @@ def test_lowering_and_tightening():
     assert np.allclose(said["cone"], (0.5**0.5, 0.5**0.5, 0.0, 0.0))
     assert np.allclose(target.rotation @ tilted.axis, [0, 0, -1])
     boxed = armik.Position((0.3, 0.0, 0.4), bounds=(0.01, 0.01, 0.01))
-    assert lower(Problem((boxed, cone))) is None
+    T, said = lower(Problem((boxed, cone)))  # the box in the base frame, the cone around
+    assert np.array_equal(T.rotation, np.eye(3)) and said["toward"] == tuple(cone.direction)
+    assert lower(Problem((armik.Position((0.3, 0.0, 0.4), frame="elbow"), cone))) is None
     assert as_problem((0.3, 0.0, 0.4)) is None and as_problem(p).tasks == (p,)
 
 
@@ -132,12 +136,12 @@ def test_bad_task_lists_get_armik_errors():
     p = armik.Position((0.3, 0.0, 0.4))
     cone = armik.Axis((0, 0, 1), (0, 0, -1), 0.1)
     look = armik.LookAt((0.6, 0.0, 0.0), (0, 0, 1), 0.1)
-    boxed = armik.Position((0.3, 0.0, 0.4), bounds=(0.01, 0.01, 0.01))  # with an Axis: no
+    elbow = armik.Position((0.3, 0.0, 0.4), frame="panda_link4")  # with an Axis: no
     # compiled form, the task solver's
     with pytest.raises(armik.InputError, match="item 1"):
         arm.solve([p, "down"])
     with pytest.raises(armik.InputError, match="solver='auto'"):
-        arm.solve([boxed, cone], solver="dls")
+        arm.solve([elbow, cone], solver="dls")
     with pytest.raises(armik.InputError, match="constraints holds armik.Hold.*'wall'"):
         arm.solve([p, look], constraints=["wall"])
     with pytest.raises(armik.InputError, match="bounds is given both"):

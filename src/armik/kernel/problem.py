@@ -14,6 +14,8 @@ from numba import njit
 STEP_DLS, STEP_QP = 0, 1
 NO_LIMIT = -1  # for timeout_ns and iteration_budget: not used
 NO_CONE = -1.0  # for Settings.cone: the rotation rows are the bounds'
+NO_LOOK, LOOK_POINT, LOOK_TOWARD = 0, 1, 2  # Settings.look: the cone around R_t a, the
+# line from the tip to look_point, the base-frame direction look_point
 
 
 class Settings(NamedTuple):
@@ -40,8 +42,8 @@ class Settings(NamedTuple):
     bounds: np.ndarray  # (6,) the region's bounds (m, rad; inf: free), read when ``region``
     cone: float  # the tip axis' cone angle (rad), replacing the rotation rows; NO_CONE: none
     cone_axis: np.ndarray  # (3,) that axis, unit, in the tip frame
-    look: bool  # the cone is around the line from the tip to ``look_point`` (a LookAt)
-    look_point: np.ndarray  # (3,) that point, m, in the base frame
+    look: int  # NO_LOOK, LOOK_POINT (a LookAt's), LOOK_TOWARD (an Axis around a box)
+    look_point: np.ndarray  # (3,) that point (m) or unit direction, in the base frame
 
 
 # Rows of Workspace.vec (n-vectors), .mat (n x n) and .ivec (integer n-vectors).
@@ -108,7 +110,7 @@ def unpack(sf, si):
         sf[11:17],
         sf[20],
         sf[17:20],
-        si[12] != 0,
+        si[12],
         sf[21:24],
     )
 

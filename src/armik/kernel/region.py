@@ -13,8 +13,10 @@ With a cone (``cone >= 0``), the rotation rows are instead those of ``armik.Axis
 axis ``a`` (tip frame) within ``cone`` rad of the target's image of it, ``w = R^T R_t a``
 in the tip frame; the residual is ``(a x w) (theta - cone) / |a x w|`` outside the cone
 (``armik.problem.tasks.cone``, the same floats up to rounding), zero inside. With ``look``
-the cone's direction is the line from the tip to the point ``x`` (``armik.LookAt``): ``w =
-R^T (x - p) / |x - p|``, which moves with the tip's position too (``_look_rows``).
+(``LOOK_POINT``) the cone's direction is the line from the tip to the point ``x``
+(``armik.LookAt``): ``w = R^T (x - p) / |x - p|``, which moves with the tip's position too
+(``_look_rows``); with ``LOOK_TOWARD``, the base-frame direction ``x`` (an ``armik.Axis``
+whose position rows are a box in the base frame: the target's rotation the identity).
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from numba import njit
 
 from armik.kernel.error import relative
 from armik.kernel.fk import jacobian_local
+from armik.kernel.problem import LOOK_TOWARD, NO_LOOK
 from armik.kernel.se3 import jlog3, log3
 from armik.tolerances import LOOK_AT
 
@@ -34,7 +37,8 @@ def _evaluate_region(ch, bounds, w, cone, a, look, x, R_t, p_t, ws, slot):
     """ws.e[slot], ws.A[slot] and ws.val[slot] at ws.q[slot] for the target (R_t, p_t)
     within ``bounds`` (6,), weighted by ``w`` (6,); with ``cone >= 0`` the tip axis ``a``
     (3,) within that cone instead of the rotation bounds, around the target's image of it
-    or, with ``look``, around the line from the tip to the point ``x`` (3,)."""
+    or, with ``look``, around the line from the tip to the point ``x`` (3,)
+    (``LOOK_POINT``) or the direction ``x`` (``LOOK_TOWARD``)."""
     relative(ch, ws.q[slot], R_t, p_t, ws)  # M = R^T R_t, t = R^T (p_t - p)
     J = ws.J
     jacobian_local(ch, ws.m3[0], ws.v3[0], ws.geo[0], ws.geo[1], J)
@@ -44,8 +48,8 @@ def _evaluate_region(ch, bounds, w, cone, a, look, x, R_t, p_t, ws, slot):
         e[i] = -(M[0, i] * t[0] + M[1, i] * t[1] + M[2, i] * t[2])  # R_t^T (p - p_t)
     n = J.shape[1]
     pos2 = rot2 = sq = 0.0
-    if cone >= 0.0 and look:
-        h = _look_rows(ws.m3[0], ws.v3[0], x, J, a, cone, e, A, n)
+    if cone >= 0.0 and look != NO_LOOK:
+        h = _look_rows(ws.m3[0], ws.v3[0], x, look == LOOK_TOWARD, J, a, cone, e, A, n)
         rot2 = h * h
         sq = e[3] * e[3] + e[4] * e[4] + e[5] * e[5]
     elif cone >= 0.0:  # the cone's rows: no log3 of the rotation, no Jlog3
@@ -143,14 +147,20 @@ _SMALL = 1e-12  # |a x w| below this: a and w (anti)parallel, as ``tasks.cone`` 
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _look_rows(R, p, x, J, a, cone, e, A, n):
+def _look_rows(R, p, x, toward, J, a, cone, e, A, n):
     """``_cone_rows`` around the line of sight: ``w = R^T (x - p) / L``, ``L = |x - p|``,
     whose derivative has the position's part too: ``dw = w x j - (v - w (w . v)) / L``
-    (``j``, ``v``: J's angular and linear rows). With ``c = a x w``, ``s = |c|``,
-    ``k = a . w``: ``dc = a x dw``, ``ds = c . dc / s``, ``dtheta = k ds - s (a . dw)``.
-    No rows where the tip is at the point (any axis looks at it)."""
-    d0, d1, d2 = x[0] - p[0], x[1] - p[1], x[2] - p[2]
-    L = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    (``j``, ``v``: J's angular and linear rows); with ``toward``, around the unit direction
+    ``x``: ``w = R^T x``, no position's part (L infinite in dw). With ``c = a x w``,
+    ``s = |c|``, ``k = a . w``: ``dc = a x dw``, ``ds = c . dc / s``,
+    ``dtheta = k ds - s (a . dw)``. No rows where the tip is at the point (any axis looks
+    at it)."""
+    if toward:
+        d0, d1, d2, L, far = x[0], x[1], x[2], 1.0, math.inf
+    else:
+        d0, d1, d2 = x[0] - p[0], x[1] - p[1], x[2] - p[2]
+        L = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        far = L
     h = w0 = w1 = w2 = c0 = c1 = c2 = s = k = 0.0
     if L > LOOK_AT:
         w0 = (R[0, 0] * d0 + R[1, 0] * d1 + R[2, 0] * d2) / L
@@ -166,9 +176,9 @@ def _look_rows(R, p, x, J, a, cone, e, A, n):
         v0, v1, v2 = J[0, col], J[1, col], J[2, col]
         j0, j1, j2 = J[3, col], J[4, col], J[5, col]
         wv = w0 * v0 + w1 * v1 + w2 * v2
-        dw0 = w1 * j2 - w2 * j1 - (v0 - w0 * wv) / L
-        dw1 = w2 * j0 - w0 * j2 - (v1 - w1 * wv) / L
-        dw2 = w0 * j1 - w1 * j0 - (v2 - w2 * wv) / L
+        dw0 = w1 * j2 - w2 * j1 - (v0 - w0 * wv) / far
+        dw1 = w2 * j0 - w0 * j2 - (v1 - w1 * wv) / far
+        dw2 = w0 * j1 - w1 * j0 - (v2 - w2 * wv) / far
         dc0 = a[1] * dw2 - a[2] * dw1
         dc1 = a[2] * dw0 - a[0] * dw2
         dc2 = a[0] * dw1 - a[1] * dw0

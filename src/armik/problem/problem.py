@@ -115,11 +115,15 @@ def _point_and_axis(a: Task, b: Task) -> tuple[object, dict] | None:
     that axis, exactly (every rotation taking the axis onto the direction is the target's
     turned about the axis, whose log3 lies along it), so that a closed form's sweep
     applies; else the cone (``Options.cone``), which the compiled step and the verdict
-    measure as ``Axis`` does."""
+    measure as ``Axis`` does. A position within a box (base frame) with an axis: the
+    target's rotation the identity and the cone around the direction itself (``toward``)."""
     if type(a) is Axis:
         a, b = b, a
-    if type(a) is not Position or type(b) is not Axis or a.bounds.any():
+    if type(a) is not Position or type(b) is not Axis:
         return None
+    if a.bounds.any():  # a box in the base frame: the cone around the direction itself
+        said = {"bounds": (*a.bounds.tolist(), 0.0, 0.0, 0.0), "cone": _cone(b)}
+        return pin.SE3(np.eye(3), a.p.copy()), {**said, "toward": tuple(b.direction.tolist())}
     T = pin.SE3(_onto(b.axis, b.direction), a.p.copy())
     along = [k for k, x in enumerate(b.axis.tolist()) if abs(x) == 1.0]
     if b.within == 0.0 and len(along) == 1:

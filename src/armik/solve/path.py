@@ -94,8 +94,7 @@ def solve_path(
                 "a path of task lists takes tasks the compiled path has a form for (a pose "
                 "with bounds or weights, a position, a position with a tip axis along a "
                 "direction or within a cone of it, a look-at at one point, the same in "
-                "every row); solve other look-ats and boxes around a position with an axis "
-                "with solve or solve_batch"
+                "every row); solve the others with solve or solve_batch"
             )
         poses, options = lowered
     opts = Options.from_kwargs(options)

@@ -198,8 +198,9 @@ class Plan:
             seed = secrets.randbits(63)
         if xy is not None:
             got = self.run_pose(H, q0, seed, False, xy)
-        elif opts.look_at is not None:  # this call's point (the plan is shared by points)
-            got = self.run_pose(H, q0, seed, False, opts.look_at)
+        elif opts.look_at is not None or opts.toward is not None:  # this call's (the plan
+            # is shared by points and directions)
+            got = self.run_pose(H, q0, seed, False, opts.look_at or opts.toward)
         else:
             got = self.run_pose(H, q0, seed)
         if got is None:
@@ -215,7 +216,9 @@ class Plan:
             pos, ori, inside = placement_check(self.measured, R_w, p_w, H, q)
         else:
             T_bw = self.arm.T_base_world
-            pos, ori = region_error(T_bw, R_w, p_w, H[:3, :3], H[:3, 3], *region, opts.look_at)
+            pos, ori = region_error(
+                T_bw, R_w, p_w, H[:3, :3], H[:3, 3], *region, opts.look_at, opts.toward
+            )
             inside = self.arm._within(q.tolist())
         ori = ori if self.measure_rot else None
         fields = claimed_verdict(

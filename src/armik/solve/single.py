@@ -14,7 +14,7 @@ from armik.constraints.clear import distances
 from armik.constraints.collision import checker
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
-from armik.options import Options, spelled, with_look_at
+from armik.options import Options, spelled, with_sight
 from armik.problem.problem import as_problem, lower, rims, tightened
 from armik.problem.scores import parse_score
 from armik.problem.tasks import Task
@@ -339,31 +339,35 @@ def _options(kwargs: dict) -> tuple[Options, tuple | None, int | None]:
     call's validated ``seed``. Validation costs a few us, and a loop of solves passes the
     same options, often with a new seed each time: the remembered options keep the seed
     they were first built with (``_with_seed`` gives them this call's). A look-at's point
-    (``look_at``), new in each of a loop of look-ats, is kept out of the key too, and
-    written into this call's copy."""
+    or an axis' direction (``look_at``, ``toward``), new in each of a loop of targets, is
+    kept out of the key too, and written into this call's copy."""
     if not kwargs:
         return _DEFAULT, (), 0
     seed = kwargs.get("seed", 0)
-    look = kwargs["look_at"] if "look_at" in kwargs else None  # a lookup, not a call
-    if "seed" in kwargs or "look_at" in kwargs:
+    look = kwargs["look_at"] if "look_at" in kwargs else None  # lookups, not calls
+    toward = kwargs["toward"] if "toward" in kwargs else None
+    sight = look is not None or toward is not None
+    if "seed" in kwargs or "look_at" in kwargs or "toward" in kwargs:
         kwargs = dict(kwargs)
         if "seed" in kwargs:
             del kwargs["seed"]
         if "look_at" in kwargs:
             del kwargs["look_at"]
+        if "toward" in kwargs:
+            del kwargs["toward"]
     try:
         # with the types: 1 == True, but validation may accept one and refuse the other
-        key = (tuple(kwargs.items()), tuple(map(type, kwargs.values())), look is not None)
+        key = (tuple(kwargs.items()), tuple(map(type, kwargs.values())), look is None, sight)
         opts = _OPTIONS.get(key)
     except TypeError:  # an unhashable value (a list of weights): validate every time
         opts = Options.from_kwargs({**kwargs, "seed": seed})
-        return (opts if look is None else with_look_at(opts, look)), None, _seed(seed)
+        return (with_sight(opts, look, toward) if sight else opts), None, _seed(seed)
     if opts is None:
         opts = Options.from_kwargs({**kwargs, "seed": seed})  # the seed checked with them
         if len(_OPTIONS) > 256:
             _OPTIONS.clear()
         _OPTIONS[key] = opts
-    return (opts if look is None else with_look_at(opts, look)), key, _seed(seed)
+    return (with_sight(opts, look, toward) if sight else opts), key, _seed(seed)
 
 
 def _seed(seed: object) -> int | None:

@@ -1,5 +1,5 @@
 """Solve a problem of tasks (``armik.problem``) that the compiled path has no form for: a
-look-at, a position within bounds with an axis, a task on another frame.
+task on another frame, more than two tasks, a look-at of the point the tip stands on.
 
 Damped least squares (Levenberg-Marquardt) on the stacked task residuals, each step
 clipped into the joint limits; random restarts within the budget (``timeout`` in CPU time

@@ -98,6 +98,7 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: Options) -> Meas
             w,
             opts.cone,
             opts.look_at,
+            opts.toward,
         )
     # C-ordered, writable float64 arrays: numba compiles anew for every other layout, and
     # Pinocchio's rotation is Fortran-ordered. ``T.homogeneous`` is a fresh C-ordered 4x4
@@ -166,6 +167,7 @@ def measure_many(
             w,
             opts.cone,
             opts.look_at,
+            opts.toward,
         )
     else:
         pose_errors(ch.base_R, ch.base_p, R_w, p_w, R_t, p_t, w, weighted, measure_rot, out)
@@ -261,6 +263,7 @@ def measure_batch(
             w,
             opts.cone,
             opts.look_at,
+            opts.toward,
         )
         if not measure_rot:
             out[:, 1] = np.nan

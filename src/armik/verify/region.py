@@ -8,7 +8,8 @@ bound (``inf`` or a zero weight frees the component); the position and orientati
 are the lengths of what lies outside: 0 inside the region, so that the tolerances mean
 what they mean for an exact target. With a cone (``Options.cone``), the orientation error
 is the angle by which the tip axis ``a`` lies outside the cone around ``R_t a`` instead,
-or, for a look-at, around the line from the tip to its point.
+or, for a look-at, around the line from the tip to its point, or around a base-frame
+direction (``toward``).
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ def region_errors(
     weights: np.ndarray,
     cone: tuple[float, ...] | None = None,
     look_at: tuple[float, ...] | None = None,
+    toward: tuple[float, ...] | None = None,
 ) -> np.ndarray:
     """(n, 2): position (m) and orientation (rad) error outside the region of each of n
     tip placements (``R_w`` (n, 3, 3), ``p_w`` (n, 3), in the world frame) against the
@@ -41,7 +43,9 @@ def region_errors(
     w = np.asarray(weights, dtype=float)
     out = np.empty((len(R_w), 2))
     for i in range(len(R_w)):
-        out[i] = region_error(T_base_world, R_w[i], p_w[i], R_t[i], p_t[i], b, w, cone, look_at)
+        out[i] = region_error(
+            T_base_world, R_w[i], p_w[i], R_t[i], p_t[i], b, w, cone, look_at, toward
+        )
     return out
 
 
@@ -55,6 +59,7 @@ def region_error(
     weights: np.ndarray,
     cone: tuple[float, ...] | None = None,
     look_at: tuple[float, ...] | None = None,
+    toward: tuple[float, ...] | None = None,
 ) -> tuple[float, float]:
     """The position (m) and orientation (rad) error outside the region of one tip placement
     (``R_w`` (3, 3), ``p_w`` (3,), in the world frame) against one target (``R_t``, ``p_t``
@@ -79,6 +84,8 @@ def region_error(
         if not distance > LOOK_AT:
             return position, 0.0  # at the point: any axis looks at it
         return position, max(angle(R @ np.array(cone[:3]), sight / distance) - cone[3], 0.0)
+    if cone is not None and toward is not None:  # around a base-frame direction
+        return position, max(angle(R @ np.array(cone[:3]), np.array(toward)) - cone[3], 0.0)
     if cone is not None:  # the angle between the tip's axis and the target's image of it
         a = np.array(cone[:3])
         return position, max(angle(R @ a, R_t @ a) - cone[3], 0.0)

@@ -32,8 +32,11 @@ from armik.kernel.clock import thread_cpu_ns
 from armik.kernel.descent import CAREFUL_BELOW, KNOWN_MINIMUM_RADIUS  # noqa: F401 (re-exported)
 from armik.kernel.entry import ENTRIES
 from armik.kernel.problem import (
+    LOOK_POINT,
+    LOOK_TOWARD,
     NO_CONE,
     NO_LIMIT,
+    NO_LOOK,
     SHIFT,
     STEP_DLS,
     STEP_QP,
@@ -103,7 +106,8 @@ def packed_settings(
         opts.weights,
         opts.bounds,
         opts.cone,
-        opts.look_at is not None,  # the point itself written in below, per call
+        opts.look_at is None,  # the point or direction itself written in below, per call
+        opts.toward is None,
         opts.nullspace_gain,
         position_only,
         dof,
@@ -116,11 +120,11 @@ def packed_settings(
         if len(_PACKED) > 512:
             _PACKED.clear()
         _PACKED[key] = (budget, packed)
-        return packed if opts.look_at is None else _looking(packed, opts)
+        return packed if opts.look_at is None and opts.toward is None else _looking(packed, opts)
     remembered, packed = found
     if budget == remembered:
-        return packed if opts.look_at is None else _looking(packed, opts)
-    sf, si = packed if opts.look_at is None else _looking(packed, opts)
+        return packed if opts.look_at is None and opts.toward is None else _looking(packed, opts)
+    sf, si = packed if opts.look_at is None and opts.toward is None else _looking(packed, opts)
     si = si.copy()
     si[_MAX_RESTARTS] = int(opts.max_restarts)
     si[_TIMEOUT_NS] = _timeout_ns(opts.timeout)
@@ -130,10 +134,11 @@ def packed_settings(
 
 
 def _looking(packed: tuple[np.ndarray, np.ndarray], opts: Options):
-    """``packed`` with this call's look-at point (a copy: the remembered settings are
-    shared by threads)."""
+    """``packed`` with this call's look-at point or direction (a copy: the remembered
+    settings are shared by threads)."""
+    sight = opts.look_at if opts.look_at is not None else opts.toward
     sf = packed[0].copy()
-    sf[_LOOK_POINT] = opts.look_at  # set: the callers checked
+    sf[_LOOK_POINT] = sight
     return sf, packed[1]
 
 
@@ -186,8 +191,8 @@ def settings(opts: Options, position_only: bool, dof: int, max_found: int, step:
         bounds,
         NO_CONE if cone is None else float(cone[3]),
         np.array((0.0, 0.0, 1.0) if cone is None else cone[:3]),
-        opts.look_at is not None,
-        np.array((0.0, 0.0, 0.0) if opts.look_at is None else opts.look_at),
+        LOOK_POINT if opts.look_at is not None else LOOK_TOWARD if opts.toward else NO_LOOK,
+        np.array(opts.look_at or opts.toward or (0.0, 0.0, 0.0)),
     )
 
 
