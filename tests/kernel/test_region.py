@@ -20,6 +20,7 @@ from ..conftest import model
 EXACT = 1e-12
 AXIS = np.array([0.0, 0.0, 1.0])  # read only with a cone
 ORIGIN = np.zeros(3)  # the look-at point, read only with ``look``
+EYE = np.eye(3)
 BOUNDS = [
     (0.0,) * 6,
     (0.005, 0.005, 0.005, 0.05, 0.05, 0.05),
@@ -70,44 +71,69 @@ def test_inside_the_region_the_error_is_zero():
     assert not ws.e[0].any() and not ws.A[0].any() and not ws.val[0].any()
 
 
+def _rows(a, ws, q, target, said, cone=None, bounds=None):
+    """(e, A, orientation error): the compiled rows of a lowered target (``target``, the
+    options ``said``; ``cone`` and ``bounds`` given where they are not said) at ``q``."""
+    cone = said["cone"] if cone is None else cone
+    look, x = NO_LOOK, ORIGIN
+    if "look_at" in said:
+        look, x = LOOK_POINT, np.array(said["look_at"])
+    if "toward" in said:
+        look, x = LOOK_TOWARD, np.array(said["toward"])
+    ws.q[0][:] = q
+    evaluate_region(
+        a.kernel_chain.flat, np.array(said["bounds"]) if bounds is None else bounds,
+        np.ones(6), cone[3], np.array(cone[:3]), look, x,
+        np.ascontiguousarray(target.rotation), np.ascontiguousarray(target.translation), ws, 0,
+    )  # fmt: skip
+    return ws.e[0], ws.A[0], ws.val[0, 1]
+
+
+def _same_rows(rows, position, aimed, T, J, R_t=EYE) -> bool:
+    """The compiled ``rows`` equal the tasks': ``position``'s (None: free) in the target
+    frame ``R_t``, ``aimed``'s (an ``Axis`` or a ``LookAt``) and its measure; whether the
+    axis lay outside its cone."""
+    e, A, ori = rows
+    if position is None:
+        assert not e[:3].any() and not A[:3].any()
+    else:
+        np.testing.assert_allclose(R_t @ e[:3], -position.residual(T), rtol=0, atol=EXACT)
+        np.testing.assert_allclose(R_t @ A[:3], position.jacobian(T, J), rtol=0, atol=EXACT)
+    np.testing.assert_allclose(e[3:], -aimed.residual(T), rtol=0, atol=EXACT)
+    np.testing.assert_allclose(A[3:], aimed.jacobian(T, J), rtol=0, atol=1e-10)
+    m = aimed.measure(T, 0.0, 0.0)
+    assert ori == pytest.approx(m.orientation, abs=EXACT)
+    return m.orientation > 0.0
+
+
+def _axis_case(a, rng, k, within, bounds=None):
+    """(q, T, [Position, Axis]): a random configuration, a point near its tip (within
+    ``bounds``), an axis (the tip's z every third case) and a direction (the tip's z every
+    other case)."""
+    q = a.random_q(rng)
+    T = a.fk(q)
+    axis = (0.0, 0.0, 1.0) if k % 3 == 0 else rng.normal(size=3)
+    direction = rng.normal(size=3) if k % 2 else T.rotation @ np.array([0.0, 0.0, 1.0])
+    near = T.translation + rng.normal(scale=0.02, size=3)
+    return q, T, [Position(near, bounds=bounds), Axis(axis, direction, within)]
+
+
 @pytest.mark.parametrize("robot", ["panda", "ur5", "so101"])
 @pytest.mark.parametrize("within", [0.0, 0.05, 0.6])
 def test_the_cone_rows_are_the_axis_task(robot, within):
     """A position with an axis in a cone, lowered (``lower``) to a pose, bounds and a cone:
     the compiled rows equal the two tasks' residuals and Jacobians, stacked."""
     a = model(robot)
-    ch = a.kernel_chain.flat
     ws = workspace(a.dof, 1, a.kernel_chain.chain.joint_kind.shape[0])
     rng = np.random.default_rng(5)
     outside = 0
     for k in range(12):
-        q = a.random_q(rng)
-        T = a.fk(q)
-        axis = (0.0, 0.0, 1.0) if k % 3 == 0 else rng.normal(size=3)
-        direction = rng.normal(size=3) if k % 2 else T.rotation @ np.array([0.0, 0.0, 1.0])
-        near = T.translation + rng.normal(scale=0.02, size=3)
-        tasks = [Position(near), Axis(axis, direction, within)]
+        q, T, tasks = _axis_case(a, rng, k, within)
         target, said = lower(Problem(tuple(tasks)))
         # exactly along a coordinate axis it lowers to a free spin: the cone rows all the same
         cone = said.get("cone", (*tasks[1].axis, within))
-        ws.q[0][:] = q
-        R_t = np.ascontiguousarray(target.rotation)
-        p_t = np.ascontiguousarray(target.translation)
-        bounds = np.zeros(6)  # the position exact; the rotation's bounds are not read
-        evaluate_region(
-            ch, bounds, np.ones(6), cone[3], np.array(cone[:3]), NO_LOOK, ORIGIN, R_t, p_t, ws, 0
-        )
-        # the position rows are in the target frame: R_t^T (p - p_t)
-        pos = tasks[0]
-        np.testing.assert_allclose(R_t @ ws.e[0, :3], -pos.residual(T), rtol=0, atol=EXACT)
-        J = a.jacobian(q)
-        np.testing.assert_allclose(R_t @ ws.A[0, :3], pos.jacobian(T, J), rtol=0, atol=EXACT)
-        axis_task = tasks[1]
-        np.testing.assert_allclose(ws.e[0, 3:], -axis_task.residual(T), rtol=0, atol=EXACT)
-        np.testing.assert_allclose(ws.A[0, 3:], axis_task.jacobian(T, J), rtol=0, atol=1e-10)
-        m = axis_task.measure(T, 0.0, 0.0)
-        assert ws.val[0, 1] == pytest.approx(m.orientation, abs=EXACT)
-        outside += m.orientation > 0.0
+        rows = _rows(a, ws, q, target, said, cone, bounds=np.zeros(6))  # the position exact
+        outside += _same_rows(rows, tasks[0], tasks[1], T, a.jacobian(q), target.rotation)
     assert outside >= 4  # the cone's rows were tested outside it, not only at zero
 
 
@@ -118,7 +144,6 @@ def test_the_look_rows_are_the_look_at_task(robot, within):
     equal the ``LookAt`` task's residual and Jacobian, whose direction moves with the tip's
     position too, and its measure."""
     a = model(robot)
-    ch = a.kernel_chain.flat
     ws = workspace(a.dof, 1, a.kernel_chain.chain.joint_kind.shape[0])
     rng = np.random.default_rng(8)
     outside = 0
@@ -131,23 +156,8 @@ def test_the_look_rows_are_the_look_at_task(robot, within):
             point = T.translation + 0.3 * T.rotation[:, 2] + rng.normal(scale=1e-14, size=3)
         task = LookAt(point, axis, within)
         target, said = lower(Problem((task,)))
-        cone = said["cone"]
         assert np.array_equal(said["look_at"], point)
-        ws.q[0][:] = q
-        R_t = np.ascontiguousarray(target.rotation)
-        p_t = np.ascontiguousarray(target.translation)
-        bounds = np.array(said["bounds"])
-        look = np.array(said["look_at"])
-        evaluate_region(
-            ch, bounds, np.ones(6), cone[3], np.array(cone[:3]), LOOK_POINT, look, R_t, p_t, ws, 0
-        )
-        assert not ws.e[0, :3].any() and not ws.A[0, :3].any()  # the position free
-        J = a.jacobian(q)
-        np.testing.assert_allclose(ws.e[0, 3:], -task.residual(T), rtol=0, atol=EXACT)
-        np.testing.assert_allclose(ws.A[0, 3:], task.jacobian(T, J), rtol=0, atol=1e-10)
-        m = task.measure(T, 0.0, 0.0)
-        assert ws.val[0, 1] == pytest.approx(m.orientation, abs=EXACT)
-        outside += m.orientation > 0.0
+        outside += _same_rows(_rows(a, ws, q, target, said), None, task, T, a.jacobian(q))
     assert outside >= 4
 
 
@@ -158,35 +168,13 @@ def test_the_toward_rows_are_a_box_and_the_axis_task(robot, within):
     the box's bounds and the cone around the direction itself (``toward``): the compiled
     rows equal the ``Position`` task's (its dead zone) and the ``Axis`` task's."""
     a = model(robot)
-    ch = a.kernel_chain.flat
     ws = workspace(a.dof, 1, a.kernel_chain.chain.joint_kind.shape[0])
     rng = np.random.default_rng(12)
     outside = 0
     for k in range(12):
-        q = a.random_q(rng)
-        T = a.fk(q)
-        axis = (0.0, 0.0, 1.0) if k % 3 == 0 else rng.normal(size=3)
-        direction = rng.normal(size=3) if k % 2 else T.rotation @ np.array([0.0, 0.0, 1.0])
-        near = T.translation + rng.normal(scale=0.02, size=3)
-        box = Position(near, bounds=(0.01, 0.005, math.inf))
-        tasks = [box, Axis(axis, direction, within)]
+        q, T, tasks = _axis_case(a, rng, k, within, bounds=(0.01, 0.005, math.inf))
         target, said = lower(Problem(tuple(tasks)))
         assert np.array_equal(target.rotation, np.eye(3))
-        cone, toward = said["cone"], np.array(said["toward"])
-        ws.q[0][:] = q
-        R_t = np.ascontiguousarray(target.rotation)
-        p_t = np.ascontiguousarray(target.translation)
-        evaluate_region(
-            ch, np.array(said["bounds"]), np.ones(6), cone[3], np.array(cone[:3]),
-            LOOK_TOWARD, toward, R_t, p_t, ws, 0,
-        )  # fmt: skip
-        J = a.jacobian(q)
-        np.testing.assert_allclose(ws.e[0, :3], -box.residual(T), rtol=0, atol=EXACT)
-        np.testing.assert_allclose(ws.A[0, :3], box.jacobian(T, J), rtol=0, atol=EXACT)
-        axis_task = tasks[1]
-        np.testing.assert_allclose(ws.e[0, 3:], -axis_task.residual(T), rtol=0, atol=EXACT)
-        np.testing.assert_allclose(ws.A[0, 3:], axis_task.jacobian(T, J), rtol=0, atol=1e-10)
-        m = axis_task.measure(T, 0.0, 0.0)
-        assert ws.val[0, 1] == pytest.approx(m.orientation, abs=EXACT)
-        outside += m.orientation > 0.0
+        rows = _rows(a, ws, q, target, said)
+        outside += _same_rows(rows, tasks[0], tasks[1], T, a.jacobian(q))
     assert outside >= 4
