@@ -42,7 +42,7 @@ class Hold(Constraint):
                 value=self.joint,
             )
         if self.value is not None:
-            object.__setattr__(self, "value", _value(self.joint, self.value))
+            object.__setattr__(self, "value", _finite(self.joint, self.value))
 
     @classmethod
     def parse(cls, value: object) -> Hold:
@@ -115,7 +115,8 @@ class Hold(Constraint):
 HELD_TOL = 1e-9  # rad or m: a held joint this near its value holds (the step puts it there)
 
 
-def _value(joint: str, value: object) -> float:
+def _finite(joint: str, value: object) -> float:
+    """A held joint's value as a finite float; an ``OptionError`` naming it otherwise."""
     try:
         if isinstance(value, (str, bytes, bool, np.bool_)):
             raise TypeError

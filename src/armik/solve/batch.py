@@ -220,18 +220,16 @@ def _collisions(arm, spec, targets, seeds, opts, options, out, start, part) -> N
     pair_index = {p: k for k, p in enumerate(out.pair_names)}
     rows = np.flatnonzero(part.success)
     checked = clear.check(arm, part.q[rows])  # the verified answers, over the chunk
-    kept = set()
-    for k, i in enumerate(rows.tolist()):
-        if checked.ok[k]:
-            found = checked.extra(k)
-            pair = found["closest_pair"]
-            out.min_distance[start + i] = found["min_distance"]
-            out.pair_index[start + i] = -1 if pair is None else pair_index[pair]
-            kept.add(i)
-    for i in range(len(targets)):
-        if i not in kept:
-            r = solve_parsed(arm, targets.target(i), seeds[i], spec.name, options)
-            out.put_result(start + i, r)
+    again = np.ones(len(targets), dtype=bool)
+    for k in np.flatnonzero(checked.ok).tolist():
+        found, i = checked.extra(k), int(rows[k])
+        pair = found["closest_pair"]
+        out.min_distance[start + i] = found["min_distance"]
+        out.pair_index[start + i] = -1 if pair is None else pair_index[pair]
+        again[i] = False
+    for i in np.flatnonzero(again).tolist():
+        r = solve_parsed(arm, targets.target(i), seeds[i], spec.name, options)
+        out.put_result(start + i, r)
 
 
 def batch_seeds(arm: ArmModel, q0: object, n: int) -> np.ndarray:

@@ -196,11 +196,11 @@ class Plan:
         H, q0, xy = plain
         if seed is None:
             seed = secrets.randbits(63)
+        sight = opts.look_at or opts.toward  # this call's: the plan is shared by points
         if xy is not None:
             got = self.run_pose(H, q0, seed, False, xy)
-        elif opts.look_at is not None or opts.toward is not None:  # this call's (the plan
-            # is shared by points and directions)
-            got = self.run_pose(H, q0, seed, False, opts.look_at or opts.toward)
+        elif sight is not None:
+            got = self.run_pose(H, q0, seed, False, sight)
         else:
             got = self.run_pose(H, q0, seed)
         if got is None:

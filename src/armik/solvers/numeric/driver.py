@@ -98,6 +98,7 @@ def packed_settings(
     budget (``timeout``, ``iteration_budget``, ``max_restarts``: what a collision-checked
     solve's restarts leave of it, different every time) patch the remembered ints."""
     budget = (opts.timeout, opts.max_restarts, opts.iteration_budget)
+    sight = opts.look_at if opts.look_at is not None else opts.toward  # written in per call
     key = (
         opts.tol_position,
         opts.tol_orientation,
@@ -106,7 +107,7 @@ def packed_settings(
         opts.weights,
         opts.bounds,
         opts.cone,
-        opts.look_at is None,  # the point or direction itself written in below, per call
+        opts.look_at is None,  # which sight, not where: the kernel reads it per call
         opts.toward is None,
         opts.nullspace_gain,
         position_only,
@@ -120,11 +121,11 @@ def packed_settings(
         if len(_PACKED) > 512:
             _PACKED.clear()
         _PACKED[key] = (budget, packed)
-        return packed if opts.look_at is None and opts.toward is None else _looking(packed, opts)
+        return packed if sight is None else _looking(packed, sight)
     remembered, packed = found
     if budget == remembered:
-        return packed if opts.look_at is None and opts.toward is None else _looking(packed, opts)
-    sf, si = packed if opts.look_at is None and opts.toward is None else _looking(packed, opts)
+        return packed if sight is None else _looking(packed, sight)
+    sf, si = packed if sight is None else _looking(packed, sight)
     si = si.copy()
     si[_MAX_RESTARTS] = int(opts.max_restarts)
     si[_TIMEOUT_NS] = _timeout_ns(opts.timeout)
@@ -133,10 +134,9 @@ def packed_settings(
     return sf, si
 
 
-def _looking(packed: tuple[np.ndarray, np.ndarray], opts: Options):
+def _looking(packed: tuple[np.ndarray, np.ndarray], sight: tuple[float, float, float]):
     """``packed`` with this call's look-at point or direction (a copy: the remembered
     settings are shared by threads)."""
-    sight = opts.look_at if opts.look_at is not None else opts.toward
     sf = packed[0].copy()
     sf[_LOOK_POINT] = sight
     return sf, packed[1]
@@ -270,7 +270,7 @@ def pose_runner(arm: ArmModel, opts: Options, step: Step, position_only: bool = 
         if every:  # solve_all: the general path (max_solutions descents)
             return None
         s = sf
-        if point is not None:  # a look-at's point, this call's (``Options.look_at``)
+        if point is not None:  # this call's look-at point or direction (``packed_settings``)
             s = sf.copy()
             s[_LOOK_POINT] = point
         out_q = np.empty((1, dof))
