@@ -27,6 +27,7 @@ from armik.errors import (
 from armik.model.catalogue import robots
 from armik.precompile import compile
 from armik.problem import Axis, LookAt, Pose, Position, Posture, Relative
+from armik.problem.budget import Budget
 from armik.result import IKResult
 from armik.solvers import solvers
 from armik.status import Status
@@ -72,6 +73,7 @@ __all__ = [
     "FrameError",
     "HalfSpace",
     "Hold",
+    "Budget",
     "IKResult",
     "InputError",
     "JointError",

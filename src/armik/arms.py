@@ -271,7 +271,7 @@ class Arms:
             q = self._start(targets, self._random(rng), options, rng)
             return q if order is None else _scatter(q, order)
 
-        problem = Problem(tuple(tasks))
+        problem = Problem(tuple(tasks), budget=opts.budget)
         reference = seed if order is None else _scatter(seed, order)  # the score's q0
         r = solve_tasks(  # the union serves as the arm (what solve_tasks reads of one)
             cast(ArmModel, union), problem, start, opts, t0,

@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, fields
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
+from armik.checked import integer, number, positive
 from armik.constraints.base import Constraint
 from armik.constraints.clear import Collisions, collision_options
 from armik.constraints.hold import Hold
@@ -16,6 +17,8 @@ from armik.constraints.limits import JointLimits
 from armik.constraints.shapes import Shape
 from armik.errors import OptionError, listing
 from armik.frozen import frozen
+from armik.problem.budget import DEFAULT as DEFAULT_BUDGET
+from armik.problem.budget import Budget
 from armik.tolerances import (
     MAX_COUNT,
     MAX_LENGTH,
@@ -69,6 +72,9 @@ class Options:
     - ``hold``: on a 7-joint arm, ``{"joint_name": value}`` (rad) holds that joint at that
       value and solves the other six (``armik.solve.held``); a value of None holds it at
       q0's value. Stored as the pair (name, value). Checked against the arm when solving.
+    - ``budget``: ``timeout``, ``iteration_budget``, ``max_restarts`` and ``max_iterations``
+      as one object (``armik.Budget``), spelled here as those options (``Options.budget``
+      gives it back).
     - ``constraints``: the last two as objects (``armik.Collisions``, ``armik.Hold``),
       spelled here as those options (``Options.constraints`` gives them back); a list of
       tasks honours them too, a ``Hold`` there on any arm.
@@ -76,9 +82,9 @@ class Options:
 
     tol_position: float = 1e-6
     tol_orientation: float = 1e-6
-    timeout: float = 0.05
-    max_restarts: int = 1000
-    max_iterations: int = 100
+    timeout: float = DEFAULT_BUDGET.timeout  # type: ignore[assignment]
+    max_restarts: int = DEFAULT_BUDGET.restarts  # type: ignore[assignment]
+    max_iterations: int = DEFAULT_BUDGET.per_attempt  # type: ignore[assignment]
     seed: int | None = 0
     position_only: bool = False
     weights: tuple[float, ...] | None = None
@@ -112,6 +118,17 @@ class Options:
         return tuple(found)
 
     @property
+    def budget(self) -> Budget:
+        """The budget these options spell, every field filled (``armik.problem.budget``)."""
+        return frozen(
+            Budget,
+            timeout=self.timeout,
+            iterations=self.iteration_budget,
+            restarts=self.max_restarts,
+            per_attempt=self.max_iterations,
+        )
+
+    @property
     def region(self) -> bool:
         """Whether the target has a region around it (``bounds`` or ``cone``): the errors are
         measured outside it."""
@@ -127,7 +144,7 @@ class Options:
     def from_kwargs(cls, kwargs: dict[str, Any]) -> Options:
         if not kwargs:
             return _DEFAULT
-        if "constraints" in kwargs:
+        if "constraints" in kwargs or "budget" in kwargs:
             kwargs = spelled(kwargs)
         for key in kwargs:
             if key not in _NAMES:
@@ -137,17 +154,17 @@ class Options:
         values = dict(kwargs)
         for key, most, unit in _BOUNDED:
             if key in values:
-                values[key] = _positive_float(key, values[key], most, unit)
+                values[key] = positive(key, values[key], most, unit)
         for key in ("max_restarts", "max_iterations", "max_solutions"):
             if key in values:
-                values[key] = _int(
+                values[key] = integer(
                     key,
                     values[key],
                     minimum=0 if key == "max_restarts" else 1,
                     maximum=MAX_SOLUTIONS if key == "max_solutions" else MAX_COUNT,
                 )
         if "nullspace_gain" in values:
-            gain = _float(key="nullspace_gain", value=values["nullspace_gain"])
+            gain = number(key="nullspace_gain", value=values["nullspace_gain"])
             if not 0.0 <= gain <= 10.0:
                 raise OptionError(
                     f"nullspace_gain must be in [0, 10], got {gain}",
@@ -156,11 +173,11 @@ class Options:
                 )
             values["nullspace_gain"] = gain
         if values.get("iteration_budget") is not None:
-            values["iteration_budget"] = _int(
+            values["iteration_budget"] = integer(
                 "iteration_budget", values["iteration_budget"], 1, MAX_COUNT
             )
         if values.get("seed") is not None:
-            values["seed"] = _int("seed", values["seed"], minimum=0)
+            values["seed"] = integer("seed", values["seed"], minimum=0)
             if values["seed"] >= 2**63:  # the compiled restarts take a signed 64-bit seed
                 raise OptionError(
                     f"seed must be < 2**63, got {values['seed']}: give a smaller seed",
@@ -218,73 +235,63 @@ class Options:
 _DEFAULT = Options()
 
 
-_NAMES = frozenset(f.name for f in fields(Options)) | {"constraints"}
+_NAMES = frozenset(f.name for f in fields(Options)) | {"constraints", "budget"}
 
 
 def spelled(kwargs: dict[str, Any]) -> dict[str, Any]:
-    """``kwargs`` with ``constraints=[...]`` spelled as the options it stands for
-    (``Constraint.said``): an ``OptionError`` for what is not a constraint, and for an
-    option given both by a constraint and as itself."""
+    """``kwargs`` with ``constraints=[...]`` and ``budget=Budget(...)`` spelled as the
+    options they stand for (``Constraint.said``, ``Budget.said``): an ``OptionError`` for
+    what is not a constraint or a budget, and for an option given twice."""
     values = dict(kwargs)
-    given = values.pop("constraints")
-    items = (given,) if isinstance(given, Constraint) else given
-    if items is None or isinstance(items, (str, bytes, Mapping)):
-        items = [given]
-    try:
-        items = list(items)
-    except TypeError:
-        items = [given]
     said: dict[str, Any] = {}
-    for item in items:
-        if not isinstance(item, Constraint):
+    if "budget" in values:
+        given = values.pop("budget")
+        if not isinstance(given, Budget):
             raise OptionError(
-                f"constraints holds armik.Hold and armik.Collisions objects, got {item!r}",
-                option="constraints",
-                value=item,
+                f"budget must be an armik.Budget, e.g. armik.Budget(timeout=0.01), got {given!r}",
+                option="budget",
+                value=given,
             )
-        for name, value in item.said().items():
-            if name in said or name in values:
-                raise OptionError(_twice(name, name in said), option=name, value=value)
-            said[name] = value
+        _add(said, values, given.said(), "the budget")
+    if "constraints" in values:
+        for item in _items(values.pop("constraints")):
+            if not isinstance(item, Constraint):
+                raise OptionError(
+                    f"constraints holds armik.Hold and armik.Collisions objects, got {item!r}",
+                    option="constraints",
+                    value=item,
+                )
+            _add(said, values, item.said(), "a constraint")
     return {**values, **said}
 
 
-def _twice(name: str, by_two: bool) -> str:
+def _items(given: object) -> list[object]:
+    """The items of ``constraints=``: one constraint or an iterable of them."""
+    if isinstance(given, Constraint) or given is None or isinstance(given, (str, bytes, Mapping)):
+        return [given]
+    try:
+        return list(cast(Iterable[object], given))
+    except TypeError:
+        return [given]
+
+
+def _add(said: dict[str, Any], values: dict[str, Any], more: dict[str, object], by: str) -> None:
+    """``more`` (said ``by`` an object) added to ``said``: an ``OptionError`` for an
+    option said before by another object or given as itself too."""
+    for name, value in more.items():
+        if name in said or name in values:
+            raise OptionError(_twice(name, by, name in said), option=name, value=value)
+        said[name] = value
+
+
+def _twice(name: str, by: str, by_two: bool) -> str:
     if name == "hold" and by_two:
         return (
             "two armik.Hold constraints: a solve holds one joint (to fix several, lock "
             "them: arm.with_locked({...}) or armik.load(..., locked={...}))"
         )
-    by = "by two constraints" if by_two else "by a constraint and as an option"
-    return f"{name} is given twice ({by}): give it once"
-
-
-def _float(key: str, value: object) -> float:
-    if isinstance(value, (str, bytes, bool, np.bool_)):
-        raise OptionError(f"{key} must be a number, got {value!r}", option=key, value=value)
-    try:
-        out = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise OptionError(
-            f"{key} must be a number, got {value!r}", option=key, value=value
-        ) from None
-    if not math.isfinite(out):
-        raise OptionError(f"{key} must be finite, got {value!r}", option=key, value=value)
-    return out
-
-
-def _positive_float(key: str, value: object, most: float, unit: str) -> float:
-    out = _float(key, value)
-    if out <= 0:
-        raise OptionError(f"{key} must be > 0, got {value!r}", option=key, value=value)
-    if out > most:
-        hint = " (iteration_budget gives a budget that is not time)" if key == "timeout" else ""
-        raise OptionError(
-            f"{key} must be at most {most:g} {unit}, got {value!r}{hint}",
-            option=key,
-            value=value,
-        )
-    return out
+    how = "by two constraints" if by_two else f"by {by} and as an option"
+    return f"{name} is given twice ({how}): give it once"
 
 
 # (option, largest value, unit): a tolerance beyond these passes every answer; a timeout
@@ -294,22 +301,6 @@ _BOUNDED = (
     ("tol_orientation", math.pi, "rad"),
     ("timeout", MAX_TIMEOUT, "s"),
 )
-
-
-def _int(key: str, value: object, minimum: int, maximum: int | None = None) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise OptionError(
-            f"{key} must be an integer >= {minimum}, got {value!r}", option=key, value=value
-        )
-    if value < minimum:
-        raise OptionError(f"{key} must be >= {minimum}, got {value!r}", option=key, value=value)
-    if maximum is not None and value > maximum:
-        raise OptionError(
-            f"{key} must be at most {maximum}, got {value!r}: give a smaller value",
-            option=key,
-            value=value,
-        )
-    return int(value)
 
 
 def _numbers(value: object) -> np.ndarray:

@@ -1,18 +1,17 @@
 """A problem: the tasks a user asks for, parsed once (docs/problem-model.md).
 
-A problem is its primary tasks and its constraints (``armik.constraints``: the joint
-limits always, a held joint, collisions); secondary tasks and scores join it as the later
-features land. ``lower`` gives a problem the solve
-path already has a compiled form for (one pose of the tip, with weights or bounds; one
-position of the tip; a position with an axis in a cone; an axis in a cone alone) back as
-the target and options of that path, so the old route keeps
-its speed; every other problem goes to ``armik.solve.tasks``.
+A problem is its primary tasks, its constraints (``armik.constraints``: the joint limits
+always, a held joint, collisions) and its budget (``armik.problem.budget``). ``lower``
+gives a problem the solve path already has a compiled form for (one pose of the tip, with
+weights or bounds; one position of the tip; a position with an axis in a cone; an axis in
+a cone alone) back as the target and options of that path, so the old route keeps its
+speed; every other problem goes to ``armik.solve.tasks``.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pinocchio as pin
@@ -20,6 +19,8 @@ import pinocchio as pin
 from armik.constraints.base import Constraint
 from armik.constraints.limits import JointLimits
 from armik.errors import TargetError
+from armik.problem.budget import DEFAULT as DEFAULT_BUDGET
+from armik.problem.budget import Budget
 from armik.problem.tasks import Axis, LookAt, Pose, Position, Relative, Task
 from armik.problem.tasks.cone import cross
 
@@ -31,6 +32,7 @@ class Problem:
 
     tasks: tuple[Task, ...]
     constraints: tuple[Constraint, ...] = (JointLimits(),)
+    budget: Budget = DEFAULT_BUDGET  # filled: what the solve spends (its accounts)
 
 
 def as_problem(target: object) -> Problem | None:
@@ -60,7 +62,7 @@ def relative_tasks(target: object) -> list[Relative]:
 def tightened(problem: Problem) -> Problem:
     """The problem with every region shrunk to its centre (``Task.shrunk(0)``): each of its
     answers answers ``problem`` too, and it may have a compiled form ``problem`` has not."""
-    return Problem(tuple(t.shrunk(0.0) for t in problem.tasks), problem.constraints)
+    return replace(problem, tasks=tuple(t.shrunk(0.0) for t in problem.tasks))
 
 
 LOOK_FROM = 1e-6  # m: a point nearer the position than this is no direction to aim at
@@ -71,7 +73,7 @@ def rims(problem: Problem, count: int) -> list[Problem]:
     exactly on a point of that one's rim (``Task.rim``), for each task with a rim."""
     centres = [t.shrunk(0.0) for t in problem.tasks]
     return [
-        Problem(tuple(edge if j == i else c for j, c in enumerate(centres)), problem.constraints)
+        replace(problem, tasks=tuple(edge if j == i else c for j, c in enumerate(centres)))
         for i, task in enumerate(problem.tasks)
         for edge in task.rim(count)
     ]

@@ -180,15 +180,8 @@ def _slid(arm, target, row: dict, opts: Options, check, start_cpu: float, used: 
 
 def _left(opts: Options, start_cpu: float, iterations: int, restarts: int) -> Options | None:
     """The options of the next run: what is left of the budget, or None when spent."""
-    changes: dict = {"seed": None if opts.seed is None else (opts.seed + restarts) % 2**63}
-    if opts.iteration_budget is not None:
-        if iterations >= opts.iteration_budget:
-            return None
-        changes["iteration_budget"] = opts.iteration_budget - iterations
-    else:
-        remaining = opts.timeout - (time.thread_time() - start_cpu)
-        if remaining <= 0:
-            return None
-        changes["timeout"] = remaining
-    changes["max_restarts"] = max(opts.max_restarts - restarts, 0)
-    return frozen(Options, **{**opts.__dict__, **changes})
+    left = opts.budget.left(start_cpu, iterations, restarts)
+    if left is None:
+        return None
+    seed = None if opts.seed is None else (opts.seed + restarts) % 2**63
+    return frozen(Options, **{**opts.__dict__, "seed": seed, **left.said()})

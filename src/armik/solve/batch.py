@@ -39,7 +39,7 @@ from armik.constraints.clear import Collisions
 from armik.constraints.collision import checker
 from armik.errors import ArmikWarning, OptionError
 from armik.frozen import frozen
-from armik.options import Options
+from armik.options import Options, spelled
 from armik.solve import forked
 from armik.solve.progress import ProgressArg, make_progress
 from armik.solve.single import solve, solve_parsed
@@ -83,6 +83,8 @@ def solve_batch(
     unreachable targets are results with ``success=False``.
     """
     t0 = time.perf_counter()
+    if "budget" in options:  # as its options, which a row's solve may narrow
+        options = spelled(options)
     problems = task_problems(targets)
     if problems is not None:
         lowered = lower_all(problems, options, arm.tip)

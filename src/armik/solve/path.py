@@ -34,7 +34,7 @@ from armik.batch_result import BatchResult
 from armik.errors import OptionError, TargetError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
-from armik.options import Options
+from armik.options import Options, spelled
 from armik.problem.scores import parse_score
 from armik.result import IKResult
 from armik.solve import ladder, rungs
@@ -86,6 +86,8 @@ def solve_path(
         )
     score = parse_score(options.get("prefer"))
     options = {k: v for k, v in options.items() if k != "prefer"}
+    if "budget" in options:  # as its options, which each rung's solve narrows
+        options = spelled(options)
     problems = task_problems(poses)
     if problems is not None:
         lowered = lower_all(problems, options, arm.tip)

@@ -58,6 +58,8 @@ def solve_one(
     solved as parsed (``solve_parsed``)."""
     t0 = time.perf_counter()
     score = None
+    if "budget" in options:  # as its options, which the stages narrow (restarts, shares)
+        options = spelled(options)
     if "prefer" in options:
         options = dict(options)
         score = parse_score(options.pop("prefer"))
@@ -203,7 +205,7 @@ def _tasks(arm, problem, q0, solver: str, options: dict, t0: float) -> IKResult:
     """A task list without a compiled form: the task solver, from its centre's answer."""
     opts = _validated(options)
     check_options(opts, solver)
-    problem = dataclasses.replace(problem, constraints=opts.constraints)  # the options' too
+    problem = dataclasses.replace(problem, constraints=opts.constraints, budget=opts.budget)
     return solve_tasks(arm, problem, q0, opts, t0, _centre(arm, problem, q0, options))
 
 

@@ -295,14 +295,14 @@ def solve_tasks(
         q = np.array(centre.q)
     q = np.clip(q, *box)
     rng = np.random.default_rng(opts.seed)
-    budget = opts.iteration_budget
+    budget = problem.budget
     started = time.thread_time()
     used = restarts = 0
     best, best_errors = q, _measure(arm, tasks, ids, q, opts)
     best_done = False
     before = math.inf  # the last descent's end error: one still closing in goes on
     while True:
-        left = opts.max_iterations if budget is None else min(opts.max_iterations, budget - used)
+        left = budget.attempt(used)
         q, k = _descend(arm, tasks, ids, q, opts, left, box)
         used += k
         errors = _measure(arm, tasks, ids, q, opts)
@@ -310,10 +310,7 @@ def solve_tasks(
         done = all(e.within for e in errors) and satisfied(arm, checked, q)
         if done or (not best_done and _total(errors) < _total(best_errors)):
             best, best_errors, best_done = q, errors, done
-        out_of_budget = (
-            used >= budget if budget is not None else time.thread_time() - started > opts.timeout
-        )
-        if done or out_of_budget or restarts >= opts.max_restarts:
+        if done or budget.spent(started, used) or not budget.may_restart(restarts):
             break
         # a descent that ran its iterations out near an answer and still closing in (its
         # error down by a good part since the last) goes on from where it is: a restart
@@ -355,11 +352,9 @@ def _scored(
     """(q, errors) moved along the tasks' null space while ``score`` falls, within what is
     left of the budget; as they were where a moved answer does not hold every task on
     Pinocchio's FK, leaves the limits or breaks a constraint of ``checked``."""
-    left = math.inf  # deterministic with an iteration budget: the step cap alone
-    if opts.iteration_budget is None:
-        left = opts.timeout - (time.thread_time() - started)
-        if left <= 0.0:
-            return q, errors
+    left = opts.budget.time_left(started)  # inf with an iteration budget: the step cap alone
+    if left <= 0.0:
+        return q, errors
     aims = tuple(t.shrunk(AIM) for t in tasks)
     moved = descend(arm, q, HeldTasks(arm, aims, ids), score, reference, left, SCORE_STEPS)
     if moved is q:

@@ -1,0 +1,57 @@
+"""Numbers an option takes, checked: an ``OptionError`` naming the option, the value and
+what it must be otherwise (``armik.options``, ``armik.problem.budget``)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from armik.errors import OptionError
+
+
+def number(key: str, value: object) -> float:
+    """``value`` as a finite float (not a bool or a string)."""
+    if isinstance(value, (str, bytes, bool, np.bool_)):
+        raise OptionError(f"{key} must be a number, got {value!r}", option=key, value=value)
+    try:
+        out = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise OptionError(
+            f"{key} must be a number, got {value!r}", option=key, value=value
+        ) from None
+    if not math.isfinite(out):
+        raise OptionError(f"{key} must be finite, got {value!r}", option=key, value=value)
+    return out
+
+
+def positive(key: str, value: object, most: float, unit: str) -> float:
+    """``value`` as a float in (0, ``most``] (``unit``: how the error names it)."""
+    out = number(key, value)
+    if out <= 0:
+        raise OptionError(f"{key} must be > 0, got {value!r}", option=key, value=value)
+    if out > most:
+        hint = " (iteration_budget gives a budget that is not time)" if key == "timeout" else ""
+        raise OptionError(
+            f"{key} must be at most {most:g} {unit}, got {value!r}{hint}",
+            option=key,
+            value=value,
+        )
+    return out
+
+
+def integer(key: str, value: object, minimum: int, maximum: int | None = None) -> int:
+    """``value`` as an int in [``minimum``, ``maximum``] (not a bool or a float)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise OptionError(
+            f"{key} must be an integer >= {minimum}, got {value!r}", option=key, value=value
+        )
+    if value < minimum:
+        raise OptionError(f"{key} must be >= {minimum}, got {value!r}", option=key, value=value)
+    if maximum is not None and value > maximum:
+        raise OptionError(
+            f"{key} must be at most {maximum}, got {value!r}: give a smaller value",
+            option=key,
+            value=value,
+        )
+    return int(value)
