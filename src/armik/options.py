@@ -69,9 +69,10 @@ class Options:
       URDF's ``<collision>`` geometry, minus adjacent links and an SRDF's pairs).
     - ``margin``: the distance (m) every checked pair must keep (0.0); needs obstacles or
       ``self_collision``.
-    - ``hold``: on a 7-joint arm, ``{"joint_name": value}`` (rad) holds that joint at that
-      value and solves the other six (``armik.solve.held``); a value of None holds it at
-      q0's value. Stored as the pair (name, value). Checked against the arm when solving.
+    - ``hold``: ``{"joint_name": value, ...}`` (rad) holds those joints at those values and
+      solves the others; a value of None holds one at q0's value. One joint of a 7-joint
+      arm: a 6R chain (``armik.solve.held``); else the task solver. Stored as (name,
+      value) pairs. Checked against the arm when solving.
     - ``budget``: ``timeout``, ``iteration_budget``, ``max_restarts`` and ``max_iterations``
       as one object (``armik.Budget``), spelled here as those options (``Options.budget``
       gives it back).
@@ -99,7 +100,7 @@ class Options:
     obstacles: tuple[Shape, ...] = ()
     self_collision: bool = False
     margin: float = 0.0
-    hold: tuple[str, float | None] | None = None
+    hold: tuple[tuple[str, float | None], ...] | None = None
 
     @property
     def collisions(self) -> bool:
@@ -112,7 +113,7 @@ class Options:
         collisions (``armik.constraints``); what ``constraints=[...]`` gave them."""
         found: list[Constraint] = [JointLimits()]
         if self.hold is not None:
-            found.append(Hold(*self.hold))
+            found.extend(Hold(*pair) for pair in self.hold)
         if self.collisions:
             found.append(Collisions(self.obstacles, self.self_collision, self.margin))
         return tuple(found)
@@ -203,7 +204,7 @@ class Options:
         collision_options(values)
         if values.get("hold") is not None:
             held = Hold.parse(values["hold"])
-            values["hold"] = (held.joint, held.value)
+            values["hold"] = tuple((h.joint, h.value) for h in held)
         if "qp_solver" in values and not isinstance(values["qp_solver"], str):
             raise OptionError(
                 f"qp_solver must be a backend name, got {values['qp_solver']!r}",
@@ -279,17 +280,22 @@ def _add(said: dict[str, Any], values: dict[str, Any], more: dict[str, object], 
     """``more`` (said ``by`` an object) added to ``said``: an ``OptionError`` for an
     option said before by another object or given as itself too."""
     for name, value in more.items():
+        if name == "hold" and name in said and name not in values:  # several held joints
+            for joint in value:  # type: ignore[attr-defined]
+                if joint in said["hold"]:
+                    raise OptionError(
+                        f"{joint} is held twice (two armik.Hold constraints): hold it once",
+                        option="hold",
+                        value=joint,
+                    )
+            said["hold"] = {**said["hold"], **value}  # type: ignore[dict-item]
+            continue
         if name in said or name in values:
             raise OptionError(_twice(name, by, name in said), option=name, value=value)
         said[name] = value
 
 
 def _twice(name: str, by: str, by_two: bool) -> str:
-    if name == "hold" and by_two:
-        return (
-            "two armik.Hold constraints: a solve holds one joint (to fix several, lock "
-            "them: arm.with_locked({...}) or armik.load(..., locked={...}))"
-        )
     how = "by two constraints" if by_two else f"by {by} and as an option"
     return f"{name} is given twice ({how}): give it once"
 

@@ -93,13 +93,16 @@ def test_bad_hold_values_are_refused_with_the_fix(iiwa):
         iiwa.solve(T, hold={"j3": 4.0})
     with pytest.raises(OptionError, match="finite number"):
         iiwa.solve(T, hold={"j3": float("nan")})
-    with pytest.raises(OptionError, match="map one joint name"):
-        iiwa.solve(T, hold={"j3": 0.0, "j4": 0.0})
-    with pytest.raises(OptionError, match="map one joint name"):
+    with pytest.raises(OptionError, match="map joint names"):
+        iiwa.solve(T, hold={})
+    with pytest.raises(OptionError, match="map joint names"):
         iiwa.solve(T, hold="j3")
     ur5 = armik.load("ur5")
-    with pytest.raises(OptionError, match="7-joint arms.*6 joints.*with_locked"):
-        ur5.solve(ur5.fk(np.zeros(6)), hold={"shoulder_pan_joint": 0.0})
+    with pytest.raises(OptionError, match="7-joint arms.*6 joints.*as tasks"):  # weights:
+        ur5.solve(ur5.fk(np.zeros(6)), hold={"shoulder_pan_joint": 0.0}, weights=[1] * 6)
+    two = {"j3": 0.0, "j4": 0.0}  # no task holds them on a path: a path holds one joint
+    with pytest.raises(OptionError, match="holds 2 joints.*as tasks"):
+        iiwa.solve_path([T, T], np.zeros(7), hold=two)
     assert issubclass(OptionError, InputError)
 
 

@@ -3,8 +3,10 @@ and solves the others; ``armik.Hold("joint_3")`` keeps it at q0's value (the mid
 limits without q0). The old spelling is the option ``hold={"joint_3": 0.5}``.
 
 A held joint is the box row ``value <= q_j <= value`` of every step, and its check an
-answer with that joint at the value. The compiled path solves a 7-joint arm with one joint
-held as a 6R chain (``armik.solve.held``); a list of tasks holds any joints of any arm.
+answer with that joint at the value. Several may be held (``hold={"a": 0.1, "b": None}``).
+The compiled path solves a 7-joint arm with one joint held as a 6R chain
+(``armik.solve.held``); the task solver holds any joints of any arm, a plain pose or
+position given as its task.
 """
 
 from __future__ import annotations
@@ -45,17 +47,17 @@ class Hold(Constraint):
             object.__setattr__(self, "value", _finite(self.joint, self.value))
 
     @classmethod
-    def parse(cls, value: object) -> Hold:
-        """The ``Hold`` of the option ``hold={"joint": value}`` (one entry)."""
+    def parse(cls, value: object) -> tuple[Hold, ...]:
+        """The ``Hold``s of the option ``hold={"joint": value, ...}`` (one entry a joint)."""
         items = list(value.items()) if isinstance(value, Mapping) else None
-        if items is None or len(items) != 1 or not isinstance(items[0][0], str):
+        if not items or not all(isinstance(name, str) for name, _ in items):
             raise OptionError(
-                f"hold must map one joint name to its value (rad) or None, e.g. "
-                f"{{'joint_3': 0.5}}; got {value!r}",
+                f"hold must map joint names to their values (rad) or None (q0's value), "
+                f"e.g. {{'joint_3': 0.5}}; got {value!r}",
                 option="hold",
                 value=value,
             )
-        return cls(*items[0])
+        return tuple(cls(*item) for item in items)
 
     def said(self) -> dict[str, object]:
         return {"hold": {self.joint: self.value}}

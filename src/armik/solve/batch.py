@@ -103,7 +103,7 @@ def solve_batch(
             "hold= is for solve and solve_all; for many targets with a joint held, solve "
             "them on arm.with_locked({joint: value})",
             option="hold",
-            value=opts.hold[0],
+            value=opts.hold[0][0],
         )
     batch = parse_targets(targets, arm)
     n = len(batch)

@@ -80,8 +80,16 @@ def solve_held(
     ``every``, else one result. ``general``: ``armik.solve.single``'s general path, which
     solves the locked arm (passed in: that module calls this one)."""
     seed = arm.seed(q0)
-    hold = cast("tuple[str, float | None]", opts.hold)  # set: the caller checked
-    k, value = held_joint(arm, hold, seed)
+    holds = cast("tuple[tuple[str, float | None], ...]", opts.hold)  # set: the caller checked
+    if len(holds) != 1:
+        raise OptionError(
+            f"hold={dict(holds)!r} holds {len(holds)} joints; this solve holds one joint of a "
+            "7-joint arm (a 6R chain): give the target as tasks (armik.Pose, armik.Position), "
+            "which hold any joints, or lock them: arm.with_locked({...})",
+            option="hold",
+            value=dict(holds),
+        )
+    k, value = held_joint(arm, holds[0], seed)
     name = arm.joint_names[k]
     tgt = parse_target(target, arm)
     if k == 6 and solver in ("auto", "swept") and swept_7r.applies(arm, tgt, opts) is None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
+from collections.abc import Mapping
 
 import numpy as np
 import pinocchio as pin
@@ -15,9 +16,9 @@ from armik.constraints.collision import checker
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.options import Options, spelled, with_sight
-from armik.problem.problem import as_problem, lower, rims, tightened
+from armik.problem.problem import Problem, as_problem, lower, rims, tightened
 from armik.problem.scores import parse_score
-from armik.problem.tasks import Task
+from armik.problem.tasks import Pose, Position, Task
 from armik.result import IKResult
 from armik.solve import prefer
 from armik.solve.avoid import First, solve_avoiding
@@ -79,6 +80,9 @@ def solve_one(
                 check_said_twice(options, said, problem)
                 options = {**options, **said}
                 problem = None
+    if problem is None and ("hold" in options or "constraints" in options):
+        if _held_apart(arm, options):  # a plain pose or position: the task solver's task
+            problem, options = _as_task(arm, target, options)
     if score is not None:
         return _preferred(arm, target, q0, solver, options, every, score, t0, problem)
     if problem is not None:
@@ -89,21 +93,40 @@ def solve_one(
 
 
 def _held_apart(arm: ArmModel, options: dict) -> bool:
-    """Whether ``options`` hold a joint the compiled path cannot (it holds one of a
-    7-joint arm): the task solver holds it, as a box row of its steps."""
-    return arm.dof != 7 and _spelled_apart(options) is not options
+    """Whether ``options`` hold joints the compiled path cannot (it holds one joint of a
+    7-joint arm): the task solver holds them, as box rows of its steps."""
+    count = _holds(options)[1]
+    return count > 0 and (arm.dof != 7 or count != 1)
 
 
-def _spelled_apart(options: dict) -> dict:
-    """``options`` spelled out (``armik.options.spelled``) without a held joint, or
-    ``options`` itself where they hold none."""
+def _holds(options: dict) -> tuple[dict, int]:
+    """(``options`` spelled out (``armik.options.spelled``) without their held joints, how
+    many joints they hold); (``options``, 0) where they hold none."""
     if "hold" not in options and "constraints" not in options:
-        return options
+        return options, 0
     out = spelled(options) if "constraints" in options else dict(options)
-    if out.get("hold") is None:
-        return options
-    del out["hold"]
-    return out
+    held = out.pop("hold", None)
+    if held is None:
+        return options, 0
+    return out, len(held) if isinstance(held, Mapping) and held else 1
+
+
+# options a plain target's tasks cannot say: with them the compiled path's error stands
+_NOT_AS_TASK = ("weights", "bounds", "cone", "look_at", "toward")
+
+
+def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | None, dict]:
+    """(problem, options): the problem of a plain pose or position (``armik.Pose``,
+    ``armik.Position``; ``position_only`` said by the task), for the task solver to hold
+    joints the compiled path cannot; (None, ``options``) where the options say more than
+    such a task would (``_NOT_AS_TASK``): the compiled path's error then names the way."""
+    if any(options.get(name) is not None for name in _NOT_AS_TASK):
+        return None, options
+    tgt = parse_target(target, arm)
+    if tgt.rotation is None or options.get("position_only"):
+        rest = {k: v for k, v in options.items() if k != "position_only"}
+        return as_problem(Position(tgt.position)), rest
+    return as_problem(Pose(pin.SE3(tgt.rotation, tgt.position))), options
 
 
 def solve_parsed(
@@ -251,8 +274,9 @@ def _centre(arm, problem, q0, options: dict):
     if lowered is None:
         return None
     target, said = lowered
-    if arm.dof != 7:  # a held joint the compiled path cannot hold: the task solver's box
-        options = _spelled_apart(options)
+    rest, count = _holds(options)
+    if count and (arm.dof != 7 or count != 1):  # held joints the compiled path cannot
+        options = rest  # hold: the task solver's box
     restarts = min(options.get("max_restarts", CENTRE_RESTARTS), CENTRE_RESTARTS)
     centre = solve_parsed(arm, target, q0, "auto", {**options, **said, "max_restarts": restarts})
     if centre.success or registry.get(centre.solver).kind != "analytic":
