@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, fields
-from typing import Any, cast
+from typing import Any, TypeVar, cast
 
 import numpy as np
 
@@ -246,24 +246,24 @@ def spelled(kwargs: dict[str, Any]) -> dict[str, Any]:
     values = dict(kwargs)
     said: dict[str, Any] = {}
     if "budget" in values:
-        given = values.pop("budget")
-        if not isinstance(given, Budget):
-            raise OptionError(
-                f"budget must be an armik.Budget, e.g. armik.Budget(timeout=0.01), got {given!r}",
-                option="budget",
-                value=given,
-            )
+        given = _checked(values.pop("budget"), Budget, "budget", "must be an armik.Budget")
         _add(said, values, given.said(), "the budget")
     if "constraints" in values:
         for item in _items(values.pop("constraints")):
-            if not isinstance(item, Constraint):
-                raise OptionError(
-                    f"constraints holds armik.Hold and armik.Collisions objects, got {item!r}",
-                    option="constraints",
-                    value=item,
-                )
-            _add(said, values, item.said(), "a constraint")
+            constraint = _checked(item, Constraint, "constraints", _CONSTRAINTS)  # type: ignore[type-abstract]
+            _add(said, values, constraint.said(), "a constraint")
     return {**values, **said}
+
+
+_CONSTRAINTS = "holds armik.Hold and armik.Collisions objects"
+_T = TypeVar("_T")
+
+
+def _checked(value: object, kind: type[_T], option: str, what: str) -> _T:
+    """``value`` where it is a ``kind``; an ``OptionError`` naming it otherwise."""
+    if not isinstance(value, kind):
+        raise OptionError(f"{option} {what}, got {value!r}", option=option, value=value)
+    return value
 
 
 def _items(given: object) -> list[object]:
