@@ -12,6 +12,7 @@ import pinocchio as pin
 import pytest
 
 import armik
+from armik.constraints.hold import HELD_TOL
 from armik.status import Status
 
 ROBOTS = Path(__file__).resolve().parents[1] / "robots"
@@ -211,3 +212,50 @@ def test_bad_tips_are_armik_errors(cell):
         cell.solve({"hand": np.zeros(3)})
     with pytest.raises(armik.InputError, match="12 values"):
         cell.split([0.0] * 6)
+
+
+def test_a_held_torso_over_two_hands():
+    """TALOS's two hands with its torso held at the values of a configuration that reaches
+    both (the task solver over every joint, the torso a box row of its steps): solved with
+    the torso exactly there, each hand's pose on the robot's FK."""
+    robot = talos()
+    rng = np.random.default_rng(21)
+    solved = 0
+    for _ in range(4):
+        q = robot.random_q(rng)
+        targets = {tip: robot.fk(q, frame=tip) for tip in robot.tips}
+        k1, k2 = (robot.joint_names.index(n) for n in robot.shared)
+        held = [
+            armik.Hold(robot.shared[0], float(q[k1])),
+            armik.Hold(robot.shared[1], float(q[k2])),
+        ]
+        r = robot.solve(targets, constraints=held, iteration_budget=3000)
+        if not r.success:
+            assert r.status is Status.NOT_CONVERGED
+            continue
+        solved += 1
+        assert r.q[k1] == q[k1] and r.q[k2] == q[k2]
+        for tip in robot.tips:
+            err = pin.log6(targets[tip].inverse() * robot.fk(r.q, frame=tip)).vector
+            assert np.abs(err).max() <= 2e-6
+        assert "held at" in r.reason
+    assert solved >= 3
+
+
+def test_held_joints_of_two_independent_arms_each_on_its_chain(cell):
+    """A joint of each IRB 120 held: each chain holds its own (the task solver, a 6-joint
+    arm); a joint on neither chain is named."""
+    rng = np.random.default_rng(4)
+    q = cell.random_q(rng)
+    targets = {tip: cell.fk(q, frame=tip) for tip in cell.tips}
+    left, right = cell.joint_names.index("l_joint_6"), cell.joint_names.index("r_joint_6")
+    hold = {"l_joint_6": float(q[left]), "r_joint_6": float(q[right])}
+    r = cell.solve(targets, q0=cell.middle, hold=hold, iteration_budget=3000)
+    assert r.success, r.reason
+    # within the hold's tolerance: a closed form's exact answer may hold it to the last bits
+    assert abs(r.q[left] - q[left]) <= HELD_TOL and abs(r.q[right] - q[right]) <= HELD_TOL
+    for tip in cell.tips:
+        err = pin.log6(targets[tip].inverse() * cell.fk(r.q, frame=tip)).vector
+        assert np.abs(err).max() <= 2e-6
+    with pytest.raises(armik.JointError, match="unknown joint 'elbow'.*l_joint_1"):
+        cell.solve(targets, hold={"elbow": 0.0})

@@ -28,10 +28,11 @@ import pinocchio as pin
 
 from armik import arms_many, arms_reach
 from armik.arms_joined import joined
-from armik.errors import ArmikError, FrameError, OptionError, TargetError
+from armik.constraints.hold import Hold
+from armik.errors import ArmikError, FrameError, JointError, OptionError, TargetError, listing
 from armik.model.arm_model import ArmModel
 from armik.model.union import Union
-from armik.options import Options
+from armik.options import Options, spelled
 from armik.problem.problem import Problem, as_problem, relative_tasks
 from armik.problem.scores import Manipulability, Score, parse_score
 from armik.problem.tasks import Pose, Position, Relative, Task
@@ -159,8 +160,9 @@ class Arms:
                 validate_name(solver)
             chains = self._chains
             if options or solver != "auto":
+                held = self._holds(options)
                 results = {
-                    tip: solve_one(chains[tip], target, seeds[tip], solver, options)
+                    tip: solve_one(chains[tip], target, seeds[tip], solver, held[tip])
                     for tip, target in targets.items()
                 }
             else:  # plain poses: each chain's prepared solve, as solve_one would take it
@@ -170,13 +172,14 @@ class Arms:
         if order is None:  # tips placed relative to each other in a cycle: all at once
             return self._solve_together(self._joint(), targets, q0, options, t0)
         results = {}
+        held = self._holds(options)
         for tip in order:
             # a pose relative to a chain already solved is a pose in the base: exactly,
             # bounds included, since the chains share no joint
             target = targets[tip]
             if tip in relative:
                 target = _absolute(target, self._placements(results, seeds))
-            results[tip] = self._facades[tip].solve(target, q0=seeds[tip], **options)  # type: ignore[attr-defined]
+            results[tip] = self._facades[tip].solve(target, q0=seeds[tip], **held[tip])  # type: ignore[attr-defined]
         each = joined(self.tips, results, seeds, time.perf_counter() - t0)
         if each.success:
             return each
@@ -271,8 +274,10 @@ class Arms:
             q = self._start(targets, self._random(rng), options, rng)
             return q if order is None else _scatter(q, order)
 
-        problem = Problem(tuple(tasks), budget=opts.budget)
         reference = seed if order is None else _scatter(seed, order)  # the score's q0
+        # held joints at q0's values (not the start's), a box row of every step
+        constraints = tuple(c.at(cast(ArmModel, union), reference) for c in opts.constraints)
+        problem = Problem(tuple(tasks), constraints, opts.budget)
         r = solve_tasks(  # the union serves as the arm (what solve_tasks reads of one)
             cast(ArmModel, union), problem, start, opts, t0,
             reseed=reseed, score=score, reference=reference,
@@ -329,6 +334,7 @@ class Arms:
         q = q.copy()
         fixed = np.zeros(self.dof, dtype=bool)
         relative = _relative(targets)
+        held = self._holds(options)
         order = _in_order(targets, relative) or list(targets)
         if rng is not None and not relative:
             order = [order[i] for i in rng.permutation(len(order))]
@@ -339,13 +345,37 @@ class Arms:
                 if tip in relative:
                     placements = {t: self._chains[t].fk(q[c]) for t, c in self._columns.items()}
                     target = _absolute(target, placements)
-                r = self._facades[tip].solve(target, q0=q[cols], **options)  # type: ignore[attr-defined]
+                r = self._facades[tip].solve(target, q0=q[cols], **held[tip])  # type: ignore[attr-defined]
             except ArmikError:  # a task this chain's solver does not take: start as is
                 continue
             free = ~fixed[cols]
             q[cols[free]] = r.q[free]
             fixed[cols] = True
         return q
+
+    def _holds(self, options: dict) -> dict[str, dict]:
+        """Each tip's options: its chain holds the held joints it has (``hold=``, ``Hold``s),
+        the others' are theirs; a held joint on no chain is a ``JointError``."""
+        if "hold" not in options and "constraints" not in options:
+            return dict.fromkeys(self.tips, options)
+        rest = spelled(options) if "constraints" in options else dict(options)
+        given = rest.pop("hold", None)
+        if given is None:
+            return dict.fromkeys(self.tips, options)
+        holds = Hold.parse(given)
+        for h in holds:
+            if h.joint not in self.joint_names:
+                raise JointError(
+                    f"hold: unknown joint {h.joint!r}; the joints of tips {list(self.tips)}: "
+                    f"{listing(self.joint_names)}",
+                    joint=h.joint,
+                    candidates=self.joint_names,
+                )
+        out = {}
+        for tip, arm in self._chains.items():
+            mine = {h.joint: h.value for h in holds if h.joint in arm.joint_names}
+            out[tip] = {**rest, "hold": mine} if mine else rest
+        return out
 
     def _check_targets(self, targets: object) -> dict[str, list[Relative]]:
         """Each tip's ``Relative`` tasks, once the targets are checked: a mapping of known

@@ -51,7 +51,7 @@ CENTRE_RESTARTS = (
 )
 # options of the compiled path a task list says in its tasks instead
 _SAID_BY_TASKS = ("position_only", "weights", "bounds")
-_CONSTRAINTS = ("obstacles", "self_collision", "hold")  # not yet for several tips
+_CONSTRAINTS = ("obstacles", "self_collision")  # not yet for several tips
 
 
 def check_options(opts: Options, solver: str, several_tips: bool = False) -> None:
