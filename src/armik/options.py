@@ -19,6 +19,7 @@ from armik.errors import OptionError, listing
 from armik.frozen import frozen
 from armik.problem.budget import DEFAULT as DEFAULT_BUDGET
 from armik.problem.budget import Budget
+from armik.problem.scores import Posture
 from armik.tolerances import (
     MAX_COUNT,
     MAX_LENGTH,
@@ -73,6 +74,10 @@ class Options:
       solves the others; a value of None holds one at q0's value. One joint of a 7-joint
       arm: a 6R chain (``armik.solve.held``); else the task solver. Stored as (name,
       value) pairs. Checked against the arm when solving.
+    - ``posture``: (q_ref, weights): the null-space pull goes toward ``q_ref``, each joint's
+      share by its weight, instead of toward q0 (what ``secondary=[armik.Posture(q_ref,
+      weights)]`` spells; say it that way). ``dls`` and ``qp`` follow it where the task
+      leaves joints free; a closed form returns its answers nearest q0 as ever.
     - ``budget``: ``timeout``, ``iteration_budget``, ``max_restarts`` and ``max_iterations``
       as one object (``armik.Budget``), spelled here as those options (``Options.budget``
       gives it back).
@@ -101,6 +106,7 @@ class Options:
     self_collision: bool = False
     margin: float = 0.0
     hold: tuple[tuple[str, float | None], ...] | None = None
+    posture: tuple[tuple[float, ...], tuple[float, ...]] | None = None
 
     @property
     def collisions(self) -> bool:
@@ -130,6 +136,11 @@ class Options:
         )
 
     @property
+    def secondary(self) -> tuple[Posture, ...]:
+        """The secondary tasks these options spell: the posture, if any."""
+        return () if self.posture is None else (Posture(*self.posture),)
+
+    @property
     def region(self) -> bool:
         """Whether the target has a region around it (``bounds`` or ``cone``): the errors are
         measured outside it."""
@@ -145,7 +156,7 @@ class Options:
     def from_kwargs(cls, kwargs: dict[str, Any]) -> Options:
         if not kwargs:
             return _DEFAULT
-        if "constraints" in kwargs or "budget" in kwargs:
+        if "constraints" in kwargs or "budget" in kwargs or "secondary" in kwargs:
             kwargs = spelled(kwargs)
         for key in kwargs:
             if key not in _NAMES:
@@ -205,6 +216,8 @@ class Options:
         if values.get("hold") is not None:
             held = Hold.parse(values["hold"])
             values["hold"] = tuple((h.joint, h.value) for h in held)
+        if values.get("posture") is not None:  # checked as the Posture that spells it
+            values["posture"] = _checked_posture(values["posture"])
         if "qp_solver" in values and not isinstance(values["qp_solver"], str):
             raise OptionError(
                 f"qp_solver must be a backend name, got {values['qp_solver']!r}",
@@ -236,7 +249,7 @@ class Options:
 _DEFAULT = Options()
 
 
-_NAMES = frozenset(f.name for f in fields(Options)) | {"constraints", "budget"}
+_NAMES = frozenset(f.name for f in fields(Options)) | {"constraints", "budget", "secondary"}
 
 
 def spelled(kwargs: dict[str, Any]) -> dict[str, Any]:
@@ -252,7 +265,23 @@ def spelled(kwargs: dict[str, Any]) -> dict[str, Any]:
         for item in _items(values.pop("constraints")):
             constraint = _checked(item, Constraint, "constraints", _CONSTRAINTS)  # type: ignore[type-abstract]
             _add(said, values, constraint.said(), "a constraint")
+    if "secondary" in values:
+        for item in _items(values.pop("secondary")):
+            posture = _checked(item, Posture, "secondary", "holds one armik.Posture(q_ref)")
+            _add(said, values, posture.said(), "a secondary task")
     return {**values, **said}
+
+
+def _checked_posture(value: object) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """The option ``posture`` (q_ref, weights) as the ``Posture`` that spells it checks it."""
+    if not isinstance(value, tuple) or len(value) != 2:
+        raise OptionError(
+            f"posture must be (q_ref, weights): say it as secondary=[armik.Posture(q_ref)], "
+            f"got {value!r}",
+            option="posture",
+            value=value,
+        )
+    return Posture(*value).said()["posture"]  # type: ignore[return-value]
 
 
 _CONSTRAINTS = "holds armik.Hold and armik.Collisions objects"
@@ -296,7 +325,7 @@ def _add(said: dict[str, Any], values: dict[str, Any], more: dict[str, object], 
 
 
 def _twice(name: str, by: str, by_two: bool) -> str:
-    how = "by two constraints" if by_two else f"by {by} and as an option"
+    how = f"by {by} and by another" if by_two else f"by {by} and as an option"
     return f"{name} is given twice ({how}): give it once"
 
 

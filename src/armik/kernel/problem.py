@@ -26,7 +26,7 @@ class Settings(NamedTuple):
     measure_position: bool  # some position weight is non-zero
     tol_pos: float  # the iteration's tolerances: half the verification's
     tol_rot: float
-    null_gain: float  # pull toward q0 in the null space (0 when the task uses every joint)
+    null_gain: float  # null-space pull toward q0 or the posture (0: the task uses every joint)
     max_iterations: int  # per attempt
     max_restarts: int
     max_found: int  # stop after this many distinct solutions
@@ -44,6 +44,8 @@ class Settings(NamedTuple):
     cone_axis: np.ndarray  # (3,) that axis, unit, in the tip frame
     look: int  # NO_LOOK, LOOK_POINT (a LookAt's), LOOK_TOWARD (an Axis around a box)
     look_point: np.ndarray  # (3,) that point (m) or unit direction, in the base frame
+    posture: np.ndarray  # (n,) the null-space pull's reference, or (0,): q0
+    posture_w: np.ndarray  # (n,) its weight on each joint, or (0,)
 
 
 # Rows of Workspace.vec (n-vectors), .mat (n x n) and .ivec (integer n-vectors).
@@ -78,16 +80,17 @@ class Workspace(NamedTuple):
 def pack_settings(st: Settings) -> tuple[np.ndarray, np.ndarray]:
     """``st`` as a float and an int array (what compiled entries take; see ``unpack``)."""
     floats = [*st.w, st.tol_pos, st.tol_rot, st.null_gain, st.reach_slack, st.pull_scale]
-    floats += [*st.bounds, *st.cone_axis, st.cone, *st.look_point]
+    floats += [*st.bounds, *st.cone_axis, st.cone, *st.look_point, *st.posture, *st.posture_w]
     ints = [st.full_task, st.measure_position, st.max_iterations, st.max_restarts]
     ints += [st.max_found, st.timeout_ns, st.iteration_budget, st.step, st.backend]
-    ints += [st.check_reach, st.translation_rows, st.region, st.look]
+    ints += [st.check_reach, st.translation_rows, st.region, st.look, len(st.posture)]
     return np.array(floats), np.array(ints, dtype=np.int64)
 
 
 @njit(cache=True, nogil=True)
 def unpack(sf, si):
     """The ``Settings`` that ``pack_settings`` flattened into (sf, si)."""
+    m = si[13]  # the posture's length: 0 or n
     return Settings(
         sf[0:6],
         si[0] != 0,
@@ -112,6 +115,8 @@ def unpack(sf, si):
         sf[17:20],
         si[12],
         sf[21:24],
+        sf[24 : 24 + m],
+        sf[24 + m : 24 + 2 * m],
     )
 
 

@@ -72,6 +72,22 @@ def pull_gain(st, lam):
 
 
 @njit(cache=True, nogil=True, inline="always")
+def pulled(ch, st, q0, q, i):
+    """Joint i's null-space pull before its gain: toward the posture's reference, weighted
+    (``Settings.posture``), or toward q0 where the options name no posture; a continuous
+    joint's the shorter way round."""
+    if st.posture.shape[0] > 0:
+        d = st.posture[i] - q[i]
+        w = st.posture_w[i]
+    else:
+        d = q0[i] - q[i]
+        w = 1.0
+    if ch.kind[i] == CONTINUOUS:
+        d = wrapped(d)
+    return w * d
+
+
+@njit(cache=True, nogil=True, inline="always")
 def normal_equations(ch, st, ws, slot, q0, mu):
     """ws.mat[H] = A^T A + lambda I and ws.vec[G] = A^T e + the null-space pull, at state
     ``slot``."""
@@ -99,10 +115,7 @@ def normal_equations(ch, st, ws, slot, q0, mu):
         k = pull_gain(st, lam)
         q = ws.q[slot]
         for i in range(n):
-            d = q0[i] - q[i]
-            if ch.kind[i] == CONTINUOUS:
-                d = wrapped(d)
-            g[i] += lam * k * d
+            g[i] += lam * k * pulled(ch, st, q0, q, i)
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -332,12 +345,7 @@ def task_space_step(ch, st, ws, slot, q0, mu):
     if st.null_gain > 0.0:
         k = pull_gain(st, lam)
     for i in range(n):
-        di = 0.0
-        if k > 0.0:
-            di = q0[i] - q[i]
-            if ch.kind[i] == CONTINUOUS:
-                di = wrapped(di)
-        d[i] = di
+        d[i] = pulled(ch, st, q0, q, i) if k > 0.0 else 0.0
     r0, r1, r2, r3, r4, r5 = e[0], e[1], e[2], e[3], e[4], e[5]
     for i in range(n):  # r = e - k A d, the six sums side by side (each in the order of i)
         di = d[i]

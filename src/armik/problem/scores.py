@@ -143,6 +143,11 @@ class Posture(Score):
                 option="prefer",
             )
 
+    def said(self) -> dict[str, object]:
+        """The posture as a secondary task (``secondary=[...]``): the option ``posture``,
+        the compiled step's null-space pull toward ``q_ref``, each joint's by its weight."""
+        return {"posture": (tuple(self.q_ref.tolist()), tuple(self.weights.tolist()))}
+
     def _fits(self, arm) -> None:
         if self.q_ref.size != arm.dof:
             raise OptionError(

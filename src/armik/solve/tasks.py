@@ -63,6 +63,14 @@ def check_options(opts: Options, solver: str, several_tips: bool = False) -> Non
             option="solver",
             value=solver,
         )
+    if opts.posture is not None:
+        raise OptionError(
+            "a posture (secondary=[armik.Posture(...)]) steers the compiled step, not a list "
+            "of tasks the task solver takes: rank its answer with prefer=armik.Posture(...), "
+            "which moves it along the tasks' null space",
+            option="secondary",
+            value=None,
+        )
     defaults = Options()
     refused = _SAID_BY_TASKS + (_CONSTRAINTS if several_tips else ())
     for name in refused:

@@ -23,6 +23,7 @@ from typing import NamedTuple
 import numpy as np
 
 from armik import reasons
+from armik.errors import OptionError
 from armik.kernel import box_qp as backend
 from armik.kernel import descent as _descent
 from armik.kernel import error as _error
@@ -110,6 +111,7 @@ def packed_settings(
         opts.look_at is None,  # which sight, not where: the kernel reads it per call
         opts.toward is None,
         opts.nullspace_gain,
+        opts.posture,
         position_only,
         dof,
         max_found,
@@ -193,7 +195,26 @@ def settings(opts: Options, position_only: bool, dof: int, max_found: int, step:
         np.array((0.0, 0.0, 1.0) if cone is None else cone[:3]),
         LOOK_POINT if opts.look_at is not None else LOOK_TOWARD if opts.toward else NO_LOOK,
         np.array(opts.look_at or opts.toward or (0.0, 0.0, 0.0)),
+        *_posture(opts, dof),
     )
+
+
+def _posture(opts: Options, dof: int) -> tuple[np.ndarray, np.ndarray]:
+    """(reference, weights) of the null-space pull's posture (``Options.posture``), or two
+    empty arrays (the pull toward q0); an ``OptionError`` for a posture of another arm."""
+    if opts.posture is None:
+        return np.empty(0), np.empty(0)
+    q_ref, weights = opts.posture
+    if len(q_ref) != dof:
+        raise OptionError(
+            f"the posture (armik.Posture among secondary=) has {len(q_ref)} values, the arm "
+            f"{dof} joints: give one per joint",
+            option="secondary",
+            value=q_ref,
+        )
+    w = np.array(weights, dtype=float)
+    # the largest weight 1: the pull's strength is nullspace_gain's, the weights its shares
+    return np.array(q_ref, dtype=float), w / w.max() if w.max() > 0.0 else w
 
 
 def solve_seed(opts: Options) -> int:

@@ -1,0 +1,96 @@
+"""A posture as a secondary task (``secondary=[armik.Posture(q_ref, weights)]``): the
+compiled step's null-space pull goes toward ``q_ref`` instead of q0, each joint's share by
+its weight (``nullspace_gain`` its strength). It steers where the task leaves joints free
+and never decides a success."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import armik
+from armik.kernel.problem import pack_settings, unpack
+from armik.options import Options
+from armik.solvers.numeric.driver import DLS_STEP, settings
+from tests import conftest
+
+BUDGET = {"iteration_budget": 3000}  # deterministic: no test depends on timing
+
+
+def test_the_posture_spells_an_option_and_comes_back():
+    posture = armik.Posture([0.1, 0.2, 0.3], [1.0, 0.0, 2.0])
+    opts = Options.from_kwargs({"secondary": [posture]})
+    assert opts.posture == ((0.1, 0.2, 0.3), (1.0, 0.0, 2.0))
+    assert opts == Options.from_kwargs({"posture": ((0.1, 0.2, 0.3), (1.0, 0.0, 2.0))})
+    (back,) = opts.secondary
+    assert back.q_ref.tolist() == [0.1, 0.2, 0.3] and back.weights.tolist() == [1.0, 0.0, 2.0]
+    assert Options().secondary == ()
+
+
+def test_bad_secondary_tasks_are_named():
+    arm = conftest.arm("panda")
+    p = arm.fk(arm.middle).translation
+    posture = armik.Posture(arm.middle)
+    with pytest.raises(armik.OptionError, match="secondary holds one armik.Posture"):
+        arm.solve(p, secondary=["upright"])
+    with pytest.raises(armik.OptionError, match="posture is given twice .by a secondary task and"):
+        arm.solve(p, secondary=[posture, armik.Posture(arm.middle)])
+    with pytest.raises(armik.OptionError, match="has 3 values, the arm 7 joints"):
+        arm.solve(p, secondary=[armik.Posture([0.0, 0.0, 0.0])])
+    with pytest.raises(armik.OptionError, match="prefer=armik.Posture"):
+        arm.solve([armik.Position(p), armik.Position(p, frame="panda_link4")], secondary=[posture])
+    with pytest.raises(armik.OptionError, match="posture must be .q_ref, weights."):
+        arm.solve(p, posture=[0.0] * 7)
+
+
+def test_the_kernel_settings_carry_the_posture():
+    """Packed and unpacked: the reference and the weights (the largest 1); without a
+    posture, empty (the pull toward q0 as before)."""
+    posture = armik.Posture(np.arange(7) * 0.1, [2.0, 1, 1, 1, 1, 1, 0])
+    for opts, ref, w in (
+        (
+            Options.from_kwargs({"secondary": [posture]}),
+            np.arange(7) * 0.1,
+            [1, 0.5, 0.5, 0.5, 0.5, 0.5, 0],
+        ),
+        (Options(), [], []),
+    ):
+        st = unpack(*pack_settings(settings(opts, True, 7, 1, DLS_STEP)))
+        assert st.posture.tolist() == pytest.approx(list(ref), abs=0) and st.posture_w.tolist() == w
+        assert st.look_point.shape == (3,)
+
+
+def test_a_posture_steers_a_redundant_position_toward_it():
+    """A Panda's positions (three task rows, four free joints), by dls and qp: each answer
+    with the posture lies nearer its reference than the answer without, from the same start;
+    both verified."""
+    arm = conftest.arm("panda")
+    rng = np.random.default_rng(1)
+    q_ref = arm.middle.copy()
+    posture = armik.Posture(q_ref)
+    for solver in ("dls", "qp"):
+        for _ in range(4):
+            p = arm.fk(arm.random_q(rng)).translation
+            q0 = arm.random_q(rng)
+            plain = arm.solve(p, q0=q0, solver=solver, **BUDGET)
+            pulled = arm.solve(p, q0=q0, solver=solver, secondary=[posture], **BUDGET)
+            assert plain.success and pulled.success
+            assert np.linalg.norm(pulled.q - q_ref) < np.linalg.norm(plain.q - q_ref)
+            assert np.linalg.norm(arm.fk(pulled.q).translation - p) <= 1e-6
+
+
+def test_a_posture_of_zero_weights_pulls_nothing_and_a_full_pose_has_no_null_space():
+    arm = conftest.arm("panda")
+    rng = np.random.default_rng(2)
+    p = arm.fk(arm.random_q(rng)).translation
+    q0 = arm.random_q(rng)
+    none = armik.Posture(arm.middle, np.zeros(7))
+    a = arm.solve(p, q0=q0, secondary=[none], **BUDGET)
+    b = arm.solve(p, q0=q0, nullspace_gain=0.0, **BUDGET)
+    assert np.array_equal(a.q, b.q)
+    ur5 = conftest.arm("ur5")
+    T = ur5.fk(ur5.random_q(rng))
+    q0 = ur5.random_q(rng)
+    plain = ur5.solve(T, q0=q0, solver="dls", **BUDGET)
+    pulled = ur5.solve(T, q0=q0, solver="dls", secondary=[armik.Posture(ur5.middle)], **BUDGET)
+    assert np.array_equal(plain.q, pulled.q)
