@@ -177,3 +177,28 @@ def test_axis_look_at_within(capsys):
     angle = math.acos(np.clip(reached.rotation[:, 2] @ sight, -1, 1))
     assert angle <= 0.05 + TOL["solve"]
     assert np.linalg.norm(reached.translation - T.translation) <= TOL["solve"]
+
+
+def test_held_joints_and_a_counted_budget(capsys):
+    """``--hold NAME=VALUE`` (repeatable; ``NAME`` alone: q0's value) and ``--iterations``:
+    a UR5's position with two wrist joints held where an answer has them, checked on the
+    arm's FK; a joint held twice, or a bad value, refused in one line."""
+    ur5 = arm("ur5")
+    q = np.array([0.3, -1.0, 1.2, -0.5, 1.0, 0.2])
+    p = ur5.fk(q).translation
+    code, out, _ = run(
+        capsys,
+        *("solve", "ur5", "--xyz", *words(p), "--position-only", "--json"),
+        *("--hold", "wrist_2_joint=1.0", "--hold", "wrist_3_joint=0.2", "--iterations", "4000"),
+    )
+    assert code == 0
+    got = json.loads(out)["results"][0]
+    assert got["success"] and got["q"][4] == 1.0 and got["q"][5] == 0.2
+    assert np.linalg.norm(ur5.fk(np.array(got["q"])).translation - p) <= TOL["solve"]
+    code, _, err = run(
+        capsys, "solve", "ur5", "--xyz", *words(p), "--hold", "wrist_3_joint", "--hold",
+        "wrist_3_joint=0.1",
+    )  # fmt: skip
+    assert code == 2 and "--hold gives joint 'wrist_3_joint' twice" in err
+    code, _, err = run(capsys, "solve", "ur5", "--xyz", *words(p), "--hold", "wrist_3_joint=x")
+    assert code == 2 and "must be a number" in err

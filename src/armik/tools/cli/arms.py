@@ -78,7 +78,21 @@ def add_solve_options(c: argparse.ArgumentParser) -> None:
         help="the best verified answer by this score, over every branch (docs/preferences.md)",
     )
     c.add_argument("--timeout", type=float, help="time budget of numeric solvers (s)")
+    c.add_argument(
+        "--iterations",
+        type=int,
+        metavar="N",
+        help="a deterministic budget instead of --timeout: at most N iterations, restarts included",
+    )
     c.add_argument("--seed", type=int, help="seed of the random restarts (0)")
+    c.add_argument(
+        "--hold",
+        action="append",
+        type=hold_pair,
+        metavar="NAME[=VALUE]",
+        help="hold a joint at a value (rad or m), or at q0's without one, during this solve; "
+        "repeatable",
+    )
     c.add_argument(
         "--obstacles",
         metavar="FILE",
@@ -104,8 +118,12 @@ def solve_options(args: argparse.Namespace) -> dict:
         options["timeout"] = args.timeout
     if getattr(args, "tol", None) is not None:
         options["tol_position"] = options["tol_orientation"] = args.tol
+    if args.iterations is not None:
+        options["iteration_budget"] = args.iterations
     if args.seed is not None:
         options["seed"] = args.seed
+    if args.hold:
+        options["hold"] = joint_values(args.hold, "--hold")
     if args.weights is not None:
         options["weights"] = tuple(args.weights)
     if args.bounds is not None:
@@ -121,6 +139,13 @@ def solve_options(args: argparse.Namespace) -> dict:
     if args.margin is not None:
         options["margin"] = args.margin
     return options
+
+
+def hold_pair(text: str) -> tuple[str, float | None]:
+    """``NAME`` (held at q0's value) or ``NAME=VALUE`` (rad or m) as (name, value)."""
+    if "=" not in text and text.strip():
+        return text.strip(), None
+    return lock_pair(text)
 
 
 def lock_pair(text: str) -> tuple[str, float]:
@@ -152,13 +177,16 @@ def add_lock_option(c: argparse.ArgumentParser) -> None:
 
 def locked_joints(pairs: list[tuple[str, float]] | None) -> dict[str, float] | None:
     """The ``--lock`` pairs as a mapping; a joint given twice is an ``InputError``."""
-    if not pairs:
-        return None
-    out: dict[str, float] = {}
+    return joint_values(pairs, "--lock") if pairs else None
+
+
+def joint_values(pairs: list, flag: str) -> dict:
+    """``flag``'s (name, value) pairs as a mapping; a joint given twice is an ``InputError``."""
+    out: dict = {}
     for name, value in pairs:
         if name in out:
             raise InputError(
-                f"--lock gives joint {name!r} twice ({out[name]:g} and {value:g}): give it once"
+                f"{flag} gives joint {name!r} twice ({out[name]} and {value}): give it once"
             )
         out[name] = value
     return out
