@@ -5,7 +5,6 @@ import pytest
 
 import armik
 from armik.result import IKResult
-from armik.solvers.claims import Attempt
 from armik.status import FAILURE_RANK, Status
 
 
@@ -19,7 +18,7 @@ def test_status_reads_as_its_word_and_round_trips_its_code():
 
 def test_unknown_status_word_is_refused_with_the_list():
     with pytest.raises(ValueError, match="converged, unreachable"):
-        Attempt(q=np.zeros(2), claim="done", reason="")
+        Status.parse("done")
     with pytest.raises(ValueError, match="not_converged"):
         IKResult(
             q=[0.0],

@@ -10,7 +10,8 @@ import pytest
 
 import armik
 from armik.solvers import registry
-from armik.solvers.claims import Attempt
+from armik.solvers.answers import one
+from armik.status import Status
 
 from ..conftest import arm
 
@@ -84,7 +85,7 @@ def test_a_lying_solver_is_caught_by_the_collision_check(monkeypatch):
     box = armik.Sphere(0.08, T.translation)
 
     def liar(arm_, target, q0, opts, all_solutions):
-        return [Attempt(q=q_bad.copy(), claim="converged", reason="trust me")]
+        return one(q_bad.copy(), Status.CONVERGED, "trust me")
 
     lying = dataclasses.replace(registry.get("dls"), run=liar, prepare_pose=None)
     monkeypatch.setitem(registry._REGISTRY, "dls", lying)

@@ -290,7 +290,7 @@ def test_a_lying_batch_solver_is_caught_by_the_fk_check(monkeypatch):
     import dataclasses
 
     from armik.solvers import registry
-    from armik.solvers.claims import AttemptBatch
+    from armik.solvers.answers import Answers
 
     a = arm("ur5")
     rng = np.random.default_rng(4)
@@ -302,7 +302,7 @@ def test_a_lying_batch_solver_is_caught_by_the_fk_check(monkeypatch):
 
     def liar(arm_, targets, q0, opts, seeds=None):
         n = len(targets)
-        return AttemptBatch(
+        return Answers(
             q=lies[:n].copy(),
             claim=np.full(n, Status.CONVERGED.code, dtype=np.int8),
             iterations=np.ones(n, dtype=np.int64),

@@ -20,7 +20,6 @@ from armik.errors import ArmikWarning, OptionError, SolverError, TargetError
 from armik.options import Options
 from armik.result import IKResult
 from armik.solvers import registry
-from armik.solvers.claims import Attempt, attempt
 from armik.status import Status
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import _pose, parse_target
@@ -177,14 +176,6 @@ def test_result_and_attempt_built_fast_equal_their_init():
     assert IKResult._checked({**row, "status": "converged"}).status is Status.CONVERGED
     with pytest.raises(TypeError):
         IKResult._checked({k: v for k, v in row.items() if k != "reason"})
-
-    kw = dict(q=np.zeros(3), claim=Status.UNREACHABLE, reason="far", branch="x", singular=True)
-    a, b = attempt(**kw), Attempt(**kw)
-    assert a.q is b.q and vars(a).keys() == vars(b).keys()
-    assert all(vars(a)[k] == vars(b)[k] for k in vars(a) if k != "q")
-    assert attempt(**{**kw, "claim": "converged"}).claim is Status.CONVERGED
-    with pytest.raises(TypeError):
-        attempt(q=np.zeros(3), claim=Status.CONVERGED)  # no reason
 
 
 def test_check_batch_equals_check_row_by_row(panda, kinova):

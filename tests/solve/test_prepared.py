@@ -19,6 +19,7 @@ from armik.errors import ArmikWarning, TargetError
 from armik.solve.prepared import Plan, plan_for
 from armik.solve.single import _options
 from armik.solvers import registry
+from armik.solvers.answers import Answers
 from armik.targets.pose import parse_target
 
 from ..conftest import arm, assert_same_result
@@ -164,16 +165,16 @@ def test_an_unreached_closed_form_hands_every_row_over_labelled(name):
     far = pin.SE3(np.eye(3), np.array([3.0, 0.5, 0.5]))  # beyond reach
     opts, key, _ = _options({})
     plan = plan_for(a.kinematics, "auto", key, opts)
-    attempts = plan.run_pose(far.homogeneous, q0, 0)
-    assert type(attempts) is list and len(attempts) > 1
+    rows = plan.run_pose(far.homogeneous, q0, 0)
+    assert type(rows) is Answers and len(rows) > 1
     general = registry.get(plan.solver).run(
         a.kinematics, parse_target(far, a.kinematics), q0, opts, False
     )
-    branches = [x.branch for x in attempts]
-    assert branches == [x.branch for x in general]
-    assert len(set(branches)) > 1  # not all the unlabelled default
-    for x, y in zip(attempts, general):
-        np.testing.assert_array_equal(x.q, y.q)
+    assert rows.branch == general.branch
+    assert rows.branch is not None and len(set(rows.branch)) > 1  # not all unlabelled
+    assert rows.reasons == general.reasons
+    np.testing.assert_array_equal(rows.q, general.q)
+    np.testing.assert_array_equal(rows.claim, general.claim)
 
 
 def test_lazy_reason_pickles_and_compares():

@@ -31,10 +31,10 @@ from armik.constraints.collision import checker
 from armik.frozen import frozen
 from armik.options import Options
 from armik.solve.slide import slide
-from armik.solvers.claims import Attempt
+from armik.solvers.answers import one
 from armik.status import Status
-from armik.verify.measure import measure, measure_many
-from armik.verify.verdict import ranked, seed_distance, verdict
+from armik.verify.measure import measure
+from armik.verify.verdict import nearest_first, ranked, seed_distance, verdict, verdicts
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
@@ -68,39 +68,32 @@ def solve_avoiding(
     if not seed.flags.writeable:  # a read-only seed (a result's q) is another kernel type
         seed = seed.copy()
     if every:
-        attempts = spec.run(arm, target, seed, opts, True)
-        measures = measure_many(arm, [a.q for a in attempts], target, opts)
+        answers = spec.run(arm, target, seed, opts, True)
         rows = [
-            collision_verdict(verdict(a, m), check, opts.margin) for a, m in zip(attempts, measures)
+            collision_verdict(row, check, opts.margin)
+            for row in verdicts(arm, answers, target, opts)
         ]
         return ranked(rows, spec.name, seed, True, t0)
     if spec.kind == "analytic":
-        attempts = spec.run(arm, target, seed, opts, True)
-        rows = _first_free(arm, attempts, target, opts, check, seed, first)
+        answers = spec.run(arm, target, seed, opts, True)
+        rows = _first_free(arm, answers, target, opts, check, seed, first)
         return ranked(rows, spec.name, seed, False, t0)
     rows = _restarting(arm, spec, target, seed, opts, check, first)
     return ranked(rows, spec.name, seed, False, t0)
 
 
-def _first_free(arm, attempts, target, opts: Options, check, seed, first=None) -> list[dict]:
-    """Check the branches nearest the seed first (claimed converged and within the limits
-    before the rest); stop at the first verified, collision-free one. The branch of
-    ``first`` (the plain solve's answer, verified and checked already) keeps its row."""
+def _first_free(arm, answers, target, opts: Options, check, seed, first=None) -> list[dict]:
+    """Check the branches nearest the seed first (``nearest_first``); stop at the first
+    verified, collision-free one. The branch of ``first`` (the plain solve's answer,
+    verified and checked already) keeps its row."""
     known = first.row if first is not None and "extra" in first.row else None
-
-    def order(a) -> tuple:
-        return (
-            a.claim is not Status.CONVERGED,
-            not arm.within_limits(a.q),
-            seed_distance(a.q, seed),
-        )
-
     rows = []
-    for attempt in sorted(attempts, key=order):
-        if known is not None and np.array_equal(attempt.q, known["q"]):
+    for i in nearest_first(arm, answers, seed):
+        q = answers.q[i]
+        if known is not None and np.array_equal(q, known["q"]):
             row, known = known, None
         else:
-            row = verdict(attempt, measure(arm, attempt.q, target, opts))
+            row = verdict(answers, i, measure(arm, q, target, opts))
             row = collision_verdict(row, check, opts.margin)
         rows.append(row)
         if row["success"]:
@@ -128,9 +121,12 @@ def _restarting(
             left = _left(opts, start_cpu, used_iterations, used_restarts)
             if left is None:
                 break
-            attempts = spec.run(arm, target, q_start, left, False)
+            answers = spec.run(arm, target, q_start, left, False)
             best = min(
-                (verdict(a, measure(arm, a.q, target, left)) for a in attempts),
+                (
+                    verdict(answers, i, measure(arm, answers.q[i], target, left))
+                    for i in range(len(answers))
+                ),
                 key=lambda r: (not r["success"], seed_distance(r["q"], seed)),
             )
             row = collision_verdict(best, check, opts.margin)
@@ -173,8 +169,8 @@ def _slid(arm, target, row: dict, opts: Options, check, start_cpu: float, used: 
     deadline = math.inf if opts.iteration_budget is not None else start_cpu + opts.timeout
     tol = min(opts.tol_position, opts.tol_orientation) * 0.1
     q, taken = slide(arm, target, row["q"], check, opts.margin, steps, deadline, tol)
-    attempt = Attempt(q=q, claim=Status.CONVERGED, reason=reasons.SLID, iterations=used + taken)
-    out = verdict(attempt, measure(arm, q, target, opts))
+    slid = one(q, Status.CONVERGED, reasons.SLID, iterations=used + taken)
+    out = verdict(slid, 0, measure(arm, q, target, opts))
     return collision_verdict(out, check, opts.margin)
 
 

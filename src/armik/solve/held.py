@@ -29,7 +29,7 @@ from armik.errors import OptionError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.options import Options
-from armik.solvers.claims import Attempt
+from armik.solvers.answers import Answers
 from armik.solvers.closed_form import swept_7r
 from armik.status import Status
 from armik.targets.pose import parse_target
@@ -100,14 +100,14 @@ def solve_held(
     sub = locked_arm(arm, name, value)
     free = np.delete(seed, k)
     found = general(sub, target, free, solver, replace(opts, hold=None), True, t0)
-    attempts = []
-    for r in found:
-        q = np.insert(np.asarray(r.q, dtype=float), k, value)
-        claim = Status.CONVERGED if r.success else r.status
-        reason = reasons.held(name, value, r.solver, r.reason)
-        attempts.append(
-            Attempt(q=q, claim=claim, reason=reason, branch=r.branch, singular=r.singular)
-        )
+    answers = Answers.of(
+        [np.insert(np.asarray(r.q, dtype=float), k, value) for r in found],
+        [Status.CONVERGED if r.success else r.status for r in found],
+        [reasons.held(name, value, r.solver, r.reason) for r in found],
+        arm.dof,
+        branch=[r.branch for r in found],
+        singular=[r.singular for r in found],
+    )
     name_of = found[0].solver if found else solver
-    results = finish(arm, name_of, attempts, tgt, opts, seed, every, t0)
+    results = finish(arm, name_of, answers, tgt, opts, seed, every, t0)
     return results if every else results[0]

@@ -265,12 +265,11 @@ def _nearest(arm, spec: SolverSpec, opts: Options, P, R, seeds) -> np.ndarray:
         for k, seed in enumerate(seeds):
             Pk, Rk = P[k : k + 1], None if R is None else R[k : k + 1]
             target = Target(Pk[0].copy(), None if Rk is None else Rk[0].copy())
-            for a in spec.run(arm, target, seed.copy(), opts, True):
-                c = arm.nearest_equivalent(a.q, seed)
+            got = spec.run(arm, target, seed.copy(), opts, True)
+            for i in range(len(got)):
+                c = arm.nearest_equivalent(got.q[i], seed)
                 nearer = not np.abs(q[k] - seed).max() <= np.abs(c - seed).max()  # NaN: none yet
-                if nearer and (
-                    a.claim is Status.CONVERGED or _reached(arm, c[None], Pk, Rk, opts)[0]
-                ):
+                if nearer and (got.claimed(i) or _reached(arm, c[None], Pk, Rk, opts)[0]):
                     q[k] = c
         ok = ~np.isnan(q).any(axis=1)
     ok &= ((q >= arm.lower - 1e-9) & (q <= arm.upper + 1e-9)).all(axis=1)

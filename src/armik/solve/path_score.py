@@ -22,7 +22,7 @@ from armik.result import IKResult
 from armik.solve.nullspace import descend
 from armik.solve.single import solve_parsed
 from armik.solvers import registry
-from armik.solvers.claims import Attempt
+from armik.solvers.answers import one
 from armik.status import Status
 from armik.targets.pose import Target
 from armik.verify.verdict import finish
@@ -54,8 +54,8 @@ def preferred(
         box = (np.maximum(arm.lower, q_prev - step), np.minimum(arm.upper, q_prev + step))
         moved = descend(arm, r.q, pose, score, reference, math.inf, steps=STEPS, box=box)
         if not np.array_equal(moved, r.q):
-            claim = Attempt(q=moved, claim=Status.CONVERGED, reason=reasons.SELF_MOTION)
-            candidates += finish(arm, r.solver, [claim], target, opts, q_prev, False, 0.0)
+            claim = one(moved, Status.CONVERGED, reasons.SELF_MOTION)
+            candidates += finish(arm, r.solver, claim, target, opts, q_prev, False, 0.0)
     within = [
         c for c in candidates if c.success and bool((np.abs(c.q - q_prev) <= step + 1e-12).all())
     ]

@@ -24,7 +24,6 @@ from armik.problem.scores import Limits, Nearest, Posture, Score
 from armik.result import IKResult
 from armik.solvers import registry
 from armik.solvers.closed_form import swept_7r
-from armik.status import Status
 from armik.verify.verdict import finish
 
 TWO_PI = 2.0 * math.pi
@@ -197,10 +196,11 @@ def sweep_held(arm: ArmModel, target, q0: np.ndarray, opts, score: Score, t0: fl
 
     def best_at(theta: float) -> float:
         """The best score over the branches at joint 7 = ``theta`` (inf: none reached)."""
+        got = swept_7r.at_value(arm, target, q0, theta)
         scores = [
-            score(arm, best_variant(arm, a.q, score, q0), q0)
-            for a in swept_7r.at_value(arm, target, q0, theta)
-            if a.claim is Status.CONVERGED and arm.within_limits(a.q)
+            score(arm, best_variant(arm, got.q[i], score, q0), q0)
+            for i in range(len(got))
+            if got.claimed(i) and arm.within_limits(got.q[i])
         ]
         return min(scores, default=math.inf)
 

@@ -39,7 +39,8 @@ from armik.model.derived import Derived
 from armik.options import Options
 from armik.result import IKResult
 from armik.solvers import registry
-from armik.solvers.claims import Attempt, Claim, claim
+from armik.solvers.answers import Answers, stacked
+from armik.solvers.claims import Claim, claim
 from armik.status import Status
 from armik.targets.pose import parse_target
 from armik.verify.measure import Measure, measures_of
@@ -225,21 +226,22 @@ class Plan:
             self.arm, got, pos, ori, inside, self.tol_p, self.tol_r, region is not None
         )
         if fields is None or not fields["success"]:  # the next row may pass: every row
-            attempts = self._refused(got, H, q0, seed, xy)
-            return self._finish(attempts, H, q0, opts, t0, False, xy)[0]
+            answers = self._refused(got, H, q0, seed, xy)
+            return self._finish(answers, H, q0, opts, t0, False, xy)[0]
         fields["solver"], fields["time"] = self.solver, time.perf_counter() - t0
         return IKResult._from_fields(fields)
 
-    def _refused(self, got: Claim, H: np.ndarray, q0: np.ndarray, seed, xy) -> list[Attempt]:
-        """The attempts for the general verdict when the check refuses the runner's answer
+    def _refused(self, got: Claim, H: np.ndarray, q0: np.ndarray, seed, xy) -> Answers:
+        """The answers for the general verdict when the check refuses the runner's answer
         ``got``: a closed form's every row, nearest first (the next may pass), else the
         claim alone."""
         every = (
             self.run_pose(H, q0, seed, True) if xy is None else self.run_pose(H, q0, seed, True, xy)
         )
         if every is None:  # a numeric runner (or one with no rows for ``solve_all``)
-            return [got.attempt()]
-        return [claim((q, *row)).attempt() if type(row) is tuple else row for q, row in zip(*every)]
+            return got.answers()
+        rows = [claim((q, *row)).answers() if type(row) is tuple else row for q, row in zip(*every)]
+        return stacked(rows, self.shape[0])
 
     def solve_all(self, target: object, q0: object, opts: Options, seed: int | None, t0: float):
         """The results of ``solve_all`` for a plain ``target`` and ``q0``, or None."""
@@ -274,15 +276,15 @@ class Plan:
                     else:  # outside the limits
                         failed.append((_rank_key(fields), fields))
                     continue
-                got = got.attempt()
+                got = got.answers()
             m = Measure(
                 position_error=pos,
                 orientation_error=ori if self.measure_rot else None,
-                violations=[] if inside > 0.0 else self.arm.limit_violations(got.q),
+                violations=[] if inside > 0.0 else self.arm.limit_violations(got.q[0]),
                 tol_position=self.tol_p,
                 tol_orientation=self.tol_r,
             )
-            fields = {**verdict(got, m), "solver": self.solver}
+            fields = {**verdict(got, 0, m), "solver": self.solver}
             if fields["success"]:  # claimed unreached (a boundary case), verified all the same
                 verified.append(fields)
                 unclaimed = True
@@ -314,12 +316,12 @@ class Plan:
             placements.append(place(model, data, frame).homogeneous)
         return np.array(placements) if placements else np.empty((0, 4, 4))
 
-    def _finish(self, attempts, H, q0, opts: Options, t0: float, every: bool, xy=None):
+    def _finish(self, answers: Answers, H, q0, opts: Options, t0: float, every: bool, xy=None):
         if xy is not None:  # as the user gave it: the closed form reads it as given
             target = parse_target(np.array(xy), self.arm)
         else:
             target = parse_target(H[:3, 3].copy() if self.position else H, self.arm)
-        return finish(self.arm, self.solver, attempts, target, opts, q0, every, t0)
+        return finish(self.arm, self.solver, answers, target, opts, q0, every, t0)
 
 
 def _seed_copy(q0: object, shape: tuple) -> np.ndarray | None:

@@ -28,7 +28,7 @@ from armik.solve.prefer import rank, sweep_held
 from armik.solve.prepared import plan_for
 from armik.solve.tasks import CENTRE_RESTARTS, check_options, check_said_twice, solve_tasks
 from armik.solvers import registry
-from armik.solvers.claims import Attempt
+from armik.solvers.answers import Answers, one, stacked
 from armik.status import Status
 from armik.targets.pose import parse_target
 from armik.verify.verdict import finish
@@ -253,16 +253,18 @@ def _along_self_motion(
     again as ``solver``'s: the moved answers, to be ranked with the rest."""
     tgt = parse_target(target, arm)
     pose = pin.SE3(tgt.rotation, tgt.position)
-    claims: list[Attempt] = []
+    claims: list[Answers] = []
     for q in prefer.distinct(best, prefer.DESCENTS):
         left = prefer.DESCENT_UNTIL * opts.timeout - (time.perf_counter() - t0)
         if opts.iteration_budget is not None:  # deterministic: the descent's own step cap
             left = math.inf
         elif left <= 0.0:
             break
-        moved = descend(arm, q, pose, score, seed, left, ends=[c.q for c in claims])
-        claims.append(Attempt(q=moved, claim=Status.CONVERGED, reason=reasons.SELF_MOTION))
-    return finish(arm, solver, claims, tgt, opts, seed, True, t0) if claims else []
+        moved = descend(arm, q, pose, score, seed, left, ends=[c.q[0] for c in claims])
+        claims.append(one(moved, Status.CONVERGED, reasons.SELF_MOTION))
+    return (
+        finish(arm, solver, stacked(claims, arm.dof), tgt, opts, seed, True, t0) if claims else []
+    )
 
 
 def _centre(arm, problem, q0, options: dict):
@@ -352,8 +354,8 @@ def _general(arm, target, q0, solver, opts: Options, all_solutions: bool, t0: fl
     spec = registry.choose(solver, arm, tgt, opts, all_solutions)
     if opts.collisions:
         return solve_avoiding(arm, spec, tgt, seed, opts, all_solutions, t0, first)
-    attempts = spec.run(arm, tgt, seed, opts, all_solutions)
-    return finish(arm, spec.name, attempts, tgt, opts, seed, all_solutions, t0)
+    answers = spec.run(arm, tgt, seed, opts, all_solutions)
+    return finish(arm, spec.name, answers, tgt, opts, seed, all_solutions, t0)
 
 
 _OPTIONS: dict[tuple, Options] = {}

@@ -18,14 +18,14 @@ if TYPE_CHECKING:
 
     from armik.model.arm_model import ArmModel
     from armik.options import Options
-    from armik.solvers.claims import Attempt, AttemptBatch
+    from armik.solvers.answers import Answers
     from armik.targets.batch import TargetBatch
     from armik.targets.pose import Target
 
 WhyNot = Callable[["ArmModel", "Target | None", "Options | None"], "str | None"]
-Run = Callable[["ArmModel", "Target", "np.ndarray", "Options", bool], "list[Attempt]"]
+Run = Callable[["ArmModel", "Target", "np.ndarray", "Options", bool], "Answers"]
 # Many targets, one best attempt each: (arm, targets, q0 (N, dof), options) -> arrays.
-RunBatch = Callable[["ArmModel", "TargetBatch", "np.ndarray", "Options"], "AttemptBatch"]
+RunBatch = Callable[["ArmModel", "TargetBatch", "np.ndarray", "Options"], "Answers"]
 # One plain 4x4 pose at a time, prepared once per arm, options and target kind (see
 # ``armik.solve.prepared``): (arm, options, position_only) -> run_pose(H, q0, seed).
 PreparePose = Callable[["ArmModel", "Options", bool], Callable]

@@ -18,7 +18,8 @@ import numpy as np
 from armik import reasons
 from armik.batch_result import BatchResult
 from armik.result import IKResult
-from armik.solvers.claims import Attempt, AttemptBatch, Claim
+from armik.solvers.answers import Answers
+from armik.solvers.claims import Claim
 from armik.status import FAILURE_RANK, Status
 from armik.verify.measure import Measure, measure, measure_batch, measure_many
 
@@ -64,21 +65,26 @@ def _index(flags: np.ndarray) -> np.ndarray:
 def finish(
     arm: ArmModel,
     solver: str,
-    attempts: list[Attempt],
+    answers: Answers,
     target,
     opts: Options,
     seed: np.ndarray,
     all_solutions: bool,
     t0: float,
 ) -> list[IKResult]:
-    """Verify ``attempts`` (all of them, or nearest-first up to the first success), rank
+    """Verify ``answers`` (all of them, or nearest-first up to the first success), rank
     them best first and build the results; ``t0`` is the call's ``perf_counter`` start."""
     if all_solutions:
-        measures = measure_many(arm, [a.q for a in attempts], target, opts)
-        rows = [verdict(a, m) for a, m in zip(attempts, measures)]
+        rows = verdicts(arm, answers, target, opts)
     else:
-        rows = _first_verified(arm, attempts, target, opts, seed)
+        rows = _first_verified(arm, answers, target, opts, seed)
     return ranked(rows, solver, seed, all_solutions, t0)
+
+
+def verdicts(arm: ArmModel, answers: Answers, target, opts: Options) -> list[dict]:
+    """The verdict row of every answer, measured together (``measure_many``)."""
+    measures = measure_many(arm, list(answers.q), target, opts)
+    return [verdict(answers, i, m) for i, m in enumerate(measures)]
 
 
 def ranked(rows: list[dict], solver: str, seed, all_solutions: bool, t0: float):
@@ -111,25 +117,31 @@ def number_repeated_branches(rows: list[dict]) -> None:
             row["branch"] = f"{label}#{count}"
 
 
-def _first_verified(arm: ArmModel, attempts: list[Attempt], target, opts: Options, seed) -> list:
-    """Verify candidates nearest-first (within limits, claimed converged, then distance to
-    the seed) and stop at the first success: it is the nearest verified answer."""
-    if len(attempts) == 1:
-        return [verdict(attempts[0], measure(arm, attempts[0].q, target, opts))]
-
-    def order(a: Attempt) -> tuple:
-        return (
-            a.claim is not Status.CONVERGED,
-            not arm.within_limits(a.q),
-            seed_distance(a.q, seed),
-        )
-
+def _first_verified(arm: ArmModel, answers: Answers, target, opts: Options, seed) -> list:
+    """Verify answers nearest-first (``nearest_first``) and stop at the first success: it
+    is the nearest verified answer."""
+    if len(answers) == 1:
+        return [verdict(answers, 0, measure(arm, answers.q[0], target, opts))]
     rows = []
-    for attempt in sorted(attempts, key=order):
-        rows.append(verdict(attempt, measure(arm, attempt.q, target, opts)))
+    for i in nearest_first(arm, answers, seed):
+        rows.append(verdict(answers, i, measure(arm, answers.q[i], target, opts)))
         if rows[-1]["success"]:
             return rows[-1:]
     return rows
+
+
+def nearest_first(arm: ArmModel, answers: Answers, seed: np.ndarray) -> list[int]:
+    """The rows in the order they are verified for one answer: claimed converged, within
+    the limits, then by distance to the seed (ties: the solver's order)."""
+    q = answers.q
+    return sorted(
+        range(len(answers)),
+        key=lambda i: (
+            not answers.claimed(i),
+            not arm.within_limits(q[i]),
+            seed_distance(q[i], seed),
+        ),
+    )
 
 
 def seed_distance(q: np.ndarray, seed: np.ndarray) -> float:
@@ -153,30 +165,31 @@ def limits_reason(arm: ArmModel, q: np.ndarray) -> str:
     return reasons.outside_limits(arm.limit_violations(q))
 
 
-def verdict(attempt: Attempt, m: Measure) -> dict:
-    """The row of an answer from its measure: success only when the measure holds."""
-    claimed = attempt.claim is Status.CONVERGED
-    status = status_of(attempt.claim, m.ok, not m.violations)
+def verdict(answers: Answers, i: int, m: Measure) -> dict:
+    """The row of answer ``i`` from its measure: success only when the measure holds."""
+    claim = answers.status(i)
+    claimed = claim is Status.CONVERGED
+    status = status_of(claim, m.ok, not m.violations)
     success = status is Status.CONVERGED
     if success:
-        reason = reasons.verified(attempt.reason if claimed else None, m.describe())
+        reason = reasons.verified(answers.reason(i) if claimed else None, m.describe())
     elif not claimed:
-        reason = attempt.reason
+        reason = answers.reason(i)
     elif status is Status.JOINT_LIMITS:
         reason = reasons.outside_limits(m.violations)
     else:
         reason = reasons.check_failed(m.describe())
     return dict(
-        q=attempt.q,
+        q=answers.q[i],
         success=success,
         status=status,
         reason=reason,
-        iterations=attempt.iterations,
+        iterations=int(answers.iterations[i]),
         position_error=m.position_error,
         orientation_error=m.orientation_error,
-        branch=attempt.branch,
-        singular=attempt.singular,
-        restarts=attempt.restarts,
+        branch=answers.label(i),
+        singular=answers.is_singular(i),
+        restarts=int(answers.restarts[i]),
     )
 
 
@@ -193,7 +206,7 @@ def claimed_verdict(
     """``verdict`` of a prepared runner's claimed answer ``got`` from its measure (``ori``
     None where the orientation is not measured; ``inside``: within the limits; ``region``:
     the errors are the distances outside the target's region),
-    without building the ``Attempt`` and ``Measure``: a success within the tolerances and
+    without building the ``Answers`` and ``Measure``: a success within the tolerances and
     the limits, ``joint_limits`` outside the limits, else None (the general ``verdict``
     decides: ``check_failed``'s reason needs the target's region). The fields of an
     ``IKResult`` but ``solver`` and ``time``; the reason written on first read."""
@@ -237,7 +250,7 @@ def _rank(row: dict, seed: np.ndarray) -> tuple:
 
 
 def verdict_batch(
-    arm: ArmModel, attempts: AttemptBatch, targets: TargetBatch, opts: Options
+    arm: ArmModel, attempts: Answers, targets: TargetBatch, opts: Options
 ) -> BatchResult:
     """The verdict of a chunk of attempts, by the ``RULE`` that decides one (``verdict``);
     the rare failures get their reasons row by row."""

@@ -33,10 +33,11 @@ def brute_force(a: ArmModel, T, q0, half: float, n: int = 3601) -> dict:
     family = spin.family(a, parse_target(T, a))
     best: dict = {}
     for t in np.linspace(-half, half, n):
-        for r in family.run(a, parse_target(turned(T, t), a), q0, None, True):
-            if r.claim is Status.CONVERGED and a.within_limits(r.q):
-                d = float(np.linalg.norm(r.q - q0))
-                best[r.branch] = min(best.get(r.branch, math.inf), d)
+        got = family.run(a, parse_target(turned(T, t), a), q0, None, True)
+        for i in range(len(got)):
+            if got.status(i) is Status.CONVERGED and a.within_limits(got.q[i]):
+                d = float(np.linalg.norm(got.q[i] - q0))
+                best[got.label(i)] = min(best.get(got.label(i), math.inf), d)
     return best
 
 

@@ -15,6 +15,7 @@ from armik.options import Options
 from armik.solvers import registry
 from armik.solvers.numeric import driver as numeric
 from armik.solvers.numeric import qp
+from armik.status import Status
 from armik.targets.pose import parse_target
 
 from ...conftest import SPATIAL, TOL, arm, model
@@ -263,11 +264,11 @@ def test_prismatic_solution(rng):
 
 def test_unconverged_never_success(monkeypatch):
     # A solver that lies about convergence is caught by the FK check.
-    from armik.solvers.claims import Attempt
+    from armik.solvers.answers import one
     from armik.solvers.numeric import dls
 
     def liar(arm_, target, q0, opts, all_solutions):
-        return [Attempt(q=q0 + 0.1, claim="converged", reason="trust me")]
+        return one(q0 + 0.1, Status.CONVERGED, "trust me")
 
     import dataclasses
 

@@ -17,7 +17,7 @@ import numpy as np
 
 from armik.model.arm_model import ArmModel
 from armik.options import Options
-from armik.solvers.claims import Attempt, AttemptBatch
+from armik.solvers.answers import Answers
 from armik.solvers.closed_form import sixr
 from armik.solvers.closed_form.subproblems import mat, vec
 from armik.solvers.registry import SolverSpec, register
@@ -49,7 +49,7 @@ class Family:
 
     def run(
         self, arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
-    ) -> list[Attempt]:
+    ) -> Answers:
         chain = sixr.flat(arm, self.family, self.classify)
         h, p, R_tip0, lower, upper, variant = sixr.unflatten.py_func(chain)
         R, pos = sixr.pose_arrays(target)
@@ -64,7 +64,7 @@ class Family:
 
     def run_batch(
         self, arm: ArmModel, targets, q0: np.ndarray, opts: Options, seeds=None
-    ) -> AttemptBatch:
+    ) -> Answers:
         """Every target in one compiled call (GIL released), the ``SolverSpec.run_batch``
         shape; ``seeds`` is unused (no restarts). ``solve_batch`` solves the rows that fail
         again through ``run``, so that they carry its per-target reasons."""

@@ -27,7 +27,6 @@ found. Branch labels are the answers' indices, nearest q0 first.
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 from numba import njit
@@ -35,7 +34,7 @@ from numba import njit
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, axis_lines
 from armik.options import Options
-from armik.solvers.claims import Attempt
+from armik.solvers.answers import Answers
 from armik.solvers.closed_form import sixr
 from armik.solvers.closed_form.search_1d import solve6
 from armik.solvers.closed_form.subproblems import (
@@ -343,7 +342,7 @@ def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = 
 
 def run(
     arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
-) -> list[Attempt]:
+) -> Answers:
     h, p, R_tip0, lower, upper, _ = sixr.unflatten.py_func(sixr.flat(arm, FAMILY, _classify))
     R, pos = sixr.pose_arrays(target)
     out = np.empty((ROWS, 11))
@@ -355,15 +354,11 @@ def run(
         # none found: a solution at a tangency of SP5's circles (an elbow folded or
         # stretched) can hide from the grid; the numeric solver tries from q0, its answers
         # verified like any other
-        attempts = get("dls").run(arm, target, q0, opts, all_solutions)
-        return [replace(a, reason=f"{SEARCH_FAILED}; dls: {a.reason}") for a in attempts]
-    result = []
-    for k, row in enumerate(out[:n]):
-        claim, reason = Status.CONVERGED, CLOSED_FORM
-        result.append(
-            Attempt(q=row[:6].copy(), claim=claim, reason=reason, branch=str(k), singular=False)
-        )
-    return result
+        found = get("dls").run(arm, target, q0, opts, all_solutions)
+        said = [f"{SEARCH_FAILED}; dls: {found.reason(i)}" for i in range(len(found))]
+        return found.reworded(said)
+    labels = [str(k) for k in range(n)]
+    return Answers.of(out[:n, :6], [Status.CONVERGED] * n, [CLOSED_FORM] * n, 6, branch=labels)
 
 
 SPEC = register(

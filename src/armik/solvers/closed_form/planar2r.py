@@ -28,7 +28,8 @@ from armik.model.derived import Derived
 from armik.model.geometry import Axes, Plane, angle_between, axis_lines, fmt
 from armik.model.mimic import reason as mimic_reason
 from armik.options import Options
-from armik.solvers.claims import Attempt, attempt, claim
+from armik.solvers.answers import Answers
+from armik.solvers.claims import claim
 from armik.solvers.closed_form import planar2r_kernel as kernel
 from armik.solvers.registry import SolverSpec, register
 from armik.status import Status
@@ -163,7 +164,7 @@ _FLAT = Derived("planar 2R flat chain", _flat_chain)
 
 def run(
     arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
-) -> list[Attempt]:
+) -> Answers:
     orient = target.rotation is not None and not opts.position_only
     H = np.eye(4)
     H[:3, 3] = target.position
@@ -222,21 +223,16 @@ def _reason(code: float, v0: float, v1: float, branch: str | None) -> str:
     )
 
 
-def _attempts(rows: np.ndarray, Q: np.ndarray) -> list[Attempt]:
-    """The ``Attempt`` of each of the kernel's rows, in their order, q the rows of ``Q``."""
-    out = []
-    for k, (claimed, branch, singular, code, v0, v1) in enumerate(rows[:, 2:].tolist()):
+def _attempts(rows: np.ndarray, Q: np.ndarray) -> Answers:
+    """The answers of the kernel's rows, in their order, q the rows of ``Q``."""
+    claims, texts, labels, flags = [], [], [], []
+    for claimed, branch, singular, code, v0, v1 in rows[:, 2:].tolist():
         label = _BRANCHES[branch]
-        out.append(
-            attempt(
-                q=Q[k],
-                claim=Status.CONVERGED if claimed == kernel.CONVERGED else Status.UNREACHABLE,
-                reason=_reason(code, v0, v1, label),
-                branch=label,
-                singular=bool(singular),
-            )
-        )
-    return out
+        claims.append(Status.CONVERGED if claimed == kernel.CONVERGED else Status.UNREACHABLE)
+        texts.append(_reason(code, v0, v1, label))
+        labels.append(label)
+        flags.append(bool(singular))
+    return Answers.of(Q, claims, texts, 2, branch=labels, singular=flags)
 
 
 # A claim of the prepared solve by its kind (``kernel.solve_into``'s head >> 1): its
@@ -255,9 +251,9 @@ def prepare_pose(arm: ArmModel, opts: Options, position: bool):
     kernel's answer for one plain 4x4 target ``H`` (a position's: ``position``), or with
     ``xy`` the target (x, y) in plane coordinates (then ``H`` holds it in the base frame):
     the ``Claim`` of the row the general verdict would verify first when it is claimed
-    converged within the limits; else every row's ``Attempt`` for the general verdict; with
-    ``every``: (Q, attempts), Q the (n, 2) read-only answers; None when ``H`` or ``q0`` is
-    not plain."""
+    converged within the limits; else every row's ``Answers`` for the general verdict; with
+    ``every``: (Q, rows), Q the (n, 2) read-only answers and each row one ``Answers`` row;
+    None when ``H`` or ``q0`` is not plain."""
     chain = flat(arm, opts, not position and not opts.position_only)
     solve_into = kernel.solve_into
     empty = np.empty
@@ -277,7 +273,8 @@ def prepare_pose(arm: ArmModel, opts: Options, position: bool):
         if not every:
             return _attempts(out[:n], Q)
         Q.setflags(write=False)  # the results' q are its rows
-        return Q, _attempts(out[:n], Q)
+        every_row = _attempts(out[:n], Q)
+        return Q, [every_row.row(k) for k in range(n)]
 
     run_pose.takes_xy = True  # type: ignore[attr-defined]  # prepared reads it: (x, y) too
     return run_pose

@@ -1,5 +1,5 @@
 """What the closed-form 6R solvers share: the compiled output layout, 2 pi equivalents,
-branch labels, reasons, and the glue from the compiled kernel to ``Attempt``s.
+branch labels, reasons, and the glue from the compiled kernel to ``Answers``.
 
 A kernel computes up to 8 rows in a work array ``W`` (8, 11; 16 rows for a one-dimensional
 search), ``n`` the row count: per row the joint values (columns 0-5), ``flags`` (column 6;
@@ -25,7 +25,8 @@ from armik.model.derived import DerivedBy
 from armik.model.geometry import Axes
 from armik.model.mimic import reason as mimic_reason
 from armik.options import Options
-from armik.solvers.claims import AttemptBatch, attempt, claim
+from armik.solvers.answers import Answers, one
+from armik.solvers.claims import claim
 from armik.solvers.closed_form.subproblems import (
     add,
     cross,
@@ -381,12 +382,11 @@ def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form, s
     ``armik.solvers.numeric.driver.pose_runner``): ``solve_into(flat, H, q0, every, out)``
     is the family's compiled kernel for one plain 4x4 pose (n = -1 when the pose or q0 is
     not plain; see ``hand_over``). When the nearest row is reached within the limits, the
-    answer ``solve`` verifies first, a ``Claim``; else the attempts of every row (each
-    labelled) for the general verdict. With ``every`` (``solve_all``, and ``solve`` when
-    Pinocchio refuses that first answer): (Q, rows), Q the (n, 6) read-only answers and rows
-    one entry per answer, nearest first: for an answer claimed reached, its ``Claim``'s
-    fields after q (a tuple: ``claim((Q[k], *rows[k]))`` is the claim; no object is built
-    for the results' common case), an ``Attempt`` for the others."""
+    answer ``solve`` verifies first, a ``Claim``; else every row's ``Answers``. With
+    ``every`` (``solve_all``, and ``solve`` when Pinocchio refuses that first answer):
+    (Q, rows), Q the (n, 6) read-only answers, rows nearest first: a reached answer's
+    ``Claim`` fields after q (``claim((Q[k], *rows[k]))``; no object built), else its
+    one-row ``Answers``."""
     chain = flat(arm, family, classify)
     why = ((closed_form, False), (closed_form, True))  # claim_reason's arguments
     # a reached row's claim after q, by its (flags, branch bits) as the kernel writes them
@@ -412,13 +412,16 @@ def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form, s
         if every:  # solve_all: every row; a claimed converged row as its claim after q
             Q = out[:n, :6].copy()
             Q.setflags(write=False)  # the results' q are its rows
-            rows = []
+            rows: list[tuple | Answers] = []
             for k, key in enumerate(zip(out[:n, 6].tolist(), out[:n, 7].tolist())):
                 rest = reached.get(key)  # None: least squares
-                if rest is None:
+                if rest is None:  # one row's answer, built as cheaply as a claim's tuple
                     beyond = beyond_reach(arm, H[:3, 3])
-                    rest = attempts(out[k : k + 1], family, closed_form, beyond)[0]
-                rows.append(rest)
+                    said = _said(out[k, 6:11].tolist(), family, closed_form, beyond)
+                    claim_, text, label, singular = said
+                    rows.append(one(out[k, :6], claim_, text, branch=label, singular=singular))
+                else:
+                    rows.append(rest)
             return Q, rows
         if head >= 0:
             singular = head >= 8
@@ -435,32 +438,28 @@ def beyond_reach(arm: ArmModel, position) -> str | None:
     return reasons.beyond_reach(distance, arm.reach) if distance > arm.reach else None
 
 
-def attempts(rows: np.ndarray, family: str, closed_form: str, beyond: str | None = None):
-    """The ``Attempt`` of each of a kernel's packed rows (see ``pack``), in their order
-    (nearest first: ``solve``'s verdict stops at the first that Pinocchio verifies).
-    ``beyond``: ``beyond_reach``'s reason, which makes a search's miss unreachable."""
-    result = []
-    # The row's flags, branch, code and values as plain floats, read in one call.
-    for k, (f, bits, code, v0, v1) in enumerate(rows[:, 6:11].tolist()):
-        f = int(f)
-        singular = bool(f & SINGULAR)
-        if f & LS:
-            claim, text = Status.UNREACHABLE, reason(int(code), (v0, v1), family)
-            if int(code) == NOT_FOUND:  # a search's miss: no proof unless beyond reach
-                claim = Status.NOT_CONVERGED if beyond is None else Status.UNREACHABLE
-                text = text if beyond is None else f"{beyond}; q is q0"
-        else:
-            claim, text = Status.CONVERGED, claim_reason(closed_form, singular)
-        result.append(
-            attempt(
-                q=rows[k, :6],
-                claim=claim,
-                reason=text,
-                branch=_LABELS[int(bits)],
-                singular=singular,
-            )
-        )
-    return result
+def attempts(rows: np.ndarray, family: str, closed_form: str, beyond: str | None = None) -> Answers:
+    """The answers of a kernel's packed rows (see ``pack``), nearest first. ``beyond``:
+    ``beyond_reach``'s reason, which makes a search's miss unreachable."""
+    said = [_said(row, family, closed_form, beyond) for row in rows[:, 6:11].tolist()]
+    claims, texts, labels, flags = zip(*said) if said else ((), (), (), ())
+    return Answers.of(rows[:, :6], claims, texts, 6, branch=labels, singular=flags)
+
+
+def _said(row: list, family: str, closed_form: str, beyond: str | None):
+    """(claim, reason, branch label, singular) of one packed row's flags, branch bits, code
+    and values (``row``, plain floats)."""
+    f, bits, code, v0, v1 = row
+    f = int(f)
+    singular = bool(f & SINGULAR)
+    if f & LS:
+        claim, text = Status.UNREACHABLE, reason(int(code), (v0, v1), family)
+        if int(code) == NOT_FOUND:  # a search's miss: no proof unless beyond reach
+            claim = Status.NOT_CONVERGED if beyond is None else Status.UNREACHABLE
+            text = text if beyond is None else f"{beyond}; q is q0"
+    else:
+        claim, text = Status.CONVERGED, claim_reason(closed_form, singular)
+    return claim, text, _LABELS[int(bits)], singular
 
 
 def pose_arrays(target: Target) -> tuple[np.ndarray, np.ndarray]:
@@ -479,7 +478,7 @@ UNREACHABLE_CODE = Status.UNREACHABLE.code
 NOT_CONVERGED_CODE = Status.NOT_CONVERGED.code
 
 
-def batch(arm: ArmModel, targets, q0: np.ndarray, kernel_many, chain) -> AttemptBatch:
+def batch(arm: ArmModel, targets, q0: np.ndarray, kernel_many, chain) -> Answers:
     """``run_batch`` of a family: ``kernel_many(chain, Rs, ps, q0s)``
     (compiled, GIL released; ``chain`` the family's ``flat`` array) solves every target and
     keeps its row nearest q0 (reached, within limits first)."""
@@ -496,4 +495,4 @@ def batch(arm: ArmModel, targets, q0: np.ndarray, kernel_many, chain) -> Attempt
     q0s = np.ascontiguousarray(np.broadcast_to(q0, (n, arm.dof)), dtype=float)
     q, claim = kernel_many(chain, Rs, ps, q0s)
     zeros = np.zeros(n, np.int64)
-    return AttemptBatch(q=q, claim=claim, iterations=zeros, restarts=zeros.copy())
+    return Answers(q=q, claim=claim, iterations=zeros, restarts=zeros.copy())

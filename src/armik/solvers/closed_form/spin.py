@@ -24,7 +24,7 @@ from armik.errors import SolverError
 from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.solvers import registry
-from armik.solvers.claims import Attempt
+from armik.solvers.answers import Answers, one, stacked
 from armik.status import Status
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
@@ -83,7 +83,7 @@ def _turned(target: Target, k: int, thetas: np.ndarray) -> TargetBatch:
 
 def run(
     arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
-) -> list[Attempt]:
+) -> Answers:
     k, half = spin_of(opts.bounds)  # type: ignore[misc]  # applies() checked it
     spec = family(arm, target)
     assert not isinstance(spec, str)  # applies() checked it
@@ -114,11 +114,11 @@ def _bracket(thetas: np.ndarray, i: int, half: float) -> tuple[float, float]:
     return (lo, hi) if half >= math.pi else (max(lo, -half), min(hi, half))
 
 
-def _nearest(arm, spec, target, q0, opts, k, half, thetas) -> list[Attempt]:
+def _nearest(arm, spec, target, q0, opts, k, half, thetas) -> Answers:
     Q, d = _distances(arm, spec, target, q0, opts, k, thetas)
     i = int(np.argmin(d))
     if not math.isfinite(d[i]):
-        return [_missed(q0, k, len(thetas))]
+        return _missed(q0, k, len(thetas))
 
     def f(t: float) -> float:
         return min(float(_distances(arm, spec, target, q0, opts, k, np.array([t]))[1][0]), FAR)
@@ -127,56 +127,64 @@ def _nearest(arm, spec, target, q0, opts, k, half, thetas) -> list[Attempt]:
                            options={"xatol": XATOL})  # fmt: skip
     theta = float(best.x) if best.fun < d[i] else float(thetas[i])
     Q1, d1 = _distances(arm, spec, target, q0, opts, k, np.array([theta]))
-    return [_found(Q1[0], k, theta, spec.name)]
+    return _found(Q1[0], k, theta, spec.name)
 
 
-def _every_branch(arm, spec, target, q0, opts, k, half, thetas) -> list[Attempt]:
+def _every_branch(arm, spec, target, q0, opts, k, half, thetas) -> Answers:
     """Each branch's answer nearest q0 over the range (branches by the closed form's
     labels)."""
     samples: dict[str | None, list[tuple[float, float]]] = {}
     for t in thetas.tolist():
-        for a in _exact(arm, spec, target, q0, opts, k, t):
-            samples.setdefault(a.branch, []).append((float(np.linalg.norm(a.q - q0)), t))
+        got = _exact(arm, spec, target, q0, opts, k, t)
+        for i in range(len(got)):
+            samples.setdefault(got.label(i), []).append((float(np.linalg.norm(got.q[i] - q0)), t))
     if not samples:
-        return [_missed(q0, k, len(thetas))]
+        return _missed(q0, k, len(thetas))
     result = []
     for label, found in samples.items():
         d0, t0 = min(found)
 
         def f(t: float, label: str | None = label) -> float:
-            rows = [a for a in _exact(arm, spec, target, q0, opts, k, t) if a.branch == label]
-            return float(np.linalg.norm(rows[0].q - q0)) if rows else FAR
+            q = _of_branch(_exact(arm, spec, target, q0, opts, k, t), label)
+            return float(np.linalg.norm(q - q0)) if q is not None else FAR
 
         i = int(np.argmin(np.abs(thetas - t0)))
         best = minimize_scalar(f, bounds=_bracket(thetas, i, half), method="bounded",
                                options={"xatol": XATOL})  # fmt: skip
         theta = float(best.x) if best.fun < d0 else t0
-        rows = [a for a in _exact(arm, spec, target, q0, opts, k, theta) if a.branch == label]
-        result.append(dataclasses.replace(_found(rows[0].q, k, theta, spec.name), branch=label))
-    return result
+        q = _of_branch(_exact(arm, spec, target, q0, opts, k, theta), label)
+        result.append(_found(q, k, theta, spec.name, label))  # type: ignore[arg-type]
+    return stacked(result, arm.dof)
 
 
-def _exact(arm, spec, target, q0, opts, k, t: float) -> list[Attempt]:
+def _of_branch(got: Answers, label: str | None) -> np.ndarray | None:
+    """The first answer of branch ``label`` among ``got``, None where it has none."""
+    return next((got.q[i] for i in range(len(got)) if got.label(i) == label), None)
+
+
+def _exact(arm, spec, target, q0, opts, k, t: float) -> Answers:
     """The closed form's exact answers within the limits at spin t."""
-    one = _turned(target, k, np.array([t])).target(0)
-    rows = spec.run(arm, one, q0, opts, True)
-    return [a for a in rows if a.claim is Status.CONVERGED and arm.within_limits(a.q)]
+    turned = _turned(target, k, np.array([t])).target(0)
+    got = spec.run(arm, turned, q0, opts, True)
+    keep = [i for i in range(len(got)) if got.claimed(i) and arm.within_limits(got.q[i])]
+    return got.take(keep)
 
 
-def _found(q: np.ndarray, k: int, theta: float, name: str) -> Attempt:
-    return Attempt(
-        q=np.array(q, dtype=float),
-        claim=Status.CONVERGED,
-        reason=f"{name} over the spin about the target's {AXES[k]} axis, at {theta:.6g} rad "
+def _found(q: np.ndarray, k: int, theta: float, name: str, label: str | None = None) -> Answers:
+    return one(
+        np.array(q, dtype=float),
+        Status.CONVERGED,
+        f"{name} over the spin about the target's {AXES[k]} axis, at {theta:.6g} rad "
         "(nearest q0 over the swept range)",
+        branch=label,
     )
 
 
-def _missed(q0: np.ndarray, k: int, n: int) -> Attempt:
-    return Attempt(
-        q=np.array(q0, dtype=float),
-        claim=Status.NOT_CONVERGED,
-        reason=f"none of {n} spins about the target's {AXES[k]} axis gave an exact answer "
+def _missed(q0: np.ndarray, k: int, n: int) -> Answers:
+    return one(
+        np.array(q0, dtype=float),
+        Status.NOT_CONVERGED,
+        f"none of {n} spins about the target's {AXES[k]} axis gave an exact answer "
         "within the limits (a sweep: a narrower window may still hold one); q is q0",
     )
 

@@ -22,7 +22,8 @@ from armik.model.arm_model import ArmModel
 from armik.model.derived import DerivedBy
 from armik.options import Options
 from armik.solvers import registry
-from armik.solvers.claims import Attempt, claim
+from armik.solvers.answers import Answers, one, stacked
+from armik.solvers.claims import claim
 from armik.solvers.closed_form import spin
 from armik.status import Status
 from armik.targets.pose import Target
@@ -64,22 +65,17 @@ def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = 
 
 def run(
     arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
-) -> list[Attempt]:
+) -> Answers:
     k, half = spin.spin_of(opts.bounds)  # type: ignore[misc]  # applies() checked it
     family = spin.family(arm, target)
     assert not isinstance(family, str)  # applies() checked it
     Q, reached = _branches(arm, family, target, q0, opts)
     centre, order = _chosen(arm, Q, q0, half, all_solutions)
     if not order:  # the closed form is complete: no answer over the range
-        return [_none(family.name, q0, half, bool(reached))]
-    return [
-        dataclasses.replace(
-            _attempt(reached[i], Q[i]),
-            q=Q[i],
-            reason=_reason(family.name, spin.AXES[k], float(Q[i, -1]), centre[i]),
-        )
-        for i in order
-    ]
+        return _none(family.name, q0, half, bool(reached))
+    found = stacked([_attempt(reached[i], Q[i]) for i in order], arm.dof)
+    why = [_reason(family.name, spin.AXES[k], float(Q[i, -1]), centre[i]) for i in order]
+    return dataclasses.replace(found, q=Q[order], reasons=tuple(why))
 
 
 def prepare_pose(arm: ArmModel, opts: Options, position: bool):
@@ -101,7 +97,7 @@ def prepare_pose(arm: ArmModel, opts: Options, position: bool):
         Q, reached = _reached(*got)
         centre, order = _chosen(arm, Q, q0, half, every)
         if not order:
-            return [_none(name, q0, half, bool(reached))]
+            return _none(name, q0, half, bool(reached))
         out = []
         for i in order:
             why = (name, axis, float(Q[i, -1]), centre[i])
@@ -109,11 +105,11 @@ def prepare_pose(arm: ArmModel, opts: Options, position: bool):
             if type(row) is tuple:  # a claim's fields after q: its reason is the spin's
                 out.append((*row[:4], _reason, why))
             else:
-                out.append(dataclasses.replace(row, q=Q[i], reason=_reason(*why)))
+                out.append(dataclasses.replace(row, q=Q[i : i + 1], reasons=(_reason(*why),)))
         if every:
             return Q[order], out
         first = out[0]
-        return claim((Q[order[0]], *first)) if type(first) is tuple else [first]
+        return claim((Q[order[0]], *first)) if type(first) is tuple else first
 
     return run_pose
 
@@ -138,12 +134,12 @@ def _chosen(arm: ArmModel, Q: np.ndarray, q0: np.ndarray, half: float, every: bo
     return centre, order
 
 
-def _none(name: str, q0: np.ndarray, half: float, reached: bool) -> Attempt:
+def _none(name: str, q0: np.ndarray, half: float, reached: bool) -> Answers:
     """No branch holds the limits over the range: the closed form is complete."""
-    return Attempt(
-        q=np.array(q0, dtype=float),
-        claim=Status.JOINT_LIMITS if reached else Status.UNREACHABLE,
-        reason=f"no branch of {name} reaches the target with its last joint within "
+    return one(
+        np.array(q0, dtype=float),
+        Status.JOINT_LIMITS if reached else Status.UNREACHABLE,
+        f"no branch of {name} reaches the target with its last joint within "
         f"+-{half:g} rad of the spin and every joint within its limits; q is q0",
     )
 
@@ -159,9 +155,9 @@ def _reason(name: str, axis: str, last: float, centre: float) -> str:
 
 def _branches(arm: ArmModel, family, target: Target, q0: np.ndarray, opts: Options):
     """(Q, rows): the closed form's branches that reach the target (rows of Q, nearest q0
-    first) and for each its claim (a ``Claim``'s fields after q) or ``Attempt``. The family's
-    prepared runner where it takes the pose and seed as they are (no object built per
-    branch), else the family's attempts."""
+    first) and for each its claim (a ``Claim``'s fields after q) or its one-row
+    ``Answers``. The family's prepared runner where it takes the pose and seed as they are
+    (no object built per branch), else the family's answers."""
     if family.prepare_pose is not None:
         run_pose = _RUNNER(arm, family.name)
         H = np.empty((4, 4))
@@ -169,21 +165,21 @@ def _branches(arm: ArmModel, family, target: Target, q0: np.ndarray, opts: Optio
         got = run_pose(H, q0, 0, True)
         if got is not None:
             return _reached(*got)
-    attempts = family.run(arm, target, q0, dataclasses.replace(opts, bounds=None), True)
-    reached = [a for a in attempts if a.claim is _CONVERGED]
-    return np.array([a.q for a in reached], dtype=float).reshape(-1, arm.dof), reached
+    got = family.run(arm, target, q0, dataclasses.replace(opts, bounds=None), True)
+    keep = [i for i in range(len(got)) if got.claimed(i)]
+    return np.array(got.q[keep], dtype=float).reshape(-1, arm.dof), [got.row(i) for i in keep]
 
 
 def _reached(Q_all: np.ndarray, rows: list) -> tuple[np.ndarray, list]:
     """(Q, rows) of a runner's every-branch answer, the branches claimed reached only (Q a
     writable copy: the spin turns its last column)."""
-    keep = [k for k, r in enumerate(rows) if type(r) is tuple or r.claim is _CONVERGED]
+    keep = [k for k, r in enumerate(rows) if type(r) is tuple or r.claimed(0)]
     return np.array(Q_all[keep], dtype=float), [rows[k] for k in keep]
 
 
-def _attempt(row, q: np.ndarray) -> Attempt:
-    """The ``Attempt`` of a branch's row of ``_branches`` (answer ``q``)."""
-    return claim((q, *row)).attempt() if type(row) is tuple else row
+def _attempt(row, q: np.ndarray) -> Answers:
+    """The one-row ``Answers`` of a branch's row of ``_branches`` (answer ``q``)."""
+    return claim((q, *row)).answers() if type(row) is tuple else row
 
 
 # per family name: the closed form's prepared runner (the families' runners take no option)
@@ -191,7 +187,6 @@ _RUNNER = DerivedBy(
     "spin_joint's closed-form runner",
     lambda arm, name: registry.get(name).prepare_pose(arm, Options(), False),  # type: ignore[misc]
 )
-_CONVERGED = Status.CONVERGED
 _SHIFTS = tuple(2 * math.pi * k for k in (0, -1, 1, -2, 2))  # a branch's value's turns
 
 

@@ -32,7 +32,8 @@ from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, axis_lines
 from armik.model.mimic import reason as mimic_reason
 from armik.options import Options
-from armik.solvers.claims import Attempt, claim
+from armik.solvers.answers import Answers
+from armik.solvers.claims import claim
 from armik.solvers.closed_form import sixr
 from armik.solvers.closed_form import spherical_wrist as spherical
 from armik.solvers.closed_form.subproblems import mat, rot, vec
@@ -181,13 +182,13 @@ def held_reason(theta: float, singular: bool) -> str:
 
 def _attempts(
     sw: Swept, rows: np.ndarray, theta: float, swept: bool = True, beyond: str | None = None
-) -> list[Attempt]:
-    """The attempts of ``rows``; ``swept``: joint 7 took a few values of its range, so a
+) -> Answers:
+    """The answers of ``rows``; ``swept``: joint 7 took a few values of its range, so a
     row the closed form could not reach shows nothing about the values not tried (not
     converged) unless the target lies beyond the reach bound (``beyond``:
     ``sixr.beyond_reach``'s reason); held at one value (``hold=``), the closed form's
     verdict is a proof."""
-    result = []
+    claims, texts, labels, flags_of = [], [], [], []
     for row in rows:
         flags = int(row[7])
         singular = bool(flags & sixr.SINGULAR)
@@ -204,11 +205,12 @@ def _attempts(
                 )
         else:
             reason, claim = held_reason(theta, singular), Status.CONVERGED
-        q = row[:7].copy()
-        result.append(
-            Attempt(q=q, claim=claim, reason=reason, branch=branch(sw, q), singular=singular)
-        )
-    return result
+        claims.append(claim)
+        texts.append(reason)
+        labels.append(branch(sw, row[:7].copy()))
+        flags_of.append(singular)
+    Q = np.asarray(rows, dtype=float)[:, :7]
+    return Answers.of(Q, claims, texts, 7, branch=labels, singular=flags_of)
 
 
 # The 6R chain the closed form solves is joints 6 to 1 read from the tip: its "shoulder"
@@ -261,7 +263,7 @@ def _held(arm: ArmModel, sw, R, pos, q0: np.ndarray):
     )  # fmt: skip
 
 
-def at_value(arm: ArmModel, target: Target, q0: np.ndarray, theta: float) -> list[Attempt]:
+def at_value(arm: ArmModel, target: Target, q0: np.ndarray, theta: float) -> Answers:
     """Every branch with joint 7 held at exactly ``theta`` (rad), nearest q0 first: joints
     6 to 1 by the spherical closed form, no sweep (``hold=`` on joint 7; ``applies`` must
     hold)."""
@@ -283,7 +285,7 @@ def at_value(arm: ArmModel, target: Target, q0: np.ndarray, theta: float) -> lis
 
 def run(
     arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
-) -> list[Attempt]:
+) -> Answers:
     R, pos = sixr.pose_arrays(target)
     sw = cast(Swept, geometry(arm))  # ``applies`` holds: the geometry, no reason
     theta, rows, found = _held(arm, sw, R, pos, np.ascontiguousarray(q0, float))

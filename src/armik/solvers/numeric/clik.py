@@ -20,7 +20,7 @@ import pinocchio as pin
 
 from armik.model.arm_model import ArmModel
 from armik.options import Options
-from armik.solvers.claims import Attempt
+from armik.solvers.answers import Answers, one
 from armik.solvers.numeric.driver import Problem, converged, evaluate
 from armik.solvers.registry import SolverSpec, register
 from armik.status import Status
@@ -38,7 +38,7 @@ def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = 
 
 def run(
     arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
-) -> list[Attempt]:
+) -> Answers:
     pb = Problem.build(arm, target, q0, opts)
     s = evaluate(pb, pb.q0_pin.copy())
     # after the first evaluation, which compiles the kernel's error in a fresh process
@@ -50,14 +50,8 @@ def run(
     it = 0
     for it in range(limit + 1):
         if converged(pb, s):
-            return [
-                Attempt(
-                    q=arm.nearest_equivalent(arm.from_pin(s.qp), q0),
-                    claim=Status.CONVERGED,
-                    iterations=it,
-                    reason="CLIK converged",
-                )
-            ]
+            q = arm.nearest_equivalent(arm.from_pin(s.qp), q0)
+            return one(q, Status.CONVERGED, "CLIK converged", iterations=it)
         if it == limit or time.thread_time() > deadline:
             break
         A, e = s.A, s.e
@@ -65,15 +59,9 @@ def run(
         qn = pin.integrate(arm.model, s.qp, v * DT)
         arm.clip_pin(qn)
         s = evaluate(pb, qn)
-    return [
-        Attempt(
-            q=arm.nearest_equivalent(arm.from_pin(s.qp), q0),
-            claim=Status.NOT_CONVERGED,
-            iterations=it,
-            reason=f"CLIK did not converge: position error {s.pos:.3g} "
-            f"m, orientation error {s.rot:.3g} rad",
-        )
-    ]
+    why = f"CLIK did not converge: position error {s.pos:.3g} m, orientation error {s.rot:.3g} rad"
+    q = arm.nearest_equivalent(arm.from_pin(s.qp), q0)
+    return one(q, Status.NOT_CONVERGED, why, iterations=it)
 
 
 SPEC = register(

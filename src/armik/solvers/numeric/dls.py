@@ -14,7 +14,7 @@ import numpy as np
 
 from armik.model.arm_model import ArmModel
 from armik.options import Options
-from armik.solvers.claims import Attempt, AttemptBatch
+from armik.solvers.answers import Answers
 from armik.solvers.numeric.driver import DLS_STEP, pose_runner, run_numeric, run_numeric_batch
 from armik.solvers.registry import SolverSpec, register
 from armik.targets.batch import TargetBatch
@@ -29,13 +29,13 @@ def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = 
 
 def run(
     arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
-) -> list[Attempt]:
+) -> Answers:
     return run_numeric(arm, target, q0, opts, all_solutions, DLS_STEP)
 
 
 def run_batch(
     arm: ArmModel, targets: TargetBatch, q0: np.ndarray, opts: Options, seeds=None
-) -> AttemptBatch:
+) -> Answers:
     return run_numeric_batch(arm, targets, q0, opts, DLS_STEP, seeds)
 
 

@@ -1,4 +1,4 @@
-"""The numeric solvers' Python side: settings, the kernel call, attempts and reasons.
+"""The numeric solvers' Python side: settings, the kernel call, answers and reasons.
 
 The iteration itself (pose error and its exact Jacobian, damping, the bounded step, the
 active set on limits, the careful Levenberg-Marquardt mode, stall detection, restarts from
@@ -6,7 +6,7 @@ a shifted Halton sequence with candidate picking, known minima, the null-space p
 compiled: see ``armik.kernel`` (``descent.py`` documents the iteration, ``restarts.py`` the
 restarts). ``dls`` and ``qp`` differ only in their step. This module turns options into the
 kernel's ``Settings``, calls its entry (``kernel.entry``, one per step) for one target
-(``run_numeric``) or many (``run_numeric_batch``), and turns its arrays into attempts.
+(``run_numeric``) or many (``run_numeric_batch``), and turns its arrays into ``Answers``.
 
 ``Problem``, ``evaluate``, ``descend`` and ``RestartSeeds`` expose pieces of the kernel to
 tests and to readers; they call the compiled functions, they do not copy them.
@@ -52,7 +52,8 @@ from armik.kernel.step import backend_step
 from armik.kernel.warmup import prepare
 from armik.model.arm_model import ArmModel
 from armik.options import Options
-from armik.solvers.claims import Attempt, AttemptBatch, claim, converged_attempt
+from armik.solvers.answers import Answers, one
+from armik.solvers.claims import claim
 from armik.status import Status
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
@@ -224,7 +225,7 @@ def solve_seed(opts: Options) -> int:
 
 def run_numeric(
     arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool, step: Step
-) -> list[Attempt]:
+) -> Answers:
     """Descend from q0, then from restart seeds until solved, out of budget or restarts."""
     max_found = opts.max_solutions if all_solutions else 1
     sf, si = packed_settings(opts, target.position_only, arm.dof, max_found, step)
@@ -240,37 +241,30 @@ def run_numeric(
     seeds[0] = solve_seed(opts)  # (a third of np.array([seed], dtype=np.uint64)'s cost)
     prepare(step.kind)
     ENTRIES[step.kind](*arm.kernel_chain.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
-    return attempts(arm, target.position, q0, opts, sf, info[0], out_q[0], err[0])
+    return kernel_answers(arm, target.position, q0, opts, sf, info[0], out_q[0], err[0])
 
 
 def converged_reason(restarts: int) -> str:
     return f"converged after {restarts} restart(s)"
 
 
-def attempts(arm: ArmModel, position, q0, opts: Options, sf, info, out_q, err) -> list[Attempt]:
-    """The attempts of one target from the kernel's outputs (see ``descent.solve_one``)."""
+def kernel_answers(arm: ArmModel, position, q0, opts: Options, sf, info, out_q, err) -> Answers:
+    """The answers of one target from the kernel's outputs (see ``descent.solve_one``)."""
     claim, found, iterations, restarts, out_of_budget = info.tolist()
     if claim == _descent.CONVERGED:
         reason = converged_reason(restarts)
-        return [converged_attempt(out_q[k], iterations, restarts, reason) for k in range(found)]
+        return Answers(
+            q=out_q[:found],
+            claim=np.full(found, _CONVERGED.code, dtype=np.int8),
+            iterations=np.full(found, iterations, dtype=np.int64),
+            restarts=np.full(found, restarts, dtype=np.int64),
+            reasons=(reason,) * found,
+        )
     if claim == _descent.UNREACHABLE:
         distance = math.dist(np.asarray(position).tolist(), arm.first_joint_origin.tolist())
-        return [
-            Attempt(
-                q=q0.copy(),
-                claim=Status.UNREACHABLE,
-                reason=reasons.unreachable(distance, arm.reach),
-            )
-        ]
-    return [
-        Attempt(
-            q=out_q[0],
-            claim=Status.NOT_CONVERGED,
-            iterations=iterations,
-            restarts=restarts,
-            reason=_not_converged(opts, sf, bool(out_of_budget), restarts, err),
-        )
-    ]
+        return one(q0.copy(), Status.UNREACHABLE, reasons.unreachable(distance, arm.reach))
+    why = _not_converged(opts, sf, bool(out_of_budget), restarts, err)
+    return one(out_q[0], Status.NOT_CONVERGED, why, iterations=iterations, restarts=restarts)
 
 
 def pose_runner(arm: ArmModel, opts: Options, step: Step, position_only: bool = False):
@@ -279,7 +273,7 @@ def pose_runner(arm: ArmModel, opts: Options, step: Step, position_only: bool = 
     position target (its rotation the identity, which the settings then ignore). Returns
     None when ``H`` or ``q0`` is not plain, or for ``every`` (nothing was solved: take the
     general path); for a converged claim (q, iterations, restarts, branch, singular, reason
-    function, its arguments); else the attempts for the general verdict."""
+    function, its arguments); else the answers for the general verdict."""
     dof = arm.dof
     sf, si = packed_settings(opts, position_only, dof, 1, step)
     prepare(step.kind)
@@ -303,7 +297,7 @@ def pose_runner(arm: ArmModel, opts: Options, step: Step, position_only: bool = 
             restarts = int(info[3])
             got = (out_q[0], int(info[2]), restarts, None, False, converged_reason, (restarts,))
             return claim(got)
-        return attempts(arm, H[:3, 3], q0, opts, sf, info, out_q, err)
+        return kernel_answers(arm, H[:3, 3], q0, opts, sf, info, out_q, err)
 
     return run_pose
 
@@ -339,7 +333,7 @@ def run_numeric_batch(
     opts: Options,
     step: Step,
     seeds: np.ndarray | None = None,
-) -> AttemptBatch:
+) -> Answers:
     """N solves in one kernel call (GIL released): row i is what ``run_numeric`` returns
     first for target i from q0[i] with restart seed ``seeds[i]`` (default: every target
     uses ``opts.seed``, as a loop of ``solve`` with the same options would)."""
@@ -362,7 +356,7 @@ def run_numeric_batch(
     kc = arm.kernel_chain
     prepare(step.kind)
     ENTRIES[step.kind](*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
-    return AttemptBatch(
+    return Answers(
         q=out_q[:, 0],
         claim=info[:, 0].astype(np.int8),
         iterations=info[:, 2].copy(),

@@ -25,7 +25,7 @@ from armik.kernel import problem
 from armik.kernel import step as _step
 from armik.model.arm_model import ArmModel
 from armik.options import Options
-from armik.solvers.claims import Attempt, AttemptBatch
+from armik.solvers.answers import Answers
 from armik.solvers.numeric.driver import (
     Problem,
     State,
@@ -88,13 +88,13 @@ def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = 
 
 def run(
     arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
-) -> list[Attempt]:
+) -> Answers:
     return run_numeric(arm, target, q0, opts, all_solutions, qp_step(opts.qp_solver))
 
 
 def run_batch(
     arm: ArmModel, targets: TargetBatch, q0: np.ndarray, opts: Options, seeds=None
-) -> AttemptBatch:
+) -> Answers:
     return run_numeric_batch(arm, targets, q0, opts, qp_step(opts.qp_solver), seeds)
 
 
