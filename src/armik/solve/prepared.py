@@ -39,7 +39,7 @@ from armik.model.derived import Derived
 from armik.options import Options
 from armik.result import IKResult
 from armik.solvers import registry
-from armik.solvers.answers import Answers, stacked
+from armik.solvers.answers import Answers
 from armik.solvers.claims import Claim, claim
 from armik.status import Status
 from armik.targets.pose import parse_target
@@ -238,10 +238,7 @@ class Plan:
         every = (
             self.run_pose(H, q0, seed, True) if xy is None else self.run_pose(H, q0, seed, True, xy)
         )
-        if every is None:  # a numeric runner (or one with no rows for ``solve_all``)
-            return got.answers()
-        rows = [claim((q, *row)).answers() if type(row) is tuple else row for q, row in zip(*every)]
-        return stacked(rows, self.shape[0])
+        return got.answers() if every is None else every  # None: a numeric runner
 
     def solve_all(self, target: object, q0: object, opts: Options, seed: int | None, t0: float):
         """The results of ``solve_all`` for a plain ``target`` and ``q0``, or None."""
@@ -255,19 +252,20 @@ class Plan:
         )
         if got is None:
             return None
-        Q, rows = got  # Q[i]: the answer of rows[i] (read-only)
-        measured = np.empty((len(rows), 3))
+        Q = got.q  # read-only: the results' q are its rows
+        measured = np.empty((len(got), 3))
         pose_checks(self.measured, self._placements(Q), H, Q, measured)
         verified, failed = [], []  # the results' fields; failed: (rank key, fields)
-        unclaimed = False
         tol_p, tol_r, rot, solver, arm = (
             self.tol_p, self.tol_r, self.measure_rot, self.solver, self.arm
         )  # fmt: skip
-        for q, got, (pos, ori, inside) in zip(Q, rows, measured.tolist()):
-            if type(got) is tuple:  # claimed reached: the claim's fields after q
-                got = claim((q, *got))
+        claimed = (got.claim == _CONVERGED.code).tolist()
+        for i, (pos, ori, inside) in enumerate(measured.tolist()):
+            if claimed[i]:  # its verdict without a Measure, where that decides
+                it, rs = int(got.iterations[i]), int(got.restarts[i])
+                row = claim((Q[i], it, rs, got.label(i), got.is_singular(i), got.reason, (i,)))
                 fields = claimed_verdict(
-                    arm, got, pos, ori if rot else None, inside > 0.0, tol_p, tol_r
+                    arm, row, pos, ori if rot else None, inside > 0.0, tol_p, tol_r
                 )
                 if fields is not None:
                     fields["solver"] = solver
@@ -276,25 +274,21 @@ class Plan:
                     else:  # outside the limits
                         failed.append((_rank_key(fields), fields))
                     continue
-                got = got.answers()
             m = Measure(
                 position_error=pos,
                 orientation_error=ori if self.measure_rot else None,
-                violations=[] if inside > 0.0 else self.arm.limit_violations(got.q[0]),
+                violations=[] if inside > 0.0 else self.arm.limit_violations(Q[i]),
                 tol_position=self.tol_p,
                 tol_orientation=self.tol_r,
             )
-            fields = {**verdict(got, 0, m), "solver": self.solver}
+            fields = {**verdict(got, i, m), "solver": self.solver}
             if fields["success"]:  # claimed unreached (a boundary case), verified all the same
                 verified.append(fields)
-                unclaimed = True
                 continue
             failed.append((_rank_key(fields), fields))
-        # verified answers nearest q0 first (the runner's order; a verified answer it did
-        # not claim is ranked among them), then the others ranked as ``verdict.ranked`` ranks
-        # them (a stable sort on the same key)
-        if unclaimed:
-            verified.sort(key=lambda f: seed_distance(f["q"], q0))
+        # verified answers nearest q0 first (a stable sort: a runner's rows may come in its
+        # branches' order), then the others ranked as ``verdict.ranked`` ranks them
+        verified.sort(key=lambda f: seed_distance(f["q"], q0))
         failed.sort(key=lambda pair: pair[0])
         if failed:
             verified += [fields for _, fields in failed]

@@ -64,9 +64,9 @@ class Answers:
             claim=self.claim[index],
             iterations=self.iterations[index],
             restarts=self.restarts[index],
-            branch=None if self.branch is None else tuple(self.branch[k] for k in index),
+            branch=None if self.branch is None else tuple([self.branch[k] for k in index]),
             singular=None if self.singular is None else self.singular[index],
-            reasons=None if self.reasons is None else tuple(self.reasons[k] for k in index),
+            reasons=None if self.reasons is None else tuple([self.reasons[k] for k in index]),
         )
 
     def row(self, i: int) -> Answers:

@@ -251,9 +251,8 @@ def prepare_pose(arm: ArmModel, opts: Options, position: bool):
     kernel's answer for one plain 4x4 target ``H`` (a position's: ``position``), or with
     ``xy`` the target (x, y) in plane coordinates (then ``H`` holds it in the base frame):
     the ``Claim`` of the row the general verdict would verify first when it is claimed
-    converged within the limits; else every row's ``Answers`` for the general verdict; with
-    ``every``: (Q, rows), Q the (n, 2) read-only answers and each row one ``Answers`` row;
-    None when ``H`` or ``q0`` is not plain."""
+    converged within the limits; else (and with ``every``) every row's ``Answers``, q
+    read-only; None when ``H`` or ``q0`` is not plain."""
     chain = flat(arm, opts, not position and not opts.position_only)
     solve_into = kernel.solve_into
     empty = np.empty
@@ -269,12 +268,9 @@ def prepare_pose(arm: ArmModel, opts: Options, position: bool):
             return claim((out[head & 1, :2], 0, 0, label, singular, str, text))
         if n < 0:
             return None
-        Q = out[:n, :2].copy()
-        if not every:
-            return _attempts(out[:n], Q)
-        Q.setflags(write=False)  # the results' q are its rows
-        every_row = _attempts(out[:n], Q)
-        return Q, [every_row.row(k) for k in range(n)]
+        got = _attempts(out[:n], out[:n, :2])
+        got.q.setflags(write=False)  # solve_all's results' q are its rows
+        return got
 
     run_pose.takes_xy = True  # type: ignore[attr-defined]  # prepared reads it: (x, y) too
     return run_pose

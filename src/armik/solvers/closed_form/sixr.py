@@ -25,7 +25,7 @@ from armik.model.derived import DerivedBy
 from armik.model.geometry import Axes
 from armik.model.mimic import reason as mimic_reason
 from armik.options import Options
-from armik.solvers.answers import Answers, one
+from armik.solvers.answers import Answers
 from armik.solvers.claims import claim
 from armik.solvers.closed_form.subproblems import (
     add,
@@ -382,26 +382,11 @@ def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form, s
     ``armik.solvers.numeric.driver.pose_runner``): ``solve_into(flat, H, q0, every, out)``
     is the family's compiled kernel for one plain 4x4 pose (n = -1 when the pose or q0 is
     not plain; see ``hand_over``). When the nearest row is reached within the limits, the
-    answer ``solve`` verifies first, a ``Claim``; else every row's ``Answers``. With
-    ``every`` (``solve_all``, and ``solve`` when Pinocchio refuses that first answer):
-    (Q, rows), Q the (n, 6) read-only answers, rows nearest first: a reached answer's
-    ``Claim`` fields after q (``claim((Q[k], *rows[k]))``; no object built), else its
-    one-row ``Answers``."""
+    answer ``solve`` verifies first, a ``Claim``; else every row's ``Answers``, as with
+    ``every`` (``solve_all``, and ``solve`` when Pinocchio refuses that first answer; q
+    read-only, nearest first)."""
     chain = flat(arm, family, classify)
     why = ((closed_form, False), (closed_form, True))  # claim_reason's arguments
-    # a reached row's claim after q, by its (flags, branch bits) as the kernel writes them
-    reached = {
-        (float(f), float(bits)): (
-            0,
-            0,
-            _LABELS[bits],
-            f == SINGULAR,
-            claim_reason,
-            why[f == SINGULAR],
-        )
-        for f in (0, SINGULAR)
-        for bits in range(8)
-    }
     empty = np.empty
 
     def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False):
@@ -409,25 +394,13 @@ def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form, s
         n, head = solve_into(chain, H, q0, every, out)
         if n < 0:
             return None
-        if every:  # solve_all: every row; a claimed converged row as its claim after q
-            Q = out[:n, :6].copy()
-            Q.setflags(write=False)  # the results' q are its rows
-            rows: list[tuple | Answers] = []
-            for k, key in enumerate(zip(out[:n, 6].tolist(), out[:n, 7].tolist())):
-                rest = reached.get(key)  # None: least squares
-                if rest is None:  # one row's answer, built as cheaply as a claim's tuple
-                    beyond = beyond_reach(arm, H[:3, 3])
-                    said = _said(out[k, 6:11].tolist(), family, closed_form, beyond)
-                    claim_, text, label, singular = said
-                    rows.append(one(out[k, :6], claim_, text, branch=label, singular=singular))
-                else:
-                    rows.append(rest)
-            return Q, rows
-        if head >= 0:
+        if head >= 0 and not every:
             singular = head >= 8
             label = _LABELS[head & 7]
             return claim((out[0, :6], 0, 0, label, singular, claim_reason, why[singular]))
-        return attempts(out[:n], family, closed_form, beyond_reach(arm, H[:3, 3]))
+        got = attempts(out[:n], family, closed_form, beyond_reach(arm, H[:3, 3]))
+        got.q.setflags(write=False)  # solve_all's results' q are its rows
+        return got
 
     return run_pose
 
@@ -441,25 +414,52 @@ def beyond_reach(arm: ArmModel, position) -> str | None:
 def attempts(rows: np.ndarray, family: str, closed_form: str, beyond: str | None = None) -> Answers:
     """The answers of a kernel's packed rows (see ``pack``), nearest first. ``beyond``:
     ``beyond_reach``'s reason, which makes a search's miss unreachable."""
-    said = [_said(row, family, closed_form, beyond) for row in rows[:, 6:11].tolist()]
-    claims, texts, labels, flags = zip(*said) if said else ((), (), (), ())
-    return Answers.of(rows[:, :6], claims, texts, 6, branch=labels, singular=flags)
+    known = _KNOWN[closed_form] if closed_form in _KNOWN else _know(closed_form)
+    # a reached row's by its (flags, bits): looked up, not called (a solve's calls count)
+    said = [
+        known[r[0], r[1]] if (r[0], r[1]) in known else _said(r, family, beyond)
+        for r in rows[:, 6:11].tolist()
+    ]
+    codes, texts, labels, flags = zip(*said) if said else ((), (), (), ())
+    zeros = np.zeros(len(said), dtype=np.int64)
+    return Answers(
+        q=rows[:, :6].copy(),
+        claim=np.array(codes, dtype=np.int8),
+        iterations=zeros,
+        restarts=zeros.copy(),
+        branch=labels,
+        singular=np.array(flags, dtype=np.bool_),
+        reasons=texts,
+    )
 
 
-def _said(row: list, family: str, closed_form: str, beyond: str | None):
-    """(claim, reason, branch label, singular) of one packed row's flags, branch bits, code
-    and values (``row``, plain floats)."""
+def _said(row: list, family: str, beyond: str | None):
+    """(claim code, reason, branch label, singular) of one unreached packed row's flags,
+    branch bits, code and values (``row``, plain floats)."""
     f, bits, code, v0, v1 = row
-    f = int(f)
-    singular = bool(f & SINGULAR)
-    if f & LS:
-        claim, text = Status.UNREACHABLE, reason(int(code), (v0, v1), family)
-        if int(code) == NOT_FOUND:  # a search's miss: no proof unless beyond reach
-            claim = Status.NOT_CONVERGED if beyond is None else Status.UNREACHABLE
-            text = text if beyond is None else f"{beyond}; q is q0"
-    else:
-        claim, text = Status.CONVERGED, claim_reason(closed_form, singular)
-    return claim, text, _LABELS[int(bits)], singular
+    claim, text = Status.UNREACHABLE, reason(int(code), (v0, v1), family)
+    if int(code) == NOT_FOUND:  # a search's miss: no proof unless beyond reach
+        claim = Status.NOT_CONVERGED if beyond is None else Status.UNREACHABLE
+        text = text if beyond is None else f"{beyond}; q is q0"
+    return claim.code, text, _LABELS[int(bits)], bool(int(f) & SINGULAR)
+
+
+def _know(closed_form: str) -> dict:
+    """``_said`` of a reached row, by its (flags, branch bits) as the kernel writes them."""
+    _KNOWN[closed_form] = {
+        (float(f), float(bits)): (
+            Status.CONVERGED.code,
+            claim_reason(closed_form, f == SINGULAR),
+            _LABELS[bits],
+            f == SINGULAR,
+        )
+        for f in (0, SINGULAR)
+        for bits in range(8)
+    }
+    return _KNOWN[closed_form]
+
+
+_KNOWN: dict[str, dict] = {}
 
 
 def pose_arrays(target: Target) -> tuple[np.ndarray, np.ndarray]:

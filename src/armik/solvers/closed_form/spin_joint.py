@@ -22,11 +22,13 @@ from armik.model.arm_model import ArmModel
 from armik.model.derived import DerivedBy
 from armik.options import Options
 from armik.solvers import registry
-from armik.solvers.answers import Answers, one, stacked
+from armik.solvers.answers import Answers, one
 from armik.solvers.claims import claim
 from armik.solvers.closed_form import spin
 from armik.status import Status
 from armik.targets.pose import Target
+
+_CONVERGED = Status.CONVERGED.code
 
 
 def aligned(arm: ArmModel, k: int) -> bool:
@@ -69,20 +71,19 @@ def run(
     k, half = spin.spin_of(opts.bounds)  # type: ignore[misc]  # applies() checked it
     family = spin.family(arm, target)
     assert not isinstance(family, str)  # applies() checked it
-    Q, reached = _branches(arm, family, target, q0, opts)
-    centre, order = _chosen(arm, Q, q0, half, all_solutions)
+    found = _branches(arm, family, target, q0, opts)
+    centre, order = _chosen(arm, found.q, q0, half, all_solutions)
     if not order:  # the closed form is complete: no answer over the range
-        return _none(family.name, q0, half, bool(reached))
-    found = stacked([_attempt(reached[i], Q[i]) for i in order], arm.dof)
-    why = [_reason(family.name, spin.AXES[k], float(Q[i, -1]), centre[i]) for i in order]
-    return dataclasses.replace(found, q=Q[order], reasons=tuple(why))
+        return _none(family.name, q0, half, len(found) > 0)
+    why = [_reason(family.name, spin.AXES[k], float(found.q[i, -1]), centre[i]) for i in order]
+    return dataclasses.replace(found.take(order), reasons=tuple(why))
 
 
 def prepare_pose(arm: ArmModel, opts: Options, position: bool):
     """``run_pose(H, q0, seed, every=False)`` for ``armik.solve.prepared``: ``run`` on a
     plain 4x4 pose through the family's prepared runner, the nearest answer a ``Claim``
-    (with ``every``: every branch's answer, (Q, rows)); None where the family has no
-    runner or it does not take the input (the general path then)."""
+    (with ``every``: every admissible branch's ``Answers``, q read-only); None where the
+    family has no runner or it does not take the input (the general path then)."""
     spin_k, half = spin.spin_of(opts.bounds)  # type: ignore[misc]  # applies() checked it
     family = spin.family(arm, None)
     if position or isinstance(family, str) or family.prepare_pose is None:
@@ -94,22 +95,20 @@ def prepare_pose(arm: ArmModel, opts: Options, position: bool):
         got = runner(H, q0, 0, True)
         if got is None:
             return None
-        Q, reached = _reached(*got)
+        keep = np.flatnonzero(got.claim == _CONVERGED).tolist()  # the branches reached
+        Q = got.q[keep]  # a copy: the spin turns its last column
         centre, order = _chosen(arm, Q, q0, half, every)
         if not order:
-            return _none(name, q0, half, bool(reached))
-        out = []
-        for i in order:
-            why = (name, axis, float(Q[i, -1]), centre[i])
-            row = reached[i]
-            if type(row) is tuple:  # a claim's fields after q: its reason is the spin's
-                out.append((*row[:4], _reason, why))
-            else:
-                out.append(dataclasses.replace(row, q=Q[i : i + 1], reasons=(_reason(*why),)))
+            return _none(name, q0, half, len(keep) > 0)
         if every:
-            return Q[order], out
-        first = out[0]
-        return claim((Q[order[0]], *first)) if type(first) is tuple else first
+            said = tuple([_reason(name, axis, float(Q[i, -1]), centre[i]) for i in order])
+            chosen = got.take([keep[i] for i in order])
+            chosen = dataclasses.replace(chosen, q=Q[order], reasons=said)
+            chosen.q.setflags(write=False)  # solve_all's results' q are its rows
+            return chosen
+        i, k = order[0], keep[order[0]]  # claimed reached: the claim, its reason the spin's
+        why = (name, axis, float(Q[i, -1]), centre[i])
+        return claim((Q[i], 0, 0, got.label(k), got.is_singular(k), _reason, why))
 
     return run_pose
 
@@ -123,7 +122,7 @@ def _chosen(arm: ArmModel, Q: np.ndarray, q0: np.ndarray, half: float, every: bo
     Q[:, -1] = _turned(arm, centre, float(q0[-1]), half)  # NaN: no value within the bound
     distance = np.linalg.norm(Q - q0, axis=1).tolist()
     nearest = sorted(
-        (i for i in range(len(Q)) if distance[i] == distance[i]), key=distance.__getitem__
+        [i for i in range(len(Q)) if distance[i] == distance[i]], key=distance.__getitem__
     )
     order = []
     for i in nearest:
@@ -153,33 +152,23 @@ def _reason(name: str, axis: str, last: float, centre: float) -> str:
     )
 
 
-def _branches(arm: ArmModel, family, target: Target, q0: np.ndarray, opts: Options):
-    """(Q, rows): the closed form's branches that reach the target (rows of Q, nearest q0
-    first) and for each its claim (a ``Claim``'s fields after q) or its one-row
-    ``Answers``. The family's prepared runner where it takes the pose and seed as they are
-    (no object built per branch), else the family's answers."""
+def _branches(arm: ArmModel, family, target: Target, q0: np.ndarray, opts: Options) -> Answers:
+    """The closed form's branches that reach the target, nearest q0 first (q a writable
+    copy: the spin turns its last column). The family's prepared runner where it takes the
+    pose and seed as they are, else the family's answers."""
     if family.prepare_pose is not None:
         run_pose = _RUNNER(arm, family.name)
         H = np.empty((4, 4))
         H[:3, :3], H[:3, 3], H[3] = target.rotation, target.position, (0.0, 0.0, 0.0, 1.0)
         got = run_pose(H, q0, 0, True)
         if got is not None:
-            return _reached(*got)
-    got = family.run(arm, target, q0, dataclasses.replace(opts, bounds=None), True)
-    keep = [i for i in range(len(got)) if got.claimed(i)]
-    return np.array(got.q[keep], dtype=float).reshape(-1, arm.dof), [got.row(i) for i in keep]
+            return _reached(got)
+    return _reached(family.run(arm, target, q0, dataclasses.replace(opts, bounds=None), True))
 
 
-def _reached(Q_all: np.ndarray, rows: list) -> tuple[np.ndarray, list]:
-    """(Q, rows) of a runner's every-branch answer, the branches claimed reached only (Q a
-    writable copy: the spin turns its last column)."""
-    keep = [k for k, r in enumerate(rows) if type(r) is tuple or r.claimed(0)]
-    return np.array(Q_all[keep], dtype=float), [rows[k] for k in keep]
-
-
-def _attempt(row, q: np.ndarray) -> Answers:
-    """The one-row ``Answers`` of a branch's row of ``_branches`` (answer ``q``)."""
-    return claim((q, *row)).answers() if type(row) is tuple else row
+def _reached(got: Answers) -> Answers:
+    """The rows of ``got`` claimed reached (q a writable copy)."""
+    return got.take(np.flatnonzero(got.claim == _CONVERGED).tolist())
 
 
 # per family name: the closed form's prepared runner (the families' runners take no option)
