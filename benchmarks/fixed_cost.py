@@ -108,7 +108,7 @@ def measure(name: str, solver: str, number: int) -> dict:
             out["eaik_us"] = best(lambda: peer.IK(H_peer), number)
         out["solve_all_us"] = best(lambda: arm.solve_all(T, q0=q), number)
         out["compiled_every_us"] = best(lambda: solve_into(chain, H, q, True, out8), number)
-        Q = runner(H, q, 0, True)[0]
+        Q = runner(H, q, 0, True).q  # every branch's answers
         out["placements_us"] = best(lambda: plan._placements(Q), number)
         H_all, measured = plan._placements(Q), np.empty((len(Q), 3))
         out["checks_us"] = best(lambda: pose_checks(plan.measured, H_all, H, Q, measured), number)
