@@ -256,6 +256,7 @@ class Plan:
         measured = np.empty((len(got), 3))
         pose_checks(self.measured, self._placements(Q), H, Q, measured)
         verified, failed = [], []  # the results' fields; failed: (rank key, fields)
+        unclaimed = False
         tol_p, tol_r, rot, solver, arm = (
             self.tol_p, self.tol_r, self.measure_rot, self.solver, self.arm
         )  # fmt: skip
@@ -284,11 +285,14 @@ class Plan:
             fields = {**verdict(got, i, m), "solver": self.solver}
             if fields["success"]:  # claimed unreached (a boundary case), verified all the same
                 verified.append(fields)
+                unclaimed = True
                 continue
             failed.append((_rank_key(fields), fields))
-        # verified answers nearest q0 first (a stable sort: a runner's rows may come in its
-        # branches' order), then the others ranked as ``verdict.ranked`` ranks them
-        verified.sort(key=lambda f: seed_distance(f["q"], q0))
+        # verified answers nearest q0 first (the runner's order; a verified answer it did
+        # not claim is ranked among them), then the others ranked as ``verdict.ranked`` ranks
+        # them (a stable sort on the same key)
+        if unclaimed:
+            verified.sort(key=lambda f: seed_distance(f["q"], q0))
         failed.sort(key=lambda pair: pair[0])
         if failed:
             verified += [fields for _, fields in failed]

@@ -136,41 +136,15 @@ def measure_many(
     n = len(qs)
     if n < 2:
         return [measure(arm, q, target, opts) for q in qs]
-    model, data, fid = arm.model, arm.data, arm.tip_frame_id
-    direct = model.nq == arm.dof
-    R_w = np.empty((n, 3, 3))
-    p_w = np.empty((n, 3))
-    fk, place = pin.forwardKinematics, pin.updateFramePlacement
-    for i, q in enumerate(qs):
-        fk(model, data, q if direct and type(q) is np.ndarray and q.dtype == _FLOAT
-           else arm.to_pin(q))  # fmt: skip
-        T = place(model, data, fid)
-        R_w[i] = T.rotation
-        p_w[i] = T.translation
-    w, weighted, measure_rot = measures_of(
-        opts.weights, opts.position_only, target.rotation is None
-    )
+    direct = arm.model.nq == arm.dof
+    rows = [q if direct and type(q) is np.ndarray and q.dtype == _FLOAT else arm.to_pin(q)
+            for q in qs]  # fmt: skip
+    R_w, p_w = _placements(arm, rows, [True] * n)
     R_t = np.empty((n, 3, 3))
     R_t[:] = _EYE if target.rotation is None else target.rotation
     p_t = np.empty((n, 3))
     p_t[:] = target.position
-    out = np.empty((n, 2))
-    ch = arm.kernel_chain.chain
-    if opts.region:
-        out = region_errors(
-            arm.T_base_world,
-            R_w,
-            p_w,
-            R_t,
-            p_t,
-            np.array(opts.region_bounds),
-            w,
-            opts.cone,
-            opts.look_at,
-            opts.toward,
-        )
-    else:
-        pose_errors(ch.base_R, ch.base_p, R_w, p_w, R_t, p_t, w, weighted, measure_rot, out)
+    out, measure_rot = _errors(arm, R_w, p_w, R_t, p_t, opts, target.rotation is None)
     checks = []
     for q, (pos, ori) in zip(qs, out.tolist()):
         c = frozen(
@@ -219,6 +193,47 @@ class BatchMeasure:
         return self.pose_ok & self.within_limits
 
 
+def _placements(arm: ArmModel, rows, placed: list[bool]) -> tuple[np.ndarray, np.ndarray]:
+    """(R_w (N, 3, 3), p_w (N, 3)): the tip placement of each of Pinocchio's
+    configurations ``rows`` by Pinocchio's FK, NaN where ``placed`` is False."""
+    model, data, fid = arm.model, arm.data, arm.tip_frame_id
+    H_w = np.full((len(placed), 4, 4), np.nan)
+    fk, place = pin.forwardKinematics, pin.updateFramePlacement
+    for i, (qp, ok) in enumerate(zip(rows, placed)):
+        if ok:
+            fk(model, data, qp)
+            H_w[i] = place(model, data, fid).homogeneous
+    return np.ascontiguousarray(H_w[:, :3, :3]), np.ascontiguousarray(H_w[:, :3, 3])
+
+
+def _errors(arm: ArmModel, R_w, p_w, R_t, p_t, opts: Options, position_only_target: bool):
+    """(errors (N, 2), orientation measured): each placement's position and orientation
+    errors against its target (rotations ``R_t``, positions ``p_t``, C-ordered float64),
+    the distances outside the region where ``opts`` gives one; NaN where the orientation
+    is not measured."""
+    w, weighted, measure_rot = _measures(opts, position_only_target)
+    if opts.region:
+        out = region_errors(
+            arm.T_base_world,
+            R_w,
+            p_w,
+            R_t,
+            p_t,
+            np.array(opts.region_bounds),
+            w,
+            opts.cone,
+            opts.look_at,
+            opts.toward,
+        )
+        if not measure_rot:
+            out[:, 1] = np.nan
+        return out, measure_rot
+    ch = arm.kernel_chain.chain
+    out = np.empty((len(p_w), 2))
+    pose_errors(ch.base_R, ch.base_p, R_w, p_w, R_t, p_t, w, weighted, measure_rot, out)
+    return out, measure_rot
+
+
 def measure_batch(
     arm: ArmModel, Q: np.ndarray, targets: TargetBatch, opts: Options
 ) -> BatchMeasure:
@@ -230,56 +245,18 @@ def measure_batch(
     n = len(targets)
     if Q.shape != (n, arm.dof):
         raise ValueError(f"Q must have shape ({n}, {arm.dof}), got {Q.shape}")
-    model, data, fid = arm.model, arm.data, arm.tip_frame_id
-    # The placements as 4x4 matrices (one conversion per row), NaN for non-finite rows.
-    H_w = np.full((n, 4, 4), np.nan)
-    finite = np.isfinite(Q).all(axis=1)
-    fk, place = pin.forwardKinematics, pin.updateFramePlacement
+    finite = np.isfinite(Q).all(axis=1)  # a non-finite row: NaN placements and errors
     # Without continuous joints (one coordinate per joint) a row of Q is Pinocchio's
     # configuration itself: no conversion, no copy.
-    rows = Q if model.nq == arm.dof else map(arm.to_pin, Q)
-    for i, (qp, ok) in enumerate(zip(rows, finite.tolist())):
-        if ok:
-            fk(model, data, qp)
-            H_w[i] = place(model, data, fid).homogeneous
-    R_w = np.ascontiguousarray(H_w[:, :3, :3])
-    p_w = np.ascontiguousarray(H_w[:, :3, 3])
-    w, weighted, measure_rot = _measures(opts, targets.position_only)
+    rows = Q if arm.model.nq == arm.dof else map(arm.to_pin, Q)
+    R_w, p_w = _placements(arm, rows, finite.tolist())
     R_t = targets.rotations
     if R_t is None:
         R_t = np.broadcast_to(_EYE, (n, 3, 3))
-    out = np.empty((n, 2))
+    R_t = np.array(R_t, dtype=float, order="C")
+    p_t = np.array(targets.positions, dtype=float, order="C")
+    out, _ = _errors(arm, R_w, p_w, R_t, p_t, opts, targets.position_only)
     ch = arm.kernel_chain.chain
-    if opts.region:
-        R_t = np.array(R_t, dtype=float)
-        bounds = np.array(opts.region_bounds)
-        out = region_errors(
-            arm.T_base_world,
-            R_w,
-            p_w,
-            R_t,
-            targets.positions,
-            bounds,
-            w,
-            opts.cone,
-            opts.look_at,
-            opts.toward,
-        )
-        if not measure_rot:
-            out[:, 1] = np.nan
-    else:
-        pose_errors(
-            ch.base_R,
-            ch.base_p,
-            R_w,
-            p_w,
-            np.array(R_t, dtype=float, order="C"),
-            np.array(targets.positions, dtype=float, order="C"),
-            w,
-            weighted,
-            measure_rot,
-            out,
-        )
     inside = np.empty(n, dtype=np.bool_)
     within_limits(Q, ch.lower, ch.upper, LIMIT_TOL, inside)
     return BatchMeasure(out[:, 0], out[:, 1], inside, opts.tol_position, opts.tol_orientation)

@@ -223,6 +223,13 @@ def _reason(code: float, v0: float, v1: float, branch: str | None) -> str:
     )
 
 
+def _farther(out: np.ndarray, q0: np.ndarray) -> bool:
+    """Whether the kernel's first row is farther from ``q0`` than its second, by the
+    verdict's own distance (``seed_distance``: a tie keeps the kernel's order)."""
+    d = out[:2, :2] - q0
+    return math.sqrt(d[0].dot(d[0])) > math.sqrt(d[1].dot(d[1]))
+
+
 def _attempts(rows: np.ndarray, Q: np.ndarray) -> Answers:
     """The answers of the kernel's rows, in their order, q the rows of ``Q``."""
     claims, texts, labels, flags = [], [], [], []
@@ -251,8 +258,8 @@ def prepare_pose(arm: ArmModel, opts: Options, position: bool):
     kernel's answer for one plain 4x4 target ``H`` (a position's: ``position``), or with
     ``xy`` the target (x, y) in plane coordinates (then ``H`` holds it in the base frame):
     the ``Claim`` of the row the general verdict would verify first when it is claimed
-    converged within the limits; else (and with ``every``) every row's ``Answers``, q
-    read-only; None when ``H`` or ``q0`` is not plain."""
+    converged within the limits; else (and with ``every``) every row's ``Answers``, nearest
+    q0 first, q read-only; None when ``H`` or ``q0`` is not plain."""
     chain = flat(arm, opts, not position and not opts.position_only)
     solve_into = kernel.solve_into
     empty = np.empty
@@ -268,6 +275,8 @@ def prepare_pose(arm: ArmModel, opts: Options, position: bool):
             return claim((out[head & 1, :2], 0, 0, label, singular, str, text))
         if n < 0:
             return None
+        if n == 2 and _farther(out, q0):  # nearest q0 first, as solve_all lists them
+            out[:2] = out[1::-1].copy()
         got = _attempts(out[:n], out[:n, :2])
         got.q.setflags(write=False)  # solve_all's results' q are its rows
         return got
