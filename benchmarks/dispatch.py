@@ -1,7 +1,7 @@
 """What numba's dispatch costs from Python: per array argument, and per array returned.
 
 Empty compiled functions taking 4 or 8 float arrays, returning an int, a new array, or
-writing into an array the caller passes (after ``np.empty``, as ``sixr.pose_runner`` does);
+writing into an array the caller passes (after ``np.empty``, as ``sixr_answers.pose_runner`` does);
 best of 7 timeit runs. These costs are why the prepared runners pass packed arrays
 (``sixr.flat``, ``kernel.check.check_frame``) and write into the caller's buffer.
 

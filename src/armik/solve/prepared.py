@@ -260,11 +260,15 @@ class Plan:
         tol_p, tol_r, rot, solver, arm = (
             self.tol_p, self.tol_r, self.measure_rot, self.solver, self.arm
         )  # fmt: skip
-        claimed = (got.claim == _CONVERGED.code).tolist()
-        for i, (pos, ori, inside) in enumerate(measured.tolist()):
-            if claimed[i]:  # its verdict without a Measure, where that decides
-                it, rs = int(got.iterations[i]), int(got.restarts[i])
-                row = claim((Q[i], it, rs, got.label(i), got.is_singular(i), got.reason, (i,)))
+        # the rows' columns as plain values, read once (a solve_all's cost is per row)
+        claims, converged = got.claim.tolist(), _CONVERGED.code
+        its, rss = got.iterations.tolist(), got.restarts.tolist()
+        labels = got.branch or (None,) * len(got)
+        flags = (False,) * len(got) if got.singular is None else got.singular.tolist()
+        words = got.reason
+        for i, (q, (pos, ori, inside)) in enumerate(zip(Q, measured.tolist())):
+            if claims[i] == converged:  # its verdict without a Measure, where that decides
+                row = claim((q, its[i], rss[i], labels[i], flags[i], words, (i,)))
                 fields = claimed_verdict(
                     arm, row, pos, ori if rot else None, inside > 0.0, tol_p, tol_r
                 )
@@ -278,7 +282,7 @@ class Plan:
             m = Measure(
                 position_error=pos,
                 orientation_error=ori if self.measure_rot else None,
-                violations=[] if inside > 0.0 else self.arm.limit_violations(Q[i]),
+                violations=[] if inside > 0.0 else self.arm.limit_violations(q),
                 tol_position=self.tol_p,
                 tol_orientation=self.tol_r,
             )

@@ -137,7 +137,26 @@ def _read_only(a: np.ndarray) -> np.ndarray:
 
 
 _CLAIM_ROW = {s.code: _read_only(np.array([s.code], dtype=np.int8)) for s in Status}
-_ZERO_ROW = _read_only(np.zeros(1, dtype=np.int64))
+# read-only zero counts of up to 16 rows (a closed form's most), shared by every answer
+_ZEROS = tuple(_read_only(np.zeros(n, dtype=np.int64)) for n in range(17))
+_ZERO_ROW = _ZEROS[1]
+
+
+_CONVERGED_ROWS = tuple(_read_only(np.full(n, _CONVERGED, dtype=np.int8)) for n in range(17))
+
+
+def zero_counts(n: int) -> np.ndarray:
+    """(n,) zeros, read-only: the iterations or restarts of n rows a closed form found."""
+    return _ZEROS[n] if n < len(_ZEROS) else _read_only(np.zeros(n, dtype=np.int64))
+
+
+def converged_claims(n: int) -> np.ndarray:
+    """(n,) claims, each converged, read-only: a closed form that reached every row."""
+    if n < len(_CONVERGED_ROWS):
+        return _CONVERGED_ROWS[n]
+    return _read_only(np.full(n, _CONVERGED, dtype=np.int8))
+
+
 _TRUE_ROW = _read_only(np.ones(1, dtype=np.bool_))
 
 

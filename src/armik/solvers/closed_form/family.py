@@ -18,7 +18,7 @@ import numpy as np
 from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.solvers.answers import Answers
-from armik.solvers.closed_form import sixr
+from armik.solvers.closed_form import sixr, sixr_answers
 from armik.solvers.closed_form.subproblems import mat, vec
 from armik.solvers.registry import SolverSpec, register
 from armik.targets.pose import Target
@@ -59,8 +59,8 @@ class Family:
             h, p, R_tip0, mat(R), vec(pos), q0, lower, upper, np.int64(variant),
             np.int64(self.rows), out,
         )  # fmt: skip
-        beyond = sixr.beyond_reach(arm, pos)
-        return sixr.attempts(out[:n], self.family, self.closed_form, beyond)
+        beyond = sixr_answers.beyond_reach(arm, pos)
+        return sixr_answers.attempts(out[:n], self.family, self.closed_form, beyond)
 
     def run_batch(
         self, arm: ArmModel, targets, q0: np.ndarray, opts: Options, seeds=None
@@ -69,11 +69,11 @@ class Family:
         shape; ``seeds`` is unused (no restarts). ``solve_batch`` solves the rows that fail
         again through ``run``, so that they carry its per-target reasons."""
         chain = sixr.flat(arm, self.family, self.classify)
-        return sixr.batch(arm, targets, q0, self.kernel_many, chain)
+        return sixr_answers.batch(arm, targets, q0, self.kernel_many, chain)
 
     def prepare_pose(self, arm: ArmModel, opts: Options, position_only: bool):
         # position_only is always False: ``applies`` refuses position targets
-        return sixr.pose_runner(
+        return sixr_answers.pose_runner(
             arm, self.family, self.classify, self.solve_into, self.closed_form, self.rows
         )
 

@@ -18,15 +18,11 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from armik import reasons
-from armik.errors import SolverError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import DerivedBy
 from armik.model.geometry import Axes
 from armik.model.mimic import reason as mimic_reason
 from armik.options import Options
-from armik.solvers.answers import Answers
-from armik.solvers.claims import claim
 from armik.solvers.closed_form.subproblems import (
     add,
     cross,
@@ -254,7 +250,7 @@ def pack(W, n, q0, lower, upper, h, p, labelled, out):
     return first_ok
 
 
-_LABELS = tuple(
+LABELS = tuple(
     "/".join(
         (
             "shoulder-back" if bits & 1 else "shoulder-front",
@@ -368,100 +364,6 @@ def applies(arm: ArmModel, target: Target | None, opts: Options | None, family: 
     return None
 
 
-def claim_reason(closed_form: str, singular: bool) -> str:
-    if singular:
-        return (
-            closed_form
-            + "; singular: a free joint was kept at its q0 value or as near it as the target allows"
-        )
-    return closed_form
-
-
-def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form, size: int = 8):
-    """``run_pose(H, q0, seed, every=False)`` for ``armik.solve.prepared`` (see
-    ``armik.solvers.numeric.driver.pose_runner``): ``solve_into(flat, H, q0, every, out)``
-    is the family's compiled kernel for one plain 4x4 pose (n = -1 when the pose or q0 is
-    not plain; see ``hand_over``). When the nearest row is reached within the limits, the
-    answer ``solve`` verifies first, a ``Claim``; else every row's ``Answers``, as with
-    ``every`` (``solve_all``, and ``solve`` when Pinocchio refuses that first answer; q
-    read-only, nearest first)."""
-    chain = flat(arm, family, classify)
-    why = ((closed_form, False), (closed_form, True))  # claim_reason's arguments
-    empty = np.empty
-
-    def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False):
-        out = empty((size, 11))  # size: the kernel's most rows
-        n, head = solve_into(chain, H, q0, every, out)
-        if n < 0:
-            return None
-        if head >= 0 and not every:
-            singular = head >= 8
-            label = _LABELS[head & 7]
-            return claim((out[0, :6], 0, 0, label, singular, claim_reason, why[singular]))
-        got = attempts(out[:n], family, closed_form, beyond_reach(arm, H[:3, 3]))
-        got.q.setflags(write=False)  # solve_all's results' q are its rows
-        return got
-
-    return run_pose
-
-
-def beyond_reach(arm: ArmModel, position) -> str | None:
-    """Why a target at ``position`` (m) is out of reach when beyond the reach bound."""
-    distance = math.dist(list(position), arm.first_joint_origin.tolist())
-    return reasons.beyond_reach(distance, arm.reach) if distance > arm.reach else None
-
-
-def attempts(rows: np.ndarray, family: str, closed_form: str, beyond: str | None = None) -> Answers:
-    """The answers of a kernel's packed rows (see ``pack``), nearest first. ``beyond``:
-    ``beyond_reach``'s reason, which makes a search's miss unreachable."""
-    known = _KNOWN[closed_form] if closed_form in _KNOWN else _know(closed_form)
-    # a reached row's by its (flags, bits): looked up, not called (a solve's calls count)
-    said = [
-        known[r[0], r[1]] if (r[0], r[1]) in known else _said(r, family, beyond)
-        for r in rows[:, 6:11].tolist()
-    ]
-    codes, texts, labels, flags = zip(*said) if said else ((), (), (), ())
-    zeros = np.zeros(len(said), dtype=np.int64)
-    return Answers(
-        q=rows[:, :6].copy(),
-        claim=np.array(codes, dtype=np.int8),
-        iterations=zeros,
-        restarts=zeros.copy(),
-        branch=labels,
-        singular=np.array(flags, dtype=np.bool_),
-        reasons=texts,
-    )
-
-
-def _said(row: list, family: str, beyond: str | None):
-    """(claim code, reason, branch label, singular) of one unreached packed row's flags,
-    branch bits, code and values (``row``, plain floats)."""
-    f, bits, code, v0, v1 = row
-    claim, text = Status.UNREACHABLE, reason(int(code), (v0, v1), family)
-    if int(code) == NOT_FOUND:  # a search's miss: no proof unless beyond reach
-        claim = Status.NOT_CONVERGED if beyond is None else Status.UNREACHABLE
-        text = text if beyond is None else f"{beyond}; q is q0"
-    return claim.code, text, _LABELS[int(bits)], bool(int(f) & SINGULAR)
-
-
-def _know(closed_form: str) -> dict:
-    """``_said`` of a reached row, by its (flags, branch bits) as the kernel writes them."""
-    _KNOWN[closed_form] = {
-        (float(f), float(bits)): (
-            Status.CONVERGED.code,
-            claim_reason(closed_form, f == SINGULAR),
-            _LABELS[bits],
-            f == SINGULAR,
-        )
-        for f in (0, SINGULAR)
-        for bits in range(8)
-    }
-    return _KNOWN[closed_form]
-
-
-_KNOWN: dict[str, dict] = {}
-
-
 def pose_arrays(target: Target) -> tuple[np.ndarray, np.ndarray]:
     c = np.ascontiguousarray
     return c(target.rotation, dtype=float), c(target.position, dtype=float)
@@ -476,23 +378,3 @@ def column(H):
 CONVERGED_CODE = Status.CONVERGED.code
 UNREACHABLE_CODE = Status.UNREACHABLE.code
 NOT_CONVERGED_CODE = Status.NOT_CONVERGED.code
-
-
-def batch(arm: ArmModel, targets, q0: np.ndarray, kernel_many, chain) -> Answers:
-    """``run_batch`` of a family: ``kernel_many(chain, Rs, ps, q0s)``
-    (compiled, GIL released; ``chain`` the family's ``flat`` array) solves every target and
-    keeps its row nearest q0 (reached, within limits first)."""
-    if targets.rotations is None:
-        raise SolverError(
-            "the closed form needs full poses, these targets are positions only: use a "
-            "numeric solver",
-            solver="auto",
-            candidates=[],
-        )
-    n = len(targets)
-    Rs = np.ascontiguousarray(targets.rotations, dtype=float)
-    ps = np.ascontiguousarray(targets.positions, dtype=float)
-    q0s = np.ascontiguousarray(np.broadcast_to(q0, (n, arm.dof)), dtype=float)
-    q, claim = kernel_many(chain, Rs, ps, q0s)
-    zeros = np.zeros(n, np.int64)
-    return Answers(q=q, claim=claim, iterations=zeros, restarts=zeros.copy())

@@ -34,7 +34,7 @@ from armik.model.mimic import reason as mimic_reason
 from armik.options import Options
 from armik.solvers.answers import Answers
 from armik.solvers.claims import claim
-from armik.solvers.closed_form import sixr
+from armik.solvers.closed_form import sixr, sixr_answers
 from armik.solvers.closed_form import spherical_wrist as spherical
 from armik.solvers.closed_form.subproblems import mat, rot, vec
 from armik.solvers.registry import SolverSpec, register
@@ -177,7 +177,7 @@ def first_held(h, p, R_tip0, variant, c, u, R, pos, q0r, lower, upper, q7, lo, h
 
 def held_reason(theta: float, singular: bool) -> str:
     text = f"closed form with joint 7 held at {theta:.6g} rad (joints 6 to 1 as a spherical wrist)"
-    return sixr.claim_reason(text, singular)
+    return sixr_answers.claim_reason(text, singular)
 
 
 def _attempts(
@@ -186,7 +186,7 @@ def _attempts(
     """The answers of ``rows``; ``swept``: joint 7 took a few values of its range, so a
     row the closed form could not reach shows nothing about the values not tried (not
     converged) unless the target lies beyond the reach bound (``beyond``:
-    ``sixr.beyond_reach``'s reason); held at one value (``hold=``), the closed form's
+    ``sixr_answers.beyond_reach``'s reason); held at one value (``hold=``), the closed form's
     verdict is a proof."""
     claims, texts, labels, flags_of = [], [], [], []
     for row in rows:
@@ -297,10 +297,10 @@ def run(
 
 
 def _beyond(arm: ArmModel, position, rows: np.ndarray) -> str | None:
-    """``sixr.beyond_reach`` where a row is not reached (the reason is then needed)."""
+    """``sixr_answers.beyond_reach`` where a row is not reached (the reason is then needed)."""
     if all(not int(r[7]) & sixr.LS for r in rows):
         return None
-    return sixr.beyond_reach(arm, position)
+    return sixr_answers.beyond_reach(arm, position)
 
 
 def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):

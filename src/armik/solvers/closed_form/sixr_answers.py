@@ -1,0 +1,141 @@
+"""From a 6R closed form's packed rows (``armik.solvers.closed_form.sixr``'s layout) to
+``Answers``: the words of each row (its claim, branch label and reason), the prepared
+solve's runner over a family's compiled kernel, and a batch's rows.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from armik import reasons
+from armik.errors import SolverError
+from armik.frozen import frozen
+from armik.model.arm_model import ArmModel
+from armik.solvers.answers import Answers, converged_claims, zero_counts
+from armik.solvers.claims import claim
+from armik.solvers.closed_form.sixr import LABELS, LS, NOT_FOUND, SINGULAR, flat, reason
+from armik.status import Status
+
+
+def claim_reason(closed_form: str, singular: bool) -> str:
+    if singular:
+        return (
+            closed_form
+            + "; singular: a free joint was kept at its q0 value or as near it as the target allows"
+        )
+    return closed_form
+
+
+def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form, size: int = 8):
+    """``run_pose(H, q0, seed, every=False)`` for ``armik.solve.prepared`` (see
+    ``armik.solvers.numeric.driver.pose_runner``): ``solve_into(flat, H, q0, every, out)``
+    is the family's compiled kernel for one plain 4x4 pose (n = -1 when the pose or q0 is
+    not plain; see ``hand_over``). When the nearest row is reached within the limits, the
+    answer ``solve`` verifies first, a ``Claim``; else every row's ``Answers``, as with
+    ``every`` (``solve_all``, and ``solve`` when Pinocchio refuses that first answer; q
+    read-only, nearest first)."""
+    chain = flat(arm, family, classify)
+    why = ((closed_form, False), (closed_form, True))  # claim_reason's arguments
+    empty = np.empty
+
+    def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False):
+        out = empty((size, 11))  # size: the kernel's most rows
+        n, head = solve_into(chain, H, q0, every, out)
+        if n < 0:
+            return None
+        if head >= 0 and not every:
+            singular = head >= 8
+            label = LABELS[head & 7]
+            return claim((out[0, :6], 0, 0, label, singular, claim_reason, why[singular]))
+        got = attempts(out[:n], family, closed_form, lambda: beyond_reach(arm, H[:3, 3]))
+        got.q.setflags(write=False)  # solve_all's results' q are its rows
+        return got
+
+    return run_pose
+
+
+def beyond_reach(arm: ArmModel, position) -> str | None:
+    """Why a target at ``position`` (m) is out of reach when beyond the reach bound."""
+    distance = math.dist(list(position), arm.first_joint_origin.tolist())
+    return reasons.beyond_reach(distance, arm.reach) if distance > arm.reach else None
+
+
+def attempts(rows: np.ndarray, family: str, closed_form: str, beyond=None) -> Answers:
+    """The answers of a kernel's packed rows (see ``pack``), nearest first. ``beyond``:
+    ``beyond_reach``'s reason (or a function giving it, asked only for an unreached row),
+    which makes a search's miss unreachable."""
+    known = _KNOWN[closed_form] if closed_form in _KNOWN else _know(closed_form)
+    # a reached row's words by 8 flags + branch bits: indexed, not called (calls count)
+    said = [known[int(8 * f + bits)] for f, bits in rows[:, 6:8].tolist()]
+    reached = None not in said  # the common case: shared read-only claims
+    if not reached:
+        why = beyond() if callable(beyond) else beyond
+        keys = rows[:, 6:11].tolist()
+        said = [s or _said(r, family, why) for s, r in zip(said, keys)]
+    codes, texts, labels, flags = zip(*said) if said else ((), (), (), ())
+    n = len(said)
+    counts = zero_counts(n)
+    return frozen(
+        Answers,
+        q=rows[:, :6].copy(),
+        claim=converged_claims(n) if reached else np.array(codes, dtype=np.int8),
+        iterations=counts,
+        restarts=counts,
+        branch=labels,
+        singular=np.array(flags, dtype=np.bool_) if True in flags else None,
+        reasons=texts,
+    )
+
+
+def _said(row: list, family: str, beyond: str | None):
+    """(claim code, reason, branch label, singular) of one unreached packed row's flags,
+    branch bits, code and values (``row``, plain floats)."""
+    f, bits, code, v0, v1 = row
+    claim, text = Status.UNREACHABLE, reason(int(code), (v0, v1), family)
+    if int(code) == NOT_FOUND:  # a search's miss: no proof unless beyond reach
+        claim = Status.NOT_CONVERGED if beyond is None else Status.UNREACHABLE
+        text = text if beyond is None else f"{beyond}; q is q0"
+    return claim.code, text, LABELS[int(bits)], bool(int(f) & SINGULAR)
+
+
+def _know(closed_form: str) -> list:
+    """``_said`` of every reached row by 8 flags + branch bits as the kernel writes them
+    (flags 0 or singular), None for an unreached row's (flags with least squares)."""
+    _KNOWN[closed_form] = [
+        None
+        if f & LS
+        else (
+            Status.CONVERGED.code,
+            claim_reason(closed_form, f == SINGULAR),
+            LABELS[bits],
+            f == SINGULAR,
+        )
+        for f in range(4)
+        for bits in range(8)
+    ]
+    return _KNOWN[closed_form]
+
+
+_KNOWN: dict[str, list] = {}
+
+
+def batch(arm: ArmModel, targets, q0: np.ndarray, kernel_many, chain) -> Answers:
+    """``run_batch`` of a family: ``kernel_many(chain, Rs, ps, q0s)``
+    (compiled, GIL released; ``chain`` the family's ``flat`` array) solves every target and
+    keeps its row nearest q0 (reached, within limits first)."""
+    if targets.rotations is None:
+        raise SolverError(
+            "the closed form needs full poses, these targets are positions only: use a "
+            "numeric solver",
+            solver="auto",
+            candidates=[],
+        )
+    n = len(targets)
+    Rs = np.ascontiguousarray(targets.rotations, dtype=float)
+    ps = np.ascontiguousarray(targets.positions, dtype=float)
+    q0s = np.ascontiguousarray(np.broadcast_to(q0, (n, arm.dof)), dtype=float)
+    q, claim = kernel_many(chain, Rs, ps, q0s)
+    zeros = np.zeros(n, np.int64)
+    return Answers(q=q, claim=claim, iterations=zeros, restarts=zeros.copy())
