@@ -259,3 +259,25 @@ def test_held_joints_of_two_independent_arms_each_on_its_chain(cell):
         assert np.abs(err).max() <= 2e-6
     with pytest.raises(armik.JointError, match="unknown joint 'elbow'.*l_joint_1"):
         cell.solve(targets, hold={"elbow": 0.0})
+
+
+def test_a_posture_over_two_independent_arms_is_split_by_chain(cell):
+    """secondary=[armik.Posture(...)] over the robot's 12 joints: each IRB 120 follows its
+    own six (positions: three free joints each), every answer verified; a posture of
+    another length is named."""
+    rng = np.random.default_rng(5)
+    posture = armik.Posture(cell.middle)
+    nearer = 0
+    for _ in range(6):
+        q = cell.random_q(rng)
+        targets = {tip: cell.fk(q, frame=tip).translation for tip in cell.tips}
+        q0 = cell.random_q(rng)
+        plain = cell.solve(targets, q0=q0, iteration_budget=3000)
+        pulled = cell.solve(targets, q0=q0, secondary=[posture], iteration_budget=3000)
+        assert plain.success and pulled.success, (plain.reason, pulled.reason)
+        for tip in cell.tips:
+            assert np.linalg.norm(cell.fk(pulled.q, frame=tip).translation - targets[tip]) <= 1e-6
+        nearer += np.linalg.norm(pulled.q - cell.middle) < np.linalg.norm(plain.q - cell.middle)
+    assert nearer >= 4
+    with pytest.raises(armik.OptionError, match="has 6 values, the robot 12 joints"):
+        cell.solve(targets, secondary=[armik.Posture(np.zeros(6))])

@@ -28,11 +28,11 @@ import pinocchio as pin
 
 from armik import arms_many, arms_reach
 from armik.arms_joined import joined
-from armik.constraints.hold import Hold
-from armik.errors import ArmikError, FrameError, JointError, OptionError, TargetError, listing
+from armik.arms_options import per_chain
+from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.model.arm_model import ArmModel
 from armik.model.union import Union
-from armik.options import Options, spelled
+from armik.options import Options
 from armik.problem.problem import Problem, as_problem, relative_tasks
 from armik.problem.scores import Manipulability, Score, parse_score
 from armik.problem.tasks import Pose, Position, Relative, Task
@@ -354,28 +354,8 @@ class Arms:
         return q
 
     def _holds(self, options: dict) -> dict[str, dict]:
-        """Each tip's options: its chain holds the held joints it has (``hold=``, ``Hold``s),
-        the others' are theirs; a held joint on no chain is a ``JointError``."""
-        if "hold" not in options and "constraints" not in options:
-            return dict.fromkeys(self.tips, options)
-        rest = spelled(options) if "constraints" in options else dict(options)
-        given = rest.pop("hold", None)
-        if given is None:
-            return dict.fromkeys(self.tips, options)
-        holds = Hold.parse(given)
-        for h in holds:
-            if h.joint not in self.joint_names:
-                raise JointError(
-                    f"hold: unknown joint {h.joint!r}; the joints of tips {list(self.tips)}: "
-                    f"{listing(self.joint_names)}",
-                    joint=h.joint,
-                    candidates=self.joint_names,
-                )
-        out = {}
-        for tip, arm in self._chains.items():
-            mine = {h.joint: h.value for h in holds if h.joint in arm.joint_names}
-            out[tip] = {**rest, "hold": mine} if mine else rest
-        return out
+        """Each tip's options (``arms_options.per_chain``)."""
+        return per_chain(options, self._chains, self._columns, self.joint_names)
 
     def _check_targets(self, targets: object) -> dict[str, list[Relative]]:
         """Each tip's ``Relative`` tasks, once the targets are checked: a mapping of known

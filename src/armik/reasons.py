@@ -118,14 +118,16 @@ def on_centre(reason: str) -> str:
     return f"{reason}; every task holds on it"
 
 
-def preferred(reason: str, score: str, value: float, moved: bool) -> str:
-    """A task list's answer with a preference, moved along the tasks' null space or not."""
+def preferred(reason: str, score: str, value: float, moved: bool, secondary: bool = False) -> str:
+    """A task list's answer with a preference (or a secondary posture), moved along the
+    tasks' null space or not."""
     how = (
         "moved along the tasks' null space"
         if moved
         else "no move along the tasks' null space lowered it"
     )
-    return f"{reason}; prefer={score}: score {value:.6g} ({how})"
+    said = "secondary posture" if secondary else f"prefer={score}"
+    return f"{reason}; {said}: score {value:.6g} ({how})"
 
 
 def tips_beyond(beyond: dict[str, str], others: list[str], status: str, reason: str) -> str:

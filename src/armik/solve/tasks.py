@@ -9,8 +9,9 @@ meeting every task is kept. Every answer is measured by each task on Pinocchio's
 success. A miss is ``not_converged``: a numeric search does not show a target out of reach.
 
 With a score (``prefer=`` over several tips' shared joints: ``nearest``, ``limits``, an
-``armik.Posture``, a cost), the answer found is moved along what the tasks leave free
-(their null space: the self-motion, a region's slack) while the score falls
+``armik.Posture``, a cost; or a secondary ``armik.Posture``), the answer found is moved
+along what the tasks leave free (their null space: the self-motion, a region's slack)
+while the score falls
 (``armik.solve.nullspace``), and kept only where every task still holds on Pinocchio's
 FK: a posture task for the joints no task fixes. A local descent from the answer found.
 """
@@ -33,7 +34,7 @@ from armik.errors import OptionError, TargetError
 from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.problem.problem import Problem, as_problem, lower
-from armik.problem.scores import Score
+from armik.problem.scores import Posture, Score
 from armik.problem.tasks import Axis, LookAt, Task, TaskError
 from armik.result import IKResult
 from armik.solve.nullspace import descend
@@ -62,14 +63,6 @@ def check_options(opts: Options, solver: str, several_tips: bool = False) -> Non
             f"a list of tasks is solved by solver='auto' (the task solver), got {solver!r}",
             option="solver",
             value=solver,
-        )
-    if opts.posture is not None:
-        raise OptionError(
-            "a posture (secondary=[armik.Posture(...)]) steers the compiled step, not a list "
-            "of tasks the task solver takes: rank its answer with prefer=armik.Posture(...), "
-            "which moves it along the tasks' null space",
-            option="secondary",
-            value=None,
         )
     defaults = Options()
     refused = _SAID_BY_TASKS + (_CONSTRAINTS if several_tips else ())
@@ -277,7 +270,7 @@ def solve_tasks(
     it is when every task holds on it, else the descent starts from it. ``reseed``: where
     a restart starts (default: a random configuration within the limits). ``score``: the
     answer moved along the tasks' null space while it falls, ``reference`` its q0
-    (default: q0)."""
+    (default: q0); without one, a secondary posture (``Options.posture``) is that score."""
     tasks = problem.tasks
     ids = frame_ids(arm, tasks)
     q = arm.seed(q0)
@@ -330,7 +323,9 @@ def solve_tasks(
         before = math.inf
         q = np.clip(arm.random_q(rng) if reseed is None else reseed(rng), *box)
         restarts += 1
-    moved = False
+    moved, secondary = False, score is None and opts.posture is not None
+    if secondary:  # the posture followed in the tasks' null space once they hold
+        score = Posture(*opts.posture)  # type: ignore[misc]
     if score is not None and best_done:
         q, best_errors = _scored(
             arm, tasks, ids, best, best_errors, score, reference, opts, started, checked
@@ -342,7 +337,7 @@ def solve_tasks(
     value = score(arm, r.q, reference)
     return dataclasses.replace(
         r,
-        reason=reasons.preferred(r.reason, score.name, value, moved),
+        reason=reasons.preferred(r.reason, score.name, value, moved, secondary),
         extra={**r.extra, "score": value},
     )
 

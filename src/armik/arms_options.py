@@ -1,0 +1,56 @@
+"""Each chain's options from a robot's (``armik.Arms``): the held joints a chain has, and
+its own joints' part of a posture over every joint; the rest as given."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from armik.constraints.hold import Hold
+from armik.errors import JointError, OptionError, listing
+from armik.model.arm_model import ArmModel
+from armik.options import spelled
+from armik.problem.scores import Posture
+
+_PER_CHAIN = frozenset(("hold", "constraints", "secondary", "posture"))
+
+
+def per_chain(
+    options: dict,
+    chains: Mapping[str, ArmModel],
+    columns: Mapping[str, np.ndarray],
+    joint_names: Sequence[str],
+) -> dict[str, dict]:
+    """Each tip's options: its chain (``chains[tip]``, the robot's joints ``columns[tip]``)
+    holds the held joints it has (``hold=``, ``Hold``s; a held joint on no chain is a
+    ``JointError``) and follows its joints' part of a posture over every joint
+    (``secondary=[armik.Posture(q_ref, weights)]``)."""
+    if not _PER_CHAIN.intersection(options):
+        return dict.fromkeys(chains, options)
+    rest = spelled(options)
+    posture = rest.pop("posture", None)
+    if posture is not None and len(posture[0]) != len(joint_names):
+        raise OptionError(
+            f"the posture (armik.Posture among secondary=) has {len(posture[0])} values, the "
+            f"robot {len(joint_names)} joints: give one per joint of {list(joint_names)}",
+            option="secondary",
+        )
+    given = rest.pop("hold", None)
+    holds = () if given is None else Hold.parse(given)
+    for h in holds:
+        if h.joint not in joint_names:
+            raise JointError(
+                f"hold: unknown joint {h.joint!r}; the joints of tips {list(chains)}: "
+                f"{listing(joint_names)}",
+                joint=h.joint,
+                candidates=joint_names,
+            )
+    out = {}
+    for tip, arm in chains.items():
+        mine = {h.joint: h.value for h in holds if h.joint in arm.joint_names}
+        out[tip] = {**rest, "hold": mine} if mine else dict(rest)
+        if posture is not None:
+            q_ref, weights = (np.asarray(v)[columns[tip]] for v in posture)
+            out[tip]["secondary"] = [Posture(q_ref, weights)]
+    return out
