@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from armik import reasons
-from armik.constraints.clear import collision_verdict
+from armik.constraints.clear import collision_verdict, distances
 from armik.constraints.collision import checker
 from armik.frozen import frozen
 from armik.options import Options
@@ -67,12 +67,10 @@ def solve_avoiding(
     check = checker(arm, opts.obstacles, opts.self_collision)
     if not seed.flags.writeable:  # a read-only seed (a result's q) is another kernel type
         seed = seed.copy()
-    if every:
+    if every:  # every answer's verdict, then the collision check of the N of them
         answers = spec.run(arm, target, seed, opts, True)
-        rows = [
-            collision_verdict(row, check, opts.margin)
-            for row in verdicts(arm, answers, target, opts)
-        ]
+        clear = distances([check.distance(q) for q in answers.q], opts.margin)
+        rows = [clear.judge(i, row) for i, row in enumerate(verdicts(arm, answers, target, opts))]
         return ranked(rows, spec.name, seed, True, t0)
     if spec.kind == "analytic":
         answers = spec.run(arm, target, seed, opts, True)
