@@ -11,6 +11,7 @@ from tests.golden.blas_kernels import pin_openblas
 BLAS_PINNED = pin_openblas()  # before numpy loads OpenBLAS: the golden answers need it
 
 import numpy as np  # noqa: E402
+import pinocchio as pin  # noqa: E402
 import pytest  # noqa: E402
 from hypothesis import settings  # noqa: E402
 
@@ -55,6 +56,14 @@ def model(name: str) -> ArmModel:
 @pytest.fixture
 def rng() -> np.random.Generator:
     return np.random.default_rng(1234)
+
+
+def frame_position(arm, q, frame: str) -> np.ndarray:
+    """The position of ``frame`` at ``q`` in the arm's base frame (Pinocchio's FK)."""
+    m = arm.kinematics
+    pin.forwardKinematics(arm.model, m.data, m.to_pin(q))
+    placed = pin.updateFramePlacement(arm.model, m.data, arm.model.getFrameId(frame))
+    return (m.T_base_world * placed).translation.copy()
 
 
 def write_urdf(tmp_path, text: str, name: str = "robot.urdf"):

@@ -7,7 +7,6 @@ import math
 import time
 
 import numpy as np
-import pinocchio as pin
 import pytest
 
 import armik
@@ -108,19 +107,15 @@ def test_solves_with_a_budget_equal_the_old_keywords():
     tasks = [
         armik.Position(T.translation),
         armik.Axis((0, 0, 1), T.rotation[:, 2], 0.05),
-        armik.Position(_placed(arm, q_true, "panda_link4"), bounds=[0.02] * 3, frame="panda_link4"),
+        armik.Position(
+            conftest.frame_position(arm, q_true, "panda_link4"),
+            bounds=[0.02] * 3,
+            frame="panda_link4",
+        ),
     ]
     new_t = arm.solve(tasks, q0=q0, budget=budget)
     old_t = arm.solve(tasks, q0=q0, **said)
     assert new_t.q.tolist() == old_t.q.tolist() and new_t.iterations == old_t.iterations
-
-
-def _placed(arm, q, frame: str) -> np.ndarray:
-    """The position of ``frame`` at ``q`` in the arm's base frame (Pinocchio's FK)."""
-    m = arm.kinematics
-    pin.forwardKinematics(arm.model, m.data, m.to_pin(q))
-    placed = pin.updateFramePlacement(arm.model, m.data, arm.model.getFrameId(frame))
-    return (m.T_base_world * placed).translation.copy()
 
 
 def test_a_counted_budget_bounds_the_iterations():

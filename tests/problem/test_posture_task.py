@@ -6,7 +6,6 @@ and never decides a success."""
 from __future__ import annotations
 
 import numpy as np
-import pinocchio as pin
 import pytest
 
 import armik
@@ -95,14 +94,6 @@ def test_a_posture_of_zero_weights_pulls_nothing_and_a_full_pose_has_no_null_spa
     assert np.array_equal(plain.q, pulled.q)
 
 
-def _placed(arm, q, frame: str) -> np.ndarray:
-    """The position of ``frame`` at ``q`` in the arm's base frame (Pinocchio's FK)."""
-    m = arm.kinematics
-    pin.forwardKinematics(arm.model, m.data, m.to_pin(q))
-    placed = pin.updateFramePlacement(arm.model, m.data, arm.model.getFrameId(frame))
-    return (m.T_base_world * placed).translation.copy()
-
-
 def test_the_task_solver_follows_a_posture_in_the_tasks_null_space():
     """Two frames of a Panda (the tip's position, the elbow's within 2 cm): the task solver
     moves its answer toward the posture along what the tasks leave free, never below the
@@ -113,16 +104,18 @@ def test_the_task_solver_follows_a_posture_in_the_tasks_null_space():
     nearer = 0
     for _ in range(4):
         q_true = arm.random_q(rng)
-        tip = _placed(arm, q_true, arm.tip)
-        elbow = _placed(arm, q_true, "panda_link4")
+        tip = conftest.frame_position(arm, q_true, arm.tip)
+        elbow = conftest.frame_position(arm, q_true, "panda_link4")
         tasks = [armik.Position(tip), armik.Position(elbow, bounds=[0.02] * 3, frame="panda_link4")]
         q0 = arm.random_q(rng)
         plain = arm.solve(tasks, q0=q0, **BUDGET)
         pulled = arm.solve(tasks, q0=q0, secondary=[armik.Posture(q_ref)], **BUDGET)
         assert plain.success and pulled.success, (plain.reason, pulled.reason)
         assert "secondary posture: score" in pulled.reason
-        assert np.linalg.norm(_placed(arm, pulled.q, arm.tip) - tip) <= 1e-6
-        assert np.all(np.abs(_placed(arm, pulled.q, "panda_link4") - elbow) <= 0.02 + 1e-6)
+        assert np.linalg.norm(conftest.frame_position(arm, pulled.q, arm.tip) - tip) <= 1e-6
+        assert np.all(
+            np.abs(conftest.frame_position(arm, pulled.q, "panda_link4") - elbow) <= 0.02 + 1e-6
+        )
         d_plain, d_pulled = (float(((r.q - q_ref) ** 2).sum()) for r in (plain, pulled))
         assert d_pulled <= d_plain + 1e-9
         nearer += d_pulled < d_plain - 1e-6
