@@ -8,10 +8,10 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from armik.constraints.hold import Hold
-from armik.errors import JointError, OptionError, listing
+from armik.errors import JointError, listing
 from armik.model.arm_model import ArmModel
 from armik.options import spelled
-from armik.problem.scores import Posture
+from armik.problem.scores import Posture, fit_posture
 
 _PER_CHAIN = frozenset(("hold", "constraints", "secondary", "posture"))
 
@@ -30,12 +30,8 @@ def per_chain(
         return dict.fromkeys(chains, options)
     rest = spelled(options)
     posture = rest.pop("posture", None)
-    if posture is not None and len(posture[0]) != len(joint_names):
-        raise OptionError(
-            f"the posture (armik.Posture among secondary=) has {len(posture[0])} values, the "
-            f"robot {len(joint_names)} joints: give one per joint of {list(joint_names)}",
-            option="secondary",
-        )
+    if posture is not None:  # over every joint of the robot, then split by chain
+        fit_posture(len(posture[0]), joint_names, "the robot", "secondary")
     given = rest.pop("hold", None)
     holds = () if given is None else Hold.parse(given)
     for h in holds:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from abc import ABC, abstractmethod
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -149,12 +149,7 @@ class Posture(Score):
         return {"posture": (tuple(self.q_ref.tolist()), tuple(self.weights.tolist()))}
 
     def _fits(self, arm) -> None:
-        if self.q_ref.size != arm.dof:
-            raise OptionError(
-                f"Posture q_ref has {self.q_ref.size} values, the arm {arm.dof} joints: give "
-                f"one per joint of {list(arm.joint_names)}",
-                option="prefer",
-            )
+        fit_posture(self.q_ref.size, arm.joint_names)
 
     def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
         self._fits(arm)
@@ -172,6 +167,21 @@ class Posture(Score):
     def gradient(self, arm, q: np.ndarray, q0: np.ndarray) -> np.ndarray | None:
         self._fits(arm)
         return 2.0 * self.weights * (q - self.q_ref)
+
+
+def fit_posture(
+    count: int, joints: Sequence[str] | int, whose: str = "the arm", option: str = "prefer"
+) -> None:
+    """An ``OptionError`` where a posture of ``count`` values is not one per joint
+    (``joints``: their names, or how many where the names are not at hand; ``whose``: the
+    arm's or the robot's; ``option``: how the posture was given)."""
+    n = joints if isinstance(joints, int) else len(joints)
+    if count != n:
+        names = "" if isinstance(joints, int) else f" of {list(joints)}"
+        raise OptionError(
+            f"Posture q_ref has {count} values, {whose} {n} joints: give one per joint{names}",
+            option=option,
+        )
 
 
 class Cost(Score):

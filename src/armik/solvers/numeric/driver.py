@@ -23,7 +23,6 @@ from typing import NamedTuple
 import numpy as np
 
 from armik import reasons
-from armik.errors import OptionError
 from armik.kernel import box_qp as backend
 from armik.kernel import descent as _descent
 from armik.kernel import error as _error
@@ -52,6 +51,7 @@ from armik.kernel.step import backend_step
 from armik.kernel.warmup import prepare
 from armik.model.arm_model import ArmModel
 from armik.options import Options
+from armik.problem.scores import fit_posture
 from armik.solvers.answers import Answers, one
 from armik.solvers.claims import claim
 from armik.status import Status
@@ -206,13 +206,7 @@ def _posture(opts: Options, dof: int) -> tuple[np.ndarray, np.ndarray]:
     if opts.posture is None:
         return np.empty(0), np.empty(0)
     q_ref, weights = opts.posture
-    if len(q_ref) != dof:
-        raise OptionError(
-            f"the posture (armik.Posture among secondary=) has {len(q_ref)} values, the arm "
-            f"{dof} joints: give one per joint",
-            option="secondary",
-            value=q_ref,
-        )
+    fit_posture(len(q_ref), dof, option="secondary")
     w = np.array(weights, dtype=float)
     # the largest weight 1: the pull's strength is nullspace_gain's, the weights its shares
     return np.array(q_ref, dtype=float), w / w.max() if w.max() > 0.0 else w
