@@ -1,7 +1,7 @@
 """The fast paths of one solve's fixed cost give what the general paths give.
 
 Each fast path (an SE3 target, a float64 q0 within the limits, the limit check on plain
-floats, results and attempts built without the frozen ``__init__``, ``check_batch``
+floats, results and answers built without the frozen ``__init__``, ``check_batch``
 without per-row conversions) is compared with the general path on the same input.
 """
 

@@ -159,13 +159,13 @@ def test_a_search_miss_is_not_converged_unless_beyond_reach():
     """The claim of a search's 'found nothing' row, and of the same row beyond reach."""
     row = np.zeros((1, 11))
     row[0, 6], row[0, 8] = sixr.LS, sixr.NOT_FOUND
-    missed = sixr_answers.attempts(row, "two_parallel", "search")
+    missed = sixr_answers.of_rows(row, "two_parallel", "search")
     assert len(missed) == 1 and missed.status(0) is Status.NOT_CONVERGED
     assert "does not show" in missed.reason(0)
-    far = sixr_answers.attempts(row, "two_parallel", "search", reasons.beyond_reach(3.0, 1.0))
+    far = sixr_answers.of_rows(row, "two_parallel", "search", reasons.beyond_reach(3.0, 1.0))
     assert far.status(0) is Status.UNREACHABLE and "beyond the arm's reach" in far.reason(0)
     row[0, 8] = sixr.TOO_FAR  # a complete closed form's verdict is a proof
-    too_far = sixr_answers.attempts(row, "three_parallel", "closed form")
+    too_far = sixr_answers.of_rows(row, "three_parallel", "closed form")
     assert too_far.status(0) is Status.UNREACHABLE
 
 
@@ -177,7 +177,7 @@ def test_auto_goes_on_to_the_numeric_solver_when_a_search_verifies_nothing(irb14
         row = np.zeros((1, 11))
         row[0, :6] = q0
         row[0, 6], row[0, 8] = sixr.LS, sixr.NOT_FOUND
-        return sixr_answers.attempts(row, "two_parallel", "search")
+        return sixr_answers.of_rows(row, "two_parallel", "search")
 
     blind = dataclasses.replace(spec, run=finds_nothing, prepare_pose=None)
     monkeypatch.setitem(registry._REGISTRY, "two_parallel", blind)

@@ -45,7 +45,7 @@ def test_rows_keep_every_column():
     assert taken.reasons == ("c", "a") and taken.branch == ("z", "x")
     assert taken.iterations.tolist() == [3, 1] and taken.restarts.tolist() == [2, 0]
     assert taken.singular is not None and taken.singular.tolist() == [False, False]
-    both = stacked([a.row(1), one(np.ones(3), Status.CONVERGED, "d", iterations=7)], 3)
+    both = stacked([a.take((1,)), one(np.ones(3), Status.CONVERGED, "d", iterations=7)], 3)
     assert both.reasons == ("b", "d") and both.branch == (None, None)
     assert both.iterations.tolist() == [2, 7] and [both.is_singular(i) for i in (0, 1)] == [
         True,

@@ -199,8 +199,8 @@ def solve_chunk(
     # read-only seed would compile them again)
     if not (seeds.flags.c_contiguous and seeds.flags.writeable):
         seeds = np.array(seeds, order="C")
-    attempts = spec.run_batch(arm, targets, seeds, opts)
-    part = verdict_batch(arm, attempts, targets, opts)
+    answers = spec.run_batch(arm, targets, seeds, opts)
+    part = verdict_batch(arm, answers, targets, opts)
     out.put(start, part)
     if opts.collisions:
         _collisions(arm, spec, targets, seeds, opts, options, out, start, part)

@@ -94,8 +94,8 @@ def solve_held(
     tgt = parse_target(target, arm)
     if k == 6 and solver in ("auto", "swept") and swept_7r.applies(arm, tgt, opts) is None:
         # joint 7 of a Panda-like arm: the swept solver's closed form at exactly that value
-        attempts = swept_7r.at_value(arm, tgt, seed, value)
-        results = finish(arm, "swept", attempts, tgt, opts, seed, every, t0)
+        answers = swept_7r.at_value(arm, tgt, seed, value)
+        results = finish(arm, "swept", answers, tgt, opts, seed, every, t0)
         return results if every else results[0]
     sub = locked_arm(arm, name, value)
     free = np.delete(seed, k)

@@ -222,8 +222,8 @@ def sweep_held(arm: ArmModel, target, q0: np.ndarray, opts, score: Score, t0: fl
             d = a + GOLDEN * (b - a)
             fd = best_at(d)
     theta = min((float(grid[k]), values[k]), (c, fc), (d, fd), key=lambda x: x[1])[0]
-    attempts = swept_7r.at_value(arm, target, q0, theta)
-    return finish(arm, "swept", attempts, target, opts, q0, True, t0)
+    answers = swept_7r.at_value(arm, target, q0, theta)
+    return finish(arm, "swept", answers, target, opts, q0, True, t0)
 
 
 # The numeric search's shares of the budget (``timeout``, or ``iteration_budget``): solve_all

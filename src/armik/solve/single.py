@@ -276,9 +276,8 @@ def _centre(arm, problem, q0, options: dict):
     if lowered is None:
         return None
     target, said = lowered
-    rest, count = _holds(options)
-    if count and (arm.dof != 7 or count != 1):  # held joints the compiled path cannot
-        options = rest  # hold: the task solver's box
+    if _held_apart(arm, options):  # held joints the compiled path cannot hold: the task
+        options = _holds(options)[0]  # solver's box
     restarts = min(options.get("max_restarts", CENTRE_RESTARTS), CENTRE_RESTARTS)
     centre = solve_parsed(arm, target, q0, "auto", {**options, **said, "max_restarts": restarts})
     if centre.success or registry.get(centre.solver).kind != "analytic":

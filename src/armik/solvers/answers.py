@@ -69,10 +69,6 @@ class Answers:
             reasons=None if self.reasons is None else tuple([self.reasons[k] for k in index]),
         )
 
-    def row(self, i: int) -> Answers:
-        """Row i alone."""
-        return self.take((i,))
-
     def reworded(self, reasons: Sequence[str]) -> Answers:
         """The same rows in other words (a search's miss named by what ran next)."""
         return replace(self, reasons=tuple(reasons))
@@ -136,12 +132,12 @@ def _read_only(a: np.ndarray) -> np.ndarray:
     return a
 
 
+# Read-only columns shared by every answer that has them: one row's claim, a true flag,
+# and the counts and all-converged claims of up to 16 rows (a closed form's most).
 _CLAIM_ROW = {s.code: _read_only(np.array([s.code], dtype=np.int8)) for s in Status}
-# read-only zero counts of up to 16 rows (a closed form's most), shared by every answer
+_TRUE_ROW = _read_only(np.ones(1, dtype=np.bool_))
 _ZEROS = tuple(_read_only(np.zeros(n, dtype=np.int64)) for n in range(17))
 _ZERO_ROW = _ZEROS[1]
-
-
 _CONVERGED_ROWS = tuple(_read_only(np.full(n, _CONVERGED, dtype=np.int8)) for n in range(17))
 
 
@@ -155,9 +151,6 @@ def converged_claims(n: int) -> np.ndarray:
     if n < len(_CONVERGED_ROWS):
         return _CONVERGED_ROWS[n]
     return _read_only(np.full(n, _CONVERGED, dtype=np.int8))
-
-
-_TRUE_ROW = _read_only(np.ones(1, dtype=np.bool_))
 
 
 def stacked(parts: Sequence[Answers], dof: int) -> Answers:

@@ -250,16 +250,16 @@ def _rank(row: dict, seed: np.ndarray) -> tuple:
 
 
 def verdict_batch(
-    arm: ArmModel, attempts: Answers, targets: TargetBatch, opts: Options
+    arm: ArmModel, answers: Answers, targets: TargetBatch, opts: Options
 ) -> BatchResult:
-    """The verdict of a chunk of attempts, by the ``RULE`` that decides one (``verdict``);
-    the rare failures get their reasons row by row."""
+    """The verdict of a chunk of answers (one a target), by the ``RULE`` that decides one
+    (``verdict``); the rare failures get their reasons row by row."""
     n = len(targets)
     part = BatchResult.empty(n, arm.dof, solver="", time=0.0)
-    part.q[:] = attempts.q
-    part.iterations[:] = attempts.iterations
-    part.restarts[:] = attempts.restarts
-    claim = np.asarray(attempts.claim, dtype=np.int8)
+    part.q[:] = answers.q
+    part.iterations[:] = answers.iterations
+    part.restarts[:] = answers.restarts
+    claim = np.asarray(answers.claim, dtype=np.int8)
     m = measure_batch(arm, part.q, targets, opts)
     part.position_error[:] = m.position_error
     part.orientation_error[:] = m.orientation_error

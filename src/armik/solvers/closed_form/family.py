@@ -60,7 +60,7 @@ class Family:
             np.int64(self.rows), out,
         )  # fmt: skip
         beyond = sixr_answers.beyond_reach(arm, pos)
-        return sixr_answers.attempts(out[:n], self.family, self.closed_form, beyond)
+        return sixr_answers.of_rows(out[:n], self.family, self.closed_form, beyond)
 
     def run_batch(
         self, arm: ArmModel, targets, q0: np.ndarray, opts: Options, seeds=None

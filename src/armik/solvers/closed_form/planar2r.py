@@ -177,7 +177,7 @@ def run(
         q0 = np.array(q0, dtype=float)  # one compiled signature: a writeable C array
     out = np.empty((2, 8))
     n = kernel.rows(flat(arm, opts, orient), H, q0, planar, x, y, out)
-    return _attempts(out[:n], out[:n, :2].copy())
+    return _answers(out[:n], out[:n, :2].copy())
 
 
 _BRANCHES = {
@@ -230,7 +230,7 @@ def _farther(out: np.ndarray, q0: np.ndarray) -> bool:
     return math.sqrt(d[0].dot(d[0])) > math.sqrt(d[1].dot(d[1]))
 
 
-def _attempts(rows: np.ndarray, Q: np.ndarray) -> Answers:
+def _answers(rows: np.ndarray, Q: np.ndarray) -> Answers:
     """The answers of the kernel's rows, in their order, q the rows of ``Q``."""
     claims, texts, labels, flags = [], [], [], []
     for claimed, branch, singular, code, v0, v1 in rows[:, 2:].tolist():
@@ -277,7 +277,7 @@ def prepare_pose(arm: ArmModel, opts: Options, position: bool):
             return None
         if n == 2 and _farther(out, q0):  # nearest q0 first, as solve_all lists them
             out[:2] = out[1::-1].copy()
-        got = _attempts(out[:n], out[:n, :2])
+        got = _answers(out[:n], out[:n, :2])
         got.q.setflags(write=False)  # solve_all's results' q are its rows
         return got
 

@@ -49,7 +49,7 @@ def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form, s
             singular = head >= 8
             label = LABELS[head & 7]
             return claim((out[0, :6], 0, 0, label, singular, claim_reason, why[singular]))
-        got = attempts(out[:n], family, closed_form, lambda: beyond_reach(arm, H[:3, 3]))
+        got = of_rows(out[:n], family, closed_form, lambda: beyond_reach(arm, H[:3, 3]))
         got.q.setflags(write=False)  # solve_all's results' q are its rows
         return got
 
@@ -62,7 +62,7 @@ def beyond_reach(arm: ArmModel, position) -> str | None:
     return reasons.beyond_reach(distance, arm.reach) if distance > arm.reach else None
 
 
-def attempts(rows: np.ndarray, family: str, closed_form: str, beyond=None) -> Answers:
+def of_rows(rows: np.ndarray, family: str, closed_form: str, beyond=None) -> Answers:
     """The answers of a kernel's packed rows (see ``pack``), nearest first. ``beyond``:
     ``beyond_reach``'s reason (or a function giving it, asked only for an unreached row),
     which makes a search's miss unreachable."""

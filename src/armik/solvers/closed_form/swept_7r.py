@@ -180,7 +180,7 @@ def held_reason(theta: float, singular: bool) -> str:
     return sixr_answers.claim_reason(text, singular)
 
 
-def _attempts(
+def _answers(
     sw: Swept, rows: np.ndarray, theta: float, swept: bool = True, beyond: str | None = None
 ) -> Answers:
     """The answers of ``rows``; ``swept``: joint 7 took a few values of its range, so a
@@ -280,7 +280,7 @@ def at_value(arm: ArmModel, target: Target, q0: np.ndarray, theta: float) -> Ans
     rows[:, :6] = out[:n, 5::-1]  # joints 1 to 6 again
     rows[:, 6] = theta
     rows[:, 7:] = out[:n, 6:11]
-    return _attempts(sw, rows, theta, swept=False)
+    return _answers(sw, rows, theta, swept=False)
 
 
 def run(
@@ -293,7 +293,7 @@ def run(
         exact = [r for r in rows if not int(r[7]) & sixr.LS]
         rows = np.array(exact) if exact and found else rows
     rows = rows if all_solutions else rows[:1]
-    return _attempts(sw, rows, theta, True, _beyond(arm, pos, rows))
+    return _answers(sw, rows, theta, True, _beyond(arm, pos, rows))
 
 
 def _beyond(arm: ArmModel, position, rows: np.ndarray) -> str | None:
@@ -317,7 +317,7 @@ def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):
         R, pos = split_pose(H)
         theta, rows, found = _held(arm, sw, R, pos, q0)
         if not found:
-            return _attempts(sw, rows[:1], theta, True, _beyond(arm, pos, rows[:1]))
+            return _answers(sw, rows[:1], theta, True, _beyond(arm, pos, rows[:1]))
         singular = bool(int(rows[0, 7]) & sixr.SINGULAR)
         q = rows[0, :7]
         return claim((q, 0, 0, branch(sw, q), singular, held_reason, (theta, singular)))
