@@ -12,10 +12,12 @@ import pinocchio as pin
 import pytest
 
 import armik
-from armik.constraints.base import box_of, judged
+from armik.constraints.base import box_of
 from armik.constraints.limits import JointLimits
 from armik.options import Options
+from armik.solvers.answers import Answers
 from armik.status import Status
+from armik.verify.verdicts import Verdicts
 from tests import conftest
 
 BUDGET = {"iteration_budget": 4000}  # deterministic: no test depends on timing
@@ -129,17 +131,40 @@ def test_checks_over_rows_agree_with_each_answer():
         assert clear.ok[i] == (distance >= 0.01)
 
 
+def _two_verdicts(q: np.ndarray, success: bool) -> Verdicts:
+    """Two answers at ``q``: the first a failure, the second as ``success`` says."""
+    answers = Answers.of([q, q], [Status.NOT_CONVERGED, Status.CONVERGED], ["missed", "ok"], len(q))
+    codes = [
+        Status.NOT_CONVERGED.code,
+        (Status.CONVERGED if success else Status.NOT_CONVERGED).code,
+    ]
+    return Verdicts(
+        answers=answers,
+        status=np.array(codes, dtype=np.int8),
+        position_error=np.zeros(2),
+        orientation_error=np.zeros(2),
+        rotation=True,
+        words=["missed", "ok"],
+        tol_position=1e-5,
+        tol_orientation=1e-4,
+    )
+
+
 def test_a_check_turns_only_successes_into_failures():
     model = conftest.model("panda")
-    Q = np.stack([model.middle, model.middle])
-    check = armik.Hold("panda_joint1", 0.5).check(model, Q)
-    failed = {"success": False, "status": Status.NOT_CONVERGED, "reason": "missed"}
-    assert check.judge(0, dict(failed)) == failed
-    won = check.judge(1, {"success": True, "status": Status.CONVERGED, "reason": "ok"})
-    assert not won["success"] and won["status"] is Status.NOT_CONVERGED
-    assert won["reason"] == "joint 'panda_joint1' at 0, held at 0.5"
-    kept = judged(model, (armik.Hold("panda_joint1", 0.0),), model.middle, {**won, "success": True})
-    assert kept["success"] and kept["reason"].endswith("joint 'panda_joint1' held at 0")
+    found = _two_verdicts(model.middle, True)
+    found.checked(model, (armik.Hold("panda_joint1", 0.5),))
+    assert found.success.tolist() == [False, False]
+    assert found.status[0] == Status.NOT_CONVERGED.code and found.reason(0) == "missed"
+    assert found.status[1] == Status.NOT_CONVERGED.code
+    assert found.reason(1) == "joint 'panda_joint1' at 0, held at 0.5"
+    kept = _two_verdicts(model.middle, True).checked(model, (armik.Hold("panda_joint1", 0.0),))
+    assert kept.success.tolist() == [False, True]
+    assert kept.reason(1).startswith("ok") and kept.reason(1).endswith(
+        "joint 'panda_joint1' held at 0"
+    )
+    r = kept.result(1, "dls", 0.0)
+    assert r.success and r.reason == kept.reason(1) and np.array_equal(r.q, model.middle)
 
 
 def _looks_at(arm, q, point, within):

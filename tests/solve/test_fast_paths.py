@@ -257,11 +257,16 @@ def test_check_many_is_check_one_by_one(panda, kinova):
             qs_arr = [np.asarray(q, dtype=float) for q in qs]
             many = verify.measure_many(arm, qs_arr, target, opts)
             one = [verify.measure(arm, q, target, opts) for q in qs_arr]
-            assert len(many) == len(one) == len(qs)
-            for a, b in zip(many, one):
-                assert vars(a) == vars(b)
-                assert (a.ok, a.describe()) == (b.ok, b.describe())
-            assert any(c.violations for c in many) and any(not c.violations for c in many)
+            assert len(many.position_error) == len(one) == len(qs)
+            assert many.position_error.tolist() == [m.position_error for m in one]
+            assert many.rotation == (one[0].orientation_error is not None)
+            if many.rotation:
+                assert many.orientation_error.tolist() == [m.orientation_error for m in one]
+            else:
+                assert np.isnan(many.orientation_error).all()
+            assert many.within_limits.tolist() == [not m.violations for m in one]
+            assert many.ok.tolist() == [m.ok for m in one]
+            assert not many.within_limits.all() and many.within_limits.any()
 
 
 def test_solve_all_verifies_like_solve(panda):

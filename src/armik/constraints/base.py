@@ -33,26 +33,14 @@ def _nothing(i: int) -> dict:
 class Check(NamedTuple):
     """A constraint's check of N answers: ``ok[i]``, whether answer i satisfies it; a
     failing answer's ``status`` and ``why(i)``; a success's reason with what was measured
-    (``holds(i, reason)``) and what each answer's result keeps in ``extra`` (``extra(i)``)."""
+    (``holds(i, reason)``) and what each answer's result keeps in ``extra`` (``extra(i)``).
+    The verify stage applies it to the answers' verdicts (``armik.verify.verdicts``)."""
 
     ok: np.ndarray  # (N,) bool
     status: Status
     why: Callable[[int], str]
     holds: Callable[[int, str], str] = _unchanged
     extra: Callable[[int], dict] = _nothing
-
-    def judge(self, i: int, row: dict) -> dict:
-        """The verdict row of answer ``i`` (fields of an ``IKResult``) with this check
-        applied: a success stays one only where the constraint holds."""
-        more = self.extra(i)
-        if more:
-            row["extra"] = {**row.get("extra", {}), **more}
-        if row["success"]:
-            if self.ok[i]:
-                row["reason"] = self.holds(i, row["reason"])
-            else:
-                row["success"], row["status"], row["reason"] = False, self.status, self.why(i)
-        return row
 
 
 class Constraint(ABC):
@@ -85,14 +73,6 @@ def box_of(arm: ArmModel, constraints: tuple[Constraint, ...]) -> tuple[np.ndarr
             np.maximum(lo, b[0], out=lo)
             np.minimum(hi, b[1], out=hi)
     return lo, hi
-
-
-def judged(arm: ArmModel, constraints: tuple[Constraint, ...], q: np.ndarray, row: dict) -> dict:
-    """``row``, the verdict row of answer ``q``, with every constraint's check applied."""
-    Q = q.reshape(1, -1)
-    for c in constraints:
-        row = c.check(arm, Q).judge(0, row)
-    return row
 
 
 def satisfied(arm: ArmModel, constraints: tuple[Constraint, ...], q: np.ndarray) -> bool:

@@ -61,10 +61,9 @@ def distances(found: list[tuple[float, Any]], margin: float) -> Check:
     )
 
 
-def collision_verdict(row: dict, check, margin: float) -> dict:
-    """``row`` (a verdict row) with the collision check of its ``q`` by ``check`` (a
-    ``Checker``)."""
-    return distances([check.distance(row["q"])], margin).judge(0, row)
+def collision_check(check, Q, margin: float) -> Check:
+    """The collision check of the answers ``Q`` by ``check`` (a ``Checker``)."""
+    return distances([check.distance(q) for q in Q], margin)
 
 
 def collision_options(values: dict[str, Any]) -> None:

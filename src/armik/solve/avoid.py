@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from armik import reasons
-from armik.constraints.clear import collision_verdict, distances
+from armik.constraints.clear import collision_check
 from armik.constraints.collision import checker
 from armik.frozen import frozen
 from armik.options import Options
@@ -34,7 +34,8 @@ from armik.solve.slide import slide
 from armik.solvers.answers import one
 from armik.status import Status
 from armik.verify.measure import measure
-from armik.verify.verdict import nearest_first, ranked, seed_distance, verdict, verdicts
+from armik.verify.verdict import decide_one, nearest_first, ranked, seed_distance, verdicts
+from armik.verify.verdicts import Verdicts, joined
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
@@ -44,10 +45,10 @@ if TYPE_CHECKING:
 @dataclass(frozen=True)
 class First:
     """The plain solve ``solve`` tries first, done already: a numeric solver's first run or a
-    closed form's nearest verified branch, its verdict row and the thread's CPU time when it
+    closed form's nearest verified branch, its verdict and the thread's CPU time when it
     started (a numeric budget counts it)."""
 
-    row: dict
+    row: Verdicts  # one row
     started: float
 
 
@@ -69,83 +70,87 @@ def solve_avoiding(
         seed = seed.copy()
     if every:  # every answer's verdict, then the collision check of the N of them
         answers = spec.run(arm, target, seed, opts, True)
-        clear = distances([check.distance(q) for q in answers.q], opts.margin)
-        rows = [clear.judge(i, row) for i, row in enumerate(verdicts(arm, answers, target, opts))]
-        return ranked(rows, spec.name, seed, True, t0)
+        found = verdicts(arm, answers, target, opts)
+        found.judge(collision_check(check, answers.q, opts.margin))
+        return ranked(found, spec.name, seed, True, t0)
     if spec.kind == "analytic":
         answers = spec.run(arm, target, seed, opts, True)
-        rows = _first_free(arm, answers, target, opts, check, seed, first)
-        return ranked(rows, spec.name, seed, False, t0)
-    rows = _restarting(arm, spec, target, seed, opts, check, first)
-    return ranked(rows, spec.name, seed, False, t0)
+        found = _first_free(arm, answers, target, opts, check, seed, first)
+        return ranked(found, spec.name, seed, False, t0)
+    found = _restarting(arm, spec, target, seed, opts, check, first)
+    return ranked(found, spec.name, seed, False, t0)
 
 
-def _first_free(arm, answers, target, opts: Options, check, seed, first=None) -> list[dict]:
+def _checked(arm, answers, i: int, target, opts: Options, check) -> Verdicts:
+    """The verdict of answer ``i`` of ``answers`` with its collision check."""
+    found = decide_one(arm, answers.take([i]), measure(arm, answers.q[i], target, opts), opts)
+    return found.judge(collision_check(check, found.q, opts.margin))
+
+
+def _first_free(arm, answers, target, opts: Options, check, seed, first=None) -> Verdicts:
     """Check the branches nearest the seed first (``nearest_first``); stop at the first
     verified, collision-free one. The branch of ``first`` (the plain solve's answer,
-    verified and checked already) keeps its row."""
-    known = first.row if first is not None and "extra" in first.row else None
+    verified and checked already) keeps its verdict."""
+    known = first.row if first is not None and first.row.extra is not None else None
     rows = []
     for i in nearest_first(arm, answers, seed):
-        q = answers.q[i]
-        if known is not None and np.array_equal(q, known["q"]):
+        if known is not None and np.array_equal(answers.q[i], known.q[0]):
             row, known = known, None
         else:
-            row = verdict(answers, i, measure(arm, q, target, opts))
-            row = collision_verdict(row, check, opts.margin)
+            row = _checked(arm, answers, i, target, opts, check)
         rows.append(row)
-        if row["success"]:
-            return [row]
-    return rows
+        if row.succeeded(0):
+            return row
+    return joined(rows, arm.dof) if rows else verdicts(arm, answers, target, opts)
 
 
 def _restarting(
     arm, spec, target, seed: np.ndarray, opts: Options, check, first: First | None
-) -> list[dict]:
+) -> Verdicts:
     """Run the numeric solver, from the seed (or go on from its ``first`` run) then from
     random configurations, until its verified answer is collision-free or the budget is
     spent; the rows of every run."""
     start_cpu = time.thread_time() if first is None else first.started
     rng = np.random.default_rng(opts.seed)
     used_iterations = used_restarts = 0
-    rows: list[dict] = []
+    rows: list[Verdicts] = []
     q_start = seed
     for run in range(opts.max_restarts + 1):
         if run == 0 and first is not None:
             row = first.row
-            if "extra" not in row:  # a failure: its distance measured here, as below
-                row = collision_verdict(row, check, opts.margin)
+            if row.extra is None:  # a failure: its distance measured here, as below
+                row.judge(collision_check(check, row.q, opts.margin))
         else:
             left = _left(opts, start_cpu, used_iterations, used_restarts)
             if left is None:
                 break
             answers = spec.run(arm, target, q_start, left, False)
-            best = min(
-                (
-                    verdict(answers, i, measure(arm, answers.q[i], target, left))
-                    for i in range(len(answers))
-                ),
-                key=lambda r: (not r["success"], seed_distance(r["q"], seed)),
-            )
-            row = collision_verdict(best, check, opts.margin)
-        used_iterations += row["iterations"]
-        used_restarts += row["restarts"] + (run > 0)
-        row["iterations"], row["restarts"] = used_iterations, used_restarts
+            found = verdicts(arm, answers, target, left)
+            if len(found) > 1:
+                best = min(
+                    range(len(found)),
+                    key=lambda i: (not found.succeeded(i), seed_distance(answers.q[i], seed)),
+                )
+                found = found.take([best])
+            row = found.judge(collision_check(check, found.q, opts.margin))
+        used_iterations += int(row.answers.iterations[0])
+        used_restarts += int(row.answers.restarts[0]) + (run > 0)
+        row = row.recounted(used_iterations, used_restarts)
         rows.append(row)
-        if row["success"] or row["status"] is not Status.COLLISION:
+        if row.succeeded(0) or int(row.status[0]) != Status.COLLISION.code:
             break  # free, or the solver itself found nothing within what was left
         if run == 0 and (SLIDE is True or (SLIDE == "paths" and ON_PATH.get())):
             # the first answer only: it starts from the seed (a path's previous answer);
             # a restart's lands anywhere, where sliding buys no continuity
             slid = _slid(arm, target, row, opts, check, start_cpu, used_iterations)
             if slid is not None:
-                used_iterations = slid["iterations"]
-                slid["restarts"] = used_restarts
+                used_iterations = int(slid.answers.iterations[0])
+                slid = slid.recounted(used_iterations, used_restarts)
                 rows.append(slid)
-                if slid["success"]:
+                if slid.succeeded(0):
                     break
         q_start = arm.random_q(rng)
-    return rows
+    return joined(rows, arm.dof)
 
 
 # Slide a colliding answer out of contact before restarting (solve/slide.py): on paths
@@ -156,9 +161,9 @@ ON_PATH: contextvars.ContextVar[bool] = contextvars.ContextVar("armik_on_path", 
 SLIDE_STEPS = 30  # steps of one slide, at most
 
 
-def _slid(arm, target, row: dict, opts: Options, check, start_cpu: float, used: int):
-    """The verdict row of ``row``'s answer slid out of contact, within what is left of
-    the budget; None when nothing is left."""
+def _slid(arm, target, row: Verdicts, opts: Options, check, start_cpu: float, used: int):
+    """The verdict of ``row``'s answer slid out of contact, within what is left of the
+    budget; None when nothing is left."""
     steps = SLIDE_STEPS
     if opts.iteration_budget is not None:
         steps = min(steps, opts.iteration_budget - used)
@@ -166,10 +171,9 @@ def _slid(arm, target, row: dict, opts: Options, check, start_cpu: float, used: 
         return None
     deadline = math.inf if opts.iteration_budget is not None else start_cpu + opts.timeout
     tol = min(opts.tol_position, opts.tol_orientation) * 0.1
-    q, taken = slide(arm, target, row["q"], check, opts.margin, steps, deadline, tol)
+    q, taken = slide(arm, target, row.q[0], check, opts.margin, steps, deadline, tol)
     slid = one(q, Status.CONVERGED, reasons.SLID, iterations=used + taken)
-    out = verdict(slid, 0, measure(arm, q, target, opts))
-    return collision_verdict(out, check, opts.margin)
+    return _checked(arm, slid, 0, target, opts, check)
 
 
 def _left(opts: Options, start_cpu: float, iterations: int, restarts: int) -> Options | None:

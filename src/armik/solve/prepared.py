@@ -16,7 +16,7 @@ with a region (bounds, a cone) on a numeric solver is measured by ``armik.verify
 as there. The result is the one the general path builds, field for field
 (tests/solve/test_prepared.py); its reason text is written on first read. The verdict
 is ``armik.verify.verdict``'s: ``claimed_verdict`` for a runner's claimed answers from the
-compiled measure, ``verdict`` for the rest.
+compiled measure, ``decide`` for the rest.
 
 Anything else (another input form, a seed outside the limits, an answer the check refuses,
 a claim other than converged, collisions asked for) goes the general way:
@@ -43,16 +43,10 @@ from armik.solvers.answers import Answers
 from armik.solvers.claims import Claim, claim
 from armik.status import Status
 from armik.targets.pose import parse_target
-from armik.verify.measure import Measure, measures_of
+from armik.verify.measure import BatchMeasure, measures_of
 from armik.verify.region import region_error
-from armik.verify.verdict import (
-    claimed_verdict,
-    failure_rank,
-    finish,
-    number_repeated_branches,
-    seed_distance,
-    verdict,
-)
+from armik.verify.verdict import claimed_verdict, decide, finish, numbered, seed_distance
+from armik.verify.verdicts import failure_rank
 
 _FLOAT = np.dtype(float)
 _SE3 = pin.SE3
@@ -279,14 +273,15 @@ class Plan:
                     else:  # outside the limits
                         failed.append((_rank_key(fields), fields))
                     continue
-            m = Measure(
-                position_error=pos,
-                orientation_error=ori if self.measure_rot else None,
-                violations=[] if inside > 0.0 else self.arm.limit_violations(q),
-                tol_position=self.tol_p,
-                tol_orientation=self.tol_r,
+            m = BatchMeasure(
+                np.array([pos]),
+                np.array([ori if rot else np.nan]),
+                np.array([inside > 0.0]),
+                tol_p,
+                tol_r,
+                rot,
             )
-            fields = {**verdict(got, i, m), "solver": self.solver}
+            fields = {**decide(arm, got.take([i]), m, opts).fields(0), "solver": solver}
             if fields["success"]:  # claimed unreached (a boundary case), verified all the same
                 verified.append(fields)
                 unclaimed = True
@@ -300,10 +295,10 @@ class Plan:
         failed.sort(key=lambda pair: pair[0])
         if failed:
             verified += [fields for _, fields in failed]
-        number_repeated_branches(verified)
+        labels = numbered([fields["branch"] for fields in verified])
         elapsed = time.perf_counter() - t0
-        for fields in verified:
-            fields["time"] = elapsed
+        for fields, label in zip(verified, labels):
+            fields["time"], fields["branch"] = elapsed, label
         return IKResult._from_rows(verified)
 
     def _placements(self, Q: np.ndarray) -> np.ndarray:

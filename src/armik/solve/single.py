@@ -32,6 +32,7 @@ from armik.solvers.answers import Answers, one, stacked
 from armik.status import Status
 from armik.targets.pose import parse_target
 from armik.verify.verdict import finish
+from armik.verify.verdicts import Verdicts
 
 
 def solve(
@@ -320,10 +321,11 @@ def _clear_at_once(arm, target, q0, solver, opts: Options, key, seed, t0: float)
     key = None if key is None else (key, "without collisions")  # the plan's, apart
     r = _stages(arm, target, q0, solver, plain, key, seed, False, time.perf_counter())
     if not r.success:
-        return None, First(_row(r, math.nan, None, opts.margin), started)
+        return None, First(Verdicts.of_result(r, opts.tol_position, opts.tol_orientation), started)
     distance, pair = checker(arm, opts.obstacles, opts.self_collision).distance(r.q)
     if distance < opts.margin:
-        return None, First(_row(r, distance, pair, opts.margin), started)
+        row = Verdicts.of_result(r, opts.tol_position, opts.tol_orientation)
+        return None, First(row.judge(distances([(distance, pair)], opts.margin)), started)
     clear = dataclasses.replace(
         r,
         reason=reasons.and_clear(r.reason, pair, distance, opts.margin),
@@ -331,20 +333,6 @@ def _clear_at_once(arm, target, q0, solver, opts: Options, key, seed, t0: float)
         extra={"min_distance": distance, "closest_pair": pair},
     )
     return clear, None
-
-
-_ROW = tuple(
-    f.name for f in dataclasses.fields(IKResult) if f.name not in ("solver", "time", "extra")
-)
-
-
-def _row(r: IKResult, distance: float, pair, margin: float) -> dict:
-    """The verdict row of a plain solve's result with its collision check (a failure's
-    distance is measured when the search needs it)."""
-    row = {name: getattr(r, name) for name in _ROW}
-    if math.isnan(distance):
-        return row
-    return distances([(distance, pair)], margin).judge(0, row)
 
 
 def _general(arm, target, q0, solver, opts: Options, all_solutions: bool, t0: float, first=None):

@@ -27,7 +27,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik import reasons
-from armik.constraints.base import Constraint, box_of, judged, satisfied
+from armik.constraints.base import Constraint, box_of, satisfied
 from armik.constraints.hold import Hold
 from armik.constraints.limits import JointLimits
 from armik.errors import OptionError, TargetError
@@ -38,8 +38,10 @@ from armik.problem.scores import Posture, Score
 from armik.problem.tasks import Axis, LookAt, Task, TaskError
 from armik.result import IKResult
 from armik.solve.nullspace import descend
+from armik.solvers.answers import one
 from armik.status import Status
 from armik.verify.verdict import status_of
+from armik.verify.verdicts import Verdicts
 
 SOLVER = "tasks"
 LAMBDA0 = 1e-3  # the damping's start, relative to the largest diagonal of J^T J
@@ -377,29 +379,24 @@ def _result(arm, tasks, q, errors, opts: Options, iterations, restarts, t0, chec
     # constraints' checks
     within = arm.within_limits(q)
     status = status_of(Status.NOT_CONVERGED, all(e.within for e in errors) and within, within)
-    success = status is Status.CONVERGED
     positions = [e.position for e in errors if e.position is not None]
     orientations = [e.orientation for e in errors if e.orientation is not None]
-    if success:
+    if status is Status.CONVERGED:
         reason = reasons.tasks_hold(opts.tol_position, opts.tol_orientation, restarts)
     else:
         reason = reasons.tasks_missed(restarts, iterations, _describe(tasks, errors))
-    row = judged(
-        arm,
-        checked,
-        q,
-        {"success": success, "status": status, "reason": reason, "extra": {"task_errors": errors}},
+    found = Verdicts(
+        answers=one(q, Status.NOT_CONVERGED, reason, iterations=iterations, restarts=restarts),
+        status=np.array([status.code], dtype=np.int8),
+        position_error=np.array([max(positions, default=0.0)]),
+        orientation_error=np.array([max(orientations) if orientations else math.nan]),
+        rotation=bool(orientations),
+        words=[reason],
+        tol_position=opts.tol_position,
+        tol_orientation=opts.tol_orientation,
+        extra=[{"task_errors": errors}],
     )
-    return IKResult(
-        q=q,
-        solver=SOLVER,
-        iterations=iterations,
-        position_error=max(positions, default=0.0),
-        orientation_error=max(orientations) if orientations else None,
-        time=time.perf_counter() - t0,
-        restarts=restarts,
-        **row,
-    )
+    return found.checked(arm, checked).result(0, SOLVER, time.perf_counter() - t0)
 
 
 def task_problems(targets: object) -> list[Problem] | None:

@@ -59,6 +59,21 @@ class Answers:
     def take(self, rows: Sequence[int]) -> Answers:
         """These rows, in this order."""
         index = list(rows)
+        if len(index) == 1:  # one row: views of the columns (a verdict's usual case)
+            i = index[0]
+            if i < 0:
+                i += len(self)
+            one = slice(i, i + 1)
+            return frozen(
+                Answers,
+                q=self.q[one],
+                claim=self.claim[one],
+                iterations=self.iterations[one],
+                restarts=self.restarts[one],
+                branch=None if self.branch is None else (self.branch[i],),
+                singular=None if self.singular is None else self.singular[one],
+                reasons=None if self.reasons is None else (self.reasons[i],),
+            )
         return Answers(
             q=self.q[index],
             claim=self.claim[index],

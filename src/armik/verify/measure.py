@@ -12,6 +12,7 @@ None (NaN in ``measure_batch``).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -130,12 +131,10 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: Options) -> Meas
 
 def measure_many(
     arm: ArmModel, qs: list[np.ndarray], target: Target, opts: Options
-) -> list[Measure]:
-    """``[measure(arm, q, target, opts) for q in qs]`` (the same numbers): Pinocchio FK per
-    answer, the errors of all of them in one compiled call."""
+) -> BatchMeasure:
+    """The numbers of ``[measure(arm, q, target, opts) for q in qs]`` (two or more), as
+    arrays: Pinocchio FK per answer, the errors of all of them in one compiled call."""
     n = len(qs)
-    if n < 2:
-        return [measure(arm, q, target, opts) for q in qs]
     direct = arm.model.nq == arm.dof
     rows = [q if direct and type(q) is np.ndarray and q.dtype == _FLOAT else arm.to_pin(q)
             for q in qs]  # fmt: skip
@@ -145,19 +144,16 @@ def measure_many(
     p_t = np.empty((n, 3))
     p_t[:] = target.position
     out, measure_rot = _errors(arm, R_w, p_w, R_t, p_t, opts, target.rotation is None)
-    checks = []
-    for q, (pos, ori) in zip(qs, out.tolist()):
-        c = frozen(
-            Measure,
-            position_error=pos,
-            orientation_error=ori if measure_rot else None,
-            violations=[] if arm._within(q.tolist()) else arm.limit_violations(q),
-            tol_position=opts.tol_position,
-            tol_orientation=opts.tol_orientation,
-            region=opts.region,
-        )
-        checks.append(c)
-    return checks
+    within = np.array([arm._within(q.tolist()) for q in qs], dtype=np.bool_)
+    return BatchMeasure(
+        out[:, 0],
+        out[:, 1] if measure_rot else np.full(n, math.nan),
+        within,
+        opts.tol_position,
+        opts.tol_orientation,
+        measure_rot,
+        opts.region,
+    )
 
 
 def _c_float(a: np.ndarray) -> np.ndarray:
@@ -180,6 +176,25 @@ class BatchMeasure:
     within_limits: np.ndarray
     tol_position: float
     tol_orientation: float
+    rotation: bool = True  # the orientation is measured (else NaN throughout)
+    region: bool = False  # the errors are the distances outside the target's region
+
+    @classmethod
+    def of(cls, measures: list[Measure]) -> BatchMeasure:
+        """The measures of one answer each, as arrays (at least one)."""
+        first = measures[0]
+        rotation = first.orientation_error is not None
+        return cls(
+            np.array([m.position_error for m in measures], dtype=float),
+            np.array(
+                [m.orientation_error if rotation else math.nan for m in measures], dtype=float
+            ),
+            np.array([not m.violations for m in measures], dtype=np.bool_),
+            first.tol_position,
+            first.tol_orientation,
+            rotation,
+            first.region,
+        )
 
     @property
     def pose_ok(self) -> np.ndarray:
@@ -255,8 +270,10 @@ def measure_batch(
         R_t = np.broadcast_to(_EYE, (n, 3, 3))
     R_t = np.array(R_t, dtype=float, order="C")
     p_t = np.array(targets.positions, dtype=float, order="C")
-    out, _ = _errors(arm, R_w, p_w, R_t, p_t, opts, targets.position_only)
+    out, rotation = _errors(arm, R_w, p_w, R_t, p_t, opts, targets.position_only)
     ch = arm.kernel_chain.chain
     inside = np.empty(n, dtype=np.bool_)
     within_limits(Q, ch.lower, ch.upper, LIMIT_TOL, inside)
-    return BatchMeasure(out[:, 0], out[:, 1], inside, opts.tol_position, opts.tol_orientation)
+    return BatchMeasure(
+        out[:, 0], out[:, 1], inside, opts.tol_position, opts.tol_orientation, rotation, opts.region
+    )

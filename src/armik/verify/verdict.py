@@ -1,10 +1,10 @@
 """The verdict every answer gets: from a solver's claims and their measures to ranked,
 verified results. Success only when the measure holds, whatever the solver claimed.
 
-Single solves (``finish``), prepared solves (``armik.solve.prepared``, through
-``claimed_verdict``, ``verdict`` and ``failure_rank``) and batches (``verdict_batch``) all
-decide here by one ``RULE`` (``status_of`` one answer, ``status_codes`` N), in the words of
-``armik.reasons``.
+N answers and their measure become ``Verdicts`` (``decide``) by one ``RULE``, in the words
+of ``armik.reasons``: single solves (``finish``), batches (``verdict_batch``) and the
+prepared solves' answers the compiled measure does not decide alone. A prepared solve's
+claimed answer is the one-row case on plain floats (``claimed_verdict``).
 """
 
 from __future__ import annotations
@@ -17,11 +17,13 @@ import numpy as np
 
 from armik import reasons
 from armik.batch_result import BatchResult
+from armik.frozen import frozen
 from armik.result import IKResult
 from armik.solvers.answers import Answers
 from armik.solvers.claims import Claim
-from armik.status import FAILURE_RANK, Status
-from armik.verify.measure import Measure, measure, measure_batch, measure_many
+from armik.status import Status
+from armik.verify.measure import BatchMeasure, Measure, measure, measure_batch, measure_many
+from armik.verify.verdicts import Verdicts
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
@@ -31,6 +33,7 @@ if TYPE_CHECKING:
 _CONVERGED = Status.CONVERGED.code
 _NOT_CONVERGED = Status.NOT_CONVERGED.code
 _JOINT_LIMITS = Status.JOINT_LIMITS.code
+_UNREACHABLE = Status.UNREACHABLE.code
 
 # The verdict's one rule, for one answer and for N, indexed [claimed converged, measure
 # holds, within the limits]: a measure that holds is a success whatever the solver
@@ -40,6 +43,8 @@ RULE = np.full((2, 2, 2), -1, dtype=np.int8)
 RULE[:, 1, :] = _CONVERGED
 RULE[1, 0, 0] = _JOINT_LIMITS
 RULE[1, 0, 1] = _NOT_CONVERGED
+_RULE = RULE.tolist()  # nested lists: the rule for a few answers, indexed without a call
+_FEW = 32  # answers decided row by row (``decide``); more by array calls
 # one answer: nested lists of statuses (None: the claim stands), indexed without a call
 _DECIDED = [[[None if c < 0 else Status.from_code(c) for c in w] for w in o] for o in RULE.tolist()]
 
@@ -75,59 +80,155 @@ def finish(
     """Verify ``answers`` (all of them, or nearest-first up to the first success), rank
     them best first and build the results; ``t0`` is the call's ``perf_counter`` start."""
     if all_solutions:
-        rows = verdicts(arm, answers, target, opts)
+        found = verdicts(arm, answers, target, opts)
     else:
-        rows = _first_verified(arm, answers, target, opts, seed)
-    return ranked(rows, solver, seed, all_solutions, t0)
+        found = first_verified(arm, answers, target, opts, seed)
+    return ranked(found, solver, seed, all_solutions, t0)
 
 
-def verdicts(arm: ArmModel, answers: Answers, target, opts: Options) -> list[dict]:
-    """The verdict row of every answer, measured together (``measure_many``)."""
-    measures = measure_many(arm, list(answers.q), target, opts)
-    return [verdict(answers, i, m) for i, m in enumerate(measures)]
+def decide(
+    arm: ArmModel,
+    answers: Answers,
+    m: BatchMeasure,
+    opts: Options,
+    positions: np.ndarray | None = None,
+) -> Verdicts:
+    """The verdict of N answers from their measure ``m``, by the ``RULE``: a success only
+    where the measure holds. A failure's words are the solver's where it gave some, else
+    written from its claim (``positions``: the targets', naming an unreachable one's
+    distance)."""
+    n = len(answers)
+    claim = answers.claim
+    ok = m.ok
+    if n <= _FEW:  # a solve's answers: the rule row by row costs less than array calls
+        claims = claim.tolist()
+        rows = zip(claims, ok.tolist(), m.within_limits.tolist())
+        codes = [_RULE[c == _CONVERGED][o][w] for c, o, w in rows]
+        status = np.array([c if d < 0 else d for c, d in zip(claims, codes)], dtype=np.int8)
+    else:
+        status = status_codes(claim, ok, m.within_limits)
+    out = Verdicts(
+        answers=answers,
+        status=status,
+        position_error=m.position_error,
+        orientation_error=m.orientation_error,
+        rotation=m.rotation,
+        words=[None] * n,
+        tol_position=m.tol_position,
+        tol_orientation=m.tol_orientation,
+        region=m.region,
+    )
+    for i in np.flatnonzero(~ok).tolist():  # the rare failures get their words
+        out.words[i] = _failure_words(arm, out, m, i, opts, positions)
+    return out
 
 
-def ranked(rows: list[dict], solver: str, seed, all_solutions: bool, t0: float):
-    """The results of verdict rows, best first (the first only unless ``all_solutions``)."""
-    if len(rows) > 1:
-        rows.sort(key=lambda r: _rank(r, seed))
-    rows = rows if all_solutions else rows[:1]
-    if all_solutions:
-        number_repeated_branches(rows)
-    elapsed = time.perf_counter() - t0
-    for row in rows:
-        row["solver"] = solver
-        row["time"] = elapsed
-    return [IKResult._checked(row) for row in rows]
+def decide_one(arm: ArmModel, answers: Answers, m: Measure, opts: Options) -> Verdicts:
+    """``decide`` for one answer and its ``Measure``, on plain floats (a solve's usual
+    case: the verdicts of the answers a search verifies one by one)."""
+    claim = answers.status(0)
+    ok = m.ok
+    status = status_of(claim, ok, not m.violations)
+    ori = m.orientation_error
+    out = frozen(
+        Verdicts,
+        answers=answers,
+        status=np.array([status.code], dtype=np.int8),
+        position_error=np.array([m.position_error]),
+        orientation_error=np.array([math.nan if ori is None else ori]),
+        rotation=ori is not None,
+        words=[None],
+        tol_position=m.tol_position,
+        tol_orientation=m.tol_orientation,
+        region=m.region,
+        extra=None,
+    )
+    if ok:  # written now: the result of one answer reads it
+        claimed = claim is Status.CONVERGED
+        out.words[0] = reasons.verified(answers.reason(0) if claimed else None, m.describe())
+    else:
+        if claim is not Status.CONVERGED:
+            out.words[0] = answers.reason(0)
+        elif m.violations:
+            out.words[0] = reasons.outside_limits(m.violations)
+        else:
+            out.words[0] = reasons.check_failed(m.describe())
+    return out
 
 
-def number_repeated_branches(rows: list[dict]) -> None:
-    """Make the branch labels of ``solve_all``'s rows distinct, in their order: a label
-    met again gets "#2", "#3" (a search family has up to 16 solutions and 8 labels)."""
-    labels = [row.get("branch") for row in rows]
-    if len(set(labels)) == len(labels):  # distinct already: the closed forms' usual case
-        return
-    seen: dict[str, int] = {}
-    for row, label in zip(rows, labels):
-        if label is None:
-            continue
-        count = seen.get(label, 0) + 1
-        seen[label] = count
-        if count > 1:
-            row["branch"] = f"{label}#{count}"
+def _failure_words(arm, v: Verdicts, m: BatchMeasure, i: int, opts: Options, positions) -> str:
+    answers = v.answers
+    code = int(answers.claim[i])
+    if code == _CONVERGED:
+        if not m.within_limits[i]:
+            return limits_reason(arm, answers.q[i])
+        return reasons.check_failed(v.measured(i))
+    if answers.reasons is not None:
+        return answers.reasons[i]
+    if code == _UNREACHABLE and positions is not None:
+        distance = math.dist(positions[i].tolist(), arm.first_joint_origin.tolist())
+        return reasons.unreachable(distance, arm.reach)
+    if code == _NOT_CONVERGED:
+        restarts = f"at most {opts.max_restarts} restarts"
+        why = reasons.budget(opts.timeout, opts.iteration_budget, restarts)
+        return reasons.not_converged(why, v.measured(i))
+    return reasons.claimed(Status.from_code(code).value, v.measured(i))
 
 
-def _first_verified(arm: ArmModel, answers: Answers, target, opts: Options, seed) -> list:
-    """Verify answers nearest-first (``nearest_first``) and stop at the first success: it
-    is the nearest verified answer."""
+def verdicts(arm: ArmModel, answers: Answers, target, opts: Options) -> Verdicts:
+    """The verdict of every answer, measured together (``measure_many``)."""
+    if not len(answers):
+        none = np.empty(0)
+        m = BatchMeasure(none, none, none.astype(bool), opts.tol_position, opts.tol_orientation)
+        return decide(arm, answers, m, opts)
     if len(answers) == 1:
-        return [verdict(answers, 0, measure(arm, answers.q[0], target, opts))]
-    rows = []
+        return decide_one(arm, answers, measure(arm, answers.q[0], target, opts), opts)
+    return decide(arm, answers, measure_many(arm, list(answers.q), target, opts), opts)
+
+
+def ranked(found: Verdicts, solver: str, seed, all_solutions: bool, t0: float):
+    """The results of verdicts, best first (the first only unless ``all_solutions``)."""
+    n = len(found)
+    if n < 2:
+        return found.results(range(n), solver, time.perf_counter() - t0)
+    order = sorted(range(n), key=lambda i: found.rank(i, seed))
+    if not all_solutions:
+        return found.results(order[:1], solver, time.perf_counter() - t0)
+    labels = numbered([found.answers.label(i) for i in order])
+    return found.results(order, solver, time.perf_counter() - t0, labels)
+
+
+def numbered(labels: list[str | None]) -> list[str | None]:
+    """``solve_all``'s branch labels made distinct, in their order: a label met again gets
+    "#2", "#3" (a search family has up to 16 solutions and 8 labels)."""
+    if len(set(labels)) == len(labels):  # distinct already: the closed forms' usual case
+        return labels
+    seen: dict[str, int] = {}
+    out = []
+    for label in labels:
+        if label is not None:
+            count = seen.get(label, 0) + 1
+            seen[label] = count
+            label = f"{label}#{count}" if count > 1 else label
+        out.append(label)
+    return out
+
+
+def first_verified(arm: ArmModel, answers: Answers, target, opts: Options, seed) -> Verdicts:
+    """Verify answers nearest-first (``nearest_first``) and stop at the first success: it
+    is the nearest verified answer. The verdicts of the answers verified."""
+    if len(answers) == 1:
+        return decide_one(arm, answers, measure(arm, answers.q[0], target, opts), opts)
+    order, measures = [], []
     for i in nearest_first(arm, answers, seed):
-        rows.append(verdict(answers, i, measure(arm, answers.q[i], target, opts)))
-        if rows[-1]["success"]:
-            return rows[-1:]
-    return rows
+        m = measure(arm, answers.q[i], target, opts)
+        if m.ok:  # a measure that holds is a success (``RULE``): the nearest one
+            return decide_one(arm, answers.take([i]), m, opts)
+        order.append(i)
+        measures.append(m)
+    if not order:
+        return verdicts(arm, answers, target, opts)
+    return decide(arm, answers.take(order), BatchMeasure.of(measures), opts)
 
 
 def nearest_first(arm: ArmModel, answers: Answers, seed: np.ndarray) -> list[int]:
@@ -163,34 +264,6 @@ def success_reason(claim_reason, claim_args, pos, ori, tol_p, tol_r, region=Fals
 def limits_reason(arm: ArmModel, q: np.ndarray) -> str:
     """The reason of a claimed answer outside the joint limits."""
     return reasons.outside_limits(arm.limit_violations(q))
-
-
-def verdict(answers: Answers, i: int, m: Measure) -> dict:
-    """The row of answer ``i`` from its measure: success only when the measure holds."""
-    claim = answers.status(i)
-    claimed = claim is Status.CONVERGED
-    status = status_of(claim, m.ok, not m.violations)
-    success = status is Status.CONVERGED
-    if success:
-        reason = reasons.verified(answers.reason(i) if claimed else None, m.describe())
-    elif not claimed:
-        reason = answers.reason(i)
-    elif status is Status.JOINT_LIMITS:
-        reason = reasons.outside_limits(m.violations)
-    else:
-        reason = reasons.check_failed(m.describe())
-    return dict(
-        q=answers.q[i],
-        success=success,
-        status=status,
-        reason=reason,
-        iterations=int(answers.iterations[i]),
-        position_error=m.position_error,
-        orientation_error=m.orientation_error,
-        branch=answers.label(i),
-        singular=answers.is_singular(i),
-        restarts=int(answers.restarts[i]),
-    )
 
 
 def claimed_verdict(
@@ -238,53 +311,23 @@ def _claimed(got: Claim, success: bool, status: Status, pos, ori, reason, args) 
     )
 
 
-def failure_rank(status: Status, position_error: float, orientation_error) -> tuple:
-    """How failed results are ranked among themselves: by status, then by their errors."""
-    return (FAILURE_RANK[status], position_error + (orientation_error or 0.0))
-
-
-def _rank(row: dict, seed: np.ndarray) -> tuple:
-    if row["success"]:
-        return (0, seed_distance(row["q"], seed))
-    return (1, *failure_rank(row["status"], row["position_error"], row["orientation_error"]))
-
-
 def verdict_batch(
     arm: ArmModel, answers: Answers, targets: TargetBatch, opts: Options
 ) -> BatchResult:
-    """The verdict of a chunk of answers (one a target), by the ``RULE`` that decides one
-    (``verdict``); the rare failures get their reasons row by row."""
+    """The verdict of a chunk of answers (one a target), as every verdict (``decide``),
+    in a ``BatchResult``'s columns; a success's words are written when read."""
     n = len(targets)
     part = BatchResult.empty(n, arm.dof, solver="", time=0.0)
     part.q[:] = answers.q
+    m = measure_batch(arm, part.q, targets, opts)
+    found = decide(arm, answers, m, opts, targets.positions)
     part.iterations[:] = answers.iterations
     part.restarts[:] = answers.restarts
-    claim = np.asarray(answers.claim, dtype=np.int8)
-    m = measure_batch(arm, part.q, targets, opts)
-    part.position_error[:] = m.position_error
-    part.orientation_error[:] = m.orientation_error
-    ok = m.ok
-    claimed = claim == _CONVERGED
-    part.success[:] = ok
-    part.status_code[:] = status_codes(claim, ok, m.within_limits)
-    for i in np.flatnonzero(~ok).tolist():  # the rare failures get their reasons
-        errors = reasons.measured(
-            part.position_error[i],
-            part.orientation_error[i],
-            opts.tol_position,
-            opts.tol_orientation,
-        )
-        if claimed[i] and not m.within_limits[i]:
-            part.reasons[i] = limits_reason(arm, part.q[i])
-        elif claimed[i]:
-            part.reasons[i] = reasons.check_failed(errors)
-        elif claim[i] == Status.UNREACHABLE.code:
-            distance = math.dist(targets.positions[i].tolist(), arm.first_joint_origin.tolist())
-            part.reasons[i] = reasons.unreachable(distance, arm.reach)
-        elif claim[i] == Status.NOT_CONVERGED.code:
-            restarts = f"at most {opts.max_restarts} restarts"
-            why = reasons.budget(opts.timeout, opts.iteration_budget, restarts)
-            part.reasons[i] = reasons.not_converged(why, errors)
-        else:
-            part.reasons[i] = reasons.claimed(Status.from_code(claim[i]).value, errors)
+    part.position_error[:] = found.position_error
+    part.orientation_error[:] = found.orientation_error
+    part.status_code[:] = found.status
+    success = found.success
+    part.success[:] = success
+    for i in np.flatnonzero(~success).tolist():
+        part.reasons[i] = found.reason(i)
     return part

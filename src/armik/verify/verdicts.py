@@ -1,0 +1,245 @@
+"""``Verdicts``: N answers after verification, as arrays. The solver's ``Answers`` with
+the verdict's status of each row, its measured errors and its words; each ``IKResult``
+is a row of them (``result``), a ``BatchResult`` their columns.
+
+A constraint's ``Check`` of the N rows applies to them at once (``judge``): a success
+stays one only where the check holds. A success's words are written when read
+(``reason``): they repeat its errors, which a loop of solves rarely reads.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from armik import reasons
+from armik.constraints.base import Check, Constraint
+from armik.result import IKResult
+from armik.solvers.answers import Answers, one, stacked
+from armik.status import FAILURE_RANK, Status
+
+if TYPE_CHECKING:
+    from armik.model.arm_model import ArmModel
+
+_CONVERGED = Status.CONVERGED.code
+_STATUSES = {s.code: s for s in Status}
+
+
+@dataclass(eq=False)
+class Verdicts:
+    """N verified answers: the rows of ``answers`` with the verdict's columns."""
+
+    answers: Answers
+    status: np.ndarray  # (N,) int8: each row's Status code, the verdict's (writable)
+    position_error: np.ndarray  # (N,) m
+    orientation_error: np.ndarray  # (N,) rad; NaN throughout where not measured
+    rotation: bool  # the orientation is measured
+    words: list[str | None]  # each row's reason; None: a success's, written on read
+    tol_position: float
+    tol_orientation: float
+    region: bool = False  # the errors are the distances outside the target's region
+    extra: list[dict] | None = None  # per row, what its result keeps (a collision check)
+
+    def __len__(self) -> int:
+        return len(self.words)
+
+    @property
+    def q(self) -> np.ndarray:
+        return self.answers.q
+
+    @property
+    def success(self) -> np.ndarray:
+        """(N,) bool: verified, every check holding."""
+        return self.status == _CONVERGED
+
+    def succeeded(self, i: int) -> bool:
+        return self.status.item(i) == _CONVERGED
+
+    def measured(self, i: int) -> str:
+        """Row i's errors in words."""
+        ori = self.orientation_error.item(i) if self.rotation else None
+        text = reasons.measured(
+            self.position_error.item(i), ori, self.tol_position, self.tol_orientation
+        )
+        return reasons.outside_region(text) if self.region else text
+
+    def reason(self, i: int) -> str:
+        """Why row i ended as it did: a failure's words, or a success's claim (the solver's
+        words where it claimed it) and errors."""
+        text = self.words[i]
+        if text is None:
+            claimed = self.answers.claimed(i)
+            text = reasons.verified(self.answers.reason(i) if claimed else None, self.measured(i))
+            self.words[i] = text
+        return text
+
+    def judge(self, check: Check) -> Verdicts:
+        """These rows with ``check`` (of the same N answers) applied, in place: a success
+        stays one only where the check holds; what each row keeps goes to its ``extra``."""
+        n = len(self)
+        if self.extra is None:
+            self.extra = [{} for _ in range(n)]
+        for i in range(n):
+            more = check.extra(i)
+            if more:
+                self.extra[i].update(more)
+            if not self.succeeded(i):
+                continue
+            if check.ok[i]:
+                self.words[i] = check.holds(i, self.reason(i))
+            else:
+                self.status[i] = check.status.code
+                self.words[i] = check.why(i)
+        return self
+
+    def checked(self, arm: ArmModel, constraints: Sequence[Constraint]) -> Verdicts:
+        """These rows with every constraint's check of them applied (``judge``)."""
+        for c in constraints:
+            self.judge(c.check(arm, self.answers.q))
+        return self
+
+    def recounted(self, iterations: int, restarts: int) -> Verdicts:
+        """These rows with the counts of the whole search that found them."""
+        n = len(self)
+        counts = replace(
+            self.answers,
+            iterations=np.full(n, iterations, dtype=np.int64),
+            restarts=np.full(n, restarts, dtype=np.int64),
+        )
+        return replace(self, answers=counts)
+
+    def rank(self, i: int, seed: np.ndarray) -> tuple:
+        """Row i's place among the rows: successes first, nearest ``seed``; then failures
+        by ``failure_rank``."""
+        if self.succeeded(i):
+            d = self.answers.q[i] - seed
+            return (0, float(np.sqrt(d.dot(d))))
+        ori = float(self.orientation_error[i]) if self.rotation else None
+        status = Status.from_code(int(self.status[i]))
+        return (1, *failure_rank(status, float(self.position_error[i]), ori))
+
+    def fields(self, i: int, branch: str | None = None) -> dict:
+        """Row i as the fields of an ``IKResult`` but ``solver`` and ``time`` (``q`` a
+        read-only copy; ``branch``: a label in place of the row's own)."""
+        a = self.answers
+        q = np.array(a.q[i], dtype=float)
+        q.flags.writeable = False
+        code = self.status.item(i)  # plain Python values: ``item`` reads them directly
+        return {
+            "q": q,
+            "success": code == _CONVERGED,
+            "status": _STATUSES[code],
+            "reason": self.reason(i),
+            "iterations": a.iterations.item(i),
+            "position_error": self.position_error.item(i),
+            "orientation_error": self.orientation_error.item(i) if self.rotation else None,
+            "branch": a.label(i) if branch is None else branch,
+            "singular": a.is_singular(i),
+            "restarts": a.restarts.item(i),
+        }
+
+    def results(
+        self, rows: Sequence[int], solver: str, time: float, labels: Sequence | None = None
+    ) -> list[IKResult]:
+        """These rows as results, in this order (``labels``: branch labels in place of the
+        rows' own). The columns are read once: a ``solve_all``'s cost is per row."""
+        a = self.answers
+        codes = self.status.tolist()
+        pos, its, rss = self.position_error.tolist(), a.iterations.tolist(), a.restarts.tolist()
+        ori = self.orientation_error.tolist() if self.rotation else None
+        own = a.branch or (None,) * len(codes)
+        flags = (False,) * len(codes) if a.singular is None else a.singular.tolist()
+        extra = self.extra
+        out = []
+        for k, i in enumerate(rows):
+            q = np.array(a.q[i], dtype=float)
+            q.flags.writeable = False
+            r = IKResult._from_fields(
+                {
+                    "q": q,
+                    "success": codes[i] == _CONVERGED,
+                    "status": _STATUSES[codes[i]],
+                    "reason": self.reason(i),
+                    "solver": solver,
+                    "iterations": its[i],
+                    "position_error": pos[i],
+                    "orientation_error": None if ori is None else ori[i],
+                    "time": time,
+                    "branch": own[i] if labels is None else labels[k],
+                    "singular": flags[i],
+                    "restarts": rss[i],
+                }
+            )
+            if extra is not None and extra[i]:
+                r.__dict__["extra"] = dict(extra[i])
+            out.append(r)
+        return out
+
+    def result(self, i: int, solver: str, time: float) -> IKResult:
+        """Row i as a result."""
+        return self.results((i,), solver, time)[0]
+
+    def take(self, rows: Sequence[int]) -> Verdicts:
+        """These rows, in this order."""
+        index = list(rows)
+        return replace(
+            self,
+            answers=self.answers.take(index),
+            status=self.status[index],
+            position_error=self.position_error[index],
+            orientation_error=self.orientation_error[index],
+            words=[self.words[k] for k in index],
+            extra=None if self.extra is None else [self.extra[k] for k in index],
+        )
+
+    @classmethod
+    def of_result(cls, r: IKResult, tol_position: float, tol_orientation: float) -> Verdicts:
+        """A result's row again (its status the claim), for a search that goes on from it."""
+        answers = one(
+            np.array(r.q, dtype=float),
+            r.status,
+            r.reason,
+            iterations=r.iterations,
+            restarts=r.restarts,
+            branch=r.branch,
+            singular=r.singular,
+        )
+        ori = r.orientation_error
+        return cls(
+            answers=answers,
+            status=np.array([r.status.code], dtype=np.int8),
+            position_error=np.array([r.position_error]),
+            orientation_error=np.array([np.nan if ori is None else ori]),
+            rotation=ori is not None,
+            words=[r.reason],
+            tol_position=tol_position,
+            tol_orientation=tol_orientation,
+            extra=[dict(r.extra)] if r.extra else None,
+        )
+
+
+def failure_rank(status: Status, position_error: float, orientation_error) -> tuple:
+    """How failed results are ranked among themselves: by status, then by their errors."""
+    return (FAILURE_RANK[status], position_error + (orientation_error or 0.0))
+
+
+def joined(parts: Sequence[Verdicts], dof: int) -> Verdicts:
+    """The rows of ``parts`` (at least one, measured alike), in their order."""
+    if len(parts) == 1:
+        return parts[0]
+    first = parts[0]
+    extra = None
+    if any(p.extra is not None for p in parts):
+        extra = [e for p in parts for e in (p.extra or [{} for _ in range(len(p))])]
+    return replace(
+        first,
+        answers=stacked([p.answers for p in parts], dof),
+        status=np.concatenate([p.status for p in parts]),
+        position_error=np.concatenate([p.position_error for p in parts]),
+        orientation_error=np.concatenate([p.orientation_error for p in parts]),
+        words=[w for p in parts for w in p.words],
+        extra=extra,
+    )
