@@ -357,11 +357,16 @@ class BatchResult:
             self._scores[i] = s
         d = r.extra.get("min_distance")
         if d is not None:
-            self._distances[i] = d
-            pair = r.extra.get("closest_pair")
-            self._pairs[i] = -1 if pair is None else self._pair(pair)
-        if not r.success:
+            self.put_distance(i, d, r.extra.get("closest_pair"))
+        if r.success:
+            self.reasons.pop(i, None)  # a row solved again: its earlier failure's words go
+        else:
             self.reasons[i] = r.reason
+
+    def put_distance(self, i: int, distance: float, pair: tuple[str, str] | None) -> None:
+        """Row ``i``'s collision check: its closest pair (None: none) and their distance."""
+        self._distances[i] = distance
+        self._pairs[i] = -1 if pair is None else self._pair(pair)
 
     def _pair(self, pair: tuple[str, str]) -> int:
         """The index of ``pair`` in ``pair_names``, appended when new."""

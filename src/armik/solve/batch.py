@@ -200,38 +200,19 @@ def solve_chunk(
     if not (seeds.flags.c_contiguous and seeds.flags.writeable):
         seeds = np.array(seeds, order="C")
     answers = spec.run_batch(arm, targets, seeds, opts)
-    part = verdict_batch(arm, answers, targets, opts)
+    clear = (Collisions(opts.obstacles, opts.self_collision, opts.margin),)
+    part = verdict_batch(arm, answers, targets, opts, clear if opts.collisions else ())
     out.put(start, part)
-    if opts.collisions:
-        _collisions(arm, spec, targets, seeds, opts, options, out, start, part)
-    elif spec.kind == "analytic":
-        # A closed form is deterministic: its rare failures are solved again one by one, so
-        # they carry the specific reason (too far, wrist orientation, ...) and the next
-        # verified branch that ``solve`` would fall back to.
+    if opts.collisions or spec.kind == "analytic":
+        # A success that keeps clear stands: it is the answer ``solve`` gives (its first
+        # run, from the same seed, ends there). Every other target is solved again
+        # (``solve_parsed``): a colliding one restarts (numeric) or tries the other
+        # branches (closed forms); a closed form's rare failures get the specific reason
+        # (too far, wrist orientation, ...) and the next verified branch that ``solve``
+        # would fall back to.
         for i in np.flatnonzero(~part.success).tolist():
             r = solve_parsed(arm, targets.target(i), seeds[i], spec.name, options)
             out.put_result(start + i, r)
-
-
-def _collisions(arm, spec, targets, seeds, opts, options, out, start, part) -> None:
-    """The collision check of a chunk's verified answers: each success whose closest pair
-    keeps ``margin`` stands (it is the answer ``solve`` gives: its first run, from the same
-    seed, ends there); every other target is solved again (``solve_parsed``), which restarts
-    (numeric) or tries the other branches (closed forms)."""
-    clear = Collisions(opts.obstacles, opts.self_collision, opts.margin)
-    pair_index = {p: k for k, p in enumerate(out.pair_names)}
-    rows = np.flatnonzero(part.success)
-    checked = clear.check(arm, part.q[rows])  # the verified answers, over the chunk
-    again = np.ones(len(targets), dtype=bool)
-    for k in np.flatnonzero(checked.ok).tolist():
-        found, i = checked.extra(k), int(rows[k])
-        pair = found["closest_pair"]
-        out.min_distance[start + i] = found["min_distance"]
-        out.pair_index[start + i] = -1 if pair is None else pair_index[pair]
-        again[i] = False
-    for i in np.flatnonzero(again).tolist():
-        r = solve_parsed(arm, targets.target(i), seeds[i], spec.name, options)
-        out.put_result(start + i, r)
 
 
 def batch_seeds(arm: ArmModel, q0: object, n: int) -> np.ndarray:

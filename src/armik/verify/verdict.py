@@ -26,6 +26,7 @@ from armik.verify.measure import BatchMeasure, Measure, measure, measure_batch, 
 from armik.verify.verdicts import Verdicts
 
 if TYPE_CHECKING:
+    from armik.constraints.base import Constraint
     from armik.model.arm_model import ArmModel
     from armik.options import Options
     from armik.targets.batch import TargetBatch
@@ -312,15 +313,24 @@ def _claimed(got: Claim, success: bool, status: Status, pos, ori, reason, args) 
 
 
 def verdict_batch(
-    arm: ArmModel, answers: Answers, targets: TargetBatch, opts: Options
+    arm: ArmModel,
+    answers: Answers,
+    targets: TargetBatch,
+    opts: Options,
+    constraints: tuple[Constraint, ...] = (),
 ) -> BatchResult:
     """The verdict of a chunk of answers (one a target), as every verdict (``decide``),
-    in a ``BatchResult``'s columns; a success's words are written when read."""
+    with each of ``constraints`` checked over the verified answers (a collision check's
+    distance and pair kept), in a ``BatchResult``'s columns; a success's words are written
+    when read."""
     n = len(targets)
     part = BatchResult.empty(n, arm.dof, solver="", time=0.0)
     part.q[:] = answers.q
     m = measure_batch(arm, part.q, targets, opts)
     found = decide(arm, answers, m, opts, targets.positions)
+    for c in constraints:
+        rows = np.flatnonzero(found.success)
+        found.judge(c.check(arm, part.q[rows]), rows.tolist())
     part.iterations[:] = answers.iterations
     part.restarts[:] = answers.restarts
     part.position_error[:] = found.position_error
@@ -330,4 +340,7 @@ def verdict_batch(
     part.success[:] = success
     for i in np.flatnonzero(~success).tolist():
         part.reasons[i] = found.reason(i)
+    for i, kept in enumerate(found.extra or ()):
+        if "min_distance" in kept:
+            part.put_distance(i, kept["min_distance"], kept["closest_pair"])
     return part

@@ -76,23 +76,24 @@ class Verdicts:
             self.words[i] = text
         return text
 
-    def judge(self, check: Check) -> Verdicts:
-        """These rows with ``check`` (of the same N answers) applied, in place: a success
-        stays one only where the check holds; what each row keeps goes to its ``extra``."""
+    def judge(self, check: Check, rows: Sequence[int] | None = None) -> Verdicts:
+        """These rows with ``check`` applied, in place: a check of every row, or of the
+        rows ``rows`` in that order (its k-th answer is row ``rows[k]``). A success stays
+        one only where the check holds; what each row keeps goes to its ``extra``."""
         n = len(self)
         if self.extra is None:
             self.extra = [{} for _ in range(n)]
-        for i in range(n):
-            more = check.extra(i)
+        for k, i in enumerate(range(n) if rows is None else rows):
+            more = check.extra(k)
             if more:
                 self.extra[i].update(more)
             if not self.succeeded(i):
                 continue
-            if check.ok[i]:
-                self.words[i] = check.holds(i, self.reason(i))
+            if check.ok[k]:
+                self.words[i] = check.holds(k, self.reason(i))
             else:
                 self.status[i] = check.status.code
-                self.words[i] = check.why(i)
+                self.words[i] = check.why(k)
         return self
 
     def checked(self, arm: ArmModel, constraints: Sequence[Constraint]) -> Verdicts:
