@@ -1,0 +1,111 @@
+"""One verdict over N answers (``armik.verify.verdicts.Verdicts``): N answers decided at
+once equal each decided alone, a result is a row of the verdicts, and a check applies to
+the rows it was given only."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import armik
+from armik.constraints.clear import distances
+from armik.options import Options
+from armik.solvers.answers import Answers
+from armik.status import Status
+from armik.targets.pose import parse_target
+from armik.verify.measure import measure, measure_many
+from armik.verify.verdict import decide, decide_one
+from tests import conftest
+
+CLAIMS = [Status.CONVERGED, Status.NOT_CONVERGED, Status.UNREACHABLE, Status.CONVERGED]
+
+
+def _answers(arm, rng, n: int) -> tuple[Answers, object]:
+    """n answers for one reachable target: the answer itself, others near and far, one
+    outside the limits, with each kind of claim."""
+    q_goal = arm.random_q(rng)
+    Q = [q_goal, q_goal + 1e-9, arm.random_q(rng)]
+    Q.append(np.where(np.isfinite(arm.upper), arm.upper + 0.3, 0.0))  # outside the limits
+    Q += [arm.random_q(rng) for _ in range(n - len(Q))]
+    claims = [CLAIMS[i % len(CLAIMS)] for i in range(n)]
+    words = [f"the solver's words {i}" for i in range(n)]
+    answers = Answers.of(Q, claims, words, arm.dof, iterations=range(n), restarts=[1] * n)
+    return answers, parse_target(arm.fk(q_goal), arm)
+
+
+@pytest.mark.parametrize("name", ["panda", "ur5"])
+@pytest.mark.parametrize("n", [12, 40])  # a few decided row by row, more by array calls
+def test_n_answers_decided_at_once_equal_each_alone(name, n):
+    arm = conftest.model(name)
+    rng = np.random.default_rng(4)
+    for opts in (Options(), Options(position_only=True), Options(tol_position=1e-3)):
+        answers, target = _answers(arm, rng, n)
+        many = decide(arm, answers, measure_many(arm, list(answers.q), target, opts), opts)
+        assert many.success.any() and not many.success.all()
+        for i in range(len(answers)):
+            one = decide_one(arm, answers.take([i]), measure(arm, answers.q[i], target, opts), opts)
+            assert _same(many.fields(i), one.fields(0))
+            assert many.reason(i) == one.reason(0)
+            assert many.succeeded(i) == one.succeeded(0)
+
+
+def _same(a: dict, b: dict) -> bool:
+    """The same fields, bit for bit (an unmeasured orientation None in both)."""
+    return a.keys() == b.keys() and all(
+        np.array_equal(a[k], b[k]) if k == "q" else a[k] == b[k] for k in a
+    )
+
+
+def test_a_result_is_a_row_of_the_verdicts():
+    arm = conftest.model("ur5")
+    rng = np.random.default_rng(8)
+    answers, target = _answers(arm, rng, 6)
+    opts = Options()
+    found = decide(arm, answers, measure_many(arm, list(answers.q), target, opts), opts)
+    results = found.results([3, 0, 5], "dls", 0.25)
+    for r, i in zip(results, [3, 0, 5]):
+        assert r.solver == "dls" and r.time == 0.25
+        assert np.array_equal(r.q, answers.q[i]) and not r.q.flags.writeable
+        assert r.q.base is None or r.q.base is not answers.q  # a copy, not a view
+        assert r.status.code == found.status[i] and r.success == bool(found.success[i])
+        assert r.reason == found.reason(i)
+        assert r.position_error == found.position_error[i]
+        assert r.iterations == i and r.restarts == 1
+        assert r.as_dict() == found.result(i, "dls", 0.25).as_dict()
+    assert results[1].success  # the target's own answer
+    assert results[1].reason.startswith("the solver's words 0; verified by forward kinematics")
+    assert results[0].status is Status.JOINT_LIMITS  # claimed, outside the limits
+    assert "outside the joint limits" in results[0].reason
+
+
+def test_a_check_applies_to_the_rows_it_was_given():
+    arm = conftest.model("ur5")
+    rng = np.random.default_rng(8)
+    answers, target = _answers(arm, rng, 6)
+    opts = Options()
+    found = decide(arm, answers, measure_many(arm, list(answers.q), target, opts), opts)
+    assert found.succeeded(0) and found.succeeded(1)
+    pair = ("a", "b")
+    found.judge(distances([(0.5, pair), (-0.01, pair)], 0.0), rows=[1, 0])
+    assert found.succeeded(1) and not found.succeeded(0)  # row 0 was the check's answer 1
+    assert found.status[0] == Status.COLLISION.code
+    assert found.reason(0).startswith("in collision: a and b")
+    assert found.reason(1).endswith("a and b 0.5 m apart (margin 0 m)")
+    assert found.extra[1]["min_distance"] == 0.5 and found.extra[2] == {}
+
+
+def test_a_batch_of_answers_is_decided_as_one_solve_decides():
+    arm = armik.load("panda")
+    rng = np.random.default_rng(2)
+    T = arm.fk_batch(np.stack([arm.random_q(rng) for _ in range(20)]))
+    T[3, :3, 3] = (3.0, 0.0, 0.5)  # out of reach: a failure's words
+    opts = dict(solver="dls", iteration_budget=2000)
+    res = arm.solve_batch(T, q0=arm.kinematics.middle, progress=False, **opts)
+    for i in range(len(T)):
+        r = arm.solve(T[i], q0=arm.kinematics.middle, **opts)
+        assert res.status[i] == r.status.value
+        np.testing.assert_array_equal(res.q[i], r.q)
+        assert res.position_error[i] == r.position_error
+        if not r.success:  # in the same words, though a batch's solver gives none
+            assert res.reason(i) == r.reason
+    assert not res.success[3] and "beyond the arm's reach" in res.reason(3)
