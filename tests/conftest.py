@@ -135,3 +135,10 @@ def assert_same_result(fast, general) -> None:
     for name in RESULT_FIELDS:
         assert getattr(fast, name) == getattr(general, name), name
     assert not fast.q.flags.writeable
+
+
+def decided_by_verdicts(r) -> bool:
+    """Whether result ``r`` is a row of the general verdict's ``Verdicts`` (its words
+    written by them, now or on first read), not the prepared path's claimed answer."""
+    written = r.__dict__.get("_reason")
+    return written is None or type(getattr(written[0], "__self__", None)).__name__ == "Verdicts"

@@ -144,10 +144,7 @@ def decide_one(arm: ArmModel, answers: Answers, m: Measure, opts: Options) -> Ve
         region=m.region,
         extra=None,
     )
-    if ok:  # written now: the result of one answer reads it
-        claimed = claim is Status.CONVERGED
-        out.words[0] = reasons.verified(answers.reason(0) if claimed else None, m.describe())
-    else:
+    if not ok:
         if claim is not Status.CONVERGED:
             out.words[0] = answers.reason(0)
         elif m.violations:

@@ -146,24 +146,27 @@ class Verdicts:
         self, rows: Sequence[int], solver: str, time: float, labels: Sequence | None = None
     ) -> list[IKResult]:
         """These rows as results, in this order (``labels``: branch labels in place of the
-        rows' own). The columns are read once: a ``solve_all``'s cost is per row."""
+        rows' own). The columns are read once: a ``solve_all``'s cost is per row; a
+        success's words are written when its result's ``reason`` is first read."""
         a = self.answers
         codes = self.status.tolist()
         pos, its, rss = self.position_error.tolist(), a.iterations.tolist(), a.restarts.tolist()
         ori = self.orientation_error.tolist() if self.rotation else None
         own = a.branch or (None,) * len(codes)
         flags = (False,) * len(codes) if a.singular is None else a.singular.tolist()
-        extra = self.extra
+        extra, words = self.extra, self.words
         out = []
         for k, i in enumerate(rows):
             q = np.array(a.q[i], dtype=float)
             q.flags.writeable = False
+            text = words[i]
             r = IKResult._from_fields(
                 {
                     "q": q,
                     "success": codes[i] == _CONVERGED,
                     "status": _STATUSES[codes[i]],
-                    "reason": self.reason(i),
+                    # a success's words written on first read (``IKResult.__getattr__``)
+                    **({"_reason": (self.reason, (i,))} if text is None else {"reason": text}),
                     "solver": solver,
                     "iterations": its[i],
                     "position_error": pos[i],
