@@ -56,12 +56,16 @@ def _same(a: dict, b: dict) -> bool:
     )
 
 
-def test_a_result_is_a_row_of_the_verdicts():
+def _ur5_verdicts():
+    """Six UR5 answers and their verdicts (rows 0 and 1 successes, 3 outside the limits)."""
     arm = conftest.model("ur5")
-    rng = np.random.default_rng(8)
-    answers, target = _answers(arm, rng, 6)
+    answers, target = _answers(arm, np.random.default_rng(8), 6)
     opts = Options()
-    found = decide(arm, answers, measure_many(arm, list(answers.q), target, opts), opts)
+    return answers, decide(arm, answers, measure_many(arm, list(answers.q), target, opts), opts)
+
+
+def test_a_result_is_a_row_of_the_verdicts():
+    answers, found = _ur5_verdicts()
     results = found.results([3, 0, 5], "dls", 0.25)
     for r, i in zip(results, [3, 0, 5]):
         assert r.solver == "dls" and r.time == 0.25
@@ -79,11 +83,7 @@ def test_a_result_is_a_row_of_the_verdicts():
 
 
 def test_a_check_applies_to_the_rows_it_was_given():
-    arm = conftest.model("ur5")
-    rng = np.random.default_rng(8)
-    answers, target = _answers(arm, rng, 6)
-    opts = Options()
-    found = decide(arm, answers, measure_many(arm, list(answers.q), target, opts), opts)
+    answers, found = _ur5_verdicts()
     assert found.succeeded(0) and found.succeeded(1)
     pair = ("a", "b")
     found.judge(distances([(0.5, pair), (-0.01, pair)], 0.0), rows=[1, 0])

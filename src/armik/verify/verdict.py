@@ -127,14 +127,14 @@ def decide(
 def decide_one(arm: ArmModel, answers: Answers, m: Measure, opts: Options) -> Verdicts:
     """``decide`` for one answer and its ``Measure``, on plain floats (a solve's usual
     case: the verdicts of the answers a search verifies one by one)."""
-    claim = answers.status(0)
+    claim = answers.claim.item(0)
     ok = m.ok
-    status = status_of(claim, ok, not m.violations)
+    code = _RULE[claim == _CONVERGED][ok][not m.violations]
     ori = m.orientation_error
     out = frozen(
         Verdicts,
         answers=answers,
-        status=np.array([status.code], dtype=np.int8),
+        status=np.array([claim if code < 0 else code], dtype=np.int8),
         position_error=np.array([m.position_error]),
         orientation_error=np.array([math.nan if ori is None else ori]),
         rotation=ori is not None,
@@ -145,7 +145,7 @@ def decide_one(arm: ArmModel, answers: Answers, m: Measure, opts: Options) -> Ve
         extra=None,
     )
     if not ok:
-        if claim is not Status.CONVERGED:
+        if claim != _CONVERGED:
             out.words[0] = answers.reason(0)
         elif m.violations:
             out.words[0] = reasons.outside_limits(m.violations)

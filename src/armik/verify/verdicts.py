@@ -122,18 +122,24 @@ class Verdicts:
         status = Status.from_code(int(self.status[i]))
         return (1, *failure_rank(status, float(self.position_error[i]), ori))
 
-    def fields(self, i: int, branch: str | None = None) -> dict:
+    def fields(self, i: int, branch: str | None = None, lazy: bool = False) -> dict:
         """Row i as the fields of an ``IKResult`` but ``solver`` and ``time`` (``q`` a
-        read-only copy; ``branch``: a label in place of the row's own)."""
+        read-only copy; ``branch``: a label in place of the row's own; ``lazy``: a
+        success's words written on first read, by ``IKResult``)."""
         a = self.answers
         q = np.array(a.q[i], dtype=float)
         q.flags.writeable = False
         code = self.status.item(i)  # plain Python values: ``item`` reads them directly
+        text = self.words[i]
         return {
             "q": q,
             "success": code == _CONVERGED,
             "status": _STATUSES[code],
-            "reason": self.reason(i),
+            **(
+                {"_reason": (self.reason, (i,))}
+                if lazy and text is None
+                else {"reason": self.reason(i)}
+            ),
             "iterations": a.iterations.item(i),
             "position_error": self.position_error.item(i),
             "orientation_error": self.orientation_error.item(i) if self.rotation else None,
@@ -148,6 +154,13 @@ class Verdicts:
         """These rows as results, in this order (``labels``: branch labels in place of the
         rows' own). The columns are read once: a ``solve_all``'s cost is per row; a
         success's words are written when its result's ``reason`` is first read."""
+        if len(rows) == 1:  # one result: its row's values alone
+            fields = self.fields(rows[0], None if labels is None else labels[0], lazy=True)
+            fields["solver"], fields["time"] = solver, time
+            r = IKResult._from_fields(fields)
+            if self.extra is not None and self.extra[rows[0]]:
+                r.__dict__["extra"] = dict(self.extra[rows[0]])
+            return [r]
         a = self.answers
         codes = self.status.tolist()
         pos, its, rss = self.position_error.tolist(), a.iterations.tolist(), a.restarts.tolist()
