@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -44,17 +44,6 @@ class IKResult:
         object.__setattr__(self, "status", Status.parse(self.status))
 
     @classmethod
-    def _checked(cls, row: dict[str, Any]) -> IKResult:
-        """The result ``IKResult(**row)`` gives, for ``solve``'s rows: every field given,
-        ``status`` a ``Status``. ``q`` is copied into a read-only float array as always."""
-        if type(row["status"]) is not Status or row.keys() != _FIELDS:
-            return cls(**row)
-        q = np.array(row["q"], dtype=float)
-        q.flags.writeable = False
-        row["q"] = q
-        return cls._from_fields(row)
-
-    @classmethod
     def _from_fields(cls, fields: dict[str, Any]) -> IKResult:
         """The one constructor of armik's own results: ``fields`` holds every field but
         ``extra``, ``q`` a read-only float array and ``status`` a ``Status``; instead of
@@ -65,23 +54,6 @@ class IKResult:
         d.update(fields)
         d["extra"] = {}
         return self
-
-    @classmethod
-    def _from_rows(cls, rows: list[dict[str, Any]]) -> list[IKResult]:
-        """The results of rows, each ``_from_fields``'s (a runner's claim, its q read-only
-        already) or ``_checked``'s (a verdict row, its q copied): one call for a
-        ``solve_all``'s rows."""
-        out = []
-        for row in rows:
-            if "_reason" in row:
-                self = _new(cls)
-                d = self.__dict__
-                d.update(row)
-                d["extra"] = {}
-                out.append(self)
-            else:
-                out.append(cls._checked(row))
-        return out
 
     if not TYPE_CHECKING:  # to a type checker the fields are all there is: a typo is an error
 
@@ -160,6 +132,3 @@ class IKResult:
         if self.errors is not None:
             out["errors"] = {tip: list(e) for tip, e in self.errors.items()}
         return out
-
-
-_FIELDS = frozenset(f.name for f in fields(IKResult) if f.name != "extra")

@@ -3,9 +3,11 @@ joint, keeping clear of collisions).
 
 A constraint gives the step its box rows (``lower <= q <= upper``, where it has any: the
 limits, a held joint) and the verify stage its check of N answers (``Check``): whether each
-satisfies it, and each answer's verdict row with it applied. ``said`` is the constraint in
-the options of the compiled path (``hold``, ``obstacles``, ...), which spell it there, so
-that the old keywords and the objects are one problem (``armik.options``).
+satisfies it, a failure's status and words, and what each answer's result keeps; the
+verdict applies it to N answers at once (``armik.verify.verdicts.Verdicts.judge``).
+``said`` is the constraint in the options of the compiled path (``hold``, ``obstacles``,
+...), which spell it there, so that the old keywords and the objects are one problem
+(``armik.options``).
 """
 
 from __future__ import annotations

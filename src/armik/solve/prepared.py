@@ -299,7 +299,7 @@ class Plan:
         elapsed = time.perf_counter() - t0
         for fields, label in zip(verified, labels):
             fields["time"], fields["branch"] = elapsed, label
-        return IKResult._from_rows(verified)
+        return [IKResult._from_fields(fields) for fields in verified]
 
     def _placements(self, Q: np.ndarray) -> np.ndarray:
         """The tip placements (n, 4, 4) of the answers Q, by Pinocchio."""
