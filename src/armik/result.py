@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -13,7 +13,7 @@ _new = object.__new__
 STATUSES: tuple[str, ...] = tuple(s.value for s in Status)
 
 
-@dataclass(frozen=True, kw_only=True)
+@dataclass(frozen=True, kw_only=True, eq=False)
 class IKResult:
     """One IK answer, verified by Pinocchio forward kinematics.
 
@@ -70,6 +70,17 @@ class IKResult:
                     d["reason"] = text
                     return text
             raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    def __eq__(self, other: object) -> bool:
+        """Field for field, ``q`` element-wise, ``extra`` not compared (the dataclass's own
+        comparison would ask numpy for the truth of an array)."""
+        if type(other) is not IKResult:
+            return NotImplemented
+        return np.array_equal(self.q, other.q) and all(
+            getattr(self, name) == getattr(other, name) for name in _COMPARED
+        )
+
+    __hash__ = None  # type: ignore[assignment]  # equal results need not hash alike: mutable extra
 
     @property
     def min_distance(self) -> float | None:
@@ -132,3 +143,6 @@ class IKResult:
         if self.errors is not None:
             out["errors"] = {tip: list(e) for tip, e in self.errors.items()}
         return out
+
+
+_COMPARED = tuple(f.name for f in fields(IKResult) if f.compare and f.name != "q")

@@ -180,6 +180,20 @@ def test_a_result_built_fast_equals_its_init():
     assert late.reason == "WORDS" and late.as_dict()["reason"] == "WORDS"
 
 
+def test_results_compare_field_for_field():
+    ur5 = armik.load("ur5")
+    T = ur5.fk(ur5.random_q(np.random.default_rng(4)))
+    a, b = ur5.solve(T, q0=ur5.kinematics.middle), ur5.solve(T, q0=ur5.kinematics.middle)
+    same = dataclasses.replace(b, time=a.time)  # two solves differ in their time only
+    assert a == same and not a != same
+    assert a != b  # another time
+    other = dataclasses.replace(same, q=same.q + 1e-3)
+    assert a != other and (a == "converged") is False
+    assert dataclasses.replace(same, extra={"score": 1.0}) == a  # extra is not compared
+    with pytest.raises(TypeError):
+        hash(a)
+
+
 def test_check_batch_equals_check_row_by_row(panda, kinova):
     rng = np.random.default_rng(3)
     opts = Options()
