@@ -17,6 +17,7 @@ from armik.constraints.limits import JointLimits
 from armik.options import Options
 from armik.solvers.answers import Answers
 from armik.status import Status
+from armik.tolerances import LIMIT_TOL
 from armik.verify.verdicts import Verdicts
 from tests import conftest
 
@@ -116,6 +117,13 @@ def test_checks_over_rows_agree_with_each_answer():
     rng = np.random.default_rng(7)
     Q = arm.random_q(rng, 12)
     Q[3, 1] = arm.upper[1] + 0.2  # one row outside the limits
+    edges = Q.copy()
+    edges[4, 0] = arm.lower[0] - 0.5 * LIMIT_TOL  # on the limit, within its tolerance
+    edges[6, 2] = arm.upper[2] + 2.0 * LIMIT_TOL  # just beyond it
+    edges[7, 5] = np.nan  # not a number: outside
+    at_edges = JointLimits().check(model, edges)
+    assert at_edges.ok.tolist() == [model.within_limits(q) for q in edges]
+    assert at_edges.ok[4] and not at_edges.ok[6] and not at_edges.ok[7]
     limits = JointLimits().check(model, Q)
     assert limits.ok.tolist() == [model.within_limits(q) for q in Q]
     assert not limits.ok[3] and "panda_joint2" in limits.why(3)

@@ -11,6 +11,7 @@ import numpy as np
 from armik import reasons
 from armik.constraints.base import Check, Constraint
 from armik.status import Status
+from armik.tolerances import LIMIT_TOL
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
@@ -27,7 +28,9 @@ class JointLimits(Constraint):
         return arm.lower, arm.upper
 
     def check(self, arm: ArmModel, Q: np.ndarray) -> Check:
-        ok = np.array([arm.within_limits(q) for q in Q], dtype=bool)
+        Q = np.asarray(Q, dtype=float)
+        # ``ArmModel.within_limits`` over N rows at once (a NaN is outside)
+        ok = np.asarray(((Q >= arm.lower - LIMIT_TOL) & (Q <= arm.upper + LIMIT_TOL)).all(axis=1))
         return Check(
             ok, Status.JOINT_LIMITS, lambda i: reasons.outside_limits(arm.limit_violations(Q[i]))
         )
