@@ -77,13 +77,13 @@ def solve_avoiding(
         answers = spec.run(arm, target, seed, opts, True)
         found = _first_free(arm, answers, target, opts, check, seed, first)
         return ranked(found, spec.name, seed, False, t0)
-    found = _restarting(arm, spec, target, seed, opts, check, first)
-    return ranked(found, spec.name, seed, False, t0)
+    runs = _restarting(arm, spec, target, seed, opts, check, first)
+    return [] if runs is None else ranked(runs, spec.name, seed, False, t0)
 
 
 def _checked(arm, answers, i: int, target, opts: Options, check) -> Verdicts:
     """The verdict of answer ``i`` of ``answers`` with its collision check."""
-    found = decide_one(arm, answers.take([i]), measure(arm, answers.q[i], target, opts), opts)
+    found = decide_one(answers.take([i]), measure(arm, answers.q[i], target, opts))
     return found.judge(collision_check(check, found.q, opts.margin))
 
 
@@ -106,10 +106,10 @@ def _first_free(arm, answers, target, opts: Options, check, seed, first=None) ->
 
 def _restarting(
     arm, spec, target, seed: np.ndarray, opts: Options, check, first: First | None
-) -> Verdicts:
+) -> Verdicts | None:
     """Run the numeric solver, from the seed (or go on from its ``first`` run) then from
     random configurations, until its verified answer is collision-free or the budget is
-    spent; the rows of every run."""
+    spent; the rows of every run (None: the budget was spent before the first)."""
     start_cpu = time.thread_time() if first is None else first.started
     rng = np.random.default_rng(opts.seed)
     used_iterations = used_restarts = 0
@@ -150,7 +150,7 @@ def _restarting(
                 if slid.succeeded(0):
                     break
         q_start = arm.random_q(rng)
-    return joined(rows, arm.dof)
+    return joined(rows, arm.dof) if rows else None
 
 
 # Slide a colliding answer out of contact before restarting (solve/slide.py): on paths

@@ -124,7 +124,7 @@ def decide(
     return out
 
 
-def decide_one(arm: ArmModel, answers: Answers, m: Measure, opts: Options) -> Verdicts:
+def decide_one(answers: Answers, m: Measure) -> Verdicts:
     """``decide`` for one answer and its ``Measure``, on plain floats (a solve's usual
     case: the verdicts of the answers a search verifies one by one)."""
     claim = answers.claim.item(0)
@@ -145,8 +145,10 @@ def decide_one(arm: ArmModel, answers: Answers, m: Measure, opts: Options) -> Ve
         extra=None,
     )
     if not ok:
-        if claim != _CONVERGED:
-            out.words[0] = answers.reason(0)
+        if claim != _CONVERGED and answers.reasons is not None:
+            out.words[0] = answers.reasons[0]
+        elif claim != _CONVERGED:  # a claim without words: written from it, as a batch's
+            out.words[0] = reasons.claimed(Status.from_code(claim).value, m.describe())
         elif m.violations:
             out.words[0] = reasons.outside_limits(m.violations)
         else:
@@ -180,7 +182,7 @@ def verdicts(arm: ArmModel, answers: Answers, target, opts: Options) -> Verdicts
         m = BatchMeasure(none, none, none.astype(bool), opts.tol_position, opts.tol_orientation)
         return decide(arm, answers, m, opts)
     if len(answers) == 1:
-        return decide_one(arm, answers, measure(arm, answers.q[0], target, opts), opts)
+        return decide_one(answers, measure(arm, answers.q[0], target, opts))
     return decide(arm, answers, measure_many(arm, list(answers.q), target, opts), opts)
 
 
@@ -216,12 +218,12 @@ def first_verified(arm: ArmModel, answers: Answers, target, opts: Options, seed)
     """Verify answers nearest-first (``nearest_first``) and stop at the first success: it
     is the nearest verified answer. The verdicts of the answers verified."""
     if len(answers) == 1:
-        return decide_one(arm, answers, measure(arm, answers.q[0], target, opts), opts)
+        return decide_one(answers, measure(arm, answers.q[0], target, opts))
     order, measures = [], []
     for i in nearest_first(arm, answers, seed):
         m = measure(arm, answers.q[i], target, opts)
         if m.ok:  # a measure that holds is a success (``RULE``): the nearest one
-            return decide_one(arm, answers.take([i]), m, opts)
+            return decide_one(answers.take([i]), m)
         order.append(i)
         measures.append(m)
     if not order:

@@ -1,6 +1,6 @@
 """``Verdicts``: N answers after verification, as arrays. The solver's ``Answers`` with
 the verdict's status of each row, its measured errors and its words; each ``IKResult``
-is a row of them (``result``), a ``BatchResult`` their columns.
+is a row of them (``results``), a ``BatchResult`` their columns.
 
 A constraint's ``Check`` of the N rows applies to them at once (``judge``): a success
 stays one only where the check holds. A success's words are written when read
