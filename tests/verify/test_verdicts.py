@@ -43,7 +43,7 @@ def test_n_answers_decided_at_once_equal_each_alone(name, n):
         many = decide(arm, answers, measure_many(arm, list(answers.q), target, opts), opts)
         assert many.success.any() and not many.success.all()
         for i in range(len(answers)):
-            one = decide_one(answers.take([i]), measure(arm, answers.q[i], target, opts))
+            one = decide_one(arm, answers.take([i]), measure(arm, answers.q[i], target, opts), opts)
             assert _same(many.fields(i), one.fields(0))
             assert many.reason(i) == one.reason(0)
             assert many.succeeded(i) == one.succeeded(0)

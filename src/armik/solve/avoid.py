@@ -83,7 +83,7 @@ def solve_avoiding(
 
 def _checked(arm, answers, i: int, target, opts: Options, check) -> Verdicts:
     """The verdict of answer ``i`` of ``answers`` with its collision check."""
-    found = decide_one(answers.take([i]), measure(arm, answers.q[i], target, opts))
+    found = decide_one(arm, answers.take([i]), measure(arm, answers.q[i], target, opts), opts)
     return found.judge(collision_check(check, found.q, opts.margin))
 
 

@@ -200,8 +200,10 @@ def solve_chunk(
     if not (seeds.flags.c_contiguous and seeds.flags.writeable):
         seeds = np.array(seeds, order="C")
     answers = spec.run_batch(arm, targets, seeds, opts)
-    clear = (Collisions(opts.obstacles, opts.self_collision, opts.margin),)
-    part = verdict_batch(arm, answers, targets, opts, clear if opts.collisions else ())
+    clear = (
+        (Collisions(opts.obstacles, opts.self_collision, opts.margin),) if opts.collisions else ()
+    )
+    part = verdict_batch(arm, answers, targets, opts, clear)
     out.put(start, part)
     if opts.collisions or spec.kind == "analytic":
         # A success that keeps clear stands: it is the answer ``solve`` gives (its first

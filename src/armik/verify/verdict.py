@@ -124,17 +124,17 @@ def decide(
     return out
 
 
-def decide_one(answers: Answers, m: Measure) -> Verdicts:
+def decide_one(arm: ArmModel, answers: Answers, m: Measure, opts: Options) -> Verdicts:
     """``decide`` for one answer and its ``Measure``, on plain floats (a solve's usual
-    case: the verdicts of the answers a search verifies one by one)."""
-    claim = answers.claim.item(0)
-    ok = m.ok
-    code = _RULE[claim == _CONVERGED][ok][not m.violations]
+    case: the verdicts of the answers a search verifies one by one); a failure's words
+    are ``decide``'s."""
+    if not m.ok:
+        return decide(arm, answers, BatchMeasure.of([m]), opts)
     ori = m.orientation_error
-    out = frozen(
+    return frozen(
         Verdicts,
         answers=answers,
-        status=np.array([claim if code < 0 else code], dtype=np.int8),
+        status=np.array([_CONVERGED], dtype=np.int8),  # a measure that holds (``RULE``)
         position_error=np.array([m.position_error]),
         orientation_error=np.array([math.nan if ori is None else ori]),
         rotation=ori is not None,
@@ -144,16 +144,6 @@ def decide_one(answers: Answers, m: Measure) -> Verdicts:
         region=m.region,
         extra=None,
     )
-    if not ok:
-        if claim != _CONVERGED and answers.reasons is not None:
-            out.words[0] = answers.reasons[0]
-        elif claim != _CONVERGED:  # a claim without words: written from it, as a batch's
-            out.words[0] = reasons.claimed(Status.from_code(claim).value, m.describe())
-        elif m.violations:
-            out.words[0] = reasons.outside_limits(m.violations)
-        else:
-            out.words[0] = reasons.check_failed(m.describe())
-    return out
 
 
 def _failure_words(arm, v: Verdicts, m: BatchMeasure, i: int, opts: Options, positions) -> str:
@@ -182,7 +172,7 @@ def verdicts(arm: ArmModel, answers: Answers, target, opts: Options) -> Verdicts
         m = BatchMeasure(none, none, none.astype(bool), opts.tol_position, opts.tol_orientation)
         return decide(arm, answers, m, opts)
     if len(answers) == 1:
-        return decide_one(answers, measure(arm, answers.q[0], target, opts))
+        return decide_one(arm, answers, measure(arm, answers.q[0], target, opts), opts)
     return decide(arm, answers, measure_many(arm, list(answers.q), target, opts), opts)
 
 
@@ -218,12 +208,12 @@ def first_verified(arm: ArmModel, answers: Answers, target, opts: Options, seed)
     """Verify answers nearest-first (``nearest_first``) and stop at the first success: it
     is the nearest verified answer. The verdicts of the answers verified."""
     if len(answers) == 1:
-        return decide_one(answers, measure(arm, answers.q[0], target, opts))
+        return decide_one(arm, answers, measure(arm, answers.q[0], target, opts), opts)
     order, measures = [], []
     for i in nearest_first(arm, answers, seed):
         m = measure(arm, answers.q[i], target, opts)
         if m.ok:  # a measure that holds is a success (``RULE``): the nearest one
-            return decide_one(answers.take([i]), m)
+            return decide_one(arm, answers.take([i]), m, opts)
         order.append(i)
         measures.append(m)
     if not order:

@@ -25,7 +25,6 @@ if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
 
 _CONVERGED = Status.CONVERGED.code
-_STATUSES = {s.code: s for s in Status}
 
 
 @dataclass(eq=False)
@@ -118,9 +117,9 @@ class Verdicts:
         if self.succeeded(i):
             d = self.answers.q[i] - seed
             return (0, float(np.sqrt(d.dot(d))))
-        ori = float(self.orientation_error[i]) if self.rotation else None
-        status = Status.from_code(int(self.status[i]))
-        return (1, *failure_rank(status, float(self.position_error[i]), ori))
+        ori = self.orientation_error.item(i) if self.rotation else None
+        status = Status.from_code(self.status.item(i))
+        return (1, *failure_rank(status, self.position_error.item(i), ori))
 
     def fields(self, i: int, branch: str | None = None, lazy: bool = False) -> dict:
         """Row i as the fields of an ``IKResult`` but ``solver`` and ``time`` (``q`` a
@@ -134,7 +133,7 @@ class Verdicts:
         return {
             "q": q,
             "success": code == _CONVERGED,
-            "status": _STATUSES[code],
+            "status": Status.from_code(code),
             **(
                 {"_reason": (self.reason, (i,))}
                 if lazy and text is None
@@ -152,46 +151,15 @@ class Verdicts:
         self, rows: Sequence[int], solver: str, time: float, labels: Sequence | None = None
     ) -> list[IKResult]:
         """These rows as results, in this order (``labels``: branch labels in place of the
-        rows' own). The columns are read once: a ``solve_all``'s cost is per row; a
-        success's words are written when its result's ``reason`` is first read."""
-        if len(rows) == 1:  # one result: its row's values alone
-            fields = self.fields(rows[0], None if labels is None else labels[0], lazy=True)
-            fields["solver"], fields["time"] = solver, time
-            r = IKResult._from_fields(fields)
-            if self.extra is not None and self.extra[rows[0]]:
-                r.__dict__["extra"] = dict(self.extra[rows[0]])
-            return [r]
-        a = self.answers
-        codes = self.status.tolist()
-        pos, its, rss = self.position_error.tolist(), a.iterations.tolist(), a.restarts.tolist()
-        ori = self.orientation_error.tolist() if self.rotation else None
-        own = a.branch or (None,) * len(codes)
-        flags = (False,) * len(codes) if a.singular is None else a.singular.tolist()
-        extra, words = self.extra, self.words
+        rows' own); a success's words are written when its result's ``reason`` is first
+        read."""
         out = []
         for k, i in enumerate(rows):
-            q = np.array(a.q[i], dtype=float)
-            q.flags.writeable = False
-            text = words[i]
-            r = IKResult._from_fields(
-                {
-                    "q": q,
-                    "success": codes[i] == _CONVERGED,
-                    "status": _STATUSES[codes[i]],
-                    # a success's words written on first read (``IKResult.__getattr__``)
-                    **({"_reason": (self.reason, (i,))} if text is None else {"reason": text}),
-                    "solver": solver,
-                    "iterations": its[i],
-                    "position_error": pos[i],
-                    "orientation_error": None if ori is None else ori[i],
-                    "time": time,
-                    "branch": own[i] if labels is None else labels[k],
-                    "singular": flags[i],
-                    "restarts": rss[i],
-                }
-            )
-            if extra is not None and extra[i]:
-                r.__dict__["extra"] = dict(extra[i])
+            fields = self.fields(i, None if labels is None else labels[k], lazy=True)
+            fields["solver"], fields["time"] = solver, time
+            r = IKResult._from_fields(fields)
+            if self.extra is not None and self.extra[i]:
+                r.__dict__["extra"] = dict(self.extra[i])
             out.append(r)
         return out
 
