@@ -40,18 +40,22 @@ from armik.options import Options
 from armik.result import IKResult
 from armik.solvers import registry
 from armik.solvers.answers import Answers
-from armik.solvers.claims import Claim, claim
-from armik.status import Status
+from armik.solvers.claims import Claim
 from armik.targets.pose import parse_target
 from armik.verify.measure import BatchMeasure, measures_of
 from armik.verify.region import region_error
-from armik.verify.verdict import claimed_verdict, decide, finish, numbered, seed_distance
+from armik.verify.verdict import (
+    claimed_rows,
+    claimed_verdict,
+    decide,
+    finish,
+    numbered,
+    seed_distance,
+)
 from armik.verify.verdicts import failure_rank
 
 _FLOAT = np.dtype(float)
 _SE3 = pin.SE3
-_CONVERGED = Status.CONVERGED
-_JOINT_LIMITS = Status.JOINT_LIMITS
 _NO_PLAN = object()  # remembered: this solver and options have no plan
 _IDENTITY = np.eye(4)  # copied for a position target (a copy costs an eighth of np.eye)
 
@@ -251,28 +255,17 @@ class Plan:
         pose_checks(self.measured, self._placements(Q), H, Q, measured)
         verified, failed = [], []  # the results' fields; failed: (rank key, fields)
         unclaimed = False
-        tol_p, tol_r, rot, solver, arm = (
-            self.tol_p, self.tol_r, self.measure_rot, self.solver, self.arm
-        )  # fmt: skip
-        # the rows' columns as plain values, read once (a solve_all's cost is per row)
-        claims, converged = got.claim.tolist(), _CONVERGED.code
-        its, rss = got.iterations.tolist(), got.restarts.tolist()
-        labels = got.branch or (None,) * len(got)
-        flags = (False,) * len(got) if got.singular is None else got.singular.tolist()
-        words = got.reason
-        for i, (q, (pos, ori, inside)) in enumerate(zip(Q, measured.tolist())):
-            if claims[i] == converged:  # its verdict without a Measure, where that decides
-                row = claim((q, its[i], rss[i], labels[i], flags[i], words, (i,)))
-                fields = claimed_verdict(
-                    arm, row, pos, ori if rot else None, inside > 0.0, tol_p, tol_r
-                )
-                if fields is not None:
-                    fields["solver"] = solver
-                    if fields["success"]:
-                        verified.append(fields)
-                    else:  # outside the limits
-                        failed.append((_rank_key(fields), fields))
-                    continue
+        tol_p, tol_r, rot, solver = self.tol_p, self.tol_r, self.measure_rot, self.solver
+        rows = measured.tolist()
+        for i, fields in enumerate(claimed_rows(self.arm, got, rows, tol_p, tol_r, rot)):
+            if fields is not None:  # its verdict without a Measure, where that decides
+                fields["solver"] = solver
+                if fields["success"]:
+                    verified.append(fields)
+                else:  # outside the limits
+                    failed.append((_rank_key(fields), fields))
+                continue
+            pos, ori, inside = rows[i]
             m = BatchMeasure(
                 np.array([pos]),
                 np.array([ori if rot else np.nan]),
@@ -281,7 +274,7 @@ class Plan:
                 tol_r,
                 rot,
             )
-            fields = {**decide(arm, got.take([i]), m, opts).fields(0), "solver": solver}
+            fields = {**decide(self.arm, got.take([i]), m, opts).fields(0), "solver": solver}
             if fields["success"]:  # claimed unreached (a boundary case), verified all the same
                 verified.append(fields)
                 unclaimed = True

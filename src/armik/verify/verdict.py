@@ -275,29 +275,64 @@ def claimed_verdict(
     ``IKResult`` but ``solver`` and ``time``; the reason written on first read."""
     ok = inside and pos <= tol_p and (ori is None or ori <= tol_r)
     status = _DECIDED[1][1 if ok else 0][1 if inside else 0]  # status_of a claimed answer
-    if status is Status.JOINT_LIMITS:
-        return _claimed(got, False, status, pos, ori, limits_reason, (arm, got.q))
-    if status is Status.CONVERGED:
-        why = (got.reason, got.reason_args, pos, ori, tol_p, tol_r, region)
-        return _claimed(got, True, status, pos, ori, success_reason, why)
-    return None
-
-
-def _claimed(got: Claim, success: bool, status: Status, pos, ori, reason, args) -> dict:
     q = got.q
     if q.flags.writeable:  # the runner's own array (solve_all's rows are read-only)
         q.setflags(write=False)
+    if status is Status.JOINT_LIMITS:
+        reason: tuple = (limits_reason, (arm, q))
+    elif status is Status.CONVERGED:
+        reason = (success_reason, (got.reason, got.reason_args, pos, ori, tol_p, tol_r, region))
+    else:
+        return None
+    its, rs = got.iterations, got.restarts
+    return _claimed(q, status, its, rs, got.branch, got.singular, pos, ori, reason)
+
+
+def claimed_rows(
+    arm: ArmModel, got: Answers, measured: list, tol_p: float, tol_r: float, rot: bool
+) -> list[dict | None]:
+    """``claimed_verdict`` of each of a runner's rows ``got`` (read-only q) from
+    ``measured``, each row's (position error, orientation error, > 0 within the limits) in
+    plain floats; None for a row not claimed converged or one the general verdict decides.
+    One loop over columns read once: a ``solve_all``'s cost is per row."""
+    Q, converged = got.q, _CONVERGED
+    claims, its, rss = got.claim.tolist(), got.iterations.tolist(), got.restarts.tolist()
+    labels = got.branch or (None,) * len(claims)
+    flags = (False,) * len(claims) if got.singular is None else got.singular.tolist()
+    words, CONVERGED, LIMITS = got.reason, Status.CONVERGED, Status.JOINT_LIMITS
+    out: list[dict | None] = []
+    for i, (pos, ori, inside) in enumerate(measured):
+        if claims[i] != converged:
+            out.append(None)
+            continue
+        within = inside > 0.0
+        ori = ori if rot else None
+        ok = within and pos <= tol_p and (ori is None or ori <= tol_r)
+        status = _DECIDED[1][1 if ok else 0][1 if within else 0]  # status_of a claim
+        if status is CONVERGED:
+            reason: tuple = (success_reason, (words, (i,), pos, ori, tol_p, tol_r, False))
+        elif status is LIMITS:
+            reason = (limits_reason, (arm, Q[i]))
+        else:
+            out.append(None)
+            continue
+        out.append(_claimed(Q[i], status, its[i], rss[i], labels[i], flags[i], pos, ori, reason))
+    return out
+
+
+def _claimed(q, status: Status, its, rs, branch, singular, pos, ori, reason: tuple) -> dict:
+    """The fields of a claimed answer's result but ``solver`` and ``time``."""
     return dict(
         q=q,
-        success=success,
+        success=status is Status.CONVERGED,
         status=status,
-        iterations=got.iterations,
+        iterations=its,
         position_error=pos,
         orientation_error=ori,
-        branch=got.branch,
-        singular=got.singular,
-        restarts=got.restarts,
-        _reason=(reason, args),
+        branch=branch,
+        singular=singular,
+        restarts=rs,
+        _reason=reason,
     )
 
 
