@@ -118,16 +118,30 @@ def on_centre(reason: str) -> str:
     return f"{reason}; every task holds on it"
 
 
-def preferred(reason: str, score: str, value: float, moved: bool, secondary: bool = False) -> str:
-    """A task list's answer with a preference (or a secondary posture), moved along the
-    tasks' null space or not."""
+def preferred(reason: str, score: str, said: str, moved: bool, secondary: bool = False) -> str:
+    """A task list's answer with a preference ``score`` (or a secondary posture), ``said``
+    its value in the score's words (``Score.words``), moved along the tasks' null space or
+    not."""
     how = (
         "moved along the tasks' null space"
         if moved
         else "no move along the tasks' null space lowered it"
     )
-    said = "secondary posture" if secondary else f"prefer={score}"
-    return f"{reason}; {said}: score {value:.6g} ({how})"
+    prefix = "secondary posture" if secondary else f"prefer={score}"
+    return f"{reason}; {prefix}: {said} ({how})"
+
+
+def ranked_first(reason: str, score: str, said: str, count: int, variant: bool) -> str:
+    """The best of ``count`` verified answers by the preference ``score``, ``said`` its
+    value in the score's words; ``variant``: a 2 pi turn of the answer found."""
+    turned = " (a 2 pi variant within the limits)" if variant else ""
+    return f"{reason}; prefer={score}: {said}, ranked among {count} verified{turned}"
+
+
+def best_within_step(reason: str, score: str, said: str, count: int) -> str:
+    """A path's waypoint: the best by the preference ``score`` of ``count`` answers within
+    max_joint_step of the previous one."""
+    return f"{reason}; prefer={score}: {said}, the best of {count} answers within max_joint_step"
 
 
 def tips_beyond(beyond: dict[str, str], others: list[str], status: str, reason: str) -> str:

@@ -111,7 +111,7 @@ def test_the_task_solver_follows_a_posture_in_the_tasks_null_space():
         plain = arm.solve(tasks, q0=q0, **BUDGET)
         pulled = arm.solve(tasks, q0=q0, secondary=[armik.Posture(q_ref)], **BUDGET)
         assert plain.success and pulled.success, (plain.reason, pulled.reason)
-        assert "secondary posture: score" in pulled.reason
+        assert "secondary posture: cost" in pulled.reason
         assert np.linalg.norm(conftest.frame_position(arm, pulled.q, arm.tip) - tip) <= 1e-6
         assert np.all(
             np.abs(conftest.frame_position(arm, pulled.q, "panda_link4") - elbow) <= 0.02 + 1e-6

@@ -31,6 +31,20 @@ def test_each_score_by_hand():
     assert Manipulability()(arm, q, q0) == pytest.approx(-manipulability(arm.jacobian(q)))
 
 
+@pytest.mark.parametrize("prefer", ["manipulability", "limits"])
+def test_a_reason_names_the_measure_not_its_negated_cost(prefer):
+    """A score ranks by a cost (lower is better), so manipulability and the limit margin are
+    negated; the reason names the measure itself, positive, as the result's q has it."""
+    arm = conftest.arm("ur5")
+    T = arm.fk(arm.random_q(7))
+    r = arm.solve(T, prefer=prefer)
+    measure = manipulability(arm.jacobian(r.q)) if prefer == "manipulability" else None
+    measure = limit_margin(arm, r.q) if measure is None else measure
+    assert r.success and measure > 0.0 and r.score == pytest.approx(-measure, rel=1e-12)
+    said = "manipulability" if prefer == "manipulability" else "joint-limit margin"
+    assert f"{said} {measure:.6g}" in r.reason and f"{-measure:.6g}" not in r.reason
+
+
 def _every_variant(arm, q):
     turns = []
     for qi, lo, hi in zip(q, arm.lower, arm.upper):

@@ -34,6 +34,10 @@ class Score(ABC):
         """The cost's gradient in q where it has a closed form; None: finite differences."""
         return None
 
+    def words(self, value: float) -> str:
+        """A reason's words for the cost ``value``: what the score measures, in its sense."""
+        return f"cost {value:.6g}"
+
     @abstractmethod
     def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
         """The cost of ``q`` on ``arm``; ``q0`` is the call's seed."""
@@ -60,6 +64,9 @@ class Nearest(Score):
     def per_joint(self, arm, i: int, qi: float, q0: np.ndarray) -> float | None:
         return abs(qi - float(q0[i]))
 
+    def words(self, value: float) -> str:
+        return f"distance {value:.6g} from q0"
+
     def gradient(self, arm, q: np.ndarray, q0: np.ndarray) -> np.ndarray | None:
         d = q - q0
         n = float(np.linalg.norm(d))
@@ -80,6 +87,9 @@ class Manipulability(Score):
 
     def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
         return -manipulability(arm.jacobian(q))
+
+    def words(self, value: float) -> str:
+        return f"manipulability {-value:.6g}"  # the measure, not its negated cost
 
 
 def limit_margin(arm, q: np.ndarray) -> float:
@@ -102,6 +112,9 @@ class Limits(Score):
 
     def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
         return -limit_margin(arm, q)
+
+    def words(self, value: float) -> str:
+        return f"joint-limit margin {-value:.6g} of a joint's range"
 
     def many(self, arm, Q: np.ndarray, q0: np.ndarray) -> np.ndarray:
         lo, hi = np.asarray(arm.lower), np.asarray(arm.upper)

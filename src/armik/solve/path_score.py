@@ -67,8 +67,9 @@ def preferred(
     return IKResult(
         **{
             **{f: getattr(best, f) for f in _FIELDS},
-            "reason": f"{best.reason}; {score.name} {values[k]:.6g}, the best of "
-            f"{len(within)} answers within max_joint_step",
+            "reason": reasons.best_within_step(
+                best.reason, score.name, score.words(values[k]), len(within)
+            ),
             "time": r.time,
             "extra": {**best.extra, "score": values[k]},
         }

@@ -18,6 +18,7 @@ from typing import cast
 
 import numpy as np
 
+from armik import reasons
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.problem.scores import Limits, Nearest, Posture, Score
@@ -115,9 +116,9 @@ def rank(
             **{
                 **r.__dict__,
                 "q": q,
-                "reason": f"{r.reason}; {score.name} {value:.6g}, ranked among "
-                f"{len(scored)} verified"
-                + ("" if q is r.q else " (a 2 pi variant within the limits)"),
+                "reason": reasons.ranked_first(
+                    r.reason, score.name, score.words(value), len(scored), q is not r.q
+                ),
                 "time": elapsed,
                 "extra": {**r.extra, "score": value},
             },

@@ -339,7 +339,7 @@ def solve_tasks(
     value = score(arm, r.q, reference)
     return dataclasses.replace(
         r,
-        reason=reasons.preferred(r.reason, score.name, value, moved, secondary),
+        reason=reasons.preferred(r.reason, score.name, score.words(value), moved, secondary),
         extra={**r.extra, "score": value},
     )
 
