@@ -64,6 +64,7 @@ class BatchResult:
     pair_index: np.ndarray | None = None  # (N,) index into pair_names, -1: none
     pair_names: list[tuple[str, str]] = field(default_factory=list)
     score: np.ndarray | None = None  # (N,) with prefer=; NaN filled when None is given
+    region: bool = False  # the targets are regions (bounds, a cone): errors lie outside them
 
     def __post_init__(self) -> None:
         n = len(self.success)
@@ -121,7 +122,7 @@ class BatchResult:
             self.tol_position,
             self.tol_orientation,
         )
-        text = reasons.verified(None, measured)
+        text = reasons.verified(None, reasons.outside_region(measured) if self.region else measured)
         if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):  # checked
             pair, distance = self.closest_pair(i), float(self._distances[i])
             text = reasons.and_clear(text, pair, distance, self.margin)
@@ -195,10 +196,12 @@ class BatchResult:
             tol_position=self.tol_position,
             tol_orientation=self.tol_orientation,
             reasons=reasons,
+            margin=self.margin,
             min_distance=self._distances[picked],
             pair_index=self._pairs[picked],
             pair_names=list(self.pair_names),
             score=self._scores[picked],
+            region=self.region,
         )
 
     def __iter__(self) -> Iterator[IKResult]:
@@ -249,6 +252,7 @@ class BatchResult:
             "tol_position": self.tol_position,
             "tol_orientation": self.tol_orientation,
             "margin": self.margin,
+            "region": self.region,
             "statuses": _WORDS.tolist(),
             "pair_names": [list(p) for p in self.pair_names],
         }
@@ -298,6 +302,7 @@ class BatchResult:
             pair_index=arrays.get("pair_index"),
             pair_names=[tuple(p) for p in meta.get("pair_names", [])],
             score=arrays.get("score"),  # absent from files written before preferences
+            region=bool(meta.get("region", False)),  # absent from files before regions
         )
 
     # -- building ---------------------------------------------------------------------
@@ -329,6 +334,7 @@ class BatchResult:
             tol_position=opts.tol_position,
             tol_orientation=opts.tol_orientation,
             margin=opts.margin,
+            region=opts.region,
         )
 
     def put(self, start: int, part: BatchResult) -> None:

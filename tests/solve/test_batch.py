@@ -316,3 +316,12 @@ def test_a_lying_batch_solver_is_caught_by_the_fk_check(monkeypatch):
     assert r.status.tolist() == ["not_converged", "converged", "joint_limits"]
     assert "forward-kinematics check failed" in r.reason(0)
     assert "elbow_joint" in r.reason(2) and "outside the joint limits" in r.reason(2)
+
+
+def test_a_slice_keeps_the_batch_s_margin_and_region():
+    """A slice or mask of a batch words its rows as the batch does (the clearance kept)."""
+    r = BatchResult.empty(4, 6, solver="dls", time=0.0, margin=0.02, region=True)
+    r.put_distance(1, 0.03, ("link_a", "link_b"))
+    for part in (r[1:], r[np.array([False, True, True, False])]):
+        assert part.margin == 0.02 and part.region
+        assert part.reason(0) == r.reason(1) and "0.02" in part.reason(0)

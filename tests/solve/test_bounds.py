@@ -120,7 +120,7 @@ def test_an_unreachable_region_fails_with_its_reason():
     assert not r.success and r.status == "not_converged" and "outside the region" in r.reason
 
 
-def test_batch_and_solve_all_take_bounds():
+def test_batch_and_solve_all_take_bounds(tmp_path):
     a = arm("panda")
     rng = np.random.default_rng(6)
     poses = np.array([spun(a, a.random_q(rng), rng).homogeneous for _ in range(6)])
@@ -130,6 +130,12 @@ def test_batch_and_solve_all_take_bounds():
         r = a.solve(H, **opts)
         assert b.success[i] and r.success
         np.testing.assert_allclose(b.q[i], r.q, atol=1e-12)
+        assert "outside the region: position error" in b.reason(i)  # as a solve says
+    kept = b[np.arange(len(poses)) % 2 == 0]  # a batch's rows keep their region
+    assert kept.region and "outside the region" in kept.reason(0)
+    back = armik.BatchResult.load(kept.save(tmp_path / "spun.npz"))
+    assert back.region and back.reason(0) == kept.reason(0)
+    assert not a.solve_batch(poses[:2], workers=1, progress=False).region
     every = a.solve_all(poses[0], **opts)
     assert every and all(r.success for r in every)
     q = a.random_q(rng)  # a path of spun poses along a short joint-space line

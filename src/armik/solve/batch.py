@@ -280,8 +280,7 @@ def _each(
         r = solve(arm, target, q0=seeds[i], solver=solver, **options)[0]
         out.put_result(i, r)
         names.add(r.solver)
-        if not r.success:
-            out.reasons[i] = r.reason
+        out.reasons[i] = r.reason  # its own words, a success's too (a task list's)
         bar(i + 1, n)
     bar.close()
     named = names.pop() if len(names) == 1 and label == SOLVER else label
