@@ -47,6 +47,28 @@ def test_an_obstacle_across_the_seeds_branch_forces_another_branch():
     assert found >= 5
 
 
+@pytest.mark.parametrize("self_collision", [False, True])
+def test_a_closed_form_runs_its_kernel_once_for_a_checked_answer(monkeypatch, self_collision):
+    """Its branches come from one kernel run and are checked nearest first, also when the
+    nearest collides (the plain solve's kernel and the search's were two runs)."""
+    ur5 = arm("ur5")
+    family = registry.get("three_parallel").run.__self__
+    calls = []
+    for name in ("kernel", "solve_into"):  # the general path's entry and the prepared one
+        compiled = getattr(family, name)
+        counted = (lambda f: lambda *a: calls.append(f) or f(*a))(compiled)
+        monkeypatch.setattr(family, name, counted)
+    colliding = 0
+    for q in ur5.random_q(21, n=12):
+        T = ur5.fk(q)
+        sphere = _elbow_sphere(ur5, q)
+        calls.clear()
+        r = ur5.solve(T, q0=q, obstacles=[sphere], self_collision=self_collision)
+        assert r.solver == "three_parallel" and len(calls) == 1, (r.reason, calls)
+        colliding += r.success and not np.array_equal(r.q, ur5.solve(T, q0=q).q)
+    assert colliding >= 3  # answers where the nearest branch collided
+
+
 @pytest.mark.parametrize("name, solver", [("ur5", "auto"), ("panda", "dls")])
 def test_a_target_reachable_only_in_collision_is_collision_naming_the_pair(name, solver):
     a = arm(name)

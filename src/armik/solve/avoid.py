@@ -2,11 +2,11 @@
 
 Every answer gets the verdict of any solve (FK and limits), then the collision check
 (``armik.constraints.clear``): a success must keep every checked pair ``margin``
-apart. A closed form's branches are checked nearest the seed first, and the first
-collision-free verified one is the answer. A numeric solver whose verified answer collides
-is run again from a random configuration, within what is left of the budget (``timeout``
-or ``iteration_budget``, and ``max_restarts``); when none is free the result is
-``Status.COLLISION`` naming the closest pair.
+apart. A closed form's branches, from one run of its kernel, are checked nearest the seed
+first, and the first collision-free verified one is the answer. A numeric solver whose
+verified answer collides is run again from a random configuration, within what is left of
+the budget (``timeout`` or ``iteration_budget``, and ``max_restarts``); when none is free
+the result is ``Status.COLLISION`` naming the closest pair.
 
 On a path (``solve_path``), a numeric answer that reaches the pose but collides is first
 slid out of contact (``solve.slide``: damped least squares on the pose with each close
@@ -44,9 +44,8 @@ if TYPE_CHECKING:
 
 @dataclass(frozen=True)
 class First:
-    """The plain solve ``solve`` tries first, done already: a numeric solver's first run or a
-    closed form's nearest verified branch, its verdict and the thread's CPU time when it
-    started (a numeric budget counts it)."""
+    """The plain solve ``solve`` tries first, done already: a numeric solver's first run,
+    its verdict and the thread's CPU time when it started (the budget counts it)."""
 
     row: Verdicts  # one row
     started: float
@@ -63,8 +62,7 @@ def solve_avoiding(
     first: First | None = None,
 ):
     """The verified, collision-checked results of ``spec`` for ``target`` (best first; the
-    first only unless ``every``); a numeric solver goes on from ``first`` when given, a
-    closed form does not check its branch again."""
+    first only unless ``every``); a numeric solver goes on from ``first`` when given."""
     check = checker(arm, opts.obstacles, opts.self_collision)
     if not seed.flags.writeable:  # a read-only seed (a result's q) is another kernel type
         seed = seed.copy()
@@ -75,7 +73,7 @@ def solve_avoiding(
         return ranked(found, spec.name, seed, True, t0)
     if spec.kind == "analytic":
         answers = spec.run(arm, target, seed, opts, True)
-        found = _first_free(arm, answers, target, opts, check, seed, first)
+        found = _first_free(arm, answers, target, opts, check, seed)
         return ranked(found, spec.name, seed, False, t0)
     runs = _restarting(arm, spec, target, seed, opts, check, first)
     return [] if runs is None else ranked(runs, spec.name, seed, False, t0)
@@ -87,17 +85,12 @@ def _checked(arm, answers, i: int, target, opts: Options, check) -> Verdicts:
     return found.judge(collision_check(check, found.q, opts.margin))
 
 
-def _first_free(arm, answers, target, opts: Options, check, seed, first=None) -> Verdicts:
+def _first_free(arm, answers, target, opts: Options, check, seed) -> Verdicts:
     """Check the branches nearest the seed first (``nearest_first``); stop at the first
-    verified, collision-free one. The branch of ``first`` (the plain solve's answer,
-    verified and checked already) keeps its verdict."""
-    known = first.row if first is not None and first.row.extra is not None else None
+    verified, collision-free one."""
     rows = []
     for i in nearest_first(arm, answers, seed):
-        if known is not None and np.array_equal(answers.q[i], known.q[0]):
-            row, known = known, None
-        else:
-            row = _checked(arm, answers, i, target, opts, check)
+        row = _checked(arm, answers, i, target, opts, check)
         rows.append(row)
         if row.succeeded(0):
             return row

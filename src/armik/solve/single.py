@@ -29,8 +29,9 @@ from armik.solve.prepared import plan_for
 from armik.solve.tasks import CENTRE_RESTARTS, check_options, check_said_twice, solve_tasks
 from armik.solvers import registry
 from armik.solvers.answers import Answers, one, stacked
+from armik.solvers.registry import SolverSpec
 from armik.status import Status
-from armik.targets.pose import parse_target
+from armik.targets.pose import Target, parse_target
 from armik.verify.verdict import finish
 from armik.verify.verdicts import Verdicts
 
@@ -153,11 +154,8 @@ def _stages(arm, target, q0, solver: str, opts: Options, key, seed, every: bool,
     """``solve_parsed`` with the options validated (``_options``)."""
     if opts.hold is not None:
         return solve_held(arm, target, q0, solver, _with_seed(opts, seed), every, t0, _general)
-    first = None
     if not every and (opts.obstacles or opts.self_collision):  # ``opts.collisions``, inline
-        clear, first = _clear_at_once(arm, target, q0, solver, opts, key, seed, t0)
-        if clear is not None:
-            return clear
+        return _avoiding(arm, target, q0, solver, opts, key, seed, t0)
     vector = type(target) is np.ndarray and target.ndim == 1  # a position, for the plan
     plan = None if key is None else plan_for(arm, solver, key, opts, vector, every)
     if plan is not None and not every:
@@ -168,7 +166,7 @@ def _stages(arm, target, q0, solver: str, opts: Options, key, seed, every: bool,
         found = plan.solve_all(target, q0, opts, seed, t0)
         if found is not None:
             return _beyond_search(arm, target, q0, solver, opts, seed, found, t0)
-    results = _general(arm, target, q0, solver, _with_seed(opts, seed), every, t0, first)
+    results = _general(arm, target, q0, solver, _with_seed(opts, seed), every, t0)
     if every:
         return _beyond_search(arm, target, q0, solver, opts, seed, results, t0)
     return results[0]
@@ -310,16 +308,33 @@ RIM_SAMPLES = 8  # points on a region's rim tried where a closed form misses its
 _NO_COLLISIONS = {"obstacles": (), "self_collision": False, "margin": 0.0}
 
 
-def _clear_at_once(arm, target, q0, solver, opts: Options, key, seed, t0: float):
-    """(result, first): the plain solve's answer when it is a success and collision-free,
-    with its distance and pair (the answer the collision-checked search starts with: a
-    numeric solver's first run, a closed form's nearest verified branch, as
-    ``solve_batch``'s chunks), and None; else None and ``First``, that run for the search
-    (``armik.solve.avoid``) to go on from."""
-    started = time.thread_time()
+def _avoiding(arm, target, q0, solver, opts: Options, key, seed, t0: float) -> IKResult:
+    """A collision-checked solve: a closed form's branches from one run of its kernel,
+    checked nearest first; a numeric solver's plain solve first (most answers are clear at
+    once), then its restarts go on from that run."""
     plain = frozen(Options, **{**opts.__dict__, **_NO_COLLISIONS})
-    key = None if key is None else (key, "without collisions")  # the plan's, apart
-    r = _stages(arm, target, q0, solver, plain, key, seed, False, time.perf_counter())
+    tgt = parse_target(target, arm)
+    # chosen as without collisions (no solver reads them): remembered for these options
+    spec = registry.choose(solver, arm, tgt, plain)
+    first = None
+    if spec.kind != "analytic":
+        started, now = time.thread_time(), time.perf_counter()
+        if key is None:  # options no plan is kept for (obstacles): the general path
+            r = _general(arm, tgt, q0, spec, _with_seed(plain, seed), False, now)[0]
+        else:  # the plan's key apart from the options' with collisions
+            r = _stages(arm, target, q0, solver, plain, (key, "plain"), seed, False, now)
+        clear, first = _clear_at_once(arm, r, opts, started, t0)
+        if clear is not None:
+            return clear
+    return _general(arm, tgt, q0, spec, _with_seed(opts, seed), False, t0, first)[0]
+
+
+def _clear_at_once(arm, r: IKResult, opts: Options, started: float, t0: float):
+    """(result, first): a numeric solver's plain solve ``r`` (begun at thread CPU time
+    ``started``) when its answer is a success and collision-free, with its distance and
+    pair (the answer the collision-checked search starts with, as ``solve_batch``'s
+    chunks), and None; else None and ``First``, that run for the search
+    (``armik.solve.avoid``) to go on from."""
     if not r.success:
         return None, First(Verdicts.of_result(r, opts.tol_position, opts.tol_orientation), started)
     distance, pair = checker(arm, opts.obstacles, opts.self_collision).distance(r.q)
@@ -336,9 +351,15 @@ def _clear_at_once(arm, target, q0, solver, opts: Options, key, seed, t0: float)
 
 
 def _general(arm, target, q0, solver, opts: Options, all_solutions: bool, t0: float, first=None):
-    tgt = parse_target(target, arm)
+    """The general path's results (``solver``: a name, or the spec chosen already for
+    ``target`` parsed)."""
+    tgt = target if type(target) is Target else parse_target(target, arm)
     seed = arm.seed(q0)
-    spec = registry.choose(solver, arm, tgt, opts, all_solutions)
+    spec = (
+        solver
+        if type(solver) is SolverSpec
+        else registry.choose(solver, arm, tgt, opts, all_solutions)
+    )
     if opts.collisions:
         return solve_avoiding(arm, spec, tgt, seed, opts, all_solutions, t0, first)
     answers = spec.run(arm, tgt, seed, opts, all_solutions)
