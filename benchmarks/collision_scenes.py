@@ -29,6 +29,7 @@ Run: PYTHONPATH=src python benchmarks/collision_scenes.py -n 1000 [--scenes pand
 from __future__ import annotations
 
 import argparse
+import gc
 import time
 import warnings
 
@@ -183,14 +184,8 @@ def run(name: str, n: int, workers: int, seed: int, solver: str = "auto") -> Non
     for t in T[:10]:
         arm.solve(t, q0=arm.middle, **opts)
         arm.solve(t, q0=arm.middle, solver=solver)
-    t0, c0 = time.perf_counter(), time.process_time()
-    results = [arm.solve(t, q0=arm.middle, **opts) for t in T]
-    per_solve = (time.perf_counter() - t0) / n
-    cpu_solve = (time.process_time() - c0) / n
-    t0, c0 = time.perf_counter(), time.process_time()
-    plain = [arm.solve(t, q0=arm.middle, solver=solver) for t in T]
-    per_plain = (time.perf_counter() - t0) / n
-    cpu_plain = (time.process_time() - c0) / n
+    results, per_solve, cpu_solve = timed(lambda t: arm.solve(t, q0=arm.middle, **opts), T)
+    plain, per_plain, cpu_plain = timed(lambda t: arm.solve(t, q0=arm.middle, solver=solver), T)
     check = checker(arm.kinematics, tuple(shapes), True)
     Q = [r.q for r in results]
     passes = {"bounded": [], "every pair": []}
@@ -234,6 +229,20 @@ def run(name: str, n: int, workers: int, seed: int, solver: str = "auto") -> Non
         + ", ".join(f"{k} {np.median(v) * 1e3:.3f} ms" for k, v in passes.items())
         + f"; coal called {calls:.2f} times a bounded check"
     )
+
+
+def timed(solve, T: list) -> tuple[list, float, float]:
+    """(results, wall s, CPU s a target) of ``solve`` over ``T``, the garbage collector off
+    as ``timeit`` has it: a full collection of this process's 140 000 objects (most of them
+    numba's and Pinocchio's) pauses 30-80 ms here, which landed in one loop or the other."""
+    gc.collect()
+    gc.disable()
+    try:
+        t0, c0 = time.perf_counter(), time.process_time()
+        results = [solve(t) for t in T]
+        return results, (time.perf_counter() - t0) / len(T), (time.process_time() - c0) / len(T)
+    finally:
+        gc.enable()
 
 
 def coal_calls(check: Checker, Q: list) -> float:
