@@ -17,9 +17,11 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import sys
 import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
 from typing import Any
 
 import numpy as np
@@ -222,10 +224,13 @@ def compile(
             value=jobs,
         )
     bar = make_progress(progress, len(names), "compile")
-    if jobs > 1 and len(names) > 1:
+    if jobs > 1 and len(names) > 1 and _spawn_starts():
         took = _in_processes(names, min(jobs, len(names)), bar)
         for name in names:  # from the cache now; compiles what a concurrent write lost
-            PARTS[name]()
+            if name not in took:  # a process that died (killed, out of memory): here
+                took[name] = _timed(name)
+            else:
+                PARTS[name]()
     else:
         took = {}
         for i, name in enumerate(names):
@@ -246,7 +251,16 @@ def _quiet() -> None:
     os.environ["ARMIK_COMPILE_HELPER"] = "0"  # the cores are taken by the other processes
 
 
+def _spawn_starts() -> bool:
+    """Whether a spawned process can start: it runs the main script again, which a script
+    read from stdin or a string (``python -``, ``python -c``) does not have as a file."""
+    path = getattr(sys.modules.get("__main__"), "__file__", None)
+    return path is None or os.path.isfile(path)
+
+
 def _in_processes(names: Sequence[str], jobs: int, bar) -> dict[str, float]:
+    """The parts' times, compiled in ``jobs`` processes; a part whose process died is left
+    out (the caller compiles it)."""
     tasks = _tasks(names, jobs)
     # spawned, not forked: a fork copies numba's and the threads' state mid-flight
     context = multiprocessing.get_context("spawn")
@@ -254,7 +268,10 @@ def _in_processes(names: Sequence[str], jobs: int, bar) -> dict[str, float]:
     with ProcessPoolExecutor(jobs, mp_context=context, initializer=_quiet) as pool:
         futures = [pool.submit(_timed_each, task) for task in tasks]
         for future in as_completed(futures):
-            took.update(future.result())
+            try:
+                took.update(future.result())
+            except BrokenProcessPool:
+                continue
             bar(len(took), len(names))
     return took
 

@@ -117,6 +117,22 @@ def test_compiling_in_two_processes_fills_the_cache_a_new_process_loads(tmp_path
     assert "armik: compiling" not in again.stderr
 
 
+def test_compiling_from_a_script_on_stdin_compiles_in_its_own_process(tmp_path):
+    """A spawned process runs the main script again, which ``python -`` has no file of: the
+    parts compile in the calling process, where a broken process pool was raised."""
+    environ = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    done = subprocess.run(
+        [sys.executable, "-"],
+        input=PARALLEL,
+        env=environ,
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert json.loads(done.stdout.strip().splitlines()[-1]) == ["fk_batch", "planar2r"]
+
+
 @pytest.mark.parametrize("jobs", [0, -1, 1.5, True, "2"])
 def test_bad_jobs_are_refused_with_the_value(jobs):
     with pytest.raises(OptionError, match=f"jobs must be a positive int.*got {jobs!r}"):
