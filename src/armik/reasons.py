@@ -66,6 +66,12 @@ def not_converged(why: str, best: str) -> str:
     return f"no solution within {why}; best found: {best}; the target may be out of reach"
 
 
+def resting_on_limits(reason: str, joints: list[str]) -> str:
+    """A failure's ``reason`` with the joints its best configuration rests on a limit of
+    (``constraints.limits.on_limits``), where any does."""
+    return f"{reason}; the best found rests on {', '.join(joints)}" if joints else reason
+
+
 def search_missed(search: str, search_reason: str, solver: str, reason: str) -> str:
     """What "auto" says when the search it chose for every solution verified none and it
     went on to one answer from ``solver`` (each with its own reason)."""

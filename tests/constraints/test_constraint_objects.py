@@ -13,7 +13,7 @@ import pytest
 
 import armik
 from armik.constraints.base import box_of
-from armik.constraints.limits import JointLimits
+from armik.constraints.limits import JointLimits, on_limits
 from armik.options import Options
 from armik.solvers.answers import Answers
 from armik.status import Status
@@ -230,3 +230,27 @@ def test_a_task_list_keeps_clear_of_obstacles():
     assert not r.success and r.status is Status.COLLISION
     assert "obstacles[0] (Sphere)" in r.reason and r.extra["min_distance"] < 0.0
     assert r.extra["min_distance"] == pytest.approx(panda.min_distance(r.q, [over])[0], abs=1e-12)
+
+
+def test_a_failure_says_which_joints_its_best_rests_on_a_limit_of():
+    """A descent that finds no answer often stops on a limit: the reason names it, with the
+    limit's value, and nothing where no joint rests on one."""
+    model = conftest.model("panda")
+    q = model.middle.copy()
+    q[1], q[5] = model.upper[1], model.lower[5]
+    assert on_limits(model, q) == [
+        f"panda_joint2 at its upper limit ({model.upper[1]:.6g} rad)",
+        f"panda_joint6 at its lower limit ({model.lower[5]:.6g} rad)",
+    ]
+    q[1] -= 1e-6  # near, not on it
+    assert on_limits(model, q) == [f"panda_joint6 at its lower limit ({model.lower[5]:.6g} rad)"]
+    assert on_limits(model, model.middle) == []
+    # "this point, pointing straight down" beyond the SO-101's wrist: it bends to its limit
+    so101 = conftest.arm("so101")
+    tasks = [armik.Position((0.2, 0.0, 0.1)), armik.Axis((0, 0, 1), (0, 0, -1), 0.0)]
+    r = so101.solve(tasks, iteration_budget=2000, seed=0)
+    assert not r.success and r.status == "not_converged"
+    assert r.reason.endswith(", ".join(on_limits(so101.kinematics, r.q)))
+    assert "the best found rests on wrist_flex at its upper limit" in r.reason
+    b = so101.solve_batch([tasks], iteration_budget=2000, seed=0, workers=1, progress=False)
+    assert np.array_equal(b.q[0], r.q) and b.reason(0).endswith(r.reason.rsplit("; ", 1)[1])

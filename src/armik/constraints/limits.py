@@ -34,3 +34,18 @@ class JointLimits(Constraint):
         return Check(
             ok, Status.JOINT_LIMITS, lambda i: reasons.outside_limits(arm.limit_violations(Q[i]))
         )
+
+
+def on_limits(arm: ArmModel, q: np.ndarray, tol: float = 1e-9) -> list[str]:
+    """The joints of ``q`` that rest on a limit (within ``tol``, rad or m), in words: where
+    a descent that found no answer stopped, a limit is often what held it."""
+    values = np.asarray(q, dtype=float).tolist()
+    lower, upper = arm.lower.tolist(), arm.upper.tolist()
+    units = ["m" if p else "rad" for p in arm.prismatic.tolist()]
+    said = []
+    for name, v, lo, hi, unit in zip(arm.joint_names, values, lower, upper, units):
+        if abs(v - lo) <= tol:
+            said.append(f"{name} at its lower limit ({lo:.6g} {unit})")
+        elif abs(v - hi) <= tol:
+            said.append(f"{name} at its upper limit ({hi:.6g} {unit})")
+    return said

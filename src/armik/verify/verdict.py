@@ -17,6 +17,7 @@ import numpy as np
 
 from armik import reasons
 from armik.batch_result import BatchResult
+from armik.constraints.limits import on_limits
 from armik.frozen import frozen
 from armik.result import IKResult
 from armik.solvers.answers import Answers
@@ -153,15 +154,19 @@ def _failure_words(arm, v: Verdicts, m: BatchMeasure, i: int, opts: Options, pos
         if not m.within_limits[i]:
             return limits_reason(arm, answers.q[i])
         return reasons.check_failed(v.measured(i))
+    if code == _NOT_CONVERGED:  # where its best stopped, a limit may be what held it
+        if answers.reasons is not None:
+            said = answers.reasons[i]
+        else:
+            restarts = f"at most {opts.max_restarts} restarts"
+            why = reasons.budget(opts.timeout, opts.iteration_budget, restarts)
+            said = reasons.not_converged(why, v.measured(i))
+        return reasons.resting_on_limits(said, on_limits(arm, answers.q[i]))
     if answers.reasons is not None:
         return answers.reasons[i]
     if code == _UNREACHABLE and positions is not None:
         distance = math.dist(positions[i].tolist(), arm.first_joint_origin.tolist())
         return reasons.unreachable(distance, arm.reach)
-    if code == _NOT_CONVERGED:
-        restarts = f"at most {opts.max_restarts} restarts"
-        why = reasons.budget(opts.timeout, opts.iteration_budget, restarts)
-        return reasons.not_converged(why, v.measured(i))
     return reasons.claimed(Status.from_code(code).value, v.measured(i))
 
 
