@@ -233,8 +233,8 @@ def run(name: str, n: int, workers: int, seed: int, solver: str = "auto") -> Non
 
 def timed(solve, T: list) -> tuple[list, float, float]:
     """(results, wall s, CPU s a target) of ``solve`` over ``T``, the garbage collector off
-    as ``timeit`` has it: a full collection of this process's 140 000 objects (most of them
-    numba's and Pinocchio's) pauses 30-80 ms here, which landed in one loop or the other."""
+    as ``timeit`` has it: a full collection of this process's 147 000 objects (most of them
+    numba's and Pinocchio's) paused 70-80 ms here, which landed in one loop or the other."""
     gc.collect()
     gc.disable()
     try:

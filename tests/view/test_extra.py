@@ -21,8 +21,9 @@ def run(code: str) -> subprocess.CompletedProcess:
 def test_import_armik_stays_light():
     proc = run(
         "import sys, armik\n"
-        "print(sorted(m for m in ('viser', 'matplotlib', 'trimesh', 'armik.view') "
-        "if m in sys.modules))"
+        "heavy = ('viser', 'matplotlib', 'trimesh', 'armik.view', 'scipy.optimize', "
+        "'qpsolvers')\n"
+        "print(sorted(m for m in heavy if m in sys.modules))"
     )
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "[]"
