@@ -252,8 +252,9 @@ def _quiet() -> None:
 
 
 def _spawn_starts() -> bool:
-    """Whether a spawned process can start: it runs the main script again, which a script
-    read from stdin or a string (``python -``, ``python -c``) does not have as a file."""
+    """Whether a spawned process can start: it runs the main script again when it has a
+    file, and a script read from stdin (``python -``) names one that does not exist
+    (``python -c`` and an interactive session name none: they start)."""
     path = getattr(sys.modules.get("__main__"), "__file__", None)
     return path is None or os.path.isfile(path)
 

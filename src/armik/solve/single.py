@@ -320,13 +320,13 @@ def _avoiding(arm, target, q0, solver, opts: Options, key, seed, t0: float) -> I
     if spec.kind != "analytic":
         started, now = time.thread_time(), time.perf_counter()
         if key is None:  # options no plan is kept for (obstacles): the general path
-            r = _general(arm, tgt, q0, spec, _with_seed(plain, seed), False, now)[0]
+            r = _run(arm, spec, tgt, q0, _with_seed(plain, seed), False, now)[0]
         else:  # the plan's key apart from the options' with collisions
             r = _stages(arm, target, q0, solver, plain, (key, "plain"), seed, False, now)
         clear, first = _clear_at_once(arm, r, opts, started, t0)
         if clear is not None:
             return clear
-    return _general(arm, tgt, q0, spec, _with_seed(opts, seed), False, t0, first)[0]
+    return _run(arm, spec, tgt, q0, _with_seed(opts, seed), False, t0, first)[0]
 
 
 def _clear_at_once(arm, r: IKResult, opts: Options, started: float, t0: float):
@@ -350,20 +350,20 @@ def _clear_at_once(arm, r: IKResult, opts: Options, started: float, t0: float):
     return clear, None
 
 
-def _general(arm, target, q0, solver, opts: Options, all_solutions: bool, t0: float, first=None):
-    """The general path's results (``solver``: a name, or the spec chosen already for
-    ``target`` parsed)."""
-    tgt = target if type(target) is Target else parse_target(target, arm)
+def _general(arm, target, q0, solver: str, opts: Options, all_solutions: bool, t0: float):
+    tgt = parse_target(target, arm)
+    spec = registry.choose(solver, arm, tgt, opts, all_solutions)
+    return _run(arm, spec, tgt, q0, opts, all_solutions, t0)
+
+
+def _run(arm, spec: SolverSpec, tgt: Target, q0, opts: Options, every: bool, t0: float, first=None):
+    """The verified results of ``spec`` for the parsed target ``tgt`` (collisions checked
+    where the options ask, a numeric solver going on from ``first`` when given)."""
     seed = arm.seed(q0)
-    spec = (
-        solver
-        if type(solver) is SolverSpec
-        else registry.choose(solver, arm, tgt, opts, all_solutions)
-    )
     if opts.collisions:
-        return solve_avoiding(arm, spec, tgt, seed, opts, all_solutions, t0, first)
-    answers = spec.run(arm, tgt, seed, opts, all_solutions)
-    return finish(arm, spec.name, answers, tgt, opts, seed, all_solutions, t0)
+        return solve_avoiding(arm, spec, tgt, seed, opts, every, t0, first)
+    answers = spec.run(arm, tgt, seed, opts, every)
+    return finish(arm, spec.name, answers, tgt, opts, seed, every, t0)
 
 
 _OPTIONS: dict[tuple, Options] = {}

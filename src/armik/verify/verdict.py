@@ -48,6 +48,7 @@ RULE[1, 0, 1] = _NOT_CONVERGED
 _RULE = RULE.tolist()  # nested lists: the rule for a few answers, indexed without a call
 _FEW = 32  # answers decided row by row (``decide``); more by array calls
 # one answer: nested lists of statuses (None: the claim stands), indexed without a call
+_SUCCESS, _OUTSIDE = Status.CONVERGED, Status.JOINT_LIMITS  # read per row
 _DECIDED = [[[None if c < 0 else Status.from_code(c) for c in w] for w in o] for o in RULE.tolist()]
 
 
@@ -278,19 +279,12 @@ def claimed_verdict(
     the limits, ``joint_limits`` outside the limits, else None (the general ``verdict``
     decides: ``check_failed``'s reason needs the target's region). The fields of an
     ``IKResult`` but ``solver`` and ``time``; the reason written on first read."""
-    ok = inside and pos <= tol_p and (ori is None or ori <= tol_r)
-    status = _DECIDED[1][1 if ok else 0][1 if inside else 0]  # status_of a claimed answer
     q = got.q
     if q.flags.writeable:  # the runner's own array (solve_all's rows are read-only)
         q.setflags(write=False)
-    if status is Status.JOINT_LIMITS:
-        reason: tuple = (limits_reason, (arm, q))
-    elif status is Status.CONVERGED:
-        reason = (success_reason, (got.reason, got.reason_args, pos, ori, tol_p, tol_r, region))
-    else:
-        return None
-    its, rs = got.iterations, got.restarts
-    return _claimed(q, status, its, rs, got.branch, got.singular, pos, ori, reason)
+    its, rs, branch, singular = got.iterations, got.restarts, got.branch, got.singular
+    why = (got.reason, got.reason_args)
+    return _claimed(arm, q, its, rs, branch, singular, pos, ori, inside, tol_p, tol_r, why, region)
 
 
 def claimed_rows(
@@ -304,32 +298,36 @@ def claimed_rows(
     claims, its, rss = got.claim.tolist(), got.iterations.tolist(), got.restarts.tolist()
     labels = got.branch or (None,) * len(claims)
     flags = (False,) * len(claims) if got.singular is None else got.singular.tolist()
-    words, CONVERGED, LIMITS = got.reason, Status.CONVERGED, Status.JOINT_LIMITS
+    words = got.reason
     out: list[dict | None] = []
     for i, (pos, ori, inside) in enumerate(measured):
         if claims[i] != converged:
             out.append(None)
             continue
-        within = inside > 0.0
         ori = ori if rot else None
-        ok = within and pos <= tol_p and (ori is None or ori <= tol_r)
-        status = _DECIDED[1][1 if ok else 0][1 if within else 0]  # status_of a claim
-        if status is CONVERGED:
-            reason: tuple = (success_reason, (words, (i,), pos, ori, tol_p, tol_r, False))
-        elif status is LIMITS:
-            reason = (limits_reason, (arm, Q[i]))
-        else:
-            out.append(None)
-            continue
-        out.append(_claimed(Q[i], status, its[i], rss[i], labels[i], flags[i], pos, ori, reason))
+        why = (words, (i,))
+        row = _claimed(arm, Q[i], its[i], rss[i], labels[i], flags[i], pos, ori, inside > 0.0,
+                       tol_p, tol_r, why, False)  # fmt: skip
+        out.append(row)
     return out
 
 
-def _claimed(q, status: Status, its, rs, branch, singular, pos, ori, reason: tuple) -> dict:
-    """The fields of a claimed answer's result but ``solver`` and ``time``."""
+def _claimed(arm, q, its, rs, branch, singular, pos, ori, inside, tol_p, tol_r, why, region):
+    """The fields of a claimed answer's result but ``solver`` and ``time``, by the rule
+    (``status_of`` a claim): a success within the tolerances and the limits,
+    ``joint_limits`` outside the limits, else None (the general verdict decides). ``why``:
+    the claim's reason as (function, arguments)."""
+    ok = inside and pos <= tol_p and (ori is None or ori <= tol_r)
+    status = _DECIDED[1][1 if ok else 0][1 if inside else 0]
+    if status is _SUCCESS:
+        reason: tuple = (success_reason, (why[0], why[1], pos, ori, tol_p, tol_r, region))
+    elif status is _OUTSIDE:
+        reason = (limits_reason, (arm, q))
+    else:
+        return None
     return dict(
         q=q,
-        success=status is Status.CONVERGED,
+        success=status is _SUCCESS,
         status=status,
         iterations=its,
         position_error=pos,
