@@ -20,7 +20,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import cast
 
 import numpy as np
@@ -252,7 +252,7 @@ class Arms:
             get_solver(solver)  # an unknown name refused here, not skipped by ``_start``
         tasks = []
         for tip, target in targets.items():
-            tasks += [_on(t, tip) for t in _as_tasks(target)]
+            tasks += [_on(t, tip, self.tips) for t in _as_tasks(target)]
         opts = Options.from_kwargs(options)
         options["solver"] = solver  # each chain's start (``_start``)
         check_options(opts, "auto", several_tips=True)
@@ -376,7 +376,7 @@ class Arms:
             if tip in self._chains:
                 unknown += [t.relative_to for t in rel if t.relative_to not in self._chains]
                 for t in rel:
-                    _on(t, tip)  # a pose of this tip's frame, not another's
+                    _on(t, tip, self.tips)  # a pose of this tip's frame, not another's
         if unknown:
             raise FrameError(
                 f"unknown tips {unknown}; this robot's tips: {list(self.tips)}",
@@ -420,14 +420,18 @@ def _as_tasks(target: object) -> list[Task]:
     return [Pose(pin.SE3(parsed.rotation, parsed.position))]
 
 
-def _on(task: Task, tip: str) -> Task:
-    """``task`` on ``tip`` (a task given for one tip names no other frame)."""
-    if task.frame not in (None, tip):
+def _on(task: Task, tip: str, tips: Sequence[str]) -> Task:
+    """``task`` on ``tip``, or on the frame it names that is no tip (an elbow, a camera
+    link of that chain); a task on another tip, or another tip's ``Relative``, is that
+    tip's to give."""
+    if task.frame is None:
+        return replaced(task, frame=tip)
+    if task.frame != tip and (task.frame in tips or isinstance(task, Relative)):
         raise TargetError(
             f"the target of tip {tip!r} holds a task on frame {task.frame!r}: give each tip "
             "its own tasks"
         )
-    return replaced(task, frame=tip)
+    return task
 
 
 def _relative(targets: Mapping[str, object]) -> dict[str, list[Relative]]:

@@ -30,6 +30,7 @@ from armik.arm import Arm, load, load_string
 from armik.constraints.shapes import Box, HalfSpace
 from armik.errors import OptionError, listing
 from armik.model.random_arms import random_urdf
+from armik.problem.tasks import Axis, Position
 from armik.solve.progress import make_progress
 
 # a few iterations suffice to compile
@@ -142,6 +143,15 @@ def _path() -> None:
     arm.solve_path(poses, q, **_BUDGET)
 
 
+def _tasks_part() -> None:
+    """Tasks on two frames of the Panda (the tip's position and axis, the elbow's position):
+    the task solver's compiled descent."""
+    arm = load("panda")
+    T = arm.fk(arm.middle)
+    tasks = [Position(T.translation), Axis((0, 0, 1), T.rotation[:, 2], 0.05)]
+    arm.solve([*tasks, Position((0.0, 0.0, 0.5), bounds=(0.2,) * 3, frame="panda_link4")])
+
+
 def _fk_batch() -> None:
     arm = load("ur5")
     arm.fk_batch(arm.random_q(0, n=2))
@@ -173,6 +183,7 @@ PARTS: dict[str, Callable[[], None]] = {
     "batch": _batch,
     "path": _path,
     "fk_batch": _fk_batch,
+    "tasks": _tasks_part,
     "collisions": _collisions,
 }
 

@@ -67,6 +67,7 @@ def test_a_tour_of_every_option_compiles_each_kernel_once():
         "armik.solvers.closed_form.swept_7r.held_rows",
         "armik.constraints.bounds.ordered_bounds",
         "armik.solvers.closed_form.general_6r.kernel",
+        "armik.kernel.task_rows.descend",
     ):
         assert counts[entry] == 1, entry
     assert {name: n for name, n in counts.items() if n > 1} == {}

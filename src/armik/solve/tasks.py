@@ -38,6 +38,7 @@ from armik.problem.scores import Posture, Score
 from armik.problem.tasks import Axis, LookAt, Task, TaskError
 from armik.result import IKResult
 from armik.solve.nullspace import descend
+from armik.solve.task_table import descend_table, task_table
 from armik.solvers.answers import one
 from armik.status import Status
 from armik.verify.verdict import status_of
@@ -199,10 +200,16 @@ def measure_tasks(arm: ArmModel, problem: Problem, q: np.ndarray, opts: Options)
     return _measure(arm, problem.tasks, frame_ids(arm, problem.tasks), q, opts)
 
 
-def _descend(arm: ArmModel, tasks, ids, q: np.ndarray, opts: Options, iterations: int, box):
+def _descend(
+    arm: ArmModel, tasks, ids, q: np.ndarray, opts: Options, iterations: int, box, table=None
+):
     """(q, iterations used): Levenberg-Marquardt from ``q`` until every task holds (on
     Pinocchio's placements) or the iterations run out, each step clipped into ``box``
-    (lower, upper: the constraints' rows, ``box_of``)."""
+    (lower, upper: the constraints' rows, ``box_of``). With ``table`` (the tasks' compiled
+    rows aimed inside their regions, ``task_table``), the same descent compiled."""
+    if table is not None:
+        tol_p, tol_r = opts.tol_position, opts.tol_orientation
+        return descend_table(table, q, box, iterations, tol_p, tol_r, LAMBDA0)
     lo, hi = box
     aims = tuple(t.shrunk(AIM) for t in tasks)
     eye = np.eye(len(q))
@@ -299,6 +306,7 @@ def solve_tasks(
     q = np.clip(q, *box)
     rng = np.random.default_rng(opts.seed)
     budget = problem.budget
+    table = task_table(arm, tuple(t.shrunk(AIM) for t in tasks), ids)
     started = time.thread_time()
     used = restarts = 0
     best, best_errors = q, _measure(arm, tasks, ids, q, opts)
@@ -306,7 +314,7 @@ def solve_tasks(
     before = math.inf  # the last descent's end error: one still closing in goes on
     while True:
         left = budget.attempt(used)
-        q, k = _descend(arm, tasks, ids, q, opts, left, box)
+        q, k = _descend(arm, tasks, ids, q, opts, left, box, table)
         used += k
         errors = _measure(arm, tasks, ids, q, opts)
         # done: every task holds and every constraint (a collision check only then)

@@ -9,8 +9,18 @@ import math
 import numpy as np
 import pinocchio as pin
 
+from armik.kernel.problem import LOOK_TOWARD
 from armik.problem.tasks import cone
-from armik.problem.tasks.base import Task, TaskError, check_angle, check_frame, replaced, unit
+from armik.problem.tasks.base import (
+    KernelRow,
+    Task,
+    TaskError,
+    check_angle,
+    check_frame,
+    cone_row,
+    replaced,
+    unit,
+)
 
 RIM = 0.9  # of the cone's angle: a rim direction's tilt, inside the cone by the rest
 
@@ -37,6 +47,9 @@ class Axis(Task):
     def jacobian(self, T: pin.SE3, J: np.ndarray) -> np.ndarray:
         w = T.rotation.T @ self.direction
         return cone.jacobian(self.axis, w, cone.skew(w) @ J[3:], self.within)
+
+    def kernel_row(self) -> KernelRow:
+        return cone_row(self.axis, self.within, LOOK_TOWARD, self.direction)
 
     def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
         w = T.rotation.T @ self.direction

@@ -15,14 +15,43 @@ import copy
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
 
 from armik.errors import TargetError
+from armik.kernel.problem import NO_CONE, NO_LOOK
 
 #: A frame's placement ``T_base_frame`` and its LOCAL Jacobian (None where only measured).
 Placed = tuple[pin.SE3, np.ndarray | None]
+
+
+class KernelRow(NamedTuple):
+    """A task as the compiled step's six rows on its frame (``kernel.region``'s): the twist
+    of the frame relative to ``(R_t, p_t)`` in the target's axes, each component within
+    +- its bound (inf: free) and weighted; with ``cone >= 0`` the rotation rows are the
+    frame's ``axis`` within ``cone`` rad of the target's image of it, or, with ``look``
+    (``kernel.problem.LOOK_POINT``, ``LOOK_TOWARD``), of the line to the point ``sight`` or
+    the direction ``sight``."""
+
+    R_t: np.ndarray
+    p_t: np.ndarray
+    bounds: np.ndarray
+    weights: np.ndarray
+    cone: float = NO_CONE
+    axis: tuple[float, float, float] | np.ndarray = (0.0, 0.0, 1.0)
+    look: int = NO_LOOK
+    sight: tuple[float, float, float] | np.ndarray = (0.0, 0.0, 0.0)
+
+
+def cone_row(axis: np.ndarray, within: float, look: int, sight: np.ndarray) -> KernelRow:
+    """The ``KernelRow`` of a frame's axis within a cone of a direction or of the line to
+    a point (``Axis``, ``LookAt``): the position free."""
+    return KernelRow(_EYE, _ZERO, _FREE, _ONES, within, axis, look, sight)
+
+
+_EYE, _ZERO, _ONES, _FREE = np.eye(3), np.zeros(3), np.ones(6), np.full(6, math.inf)
 
 
 @dataclass(frozen=True)
@@ -67,6 +96,11 @@ class Task(ABC):
     @abstractmethod
     def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
         """The task on ``T``, within the tolerances (m, rad) added to its region."""
+
+    def kernel_row(self) -> KernelRow | None:
+        """The task's rows for the compiled step on its frame, or None where the compiled
+        step has no form for it (the Python descent's residual then)."""
+        return None
 
     def shrunk(self, factor: float) -> Task:
         """The task with its region scaled by ``factor`` about its centre (a task without

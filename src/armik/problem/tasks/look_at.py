@@ -6,8 +6,18 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
+from armik.kernel.problem import LOOK_POINT
 from armik.problem.tasks import cone
-from armik.problem.tasks.base import Task, TaskError, check_angle, check_frame, replaced, unit
+from armik.problem.tasks.base import (
+    KernelRow,
+    Task,
+    TaskError,
+    check_angle,
+    check_frame,
+    cone_row,
+    replaced,
+    unit,
+)
 from armik.targets.pose import _vector
 from armik.tolerances import LOOK_AT
 
@@ -53,6 +63,9 @@ class LookAt(Task):
         # d moves with the origin (dp = R v dq) and w with the frame's rotation too
         dd = (np.eye(3) - np.outer(d, d)) / distance @ (-R @ J[:3])
         return cone.jacobian(self.axis, w, cone.skew(w) @ J[3:] + R.T @ dd, self.within)
+
+    def kernel_row(self) -> KernelRow:
+        return cone_row(self.axis, self.within, LOOK_POINT, self.point)
 
     def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
         d, distance = self._sight(T)

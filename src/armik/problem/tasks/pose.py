@@ -15,6 +15,7 @@ import pinocchio as pin
 
 from armik.errors import TargetError
 from armik.problem.tasks.base import (
+    KernelRow,
     Task,
     TaskError,
     check_bounds,
@@ -69,6 +70,9 @@ class Pose(Task):
         rows = np.vstack([M @ J[:3], pin.Jlog3(M) @ J[3:]])
         active = dead_zone(self.twist(T), self._free)[1]
         return np.where(active[:, None], self.weights[:, None] * rows, 0.0)
+
+    def kernel_row(self) -> KernelRow:
+        return KernelRow(self.T.rotation, self.T.translation, self._free, self.weights)
 
     def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
         outside = dead_zone(self.twist(T), self._free)[0]  # the distance from the region

@@ -6,6 +6,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.problem.tasks.base import (
+    KernelRow,
     Task,
     TaskError,
     check_bounds,
@@ -15,6 +16,8 @@ from armik.problem.tasks.base import (
     scaled,
 )
 from armik.targets.pose import _vector
+
+_EYE, _ONES, _FREE = np.eye(3), np.ones(6), np.full(3, np.inf)
 
 
 class Position(Task):
@@ -36,6 +39,10 @@ class Position(Task):
     def jacobian(self, T: pin.SE3, J: np.ndarray) -> np.ndarray:
         active = dead_zone(T.translation - self.p, self.bounds)[1]
         return np.where(active[:, None], T.rotation @ J[:3], 0.0)
+
+    def kernel_row(self) -> KernelRow:
+        # the target's rotation the identity: the box in the base frame; the rotation free
+        return KernelRow(_EYE, self.p, np.concatenate([self.bounds, _FREE]), _ONES)
 
     def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
         pos = float(np.linalg.norm(self.residual(T)))

@@ -1,0 +1,94 @@
+"""A list of tasks as the compiled descent's table (``armik.kernel.task_rows``): each task's
+rows (``Task.kernel_row``) on its frame's chain (``armik.kernel.frame_chains``), for any
+number of tasks on any frames of one model: both hands and the torso between them, an
+elbow and the tip, three tasks on one tip.
+
+A new task the compiled step can take says so in its ``kernel_row``; the table and the
+descent do not change. A list with a task that has no row (``armik.Relative``) has no
+table, and the task solver's Python descent takes it.
+"""
+
+from __future__ import annotations
+
+import weakref
+from typing import NamedTuple
+
+import numpy as np
+
+from armik.kernel.frame_chains import FrameChains, frame_chains
+from armik.kernel.task_rows import PARAMS, descend
+from armik.problem.tasks import Task
+
+_CHAINS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # arm -> {frames: chains}
+
+
+class TaskTable(NamedTuple):
+    """The arrays ``task_rows.descend`` takes besides q and the box."""
+
+    chains: FrameChains
+    R_t: np.ndarray  # (T, 3, 3)
+    p_t: np.ndarray  # (T, 3)
+    params: np.ndarray  # (T, PARAMS)
+    ints: np.ndarray  # (T, 2): chain, look
+
+
+def task_table(arm, tasks: tuple[Task, ...], ids) -> TaskTable | None:
+    """The table of ``tasks`` on their frames (``ids``: each task's frame ids in
+    ``arm.model``, ``tasks.frame_ids``), or None where a task or a frame has no compiled
+    form."""
+    rows = [t.kernel_row() for t in tasks]
+    if any(r is None for r in rows) or any(len(f) != 1 for f in ids):
+        return None
+    frames = tuple(dict.fromkeys(f[0] for f in ids))
+    chains = _chains(arm, frames)
+    if chains is None:
+        return None
+    T = len(rows)
+    R_t, p_t = np.empty((T, 3, 3)), np.empty((T, 3))
+    params, ints = np.empty((T, PARAMS)), np.empty((T, 2), dtype=np.int64)
+    for t, row in enumerate(rows):
+        R_t[t], p_t[t] = row.R_t, row.p_t  # type: ignore[union-attr]
+        params[t] = [*row.bounds, *row.weights, row.cone, *row.axis, *row.sight]  # type: ignore[union-attr]
+        ints[t] = frames.index(ids[t][0]), row.look  # type: ignore[union-attr]
+    return TaskTable(chains, R_t, p_t, params, ints)
+
+
+def _chains(arm, frames: tuple[int, ...]) -> FrameChains | None:
+    kept = _CHAINS.setdefault(arm, {})
+    if frames not in kept:
+        kept[frames] = frame_chains(arm, frames)
+    return kept[frames]  # type: ignore[no-any-return]
+
+
+def descend_table(
+    table: TaskTable,
+    q: np.ndarray,
+    box: tuple[np.ndarray, np.ndarray],
+    iterations: int,
+    tol_position: float,
+    tol_orientation: float,
+    lam0: float,
+) -> tuple[np.ndarray, int]:
+    """(q, iterations used): the compiled descent from ``q`` within ``box``."""
+    ch = table.chains
+    q = np.array(q, dtype=float)
+    lo, hi = (np.array(b, dtype=float) for b in box)  # writable copies: one signature
+    used, _ = descend(
+        ch.packed,
+        ch.offsets,
+        ch.kinds,
+        ch.kind_offsets,
+        ch.halton,
+        table.R_t,
+        table.p_t,
+        table.params,
+        table.ints,
+        q,
+        lo,
+        hi,
+        int(iterations),
+        float(tol_position),
+        float(tol_orientation),
+        float(lam0),
+    )
+    return q, int(used)
