@@ -208,13 +208,39 @@ def test_a_panda_tip_and_its_elbow_go_through_the_table(monkeypatch):
     assert built and all(t is not None for t in built)
 
 
-def test_a_list_with_a_relative_task_keeps_the_python_descent():
+def test_a_relative_tasks_compiled_rows_are_its_python_rows():
+    """One hand's pose in the other's (exact, and within bounds with a weight): the
+    compiled placement in the reference frame and its Jacobian, ``J_frame - Ad(T^-1)
+    J_ref``, give the Python task's rows."""
     arm, (a, b, _) = union("talos")
-    q = arm.middle
-    tasks = (
-        armik.Pose(arm.fk(q, a), frame=a),
-        armik.Relative(b, a, arm.fk(q, a).actInv(arm.fk(q, b))),
-    )
+    rng = np.random.default_rng(12)
+    for k in range(20):
+        q = arm.random_q(rng)
+        T_rel = arm.fk(q, a).actInv(arm.fk(q, b))
+        tasks = (
+            armik.Relative(b, a, T_rel),
+            armik.Relative(
+                a, b, T_rel.inverse(), bounds=(0.01, 0, 0, 0, 0.2, 0), weights=(1,) * 5 + (3,)
+            ),
+        )
+        ids = frame_ids(arm, tasks)
+        table = task_table(arm, tasks, ids)
+        at = q + (0.02 if k % 2 else 0.5) * rng.standard_normal(len(q))
+        e, A = stacked(*table.chains, table.R_t, table.p_t, table.params, table.ints, at)
+        r, A_py = _stack(tasks, ids, _placed(arm, at, ids))
+        assert np.abs(-e - r).max() <= 1e-12
+        assert np.abs(A - A_py).max() <= 1e-12
+
+
+def test_a_list_with_a_task_of_its_own_keeps_the_python_descent():
+    """A task the user wrote, with no compiled rows: no table, the Python descent."""
+
+    class Height(armik.Position):
+        def kernel_row(self):
+            return None
+
+    arm, (a, _, _) = union("talos")
+    tasks = (armik.Pose(arm.fk(arm.middle, a), frame=a), Height((0, 0, 1), frame=a))
     assert task_table(arm, tasks, frame_ids(arm, tasks)) is None
 
 

@@ -22,8 +22,13 @@ from armik.kernel.se3 import jlog6_ab, log3, log6_ab
 def relative(ch, q, R_t, p_t, ws):
     """FK at q, then ws.m3[1], ws.v3[1] = T_tip^-1 T_target (rotation, translation in the
     tip frame)."""
-    R, p, M, t = ws.m3[0], ws.v3[0], ws.m3[1], ws.v3[1]
-    forward(ch, q, R, p, ws.geo[0], ws.geo[1])
+    forward(ch, q, ws.m3[0], ws.v3[0], ws.geo[0], ws.geo[1])
+    to_target(ws.m3[0], ws.v3[0], R_t, p_t, ws.m3[1], ws.v3[1])
+
+
+@njit(cache=True, nogil=True, inline="always")
+def to_target(R, p, R_t, p_t, M, t):
+    """M, t = T^-1 T_target (rotation, translation in the frame T = (R, p))."""
     d0, d1, d2 = p_t[0] - p[0], p_t[1] - p[1], p_t[2] - p[2]
     for i in range(3):
         t[i] = R[0, i] * d0 + R[1, i] * d1 + R[2, i] * d2

@@ -25,7 +25,7 @@ import math
 
 from numba import njit
 
-from armik.kernel.error import relative
+from armik.kernel.error import relative, to_target
 from armik.kernel.fk import jacobian_local
 from armik.kernel.problem import LOOK_TOWARD, NO_LOOK
 from armik.kernel.se3 import jlog3, log3
@@ -40,8 +40,23 @@ def _evaluate_region(ch, bounds, w, cone, a, look, x, R_t, p_t, ws, slot):
     or, with ``look``, around the line from the tip to the point ``x`` (3,)
     (``LOOK_POINT``) or the direction ``x`` (``LOOK_TOWARD``)."""
     relative(ch, ws.q[slot], R_t, p_t, ws)  # M = R^T R_t, t = R^T (p_t - p)
+    jacobian_local(ch, ws.m3[0], ws.v3[0], ws.geo[0], ws.geo[1], ws.J)
+    _rows(bounds, w, cone, a, look, x, ws, slot)
+
+
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
+def rows_at(bounds, w, cone, a, look, x, R_t, p_t, ws, slot):
+    """``_evaluate_region``'s rows for a placement already in ws.m3[0], ws.v3[0] with its
+    LOCAL Jacobian in ws.J (a frame's pose in another's, ``task_rows``)."""
+    to_target(ws.m3[0], ws.v3[0], R_t, p_t, ws.m3[1], ws.v3[1])
+    _rows(bounds, w, cone, a, look, x, ws, slot)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _rows(bounds, w, cone, a, look, x, ws, slot):
+    """ws.e[slot], ws.A[slot], ws.val[slot] from the placement (ws.m3[0], ws.v3[0]), its
+    LOCAL Jacobian ws.J and the target seen from it (ws.m3[1], ws.v3[1])."""
     J = ws.J
-    jacobian_local(ch, ws.m3[0], ws.v3[0], ws.geo[0], ws.geo[1], J)
     M, t, v = ws.m3[1], ws.v3[1], ws.v3[2]
     e, A, Jl = ws.e[slot], ws.A[slot], ws.Jlog
     for i in range(3):

@@ -1,10 +1,11 @@
 """A list of tasks as the compiled descent's table (``armik.kernel.task_rows``): each task's
 rows (``Task.kernel_row``) on its frame's chain (``armik.kernel.frame_chains``), for any
 number of tasks on any frames of one model: both hands and the torso between them, an
-elbow and the tip, three tasks on one tip.
+elbow and the tip, three tasks on one tip, one hand's pose in the other's (a task with
+a second frame, ``armik.Relative``, is placed in that frame's).
 
 A new task the compiled step can take says so in its ``kernel_row``; the table and the
-descent do not change. A list with a task that has no row (``armik.Relative``) has no
+descent do not change. A list with a task that has no row (one of the user's own) has no
 table, and the task solver's Python descent takes it.
 """
 
@@ -29,7 +30,7 @@ class TaskTable(NamedTuple):
     R_t: np.ndarray  # (T, 3, 3)
     p_t: np.ndarray  # (T, 3)
     params: np.ndarray  # (T, PARAMS)
-    ints: np.ndarray  # (T, 2): chain, look
+    ints: np.ndarray  # (T, 3): chain, look, reference chain (-1: the base)
 
 
 def task_table(arm, tasks: tuple[Task, ...], ids) -> TaskTable | None:
@@ -37,19 +38,21 @@ def task_table(arm, tasks: tuple[Task, ...], ids) -> TaskTable | None:
     ``arm.model``, ``tasks.frame_ids``), or None where a task or a frame has no compiled
     form."""
     rows = [t.kernel_row() for t in tasks]
-    if any(r is None for r in rows) or any(len(f) != 1 for f in ids):
+    if any(r is None for r in rows) or any(len(f) not in (1, 2) for f in ids):
         return None
-    frames = tuple(dict.fromkeys(f[0] for f in ids))
+    frames = tuple(dict.fromkeys(i for f in ids for i in f))
     chains = _chains(arm, frames)
     if chains is None:
         return None
     T = len(rows)
     R_t, p_t = np.empty((T, 3, 3)), np.empty((T, 3))
-    params, ints = np.empty((T, PARAMS)), np.empty((T, 2), dtype=np.int64)
+    params, ints = np.empty((T, PARAMS)), np.empty((T, 3), dtype=np.int64)
     for t, row in enumerate(rows):
         R_t[t], p_t[t] = row.R_t, row.p_t  # type: ignore[union-attr]
         params[t] = [*row.bounds, *row.weights, row.cone, *row.axis, *row.sight]  # type: ignore[union-attr]
-        ints[t] = frames.index(ids[t][0]), row.look  # type: ignore[union-attr]
+        # a second frame is the one the first's pose is in (``Relative``)
+        reference = frames.index(ids[t][1]) if len(ids[t]) == 2 else -1
+        ints[t] = frames.index(ids[t][0]), row.look, reference  # type: ignore[union-attr]
     return TaskTable(chains, R_t, p_t, params, ints)
 
 

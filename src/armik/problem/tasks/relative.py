@@ -13,7 +13,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.errors import TargetError
-from armik.problem.tasks.base import Placed, Task, TaskError, check_frame, replaced
+from armik.problem.tasks.base import KernelRow, Placed, Task, TaskError, check_frame, replaced
 from armik.problem.tasks.pose import Pose
 
 
@@ -63,6 +63,11 @@ class Relative(Task):
 
     def jacobian(self, T: pin.SE3, J: np.ndarray) -> np.ndarray:
         return self.pose.jacobian(T, J)
+
+    def kernel_row(self) -> KernelRow:
+        """The pose's rows, on the placement of ``frame`` in ``relative_to`` (the table
+        reads the second frame as the reference)."""
+        return self.pose.kernel_row()
 
     def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
         return self.pose.measure(T, tol_position, tol_orientation)
