@@ -273,3 +273,29 @@ def test_a_tips_target_may_hold_a_task_on_another_frame_of_its_chain():
 def _in_union(robot, arm, q):
     """The union's joint values from the robot's q (ordered by ``robot.joint_names``)."""
     return np.array([q[robot.joint_names.index(n)] for n in arm.joint_names])
+
+
+def test_an_arm_with_mimic_joints_has_its_frames_compiled():
+    """A frame past a mimic joint and the tip (tests/model/test_mimic.py's arm: a revolute
+    and a prismatic joint mimicking drivers): the compiled rows are the Python task's on
+    Pinocchio's mimic model, and a list on both frames is solved and verified."""
+    from ..model.test_mimic import five_joint_urdf
+
+    arm = armik.load_string(five_joint_urdf(), base="base", tip="tip")
+    km = arm.kinematics
+    assert km.mimics
+    rng = np.random.default_rng(9)
+    for k in range(10):
+        q = km.random_q(rng)
+        T, p = km.fk(q), _pin_frame(km, q, "l3")[0].translation
+        tasks = (armik.Pose(T, weights=(1, 1, 1, 0, 0, 0)), armik.Position(p, frame="l3"))
+        ids = frame_ids(km, tasks)
+        table = task_table(km, tasks, ids)
+        at = q + 0.3 * rng.standard_normal(len(q))
+        e, A = stacked(*table.chains, table.R_t, table.p_t, table.params, table.ints, at)
+        r, A_py = _stack(tasks, ids, _placed(km, at, ids))
+        assert np.abs(-e[:6] - r[:6]).max() <= 1e-12 and np.abs(-e[6:9] - r[6:9]).max() <= 1e-12
+        assert np.abs(A[:9] - A_py[:9]).max() <= 1e-12
+        got = arm.solve(list(tasks), iteration_budget=3000, seed=k)
+        assert got.success, got.reason
+        assert np.linalg.norm(_pin_frame(km, got.q, "l3")[0].translation - p) <= 1e-6

@@ -32,40 +32,54 @@ class FrameChains(NamedTuple):
 
 
 def frame_chains(arm, frame_ids: tuple[int, ...]) -> FrameChains | None:
-    """The chains of ``frame_ids`` (frames of ``arm.model``), in that order; None where one
-    has no compiled form: an arm with mimic joints, a frame no joint moves, a chain of every
-    joint in another order than q's (``fk``'s shortcut reads joint i as q[i] there)."""
-    if getattr(arm, "mimics", ()):
-        return None
-    model = arm.model
+    """The chains of ``frame_ids`` (frames of ``arm.model``), in that order; None where a
+    frame has no compiled form (no joint moves it, a joint of more than one degree of
+    freedom). An arm with mimic joints is read from its model of physical joints, each
+    driven as ``ArmModel.joint_map`` says."""
     n = arm.dof
+    if getattr(arm, "mimics", ()):
+        model = arm.physical_model
+        driver, multiplier, offset = (np.asarray(x) for x in arm.joint_map)
+        by_value = np.array(arm.kernel_chain.kind, dtype=np.int64)
+    else:
+        model = arm.model
+        driver = np.array([model.joints[j].idx_v for j in range(1, model.njoints)], dtype=int)
+        multiplier, offset = np.ones(len(driver)), np.zeros(len(driver))
+        by_value = None
     axes, kinds = _joint_axes(model)
     if axes is None:
         return None
-    by_value = np.empty(n, dtype=np.int64)  # the kind of each joint value
-    for j in range(1, model.njoints):
-        by_value[model.joints[j].idx_v] = kinds[j]
+    if by_value is None:
+        by_value = np.empty(n, dtype=np.int64)  # the kind of each joint value
+        for j in range(1, model.njoints):
+            by_value[driver[j - 1]] = kinds[j]
     lo, hi = np.asarray(arm.lower, dtype=float), np.asarray(arm.upper, dtype=float)
     sample_lo = np.where(np.isfinite(lo), lo, -np.pi)
     span = np.where(np.isfinite(hi), hi, np.pi) - sample_lo
     packed, kind_parts = [], []
     for fid in frame_ids:
-        frame = model.frames[fid]
+        frame = model.frames[model.getFrameId(arm.model.frames[fid].name)]
         path = [j for j in model.supports[frame.parentJoint] if j > 0]
-        drivers = [model.joints[j].idx_v for j in path]
-        if not path or (len(path) == n and drivers != list(range(n))):
+        if not path:
             return None
-        N = len(path)
-        joint_R, joint_p = np.empty((N, 3, 3)), np.empty((N, 3))
-        for i, j in enumerate(path):
-            M = model.jointPlacements[j]
-            if i == 0:  # the root's child: the base frame folded in
-                M = arm.T_base_world * M
-            joint_R[i], joint_p[i] = M.rotation, M.translation
+        on = [j - 1 for j in path]  # their indices in ``driver``, ``multiplier``, ``offset``
+        placements = [model.jointPlacements[j] for j in path]
+        placements[0] = arm.T_base_world * placements[0]  # the base frame folded in
+        joints = [
+            (M.rotation, M.translation, axes[j], kinds[j], driver[i], multiplier[i], offset[i])
+            for M, j, i in zip(placements, path, on)
+        ]
+        if len(joints) == n and [x[4:] for x in joints] != [(k, 1.0, 0.0) for k in range(n)]:
+            # n physical joints are read by ``fk`` as q itself: one that never moves (driven
+            # by q[0] times 0) makes them n + 1, read through their drivers
+            joints.append(
+                (np.eye(3), np.zeros(3), np.array([0.0, 0.0, 1.0]), REVOLUTE, 0, 0.0, 0.0)
+            )
+        R, t, axis, kind, drivers, times, plus = (np.array(x) for x in zip(*joints))
         ch = Chain(
-            joint_R,
-            joint_p,
-            np.array([axes[j] for j in path]),
+            R,
+            t,
+            axis,
             by_value,
             frame.placement.rotation.copy(),
             frame.placement.translation.copy(),
@@ -78,10 +92,10 @@ def frame_chains(arm, frame_ids: tuple[int, ...]) -> FrameChains | None:
             np.inf,
             arm.T_base_world.rotation.copy(),
             arm.T_base_world.translation.copy(),
-            np.array([kinds[j] for j in path], dtype=np.int64),
-            np.array(drivers, dtype=np.int64),
-            np.ones(N),
-            np.zeros(N),
+            kind.astype(np.int64),
+            drivers.astype(np.int64),
+            times.astype(float),
+            plus.astype(float),
         )
         packed.append(flatten(ch))
         kind_parts.append(flat_kinds(ch))
