@@ -74,7 +74,7 @@ def _compiled_frame(chains, c, q):
 def test_each_frame_of_a_tree_is_pinocchios_to_1e_12(name):
     arm, frames = union(name)
     ids = tuple(arm.model.getFrameId(f) for f in frames)
-    chains = table_module._chains(arm, ids)
+    chains = table_module._CHAINS(arm, ids)
     assert chains is not None
     rng = np.random.default_rng(7)
     for _ in range(20):
@@ -90,7 +90,7 @@ def test_each_frame_of_a_tree_is_pinocchios_to_1e_12(name):
 def test_an_elbow_of_an_arm_is_pinocchios_to_1e_12():
     km = conftest.model("panda")
     ids = (km.model.getFrameId("panda_link4"), km.tip_frame_id)
-    chains = table_module._chains(km, ids)
+    chains = table_module._CHAINS(km, ids)
     rng = np.random.default_rng(3)
     for _ in range(20):
         q = km.random_q(rng)

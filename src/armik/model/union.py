@@ -72,6 +72,7 @@ class Union:
             np.where(bounded, self.lower, 0.0) + np.where(bounded, self.upper, 0.0)
         )
         self._local = threading.local()
+        self._derived: dict = {}  # ``armik.model.derived``: what modules keep (frame chains)
 
     @property
     def data(self) -> pin.Data:

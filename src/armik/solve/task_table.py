@@ -11,16 +11,17 @@ table, and the task solver's Python descent takes it.
 
 from __future__ import annotations
 
-import weakref
 from typing import NamedTuple
 
 import numpy as np
 
 from armik.kernel.frame_chains import FrameChains, frame_chains
 from armik.kernel.task_rows import PARAMS, descend
+from armik.model.derived import DerivedBy
 from armik.problem.tasks import Task
 
-_CHAINS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # arm -> {frames: chains}
+# an arm's (or a union's) chains of a tuple of frames, or None where they have no form
+_CHAINS: DerivedBy[FrameChains | None] = DerivedBy("frame chains", frame_chains)
 
 
 class TaskTable(NamedTuple):
@@ -41,7 +42,7 @@ def task_table(arm, tasks: tuple[Task, ...], ids) -> TaskTable | None:
     if any(r is None for r in rows) or any(len(f) not in (1, 2) for f in ids):
         return None
     frames = tuple(dict.fromkeys(i for f in ids for i in f))
-    chains = _chains(arm, frames)
+    chains = _CHAINS(arm, frames)
     if chains is None:
         return None
     T = len(rows)
@@ -54,13 +55,6 @@ def task_table(arm, tasks: tuple[Task, ...], ids) -> TaskTable | None:
         reference = frames.index(ids[t][1]) if len(ids[t]) == 2 else -1
         ints[t] = frames.index(ids[t][0]), row.look, reference  # type: ignore[union-attr]
     return TaskTable(chains, R_t, p_t, params, ints)
-
-
-def _chains(arm, frames: tuple[int, ...]) -> FrameChains | None:
-    kept = _CHAINS.setdefault(arm, {})
-    if frames not in kept:
-        kept[frames] = frame_chains(arm, frames)
-    return kept[frames]  # type: ignore[no-any-return]
 
 
 def descend_table(
