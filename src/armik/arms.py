@@ -28,7 +28,7 @@ import pinocchio as pin
 
 from armik import arms_many, arms_reach
 from armik.arms_joined import joined
-from armik.arms_options import per_chain
+from armik.arms_options import per_chain, refuse_own_checks
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.model.arm_model import ArmModel
 from armik.model.union import Union
@@ -147,6 +147,7 @@ class Arms:
         """Every tip at its target (any target form ``Arm.solve`` takes, or a task list),
         each chain by its own solver; one ``IKResult`` for the robot (module docstring)."""
         t0 = time.perf_counter()
+        refuse_own_checks(options)
         relative = self._check_targets(targets)
         if self._union is not None:
             beyond = {} if relative else arms_reach.beyond_reach(self._chains, targets)
@@ -190,6 +191,7 @@ class Arms:
     def solve_batch(self, targets: Mapping[str, object], *, q0: object = None, **options):
         """Many targets per tip (tip -> N targets): a ``BatchResult`` over every joint, each
         chain's own batch where the chains are independent (``armik.arms_many``)."""
+        refuse_own_checks(options)
         return arms_many.solve_batch(self, targets, q0=q0, **options)
 
     def solve_path(
@@ -203,6 +205,7 @@ class Arms:
     ):
         """Waypoints per tip (tip -> N waypoints) in order from ``q0``, never with a silent
         jump larger than ``max_joint_step`` (``armik.arms_many``)."""
+        refuse_own_checks(options)
         return arms_many.solve_path(
             self, waypoints, q0, max_joint_step=max_joint_step, plan=plan, **options
         )

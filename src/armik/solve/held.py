@@ -99,7 +99,8 @@ def solve_held(
         return results if every else results[0]
     sub = locked_arm(arm, name, value)
     free = np.delete(seed, k)
-    found = general(sub, target, free, solver, replace(opts, hold=None), True, t0)
+    # the checks are of the whole arm's joints: its verdict below runs them
+    found = general(sub, target, free, solver, replace(opts, hold=None, checks=()), True, t0)
     answers = Answers.of(
         [np.insert(np.asarray(r.q, dtype=float), k, value) for r in found],
         [Status.CONVERGED if r.success else r.status for r in found],

@@ -90,7 +90,7 @@ _PLANS: Derived[dict] = Derived("prepared solves", lambda _: {})  # read as a ke
 
 
 def _build(arm: ArmModel, solver: str, opts: Options, position: bool, every: bool):
-    if opts.collisions:  # the general path checks them
+    if opts.collisions or opts.checks:  # the general path checks them
         return _NO_PLAN
     # a target of the kind every plain target of the plan is
     target = parse_target(np.zeros(3) if position else np.eye(4), arm)
