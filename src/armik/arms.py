@@ -30,6 +30,7 @@ from armik import arms_many, arms_reach
 from armik.arms_joined import joined
 from armik.arms_options import per_chain, refuse_own_checks
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
+from armik.model import frames
 from armik.model.arm_model import ArmModel
 from armik.model.union import Union
 from armik.options import Options
@@ -122,17 +123,27 @@ class Arms:
         return {tip: arr[cols] for tip, cols in self._columns.items()}
 
     def fk(self, q: object, frame: str | None = None):
-        """``T_base_frame`` of a tip (default: the first) at ``q``."""
-        tip = self.tips[0] if frame is None else frame
-        return self.chain(tip).fk(self.split(q)[tip])
+        """``T_base_frame`` at ``q``: a tip's (default: the first) or any frame's of a
+        chain."""
+        tip = self._chain_of(frame)
+        return frames.placement(self._chains[tip], self.split(q)[tip], frame)
 
-    def jacobian(self, q: object, frame: str | None = None) -> np.ndarray:
-        """A tip's 6 x dof LOCAL Jacobian over every joint (zero for the joints not on its
-        chain)."""
-        tip = self.tips[0] if frame is None else frame
+    def jacobian(
+        self, q: object, frame: str | None = None, reference: str | None = None
+    ) -> np.ndarray:
+        """The 6 x dof Jacobian over every joint of a tip (default: the first) or any
+        frame of a chain, in its own axes (``reference="local"``) or the base's
+        (``"base"``); zero for the joints not on its chain (``armik.model.frames``)."""
+        frame, reference = frames.frame_and_reference(frame, reference)
+        tip = self._chain_of(frame)
         J = np.zeros((6, self.dof))
-        J[:, self._columns[tip]] = self.chain(tip).jacobian(self.split(q)[tip])
+        chain = self._chains[tip]
+        J[:, self._columns[tip]] = frames.jacobian(chain, self.split(q)[tip], frame, reference)
         return J
+
+    def _chain_of(self, frame: str | None) -> str:
+        """The tip whose chain has ``frame`` (None: the first tip)."""
+        return self.tips[0] if frame is None else self._known(frames.owner(self._chains, frame))
 
     def _random(self, rng: np.random.Generator) -> np.ndarray:
         """A random configuration within the limits, in ``joint_names``'s order."""
@@ -197,7 +208,7 @@ class Arms:
     def solve_path(
         self,
         waypoints: Mapping[str, object],
-        q0: object,
+        q0: object = None,
         *,
         max_joint_step: float | np.ndarray | None = None,
         plan: str = "follow",
