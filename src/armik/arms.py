@@ -9,10 +9,8 @@ takes one task per tip over every joint at once, with restarts within the budget
 configuration is the union's joints in the model's order. Every answer is verified by
 Pinocchio's FK of every tip.
 
-A result is one ``IKResult`` for the whole robot: ``q`` over every joint, ``success`` when
-every tip's answer is one, the worst tip's status and errors, a reason naming each tip
-that failed, and per tip in ``extra``: ``"errors"`` (tip -> (position m, orientation
-rad)) and ``"results"`` (tip -> that chain's ``IKResult``).
+A result is one ``IKResult`` for the whole robot (``armik.arms_joined``): ``q`` over
+every joint, a success when every tip's answer is one, per tip in ``extra``.
 """
 
 from __future__ import annotations
@@ -45,7 +43,7 @@ from armik.solve.tasks import check_options, solve_tasks
 from armik.solvers.registry import get as get_solver
 from armik.solvers.registry import validate_name
 from armik.status import Status
-from armik.targets.pose import parse_target
+from armik.targets.pose import parse_target, parsed
 
 UNION_ITERATIONS = 40  # a restart's descent over chains that share joints (_solve_together)
 
@@ -123,8 +121,7 @@ class Arms:
         return {tip: arr[cols] for tip, cols in self._columns.items()}
 
     def fk(self, q: object, frame: str | None = None):
-        """``T_base_frame`` at ``q``: a tip's (default: the first) or any frame's of a
-        chain."""
+        """``T_base_frame`` at ``q``: a tip's (default: the first) or a chain's frame's."""
         tip = self._chain_of(frame)
         return frames.placement(self._chains[tip], self.split(q)[tip], frame)
 
@@ -160,6 +157,7 @@ class Arms:
         t0 = time.perf_counter()
         refuse_own_checks(options)
         relative = self._check_targets(targets)
+        targets = {tip: self._parsed(tip, t) for tip, t in targets.items()}  # once, here
         if self._union is not None:
             beyond = {} if relative else arms_reach.beyond_reach(self._chains, targets)
             if beyond:
@@ -367,6 +365,10 @@ class Arms:
             fixed[cols] = True
         return q
 
+    def _parsed(self, tip: str, target: object) -> object:
+        """A tip's target parsed, or its tasks as given."""
+        return target if as_problem(target) is not None else parse_target(target, self._chains[tip])
+
     def _holds(self, options: dict) -> dict[str, dict]:
         """Each tip's options (``arms_options.per_chain``)."""
         return per_chain(options, self._chains, self._columns, self.joint_names)
@@ -423,15 +425,14 @@ def _worse(a: float | None, b: float | None) -> float | None:
 
 
 def _as_tasks(target: object) -> list[Task]:
-    """A tip's target as tasks: a task or list of them as given, a position as a
-    ``Position``, any pose as a ``Pose``."""
+    """A tip's target as tasks: as given, or a ``Position`` or ``Pose``."""
     problem = as_problem(target)
     if problem is not None:
         return list(problem.tasks)
-    parsed = parse_target(target)
-    if parsed.rotation is None:
-        return [Position(parsed.position)]
-    return [Pose(pin.SE3(parsed.rotation, parsed.position))]
+    target = parsed(target)
+    if target.rotation is None:
+        return [Position(target.position)]
+    return [Pose(target)]
 
 
 def _on(task: Task, tip: str, tips: Sequence[str]) -> Task:

@@ -32,7 +32,7 @@ from armik.options import Options
 from armik.solvers.answers import Answers
 from armik.solvers.closed_form import swept_7r
 from armik.status import Status
-from armik.targets.pose import parse_target
+from armik.targets.pose import parsed
 from armik.verify.verdict import finish
 
 KEPT = 16  # locked arms kept per arm (one per joint and held value)
@@ -91,7 +91,7 @@ def solve_held(
         )
     k, value = held_joint(arm, holds[0], seed)
     name = arm.joint_names[k]
-    tgt = parse_target(target, arm)
+    tgt = parsed(target, arm)
     if k == 6 and solver in ("auto", "swept") and swept_7r.applies(arm, tgt, opts) is None:
         # joint 7 of a Panda-like arm: the swept solver's closed form at exactly that value
         answers = swept_7r.at_value(arm, tgt, seed, value)
