@@ -85,6 +85,9 @@ class Options:
       spelled here as those options (``Options.constraints`` gives them back); a list of
       tasks honours them too, a ``Hold`` there on any arm. Any other constraint (a user's
       own ``armik.constraints.base.Constraint``) is kept in ``checks``.
+    - ``slide``: a collision-checked numeric solve slides its first colliding answer out of
+      contact before it restarts (False; a followed path sets it: the answer stays near
+      the previous waypoint's, where a restart lands anywhere).
     - ``checks``: the constraints no option spells, as objects: the verdict of every route
       applies their ``check`` to every answer, so that none that violates one is a
       success (``armik.verify.verdict``); the task solver also steps within their boxes.
@@ -112,6 +115,7 @@ class Options:
     hold: tuple[tuple[str, float | None], ...] | None = None
     posture: tuple[tuple[float, ...], tuple[float, ...]] | None = None
     checks: tuple[Constraint, ...] = ()
+    slide: bool = False
 
     @property
     def collisions(self) -> bool:
@@ -208,15 +212,14 @@ class Options:
         if values.get("cone") is not None:
             values["cone"] = _cone(values["cone"])
         look, toward = values.pop("look_at", None), values.pop("toward", None)
-        if "position_only" in values:
-            flag = values["position_only"]
-            if not isinstance(flag, (bool, np.bool_)):
-                raise OptionError(
-                    f"position_only must be True or False, got {flag!r}",
-                    option="position_only",
-                    value=flag,
-                )
-            values["position_only"] = bool(flag)
+        for name in ("position_only", "slide"):
+            if name in values:
+                flag = values[name]
+                if not isinstance(flag, (bool, np.bool_)):
+                    raise OptionError(
+                        f"{name} must be True or False, got {flag!r}", option=name, value=flag
+                    )
+                values[name] = bool(flag)
         collision_options(values)
         if values.get("hold") is not None:
             held = Hold.parse(values["hold"])
