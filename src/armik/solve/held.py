@@ -29,8 +29,8 @@ from armik.errors import OptionError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.options import Options
+from armik.solvers import registry
 from armik.solvers.answers import Answers
-from armik.solvers.closed_form import swept_7r
 from armik.status import Status
 from armik.targets.pose import parsed
 from armik.verify.verdict import finish
@@ -92,10 +92,12 @@ def solve_held(
     k, value = held_joint(arm, holds[0], seed)
     name = arm.joint_names[k]
     tgt = parsed(target, arm)
-    if k == 6 and solver in ("auto", "swept") and swept_7r.applies(arm, tgt, opts) is None:
-        # joint 7 of a Panda-like arm: the swept solver's closed form at exactly that value
-        answers = swept_7r.at_value(arm, tgt, seed, value)
-        results = finish(arm, "swept", answers, tgt, opts, seed, every, t0)
+    sweeping = registry.sweeping(arm, tgt, opts, k) if solver == "auto" else None
+    if solver != "auto" and (spec := registry.get(solver)).sweep is not None:
+        sweeping = spec if spec.sweep.joint == k and spec.why_not(arm, tgt, opts) is None else None
+    if sweeping is not None:  # a closed form at exactly that value (the Panda's joint 7)
+        answers = sweeping.sweep.at_value(arm, tgt, seed, value)  # type: ignore[union-attr]
+        results = finish(arm, sweeping.name, answers, tgt, opts, seed, every, t0)
         return results if every else results[0]
     sub = locked_arm(arm, name, value)
     free = np.delete(seed, k)

@@ -110,14 +110,14 @@ def solve_path(
         # every solution: what solve_all would run (a search where one is not complete)
         first = batch.target(0) if n else None
         every = registry.choose(solver, arm, first, opts, True)
-        if every.kind == "numeric" and registry.why_not("swept", arm, first, opts) is None:
-            every = registry.get("swept")  # a 7R arm whose joint 7 can be held
-        if every.name == "swept" or every.kind == "numeric":  # rungs about the followed path
+        if every.kind == "numeric":  # a 7R arm whose joint 7 can be held: its sweep
+            every = registry.sweeping(arm, first, opts) or every
+        if every.sweep is not None or every.kind == "numeric":  # rungs about the followed path
             followed = BatchResult.for_arm(arm, n, spec.name, opts)
             _walk(arm, batch, q_prev, step, spec, options, local, followed)
             found = (  # a 7R arm: joint 7 sampled; else answers tracked from start and breaks
-                rungs.held(arm, batch, q_prev, followed, options)
-                if every.name == "swept"
+                rungs.held(arm, batch, q_prev, followed, options, every)
+                if every.sweep is not None
                 else rungs.tracked(arm, batch, q_prev, every.name, followed, options)
             )
         else:
