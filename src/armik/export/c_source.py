@@ -85,7 +85,8 @@ static inline vec3 cross(vec3 a, vec3 b)
 }
 static inline double dot(vec3 a, vec3 b)
 { return a.v[0] * b.v[0] + a.v[1] * b.v[1] + a.v[2] * b.v[2]; }
-static inline double norm(vec3 a) { return sqrt(a.v[0] * a.v[0] + a.v[1] * a.v[1] + a.v[2] * a.v[2]); }
+static inline double norm(vec3 a)
+{ return sqrt(a.v[0] * a.v[0] + a.v[1] * a.v[1] + a.v[2] * a.v[2]); }
 
 /* The angle in (-pi, pi]. */
 static inline double wrap(double a)

@@ -140,7 +140,8 @@ static double nearest(double qi, double ri, double lo, double hi)
         c[1] = near + two_pi;
         c[2] = qi;
         for (k = 0; k < 3; k++)
-            if (lo - SNAP <= c[k] && c[k] <= hi + SNAP && (!found || fabs(c[k] - ri) < fabs(best - ri))) {
+            if (lo - SNAP <= c[k] && c[k] <= hi + SNAP
+                && (!found || fabs(c[k] - ri) < fabs(best - ri))) {
                 best = c[k];
                 found = 1;
             }

@@ -9,8 +9,8 @@ from armik.export import c_source
 from armik.export.solver_file import Rows
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes
-from armik.solvers.closed_form import three_parallel
 from armik.solvers.closed_form import subproblems as sp
+from armik.solvers.closed_form import three_parallel
 from armik.solvers.closed_form.sixr import SNAP, Chain6R
 
 dot = sp.dot.py_func  # the compiled solver's arithmetic, in Python: the same constants
