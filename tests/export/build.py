@@ -43,7 +43,12 @@ class Solver:
             obj = folder / f"{name}_ik.o"
             run(cc, *CFLAGS, "-fPIC", "-c", str(c), "-o", str(obj))
             harness = folder / "harness.cpp"
-            harness.write_text((HERE / "ikfast_harness.cpp").read_text().replace("NAME", name))
+            harness.write_text(
+                (HERE / "ikfast_harness.cpp")
+                .read_text()
+                .replace("NAME", name)
+                .replace("UPPER", name.upper())
+            )
             lib = folder / "libikfast.so"
             run(
                 cxx, *CXXFLAGS, "-shared", "-fPIC", f"-I{HERE}", f"-I{folder}",

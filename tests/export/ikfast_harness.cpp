@@ -1,8 +1,9 @@
 // Calls an exported IKFast file as MoveIt's ikfast_kinematics_plugin does: the solver's
 // .cpp included inside the plugin's namespace, ComputeIk on a translation and a row-major
-// rotation with an IkSolutionList, each solution read with GetSolution. NAME: the solver.
+// rotation with an IkSolutionList, each solution read with GetSolution. NAME, UPPER: the solver's name.
 #include <cmath>
 #include <list>
+#include <stdexcept>
 #include <vector>
 
 namespace plugin {
@@ -14,7 +15,7 @@ extern "C" {
 // (solutions written to q, n) as the plugin gets them; -1 when a query says otherwise
 int ikfast_solve(const double T[16], double* q) {
   using namespace plugin;
-  if (GetIkType() != 0x67000001 || GetNumJoints() != NAME_IK_DOF || GetNumFreeParameters() != 0 ||
+  if (GetIkType() != 0x67000001 || GetNumJoints() != UPPER_IK_DOF || GetNumFreeParameters() != 0 ||
       GetIkRealSize() != static_cast<int>(sizeof(double)))
     return -1;
   double trans[3] = {T[3], T[7], T[11]};
@@ -27,7 +28,7 @@ int ikfast_solve(const double T[16], double* q) {
   for (int i = 0; i < n; i++) {
     const IkSolutionBase<IkReal>& sol = solutions.GetSolution(i);
     std::vector<IkReal> free_values(sol.GetFree().size());
-    sol.GetSolution(q + i * NAME_IK_DOF, free_values.size() > 0 ? &free_values[0] : nullptr);
+    sol.GetSolution(q + i * UPPER_IK_DOF, free_values.size() > 0 ? &free_values[0] : nullptr);
   }
   return n;
 }
