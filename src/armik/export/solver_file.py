@@ -20,9 +20,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-
-from armik.export import c_source
+from armik.export import c_source, fk_code
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes
 from armik.options import Options
@@ -73,18 +71,9 @@ void {name}_fk(const double q[{up}_IK_DOF], double T[16]);
 """
 
 
-def chain_constants(arm: ArmModel, ax: Axes) -> str:
-    """The forward kinematics' constants: the axes ``FK_H``, the vectors between the
-    joints' origins ``FK_P`` (the first from the base, the last to the tip), the tip's
-    rotation at q = 0 ``FK_R0``, and the limits ``LO``, ``HI`` and their middle ``MID``."""
-    dof = arm.dof
-    points = np.asarray(ax.points, dtype=float)
-    p = [points[0]] + [points[i] - points[i - 1] for i in range(1, dof)]
-    p.append(np.asarray(ax.tip_position) - points[-1])
+def chain_constants(arm: ArmModel) -> str:
+    """The limits ``LO``, ``HI`` and their middle ``MID`` (rad)."""
     lines = [
-        f"static const vec3 FK_H[DOF] = {{{', '.join(c_source.vec(h) for h in ax.directions)}}};",
-        f"static const vec3 FK_P[DOF + 1] = {{{', '.join(c_source.vec(v) for v in p)}}};",
-        f"static const mat3 FK_R0 = {c_source.mat(ax.tip_rotation)};",
         f"static const double LO[DOF] = {c_source.array(arm.lower)};",
         f"static const double HI[DOF] = {c_source.array(arm.upper)};",
         f"static const double MID[DOF] = {c_source.array(arm.middle)};",
@@ -93,20 +82,6 @@ def chain_constants(arm: ArmModel, ax: Axes) -> str:
 
 
 COMMON = r"""
-/* The tip's rotation and position at q: product of exponentials over the axis lines. */
-static void fk(const double *q, mat3 *R, vec3 *p)
-{
-    int i;
-    mat3 A = rot(FK_H[0], q[0]);
-    vec3 x = add(FK_P[0], mv(A, FK_P[1]));
-    for (i = 1; i < DOF; i++) {
-        A = mm(A, rot(FK_H[i], q[i]));
-        x = add(x, mv(A, FK_P[i + 1]));
-    }
-    *R = mm(A, FK_R0);
-    *p = x;
-}
-
 void @NAME@_fk(const double q[DOF], double T[16])
 {
     mat3 R;
@@ -237,7 +212,8 @@ def source(name: str, arm: ArmModel, ax: Axes, rows: Rows) -> str:
         f'#include "{name}_ik.h"',
         defines,
         c_source.HELPERS,
-        chain_constants(arm, ax),
+        chain_constants(arm),
+        fk_code.source(ax),
         rows.text,
         COMMON.replace("@NAME@", name),
     ]
