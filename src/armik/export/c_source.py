@@ -157,6 +157,16 @@ static inline double sp1(vec3 p1, vec3 p2, vec3 k)
     return atan2(dot(kxp, p2), -dot(cross(k, kxp), p2));
 }
 
+/* SP1 with the cosine and sine of theta too (1 and 0 when p1 and p2 leave it free). */
+static inline double sp1cs(vec3 p1, vec3 p2, vec3 k, double *c, double *s)
+{
+    vec3 kxp = cross(k, p1);
+    double a = dot(kxp, p2), b = -dot(cross(k, kxp), p2), r = sqrt(a * a + b * b);
+    *c = r > 0.0 ? b / r : 1.0;
+    *s = r > 0.0 ? a / r : 0.0;
+    return atan2(a, b);
+}
+
 /* SP4: theta with h . rot(k, theta) p = d; returns the count (2, 1, or -1 when every
    theta gives the same value), the roots in t[0], t[1]. */
 static inline int sp4(vec3 h, vec3 p, vec3 k, double d, double t[2])

@@ -106,16 +106,17 @@ def _value(e: Entry) -> str:
 
 
 def source(ax: Axes) -> str:
-    """``static void fk(const double *q, mat3 *R, vec3 *p)``: the tip's rotation and
-    position at joint values q (rad)."""
+    """``static void fk_cs(const double *c, const double *s, mat3 *R, vec3 *p)``: the tip's
+    rotation and position at the joint values whose cosines and sines are c and s; and
+    ``fk(q, R, p)``, the same at joint values q (rad)."""
     points = np.asarray(ax.points, dtype=float)
     dof = len(points)
     p = [points[0]] + [points[i] - points[i - 1] for i in range(1, dof)]
     p.append(np.asarray(ax.tip_position, dtype=float) - points[-1])
     w = _Writer()
     for i in range(dof):
-        w.lines.append(f"    const double c{i} = cos(q[{i}]);")
-        w.lines.append(f"    const double s{i} = sin(q[{i}]);")
+        w.lines.append(f"    const double c{i} = c[{i}];")
+        w.lines.append(f"    const double s{i} = s[{i}];")
     A = _rotation(w, ax.directions[0], 0)
     x = [_clean(v) for v in p[0]]
     for i in range(dof):
@@ -128,9 +129,14 @@ def source(ax: Axes) -> str:
     where = ", ".join(_value(e) for e in x)
     body = "\n".join(_live(w.lines, f"{rows}, {where}"))
     return (
-        "/* The tip's rotation and position at q: product of exponentials over the axis lines,\n"
-        "   written out with the arm's numbers. */\n"
-        "static void fk(const double *q, mat3 *R, vec3 *p)\n{\n"
+        "/* The tip's rotation and position at the joint values of cosines c and sines s: the\n"
+        "   product of exponentials over the axis lines, written out with the arm's numbers. */\n"
+        "static void fk_cs(const double *c, const double *s, mat3 *R, vec3 *p)\n{\n"
         f"{body}\n    const mat3 A = {{{{{rows}}}}};\n    const vec3 x = {{{{{where}}}}};\n"
-        "    *R = A;\n    *p = x;\n}\n"
+        "    *R = A;\n    *p = x;\n}\n\n"
+        "static void fk(const double *q, mat3 *R, vec3 *p)\n{\n"
+        f"    double c[{dof}], s[{dof}];\n    int i;\n"
+        f"    for (i = 0; i < {dof}; i++) {{\n"
+        "        c[i] = cos(q[i]);\n        s[i] = sin(q[i]);\n    }\n"
+        "    fk_cs(c, s, R, p);\n}\n"
     )

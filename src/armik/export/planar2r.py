@@ -14,14 +14,21 @@ from armik.solvers.closed_form import planar2r
 from armik.tolerances import LIMIT_TOL
 
 ROWS = r"""
-static void put(double W[][DOF], int n, double t1, double t2)
+/* Row n of link angles t1, t2: q_i = s_i (t_i - alpha_i), as atan2(sin, cos). */
+static int put(double W[][DOF], double C[][DOF], double S[][DOF], int n, double t1, double t2)
 {
     double a = S1 * (t1 - ALPHA1), b = S2 * (t2 - ALPHA2);
-    W[n][0] = atan2(sin(a), cos(a));
-    W[n][1] = atan2(sin(b), cos(b));
+    double c[2], s[2], q[2];
+    c[0] = cos(a);
+    s[0] = sin(a);
+    c[1] = cos(b);
+    s[1] = sin(b);
+    q[0] = atan2(s[0], c[0]);
+    q[1] = atan2(s[1], c[1]);
+    return put_row(W, C, S, n, q, c, s);
 }
 
-static int rows(mat3 R, vec3 pos, double W[][DOF])
+static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][DOF])
 {
     vec3 d = sub(pos, ORIGIN);
     double d0 = dot(d, AX) - SHOULDER_X, d1 = dot(d, AY) - SHOULDER_Y;
@@ -30,17 +37,16 @@ static int rows(mat3 R, vec3 pos, double W[][DOF])
     int k, stretched;
     (void)R;  /* the orientation is checked with the other rows' verdict */
     if (EQUAL_LINKS && r < ZERO_LENGTH) {  /* on the shoulder: joint 1 free */
-        put(W, 0, ALPHA1 + S1 * MID[0], IK_PI);
-        return 1;
+        return put(W, C, S, 0, ALPHA1 + S1 * MID[0], IK_PI);
     }
     if (fabs(c) >= 1.0 - SINGULAR_TOL) {  /* stretched or folded: one row */
         stretched = c > 0;
-        put(W, 0, (stretched || L1 >= L2) ? heading : heading + IK_PI, stretched ? 0.0 : IK_PI);
-        return 1;
+        t2 = stretched ? 0.0 : IK_PI;
+        return put(W, C, S, 0, (stretched || L1 >= L2) ? heading : heading + IK_PI, t2);
     }
     for (k = 0; k < 2; k++) {
         t2 = (k == 0 ? 1.0 : -1.0) * acos(c);
-        put(W, k, heading - atan2(L2 * sin(t2), L1 + L2 * cos(t2)), t2);
+        put(W, C, S, k, heading - atan2(L2 * sin(t2), L1 + L2 * cos(t2)), t2);
     }
     return 2;
 }

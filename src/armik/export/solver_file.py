@@ -1,18 +1,21 @@
 """One exported solver's two files, ``N_ik.h`` and ``N_ik.c``, around a family's rows.
 
 A family (``planar2r``, ``three_parallel``, ``spherical_wrist`` in this package) gives the
-C text of ``static int rows(mat3 R, vec3 p, double W[][DOF])``: its candidate joint values
-for the target (R, p), each angle in (-pi, pi], a singular case's free joint at the middle
-of its limits (``solve_all``'s seed when none is given). This module adds what every family
+C text of ``static int rows(mat3 R, vec3 p, double W[][DOF], double C[][DOF], double
+S[][DOF])``: its candidate joint values for the target (R, p) written by ``put_row``, each
+angle in (-pi, pi] with its cosine and sine, a singular case's free joint at the middle of
+its limits (``solve_all``'s seed when none is given). This module adds what every family
 shares, as the Python path does it:
 
 - each angle shifted by 2 pi to the value nearest the middle of its limits within them
   (``sixr.nearest_equivalents``; a family's ``snap``: how far outside a limit counts as on
   it);
 - the verdict: a row is kept when it is within the limits (``LIMIT_TOL``) and its forward
-  kinematics (the product of exponentials of the arm's axis lines at q = 0, ``N_fk``)
-  reaches the target within armik's default tolerances (``Options.tol_position``,
-  ``tol_orientation``), so a least-squares row or a NaN never leaves;
+  kinematics (the product of exponentials of the arm's axis lines at q = 0, ``N_fk``'s,
+  on the row's cosines and sines, which a shift by 2 pi leaves and a snap onto a limit
+  moves by at most ``snap``) reaches the target within armik's default tolerances
+  (``Options.tol_position``, ``tol_orientation``), so a least-squares row or a NaN never
+  leaves;
 - the order of ``solve_all``: nearest the middle of the limits first (a stable sort).
 """
 
@@ -81,6 +84,22 @@ def chain_constants(arm: ArmModel) -> str:
     return "\n".join(lines)
 
 
+PUT = r"""
+/* Row n of the candidates: each angle wrapped into (-pi, pi], with its cosine and sine
+   (the verdict's forward kinematics reads them: no sine or cosine computed twice). */
+static inline int put_row(double W[][DOF], double C[][DOF], double S[][DOF], int n,
+                          const double *q, const double *c, const double *s)
+{
+    int j;
+    for (j = 0; j < DOF; j++) {
+        W[n][j] = wrap(q[j]);
+        C[n][j] = c[j];
+        S[n][j] = s[j];
+    }
+    return n + 1;
+}
+"""
+
 COMMON = r"""
 void @NAME@_fk(const double q[DOF], double T[16])
 {
@@ -126,29 +145,30 @@ static double nearest(double qi, double ri, double lo, double hi)
     return best < hi ? best : hi;
 }
 
-/* Whether joint values q reach the target (R, p) within the limits and the tolerances. */
-static int verified(const double *q, mat3 R, vec3 p)
+/* Whether joint values q (cosines c, sines s) reach the target (R, p) within the limits and
+   the tolerances. */
+static int verified(const double *q, const double *c, const double *s, mat3 R, vec3 p)
 {
     mat3 A, E;
     vec3 x, w;
-    double s, c;
+    double sa, ca;
     int j;
     for (j = 0; j < DOF; j++)
         if (!(LO[j] - LIMIT_TOL <= q[j] && q[j] <= HI[j] + LIMIT_TOL)) return 0;
-    fk(q, &A, &x);
+    fk_cs(c, s, &A, &x);
     if (!(norm(sub(x, p)) <= TOL_POSITION)) return 0;
     E = mtm(A, R);  /* R_tip^T R_target: its angle is the orientation error */
     w.v[0] = E.m[7] - E.m[5];
     w.v[1] = E.m[2] - E.m[6];
     w.v[2] = E.m[3] - E.m[1];
-    s = 0.5 * norm(w);
-    c = 0.5 * (E.m[0] + E.m[4] + E.m[8] - 1.0);
-    return atan2(s, c) <= TOL_ORIENTATION;
+    sa = 0.5 * norm(w);
+    ca = 0.5 * (E.m[0] + E.m[4] + E.m[8] - 1.0);
+    return atan2(sa, ca) <= TOL_ORIENTATION;
 }
 
 int @NAME@_ik(const double T[16], double q[][DOF])
 {
-    double W[MAX_ROWS][DOF], key[MAX_ROWS], e;
+    double W[MAX_ROWS][DOF], C[MAX_ROWS][DOF], S[MAX_ROWS][DOF], key[MAX_ROWS], e;
     int keep[MAX_ROWS], n, r, j, k, count = 0, taken = 0, best;
     mat3 R;
     vec3 p;
@@ -166,10 +186,10 @@ int @NAME@_ik(const double T[16], double q[][DOF])
                 + R.m[3 * j + 2] * R.m[3 * k + 2] - (j == k ? 1.0 : 0.0);
             if (!(fabs(e) <= ROTATION_TOL)) return -1;
         }
-    n = rows(R, p, W);
+    n = rows(R, p, W, C, S);
     for (r = 0; r < n; r++) {
         for (j = 0; j < DOF; j++) W[r][j] = nearest(W[r][j], MID[j], LO[j], HI[j]);
-        keep[r] = verified(W[r], R, p);
+        keep[r] = verified(W[r], C[r], S[r], R, p);
         key[r] = 0.0;
         for (j = 0; j < DOF; j++) key[r] += (W[r][j] - MID[j]) * (W[r][j] - MID[j]);
         key[r] = sqrt(key[r]);
@@ -214,6 +234,7 @@ def source(name: str, arm: ArmModel, ax: Axes, rows: Rows) -> str:
         c_source.HELPERS,
         chain_constants(arm),
         fk_code.source(ax),
+        PUT,
         rows.text,
         COMMON.replace("@NAME@", name),
     ]

@@ -16,43 +16,52 @@ from armik.solvers.closed_form.sixr import SNAP, Chain6R
 
 WRIST = r"""
 /* The (up to 2) wrist solutions for a placed wrist centre, appended to W. */
-static int wrist(mat3 R03, mat3 R06, double q1, double q2, double q3, double W[][DOF], int n)
+static int wrist(mat3 R03, mat3 R06, double q[6], double c[6], double s[6],
+                 double W[][DOF], double C[][DOF], double S[][DOF], int n)
 {
     mat3 R36 = mtm(R03, R06), R6;
-    double a[2], b[2], q6;
+    double a[2], b[2];
     int nw = sp2(mv(R36, h6), h6, neg(h4), h5, MID[3], a, b), i;
     if (nw == -1) nw = 1;
     for (i = 0; i < nw; i++) {
-        R6 = mtm(mm(rot(h4, a[i]), rot(h5, b[i])), R36);
-        q6 = sp1(h5, mv(R6, h5), h6);
-        W[n][0] = wrap(q1); W[n][1] = wrap(q2); W[n][2] = wrap(q3);
-        W[n][3] = wrap(a[i]); W[n][4] = wrap(b[i]); W[n][5] = wrap(q6);
-        n++;
+        q[3] = a[i];
+        q[4] = b[i];
+        c[3] = cos(a[i]);
+        s[3] = sin(a[i]);
+        c[4] = cos(b[i]);
+        s[4] = sin(b[i]);
+        R6 = mtm(mm(rot_cs(h4, c[3], s[3]), rot_cs(h5, c[4], s[4])), R36);
+        q[5] = sp1cs(h5, mv(R6, h5), h6, &c[5], &s[5]);
+        n = put_row(W, C, S, n, q, c, s);
     }
     return n;
 }
 """
 
 PARALLEL_23 = r"""
-static int rows(mat3 R, vec3 pos, double W[][DOF])
+static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][DOF])
 {
     mat3 R06 = mmt(R, R_TIP0), R1, R3;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), v;
-    double t1[2], t3[2], q1, q2, q3;
+    double t1[2], t3[2], q[6], c[6], s[6];
     int n1, n3, i1, i3, n = 0;
     n1 = sp4(h2, p16, neg(h1), D1, t1);
     if (n1 == -1) { n1 = 1; t1[0] = MID[0]; }  /* wrist centre on axis 1 */
     for (i1 = 0; i1 < n1; i1++) {
-        q1 = t1[i1];
-        R1 = rot(h1, q1);
+        q[0] = t1[i1];
+        c[0] = cos(q[0]);
+        s[0] = sin(q[0]);
+        R1 = rot_cs(h1, c[0], s[0]);
         v = sub(mtv(R1, p16), p1);
         n3 = sp3(p3, neg(p2), h3, norm(v), t3);
         if (n3 == -1) { n3 = 1; t3[0] = MID[2]; }
         for (i3 = 0; i3 < n3; i3++) {
-            q3 = t3[i3];
-            R3 = rot(h3, q3);
-            q2 = sp1(add(p2, mv(R3, p3)), v, h2);
-            n = wrist(mm(mm(R1, rot(h2, q2)), R3), R06, q1, q2, q3, W, n);
+            q[2] = t3[i3];
+            c[2] = cos(q[2]);
+            s[2] = sin(q[2]);
+            R3 = rot_cs(h3, c[2], s[2]);
+            q[1] = sp1cs(add(p2, mv(R3, p3)), v, h2, &c[1], &s[1]);
+            n = wrist(mm(mm(R1, rot_cs(h2, c[1], s[1])), R3), R06, q, c, s, W, C, S, n);
         }
     }
     return n;
@@ -60,21 +69,31 @@ static int rows(mat3 R, vec3 pos, double W[][DOF])
 """
 
 MEETING_12 = r"""
-static int rows(mat3 R, vec3 pos, double W[][DOF])
+static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][DOF])
 {
-    mat3 R06 = mmt(R, R_TIP0), R3;
+    mat3 R06 = mmt(R, R_TIP0), R1, R3;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0);
-    double t3[2], a[2], b[2], q3;
+    double t3[2], a[2], b[2], q[6], c[6], s[6];
     int n3, n12, i3, i, n = 0;
     n3 = sp3(p3, neg(p2), h3, norm(p16), t3);
     if (n3 == -1) { n3 = 1; t3[0] = MID[2]; }
     for (i3 = 0; i3 < n3; i3++) {
-        q3 = t3[i3];
-        R3 = rot(h3, q3);
+        q[2] = t3[i3];
+        c[2] = cos(q[2]);
+        s[2] = sin(q[2]);
+        R3 = rot_cs(h3, c[2], s[2]);
         n12 = sp2(p16, add(p2, mv(R3, p3)), neg(h1), h2, MID[0], a, b);
         if (n12 == -1) n12 = 1;  /* wrist centre on axis 1 */
-        for (i = 0; i < n12; i++)
-            n = wrist(mm(mm(rot(h1, a[i]), rot(h2, b[i])), R3), R06, a[i], b[i], q3, W, n);
+        for (i = 0; i < n12; i++) {
+            q[0] = a[i];
+            q[1] = b[i];
+            c[0] = cos(a[i]);
+            s[0] = sin(a[i]);
+            c[1] = cos(b[i]);
+            s[1] = sin(b[i]);
+            R1 = mm(rot_cs(h1, c[0], s[0]), rot_cs(h2, c[1], s[1]));
+            n = wrist(mm(R1, R3), R06, q, c, s, W, C, S, n);
+        }
     }
     return n;
 }

@@ -38,49 +38,61 @@ static double reach_turn(vec3 c, double theta)
     return (t >= 0.0 ? edge : -edge) - t;
 }
 
-static int rows(mat3 R, vec3 pos, double W[][DOF])
+static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][DOF])
 {
     mat3 R06 = mmt(R, R_TIP0), R1, M, R5, R234;
-    vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), a, b, v, u;
-    double t1[2], t5[2], t3[2], q1, q2, q3, q4, q5, q6, q234, turn;
+    vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), a, b, v;
+    double t1[2], t5[2], t3[2], q[6], c[6], s[6], q234, c234, s234, turn, ca, sa, sg;
     int n1, n5, n3, i1, i5, i3, n = 0;
     n1 = sp4(h2, p16, neg(h1), D1, t1);
     if (n1 == -1) { n1 = 1; t1[0] = MID[0]; }
     for (i1 = 0; i1 < n1; i1++) {
-        q1 = t1[i1];
-        R1 = rot(h1, q1);
+        q[0] = t1[i1];
+        c[0] = cos(q[0]);
+        s[0] = sin(q[0]);
+        R1 = rot_cs(h1, c[0], s[0]);
         M = mtm(R1, R06);
         n5 = sp4(h2, h6, h5, dot(h2, mv(M, h6)), t5);
         if (n5 == -1) { n5 = 1; t5[0] = MID[4]; }
         for (i5 = 0; i5 < n5; i5++) {
-            q5 = t5[i5];
-            R5 = rot(h5, q5);
+            q[4] = t5[i5];
+            c[4] = cos(q[4]);
+            s[4] = sin(q[4]);
+            R5 = rot_cs(h5, c[4], s[4]);
             a = mtv(M, h2);
             b = mtv(R5, h2);
             if (norm(cross(a, h6)) < IK_SINGLE || norm(cross(b, h6)) < IK_SINGLE) {
                 /* wrist singular: q6 kept at the middle of its limits unless the wrist point
                    is then out of the elbow's reach */
-                q6 = MID[5];
-                R234 = mmt(mmt(M, rot(h6, q6)), R5);
+                q[5] = MID[5];
+                R234 = mmt(mmt(M, rot(h6, q[5])), R5);
                 q234 = sp1(X, mv(R234, X), h2);
                 turn = reach_turn(sub(mtv(R1, p16), p1), q234);
-                q6 -= dot(mv(M, h6), h2) > 0.0 ? turn : -turn;
+                q[5] -= dot(mv(M, h6), h2) > 0.0 ? turn : -turn;
             } else {
-                q6 = sp1(a, b, h6);
+                q[5] = sp1(a, b, h6);
             }
-            R234 = mmt(mmt(M, rot(h6, q6)), R5);
-            q234 = sp1(X, mv(R234, X), h2);
+            c[5] = cos(q[5]);
+            s[5] = sin(q[5]);
+            R234 = mmt(mmt(M, rot_cs(h6, c[5], s[5])), R5);
+            q234 = sp1cs(X, mv(R234, X), h2, &c234, &s234);
             v = sub(sub(mtv(R1, p16), p1), mv(R234, p4));
             n3 = sp3(p3, neg(p2), h3, norm(v), t3);
             if (n3 == -1) { n3 = 1; t3[0] = MID[2]; }
             for (i3 = 0; i3 < n3; i3++) {
-                q3 = t3[i3];
-                u = add(p2, mv(rot(h3, q3), p3));
-                q2 = sp1(u, v, h2);
-                q4 = S4 * (q234 - q2 - S3 * q3);
-                W[n][0] = wrap(q1); W[n][1] = wrap(q2); W[n][2] = wrap(q3);
-                W[n][3] = wrap(q4); W[n][4] = wrap(q5); W[n][5] = wrap(q6);
-                n++;
+                q[2] = t3[i3];
+                c[2] = cos(q[2]);
+                s[2] = sin(q[2]);
+                q[1] = sp1cs(add(p2, mv(rot_cs(h3, c[2], s[2]), p3)), v, h2, &c[1], &s[1]);
+                q[3] = S4 * (q234 - q[1] - S3 * q[2]);
+                /* its cosine and sine by the sum formulas: q234 - q2, then - S3 q3, then S4 */
+                ca = c234 * c[1] + s234 * s[1];
+                sa = s234 * c[1] - c234 * s[1];
+                sg = S3 > 0.0 ? s[2] : -s[2];
+                c[3] = ca * c[2] + sa * sg;
+                s[3] = sa * c[2] - ca * sg;
+                s[3] = S4 > 0.0 ? s[3] : -s[3];
+                n = put_row(W, C, S, n, q, c, s);
             }
         }
     }
