@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -20,6 +22,9 @@ def test_files_returned_and_written(tmp_path):
     header = files["ur5_ik.h"]
     assert "#define UR5_IK_DOF 6" in header and "#define UR5_IK_MAX_SOLUTIONS 8" in header
     assert "int ur5_ik(const double T[16], double q[][UR5_IK_DOF]);" in header
+    # the version line MoveIt's create_ikfast_moveit_plugin.py reads, as it reads it
+    found = re.search(r"^/// ikfast version (.*) generated", files["ur5_ikfast.cpp"], re.M)
+    assert found and int(found.group(1), 0) & ~0x10000000 == 61
     assert sorted(armik.export(arm.kinematics, "x")) == ["x_ik.c", "x_ik.h"]  # nothing written
     assert not (tmp_path / "x_ik.c").exists()
 
