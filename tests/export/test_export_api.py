@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+import subprocess
 
 import numpy as np
 import pytest
@@ -10,6 +11,7 @@ import pytest
 import armik
 from armik.solvers import registry
 from armik.tools.cli import main
+from tests.export.build import CFLAGS, compilers, run
 from tests.solvers.closed_form.random_arms import load_arm
 
 
@@ -64,3 +66,18 @@ def test_cli(tmp_path, capsys):
     assert not (tmp_path / "p").exists()
     assert main(["export", "ur5", "--name", "1x", "--out", str(out)]) == 2
     assert "C identifier" in capsys.readouterr().err
+
+
+def test_two_solvers_link_into_one_library(tmp_path):
+    """Everything but N_ik and N_fk is static: two arms' solvers share a program."""
+    cc, _ = compilers()
+    sources = []
+    for name in ("ur5", "abb_irb120"):
+        armik.export(armik.load(name), name, tmp_path)
+        sources.append(str(tmp_path / f"{name}_ik.c"))
+    run(cc, *CFLAGS, "-shared", "-fPIC", *sources, "-o", str(tmp_path / "both.so"), "-lm")
+    symbols = subprocess.run(
+        ["nm", "-D", "--defined-only", str(tmp_path / "both.so")], capture_output=True, text=True
+    ).stdout.split()
+    exported = {s for s in symbols if s.endswith(("_ik", "_fk"))}
+    assert exported == {"ur5_ik", "ur5_fk", "abb_irb120_ik", "abb_irb120_fk"}

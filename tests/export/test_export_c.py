@@ -9,7 +9,7 @@ import pytest
 
 import armik
 from tests.export.build import Solver
-from tests.solvers.closed_form.random_arms import load_arm, wrapped_distance
+from tests.solvers.closed_form.random_arms import load_arm, random_axes, urdf_text, wrapped_distance
 
 TARGETS = 50
 BUNDLED = ["ur5", "ur10", "z1", "abb_irb120", "planar_2link"]
@@ -120,6 +120,27 @@ def test_limits_narrower_than_a_turn(tmp_path):
     )
     solver = Solver(arm, "narrow", tmp_path)
     for T in poses(arm, np.random.default_rng(5), 20):
+        Q = solver.ik(T)
+        assert len(Q) >= 1
+        check_solutions(arm, Q, T)
+        same_as_solve_all(arm, Q, T)
+
+
+def test_continuous_joints(tmp_path):
+    """Joints without limits (continuous): values in (-pi, pi], as ``solve_all`` gives them."""
+    rng = np.random.default_rng(21)
+    c, h = random_axes("three_parallel", rng)
+    text = urdf_text(c, h, rng)
+    for joint in ("j1", "j4", "j6"):
+        start = text.index(f'<joint name="{joint}" type="revolute"')
+        end = text.index("</joint>", start)
+        part = text[start:end].replace('type="revolute"', 'type="continuous"')
+        part = part[: part.index("<limit")]
+        text = text[:start] + part + text[end:]
+    arm = armik.load_string(text, base="world", tip="tool")
+    assert np.isinf(arm.kinematics.upper).sum() == 3
+    solver = Solver(arm, "cont", tmp_path)
+    for T in poses(arm, np.random.default_rng(4), 20):
         Q = solver.ik(T)
         assert len(Q) >= 1
         check_solutions(arm, Q, T)
