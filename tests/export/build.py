@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import ctypes
+import re
 import shutil
 import subprocess
 from pathlib import Path
@@ -61,7 +62,9 @@ class Solver:
         self._ik = getattr(self.lib, f"{name}_ik")
         self._ik.restype = ctypes.c_int
         self._fk = getattr(self.lib, f"{name}_fk")
-        self.max = 8 if arm.dof == 6 else 2
+        found = re.search(r"#define \w+_IK_MAX_SOLUTIONS (\d+)", self.files[f"{name}_ik.h"])
+        assert found
+        self.max = int(found.group(1))
 
     def ik_count(self, T: np.ndarray) -> tuple[int, np.ndarray]:
         T = np.ascontiguousarray(T, dtype=float).reshape(16)
