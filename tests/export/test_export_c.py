@@ -12,11 +12,13 @@ from tests.export.build import Solver
 from tests.solvers.closed_form.random_arms import load_arm, random_axes, urdf_text, wrapped_distance
 
 TARGETS = 50
-BUNDLED = ["ur5", "ur10", "z1", "abb_irb120", "planar_2link"]
+BUNDLED = ["ur5", "ur10", "z1", "abb_irb120", "planar_2link", "ur5+tool"]
 RANDOM = [("three_parallel", 1), ("three_parallel", 2), ("parallel_23", 3), ("meeting_12", 4)]
 
 
 def arm_of(case) -> armik.Arm:
+    if case == "ur5+tool":  # a tool offset, as loaded
+        return armik.load("ur5", tip_offset=(0.03, -0.02, 0.15))
     if isinstance(case, str):
         return armik.load(case)
     kind, seed = case
