@@ -35,9 +35,11 @@ class Solver:
     """An exported solver ``name`` built as a shared library in ``folder``: ``ik(T)`` ->
     its solutions (n, dof), ``fk(q)`` -> 4x4, ``ik_count(T)`` -> the return value."""
 
-    def __init__(self, arm: armik.Arm, name: str, folder: Path, ikfast: bool = False) -> None:
+    def __init__(
+        self, arm: armik.Arm, name: str, folder: Path, ikfast: bool = False, **tolerances: float
+    ) -> None:
         cc, cxx = compilers()
-        self.files = armik.export(arm, name, folder, ikfast=ikfast)
+        self.files = armik.export(arm, name, folder, ikfast=ikfast, **tolerances)
         self.dof, self.name = arm.dof, name
         c = folder / f"{name}_ik.c"
         if ikfast:  # the IKFast file as MoveIt's plugin includes it, beside N_ik.c

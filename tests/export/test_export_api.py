@@ -66,6 +66,11 @@ def test_cli(tmp_path, capsys):
     assert not (tmp_path / "p").exists()
     assert main(["export", "ur5", "--name", "1x", "--out", str(out)]) == 2
     assert "C identifier" in capsys.readouterr().err
+    tight = ["--tol-position", "1e-9", "--tol-orientation", "2e-9"]
+    assert main(["export", "ur5", "--name", "t", "--out", str(out), *tight]) == 0
+    assert "to 1e-09 m and 2e-09 rad" in (out / "t_ik.h").read_text()
+    assert main(["export", "ur5", "--name", "t", "--out", str(out), "--tol-position", "-1"]) == 2
+    assert "tol_position must be > 0" in capsys.readouterr().err
 
 
 def test_two_solvers_link_into_one_library(tmp_path):

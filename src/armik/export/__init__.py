@@ -19,6 +19,7 @@ from armik.export import ikfast as ikfast_file
 from armik.export import planar2r, solver_file, spherical_wrist, three_parallel
 from armik.model.arm_model import ArmModel, model_of
 from armik.model.geometry import axis_lines
+from armik.options import Options
 from armik.solvers import registry
 
 # solver name -> the family's C rows, in the order a refusal lists them
@@ -49,13 +50,21 @@ def family(arm: ArmModel) -> str:
 
 
 def export(
-    arm: object, name: str, out: str | Path | None = None, ikfast: bool = False
+    arm: object,
+    name: str,
+    out: str | Path | None = None,
+    ikfast: bool = False,
+    tol_position: float | None = None,
+    tol_orientation: float | None = None,
 ) -> dict[str, str]:
     """The C solver of ``arm`` (an ``Arm`` or its model) as {file name: text}:
     ``name_ik.h``, ``name_ik.c`` and, with ``ikfast``, ``name_ikfast.cpp``; written into the
-    directory ``out`` (created if missing) when given.
+    directory ``out`` (created if missing) when given. ``tol_position`` (m) and
+    ``tol_orientation`` (rad): how far a solution's FK may miss its target (armik's
+    verification tolerances by default, 1e-6 m and 1e-6 rad, as ``solve_all`` verifies).
 
-    Raises ``OptionError`` when ``name`` is not a C identifier, ``SolverError`` when the
+    Raises ``OptionError`` when ``name`` is not a C identifier or a tolerance is not a
+    positive number (as ``solve`` checks it), ``SolverError`` when the
     arm's ``solve_all`` is not an exported closed form, ``OSError`` when ``out`` cannot be
     written."""
     model = model_of(arm)
@@ -65,12 +74,15 @@ def export(
             option="name",
             value=name,
         )
+    tolerances = {"tol_position": tol_position, "tol_orientation": tol_orientation}
+    opts = Options.from_kwargs({k: v for k, v in tolerances.items() if v is not None})
     rows_of = FAMILIES[family(model)]
     ax = axis_lines(model)
     rows = rows_of(model, ax)
-    c_text = solver_file.source(name, model, ax, rows)
+    c_text = solver_file.source(name, model, ax, rows, opts)
+    head = (name, model.dof, rows.max_rows, rows.summary, opts.tol_position, opts.tol_orientation)
     files = {
-        f"{name}_ik.h": solver_file.header(name, model.dof, rows.max_rows, rows.summary),
+        f"{name}_ik.h": solver_file.header(*head),
         f"{name}_ik.c": c_text,
     }
     if ikfast:

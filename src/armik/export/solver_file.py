@@ -13,9 +13,9 @@ shares, as the Python path does it:
 - the verdict: a row is kept when it is within the limits (``LIMIT_TOL``) and its forward
   kinematics (the product of exponentials of the arm's axis lines at q = 0, ``N_fk``'s,
   on the row's cosines and sines, which a shift by 2 pi leaves and a snap onto a limit
-  moves by at most ``snap``) reaches the target within armik's default tolerances
-  (``Options.tol_position``, ``tol_orientation``), so a least-squares row or a NaN never
-  leaves;
+  moves by at most ``snap``) reaches the target within the tolerances (armik's
+  ``Options.tol_position``, ``tol_orientation`` unless given), so a least-squares row or
+  a NaN never leaves;
 - the order of ``solve_all``: nearest the middle of the limits first (a stable sort).
 """
 
@@ -48,7 +48,10 @@ def _comment(text: str) -> str:
     return "\n   ".join(textwrap.wrap(text.replace("*/", "* /"), 86))
 
 
-def header(name: str, dof: int, max_solutions: int, summary: str) -> str:
+def header(
+    name: str, dof: int, max_solutions: int, summary: str, tol_position: float,
+    tol_orientation: float,
+) -> str:  # fmt: skip
     up = name.upper()
     title = _comment(f"{name}_ik.h: closed-form inverse kinematics of {summary}.")
     return f"""/* {title}
@@ -57,9 +60,10 @@ def header(name: str, dof: int, max_solutions: int, summary: str) -> str:
    {name}_ik(T, q): every solution within the joint limits for the tip pose T (4x4,
    row-major, in the arm's base frame; the tip and tool offset as loaded), in the order
    armik's solve_all gives them (nearest the middle of the limits first), each verified by
-   {name}_fk to 1e-6 m and 1e-6 rad. Returns how many (0: out of reach), or -1 when T is
-   not finite or its rotation is not orthonormal to 1e-6. At a singular pose a free joint
-   is set to the middle of its limits, as solve_all sets it with no q0.
+   {name}_fk to {tol_position:g} m and {tol_orientation:g} rad. Returns how many (0: out of
+   reach), or -1 when T is not finite or its rotation is not orthonormal to 1e-6. At a
+   singular pose a free joint is set to the middle of its limits, as solve_all sets it
+   with no q0.
    {name}_fk(q, T): the tip pose at joint values q (rad), row-major 4x4. */
 #ifndef {up}_IK_H
 #define {up}_IK_H
@@ -217,9 +221,9 @@ int @NAME@_ik(const double T[16], double q[][DOF])
 """
 
 
-def source(name: str, arm: ArmModel, ax: Axes, rows: Rows) -> str:
-    """``N_ik.c``: the helpers, the arm's constants, the family's rows and the rest."""
-    opts = Options()
+def source(name: str, arm: ArmModel, ax: Axes, rows: Rows, opts: Options) -> str:
+    """``N_ik.c``: the helpers, the arm's constants, the family's rows and the rest; the
+    verdict's tolerances are ``opts.tol_position`` (m) and ``opts.tol_orientation`` (rad)."""
     up = name.upper()
     defines = "\n".join(
         [

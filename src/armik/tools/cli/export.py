@@ -22,10 +22,21 @@ def add_export_command(command) -> None:
     c.add_argument("--base", help="base frame (default: URDF root)")
     c.add_argument("--tip", help="tip frame (default: as armik info chooses it)")
     c.add_argument("--ikfast", action="store_true", help="also write N_ikfast.cpp")
+    c.add_argument(
+        "--tol-position", type=float, help="how far a solution may miss its target (m, 1e-6)"
+    )
+    c.add_argument("--tol-orientation", type=float, help="... and its orientation (rad, 1e-6)")
 
 
 def cmd_export(args: argparse.Namespace) -> int:
-    files = export(load_arm(args), args.name, args.out, ikfast=args.ikfast)
+    files = export(
+        load_arm(args),
+        args.name,
+        args.out,
+        ikfast=args.ikfast,
+        tol_position=args.tol_position,
+        tol_orientation=args.tol_orientation,
+    )
     for name in files:
         print(f"{args.out}/{name}")
     return 0
