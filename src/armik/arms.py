@@ -24,8 +24,8 @@ from typing import cast
 import numpy as np
 import pinocchio as pin
 
-from armik import arms_many, arms_reach
-from armik.arms_joined import joined
+from armik import arms_every, arms_many, arms_reach
+from armik.arms_joined import joined, worse
 from armik.arms_options import per_chain, refuse_own_checks
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.model import frames
@@ -197,6 +197,11 @@ class Arms:
         together = self._solve_together(self._joint(), targets, each.q, options, t0)
         return together if together.success else each
 
+    def solve_all(self, targets: Mapping[str, object], *, q0: object = None, **options):
+        """Every answer for one target per tip, best first (``armik.arms_every``)."""
+        refuse_own_checks(options)
+        return arms_every.solve_all(self, targets, q0, **options)
+
     def solve_batch(self, targets: Mapping[str, object], *, q0: object = None, **options):
         """Many targets per tip (tip -> N targets): a ``BatchResult`` over every joint, each
         chain's own batch where the chains are independent (``armik.arms_many``)."""
@@ -301,7 +306,7 @@ class Arms:
         for task, e in zip(tasks, r.extra["task_errors"]):
             tip = cast(str, task.frame)  # ``_on`` named the tip
             pos, ori = errors.get(tip, (None, None))
-            errors[tip] = (_worse(pos, e.position), _worse(ori, e.orientation))
+            errors[tip] = (worse(pos, e.position), worse(ori, e.orientation))
             if not e.within and tip not in failed:
                 failed.append(tip)
         reason = r.reason if not failed else f"tips not within their tasks: {failed}; {r.reason}"
@@ -417,11 +422,6 @@ def _prepared(arm, target: object, seed: np.ndarray) -> IKResult:
 
 
 _NO_OPTIONS = Options()  # every default: what solve_one builds from no options
-
-
-def _worse(a: float | None, b: float | None) -> float | None:
-    """The larger of two errors, either of which may be unmeasured (None)."""
-    return b if a is None else a if b is None else max(a, b)
 
 
 def _as_tasks(target: object) -> list[Task]:
