@@ -300,3 +300,21 @@ def test_solve_all_gives_every_combination_of_the_chains_answers(cell):
     far = {**targets, "r_tool0": np.array([5.0, 0.0, 0.0])}
     (failed,) = cell.solve_all(far)
     assert not failed.success and "r_tool0" in failed.reason
+
+
+def test_a_flat_list_of_tasks_naming_their_frames_is_the_mapping(cell):
+    """Pink's and mink's spelling, one list of tasks each naming its frame, is the same
+    request as the mapping of tips: the same answer, bit for bit."""
+    q = cell.random_q(np.random.default_rng(9))
+    T_l, T_r = cell.fk(q, "l_tool0"), cell.fk(q, "r_tool0")
+    between = T_l.inverse() * T_r
+    flat = [armik.Pose(T_l, frame="l_tool0"), armik.Relative("r_tool0", "l_tool0", between)]
+    mapped = {"l_tool0": [flat[0]], "r_tool0": [flat[1]]}
+    a, b = cell.solve(flat, q0=q), cell.solve(mapped, q0=q)
+    assert a.success and np.array_equal(a.q, b.q)
+    assert cell.fk(a.q, "r_tool0").isApprox(T_r, 1e-9)
+    assert np.array_equal(cell.solve_all(flat, q0=q)[0].q, cell.solve_all(mapped, q0=q)[0].q)
+    with pytest.raises(armik.TargetError, match="names no frame"):
+        cell.solve([armik.Pose(T_l)])
+    with pytest.raises(armik.TargetError, match="no_such_link"):
+        cell.solve([armik.Pose(T_l, frame="no_such_link")])

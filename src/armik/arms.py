@@ -27,6 +27,7 @@ import pinocchio as pin
 from armik import arms_every, arms_many, arms_reach
 from armik.arms_joined import joined, worse
 from armik.arms_options import per_chain, refuse_own_checks
+from armik.arms_tasks import by_tip
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.model import frames
 from armik.model.arm_model import ArmModel
@@ -156,7 +157,7 @@ class Arms:
         each chain by its own solver; one ``IKResult`` for the robot (module docstring)."""
         t0 = time.perf_counter()
         refuse_own_checks(options)
-        relative = self._check_targets(targets)
+        relative = self._check_targets(targets := by_tip(self._chains, targets))
         targets = {tip: self._parsed(tip, t) for tip, t in targets.items()}  # once, here
         if self._union is not None:
             beyond = {} if relative else arms_reach.beyond_reach(self._chains, targets)
@@ -200,7 +201,7 @@ class Arms:
     def solve_all(self, targets: Mapping[str, object], *, q0: object = None, **options):
         """Every answer for one target per tip, best first (``armik.arms_every``)."""
         refuse_own_checks(options)
-        return arms_every.solve_all(self, targets, q0, **options)
+        return arms_every.solve_all(self, by_tip(self._chains, targets), q0, **options)
 
     def solve_batch(self, targets: Mapping[str, object], *, q0: object = None, **options):
         """Many targets per tip (tip -> N targets): a ``BatchResult`` over every joint, each
