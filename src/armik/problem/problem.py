@@ -44,13 +44,16 @@ def as_problem(target: object) -> Problem | None:
         return None
     if not any(isinstance(t, Task) for t in target):
         return None
+    looks = False
     for i, t in enumerate(target):
         if not isinstance(t, Task):
             raise TargetError(
                 f"a list of tasks holds only tasks (armik.Pose, armik.Position, armik.Axis, "
                 f"armik.LookAt), but item {i} is {t!r}"
             )
-    _refuse_looking_at_itself(target)
+        looks = looks or type(t) is LookAt
+    if looks:
+        _refuse_looking_at_itself(target)
     return Problem(tuple(target))
 
 
