@@ -25,7 +25,7 @@ def _compile(n: notice._Notice, module: str = "armik.kernel.step") -> None:
 @pytest.fixture
 def quick(monkeypatch, tmp_path):
     monkeypatch.setenv(notice.ENVIRONMENT, "1")
-    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))  # where measured times are kept
+    monkeypatch.setenv(notice.TIMES_ENVIRONMENT, str(tmp_path / notice.TIMES))
     monkeypatch.setattr(notice, "BURST_GAP", 0.01)
 
 
@@ -73,6 +73,25 @@ def test_the_duration_said_is_measured_here_once_there_is_one(quick, tmp_path):
 def test_an_unwritable_place_leaves_the_notice_as_it_was(quick, monkeypatch, tmp_path):
     blocked = tmp_path / "file"
     blocked.write_text("")
-    monkeypatch.setenv("NUMBA_CACHE_DIR", str(blocked))  # a file: no directory in it
+    monkeypatch.setenv(notice.TIMES_ENVIRONMENT, str(blocked / notice.TIMES))  # no such dir
     notice.record("the numeric solvers", 3.0)
     assert notice.measured() == {}
+
+
+def test_a_line_open_at_exit_is_measured_to_its_last_compilation(quick, tmp_path):
+    n = notice._Notice(io.StringIO())
+    _compile(n)
+    n._close()  # what the exit does when the closing timer has not run
+    took = json.loads((tmp_path / notice.TIMES).read_text())["the numeric solvers"]
+    assert took >= 0.0
+    assert notice.measured() == {"the numeric solvers": took}
+
+
+def test_a_line_ended_by_another_part_is_measured_too(quick, tmp_path):
+    stream = io.StringIO()
+    n = notice._Notice(stream)
+    _compile(n, "armik.solvers.closed_form.planar2r_kernel")
+    _compile(n)  # the numeric solvers, before the first line's timer ran
+    _closed(n)
+    assert set(notice.measured()) == {"the planar 2-link closed form", "the numeric solvers"}
+    assert stream.getvalue().count("armik: compiling") == 2

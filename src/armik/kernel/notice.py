@@ -8,8 +8,8 @@ time taken. A call served from the cache says nothing.
 
 numba announces only real compilations ("numba:compile" events, not cache loads); the
 first outermost one of an armik function in a burst names the part. How long it takes is
-measured: each line's time is kept per part in ``compile-seconds.json`` (in
-``NUMBA_CACHE_DIR`` when set, else the user's cache directory), and the next notice of that
+measured: each line's time is kept per part in ``compile-seconds.json`` in the user's
+cache directory (``ARMIK_COMPILE_TIMES`` names another file), and the next notice of that
 part on this machine (a new cache, an upgrade) says it; a part never measured here says
 ``PARTS``' figure from the project's 2-core machine, as such.
 ``ARMIK_COMPILE_NOTICE=0`` in the environment silences the notice. ``armik.compile``
@@ -18,6 +18,7 @@ part on this machine (a new cache, an upgrade) says it; a part never measured he
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import json
 import os
@@ -98,7 +99,7 @@ class _Notice(event.Listener):
                 self.closing = None
             # the FK check compiles within the solves' bursts: it goes on under their line
             if self.line is not None and what not in (self.line.what, _CHECK):
-                self.line.close()
+                record(self.line.what, self.line.close())
                 self.line = None
             if self.line is None:
                 self.line = _Line(what, seconds, self.stream or sys.stderr, measured().get(what))
@@ -111,6 +112,8 @@ class _Notice(event.Listener):
     def _close_soon(self) -> None:
         """Close the line after ``BURST_GAP`` unless a compilation or a hold comes first."""
         with self.lock:
+            if self.line is not None:
+                self.line.ended = time.perf_counter()  # the burst's time so far
             if self.line is not None and self.closing is None and not self.holds:
                 self.closing = threading.Timer(BURST_GAP, self._close)
                 self.closing.daemon = True
@@ -153,6 +156,7 @@ class _Line:
         self.text = f"armik: compiling {what} for this machine (once; {took})"
         self.stream = stream
         self.t0 = time.perf_counter()
+        self.ended = self.t0  # when its last compilation (or hold) ended
         self.live = _is_terminal(stream)
         self.done = threading.Event()
         self._write(self.text + ("" if self.live else "\n"))
@@ -164,9 +168,9 @@ class _Line:
             self._write(f"\r{self.text}: {time.perf_counter() - self.t0:.0f} s")
 
     def close(self) -> float:
-        """End the line; returns the seconds it was open."""
+        """End the line; returns the seconds of its burst (to its last compilation's end)."""
         self.done.set()
-        took = time.perf_counter() - self.t0
+        took = max(self.ended, self.t0) - self.t0
         if self.live:
             self._write(f"\r{self.text}: done in {took:.1f} s\n")
         return took
@@ -182,14 +186,17 @@ class _Line:
 TIMES = "compile-seconds.json"  # part -> seconds its last notice's line was open
 
 
+TIMES_ENVIRONMENT = "ARMIK_COMPILE_TIMES"  # the file, where not the user's cache directory
+
+
 def times_path() -> Path:
-    """Where the measured compile times are kept: beside numba's cache when
-    ``NUMBA_CACHE_DIR`` says where it is, else in the user's cache directory."""
-    root = os.environ.get("NUMBA_CACHE_DIR")
-    if not root:
-        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-        root = os.path.join(base, "armik")
-    return Path(root) / TIMES
+    """Where the measured compile times are kept: ``ARMIK_COMPILE_TIMES`` when set, else
+    the user's cache directory (one file per user and machine, whatever numba's cache)."""
+    given = os.environ.get(TIMES_ENVIRONMENT)
+    if given:
+        return Path(given)
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "armik" / TIMES
 
 
 def measured() -> dict[str, float]:
@@ -226,3 +233,4 @@ def _is_terminal(stream) -> bool:
 
 NOTICE = _Notice()
 event.register("numba:compile", NOTICE)
+atexit.register(NOTICE._close)  # a line still open at exit (its timer never ran): kept too
