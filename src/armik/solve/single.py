@@ -20,7 +20,7 @@ from armik.problem.problem import Problem, as_problem, lower, rims, tightened
 from armik.problem.scores import parse_score
 from armik.problem.tasks import Pose, Position, Task
 from armik.result import IKResult
-from armik.solve import prefer
+from armik.solve import far, prefer
 from armik.solve.avoid import First, solve_avoiding
 from armik.solve.held import solve_held
 from armik.solve.nullspace import descend
@@ -157,6 +157,10 @@ def _stages(arm, target, q0, solver: str, opts: Options, key, seed, every: bool,
         return solve_held(arm, target, q0, solver, _with_seed(opts, seed), every, t0, _general)
     if not every and (opts.obstacles or opts.self_collision):  # ``opts.collisions``, inline
         return _avoiding(arm, parsed(target, arm), q0, solver, opts, key, seed, t0)
+    if far.first_use and not every:  # a target beyond reach: answered before any compile
+        got = far.beyond_reach(arm, target, q0, solver, opts, t0)
+        if got is not None:
+            return got
     kind = type(target)  # a position, for the plan
     vector = (kind is np.ndarray and target.ndim == 1) or (
         kind is Target and target.rotation is None
