@@ -5,6 +5,7 @@ the mapping ``Arms.solve`` takes: each task under the tip whose chain holds its 
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import Any
 
 from armik.errors import TargetError
 from armik.model.arm_model import ArmModel
@@ -12,7 +13,7 @@ from armik.model.frames import owner
 from armik.problem.tasks import Task
 
 
-def by_tip(chains: Mapping[str, ArmModel], targets: object) -> object:
+def by_tip(chains: Mapping[str, ArmModel], targets: object) -> Any:
     """``targets`` as tip -> its tasks where it is a list of tasks, else as given; a
     ``TargetError`` for a task that names no frame or a frame on no chain."""
     if not isinstance(targets, (list, tuple)) or not targets:

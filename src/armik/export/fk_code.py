@@ -118,7 +118,7 @@ def source(ax: Axes) -> str:
         w.lines.append(f"    const double c{i} = c[{i}];")
         w.lines.append(f"    const double s{i} = s[{i}];")
     A = _rotation(w, ax.directions[0], 0)
-    x = [_clean(v) for v in p[0]]
+    x: list[float | str] = [_clean(v) for v in p[0]]
     for i in range(dof):
         if i > 0:
             A = _times(w, A, _rotation(w, ax.directions[i], i))
