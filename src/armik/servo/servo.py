@@ -18,8 +18,10 @@ from armik.servo.result import STATUSES, ServoRecord, ServoStep, reason
 
 SINGULAR = 0.05  # below this smallest singular value (m/rad or 1) the damping grows ...
 DAMPING = 0.005  # ... up to this (added to A^T A) at a singular value of 0
+DAMPING_ERROR = 0.1  # and by this times the squared error (m^2, rad^2): far, the gradient's way
 LAMBDA_MIN = 1e-9  # always: keeps a redundant arm's normal matrix invertible
 REACH_SLACK = 1e-3  # m beyond the reach bound before a target is called out of reach
+PULL = 2.0  # 1/s: the pull toward q0 where the task leaves joints free or is damped
 ON_TARGET = 1e-6  # m and rad: within these of every task's region a tick is on target
 
 
@@ -65,12 +67,13 @@ class Servo:
                 value=gain,
             )
         self._state = np.zeros((k.STATE_ROWS, n))
-        self._state[k.Q] = q
+        self._state[k.Q], self._state[k.REST] = q, q
         self._state[k.VMAX], self._state[k.AMAX] = vmax, amax
         self._state[k.LO], self._state[k.HI] = arm.lower, arm.upper
         self._cfg = np.zeros(k.CFG)
         self._cfg[k.DT], self._cfg[k.GAIN], self._cfg[k.REACH_SLACK] = self.dt, g, REACH_SLACK
         self._cfg[k.TOL_P], self._cfg[k.TOL_R] = tol_position, tol_orientation
+        self._cfg[k.PULL], self._cfg[k.LAM_ERR] = PULL, DAMPING_ERROR
         self._cfg[k.SIGMA_EPS], self._cfg[k.LAM_MAX], self._cfg[k.LAM_MIN] = (
             SINGULAR,
             DAMPING,
@@ -166,6 +169,24 @@ def _frozen(x: np.ndarray) -> np.ndarray:
 
 
 def start(arm: object, q0: object, **options: object) -> Servo:
-    """A ``Servo`` for ``arm`` (an ``Arm`` or its model) at rest at ``q0``: see
-    ``Servo``."""
+    """``Arm.servo(q0, dt=0.002, velocity_limits=None, acceleration_limits=None, gain=1.0)``:
+    a ``Servo`` for ``arm`` (an ``Arm`` or its model) at rest at ``q0`` (rad, m; within the
+    limits), ticking every ``dt`` s, within ``velocity_limits`` (rad/s per joint, a number
+    or a mapping joint -> limit; default the URDF's) and ``acceleration_limits`` (rad/s^2;
+    default ``DEFAULT_ACCELERATION``), correcting ``gain`` of the error a tick. Raises
+    ``OptionError`` naming a bad value. See docs/servo.md."""
+    for name in options:
+        if name not in KEYWORDS:
+            raise OptionError(
+                f"the servo takes no option {name!r}"
+                + (": it does not avoid collisions yet" if name in COLLISIONS else "")
+                + f"; its options: {', '.join(KEYWORDS)}",
+                option=name,
+                value=options[name],
+            )
     return Servo(model_of(arm), q0, **options)  # type: ignore[arg-type]
+
+
+KEYWORDS = ("dt", "velocity_limits", "acceleration_limits", "gain", "tol_position")
+KEYWORDS += ("tol_orientation",)
+COLLISIONS = ("obstacles", "self_collision", "margin")

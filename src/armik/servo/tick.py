@@ -39,11 +39,11 @@ ROT, POS, BOUNDS, WEIGHTS, CONE, AXIS, LOOK, SIGHT = 0, 9, 12, 18, 24, 25, 28, 2
 COLUMNS = 32
 MAX_TASKS = 4
 # rows of ``state`` (n columns): joint values, last velocity, limits; the tick's acceleration
-Q, V, VMAX, AMAX, LO, HI, ACC = range(7)
-STATE_ROWS = 7
+Q, V, VMAX, AMAX, LO, HI, ACC, REST = range(8)
+STATE_ROWS = 8
 # entries of ``cfg``
-DT, TOL_P, TOL_R, SIGMA_EPS, LAM_MAX, LAM_MIN, GAIN, REACH_SLACK = range(8)
-CFG = 8
+DT, TOL_P, TOL_R, SIGMA_EPS, LAM_MAX, LAM_MIN, GAIN, REACH_SLACK, PULL, LAM_ERR = range(10)
+CFG = 10
 # entries of ``out``
 POS_ERR, ORI_ERR, CODE, JOINT, SIGMA, CONFLICT = range(6)
 OUT = 6
@@ -224,13 +224,17 @@ def _solve(V, ev, lam, g, y, x):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _gradient(E, A, m, g):
+def _gradient(E, A, m, g, lam, pull, state):
+    """g = A^T E + lam pull (rest - q): the minimiser of |A x - E|^2 + lam |x - z|^2 is
+    (A^T A + lam I)^-1 (A^T E + lam z), with z a pull toward the rest posture, which thus
+    acts only along the directions the damping gives up (near a singularity, far from
+    the target), so that the arm leaves a stretched, limit-held posture."""
     n = A.shape[1]
     for i in range(n):
         s = 0.0
         for r in range(m):
             s += A[r, i] * E[r]
-        g[i] = s
+        g[i] = s + lam * pull * (state[REST, i] - state[Q, i])
 
 
 @njit(cache=True, nogil=True)
@@ -267,7 +271,6 @@ def tick(packed, kind, halton, table, old, state, cfg, buf, ibuf, out):
     reg_p, reg_r, active = _stack(table, ws, E0, A0)
     within = reg_p <= cfg[TOL_P] and reg_r <= cfg[TOL_R]
     # the normal matrix, its eigen-decomposition, the damping
-    _gradient(E0, A0, rows, g)
     for i in range(n):
         for j in range(i + 1):
             s = 0.0
@@ -283,8 +286,12 @@ def tick(packed, kind, halton, table, old, state, cfg, buf, ibuf, out):
     sigma = math.inf if r == 0 else math.sqrt(max(kth_largest(ev, r, tmp), 0.0))
     eps = cfg[SIGMA_EPS]
     lam = cfg[LAM_MIN]
+    for r in range(rows):  # and with the error (Levenberg-Marquardt): far, a gradient step
+        lam += cfg[LAM_ERR] * E0[r] * E0[r]
     if sigma < eps:
         lam += cfg[LAM_MAX] * (1.0 - (sigma / eps) ** 2)
+    pull = cfg[PULL] * dt * (lam - cfg[LAM_MIN]) / lam  # none on a plain step
+    _gradient(E0, A0, rows, g, lam, pull, state)
     _solve(Vm, ev, lam, g, y, x)  # the whole correction to this tick's target
     for i in range(n):
         x_old[i] = x[i]
@@ -295,7 +302,7 @@ def tick(packed, kind, halton, table, old, state, cfg, buf, ibuf, out):
         if same:
             E1, A1 = E[m : 2 * m], A2[1]
             _stack(old, ws, E1, A1)
-            _gradient(E1, A1, rows, y)
+            _gradient(E1, A1, rows, y, lam, pull, state)
             for i in range(n):
                 g[i] = y[i]
             _solve(Vm, ev, lam, g, y, x_old)
