@@ -12,8 +12,8 @@ import pytest
 import armik
 from armik.problem.tasks import Axis, Pose, Position
 from armik.servo.limits import DEFAULT_ACCELERATION
+from armik.servo.streams import JUMP, START, circle, moved, violations
 from tests.conftest import arm as load
-from tests.servo.streams import JUMP, START, circle, moved, violations
 
 DT = 0.002
 

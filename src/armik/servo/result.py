@@ -55,15 +55,22 @@ class ServoStep:
     ``orientation_error`` (rad; None where the target has no such part), and ``sigma``, the
     smallest singular value of the task Jacobian (inf where no row is active)."""
 
+    # (``reason`` is a property: the words of status and joint, written when read)
+
     q: np.ndarray
     dq: np.ndarray
     ddq: np.ndarray
     status: ServoStatus
-    reason: str
     joint: str | None
     position_error: float | None
     orientation_error: float | None
     sigma: float
+    conflict: bool = False  # the acceleration limit gave way to braking (rounding only)
+
+    @property
+    def reason(self) -> str:
+        """What limited the tick, in words (written when read)."""
+        return reason(self.status, self.joint, self.sigma, self.conflict)
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)

@@ -14,7 +14,7 @@ from armik.model.arm_model import ArmModel, model_of
 from armik.servo import table as _table
 from armik.servo import tick as k
 from armik.servo.limits import DEFAULT_ACCELERATION, per_joint, time_step, urdf_velocities
-from armik.servo.result import STATUSES, ServoRecord, ServoStep, reason
+from armik.servo.result import STATUSES, ServoRecord, ServoStep
 
 SINGULAR = 0.05  # below this smallest singular value (m/rad or 1) the damping grows ...
 DAMPING = 0.005  # ... up to this (added to A^T A) at a singular value of 0
@@ -73,7 +73,7 @@ class Servo:
         self._cfg = np.zeros(k.CFG)
         self._cfg[k.DT], self._cfg[k.GAIN], self._cfg[k.REACH_SLACK] = self.dt, g, REACH_SLACK
         self._cfg[k.TOL_P], self._cfg[k.TOL_R] = tol_position, tol_orientation
-        self._cfg[k.PULL], self._cfg[k.LAM_ERR] = PULL, DAMPING_ERROR
+        self._cfg[k.PULL], self._cfg[k.LAM_ERR], self._cfg[k.RESET] = PULL, DAMPING_ERROR, 1.0
         self._cfg[k.SIGMA_EPS], self._cfg[k.LAM_MAX], self._cfg[k.LAM_MIN] = (
             SINGULAR,
             DAMPING,
@@ -128,7 +128,7 @@ class Servo:
             dq=_frozen(state[k.V]),
             ddq=_frozen(state[k.ACC]),
             status=status,
-            reason=reason(status, joint, sigma, out[k.CONFLICT] != 0.0),
+            conflict=out[k.CONFLICT] != 0.0,
             joint=joint,
             position_error=None if math.isnan(pos) else pos,
             orientation_error=None if math.isnan(ori) else ori,

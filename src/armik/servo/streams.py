@@ -1,5 +1,6 @@
-"""Target streams the servo's tests and benchmark share, and the check of a commanded
-sequence by finite differences."""
+"""Target streams for trying a servo (its tests, ``benchmarks/servo.py``, the example):
+start configurations of bundled arms, a circle, a jump, and the check of a commanded
+sequence against its limits by finite differences."""
 
 from __future__ import annotations
 
@@ -33,7 +34,7 @@ def moved(T0: pin.SE3, d: np.ndarray) -> pin.SE3:
     return pin.SE3(T0.rotation, T0.translation + d)
 
 
-def violations(q0, Q, lower, upper, vmax, amax, dt, tol=1e-9) -> dict[str, float]:
+def violations(q0, Q, lower, upper, vmax, amax, dt) -> dict[str, float]:
     """The largest excess (rad, rad/s, rad/s^2) over each limit of the sequence q0, Q[0],
     ... by finite differences (0 where none)."""
     P = np.vstack([q0, Q])
