@@ -37,8 +37,8 @@ def test_circle_tracked_within_limits(name):
     rec = servo.track(circle(arm.fk(q0), 1500, DT))
     _check(arm, servo, q0, rec)
     # after the first tenth of a second (the arm accelerating from rest), on the circle
-    assert rec.position_error[50:].max() < 1e-3
-    assert rec.orientation_error[50:].max() < 1e-2
+    assert rec.position_error[50:].max() < 1e-5
+    assert rec.orientation_error[50:].max() < 1e-4
 
 
 @pytest.mark.parametrize("name", ["panda", "ur5"])

@@ -284,8 +284,6 @@ def tick(packed, kind, halton, table, old, state, cfg, buf, ibuf, out):
     R, p = ws.m3[0], ws.v3[0]
     forward(ch, q, R, p, ws.geo[0], ws.geo[1])
     jacobian_local(ch, R, p, ws.geo[0], ws.geo[1], ws.J)
-    origin, reach_ = reach(ch)
-    far = _distances(table, R, p, origin, reach_, cfg[REACH_SLACK], out)
     rows = 6 * table.shape[0]
     E0, A0 = E[0:m], A2[0]
     reg_p, reg_r, active = _stack(table, ws, E0, A0)
@@ -401,6 +399,10 @@ def tick(packed, kind, halton, table, old, state, cfg, buf, ibuf, out):
         state[ACC, i] = (v - v_prev[i]) / dt
         state[V, i] = v
         q[i] = qn
+    # the true distances the command leaves (the FK at the new joint values)
+    forward(ch, q, R, p, ws.geo[0], ws.geo[1])
+    origin, reach_ = reach(ch)
+    far = _distances(table, R, p, origin, reach_, cfg[REACH_SLACK], out)
     code, who = TRACKING, joint
     if within:
         code, who = ON_TARGET, -1
