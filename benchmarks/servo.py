@@ -15,9 +15,10 @@ each tick integrated with ``pin.integrate``. Pink is optional: without it, armik
 Reported per arm, stream and solver: the largest excess over each limit of the commanded
 q sequence by finite differences (0 = none), the tip's RMS position error (m, by armik's
 FK of the commanded q; the circle's after its first 0.1 s, the arm starting at rest), the
-final error, the ticks to settle within 1e-5 m (jump), NaNs, the mean and p99 time of a
-tick (the whole call: parsing, the step, the result), the RMS jerk of q (rad/s^3, third
-differences) and the fraction of q's power above 3 Hz (of its detrended spectrum).
+final error, the ticks to settle within 1e-5 m (jump), NaNs, the mean, median and p99
+time of a tick (the whole call: parsing, the step, the result), the RMS jerk of q
+(rad/s^3, third differences) and the fraction of q's power above 3 Hz (of its detrended
+spectrum).
 
     PYTHONPATH=/tmp/peerpkgs python benchmarks/servo.py [--arms panda ur5 xarm7 abb_irb120]
 """
@@ -129,6 +130,7 @@ def measure(arm, q0, name, targets, Q, times, failed):
         "nan": len(targets) - n_ok,
         "mean_us": float(np.mean(times[:n_ok]) * 1e6) if n_ok else float("nan"),
         "p99_us": float(np.percentile(times[:n_ok], 99) * 1e6) if n_ok else float("nan"),
+        "median_us": float(np.median(times[:n_ok]) * 1e6) if n_ok else float("nan"),
         "jerk": jerk,
         "high": high,
         "failed": failed,
@@ -142,8 +144,8 @@ def row(arm_name, stream, solver, m) -> str:
     fail = f" ({m['failed']})" if m["failed"] else ""
     return (
         f"| {arm_name} | {stream} | {solver}{fail} | {over} | {m['rms']:.2e} | {m['final']:.1e} "
-        f"| {settle} | {m['mean_us']:.1f} | {m['p99_us']:.1f} | {m['jerk']:.3g} "
-        f"| {m['high']:.1e} |"
+        f"| {settle} | {m['mean_us']:.1f} | {m['median_us']:.1f} | {m['p99_us']:.1f} "
+        f"| {m['jerk']:.3g} | {m['high']:.1e} |"
     )
 
 
@@ -161,9 +163,10 @@ def main() -> None:
         print("Pink is not importable: armik alone")
     print(
         "| arm | stream | solver | excess pos / vel / acc | RMS error (m) | final (m) "
-        "| settle (ticks) | mean (us) | p99 (us) | RMS jerk (rad/s^3) | power > 3 Hz |"
+        "| settle (ticks) | mean (us) | median (us) | p99 (us) | RMS jerk (rad/s^3) "
+        "| power > 3 Hz |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for i, name in enumerate(args.arms):
         arm = armik.load(name)
         q0 = START[name]

@@ -117,22 +117,21 @@ class Servo:
         out, state = self._out, self._state
         k.tick(packed, kind, halton, rows, self._old, state, self._cfg, self._buf, self._ibuf, out)
         self._old = rows
-        status = STATUSES[int(out[k.CODE])]
-        j = int(out[k.JOINT])
-        joint = self._names[j] if j >= 0 else None
-        pos, ori = float(out[k.POS_ERR]), float(out[k.ORI_ERR])
-        sigma = float(out[k.SIGMA])
+        command = state[: k.ACC + 1].copy()  # q, dq, ddq: one read-only copy
+        command.flags.writeable = False
+        pos, ori, code, j, sigma, conflict = out.tolist()
+        status = STATUSES[int(code)]
         return frozen(
             ServoStep,
-            q=_frozen(state[k.Q]),
-            dq=_frozen(state[k.V]),
-            ddq=_frozen(state[k.ACC]),
+            q=command[k.Q],
+            dq=command[k.V],
+            ddq=command[k.ACC],
             status=status,
-            conflict=out[k.CONFLICT] != 0.0,
-            joint=joint,
-            position_error=None if math.isnan(pos) else pos,
-            orientation_error=None if math.isnan(ori) else ori,
+            joint=self._names[int(j)] if j >= 0 else None,
+            position_error=None if pos != pos else pos,  # NaN: not measured
+            orientation_error=None if ori != ori else ori,
             sigma=sigma,
+            conflict=conflict != 0.0,
         )
 
     def track(self, targets: Iterable[object]) -> ServoRecord:
@@ -160,12 +159,6 @@ class Servo:
             orientation_error=errors("orientation_error"),
             sigma=column("sigma"),
         )
-
-
-def _frozen(x: np.ndarray) -> np.ndarray:
-    out = x.copy()
-    out.flags.writeable = False
-    return out
 
 
 def start(arm: object, q0: object, **options: object) -> Servo:

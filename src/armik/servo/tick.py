@@ -39,7 +39,7 @@ ROT, POS, BOUNDS, WEIGHTS, CONE, AXIS, LOOK, SIGHT = 0, 9, 12, 18, 24, 25, 28, 2
 COLUMNS = 32
 MAX_TASKS = 4
 # rows of ``state`` (n columns): joint values, last velocity, limits; the tick's acceleration
-Q, V, VMAX, AMAX, LO, HI, ACC, REST = range(8)
+Q, V, ACC, VMAX, AMAX, LO, HI, REST = range(8)  # Q, V, ACC first: the command
 STATE_ROWS = 8
 # entries of ``cfg``
 DT, TOL_P, TOL_R, SIGMA_EPS, LAM_MAX, LAM_MIN, GAIN, REACH_SLACK, PULL, LAM_ERR, RESET = range(11)
