@@ -40,7 +40,5 @@ print(f"3 m away: {back.status[0]}, NaN: {bool(np.isnan(back.q).any())}")
 print(f"back: {back.position_error[-1]:.1e} m, {back.status[-1]}")
 
 Q = np.vstack([rec.q, jump.q, back.q])
-over = violations(
-    q0, Q, arm.lower, arm.upper, servo.velocity_limits, servo.acceleration_limits, dt
-)
+over = violations(q0, Q, arm.lower, arm.upper, servo.velocity_limits, servo.acceleration_limits, dt)
 print(f"{len(Q)} ticks, largest excess over each limit: {over}")
