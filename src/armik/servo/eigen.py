@@ -13,7 +13,8 @@ SWEEPS = 30  # at most: the off-diagonal part falls quadratically, 5-8 sweeps in
 OFF_TOL = 1e-30  # stop when the off-diagonal squares are below this times the diagonal's
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
+# (numba's hints lack the target options: the kernel's modules are exempt in pyproject.toml)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def jacobi(B, V, ev):
     """ev (n,), V (n, n): eigenvalues and eigenvectors (columns) of the symmetric B, so that
     B = V diag(ev) V^T; B is overwritten (its diagonal ends as ev)."""

@@ -180,6 +180,6 @@ def start(arm: object, q0: object, **options: object) -> Servo:
     return Servo(model_of(arm), q0, **options)  # type: ignore[arg-type]
 
 
-KEYWORDS = ("dt", "velocity_limits", "acceleration_limits", "gain", "tol_position")
-KEYWORDS += ("tol_orientation",)
+KEYWORDS: tuple[str, ...] = ("dt", "velocity_limits", "acceleration_limits", "gain")
+KEYWORDS += ("tol_position", "tol_orientation")
 COLLISIONS = ("obstacles", "self_collision", "margin")
