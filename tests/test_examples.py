@@ -60,7 +60,7 @@ EXPECT = {
         "a right hand 2 m away: unreachable: tip 'gripper_right_base_link'",
     ],
     "15_servo.py": [
-        "jump: ['acceleration_limit', 'velocity_limit'] on the way",
+        "jump: ['acceleration_limit', 'tracking', 'velocity_limit'] on the way",
         "s: on_target",
         "3 m away: out_of_reach, NaN: False",
         "m, on_target",

@@ -170,6 +170,22 @@ def test_limits_given_are_kept():
     assert np.abs(rec.dq).max() > 0.4  # the limit was reached, and held
 
 
+def test_obstacle_kept_at_the_margin_within_limits():
+    arm, q0 = load("panda"), START["panda"]
+    T0 = arm.fk(q0)
+    sphere = armik.Sphere(0.05, tuple(T0.translation + np.array([0.0, 0.16, -0.16])))
+    targets = circle(T0, 3000, DT)  # two turns
+    free = arm.servo(q0).track(targets)  # without the sphere the hand passes through it
+    assert min(arm.min_distance(q, [sphere])[0] for q in free.q[::10]) < 0.0
+    servo = arm.servo(q0, dt=DT, obstacles=[sphere], margin=0.01)
+    rec = servo.track(targets)
+    _check(arm, servo, q0, rec)
+    assert min(arm.min_distance(q, [sphere])[0] for q in rec.q) >= 0.01 - 1e-4
+    assert "obstacle" in set(rec.status.tolist())
+    assert rec.position_error[-1] < 1e-5  # back on the circle past the sphere
+    assert rec.status[-1] == "tracking"
+
+
 @pytest.mark.parametrize(
     ("options", "named"),
     [
@@ -180,7 +196,10 @@ def test_limits_given_are_kept():
         ({"acceleration_limits": math.inf}, "acceleration_limits"),
         ({"acceleration_limits": {"nope": 1.0}}, "nope"),
         ({"gain": 2.0}, "gain"),
-        ({"obstacles": [armik.Sphere(0.05, (0.5, 0, 0.3))]}, "obstacles"),
+        ({"obstacles": [(0.5, 0, 0.3)]}, "obstacles"),
+        ({"obstacles": [armik.Sphere(0.05, (0.9, 0, 0.3))], "margin": -0.1}, "margin"),
+        ({"self_collision": "yes"}, "self_collision"),
+        ({"collision": True}, "collision"),
     ],
 )
 def test_bad_options_raise_naming_them(options, named):

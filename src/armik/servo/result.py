@@ -19,6 +19,7 @@ class ServoStatus(str, Enum):
     ACCELERATION_LIMIT = "acceleration_limit"  # speeding up, or slowing to stop on the target
     SINGULARITY = "singularity"  # damped: a direction the arm has (almost) lost
     OUT_OF_REACH = "out_of_reach"  # the target lies beyond the arm's reach
+    OBSTACLE = "obstacle"  # a collision row (an obstacle, or the arm itself) held it back
 
     def __str__(self) -> str:
         return self.value
@@ -35,6 +36,8 @@ def reason(status: ServoStatus, joint: str | None, sigma: float, conflict: bool)
         text = "tracking: no limit held the step back"
     elif status is ServoStatus.OUT_OF_REACH:
         text = "out of reach: the target lies beyond the arm's reach; moving toward it"
+    elif status is ServoStatus.OBSTACLE:
+        text = "obstacle: a pair near its margin held the step back"
     elif status is ServoStatus.SINGULARITY:
         text = f"near a singularity (smallest singular value {sigma:.3g}): the step is damped"
     elif joint is None:

@@ -13,6 +13,7 @@ from armik.frozen import frozen
 from armik.model.arm_model import ArmModel, model_of
 from armik.servo import table as _table
 from armik.servo import tick as k
+from armik.servo.collisions import rows_for
 from armik.servo.limits import DEFAULT_ACCELERATION, per_joint, time_step, urdf_velocities
 from armik.servo.result import STATUSES, ServoRecord, ServoStep
 
@@ -40,6 +41,9 @@ class Servo:
         velocity_limits: object = None,
         acceleration_limits: object = None,
         gain: object = 1.0,
+        obstacles: object = None,
+        self_collision: object = False,
+        margin: object = 0.01,
         tol_position: float = ON_TARGET,
         tol_orientation: float = ON_TARGET,
     ) -> None:
@@ -85,6 +89,8 @@ class Servo:
         self._old = np.empty((0, k.COLUMNS))
         self._flat = arm.kernel_chain.flat
         self._names = arm.joint_names
+        self._collisions = rows_for(arm, obstacles, self_collision, margin, self.dt)
+        self._no_rows = np.zeros((0, n + 1))
 
     @property
     def velocity_limits(self) -> np.ndarray:
@@ -115,7 +121,20 @@ class Servo:
         rows = _table.table(target, self.arm)
         packed, kind, halton = self._flat
         out, state = self._out, self._state
-        k.tick(packed, kind, halton, rows, self._old, state, self._cfg, self._buf, self._ibuf, out)
+        near = self._no_rows if self._collisions is None else self._collisions.at(state[k.Q])
+        k.tick(
+            packed,
+            kind,
+            halton,
+            rows,
+            self._old,
+            near,
+            state,
+            self._cfg,
+            self._buf,
+            self._ibuf,
+            out,
+        )
         self._old = rows
         command = state[: k.ACC + 1].copy()  # q, dq, ddq: one read-only copy
         command.flags.writeable = False
@@ -166,14 +185,14 @@ def start(arm: object, q0: object, **options: object) -> Servo:
     a ``Servo`` for ``arm`` (an ``Arm`` or its model) at rest at ``q0`` (rad, m; within the
     limits), ticking every ``dt`` s, within ``velocity_limits`` (rad/s per joint, a number
     or a mapping joint -> limit; default the URDF's) and ``acceleration_limits`` (rad/s^2;
-    default ``DEFAULT_ACCELERATION``), correcting ``gain`` of the error a tick. Raises
-    ``OptionError`` naming a bad value. See docs/servo.md."""
+    default ``DEFAULT_ACCELERATION``), correcting ``gain`` of the error a tick, keeping the
+    arm ``margin`` m from ``obstacles`` (shapes in the base frame) and, with
+    ``self_collision``, from itself (``armik.servo.collisions``). Raises ``OptionError``
+    (``CollisionError``) naming a bad value. See docs/servo.md."""
     for name in options:
         if name not in KEYWORDS:
             raise OptionError(
-                f"the servo takes no option {name!r}"
-                + (": it does not avoid collisions yet" if name in COLLISIONS else "")
-                + f"; its options: {', '.join(KEYWORDS)}",
+                f"the servo takes no option {name!r}; its options: {', '.join(KEYWORDS)}",
                 option=name,
                 value=options[name],
             )
@@ -181,5 +200,4 @@ def start(arm: object, q0: object, **options: object) -> Servo:
 
 
 KEYWORDS: tuple[str, ...] = ("dt", "velocity_limits", "acceleration_limits", "gain")
-KEYWORDS += ("tol_position", "tol_orientation")
-COLLISIONS = ("obstacles", "self_collision", "margin")
+KEYWORDS += ("tol_position", "tol_orientation", "obstacles", "self_collision", "margin")

@@ -33,11 +33,13 @@ from armik.kernel.region import rows_at
 from armik.kernel.step import active_set
 from armik.servo.box import ACCELERATION, BRAKING, POSITION, VELOCITY, velocity_box
 from armik.servo.eigen import jacobi, kth_largest
+from armik.servo.rows import with_rows
 
 # columns of a task's row in the table
 ROT, POS, BOUNDS, WEIGHTS, CONE, AXIS, LOOK, SIGHT = 0, 9, 12, 18, 24, 25, 28, 29
 COLUMNS = 32
 MAX_TASKS = 4
+MAX_ROWS = 16  # collision rows a tick (``armik.servo.collisions``), the nearest pairs'
 # rows of ``state`` (n columns): joint values, last velocity, limits; the tick's acceleration
 Q, V, ACC, VMAX, AMAX, LO, HI, REST = range(8)  # Q, V, ACC first: the command
 STATE_ROWS = 8
@@ -49,8 +51,8 @@ POS_ERR, ORI_ERR, CODE, JOINT, SIGMA, CONFLICT = range(6)
 OUT = 6
 # what limited a tick (``armik.servo.result.ServoStatus`` in this order)
 ON_TARGET, TRACKING, JOINT_LIMIT, VELOCITY_LIMIT, ACCELERATION_LIMIT = range(5)
-SINGULARITY, OUT_OF_REACH = 5, 6
-BRAKED = 0.99  # a correction slowed below this fraction by the stopping distance: reported
+SINGULARITY, OUT_OF_REACH, OBSTACLE = 5, 6, 7
+BRAKED = 10.0  # tolerances: slowing to stop on a target farther than this is reported
 
 
 @njit(cache=True, nogil=True)
@@ -60,7 +62,7 @@ def layout(n, N):
     m = 6 * MAX_TASKS
     ws = 2 * n + 12 + 12 * n + 6 + NVEC * n + 4 * n * n + 6 * N + 6 * n + 18 + 9 + 36 + n
     ws += 36 + 12
-    return ws + 2 * m + 2 * m * n + 8 * n * n + 16 * n, 6 * n
+    return ws + 2 * m + 2 * m * n + 8 * n * n + 19 * n + MAX_ROWS, 7 * n
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -257,9 +259,10 @@ def _gradient(E, A, m, g, lam, pull, state):
 
 
 @njit(cache=True, nogil=True)
-def tick(packed, kind, halton, table, old, state, cfg, buf, ibuf, out):
+def tick(packed, kind, halton, table, old, rows_cb, state, cfg, buf, ibuf, out):
     """One tick: ``state``'s joint values and velocity advanced by one step toward the
-    target ``table`` (``old``: the last tick's, or no rows); ``out`` says what limited it."""
+    target ``table`` (``old``: the last tick's, or no rows), within the collision rows
+    ``rows_cb`` (K, n + 1: C, then b, for C dq >= b); ``out`` says what limited it."""
     ch = Flat(packed, kind, halton)
     n, N = halton.shape[1], joints(ch)
     ws, o = _views(buf, ibuf, n, N)
@@ -267,17 +270,18 @@ def tick(packed, kind, halton, table, old, state, cfg, buf, ibuf, out):
     E, o = _take(buf, o, 2 * m)
     Ab, o = _take(buf, o, 2 * m * n)
     mats, o = _take(buf, o, 8 * n * n)
-    vecs, o = _take(buf, o, 16 * n)
+    vecs, o = _take(buf, o, 19 * n)
+    act, o = _take(buf, o, MAX_ROWS)
     A2 = Ab.reshape((2, m, n))
     M6 = mats.reshape((8, n, n))
     Hm, B, Vm, Gi, Hh, Lm = M6[0], M6[1], M6[2], M6[3], M6[4], M6[5]
     Vp, Vr = M6[6], M6[7]  # Vp: the last tick's eigenvectors (kept between ticks)
-    W = vecs.reshape((16, n))
+    W = vecs.reshape((19, n))
     ev, tmp, g, y, x, x_old, xf, lb, ub, dq, gap, mult, xo = (
         W[0], W[1], W[2], W[3], W[4], W[5], W[6], W[7], W[8], W[9], W[10], W[11], W[12]
     )  # fmt: skip
     lk, uk = W[13], W[14]
-    iv = ibuf[3 * n : 6 * n].reshape((3, n))
+    iv = ibuf[3 * n : 7 * n].reshape((4, n))
     side, held, sub = iv[0], iv[1], iv[2]
     q, v_prev = state[Q], state[V]
     dt = cfg[DT]
@@ -385,6 +389,12 @@ def tick(packed, kind, halton, table, old, state, cfg, buf, ibuf, out):
                 xo[i] = xf[i]
         for i in range(n):  # within the box whatever the rounding
             dq[i] = min(max(xo[i], lb[i]), ub[i])
+    blocked = False
+    if rows_cb.shape[0] > 0:
+        C, b = rows_cb[:, :n], rows_cb[:, n]
+        blocked = with_rows(
+            C, b, Vm, ev, lam, xf, lb, ub, dq, act, B, Gi, g, x, tmp, iv, M6[4:6], W[16:19]
+        )
     # which bound held the step back most
     worst, joint, bound = 0.0, -1, 0
     for i in range(n):
@@ -408,6 +418,8 @@ def tick(packed, kind, halton, table, old, state, cfg, buf, ibuf, out):
         code, who = ON_TARGET, -1
     elif far:
         code, who = OUT_OF_REACH, -1
+    elif blocked:
+        code, who = OBSTACLE, -1
     elif joint >= 0 and (bound == POSITION or bound == BRAKING):
         code = JOINT_LIMIT
     elif joint >= 0 and bound == VELOCITY:
@@ -418,7 +430,9 @@ def tick(packed, kind, halton, table, old, state, cfg, buf, ibuf, out):
         code, who = VELOCITY_LIMIT, slowest
     elif sigma < eps:
         code, who = SINGULARITY, -1
-    elif brake < BRAKED:
+    elif brake < 0.5 and (  # (an error not measured is NaN: compares false)
+        out[POS_ERR] > BRAKED * cfg[TOL_P] or out[ORI_ERR] > BRAKED * cfg[TOL_R]
+    ):
         code, who = ACCELERATION_LIMIT, -1
     out[CODE], out[JOINT], out[SIGMA] = code, who, sigma
     out[CONFLICT] = 1.0 if conflict else 0.0
