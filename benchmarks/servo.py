@@ -11,6 +11,8 @@ Limits: the URDF's positions and velocities and 20 rad/s^2 on every joint. Pink:
 ``FrameTask`` on the tip (position and orientation costs 1, gain 1), ``ConfigurationLimit``,
 ``VelocityLimit`` and ``AccelerationLimit`` (its braking distance), ``solve_ik`` with daqp,
 each tick integrated with ``pin.integrate``. Pink is optional: without it, armik alone.
+Then, on the Panda, the circle with a 5 cm sphere on its way and a 1 cm margin (armik
+alone, with and without ``obstacles=``): the smallest distance by ``arm.min_distance``.
 
 Reported per arm, stream and solver: the largest excess over each limit of the commanded
 q sequence by finite differences (0 = none), the tip's RMS position error (m, by armik's
@@ -49,8 +51,12 @@ def streams(T0: pin.SE3) -> dict[str, list[pin.SE3]]:
     }
 
 
-def run_armik(arm, q0, targets):
-    servo = arm.servo(q0, dt=DT, acceleration_limits=DEFAULT_ACCELERATION)
+SPHERE = np.array([0.0, 0.16, -0.16])  # m from the Panda's start tip: on its circle's way
+MARGIN = 0.01
+
+
+def run_armik(arm, q0, targets, **options):
+    servo = arm.servo(q0, dt=DT, acceleration_limits=DEFAULT_ACCELERATION, **options)
     Q, times = np.empty((len(targets), arm.dof)), np.empty(len(targets))
     clock = time.perf_counter
     for k, T in enumerate(targets):
@@ -179,6 +185,31 @@ def main() -> None:
                 Q, times, failed = run(arm, q0, targets)
                 m = measure(arm, q0, stream, targets, Q, times, failed)
                 print(row(name, stream, solver, m), flush=True)
+    if "panda" in args.arms:
+        sphere_stream()
+
+
+def sphere_stream() -> None:
+    """The Panda's circle with a 5 cm sphere on its way, kept at a 1 cm margin (armik
+    alone): the smallest distance by ``arm.min_distance`` on every commanded q."""
+    arm, q0 = armik.load("panda"), START["panda"]
+    T0 = arm.fk(q0)
+    sphere = armik.Sphere(0.05, tuple(T0.translation + SPHERE))
+    targets = circle(T0, 3000, DT)
+    print("\n| Panda circle, 5 cm sphere | min distance (m) | excess pos / vel / acc "
+          "| final (m) | mean (us) | median (us) | p99 (us) |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|")
+    for obstacles in (None, [sphere]):
+        Q, times, _ = run_armik(arm, q0, targets, obstacles=obstacles, margin=MARGIN)
+        m = measure(arm, q0, "circle", targets, Q, times, None)
+        d = min(arm.min_distance(q, [sphere])[0] for q in Q)
+        o = m["over"]
+        print(
+            f"| {'avoiding' if obstacles else 'not avoiding'} | {d:.4f} "
+            f"| {o['position']:.1e} / {o['velocity']:.1e} / {o['acceleration']:.1e} "
+            f"| {m['final']:.1e} | {m['mean_us']:.1f} | {m['median_us']:.1f} "
+            f"| {m['p99_us']:.1f} |"
+        )
 
 
 if __name__ == "__main__":
