@@ -109,7 +109,7 @@ def _views(buf, ibuf, n, N):
     return ws, o
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
 def _stack(table, ws, E, A):
     """E, A: every task's six rows at the placement in ws (``forward``'s); returns the
     largest distances from the tasks' regions (m, rad) and how many rows are active."""
@@ -156,7 +156,7 @@ def _measured(row, k):
     return False
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
 def _distances(table, R, p, origin, reach_, slack, out):
     """out[POS_ERR], out[ORI_ERR]: the largest true distances to the tasks' targets (NaN
     where none measures it); returns whether a position target is beyond the arm's reach."""
@@ -228,7 +228,7 @@ def _congruent(H, V, T, B):
             B[j, i] = s
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
 def _solve(V, ev, lam, g, y, x):
     """x = V diag(1 / (ev + lam)) V^T g."""
     n = g.shape[0]
@@ -244,7 +244,7 @@ def _solve(V, ev, lam, g, y, x):
         x[i] = s
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
 def _gradient(E, A, m, g, lam, pull, state):
     """g = A^T E + lam pull (rest - q): the minimiser of |A x - E|^2 + lam |x - z|^2 is
     (A^T A + lam I)^-1 (A^T E + lam z), with z a pull toward the rest posture, which thus
