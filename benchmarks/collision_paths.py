@@ -21,7 +21,6 @@ import numpy as np
 import pinocchio as pin
 
 import armik
-from armik.solve import avoid
 
 warnings.simplefilter("ignore")
 BUDGET = dict(iteration_budget=3000)
@@ -54,12 +53,11 @@ def main() -> None:
     panda = armik.load("panda")
     found = cases(panda, args.seeds)
     for _ in range(args.repeats):
-        for label, mode in (("slide", "paths"), ("restart", False)):
-            avoid.SLIDE = mode
+        for label, mode in (("slide", True), ("restart", False)):
             whole = disc = coll = 0
             t0 = time.perf_counter()
             for q, line, sphere in found:
-                r = panda.solve_path(line, q, obstacles=[sphere], **BUDGET)
+                r = panda.solve_path(line, q, obstacles=[sphere], slide=mode, **BUDGET)
                 whole += bool(r.success.all())
                 disc += int((r.status == "discontinuous").sum())
                 coll += int((r.status == "collision").sum())
@@ -69,7 +67,6 @@ def main() -> None:
                 f"waypoint, {disc} waypoints discontinuous, {coll} collision; "
                 f"{dt * 1e3:.0f} ms a path"
             )
-    avoid.SLIDE = "paths"
 
 
 if __name__ == "__main__":

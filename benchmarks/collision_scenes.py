@@ -40,7 +40,6 @@ import pinocchio as pin
 import armik
 from armik.constraints.collision import Checker, checker
 from armik.model.catalogue import erd_share
-from armik.solve import avoid
 
 warnings.simplefilter("ignore")
 TOL = 1e-6  # m: two GJK runs on the same pair agree to far better than this
@@ -173,10 +172,12 @@ def targets(arm: armik.Arm, shapes, n: int, seed: int) -> list[pin.SE3]:
     return out
 
 
-def run(name: str, n: int, workers: int, seed: int, solver: str = "auto") -> None:
+def run(
+    name: str, n: int, workers: int, seed: int, solver: str = "auto", slide: bool = False
+) -> None:
     arm = armik.load(name)
     shapes = armik_shapes(SCENES[name])
-    opts = dict(obstacles=shapes, self_collision=True, solver=solver)
+    opts = dict(obstacles=shapes, self_collision=True, solver=solver, slide=slide)
     T = targets(arm, shapes, n, seed)
     # compile what the timed solves use (a colliding answer's restarts run the batch entry,
     # which the first targets may not reach), then warm up
@@ -285,11 +286,10 @@ def main() -> None:
         "pair bounds",
     )
     args = p.parse_args()
-    avoid.SLIDE = True if args.slide == "always" else "paths"
     if args.all_pairs:
         Checker.distance = every_pair  # type: ignore[method-assign]
     for name in args.scenes:
-        run(name, args.n, args.workers, args.seed, args.solver)
+        run(name, args.n, args.workers, args.seed, args.solver, args.slide == "always")
 
 
 if __name__ == "__main__":

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 import os
+import tempfile
 import warnings
 
 from tests.golden.blas_kernels import pin_openblas
@@ -24,6 +25,8 @@ settings.load_profile("explore" if os.environ.get("ARMIK_FUZZ") == "1" else "fix
 # The compile notice goes to stderr whenever a kernel is compiled, which in a test run
 # depends on the numba cache and the order of the tests: off here, on where it is tested.
 os.environ["ARMIK_COMPILE_NOTICE"] = "0"
+# where a notice keeps the compile times it measured: not the user's file
+os.environ["ARMIK_COMPILE_TIMES"] = os.path.join(tempfile.mkdtemp(), "compile-seconds.json")
 
 import armik  # noqa: E402
 from armik.model.arm_model import ArmModel  # noqa: E402

@@ -281,3 +281,40 @@ def test_a_posture_over_two_independent_arms_is_split_by_chain(cell):
     assert nearer >= 4
     with pytest.raises(armik.OptionError, match="has 6 values, the robot 12 joints"):
         cell.solve(targets, secondary=[armik.Posture(np.zeros(6))])
+
+
+def test_solve_all_gives_every_combination_of_the_chains_answers(cell):
+    """``Arms.solve_all`` says what ``Arm.solve_all`` says: every answer, each verified by
+    each tip's FK, best first; a tip out of reach fails the one answer, naming it."""
+    q = cell.random_q(np.random.default_rng(8))
+    targets = {tip: cell.fk(q, tip) for tip in cell.tips}
+    every = cell.solve_all(targets, q0=q)
+    left = cell.chain("l_tool0").solve_all(targets["l_tool0"])
+    right = cell.chain("r_tool0").solve_all(targets["r_tool0"])
+    count = sum(r.success for r in left) * sum(r.success for r in right)
+    assert len(every) == count > 1 and all(r.success for r in every)
+    for r in every:
+        for tip in cell.tips:
+            assert cell.fk(r.q, tip).isApprox(targets[tip], 1e-9)
+    np.testing.assert_allclose(every[0].q, q, atol=1e-9)  # nearest q0 first
+    far = {**targets, "r_tool0": np.array([5.0, 0.0, 0.0])}
+    (failed,) = cell.solve_all(far)
+    assert not failed.success and "r_tool0" in failed.reason
+
+
+def test_a_flat_list_of_tasks_naming_their_frames_is_the_mapping(cell):
+    """Pink's and mink's spelling, one list of tasks each naming its frame, is the same
+    request as the mapping of tips: the same answer, bit for bit."""
+    q = cell.random_q(np.random.default_rng(9))
+    T_l, T_r = cell.fk(q, "l_tool0"), cell.fk(q, "r_tool0")
+    between = T_l.inverse() * T_r
+    flat = [armik.Pose(T_l, frame="l_tool0"), armik.Relative("r_tool0", "l_tool0", between)]
+    mapped = {"l_tool0": [flat[0]], "r_tool0": [flat[1]]}
+    a, b = cell.solve(flat, q0=q), cell.solve(mapped, q0=q)
+    assert a.success and np.array_equal(a.q, b.q)
+    assert cell.fk(a.q, "r_tool0").isApprox(T_r, 1e-9)
+    assert np.array_equal(cell.solve_all(flat, q0=q)[0].q, cell.solve_all(mapped, q0=q)[0].q)
+    with pytest.raises(armik.TargetError, match="names no frame"):
+        cell.solve([armik.Pose(T_l)])
+    with pytest.raises(armik.TargetError, match="no_such_link"):
+        cell.solve([armik.Pose(T_l, frame="no_such_link")])

@@ -24,6 +24,7 @@ from armik.errors import (
     URDFError,
     ViewerError,
 )
+from armik.export import export
 from armik.model.catalogue import robots
 from armik.precompile import compile
 from armik.problem import Axis, LookAt, Pose, Position, Posture, Relative
@@ -86,6 +87,7 @@ __all__ = [
     "TargetError",
     "collision",
     "compile",
+    "export",
     "URDFError",
     "Viewer",
     "ViewerError",

@@ -18,6 +18,7 @@ import pinocchio as pin
 from armik.arms import Arms
 from armik.constraints import collision
 from armik.errors import ArmikWarning, FrameError, JointError, OptionError, URDFError, listing
+from armik.model import frames
 from armik.model.arm_model import ArmModel
 from armik.model.catalogue import CATALOGUE, entry
 from armik.model.reduce import check_locked, check_offset, check_package_dirs
@@ -380,14 +381,14 @@ class Arm:
 
     # -- kinematics -----------------------------------------------------------------------
 
-    def fk(self, q: object) -> pin.SE3:
-        """Tip pose in the base frame, ``T_base_tip``, for joint values ``q`` (rad, m)."""
-        return self.kinematics.fk(q)  # type: ignore[arg-type]
+    def fk(self, q: object, frame: str | None = None) -> pin.SE3:
+        """``T_base_frame`` at joint values ``q`` (rad, m): the tip's, or any frame's."""
+        return frames.placement(self.kinematics, q, frame)
 
-    def jacobian(self, q: object, frame: str = "local") -> np.ndarray:
-        """The 6 x dof tip Jacobian (see ``ArmModel.jacobian``): ``frame="local"``, the
-        tip's twist in the tip frame; ``"base"``, with axes along the base frame's."""
-        return self.kinematics.jacobian(q, frame)  # type: ignore[arg-type]
+    def jacobian(self, q: object, frame: str | None = None, reference: str | None = None) -> Any:
+        """The 6 x dof Jacobian of the tip or ``frame``, in its own axes (``reference=
+        "local"``) or the base's (``"base"``); ``armik.model.frames``."""
+        return frames.jacobian(self.kinematics, q, frame, reference)
 
     def random_q(
         self, rng: np.random.Generator | int | None = None, n: int | None = None
@@ -465,17 +466,15 @@ class Arm:
     def solve_path(
         self,
         poses: object,
-        q0: object,
+        q0: object = None,
         *,
         max_joint_step: float | np.ndarray | None = None,
         plan: str = "follow",
         **options: Any,
     ) -> BatchResult:
-        """Solve waypoints in order, never with a silent jump larger than
-        ``max_joint_step``: each from the previous answer (``plan="follow"``), or the
-        continuous path of least joint motion over every branch, of the best summed score
-        with ``prefer=`` (``plan="global"``); returns a ``BatchResult``. See
-        ``armik.solve.path.solve_path``."""
+        """Solve waypoints in order from ``q0`` (None: the middle of the limits), never with
+        a silent jump larger than ``max_joint_step``: each from the previous answer, or the
+        least joint motion over every branch (``plan="global"``; ``armik.solve.path``)."""
         return solve_path(
             self.kinematics, poses, q0, max_joint_step=max_joint_step, plan=plan, **options
         )

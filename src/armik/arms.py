@@ -9,10 +9,8 @@ takes one task per tip over every joint at once, with restarts within the budget
 configuration is the union's joints in the model's order. Every answer is verified by
 Pinocchio's FK of every tip.
 
-A result is one ``IKResult`` for the whole robot: ``q`` over every joint, ``success`` when
-every tip's answer is one, the worst tip's status and errors, a reason naming each tip
-that failed, and per tip in ``extra``: ``"errors"`` (tip -> (position m, orientation
-rad)) and ``"results"`` (tip -> that chain's ``IKResult``).
+A result is one ``IKResult`` for the whole robot (``armik.arms_joined``): ``q`` over
+every joint, a success when every tip's answer is one, per tip in ``extra``.
 """
 
 from __future__ import annotations
@@ -26,10 +24,12 @@ from typing import cast
 import numpy as np
 import pinocchio as pin
 
-from armik import arms_many, arms_reach
-from armik.arms_joined import joined
-from armik.arms_options import per_chain
+from armik import arms_every, arms_many, arms_reach
+from armik.arms_joined import joined, worse
+from armik.arms_options import per_chain, refuse_own_checks
+from armik.arms_tasks import by_tip
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
+from armik.model import frames
 from armik.model.arm_model import ArmModel
 from armik.model.union import Union
 from armik.options import Options
@@ -44,7 +44,7 @@ from armik.solve.tasks import check_options, solve_tasks
 from armik.solvers.registry import get as get_solver
 from armik.solvers.registry import validate_name
 from armik.status import Status
-from armik.targets.pose import parse_target
+from armik.targets.pose import parse_target, parsed
 
 UNION_ITERATIONS = 40  # a restart's descent over chains that share joints (_solve_together)
 
@@ -122,17 +122,26 @@ class Arms:
         return {tip: arr[cols] for tip, cols in self._columns.items()}
 
     def fk(self, q: object, frame: str | None = None):
-        """``T_base_frame`` of a tip (default: the first) at ``q``."""
-        tip = self.tips[0] if frame is None else frame
-        return self.chain(tip).fk(self.split(q)[tip])
+        """``T_base_frame`` at ``q``: a tip's (default: the first) or a chain's frame's."""
+        tip = self._chain_of(frame)
+        return frames.placement(self._chains[tip], self.split(q)[tip], frame)
 
-    def jacobian(self, q: object, frame: str | None = None) -> np.ndarray:
-        """A tip's 6 x dof LOCAL Jacobian over every joint (zero for the joints not on its
-        chain)."""
-        tip = self.tips[0] if frame is None else frame
+    def jacobian(
+        self, q: object, frame: str | None = None, reference: str | None = None
+    ) -> np.ndarray:
+        """The 6 x dof Jacobian over every joint of a tip (default: the first) or any
+        frame of a chain, in its own axes (``reference="local"``) or the base's
+        (``"base"``); zero for the joints not on its chain (``armik.model.frames``)."""
+        frame, reference = frames.frame_and_reference(frame, reference)
+        tip = self._chain_of(frame)
         J = np.zeros((6, self.dof))
-        J[:, self._columns[tip]] = self.chain(tip).jacobian(self.split(q)[tip])
+        chain = self._chains[tip]
+        J[:, self._columns[tip]] = frames.jacobian(chain, self.split(q)[tip], frame, reference)
         return J
+
+    def _chain_of(self, frame: str | None) -> str:
+        """The tip whose chain has ``frame`` (None: the first tip)."""
+        return self.tips[0] if frame is None else self._known(frames.owner(self._chains, frame))
 
     def _random(self, rng: np.random.Generator) -> np.ndarray:
         """A random configuration within the limits, in ``joint_names``'s order."""
@@ -147,7 +156,9 @@ class Arms:
         """Every tip at its target (any target form ``Arm.solve`` takes, or a task list),
         each chain by its own solver; one ``IKResult`` for the robot (module docstring)."""
         t0 = time.perf_counter()
-        relative = self._check_targets(targets)
+        refuse_own_checks(options)
+        relative = self._check_targets(targets := by_tip(self._chains, targets))
+        targets = {tip: self._parsed(tip, t) for tip, t in targets.items()}  # once, here
         if self._union is not None:
             beyond = {} if relative else arms_reach.beyond_reach(self._chains, targets)
             if beyond:
@@ -187,15 +198,21 @@ class Arms:
         together = self._solve_together(self._joint(), targets, each.q, options, t0)
         return together if together.success else each
 
+    def solve_all(self, targets: Mapping[str, object], *, q0: object = None, **options):
+        """Every answer for one target per tip, best first (``armik.arms_every``)."""
+        refuse_own_checks(options)
+        return arms_every.solve_all(self, by_tip(self._chains, targets), q0, **options)
+
     def solve_batch(self, targets: Mapping[str, object], *, q0: object = None, **options):
         """Many targets per tip (tip -> N targets): a ``BatchResult`` over every joint, each
         chain's own batch where the chains are independent (``armik.arms_many``)."""
+        refuse_own_checks(options)
         return arms_many.solve_batch(self, targets, q0=q0, **options)
 
     def solve_path(
         self,
         waypoints: Mapping[str, object],
-        q0: object,
+        q0: object = None,
         *,
         max_joint_step: float | np.ndarray | None = None,
         plan: str = "follow",
@@ -203,6 +220,7 @@ class Arms:
     ):
         """Waypoints per tip (tip -> N waypoints) in order from ``q0``, never with a silent
         jump larger than ``max_joint_step`` (``armik.arms_many``)."""
+        refuse_own_checks(options)
         return arms_many.solve_path(
             self, waypoints, q0, max_joint_step=max_joint_step, plan=plan, **options
         )
@@ -289,7 +307,7 @@ class Arms:
         for task, e in zip(tasks, r.extra["task_errors"]):
             tip = cast(str, task.frame)  # ``_on`` named the tip
             pos, ori = errors.get(tip, (None, None))
-            errors[tip] = (_worse(pos, e.position), _worse(ori, e.orientation))
+            errors[tip] = (worse(pos, e.position), worse(ori, e.orientation))
             if not e.within and tip not in failed:
                 failed.append(tip)
         reason = r.reason if not failed else f"tips not within their tasks: {failed}; {r.reason}"
@@ -353,6 +371,10 @@ class Arms:
             fixed[cols] = True
         return q
 
+    def _parsed(self, tip: str, target: object) -> object:
+        """A tip's target parsed, or its tasks as given."""
+        return target if as_problem(target) is not None else parse_target(target, self._chains[tip])
+
     def _holds(self, options: dict) -> dict[str, dict]:
         """Each tip's options (``arms_options.per_chain``)."""
         return per_chain(options, self._chains, self._columns, self.joint_names)
@@ -403,21 +425,15 @@ def _prepared(arm, target: object, seed: np.ndarray) -> IKResult:
 _NO_OPTIONS = Options()  # every default: what solve_one builds from no options
 
 
-def _worse(a: float | None, b: float | None) -> float | None:
-    """The larger of two errors, either of which may be unmeasured (None)."""
-    return b if a is None else a if b is None else max(a, b)
-
-
 def _as_tasks(target: object) -> list[Task]:
-    """A tip's target as tasks: a task or list of them as given, a position as a
-    ``Position``, any pose as a ``Pose``."""
+    """A tip's target as tasks: as given, or a ``Position`` or ``Pose``."""
     problem = as_problem(target)
     if problem is not None:
         return list(problem.tasks)
-    parsed = parse_target(target)
-    if parsed.rotation is None:
-        return [Position(parsed.position)]
-    return [Pose(pin.SE3(parsed.rotation, parsed.position))]
+    target = parsed(target)
+    if target.rotation is None:
+        return [Position(target.position)]
+    return [Pose(target)]
 
 
 def _on(task: Task, tip: str, tips: Sequence[str]) -> Task:

@@ -69,3 +69,8 @@ def _reason(results: dict[str, IKResult], failed: list[str]) -> str:
     if failed:
         return "; ".join(f"{t}: {results[t].status.value}: {results[t].reason}" for t in failed)
     return "every tip verified: " + "; ".join(f"{t} by {r.solver}" for t, r in results.items())
+
+
+def worse(a: float | None, b: float | None) -> float | None:
+    """The larger of two errors, either of which may be unmeasured (None)."""
+    return b if a is None else a if b is None else max(a, b)

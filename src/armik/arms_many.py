@@ -15,8 +15,8 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any
+from collections.abc import Mapping, Sequence
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -28,8 +28,28 @@ from armik.problem.problem import relative_tasks
 from armik.result import IKResult
 from armik.status import Status
 
-if TYPE_CHECKING:
-    from armik.arms import Arms
+
+class Arms(Protocol):
+    """What these functions read of ``armik.arms.Arms`` (which calls them: named here, not
+    imported, so that neither module imports the other)."""
+
+    _columns: dict[str, np.ndarray]
+    _union: Any
+
+    @property
+    def tips(self) -> tuple[str, ...]: ...
+    @property
+    def dof(self) -> int: ...
+    @property
+    def joint_names(self) -> Sequence[str]: ...
+    @property
+    def middle(self) -> np.ndarray: ...
+    @property
+    def prismatic(self) -> np.ndarray: ...
+    def chain(self, tip: str) -> Any: ...
+    def solve(self, targets: Mapping[str, object], *, q0: object = None, **options: Any) -> Any: ...
+    def _check_targets(self, targets: object) -> dict: ...
+
 
 DEFAULT_MAX_JOINT_STEP = 0.5  # rad or m, as a single arm's path (armik.solve.path)
 _CONVERGED = Status.CONVERGED.code

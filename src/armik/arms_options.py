@@ -8,7 +8,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from armik.constraints.hold import Hold
-from armik.errors import JointError, listing
+from armik.errors import JointError, OptionError, listing
 from armik.model.arm_model import ArmModel
 from armik.options import spelled
 from armik.problem.scores import Posture, fit_posture
@@ -50,3 +50,20 @@ def per_chain(
             q_ref, weights = (np.asarray(v)[columns[tip]] for v in posture)
             out[tip]["secondary"] = [Posture(q_ref, weights)]
     return out
+
+
+def refuse_own_checks(options: dict) -> None:
+    """An ``OptionError`` for a constraint of the user's own class on several tips: its
+    check reads one arm's joints, and which (a chain's, the robot's) is not said; dropping
+    it would call answers that violate it successes."""
+    if "constraints" not in options:
+        return
+    own = spelled({"constraints": options["constraints"]}).get("checks", ())
+    if own:
+        raise OptionError(
+            f"constraints: {own[0]!r} checks one arm's joints; on several tips give "
+            "armik.Hold and armik.Collisions, or solve each tip's chain "
+            "(robot.chain(tip).solve(..., constraints=[...]))",
+            option="constraints",
+            value=own[0],
+        )

@@ -17,7 +17,7 @@ from armik.errors import ArmikError
 from armik.problem.tasks.base import Task
 from armik.result import IKResult
 from armik.status import Status
-from armik.targets.pose import Target, parse_target
+from armik.targets.pose import Target, parsed
 
 
 def beyond_reach(chains: Mapping[str, object], targets: Mapping[str, object]) -> dict[str, str]:
@@ -77,6 +77,6 @@ def _parsed(value: object) -> Target | None:
     ):
         return None  # tasks: their regions are the task solver's to measure
     try:
-        return parse_target(value)
+        return parsed(value)
     except ArmikError:
         return None

@@ -83,7 +83,14 @@ class Options:
       gives it back).
     - ``constraints``: the last two as objects (``armik.Collisions``, ``armik.Hold``),
       spelled here as those options (``Options.constraints`` gives them back); a list of
-      tasks honours them too, a ``Hold`` there on any arm.
+      tasks honours them too, a ``Hold`` there on any arm. Any other constraint (a user's
+      own ``armik.constraints.base.Constraint``) is kept in ``checks``.
+    - ``slide``: a collision-checked numeric solve slides its first colliding answer out of
+      contact before it restarts (False; a followed path sets it: the answer stays near
+      the previous waypoint's, where a restart lands anywhere).
+    - ``checks``: the constraints no option spells, as objects: the verdict of every route
+      applies their ``check`` to every answer, so that none that violates one is a
+      success (``armik.verify.verdict``); the task solver also steps within their boxes.
     """
 
     tol_position: float = 1e-6
@@ -107,6 +114,8 @@ class Options:
     margin: float = 0.0
     hold: tuple[tuple[str, float | None], ...] | None = None
     posture: tuple[tuple[float, ...], tuple[float, ...]] | None = None
+    checks: tuple[Constraint, ...] = ()
+    slide: bool = False
 
     @property
     def collisions(self) -> bool:
@@ -122,7 +131,7 @@ class Options:
             found.extend(Hold(*pair) for pair in self.hold)
         if self.collisions:
             found.append(Collisions(self.obstacles, self.self_collision, self.margin))
-        return tuple(found)
+        return (*found, *self.checks)
 
     @property
     def budget(self) -> Budget:
@@ -203,21 +212,25 @@ class Options:
         if values.get("cone") is not None:
             values["cone"] = _cone(values["cone"])
         look, toward = values.pop("look_at", None), values.pop("toward", None)
-        if "position_only" in values:
-            flag = values["position_only"]
-            if not isinstance(flag, (bool, np.bool_)):
-                raise OptionError(
-                    f"position_only must be True or False, got {flag!r}",
-                    option="position_only",
-                    value=flag,
-                )
-            values["position_only"] = bool(flag)
+        for name in ("position_only", "slide"):
+            if name in values:
+                flag = values[name]
+                if not isinstance(flag, (bool, np.bool_)):
+                    raise OptionError(
+                        f"{name} must be True or False, got {flag!r}", option=name, value=flag
+                    )
+                values[name] = bool(flag)
         collision_options(values)
         if values.get("hold") is not None:
             held = Hold.parse(values["hold"])
             values["hold"] = tuple((h.joint, h.value) for h in held)
         if values.get("posture") is not None:  # checked as the Posture that spells it
             values["posture"] = _checked_posture(values["posture"])
+        if values.get("checks"):
+            values["checks"] = tuple(
+                _checked(c, Constraint, "constraints", _CONSTRAINTS)  # type: ignore[type-abstract]
+                for c in _items(values["checks"])
+            )
         if "qp_solver" in values and not isinstance(values["qp_solver"], str):
             raise OptionError(
                 f"qp_solver must be a backend name, got {values['qp_solver']!r}",
@@ -262,9 +275,14 @@ def spelled(kwargs: dict[str, Any]) -> dict[str, Any]:
         given = _checked(values.pop("budget"), Budget, "budget", "must be an armik.Budget")
         _add(said, values, given.said(), "the budget")
     if "constraints" in values:
+        checks = list(values.pop("checks", ()))
         for item in _items(values.pop("constraints")):
             constraint = _checked(item, Constraint, "constraints", _CONSTRAINTS)  # type: ignore[type-abstract]
             _add(said, values, constraint.said(), "a constraint")
+            if type(constraint) not in _SPELLED:  # its check is its own: every verdict runs it
+                checks.append(constraint)
+        if checks:
+            values["checks"] = tuple(checks)
     if "secondary" in values:
         for item in _items(values.pop("secondary")):
             posture = _checked(item, Posture, "secondary", "holds one armik.Posture(q_ref)")
@@ -284,7 +302,9 @@ def _checked_posture(value: object) -> tuple[tuple[float, ...], tuple[float, ...
     return Posture(*value).said()["posture"]  # type: ignore[return-value]
 
 
-_CONSTRAINTS = "holds armik.Hold and armik.Collisions objects"
+_CONSTRAINTS = "holds constraints (armik.Hold, armik.Collisions, or a Constraint of your own)"
+# the constraints whose options say all they check (``said``); any other is kept as itself
+_SPELLED = (JointLimits, Hold, Collisions)
 _T = TypeVar("_T")
 
 

@@ -71,3 +71,63 @@ def test_no_helper_once_compiled(monkeypatch):
     monkeypatch.setattr(warmup, "_start_helper", refuse)
     warmup.prepare(problem.STEP_DLS)
     assert problem.STEP_DLS in warmup._prepared
+
+
+class _Helper:
+    """A helper process that has compiled its step."""
+
+    stdout = iter(["step\n"])
+
+    def kill(self):
+        raise AssertionError("the helper was stopped")
+
+    def communicate(self):
+        return "", ""
+
+
+class _Part:
+    """A compiled part of this process's share: records its compilations."""
+
+    def __init__(self, done: list) -> None:
+        self.done = done
+
+    def compile(self, types) -> None:
+        self.done.append(types)
+
+
+def test_start_begins_the_helper_and_prepare_does_the_rest(monkeypatch):
+    """``armik demo`` starts the helper before its 2-link arm: nothing compiles in this
+    process until ``prepare``, which compiles the share and waits for that very helper."""
+    compiled, started = [], []
+    monkeypatch.setattr(warmup, "_prepared", set())
+    monkeypatch.setattr(warmup, "_started", {})
+    monkeypatch.setattr(warmup, "_needs_helper", lambda kind: True)
+    monkeypatch.setattr(warmup, "_parts", lambda: ((), [(_Part(compiled), ("types",))]))
+    monkeypatch.setattr(warmup, "_start_helper", lambda kind: started.append(kind) or _Helper())
+    warmup.start(problem.STEP_DLS)
+    warmup.start(problem.STEP_DLS)  # once
+    assert started == [problem.STEP_DLS] and compiled == []
+    warmup.prepare(problem.STEP_DLS)
+    assert started == [problem.STEP_DLS] and compiled == [("types",)]  # no second helper
+    assert warmup._started == {} and problem.STEP_DLS in warmup._prepared
+    warmup.start(problem.STEP_DLS)  # prepared already: nothing
+    assert started == [problem.STEP_DLS]
+
+
+def test_demo_starts_the_helper_and_prepares_nothing_before_its_2_link_arm(monkeypatch):
+    from armik.tools.cli import arms
+
+    calls = []
+    monkeypatch.setattr(warmup, "start", lambda kind: calls.append(("start", kind)))
+    monkeypatch.setattr(warmup, "prepare", lambda kind: calls.append(("prepare", kind)))
+
+    def stop(name):
+        calls.append(("load", name))
+        raise KeyboardInterrupt  # stop before any solve
+
+    monkeypatch.setattr(arms, "load", stop)
+    try:
+        arms.cmd_demo(None)
+    except KeyboardInterrupt:
+        pass
+    assert calls == [("start", problem.STEP_DLS), ("load", "planar_2link")]

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import pytest
 
 import armik
@@ -41,15 +43,42 @@ def test_two_fingers_and_a_tool_frame(tmp_path):
 
 
 def test_no_tool_frame_when_it_is_a_choice(tmp_path):
-    """Two fixed leaves on the hand: no single tool frame, the old rules decide."""
+    """Two fixed leaves on the hand and a last joint named as no gripper's: no single tool
+    frame, the old rules decide."""
     text = chain(
         *ARM,
         joint("tcp_fixed", "hand", "tcp", jtype="fixed"),
         joint("cam_fixed", "hand", "camera", jtype="fixed"),
-        joint("jaw", "hand", "jaw_link"),
+        joint("spin", "hand", "spinner"),
     )
     a = armik.load(write_urdf(tmp_path, text))
-    assert (a.tip, a.dof) == ("jaw_link", 4)
+    assert (a.tip, a.dof) == ("spinner", 4)
+
+
+TWO_FIXED = (
+    joint("tcp_fixed", "hand", "tcp", jtype="fixed"),
+    joint("cam_fixed", "hand", "camera", jtype="fixed"),
+)
+
+
+@pytest.mark.parametrize("fixed", [(), TWO_FIXED], ids=["no fixed leaf", "two fixed leaves"])
+@pytest.mark.parametrize(
+    "jaw, link", [("jaw", "jaw_link"), ("gripper", "moving"), ("j4", "gripperMover")]
+)
+def test_a_jaw_named_so_leaves_the_hand_as_the_tip(tmp_path, fixed, jaw, link):
+    """No single tool frame on the hand: a last joint named as a gripper's jaw (by its
+    joint's or its link's name) is left off, and the hand is the tip."""
+    text = chain(*ARM, *fixed, joint(jaw, "hand", link, xyz="0.05 0 0"))
+    a = armik.load(write_urdf(tmp_path, text))
+    assert (a.tip, a.dof) == ("hand", 3)
+    assert "the hand 'hand'" in a.tip_reason and f"'{jaw}'" in a.tip_reason
+
+
+def test_a_finger_robot_keeps_its_last_joint(tmp_path):
+    """'finger' names no jaw: a finger robot's last joint is part of its chain."""
+    text = chain(*ARM, joint("finger_lower_joint", "hand", "finger_lower_link"))
+    a = armik.load(write_urdf(tmp_path, text))
+    assert (a.tip, a.dof) == ("finger_lower_link", 4)
 
 
 def test_a_jaw_with_a_joint_below_is_part_of_the_arm(tmp_path):
@@ -73,6 +102,33 @@ def test_tied_chains_from_two_links_still_ask(tmp_path):
     )
     with pytest.raises(FrameError, match="pass tip="):
         armik.load(write_urdf(tmp_path, text))
+
+
+@pytest.mark.parametrize(
+    "relpath, tip, dof, jaw",
+    [
+        ("so_arm_description/urdf/so100.urdf", "gripper", 5, "gripper"),
+        ("z1_description/urdf/z1.urdf", "gripperStator", 6, "jointGripper"),
+        (
+            "talos_data/robots/talos_left_arm.urdf",
+            "gripper_left_base_link",
+            6,  # arm_left_2 to 7: its file starts at arm_left_1_link
+            "gripper_left_joint",
+        ),
+    ],
+)
+def test_arms_whose_jaw_hangs_from_the_hand_drive_the_hand(relpath, tip, dof, jaw):
+    """example-robot-data's SO-100 (no tool frame: the 'gripper' link holds the fixed jaw),
+    Z1 and TALOS arm: the gripper joint is off the arm, as the catalogue's Z1 and the
+    several-tips TALOS examples choose it."""
+    path = _erd_robot_dir() / relpath
+    if not path.exists():
+        pytest.skip(f"this example-robot-data has no {path}")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", armik.ArmikWarning)
+        a = armik.load(path)
+    assert (a.tip, a.dof) == (tip, dof)
+    assert jaw not in a.joint_names and f"'{jaw}'" in a.tip_reason
 
 
 def test_the_so101_drives_its_tool_frame():

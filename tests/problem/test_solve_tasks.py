@@ -142,7 +142,7 @@ def test_bad_task_lists_get_armik_errors():
         arm.solve([p, "down"])
     with pytest.raises(armik.InputError, match="solver='auto'"):
         arm.solve([elbow, cone], solver="dls")
-    with pytest.raises(armik.InputError, match="constraints holds armik.Hold.*'wall'"):
+    with pytest.raises(armik.InputError, match="constraints holds constraints.*armik.Hold.*'wall'"):
         arm.solve([p, look], constraints=["wall"])
     with pytest.raises(armik.InputError, match="bounds is given both"):
         arm.solve(armik.Pose(arm.fk(arm.middle), bounds=[0.1] * 6), bounds=[0.1] * 6)

@@ -76,3 +76,19 @@ def test_cli_cluster_address(client, tmp_path, capsys):
 def test_bad_local_address():
     with pytest.raises(InputError, match="local:N"):
         armik_distributed.connect("local:two")
+
+
+def test_a_constraint_of_ones_own_holds_on_the_cluster(client):
+    """A user's constraint travels to the workers with the options, and their verdicts
+    run its check: no success violates it, as on one core."""
+    from tests.constraints.test_own_constraint import ELBOW, ElbowUp, _targets
+
+    a = arm("panda")
+    poses, qs = _targets(6)
+    T = np.array([p.homogeneous for p in poses])
+    options = dict(constraints=[ElbowUp()], iteration_budget=400)
+    remote = armik_distributed.solve_batch(a, T, q0=np.array(qs), client=client, **options)
+    local = solve_batch(a.kinematics, T, q0=np.array(qs), workers=1, **options)
+    assert not (remote.success & (remote.q[:, 3] <= ELBOW)).any()
+    assert "elbow below -1" in remote.reasons.values()
+    np.testing.assert_array_equal(remote.success, local.success)

@@ -4,7 +4,9 @@ the port, the panel and ghosts follow the answers, bad input is refused with a f
 from __future__ import annotations
 
 import dataclasses
+import logging
 import socket
+import time
 from types import SimpleNamespace
 
 import numpy as np
@@ -170,6 +172,32 @@ def test_close_frees_the_port():
     with socket.socket() as s:  # no SO_REUSEADDR: the port is free, not merely lingering
         s.bind(("127.0.0.1", port))
     v.close()  # twice is harmless
+
+
+def test_a_stray_connection_is_one_line_not_a_traceback(caplog):
+    """A plain TCP probe (connect, send nothing or no HTTP, close): websockets fails the
+    opening handshake; armik says so in one line and the viewer goes on serving."""
+    caplog.set_level(logging.INFO)
+    with armik.view(arm("planar_2link"), port=0, open_browser=False) as v:
+        for payload in (b"", b"hello\r\n\r\n"):
+            with socket.create_connection(("127.0.0.1", v.port)) as s:
+                s.sendall(payload)
+        deadline = time.monotonic() + 30.0  # the server's thread logs it when it reads
+        while len(_stray(caplog)) < 2 and time.monotonic() < deadline:
+            time.sleep(0.02)
+        with socket.create_connection(("127.0.0.1", v.port)) as s:  # still serving
+            s.sendall(b"GET / HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n")
+            assert s.recv(64).startswith(b"HTTP/1.1 200")
+    said = _stray(caplog)
+    assert len(said) == 2 and all(r.levelno == logging.WARNING for r in said)
+    assert "while reading HTTP request line" in said[0].getMessage()
+    assert "invalid HTTP request line: hello" in said[1].getMessage()
+    assert all(r.exc_info is None and "\n" not in r.getMessage() for r in said)
+    assert not [r for r in caplog.records if r.name.startswith("websockets") and r.exc_info]
+
+
+def _stray(caplog) -> list[logging.LogRecord]:
+    return [r for r in caplog.records if "no valid HTTP request" in r.getMessage()]
 
 
 def test_a_port_in_use_is_one_line_naming_the_port():

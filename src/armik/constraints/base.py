@@ -7,7 +7,8 @@ satisfies it, a failure's status and words, and what each answer's result keeps;
 verdict applies it to N answers at once (``armik.verify.verdicts.Verdicts.judge``).
 ``said`` is the constraint in the options of the compiled path (``hold``, ``obstacles``,
 ...), which spell it there, so that the old keywords and the objects are one problem
-(``armik.options``).
+(``armik.options``); a constraint of any other class is also kept as itself
+(``Options.checks``), and the verdict of every route runs its check.
 """
 
 from __future__ import annotations
@@ -48,9 +49,10 @@ class Check(NamedTuple):
 class Constraint(ABC):
     """What every answer must satisfy; checked on each answer before it is a success."""
 
-    @abstractmethod
     def said(self) -> dict[str, object]:
-        """The constraint as the compiled path's options (``Options`` fields)."""
+        """The constraint as the compiled path's options (``Options`` fields); none for a
+        constraint that only its own ``check`` says (kept as itself: ``Options.checks``)."""
+        return {}
 
     def at(self, arm: ArmModel, seed: np.ndarray) -> Constraint:
         """The constraint for one solve of ``arm`` from ``seed`` (its values resolved and

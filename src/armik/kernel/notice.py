@@ -7,17 +7,26 @@ machine (once, about 9 s)". On a terminal the line counts the seconds and ends w
 time taken. A call served from the cache says nothing.
 
 numba announces only real compilations ("numba:compile" events, not cache loads); the
-first outermost one of an armik function in a burst names the part.
+first outermost one of an armik function in a burst names the part. How long it takes is
+measured: each line's time is kept per part in ``compile-seconds.json`` in the user's
+cache directory (``ARMIK_COMPILE_TIMES`` names another file), and the next notice of that
+part on this machine (a new cache, an upgrade) says it; a part never measured here says
+``PARTS``' figure from the project's 2-core machine, as such.
 ``ARMIK_COMPILE_NOTICE=0`` in the environment silences the notice. ``armik.compile``
 (``armik compile``) builds every part ahead of time.
 """
 
 from __future__ import annotations
 
+import atexit
+import contextlib
+import json
 import os
 import sys
 import threading
 import time
+from collections.abc import Iterator
+from pathlib import Path
 
 from numba.core import event
 from numba.core.dispatcher import LiftedCode
@@ -69,6 +78,7 @@ class _Notice(event.Listener):
     def __init__(self, stream=None) -> None:
         self.stream = stream
         self.depth = 0  # nested compilations (callees) inside the outermost one
+        self.holds = 0  # ``held`` blocks open: the line stays open through them
         self.line: _Line | None = None
         self.closing: threading.Timer | None = None
         self.lock = threading.Lock()
@@ -90,24 +100,47 @@ class _Notice(event.Listener):
                 self.closing = None
             # the FK check compiles within the solves' bursts: it goes on under their line
             if self.line is not None and what not in (self.line.what, _CHECK):
-                self.line.close()
+                record(self.line.what, self.line.close())
                 self.line = None
             if self.line is None:
-                self.line = _Line(what, seconds, self.stream or sys.stderr)
+                self.line = _Line(what, seconds, self.stream or sys.stderr, measured().get(what))
 
     def on_end(self, ev: event.Event) -> None:
         self.depth -= 1
         if self.depth == 0:
+            self._close_soon()
+
+    def _close_soon(self) -> None:
+        """Close the line after ``BURST_GAP`` unless a compilation or a hold comes first."""
+        with self.lock:
+            if self.line is not None:
+                self.line.ended = time.perf_counter()  # the burst's time so far
+            if self.line is not None and self.closing is None and not self.holds:
+                self.closing = threading.Timer(BURST_GAP, self._close)
+                self.closing.daemon = True
+                self.closing.start()
+
+    @contextlib.contextmanager
+    def held(self) -> Iterator[None]:
+        """A block that is part of the burst whatever its pauses (waiting for the compile
+        helper between compilations): the line stays open through it, and is said once."""
+        with self.lock:
+            self.holds += 1
+            if self.closing is not None:
+                self.closing.cancel()
+                self.closing = None
+        try:
+            yield
+        finally:
             with self.lock:
-                if self.line is not None and self.closing is None:
-                    self.closing = threading.Timer(BURST_GAP, self._close)
-                    self.closing.daemon = True
-                    self.closing.start()
+                self.holds -= 1
+            if self.depth == 0:
+                self._close_soon()
 
     def _close(self) -> None:
         with self.lock:
             if self.line is not None:
-                self.line.close()
+                record(self.line.what, self.line.close())
                 self.line = None
             self.closing = None
 
@@ -115,11 +148,16 @@ class _Notice(event.Listener):
 class _Line:
     """The notice's line: written at once; on a terminal, redrawn with the seconds so far."""
 
-    def __init__(self, what: str, seconds: float, stream) -> None:
+    def __init__(self, what: str, seconds: float, stream, here: float | None = None) -> None:
         self.what = what
-        self.text = f"armik: compiling {what} for this machine (once, about {seconds:g} s)"
+        if here is not None:  # measured on this machine
+            took = f"it took {here:.0f} s here last time"
+        else:
+            took = f"about {seconds:g} s on a quiet 2-core machine"
+        self.text = f"armik: compiling {what} for this machine (once; {took})"
         self.stream = stream
         self.t0 = time.perf_counter()
+        self.ended = self.t0  # when its last compilation (or hold) ended
         self.live = _is_terminal(stream)
         self.done = threading.Event()
         self._write(self.text + ("" if self.live else "\n"))
@@ -130,10 +168,13 @@ class _Line:
         while not self.done.wait(0.5):
             self._write(f"\r{self.text}: {time.perf_counter() - self.t0:.0f} s")
 
-    def close(self) -> None:
+    def close(self) -> float:
+        """End the line; returns the seconds of its burst (to its last compilation's end)."""
         self.done.set()
+        took = max(self.ended, self.t0) - self.t0
         if self.live:
-            self._write(f"\r{self.text}: done in {time.perf_counter() - self.t0:.1f} s\n")
+            self._write(f"\r{self.text}: done in {took:.1f} s\n")
+        return took
 
     def _write(self, text: str) -> None:
         try:
@@ -141,6 +182,47 @@ class _Line:
             self.stream.flush()
         except (OSError, ValueError):  # a closed or broken stream: the notice is optional
             pass
+
+
+TIMES = "compile-seconds.json"  # part -> seconds its last notice's line was open
+
+
+TIMES_ENVIRONMENT = "ARMIK_COMPILE_TIMES"  # the file, where not the user's cache directory
+
+
+def times_path() -> Path:
+    """Where the measured compile times are kept: ``ARMIK_COMPILE_TIMES`` when set, else
+    the user's cache directory (one file per user and machine, whatever numba's cache)."""
+    given = os.environ.get(TIMES_ENVIRONMENT)
+    if given:
+        return Path(given)
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "armik" / TIMES
+
+
+def measured() -> dict[str, float]:
+    """The compile times measured on this machine, by part (empty when none or unreadable)."""
+    try:
+        got = json.loads(times_path().read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return {}
+    if not isinstance(got, dict):
+        return {}
+    return {k: float(v) for k, v in got.items() if isinstance(v, (int, float))}
+
+
+def record(what: str, seconds: float) -> None:
+    """Keep ``seconds`` as the time of part ``what`` (the notice is optional: a file that
+    cannot be written is left as it is)."""
+    path = times_path()
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        times = {**measured(), what: round(seconds, 1)}
+        tmp = path.with_name(f"{path.name}.{os.getpid()}")
+        tmp.write_text(json.dumps(times, indent=1, sort_keys=True), encoding="utf-8")
+        os.replace(tmp, path)
+    except OSError:
+        pass
 
 
 def _is_terminal(stream) -> bool:
@@ -152,3 +234,4 @@ def _is_terminal(stream) -> bool:
 
 NOTICE = _Notice()
 event.register("numba:compile", NOTICE)
+atexit.register(NOTICE._close)  # a line still open at exit (its timer never ran): kept too

@@ -13,7 +13,8 @@ process would build (the same cache entries); only the wall time changes
 processes.
 
 ``prepare(kind)`` runs once per process and step, before the first call of an entry with
-that step. It starts no helper when the step is in the cache already, when this process
+that step; ``start(kind)`` starts the helper earlier, for a program with other work to do
+first. It starts no helper when the step is in the cache already, when this process
 has compiled its share already (a qp solve after a dls one), when only one CPU is usable,
 or when Python is embedded in an application (``sys.executable`` is no interpreter);
 ``ARMIK_COMPILE_HELPER=0`` in the environment turns the helper off, ``=1`` starts it even
@@ -35,6 +36,7 @@ from armik.kernel import error, restarts, step
 from armik.kernel import measure as check
 from armik.kernel.chain import Flat
 from armik.kernel.descent import _add_solution, _near_known_minimum
+from armik.kernel.notice import NOTICE
 from armik.kernel.problem import STEP_DLS, STEP_QP, _workspace, unpack
 from armik.kernel.single import plain_pose, plain_seed
 
@@ -43,7 +45,21 @@ HELPER_TIMEOUT = 300.0  # s: a helper still silent after this is stopped
 STEPS = {STEP_DLS: step.dls, STEP_QP: step.qp}
 
 _prepared: set[int] = set()
+_started: dict[int, subprocess.Popen] = {}  # helpers ``start`` began, for ``prepare``
 _lock = threading.Lock()
+
+
+def start(kind: int) -> None:
+    """Start the helper of step ``kind`` now, when ``prepare`` would, and compile nothing in
+    this process: ``prepare(kind)`` later does this process's share and waits for it. For
+    a program that does other work first (``armik demo``'s 2-link arm), so that the step
+    compiles meanwhile and no notice names the numeric solvers before they are used."""
+    with _lock:
+        if kind in _prepared or kind in _started or not _needs_helper(kind):
+            return
+        helper = _start_helper(kind)
+        if helper is not None:
+            _started[kind] = helper
 
 
 def prepare(kind: int) -> None:
@@ -61,21 +77,28 @@ def prepare(kind: int) -> None:
             _prepared.add(kind)
 
 
-def _prepare(kind: int) -> None:
+def _needs_helper(kind: int) -> bool:
+    """Whether a helper would shorten the first call of step ``kind`` (see the module)."""
     step_types, share = _parts()
-    take_step = STEPS[kind]
-    if (
+    return not (
         not _helper_allowed()
         or all(types in dispatcher.overloads for dispatcher, types in share)  # nothing to share
-        or _cached(take_step, step_types)
-    ):
-        return  # the entry compiles or loads everything in order, as always
-    helper = _start_helper(kind)
+        or _cached(STEPS[kind], step_types)
+    )  # else the entry compiles or loads everything in order, as always
+
+
+def _prepare(kind: int) -> None:
+    helper = _started.pop(kind, None)
     if helper is None:
-        return
-    for dispatcher, types in share:  # this process's share while the helper compiles
-        dispatcher.compile(types)
-    _wait_for(helper, "step")
+        if not _needs_helper(kind):
+            return
+        helper = _start_helper(kind)
+        if helper is None:
+            return
+    with NOTICE.held():  # one notice line over the share, the wait and the entry after
+        for dispatcher, types in _parts()[1]:  # this process's share while the helper works
+            dispatcher.compile(types)
+        _wait_for(helper, "step")
     # it goes on with the verification in the background: reap it when it ends
     threading.Thread(target=helper.communicate, daemon=True).start()
 

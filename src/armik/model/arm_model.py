@@ -22,10 +22,11 @@ import numpy as np
 import pinocchio as pin
 
 from armik.errors import ArmikWarning, InputError, JointError, OptionError, listing
-from armik.kernel.chain import KernelChain, build_chain
+from armik.kernel.chain import KernelChain
 from armik.kernel.coordinates import pin_configuration
 from armik.kernel.fk_many import fk_many
 from armik.model import mimic as _mimic
+from armik.model.chain_arrays import build_chain
 from armik.model.geometry import Plane, find_plane
 from armik.model.reduce import check_limits, reduce_chain
 from armik.model.urdf import URDFInfo

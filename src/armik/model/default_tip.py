@@ -9,8 +9,9 @@ from armik.model.urdf import URDFInfo
 def default_tip(info: URDFInfo, base: str) -> tuple[str, str]:
     """The tip when none is given, and why: ``tool0`` downstream of the base (REP 199,
     the tool flange of ROS-Industrial and UR descriptions); else a tool frame beside a
-    gripper (``_tool_frame``); else the leaf at the end of the longest chain of moving
-    joints; leaves tied there that hang on fixed joints from one link give that link.
+    gripper, or the hand a gripper's jaws hang from (``_tool_frame``); else the leaf at
+    the end of the longest chain of moving joints; leaves tied there that hang on fixed
+    joints from one link give that link.
     Raises ``FrameError`` listing the leaves when it is a choice."""
     children = info.children()
     if base not in children:
@@ -63,10 +64,12 @@ def default_tip(info: URDFInfo, base: str) -> tuple[str, str]:
 
 def _tool_frame(info: URDFInfo, children: dict, lasts: set) -> tuple[str, str] | None:
     """A gripper's tool frame, and why, or None. When the longest chains end in moving
-    joints (``lasts``) that all start at one link and lead to leaves with no other moving
-    joint (a gripper's jaws or fingers), and that link carries exactly one leaf on fixed
-    joints alone, that leaf is the tool frame the arm is driven by: the jaws are off the
-    arm (the SO-100/101's ``gripper_frame_link`` beside its moving jaw)."""
+    joints (``lasts``) that all start at one link (the hand) and lead to leaves with no
+    other moving joint (a gripper's jaws or fingers), the jaws are off the arm: the tip is
+    the hand's one leaf on fixed joints alone, the tool frame the arm is driven by (the
+    SO-101's ``gripper_frame_link`` beside its moving jaw); without exactly one, the hand
+    itself when the jaws are named as a gripper's (``_JAW_WORDS``: the SO-100's ``gripper``
+    link, which holds the fixed jaw, the Z1's ``gripperStator``)."""
     if None in lasts:
         return None
     parents = {info.joints[name].parent for name in lasts}
@@ -75,15 +78,30 @@ def _tool_frame(info: URDFInfo, children: dict, lasts: set) -> tuple[str, str] |
     hand = parents.pop()
     if not all(_only_fixed_below(children, info.joints[name].child) for name in lasts):
         return None
-    tools = _fixed_leaves(children, hand)
-    if len(tools) != 1:
-        return None
     jaws = listing(sorted(lasts))
-    return tools[0], (
-        f"the tool frame {tools[0]!r}, fixed to {hand!r}, from which the longest chains go "
-        f"on only through the gripper joint(s) {jaws}: those are left off the arm (pass "
-        "tip= to choose another)"
+    tools = _fixed_leaves(children, hand)
+    if len(tools) == 1:
+        return tools[0], (
+            f"the tool frame {tools[0]!r}, fixed to {hand!r}, from which the longest chains "
+            f"go on only through the gripper joint(s) {jaws}: those are left off the arm "
+            "(pass tip= to choose another)"
+        )
+    if not all(_named_as_jaw(info, name) for name in lasts):
+        return None
+    return hand, (
+        f"the hand {hand!r}, from which the longest chains go on only through the gripper "
+        f"joint(s) {jaws}: those are left off the arm (pass tip= to choose another)"
     )
+
+
+# Words that name a gripper's jaw in its joint's or its link's name. Not "finger": a
+# finger robot's last joint is part of the chain (example-robot-data's finger_edu).
+_JAW_WORDS = ("gripper", "jaw")
+
+
+def _named_as_jaw(info: URDFInfo, joint: str) -> bool:
+    names = (joint + " " + info.joints[joint].child).lower()
+    return any(word in names for word in _JAW_WORDS)
 
 
 def _only_fixed_below(children: dict, link: str) -> bool:

@@ -10,8 +10,11 @@ Python's XML parser refuses. Three kinds are common in published robot descripti
   without ``xmlns:xacro``): urdfdom looks elements and attributes up by their plain
   names, so prefixed ones are ignored.
 
-Also forgiven: a bare ``&`` or an undefined entity (TinyXML2 keeps it as written) and a
-``<`` inside an attribute value.
+Also forgiven: a bare ``&`` or an undefined entity (TinyXML2 keeps it as written), a
+``<`` inside an attribute value, and what follows the root element (urdfdom reads the
+first ``<robot>``: published URDFs close it and then carry a commented-out tail whose
+nested comment ends early, leaving elements and a second ``</robot>``). Such a tail is
+ignored when TinyXML2 parses it (``armik.model.urdf_tail``) and refused where it does not.
 
 ``forgiving_parse`` runs only after the strict parse has failed: such comments are blanked
 as TinyXML2 delimits them (to spaces), stray ``&`` and ``<`` are escaped, undeclared
@@ -28,6 +31,7 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 
 from armik.errors import ArmikWarning, URDFError
+from armik.model.urdf_tail import after_root
 
 # The namespace given to prefixes the file never declares: elements in it are dropped.
 UNDECLARED = "urn:armik:undeclared:"
@@ -53,6 +57,7 @@ class _Forgiven:
     prefixes: dict[str, list[tuple[int, str]]] = field(default_factory=dict)  # (line, name)
     ampersands: list[int] = field(default_factory=list)  # lines of & starting no reference
     less_than: list[int] = field(default_factory=list)  # lines of < in attribute values
+    tail: int = 0  # the line where what follows the root element starts (0: nothing)
 
     def escape(self, segment: str, line: int, in_tag: bool) -> str:
         """``segment`` (text, or a start tag when ``in_tag``) from ``line`` with each ``&``
@@ -81,6 +86,7 @@ def forgiving_parse(
     Returns the root and what was forgiven (one line per kind, also warned when ``warn``).
     Raises ``URDFError`` naming the problem and its line when urdfdom would refuse too."""
     cleaned, forgiven = _clean(text)
+    cleaned, forgiven.tail = after_root(cleaned, where)  # the first element only
     if cleaned == text:  # nothing this module forgives: today's error
         raise _not_well_formed(where, error) from None
     try:
@@ -189,6 +195,12 @@ def _notes(forgiven: _Forgiven, where: str) -> tuple[str, ...]:
         notes.append(
             f"URDF file {where!r}, {_lines(forgiven.less_than)}: a '<' inside an attribute "
             "value (write '&lt;'), read as urdfdom reads it: as a '<'"
+        )
+    if forgiven.tail:
+        notes.append(
+            f"URDF file {where!r}, line {forgiven.tail}: what follows the root element "
+            "(junk after the document element) is ignored, as urdfdom ignores it: it reads "
+            "the first <robot> element only"
         )
     for prefix, places in sorted(forgiven.prefixes.items()):
         names = sorted({name for _, name in places})

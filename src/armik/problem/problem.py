@@ -44,13 +44,38 @@ def as_problem(target: object) -> Problem | None:
         return None
     if not any(isinstance(t, Task) for t in target):
         return None
+    looks = False
     for i, t in enumerate(target):
         if not isinstance(t, Task):
             raise TargetError(
                 f"a list of tasks holds only tasks (armik.Pose, armik.Position, armik.Axis, "
                 f"armik.LookAt), but item {i} is {t!r}"
             )
+        looks = looks or type(t) is LookAt
+    if looks:
+        _refuse_looking_at_itself(target)
     return Problem(tuple(target))
+
+
+def _refuse_looking_at_itself(tasks) -> None:
+    """A ``TargetError`` for a ``LookAt`` whose point is where a task of its frame holds
+    that frame exactly: no line of sight is left to aim along, and every axis would pass."""
+    for look in (t for t in tasks if type(t) is LookAt):
+        for t in tasks:
+            if t.frame != look.frame:
+                continue
+            if type(t) is Position and not t.bounds.any():
+                at = t.p
+            elif type(t) is Pose and not t.bounds[:3].any() and t.weights[:3].all():
+                at = t.T.translation
+            else:
+                continue
+            if float(np.linalg.norm(look.point - at)) <= LOOK_FROM:
+                raise TargetError(
+                    f"LookAt point {look.point.tolist()} is where {type(t).__name__} puts the "
+                    "frame itself: no direction is left to aim along; look at another point, "
+                    "or give the frame's position a box (bounds=) to stand back in"
+                )
 
 
 def relative_tasks(target: object) -> list[Relative]:

@@ -17,7 +17,6 @@ for no more successes (docs/collisions.md).
 
 from __future__ import annotations
 
-import contextvars
 import math
 import time
 from dataclasses import dataclass
@@ -132,7 +131,7 @@ def _restarting(
         rows.append(row)
         if row.succeeded(0) or int(row.status[0]) != Status.COLLISION.code:
             break  # free, or the solver itself found nothing within what was left
-        if run == 0 and (SLIDE is True or (SLIDE == "paths" and ON_PATH.get())):
+        if run == 0 and opts.slide:
             # the first answer only: it starts from the seed (a path's previous answer);
             # a restart's lands anywhere, where sliding buys no continuity
             slid = _slid(arm, target, row, opts, check, start_cpu, used_iterations)
@@ -146,11 +145,6 @@ def _restarting(
     return joined(rows, arm.dof) if rows else None
 
 
-# Slide a colliding answer out of contact before restarting (solve/slide.py): on paths
-# only, where it measured worth its time (docs/collisions.md): True or False for every
-# solve (benchmarks/collision_scenes.py --slide).
-SLIDE: bool | str = "paths"
-ON_PATH: contextvars.ContextVar[bool] = contextvars.ContextVar("armik_on_path", default=False)
 SLIDE_STEPS = 30  # steps of one slide, at most
 
 

@@ -29,10 +29,10 @@ from armik.errors import OptionError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.options import Options
+from armik.solvers import registry
 from armik.solvers.answers import Answers
-from armik.solvers.closed_form import swept_7r
 from armik.status import Status
-from armik.targets.pose import parse_target
+from armik.targets.pose import parsed
 from armik.verify.verdict import finish
 
 KEPT = 16  # locked arms kept per arm (one per joint and held value)
@@ -91,15 +91,18 @@ def solve_held(
         )
     k, value = held_joint(arm, holds[0], seed)
     name = arm.joint_names[k]
-    tgt = parse_target(target, arm)
-    if k == 6 and solver in ("auto", "swept") and swept_7r.applies(arm, tgt, opts) is None:
-        # joint 7 of a Panda-like arm: the swept solver's closed form at exactly that value
-        answers = swept_7r.at_value(arm, tgt, seed, value)
-        results = finish(arm, "swept", answers, tgt, opts, seed, every, t0)
+    tgt = parsed(target, arm)
+    sweeping = registry.sweeping(arm, tgt, opts, k) if solver == "auto" else None
+    if solver != "auto" and (spec := registry.get(solver)).sweep is not None:
+        sweeping = spec if spec.sweep.joint == k and spec.why_not(arm, tgt, opts) is None else None
+    if sweeping is not None:  # a closed form at exactly that value (the Panda's joint 7)
+        answers = sweeping.sweep.at_value(arm, tgt, seed, value)  # type: ignore[union-attr]
+        results = finish(arm, sweeping.name, answers, tgt, opts, seed, every, t0)
         return results if every else results[0]
     sub = locked_arm(arm, name, value)
     free = np.delete(seed, k)
-    found = general(sub, target, free, solver, replace(opts, hold=None), True, t0)
+    # the checks are of the whole arm's joints: its verdict below runs them
+    found = general(sub, target, free, solver, replace(opts, hold=None, checks=()), True, t0)
     answers = Answers.of(
         [np.insert(np.asarray(r.q, dtype=float), k, value) for r in found],
         [Status.CONVERGED if r.success else r.status for r in found],

@@ -38,7 +38,6 @@ from armik.options import Options, spelled
 from armik.problem.scores import parse_score
 from armik.result import IKResult
 from armik.solve import ladder, rungs
-from armik.solve.avoid import ON_PATH
 from armik.solve.path_score import preferred
 from armik.solve.rungs import unwrapped
 from armik.solve.single import solve_parsed
@@ -111,14 +110,14 @@ def solve_path(
         # every solution: what solve_all would run (a search where one is not complete)
         first = batch.target(0) if n else None
         every = registry.choose(solver, arm, first, opts, True)
-        if every.kind == "numeric" and registry.why_not("swept", arm, first, opts) is None:
-            every = registry.get("swept")  # a 7R arm whose joint 7 can be held
-        if every.name == "swept" or every.kind == "numeric":  # rungs about the followed path
+        if every.kind == "numeric":  # a 7R arm whose joint 7 can be held: its sweep
+            every = registry.sweeping(arm, first, opts) or every
+        if every.sweep is not None or every.kind == "numeric":  # rungs about the followed path
             followed = BatchResult.for_arm(arm, n, spec.name, opts)
             _walk(arm, batch, q_prev, step, spec, options, local, followed)
             found = (  # a 7R arm: joint 7 sampled; else answers tracked from start and breaks
-                rungs.held(arm, batch, q_prev, followed, options)
-                if every.name == "swept"
+                rungs.held(arm, batch, q_prev, followed, options, every)
+                if every.sweep is not None
                 else rungs.tracked(arm, batch, q_prev, every.name, followed, options)
             )
         else:
@@ -128,12 +127,10 @@ def solve_path(
         # with a preference, the continuous path of the best summed score (ladder.TIE)
         ladder.plan(arm, every, batch, found, start, step, opts, out, score, q_prev)
         return frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
-    token = ON_PATH.set(True)  # a colliding answer is slid out of contact (solve/avoid.py)
-    try:
-        chooser = None if score is None else _chooser(arm, score, q_prev, step, options, opts)
-        _walk(arm, batch, q_prev, step, spec, options, local, out, chooser)
-    finally:
-        ON_PATH.reset(token)
+    # a colliding answer slid out of contact, near the previous one (``Options.slide``)
+    options = {"slide": True, **options}
+    chooser = None if score is None else _chooser(arm, score, q_prev, step, options, opts)
+    _walk(arm, batch, q_prev, step, spec, options, local, out, chooser)
     out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     return out
 

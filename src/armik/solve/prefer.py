@@ -24,7 +24,6 @@ from armik.model.arm_model import ArmModel
 from armik.problem.scores import Limits, Nearest, Posture, Score
 from armik.result import IKResult
 from armik.solvers import registry
-from armik.solvers.closed_form import swept_7r
 from armik.verify.verdict import finish
 
 TWO_PI = 2.0 * math.pi
@@ -191,13 +190,15 @@ def sweep_held(arm: ArmModel, target, q0: np.ndarray, opts, score: Score, t0: fl
     score, joint 7 on a grid over its range and then refined by golden section around the
     best value (every branch in closed form at each value, scored at its best 2 pi
     variant); the best configurations verified (``finish``). None where it does not apply."""
-    if arm.dof != 7 or registry.why_not("swept", arm, target, opts) is not None:
+    spec = registry.sweeping(arm, target, opts)
+    if spec is None or spec.sweep is None:
         return None
-    lo, hi = (float(x) for x in swept_7r.sweep_range(arm, float(q0[6])))
+    sweep = spec.sweep
+    lo, hi = (float(x) for x in sweep.range(arm, float(q0[sweep.joint])))
 
     def best_at(theta: float) -> float:
         """The best score over the branches at joint 7 = ``theta`` (inf: none reached)."""
-        got = swept_7r.at_value(arm, target, q0, theta)
+        got = sweep.at_value(arm, target, q0, theta)
         scores = [
             score(arm, best_variant(arm, got.q[i], score, q0), q0)
             for i in range(len(got))
@@ -223,8 +224,8 @@ def sweep_held(arm: ArmModel, target, q0: np.ndarray, opts, score: Score, t0: fl
             d = a + GOLDEN * (b - a)
             fd = best_at(d)
     theta = min((float(grid[k]), values[k]), (c, fc), (d, fd), key=lambda x: x[1])[0]
-    answers = swept_7r.at_value(arm, target, q0, theta)
-    return finish(arm, "swept", answers, target, opts, q0, True, t0)
+    answers = sweep.at_value(arm, target, q0, theta)
+    return finish(arm, spec.name, answers, target, opts, q0, True, t0)
 
 
 # The numeric search's shares of the budget (``timeout``, or ``iteration_budget``): solve_all

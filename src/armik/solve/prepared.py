@@ -41,7 +41,7 @@ from armik.result import IKResult
 from armik.solvers import registry
 from armik.solvers.answers import Answers
 from armik.solvers.claims import Claim
-from armik.targets.pose import parse_target
+from armik.targets.pose import Target, parse_target
 from armik.verify.measure import BatchMeasure, measures_of
 from armik.verify.region import region_error
 from armik.verify.verdict import (
@@ -90,10 +90,10 @@ _PLANS: Derived[dict] = Derived("prepared solves", lambda _: {})  # read as a ke
 
 
 def _build(arm: ArmModel, solver: str, opts: Options, position: bool, every: bool):
-    if opts.collisions:  # the general path checks them
+    if opts.collisions or opts.checks:  # the general path checks them
         return _NO_PLAN
     # a target of the kind every plain target of the plan is
-    target = parse_target(np.zeros(3) if position else np.eye(4), arm)
+    target = Target(np.zeros(3)) if position else Target(np.zeros(3), np.eye(3))
     try:
         spec = registry.choose(solver, arm, target, opts, every)
     except SolverError:  # the general path raises it, with its message
@@ -142,6 +142,16 @@ class Plan:
         None."""
         kind = type(target)
         xy = None
+        if kind is Target and target.planar_xy is None:  # parsed at the door already
+            if (target.rotation is None) != self.position:
+                return None
+            if self.position:
+                target = target.position
+            else:
+                H = _IDENTITY.copy()
+                H[:3, :3], H[:3, 3] = target.rotation, target.position
+                target = H
+            kind = np.ndarray
         if self.position:
             if not (kind is np.ndarray and target.dtype == _FLOAT and target.flags.c_contiguous):
                 return None

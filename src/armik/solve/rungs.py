@@ -38,25 +38,26 @@ def every_branch(arm: ArmModel, batch, q_prev: np.ndarray, solver: str, options)
     ]
 
 
-def held(arm: ArmModel, batch, q_start: np.ndarray, followed, options) -> list:
-    """A 7R arm's rungs: at each waypoint, every branch of the swept closed form with
-    joint 7 at values about the followed path's (the last value it reached where it
-    missed) and on a grid over its range, and the followed path's own answers: so the plan
-    moves no more than it (unless a hidden jump rules a step out), and may change branch
-    where it breaks."""
-    lo, hi = float(arm.lower[6]), float(arm.upper[6])
+def held(arm: ArmModel, batch, q_start: np.ndarray, followed, options, spec) -> list:
+    """A 7R arm's rungs: at each waypoint, every branch of ``spec``'s closed form (a
+    solver with a ``Sweep``: the swept one) with its joint at values about the followed
+    path's (the last value it reached where it missed) and on a grid over its range, and
+    the followed path's own answers: so the plan moves no more than it (unless a hidden
+    jump rules a step out), and may change branch where it breaks."""
+    j = spec.sweep.joint
+    lo, hi = float(arm.lower[j]), float(arm.upper[j])
     grid = np.linspace(lo, hi, HELD_GRID + 2)[1:-1]
-    theta, seed = float(q_start[6]), np.array(q_start, dtype=float)
+    theta, seed = float(q_start[j]), np.array(q_start, dtype=float)
     rungs = []
     for i in range(len(batch)):
         found: list = []
         if followed.success[i]:
-            theta = float(followed.q[i, 6])
+            theta = float(followed.q[i, j])
             found.append(followed[i])  # where joint 7 admits no closed form exactly there
         target = plain(batch.target(i))
         for value in np.concatenate((np.clip(theta + HELD_OFFSETS, lo, hi), grid)):
-            seed[6] = value  # where the swept closed form holds joint 7 first
-            found += solve_parsed(arm, target, seed, "swept", options, True)
+            seed[j] = value  # where the closed form holds its joint first
+            found += solve_parsed(arm, target, seed, spec.name, options, True)
         rungs.append(found)
     return rungs
 

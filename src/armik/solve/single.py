@@ -20,7 +20,7 @@ from armik.problem.problem import Problem, as_problem, lower, rims, tightened
 from armik.problem.scores import parse_score
 from armik.problem.tasks import Pose, Position, Task
 from armik.result import IKResult
-from armik.solve import prefer
+from armik.solve import far, prefer
 from armik.solve.avoid import First, solve_avoiding
 from armik.solve.held import solve_held
 from armik.solve.nullspace import descend
@@ -31,7 +31,7 @@ from armik.solvers import registry
 from armik.solvers.answers import Answers, one, stacked
 from armik.solvers.registry import SolverSpec
 from armik.status import Status
-from armik.targets.pose import Target, parse_target
+from armik.targets.pose import Target, parsed
 from armik.verify.verdict import finish
 from armik.verify.verdicts import Verdicts
 
@@ -124,7 +124,7 @@ def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | No
     such a task would (``_NOT_AS_TASK``): the compiled path's error then names the way."""
     if any(options.get(name) is not None for name in _NOT_AS_TASK):
         return None, options
-    tgt = parse_target(target, arm)
+    tgt = parsed(target, arm)
     if tgt.rotation is None or options.get("position_only"):
         rest = {k: v for k, v in options.items() if k != "position_only"}
         return as_problem(Position(tgt.position)), rest
@@ -153,10 +153,18 @@ def solve_parsed(
 def _stages(arm, target, q0, solver: str, opts: Options, key, seed, every: bool, t0: float):
     """``solve_parsed`` with the options validated (``_options``)."""
     if opts.hold is not None:
+        target = parsed(target, arm)  # once: the held arm's solve and its verdict read it
         return solve_held(arm, target, q0, solver, _with_seed(opts, seed), every, t0, _general)
     if not every and (opts.obstacles or opts.self_collision):  # ``opts.collisions``, inline
-        return _avoiding(arm, target, q0, solver, opts, key, seed, t0)
-    vector = type(target) is np.ndarray and target.ndim == 1  # a position, for the plan
+        return _avoiding(arm, parsed(target, arm), q0, solver, opts, key, seed, t0)
+    if far.first_use and not every:  # a target beyond reach: answered before any compile
+        got = far.beyond_reach(arm, target, q0, solver, opts, t0)
+        if got is not None:
+            return got
+    kind = type(target)  # a position, for the plan
+    vector = (kind is np.ndarray and target.ndim == 1) or (
+        kind is Target and target.rotation is None
+    )
     plan = None if key is None else plan_for(arm, solver, key, opts, vector, every)
     if plan is not None and not every:
         got = plan.solve(target, q0, opts, seed, t0)
@@ -182,11 +190,13 @@ def _preferred(
     moved along the self-motion on a redundant arm (``_along_self_motion``). ``problem``:
     a task list without a compiled form (``target`` then), whose solve the task solver's."""
     opts = _validated(options)
+    if problem is None:  # parsed once here: every answer ranked below is to this target
+        target = parsed(target, arm)
     pose = problem is None and _plain_pose(opts)
     seed = arm.seed(q0)
     swept = None
     if pose and solver == "auto":
-        swept = sweep_held(arm, parse_target(target, arm), seed, opts, score, t0)
+        swept = sweep_held(arm, target, seed, opts, score, t0)
     if swept and any(r.success for r in swept):
         plain = solve_parsed(arm, target, q0, solver, options)
         ranked = rank(arm, [plain, *swept], score, seed, t0)
@@ -250,7 +260,7 @@ def _along_self_motion(
     configurations best first) each moved along its self-motion to a lower score
     (``armik.solve.nullspace``) until ``prefer.DESCENT_UNTIL`` of the budget, verified
     again as ``solver``'s: the moved answers, to be ranked with the rest."""
-    tgt = parse_target(target, arm)
+    tgt = parsed(target, arm)
     pose = pin.SE3(tgt.rotation, tgt.position)
     claims: list[Answers] = []
     for q in prefer.distinct(best, prefer.DESCENTS):
@@ -313,7 +323,7 @@ def _avoiding(arm, target, q0, solver, opts: Options, key, seed, t0: float) -> I
     checked nearest first; a numeric solver's plain solve first (most answers are clear at
     once), then its restarts go on from that run."""
     plain = frozen(Options, **{**opts.__dict__, **_NO_COLLISIONS})
-    tgt = parse_target(target, arm)
+    tgt = parsed(target, arm)
     # chosen as without collisions (no solver reads them): remembered for these options
     spec = registry.choose(solver, arm, tgt, plain)
     first = None
@@ -351,7 +361,7 @@ def _clear_at_once(arm, r: IKResult, opts: Options, started: float, t0: float):
 
 
 def _general(arm, target, q0, solver: str, opts: Options, all_solutions: bool, t0: float):
-    tgt = parse_target(target, arm)
+    tgt = parsed(target, arm)
     spec = registry.choose(solver, arm, tgt, opts, all_solutions)
     return _run(arm, spec, tgt, q0, opts, all_solutions, t0)
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Literal, NamedTuple
 
 from armik.errors import SolverError, listing
 from armik.model.derived import Derived
@@ -29,6 +29,19 @@ RunBatch = Callable[["ArmModel", "TargetBatch", "np.ndarray", "Options"], "Answe
 # One plain 4x4 pose at a time, prepared once per arm, options and target kind (see
 # ``armik.solve.prepared``): (arm, options, position_only) -> run_pose(H, q0, seed).
 PreparePose = Callable[["ArmModel", "Options", bool], Callable]
+
+
+class Sweep(NamedTuple):
+    """What a solver whose answers lie at one value of a joint can do (a 7R arm's joint 7
+    held, the rest in closed form): the stages that hold that joint (``hold=``), search it
+    for a preference or plan a path over its values ask the registry for it, not for a
+    solver by name."""
+
+    joint: int  # the index of the joint it holds
+    # (arm, target, seed, value) -> every answer with the joint at exactly ``value``
+    at_value: Callable[[ArmModel, Target, np.ndarray, float], Answers]
+    # (arm, value) -> (lower, upper): the values worth sweeping from ``value``
+    range: Callable[[ArmModel, float], tuple[float, float]]
 
 
 @dataclass(frozen=True)
@@ -56,6 +69,8 @@ class SolverSpec:
     # Only for solvers whose ``check`` gives one answer for every full pose: the plan is
     # chosen once per arm, name and options, on a representative pose.
     prepare_pose: PreparePose | None = None
+    # Optional: its answers at any one value of a joint, and the range to sweep (``Sweep``)
+    sweep: Sweep | None = None
 
 
 _REGISTRY: dict[str, SolverSpec] = {}
@@ -113,6 +128,19 @@ def why_not(
 ) -> str | None:
     """None if solver ``name`` applies, else the check that failed."""
     return get(name).why_not(arm, target, opts)
+
+
+def sweeping(
+    arm: ArmModel, target: Target | None = None, opts: Options | None = None, joint: int = -1
+) -> SolverSpec | None:
+    """The solver of highest priority with a ``Sweep`` that applies to the arm and target
+    (and holds ``joint``, where one is given), or None."""
+    for spec in _BY_PRIORITY:
+        if spec.sweep is None or (joint >= 0 and spec.sweep.joint != joint):
+            continue
+        if spec.why_not(arm, target, opts) is None:
+            return spec
+    return None
 
 
 def choose(

@@ -50,6 +50,12 @@ class Target:
         return pin.SE3(R, self.position)
 
 
+def parsed(value: object, arm: object = None) -> Target:
+    """``value`` as a ``Target``: itself where it was parsed already (the stages below the
+    door pass the parsed target on), else ``parse_target``'s."""
+    return value if type(value) is Target else parse_target(value, arm)
+
+
 def parse_target(value: object, arm: object = None) -> Target:
     """Parse any accepted form into a ``Target``; raises ``TargetError`` naming the problem.
     ``arm`` (an ``Arm`` or its model) places a 2-vector on a planar arm's plane."""

@@ -82,7 +82,7 @@ def region_error(
         sight = np.array(look_at) - p
         distance = float(np.linalg.norm(sight))
         if not distance > LOOK_AT:
-            return position, 0.0  # at the point: any axis looks at it
+            return position, math.pi  # on the point: no line of sight, nothing aimed at it
         return position, max(angle(R @ np.array(cone[:3]), sight / distance) - cone[3], 0.0)
     if cone is not None and toward is not None:  # around a base-frame direction
         return position, max(angle(R @ np.array(cone[:3]), np.array(toward)) - cone[3], 0.0)

@@ -17,6 +17,7 @@ import numpy as np
 
 from armik import reasons
 from armik.batch_result import BatchResult
+from armik.constraints.base import satisfied
 from armik.constraints.limits import on_limits
 from armik.frozen import frozen
 from armik.result import IKResult
@@ -123,14 +124,14 @@ def decide(
     )
     for i in np.flatnonzero(~ok).tolist():  # the rare failures get their words
         out.words[i] = _failure_words(arm, out, m, i, opts, positions)
-    return out
+    return out.checked(arm, opts.checks) if opts.checks else out
 
 
 def decide_one(arm: ArmModel, answers: Answers, m: Measure, opts: Options) -> Verdicts:
     """``decide`` for one answer and its ``Measure``, on plain floats (a solve's usual
     case: the verdicts of the answers a search verifies one by one); a failure's words
     are ``decide``'s."""
-    if not m.ok:
+    if not m.ok or opts.checks:
         return decide(arm, answers, BatchMeasure.of([m]), opts)
     ori = m.orientation_error
     return frozen(
@@ -216,10 +217,11 @@ def first_verified(arm: ArmModel, answers: Answers, target, opts: Options, seed)
     if len(answers) == 1:
         return decide_one(arm, answers, measure(arm, answers.q[0], target, opts), opts)
     order, measures = [], []
+    checks = opts.checks
     for i in nearest_first(arm, answers, seed):
         m = measure(arm, answers.q[i], target, opts)
-        if m.ok:  # a measure that holds is a success (``RULE``): the nearest one
-            return decide_one(arm, answers.take([i]), m, opts)
+        if m.ok and (not checks or satisfied(arm, checks, answers.q[i])):
+            return decide_one(arm, answers.take([i]), m, opts)  # a success: the nearest one
         order.append(i)
         measures.append(m)
     if not order:

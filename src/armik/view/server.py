@@ -1,10 +1,13 @@
 """Serving the viewer's page: viser imported on demand, the port checked before and after
-the server binds it, and closing that waits until the port is free again."""
+the server binds it, closing that waits until the port is free again, and a stray
+connection (a port probe that sends no HTTP request) said in one line, not websockets'
+traceback."""
 
 from __future__ import annotations
 
 import contextlib
 import io
+import logging
 import socket
 import time
 from typing import TYPE_CHECKING
@@ -13,6 +16,8 @@ from armik.errors import ViewerError
 
 if TYPE_CHECKING:
     import viser
+
+log = logging.getLogger(__name__)
 
 
 def import_viser():
@@ -30,6 +35,7 @@ def start(host: str, port: int, label: str) -> tuple[viser.ViserServer, int]:
     """A viser server on ``host:port`` (0: any free port) and the port it took; a
     ``ViewerError`` naming the port and the fix when it is in use."""
     viser = import_viser()
+    _quiet_stray_connections()
     if port and not port_free(host, port):
         raise port_error(host, port)
     with contextlib.redirect_stdout(io.StringIO()):  # viser's banner: the viewer's url says it
@@ -71,3 +77,32 @@ def port_free(host: str, port: int) -> bool:
         except OSError:
             return False
     return True
+
+
+class _StrayConnection(logging.Filter):
+    """websockets logs "opening handshake failed" with a traceback when a connection sends
+    no valid HTTP request (a port probe, a health check that connects and closes): this
+    says it in one line on armik's logger instead, and lets every other record through."""
+
+    def __init__(self, invalid: type[BaseException]) -> None:
+        super().__init__()
+        self.invalid = invalid
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        exc = record.exc_info[1] if record.exc_info else None
+        if not isinstance(exc, self.invalid):
+            return True
+        log.warning(
+            "the viewer's server closed a connection that sent no valid HTTP request (%s)",
+            exc.__cause__ or exc,
+        )
+        return False
+
+
+def _quiet_stray_connections() -> None:
+    """Install ``_StrayConnection`` on websockets' server logger, once."""
+    from websockets.exceptions import InvalidMessage  # viser's dependency
+
+    logger = logging.getLogger("websockets.server")
+    if not any(isinstance(f, _StrayConnection) for f in logger.filters):
+        logger.addFilter(_StrayConnection(InvalidMessage))

@@ -3,6 +3,8 @@ nozzle aimed at a spot."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pinocchio as pin
 
@@ -69,11 +71,9 @@ class LookAt(Task):
 
     def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
         d, distance = self._sight(T)
-        beyond = (
-            0.0
-            if distance <= LOOK_AT
-            else max(cone.angle(self.axis, T.rotation.T @ d) - self.within, 0.0)
-        )
+        if distance <= LOOK_AT:  # standing on the point: no line of sight, nothing aimed
+            return TaskError(None, math.pi, False)
+        beyond = max(cone.angle(self.axis, T.rotation.T @ d) - self.within, 0.0)
         return TaskError(None, beyond, beyond <= tol_orientation)
 
     def shrunk(self, factor: float) -> Task:

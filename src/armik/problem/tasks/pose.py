@@ -25,7 +25,7 @@ from armik.problem.tasks.base import (
     replaced,
     scaled,
 )
-from armik.targets.pose import parse_target
+from armik.targets.pose import parsed
 
 
 class Pose(Task):
@@ -38,7 +38,7 @@ class Pose(Task):
         weights: object = None,
         frame: str | None = None,
     ) -> None:
-        target = parse_target(T)
+        target = parsed(T)
         if target.rotation is None:
             raise TargetError(
                 f"Pose needs a full pose, got a position {target.position.tolist()}: use "

@@ -37,7 +37,7 @@ from armik.solvers.claims import claim
 from armik.solvers.closed_form import sixr, sixr_answers
 from armik.solvers.closed_form import spherical_wrist as spherical
 from armik.solvers.closed_form.subproblems import mat, rot, vec
-from armik.solvers.registry import SolverSpec, register
+from armik.solvers.registry import SolverSpec, Sweep, register
 from armik.status import Status
 from armik.targets.pose import Target
 
@@ -337,5 +337,6 @@ SPEC = register(
         auto=False,
         prepare_pose=prepare_pose,
         complete=False,
+        sweep=Sweep(joint=6, at_value=at_value, range=sweep_range),
     )
 )

@@ -456,9 +456,10 @@ def print_result(
 def cmd_demo(args: argparse.Namespace) -> int:
     ok = True
     # The Panda's dls solve comes second; its first run on a machine compiles it, and
-    # ``prepare`` starts that now, its step in a helper process, so that the 2-link arm's
-    # check compiles while the helper works (0.5 s less of a first demo's 9.3 s, measured)
-    warmup.prepare(STEP_DLS)
+    # ``start`` starts its step now in a helper process, so that the 2-link arm compiles
+    # while the helper works; the rest compiles at the Panda's solve, under one notice
+    # (the 2-link arm uses no numeric solver: nothing says so before it)
+    warmup.start(STEP_DLS)
     arm = load("planar_2link")
     print("planar_2link (l1 = 1.0 m, l2 = 0.8 m), target (x, y) = (1.2, 0.5):")
     results = arm.solve_all([1.2, 0.5])

@@ -24,6 +24,7 @@ from armik.tools.cli.arms import (
     for_cli,
 )
 from armik.tools.cli.compile import add_compile_command
+from armik.tools.cli.export import add_export_command
 from armik.tools.cli.many import add_many_commands
 from armik.tools.cli.studies import cmd_bench, cmd_compare
 from armik.tools.cli.tips import cmd_info_tips, cmd_solve_tips
@@ -222,6 +223,7 @@ def _parser() -> argparse.ArgumentParser:
     command("demo", "solve a target on the 2-link arm and on the Panda", "armik demo", cmd_demo)
     add_many_commands(command)  # batch, reach
     add_compile_command(command)
+    add_export_command(command)
     add_view_command(command)
 
     c = command(

@@ -1,0 +1,95 @@
+"""``armik.export``: an arm's closed form as a self-contained C99 solver (``N_ik.h``,
+``N_ik.c``; with ``ikfast=True`` also ``N_ikfast.cpp``, IKFast 61's interface).
+
+The C is written from the same family description the Python solver runs on (its
+``classify``), one module a family: ``three_parallel``, ``spherical_wrist``, ``planar2r``;
+``solver_file`` adds what every family shares (2 pi shifts, limits, the verdict, the order),
+``c_source`` the subproblems. An arm whose ``solve_all`` is not one of those closed forms is
+refused with a ``SolverError`` saying why each family does not apply.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+from pathlib import Path
+
+from armik.errors import OptionError, SolverError
+from armik.export import ikfast as ikfast_file
+from armik.export import planar2r, solver_file, spherical_wrist, three_parallel
+from armik.model.arm_model import ArmModel, model_of
+from armik.model.geometry import axis_lines
+from armik.options import Options
+from armik.solvers import registry
+
+# solver name -> the family's C rows, in the order a refusal lists them
+FAMILIES: dict[str, Callable] = {
+    "three_parallel": three_parallel.rows,
+    "spherical": spherical_wrist.rows,
+    "planar2r": planar2r.rows,
+}
+_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+
+
+def family(arm: ArmModel) -> str:
+    """The exported family of ``arm``: the solver ``solve_all`` chooses, when it is one
+    ``FAMILIES`` writes. ``SolverError`` otherwise, with each family's reason (``armik
+    info``'s)."""
+    try:
+        chosen = registry.choose("auto", arm, every=True).name
+    except SolverError:
+        chosen = None
+    if chosen in FAMILIES:
+        return chosen
+    why = "; ".join(f"{name}: {registry.why_not(name, arm)}" for name in FAMILIES)
+    raise SolverError(
+        f"arm {arm.name!r} has no closed form to export (solve_all chooses {chosen!r}): {why}",
+        solver=str(chosen),
+        candidates=list(FAMILIES),
+    )
+
+
+def export(
+    arm: object,
+    name: str,
+    out: str | Path | None = None,
+    ikfast: bool = False,
+    tol_position: float | None = None,
+    tol_orientation: float | None = None,
+) -> dict[str, str]:
+    """The C solver of ``arm`` (an ``Arm`` or its model) as {file name: text}:
+    ``name_ik.h``, ``name_ik.c`` and, with ``ikfast``, ``name_ikfast.cpp``; written into the
+    directory ``out`` (created if missing) when given. ``tol_position`` (m) and
+    ``tol_orientation`` (rad): how far a solution's FK may miss its target (armik's
+    verification tolerances by default, 1e-6 m and 1e-6 rad, as ``solve_all`` verifies).
+
+    Raises ``OptionError`` when ``name`` is not a C identifier or a tolerance is not a
+    positive number (as ``solve`` checks it), ``SolverError`` when the
+    arm's ``solve_all`` is not an exported closed form, ``OSError`` when ``out`` cannot be
+    written."""
+    model = model_of(arm)
+    if not isinstance(name, str) or not _NAME.fullmatch(name):
+        raise OptionError(
+            f"name must be a C identifier (letters, digits, _), got {name!r}",
+            option="name",
+            value=name,
+        )
+    tolerances = {"tol_position": tol_position, "tol_orientation": tol_orientation}
+    opts = Options.from_kwargs({k: v for k, v in tolerances.items() if v is not None})
+    rows_of = FAMILIES[family(model)]
+    ax = axis_lines(model)
+    rows = rows_of(model, ax)
+    c_text = solver_file.source(name, model, ax, rows, opts)
+    head = (name, model.dof, rows.max_rows, rows.summary, opts.tol_position, opts.tol_orientation)
+    files = {
+        f"{name}_ik.h": solver_file.header(*head),
+        f"{name}_ik.c": c_text,
+    }
+    if ikfast:
+        files[f"{name}_ikfast.cpp"] = ikfast_file.source(name, c_text)
+    if out is not None:
+        folder = Path(out)
+        folder.mkdir(parents=True, exist_ok=True)
+        for file, text in files.items():
+            (folder / file).write_text(text)
+    return files

@@ -1,0 +1,234 @@
+"""C99 text shared by every exported solver: literals, the vector and rotation helpers and
+the Paden-Kahan subproblems, a line for line translation of
+``armik.solvers.closed_form.subproblems`` (the same tolerances, the same branches).
+
+Vectors are ``vec3`` and rotations ``mat3`` (row-major), small structs passed by value as the
+compiled Python passes tuples. Every helper is ``static inline``: a family uses some of them,
+and an unused inline function draws no warning under ``-Wall -Wextra -Werror``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from armik.solvers.closed_form.subproblems import DEGENERATE, EPS, SINGLE
+
+
+def num(x: float) -> str:
+    """A C double literal that reads back as ``x`` exactly (``repr`` round-trips), or
+    ``HUGE_VAL`` for an infinity."""
+    x = float(x)
+    if math.isinf(x):
+        return "HUGE_VAL" if x > 0 else "-HUGE_VAL"
+    if math.isnan(x):
+        raise ValueError("a NaN cannot be folded into C")
+    text = repr(x)
+    return text if ("." in text or "e" in text) else text + ".0"
+
+
+def vec(v) -> str:
+    """A ``vec3`` initialiser."""
+    a = np.asarray(v, dtype=float).ravel()
+    return "{{" + ", ".join(num(x) for x in a) + "}}"
+
+
+def mat(R) -> str:
+    """A ``mat3`` initialiser, row-major."""
+    a = np.asarray(R, dtype=float).ravel()
+    return "{{" + ", ".join(num(x) for x in a) + "}}"
+
+
+def array(values) -> str:
+    """A ``double[]`` initialiser."""
+    return "{" + ", ".join(num(x) for x in np.asarray(values, dtype=float).ravel()) + "}"
+
+
+def constants(names: dict[str, object]) -> str:
+    """``static const`` lines: a ``vec3`` for a 3-vector, a ``mat3`` for a 3x3, a double
+    for a number."""
+    lines = []
+    for name, value in names.items():
+        a = np.asarray(value, dtype=float)
+        if a.shape == (3,):
+            lines.append(f"static const vec3 {name} = {vec(a)};")
+        elif a.shape == (3, 3):
+            lines.append(f"static const mat3 {name} = {mat(a)};")
+        else:
+            lines.append(f"static const double {name} = {num(float(a))};")
+    return "\n".join(lines)
+
+
+HELPERS = (
+    r"""
+typedef struct { double v[3]; } vec3;
+typedef struct { double m[9]; } mat3;
+
+static const double IK_PI = 3.141592653589793;
+static const double IK_EPS = @EPS@;
+static const double IK_SINGLE = @SINGLE@;
+static const double IK_DEGENERATE = @DEGENERATE@;
+
+static inline vec3 add(vec3 a, vec3 b)
+{ vec3 r = {{a.v[0] + b.v[0], a.v[1] + b.v[1], a.v[2] + b.v[2]}}; return r; }
+static inline vec3 sub(vec3 a, vec3 b)
+{ vec3 r = {{a.v[0] - b.v[0], a.v[1] - b.v[1], a.v[2] - b.v[2]}}; return r; }
+static inline vec3 scale(vec3 a, double s)
+{ vec3 r = {{a.v[0] * s, a.v[1] * s, a.v[2] * s}}; return r; }
+static inline vec3 neg(vec3 a) { vec3 r = {{-a.v[0], -a.v[1], -a.v[2]}}; return r; }
+static inline vec3 cross(vec3 a, vec3 b)
+{
+    vec3 r = {{a.v[1] * b.v[2] - a.v[2] * b.v[1], a.v[2] * b.v[0] - a.v[0] * b.v[2],
+               a.v[0] * b.v[1] - a.v[1] * b.v[0]}};
+    return r;
+}
+static inline double dot(vec3 a, vec3 b)
+{ return a.v[0] * b.v[0] + a.v[1] * b.v[1] + a.v[2] * b.v[2]; }
+static inline double norm(vec3 a)
+{ return sqrt(a.v[0] * a.v[0] + a.v[1] * a.v[1] + a.v[2] * a.v[2]); }
+
+/* The angle in (-pi, pi]. */
+static inline double wrap(double a)
+{
+    if (-IK_PI < a && a <= IK_PI) return a;
+    a -= 2.0 * IK_PI * floor(a / (2.0 * IK_PI));
+    return a > IK_PI ? a - 2.0 * IK_PI : a;
+}
+
+/* Rotation by t about the unit axis k (Rodrigues), with c = cos t and s = sin t. */
+static inline mat3 rot_cs(vec3 k, double c, double s)
+{
+    double v = 1.0 - c, x = k.v[0], y = k.v[1], z = k.v[2];
+    mat3 r = {{c + x * x * v, x * y * v - z * s, x * z * v + y * s,
+               y * x * v + z * s, c + y * y * v, y * z * v - x * s,
+               z * x * v - y * s, z * y * v + x * s, c + z * z * v}};
+    return r;
+}
+static inline mat3 rot(vec3 k, double t) { return rot_cs(k, cos(t), sin(t)); }
+
+static inline vec3 mv(mat3 A, vec3 x)  /* A x */
+{
+    const double *a = A.m;
+    vec3 r = {{a[0] * x.v[0] + a[1] * x.v[1] + a[2] * x.v[2],
+               a[3] * x.v[0] + a[4] * x.v[1] + a[5] * x.v[2],
+               a[6] * x.v[0] + a[7] * x.v[1] + a[8] * x.v[2]}};
+    return r;
+}
+static inline vec3 mtv(mat3 A, vec3 x)  /* A^T x */
+{
+    const double *a = A.m;
+    vec3 r = {{a[0] * x.v[0] + a[3] * x.v[1] + a[6] * x.v[2],
+               a[1] * x.v[0] + a[4] * x.v[1] + a[7] * x.v[2],
+               a[2] * x.v[0] + a[5] * x.v[1] + a[8] * x.v[2]}};
+    return r;
+}
+static inline mat3 mm(mat3 A, mat3 B)  /* A B */
+{
+    mat3 r; int i, j;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            r.m[3 * i + j] = A.m[3 * i] * B.m[j] + A.m[3 * i + 1] * B.m[3 + j]
+                             + A.m[3 * i + 2] * B.m[6 + j];
+    return r;
+}
+static inline mat3 mtm(mat3 A, mat3 B)  /* A^T B */
+{
+    mat3 r; int i, j;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            r.m[3 * i + j] = A.m[i] * B.m[j] + A.m[3 + i] * B.m[3 + j] + A.m[6 + i] * B.m[6 + j];
+    return r;
+}
+static inline mat3 mmt(mat3 A, mat3 B)  /* A B^T */
+{
+    mat3 r; int i, j;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            r.m[3 * i + j] = A.m[3 * i] * B.m[3 * j] + A.m[3 * i + 1] * B.m[3 * j + 1]
+                             + A.m[3 * i + 2] * B.m[3 * j + 2];
+    return r;
+}
+
+/* SP1: theta with rot(k, theta) p1 = p2 (least squares when none). */
+static inline double sp1(vec3 p1, vec3 p2, vec3 k)
+{
+    vec3 kxp = cross(k, p1);
+    return atan2(dot(kxp, p2), -dot(cross(k, kxp), p2));
+}
+
+/* SP1 with the cosine and sine of theta too (1 and 0 when p1 and p2 leave it free). */
+static inline double sp1cs(vec3 p1, vec3 p2, vec3 k, double *c, double *s)
+{
+    vec3 kxp = cross(k, p1);
+    double a = dot(kxp, p2), b = -dot(cross(k, kxp), p2), r = sqrt(a * a + b * b);
+    *c = r > 0.0 ? b / r : 1.0;
+    *s = r > 0.0 ? a / r : 0.0;
+    return atan2(a, b);
+}
+
+/* SP4: theta with h . rot(k, theta) p = d; returns the count (2, 1, or -1 when every
+   theta gives the same value), the roots in t[0], t[1]. */
+static inline int sp4(vec3 h, vec3 p, vec3 k, double d, double t[2])
+{
+    vec3 kxp = cross(k, p);
+    double a = dot(h, kxp), b = -dot(h, cross(k, kxp));
+    double c = d - dot(h, k) * dot(k, p);
+    double rho = hypot(a, b), phi, x, tol, np = norm(p), ad = fabs(d), r;
+    tol = np > ad ? np : ad;
+    tol = IK_DEGENERATE * (tol > 1.0 ? tol : 1.0);
+    t[0] = t[1] = 0.0;
+    if (rho <= tol) return -1;
+    phi = atan2(a, b);
+    x = c / rho;
+    if (fabs(x) >= 1.0) { t[0] = wrap(x > 0 ? phi : phi + IK_PI); return 1; }
+    r = acos(x);
+    if (r < IK_SINGLE) { t[0] = wrap(phi); return 1; }
+    if (r > IK_PI - IK_SINGLE) { t[0] = wrap(phi + IK_PI); return 1; }
+    t[0] = wrap(phi + r);
+    t[1] = wrap(phi - r);
+    return 2;
+}
+
+/* SP3: theta with |rot(k, theta) p1 - p2| = d. */
+static inline int sp3(vec3 p1, vec3 p2, vec3 k, double d, double t[2])
+{
+    double n2 = norm(p2);
+    if (n2 <= IK_EPS) { t[0] = t[1] = 0.0; return -1; }
+    return sp4(scale(p2, 1.0 / n2), p1, k, (dot(p1, p1) + n2 * n2 - d * d) / (2.0 * n2), t);
+}
+
+/* SP2: (a[i], b[i]) with rot(k1, a) p1 = rot(k2, b) p2; -1 when p1 lies on k1 (a = free). */
+static inline int sp2(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double free_, double a[2], double b[2])
+{
+    double n1 = norm(p1), n2 = norm(p2), k12, den, c1, c2, alpha, beta, g2, g;
+    vec3 u1 = scale(p1, 1.0 / n1), u2 = scale(p2, 1.0 / n2), base, k1xk2, c;
+    a[1] = b[1] = 0.0;
+    if (norm(cross(k1, u1)) <= IK_SINGLE) {
+        a[0] = free_;
+        b[0] = sp1(u2, mv(rot(k1, free_), u1), k2);
+        return -1;
+    }
+    k12 = dot(k1, k2);
+    den = 1.0 - k12 * k12;
+    c1 = dot(k1, u1);
+    c2 = dot(k2, u2);
+    alpha = (c1 - k12 * c2) / den;
+    beta = (c2 - k12 * c1) / den;
+    g2 = (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * k12) / den;
+    g = g2 > 0.0 ? sqrt(g2) : 0.0;
+    base = add(scale(k1, alpha), scale(k2, beta));
+    k1xk2 = cross(k1, k2);
+    c = add(base, scale(k1xk2, g));
+    a[0] = sp1(u1, c, k1);
+    b[0] = sp1(u2, c, k2);
+    if (g < 1e-9) return 1;
+    c = sub(base, scale(k1xk2, g));
+    a[1] = sp1(u1, c, k1);
+    b[1] = sp1(u2, c, k2);
+    return 2;
+}
+""".replace("@EPS@", num(EPS))
+    .replace("@SINGLE@", num(SINGLE))
+    .replace("@DEGENERATE@", num(DEGENERATE))
+)

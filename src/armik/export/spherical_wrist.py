@@ -1,0 +1,119 @@
+"""6R arms with a spherical wrist (IRB 120, KUKA KR, ...) as C: the kernel of
+``armik.solvers.closed_form.spherical_wrist``, step for step, on the ``Chain6R`` its
+``classify`` gives (axes 2 and 3 parallel, or axes 1 and 2 meeting: only the variant of
+the arm is written), with the chain's numbers folded in as constants.
+"""
+
+from __future__ import annotations
+
+from armik.export import c_source
+from armik.export.solver_file import Rows
+from armik.model.arm_model import ArmModel
+from armik.model.geometry import Axes
+from armik.solvers.closed_form import spherical_wrist
+from armik.solvers.closed_form import subproblems as sp
+from armik.solvers.closed_form.sixr import SNAP, Chain6R
+
+WRIST = r"""
+/* The (up to 2) wrist solutions for a placed wrist centre, appended to W. */
+static int wrist(mat3 R03, mat3 R06, double q[6], double c[6], double s[6],
+                 double W[][DOF], double C[][DOF], double S[][DOF], int n)
+{
+    mat3 R36 = mtm(R03, R06), R6;
+    double a[2], b[2];
+    int nw = sp2(mv(R36, h6), h6, neg(h4), h5, MID[3], a, b), i;
+    if (nw == -1) nw = 1;
+    for (i = 0; i < nw; i++) {
+        q[3] = a[i];
+        q[4] = b[i];
+        c[3] = cos(a[i]);
+        s[3] = sin(a[i]);
+        c[4] = cos(b[i]);
+        s[4] = sin(b[i]);
+        R6 = mtm(mm(rot_cs(h4, c[3], s[3]), rot_cs(h5, c[4], s[4])), R36);
+        q[5] = sp1cs(h5, mv(R6, h5), h6, &c[5], &s[5]);
+        n = put_row(W, C, S, n, q, c, s);
+    }
+    return n;
+}
+"""
+
+PARALLEL_23 = r"""
+static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][DOF])
+{
+    mat3 R06 = mmt(R, R_TIP0), R1, R3;
+    vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), v;
+    double t1[2], t3[2], q[6], c[6], s[6];
+    int n1, n3, i1, i3, n = 0;
+    n1 = sp4(h2, p16, neg(h1), D1, t1);
+    if (n1 == -1) { n1 = 1; t1[0] = MID[0]; }  /* wrist centre on axis 1 */
+    for (i1 = 0; i1 < n1; i1++) {
+        q[0] = t1[i1];
+        c[0] = cos(q[0]);
+        s[0] = sin(q[0]);
+        R1 = rot_cs(h1, c[0], s[0]);
+        v = sub(mtv(R1, p16), p1);
+        n3 = sp3(p3, neg(p2), h3, norm(v), t3);
+        if (n3 == -1) { n3 = 1; t3[0] = MID[2]; }
+        for (i3 = 0; i3 < n3; i3++) {
+            q[2] = t3[i3];
+            c[2] = cos(q[2]);
+            s[2] = sin(q[2]);
+            R3 = rot_cs(h3, c[2], s[2]);
+            q[1] = sp1cs(add(p2, mv(R3, p3)), v, h2, &c[1], &s[1]);
+            n = wrist(mm(mm(R1, rot_cs(h2, c[1], s[1])), R3), R06, q, c, s, W, C, S, n);
+        }
+    }
+    return n;
+}
+"""
+
+MEETING_12 = r"""
+static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][DOF])
+{
+    mat3 R06 = mmt(R, R_TIP0), R1, R3;
+    vec3 p16 = sub(sub(pos, mv(R06, p6)), p0);
+    double t3[2], a[2], b[2], q[6], c[6], s[6];
+    int n3, n12, i3, i, n = 0;
+    n3 = sp3(p3, neg(p2), h3, norm(p16), t3);
+    if (n3 == -1) { n3 = 1; t3[0] = MID[2]; }
+    for (i3 = 0; i3 < n3; i3++) {
+        q[2] = t3[i3];
+        c[2] = cos(q[2]);
+        s[2] = sin(q[2]);
+        R3 = rot_cs(h3, c[2], s[2]);
+        n12 = sp2(p16, add(p2, mv(R3, p3)), neg(h1), h2, MID[0], a, b);
+        if (n12 == -1) n12 = 1;  /* wrist centre on axis 1 */
+        for (i = 0; i < n12; i++) {
+            q[0] = a[i];
+            q[1] = b[i];
+            c[0] = cos(a[i]);
+            s[0] = sin(a[i]);
+            c[1] = cos(b[i]);
+            s[1] = sin(b[i]);
+            R1 = mm(rot_cs(h1, c[0], s[0]), rot_cs(h2, c[1], s[1]));
+            n = wrist(mm(R1, R3), R06, q, c, s, W, C, S, n);
+        }
+    }
+    return n;
+}
+"""
+
+
+def rows(arm: ArmModel, ax: Axes) -> Rows:
+    """The C rows of ``arm``, a spherical-wrist arm (``spherical_wrist.classify`` holds)."""
+    geo = spherical_wrist.classify(arm, ax)
+    assert isinstance(geo, Chain6R)  # the caller chose the family by its solver's test
+    h, p = geo.h, geo.p
+    names = {f"h{i + 1}": h[i] for i in range(6)}
+    names.update({f"p{i}": p[i] for i in (0, 2, 3, 6)})
+    names["R_TIP0"] = geo.R_tip0
+    add = sp.add.py_func
+    if geo.variant == "parallel_23":
+        names["p1"] = p[1]  # zero when axes 1 and 2 meet
+        names["D1"] = sp.dot.py_func(h[1], add(add(p[1], p[2]), p[3]))
+        body = PARALLEL_23
+    else:
+        body = MEETING_12
+    summary = f"a 6R arm with a spherical wrist ({geo.description})"
+    return Rows(c_source.constants(names) + "\n" + WRIST + body, 8, SNAP, summary)

@@ -1,0 +1,91 @@
+"""Any frame of an arm's model by name: its placement in the base frame and its Jacobian,
+the same words on one arm (``Arm.fk(q, frame=...)``) and on several tips (``Arms``).
+
+A frame is named by ``frame``, the axes its Jacobian is expressed in by ``reference``
+("local": the frame's own; "base": the base frame's, at the frame's origin). The old
+spelling ``jacobian(q, "base")`` (the tip's Jacobian in base axes) still means that when
+``reference`` is not given: ``frame_and_reference`` reads it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import TYPE_CHECKING
+
+import numpy as np
+import pinocchio as pin
+
+from armik.errors import FrameError, OptionError, listing
+
+if TYPE_CHECKING:
+    from armik.model.arm_model import ArmModel
+
+REFERENCES = ("local", "base")
+
+
+def frame_id(arm: ArmModel, frame: str | None) -> int:
+    """The Pinocchio frame index of ``frame`` (None or the tip: the tip's, its offset
+    included); a ``FrameError`` listing the arm's frames for a name the model lacks."""
+    if frame is None or frame == arm.tip:
+        return arm.tip_frame_id
+    if isinstance(frame, str) and arm.model.existFrame(frame):
+        return int(arm.model.getFrameId(frame))
+    names = arm.frames()
+    raise FrameError(
+        f"frame {frame!r} is not a frame of arm {arm.name!r}; its frames: {listing(names)}",
+        frame=str(frame),
+        candidates=names,
+    )
+
+
+def owner(chains: Mapping[str, ArmModel], frame: str) -> str:
+    """The tip of the first of ``chains`` (tip -> model) that has ``frame``; ``frame``
+    itself where none has it (a tip is its own chain's)."""
+    if frame in chains:
+        return frame
+    found = (tip for tip, arm in chains.items() if arm.model.existFrame(str(frame)))
+    return next(found, frame)
+
+
+def frame_and_reference(frame: str | None, reference: str | None) -> tuple[str | None, str]:
+    """(frame, reference) of a Jacobian call: ``frame="local"`` or ``"base"`` without a
+    ``reference`` is the old spelling of the tip's Jacobian in those axes."""
+    if reference is None:
+        if frame in REFERENCES:
+            return None, frame  # type: ignore[return-value]
+        return frame, "local"
+    if reference not in REFERENCES:
+        raise OptionError(
+            f"reference must be 'local' or 'base', got {reference!r}",
+            option="reference",
+            value=reference,
+        )
+    return frame, reference
+
+
+def placement(arm: ArmModel, q: object, frame: str | None = None) -> pin.SE3:
+    """``T_base_frame`` at joint values ``q`` (rad, m): the tip's by default."""
+    if frame is None or frame == arm.tip:
+        return arm.fk(q)  # type: ignore[arg-type]
+    fid = frame_id(arm, frame)
+    pin.framesForwardKinematics(arm.model, arm.data, arm.to_pin(arm.check_q(q)))
+    return arm.T_base_world * arm.data.oMf[fid]
+
+
+def jacobian(
+    arm: ArmModel, q: object, frame: str | None = None, reference: str | None = None
+) -> np.ndarray:
+    """The 6 x dof Jacobian of ``frame`` (the tip's by default), rows (vx, vy, vz, wx,
+    wy, wz): its twist in its own axes (``reference="local"``) or in the base frame's
+    axes at its origin (``"base"``). Zero columns for joints that do not move it."""
+    frame, reference = frame_and_reference(frame, reference)
+    if frame is None or frame == arm.tip:
+        return arm.jacobian(q, reference)  # type: ignore[arg-type]
+    fid = frame_id(arm, frame)
+    qp = arm.to_pin(arm.check_q(q))
+    kind = pin.LOCAL if reference == "local" else pin.LOCAL_WORLD_ALIGNED
+    J = pin.computeFrameJacobian(arm.model, arm.data, qp, fid, kind).reshape(6, arm.dof)
+    if reference == "local":
+        return J.copy()
+    R = arm.T_base_world.rotation
+    return np.vstack([R @ J[:3], R @ J[3:]])

@@ -1,0 +1,155 @@
+"""A constraint of the user's own, written by CONTRIBUTING's recipe (a ``Constraint`` with
+a ``check`` and nothing more), holds on every route: no answer that violates it is a
+success, and its status and reason are the check's."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.constraints.base import Check, Constraint
+from tests.conftest import arm as bundled
+
+ELBOW = -1.0  # the Panda's joint 4 must stay above this (rad)
+
+
+class ElbowUp(Constraint):
+    """Joint 4 above ``ELBOW``: what the Panda's starting configurations below violate
+    (written as the issue that found the gap wrote it: ``said`` spells no option)."""
+
+    def said(self):
+        return {}
+
+    def check(self, arm, Q):
+        return Check(Q[:, 3] > ELBOW, armik.Status.JOINT_LIMITS, lambda i: "elbow below -1")
+
+
+class ShoulderSide(Constraint):
+    """Joint 2 of a UR5 below zero: half of its closed form's branches break it (``check``
+    alone: the recipe's least)."""
+
+    def check(self, arm, Q):
+        return Check(Q[:, 1] < 0.0, armik.Status.JOINT_LIMITS, lambda i: "shoulder above 0")
+
+
+Q_BENT = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.6])  # joint 4 at -2: violates ElbowUp
+
+
+def _targets(n: int):
+    """Panda poses reached with joint 4 well below ``ELBOW``, and those configurations."""
+    rng = np.random.default_rng(7)
+    qs = [Q_BENT + rng.uniform(-0.1, 0.1, 7) for _ in range(n)]
+    panda = bundled("panda")
+    return [panda.fk(q) for q in qs], qs
+
+
+def _honest(results) -> None:
+    """No success violates the constraint; a failure for it says so."""
+    checked = 0
+    for r in results:
+        if r.success:
+            assert r.q[3] > ELBOW, (r.q, r.reason)
+        elif r.q[3] <= ELBOW and r.reason == "elbow below -1":
+            assert r.status is armik.Status.JOINT_LIMITS
+            checked += 1
+    return checked
+
+
+@pytest.mark.parametrize(
+    "how",
+    [
+        {},
+        {"solver": "dls"},
+        {"solver": "qp"},
+        {"solver": "swept"},
+        {"prefer": "manipulability"},
+        {"hold": {"panda_joint7": 0.6}},
+        {"obstacles": [armik.Sphere(0.1, (2.0, 2.0, 2.0))]},
+        {"weights": (1, 1, 1, 1, 1, 0)},
+        {"bounds": (1e-3, 1e-3, 1e-3, 0.01, 0.01, 0.01)},
+    ],
+    ids=str,
+)
+def test_solve_never_calls_a_violating_answer_a_success(how):
+    panda = bundled("panda")
+    targets, qs = _targets(4)
+    results = [
+        panda.solve(T, q0=q, constraints=[ElbowUp()], iteration_budget=400, **how)
+        for T, q in zip(targets, qs)
+    ]
+    _honest(results)
+    # without the constraint, these starts give the bent answers it refuses
+    plain = panda.solve(targets[0], q0=qs[0], iteration_budget=400, **how)
+    assert plain.success and plain.q[3] <= ELBOW
+
+
+def test_solve_all_judges_every_branch():
+    panda = bundled("panda")
+    targets, qs = _targets(3)
+    for T, q in zip(targets, qs):
+        found = panda.solve_all(T, q0=q, constraints=[ElbowUp()])
+        _honest(found)
+        assert any(r.reason == "elbow below -1" for r in found)  # some branch broke it
+
+
+def test_a_closed_form_returns_the_nearest_branch_that_holds():
+    """The check is part of the search: the nearest branch that breaks it gives way to
+    the nearest that holds."""
+    ur5 = bundled("ur5")
+    q = np.array([0.4, 0.6, -1.2, 0.3, 1.1, -0.5])  # joint 2 above 0: the nearest breaks it
+    T = ur5.fk(q)
+    plain = ur5.solve(T, q0=q)
+    assert plain.success and plain.q[1] > 0.0
+    r = ur5.solve(T, q0=q, constraints=[ShoulderSide()])
+    assert r.success and r.q[1] < 0.0
+    every = ur5.solve_all(T, q0=q)
+    holding = [a for a in every if a.success and a.q[1] < 0.0]
+    nearest = min(holding, key=lambda a: np.linalg.norm(a.q - q))
+    np.testing.assert_allclose(r.q, nearest.q, atol=1e-12)
+    # a prepared plan for the plain options is not taken for the constrained ones
+    again = ur5.solve(T, q0=q, constraints=(ShoulderSide(),))
+    assert again.success and again.q[1] < 0.0
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_solve_batch_on_one_and_two_workers(workers):
+    panda = bundled("panda")
+    targets, qs = _targets(6)
+    res = panda.solve_batch(
+        np.array([T.homogeneous for T in targets]),
+        q0=np.array(qs),
+        constraints=[ElbowUp()],
+        workers=workers,
+        iteration_budget=400,
+    )
+    assert _honest(res[i] for i in range(len(res))) > 0
+
+
+@pytest.mark.parametrize("plan", ["follow", "global"])
+def test_solve_path(plan):
+    ur5 = bundled("ur5")
+    q = np.array([0.4, 0.6, -1.2, 0.3, 1.1, -0.5])
+    T = ur5.fk(q)
+    line = [pin.SE3(T.rotation, T.translation + [0, 0.005 * k, 0]) for k in range(4)]
+    path = ur5.solve_path(line, q, constraints=[ShoulderSide()], plan=plan)
+    for i in range(len(path)):
+        r = path[i]
+        assert not r.success or r.q[1] < 0.0, (i, r.q)
+
+
+def test_a_task_list():
+    panda = bundled("panda")
+    targets, qs = _targets(2)
+    for T, q in zip(targets, qs):
+        tasks = [armik.Position(T.translation), armik.Axis((0, 0, 1), T.rotation[:, 2], 0.05)]
+        _honest([panda.solve(tasks, q0=q, constraints=[ElbowUp()], iteration_budget=400)])
+
+
+def test_several_tips_refuse_what_they_cannot_honour():
+    robot = armik.load("panda", tips=["panda_hand", "panda_link5"])
+    q = robot.middle
+    targets = {"panda_hand": robot.fk(q, "panda_hand"), "panda_link5": robot.fk(q, "panda_link5")}
+    with pytest.raises(armik.OptionError, match="ElbowUp"):
+        robot.solve(targets, constraints=[ElbowUp()])

@@ -1,0 +1,88 @@
+"""``armik.export`` and ``armik export``: the files, the refusals and their reasons."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+
+import numpy as np
+import pytest
+
+import armik
+from armik.solvers import registry
+from armik.tools.cli import main
+from tests.export.build import CFLAGS, compilers, run
+from tests.solvers.closed_form.random_arms import load_arm
+
+
+def test_files_returned_and_written(tmp_path):
+    arm = armik.load("ur5")
+    files = armik.export(arm, "ur5", tmp_path / "out", ikfast=True)
+    assert sorted(files) == ["ur5_ik.c", "ur5_ik.h", "ur5_ikfast.cpp"]
+    for name, text in files.items():
+        assert (tmp_path / "out" / name).read_text() == text
+    header = files["ur5_ik.h"]
+    assert "#define UR5_IK_DOF 6" in header and "#define UR5_IK_MAX_SOLUTIONS 8" in header
+    assert "int ur5_ik(const double T[16], double q[][UR5_IK_DOF]);" in header
+    # the version line MoveIt's create_ikfast_moveit_plugin.py reads, as it reads it
+    found = re.search(r"^/// ikfast version (.*) generated", files["ur5_ikfast.cpp"], re.M)
+    assert found and int(found.group(1), 0) & ~0x10000000 == 61
+    assert sorted(armik.export(arm.kinematics, "x")) == ["x_ik.c", "x_ik.h"]  # nothing written
+    assert not (tmp_path / "x_ik.c").exists()
+
+
+def test_limits_and_geometry_folded_in():
+    """The C holds the arm's own numbers: another limit changes the file, nothing else does."""
+    arm = armik.load("abb_irb120")
+    narrow = arm.with_limits({arm.joint_names[0]: (-1.0, 1.0)})
+    a, b = armik.export(arm, "irb")["irb_ik.c"], armik.export(narrow, "irb")["irb_ik.c"]
+    assert a != b and a == armik.export(arm, "irb")["irb_ik.c"]
+
+
+@pytest.mark.parametrize("name", ["9lives", "a-b", "", "x y"])
+def test_name_must_be_a_c_identifier(name):
+    with pytest.raises(armik.OptionError, match="C identifier"):
+        armik.export(armik.load("ur5"), name)
+
+
+@pytest.mark.parametrize("kind", ["two_parallel", "general"])
+def test_arms_without_an_exported_closed_form_are_refused(kind):
+    arm = load_arm(kind, np.random.default_rng(9))
+    with pytest.raises(armik.SolverError) as info:
+        armik.export(arm, "x")
+    text = str(info.value)
+    for name in ("three_parallel", "spherical", "planar2r"):
+        assert f"{name}: {registry.why_not(name, arm.kinematics)}" in text
+
+
+def test_cli(tmp_path, capsys):
+    out = tmp_path / "ik"
+    assert main(["export", "planar_2link", "--name", "two", "--out", str(out)]) == 0
+    assert capsys.readouterr().out.split() == [str(out / "two_ik.h"), str(out / "two_ik.c")]
+    assert "TWO_IK_MAX_SOLUTIONS 2" in (out / "two_ik.h").read_text()
+    assert main(["export", "panda", "--name", "p", "--out", str(tmp_path / "p")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "no closed form to export" in err
+    assert not (tmp_path / "p").exists()
+    assert main(["export", "ur5", "--name", "1x", "--out", str(out)]) == 2
+    assert "C identifier" in capsys.readouterr().err
+    tight = ["--tol-position", "1e-9", "--tol-orientation", "2e-9"]
+    assert main(["export", "ur5", "--name", "t", "--out", str(out), *tight]) == 0
+    assert "to 1e-09 m and 2e-09 rad" in (out / "t_ik.h").read_text()
+    assert main(["export", "ur5", "--name", "t", "--out", str(out), "--tol-position", "-1"]) == 2
+    assert "tol_position must be > 0" in capsys.readouterr().err
+
+
+def test_two_solvers_link_into_one_library(tmp_path):
+    """Everything but N_ik and N_fk is static: two arms' solvers share a program."""
+    cc, _ = compilers()
+    sources = []
+    for name in ("ur5", "abb_irb120"):
+        armik.export(armik.load(name), name, tmp_path)
+        sources.append(str(tmp_path / f"{name}_ik.c"))
+    run(cc, *CFLAGS, "-shared", "-fPIC", *sources, "-o", str(tmp_path / "both.so"), "-lm")
+    symbols = subprocess.run(
+        ["nm", "-D", "--defined-only", str(tmp_path / "both.so")], capture_output=True, text=True
+    ).stdout.split()
+    exported = {s for s in symbols if s.endswith(("_ik", "_fk"))}
+    assert exported == {"ur5_ik", "ur5_fk", "abb_irb120_ik", "abb_irb120_fk"}

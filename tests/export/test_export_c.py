@@ -1,0 +1,172 @@
+"""The exported C solvers, built with the machine's compiler and loaded with ctypes, against
+Pinocchio and ``solve_all``: the bundled arms of each exported family and random arms."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from tests.export.build import Solver
+from tests.solvers.closed_form.random_arms import load_arm, random_axes, urdf_text, wrapped_distance
+
+TARGETS = 50
+BUNDLED = ["ur5", "ur10", "z1", "abb_irb120", "planar_2link", "ur5+tool"]
+RANDOM = [("three_parallel", 1), ("three_parallel", 2), ("parallel_23", 3), ("meeting_12", 4)]
+
+
+def arm_of(case) -> armik.Arm:
+    if case == "ur5+tool":  # a tool offset, as loaded
+        return armik.load("ur5", tip_offset=(0.03, -0.02, 0.15))
+    if isinstance(case, str):
+        return armik.load(case)
+    kind, seed = case
+    return load_arm(kind, np.random.default_rng(seed))
+
+
+@pytest.fixture(scope="module", params=BUNDLED + RANDOM, ids=str)
+def built(request, tmp_path_factory):
+    arm = arm_of(request.param)
+    return arm, Solver(arm, "arm", tmp_path_factory.mktemp("export"))
+
+
+def reached(arm: armik.Arm, q: np.ndarray, T: np.ndarray) -> tuple[float, float]:
+    """(m, rad) by which Pinocchio's FK of ``q`` misses ``T``."""
+    got = arm.fk(q)
+    position = float(np.linalg.norm(got.translation - T[:3, 3]))
+    return position, float(np.linalg.norm(pin.log3(got.rotation.T @ T[:3, :3])))
+
+
+def poses(arm: armik.Arm, rng: np.random.Generator, n: int) -> list[np.ndarray]:
+    return [arm.fk(arm.random_q(rng)).homogeneous for _ in range(n)]
+
+
+def check_solutions(arm: armik.Arm, Q: np.ndarray, T: np.ndarray) -> None:
+    """Every row finite, within the limits, reaching ``T`` within 1e-9 m and 1e-9 rad."""
+    assert np.isfinite(Q).all()
+    for q in Q:
+        assert np.all(q >= arm.lower - 1e-12) and np.all(q <= arm.upper + 1e-12)
+        position, orientation = reached(arm, q, T)
+        assert position < 1e-9 and orientation < 1e-9, (q.tolist(), position, orientation)
+
+
+def same_as_solve_all(arm: armik.Arm, Q: np.ndarray, T: np.ndarray) -> None:
+    """The rows are ``solve_all``'s verified answers, in its order (each joint within 1e-7
+    rad, modulo 2 pi)."""
+    expected = [r.q for r in arm.solve_all(T) if r.success]
+    assert len(Q) == len(expected), (Q.tolist(), [q.tolist() for q in expected])
+    for got, want in zip(Q, expected):
+        assert wrapped_distance(got, want) < 1e-7, (got.tolist(), want.tolist())
+
+
+def test_fk_is_pinocchios(built):
+    arm, solver = built
+    rng = np.random.default_rng(7)
+    for _ in range(TARGETS):
+        q = arm.random_q(rng)
+        assert np.abs(solver.fk(q) - arm.fk(q).homogeneous).max() < 1e-12
+
+
+def test_every_solution_reaches_the_target_as_solve_all_finds_them(built):
+    arm, solver = built
+    found = 0
+    for T in poses(arm, np.random.default_rng(11), TARGETS):
+        Q = solver.ik(T)
+        check_solutions(arm, Q, T)
+        same_as_solve_all(arm, Q, T)
+        found += len(Q)
+    assert found >= TARGETS  # a target made from joint values within the limits is reached
+
+
+def test_out_of_reach_and_bad_poses(built):
+    arm, solver = built
+    far = np.eye(4)
+    far[:3, 3] = arm.kinematics.first_joint_origin + [0.0, 0.0, 10.0 + arm.kinematics.reach]
+    n, Q = solver.ik_count(far)
+    assert n == 0 and not arm.solve_all(far)[0].success
+    T = poses(arm, np.random.default_rng(3), 1)[0]
+    for bad in (np.nan, np.inf):
+        broken = T.copy()
+        broken[1, 3] = bad
+        assert solver.ik_count(broken)[0] == -1
+    skewed = T.copy()
+    skewed[:3, :3] *= 1.001
+    assert solver.ik_count(skewed)[0] == -1
+
+
+SINGULAR = {  # joint values at a singularity of each arm's family
+    "ur5": [[0.3, -1.0, 1.2, -0.4, 0.0, 0.7], [0.3, -1.0, 0.0, -0.4, 1.1, 0.7]],
+    "abb_irb120": [[0.3, 0.4, 0.2, 0.5, 0.0, -0.6], [0.0, 0.3, 0.2, 0.4, 0.9, 0.1]],
+}
+
+
+@pytest.mark.parametrize("name", sorted(SINGULAR))
+def test_singular_targets(name, tmp_path):
+    """Wrist and elbow singularities: no NaN, every row verified, as ``solve_all`` has
+    them (a free joint at the middle of its limits)."""
+    arm = armik.load(name)
+    solver = Solver(arm, "s", tmp_path)
+    for q in SINGULAR[name]:
+        T = arm.fk(np.array(q)).homogeneous
+        n, Q = solver.ik_count(T)
+        assert n >= 0 and n < 8
+        check_solutions(arm, Q[:n], T)
+        same_as_solve_all(arm, Q[:n], T)
+
+
+def test_limits_narrower_than_a_turn(tmp_path):
+    """Limits that exclude branches: every row within them, the same as ``solve_all``."""
+    arm = armik.load("ur5").with_limits(
+        {"shoulder_lift_joint": (-2.0, -0.5), "wrist_2_joint": (0.2, 2.5)}
+    )
+    solver = Solver(arm, "narrow", tmp_path)
+    for T in poses(arm, np.random.default_rng(5), 20):
+        Q = solver.ik(T)
+        assert len(Q) >= 1
+        check_solutions(arm, Q, T)
+        same_as_solve_all(arm, Q, T)
+
+
+def test_continuous_joints(tmp_path):
+    """Joints without limits (continuous): values in (-pi, pi], as ``solve_all`` gives them."""
+    rng = np.random.default_rng(21)
+    c, h = random_axes("three_parallel", rng)
+    text = urdf_text(c, h, rng)
+    for joint in ("j1", "j4", "j6"):
+        start = text.index(f'<joint name="{joint}" type="revolute"')
+        end = text.index("</joint>", start)
+        part = text[start:end].replace('type="revolute"', 'type="continuous"')
+        part = part[: part.index("<limit")]
+        text = text[:start] + part + text[end:]
+    arm = armik.load_string(text, base="world", tip="tool")
+    assert np.isinf(arm.kinematics.upper).sum() == 3
+    solver = Solver(arm, "cont", tmp_path)
+    for T in poses(arm, np.random.default_rng(4), 20):
+        Q = solver.ik(T)
+        assert len(Q) >= 1
+        check_solutions(arm, Q, T)
+        same_as_solve_all(arm, Q, T)
+
+
+def test_tighter_tolerances(tmp_path):
+    """With 1e-9 m and 1e-9 rad the C keeps what ``solve_all`` verifies at those
+    tolerances: on the UR5's target 1624 of seed 0, a branch 7.8e-7 m out of reach, which
+    the default 1e-6 m accepts, is dropped."""
+    arm = armik.load("ur5")
+    tight = {"tol_position": 1e-9, "tol_orientation": 1e-9}
+    loose = Solver(arm, "loose", tmp_path / "loose")
+    solver = Solver(arm, "tight", tmp_path / "tight", **tight)
+    rng = np.random.default_rng(0)
+    qs = [arm.random_q(rng) for _ in range(1625)]
+    dropped = 0
+    for q in qs[1600:]:
+        T = arm.fk(q).homogeneous
+        Q = solver.ik(T)
+        check_solutions(arm, Q, T)
+        expected = [r.q for r in arm.solve_all(T, **tight) if r.success]
+        assert len(Q) == len(expected)
+        for got, want in zip(Q, expected):
+            assert wrapped_distance(got, want) < 1e-7
+        dropped += len(loose.ik(T)) - len(Q)
+    assert dropped >= 1

@@ -1,0 +1,32 @@
+"""A look-at with no line of sight is never a success: refused by name where the request
+itself says so, failed by the verdict where an answer stands on the point."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import armik
+from tests.conftest import arm as bundled
+
+
+@pytest.mark.parametrize("holder", ["position", "pose"])
+def test_a_frame_held_on_the_point_it_looks_at_is_refused(holder):
+    panda = bundled("panda")
+    T = panda.fk(panda.middle)
+    p = T.translation
+    there = armik.Position(p) if holder == "position" else armik.Pose(T)
+    with pytest.raises(armik.TargetError, match="LookAt point"):
+        panda.solve([there, armik.LookAt(p)])
+    # a box to stand back in leaves a line of sight: no refusal
+    panda.solve([armik.Position(p, bounds=(0.05,) * 3), armik.LookAt(p)], iteration_budget=50)
+
+
+def test_an_answer_standing_on_the_point_is_no_success():
+    panda = bundled("panda")
+    q = panda.middle
+    p = panda.fk(q).translation
+    for solver in ("auto", "dls"):
+        r = panda.solve(armik.LookAt(p), q0=q, solver=solver, iteration_budget=200)
+        if r.success:  # only by looking at it from elsewhere
+            assert np.linalg.norm(panda.fk(r.q).translation - p) > 1e-9
