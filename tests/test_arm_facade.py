@@ -19,6 +19,8 @@ PUBLIC = {
     "with_limits", "with_locked",
     # solving and collisions
     "solve", "solve_all", "solve_batch", "solve_path", "min_distance", "in_collision",
+    # streaming
+    "servo",
 }  # fmt: skip
 
 

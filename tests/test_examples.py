@@ -59,6 +59,13 @@ EXPECT = {
         "batch: 20/20 solved",
         "a right hand 2 m away: unreachable: tip 'gripper_right_base_link'",
     ],
+    "15_servo.py": [
+        "jump: ['acceleration_limit', 'tracking', 'velocity_limit'] on the way",
+        "s: on_target",
+        "3 m away: out_of_reach, NaN: False",
+        "m, on_target",
+        "{'position': 0.0, 'velocity': 0.0, 'acceleration': 0.0}",
+    ],
 }
 
 

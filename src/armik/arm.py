@@ -23,6 +23,7 @@ from armik.model.arm_model import ArmModel
 from armik.model.catalogue import CATALOGUE, entry
 from armik.model.reduce import check_locked, check_offset, check_package_dirs
 from armik.model.urdf import URDFInfo, read_urdf, read_urdf_string
+from armik.servo.servo import start as start_servo
 from armik.solve.batch import solve_batch
 from armik.solve.path import solve_path
 from armik.solve.single import solve_one
@@ -417,11 +418,9 @@ class Arm:
         """A new arm with the joints of ``locked`` (name -> rad or m) locked at those values,
         on or off the chain, besides those this arm already locks (a joint locked again takes
         the new value). Built from the arm's recipe, as ``armik.load`` would; the limits
-        replaced by ``with_limits`` are kept for the joints that stay free.
-
-        Raises ``JointError`` as ``armik.load`` does: an unknown joint, a value that is not
-        finite or lies outside the joint's URDF limits, no moving joint left.
-        """
+        replaced by ``with_limits`` are kept for the joints that stay free. Raises
+        ``JointError`` as ``armik.load`` does: an unknown joint, a value that is not
+        finite or lies outside the joint's URDF limits, no moving joint left."""
         return Arm(self.kinematics.with_locked(locked))
 
     # -- solving --------------------------------------------------------------------------
@@ -480,7 +479,8 @@ class Arm:
             self.kinematics, poses, q0, max_joint_step=max_joint_step, plan=plan, **options
         )
 
-    # -- collisions -----------------------------------------------------------------------
+    # -- streaming (armik.servo.Servo: q0, dt=0.002, velocity_limits=, ...) and collisions --
+    servo = start_servo
 
     def min_distance(
         self, q: object, obstacles: object = (), self_collision: bool = False

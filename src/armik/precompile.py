@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from armik.arm import Arm, load, load_string
-from armik.constraints.shapes import Box, HalfSpace
+from armik.constraints.shapes import Box, HalfSpace, Sphere
 from armik.errors import OptionError, listing
 from armik.model.random_arms import random_urdf
 from armik.problem.tasks import Axis, Position
@@ -163,6 +163,14 @@ def _collisions() -> None:
     arm.min_distance(arm.middle, scene, self_collision=True)
 
 
+def _servo() -> None:
+    arm = load("ur5")
+    q = np.array([0.3, -1.2, 1.4, -1.5, -1.5, 0.2])
+    T = arm.fk(q)
+    near = Sphere(0.04, tuple(T.translation + np.array([0.0, 0.08, 0.0])))  # rows: the step's
+    arm.servo(q, obstacles=[near]).step(T)
+
+
 PARTS: dict[str, Callable[[], None]] = {
     "dls": _numeric("dls"),
     "qp": _numeric("qp"),
@@ -185,6 +193,7 @@ PARTS: dict[str, Callable[[], None]] = {
     "fk_batch": _fk_batch,
     "tasks": _tasks_part,
     "collisions": _collisions,
+    "servo": _servo,
 }
 
 

@@ -1,0 +1,107 @@
+"""A servo's collision rows: obstacles and self-collision as velocity dampers on the step.
+
+For each checked pair (``armik.constraints.collision.Checker``: the arm's links against the
+obstacles and, with ``self_collision``, against each other) whose lower bound on its
+distance is below ``margin + ACTIVE`` (the broad phase: far pairs cost nothing), coal gives
+the distance d, the witness points p1, p2 and the normal n from p1 to p2; the row
+
+    n . (J_p2 - J_p1) dq >= -RATE dt (d - margin)
+
+lets the pair close by at most a share ``RATE dt`` of its gap to the margin a tick, and
+pushes a pair inside the margin apart (Pink's and mink's collision avoidance; the
+velocity damper of Faverjon and Tournassoud). The rows are ``(K, n + 1)``: C, then b.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from armik.constraints import collision
+from armik.constraints.shapes import check_obstacles
+from armik.errors import CollisionError
+from armik.model.arm_model import ArmModel
+from armik.servo.tick import MAX_ROWS
+
+ACTIVE = 0.05  # m beyond the margin: pairs nearer than this give a row
+RATE = 10.0  # 1/s: the share of its gap to the margin a pair may close a second
+
+
+class CollisionRows:
+    """The rows of one arm's obstacles at joint values q (``at``)."""
+
+    def __init__(
+        self, arm: ArmModel, obstacles: object, self_collision: bool, margin: object, dt: float
+    ) -> None:
+        shapes = check_obstacles(obstacles)
+        try:
+            m = float(margin)  # type: ignore[arg-type]
+        except (TypeError, ValueError):
+            m = float("nan")
+        if not 0.0 <= m < 1.0:
+            raise CollisionError(
+                f"margin must be a distance in [0, 1) m, got {margin!r}",
+                option="margin",
+                value=margin,
+            )
+        self.arm, self.margin, self.gain = arm, m, RATE * dt
+        self.check = collision.checker(arm, shapes, bool(self_collision))
+        self.data = arm.model.createData()
+        self.rows = np.zeros((MAX_ROWS, arm.dof + 1))
+        self.nearest = float("inf")  # m: the nearest pair's distance at the last ``at``
+
+    def at(self, q: np.ndarray) -> np.ndarray:
+        """The rows at q (rad, m), nearest pairs first, at most ``MAX_ROWS``."""
+        arm, check, data = self.arm, self.check, self.data
+        reach = self.margin + ACTIVE
+        bound = check.bounds(q)
+        near = np.flatnonzero(bound < reach)
+        self.nearest = float("inf")
+        if near.size == 0:
+            return self.rows[:0]
+        model, gm = arm.model, check.model
+        gd = check.geometry_data()
+        qp = arm.to_pin(q)
+        pin.computeJointJacobians(model, data, qp)
+        pin.updateGeometryPlacements(model, data, gm, gd)
+        K = 0
+        for k in near[np.argsort(bound[near])].tolist():
+            if K == MAX_ROWS:
+                break
+            r = pin.computeDistance(gm, gd, k)
+            d = r.min_distance
+            self.nearest = min(self.nearest, d)
+            if d >= reach:
+                continue
+            pair = gm.collisionPairs[k]
+            Jd = self._point(pair.second, np.array(r.getNearestPoint2()))
+            Jd -= self._point(pair.first, np.array(r.getNearestPoint1()))
+            self.rows[K, :-1] = np.array(r.normal) @ Jd
+            self.rows[K, -1] = -self.gain * (d - self.margin)
+            K += 1
+        return self.rows[:K]
+
+    def _point(self, i: int, p: np.ndarray) -> np.ndarray:
+        """The 3 x dof Jacobian of the world point p fixed to geometry object i."""
+        joint = self.check.model.geometryObjects[i].parentJoint
+        if joint == 0:
+            return np.zeros((3, self.arm.dof))
+        model, data = self.arm.model, self.data
+        J = pin.getJointJacobian(model, data, joint, pin.LOCAL_WORLD_ALIGNED)
+        r = p - data.oMi[joint].translation
+        return J[:3] - np.cross(r, J[3:].T).T  # v + w x r
+
+
+def rows_for(
+    arm: ArmModel, obstacles: object, self_collision: object, margin: object, dt: float
+) -> CollisionRows | None:
+    """The collision rows asked for, or None (no obstacle, no self-collision)."""
+    if obstacles is None and not self_collision:
+        return None
+    if not isinstance(self_collision, bool):
+        raise CollisionError(
+            f"self_collision must be True or False, got {self_collision!r}",
+            option="self_collision",
+            value=self_collision,
+        )
+    return CollisionRows(arm, obstacles, self_collision, margin, dt)

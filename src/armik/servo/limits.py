@@ -1,0 +1,88 @@
+"""A servo's per-joint limits, checked: velocity (the URDF's, or given) and acceleration
+(given, else ``DEFAULT_ACCELERATION``), and the tick's time step."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from armik.errors import OptionError
+from armik.model.arm_model import ArmModel
+
+# rad/s^2 (m/s^2 for a prismatic joint) on every joint where none is given: URDF has no
+# acceleration limits; 20 is within what industrial and collaborative arms allow on their
+# wrist joints and below it on most (give your arm's own: the Panda's are 7.5-20)
+DEFAULT_ACCELERATION = 20.0
+MAX_DT = 1.0  # s: a longer tick is no servo loop
+
+
+def time_step(dt: object) -> float:
+    """``dt`` (s) as a float in (0, ``MAX_DT``]; raises ``OptionError`` otherwise."""
+    try:
+        value = float(dt)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        value = math.nan
+    if not 0.0 < value <= MAX_DT:
+        raise OptionError(
+            f"dt must be the tick's period in seconds, in (0, {MAX_DT:g}], got {dt!r}: "
+            "e.g. dt=0.002 for a 500 Hz loop",
+            option="dt",
+            value=dt,
+        )
+    return value
+
+
+def urdf_velocities(arm: ArmModel) -> np.ndarray:
+    """Each joint's URDF velocity limit (rad/s, m/s); inf where the URDF gives none (0)."""
+    m = arm.model
+    ids = [j for j in range(1, m.njoints) if m.joints[j].nq > 0]
+    out = np.array([float(m.velocityLimit[m.joints[j].idx_v]) for j in ids])
+    return np.where(out > 0.0, out, math.inf)
+
+
+def per_joint(value: object, arm: ArmModel, name: str, default: np.ndarray) -> np.ndarray:
+    """``value`` as one positive limit per joint: None gives ``default``, a number every
+    joint, else one per joint (a mapping: joint name -> limit, the others ``default``'s)."""
+    if value is None:
+        out = default.copy()
+    elif isinstance(value, dict):
+        out = default.copy()
+        for joint, limit in value.items():
+            out[arm.joint_index(joint)] = _positive(limit, f"{name}[{joint!r}]")
+    else:
+        try:
+            arr = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            raise OptionError(
+                f"{name} must be a number or {arm.dof} numbers, got {value!r}",
+                option=name,
+                value=value,
+            ) from None
+        if arr.ndim == 0:
+            arr = np.full(arm.dof, float(arr))
+        if arr.shape != (arm.dof,):
+            raise OptionError(
+                f"{name} must be a number or one per joint ({arm.dof}: "
+                f"{', '.join(arm.joint_names)}), got shape {arr.shape}",
+                option=name,
+                value=value,
+            )
+        out = np.array([_positive(x, name) for x in arr.tolist()])
+    if not np.isfinite(out).all() and name != "velocity_limits":
+        raise OptionError(f"{name} must be finite, got {out.tolist()}", option=name, value=value)
+    return out
+
+
+def _positive(x: object, name: str) -> float:
+    try:
+        value = float(x)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        value = math.nan
+    if not value > 0.0:
+        raise OptionError(
+            f"{name} must be positive (rad/s or rad/s^2 per joint), got {x!r}",
+            option=name,
+            value=x,
+        )
+    return value

@@ -1,0 +1,203 @@
+"""``Servo``: streaming differential IK, one compiled tick a target, every limit on the
+commanded sequence itself (``Arm.servo`` starts one; docs/servo.md)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+
+import numpy as np
+
+from armik.errors import OptionError
+from armik.frozen import frozen
+from armik.model.arm_model import ArmModel, model_of
+from armik.servo import table as _table
+from armik.servo import tick as k
+from armik.servo.collisions import rows_for
+from armik.servo.limits import DEFAULT_ACCELERATION, per_joint, time_step, urdf_velocities
+from armik.servo.result import STATUSES, ServoRecord, ServoStep
+
+SINGULAR = 0.05  # below this smallest singular value (m/rad or 1) the damping grows ...
+DAMPING = 0.005  # ... up to this (added to A^T A) at a singular value of 0
+DAMPING_ERROR = 0.1  # and by this times the squared error (m^2, rad^2): far, the gradient's way
+LAMBDA_MIN = 1e-9  # always: keeps a redundant arm's normal matrix invertible
+REACH_SLACK = 1e-3  # m beyond the reach bound before a target is called out of reach
+PULL = 2.0  # 1/s: the pull toward q0 where the task leaves joints free or is damped
+ON_TARGET = 1e-6  # m and rad: within these of every task's region a tick is on target
+
+
+class Servo:
+    """Streaming IK for one arm from joint values ``q0`` at rest: ``step(target)`` gives the
+    next command one tick of ``dt`` s later, within the joint limits, the velocity limits
+    and the acceleration limits, braking in time for every position limit (see
+    ``armik.servo.box``). Built by ``Arm.servo`` (``start``)."""
+
+    def __init__(
+        self,
+        arm: ArmModel,
+        q0: object,
+        *,
+        dt: object = 0.002,
+        velocity_limits: object = None,
+        acceleration_limits: object = None,
+        gain: object = 1.0,
+        obstacles: object = None,
+        self_collision: object = False,
+        margin: object = 0.01,
+        tol_position: float = ON_TARGET,
+        tol_orientation: float = ON_TARGET,
+    ) -> None:
+        self.arm = arm
+        self.dt = time_step(dt)
+        n = arm.dof
+        q = arm.check_q(q0, "q0")
+        if not arm.within_limits(q, 0.0):
+            raise OptionError(
+                "q0 must lie within the joint limits (a servo never commands a position "
+                "outside them): " + "; ".join(arm.limit_violations(q, 0.0)),
+                option="q0",
+                value=q0,
+            )
+        vmax = per_joint(velocity_limits, arm, "velocity_limits", urdf_velocities(arm))
+        amax = per_joint(
+            acceleration_limits, arm, "acceleration_limits", np.full(n, DEFAULT_ACCELERATION)
+        )
+        g = float(gain) if isinstance(gain, (int, float)) else math.nan
+        if not 0.0 < g <= 1.0:
+            raise OptionError(
+                f"gain must be in (0, 1] (the fraction of the error corrected a tick), got "
+                f"{gain!r}",
+                option="gain",
+                value=gain,
+            )
+        self._state = np.zeros((k.STATE_ROWS, n))
+        self._state[k.Q], self._state[k.REST] = q, q
+        self._state[k.VMAX], self._state[k.AMAX] = vmax, amax
+        self._state[k.LO], self._state[k.HI] = arm.lower, arm.upper
+        self._cfg = np.zeros(k.CFG)
+        self._cfg[k.DT], self._cfg[k.GAIN], self._cfg[k.REACH_SLACK] = self.dt, g, REACH_SLACK
+        self._cfg[k.TOL_P], self._cfg[k.TOL_R] = tol_position, tol_orientation
+        self._cfg[k.PULL], self._cfg[k.LAM_ERR], self._cfg[k.RESET] = PULL, DAMPING_ERROR, 1.0
+        self._cfg[k.SIGMA_EPS], self._cfg[k.LAM_MAX], self._cfg[k.LAM_MIN] = (
+            SINGULAR,
+            DAMPING,
+            LAMBDA_MIN,
+        )
+        floats, ints = k.layout(n, arm.kernel_chain.chain.joint_kind.shape[0])
+        self._buf, self._ibuf = np.zeros(floats), np.zeros(ints, dtype=np.int64)
+        self._out = np.zeros(k.OUT)
+        self._old = np.empty((0, k.COLUMNS))
+        self._flat = arm.kernel_chain.flat
+        self._names = arm.joint_names
+        self._collisions = rows_for(arm, obstacles, self_collision, margin, self.dt)
+        self._no_rows = np.zeros((0, n + 1))
+
+    @property
+    def velocity_limits(self) -> np.ndarray:
+        """rad/s (m/s) per joint."""
+        return self._state[k.VMAX].copy()
+
+    @property
+    def acceleration_limits(self) -> np.ndarray:
+        """rad/s^2 (m/s^2) per joint."""
+        return self._state[k.AMAX].copy()
+
+    @property
+    def q(self) -> np.ndarray:
+        """The last commanded joint values (rad, m)."""
+        return self._state[k.Q].copy()
+
+    @property
+    def dq(self) -> np.ndarray:
+        """The last commanded velocity (rad/s, m/s)."""
+        return self._state[k.V].copy()
+
+    def step(self, target: object) -> ServoStep:
+        """The command one tick later, toward ``target`` (anything ``Arm.solve`` takes for
+        the tip: a pose, a position, ``armik.Pose(..., bounds=)``, ``Axis``, ``LookAt``, a
+        list of them). Never raises for a target it can read, never returns NaN: a target
+        it cannot reach within the limits is approached as far as they allow. Raises
+        ``TargetError`` for a target it cannot read."""
+        rows = _table.table(target, self.arm)
+        packed, kind, halton = self._flat
+        out, state = self._out, self._state
+        near = self._no_rows if self._collisions is None else self._collisions.at(state[k.Q])
+        k.tick(
+            packed,
+            kind,
+            halton,
+            rows,
+            self._old,
+            near,
+            state,
+            self._cfg,
+            self._buf,
+            self._ibuf,
+            out,
+        )
+        self._old = rows
+        command = state[: k.ACC + 1].copy()  # q, dq, ddq: one read-only copy
+        command.flags.writeable = False
+        pos, ori, code, j, sigma, conflict = out.tolist()
+        status = STATUSES[int(code)]
+        return frozen(
+            ServoStep,
+            q=command[k.Q],
+            dq=command[k.V],
+            ddq=command[k.ACC],
+            status=status,
+            joint=self._names[int(j)] if j >= 0 else None,
+            position_error=None if pos != pos else pos,  # NaN: not measured
+            orientation_error=None if ori != ori else ori,
+            sigma=sigma,
+            conflict=conflict != 0.0,
+        )
+
+    def track(self, targets: Iterable[object]) -> ServoRecord:
+        """``step`` through ``targets`` in order, one tick each; the ticks' fields as arrays
+        of one row a tick."""
+        steps = [self.step(t) for t in targets]
+        if not steps:
+            raise OptionError("targets must hold at least one target", option="targets")
+
+        def column(name: str) -> np.ndarray:
+            return np.array([getattr(s, name) for s in steps])
+
+        def errors(name: str) -> np.ndarray:
+            values = [getattr(s, name) for s in steps]
+            return np.array([math.nan if v is None else v for v in values], dtype=float)
+
+        return ServoRecord(
+            q=column("q"),
+            dq=column("dq"),
+            ddq=column("ddq"),
+            status=np.array([s.status.value for s in steps]),
+            reason=[s.reason for s in steps],
+            joint=np.array([s.joint or "" for s in steps]),
+            position_error=errors("position_error"),
+            orientation_error=errors("orientation_error"),
+            sigma=column("sigma"),
+        )
+
+
+def start(arm: object, q0: object, **options: object) -> Servo:
+    """``Arm.servo(q0, dt=0.002, velocity_limits=None, acceleration_limits=None, gain=1.0)``:
+    a ``Servo`` for ``arm`` (an ``Arm`` or its model) at rest at ``q0`` (rad, m; within the
+    limits), ticking every ``dt`` s, within ``velocity_limits`` (rad/s per joint, a number
+    or a mapping joint -> limit; default the URDF's) and ``acceleration_limits`` (rad/s^2;
+    default ``DEFAULT_ACCELERATION``), correcting ``gain`` of the error a tick, keeping the
+    arm ``margin`` m from ``obstacles`` (shapes in the base frame) and, with
+    ``self_collision``, from itself (``armik.servo.collisions``). Raises ``OptionError``
+    (``CollisionError``) naming a bad value. See docs/servo.md."""
+    for name in options:
+        if name not in KEYWORDS:
+            raise OptionError(
+                f"the servo takes no option {name!r}; its options: {', '.join(KEYWORDS)}",
+                option=name,
+                value=options[name],
+            )
+    return Servo(model_of(arm), q0, **options)  # type: ignore[arg-type]
+
+
+KEYWORDS: tuple[str, ...] = ("dt", "velocity_limits", "acceleration_limits", "gain")
+KEYWORDS += ("tol_position", "tol_orientation", "obstacles", "self_collision", "margin")
