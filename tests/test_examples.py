@@ -79,7 +79,7 @@ def test_example_runs(script, tmp_path):
         [sys.executable, str(script), "--out", str(tmp_path)],
         capture_output=True,
         text=True,
-        timeout=300,
+        timeout=1200,  # a guard against a hang only: a cold compile on a busy machine is slow
         env={"MPLBACKEND": "Agg", "PATH": "", **_env()},
     )
     assert proc.returncode == 0, proc.stderr
