@@ -11,9 +11,12 @@ of LLVM, numba's inlining and its lowering. Extra environment (``NUMBA_OPT=1``, 
 the events then list everything the first solve compiles.
 
 With ``--closed-forms``, the first closed-form solves instead: the UR5 (three parallel
-axes), then the IRB 120 (spherical wrist) in the same interpreter.
+axes), then the IRB 120 (spherical wrist) in the same interpreter. With ``--general``, the
+general 6R families (``three_parallel_general``, ``spherical_general``) on a random arm of
+each, one interpreter each: the first ``solve``, ``solve_all`` and ``solve_batch``, each
+with its CPU time.
 
-    python benchmarks/compile_time.py [--events] [--profile] [--closed-forms]
+    python benchmarks/compile_time.py [--events] [--profile] [--closed-forms | --general]
 """
 
 from __future__ import annotations
@@ -89,8 +92,38 @@ for name in ("ur5", "abb_irb120"):
 """
 
 
+GENERAL = r"""
+import sys, time
+import numpy as np
+import armik
+from armik.model.random_arms import random_urdf
+family = sys.argv[1]
+kind = {"three_parallel_general": "three_parallel_free", "spherical_general": "spherical"}[family]
+a = armik.load_string(random_urdf(kind, np.random.default_rng(0)), base="world", tip="tool")
+rng = np.random.default_rng(1)
+T = a.fk(a.random_q(rng))
+poses = np.array([a.fk(a.random_q(rng)).homogeneous for _ in range(5)])
+calls = {
+    "solve": lambda: a.solve(T, solver=family),
+    "solve_all": lambda: a.solve_all(T, solver=family),
+    "solve_batch": lambda: a.solve_batch(poses, solver=family, workers=1, progress=False),
+}
+for name, call in calls.items():
+    t, c = time.perf_counter(), time.process_time()
+    call()
+    took, cpu = time.perf_counter() - t, time.process_time() - c
+    print(f"{family}: first {name} {took:.1f} s ({cpu:.1f} s of CPU)", flush=True)
+"""
+
+
 def main() -> None:
     events = [f for f in ("--events", "--profile") if f in sys.argv]
+    if "--general" in sys.argv:
+        for family in ("three_parallel_general", "spherical_general"):
+            with tempfile.TemporaryDirectory() as cache:
+                env = {**os.environ, "NUMBA_CACHE_DIR": cache}
+                subprocess.run([sys.executable, "-c", GENERAL, family], env=env, check=True)
+        return
     child = CLOSED_FORMS if "--closed-forms" in sys.argv else CHILD
     with tempfile.TemporaryDirectory() as cache:
         env = {**os.environ, "NUMBA_CACHE_DIR": cache}

@@ -71,7 +71,10 @@ def _random_arm(kind: str):
     return load_string(random_urdf(kind, np.random.default_rng(0)), base="world", tip="tool")
 
 
-def _closed_form(robot: str, solver: str) -> Callable[[], None]:
+def _closed_form(robot: str, solver: str, batch: bool = False) -> Callable[[], None]:
+    """``batch``: a ``solve_batch`` too (the family's compiled ``kernel_many``, which the
+    ``batch`` part compiles for the bundled arms' families)."""
+
     def run() -> None:
         arm = _random_arm(robot[7:]) if robot.startswith("random:") else load(robot)
         T = _pose(arm, 2)
@@ -81,6 +84,9 @@ def _closed_form(robot: str, solver: str) -> Callable[[], None]:
         arm.solve_all(target, solver=solver)
         if solver != "planar2r":
             _from_a_result(arm, T, solver)
+        if batch:
+            poses = np.array([_pose(arm, s).homogeneous for s in range(2)])
+            arm.solve_batch(poses, solver=solver, workers=1, progress=False)
 
     return run
 
@@ -178,12 +184,14 @@ PARTS: dict[str, Callable[[], None]] = {
     "planar2r": _closed_form("planar_2link", "planar2r"),
     "spherical": _closed_form("abb_irb120", "spherical"),
     "three_parallel": _closed_form("ur5", "three_parallel"),
-    "spherical_general": _closed_form("random:spherical", "spherical_general"),
-    "three_parallel_general": _closed_form("random:three_parallel_free", "three_parallel_general"),
+    "spherical_general": _closed_form("random:spherical", "spherical_general", batch=True),
+    "three_parallel_general": _closed_form(
+        "random:three_parallel_free", "three_parallel_general", batch=True
+    ),
     # one part: both families share the search's compiled zero finder (search_zeros)
     "search_1d": _in_turn(
-        _closed_form("random:two_parallel", "two_parallel"),
-        _closed_form("random:two_intersecting", "two_intersecting"),
+        _closed_form("random:two_parallel", "two_parallel", batch=True),
+        _closed_form("random:two_intersecting", "two_intersecting", batch=True),
     ),
     "swept": _closed_form("panda", "swept"),
     "general_6r": _closed_form("ur5", "general_6r"),
@@ -197,18 +205,22 @@ PARTS: dict[str, Callable[[], None]] = {
 }
 
 
-# s, roughly, from an empty cache on one core (measured 2026-12-02, `armik compile --all`):
-# the order tasks go to the processes in (longest first, so that the processes finish
-# together); a new part defaults to 10
+# s, roughly, from an empty cache on one core (measured 2026-12-02, `armik compile --all`;
+# search_1d, tasks and the general 6R families again on 2026-12-06, after LLVM's loop-idiom
+# pass went off for armik's code (``kernel.loop_idiom``), scaled to dls's 45 s): the order
+# tasks go to the processes in (longest first, so that the processes finish together); a
+# new part defaults to 10
 _COST = {
     "dls": 45,
     "qp": 45,
-    "search_1d": 29,
-    "spherical_general": 24,
-    "three_parallel_general": 23,
+    "search_1d": 50,
+    "servo": 35,  # the servo's tick (measured 2026-12-06: 38-41 s on a loaded machine)
+    "tasks": 30,
     "batch": 16,
+    "spherical_general": 13,
     "spherical": 13,
     "general_6r": 11,
+    "three_parallel_general": 9,
     "swept": 8,
 }
 # Parts one process compiles one after another: they share most of their compiled code,

@@ -16,6 +16,8 @@ that no cached caller keeps a callee's old code.
 - ``box_qp``: the QP backend the qp step falls back to (object mode, qpsolvers).
 - ``warmup``: a cold first solve compiled on two cores (the step in a helper process).
 - ``notice``: the line on stderr while a first call compiles.
+- ``loop_idiom``: LLVM's loop-idiom pass off while armik's code compiles (most of the
+  compile time of the 6R closed forms).
 
 The solve (``descent.solve_one_dls``, ``solve_one_qp``) and the functions its loop calls are
 compiled with ``_nrt=False``: without numba's reference counting, whose atomic increments
@@ -35,4 +37,5 @@ warnings.filterwarnings(
     "ignore", message="Code running in object mode won't allow parallel", category=NumbaWarning
 )
 
-from armik.kernel import notice  # noqa: E402, F401 (registers the compile notice)
+# the compile notice, and LLVM's loop-idiom pass off while armik's code compiles
+from armik.kernel import loop_idiom, notice  # noqa: E402, F401

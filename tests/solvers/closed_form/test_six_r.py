@@ -315,3 +315,31 @@ def test_base_frame_limits_and_pickling(tmp_path):
     assert any(s.status is Status.JOINT_LIMITS for s in results)
     b = pickle.loads(pickle.dumps(a))
     assert np.abs(b.solve(b.fk(q), q0=q).q - q).max() < 1e-9
+
+
+def test_a_batch_passes_writable_seeds_as_the_prepared_solve_does(monkeypatch):
+    """``kernel_many`` calls the kernel with each target's seed: a read-only one (an (N, 6)
+    q0 broadcast again is a read-only view) would compile the kernel a second time, for
+    read-only arrays, where ``solve_into`` passes writable seeds."""
+    from armik.options import Options
+    from armik.targets.batch import TargetBatch
+
+    a = arm("ur5")
+    family = three_parallel.SPEC.run_batch.__self__
+    got = []
+
+    def kernel_many(chain, Rs, ps, q0s):
+        got.append(q0s)
+        return np.zeros((len(ps), 6)), np.zeros(len(ps), np.int8)
+
+    monkeypatch.setattr(family, "kernel_many", kernel_many)
+    poses = [a.fk(q) for q in a.random_q(3, n=4)]
+    targets = TargetBatch(
+        np.array([T.translation for T in poses]), np.array([T.rotation for T in poses])
+    )
+    for q0 in (a.middle.copy(), np.tile(a.middle, (4, 1))):
+        q0.flags.writeable = False
+        family.run_batch(a.kinematics, targets, q0, Options())
+    assert len(got) == 2
+    for q0s in got:
+        assert q0s.flags.writeable and q0s.flags.c_contiguous and q0s.shape == (4, 6)

@@ -135,7 +135,10 @@ def batch(arm: ArmModel, targets, q0: np.ndarray, kernel_many, chain) -> Answers
     n = len(targets)
     Rs = np.ascontiguousarray(targets.rotations, dtype=float)
     ps = np.ascontiguousarray(targets.positions, dtype=float)
-    q0s = np.ascontiguousarray(np.broadcast_to(q0, (n, arm.dof)), dtype=float)
+    # a writable copy: broadcast_to's view is read-only, and ascontiguousarray keeps it
+    # so when q0 is (n, dof) already; a read-only seed compiled the whole kernel a second
+    # time inside kernel_many (solve_into passes writable seeds), minutes on an empty cache
+    q0s = np.array(np.broadcast_to(q0, (n, arm.dof)), dtype=float, order="C")
     q, claim = kernel_many(chain, Rs, ps, q0s)
     zeros = np.zeros(n, np.int64)
     return Answers(q=q, claim=claim, iterations=zeros, restarts=zeros.copy())
