@@ -147,6 +147,7 @@ def _path() -> None:
     q = arm.random_q(np.random.default_rng(3))
     poses = [arm.fk(q + 0.01 * k) for k in range(3)]
     arm.solve_path(poses, q, **_BUDGET)
+    arm.solve_path(poses, q, plan="global", **_BUDGET)  # the plan's ladder
 
 
 def _tasks_part() -> None:
