@@ -26,6 +26,9 @@ def test_an_answer_standing_on_the_point_is_no_success():
     panda = bundled("panda")
     q = panda.middle
     p = panda.fk(q).translation
+    # the task's own measure and the compiled path's region measure refuse it
+    assert not armik.LookAt(p).measure(panda.fk(q), 1e-6, 1e-6).within
+    assert not panda.solve(armik.LookAt(p), q0=q, iteration_budget=1, max_restarts=0).success
     for solver in ("auto", "dls"):
         r = panda.solve(armik.LookAt(p), q0=q, solver=solver, iteration_budget=200)
         if r.success:  # only by looking at it from elsewhere
