@@ -32,7 +32,7 @@ import armik
 from armik.kernel.measure import placement_check, pose_checks
 from armik.result import IKResult
 from armik.solve.prepared import plan_for
-from armik.solve.single import _options
+from armik.solve.read import settings
 from armik.tools.compare import _eaik
 
 BENCH = dict(timeout=0.005, tol_position=1e-5, tol_orientation=1e-5, seed=3)
@@ -82,7 +82,7 @@ def measure(name: str, solver: str, number: int) -> dict:
     q = arm.random_q(np.random.default_rng(3))
     T = arm.fk(q)
     H = T.homogeneous
-    opts, key, _ = _options({})
+    opts, key, _ = settings(kin, {})
     r = arm.solve(T, q0=q, solver=solver)
     plan = plan_for(kin, r.solver, key, opts)
     runner = plan.run_pose  # the closure holds the compiled entry and its arrays

@@ -17,16 +17,18 @@ import pinocchio as pin
 
 from armik.arms import Arms
 from armik.constraints import collision
-from armik.errors import ArmikWarning, FrameError, JointError, OptionError, URDFError, listing
+from armik.errors import ArmikWarning, JointError, OptionError, URDFError, listing
 from armik.model import frames
 from armik.model.arm_model import ArmModel
 from armik.model.catalogue import CATALOGUE, entry
-from armik.model.reduce import check_locked, check_offset, check_package_dirs
+from armik.model.reduce import check_frames, check_locked, check_offset, check_package_dirs
 from armik.model.urdf import URDFInfo, read_urdf, read_urdf_string
 from armik.servo.servo import start as start_servo
 from armik.solve.batch import solve_batch
 from armik.solve.path import solve_path
-from armik.solve.single import solve_one
+from armik.solve.read import read, read_batch, read_path
+from armik.solve.single import routed
+from armik.solve.stages import run
 from armik.solvers.registry import validate_name
 from armik.tolerances import LIMIT_TOL
 
@@ -34,6 +36,7 @@ if TYPE_CHECKING:
     from armik.batch_result import BatchResult
     from armik.constraints.collision import Pair
     from armik.result import IKResult
+    from armik.solve.progress import ProgressArg
 
 T = TypeVar("T")
 
@@ -114,7 +117,7 @@ def load(
             f"got {source!r}",
             path=str(source),
         )
-    _check_frames(base, tip, str(source))
+    check_frames(base, tip, str(source))
     locked = check_locked(locked)
     tip_offset = check_offset(tip_offset)
     dirs = check_package_dirs(package_dirs)
@@ -191,7 +194,7 @@ def load_string(
     expanded here: pass the expanded URDF (``xacro robot.urdf.xacro``)."""
     if not isinstance(xml, str):
         raise URDFError(f"xml must be the URDF's text (a str), got {type(xml).__name__}")
-    _check_frames(base, tip, "ROBOT")
+    check_frames(base, tip, "ROBOT")
     locked = check_locked(locked)
     tip_offset = check_offset(tip_offset)
     dirs = check_package_dirs(package_dirs)
@@ -249,16 +252,6 @@ def _built(
 
 
 STRING_SOURCE = "<string>"  # Arm.source of an arm read from XML text
-
-
-def _check_frames(base: object, tip: object, source: str) -> None:
-    for role, value in (("base", base), ("tip", tip)):
-        if value is not None and not isinstance(value, str):
-            raise FrameError(
-                f"{role} must be a frame name (a str), got {value!r}; "
-                f"'armik info {source} --frames' lists the frames",
-                frame=str(value),
-            )
 
 
 def _exists(path: Path) -> bool:
@@ -436,8 +429,10 @@ class Arm:
         """
         if type(solver) is not str:
             validate_name(solver)
-        result: IKResult = solve_one(self.kinematics, target, q0, solver, options)
-        return result
+        request = read(self.kinematics, target, q0, solver, options)  # options read once
+        if request.score is None and request.problem is None:  # the compiled path's stages
+            return run(self.kinematics, request)  # type: ignore[no-any-return]
+        return routed(self.kinematics, request)  # type: ignore[no-any-return]
 
     def solve_all(
         self, target: object, *, q0: object = None, solver: str = "auto", **options: Any
@@ -445,8 +440,10 @@ class Arm:
         """Every distinct solution the solver finds, each verified, best first."""
         if type(solver) is not str:
             validate_name(solver)
-        results: list[IKResult] = solve_one(self.kinematics, target, q0, solver, options, True)
-        return results
+        request = read(self.kinematics, target, q0, solver, options, every=True)
+        if request.score is None and request.problem is None:
+            return run(self.kinematics, request)  # type: ignore[no-any-return]
+        return routed(self.kinematics, request)  # type: ignore[no-any-return]
 
     def solve_batch(
         self,
@@ -455,13 +452,14 @@ class Arm:
         q0: object = None,
         solver: str = "auto",
         workers: int | None = None,
+        chunk_size: int | None = None,
+        progress: ProgressArg = None,
         **options: Any,
     ) -> BatchResult:
-        """Solve many targets ((N, 4, 4), (N, 7), (N, 3) or a list) on every core; returns a
-        ``BatchResult``. See ``armik.solve.batch.solve_batch``."""
-        return solve_batch(
-            self.kinematics, targets, q0=q0, solver=solver, workers=workers, **options
-        )
+        """Solve many targets ((N, 4, 4), (N, 7), (N, 3), a list) on every core: a
+        ``BatchResult`` (``armik.solve.batch``)."""
+        request = read_batch(self.kinematics, targets, q0, solver, options)
+        return solve_batch(self.kinematics, request, workers, chunk_size, progress)
 
     def solve_path(
         self,
@@ -470,14 +468,13 @@ class Arm:
         *,
         max_joint_step: float | np.ndarray | None = None,
         plan: str = "follow",
+        solver: str = "auto",
         **options: Any,
     ) -> BatchResult:
-        """Solve waypoints in order from ``q0`` (None: the middle of the limits), never with
-        a silent jump larger than ``max_joint_step``: each from the previous answer, or the
-        least joint motion over every branch (``plan="global"``; ``armik.solve.path``)."""
-        return solve_path(
-            self.kinematics, poses, q0, max_joint_step=max_joint_step, plan=plan, **options
-        )
+        """Waypoints in order from ``q0`` (None: mid-limits), no silent jump over
+        ``max_joint_step``; ``plan="global"``: the least motion (``armik.solve.path``)."""
+        request, local = read_path(self.kinematics, poses, q0, solver, plan, options)
+        return solve_path(self.kinematics, request, local, max_joint_step, plan)
 
     # -- streaming (armik.servo.Servo: q0, dt=0.002, velocity_limits=, ...) and collisions --
     servo = start_servo

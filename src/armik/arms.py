@@ -38,7 +38,6 @@ from armik.problem.scores import Manipulability, Score, parse_score
 from armik.problem.tasks import Pose, Position, Relative, Task
 from armik.problem.tasks.base import replaced
 from armik.result import IKResult
-from armik.solve.prepared import plan_for
 from armik.solve.single import solve_one
 from armik.solve.tasks import check_options, solve_tasks
 from armik.solvers.registry import get as get_solver
@@ -169,15 +168,11 @@ class Arms:
             solver = options.pop("solver", "auto")  # Arm.solve's route, without its frame
             if type(solver) is not str:
                 validate_name(solver)
-            chains = self._chains
-            if options or solver != "auto":
-                held = self._holds(options)
-                results = {
-                    tip: solve_one(chains[tip], target, seeds[tip], solver, held[tip])
-                    for tip, target in targets.items()
-                }
-            else:  # plain poses: each chain's prepared solve, as solve_one would take it
-                results = {tip: _prepared(chains[tip], t, seeds[tip]) for tip, t in targets.items()}
+            chains, held = self._chains, self._holds(options) if options else None
+            results = {
+                tip: solve_one(chains[tip], target, seeds[tip], solver, held[tip] if held else {})
+                for tip, target in targets.items()
+            }
             return joined(self.tips, results, seeds, time.perf_counter() - t0)
         order = _in_order(targets, relative)
         if order is None:  # tips placed relative to each other in a cycle: all at once
@@ -406,23 +401,6 @@ class Arms:
                 candidates=self.tips,
             )
         return relative
-
-
-def _prepared(arm, target: object, seed: np.ndarray) -> IKResult:
-    """``solve_one(arm, target, seed, "auto", {})``, straight to the prepared solve when
-    ``target`` is a pose (a 4x4 array or an ``SE3``) it takes; else by ``solve_one``."""
-    t0 = time.perf_counter()
-    kind = type(target)
-    if kind is pin.SE3 or (kind is np.ndarray and target.ndim == 2):  # type: ignore[attr-defined]
-        plan = plan_for(arm, "auto", (), _NO_OPTIONS)
-        if plan is not None:
-            r = plan.solve(target, seed, _NO_OPTIONS, 0, t0)
-            if r is not None:
-                return r
-    return solve_one(arm, target, seed, "auto", {})
-
-
-_NO_OPTIONS = Options()  # every default: what solve_one builds from no options
 
 
 def _as_tasks(target: object) -> list[Task]:

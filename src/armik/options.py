@@ -423,7 +423,7 @@ def with_sight(opts: Options, look_at: object = None, toward: object = None) -> 
     unit), validated: one of them, a cone to aim, a finite point or non-zero direction. A
     copy, built without the frozen ``__init__``. Kept apart from the rest, as the seed is,
     so that a loop of targets at new points validates and plans its options once
-    (``armik.solve.single._options``)."""
+    (``armik.solve.read.settings``)."""
     name, value = ("look_at", look_at) if toward is None else ("toward", toward)
     if look_at is not None and toward is not None:
         raise OptionError(

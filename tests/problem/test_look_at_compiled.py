@@ -14,7 +14,7 @@ import pytest
 import armik
 from armik.options import Options
 from armik.problem.problem import Problem, lower
-from armik.solve.single import _options
+from armik.solve.read import settings
 from tests import conftest
 
 BUDGET = {"iteration_budget": 3000}  # deterministic
@@ -74,8 +74,8 @@ def test_each_look_at_of_a_loop_looks_at_its_own_point():
     loop): each answer must still look at its own point, not the first's."""
     arm = conftest.arm("ur5")
     targets = _look_targets(arm, np.random.default_rng(9), 12, "held")
-    keys = {_options({"cone": lower(Problem(tuple(t)))[1]["cone"], "look_at": t[1].point})[1]
-            for t in targets}  # fmt: skip
+    said = [{"cone": lower(Problem(tuple(t)))[1]["cone"], "look_at": t[1].point} for t in targets]
+    keys = {settings(arm.kinematics, s)[1] for s in said}
     assert len(keys) == 1
     for tasks in targets:
         r = arm.solve(tasks, **BUDGET)

@@ -1,5 +1,5 @@
 """A region's rim (``Task.rim``): exact tasks just inside its edge, tried in closed form where
-a closed form shows the region's centre out of reach (``armik.solve.single._centre``)."""
+a closed form shows the region's centre out of reach (``armik.solve.task_solve.centre``)."""
 
 from __future__ import annotations
 
@@ -12,7 +12,8 @@ import armik
 from armik import Axis, Position
 from armik.problem.problem import as_problem, lower, rims, tightened
 from armik.problem.tasks.axis import RIM
-from armik.solve.single import _centre
+from armik.solve import task_solve
+from armik.solve.read import read
 from tests import conftest
 
 
@@ -34,7 +35,7 @@ def test_a_cone_rim_is_directions_tilted_evenly_around_it():
 def test_a_cone_whose_centre_is_out_of_reach_is_solved_on_its_rim_in_closed_form():
     """A UR5 target (found by search over seeded random targets) whose cone's centre
     direction no configuration reaches with the tool at the point: the closed form on the
-    rim answers (``_centre``, the task solver's start), the point exact and the tool's axis
+    rim answers (``centre``, the task solver's start), the point exact and the tool's axis
     within the cone by Pinocchio's FK; the cone itself is the compiled step's."""
     arm = conftest.arm("ur5")
     rng = np.random.default_rng(0)
@@ -45,7 +46,8 @@ def test_a_cone_whose_centre_is_out_of_reach_is_solved_on_its_rim_in_closed_form
     target, said = lower(tightened(as_problem(tasks)), arm.tip)
     centre = arm.solve(target, q0=arm.middle, **said)
     assert not centre.success and centre.status is armik.Status.UNREACHABLE
-    on_rim = _centre(arm.kinematics, as_problem(tasks), arm.middle, {})
+    request = read(arm.kinematics, T, arm.middle, "auto", {})  # its options and start
+    on_rim = task_solve.centre(arm.kinematics, as_problem(tasks), request)
     cone = arm.solve(tasks, q0=arm.middle)
     assert cone.success and cone.solver == "dls", cone.reason
     for r in (on_rim, cone):

@@ -13,7 +13,6 @@ from scipy.spatial.transform import Rotation
 import armik
 from armik import BatchResult
 from armik.errors import OptionError, TargetError
-from armik.solve.batch import solve_batch
 from armik.status import Status
 from armik.targets.batch import TargetBatch, parse_targets
 
@@ -39,7 +38,7 @@ def test_batch_equals_a_loop_of_solve(name):
     q0 = np.array([a.random_q(k) for k in range(len(targets))])
     options = dict(timeout=1.0, max_restarts=50, seed=7)
     loop = [a.solve(t, q0=q, **options) for t, q in zip(targets, q0)]
-    batch = solve_batch(a.kinematics, np.array(targets), q0=q0, workers=2, chunk_size=2, **options)
+    batch = a.solve_batch(np.array(targets), q0=q0, workers=2, chunk_size=2, **options)
     assert len(batch) == len(targets)
     assert batch.solver == loop[0].solver
     for i, r in enumerate(loop):
@@ -57,8 +56,8 @@ def test_batch_equals_a_loop_of_solve(name):
 def test_one_seed_for_all_targets_and_default_seed():
     a = arm("ur5")
     poses = _poses(a, 4, seed=1)
-    r_default = solve_batch(a.kinematics, poses, workers=1)
-    r_middle = solve_batch(a.kinematics, poses, q0=a.middle, workers=1)
+    r_default = a.solve_batch(poses, workers=1)
+    r_middle = a.solve_batch(poses, q0=a.middle, workers=1)
     np.testing.assert_array_equal(r_default.q, r_middle.q)
     np.testing.assert_array_equal(r_default.q[2], a.solve(poses[2]).q)
 
@@ -158,7 +157,7 @@ def test_rejected_inputs(value, words):
 
 
 def test_empty_batch():
-    r = solve_batch(model("ur5"), np.zeros((0, 4, 4)))
+    r = armik.Arm(model("ur5")).solve_batch(np.zeros((0, 4, 4)))
     assert len(r) == 0 and r.q.shape == (0, 6) and "0 targets" in r.summary()
 
 
@@ -166,22 +165,22 @@ def test_q0_checks():
     a = arm("ur5")
     poses = _poses(a, 3, seed=4)
     with pytest.raises(OptionError, match=r"shape \(6,\).*\(3, 6\)"):
-        solve_batch(a.kinematics, poses, q0=np.zeros((2, 6)))
+        a.solve_batch(poses, q0=np.zeros((2, 6)))
     bad = np.zeros((3, 6))
     bad[1, 2] = np.nan
     with pytest.raises(OptionError, match="target 1 must be finite"):
-        solve_batch(a.kinematics, poses, q0=bad)
+        a.solve_batch(poses, q0=bad)
     outside = np.zeros((3, 6))
     outside[2, 2] = 10.0
     with pytest.warns(armik.ArmikWarning, match="1 target.*target 2"):
-        solve_batch(a.kinematics, poses, q0=outside, workers=1)
+        a.solve_batch(poses, q0=outside, workers=1)
     for workers in (0, 1.5, True):
         with pytest.raises(OptionError, match="workers"):
-            solve_batch(a.kinematics, poses, workers=workers)
+            a.solve_batch(poses, workers=workers)
     with pytest.raises(OptionError, match="chunk_size"):
-        solve_batch(a.kinematics, poses, chunk_size=0)
+        a.solve_batch(poses, chunk_size=0)
     with pytest.raises(armik.OptionError, match="unknown option"):
-        solve_batch(a.kinematics, poses, tolerance=1e-3)
+        a.solve_batch(poses, tolerance=1e-3)
 
 
 def test_result_api_and_npz_round_trip(tmp_path):
@@ -189,9 +188,7 @@ def test_result_api_and_npz_round_trip(tmp_path):
     poses = _poses(a, 6, seed=9)
     poses[4] = pin.SE3(np.eye(3), np.array([5.0, 0, 0]))
     seen = []
-    r = solve_batch(
-        a.kinematics, poses, workers=1, progress=lambda done, total: seen.append((done, total))
-    )
+    r = a.solve_batch(poses, workers=1, progress=lambda done, total: seen.append((done, total)))
     assert seen[-1] == (6, 6)
     assert list(r.status) == ["converged"] * 4 + ["unreachable", "converged"]
     assert (r.status == "converged").sum() == 5 and r.counts() == {"converged": 5, "unreachable": 1}
@@ -237,7 +234,7 @@ def test_arms_pickle_as_their_recipe():
     np.testing.assert_array_equal(b.lower, a.lower)
     poses = _poses(a, 2, seed=8)
     np.testing.assert_array_equal(
-        solve_batch(a.kinematics, poses, workers=1).q, solve_batch(b.kinematics, poses, workers=1).q
+        a.solve_batch(poses, workers=1).q, b.solve_batch(poses, workers=1).q
     )
 
 
@@ -251,21 +248,21 @@ def test_target_batch_indexing():
 
 def test_progress_bar_on_request(capsys):
     a = arm("ur5")
-    solve_batch(a.kinematics, _poses(a, 3, seed=1), solver="dls", workers=1, progress=True)
+    a.solve_batch(_poses(a, 3, seed=1), solver="dls", workers=1, progress=True)
     err = capsys.readouterr().err
     assert "ur5/dls" in err and "3/3" in err and "#" * 30 in err
-    solve_batch(a.kinematics, _poses(a, 3, seed=1), workers=1)  # stderr is not a terminal here
+    a.solve_batch(_poses(a, 3, seed=1), workers=1)  # stderr is not a terminal here
     assert capsys.readouterr().err == ""
     with pytest.raises(OptionError, match="progress"):
-        solve_batch(a.kinematics, _poses(a, 1, seed=1), progress="yes")
+        a.solve_batch(_poses(a, 1, seed=1), progress="yes")
 
 
 def test_thread_count_and_chunking_do_not_change_answers():
     a = arm("panda")
     T = np.array([p.homogeneous for p in _poses(a, 40, seed=12)])
     options = dict(iteration_budget=400, seed=5)  # a budget in iterations: deterministic
-    one = solve_batch(a.kinematics, T, workers=1, chunk_size=40, **options)
-    two = solve_batch(a.kinematics, T, workers=2, chunk_size=7, **options)
+    one = a.solve_batch(T, workers=1, chunk_size=40, **options)
+    two = a.solve_batch(T, workers=2, chunk_size=7, **options)
     for name in ("q", "success", "status_code", "iterations", "restarts", "position_error"):
         np.testing.assert_array_equal(getattr(one, name), getattr(two, name), err_msg=name)
     loop = [a.solve(t, **options) for t in T[:5]]
@@ -275,8 +272,7 @@ def test_thread_count_and_chunking_do_not_change_answers():
 def test_progress_reports_each_chunk_from_the_thread_pool():
     a = arm("ur5")
     seen = []
-    solve_batch(
-        a.kinematics,
+    a.solve_batch(
         _poses(a, 8, seed=3),
         workers=2,
         chunk_size=2,
@@ -311,7 +307,7 @@ def test_a_lying_batch_solver_is_caught_by_the_fk_check(monkeypatch):
 
     spec = registry.get("dls")
     monkeypatch.setitem(registry._REGISTRY, "dls", dataclasses.replace(spec, run_batch=liar))
-    r = solve_batch(a.kinematics, T, solver="dls", workers=1)
+    r = a.solve_batch(T, solver="dls", workers=1)
     assert r.success.tolist() == [False, True, False]
     assert r.status.tolist() == ["not_converged", "converged", "joint_limits"]
     assert "forward-kinematics check failed" in r.reason(0)

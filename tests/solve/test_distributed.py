@@ -8,10 +8,10 @@ import distributed  # the "cluster" extra, part of the "test" extra
 import numpy as np
 import pytest
 
+import armik
 from armik import BatchResult
 from armik.errors import InputError
 from armik.solve import distributed as armik_distributed
-from armik.solve.batch import solve_batch
 from armik.tools.cli import main
 
 from ..conftest import arm, model
@@ -42,7 +42,7 @@ def test_cluster_gives_the_local_answers(client, name):
     T = _targets(name, 24)
     q0 = np.array([a.random_q(k) for k in range(len(T))])
     options = dict(timeout=1.0, max_restarts=50, seed=2)
-    local = solve_batch(a.kinematics, T, q0=q0, workers=1, **options)
+    local = a.solve_batch(T, q0=q0, workers=1, **options)
     remote = armik_distributed.solve_batch(a, T, q0=q0, client=client, chunk_size=5, **options)
     assert isinstance(remote, BatchResult) and len(remote) == len(T)
     for field in ("q", "success", "status_code", "position_error", "iterations", "restarts"):
@@ -69,7 +69,7 @@ def test_cli_cluster_address(client, tmp_path, capsys):
     argv = ["batch", "ur5", str(tmp_path / "t.npy"), "-o", str(out), "--cluster", address]
     assert main(argv + ["--chunk-size", "3"]) == 0
     assert "7/8 solved" in capsys.readouterr().out
-    local = solve_batch(model("ur5"), T, workers=1)
+    local = armik.Arm(model("ur5")).solve_batch(T, workers=1)
     np.testing.assert_array_equal(BatchResult.load(out).q, local.q)
 
 
@@ -88,7 +88,7 @@ def test_a_constraint_of_ones_own_holds_on_the_cluster(client):
     T = np.array([p.homogeneous for p in poses])
     options = dict(constraints=[ElbowUp()], iteration_budget=400)
     remote = armik_distributed.solve_batch(a, T, q0=np.array(qs), client=client, **options)
-    local = solve_batch(a.kinematics, T, q0=np.array(qs), workers=1, **options)
+    local = a.solve_batch(T, q0=np.array(qs), workers=1, **options)
     assert not (remote.success & (remote.q[:, 3] <= ELBOW)).any()
     assert "elbow below -1" in remote.reasons.values()
     np.testing.assert_array_equal(remote.success, local.success)

@@ -13,7 +13,7 @@ import pytest
 
 import armik
 from armik.errors import ArmikError, OptionError
-from armik.solve import batch, forked
+from armik.solve import forked
 
 pytestmark = pytest.mark.skipif(
     not sys.platform.startswith("linux"), reason="batches fork worker processes on Linux only"
@@ -91,10 +91,8 @@ def test_a_batch_falls_back_to_threads_when_another_thread_runs(monkeypatch):
     ur5 = armik.load("ur5")
     T = ur5.fk_batch(ur5.random_q(2, n=8))
     monkeypatch.setattr(forked, "run", lambda *a: pytest.fail("forked with threads alive"))
-    r = batch.solve_batch(
-        ur5.kinematics, T, workers=2, chunk_size=2, progress=False, self_collision=True
-    )
-    one = batch.solve_batch(ur5.kinematics, T, workers=1, progress=False, self_collision=True)
+    r = ur5.solve_batch(T, workers=2, chunk_size=2, progress=False, self_collision=True)
+    one = ur5.solve_batch(T, workers=1, progress=False, self_collision=True)
     np.testing.assert_array_equal(r.q, one.q)
     assert r.success.sum() >= 6
 

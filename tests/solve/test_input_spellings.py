@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from armik.errors import OptionError
-from armik.solve import single
+from armik.solve import stages
 
 from ..conftest import arm
 
@@ -39,7 +39,7 @@ def test_every_plain_seed_takes_the_prepared_path(robot, monkeypatch):
             raise AssertionError(f"{name}: the general path was taken")
 
         with monkeypatch.context() as m:
-            m.setattr(single, "_general", general)
+            m.setattr(stages, "general", general)
             got = a.solve(H, q0=q0)
         np.testing.assert_array_equal(got.q, expected.q)
         assert (got.status, got.reason, got.iterations) == (

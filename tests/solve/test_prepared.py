@@ -17,7 +17,7 @@ import pytest
 import armik
 from armik.errors import ArmikWarning, TargetError
 from armik.solve.prepared import Plan, plan_for
-from armik.solve.single import _options
+from armik.solve.read import settings
 from armik.solvers import registry
 from armik.solvers.answers import Answers
 from armik.targets.pose import parse_target
@@ -58,7 +58,7 @@ def test_plan_result_is_the_general_result(name, solver):
 
 def test_plan_is_taken_for_plain_input_only():
     a = arm("panda")
-    opts, key, _ = _options({})
+    opts, key, _ = settings(a.kinematics, {})
     plan = plan_for(a.kinematics, "dls", key, opts)
     assert isinstance(plan, Plan)
     T = a.fk(a.random_q(np.random.default_rng(0)))
@@ -129,7 +129,7 @@ def _lie_about_the_first_answer(plan) -> None:
 def test_a_lying_runner_is_caught_by_the_check():
     a = armik.load("panda")  # a fresh arm: its own plans
     T = a.fk(a.random_q(np.random.default_rng(4)))
-    opts, key, _ = _options({})
+    opts, key, _ = settings(a.kinematics, {})
     _lie_about_the_first_answer(plan_for(a.kinematics, "auto", key, opts))
     r = a.solve(T)
     assert not r.success and r.status == "not_converged"
@@ -143,7 +143,7 @@ def test_a_refused_closed_form_answer_falls_back_to_every_row():
     a = armik.load("ur5")  # a fresh arm: its own plans
     q = a.random_q(np.random.default_rng(6))
     T = a.fk(q)
-    opts, key, _ = _options({})
+    opts, key, _ = settings(a.kinematics, {})
     plan = plan_for(a.kinematics, "auto", key, opts)
     assert plan.solver == "three_parallel"
     expected = a.solve(T, q0=q)
@@ -163,7 +163,7 @@ def test_an_unreached_closed_form_hands_every_row_over_labelled(name):
     a = arm(name)
     q0 = a.random_q(np.random.default_rng(8))
     far = pin.SE3(np.eye(3), np.array([3.0, 0.5, 0.5]))  # beyond reach
-    opts, key, _ = _options({})
+    opts, key, _ = settings(a.kinematics, {})
     plan = plan_for(a.kinematics, "auto", key, opts)
     rows = plan.run_pose(far.homogeneous, q0, 0)
     assert type(rows) is Answers and len(rows) > 1
@@ -403,7 +403,7 @@ def test_a_region_on_a_numeric_solver_is_prepared_as_the_general_path(name, opti
     a = arm(name)
     options = dict(options)
     solver = options.pop("solver", "auto")
-    opts, key, _ = _options(options)
+    opts, key, _ = settings(a.kinematics, options)
     assert isinstance(plan_for(a.kinematics, solver, key, opts), Plan)
     rng = np.random.default_rng(8)
     solved = 0
@@ -426,7 +426,7 @@ def test_a_spin_on_the_last_joint_is_prepared_as_the_general_path(name, half):
     the same results as the general path, field for field."""
     a = arm(name)
     options = {"bounds": (0.0, 0.0, 0.0, 0.0, 0.0, half)}
-    opts, key, _ = _options(options)
+    opts, key, _ = settings(a.kinematics, options)
     plan = plan_for(a.kinematics, "auto", key, opts)
     assert isinstance(plan, Plan) and plan.solver == "spin_joint"
     rng = np.random.default_rng(9)

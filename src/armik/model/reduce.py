@@ -264,6 +264,17 @@ def lookup_frame(full: pin.Model, name: str, role: str, frames: list[str]) -> in
         ) from None
 
 
+def check_frames(base: object, tip: object, source: str) -> None:
+    """A ``FrameError`` for a base or tip given as anything but a frame name."""
+    for role, value in (("base", base), ("tip", tip)):
+        if value is not None and not isinstance(value, str):
+            raise FrameError(
+                f"{role} must be a frame name (a str), got {value!r}; "
+                f"'armik info {source} --frames' lists the frames",
+                frame=str(value),
+            )
+
+
 def check_locked(locked: object) -> dict[str, float] | None:
     if locked is None:
         return None

@@ -16,6 +16,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from armik.errors import OptionError
+from armik.model.arm_model import ArmModel  # a score reads the arm (its Jacobian, limits)
 
 
 class Score(ABC):
@@ -27,10 +28,10 @@ class Score(ABC):
     name: str = "score"
     turns_matter: bool = True
 
-    def per_joint(self, arm, i: int, qi: float, q0: np.ndarray) -> float | None:
+    def per_joint(self, arm: ArmModel, i: int, qi: float, q0: np.ndarray) -> float | None:
         return None
 
-    def gradient(self, arm, q: np.ndarray, q0: np.ndarray) -> np.ndarray | None:
+    def gradient(self, arm: ArmModel, q: np.ndarray, q0: np.ndarray) -> np.ndarray | None:
         """The cost's gradient in q where it has a closed form; None: finite differences."""
         return None
 
@@ -39,10 +40,10 @@ class Score(ABC):
         return f"cost {value:.6g}"
 
     @abstractmethod
-    def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
+    def __call__(self, arm: ArmModel, q: np.ndarray, q0: np.ndarray) -> float:
         """The cost of ``q`` on ``arm``; ``q0`` is the call's seed."""
 
-    def many(self, arm, Q: np.ndarray, q0: np.ndarray) -> np.ndarray:
+    def many(self, arm: ArmModel, Q: np.ndarray, q0: np.ndarray) -> np.ndarray:
         """The cost of each row of ``Q`` (a path's rungs): one call per row unless the
         score has an array form."""
         return np.array([self(arm, q, q0) for q in Q], dtype=float).reshape(len(Q))
@@ -54,20 +55,20 @@ class Nearest(Score):
 
     name = "nearest"
 
-    def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
+    def __call__(self, arm: ArmModel, q: np.ndarray, q0: np.ndarray) -> float:
         return float(np.linalg.norm(q - q0))
 
-    def many(self, arm, Q: np.ndarray, q0: np.ndarray) -> np.ndarray:
+    def many(self, arm: ArmModel, Q: np.ndarray, q0: np.ndarray) -> np.ndarray:
         out: np.ndarray = np.linalg.norm(Q - q0, axis=1)
         return out
 
-    def per_joint(self, arm, i: int, qi: float, q0: np.ndarray) -> float | None:
+    def per_joint(self, arm: ArmModel, i: int, qi: float, q0: np.ndarray) -> float | None:
         return abs(qi - float(q0[i]))
 
     def words(self, value: float) -> str:
         return f"distance {value:.6g} from q0"
 
-    def gradient(self, arm, q: np.ndarray, q0: np.ndarray) -> np.ndarray | None:
+    def gradient(self, arm: ArmModel, q: np.ndarray, q0: np.ndarray) -> np.ndarray | None:
         d = q - q0
         n = float(np.linalg.norm(d))
         return d / n if n > 0.0 else np.zeros_like(d)
@@ -85,14 +86,14 @@ class Manipulability(Score):
     name = "manipulability"
     turns_matter = False  # the Jacobian depends on the angles' sines and cosines only
 
-    def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
+    def __call__(self, arm: ArmModel, q: np.ndarray, q0: np.ndarray) -> float:
         return -manipulability(arm.jacobian(q))
 
     def words(self, value: float) -> str:
         return f"manipulability {-value:.6g}"  # the measure, not its negated cost
 
 
-def limit_margin(arm, q: np.ndarray) -> float:
+def limit_margin(arm: ArmModel, q: np.ndarray) -> float:
     """The smallest distance to a joint limit over the joints, each as a fraction of its
     range (0.5 at the middle); joints without finite limits are not counted (1.0 when
     none has)."""
@@ -110,13 +111,13 @@ class Limits(Score):
 
     name = "limits"
 
-    def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
+    def __call__(self, arm: ArmModel, q: np.ndarray, q0: np.ndarray) -> float:
         return -limit_margin(arm, q)
 
     def words(self, value: float) -> str:
         return f"joint-limit margin {-value:.6g} of a joint's range"
 
-    def many(self, arm, Q: np.ndarray, q0: np.ndarray) -> np.ndarray:
+    def many(self, arm: ArmModel, Q: np.ndarray, q0: np.ndarray) -> np.ndarray:
         lo, hi = np.asarray(arm.lower), np.asarray(arm.upper)
         bounded = np.isfinite(lo) & np.isfinite(hi) & (hi > lo)
         if not bounded.any():
@@ -126,7 +127,7 @@ class Limits(Score):
         out: np.ndarray = -np.min(np.minimum(X - lo[bounded], hi[bounded] - X) / span, axis=1)
         return out
 
-    def per_joint(self, arm, i: int, qi: float, q0: np.ndarray) -> float | None:
+    def per_joint(self, arm: ArmModel, i: int, qi: float, q0: np.ndarray) -> float | None:
         lo, hi = float(arm.lower[i]), float(arm.upper[i])  # the minimum is largest when
         return -min(qi - lo, hi - qi)  # each joint is as far inside as it can be
 
@@ -164,20 +165,20 @@ class Posture(Score):
     def _fits(self, arm) -> None:
         fit_posture(self.q_ref.size, arm.joint_names)
 
-    def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
+    def __call__(self, arm: ArmModel, q: np.ndarray, q0: np.ndarray) -> float:
         self._fits(arm)
         return float(self.weights @ (q - self.q_ref) ** 2)
 
-    def many(self, arm, Q: np.ndarray, q0: np.ndarray) -> np.ndarray:
+    def many(self, arm: ArmModel, Q: np.ndarray, q0: np.ndarray) -> np.ndarray:
         self._fits(arm)
         out: np.ndarray = ((Q - self.q_ref) ** 2) @ self.weights
         return out
 
-    def per_joint(self, arm, i: int, qi: float, q0: np.ndarray) -> float | None:
+    def per_joint(self, arm: ArmModel, i: int, qi: float, q0: np.ndarray) -> float | None:
         self._fits(arm)
         return float(self.weights[i] * (qi - self.q_ref[i]) ** 2)
 
-    def gradient(self, arm, q: np.ndarray, q0: np.ndarray) -> np.ndarray | None:
+    def gradient(self, arm: ArmModel, q: np.ndarray, q0: np.ndarray) -> np.ndarray | None:
         self._fits(arm)
         return 2.0 * self.weights * (q - self.q_ref)
 
@@ -205,7 +206,7 @@ class Cost(Score):
         self.fn = fn
         self.name = getattr(fn, "__name__", repr(fn))
 
-    def __call__(self, arm, q: np.ndarray, q0: np.ndarray) -> float:
+    def __call__(self, arm: ArmModel, q: np.ndarray, q0: np.ndarray) -> float:
         try:
             value = float(self.fn(np.array(q)))
         except Exception as exc:

@@ -39,11 +39,13 @@ from armik.constraints.clear import Collisions
 from armik.constraints.collision import checker
 from armik.errors import ArmikWarning, OptionError
 from armik.frozen import frozen
-from armik.options import Options, spelled
+from armik.options import Options
+from armik.request import Request
 from armik.solve import forked
 from armik.solve.progress import ProgressArg, make_progress
-from armik.solve.single import solve, solve_parsed
-from armik.solve.tasks import SOLVER, lower_all, task_problems
+from armik.solve.single import routed
+from armik.solve.stages import run
+from armik.solve.tasks import SOLVER
 from armik.solvers import registry
 from armik.status import Status
 from armik.targets.batch import TargetBatch, parse_targets
@@ -60,44 +62,32 @@ _CONVERGED = Status.CONVERGED.code
 
 def solve_batch(
     arm: ArmModel,
-    targets: object,
-    q0: object = None,
-    solver: str = "auto",
+    request: Request,
     workers: int | None = None,
     chunk_size: int | None = None,
     progress: ProgressArg = None,
-    **options: object,
 ) -> BatchResult:
     """Solve IK for many targets; returns a ``BatchResult`` in the order of the targets.
 
-    ``targets``: an (N, 4, 4) array, (N, 7) rows ``x y z qx qy qz qw``, (N, 3) positions,
-    or a sequence of anything ``Arm.solve`` accepts (see ``armik.targets.batch``).
-    ``q0``: None (mid-limits), one configuration for all, or one per target (N, dof).
-    ``workers``: threads, or processes for collision checks and solvers without a compiled
-    batch entry (``armik.solve.forked``; default: the number of cores for a solver with a
-    compiled batch entry, else 1). ``chunk_size``: targets per task (default 256).
-    ``progress``: a bar on stderr when True, or a callable ``(done, total)``; default: a bar
-    when stderr is a terminal. ``options``: as for ``Arm.solve`` and applied to every target.
+    ``request``: the batch's, as ``armik.solve.read.read_batch`` reads ``Arm.solve_batch``'s
+    arguments. Its targets: an (N, 4, 4) array, (N, 7) rows ``x y z qx qy qz qw``, (N, 3)
+    positions, or a sequence of anything ``Arm.solve`` accepts (see
+    ``armik.targets.batch``); its ``q0``: None (mid-limits), one configuration for all, or
+    one per target (N, dof). ``workers``: threads, or processes for collision checks and
+    solvers without a compiled batch entry (``armik.solve.forked``; default: the number of
+    cores for a solver with a compiled batch entry, else 1). ``chunk_size``: targets per
+    task (default 256). ``progress``: a bar on stderr when True, or a callable ``(done,
+    total)``; default: a bar when stderr is a terminal.
 
     Raises ``TargetError`` naming the first bad target, ``OptionError`` for bad options;
     unreachable targets are results with ``success=False``.
     """
-    t0 = time.perf_counter()
-    if "budget" in options:  # as its options, which a row's solve may narrow
-        options = spelled(options)
-    problems = task_problems(targets)
-    if problems is not None:
-        lowered = lower_all(problems, options, arm.tip)
-        if lowered is None:  # no compiled form: the task solver, target by target
-            rows = [list(p.tasks) for p in problems]
-            return _each(arm, rows, q0, solver, progress, options, t0)
-        targets, options = lowered
-    if options.get("prefer") is not None:  # every answer of each target ranked: one by one
-        batch = parse_targets(targets, arm)
-        each: list = [batch.target(i) for i in range(len(batch))]
-        return _each(arm, each, q0, solver, progress, options, t0, f"{solver}, prefer")
-    options = {k: v for k, v in options.items() if k != "prefer"}
-    opts = Options.from_kwargs(options)
+    t0 = request.t0
+    targets, q0, solver = request.target, request.q0, request.solver
+    if request.rows is not None:  # no compiled form: each row's own request, one by one
+        label = SOLVER if request.score is None else f"{solver}, prefer"
+        return _each(arm, request, progress, t0, label)
+    opts = request.settings
     if opts.hold is not None:
         raise OptionError(
             "hold= is for solve and solve_all; for many targets with a joint held, solve "
@@ -109,6 +99,7 @@ def solve_batch(
     n = len(batch)
     seeds = batch_seeds(arm, q0, n)
     spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
+    request = request.but(solver=spec.name)
     workers = _workers(workers, spec)
     chunk = _chunk_size(chunk_size)
     out = BatchResult.for_arm(arm, n, spec.name, opts)
@@ -119,7 +110,7 @@ def solve_batch(
 
     def job(start: int, stop: int | None = None) -> int:
         stop = min(start + chunk, n) if stop is None else stop
-        solve_chunk(arm, spec, batch[start:stop], seeds[start:stop], opts, options, out, start)
+        solve_chunk(arm, spec, batch[start:stop], seeds[start:stop], request, out, start)
         return stop - start
 
     done = 0
@@ -184,17 +175,18 @@ def solve_chunk(
     spec: SolverSpec,
     targets: TargetBatch,
     seeds: np.ndarray,
-    opts: Options,
-    options: dict,
+    request: Request,
     out: BatchResult,
     start: int,
 ) -> None:
-    """Solve and verify one chunk, writing rows ``start:start + len(targets)`` of ``out``."""
+    """Solve and verify one chunk, writing rows ``start:start + len(targets)`` of ``out``;
+    ``request``: the batch's, the solver ``spec``'s, a row's solve its copy."""
     if spec.run_batch is None:
         for i in range(len(targets)):
-            r = solve_parsed(arm, targets.target(i), seeds[i], spec.name, options)
+            r = _row(arm, request, targets.target(i), seeds[i])
             out.put_result(start + i, r)
         return
+    opts = request.settings
     # C-ordered and writable, as the compiled entries are compiled for (a broadcast or a
     # read-only seed would compile them again)
     if not (seeds.flags.c_contiguous and seeds.flags.writeable):
@@ -208,13 +200,18 @@ def solve_chunk(
     if opts.collisions or spec.kind == "analytic":
         # A success that keeps clear stands: it is the answer ``solve`` gives (its first
         # run, from the same seed, ends there). Every other target is solved again
-        # (``solve_parsed``): a colliding one restarts (numeric) or tries the other
+        # (``_row``): a colliding one restarts (numeric) or tries the other
         # branches (closed forms); a closed form's rare failures get the specific reason
         # (too far, wrist orientation, ...) and the next verified branch that ``solve``
         # would fall back to.
         for i in np.flatnonzero(~part.success).tolist():
-            r = solve_parsed(arm, targets.target(i), seeds[i], spec.name, options)
+            r = _row(arm, request, targets.target(i), seeds[i])
             out.put_result(start + i, r)
+
+
+def _row(arm: ArmModel, request: Request, target, seed: np.ndarray):
+    """One row solved by the stages, as ``Arm.solve`` solves it."""
+    return run(arm, request.but(target=target, q0=seed, t0=time.perf_counter()))
 
 
 def batch_seeds(arm: ArmModel, q0: object, n: int) -> np.ndarray:
@@ -264,20 +261,19 @@ def cores() -> int:
         return os.cpu_count() or 1
 
 
-def _each(
-    arm, targets: list, q0, solver: str, progress, options: dict, t0: float, label: str = SOLVER
-) -> BatchResult:
+def _each(arm, request: Request, progress, t0: float, label: str) -> BatchResult:
     """Targets the compiled batch has no form for (task lists it cannot lower together, a
-    score to rank by), one after another through ``solve``; the batch's solver is the one
-    every row's result names, where they name one."""
-    n = len(targets)
-    seeds = batch_seeds(arm, q0, n)
-    plain = {k: v for k, v in options.items() if k != "prefer"}
-    out = BatchResult.for_arm(arm, n, label, Options.from_kwargs(plain))
+    score to rank by), one after another, each row's request (``request.rows``) as
+    ``solve`` takes it; the batch's solver is the one every row's result names, where they
+    name one."""
+    rows = request.rows or ()
+    n = len(rows)
+    seeds = batch_seeds(arm, request.q0, n)
+    out = BatchResult.for_arm(arm, n, label, request.settings)
     bar = make_progress(progress, n, f"{arm.name}/{label}")
     names = set()
-    for i, target in enumerate(targets):
-        r = solve(arm, target, q0=seeds[i], solver=solver, **options)[0]
+    for i, row in enumerate(rows):
+        r = routed(arm, row.but(q0=seeds[i], t0=time.perf_counter()))
         out.put_result(i, r)
         names.add(r.solver)
         out.reasons[i] = r.reason  # its own words, a success's too (a task list's)

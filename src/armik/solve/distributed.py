@@ -13,7 +13,7 @@ source, base, tip, locked joints, tip offset and limit overrides that rebuild it
 once, not once per chunk. The targets go out in chunks; each chunk runs the local
 ``armik.solve.batch.solve_batch`` on the worker (verification included) and comes back as a
 ``BatchResult``, which is copied into its rows of the result. The answers are those of the
-local ``solve_batch`` with the same options.
+local ``solve_batch`` with the same options, read once on the client.
 
 Every worker must be able to import armik and read the arm's URDF: bundled arms always can;
 a URDF path must exist on every worker's machine.
@@ -33,10 +33,11 @@ from armik.batch_result import BatchResult
 from armik.errors import ArmikError, InputError, OptionError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel, model_of
-from armik.options import Options
+from armik.request import Request
 from armik.solve.batch import batch_seeds
 from armik.solve.batch import solve_batch as local_solve_batch
 from armik.solve.progress import ProgressArg, make_progress
+from armik.solve.read import read_batch
 from armik.solvers import registry
 from armik.targets.batch import TargetBatch, parse_targets
 
@@ -109,20 +110,14 @@ def _solve_chunk(
     positions: np.ndarray,
     rotations: np.ndarray | None,
     q0: np.ndarray | None,
-    solver: str,
-    options: dict,
+    request: Request,
 ) -> BatchResult:
-    """One task: the local batch solver on this worker's copy of the arm."""
+    """One task: the local batch solver on this worker's copy of the arm, the batch's
+    request read once on the client (``armik.solve.read.read_batch``)."""
     arm = _worker_arm(name, blob)
-    return local_solve_batch(
-        arm,
-        TargetBatch(positions, rotations),
-        q0=q0,
-        solver=solver,
-        workers=1,  # Dask runs as many tasks at once as the worker has threads
-        progress=False,
-        **options,
-    )
+    chunk = request.but(target=TargetBatch(positions, rotations), q0=q0, t0=time.perf_counter())
+    # one worker: Dask runs as many tasks at once as the worker has threads
+    return local_solve_batch(arm, chunk, workers=1, progress=False)
 
 
 def connect(address: str):
@@ -175,9 +170,15 @@ def solve_batch(
     ``client``: a ``distributed.Client``; or ``address`` (see ``connect``); or neither, to
     use the current default client. ``chunk_size``: targets per task (2048).
     """
-    t0 = time.perf_counter()
     arm = model_of(arm)
-    opts = Options.from_kwargs(options)  # refuse bad options here, not on the workers
+    request = read_batch(arm, targets, q0, solver, options)  # refused here, not on workers
+    t0, opts = request.t0, request.settings
+    if request.rows is not None:
+        raise OptionError(
+            "the cluster solves batches the compiled path has a form for; solve task lists "
+            "without one, or a batch with prefer=, with arm.solve_batch",
+            option="prefer" if request.score is not None else "targets",
+        )
     batch = parse_targets(targets, arm)
     n = len(batch)
     seeds = batch_seeds(arm, q0, n)
@@ -202,13 +203,15 @@ def solve_batch(
                     "no Dask client: pass client= or address= (e.g. tcp://host:8786 or local:2)"
                 ) from None
     try:
-        return _run(client, arm, batch, seeds, spec.name, options, opts, chunk, progress, t0)
+        request = request.but(target=None, q0=None, solver=spec.name)
+        return _run(client, arm, batch, seeds, request, opts, chunk, progress, t0)
     finally:
         if own is not None:
             close(own)
 
 
-def _run(client, arm, batch, seeds, solver, options, opts, chunk, progress, t0) -> BatchResult:
+def _run(client, arm, batch, seeds, request, opts, chunk, progress, t0) -> BatchResult:
+    solver = request.solver
     distributed = _import_distributed()
     n = len(batch)
     blob = pickle.dumps(arm)
@@ -227,8 +230,7 @@ def _run(client, arm, batch, seeds, solver, options, opts, chunk, progress, t0) 
             batch.positions[start:stop],
             rot,
             q0,
-            solver,
-            options,
+            request,
             pure=False,
         )
         futures[f] = start

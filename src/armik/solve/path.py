@@ -31,17 +31,15 @@ import pinocchio as pin
 
 from armik import reasons
 from armik.batch_result import BatchResult
-from armik.errors import OptionError, TargetError
+from armik.errors import OptionError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
-from armik.options import Options, spelled
-from armik.problem.scores import parse_score
+from armik.request import Request
 from armik.result import IKResult
 from armik.solve import ladder, rungs
 from armik.solve.path_score import preferred
 from armik.solve.rungs import unwrapped
-from armik.solve.single import solve_parsed
-from armik.solve.tasks import lower_all, task_problems
+from armik.solve.stages import run
 from armik.solvers import registry
 from armik.status import Status
 from armik.targets.batch import parse_targets
@@ -53,58 +51,37 @@ MAX_SUBSTEPS = 64  # finest continuation between two waypoints (intermediate pos
 
 def solve_path(
     arm: ArmModel,
-    poses: object,
-    q0: object,
+    request: Request,
+    local: Request,
     max_joint_step: float | np.ndarray | None = None,
-    solver: str = "auto",
     plan: str = "follow",
-    **options: object,
 ) -> BatchResult:
-    """Solve ``poses`` in order from ``q0``; returns a ``BatchResult`` (one row per pose).
+    """Solve a path's poses in order from its start; returns a ``BatchResult`` (one row per
+    pose). ``request``, ``local``: the path's, as ``armik.solve.read.read_path`` reads
+    ``Arm.solve_path``'s arguments (``local``: a waypoint re-solved near the previous answer).
 
-    ``poses``: anything ``solve_batch`` accepts ((N, 4, 4), (N, 7), (N, 3), a list).
-    ``q0``: the configuration the arm starts from (rad, m); the first pose is held to
+    ``request.target``: anything ``solve_batch`` accepts ((N, 4, 4), (N, 7), (N, 3), a list).
+    ``request.q0``: the configuration the arm starts from (rad, m); the first pose is held to
     ``max_joint_step`` from it too. ``max_joint_step``: the largest move of any joint
     between consecutive answers (rad for revolute joints, m for prismatic ones; one number
     or one per joint; default 0.5). ``plan``: ``"follow"`` (each waypoint from the previous
     answer, below) or ``"global"`` (every branch at every waypoint, or a numeric arm's
     tracked answers, ``armik.solve.rungs``: the continuous path of least joint motion, or
-    with ``prefer=`` of the best summed score, ``armik.solve.ladder``; with ``q0=None`` the
-    path may start on any branch). ``options``: as for ``Arm.solve``.
+    with a score (``prefer=``) of the best summed score, ``armik.solve.ladder``; with
+    ``q0=None`` the path may start on any branch).
 
     Every answer is verified by Pinocchio FK (``Arm.solve``). A waypoint reachable only by
     a larger move gets status ``discontinuous`` and a reason; never a silent jump.
     """
-    t0 = time.perf_counter()
-    if plan not in ("follow", "global"):
-        raise OptionError(
-            f"plan must be 'follow' (each waypoint from the previous answer) or 'global' "
-            f"(every branch at every waypoint, the least motion), got {plan!r}",
-            option="plan",
-            value=plan,
-        )
-    score = parse_score(options.get("prefer"))
-    options = {k: v for k, v in options.items() if k != "prefer"}
-    if "budget" in options:  # as its options, which each rung's solve narrows
-        options = spelled(options)
-    problems = task_problems(poses)
-    if problems is not None:
-        lowered = lower_all(problems, options, arm.tip)
-        if lowered is None:
-            raise TargetError(
-                "a path of task lists takes tasks the compiled path has a form for (a pose "
-                "with bounds or weights, a position, a position with a tip axis along a "
-                "direction or within a cone of it, a look-at at one point, the same in "
-                "every row); solve the others with solve or solve_batch"
-            )
-        poses, options = lowered
-    opts = Options.from_kwargs(options)
+    t0 = request.t0
+    poses, q0, solver, score = request.target, request.q0, request.solver, request.score
+    opts = request.settings
     batch = parse_targets(poses, arm)
     n = len(batch)
     step = _max_step(arm, max_joint_step)
     q_prev = arm.seed(q0)
     spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
-    local = {**options, "max_restarts": 0}
+    request, local = request.but(solver=spec.name), local.but(solver=spec.name)
     out = BatchResult.for_arm(arm, n, spec.name, opts)
     if plan == "global":
         # every solution: what solve_all would run (a search where one is not complete)
@@ -114,36 +91,35 @@ def solve_path(
             every = registry.sweeping(arm, first, opts) or every
         if every.sweep is not None or every.kind == "numeric":  # rungs about the followed path
             followed = BatchResult.for_arm(arm, n, spec.name, opts)
-            _walk(arm, batch, q_prev, step, spec, options, local, followed)
+            _walk(arm, batch, q_prev, step, request, local, followed)
             found = (  # a 7R arm: joint 7 sampled; else answers tracked from start and breaks
-                rungs.held(arm, batch, q_prev, followed, options, every)
+                rungs.held(arm, batch, q_prev, followed, request, every)
                 if every.sweep is not None
-                else rungs.tracked(arm, batch, q_prev, every.name, followed, options)
+                else rungs.tracked(arm, batch, q_prev, every.name, followed, request)
             )
         else:
-            found = rungs.every_branch(arm, batch, q_prev, every.name, options)
+            found = rungs.every_branch(arm, batch, q_prev, every.name, request)
         out = BatchResult.for_arm(arm, n, every.name, opts)
         start = None if q0 is None else q_prev
         # with a preference, the continuous path of the best summed score (ladder.TIE)
         ladder.plan(arm, every, batch, found, start, step, opts, out, score, q_prev)
         return frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
-    # a colliding answer slid out of contact, near the previous one (``Options.slide``)
-    options = {"slide": True, **options}
-    chooser = None if score is None else _chooser(arm, score, q_prev, step, options, opts)
-    _walk(arm, batch, q_prev, step, spec, options, local, out, chooser)
+    chooser = None if score is None else _chooser(arm, score, q_prev, step, request, opts)
+    _walk(arm, batch, q_prev, step, request, local, out, chooser)
     out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     return out
 
 
-def _walk(arm, batch, q_prev, step, spec, options, local, out, chooser=None) -> None:
-    """Solve the waypoints in order, each from the previous answer, into ``out``;
+def _walk(arm, batch, q_prev, step, request, local, out, chooser=None) -> None:
+    """Solve the waypoints in order, each from the previous answer, into ``out``
+    (``request``: the path's; ``local``: the same without restarts);
     ``chooser(target, r, q_prev)``: the answer kept among those within the step (a
     preference), else ``r``."""
     for i in range(len(batch)):
         target = batch.target(i)
-        r = unwrapped(arm, solve_parsed(arm, target, q_prev, spec.name, options), q_prev)
+        r = unwrapped(arm, _at(arm, request, target, q_prev), q_prev)
         if r.success and _jump(r.q, q_prev, step) > 1.0:
-            r = _near(arm, target, q_prev, step, spec.name, local, r, first=i == 0)
+            r = _near(arm, target, q_prev, step, local, r, first=i == 0)
         elif chooser is not None:
             r = chooser(target, r, q_prev)
         out.put_result(i, r)
@@ -151,13 +127,18 @@ def _walk(arm, batch, q_prev, step, spec, options, local, out, chooser=None) -> 
             q_prev = np.array(r.q)
 
 
-def _chooser(arm, score, start: np.ndarray, step: np.ndarray, options: dict, opts: Options):
+def _at(arm: ArmModel, request: Request, target: object, q: np.ndarray) -> IKResult:
+    """``target`` solved from ``q`` by the stages, as ``request`` asks."""
+    return run(arm, request.but(target=target, q0=q, t0=time.perf_counter()))  # type: ignore[no-any-return]
+
+
+def _chooser(arm, score, start: np.ndarray, step: np.ndarray, request: Request, opts):
     """A preference's choice at each waypoint (``path_score.preferred``), scored against
     the path's start."""
     reference = np.array(start, dtype=float)
 
     def choose(target: Target, r: IKResult, q_prev: np.ndarray) -> IKResult:
-        return preferred(arm, target, r, q_prev, step, score, reference, options, opts)
+        return preferred(arm, target, r, q_prev, step, score, reference, request, opts)
 
     return choose
 
@@ -192,15 +173,14 @@ def _near(
     target: Target,
     q_prev: np.ndarray,
     step: np.ndarray,
-    solver: str,
-    local: dict,
+    local: Request,
     jumped: IKResult,
     first: bool,
 ) -> IKResult:
     """Re-solve ``target`` near ``q_prev``; the answer if within ``step``, else the smallest
     jump found, reported as discontinuous."""
     candidates = [jumped]
-    r = unwrapped(arm, solve_parsed(arm, target, q_prev, solver, local), q_prev)
+    r = unwrapped(arm, _at(arm, local, target, q_prev), q_prev)
     if r.success:
         if _jump(r.q, q_prev, step) <= 1.0:
             return r
@@ -211,7 +191,7 @@ def _near(
     while k <= MAX_SUBSTEPS:
         q, ok = q_prev, True
         for pose in _between(T_from, target, k):
-            s = unwrapped(arm, solve_parsed(arm, pose, q, solver, local), q)
+            s = unwrapped(arm, _at(arm, local, pose, q), q)
             if not s.success or _jump(s.q, q, step) > 1.0:
                 ok = False
                 break

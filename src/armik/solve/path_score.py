@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import time
 
 import numpy as np
 import pinocchio as pin
@@ -18,9 +19,10 @@ from armik import reasons
 from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.problem.scores import Score
+from armik.request import Request
 from armik.result import IKResult
 from armik.solve.nullspace import descend
-from armik.solve.single import solve_parsed
+from armik.solve.stages import run
 from armik.solvers import registry
 from armik.solvers.answers import one
 from armik.status import Status
@@ -38,7 +40,7 @@ def preferred(
     step: np.ndarray,
     score: Score,
     reference: np.ndarray,
-    options: dict,
+    request: Request,
     opts: Options,
 ) -> IKResult:
     """The best-scored verified answer at ``target`` within ``step`` of ``q_prev``, the
@@ -47,7 +49,8 @@ def preferred(
         return r
     candidates = [r]
     if registry.get(r.solver).kind != "numeric":  # every branch and turn, nearest first
-        found = solve_parsed(arm, target, q_prev, r.solver, options, True)
+        now = time.perf_counter()
+        found = run(arm, request.but(target=target, q0=q_prev, solver=r.solver, every=True, t0=now))
         candidates += [_turned(arm, c, q_prev) for c in found if c.success]
     elif arm.dof > 6 and _plain_pose(target, opts):
         pose = pin.SE3(target.rotation, target.position)

@@ -27,6 +27,7 @@ from armik.errors import InputError, OptionError
 from armik.model.arm_model import ArmModel, model_of
 from armik.solve.batch import solve_batch
 from armik.solve.progress import ProgressArg
+from armik.solve.read import read_batch
 from armik.targets.batch import TargetBatch
 
 FORMAT = "armik.ReachMap/1"
@@ -215,9 +216,8 @@ def reachability(
             arm, targets, solver=solver, client=client, progress=progress, **opts
         )
     else:
-        result = solve_batch(
-            arm, targets, solver=solver, workers=workers, progress=progress, **opts
-        )
+        request = read_batch(arm, targets, None, solver, opts)
+        result = solve_batch(arm, request, workers, progress=progress)
     fraction = np.full(inside.shape, np.nan)
     fraction[inside] = result.success.reshape(v, k).mean(axis=1)
     return ReachMap(

@@ -14,12 +14,14 @@ waypoint that a path may pass through.
 from __future__ import annotations
 
 import dataclasses
+import time
 
 import numpy as np
 
 from armik.model.arm_model import ArmModel
+from armik.request import Request
 from armik.result import IKResult
-from armik.solve.single import solve_parsed
+from armik.solve.stages import narrowed, run
 from armik.targets.pose import Target
 
 HELD_OFFSETS = 0.1 * np.arange(-2, 3)  # rad: joint 7's values about the followed path's
@@ -29,16 +31,19 @@ BREAKS = 8  # breaks of the followed path reseeded at most (the first ones)
 SAME = 1e-6  # rad or m: a track this near another's answer has merged with it
 
 
-def every_branch(arm: ArmModel, batch, q_prev: np.ndarray, solver: str, options) -> list:
+def every_branch(arm: ArmModel, batch, q_prev: np.ndarray, solver: str, request) -> list:
     """Each waypoint's ``solve_all`` results by ``solver`` (a pose as a 4x4 array takes the
     prepared path)."""
-    return [
-        solve_parsed(arm, plain(batch.target(i)), q_prev, solver, options, True)
-        for i in range(len(batch))
-    ]
+    return [_all(arm, request, plain(batch.target(i)), q_prev, solver) for i in range(len(batch))]
 
 
-def held(arm: ArmModel, batch, q_start: np.ndarray, followed, options, spec) -> list:
+def _all(arm: ArmModel, request: Request, target, q: np.ndarray, solver: str) -> list:
+    """``target``'s ``solve_all`` results by ``solver`` from ``q``, as ``request`` asks."""
+    now = time.perf_counter()
+    return run(arm, request.but(target=target, q0=q, solver=solver, every=True, t0=now))  # type: ignore[no-any-return]
+
+
+def held(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> list:
     """A 7R arm's rungs: at each waypoint, every branch of ``spec``'s closed form (a
     solver with a ``Sweep``: the swept one) with its joint at values about the followed
     path's (the last value it reached where it missed) and on a grid over its range, and
@@ -57,38 +62,38 @@ def held(arm: ArmModel, batch, q_start: np.ndarray, followed, options, spec) -> 
         target = plain(batch.target(i))
         for value in np.concatenate((np.clip(theta + HELD_OFFSETS, lo, hi), grid)):
             seed[j] = value  # where the closed form holds its joint first
-            found += solve_parsed(arm, target, seed, spec.name, options, True)
+            found += _all(arm, request, target, seed, spec.name)
         rungs.append(found)
     return rungs
 
 
-def tracked(arm: ArmModel, batch, q_start: np.ndarray, solver: str, followed, options) -> list:
+def tracked(arm: ArmModel, batch, q_start: np.ndarray, solver: str, followed, request) -> list:
     """A numeric arm's rungs (see the module): each waypoint's followed result (its own
     failure where nothing reaches it) and every distinct answer a track reached there."""
     n = len(batch)
     targets = [plain(batch.target(i)) for i in range(n)]
-    local = {**options, "max_restarts": 0}
+    local = narrowed(request, max_restarts=0).but(solver=solver)
     rungs: list[list[IKResult]] = [[followed[i]] for i in range(n)]
     ok = np.asarray(followed.success, dtype=bool)
     breaks = [i for i in range(1, n) if not ok[i] and ok[i - 1]][:BREAKS]
     for s in [0, *breaks]:
         seed = q_start if s == 0 else np.asarray(followed.q[s - 1])
-        found = solve_parsed(arm, targets[s], seed, solver, options, True)
+        found = _all(arm, request, targets[s], seed, solver)
         for start in [r for r in found if r.success][:TRACKS]:
             if not _add(rungs[s], unwrapped(arm, start, seed)):
                 continue  # an answer already there: its track is run
             for indices in (range(s + 1, n), range(s - 1, -1, -1)):
-                _track(arm, targets, np.asarray(rungs[s][-1].q), indices, solver, local, rungs)
+                _track(arm, targets, np.asarray(rungs[s][-1].q), indices, local, rungs)
     return rungs
 
 
-def _track(arm, targets, start: np.ndarray, indices, solver: str, local, rungs) -> None:
+def _track(arm, targets, start: np.ndarray, indices, local: Request, rungs) -> None:
     """Solve the waypoints ``indices`` in turn, each from the track's last answer, adding
     each answer to its waypoint's rungs; a track that reaches an answer already there has
     merged with another, and stops."""
     prev = start
     for i in indices:
-        r = solve_parsed(arm, targets[i], prev, solver, local)
+        r = run(arm, local.but(target=targets[i], q0=prev, t0=time.perf_counter()))
         if not r.success:
             continue  # out of reach here: the track goes on from its last answer
         r = unwrapped(arm, r, prev)

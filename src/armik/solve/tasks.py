@@ -354,7 +354,7 @@ def solve_tasks(
 
 def _unsaid(checked: tuple[Constraint, ...], centre: IKResult) -> tuple[Constraint, ...]:
     """The constraints a centre's success has not checked: a held joint the compiled path
-    did not hold (``armik.solve.single._centre``); collisions it checked (``min_distance``
+    did not hold (``armik.solve.task_solve.centre``); collisions it checked (``min_distance``
     in its ``extra``)."""
     return tuple(c for c in checked if type(c) is Hold or "min_distance" not in centre.extra)
 

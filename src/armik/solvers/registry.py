@@ -12,12 +12,12 @@ from typing import TYPE_CHECKING, Literal, NamedTuple
 
 from armik.errors import SolverError, listing
 from armik.model.derived import Derived
+from armik.options import Options  # the choices are kept per options: hashed, compared
 
 if TYPE_CHECKING:
     import numpy as np
 
     from armik.model.arm_model import ArmModel
-    from armik.options import Options
     from armik.solvers.answers import Answers
     from armik.targets.batch import TargetBatch
     from armik.targets.pose import Target

@@ -19,7 +19,7 @@ import pytest
 
 import armik
 from armik.solve.prepared import Plan, plan_for
-from armik.solve.single import _options
+from armik.solve.read import settings
 from armik.solvers.closed_form import planar2r_kernel
 from armik.targets.pose import parse_target
 
@@ -75,7 +75,7 @@ def _targets(a: armik.Arm, rng, n: int) -> list:
 
 def test_the_plan_is_taken_for_xy_positions_and_poses():
     a = armik.load("planar_2link")  # a fresh arm: its own plans
-    opts, key, _ = _options({})
+    opts, key, _ = settings(a.kinematics, {})
     for position in (False, True):
         plan = plan_for(a.kinematics, "auto", key, opts, position)
         assert isinstance(plan, Plan) and plan.solver == "planar2r"
@@ -177,7 +177,7 @@ def test_a_refused_answer_falls_back_to_every_row():
     # The runner's first answer is wrong (joint 1 off by 1e-3 rad): the check refuses it and
     # every row goes to the general verdict, which verifies the other branch.
     a = armik.load("planar_2link")
-    opts, key, _ = _options({})
+    opts, key, _ = settings(a.kinematics, {})
     plan = plan_for(a.kinematics, "auto", key, opts, position=True)
     honest = plan.run_pose
 

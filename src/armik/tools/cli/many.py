@@ -14,6 +14,7 @@ from armik.errors import InputError
 from armik.solve.batch import solve_batch
 from armik.solve.path import solve_path
 from armik.solve.reach import reachability
+from armik.solve.read import read_batch, read_path
 from armik.tools.cli.arms import add_lock_option, add_solve_options, load_arm, solve_options
 
 
@@ -189,15 +190,8 @@ def cmd_batch(args: argparse.Namespace) -> int:
             **options,
         )
     else:
-        result = solve_batch(
-            arm,
-            targets,
-            q0=q0,
-            solver=args.solver,
-            workers=args.workers,
-            chunk_size=args.chunk_size,
-            **options,
-        )
+        request = read_batch(arm, targets, q0, args.solver, options)
+        result = solve_batch(arm, request, args.workers, args.chunk_size)
     return _written(result, out)
 
 
@@ -217,15 +211,8 @@ def cmd_path(args: argparse.Namespace) -> int:
     q0 = None if args.q0 is None else np.array(args.q0)
     if q0 is None and args.plan == "follow":
         q0 = arm.middle
-    result = solve_path(
-        arm,
-        targets,
-        q0,
-        max_joint_step=args.max_joint_step,
-        solver=args.solver,
-        plan=args.plan,
-        **solve_options(args),
-    )
+    request, local = read_path(arm, targets, q0, args.solver, args.plan, solve_options(args))
+    result = solve_path(arm, request, local, args.max_joint_step, args.plan)
     return _written(result, out)
 
 

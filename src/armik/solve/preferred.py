@@ -1,0 +1,103 @@
+"""The rank stage: a request with a score (``prefer=``), its answers ranked by it.
+
+On a 7R arm the swept closed form applies to, the self-motion is searched for the score
+(every solution has some value of joint 7) with the plain answer beside it; else the
+answers ``solve_all`` finds, and where a numeric solver found them, those of starts near
+q0 too (``prefer.near_answers``), the best moved along the self-motion on a redundant arm
+(``_along_self_motion``). A task list without a compiled form is solved by the task
+solver, its answer scored."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import pinocchio as pin
+
+from armik import reasons
+from armik.model.arm_model import ArmModel
+from armik.request import Request
+from armik.result import IKResult
+from armik.solve import prefer
+from armik.solve.nullspace import descend
+from armik.solve.prefer import rank, sweep_held
+from armik.solve.stages import narrowed, run
+from armik.solve.task_solve import solve_problem
+from armik.solvers import registry
+from armik.solvers.answers import Answers, one, stacked
+from armik.status import Status
+from armik.verify.verdict import finish
+
+
+def preferred(arm: ArmModel, req: Request):
+    """The best answer to ``req`` by its score (with ``req.every``, every answer found,
+    best first); see the module."""
+    target, q0, solver, _, _, _, every, t0, score, problem = req[:10]
+    opts = req.settings
+    plain = req.but(score=None, problem=None)
+    pose = problem is None and _plain_pose(opts)
+    seed = arm.seed(q0)
+    swept = None
+    if pose and solver == "auto":
+        swept = sweep_held(arm, target, seed, opts, score, t0)
+    if swept and any(r.success for r in swept):
+        first = run(arm, plain.but(every=False, t0=time.perf_counter()))
+        ranked = rank(arm, [first, *swept], score, seed, t0)
+        return ranked if every else ranked[0]
+    budget = opts.iteration_budget
+    if budget is None:
+        share = narrowed(plain, timeout=opts.timeout * prefer.GATHER)
+    else:
+        share = narrowed(plain, iteration_budget=max(int(budget * prefer.GATHER_ITERATIONS), 1))
+    share = share.but(t0=time.perf_counter())
+    if problem is None:  # solve_all's answers
+        found = run(arm, share.but(every=True))
+    else:
+        found = [solve_problem(arm, share.but(problem=problem, every=False))]
+    searched = bool(found) and registry.get(found[0].solver).kind == "numeric"
+    if searched and pose:  # one descent from each start, by the solver that searched
+        once = narrowed(plain, max_restarts=0).but(solver=found[0].solver, every=False)
+
+        def solve_from(start: np.ndarray) -> IKResult:
+            return run(arm, once.but(q0=start, t0=time.perf_counter()))  # type: ignore[no-any-return]
+
+        middle = prefer.centre(arm, score, seed)
+        found = [*found, *prefer.near_answers(arm, solve_from, middle, opts, t0)]
+    known: dict = {}  # each answer's score, computed once
+    if arm.dof > 6 and pose:
+        best = [q for _, _, q in prefer.ordered(arm, found, score, seed, known)]
+        if best:
+            moved = _along_self_motion(arm, target, seed, opts, score, best, found[0].solver, t0)
+            found = [*moved, *found]
+    count = (opts.max_solutions if searched else None) if every else 1
+    ranked = rank(arm, found, score, seed, t0, known, count)
+    return ranked if every else ranked[0]
+
+
+def _plain_pose(opts) -> bool:
+    """Whether the options ask for the plain pose: no region, weights, held joint or
+    collisions (what the swept search and the self-motion descent assume)."""
+    return not (opts.region or opts.weights or opts.position_only or opts.collisions or opts.hold)
+
+
+def _along_self_motion(
+    arm, tgt, seed, opts, score, best: list, solver: str, t0: float
+) -> list[IKResult]:
+    """A redundant arm's best answers (``prefer.DESCENTS`` distinct ones of ``best``, the
+    configurations best first) each moved along its self-motion to a lower score
+    (``armik.solve.nullspace``) until ``prefer.DESCENT_UNTIL`` of the budget, verified
+    again as ``solver``'s: the moved answers, to be ranked with the rest."""
+    pose = pin.SE3(tgt.rotation, tgt.position)
+    claims: list[Answers] = []
+    for q in prefer.distinct(best, prefer.DESCENTS):
+        left = prefer.DESCENT_UNTIL * opts.timeout - (time.perf_counter() - t0)
+        if opts.iteration_budget is not None:  # deterministic: the descent's own step cap
+            left = math.inf
+        elif left <= 0.0:
+            break
+        moved = descend(arm, q, pose, score, seed, left, ends=[c.q[0] for c in claims])
+        claims.append(one(moved, Status.CONVERGED, reasons.SELF_MOTION))
+    return (
+        finish(arm, solver, stacked(claims, arm.dof), tgt, opts, seed, True, t0) if claims else []
+    )

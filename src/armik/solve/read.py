@@ -1,0 +1,225 @@
+"""What the user passed, read once into a ``Request`` (``armik.request``).
+
+The only reader of keyword options: ``read`` takes a call of ``solve`` or ``solve_all``
+as the user spelled it (a target, ``q0``, ``solver``, keyword options) and returns the
+request every stage reads. A preference (``prefer=``) is taken out as the request's
+score; a budget or constraints as objects are spelled as the options they stand for; a
+task list is lowered to the compiled path's target and options where it has a form, else
+kept as the request's problem for the task solver, as is a plain target with joints held
+that the compiled path cannot hold. ``settings`` validates the options alone, remembered
+per arm: a loop of solves passes the same options, often with a new seed each time.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping
+
+import numpy as np
+import pinocchio as pin
+
+from armik.errors import OptionError, TargetError
+from armik.model.arm_model import ArmModel
+from armik.model.derived import Derived
+from armik.options import Options, spelled, with_sight
+from armik.problem.problem import Problem, as_problem, lower
+from armik.problem.scores import parse_score
+from armik.problem.tasks import Pose, Position, Task
+from armik.request import Request
+from armik.solve.tasks import check_said_twice, lower_all, task_problems
+from armik.targets.batch import parse_targets
+from armik.targets.pose import parsed
+
+
+def read(
+    arm: ArmModel, target: object, q0: object, solver: str, options: dict, every: bool = False
+) -> Request:
+    """The request of ``solve(arm, target, q0=q0, solver=solver, **options)`` (with
+    ``every``: ``solve_all``); see the module."""
+    t0 = time.perf_counter()
+    score = None
+    if "budget" in options:  # as its options, which the stages narrow (restarts, shares)
+        options = spelled(options)
+    if "prefer" in options:
+        options = dict(options)
+        score = parse_score(options.pop("prefer"))
+    problem = None
+    kind = type(target)  # the common poses first: ``Task``'s isinstance is an ABC's check
+    if (
+        kind is not _SE3
+        and kind is not np.ndarray
+        and (kind in (list, tuple) or isinstance(target, Task))
+    ):
+        problem = as_problem(target)
+        if problem is not None:
+            lowered = lower(problem, arm.tip)
+            held = "hold" in options or "constraints" in options  # a call only then
+            if lowered is not None and not (held and _held_apart(arm, options)):
+                target, said = lowered
+                check_said_twice(options, said, problem)
+                options = {**options, **said}
+                problem = None
+    if problem is None and ("hold" in options or "constraints" in options):
+        if _held_apart(arm, options):  # a plain pose or position: the task solver's task
+            problem, options = _as_task(arm, target, options)
+    opts, key, seed = settings(arm, options) if options else (_DEFAULT, (), 0)
+    if score is not None and problem is None:  # every answer ranked is to this target
+        target = parsed(target, arm)
+    return Request(target, q0, solver, opts, key, seed, every, t0, score, problem)
+
+
+def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options: dict) -> Request:
+    """The request of ``solve_batch(arm, targets, q0=q0, solver=solver, **options)``: the
+    targets as given, or task lists lowered together to the compiled batch's targets and
+    options; where the compiled batch has no form for them (task lists that do not lower
+    together, a preference), each row's own request in ``rows``, read as ``solve`` reads
+    it."""
+    t0 = time.perf_counter()
+    if "budget" in options:  # as its options, which a row's solve may narrow
+        options = spelled(options)
+    rows: list | None = None
+    ranked = False  # each row's answers ranked by a preference
+    problems = task_problems(targets)
+    if problems is not None:
+        lowered = lower_all(problems, options, arm.tip)
+        if lowered is None:  # no compiled form: the task solver, target by target
+            rows = [list(p.tasks) for p in problems]
+        else:
+            targets, options = lowered
+    if rows is None and options.get("prefer") is not None:  # each target's answers ranked
+        batch = parse_targets(targets, arm)
+        rows, ranked = [batch.target(i) for i in range(len(batch))], True
+    plain = {k: v for k, v in options.items() if k != "prefer"}
+    opts, key, seed = settings(arm, plain)
+    if rows is None:
+        return Request(targets, q0, solver, opts, key, seed, False, t0)
+    each = tuple(read(arm, row, None, solver, options) for row in rows)
+    score = parse_score(options["prefer"]) if ranked else None
+    return Request(None, q0, solver, opts, key, seed, False, t0, score, rows=each)
+
+
+def read_path(
+    arm: ArmModel, poses: object, q0: object, solver: str, plan: str, options: dict
+) -> tuple[Request, Request]:
+    """(request, local): the request of ``solve_path(arm, poses, q0, solver=solver,
+    plan=plan, **options)``, the poses as given (task lists lowered together to the
+    compiled path's targets and options), a preference as its score; a followed path
+    slides a colliding answer out of contact near the previous one (``Options.slide``)
+    unless told otherwise. ``local``: the same options without restarts, not sliding
+    unless told to (a waypoint re-solved near the previous answer)."""
+    t0 = time.perf_counter()
+    check_plan(plan)
+    score = parse_score(options.get("prefer"))
+    options = {k: v for k, v in options.items() if k != "prefer"}
+    if "budget" in options:  # as its options, which each rung's solve narrows
+        options = spelled(options)
+    problems = task_problems(poses)
+    if problems is not None:
+        lowered = lower_all(problems, options, arm.tip)
+        if lowered is None:
+            raise TargetError(
+                "a path of task lists takes tasks the compiled path has a form for (a pose "
+                "with bounds or weights, a position, a position with a tip axis along a "
+                "direction or within a cone of it, a look-at at one point, the same in "
+                "every row); solve the others with solve or solve_batch"
+            )
+        poses, options = lowered
+    opts, key, seed = settings(arm, {**options, "max_restarts": 0})
+    local = Request(poses, q0, solver, opts, key, seed, False, t0)
+    if plan == "follow" and "slide" not in options:
+        options = {"slide": True, **options}
+    opts, key, seed = settings(arm, options)
+    return Request(poses, q0, solver, opts, key, seed, False, t0, score), local
+
+
+def check_plan(plan: object) -> None:
+    """An ``OptionError`` for a plan that is neither "follow" nor "global"."""
+    if plan not in ("follow", "global"):
+        raise OptionError(
+            f"plan must be 'follow' (each waypoint from the previous answer) or 'global' "
+            f"(every branch at every waypoint, the least motion), got {plan!r}",
+            option="plan",
+            value=plan,
+        )
+
+
+def _held_apart(arm: ArmModel, options: dict) -> bool:
+    """Whether ``options`` hold joints the compiled path cannot (it holds one joint of a
+    7-joint arm): the task solver holds them, as box rows of its steps."""
+    if "hold" not in options and "constraints" not in options:
+        return False
+    held = (spelled(options) if "constraints" in options else options).get("hold")
+    count = 0 if held is None else len(held) if isinstance(held, Mapping) and held else 1
+    return count > 0 and (arm.dof != 7 or count != 1)
+
+
+# options a plain target's tasks cannot say: with them the compiled path's error stands
+_NOT_AS_TASK = ("weights", "bounds", "cone", "look_at", "toward")
+
+
+def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | None, dict]:
+    """(problem, options): the problem of a plain pose or position (``armik.Pose``,
+    ``armik.Position``; ``position_only`` said by the task), for the task solver to hold
+    joints the compiled path cannot; (None, ``options``) where the options say more than
+    such a task would (``_NOT_AS_TASK``): the compiled path's error then names the way."""
+    if any(options.get(name) is not None for name in _NOT_AS_TASK):
+        return None, options
+    tgt = parsed(target, arm)
+    if tgt.rotation is None or options.get("position_only"):
+        rest = {k: v for k, v in options.items() if k != "position_only"}
+        return as_problem(Position(tgt.position)), rest
+    return as_problem(Pose(pin.SE3(tgt.rotation, tgt.position))), options
+
+
+def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | None]:
+    """(options, key, seed): ``Options.from_kwargs(kwargs)``, remembered for ``arm`` under
+    ``key`` (None: not remembered) when the values other than ``seed`` are hashable, and
+    this call's validated ``seed``. Validation costs a few us, and a loop of solves passes
+    the same options, often with a new seed each time: the remembered options keep the
+    seed they were first built with (``Request.settings`` gives them this call's). A
+    look-at's point or an axis' direction (``look_at``, ``toward``), new in each of a loop
+    of targets, is kept out of the key too, and written into this call's copy."""
+    if not kwargs:
+        return _DEFAULT, (), 0
+    seed = kwargs.get("seed", 0)
+    look = kwargs["look_at"] if "look_at" in kwargs else None  # lookups, not calls
+    toward = kwargs["toward"] if "toward" in kwargs else None
+    sight = look is not None or toward is not None
+    if "seed" in kwargs or "look_at" in kwargs or "toward" in kwargs:
+        kwargs = dict(kwargs)
+        if "seed" in kwargs:
+            del kwargs["seed"]
+        if "look_at" in kwargs:
+            del kwargs["look_at"]
+        if "toward" in kwargs:
+            del kwargs["toward"]
+    try:
+        # with the types: 1 == True, but validation may accept one and refuse the other
+        key = (tuple(kwargs.items()), tuple(map(type, kwargs.values())), look is None, sight)
+        kept = arm._derived.get(_KEPT)  # read as a dict, not through a call: every solve
+        if kept is None:
+            kept = _KEPT(arm)
+        opts = kept.get(key)
+    except TypeError:  # an unhashable value (a list of weights): validate every time
+        opts = Options.from_kwargs({**kwargs, "seed": seed})
+        return (with_sight(opts, look, toward) if sight else opts), None, _seed(seed)
+    if opts is None:
+        opts = Options.from_kwargs({**kwargs, "seed": seed})  # the seed checked with them
+        if len(kept) > 256:
+            kept.clear()
+        kept[key] = opts
+    return (with_sight(opts, look, toward) if sight else opts), key, _seed(seed)
+
+
+_KEPT: Derived[dict] = Derived("validated options", lambda _: {})
+
+
+def _seed(seed: object) -> int | None:
+    """``seed`` as ``Options.from_kwargs`` validates it."""
+    if type(seed) is int and 0 <= seed < 2**63:
+        return seed  # what the validation returns for a plain int
+    return None if seed is None else Options.from_kwargs({"seed": seed}).seed
+
+
+_SE3 = pin.SE3
+_DEFAULT = Options()  # frozen: shared by every call without options

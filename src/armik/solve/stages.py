@@ -1,0 +1,166 @@
+"""The stages of one request whose target the compiled path takes (a pose, a position, a
+parsed ``Target``; no preference, no task list): a held joint, the collision retry, a
+target beyond reach before anything compiles, the prepared plan, the general path: choose
+(``armik.solvers.registry``), run, verify (``armik.verify.verdict``).
+
+``run(arm, request)`` is the one entry: what ``solve`` and ``solve_all`` end in, and what
+batches, paths, their rungs, a region's centre and a preference call for each answer,
+each with its own copy of the request (``Request.but``). The prepared plan is these stages
+with the choice kept: it hands what it cannot take to the general path.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from typing import Any
+
+import numpy as np
+
+from armik import reasons
+from armik.constraints.clear import distances
+from armik.constraints.collision import checker
+from armik.model.arm_model import ArmModel
+from armik.options import Options
+from armik.request import Request, but_options, with_seed
+from armik.result import IKResult
+from armik.solve import far
+from armik.solve.avoid import First, solve_avoiding
+from armik.solve.held import solve_held
+from armik.solve.prepared import plan_for
+from armik.solvers import registry
+from armik.solvers.registry import SolverSpec
+from armik.targets.pose import Target, parsed
+from armik.verify.verdict import finish
+from armik.verify.verdicts import Verdicts
+
+
+def run(arm: ArmModel, req: Request):
+    """The verified result of ``req`` (a list of every solution with ``req.every``)."""
+    target: Any
+    target, q0, solver, opts, key, seed, every, t0 = req[:8]
+    if opts.hold is not None:
+        target = parsed(target, arm)  # once: the held arm's solve and its verdict read it
+        return solve_held(arm, target, q0, solver, with_seed(opts, seed), every, t0, general)
+    if not every and (opts.obstacles or opts.self_collision):  # ``opts.collisions``, inline
+        return _avoiding(arm, req)
+    if far.first_use and not every:  # a target beyond reach: answered before any compile
+        got = far.beyond_reach(arm, target, q0, solver, opts, t0)
+        if got is not None:
+            return got
+    kind = type(target)  # a position, for the plan
+    vector = (kind is np.ndarray and target.ndim == 1) or (
+        kind is Target and target.rotation is None
+    )
+    plan = None if key is None else plan_for(arm, solver, key, opts, vector, every)
+    if plan is not None and not every:
+        got = plan.solve(target, q0, opts, seed, t0)
+        if got is not None:
+            return got
+    elif plan is not None:
+        found = plan.solve_all(target, q0, opts, seed, t0)
+        if found is not None:
+            return _beyond_search(arm, req, found)
+    results = general(arm, target, q0, solver, with_seed(opts, seed), every, t0)
+    if every:
+        return _beyond_search(arm, req, results)
+    return results[0]
+
+
+def general(arm, target, q0, solver: str, opts, every: bool, t0: float) -> list[IKResult]:
+    """The general path: the solver chosen for the parsed target, run, verified."""
+    tgt = parsed(target, arm)
+    spec = registry.choose(solver, arm, tgt, opts, every)
+    return _run(arm, spec, tgt, q0, opts, every, t0)
+
+
+def _beyond_search(arm: ArmModel, req: Request, results: list) -> list:
+    """``solve_all``'s ``results``, or where "auto" chose a search that verified nothing
+    (a search's miss shows nothing about the target), the answer "auto" gives for one
+    answer, with the search's miss in its reason."""
+    if req.solver != "auto" or any(r.success for r in results) or not results:
+        return results
+    if registry.get(results[0].solver).complete:
+        return results
+    one = general(arm, req.target, req.q0, "auto", req.settings, False, req.t0)[0]
+    said = reasons.search_missed(results[0].solver, results[0].reason, one.solver, one.reason)
+    return [dataclasses.replace(one, reason=said)]
+
+
+_NO_COLLISIONS = {"obstacles": (), "self_collision": False, "margin": 0.0}
+
+
+def _avoiding(arm: ArmModel, req: Request) -> IKResult:
+    """A collision-checked solve: a closed form's branches from one run of its kernel,
+    checked nearest first; a numeric solver's plain solve first (most answers are clear at
+    once), then its restarts go on from that run."""
+    target, q0, solver, opts, key, seed, _, t0 = req[:8]
+    plain = but_options(opts, **_NO_COLLISIONS)
+    tgt = parsed(target, arm)
+    # chosen as without collisions (no solver reads them): remembered for these options
+    spec = registry.choose(solver, arm, tgt, plain)
+    first = None
+    if spec.kind != "analytic":
+        started, now = time.thread_time(), time.perf_counter()
+        if key is None:  # options no plan is kept for (obstacles): the general path
+            r = _run(arm, spec, tgt, q0, with_seed(plain, seed), False, now)[0]
+        else:  # the plan's key apart from the options' with collisions
+            r = run(arm, req.but(target=tgt, opts=plain, key=(key, "plain"), t0=now))
+        clear, first = _clear_at_once(arm, r, opts, started, t0)
+        if clear is not None:
+            return clear
+    return _run(arm, spec, tgt, q0, with_seed(opts, seed), False, t0, first)[0]  # type: ignore[no-any-return]
+
+
+def _clear_at_once(arm, r: IKResult, opts, started: float, t0: float):
+    """(result, first): a numeric solver's plain solve ``r`` (begun at thread CPU time
+    ``started``) when its answer is a success and collision-free, with its distance and
+    pair (the answer the collision-checked search starts with, as ``solve_batch``'s
+    chunks), and None; else None and ``First``, that run for the search
+    (``armik.solve.avoid``) to go on from."""
+    if not r.success:
+        return None, First(Verdicts.of_result(r, opts.tol_position, opts.tol_orientation), started)
+    distance, pair = checker(arm, opts.obstacles, opts.self_collision).distance(r.q)
+    if distance < opts.margin:
+        row = Verdicts.of_result(r, opts.tol_position, opts.tol_orientation)
+        return None, First(row.judge(distances([(distance, pair)], opts.margin)), started)
+    clear = dataclasses.replace(
+        r,
+        reason=reasons.and_clear(r.reason, pair, distance, opts.margin),
+        time=time.perf_counter() - t0,
+        extra={"min_distance": distance, "closest_pair": pair},
+    )
+    return clear, None
+
+
+def _run(arm, spec: SolverSpec, tgt: Target, q0, opts, every: bool, t0: float, first=None):
+    """The verified results of ``spec`` for the parsed target ``tgt`` (collisions checked
+    where the options ask, a numeric solver going on from ``first`` when given)."""
+    seed = arm.seed(q0)
+    if opts.collisions:
+        return solve_avoiding(arm, spec, tgt, seed, opts, every, t0, first)
+    answers = spec.run(arm, tgt, seed, opts, every)
+    return finish(arm, spec.name, answers, tgt, opts, seed, every, t0)
+
+
+def narrowed(req: Request, **changes: object) -> Request:
+    """``req`` with some of its options changed (``changes``: values of ``Options``' own
+    fields, of their type), kept apart from the request's own: its plans and choices."""
+    key = None if req.key is None else (req.key, tuple(changes.items()))
+    return req.but(opts=but_options(req.opts, **changes), key=key)
+
+
+_AIMS = ("look_at", "toward")  # new at each of a loop of targets: out of the key
+
+
+def with_said(req: Request, said: dict, **changes: object) -> Request:
+    """``req`` with the options a lowered task list says (``said``, validated here as
+    options, over a cone the request holds) and ``changes`` (as ``narrowed``)."""
+    cone = {"cone": req.opts.cone} if req.opts.cone is not None and "cone" not in said else {}
+    given = Options.from_kwargs({**cone, **said})
+    values = {name: getattr(given, name) for name in said}
+    values.update(changes)
+    plain = tuple((k, v) for k, v in values.items() if k not in _AIMS)
+    aims = tuple(k for k in _AIMS if k in values)
+    key = None if req.key is None else (req.key, plain, aims)
+    return req.but(opts=but_options(req.opts, **values), key=key)
