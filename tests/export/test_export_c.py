@@ -13,7 +13,14 @@ from tests.solvers.closed_form.random_arms import load_arm, random_axes, urdf_te
 
 TARGETS = 50
 BUNDLED = ["ur5", "ur10", "z1", "abb_irb120", "planar_2link", "ur5+tool"]
-RANDOM = [("three_parallel", 1), ("three_parallel", 2), ("parallel_23", 3), ("meeting_12", 4)]
+RANDOM = [
+    ("three_parallel", 1),
+    ("three_parallel", 2),
+    ("parallel_23", 3),
+    ("meeting_12", 4),
+    ("spherical", 5),  # spherical_general: SP5
+    ("three_parallel_free", 6),  # three_parallel_general: SP6
+]
 
 
 def arm_of(case) -> armik.Arm:

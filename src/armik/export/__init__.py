@@ -16,7 +16,14 @@ from pathlib import Path
 
 from armik.errors import OptionError, SolverError
 from armik.export import ikfast as ikfast_file
-from armik.export import planar2r, solver_file, spherical_wrist, three_parallel
+from armik.export import (
+    planar2r,
+    solver_file,
+    spherical_general,
+    spherical_wrist,
+    three_parallel,
+    three_parallel_general,
+)
 from armik.model.arm_model import ArmModel, model_of
 from armik.model.geometry import axis_lines
 from armik.options import Options
@@ -26,6 +33,8 @@ from armik.solvers import registry
 FAMILIES: dict[str, Callable] = {
     "three_parallel": three_parallel.rows,
     "spherical": spherical_wrist.rows,
+    "three_parallel_general": three_parallel_general.rows,
+    "spherical_general": spherical_general.rows,
     "planar2r": planar2r.rows,
 }
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
