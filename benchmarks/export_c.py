@@ -13,10 +13,14 @@ headers, the same flags) is timed on the same targets in the same script, else i
 which is missing.
 
     python benchmarks/export_c.py ur5 ur10 abb_irb120 z1 random:three_parallel:1 \
-        random:parallel_23:2 random:meeting_12:3 -n 300
+        random:parallel_23:2 random:meeting_12:3 random:spherical:4 \
+        random:three_parallel_free:5 panda -n 300
 
 An arm is a bundled name, or ``random:KIND:SEED``, a random arm of ``KIND``
-(``armik.model.random_arms``: ``three_parallel``, ``parallel_23``, ``meeting_12``).
+(``armik.model.random_arms``: ``three_parallel``, ``parallel_23``, ``meeting_12``;
+``spherical`` and ``three_parallel_free`` for the general families). A 7R arm is exported
+with joint 7 held (the Panda): each target's joint 7 is the value it was made with, passed
+to ``N_ik`` and to ``solve_all(hold=...)``; ssik is timed on the 6R arms only.
 """
 
 from __future__ import annotations
@@ -49,31 +53,36 @@ static double now(void)
     return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
+/* IK(T, h, q): NAME_ik, with the held joint's value h when it takes one */
 int main(int argc, char **argv)
 {
     int n, reps, rounds, i, r, k, count;
-    double *T, q[UPPER_IK_MAX_SOLUTIONS][UPPER_IK_DOF], best = 1e30, t0, sum = 0.0;
-    FILE *in, *out;
-    if (argc != 6) return 1;
+    double *T, *H, q[UPPER_IK_MAX_SOLUTIONS][UPPER_IK_DOF], best = 1e30, t0, sum = 0.0;
+    FILE *in, *out, *held;
+    if (argc != 7) return 1;
     n = atoi(argv[1]);
     reps = atoi(argv[2]);
     rounds = atoi(argv[3]);
     T = malloc(sizeof(double) * 16 * n);
+    H = malloc(sizeof(double) * n);
     in = fopen(argv[4], "rb");
     out = fopen(argv[5], "w");
-    if (!T || !in || !out || fread(T, sizeof(double), 16 * n, in) != (size_t)(16 * n)) return 1;
+    held = fopen(argv[6], "rb");
+    if (!T || !H || !in || !out || !held) return 1;
+    if (fread(T, sizeof(double), 16 * n, in) != (size_t)(16 * n)) return 1;
+    if (fread(H, sizeof(double), n, held) != (size_t)n) return 1;
     for (k = 0; k < rounds; k++) {
         t0 = now();
         for (r = 0; r < reps; r++)
             for (i = 0; i < n; i++) {
-                count = NAME_ik(T + 16 * i, q);
+                count = IK(T + 16 * i, H[i], q);
                 sum += count > 0 ? q[0][0] + count : 0.0;
             }
         t0 = (now() - t0) / ((double)reps * n);
         best = t0 < best ? t0 : best;
     }
     for (i = 0; i < n; i++) {
-        count = NAME_ik(T + 16 * i, q);
+        count = IK(T + 16 * i, H[i], q);
         fprintf(out, "%d", count);
         for (r = 0; r < count; r++)
             for (k = 0; k < UPPER_IK_DOF; k++) fprintf(out, " %.17g", q[r][k]);
@@ -93,10 +102,15 @@ def load(robot: str) -> armik.Arm:
     return armik.load(robot)
 
 
-def build_and_time(arm: armik.Arm, name: str, poses: np.ndarray, folder: Path, args):
-    """(mean us a call, each target's solutions) from the compiled harness."""
+def build_and_time(
+    arm: armik.Arm, name: str, poses: np.ndarray, held: np.ndarray | None, folder: Path, args
+):
+    """(mean us a call, each target's solutions) from the compiled harness; ``held``: each
+    target's value of the held joint (a 7R arm), else None."""
     armik.export(arm, name, folder)
-    (folder / "bench.c").write_text(HARNESS.replace("NAME", name).replace("UPPER", name.upper()))
+    call = f"{name}_ik(T, h, q)" if held is not None else f"((void)(h), {name}_ik(T, q))"
+    text = f"#define IK(T, h, q) {call}\n" + HARNESS.replace("NAME", name)
+    (folder / "bench.c").write_text(text.replace("UPPER", name.upper()))
     exe = folder / "bench"
     flags = ["-std=c99", "-O3", "-march=native", "-Wall", "-Wextra", "-Werror"]
     subprocess.run(
@@ -113,8 +127,11 @@ def build_and_time(arm: armik.Arm, name: str, poses: np.ndarray, folder: Path, a
     )
     targets = folder / "targets.bin"
     np.ascontiguousarray(poses, dtype="<f8").tofile(targets)
+    values = folder / "held.bin"
+    np.ascontiguousarray(np.zeros(len(poses)) if held is None else held, "<f8").tofile(values)
     answers = folder / "answers.txt"
     run = [str(exe), str(len(poses)), str(args.reps), str(args.rounds), str(targets), str(answers)]
+    run.append(str(values))
     done = subprocess.run(run, check=True, capture_output=True, text=True)
     mean = float(done.stdout.split()[0])
     rows = []
@@ -124,10 +141,14 @@ def build_and_time(arm: armik.Arm, name: str, poses: np.ndarray, folder: Path, a
     return mean, rows
 
 
-def check(arm: armik.Arm, poses: np.ndarray, rows: list[np.ndarray]) -> tuple[int, int, int]:
-    """(targets whose solutions are all right and are solve_all's, solutions, failures)."""
+def check(
+    arm: armik.Arm, poses: np.ndarray, rows: list[np.ndarray], held: np.ndarray | None
+) -> tuple[int, int, int]:
+    """(targets whose solutions are all right and are solve_all's, solutions, failures);
+    ``held``: joint 7's value at each target (``solve_all(hold=...)``), else None."""
     good = solutions = 0
-    for T, Q in zip(poses, rows):
+    for k, (T, Q) in enumerate(zip(poses, rows)):
+        hold = {} if held is None else {"hold": {arm.joint_names[6]: float(held[k])}}
         ok = True
         for q in Q:
             got = arm.fk(q)
@@ -135,7 +156,7 @@ def check(arm: armik.Arm, poses: np.ndarray, rows: list[np.ndarray]) -> tuple[in
             orientation = np.linalg.norm(pin.log3(got.rotation.T @ T[:3, :3]))
             inside = np.all(q >= arm.lower - 1e-12) and np.all(q <= arm.upper + 1e-12)
             ok &= bool(inside and position < 1e-9 and orientation < 1e-9)
-        expected = [r.q for r in arm.solve_all(T) if r.success]
+        expected = [r.q for r in arm.solve_all(T, **hold) if r.success]
         if len(expected) != len(Q):
             ok = False
         else:
@@ -308,18 +329,26 @@ def main() -> None:
     for robot in args.robots:
         arm = load(robot)
         rng = np.random.default_rng(0)
-        poses = np.array([arm.fk(arm.random_q(rng)).homogeneous for _ in range(args.n)])
+        qs = np.array([arm.random_q(rng) for _ in range(args.n)])
+        poses = np.array([arm.fk(q).homogeneous for q in qs])
+        held = qs[:, 6].copy() if arm.dof == 7 else None
         family = family_of(arm.kinematics)
         with tempfile.TemporaryDirectory() as tmp:
-            mean, rows = build_and_time(arm, "arm", poses, Path(tmp), args)
-            peer = [] if exe is None else ssik_time(arm, poses, Path(tmp), exe, args)
-        good, solutions, _ = check(arm, poses, rows)
+            mean, rows = build_and_time(arm, "arm", poses, held, Path(tmp), args)
+            timed = exe is not None and held is None
+            try:
+                peer = ssik_time(arm, poses, Path(tmp), exe, args) if timed else []
+            except Exception as error:  # ssik's C++ has no solver for every family
+                peer, missing = [], f"  (ssik: {type(error).__name__}: {str(error)[:60]})"
+            else:
+                missing = ""
+        good, solutions, _ = check(arm, poses, rows, held)
         line = f"{robot:<24} {family:<16} {mean:>10.3f} {solutions:>10} {good:>5}/{len(poses)}"
         if peer:
             (one, n_one, r_one), (every, n_every, _) = peer
             line += f" {one:>10.3f} {n_one:>10} {every:>20.3f} {n_every:>10}"
             line += f"  (ssik refused {r_one} targets)" if r_one else ""
-        print(line, flush=True)
+        print(line + missing, flush=True)
     build.cleanup()
     if absent:
         print(f"ssik: absent, {absent}")

@@ -33,7 +33,8 @@ def run(*argv: str) -> None:
 
 class Solver:
     """An exported solver ``name`` built as a shared library in ``folder``: ``ik(T)`` ->
-    its solutions (n, dof), ``fk(q)`` -> 4x4, ``ik_count(T)`` -> the return value."""
+    its solutions (n, dof), ``fk(q)`` -> 4x4, ``ik_count(T)`` -> the return value; with a
+    held joint (``held``: its index) both take its value after ``T``."""
 
     def __init__(
         self, arm: armik.Arm, name: str, folder: Path, ikfast: bool = False, **tolerances: float
@@ -51,6 +52,9 @@ class Solver:
                 .read_text()
                 .replace("NAME", name)
                 .replace("UPPER", name.upper())
+                .replace(
+                    "NFREE", "0" if "_IK_HELD_JOINT" not in self.files[f"{name}_ik.h"] else "1"
+                )
             )
             lib = folder / "libikfast.so"
             run(
@@ -63,19 +67,27 @@ class Solver:
         self.lib = ctypes.CDLL(str(lib))
         self._ik = getattr(self.lib, f"{name}_ik")
         self._ik.restype = ctypes.c_int
+        held = re.search(r"#define \w+_IK_HELD_JOINT (\d+)", self.files[f"{name}_ik.h"])
+        self.held = int(held.group(1)) if held else None
+        if self.held is not None:
+            self._ik.argtypes = [_P, ctypes.c_double, _P]
         self._fk = getattr(self.lib, f"{name}_fk")
         found = re.search(r"#define \w+_IK_MAX_SOLUTIONS (\d+)", self.files[f"{name}_ik.h"])
         assert found
         self.max = int(found.group(1))
 
-    def ik_count(self, T: np.ndarray) -> tuple[int, np.ndarray]:
+    def ik_count(self, T: np.ndarray, held: float | None = None) -> tuple[int, np.ndarray]:
         T = np.ascontiguousarray(T, dtype=float).reshape(16)
         Q = np.full((self.max, self.dof), np.nan)
-        n = self._ik(T.ctypes.data_as(_P), Q.ctypes.data_as(_P))
+        if self.held is None:
+            n = self._ik(T.ctypes.data_as(_P), Q.ctypes.data_as(_P))
+        else:
+            assert held is not None, "this solver takes the held joint's value"
+            n = self._ik(T.ctypes.data_as(_P), float(held), Q.ctypes.data_as(_P))
         return n, Q
 
-    def ik(self, T: np.ndarray) -> np.ndarray:
-        n, Q = self.ik_count(T)
+    def ik(self, T: np.ndarray, held: float | None = None) -> np.ndarray:
+        n, Q = self.ik_count(T, held)
         assert 0 <= n <= self.max
         return Q[:n].copy()
 

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import armik
+from armik.export import FAMILIES
 from armik.solvers import registry
 from armik.tools.cli import main
 from tests.export.build import CFLAGS, compilers, run
@@ -45,14 +46,20 @@ def test_name_must_be_a_c_identifier(name):
         armik.export(armik.load("ur5"), name)
 
 
-@pytest.mark.parametrize("kind", ["two_parallel", "general"])
+@pytest.mark.parametrize("kind", ["two_parallel", "two_intersecting", "general"])
 def test_arms_without_an_exported_closed_form_are_refused(kind):
+    """Each exported family's reason, as armik info gives it; a search solve_all would
+    run named as one (armik info: "every solution, a search") with its summary."""
     arm = load_arm(kind, np.random.default_rng(9))
     with pytest.raises(armik.SolverError) as info:
         armik.export(arm, "x")
     text = str(info.value)
-    for name in ("three_parallel", "spherical", "planar2r"):
+    for name in FAMILIES:
         assert f"{name}: {registry.why_not(name, arm.kinematics)}" in text
+    chosen = registry.choose("auto", arm.kinematics, every=True)
+    assert not chosen.complete  # each of these arms' solve_all is a search
+    assert f"solve_all chooses {chosen.name!r}, every solution by a search" in text
+    assert chosen.summary in text
 
 
 def test_cli(tmp_path, capsys):
@@ -60,7 +67,7 @@ def test_cli(tmp_path, capsys):
     assert main(["export", "planar_2link", "--name", "two", "--out", str(out)]) == 0
     assert capsys.readouterr().out.split() == [str(out / "two_ik.h"), str(out / "two_ik.c")]
     assert "TWO_IK_MAX_SOLUTIONS 2" in (out / "two_ik.h").read_text()
-    assert main(["export", "panda", "--name", "p", "--out", str(tmp_path / "p")]) == 2
+    assert main(["export", "xarm7", "--name", "p", "--out", str(tmp_path / "p")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "no closed form to export" in err
     assert not (tmp_path / "p").exists()

@@ -13,7 +13,14 @@ from tests.solvers.closed_form.random_arms import load_arm, random_axes, urdf_te
 
 TARGETS = 50
 BUNDLED = ["ur5", "ur10", "z1", "abb_irb120", "planar_2link", "ur5+tool"]
-RANDOM = [("three_parallel", 1), ("three_parallel", 2), ("parallel_23", 3), ("meeting_12", 4)]
+RANDOM = [
+    ("three_parallel", 1),
+    ("three_parallel", 2),
+    ("parallel_23", 3),
+    ("meeting_12", 4),
+    ("spherical", 5),  # spherical_general: SP5
+    ("three_parallel_free", 6),  # three_parallel_general: SP6
+]
 
 
 def arm_of(case) -> armik.Arm:
@@ -93,26 +100,6 @@ def test_out_of_reach_and_bad_poses(built):
     skewed = T.copy()
     skewed[:3, :3] *= 1.001
     assert solver.ik_count(skewed)[0] == -1
-
-
-SINGULAR = {  # joint values at a singularity of each arm's family
-    "ur5": [[0.3, -1.0, 1.2, -0.4, 0.0, 0.7], [0.3, -1.0, 0.0, -0.4, 1.1, 0.7]],
-    "abb_irb120": [[0.3, 0.4, 0.2, 0.5, 0.0, -0.6], [0.0, 0.3, 0.2, 0.4, 0.9, 0.1]],
-}
-
-
-@pytest.mark.parametrize("name", sorted(SINGULAR))
-def test_singular_targets(name, tmp_path):
-    """Wrist and elbow singularities: no NaN, every row verified, as ``solve_all`` has
-    them (a free joint at the middle of its limits)."""
-    arm = armik.load(name)
-    solver = Solver(arm, "s", tmp_path)
-    for q in SINGULAR[name]:
-        T = arm.fk(np.array(q)).homogeneous
-        n, Q = solver.ik_count(T)
-        assert n >= 0 and n < 8
-        check_solutions(arm, Q[:n], T)
-        same_as_solve_all(arm, Q[:n], T)
 
 
 def test_limits_narrower_than_a_turn(tmp_path):

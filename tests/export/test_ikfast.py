@@ -1,5 +1,6 @@
 """The IKFast 61 file: compiled against a header declaring IKFast's interface, included and
-called as MoveIt's ikfast_kinematics_plugin does, it gives N_ik's solutions and N_fk's pose."""
+called as MoveIt's ikfast_kinematics_plugin does, it gives N_ik's solutions and N_fk's pose;
+a 7R arm's held joint is IKFast's one free parameter."""
 
 from __future__ import annotations
 
@@ -14,22 +15,27 @@ from tests.export.build import Solver
 _P = ctypes.POINTER(ctypes.c_double)
 
 
-@pytest.mark.parametrize("name", ["ur5", "abb_irb120"])
+@pytest.mark.parametrize("name", ["ur5", "abb_irb120", "panda"])
 def test_ikfast_gives_n_iks_solutions(name, tmp_path):
     arm = armik.load(name)
     solver = Solver(arm, name, tmp_path, ikfast=True)
     assert f"{name}_ikfast.cpp" in solver.files
     solve = solver.lib.ikfast_solve
     solve.restype = ctypes.c_int
+    held = solver.held  # the Panda's joint 7, None for the 6R arms
+    assert solver.lib.ikfast_free_index() == (-1 if held is None else held)
     rng = np.random.default_rng(2)
     found = 0
     for _ in range(20):
         q = arm.random_q(rng)
         T = np.ascontiguousarray(arm.fk(q).homogeneous).reshape(16)
-        Q = np.full((8, 6), np.nan)
-        n = solve(T.ctypes.data_as(_P), Q.ctypes.data_as(_P))
-        expected = solver.ik(T)
+        free = np.array([0.0 if held is None else q[held]])
+        Q = np.full((8, arm.dof), np.nan)
+        n = solve(T.ctypes.data_as(_P), free.ctypes.data_as(_P), Q.ctypes.data_as(_P))
+        expected = solver.ik(T, None if held is None else q[held])
         assert n == len(expected) and np.array_equal(Q[:n], expected)
+        if held is not None:
+            assert np.all(Q[:n, held] == q[held])
         found += n
         trans, rot = np.empty(3), np.empty(9)
         solver.lib.ikfast_fk(q.ctypes.data_as(_P), trans.ctypes.data_as(_P), rot.ctypes.data_as(_P))
@@ -38,4 +44,7 @@ def test_ikfast_gives_n_iks_solutions(name, tmp_path):
     assert found >= 20
     far = np.eye(4)
     far[2, 3] = 100.0
-    assert solve(far.reshape(16).ctypes.data_as(_P), np.empty((8, 6)).ctypes.data_as(_P)) == 0
+    free = np.zeros(1)
+    none = np.empty((8, arm.dof))
+    args = (far.reshape(16).ctypes.data_as(_P), free.ctypes.data_as(_P), none.ctypes.data_as(_P))
+    assert solve(*args) == 0

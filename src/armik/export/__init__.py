@@ -2,10 +2,13 @@
 ``N_ik.c``; with ``ikfast=True`` also ``N_ikfast.cpp``, IKFast 61's interface).
 
 The C is written from the same family description the Python solver runs on (its
-``classify``), one module a family: ``three_parallel``, ``spherical_wrist``, ``planar2r``;
-``solver_file`` adds what every family shares (2 pi shifts, limits, the verdict, the order),
-``c_source`` the subproblems. An arm whose ``solve_all`` is not one of those closed forms is
-refused with a ``SolverError`` saying why each family does not apply.
+``classify``), one module a family: ``three_parallel``, ``spherical_wrist``,
+``three_parallel_general``, ``spherical_general``, ``planar2r``, and ``swept_7r`` (a 7R arm
+with joint 7 held: ``N_ik`` takes its value); ``solver_file`` adds what every family shares
+(2 pi shifts, limits, the verdict, the order), ``c_source`` the subproblems SP1-SP4,
+``c_roots`` and ``c_subproblems_56`` SP5 and SP6. An arm whose ``solve_all`` is not one of
+those closed forms (and not a 7R arm ``swept_7r`` holds) is refused with a ``SolverError``
+saying why each family does not apply, and naming a search ``solve_all`` would run.
 """
 
 from __future__ import annotations
@@ -16,7 +19,15 @@ from pathlib import Path
 
 from armik.errors import OptionError, SolverError
 from armik.export import ikfast as ikfast_file
-from armik.export import planar2r, solver_file, spherical_wrist, three_parallel
+from armik.export import (
+    planar2r,
+    solver_file,
+    spherical_general,
+    spherical_wrist,
+    swept_7r,
+    three_parallel,
+    three_parallel_general,
+)
 from armik.model.arm_model import ArmModel, model_of
 from armik.model.geometry import axis_lines
 from armik.options import Options
@@ -26,8 +37,12 @@ from armik.solvers import registry
 FAMILIES: dict[str, Callable] = {
     "three_parallel": three_parallel.rows,
     "spherical": spherical_wrist.rows,
+    "three_parallel_general": three_parallel_general.rows,
+    "spherical_general": spherical_general.rows,
     "planar2r": planar2r.rows,
+    "swept": swept_7r.rows,  # a 7R arm with joint 7 held: N_ik takes its value
 }
+HELD_FAMILY = "swept"  # not solve_all's choice: the family of hold= on joint 7
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 
 
@@ -41,9 +56,16 @@ def family(arm: ArmModel) -> str:
         chosen = None
     if chosen in FAMILIES:
         return chosen
+    if registry.why_not(HELD_FAMILY, arm) is None:
+        return HELD_FAMILY
     why = "; ".join(f"{name}: {registry.why_not(name, arm)}" for name in FAMILIES)
+    spec = registry.get(chosen) if chosen is not None else None
+    if spec is not None and not spec.complete:  # armik info: "(every solution, a search)"
+        chosen_text = f"{chosen!r}, every solution by a search ({spec.summary}), not exported"
+    else:
+        chosen_text = repr(chosen)
     raise SolverError(
-        f"arm {arm.name!r} has no closed form to export (solve_all chooses {chosen!r}): {why}",
+        f"arm {arm.name!r} has no closed form to export (solve_all chooses {chosen_text}): {why}",
         solver=str(chosen),
         candidates=list(FAMILIES),
     )
@@ -81,12 +103,13 @@ def export(
     rows = rows_of(model, ax)
     c_text = solver_file.source(name, model, ax, rows, opts)
     head = (name, model.dof, rows.max_rows, rows.summary, opts.tol_position, opts.tol_orientation)
+    head += (rows.held,)
     files = {
         f"{name}_ik.h": solver_file.header(*head),
         f"{name}_ik.c": c_text,
     }
     if ikfast:
-        files[f"{name}_ikfast.cpp"] = ikfast_file.source(name, c_text)
+        files[f"{name}_ikfast.cpp"] = ikfast_file.source(name, c_text, rows.held)
     if out is not None:
         folder = Path(out)
         folder.mkdir(parents=True, exist_ok=True)

@@ -100,10 +100,9 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
 """
 
 
-def rows(arm: ArmModel, ax: Axes) -> Rows:
-    """The C rows of ``arm``, a spherical-wrist arm (``spherical_wrist.classify`` holds)."""
-    geo = spherical_wrist.classify(arm, ax)
-    assert isinstance(geo, Chain6R)  # the caller chose the family by its solver's test
+def chain_text(geo: Chain6R) -> str:
+    """The constants of the chain ``geo`` (a spherical-wrist ``Chain6R``, either variant)
+    and the C of its ``wrist`` and ``rows``."""
     h, p = geo.h, geo.p
     names = {f"h{i + 1}": h[i] for i in range(6)}
     names.update({f"p{i}": p[i] for i in (0, 2, 3, 6)})
@@ -115,5 +114,12 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
         body = PARALLEL_23
     else:
         body = MEETING_12
+    return c_source.constants(names) + "\n" + WRIST + body
+
+
+def rows(arm: ArmModel, ax: Axes) -> Rows:
+    """The C rows of ``arm``, a spherical-wrist arm (``spherical_wrist.classify`` holds)."""
+    geo = spherical_wrist.classify(arm, ax)
+    assert isinstance(geo, Chain6R)  # the caller chose the family by its solver's test
     summary = f"a 6R arm with a spherical wrist ({geo.description})"
-    return Rows(c_source.constants(names) + "\n" + WRIST + body, 8, SNAP, summary)
+    return Rows(chain_text(geo), 8, SNAP, summary)

@@ -1,0 +1,82 @@
+"""6R arms with axes 2, 3, 4 parallel and a general wrist as C: the kernel of
+``armik.solvers.closed_form.three_parallel_general``, step for step (SP6 for joints 1 and
+5, SP1 for joint 6 and the sum of joints 2 to 4, SP3 and SP1 for the elbow), on the
+``Chain6R`` its ``classify`` gives, with the chain's numbers folded in as constants.
+"""
+
+from __future__ import annotations
+
+from armik.export import c_source, c_subproblems_56
+from armik.export.solver_file import Rows
+from armik.model.arm_model import ArmModel
+from armik.model.geometry import Axes
+from armik.solvers.closed_form import subproblems as sp
+from armik.solvers.closed_form import three_parallel_general
+from armik.solvers.closed_form.sixr import SNAP, Chain6R
+
+ROWS = r"""
+static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][DOF])
+{
+    mat3 R06 = mmt(R, R_TIP0), R1, R5, M, R14;
+    vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), H6[4], K6[4], P6[4], a, v;
+    double t1[4], t5[4], t3[2], q[6], c[6], s[6], q14, nv;
+    int m, ls, i, i3, n3, j, n = 0;
+    H6[0] = H6[1] = H6[2] = H6[3] = h2;
+    K6[0] = K6[2] = neg(h1);
+    K6[1] = K6[3] = h5;
+    P6[0] = p16;
+    P6[1] = neg(p5);
+    P6[2] = mv(R06, h6);
+    P6[3] = neg(h6);
+    m = sp6(H6, K6, P6, D1, 0.0, t1, t5, &ls);
+    if (m == -1) m = 1;  /* a continuum: one of it */
+    for (i = 0; i < m; i++) {
+        q[0] = t1[i];
+        q[4] = t5[i];
+        R1 = rot(h1, q[0]);
+        R5 = rot(h5, q[4]);
+        M = mtm(R1, R06);
+        a = mtv(R5, h2);
+        if (norm(cross(a, h6)) < IK_SINGLE) q[5] = MID[5];  /* wrist singular: q6 free */
+        else q[5] = sp1(a, mtv(M, h2), neg(h6));
+        R14 = mmt(mmt(M, rot(h6, q[5])), R5);
+        q14 = sp1(X, mv(R14, X), h2);
+        v = sub(sub(mtv(R1, p16), p1), mv(R14, add(p4, mv(R5, p5))));
+        nv = norm(v);
+        n3 = sp3(p3, neg(p2), h3, nv, t3);
+        if (n3 == -1) { n3 = 1; t3[0] = MID[2]; }
+        for (i3 = 0; i3 < n3; i3++) {
+            q[2] = t3[i3];
+            q[1] = sp1(add(p2, mv(rot(h3, q[2]), p3)), v, h2);
+            q[3] = S4 * (q14 - q[1] - S3 * q[2]);
+            for (j = 0; j < 6; j++) {
+                c[j] = cos(q[j]);
+                s[j] = sin(q[j]);
+            }
+            n = put_row(W, C, S, n, q, c, s);
+        }
+    }
+    return n;
+}
+"""
+
+
+def rows(arm: ArmModel, ax: Axes) -> Rows:
+    """The C rows of ``arm`` (``three_parallel_general.classify`` holds)."""
+    geo = three_parallel_general.classify(arm, ax)
+    assert isinstance(geo, Chain6R)  # the caller chose the family by its solver's test
+    h, p = geo.h, geo.p
+    x = sp.cross.py_func(h[1], h[0])
+    add, dot = sp.add.py_func, sp.dot.py_func
+    names = {f"h{i + 1}": h[i] for i in (0, 1, 2, 4, 5)}  # h4 only as S4
+    names.update({f"p{i}": p[i] for i in range(7)})
+    names.update(
+        R_TIP0=geo.R_tip0,
+        X=sp.scale.py_func(x, 1.0 / sp.norm.py_func(x)),
+        D1=dot(h[1], add(add(p[1], p[2]), add(p[3], p[4]))),
+        S3=dot(h[2], h[1]),
+        S4=dot(h[3], h[1]),
+    )
+    text = c_source.constants(names) + "\n" + c_subproblems_56.source(sp6=True) + ROWS
+    summary = f"a 6R arm with axes 2, 3, 4 parallel, the wrist general ({geo.description})"
+    return Rows(text, 8, SNAP, summary)
