@@ -40,6 +40,10 @@ class BatchResult:
       overlapping), NaN where collisions were not checked; ``pair_index`` (N,) the index
       of that pair in ``pair_names`` (-1 where not checked); ``closest_pair(i)`` its names.
     - ``score`` (N,): each answer's score with ``prefer=`` (lower is better), NaN without.
+    - ``measured`` (N, 2): where the request measured other than the distances to the
+      targets (weights, a region), what each verdict measured (position, orientation);
+      ``position_error`` and ``orientation_error`` are the distances all the same. NaN
+      where the verdict measured the distances themselves (``armik.verify.distances``).
 
     ``len(r)``, ``r[i]`` (an ``IKResult``), ``r[mask]`` or ``r[a:b]`` (a ``BatchResult``),
     iteration over ``IKResult``s, ``save``/``load`` (.npz) and ``summary()``.
@@ -65,6 +69,7 @@ class BatchResult:
     pair_names: list[tuple[str, str]] = field(default_factory=list)
     score: np.ndarray | None = None  # (N,) with prefer=; NaN filled when None is given
     region: bool = False  # the targets are regions (bounds, a cone): errors lie outside them
+    measured: np.ndarray | None = None  # (N, 2) the verdict's errors; NaN filled when None
 
     def __post_init__(self) -> None:
         n = len(self.success)
@@ -74,6 +79,8 @@ class BatchResult:
             object.__setattr__(self, "score", np.full(n, np.nan))
         if self.pair_index is None:
             object.__setattr__(self, "pair_index", np.full(n, -1, dtype=np.int32))
+        if self.measured is None:
+            object.__setattr__(self, "measured", np.full((n, 2), np.nan))
 
     # -- container --------------------------------------------------------------------
 
@@ -89,6 +96,11 @@ class BatchResult:
     def _distances(self) -> np.ndarray:
         """``min_distance``: an array once built (``__post_init__`` fills a None)."""
         return cast(np.ndarray, self.min_distance)
+
+    @property
+    def _measured(self) -> np.ndarray:
+        """``measured``: an array once built (``__post_init__`` fills a None)."""
+        return cast(np.ndarray, self.measured)
 
     @property
     def _pairs(self) -> np.ndarray:
@@ -116,13 +128,15 @@ class BatchResult:
         i = self._index(i)
         if i in self.reasons:
             return self.reasons[i]
-        measured = reasons.measured(
-            self.position_error[i],
-            self.orientation_error[i],
-            self.tol_position,
-            self.tol_orientation,
-        )
+        apart = self._measured[i]
+        pos, ori = self.position_error[i], self.orientation_error[i]
+        if not math.isnan(apart[0]):  # the verdict measured apart: what it measured first
+            pos, ori = apart[0], apart[1]
+        measured = reasons.measured(pos, ori, self.tol_position, self.tol_orientation)
         text = reasons.verified(None, reasons.outside_region(measured) if self.region else measured)
+        if not math.isnan(apart[0]):
+            pos, ori = float(self.position_error[i]), float(self.orientation_error[i])
+            text = reasons.measured_apart(text, pos, ori, not self.region)
         if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):  # checked
             pair, distance = self.closest_pair(i), float(self._distances[i])
             text = reasons.and_clear(text, pair, distance, self.margin)
@@ -160,6 +174,9 @@ class BatchResult:
                 extra["closest_pair"] = self.closest_pair(i)
             if not math.isnan(self._scores[i]):
                 extra["score"] = float(self._scores[i])
+            if not math.isnan(self._measured[i, 0]):
+                pos, rot = self._measured[i].tolist()
+                extra["measured"] = (pos, None if math.isnan(rot) else rot)
             return IKResult(
                 q=self.q[i],
                 success=bool(self.success[i]),
@@ -202,6 +219,7 @@ class BatchResult:
             pair_names=list(self.pair_names),
             score=self._scores[picked],
             region=self.region,
+            measured=self._measured[picked],
         )
 
     def __iter__(self) -> Iterator[IKResult]:
@@ -270,6 +288,7 @@ class BatchResult:
             min_distance=self._distances,
             pair_index=self._pairs,
             score=self._scores,
+            measured=self._measured,
         )
         return npz.save(path, meta, arrays)
 
@@ -303,6 +322,7 @@ class BatchResult:
             pair_names=[tuple(p) for p in meta.get("pair_names", [])],
             score=arrays.get("score"),  # absent from files written before preferences
             region=bool(meta.get("region", False)),  # absent from files before regions
+            measured=arrays.get("measured"),  # absent from files before it was kept
         )
 
     # -- building ---------------------------------------------------------------------
@@ -364,6 +384,9 @@ class BatchResult:
         d = r.extra.get("min_distance")
         if d is not None:
             self.put_distance(i, d, r.extra.get("closest_pair"))
+        apart = r.extra.get("measured")
+        if apart is not None:
+            self._measured[i] = (apart[0], math.nan if apart[1] is None else apart[1])
         if r.success:
             self.reasons.pop(i, None)  # a row solved again: its earlier failure's words go
         else:
@@ -394,4 +417,5 @@ _ARRAYS = (
     "restarts",
     "min_distance",
     "score",
+    "measured",
 )

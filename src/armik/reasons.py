@@ -253,3 +253,13 @@ def _tol_text(tol: float) -> str:
 
 
 _TOL_TEXT: dict[float, str] = {}
+
+
+def measured_apart(reason: str, pos: float, ori: float | None, weighted: bool) -> str:
+    """A result whose verdict measured other than the distances to the target (weights on
+    the axes, a region): its reason, then those distances, what ``position_error`` and
+    ``orientation_error`` report."""
+    rot = "" if ori is None or ori != ori else f", {ori:.3g} rad"
+    if weighted:
+        return f"{reason} (on the weighted axes); the tip is {pos:.3g} m{rot} from the target"
+    return f"{reason}; the tip is {pos:.3g} m{rot} from the region's centre"

@@ -20,7 +20,9 @@ class IKResult:
     ``q``: joint values (rad, m), one per joint, read-only. ``success`` is True only if the
     FK errors are within tolerance and every joint is within its limits. ``position_error``
     (m) and ``orientation_error`` (rad, geodesic; None for a position-only target) are
-    measured on ``q``. ``time`` (s) covers the whole call including verification.
+    the distances of ``q``'s tip to the target; where the request measured other than
+    them (weights, a region), ``measured`` gives what its verdict measured. ``time`` (s)
+    covers the whole call including verification.
     """
 
     q: np.ndarray
@@ -54,6 +56,13 @@ class IKResult:
         d.update(fields)
         d["extra"] = {}
         return self
+
+    @property
+    def measured(self) -> tuple[float, float | None] | None:
+        """(position, orientation): what the verdict measured where the request measures
+        other than the distances to the target (weights on the axes: the weighted error; a
+        region: the distances outside it), else None (``armik.verify.distances``)."""
+        return self.extra.get("measured")
 
     if not TYPE_CHECKING:  # to a type checker the fields are all there is: a typo is an error
 

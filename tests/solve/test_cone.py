@@ -49,7 +49,9 @@ def test_a_cone_is_solved_by_the_compiled_step_within_it(name):
         assert np.linalg.norm(T.translation - position.p) <= 1e-6
         tilt = _angle(T.rotation @ axis.axis, axis.direction)
         assert tilt <= axis.within + 1e-6
-        assert r.orientation_error == pytest.approx(max(tilt - axis.within, 0.0), abs=1e-9)
+        # the distance: the axis' angle to the direction; the verdict's: outside the cone
+        assert r.orientation_error == pytest.approx(tilt, abs=1e-9)
+        assert r.measured[1] == pytest.approx(max(tilt - axis.within, 0.0), abs=1e-9)
         assert a.within_limits(r.q)
 
 

@@ -102,8 +102,8 @@ def export(
     ax = axis_lines(model)
     rows = rows_of(model, ax)
     c_text = solver_file.source(name, model, ax, rows, opts)
-    head = (name, model.dof, rows.max_rows, rows.summary, opts.tol_position, opts.tol_orientation)
-    head += (rows.held,)
+    tolerances_of = (opts.tol_position, opts.tol_orientation)
+    head = (name, model.dof, rows.max_rows, rows.summary, *tolerances_of, rows.held)
     files = {
         f"{name}_ik.h": solver_file.header(*head),
         f"{name}_ik.c": c_text,

@@ -42,6 +42,7 @@ from armik.solvers import registry
 from armik.solvers.answers import Answers
 from armik.solvers.claims import Claim
 from armik.targets.pose import Target, parse_target
+from armik.verify.distances import fields_apart, plain
 from armik.verify.measure import BatchMeasure, measures_of
 from armik.verify.region import region_error
 from armik.verify.verdict import (
@@ -132,6 +133,24 @@ class Plan:
             arm.upper,
         )
         self.measure_rot = measure_rot
+        # measured apart (weights, a region): the distances themselves too, for the result
+        # (``armik.verify.distances``): against a region shrunk to its centre, or unweighted
+        self.apart = self.apart_region = None
+        self.weighted = opts.weights is not None
+        if opts.region:
+            centre = plain(opts)
+            w, _, _ = measures_of(None, opts.position_only, position)
+            self.apart_region = (centre.region_bounds, w, centre.cone)
+        elif self.weighted:
+            w, _, _ = measures_of(None, opts.position_only, position)
+            self.apart = check_frame(
+                arm.T_base_world.rotation,
+                arm.T_base_world.translation,
+                w,
+                2 if measure_rot else 0,
+                arm.lower,
+                arm.upper,
+            )
         # a region (bounds, a cone): measured by ``verify.region``, as the general path does
         self.region = (opts.region_bounds, w, opts.cone) if opts.region else None
         self.tol_p, self.tol_r = opts.tol_position, opts.tol_orientation
@@ -230,6 +249,15 @@ class Plan:
             )
             inside = self.arm._within(q.tolist())
         ori = ori if self.measure_rot else None
+        # measured apart: the distances too, before the verdict makes q read-only
+        apart = None
+        if self.apart is not None:
+            apart = placement_check(self.apart, R_w, p_w, H, q)
+        elif self.apart_region is not None:
+            T_bw = self.arm.T_base_world
+            apart = region_error(
+                T_bw, R_w, p_w, H[:3, :3], H[:3, 3], *self.apart_region, opts.look_at, opts.toward
+            )
         fields = claimed_verdict(
             self.arm, got, pos, ori, inside, self.tol_p, self.tol_r, region is not None
         )
@@ -237,7 +265,13 @@ class Plan:
             answers = self._refused(got, H, q0, seed, xy)
             return self._finish(answers, H, q0, opts, t0, False, xy)[0]
         fields["solver"], fields["time"] = self.solver, time.perf_counter() - t0
-        return IKResult._from_fields(fields)
+        if apart is None:
+            return IKResult._from_fields(fields)
+        d_pos, d_ori = apart[0], apart[1]
+        kept = fields_apart(fields, d_pos, d_ori if self.measure_rot else None, self.weighted)
+        r = IKResult._from_fields(fields)
+        r.extra["measured"] = kept
+        return r
 
     def _refused(self, got: Claim, H: np.ndarray, q0: np.ndarray, seed, xy) -> Answers:
         """The answers for the general verdict when the check refuses the runner's answer
@@ -302,7 +336,24 @@ class Plan:
         elapsed = time.perf_counter() - t0
         for fields, label in zip(verified, labels):
             fields["time"], fields["branch"] = elapsed, label
-        return [IKResult._from_fields(fields) for fields in verified]
+        if self.apart is None:  # (a region's answers take the general path)
+            return [IKResult._from_fields(fields) for fields in verified]
+        return self._apart(verified, H)
+
+    def _apart(self, verified: list[dict], H: np.ndarray) -> list[IKResult]:
+        """Results of ``verified`` fields measured apart (weights): each with its
+        distances to ``H`` beside what its verdict measured (``armik.verify.distances``)."""
+        Q = np.array([fields["q"] for fields in verified]).reshape(len(verified), -1)
+        Q.setflags(write=False)  # as the runner's rows: one compiled check for both
+        distances = np.empty((len(verified), 3))
+        pose_checks(self.apart, self._placements(Q), H, Q, distances)
+        out = []
+        for fields, (pos, ori, _) in zip(verified, distances.tolist()):
+            kept = fields_apart(fields, pos, ori if self.measure_rot else None, self.weighted)
+            r = IKResult._from_fields(fields)
+            r.extra["measured"] = kept
+            out.append(r)
+        return out
 
     def _placements(self, Q: np.ndarray) -> np.ndarray:
         """The tip placements (n, 4, 4) of the answers Q, by Pinocchio."""

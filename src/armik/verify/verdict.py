@@ -24,6 +24,7 @@ from armik.result import IKResult
 from armik.solvers.answers import Answers
 from armik.solvers.claims import Claim
 from armik.status import Status
+from armik.verify.distances import batch_distances, with_distances
 from armik.verify.measure import BatchMeasure, Measure, measure, measure_batch, measure_many
 from armik.verify.verdicts import Verdicts
 
@@ -87,7 +88,10 @@ def finish(
         found = verdicts(arm, answers, target, opts)
     else:
         found = first_verified(arm, answers, target, opts, seed)
-    return ranked(found, solver, seed, all_solutions, t0)
+    results = ranked(found, solver, seed, all_solutions, t0)
+    if opts.weights is not None or opts.region:  # measured apart: the distances beside
+        return with_distances(arm, results, target, opts)
+    return results
 
 
 def decide(
@@ -362,8 +366,14 @@ def verdict_batch(
         found.judge(c.check(arm, part.q[rows]), rows.tolist())
     part.iterations[:] = answers.iterations
     part.restarts[:] = answers.restarts
-    part.position_error[:] = found.position_error
-    part.orientation_error[:] = found.orientation_error
+    if opts.weights is not None or opts.region:  # measured apart: the distances beside
+        part._measured[:, 0], part._measured[:, 1] = found.position_error, found.orientation_error
+        part.position_error[:], part.orientation_error[:] = batch_distances(
+            arm, part.q, targets, opts
+        )
+    else:
+        part.position_error[:] = found.position_error
+        part.orientation_error[:] = found.orientation_error
     part.status_code[:] = found.status
     success = found.success
     part.success[:] = success

@@ -1,0 +1,92 @@
+"""The true distances of an answer to its target, beside what its verdict measured.
+
+A request with weights on the axes or a region around the target (bounds, a cone, a
+look-at) is verified on what it asks for: the weighted axes, the distances outside the
+region. A result reports the true distances all the same: ``position_error`` (m) is the
+tip's distance to the target's position, ``orientation_error`` (rad) the geodesic angle to
+its rotation (None where the target has none or ``position_only`` ignores it), or to the
+direction an axis should point along; a component a region leaves free (an infinite
+bound) is no part of the target and does not count. What the
+verdict measured is kept under its own name, ``IKResult.measured`` (``extra["measured"]``,
+a batch's ``measured`` columns), and a success's reason says both.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from armik import reasons
+from armik.frozen import frozen
+from armik.model.arm_model import ArmModel
+from armik.options import Options
+from armik.result import IKResult
+from armik.targets.batch import TargetBatch
+from armik.verify.measure import BatchMeasure, measure, measure_batch
+
+
+def apart(opts: Options) -> bool:
+    """Whether the verdict of ``opts`` measures other than the distances to the target."""
+    return opts.weights is not None or opts.region
+
+
+def plain(opts: Options) -> Options:
+    """``opts`` measuring the distances themselves: no weights, a region shrunk to its
+    centre (each finite bound 0; an infinite one frees its component, which is then no
+    part of the target; a cone of its axis around its direction, 0 wide: the angle of the
+    tip's axis to the direction it should point along, the target's rotation otherwise
+    an artefact of the axis' lowering)."""
+    changes: dict = {"weights": None}
+    if opts.bounds is not None:
+        changes["bounds"] = tuple(0.0 if math.isfinite(b) else b for b in opts.bounds)
+    if opts.cone is not None:
+        changes["cone"] = (*opts.cone[:3], 0.0)
+    return frozen(Options, **{**opts.__dict__, **changes})
+
+
+def with_distances(arm: ArmModel, results: list[IKResult], target, opts: Options) -> list:
+    """``results`` of a request ``apart``: each with its true distances to ``target``
+    (Pinocchio's FK), the verdict's measure kept as ``measured``."""
+    distance = plain(opts)
+    out = []
+    for r in results:
+        m = measure(arm, r.q, target, distance)
+        out.append(_apart(r, m.position_error, m.orientation_error, opts.weights is not None))
+    return out
+
+
+def _apart(r: IKResult, pos: float, ori: float | None, weighted: bool) -> IKResult:
+    return dataclasses.replace(
+        r,
+        position_error=pos,
+        orientation_error=ori,
+        # a success's words say both; a failure's say why it failed
+        reason=reasons.measured_apart(r.reason, pos, ori, weighted) if r.success else r.reason,
+        extra={**r.extra, "measured": (r.position_error, r.orientation_error)},
+    )
+
+
+def fields_apart(fields: dict, pos: float, ori: float | None, weighted: bool) -> tuple:
+    """The fields of a prepared solve's result (``armik.verify.verdict.claimed_verdict``)
+    given its true distances, in place, its reason saying both; returns the verdict's
+    measure, for the result's ``extra["measured"]``."""
+    measured = (fields["position_error"], fields["orientation_error"])
+    fields["position_error"], fields["orientation_error"] = pos, ori
+    said = fields.pop("_reason", None)
+    if said is not None:
+        fields["_reason"] = (_said_apart, (said, pos, ori, weighted))
+    else:
+        fields["reason"] = reasons.measured_apart(fields["reason"], pos, ori, weighted)
+    return measured
+
+
+def _said_apart(said: tuple, pos: float, ori: float | None, weighted: bool) -> str:
+    return reasons.measured_apart(said[0](*said[1]), pos, ori, weighted)
+
+
+def batch_distances(arm: ArmModel, Q: np.ndarray, targets: TargetBatch, opts: Options):
+    """The true distances of a batch's answers ``Q`` to their targets (``BatchMeasure``)."""
+    m: BatchMeasure = measure_batch(arm, Q, targets, plain(opts))
+    return m.position_error, m.orientation_error

@@ -1,0 +1,97 @@
+"""A result's position_error and orientation_error are the true distances of its tip to the
+target, whatever the request measured for its verdict (weights, a region); that measure is
+``measured``, beside them (``armik.verify.distances``)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+
+from ..conftest import arm
+
+
+def _distances(a, q, T: pin.SE3) -> tuple[float, float]:
+    """The tip's distance to ``T`` by Pinocchio's FK: (m, rad)."""
+    X = a.fk(q)
+    return (
+        float(np.linalg.norm(X.translation - T.translation)),
+        float(np.linalg.norm(pin.log3(X.rotation.T @ T.rotation))),
+    )
+
+
+def _off(a, seed: int, shift) -> pin.SE3:
+    T = a.fk(a.random_q(np.random.default_rng(seed)))
+    return pin.SE3(T.rotation, T.translation + np.asarray(shift, dtype=float))
+
+
+@pytest.mark.parametrize("solver", ["auto", "dls", "qp"])
+def test_weights_that_free_the_position_report_the_true_distance(solver):
+    """The issue's case: weights (0, 0, 0, 1, 1, 1) on a UR5 target 0.3 m away from any
+    reachable one report the tip's real distance, not the weighted error of 0."""
+    ur5 = arm("ur5")
+    T = _off(ur5, 1, (0.3, 0.2, 0.1))
+    r = ur5.solve(T, weights=(0, 0, 0, 1, 1, 1), solver=solver)
+    assert r.success, r.reason
+    pos, ori = _distances(ur5, r.q, T)
+    assert r.position_error == pytest.approx(pos, abs=1e-12)
+    assert r.orientation_error == pytest.approx(ori, abs=1e-9)
+    assert r.position_error > 0.01  # the position is free: the tip is not at the target
+    measured_pos, measured_ori = r.measured
+    assert measured_pos <= 1e-6 and measured_ori <= 1e-6
+    assert f"{pos:.3g} m" in r.reason and "weighted" in r.reason
+
+
+def test_a_bounded_pose_reports_its_distance_to_the_centre():
+    panda = arm("panda")
+    T = _off(panda, 2, (0.04, -0.03, 0.0))
+    r = panda.solve(T, bounds=(0.05,) * 3 + (0.2,) * 3)
+    assert r.success, r.reason
+    pos, ori = _distances(panda, r.q, T)
+    assert (r.position_error, r.orientation_error) == pytest.approx((pos, ori), abs=1e-9)
+    assert r.measured[0] <= 1e-6 and r.measured[1] <= 1e-6  # inside the region
+    assert "region's centre" in r.reason
+
+
+def test_every_answer_of_solve_all_and_each_route_report_the_same():
+    """The prepared plan and the general path (a seed spelled as a tuple of numpy floats
+    takes the general one) give equal fields; every answer of solve_all its distances."""
+    ur5 = arm("ur5")
+    T = _off(ur5, 3, (0.2, 0.0, 0.1))
+    w = (0, 0, 0, 1, 1, 1)
+    fast = ur5.solve(T, q0=ur5.middle, weights=w)
+    general = ur5.solve(T, q0=tuple(np.float64(v) for v in ur5.middle), weights=w)
+    assert np.array_equal(fast.q, general.q)
+    assert (fast.position_error, fast.orientation_error) == pytest.approx(
+        (general.position_error, general.orientation_error), abs=1e-12
+    )
+    assert fast.measured == pytest.approx(general.measured, abs=1e-12)
+    every = ur5.solve_all(T, weights=w)
+    assert len(every) > 1
+    for r in every:
+        pos, ori = _distances(ur5, r.q, T)
+        assert r.position_error == pytest.approx(pos, abs=1e-12) and r.measured is not None
+
+
+def test_a_batch_keeps_both_columns_and_saves_them(tmp_path):
+    ur5 = arm("ur5")
+    poses = [_off(ur5, s, (0.1 * s, 0.0, 0.05)) for s in range(4)]
+    b = ur5.solve_batch(poses, weights=(0, 0, 0, 1, 1, 1), workers=1)
+    for i, T in enumerate(poses):
+        pos, _ = _distances(ur5, b.q[i], T)
+        assert b.position_error[i] == pytest.approx(pos, abs=1e-12)
+        assert b.measured[i, 0] <= 1e-6 and b[i].measured == pytest.approx(tuple(b.measured[i]))
+        assert "weighted" in b.reason(i)
+    back = armik.BatchResult.load(b.save(tmp_path / "b.npz"))
+    np.testing.assert_array_equal(back.measured, b.measured)
+
+
+def test_a_plain_request_measures_the_distances_themselves():
+    ur5 = arm("ur5")
+    T = _off(ur5, 5, (0.0, 0.0, 0.0))
+    r = ur5.solve(T)
+    assert r.measured is None and "weighted" not in r.reason
+    b = ur5.solve_batch([T], workers=1)
+    assert np.isnan(b.measured).all() and b[0].measured is None
