@@ -26,6 +26,7 @@ from armik.solve.held import solve_held
 from armik.solve.nullspace import descend
 from armik.solve.prefer import rank, sweep_held
 from armik.solve.prepared import plan_for
+from armik.solve.swivel import solve_swivel
 from armik.solve.tasks import CENTRE_RESTARTS, check_options, check_said_twice, solve_tasks
 from armik.solvers import registry
 from armik.solvers.answers import Answers, one, stacked
@@ -152,6 +153,8 @@ def solve_parsed(
 
 def _stages(arm, target, q0, solver: str, opts: Options, key, seed, every: bool, t0: float):
     """``solve_parsed`` with the options validated (``_options``)."""
+    if opts.swivel is not None:  # an SRS arm at one swivel angle
+        return solve_swivel(arm, target, q0, solver, _with_seed(opts, seed), every, t0)
     if opts.hold is not None:
         target = parsed(target, arm)  # once: the held arm's solve and its verdict read it
         return solve_held(arm, target, q0, solver, _with_seed(opts, seed), every, t0, _general)
@@ -250,7 +253,14 @@ def _validated(options: dict) -> Options:
 def _plain_pose(opts: Options) -> bool:
     """Whether the options ask for the plain pose: no region, weights, held joint or
     collisions (what the swept search and the self-motion descent assume)."""
-    return not (opts.region or opts.weights or opts.position_only or opts.collisions or opts.hold)
+    return not (
+        opts.region
+        or opts.weights
+        or opts.position_only
+        or opts.collisions
+        or opts.hold
+        or opts.swivel is not None
+    )
 
 
 def _along_self_motion(
