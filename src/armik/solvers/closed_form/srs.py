@@ -13,9 +13,10 @@ branches, every one exact (``srs_kernel.at_swivel``).
 - ``solve_all(T, swivel=psi)`` (``armik.solve.swivel``): every branch at psi.
 - ``solve`` and ``solve_all`` without it: q0's swivel angle first, then ``SWEEP`` more
   round the circle nearest q0's first, and the branches of the first angle with one
-  within the limits. A target whose span no elbow angle makes is unreachable (a proof:
-  no swivel angle changes the span); where no angle tried keeps a branch within the
-  limits, ``dls`` tries from q0 and its answer is returned, the miss in its reason.
+  within the limits. A target whose span no elbow angle makes, or only one beyond joint
+  4's limits, is unreachable (a proof: no swivel angle changes the span or joint 4);
+  where no angle tried keeps a branch within the limits, ``dls`` tries from q0 and its
+  answer is returned, the miss in its reason.
 
 Every answer is verified by Pinocchio FK as always. Chosen by ``solver="auto"`` on SRS
 arms given a full pose.
@@ -200,12 +201,35 @@ def run(
 ) -> Answers:
     psi, rows, found = _rows(arm, target, q0, None)
     reached = len(rows) > 0 and not int(rows[0, 7]) & sixr.LS
-    if not found and reached:  # the limits, not the span: another angle may keep them
-        return _numeric(arm, target, q0, opts, all_solutions, psi)
+    if not found and reached:
+        if not kernel.elbow_inside(rows, len(rows), arm.lower, arm.upper):
+            return _elbow_limited(arm, rows, psi, all_solutions)
+        return _numeric(arm, target, q0, opts, all_solutions, psi)  # another angle may do
     if found and all_solutions:
         rows = rows[[not int(r[7]) & sixr.LS for r in rows]]
     got = answers(arm, rows, psi, True, target.position)
     return got if all_solutions else got.take([0])
+
+
+def _elbow_limited(arm: ArmModel, rows: np.ndarray, psi: float, all_solutions: bool) -> Answers:
+    """The rows at q0's swivel angle, unreachable: joint 4's values (the same at every
+    swivel angle) lie beyond its limits."""
+    values = ", ".join(f"{v:.6g}" for v in sorted(set(np.round(rows[:, 3], 9))))
+    name, lo, hi = arm.joint_names[3], arm.lower[3], arm.upper[3]
+    text = (
+        f"{CLOSED_FORM}: the elbow ({name}) must turn to {values} rad to span the shoulder "
+        f"to the wrist, outside its limits [{lo:.6g}, {hi:.6g}] rad at every swivel angle; "
+        f"q is a branch at swivel angle {psi:.6g} rad"
+    )
+    n = len(rows) if all_solutions else 1
+    return Answers.of(
+        rows[:n, :7],
+        [Status.UNREACHABLE] * n,
+        [text] * n,
+        7,
+        branch=[LABELS[int(r[8])] for r in rows[:n]],
+        singular=[bool(int(r[7]) & sixr.SINGULAR) for r in rows[:n]],
+    )
 
 
 def _numeric(arm, target, q0, opts: Options, all_solutions: bool, psi: float) -> Answers:

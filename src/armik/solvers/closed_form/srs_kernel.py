@@ -98,24 +98,34 @@ def _basis(ref, h2, n):
 
 
 @njit(cache=True, nogil=True)
-def swivel_of(geo, q):
-    """The swivel angle (rad, in (-pi, pi]) of configuration ``q`` (7 joint values):
-    where its elbow lies on the circle about the line S-W; 0 where the elbow is on that
-    line (stretched or folded: any angle)."""
+def elbow_wrist(geo, q):
+    """The elbow E and the wrist W (3-tuples, base frame, m) of configuration ``q``: the
+    arm's own forward kinematics of those two points (``swivel_of`` reads them; the tests
+    check them against Pinocchio's)."""
     h, S, W0, E0, w_tip, R_tip0, lower, upper, ref = parts(geo)
     s, w, e0 = vec(S), vec(W0), vec(E0)
     Rs = mm(mm(rot(vec(h[0]), q[0]), rot(vec(h[1]), q[1])), rot(vec(h[2]), q[2]))
     W4 = add(e0, mv(rot(vec(h[3]), q[3]), sub(w, e0)))
-    b = mv(Rs, sub(W4, s))
-    e = mv(Rs, sub(e0, s))
+    return add(s, mv(Rs, sub(e0, s))), add(s, mv(Rs, sub(W4, s)))
+
+
+@njit(cache=True, nogil=True)
+def swivel_of(geo, q):
+    """The swivel angle (rad, in (-pi, pi]) of configuration ``q`` (7 joint values):
+    where its elbow lies on the circle about the line S-W; 0 where the elbow is on that
+    line (stretched or folded: any angle)."""
+    h, S, ref = geo[0:21].reshape((7, 3)), vec(geo[21:24]), vec(geo[56:59])
+    E, W = elbow_wrist(geo, q)
+    b = sub(W, S)
     nb = norm(b)
     if nb < TINY:
         return 0.0
     n = scale(b, 1.0 / nb)
+    e = sub(E, S)
     e = sub(e, scale(n, dot(e, n)))
     if norm(e) < TINY:
         return 0.0
-    u1, u2 = _basis(vec(ref), vec(h[1]), n)
+    u1, u2 = _basis(ref, vec(h[1]), n)
     return math.atan2(dot(e, u2), dot(e, u1))
 
 
@@ -266,6 +276,16 @@ def inside(W, r, lower, upper):
 
 
 @njit(cache=True, nogil=True)
+def elbow_inside(W, n, lower, upper):
+    """Whether joint 4 of a reached row of the first ``n`` is within its limits: the elbow
+    angle does not change with the swivel angle, so when none is, none is at any."""
+    for r in range(n):
+        if not int(W[r, 7]) & LS and lower[3] - LIMIT_TOL <= W[r, 3] <= upper[3] + LIMIT_TOL:
+            return True
+    return False
+
+
+@njit(cache=True, nogil=True)
 def ordered(W, n, q0, lower, upper, out):
     """The first ``n`` rows of ``W`` into ``out`` nearest q0 first (reached within the
     limits first, then reached, then the rest); returns whether the first is reached
@@ -305,6 +325,8 @@ def swept(geo, R, pos, q0, out):
     n, found = solve_at(geo, R, pos, psi0, q0, out)
     if found or n == 0 or int(out[0, 9]) in (sixr.TOO_FAR, sixr.TOO_CLOSE):
         return psi0, n, found
+    if not elbow_inside(out, n, geo[42:49], geo[49:56]):
+        return psi0, n, False  # joint 4 is the same at every swivel angle
     first = out.copy()
     step = TWO_PI / SWEEP
     for k in range(1, SWEEP):
