@@ -58,6 +58,24 @@ def same_set(a: list[np.ndarray], b: list[np.ndarray], tol: float = 1e-6) -> boo
     return all(any(near(x, y) for y in b) for x in a) and all(any(near(y, x) for x in a) for y in b)
 
 
+def _calls(arm, T, q, psi: float, iiwa14_ik, ssik_srs) -> dict:
+    """The calls timed on one target, by name."""
+    tgt = parsed(T, arm.kinematics)
+    H = T.homogeneous
+    calls = {
+        "armik solve_all(T, swivel=psi)": lambda: arm.solve_all(T, swivel=psi),
+        "armik srs.at_swivel (no verdict)": lambda: srs.at_swivel(arm.kinematics, tgt, q, psi),
+    }
+    if ssik_srs is not None:
+        calls["ssik seven_r.srs.solve (one swivel)"] = lambda: ssik_srs.solve(
+            iiwa14_ik._KB, H, swivel_samples=np.array([psi])
+        )
+        calls["ssik solve (16 swivels, limits)"] = lambda: iiwa14_ik.solve(
+            H, enumerate_windings=False
+        )
+    return calls
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("-n", type=int, default=200, help="targets (200)")
@@ -85,18 +103,7 @@ def main() -> None:
         T = arm.fk(q)
         H = T.homogeneous
         psi = srs.swivel_of(model, q)
-        tgt = parsed(T, model)
-        calls = {
-            "armik solve_all(T, swivel=psi)": lambda: arm.solve_all(T, swivel=psi),
-            "armik srs.at_swivel (no verdict)": lambda: srs.at_swivel(model, tgt, q, psi),
-        }
-        if ssik_srs is not None:
-            calls["ssik seven_r.srs.solve (one swivel)"] = lambda: ssik_srs.solve(
-                iiwa14_ik._KB, H, swivel_samples=np.array([psi])
-            )
-            calls["ssik solve (16 swivels, limits)"] = lambda: iiwa14_ik.solve(
-                H, enumerate_windings=False
-            )
+        calls = _calls(arm, T, q, psi, iiwa14_ik, ssik_srs)
         names = list(calls)
         outs = {}
         for k in range(len(names)):  # interleaved: the order rotates with the target
