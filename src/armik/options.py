@@ -74,6 +74,9 @@ class Options:
       solves the others; a value of None holds one at q0's value. One joint of a 7-joint
       arm: a 6R chain (``armik.solve.held``); else the task solver. Stored as (name,
       value) pairs. Checked against the arm when solving.
+    - ``swivel``: the elbow swivel angle (rad) of an SRS arm (the KUKA iiwa): every branch
+      at that angle, the self-motion's one value (``armik.solve.swivel``; None: q0's, then
+      swept). Not a joint, so not a ``hold``.
     - ``posture``: (q_ref, weights): the null-space pull goes toward ``q_ref``, each joint's
       share by its weight, instead of toward q0 (what ``secondary=[armik.Posture(q_ref,
       weights)]`` spells; say it that way). ``dls`` and ``qp`` follow it where the task
@@ -113,6 +116,7 @@ class Options:
     self_collision: bool = False
     margin: float = 0.0
     hold: tuple[tuple[str, float | None], ...] | None = None
+    swivel: float | None = None
     posture: tuple[tuple[float, ...], tuple[float, ...]] | None = None
     checks: tuple[Constraint, ...] = ()
     slide: bool = False
@@ -224,6 +228,8 @@ class Options:
         if values.get("hold") is not None:
             held = Hold.parse(values["hold"])
             values["hold"] = tuple((h.joint, h.value) for h in held)
+        if values.get("swivel") is not None:
+            values["swivel"] = number("swivel", values["swivel"])
         if values.get("posture") is not None:  # checked as the Posture that spells it
             values["posture"] = _checked_posture(values["posture"])
         if values.get("checks"):

@@ -124,6 +124,14 @@ def _hold() -> None:
         arm.solve_all(T, q0=q0, hold={joint: None})
 
 
+def _swivel(robot: str) -> None:
+    """``swivel=`` on an SRS arm: every branch at one swivel angle (``armik.solve.swivel``)."""
+    arm = load(robot)
+    T = _pose(arm, 4)
+    arm.solve_all(T, swivel=0.3)
+    arm.solve(T, swivel=-0.2)
+
+
 def _batch() -> None:
     for robot, solver in (("ur5", "dls"), ("ur5", "qp"), ("ur5", "three_parallel")):
         arm = load(robot)
@@ -195,6 +203,7 @@ PARTS: dict[str, Callable[[], None]] = {
         _closed_form("random:two_intersecting", "two_intersecting", batch=True),
     ),
     "swept": _closed_form("panda", "swept"),
+    "srs": _in_turn(_closed_form("kuka_iiwa14", "srs"), lambda: _swivel("kuka_iiwa14")),
     "general_6r": _closed_form("ur5", "general_6r"),
     "hold": _hold,
     "batch": _batch,

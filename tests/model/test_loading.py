@@ -25,6 +25,7 @@ EXPECTED_DOF = {
     "z1": 6,
     "double_pendulum": 2,
     "abb_irb120": 6,
+    "kuka_iiwa14": 7,
     "so101": 5,
 }
 

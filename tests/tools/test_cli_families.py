@@ -38,3 +38,21 @@ def test_seven_r_arms_name_the_joints_to_hold(capsys, tmp_path):
     assert re.search(r"\n  j3 +spherical_wrist \(spherical wrist at .*axes 1 and 2 meet\)", out)
     held = re.search(r"analytic with one joint held: (.*)\n", out).group(1).split(", ")
     assert held == ["j1", "j2", "j3", "j4", "j7"]  # j5, j6 leave the 2-D search
+
+
+def test_info_says_the_route_and_why(capsys):
+    code, out, _ = run(capsys, "info", "kuka_iiwa14")
+    assert code == 0
+    assert "solve(_all) -> srs (closed form): SRS, axes 1-3 meet at [0.0, 0.0, 0.36] m" in out
+    assert "swivel=PSI  -> srs (closed form): every branch" in out
+    code, out, _ = run(capsys, "info", "panda")
+    assert "solve(_all) -> dls (numeric): not SRS: axes 5, 6, 7 do not meet" in out
+    assert 'applies, only when asked: solver="swept"' in out and "swivel=PSI" not in out
+    code, out, _ = run(capsys, "info", "ur5")
+    assert "solve(_all) -> three_parallel (closed form)" in out and "hold=" not in out
+
+
+def test_solve_at_a_swivel_angle_from_the_command_line(capsys):
+    args = ["solve", "kuka_iiwa14", "--xyz", "0.5", "0.1", "0.4", "--rpy", "3.1416", "0", "0"]
+    code, out, _ = run(capsys, *args, "--swivel", "0.3", "--all")
+    assert code == 0 and "swivel angle 0.3 rad" in out and "solution 1 of" in out

@@ -68,6 +68,13 @@ CATALOGUE: dict[str, RobotEntry] = {
             "ABB IRB 120, 6 DOF with a spherical wrist (ABB's published dimensions)",
         ),
         RobotEntry(
+            "kuka_iiwa14",
+            ARMIK,
+            "kuka_iiwa14.urdf",
+            "iiwa_link_ee",
+            "KUKA LBR iiwa 14 R820, 7 DOF, SRS (KUKA's published dimensions)",
+        ),
+        RobotEntry(
             "panda",
             ERD,
             "panda_description/urdf/panda.urdf",

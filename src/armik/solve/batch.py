@@ -95,6 +95,13 @@ def solve_batch(
             option="hold",
             value=opts.hold[0][0],
         )
+    if opts.swivel is not None:
+        raise OptionError(
+            "swivel= is for solve and solve_all: solve each target with arm.solve_all(T, "
+            "swivel=...)",
+            option="swivel",
+            value=opts.swivel,
+        )
     batch = parse_targets(targets, arm)
     n = len(batch)
     seeds = batch_seeds(arm, q0, n)

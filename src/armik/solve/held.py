@@ -100,6 +100,8 @@ def solve_held(
         results = finish(arm, sweeping.name, answers, tgt, opts, seed, every, t0)
         return results if every else results[0]
     sub = locked_arm(arm, name, value)
+    if solver != "auto" and _whole_arm_only(solver, arm, sub):
+        solver = "auto"  # a closed form of the whole 7R arm (srs), as a path passes it
     free = np.delete(seed, k)
     # the checks are of the whole arm's joints: its verdict below runs them
     found = general(sub, target, free, solver, replace(opts, hold=None, checks=()), True, t0)
@@ -114,3 +116,14 @@ def solve_held(
     name_of = found[0].solver if found else solver
     results = finish(arm, name_of, answers, tgt, opts, seed, every, t0)
     return results if every else results[0]
+
+
+def _whole_arm_only(solver: str, arm: ArmModel, sub: ArmModel) -> bool:
+    """Whether ``solver`` is a closed form of the 7-joint arm that does not apply to the
+    locked 6R arm (``srs``: "auto"'s choice for the whole arm, which a path hands on)."""
+    spec = registry.get(solver)
+    return (
+        spec.kind == "analytic"
+        and spec.why_not(arm, None, None) is None
+        and spec.why_not(sub, None, None) is not None
+    )

@@ -78,7 +78,14 @@ def preferred(arm: ArmModel, req: Request):
 def _plain_pose(opts) -> bool:
     """Whether the options ask for the plain pose: no region, weights, held joint or
     collisions (what the swept search and the self-motion descent assume)."""
-    return not (opts.region or opts.weights or opts.position_only or opts.collisions or opts.hold)
+    return not (
+        opts.region
+        or opts.weights
+        or opts.position_only
+        or opts.collisions
+        or opts.hold
+        or opts.swivel is not None
+    )
 
 
 def _along_self_motion(

@@ -8,6 +8,7 @@ from armik.solvers.closed_form import (  # noqa: F401  (registration)
     spherical_wrist,
     spin,
     spin_joint,
+    srs,
     swept_7r,
     three_parallel,
     three_parallel_general,

@@ -14,6 +14,7 @@ from armik.solvers.closed_form import (
     planar2r,
     spherical_general,
     spherical_wrist,
+    srs,
     swept_7r,
     three_parallel,
     three_parallel_general,
@@ -32,13 +33,14 @@ FAMILIES = {
     "three_parallel_general": three_parallel_general.classify,
     "two_parallel": two_parallel.classify,
     "two_intersecting": two_intersecting.classify,
+    "srs": srs.classify,
     "swept_7r": swept_7r.classify,
     "general_6r": general_6r.classify,
 }
 
 
 def classify(arm: ArmModel) -> dict[str, object]:
-    """Each family name -> its geometry (a ``Plane``, ``Chain6R`` or ``Swept``) or the
+    """Each family name -> its geometry (a ``Plane``, ``Chain6R``, ``Srs`` or ``Swept``) or the
     reason it does not apply (a string)."""
     if arm.mimics:
         return {name: mimic_reason(arm.mimics) for name in FAMILIES}

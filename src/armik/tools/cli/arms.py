@@ -24,7 +24,7 @@ from armik.result import IKResult
 from armik.solve.tasks import measure_tasks
 from armik.solvers import registry
 from armik.solvers.closed_form import families
-from armik.solvers.closed_form.sixr import Chain6R
+from armik.tools.cli.routes import family_lines, route_lines
 from armik.tools.cli.targets import (
     flag_targets,
     for_flags,
@@ -94,6 +94,12 @@ def add_solve_options(c: argparse.ArgumentParser) -> None:
         "repeatable",
     )
     c.add_argument(
+        "--swivel",
+        type=float,
+        metavar="PSI",
+        help="an SRS arm's elbow swivel angle (rad): every branch at it (the KUKA iiwa)",
+    )
+    c.add_argument(
         "--obstacles",
         metavar="FILE",
         help="obstacles to keep clear of, in the base frame: a JSON (or YAML) list such as "
@@ -124,6 +130,8 @@ def solve_options(args: argparse.Namespace) -> dict:
         options["seed"] = args.seed
     if args.hold:
         options["hold"] = joint_values(args.hold, "--hold")
+    if getattr(args, "swivel", None) is not None:
+        options["swivel"] = args.swivel
     if args.weights is not None:
         options["weights"] = tuple(args.weights)
     if args.bounds is not None:
@@ -245,6 +253,8 @@ def cmd_info(args: argparse.Namespace) -> int:
             print(f"  {cls:<{wide}} yes: {text}")
     for line in family_lines(arm):
         print(line)
+    for line in route_lines(arm):
+        print(line)
     print("solvers:")
     width = max(map(len, registry.solvers()))
     for name in registry.solvers():
@@ -258,51 +268,6 @@ def cmd_info(args: argparse.Namespace) -> int:
     else:  # a search: for every solution only (registry.choose)
         print(f"  auto -> {one} (one answer); solve_all -> {every} (every solution, a search)")
     return 0
-
-
-def six_r_family(arm: ArmModel) -> str | None:
-    """The family of a 6R arm: the first closed-form family that fits it, else the general
-    6R search; None for an arm that is not 6R (all revolute)."""
-    found = families.classify(arm)
-    general = found.get("general_6r")
-    if not isinstance(general, Chain6R):  # the reason it does not apply
-        return None
-    for name, geo in found.items():
-        if name not in ("general_6r", "planar") and not isinstance(geo, str):
-            return f"{name} ({getattr(geo, 'description', name)})"
-    return f"general_6r ({general.description})"
-
-
-def held_value(arm: ArmModel, k: int) -> float:
-    """A value to hold joint ``k`` at that is no special angle (the classes do not change
-    with it, but a value such as 0 can line axes up by chance)."""
-    lo, hi = float(arm.lower[k]), float(arm.upper[k])
-    if math.isfinite(lo) and math.isfinite(hi):
-        return lo + 0.37 * (hi - lo)
-    return 0.37
-
-
-def family_lines(arm: ArmModel) -> list[str]:
-    """``armik info``'s family lines: a 6R arm's family; for a 7R arm, the family of the
-    6R chain left by holding each joint (``hold=``), and which joints make it analytic."""
-    family = six_r_family(arm)
-    if family is not None:
-        return [f"family: {family}"]
-    if arm.dof != 7 or any(t == "prismatic" for t in arm.joint_types):
-        return []
-    lines = ["hold one joint (hold={name: value}) and the other six are:"]
-    analytic = []
-    for k, name in enumerate(arm.joint_names):
-        if k == 6 and not isinstance(families.classify(arm)["swept_7r"], str):
-            text = "swept_7r (the swept solver's closed form: joints 6 to 1 read from the tip)"
-        else:
-            text = six_r_family(arm.with_locked({name: held_value(arm, k)})) or "not a 6R chain"
-        if not text.startswith(("general_6r", "not a 6R")):
-            analytic.append(name)
-        lines.append(f"  {name:<24} {text}")
-    which = ", ".join(analytic) if analytic else "none (each leaves the general 6R search)"
-    lines.append(f"  analytic with one joint held: {which}")
-    return lines
 
 
 def _print_frames(info, candidates: set[str], tip: str | None) -> None:
