@@ -4,6 +4,8 @@ target, whatever the request measured for its verdict (weights, a region); that 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -95,3 +97,24 @@ def test_a_plain_request_measures_the_distances_themselves():
     assert r.measured is None and "weighted" not in r.reason
     b = ur5.solve_batch([T], workers=1)
     assert np.isnan(b.measured).all() and b[0].measured is None
+
+
+@pytest.mark.parametrize(
+    "options",
+    [
+        {"bounds": (0.02, 0.02, 0.02, 0.1, 0.1, math.inf)},
+        {"bounds": (0.02,) * 3 + (0.1,) * 3, "weights": (1, 1, 1, 1, 1, 0.5)},
+        {"cone": (0.0, 0.0, 1.0, 0.1)},
+    ],
+)
+def test_the_prepared_plan_and_the_general_path_agree_on_a_region(options):
+    panda = arm("panda")
+    T = _off(panda, 6, (0.03, 0.01, -0.02))
+    fast = panda.solve(T, q0=panda.middle, **options)
+    general = panda.solve(T, q0=tuple(np.float64(v) for v in panda.middle), **options)
+    assert fast.success and np.array_equal(fast.q, general.q)
+    assert (fast.position_error, fast.orientation_error) == pytest.approx(
+        (general.position_error, general.orientation_error), abs=1e-12
+    )
+    assert fast.measured == pytest.approx(general.measured, abs=1e-12)
+    assert fast.reason == general.reason

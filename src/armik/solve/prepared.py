@@ -42,7 +42,7 @@ from armik.solvers import registry
 from armik.solvers.answers import Answers
 from armik.solvers.claims import Claim
 from armik.targets.pose import Target, parse_target
-from armik.verify.distances import fields_apart, plain
+from armik.verify.distances import fields_apart
 from armik.verify.measure import BatchMeasure, measures_of
 from armik.verify.region import region_error
 from armik.verify.verdict import (
@@ -134,14 +134,10 @@ class Plan:
         )
         self.measure_rot = measure_rot
         # measured apart (weights, a region): the distances themselves too, for the result
-        # (``armik.verify.distances``): against a region shrunk to its centre, or unweighted
-        self.apart = self.apart_region = None
+        # (``armik.verify.distances``): unweighted, or a region's (``region_error``'s)
+        self.apart = None
         self.weighted = opts.weights is not None
-        if opts.region:
-            centre = plain(opts)
-            w, _, _ = measures_of(None, opts.position_only, position)
-            self.apart_region = (centre.region_bounds, w, centre.cone)
-        elif self.weighted:
+        if self.weighted and not opts.region:
             w, _, _ = measures_of(None, opts.position_only, position)
             self.apart = check_frame(
                 arm.T_base_world.rotation,
@@ -240,24 +236,18 @@ class Plan:
         pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
         pin.updateFramePlacement(self.model, data, self.frame)  # into R_w, p_w
         region = self.region
+        apart = None  # measured apart: the distances too, for the result
         if region is None:
             pos, ori, inside = placement_check(self.measured, R_w, p_w, H, q)
+            if self.apart is not None:  # before the verdict makes q read-only
+                apart = placement_check(self.apart, R_w, p_w, H, q)
         else:
             T_bw = self.arm.T_base_world
-            pos, ori = region_error(
-                T_bw, R_w, p_w, H[:3, :3], H[:3, 3], *region, opts.look_at, opts.toward
+            pos, ori, *apart = region_error(
+                T_bw, R_w, p_w, H[:3, :3], H[:3, 3], *region, opts.look_at, opts.toward, True
             )
             inside = self.arm._within(q.tolist())
         ori = ori if self.measure_rot else None
-        # measured apart: the distances too, before the verdict makes q read-only
-        apart = None
-        if self.apart is not None:
-            apart = placement_check(self.apart, R_w, p_w, H, q)
-        elif self.apart_region is not None:
-            T_bw = self.arm.T_base_world
-            apart = region_error(
-                T_bw, R_w, p_w, H[:3, :3], H[:3, 3], *self.apart_region, opts.look_at, opts.toward
-            )
         fields = claimed_verdict(
             self.arm, got, pos, ori, inside, self.tol_p, self.tol_r, region is not None
         )

@@ -60,16 +60,19 @@ def region_error(
     cone: tuple[float, ...] | None = None,
     look_at: tuple[float, ...] | None = None,
     toward: tuple[float, ...] | None = None,
-) -> tuple[float, float]:
+    distances: bool = False,
+) -> tuple[float, ...]:
     """The position (m) and orientation (rad) error outside the region of one tip placement
     (``R_w`` (3, 3), ``p_w`` (3,), in the world frame) against one target (``R_t``, ``p_t``
     in the base frame); NaN for a non-finite placement. Plain floats past the products and
-    ``log3``: a single solve's check."""
+    ``log3``: a single solve's check. With ``distances``, the distances to the region's
+    centre follow (``armik.verify.distances``): the components a finite bound holds,
+    unweighted; a cone's axis' angle to its direction."""
     R_b = T_base_world.rotation
     R = R_b @ R_w
     p = p_w @ R_b.T + T_base_world.translation
     if not (np.isfinite(R).all() and np.isfinite(p).all()):
-        return math.nan, math.nan
+        return (math.nan,) * (4 if distances else 2)
     e = (R_t.T @ (p - p_t)).tolist()
     if cone is None:  # a cone replaces the rotation components
         e += pin.log3(R_t.T @ R).tolist()
@@ -78,15 +81,29 @@ def region_error(
         for x, b, w in zip(e, bounds, weights.tolist())
     ]
     position = math.sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2])
-    if cone is not None and look_at is not None:  # around the line of sight (``LookAt``)
+    if cone is None:
+        orientation = tilt = math.sqrt(out[3] * out[3] + out[4] * out[4] + out[5] * out[5])
+    elif look_at is not None:  # around the line of sight (``LookAt``)
         sight = np.array(look_at) - p
         distance = float(np.linalg.norm(sight))
-        if not distance > LOOK_AT:
-            return position, math.pi  # on the point: no line of sight, nothing aimed at it
-        return position, max(angle(R @ np.array(cone[:3]), sight / distance) - cone[3], 0.0)
-    if cone is not None and toward is not None:  # around a base-frame direction
-        return position, max(angle(R @ np.array(cone[:3]), np.array(toward)) - cone[3], 0.0)
-    if cone is not None:  # the angle between the tip's axis and the target's image of it
+        if not distance > LOOK_AT:  # on the point: no line of sight, nothing aimed at it
+            orientation = tilt = math.pi
+        else:
+            tilt = angle(R @ np.array(cone[:3]), sight / distance)
+            orientation = max(tilt - cone[3], 0.0)
+    elif toward is not None:  # around a base-frame direction
+        tilt = angle(R @ np.array(cone[:3]), np.array(toward))
+        orientation = max(tilt - cone[3], 0.0)
+    else:  # the angle between the tip's axis and the target's image of it
         a = np.array(cone[:3])
-        return position, max(angle(R @ a, R_t @ a) - cone[3], 0.0)
-    return position, math.sqrt(out[3] * out[3] + out[4] * out[4] + out[5] * out[5])
+        tilt = angle(R @ a, R_t @ a)
+        orientation = max(tilt - cone[3], 0.0)
+    if not distances:
+        return position, orientation
+    squares = [0.0] * 6  # of the components a finite bound holds (a loop: no call)
+    for k in range(len(e)):
+        if not math.isinf(bounds[k]):
+            squares[k] = e[k] * e[k]
+    if cone is None:
+        tilt = math.sqrt(squares[3] + squares[4] + squares[5])
+    return position, orientation, math.sqrt(squares[0] + squares[1] + squares[2]), tilt
