@@ -27,6 +27,7 @@ import pinocchio as pin
 from armik import arms_every, arms_many, arms_reach
 from armik.arms_joined import joined, worse
 from armik.arms_options import per_chain, refuse_own_checks
+from armik.arms_servo import ArmsServo
 from armik.arms_tasks import by_tip
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.model import frames
@@ -203,6 +204,12 @@ class Arms:
         chain's own batch where the chains are independent (``armik.arms_many``)."""
         refuse_own_checks(options)
         return arms_many.solve_batch(self, targets, q0=q0, **options)
+
+    def servo(self, q0: object, **options: object) -> ArmsServo:
+        """A servo for every tip at once, one target per tip a tick (``step({tip: target})``),
+        each chain its own ``Servo`` with ``Arm.servo``'s options (``armik.arms_servo``);
+        chains that share joints, and ``self_collision``, are refused by name."""
+        return ArmsServo(self, q0, **options)
 
     def solve_path(
         self,

@@ -28,24 +28,15 @@ RATE = 10.0  # 1/s: the share of its gap to the margin a pair may close a second
 
 
 class CollisionRows:
-    """The rows of one arm's obstacles at joint values q (``at``)."""
+    """The rows of one checker's pairs at joint values q (``at``): each pair nearer than
+    ``margin + active`` may close by at most ``gain`` of its gap to ``margin`` (m) a step."""
 
     def __init__(
-        self, arm: ArmModel, obstacles: object, self_collision: bool, margin: object, dt: float
+        self, check: collision.Checker, margin: float, gain: float, active: float = ACTIVE
     ) -> None:
-        shapes = check_obstacles(obstacles)
-        try:
-            m = float(margin)  # type: ignore[arg-type]
-        except (TypeError, ValueError):
-            m = float("nan")
-        if not 0.0 <= m < 1.0:
-            raise CollisionError(
-                f"margin must be a distance in [0, 1) m, got {margin!r}",
-                option="margin",
-                value=margin,
-            )
-        self.arm, self.margin, self.gain = arm, m, RATE * dt
-        self.check = collision.checker(arm, shapes, bool(self_collision))
+        arm = check.arm
+        self.arm, self.margin, self.gain, self.active = arm, margin, gain, active
+        self.check = check
         self.data = arm.model.createData()
         self.rows = np.zeros((MAX_ROWS, arm.dof + 1))
         self.nearest = float("inf")  # m: the nearest pair's distance at the last ``at``
@@ -53,7 +44,7 @@ class CollisionRows:
     def at(self, q: np.ndarray) -> np.ndarray:
         """The rows at q (rad, m), nearest pairs first, at most ``MAX_ROWS``."""
         arm, check, data = self.arm, self.check, self.data
-        reach = self.margin + ACTIVE
+        reach = self.margin + self.active
         bound = check.bounds(q)
         near = np.flatnonzero(bound < reach)
         self.nearest = float("inf")
@@ -88,14 +79,19 @@ class CollisionRows:
             return np.zeros((3, self.arm.dof))
         model, data = self.arm.model, self.data
         J = pin.getJointJacobian(model, data, joint, pin.LOCAL_WORLD_ALIGNED)
-        r = p - data.oMi[joint].translation
-        return J[:3] - np.cross(r, J[3:].T).T  # v + w x r
+        rx, ry, rz = (p - data.oMi[joint].translation).tolist()
+        v, w = J[:3], J[3:]
+        v[0] -= ry * w[2] - rz * w[1]  # v + w x r = v - r x w
+        v[1] -= rz * w[0] - rx * w[2]
+        v[2] -= rx * w[1] - ry * w[0]
+        return v
 
 
 def rows_for(
     arm: ArmModel, obstacles: object, self_collision: object, margin: object, dt: float
 ) -> CollisionRows | None:
-    """The collision rows asked for, or None (no obstacle, no self-collision)."""
+    """The servo's collision rows asked for, or None (no obstacle, no self-collision); a
+    ``CollisionError`` naming a bad option."""
     if obstacles is None and not self_collision:
         return None
     if not isinstance(self_collision, bool):
@@ -104,4 +100,15 @@ def rows_for(
             option="self_collision",
             value=self_collision,
         )
-    return CollisionRows(arm, obstacles, self_collision, margin, dt)
+    shapes = check_obstacles(obstacles)
+    try:
+        m = float(margin)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        m = float("nan")
+    if not 0.0 <= m < 1.0:
+        raise CollisionError(
+            f"margin must be a distance in [0, 1) m, got {margin!r}",
+            option="margin",
+            value=margin,
+        )
+    return CollisionRows(collision.checker(arm, shapes, self_collision), m, RATE * dt)

@@ -3,6 +3,8 @@ the same field names, one row a tick) and the words for what limited a tick."""
 
 from __future__ import annotations
 
+import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from enum import Enum
 
@@ -69,6 +71,7 @@ class ServoStep:
     orientation_error: float | None
     sigma: float
     conflict: bool = False  # the acceleration limit gave way to braking (rounding only)
+    tips: Mapping[str, ServoStep] | None = None  # on several tips: each chain's own step
 
     @property
     def reason(self) -> str:
@@ -93,3 +96,26 @@ class ServoRecord:
 
     def __len__(self) -> int:
         return int(self.q.shape[0])
+
+
+def record(steps: Sequence[ServoStep]) -> ServoRecord:
+    """The ``ServoRecord`` of ``steps`` in order (at least one)."""
+
+    def column(name: str) -> np.ndarray:
+        return np.array([getattr(s, name) for s in steps])
+
+    def errors(name: str) -> np.ndarray:
+        values = [getattr(s, name) for s in steps]
+        return np.array([math.nan if v is None else v for v in values], dtype=float)
+
+    return ServoRecord(
+        q=column("q"),
+        dq=column("dq"),
+        ddq=column("ddq"),
+        status=np.array([s.status.value for s in steps]),
+        reason=[s.reason for s in steps],
+        joint=np.array([s.joint or "" for s in steps]),
+        position_error=errors("position_error"),
+        orientation_error=errors("orientation_error"),
+        sigma=column("sigma"),
+    )

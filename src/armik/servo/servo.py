@@ -15,7 +15,7 @@ from armik.servo import table as _table
 from armik.servo import tick as k
 from armik.servo.collisions import rows_for
 from armik.servo.limits import DEFAULT_ACCELERATION, per_joint, time_step, urdf_velocities
-from armik.servo.result import STATUSES, ServoRecord, ServoStep
+from armik.servo.result import STATUSES, ServoRecord, ServoStep, record
 
 SINGULAR = 0.05  # below this smallest singular value (m/rad or 1) the damping grows ...
 DAMPING = 0.005  # ... up to this (added to A^T A) at a singular value of 0
@@ -159,25 +159,7 @@ class Servo:
         steps = [self.step(t) for t in targets]
         if not steps:
             raise OptionError("targets must hold at least one target", option="targets")
-
-        def column(name: str) -> np.ndarray:
-            return np.array([getattr(s, name) for s in steps])
-
-        def errors(name: str) -> np.ndarray:
-            values = [getattr(s, name) for s in steps]
-            return np.array([math.nan if v is None else v for v in values], dtype=float)
-
-        return ServoRecord(
-            q=column("q"),
-            dq=column("dq"),
-            ddq=column("ddq"),
-            status=np.array([s.status.value for s in steps]),
-            reason=[s.reason for s in steps],
-            joint=np.array([s.joint or "" for s in steps]),
-            position_error=errors("position_error"),
-            orientation_error=errors("orientation_error"),
-            sigma=column("sigma"),
-        )
+        return record(steps)
 
 
 def start(arm: object, q0: object, **options: object) -> Servo:

@@ -29,6 +29,7 @@ from armik.constraints.clear import collision_check
 from armik.constraints.collision import checker
 from armik.frozen import frozen
 from armik.options import Options
+from armik.solve import push
 from armik.solve.slide import slide
 from armik.solvers.answers import one
 from armik.status import Status
@@ -141,8 +142,44 @@ def _restarting(
                 rows.append(slid)
                 if slid.succeeded(0):
                     break
+        elif run == 0 and PUSH:
+            got = _pushed(arm, spec, target, row, opts, check, start_cpu, used_iterations)
+            used_iterations = got[1]
+            rows.extend(p.recounted(used_iterations, used_restarts) for p in got[0])
+            if got[0] and got[0][-1].succeeded(0):
+                break
         q_start = arm.random_q(rng)
     return joined(rows, arm.dof) if rows else None
+
+
+# Push a numeric solve's colliding first answer clear with the servo's collision rows
+# before restarting (``solve.push``). Off: on the Panda shelf scene a push and its descent
+# cost more than the restarts they save (benchmarks/collision_near.py, docs/collisions.md).
+PUSH = False
+
+
+def _pushed(arm, spec, target, row: Verdicts, opts: Options, check, start_cpu: float, used: int):
+    """([verdict, ...], iterations used): ``row``'s colliding answer pushed clear with the
+    servo's rows (``solve.push``) and descended on from there without restarts, up to
+    ``push.PUSHES`` times while the answer still collides and the budget lasts."""
+    found: list[Verdicts] = []
+    q = row.q[0]
+    for _ in range(push.PUSHES):
+        start = push.pushed(arm, check, q, opts.margin)
+        left = None if start is None else _left(opts, start_cpu, used, 0)
+        if left is None:
+            break
+        left = frozen(Options, **{**left.__dict__, "max_restarts": 0})
+        answers = spec.run(arm, target, start, left, False)
+        got = verdicts(arm, answers, target, left).judge(
+            collision_check(check, answers.q[:1], opts.margin)
+        )
+        used += int(answers.iterations[0])
+        found.append(got)
+        if got.succeeded(0) or int(got.status[0]) != Status.COLLISION.code:
+            break
+        q = got.q[0]
+    return found, used
 
 
 SLIDE_STEPS = 30  # steps of one slide, at most

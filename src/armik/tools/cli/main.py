@@ -26,6 +26,7 @@ from armik.tools.cli.arms import (
 from armik.tools.cli.compile import add_compile_command
 from armik.tools.cli.export import add_export_command
 from armik.tools.cli.many import add_many_commands
+from armik.tools.cli.servo import add_servo_command
 from armik.tools.cli.studies import cmd_bench, cmd_compare
 from armik.tools.cli.tips import cmd_info_tips, cmd_solve_tips
 from armik.tools.cli.view import add_view_command
@@ -225,6 +226,7 @@ def _parser() -> argparse.ArgumentParser:
     add_compile_command(command)
     add_export_command(command)
     add_view_command(command)
+    add_servo_command(command)
 
     c = command(
         "bench",

@@ -1,0 +1,151 @@
+"""A servo on several tips of one robot (``Arms.servo``): one target per tip a tick.
+
+Chains that share no moving joint (two arms on one base) each get a ``Servo`` of their own
+(``armik.servo``), ticked side by side: every limit holds on each chain's joints, so on the
+robot's. The joined ``ServoStep`` holds the robot's ``q``, ``dq``, ``ddq`` (the chains'
+joints side by side, in the order of ``tips``, as ``Arms.joint_names``), the status of the
+tip most held back (``PRECEDENCE``), the largest errors and the smallest singular value
+over the tips, and each tip's own step in ``tips``.
+
+Not supported, and refused by name: chains that share joints (a torso, a lift: one step
+over the union of the chains would be needed), and ``self_collision`` (each chain would
+check only itself, never the other arm).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from armik.errors import OptionError, TargetError
+from armik.frozen import frozen
+from armik.servo.result import ServoRecord, ServoStatus, ServoStep, record
+from armik.servo.servo import Servo, start
+
+if TYPE_CHECKING:
+    from armik.arms import Arms
+
+# the joined step's status: the first of these that some tip's step has
+PRECEDENCE = (
+    ServoStatus.OUT_OF_REACH,
+    ServoStatus.OBSTACLE,
+    ServoStatus.JOINT_LIMIT,
+    ServoStatus.VELOCITY_LIMIT,
+    ServoStatus.ACCELERATION_LIMIT,
+    ServoStatus.SINGULARITY,
+    ServoStatus.TRACKING,
+    ServoStatus.ON_TARGET,
+)
+
+
+class ArmsServo:
+    """One ``Servo`` per chain of an ``Arms`` whose chains share no joint, at rest at
+    ``q0`` (one value per joint of ``Arms.joint_names``); the options are each chain's
+    (``Arm.servo``'s). Raises ``OptionError`` for shared joints or ``self_collision``."""
+
+    def __init__(self, arms: Arms, q0: object, **options: object) -> None:
+        if arms.shared:
+            raise OptionError(
+                f"a servo on several tips needs chains that share no joint; "
+                f"{list(arms.tips)} share {list(arms.shared)} (one step over their union is "
+                "not supported yet): servo one tip's chain (arms.chain(tip).servo(...)), or "
+                "load the tips whose chains are apart",
+                option="tips",
+                value=arms.tips,
+            )
+        if options.get("self_collision"):
+            raise OptionError(
+                "self_collision is not supported by a servo on several tips: each chain "
+                "would check itself only, never the other; give obstacles=, or servo one "
+                "chain (arms.chain(tip).servo(..., self_collision=True))",
+                option="self_collision",
+                value=options["self_collision"],
+            )
+        self.tips = arms.tips
+        self.joint_names = arms.joint_names
+        parts = arms.split(q0)
+        self._servos: dict[str, Servo] = {
+            tip: start(arms.chain(tip), parts[tip], **options) for tip in arms.tips
+        }
+        self.dt = next(iter(self._servos.values())).dt
+
+    def servo(self, tip: str) -> Servo:
+        """The ``Servo`` of ``tip``'s chain."""
+        if tip not in self._servos:
+            raise TargetError(f"unknown tip {tip!r}; this robot's tips: {list(self.tips)}")
+        return self._servos[tip]
+
+    def _joined(self, name: str) -> np.ndarray:
+        return np.concatenate([getattr(s, name) for s in self._servos.values()])
+
+    @property
+    def q(self) -> np.ndarray:
+        """The last commanded joint values (rad, m), in the order of ``joint_names``."""
+        return self._joined("q")
+
+    @property
+    def dq(self) -> np.ndarray:
+        return self._joined("dq")
+
+    @property
+    def velocity_limits(self) -> np.ndarray:
+        return self._joined("velocity_limits")
+
+    @property
+    def acceleration_limits(self) -> np.ndarray:
+        return self._joined("acceleration_limits")
+
+    def step(self, targets: Mapping[str, object]) -> ServoStep:
+        """One tick of every chain toward its tip's target (``targets``: tip -> anything
+        ``Arm.servo``'s ``step`` takes); the joined step (module docstring). Raises
+        ``TargetError`` unless every tip has a target and no other is named."""
+        if not isinstance(targets, Mapping):
+            raise TargetError(
+                f"a servo on several tips takes one target per tip, a mapping "
+                f"{{tip: target}} over {list(self.tips)}, got {type(targets).__name__}"
+            )
+        unknown = [t for t in targets if t not in self._servos]
+        missing = [t for t in self.tips if t not in targets]
+        if unknown or missing:
+            raise TargetError(
+                f"one target per tip of {list(self.tips)}: "
+                + "; ".join(
+                    part
+                    for part in (
+                        f"unknown tips {unknown}" if unknown else "",
+                        f"no target for {missing}" if missing else "",
+                    )
+                    if part
+                )
+            )
+        steps = {tip: s.step(targets[tip]) for tip, s in self._servos.items()}
+        first = min(steps.values(), key=lambda s: PRECEDENCE.index(s.status))
+        command = np.concatenate([np.stack([s.q, s.dq, s.ddq]) for s in steps.values()], axis=1)
+        command.flags.writeable = False
+
+        def largest(name: str) -> float | None:
+            values = [getattr(s, name) for s in steps.values() if getattr(s, name) is not None]
+            return max(values) if values else None
+
+        return frozen(
+            ServoStep,
+            q=command[0],
+            dq=command[1],
+            ddq=command[2],
+            status=first.status,
+            joint=first.joint,
+            position_error=largest("position_error"),
+            orientation_error=largest("orientation_error"),
+            sigma=min(s.sigma for s in steps.values()),
+            conflict=any(s.conflict for s in steps.values()),
+            tips=steps,
+        )
+
+    def track(self, targets: Iterable[Mapping[str, object]]) -> ServoRecord:
+        """``step`` through ``targets`` (one mapping tip -> target a tick), in order."""
+        steps = [self.step(t) for t in targets]
+        if not steps:
+            raise OptionError("targets must hold at least one mapping", option="targets")
+        return record(steps)

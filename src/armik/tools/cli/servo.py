@@ -1,0 +1,142 @@
+"""``armik servo``: a demo stream through ``Arm.servo`` (a circle about the tip, then an
+optional jump), printing the tracking error, what limited the ticks, the time a tick took
+and the commanded sequence's largest excess over each limit (finite differences)."""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from armik.errors import OptionError
+from armik.servo.streams import START, circle, moved, violations
+from armik.tools.cli.arms import add_lock_option, load_arm
+
+
+def add_servo_command(command) -> None:
+    c = command(
+        "servo",
+        "stream a demo trajectory through the servo (one tick a target): a circle about the "
+        "tip, then a jump; print the tracking error, the limits hit and the time a tick",
+        "armik servo panda --circle 0.1 --hz 0.5 --seconds 2\n"
+        "         armik servo ur5 --circle 0.05 --seconds 1 --jump 0 0.25 0 --dt 0.004",
+        cmd_servo,
+    )
+    c.add_argument("robot", help="bundled robot name or path to a URDF file")
+    c.add_argument("--base", help="base frame")
+    c.add_argument("--tip", help="tip frame")
+    add_lock_option(c)
+    c.add_argument(
+        "--q0",
+        nargs="+",
+        type=float,
+        metavar="Q",
+        help="start joint values (rad, m), within the limits (default: a bundled arm's "
+        "start with room around the tip, else the middle of the limits)",
+    )
+    c.add_argument(
+        "--circle",
+        type=float,
+        default=0.1,
+        metavar="R",
+        help="radius (m) of the circle in the base's y-z plane through the tip, the "
+        "orientation held (0.1)",
+    )
+    c.add_argument("--hz", type=float, default=0.5, help="turns of the circle a second (0.5)")
+    c.add_argument("--seconds", type=float, default=2.0, help="length of the circle, s (2)")
+    c.add_argument(
+        "--jump",
+        nargs=3,
+        type=float,
+        metavar=("DX", "DY", "DZ"),
+        help="then a target this far (m, base frame) from where the circle ends, held 1.5 s",
+    )
+    c.add_argument("--dt", type=float, default=0.002, help="tick period, s (0.002: 500 Hz)")
+    c.add_argument(
+        "--acceleration-limit",
+        type=float,
+        default=None,
+        metavar="A",
+        help="rad/s^2 on every joint (default: the servo's, 20)",
+    )
+    c.add_argument(
+        "--velocity-limit",
+        type=float,
+        default=None,
+        metavar="V",
+        help="rad/s on every joint (default: the URDF's)",
+    )
+
+
+def cmd_servo(args: argparse.Namespace) -> int:
+    arm = load_arm(args)
+    if args.q0 is not None:
+        q0 = np.array(args.q0, dtype=float)
+    elif arm.name in START and arm.kinematics.dof == len(START[arm.name]):
+        q0 = START[arm.name]
+    else:
+        q0 = arm.middle
+    for flag, value in (("--seconds", args.seconds), ("--hz", args.hz)):
+        if not value > 0.0:
+            raise OptionError(f"{flag} must be positive, got {value!r}", option=flag, value=value)
+    if not args.circle >= 0.0:
+        raise OptionError(
+            f"--circle must be a radius >= 0 m, got {args.circle!r}",
+            option="--circle",
+            value=args.circle,
+        )
+    servo = arm.servo(
+        q0,
+        dt=args.dt,
+        acceleration_limits=args.acceleration_limit,
+        velocity_limits=args.velocity_limit,
+    )
+    dt = servo.dt
+    T0 = arm.fk(q0)
+    stream = circle(T0, max(1, round(args.seconds / dt)), dt, args.circle, args.hz)
+    legs = [("circle", stream)]
+    if args.jump is not None:
+        end = stream[-1]
+        legs.append(("jump", [moved(end, np.array(args.jump))] * max(1, round(1.5 / dt))))
+    print(
+        f"{arm.name}: {arm.kinematics.dof} joints, dt {dt * 1e3:g} ms; q0 "
+        + " ".join(f"{v:.4g}" for v in q0)
+    )
+    Q: list[np.ndarray] = []
+    took: list[float] = []
+    for label, targets in legs:
+        steps = []
+        for target in targets:
+            t = time.perf_counter()
+            steps.append(servo.step(target))
+            took.append(time.perf_counter() - t)
+        Q.extend(s.q for s in steps)
+        _report(label, steps, dt)
+    over = violations(
+        q0, np.array(Q), arm.lower, arm.upper, servo.velocity_limits, servo.acceleration_limits, dt
+    )
+    us = np.array(took) * 1e6
+    print(
+        f"tick: median {np.median(us):.0f} us, p99 {np.percentile(us, 99):.0f} us "
+        f"({len(us)} ticks; the first compiles or loads the tick)"
+    )
+    print(
+        "largest excess over the limits (finite differences): "
+        + ", ".join(f"{k} {v:.1e}" for k, v in over.items())
+    )
+    return 0
+
+
+def _report(label: str, steps: list, dt: float) -> None:
+    errors = np.array([s.position_error for s in steps], dtype=float)
+    rms = float(np.sqrt(np.mean(errors**2)))
+    counts: dict[str, int] = {}
+    for s in steps:
+        counts[s.status.value] = counts.get(s.status.value, 0) + 1
+    said = ", ".join(f"{k} {v}" for k, v in sorted(counts.items(), key=lambda kv: -kv[1]))
+    print(
+        f"{label}: {len(steps)} ticks ({len(steps) * dt:g} s); position error RMS {rms:.2e} m, "
+        f"largest {errors.max():.2e} m, last {errors[-1]:.2e} m, orientation error last "
+        f"{steps[-1].orientation_error:.2e} rad\n  ticks by status: {said}"
+    )

@@ -1,0 +1,91 @@
+"""A servo on several tips (``Arms.servo``): each chain its own servo, ticked side by side
+(the joined q is each chain's own servo's, bit for bit), every limit on the joined
+sequence, the status of the tip most held back, and what is not supported refused by
+name."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.errors import OptionError, TargetError
+from armik.servo.streams import circle, violations
+
+from ..test_arms import dual_irb120
+
+DT = 0.002
+START = np.array([0.0, 0.2, 0.2, 0.0, 0.8, 0.0])  # each IRB 120 of the cell
+
+
+@pytest.fixture(scope="module")
+def cell() -> armik.Arms:
+    return armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
+
+
+def _streams(cell, q0):
+    TL, TR = cell.fk(q0, "l_tool0"), cell.fk(q0, "r_tool0")
+    left = circle(TL, 600, DT, radius=0.05)
+    right = [TR.translation + np.array([0.0, 0.0, -0.1])] * 600  # a position, 10 cm down
+    return left, right
+
+
+def test_each_chain_is_its_own_servo_and_every_limit_holds(cell):
+    q0 = np.concatenate([START, START])
+    left, right = _streams(cell, q0)
+    servo = cell.servo(q0, dt=DT, acceleration_limits=15.0)
+    rec = servo.track([{"l_tool0": a, "r_tool0": b} for a, b in zip(left, right)])
+    alone_l = cell.chain("l_tool0").servo(START, dt=DT, acceleration_limits=15.0).track(left)
+    alone_r = cell.chain("r_tool0").servo(START, dt=DT, acceleration_limits=15.0).track(right)
+    assert rec.q.shape == (600, 12)
+    assert np.array_equal(rec.q, np.hstack([alone_l.q, alone_r.q]))
+    over = violations(
+        q0, rec.q, cell.lower, cell.upper, servo.velocity_limits, servo.acceleration_limits, DT
+    )
+    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    # the joined step's errors are the larger tip's; the tips' own FK says where they are
+    assert np.array_equal(
+        rec.position_error, np.maximum(alone_l.position_error, alone_r.position_error)
+    )
+    q = rec.q[-1]
+    assert np.linalg.norm(cell.fk(q, "r_tool0").translation - right[-1]) < 1e-5
+    assert np.linalg.norm(cell.fk(q, "l_tool0").translation - left[-1].translation) < 1e-3
+    assert np.array_equal(servo.q, q) and servo.joint_names == cell.joint_names
+
+
+def test_the_joined_status_is_the_tip_most_held_back(cell):
+    q0 = np.concatenate([START, START])
+    servo = cell.servo(q0, dt=DT)
+    here = cell.fk(q0, "l_tool0")
+    far = pin.SE3(np.eye(3), np.array([4.0, -0.5, 0.3]))
+    for _ in range(3):
+        s = servo.step({"l_tool0": here, "r_tool0": far})
+    assert s.tips["l_tool0"].status == "on_target"
+    assert s.tips["r_tool0"].status == "out_of_reach"
+    assert s.status == "out_of_reach" and "out of reach" in s.reason
+    assert s.position_error == s.tips["r_tool0"].position_error > 3.0
+    assert np.allclose(s.q[:6], q0[:6], rtol=0.0, atol=1e-12)  # the other arm stays
+    assert np.isfinite(s.q).all()
+
+
+def test_bad_targets_are_refused_by_name(cell):
+    servo = cell.servo(np.concatenate([START, START]))
+    T = cell.fk(servo.q, "l_tool0")
+    with pytest.raises(TargetError, match=r"no target for \['r_tool0'\]"):
+        servo.step({"l_tool0": T})
+    with pytest.raises(TargetError, match=r"unknown tips \['tool0'\]"):
+        servo.step({"l_tool0": T, "r_tool0": T, "tool0": T})
+    with pytest.raises(TargetError, match="one target per tip"):
+        servo.step(T)
+    with pytest.raises(OptionError, match="12 values"):
+        cell.servo(START)
+
+
+def test_what_is_not_supported_is_refused_with_the_way_round(cell):
+    with pytest.raises(OptionError, match="self_collision is not supported"):
+        cell.servo(np.concatenate([START, START]), self_collision=True)
+    shared = armik.load("panda", tips=["panda_link5", "panda_hand"])
+    assert shared.shared
+    with pytest.raises(OptionError, match=r"share no joint.*panda_joint1.*arms.chain\(tip\)"):
+        shared.servo(shared.middle)

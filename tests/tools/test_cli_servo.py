@@ -1,0 +1,52 @@
+"""armik servo: a demo stream through the servo, its report, and bad input refused."""
+
+from __future__ import annotations
+
+import re
+
+from tests.tools.cli_run import run
+
+
+def _number(pattern: str, text: str) -> float:
+    found = re.search(pattern, text)
+    assert found, text
+    return float(found.group(1))
+
+
+def test_servo_tracks_a_circle_and_a_jump_within_every_limit(capsys):
+    code, out, err = run(capsys, "servo", "ur5", "--seconds", "0.6", "--jump", "0", "0.1", "0")
+    assert code == 0, err
+    assert out.startswith("ur5: 6 joints, dt 2 ms")
+    # started at rest on a moving circle: a transient, then tracked
+    assert _number(r"circle: 300 ticks .*?last ([0-9.e+-]+) m", out) < 1e-4
+    assert _number(r"jump: 750 ticks .*?last ([0-9.e+-]+) m", out) < 1e-5
+    counts = re.search(r"jump: .*\n  ticks by status: (.*)", out).group(1)
+    assert "on_target" in counts and "acceleration_limit" in counts
+    excess = re.search(r"position ([0-9.e+-]+), velocity ([0-9.e+-]+), acceleration (\S+)", out)
+    assert [float(v) for v in excess.groups()] == [0.0, 0.0, 0.0]
+    assert re.search(r"tick: median \d+ us, p99 \d+ us \(1050 ticks", out)
+
+
+def test_servo_takes_the_limits_and_start_it_is_given(capsys):
+    q0 = ["0.3", "-1.2", "1.4", "-1.5", "-1.5", "0.2"]
+    code, out, err = run(
+        capsys, "servo", "ur5", "--q0", *q0, "--seconds", "0.1", "--circle", "0",
+        "--velocity-limit", "0.5", "--acceleration-limit", "5", "--dt", "0.004",
+    )  # fmt: skip
+    assert code == 0, err
+    assert "dt 4 ms; q0 0.3 -1.2 1.4 -1.5 -1.5 0.2" in out
+    assert "circle: 25 ticks" in out
+
+
+def test_servo_refuses_bad_input_with_one_line(capsys):
+    for argv, said in [
+        (["--dt", "-1"], "dt must be the tick's period"),
+        (["--seconds", "0"], "--seconds must be positive"),
+        (["--circle", "-0.1"], "--circle must be a radius"),
+        (["--q0", "1", "2"], "q0 must have 6 values"),
+        (["--acceleration-limit", "-3"], "acceleration_limits"),
+    ]:
+        code, out, err = run(capsys, "servo", "ur5", *argv)
+        assert code == 2, (argv, out)
+        assert err.startswith("armik: error:") and said in err, err
+        assert len(err.strip().splitlines()) == 1
