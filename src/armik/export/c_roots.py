@@ -8,6 +8,8 @@ SP6 on it; it goes after ``c_source.HELPERS`` (``wrap``). Python's ``max(a, b)``
 
 from __future__ import annotations
 
+import math
+
 from armik.export.c_source import num
 from armik.solvers.closed_form import roots
 from armik.solvers.closed_form import subproblems_56 as sp56
@@ -151,18 +153,24 @@ static int trig1(double a, double b, double c, double *t0, double *t1, int *ls)
     return 2;
 }
 
-/* The real roots of A0 + A1 sin t + B1 cos t + A2 sin 2t + B2 cos 2t, up to 4. */
-static int trig2(double A0, double A1, double B1, double A2, double B2, double out[4])
+/* The real roots of A0 + A1 sin t + B1 cos t + A2 sin 2t + B2 cos 2t, up to 4, with their
+   sines and cosines (from the half-angle form, no libm call). The 8 samples t = 2 pi i / 8
+   and t0 = t - pi read their sines and cosines from tables (libm's values, folded in). */
+static const double T2_S[8] = @T2_S@, T2_C[8] = @T2_C@;
+static const double T2_S2[8] = @T2_S2@, T2_C2[8] = @T2_C2@;
+static const double T2_S0[8] = @T2_S0@, T2_C0[8] = @T2_C0@;
+static const double T2_S20[8] = @T2_S20@, T2_C20[8] = @T2_C20@;
+static int trig2(double A0, double A1, double B1, double A2, double B2, double out[4],
+                 double so[4], double co[4])
 {
-    double best = -1.0, t0 = 0.0, t, v, c, s, c2, s2, a1, b1, a2, b2, coef[5], x[4];
-    int i, n;
+    double best = -1.0, v, c, s, c2, s2, a1, b1, a2, b2, coef[5], x[4], d, cx, sx;
+    int i, k = 0, n;
     for (i = 0; i < 8; i++) {
-        t = 2.0 * IK_PI * i / 8.0;
-        v = A0 + A1 * sin(t) + B1 * cos(t);
-        v = fabs(v + A2 * sin(2.0 * t) + B2 * cos(2.0 * t));
-        if (v > best) { best = v; t0 = t - IK_PI; }
+        v = A0 + A1 * T2_S[i] + B1 * T2_C[i];
+        v = fabs(v + A2 * T2_S2[i] + B2 * T2_C2[i]);
+        if (v > best) { best = v; k = i; }
     }
-    c = cos(t0); s = sin(t0); c2 = cos(2 * t0); s2 = sin(2 * t0);
+    c = T2_C0[k]; s = T2_S0[k]; c2 = T2_C20[k]; s2 = T2_S20[k];
     a1 = A1 * c - B1 * s; b1 = A1 * s + B1 * c;
     a2 = A2 * c2 - B2 * s2; b2 = A2 * s2 + B2 * c2;
     coef[0] = A0 - b1 + b2;
@@ -172,7 +180,14 @@ static int trig2(double A0, double A1, double B1, double A2, double B2, double o
     coef[4] = A0 + b1 + b2;
     n = quartic(coef, x);
     n = n > 0 ? n : 0;
-    for (i = 0; i < n; i++) out[i] = t0 + 2.0 * atan(x[i]);
+    for (i = 0; i < n; i++) {
+        out[i] = (2.0 * IK_PI * k / 8.0 - IK_PI) + 2.0 * atan(x[i]);
+        d = 1.0 / (1.0 + x[i] * x[i]);  /* 2 atan(x): cosine (1 - x^2) d, sine 2 x d */
+        cx = (1.0 - x[i] * x[i]) * d;
+        sx = 2.0 * x[i] * d;
+        so[i] = s * cx + c * sx;
+        co[i] = c * cx - s * sx;
+    }
     return n;
 }
 
@@ -276,9 +291,28 @@ static int grid_minima(double D[SP_GRID][SP_GRID], int out[SP_STARTS][2])
 _CONSTANTS = {"LEAD": roots.LEAD, "TOUCH": roots.TOUCH, "MERGE": roots.MERGE, "SAME": roots.SAME}
 
 
+def _samples() -> dict[str, str]:
+    """``trig2``'s tables: the sines and cosines of its 8 samples t, of 2 t, of t0 = t - pi
+    and of 2 t0, as the Python computes them."""
+    ts = [2.0 * math.pi * i / 8.0 for i in range(8)]
+    rows = {
+        "T2_S": [math.sin(t) for t in ts],
+        "T2_C": [math.cos(t) for t in ts],
+        "T2_S2": [math.sin(2.0 * t) for t in ts],
+        "T2_C2": [math.cos(2.0 * t) for t in ts],
+        "T2_S0": [math.sin(t - math.pi) for t in ts],
+        "T2_C0": [math.cos(t - math.pi) for t in ts],
+        "T2_S20": [math.sin(2 * (t - math.pi)) for t in ts],
+        "T2_C20": [math.cos(2 * (t - math.pi)) for t in ts],
+    }
+    return {name: "{" + ", ".join(num(x) for x in xs) + "}" for name, xs in rows.items()}
+
+
 def source() -> str:
     """The C text of the root finding, with the Python modules' constants."""
     text = TEXT.replace("@GRID@", str(sp56.GRID)).replace("@STARTS@", str(sp56.STARTS))
+    for name, value in _samples().items():
+        text = text.replace(f"@{name}@", value)
     for name, value in _CONSTANTS.items():
         text = text.replace(f"@{name}@", num(value))
     return text
