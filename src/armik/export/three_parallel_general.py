@@ -20,7 +20,7 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
     mat3 R06 = mmt(R, R_TIP0), R1, R5, M, R14;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), H6[4], K6[4], P6[4], a, v;
     double t1[4], t5[4], t3[2], q[6], c[6], s[6], q14, nv;
-    int m, ls, i, i3, n3, j, n = 0;
+    int m, ls, i, i3, n3, n = 0;
     H6[0] = H6[1] = H6[2] = H6[3] = h2;
     K6[0] = K6[2] = neg(h1);
     K6[1] = K6[3] = h5;
@@ -30,16 +30,25 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
     P6[3] = neg(h6);
     m = sp6(H6, K6, P6, D1, 0.0, t1, t5, &ls);
     if (m == -1) m = 1;  /* a continuum: one of it */
-    for (i = 0; i < m; i++) {
+    for (i = 0; i < m; i++) {  /* each angle's cosine and sine computed once, kept */
         q[0] = t1[i];
         q[4] = t5[i];
-        R1 = rot(h1, q[0]);
-        R5 = rot(h5, q[4]);
+        c[0] = cos(q[0]);
+        s[0] = sin(q[0]);
+        c[4] = cos(q[4]);
+        s[4] = sin(q[4]);
+        R1 = rot_cs(h1, c[0], s[0]);
+        R5 = rot_cs(h5, c[4], s[4]);
         M = mtm(R1, R06);
         a = mtv(R5, h2);
-        if (norm(cross(a, h6)) < IK_SINGLE) q[5] = MID[5];  /* wrist singular: q6 free */
-        else q[5] = sp1(a, mtv(M, h2), neg(h6));
-        R14 = mmt(mmt(M, rot(h6, q[5])), R5);
+        if (norm(cross(a, h6)) < IK_SINGLE) {  /* wrist singular: q6 free */
+            q[5] = MID[5];
+            c[5] = cos(q[5]);
+            s[5] = sin(q[5]);
+        } else {
+            q[5] = sp1cs(a, mtv(M, h2), neg(h6), &c[5], &s[5]);
+        }
+        R14 = mmt(mmt(M, rot_cs(h6, c[5], s[5])), R5);
         q14 = sp1(X, mv(R14, X), h2);
         v = sub(sub(mtv(R1, p16), p1), mv(R14, add(p4, mv(R5, p5))));
         nv = norm(v);
@@ -47,12 +56,12 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
         if (n3 == -1) { n3 = 1; t3[0] = MID[2]; }
         for (i3 = 0; i3 < n3; i3++) {
             q[2] = t3[i3];
-            q[1] = sp1(add(p2, mv(rot(h3, q[2]), p3)), v, h2);
+            c[2] = cos(q[2]);
+            s[2] = sin(q[2]);
+            q[1] = sp1cs(add(p2, mv(rot_cs(h3, c[2], s[2]), p3)), v, h2, &c[1], &s[1]);
             q[3] = S4 * (q14 - q[1] - S3 * q[2]);
-            for (j = 0; j < 6; j++) {
-                c[j] = cos(q[j]);
-                s[j] = sin(q[j]);
-            }
+            c[3] = cos(q[3]);
+            s[3] = sin(q[3]);
             n = put_row(W, C, S, n, q, c, s);
         }
     }
