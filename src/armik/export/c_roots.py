@@ -45,7 +45,9 @@ static double poly_size(const double *c, int deg, double x)  /* sum |c_i| |x|^i 
 }
 
 /* The root in [lo, hi] (p(lo) = flo, p(hi) of the other sign): Newton, bisecting whenever
-   Newton would leave the bracket. */
+   Newton would leave the bracket. A Newton step within rounding ends it (where the Python
+   bisects on until the bracket is as small, its far end untouched by Newton's steps
+   from one side: up to 50 steps more for the same root). */
 static double bracketed(const double *c, int deg, double lo, double hi, double flo)
 {
     double x = 0.5 * (lo + hi), f, df, xn;
@@ -56,6 +58,8 @@ static double bracketed(const double *c, int deg, double lo, double hi, double f
         if ((f < 0.0) == (flo < 0.0)) lo = x;
         else hi = x;
         xn = df != 0.0 ? x - f / df : 0.5 * (lo + hi);
+        if (df != 0.0 && fabs(xn - x) <= 4e-16 * pmax(1.0, fabs(x)))
+            return lo <= xn && xn <= hi ? xn : x;
         if (!(lo < xn && xn < hi)) xn = 0.5 * (lo + hi);
         if (fabs(xn - x) <= 4e-16 * pmax(1.0, fabs(x)) || hi - lo <= 4e-16 * pmax(1.0, fabs(x)))
             return xn;
