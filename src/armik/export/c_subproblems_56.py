@@ -21,13 +21,15 @@ static const double SP_EXACT = @EXACT@, SP_ROOT_GATE = @ROOT_GATE@, SP_SINGULAR 
 static const double SP_POLISHED = @POLISHED@;
 
 /* Candidate angle pairs of M[0] sa + M[1] ca + M[2] sb + M[3] cb = f[0] and the same with
-   M[4..7] = f[1], unrefined; *free_ when they form a continuum. */
-static int pairs(const double M[8], const double f[2], double size, double out[8][2], int *free_)
+   M[4..7] = f[1], unrefined, with their sines and cosines in sc (sa, ca, sb, cb); *free_
+   when they form a continuum. */
+static int pairs(const double M[8], const double f[2], double size, double out[8][2],
+                 double sc[8][4], int *free_)
 {
     double a0 = M[0], b0 = M[1], a1 = M[2], b1 = M[3], a2 = M[4], b2 = M[5], a3 = M[6];
     double b3 = M[7], det1, det2, small, n1, n2, q1, q2, Ma[4], Mb[4], det, i00, i01, i10;
     double i11, g0, g1, B00, B01, B10, B11, S00, S01, S11, A0, A1, B1, A2, B2, big, ts[4];
-    double ss[4], cs[4];
+    double ss[4], cs[4], yn, yd, ry, sy, cy;
     double sx, cx, ty, v0, v1, nv, w0, w1, ra, rb, u0, u1, ta, sa, ca, rest, x0, x1;
     int n = 0, m, i, j, ls, mb, lsb;
     *free_ = 0;
@@ -68,9 +70,18 @@ static int pairs(const double M[8], const double f[2], double size, double out[8
         for (i = 0; i < m; i++) {
             sx = ss[i];
             cx = cs[i];
-            ty = atan2(g0 - B00 * sx - B01 * cx, g1 - B10 * sx - B11 * cx);
+            yn = g0 - B00 * sx - B01 * cx;
+            yd = g1 - B10 * sx - B11 * cx;
+            ty = atan2(yn, yd);
+            ry = sqrt(yn * yn + yd * yd);
+            sy = ry > 0.0 ? yn / ry : sin(ty);
+            cy = ry > 0.0 ? yd / ry : cos(ty);
             out[i][0] = q2 >= q1 ? ts[i] : ty;
             out[i][1] = q2 >= q1 ? ty : ts[i];
+            sc[i][0] = q2 >= q1 ? sx : sy;
+            sc[i][1] = q2 >= q1 ? cx : cy;
+            sc[i][2] = q2 >= q1 ? sy : sx;
+            sc[i][3] = q2 >= q1 ? cy : cx;
         }
         return m;
     }
@@ -94,6 +105,10 @@ static int pairs(const double M[8], const double f[2], double size, double out[8
         for (j = 0; j < (lsb ? 0 : mb); j++) {
             out[n][0] = ta;
             out[n][1] = j == 0 ? x0 : x1;
+            sc[n][0] = sa;
+            sc[n][1] = ca;
+            sc[n][2] = sin(out[n][1]);
+            sc[n][3] = cos(out[n][1]);
             n++;
         }
     }
@@ -265,11 +280,11 @@ static double gap5(vec3 e2, vec3 v1, vec3 v3)
    from the pair as it came (the Python's) when newton2 leaves it inexact. cab: the
    circles' c1, a1, b1, c3, a3, b3. */
 static int try5(const sp5_in *s, const vec3 cab[6], const double M[8], const double f[2],
-                double t1, double t3, double sol[4][3], double res[4], int n, double size)
+                double t1, double t3, const double sc0[4], double sol[4][3], double res[4],
+                int n, double size)
 {
     vec3 v1, v3, w1, w3;
-    double x[3], y[2] = {t1, t3}, sc[4], r[2], g;
-    sc[0] = sin(t1); sc[1] = cos(t1); sc[2] = sin(t3); sc[3] = cos(t3);
+    double x[3], y[2] = {t1, t3}, sc[4] = {sc0[0], sc0[1], sc0[2], sc0[3]}, r[2], g;
     v1 = add(cab[0], add(scale(cab[1], sc[0]), scale(cab[2], sc[1])));
     v3 = add(cab[3], add(scale(cab[4], sc[2]), scale(cab[5], sc[3])));
     if (gap5(s->e2, v1, v3) > SP_ROOT_GATE * size) return n;
@@ -298,7 +313,7 @@ static int sp5(vec3 p0, vec3 p1, vec3 p2, vec3 p3, vec3 k1, vec3 k2, vec3 k3,
 {
     sp5_in s;
     vec3 c1, a1, b1, c3, a3, b3;
-    double size, sol[4][3], res[4], M[8], f[2], lengths, pr[8][2], x[3], r;
+    double size, sol[4][3], res[4], M[8], f[2], lengths, pr[8][2], psc[8][4], x[3], r;
     vec3 cab[6];
     int i, j, m, free_, n = 0;
     s.q0 = p0; s.q1 = p1; s.q2 = p2; s.q3 = p3; s.e1 = k1; s.e2 = k2; s.e3 = k3;
@@ -318,9 +333,10 @@ static int sp5(vec3 p0, vec3 p1, vec3 p2, vec3 p3, vec3 k1, vec3 k2, vec3 k3,
     lengths = dot(c3, c3) + dot(a3, a3) - dot(c1, c1) - dot(a1, a1);
     f[0] = dot(k2, c3) - dot(k2, c1);
     f[1] = 0.5 * lengths / size;
-    m = pairs(M, f, size, pr, &free_);
+    m = pairs(M, f, size, pr, psc, &free_);
     cab[0] = c1; cab[1] = a1; cab[2] = b1; cab[3] = c3; cab[4] = a3; cab[5] = b3;
-    for (i = 0; i < m; i++) n = try5(&s, cab, M, f, pr[i][0], pr[i][1], sol, res, n, size);
+    for (i = 0; i < m; i++)
+        n = try5(&s, cab, M, f, pr[i][0], pr[i][1], psc[i], sol, res, n, size);
     if (n == 0) {
         r = ls5(&s, x);
         keep_distinct(sol, res, 0, 3, x, r);
@@ -422,11 +438,10 @@ static double ls6(const double M[8], const double f[2], double floor_, double be
 
 /* A pair (t1, t2) of pairs: gated as the Python gates it, refined by newton2, kept when
    exact; refine6's damped steps from the pair as it came when newton2 leaves it inexact. */
-static int try6(const double M[8], const double f[2], double t1, double t2, double sol[4][3],
-                double res[4], int n, double size)
+static int try6(const double M[8], const double f[2], double t1, double t2,
+                const double sc0[4], double sol[4][3], double res[4], int n, double size)
 {
-    double x[2] = {t1, t2}, sc[4], r[2], rabs;
-    sc[0] = sin(t1); sc[1] = cos(t1); sc[2] = sin(t2); sc[3] = cos(t2);
+    double x[2] = {t1, t2}, sc[4] = {sc0[0], sc0[1], sc0[2], sc0[3]}, r[2], rabs;
     rabs = resid2(M, f, sc, r);
     if (rabs > SP_ROOT_GATE * size) return n;
     rabs = newton2(M, f, x, sc, r, rabs, 8, SP_POLISHED * size);
@@ -453,7 +468,7 @@ static double term(vec3 h, vec3 k, vec3 p, double *a, double *b)
 static int sp6(const vec3 H[4], const vec3 K[4], const vec3 P[4], double d1, double d2,
                double t1[4], double t2[4], int *ls)
 {
-    double M[8], f[2], e[4], size = 0.0, sol[4][3], res[4], pr[8][2], x[2], r;
+    double M[8], f[2], e[4], size = 0.0, sol[4][3], res[4], pr[8][2], psc[8][4], x[2], r;
     int i, j, m, free_, n = 0;
     for (i = 0; i < 4; i++) {
         e[i] = term(H[i], K[i], P[i], &M[2 * i], &M[2 * i + 1]);
@@ -467,8 +482,8 @@ static int sp6(const vec3 H[4], const vec3 K[4], const vec3 P[4], double d1, dou
     size = pmax(pmax(size, fabs(d1)), fabs(d2));
     *ls = 0;
     if (size == 0.0) return -1;
-    m = pairs(M, f, size, pr, &free_);
-    for (i = 0; i < m; i++) n = try6(M, f, pr[i][0], pr[i][1], sol, res, n, size);
+    m = pairs(M, f, size, pr, psc, &free_);
+    for (i = 0; i < m; i++) n = try6(M, f, pr[i][0], pr[i][1], psc[i], sol, res, n, size);
     if (n == 0) {
         r = ls6(M, f, 1e-16 * size, x);
         keep_distinct(sol, res, 0, 2, x, r);
