@@ -48,9 +48,10 @@ static double poly_size(const double *c, int deg, double x)  /* sum |c_i| |x|^i 
    Newton would leave the bracket. A Newton step within rounding ends it (where the Python
    bisects on until the bracket is as small, its far end untouched by Newton's steps
    from one side: up to 50 steps more for the same root). */
-static double bracketed(const double *c, int deg, double lo, double hi, double flo)
+static double bracketed(const double *c, int deg, double lo, double hi, double flo,
+                        double x)
 {
-    double x = 0.5 * (lo + hi), f, df, xn;
+    double f, df, xn;
     int it;
     for (it = 0; it < 200; it++) {
         f = poly_value(c, deg, x, &df);
@@ -68,6 +69,32 @@ static double bracketed(const double *c, int deg, double lo, double hi, double f
     return x;
 }
 
+/* Where bracketed starts in [lo, hi]: the root of p's quadratic model p(e) + p''(e)
+   (x - e)^2 / 2 at the end e that is a root of the derivative (the one where |p| is
+   smaller when both are), when it lies within; else the middle. From the middle, Newton's
+   steps cut the distance to a root far from it by only 1 / deg a step. */
+static double start(const double *c, int deg, double lo, double hi, double flo, double fhi,
+                    int k, int ncrit)
+{
+    double e, fe, h = 0.0, d1 = 0.0, f = c[0], x, r;
+    int i, left;
+    if (ncrit == 0) return 0.5 * (lo + hi);
+    if (k == 0) left = 0;  /* [-bound, crit[0]] */
+    else if (k == ncrit) left = 1;  /* [crit[ncrit - 1], bound] */
+    else left = fabs(flo) <= fabs(fhi);
+    e = left ? lo : hi;
+    fe = left ? flo : fhi;
+    for (i = 1; i <= deg; i++) {  /* h = p''(e) / 2 by Horner's rule */
+        h = h * e + d1;
+        d1 = d1 * e + f;
+        f = f * e + c[i];
+    }
+    r = -fe / h;
+    if (!(r > 0.0)) return 0.5 * (lo + hi);
+    x = left ? e + sqrt(r) : e - sqrt(r);
+    return lo < x && x < hi ? x : 0.5 * (lo + hi);
+}
+
 /* The real roots of p given its derivative's ncrit real roots crit (ascending). */
 static int roots_between(const double *c, int deg, const double *crit, int ncrit, double *out)
 {
@@ -82,7 +109,7 @@ static int roots_between(const double *c, int deg, const double *crit, int ncrit
         fhi = poly_value(c, deg, hi, &df);
         crossing = flo != 0.0 && fhi != 0.0 && ((flo < 0.0) != (fhi < 0.0));
         if (crossing && hi > lo) {
-            x = bracketed(c, deg, lo, hi, flo);
+            x = bracketed(c, deg, lo, hi, flo, start(c, deg, lo, hi, flo, fhi, k, ncrit));
             if (n == 0 || x - out[n - 1] > RT_MERGE * (1.0 + fabs(x))) out[n++] = x;
         }
         touch = k < ncrit && !crossing && fabs(fhi) <= RT_TOUCH * poly_size(c, deg, hi);
