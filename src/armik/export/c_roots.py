@@ -1,9 +1,15 @@
-"""The root finding of ``armik.solvers.closed_form.roots`` as C99 text, line for line
-(the same tolerances, the same order of roots): real roots of a quartic by its derivative's,
-the trigonometric equations of degree 1 and 2, and what refines SP5's and SP6's roots
-(``keep_distinct``, ``newton_step``, ``grid_minima``). ``c_subproblems_56`` builds SP5 and
-SP6 on it; it goes after ``c_source.HELPERS`` (``wrap``). Python's ``max(a, b)`` is written
-``pmax(a, b)``: a unless b is larger, as Python has it.
+"""The root finding of ``armik.solvers.closed_form.roots`` as C99 text (the same
+tolerances, the same brackets, the same order of roots): real roots of a quartic by its
+derivative's, the trigonometric equations of degree 1 and 2, and what refines SP5's and
+SP6's roots (``keep_distinct``, ``newton_step``, ``grid_minima``). ``c_subproblems_56``
+builds SP5 and SP6 on it; it goes after ``c_source.HELPERS`` (``wrap``). Python's
+``max(a, b)`` is written ``pmax(a, b)``: a unless b is larger, as Python has it.
+
+Where the C is cheaper than a line-for-line copy, it finds the same roots: each bracket's
+Newton starts from the root of the quadratic model at its critical end and ends on a step
+within rounding (the Python starts from the middle and bisects the far end down to the
+root); ``trig2`` reads its 8 samples' sines and cosines from tables of libm's values and
+gives its roots' sines and cosines from the half-angle form.
 """
 
 from __future__ import annotations

@@ -1,8 +1,17 @@
-"""SP5 and SP6 as C99 text: a line for line translation of
-``armik.solvers.closed_form.subproblems_56`` (the same tolerances, the same grid, the same
-Newton steps, the same order of roots), so that an exported family built on them
-(``spherical_general``, ``three_parallel_general``) finds the branches its Python kernel
-finds. It goes after ``c_source.HELPERS`` (vectors, ``sp1``, ``wrap``) and ``c_roots``.
+"""SP5 and SP6 as C99 text, after ``armik.solvers.closed_form.subproblems_56`` (the same
+tolerances, the same candidates, the same grid, the same order of roots), so that an
+exported family built on them (``spherical_general``, ``three_parallel_general``) finds
+the branches its Python kernel finds. It goes after ``c_source.HELPERS`` (vectors,
+``sp1``, ``wrap``) and ``c_roots``.
+
+The polish of each candidate is cheaper than the Python's: Newton's steps on the square
+2 x 2 system of ``pairs``' form (two sines and cosines a step, stopped once the residual
+is below ``POLISHED`` of the largest length), where the Python takes damped steps on
+|f|^2 / 2 with its gradient and Hessian (SP5's three rotations a step) down to 1e-16.
+A candidate is gated and judged exact by the same residuals as in the Python (SP5's
+by the circles' heights along k2 and distances from it, which SP1's t2 attains), and
+one that Newton's steps leave inexact goes through the Python's damped steps from where
+it came, so an ill-conditioned root is refined as the Python refines it.
 
 ``sp5(p0, p1, p2, p3, k1, k2, k3, t1, t2, t3, &ls)`` and ``sp6(H, K, P, d1, d2, t1, t2,
 &ls)`` return the count n (-1: a continuum, one of it written) and write the angles of

@@ -19,7 +19,7 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
 {
     mat3 R06 = mmt(R, R_TIP0), R1, R5, M, R14;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), H6[4], K6[4], P6[4], a, v;
-    double t1[4], t5[4], t3[2], q[6], c[6], s[6], q14, nv;
+    double t1[4], t5[4], t3[2], q[6], c[6], s[6], q14, c14, s14, nv;
     int m, ls, i, i3, n3, n = 0;
     H6[0] = H6[1] = H6[2] = H6[3] = h2;
     K6[0] = K6[2] = neg(h1);
@@ -49,7 +49,7 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
             q[5] = sp1cs(a, mtv(M, h2), neg(h6), &c[5], &s[5]);
         }
         R14 = mmt(mmt(M, rot_cs(h6, c[5], s[5])), R5);
-        q14 = sp1(X, mv(R14, X), h2);
+        q14 = sp1cs(X, mv(R14, X), h2, &c14, &s14);
         v = sub(sub(mtv(R1, p16), p1), mv(R14, add(p4, mv(R5, p5))));
         nv = norm(v);
         n3 = sp3(p3, neg(p2), h3, nv, t3);
@@ -60,14 +60,38 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
             s[2] = sin(q[2]);
             q[1] = sp1cs(add(p2, mv(rot_cs(h3, c[2], s[2]), p3)), v, h2, &c[1], &s[1]);
             q[3] = S4 * (q14 - q[1] - S3 * q[2]);
-            c[3] = cos(q[3]);
-            s[3] = sin(q[3]);
+@Q4_CS@
             n = put_row(W, C, S, n, q, c, s);
         }
     }
     return n;
 }
 """
+
+
+# joint 4's cosine and sine: from those of q14 (joints 2 to 4), joint 2 and joint 3 by the
+# angle sums when S3 and S4 are +-1 to rounding (axes 2, 3, 4 parallel as written), else
+# from libm
+Q4_SUMS = """            {
+                double cu = c14 * c[1] + s14 * s[1], su = s14 * c[1] - c14 * s[1];
+                c[3] = cu * c[2] + @S3@ * su * s[2];
+                s[3] = @S4@ * (su * c[2] - @S3@ * cu * s[2]);
+            }"""
+Q4_LIBM = """            c[3] = cos(q[3]);
+            s[3] = sin(q[3]);
+            (void)c14;
+            (void)s14;"""
+
+
+def _q4_cs(s3: float, s4: float) -> str:
+    """The C of joint 4's cosine and sine (``Q4_SUMS`` or ``Q4_LIBM``)."""
+    if max(abs(abs(s3) - 1.0), abs(abs(s4) - 1.0)) > 1e-15:
+        return Q4_LIBM
+    signs = {"@S3@": "1.0" if s3 > 0 else "-1.0", "@S4@": "1.0" if s4 > 0 else "-1.0"}
+    text = Q4_SUMS
+    for key, value in signs.items():
+        text = text.replace(key, value)
+    return text
 
 
 def rows(arm: ArmModel, ax: Axes) -> Rows:
@@ -86,6 +110,7 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
         S3=dot(h[2], h[1]),
         S4=dot(h[3], h[1]),
     )
-    text = c_source.constants(names) + "\n" + c_subproblems_56.source(sp6=True) + ROWS
+    body = ROWS.replace("@Q4_CS@", _q4_cs(names["S3"], names["S4"]))
+    text = c_source.constants(names) + "\n" + c_subproblems_56.source(sp6=True) + body
     summary = f"a 6R arm with axes 2, 3, 4 parallel, the wrist general ({geo.description})"
     return Rows(text, 8, SNAP, summary)
