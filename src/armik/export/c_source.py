@@ -200,6 +200,37 @@ static inline int sp3(vec3 p1, vec3 p2, vec3 k, double d, double t[2])
     return sp4(scale(p2, 1.0 / n2), p1, k, (dot(p1, p1) + n2 * n2 - d * d) / (2.0 * n2), t);
 }
 
+/* SP3 with the cosines and sines of its angles too: the two regular roots' from SP4's
+   atan2 and acos terms by the angle sums (no libm call), the others' from libm. */
+static inline int sp3cs(vec3 p1, vec3 p2, vec3 k, double d, double t[2], double c[2],
+                        double s[2])
+{
+    double n2 = norm(p2), a, b, rho, x, sr;
+    vec3 h, kxp;
+    int n = sp3(p1, p2, k, d, t), i;
+    if (n == 2) {  /* as sp4 found them: phi + r and phi - r, cos r = x */
+        h = scale(p2, 1.0 / n2);
+        kxp = cross(k, p1);
+        a = dot(h, kxp);
+        b = -dot(h, cross(k, kxp));
+        rho = sqrt(a * a + b * b);
+        x = ((dot(p1, p1) + n2 * n2 - d * d) / (2.0 * n2) - dot(h, k) * dot(k, p1)) / rho;
+        sr = sqrt(1.0 - x * x);
+        a /= rho;
+        b /= rho;
+        c[0] = b * x - a * sr;
+        s[0] = a * x + b * sr;
+        c[1] = b * x + a * sr;
+        s[1] = a * x - b * sr;
+        return n;
+    }
+    for (i = 0; i < 2; i++) {
+        c[i] = cos(t[i]);
+        s[i] = sin(t[i]);
+    }
+    return n;
+}
+
 /* SP2: (a[i], b[i]) with rot(k1, a) p1 = rot(k2, b) p2; -1 when p1 lies on k1 (a = free). */
 static inline int sp2(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double free_, double a[2], double b[2])
 {

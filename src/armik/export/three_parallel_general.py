@@ -19,7 +19,7 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
 {
     mat3 R06 = mmt(R, R_TIP0), R1, R5, M, R14;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), H6[4], K6[4], P6[4], a, v;
-    double t1[4], t5[4], t3[2], q[6], c[6], s[6], q14, c14, s14, nv;
+    double t1[4], t5[4], t3[2], c3[2], s3[2], q[6], c[6], s[6], q14, c14, s14, nv;
     int m, ls, i, i3, n3, n = 0;
     H6[0] = H6[1] = H6[2] = H6[3] = h2;
     K6[0] = K6[2] = neg(h1);
@@ -52,12 +52,17 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
         q14 = sp1cs(X, mv(R14, X), h2, &c14, &s14);
         v = sub(sub(mtv(R1, p16), p1), mv(R14, add(p4, mv(R5, p5))));
         nv = norm(v);
-        n3 = sp3(p3, neg(p2), h3, nv, t3);
-        if (n3 == -1) { n3 = 1; t3[0] = MID[2]; }
+        n3 = sp3cs(p3, neg(p2), h3, nv, t3, c3, s3);
+        if (n3 == -1) {
+            n3 = 1;
+            t3[0] = MID[2];
+            c3[0] = cos(MID[2]);
+            s3[0] = sin(MID[2]);
+        }
         for (i3 = 0; i3 < n3; i3++) {
             q[2] = t3[i3];
-            c[2] = cos(q[2]);
-            s[2] = sin(q[2]);
+            c[2] = c3[i3];
+            s[2] = s3[i3];
             q[1] = sp1cs(add(p2, mv(rot_cs(h3, c[2], s[2]), p3)), v, h2, &c[1], &s[1]);
             q[3] = S4 * (q14 - q[1] - S3 * q[2]);
 @Q4_CS@
