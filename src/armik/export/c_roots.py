@@ -1,9 +1,10 @@
 """The root finding of ``armik.solvers.closed_form.roots`` as C99 text (the same
 tolerances, the same brackets, the same order of roots): real roots of a quartic by its
 derivative's, the trigonometric equations of degree 1 and 2, and what refines SP5's and
-SP6's roots (``keep_distinct``, ``newton_step``, ``grid_minima``). ``c_subproblems_56``
-builds SP5 and SP6 on it; it goes after ``c_source.HELPERS`` (``wrap``). Python's
-``max(a, b)`` is written ``pmax(a, b)``: a unless b is larger, as Python has it.
+SP6's roots (``keep_distinct``, ``newton_step``, ``newton2``, ``grid_minima``).
+``c_subproblems_56`` builds SP5 and SP6 on it; it goes after ``c_source.HELPERS``
+(``wrap``). Python's ``max(a, b)`` is written ``pmax(a, b)``: a unless b is larger, as
+Python has it.
 
 Where the C is cheaper than a line-for-line copy, it finds the same roots: each bracket's
 Newton starts from the root of the quadratic model at its critical end and ends on a step
@@ -285,6 +286,46 @@ static int newton_step(const double *H, const double *g, int m, double mu, doubl
     return 1;
 }
 
+/* The residual r = M (sin x0, cos x0, sin x1, cos x1) - (f0, f1) at sc = (sin x0, cos x0,
+   sin x1, cos x1) into r; returns |r|. */
+static inline double resid2(const double M[8], const double f[2], const double sc[4],
+                            double r[2])
+{
+    r[0] = M[0] * sc[0] + M[1] * sc[1] + M[2] * sc[2] + M[3] * sc[3] - f[0];
+    r[1] = M[4] * sc[0] + M[5] * sc[1] + M[6] * sc[2] + M[7] * sc[3] - f[1];
+    return sqrt(r[0] * r[0] + r[1] * r[1]);
+}
+
+/* Newton's steps on the square system r(x) = 0 of SP5's and SP6's pairs from x (sines and cosines
+   sc, residual r, |r| = rabs), each kept only when it lowers |r|, none once |r| <= stop,
+   at most iters: x, sc and r updated in place; returns |r|. Two sines and cosines a step,
+   where refine5 and refine6 take the gradient and Hessian of |r|^2 / 2 (their damped
+   steps remain for what this leaves inexact). */
+static double newton2(const double M[8], const double f[2], double x[2], double sc[4],
+                      double r[2], double rabs, int iters, double stop)
+{
+    double j00, j01, j10, j11, det, y[2], sy[4], ry[2], rn;
+    int it;
+    for (it = 0; it < iters && rabs > stop; it++) {
+        j00 = M[0] * sc[1] - M[1] * sc[0];
+        j01 = M[2] * sc[3] - M[3] * sc[2];
+        j10 = M[4] * sc[1] - M[5] * sc[0];
+        j11 = M[6] * sc[3] - M[7] * sc[2];
+        det = j00 * j11 - j01 * j10;
+        if (!(fabs(det) > 0.0)) break;
+        y[0] = x[0] - (j11 * r[0] - j01 * r[1]) / det;
+        y[1] = x[1] - (j00 * r[1] - j10 * r[0]) / det;
+        sy[0] = sin(y[0]); sy[1] = cos(y[0]); sy[2] = sin(y[1]); sy[3] = cos(y[1]);
+        rn = resid2(M, f, sy, ry);
+        if (!(rn < rabs)) break;
+        x[0] = y[0]; x[1] = y[1];
+        sc[0] = sy[0]; sc[1] = sy[1]; sc[2] = sy[2]; sc[3] = sy[3];
+        r[0] = ry[0]; r[1] = ry[1];
+        rabs = rn;
+    }
+    return rabs;
+}
+
 /* The local minima of the periodic grid D, lowest first, into out; their count. */
 static int grid_minima(double D[SP_GRID][SP_GRID], int out[SP_STARTS][2])
 {
@@ -348,8 +389,8 @@ def _samples() -> dict[str, str]:
 def source() -> str:
     """The C text of the root finding, with the Python modules' constants."""
     text = TEXT.replace("@GRID@", str(sp56.GRID)).replace("@STARTS@", str(sp56.STARTS))
-    for name, value in _samples().items():
-        text = text.replace(f"@{name}@", value)
+    for name, table in _samples().items():
+        text = text.replace(f"@{name}@", table)
     for name, value in _CONSTANTS.items():
         text = text.replace(f"@{name}@", num(value))
     return text

@@ -124,46 +124,6 @@ static int pairs(const double M[8], const double f[2], double size, double out[8
     return n;
 }
 
-/* The residual r = M (sin x0, cos x0, sin x1, cos x1) - (f0, f1) at sc = (sin x0, cos x0,
-   sin x1, cos x1) into r; returns |r|. */
-static inline double resid2(const double M[8], const double f[2], const double sc[4],
-                            double r[2])
-{
-    r[0] = M[0] * sc[0] + M[1] * sc[1] + M[2] * sc[2] + M[3] * sc[3] - f[0];
-    r[1] = M[4] * sc[0] + M[5] * sc[1] + M[6] * sc[2] + M[7] * sc[3] - f[1];
-    return sqrt(r[0] * r[0] + r[1] * r[1]);
-}
-
-/* Newton's steps on the square system r(x) = 0 of pairs' form from x (sines and cosines
-   sc, residual r, |r| = rabs), each kept only when it lowers |r|, none once |r| <= stop,
-   at most iters: x, sc and r updated in place; returns |r|. Two sines and cosines a step,
-   where refine5 and refine6 take the gradient and Hessian of |r|^2 / 2 (their damped
-   steps remain for what this leaves inexact). */
-static double newton2(const double M[8], const double f[2], double x[2], double sc[4],
-                      double r[2], double rabs, int iters, double stop)
-{
-    double j00, j01, j10, j11, det, y[2], sy[4], ry[2], rn;
-    int it;
-    for (it = 0; it < iters && rabs > stop; it++) {
-        j00 = M[0] * sc[1] - M[1] * sc[0];
-        j01 = M[2] * sc[3] - M[3] * sc[2];
-        j10 = M[4] * sc[1] - M[5] * sc[0];
-        j11 = M[6] * sc[3] - M[7] * sc[2];
-        det = j00 * j11 - j01 * j10;
-        if (!(fabs(det) > 0.0)) break;
-        y[0] = x[0] - (j11 * r[0] - j01 * r[1]) / det;
-        y[1] = x[1] - (j00 * r[1] - j10 * r[0]) / det;
-        sy[0] = sin(y[0]); sy[1] = cos(y[0]); sy[2] = sin(y[1]); sy[3] = cos(y[1]);
-        rn = resid2(M, f, sy, ry);
-        if (!(rn < rabs)) break;
-        x[0] = y[0]; x[1] = y[1];
-        sc[0] = sy[0]; sc[1] = sy[1]; sc[2] = sy[2]; sc[3] = sy[3];
-        r[0] = ry[0]; r[1] = ry[1];
-        rabs = rn;
-    }
-    return rabs;
-}
-
 """
 
 SP5 = r"""
