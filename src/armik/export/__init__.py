@@ -102,10 +102,12 @@ def export(
     ax = axis_lines(model)
     rows = rows_of(model, ax)
     c_text = solver_file.source(name, model, ax, rows, opts)
-    tolerances_of = (opts.tol_position, opts.tol_orientation)
-    head = (name, model.dof, rows.max_rows, rows.summary, *tolerances_of, rows.held)
+    header = solver_file.header(
+        name, model.dof, rows.max_rows, rows.summary, opts.tol_position, opts.tol_orientation,
+        rows.held,
+    )  # fmt: skip
     files = {
-        f"{name}_ik.h": solver_file.header(*head),
+        f"{name}_ik.h": header,
         f"{name}_ik.c": c_text,
     }
     if ikfast:

@@ -1,12 +1,21 @@
-"""The root finding of ``armik.solvers.closed_form.roots`` as C99 text, line for line
-(the same tolerances, the same order of roots): real roots of a quartic by its derivative's,
-the trigonometric equations of degree 1 and 2, and what refines SP5's and SP6's roots
-(``keep_distinct``, ``newton_step``, ``grid_minima``). ``c_subproblems_56`` builds SP5 and
-SP6 on it; it goes after ``c_source.HELPERS`` (``wrap``). Python's ``max(a, b)`` is written
-``pmax(a, b)``: a unless b is larger, as Python has it.
+"""The root finding of ``armik.solvers.closed_form.roots`` as C99 text (the same
+tolerances, the same brackets, the same order of roots): real roots of a quartic by its
+derivative's, the trigonometric equations of degree 1 and 2, and what refines SP5's and
+SP6's roots (``keep_distinct``, ``newton_step``, ``newton2``, ``grid_minima``).
+``c_subproblems_56`` builds SP5 and SP6 on it; it goes after ``c_source.HELPERS``
+(``wrap``). Python's ``max(a, b)`` is written ``pmax(a, b)``: a unless b is larger, as
+Python has it.
+
+Where the C is cheaper than a line-for-line copy, it finds the same roots: each bracket's
+Newton starts from the root of the quadratic model at its critical end and ends on a step
+within rounding (the Python starts from the middle and bisects the far end down to the
+root); ``trig2`` reads its 8 samples' sines and cosines from tables of libm's values and
+gives its roots' sines and cosines from the half-angle form.
 """
 
 from __future__ import annotations
+
+import math
 
 from armik.export.c_source import num
 from armik.solvers.closed_form import roots
@@ -43,10 +52,13 @@ static double poly_size(const double *c, int deg, double x)  /* sum |c_i| |x|^i 
 }
 
 /* The root in [lo, hi] (p(lo) = flo, p(hi) of the other sign): Newton, bisecting whenever
-   Newton would leave the bracket. */
-static double bracketed(const double *c, int deg, double lo, double hi, double flo)
+   Newton would leave the bracket. A Newton step within rounding ends it (where the Python
+   bisects on until the bracket is as small, its far end untouched by Newton's steps
+   from one side: up to 50 steps more for the same root). */
+static double bracketed(const double *c, int deg, double lo, double hi, double flo,
+                        double x)
 {
-    double x = 0.5 * (lo + hi), f, df, xn;
+    double f, df, xn;
     int it;
     for (it = 0; it < 200; it++) {
         f = poly_value(c, deg, x, &df);
@@ -54,12 +66,40 @@ static double bracketed(const double *c, int deg, double lo, double hi, double f
         if ((f < 0.0) == (flo < 0.0)) lo = x;
         else hi = x;
         xn = df != 0.0 ? x - f / df : 0.5 * (lo + hi);
+        if (df != 0.0 && fabs(xn - x) <= 4e-16 * pmax(1.0, fabs(x)))
+            return lo <= xn && xn <= hi ? xn : x;
         if (!(lo < xn && xn < hi)) xn = 0.5 * (lo + hi);
         if (fabs(xn - x) <= 4e-16 * pmax(1.0, fabs(x)) || hi - lo <= 4e-16 * pmax(1.0, fabs(x)))
             return xn;
         x = xn;
     }
     return x;
+}
+
+/* Where bracketed starts in [lo, hi]: the root of p's quadratic model p(e) + p''(e)
+   (x - e)^2 / 2 at the end e that is a root of the derivative (the one where |p| is
+   smaller when both are), when it lies within; else the middle. From the middle, Newton's
+   steps cut the distance to a root far from it by only 1 / deg a step. */
+static double start(const double *c, int deg, double lo, double hi, double flo, double fhi,
+                    int k, int ncrit)
+{
+    double e, fe, h = 0.0, d1 = 0.0, f = c[0], x, r;
+    int i, left;
+    if (ncrit == 0) return 0.5 * (lo + hi);
+    if (k == 0) left = 0;  /* [-bound, crit[0]] */
+    else if (k == ncrit) left = 1;  /* [crit[ncrit - 1], bound] */
+    else left = fabs(flo) <= fabs(fhi);
+    e = left ? lo : hi;
+    fe = left ? flo : fhi;
+    for (i = 1; i <= deg; i++) {  /* h = p''(e) / 2 by Horner's rule */
+        h = h * e + d1;
+        d1 = d1 * e + f;
+        f = f * e + c[i];
+    }
+    r = -fe / h;
+    if (!(r > 0.0)) return 0.5 * (lo + hi);
+    x = left ? e + sqrt(r) : e - sqrt(r);
+    return lo < x && x < hi ? x : 0.5 * (lo + hi);
 }
 
 /* The real roots of p given its derivative's ncrit real roots crit (ascending). */
@@ -76,7 +116,7 @@ static int roots_between(const double *c, int deg, const double *crit, int ncrit
         fhi = poly_value(c, deg, hi, &df);
         crossing = flo != 0.0 && fhi != 0.0 && ((flo < 0.0) != (fhi < 0.0));
         if (crossing && hi > lo) {
-            x = bracketed(c, deg, lo, hi, flo);
+            x = bracketed(c, deg, lo, hi, flo, start(c, deg, lo, hi, flo, fhi, k, ncrit));
             if (n == 0 || x - out[n - 1] > RT_MERGE * (1.0 + fabs(x))) out[n++] = x;
         }
         touch = k < ncrit && !crossing && fabs(fhi) <= RT_TOUCH * poly_size(c, deg, hi);
@@ -151,18 +191,24 @@ static int trig1(double a, double b, double c, double *t0, double *t1, int *ls)
     return 2;
 }
 
-/* The real roots of A0 + A1 sin t + B1 cos t + A2 sin 2t + B2 cos 2t, up to 4. */
-static int trig2(double A0, double A1, double B1, double A2, double B2, double out[4])
+/* The real roots of A0 + A1 sin t + B1 cos t + A2 sin 2t + B2 cos 2t, up to 4, with their
+   sines and cosines (from the half-angle form, no libm call). The 8 samples t = 2 pi i / 8
+   and t0 = t - pi read their sines and cosines from tables (libm's values, folded in). */
+static const double T2_S[8] = @T2_S@, T2_C[8] = @T2_C@;
+static const double T2_S2[8] = @T2_S2@, T2_C2[8] = @T2_C2@;
+static const double T2_S0[8] = @T2_S0@, T2_C0[8] = @T2_C0@;
+static const double T2_S20[8] = @T2_S20@, T2_C20[8] = @T2_C20@;
+static int trig2(double A0, double A1, double B1, double A2, double B2, double out[4],
+                 double so[4], double co[4])
 {
-    double best = -1.0, t0 = 0.0, t, v, c, s, c2, s2, a1, b1, a2, b2, coef[5], x[4];
-    int i, n;
+    double best = -1.0, v, c, s, c2, s2, a1, b1, a2, b2, coef[5], x[4], d, cx, sx;
+    int i, k = 0, n;
     for (i = 0; i < 8; i++) {
-        t = 2.0 * IK_PI * i / 8.0;
-        v = A0 + A1 * sin(t) + B1 * cos(t);
-        v = fabs(v + A2 * sin(2.0 * t) + B2 * cos(2.0 * t));
-        if (v > best) { best = v; t0 = t - IK_PI; }
+        v = A0 + A1 * T2_S[i] + B1 * T2_C[i];
+        v = fabs(v + A2 * T2_S2[i] + B2 * T2_C2[i]);
+        if (v > best) { best = v; k = i; }
     }
-    c = cos(t0); s = sin(t0); c2 = cos(2 * t0); s2 = sin(2 * t0);
+    c = T2_C0[k]; s = T2_S0[k]; c2 = T2_C20[k]; s2 = T2_S20[k];
     a1 = A1 * c - B1 * s; b1 = A1 * s + B1 * c;
     a2 = A2 * c2 - B2 * s2; b2 = A2 * s2 + B2 * c2;
     coef[0] = A0 - b1 + b2;
@@ -172,7 +218,14 @@ static int trig2(double A0, double A1, double B1, double A2, double B2, double o
     coef[4] = A0 + b1 + b2;
     n = quartic(coef, x);
     n = n > 0 ? n : 0;
-    for (i = 0; i < n; i++) out[i] = t0 + 2.0 * atan(x[i]);
+    for (i = 0; i < n; i++) {
+        out[i] = (2.0 * IK_PI * k / 8.0 - IK_PI) + 2.0 * atan(x[i]);
+        d = 1.0 / (1.0 + x[i] * x[i]);  /* 2 atan(x): cosine (1 - x^2) d, sine 2 x d */
+        cx = (1.0 - x[i] * x[i]) * d;
+        sx = 2.0 * x[i] * d;
+        so[i] = s * cx + c * sx;
+        co[i] = c * cx - s * sx;
+    }
     return n;
 }
 
@@ -233,6 +286,46 @@ static int newton_step(const double *H, const double *g, int m, double mu, doubl
     return 1;
 }
 
+/* The residual r = M (sin x0, cos x0, sin x1, cos x1) - (f0, f1) at sc = (sin x0, cos x0,
+   sin x1, cos x1) into r; returns |r|. */
+static inline double resid2(const double M[8], const double f[2], const double sc[4],
+                            double r[2])
+{
+    r[0] = M[0] * sc[0] + M[1] * sc[1] + M[2] * sc[2] + M[3] * sc[3] - f[0];
+    r[1] = M[4] * sc[0] + M[5] * sc[1] + M[6] * sc[2] + M[7] * sc[3] - f[1];
+    return sqrt(r[0] * r[0] + r[1] * r[1]);
+}
+
+/* Newton's steps on the square system r(x) = 0 of SP5's and SP6's pairs from x (sines and cosines
+   sc, residual r, |r| = rabs), each kept only when it lowers |r|, none once |r| <= stop,
+   at most iters: x, sc and r updated in place; returns |r|. Two sines and cosines a step,
+   where refine5 and refine6 take the gradient and Hessian of |r|^2 / 2 (their damped
+   steps remain for what this leaves inexact). */
+static double newton2(const double M[8], const double f[2], double x[2], double sc[4],
+                      double r[2], double rabs, int iters, double stop)
+{
+    double j00, j01, j10, j11, det, y[2], sy[4], ry[2], rn;
+    int it;
+    for (it = 0; it < iters && rabs > stop; it++) {
+        j00 = M[0] * sc[1] - M[1] * sc[0];
+        j01 = M[2] * sc[3] - M[3] * sc[2];
+        j10 = M[4] * sc[1] - M[5] * sc[0];
+        j11 = M[6] * sc[3] - M[7] * sc[2];
+        det = j00 * j11 - j01 * j10;
+        if (!(fabs(det) > 0.0)) break;
+        y[0] = x[0] - (j11 * r[0] - j01 * r[1]) / det;
+        y[1] = x[1] - (j00 * r[1] - j10 * r[0]) / det;
+        sy[0] = sin(y[0]); sy[1] = cos(y[0]); sy[2] = sin(y[1]); sy[3] = cos(y[1]);
+        rn = resid2(M, f, sy, ry);
+        if (!(rn < rabs)) break;
+        x[0] = y[0]; x[1] = y[1];
+        sc[0] = sy[0]; sc[1] = sy[1]; sc[2] = sy[2]; sc[3] = sy[3];
+        r[0] = ry[0]; r[1] = ry[1];
+        rabs = rn;
+    }
+    return rabs;
+}
+
 /* The local minima of the periodic grid D, lowest first, into out; their count. */
 static int grid_minima(double D[SP_GRID][SP_GRID], int out[SP_STARTS][2])
 {
@@ -276,9 +369,28 @@ static int grid_minima(double D[SP_GRID][SP_GRID], int out[SP_STARTS][2])
 _CONSTANTS = {"LEAD": roots.LEAD, "TOUCH": roots.TOUCH, "MERGE": roots.MERGE, "SAME": roots.SAME}
 
 
+def _samples() -> dict[str, str]:
+    """``trig2``'s tables: the sines and cosines of its 8 samples t, of 2 t, of t0 = t - pi
+    and of 2 t0, as the Python computes them."""
+    ts = [2.0 * math.pi * i / 8.0 for i in range(8)]
+    rows = {
+        "T2_S": [math.sin(t) for t in ts],
+        "T2_C": [math.cos(t) for t in ts],
+        "T2_S2": [math.sin(2.0 * t) for t in ts],
+        "T2_C2": [math.cos(2.0 * t) for t in ts],
+        "T2_S0": [math.sin(t - math.pi) for t in ts],
+        "T2_C0": [math.cos(t - math.pi) for t in ts],
+        "T2_S20": [math.sin(2 * (t - math.pi)) for t in ts],
+        "T2_C20": [math.cos(2 * (t - math.pi)) for t in ts],
+    }
+    return {name: "{" + ", ".join(num(x) for x in xs) + "}" for name, xs in rows.items()}
+
+
 def source() -> str:
     """The C text of the root finding, with the Python modules' constants."""
     text = TEXT.replace("@GRID@", str(sp56.GRID)).replace("@STARTS@", str(sp56.STARTS))
+    for name, table in _samples().items():
+        text = text.replace(f"@{name}@", table)
     for name, value in _CONSTANTS.items():
         text = text.replace(f"@{name}@", num(value))
     return text

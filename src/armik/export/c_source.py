@@ -157,14 +157,16 @@ static inline double sp1(vec3 p1, vec3 p2, vec3 k)
     return atan2(dot(kxp, p2), -dot(cross(k, kxp), p2));
 }
 
-/* SP1 with the cosine and sine of theta too (1 and 0 when p1 and p2 leave it free). */
+/* SP1 with the cosine and sine of theta too (by libm when p1 and p2 leave it free, so
+   that they are theta's whatever sign atan2 gives a zero). */
 static inline double sp1cs(vec3 p1, vec3 p2, vec3 k, double *c, double *s)
 {
     vec3 kxp = cross(k, p1);
-    double a = dot(kxp, p2), b = -dot(cross(k, kxp), p2), r = sqrt(a * a + b * b);
-    *c = r > 0.0 ? b / r : 1.0;
-    *s = r > 0.0 ? a / r : 0.0;
-    return atan2(a, b);
+    double a = dot(kxp, p2), b = -dot(cross(k, kxp), p2), r = sqrt(a * a + b * b), t;
+    t = atan2(a, b);
+    *c = r > 0.0 ? b / r : cos(t);
+    *s = r > 0.0 ? a / r : sin(t);
+    return t;
 }
 
 /* SP4: theta with h . rot(k, theta) p = d; returns the count (2, 1, or -1 when every
@@ -198,6 +200,37 @@ static inline int sp3(vec3 p1, vec3 p2, vec3 k, double d, double t[2])
     return sp4(scale(p2, 1.0 / n2), p1, k, (dot(p1, p1) + n2 * n2 - d * d) / (2.0 * n2), t);
 }
 
+/* SP3 with the cosines and sines of its angles too: the two regular roots' from SP4's
+   atan2 and acos terms by the angle sums (no libm call), the others' from libm. */
+static inline int sp3cs(vec3 p1, vec3 p2, vec3 k, double d, double t[2], double c[2],
+                        double s[2])
+{
+    double n2 = norm(p2), a, b, rho, x, sr;
+    vec3 h, kxp;
+    int n = sp3(p1, p2, k, d, t), i;
+    if (n == 2) {  /* as sp4 found them: phi + r and phi - r, cos r = x */
+        h = scale(p2, 1.0 / n2);
+        kxp = cross(k, p1);
+        a = dot(h, kxp);
+        b = -dot(h, cross(k, kxp));
+        rho = sqrt(a * a + b * b);
+        x = ((dot(p1, p1) + n2 * n2 - d * d) / (2.0 * n2) - dot(h, k) * dot(k, p1)) / rho;
+        sr = sqrt(1.0 - x * x);
+        a /= rho;
+        b /= rho;
+        c[0] = b * x - a * sr;
+        s[0] = a * x + b * sr;
+        c[1] = b * x + a * sr;
+        s[1] = a * x - b * sr;
+        return n;
+    }
+    for (i = 0; i < 2; i++) {
+        c[i] = cos(t[i]);
+        s[i] = sin(t[i]);
+    }
+    return n;
+}
+
 /* SP2: (a[i], b[i]) with rot(k1, a) p1 = rot(k2, b) p2; -1 when p1 lies on k1 (a = free). */
 static inline int sp2(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double free_, double a[2], double b[2])
 {
@@ -226,6 +259,43 @@ static inline int sp2(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double free_, double a
     c = sub(base, scale(k1xk2, g));
     a[1] = sp1(u1, c, k1);
     b[1] = sp1(u2, c, k2);
+    return 2;
+}
+
+/* SP2 with the cosines and sines of a[i] and b[i] too (ca, sa, cb, sb), from SP1's
+   cosines and sines (no libm call but the free angle's). */
+static inline int sp2cs(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double free_, double a[2],
+                        double b[2], double ca[2], double sa[2], double cb[2], double sb[2])
+{
+    double n1 = norm(p1), n2 = norm(p2), k12, den, c1, c2, alpha, beta, g2, g;
+    vec3 u1 = scale(p1, 1.0 / n1), u2 = scale(p2, 1.0 / n2), base, k1xk2, c;
+    a[1] = b[1] = 0.0;
+    ca[1] = cb[1] = 1.0;
+    sa[1] = sb[1] = 0.0;
+    if (norm(cross(k1, u1)) <= IK_SINGLE) {
+        a[0] = free_;
+        ca[0] = cos(free_);
+        sa[0] = sin(free_);
+        b[0] = sp1cs(u2, mv(rot_cs(k1, ca[0], sa[0]), u1), k2, &cb[0], &sb[0]);
+        return -1;
+    }
+    k12 = dot(k1, k2);
+    den = 1.0 - k12 * k12;
+    c1 = dot(k1, u1);
+    c2 = dot(k2, u2);
+    alpha = (c1 - k12 * c2) / den;
+    beta = (c2 - k12 * c1) / den;
+    g2 = (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * k12) / den;
+    g = g2 > 0.0 ? sqrt(g2) : 0.0;
+    base = add(scale(k1, alpha), scale(k2, beta));
+    k1xk2 = cross(k1, k2);
+    c = add(base, scale(k1xk2, g));
+    a[0] = sp1cs(u1, c, k1, &ca[0], &sa[0]);
+    b[0] = sp1cs(u2, c, k2, &cb[0], &sb[0]);
+    if (g < 1e-9) return 1;
+    c = sub(base, scale(k1xk2, g));
+    a[1] = sp1cs(u1, c, k1, &ca[1], &sa[1]);
+    b[1] = sp1cs(u2, c, k2, &cb[1], &sb[1]);
     return 2;
 }
 """.replace("@EPS@", num(EPS))

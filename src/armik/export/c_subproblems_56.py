@@ -1,8 +1,17 @@
-"""SP5 and SP6 as C99 text: a line for line translation of
-``armik.solvers.closed_form.subproblems_56`` (the same tolerances, the same grid, the same
-Newton steps, the same order of roots), so that an exported family built on them
-(``spherical_general``, ``three_parallel_general``) finds the branches its Python kernel
-finds. It goes after ``c_source.HELPERS`` (vectors, ``sp1``, ``wrap``) and ``c_roots``.
+"""SP5 and SP6 as C99 text, after ``armik.solvers.closed_form.subproblems_56`` (the same
+tolerances, the same candidates, the same grid, the same order of roots), so that an
+exported family built on them (``spherical_general``, ``three_parallel_general``) finds
+the branches its Python kernel finds. It goes after ``c_source.HELPERS`` (vectors,
+``sp1``, ``wrap``) and ``c_roots``.
+
+The polish of each candidate is cheaper than the Python's: Newton's steps on the square
+2 x 2 system of ``pairs``' form (two sines and cosines a step, stopped once the residual
+is below ``POLISHED`` of the largest length), where the Python takes damped steps on
+|f|^2 / 2 with its gradient and Hessian (SP5's three rotations a step) down to 1e-16.
+A candidate is gated and judged exact by the same residuals as in the Python (SP5's
+by the circles' heights along k2 and distances from it, which SP1's t2 attains), and
+one that Newton's steps leave inexact goes through the Python's damped steps from where
+it came, so an ill-conditioned root is refined as the Python refines it.
 
 ``sp5(p0, p1, p2, p3, k1, k2, k3, t1, t2, t3, &ls)`` and ``sp6(H, K, P, d1, d2, t1, t2,
 &ls)`` return the count n (-1: a continuum, one of it written) and write the angles of
@@ -18,14 +27,18 @@ from armik.solvers.closed_form import subproblems_56 as sp56
 
 TEXT = r"""
 static const double SP_EXACT = @EXACT@, SP_ROOT_GATE = @ROOT_GATE@, SP_SINGULAR = @SINGULAR@;
+static const double SP_POLISHED = @POLISHED@;
 
 /* Candidate angle pairs of M[0] sa + M[1] ca + M[2] sb + M[3] cb = f[0] and the same with
-   M[4..7] = f[1], unrefined; *free_ when they form a continuum. */
-static int pairs(const double M[8], const double f[2], double size, double out[8][2], int *free_)
+   M[4..7] = f[1], unrefined, with their sines and cosines in sc (sa, ca, sb, cb); *free_
+   when they form a continuum. */
+static int pairs(const double M[8], const double f[2], double size, double out[8][2],
+                 double sc[8][4], int *free_)
 {
     double a0 = M[0], b0 = M[1], a1 = M[2], b1 = M[3], a2 = M[4], b2 = M[5], a3 = M[6];
     double b3 = M[7], det1, det2, small, n1, n2, q1, q2, Ma[4], Mb[4], det, i00, i01, i10;
     double i11, g0, g1, B00, B01, B10, B11, S00, S01, S11, A0, A1, B1, A2, B2, big, ts[4];
+    double ss[4], cs[4], yn, yd, ry, sy, cy;
     double sx, cx, ty, v0, v1, nv, w0, w1, ra, rb, u0, u1, ta, sa, ca, rest, x0, x1;
     int n = 0, m, i, j, ls, mb, lsb;
     *free_ = 0;
@@ -62,13 +75,22 @@ static int pairs(const double M[8], const double f[2], double size, double out[8
         B2 = 0.5 * (S11 - S00);
         big = pmax(pmax(pmax(pmax(fabs(A0), fabs(A1)), fabs(B1)), fabs(A2)), fabs(B2));
         if (big <= 1e-10 * (g0 * g0 + g1 * g1 + S00 + S11 + 1.0)) { *free_ = 1; return 0; }
-        m = trig2(A0, A1, B1, A2, B2, ts);
+        m = trig2(A0, A1, B1, A2, B2, ts, ss, cs);
         for (i = 0; i < m; i++) {
-            sx = sin(ts[i]);
-            cx = cos(ts[i]);
-            ty = atan2(g0 - B00 * sx - B01 * cx, g1 - B10 * sx - B11 * cx);
+            sx = ss[i];
+            cx = cs[i];
+            yn = g0 - B00 * sx - B01 * cx;
+            yd = g1 - B10 * sx - B11 * cx;
+            ty = atan2(yn, yd);
+            ry = sqrt(yn * yn + yd * yd);
+            sy = ry > 0.0 ? yn / ry : sin(ty);
+            cy = ry > 0.0 ? yd / ry : cos(ty);
             out[i][0] = q2 >= q1 ? ts[i] : ty;
             out[i][1] = q2 >= q1 ? ty : ts[i];
+            sc[i][0] = q2 >= q1 ? sx : sy;
+            sc[i][1] = q2 >= q1 ? cx : cy;
+            sc[i][2] = q2 >= q1 ? sy : sx;
+            sc[i][3] = q2 >= q1 ? cy : cx;
         }
         return m;
     }
@@ -92,6 +114,10 @@ static int pairs(const double M[8], const double f[2], double size, double out[8
         for (j = 0; j < (lsb ? 0 : mb); j++) {
             out[n][0] = ta;
             out[n][1] = j == 0 ? x0 : x1;
+            sc[n][0] = sa;
+            sc[n][1] = ca;
+            sc[n][2] = sin(out[n][1]);
+            sc[n][3] = cos(out[n][1]);
             n++;
         }
     }
@@ -209,21 +235,43 @@ static double ls5(const sp5_in *s, double best[3])
     return rbest;
 }
 
-static int try5(const sp5_in *s, double t1, double t3, double sol[4][3], double res[4], int n,
-                double size)
+/* The least distance of v1 from rot(k2, t2) v3 over t2: by their heights along k2 and
+   their distances from it (SP1's t2 attains it). */
+static double gap5(vec3 e2, vec3 v1, vec3 v3)
 {
-    vec3 c1, a1, b1, c3, a3, b3, v1, v3;
-    double x[3], r;
-    circle(s->q0, s->e1, s->q1, &c1, &a1, &b1);
-    circle(s->q2, s->e3, s->q3, &c3, &a3, &b3);
-    v1 = on(c1, a1, b1, t1);
-    v3 = on(c3, a3, b3, t3);
+    double h1 = dot(e2, v1), h3 = dot(e2, v3), d;
+    d = norm(sub(v1, scale(e2, h1))) - norm(sub(v3, scale(e2, h3)));
+    return sqrt((h1 - h3) * (h1 - h3) + d * d);
+}
+
+/* A pair (t1, t3) of pairs: gated as the Python gates it (its residual with t2 by SP1),
+   refined by newton2 on pairs' form, t2 by SP1, kept when exact; refine5's damped steps
+   from the pair as it came (the Python's) when newton2 leaves it inexact. cab: the
+   circles' c1, a1, b1, c3, a3, b3. */
+static int try5(const sp5_in *s, const vec3 cab[6], const double M[8], const double f[2],
+                double t1, double t3, const double sc0[4], double sol[4][3], double res[4],
+                int n, double size)
+{
+    vec3 v1, v3, w1, w3;
+    double x[3], y[2] = {t1, t3}, sc[4] = {sc0[0], sc0[1], sc0[2], sc0[3]}, r[2], g;
+    v1 = add(cab[0], add(scale(cab[1], sc[0]), scale(cab[2], sc[1])));
+    v3 = add(cab[3], add(scale(cab[4], sc[2]), scale(cab[5], sc[3])));
+    if (gap5(s->e2, v1, v3) > SP_ROOT_GATE * size) return n;
+    newton2(M, f, y, sc, r, resid2(M, f, sc, r), 8, SP_POLISHED * size);
+    w1 = add(cab[0], add(scale(cab[1], sc[0]), scale(cab[2], sc[1])));
+    w3 = add(cab[3], add(scale(cab[4], sc[2]), scale(cab[5], sc[3])));
+    g = gap5(s->e2, w1, w3);
+    if (g <= SP_EXACT * size) {
+        x[0] = y[0];
+        x[1] = sp1(w3, w1, s->e2);
+        x[2] = y[1];
+        return keep_distinct(sol, res, n, 3, x, g);
+    }
     x[0] = t1;
     x[1] = sp1(v3, v1, s->e2);
     x[2] = t3;
-    if (norm(sub(v1, mv(rot(s->e2, x[1]), v3))) > SP_ROOT_GATE * size) return n;
-    r = refine5(s, x, 8, 1e-16 * size);
-    if (r <= SP_EXACT * size) n = keep_distinct(sol, res, n, 3, x, r);
+    g = refine5(s, x, 8, 1e-16 * size);
+    if (g <= SP_EXACT * size) n = keep_distinct(sol, res, n, 3, x, g);
     return n;
 }
 
@@ -234,7 +282,8 @@ static int sp5(vec3 p0, vec3 p1, vec3 p2, vec3 p3, vec3 k1, vec3 k2, vec3 k3,
 {
     sp5_in s;
     vec3 c1, a1, b1, c3, a3, b3;
-    double size, sol[4][3], res[4], M[8], f[2], lengths, pr[8][2], x[3], r;
+    double size, sol[4][3], res[4], M[8], f[2], lengths, pr[8][2], psc[8][4], x[3], r;
+    vec3 cab[6];
     int i, j, m, free_, n = 0;
     s.q0 = p0; s.q1 = p1; s.q2 = p2; s.q3 = p3; s.e1 = k1; s.e2 = k2; s.e3 = k3;
     size = pmax(pmax(pmax(norm(p0), norm(p1)), norm(p2)), norm(p3));
@@ -253,8 +302,10 @@ static int sp5(vec3 p0, vec3 p1, vec3 p2, vec3 p3, vec3 k1, vec3 k2, vec3 k3,
     lengths = dot(c3, c3) + dot(a3, a3) - dot(c1, c1) - dot(a1, a1);
     f[0] = dot(k2, c3) - dot(k2, c1);
     f[1] = 0.5 * lengths / size;
-    m = pairs(M, f, size, pr, &free_);
-    for (i = 0; i < m; i++) n = try5(&s, pr[i][0], pr[i][1], sol, res, n, size);
+    m = pairs(M, f, size, pr, psc, &free_);
+    cab[0] = c1; cab[1] = a1; cab[2] = b1; cab[3] = c3; cab[4] = a3; cab[5] = b3;
+    for (i = 0; i < m; i++)
+        n = try5(&s, cab, M, f, pr[i][0], pr[i][1], psc[i], sol, res, n, size);
     if (n == 0) {
         r = ls5(&s, x);
         keep_distinct(sol, res, 0, 3, x, r);
@@ -354,14 +405,21 @@ static double ls6(const double M[8], const double f[2], double floor_, double be
     return rbest;
 }
 
-static int try6(const double M[8], const double f[2], double t1, double t2, double sol[4][3],
-                double res[4], int n, double size)
+/* A pair (t1, t2) of pairs: gated as the Python gates it, refined by newton2, kept when
+   exact; refine6's damped steps from the pair as it came when newton2 leaves it inexact. */
+static int try6(const double M[8], const double f[2], double t1, double t2,
+                const double sc0[4], double sol[4][3], double res[4], int n, double size)
 {
-    double x[2] = {t1, t2}, g[2], H[4], r;
-    r = f6(M, f, x, g, H);
-    if (r > SP_ROOT_GATE * size) return n;
-    r = refine6(M, f, x, 8, 1e-16 * size);
-    if (r <= SP_EXACT * size) n = keep_distinct(sol, res, n, 2, x, r);
+    double x[2] = {t1, t2}, sc[4] = {sc0[0], sc0[1], sc0[2], sc0[3]}, r[2], rabs;
+    rabs = resid2(M, f, sc, r);
+    if (rabs > SP_ROOT_GATE * size) return n;
+    rabs = newton2(M, f, x, sc, r, rabs, 8, SP_POLISHED * size);
+    if (!(rabs <= SP_EXACT * size)) {
+        x[0] = t1;
+        x[1] = t2;
+        rabs = refine6(M, f, x, 8, 1e-16 * size);
+    }
+    if (rabs <= SP_EXACT * size) n = keep_distinct(sol, res, n, 2, x, rabs);
     return n;
 }
 
@@ -379,7 +437,7 @@ static double term(vec3 h, vec3 k, vec3 p, double *a, double *b)
 static int sp6(const vec3 H[4], const vec3 K[4], const vec3 P[4], double d1, double d2,
                double t1[4], double t2[4], int *ls)
 {
-    double M[8], f[2], e[4], size = 0.0, sol[4][3], res[4], pr[8][2], x[2], r;
+    double M[8], f[2], e[4], size = 0.0, sol[4][3], res[4], pr[8][2], psc[8][4], x[2], r;
     int i, j, m, free_, n = 0;
     for (i = 0; i < 4; i++) {
         e[i] = term(H[i], K[i], P[i], &M[2 * i], &M[2 * i + 1]);
@@ -393,8 +451,8 @@ static int sp6(const vec3 H[4], const vec3 K[4], const vec3 P[4], double d1, dou
     size = pmax(pmax(size, fabs(d1)), fabs(d2));
     *ls = 0;
     if (size == 0.0) return -1;
-    m = pairs(M, f, size, pr, &free_);
-    for (i = 0; i < m; i++) n = try6(M, f, pr[i][0], pr[i][1], sol, res, n, size);
+    m = pairs(M, f, size, pr, psc, &free_);
+    for (i = 0; i < m; i++) n = try6(M, f, pr[i][0], pr[i][1], psc[i], sol, res, n, size);
     if (n == 0) {
         r = ls6(M, f, 1e-16 * size, x);
         keep_distinct(sol, res, 0, 2, x, r);
@@ -409,7 +467,16 @@ static int sp6(const vec3 H[4], const vec3 K[4], const vec3 P[4], double d1, dou
 }
 """
 
-_CONSTANTS = {"EXACT": sp56.EXACT, "ROOT_GATE": sp56.ROOT_GATE, "SINGULAR": sp56.SINGULAR}
+# newton2 stops at a residual this small (relative to the largest length): the angles are
+# then within rounding of the root for the verdict's FK, far below EXACT
+POLISHED = 1e-14
+
+_CONSTANTS = {
+    "EXACT": sp56.EXACT,
+    "ROOT_GATE": sp56.ROOT_GATE,
+    "SINGULAR": sp56.SINGULAR,
+    "POLISHED": POLISHED,
+}
 
 
 def source(sp5: bool = False, sp6: bool = False) -> str:

@@ -21,6 +21,7 @@ shares, as the Python path does it:
 
 from __future__ import annotations
 
+import math
 import textwrap
 from dataclasses import dataclass
 
@@ -187,7 +188,7 @@ static int verified(const double *q, const double *c, const double *s, mat3 R, v
     w.v[2] = E.m[3] - E.m[1];
     sa = 0.5 * norm(w);
     ca = 0.5 * (E.m[0] + E.m[4] + E.m[8] - 1.0);
-    return atan2(sa, ca) <= TOL_ORIENTATION;
+    return @ORIENTATION@;
 }
 
 int @NAME@_ik(const double T[16], @HELD_PARAM@double q[][DOF])
@@ -249,10 +250,25 @@ def _common(name: str, held: int | None) -> str:
     return text
 
 
+def _orientation(tol: float) -> tuple[str, str]:
+    """The verdict's orientation tolerance (its constant's line) and its test that the angle
+    atan2(sa, ca) (sa >= 0) is within ``tol`` (rad): below pi / 2 as sa <= tan(tol) ca with
+    ca > 0, which needs no atan2 (and is false on a NaN too)."""
+    if 0.0 <= tol < 0.5 * math.pi:
+        line = f"static const double TAN_ORIENTATION = {c_source.num(math.tan(tol))};"
+        return (
+            f"{line}  /* tan({c_source.num(tol)} rad) */",
+            "ca > 0.0 && sa <= TAN_ORIENTATION * ca",
+        )
+    line = f"static const double TOL_ORIENTATION = {c_source.num(tol)};"
+    return line, "atan2(sa, ca) <= TOL_ORIENTATION"
+
+
 def source(name: str, arm: ArmModel, ax: Axes, rows: Rows, opts: Options) -> str:
     """``N_ik.c``: the helpers, the arm's constants, the family's rows and the rest; the
     verdict's tolerances are ``opts.tol_position`` (m) and ``opts.tol_orientation`` (rad)."""
     up = name.upper()
+    orientation, test = _orientation(opts.tol_orientation)
     defines = "\n".join(
         [
             f"#define DOF {up}_IK_DOF",
@@ -262,7 +278,7 @@ def source(name: str, arm: ArmModel, ax: Axes, rows: Rows, opts: Options) -> str
             f"static const double LIMIT_TOL = {c_source.num(LIMIT_TOL)};",
             f"static const double ROTATION_TOL = {c_source.num(ROTATION_TOL)};",
             f"static const double TOL_POSITION = {c_source.num(opts.tol_position)};",
-            f"static const double TOL_ORIENTATION = {c_source.num(opts.tol_orientation)};",
+            orientation,
         ]
     )
     where = f"from the arm {arm.name!r}, base {arm.base!r}, tip {arm.tip!r}"
@@ -278,6 +294,6 @@ def source(name: str, arm: ArmModel, ax: Axes, rows: Rows, opts: Options) -> str
         fk_code.source(ax),
         PUT,
         rows.text,
-        _common(name, rows.held),
+        _common(name, rows.held).replace("@ORIENTATION@", test),
     ]
     return "\n".join(parts)

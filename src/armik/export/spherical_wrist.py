@@ -20,16 +20,16 @@ static int wrist(mat3 R03, mat3 R06, double q[6], double c[6], double s[6],
                  double W[][DOF], double C[][DOF], double S[][DOF], int n)
 {
     mat3 R36 = mtm(R03, R06), R6;
-    double a[2], b[2];
-    int nw = sp2(mv(R36, h6), h6, neg(h4), h5, MID[3], a, b), i;
+    double a[2], b[2], ca[2], sa[2], cb[2], sb[2];
+    int nw = sp2cs(mv(R36, h6), h6, neg(h4), h5, MID[3], a, b, ca, sa, cb, sb), i;
     if (nw == -1) nw = 1;
     for (i = 0; i < nw; i++) {
         q[3] = a[i];
         q[4] = b[i];
-        c[3] = cos(a[i]);
-        s[3] = sin(a[i]);
-        c[4] = cos(b[i]);
-        s[4] = sin(b[i]);
+        c[3] = ca[i];
+        s[3] = sa[i];
+        c[4] = cb[i];
+        s[4] = sb[i];
         R6 = mtm(mm(rot_cs(h4, c[3], s[3]), rot_cs(h5, c[4], s[4])), R36);
         q[5] = sp1cs(h5, mv(R6, h5), h6, &c[5], &s[5]);
         n = put_row(W, C, S, n, q, c, s);
@@ -73,7 +73,7 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
 {
     mat3 R06 = mmt(R, R_TIP0), R1, R3;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0);
-    double t3[2], a[2], b[2], q[6], c[6], s[6];
+    double t3[2], a[2], b[2], ca[2], sa[2], cb[2], sb[2], q[6], c[6], s[6];
     int n3, n12, i3, i, n = 0;
     n3 = sp3(p3, neg(p2), h3, norm(p16), t3);
     if (n3 == -1) { n3 = 1; t3[0] = MID[2]; }
@@ -82,15 +82,15 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
         c[2] = cos(q[2]);
         s[2] = sin(q[2]);
         R3 = rot_cs(h3, c[2], s[2]);
-        n12 = sp2(p16, add(p2, mv(R3, p3)), neg(h1), h2, MID[0], a, b);
+        n12 = sp2cs(p16, add(p2, mv(R3, p3)), neg(h1), h2, MID[0], a, b, ca, sa, cb, sb);
         if (n12 == -1) n12 = 1;  /* wrist centre on axis 1 */
         for (i = 0; i < n12; i++) {
             q[0] = a[i];
             q[1] = b[i];
-            c[0] = cos(a[i]);
-            s[0] = sin(a[i]);
-            c[1] = cos(b[i]);
-            s[1] = sin(b[i]);
+            c[0] = ca[i];
+            s[0] = sa[i];
+            c[1] = cb[i];
+            s[1] = sb[i];
             R1 = mm(rot_cs(h1, c[0], s[0]), rot_cs(h2, c[1], s[1]));
             n = wrist(mm(R1, R3), R06, q, c, s, W, C, S, n);
         }

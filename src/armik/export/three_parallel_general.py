@@ -19,8 +19,8 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
 {
     mat3 R06 = mmt(R, R_TIP0), R1, R5, M, R14;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), H6[4], K6[4], P6[4], a, v;
-    double t1[4], t5[4], t3[2], q[6], c[6], s[6], q14, nv;
-    int m, ls, i, i3, n3, j, n = 0;
+    double t1[4], t5[4], t3[2], c3[2], s3[2], q[6], c[6], s[6], q14, c14, s14, nv;
+    int m, ls, i, i3, n3, n = 0;
     H6[0] = H6[1] = H6[2] = H6[3] = h2;
     K6[0] = K6[2] = neg(h1);
     K6[1] = K6[3] = h5;
@@ -30,35 +30,73 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
     P6[3] = neg(h6);
     m = sp6(H6, K6, P6, D1, 0.0, t1, t5, &ls);
     if (m == -1) m = 1;  /* a continuum: one of it */
-    for (i = 0; i < m; i++) {
+    for (i = 0; i < m; i++) {  /* each angle's cosine and sine computed once, kept */
         q[0] = t1[i];
         q[4] = t5[i];
-        R1 = rot(h1, q[0]);
-        R5 = rot(h5, q[4]);
+        c[0] = cos(q[0]);
+        s[0] = sin(q[0]);
+        c[4] = cos(q[4]);
+        s[4] = sin(q[4]);
+        R1 = rot_cs(h1, c[0], s[0]);
+        R5 = rot_cs(h5, c[4], s[4]);
         M = mtm(R1, R06);
         a = mtv(R5, h2);
-        if (norm(cross(a, h6)) < IK_SINGLE) q[5] = MID[5];  /* wrist singular: q6 free */
-        else q[5] = sp1(a, mtv(M, h2), neg(h6));
-        R14 = mmt(mmt(M, rot(h6, q[5])), R5);
-        q14 = sp1(X, mv(R14, X), h2);
+        if (norm(cross(a, h6)) < IK_SINGLE) {  /* wrist singular: q6 free */
+            q[5] = MID[5];
+            c[5] = cos(q[5]);
+            s[5] = sin(q[5]);
+        } else {
+            q[5] = sp1cs(a, mtv(M, h2), neg(h6), &c[5], &s[5]);
+        }
+        R14 = mmt(mmt(M, rot_cs(h6, c[5], s[5])), R5);
+        q14 = sp1cs(X, mv(R14, X), h2, &c14, &s14);
         v = sub(sub(mtv(R1, p16), p1), mv(R14, add(p4, mv(R5, p5))));
         nv = norm(v);
-        n3 = sp3(p3, neg(p2), h3, nv, t3);
-        if (n3 == -1) { n3 = 1; t3[0] = MID[2]; }
+        n3 = sp3cs(p3, neg(p2), h3, nv, t3, c3, s3);
+        if (n3 == -1) {
+            n3 = 1;
+            t3[0] = MID[2];
+            c3[0] = cos(MID[2]);
+            s3[0] = sin(MID[2]);
+        }
         for (i3 = 0; i3 < n3; i3++) {
             q[2] = t3[i3];
-            q[1] = sp1(add(p2, mv(rot(h3, q[2]), p3)), v, h2);
+            c[2] = c3[i3];
+            s[2] = s3[i3];
+            q[1] = sp1cs(add(p2, mv(rot_cs(h3, c[2], s[2]), p3)), v, h2, &c[1], &s[1]);
             q[3] = S4 * (q14 - q[1] - S3 * q[2]);
-            for (j = 0; j < 6; j++) {
-                c[j] = cos(q[j]);
-                s[j] = sin(q[j]);
-            }
+@Q4_CS@
             n = put_row(W, C, S, n, q, c, s);
         }
     }
     return n;
 }
 """
+
+
+# joint 4's cosine and sine: from those of q14 (joints 2 to 4), joint 2 and joint 3 by the
+# angle sums when S3 and S4 are +-1 to rounding (axes 2, 3, 4 parallel as written), else
+# from libm
+Q4_SUMS = """            {
+                double cu = c14 * c[1] + s14 * s[1], su = s14 * c[1] - c14 * s[1];
+                c[3] = cu * c[2] + @S3@ * su * s[2];
+                s[3] = @S4@ * (su * c[2] - @S3@ * cu * s[2]);
+            }"""
+Q4_LIBM = """            c[3] = cos(q[3]);
+            s[3] = sin(q[3]);
+            (void)c14;
+            (void)s14;"""
+
+
+def _q4_cs(s3: float, s4: float) -> str:
+    """The C of joint 4's cosine and sine (``Q4_SUMS`` or ``Q4_LIBM``)."""
+    if max(abs(abs(s3) - 1.0), abs(abs(s4) - 1.0)) > 1e-15:
+        return Q4_LIBM
+    signs = {"@S3@": "1.0" if s3 > 0 else "-1.0", "@S4@": "1.0" if s4 > 0 else "-1.0"}
+    text = Q4_SUMS
+    for key, value in signs.items():
+        text = text.replace(key, value)
+    return text
 
 
 def rows(arm: ArmModel, ax: Axes) -> Rows:
@@ -77,6 +115,7 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
         S3=dot(h[2], h[1]),
         S4=dot(h[3], h[1]),
     )
-    text = c_source.constants(names) + "\n" + c_subproblems_56.source(sp6=True) + ROWS
+    body = ROWS.replace("@Q4_CS@", _q4_cs(names["S3"], names["S4"]))
+    text = c_source.constants(names) + "\n" + c_subproblems_56.source(sp6=True) + body
     summary = f"a 6R arm with axes 2, 3, 4 parallel, the wrist general ({geo.description})"
     return Rows(text, 8, SNAP, summary)
