@@ -65,7 +65,8 @@ def read(
     opts, key, seed = settings(arm, options) if options else (_DEFAULT, (), 0)
     if score is not None and problem is None:  # every answer ranked is to this target
         target = parsed(target, arm)
-    return Request(target, q0, solver, opts, key, seed, every, t0, score, problem)
+    # built as the tuple it is (``Request``'s own ``__new__`` is a Python call: every solve)
+    return _new(Request, (target, q0, solver, opts, key, seed, every, t0, score, problem, None))
 
 
 def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options: dict) -> Request:
@@ -222,4 +223,5 @@ def _seed(seed: object) -> int | None:
 
 
 _SE3 = pin.SE3
+_new = tuple.__new__
 _DEFAULT = Options()  # frozen: shared by every call without options

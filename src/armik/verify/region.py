@@ -100,10 +100,16 @@ def region_error(
         orientation = max(tilt - cone[3], 0.0)
     if not distances:
         return position, orientation
-    squares = [0.0] * 6  # of the components a finite bound holds (a loop: no call)
-    for k in range(len(e)):
-        if not math.isinf(bounds[k]):
-            squares[k] = e[k] * e[k]
+    # the components a finite bound holds, written out: comparisons, no call (every solve)
+    b = bounds
+    x, y, z = e[0], e[1], e[2]
+    held = (x * x if b[0] != _INF else 0.0) + (y * y if b[1] != _INF else 0.0)
+    held += z * z if b[2] != _INF else 0.0
     if cone is None:
-        tilt = math.sqrt(squares[3] + squares[4] + squares[5])
-    return position, orientation, math.sqrt(squares[0] + squares[1] + squares[2]), tilt
+        u, v, w = e[3], e[4], e[5]
+        spun = (u * u if b[3] != _INF else 0.0) + (v * v if b[4] != _INF else 0.0)
+        tilt = math.sqrt(spun + (w * w if b[5] != _INF else 0.0))
+    return position, orientation, math.sqrt(held), tilt
+
+
+_INF = math.inf
