@@ -454,12 +454,14 @@ class Arm:
         workers: int | None = None,
         chunk_size: int | None = None,
         progress: ProgressArg = None,
+        backend: object = None,
         **options: Any,
     ) -> BatchResult:
         """Solve many targets ((N, 4, 4), (N, 7), (N, 3), a list) on every core: a
-        ``BatchResult`` (``armik.solve.batch``)."""
+        ``BatchResult`` (``armik.solve.batch``); ``backend`` names where the chunks run
+        (``armik.solve.backends``)."""
         request = read_batch(self.kinematics, targets, q0, solver, options)
-        return solve_batch(self.kinematics, request, workers, chunk_size, progress)
+        return solve_batch(self.kinematics, request, workers, chunk_size, progress, backend)
 
     def solve_path(
         self,

@@ -223,3 +223,13 @@ def test_a_task_on_another_frame_of_the_chain():
         assert (np.abs(reached.translation - elbow) <= 0.02 + 1e-6).all()
         assert np.allclose(arm.fk(r.q).homogeneous, T.homogeneous, atol=1e-6)
     assert solved >= 7
+
+
+def test_a_preference_scores_a_task_list_without_a_compiled_form():
+    """``prefer=`` with a task the compiled path has no form for (a position of another
+    frame): the task solver's answer, scored (it raised "unknown solver 'tasks'")."""
+    ur5 = armik.load("ur5")
+    p = ur5.fk(ur5.middle + 0.2, frame="forearm_link").translation
+    r = ur5.solve([armik.Position(p, frame="forearm_link")], prefer="manipulability")
+    assert r.success and r.solver == "tasks" and "score" in r.extra
+    np.testing.assert_allclose(ur5.fk(r.q, frame="forearm_link").translation, p, atol=1e-6)

@@ -30,18 +30,18 @@ import os
 import time
 import warnings
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions
 from armik.constraints.collision import checker
-from armik.errors import ArmikWarning, OptionError
+from armik.errors import ArmikError, ArmikWarning, OptionError
 from armik.frozen import frozen
 from armik.options import Options
 from armik.request import Request
-from armik.solve import forked
+from armik.solve import backends, forked
 from armik.solve.progress import ProgressArg, make_progress
 from armik.solve.single import routed
 from armik.solve.stages import run
@@ -66,6 +66,7 @@ def solve_batch(
     workers: int | None = None,
     chunk_size: int | None = None,
     progress: ProgressArg = None,
+    backend: object = None,
 ) -> BatchResult:
     """Solve IK for many targets; returns a ``BatchResult`` in the order of the targets.
 
@@ -77,14 +78,25 @@ def solve_batch(
     solvers without a compiled batch entry (``armik.solve.forked``; default: the number of
     cores for a solver with a compiled batch entry, else 1). ``chunk_size``: targets per
     task (default 256). ``progress``: a bar on stderr when True, or a callable ``(done,
-    total)``; default: a bar when stderr is a terminal.
+    total)``; default: a bar when stderr is a terminal. ``backend``: where the chunks run
+    (``armik.solve.backends``: a registered name such as ``"serial"``, ``"threads"``,
+    ``"processes"``, or a function ``run(jobs, workers)``); default: as above.
 
     Raises ``TargetError`` naming the first bad target, ``OptionError`` for bad options;
     unreachable targets are results with ``success=False``.
     """
     t0 = request.t0
     targets, q0, solver = request.target, request.q0, request.solver
+    run_jobs = None if backend is None else backends.backend(backend)
     if request.rows is not None:  # no compiled form: each row's own request, one by one
+        if run_jobs is not None:
+            raise OptionError(
+                "backend= runs the compiled batch's chunks; this batch (prefer=, or task "
+                "lists the compiled batch has no form for) is solved row by row in this "
+                "process: drop backend=",
+                option="backend",
+                value=backend,
+            )
         label = SOLVER if request.score is None else f"{solver}, prefer"
         return _each(arm, request, progress, t0, label)
     opts = request.settings
@@ -121,7 +133,13 @@ def solve_batch(
         return stop - start
 
     done = 0
-    if workers == 1 or len(starts) <= 1:
+    if run_jobs is not None:
+        jobs = [
+            Chunk(arm, spec.name, batch[s : s + chunk], seeds[s : s + chunk], request, s)
+            for s in starts
+        ]
+        _on_backend(run_jobs, jobs, workers, out, bar)
+    elif workers == 1 or len(starts) <= 1:
         for start in starts:
             done += job(start)
             bar(done, n)
@@ -143,6 +161,50 @@ def solve_batch(
     bar.close()
     out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     return out
+
+
+class Chunk(NamedTuple):
+    """One chunk of a batch as a backend's job (``armik.solve.backends``): picklable, and
+    called in any process that has armik it solves and verifies its targets there, as the
+    default path does (the solver ``solver`` looked up by name, every constraint of the
+    request checked), and returns their rows."""
+
+    arm: ArmModel
+    solver: str
+    targets: TargetBatch
+    seeds: np.ndarray
+    request: Request
+    start: int  # its first row in the batch
+
+    def __call__(self) -> BatchResult:
+        spec = registry.get(self.solver)
+        out = BatchResult.for_arm(self.arm, len(self.targets), spec.name, self.request.settings)
+        solve_chunk(self.arm, spec, self.targets, self.seeds, self.request, out, 0)
+        return out
+
+
+def _on_backend(run_jobs, jobs: list[Chunk], workers: int, out: BatchResult, bar) -> None:
+    """Each job's rows from ``run_jobs(jobs, workers)``, put in place as they come; an
+    ``ArmikError`` naming the backend when it gives too few, too many or other results."""
+    n, done, got = len(out), 0, 0
+    for part in run_jobs(jobs, workers):
+        if got == len(jobs):
+            raise ArmikError(f"batch backend {run_jobs!r} gave more results than its jobs")
+        job = jobs[got]
+        if not isinstance(part, BatchResult) or len(part) != len(job.targets):
+            raise ArmikError(
+                f"batch backend {run_jobs!r} gave {part!r} for job {got}: a backend returns "
+                "each job's result (job()) in the order of the jobs"
+            )
+        out.put(job.start, part)
+        got += 1
+        done += len(part)
+        bar(done, n)
+    if got != len(jobs):
+        raise ArmikError(
+            f"batch backend {run_jobs!r} gave {got} results for {len(jobs)} jobs: a backend "
+            "returns each job's result (job()) in the order of the jobs"
+        )
 
 
 def _on_processes(job, out: BatchResult, n: int, chunk: int, workers: int, bar) -> None:

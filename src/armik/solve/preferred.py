@@ -55,7 +55,8 @@ def preferred(arm: ArmModel, req: Request):
         found = run(arm, share.but(every=True))
     else:
         found = [solve_problem(arm, share.but(problem=problem, every=False))]
-    searched = bool(found) and registry.get(found[0].solver).kind == "numeric"
+    # the task solver's one answer is no registered solver's: scored as it is
+    searched = problem is None and bool(found) and registry.get(found[0].solver).kind == "numeric"
     if searched and pose:  # one descent from each start, by the solver that searched
         once = narrowed(plain, max_restarts=0).but(solver=found[0].solver, every=False)
 

@@ -16,6 +16,14 @@ from armik.solvers.closed_form import (  # noqa: F401  (registration)
     two_parallel,
 )
 from armik.solvers.numeric import clik, dls, qp  # noqa: F401  (registration)
-from armik.solvers.registry import SolverSpec, choose, get, register, solvers, why_not
+from armik.solvers.registry import (
+    SolverSpec,
+    choose,
+    get,
+    register,
+    solvers,
+    unregister,
+    why_not,
+)
 
-__all__ = ["SolverSpec", "choose", "get", "register", "solvers", "why_not"]
+__all__ = ["SolverSpec", "choose", "get", "register", "solvers", "unregister", "why_not"]

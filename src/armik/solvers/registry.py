@@ -80,7 +80,7 @@ _BY_PRIORITY: list[SolverSpec] = []
 # (position target, options, every, generation) -> spec; read as a key, not called: each solve
 _AUTO: Derived[dict] = Derived("auto's choices", lambda _: {})
 _NONE: dict = {}  # no choice kept yet (never written: a new dict replaces it)
-generation = 0  # counts registrations: what was chosen before one may no longer be chosen
+generation = 0  # counts registrations and removals: what was chosen before may not be now
 
 
 def register(spec: SolverSpec) -> SolverSpec:
@@ -88,6 +88,18 @@ def register(spec: SolverSpec) -> SolverSpec:
     if spec.name in _REGISTRY or spec.name == "auto":
         raise ValueError(f"solver name {spec.name!r} is taken")
     _REGISTRY[spec.name] = spec
+    generation += 1
+    _BY_PRIORITY[:] = sorted(_REGISTRY.values(), key=lambda s: -s.priority)
+    return spec
+
+
+def unregister(name: str) -> SolverSpec:
+    """Remove solver ``name`` (one a test or a user registered) and return its spec. Counts
+    as a registration (``generation``): what "auto" chose and the prepared plans kept
+    before are dropped. ``SolverError`` for a name not registered."""
+    global generation
+    spec = get(name)
+    del _REGISTRY[name]
     generation += 1
     _BY_PRIORITY[:] = sorted(_REGISTRY.values(), key=lambda s: -s.priority)
     return spec

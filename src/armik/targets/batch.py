@@ -8,7 +8,9 @@
 - a sequence of anything ``Arm.solve`` accepts (``pinocchio.SE3``, 4x4, ``(position,
   quaternion)``, ...), read one by one with ``armik.targets.parse_target``. Either every
   element carries an orientation or none does;
-- a spatialmath ``SE3`` holding N poses.
+- a spatialmath ``SE3`` holding N poses;
+- a list or tuple of objects of a class with a registered spelling
+  (``armik.targets.pose.register_spelling``), each read by it.
 
 Every target is checked as ``parse_target`` checks one (finite, rotation orthonormal with
 determinant +1, last row (0, 0, 0, 1), quaternion not zero) and an error names the index of
@@ -27,7 +29,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from armik.errors import InputError, TargetError
-from armik.targets.pose import Target, parse_target
+from armik.targets.pose import SPELLINGS, Target, parse_target, spelling_of
 from armik.tolerances import ROTATION_TOL
 
 if TYPE_CHECKING:
@@ -82,6 +84,13 @@ def parse_targets(value: object, arm: ArmModel | None = None) -> TargetBatch:
             f"expected many targets (an (N, 4, 4), (N, 7) or (N, 3) array, or a list of "
             f"targets), got {type(value).__name__}: use Arm.solve for one target"
         )
+    if SPELLINGS and spelling_of(value) is not None:  # a class of the user's own
+        raise TargetError(
+            f"expected many targets, got one {type(value).__name__}: use Arm.solve for one "
+            "target, or give a list of them"
+        )
+    if SPELLINGS and isinstance(value, (list, tuple)) and value and spelling_of(value[0]):
+        return _from_sequence(value, arm)  # each read by its spelling (a tuple's too)
     if hasattr(value, "A") and hasattr(value, "__len__") and not isinstance(value, np.ndarray):
         # a spatialmath pose array (SE3 holding N poses): its matrices, one per pose
         A = value.A

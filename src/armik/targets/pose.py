@@ -6,6 +6,8 @@ matrix; a 3-vector (position only); ``(position, quaternion)`` with the quaterni
 ``(position, 3x3 rotation matrix)``; ``(position, scipy Rotation)``; a 7-vector
 (x, y, z, qx, qy, qz, qw); and on a planar arm a 2-vector (x, y) in the arm's plane (see
 ``armik.model.geometry.Plane``). Every target is expressed in the arm's base frame, in metres.
+A class of the user's own is read by the function registered for it
+(``register_spelling``), consulted only when one is registered.
 
 Several poses in one object (an (N, 4, 4) array, a spatialmath ``SE3`` of length N, a
 scipy ``Rotation`` of N rotations) are refused with a pointer to ``Arm.solve_batch``:
@@ -16,6 +18,7 @@ are refused, never cast.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -63,6 +66,10 @@ def parse_target(value: object, arm: object = None) -> Target:
         return value
     if isinstance(value, pin.SE3):
         return _se3(value)
+    if SPELLINGS:  # an empty dict is false: the common forms pay nothing for the hook
+        spelled = _spelled(value, arm)
+        if spelled is not None:
+            return spelled
     if _is_spatialmath(value):
         n = len(value)  # type: ignore[arg-type]
         if n != 1:
@@ -92,6 +99,88 @@ def parse_target(value: object, arm: object = None) -> Target:
         f"cannot read a target of shape {arr.shape}: give a pinocchio.SE3, a 4x4 matrix, "
         "a position (x, y, z), (position, quaternion xyzw), or (x, y) on a planar arm"
     )
+
+
+Spelling = Callable[[Any], object]  # the user's object -> a form ``parse_target`` reads
+
+SPELLINGS: dict[type, Spelling] = {}
+# what the parser reads itself: no spelling may take these (or a class they derive from)
+_BUILT_IN = (Target, pin.SE3, np.ndarray, list, tuple, dict, str, bytes, int, float)
+
+
+def register_spelling(kind: type, to_target: Spelling) -> None:
+    """Accept objects of class ``kind`` (and its subclasses) as targets wherever a target
+    is read: ``to_target(value)`` gives a ``Target`` or any form ``parse_target`` reads (a
+    ``pinocchio.SE3``, a 4x4, ``(position, quaternion)``, a 3-vector, ...), which is then
+    checked as that form. ``solve``, ``solve_all``, several tips, and a sequence of them in
+    ``solve_batch`` and ``solve_path`` all read it (``armik.targets.batch`` parses a
+    sequence one by one). ``unregister_spelling(kind)`` removes it. ``TargetError`` for a
+    ``kind`` that is not a class, a class the parser reads itself, or one registered already."""
+    if not isinstance(kind, type):
+        raise TargetError(f"a target spelling is registered for a class, got {kind!r}")
+    builtin = next((b for b in _BUILT_IN if issubclass(b, kind)), None)
+    if builtin is not None:
+        raise TargetError(
+            f"class {kind.__name__} is a form the target parser reads itself "
+            f"({builtin.__name__}): register a class of your own"
+        )
+    if kind in SPELLINGS:
+        raise TargetError(
+            f"class {kind.__name__} has a target spelling already: "
+            f"unregister_spelling({kind.__name__}) first"
+        )
+    if not callable(to_target):
+        raise TargetError(
+            f"the spelling of {kind.__name__} must be a function of one of its objects "
+            f"giving a target, got {to_target!r}"
+        )
+    SPELLINGS[kind] = to_target
+
+
+def unregister_spelling(kind: type) -> None:
+    """Stop accepting objects of class ``kind`` as targets; ``TargetError`` if it has no
+    spelling."""
+    if SPELLINGS.pop(kind, None) is None:
+        raise TargetError(
+            f"class {getattr(kind, '__name__', kind)!r} has no target spelling; registered: "
+            f"{[k.__name__ for k in SPELLINGS] or 'none'}"
+        )
+
+
+def spelling_of(value: object) -> Spelling | None:
+    """The registered spelling of ``value``'s class (or of a class it derives from)."""
+    kind = type(value)
+    if kind in SPELLINGS:
+        return SPELLINGS[kind]
+    return next((f for k, f in SPELLINGS.items() if isinstance(value, k)), None)
+
+
+def _spelled(value: object, arm: object) -> Target | None:
+    """``value`` read by its class' registered spelling, checked as the form it gives;
+    None where its class has none."""
+    to_target = spelling_of(value)
+    if to_target is None:
+        return None
+    name = type(value).__name__
+    try:
+        given = to_target(value)
+    except TargetError:
+        raise
+    except Exception as exc:
+        raise TargetError(f"the target spelling of {name} failed on {value!r}: {exc!r}") from exc
+    if spelling_of(given) is not None:
+        raise TargetError(
+            f"the target spelling of {name} gave {type(given).__name__}, another spelled "
+            "class: give a Target, a pinocchio.SE3, a 4x4, (position, quaternion) or a position"
+        )
+    if isinstance(given, Target):  # built by the user: checked as its parts
+        if given.rotation is None:
+            return _target(_position(_vector(given.position, 3, "target position")), None)
+        return _pose(given.rotation, _vector(given.position, 3, "target position"))
+    try:
+        return parse_target(given, arm)
+    except TargetError as exc:
+        raise TargetError(f"the target spelling of {name} gave {given!r}: {exc}") from None
 
 
 def _several(what: str) -> str:
