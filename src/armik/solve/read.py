@@ -36,6 +36,11 @@ def read(
 ) -> Request:
     """The request of ``solve(arm, target, q0=q0, solver=solver, **options)`` (with
     ``every``: ``solve_all``); see the module."""
+    if not options:  # the common call: nothing to read but a plain pose or position
+        kind = type(target)
+        if kind is _SE3 or kind is np.ndarray:
+            t0 = time.perf_counter()
+            return _new(Request, (target, q0, solver, _DEFAULT, (), 0, every, t0, None, None, None))
     t0 = time.perf_counter()
     score = None
     if "budget" in options:  # as its options, which the stages narrow (restarts, shares)
