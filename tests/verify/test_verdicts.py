@@ -45,15 +45,31 @@ def test_n_answers_decided_at_once_equal_each_alone(name, n):
         for i in range(len(answers)):
             one = decide_one(arm, answers.take([i]), measure(arm, answers.q[i], target, opts), opts)
             assert _same(many.fields(i), one.fields(0))
-            assert many.reason(i) == one.reason(0)
+            # the same words but the measured numbers (the compiled FK's and Pinocchio's)
+            said, alone = many.reason(i), one.reason(0)
+            assert said.split("position error")[0] == alone.split("position error")[0]
             assert many.succeeded(i) == one.succeeded(0)
 
 
+MEASURED = ("position_error", "orientation_error", "reason")
+
+
 def _same(a: dict, b: dict) -> bool:
-    """The same fields, bit for bit (an unmeasured orientation None in both)."""
-    return a.keys() == b.keys() and all(
-        np.array_equal(a[k], b[k]) if k == "q" else a[k] == b[k] for k in a
-    )
+    """The same fields, bit for bit (an unmeasured orientation None in both), but the
+    errors: several answers are placed by the compiled FK (``measure_many``), one by
+    Pinocchio's (``measure``), the same to 1e-12."""
+    if a.keys() != b.keys():
+        return False
+    for k in a:
+        if k == "q":
+            if not np.array_equal(a[k], b[k]):
+                return False
+        elif k in MEASURED[:2] and a[k] is not None:
+            if b[k] is None or abs(a[k] - b[k]) > 1e-12:
+                return False
+        elif k not in MEASURED and a[k] != b[k]:
+            return False
+    return True
 
 
 def _ur5_verdicts():

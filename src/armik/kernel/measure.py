@@ -1,8 +1,11 @@
-"""The verification's errors, computed from Pinocchio's tip placements in compiled code.
+"""The verification's errors, computed from tip placements in compiled code.
 
-Pinocchio computes the placements (``verify.py``); this module only measures them against
-the targets: position error |p_target - p_tip| (m), orientation error the geodesic angle of
-R_tip^T R_target (rad); with weights, the position error is measured in the tip frame on the
+Pinocchio computes the placements of one answer (``verify/measure.py``) and this module
+measures them against the targets; the answers of one target, all together
+(``fk_checks``), are placed by the compiled FK (``armik.kernel.fk.forward``, Pinocchio's
+placement to 1e-12: tests/kernel/test_fk_checks.py) in the same call. Errors: position
+error |p_target - p_tip| (m), orientation error the geodesic angle of R_tip^T R_target
+(rad); with weights, the position error is measured in the tip frame on the
 axes with non-zero weight and the orientation error on the rotation-vector components with
 non-zero weight, as ``verify.measure.measure`` documents.
 """
@@ -14,6 +17,8 @@ import math
 import numpy as np
 from numba import njit
 
+from armik.kernel.chain import Flat, joints
+from armik.kernel.fk import forward
 from armik.kernel.se3 import log3, rotation_angle
 from armik.tolerances import LIMIT_TOL
 
@@ -109,6 +114,13 @@ def check_frame(R_bw, p_bw, w, measure: int, lower, upper) -> np.ndarray:
     )
 
 
+def fk_check_frame(w, measure: int, lower, upper) -> np.ndarray:
+    """``check_frame`` for ``fk_checks``: the compiled FK places the tip in the base frame,
+    so T_base_world is the identity (exact: ``pose_error`` multiplies by ones and adds
+    zeros)."""
+    return check_frame(np.eye(3), np.zeros(3), w, measure, lower, upper)
+
+
 @njit(cache=True, nogil=True)
 def _frame(frame):
     """(R_bw, p_bw, w, measure, lower, upper) of a ``check_frame`` array (views)."""
@@ -151,3 +163,38 @@ def _check(frame, H_w, R_t, p_t, q):
     R_w, p_w = split_pose(H_w)
     pos, ori = pose_error(R_bw, p_bw, R_w, p_w, R_t, p_t, w, measure & 1 != 0, measure & 2 != 0)
     return pos, ori, inside_limits(q, lower, upper, LIMIT_TOL)
+
+
+@njit(cache=True, nogil=True)
+def fk_checks(packed, kind, halton, frame, H_t, Q, out):
+    """out[i] = (position error, orientation error or NaN, 1.0 within the limits else 0.0)
+    of the answer in the first n values of row i of Q (rows of n or more values: a closed
+    form's packed rows too) against the 4x4 target ``H_t`` (base frame), its tip placement
+    T_base_tip by the compiled FK of the chain ``chain.Flat``'s arrays, every row in one
+    call; ``frame`` from ``check_frame`` with the identity as T_base_world."""
+    ch = Flat(packed, kind, halton)
+    N = joints(ch)
+    R, p, M = np.empty((3, 3)), np.empty(3), np.empty((3, 3))
+    origins, axes = np.empty((N, 3)), np.empty((N, 3))
+    R_t, p_t = split_pose(H_t)
+    R_bw, p_bw, w, measure, lower, upper = _frame(frame)
+    weighted, measure_rot = measure & 1 != 0, measure & 2 != 0
+    for i in range(Q.shape[0]):
+        q = Q[i]
+        forward(ch, q, R, p, origins, axes)
+        if weighted:
+            pos, ori = pose_error(R_bw, p_bw, R, p, R_t, p_t, w, weighted, measure_rot)
+        else:  # ``pose_error``'s arithmetic with T_base_world the identity, in place
+            d0, d1, d2 = p_t[0] - p[0], p_t[1] - p[1], p_t[2] - p[2]
+            pos = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+            ori = np.nan
+            if measure_rot:
+                for a in range(3):  # M = R^T R_target
+                    for b in range(3):
+                        M[a, b] = R[0, a] * R_t[0, b] + R[1, a] * R_t[1, b] + R[2, a] * R_t[2, b]
+                ori = rotation_angle(M)
+        inside = 1.0
+        for j in range(lower.shape[0]):
+            if not (lower[j] - LIMIT_TOL <= q[j] <= upper[j] + LIMIT_TOL):
+                inside = 0.0
+        out[i, 0], out[i, 1], out[i, 2] = pos, ori, inside

@@ -33,7 +33,13 @@ import numpy as np
 import pinocchio as pin
 
 from armik.errors import SolverError
-from armik.kernel.measure import check_frame, placement_check, pose_checks
+from armik.kernel.measure import (
+    check_frame,
+    fk_check_frame,
+    fk_checks,
+    placement_check,
+    pose_checks,
+)
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.options import Options
@@ -49,6 +55,7 @@ from armik.verify.verdict import (
     claimed_rows,
     claimed_verdict,
     decide,
+    every_results,
     finish,
     numbered,
     seed_distance,
@@ -133,6 +140,15 @@ class Plan:
             arm.upper,
         )
         self.measure_rot = measure_rot
+        # several answers of one target: measured by the compiled FK, as the general
+        # verdict measures them (``verify.measure.measure_many``)
+        self.flat = arm.kernel_chain.flat
+        self.fk_measured = fk_check_frame(w, self.measured[18], arm.lower, arm.upper)
+        # a 6R closed form's packed rows, their words, their ``Answers``
+        # (``armik.solvers.closed_form.sixr_answers.pose_runner``)
+        self.rows = getattr(self.run_pose, "rows", None)
+        self.words = getattr(self.run_pose, "words", None)
+        self.answers = getattr(self.run_pose, "answers", None)
         # measured apart (weights, a region): the distances themselves too, for the result
         # (``armik.verify.distances``): unweighted, or a region's (``region_error``'s)
         self.apart = None
@@ -278,15 +294,25 @@ class Plan:
         if plain is None:  # a region's answers: the general path measures them
             return None
         H, q0, xy = plain
-        seed = secrets.randbits(63) if seed is None else seed
-        got = (
-            self.run_pose(H, q0, seed, True) if xy is None else self.run_pose(H, q0, seed, True, xy)
-        )
+        if self.rows is not None and xy is None:  # a 6R closed form: its rows as they are
+            rows = self.rows(H, q0)
+            if rows is None:
+                return None
+            found = self._every(rows, H, t0)
+            if found is not None:
+                return found
+            got = self.answers(rows, H)  # a row the general verdict decides
+        else:
+            seed = secrets.randbits(63) if seed is None else seed
+            got = (
+                self.run_pose(H, q0, seed, True)
+                if xy is None
+                else self.run_pose(H, q0, seed, True, xy)
+            )
         if got is None:
             return None
         Q = got.q  # read-only: the results' q are its rows
-        measured = np.empty((len(got), 3))
-        pose_checks(self.measured, self._placements(Q), H, Q, measured)
+        measured = self._measured(Q, H)
         verified, failed = [], []  # the results' fields; failed: (rank key, fields)
         unclaimed = False
         tol_p, tol_r, rot, solver = self.tol_p, self.tol_r, self.measure_rot, self.solver
@@ -329,6 +355,44 @@ class Plan:
         if self.apart is None:  # (a region's answers take the general path)
             return [IKResult._from_fields(fields) for fields in verified]
         return self._apart(verified, H)
+
+    def _every(self, rows: np.ndarray, H: np.ndarray, t0: float) -> list[IKResult] | None:
+        """``solve_all``'s results from a 6R closed form's packed ``rows`` (n, 11): every row
+        placed, measured and checked against the limits in one compiled call
+        (``fk_checks``), its verdict, words and result from plain values
+        (``every_results``); None
+        for one row (Pinocchio measures it, as the general verdict does) or where a row
+        needs the general verdict."""
+        n = len(rows)
+        if n < 2:
+            return None
+        said = self.words(rows[:, 6:11].tolist())
+        if said is None:
+            return None
+        measured = np.empty((n, 3))
+        packed, kind, halton = self.flat
+        fk_checks(packed, kind, halton, self.fk_measured, H, rows, measured)
+        Q = rows[:, :6].copy()
+        Q.setflags(write=False)  # the results' q are its rows
+        found = every_results(
+            self.arm, Q, said, measured.tolist(), self.tol_p, self.tol_r, self.measure_rot,
+            self.solver, t0,
+        )  # fmt: skip
+        if found is None or self.apart is None:
+            return found
+        return self._apart([r.__dict__ for r in found], H)
+
+    def _measured(self, Q: np.ndarray, H: np.ndarray) -> np.ndarray:
+        """Each answer's (position error, orientation error, > 0 within the limits), as the
+        general verdict measures them: one answer by Pinocchio's FK, several by the
+        compiled FK (``verify.measure.measure_many``)."""
+        out = np.empty((len(Q), 3))
+        if len(Q) < 2:
+            pose_checks(self.measured, self._placements(Q), H, Q, out)
+        else:
+            packed, kind, halton = self.flat
+            fk_checks(packed, kind, halton, self.fk_measured, H, np.array(Q), out)
+        return out
 
     def _apart(self, verified: list[dict], H: np.ndarray) -> list[IKResult]:
         """Results of ``verified`` fields measured apart (weights): each with its

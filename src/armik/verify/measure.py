@@ -2,7 +2,11 @@
 
 Errors are recomputed from the returned joints, never taken from a solver: Pinocchio
 computes the tip placement (its forward kinematics is the source of truth), compiled code
-(``armik.kernel.measure``) measures it against the target. Position error:
+(``armik.kernel.measure``) measures it against the target. Several answers of one target
+(``measure_many``: ``solve_all``'s) are placed by armik's compiled FK instead, all in one
+call with their errors and limits: it is Pinocchio's placement to 1e-12 on every arm the
+tests load (tests/kernel/test_fk_checks.py, tests/model/test_fk_batch.py), errors of
+1e-12 beside tolerances of 1e-6 or more. Position error:
 |p_target - p_tip| (m). Orientation error: the geodesic angle |log3(R_tip^T R_target)|
 (rad). Axes with zero weight (see ``Options.weights``) are not measured: the position error
 is then taken in the tip frame on the weighted axes, the orientation error on the weighted
@@ -21,7 +25,13 @@ import pinocchio as pin
 
 from armik import reasons
 from armik.frozen import frozen
-from armik.kernel.measure import pose_error, pose_errors, within_limits
+from armik.kernel.measure import (
+    fk_check_frame,
+    fk_checks,
+    pose_error,
+    pose_errors,
+    within_limits,
+)
 from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.targets.batch import TargetBatch
@@ -133,7 +143,35 @@ def measure_many(
     arm: ArmModel, qs: list[np.ndarray], target: Target, opts: Options
 ) -> BatchMeasure:
     """The numbers of ``[measure(arm, q, target, opts) for q in qs]`` (two or more), as
-    arrays: Pinocchio FK per answer, the errors of all of them in one compiled call."""
+    arrays, all in one compiled call: each answer placed by the compiled FK
+    (``armik.kernel.measure.fk_checks``: Pinocchio's placement to 1e-12), its errors and
+    limits; a region's errors from Pinocchio's placements, as ``measure`` measures them."""
+    n = len(qs)
+    if opts.region:
+        return _region_many(arm, qs, target, opts)
+    w, weighted, measure_rot = _measures(opts, target.rotation is None)
+    Q = np.array(qs, dtype=float).reshape(n, arm.dof)  # C-ordered and writable
+    H = np.eye(4)
+    if target.rotation is not None:
+        H[:3, :3] = target.rotation
+    H[:3, 3] = target.position
+    frame = fk_check_frame(w, int(weighted) | (2 if measure_rot else 0), arm.lower, arm.upper)
+    out = np.empty((n, 3))
+    packed, kind, halton = arm.kernel_chain.flat
+    fk_checks(packed, kind, halton, frame, H, Q, out)
+    return BatchMeasure(
+        out[:, 0],
+        out[:, 1],  # NaN where the orientation is not measured
+        out[:, 2] > 0.0,
+        opts.tol_position,
+        opts.tol_orientation,
+        measure_rot,
+        False,
+    )
+
+
+def _region_many(arm: ArmModel, qs: list[np.ndarray], target: Target, opts: Options):
+    """``measure_many`` of a target with a region: Pinocchio's placements."""
     n = len(qs)
     direct = arm.model.nq == arm.dof
     rows = [q if direct and type(q) is np.ndarray and q.dtype == _FLOAT else arm.to_pin(q)

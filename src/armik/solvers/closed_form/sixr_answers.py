@@ -49,10 +49,25 @@ def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form, s
             singular = head >= 8
             label = LABELS[head & 7]
             return claim((out[0, :6], 0, 0, label, singular, claim_reason, why[singular]))
-        got = of_rows(out[:n], family, closed_form, lambda: beyond_reach(arm, H[:3, 3]))
-        got.q.setflags(write=False)  # solve_all's results' q are its rows
+        return answers(out[:n], H)
+
+    def rows(H: np.ndarray, q0: np.ndarray) -> np.ndarray | None:
+        """Every row the kernel packs for ``H`` (n, 11), nearest first, writable; None when
+        the pose or q0 is not plain."""
+        out = empty((size, 11))
+        n, _ = solve_into(chain, H, q0, True, out)
+        return None if n < 0 else out[:n]
+
+    def answers(rows: np.ndarray, H: np.ndarray) -> Answers:
+        """``rows`` as ``Answers`` (q read-only: solve_all's results' q are its rows)."""
+        got = of_rows(rows, family, closed_form, lambda: beyond_reach(arm, H[:3, 3]))
+        got.q.setflags(write=False)
         return got
 
+    # ``armik.solve.prepared``'s solve_all reads the rows themselves and their words
+    run_pose.rows = rows  # type: ignore[attr-defined]
+    run_pose.answers = answers  # type: ignore[attr-defined]
+    run_pose.words = lambda rows: words_of(rows, family, closed_form)  # type: ignore[attr-defined]
     return run_pose
 
 
@@ -87,6 +102,22 @@ def of_rows(rows: np.ndarray, family: str, closed_form: str, beyond=None) -> Ans
         singular=np.array(flags, dtype=np.bool_) if True in flags else None,
         reasons=texts,
     )
+
+
+def words_of(keys: list, family: str, closed_form: str) -> list | None:
+    """Each packed row's (claim code, reason, branch label, singular), as ``of_rows`` gives
+    them, from its flags, branch bits, code and values (``rows[:, 6:11]`` as lists of plain
+    floats); None when a row is a search's miss (its words depend on the target's distance:
+    ``of_rows`` writes them)."""
+    known = _KNOWN[closed_form] if closed_form in _KNOWN else _know(closed_form)
+    said = [known[int(8 * key[0] + key[1])] for key in keys]
+    if None in said:
+        for k, key in enumerate(keys):
+            if said[k] is None:
+                if int(key[2]) == NOT_FOUND:
+                    return None
+                said[k] = _said(key, family, None)
+    return said
 
 
 def _said(row: list, family: str, beyond: str | None):
