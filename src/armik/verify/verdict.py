@@ -24,6 +24,7 @@ from armik.result import IKResult
 from armik.solvers.answers import Answers
 from armik.solvers.claims import Claim
 from armik.status import Status
+from armik.tolerances import LIMIT_TOL
 from armik.verify.distances import batch_distances, with_distances
 from armik.verify.measure import BatchMeasure, Measure, measure, measure_batch, measure_many
 from armik.verify.verdicts import Verdicts, failure_rank
@@ -192,10 +193,11 @@ def ranked(found: Verdicts, solver: str, seed, all_solutions: bool, t0: float):
     n = len(found)
     if n < 2:
         return found.results(range(n), solver, time.perf_counter() - t0)
-    order = sorted(range(n), key=lambda i: found.rank(i, seed))
+    order = found.order(seed)
     if not all_solutions:
         return found.results(order[:1], solver, time.perf_counter() - t0)
-    labels = numbered([found.answers.label(i) for i in order])
+    branch = found.answers.branch
+    labels = numbered([None] * n if branch is None else [branch[i] for i in order])
     return found.results(order, solver, time.perf_counter() - t0, labels)
 
 
@@ -236,15 +238,16 @@ def first_verified(arm: ArmModel, answers: Answers, target, opts: Options, seed)
 def nearest_first(arm: ArmModel, answers: Answers, seed: np.ndarray) -> list[int]:
     """The rows in the order they are verified for one answer: claimed converged, within
     the limits, then by distance to the seed (ties: the solver's order)."""
-    q = answers.q
-    return sorted(
-        range(len(answers)),
-        key=lambda i: (
-            not answers.claimed(i),
-            not arm.within_limits(q[i]),
-            seed_distance(q[i], seed),
-        ),
-    )
+    Q = answers.q
+    # the keys in one pass over the rows (``within_limits``' bounds, as arrays)
+    lo, hi = arm.lower - LIMIT_TOL, arm.upper + LIMIT_TOL
+    inside = np.asarray(((Q >= lo) & (Q <= hi)).all(axis=1)).tolist()
+    claimed = (answers.claim == _CONVERGED).tolist()
+    keys = []
+    for q, c, w in zip(Q, claimed, inside):
+        d = q - seed
+        keys.append((not c, not w, float(np.sqrt(d.dot(d)))))
+    return sorted(range(len(keys)), key=keys.__getitem__)
 
 
 def seed_distance(q: np.ndarray, seed: np.ndarray) -> float:

@@ -19,7 +19,7 @@ from armik import reasons
 from armik.constraints.base import Check, Constraint
 from armik.result import IKResult
 from armik.solvers.answers import Answers, one, stacked
-from armik.status import FAILURE_RANK, Status
+from armik.status import _BY_CODE, FAILURE_RANK, Status
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
@@ -153,15 +153,56 @@ class Verdicts:
         """These rows as results, in this order (``labels``: branch labels in place of the
         rows' own); a success's words are written when its result's ``reason`` is first
         read."""
+        # the columns read once, each row built in one loop: a solve_all's cost is per row
+        index = list(rows)
+        a = self.answers
+        codes = self.status[index].tolist()
+        its, restarts = a.iterations[index].tolist(), a.restarts[index].tolist()
+        pos = self.position_error[index].tolist()
+        ori = self.orientation_error[index].tolist() if self.rotation else [None] * len(index)
+        if labels is None:
+            labels = [None] * len(index) if a.branch is None else [a.branch[i] for i in index]
+        flags = [False] * len(index) if a.singular is None else a.singular[index].tolist()
+        words, extra, reason, status_of = self.words, self.extra, self.reason, _BY_CODE
         out = []
-        for k, i in enumerate(rows):
-            fields = self.fields(i, None if labels is None else labels[k], lazy=True)
-            fields["solver"], fields["time"] = solver, time
+        for k, i in enumerate(index):
+            q = np.array(a.q[i], dtype=float)
+            q.flags.writeable = False
+            code, text = codes[k], words[i]
+            fields = {
+                "q": q,
+                "success": code == _CONVERGED,
+                "status": status_of[code],
+                **({"_reason": (reason, (i,))} if text is None else {"reason": text}),
+                "iterations": its[k],
+                "position_error": pos[k],
+                "orientation_error": ori[k],
+                "branch": labels[k],
+                "singular": bool(flags[k]),
+                "restarts": restarts[k],
+                "solver": solver,
+                "time": time,
+            }
             r = IKResult._from_fields(fields)
-            if self.extra is not None and self.extra[i]:
-                r.__dict__["extra"] = dict(self.extra[i])
+            if extra is not None and extra[i]:
+                r.__dict__["extra"] = dict(extra[i])
             out.append(r)
         return out
+
+    def order(self, seed: np.ndarray) -> list[int]:
+        """The rows in ``rank``'s order, their keys computed in one pass (as ``rank``
+        computes each)."""
+        ok = (self.status == _CONVERGED).tolist()
+        pos, ori = self.position_error.tolist(), self.orientation_error.tolist()
+        keys: list[tuple] = []
+        for i, (q, good) in enumerate(zip(self.answers.q, ok)):
+            if good:
+                d = q - seed
+                keys.append((0, float(np.sqrt(d.dot(d)))))
+            else:
+                status = _BY_CODE[self.status.item(i)]
+                keys.append((1, *failure_rank(status, pos[i], ori[i] if self.rotation else None)))
+        return sorted(range(len(keys)), key=keys.__getitem__)
 
     def result(self, i: int, solver: str, time: float) -> IKResult:
         """Row i as a result."""
