@@ -231,39 +231,9 @@ static inline int sp3cs(vec3 p1, vec3 p2, vec3 k, double d, double t[2], double 
     return n;
 }
 
-/* SP2: (a[i], b[i]) with rot(k1, a) p1 = rot(k2, b) p2; -1 when p1 lies on k1 (a = free). */
-static inline int sp2(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double free_, double a[2], double b[2])
-{
-    double n1 = norm(p1), n2 = norm(p2), k12, den, c1, c2, alpha, beta, g2, g;
-    vec3 u1 = scale(p1, 1.0 / n1), u2 = scale(p2, 1.0 / n2), base, k1xk2, c;
-    a[1] = b[1] = 0.0;
-    if (norm(cross(k1, u1)) <= IK_SINGLE) {
-        a[0] = free_;
-        b[0] = sp1(u2, mv(rot(k1, free_), u1), k2);
-        return -1;
-    }
-    k12 = dot(k1, k2);
-    den = 1.0 - k12 * k12;
-    c1 = dot(k1, u1);
-    c2 = dot(k2, u2);
-    alpha = (c1 - k12 * c2) / den;
-    beta = (c2 - k12 * c1) / den;
-    g2 = (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * k12) / den;
-    g = g2 > 0.0 ? sqrt(g2) : 0.0;
-    base = add(scale(k1, alpha), scale(k2, beta));
-    k1xk2 = cross(k1, k2);
-    c = add(base, scale(k1xk2, g));
-    a[0] = sp1(u1, c, k1);
-    b[0] = sp1(u2, c, k2);
-    if (g < 1e-9) return 1;
-    c = sub(base, scale(k1xk2, g));
-    a[1] = sp1(u1, c, k1);
-    b[1] = sp1(u2, c, k2);
-    return 2;
-}
-
-/* SP2 with the cosines and sines of a[i] and b[i] too (ca, sa, cb, sb), from SP1's
-   cosines and sines (no libm call but the free angle's). */
+/* SP2: (a[i], b[i]) with rot(k1, a) p1 = rot(k2, b) p2, -1 when p1 lies on k1 (a = free),
+   with their cosines and sines (ca, sa, cb, sb) from SP1's (no libm call but the free
+   angle's). */
 static inline int sp2cs(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double free_, double a[2],
                         double b[2], double ca[2], double sa[2], double cb[2], double sb[2])
 {
