@@ -89,13 +89,18 @@ def chain_6r(kind: str, variant: str, ax: Axes, points: list[np.ndarray], text: 
 
 def not_6r(arm: ArmModel) -> str | None:
     """Why ``arm`` is not a 6R chain, or None."""
+    return not_revolute(arm, 6)
+
+
+def not_revolute(arm: ArmModel, dof: int) -> str | None:
+    """Why ``arm`` is not a chain of ``dof`` revolute joints without mimics, or None."""
     if arm.mimics:
         return mimic_reason(arm.mimics)
-    if arm.dof != 6:
-        return f"the chain has {arm.dof} joints, this class needs 6"
+    if arm.dof != dof:
+        return f"the chain has {arm.dof} joints, this class needs {dof}"
     if np.any(arm.prismatic):
         names = [n for n, p in zip(arm.joint_names, arm.prismatic) if p]
-        return f"joint {names[0]!r} is prismatic, this class needs 6 revolute joints"
+        return f"joint {names[0]!r} is prismatic, this class needs {dof} revolute joints"
     return None
 
 

@@ -31,7 +31,6 @@ import numpy as np
 
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, angle_between, axis_lines, fmt, meeting_point
-from armik.model.mimic import reason as mimic_reason
 from armik.options import Options
 from armik.solvers.answers import Answers
 from armik.solvers.closed_form import sixr, sixr_answers
@@ -69,12 +68,9 @@ class Srs:
 
 def classify(arm: ArmModel, ax: Axes | None = None) -> Srs | str:
     """The SRS geometry of ``arm`` (see the module), or the measured reason it is not one."""
-    if arm.mimics:
-        return mimic_reason(arm.mimics)
-    if arm.dof != 7:
-        return f"the chain has {arm.dof} joints, this class needs 7"
-    if np.any(arm.prismatic):
-        return "the chain has a prismatic joint, this class needs 7 revolute joints"
+    why = sixr.not_revolute(arm, 7)
+    if why is not None:
+        return why
     ax = ax or axis_lines(arm)
     P, H = ax.points, ax.directions
     for i, j in ((0, 1), (1, 2), (4, 5), (5, 6)):

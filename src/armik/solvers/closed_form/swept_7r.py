@@ -30,7 +30,6 @@ from armik.kernel.measure import split_pose
 from armik.kernel.single import plain_pose, plain_seed
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, axis_lines
-from armik.model.mimic import reason as mimic_reason
 from armik.options import Options
 from armik.solvers.answers import Answers
 from armik.solvers.claims import claim
@@ -63,12 +62,9 @@ class Swept:
 def classify(arm: ArmModel, ax: Axes | None = None) -> Swept | str:
     """The geometry the swept solver sweeps over (see the module), or the reason this 7R arm is not
     in the class: joint 7 held, joints 6 to 1 read from the tip form a spherical wrist."""
-    if arm.mimics:
-        return mimic_reason(arm.mimics)
-    if arm.dof != 7:
-        return f"the chain has {arm.dof} joints, this class needs 7"
-    if np.any(arm.prismatic):
-        return "the chain has a prismatic joint, this class needs 7 revolute joints"
+    why = sixr.not_revolute(arm, 7)
+    if why is not None:
+        return why
     ax = ax or axis_lines(arm)
     Rt = ax.tip_rotation.T
     t = ax.tip_position
