@@ -155,14 +155,12 @@ class Plan:
         self.weighted = opts.weights is not None
         if self.weighted and not opts.region:
             w, _, _ = measures_of(None, opts.position_only, position)
+            flags = 2 if measure_rot else 0
             self.apart = check_frame(
-                arm.T_base_world.rotation,
-                arm.T_base_world.translation,
-                w,
-                2 if measure_rot else 0,
-                arm.lower,
+                arm.T_base_world.rotation, arm.T_base_world.translation, w, flags, arm.lower,
                 arm.upper,
-            )
+            )  # fmt: skip
+            self.fk_apart = fk_check_frame(w, flags, arm.lower, arm.upper)  # several answers
         # a region (bounds, a cone): measured by ``verify.region``, as the general path does
         self.region = (opts.region_bounds, w, opts.cone) if opts.region else None
         self.tol_p, self.tol_r = opts.tol_position, opts.tol_orientation
@@ -398,9 +396,9 @@ class Plan:
         """Results of ``verified`` fields measured apart (weights): each with its
         distances to ``H`` beside what its verdict measured (``armik.verify.distances``)."""
         Q = np.array([fields["q"] for fields in verified]).reshape(len(verified), -1)
-        Q.setflags(write=False)  # as the runner's rows: one compiled check for both
-        distances = np.empty((len(verified), 3))
-        pose_checks(self.apart, self._placements(Q), H, Q, distances)
+        distances = np.empty((len(verified), 3))  # by the compiled FK that measured them
+        packed, kind, halton = self.flat
+        fk_checks(packed, kind, halton, self.fk_apart, H, Q, distances)
         out = []
         for fields, (pos, ori, _) in zip(verified, distances.tolist()):
             kept = fields_apart(fields, pos, ori if self.measure_rot else None, self.weighted)
