@@ -27,7 +27,7 @@ from armik.servo.servo import start as start_servo
 from armik.solve.batch import solve_batch
 from armik.solve.path import solve_path
 from armik.solve.read import read, read_batch, read_path
-from armik.solve.single import routed
+from armik.solve.single import routed, solve_one
 from armik.solve.stages import run
 from armik.solvers.registry import validate_name
 from armik.tolerances import LIMIT_TOL
@@ -429,6 +429,7 @@ class Arm:
         """
         if type(solver) is not str:
             validate_name(solver)
+        # ``solve_one``'s route, inline: a warm solve's Python calls are its budget
         request = read(self.kinematics, target, q0, solver, options)  # options read once
         if request.score is None and request.problem is None:  # the compiled path's stages
             return run(self.kinematics, request)  # type: ignore[no-any-return]
@@ -440,10 +441,7 @@ class Arm:
         """Every distinct solution the solver finds, each verified, best first."""
         if type(solver) is not str:
             validate_name(solver)
-        request = read(self.kinematics, target, q0, solver, options, every=True)
-        if request.score is None and request.problem is None:
-            return run(self.kinematics, request)  # type: ignore[no-any-return]
-        return routed(self.kinematics, request)  # type: ignore[no-any-return]
+        return solve_one(self.kinematics, target, q0, solver, options, True)  # type: ignore[no-any-return]
 
     def solve_batch(
         self,

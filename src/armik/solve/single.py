@@ -36,10 +36,7 @@ def solve_one(
 ):
     """``solve(arm, target, q0=q0, solver=solver, **options)[0]`` (``Arm.solve``'s route),
     or with ``every`` the whole list of ``all_solutions=True``."""
-    req = read(arm, target, q0, solver, options, every)
-    if req.score is None and req.problem is None:
-        return run(arm, req)
-    return routed(arm, req)
+    return routed(arm, read(arm, target, q0, solver, options, every))
 
 
 def routed(arm: ArmModel, req: Request):
