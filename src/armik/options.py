@@ -75,7 +75,7 @@ class Options:
       arm: a 6R chain (``armik.solve.held``); else the task solver. Stored as (name,
       value) pairs. Checked against the arm when solving.
     - ``swivel``: the elbow swivel angle (rad) of an SRS arm (the KUKA iiwa): every branch
-      at that angle, the self-motion's one value (``armik.solve.swivel``; None: q0's, then
+      at that angle, the self-motion's one value (``armik.solve.parameter``; None: q0's, then
       swept). Not a joint, so not a ``hold``.
     - ``posture``: (q_ref, weights): the null-space pull goes toward ``q_ref``, each joint's
       share by its weight, instead of toward q0 (what ``secondary=[armik.Posture(q_ref,

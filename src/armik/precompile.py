@@ -125,7 +125,7 @@ def _hold() -> None:
 
 
 def _swivel(robot: str) -> None:
-    """``swivel=`` on an SRS arm: every branch at one swivel angle (``armik.solve.swivel``)."""
+    """``swivel=`` on an SRS arm: every branch at one swivel angle (``armik.solve.parameter``)."""
     arm = load(robot)
     T = _pose(arm, 4)
     arm.solve_all(T, swivel=0.3)

@@ -92,9 +92,9 @@ def solve_held(
     k, value = held_joint(arm, holds[0], seed)
     name = arm.joint_names[k]
     tgt = parsed(target, arm)
-    sweeping = registry.sweeping(arm, tgt, opts, k) if solver == "auto" else None
-    if solver != "auto" and (spec := registry.get(solver)).sweep is not None:
-        sweeping = spec if spec.sweep.joint == k and spec.why_not(arm, tgt, opts) is None else None
+    asked = registry.sweeps(k) if solver == "auto" else [registry.get(solver)]
+    held_by = (s for s in asked if s.sweep is not None and s.sweep.joint == k)
+    sweeping = next((s for s in held_by if s.why_not(arm, tgt, opts) is None), None)
     if sweeping is not None:  # a closed form at exactly that value (the Panda's joint 7)
         answers = sweeping.sweep.at_value(arm, tgt, seed, value)  # type: ignore[union-attr]
         results = finish(arm, sweeping.name, answers, tgt, opts, seed, every, t0)

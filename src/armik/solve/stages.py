@@ -28,7 +28,7 @@ from armik.solve import far
 from armik.solve.avoid import First, solve_avoiding
 from armik.solve.held import solve_held
 from armik.solve.prepared import plan_for
-from armik.solve.swivel import solve_swivel
+from armik.solve import parameter
 from armik.solvers import registry
 from armik.solvers.registry import SolverSpec
 from armik.targets.pose import Target, parsed
@@ -40,8 +40,8 @@ def run(arm: ArmModel, req: Request):
     """The verified result of ``req`` (a list of every solution with ``req.every``)."""
     target: Any
     target, q0, solver, opts, key, seed, every, t0 = req[:8]
-    if opts.swivel is not None:  # an SRS arm at one swivel angle
-        return solve_swivel(arm, target, q0, solver, with_seed(opts, seed), every, t0)
+    if opts.swivel is not None:  # a parameter a solver declares (an SRS arm's swivel)
+        return parameter.solve_at(arm, req, "swivel", opts.swivel)
     if opts.hold is not None:
         target = parsed(target, arm)  # once: the held arm's solve and its verdict read it
         return solve_held(arm, target, q0, solver, with_seed(opts, seed), every, t0, general)

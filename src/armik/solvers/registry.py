@@ -44,6 +44,17 @@ class Sweep(NamedTuple):
     range: Callable[[ArmModel, float], tuple[float, float]]
 
 
+class Parameter(NamedTuple):
+    """A parameter of a redundant arm's self-motion that a solver answers at any one value
+    of, fixed by the option it is named for (an SRS arm's ``swivel=``): the stage that fixes
+    it asks the registry which solver declares that option, not for a solver by name."""
+
+    option: str  # the keyword that gives the value
+    words: str  # what the value is, for a refusal: "an SRS arm's elbow swivel angle (rad)"
+    # (arm, target, seed, value) -> every answer at exactly ``value``
+    at_value: Callable[[ArmModel, Target, np.ndarray, float], Answers]
+
+
 @dataclass(frozen=True)
 class SolverSpec:
     """One registered solver. Higher ``priority`` wins under ``solver="auto"``."""
@@ -71,6 +82,8 @@ class SolverSpec:
     prepare_pose: PreparePose | None = None
     # Optional: its answers at any one value of a joint, and the range to sweep (``Sweep``)
     sweep: Sweep | None = None
+    # Optional: its answers at any one value of a parameter an option fixes (``Parameter``)
+    parameter: Parameter | None = None
 
 
 _REGISTRY: dict[str, SolverSpec] = {}
@@ -142,17 +155,15 @@ def why_not(
     return get(name).why_not(arm, target, opts)
 
 
-def sweeping(
-    arm: ArmModel, target: Target | None = None, opts: Options | None = None, joint: int = -1
-) -> SolverSpec | None:
-    """The solver of highest priority with a ``Sweep`` that applies to the arm and target
-    (and holds ``joint``, where one is given), or None."""
-    for spec in _BY_PRIORITY:
-        if spec.sweep is None or (joint >= 0 and spec.sweep.joint != joint):
-            continue
-        if spec.why_not(arm, target, opts) is None:
-            return spec
-    return None
+def sweeps(joint: int = -1) -> list[SolverSpec]:
+    """The solvers with a ``Sweep`` (that holds ``joint``, where one is given), highest
+    priority first: the caller asks each whether it applies."""
+    return [s for s in _BY_PRIORITY if s.sweep is not None and joint in (-1, s.sweep.joint)]
+
+
+def declaring(option: str) -> list[SolverSpec]:
+    """The solvers whose ``Parameter`` the option ``option`` fixes, highest priority first."""
+    return [s for s in _BY_PRIORITY if s.parameter is not None and s.parameter.option == option]
 
 
 def choose(

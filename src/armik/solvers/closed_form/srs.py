@@ -10,7 +10,7 @@ roots); what is left is the elbow's turn about the line S-W, the swivel angle ps
 shoulder and the wrist are each three axes meeting in a point, 2 roots each: up to 8
 branches, every one exact (``srs_kernel.at_swivel``).
 
-- ``solve_all(T, swivel=psi)`` (``armik.solve.swivel``): every branch at psi.
+- ``solve_all(T, swivel=psi)`` (``armik.solve.parameter``): every branch at psi.
 - ``solve`` and ``solve_all`` without it: q0's swivel angle first, then ``SWEEP`` more
   round the circle nearest q0's first, and the branches of the first angle with one
   within the limits. A target whose span no elbow angle makes, or only one beyond joint
@@ -36,7 +36,7 @@ from armik.solvers.answers import Answers
 from armik.solvers.closed_form import sixr, sixr_answers
 from armik.solvers.closed_form import srs_kernel as kernel
 from armik.solvers.closed_form.subproblems import mat, vec
-from armik.solvers.registry import SolverSpec, get, register
+from armik.solvers.registry import Parameter, SolverSpec, get, register
 from armik.status import Status
 from armik.targets.pose import Target
 from armik.tolerances import ANGLE_TOL, DISTANCE_TOL
@@ -258,5 +258,6 @@ SPEC = register(
         run=run,
         summary="7R SRS arms (KUKA iiwa): every branch (up to 8) at one elbow swivel angle "
         "(swivel=, else q0's, swept round the circle until a branch is within the limits)",
+        parameter=Parameter("swivel", "an SRS arm's elbow swivel angle (rad)", at_swivel),
     )
 )
