@@ -186,7 +186,7 @@ class Arms:
             target = targets[tip]
             if tip in relative:
                 target = _absolute(target, self._placements(results, seeds))
-            results[tip] = self._facades[tip].solve(target, q0=seeds[tip], **held[tip])  # type: ignore[attr-defined]
+            results[tip] = self._solve_chain(tip, target, seeds[tip], held[tip])
         each = joined(self.tips, results, seeds, time.perf_counter() - t0)
         if each.success:
             return each
@@ -365,7 +365,7 @@ class Arms:
                 if tip in relative:
                     placements = {t: self._chains[t].fk(q[c]) for t, c in self._columns.items()}
                     target = _absolute(target, placements)
-                r = self._facades[tip].solve(target, q0=q[cols], **held[tip])  # type: ignore[attr-defined]
+                r = self._solve_chain(tip, target, q[cols], held[tip])
             except ArmikError:  # a task this chain's solver does not take: start as is
                 continue
             free = ~fixed[cols]
@@ -376,6 +376,12 @@ class Arms:
     def _parsed(self, tip: str, target: object) -> object:
         """A tip's target parsed, or its tasks as given."""
         return target if as_problem(target) is not None else parse_target(target, self._chains[tip])
+
+    def _solve_chain(self, tip: str, target: object, q0: np.ndarray, options: dict) -> IKResult:
+        """One chain's answer to its target with its own options (``Arm.solve``'s route)."""
+        rest = dict(options)
+        solver = rest.pop("solver", "auto")
+        return solve_one(self._chains[tip], target, q0, solver, rest)  # type: ignore[no-any-return]
 
     def _holds(self, options: dict) -> dict[str, dict]:
         """Each tip's options (``arms_options.per_chain``)."""

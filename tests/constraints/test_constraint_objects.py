@@ -12,7 +12,7 @@ import pinocchio as pin
 import pytest
 
 import armik
-from armik.constraints.base import box_of
+from armik.solve.tasks import box_of
 from armik.constraints.limits import JointLimits, on_limits
 from armik.options import Options
 from armik.solvers.answers import Answers

@@ -68,17 +68,6 @@ class Constraint(ABC):
         """The check of the answers ``Q`` (N, dof)."""
 
 
-def box_of(arm: ArmModel, constraints: tuple[Constraint, ...]) -> tuple[np.ndarray, np.ndarray]:
-    """The box of every step: the intersection of the constraints' boxes and the limits."""
-    lo, hi = arm.lower.copy(), arm.upper.copy()
-    for c in constraints:
-        b = c.box(arm)
-        if b is not None:
-            np.maximum(lo, b[0], out=lo)
-            np.minimum(hi, b[1], out=hi)
-    return lo, hi
-
-
 def satisfied(arm: ArmModel, constraints: tuple[Constraint, ...], q: np.ndarray) -> bool:
     """Whether ``q`` satisfies every constraint."""
     Q = q.reshape(1, -1)

@@ -27,7 +27,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik import reasons
-from armik.constraints.base import Constraint, box_of, satisfied
+from armik.constraints.base import Constraint, satisfied
 from armik.constraints.hold import Hold
 from armik.constraints.limits import JointLimits
 from armik.errors import OptionError, TargetError
@@ -445,3 +445,14 @@ def lower_all(
     directed = next((p for p in problems if any(isinstance(t, _AIMED) for t in p.tasks)), None)
     check_said_twice(options, said or {}, directed)
     return targets, {**options, **(said or {})}
+
+
+def box_of(arm: ArmModel, constraints: tuple[Constraint, ...]) -> tuple[np.ndarray, np.ndarray]:
+    """The box of every step: the intersection of the constraints' boxes and the limits."""
+    lo, hi = arm.lower.copy(), arm.upper.copy()
+    for c in constraints:
+        b = c.box(arm)
+        if b is not None:
+            np.maximum(lo, b[0], out=lo)
+            np.minimum(hi, b[1], out=hi)
+    return lo, hi
