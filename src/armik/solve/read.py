@@ -209,12 +209,14 @@ def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | 
     except TypeError:  # an unhashable value (a list of weights): validate every time
         opts = Options.from_kwargs({**kwargs, "seed": seed})
         return (with_sight(opts, look, toward) if sight else opts), None, _seed(seed)
+    if type(seed) is not int or not 0 <= seed < 2**63:  # a plain seed needs no call
+        seed = _seed(seed)
     if opts is None:
         opts = Options.from_kwargs({**kwargs, "seed": seed})  # the seed checked with them
         if len(kept) > 256:
             kept.clear()
         kept[key] = opts
-    return (with_sight(opts, look, toward) if sight else opts), key, _seed(seed)
+    return (with_sight(opts, look, toward) if sight else opts), key, seed
 
 
 _KEPT: Derived[dict] = Derived("validated options", lambda _: {})
