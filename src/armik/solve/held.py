@@ -32,7 +32,7 @@ from armik.options import Options
 from armik.solvers import registry
 from armik.solvers.answers import Answers
 from armik.status import Status
-from armik.targets.pose import parsed
+from armik.targets.pose import Target, parsed
 from armik.verify.verdict import finish
 
 KEPT = 16  # locked arms kept per arm (one per joint and held value)
@@ -91,7 +91,7 @@ def solve_held(
         )
     k, value = held_joint(arm, holds[0], seed)
     name = arm.joint_names[k]
-    tgt = parsed(target, arm)
+    tgt = target if type(target) is Target else parsed(target, arm)  # the stages parsed it
     asked = registry.sweeps(k) if solver == "auto" else [registry.get(solver)]
     held_by = (s for s in asked if s.sweep is not None and s.sweep.joint == k)
     sweeping = next((s for s in held_by if s.why_not(arm, tgt, opts) is None), None)

@@ -18,6 +18,7 @@ from armik.solvers import registry
 from armik.targets.pose import parsed
 from armik.verify.verdict import finish
 
+
 def solve_at(arm: ArmModel, req: Request, option: str, value: float):
     """The verified results at ``option=value``: a list with ``req.every``, else one result.
     ``OptionError`` where no solver declaring the option applies to the arm, for another
@@ -37,8 +38,7 @@ def solve_at(arm: ArmModel, req: Request, option: str, value: float):
         )
     if solver not in ("auto", spec.name):
         raise OptionError(
-            f"{option}= is solved by the {spec.name!r} solver, not {solver!r}: leave "
-            "solver='auto'",
+            f"{option}= is solved by the {spec.name!r} solver, not {solver!r}: leave solver='auto'",
             option=option,
             value=value,
         )

@@ -24,6 +24,7 @@ from armik.model.arm_model import ArmModel
 from armik.problem.scores import Limits, Nearest, Posture, Score
 from armik.result import IKResult
 from armik.solvers import registry
+from armik.tolerances import LIMIT_TOL
 from armik.verify.verdict import finish
 
 TWO_PI = 2.0 * math.pi
@@ -196,14 +197,14 @@ def sweep_held(arm: ArmModel, target, q0: np.ndarray, opts, score: Score, t0: fl
     sweep = spec.sweep
     lo, hi = (float(x) for x in sweep.range(arm, float(q0[sweep.joint])))
 
+    exact = sweep.exact(arm, target, q0)
+    lower, upper = arm.lower - LIMIT_TOL, arm.upper + LIMIT_TOL  # ``within_limits``' bounds
+
     def best_at(theta: float) -> float:
         """The best score over the branches at joint 7 = ``theta`` (inf: none reached)."""
-        got = sweep.at_value(arm, target, q0, theta)
-        scores = [
-            score(arm, best_variant(arm, got.q[i], score, q0), q0)
-            for i in range(len(got))
-            if got.claimed(i) and arm.within_limits(got.q[i])
-        ]
+        Q = exact(theta)
+        inside = Q[((Q >= lower) & (Q <= upper)).all(axis=1)]
+        scores = [score(arm, best_variant(arm, q, score, q0), q0) for q in inside]
         return min(scores, default=math.inf)
 
     grid = np.linspace(lo, hi, SWEEP_GRID)

@@ -200,8 +200,11 @@ def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | 
         if "toward" in kwargs:
             del kwargs["toward"]
     try:
-        # with the types: 1 == True, but validation may accept one and refuse the other
-        key = (tuple(kwargs.items()), tuple(map(type, kwargs.values())), look is None, sight)
+        # with the types: 1 == True, but validation may accept one and refuse the other;
+        # a held joint's dict as its items (a loop of solves holds the same joint)
+        hold = kwargs["hold"] if "hold" in kwargs else None
+        given = {**kwargs, "hold": tuple(hold.items())} if type(hold) is dict else kwargs
+        key = (tuple(given.items()), tuple(map(type, kwargs.values())), look is None, sight)
         kept = arm._derived.get(_KEPT)  # read as a dict, not through a call: every solve
         if kept is None:
             kept = _KEPT(arm)

@@ -24,11 +24,10 @@ from armik.model.arm_model import ArmModel
 from armik.options import Options
 from armik.request import Request, but_options, with_seed
 from armik.result import IKResult
-from armik.solve import far
+from armik.solve import far, parameter
 from armik.solve.avoid import First, solve_avoiding
 from armik.solve.held import solve_held
 from armik.solve.prepared import plan_for
-from armik.solve import parameter
 from armik.solvers import registry
 from armik.solvers.registry import SolverSpec
 from armik.targets.pose import Target, parsed

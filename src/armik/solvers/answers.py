@@ -21,6 +21,7 @@ from armik.frozen import frozen
 from armik.status import Status
 
 _CONVERGED = Status.CONVERGED.code
+_CODE = {s: s.code for s in Status}  # a lookup per row, not a property call
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -108,7 +109,7 @@ class Answers:
         zeros = np.zeros(n, dtype=np.int64)
         return cls(
             q=np.array(q, dtype=float).reshape(n, dof),
-            claim=np.array([c.code for c in claims], dtype=np.int8),
+            claim=np.array([_CODE[c] for c in claims], dtype=np.int8),
             iterations=zeros if iterations is None else np.array(iterations, dtype=np.int64),
             restarts=zeros.copy() if restarts is None else np.array(restarts, dtype=np.int64),
             branch=None if branch is None else tuple(branch),

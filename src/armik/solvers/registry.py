@@ -42,6 +42,9 @@ class Sweep(NamedTuple):
     at_value: Callable[[ArmModel, Target, np.ndarray, float], Answers]
     # (arm, value) -> (lower, upper): the values worth sweeping from ``value``
     range: Callable[[ArmModel, float], tuple[float, float]]
+    # (arm, target, seed) -> value -> the configurations ``at_value`` claims there (k, dof),
+    # without their words: a search over the values (a preference's) calls it many times
+    exact: Callable[[ArmModel, Target, np.ndarray], Callable[[float], np.ndarray]]
 
 
 class Parameter(NamedTuple):

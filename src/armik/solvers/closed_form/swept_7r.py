@@ -20,6 +20,7 @@ chosen by ``solver="auto"``; ask for it with ``solver="swept"``.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import cast
 
@@ -184,7 +185,8 @@ def _answers(
     converged) unless the target lies beyond the reach bound (``beyond``:
     ``sixr_answers.beyond_reach``'s reason); held at one value (``hold=``), the closed form's
     verdict is a proof."""
-    claims, texts, labels, flags_of = [], [], [], []
+    claims, texts, flags_of = [], [], []
+    held = {}  # a claim's words by its singular flag: the same for every row
     for row in rows:
         flags = int(row[7])
         singular = bool(flags & sixr.SINGULAR)
@@ -200,11 +202,13 @@ def _answers(
                     f"{reason}"
                 )
         else:
-            reason, claim = held_reason(theta, singular), Status.CONVERGED
+            reason = held.get(singular) or held.setdefault(singular, held_reason(theta, singular))
+            claim = Status.CONVERGED
         claims.append(claim)
         texts.append(reason)
-        labels.append(branch(sw, row[:7].copy()))
         flags_of.append(singular)
+    h, p = sw.geo.h, sw.geo.p  # each row's ``branch``, inline: one call for the rows
+    labels = [_HELD_LABELS[sixr.branch_bits(h, p, row[5::-1].copy())] for row in rows]
     Q = np.asarray(rows, dtype=float)[:, :7]
     return Answers.of(Q, claims, texts, 7, branch=labels, singular=flags_of)
 
@@ -264,19 +268,46 @@ def at_value(arm: ArmModel, target: Target, q0: np.ndarray, theta: float) -> Ans
     6 to 1 by the spherical closed form, no sweep (``hold=`` on joint 7; ``applies`` must
     hold)."""
     sw = cast(Swept, geometry(arm))  # ``applies`` holds: the geometry, no reason
-    R, pos = (np.array(x) for x in sixr.pose_arrays(target))  # writable: one signature
-    R_inv, p_inv = held_target(sw.c, sw.u, R, pos, float(theta))
-    q0r, lor, hir = (np.array(x[5::-1], dtype=float) for x in (q0, arm.lower, arm.upper))
+    return _answers(sw, _rows_at(sw, target, q0, arm)(theta), theta, swept=False)
+
+
+def exact_at(arm: ArmModel, target: Target, q0: np.ndarray) -> Callable[[float], np.ndarray]:
+    """For a search over joint 7: a function of its value giving the configurations
+    ``at_value`` claims there (the exact rows, nearest q0 first), without their words: one
+    kernel call a value (``applies`` must hold)."""
+    sw = cast(Swept, geometry(arm))
+    rows_at = _rows_at(sw, target, q0, arm)
+
+    def exact(theta: float) -> np.ndarray:
+        rows = rows_at(theta)
+        return rows[(rows[:, 7].astype(np.int64) & sixr.LS) == 0, :7]
+
+    return exact
+
+
+def _rows_at(sw: Swept, target: Target, q0: np.ndarray, arm: ArmModel):
+    """theta -> the closed form's rows (n, 12) with joint 7 at theta: q (7), flags, branch,
+    code, values; the target's arrays and the reversed chain's read once."""
+    R, pos = sixr.pose_arrays(target)
+    R, pos = np.array(R), np.array(pos)  # writable: one signature
+    q0r = np.array(q0[5::-1], dtype=float)  # the reversed chain's order
+    lor = np.array(arm.lower[5::-1], dtype=float)
+    hir = np.array(arm.upper[5::-1], dtype=float)
     out = np.empty((8, 11))
-    n, _ = spherical.kernel(
-        sw.geo.h, sw.geo.p, sw.geo.R_tip0, mat(R_inv), vec(p_inv), q0r, lor, hir,
-        sw.variant, np.int64(0), out,
-    )  # fmt: skip
-    rows = np.empty((n, 12))
-    rows[:, :6] = out[:n, 5::-1]  # joints 1 to 6 again
-    rows[:, 6] = theta
-    rows[:, 7:] = out[:n, 6:11]
-    return _answers(sw, rows, theta, swept=False)
+
+    def rows_at(theta: float) -> np.ndarray:
+        R_inv, p_inv = held_target(sw.c, sw.u, R, pos, float(theta))
+        n, _ = spherical.kernel(
+            sw.geo.h, sw.geo.p, sw.geo.R_tip0, mat(R_inv), vec(p_inv), q0r, lor, hir,
+            sw.variant, np.int64(0), out,
+        )  # fmt: skip
+        rows = np.empty((n, 12))
+        rows[:, :6] = out[:n, 5::-1]  # joints 1 to 6 again
+        rows[:, 6] = theta
+        rows[:, 7:] = out[:n, 6:11]
+        return rows
+
+    return rows_at
 
 
 def run(
@@ -333,6 +364,6 @@ SPEC = register(
         auto=False,
         prepare_pose=prepare_pose,
         complete=False,
-        sweep=Sweep(joint=6, at_value=at_value, range=sweep_range),
+        sweep=Sweep(joint=6, at_value=at_value, range=sweep_range, exact=exact_at),
     )
 )
