@@ -12,9 +12,9 @@ import pinocchio as pin
 import pytest
 
 import armik
-from armik.solve.tasks import box_of
 from armik.constraints.limits import JointLimits, on_limits
 from armik.options import Options
+from armik.solve.tasks import box_of
 from armik.solvers.answers import Answers
 from armik.status import Status
 from armik.tolerances import LIMIT_TOL

@@ -1,7 +1,7 @@
 """The viewer's GUI panel: the last answer (status, solver, errors, time, branch, iterations,
 the score of a preferred answer, each tip's errors where there are several, the reason of a
-failure), the solver, the preference, the ghosts toggle (one arm) and one slider per
-joint."""
+failure), the solver, the preference, the ghosts toggle (one arm), the servo mode and one
+slider per joint."""
 
 from __future__ import annotations
 
@@ -45,7 +45,8 @@ def slider_range(robot: Robot, k: int) -> tuple[float, float]:
 class Panel:
     """The panel of one viewer. The callbacks run on viser's threads: ``on_joints(q)`` when
     a slider moves, ``on_solver(name)``, ``on_prefer(name)``, ``on_ghosts(bool)``,
-    ``on_position_only(bool)``. ``tip_errors``: tip -> its row, for several tips."""
+    ``on_position_only(bool)``, ``on_follow(bool)``. ``tip_errors``: tip -> its row, for
+    several tips."""
 
     def __init__(
         self,
@@ -59,6 +60,7 @@ class Panel:
         on_ghosts: Callable[[bool], None],
         on_position_only: Callable[[bool], None],
         on_prefer: Callable[[str], None] | None = None,
+        on_follow: Callable[[bool], None] | None = None,
         prefer: str = "none",
     ) -> None:
         self._robot = robot
@@ -87,6 +89,12 @@ class Panel:
             self.position_only = gui.add_checkbox(
                 "position only", position_only, hint="drag targets the tip position only"
             )
+            self.follow = gui.add_checkbox(
+                "servo",
+                False,
+                hint="a dragged target is followed by the servo, within the joint, velocity "
+                "and acceleration limits, instead of solved",
+            )
         self.sliders = []
         with gui.add_folder("joints (FK)"):
             for k, name in enumerate(robot.joint_names):
@@ -111,6 +119,8 @@ class Panel:
             self.prefer.on_update(from_user(on_prefer))
         self.ghosts.on_update(from_user(on_ghosts))
         self.position_only.on_update(from_user(on_position_only))
+        if on_follow is not None:
+            self.follow.on_update(from_user(on_follow))
 
     def slider_q(self) -> np.ndarray:
         return np.array([s.value for s in self.sliders], dtype=float)

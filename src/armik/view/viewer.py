@@ -28,7 +28,7 @@ from armik.options import Options
 from armik.problem.scores import parse_score
 from armik.result import IKResult
 from armik.solve.reach import ReachMap
-from armik.view import regions, server
+from armik.view import follow, regions, server
 from armik.view.ghosts import MAX_GHOSTS, Ghosts
 from armik.view.nodes import BodyNodes, pose_of, wxyz_position
 from armik.view.panel import Panel
@@ -104,6 +104,8 @@ class Viewer:
         self._pending: dict[str, object] = {}
         self._solving = False
         self._ghosts_on = False
+        self._follower: follow.Follower | None = None  # the servo mode (``follow``)
+        self._following = threading.Event()  # set: the servo mode's thread is to stop
         self._position_only = min(a.dof for a in robot.chains.values()) < 6
 
         self._server, self.port = server.start(host, port, f"armik: {robot.name}")
@@ -160,6 +162,7 @@ class Viewer:
             on_ghosts=self._toggled_ghosts,
             on_position_only=self._toggled_position_only,
             on_prefer=self._chose_prefer,
+            on_follow=self._toggled_follow,
             prefer=str(self.options.get("prefer") or "none"),
         )
         self.show(self._q)
@@ -333,6 +336,37 @@ class Viewer:
                 self.obstacles.append(shape)
             return list(self.obstacles)
 
+    def follow(self, on: bool = True, **servo_options: object) -> follow.Follower | None:
+        """The servo mode: with ``on``, a dragged target is followed by the servo
+        (``Arm.servo`` from the configuration shown, with ``servo_options``: ``dt``,
+        ``velocity_limits``, ``acceleration_limits``, ``obstacles``, ...), every joint within
+        its limits at every tick, 30 frames a second (``armik.view.follow``), instead of
+        solved; off, drags solve again. Returns the ``Follower`` (None when off). Raises
+        what ``Arm.servo`` raises for bad options or a robot it does not take."""
+        with self._lock:
+            self._following.set()  # the running mode's thread ends
+            self._follower = None
+            if not on:
+                self.panel.follow.value = False  # type: ignore[misc]
+                return None
+            tips = tuple(self.robot.tips)
+            follower = follow.Follower(self.robot.source, self._q, tips, **servo_options)
+            self._follower, self._following = follower, threading.Event()
+            self.panel.follow.value = True  # type: ignore[misc]
+            follower.aim(self.targets)
+        threading.Thread(
+            target=follow.run, args=(follower, self._followed, self._following), daemon=True
+        ).start()
+        return follower
+
+    def _followed(self, step) -> None:
+        """Draw the servo's step (a frame of the servo mode)."""
+        with self._lock:
+            if self._closed.is_set():
+                return
+            self._put(step.q, False)
+            self.panel.show_note(f"servo: {step.status}", step.reason)
+
     def wait(self) -> None:
         """Block until Ctrl-C or ``close()`` from another thread, then close."""
         try:
@@ -349,6 +383,7 @@ class Viewer:
             if self._closed.is_set():
                 return
             self._closed.set()
+            self._following.set()
         server.stop(self._server, self.host, self.port)
 
     def __enter__(self) -> Viewer:
@@ -383,6 +418,10 @@ class Viewer:
                 targets = dict(self.targets)
                 for t, pose in moved.items():
                     targets[t] = dragged(targets.get(t), pose, self._position_only, t)
+                if self._follower is not None:  # the servo mode: followed, not solved
+                    self.targets = targets
+                    self._follower.aim(targets)
+                    continue
                 try:
                     self._solve(targets, None, place=False, held=tuple(moved))
                 except ArmikError as exc:
@@ -417,6 +456,13 @@ class Viewer:
 
     def _toggled_position_only(self, on: bool) -> None:
         self._position_only = bool(on)
+
+    def _toggled_follow(self, on: bool) -> None:
+        try:
+            self.follow(on)
+        except ArmikError as exc:
+            self.panel.show_note("the servo refused this robot", str(exc))
+            self.panel.follow.value = False  # type: ignore[misc]
 
     def _toggled_ghosts(self, on: bool) -> None:
         with self._lock:

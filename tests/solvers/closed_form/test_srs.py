@@ -212,7 +212,10 @@ def test_bad_swivel_options_are_clear_errors(options, words):
 
 def test_swivel_on_other_arms_and_in_batches_is_refused():
     p = arm("panda")
-    with pytest.raises(armik.OptionError, match=r"elbow swivel angle .*applies to arm .panda. \(srs: axes 5, 6, 7 do not meet"):
+    with pytest.raises(
+        armik.OptionError,
+        match=r"elbow swivel angle .*applies to arm .panda. \(srs: axes 5, 6, 7 do not meet",
+    ):
         p.solve(p.fk(p.middle), swivel=0.2)
     a = arm("kuka_iiwa14")
     with pytest.raises(armik.OptionError, match="swivel= is for solve and solve_all"):

@@ -186,7 +186,7 @@ def _answers(
     ``sixr_answers.beyond_reach``'s reason); held at one value (``hold=``), the closed form's
     verdict is a proof."""
     claims, texts, flags_of = [], [], []
-    held = {}  # a claim's words by its singular flag: the same for every row
+    held: dict[bool, str] = {}  # a claim's words by its singular flag: the same for every row
     for row in rows:
         flags = int(row[7])
         singular = bool(flags & sixr.SINGULAR)

@@ -75,6 +75,11 @@ def add_view_command(command) -> None:
         help="the configuration --path starts from (rad, m); default: the middle of the "
         "limits, or for the global plan any branch",
     )
+    c.add_argument(
+        "--servo",
+        action="store_true",
+        help="drags are followed by the servo within every limit, not solved (the panel's box)",
+    )
     c.add_argument("--no-browser", action="store_true", help="do not open a browser tab")
 
 
@@ -107,6 +112,8 @@ def cmd_view(args: argparse.Namespace) -> int:
         )
         if obstacles:
             viewer.add_obstacles(obstacles)
+        if args.servo:
+            viewer.follow()
         for plan, batch in paths.items():
             bad = np.flatnonzero(~batch.success)
             where = f", failed at {bad[:10].tolist()}" if len(bad) else ""

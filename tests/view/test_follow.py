@@ -1,0 +1,91 @@
+"""The viewer's servo mode: a dragged target is followed by the servo, frame by frame,
+within the limits, instead of solved; off again, drags solve."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.view.follow import Follower
+
+from ..conftest import arm
+
+BENT = np.array([0.0, 0.0, 0.0, 0.0, 0.6, 0.0])  # rad: the IRB 120's wrist bent
+
+
+def _frames(follower: Follower, most: int) -> list:
+    """Frames until the follower comes to rest (at most ``most``)."""
+    steps = []
+    for _ in range(most):
+        step = follower.frame()
+        if step is None:
+            break
+        steps.append(step)
+    return steps
+
+
+def test_a_follower_comes_to_rest_on_its_target_within_the_limits():
+    a = arm("abb_irb120")
+    q0 = a.middle + BENT  # away from the wrist's singularity, where the servo damps
+    T = a.fk(q0 + 0.3)
+    f = Follower(a, q0, (a.tip,), dt=0.002)
+    assert f.frame() is None  # no target: nothing to do
+    f.aim({a.tip: T})
+    steps = _frames(f, 300)
+    assert steps and f.frame() is None  # at rest: no more frames until a new aim
+    last = steps[-1]
+    assert last.status == "on_target"
+    assert np.abs(last.dq).max() < 1e-9
+    error = pin.log6(a.fk(last.q).inverse() * T).vector
+    assert np.linalg.norm(error) < 1e-5
+    Q = np.array([s.q for s in steps])
+    assert a.within_limits(Q.min(axis=0)) and a.within_limits(Q.max(axis=0))
+    # a frame is FRAME s of servo time: the speed between frames within the limits
+    speed = np.abs(np.diff(Q, axis=0)) / (f.steps_a_frame * f.servo.dt)
+    assert (speed <= f.servo.velocity_limits * (1 + 1e-9)).all()
+    f.aim({a.tip: a.fk(q0)})  # a new target: moving again
+    assert f.frame() is not None
+
+
+def test_several_tips_follow_each_their_target():
+    a = arm("abb_irb120")
+    robot = armik.load("abb_irb120", tips=[a.tip])  # an Arms of one chain
+    q0 = robot.middle + BENT
+    T = robot.fk(q0 + 0.2, a.tip)
+    f = Follower(robot, q0, tuple(robot.tips), dt=0.002)
+    f.aim({a.tip: T})
+    steps = _frames(f, 300)
+    assert steps[-1].status == "on_target"
+
+
+@pytest.fixture
+def viewer():
+    pytest.importorskip("viser")
+    v = armik.view(arm("abb_irb120"), port=0, open_browser=False)
+    yield v
+    v.close()
+
+
+def _drag(viewer, T: pin.SE3) -> None:
+    x, y, z, w = pin.Quaternion(T.rotation).coeffs()
+    viewer._dragged(SimpleNamespace(wxyz=(w, x, y, z), position=tuple(T.translation)))
+
+
+def test_in_the_servo_mode_a_drag_aims_the_servo_and_solves_nothing(viewer):
+    a = viewer.arm
+    follower = viewer.follow(dt=0.004)
+    assert viewer.panel.follow.value is True
+    assert follower.servo.dt == 0.004
+    T = a.fk(a.middle + 0.2)
+    _drag(viewer, T)
+    assert viewer.result is None  # no solve: the servo follows
+    (aimed,) = follower.targets.values()
+    assert np.allclose(aimed.homogeneous, T.homogeneous)
+    assert viewer.follow(False) is None
+    assert viewer.panel.follow.value is False
+    _drag(viewer, T)
+    assert viewer.result is not None  # off again: a drag solves
