@@ -173,6 +173,32 @@ def lock_pair(text: str) -> tuple[str, float]:
     return name, number
 
 
+def add_arm_arguments(
+    c: argparse.ArgumentParser,
+    *,
+    base: str = "base frame",
+    tip: str = "tip frame",
+    repeat_tip: bool = False,
+    tips: bool = False,
+    lock: bool = True,
+) -> None:
+    """The arm a command works on: ``robot``, ``--base`` and ``--tip`` (their help texts
+    ``base`` and ``tip``; ``repeat_tip``: ``--tip`` repeatable, for several tips of one
+    robot; ``tips``: ``--tips A B`` as well), and ``--lock`` unless ``lock`` is False."""
+    c.add_argument("robot", help="bundled robot name or path to a URDF file")
+    c.add_argument("--base", help=base)
+    c.add_argument("--tip", action="append" if repeat_tip else "store", help=tip)
+    if tips:
+        c.add_argument(
+            "--tips",
+            nargs="+",
+            metavar="TIP",
+            help="several tips at once: --tips A B is --tip A --tip B",
+        )
+    if lock:
+        add_lock_option(c)
+
+
 def add_lock_option(c: argparse.ArgumentParser) -> None:
     c.add_argument(
         "--lock",

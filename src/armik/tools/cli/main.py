@@ -15,7 +15,7 @@ from armik.errors import ArmikError, ArmikWarning
 from armik.model.catalogue import SPATIAL_ARMS
 from armik.tools import bench as bench_mod
 from armik.tools.cli.arms import (
-    add_lock_option,
+    add_arm_arguments,
     add_solve_options,
     cmd_demo,
     cmd_info,
@@ -121,22 +121,15 @@ def _parser() -> argparse.ArgumentParser:
         "--tip gripper_right_base_link",
         _info,
     )
-    c.add_argument("robot", help="bundled robot name or path to a URDF file")
-    c.add_argument("--base", help="base frame (default: URDF root)")
-    c.add_argument(
-        "--tip",
-        action="append",
-        help="tip frame (default: catalogue tip, tool0, or the end of the longest chain); "
+    add_arm_arguments(
+        c,
+        base="base frame (default: URDF root)",
+        tip="tip frame (default: catalogue tip, tool0, or the end of the longest chain); "
         "repeat it for several tips of one robot: each chain and the joints they share",
-    )
-    c.add_argument(
-        "--tips",
-        nargs="+",
-        metavar="TIP",
-        help="several tips at once: --tips A B is --tip A --tip B",
+        repeat_tip=True,
+        tips=True,
     )
     c.add_argument("--frames", action="store_true", help="print the URDF's frames as a tree")
-    add_lock_option(c)
 
     c = command(
         "solve",
@@ -148,15 +141,12 @@ def _parser() -> argparse.ArgumentParser:
         "--tip B --xyz 0.4 -0.3 0.3 --rpy 0 0 0",
         _solve,
     )
-    c.add_argument("robot", help="bundled robot name or path to a URDF file")
-    c.add_argument("--base", help="base frame")
     # the target flags are repeatable: the n-th of each goes with the n-th --tip
-    c.add_argument(
-        "--tip",
-        action="append",
-        help="tip frame; repeat it, each followed by its target, for several tips of one robot",
+    add_arm_arguments(
+        c,
+        tip="tip frame; repeat it, each followed by its target, for several tips of one robot",
+        repeat_tip=True,
     )
-    add_lock_option(c)
     c.add_argument(
         "--xyz",
         nargs=3,

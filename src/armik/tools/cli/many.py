@@ -15,7 +15,7 @@ from armik.solve.batch import solve_batch
 from armik.solve.path import solve_path
 from armik.solve.reach import reachability
 from armik.solve.read import read_batch, read_path
-from armik.tools.cli.arms import add_lock_option, add_solve_options, load_arm, solve_options
+from armik.tools.cli.arms import add_arm_arguments, add_solve_options, load_arm, solve_options
 
 
 def add_many_commands(command) -> None:
@@ -26,7 +26,7 @@ def add_many_commands(command) -> None:
         "armik batch panda targets.npy -o out.npz --workers 2",
         cmd_batch,
     )
-    c.add_argument("robot", help="bundled robot name or path to a URDF file")
+    add_arm_arguments(c)
     c.add_argument(
         "targets",
         help="targets file: .npy or .npz (the array 'targets', or the only array; an array "
@@ -34,9 +34,6 @@ def add_many_commands(command) -> None:
         "a 4x4 transform, or an (N, 4, 4) array",
     )
     c.add_argument("-o", "--output", required=True, help="results file (.npz)")
-    c.add_argument("--base", help="base frame")
-    c.add_argument("--tip", help="tip frame")
-    add_lock_option(c)
     c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
     c.add_argument("--workers", type=int, help="threads (default: one per core)")
     c.add_argument(
@@ -57,12 +54,9 @@ def add_many_commands(command) -> None:
         "armik path ur5 seam.npy -o path.npz --plan global --max-joint-step 0.3",
         cmd_path,
     )
-    c.add_argument("robot", help="bundled robot name or path to a URDF file")
+    add_arm_arguments(c)
     c.add_argument("targets", help="waypoints file, as for batch (one seed array is ignored)")
     c.add_argument("-o", "--output", required=True, help="results file (.npz)")
-    c.add_argument("--base", help="base frame")
-    c.add_argument("--tip", help="tip frame")
-    add_lock_option(c)
     c.add_argument(
         "--q0",
         nargs="+",
@@ -92,10 +86,7 @@ def add_many_commands(command) -> None:
         "armik reach panda --resolution 0.1 --orientations 16 -o reach.npz --plot reach.png",
         cmd_reach,
     )
-    c.add_argument("robot", help="bundled robot name or path to a URDF file")
-    c.add_argument("--base", help="base frame")
-    c.add_argument("--tip", help="tip frame")
-    add_lock_option(c)
+    add_arm_arguments(c)
     c.add_argument("--resolution", type=float, default=0.1, help="voxel side, m (0.1)")
     c.add_argument("--orientations", type=int, default=16, help="per voxel (16)")
     c.add_argument("--timeout", type=float, default=0.005, help="budget per solve, s (0.005)")

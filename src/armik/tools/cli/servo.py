@@ -11,7 +11,7 @@ import numpy as np
 
 from armik.errors import OptionError
 from armik.servo.streams import START, circle, moved, violations
-from armik.tools.cli.arms import add_lock_option, load_arm
+from armik.tools.cli.arms import add_arm_arguments, load_arm
 
 
 def add_servo_command(command) -> None:
@@ -23,10 +23,7 @@ def add_servo_command(command) -> None:
         "         armik servo ur5 --circle 0.05 --seconds 1 --jump 0 0.25 0 --dt 0.004",
         cmd_servo,
     )
-    c.add_argument("robot", help="bundled robot name or path to a URDF file")
-    c.add_argument("--base", help="base frame")
-    c.add_argument("--tip", help="tip frame")
-    add_lock_option(c)
+    add_arm_arguments(c)
     c.add_argument(
         "--q0",
         nargs="+",

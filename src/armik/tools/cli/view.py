@@ -13,7 +13,7 @@ from armik.arm import Arm, load
 from armik.arms import Arms
 from armik.constraints.shapes_file import read_shapes
 from armik.errors import InputError
-from armik.tools.cli.arms import load_arm
+from armik.tools.cli.arms import add_arm_arguments, load_arm
 from armik.tools.cli.many import read_targets_file
 
 
@@ -24,19 +24,13 @@ def add_view_command(command) -> None:
         "armik view panda --port 8080 --solver dls",
         cmd_view,
     )
-    c.add_argument("robot", help="bundled robot name or path to a URDF file")
-    c.add_argument("--base", help="base frame")
-    c.add_argument(
-        "--tip",
-        action="append",
-        help="tip frame; repeat it for several tips of one robot (as info and solve take "
+    add_arm_arguments(
+        c,
+        tip="tip frame; repeat it for several tips of one robot (as info and solve take "
         "them): the whole robot, a gizmo per tip",
-    )
-    c.add_argument(
-        "--tips",
-        nargs="+",
-        metavar="TIP",
-        help="several tips at once: --tips A B is --tip A --tip B",
+        repeat_tip=True,
+        tips=True,
+        lock=False,
     )
     c.add_argument("--port", type=int, default=8080, help="port to serve on (8080; 0: any free)")
     c.add_argument(
