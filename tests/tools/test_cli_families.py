@@ -38,6 +38,10 @@ def test_seven_r_arms_name_the_joints_to_hold(capsys, tmp_path):
     assert re.search(r"\n  j3 +spherical_wrist \(spherical wrist at .*axes 1 and 2 meet\)", out)
     held = re.search(r"analytic with one joint held: (.*)\n", out).group(1).split(", ")
     assert held == ["j1", "j2", "j3", "j4", "j7"]  # j5, j6 leave the 2-D search
+    # joint 7 of the xArm7 leaves two_intersecting: a search, not a closed form
+    code, out, _ = run(capsys, "info", "xarm7")
+    assert re.search(r"joint7 +two_intersecting", out)
+    assert "analytic with one joint held: none (each leaves a search)" in out
 
 
 def test_info_says_the_route_and_why(capsys):

@@ -51,12 +51,20 @@ def family_lines(arm: ArmModel) -> list[str]:
             text = "swept_7r (the swept solver's closed form: joints 6 to 1 read from the tip)"
         else:
             text = six_r_family(arm.with_locked({name: held_value(arm, k)})) or "not a 6R chain"
-        if not text.startswith(("general_6r", "not a 6R")):
+        if text != "not a 6R chain" and _closed(text):
             analytic.append(name)
         lines.append(f"  {name:<24} {text}")
-    which = ", ".join(analytic) if analytic else "none (each leaves the general 6R search)"
+    which = ", ".join(analytic) if analytic else "none (each leaves a search)"
     lines.append(f"  analytic with one joint held: {which}")
     return lines
+
+
+def _closed(family: str) -> bool:
+    """Whether a held joint's family (``six_r_family``'s words) is solved in closed form,
+    not by a search: a family whose solver of that name is not ``complete``
+    (two_parallel, two_intersecting, general_6r); "not a 6R chain" is no family."""
+    name = family.split(" ", 1)[0]
+    return name not in registry.solvers() or registry.get(name).complete
 
 
 def _kind(spec: SolverSpec) -> str:
