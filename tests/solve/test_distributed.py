@@ -92,3 +92,16 @@ def test_a_constraint_of_ones_own_holds_on_the_cluster(client):
     assert not (remote.success & (remote.q[:, 3] <= ELBOW)).any()
     assert "elbow below -1" in remote.reasons.values()
     np.testing.assert_array_equal(remote.success, local.success)
+
+
+def test_the_cluster_is_a_batch_backend(client):
+    """``OnDask`` is a backend like any other: ``arm.solve_batch(..., backend=OnDask(client))``
+    gives the local answers, collision-checked ones with their pairs."""
+    a = arm("ur5")
+    T = _targets("ur5", 9)
+    options = dict(obstacles=[armik.Sphere(0.05, (0.0, 0.0, 2.0))], self_collision=True)
+    local = a.solve_batch(T, workers=1, **options)
+    remote = a.solve_batch(T, backend=armik_distributed.OnDask(client), chunk_size=4, **options)
+    np.testing.assert_array_equal(remote.q, local.q)
+    assert remote.reasons == local.reasons and remote.pair_names == local.pair_names
+    assert remote.pair_names  # the checker's pairs, named

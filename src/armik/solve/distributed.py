@@ -10,10 +10,12 @@ How it runs: the arm travels once per worker, as its recipe (an ``Arm`` pickles 
 source, base, tip, locked joints, tip offset and limit overrides that rebuild it). A
 ``WorkerPlugin`` registered under the recipe's digest rebuilds the arm when the worker starts
 (and on workers that join later), so a worker reads the URDF and builds the Pinocchio model
-once, not once per chunk. The targets go out in chunks; each chunk runs the local
-``armik.solve.batch.solve_batch`` on the worker (verification included) and comes back as a
-``BatchResult``, which is copied into its rows of the result. The answers are those of the
-local ``solve_batch`` with the same options, read once on the client.
+once, not once per chunk. The runner is a batch backend (``OnDask``, see
+``armik.solve.backends``): the local ``solve_batch`` cuts the batch into its chunk jobs
+(``armik.solve.batch.Chunk``), which go out without the arm, run on the workers
+(verification included) and come back as ``BatchResult``s, put into their rows as every
+backend's are. The answers are those of the local ``solve_batch`` with the same options,
+read once on the client.
 
 Every worker must be able to import armik and read the arm's URDF: bundled arms always can;
 a URDF path must exist on every worker's machine.
@@ -23,7 +25,7 @@ from __future__ import annotations
 
 import hashlib
 import pickle
-import time
+from collections.abc import Iterator, Sequence
 from functools import lru_cache
 from typing import TYPE_CHECKING, cast
 
@@ -31,15 +33,11 @@ import numpy as np
 
 from armik.batch_result import BatchResult
 from armik.errors import ArmikError, InputError, OptionError
-from armik.frozen import frozen
 from armik.model.arm_model import ArmModel, model_of
-from armik.request import Request
-from armik.solve.batch import batch_seeds
+from armik.solve.batch import Chunk
 from armik.solve.batch import solve_batch as local_solve_batch
-from armik.solve.progress import ProgressArg, make_progress
+from armik.solve.progress import ProgressArg
 from armik.solve.read import read_batch
-from armik.solvers import registry
-from armik.targets.batch import TargetBatch, parse_targets
 
 DEFAULT_CHUNK = 2048  # targets per task: a task should take tens of milliseconds at least
 
@@ -104,20 +102,46 @@ def _worker_arm(name: str, blob: bytes) -> ArmModel:
     return _arm_from_blob(blob)
 
 
-def _solve_chunk(
-    name: str,
-    blob: bytes,
-    positions: np.ndarray,
-    rotations: np.ndarray | None,
-    q0: np.ndarray | None,
-    request: Request,
-) -> BatchResult:
-    """One task: the local batch solver on this worker's copy of the arm, the batch's
-    request read once on the client (``armik.solve.read.read_batch``)."""
-    arm = _worker_arm(name, blob)
-    chunk = request.but(target=TargetBatch(positions, rotations), q0=q0, t0=time.perf_counter())
-    # one worker: Dask runs as many tasks at once as the worker has threads
-    return local_solve_batch(arm, chunk, workers=1, progress=False)
+def _run_job(name: str, blob: bytes, job: Chunk) -> BatchResult:
+    """One task: a batch's chunk (``armik.solve.batch.Chunk``, sent without its arm) on this
+    worker's copy of the arm."""
+    return job._replace(arm=_worker_arm(name, blob))()
+
+
+class OnDask:
+    """A batch backend (``armik.solve.backends``): the chunks as tasks on the cluster of
+    ``client`` (None: the current default client, found when the batch runs), the arm sent
+    once per worker (``ArmOnWorker``), the results in the order of the jobs."""
+
+    def __init__(self, client=None) -> None:
+        self.client = client
+
+    def __call__(self, jobs: Sequence[Chunk], workers: int) -> Iterator[BatchResult]:
+        client = self.client if self.client is not None else _default_client()
+        if not jobs:
+            return
+        blob = pickle.dumps(jobs[0].arm)
+        name = plugin_name(blob)
+        client.register_plugin(ArmOnWorker(blob, name), name=name)
+        # each chunk without its arm (the plugin's copy runs it): a few bytes, not the model
+        bare = [job._replace(arm=None) for job in jobs]  # type: ignore[arg-type]
+        futures = [client.submit(_run_job, name, blob, job, pure=False) for job in bare]
+        try:
+            for f in futures:
+                yield f.result()
+                f.release()
+        finally:  # an error or Ctrl-C: the tasks not yet run are dropped
+            client.cancel([f for f in futures if not f.done()])
+
+
+def _default_client():
+    distributed = _import_distributed()
+    try:
+        return distributed.get_client()
+    except ValueError:
+        raise InputError(
+            "no Dask client: pass client= or address= (e.g. tcp://host:8786 or local:2)"
+        ) from None
 
 
 def connect(address: str):
@@ -172,17 +196,12 @@ def solve_batch(
     """
     arm = model_of(arm)
     request = read_batch(arm, targets, q0, solver, options)  # refused here, not on workers
-    t0, opts = request.t0, request.settings
     if request.rows is not None:
         raise OptionError(
             "the cluster solves batches the compiled path has a form for; solve task lists "
             "without one, or a batch with prefer=, with arm.solve_batch",
             option="prefer" if request.score is not None else "targets",
         )
-    batch = parse_targets(targets, arm)
-    n = len(batch)
-    seeds = batch_seeds(arm, q0, n)
-    spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
     chunk = DEFAULT_CHUNK if chunk_size is None else chunk_size
     if isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or chunk < 1:
         raise OptionError(
@@ -190,61 +209,10 @@ def solve_batch(
             option="chunk_size",
             value=chunk_size,
         )
-    own = None
-    if client is None:
-        if address is not None:
-            client = own = connect(address)
-        else:
-            distributed = _import_distributed()
-            try:
-                client = distributed.get_client()
-            except ValueError:
-                raise InputError(
-                    "no Dask client: pass client= or address= (e.g. tcp://host:8786 or local:2)"
-                ) from None
+    own = connect(address) if client is None and address is not None else None
+    on_dask = OnDask(client if own is None else own)
     try:
-        request = request.but(target=None, q0=None, solver=spec.name)
-        return _run(client, arm, batch, seeds, request, opts, chunk, progress, t0)
+        return local_solve_batch(arm, request, 1, int(chunk), progress, on_dask)
     finally:
         if own is not None:
             close(own)
-
-
-def _run(client, arm, batch, seeds, request, opts, chunk, progress, t0) -> BatchResult:
-    solver = request.solver
-    distributed = _import_distributed()
-    n = len(batch)
-    blob = pickle.dumps(arm)
-    name = plugin_name(blob)
-    client.register_plugin(ArmOnWorker(blob, name), name=name)
-    one_seed = n > 0 and seeds.strides[0] == 0  # the same seed for every target
-    futures = {}
-    for start in range(0, n, chunk):
-        stop = min(start + chunk, n)
-        rot = None if batch.rotations is None else batch.rotations[start:stop]
-        q0 = seeds[0].copy() if one_seed else np.ascontiguousarray(seeds[start:stop])
-        f = client.submit(
-            _solve_chunk,
-            name,
-            blob,
-            batch.positions[start:stop],
-            rot,
-            q0,
-            request,
-            pure=False,
-        )
-        futures[f] = start
-    out = BatchResult.for_arm(arm, n, solver, opts)
-    bar = make_progress(progress, n, f"{arm.name}/{solver} (cluster)")
-    done = 0
-    try:
-        for f in distributed.as_completed(list(futures)):
-            part = f.result()
-            out.put(futures[f], part)
-            done += len(part)
-            bar(done, n)
-            f.release()
-    finally:
-        bar.close()
-    out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
-    return out
