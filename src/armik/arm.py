@@ -25,6 +25,7 @@ from armik.model.reduce import check_frames, check_locked, check_offset, check_p
 from armik.model.urdf import URDFInfo, read_urdf, read_urdf_string
 from armik.servo.servo import start as start_servo
 from armik.solve.batch import solve_batch
+from armik.solve.intervals import Intervals, intervals
 from armik.solve.path import solve_path
 from armik.solve.read import read, read_batch, read_path
 from armik.solve.single import routed, solve_one
@@ -442,6 +443,10 @@ class Arm:
         if type(solver) is not str:
             validate_name(solver)
         return solve_one(self.kinematics, target, q0, solver, options, True)  # type: ignore[no-any-return]
+
+    def intervals(self, target: object, over: str, *, q0: object = None) -> Intervals:
+        """Each branch's intervals of ``over`` ("swivel", "panda_joint7") within the limits."""
+        return intervals(self.kinematics, target, over, q0)
 
     def solve_batch(
         self,

@@ -164,9 +164,12 @@ def sweeps(joint: int = -1) -> list[SolverSpec]:
     return [s for s in _BY_PRIORITY if s.sweep is not None and joint in (-1, s.sweep.joint)]
 
 
-def declaring(option: str) -> list[SolverSpec]:
-    """The solvers whose ``Parameter`` the option ``option`` fixes, highest priority first."""
-    return [s for s in _BY_PRIORITY if s.parameter is not None and s.parameter.option == option]
+def declaring(option: str | None = None) -> list[SolverSpec]:
+    """The solvers whose ``Parameter`` the option ``option`` fixes (None: any option),
+    highest priority first."""
+    return [
+        s for s in _BY_PRIORITY if s.parameter is not None and option in (None, s.parameter.option)
+    ]
 
 
 def choose(
