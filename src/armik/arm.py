@@ -264,8 +264,7 @@ def _exists(path: Path) -> bool:
         return False
 
 
-def _shown(name: str) -> str:
-    """``name`` shortened for an error message (a long string is no robot name)."""
+def _shown(name: str) -> str:  # shortened for an error message: a long string is no name
     return name if len(name) <= 80 else name[:77] + "..."
 
 
@@ -392,8 +391,7 @@ class Arm:
         return self.kinematics.random_q(rng, n)
 
     def fk_batch(self, Q: object) -> np.ndarray:
-        """Tip poses ``T_base_tip`` (N, 4, 4) of joint values Q (N, dof), rad or m, by the
-        compiled forward kinematics (the same placements as ``fk``, to 1e-12)."""
+        """Tip poses (N, 4, 4) of Q (N, dof) by the compiled FK (``fk``'s, to 1e-12)."""
         return self.kinematics.fk_batch(Q)
 
     def within_limits(self, q: object, tol: float = LIMIT_TOL) -> bool:
