@@ -296,7 +296,7 @@ class Arms:
 
         reference = seed if order is None else _scatter(seed, order)  # the score's q0
         # held joints at q0's values (not the start's), a box row of every step
-        constraints = tuple(c.at(cast(ArmModel, union), reference) for c in opts.constraints)
+        constraints = tuple([c.at(cast(ArmModel, union), reference) for c in opts.constraints])
         problem = Problem(tuple(tasks), constraints, opts.budget)
         r = solve_tasks(  # the union serves as the arm (what solve_tasks reads of one)
             cast(ArmModel, union), problem, start, opts, t0,

@@ -39,9 +39,9 @@ def task_table(arm, tasks: tuple[Task, ...], ids) -> TaskTable | None:
     ``arm.model``, ``tasks.frame_ids``), or None where a task or a frame has no compiled
     form."""
     rows = [t.kernel_row() for t in tasks]
-    if any(r is None for r in rows) or any(len(f) not in (1, 2) for f in ids):
+    if any([r is None for r in rows]) or any([len(f) not in (1, 2) for f in ids]):
         return None
-    frames = tuple(dict.fromkeys(i for f in ids for i in f))
+    frames = tuple(dict.fromkeys([i for f in ids for i in f]))
     chains = _CHAINS(arm, frames)
     if chains is None:
         return None
@@ -69,7 +69,7 @@ def descend_table(
     """(q, iterations used): the compiled descent from ``q`` within ``box``."""
     ch = table.chains
     q = np.array(q, dtype=float)
-    lo, hi = (np.array(b, dtype=float) for b in box)  # writable copies: one signature
+    lo, hi = np.array(box[0], dtype=float), np.array(box[1], dtype=float)  # writable: one signature
     used, _ = descend(
         ch.packed,
         ch.offsets,

@@ -115,7 +115,7 @@ def check_said_twice(options: dict, said: dict, problem: Problem | None = None) 
 def frame_ids(arm: ArmModel, tasks: tuple[Task, ...]) -> tuple[tuple[int, ...], ...]:
     """Each task's frames (``Task.frames``) as indices of the arm's Pinocchio model (None:
     the tip); an ``armik`` error naming a frame the model does not have."""
-    return tuple(tuple(_frame_id(arm, t, f) for f in t.frames) for t in tasks)
+    return tuple([tuple([_frame_id(arm, t, f) for f in t.frames]) for t in tasks])
 
 
 def _frame_id(arm: ArmModel, task: Task, frame: str | None) -> int:
@@ -211,10 +211,10 @@ def _descend(
         tol_p, tol_r = opts.tol_position, opts.tol_orientation
         return descend_table(table, q, box, iterations, tol_p, tol_r, LAMBDA0)
     lo, hi = box
-    aims = tuple(t.shrunk(AIM) for t in tasks)
+    aims = tuple([t.shrunk(AIM) for t in tasks])
     eye = np.eye(len(q))
     placed = _placed(arm, q, ids)
-    if all(e.within for e in _measure(arm, tasks, ids, q, opts, placed)):
+    if all([e.within for e in _measure(arm, tasks, ids, q, opts, placed)]):
         return q, 0
     r, A = _stack(aims, ids, placed)
     cost = float(r @ r)
@@ -238,7 +238,7 @@ def _descend(
         if cost2 < cost:  # measured only where q moved: a rejected step leaves it as it was
             q, placed, r, A, cost = trial, placed2, r2, A2, cost2
             lam = max(lam / 3.0, 1e-12)
-            if all(e.within for e in _measure(arm, tasks, ids, q, opts, placed)):
+            if all([e.within for e in _measure(arm, tasks, ids, q, opts, placed)]):
                 return q, k + 1
         else:
             lam *= 4.0
@@ -248,7 +248,7 @@ def _descend(
 
 
 def _total(errors: list[TaskError]) -> float:
-    return sum((e.position or 0.0) + (e.orientation or 0.0) for e in errors)
+    return sum([(e.position or 0.0) + (e.orientation or 0.0) for e in errors])
 
 
 def _describe(tasks, errors: list[TaskError]) -> str:
@@ -286,14 +286,14 @@ def solve_tasks(
     reference = q.copy() if reference is None else reference
     # the constraints at this seed (a held joint's value), their box the step's rows, the
     # checks beyond the limits run on each descent's end
-    constraints = tuple(c.at(arm, q) for c in problem.constraints)
+    constraints = tuple([c.at(arm, q) for c in problem.constraints])
     box = box_of(arm, constraints)
-    checked = tuple(c for c in constraints if type(c) is not JointLimits)
+    checked = tuple([c for c in constraints if type(c) is not JointLimits])
     if centre is not None:
         errors = _measure(arm, tasks, ids, centre.q, opts)
         if (
             centre.success
-            and all(e.within for e in errors)
+            and all([e.within for e in errors])
             and satisfied(arm, _unsaid(checked, centre), centre.q)
         ):
             return dataclasses.replace(
@@ -306,7 +306,7 @@ def solve_tasks(
     q = np.clip(q, *box)
     rng = np.random.default_rng(opts.seed)
     budget = problem.budget
-    table = task_table(arm, tuple(t.shrunk(AIM) for t in tasks), ids)
+    table = task_table(arm, tuple([t.shrunk(AIM) for t in tasks]), ids)
     started = time.thread_time()
     used = restarts = 0
     best, best_errors = q, _measure(arm, tasks, ids, q, opts)
@@ -318,7 +318,7 @@ def solve_tasks(
         used += k
         errors = _measure(arm, tasks, ids, q, opts)
         # done: every task holds and every constraint (a collision check only then)
-        done = all(e.within for e in errors) and satisfied(arm, checked, q)
+        done = all([e.within for e in errors]) and satisfied(arm, checked, q)
         if done or (not best_done and _total(errors) < _total(best_errors)):
             best, best_errors, best_done = q, errors, done
         if done or budget.spent(started, used) or not budget.may_restart(restarts):
@@ -368,13 +368,13 @@ def _scored(
     left = opts.budget.time_left(started)  # inf with an iteration budget: the step cap alone
     if left <= 0.0:
         return q, errors
-    aims = tuple(t.shrunk(AIM) for t in tasks)
+    aims = tuple([t.shrunk(AIM) for t in tasks])
     moved = descend(arm, q, HeldTasks(arm, aims, ids), score, reference, left, SCORE_STEPS)
     if moved is q:
         return q, errors
     moved_errors = _measure(arm, tasks, ids, moved, opts)
     if (
-        all(e.within for e in moved_errors)
+        all([e.within for e in moved_errors])
         and arm.within_limits(moved)
         and satisfied(arm, checked, moved)
     ):
@@ -386,7 +386,7 @@ def _result(arm, tasks, q, errors, opts: Options, iterations, restarts, t0, chec
     # the descent claims nothing: the verdict's rule on its measure alone, then the
     # constraints' checks
     within = arm.within_limits(q)
-    status = status_of(Status.NOT_CONVERGED, all(e.within for e in errors) and within, within)
+    status = status_of(Status.NOT_CONVERGED, all([e.within for e in errors]) and within, within)
     positions = [e.position for e in errors if e.position is not None]
     orientations = [e.orientation for e in errors if e.orientation is not None]
     if status is Status.CONVERGED:
