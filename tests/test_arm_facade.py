@@ -19,6 +19,8 @@ PUBLIC = {
     "with_limits", "with_locked",
     # solving and collisions
     "solve", "solve_all", "solve_batch", "solve_path", "min_distance", "in_collision",
+    # a 7R arm's self-motion: each branch's intervals of its parameter
+    "intervals",
     # streaming
     "servo",
 }  # fmt: skip

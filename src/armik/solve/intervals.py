@@ -88,8 +88,8 @@ def intervals(arm: ArmModel, target: object, over: str, q0: object = None) -> In
             k += 1
         branches[label] = spans
     step = (hi - lo) / SAMPLES
-    spans = {b: tuple(s) for b, s in branches.items()}
-    return Intervals(over, spec.name, spans, lo, hi, step)
+    found_spans = {b: tuple(s) for b, s in branches.items()}
+    return Intervals(over, spec.name, found_spans, lo, hi, step)
 
 
 def _edge(admissible: Callable[[float], set[str]], label: str, out: float, inside: float) -> float:
