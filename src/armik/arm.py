@@ -24,6 +24,7 @@ from armik.model.catalogue import CATALOGUE, entry
 from armik.model.reduce import check_frames, check_locked, check_offset, check_package_dirs
 from armik.model.urdf import URDFInfo, read_urdf, read_urdf_string
 from armik.servo.servo import start as start_servo
+from armik.solutions import Solutions
 from armik.solve.batch import solve_batch
 from armik.solve.path import solve_path
 from armik.solve.read import read, read_batch, read_path
@@ -437,11 +438,13 @@ class Arm:
 
     def solve_all(
         self, target: object, *, q0: object = None, solver: str = "auto", **options: Any
-    ) -> list[IKResult]:
-        """Every distinct solution the solver finds, each verified, best first."""
+    ) -> Solutions:
+        """Every distinct solution the solver finds, each verified, best first (read as a
+        list of ``IKResult``: ``armik.solutions``)."""
         if type(solver) is not str:
             validate_name(solver)
-        return solve_one(self.kinematics, target, q0, solver, options, True)  # type: ignore[no-any-return]
+        got = solve_one(self.kinematics, target, q0, solver, options, True)
+        return got if type(got) is Solutions else Solutions(got)
 
     def solve_batch(
         self,
