@@ -49,7 +49,7 @@ from armik.solvers.answers import Answers
 from armik.solvers.claims import Claim
 from armik.targets.pose import Target, parse_target
 from armik.verify.distances import fields_apart
-from armik.verify.judged import judged_solutions
+from armik.verify.judged import Judged
 from armik.verify.measure import BatchMeasure, measures_of
 from armik.verify.region import region_error
 from armik.verify.verdict import (
@@ -169,6 +169,8 @@ class Plan:
         self.judged = None
         if judging is not None and self.apart is None and self.region is None:
             self.judged = judging(self.flat, self.fk_measured, self.tol_p, self.tol_r)
+            self.judged_results = Judged(arm, self.words, self.solver, self.tol_p, self.tol_r,
+                                       measure_rot)  # fmt: skip
 
     def _plain(self, target: object, q0: object):
         """(H, q0, xy) for the runner when both are plain in type and shape, else None; xy:
@@ -303,11 +305,7 @@ class Plan:
                 return None
             rows, verdict = got
             if verdict >= 0:
-                rows.setflags(write=False)  # the results' q are its rows
-                return judged_solutions(
-                    self.arm, rows, self.words, self.solver, self.tol_p, self.tol_r,
-                    self.measure_rot, time.perf_counter() - t0, verdict > 0,
-                )  # fmt: skip
+                return self.judged_results.solutions(rows, time.perf_counter() - t0, verdict > 0)
             got = self.answers(rows[:, :11], H)  # a row the general verdict decides
         else:
             seed = secrets.randbits(63) if seed is None else seed

@@ -10,6 +10,7 @@ reason written on its first read, as the prepared solves write theirs.
 from __future__ import annotations
 
 from collections.abc import Callable
+from functools import partial
 
 import numpy as np
 
@@ -23,36 +24,39 @@ _new = object.__new__
 _CONVERGED, _JOINT_LIMITS = Status.CONVERGED, Status.JOINT_LIMITS
 
 
-class JudgedRows:
-    """A closed form's judged ``rows`` (n, ``sixr_judged.WIDTH``, read-only) for one target,
-    and what their results share."""
+class Judged:
+    """What the judged rows of one plan's targets share (the arm, the family's words of a
+    packed row, the solver's name, the tolerances, whether the orientation is measured),
+    kept by the plan; ``solutions`` makes one target's rows its results."""
 
-    __slots__ = ("arm", "rows", "words", "solver", "tol_p", "tol_r", "rot", "time", "labels")
+    __slots__ = ("arm", "words", "solver", "tol_p", "tol_r", "rot")
 
     def __init__(
         self,
         arm: ArmModel,
-        rows: np.ndarray,
         words: Callable[[list], list],
         solver: str,
         tol_p: float,
         tol_r: float,
         rot: bool,
-        elapsed: float,
-        repeated: bool,
     ) -> None:
-        self.arm, self.rows, self.words, self.solver = arm, rows, words, solver
-        self.tol_p, self.tol_r, self.rot, self.time = tol_p, tol_r, rot, elapsed
-        # a branch label met twice: every label numbered in order (``verdict.numbered``)
-        self.labels = self._numbered() if repeated else None
+        self.arm, self.words, self.solver = arm, words, solver
+        self.tol_p, self.tol_r, self.rot = tol_p, tol_r, rot
 
-    def _numbered(self) -> list:
-        keys = self.rows[:, 6:11].tolist()
-        return numbered([label for _, _, label, _ in self.words(keys)])
+    def solutions(self, rows: np.ndarray, elapsed: float, repeated: bool) -> Solutions:
+        """The ``Solutions`` of one target's judged ``rows``, each result's ``time``
+        ``elapsed`` (s); ``repeated``: a branch label is met twice, so every label is
+        numbered in order (``verdict.numbered``)."""
+        labels = None
+        if repeated:
+            labels = numbered([said[2] for said in self.words(rows[:, 6:11].tolist())])
+        return Solutions._lazy(len(rows), partial(self._result, rows, elapsed, labels))
 
-    def result(self, i: int) -> IKResult:
+    def _result(self, rows: np.ndarray, elapsed: float, labels, i: int) -> IKResult:
         """Row ``i``'s result."""
-        row = self.rows[i]
+        if rows.flags.writeable:  # the results' q are its rows
+            rows.setflags(write=False)
+        row = rows[i]
         values = row.tolist()
         (_, text, label, singular) = self.words([values[6:11]])[0]
         pos = values[11]
@@ -69,23 +73,7 @@ class JudgedRows:
         else:  # not reached: its claim's words
             d["reason"] = text
         d["solver"], d["iterations"], d["restarts"] = self.solver, 0, 0
-        d["position_error"], d["orientation_error"], d["time"] = pos, ori, self.time
-        d["branch"] = label if self.labels is None else self.labels[i]
+        d["position_error"], d["orientation_error"], d["time"] = pos, ori, elapsed
+        d["branch"] = label if labels is None else labels[i]
         d["singular"], d["extra"] = singular, {}
         return r
-
-
-def judged_solutions(
-    arm: ArmModel,
-    rows: np.ndarray,
-    words: Callable[[list], list],
-    solver: str,
-    tol_p: float,
-    tol_r: float,
-    rot: bool,
-    elapsed: float,
-    repeated: bool,
-) -> Solutions:
-    """The ``Solutions`` of judged ``rows`` (read-only); see ``JudgedRows``."""
-    record = JudgedRows(arm, rows, words, solver, tol_p, tol_r, rot, elapsed, repeated)
-    return Solutions._lazy(len(rows), record.result)
