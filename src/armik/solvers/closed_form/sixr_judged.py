@@ -5,12 +5,13 @@ Each family's ``solve_all_into`` runs its kernel into the first 11 columns of ``
 (``sixr``'s layout, nearest q0 first), then ``judged``: each row's tip placed by the
 compiled FK of the arm's own chain (``armik.kernel.measure.fk_checks_beside``, held to
 Pinocchio's placement to 1e-12) and measured against the target into columns 11 to 13,
-the verdict's ``RULE`` (``armik.verify.verdict``) applied into column 14, and the rows put
-in the order ``solve_all`` returns them: the verified rows in the kernel's order, then the
-others by ``failure_rank``. Where the rule alone does not decide (a claimed row the
-measure refutes within the limits, an unclaimed row it verifies, a search's miss) or
-there is one row (Pinocchio measures it, as the general verdict does), nothing is
-reordered and the general verdict decides (``armik.solve.prepared``).
+the verdict's ``RULE`` (``armik.verify.verdict``) applied into column 14 (its rank among
+failures in 15 and 16), and the rows put in the order ``solve_all`` returns them: the
+verified rows in the kernel's order, then the others by ``failure_rank``. Where the rule
+alone does not decide (a claimed row the measure refutes within the limits, an unclaimed
+row it verifies, a search's miss) or there is one row (Pinocchio measures it, as the
+general verdict does), nothing is reordered and the general verdict decides
+(``armik.solve.prepared``).
 """
 
 from __future__ import annotations
@@ -24,7 +25,8 @@ from armik.status import FAILURE_RANK, Status
 
 MEASURED = 11  # columns 11-13: position error (m), orientation error (rad, NaN), > 0 within
 STATUS = 14  # the row's status code
-WIDTH = 15  # columns of the rows ``solve_all_into`` writes
+RANK, ERROR = 15, 16  # its ``failure_rank`` pair (-1 and 0 verified): the order's key
+WIDTH = 17  # columns of the rows ``solve_all_into`` writes
 
 # verdicts ``judged`` returns
 GENERAL = -1  # the general verdict decides
@@ -61,20 +63,24 @@ def judged(n, packed, kind, halton, frame, judge, H, rows):
     fk_checks_beside(packed, kind, halton, frame, H, rows, n, MEASURED)
     tol_p, tol_r = judge[0], judge[1]
     rot = int(frame[18]) & 2 != 0
-    rank, error = np.empty(n), np.empty(n)  # ``failure_rank``'s pair; rank -1: verified
+    ordered = True  # already by (rank, error): nothing to move
     for i in range(n):
         pos, ori, within = rows[i, MEASURED], rows[i, MEASURED + 1], rows[i, MEASURED + 2] > 0.0
         ok = within and pos <= tol_p and (not rot or ori <= tol_r)
         claimed = not int(rows[i, 6]) & LS
         if claimed and ok:
-            rows[i, STATUS], rank[i], error[i] = judge[2], -1.0, 0.0
-            continue
-        if ok or (claimed and within) or int(rows[i, 8]) == NOT_FOUND:
+            rows[i, STATUS], rows[i, RANK], rows[i, ERROR] = judge[2], -1.0, 0.0
+        elif ok or (claimed and within) or int(rows[i, 8]) == NOT_FOUND:
             return n, GENERAL
-        # claimed outside the limits: joint_limits; not reached: the claim (unreachable)
-        rows[i, STATUS], rank[i] = (judge[3], judge[5]) if claimed else (judge[4], judge[6])
-        error[i] = pos + (ori if rot else 0.0)
-    _order(rows, n, rank, error)
+        else:  # claimed outside the limits: joint_limits; not reached: its claim (unreachable)
+            rows[i, STATUS], rows[i, RANK] = (
+                (judge[3], judge[5]) if claimed else (judge[4], judge[6])
+            )
+            rows[i, ERROR] = pos + (ori if rot else 0.0)
+        if i > 0 and _before(rows, i, i - 1):
+            ordered = False
+    if not ordered:
+        _order(rows, n)
     seen = 0
     for i in range(n):
         bit = 1 << int(rows[i, 7])
@@ -85,7 +91,14 @@ def judged(n, packed, kind, halton, frame, judge, H, rows):
 
 
 @njit(cache=True, nogil=True)
-def _order(rows, n, rank, error):
+def _before(rows, a, b):
+    """Whether row ``a`` ranks before row ``b``: (rank, error) less."""
+    ra, rb = rows[a, RANK], rows[b, RANK]
+    return ra < rb or (ra == rb and rows[a, ERROR] < rows[b, ERROR])
+
+
+@njit(cache=True, nogil=True)
+def _order(rows, n):
     """The rows by (rank, error), ties in their order (a stable selection sort: at most 16
     rows): the verified ones (rank -1, error 0) keep the kernel's order."""
     W = rows[:n].copy()
@@ -93,13 +106,7 @@ def _order(rows, n, rank, error):
     for k in range(n):
         best = -1
         for r in range(n):
-            if taken & (1 << r):
-                continue
-            if (
-                best < 0
-                or rank[r] < rank[best]
-                or (rank[r] == rank[best] and error[r] < error[best])
-            ):
+            if not taken & (1 << r) and (best < 0 or _before(W, r, best)):
                 best = r
         taken |= 1 << best
         for c in range(rows.shape[1]):
