@@ -2,10 +2,10 @@
 
 A closed form's answers to one target are verified together in the compiled call that
 solved them (``armik.solvers.closed_form.sixr_judged``) and kept as one record of N rows;
-building N ``IKResult`` objects would cost more than solving. ``Solutions`` hands out the
-record's rows as ``IKResult`` objects, each built on its first access and kept, so a
-caller pays only for the results it reads. Every other route gives its results built
-already (``Solutions(results)``).
+building N ``IKResult`` objects costs about as much as solving. ``Solutions`` builds them
+from the record on the first access of any (all in one pass) and keeps them, so a caller
+that reads none, or only ``len``, does not pay for them. Every other route gives its
+results built already (``Solutions(results)``).
 
 It reads as the list ``solve_all`` returned before: ``len``, indexing, slicing (a list),
 iteration, ``in``, ``==`` against a list or another ``Solutions`` (the results, in
@@ -25,36 +25,30 @@ from armik.result import IKResult
 class Solutions(MutableSequence[IKResult]):
     """``solve_all``'s results, best first; see the module."""
 
-    __slots__ = ("_built", "_make")
+    __slots__ = ("_built", "_make", "_n")
 
     def __init__(self, results: Iterable[IKResult] = ()) -> None:
-        self._built: list[Any] = list(results)
-        self._make: Callable[[int], IKResult] | None = None  # builds result i
+        self._built: list[IKResult] | None = list(results)
+        self._make: Callable[[], list[IKResult]] | None = None
+        self._n = 0
 
     @classmethod
-    def _lazy(cls, n: int, make: Callable[[int], IKResult]) -> Solutions:
-        """N results, result i built by ``make(i)`` on its first access."""
+    def _lazy(cls, n: int, make: Callable[[], list[IKResult]]) -> Solutions:
+        """N results that ``make()`` builds, all at once, on the first access of any: one
+        pass over the record costs less than N passes."""
         self = _new(cls)
-        self._built = [None] * n
-        self._make = make
+        self._built, self._make, self._n = None, make, n
         return self
 
-    def _at(self, i: int) -> IKResult:
-        r = self._built[i]
-        if r is None:
-            r = self._built[i] = self._make(i)  # type: ignore[misc]
-        return r  # type: ignore[no-any-return]
-
     def _results(self) -> list[IKResult]:
-        """Every result built, as the list this holds from now on."""
-        if self._make is not None:
-            for i in range(len(self._built)):
-                self._at(i)
+        built = self._built
+        if built is None:
+            built = self._built = self._make()  # type: ignore[misc]
             self._make = None
-        return self._built
+        return built
 
     def __len__(self) -> int:
-        return len(self._built)
+        return self._n if self._built is None else len(self._built)
 
     @overload
     def __getitem__(self, index: SupportsIndex) -> IKResult: ...
@@ -63,17 +57,10 @@ class Solutions(MutableSequence[IKResult]):
     def __getitem__(self, index: slice) -> list[IKResult]: ...
 
     def __getitem__(self, index):
-        if self._make is None:
-            return self._built[index]
-        if isinstance(index, slice):
-            return [self._at(i) for i in range(*index.indices(len(self._built)))]
-        i = range(len(self._built))[index]  # negative indices, IndexError as a list's
-        return self._at(i)
+        return self._results()[index]
 
     def __iter__(self) -> Iterator[IKResult]:
-        if self._make is None:
-            return iter(self._built)
-        return (self._at(i) for i in range(len(self._built)))
+        return iter(self._results())
 
     def __setitem__(self, index, value) -> None:  # type: ignore[no-untyped-def]
         self._results()[index] = value
@@ -88,30 +75,32 @@ class Solutions(MutableSequence[IKResult]):
         self._results().sort(key=key, reverse=reverse)
 
     def copy(self) -> list[IKResult]:
-        return list(self)
+        return list(self._results())
 
     def __eq__(self, other: object) -> bool:
-        if isinstance(other, (Solutions, list)):
-            return len(self) == len(other) and all(a == b for a, b in zip(self, other))
+        if isinstance(other, Solutions):
+            return self._results() == other._results()
+        if isinstance(other, list):
+            return self._results() == other
         return NotImplemented
 
     __hash__ = None  # type: ignore[assignment]  # mutable, as a list
 
     def __add__(self, other: Iterable[IKResult]) -> list[IKResult]:
         if isinstance(other, (Solutions, list)):
-            return [*self, *other]
+            return [*self._results(), *other]
         return NotImplemented
 
     def __radd__(self, other: Iterable[IKResult]) -> list[IKResult]:
         if isinstance(other, list):
-            return [*other, *self]
+            return [*other, *self._results()]
         return NotImplemented
 
     def __repr__(self) -> str:
-        return repr(list(self))
+        return repr(self._results())
 
     def __reduce__(self) -> tuple:
-        return Solutions, (list(self),)
+        return Solutions, (self._results(),)
 
 
 _new = object.__new__

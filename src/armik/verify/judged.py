@@ -2,8 +2,8 @@
 
 The compiled call (``armik.solvers.closed_form.sixr_judged``) has measured every row by
 the compiled FK, written its status by the verdict's ``RULE`` and put the rows in their
-order; here they become ``Solutions`` whose results are built on first access, each the
-result the general verdict gives that row (tests/solve/test_prepared.py): a success's
+order; here they become ``Solutions`` whose results are built on the first access of any,
+each the result the general verdict gives that row (tests/solve/test_prepared.py): a success's
 reason written on its first read, as the prepared solves write theirs.
 """
 
@@ -47,33 +47,35 @@ class Judged:
         """The ``Solutions`` of one target's judged ``rows``, each result's ``time``
         ``elapsed`` (s); ``repeated``: a branch label is met twice, so every label is
         numbered in order (``verdict.numbered``)."""
-        labels = None
-        if repeated:
-            labels = numbered([said[2] for said in self.words(rows[:, 6:11].tolist())])
-        return Solutions._lazy(len(rows), partial(self._result, rows, elapsed, labels))
+        return Solutions._lazy(len(rows), partial(self._results, rows, elapsed, repeated))
 
-    def _result(self, rows: np.ndarray, elapsed: float, labels, i: int) -> IKResult:
-        """Row ``i``'s result."""
-        if rows.flags.writeable:  # the results' q are its rows
-            rows.setflags(write=False)
-        row = rows[i]
-        values = row.tolist()
-        (_, text, label, singular) = self.words([values[6:11]])[0]
-        pos = values[11]
-        ori = values[12] if self.rot else None
-        status = _BY_CODE[int(values[14])]
-        q = row[:6]
-        r = _new(IKResult)
-        d = r.__dict__
-        d["q"], d["success"], d["status"] = q, status is _CONVERGED, status
-        if status is _CONVERGED:
-            d["_reason"] = (success_reason, (text, None, pos, ori, self.tol_p, self.tol_r))
-        elif status is _JOINT_LIMITS:
-            d["_reason"] = (limits_reason, (self.arm, q))
-        else:  # not reached: its claim's words
-            d["reason"] = text
-        d["solver"], d["iterations"], d["restarts"] = self.solver, 0, 0
-        d["position_error"], d["orientation_error"], d["time"] = pos, ori, elapsed
-        d["branch"] = label if labels is None else labels[i]
-        d["singular"], d["extra"] = singular, {}
-        return r
+    def _results(self, rows: np.ndarray, elapsed: float, repeated: bool) -> list[IKResult]:
+        """Every row's result, in one pass over plain values."""
+        rows.setflags(write=False)  # the results' q are its rows
+        values = rows.tolist()
+        said = self.words(values)
+        if repeated:
+            labels = numbered([label for _, _, label, _ in said])
+            said = [(c, t, label, s) for (c, t, _, s), label in zip(said, labels)]
+        arm, tol_p, tol_r, rot = self.arm, self.tol_p, self.tol_r, self.rot
+        shared = {"success": True, "status": _CONVERGED, "solver": self.solver,
+                  "iterations": 0, "restarts": 0, "time": elapsed}  # fmt: skip
+        out = []
+        for q, v, (_, text, label, singular) in zip(rows[:, :6], values, said):
+            pos, status = v[11], _BY_CODE[int(v[14])]
+            ori = v[12] if rot else None
+            r = _new(IKResult)
+            d = r.__dict__
+            d.update(shared)  # set one by one: a dict of keywords costs more
+            d["q"], d["position_error"], d["orientation_error"] = q, pos, ori
+            d["branch"], d["singular"], d["extra"] = label, singular, {}
+            if status is _CONVERGED:
+                d["_reason"] = (success_reason, (text, None, pos, ori, tol_p, tol_r))
+            else:
+                d["success"], d["status"] = False, status
+                if status is _JOINT_LIMITS:
+                    d["_reason"] = (limits_reason, (arm, q))
+                else:  # not reached: its claim's words
+                    d["reason"] = text
+            out.append(r)
+        return out

@@ -6,6 +6,7 @@ solve's runner over a family's compiled kernel, and a batch's rows.
 from __future__ import annotations
 
 import math
+from functools import partial
 
 import numpy as np
 
@@ -89,7 +90,7 @@ def pose_runner(
     # ``armik.solve.prepared``'s solve_all: the rows judged, their words
     run_pose.judging = judging  # type: ignore[attr-defined]
     run_pose.answers = answers  # type: ignore[attr-defined]
-    run_pose.words = lambda rows: words_of(rows, family, closed_form)  # type: ignore[attr-defined]
+    run_pose.words = partial(words_of, family=family, closed_form=closed_form)  # type: ignore[attr-defined]
     return run_pose
 
 
@@ -126,19 +127,19 @@ def of_rows(rows: np.ndarray, family: str, closed_form: str, beyond=None) -> Ans
     )
 
 
-def words_of(keys: list, family: str, closed_form: str) -> list | None:
+def words_of(rows: list, family: str, closed_form: str) -> list | None:
     """Each packed row's (claim code, reason, branch label, singular), as ``of_rows`` gives
-    them, from its flags, branch bits, code and values (``rows[:, 6:11]`` as lists of plain
-    floats); None when a row is a search's miss (its words depend on the target's distance:
-    ``of_rows`` writes them)."""
+    them, from its flags, branch bits, code and values (columns 6 to 10 of ``rows``, lists
+    of plain floats); None when a row is a search's miss (its words depend on the target's
+    distance: ``of_rows`` writes them)."""
     known = _KNOWN[closed_form] if closed_form in _KNOWN else _know(closed_form)
-    said = [known[int(8 * key[0] + key[1])] for key in keys]
+    said = [known[int(8 * row[6] + row[7])] for row in rows]
     if None in said:
-        for k, key in enumerate(keys):
+        for k, row in enumerate(rows):
             if said[k] is None:
-                if int(key[2]) == NOT_FOUND:
+                if int(row[8]) == NOT_FOUND:
                     return None
-                said[k] = _said(key, family, None)
+                said[k] = _said(row[6:11], family, None)
     return said
 
 
