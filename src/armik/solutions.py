@@ -10,8 +10,8 @@ results built already (``Solutions(results)``).
 It reads as the list ``solve_all`` returned before: ``len``, indexing, slicing (a list),
 iteration, ``in``, ``==`` against a list or another ``Solutions`` (the results, in
 order), ``+`` with a list (a list), pickling, and the list's methods that change it
-(``append``, ``sort``, ...), after which it holds its results as a list. It is no
-``list`` subclass: ``isinstance(x, list)`` is False (``list(x)`` gives one).
+(``append``, ``sort``, ...). It is no ``list`` subclass: ``isinstance(x, list)`` is False
+(``list(x)`` gives one).
 """
 
 from __future__ import annotations
@@ -42,9 +42,8 @@ class Solutions(MutableSequence[IKResult]):
 
     def _results(self) -> list[IKResult]:
         built = self._built
-        if built is None:
+        if built is None:  # two threads at once may both build: equal results, one kept
             built = self._built = self._make()  # type: ignore[misc]
-            self._make = None
         return built
 
     def __len__(self) -> int:

@@ -66,7 +66,7 @@ class Judged:
             ori = v[12] if rot else None
             r = _new(IKResult)
             d = r.__dict__
-            d.update(shared)  # set one by one: a dict of keywords costs more
+            d.update(shared)  # what every row shares, then its own
             d["q"], d["position_error"], d["orientation_error"] = q, pos, ori
             d["branch"], d["singular"], d["extra"] = label, singular, {}
             if status is _CONVERGED:
