@@ -70,7 +70,7 @@ class Solutions(MutableSequence[IKResult]):
     def insert(self, index: int, value: IKResult) -> None:
         self._results().insert(index, value)
 
-    def sort(self, *, key: Callable[[IKResult], Any] | None = None, reverse: bool = False) -> None:
+    def sort(self, *, key: Any = None, reverse: bool = False) -> None:
         self._results().sort(key=key, reverse=reverse)
 
     def copy(self) -> list[IKResult]:
