@@ -3,7 +3,9 @@ configuration a branch (``enumerate_windings=False``), interleaved target by tar
 
 Per arm, N seeded random configurations within the limits and their FK poses as targets;
 per target, in turn (the order alternating): armik's ``arm.solve_all(T)`` (every branch,
-each verified, as ``IKResult``s) and ssik's ``Manipulator.solve(T, enumerate_windings=False)``
+each verified; the ``IKResult``s are built on first access, ``armik.solutions``), the same
+call with each result read (``[r.q for r in arm.solve_all(T) if r.success]``: every
+``IKResult`` built) and ssik's ``Manipulator.solve(T, enumerate_windings=False)``
 (every branch within the limits, its own FK closure check), each timed ``--repeats`` times,
 the median kept. ssik is given the arm as armik reads it from the URDF (its axis lines,
 ``Manipulator.from_axes``, the limits), each target's rotation turned to that model's tip,
@@ -144,11 +146,15 @@ def run_arm(name: str, n: int, seed: int, repeats: int, folder: Path) -> dict:
     if peer is not None:
         peer[0](targets[0].homogeneous)
     ours_t: list[float] = []
+    read_t: list[float] = []  # with every result read
     theirs_t: list[float] = []
     equal = false_ours = false_theirs = solutions = 0
     for i, T in enumerate(targets):
         H = T.homogeneous
-        calls = [("armik", lambda T=T: arm.solve_all(T))]
+        calls = [
+            ("armik", lambda T=T: arm.solve_all(T)),
+            ("read", lambda T=T: [r.q for r in arm.solve_all(T) if r.success]),
+        ]
         if peer is not None:
             solver, turn = peer
             Hs = H.copy()
@@ -159,7 +165,7 @@ def run_arm(name: str, n: int, seed: int, repeats: int, folder: Path) -> dict:
         outs = {}
         for who, call in calls:
             seconds, outs[who] = timed(call, repeats)
-            (ours_t if who == "armik" else theirs_t).append(seconds)
+            {"armik": ours_t, "read": read_t, "ssik": theirs_t}[who].append(seconds)
         ours = [r.q for r in outs["armik"] if r.success]
         solutions += len(ours)
         false_ours += false_solutions(arm, T, ours)
@@ -167,8 +173,8 @@ def run_arm(name: str, n: int, seed: int, repeats: int, folder: Path) -> dict:
             theirs = [np.asarray(s.q) for s in outs["ssik"]]
             false_theirs += false_solutions(arm, T, theirs)
             equal += same_set(ours, theirs)
-    return dict(name=name, ours=ours_t, theirs=theirs_t, equal=equal, false_ours=false_ours,
-                false_theirs=false_theirs, solutions=solutions, n=n,
+    return dict(name=name, ours=ours_t, read=read_t, theirs=theirs_t, equal=equal,
+                false_ours=false_ours, false_theirs=false_theirs, solutions=solutions, n=n,
                 peer=peer is not None)  # fmt: skip
 
 
@@ -182,21 +188,24 @@ def main() -> None:
     print(f"{args.n} targets an arm (seed {args.seed}), median of {args.repeats} calls each")
     print()
     print("| arm | armik solve_all median (us) | mean (us) | ssik solve median (us) "
-          "| mean (us) | median ratio | mean ratio | same set | false (armik / ssik) "
-          "| solutions |")  # fmt: skip
-    print("|---|---|---|---|---|---|---|---|---|---|")
+          "| mean (us) | median ratio | mean ratio | each result read: median (us) | ratio "
+          "| same set | false (armik / ssik) | solutions |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as folder:
         for name in args.arms:
             r = run_arm(name, args.n, args.seed, args.repeats, Path(folder))
-            ours, theirs = r["ours"], r["theirs"]
+            ours, read, theirs = r["ours"], r["read"], r["theirs"]
             row = [name, *(f"{1e6 * f(ours):.1f}" for f in (statistics.median, statistics.mean))]
             if r["peer"]:
                 row += [f"{1e6 * f(theirs):.1f}" for f in (statistics.median, statistics.mean)]
                 row += [f"{statistics.median(ours) / statistics.median(theirs):.2f}"]
                 row += [f"{statistics.mean(ours) / statistics.mean(theirs):.2f}"]
+                row += [f"{1e6 * statistics.median(read):.1f}"]
+                row += [f"{statistics.median(read) / statistics.median(theirs):.2f}"]
                 row += [f"{r['equal']}/{r['n']}", f"{r['false_ours']} / {r['false_theirs']}"]
             else:
-                row += ["", "", "", "", "", f"{r['false_ours']} / "]
+                row += ["", "", "", "", f"{1e6 * statistics.median(read):.1f}", "", "",
+                        f"{r['false_ours']} / "]  # fmt: skip
             row.append(str(r["solutions"]))
             print("| " + " | ".join(row) + " |", flush=True)
 

@@ -30,6 +30,7 @@ from armik.precompile import compile
 from armik.problem import Axis, LookAt, Pose, Position, Posture, Relative
 from armik.problem.budget import Budget
 from armik.result import IKResult
+from armik.solutions import Solutions
 from armik.solvers import solvers
 from armik.status import Status
 from armik.targets.pose import Target, parse_target
@@ -80,6 +81,7 @@ __all__ = [
     "JointError",
     "Mesh",
     "OptionError",
+    "Solutions",
     "SolverError",
     "Sphere",
     "Status",

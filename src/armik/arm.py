@@ -10,7 +10,7 @@ import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Generic, TypeVar, overload
+from typing import TYPE_CHECKING, Any, overload
 
 import numpy as np
 import pinocchio as pin
@@ -23,7 +23,9 @@ from armik.model.arm_model import ArmModel
 from armik.model.catalogue import CATALOGUE, entry
 from armik.model.reduce import check_frames, check_locked, check_offset, check_package_dirs
 from armik.model.urdf import URDFInfo, read_urdf, read_urdf_string
+from armik.of_model import OfModel
 from armik.servo.servo import start as start_servo
+from armik.solutions import Solutions
 from armik.solve.batch import solve_batch
 from armik.solve.intervals import Intervals, intervals
 from armik.solve.path import solve_path
@@ -38,8 +40,6 @@ if TYPE_CHECKING:
     from armik.constraints.collision import Pair
     from armik.result import IKResult
     from armik.solve.progress import ProgressArg
-
-T = TypeVar("T")
 
 
 @overload
@@ -317,20 +317,6 @@ class Recipe:
         return arm
 
 
-class _OfModel(Generic[T]):
-    """A read-only attribute of the arm's model, ``Arm.kinematics``, of type ``T``."""
-
-    def __set_name__(self, owner: type, name: str) -> None:
-        self.name = name
-
-    @overload
-    def __get__(self, arm: None, owner: type | None = None) -> _OfModel[T]: ...
-    @overload
-    def __get__(self, arm: Arm, owner: type | None = None) -> T: ...
-    def __get__(self, arm: Arm | None, owner: type | None = None) -> T | _OfModel[T]:
-        return self if arm is None else getattr(arm.kinematics, self.name)
-
-
 class Arm:
     """One robot arm's chain and its solvers; built by ``armik.load``.
 
@@ -347,21 +333,21 @@ class Arm:
 
     __slots__ = ("kinematics",)
 
-    name = _OfModel[str]()
-    source = _OfModel[str]()
-    dof = _OfModel[int]()
-    joint_names = _OfModel[list[str]]()
-    joint_types = _OfModel[list[str]]()
-    lower = _OfModel[np.ndarray]()
-    upper = _OfModel[np.ndarray]()
-    neutral = _OfModel[np.ndarray]()
-    middle = _OfModel[np.ndarray]()
-    base = _OfModel[str]()
-    tip = _OfModel[str]()
-    tip_reason = _OfModel[str]()
-    locked = _OfModel[Mapping[str, float]]()
-    info = _OfModel[URDFInfo]()
-    model = _OfModel[pin.Model]()
+    name = OfModel[str]()
+    source = OfModel[str]()
+    dof = OfModel[int]()
+    joint_names = OfModel[list[str]]()
+    joint_types = OfModel[list[str]]()
+    lower = OfModel[np.ndarray]()
+    upper = OfModel[np.ndarray]()
+    neutral = OfModel[np.ndarray]()
+    middle = OfModel[np.ndarray]()
+    base = OfModel[str]()
+    tip = OfModel[str]()
+    tip_reason = OfModel[str]()
+    locked = OfModel[Mapping[str, float]]()
+    info = OfModel[URDFInfo]()
+    model = OfModel[pin.Model]()
 
     def __init__(self, kinematics: ArmModel) -> None:
         self.kinematics = kinematics
@@ -436,11 +422,13 @@ class Arm:
 
     def solve_all(
         self, target: object, *, q0: object = None, solver: str = "auto", **options: Any
-    ) -> list[IKResult]:
-        """Every distinct solution the solver finds, each verified, best first."""
+    ) -> Solutions:
+        """Every distinct solution the solver finds, each verified, best first (read as a
+        list of ``IKResult``: ``armik.solutions``)."""
         if type(solver) is not str:
             validate_name(solver)
-        return solve_one(self.kinematics, target, q0, solver, options, True)  # type: ignore[no-any-return]
+        got = solve_one(self.kinematics, target, q0, solver, options, True)
+        return got if type(got) is Solutions else Solutions(got)
 
     def intervals(self, target: object, over: str, *, q0: object = None) -> Intervals:
         """Each branch's intervals of ``over`` ("swivel", "panda_joint7") within the limits."""

@@ -94,7 +94,7 @@ def test_solves_with_a_budget_equal_the_old_keywords():
     for solve, target, more in cases:
         new = solve(target, q0=q0, budget=budget, **more)
         old = solve(target, q0=q0, **said, **more)
-        new, old = (new, old) if isinstance(new, list) else ([new], [old])
+        new, old = ([new], [old]) if isinstance(new, armik.IKResult) else (new, old)
         assert [r.q.tolist() for r in new] == [r.q.tolist() for r in old]
         assert [r.reason for r in new] == [r.reason for r in old]
     poses = [arm.fk(arm.random_q(rng)) for _ in range(3)]

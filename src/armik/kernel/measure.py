@@ -172,6 +172,19 @@ def fk_checks(packed, kind, halton, frame, H_t, Q, out):
     form's packed rows too) against the 4x4 target ``H_t`` (base frame), its tip placement
     T_base_tip by the compiled FK of the chain ``chain.Flat``'s arrays, every row in one
     call; ``frame`` from ``check_frame`` with the identity as T_base_world."""
+    _checks(packed, kind, halton, frame, H_t, Q, Q.shape[0], out, 0)
+
+
+@njit(cache=True, nogil=True)
+def fk_checks_beside(packed, kind, halton, frame, H_t, rows, n, col):
+    """``fk_checks`` of the first ``n`` rows of ``rows``, each row's three values written
+    into its own columns ``col`` to ``col + 2`` (a closed form's rows measured in the
+    call that solved them: ``armik.solvers.closed_form.sixr_judged``)."""
+    _checks(packed, kind, halton, frame, H_t, rows, n, rows, col)
+
+
+@njit(cache=True, nogil=True)
+def _checks(packed, kind, halton, frame, H_t, Q, n, out, col):
     ch = Flat(packed, kind, halton)
     N = joints(ch)
     R, p, M = np.empty((3, 3)), np.empty(3), np.empty((3, 3))
@@ -179,7 +192,7 @@ def fk_checks(packed, kind, halton, frame, H_t, Q, out):
     R_t, p_t = split_pose(H_t)
     R_bw, p_bw, w, measure, lower, upper = _frame(frame)
     weighted, measure_rot = measure & 1 != 0, measure & 2 != 0
-    for i in range(Q.shape[0]):
+    for i in range(n):
         q = Q[i]
         forward(ch, q, R, p, origins, axes)
         if weighted:
@@ -197,4 +210,4 @@ def fk_checks(packed, kind, halton, frame, H_t, Q, out):
         for j in range(lower.shape[0]):
             if not (lower[j] - LIMIT_TOL <= q[j] <= upper[j] + LIMIT_TOL):
                 inside = 0.0
-        out[i, 0], out[i, 1], out[i, 2] = pos, ori, inside
+        out[i, col], out[i, col + 1], out[i, col + 2] = pos, ori, inside

@@ -49,13 +49,13 @@ from armik.solvers.answers import Answers
 from armik.solvers.claims import Claim
 from armik.targets.pose import Target, parse_target
 from armik.verify.distances import fields_apart
+from armik.verify.judged import Judged
 from armik.verify.measure import BatchMeasure, measures_of
 from armik.verify.region import region_error
 from armik.verify.verdict import (
     claimed_rows,
     claimed_verdict,
     decide,
-    every_results,
     finish,
     numbered,
     seed_distance,
@@ -119,6 +119,7 @@ class Plan:
     ) -> None:
         self.arm = arm
         self.solver = spec.name
+        self.complete = spec.complete  # its solve_all misses no solution (``SolverSpec``)
         self.position = position  # targets are positions (x, y, z), not full poses
         self.run_pose = spec.prepare_pose(arm, opts, position)
         # a runner that also takes (x, y) targets in a planar arm's plane: those too
@@ -144,9 +145,8 @@ class Plan:
         # verdict measures them (``verify.measure.measure_many``)
         self.flat = arm.kernel_chain.flat
         self.fk_measured = fk_check_frame(w, self.measured[18], arm.lower, arm.upper)
-        # a 6R closed form's packed rows, their words, their ``Answers``
+        # a 6R closed form's words of its packed rows, their ``Answers``
         # (``armik.solvers.closed_form.sixr_answers.pose_runner``)
-        self.rows = getattr(self.run_pose, "rows", None)
         self.words = getattr(self.run_pose, "words", None)
         self.answers = getattr(self.run_pose, "answers", None)
         # measured apart (weights, a region): the distances themselves too, for the result
@@ -164,6 +164,13 @@ class Plan:
         # a region (bounds, a cone): measured by ``verify.region``, as the general path does
         self.region = (opts.region_bounds, w, opts.cone) if opts.region else None
         self.tol_p, self.tol_r = opts.tol_position, opts.tol_orientation
+        # its every row solved, measured and judged in one compiled call
+        judging = getattr(self.run_pose, "judging", None)
+        self.judged = None
+        if judging is not None and self.apart is None and self.region is None:
+            self.judged = judging(self.flat, self.fk_measured, self.tol_p, self.tol_r)
+            self.judged_results = Judged(arm, self.words, self.solver, self.tol_p, self.tol_r,
+                                       measure_rot)  # fmt: skip
 
     def _plain(self, target: object, q0: object):
         """(H, q0, xy) for the runner when both are plain in type and shape, else None; xy:
@@ -292,14 +299,14 @@ class Plan:
         if plain is None:  # a region's answers: the general path measures them
             return None
         H, q0, xy = plain
-        if self.rows is not None and xy is None:  # a 6R closed form: its rows as they are
-            rows = self.rows(H, q0)
-            if rows is None:
+        if self.judged is not None and xy is None:  # a 6R closed form: judged as solved
+            got = self.judged(H, q0)
+            if got is None:
                 return None
-            found = self._every(rows, H, t0)
-            if found is not None:
-                return found
-            got = self.answers(rows, H)  # a row the general verdict decides
+            rows, verdict = got
+            if verdict >= 0:
+                return self.judged_results.solutions(rows, time.perf_counter() - t0, verdict > 0)
+            got = self.answers(rows[:, :11], H)  # a row the general verdict decides
         else:
             seed = secrets.randbits(63) if seed is None else seed
             got = (
@@ -353,32 +360,6 @@ class Plan:
         if self.apart is None:  # (a region's answers take the general path)
             return [IKResult._from_fields(fields) for fields in verified]
         return self._apart(verified, H)
-
-    def _every(self, rows: np.ndarray, H: np.ndarray, t0: float) -> list[IKResult] | None:
-        """``solve_all``'s results from a 6R closed form's packed ``rows`` (n, 11): every row
-        placed, measured and checked against the limits in one compiled call
-        (``fk_checks``), its verdict, words and result from plain values
-        (``every_results``); None
-        for one row (Pinocchio measures it, as the general verdict does) or where a row
-        needs the general verdict."""
-        n = len(rows)
-        if n < 2:
-            return None
-        said = self.words(rows[:, 6:11].tolist())
-        if said is None:
-            return None
-        measured = np.empty((n, 3))
-        packed, kind, halton = self.flat
-        fk_checks(packed, kind, halton, self.fk_measured, H, rows, measured)
-        Q = rows[:, :6].copy()
-        Q.setflags(write=False)  # the results' q are its rows
-        found = every_results(
-            self.arm, Q, said, measured.tolist(), self.tol_p, self.tol_r, self.measure_rot,
-            self.solver, t0,
-        )  # fmt: skip
-        if found is None or self.apart is None:
-            return found
-        return self._apart([r.__dict__ for r in found], H)
 
     def _measured(self, Q: np.ndarray, H: np.ndarray) -> np.ndarray:
         """Each answer's (position error, orientation error, > 0 within the limits), as the

@@ -61,8 +61,8 @@ def run(arm: ArmModel, req: Request):
             return got
     elif plan is not None:
         found = plan.solve_all(target, q0, opts, seed, t0)
-        if found is not None:
-            return _beyond_search(arm, req, found)
+        if found is not None:  # a complete solver's answers are all there are
+            return found if plan.complete else _beyond_search(arm, req, found)
     results = general(arm, target, q0, solver, with_seed(opts, seed), every, t0)
     if every:
         return _beyond_search(arm, req, results)

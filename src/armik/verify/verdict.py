@@ -27,7 +27,7 @@ from armik.status import Status
 from armik.tolerances import LIMIT_TOL
 from armik.verify.distances import batch_distances, with_distances
 from armik.verify.measure import BatchMeasure, Measure, measure, measure_batch, measure_many
-from armik.verify.verdicts import Verdicts, failure_rank
+from armik.verify.verdicts import Verdicts
 
 if TYPE_CHECKING:
     from armik.constraints.base import Constraint
@@ -319,83 +319,6 @@ def claimed_rows(
                        tol_p, tol_r, why, False)  # fmt: skip
         out.append(row)
     return out
-
-
-def every_results(
-    arm: ArmModel,
-    Q: np.ndarray,
-    said: list,
-    measured: list,
-    tol_p: float,
-    tol_r: float,
-    rot: bool,
-    solver: str,
-    t0: float,
-) -> list[IKResult] | None:
-    """``solve_all``'s results from a closed form's rows ``Q`` (read-only; the results' q
-    are its rows), each row's words ``said`` (claim code, reason, branch label, singular)
-    and ``measured`` (position error, orientation error, > 0 within the limits; plain
-    floats), by the ``RULE``, as ``decide`` and ``ranked`` give them: the verified rows in
-    the closed form's order (nearest q0 first), then the others by ``failure_rank``; a
-    success's words written on first read; ``time`` since ``t0``. None where a row needs
-    the general verdict: a claimed row the measure refutes within the limits, an unclaimed
-    row it verifies. One loop over plain values, each result built once."""
-    verified: list[IKResult] = []
-    failed: list[tuple] = []
-    converged, new, tolerated = _CONVERGED, _new, _success_reason
-    ok_fields = {"success": True, "status": _SUCCESS, "iterations": 0, "restarts": 0,
-                 "solver": solver}  # fmt: skip
-    for q, (pos, ori, inside), (code, text, label, singular) in zip(Q, measured, said):
-        if not rot:
-            ori = None
-        within = inside > 0.0
-        ok = within and pos <= tol_p and (ori is None or ori <= tol_r)
-        r = new(IKResult)
-        d = r.__dict__
-        if code == converged and ok:
-            d.update(ok_fields)
-            d["q"], d["position_error"], d["orientation_error"] = q, pos, ori
-            d["branch"], d["singular"], d["extra"] = label, singular, {}
-            d["_reason"] = (tolerated, (text, pos, ori, tol_p, tol_r))
-            verified.append(r)
-            continue
-        if code == converged:
-            if within:  # claimed, refuted within the limits: the general verdict's words
-                return None
-            status = _OUTSIDE
-            d["_reason"] = (limits_reason, (arm, q))
-        elif ok:  # a row not reached, verified all the same: ranked by the general path
-            return None
-        else:  # a row not reached: its claim stands
-            status = Status.from_code(code)
-            d["reason"] = text
-        d.update(q=q, success=False, status=status, iterations=0, position_error=pos,
-                 orientation_error=ori, branch=label, singular=singular, restarts=0,
-                 solver=solver, extra={})  # fmt: skip
-        failed.append((failure_rank(status, pos, ori), r))
-    if failed:
-        failed.sort(key=_first)
-        verified += [r for _, r in failed]
-    labels = [r.branch for r in verified]
-    if len(set(labels)) != len(labels):
-        for r, label in zip(verified, numbered(labels)):
-            r.__dict__["branch"] = label
-    elapsed = time.perf_counter() - t0
-    for r in verified:
-        r.__dict__["time"] = elapsed
-    return verified
-
-
-_new = object.__new__
-
-
-def _first(pair: tuple) -> tuple:
-    return pair[0]
-
-
-def _success_reason(claim: str, pos: float, ori, tol_p: float, tol_r: float) -> str:
-    """``success_reason`` of a claim's words ``claim`` (a closed form's row)."""
-    return reasons.verified(claim, reasons.measured(pos, ori, tol_p, tol_r))
 
 
 def _claimed(arm, q, its, rs, branch, singular, pos, ori, inside, tol_p, tol_r, why, region):

@@ -2,7 +2,8 @@
 (the closed forms and the one-dimensional searches): ``applies``, ``run``, ``run_batch``,
 ``prepare_pose`` and its registration.
 
-Each family keeps its own compiled ``kernel``, ``solve_into`` and ``kernel_many``: numba
+Each family keeps its own compiled ``kernel``, ``solve_into``, ``solve_all_into`` and
+``kernel_many``: numba
 caches no function that receives another as an argument, so the entries cannot be shared,
 only the Python around them. The kernels take the same arguments: ``kernel(h, p, R_tip0,
 R, pos, q0, lower, upper, variant, labelled, out)`` (``variant``: the flat chain's variant,
@@ -37,10 +38,12 @@ class Family:
         solve_into: Callable,
         kernel_many: Callable,
         rows: int = 8,
+        solve_all_into: Callable | None = None,
     ) -> None:
         self.family, self.classify, self.closed_form = family, classify, closed_form
         self.kernel, self.solve_into, self.kernel_many = kernel, solve_into, kernel_many
         self.rows = rows
+        self.solve_all_into = solve_all_into  # every row solved, measured and judged
 
     def applies(
         self, arm: ArmModel, target: Target | None = None, opts: Options | None = None
@@ -74,8 +77,9 @@ class Family:
     def prepare_pose(self, arm: ArmModel, opts: Options, position_only: bool):
         # position_only is always False: ``applies`` refuses position targets
         return sixr_answers.pose_runner(
-            arm, self.family, self.classify, self.solve_into, self.closed_form, self.rows
-        )
+            arm, self.family, self.classify, self.solve_into, self.closed_form, self.rows,
+            self.solve_all_into,
+        )  # fmt: skip
 
     def register(self, name: str, priority: int, summary: str, complete: bool = True) -> SolverSpec:
         """Register the family as solver ``name`` (``complete``: see ``SolverSpec``)."""

@@ -42,6 +42,7 @@ from armik.solvers.closed_form.search_1d import (
     update,
 )
 from armik.solvers.closed_form.sixr import LS, NOT_FOUND
+from armik.solvers.closed_form.sixr_judged import judged
 from armik.solvers.closed_form.subproblems import mat, mmt, mv, norm, sub, vec
 
 OVER_Q1, OVER_Q4 = 0, 1  # the family codes, as ``sixr.flat`` writes them
@@ -396,6 +397,14 @@ def solve_into(chain, H, q0, every, out):
         h, p, R_tip0, mat(H), sixr.column(H), q0, lower, upper, family, labelled, out
     )
     return sixr.hand_over(n, reached, labelled, h, p, out)
+
+
+@njit(cache=True, nogil=True)
+def solve_all_into(chain, packed, kind, halton, frame, judge, H, q0, rows):
+    """``solve_into``'s every row for ``H`` in ``rows`` (16, ``sixr_judged.WIDTH``),
+    measured and judged in the same call: ``sixr_judged.judged``'s (n, verdict)."""
+    n, _ = solve_into(chain, H, q0, True, rows)
+    return judged(n, packed, kind, halton, frame, judge, H, rows)
 
 
 @njit(cache=True, nogil=True)

@@ -6,6 +6,7 @@ solve's runner over a family's compiled kernel, and a batch's rows.
 from __future__ import annotations
 
 import math
+from functools import partial
 
 import numpy as np
 
@@ -16,6 +17,7 @@ from armik.model.arm_model import ArmModel
 from armik.solvers.answers import Answers, converged_claims, zero_counts
 from armik.solvers.claims import claim
 from armik.solvers.closed_form.sixr import LABELS, LS, NOT_FOUND, SINGULAR, flat, reason
+from armik.solvers.closed_form.sixr_judged import WIDTH, judge_array
 from armik.status import Status
 
 
@@ -28,14 +30,23 @@ def claim_reason(closed_form: str, singular: bool) -> str:
     return closed_form
 
 
-def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form, size: int = 8):
+def pose_runner(
+    arm: ArmModel,
+    family: str,
+    classify,
+    solve_into,
+    closed_form,
+    size: int = 8,
+    solve_all_into=None,
+):
     """``run_pose(H, q0, seed, every=False)`` for ``armik.solve.prepared`` (see
     ``armik.solvers.numeric.driver.pose_runner``): ``solve_into(flat, H, q0, every, out)``
     is the family's compiled kernel for one plain 4x4 pose (n = -1 when the pose or q0 is
     not plain; see ``hand_over``). When the nearest row is reached within the limits, the
     answer ``solve`` verifies first, a ``Claim``; else every row's ``Answers``, as with
     ``every`` (``solve_all``, and ``solve`` when Pinocchio refuses that first answer; q
-    read-only, nearest first)."""
+    read-only, nearest first). ``solve_all_into``: the family's kernel with every row
+    measured and judged in the same call (``sixr_judged``), for ``run_pose.judging``."""
     chain = flat(arm, family, classify)
     why = ((closed_form, False), (closed_form, True))  # claim_reason's arguments
     empty = np.empty
@@ -51,23 +62,35 @@ def pose_runner(arm: ArmModel, family: str, classify, solve_into, closed_form, s
             return claim((out[0, :6], 0, 0, label, singular, claim_reason, why[singular]))
         return answers(out[:n], H)
 
-    def rows(H: np.ndarray, q0: np.ndarray) -> np.ndarray | None:
-        """Every row the kernel packs for ``H`` (n, 11), nearest first, writable; None when
-        the pose or q0 is not plain."""
-        out = empty((size, 11))
-        n, _ = solve_into(chain, H, q0, True, out)
-        return None if n < 0 else out[:n]
-
     def answers(rows: np.ndarray, H: np.ndarray) -> Answers:
         """``rows`` as ``Answers`` (q read-only: solve_all's results' q are its rows)."""
         got = of_rows(rows, family, closed_form, lambda: beyond_reach(arm, H[:3, 3]))
         got.q.setflags(write=False)
         return got
 
-    # ``armik.solve.prepared``'s solve_all reads the rows themselves and their words
-    run_pose.rows = rows  # type: ignore[attr-defined]
+    def judging(flat_chain, frame: np.ndarray, tol_p: float, tol_r: float):
+        """``judged(H, q0)``: every row for ``H`` solved, measured against the arm's
+        compiled chain ``flat_chain`` (``kernel.chain.Flat``) as ``frame`` says
+        (``kernel.measure.fk_check_frame``) and judged with these tolerances (m, rad) in
+        one compiled call (``sixr_judged.judged``): (rows (n, ``sixr_judged.WIDTH``),
+        verdict: < 0 the general verdict decides, else whether a branch label repeats),
+        None when the pose or q0 is not plain. None without such a call."""
+        if solve_all_into is None:
+            return None
+        packed, kind, halton = flat_chain
+        judge = judge_array(tol_p, tol_r)
+
+        def judged(H: np.ndarray, q0: np.ndarray):
+            out = empty((size, WIDTH))
+            n, verdict = solve_all_into(chain, packed, kind, halton, frame, judge, H, q0, out)
+            return None if n < 0 else (out[:n], verdict)
+
+        return judged
+
+    # ``armik.solve.prepared``'s solve_all: the rows judged, their words
+    run_pose.judging = judging  # type: ignore[attr-defined]
     run_pose.answers = answers  # type: ignore[attr-defined]
-    run_pose.words = lambda rows: words_of(rows, family, closed_form)  # type: ignore[attr-defined]
+    run_pose.words = partial(words_of, family=family, closed_form=closed_form)  # type: ignore[attr-defined]
     return run_pose
 
 
@@ -104,19 +127,19 @@ def of_rows(rows: np.ndarray, family: str, closed_form: str, beyond=None) -> Ans
     )
 
 
-def words_of(keys: list, family: str, closed_form: str) -> list | None:
+def words_of(rows: list, family: str, closed_form: str) -> list | None:
     """Each packed row's (claim code, reason, branch label, singular), as ``of_rows`` gives
-    them, from its flags, branch bits, code and values (``rows[:, 6:11]`` as lists of plain
-    floats); None when a row is a search's miss (its words depend on the target's distance:
-    ``of_rows`` writes them)."""
+    them, from its flags, branch bits, code and values (columns 6 to 10 of ``rows``, lists
+    of plain floats); None when a row is a search's miss (its words depend on the target's
+    distance: ``of_rows`` writes them)."""
     known = _KNOWN[closed_form] if closed_form in _KNOWN else _know(closed_form)
-    said = [known[int(8 * key[0] + key[1])] for key in keys]
+    said = [known[int(8 * row[6] + row[7])] for row in rows]
     if None in said:
-        for k, key in enumerate(keys):
+        for k, row in enumerate(rows):
             if said[k] is None:
-                if int(key[2]) == NOT_FOUND:
+                if int(row[8]) == NOT_FOUND:
                     return None
-                said[k] = _said(key, family, None)
+                said[k] = _said(row[6:11], family, None)
     return said
 
 

@@ -31,6 +31,7 @@ from armik.model.geometry import Axes, angle_between, axis_lines, fmt, meeting_p
 from armik.solvers.closed_form import sixr
 from armik.solvers.closed_form.family import Family
 from armik.solvers.closed_form.sixr import LS, SHOULDER_OFFSET, SINGULAR, WRIST_ORIENTATION
+from armik.solvers.closed_form.sixr_judged import judged
 from armik.solvers.closed_form.subproblems import (
     add,
     dot,
@@ -227,6 +228,14 @@ def solve_into(chain, H, q0, every, out):
 
 
 @njit(cache=True, nogil=True)
+def solve_all_into(chain, packed, kind, halton, frame, judge, H, q0, rows):
+    """``solve_into``'s every row for ``H`` in ``rows`` (8, ``sixr_judged.WIDTH``),
+    measured and judged in the same call: ``sixr_judged.judged``'s (n, verdict)."""
+    n, _ = solve_into(chain, H, q0, True, rows)
+    return judged(n, packed, kind, halton, frame, judge, H, rows)
+
+
+@njit(cache=True, nogil=True)
 def kernel_many(chain, Rs, ps, q0s):
     """``kernel`` for N targets: the row nearest q0 of each, and its claim code."""
     h, p, R_tip0, lower, upper, variant = sixr.unflatten(chain)
@@ -248,6 +257,6 @@ def _classify(arm: ArmModel):
     return classify(arm)
 
 
-SPEC = Family(FAMILY, _classify, CLOSED_FORM, kernel, solve_into, kernel_many).register(
-    "spherical", 90, "closed form for 6R arms with a spherical wrist: up to 8 solutions"
-)
+SPEC = Family(
+    FAMILY, _classify, CLOSED_FORM, kernel, solve_into, kernel_many, solve_all_into=solve_all_into
+).register("spherical", 90, "closed form for 6R arms with a spherical wrist: up to 8 solutions")

@@ -49,5 +49,5 @@ def _classify(arm: ArmModel):
 
 SPEC = Family(
     FAMILY, _classify, CLOSED_FORM, search_zeros.kernel, search_zeros.solve_into,
-    search_zeros.kernel_many, search_zeros.ZEROS,
+    search_zeros.kernel_many, search_zeros.ZEROS, search_zeros.solve_all_into,
 ).register(FAMILY, PRIORITY, SUMMARY, complete=False)  # fmt: skip

@@ -367,7 +367,7 @@ def cmd_solve(args: argparse.Namespace) -> int:
     arm = load_arm(args)
     try:
         if args.all:
-            results = arm.solve_all(target, q0=args.q0, solver=args.solver, **options)
+            results = list(arm.solve_all(target, q0=args.q0, solver=args.solver, **options))
         else:
             results = [arm.solve(target, q0=args.q0, solver=args.solver, **options)]
     except OptionError as exc:
