@@ -1,0 +1,143 @@
+"""Every solution of a 6R arm no Pieper family fits, by elimination: the classifier (which
+cut of the loop to eliminate on) and the solver's registration. The algebra is in
+``elimination``.
+
+``classify`` tries each of the ``elimination.CUTS`` cuts on ``TRIALS`` targets made from
+seeded random configurations and keeps the one, of those that find every trial's
+configuration, whose matrices are furthest from singular (a cut through parallel or
+meeting axes can make M(x3) singular for every x3: the JACO 2's axes 2 and 3 rule out
+most). ``run`` hands a target to the search its arm had before (``SEARCHES``: the first
+that applies) when the elimination is not sure of it: a leading matrix no phase makes
+regular, eliminated products nearly dependent, a real root that gave no new answer, or no
+answer at all (the search's words then say why, as before).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from armik.model.arm_model import ArmModel
+from armik.model.geometry import Axes, axis_lines
+from armik.options import Options
+from armik.solvers.answers import Answers
+from armik.solvers.closed_form import elimination, elimination_roots, sixr, sixr_answers
+from armik.solvers.registry import SolverSpec, get, register
+from armik.targets.pose import Target
+
+FAMILY = "elimination_6r"
+CLOSED_FORM = "elimination (Raghavan-Roth): every real root polished by Newton steps"
+PRIORITY = 65  # above the searches it stands in front of (60, 55), below the Pieper families
+SEARCHES = ("two_parallel", "two_intersecting", "general_6r")
+TRIALS = 8  # seeded targets a cut must solve completely to be chosen
+RANK = 1e-8  # the eliminated products' matrix: smallest |R_kk| over largest, at least
+SEED = 53
+
+
+class Plan:
+    """An arm's chain and cut: the chain for the Newton steps (``sixr.Chain6R``), the cut,
+    the arm's joint at each place of its loop and the loop's sense."""
+
+    def __init__(self, chain: sixr.Chain6R, cut: int, text: str) -> None:
+        self.chain, self.cut, self.description = chain, cut, text
+        self.places, self.sign = elimination.cut_joints(cut)
+
+
+def _rows(chain, cut: int, R, pos, q0, lower, upper, out) -> tuple[int, bool, float]:
+    """(n, sure, regular): the elimination's rows for one target in ``out`` (n = 0 when not
+    sure before its eigenvalues); regular: how far its matrices are from singular."""
+    K, state = np.empty((24, 24)), np.empty(elimination.SIZE)
+    cut = np.int64(cut)
+    pivot, rank = elimination.companion(chain.h, chain.p, chain.R_tip0, R, pos, cut, K, state)
+    regular = min(pivot, rank)
+    if pivot < elimination.REGULAR or rank < RANK:
+        return 0, False, regular
+    roots = np.linalg.eigvals(K)
+    if not np.all(np.isfinite(roots)):
+        return 0, False, regular
+    places, sign = elimination.cut_joints(int(cut))
+    n, sure = elimination_roots.solutions(
+        chain.h, chain.p, chain.R_tip0, R, pos, state, roots, places, np.int64(sign), q0,
+        lower, upper, out,
+    )  # fmt: skip
+    return n, sure, regular
+
+
+def _score(chain: sixr.Chain6R, cut: int, trials: list) -> float:
+    """How far from singular cut ``cut`` stays over the trial targets (0: not usable)."""
+    out = np.empty((elimination_roots.ROWS, 11))
+    wide = np.full(6, 10.0)
+    worst = np.inf
+    for q, R, pos in trials:
+        n, sure, regular = _rows(chain, cut, R, pos, np.zeros(6), -wide, wide, out)
+        d = np.abs(np.angle(np.exp(1j * (out[:n, :6] - q))))
+        if not sure or n == 0 or not np.any(np.all(d < elimination_roots.SAME, axis=1)):
+            return 0.0
+        worst = min(worst, regular)
+    return float(worst)
+
+
+def classify(arm: ArmModel, ax: Axes | None = None) -> Plan | str:
+    """The arm's plan (its chain and the best cut), or why the elimination does not apply."""
+    why = sixr.not_6r(arm)
+    if why:
+        return why
+    ax = ax or axis_lines(arm)
+    chain = sixr.chain_6r(FAMILY, "", ax, [ax.points[i] for i in range(6)], "")
+    rng = np.random.default_rng(SEED)
+    trials = []
+    for _ in range(TRIALS):
+        q = rng.uniform(-np.pi, np.pi, 6)
+        R, pos = sixr.forward(chain.h, chain.p, chain.R_tip0, q)
+        trials.append((q, np.array(R).reshape(3, 3), np.array(pos)))
+    scores = [_score(chain, cut, trials) for cut in range(elimination.CUTS)]
+    best = int(np.argmax(scores))
+    if scores[best] <= 0.0:
+        return (
+            "no cut of the loop eliminates regularly on this arm (every one left M(x3) "
+            f"singular or missed a solution on {TRIALS} trial targets)"
+        )
+    back = " backwards" if best >= 6 else ""
+    text = f"elimination on the loop cut at joint {best % 6 + 1}{back}"
+    return Plan(chain, best, text)
+
+
+def _classify(arm: ArmModel):
+    return classify(arm)
+
+
+def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
+    return sixr.applies(arm, target, opts, FAMILY, _classify)
+
+
+def run(
+    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+) -> Answers:
+    plan = sixr.geometry(arm, FAMILY, _classify)
+    R, pos = sixr.pose_arrays(target)
+    out = np.empty((elimination_roots.ROWS, 11))
+    # fresh writable copies: read-only arrays (a frozen target, a result's q) are another
+    # numba type and would compile the kernels again
+    R, pos, q0 = np.array(R), np.array(pos), np.array(q0, dtype=float)
+    lower, upper = np.array(arm.lower, dtype=float), np.array(arm.upper, dtype=float)
+    n, sure, _ = _rows(plan.chain, plan.cut, R, pos, q0, lower, upper, out)
+    if sure and n > 0:
+        return sixr_answers.of_rows(out[:n], FAMILY, CLOSED_FORM)
+    for name in SEARCHES:  # not sure, or nothing found: the search the arm had before
+        spec = get(name)
+        if spec.why_not(arm, target, opts) is None:
+            return spec.run(arm, target, q0, opts, all_solutions)
+    return get("general_6r").run(arm, target, q0, opts, all_solutions)
+
+
+SPEC = register(
+    SolverSpec(
+        name=FAMILY,
+        kind="analytic",
+        enforces_limits=True,
+        priority=PRIORITY,
+        why_not=applies,
+        run=run,
+        summary="6R arms no Pieper family fits: Raghavan-Roth elimination, up to 16 solutions",
+        complete=False,
+    )
+)
