@@ -369,7 +369,7 @@ def companion(h, p, R_tip0, R, pos, cut, K, state):
             v = P[c, n]
             for k in range(c + 1, 8):
                 v -= Q[c, k] * state[at + 14 * k + n]
-            state[at + 14 * c + n] = v / Q[c, c]
+            state[at + 14 * c + n] = v / Q[c, c] if Q[c, c] != 0.0 else 0.0  # rank: the caller
     at += 8 * 14
     for a in range(3):
         for r in range(12):

@@ -2,9 +2,9 @@
 cut of the loop to eliminate on) and the solver's registration. The algebra is in
 ``elimination``.
 
-``classify`` tries each of the ``elimination.CUTS`` cuts on ``TRIALS`` targets made from
-seeded random configurations and keeps the one, of those that find every trial's
-configuration, whose matrices are furthest from singular (a cut through parallel or
+``classify`` tries the ``elimination.CUTS`` cuts on ``TRIALS`` targets made from seeded
+random configurations and keeps the first ``GOOD`` one, else the one, of those that find
+every trial's configuration, whose matrices are furthest from singular (a cut through parallel or
 meeting axes can make M(x3) singular for every x3: the JACO 2's axes 2 and 3 rule out
 most). ``run`` hands a target to the search its arm had before (``SEARCHES``: the first
 that applies) when the elimination is not sure of it: a leading matrix no phase makes
@@ -20,7 +20,14 @@ from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, axis_lines
 from armik.options import Options
 from armik.solvers.answers import Answers
-from armik.solvers.closed_form import elimination, elimination_roots, sixr, sixr_answers
+from armik.solvers.closed_form import (
+    elimination,
+    elimination_roots,
+    sixr,
+    sixr_answers,
+    spherical_general,
+    three_parallel_general,
+)
 from armik.solvers.registry import SolverSpec, get, register
 from armik.targets.pose import Target
 
@@ -29,6 +36,7 @@ CLOSED_FORM = "elimination (Raghavan-Roth): every real root polished by Newton s
 PRIORITY = 65  # above the searches it stands in front of (60, 55), below the Pieper families
 SEARCHES = ("two_parallel", "two_intersecting", "general_6r")
 TRIALS = 8  # seeded targets a cut must solve completely to be chosen
+GOOD = 1e-3  # a cut this far from singular on every trial is taken at once
 RANK = 1e-8  # the eliminated products' matrix: smallest |R_kk| over largest, at least
 SEED = 53
 
@@ -82,6 +90,9 @@ def classify(arm: ArmModel, ax: Axes | None = None) -> Plan | str:
     if why:
         return why
     ax = ax or axis_lines(arm)
+    for family in (spherical_general, three_parallel_general):  # Pieper's: in closed form
+        if not isinstance(family.classify(arm, ax), str):
+            return f"{family.FAMILY} solves this arm in closed form"
     chain = sixr.chain_6r(FAMILY, "", ax, [ax.points[i] for i in range(6)], "")
     rng = np.random.default_rng(SEED)
     trials = []
@@ -89,7 +100,11 @@ def classify(arm: ArmModel, ax: Axes | None = None) -> Plan | str:
         q = rng.uniform(-np.pi, np.pi, 6)
         R, pos = sixr.forward(chain.h, chain.p, chain.R_tip0, q)
         trials.append((q, np.array(R).reshape(3, 3), np.array(pos)))
-    scores = [_score(chain, cut, trials) for cut in range(elimination.CUTS)]
+    scores = []
+    for cut in range(elimination.CUTS):
+        scores.append(_score(chain, cut, trials))
+        if scores[-1] >= GOOD:  # far enough from singular: the others are not tried
+            break
     best = int(np.argmax(scores))
     if scores[best] <= 0.0:
         return (

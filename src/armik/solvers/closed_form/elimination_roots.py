@@ -47,6 +47,8 @@ def _back(state, x, Mx, piv, u, z, q):
         big = 0.0
         for r in range(12):
             big = max(big, abs(u[r]))
+        if not big > 0.0 or not math.isfinite(big):
+            break
         for r in range(12):
             z[r] = u[r] / big
     # u[3 i + j] = x4^i x5^j: q4 from the column, q5 from the row of largest entries
