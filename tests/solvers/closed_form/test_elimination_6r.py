@@ -144,3 +144,19 @@ def test_out_of_reach_is_no_success(arms):
     T = pin.SE3(np.eye(3), np.array([10.0, 0.0, 0.0]))
     results = arms[0].solve_all(T)
     assert results and not any(r.success for r in results)
+
+
+@pytest.mark.parametrize("config", ["449", "433", "265", "164"])
+def test_targets_next_to_folds_keep_their_configuration(config):
+    """The two_parallel search's hardest targets (two solutions about to merge): solve_all
+    (the elimination, the search behind it where it is unsure) finds the configuration."""
+    from .test_search_1d import NEAR_FOLDS
+
+    arm = armik.load_string(NEAR_FOLDS["urdf"], base="world", tip="tool")
+    q = np.array(NEAR_FOLDS["configurations"][config])
+    T = arm.fk(q)
+    results = arm.solve_all(T)
+    assert results[0].solver == "elimination_6r"
+    ok = [r.q for r in results if r.success]
+    assert _within(q, ok)
+    assert all(_pose_error(arm, a, T) < 1e-9 for a in ok)
