@@ -14,6 +14,8 @@ answer at all (the search's words then say why, as before).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from armik.model.arm_model import ArmModel
@@ -41,30 +43,37 @@ RANK = 1e-8  # the eliminated products' matrix: smallest |R_kk| over largest, at
 SEED = 53
 
 
+@dataclass(frozen=True)
 class Plan:
-    """An arm's chain and cut: the chain for the Newton steps (``sixr.Chain6R``), the cut,
-    the arm's joint at each place of its loop and the loop's sense."""
+    """An arm's elimination: its chain (``sixr.Chain6R``, for the Newton steps too), the cut,
+    the arm's joint at each place of the cut's loop and the loop's sense (+1 or -1)."""
 
-    def __init__(self, chain: sixr.Chain6R, cut: int, text: str) -> None:
-        self.chain, self.cut, self.description = chain, cut, text
-        self.places, self.sign = elimination.cut_joints(cut)
+    chain: sixr.Chain6R
+    cut: np.int64
+    places: np.ndarray
+    sign: np.int64
+    description: str
 
 
-def _rows(chain, cut: int, R, pos, q0, lower, upper, out) -> tuple[int, bool, float]:
+def plan_of(chain: sixr.Chain6R, cut: int, text: str = "") -> Plan:
+    places, sign = elimination.cut_joints(cut)
+    return Plan(chain, np.int64(cut), places, np.int64(sign), text)
+
+
+def _rows(plan: Plan, R, pos, q0, lower, upper, out) -> tuple[int, bool, float]:
     """(n, sure, regular): the elimination's rows for one target in ``out`` (n = 0 when not
     sure before its eigenvalues); regular: how far its matrices are from singular."""
     K, state = np.empty((24, 24)), np.empty(elimination.SIZE)
-    cut = np.int64(cut)
-    pivot, rank = elimination.companion(chain.h, chain.p, chain.R_tip0, R, pos, cut, K, state)
+    chain = plan.chain
+    pivot, rank = elimination.companion(chain.h, chain.p, chain.R_tip0, R, pos, plan.cut, K, state)
     regular = min(pivot, rank)
     if pivot < elimination.REGULAR or rank < RANK:
         return 0, False, regular
     roots = np.linalg.eigvals(K)
     if not np.all(np.isfinite(roots)):
         return 0, False, regular
-    places, sign = elimination.cut_joints(int(cut))
     n, sure = elimination_roots.solutions(
-        chain.h, chain.p, chain.R_tip0, R, pos, state, roots, places, np.int64(sign), q0,
+        chain.h, chain.p, chain.R_tip0, R, pos, state, roots, plan.places, plan.sign, q0,
         lower, upper, out,
     )  # fmt: skip
     return n, sure, regular
@@ -75,8 +84,9 @@ def _score(chain: sixr.Chain6R, cut: int, trials: list) -> float:
     out = np.empty((elimination_roots.ROWS, 11))
     wide = np.full(6, 10.0)
     worst = np.inf
+    plan = plan_of(chain, cut)
     for q, R, pos in trials:
-        n, sure, regular = _rows(chain, cut, R, pos, np.zeros(6), -wide, wide, out)
+        n, sure, regular = _rows(plan, R, pos, np.zeros(6), -wide, wide, out)
         d = np.abs(np.angle(np.exp(1j * (out[:n, :6] - q))))
         if not sure or n == 0 or not np.any(np.all(d < elimination_roots.SAME, axis=1)):
             return 0.0
@@ -113,7 +123,7 @@ def classify(arm: ArmModel, ax: Axes | None = None) -> Plan | str:
         )
     back = " backwards" if best >= 6 else ""
     text = f"elimination on the loop cut at joint {best % 6 + 1}{back}"
-    return Plan(chain, best, text)
+    return plan_of(chain, best, text)
 
 
 def _classify(arm: ArmModel):
@@ -134,7 +144,7 @@ def run(
     # numba type and would compile the kernels again
     R, pos, q0 = np.array(R), np.array(pos), np.array(q0, dtype=float)
     lower, upper = np.array(arm.lower, dtype=float), np.array(arm.upper, dtype=float)
-    n, sure, _ = _rows(plan.chain, plan.cut, R, pos, q0, lower, upper, out)
+    n, sure, _ = _rows(plan, R, pos, q0, lower, upper, out)
     if sure and n > 0:
         return sixr_answers.of_rows(out[:n], FAMILY, CLOSED_FORM)
     for name in SEARCHES:  # not sure, or nothing found: the search the arm had before
