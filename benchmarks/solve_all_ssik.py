@@ -51,7 +51,7 @@ from srs_ssik import timed  # the median of repeated calls, as the SRS benchmark
 import armik
 from armik.model.geometry import axis_lines
 
-ARMS = ("ur5", "ur10", "abb_irb120", "kuka_kr6_r900", *ssik_prebuilt.ARTIFACTS)
+ARMS = ("ur5", "ur10", "abb_irb120", "kuka_kr6_r900", "kinova_jaco2", "ufactory_xarm6")
 SAME = 1e-6  # rad: one joint of two solutions of one set
 FALSE = 1e-9  # m and rad: an answer further from its target is a false solution
 
@@ -190,7 +190,9 @@ def run_arm(name: str, n: int, seed: int, repeats: int, folder: Path) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("-n", type=int, default=200, help="targets an arm (200)")
-    parser.add_argument("--arms", nargs="+", default=list(ARMS), choices=ARMS)
+    parser.add_argument(
+        "--arms", nargs="+", default=list(ARMS), choices=(*ARMS, *ssik_prebuilt.ARTIFACTS)
+    )
     parser.add_argument("--seed", type=int, default=53)
     parser.add_argument("--repeats", type=int, default=5, help="calls a target, median kept")
     args = parser.parse_args()

@@ -20,6 +20,14 @@ import pinocchio as pin
 ARTIFACTS = {
     "kinova_jaco2": "kinova.jaco2",  # Kinova JACO 2 (j2n6s200): a 60-degree wrist
     "ufactory_xarm6": "ufactory.xarm6",  # UFactory xArm6: joint 6 offset from joint 5
+    # more non-Pieper arms, for the solution sets (--arms)
+    "fanuc_crx10ia": "fanuc.crx10ia",
+    "agilex_piper": "agilex.piper",
+    "i2rt_yam": "i2rt.yam",
+    "kinova_gen3_lite": "kinova.gen3_lite",
+    "doosan_m1013": "doosan.m1013",
+    "yaskawa_hc10": "yaskawa.hc10",
+    "rokae_xmatecr7": "rokae.xmatecr7",
 }
 _NAMES = ("_JOINT_AXES", "_JOINT_T_LEFTS", "_JOINT_T_RIGHTS", "_JOINT_LIMITS", "T_HOME",
           "_JOINT_NAMES", "_LINK_NAMES", "_JOINT_TYPES", "SOLVER_NAME")  # fmt: skip

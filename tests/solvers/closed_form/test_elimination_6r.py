@@ -140,6 +140,26 @@ def test_a_target_it_is_unsure_of_goes_to_the_search(arms, monkeypatch):
     np.testing.assert_array_equal([r.q for r in got], [r.q for r in want])
 
 
+def test_the_search_adds_what_an_unsure_elimination_lacks(arms, monkeypatch):
+    arm = arms[4]
+    rng = np.random.default_rng(9)
+    q = arm.random_q(rng)
+    T = arm.fk(q)
+    full = [r.q for r in arm.solve_all(T) if r.success]
+    rows = elimination_6r._rows
+
+    def half(plan, R, pos, q0, lower, upper, out):  # half its rows, and unsure
+        n, _, regular = rows(plan, R, pos, q0, lower, upper, out)
+        return n // 2, False, regular
+
+    monkeypatch.setattr(elimination_6r, "_rows", half)
+    results = arm.solve_all(T)
+    got = [r.q for r in results if r.success]
+    assert len(got) == len(full) and all(_within(a, got) for a in full)
+    words = {r.reason.split(";")[0] for r in results if r.success}
+    assert words == {elimination_6r.CLOSED_FORM, "one-dimensional search (axes 2 and 3 parallel)"}
+
+
 def test_out_of_reach_is_no_success(arms):
     T = pin.SE3(np.eye(3), np.array([10.0, 0.0, 0.0]))
     results = arms[0].solve_all(T)

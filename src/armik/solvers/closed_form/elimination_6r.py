@@ -6,10 +6,11 @@ cut of the loop to eliminate on) and the solver's registration. The algebra is i
 random configurations and keeps the first ``GOOD`` one, else the one, of those that find
 every trial's configuration, whose matrices are furthest from singular (a cut through parallel or
 meeting axes can make M(x3) singular for every x3: the JACO 2's axes 2 and 3 rule out
-most). ``run`` hands a target to the search its arm had before (``SEARCHES``: the first
-that applies) when the elimination is not sure of it: a leading matrix no phase makes
-regular, eliminated products nearly dependent, a real root that gave no new answer, or no
-answer at all (the search's words then say why, as before).
+most). ``run`` asks the search its arm had before (``SEARCHES``: the first that applies) too
+when the elimination is not sure of a target, and adds the answers it finds that the
+elimination lacks: a leading matrix no phase makes regular, eliminated products nearly
+dependent, a real root that gave no new answer (two solutions about to merge); and it
+answers alone where the elimination found nothing (its words then say why, as before).
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ import numpy as np
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, axis_lines
 from armik.options import Options
-from armik.solvers.answers import Answers
+from armik.solvers.answers import Answers, stacked
 from armik.solvers.closed_form import (
     elimination,
     elimination_roots,
@@ -145,13 +146,22 @@ def run(
     R, pos, q0 = np.array(R), np.array(pos), np.array(q0, dtype=float)
     lower, upper = np.array(arm.lower, dtype=float), np.array(arm.upper, dtype=float)
     n, sure, _ = _rows(plan, R, pos, q0, lower, upper, out)
+    ours = sixr_answers.of_rows(out[:n], FAMILY, CLOSED_FORM)
     if sure and n > 0:
-        return sixr_answers.of_rows(out[:n], FAMILY, CLOSED_FORM)
-    for name in SEARCHES:  # not sure, or nothing found: the search the arm had before
-        spec = get(name)
-        if spec.why_not(arm, target, opts) is None:
-            return spec.run(arm, target, q0, opts, all_solutions)
-    return get("general_6r").run(arm, target, q0, opts, all_solutions)
+        return ours
+    # not sure, or nothing found: the search the arm had before, and what it adds
+    name = next((s for s in SEARCHES if get(s).why_not(arm, target, opts) is None), SEARCHES[-1])
+    found = get(name).run(arm, target, q0, opts, all_solutions)
+    if n == 0:
+        return found  # its words for a target it finds nothing for
+    new = [i for i in range(len(found)) if found.claimed(i) and not _among(found.q[i], ours.q)]
+    return stacked([ours, found.take(new)], 6) if new else ours
+
+
+def _among(q: np.ndarray, rows: np.ndarray) -> bool:
+    """Whether ``q`` is one of ``rows`` (each joint within ``SAME``, modulo 2 pi)."""
+    d = np.abs(np.angle(np.exp(1j * (rows - q))))
+    return bool(np.any(np.all(d < elimination_roots.SAME, axis=1)))
 
 
 SPEC = register(
