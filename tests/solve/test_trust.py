@@ -84,16 +84,16 @@ def _wrapped(a):
 
 @pytest.mark.parametrize("name", sorted(REAL_ARMS))
 def test_the_searches_find_every_generating_configuration_on_real_arms(name):
-    """Each one-dimensional search that applies to a real arm: the configuration that
-    made an FK target is among solve_all's answers (modulo 2 pi), every time; and auto's
-    one answer is a success."""
+    """Each one-dimensional search (and the elimination) that applies to a real arm: the
+    configuration that made an FK target is among solve_all's answers (modulo 2 pi), every
+    time; and auto's one answer is a success."""
     source, tip = REAL_ARMS[name]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         arm = armik.load(source, tip=tip) if tip else armik.load(source)
     searches = [
         s
-        for s in ("two_parallel", "two_intersecting")
+        for s in ("two_parallel", "two_intersecting", "elimination_6r")
         if registry.why_not(s, arm.kinematics) is None
     ]
     assert searches, f"no search applies to {name}"
