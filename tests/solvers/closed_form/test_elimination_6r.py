@@ -107,7 +107,7 @@ def test_the_same_solutions_as_the_search_every_one_verified(arms):
 
 
 def test_an_arm_with_parallel_axes_gets_a_regular_cut():
-    """Axes 2 and 3 parallel leave M(x3) singular on the cut at joint 6 (Raghavan and
+    """Axes 2 and 3 parallel leave M(x3) singular with joint 6 dropped (Raghavan and
     Roth's first choice): the plan takes another, and finds every search answer."""
     rng = np.random.default_rng(5)
     arm = load_arm("two_parallel", rng)

@@ -81,7 +81,7 @@ def _loop(h, p, R_tip0, R9, P3, cut, LH, LR, LT):
         Rl, tl = (GR, Gt) if link == 5 else (I9, vec(p[link + 1]))
         if back:  # the inverse link
             tl = scale(mtv(Rl, tl), -1.0)
-            Rl = mtm(Rl, I9)
+            Rl = mtm(Rl, I9)  # its transpose
         for c in range(3):
             LH[k, c], LT[k, c] = h[j, c], tl[c]
         for c in range(9):

@@ -122,8 +122,9 @@ def classify(arm: ArmModel, ax: Axes | None = None) -> Plan | str:
             "no cut of the loop eliminates regularly on this arm (every one left M(x3) "
             f"singular or missed a solution on {TRIALS} trial targets)"
         )
-    back = " backwards" if best >= 6 else ""
-    text = f"elimination on the loop cut at joint {best % 6 + 1}{back}"
+    dropped = int(elimination.cut_joints(best)[0][5]) + 1
+    way = "backwards" if best >= 6 else "forwards"
+    text = f"elimination with joint {dropped} dropped, the loop read {way}"
     return plan_of(chain, best, text)
 
 
