@@ -41,6 +41,10 @@ FAMILIES = {
     "three_parallel_general": "three_parallel_free",
     "two_parallel": "two_parallel",
     "two_intersecting": "two_intersecting",
+    # the elimination on the searches' arms and on arms with every axis random
+    "elimination_6r/two_parallel": "two_parallel",
+    "elimination_6r/two_intersecting": "two_intersecting",
+    "elimination_6r/general": "general",
 }
 
 
@@ -113,13 +117,13 @@ def main() -> None:
     args = ap.parse_args()
     print(f"{args.arms} random arms x {args.configs} configurations per family")
     print(
-        f"{'family':24} {'complete':>12} {'near-singular':>14} {'false':>6} {'limits':>7} "
+        f"{'family':32} {'complete':>12} {'near-singular':>14} {'false':>6} {'limits':>7} "
         f"{'median us':>10} {'p90 us':>8} {'between us':>10} {'solutions':>9}"
     )
     for solver in args.families:
-        m = measure(solver, FAMILIES[solver], args.arms, args.configs, args.seed)
+        m = measure(solver.split("/")[0], FAMILIES[solver], args.arms, args.configs, args.seed)
         print(
-            f"{solver:24} {m['found']:>5}/{m['checked']:<6} "
+            f"{solver:32} {m['found']:>5}/{m['checked']:<6} "
             f"{m['near_found']:>6}/{m['near']:<7} {m['false']:>6} {m['limits']:>7} "
             f"{m['median_us']:>10.0f} {m['p90_us']:>8.0f} {m['between_us']:>10.0f} "
             f"{m['solutions']:>9.0f}"

@@ -1,7 +1,9 @@
 """The general 6R solver (``solver="general_6r"``, the 2-D search) on random arms with every
 axis random: completeness, false successes, median time of a verified ``solve_all``.
+``--solver`` times another (``elimination_6r``, or ``auto``: what ``solve_all`` runs).
 
     python benchmarks/general_6r.py -n 60 --seed 0
+    python benchmarks/general_6r.py -n 60 --seed 0 --solver elimination_6r
     python benchmarks/general_6r.py --held -n 30
 
 Each arm has 6 revolute joints with random unit axes through random points (within 0.4 m),
@@ -98,6 +100,7 @@ def main() -> None:
     ap.add_argument("-n", type=int, default=60, help="random arms (one target each)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--held", action="store_true", help="the Panda with one joint held")
+    ap.add_argument("--solver", default="general_6r", help="the solver timed (general_6r)")
     args = ap.parse_args()
     if args.held:
         held(args.n, args.seed)
@@ -108,9 +111,9 @@ def main() -> None:
         arm = armik.load_string(random_urdf(rng), base="world", tip="tool")
         q = arm.random_q(rng)
         T = arm.fk(q)
-        arm.solve_all(T, solver="general_6r")  # warm-up (compiles on the first arm)
+        arm.solve_all(T, solver=args.solver)  # warm-up (compiles on the first arm)
         t0, c0 = time.perf_counter(), time.process_time()
-        results = arm.solve_all(T, solver="general_6r")
+        results = arm.solve_all(T, solver=args.solver)
         times.append(time.perf_counter() - t0)
         cpu.append(time.process_time() - c0)
         ok = [r for r in results if r.success]
@@ -120,7 +123,7 @@ def main() -> None:
                 false_ok += 1
         wrapped = [np.abs(np.angle(np.exp(1j * (r.q - q)))).max() for r in ok]
         complete += bool(wrapped) and min(wrapped) < 1e-6
-    print(f"arms: {args.n} (seed {args.seed}), grid {general_6r.GRID}")
+    print(f"arms: {args.n} (seed {args.seed}), {args.solver}, general_6r's grid {general_6r.GRID}")
     print(f"complete (generating configuration found): {complete}/{args.n}")
     print(f"false successes: {false_ok}")
     print(f"solutions per target: median {statistics.median(counts)}, max {max(counts)}")

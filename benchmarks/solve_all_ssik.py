@@ -21,7 +21,14 @@ target:
 
 The KUKA KR 6 R900 sixx (Agilus) is no URDF armik ships: its URDF is written here from the
 numbers ssik's prebuilt ``kr6_r900_ik`` module bakes (joint origins, axes, limits; checked
-against that module's home pose when ssik is importable).
+against that module's home pose when ssik is importable). The two non-Pieper arms, the
+Kinova JACO 2 (j2n6s200, a 60-degree wrist) and the UFactory xArm6 (an offset wrist: joint 6
+off joint 5), are written from their ssik artifacts' baked constants (``ssik_prebuilt.py``,
+which needs ssik) and solved by their artifacts' native call with the baked Raghavan-Roth
+tensor; armik takes ``elimination_6r`` on both:
+
+    PYTHONPATH=/tmp/peerpkgs python benchmarks/solve_all_ssik.py -n 200 \
+        --arms kinova_jaco2 ufactory_xarm6
 
 ssik is for measuring only, never a dependency of armik:
 
@@ -40,12 +47,13 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
+import ssik_prebuilt
 from srs_ssik import timed  # the median of repeated calls, as the SRS benchmark times them
 
 import armik
 from armik.model.geometry import axis_lines
 
-ARMS = ("ur5", "ur10", "abb_irb120", "kuka_kr6_r900")
+ARMS = ("ur5", "ur10", "abb_irb120", "kuka_kr6_r900", "kinova_jaco2", "ufactory_xarm6")
 SAME = 1e-6  # rad: one joint of two solutions of one set
 FALSE = 1e-9  # m and rad: an answer further from its target is a false solution
 
@@ -77,6 +85,11 @@ def kr6_urdf() -> str:
 
 
 def load(name: str, folder: Path) -> armik.Arm:
+    if name in ssik_prebuilt.ARTIFACTS:
+        arm = armik.load_string(ssik_prebuilt.urdf(name), base="base", tip="tool")
+        home = ssik_prebuilt.constants(name)["T_HOME"]  # the artifact's own check
+        assert np.allclose(arm.fk(np.zeros(6)).homogeneous, home, atol=1e-12)
+        return arm
     if name != "kuka_kr6_r900":
         return armik.load(name)
     path = folder / "kuka_kr6_r900.urdf"
@@ -84,13 +97,15 @@ def load(name: str, folder: Path) -> armik.Arm:
     return armik.load(str(path), tip="link_6")
 
 
-def ssik_of(arm: armik.Arm):
+def ssik_of(arm: armik.Arm, name: str):
     """(ssik's solver of ``arm`` as armik reads it, the rotation that turns a target's
     rotation to that solver's tip), or None without ssik."""
     try:
         import ssik
     except ImportError:
         return None
+    if name in ssik_prebuilt.ARTIFACTS:  # its artifact's solver: the same base and tip
+        return ssik_prebuilt.solver(name), np.eye(3)
     ax = axis_lines(arm.kinematics)
     pts = ax.points
     offsets = [pts[0], *[pts[i] - pts[i - 1] for i in range(1, len(pts))]]
@@ -139,7 +154,7 @@ def false_solutions(arm: armik.Arm, T: pin.SE3, qs: list) -> int:
 
 def run_arm(name: str, n: int, seed: int, repeats: int, folder: Path) -> dict:
     arm = load(name, folder)
-    peer = ssik_of(arm)
+    peer = ssik_of(arm, name)
     rng = np.random.default_rng(seed)
     targets = [arm.fk(arm.random_q(rng)) for _ in range(n)]
     arm.solve_all(targets[0])  # compiles, caches: outside the timing
@@ -181,7 +196,9 @@ def run_arm(name: str, n: int, seed: int, repeats: int, folder: Path) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("-n", type=int, default=200, help="targets an arm (200)")
-    parser.add_argument("--arms", nargs="+", default=list(ARMS), choices=ARMS)
+    parser.add_argument(
+        "--arms", nargs="+", default=list(ARMS), choices=(*ARMS, *ssik_prebuilt.ARTIFACTS)
+    )
     parser.add_argument("--seed", type=int, default=53)
     parser.add_argument("--repeats", type=int, default=5, help="calls a target, median kept")
     args = parser.parse_args()

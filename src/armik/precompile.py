@@ -205,6 +205,7 @@ PARTS: dict[str, Callable[[], None]] = {
     "swept": _closed_form("panda", "swept"),
     "srs": _in_turn(_closed_form("kuka_iiwa14", "srs"), lambda: _swivel("kuka_iiwa14")),
     "general_6r": _closed_form("ur5", "general_6r"),
+    "elimination_6r": _closed_form("random:two_parallel", "elimination_6r"),
     "hold": _hold,
     "batch": _batch,
     "path": _path,

@@ -12,7 +12,7 @@ import armik
 from armik.errors import SolverError
 from armik.model import geometry
 from armik.solvers import registry
-from armik.solvers.closed_form import families, spherical_wrist, three_parallel
+from armik.solvers.closed_form import families, spherical_wrist, three_parallel, two_intersecting
 
 from ..analytic_urdfs import IRB120, IRB120_NEAR_MISS, MEETING_12, UR5, UR5_NEAR_MISS, six_r
 from ..conftest import model, write_urdf
@@ -103,7 +103,8 @@ def test_near_misses_refused_with_measured_numbers(tmp_path):
     assert isinstance(why, str) and "miss by 0.0005 m" in why
     # its axes 5 and 6 still meet: the search over q4 solves it exactly
     target = armik.parse_target(a.fk(np.zeros(6)))
-    assert registry.choose("auto", a.kinematics, target, every=True).name == "two_intersecting"
+    assert registry.choose("auto", a.kinematics, target, every=True).name == "elimination_6r"
+    assert two_intersecting.classify(a.kinematics).kind == "two_intersecting"
     b = load6(tmp_path, UR5_NEAR_MISS)
     why = three_parallel.classify(b.kinematics)
     assert isinstance(why, str) and "axes 2 and 3 are 0.001 rad apart" in why

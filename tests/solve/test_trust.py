@@ -15,7 +15,7 @@ import pytest
 import armik
 from armik import reasons
 from armik.solvers import registry
-from armik.solvers.closed_form import sixr, sixr_answers
+from armik.solvers.closed_form import elimination_6r, sixr, sixr_answers
 from armik.status import Status
 from armik.targets.pose import parse_target
 from armik.tools.cli import main
@@ -34,11 +34,14 @@ def irb140() -> armik.Arm:
 
 
 def test_the_irb140_is_a_searched_arm(irb140):
-    """The arm this file is about: its family is a search, which auto keeps for solve_all."""
+    """The arm this file is about: its family is a search; auto takes the elimination (and
+    the search behind it) for solve_all."""
     T = irb140.fk(irb140.random_q(0))
-    assert registry.choose("auto", irb140.kinematics, None, None, every=True).name == "two_parallel"
+    assert registry.why_not("two_parallel", irb140.kinematics) is None
+    every = registry.choose("auto", irb140.kinematics, None, None, every=True).name
+    assert every == "elimination_6r"
     assert registry.choose("auto", irb140.kinematics).name == "dls"
-    assert irb140.solve_all(T)[0].solver == "two_parallel"
+    assert irb140.solve_all(T)[0].solver == "elimination_6r"
 
 
 def test_auto_solves_every_reachable_irb140_target(irb140):
@@ -81,16 +84,16 @@ def _wrapped(a):
 
 @pytest.mark.parametrize("name", sorted(REAL_ARMS))
 def test_the_searches_find_every_generating_configuration_on_real_arms(name):
-    """Each one-dimensional search that applies to a real arm: the configuration that
-    made an FK target is among solve_all's answers (modulo 2 pi), every time; and auto's
-    one answer is a success."""
+    """Each one-dimensional search (and the elimination) that applies to a real arm: the
+    configuration that made an FK target is among solve_all's answers (modulo 2 pi), every
+    time; and auto's one answer is a success."""
     source, tip = REAL_ARMS[name]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         arm = armik.load(source, tip=tip) if tip else armik.load(source)
     searches = [
         s
-        for s in ("two_parallel", "two_intersecting")
+        for s in ("two_parallel", "two_intersecting", "elimination_6r")
         if registry.why_not(s, arm.kinematics) is None
     ]
     assert searches, f"no search applies to {name}"
@@ -129,7 +132,8 @@ def test_auto_takes_no_search_for_one_answer():
         assert registry.why_not(name, arm.kinematics) is None
         one = registry.choose("auto", arm.kinematics)
         assert one.complete and one.name != name
-        assert registry.choose("auto", arm.kinematics, every=True).name == name
+        # every solution: the elimination, the search behind it
+        assert registry.choose("auto", arm.kinematics, every=True).name == "elimination_6r"
 
 
 @pytest.mark.parametrize("robot", ["planar_2link", "ur5", "panda", "abb_irb120", "irb140"])
@@ -185,9 +189,11 @@ def test_auto_goes_on_to_the_numeric_solver_when_a_search_verifies_nothing(irb14
         registry, "_BY_PRIORITY", [blind if s is spec else s for s in registry._BY_PRIORITY]
     )
     monkeypatch.setattr(registry, "generation", registry.generation + 1)  # no old plans
+    assert elimination_6r.applies(irb140.kinematics) is None  # its cut chosen first
+    monkeypatch.setattr(elimination_6r, "_rows", lambda *a: (0, False, 0.0))  # unsure: search
     T = irb140.fk(irb140.random_q(5))
     (named,) = irb140.solve_all(T, solver="two_parallel")
     assert named.status is Status.NOT_CONVERGED and not named.success
     (auto,) = irb140.solve_all(T)
     assert auto.success and auto.solver == "dls"
-    assert auto.reason.startswith("two_parallel (a search) verified no solution")
+    assert auto.reason.startswith("elimination_6r (a search) verified no solution")

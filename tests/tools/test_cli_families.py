@@ -20,8 +20,8 @@ def test_six_r_families(capsys, tmp_path):
     assert code == 0 and "family: spherical_wrist (spherical wrist at" in out
     path = write_urdf(tmp_path, random_arm_urdf(np.random.default_rng(0)), name="g6.urdf")
     code, out, _ = run(capsys, "info", str(path), "--base", "world", "--tip", "tool")
-    assert code == 0 and "family: general_6r (general 6R (2-D search))" in out
-    assert "auto -> dls (one answer); solve_all -> general_6r" in out
+    assert code == 0 and "family: elimination_6r (elimination with joint" in out
+    assert "auto -> dls (one answer); solve_all -> elimination_6r" in out
     code, out, _ = run(capsys, "info", "planar_2link")
     assert code == 0 and "family:" not in out and "hold one joint" not in out
 
@@ -29,19 +29,22 @@ def test_six_r_families(capsys, tmp_path):
 def test_seven_r_arms_name_the_joints_to_hold(capsys, tmp_path):
     code, out, _ = run(capsys, "info", "panda")
     assert code == 0
-    assert re.search(r"panda_joint1 +general_6r \(general 6R \(2-D search\)\)", out)
+    assert re.search(r"panda_joint1 +elimination_6r \(elimination with joint \d dropped", out)
     assert re.search(r"panda_joint7 +swept_7r \(the swept solver's closed form", out)
-    assert "analytic with one joint held: panda_joint7\n" in out
+    held = ", ".join(f"panda_joint{k}" for k in range(1, 8))
+    assert f"analytic with one joint held: {held}\n" in out
     path = write_urdf(tmp_path, iiwa_urdf(), name="iiwa.urdf")
     code, out, _ = run(capsys, "info", str(path), "--base", "base", "--tip", "tool")
     assert code == 0
     assert re.search(r"\n  j3 +spherical_wrist \(spherical wrist at .*axes 1 and 2 meet\)", out)
     held = re.search(r"analytic with one joint held: (.*)\n", out).group(1).split(", ")
     assert held == ["j1", "j2", "j3", "j4", "j7"]  # j5, j6 leave the 2-D search
-    # joint 7 of the xArm7 leaves two_intersecting: a search, not a closed form
+    # joint 7 of the xArm7 leaves an arm the elimination solves (two_intersecting, a
+    # search, fits it too); a search alone is not counted as analytic
     code, out, _ = run(capsys, "info", "xarm7")
-    assert re.search(r"joint7 +two_intersecting", out)
-    assert "analytic with one joint held: none (each leaves a search)" in out
+    assert re.search(r"joint7 +elimination_6r", out)
+    held = ", ".join(f"joint{k}" for k in range(1, 8))
+    assert f"analytic with one joint held: {held}\n" in out
 
 
 def test_info_says_the_route_and_why(capsys):

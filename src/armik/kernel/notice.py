@@ -54,6 +54,8 @@ PARTS = (
     ("armik.solvers.closed_form.swept_7r", "the swept 7R closed form", 10),
     ("armik.solvers.closed_form.srs_kernel", "the SRS 7R closed form", 10),
     ("armik.solvers.closed_form.general_6r", "the general 6R search", 15),
+    ("armik.solvers.closed_form.elimination", "the 6R elimination", 15),
+    ("armik.solvers.closed_form.elimination_roots", "the 6R elimination", 15),
     ("armik.solvers.closed_form.planar2r_kernel", "the planar 2-link closed form", 3),
     ("armik.solvers.closed_form", "the 6R closed forms' shared code", 5),
     ("armik.constraints", "the collision checks' bounds", 3),

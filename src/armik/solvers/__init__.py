@@ -2,6 +2,7 @@
 closed forms. Importing this package registers every built-in solver."""
 
 from armik.solvers.closed_form import (  # noqa: F401  (registration)
+    elimination_6r,
     general_6r,
     planar2r,
     spherical_general,

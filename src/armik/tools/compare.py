@@ -189,7 +189,8 @@ def run(
     """Run every experiment; ``n`` targets each. ``spatial``: arms solved numerically only;
     ``closed_form``: 6R arms whose analytic family is compared with dls and qp;
     ``general``: 7R arms with their last joint locked at 0.3 rad, 6R arms no closed form
-    fits, where ``general_6r`` (the 2-D search) is compared with dls and qp the same way;
+    fits, where the solver ``solve_all`` takes (``elimination_6r``, the searches behind it)
+    is compared with dls and qp the same way;
     ``families``: kinds of random 6R arm (``armik.model.random_arms``) for the families no
     bundled arm belongs to, compared the same way."""
     report = Report()

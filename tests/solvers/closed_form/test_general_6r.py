@@ -60,7 +60,8 @@ def test_any_6r_arm_is_classified_and_auto_picks_it_last(arms):
         assert geo.description == "general 6R (2-D search)"
         T = arm.fk(arm.middle)
         # a search: auto takes it for every solution, a numeric solver for one answer
-        assert arm.solve_all(T)[0].solver == "general_6r"
+        assert arm.solve_all(T)[0].solver == "elimination_6r"  # the elimination goes first
+        assert arm.solve_all(T, solver="general_6r")[0].solver == "general_6r"
         assert arm.solve(T).solver == "dls"
     # arms a closed form fits keep it
     assert armik.load("ur5").solve(armik.load("ur5").fk(np.full(6, 0.3))).solver == (
@@ -84,7 +85,7 @@ def test_random_arms_every_solution_verified_and_complete(arms):
         for _ in range(3):
             q = arm.random_q(rng)
             T = arm.fk(q)
-            results = arm.solve_all(T)
+            results = arm.solve_all(T, solver="general_6r")
             ok = [r for r in results if r.success]
             assert ok and all(r.solver == "general_6r" for r in results)
             for r in ok:
@@ -117,7 +118,7 @@ def test_solve_is_the_nearest_verified_answer(arms):
     rng = np.random.default_rng(2)
     T = arm.fk(arm.random_q(rng))
     q0 = arm.random_q(rng)
-    every = [r for r in arm.solve_all(T, q0=q0) if r.success]
+    every = [r for r in arm.solve_all(T, q0=q0, solver="general_6r") if r.success]
     one = arm.solve(T, q0=q0, solver="general_6r")
     assert one.success and one.solver == "general_6r"
     nearest = min(every, key=lambda r: np.linalg.norm(r.q - q0))
@@ -139,7 +140,7 @@ def test_a_search_that_finds_nothing_hands_over_to_dls(arms, monkeypatch):
     q = arm.random_q(rng)
     T = arm.fk(q)
     monkeypatch.setattr(general_6r, "THRESHOLD", -1.0)  # no seed at all
-    results = arm.solve_all(T, iteration_budget=2000)
+    results = arm.solve_all(T, solver="general_6r", iteration_budget=2000)
     assert results[0].success and results[0].solver == "general_6r"
     assert results[0].reason.startswith(general_6r.SEARCH_FAILED + "; dls: ")
     assert _pose_error(arm, results[0].q, T) < 1e-6

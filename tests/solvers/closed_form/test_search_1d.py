@@ -31,7 +31,9 @@ def test_random_arms_are_solved_completely(kind):
         geo = FAMILIES[kind].classify(a.kinematics)
         assert not isinstance(geo, str), geo
         T = a.fk(a.random_q(rng))
-        assert a.solve_all(T)[0].solver == kind  # auto takes the search for every solution
+        # auto takes the elimination for every solution, the search when asked for
+        assert a.solve_all(T)[0].solver == "elimination_6r"
+        assert a.solve_all(T, solver=kind)[0].solver == kind
         assert a.solve(T).solver == "dls"  # and the numeric solver for one answer
         checked += check_round_trips(a, kind, rng, 10, misses)
     # a search, not a closed form: a zero within 2^-17 of a grid step of a fold may be
@@ -97,7 +99,7 @@ def test_other_families_are_refused():
     assert "axes 2 and 3 are not parallel" in two_parallel.classify(general.kinematics)
     assert "axes 5 and 6 do not meet" in two_intersecting.classify(general.kinematics)
     r = general.solve_all(general.fk(np.zeros(6)))[0]
-    assert r.success and r.solver == "general_6r"  # the 2-D search takes what no family fits
+    assert r.success and r.solver == "elimination_6r"  # what no family fits
     assert "7 joints" in two_parallel.classify(armik.load("panda").kinematics)
 
 
@@ -128,12 +130,12 @@ def test_batch_equals_solve(kind):
 
 def test_a_spherical_shoulder_is_refused_by_the_search_over_q4():
     """The Panda with joint 7 locked: axes 1, 2, 3 meet and axes 5, 6 meet, but SP5 has no
-    shoulder offsets to work on; refused with the reason, auto falls back to the 2-D search."""
+    shoulder offsets to work on; refused with the reason, auto takes the elimination."""
     a = armik.load("panda", locked={"panda_joint7": 0.3})
     why = two_intersecting.classify(a.kinematics)
     assert isinstance(why, str) and "spherical shoulder" in why, why
     r = a.solve_all(a.fk(a.middle))[0]
-    assert r.success and r.solver == "general_6r"
+    assert r.success and r.solver == "elimination_6r"
 
 
 def _replayed(kind: str, arm_index: int, config: int):

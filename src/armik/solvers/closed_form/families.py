@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 from armik.model.geometry import axis_lines
 from armik.model.mimic import reason as mimic_reason
 from armik.solvers.closed_form import (
+    elimination_6r,
     general_6r,
     planar2r,
     spherical_general,
@@ -35,6 +36,7 @@ FAMILIES = {
     "two_intersecting": two_intersecting.classify,
     "srs": srs.classify,
     "swept_7r": swept_7r.classify,
+    "elimination_6r": elimination_6r.classify,
     "general_6r": general_6r.classify,
 }
 

@@ -15,16 +15,17 @@ from armik.solvers.registry import SolverSpec
 
 
 def six_r_family(arm: ArmModel) -> str | None:
-    """The family of a 6R arm: the first closed-form family that fits it, else the general
-    6R search; None for an arm that is not 6R (all revolute)."""
+    """The family of a 6R arm: the first closed-form family that fits it (the elimination
+    fits every arm no Pieper family does), else the first search; None for an arm that is
+    not 6R (all revolute)."""
     found = families.classify(arm)
     general = found.get("general_6r")
     if not isinstance(general, Chain6R):  # the reason it does not apply
         return None
-    for name, geo in found.items():
-        if name not in ("general_6r", "planar") and not isinstance(geo, str):
-            return f"{name} ({getattr(geo, 'description', name)})"
-    return f"general_6r ({general.description})"
+    fits = [(n, g) for n, g in found.items() if n != "planar" and not isinstance(g, str)]
+    # a closed form before a search, as "auto" chooses for every solution
+    name, geo = min(fits, key=lambda f: f[0] in SEARCHES)
+    return f"{name} ({getattr(geo, 'description', name)})"
 
 
 def held_value(arm: ArmModel, k: int) -> float:
@@ -51,7 +52,7 @@ def family_lines(arm: ArmModel) -> list[str]:
             text = "swept_7r (the swept solver's closed form: joints 6 to 1 read from the tip)"
         else:
             text = six_r_family(arm.with_locked({name: held_value(arm, k)})) or "not a 6R chain"
-        if text != "not a 6R chain" and _closed(text):
+        if _closed(text):
             analytic.append(name)
         lines.append(f"  {name:<24} {text}")
     which = ", ".join(analytic) if analytic else "none (each leaves a search)"
@@ -59,12 +60,15 @@ def family_lines(arm: ArmModel) -> list[str]:
     return lines
 
 
+# the solvers that search a grid over one or two joints (the elimination and the closed
+# forms solve in closed form: polynomial roots)
+SEARCHES = ("two_parallel", "two_intersecting", "general_6r")
+
+
 def _closed(family: str) -> bool:
     """Whether a held joint's family (``six_r_family``'s words) is solved in closed form,
-    not by a search: a family whose solver of that name is not ``complete``
-    (two_parallel, two_intersecting, general_6r); "not a 6R chain" is no family."""
-    name = family.split(" ", 1)[0]
-    return name not in registry.solvers() or registry.get(name).complete
+    not by a search; "not a 6R chain" is no family."""
+    return family != "not a 6R chain" and family.split(" ", 1)[0] not in SEARCHES
 
 
 def _kind(spec: SolverSpec) -> str:
