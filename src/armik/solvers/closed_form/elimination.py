@@ -187,6 +187,19 @@ def _fit3(S, Lc):
 
 
 @njit(cache=True)
+def _reflect(M, v, v2, k, m, c0, c1):
+    """Columns ``c0`` to ``c1`` of ``M`` reflected by the Householder vector ``v`` (rows
+    ``k`` to ``m``, squared norm ``v2``): M <- (I - 2 v v^T / v2) M."""
+    for c in range(c0, c1):
+        f = 0.0
+        for r in range(k, m):
+            f += v[r] * M[r, c]
+        f *= 2.0 / v2
+        for r in range(k, m):
+            M[r, c] -= f * v[r]
+
+
+@njit(cache=True)
 def _householder(A, P):
     """Householder QR of ``A`` (14, 8) in place (R in its upper triangle) with ``P`` = Q^T
     (14, 14): its last 6 rows annihilate A's columns. Returns min |R_kk| / max |R_kk|."""
@@ -206,20 +219,8 @@ def _householder(A, P):
             v[r] = A[r, k] - (alpha if r == k else 0.0)
             v2 += v[r] * v[r]
         if v2 > 0.0:
-            for c in range(k, k_n):
-                f = 0.0
-                for r in range(k, m):
-                    f += v[r] * A[r, c]
-                f *= 2.0 / v2
-                for r in range(k, m):
-                    A[r, c] -= f * v[r]
-            for c in range(m):
-                f = 0.0
-                for r in range(k, m):
-                    f += v[r] * P[r, c]
-                f *= 2.0 / v2
-                for r in range(k, m):
-                    P[r, c] -= f * v[r]
+            _reflect(A, v, v2, k, m, k, k_n)
+            _reflect(P, v, v2, k, m, np.int64(0), m)  # a typed 0: one compile of _reflect
         big, small = max(big, abs(A[k, k])), min(small, abs(A[k, k]))
     return small / big if big > 0.0 else 0.0
 

@@ -26,6 +26,7 @@ from armik.solvers.answers import Answers, stacked
 from armik.solvers.closed_form import (
     elimination,
     elimination_roots,
+    general_6r,
     sixr,
     sixr_answers,
     spherical_general,
@@ -89,7 +90,7 @@ def _score(chain: sixr.Chain6R, cut: int, trials: list) -> float:
     for q, R, pos in trials:
         n, sure, regular = _rows(plan, R, pos, np.zeros(6), -wide, wide, out)
         d = np.abs(np.angle(np.exp(1j * (out[:n, :6] - q))))
-        if not sure or n == 0 or not np.any(np.all(d < elimination_roots.SAME, axis=1)):
+        if not sure or n == 0 or not np.any(np.all(d < general_6r.SAME, axis=1)):
             return 0.0
         worst = min(worst, regular)
     return float(worst)
@@ -162,7 +163,7 @@ def run(
 def _among(q: np.ndarray, rows: np.ndarray) -> bool:
     """Whether ``q`` is one of ``rows`` (each joint within ``SAME``, modulo 2 pi)."""
     d = np.abs(np.angle(np.exp(1j * (rows - q))))
-    return bool(np.any(np.all(d < elimination_roots.SAME, axis=1)))
+    return bool(np.any(np.all(d < general_6r.SAME, axis=1)))
 
 
 SPEC = register(

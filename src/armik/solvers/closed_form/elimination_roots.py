@@ -14,15 +14,14 @@ from numba import njit
 
 from armik.solvers.closed_form import sixr
 from armik.solvers.closed_form.elimination import SIZE, lu, lu_solve
-from armik.solvers.closed_form.general_6r import polish
-from armik.solvers.closed_form.subproblems import cross, dot, mat, mm, mmt, mtm, mv, rot, vec, wrap
+from armik.solvers.closed_form.general_6r import is_new, polish
+from armik.solvers.closed_form.subproblems import cross, dot, mat, mm, mmt, mtm, mv, rot, vec
 
 REAL = 1e-7  # rad: an eigenvalue whose angle is this close to real is a solution's
 NEAR = 1e-3  # rad: ... this close, polished too (rounding can split a double root)
 ROWS = 16  # a 6R arm has at most 16 solutions
 ITERATIONS = 60  # Newton steps at most (general_6r's)
 EXACT = 1e-11  # m and rad: a polished configuration this close to the target is an answer
-SAME = 1e-6  # rad: answers this close (each joint, modulo 2 pi) are one
 
 
 @njit(cache=True)
@@ -141,14 +140,7 @@ def solutions(h, p, R_tip0, R, pos, state, roots, places, sign, q0, lower, upper
         for j in range(6):
             q[places[j]] = sign * t[j]
         r = polish(h, p, R_tip0, R9, P3, q, ITERATIONS)
-        fresh = r <= EXACT and n < ROWS
-        for s in range(n if fresh else 0):
-            same = True
-            for j in range(6):
-                if abs(wrap(W[s, j] - q[j])) > SAME:
-                    same = False
-            if same:
-                fresh = False
+        fresh = r <= EXACT and n < ROWS and is_new(W, n, q)
         if fresh:
             n = sixr.put_row(W, n, q[0], q[1], q[2], q[3], q[4], q[5], 0, 0, 0.0, 0.0)
         elif off <= REAL:

@@ -315,21 +315,27 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, N, threshold, out):
                 best[k] = q[k]
         if r > EXACT or n == ROWS:
             continue
-        fresh = True
-        for t in range(n):
-            same = True
-            for k in range(6):
-                if abs(wrap(W[t, k] - q[k])) > SAME:
-                    same = False
-            if same:
-                fresh = False
-        if fresh:
+        if is_new(W, n, q):
             n = sixr.put_row(W, n, q[0], q[1], q[2], q[3], q[4], q[5], 0, 0, 0.0, 0.0)
     if n == 0:
         n = sixr.put_row(W, n, best[0], best[1], best[2], best[3], best[4], best[5],
                          sixr.LS, 0, 0.0, 0.0)  # fmt: skip
     sixr.nearest_equivalents(W, n, q0, lower, upper)
     return n, sixr.pack(W, n, q0, lower, upper, h, p, np.int64(0), out)
+
+
+@njit(cache=True)
+def is_new(W, n, q):
+    """Whether ``q`` is no answer among the first ``n`` rows of ``W``: some joint differs
+    from each row's by more than ``SAME`` (modulo 2 pi)."""
+    for t in range(n):
+        same = True
+        for k in range(6):
+            if abs(wrap(W[t, k] - q[k])) > SAME:
+                same = False
+        if same:
+            return False
+    return True
 
 
 def _classify(arm: ArmModel):
