@@ -22,7 +22,7 @@ def _measured(row, k):
     return False
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def distances(table, R, p, origin, reach_, slack, out):
     """out[POS_ERR], out[ORI_ERR]: the largest true distances to the tasks' targets (NaN
     where none measures it); returns whether a position target is beyond the arm's reach."""

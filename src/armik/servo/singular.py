@@ -16,8 +16,6 @@ import math
 
 from numba import njit
 
-from armik.kernel.linalg import cholesky_factor, cholesky_substitute
-
 ROUNDS = 30  # at most; two or three from the last tick's vector
 SETTLED = 1e-14  # stop when a round moves the estimate by less (of the Gram's trace)
 SHIFT = 1e-13  # of the trace: keeps a singular Gram's factor positive definite
@@ -54,21 +52,16 @@ def gram(A, rows, active, H, S, idx):
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
-def smallest(S, k, u, warm, L, y, free):
+def smallest(S, k, u, warm, L, y):
     """The smallest eigenvalue of the symmetric positive semidefinite k x k block of S, by
     shifted inverse iteration from u[:k] (``warm``: the last call's vector, of this size)
-    or from a fixed start; u[:k] ends as its eigenvector. L (n x n), y (n) and free (n
-    ints) are scratch."""
+    or from a fixed start; u[:k] ends as its eigenvector. L (n x n) and y (n) are
+    scratch."""
     if k == 0:
         return math.inf
-    n = S.shape[0]
     trace = 0.0
-    for i in range(n):
-        free[i] = 1 if i < k else 0
-        if i < k:
-            trace += S[i, i]
-        else:
-            u[i] = 0.0
+    for i in range(k):
+        trace += S[i, i]
     if not trace > 0.0:
         return 0.0
     if not warm:  # any start with a share on every eigenvector
@@ -76,10 +69,11 @@ def smallest(S, k, u, warm, L, y, free):
             u[i] = 1.0 + 0.618034 * i
     _normalise(u, k)
     rq = _rayleigh(S, u, k)
+    rung = _factor_below(S, k, rq, trace, L)
     for _ in range(ROUNDS):
-        if not _factor_below(S, k, rq, trace, free, L):
+        if rung < 0:
             return 0.0
-        cholesky_substitute(L, u, free, y)
+        _substitute(L, k, u, y)
         for i in range(k):
             u[i] = y[i]
         _normalise(u, k)
@@ -88,15 +82,18 @@ def smallest(S, k, u, warm, L, y, free):
         rq = min(rq, now)
         if settled:
             break
+        if rung > 0:  # a shift far below: closer to the new quotient, if it factors
+            rung = _factor_below(S, k, rq, trace, L)
     return max(rq, 0.0)
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _factor_below(S, k, rq, trace, free, L):
+def _factor_below(S, k, rq, trace, L):
     """L: the factor of S - mu I for the largest mu of ``BELOW`` rq, ``rq / 2``, 0 and
     then ``-SHIFT trace`` (raised a hundredfold at a time) that leaves it positive
     definite: a shift just below the smallest eigenvalue (rq bounds it from above) makes
-    a round of inverse iteration converge fast. False if none does."""
+    each round of inverse iteration converge fast. Returns which (0: the first), -1 for
+    none."""
     for step in range(12):
         if step == 0:
             mu = BELOW * rq
@@ -106,14 +103,42 @@ def _factor_below(S, k, rq, trace, free, L):
             mu = 0.0
         else:
             mu = -SHIFT * trace * 100.0 ** (step - 3)
-        for i in range(k):
-            S[i, i] -= mu
-        ok = cholesky_factor(S, free, L)
-        for i in range(k):
-            S[i, i] += mu
-        if ok:
-            return True
-    return False
+        if _cholesky(S, k, mu, L):
+            return step
+    return -1
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _cholesky(S, k, mu, L):
+    """L: the Cholesky factor of the k x k block of S - mu I, its diagonal inverted (as
+    ``kernel.linalg``'s, without its mask); False where not positive definite."""
+    for i in range(k):
+        for j in range(i + 1):
+            s = S[i, j] - mu if i == j else S[i, j]
+            for m in range(j):
+                s -= L[i, m] * L[j, m]
+            if i == j:
+                if not s > 0.0:
+                    return False
+                L[i, i] = 1.0 / math.sqrt(s)
+            else:
+                L[i, j] = s * L[j, j]
+    return True
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _substitute(L, k, g, x):
+    """x[:k]: the solution of L L^T x = g over the k x k block."""
+    for i in range(k):
+        s = g[i]
+        for m in range(i):
+            s -= L[i, m] * x[m]
+        x[i] = s * L[i, i]
+    for i in range(k - 1, -1, -1):
+        s = x[i]
+        for m in range(i + 1, k):
+            s -= L[m, i] * x[m]
+        x[i] = s * L[i, i]
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -138,11 +163,11 @@ def _rayleigh(S, u, k):
     return s
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
 def smallest_singular(A, rows, active, H, S, u, last_k, L, y, idx):
     """(sigma, k): the r-th largest singular value of A (r = min(active, n)) and the size
     k of the Gram matrix it came from; u holds the last call's vector where that was of
     size ``last_k``. ``idx`` (n ints) is scratch."""
     k = gram(A, rows, active, H, S, idx)
-    ev = smallest(S, k, u, k == last_k, L, y, idx)
+    ev = smallest(S, k, u, k == last_k, L, y)
     return (math.sqrt(ev) if ev < math.inf else math.inf), k

@@ -129,7 +129,7 @@ def _views(buf, ibuf, n, N):
     return ws, o
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def _stack(table, tasks, ws, E, A):
     """E, A: the six rows of each of the first ``tasks`` tasks at the placement in ws
     (``forward``'s); returns the largest distances from the tasks' regions (m, rad) and how
@@ -168,7 +168,18 @@ def _stack(table, tasks, ws, E, A):
     return reg_p, reg_r, active
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
+@njit(cache=True, nogil=True, inline="always")
+def _equal(last, table, tasks):
+    """Whether the first ``tasks`` rows of ``last`` and ``table`` are the same numbers (a
+    held target: its correction at this q is this tick's, no second evaluation)."""
+    for t in range(tasks):
+        for c in range(COLUMNS):
+            if last[t, c] != table[t, c]:
+                return False
+    return True
+
+
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def _factor(H, lam, Hl, L, free):
     """L: the Cholesky factor of Hl = H + lam I (``kernel.linalg``'s form); the damping is
     raised tenfold at a time should rounding leave Hl not positive definite."""
@@ -185,7 +196,7 @@ def _factor(H, lam, Hl, L, free):
         lam *= 10.0
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def _inverse(L, free, unit, col, Gi):
     """Gi = (L L^T)^-1, a column at a time."""
     n = L.shape[0]
@@ -197,7 +208,7 @@ def _inverse(L, free, unit, col, Gi):
             Gi[i, c] = col[i]
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def _gradient(E, A, m, g, lam, pull, state):
     """g = A^T E + lam pull (rest - q): the minimiser of |A x - E|^2 + lam |x - z|^2 is
     (A^T A + lam I)^-1 (A^T E + lam z), with z a pull toward the rest posture, which thus
@@ -211,7 +222,7 @@ def _gradient(E, A, m, g, lam, pull, state):
         g[i] = s + lam * pull * (state[REST, i] - state[Q, i])
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
 def tick(table, mem, imem, rows_cb):
     """One tick toward the target ``table`` (tasks, ``COLUMNS``) on the servo's memory
     (``armik.servo.layout``), within the collision rows ``rows_cb`` (K, n + 1: C, then b,
@@ -220,7 +231,7 @@ def tick(table, mem, imem, rows_cb):
     _tick(ch, table, rows_cb, state, cfg, out, last, buf, ibuf)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
 def tick_pose(H, mem, imem, rows_cb):
     """``tick`` toward the 4x4 pose H, where it is one the target parser keeps exactly as
     given (``kernel.single.plain_pose``): its table written here, not in Python. Returns
@@ -243,7 +254,7 @@ def tick_pose(H, mem, imem, rows_cb):
     return True
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def _tick(ch, table, rows_cb, state, cfg, out, last, buf, ibuf):
     """The tick: ``state``'s joint values and velocity advanced by one step toward
     ``table`` (``last``: the last tick's, its ``cfg[LAST]`` rows); ``out`` says what limited
@@ -302,7 +313,7 @@ def _tick(ch, table, rows_cb, state, cfg, out, last, buf, ibuf):
     cholesky_substitute(Lc, g, every, x)  # the whole correction to this tick's target
     for i in range(n):
         x_old[i] = x[i]
-    if cfg[LAST] == tasks:  # the last tick's target, at this q
+    if cfg[LAST] == tasks and not _equal(last, table, tasks):  # the last tick's target
         same = True
         for t in range(tasks):
             same = same and last[t, LOOK] == table[t, LOOK] and last[t, CONE] == table[t, CONE]
