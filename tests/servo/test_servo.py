@@ -69,6 +69,24 @@ def test_out_of_reach_never_nan_and_recovers(name):
     assert rec.position_error[-1] < 1e-4
 
 
+@pytest.mark.parametrize("name", ["panda", "xarm7"])
+def test_settled_servo_commands_exactly_zero_motion(name):
+    """On a held target a servo stops: no rounding chatter, no 1e-300 motions (an exact
+    row's residual) that leave joints at 0 with denormal values."""
+    arm, q0 = load(name), START[name]
+    servo = arm.servo(q0, dt=DT)
+    held = servo.track([arm.fk(q0)] * 20)
+    assert (held.q == q0).all() and (held.dq == 0.0).all() and (held.ddq == 0.0).all()
+    rec = servo.track([moved(arm.fk(q0), JUMP)] * 600)
+    moving = np.flatnonzero(np.abs(rec.dq).max(axis=1) > 0.0)
+    still = moving[-1] + 1
+    assert still < 500  # settled, then held exactly
+    assert (rec.q[still:] == rec.q[-1]).all() and (rec.dq[still:] == 0.0).all()
+    assert rec.position_error[-1] < 1e-12 and rec.status[-1] == "on_target"
+    values = np.abs(rec.q[rec.q != 0.0])
+    assert values.min() > 1e-100
+
+
 def test_braking_keeps_a_joint_off_its_limit_and_says_so():
     arm = load("ur5").with_limits({"elbow_joint": (1.3, 1.45)})
     q0 = START["ur5"]

@@ -83,6 +83,10 @@ from armik.servo.singular import smallest_singular
 ON_TARGET, TRACKING, JOINT_LIMIT, VELOCITY_LIMIT, ACCELERATION_LIMIT = range(5)
 SINGULARITY, OUT_OF_REACH, OBSTACLE = 5, 6, 7
 BRAKED = 10.0  # tolerances: slowing to stop on a target farther than this is reported
+# (m, rad) a row's error below this is met, its correction none: the FK's rounding is a
+# hundred times smaller, and an exact row's residual (``EXACT``) is far below it, so that
+# a servo settled on a held target commands exactly zero motion, not rounding noise
+MET = 1e-14
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -156,7 +160,8 @@ def _stack(table, tasks, ws, E, A):
         reg_p = max(reg_p, ws.val[0, 0])
         reg_r = max(reg_r, ws.val[0, 1])
         for k in range(6):
-            E[6 * t + k] = ws.e[0, k]
+            e = ws.e[0, k]
+            E[6 * t + k] = e if abs(e) > MET else 0.0
             for c in range(n):
                 A[6 * t + k, c] = ws.A[0, k, c]
     active = 0
