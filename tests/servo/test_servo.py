@@ -177,6 +177,32 @@ def test_steps_and_track_agree():
     assert len(rec) == 50
 
 
+def test_a_pose_is_followed_alike_however_it_is_spelled():
+    """A pin.SE3 and a float 4x4 have their table written by the compiled tick; the same
+    pose as (position, rotation) goes through the parser: the same commands, bit for bit.
+    A 4x4 the tick does not keep as given (a rotation orthonormal to 1e-10 only) is
+    handed to the parser, which snaps it; one with NaN is refused by the parser."""
+    arm, q0 = load("ur5"), START["ur5"]
+    targets = circle(arm.fk(q0), 200, DT) + [moved(arm.fk(q0), JUMP)] * 100
+    spellings = [
+        targets,
+        [T.homogeneous for T in targets],
+        [(T.translation, T.rotation) for T in targets],
+    ]
+    runs = [arm.servo(q0).track(seq) for seq in spellings]
+    for rec in runs[1:]:
+        np.testing.assert_array_equal(rec.q, runs[0].q)
+        assert rec.status.tolist() == runs[0].status.tolist()
+    servo = arm.servo(q0)
+    M = arm.fk(q0).homogeneous
+    M[:3, :3] *= 1.0 + 1e-10
+    s = servo.step(M)
+    assert s.status == "on_target" and np.isfinite(s.q).all()
+    M[0, 3] = float("nan")
+    with pytest.raises(armik.TargetError):
+        servo.step(M)
+
+
 def test_limits_given_are_kept():
     arm, q0 = load("panda"), START["panda"]
     servo = arm.servo(q0, velocity_limits=0.5, acceleration_limits={"panda_joint1": 5.0})
