@@ -16,7 +16,8 @@ A tick, from the joint values q and the last velocity v_prev (``state``):
 4. the nearest step to it in the metric of the damped normal matrix within the velocity
    box of ``armik.servo.box`` (a box QP, ``kernel.step.active_set``).
 
-Nothing is allocated: the caller's buffers hold the workspace (``layout``).
+Nothing is allocated and nothing reference-counted (``_nrt=False``): the tick works in the
+servo's memory (``armik.servo.layout``), which also keeps the last tick's target.
 """
 
 from __future__ import annotations
