@@ -117,10 +117,10 @@ class Servo:
         ``TargetError`` for a target it cannot read."""
         out, state, mem, imem = self._out, self._state, self._mem, self._imem
         near = self._no_rows if self._collisions is None else self._collisions.at(state[k.Q])
-        kind = type(target)  # a plain pose's table is written by the compiled tick itself
-        if kind is pin.SE3:
+        # a pose's table is written by the compiled tick itself, where it is a plain one
+        if isinstance(target, pin.SE3):
             done = tick_pose(target.homogeneous, mem, imem, near)
-        elif kind is np.ndarray and target.shape == (4, 4) and _plain(target):  # type: ignore[attr-defined]
+        elif isinstance(target, np.ndarray) and target.shape == (4, 4) and _plain(target):
             done = tick_pose(target, mem, imem, near)
         else:
             done = False
@@ -153,8 +153,9 @@ class Servo:
 
 
 def _plain(M: np.ndarray) -> bool:
-    """Whether the 4x4 M is of the one array type ``tick_pose`` is compiled for."""
-    return M.dtype == np.float64 and M.flags.c_contiguous
+    """Whether the 4x4 M is of the one array type ``tick_pose`` is compiled for (no
+    subclass, float64, C order)."""
+    return type(M) is np.ndarray and M.dtype == np.float64 and M.flags.c_contiguous
 
 
 def start(arm: object, q0: object, **options: object) -> Servo:
