@@ -18,9 +18,11 @@ Reported per arm, stream and solver: the largest excess over each limit of the c
 q sequence by finite differences (0 = none), the tip's RMS position error (m, by armik's
 FK of the commanded q; the circle's after its first 0.1 s, the arm starting at rest), the
 final error, the ticks to settle within 1e-5 m (jump), NaNs, the mean, median and p99
-time of a tick (the whole call: parsing, the step, the result), the RMS jerk of q
-(rad/s^3, third differences) and the fraction of q's power above 3 Hz (of its detrended
-spectrum).
+time of a tick (the whole call: parsing, the step, the result), the mean CPU time of a
+tick (the thread's CPU time over the stream's loop, per tick: the other processes' time
+slices, which a loaded machine puts in the wall-clock mean's tail, do not count), the RMS
+jerk of q (rad/s^3, third differences) and the fraction of q's power above 3 Hz (of its
+detrended spectrum); then armik's mean, median and CPU mean over Pink's, per stream.
 
     PYTHONPATH=/tmp/peerpkgs python benchmarks/servo.py [--arms panda ur5 xarm7 abb_irb120]
 """
@@ -59,12 +61,13 @@ def run_armik(arm, q0, targets, **options):
     servo = arm.servo(q0, dt=DT, acceleration_limits=DEFAULT_ACCELERATION, **options)
     Q, times = np.empty((len(targets), arm.dof)), np.empty(len(targets))
     clock = time.perf_counter
+    cpu = time.thread_time()
     for k, T in enumerate(targets):
         t = clock()
         s = servo.step(T)
         times[k] = clock() - t
         Q[k] = s.q
-    return Q, times, None
+    return Q, times, None, (time.thread_time() - cpu) / len(targets)
 
 
 def run_pink(arm, q0, targets):
@@ -83,6 +86,7 @@ def run_pink(arm, q0, targets):
     Q, times = np.full((len(targets), arm.dof), np.nan), np.empty(len(targets))
     clock = time.perf_counter
     failed = None
+    cpu, ticks = time.thread_time(), len(targets)
     for k, T in enumerate(targets):
         t = clock()
         try:
@@ -94,10 +98,11 @@ def run_pink(arm, q0, targets):
         except Exception as exc:  # Pink raises when its QP has no solution
             failed = failed or f"tick {k}: {type(exc).__name__}"
             times[k] = clock() - t
+            ticks = k + 1
             break
         times[k] = clock() - t
         Q[k] = kin.from_pin(qp)
-    return Q, times, failed
+    return Q, times, failed, (time.thread_time() - cpu) / ticks
 
 
 def jitter(Q: np.ndarray) -> tuple[float, float]:
@@ -111,7 +116,7 @@ def jitter(Q: np.ndarray) -> tuple[float, float]:
     return float(np.sqrt(np.mean(jerk**2))), float(P[f > 3.0].sum() / total) if total else 0.0
 
 
-def measure(arm, q0, name, targets, Q, times, failed):
+def measure(arm, q0, name, targets, Q, times, failed, cpu):
     ok = np.isfinite(Q).all(axis=1)
     n_ok = int(ok.sum())
     Qv = Q[:n_ok]
@@ -137,6 +142,7 @@ def measure(arm, q0, name, targets, Q, times, failed):
         "mean_us": float(np.mean(times[:n_ok]) * 1e6) if n_ok else float("nan"),
         "p99_us": float(np.percentile(times[:n_ok], 99) * 1e6) if n_ok else float("nan"),
         "median_us": float(np.median(times[:n_ok]) * 1e6) if n_ok else float("nan"),
+        "cpu_us": cpu * 1e6,
         "jerk": jerk,
         "high": high,
         "failed": failed,
@@ -151,7 +157,7 @@ def row(arm_name, stream, solver, m) -> str:
     return (
         f"| {arm_name} | {stream} | {solver}{fail} | {over} | {m['rms']:.2e} | {m['final']:.1e} "
         f"| {settle} | {m['mean_us']:.1f} | {m['median_us']:.1f} | {m['p99_us']:.1f} "
-        f"| {m['jerk']:.3g} | {m['high']:.1e} |"
+        f"| {m['cpu_us']:.1f} | {m['jerk']:.3g} | {m['high']:.1e} |"
     )
 
 
@@ -169,10 +175,11 @@ def main() -> None:
         print("Pink is not importable: armik alone")
     print(
         "| arm | stream | solver | excess pos / vel / acc | RMS error (m) | final (m) "
-        "| settle (ticks) | mean (us) | median (us) | p99 (us) | RMS jerk (rad/s^3) "
-        "| power > 3 Hz |"
+        "| settle (ticks) | mean (us) | median (us) | p99 (us) | CPU mean (us) "
+        "| RMS jerk (rad/s^3) | power > 3 Hz |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    ratios = []
     for i, name in enumerate(args.arms):
         arm = armik.load(name)
         q0 = START[name]
@@ -181,10 +188,18 @@ def main() -> None:
         if i % 2:
             runners.reverse()
         for stream, targets in streams(arm.fk(q0)).items():
+            ms = {}
             for solver, run in runners:
-                Q, times, failed = run(arm, q0, targets)
-                m = measure(arm, q0, stream, targets, Q, times, failed)
+                Q, times, failed, cpu = run(arm, q0, targets)
+                ms[solver] = m = measure(arm, q0, stream, targets, Q, times, failed, cpu)
                 print(row(name, stream, solver, m), flush=True)
+            if peers:
+                ratios.append((name, stream, ms["armik"], ms["pink"]))
+    if ratios:
+        print("\n| arm | stream | armik / Pink: mean | median | CPU mean |\n|---|---|---|---|---|")
+        for name, stream, a, p in ratios:
+            r = [a[key] / p[key] for key in ("mean_us", "median_us", "cpu_us")]
+            print(f"| {name} | {stream} | {r[0]:.3f} | {r[1]:.3f} | {r[2]:.3f} |")
     if "panda" in args.arms:
         sphere_stream()
 
@@ -200,8 +215,8 @@ def sphere_stream() -> None:
           "| final (m) | mean (us) | median (us) | p99 (us) |")  # fmt: skip
     print("|---|---|---|---|---|---|---|")
     for obstacles in (None, [sphere]):
-        Q, times, _ = run_armik(arm, q0, targets, obstacles=obstacles, margin=MARGIN)
-        m = measure(arm, q0, "circle", targets, Q, times, None)
+        Q, times, failed, cpu = run_armik(arm, q0, targets, obstacles=obstacles, margin=MARGIN)
+        m = measure(arm, q0, "circle", targets, Q, times, failed, cpu)
         d = min(arm.min_distance(q, [sphere])[0] for q in Q)
         o = m["over"]
         print(

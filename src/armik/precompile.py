@@ -183,7 +183,9 @@ def _servo() -> None:
     q = np.array([0.3, -1.2, 1.4, -1.5, -1.5, 0.2])
     T = arm.fk(q)
     near = Sphere(0.04, tuple(T.translation + np.array([0.0, 0.08, 0.0])))  # rows: the step's
-    arm.servo(q, obstacles=[near]).step(T)
+    servo = arm.servo(q, obstacles=[near])
+    servo.step(T)  # a pose: its table written by the tick; a position: by the parser
+    servo.step(T.translation)
 
 
 PARTS: dict[str, Callable[[], None]] = {

@@ -1,5 +1,5 @@
-"""The servo's compiled parts against plain references: the eigen-decomposition against
-numpy's, the velocity box's braking against a simulation of braking."""
+"""The servo's compiled parts against plain references: the smallest singular value
+against numpy's SVD, the velocity box's braking against a simulation of braking."""
 
 from __future__ import annotations
 
@@ -7,19 +7,52 @@ import numpy as np
 import pytest
 
 from armik.servo.box import velocity_box
-from armik.servo.eigen import eigen
+from armik.servo.singular import smallest_singular
+
+
+def _sigma(A, rows, last_k=-1, u=None):
+    n = A.shape[1]
+    active = int((np.abs(A[:rows]).sum(axis=1) > 0).sum())
+    u = np.zeros(n) if u is None else u
+    work = np.zeros((3, n, n))
+    sigma, k = smallest_singular(
+        A, rows, active, A.T @ A, work[0], u, last_k, work[1], np.zeros(n),
+        np.zeros(n, dtype=np.int64),
+    )  # fmt: skip
+    return sigma, k, u
 
 
 @pytest.mark.parametrize("n", [1, 5, 6, 7, 9])
-def test_eigen_matches_numpy(n, rng):
-    A = rng.normal(size=(6, n))
-    B = A.T @ A
-    V, ev = np.empty((n, n)), np.empty(n)
-    work = B.copy()
-    eigen(work, V, ev)
-    np.testing.assert_allclose(np.sort(ev), np.linalg.eigvalsh(B), atol=1e-12)
-    np.testing.assert_allclose(V @ np.diag(ev) @ V.T, B, atol=1e-12)
-    np.testing.assert_allclose(V.T @ V, np.eye(n), atol=1e-12)
+@pytest.mark.parametrize("rows", [3, 6, 12])
+def test_smallest_singular_value_matches_numpy(n, rows, rng):
+    """The r-th largest singular value (r = min(nonzero rows, n)), from a cold start."""
+    A = np.zeros((24, n))
+    A[:rows] = rng.normal(size=(rows, n))
+    A[1] = 0.0  # a row inside its bound: not counted
+    sigma, k, _ = _sigma(A, rows)
+    r = min(rows - 1, n)
+    assert k == r
+    expected = np.linalg.svd(A, compute_uv=False)[r - 1]
+    assert abs(sigma - expected) <= 1e-12 * max(1.0, expected)
+
+
+def test_smallest_singular_value_warm_and_singular(rng):
+    """From the last call's vector on a slowly turning matrix, with two singular values a
+    few per cent apart (slow for a plain inverse iteration); and on a singular one."""
+    base = rng.normal(size=(6, 7))
+    U, _, Vt = np.linalg.svd(base, full_matrices=False)
+    u, k = None, -1
+    for t in range(50):
+        R = np.linalg.qr(np.eye(6) + 1e-3 * t * rng.normal(size=(6, 6)))[0]
+        A = np.zeros((24, 7))
+        A[:6] = R @ U @ np.diag([2.0, 1.8, 0.7, 0.3, 0.2, 0.19]) @ Vt
+        sigma, k, u = _sigma(A, 6, k, u)
+        assert abs(sigma - np.linalg.svd(A, compute_uv=False)[5]) <= 1e-12
+    A[:6, :] = 0.0
+    A[:6, 0] = rng.normal(size=6)  # rank one: five singular values of zero
+    A[:6, 1] = 2.0 * A[:6, 0]
+    sigma, _, _ = _sigma(A, 6, k, u)
+    assert 0.0 <= sigma < 1e-6
 
 
 def test_box_never_empty_and_braking_stops_before_the_limit(rng):

@@ -69,6 +69,24 @@ def test_out_of_reach_never_nan_and_recovers(name):
     assert rec.position_error[-1] < 1e-4
 
 
+@pytest.mark.parametrize("name", ["panda", "xarm7"])
+def test_settled_servo_commands_exactly_zero_motion(name):
+    """On a held target a servo stops: no rounding chatter, no 1e-300 motions (an exact
+    row's residual) that leave joints at 0 with denormal values."""
+    arm, q0 = load(name), START[name]
+    servo = arm.servo(q0, dt=DT)
+    held = servo.track([arm.fk(q0)] * 20)
+    assert (held.q == q0).all() and (held.dq == 0.0).all() and (held.ddq == 0.0).all()
+    rec = servo.track([moved(arm.fk(q0), JUMP)] * 600)
+    moving = np.flatnonzero(np.abs(rec.dq).max(axis=1) > 0.0)
+    still = moving[-1] + 1
+    assert still < 500  # settled, then held exactly
+    assert (rec.q[still:] == rec.q[-1]).all() and (rec.dq[still:] == 0.0).all()
+    assert rec.position_error[-1] < 1e-12 and rec.status[-1] == "on_target"
+    values = np.abs(rec.q[rec.q != 0.0])
+    assert values.min() > 1e-100
+
+
 def test_braking_keeps_a_joint_off_its_limit_and_says_so():
     arm = load("ur5").with_limits({"elbow_joint": (1.3, 1.45)})
     q0 = START["ur5"]
@@ -157,6 +175,32 @@ def test_steps_and_track_agree():
     assert rec.status.tolist() == [s.status.value for s in steps]
     assert steps[-1].q.flags.writeable is False
     assert len(rec) == 50
+
+
+def test_a_pose_is_followed_alike_however_it_is_spelled():
+    """A pin.SE3 and a float 4x4 have their table written by the compiled tick; the same
+    pose as (position, rotation) goes through the parser: the same commands, bit for bit.
+    A 4x4 the tick does not keep as given (a rotation orthonormal to 1e-10 only) is
+    handed to the parser, which snaps it; one with NaN is refused by the parser."""
+    arm, q0 = load("ur5"), START["ur5"]
+    targets = circle(arm.fk(q0), 200, DT) + [moved(arm.fk(q0), JUMP)] * 100
+    spellings = [
+        targets,
+        [T.homogeneous for T in targets],
+        [(T.translation, T.rotation) for T in targets],
+    ]
+    runs = [arm.servo(q0).track(seq) for seq in spellings]
+    for rec in runs[1:]:
+        np.testing.assert_array_equal(rec.q, runs[0].q)
+        assert rec.status.tolist() == runs[0].status.tolist()
+    servo = arm.servo(q0)
+    M = arm.fk(q0).homogeneous
+    M[:3, :3] *= 1.0 + 1e-10
+    s = servo.step(M)
+    assert s.status == "on_target" and np.isfinite(s.q).all()
+    M[0, 3] = float("nan")
+    with pytest.raises(armik.TargetError):
+        servo.step(M)
 
 
 def test_limits_given_are_kept():

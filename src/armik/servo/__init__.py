@@ -1,10 +1,11 @@
 """Streaming differential IK: a servo that follows a moving target one tick at a time, every
 joint, velocity and acceleration limit kept on the commanded sequence (docs/servo.md).
 
-``servo.py`` the ``Servo`` (``Arm.servo`` starts one), ``tick.py`` its compiled tick,
-``box.py`` the per-joint velocity box of every limit, ``eigen.py`` the damped normal
-matrix's eigen-decomposition, ``table.py`` a target as the tick's rows, ``limits.py`` the
-limits checked, ``result.py`` what a tick and a run of ticks return.
+``servo.py`` the ``Servo`` (``Arm.servo`` starts one), ``tick.py`` its compiled tick on
+the memory of ``layout.py``, ``box.py`` the per-joint velocity box of every limit,
+``singular.py`` the smallest singular value the damping reads, ``table.py`` a target as the
+tick's rows, ``limits.py`` the limits checked, ``result.py`` what a tick and a run of ticks
+return.
 """
 
 from armik.servo.result import ServoRecord, ServoStatus, ServoStep

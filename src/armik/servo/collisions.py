@@ -21,7 +21,7 @@ from armik.constraints import collision
 from armik.constraints.shapes import check_obstacles
 from armik.errors import CollisionError
 from armik.model.arm_model import ArmModel
-from armik.servo.tick import MAX_ROWS
+from armik.servo.layout import MAX_ROWS
 
 ACTIVE = 0.05  # m beyond the margin: pairs nearer than this give a row
 RATE = 10.0  # 1/s: the share of its gap to the margin a pair may close a second

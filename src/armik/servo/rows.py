@@ -2,12 +2,15 @@
 
 The box QP's step (``tick``) is kept where it meets every row. Otherwise the most violated
 row joins the step as a stiff quadratic penalty ``WEIGHT |C_r dq - b_r|^2`` (relative to
-the normal matrix's largest eigenvalue) and the box QP is solved again, one row a pass:
-the boxes stay hard (the joint, velocity, acceleration and braking limits always hold),
-a row holds to about 1 / WEIGHT of its size where the boxes leave room for it.
+the damped normal matrix's Frobenius norm, a bound on its largest eigenvalue) and the box
+QP is solved again, one row a pass: the boxes stay hard (the joint, velocity, acceleration
+and braking limits always hold), a row holds to about 1 / WEIGHT of its size where the
+boxes leave room for it.
 """
 
 from __future__ import annotations
+
+import math
 
 from numba import njit
 
@@ -35,18 +38,19 @@ def _worst(C, b, dq, act):
     return worst
 
 
-@njit(cache=True, nogil=True)
-def with_rows(C, b, V, ev, lam, xf, lb, ub, dq, act, Hp, Gi, gp, xp, unit, iscratch, mats, vecs):
-    """dq (in place): the step within the boxes [lb, ub] nearest xf in the metric
-    ``V diag(ev + lam) V^T``, with the violated rows of ``C dq >= b`` as penalties; returns
+@njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
+def with_rows(C, b, Hl, xf, lb, ub, dq, act, Hp, Gi, gp, xp, unit, iscratch, mats, vecs):
+    """dq (in place): the step within the boxes [lb, ub] nearest xf in the metric of the
+    damped normal matrix ``Hl``, with the violated rows of ``C dq >= b`` as penalties; returns
     whether a row was added. ``act`` (rows), ``Hp``, ``Gi`` (n x n), ``gp``, ``xp``,
     ``unit`` (n) are scratch, as are ``iscratch`` (4, n) ints, ``mats`` (2, n, n) and
     ``vecs`` (3, n)."""
     n = dq.shape[0]
     top = 0.0
-    for k in range(n):
-        top = max(top, ev[k] + lam)
-    w = WEIGHT * top
+    for i in range(n):
+        for j in range(n):
+            top += Hl[i, j] * Hl[i, j]
+    w = WEIGHT * math.sqrt(top)
     for r in range(C.shape[0]):
         act[r] = 0.0
     added = False
@@ -57,12 +61,9 @@ def with_rows(C, b, V, ev, lam, xf, lb, ub, dq, act, Hp, Gi, gp, xp, unit, iscra
             break
         act[r] = 1.0
         added = True
-        for i in range(n):  # Hp = V diag(ev + lam) V^T + w sum c c^T; gp = (its first) xf
+        for i in range(n):  # Hp = Hl + w sum c c^T; gp = Hl xf + w sum c b
             for j in range(n):
-                s = 0.0
-                for k in range(n):
-                    s += V[i, k] * (ev[k] + lam) * V[j, k]
-                Hp[i, j] = s
+                Hp[i, j] = Hl[i, j]
         for i in range(n):
             s = 0.0
             for j in range(n):

@@ -7,15 +7,17 @@ import math
 from collections.abc import Iterable
 
 import numpy as np
+import pinocchio as pin
 
 from armik.errors import OptionError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel, model_of
+from armik.servo import layout as k
 from armik.servo import table as _table
-from armik.servo import tick as k
 from armik.servo.collisions import rows_for
 from armik.servo.limits import DEFAULT_ACCELERATION, per_joint, time_step, urdf_velocities
 from armik.servo.result import STATUSES, ServoRecord, ServoStep, record
+from armik.servo.tick import tick, tick_pose
 
 SINGULAR = 0.05  # below this smallest singular value (m/rad or 1) the damping grows ...
 DAMPING = 0.005  # ... up to this (added to A^T A) at a singular value of 0
@@ -70,24 +72,19 @@ class Servo:
                 option="gain",
                 value=gain,
             )
-        self._state = np.zeros((k.STATE_ROWS, n))
+        self._mem, self._imem = k.allocate(arm.kernel_chain.flat)
+        self._state, self._cfg, self._out = k.python_views(self._mem, n)
         self._state[k.Q], self._state[k.REST] = q, q
         self._state[k.VMAX], self._state[k.AMAX] = vmax, amax
         self._state[k.LO], self._state[k.HI] = arm.lower, arm.upper
-        self._cfg = np.zeros(k.CFG)
         self._cfg[k.DT], self._cfg[k.GAIN], self._cfg[k.REACH_SLACK] = self.dt, g, REACH_SLACK
         self._cfg[k.TOL_P], self._cfg[k.TOL_R] = tol_position, tol_orientation
-        self._cfg[k.PULL], self._cfg[k.LAM_ERR], self._cfg[k.RESET] = PULL, DAMPING_ERROR, 1.0
+        self._cfg[k.PULL], self._cfg[k.LAM_ERR] = PULL, DAMPING_ERROR
         self._cfg[k.SIGMA_EPS], self._cfg[k.LAM_MAX], self._cfg[k.LAM_MIN] = (
             SINGULAR,
             DAMPING,
             LAMBDA_MIN,
         )
-        floats, ints = k.layout(n, arm.kernel_chain.chain.joint_kind.shape[0])
-        self._buf, self._ibuf = np.zeros(floats), np.zeros(ints, dtype=np.int64)
-        self._out = np.zeros(k.OUT)
-        self._old = np.empty((0, k.COLUMNS))
-        self._flat = arm.kernel_chain.flat
         self._names = arm.joint_names
         self._collisions = rows_for(arm, obstacles, self_collision, margin, self.dt)
         self._no_rows = np.zeros((0, n + 1))
@@ -118,24 +115,17 @@ class Servo:
         list of them). Never raises for a target it can read, never returns NaN: a target
         it cannot reach within the limits is approached as far as they allow. Raises
         ``TargetError`` for a target it cannot read."""
-        rows = _table.table(target, self.arm)
-        packed, kind, halton = self._flat
-        out, state = self._out, self._state
+        out, state, mem, imem = self._out, self._state, self._mem, self._imem
         near = self._no_rows if self._collisions is None else self._collisions.at(state[k.Q])
-        k.tick(
-            packed,
-            kind,
-            halton,
-            rows,
-            self._old,
-            near,
-            state,
-            self._cfg,
-            self._buf,
-            self._ibuf,
-            out,
-        )
-        self._old = rows
+        # a pose's table is written by the compiled tick itself, where it is a plain one
+        if isinstance(target, pin.SE3):
+            done = tick_pose(target.homogeneous, mem, imem, near)
+        elif isinstance(target, np.ndarray) and target.shape == (4, 4) and _plain(target):
+            done = tick_pose(target, mem, imem, near)
+        else:
+            done = False
+        if not done:
+            tick(_table.table(target, self.arm), mem, imem, near)
         command = state[: k.ACC + 1].copy()  # q, dq, ddq: one read-only copy
         command.flags.writeable = False
         pos, ori, code, j, sigma, conflict = out.tolist()
@@ -160,6 +150,12 @@ class Servo:
         if not steps:
             raise OptionError("targets must hold at least one target", option="targets")
         return record(steps)
+
+
+def _plain(M: np.ndarray) -> bool:
+    """Whether the 4x4 M is of the one array type ``tick_pose`` is compiled for (no
+    subclass, float64, C order)."""
+    return type(M) is np.ndarray and M.dtype == np.float64 and M.flags.c_contiguous
 
 
 def start(arm: object, q0: object, **options: object) -> Servo:

@@ -17,13 +17,21 @@ from armik.kernel.problem import NO_CONE, NO_LOOK
 from armik.model.arm_model import ArmModel
 from armik.problem.problem import as_problem
 from armik.problem.tasks.base import KernelRow
-from armik.servo.tick import AXIS, BOUNDS, COLUMNS, CONE, LOOK, MAX_TASKS, POS, ROT, SIGHT, WEIGHTS
+from armik.servo.layout import (
+    AXIS,
+    BOUNDS,
+    COLUMNS,
+    CONE,
+    EXACT,
+    LOOK,
+    MAX_TASKS,
+    POS,
+    ROT,
+    SIGHT,
+    WEIGHTS,
+)
 from armik.targets.pose import Target, parse_target
 
-# An exact axis (bound 0) is given the bound -EXACT: ``kernel.region`` drops a row whose
-# error lies within its bound, and the servo keeps every exact row in its step even at
-# zero error (where the singular values are measured), for a residual of EXACT (m, rad).
-EXACT = 1e-300
 _POSE = np.full(COLUMNS, 0.0)  # a pose's row: exact, every axis weighted
 _POSE[BOUNDS : BOUNDS + 6] = -EXACT
 _POSE[WEIGHTS : WEIGHTS + 6] = 1.0

@@ -6,17 +6,18 @@ A tick, from the joint values q and the last velocity v_prev (``state``):
 
 1. the stacked error E and its Jacobian A at q, for this tick's target and for the last
    tick's (its motion since);
-2. the damped normal matrix ``A^T A + lam I`` by its eigen-decomposition: the smallest of
-   its ``min(rows, n)`` largest singular values says how close the arm is to a
-   singularity, and the damping grows as it falls below ``SIGMA`` (so that the arm keeps
-   moving along the directions it still has);
+2. the smallest of A's ``min(rows, n)`` largest singular values (``armik.servo.singular``)
+   says how close the arm is to a singularity, and the damping grows as it falls below
+   ``SIGMA`` (so that the arm keeps moving along the directions it still has); the damped
+   normal matrix ``A^T A + lam I`` is factored by Cholesky;
 3. the desired step: the target's motion in joint space (feed-forward), plus the last
    tick's remaining correction slowed so that the arm can stop on it at its acceleration
    limits, scaled as a whole within the velocity limits;
 4. the nearest step to it in the metric of the damped normal matrix within the velocity
    box of ``armik.servo.box`` (a box QP, ``kernel.step.active_set``).
 
-Nothing is allocated: the caller's buffers hold the workspace (``layout``).
+Nothing is allocated and nothing reference-counted (``_nrt=False``): the tick works in the
+servo's memory (``armik.servo.layout``), which also keeps the last tick's target.
 """
 
 from __future__ import annotations
@@ -26,43 +27,67 @@ import math
 import numpy as np
 from numba import njit
 
-from armik.kernel.chain import Flat, joints, reach
+from armik.kernel.chain import dof, joints, reach
 from armik.kernel.fk import forward, jacobian_local
-from armik.kernel.problem import LOOK_POINT, LOOK_TOWARD, NVEC, Workspace
+from armik.kernel.linalg import cholesky_factor, cholesky_substitute
+from armik.kernel.problem import NO_CONE, NO_LOOK, NVEC, Workspace
 from armik.kernel.region import rows_at
+from armik.kernel.single import plain_pose
 from armik.kernel.step import active_set
 from armik.servo.box import ACCELERATION, BRAKING, POSITION, VELOCITY, velocity_box
-from armik.servo.eigen import jacobi, kth_largest
+from armik.servo.distances import distances
+from armik.servo.layout import (
+    ACC,
+    AMAX,
+    AXIS,
+    BOUNDS,
+    CODE,
+    COLUMNS,
+    CONE,
+    CONFLICT,
+    DT,
+    EXACT,
+    GAIN,
+    GRAM,
+    HI,
+    JOINT,
+    LAM_ERR,
+    LAM_MAX,
+    LAM_MIN,
+    LAST,
+    LO,
+    LOOK,
+    MAX_ROWS,
+    MAX_TASKS,
+    ORI_ERR,
+    POS,
+    POS_ERR,
+    PULL,
+    REACH_SLACK,
+    REST,
+    ROT,
+    SIGHT,
+    SIGMA,
+    SIGMA_EPS,
+    TOL_P,
+    TOL_R,
+    VMAX,
+    WEIGHTS,
+    Q,
+    V,
+    carve,
+)
 from armik.servo.rows import with_rows
+from armik.servo.singular import smallest_singular
 
-# columns of a task's row in the table
-ROT, POS, BOUNDS, WEIGHTS, CONE, AXIS, LOOK, SIGHT = 0, 9, 12, 18, 24, 25, 28, 29
-COLUMNS = 32
-MAX_TASKS = 4
-MAX_ROWS = 16  # collision rows a tick (``armik.servo.collisions``), the nearest pairs'
-# rows of ``state`` (n columns): joint values, last velocity, limits; the tick's acceleration
-Q, V, ACC, VMAX, AMAX, LO, HI, REST = range(8)  # Q, V, ACC first: the command
-STATE_ROWS = 8
-# entries of ``cfg``
-DT, TOL_P, TOL_R, SIGMA_EPS, LAM_MAX, LAM_MIN, GAIN, REACH_SLACK, PULL, LAM_ERR, RESET = range(11)
-CFG = 11  # RESET: 1 on the first tick (no eigenvectors kept yet)
-# entries of ``out``
-POS_ERR, ORI_ERR, CODE, JOINT, SIGMA, CONFLICT = range(6)
-OUT = 6
 # what limited a tick (``armik.servo.result.ServoStatus`` in this order)
 ON_TARGET, TRACKING, JOINT_LIMIT, VELOCITY_LIMIT, ACCELERATION_LIMIT = range(5)
 SINGULARITY, OUT_OF_REACH, OBSTACLE = 5, 6, 7
 BRAKED = 10.0  # tolerances: slowing to stop on a target farther than this is reported
-
-
-@njit(cache=True, nogil=True)
-def layout(n, N):
-    """(floats, ints): the buffer sizes ``tick`` needs for n joint values, N physical
-    joints."""
-    m = 6 * MAX_TASKS
-    ws = 2 * n + 12 + 12 * n + 6 + NVEC * n + 4 * n * n + 6 * N + 6 * n + 18 + 9 + 36 + n
-    ws += 36 + 12
-    return ws + 2 * m + 2 * m * n + 8 * n * n + 19 * n + MAX_ROWS, 7 * n
+# (m, rad) a row's error below this is met, its correction none: the FK's rounding is a
+# hundred times smaller, and an exact row's residual (``EXACT``) is far below it, so that
+# a servo settled on a held target commands exactly zero motion, not rounding noise
+MET = 1e-14
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -109,14 +134,15 @@ def _views(buf, ibuf, n, N):
     return ws, o
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
-def _stack(table, ws, E, A):
-    """E, A: every task's six rows at the placement in ws (``forward``'s); returns the
-    largest distances from the tasks' regions (m, rad) and how many rows are active."""
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
+def _stack(table, tasks, ws, E, A):
+    """E, A: the six rows of each of the first ``tasks`` tasks at the placement in ws
+    (``forward``'s); returns the largest distances from the tasks' regions (m, rad) and how
+    many rows are active."""
     n = A.shape[1]
     slot = np.int64(0)
     reg_p = reg_r = 0.0
-    for t in range(table.shape[0]):
+    for t in range(tasks):
         row = table[t]
         R_t = row[ROT : ROT + 9].reshape((3, 3))
         look = np.int64(row[LOOK])
@@ -135,11 +161,12 @@ def _stack(table, ws, E, A):
         reg_p = max(reg_p, ws.val[0, 0])
         reg_r = max(reg_r, ws.val[0, 1])
         for k in range(6):
-            E[6 * t + k] = ws.e[0, k]
+            e = ws.e[0, k]
+            E[6 * t + k] = e if abs(e) > MET else 0.0
             for c in range(n):
                 A[6 * t + k, c] = ws.A[0, k, c]
     active = 0
-    for r in range(6 * table.shape[0]):
+    for r in range(6 * tasks):
         for c in range(n):
             if A[r, c] != 0.0:
                 active += 1
@@ -148,103 +175,46 @@ def _stack(table, ws, E, A):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _measured(row, k):
-    """Whether the task's bounds measure position (k = 0) or rotation (k = 3) at all."""
-    for i in range(k, k + 3):
-        if row[BOUNDS + i] < math.inf:
-            return True
-    return False
+def _equal(last, table, tasks):
+    """Whether the first ``tasks`` rows of ``last`` and ``table`` are the same numbers (a
+    held target: its correction at this q is this tick's, no second evaluation)."""
+    for t in range(tasks):
+        for c in range(COLUMNS):
+            if last[t, c] != table[t, c]:
+                return False
+    return True
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
-def _distances(table, R, p, origin, reach_, slack, out):
-    """out[POS_ERR], out[ORI_ERR]: the largest true distances to the tasks' targets (NaN
-    where none measures it); returns whether a position target is beyond the arm's reach."""
-    pos = ori = -1.0
-    far = False
-    for t in range(table.shape[0]):
-        row = table[t]
-        cone = row[CONE]
-        if _measured(row, 0):
-            d0, d1, d2 = p[0] - row[POS], p[1] - row[POS + 1], p[2] - row[POS + 2]
-            pos = max(pos, math.sqrt(d0 * d0 + d1 * d1 + d2 * d2))
-            b = 0.0
-            for i in range(3):
-                b += row[BOUNDS + i] * row[BOUNDS + i]
-            x0, x1, x2 = row[POS] - origin[0], row[POS + 1] - origin[1], row[POS + 2] - origin[2]
-            if math.sqrt(x0 * x0 + x1 * x1 + x2 * x2) > reach_ + math.sqrt(b) + slack:
-                far = True
-        if cone < 0.0 and _measured(row, 3):  # the angle of R_t^T R
-            tr = sx = sy = sz = 0.0
-            for i in range(3):
-                for k in range(3):
-                    tr += row[ROT + 3 * k + i] * R[k, i]
-            for k in range(3):  # M[2,1]-M[1,2], M[0,2]-M[2,0], M[1,0]-M[0,1], M = R_t^T R
-                rk0, rk1, rk2 = row[ROT + 3 * k], row[ROT + 3 * k + 1], row[ROT + 3 * k + 2]
-                sx += rk2 * R[k, 1] - rk1 * R[k, 2]
-                sy += rk0 * R[k, 2] - rk2 * R[k, 0]
-                sz += rk1 * R[k, 0] - rk0 * R[k, 1]
-            s = 0.5 * math.sqrt(sx * sx + sy * sy + sz * sz)
-            ori = max(ori, math.atan2(s, 0.5 * (tr - 1.0)))
-        elif cone >= 0.0:  # the angle of the tip's axis from its direction
-            look = np.int64(row[LOOK])
-            x0, x1, x2 = row[SIGHT], row[SIGHT + 1], row[SIGHT + 2]
-            if look == LOOK_POINT:
-                x0, x1, x2 = x0 - p[0], x1 - p[1], x2 - p[2]
-            elif look != LOOK_TOWARD:  # the target's image of the axis, in the base frame
-                a0, a1, a2 = row[AXIS], row[AXIS + 1], row[AXIS + 2]
-                x0 = row[ROT] * a0 + row[ROT + 1] * a1 + row[ROT + 2] * a2
-                x1 = row[ROT + 3] * a0 + row[ROT + 4] * a1 + row[ROT + 5] * a2
-                x2 = row[ROT + 6] * a0 + row[ROT + 7] * a1 + row[ROT + 8] * a2
-            w0 = R[0, 0] * x0 + R[1, 0] * x1 + R[2, 0] * x2  # R^T x: in the tip frame
-            w1 = R[0, 1] * x0 + R[1, 1] * x1 + R[2, 1] * x2
-            w2 = R[0, 2] * x0 + R[1, 2] * x1 + R[2, 2] * x2
-            a0, a1, a2 = row[AXIS], row[AXIS + 1], row[AXIS + 2]
-            c0, c1, c2 = a1 * w2 - a2 * w1, a2 * w0 - a0 * w2, a0 * w1 - a1 * w0
-            s = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
-            k = a0 * w0 + a1 * w1 + a2 * w2
-            ori = max(ori, math.atan2(s, k) if s > 0.0 or k != 0.0 else 0.0)
-    out[POS_ERR] = pos if pos >= 0.0 else math.nan
-    out[ORI_ERR] = ori if ori >= 0.0 else math.nan
-    return far
-
-
-@njit(cache=True, nogil=True, inline="always")
-def _congruent(H, V, T, B):
-    """B = V^T H V (T: scratch)."""
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
+def _factor(H, lam, Hl, L, free):
+    """L: the Cholesky factor of Hl = H + lam I (``kernel.linalg``'s form); the damping is
+    raised tenfold at a time should rounding leave Hl not positive definite."""
     n = H.shape[0]
     for i in range(n):
-        for j in range(n):
-            s = 0.0
-            for k in range(n):
-                s += H[i, k] * V[k, j]
-            T[i, j] = s
-    for i in range(n):
-        for j in range(i + 1):
-            s = 0.0
-            for k in range(n):
-                s += V[k, i] * T[k, j]
-            B[i, j] = s
-            B[j, i] = s
-
-
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
-def _solve(V, ev, lam, g, y, x):
-    """x = V diag(1 / (ev + lam)) V^T g."""
-    n = g.shape[0]
-    for k in range(n):
-        s = 0.0
+        free[i] = 1
+    for _ in range(40):
         for i in range(n):
-            s += V[i, k] * g[i]
-        y[k] = s / (ev[k] + lam)
-    for i in range(n):
-        s = 0.0
-        for k in range(n):
-            s += V[i, k] * y[k]
-        x[i] = s
+            for j in range(n):
+                Hl[i, j] = H[i, j]
+            Hl[i, i] += lam
+        if cholesky_factor(Hl, free, L):
+            return
+        lam *= 10.0
 
 
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
+def _inverse(L, free, unit, col, Gi):
+    """Gi = (L L^T)^-1, a column at a time."""
+    n = L.shape[0]
+    for c in range(n):
+        for i in range(n):
+            unit[i] = 1.0 if i == c else 0.0
+        cholesky_substitute(L, unit, free, col)
+        for i in range(n):
+            Gi[i, c] = col[i]
+
+
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def _gradient(E, A, m, g, lam, pull, state):
     """g = A^T E + lam pull (rest - q): the minimiser of |A x - E|^2 + lam |x - z|^2 is
     (A^T A + lam I)^-1 (A^T E + lam z), with z a pull toward the rest posture, which thus
@@ -258,13 +228,44 @@ def _gradient(E, A, m, g, lam, pull, state):
         g[i] = s + lam * pull * (state[REST, i] - state[Q, i])
 
 
-@njit(cache=True, nogil=True)
-def tick(packed, kind, halton, table, old, rows_cb, state, cfg, buf, ibuf, out):
-    """One tick: ``state``'s joint values and velocity advanced by one step toward the
-    target ``table`` (``old``: the last tick's, or no rows), within the collision rows
-    ``rows_cb`` (K, n + 1: C, then b, for C dq >= b); ``out`` says what limited it."""
-    ch = Flat(packed, kind, halton)
-    n, N = halton.shape[1], joints(ch)
+@njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
+def tick(table, mem, imem, rows_cb):
+    """One tick toward the target ``table`` (tasks, ``COLUMNS``) on the servo's memory
+    (``armik.servo.layout``), within the collision rows ``rows_cb`` (K, n + 1: C, then b,
+    for C dq >= b)."""
+    ch, state, cfg, out, last, _, buf, ibuf = carve(mem, imem)
+    _tick(ch, table, rows_cb, state, cfg, out, last, buf, ibuf)
+
+
+@njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
+def tick_pose(H, mem, imem, rows_cb):
+    """``tick`` toward the 4x4 pose H, where it is one the target parser keeps exactly as
+    given (``kernel.single.plain_pose``): its table written here, not in Python. Returns
+    False, having done nothing, for any other H (the parser then reads it)."""
+    if not plain_pose(H):
+        return False
+    ch, state, cfg, out, last, pose, buf, ibuf = carve(mem, imem)
+    row = pose[0]
+    for c in range(COLUMNS):
+        row[c] = 0.0
+    for a in range(3):
+        for b in range(3):
+            row[ROT + 3 * a + b] = H[a, b]
+        row[POS + a] = H[a, 3]
+    for c in range(6):
+        row[BOUNDS + c] = -EXACT
+        row[WEIGHTS + c] = 1.0
+    row[CONE], row[AXIS + 2], row[LOOK] = NO_CONE, 1.0, NO_LOOK
+    _tick(ch, pose, rows_cb, state, cfg, out, last, buf, ibuf)
+    return True
+
+
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
+def _tick(ch, table, rows_cb, state, cfg, out, last, buf, ibuf):
+    """The tick: ``state``'s joint values and velocity advanced by one step toward
+    ``table`` (``last``: the last tick's, its ``cfg[LAST]`` rows); ``out`` says what limited
+    it."""
+    n, N = dof(ch), joints(ch)
     ws, o = _views(buf, ibuf, n, N)
     m = 6 * MAX_TASKS
     E, o = _take(buf, o, 2 * m)
@@ -274,25 +275,28 @@ def tick(packed, kind, halton, table, old, rows_cb, state, cfg, buf, ibuf, out):
     act, o = _take(buf, o, MAX_ROWS)
     A2 = Ab.reshape((2, m, n))
     M6 = mats.reshape((8, n, n))
-    Hm, B, Vm, Gi, Hh, Lm = M6[0], M6[1], M6[2], M6[3], M6[4], M6[5]
-    Vp, Vr = M6[6], M6[7]  # Vp: the last tick's eigenvectors (kept between ticks)
+    Hm, Hl, Lc, Gi, Hh, Lm = M6[0], M6[1], M6[2], M6[3], M6[4], M6[5]
+    S, Ls = M6[6], M6[7]  # the Gram matrix of ``singular`` and its factor
     W = vecs.reshape((19, n))
-    ev, tmp, g, y, x, x_old, xf, lb, ub, dq, gap, mult, xo = (
+    u, tmp, g, y, x, x_old, xf, lb, ub, dq, gap, mult, xo = (
         W[0], W[1], W[2], W[3], W[4], W[5], W[6], W[7], W[8], W[9], W[10], W[11], W[12]
     )  # fmt: skip
+    # (u: the Gram matrix's smallest eigenvector, kept between ticks)
     lk, uk = W[13], W[14]
     iv = ibuf[3 * n : 7 * n].reshape((4, n))
     side, held, sub = iv[0], iv[1], iv[2]
+    every = ibuf[7 * n : 8 * n]  # every joint free: the Cholesky factor's mask
     q, v_prev = state[Q], state[V]
     dt = cfg[DT]
     R, p = ws.m3[0], ws.v3[0]
     forward(ch, q, R, p, ws.geo[0], ws.geo[1])
     jacobian_local(ch, R, p, ws.geo[0], ws.geo[1], ws.J)
-    rows = 6 * table.shape[0]
+    tasks = table.shape[0]
+    rows = 6 * tasks
     E0, A0 = E[0:m], A2[0]
-    reg_p, reg_r, active = _stack(table, ws, E0, A0)
+    reg_p, reg_r, active = _stack(table, tasks, ws, E0, A0)
     within = reg_p <= cfg[TOL_P] and reg_r <= cfg[TOL_R]
-    # the normal matrix, its eigen-decomposition, the damping
+    # the normal matrix, the smallest singular value, the damping
     for i in range(n):
         for j in range(i + 1):
             s = 0.0
@@ -300,26 +304,9 @@ def tick(packed, kind, halton, table, old, rows_cb, state, cfg, buf, ibuf, out):
                 s += A0[r, i] * A0[r, j]
             Hm[i, j] = s
             Hm[j, i] = s
-    # Jacobi from the last tick's eigenvectors: B = Vp^T H Vp is nearly diagonal, one or
-    # two sweeps instead of six to eight from scratch; then V = Vp Vr
-    if cfg[RESET] != 0.0:
-        cfg[RESET] = 0.0
-        for i in range(n):
-            for j in range(n):
-                Vp[i, j] = 1.0 if i == j else 0.0
-    _congruent(Hm, Vp, Gi, B)
-    jacobi(B, Vr, ev)
-    for i in range(n):
-        for j in range(n):
-            s = 0.0
-            for k in range(n):
-                s += Vp[i, k] * Vr[k, j]
-            Vm[i, j] = s
-    for i in range(n):
-        for j in range(n):
-            Vp[i, j] = Vm[i, j]
-    r = min(active, n)
-    sigma = math.inf if r == 0 else math.sqrt(max(kth_largest(ev, r, tmp), 0.0))
+    last_k = np.int64(cfg[GRAM])
+    sigma, k = smallest_singular(A0, rows, active, Hm, S, u, last_k, Ls, tmp, side)
+    cfg[GRAM] = k
     eps = cfg[SIGMA_EPS]
     lam = cfg[LAM_MIN]
     for r in range(rows):  # and with the error (Levenberg-Marquardt): far, a gradient step
@@ -328,20 +315,19 @@ def tick(packed, kind, halton, table, old, rows_cb, state, cfg, buf, ibuf, out):
         lam += cfg[LAM_MAX] * (1.0 - (sigma / eps) ** 2)
     pull = cfg[PULL] * dt * (lam - cfg[LAM_MIN]) / lam  # none on a plain step
     _gradient(E0, A0, rows, g, lam, pull, state)
-    _solve(Vm, ev, lam, g, y, x)  # the whole correction to this tick's target
+    _factor(Hm, lam, Hl, Lc, every)
+    cholesky_substitute(Lc, g, every, x)  # the whole correction to this tick's target
     for i in range(n):
         x_old[i] = x[i]
-    if old.shape[0] == table.shape[0]:  # the last tick's target, at this q
+    if cfg[LAST] == tasks and not _equal(last, table, tasks):  # the last tick's target
         same = True
-        for t in range(table.shape[0]):
-            same = same and old[t, LOOK] == table[t, LOOK] and old[t, CONE] == table[t, CONE]
+        for t in range(tasks):
+            same = same and last[t, LOOK] == table[t, LOOK] and last[t, CONE] == table[t, CONE]
         if same:
             E1, A1 = E[m : 2 * m], A2[1]
-            _stack(old, ws, E1, A1)
+            _stack(last, tasks, ws, E1, A1)
             _gradient(E1, A1, rows, y, lam, pull, state)
-            for i in range(n):
-                g[i] = y[i]
-            _solve(Vm, ev, lam, g, y, x_old)
+            cholesky_substitute(Lc, y, every, x_old)
     # desired velocity: feed-forward of the target's motion, plus the last tick's remaining
     # correction slowed so that every joint can stop on it at its acceleration limit
     gain = cfg[GAIN]
@@ -376,14 +362,7 @@ def tick(packed, kind, halton, table, old, rows_cb, state, cfg, buf, ibuf, out):
         for i in range(n):
             dq[i] = xf[i]
     else:
-        for k in range(n):
-            y[k] = 1.0 / (ev[k] + lam)
-        for i in range(n):
-            for j in range(n):
-                s = 0.0
-                for k in range(n):
-                    s += Vm[i, k] * y[k] * Vm[j, k]
-                Gi[i, j] = s
+        _inverse(Lc, every, y, tmp, Gi)
         if not active_set(Gi, xf, lb, ub, xf, side, held, sub, Hh, gap, mult, Lm, xo):
             for i in range(n):
                 xo[i] = xf[i]
@@ -392,9 +371,7 @@ def tick(packed, kind, halton, table, old, rows_cb, state, cfg, buf, ibuf, out):
     blocked = False
     if rows_cb.shape[0] > 0:
         C, b = rows_cb[:, :n], rows_cb[:, n]
-        blocked = with_rows(
-            C, b, Vm, ev, lam, xf, lb, ub, dq, act, B, Gi, g, x, tmp, iv, M6[4:6], W[16:19]
-        )
+        blocked = with_rows(C, b, Hl, xf, lb, ub, dq, act, Hm, Gi, g, x, tmp, iv, M6[4:6], W[16:19])
     # which bound held the step back most
     worst, joint, bound = 0.0, -1, 0
     for i in range(n):
@@ -412,7 +389,11 @@ def tick(packed, kind, halton, table, old, rows_cb, state, cfg, buf, ibuf, out):
     # the true distances the command leaves (the FK at the new joint values)
     forward(ch, q, R, p, ws.geo[0], ws.geo[1])
     origin, reach_ = reach(ch)
-    far = _distances(table, R, p, origin, reach_, cfg[REACH_SLACK], out)
+    far = distances(table, R, p, origin, reach_, cfg[REACH_SLACK], out)
+    for t in range(tasks):  # this target, the next tick's last
+        for c in range(COLUMNS):
+            last[t, c] = table[t, c]
+    cfg[LAST] = tasks
     code, who = TRACKING, joint
     if within:
         code, who = ON_TARGET, -1
