@@ -7,6 +7,7 @@ import os
 import tempfile
 import time
 import warnings
+from pathlib import Path
 
 from tests.golden.blas_kernels import pin_openblas
 
@@ -110,12 +111,13 @@ def tool_xyz(l2: float, tool: str) -> str:
 
 
 TOUR = "test_a_tour_of_every_option_compiles_each_kernel_once"
-# A file the tour writes when it ends: set once by the first process (the xdist controller),
-# inherited by the workers it starts.
+# Files the tour writes when it starts (its process id) and when it ends: named once by the
+# first process (the xdist controller), inherited by the workers it starts.
 TOUR_DONE = os.environ.setdefault(
     "ARMIK_TEST_TOUR_DONE", os.path.join(tempfile.mkdtemp(), "tour-done")
 )
-TOUR_WAIT = 900.0  # s: a worker waits no longer for the tour (a crashed worker, say)
+TOUR_STARTED = TOUR_DONE + ".pid"
+TOUR_START_WAIT = 120.0  # s: a worker waits no longer for the tour to start
 
 
 def pytest_collection_modifyitems(session, config, items) -> None:
@@ -134,9 +136,27 @@ def pytest_runtest_setup(item) -> None:
         return
     if not any(other.name == TOUR for other in item.session.items):
         return  # the tour is not in this run
-    deadline = time.monotonic() + TOUR_WAIT
-    while not os.path.exists(TOUR_DONE) and time.monotonic() < deadline:
+    t0 = time.monotonic()
+    while not os.path.exists(TOUR_DONE):
+        running = _tour_running()
+        if running is False or (running is None and time.monotonic() - t0 > TOUR_START_WAIT):
+            return  # its worker died, or it never started
         time.sleep(0.2)
+
+
+def _tour_running() -> bool | None:
+    """Whether the process running the tour is alive; None before it started."""
+    try:
+        pid = int(Path(TOUR_STARTED).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # alive, another user's
+        return True
+    return True
 
 
 RESULT_FIELDS = (  # every IKResult field but q, time and extra

@@ -15,7 +15,7 @@ import pytest
 import armik
 from armik.errors import OptionError
 from armik.tools.cli import main
-from tests.conftest import TOUR_DONE
+from tests.conftest import TOUR_DONE, TOUR_STARTED
 
 SMALL = textwrap.dedent(
     """
@@ -50,6 +50,7 @@ def test_a_tour_of_every_option_compiles_each_kernel_once():
     # targets, budgets, tolerances, read-only seeds and targets).
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
     env["PYTHONPATH"] = os.pathsep.join(sys.path)
+    Path(TOUR_STARTED).write_text(str(os.getpid()), encoding="utf-8")
     try:
         done = subprocess.run(
             [sys.executable, "-c", TOUR], env=env, capture_output=True, text=True, check=True
