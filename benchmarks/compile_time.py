@@ -116,8 +116,62 @@ for name, call in calls.items():
 """
 
 
+PARTS = r"""
+import importlib, pkgutil, sys, time
+from collections import defaultdict
+from numba.core import event
+from numba.core.registry import CPUDispatcher
+
+class Own(event.Listener):  # each compilation's CPU time, its nested callees' left out
+    def __init__(self):
+        self.stack, self.own, self.times = [], defaultdict(float), defaultdict(int)
+    def on_start(self, ev):
+        self.stack.append([time.process_time(), 0.0])
+    def on_end(self, ev):
+        t0, nested = self.stack.pop()
+        took = time.process_time() - t0
+        f = ev.data["dispatcher"].py_func
+        name = f"{f.__module__}.{f.__qualname__}"
+        self.own[name] += took - nested
+        self.times[name] += 1
+        if self.stack:
+            self.stack[-1][1] += took
+
+own = Own()
+event.register("numba:compile", own)
+import armik
+from armik import precompile
+names = sys.argv[1:] or list(precompile.PARTS)
+total = 0.0
+for name in names:
+    c = time.process_time()
+    precompile.PARTS[name]()
+    total += time.process_time() - c
+    print(f"{name:24s} {time.process_time() - c:6.1f} s of CPU", flush=True)
+print(f"{'every part':24s} {total:6.1f} s of CPU")
+print("the functions' own compilations, most CPU first:")
+for name, seconds in sorted(own.own.items(), key=lambda kv: -kv[1])[:25]:
+    print(f"  {seconds:6.2f} s  x{own.times[name]}  {name}")
+print("compiled for more than one signature:")
+for info in pkgutil.walk_packages(armik.__path__, "armik."):
+    if info.name.endswith("__main__") or info.name.startswith(("armik.view", "armik.tools")):
+        continue
+    for key, value in vars(importlib.import_module(info.name)).items():
+        if isinstance(value, CPUDispatcher) and value.py_func.__module__ == info.name:
+            if len(value.signatures) > 1:
+                print(f"  {info.name}.{key}: {len(value.signatures)}")
+"""
+
+
 def main() -> None:
     events = [f for f in ("--events", "--profile") if f in sys.argv]
+    if "--parts" in sys.argv:
+        names = sys.argv[sys.argv.index("--parts") + 1 :]
+        with tempfile.TemporaryDirectory() as cache:
+            env = {**os.environ, "NUMBA_CACHE_DIR": cache, "ARMIK_COMPILE_HELPER": "0"}
+            env["ARMIK_COMPILE_NOTICE"] = "0"
+            subprocess.run([sys.executable, "-c", PARTS, *names], env=env, check=True)
+        return
     if "--general" in sys.argv:
         for family in ("three_parallel_general", "spherical_general"):
             with tempfile.TemporaryDirectory() as cache:

@@ -5,7 +5,9 @@ from __future__ import annotations
 import functools
 import os
 import tempfile
+import time
 import warnings
+from pathlib import Path
 
 from tests.golden.blas_kernels import pin_openblas
 
@@ -108,13 +110,53 @@ def tool_xyz(l2: float, tool: str) -> str:
     return f"{l2 + dx} {dy} {dz}"
 
 
+TOUR = "test_a_tour_of_every_option_compiles_each_kernel_once"
+# Files the tour writes when it starts (its process id) and when it ends: named once by the
+# first process (the xdist controller), inherited by the workers it starts.
+TOUR_DONE = os.environ.setdefault(
+    "ARMIK_TEST_TOUR_DONE", os.path.join(tempfile.mkdtemp(), "tour-done")
+)
+TOUR_STARTED = TOUR_DONE + ".pid"
+TOUR_START_WAIT = 120.0  # s: a worker waits no longer for the tour to start
+
+
 def pytest_collection_modifyitems(session, config, items) -> None:
     """The tour of every option (tests/kernel/test_compile.py) compiles every kernel into
     numba's cache, one process per core: run first, the rest of the suite loads what it
     compiled instead of compiling it again on one core."""
-    name = "test_a_tour_of_every_option_compiles_each_kernel_once"
-    tour = [item for item in items if item.name == name]
+    tour = [item for item in items if item.name == TOUR]
     items[:] = tour + [item for item in items if item not in tour]
+
+
+def pytest_runtest_setup(item) -> None:
+    """Under pytest-xdist, the workers that did not take the tour wait for it: its processes
+    take every core, and a test run beside it would compile again the kernels it is
+    compiling (measured: docs/compile-time.md)."""
+    if not hasattr(item.config, "workerinput") or item.name == TOUR:
+        return
+    if not any(other.name == TOUR for other in item.session.items):
+        return  # the tour is not in this run
+    t0 = time.monotonic()
+    while not os.path.exists(TOUR_DONE):
+        running = _tour_running()
+        if running is False or (running is None and time.monotonic() - t0 > TOUR_START_WAIT):
+            return  # its worker died, or it never started
+        time.sleep(0.2)
+
+
+def _tour_running() -> bool | None:
+    """Whether the process running the tour is alive; None before it started."""
+    try:
+        pid = int(Path(TOUR_STARTED).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # alive, another user's
+        return True
+    return True
 
 
 RESULT_FIELDS = (  # every IKResult field but q, time and extra

@@ -8,12 +8,14 @@ import os
 import subprocess
 import sys
 import textwrap
+from pathlib import Path
 
 import pytest
 
 import armik
 from armik.errors import OptionError
 from armik.tools.cli import main
+from tests.conftest import TOUR_DONE, TOUR_STARTED
 
 SMALL = textwrap.dedent(
     """
@@ -48,9 +50,13 @@ def test_a_tour_of_every_option_compiles_each_kernel_once():
     # targets, budgets, tolerances, read-only seeds and targets).
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
     env["PYTHONPATH"] = os.pathsep.join(sys.path)
-    done = subprocess.run(
-        [sys.executable, "-c", TOUR], env=env, capture_output=True, text=True, check=True
-    )
+    Path(TOUR_STARTED).write_text(str(os.getpid()), encoding="utf-8")
+    try:
+        done = subprocess.run(
+            [sys.executable, "-c", TOUR], env=env, capture_output=True, text=True, check=True
+        )
+    finally:  # the other test workers wait for this (tests/conftest.py)
+        Path(TOUR_DONE).touch()
     got = json.loads(done.stdout.strip().splitlines()[-1])
     assert got["parts"] == list(armik.precompile.PARTS)
     counts = got["counts"]

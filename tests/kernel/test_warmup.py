@@ -4,17 +4,24 @@ the answers are those of a single process."""
 
 from __future__ import annotations
 
+import importlib
 import json
 import os
+import pkgutil
+import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 
 import armik
-from armik.kernel import problem, warmup
+import armik.kernel
+from armik.kernel import measure as check
+from armik.kernel import problem, step, warmup
 
-# A fresh interpreter on an empty cache: a first dls solve and batch, then what compiled.
+# A fresh interpreter on a cache without the kernel's entries, descent, steps and share (see
+# ``_seed_with_callees``): a first dls solve and batch, then what compiled.
 COLD = r"""
 import json, numpy as np, armik
 from armik.kernel import step, warmup
@@ -34,7 +41,40 @@ print(json.dumps({
 """
 
 
+# What the cold solve compiles itself: the entries, the descent, the steps, the helper's check
+# and this process's share (``warmup._parts``). The rest of what they call (the FK, the
+# region's rows, the linear algebra) may come from the suite's cache when the tour has
+# filled it: numba would only compile it again, and the test is about the helper.
+COLD_MODULES = ("armik.kernel.descent", "armik.kernel.single", "armik.kernel.entry")
+
+
+def _seed_with_callees(cache: Path) -> None:
+    """Copy into ``cache`` (a ``NUMBA_CACHE_DIR``) this process's cache entries of the
+    kernel's compiled functions but those the cold solve compiles itself."""
+    from numba.core.caching import UserProvidedCacheLocator
+    from numba.core.registry import CPUDispatcher
+
+    cold = {step.dls, step.qp, check.placement_check, *(d for d, _ in warmup._parts()[1])}
+    for info in pkgutil.iter_modules(armik.kernel.__path__, "armik.kernel."):
+        module = importlib.import_module(info.name)
+        for d in vars(module).values():
+            if not isinstance(d, CPUDispatcher) or d.py_func.__module__ != info.name:
+                continue
+            here = getattr(d._cache, "_cache_path", None)  # numba's names, not public API
+            if d in cold or info.name in COLD_MODULES or here is None:
+                continue
+            here = Path(here)
+            index = d._cache._cache_file._index_name
+            there = cache / UserProvidedCacheLocator.get_suitable_cache_subpath(
+                d.py_func.__code__.co_filename
+            )
+            for path in here.glob(index[: -len(".nbi")] + ".*"):
+                there.mkdir(parents=True, exist_ok=True)
+                shutil.copy2(path, there / path.name)
+
+
 def test_cold_first_solve_loads_the_helpers_step(tmp_path):
+    _seed_with_callees(tmp_path)
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path), warmup.ENVIRONMENT: "1"}
     out = subprocess.run(
         [sys.executable, "-c", COLD], env=env, capture_output=True, text=True, check=True

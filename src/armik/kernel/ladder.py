@@ -54,7 +54,10 @@ def _grow(a, n):
     if n < a.shape[0]:
         return a
     b = np.empty((2 * a.shape[0],) + a.shape[1:], a.dtype)
-    b[: a.shape[0]] = a
+    # a loop over the flat arrays, not a slice copy: no shape-mismatch error to compile
+    flat_a, flat_b = a.reshape(a.size), b.reshape(b.size)
+    for i in range(flat_a.shape[0]):
+        flat_b[i] = flat_a[i]
     return b
 
 
@@ -102,7 +105,7 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step, forbidden, node, weight):
     layer = np.full(n, -1, np.int64)
     broken, hidden = np.zeros(n, np.bool_), np.zeros(n, np.bool_)
     jump_joint, jump_size = np.full(n, -1, np.int64), np.zeros(n)
-    count, prev_lo, prev_hi = 0, 0, 0
+    count, prev_lo, prev_hi = np.int64(0), 0, 0  # count typed: _grow compiles once
     started = False
     Q, child = np.empty(d), np.empty(d)
     turn, first, last = np.zeros(d, np.int64), np.zeros(d, np.int64), np.zeros(d, np.int64)
@@ -131,7 +134,8 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step, forbidden, node, weight):
                             s_rung, s_parent = _grow(s_rung, count), _grow(s_parent, count)
                             s_turn, s_cost = _grow(s_turn, count), _grow(s_cost, count)
                             s_rung[count], s_parent[count], s_cost[count] = r, -1, node[r]
-                            s_turn[count] = turn
+                            for j in range(d):
+                                s_turn[count, j] = turn[j]
                             table[code] = count
                             touched[n_touched] = code
                             n_touched += 1
@@ -175,7 +179,8 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step, forbidden, node, weight):
                     s_rung, s_parent = _grow(s_rung, count), _grow(s_parent, count)
                     s_turn, s_cost = _grow(s_turn, count), _grow(s_cost, count)
                     s_rung[count], s_parent[count], s_cost[count] = r, src, cost
-                    s_turn[count] = turn
+                    for j in range(d):
+                        s_turn[count, j] = turn[j]
                     table[code] = count
                     touched[n_touched] = code
                     n_touched += 1

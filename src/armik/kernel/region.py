@@ -25,8 +25,8 @@ import math
 
 from numba import njit
 
-from armik.kernel.error import relative, to_target
-from armik.kernel.fk import jacobian_local
+from armik.kernel.error import to_target
+from armik.kernel.fk import forward, jacobian_local
 from armik.kernel.problem import LOOK_TOWARD, NO_LOOK
 from armik.kernel.se3 import jlog3, log3
 from armik.tolerances import LOOK_AT
@@ -39,9 +39,11 @@ def _evaluate_region(ch, bounds, w, cone, a, look, x, R_t, p_t, ws, slot):
     (3,) within that cone instead of the rotation bounds, around the target's image of it
     or, with ``look``, around the line from the tip to the point ``x`` (3,)
     (``LOOK_POINT``) or the direction ``x`` (``LOOK_TOWARD``)."""
-    relative(ch, ws.q[slot], R_t, p_t, ws)  # M = R^T R_t, t = R^T (p_t - p)
+    forward(ch, ws.q[slot], ws.m3[0], ws.v3[0], ws.geo[0], ws.geo[1])
     jacobian_local(ch, ws.m3[0], ws.v3[0], ws.geo[0], ws.geo[1], ws.J)
-    _rows(bounds, w, cone, a, look, x, ws, slot)
+    # the rows called, not inlined: one compiled copy of them for the descent, the task
+    # solver and the servo alike
+    rows_at(bounds, w, cone, a, look, x, R_t, p_t, ws, slot)
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)

@@ -29,6 +29,9 @@ BOUNDS, WEIGHTS, CONE, AXIS, POINT = slice(0, 6), slice(6, 12), 12, slice(13, 16
 PARAMS = 19
 CHAIN, LOOK, REFERENCE = 0, 1, 2  # columns of its ints (REFERENCE: a Relative's, else -1)
 LAMBDA_MIN, LAMBDA_MAX = 1e-12, 1e12
+# the workspace slot, typed: a literal 0 would compile the region's rows a second time, for
+# Literal[int](0), beside the int64 the descent and the servo pass
+SLOT, ONE = np.int64(0), np.int64(1)
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -80,7 +83,8 @@ def _stack(fp, fo, ki, ko, halton, R_t, p_t, par, ti, q, tol_p, tol_r, ws, e, A,
     task within (tol_p, tol_r)). ``kept`` (10, n) is scratch for a frame's placement while
     its reference's is computed."""
     n = q.shape[0]
-    ws.q[0, :] = q
+    for i in range(n):  # loops, not slice copies: no shape-mismatch error to compile
+        ws.q[0, i] = q[i]
     cost = 0.0
     done = True
     for t in range(ti.shape[0]):
@@ -89,12 +93,24 @@ def _stack(fp, fo, ki, ko, halton, R_t, p_t, par, ti, q, tol_p, tol_r, ws, e, A,
         p = par[t]
         if ref < 0:
             _evaluate_region(
-                ch, p[0:6], p[6:12], p[12], p[13:16], ti[t, LOOK], p[16:19], R_t[t], p_t[t], ws, 0
+                ch,
+                p[0:6],
+                p[6:12],
+                p[12],
+                p[13:16],
+                ti[t, LOOK],
+                p[16:19],
+                R_t[t],
+                p_t[t],
+                ws,
+                SLOT,
             )
         else:
             other = Flat(fp[fo[ref] : fo[ref + 1]], ki[ko[ref] : ko[ref + 1]], halton)
             _in_reference(ch, other, ws, kept)
-            rows_at(p[0:6], p[6:12], p[12], p[13:16], ti[t, LOOK], p[16:19], R_t[t], p_t[t], ws, 0)
+            rows_at(
+                p[0:6], p[6:12], p[12], p[13:16], ti[t, LOOK], p[16:19], R_t[t], p_t[t], ws, SLOT
+            )
         done = done and ws.val[0, 0] <= tol_p and ws.val[0, 1] <= tol_r
         cost += ws.val[0, 2]
         for k in range(6):
@@ -109,7 +125,7 @@ def descend(fp, fo, ki, ko, halton, R_t, p_t, par, ti, q, lo, hi, iterations, to
     """Levenberg-Marquardt from q (overwritten with the end) within [lo, hi]; returns
     (iterations used, every task within half the tolerances)."""
     n, m = q.shape[0], 6 * ti.shape[0]
-    ws = _workspace(n, 1, _most_joints(fo, ko, n))
+    ws = _workspace(n, ONE, np.int64(_most_joints(fo, ko, n)))  # typed, as the entries'
     kept = np.empty((10, max(n, 3)))
     e, A = np.empty((2, m)), np.empty((2, m, n))
     H, L = np.empty((n, n)), np.empty((n, n))
@@ -158,7 +174,8 @@ def descend(fp, fo, ki, ko, halton, R_t, p_t, par, ti, q, lo, hi, iterations, to
             fp, fo, ki, ko, halton, R_t, p_t, par, ti, trial, tp, tr, ws, e[other], A[other], kept
         )
         if cost2 < cost:
-            q[:] = trial
+            for i in range(n):
+                q[i] = trial[i]
             now, cost = other, cost2
             lam = max(lam / 3.0, LAMBDA_MIN)
             if done:
@@ -174,7 +191,7 @@ def descend(fp, fo, ki, ko, halton, R_t, p_t, par, ti, q, lo, hi, iterations, to
 def stacked(fp, fo, ki, ko, halton, R_t, p_t, par, ti, q):
     """(e, A) at q, minus the residual and its Jacobian: ``_stack`` for the tests."""
     n, m = q.shape[0], 6 * ti.shape[0]
-    ws = _workspace(n, 1, _most_joints(fo, ko, n))
+    ws = _workspace(n, ONE, np.int64(_most_joints(fo, ko, n)))  # typed, as the entries'
     kept = np.empty((10, max(n, 3)))
     e, A = np.empty(m), np.empty((m, n))
     _stack(fp, fo, ki, ko, halton, R_t, p_t, par, ti, q, 0.0, 0.0, ws, e, A, kept)

@@ -142,7 +142,8 @@ def solutions(h, p, R_tip0, R, pos, state, roots, places, sign, q0, lower, upper
         r = polish(h, p, R_tip0, R9, P3, q, ITERATIONS)
         fresh = r <= EXACT and n < ROWS and is_new(W, n, q)
         if fresh:
-            n = sixr.put_row(W, n, q[0], q[1], q[2], q[3], q[4], q[5], 0, 0, 0.0, 0.0)
+            zero = np.int64(0)  # typed: literal 0s compile put_row once more
+            n = sixr.put_row(W, n, q[0], q[1], q[2], q[3], q[4], q[5], zero, zero, 0.0, 0.0)
         elif off <= REAL:
             sure = False
     sixr.nearest_equivalents(W, n, q0, lower, upper)

@@ -316,10 +316,11 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, N, threshold, out):
         if r > EXACT or n == ROWS:
             continue
         if is_new(W, n, q):
-            n = sixr.put_row(W, n, q[0], q[1], q[2], q[3], q[4], q[5], 0, 0, 0.0, 0.0)
+            zero = np.int64(0)  # typed: literal 0s compile put_row once more
+            n = sixr.put_row(W, n, q[0], q[1], q[2], q[3], q[4], q[5], zero, zero, 0.0, 0.0)
     if n == 0:
         n = sixr.put_row(W, n, best[0], best[1], best[2], best[3], best[4], best[5],
-                         sixr.LS, 0, 0.0, 0.0)  # fmt: skip
+                         np.int64(sixr.LS), np.int64(0), 0.0, 0.0)  # fmt: skip
     sixr.nearest_equivalents(W, n, q0, lower, upper)
     return n, sixr.pack(W, n, q0, lower, upper, h, p, np.int64(0), out)
 

@@ -49,6 +49,8 @@ OVER_Q1, OVER_Q4 = 0, 1  # the family codes, as ``sixr.flat`` writes them
 FOLD_ZERO = 0.02  # of the arm's length: a branch this near zero at a fold is polished
 PROBE = 0.01  # of the arm's length: a branch this near zero at two samples is probed between
 REACHED = 1e-10  # m and rad: a polished zero reaches the target (Pinocchio verifies it)
+# dips' wrap, typed: a literal True and False would compile it twice
+WRAP, INNER = np.bool_(True), np.bool_(False)
 
 
 @njit(cache=True)
@@ -94,7 +96,7 @@ def _zeros(family, h, p, R06, p16, X, XS):
         nb = _sampled_finer(family, xa, step, E, S, M, k, k2, h, p, R06, p16, Bx, Bs, nb)
     D = np.empty((2 * CANDIDATES, 3), np.int64)  # side-2 rows too (see ``dips``)
     count = np.int64(0)
-    for z in range(dips(E, S, M, D, True)):  # the branch's extremum between its neighbours
+    for z in range(dips(E, S, M, D, WRAP)):  # the branch's extremum between its neighbours
         k, i = D[z, 0], D[z, 1]
         nb, count = _dip(
             family, angle(k), step, D[z, 2], E[k, i], S[k, i], h, p, R06, p16, Bx, Bs, nb,
@@ -178,7 +180,7 @@ def _sampled_finer(family, xa, step, E, S, M, k, k2, h, p, R06, p16, Bx, Bs, nb)
     D = np.empty((2 * CANDIDATES, 3), np.int64)  # side-2 rows too (see ``dips``)
     X, XS = np.empty(1), np.zeros((1, STATE))  # a tangency here is left to the polish of
     count = np.int64(1)  # its neighbours' brackets: none is kept from this call
-    for z in range(dips(Es, Ss, Ms, D, False)):
+    for z in range(dips(Es, Ss, Ms, D, INNER)):
         u, i = D[z, 0], D[z, 1]
         nb, _ = _dip(
             family, xa + sub * u, sub, D[z, 2], Es[u, i], Ss[u, i], h, p, R06, p16, Bx, Bs,

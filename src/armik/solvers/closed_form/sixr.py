@@ -240,7 +240,7 @@ def pack(W, n, q0, lower, upper, h, p, labelled, out):
     first_ok = False
     taken = 0  # bit r: row r copied
     for k in range(n):  # selection sort, stable: at most 16 rows, no allocation
-        best = -1
+        best = np.int64(-1)  # typed: a literal -1 compiles _inside once more
         for r in range(n):
             if not taken & (1 << r) and (best < 0 or W[r, 7] < W[best, 7]):
                 best = r

@@ -301,7 +301,7 @@ def ordered(W, n, q0, lower, upper, out):
     for k in range(n):
         for c in range(COLUMNS):
             out[k, c] = W[order[k], c]
-    return n > 0 and inside(out, 0, lower, upper)
+    return n > 0 and inside(out, np.int64(0), lower, upper)  # typed: no Literal copy
 
 
 @njit(cache=True, nogil=True)

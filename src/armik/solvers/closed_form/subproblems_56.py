@@ -69,6 +69,11 @@ ROOT_GATE = 1e-4  # a root's residual (relative) below which Newton steps are tr
 GRID = 32  # samples per angle of the least-squares search
 STARTS = 6  # local minima of that grid refined
 SINGULAR = 1e-10  # |det M| / |M|_F^2 below this: a 2 x 2 block M is taken as singular
+# Typed numbers for the compiled callees: a literal (0, -1, 8, False) would compile each
+# callee once more for its Literal type beside the int64 or bool it is called with elsewhere.
+NONE, FREE, ONE = np.int64(0), np.int64(-1), np.int64(1)
+FEW, MANY = np.int64(8), np.int64(60)  # Newton steps on a root, on a least-squares start
+NOT_LS = np.bool_(False)
 
 
 # -- shared pieces ----------------------------------------------------------------------------
@@ -191,7 +196,7 @@ def _refine5(q0, q1, q2, q3, e1, e2, e3, t, iters, floor):
     for _ in range(iters):
         if r <= floor:
             break
-        step, ok = newton_step(H, g, 3, mu)
+        step, ok = newton_step(H, g, np.int64(3), mu)
         if ok:
             y = x + step
             ry, gy, Hy = _f5(q0, q1, q2, q3, e1, e2, e3, y)
@@ -238,7 +243,7 @@ def _ls5(q0, q1, q2, q3, e1, e2, e3):
         t1 = -math.pi + 2.0 * math.pi * starts[s, 0] / GRID
         t3 = -math.pi + 2.0 * math.pi * starts[s, 1] / GRID
         t2, _ = sp1(_on(c3, a3, b3, t3), _on(c1, a1, b1, t1), e2)
-        x, r = _refine5(q0, q1, q2, q3, e1, e2, e3, (t1, t2, t3), 60, floor)
+        x, r = _refine5(q0, q1, q2, q3, e1, e2, e3, (t1, t2, t3), MANY, floor)
         if r < rbest:
             best, rbest = x, r
     return best, rbest
@@ -253,7 +258,7 @@ def _try5(q0, q1, q2, q3, e1, e2, e3, t1, t3, sol, res, n, size):
     t2, _ = sp1(v3, v1, e2)
     if norm(sub(v1, mv(rot(e2, t2), v3))) > ROOT_GATE * size:
         return n
-    x, r = _refine5(q0, q1, q2, q3, e1, e2, e3, (t1, t2, t3), 8, 1e-16 * size)
+    x, r = _refine5(q0, q1, q2, q3, e1, e2, e3, (t1, t2, t3), FEW, 1e-16 * size)
     if r <= EXACT * size:
         n = keep_distinct(sol, res, n, x, r)
     return n
@@ -310,18 +315,18 @@ def sp5(p0, p1, p2, p3, k1, k2, k3):
     sol = np.zeros((4, 3))
     res = np.full(4, math.inf)
     if size == 0.0:  # everything is zero: every angle solves it
-        return _pack5(sol, -1, False)
+        return _pack5(sol, FREE, NOT_LS)
     M, f = _system5(q0, q1, q2, q3, e1, e2, e3, size)
     pairs = np.zeros((8, 2))
     m, free = _pairs(M, f, size, pairs)
-    n = 0
+    n = NONE
     for i in range(m):
         n = _try5(q0, q1, q2, q3, e1, e2, e3, pairs[i, 0], pairs[i, 1], sol, res, n, size)
     if n > 0:
-        return _pack5(sol, -1 if free else n, False)
+        return _pack5(sol, FREE if free else n, NOT_LS)
     x, r = _ls5(q0, q1, q2, q3, e1, e2, e3)
-    keep_distinct(sol, res, 0, x, r)
-    return _pack5(sol, -1 if free else 1, r > EXACT * size)
+    keep_distinct(sol, res, NONE, x, r)
+    return _pack5(sol, FREE if free else ONE, r > EXACT * size)
 
 
 # -- SP6 --------------------------------------------------------------------------------------
@@ -361,7 +366,7 @@ def _refine6(M, f, t1, t2, iters, floor):
     for _ in range(iters):
         if r <= floor:
             break
-        step, ok = newton_step(H, g, 2, mu)
+        step, ok = newton_step(H, g, np.int64(2), mu)
         if ok:
             y = np.array((x[0] + step[0], x[1] + step[1]))
             ry, gy, Hy = _f6(M, f, y)
@@ -395,7 +400,7 @@ def _ls6(M, f, floor):
     for s in range(grid_minima(D, starts)):
         t1 = -math.pi + 2.0 * math.pi * starts[s, 0] / GRID
         t2 = -math.pi + 2.0 * math.pi * starts[s, 1] / GRID
-        x, r = _refine6(M, f, t1, t2, 60, floor)
+        x, r = _refine6(M, f, t1, t2, MANY, floor)
         if r < rbest:
             best, rbest = x, r
     return best, rbest
@@ -406,7 +411,7 @@ def _try6(M, f, t1, t2, sol, res, n, size):
     r, _, _ = _f6(M, f, np.array((t1, t2)))
     if r > ROOT_GATE * size:
         return n
-    x, r = _refine6(M, f, t1, t2, 8, 1e-16 * size)
+    x, r = _refine6(M, f, t1, t2, FEW, 1e-16 * size)
     if r <= EXACT * size:
         n = keep_distinct(sol, res, n, x, r)
     return n
@@ -448,14 +453,14 @@ def sp6(h, k, p, d1, d2):
     sol = np.zeros((4, 2))
     res = np.full(4, math.inf)
     if size == 0.0:
-        return _pack6(sol, -1, False)
+        return _pack6(sol, FREE, NOT_LS)
     pairs = np.zeros((8, 2))
     m, free = _pairs(M, f, size, pairs)
-    n = 0
+    n = NONE
     for i in range(m):
         n = _try6(M, f, pairs[i, 0], pairs[i, 1], sol, res, n, size)
     if n > 0:
-        return _pack6(sol, -1 if free else n, False)
+        return _pack6(sol, FREE if free else n, NOT_LS)
     x, r = _ls6(M, f, 1e-16 * size)
-    keep_distinct(sol, res, 0, x, r)
-    return _pack6(sol, -1 if free else 1, r > EXACT * size)
+    keep_distinct(sol, res, NONE, x, r)
+    return _pack6(sol, FREE if free else ONE, r > EXACT * size)
