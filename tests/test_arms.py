@@ -289,6 +289,7 @@ def test_solve_all_gives_every_combination_of_the_chains_answers(cell):
     q = cell.random_q(np.random.default_rng(8))
     targets = {tip: cell.fk(q, tip) for tip in cell.tips}
     every = cell.solve_all(targets, q0=q)
+    assert isinstance(every, armik.Solutions)  # the type Arm.solve_all gives
     left = cell.chain("l_tool0").solve_all(targets["l_tool0"])
     right = cell.chain("r_tool0").solve_all(targets["r_tool0"])
     count = sum(r.success for r in left) * sum(r.success for r in right)

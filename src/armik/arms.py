@@ -39,6 +39,7 @@ from armik.problem.scores import Manipulability, Score, parse_score
 from armik.problem.tasks import Pose, Position, Relative, Task
 from armik.problem.tasks.base import replaced
 from armik.result import IKResult
+from armik.solutions import Solutions
 from armik.solve.single import solve_one
 from armik.solve.tasks import check_options, solve_tasks
 from armik.solvers.registry import get as get_solver
@@ -194,10 +195,13 @@ class Arms:
         together = self._solve_together(self._joint(), targets, each.q, options, t0)
         return together if together.success else each
 
-    def solve_all(self, targets: Mapping[str, object], *, q0: object = None, **options):
-        """Every answer for one target per tip, best first (``armik.arms_every``)."""
+    def solve_all(
+        self, targets: Mapping[str, object], *, q0: object = None, **options
+    ) -> Solutions:
+        """Every answer for one target per tip, best first (``armik.arms_every``), as
+        ``Arm.solve_all`` gives them: a ``Solutions``."""
         refuse_own_checks(options)
-        return arms_every.solve_all(self, by_tip(self._chains, targets), q0, **options)
+        return Solutions(arms_every.solve_all(self, by_tip(self._chains, targets), q0, **options))
 
     def solve_batch(self, targets: Mapping[str, object], *, q0: object = None, **options):
         """Many targets per tip (tip -> N targets): a ``BatchResult`` over every joint, each

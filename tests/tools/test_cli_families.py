@@ -22,6 +22,7 @@ def test_six_r_families(capsys, tmp_path):
     code, out, _ = run(capsys, "info", str(path), "--base", "world", "--tip", "tool")
     assert code == 0 and "family: elimination_6r (elimination with joint" in out
     assert "auto -> dls (one answer); solve_all -> elimination_6r" in out
+    assert "solve_all   -> elimination_6r (closed form)" in out  # polynomial roots, no grid
     code, out, _ = run(capsys, "info", "planar_2link")
     assert code == 0 and "family:" not in out and "hold one joint" not in out
 

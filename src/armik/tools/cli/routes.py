@@ -62,7 +62,7 @@ def family_lines(arm: ArmModel) -> list[str]:
 
 # the solvers that search a grid over one or two joints (the elimination and the closed
 # forms solve in closed form: polynomial roots)
-SEARCHES = ("two_parallel", "two_intersecting", "general_6r")
+SEARCHES = ("two_parallel", "two_intersecting", "general_6r", "swept")
 
 
 def _closed(family: str) -> bool:
@@ -74,7 +74,7 @@ def _closed(family: str) -> bool:
 def _kind(spec: SolverSpec) -> str:
     if spec.kind == "numeric":
         return "numeric"
-    return "closed form" if spec.complete else "a search"
+    return "a search" if spec.name in SEARCHES else "closed form"
 
 
 def _why(arm: ArmModel, spec: SolverSpec) -> str:
