@@ -102,6 +102,25 @@ def cholesky6(H, g, x):
     return True
 
 
+@njit(cache=True, nogil=True, inline="always")
+def cholesky_block(S, k, mu, L):
+    """L: the Cholesky factor of the k x k leading block of S - mu I, with the INVERSE of
+    its diagonal on the diagonal (one division per row instead of one per entry); False
+    where that block is not positive definite."""
+    for i in range(k):
+        for j in range(i + 1):
+            s = S[i, j] - mu if i == j else S[i, j]
+            for m in range(j):
+                s -= L[i, m] * L[j, m]
+            if i == j:
+                if not s > 0.0:
+                    return False
+                L[i, i] = 1.0 / math.sqrt(s)
+            else:
+                L[i, j] = s * L[j, j]
+    return True
+
+
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 def cholesky_factor(H, free, L):
     """L: the Cholesky factor of H[F][:, F] (F: the joints where ``free``, ints, is not 0),
@@ -110,18 +129,7 @@ def cholesky_factor(H, free, L):
     definite there."""
     n = H.shape[0]
     if _all(free):  # the usual case: no mask to test in the inner loops
-        for i in range(n):
-            for j in range(i + 1):
-                s = H[i, j]
-                for k in range(j):
-                    s -= L[i, k] * L[j, k]
-                if i == j:
-                    if not s > 0.0:
-                        return False
-                    L[i, i] = 1.0 / math.sqrt(s)
-                else:
-                    L[i, j] = s * L[j, j]
-        return True
+        return cholesky_block(H, n, 0.0, L)
     for i in range(n):
         if not free[i]:
             continue

@@ -16,6 +16,8 @@ import math
 
 from numba import njit
 
+from armik.kernel.linalg import cholesky_block
+
 ROUNDS = 30  # at most; two or three from the last tick's vector
 SETTLED = 1e-14  # stop when a round moves the estimate by less (of the Gram's trace)
 SHIFT = 1e-13  # of the trace: keeps a singular Gram's factor positive definite
@@ -103,27 +105,9 @@ def _factor_below(S, k, rq, trace, L):
             mu = 0.0
         else:
             mu = -SHIFT * trace * 100.0 ** (step - 3)
-        if _cholesky(S, k, mu, L):
+        if cholesky_block(S, k, mu, L):
             return step
     return -1
-
-
-@njit(cache=True, nogil=True, inline="always")
-def _cholesky(S, k, mu, L):
-    """L: the Cholesky factor of the k x k block of S - mu I, its diagonal inverted (as
-    ``kernel.linalg``'s, without its mask); False where not positive definite."""
-    for i in range(k):
-        for j in range(i + 1):
-            s = S[i, j] - mu if i == j else S[i, j]
-            for m in range(j):
-                s -= L[i, m] * L[j, m]
-            if i == j:
-                if not s > 0.0:
-                    return False
-                L[i, i] = 1.0 / math.sqrt(s)
-            else:
-                L[i, j] = s * L[j, j]
-    return True
 
 
 @njit(cache=True, nogil=True, inline="always")
