@@ -154,6 +154,22 @@ class Options:
         return () if self.posture is None else (Posture(*self.posture),)
 
     @property
+    def forms(self) -> frozenset[str]:
+        """What these options ask beyond an exact full pose, in the words a solver declares
+        it solves (``SolverSpec.solves``): "position_only", "weights", "bounds", "spin"
+        (bounds that free one rotation component only), "cone"."""
+        found = []
+        if self.position_only:
+            found.append("position_only")
+        if self.weights is not None:
+            found.append("weights")
+        if self.cone is not None:
+            found.append("cone")
+        if self.bounds is not None:
+            found.append("spin" if self.cone is None and spin_of(self.bounds) else "bounds")
+        return frozenset(found)
+
+    @property
     def region(self) -> bool:
         """Whether the target has a region around it (``bounds`` or ``cone``): the errors are
         measured outside it."""
@@ -294,6 +310,19 @@ def spelled(kwargs: dict[str, Any]) -> dict[str, Any]:
             posture = _checked(item, Posture, "secondary", "holds one armik.Posture(q_ref)")
             _add(said, values, posture.said(), "a secondary task")
     return {**values, **said}
+
+
+def spin_of(bounds: tuple[float, ...] | None) -> tuple[int, float] | None:
+    """(k, half-width): the one rotation component of the target frame the bounds free
+    (rad, at most pi), the others and the position held exactly; else None."""
+    if bounds is None:
+        return None
+    b = [float(x) for x in bounds]  # plain floats: this runs on every spin solve
+    free = [k for k in range(3) if b[3 + k] != 0.0]
+    if any(x != 0.0 for x in b[:3]) or len(free) != 1:
+        return None
+    k = free[0]
+    return k, min(b[3 + k], math.pi)
 
 
 def _checked_posture(value: object) -> tuple[tuple[float, ...], tuple[float, ...]]:

@@ -28,13 +28,11 @@ L1, L2 = 1.0, 0.8
 WRONG = {"on": False}  # True: the elbow-down branch is off by 0.1 rad and still claimed
 
 
-def why_not(arm, target=None, opts=None):
+def why_not(arm, target=None, _opts=None):
     """None for the bundled planar 2-link arm, else why not (as a family's ``classify``
-    would say it)."""
+    would say it); weights and bounds the registry refuses (``solves``)."""
     if arm.name != ARM:
         return f"arm {arm.name!r} is not {ARM!r}, the one arm this family knows"
-    if opts is not None and (opts.weights is not None or opts.region):
-        return "weights and bounds are for the numeric solvers"
     return None
 
 
@@ -73,6 +71,7 @@ def family():
             why_not=why_not,
             run=run,
             summary="a test's closed form for the planar 2-link arm",
+            solves=frozenset({"position_only"}),  # no weights, bounds, spin or cone
         )
     )
     try:

@@ -46,3 +46,36 @@ def test_named_numeric_solver_on_planar_arm():
 def test_register_refuses_duplicates():
     with pytest.raises(ValueError, match="taken"):
         registry.register(registry.get("dls"))
+
+
+@pytest.mark.parametrize(
+    "options, name, words",
+    [
+        ({"weights": (1, 1, 1, 0, 0, 0)}, "spherical", "per-axis weights are for the numeric"),
+        ({"bounds": (0.01,) * 6}, "three_parallel", "bounds are for the numeric solvers (dls, qp)"),
+        ({"position_only": True}, "three_parallel", "position_only is for the numeric"),
+        ({"cone": (0, 0, 1, 0.1)}, "clik", "a cone around an axis is for the numeric solvers"),
+        ({"bounds": (0, 0, 0, 0, 0, 1)}, "three_parallel", "spin_joint"),
+        ({}, "spin", "spin needs bounds that free one rotation component"),
+    ],
+)
+def test_what_a_solver_does_not_declare_is_refused_by_the_registry(options, name, words):
+    """A solver's ``solves`` and ``needs`` say which forms of a request beyond an exact pose
+    it takes: the registry refuses the others in its words, whatever its ``why_not`` says."""
+    ur5 = model("ur5")
+    spec = registry.get(name)
+    asked = armik.options.Options.from_kwargs(options)
+    assert asked.forms <= set(registry.FORMS)
+    why = registry.why_not(name, ur5, None, asked)
+    assert why is not None and words in why
+    assert spec.why_not(ur5, None, asked) is None or name == "spherical"  # the arm's own: none
+
+
+def test_what_auto_takes_follows_the_forms_asked():
+    ur5 = model("ur5")
+    plain = registry.choose("auto", ur5, None, armik.options.Options())
+    weighted = registry.choose("auto", ur5, None, armik.options.Options(weights=(1.0,) * 6))
+    spun = registry.choose("auto", ur5, None, armik.options.Options(bounds=(0, 0, 0, 0, 0, 3.2)))
+    assert plain.kind == "analytic" and not plain.solves
+    assert weighted.kind == "numeric" and "weights" in weighted.solves
+    assert spun.name == "spin_joint" and spun.needs == {"spin"}  # the UR5 wrist turns the tool

@@ -58,6 +58,22 @@ class Parameter(NamedTuple):
     at_value: Callable[[ArmModel, Target, np.ndarray, float], Answers]
 
 
+# What a request may ask beyond an exact full pose (``Options.forms``), each form's words in
+# a refusal, and what a solver needing one asks for
+FORMS = ("position_only", "weights", "bounds", "spin", "cone")
+_ASKED = {
+    "position_only": "position_only",
+    "weights": "per-axis weights",
+    "bounds": "bounds",
+    "spin": "bounds that free one rotation component",
+    "cone": "a cone around an axis",
+}
+_NEEDED = {
+    "spin": "bounds that free one rotation component and hold the rest at 0 (bounds (0, 0, 0, "
+    "0, 0, inf) frees the spin about the target's z axis)",
+}
+
+
 @dataclass(frozen=True)
 class SolverSpec:
     """One registered solver. Higher ``priority`` wins under ``solver="auto"``."""
@@ -87,6 +103,32 @@ class SolverSpec:
     sweep: Sweep | None = None
     # Optional: its answers at any one value of a parameter an option fixes (``Parameter``)
     parameter: Parameter | None = None
+    # The forms of a request beyond an exact full pose it solves (``FORMS``; a closed form:
+    # none), and those it needs (the spin sweep: "spin"): the registry refuses the others
+    # by name, so ``why_not`` reads the arm and the target only
+    solves: frozenset[str] = frozenset(FORMS)
+    needs: frozenset[str] = frozenset()
+
+    def refusal(
+        self,
+        arm: ArmModel,
+        target: Target | None,
+        opts: Options | None,
+        asked: frozenset[str] | None = None,
+    ) -> str | None:
+        """None if this solver applies to the arm, target and options, else why not: the
+        forms the options ask (``asked``: ``opts.forms``, given where many solvers are asked)
+        against what it declares, then its own ``why_not``."""
+        if opts is not None:
+            asked = opts.forms if asked is None else asked
+            if not self.needs <= asked:
+                return f"{self.name} needs {_NEEDED.get(min(self.needs - asked), 'more')}"
+            if not asked <= self.solves:
+                form = next(f for f in FORMS if f in asked and f not in self.solves)
+                return f"{_ASKED[form]} {_are(form)} for {_solving(form)}"
+        elif self.needs:
+            return f"{self.name} needs {_NEEDED.get(min(self.needs), 'more')}"
+        return self.why_not(arm, target, opts)
 
 
 _REGISTRY: dict[str, SolverSpec] = {}
@@ -155,7 +197,20 @@ def why_not(
     name: str, arm: ArmModel, target: Target | None = None, opts: Options | None = None
 ) -> str | None:
     """None if solver ``name`` applies, else the check that failed."""
-    return get(name).why_not(arm, target, opts)
+    return get(name).refusal(arm, target, opts)
+
+
+def _are(form: str) -> str:
+    return "is" if form in ("position_only", "cone") else "are"
+
+
+def _solving(form: str) -> str:
+    """Who solves ``form``: "the numeric solvers (dls, qp)", the others by name before."""
+    named = [s.name for s in _BY_PRIORITY if s.auto and form in s.solves]
+    numeric = [s.name for s in _BY_PRIORITY if s.auto and form in s.solves and s.kind == "numeric"]
+    words = [f"the numeric solvers ({', '.join(numeric)})"] if numeric else []
+    words += [n for n in named if n not in numeric]
+    return ", ".join(words) if words else "no registered solver"
 
 
 def sweeps(joint: int = -1) -> list[SolverSpec]:
@@ -186,7 +241,7 @@ def choose(
     spec: SolverSpec | None
     if not isinstance(name, str) or name != "auto":
         spec = get(name)
-        reason = spec.why_not(arm, target, opts)
+        reason = spec.refusal(arm, target, opts)
         if reason is not None:
             raise SolverError(
                 f"solver {name!r} does not apply to arm {arm.name!r}: {reason}",
@@ -204,8 +259,13 @@ def choose(
         key = spec = None
     if spec is not None:
         return spec
+    asked = None if opts is None else opts.forms
     for spec in _BY_PRIORITY:
-        if spec.auto and (every or spec.complete) and spec.why_not(arm, target, opts) is None:
+        if (
+            spec.auto
+            and (every or spec.complete)
+            and spec.refusal(arm, target, opts, asked) is None
+        ):
             if key is not None:
                 if len(chosen) > 64:
                     chosen = {}

@@ -201,7 +201,7 @@ def test_a_held_joint_gives_every_branch_at_its_value():
         ({"swivel": float("nan")}, "swivel must be finite"),
         ({"swivel": 0.1, "hold": {"iiwa_joint_3": 0.2}}, "each fix the self-motion"),
         ({"swivel": 0.1, "solver": "dls"}, "leave solver='auto'"),
-        ({"swivel": 0.1, "bounds": (0, 0, 0, 0, 0, 1)}, "bounds are for the numeric solvers"),
+        ({"swivel": 0.1, "bounds": (0, 0, 0, 0, 0, 1)}, "rotation component are for the numeric"),
     ],
 )
 def test_bad_swivel_options_are_clear_errors(options, words):

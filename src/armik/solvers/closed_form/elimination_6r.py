@@ -133,8 +133,8 @@ def _classify(arm: ArmModel):
     return classify(arm)
 
 
-def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
-    return sixr.applies(arm, target, opts, FAMILY, _classify)
+def applies(arm: ArmModel, target: Target | None = None, _opts: object = None) -> str | None:
+    return sixr.applies(arm, target, FAMILY, _classify)
 
 
 def run(
@@ -152,7 +152,7 @@ def run(
     if sure and n > 0:
         return ours
     # not sure, or nothing found: the search the arm had before, and what it adds
-    name = next((s for s in SEARCHES if get(s).why_not(arm, target, opts) is None), SEARCHES[-1])
+    name = next((s for s in SEARCHES if get(s).refusal(arm, target, opts) is None), SEARCHES[-1])
     found = get(name).run(arm, target, q0, opts, all_solutions)
     if n == 0:
         return found  # its words for a target it finds nothing for
@@ -173,6 +173,7 @@ SPEC = register(
         enforces_limits=True,
         priority=PRIORITY,
         why_not=applies,
+        solves=frozenset(),
         run=run,
         summary="6R arms no Pieper family fits: Raghavan-Roth elimination, up to 16 solutions",
         complete=False,

@@ -46,9 +46,9 @@ class Family:
         self.solve_all_into = solve_all_into  # every row solved, measured and judged
 
     def applies(
-        self, arm: ArmModel, target: Target | None = None, opts: Options | None = None
+        self, arm: ArmModel, target: Target | None = None, _opts: object = None
     ) -> str | None:
-        return sixr.applies(arm, target, opts, self.family, self.classify)
+        return sixr.applies(arm, target, self.family, self.classify)
 
     def run(
         self, arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
@@ -90,6 +90,7 @@ class Family:
                 enforces_limits=True,
                 priority=priority,
                 why_not=self.applies,
+                solves=frozenset(),
                 run=self.run,
                 summary=summary,
                 run_batch=self.run_batch,

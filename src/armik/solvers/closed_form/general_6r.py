@@ -343,8 +343,8 @@ def _classify(arm: ArmModel):
     return classify(arm)
 
 
-def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
-    return sixr.applies(arm, target, opts, FAMILY, _classify)
+def applies(arm: ArmModel, target: Target | None = None, _opts: object = None) -> str | None:
+    return sixr.applies(arm, target, FAMILY, _classify)
 
 
 def run(
@@ -375,6 +375,7 @@ SPEC = register(
         enforces_limits=True,
         priority=55,
         why_not=applies,
+        solves=frozenset(),
         run=run,
         summary="every 6R arm: a 2-D search over joints 1 and 2 with SP5, up to 16 solutions",
         complete=False,

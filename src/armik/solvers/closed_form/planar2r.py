@@ -110,7 +110,7 @@ def _measure_geometry(arm: ArmModel) -> Geometry:
 _GEOMETRY = Derived("planar 2R geometry", _measure_geometry)
 
 
-def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
+def applies(arm: ArmModel, target: Target | None = None, _opts: object = None) -> str | None:
     if arm.mimics:
         return mimic_reason(arm.mimics)
     if arm.dof != 2:
@@ -124,10 +124,6 @@ def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = 
         return "link 1 has zero length in the plane (the elbow sits on the shoulder axis)"
     if geo.l2 < ZERO_LENGTH:
         return "link 2 has zero length in the plane (the tip sits on the elbow axis)"
-    if opts is not None and opts.weights is not None:
-        return "per-axis weights are for the numeric solvers"
-    if opts is not None and opts.region:
-        return "bounds are for the numeric solvers (dls, qp)"
     return None
 
 
@@ -321,6 +317,7 @@ SPEC = register(
         enforces_limits=True,
         priority=100,
         why_not=applies,
+        solves=frozenset({"position_only"}),
         run=run,
         summary="closed form for planar two-revolute chains: both elbow branches",
         prepare_pose=prepare_pose,

@@ -22,7 +22,6 @@ from armik.model.arm_model import ArmModel
 from armik.model.derived import DerivedBy
 from armik.model.geometry import Axes
 from armik.model.mimic import reason as mimic_reason
-from armik.options import Options
 from armik.solvers.closed_form.subproblems import (
     add,
     cross,
@@ -356,16 +355,14 @@ def hand_over(n, reached, labelled, h, p, out):
     return n, int(out[0, 7]) + (8 if int(out[0, 6]) & SINGULAR else 0)
 
 
-def applies(arm: ArmModel, target: Target | None, opts: Options | None, family: str, classify):
+def applies(arm: ArmModel, target: Target | None, family: str, classify) -> str | None:
+    """Why the family does not solve this arm and target, or None; what the options ask
+    beyond an exact pose the registry refuses (``SolverSpec.solves``: nothing)."""
     geo = geometry(arm, family, classify)
     if isinstance(geo, str):
         return geo
     if target is not None and target.rotation is None:
         return "a position target leaves the orientation free; the closed form needs a full pose"
-    if opts is not None and (opts.position_only or opts.weights is not None):
-        return "position_only and per-axis weights are for the numeric solvers"
-    if opts is not None and opts.region:
-        return "bounds are for the numeric solvers (dls, qp): no closed form sweeps a region yet"
     return None
 
 

@@ -21,7 +21,7 @@ import pinocchio as pin
 
 from armik.errors import SolverError
 from armik.model.arm_model import ArmModel
-from armik.options import Options
+from armik.options import Options, spin_of
 from armik.solvers import registry
 from armik.solvers.answers import Answers, one, stacked
 from armik.status import Status
@@ -32,19 +32,6 @@ STEP = math.radians(5.0)  # rad between samples of the spin
 XATOL = 1e-10  # rad: Brent's tolerance on the refined angle
 AXES = "xyz"
 FAR = 1e6  # the refined distance where a spin has no admissible answer (Brent's needs finite)
-
-
-def spin_of(bounds: tuple[float, ...] | None) -> tuple[int, float] | None:
-    """(k, half-width): the one rotation component of the target frame the bounds free
-    (rad, at most pi), the others and the position held exactly; else None."""
-    if bounds is None:
-        return None
-    b = [float(x) for x in bounds]  # plain floats: this runs on every spin solve
-    free = [k for k in range(3) if b[3 + k] != 0.0]
-    if any(x != 0.0 for x in b[:3]) or len(free) != 1:
-        return None
-    k = free[0]
-    return k, min(b[3 + k], math.pi)
 
 
 def family(arm: ArmModel, target: Target | None) -> registry.SolverSpec | str:
@@ -58,14 +45,7 @@ def family(arm: ArmModel, target: Target | None) -> registry.SolverSpec | str:
     return spec
 
 
-def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
-    if opts is None or opts.cone is not None or spin_of(opts.bounds) is None:
-        return (
-            "the sweep needs bounds that free one rotation component (bounds (0, 0, 0, 0, 0, "
-            "inf) frees the spin about the target's z axis) and hold the rest at 0"
-        )
-    if opts.weights is not None or opts.position_only:
-        return "position_only and per-axis weights are for the numeric solvers"
+def applies(arm: ArmModel, target: Target | None = None, _opts: object = None) -> str | None:
     if target is not None and target.rotation is None:
         return "a position target has no spin to sweep: the sweep needs a full pose"
     spec = family(arm, target)
@@ -202,6 +182,8 @@ SPEC = registry.register(
         enforces_limits=True,
         priority=85,
         why_not=applies,
+        solves=frozenset({"spin"}),
+        needs=frozenset({"spin"}),
         run=run,
         summary="a 6R closed form over a free or bounded spin (bounds freeing one rotation)",
         complete=False,

@@ -114,8 +114,8 @@ def geometry(arm: ArmModel) -> Srs | str:
     return cast("Srs | str", sixr.geometry(arm, FAMILY, classify))
 
 
-def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
-    return sixr.applies(arm, target, opts, FAMILY, classify)
+def applies(arm: ArmModel, target: Target | None = None, _opts: object = None) -> str | None:
+    return sixr.applies(arm, target, FAMILY, classify)
 
 
 def swivel_of(arm: ArmModel, q) -> float:
@@ -255,6 +255,7 @@ SPEC = register(
         enforces_limits=True,
         priority=85,
         why_not=applies,
+        solves=frozenset(),
         run=run,
         summary="7R SRS arms (KUKA iiwa): every branch (up to 8) at one elbow swivel angle "
         "(swivel=, else q0's, swept round the circle until a branch is within the limits)",

@@ -88,8 +88,8 @@ def geometry(arm: ArmModel) -> Swept | str:
     return sixr.geometry(arm, FAMILY, classify)
 
 
-def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
-    return sixr.applies(arm, target, opts, FAMILY, classify)
+def applies(arm: ArmModel, target: Target | None = None, _opts: object = None) -> str | None:
+    return sixr.applies(arm, target, FAMILY, classify)
 
 
 def sweep_range(arm: ArmModel, q7: float) -> tuple[float, float]:
@@ -359,6 +359,7 @@ SPEC = register(
         enforces_limits=True,
         priority=80,
         why_not=applies,
+        solves=frozenset(),
         run=run,
         summary="7R arms: joint 7 held (swept from q0's value), joints 6 to 1 in closed form",
         auto=False,

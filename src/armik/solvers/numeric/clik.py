@@ -30,9 +30,7 @@ DT = 0.1
 DAMP = 1e-12
 
 
-def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
-    if opts is not None and opts.region:
-        return "the baseline follows the exact target: bounds are for dls and qp"
+def applies(arm: ArmModel, target: Target | None = None, _opts: object = None) -> str | None:
     return None
 
 
@@ -71,6 +69,7 @@ SPEC = register(
         enforces_limits=False,
         priority=0,
         why_not=applies,
+        solves=frozenset({"position_only", "weights"}),
         run=run,
         summary="baseline: Pinocchio's example CLIK loop (fixed step, clipping)",
         auto=False,
