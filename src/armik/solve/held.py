@@ -94,7 +94,9 @@ def solve_held(
     tgt = target if type(target) is Target else parsed(target, arm)  # the stages parsed it
     asked = registry.sweeps(k) if solver == "auto" else [registry.get(solver)]
     held_by = (s for s in asked if s.sweep is not None and s.sweep.joint == k)
-    sweeping = next((s for s in held_by if s.refusal(arm, tgt, opts) is None), None)
+    sweeping = next(
+        (s for s in held_by if (s.declines(opts) or s.why_not(arm, tgt, opts)) is None), None
+    )
     if sweeping is not None:  # a closed form at exactly that value (the Panda's joint 7)
         answers = sweeping.sweep.at_value(arm, tgt, seed, value)  # type: ignore[union-attr]
         results = finish(arm, sweeping.name, answers, tgt, opts, seed, every, t0)
@@ -124,6 +126,7 @@ def _whole_arm_only(solver: str, arm: ArmModel, sub: ArmModel) -> bool:
     spec = registry.get(solver)
     return (
         spec.kind == "analytic"
-        and spec.refusal(arm, None, None) is None
-        and spec.refusal(sub, None, None) is not None
+        and spec.declines(None) is None
+        and spec.why_not(arm, None, None) is None
+        and spec.why_not(sub, None, None) is not None
     )

@@ -109,23 +109,23 @@ def _parameter(arm: ArmModel, tgt: Target, over: str, seed: np.ndarray):
     """(spec, at_value, lower, upper): the solver that answers at one value of ``over``
     and the range to sample."""
     for spec in registry.declaring(over):
-        if spec.parameter is not None and spec.refusal(arm, tgt, None) is None:
+        if spec.parameter is not None and spec.why_not(arm, tgt, None) is None:
             return spec, spec.parameter.at_value, -math.pi, math.pi
     if over in arm.joint_names:
         k = arm.joint_names.index(over)
         for spec in registry.sweeps(k):
-            if spec.sweep is not None and spec.refusal(arm, tgt, None) is None:
+            if spec.sweep is not None and spec.why_not(arm, tgt, None) is None:
                 lo, hi = spec.sweep.range(arm, float(seed[k]))
                 return spec, spec.sweep.at_value, float(lo), float(hi)
     options = [
         s.parameter.option  # type: ignore[union-attr]
         for s in registry.declaring()
-        if s.refusal(arm, tgt, None) is None
+        if s.why_not(arm, tgt, None) is None
     ]
     joints = [
         arm.joint_names[s.sweep.joint]  # type: ignore[union-attr]
         for s in registry.sweeps()
-        if s.refusal(arm, tgt, None) is None
+        if s.why_not(arm, tgt, None) is None
     ]
     raise OptionError(
         f"no closed form of arm {arm.name!r} answers at one value of {over!r} for this "

@@ -25,7 +25,7 @@ def solve_at(arm: ArmModel, req: Request, option: str, value: float):
     solver, a held joint, collisions, or a target the solver does not take."""
     target, q0, solver, opts, _, seed, every, t0 = req[:8]
     declared = registry.declaring(option)
-    why = {s.name: s.refusal(arm, None, None) for s in declared}
+    why = {s.name: s.why_not(arm, None, None) for s in declared}
     spec = next((s for s in declared if why[s.name] is None), None)
     if spec is None or spec.parameter is None:
         words = declared[0].parameter.words if declared and declared[0].parameter else option
@@ -57,7 +57,7 @@ def solve_at(arm: ArmModel, req: Request, option: str, value: float):
         )
     tgt = parsed(target, arm)
     opts = with_seed(opts, seed)
-    why_target = spec.refusal(arm, tgt, opts)
+    why_target = spec.declines(opts) or spec.why_not(arm, tgt, opts)
     if why_target is not None:
         raise OptionError(f"{option}={value!r}: {why_target}", option=option, value=value)
     start = arm.seed(q0)

@@ -88,7 +88,11 @@ def solve_path(
         first = batch.target(0) if n else None
         every = registry.choose(solver, arm, first, opts, True)
         if every.kind == "numeric":  # a 7R arm whose joint 7 can be held: its sweep
-            swept = (s for s in registry.sweeps() if s.refusal(arm, first, opts) is None)
+            swept = (
+                s
+                for s in registry.sweeps()
+                if (s.declines(opts) or s.why_not(arm, first, opts)) is None
+            )
             every = next(swept, every)
         if every.sweep is not None or every.kind == "numeric":  # rungs about the followed path
             followed = BatchResult.for_arm(arm, n, spec.name, opts)

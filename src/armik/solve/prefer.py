@@ -191,7 +191,14 @@ def sweep_held(arm: ArmModel, target, q0: np.ndarray, opts, score: Score, t0: fl
     score, joint 7 on a grid over its range and then refined by golden section around the
     best value (every branch in closed form at each value, scored at its best 2 pi
     variant); the best configurations verified (``finish``). None where it does not apply."""
-    spec = next((s for s in registry.sweeps() if s.refusal(arm, target, opts) is None), None)
+    spec = next(
+        (
+            s
+            for s in registry.sweeps()
+            if (s.declines(opts) or s.why_not(arm, target, opts)) is None
+        ),
+        None,
+    )
     if spec is None or spec.sweep is None:
         return None
     sweep = spec.sweep

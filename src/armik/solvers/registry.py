@@ -109,16 +109,10 @@ class SolverSpec:
     solves: frozenset[str] = frozenset(FORMS)
     needs: frozenset[str] = frozenset()
 
-    def refusal(
-        self,
-        arm: ArmModel,
-        target: Target | None,
-        opts: Options | None,
-        asked: frozenset[str] | None = None,
-    ) -> str | None:
-        """None if this solver applies to the arm, target and options, else why not: the
-        forms the options ask (``asked``: ``opts.forms``, given where many solvers are asked)
-        against what it declares, then its own ``why_not``."""
+    def declines(self, opts: Options | None, asked: frozenset[str] | None = None) -> str | None:
+        """Why this solver does not take these options, by the forms they ask (``asked``:
+        ``opts.forms``, given where many solvers are asked) against what it declares; else
+        None. Whether it applies is this, then its own ``why_not(arm, target, opts)``."""
         if opts is not None:
             asked = opts.forms if asked is None else asked
             if not self.needs <= asked:
@@ -128,7 +122,7 @@ class SolverSpec:
                 return f"{_ASKED[form]} {_are(form)} for {_solving(form)}"
         elif self.needs:
             return f"{self.name} needs {_NEEDED.get(min(self.needs), 'more')}"
-        return self.why_not(arm, target, opts)
+        return None
 
 
 _REGISTRY: dict[str, SolverSpec] = {}
@@ -197,7 +191,8 @@ def why_not(
     name: str, arm: ArmModel, target: Target | None = None, opts: Options | None = None
 ) -> str | None:
     """None if solver ``name`` applies, else the check that failed."""
-    return get(name).refusal(arm, target, opts)
+    spec = get(name)
+    return spec.declines(opts) or spec.why_not(arm, target, opts)
 
 
 def _are(form: str) -> str:
@@ -241,7 +236,7 @@ def choose(
     spec: SolverSpec | None
     if not isinstance(name, str) or name != "auto":
         spec = get(name)
-        reason = spec.refusal(arm, target, opts)
+        reason = spec.declines(opts) or spec.why_not(arm, target, opts)
         if reason is not None:
             raise SolverError(
                 f"solver {name!r} does not apply to arm {arm.name!r}: {reason}",
@@ -264,7 +259,8 @@ def choose(
         if (
             spec.auto
             and (every or spec.complete)
-            and spec.refusal(arm, target, opts, asked) is None
+            and spec.declines(opts, asked) is None
+            and spec.why_not(arm, target, opts) is None
         ):
             if key is not None:
                 if len(chosen) > 64:

@@ -152,7 +152,7 @@ def run(
     if sure and n > 0:
         return ours
     # not sure, or nothing found: the search the arm had before, and what it adds
-    name = next((s for s in SEARCHES if get(s).refusal(arm, target, opts) is None), SEARCHES[-1])
+    name = next((s for s in SEARCHES if get(s).why_not(arm, target, opts) is None), SEARCHES[-1])
     found = get(name).run(arm, target, q0, opts, all_solutions)
     if n == 0:
         return found  # its words for a target it finds nothing for

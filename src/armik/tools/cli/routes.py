@@ -86,7 +86,7 @@ def _why(arm: ArmModel, spec: SolverSpec) -> str:
         return spec.summary
     if arm.dof != 7 or any(t == "prismatic" for t in arm.joint_types):
         return "no closed form applies to the whole chain (structure above)"
-    swept = SWEPT.refusal(arm, None, None)
+    swept = SWEPT.why_not(arm, None, None)
     swept_said = (
         f'the swept closed form (joint 7 swept) applies, only when asked: solver="{SWEPT.name}"'
         if swept is None
