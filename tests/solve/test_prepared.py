@@ -441,3 +441,20 @@ def test_a_spin_on_the_last_joint_is_prepared_as_the_general_path(name, half):
         assert_same_result(fast, general)
         solved += fast.success
     assert solved >= 5
+
+
+def test_a_scene_given_as_a_list_is_kept_as_its_shapes():
+    """A loop of collision-aware solves passes the same list of shapes: its options are
+    validated once and its plain solve takes the prepared plan; a shape added to the list
+    is a new scene, checked and kept apart."""
+    a = armik.load("panda")  # a fresh arm: its own kept options
+    scene = [armik.Sphere(0.05, (2.0, 2.0, 2.0))]
+    opts, key, _ = settings(a.kinematics, {"obstacles": scene})
+    again, key_again, _ = settings(a.kinematics, {"obstacles": scene})
+    assert key is not None and again is opts and key_again == key
+    scene.append(armik.Box((0.1, 0.1, 0.1), [2.0, -2.0, 2.0]))
+    grown, key_grown, _ = settings(a.kinematics, {"obstacles": scene})
+    assert key_grown != key and len(grown.obstacles) == 2 and len(opts.obstacles) == 1
+    scene.append(armik.Sphere(0.05, (0.0, 0.0, 0.0)))  # on the base: refused, not kept
+    with pytest.raises(armik.CollisionError, match="obstacles\\[2\\]"):
+        a.solve(a.fk(a.middle), obstacles=scene)

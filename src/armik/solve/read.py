@@ -201,9 +201,13 @@ def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | 
             del kwargs["toward"]
     try:
         # with the types: 1 == True, but validation may accept one and refuse the other;
-        # a held joint's dict as its items (a loop of solves holds the same joint)
+        # a held joint's dict as its items (a loop of solves holds the same joint), a
+        # scene's list of shapes as a tuple (a loop of solves keeps the same scene)
         hold = kwargs["hold"] if "hold" in kwargs else None
         given = {**kwargs, "hold": tuple(hold.items())} if type(hold) is dict else kwargs
+        shapes = kwargs["obstacles"] if "obstacles" in kwargs else None
+        if type(shapes) is list:  # a scene as a list of shapes (each hashed, compared by type)
+            given = {**given, "obstacles": tuple(shapes)}
         key = (tuple(given.items()), tuple(map(type, kwargs.values())), look is None, sight)
         kept = arm._derived.get(_KEPT)  # read as a dict, not through a call: every solve
         if kept is None:

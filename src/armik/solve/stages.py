@@ -126,13 +126,20 @@ def _clear_at_once(arm, r: IKResult, opts, started: float, t0: float):
     if distance < opts.margin:
         row = Verdicts.of_result(r, opts.tol_position, opts.tol_orientation)
         return None, First(row.judge(distances([(distance, pair)], opts.margin)), started)
-    clear = dataclasses.replace(
-        r,
-        reason=reasons.and_clear(r.reason, pair, distance, opts.margin),
-        time=time.perf_counter() - t0,
-        extra={"min_distance": distance, "closest_pair": pair},
-    )
+    # ``r`` itself with its time and distance; its words written on first read, as ``r``'s
+    fields = {k: v for k, v in r.__dict__.items() if k not in _WORDS_AND_EXTRA}
+    fields["time"] = time.perf_counter() - t0
+    fields["_reason"] = (_clear_words, (r, pair, distance, opts.margin))
+    clear = IKResult._from_fields(fields)
+    clear.extra.update(min_distance=distance, closest_pair=pair)
     return clear, None
+
+
+_WORDS_AND_EXTRA = ("reason", "_reason", "extra")
+
+
+def _clear_words(r: IKResult, pair: tuple[str, str], distance: float, margin: float) -> str:
+    return reasons.and_clear(r.reason, pair, distance, margin)
 
 
 def _run(arm, spec: SolverSpec, tgt: Target, q0, opts, every: bool, t0: float, first=None):
