@@ -19,7 +19,6 @@ from typing import cast
 import numpy as np
 
 from armik import reasons
-from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.problem.scores import Limits, Nearest, Posture, Score
 from armik.result import IKResult
@@ -110,22 +109,28 @@ def rank(
     ``ordered``; ``count``: the first ``count`` results only (all ranked all the same)."""
     scored = ordered(arm, results, score, q0, known)
     elapsed = time.perf_counter() - t0
-    ranked = [
-        frozen(
-            IKResult,
-            **{
-                **r.__dict__,
+    n = len(scored)
+    ranked = [  # each one's words written on first read, as its own are
+        IKResult._from_fields(
+            {
+                **{k: v for k, v in r.__dict__.items() if k not in _WORDS},
                 "q": q,
-                "reason": reasons.ranked_first(
-                    r.reason, score.name, score.words(value), len(scored), q is not r.q
-                ),
+                "_reason": (_ranked_words, (r, score, value, n, q is not r.q)),
                 "time": elapsed,
-                "extra": {**r.extra, "score": value},
-            },
+            }
         )
         for value, r, q in scored[:count]
     ]
+    for one, (value, r, _) in zip(ranked, scored):
+        one.extra.update(r.extra, score=value)
     return (ranked + [r for r in results if not r.success])[:count]
+
+
+_WORDS = ("reason", "_reason", "extra")
+
+
+def _ranked_words(r: IKResult, score: Score, value: float, n: int, turned: bool) -> str:
+    return reasons.ranked_first(r.reason, score.name, score.words(value), n, turned)
 
 
 def ordered(
