@@ -212,7 +212,7 @@ class Arms:
     def servo(self, q0: object, **options: object) -> ArmsServo:
         """A servo for every tip at once, one target per tip a tick (``step({tip: target})``),
         each chain its own ``Servo`` with ``Arm.servo``'s options (``armik.arms_servo``);
-        chains that share joints, and ``self_collision``, are refused by name."""
+        chains that share joints one step over their union (``armik.servo.union``)."""
         return ArmsServo(self, q0, **options)
 
     def solve_path(

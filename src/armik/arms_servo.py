@@ -7,9 +7,11 @@ joints side by side, in the order of ``tips``, as ``Arms.joint_names``), the sta
 tip most held back (``PRECEDENCE``), the largest errors and the smallest singular value
 over the tips, and each tip's own step in ``tips``.
 
-Not supported, and refused by name: chains that share joints (a torso, a lift: one step
-over the union of the chains would be needed), and ``self_collision`` (each chain would
-check only itself, never the other arm).
+Chains that share joints (a torso, a lift) take one step over their union instead
+(``armik.servo.union``): every tip's pose or position at once, every limit on every joint.
+Not supported, and refused by name: ``self_collision`` (each chain would check only itself,
+never the other arm), and on shared joints obstacles and targets other than poses and
+positions.
 """
 
 from __future__ import annotations
@@ -23,6 +25,8 @@ from armik.errors import OptionError, TargetError
 from armik.frozen import frozen
 from armik.servo.result import ServoRecord, ServoStatus, ServoStep, record
 from armik.servo.servo import Servo, start
+from armik.servo.union import KEYWORDS as UNION_KEYWORDS
+from armik.servo.union import UnionServo
 
 if TYPE_CHECKING:
     from armik.arms import Arms
@@ -46,15 +50,6 @@ class ArmsServo:
     (``Arm.servo``'s). Raises ``OptionError`` for shared joints or ``self_collision``."""
 
     def __init__(self, arms: Arms, q0: object, **options: object) -> None:
-        if arms.shared:
-            raise OptionError(
-                f"a servo on several tips needs chains that share no joint; "
-                f"{list(arms.tips)} share {list(arms.shared)} (one step over their union is "
-                "not supported yet): servo one tip's chain (arms.chain(tip).servo(...)), or "
-                "load the tips whose chains are apart",
-                option="tips",
-                value=arms.tips,
-            )
         if options.get("self_collision"):
             raise OptionError(
                 "self_collision is not supported by a servo on several tips: each chain "
@@ -65,19 +60,42 @@ class ArmsServo:
             )
         self.tips = arms.tips
         self.joint_names = arms.joint_names
+        self._servos: dict[str, Servo] = {}
+        self._union: UnionServo | None = None
+        if arms.shared:  # one step over the union of the chains
+            for name, value in options.items():
+                if name not in UNION_KEYWORDS:
+                    raise OptionError(
+                        f"{name}= is not supported by a servo over chains that share joints "
+                        f"({list(arms.shared)}); its options: {', '.join(UNION_KEYWORDS)}. "
+                        "Servo a chain of its own (arms.chain(tip).servo(...)) for it",
+                        option=name,
+                        value=value,
+                    )
+            chains = {tip: arms.chain(tip).kinematics for tip in arms.tips}
+            self._union = UnionServo(arms._joint(), chains, q0, **options)  # type: ignore[arg-type]
+            self.dt = self._union.dt
+            return
         parts = arms.split(q0)
-        self._servos: dict[str, Servo] = {
-            tip: start(arms.chain(tip), parts[tip], **options) for tip in arms.tips
-        }
+        self._servos = {tip: start(arms.chain(tip), parts[tip], **options) for tip in arms.tips}
         self.dt = next(iter(self._servos.values())).dt
 
     def servo(self, tip: str) -> Servo:
-        """The ``Servo`` of ``tip``'s chain."""
-        if tip not in self._servos:
+        """The ``Servo`` of ``tip``'s chain (chains that share no joint)."""
+        if tip not in self.tips:
             raise TargetError(f"unknown tip {tip!r}; this robot's tips: {list(self.tips)}")
+        if self._union is not None:
+            raise OptionError(
+                f"the chains of {list(self.tips)} share joints: one servo steps their union, "
+                "no chain has a servo of its own here",
+                option="tip",
+                value=tip,
+            )
         return self._servos[tip]
 
     def _joined(self, name: str) -> np.ndarray:
+        if self._union is not None:
+            return getattr(self._union, name)  # type: ignore[no-any-return]
         return np.concatenate([getattr(s, name) for s in self._servos.values()])
 
     @property
@@ -106,7 +124,7 @@ class ArmsServo:
                 f"a servo on several tips takes one target per tip, a mapping "
                 f"{{tip: target}} over {list(self.tips)}, got {type(targets).__name__}"
             )
-        unknown = [t for t in targets if t not in self._servos]
+        unknown = [t for t in targets if t not in self.tips]
         missing = [t for t in self.tips if t not in targets]
         if unknown or missing:
             raise TargetError(
@@ -120,6 +138,8 @@ class ArmsServo:
                     if part
                 )
             )
+        if self._union is not None:
+            return self._union.step(targets)
         steps = {tip: s.step(targets[tip]) for tip, s in self._servos.items()}
         first = min(steps.values(), key=lambda s: PRECEDENCE.index(s.status))
         command = np.concatenate([np.stack([s.q, s.dq, s.ddq]) for s in steps.values()], axis=1)

@@ -155,9 +155,8 @@ class Options:
 
     @property
     def forms(self) -> frozenset[str]:
-        """What these options ask beyond an exact full pose, in the words a solver declares
-        it solves (``SolverSpec.solves``): "position_only", "weights", "bounds", "spin"
-        (bounds that free one rotation component only), "cone"."""
+        """What these options ask beyond an exact pose, as a solver declares what it solves
+        (``registry.FORMS``; "spin": bounds that free one rotation component only)."""
         found = []
         if self.position_only:
             found.append("position_only")
@@ -282,8 +281,6 @@ class Options:
 
 
 _DEFAULT = Options()
-
-
 _NAMES = frozenset(f.name for f in fields(Options)) | {"constraints", "budget", "secondary"}
 
 

@@ -11,6 +11,7 @@ import pytest
 
 import armik
 from armik.errors import OptionError, TargetError
+from armik.servo.streams import START as STARTS
 from armik.servo.streams import circle, violations
 
 from ..test_arms import dual_irb120
@@ -85,7 +86,74 @@ def test_bad_targets_are_refused_by_name(cell):
 def test_what_is_not_supported_is_refused_with_the_way_round(cell):
     with pytest.raises(OptionError, match="self_collision is not supported"):
         cell.servo(np.concatenate([START, START]), self_collision=True)
-    shared = armik.load("panda", tips=["panda_link5", "panda_hand"])
-    assert shared.shared
-    with pytest.raises(OptionError, match=r"share no joint.*panda_joint1.*arms.chain\(tip\)"):
-        shared.servo(shared.middle)
+
+
+@pytest.fixture(scope="module")
+def elbow_and_hand() -> armik.Arms:
+    """The Panda's elbow (``panda_link4``) and hand: chains that share joints 1 to 4."""
+    return armik.load("panda", tips=["panda_link4", "panda_hand"])
+
+
+def test_chains_that_share_joints_step_their_union_within_every_limit(elbow_and_hand):
+    robot = elbow_and_hand
+    assert robot.shared
+    q0 = STARTS["panda"]
+    # the hand's pose and the elbow's position along a joint-space sway: 9 rows over 7
+    # joints, every tick's targets met by one configuration
+    sway = np.array([0.5, -0.3, 0.4, 0.3, -0.5, 0.4, 0.2])
+    path = [q0 + 0.2 * np.sin(2 * np.pi * 0.5 * k * DT) * sway for k in range(1, 601)]
+    hand = [robot.fk(q, "panda_hand") for q in path]
+    elbow = [robot.fk(q, "panda_link4").translation for q in path]
+    servo = robot.servo(q0, dt=DT, acceleration_limits=15.0)
+    rec = servo.track([{"panda_hand": T, "panda_link4": p} for T, p in zip(hand, elbow)])
+    over = violations(q0, rec.q, robot.lower, robot.upper, servo.velocity_limits, 15.0, DT)
+    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    q = rec.q[-1]
+    reached = robot.fk(q, "panda_hand")
+    assert np.linalg.norm(reached.translation - hand[-1].translation) < 1e-5
+    assert np.linalg.norm(pin.log3(hand[-1].rotation @ reached.rotation.T)) < 1e-4
+    assert np.linalg.norm(robot.fk(q, "panda_link4").translation - elbow[-1]) < 1e-5
+    assert np.max(rec.position_error[100:]) < 1e-5  # once up to speed (from rest)
+    assert np.isclose(
+        rec.position_error[-1],
+        max(
+            np.linalg.norm(reached.translation - hand[-1].translation),
+            np.linalg.norm(robot.fk(q, "panda_link4").translation - elbow[-1]),
+        ),
+    )
+    assert np.array_equal(servo.q, q) and servo.joint_names == robot.joint_names
+
+
+def test_a_target_out_of_reach_over_shared_joints_is_said_and_left(elbow_and_hand):
+    robot = elbow_and_hand
+    q0 = STARTS["panda"]
+    hand, elbow = robot.fk(q0, "panda_hand"), robot.fk(q0, "panda_link4").translation
+    far = hand.translation + np.array([3.0, 0.0, 0.0])
+    servo = robot.servo(q0, dt=DT)
+    away = servo.track([{"panda_hand": far, "panda_link4": elbow}] * 300)
+    assert away.status[-1] == "out_of_reach" and np.isfinite(away.q).all()
+    back = servo.track([{"panda_hand": hand, "panda_link4": elbow}] * 2500)
+    assert back.status[-1] == "on_target" and back.position_error[-1] < 1e-4
+    Q = np.vstack([away.q, back.q])
+    assert violations(q0, Q, robot.lower, robot.upper, servo.velocity_limits,
+                      servo.acceleration_limits, DT) == {
+        "position": 0.0, "velocity": 0.0, "acceleration": 0.0
+    }  # fmt: skip
+
+
+def test_what_a_servo_over_shared_joints_does_not_take_is_refused(elbow_and_hand):
+    robot = elbow_and_hand
+    q0 = STARTS["panda"]
+    with pytest.raises(OptionError, match=r"obstacles= is not supported.*panda_joint1"):
+        robot.servo(q0, obstacles=[armik.Sphere(0.05, (1.0, 1.0, 1.0))])
+    servo = robot.servo(q0)
+    with pytest.raises(OptionError, match="share joints: one servo steps their union"):
+        servo.servo("panda_hand")
+    hand = robot.fk(q0, "panda_hand")
+    region = armik.Pose(hand, bounds=(0.01, 0.01, 0.01, 0.0, 0.0, 0.0))
+    with pytest.raises(TargetError, match="tip 'panda_hand' is Pose with bounds"):
+        servo.step({"panda_hand": region, "panda_link4": hand.translation})
+    with pytest.raises(TargetError, match="the target of tip 'panda_link4'"):
+        servo.step({"panda_hand": hand, "panda_link4": "up"})
+    with pytest.raises(OptionError, match="q0 must hold 7"):
+        robot.servo(q0[:5])

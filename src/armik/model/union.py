@@ -101,6 +101,15 @@ class Union:
         pin.forwardKinematics(self.model, self.data, self.to_pin(q))
         return self.T_base_world * pin.updateFramePlacement(self.model, self.data, fid)
 
+    def joint_index(self, name: str) -> int:
+        """Index of joint ``name`` in q; raises ``JointError`` listing the joints."""
+        if name not in self.joint_names:
+            raise JointError(
+                f"joint {name!r} is on none of these chains; joints: {list(self.joint_names)}",
+                joint=name,
+            )
+        return self.joint_names.index(name)
+
     def seed(self, q0: object) -> np.ndarray:
         return self.middle.copy() if q0 is None else np.asarray(q0, dtype=float).copy()
 

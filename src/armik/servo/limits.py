@@ -9,6 +9,7 @@ import numpy as np
 
 from armik.errors import OptionError
 from armik.model.arm_model import ArmModel
+from armik.model.union import Union
 
 # rad/s^2 (m/s^2 for a prismatic joint) on every joint where none is given: URDF has no
 # acceleration limits; 20 is within what industrial and collaborative arms allow on their
@@ -33,7 +34,7 @@ def time_step(dt: object) -> float:
     return value
 
 
-def urdf_velocities(arm: ArmModel) -> np.ndarray:
+def urdf_velocities(arm: ArmModel | Union) -> np.ndarray:
     """Each joint's URDF velocity limit (rad/s, m/s); inf where the URDF gives none (0)."""
     m = arm.model
     ids = [j for j in range(1, m.njoints) if m.joints[j].nq > 0]
@@ -41,7 +42,7 @@ def urdf_velocities(arm: ArmModel) -> np.ndarray:
     return np.where(out > 0.0, out, math.inf)
 
 
-def per_joint(value: object, arm: ArmModel, name: str, default: np.ndarray) -> np.ndarray:
+def per_joint(value: object, arm: ArmModel | Union, name: str, default: np.ndarray) -> np.ndarray:
     """``value`` as one positive limit per joint: None gives ``default``, a number every
     joint, else one per joint (a mapping: joint name -> limit, the others ``default``'s)."""
     if value is None:
