@@ -186,6 +186,9 @@ def _servo() -> None:
     servo = arm.servo(q, obstacles=[near])
     servo.step(T)  # a pose: its table written by the tick; a position: by the parser
     servo.step(T.translation)
+    shared = load("panda", tips=["panda_link4", "panda_hand"])  # one step over the union
+    q = shared.middle
+    shared.servo(q).step({tip: shared.fk(q, tip) for tip in shared.tips})
 
 
 PARTS: dict[str, Callable[[], None]] = {

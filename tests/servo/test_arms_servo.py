@@ -157,3 +157,34 @@ def test_what_a_servo_over_shared_joints_does_not_take_is_refused(elbow_and_hand
         servo.step({"panda_hand": hand, "panda_link4": "up"})
     with pytest.raises(OptionError, match="q0 must hold 7"):
         robot.servo(q0[:5])
+
+
+def test_the_rows_over_shared_joints_are_pinocchio_s(elbow_and_hand):
+    """The compiled rows of the servo over shared joints (each chain's kernel FK, scattered
+    into the union's columns) against Pinocchio's FK and frame Jacobians of the union's
+    model, to 1e-12."""
+    robot = elbow_and_hand
+    servo = robot.servo(STARTS["panda"])._union
+    union = robot._joint()
+    model, data = union.model, union.model.createData()
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        q = robot.random_q(rng)
+        goals = {t: robot.fk(robot.random_q(rng), t) for t in robot.tips}
+        for k, tip in enumerate(robot.tips):
+            servo._goal_R[k], servo._goal_p[k] = goals[tip].rotation, goals[tip].translation
+        servo._rotated[:] = True
+        E = np.empty(12)
+        assert servo._rows(q, servo._goal_R, servo._goal_p, E, True) == 12
+        pin.computeJointJacobians(model, data, union.to_pin(q))
+        R_bw = union.T_base_world.rotation
+        for k, tip in enumerate(robot.tips):
+            fid = model.getFrameId(tip)
+            T = union.T_base_world * pin.updateFramePlacement(model, data, fid)
+            J = pin.getFrameJacobian(model, data, fid, pin.LOCAL_WORLD_ALIGNED)
+            rows = slice(6 * k, 6 * k + 6)
+            assert np.allclose(E[rows][:3], goals[tip].translation - T.translation, atol=1e-12)
+            turned = pin.log3(goals[tip].rotation @ T.rotation.T)
+            assert np.allclose(E[rows][3:], turned, atol=1e-12)
+            assert np.allclose(servo._A[rows][:3], R_bw @ J[:3], atol=1e-12)
+            assert np.allclose(servo._A[rows][3:], R_bw @ J[3:], atol=1e-12)

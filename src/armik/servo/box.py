@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 FREE, POSITION, VELOCITY, ACCELERATION, BRAKING = range(5)  # which box gave a bound
@@ -71,20 +70,3 @@ def velocity_box(q, v_prev, lo, hi, vmax, amax, dt):
     if al > lb:
         lb, lk = al, ACCELERATION
     return lb, ub, lk, uk, False
-
-
-@njit(cache=True, nogil=True)
-def velocity_boxes(q, v_prev, lo, hi, vmax, amax, dt):
-    """``velocity_box`` of every joint: (lower, upper, lower's box, upper's box, whether
-    any joint's acceleration box gave way), for a step taken in Python (the servo over
-    shared joints, ``armik.servo.union``)."""
-    n = q.shape[0]
-    lb, ub = np.empty(n), np.empty(n)
-    lk, uk = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64)
-    conflict = False
-    for i in range(n):
-        lb[i], ub[i], lk[i], uk[i], c = velocity_box(
-            q[i], v_prev[i], lo[i], hi[i], vmax[i], amax[i], dt
-        )
-        conflict = conflict or c
-    return lb, ub, lk, uk, conflict

@@ -1,8 +1,8 @@
 """A servo over chains that share joints (a torso, a lift): one step over their union.
 
 ``Arms.servo`` on tips whose chains share a joint ticks this instead of one ``Servo`` per
-chain: every tip's task is stacked over the union's joints (Pinocchio's FK and frame
-Jacobians of ``armik.model.union``), and one damped least-squares step goes toward all of
+chain: every tip's task is stacked over the union's joints (``armik.model.union``'s, in
+its base frame), and one damped least-squares step goes toward all of
 them at once, within the velocity box of ``armik.servo.box`` on every joint (position,
 velocity, acceleration and braking limits), by the box QP of ``kernel.step.active_set``.
 What a chain's own servo does the same way: the damping grows near a singularity (the
@@ -11,8 +11,8 @@ tasks leave free are pulled toward ``q0``, and the step corrects ``gain`` of the
 tick. A tip's target is a pose or a position; a region, an axis or a look-at (which a
 chain's own servo takes) is refused by name, as are obstacles and ``self_collision``.
 
-In Python over Pinocchio, not one compiled call a tick: ``benchmarks/servo_shared.py``
-measures it.
+The rows and the step are compiled (``armik.servo.union_tick``: each chain's kernel FK, its
+columns scattered into the union's); the targets are read and the result built in Python.
 """
 
 from __future__ import annotations
@@ -21,16 +21,14 @@ import math
 from collections.abc import Mapping
 
 import numpy as np
-import pinocchio as pin
 
 from armik.errors import OptionError, TargetError
 from armik.frozen import frozen
-from armik.kernel.step import active_set
 from armik.model.union import Union
 from armik.problem.tasks import Pose, Position
-from armik.servo.box import ACCELERATION, BRAKING, POSITION, VELOCITY, velocity_boxes
 from armik.servo.limits import DEFAULT_ACCELERATION, per_joint, time_step, urdf_velocities
-from armik.servo.result import ServoStatus, ServoStep
+from armik.servo.result import STATUSES, ServoStatus, ServoStep
+from armik.servo.union_tick import damped_step, task_rows
 from armik.targets.pose import Target, parse_target
 
 SINGULAR = 0.05  # as ``armik.servo.servo``: below this smallest singular value ...
@@ -41,12 +39,6 @@ PULL = 2.0  # 1/s toward q0 where the tasks leave joints free
 ON_TARGET = 1e-6  # m and rad
 REACH_SLACK = 1e-3  # m beyond a chain's reach bound before its target is out of reach
 BRAKED = 1e-3  # m: slowing to stop on a target farther than this is reported
-_LIMITED = {
-    POSITION: ServoStatus.JOINT_LIMIT,
-    BRAKING: ServoStatus.JOINT_LIMIT,
-    VELOCITY: ServoStatus.VELOCITY_LIMIT,
-    ACCELERATION: ServoStatus.ACCELERATION_LIMIT,
-}
 KEYWORDS: tuple[str, ...] = ("dt", "velocity_limits", "acceleration_limits", "gain")
 KEYWORDS += ("tol_position", "tol_orientation")
 
@@ -101,12 +93,38 @@ class UnionServo:
             )
         self._gain, self._tol = g, (float(tol_position), float(tol_orientation))
         self._q, self._v, self._a, self._rest = q.copy(), np.zeros(n), np.zeros(n), q.copy()
-        self._frames = {tip: union.model.getFrameId(tip) for tip in self.tips}
         self._last: dict[str, Target] | None = None  # the last tick's targets
-        R = union.T_base_world.rotation
-        self._to_base = np.kron(np.eye(2), R)  # a twist's two halves into the base axes
+        # the chains' kernel arrays one after the other, and their joints' union columns
+        flats = [chains[tip].kernel_chain.flat for tip in self.tips]  # type: ignore[attr-defined]
+        self._packed = np.concatenate([f.packed for f in flats])
+        self._kinds = np.concatenate([f.kind for f in flats])
+        self._pack_at = np.cumsum([0] + [f.packed.shape[0] for f in flats]).astype(np.int64)
+        self._kind_at = np.cumsum([0] + [f.kind.shape[0] for f in flats]).astype(np.int64)
+        cols = [[self.joint_names.index(j) for j in chains[t].joint_names] for t in self.tips]  # type: ignore[attr-defined]
+        self._maps = np.array([c for part in cols for c in part], dtype=np.int64)
+        self._map_at = np.cumsum([0] + [len(c) for c in cols]).astype(np.int64)
+        most = max(len(c) for c in cols)
+        tips = len(self.tips)
+        # the kernel FK's scratch: R, p, each joint's origin and axis, a chain's q, a log
+        self._fk = (
+            np.empty((3, 3)),
+            np.empty(3),
+            np.empty((most, 3)),
+            np.empty((most, 3)),
+            np.empty(most),
+            np.empty(3),
+        )
+        self._goal_R, self._goal_p = np.empty((tips, 3, 3)), np.empty((tips, 3))
+        self._last_R, self._last_p = np.empty((tips, 3, 3)), np.empty((tips, 3))
+        self._rotated = np.zeros(tips, dtype=np.bool_)
+        self._E, self._E_last = np.empty(6 * tips), np.empty(6 * tips)
+        self._A = np.empty((6 * tips, n))
+        self._settings = np.array([SINGULAR, DAMPING, DAMPING_ERROR, LAMBDA_MIN, PULL])
         self._scratch = (
-            *(np.zeros(n, dtype=np.int64) for _ in range(3)),
+            np.empty(n),
+            np.empty(n),
+            np.empty(n),
+            np.zeros((5, n), dtype=np.int64),
             np.zeros((n, n)),
             np.zeros(n),
             np.zeros(n),
@@ -134,41 +152,38 @@ class UnionServo:
     def step(self, targets: Mapping[str, object]) -> ServoStep:
         """One tick toward every tip's target (a pose or a position each)."""
         goals = {tip: _goal(tip, targets[tip]) for tip in self.tips}
-        union, n, dt = self.union, self.union.dof, self.dt
         last = self._last if self._last is not None and _alike(self._last, goals) else goals
-        E, A, E_last = self._tasks(self._q, goals, last)
-        sigma = _smallest_singular(A)
-        lam = LAMBDA_MIN + DAMPING_ERROR * float(E @ E)
-        if sigma < SINGULAR:
-            lam += DAMPING * (1.0 - (sigma / SINGULAR) ** 2)
-        H = A.T @ A + lam * np.eye(n)
-        G = np.linalg.inv(H)
-        # the last tick's remaining correction, slowed so that every joint can stop on it at
-        # its acceleration limit, and the targets' own motion since, followed at once
-        fix = G @ (A.T @ E_last)
-        want = np.abs(self._gain * fix / dt)
-        can = np.sqrt(2.0 * self._amax * np.abs(fix))
-        moving = want > 0.0
-        slowed = float(np.min(can[moving] / want[moving], initial=1.0))
-        v_fix = min(1.0, slowed) * self._gain * fix / dt
-        v_ff = G @ (A.T @ (E - E_last)) / dt
-        # toward q0 in what the tasks leave free (the damped pseudo-inverse's null space)
-        v_pull = lam * (G @ (PULL * (self._rest - self._q)))
-        free = v_ff + v_fix + v_pull
-        lb, ub, lk, uk, conflict = velocity_boxes(
-            self._q, self._v, union.lower, union.upper, self._vmax, self._amax, dt
+        gR, gp, lR, lp, rotated = (
+            self._goal_R,
+            self._goal_p,
+            self._last_R,
+            self._last_p,
+            self._rotated,
         )
-        side, held, sub, Hh, gap, mult, Lm, x = self._scratch
-        if not active_set(G, free, lb, ub, free, side, held, sub, Hh, gap, mult, Lm, x):
-            x[:] = free
-        v = np.minimum(np.maximum(x, lb), ub)  # exactly within the box, whatever rounding
+        for t, tip in enumerate(self.tips):
+            goal, before = goals[tip], last[tip]
+            gp[t], lp[t] = goal.position, before.position
+            rotated[t] = goal.rotation is not None
+            if rotated[t]:
+                gR[t], lR[t] = goal.rotation, before.rotation
+        union, dt = self.union, self.dt
+        E, E_last, A = self._E, self._E_last, self._A
+        m = self._rows(self._q, gR, gp, E, True)
+        self._rows(self._q, lR, lp, E_last, False)
+        lb, ub, v, ints, Hh, gap, mult, Lm, x = self._scratch
+        sigma, slowed, code, j, conflict = damped_step(
+            A[:m], E[:m], E_last[:m], self._q, self._v, self._rest, union.lower, union.upper,
+            self._vmax, self._amax, dt, self._gain, self._settings,
+            lb, ub, v, ints, Hh, gap, mult, Lm, x,
+        )  # fmt: skip
         q = np.minimum(np.maximum(self._q + v * dt, union.lower), union.upper)
         v = (q - self._q) / dt
         a = (v - self._v) / dt
         self._q, self._v, self._a, self._last = q, v, a, goals
-        pos, ori = self._distances(q, goals)
-        status, joint = self._status(free, v, lb, ub, lk, uk, sigma, goals, pos, ori)
-        if status is ServoStatus.TRACKING and slowed < 1.0 and max(pos.values()) > BRAKED:
+        self._rows(q, gR, gp, E, False)
+        pos, ori = _distances(E[:m], rotated)
+        status = self._status(code, sigma, goals, pos, ori)
+        if status is ServoStatus.TRACKING and slowed < 1.0 and pos > BRAKED:
             status = ServoStatus.ACCELERATION_LIMIT  # slowing to stop on a far target
         command = np.stack([q, v, a])
         command.flags.writeable = False
@@ -178,75 +193,54 @@ class UnionServo:
             dq=command[1],
             ddq=command[2],
             status=status,
-            joint=joint,
-            position_error=max(pos.values()),
-            orientation_error=max((o for o in ori.values() if o is not None), default=None),
+            joint=self.joint_names[j] if j >= 0 and status is STATUSES[code] else None,
+            position_error=pos,
+            orientation_error=ori,
             sigma=sigma,
             conflict=bool(conflict),
             tips=None,
         )
 
-    def _tasks(self, q: np.ndarray, goals: dict, last: dict):
-        """(E, A, E_last): the stacked error toward ``goals`` (base axes: each tip's
-        position, then its rotation where its goal has one), its Jacobian at q, and the
-        error toward ``last`` (the last tick's goals, of the same kinds)."""
-        union = self.union
-        model, data = union.model, union.data
-        pin.computeJointJacobians(model, data, union.to_pin(q))
-        rows, rows_last, cols = [], [], []
-        for tip, goal in goals.items():
-            fid = self._frames[tip]
-            T = union.T_base_world * pin.updateFramePlacement(model, data, fid)
-            J = self._to_base @ pin.getFrameJacobian(model, data, fid, pin.LOCAL_WORLD_ALIGNED)
-            before = last[tip]
-            rows.append(goal.position - T.translation)
-            rows_last.append(before.position - T.translation)
-            if goal.rotation is None:
-                cols.append(J[:3])
-            else:
-                rows.append(pin.log3(goal.rotation @ T.rotation.T))
-                rows_last.append(pin.log3(before.rotation @ T.rotation.T))
-                cols.append(J)
-        return np.concatenate(rows), np.vstack(cols), np.concatenate(rows_last)
-
-    def _distances(self, q: np.ndarray, goals: dict) -> tuple[dict, dict]:
-        """Each tip's true distances to its goal at q (m; rad, None for a position)."""
-        union = self.union
-        model, data = union.model, union.data
-        pin.forwardKinematics(model, data, union.to_pin(q))
-        pos, ori = {}, {}
-        for tip, goal in goals.items():
-            T = union.T_base_world * pin.updateFramePlacement(model, data, self._frames[tip])
-            pos[tip] = float(np.linalg.norm(goal.position - T.translation))
-            ori[tip] = (
-                None
-                if goal.rotation is None
-                else float(np.linalg.norm(pin.log3(goal.rotation @ T.rotation.T)))
+    def _rows(self, q: np.ndarray, R: np.ndarray, p: np.ndarray, E: np.ndarray, jac: bool) -> int:
+        """``task_rows`` at q toward the goals (R, p): E (and A with ``jac``), rows written."""
+        fk_R, fk_p, origins, axes, qc, w = self._fk
+        return int(
+            task_rows(
+                self._packed, self._pack_at, self._kinds, self._kind_at, self._maps,
+                self._map_at, q, R, p, self._rotated, E, self._A, jac,
+                fk_R, fk_p, origins, axes, qc, w,
             )
-        return pos, ori
+        )  # fmt: skip
 
-    def _status(self, free, v, lb, ub, lk, uk, sigma, goals, pos, ori):
-        """What limited the tick (``ServoStatus``) and the joint held back, if one was."""
+    def _status(self, code: int, sigma: float, goals: dict, pos: float, ori) -> ServoStatus:
+        """What limited the tick: a target out of reach, on target, a box (``code``), a
+        singularity, else tracking."""
         for tip, goal in goals.items():
             chain = self._chains[tip]
-            far = math.dist(goal.position.tolist(), chain.first_joint_origin.tolist())
-            if far > chain.reach + REACH_SLACK:
-                return ServoStatus.OUT_OF_REACH, None
+            far = math.dist(goal.position.tolist(), chain.first_joint_origin.tolist())  # type: ignore[attr-defined]
+            if far > chain.reach + REACH_SLACK:  # type: ignore[attr-defined]
+                return ServoStatus.OUT_OF_REACH
         tol_p, tol_r = self._tol
-        if all(p <= tol_p for p in pos.values()) and all(
-            o is None or o <= tol_r for o in ori.values()
-        ):
-            return ServoStatus.ON_TARGET, None
-        held_up = (v >= ub - 1e-12) & (free > ub)
-        held_down = (v <= lb + 1e-12) & (free < lb)
-        over = np.where(held_up, free - ub, 0.0) + np.where(held_down, lb - free, 0.0)
-        if over.max() > 0.0:
-            j = int(np.argmax(over))
-            kind = uk[j] if held_up[j] else lk[j]
-            return _LIMITED[int(kind)], self.joint_names[j]
+        if pos <= tol_p and (ori is None or ori <= tol_r):
+            return ServoStatus.ON_TARGET
+        if STATUSES[code] is not ServoStatus.TRACKING:
+            return STATUSES[code]
         if sigma < SINGULAR:
-            return ServoStatus.SINGULARITY, None
-        return ServoStatus.TRACKING, None
+            return ServoStatus.SINGULARITY
+        return ServoStatus.TRACKING
+
+
+def _distances(E: np.ndarray, rotated: np.ndarray) -> tuple[float, float | None]:
+    """The largest position error and the largest orientation error (None: no tip has a
+    rotation) of the stacked rows E."""
+    pos, ori, m = 0.0, None, 0
+    for turned in rotated.tolist():
+        pos = max(pos, math.sqrt(E[m] ** 2 + E[m + 1] ** 2 + E[m + 2] ** 2))
+        if turned:
+            o = math.sqrt(E[m + 3] ** 2 + E[m + 4] ** 2 + E[m + 5] ** 2)
+            ori = o if ori is None else max(ori, o)
+        m += 6 if turned else 3
+    return pos, ori
 
 
 def _goal(tip: str, target: object) -> Target:
@@ -273,8 +267,3 @@ def _goal(tip: str, target: object) -> Target:
 def _alike(last: dict[str, Target], goals: dict[str, Target]) -> bool:
     """Whether each tip's goal is of the kind it was last tick (a pose, a position)."""
     return all((goals[t].rotation is None) == (last[t].rotation is None) for t in goals)
-
-
-def _smallest_singular(A: np.ndarray) -> float:
-    """The smallest of A's min(rows, n) largest singular values."""
-    return float(np.linalg.svd(A, compute_uv=False)[-1])
