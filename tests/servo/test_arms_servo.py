@@ -5,6 +5,8 @@ name."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -159,12 +161,38 @@ def test_what_a_servo_over_shared_joints_does_not_take_is_refused(elbow_and_hand
         robot.servo(q0[:5])
 
 
-def test_the_rows_over_shared_joints_are_pinocchio_s(elbow_and_hand):
+@pytest.fixture(scope="module")
+def pr2() -> armik.Arms:
+    """PR2's two grippers: their chains share the torso's lift, a prismatic joint; the
+    forearm and wrist rolls are continuous."""
+    robots = Path(armik.load("panda").source).parents[2]
+    urdf = robots / "pr2_description" / "urdf" / "pr2.urdf"
+    return armik.load(urdf, tips=["l_gripper_tool_frame", "r_gripper_tool_frame"])
+
+
+def test_a_shared_lift_and_continuous_joints_step_within_their_limits(pr2):
+    q0 = pr2.middle
+    assert pr2.shared == ("torso_lift_joint",)
+    up = {tip: pr2.fk(q0, tip).translation + np.array([0.0, 0.0, 0.1]) for tip in pr2.tips}
+    servo = pr2.servo(q0, dt=DT)
+    rec = servo.track([up] * 1500)
+    assert rec.status[-1] == "on_target" and rec.position_error[-1] < 1e-6
+    over = violations(
+        q0, rec.q, pr2.lower, pr2.upper, servo.velocity_limits, servo.acceleration_limits, DT
+    )
+    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    for tip in pr2.tips:
+        assert np.linalg.norm(pr2.fk(rec.q[-1], tip).translation - up[tip]) < 1e-6
+
+
+@pytest.mark.parametrize("which", ["panda", "pr2"])
+def test_the_rows_over_shared_joints_are_pinocchio_s(which, elbow_and_hand, pr2):
     """The compiled rows of the servo over shared joints (each chain's kernel FK, scattered
     into the union's columns) against Pinocchio's FK and frame Jacobians of the union's
-    model, to 1e-12."""
-    robot = elbow_and_hand
-    servo = robot.servo(STARTS["panda"])._union
+    model, to 1e-12: revolute joints (the Panda), a prismatic lift and continuous joints
+    (PR2)."""
+    robot = elbow_and_hand if which == "panda" else pr2
+    servo = robot.servo(robot.middle)._union
     union = robot._joint()
     model, data = union.model, union.model.createData()
     rng = np.random.default_rng(7)
