@@ -116,12 +116,12 @@ class SolverSpec:
         if opts is not None:
             asked = opts.forms if asked is None else asked
             if not self.needs <= asked:
-                return f"{self.name} needs {_NEEDED.get(min(self.needs - asked), 'more')}"
+                return f"{self.name} needs {_needed(min(self.needs - asked))}"
             if not asked <= self.solves:
                 form = next(f for f in FORMS if f in asked and f not in self.solves)
                 return f"{_ASKED[form]} {_are(form)} for {_solving(form)}"
         elif self.needs:
-            return f"{self.name} needs {_NEEDED.get(min(self.needs), 'more')}"
+            return f"{self.name} needs {_needed(min(self.needs))}"
         return None
 
 
@@ -193,6 +193,10 @@ def why_not(
     """None if solver ``name`` applies, else the check that failed."""
     spec = get(name)
     return spec.declines(opts) or spec.why_not(arm, target, opts)
+
+
+def _needed(form: str) -> str:
+    return _NEEDED.get(form, _ASKED.get(form, repr(form)))
 
 
 def _are(form: str) -> str:
