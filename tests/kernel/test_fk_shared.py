@@ -1,7 +1,7 @@
 """``fk_checks_beside`` on rows that share leading joint values (``fk_shared``: each row
 continued from an earlier row's partial placement) measures them bit for bit as
 ``fk_checks`` does row by row, on every bundled arm (mimic joints and weights: row by row
-there too), signed zeros told apart."""
+there too), signed zeros told apart, the rows it is told to skip measured apart."""
 
 from __future__ import annotations
 
@@ -41,7 +41,12 @@ def test_shared_rows_are_measured_as_row_by_row(name, w, measure):
     fk_checks(*m.kernel_chain.flat, frame, H, Q.copy(), want)
     rows = np.full((len(Q), a.dof + 4), 7.0)
     rows[:, : a.dof] = Q
-    fk_checks_beside(*m.kernel_chain.flat, frame, H, rows, np.int64(len(Q)), np.int64(a.dof))
+    skip = np.int64(0b100100100)  # rows 2, 5, 8 left alone (measured apart, later)
+    n, col = np.int64(len(Q)), np.int64(a.dof)
+    fk_checks_beside(*m.kernel_chain.flat, frame, H, rows, n, col, skip)
+    left = [2, 5, 8]
+    assert np.all(rows[left, a.dof : a.dof + 4] == 7.0)
+    fk_checks_beside(*m.kernel_chain.flat, frame, H, rows, n, col, ~skip)  # the others
     got = rows[:, a.dof : a.dof + 3]
     assert np.array_equal(got, want, equal_nan=True)  # bit for bit
     assert np.array_equal(rows[:, : a.dof], Q)
@@ -61,6 +66,6 @@ def test_a_row_sharing_five_joints_is_measured_by_its_sixth():
     rows = np.zeros((2, 17))
     rows[0, :6], rows[1, :6] = q, q
     rows[1, 5] += 1e-3  # the wrist's last joint apart: the first five shared
-    fk_checks_beside(*m.kernel_chain.flat, frame, H, rows, np.int64(2), np.int64(11))
+    fk_checks_beside(*m.kernel_chain.flat, frame, H, rows, np.int64(2), np.int64(11), np.int64(0))
     assert rows[0, 11] < 1e-12 and rows[0, 12] < 1e-12  # the target's own configuration
     assert rows[1, 12] == pytest.approx(1e-3, rel=1e-6)  # turned by the last joint alone

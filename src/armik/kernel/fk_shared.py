@@ -27,10 +27,11 @@ def _same(a, b):
 
 
 @njit(cache=True, nogil=True)
-def forward_row(ch, Q, r, S, R, p):
-    """T_base_tip = (R, p) of row ``r`` of Q (``fk.forward``'s), rows 0 to r - 1 placed
-    already by this function with the same scratch ``S`` (rows, joints + 1, ``STATE``):
-    S[r, i] receives the partial transform after joint i - 1's motion (i >= 1)."""
+def forward_row(ch, Q, r, S, R, p, placed):
+    """T_base_tip = (R, p) of row ``r`` of Q (``fk.forward``'s), the rows of the bit set
+    ``placed`` (rows before r) placed already by this function with the same scratch
+    ``S`` (rows, joints + 1, ``STATE``): S[r, i] receives the partial transform after
+    joint i - 1's motion (i >= 1)."""
     N = joints(ch)
     X = ch.packed
     jp, ja, tip = off_joint_p(N), off_axis(N), off_tip(N)
@@ -38,6 +39,8 @@ def forward_row(ch, Q, r, S, R, p):
     n = ch.halton.shape[1]
     k, src = 0, -1  # the most leading joints row r shares, with which earlier row
     for j in range(r):
+        if not placed >> j & 1:
+            continue
         m = 0
         while m < N and _same(Q[j, m], Q[r, m]):
             m += 1

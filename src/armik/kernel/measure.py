@@ -23,6 +23,8 @@ from armik.kernel.fk_shared import STATE, forward_row
 from armik.kernel.se3 import log3, rotation_angle
 from armik.tolerances import LIMIT_TOL
 
+ONE = np.int64(1)  # a typed count: a literal would compile ``_checks`` once more
+
 
 @njit(cache=True, nogil=True)
 def pose_error(R_bw, p_bw, R_w, p_w, R_t, p_t, w, weighted, measure_rot):
@@ -177,23 +179,30 @@ def fk_checks(packed, kind, halton, frame, H_t, Q, out):
 
 
 @njit(cache=True, nogil=True)
-def fk_checks_beside(packed, kind, halton, frame, H_t, rows, n, col):
-    """``fk_checks`` of the first ``n`` rows of ``rows``, each row's three values written
-    into its own columns ``col`` to ``col + 2`` (a closed form's rows measured in the
-    call that solved them: ``armik.solvers.closed_form.sixr_judged``). Unweighted, rows
-    that share leading joint values share their partial placement (``fk_shared``: the
-    same bits)."""
+def fk_checks_beside(packed, kind, halton, frame, H_t, rows, n, col, skip):
+    """``fk_checks`` of the first ``n`` rows of ``rows`` but those of the bit set ``skip``,
+    each row's three values written into its own columns ``col`` to ``col + 2`` (a closed
+    form's rows measured in the call that solved them:
+    ``armik.solvers.closed_form.sixr_judged``). Unweighted, rows that share leading joint
+    values share their partial placement (``fk_shared``: the same bits)."""
     ch = Flat(packed, kind, halton)
     _, _, _, measure, lower, upper = _frame(frame)
     if joints(ch) != halton.shape[1] or measure & 1:  # mimic joints, weights: row by row
-        _checks(packed, kind, halton, frame, H_t, rows, n, rows, col)
+        for i in range(n):
+            if not skip >> i & 1:
+                row = rows[i : i + 1]
+                _checks(packed, kind, halton, frame, H_t, row, ONE, row, col)
         return
     R, p, M = np.empty((3, 3)), np.empty(3), np.empty((3, 3))
     S = np.empty((n, joints(ch) + 1, STATE))
     R_t, p_t = split_pose(H_t)
     measure_rot = measure & 2 != 0
+    placed = 0
     for i in range(n):
-        forward_row(ch, rows, i, S, R, p)
+        if skip >> i & 1:
+            continue
+        forward_row(ch, rows, i, S, R, p, placed)
+        placed |= 1 << i
         pos, ori = _unweighted(R, p, R_t, p_t, M, measure_rot)
         inside = 1.0
         for j in range(lower.shape[0]):

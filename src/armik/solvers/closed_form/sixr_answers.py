@@ -17,8 +17,7 @@ from armik.model.arm_model import ArmModel
 from armik.solvers.answers import Answers, converged_claims, zero_counts
 from armik.solvers.claims import claim
 from armik.solvers.closed_form.sixr import LABELS, LS, NOT_FOUND, SINGULAR, flat, reason
-from armik.solvers.closed_form.sixr_judged import WIDTH, context, judge_array
-from armik.solvers.closed_form.sixr_judged import labels as branch_labels
+from armik.solvers.closed_form.sixr_judged import WIDTH, context, finish, judge_array
 from armik.status import Status
 
 
@@ -73,35 +72,24 @@ def pose_runner(
         """``judged(H, q0)``: every row for ``H`` solved, measured against the arm's
         compiled chain ``flat_chain`` (``kernel.chain.Flat``) as ``frame`` says
         (``kernel.measure.fk_check_frame``) and judged with these tolerances (m, rad) in
-        one compiled call (``sixr_judged.judged``): (rows (n, ``sixr_judged.WIDTH``),
-        verdict: < 0 the general verdict decides (the rows labelled), else decided (the
-        branch labels left to ``labels``)), None when the pose or q0 is not plain. None
-        without such a call."""
+        one compiled call (``sixr_judged.judged``): (rows (``size`` + 1,
+        ``sixr_judged.WIDTH``), n, verdict: < 0 the general verdict decides its first n
+        rows, labelled; else decided, ``judged.finish(rows, n)`` makes them whole), None
+        when the pose or q0 is not plain. None without such a call."""
         if solve_all_into is None:
             return None
         ctx = context(chain, flat_chain, frame, judge_array(tol_p, tol_r))
 
         def judged(H: np.ndarray, q0: np.ndarray):
-            out = empty((size, WIDTH))
+            out = empty((size + 1, WIDTH))  # the last row: the target, kept for finish
             n, verdict = solve_all_into(ctx, H, q0, out)
-            if n < 0:
-                return None
-            return (out if n == size else out[:n]), verdict
+            return None if n < 0 else (out, n, verdict)
 
+        judged.finish = partial(finish, ctx)  # type: ignore[attr-defined]
         return judged
 
-    def labels(rows: np.ndarray) -> list[int]:
-        """The branch bits of each of a decided target's ``rows`` (a read-only view is
-        measured: the rows may be its results' already)."""
-        view = rows.view()
-        view.setflags(write=False)
-        bits = empty(len(rows), np.int64)
-        branch_labels(chain, view, bits)
-        return bits.tolist()
-
-    # ``armik.solve.prepared``'s solve_all: the rows judged, their labels and words
+    # ``armik.solve.prepared``'s solve_all: the rows judged, their words
     run_pose.judging = judging  # type: ignore[attr-defined]
-    run_pose.labels = labels  # type: ignore[attr-defined]
     run_pose.answers = answers  # type: ignore[attr-defined]
     run_pose.words = partial(words_of, family=family, closed_form=closed_form)  # type: ignore[attr-defined]
     return run_pose

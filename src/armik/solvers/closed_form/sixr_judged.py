@@ -6,17 +6,21 @@ columns of ``rows`` (``sixr``'s layout, nearest q0 first, no branch labels yet),
 ``judged``: each row's tip placed by the compiled FK of the arm's own chain
 (``armik.kernel.measure.fk_checks_beside``, held to Pinocchio's placement to 1e-12) and
 measured against the target into columns 11 to 13, the verdict's ``RULE``
-(``armik.verify.verdict``) applied into column 14 (its rank among failures in 15 and 16),
-and the rows put in the order ``solve_all`` returns them: the verified rows in the kernel's
-order, then the others by ``failure_rank``. Where the rule alone does not decide (a
-claimed row the measure refutes within the limits, an unclaimed row it verifies, a
-search's miss) or there is one row (Pinocchio measures it, as the general verdict does),
-nothing is reordered, every row is labelled with its branch (column 7) and the general
-verdict decides (``armik.solve.prepared``).
+(``armik.verify.verdict``) applied into column 14 (its rank among failures in 15 and 16).
+A row claimed outside the limits is ``joint_limits`` whatever it measures: its
+measurement waits, with the order and the branch labels, for ``finish``, which the
+results' first access calls (``armik.verify.judged``): the rows claimed outside the
+limits measured as the others were, the rows put in the order ``solve_all`` returns them
+(the verified rows in the kernel's order, then the others by ``failure_rank``) and
+labelled. Every row a result says verified is measured in the call. Where the rule alone
+does not decide (a claimed row the measure refutes within the limits, an unclaimed row it
+verifies, a search's miss) or there is one row (Pinocchio measures it, as the general
+verdict does), every row is labelled with its branch (column 7) and the general verdict
+decides (``armik.solve.prepared``), measuring them all.
 
-A decided target's branch labels are read when its results are built (``labels``: one
-call for every row, on the first access of any result, ``armik.verify.judged``), as the
-rest of a result is: a caller that reads no result does not pay for them.
+``rows`` has one row more than the kernel's most: ``judged`` keeps the target there for
+``finish`` (its rotation row-major, then its position), so that a caller's array changed
+after the call changes nothing.
 
 ``context`` packs what the call reads besides the target, seed and rows (the family's
 chain, the arm's compiled chain, the measure's frame, the rule's numbers) in one array:
@@ -25,12 +29,15 @@ numba's dispatch costs about as much for each array argument as the FK of a row.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
 from armik.kernel.measure import fk_checks_beside
 from armik.solvers.closed_form.sixr import LS, NOT_FOUND, branch_bits, unflatten
 from armik.status import FAILURE_RANK, Status
+from armik.tolerances import LIMIT_TOL
 
 MEASURED = 11  # columns 11-13: position error (m), orientation error (rad, NaN), > 0 within
 STATUS = 14  # the row's status code
@@ -39,7 +46,7 @@ WIDTH = 17  # columns of the rows ``solve_all_into`` writes
 
 # verdicts ``judged`` returns
 GENERAL = -1  # the general verdict decides
-DECIDED = 0  # decided by the rule: the rows are judged and ordered
+DECIDED = 0  # decided by the rule: the rows judged, ``finish`` makes them whole
 
 UNLABELLED = np.int64(0)  # the kernel's ``labelled`` for ``solve_all_into``: no labels
 CHAIN, JUDGE = 61, 7  # lengths of ``sixr.flat``'s array and ``judge_array``'s
@@ -94,19 +101,34 @@ def split(ctx):
 @njit(cache=True, nogil=True)
 def judged(n, chain, packed, kind, halton, frame, judge, H, rows):
     """(n, verdict) of a kernel's ``n`` unlabelled rows in ``rows`` (n < 0: the pose or
-    seed was not plain, nothing solved): measured, judged and ordered in place, see the
-    module. ``chain``: ``sixr.flat``; ``packed``, ``kind``, ``halton``: the arm's
-    ``kernel.chain.Flat``; ``frame``: ``kernel.measure.fk_check_frame``'s (unweighted);
-    ``judge``: ``judge_array``'s."""
+    seed was not plain, nothing solved), judged in place, see the module; the target kept
+    in the last row of ``rows`` (``TARGET``) for ``finish``. ``chain``: ``sixr.flat``;
+    ``packed``, ``kind``, ``halton``: the arm's ``kernel.chain.Flat``; ``frame``:
+    ``kernel.measure.fk_check_frame``'s (unweighted); ``judge``: ``judge_array``'s."""
     if n < 0:
         return n, GENERAL
     if n < 2:
         return _general(n, chain, rows)
-    fk_checks_beside(packed, kind, halton, frame, H, rows, n, MEASURED)
+    last = rows.shape[0] - 1
+    for a in range(3):
+        for b in range(3):
+            rows[last, 3 * a + b] = H[a, b]
+        rows[last, 9 + a] = H[a, 3]
+    nj = (frame.shape[0] - 19) // 2
+    lower, upper = frame[19 : 19 + nj], frame[19 + nj : 19 + 2 * nj]
+    later = 0  # bit i: row i claimed outside the limits, measured by ``finish``
+    for i in range(n):
+        claimed = not int(rows[i, 6]) & LS and int(rows[i, 8]) != NOT_FOUND
+        if claimed and not _within(rows, i, lower, upper):
+            later |= 1 << i
+    fk_checks_beside(packed, kind, halton, frame, H, rows, n, MEASURED, later)
     tol_p, tol_r = judge[0], judge[1]
     rot = int(frame[18]) & 2 != 0
-    ordered = True  # already by (rank, error): nothing to move
     for i in range(n):
+        if later >> i & 1:  # joint_limits, whatever its errors: measured when read
+            rows[i, MEASURED], rows[i, MEASURED + 1], rows[i, MEASURED + 2] = np.nan, np.nan, 0.0
+            rows[i, STATUS], rows[i, RANK], rows[i, ERROR] = judge[3], judge[5], np.nan
+            continue
         pos, ori, within = rows[i, MEASURED], rows[i, MEASURED + 1], rows[i, MEASURED + 2] > 0.0
         ok = within and pos <= tol_p and (not rot or ori <= tol_r)
         claimed = not int(rows[i, 6]) & LS
@@ -119,11 +141,50 @@ def judged(n, chain, packed, kind, halton, frame, judge, H, rows):
                 (judge[3], judge[5]) if claimed else (judge[4], judge[6])
             )
             rows[i, ERROR] = pos + (ori if rot else 0.0)
-        if i > 0 and _before(rows, i, i - 1):
-            ordered = False
-    if not ordered:
-        _order(rows, n)
     return n, DECIDED
+
+
+@njit(cache=True, nogil=True)
+def finish(ctx, rows, n):
+    """A decided target's ``n`` rows made whole when its results are built: the rows
+    claimed outside the limits measured as ``judged`` measures the others (against the
+    target it kept in the last row), the rows put in ``solve_all``'s order (the verified
+    ones in the kernel's, then the others by ``failure_rank``) and each labelled with its
+    branch (column 7). ``ctx``: ``context``'s."""
+    chain, judge, frame, packed, kind, halton = split(ctx)
+    last = rows.shape[0] - 1
+    H = np.zeros((4, 4))
+    for a in range(3):
+        for b in range(3):
+            H[a, b] = rows[last, 3 * a + b]
+        H[a, 3] = rows[last, 9 + a]
+    H[3, 3] = 1.0
+    later = 0
+    for i in range(n):
+        if math.isnan(rows[i, ERROR]):
+            later |= 1 << i
+    if later:
+        fk_checks_beside(packed, kind, halton, frame, H, rows, n, MEASURED, ~later)
+        rot = int(frame[18]) & 2 != 0
+        for i in range(n):
+            if later >> i & 1:
+                rows[i, ERROR] = rows[i, MEASURED] + (rows[i, MEASURED + 1] if rot else 0.0)
+    for i in range(1, n):
+        if _before(rows, i, i - 1):  # not in order already
+            _order(rows, n)
+            break
+    h, p, _, _, _, _ = unflatten(chain)
+    for r in range(n):
+        rows[r, 7] = branch_bits(h, p, rows[r, :6])
+
+
+@njit(cache=True, nogil=True)
+def _within(rows, i, lower, upper):
+    """Row i's joint values within the limits (``kernel.measure``'s test: NaN is not)."""
+    for j in range(lower.shape[0]):
+        if not (lower[j] - LIMIT_TOL <= rows[i, j] <= upper[j] + LIMIT_TOL):
+            return False
+    return True
 
 
 @njit(cache=True, nogil=True)
@@ -133,18 +194,6 @@ def _general(n, chain, rows):
     for r in range(n):
         rows[r, 7] = branch_bits(h, p, rows[r, :6])
     return n, GENERAL
-
-
-@njit(cache=True, nogil=True)
-def labels(chain, rows, bits):
-    """bits[r]: the branch bits (``sixr.branch_bits``) of row r of ``rows`` (read only: a
-    decided target's rows, as its results hold them), for every row."""
-    h, p, _, _, _, _ = unflatten(chain)
-    q = np.empty(6)  # a writable copy: the rows' own are compiled once, for the kernels
-    for r in range(rows.shape[0]):
-        for j in range(6):
-            q[j] = rows[r, j]
-        bits[r] = branch_bits(h, p, q)
 
 
 @njit(cache=True, nogil=True)
