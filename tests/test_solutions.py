@@ -20,7 +20,7 @@ def _both():
     T = a.fk(a.random_q(np.random.default_rng(3)))
     lazy = a.solve_all(T)
     assert lazy._make is not None  # built on access: the closed form's route
-    return lazy, list(Solutions._lazy(len(lazy), lazy._make))  # equal, built apart
+    return lazy, list(Solutions._lazy(len(lazy), lazy._make, lazy._args))  # built apart
 
 
 def test_it_reads_as_a_list():

@@ -13,7 +13,6 @@ solves write theirs.
 from __future__ import annotations
 
 from collections.abc import Callable
-from functools import partial
 from threading import Lock
 
 import numpy as np
@@ -53,7 +52,7 @@ class Judged:
     def solutions(self, rows: np.ndarray, n: int, elapsed: float) -> Solutions:
         """The ``Solutions`` of one target's first ``n`` judged ``rows`` (``rows``: the
         compiled call's whole array), each result's ``time`` ``elapsed`` (s)."""
-        return Solutions._lazy(n, partial(self._results, rows, n, elapsed))
+        return Solutions._lazy(n, self._results, (rows, n, elapsed))
 
     def _results(self, whole: np.ndarray, n: int, elapsed: float) -> list[IKResult]:
         """Every row's result, in one pass over plain values."""

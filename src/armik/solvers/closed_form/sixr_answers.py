@@ -79,9 +79,10 @@ def pose_runner(
         if solve_all_into is None:
             return None
         ctx = context(chain, flat_chain, frame, judge_array(tol_p, tol_r))
+        shape = (size + 1, WIDTH)  # the last row: the target, kept for finish
 
         def judged(H: np.ndarray, q0: np.ndarray):
-            out = empty((size + 1, WIDTH))  # the last row: the target, kept for finish
+            out = empty(shape)
             n, verdict = solve_all_into(ctx, H, q0, out)
             return None if n < 0 else (out, n, verdict)
 
