@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import copy
 import pickle
+import threading
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pytest
@@ -20,7 +22,7 @@ def _both():
     T = a.fk(a.random_q(np.random.default_rng(3)))
     lazy = a.solve_all(T)
     assert lazy._make is not None  # built on access: the closed form's route
-    return lazy, list(Solutions._lazy(len(lazy), lazy._make))  # equal, built apart
+    return lazy, list(Solutions._lazy(len(lazy), lazy._make, lazy._args))  # built apart
 
 
 def test_it_reads_as_a_list():
@@ -69,3 +71,22 @@ def test_every_route_returns_solutions():
         target = T.translation if name == "planar_2link" else T
         got = a.solve_all(target, **kw)
         assert type(got) is Solutions and got[0].success
+
+
+def test_threads_reading_it_at_once_read_the_same_results():
+    """The first read makes a closed form's rows whole (measured, ordered, labelled) and
+    read-only; threads that read at once all read what one thread alone reads."""
+    a = arm("abb_irb120")
+    T = a.fk(a.random_q(np.random.default_rng(3)))
+    alone = [(r.branch, r.status, r.position_error, tuple(r.q)) for r in a.solve_all(T)]
+    for _ in range(5):
+        lazy = a.solve_all(T)
+        start = threading.Barrier(4)
+
+        def read(lazy=lazy, start=start):
+            start.wait()
+            return [(r.branch, r.status, r.position_error, tuple(r.q)) for r in lazy]
+
+        with ThreadPoolExecutor(4) as pool:
+            got = [f.result() for f in [pool.submit(read) for _ in range(4)]]
+        assert all(g == alone for g in got)

@@ -30,7 +30,7 @@ from armik.solve.batch import solve_batch
 from armik.solve.intervals import Intervals, intervals
 from armik.solve.path import solve_path
 from armik.solve.read import read, read_batch, read_path
-from armik.solve.single import routed, solve_one
+from armik.solve.single import routed
 from armik.solve.stages import run
 from armik.solvers.registry import validate_name
 from armik.tolerances import LIMIT_TOL
@@ -427,7 +427,12 @@ class Arm:
         list of ``IKResult``: ``armik.solutions``)."""
         if type(solver) is not str:
             validate_name(solver)
-        got = solve_one(self.kinematics, target, q0, solver, options, True)
+        # ``solve_one``'s route, inline, as ``solve``'s
+        request = read(self.kinematics, target, q0, solver, options, True)
+        if request.score is None and request.problem is None:  # the compiled path's stages
+            got = run(self.kinematics, request)
+        else:
+            got = routed(self.kinematics, request)
         return got if type(got) is Solutions else Solutions(got)
 
     def intervals(self, target: object, over: str, *, q0: object = None) -> Intervals:

@@ -81,7 +81,7 @@ def _closed_form(robot: str, solver: str, batch: bool = False) -> Callable[[], N
         target = T.translation[:2] if solver == "planar2r" else T
         arm.solve(target, solver=solver)
         arm.solve(target, q0=arm.middle + 0.1, solver=solver)
-        arm.solve_all(target, solver=solver)
+        [r.branch for r in arm.solve_all(target, solver=solver)]  # results read: made whole
         if solver != "planar2r":
             _from_a_result(arm, T, solver)
         if batch:

@@ -25,25 +25,26 @@ from armik.result import IKResult
 class Solutions(MutableSequence[IKResult]):
     """``solve_all``'s results, best first; see the module."""
 
-    __slots__ = ("_built", "_make", "_n")
+    __slots__ = ("_args", "_built", "_make", "_n")
 
     def __init__(self, results: Iterable[IKResult] = ()) -> None:
         self._built: list[IKResult] | None = list(results)
-        self._make: Callable[[], list[IKResult]] | None = None
+        self._make: Callable[..., list[IKResult]] | None = None
+        self._args: tuple = ()
         self._n = 0
 
     @classmethod
-    def _lazy(cls, n: int, make: Callable[[], list[IKResult]]) -> Solutions:
-        """N results that ``make()`` builds, all at once, on the first access of any: one
-        pass over the record costs less than N passes."""
+    def _lazy(cls, n: int, make: Callable[..., list[IKResult]], args: tuple = ()) -> Solutions:
+        """N results that ``make(*args)`` builds, all at once, on the first access of any:
+        one pass over the record costs less than N passes."""
         self = _new(cls)
-        self._built, self._make, self._n = None, make, n
+        self._built, self._make, self._args, self._n = None, make, args, n
         return self
 
     def _results(self) -> list[IKResult]:
         built = self._built
         if built is None:  # two threads at once may both build: equal results, one kept
-            built = self._built = self._make()  # type: ignore[misc]
+            built = self._built = self._make(*self._args)  # type: ignore[misc]
         return built
 
     def __len__(self) -> int:

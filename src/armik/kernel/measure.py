@@ -19,8 +19,11 @@ from numba import njit
 
 from armik.kernel.chain import Flat, joints
 from armik.kernel.fk import forward
+from armik.kernel.fk_shared import STATE, forward_row
 from armik.kernel.se3 import log3, rotation_angle
 from armik.tolerances import LIMIT_TOL
+
+ONE = np.int64(1)  # a typed count: a literal would compile ``_checks`` once more
 
 
 @njit(cache=True, nogil=True)
@@ -176,11 +179,36 @@ def fk_checks(packed, kind, halton, frame, H_t, Q, out):
 
 
 @njit(cache=True, nogil=True)
-def fk_checks_beside(packed, kind, halton, frame, H_t, rows, n, col):
-    """``fk_checks`` of the first ``n`` rows of ``rows``, each row's three values written
-    into its own columns ``col`` to ``col + 2`` (a closed form's rows measured in the
-    call that solved them: ``armik.solvers.closed_form.sixr_judged``)."""
-    _checks(packed, kind, halton, frame, H_t, rows, n, rows, col)
+def fk_checks_beside(packed, kind, halton, frame, H_t, rows, n, col, skip):
+    """``fk_checks`` of the first ``n`` rows of ``rows`` but those of the bit set ``skip``,
+    each row's three values written into its own columns ``col`` to ``col + 2`` (a closed
+    form's rows measured in the call that solved them:
+    ``armik.solvers.closed_form.sixr_judged``). Unweighted, rows that share leading joint
+    values share their partial placement (``fk_shared``: the same bits)."""
+    ch = Flat(packed, kind, halton)
+    _, _, _, measure, lower, upper = _frame(frame)
+    if joints(ch) != halton.shape[1] or measure & 1:  # mimic joints, weights: row by row
+        for i in range(n):
+            if not skip >> i & 1:
+                row = rows[i : i + 1]
+                _checks(packed, kind, halton, frame, H_t, row, ONE, row, col)
+        return
+    R, p, M = np.empty((3, 3)), np.empty(3), np.empty((3, 3))
+    S = np.empty((n, joints(ch) + 1, STATE))
+    R_t, p_t = split_pose(H_t)
+    measure_rot = measure & 2 != 0
+    placed = 0
+    for i in range(n):
+        if skip >> i & 1:
+            continue
+        forward_row(ch, rows, i, S, R, p, placed)
+        placed |= 1 << i
+        pos, ori = _unweighted(R, p, R_t, p_t, M, measure_rot)
+        inside = 1.0
+        for j in range(lower.shape[0]):
+            if not (lower[j] - LIMIT_TOL <= rows[i, j] <= upper[j] + LIMIT_TOL):
+                inside = 0.0
+        rows[i, col], rows[i, col + 1], rows[i, col + 2] = pos, ori, inside
 
 
 @njit(cache=True, nogil=True)
@@ -197,17 +225,25 @@ def _checks(packed, kind, halton, frame, H_t, Q, n, out, col):
         forward(ch, q, R, p, origins, axes)
         if weighted:
             pos, ori = pose_error(R_bw, p_bw, R, p, R_t, p_t, w, weighted, measure_rot)
-        else:  # ``pose_error``'s arithmetic with T_base_world the identity, in place
-            d0, d1, d2 = p_t[0] - p[0], p_t[1] - p[1], p_t[2] - p[2]
-            pos = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-            ori = np.nan
-            if measure_rot:
-                for a in range(3):  # M = R^T R_target
-                    for b in range(3):
-                        M[a, b] = R[0, a] * R_t[0, b] + R[1, a] * R_t[1, b] + R[2, a] * R_t[2, b]
-                ori = rotation_angle(M)
+        else:
+            pos, ori = _unweighted(R, p, R_t, p_t, M, measure_rot)
         inside = 1.0
         for j in range(lower.shape[0]):
             if not (lower[j] - LIMIT_TOL <= q[j] <= upper[j] + LIMIT_TOL):
                 inside = 0.0
         out[i, col], out[i, col + 1], out[i, col + 2] = pos, ori, inside
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _unweighted(R, p, R_t, p_t, M, measure_rot):
+    """``pose_error``'s arithmetic with T_base_world the identity, unweighted, in place
+    (M: scratch)."""
+    d0, d1, d2 = p_t[0] - p[0], p_t[1] - p[1], p_t[2] - p[2]
+    pos = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    ori = np.nan
+    if measure_rot:
+        for a in range(3):  # M = R^T R_target
+            for b in range(3):
+                M[a, b] = R[0, a] * R_t[0, b] + R[1, a] * R_t[1, b] + R[2, a] * R_t[2, b]
+        ori = rotation_angle(M)
+    return pos, ori

@@ -169,8 +169,8 @@ class Plan:
         self.judged = None
         if judging is not None and self.apart is None and self.region is None:
             self.judged = judging(self.flat, self.fk_measured, self.tol_p, self.tol_r)
-            self.judged_results = Judged(arm, self.words, self.solver, self.tol_p, self.tol_r,
-                                       measure_rot)  # fmt: skip
+            self.judged_results = Judged(arm, self.judged.finish, self.words, self.solver,
+                                         self.tol_p, self.tol_r, measure_rot)  # fmt: skip
 
     def _plain(self, target: object, q0: object):
         """(H, q0, xy) for the runner when both are plain in type and shape, else None; xy:
@@ -303,10 +303,10 @@ class Plan:
             got = self.judged(H, q0)
             if got is None:
                 return None
-            rows, verdict = got
+            rows, n, verdict = got
             if verdict >= 0:
-                return self.judged_results.solutions(rows, time.perf_counter() - t0, verdict > 0)
-            got = self.answers(rows[:, :11], H)  # a row the general verdict decides
+                return self.judged_results.solutions(rows, n, time.perf_counter() - t0)
+            got = self.answers(rows[:n, :11], H)  # a row the general verdict decides
         else:
             seed = secrets.randbits(63) if seed is None else seed
             got = (

@@ -17,7 +17,7 @@ from armik.model.arm_model import ArmModel
 from armik.solvers.answers import Answers, converged_claims, zero_counts
 from armik.solvers.claims import claim
 from armik.solvers.closed_form.sixr import LABELS, LS, NOT_FOUND, SINGULAR, flat, reason
-from armik.solvers.closed_form.sixr_judged import WIDTH, judge_array
+from armik.solvers.closed_form.sixr_judged import WIDTH, context, finish, judge_array
 from armik.status import Status
 
 
@@ -72,19 +72,21 @@ def pose_runner(
         """``judged(H, q0)``: every row for ``H`` solved, measured against the arm's
         compiled chain ``flat_chain`` (``kernel.chain.Flat``) as ``frame`` says
         (``kernel.measure.fk_check_frame``) and judged with these tolerances (m, rad) in
-        one compiled call (``sixr_judged.judged``): (rows (n, ``sixr_judged.WIDTH``),
-        verdict: < 0 the general verdict decides, else whether a branch label repeats),
-        None when the pose or q0 is not plain. None without such a call."""
+        one compiled call (``sixr_judged.judged``): (rows (``size`` + 1,
+        ``sixr_judged.WIDTH``), n, verdict: < 0 the general verdict decides its first n
+        rows, labelled; else decided, ``judged.finish(rows, n)`` makes them whole), None
+        when the pose or q0 is not plain. None without such a call."""
         if solve_all_into is None:
             return None
-        packed, kind, halton = flat_chain
-        judge = judge_array(tol_p, tol_r)
+        ctx = context(chain, flat_chain, frame, judge_array(tol_p, tol_r))
+        shape = (size + 1, WIDTH)  # the last row: the target, kept for finish
 
         def judged(H: np.ndarray, q0: np.ndarray):
-            out = empty((size, WIDTH))
-            n, verdict = solve_all_into(chain, packed, kind, halton, frame, judge, H, q0, out)
-            return None if n < 0 else (out[:n], verdict)
+            out = empty(shape)
+            n, verdict = solve_all_into(ctx, H, q0, out)
+            return None if n < 0 else (out, n, verdict)
 
+        judged.finish = partial(finish, ctx)  # type: ignore[attr-defined]
         return judged
 
     # ``armik.solve.prepared``'s solve_all: the rows judged, their words

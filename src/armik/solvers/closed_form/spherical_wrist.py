@@ -31,7 +31,7 @@ from armik.model.geometry import Axes, angle_between, axis_lines, fmt, meeting_p
 from armik.solvers.closed_form import sixr
 from armik.solvers.closed_form.family import Family
 from armik.solvers.closed_form.sixr import LS, SHOULDER_OFFSET, SINGULAR, WRIST_ORIENTATION
-from armik.solvers.closed_form.sixr_judged import judged
+from armik.solvers.closed_form.sixr_judged import GENERAL, UNLABELLED, judged, split
 from armik.solvers.closed_form.subproblems import (
     add,
     dot,
@@ -228,11 +228,16 @@ def solve_into(chain, H, q0, every, out):
 
 
 @njit(cache=True, nogil=True)
-def solve_all_into(chain, packed, kind, halton, frame, judge, H, q0, rows):
-    """``solve_into``'s every row for ``H`` in ``rows`` (8, ``sixr_judged.WIDTH``),
-    measured and judged in the same call: ``sixr_judged.judged``'s (n, verdict)."""
-    n, _ = solve_into(chain, H, q0, True, rows)
-    return judged(n, packed, kind, halton, frame, judge, H, rows)
+def solve_all_into(ctx, H, q0, rows):
+    """``kernel``'s every row for ``H`` in ``rows`` (8, ``sixr_judged.WIDTH``), unlabelled,
+    measured and judged in the same call: ``sixr_judged.judged``'s (n, verdict), n = -1 and
+    nothing solved when ``H`` or ``q0`` is not plain. ``ctx``: ``sixr_judged.context``."""
+    chain, judge, frame, packed, kind, halton = split(ctx)
+    h, p, R_tip0, lower, upper, variant = sixr.unflatten(chain)
+    if not plain_pose(H) or not plain_seed(q0, lower, upper):
+        return -1, GENERAL
+    n, _ = kernel(h, p, R_tip0, mat(H), sixr.column(H), q0, lower, upper, variant, UNLABELLED, rows)
+    return judged(n, chain, packed, kind, halton, frame, judge, H, rows)
 
 
 @njit(cache=True, nogil=True)
