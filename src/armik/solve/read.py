@@ -201,9 +201,12 @@ def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | 
             del kwargs["toward"]
     try:
         # with the types: 1 == True, but validation may accept one and refuse the other;
-        # a held joint's dict as its items (a loop of solves holds the same joint)
+        # a held joint's dict as its items (a loop of solves holds the same joint), a list
+        # of obstacles as a tuple of its shapes (which hash by value)
         hold = kwargs["hold"] if "hold" in kwargs else None
         given = {**kwargs, "hold": tuple(hold.items())} if type(hold) is dict else kwargs
+        if "obstacles" in kwargs and type(kwargs["obstacles"]) is list:  # the shapes, as
+            given = {**given, "obstacles": tuple(kwargs["obstacles"])}  # a loop passes them
         key = (tuple(given.items()), tuple(map(type, kwargs.values())), look is None, sight)
         kept = arm._derived.get(_KEPT)  # read as a dict, not through a call: every solve
         if kept is None:
