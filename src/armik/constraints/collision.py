@@ -168,27 +168,40 @@ class Checker:
         self._box_R = np.array([R for R, _, _ in boxes]).reshape(-1, 3, 3)
         self._box_t = np.array([t for _, t, _ in boxes]).reshape(-1, 3)
         self._box_half = np.array([h for _, _, h in boxes]).reshape(-1, 3)
+        # what ``ordered_bounds`` reads besides q and the scratch, gathered once
+        self._flat = tuple(arm.kernel_chain.flat)
+        self._shapes = (
+            self._joint_of, self._centre, self._radius, self._capsule, *self._self,
+            self._link, self._box_R, self._box_t, self._box_half,
+        )  # fmt: skip
 
     def distance(self, q: np.ndarray) -> tuple[float, Pair | None]:
         """(distance m, (name_a, name_b)) of the closest checked pair at joint values ``q``
         (rad, m); negative when they overlap (the depth); (inf, None) with no pair."""
         if not self.pair_names:
             return float("inf"), None
-        gd = self.geometry_data()
+        local = self._local  # this thread's scratch, read as attributes: every check
+        gd = getattr(local, "data", None)
+        if gd is None:
+            gd = self.geometry_data()
         arm = self.arm
         model = self.model
         pin.updateGeometryPlacements(arm.model, arm.data, model, gd, arm.to_pin(q))
         bound, order, ranked = self._ordered(q)
         best, k_best = math.inf, 0
         compute = pin.computeDistance
-        for position, k in enumerate(order.tolist()):
+        for k in order[:ranked].tolist():  # in increasing order of their bounds
             if bound[k] - BOUND_SLACK >= best:
-                if position < ranked:
-                    break  # every later bound is at least this one
-                continue
+                break  # every later bound is at least this one
             d = compute(model, gd, k).min_distance
             if d < best:
                 best, k_best = d, k
+        else:  # the others, in no order: each whose bound is below the best so far
+            for k in order[ranked:].tolist():
+                if bound[k] - BOUND_SLACK < best:
+                    d = compute(model, gd, k).min_distance
+                    if d < best:
+                        best, k_best = d, k
         return float(best), self.pair_names[k_best]
 
     def geometry_data(self) -> pin.GeometryData:
@@ -220,13 +233,8 @@ class Checker:
             )
         qs, H, out, order = scratch
         qs[:] = q  # a read-only or strided q would be another compiled type
-        flat = self.arm.kernel_chain.flat
-        a, b = self._self
-        ranked = ordered_bounds(
-            flat.packed, flat.kind, flat.halton, qs, H, self._joint_of, self._centre,
-            self._radius, self._capsule, a, b, self._link, self._box_R, self._box_t,
-            self._box_half, out, order,
-        )  # fmt: skip
+        packed, kind, halton = self._flat
+        ranked = ordered_bounds(packed, kind, halton, qs, H, *self._shapes, out, order)
         return out, order, ranked
 
 
