@@ -52,6 +52,21 @@ def ordered_bounds(
 
 
 @njit(cache=True, nogil=True)
+def ordered_bounds_many(
+    packed, kind, halton, Q, H, joint_of, centre, radius, capsule, self_a, self_b, link,
+    box_R, box_t, box_half, out, order, ranked,
+):  # fmt: skip
+    """``ordered_bounds`` at each row of ``Q`` (N, dof), into rows of ``out`` and
+    ``order`` (N, pairs), how many are in order into ``ranked`` (N,): one call for the
+    answers of a batch's chunk."""
+    for i in range(Q.shape[0]):
+        ranked[i] = ordered_bounds(
+            packed, kind, halton, Q[i], H, joint_of, centre, radius, capsule, self_a, self_b,
+            link, box_R, box_t, box_half, out[i], order[i],
+        )  # fmt: skip
+
+
+@njit(cache=True, nogil=True)
 def pair_bounds(
     H: np.ndarray,  # (J, 4, 4) the joints' placements in the base frame
     joint_of: np.ndarray,  # (n,) each link object's row of H

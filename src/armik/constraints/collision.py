@@ -23,7 +23,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from armik.constraints.bounds import ordered_bounds
+from armik.constraints.bounds import ordered_bounds, ordered_bounds_many
 from armik.constraints.shapes import Shape, check_obstacles, convex_hull
 from armik.errors import CollisionError
 from armik.model.arm_model import ArmModel, model_of
@@ -180,14 +180,42 @@ class Checker:
         (rad, m); negative when they overlap (the depth); (inf, None) with no pair."""
         if not self.pair_names:
             return float("inf"), None
-        local = self._local  # this thread's scratch, read as attributes: every check
-        gd = getattr(local, "data", None)
+        gd = getattr(self._local, "data", None)  # read as an attribute: every check
         if gd is None:
             gd = self.geometry_data()
         arm = self.arm
-        model = self.model
-        pin.updateGeometryPlacements(arm.model, arm.data, model, gd, arm.to_pin(q))
+        pin.updateGeometryPlacements(arm.model, arm.data, self.model, gd, arm.to_pin(q))
         bound, order, ranked = self._ordered(q)
+        return self._closest(gd, bound, order, ranked)
+
+    def distances(self, Q: np.ndarray) -> list[tuple[float, Pair | None]]:
+        """``distance`` at each row of ``Q`` (N, dof), the bounds of every row from one
+        call of the compiled kernel."""
+        Q = np.array(Q, dtype=float, order="C").reshape(len(Q), -1)
+        n = len(Q)
+        if not self.pair_names or n < 2:
+            return [self.distance(q) for q in Q]
+        gd = self.geometry_data()
+        arm = self.arm
+        model, data, geometry = arm.model, arm.data, self.model
+        m = len(self.pair_names)
+        bound, order = np.empty((n, m)), np.empty((n, m), dtype=np.intp)
+        ranked = np.empty(n, dtype=np.intp)
+        packed, kind, halton = self._flat
+        H = np.empty((self._frames, 4, 4))
+        ordered_bounds_many(packed, kind, halton, Q, H, *self._shapes, bound, order, ranked)
+        update, to_pin, closest = pin.updateGeometryPlacements, arm.to_pin, self._closest
+        out = []
+        for i, k in enumerate(ranked.tolist()):
+            update(model, data, geometry, gd, to_pin(Q[i]))
+            out.append(closest(gd, bound[i], order[i], k))
+        return out
+
+    def _closest(self, gd, bound: np.ndarray, order: np.ndarray, ranked: int):
+        """(distance, pair) of the closest pair, the geometry placed in ``gd``: coal asked
+        for the pairs in the order of their bounds, until a bound is beyond the smallest
+        distance found."""
+        model = self.model
         best, k_best = math.inf, 0
         compute = pin.computeDistance
         for k in order[:ranked].tolist():  # in increasing order of their bounds
