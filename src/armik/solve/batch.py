@@ -144,20 +144,20 @@ def solve_batch(
             done += job(start)
             bar(done, n)
     elif _holds_gil(spec, opts) and forked.usable():
-        if chunk_size is None:  # every process a share: a few chunks each, not one of 256
-            chunk = min(chunk, max(1, -(-(n - _BEFORE_FORK) // (_SHARES * workers))))
-        _on_processes(job, out, n, chunk, workers, bar)
+        # the first few here, before any fork: what they compile or load is compiled or
+        # loaded once, and their time says whether the rest is worth a fork
+        first = min(_BEFORE_FORK, n)
+        started = time.thread_time()
+        done = job(0, first)
+        bar(done, n)
+        if (time.thread_time() - started) / first * (n - first) >= FORK_WORTH:
+            if chunk_size is None:  # every process a share: a few chunks each, not one of 256
+                chunk = min(chunk, max(1, -(-(n - first) // (_SHARES * workers))))
+            _on_processes(job, out, n, first, chunk, workers, bar)
+        else:
+            _on_threads(job, range(first, n, chunk), workers, n, done, bar)
     else:
-        pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="armik")
-        try:
-            pending = {pool.submit(job, s) for s in starts}
-            while pending:
-                finished, pending = wait(pending, return_when=FIRST_COMPLETED)
-                for f in finished:  # each finished chunk is reported, however many woke us
-                    done += f.result()  # re-raises a chunk's exception here
-                    bar(done, n)
-        finally:  # an error or Ctrl-C: drop the chunks not started, wait for the running
-            pool.shutdown(wait=True, cancel_futures=True)
+        _on_threads(job, starts, workers, n, done, bar)
     bar.close()
     out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     return out
@@ -207,13 +207,25 @@ def _on_backend(run_jobs, jobs: list[Chunk], workers: int, out: BatchResult, bar
         )
 
 
-def _on_processes(job, out: BatchResult, n: int, chunk: int, workers: int, bar) -> None:
-    """The chunks on ``workers`` processes (``armik.solve.forked``). The first few targets
-    are solved here before the fork, so that what they compile or load from the cache is
-    compiled or loaded once, and the children start with it."""
-    first = min(_BEFORE_FORK, n)
-    done = job(0, first)
-    bar(done, n)
+def _on_threads(job, starts, workers: int, n: int, done: int, bar) -> None:
+    """The chunks at ``starts`` on ``workers`` threads, ``done`` of the ``n`` targets
+    solved before."""
+    pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="armik")
+    try:
+        pending = {pool.submit(job, s) for s in starts}
+        while pending:
+            finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for f in finished:  # each finished chunk is reported, however many woke us
+                done += f.result()  # re-raises a chunk's exception here
+                bar(done, n)
+    finally:  # an error or Ctrl-C: drop the chunks not started, wait for the running
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _on_processes(job, out: BatchResult, n: int, first: int, chunk: int, workers: int, bar) -> None:
+    """The chunks after the ``first`` targets (solved here already) on ``workers``
+    processes (``armik.solve.forked``)."""
+    done = first
 
     def rows(start: int) -> BatchResult:  # a chunk's rows, sent from a child
         job(start)
@@ -229,6 +241,11 @@ def _on_processes(job, out: BatchResult, n: int, chunk: int, workers: int, bar) 
 
 
 _BEFORE_FORK = 16  # targets: enough to reach each compiled part a batch's chunk runs
+# s of thread CPU time the rest of a batch would take here, as its first targets took, from
+# which forking pays: a fork and a child's end cost about 10 ms, and its pages copied on
+# write more (a 400-target collision-checked Panda batch of 30-60 ms ran slower on two
+# processes than on one, and as fast on two threads: benchmarks/collision_scenes.py)
+FORK_WORTH = 0.05
 _SHARES = 4  # chunks per process by default: a chunk of 256 left one of two processes idle
 # for most of a 400-target batch (measured: 2 processes slower than one)
 
