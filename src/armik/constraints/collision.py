@@ -191,7 +191,7 @@ class Checker:
     def distances(self, Q: np.ndarray) -> list[tuple[float, Pair | None]]:
         """``distance`` at each row of ``Q`` (N, dof), the bounds of every row from one
         call of the compiled kernel."""
-        Q = np.array(Q, dtype=float, order="C").reshape(len(Q), -1)
+        Q = np.array(Q, dtype=float, order="C").reshape(len(Q), self.arm.dof)
         n = len(Q)
         if not self.pair_names or n < 2:
             return [self.distance(q) for q in Q]
