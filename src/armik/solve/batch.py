@@ -26,6 +26,7 @@ scratch memory, so the memory used beyond the targets and results does not grow 
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import time
 import warnings
@@ -44,12 +45,13 @@ from armik.request import Request
 from armik.solve import backends, forked
 from armik.solve.progress import ProgressArg, make_progress
 from armik.solve.single import routed
-from armik.solve.stages import run
+from armik.solve.stages import going_on, run
 from armik.solve.tasks import SOLVER
 from armik.solvers import registry
 from armik.status import Status
 from armik.targets.batch import TargetBatch, parse_targets
 from armik.verify.verdict import verdict_batch
+from armik.verify.verdicts import Verdicts
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
@@ -58,6 +60,7 @@ if TYPE_CHECKING:
 DEFAULT_CHUNK = 256  # targets per chunk: small enough to balance threads, large enough
 #                      that the per-chunk overhead (a few Python calls) does not show
 _CONVERGED = Status.CONVERGED.code
+_COLLISION = Status.COLLISION.code
 
 
 def solve_batch(
@@ -290,9 +293,28 @@ def solve_chunk(
         # branches (closed forms); a closed form's rare failures get the specific reason
         # (too far, wrist orientation, ...) and the next verified branch that ``solve``
         # would fall back to.
+        numeric = opts.collisions and spec.kind != "analytic"
         for i in np.flatnonzero(~part.success).tolist():
-            r = _row(arm, request, targets.target(i), seeds[i])
+            if numeric and part.status_code[i] == _COLLISION:
+                # verified, and colliding: its first run is this one, the search goes on
+                # from its row (a failure of the solver's own is solved again: its words
+                # are the single solve's)
+                row = _first_row(part, i, opts)
+                again = request.but(target=targets.target(i), q0=seeds[i], t0=time.perf_counter())
+                r = going_on(arm, again, row)
+            else:
+                r = _row(arm, request, targets.target(i), seeds[i])
             out.put_result(start + i, r)
+
+
+def _first_row(part: BatchResult, i: int, opts: Options) -> Verdicts:
+    """Row ``i`` of a chunk's verdict as ``solve``'s own first run leaves it for the
+    search (``armik.solve.avoid``): its status, words and counts, and its collision check's
+    distance and pair where it was checked."""
+    r = part[i]
+    kept = {k: r.extra[k] for k in ("min_distance", "closest_pair") if k in r.extra}
+    r = dataclasses.replace(r, extra=kept)
+    return Verdicts.of_result(r, opts.tol_position, opts.tol_orientation)
 
 
 def _row(arm: ArmModel, request: Request, target, seed: np.ndarray):

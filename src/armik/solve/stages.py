@@ -158,6 +158,18 @@ def _avoiding(arm: ArmModel, req: Request) -> IKResult:
     return _run(arm, spec, target, q0, with_seed(opts, seed), False, t0, first)[0]  # type: ignore[no-any-return]
 
 
+def going_on(arm: ArmModel, req: Request, row: Verdicts) -> IKResult:
+    """``run``'s result of a collision-checked request for a numeric solver whose plain
+    solve from the request's seed is done already, with its verdict and collision check:
+    ``row`` (a batch's chunk's), the search going on from it as ``_avoiding`` goes on
+    from its own."""
+    target, q0, solver, opts, _, seed, _, t0 = req[:8]
+    tgt = parsed(target, arm)
+    spec = registry.choose(solver, arm, tgt, but_options(opts, **_NO_COLLISIONS))
+    first = First(row, time.thread_time())
+    return _run(arm, spec, tgt, q0, with_seed(opts, seed), False, t0, first)[0]  # type: ignore[no-any-return]
+
+
 def _clear_at_once(check: Checker, r: IKResult, opts, started: float, t0: float):
     """(result, first): a numeric solver's plain solve ``r`` (begun at thread CPU time
     ``started``) when its answer is a success and collision-free by ``check``, with its
