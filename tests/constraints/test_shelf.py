@@ -124,3 +124,23 @@ def test_a_search_that_finds_no_free_answer_names_the_closest_pair(panda, collid
             assert d < 0 and r.min_distance == pytest.approx(d, abs=1e-5)
             assert r.closest_pair == pair and pair[0] in r.reason
     assert failed >= 1
+
+
+def test_each_look_at_of_a_loop_with_obstacles_looks_at_its_own_point(panda):
+    """A look-at's point is kept out of the remembered options: the collision-checked
+    solve's plain first run must look at this call's point, not the first call's."""
+    rng = np.random.default_rng(6)
+    done = 0
+    while done < 6:
+        q = panda.random_q(rng)
+        if panda.in_collision(q, SHELF, self_collision=True, margin=0.01):
+            continue
+        T = panda.fk(q)
+        point = T.translation + 0.4 * T.rotation[:, 2]
+        look = [armik.LookAt(point, (0, 0, 1), 0.02)]
+        r = panda.solve(look, q0=q, obstacles=SHELF, self_collision=True, iteration_budget=5000)
+        assert r.success and not panda.in_collision(r.q, SHELF, self_collision=True)
+        M = panda.fk(r.q)
+        sight = (point - M.translation) / np.linalg.norm(point - M.translation)
+        assert np.arccos(np.clip(sight @ M.rotation[:, 2], -1.0, 1.0)) <= 0.02 + 1e-6
+        done += 1

@@ -137,6 +137,8 @@ def _avoiding(arm: ArmModel, req: Request) -> IKResult:
     shape = target.shape if kind is np.ndarray else None
     if key is not None and (kind is _SE3 or shape == (4, 4) or shape == (3,)):
         spec, plain, plain_key, check = _kept(arm, solver, key, opts, shape == (3,))
+        if opts.look_at is not None or opts.toward is not None:  # this call's, not the key's
+            plain = but_options(opts, **_NO_COLLISIONS)
     else:
         plain = but_options(opts, **_NO_COLLISIONS)
         target = parsed(target, arm)
