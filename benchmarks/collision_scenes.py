@@ -162,6 +162,11 @@ def every_pair(self, q):
     return float(gd.distanceResults[k].min_distance), self.pair_names[k]
 
 
+def every_row(self, Q):
+    """``Checker.distances`` (a batch's answers) asking coal for every pair of each."""
+    return [every_pair(self, q) for q in Q]
+
+
 BOUNDED = Checker.distance
 
 
@@ -338,6 +343,7 @@ def main() -> None:
     args = p.parse_args()
     if args.all_pairs:
         Checker.distance = every_pair  # type: ignore[method-assign]
+        Checker.distances = every_row  # type: ignore[method-assign]
     for name in args.scenes:
         run(name, args.n, args.workers, args.seed, args.solver, args.slide == "always", args.near)
 
