@@ -245,10 +245,12 @@ def _on_processes(job, out: BatchResult, n: int, first: int, chunk: int, workers
 
 _BEFORE_FORK = 16  # targets: enough to reach each compiled part a batch's chunk runs
 # s of thread CPU time the rest of a batch would take here, as its first targets took, from
-# which forking pays: a fork and a child's end cost about 10 ms, and its pages copied on
-# write more (a 400-target collision-checked Panda batch of 30-60 ms ran slower on two
-# processes than on one, and as fast on two threads: benchmarks/collision_scenes.py)
-FORK_WORTH = 0.05
+# which forking pays: a fork and a child's end cost about 10 ms. Measured on the Panda shelf
+# scene (benchmarks/collision_scenes.py --near, 2 workers, about 70 us of work a target):
+# 400 targets 12,700-14,700 targets/s on processes against 12,100-12,400 on threads and
+# 11,800-12,700 on one worker, 1000 targets 19,000 against 12,500-13,200, on a quiet
+# machine; under a load of 5 on its two cores, 4,600-5,000 against 5,900-7,300 at 400
+FORK_WORTH = 0.02
 _SHARES = 4  # chunks per process by default: a chunk of 256 left one of two processes idle
 # for most of a 400-target batch (measured: 2 processes slower than one)
 
