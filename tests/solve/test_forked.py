@@ -1,6 +1,6 @@
 """Batches on forked processes: every chunk collected once, a child's failure raised here,
 a collision-checked batch on processes equal to one solved in this process, and a batch
-too small to pay for a fork on threads."""
+too small to pay for a fork, or on a machine with no core to spare, on threads."""
 
 from __future__ import annotations
 
@@ -73,6 +73,7 @@ def test_a_collision_checked_batch_on_processes_equals_one_in_this_process(name,
     monkeypatch.setattr(forked, "usable", lambda: True)
     monkeypatch.setattr(forked, "run", lambda *args: runs.append(1) or run(*args))
     monkeypatch.setattr(batch, "FORK_WORTH", 0.0)  # however little work is left: fork
+    monkeypatch.setattr(batch, "_idle", lambda: True)  # however busy the machine
     seen = []
     there = a.solve_batch(
         T, q0=a.middle, workers=2, chunk_size=4, progress=lambda d, n: seen.append(d), **opts
@@ -88,14 +89,18 @@ def test_a_collision_checked_batch_on_processes_equals_one_in_this_process(name,
     assert there.reasons == here.reasons
 
 
-def test_a_batch_too_small_to_pay_for_a_fork_runs_on_threads(monkeypatch):
+@pytest.mark.parametrize("small, busy", [(True, False), (False, True)])
+def test_a_batch_too_small_to_pay_for_a_fork_or_on_a_busy_machine_runs_on_threads(
+    monkeypatch, small, busy
+):
     ur5 = armik.load("ur5")
     T = ur5.fk_batch(ur5.random_q(4, n=40))
     opts = dict(self_collision=True, iteration_budget=2000)
     one = ur5.solve_batch(T, q0=ur5.middle, workers=1, progress=False, **opts)
     monkeypatch.setattr(forked, "usable", lambda: True)
-    monkeypatch.setattr(forked, "run", lambda *a: pytest.fail("forked for too little work"))
-    monkeypatch.setattr(batch, "FORK_WORTH", math.inf)
+    monkeypatch.setattr(forked, "run", lambda *a: pytest.fail("forked where it does not pay"))
+    monkeypatch.setattr(batch, "FORK_WORTH", math.inf if small else 0.0)
+    monkeypatch.setattr(batch.os, "getloadavg", lambda: (8.0 if busy else 0.0, 0.0, 0.0))
     threads = []
     pool = batch.ThreadPoolExecutor
     monkeypatch.setattr(batch, "ThreadPoolExecutor", lambda **k: threads.append(1) or pool(**k))

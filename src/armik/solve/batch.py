@@ -153,7 +153,7 @@ def solve_batch(
         started = time.thread_time()
         done = job(0, first)
         bar(done, n)
-        if (time.thread_time() - started) / first * (n - first) >= FORK_WORTH:
+        if (time.thread_time() - started) / first * (n - first) >= FORK_WORTH and _idle():
             if chunk_size is None:  # every process a share: a few chunks each, not one of 256
                 chunk = min(chunk, max(1, -(-(n - first) // (_SHARES * workers))))
             _on_processes(job, out, n, first, chunk, workers, bar)
@@ -245,12 +245,23 @@ def _on_processes(job, out: BatchResult, n: int, first: int, chunk: int, workers
 
 _BEFORE_FORK = 16  # targets: enough to reach each compiled part a batch's chunk runs
 # s of thread CPU time the rest of a batch would take here, as its first targets took, from
-# which forking pays: a fork and a child's end cost about 10 ms. Measured on the Panda shelf
-# scene (benchmarks/collision_scenes.py --near, 2 workers, about 70 us of work a target):
-# 400 targets 12,700-14,700 targets/s on processes against 12,100-12,400 on threads and
-# 11,800-12,700 on one worker, 1000 targets 19,000 against 12,500-13,200, on a quiet
-# machine; under a load of 5 on its two cores, 4,600-5,000 against 5,900-7,300 at 400
+# which forking pays: a fork and a child's end cost about 10 ms
 FORK_WORTH = 0.02
+
+
+def _idle() -> bool:
+    """Whether the machine has a core to spare for a child: the last minute's load average
+    (this process included) below the cores this process may run on. Measured on the Panda
+    shelf scene (benchmarks/collision_scenes.py --near, 2 workers, about 70 us of work a
+    target): with a load average of 1.4 to 1.9 on two cores, 1000 targets ran at 19,000
+    targets/s on two processes against 12,500-13,200 on two threads; with 2.3, at 10,100-
+    10,600 against 12,500-13,100, and 400 targets at 7,500-7,800 against 11,000-11,700."""
+    try:
+        return os.getloadavg()[0] < cores()
+    except OSError:  # no load average: as if idle
+        return True
+
+
 _SHARES = 4  # chunks per process by default: a chunk of 256 left one of two processes idle
 # for most of a 400-target batch (measured: 2 processes slower than one)
 
