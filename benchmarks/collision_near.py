@@ -23,34 +23,18 @@ import gc
 import time
 import warnings
 
-import coal
 import numpy as np
-from collision_scenes import POSE_TOL, SCENES, TOL, Independent, armik_shapes, coal_shapes
+from collision_scenes import POSE_TOL, SCENES, TOL, Independent, armik_shapes
+from collision_scenes import near_targets as scene_targets
 
 import armik
 from armik.solve import avoid
 
 warnings.simplefilter("ignore")
-NEAR = (0.01, 0.08)  # m: the tip's distance to the nearest obstacle
 
 
 def near_targets(arm: armik.Arm, n: int, seed: int) -> list:
-    shapes = armik_shapes(SCENES["panda"])
-    obstacles = coal_shapes(SCENES["panda"])
-    point = coal.Sphere(1e-9)
-    rng = np.random.default_rng(seed)
-    out = []
-    while len(out) < n:
-        q = arm.random_q(rng)
-        if arm.in_collision(q, shapes, self_collision=True, margin=0.01):
-            continue
-        T = arm.fk(q)
-        at = coal.Transform3s(np.eye(3), T.translation)
-        req = coal.DistanceRequest()
-        d = min(coal.distance(point, at, s, Ts, req, coal.DistanceResult()) for s, Ts in obstacles)
-        if NEAR[0] <= d <= NEAR[1]:
-            out.append(T)
-    return out
+    return scene_targets(arm, SCENES["panda"], n, seed)
 
 
 def one_pass(arm, T, opts, hard: list[int], workers: int, ind: Independent, shapes) -> dict:

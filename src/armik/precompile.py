@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from armik.arm import Arm, load, load_string
+from armik.constraints.collision import checker
 from armik.constraints.shapes import Box, HalfSpace, Sphere
 from armik.errors import OptionError, listing
 from armik.model.random_arms import random_urdf
@@ -176,6 +177,8 @@ def _collisions() -> None:
     arm = load("ur5")
     scene = [HalfSpace((0, 0, 1), 0.0), Box((0.2, 0.2, 0.2), (0.5, 0.0, 0.3))]
     arm.min_distance(arm.middle, scene, self_collision=True)
+    # a batch's answers checked at once (``Checker.distances``)
+    checker(arm.kinematics, tuple(scene), True).distances(arm.random_q(0, n=2))
 
 
 def _servo() -> None:

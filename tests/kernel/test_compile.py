@@ -72,6 +72,7 @@ def test_a_tour_of_every_option_compiles_each_kernel_once():
         "armik.solvers.closed_form.spherical_wrist.kernel_many",
         "armik.solvers.closed_form.swept_7r.held_rows",
         "armik.constraints.bounds.ordered_bounds",
+        "armik.constraints.bounds.ordered_bounds_many",
         "armik.solvers.closed_form.general_6r.kernel",
         "armik.kernel.task_rows.descend",
     ):

@@ -1,8 +1,10 @@
 """Batches on forked processes: every chunk collected once, a child's failure raised here,
-and a collision-checked batch on processes equal to one solved in this process."""
+a collision-checked batch on processes equal to one solved in this process, and a batch
+too small to pay for a fork, or on a machine with no core to spare, on threads."""
 
 from __future__ import annotations
 
+import math
 import multiprocessing
 import os
 import sys
@@ -13,7 +15,7 @@ import pytest
 
 import armik
 from armik.errors import ArmikError, OptionError
-from armik.solve import forked
+from armik.solve import batch, forked
 
 pytestmark = pytest.mark.skipif(
     not sys.platform.startswith("linux"), reason="batches fork worker processes on Linux only"
@@ -70,6 +72,8 @@ def test_a_collision_checked_batch_on_processes_equals_one_in_this_process(name,
     run = forked.run
     monkeypatch.setattr(forked, "usable", lambda: True)
     monkeypatch.setattr(forked, "run", lambda *args: runs.append(1) or run(*args))
+    monkeypatch.setattr(batch, "FORK_WORTH", 0.0)  # however little work is left: fork
+    monkeypatch.setattr(batch, "_idle", lambda: True)  # however busy the machine
     seen = []
     there = a.solve_batch(
         T, q0=a.middle, workers=2, chunk_size=4, progress=lambda d, n: seen.append(d), **opts
@@ -83,6 +87,31 @@ def test_a_collision_checked_batch_on_processes_equals_one_in_this_process(name,
         here.closest_pair(i) for i in range(len(T))
     ]
     assert there.reasons == here.reasons
+
+
+@pytest.mark.parametrize("small, busy", [(True, False), (False, True)])
+def test_a_batch_too_small_to_pay_for_a_fork_or_on_a_busy_machine_runs_on_threads(
+    monkeypatch, small, busy
+):
+    ur5 = armik.load("ur5")
+    T = ur5.fk_batch(ur5.random_q(4, n=40))
+    opts = dict(self_collision=True, iteration_budget=2000)
+    one = ur5.solve_batch(T, q0=ur5.middle, workers=1, progress=False, **opts)
+    monkeypatch.setattr(forked, "usable", lambda: True)
+    monkeypatch.setattr(forked, "run", lambda *a: pytest.fail("forked where it does not pay"))
+    monkeypatch.setattr(batch, "FORK_WORTH", math.inf if small else 0.0)
+    monkeypatch.setattr(batch.os, "getloadavg", lambda: (8.0 if busy else 0.0, 0.0, 0.0))
+    threads = []
+    pool = batch.ThreadPoolExecutor
+    monkeypatch.setattr(batch, "ThreadPoolExecutor", lambda **k: threads.append(1) or pool(**k))
+    seen = []
+    r = ur5.solve_batch(
+        T, q0=ur5.middle, workers=2, chunk_size=8, progress=lambda d, n: seen.append(d), **opts
+    )
+    assert threads == [1]
+    assert seen[-1] == len(T) and seen == sorted(seen)
+    np.testing.assert_array_equal(r.q, one.q)
+    np.testing.assert_array_equal(r.status_code, one.status_code)
 
 
 def test_a_batch_falls_back_to_threads_when_another_thread_runs(monkeypatch):

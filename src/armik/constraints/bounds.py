@@ -30,25 +30,66 @@ def ordered_bounds(
     """``pair_bounds`` at joint values ``q`` (rad, m) of the chain ``chain.Flat``'s arrays
     (``H``: (N + 1, 4, 4) scratch for the joint frames, ``joint_of``: each link object's
     Pinocchio joint), and ``order``: the ``PREFIX`` pairs of smallest bounds in increasing
-    order (ties in pair order), then the others, none of whose bounds is smaller; returns
-    how many are in order. (A selection, not a sort: the few pairs a check needs, in a
-    fraction of np.argsort's compile time.)"""
+    order (ties in pair order), then the others in pair order, none of whose bounds is
+    smaller; returns how many are in order. (A selection, not a sort: the few pairs a check
+    needs, each kept in place as the pairs go by, in a fraction of np.argsort's compile
+    time.)"""
     joint_frames(Flat(packed, kind, halton), q, H)
     pair_bounds(
         H, joint_of, centre, radius, capsule, self_a, self_b, link, box_R, box_t, box_half, out
     )
     n = out.shape[0]
-    for k in range(n):
-        order[k] = k
     m = min(PREFIX, n)
-    for s in range(m):
-        best = s
-        for j in range(s + 1, n):
-            a, b = order[j], order[best]
-            if out[a] < out[b] or (out[a] == out[b] and a < b):
-                best = j
-        order[s], order[best] = order[best], order[s]
+    if m == 0:
+        return m
+    # the m smallest, kept in order as the pairs go by: each smaller than the last kept is
+    # put in its place (after any equal one: ties in pair order)
+    kept = 0
+    for j in range(n):
+        v = out[j]
+        if kept < m:
+            at = kept
+            kept += 1
+        elif v < out[order[m - 1]]:
+            at = m - 1
+        else:
+            continue
+        while at > 0 and out[order[at - 1]] > v:
+            order[at] = order[at - 1]
+            at -= 1
+        order[at] = j
+    # then the others in pair order (a pair with a bound at most the m-th's may be kept)
+    last = out[order[m - 1]]
+    w = m
+    for j in range(n):
+        if out[j] > last:
+            order[w] = j
+            w += 1
+            continue
+        taken = False
+        for s in range(m):
+            if order[s] == j:
+                taken = True
+                break
+        if not taken:
+            order[w] = j
+            w += 1
     return m
+
+
+@njit(cache=True, nogil=True)
+def ordered_bounds_many(
+    packed, kind, halton, Q, H, joint_of, centre, radius, capsule, self_a, self_b, link,
+    box_R, box_t, box_half, out, order, ranked,
+):  # fmt: skip
+    """``ordered_bounds`` at each row of ``Q`` (N, dof), into rows of ``out`` and
+    ``order`` (N, pairs), how many are in order into ``ranked`` (N,): one call for the
+    answers of a batch's chunk."""
+    for i in range(Q.shape[0]):
+        ranked[i] = ordered_bounds(
+            packed, kind, halton, Q[i], H, joint_of, centre, radius, capsule, self_a, self_b,
+            link, box_R, box_t, box_half, out[i], order[i],
+        )  # fmt: skip
 
 
 @njit(cache=True, nogil=True)

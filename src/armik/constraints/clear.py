@@ -45,7 +45,7 @@ class Collisions(Constraint):
 
     def check(self, arm: ArmModel, Q: np.ndarray) -> Check:
         check = checker(arm, self.obstacles, self.self_collision)
-        return distances([check.distance(q) for q in Q], self.margin)
+        return distances(check.distances(Q), self.margin)
 
 
 def distances(found: list[tuple[float, Any]], margin: float) -> Check:

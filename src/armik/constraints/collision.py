@@ -23,7 +23,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from armik.constraints.bounds import ordered_bounds
+from armik.constraints.bounds import ordered_bounds, ordered_bounds_many
 from armik.constraints.shapes import Shape, check_obstacles, convex_hull
 from armik.errors import CollisionError
 from armik.model.arm_model import ArmModel, model_of
@@ -168,27 +168,68 @@ class Checker:
         self._box_R = np.array([R for R, _, _ in boxes]).reshape(-1, 3, 3)
         self._box_t = np.array([t for _, t, _ in boxes]).reshape(-1, 3)
         self._box_half = np.array([h for _, _, h in boxes]).reshape(-1, 3)
+        # what ``ordered_bounds`` reads besides q and the scratch, gathered once
+        self._flat = tuple(arm.kernel_chain.flat)
+        self._shapes = (
+            self._joint_of, self._centre, self._radius, self._capsule, *self._self,
+            self._link, self._box_R, self._box_t, self._box_half,
+        )  # fmt: skip
 
     def distance(self, q: np.ndarray) -> tuple[float, Pair | None]:
         """(distance m, (name_a, name_b)) of the closest checked pair at joint values ``q``
         (rad, m); negative when they overlap (the depth); (inf, None) with no pair."""
         if not self.pair_names:
             return float("inf"), None
+        gd = getattr(self._local, "data", None)  # read as an attribute: every check
+        if gd is None:
+            gd = self.geometry_data()
+        arm = self.arm
+        pin.updateGeometryPlacements(arm.model, arm.data, self.model, gd, arm.to_pin(q))
+        bound, order, ranked = self._ordered(q)
+        return self._closest(gd, bound, order, ranked)
+
+    def distances(self, Q: np.ndarray) -> list[tuple[float, Pair | None]]:
+        """``distance`` at each row of ``Q`` (N, dof), the bounds of every row from one
+        call of the compiled kernel."""
+        Q = np.array(Q, dtype=float, order="C").reshape(len(Q), self.arm.dof)
+        n = len(Q)
+        if not self.pair_names or n < 2:
+            return [self.distance(q) for q in Q]
         gd = self.geometry_data()
         arm = self.arm
+        model, data, geometry = arm.model, arm.data, self.model
+        m = len(self.pair_names)
+        bound, order = np.empty((n, m)), np.empty((n, m), dtype=np.intp)
+        ranked = np.empty(n, dtype=np.intp)
+        packed, kind, halton = self._flat
+        H = np.empty((self._frames, 4, 4))
+        ordered_bounds_many(packed, kind, halton, Q, H, *self._shapes, bound, order, ranked)
+        update, to_pin, closest = pin.updateGeometryPlacements, arm.to_pin, self._closest
+        out = []
+        for i, k in enumerate(ranked.tolist()):
+            update(model, data, geometry, gd, to_pin(Q[i]))
+            out.append(closest(gd, bound[i], order[i], k))
+        return out
+
+    def _closest(self, gd, bound: np.ndarray, order: np.ndarray, ranked: int):
+        """(distance, pair) of the closest pair, the geometry placed in ``gd``: coal asked
+        for the pairs in the order of their bounds, until a bound is beyond the smallest
+        distance found."""
         model = self.model
-        pin.updateGeometryPlacements(arm.model, arm.data, model, gd, arm.to_pin(q))
-        bound, order, ranked = self._ordered(q)
         best, k_best = math.inf, 0
         compute = pin.computeDistance
-        for position, k in enumerate(order.tolist()):
+        for k in order[:ranked].tolist():  # in increasing order of their bounds
             if bound[k] - BOUND_SLACK >= best:
-                if position < ranked:
-                    break  # every later bound is at least this one
-                continue
+                break  # every later bound is at least this one
             d = compute(model, gd, k).min_distance
             if d < best:
                 best, k_best = d, k
+        else:  # the others, in no order: each whose bound is below the best so far
+            for k in order[ranked:].tolist():
+                if bound[k] - BOUND_SLACK < best:
+                    d = compute(model, gd, k).min_distance
+                    if d < best:
+                        best, k_best = d, k
         return float(best), self.pair_names[k_best]
 
     def geometry_data(self) -> pin.GeometryData:
@@ -220,13 +261,8 @@ class Checker:
             )
         qs, H, out, order = scratch
         qs[:] = q  # a read-only or strided q would be another compiled type
-        flat = self.arm.kernel_chain.flat
-        a, b = self._self
-        ranked = ordered_bounds(
-            flat.packed, flat.kind, flat.halton, qs, H, self._joint_of, self._centre,
-            self._radius, self._capsule, a, b, self._link, self._box_R, self._box_t,
-            self._box_half, out, order,
-        )  # fmt: skip
+        packed, kind, halton = self._flat
+        ranked = ordered_bounds(packed, kind, halton, qs, H, *self._shapes, out, order)
         return out, order, ranked
 
 

@@ -26,11 +26,12 @@ scratch memory, so the memory used beyond the targets and results does not grow 
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import time
 import warnings
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
@@ -44,12 +45,13 @@ from armik.request import Request
 from armik.solve import backends, forked
 from armik.solve.progress import ProgressArg, make_progress
 from armik.solve.single import routed
-from armik.solve.stages import run
+from armik.solve.stages import going_on, run
 from armik.solve.tasks import SOLVER
 from armik.solvers import registry
 from armik.status import Status
 from armik.targets.batch import TargetBatch, parse_targets
 from armik.verify.verdict import verdict_batch
+from armik.verify.verdicts import Verdicts
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
@@ -58,6 +60,7 @@ if TYPE_CHECKING:
 DEFAULT_CHUNK = 256  # targets per chunk: small enough to balance threads, large enough
 #                      that the per-chunk overhead (a few Python calls) does not show
 _CONVERGED = Status.CONVERGED.code
+_COLLISION = Status.COLLISION.code
 
 
 def solve_batch(
@@ -144,20 +147,20 @@ def solve_batch(
             done += job(start)
             bar(done, n)
     elif _holds_gil(spec, opts) and forked.usable():
-        if chunk_size is None:  # every process a share: a few chunks each, not one of 256
-            chunk = min(chunk, max(1, -(-(n - _BEFORE_FORK) // (_SHARES * workers))))
-        _on_processes(job, out, n, chunk, workers, bar)
+        # the first few here, before any fork: what they compile or load is compiled or
+        # loaded once, and their time says whether the rest is worth a fork
+        first = min(_BEFORE_FORK, n)
+        started = time.thread_time()
+        done = job(0, first)
+        bar(done, n)
+        if (time.thread_time() - started) / first * (n - first) >= FORK_WORTH and _idle():
+            if chunk_size is None:  # every process a share: a few chunks each, not one of 256
+                chunk = min(chunk, max(1, -(-(n - first) // (_SHARES * workers))))
+            _on_processes(job, out, n, first, chunk, workers, bar)
+        else:
+            _on_threads(job, range(first, n, chunk), workers, n, done, bar)
     else:
-        pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="armik")
-        try:
-            pending = {pool.submit(job, s) for s in starts}
-            while pending:
-                finished, pending = wait(pending, return_when=FIRST_COMPLETED)
-                for f in finished:  # each finished chunk is reported, however many woke us
-                    done += f.result()  # re-raises a chunk's exception here
-                    bar(done, n)
-        finally:  # an error or Ctrl-C: drop the chunks not started, wait for the running
-            pool.shutdown(wait=True, cancel_futures=True)
+        _on_threads(job, starts, workers, n, done, bar)
     bar.close()
     out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     return out
@@ -207,13 +210,25 @@ def _on_backend(run_jobs, jobs: list[Chunk], workers: int, out: BatchResult, bar
         )
 
 
-def _on_processes(job, out: BatchResult, n: int, chunk: int, workers: int, bar) -> None:
-    """The chunks on ``workers`` processes (``armik.solve.forked``). The first few targets
-    are solved here before the fork, so that what they compile or load from the cache is
-    compiled or loaded once, and the children start with it."""
-    first = min(_BEFORE_FORK, n)
-    done = job(0, first)
-    bar(done, n)
+def _on_threads(job, starts, workers: int, n: int, done: int, bar) -> None:
+    """The chunks at ``starts`` on ``workers`` threads, ``done`` of the ``n`` targets
+    solved before."""
+    pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="armik")
+    try:
+        pending = {pool.submit(job, s) for s in starts}
+        while pending:
+            finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for f in finished:  # each finished chunk is reported, however many woke us
+                done += f.result()  # re-raises a chunk's exception here
+                bar(done, n)
+    finally:  # an error or Ctrl-C: drop the chunks not started, wait for the running
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _on_processes(job, out: BatchResult, n: int, first: int, chunk: int, workers: int, bar) -> None:
+    """The chunks after the ``first`` targets (solved here already) on ``workers``
+    processes (``armik.solve.forked``)."""
+    done = first
 
     def rows(start: int) -> BatchResult:  # a chunk's rows, sent from a child
         job(start)
@@ -229,6 +244,24 @@ def _on_processes(job, out: BatchResult, n: int, chunk: int, workers: int, bar) 
 
 
 _BEFORE_FORK = 16  # targets: enough to reach each compiled part a batch's chunk runs
+# s of thread CPU time the rest of a batch would take here, as its first targets took, from
+# which forking pays: a fork and a child's end cost about 10 ms
+FORK_WORTH = 0.02
+
+
+def _idle() -> bool:
+    """Whether the machine has a core to spare for a child: the last minute's load average
+    (this process included) below the cores this process may run on. Measured on the Panda
+    shelf scene (benchmarks/collision_scenes.py --near, 2 workers, about 70 us of work a
+    target): with a load average of 1.4 to 1.9 on two cores, 1000 targets ran at 19,000
+    targets/s on two processes against 12,500-13,200 on two threads; with 2.3, at 10,100-
+    10,600 against 12,500-13,100, and 400 targets at 7,500-7,800 against 11,000-11,700."""
+    try:
+        return os.getloadavg()[0] < cores()
+    except OSError:  # no load average: as if idle
+        return True
+
+
 _SHARES = 4  # chunks per process by default: a chunk of 256 left one of two processes idle
 # for most of a 400-target batch (measured: 2 processes slower than one)
 
@@ -273,9 +306,28 @@ def solve_chunk(
         # branches (closed forms); a closed form's rare failures get the specific reason
         # (too far, wrist orientation, ...) and the next verified branch that ``solve``
         # would fall back to.
+        numeric = opts.collisions and spec.kind != "analytic"
         for i in np.flatnonzero(~part.success).tolist():
-            r = _row(arm, request, targets.target(i), seeds[i])
+            if numeric and part.status_code[i] == _COLLISION:
+                # verified, and colliding: its first run is this one, the search goes on
+                # from its row (a failure of the solver's own is solved again: its words
+                # are the single solve's)
+                row = _first_row(part, i, opts)
+                again = request.but(target=targets.target(i), q0=seeds[i], t0=time.perf_counter())
+                r = going_on(arm, again, row)
+            else:
+                r = _row(arm, request, targets.target(i), seeds[i])
             out.put_result(start + i, r)
+
+
+def _first_row(part: BatchResult, i: int, opts: Options) -> Verdicts:
+    """Row ``i`` of a chunk's verdict as ``solve``'s own first run leaves it for the
+    search (``armik.solve.avoid``): its status, words and counts, and its collision check's
+    distance and pair where it was checked."""
+    r = part[i]
+    kept: dict[str, Any] = {k: r.extra[k] for k in ("min_distance", "closest_pair") if k in r.extra}
+    r = dataclasses.replace(r, extra=kept)
+    return Verdicts.of_result(r, opts.tol_position, opts.tol_orientation)
 
 
 def _row(arm: ArmModel, request: Request, target, seed: np.ndarray):

@@ -12,6 +12,7 @@ per arm: a loop of solves passes the same options, often with a new seed each ti
 
 from __future__ import annotations
 
+import itertools
 import time
 from collections.abc import Mapping
 
@@ -201,13 +202,12 @@ def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | 
             del kwargs["toward"]
     try:
         # with the types: 1 == True, but validation may accept one and refuse the other;
-        # a held joint's dict as its items (a loop of solves holds the same joint), a
-        # scene's list of shapes as a tuple (a loop of solves keeps the same scene)
+        # a held joint's dict as its items (a loop of solves holds the same joint), a list
+        # or tuple of obstacles as its scene's number (``_scene``)
         hold = kwargs["hold"] if "hold" in kwargs else None
         given = {**kwargs, "hold": tuple(hold.items())} if type(hold) is dict else kwargs
-        shapes = kwargs["obstacles"] if "obstacles" in kwargs else None
-        if type(shapes) is list:  # a scene as a list of shapes (each hashed, compared by type)
-            given = {**given, "obstacles": tuple(shapes)}
+        if "obstacles" in kwargs and type(kwargs["obstacles"]) in (list, tuple):
+            given = {**given, "obstacles": _scene(arm, kwargs["obstacles"])}
         key = (tuple(given.items()), tuple(map(type, kwargs.values())), look is None, sight)
         kept = arm._derived.get(_KEPT)  # read as a dict, not through a call: every solve
         if kept is None:
@@ -227,6 +227,26 @@ def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | 
 
 
 _KEPT: Derived[dict] = Derived("validated options", lambda _: {})
+
+
+def _scene(arm: ArmModel, obstacles: list | tuple) -> int:
+    """A number for these shapes, the same for equal shapes: what the key holds in their
+    place, so that each of the stages' lookups under the key does not hash every shape
+    again (2 us for four)."""
+    scenes = arm._derived.get(_SCENES)
+    if scenes is None:
+        scenes = _SCENES(arm)
+    shapes = tuple(obstacles)
+    number = scenes.get(shapes)
+    if number is None:
+        if len(scenes) > 256:
+            scenes.clear()
+        number = scenes[shapes] = next(_NUMBERS)  # never one a kept key held before
+    return number
+
+
+_SCENES: Derived[dict] = Derived("obstacle scenes", lambda _: {})
+_NUMBERS = itertools.count()
 
 
 def _seed(seed: object) -> int | None:

@@ -13,14 +13,16 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from typing import Any
+from typing import Any, NamedTuple, cast
 
 import numpy as np
+import pinocchio as pin
 
 from armik import reasons
 from armik.constraints.clear import distances
-from armik.constraints.collision import checker
+from armik.constraints.collision import Checker, checker
 from armik.model.arm_model import ArmModel
+from armik.model.derived import Derived
 from armik.options import Options
 from armik.request import Request, but_options, with_seed
 from armik.result import IKResult
@@ -33,6 +35,8 @@ from armik.solvers.registry import SolverSpec
 from armik.targets.pose import Target, parsed
 from armik.verify.verdict import finish
 from armik.verify.verdicts import Verdicts
+
+_SE3 = pin.SE3
 
 
 def run(arm: ArmModel, req: Request):
@@ -92,54 +96,111 @@ def _beyond_search(arm: ArmModel, req: Request, results: list) -> list:
 _NO_COLLISIONS = {"obstacles": (), "self_collision": False, "margin": 0.0}
 
 
+class _Avoiding(NamedTuple):
+    """What a collision-checked solve of one arm, solver, options (all but ``seed``) and
+    target kind reads before its target: kept under the request's key, as a plan is."""
+
+    spec: SolverSpec  # chosen as without collisions (no solver reads them)
+    plain: Options  # the options without collisions: the plain solve tried first
+    key: tuple  # the plain solve's plan key
+    check: Checker
+
+
+def _kept(arm: ArmModel, solver: str, key: tuple, opts: Options, position: bool) -> _Avoiding:
+    """The ``_Avoiding`` of these options, built once per arm (registrations apart)."""
+    kept = arm._derived.get(_AVOIDING)  # read as a dict, not through a call: every solve
+    if kept is None or kept.get("generation") != registry.generation:
+        kept = arm._derived[_AVOIDING] = {"generation": registry.generation}
+    found = kept.get((solver, key, position))
+    if found is None:
+        plain = but_options(opts, **_NO_COLLISIONS)
+        kind = Target(np.zeros(3)) if position else Target(np.zeros(3), np.eye(3))
+        spec = registry.choose(solver, arm, kind, plain)  # reads only the target's kind
+        check = checker(arm, opts.obstacles, opts.self_collision)
+        found = _Avoiding(spec, plain, (key, "plain"), check)
+        if len(kept) > 64:
+            kept.clear()
+            kept["generation"] = registry.generation
+        kept[(solver, key, position)] = found
+    return found
+
+
+_AVOIDING: Derived[dict] = Derived("collision-checked solves", lambda _: {})
+
+
 def _avoiding(arm: ArmModel, req: Request) -> IKResult:
     """A collision-checked solve: a closed form's branches from one run of its kernel,
     checked nearest first; a numeric solver's plain solve first (most answers are clear at
     once), then its restarts go on from that run."""
     target, q0, solver, opts, key, seed, _, t0 = req[:8]
-    plain = but_options(opts, **_NO_COLLISIONS)
-    tgt = parsed(target, arm)
-    # chosen as without collisions (no solver reads them): remembered for these options
-    spec = registry.choose(solver, arm, tgt, plain)
+    kind = type(target)  # a pose the plan takes as given: parsed only if it is needed
+    shape = cast(np.ndarray, target).shape if kind is np.ndarray else None
+    plain_key: tuple | None
+    if key is not None and (kind is _SE3 or shape == (4, 4) or shape == (3,)):
+        spec, plain, plain_key, check = _kept(arm, solver, key, opts, shape == (3,))
+        if opts.look_at is not None or opts.toward is not None:  # this call's, not the key's
+            plain = but_options(opts, **_NO_COLLISIONS)
+    else:
+        plain = but_options(opts, **_NO_COLLISIONS)
+        target = parsed(target, arm)
+        # chosen as without collisions (no solver reads them): remembered for these options
+        spec = registry.choose(solver, arm, target, plain)
+        check = checker(arm, opts.obstacles, opts.self_collision)
+        plain_key = None if key is None else (key, "plain")
     first = None
     if spec.kind != "analytic":
         started, now = time.thread_time(), time.perf_counter()
-        if key is None:  # options no plan is kept for (obstacles): the general path
-            r = _run(arm, spec, tgt, q0, with_seed(plain, seed), False, now)[0]
+        if plain_key is None:  # options no plan is kept for (obstacles): the general path
+            r = _run(arm, spec, parsed(target, arm), q0, with_seed(plain, seed), False, now)[0]
         else:  # the plan's key apart from the options' with collisions
-            r = run(arm, req.but(target=tgt, opts=plain, key=(key, "plain"), t0=now))
-        clear, first = _clear_at_once(arm, r, opts, started, t0)
+            r = run(arm, req.but(target=target, opts=plain, key=plain_key, t0=now))
+        clear, first = _clear_at_once(check, r, opts, started, t0)
         if clear is not None:
             return clear
+    target = parsed(target, arm)
+    return _run(arm, spec, target, q0, with_seed(opts, seed), False, t0, first)[0]  # type: ignore[no-any-return]
+
+
+def going_on(arm: ArmModel, req: Request, row: Verdicts) -> IKResult:
+    """``run``'s result of a collision-checked request for a numeric solver whose plain
+    solve from the request's seed is done already, with its verdict and collision check:
+    ``row`` (a batch's chunk's), the search going on from it as ``_avoiding`` goes on
+    from its own."""
+    target, q0, solver, opts, _, seed, _, t0 = req[:8]
+    tgt = parsed(target, arm)
+    spec = registry.choose(solver, arm, tgt, but_options(opts, **_NO_COLLISIONS))
+    first = First(row, time.thread_time())
     return _run(arm, spec, tgt, q0, with_seed(opts, seed), False, t0, first)[0]  # type: ignore[no-any-return]
 
 
-def _clear_at_once(arm, r: IKResult, opts, started: float, t0: float):
+def _clear_at_once(check: Checker, r: IKResult, opts, started: float, t0: float):
     """(result, first): a numeric solver's plain solve ``r`` (begun at thread CPU time
-    ``started``) when its answer is a success and collision-free, with its distance and
-    pair (the answer the collision-checked search starts with, as ``solve_batch``'s
-    chunks), and None; else None and ``First``, that run for the search
+    ``started``) when its answer is a success and collision-free by ``check``, with its
+    distance and pair (the answer the collision-checked search starts with, as
+    ``solve_batch``'s chunks), and None; else None and ``First``, that run for the search
     (``armik.solve.avoid``) to go on from."""
     if not r.success:
         return None, First(Verdicts.of_result(r, opts.tol_position, opts.tol_orientation), started)
-    distance, pair = checker(arm, opts.obstacles, opts.self_collision).distance(r.q)
+    distance, pair = check.distance(r.q)
     if distance < opts.margin:
         row = Verdicts.of_result(r, opts.tol_position, opts.tol_orientation)
         return None, First(row.judge(distances([(distance, pair)], opts.margin)), started)
-    # ``r`` itself with its time and distance; its words written on first read, as ``r``'s
-    fields = {k: v for k, v in r.__dict__.items() if k not in _WORDS_AND_EXTRA}
+    fields = dict(r.__dict__)  # the plain result's, as ``IKResult._from_fields`` takes them
+    said = fields.pop("_reason", None)  # a prepared result's reason, written on first read
+    if said is None:
+        fields["reason"] = reasons.and_clear(fields["reason"], pair, distance, opts.margin)
+    else:
+        fields.pop("reason", None)
+        fields["_reason"] = (_said_clear, (said, pair, distance, opts.margin))
     fields["time"] = time.perf_counter() - t0
-    fields["_reason"] = (_clear_words, (r, pair, distance, opts.margin))
     clear = IKResult._from_fields(fields)
-    clear.extra.update(min_distance=distance, closest_pair=pair)
+    clear.extra["min_distance"], clear.extra["closest_pair"] = distance, pair
     return clear, None
 
 
-_WORDS_AND_EXTRA = ("reason", "_reason", "extra")
-
-
-def _clear_words(r: IKResult, pair: tuple[str, str], distance: float, margin: float) -> str:
-    return reasons.and_clear(r.reason, pair, distance, margin)
+def _said_clear(said: tuple, pair, distance: float, margin: float) -> str:
+    """The reason of a prepared success kept clear: its own words, then the clearance."""
+    return reasons.and_clear(said[0](*said[1]), pair, distance, margin)
 
 
 def _run(arm, spec: SolverSpec, tgt: Target, q0, opts, every: bool, t0: float, first=None):
