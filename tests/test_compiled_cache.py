@@ -1,10 +1,15 @@
 """armik's numba caches are stamped by every source they depend on (``armik.compiled_cache``):
-an edit to a callee or a constant in another module makes every cached caller stale."""
+an edit to a callee or a constant in another module makes every cached caller stale; the
+same sources elsewhere or with other modification times keep the cache; numba keys each
+entry by the CPU it was compiled for."""
 
 from __future__ import annotations
 
 import os
+import shutil
 from pathlib import Path
+
+from numba.core.registry import cpu_target
 
 import armik  # noqa: F401  (registers the locators)
 from armik import compiled_cache
@@ -44,20 +49,56 @@ def _touch(path: Path) -> None:
     os.utime(path, ns=(st.st_atime_ns, st.st_mtime_ns + 10**9))
 
 
+def _edit(path: Path, text: str = "# edited\n") -> None:
+    path.write_text(path.read_text() + text)
+
+
 def test_the_stamp_follows_compiled_modules_and_what_they_import(tmp_path):
     root = _package(tmp_path)
     names = [str(p.relative_to(root)) for p in compiled_cache.depended_on(root)]
     assert names == ["consts.py", "helper.py", "kernel.py"]
     before = compiled_cache.stamp(root)
-    _touch(root / "other.py")  # no compiled module reads it
-    _touch(root / "sub" / "plain.py")
-    _touch(root / "api.py")  # a class, which compiled code cannot read
+    _edit(root / "other.py")  # no compiled module reads it
+    _edit(root / "sub" / "plain.py")
+    _edit(root / "api.py")  # a class, which compiled code cannot read
     assert compiled_cache.stamp(root) == before
     for name in names:  # the compiled module, a module it reads a constant of, one it imports
-        _touch(root / name)
+        _edit(root / name)
         after = compiled_cache.stamp(root)
         assert after != before
         before = after
+    (root / "consts.py").write_text("X = 2\n")  # the same size, another constant
+    assert compiled_cache.stamp(root) != before
+
+
+def test_the_stamp_is_the_sources_not_their_times_or_place(tmp_path):
+    """A cache filled once holds wherever the same sources lie: a fresh clone, a copy,
+    files touched; one byte of a depended-on source changed and it is refused."""
+    root = _package(tmp_path / "a")
+    before = compiled_cache.stamp(root)
+    for path in compiled_cache.depended_on(root):
+        _touch(path)
+    assert compiled_cache.stamp(root) == before
+    copy = tmp_path / "b" / "armik"
+    shutil.copytree(root, copy)
+    for path in compiled_cache.depended_on(copy):
+        _touch(path)
+    assert compiled_cache.stamp(copy) == before
+    (copy / "kernel.py").write_text((copy / "kernel.py").read_text().replace("X", "X "))
+    assert compiled_cache.stamp(copy) != before
+
+
+def test_a_cache_entry_is_keyed_by_the_cpu_it_was_compiled_for():
+    """What makes a cache filled on another machine safe: numba finds an entry under the
+    CPU's name and features (``codegen.magic_tuple()``), so another CPU misses it and
+    compiles; and under the bytecode of the function itself."""
+    codegen = cpu_target.target_context.codegen()
+    sig = forward.signatures[0] if forward.signatures else ()
+    key = forward._cache._index_key(sig, codegen)
+    assert key[1] == codegen.magic_tuple()
+    cpu_name, features = key[1][1], key[1][2]
+    assert cpu_name and isinstance(features, str)
+    assert len(key[2]) == 2 and all(len(h) == 64 for h in key[2])
 
 
 def test_every_module_with_compiled_code_is_stamped():
