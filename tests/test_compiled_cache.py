@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import os
 import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 from numba.core.registry import cpu_target
@@ -115,3 +117,58 @@ def test_this_numba_takes_the_stamped_locators():
     """The locators registered (an unknown numba's caching module would leave numba's own:
     this catches the day that happens)."""
     assert len(compiled_cache.LOCATORS) == 3
+
+
+_FIRST_CALL = r"""
+import sys
+import numpy as np
+from numba.core import event
+compiled = []
+class Count(event.Listener):
+    def on_start(self, ev):
+        compiled.append(ev.data["dispatcher"].py_func.__module__)
+    def on_end(self, ev):
+        pass
+event.register("numba:compile", Count())
+import armik
+from armik.kernel.se3 import rotation_angle
+assert armik.__file__.startswith(sys.argv[1]), armik.__file__
+assert rotation_angle(np.eye(3)) == 0.0
+print(sum(m.startswith("armik") for m in compiled))
+"""
+
+
+def _armik_compiles(root: Path, **env: str) -> int:
+    """How many armik functions a first call of a small compiled function compiles in a new
+    process importing the package at ``root``, its cache in the tree (numba's in-tree
+    locator)."""
+    environment = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_")}
+    environment |= {"PYTHONPATH": str(root.parent), "ARMIK_COMPILE_HELPER": "0", **env}
+    done = subprocess.run(
+        [sys.executable, "-c", _FIRST_CALL, str(root)],
+        env=environment,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert done.returncode == 0, done.stderr
+    return int(done.stdout.split()[-1])
+
+
+def test_a_cache_filled_for_one_copy_of_the_sources_serves_another(tmp_path):
+    """What an image or an install that ships a filled cache relies on: the same sources
+    at another path with other times load it; an edited callee's source, or another CPU,
+    compile again."""
+    first = tmp_path / "a" / "armik"
+    shutil.copytree(compiled_cache.PACKAGE, first, ignore=shutil.ignore_patterns("__pycache__"))
+    assert _armik_compiles(first) > 0
+    second = tmp_path / "b" / "armik"
+    shutil.copytree(first, second, copy_function=shutil.copy)  # new times, the cache too
+    for path in second.rglob("*.py"):
+        _touch(path)
+    assert _armik_compiles(second) == 0
+    assert _armik_compiles(second, NUMBA_CPU_NAME="generic") > 0  # another CPU's key
+    edited = tmp_path / "c" / "armik"
+    shutil.copytree(first, edited)
+    _edit(edited / "kernel" / "measure.py")  # any depended-on source: here not even a callee
+    assert _armik_compiles(edited) > 0
