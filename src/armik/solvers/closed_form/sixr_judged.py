@@ -60,7 +60,7 @@ def judged(n, packed, kind, halton, frame, judge, H, rows):
     ``kernel.measure.fk_check_frame``'s (unweighted); ``judge``: ``judge_array``'s."""
     if n < 2:
         return n, GENERAL
-    fk_checks_beside(packed, kind, halton, frame, H, rows, n, MEASURED)
+    fk_checks_beside(packed, kind, halton, frame, H, rows, n, np.int64(MEASURED))
     tol_p, tol_r = judge[0], judge[1]
     rot = int(frame[18]) & 2 != 0
     ordered = True  # already by (rank, error): nothing to move
@@ -104,7 +104,7 @@ def _order(rows, n):
     W = rows[:n].copy()
     taken = 0
     for k in range(n):
-        best = -1
+        best = np.int64(-1)
         for r in range(n):
             if not taken & (1 << r) and (best < 0 or _before(W, r, best)):
                 best = r

@@ -121,7 +121,7 @@ def solve_into(chain, H, q0, every, out):
 def solve_all_into(chain, packed, kind, halton, frame, judge, H, q0, rows):
     """``solve_into``'s every row for ``H`` in ``rows`` (8, ``sixr_judged.WIDTH``),
     measured and judged in the same call: ``sixr_judged.judged``'s (n, verdict)."""
-    n, _ = solve_into(chain, H, q0, True, rows)
+    n, _ = solve_into(chain, H, q0, np.bool_(True), rows)
     return judged(n, packed, kind, halton, frame, judge, H, rows)
 
 
