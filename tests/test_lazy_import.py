@@ -59,3 +59,12 @@ def test_solvers_and_export_stay_functions_when_their_packages_load_first():
         "isinstance(armik.export, types.FunctionType), 'dls' in armik.solvers())"
     )
     assert out == "True True True"
+
+
+def test_the_cli_imports_no_scipy_spatial_until_a_reach_map():
+    loaded = run(
+        "import sys\n"
+        "from armik.tools.cli import main\n"
+        "print(sorted(m for m in ('scipy.spatial', 'qpsolvers') if m in sys.modules))"
+    )
+    assert loaded == "[]"
