@@ -172,3 +172,35 @@ def test_a_cache_filled_for_one_copy_of_the_sources_serves_another(tmp_path):
     shutil.copytree(first, edited)
     _edit(edited / "kernel" / "measure.py")  # any depended-on source: here not even a callee
     assert _armik_compiles(edited) > 0
+
+
+def test_every_package_with_compiled_code_registers_the_rule_first():
+    """``import armik`` imports no numba: each package holding a compiled module imports
+    ``armik.kernel`` (which imports ``compiled_cache`` first) before its modules, so no
+    armik function is decorated under numba's own stamp, whichever module is imported
+    first."""
+    first = ("import armik.kernel  #", "from armik import compiled_cache  #")
+    packages = set()
+    for path in compiled_cache.depended_on():
+        if compiled_cache._COMPILED.search(path.read_text(encoding="utf-8")):
+            packages.add(path.parent)
+    assert compiled_cache.PACKAGE not in packages  # a compiled module at the top: no package
+    for package in packages:
+        text = (package / "__init__.py").read_text(encoding="utf-8")
+        imports = [line for line in text.splitlines() if line.startswith(("import ", "from "))]
+        assert imports and imports[0].startswith(first), package
+    code = (
+        "import sys\n"
+        "from numba.core.registry import CPUDispatcher\n"
+        "name = sys.argv[1]\n"
+        "__import__(name)\n"
+        "for f in vars(sys.modules[name]).values():\n"
+        "    if isinstance(f, CPUDispatcher) and f.py_func.__module__ == name:\n"
+        "        print(type(f._cache._impl.locator).__name__.startswith('Armik'))\n"
+    )
+    for name in ("armik.constraints.bounds", "armik.servo.tick", "armik.solvers.closed_form.roots"):
+        out = subprocess.run(
+            [sys.executable, "-c", code, name], capture_output=True, text=True, timeout=300
+        )
+        assert out.returncode == 0, out.stderr
+        assert out.stdout and set(out.stdout.split()) == {"True"}, (name, out.stdout)

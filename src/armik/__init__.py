@@ -1,8 +1,9 @@
 """armik: inverse kinematics for URDF robot arms on Pinocchio.
 
-``import armik`` loads numba's cache rule (``compiled_cache``) and nothing else: each public
-name imports its module at its first use (``armik.load`` the facade and the solvers,
-``armik.view`` the viewer), so that a script, the CLI or a test pays for what it uses.
+``import armik`` loads nothing else: each public name imports its module at its first use
+(``armik.load`` the facade and the solvers, ``armik.view`` the viewer), so that a script,
+the CLI or a test pays for what it uses. numba and its cache rule (``compiled_cache``) come
+with ``armik.kernel``, which every package holding compiled code imports first.
 """
 
 from __future__ import annotations
@@ -11,9 +12,6 @@ import sys as _sys
 import types as _types
 from typing import TYPE_CHECKING
 from typing import Any as _Any  # private: the package namespace is its API
-
-# first: numba picks the cache of a compiled function when it is decorated
-from armik import compiled_cache as _compiled_cache  # noqa: F401  # isort: skip
 
 if TYPE_CHECKING:  # what the names below are, for type checkers; imported at first use
     from armik import collision, view

@@ -14,8 +14,9 @@ keys each entry by the CPU's name and features). The cache stays where numba put
 (``NUMBA_CACHE_DIR``, else the source tree's ``__pycache__``, else the user's cache
 directory); only the stamp differs.
 
-Imported by ``armik/__init__.py`` before any compiled module: numba picks a function's
-cache locator when the function is decorated.
+Imported by ``armik/kernel/__init__.py``, which each package holding compiled modules
+(``kernel``, ``constraints``, ``servo``, ``solvers.closed_form``) imports first: numba
+picks a function's cache locator when the function is decorated.
 """
 
 from __future__ import annotations
