@@ -1,10 +1,17 @@
 """armik's numba caches are stamped by every source they depend on (``armik.compiled_cache``):
-an edit to a callee or a constant in another module makes every cached caller stale."""
+an edit to a callee or a constant in another module makes every cached caller stale; the
+same sources elsewhere or with other modification times keep the cache; numba keys each
+entry by the CPU it was compiled for."""
 
 from __future__ import annotations
 
 import os
+import shutil
+import subprocess
+import sys
 from pathlib import Path
+
+from numba.core.registry import cpu_target
 
 import armik  # noqa: F401  (registers the locators)
 from armik import compiled_cache
@@ -44,20 +51,56 @@ def _touch(path: Path) -> None:
     os.utime(path, ns=(st.st_atime_ns, st.st_mtime_ns + 10**9))
 
 
+def _edit(path: Path, text: str = "# edited\n") -> None:
+    path.write_text(path.read_text() + text)
+
+
 def test_the_stamp_follows_compiled_modules_and_what_they_import(tmp_path):
     root = _package(tmp_path)
     names = [str(p.relative_to(root)) for p in compiled_cache.depended_on(root)]
     assert names == ["consts.py", "helper.py", "kernel.py"]
     before = compiled_cache.stamp(root)
-    _touch(root / "other.py")  # no compiled module reads it
-    _touch(root / "sub" / "plain.py")
-    _touch(root / "api.py")  # a class, which compiled code cannot read
+    _edit(root / "other.py")  # no compiled module reads it
+    _edit(root / "sub" / "plain.py")
+    _edit(root / "api.py")  # a class, which compiled code cannot read
     assert compiled_cache.stamp(root) == before
     for name in names:  # the compiled module, a module it reads a constant of, one it imports
-        _touch(root / name)
+        _edit(root / name)
         after = compiled_cache.stamp(root)
         assert after != before
         before = after
+    (root / "consts.py").write_text("X = 2\n")  # the same size, another constant
+    assert compiled_cache.stamp(root) != before
+
+
+def test_the_stamp_is_the_sources_not_their_times_or_place(tmp_path):
+    """A cache filled once holds wherever the same sources lie: a fresh clone, a copy,
+    files touched; one byte of a depended-on source changed and it is refused."""
+    root = _package(tmp_path / "a")
+    before = compiled_cache.stamp(root)
+    for path in compiled_cache.depended_on(root):
+        _touch(path)
+    assert compiled_cache.stamp(root) == before
+    copy = tmp_path / "b" / "armik"
+    shutil.copytree(root, copy)
+    for path in compiled_cache.depended_on(copy):
+        _touch(path)
+    assert compiled_cache.stamp(copy) == before
+    (copy / "kernel.py").write_text((copy / "kernel.py").read_text().replace("X", "X "))
+    assert compiled_cache.stamp(copy) != before
+
+
+def test_a_cache_entry_is_keyed_by_the_cpu_it_was_compiled_for():
+    """What makes a cache filled on another machine safe: numba finds an entry under the
+    CPU's name and features (``codegen.magic_tuple()``), so another CPU misses it and
+    compiles; and under the bytecode of the function itself."""
+    codegen = cpu_target.target_context.codegen()
+    sig = forward.signatures[0] if forward.signatures else ()
+    key = forward._cache._index_key(sig, codegen)
+    assert key[1] == codegen.magic_tuple()
+    cpu_name, features = key[1][1], key[1][2]
+    assert cpu_name and isinstance(features, str)
+    assert len(key[2]) == 2 and all(len(h) == 64 for h in key[2])
 
 
 def test_every_module_with_compiled_code_is_stamped():
@@ -74,3 +117,90 @@ def test_this_numba_takes_the_stamped_locators():
     """The locators registered (an unknown numba's caching module would leave numba's own:
     this catches the day that happens)."""
     assert len(compiled_cache.LOCATORS) == 3
+
+
+_FIRST_CALL = r"""
+import sys
+import numpy as np
+from numba.core import event
+compiled = []
+class Count(event.Listener):
+    def on_start(self, ev):
+        compiled.append(ev.data["dispatcher"].py_func.__module__)
+    def on_end(self, ev):
+        pass
+event.register("numba:compile", Count())
+import armik
+from armik.kernel.se3 import rotation_angle
+assert armik.__file__.startswith(sys.argv[1]), armik.__file__
+assert rotation_angle(np.eye(3)) == 0.0
+print(sum(m.startswith("armik") for m in compiled))
+"""
+
+
+def _armik_compiles(root: Path, **env: str) -> int:
+    """How many armik functions a first call of a small compiled function compiles in a new
+    process importing the package at ``root``, its cache in the tree (numba's in-tree
+    locator)."""
+    environment = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_")}
+    environment |= {"PYTHONPATH": str(root.parent), "ARMIK_COMPILE_HELPER": "0", **env}
+    done = subprocess.run(
+        [sys.executable, "-c", _FIRST_CALL, str(root)],
+        env=environment,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert done.returncode == 0, done.stderr
+    return int(done.stdout.split()[-1])
+
+
+def test_a_cache_filled_for_one_copy_of_the_sources_serves_another(tmp_path):
+    """What an image or an install that ships a filled cache relies on: the same sources
+    at another path with other times load it; an edited callee's source, or another CPU,
+    compile again."""
+    first = tmp_path / "a" / "armik"
+    shutil.copytree(compiled_cache.PACKAGE, first, ignore=shutil.ignore_patterns("__pycache__"))
+    assert _armik_compiles(first) > 0
+    second = tmp_path / "b" / "armik"
+    shutil.copytree(first, second, copy_function=shutil.copy)  # new times, the cache too
+    for path in second.rglob("*.py"):
+        _touch(path)
+    assert _armik_compiles(second) == 0
+    assert _armik_compiles(second, NUMBA_CPU_NAME="generic") > 0  # another CPU's key
+    edited = tmp_path / "c" / "armik"
+    shutil.copytree(first, edited)
+    _edit(edited / "kernel" / "measure.py")  # any depended-on source: here not even a callee
+    assert _armik_compiles(edited) > 0
+
+
+def test_every_package_with_compiled_code_registers_the_rule_first():
+    """``import armik`` imports no numba: each package holding a compiled module imports
+    ``armik.kernel`` (which imports ``compiled_cache`` first) before its modules, so no
+    armik function is decorated under numba's own stamp, whichever module is imported
+    first."""
+    first = ("import armik.kernel  #", "from armik import compiled_cache  #")
+    packages = set()
+    for path in compiled_cache.depended_on():
+        if compiled_cache._COMPILED.search(path.read_text(encoding="utf-8")):
+            packages.add(path.parent)
+    assert compiled_cache.PACKAGE not in packages  # a compiled module at the top: no package
+    for package in packages:
+        text = (package / "__init__.py").read_text(encoding="utf-8")
+        imports = [line for line in text.splitlines() if line.startswith(("import ", "from "))]
+        assert imports and imports[0].startswith(first), package
+    code = (
+        "import sys\n"
+        "from numba.core.registry import CPUDispatcher\n"
+        "name = sys.argv[1]\n"
+        "__import__(name)\n"
+        "for f in vars(sys.modules[name]).values():\n"
+        "    if isinstance(f, CPUDispatcher) and f.py_func.__module__ == name:\n"
+        "        print(type(f._cache._impl.locator).__name__.startswith('Armik'))\n"
+    )
+    for name in ("armik.constraints.bounds", "armik.servo.tick", "armik.solvers.closed_form.roots"):
+        out = subprocess.run(
+            [sys.executable, "-c", code, name], capture_output=True, text=True, timeout=300
+        )
+        assert out.returncode == 0, out.stderr
+        assert out.stdout and set(out.stdout.split()) == {"True"}, (name, out.stdout)

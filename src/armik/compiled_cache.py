@@ -4,13 +4,19 @@ numba checks a cached function against its own source file only (its modificatio
 and size), yet a cached function holds the machine code of the compiled functions it calls
 in other modules and the constants it reads from them. After an edit to a callee, a cached
 caller would run the callee's old code. armik's functions are cached instead under a stamp
-of every compiled module of the package (one that imports ``njit``) and every armik module
-they import a constant from: any edit to one of them compiles armik's code again, and
-nothing stale runs. The cache stays where numba puts it (``NUMBA_CACHE_DIR``, else the source tree's
-``__pycache__``, else the user's cache directory); only the stamp differs.
+of the contents of every compiled module of the package (one that imports ``njit``) and
+every armik module they import a constant from: any edit to one of them compiles armik's
+code again, and nothing stale runs. The stamp reads the sources' bytes, not their
+modification times, so a cache stays valid where the same sources lie with other times (a
+fresh clone or checkout of the same commit, a copied tree, a restored CI cache); numba
+itself still refuses an entry compiled by another numba or for another CPU (its index
+keys each entry by the CPU's name and features). The cache stays where numba puts it
+(``NUMBA_CACHE_DIR``, else the source tree's ``__pycache__``, else the user's cache
+directory); only the stamp differs.
 
-Imported by ``armik/__init__.py`` before any compiled module: numba picks a function's
-cache locator when the function is decorated.
+Imported by ``armik/kernel/__init__.py``, which each package holding compiled modules
+(``kernel``, ``constraints``, ``servo``, ``solvers.closed_form``) imports first: numba
+picks a function's cache locator when the function is decorated.
 """
 
 from __future__ import annotations
@@ -58,12 +64,13 @@ def depended_on(root: Path = PACKAGE) -> list[Path]:
 
 
 def stamp(root: Path = PACKAGE) -> str:
-    """A digest of each depended-on source's path, modification time and size: what numba
-    reads of a source to decide whether its cache is current."""
+    """A digest of each depended-on source's path (within ``root``) and contents: the same
+    sources give the same stamp wherever they lie and whatever their modification times;
+    an edit to any of them gives another."""
     digest = hashlib.sha256()
     for path in depended_on(root):
-        st = path.stat()
-        digest.update(f"{path.relative_to(root)}:{st.st_mtime_ns}:{st.st_size};".encode())
+        content = hashlib.sha256(path.read_bytes()).hexdigest()
+        digest.update(f"{path.relative_to(root).as_posix()}:{content};".encode())
     return digest.hexdigest()
 
 

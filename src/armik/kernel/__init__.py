@@ -27,6 +27,9 @@ allocates and may be called from there says ``_nrt=True``: a function that does 
 is compiled with its first caller's setting.
 """
 
+# first: numba picks a compiled function's cache when it is decorated (the cache rule)
+from armik import compiled_cache  # noqa: F401  # isort: skip
+
 import warnings
 
 from numba.core.errors import NumbaWarning

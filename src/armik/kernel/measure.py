@@ -175,7 +175,7 @@ def fk_checks(packed, kind, halton, frame, H_t, Q, out):
     form's packed rows too) against the 4x4 target ``H_t`` (base frame), its tip placement
     T_base_tip by the compiled FK of the chain ``chain.Flat``'s arrays, every row in one
     call; ``frame`` from ``check_frame`` with the identity as T_base_world."""
-    _checks(packed, kind, halton, frame, H_t, Q, Q.shape[0], out, 0)
+    _checks(packed, kind, halton, frame, H_t, Q, Q.shape[0], out, np.int64(0))
 
 
 @njit(cache=True, nogil=True)

@@ -8,6 +8,7 @@ tick's rows, ``limits.py`` the limits checked, ``result.py`` what a tick and a r
 return.
 """
 
+import armik.kernel  # noqa: F401  (first: numba's cache rule, the compile notice)
 from armik.servo.result import ServoRecord, ServoStatus, ServoStep
 from armik.servo.servo import Servo, start
 

@@ -20,7 +20,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from armik import npz
 from armik.errors import InputError, OptionError
@@ -202,6 +201,9 @@ def reachability(
         )
     xs, ys, zs, inside = grid(arm, resolution)
     centres = np.stack(np.meshgrid(xs, ys, zs, indexing="ij"), axis=-1)[inside]  # (V, 3)
+    # scipy.spatial at the first map, not with the CLI (0.3 s of every armik command)
+    from scipy.spatial.transform import Rotation
+
     rotations = Rotation.random(orientations, random_state=seed).as_matrix()  # (K, 3, 3)
     v, k = len(centres), orientations
     targets = TargetBatch(

@@ -57,6 +57,8 @@ _ANGLES = (0.0, 2.0 * math.pi / 3.0, 4.0 * math.pi / 3.0)
 _BASIS = np.linalg.inv(np.array([[math.sin(a), math.cos(a), 1.0] for a in _ANGLES]))
 # (s, c, 1) times 1 + x^2 as polynomials in x = tan(q / 2): rows s, c, 1; columns 1, x, x^2
 _HALF = np.array([[0.0, 2.0, 0.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0]])
+# typed indices, not literals: one compile each of row9, at9, _line and _reflect
+K0, K1, K2, K3, K4, K5 = (np.int64(k) for k in range(6))
 
 
 def cut_joints(cut: int) -> tuple[np.ndarray, int]:
@@ -116,22 +118,22 @@ def _sides(LH, LR, LT, Lc, Rc):
     for a in range(3):
         for b in range(3):
             for c in range(3):
-                R3, R4, R5 = at9(Rs, 2, a), at9(Rs, 3, b), at9(Rs, 4, c)
-                inner = add(mv(row9(LR, 3), mv(R5, vec(LT[4]))), vec(LT[3]))
-                pv = mv(R3, add(mv(row9(LR, 2), mv(R4, inner)), vec(LT[2])))
-                Y = mm(mm(mm(R3, row9(LR, 2)), mm(R4, row9(LR, 3))),
-                       mm(R5, row9(LR, 4)))  # fmt: skip
+                R3, R4, R5 = at9(Rs, K2, a), at9(Rs, K3, b), at9(Rs, K4, c)
+                inner = add(mv(row9(LR, K3), mv(R5, vec(LT[4]))), vec(LT[3]))
+                pv = mv(R3, add(mv(row9(LR, K2), mv(R4, inner)), vec(LT[2])))
+                Y = mm(mm(mm(R3, row9(LR, K2)), mm(R4, row9(LR, K3))),
+                       mm(R5, row9(LR, K4)))  # fmt: skip
                 _fourteen(pv, mv(Y, h6), S, 14 * (9 * a + 3 * b + c))
     _fit3(S, Lc)
     T = np.empty(14 * 9)
-    o6 = scale(mtv(row9(LR, 5), vec(LT[5])), -1.0)  # L6^-1 o
-    d6 = mtv(row9(LR, 5), h6)
+    o6 = scale(mtv(row9(LR, K5), vec(LT[5])), -1.0)  # L6^-1 o
+    d6 = mtv(row9(LR, K5), h6)
     for a in range(3):
         for b in range(3):
-            R1, R2 = at9(Rs, 0, a), at9(Rs, 1, b)
-            v = sub(mtv(row9(LR, 0), mtv(R1, o6)), mtv(row9(LR, 0), vec(LT[0])))
-            pv = sub(mtv(row9(LR, 1), mtv(R2, v)), mtv(row9(LR, 1), vec(LT[1])))
-            lv = mtv(row9(LR, 1), mtv(R2, mtv(row9(LR, 0), mtv(R1, d6))))
+            R1, R2 = at9(Rs, K0, a), at9(Rs, K1, b)
+            v = sub(mtv(row9(LR, K0), mtv(R1, o6)), mtv(row9(LR, K0), vec(LT[0])))
+            pv = sub(mtv(row9(LR, K1), mtv(R2, v)), mtv(row9(LR, K1), vec(LT[1])))
+            lv = mtv(row9(LR, K1), mtv(R2, mtv(row9(LR, K0), mtv(R1, d6))))
             _fourteen(pv, lv, T, 14 * (3 * a + b))
     for n in range(14):
         for i in range(3):
@@ -169,8 +171,8 @@ def _fit3(S, Lc):
         for n in range(14):
             for u in range(3):
                 for v in range(3):
-                    y0, y1, y2 = _line(W, n, u, v, axis, 0), _line(W, n, u, v, axis, 1), \
-                        _line(W, n, u, v, axis, 2)  # fmt: skip
+                    y0, y1, y2 = _line(W, n, u, v, axis, K0), _line(W, n, u, v, axis, K1), \
+                        _line(W, n, u, v, axis, K2)  # fmt: skip
                     for i in range(3):
                         x = _BASIS[i, 0] * y0 + _BASIS[i, 1] * y1 + _BASIS[i, 2] * y2
                         if axis == 0:
@@ -220,7 +222,7 @@ def _householder(A, P):
             v2 += v[r] * v[r]
         if v2 > 0.0:
             _reflect(A, v, v2, k, m, k, k_n)
-            _reflect(P, v, v2, k, m, np.int64(0), m)  # a typed 0: one compile of _reflect
+            _reflect(P, v, v2, k, m, K0, m)
         big, small = max(big, abs(A[k, k])), min(small, abs(A[k, k]))
     return small / big if big > 0.0 else 0.0
 

@@ -97,8 +97,9 @@ def _back(state, x, Mx, piv, u, z, q):
         Y = mm(mm(Y, rot(_h(state, o_H, k), q[k])), _r(state, o_L, k))
     for k in range(2):
         W = mm(mm(W, rot(_h(state, o_H, k), q[k])), _r(state, o_L, k))
-    R6 = mmt(mtm(Y, (W[0], W[3], W[6], W[1], W[4], W[7], W[2], W[5], W[8])), _r(state, o_L, 5))
-    h6 = _h(state, o_H, 5)
+    last = np.int64(5)  # typed, not a literal: one compile of _r and _h
+    R6 = mmt(mtm(Y, (W[0], W[3], W[6], W[1], W[4], W[7], W[2], W[5], W[8])), _r(state, o_L, last))
+    h6 = _h(state, o_H, last)
     e = (1.0, 0.0, 0.0) if abs(h6[0]) < 0.9 else (0.0, 1.0, 0.0)
     a = cross(h6, e)
     y = mv(R6, a)

@@ -121,7 +121,7 @@ def judged(n, chain, packed, kind, halton, frame, judge, H, rows):
         claimed = not int(rows[i, 6]) & LS and int(rows[i, 8]) != NOT_FOUND
         if claimed and not _within(rows, i, lower, upper):
             later |= 1 << i
-    fk_checks_beside(packed, kind, halton, frame, H, rows, n, MEASURED, later)
+    fk_checks_beside(packed, kind, halton, frame, H, rows, n, np.int64(MEASURED), later)
     tol_p, tol_r = judge[0], judge[1]
     rot = int(frame[18]) & 2 != 0
     for i in range(n):
@@ -164,7 +164,7 @@ def finish(ctx, rows, n):
         if math.isnan(rows[i, ERROR]):
             later |= 1 << i
     if later:
-        fk_checks_beside(packed, kind, halton, frame, H, rows, n, MEASURED, ~later)
+        fk_checks_beside(packed, kind, halton, frame, H, rows, n, np.int64(MEASURED), ~later)
         rot = int(frame[18]) & 2 != 0
         for i in range(n):
             if later >> i & 1:
@@ -210,7 +210,7 @@ def _order(rows, n):
     W = rows[:n].copy()
     taken = 0
     for k in range(n):
-        best = -1
+        best = np.int64(-1)
         for r in range(n):
             if not taken & (1 << r) and (best < 0 or _before(W, r, best)):
                 best = r
