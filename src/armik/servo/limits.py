@@ -34,6 +34,19 @@ def time_step(dt: object) -> float:
     return value
 
 
+def gain_of(gain: object) -> float:
+    """``gain`` (the fraction of the error corrected a tick) as a float in (0, 1]; raises
+    ``OptionError`` otherwise."""
+    g = float(gain) if isinstance(gain, (int, float)) else math.nan
+    if not 0.0 < g <= 1.0:
+        raise OptionError(
+            f"gain must be in (0, 1] (the fraction of the error corrected a tick), got {gain!r}",
+            option="gain",
+            value=gain,
+        )
+    return g
+
+
 def urdf_velocities(arm: ArmModel | Union) -> np.ndarray:
     """Each joint's URDF velocity limit (rad/s, m/s); inf where the URDF gives none (0)."""
     m = arm.model

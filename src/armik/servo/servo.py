@@ -3,7 +3,6 @@ commanded sequence itself (``Arm.servo`` starts one; docs/servo.md)."""
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 
 import numpy as np
@@ -15,7 +14,13 @@ from armik.model.arm_model import ArmModel, model_of
 from armik.servo import layout as k
 from armik.servo import table as _table
 from armik.servo.collisions import rows_for
-from armik.servo.limits import DEFAULT_ACCELERATION, per_joint, time_step, urdf_velocities
+from armik.servo.limits import (
+    DEFAULT_ACCELERATION,
+    gain_of,
+    per_joint,
+    time_step,
+    urdf_velocities,
+)
 from armik.servo.result import STATUSES, ServoRecord, ServoStep, record
 from armik.servo.tick import tick, tick_pose
 
@@ -64,14 +69,7 @@ class Servo:
         amax = per_joint(
             acceleration_limits, arm, "acceleration_limits", np.full(n, DEFAULT_ACCELERATION)
         )
-        g = float(gain) if isinstance(gain, (int, float)) else math.nan
-        if not 0.0 < g <= 1.0:
-            raise OptionError(
-                f"gain must be in (0, 1] (the fraction of the error corrected a tick), got "
-                f"{gain!r}",
-                option="gain",
-                value=gain,
-            )
+        g = gain_of(gain)
         self._mem, self._imem = k.allocate(arm.kernel_chain.flat)
         self._state, self._cfg, self._out = k.python_views(self._mem, n)
         self._state[k.Q], self._state[k.REST] = q, q

@@ -26,7 +26,13 @@ from armik.errors import OptionError, TargetError
 from armik.frozen import frozen
 from armik.model.union import Union
 from armik.problem.tasks import Pose, Position
-from armik.servo.limits import DEFAULT_ACCELERATION, per_joint, time_step, urdf_velocities
+from armik.servo.limits import (
+    DEFAULT_ACCELERATION,
+    gain_of,
+    per_joint,
+    time_step,
+    urdf_velocities,
+)
 from armik.servo.result import STATUSES, ServoStatus, ServoStep
 from armik.servo.union_tick import damped_step, task_rows
 from armik.targets.pose import Target, parse_target
@@ -83,14 +89,7 @@ class UnionServo:
         self._amax = per_joint(
             acceleration_limits, union, "acceleration_limits", np.full(n, DEFAULT_ACCELERATION)
         )
-        g = float(gain) if isinstance(gain, (int, float)) else math.nan
-        if not 0.0 < g <= 1.0:
-            raise OptionError(
-                f"gain must be in (0, 1] (the fraction of the error corrected a tick), got "
-                f"{gain!r}",
-                option="gain",
-                value=gain,
-            )
+        g = gain_of(gain)
         self._gain, self._tol = g, (float(tol_position), float(tol_orientation))
         self._q, self._v, self._a, self._rest = q.copy(), np.zeros(n), np.zeros(n), q.copy()
         self._last: dict[str, Target] | None = None  # the last tick's targets
