@@ -159,6 +159,10 @@ def test_what_a_servo_over_shared_joints_does_not_take_is_refused(elbow_and_hand
         servo.step({"panda_hand": hand, "panda_link4": "up"})
     with pytest.raises(OptionError, match="q0 must hold 7"):
         robot.servo(q0[:5])
+    with pytest.raises(OptionError, match="q0 must hold 7 finite"):
+        robot.servo("up")
+    with pytest.raises(OptionError, match="within the joint limits"):
+        robot.servo(robot.upper + 0.1)
 
 
 @pytest.fixture(scope="module")

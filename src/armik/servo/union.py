@@ -71,7 +71,10 @@ class UnionServo:
         self.joint_names = union.joint_names
         n = union.dof
         self.dt = time_step(dt)
-        q = np.asarray(q0, dtype=float) if q0 is not None else union.middle.copy()
+        try:
+            q = np.asarray(q0, dtype=float) if q0 is not None else union.middle.copy()
+        except (TypeError, ValueError):
+            q = np.full(1, np.nan)  # refused below, by name
         if q.shape != (n,) or not np.all(np.isfinite(q)):
             raise OptionError(
                 f"q0 must hold {n} finite joint values ({', '.join(self.joint_names)}), got {q0!r}",
