@@ -70,6 +70,9 @@ class BatchResult:
     score: np.ndarray | None = None  # (N,) with prefer=; NaN filled when None is given
     region: bool = False  # the targets are regions (bounds, a cone): errors lie outside them
     measured: np.ndarray | None = None  # (N, 2) the verdict's errors; NaN filled when None
+    # a success's claim before its verdict's words, as ``solve`` says it ("{}": its
+    # restarts; a numeric solver's ``reasons.CONVERGED``), or "" for none
+    claim: str = ""
 
     def __post_init__(self) -> None:
         n = len(self.success)
@@ -133,7 +136,8 @@ class BatchResult:
         if not math.isnan(apart[0]):  # the verdict measured apart: what it measured first
             pos, ori = apart[0], apart[1]
         measured = reasons.measured(pos, ori, self.tol_position, self.tol_orientation)
-        text = reasons.verified(None, reasons.outside_region(measured) if self.region else measured)
+        said = self.claim.format(int(self.restarts[i])) if self.claim and self.success[i] else None
+        text = reasons.verified(said, reasons.outside_region(measured) if self.region else measured)
         if not math.isnan(apart[0]):
             pos, ori = float(self.position_error[i]), float(self.orientation_error[i])
             text = reasons.measured_apart(text, pos, ori, not self.region)
@@ -342,8 +346,11 @@ class BatchResult:
         )
 
     @classmethod
-    def for_arm(cls, arm: ArmModel, n: int, solver: str, opts: Options) -> BatchResult:
-        """``empty`` rows for n targets of ``arm``, labelled with its joints and tolerances."""
+    def for_arm(
+        cls, arm: ArmModel, n: int, solver: str, opts: Options, claim: str = ""
+    ) -> BatchResult:
+        """``empty`` rows for n targets of ``arm``, labelled with its joints and tolerances
+        (``claim``: see the field)."""
         return cls.empty(
             n,
             arm.dof,
@@ -355,6 +362,7 @@ class BatchResult:
             tol_orientation=opts.tol_orientation,
             margin=opts.margin,
             region=opts.region,
+            claim=claim,
         )
 
     def put(self, start: int, part: BatchResult) -> None:

@@ -21,6 +21,9 @@ def outside_region(measured_text: str) -> str:
     return f"outside the region: {measured_text}"
 
 
+CONVERGED = "converged after {} restart(s)"  # a numeric solver's claim: its restarts
+
+
 def verified(claim_reason: str | None, measured_text: str) -> str:
     """The reason of a success: the solver's own words, then the measure."""
     reason = f"verified by forward kinematics: {measured_text}"

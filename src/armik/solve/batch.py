@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from armik import reasons
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions
 from armik.constraints.collision import checker
@@ -124,7 +125,8 @@ def solve_batch(
     request = request.but(solver=spec.name)
     workers = _workers(workers, spec)
     chunk = _chunk_size(chunk_size)
-    out = BatchResult.for_arm(arm, n, spec.name, opts)
+    claim = reasons.CONVERGED if spec.kind == "numeric" else ""  # a success's, as solve's
+    out = BatchResult.for_arm(arm, n, spec.name, opts, claim)
     if opts.collisions:  # the pairs in the checker's order, whatever order rows finish in
         out.pair_names.extend(checker(arm, opts.obstacles, opts.self_collision).pair_names)
     bar = make_progress(progress, n, f"{arm.name}/{spec.name}")

@@ -239,7 +239,7 @@ def run_numeric(
 
 
 def converged_reason(restarts: int) -> str:
-    return f"converged after {restarts} restart(s)"
+    return reasons.CONVERGED.format(restarts)
 
 
 def kernel_answers(arm: ArmModel, position, q0, opts: Options, sf, info, out_q, err) -> Answers:
