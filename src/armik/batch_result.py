@@ -224,6 +224,7 @@ class BatchResult:
             score=self._scores[picked],
             region=self.region,
             measured=self._measured[picked],
+            claim=self.claim,
         )
 
     def __iter__(self) -> Iterator[IKResult]:
@@ -275,6 +276,7 @@ class BatchResult:
             "tol_orientation": self.tol_orientation,
             "margin": self.margin,
             "region": self.region,
+            "claim": self.claim,
             "statuses": _WORDS.tolist(),
             "pair_names": [list(p) for p in self.pair_names],
         }
@@ -327,6 +329,7 @@ class BatchResult:
             score=arrays.get("score"),  # absent from files written before preferences
             region=bool(meta.get("region", False)),  # absent from files before regions
             measured=arrays.get("measured"),  # absent from files before it was kept
+            claim=str(meta.get("claim", "")),  # absent from files before it was kept
         )
 
     # -- building ---------------------------------------------------------------------
