@@ -17,6 +17,82 @@ from numba import njit
 from armik.kernel.chain import PRISMATIC, dof, joints, off_axis, off_joint_p, off_mimic, off_tip
 
 
+# The running transform of the FK (rot: its rotation, 9 floats row-major; t: its
+# translation), carried joint by joint: one copy of the arithmetic for ``forward`` and
+# ``fk_shared.forward_row``, which must place alike to the last bit.
+@njit(cache=True, nogil=True, inline="always")
+def through_placement(X, i, jp, rot, t):
+    """(rot, t) through physical joint i's fixed placement (rotation P, translation d):
+    t += rot d ; rot = rot P."""
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = rot
+    o = 9 * i
+    P00, P01, P02 = X[o], X[o + 1], X[o + 2]
+    P10, P11, P12 = X[o + 3], X[o + 4], X[o + 5]
+    P20, P21, P22 = X[o + 6], X[o + 7], X[o + 8]
+    o = jp + 3 * i
+    d0, d1, d2 = X[o], X[o + 1], X[o + 2]
+    t = (
+        t[0] + (r00 * d0 + r01 * d1 + r02 * d2),
+        t[1] + (r10 * d0 + r11 * d1 + r12 * d2),
+        t[2] + (r20 * d0 + r21 * d1 + r22 * d2),
+    )
+    rot = (
+        r00 * P00 + r01 * P10 + r02 * P20,
+        r00 * P01 + r01 * P11 + r02 * P21,
+        r00 * P02 + r01 * P12 + r02 * P22,
+        r10 * P00 + r11 * P10 + r12 * P20,
+        r10 * P01 + r11 * P11 + r12 * P21,
+        r10 * P02 + r11 * P12 + r12 * P22,
+        r20 * P00 + r21 * P10 + r22 * P20,
+        r20 * P01 + r21 * P11 + r22 * P21,
+        r20 * P02 + r21 * P12 + r22 * P22,
+    )
+    return rot, t
+
+
+@njit(cache=True, nogil=True, inline="always")
+def turned(rot, ux, uy, uz, x):
+    """rot Rot(u, x), Rot = c I + s [u]x + (1 - c) u u^T (Rodrigues)."""
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = rot
+    s, c = math.sin(x), math.cos(x)
+    k = 1.0 - c
+    m00 = c + k * ux * ux
+    m01 = k * ux * uy - s * uz
+    m02 = k * ux * uz + s * uy
+    m10 = k * uy * ux + s * uz
+    m11 = c + k * uy * uy
+    m12 = k * uy * uz - s * ux
+    m20 = k * uz * ux - s * uy
+    m21 = k * uz * uy + s * ux
+    m22 = c + k * uz * uz
+    return (
+        r00 * m00 + r01 * m10 + r02 * m20,
+        r00 * m01 + r01 * m11 + r02 * m21,
+        r00 * m02 + r01 * m12 + r02 * m22,
+        r10 * m00 + r11 * m10 + r12 * m20,
+        r10 * m01 + r11 * m11 + r12 * m21,
+        r10 * m02 + r11 * m12 + r12 * m22,
+        r20 * m00 + r21 * m10 + r22 * m20,
+        r20 * m01 + r21 * m11 + r22 * m21,
+        r20 * m02 + r21 * m12 + r22 * m22,
+    )
+
+
+@njit(cache=True, nogil=True, inline="always")
+def tip_pose(X, tip, rot, t, R, p):
+    """(R, p) = the tip frame's placement after the last joint's (rot, t)."""
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = rot
+    d0, d1, d2 = X[tip + 9], X[tip + 10], X[tip + 11]
+    p[0] = t[0] + r00 * d0 + r01 * d1 + r02 * d2
+    p[1] = t[1] + r10 * d0 + r11 * d1 + r12 * d2
+    p[2] = t[2] + r20 * d0 + r21 * d1 + r22 * d2
+    for j in range(3):
+        P0j, P1j, P2j = X[tip + j], X[tip + 3 + j], X[tip + 6 + j]
+        R[0, j] = r00 * P0j + r01 * P1j + r02 * P2j
+        R[1, j] = r10 * P0j + r11 * P1j + r12 * P2j
+        R[2, j] = r20 * P0j + r21 * P1j + r22 * P2j
+
+
 @njit(cache=True, nogil=True, inline="always")
 def forward(ch, q, R, p, origins, axes):
     """T_base_tip = (R, p) for joint values q (``ch``: a ``chain.Flat``); ``origins`` and
@@ -26,79 +102,27 @@ def forward(ch, q, R, p, origins, axes):
     X = ch.packed
     jp, ja, tip, mim = off_joint_p(N), off_axis(N), off_tip(N), off_mimic(N, n)
     kinds = ch.kind
-    # (r, t): the running transform, as nine and three scalars
-    r00, r01, r02, r10, r11, r12, r20, r21, r22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
-    t0, t1, t2 = 0.0, 0.0, 0.0
+    rot = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
+    t = (0.0, 0.0, 0.0)
     for i in range(N):
-        o = 9 * i  # joint i's placement: rotation P (row-major), translation d
-        P00, P01, P02 = X[o], X[o + 1], X[o + 2]
-        P10, P11, P12 = X[o + 3], X[o + 4], X[o + 5]
-        P20, P21, P22 = X[o + 6], X[o + 7], X[o + 8]
-        o = jp + 3 * i
-        d0, d1, d2 = X[o], X[o + 1], X[o + 2]
-        # t += r d ; r = r P
-        t0 += r00 * d0 + r01 * d1 + r02 * d2
-        t1 += r10 * d0 + r11 * d1 + r12 * d2
-        t2 += r20 * d0 + r21 * d1 + r22 * d2
-        a00 = r00 * P00 + r01 * P10 + r02 * P20
-        a01 = r00 * P01 + r01 * P11 + r02 * P21
-        a02 = r00 * P02 + r01 * P12 + r02 * P22
-        a10 = r10 * P00 + r11 * P10 + r12 * P20
-        a11 = r10 * P01 + r11 * P11 + r12 * P21
-        a12 = r10 * P02 + r11 * P12 + r12 * P22
-        a20 = r20 * P00 + r21 * P10 + r22 * P20
-        a21 = r20 * P01 + r21 * P11 + r22 * P21
-        a22 = r20 * P02 + r21 * P12 + r22 * P22
-        r00, r01, r02, r10, r11, r12, r20, r21, r22 = a00, a01, a02, a10, a11, a12, a20, a21, a22
+        rot, t = through_placement(X, i, jp, rot, t)
+        r00, r01, r02, r10, r11, r12, r20, r21, r22 = rot
         o = ja + 3 * i
         ux, uy, uz = X[o], X[o + 1], X[o + 2]
         wx = r00 * ux + r01 * uy + r02 * uz  # the axis in the base frame
         wy = r10 * ux + r11 * uy + r12 * uz
         wz = r20 * ux + r21 * uy + r22 * uz
-        origins[i, 0], origins[i, 1], origins[i, 2] = t0, t1, t2
+        origins[i, 0], origins[i, 1], origins[i, 2] = t[0], t[1], t[2]
         axes[i, 0], axes[i, 1], axes[i, 2] = wx, wy, wz
         if N == n:  # no mimic joint: every joint is its own driver
             x = q[i]
         else:
             x = X[mim + i] * q[kinds[n + N + i]] + X[mim + N + i]
         if kinds[n + i] == PRISMATIC:
-            t0 += wx * x
-            t1 += wy * x
-            t2 += wz * x
+            t = (t[0] + wx * x, t[1] + wy * x, t[2] + wz * x)
         else:
-            # r <- r Rot(u, x), Rot = c I + s [u]x + (1 - c) u u^T (Rodrigues)
-            s, c = math.sin(x), math.cos(x)
-            k = 1.0 - c
-            m00 = c + k * ux * ux
-            m01 = k * ux * uy - s * uz
-            m02 = k * ux * uz + s * uy
-            m10 = k * uy * ux + s * uz
-            m11 = c + k * uy * uy
-            m12 = k * uy * uz - s * ux
-            m20 = k * uz * ux - s * uy
-            m21 = k * uz * uy + s * ux
-            m22 = c + k * uz * uz
-            a00 = r00 * m00 + r01 * m10 + r02 * m20
-            a01 = r00 * m01 + r01 * m11 + r02 * m21
-            a02 = r00 * m02 + r01 * m12 + r02 * m22
-            a10 = r10 * m00 + r11 * m10 + r12 * m20
-            a11 = r10 * m01 + r11 * m11 + r12 * m21
-            a12 = r10 * m02 + r11 * m12 + r12 * m22
-            a20 = r20 * m00 + r21 * m10 + r22 * m20
-            a21 = r20 * m01 + r21 * m11 + r22 * m21
-            a22 = r20 * m02 + r21 * m12 + r22 * m22
-            r00, r01, r02 = a00, a01, a02
-            r10, r11, r12 = a10, a11, a12
-            r20, r21, r22 = a20, a21, a22
-    d0, d1, d2 = X[tip + 9], X[tip + 10], X[tip + 11]
-    p[0] = t0 + r00 * d0 + r01 * d1 + r02 * d2
-    p[1] = t1 + r10 * d0 + r11 * d1 + r12 * d2
-    p[2] = t2 + r20 * d0 + r21 * d1 + r22 * d2
-    for j in range(3):
-        P0j, P1j, P2j = X[tip + j], X[tip + 3 + j], X[tip + 6 + j]
-        R[0, j] = r00 * P0j + r01 * P1j + r02 * P2j
-        R[1, j] = r10 * P0j + r11 * P1j + r12 * P2j
-        R[2, j] = r20 * P0j + r21 * P1j + r22 * P2j
+            rot = turned(rot, ux, uy, uz, x)
+    tip_pose(X, tip, rot, t, R, p)
 
 
 @njit(cache=True, nogil=True, inline="always")
