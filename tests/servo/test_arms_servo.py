@@ -206,8 +206,10 @@ def test_the_rows_over_shared_joints_are_pinocchio_s(which, elbow_and_hand, pr2)
         for k, tip in enumerate(robot.tips):
             servo._goal_R[k], servo._goal_p[k] = goals[tip].rotation, goals[tip].translation
         servo._rotated[:] = True
-        E = np.empty(12)
-        assert servo._rows(q, servo._goal_R, servo._goal_p, E, True) == 12
+        R_goal, p_goal = servo._goal_R, servo._goal_p
+        swapped = np.ascontiguousarray(R_goal[::-1]), np.ascontiguousarray(p_goal[::-1])
+        assert servo._rows(q, R_goal, p_goal, *swapped, True) == 12
+        E, E_last = servo._E, servo._E_last  # toward the goals, and toward them swapped
         pin.computeJointJacobians(model, data, union.to_pin(q))
         R_bw = union.T_base_world.rotation
         for k, tip in enumerate(robot.tips):
@@ -218,5 +220,9 @@ def test_the_rows_over_shared_joints_are_pinocchio_s(which, elbow_and_hand, pr2)
             assert np.allclose(E[rows][:3], goals[tip].translation - T.translation, atol=1e-12)
             turned = pin.log3(goals[tip].rotation @ T.rotation.T)
             assert np.allclose(E[rows][3:], turned, atol=1e-12)
+            other = goals[robot.tips[1 - k]]  # the last tick's goal, from the same FK
+            assert np.allclose(E_last[rows][:3], other.translation - T.translation, atol=1e-12)
+            turned = pin.log3(other.rotation @ T.rotation.T)
+            assert np.allclose(E_last[rows][3:], turned, atol=1e-12)
             assert np.allclose(servo._A[rows][:3], R_bw @ J[:3], atol=1e-12)
             assert np.allclose(servo._A[rows][3:], R_bw @ J[3:], atol=1e-12)

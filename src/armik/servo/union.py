@@ -107,7 +107,8 @@ class UnionServo:
         self._map_at = np.cumsum([0] + [len(c) for c in cols]).astype(np.int64)
         most = max(len(c) for c in cols)
         tips = len(self.tips)
-        # the kernel FK's scratch: R, p, each joint's origin and axis, a chain's q, a log
+        # the kernel FK's scratch: R, p, each joint's origin and axis, a chain's q, a log,
+        # R_goal R^T, and an empty restart table cut to each chain's joints
         self._fk = (
             np.empty((3, 3)),
             np.empty(3),
@@ -115,6 +116,8 @@ class UnionServo:
             np.empty((most, 3)),
             np.empty(most),
             np.empty(3),
+            np.empty((3, 3)),
+            np.empty((0, most)),
         )
         self._goal_R, self._goal_p = np.empty((tips, 3, 3)), np.empty((tips, 3))
         self._last_R, self._last_p = np.empty((tips, 3, 3)), np.empty((tips, 3))
@@ -170,8 +173,7 @@ class UnionServo:
                 gR[t], lR[t] = goal.rotation, before.rotation
         union, dt = self.union, self.dt
         E, E_last, A = self._E, self._E_last, self._A
-        m = self._rows(self._q, gR, gp, E, True)
-        self._rows(self._q, lR, lp, E_last, False)
+        m = self._rows(self._q, gR, gp, lR, lp, True)
         lb, ub, v, ints, Hh, gap, mult, Lm, x = self._scratch
         sigma, slowed, code, j, conflict = damped_step(
             A[:m], E[:m], E_last[:m], self._q, self._v, self._rest, union.lower, union.upper,
@@ -182,7 +184,7 @@ class UnionServo:
         v = (q - self._q) / dt
         a = (v - self._v) / dt
         self._q, self._v, self._a, self._last = q, v, a, goals
-        self._rows(q, gR, gp, E, False)
+        self._rows(q, gR, gp, gR, gp, False)
         pos, ori = _distances(E[:m], rotated)
         status = self._status(code, sigma, goals, pos, ori)
         if status is ServoStatus.TRACKING and slowed < 1.0 and pos > BRAKED:
@@ -203,14 +205,15 @@ class UnionServo:
             tips=None,
         )
 
-    def _rows(self, q: np.ndarray, R: np.ndarray, p: np.ndarray, E: np.ndarray, jac: bool) -> int:
-        """``task_rows`` at q toward the goals (R, p): E (and A with ``jac``), rows written."""
-        fk_R, fk_p, origins, axes, qc, w = self._fk
+    def _rows(self, q, goal_R, goal_p, last_R, last_p, jac: bool) -> int:
+        """``task_rows`` at q: ``_E`` toward the goals, ``_E_last`` toward the last ones
+        (and ``_A`` with ``jac``); the rows written."""
+        fk_R, fk_p, origins, axes, qc, w, M, flat0 = self._fk
         return int(
             task_rows(
                 self._packed, self._pack_at, self._kinds, self._kind_at, self._maps,
-                self._map_at, q, R, p, self._rotated, E, self._A, jac,
-                fk_R, fk_p, origins, axes, qc, w,
+                self._map_at, q, goal_R, goal_p, last_R, last_p, self._rotated, self._E,
+                self._E_last, self._A, jac, fk_R, fk_p, origins, axes, qc, w, M, flat0,
             )
         )  # fmt: skip
 

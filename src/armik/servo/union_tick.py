@@ -29,12 +29,31 @@ SINGULARITY, OUT_OF_REACH = 5, 6
 _BY_BOX = (TRACKING, JOINT_LIMIT, VELOCITY_LIMIT, ACCELERATION_LIMIT, JOINT_LIMIT)  # box.FREE..
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _errors(goal_R, goal_p, t, rotated, R, p, M, w, E, m):
+    """Tip t's rows of E at the placement (R, p): its goal's position error, then, where
+    its goal has a rotation, the rotation error ``log3(R_goal R^T)`` (M: R_goal R^T)."""
+    for r in range(3):
+        E[m + r] = goal_p[t, r] - p[r]
+    if not rotated:
+        return
+    G = goal_R[t]
+    for a in range(3):
+        for b in range(3):
+            M[a, b] = G[a, 0] * R[b, 0] + G[a, 1] * R[b, 1] + G[a, 2] * R[b, 2]
+    log3(M, w)
+    E[m + 3], E[m + 4], E[m + 5] = w[0], w[1], w[2]
+
+
 @njit(cache=True, nogil=True)
-def task_rows(packed, pack_at, kinds, kind_at, maps, map_at, q, goal_R, goal_p, rotated,
-              E, A, jacobian, R, p, origins, axes, qc, w):  # fmt: skip
-    """The stacked error E toward the goals (and with ``jacobian`` its Jacobian A over the
-    union's joints) at the union's joint values q; returns the rows written. ``R``, ``p``,
-    ``origins``, ``axes``, ``qc``, ``w``: scratch."""
+def task_rows(packed, pack_at, kinds, kind_at, maps, map_at, q, goal_R, goal_p, last_R,
+              last_p, rotated, E, E_last, A, jacobian,
+              R, p, origins, axes, qc, w, M, flat0):  # fmt: skip
+    """The stacked errors at the union's joint values q, from one FK of each chain: E
+    toward the goals, E_last toward the last tick's (of the same kinds), and with
+    ``jacobian`` E's Jacobian A over the union's joints; returns the rows written. ``R``,
+    ``p``, ``origins``, ``axes``, ``qc``, ``w``, ``M``: scratch; ``flat0`` (0, n): a chain's
+    empty restart table, cut to its joints."""
     m = 0
     n = q.shape[0]
     for t in range(pack_at.shape[0] - 1):
@@ -42,20 +61,12 @@ def task_rows(packed, pack_at, kinds, kind_at, maps, map_at, q, goal_R, goal_p, 
         nt = cols.shape[0]
         for j in range(nt):
             qc[j] = q[cols[j]]
-        ch = Flat(
-            packed[pack_at[t] : pack_at[t + 1]],
-            kinds[kind_at[t] : kind_at[t + 1]],
-            np.empty((0, nt)),
-        )
+        ch = Flat(packed[pack_at[t] : pack_at[t + 1]], kinds[kind_at[t] : kind_at[t + 1]],
+                  flat0[:, :nt])  # fmt: skip
         forward(ch, qc[:nt], R, p, origins, axes)
-        for r in range(3):
-            E[m + r] = goal_p[t, r] - p[r]
-        rows = 3
-        if rotated[t]:
-            M = goal_R[t] @ R.T
-            log3(M, w)
-            E[m + 3], E[m + 4], E[m + 5] = w[0], w[1], w[2]
-            rows = 6
+        _errors(goal_R, goal_p, t, rotated[t], R, p, M, w, E, m)
+        _errors(last_R, last_p, t, rotated[t], R, p, M, w, E_last, m)
+        rows = 6 if rotated[t] else 3
         if jacobian:
             for r in range(rows):
                 for c in range(n):
