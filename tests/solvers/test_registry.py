@@ -6,6 +6,7 @@ import pytest
 
 import armik
 from armik import SolverError
+from armik.options import Options
 from armik.solvers import registry
 
 from ..conftest import arm, model
@@ -64,7 +65,7 @@ def test_what_a_solver_does_not_declare_is_refused_by_the_registry(options, name
     it takes: the registry refuses the others in its words, whatever its ``why_not`` says."""
     ur5 = model("ur5")
     spec = registry.get(name)
-    asked = armik.options.Options.from_kwargs(options)
+    asked = Options.from_kwargs(options)
     assert asked.forms <= set(registry.FORMS)
     why = registry.why_not(name, ur5, None, asked)
     assert why is not None and words in why
@@ -73,9 +74,9 @@ def test_what_a_solver_does_not_declare_is_refused_by_the_registry(options, name
 
 def test_what_auto_takes_follows_the_forms_asked():
     ur5 = model("ur5")
-    plain = registry.choose("auto", ur5, None, armik.options.Options())
-    weighted = registry.choose("auto", ur5, None, armik.options.Options(weights=(1.0,) * 6))
-    spun = registry.choose("auto", ur5, None, armik.options.Options(bounds=(0, 0, 0, 0, 0, 3.2)))
+    plain = registry.choose("auto", ur5, None, Options())
+    weighted = registry.choose("auto", ur5, None, Options(weights=(1.0,) * 6))
+    spun = registry.choose("auto", ur5, None, Options(bounds=(0, 0, 0, 0, 0, 3.2)))
     assert plain.kind == "analytic" and not plain.solves
     assert weighted.kind == "numeric" and "weights" in weighted.solves
     assert spun.name == "spin_joint" and spun.needs == {"spin"}  # the UR5 wrist turns the tool
