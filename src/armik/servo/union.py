@@ -94,7 +94,7 @@ class UnionServo:
         )
         g = gain_of(gain)
         self._gain, self._tol = g, (float(tol_position), float(tol_orientation))
-        self._q, self._v, self._a, self._rest = q.copy(), np.zeros(n), np.zeros(n), q.copy()
+        self._q, self._v, self._rest = q.copy(), np.zeros(n), q.copy()
         self._last: dict[str, Target] | None = None  # the last tick's targets
         # the chains' kernel arrays one after the other, and their joints' union columns
         flats = [chains[tip].kernel_chain.flat for tip in self.tips]  # type: ignore[attr-defined]
@@ -183,7 +183,7 @@ class UnionServo:
         q = np.minimum(np.maximum(self._q + v * dt, union.lower), union.upper)
         v = (q - self._q) / dt
         a = (v - self._v) / dt
-        self._q, self._v, self._a, self._last = q, v, a, goals
+        self._q, self._v, self._last = q, v, goals
         self._rows(q, gR, gp, gR, gp, False)
         pos, ori = _distances(E[:m], rotated)
         status = self._status(code, sigma, goals, pos, ori)
