@@ -17,9 +17,9 @@ from armik.constraints.limits import JointLimits
 from armik.constraints.shapes import Shape
 from armik.errors import OptionError, listing
 from armik.frozen import frozen
-from armik.problem.budget import DEFAULT as DEFAULT_BUDGET
 from armik.problem.budget import Budget
 from armik.problem.scores import Posture
+from armik.problem.settings import SolverSettings
 from armik.tolerances import (
     MAX_COUNT,
     MAX_LENGTH,
@@ -30,41 +30,11 @@ from armik.tolerances import (
 
 
 @dataclass(frozen=True)
-class Options:
-    """Options accepted by ``Arm.solve`` and ``Arm.solve_all`` (units: m, rad, s).
+class Options(SolverSettings):
+    """Options accepted by ``Arm.solve`` and ``Arm.solve_all`` (units: m, rad, s): every
+    field of ``SolverSettings`` (``armik.problem.settings``), and what the stages around a
+    solver read:
 
-    - ``tol_position``, ``tol_orientation``: verification tolerances (1e-6 m, 1e-6 rad).
-    - ``timeout``: budget of a numeric solve, restarts included, in CPU time of the thread
-      that solves (0.05 s): other threads' work does not count, so the same seeded call
-      gives the same answer whether one thread or eight are solving (up to the thread's
-      own timing noise). Checked every 16 iterations and between attempts.
-    - ``iteration_budget``: a deterministic budget instead: at most this many iterations
-      per solve, restarts included (None: off). When given, ``timeout`` is not used, and
-      the same seeded call gives the same answer on every machine.
-    - ``max_restarts``: random restarts after the first attempt (1000; 0 disables).
-    - ``max_iterations``: iterations per attempt of a numeric solver (100).
-    - ``seed``: random seed of the restarts (0), so the same call gives the same answer.
-    - ``position_only``: ignore the target's orientation.
-    - ``weights``: 6 non-negative weights on (x, y, z, rx, ry, rz) of the error expressed
-      in the tip frame; a zero weight frees that axis (e.g. rotation about the tool axis).
-      With ``bounds``, the weights act on the error in the target frame, as the bounds do.
-    - ``bounds``: a region around the target, with TRAC-IK's meaning: the error twist of
-      the reached tip pose relative to the target, in the target frame (position
-      ``R_t^T (p - p_t)`` m, rotation ``log3(R_t^T R)`` rad), each component within +- its
-      bound (bx, by, bz, brx, bry, brz); ``math.inf`` frees an axis. A success lies within
-      the bounds (plus the tolerances); its errors are its distance outside them.
-    - ``cone``: (ax, ay, az, within): the tip's axis (ax, ay, az), in the tip frame, within
-      ``within`` rad of the target rotation's image of it (``R_t a``), its spin free; the
-      position as ``bounds`` say (exact without them). What ``armik.Position`` with an
-      ``armik.Axis`` lowers to (say it with those tasks); solved by ``dls`` and ``qp``.
-    - ``look_at``: (px, py, pz), m, base frame: the cone is around the line from the tip
-      to that point instead (what ``armik.LookAt`` lowers to; say it with that task).
-    - ``toward``: (dx, dy, dz), base frame: the cone is around that direction instead,
-      whatever the target's rotation (what ``armik.Axis`` with a box around a position
-      lowers to: the box in the base frame, the target's rotation the identity).
-    - ``qp_solver``: the qpsolvers backend of the ``qp`` solver ("osqp").
-    - ``nullspace_gain``: pull toward q0 in the null space of redundant arms (1.0; 0 disables).
-    - ``max_solutions``: cap on ``solve_all`` answers of numeric solvers (16).
     - ``obstacles``: shapes in the base frame (``armik.Box``, ``armik.HalfSpace``, ...)
       every answer must keep clear of; ``self_collision``: also the arm's own links (the
       URDF's ``<collision>`` geometry, minus adjacent links and an SRDF's pairs).
@@ -77,17 +47,11 @@ class Options:
     - ``swivel``: the elbow swivel angle (rad) of an SRS arm (the KUKA iiwa): every branch
       at that angle, the self-motion's one value (``armik.solve.parameter``; None: q0's, then
       swept). Not a joint, so not a ``hold``.
-    - ``posture``: (q_ref, weights): the null-space pull goes toward ``q_ref``, each joint's
-      share by its weight, instead of toward q0 (what ``secondary=[armik.Posture(q_ref,
-      weights)]`` spells; say it that way). ``dls`` and ``qp`` follow it where the task
-      leaves joints free; a closed form returns its answers nearest q0 as ever.
-    - ``budget``: ``timeout``, ``iteration_budget``, ``max_restarts`` and ``max_iterations``
-      as one object (``armik.Budget``), spelled here as those options (``Options.budget``
-      gives it back).
-    - ``constraints``: the last two as objects (``armik.Collisions``, ``armik.Hold``),
-      spelled here as those options (``Options.constraints`` gives them back); a list of
-      tasks honours them too, a ``Hold`` there on any arm. Any other constraint (a user's
-      own ``armik.constraints.base.Constraint``) is kept in ``checks``.
+    - ``constraints``: the collisions and held joints as objects (``armik.Collisions``,
+      ``armik.Hold``), spelled here as those options (``Options.constraints`` gives them
+      back); a list of tasks honours them too, a ``Hold`` there on any arm. Any other
+      constraint (a user's own ``armik.constraints.base.Constraint``) is kept in
+      ``checks``.
     - ``slide``: a collision-checked numeric solve slides its first colliding answer out of
       contact before it restarts (False; a followed path sets it: the answer stays near
       the previous waypoint's, where a restart lands anywhere).
@@ -96,28 +60,11 @@ class Options:
       success (``armik.verify.verdict``); the task solver also steps within their boxes.
     """
 
-    tol_position: float = 1e-6
-    tol_orientation: float = 1e-6
-    timeout: float = DEFAULT_BUDGET.timeout  # type: ignore[assignment]
-    max_restarts: int = DEFAULT_BUDGET.restarts  # type: ignore[assignment]
-    max_iterations: int = DEFAULT_BUDGET.per_attempt  # type: ignore[assignment]
-    seed: int | None = 0
-    position_only: bool = False
-    weights: tuple[float, ...] | None = None
-    bounds: tuple[float, ...] | None = None
-    cone: tuple[float, float, float, float] | None = None
-    look_at: tuple[float, float, float] | None = None
-    toward: tuple[float, float, float] | None = None
-    qp_solver: str = "osqp"
-    nullspace_gain: float = 1.0
-    max_solutions: int = 16
-    iteration_budget: int | None = None
     obstacles: tuple[Shape, ...] = ()
     self_collision: bool = False
     margin: float = 0.0
     hold: tuple[tuple[str, float | None], ...] | None = None
     swivel: float | None = None
-    posture: tuple[tuple[float, ...], tuple[float, ...]] | None = None
     checks: tuple[Constraint, ...] = ()
     slide: bool = False
 
@@ -138,47 +85,9 @@ class Options:
         return (*found, *self.checks)
 
     @property
-    def budget(self) -> Budget:
-        """The budget these options spell, every field filled (``armik.problem.budget``)."""
-        return frozen(
-            Budget,
-            timeout=self.timeout,
-            iterations=self.iteration_budget,
-            restarts=self.max_restarts,
-            per_attempt=self.max_iterations,
-        )
-
-    @property
     def secondary(self) -> tuple[Posture, ...]:
         """The secondary tasks these options spell: the posture, if any."""
         return () if self.posture is None else (Posture(*self.posture),)
-
-    @property
-    def forms(self) -> frozenset[str]:
-        """What these options ask beyond an exact pose, as a solver declares what it solves
-        (``registry.FORMS``; "spin": bounds that free one rotation component only)."""
-        found = []
-        if self.position_only:
-            found.append("position_only")
-        if self.weights is not None:
-            found.append("weights")
-        if self.cone is not None:
-            found.append("cone")
-        if self.bounds is not None:
-            found.append("spin" if self.cone is None and spin_of(self.bounds) else "bounds")
-        return frozenset(found)
-
-    @property
-    def region(self) -> bool:
-        """Whether the target has a region around it (``bounds`` or ``cone``): the errors are
-        measured outside it."""
-        return self.bounds is not None or self.cone is not None
-
-    @property
-    def region_bounds(self) -> tuple[float, ...]:
-        """The bounds of the region (a cone alone: the position exact; the rotation
-        components are the cone's to measure then)."""
-        return self.bounds if self.bounds is not None else (0.0,) * 6
 
     @classmethod
     def from_kwargs(cls, kwargs: dict[str, Any]) -> Options:
@@ -261,24 +170,6 @@ class Options:
         made = cls(**values)
         return made if look is None and toward is None else with_sight(made, look, toward)
 
-    def weight_vector(self, position_only_target: bool) -> np.ndarray:
-        """The 6 weights of the task; raises ``OptionError`` when they leave no axis to
-        measure (zero position weights on a position target or with ``position_only``):
-        every answer would then pass the check."""
-        w = np.ones(6) if self.weights is None else np.array(self.weights)
-        if self.position_only or position_only_target:
-            w[3:] = 0.0
-            if not w[:3].any():
-                why = "position_only=True" if self.position_only else "a position target"
-                raise OptionError(
-                    f"weights {self.weights} with {why} leave nothing to measure (the "
-                    "orientation is ignored and every position weight is 0): give x, y or z "
-                    "a positive weight",
-                    option="weights",
-                    value=self.weights,
-                )
-        return w
-
 
 _DEFAULT = Options()
 _NAMES = frozenset(f.name for f in fields(Options)) | {"constraints", "budget", "secondary"}
@@ -307,19 +198,6 @@ def spelled(kwargs: dict[str, Any]) -> dict[str, Any]:
             posture = _checked(item, Posture, "secondary", "holds one armik.Posture(q_ref)")
             _add(said, values, posture.said(), "a secondary task")
     return {**values, **said}
-
-
-def spin_of(bounds: tuple[float, ...] | None) -> tuple[int, float] | None:
-    """(k, half-width): the one rotation component of the target frame the bounds free
-    (rad, at most pi), the others and the position held exactly; else None."""
-    if bounds is None:
-        return None
-    b = [float(x) for x in bounds]  # plain floats: this runs on every spin solve
-    free = [k for k in range(3) if b[3 + k] != 0.0]
-    if any(x != 0.0 for x in b[:3]) or len(free) != 1:
-        return None
-    k = free[0]
-    return k, min(b[3 + k], math.pi)
 
 
 def _checked_posture(value: object) -> tuple[tuple[float, ...], tuple[float, ...]]:

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from armik.export import c_source, fk_code
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.tolerances import LIMIT_TOL, ROTATION_TOL
 
 
@@ -264,7 +264,7 @@ def _orientation(tol: float) -> tuple[str, str]:
     return line, "atan2(sa, ca) <= TOL_ORIENTATION"
 
 
-def source(name: str, arm: ArmModel, ax: Axes, rows: Rows, opts: Options) -> str:
+def source(name: str, arm: ArmModel, ax: Axes, rows: Rows, opts: SolverSettings) -> str:
     """``N_ik.c``: the helpers, the arm's constants, the family's rows and the rest; the
     verdict's tolerances are ``opts.tol_position`` (m) and ``opts.tol_orientation`` (rad)."""
     up = name.upper()

@@ -42,7 +42,7 @@ from armik import reasons
 from armik.batch_result import BatchResult
 from armik.kernel import ladder as kernel
 from armik.model.arm_model import ArmModel
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.result import IKResult
 from armik.solve.prefer import turns
 from armik.solvers.registry import SolverSpec
@@ -62,7 +62,7 @@ def plan(
     rungs: list[list[IKResult]],
     q0: np.ndarray | None,
     step: np.ndarray,
-    opts: Options,
+    opts: SolverSettings,
     out: BatchResult,
     score=None,
     reference: np.ndarray | None = None,
@@ -122,7 +122,9 @@ def _turns(r: IKResult, choices: list[list[float]]) -> list[IKResult]:
     return [dataclasses.replace(r, q=np.array(c)) for c in itertools.product(*choices)]
 
 
-def _checked(arm, spec: SolverSpec, opts: Options, targets: TargetBatch, args: tuple, node, weight):
+def _checked(
+    arm, spec: SolverSpec, opts: SolverSettings, targets: TargetBatch, args: tuple, node, weight
+):
     """``kernel.plan(*args, forbidden, node, weight)`` where no step taken hides a jump: the
     steps taken are checked, and where one fails, every other step onto its waypoint too;
     those that fail are forbidden and the path planned again, until the steps taken pass."""
@@ -251,7 +253,7 @@ def _halfway(Pa, Ra, Pb, Rb):
     return P, np.einsum("kij,kjl->kil", Ra, H)
 
 
-def _nearest(arm, spec: SolverSpec, opts: Options, P, R, seeds) -> np.ndarray:
+def _nearest(arm, spec: SolverSpec, opts: SolverSettings, P, R, seeds) -> np.ndarray:
     """Per pose, the solution nearest its seed, each angle turned nearest it within the
     limits; a row of NaN where there is none. An answer not claimed exact counts where its
     FK is within the tolerances (a least-squares answer on the edge of the workspace)."""
@@ -277,7 +279,7 @@ def _nearest(arm, spec: SolverSpec, opts: Options, P, R, seeds) -> np.ndarray:
     return q
 
 
-def _reached(arm, Q, P, R, opts: Options) -> np.ndarray:
+def _reached(arm, Q, P, R, opts: SolverSettings) -> np.ndarray:
     """Whether the FK of each row of ``Q`` is on its pose within the tolerances."""
     if not len(Q):
         return np.zeros(0, dtype=bool)

@@ -12,7 +12,9 @@ from typing import TYPE_CHECKING, Literal, NamedTuple
 
 from armik.errors import SolverError, listing
 from armik.model.derived import Derived
-from armik.options import Options  # the choices are kept per options: hashed, compared
+from armik.problem.settings import (
+    SolverSettings,
+)  # the choices are kept per options: hashed, compared
 
 if TYPE_CHECKING:
     import numpy as np
@@ -22,13 +24,13 @@ if TYPE_CHECKING:
     from armik.targets.batch import TargetBatch
     from armik.targets.pose import Target
 
-WhyNot = Callable[["ArmModel", "Target | None", "Options | None"], "str | None"]
-Run = Callable[["ArmModel", "Target", "np.ndarray", "Options", bool], "Answers"]
+WhyNot = Callable[["ArmModel", "Target | None", "SolverSettings | None"], "str | None"]
+Run = Callable[["ArmModel", "Target", "np.ndarray", "SolverSettings", bool], "Answers"]
 # Many targets, one best attempt each: (arm, targets, q0 (N, dof), options) -> arrays.
-RunBatch = Callable[["ArmModel", "TargetBatch", "np.ndarray", "Options"], "Answers"]
+RunBatch = Callable[["ArmModel", "TargetBatch", "np.ndarray", "SolverSettings"], "Answers"]
 # One plain 4x4 pose at a time, prepared once per arm, options and target kind (see
 # ``armik.solve.prepared``): (arm, options, position_only) -> run_pose(H, q0, seed).
-PreparePose = Callable[["ArmModel", "Options", bool], Callable]
+PreparePose = Callable[["ArmModel", "SolverSettings", bool], Callable]
 
 
 class Sweep(NamedTuple):
@@ -109,7 +111,9 @@ class SolverSpec:
     solves: frozenset[str] = frozenset(FORMS)
     needs: frozenset[str] = frozenset()
 
-    def declines(self, opts: Options | None, asked: frozenset[str] | None = None) -> str | None:
+    def declines(
+        self, opts: SolverSettings | None, asked: frozenset[str] | None = None
+    ) -> str | None:
         """Why this solver does not take these options, by the forms they ask (``asked``:
         ``opts.forms``, given where many solvers are asked) against what it declares; else
         None. Whether it applies is this, then its own ``why_not(arm, target, opts)``."""
@@ -188,7 +192,7 @@ def get(name: str) -> SolverSpec:
 
 
 def why_not(
-    name: str, arm: ArmModel, target: Target | None = None, opts: Options | None = None
+    name: str, arm: ArmModel, target: Target | None = None, opts: SolverSettings | None = None
 ) -> str | None:
     """None if solver ``name`` applies, else the check that failed."""
     spec = get(name)
@@ -230,7 +234,7 @@ def choose(
     name: str,
     arm: ArmModel,
     target: Target | None = None,
-    opts: Options | None = None,
+    opts: SolverSettings | None = None,
     every: bool = False,
 ) -> SolverSpec:
     """The solver to run: ``name`` itself (if it applies) or the best one for "auto":
@@ -249,7 +253,7 @@ def choose(
             )
         return spec
     # remembered per arm: applicability reads the target only for whether it is a position
-    key: tuple[bool, Options | None, bool, int] | None
+    key: tuple[bool, SolverSettings | None, bool, int] | None
     key = (target is not None and target.rotation is None, opts, every, generation)
     chosen = arm._derived.get(_AUTO, _NONE)
     try:

@@ -26,7 +26,7 @@ import numpy as np
 from armik.arm import Arm, load
 from armik.errors import OptionError
 from armik.model.catalogue import SPATIAL_ARMS
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.targets.pose import parse_target
 from armik.tools.peers import PEERS, PeerUnavailable
 from armik.tools.peers import make as make_peer
@@ -105,7 +105,7 @@ def bench_interleaved(
     iters: dict[str, list[int]] = {name: [] for name in names}
     ok = dict.fromkeys(names, 0)
     violations = dict.fromkeys(names, 0)
-    opts = Options(tol_position=tol, tol_orientation=tol)
+    opts = SolverSettings(tol_position=tol, tol_orientation=tol)
     done = 0
     # Each target runs every contender; the order turns by one per target, so that none
     # always runs first (after the others have cooled its caches) or last.

@@ -14,7 +14,7 @@ import numpy as np
 
 from armik.arm import Arm, load, load_string
 from armik.model.random_arms import random_urdf
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.solvers import registry
 from armik.targets.pose import parse_target
 from armik.tools.peers import EAIKPeer, PeerUnavailable
@@ -402,7 +402,7 @@ def speed(
         poses = [arm.fk(q) for q in qs]
         peer = _eaik(arm)
         mats = [peer.fwdKin(np.asarray(q)) for q in qs] if peer is not None else []
-        opts = Options()
+        opts = SolverSettings()
         # the closed form's prepared runner (what a prepared solve calls): compiled kernel
         # and ranking, no verification
         prepare = registry.get(family).prepare_pose

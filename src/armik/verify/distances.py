@@ -21,18 +21,18 @@ import numpy as np
 from armik import reasons
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.result import IKResult
 from armik.targets.batch import TargetBatch
 from armik.verify.measure import BatchMeasure, measure, measure_batch
 
 
-def apart(opts: Options) -> bool:
+def apart(opts: SolverSettings) -> bool:
     """Whether the verdict of ``opts`` measures other than the distances to the target."""
     return opts.weights is not None or opts.region
 
 
-def plain(opts: Options) -> Options:
+def plain(opts: SolverSettings) -> SolverSettings:
     """``opts`` measuring the distances themselves: no weights, a region shrunk to its
     centre (each finite bound 0; an infinite one frees its component, which is then no
     part of the target; a cone of its axis around its direction, 0 wide: the angle of the
@@ -43,10 +43,10 @@ def plain(opts: Options) -> Options:
         changes["bounds"] = tuple(0.0 if math.isfinite(b) else b for b in opts.bounds)
     if opts.cone is not None:
         changes["cone"] = (*opts.cone[:3], 0.0)
-    return frozen(Options, **{**opts.__dict__, **changes})
+    return frozen(type(opts), **{**opts.__dict__, **changes})
 
 
-def with_distances(arm: ArmModel, results: list[IKResult], target, opts: Options) -> list:
+def with_distances(arm: ArmModel, results: list[IKResult], target, opts: SolverSettings) -> list:
     """``results`` of a request ``apart``: each with its true distances to ``target``
     (Pinocchio's FK), the verdict's measure kept as ``measured``."""
     distance = plain(opts)
@@ -86,7 +86,7 @@ def _said_apart(said: tuple, pos: float, ori: float | None, weighted: bool) -> s
     return reasons.measured_apart(said[0](*said[1]), pos, ori, weighted)
 
 
-def batch_distances(arm: ArmModel, Q: np.ndarray, targets: TargetBatch, opts: Options):
+def batch_distances(arm: ArmModel, Q: np.ndarray, targets: TargetBatch, opts: SolverSettings):
     """The true distances of a batch's answers ``Q`` to their targets (``BatchMeasure``)."""
     m: BatchMeasure = measure_batch(arm, Q, targets, plain(opts))
     return m.position_error, m.orientation_error

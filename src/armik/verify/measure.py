@@ -33,7 +33,7 @@ from armik.kernel.measure import (
     within_limits,
 )
 from armik.model.arm_model import ArmModel
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 from armik.tolerances import LIMIT_TOL
@@ -68,7 +68,7 @@ class Measure:
         return reasons.outside_region(text) if self.region else text
 
 
-def _measures(opts: Options, position_only: bool) -> tuple[np.ndarray, bool, bool]:
+def _measures(opts: SolverSettings, position_only: bool) -> tuple[np.ndarray, bool, bool]:
     """(weights, weighted, orientation measured) for a target kind."""
     return measures_of(opts.weights, opts.position_only, position_only)
 
@@ -77,7 +77,7 @@ def _measures(opts: Options, position_only: bool) -> tuple[np.ndarray, bool, boo
 def measures_of(weights, position_only_option: bool, position_only_target: bool):
     """(weights (6,), weighted, orientation measured): what the check measures for these
     options (``weights``, ``position_only``) and target kind, remembered."""
-    w = Options(weights=weights, position_only=position_only_option).weight_vector(
+    w = SolverSettings(weights=weights, position_only=position_only_option).weight_vector(
         position_only_target
     )
     position_only = position_only_option or position_only_target
@@ -85,7 +85,7 @@ def measures_of(weights, position_only_option: bool, position_only_target: bool)
     return w, weights is not None, measure_rot
 
 
-def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: Options) -> Measure:
+def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: SolverSettings) -> Measure:
     """Measure ``q`` against ``target`` with Pinocchio FK and the joint limits."""
     model, data = arm.model, arm.data
     # Without continuous joints (one coordinate per joint) a float64 q is Pinocchio's
@@ -140,7 +140,7 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: Options) -> Meas
 
 
 def measure_many(
-    arm: ArmModel, qs: list[np.ndarray], target: Target, opts: Options
+    arm: ArmModel, qs: list[np.ndarray], target: Target, opts: SolverSettings
 ) -> BatchMeasure:
     """The numbers of ``[measure(arm, q, target, opts) for q in qs]`` (two or more), as
     arrays, all in one compiled call: each answer placed by the compiled FK
@@ -170,7 +170,7 @@ def measure_many(
     )
 
 
-def _region_many(arm: ArmModel, qs: list[np.ndarray], target: Target, opts: Options):
+def _region_many(arm: ArmModel, qs: list[np.ndarray], target: Target, opts: SolverSettings):
     """``measure_many`` of a target with a region: Pinocchio's placements."""
     n = len(qs)
     direct = arm.model.nq == arm.dof
@@ -259,7 +259,7 @@ def _placements(arm: ArmModel, rows, placed: list[bool]) -> tuple[np.ndarray, np
     return np.ascontiguousarray(H_w[:, :3, :3]), np.ascontiguousarray(H_w[:, :3, 3])
 
 
-def _errors(arm: ArmModel, R_w, p_w, R_t, p_t, opts: Options, position_only_target: bool):
+def _errors(arm: ArmModel, R_w, p_w, R_t, p_t, opts: SolverSettings, position_only_target: bool):
     """(errors (N, 2), orientation measured): each placement's position and orientation
     errors against its target (rotations ``R_t``, positions ``p_t``, C-ordered float64),
     the distances outside the region where ``opts`` gives one; NaN where the orientation
@@ -288,7 +288,7 @@ def _errors(arm: ArmModel, R_w, p_w, R_t, p_t, opts: Options, position_only_targ
 
 
 def measure_batch(
-    arm: ArmModel, Q: np.ndarray, targets: TargetBatch, opts: Options
+    arm: ArmModel, Q: np.ndarray, targets: TargetBatch, opts: SolverSettings
 ) -> BatchMeasure:
     """Measure row i of ``Q`` (N, dof) against target i, as ``measure`` does for one: Pinocchio
     FK for the placements, compiled code for the errors and the limits. A row with a

@@ -21,7 +21,7 @@ import numpy as np
 
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, axis_lines
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers, stacked
 from armik.solvers.closed_form import (
     elimination,
@@ -138,7 +138,7 @@ def applies(arm: ArmModel, target: Target | None = None, _opts: object = None) -
 
 
 def run(
-    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+    arm: ArmModel, target: Target, q0: np.ndarray, opts: SolverSettings, all_solutions: bool
 ) -> Answers:
     plan = sixr.geometry(arm, FAMILY, _classify)
     R, pos = sixr.pose_arrays(target)

@@ -17,7 +17,7 @@ from collections.abc import Callable
 import numpy as np
 
 from armik.model.arm_model import ArmModel
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers
 from armik.solvers.closed_form import sixr, sixr_answers
 from armik.solvers.closed_form.subproblems import mat, vec
@@ -51,7 +51,12 @@ class Family:
         return sixr.applies(arm, target, self.family, self.classify)
 
     def run(
-        self, arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+        self,
+        arm: ArmModel,
+        target: Target,
+        q0: np.ndarray,
+        opts: SolverSettings,
+        all_solutions: bool,
     ) -> Answers:
         chain = sixr.flat(arm, self.family, self.classify)
         h, p, R_tip0, lower, upper, variant = sixr.unflatten.py_func(chain)
@@ -66,7 +71,7 @@ class Family:
         return sixr_answers.of_rows(out[:n], self.family, self.closed_form, beyond)
 
     def run_batch(
-        self, arm: ArmModel, targets, q0: np.ndarray, opts: Options, seeds=None
+        self, arm: ArmModel, targets, q0: np.ndarray, opts: SolverSettings, seeds=None
     ) -> Answers:
         """Every target in one compiled call (GIL released), the ``SolverSpec.run_batch``
         shape; ``seeds`` is unused (no restarts). ``solve_batch`` solves the rows that fail
@@ -74,7 +79,7 @@ class Family:
         chain = sixr.flat(arm, self.family, self.classify)
         return sixr_answers.batch(arm, targets, q0, self.kernel_many, chain)
 
-    def prepare_pose(self, arm: ArmModel, opts: Options, position_only: bool):
+    def prepare_pose(self, arm: ArmModel, opts: SolverSettings, position_only: bool):
         # position_only is always False: ``applies`` refuses position targets
         return sixr_answers.pose_runner(
             arm, self.family, self.classify, self.solve_into, self.closed_form, self.rows,

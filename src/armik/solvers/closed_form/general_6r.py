@@ -33,7 +33,7 @@ from numba import njit
 
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, axis_lines
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers
 from armik.solvers.closed_form import sixr
 from armik.solvers.closed_form.search_1d import solve6
@@ -348,7 +348,7 @@ def applies(arm: ArmModel, target: Target | None = None, _opts: object = None) -
 
 
 def run(
-    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+    arm: ArmModel, target: Target, q0: np.ndarray, opts: SolverSettings, all_solutions: bool
 ) -> Answers:
     h, p, R_tip0, lower, upper, _ = sixr.unflatten.py_func(sixr.flat(arm, FAMILY, _classify))
     R, pos = sixr.pose_arrays(target)

@@ -27,7 +27,7 @@ from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.model.geometry import Axes, Plane, angle_between, axis_lines, fmt
 from armik.model.mimic import reason as mimic_reason
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers
 from armik.solvers.claims import claim
 from armik.solvers.closed_form import planar2r_kernel as kernel
@@ -127,7 +127,7 @@ def applies(arm: ArmModel, target: Target | None = None, _opts: object = None) -
     return None
 
 
-def flat(arm: ArmModel, opts: Options, orient: bool) -> np.ndarray:
+def flat(arm: ArmModel, opts: SolverSettings, orient: bool) -> np.ndarray:
     """The kernel's ``flat`` array (``planar2r_kernel``): the arm's geometry, plane and
     limits (remembered per arm) and the tolerances of ``opts``; ``orient``: the target's
     orientation is checked (a full pose, not ``position_only``)."""
@@ -159,7 +159,7 @@ _FLAT = Derived("planar 2R flat chain", _flat_chain)
 
 
 def run(
-    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+    arm: ArmModel, target: Target, q0: np.ndarray, opts: SolverSettings, all_solutions: bool
 ) -> Answers:
     orient = target.rotation is not None and not opts.position_only
     H = np.eye(4)
@@ -249,7 +249,7 @@ _CLAIMS = (
 )
 
 
-def prepare_pose(arm: ArmModel, opts: Options, position: bool):
+def prepare_pose(arm: ArmModel, opts: SolverSettings, position: bool):
     """``run_pose(H, q0, seed, every=False, xy=None)`` for ``armik.solve.prepared``: the
     kernel's answer for one plain 4x4 target ``H`` (a position's: ``position``), or with
     ``xy`` the target (x, y) in plane coordinates (then ``H`` holds it in the base frame):

@@ -21,7 +21,7 @@ import pinocchio as pin
 
 from armik.errors import SolverError
 from armik.model.arm_model import ArmModel
-from armik.options import Options, spin_of
+from armik.problem.settings import SolverSettings, spin_of
 from armik.solvers import registry
 from armik.solvers.answers import Answers, one, stacked
 from armik.status import Status
@@ -61,7 +61,7 @@ def _turned(target: Target, k: int, thetas: np.ndarray) -> TargetBatch:
 
 
 def run(
-    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+    arm: ArmModel, target: Target, q0: np.ndarray, opts: SolverSettings, all_solutions: bool
 ) -> Answers:
     k, half = spin_of(opts.bounds)  # type: ignore[misc]  # applies() checked it
     spec = family(arm, target)

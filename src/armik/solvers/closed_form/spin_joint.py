@@ -20,7 +20,7 @@ import pinocchio as pin
 
 from armik.model.arm_model import ArmModel
 from armik.model.derived import DerivedBy
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.solvers import registry
 from armik.solvers.answers import Answers, one
 from armik.solvers.claims import claim
@@ -52,7 +52,9 @@ def aligned(arm: ArmModel, k: int) -> bool:
 _ALIGNED = DerivedBy("spin axes that are the last joint's", aligned)  # per axis k
 
 
-def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
+def applies(
+    arm: ArmModel, target: Target | None = None, opts: SolverSettings | None = None
+) -> str | None:
     why = spin.applies(arm, target, opts)
     if why is not None:
         return why
@@ -66,7 +68,7 @@ def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = 
 
 
 def run(
-    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+    arm: ArmModel, target: Target, q0: np.ndarray, opts: SolverSettings, all_solutions: bool
 ) -> Answers:
     k, half = spin.spin_of(opts.bounds)  # type: ignore[misc]  # applies() checked it
     family = spin.family(arm, target)
@@ -79,7 +81,7 @@ def run(
     return dataclasses.replace(found.take(order), reasons=tuple(why))
 
 
-def prepare_pose(arm: ArmModel, opts: Options, position: bool):
+def prepare_pose(arm: ArmModel, opts: SolverSettings, position: bool):
     """``run_pose(H, q0, seed, every=False)`` for ``armik.solve.prepared``: ``run`` on a
     plain 4x4 pose through the family's prepared runner, the nearest answer a ``Claim``
     (with ``every``: every admissible branch's ``Answers``, q read-only); None where the
@@ -152,7 +154,9 @@ def _reason(name: str, axis: str, last: float, centre: float) -> str:
     )
 
 
-def _branches(arm: ArmModel, family, target: Target, q0: np.ndarray, opts: Options) -> Answers:
+def _branches(
+    arm: ArmModel, family, target: Target, q0: np.ndarray, opts: SolverSettings
+) -> Answers:
     """The closed form's branches that reach the target, nearest q0 first (q a writable
     copy: the spin turns its last column). The family's prepared runner where it takes the
     pose and seed as they are, else the family's answers."""
@@ -174,7 +178,7 @@ def _reached(got: Answers) -> Answers:
 # per family name: the closed form's prepared runner (the families' runners take no option)
 _RUNNER = DerivedBy(
     "spin_joint's closed-form runner",
-    lambda arm, name: registry.get(name).prepare_pose(arm, Options(), False),  # type: ignore[misc]
+    lambda arm, name: registry.get(name).prepare_pose(arm, SolverSettings(), False),  # type: ignore[misc]
 )
 _SHIFTS = tuple(2 * math.pi * k for k in (0, -1, 1, -2, 2))  # a branch's value's turns
 

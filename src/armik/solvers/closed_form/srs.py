@@ -31,7 +31,7 @@ import numpy as np
 
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, angle_between, axis_lines, fmt, meeting_point
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers
 from armik.solvers.closed_form import sixr, sixr_answers
 from armik.solvers.closed_form import srs_kernel as kernel
@@ -193,7 +193,7 @@ def at_swivel(arm: ArmModel, target: Target, q0: np.ndarray, psi: float) -> Answ
 
 
 def run(
-    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+    arm: ArmModel, target: Target, q0: np.ndarray, opts: SolverSettings, all_solutions: bool
 ) -> Answers:
     psi, rows, found = _rows(arm, target, q0, None)
     reached = len(rows) > 0 and not int(rows[0, 7]) & sixr.LS
@@ -228,7 +228,7 @@ def _elbow_limited(arm: ArmModel, rows: np.ndarray, psi: float, all_solutions: b
     )
 
 
-def _numeric(arm, target, q0, opts: Options, all_solutions: bool, psi: float) -> Answers:
+def _numeric(arm, target, q0, opts: SolverSettings, all_solutions: bool, psi: float) -> Answers:
     """``dls``'s answers from q0 where no swivel angle tried kept a branch within the
     limits, with that in their reasons."""
     found = get("dls").run(arm, target, q0, opts, all_solutions)

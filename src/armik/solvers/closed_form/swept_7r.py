@@ -31,7 +31,7 @@ from armik.kernel.measure import split_pose
 from armik.kernel.single import plain_pose, plain_seed
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, axis_lines
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers
 from armik.solvers.claims import claim
 from armik.solvers.closed_form import sixr, sixr_answers
@@ -311,7 +311,7 @@ def _rows_at(sw: Swept, target: Target, q0: np.ndarray, arm: ArmModel):
 
 
 def run(
-    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+    arm: ArmModel, target: Target, q0: np.ndarray, opts: SolverSettings, all_solutions: bool
 ) -> Answers:
     R, pos = sixr.pose_arrays(target)
     sw = cast(Swept, geometry(arm))  # ``applies`` holds: the geometry, no reason
@@ -330,7 +330,7 @@ def _beyond(arm: ArmModel, position, rows: np.ndarray) -> str | None:
     return sixr_answers.beyond_reach(arm, position)
 
 
-def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):
+def prepare_pose(arm: ArmModel, opts: SolverSettings, position_only: bool):
     """``run_pose`` for ``armik.solve.prepared`` (see
     ``armik.solvers.numeric.driver.pose_runner``); position_only is always False
     (``applies`` refuses position targets), ``solve_all`` takes the general path."""

@@ -4,7 +4,7 @@ As in Pinocchio's inverse-kinematics example: e = log6(T_tip^-1 T_target),
 v = -J^T (J J^T + damp I)^-1 e with J = -Jlog6(...) J_local, q <- integrate(q, v dt) with a
 fixed dt = 0.1, joints clipped into their limits, no restarts. Not chosen by "auto".
 
-Options: ``max_iterations`` caps the loop (Pinocchio's example uses 1000: the benchmark
+SolverSettings: ``max_iterations`` caps the loop (Pinocchio's example uses 1000: the benchmark
 passes that), ``iteration_budget`` caps it too, and ``timeout`` counts the solving thread's
 CPU time as for dls and qp. ``max_restarts``, ``seed`` and ``nullspace_gain`` have no effect:
 the loop has no restarts and no null-space term.
@@ -19,7 +19,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.model.arm_model import ArmModel
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers, one
 from armik.solvers.numeric.driver import Problem, converged, evaluate
 from armik.solvers.registry import SolverSpec, register
@@ -35,7 +35,7 @@ def applies(arm: ArmModel, target: Target | None = None, _opts: object = None) -
 
 
 def run(
-    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+    arm: ArmModel, target: Target, q0: np.ndarray, opts: SolverSettings, all_solutions: bool
 ) -> Answers:
     pb = Problem.build(arm, target, q0, opts)
     s = evaluate(pb, pb.q0_pin.copy())

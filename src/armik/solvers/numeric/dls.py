@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from armik.model.arm_model import ArmModel
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers
 from armik.solvers.numeric.driver import DLS_STEP, pose_runner, run_numeric, run_numeric_batch
 from armik.solvers.registry import SolverSpec, register
@@ -23,23 +23,25 @@ from armik.targets.pose import Target
 step = DLS_STEP  # the kernel's step for ``numeric.descend``
 
 
-def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
+def applies(
+    arm: ArmModel, target: Target | None = None, opts: SolverSettings | None = None
+) -> str | None:
     return None
 
 
 def run(
-    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+    arm: ArmModel, target: Target, q0: np.ndarray, opts: SolverSettings, all_solutions: bool
 ) -> Answers:
     return run_numeric(arm, target, q0, opts, all_solutions, DLS_STEP)
 
 
 def run_batch(
-    arm: ArmModel, targets: TargetBatch, q0: np.ndarray, opts: Options, seeds=None
+    arm: ArmModel, targets: TargetBatch, q0: np.ndarray, opts: SolverSettings, seeds=None
 ) -> Answers:
     return run_numeric_batch(arm, targets, q0, opts, DLS_STEP, seeds)
 
 
-def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):
+def prepare_pose(arm: ArmModel, opts: SolverSettings, position_only: bool):
     return pose_runner(arm, opts, DLS_STEP, position_only)
 
 

@@ -50,8 +50,8 @@ from armik.kernel.single import POSE_ENTRIES
 from armik.kernel.step import backend_step
 from armik.kernel.warmup import prepare
 from armik.model.arm_model import ArmModel
-from armik.options import Options
 from armik.problem.scores import fit_posture
+from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers, one
 from armik.solvers.claims import claim
 from armik.status import Status
@@ -93,10 +93,10 @@ def _warm(which: int) -> None:
 
 
 def packed_settings(
-    opts: Options, position_only: bool, dof: int, max_found: int, step: Step
+    opts: SolverSettings, position_only: bool, dof: int, max_found: int, step: Step
 ) -> tuple[np.ndarray, np.ndarray]:
     """``settings`` as the kernel entry takes them, remembered: a loop of solves whose
-    options differ only in ``seed`` builds them once. Options that differ only in their
+    options differ only in ``seed`` builds them once. SolverSettings that differ only in their
     budget (``timeout``, ``iteration_budget``, ``max_restarts``: what a collision-checked
     solve's restarts leave of it, different every time) patch the remembered ints."""
     budget = (opts.timeout, opts.max_restarts, opts.iteration_budget)
@@ -154,7 +154,7 @@ def _timeout_ns(timeout: float) -> int:
     return min(int(timeout * 1e9), 2**62)
 
 
-def settings(opts: Options, position_only: bool, dof: int, max_found: int, step: Step):
+def settings(opts: SolverSettings, position_only: bool, dof: int, max_found: int, step: Step):
     """The kernel's ``Settings`` for these options, target kind and arm size."""
     # only the ratios matter to the task: the smallest measured weight is 1, so that the
     # lightest rows stay well above the damping's floor (LAMBDA_MIN)
@@ -200,7 +200,7 @@ def settings(opts: Options, position_only: bool, dof: int, max_found: int, step:
     )
 
 
-def _posture(opts: Options, dof: int) -> tuple[np.ndarray, np.ndarray]:
+def _posture(opts: SolverSettings, dof: int) -> tuple[np.ndarray, np.ndarray]:
     """(reference, weights) of the null-space pull's posture (``Options.posture``), or two
     empty arrays (the pull toward q0); an ``OptionError`` for a posture of another arm."""
     if opts.posture is None:
@@ -212,13 +212,18 @@ def _posture(opts: Options, dof: int) -> tuple[np.ndarray, np.ndarray]:
     return np.array(q_ref, dtype=float), w / w.max() if w.max() > 0.0 else w
 
 
-def solve_seed(opts: Options) -> int:
+def solve_seed(opts: SolverSettings) -> int:
     """The restart seed of a solve: ``opts.seed``, or a fresh random one when it is None."""
     return secrets.randbits(63) if opts.seed is None else int(opts.seed)
 
 
 def run_numeric(
-    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool, step: Step
+    arm: ArmModel,
+    target: Target,
+    q0: np.ndarray,
+    opts: SolverSettings,
+    all_solutions: bool,
+    step: Step,
 ) -> Answers:
     """Descend from q0, then from restart seeds until solved, out of budget or restarts."""
     max_found = opts.max_solutions if all_solutions else 1
@@ -242,7 +247,9 @@ def converged_reason(restarts: int) -> str:
     return reasons.CONVERGED.format(restarts)
 
 
-def kernel_answers(arm: ArmModel, position, q0, opts: Options, sf, info, out_q, err) -> Answers:
+def kernel_answers(
+    arm: ArmModel, position, q0, opts: SolverSettings, sf, info, out_q, err
+) -> Answers:
     """The answers of one target from the kernel's outputs (see ``descent.solve_one``)."""
     claim, found, iterations, restarts, out_of_budget = info.tolist()
     if claim == _descent.CONVERGED:
@@ -261,7 +268,7 @@ def kernel_answers(arm: ArmModel, position, q0, opts: Options, sf, info, out_q, 
     return one(out_q[0], Status.NOT_CONVERGED, why, iterations=iterations, restarts=restarts)
 
 
-def pose_runner(arm: ArmModel, opts: Options, step: Step, position_only: bool = False):
+def pose_runner(arm: ArmModel, opts: SolverSettings, step: Step, position_only: bool = False):
     """``run_pose(H, q0, seed)`` for ``armik.solve.prepared``: one plain 4x4 pose ``H`` (base frame)
     from ``q0`` through the kernel's single-pose entry; with ``position_only``, H holds a
     position target (its rotation the identity, which the settings then ignore). Returns
@@ -305,7 +312,9 @@ def _c_float(a) -> np.ndarray:
     return np.array(a, dtype=float, order="C")
 
 
-def _not_converged(opts: Options, sf: np.ndarray, out_of_budget: bool, restarts: int, err) -> str:
+def _not_converged(
+    opts: SolverSettings, sf: np.ndarray, out_of_budget: bool, restarts: int, err
+) -> str:
     if not out_of_budget and opts.max_restarts == 0:
         why = "one descent from q0 (max_restarts=0: no restarts)"
     elif not out_of_budget:
@@ -324,7 +333,7 @@ def run_numeric_batch(
     arm: ArmModel,
     targets: TargetBatch,
     q0: np.ndarray,
-    opts: Options,
+    opts: SolverSettings,
     step: Step,
     seeds: np.ndarray | None = None,
 ) -> Answers:
@@ -374,7 +383,7 @@ class Problem:
     ws: Workspace
 
     @classmethod
-    def build(cls, arm: ArmModel, target: Target, q0: np.ndarray, opts: Options) -> Problem:
+    def build(cls, arm: ArmModel, target: Target, q0: np.ndarray, opts: SolverSettings) -> Problem:
         R = np.eye(3) if target.rotation is None else target.rotation
         return cls(
             arm,

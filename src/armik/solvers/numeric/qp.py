@@ -24,7 +24,7 @@ from armik.kernel import box_qp as backend
 from armik.kernel import problem
 from armik.kernel import step as _step
 from armik.model.arm_model import ArmModel
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers
 from armik.solvers.numeric.driver import (
     Problem,
@@ -76,7 +76,9 @@ def make_step(backend_name: str) -> Step:
     return qp_step(backend_name)
 
 
-def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = None) -> str | None:
+def applies(
+    arm: ArmModel, target: Target | None = None, opts: SolverSettings | None = None
+) -> str | None:
     name = "osqp" if opts is None else opts.qp_solver
     if name not in backend.backends():
         return (
@@ -87,18 +89,18 @@ def applies(arm: ArmModel, target: Target | None = None, opts: Options | None = 
 
 
 def run(
-    arm: ArmModel, target: Target, q0: np.ndarray, opts: Options, all_solutions: bool
+    arm: ArmModel, target: Target, q0: np.ndarray, opts: SolverSettings, all_solutions: bool
 ) -> Answers:
     return run_numeric(arm, target, q0, opts, all_solutions, qp_step(opts.qp_solver))
 
 
 def run_batch(
-    arm: ArmModel, targets: TargetBatch, q0: np.ndarray, opts: Options, seeds=None
+    arm: ArmModel, targets: TargetBatch, q0: np.ndarray, opts: SolverSettings, seeds=None
 ) -> Answers:
     return run_numeric_batch(arm, targets, q0, opts, qp_step(opts.qp_solver), seeds)
 
 
-def prepare_pose(arm: ArmModel, opts: Options, position_only: bool):
+def prepare_pose(arm: ArmModel, opts: SolverSettings, position_only: bool):
     return pose_runner(arm, opts, qp_step(opts.qp_solver), position_only)
 
 
