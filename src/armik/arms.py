@@ -33,13 +33,13 @@ from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.model import frames
 from armik.model.arm_model import ArmModel
 from armik.model.union import Union
-from armik.options import Options
 from armik.problem.problem import Problem, as_problem, relative_tasks
 from armik.problem.scores import Manipulability, Score, parse_score
 from armik.problem.tasks import Pose, Position, Relative, Task
 from armik.problem.tasks.base import replaced
 from armik.result import IKResult
 from armik.solutions import Solutions
+from armik.solve.read import options as read_options
 from armik.solve.single import solve_one
 from armik.solve.tasks import check_options, solve_tasks
 from armik.solvers.registry import get as get_solver
@@ -277,7 +277,7 @@ class Arms:
         tasks = []
         for tip, target in targets.items():
             tasks += [_on(t, tip, self.tips) for t in _as_tasks(target)]
-        opts = Options.from_kwargs(options)
+        opts = read_options(options)
         options["solver"] = solver  # each chain's start (``_start``)
         check_options(opts, "auto", several_tips=True)
         if "max_iterations" not in options:

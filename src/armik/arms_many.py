@@ -23,9 +23,9 @@ import numpy as np
 from armik import reasons
 from armik.batch_result import BatchResult
 from armik.errors import OptionError, TargetError
-from armik.options import Options
 from armik.problem.problem import relative_tasks
 from armik.result import IKResult
+from armik.solve.read import options as read_options
 from armik.status import Status
 
 
@@ -201,7 +201,7 @@ def _independent(arms: Arms, targets: Mapping[str, Any]) -> bool:
 
 
 def _empty(arms: Arms, n: int, solver: str, options: Mapping[str, Any]) -> BatchResult:
-    opts = Options.from_kwargs(dict(options))
+    opts = read_options(options)
     return BatchResult.empty(
         n,
         arms.dof,

@@ -30,7 +30,7 @@ from armik.export import (
 )
 from armik.model.arm_model import ArmModel, model_of
 from armik.model.geometry import axis_lines
-from armik.options import Options
+from armik.solve.read import options as read_options
 from armik.solvers import registry
 
 # solver name -> the family's C rows, in the order a refusal lists them
@@ -97,7 +97,7 @@ def export(
             value=name,
         )
     tolerances = {"tol_position": tol_position, "tol_orientation": tol_orientation}
-    opts = Options.from_kwargs({k: v for k, v in tolerances.items() if v is not None})
+    opts = read_options({k: v for k, v in tolerances.items() if v is not None})
     rows_of = FAMILIES[family(model)]
     ax = axis_lines(model)
     rows = rows_of(model, ax)

@@ -178,6 +178,12 @@ def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | No
     return as_problem(Pose(pin.SE3(tgt.rotation, tgt.position))), options
 
 
+def options(kwargs: Mapping[str, object]) -> Options:
+    """The validated options of ``kwargs`` (not remembered): what the facade's other
+    readers (the viewer, the C export, the CLI, ``Arms``) check keyword options by."""
+    return Options.from_kwargs(dict(kwargs))
+
+
 def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | None]:
     """(options, key, seed): ``Options.from_kwargs(kwargs)``, remembered for ``arm`` under
     ``key`` (None: not remembered) when the values other than ``seed`` are hashable, and

@@ -24,10 +24,10 @@ from armik.batch_result import BatchResult
 from armik.constraints.shapes import Shape
 from armik.constraints.shapes_file import as_shapes
 from armik.errors import ArmikError, InputError, OptionError
-from armik.options import Options
 from armik.problem.scores import parse_score
 from armik.result import IKResult
 from armik.solve.reach import ReachMap
+from armik.solve.read import options as read_options
 from armik.view import follow, regions, server
 from armik.view.ghosts import MAX_GHOSTS, Ghosts
 from armik.view.nodes import BodyNodes, pose_of, wxyz_position
@@ -78,7 +78,7 @@ class Viewer:
             )
         robot.check_solver(solver)  # SolverError for an unknown or inapplicable name
         # OptionError now rather than at the first drag
-        checked = Options.from_kwargs({k: v for k, v in options.items() if k != "prefer"})
+        checked = read_options({k: v for k, v in options.items() if k != "prefer"})
         self._tol = (checked.tol_position, checked.tol_orientation)
         parse_score(options.get("prefer"))
         server.import_viser()

@@ -18,9 +18,9 @@ from armik.kernel.problem import STEP_DLS
 from armik.model.arm_model import ArmModel
 from armik.model.catalogue import CATALOGUE, entry
 from armik.model.urdf import read_urdf, read_urdf_string
-from armik.options import Options
 from armik.problem.problem import as_problem
 from armik.result import IKResult
+from armik.solve.read import options as read_options
 from armik.solve.tasks import measure_tasks
 from armik.solvers import registry
 from armik.solvers.closed_form import families
@@ -401,7 +401,7 @@ def _with_task_errors(arm: Arm, tasks, r: IKResult, options: dict) -> IKResult:
         return r
     problem = as_problem(tasks)
     assert problem is not None  # names were found: a task list
-    errors = measure_tasks(arm.kinematics, problem, r.q, Options.from_kwargs(options))
+    errors = measure_tasks(arm.kinematics, problem, r.q, read_options(options))
     return dataclasses.replace(r, extra={**r.extra, "task_errors": errors})
 
 
