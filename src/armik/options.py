@@ -29,7 +29,7 @@ from armik.tolerances import (
 )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # equal as SolverSettings says: by class and every field
 class Options(SolverSettings):
     """Options accepted by ``Arm.solve`` and ``Arm.solve_all`` (units: m, rad, s): every
     field of ``SolverSettings`` (``armik.problem.settings``), and what the stages around a

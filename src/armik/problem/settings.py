@@ -21,7 +21,7 @@ from armik.problem.budget import DEFAULT as DEFAULT_BUDGET
 from armik.problem.budget import Budget
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class SolverSettings:
     """What a solver reads of a request (units: m, rad, s): the tolerances, the budget, the
     seed, the target's form and the numeric solvers' tuning. ``armik.options.Options`` adds
@@ -86,6 +86,15 @@ class SolverSettings:
     max_solutions: int = 16
     iteration_budget: int | None = None
     posture: tuple[tuple[float, ...], tuple[float, ...]] | None = None
+
+    # Equal by class and every field, a subclass's too (``Options``): written here rather
+    # than generated per class, so that the registry, which keeps its choices per settings,
+    # hashes them through this module.
+    def __eq__(self, other: object) -> bool:
+        return type(other) is type(self) and self.__dict__ == other.__dict__
+
+    def __hash__(self) -> int:  # every copy keeps the fields' order (``frozen`` over __dict__)
+        return hash(tuple(self.__dict__.values()))
 
     @property
     def budget(self) -> Budget:
