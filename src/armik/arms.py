@@ -39,9 +39,10 @@ from armik.problem.tasks import Pose, Position, Relative, Task
 from armik.problem.tasks.base import replaced
 from armik.result import IKResult
 from armik.solutions import Solutions
+from armik.solve.read import check_options
 from armik.solve.read import options as read_options
 from armik.solve.single import solve_one
-from armik.solve.tasks import check_options, solve_tasks
+from armik.solve.tasks import solve_tasks
 from armik.solvers.registry import get as get_solver
 from armik.solvers.registry import validate_name
 from armik.status import Status

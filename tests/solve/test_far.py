@@ -15,8 +15,8 @@ import pinocchio as pin
 import pytest
 
 import armik
-from armik.options import Options
 from armik.solve import far
+from armik.solve.read import read
 
 from ..conftest import arm
 
@@ -71,8 +71,9 @@ def test_a_far_target_is_answered_as_the_kernel_answers_it(name, monkeypatch):
 )
 def test_what_it_cannot_answer_goes_on_and_ends_the_first_use(target, options, monkeypatch):
     monkeypatch.setattr(far, "first_use", True)
-    opts = Options.from_kwargs(options)
-    assert far.beyond_reach(arm("panda").kinematics, target, None, "auto", opts, 0.0) is None
+    panda = arm("panda").kinematics
+    req = read(panda, target, None, "auto", options)
+    assert far.beyond_reach(panda, req) is None
     assert not far.first_use  # later solves pay one flag's read
 
 

@@ -30,7 +30,8 @@ import pinocchio as pin
 from armik import reasons
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
-from armik.options import Options
+from armik.problem.settings import SolverSettings
+from armik.request import Request
 from armik.result import IKResult
 from armik.solvers import registry
 from armik.solvers.answers import one
@@ -46,15 +47,14 @@ KERNEL_SOLVERS = ("dls", "qp")
 first_use = True  # no solve has gone on to a solver in this process yet
 
 
-def beyond_reach(
-    arm: ArmModel, target: object, q0: object, solver: str, opts: Options, t0: float
-) -> IKResult | None:
-    """The result of ``solve`` for a ``target`` beyond the reach bound when the chosen
+def beyond_reach(arm: ArmModel, req: Request) -> IKResult | None:
+    """The result of ``solve`` for ``req``'s target beyond the reach bound when the chosen
     solver is one the kernel's reach test answers (``KERNEL_SOLVERS``) and the options
     measure the plain pose or position; else None. Bad input raises as the solve would
     (``parsed``, ``ArmModel.seed``, the settings' checks). Returning None ends the
     process's ``first_use``."""
     global first_use
+    target, q0, solver, opts, t0 = req.target, req.q0, req.solver, req.opts, req.t0
     refused = _refused(arm, target, solver, opts)
     if refused is None:
         first_use = False  # the solve goes on: its solver compiles or loads what it needs
@@ -68,7 +68,7 @@ def beyond_reach(
     return ranked(decide(arm, answers, BatchMeasure.of([m]), opts), spec.name, seed, False, t0)[0]
 
 
-def _refused(arm: ArmModel, target: object, solver: str, opts: Options):
+def _refused(arm: ArmModel, target: object, solver: str, opts: SolverSettings):
     """(the chosen solver's spec, the parsed target) when the kernel's reach test refuses
     ``target``, else None."""
     if opts.weights is not None or opts.region or opts.look_at is not None or opts.toward:
@@ -89,7 +89,7 @@ def _refused(arm: ArmModel, target: object, solver: str, opts: Options):
     return spec, tgt
 
 
-def _measure(arm: ArmModel, q: np.ndarray, tgt, opts: Options) -> Measure:
+def _measure(arm: ArmModel, q: np.ndarray, tgt, opts: SolverSettings) -> Measure:
     """``verify.measure.measure`` of ``q`` for unweighted options without a region, its
     ``kernel.measure.pose_error`` written out in Python in the same order of operations."""
     model, data = arm.model, arm.data

@@ -28,7 +28,7 @@ from armik.constraints.hold import Hold
 from armik.errors import OptionError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
-from armik.options import Options
+from armik.request import Request
 from armik.solvers import registry
 from armik.solvers.answers import Answers
 from armik.status import Status
@@ -73,12 +73,12 @@ def locked_arm(arm: ArmModel, name: str, value: float):
     return sub
 
 
-def solve_held(
-    arm: ArmModel, target, q0, solver: str, opts: Options, every: bool, t0: float, general
-):
-    """The verified results of a solve with ``opts.hold`` (see the module): a list with
-    ``every``, else one result. ``general``: ``armik.solve.single``'s general path, which
+def solve_held(arm: ArmModel, req: Request, target, general):
+    """The verified results of ``req``, a solve with a held joint (``hold=``; see the
+    module), whose target is ``target`` (the stages parsed it): a list with ``every``,
+    else one result. ``general``: ``armik.solve.single``'s general path, which
     solves the locked arm (passed in: that module calls this one)."""
+    q0, solver, opts, every, t0 = req.q0, req.solver, req.settings, req.every, req.t0
     seed = arm.seed(q0)
     holds = cast("tuple[tuple[str, float | None], ...]", opts.hold)  # set: the caller checked
     if len(holds) != 1:

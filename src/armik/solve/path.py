@@ -109,7 +109,7 @@ def solve_path(
         # with a preference, the continuous path of the best summed score (ladder.TIE)
         ladder.plan(arm, every, batch, found, start, step, opts, out, score, q_prev)
         return frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
-    chooser = None if score is None else _chooser(arm, score, q_prev, step, request, opts)
+    chooser = None if score is None else _chooser(arm, score, q_prev, step, request)
     _walk(arm, batch, q_prev, step, request, local, out, chooser)
     out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     return out
@@ -137,13 +137,13 @@ def _at(arm: ArmModel, request: Request, target: object, q: np.ndarray) -> IKRes
     return run(arm, request.but(target=target, q0=q, t0=time.perf_counter()))  # type: ignore[no-any-return]
 
 
-def _chooser(arm, score, start: np.ndarray, step: np.ndarray, request: Request, opts):
+def _chooser(arm, score, start: np.ndarray, step: np.ndarray, request: Request):
     """A preference's choice at each waypoint (``path_score.preferred``), scored against
     the path's start."""
     reference = np.array(start, dtype=float)
 
     def choose(target: Target, r: IKResult, q_prev: np.ndarray) -> IKResult:
-        return preferred(arm, target, r, q_prev, step, score, reference, request, opts)
+        return preferred(arm, target, r, q_prev, step, score, reference, request)
 
     return choose
 

@@ -17,8 +17,8 @@ import pinocchio as pin
 
 from armik import reasons
 from armik.model.arm_model import ArmModel
-from armik.options import Options
 from armik.problem.scores import Score
+from armik.problem.settings import SolverSettings
 from armik.request import Request
 from armik.result import IKResult
 from armik.solve.nullspace import descend
@@ -41,18 +41,18 @@ def preferred(
     score: Score,
     reference: np.ndarray,
     request: Request,
-    opts: Options,
 ) -> IKResult:
     """The best-scored verified answer at ``target`` within ``step`` of ``q_prev``, the
     followed answer ``r`` among them (``reference``: the score's q0, the path's start)."""
     if not r.success:
         return r
     candidates = [r]
+    opts = request.settings
     if registry.get(r.solver).kind != "numeric":  # every branch and turn, nearest first
         now = time.perf_counter()
         found = run(arm, request.but(target=target, q0=q_prev, solver=r.solver, every=True, t0=now))
         candidates += [_turned(arm, c, q_prev) for c in found if c.success]
-    elif arm.dof > 6 and _plain_pose(target, opts):
+    elif arm.dof > 6 and _plain_pose(target, opts, opts.collisions):
         pose = pin.SE3(target.rotation, target.position)
         box = (np.maximum(arm.lower, q_prev - step), np.minimum(arm.upper, q_prev + step))
         moved = descend(arm, r.q, pose, score, reference, math.inf, steps=STEPS, box=box)
@@ -92,6 +92,7 @@ def _turned(arm: ArmModel, r: IKResult, q_prev: np.ndarray) -> IKResult:
                        "time": r.time, "extra": r.extra})  # fmt: skip
 
 
-def _plain_pose(target: Target, opts: Options) -> bool:
-    """A full pose without a region or weights: what the self-motion descent holds."""
-    return target.rotation is not None and not (opts.region or opts.weights or opts.collisions)
+def _plain_pose(target: Target, opts: SolverSettings, collisions: bool) -> bool:
+    """A full pose without a region, weights or collisions: what the self-motion descent
+    holds."""
+    return target.rotation is not None and not (opts.region or opts.weights or collisions)

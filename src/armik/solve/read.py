@@ -27,7 +27,7 @@ from armik.problem.problem import Problem, as_problem, lower
 from armik.problem.scores import parse_score
 from armik.problem.tasks import Pose, Position, Task
 from armik.request import Request
-from armik.solve.tasks import check_said_twice, lower_all, task_problems
+from armik.solve.tasks import SOLVER, check_said_twice, lower_all, task_problems
 from armik.targets.batch import parse_targets
 from armik.targets.pose import parsed
 
@@ -69,6 +69,8 @@ def read(
         if _held_apart(arm, options):  # a plain pose or position: the task solver's task
             problem, options = _as_task(arm, target, options)
     opts, key, seed = settings(arm, options) if options else (_DEFAULT, (), 0)
+    if problem is not None:
+        check_options(opts, solver)
     if score is not None and problem is None:  # every answer ranked is to this target
         target = parsed(target, arm)
     # built as the tuple it is (``Request``'s own ``__new__`` is a Python call: every solve)
@@ -148,6 +150,37 @@ def check_plan(plan: object) -> None:
             option="plan",
             value=plan,
         )
+
+
+# options of the compiled path a task list says in its tasks instead
+_SAID_BY_TASKS = ("position_only", "weights", "bounds")
+_CONSTRAINTS = ("obstacles", "self_collision")  # not yet for several tips
+
+
+def check_options(opts: Options, solver: str, several_tips: bool = False) -> None:
+    """Refuse what a task list cannot take (yet, for ``several_tips``), naming the option
+    and the way round."""
+    if solver not in ("auto", SOLVER):
+        raise OptionError(
+            f"a list of tasks is solved by solver='auto' (the task solver), got {solver!r}",
+            option="solver",
+            value=solver,
+        )
+    defaults = _DEFAULT
+    refused = _SAID_BY_TASKS + (_CONSTRAINTS if several_tips else ())
+    for name in refused:
+        if getattr(opts, name) != getattr(defaults, name):
+            how = (
+                "say it in the tasks (armik.Pose(T, bounds=..., weights=...), armik.Position)"
+                if name in _SAID_BY_TASKS
+                else "solve each tip's arm for that option"
+            )
+            raise OptionError(
+                f"{name} does not apply to a list of tasks{' on several tips' * several_tips}: "
+                f"{how}",
+                option=name,
+                value=None,
+            )
 
 
 def _held_apart(arm: ArmModel, options: dict) -> bool:

@@ -47,11 +47,11 @@ def run(arm: ArmModel, req: Request):
         return parameter.solve_at(arm, req, "swivel", opts.swivel)
     if opts.hold is not None:
         target = parsed(target, arm)  # once: the held arm's solve and its verdict read it
-        return solve_held(arm, target, q0, solver, with_seed(opts, seed), every, t0, general)
+        return solve_held(arm, req, target, general)
     if not every and (opts.obstacles or opts.self_collision):  # ``opts.collisions``, inline
         return _avoiding(arm, req)
     if far.first_use and not every:  # a target beyond reach: answered before any compile
-        got = far.beyond_reach(arm, target, q0, solver, opts, t0)
+        got = far.beyond_reach(arm, req)
         if got is not None:
             return got
     kind = type(target)  # a position, for the plan

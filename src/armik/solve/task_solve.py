@@ -14,14 +14,13 @@ from armik.problem.problem import lower, rims, tightened
 from armik.request import Request
 from armik.result import IKResult
 from armik.solve.stages import narrowed, run, with_said
-from armik.solve.tasks import CENTRE_RESTARTS, check_options, solve_tasks
+from armik.solve.tasks import CENTRE_RESTARTS, solve_tasks
 from armik.solvers import registry
 
 
 def solve_problem(arm: ArmModel, req: Request) -> IKResult:
     """The task solver's verified result for ``req.problem``, from its centre's answer."""
     opts = req.settings
-    check_options(opts, req.solver)
     problem = dataclasses.replace(req.problem, constraints=opts.constraints, budget=opts.budget)
     return solve_tasks(arm, problem, req.q0, opts, req.t0, centre(arm, problem, req))
 

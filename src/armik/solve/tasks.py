@@ -32,9 +32,9 @@ from armik.constraints.hold import Hold
 from armik.constraints.limits import JointLimits
 from armik.errors import OptionError, TargetError
 from armik.model.arm_model import ArmModel
-from armik.options import Options
 from armik.problem.problem import Problem, as_problem, lower
 from armik.problem.scores import Posture, Score
+from armik.problem.settings import SolverSettings
 from armik.problem.tasks import Axis, LookAt, Task, TaskError
 from armik.result import IKResult
 from armik.solve.nullspace import descend
@@ -53,37 +53,6 @@ SCORE_STEPS = 40  # null-space steps for a score at most (each a few Newton step
 CENTRE_RESTARTS = (
     20  # the centre's compiled attempt: it may be out of reach where the region is not
 )
-# options of the compiled path a task list says in its tasks instead
-_SAID_BY_TASKS = ("position_only", "weights", "bounds")
-_CONSTRAINTS = ("obstacles", "self_collision")  # not yet for several tips
-
-
-def check_options(opts: Options, solver: str, several_tips: bool = False) -> None:
-    """Refuse what a task list cannot take (yet, for ``several_tips``), naming the option
-    and the way round."""
-    if solver not in ("auto", SOLVER):
-        raise OptionError(
-            f"a list of tasks is solved by solver='auto' (the task solver), got {solver!r}",
-            option="solver",
-            value=solver,
-        )
-    defaults = Options()
-    refused = _SAID_BY_TASKS + (_CONSTRAINTS if several_tips else ())
-    for name in refused:
-        if getattr(opts, name) != getattr(defaults, name):
-            how = (
-                "say it in the tasks (armik.Pose(T, bounds=..., weights=...), armik.Position)"
-                if name in _SAID_BY_TASKS
-                else "solve each tip's arm for that option"
-            )
-            raise OptionError(
-                f"{name} does not apply to a list of tasks{' on several tips' * several_tips}: "
-                f"{how}",
-                option=name,
-                value=None,
-            )
-
-
 _AIMED = (Axis, LookAt)  # tasks on the orientation that position_only or weights would free
 
 
@@ -178,7 +147,7 @@ class HeldTasks:
 
 
 def _measure(
-    arm: ArmModel, tasks, ids, q: np.ndarray, opts: Options, placed=None
+    arm: ArmModel, tasks, ids, q: np.ndarray, opts: SolverSettings, placed=None
 ) -> list[TaskError]:
     """Each task on its frames' placements by Pinocchio's FK (the verdict's)."""
     if placed is None:
@@ -194,14 +163,16 @@ def _measure(
     ]
 
 
-def measure_tasks(arm: ArmModel, problem: Problem, q: np.ndarray, opts: Options) -> list[TaskError]:
+def measure_tasks(
+    arm: ArmModel, problem: Problem, q: np.ndarray, opts: SolverSettings
+) -> list[TaskError]:
     """Each of ``problem``'s tasks measured at ``q`` on Pinocchio's FK, with the tolerances
     of ``opts``: what ``extra["task_errors"]`` holds where the task solver answered."""
     return _measure(arm, problem.tasks, frame_ids(arm, problem.tasks), q, opts)
 
 
 def _descend(
-    arm: ArmModel, tasks, ids, q: np.ndarray, opts: Options, iterations: int, box, table=None
+    arm: ArmModel, tasks, ids, q: np.ndarray, opts: SolverSettings, iterations: int, box, table=None
 ):
     """(q, iterations used): Levenberg-Marquardt from ``q`` until every task holds (on
     Pinocchio's placements) or the iterations run out, each step clipped into ``box``
@@ -267,7 +238,7 @@ def solve_tasks(
     arm: ArmModel,
     problem: Problem,
     q0: object,
-    opts: Options,
+    opts: SolverSettings,
     t0: float,
     centre: IKResult | None = None,
     reseed: Callable[[np.random.Generator], np.ndarray] | None = None,
@@ -279,7 +250,7 @@ def solve_tasks(
     it is when every task holds on it, else the descent starts from it. ``reseed``: where
     a restart starts (default: a random configuration within the limits). ``score``: the
     answer moved along the tasks' null space while it falls, ``reference`` its q0
-    (default: q0); without one, a secondary posture (``Options.posture``) is that score."""
+    (default: q0); without one, a secondary posture (``SolverSettings.posture``) is that score."""
     tasks = problem.tasks
     ids = frame_ids(arm, tasks)
     q = arm.seed(q0)
@@ -360,7 +331,16 @@ def _unsaid(checked: tuple[Constraint, ...], centre: IKResult) -> tuple[Constrai
 
 
 def _scored(
-    arm: ArmModel, tasks, ids, q, errors, score: Score, reference, opts: Options, started, checked
+    arm: ArmModel,
+    tasks,
+    ids,
+    q,
+    errors,
+    score: Score,
+    reference,
+    opts: SolverSettings,
+    started,
+    checked,
 ):
     """(q, errors) moved along the tasks' null space while ``score`` falls, within what is
     left of the budget; as they were where a moved answer does not hold every task on
@@ -382,7 +362,9 @@ def _scored(
     return q, errors
 
 
-def _result(arm, tasks, q, errors, opts: Options, iterations, restarts, t0, checked) -> IKResult:
+def _result(
+    arm, tasks, q, errors, opts: SolverSettings, iterations, restarts, t0, checked
+) -> IKResult:
     # the descent claims nothing: the verdict's rule on its measure alone, then the
     # constraints' checks
     within = arm.within_limits(q)
