@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any, cast, overload
 import numpy as np
 
 from armik import npz, reasons
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.result import IKResult
 from armik.status import Status
 
@@ -60,10 +60,10 @@ class BatchResult:
     time: float
     joint_names: tuple[str, ...] = ()
     arm: str = ""
-    tol_position: float = Options.tol_position
-    tol_orientation: float = Options.tol_orientation
+    tol_position: float = SolverSettings.tol_position
+    tol_orientation: float = SolverSettings.tol_orientation
     reasons: dict[int, str] = field(default_factory=dict)
-    margin: float = Options.margin  # m: what a collision-checked success kept
+    margin: float = 0.0  # m: what a collision-checked success kept
     min_distance: np.ndarray | None = None  # (N,) m; NaN filled when None is given
     pair_index: np.ndarray | None = None  # (N,) index into pair_names, -1: none
     pair_names: list[tuple[str, str]] = field(default_factory=list)
@@ -318,7 +318,7 @@ class BatchResult:
             arm=meta["arm"],
             tol_position=float(meta["tol_position"]),
             tol_orientation=float(meta["tol_orientation"]),
-            margin=float(meta.get("margin", Options.margin)),
+            margin=float(meta.get("margin", 0.0)),
             reasons={
                 int(k): str(t)
                 for k, t in zip(arrays["reason_index"].tolist(), arrays["reason_text"])
@@ -350,10 +350,16 @@ class BatchResult:
 
     @classmethod
     def for_arm(
-        cls, arm: ArmModel, n: int, solver: str, opts: Options, claim: str = ""
+        cls,
+        arm: ArmModel,
+        n: int,
+        solver: str,
+        opts: SolverSettings,
+        claim: str = "",
+        margin: float = 0.0,
     ) -> BatchResult:
-        """``empty`` rows for n targets of ``arm``, labelled with its joints and tolerances
-        (``claim``: see the field)."""
+        """``empty`` rows for n targets of ``arm``, labelled with its joints, tolerances and
+        the clearance its successes keep (``claim``: see the field)."""
         return cls.empty(
             n,
             arm.dof,
@@ -363,7 +369,7 @@ class BatchResult:
             arm=arm.name,
             tol_position=opts.tol_position,
             tol_orientation=opts.tol_orientation,
-            margin=opts.margin,
+            margin=margin,
             region=opts.region,
             claim=claim,
         )

@@ -55,9 +55,6 @@ class Options(SolverSettings):
     - ``slide``: a collision-checked numeric solve slides its first colliding answer out of
       contact before it restarts (False; a followed path sets it: the answer stays near
       the previous waypoint's, where a restart lands anywhere).
-    - ``checks``: the constraints no option spells, as objects: the verdict of every route
-      applies their ``check`` to every answer, so that none that violates one is a
-      success (``armik.verify.verdict``); the task solver also steps within their boxes.
     """
 
     obstacles: tuple[Shape, ...] = ()
@@ -65,7 +62,6 @@ class Options(SolverSettings):
     margin: float = 0.0
     hold: tuple[tuple[str, float | None], ...] | None = None
     swivel: float | None = None
-    checks: tuple[Constraint, ...] = ()
     slide: bool = False
 
     @property

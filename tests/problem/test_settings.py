@@ -10,7 +10,7 @@ from armik.options import Options
 from armik.problem.settings import SolverSettings
 from armik.request import with_seed
 
-STAGE_FIELDS = {"obstacles", "self_collision", "margin", "hold", "swivel", "checks", "slide"}
+STAGE_FIELDS = {"obstacles", "self_collision", "margin", "hold", "swivel", "slide"}
 SOLVERS = Path(__file__).resolve().parents[2] / "src" / "armik" / "solvers"
 
 

@@ -2,10 +2,11 @@
 
 A solver's ``run``, ``run_batch`` and ``prepare_pose`` are typed against this record: the
 verification tolerances, the budget and seed of a search, the target's form beyond an exact
-pose (position only, weights, bounds, a cone, a look-at or a direction) and the numeric
-solvers' tuning. What only the stages read (obstacles, held joints, the swivel angle, a
-user's own checks, the collision slide) is on ``armik.options.Options``, which extends this
-record; so mypy refuses a solver that reads a stage's field.
+pose (position only, weights, bounds, a cone, a look-at or a direction), the numeric
+solvers' tuning and a user's own constraints, which the verdict checks. What only the
+stages read (obstacles, held joints, the swivel angle, the collision slide) is on
+``armik.options.Options``, which extends this record; so mypy refuses a solver that reads
+a stage's field.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from armik.constraints.base import Constraint
 from armik.errors import OptionError
 from armik.frozen import frozen
 from armik.problem.budget import DEFAULT as DEFAULT_BUDGET
@@ -23,10 +25,10 @@ from armik.problem.budget import Budget
 
 @dataclass(frozen=True, eq=False)
 class SolverSettings:
-    """What a solver reads of a request (units: m, rad, s): the tolerances, the budget, the
-    seed, the target's form and the numeric solvers' tuning. ``armik.options.Options`` adds
-    what the stages around a solver read (collisions, held joints, the swivel, a user's
-    checks); a solver is typed against this part only.
+    """What a solver and the verdict on its answers read of a request (units: m, rad, s):
+    the tolerances, the budget, the seed, the target's form, the numeric solvers' tuning and
+    a user's own constraints. ``armik.options.Options`` adds what the stages around a solver
+    read (collisions, held joints, the swivel); a solver is typed against this part only.
 
     - ``tol_position``, ``tol_orientation``: verification tolerances (1e-6 m, 1e-6 rad).
     - ``timeout``: budget of a numeric solve, restarts included, in CPU time of the thread
@@ -67,6 +69,9 @@ class SolverSettings:
     - ``budget``: ``timeout``, ``iteration_budget``, ``max_restarts`` and ``max_iterations``
       as one object (``armik.Budget``), spelled here as those options (``Options.budget``
       gives it back).
+    - ``checks``: the constraints no option spells, as objects: the verdict of every route
+      applies their ``check`` to every answer, so that none that violates one is a
+      success (``armik.verify.verdict``); the task solver also steps within their boxes.
     """
 
     tol_position: float = 1e-6
@@ -86,6 +91,7 @@ class SolverSettings:
     max_solutions: int = 16
     iteration_budget: int | None = None
     posture: tuple[tuple[float, ...], tuple[float, ...]] | None = None
+    checks: tuple[Constraint, ...] = ()
 
     # Equal by class and every field, a subclass's too (``Options``): written here rather
     # than generated per class, so that the registry, which keeps its choices per settings,

@@ -126,7 +126,7 @@ def solve_batch(
     workers = _workers(workers, spec)
     chunk = _chunk_size(chunk_size)
     claim = reasons.CONVERGED if spec.kind == "numeric" else ""  # a success's, as solve's
-    out = BatchResult.for_arm(arm, n, spec.name, opts, claim)
+    out = BatchResult.for_arm(arm, n, spec.name, opts, claim, opts.margin)
     if opts.collisions:  # the pairs in the checker's order, whatever order rows finish in
         out.pair_names.extend(checker(arm, opts.obstacles, opts.self_collision).pair_names)
     bar = make_progress(progress, n, f"{arm.name}/{spec.name}")
@@ -183,7 +183,8 @@ class Chunk(NamedTuple):
 
     def __call__(self) -> BatchResult:
         spec = registry.get(self.solver)
-        out = BatchResult.for_arm(self.arm, len(self.targets), spec.name, self.request.settings)
+        opts = self.request.settings
+        out = BatchResult.for_arm(self.arm, len(self.targets), spec.name, opts, margin=opts.margin)
         solve_chunk(self.arm, spec, self.targets, self.seeds, self.request, out, 0)
         return out
 
@@ -392,7 +393,8 @@ def _each(arm, request: Request, progress, t0: float, label: str) -> BatchResult
     rows = request.rows or ()
     n = len(rows)
     seeds = batch_seeds(arm, request.q0, n)
-    out = BatchResult.for_arm(arm, n, label, request.settings)
+    opts = request.settings
+    out = BatchResult.for_arm(arm, n, label, opts, margin=opts.margin)
     bar = make_progress(progress, n, f"{arm.name}/{label}")
     names = set()
     for i, row in enumerate(rows):

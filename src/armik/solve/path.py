@@ -82,7 +82,7 @@ def solve_path(
     q_prev = arm.seed(q0)
     spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
     request, local = request.but(solver=spec.name), local.but(solver=spec.name)
-    out = BatchResult.for_arm(arm, n, spec.name, opts)
+    out = BatchResult.for_arm(arm, n, spec.name, opts, margin=opts.margin)
     if plan == "global":
         # every solution: what solve_all would run (a search where one is not complete)
         first = batch.target(0) if n else None
@@ -95,7 +95,7 @@ def solve_path(
             )
             every = next(swept, every)
         if every.sweep is not None or every.kind == "numeric":  # rungs about the followed path
-            followed = BatchResult.for_arm(arm, n, spec.name, opts)
+            followed = BatchResult.for_arm(arm, n, spec.name, opts, margin=opts.margin)
             _walk(arm, batch, q_prev, step, request, local, followed)
             found = (  # a 7R arm: joint 7 sampled; else answers tracked from start and breaks
                 rungs.held(arm, batch, q_prev, followed, request, every)
@@ -104,7 +104,7 @@ def solve_path(
             )
         else:
             found = rungs.every_branch(arm, batch, q_prev, every.name, request)
-        out = BatchResult.for_arm(arm, n, every.name, opts)
+        out = BatchResult.for_arm(arm, n, every.name, opts, margin=opts.margin)
         start = None if q0 is None else q_prev
         # with a preference, the continuous path of the best summed score (ladder.TIE)
         ladder.plan(arm, every, batch, found, start, step, opts, out, score, q_prev)

@@ -42,7 +42,7 @@ from armik.kernel.measure import (
 )
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
-from armik.options import Options
+from armik.problem.settings import SolverSettings
 from armik.result import IKResult
 from armik.solvers import registry
 from armik.solvers.answers import Answers
@@ -72,7 +72,7 @@ def plan_for(
     arm: ArmModel,
     solver: str,
     key: tuple,
-    opts: Options,
+    opts: SolverSettings,
     position: bool = False,
     every: bool = False,
 ) -> Plan | None:
@@ -97,9 +97,7 @@ def plan_for(
 _PLANS: Derived[dict] = Derived("prepared solves", lambda _: {})  # read as a key, not called
 
 
-def _build(arm: ArmModel, solver: str, opts: Options, position: bool, every: bool):
-    if opts.collisions or opts.checks:  # the general path checks them
-        return _NO_PLAN
+def _build(arm: ArmModel, solver: str, opts: SolverSettings, position: bool, every: bool):
     # a target of the kind every plain target of the plan is
     target = Target(np.zeros(3)) if position else Target(np.zeros(3), np.eye(3))
     try:
@@ -115,7 +113,7 @@ class Plan:
     """One arm, one solver, one set of options (all but ``seed``); see the module."""
 
     def __init__(
-        self, arm: ArmModel, spec: registry.SolverSpec, opts: Options, position: bool = False
+        self, arm: ArmModel, spec: registry.SolverSpec, opts: SolverSettings, position: bool = False
     ) -> None:
         self.arm = arm
         self.solver = spec.name
@@ -231,7 +229,7 @@ class Plan:
         return None if seed is None else (H, seed, xy)
 
     def solve(
-        self, target: object, q0: object, opts: Options, seed: int | None, t0: float
+        self, target: object, q0: object, opts: SolverSettings, seed: int | None, t0: float
     ) -> IKResult | None:
         """The result of ``solve`` for a plain ``target`` and ``q0``, or None (general path).
         ``seed`` is this call's (``opts`` may carry another: only the rest is read)."""
@@ -293,7 +291,9 @@ class Plan:
         )
         return got.answers() if every is None else every  # None: a numeric runner
 
-    def solve_all(self, target: object, q0: object, opts: Options, seed: int | None, t0: float):
+    def solve_all(
+        self, target: object, q0: object, opts: SolverSettings, seed: int | None, t0: float
+    ):
         """The results of ``solve_all`` for a plain ``target`` and ``q0``, or None."""
         plain = None if self.region is not None else self._plain(target, q0)
         if plain is None:  # a region's answers: the general path measures them
@@ -400,7 +400,9 @@ class Plan:
             placements.append(place(model, data, frame).homogeneous)
         return np.array(placements) if placements else np.empty((0, 4, 4))
 
-    def _finish(self, answers: Answers, H, q0, opts: Options, t0: float, every: bool, xy=None):
+    def _finish(
+        self, answers: Answers, H, q0, opts: SolverSettings, t0: float, every: bool, xy=None
+    ):
         if xy is not None:  # as the user gave it: the closed form reads it as given
             target = parse_target(np.array(xy), self.arm)
         else:

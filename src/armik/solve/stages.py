@@ -58,7 +58,13 @@ def run(arm: ArmModel, req: Request):
     vector = (kind is np.ndarray and target.ndim == 1) or (
         kind is Target and target.rotation is None
     )
-    plan = None if key is None else plan_for(arm, solver, key, opts, vector, every)
+    # collisions and a user's checks are the general path's (one answer with collisions
+    # went to ``_avoiding`` above)
+    plan = (
+        None
+        if key is None or opts.checks or (every and (opts.obstacles or opts.self_collision))
+        else plan_for(arm, solver, key, opts, vector, every)
+    )
     if plan is not None and not every:
         got = plan.solve(target, q0, opts, seed, t0)
         if got is not None:

@@ -32,7 +32,7 @@ from armik.verify.verdicts import Verdicts
 if TYPE_CHECKING:
     from armik.constraints.base import Constraint
     from armik.model.arm_model import ArmModel
-    from armik.options import Options
+    from armik.problem.settings import SolverSettings
     from armik.targets.batch import TargetBatch
 
 _CONVERGED = Status.CONVERGED.code
@@ -78,7 +78,7 @@ def finish(
     solver: str,
     answers: Answers,
     target,
-    opts: Options,
+    opts: SolverSettings,
     seed: np.ndarray,
     all_solutions: bool,
     t0: float,
@@ -99,7 +99,7 @@ def decide(
     arm: ArmModel,
     answers: Answers,
     m: BatchMeasure,
-    opts: Options,
+    opts: SolverSettings,
     positions: np.ndarray | None = None,
 ) -> Verdicts:
     """The verdict of N answers from their measure ``m``, by the ``RULE``: a success only
@@ -132,7 +132,7 @@ def decide(
     return out.checked(arm, opts.checks) if opts.checks else out
 
 
-def decide_one(arm: ArmModel, answers: Answers, m: Measure, opts: Options) -> Verdicts:
+def decide_one(arm: ArmModel, answers: Answers, m: Measure, opts: SolverSettings) -> Verdicts:
     """``decide`` for one answer and its ``Measure``, on plain floats (a solve's usual
     case: the verdicts of the answers a search verifies one by one); a failure's words
     are ``decide``'s."""
@@ -154,7 +154,9 @@ def decide_one(arm: ArmModel, answers: Answers, m: Measure, opts: Options) -> Ve
     )
 
 
-def _failure_words(arm, v: Verdicts, m: BatchMeasure, i: int, opts: Options, positions) -> str:
+def _failure_words(
+    arm, v: Verdicts, m: BatchMeasure, i: int, opts: SolverSettings, positions
+) -> str:
     answers = v.answers
     code = int(answers.claim[i])
     if code == _CONVERGED:
@@ -177,7 +179,7 @@ def _failure_words(arm, v: Verdicts, m: BatchMeasure, i: int, opts: Options, pos
     return reasons.claimed(Status.from_code(code).value, v.measured(i))
 
 
-def verdicts(arm: ArmModel, answers: Answers, target, opts: Options) -> Verdicts:
+def verdicts(arm: ArmModel, answers: Answers, target, opts: SolverSettings) -> Verdicts:
     """The verdict of every answer, measured together (``measure_many``)."""
     if not len(answers):
         none = np.empty(0)
@@ -217,7 +219,7 @@ def numbered(labels: list[str | None]) -> list[str | None]:
     return out
 
 
-def first_verified(arm: ArmModel, answers: Answers, target, opts: Options, seed) -> Verdicts:
+def first_verified(arm: ArmModel, answers: Answers, target, opts: SolverSettings, seed) -> Verdicts:
     """Verify answers nearest-first (``nearest_first``) and stop at the first success: it
     is the nearest verified answer. The verdicts of the answers verified."""
     if len(answers) == 1:
@@ -352,7 +354,7 @@ def verdict_batch(
     arm: ArmModel,
     answers: Answers,
     targets: TargetBatch,
-    opts: Options,
+    opts: SolverSettings,
     constraints: tuple[Constraint, ...] = (),
 ) -> BatchResult:
     """The verdict of a chunk of answers (one a target), as every verdict (``decide``),
