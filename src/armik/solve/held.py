@@ -28,7 +28,7 @@ from armik.constraints.hold import Hold
 from armik.errors import OptionError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
-from armik.request import Request
+from armik.request import Request, with_seed
 from armik.solvers import registry
 from armik.solvers.answers import Answers
 from armik.status import Status
@@ -78,7 +78,8 @@ def solve_held(arm: ArmModel, req: Request, target, general):
     module), whose target is ``target`` (the stages parsed it): a list with ``every``,
     else one result. ``general``: ``armik.solve.single``'s general path, which
     solves the locked arm (passed in: that module calls this one)."""
-    q0, solver, opts, every, t0 = req.q0, req.solver, req.settings, req.every, req.t0
+    q0, solver, every, t0 = req.q0, req.solver, req.every, req.t0
+    opts = with_seed(req.opts, req.seed)
     seed = arm.seed(q0)
     holds = cast("tuple[tuple[str, float | None], ...]", opts.hold)  # set: the caller checked
     if len(holds) != 1:
