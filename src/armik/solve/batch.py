@@ -300,8 +300,7 @@ def solve_chunk(
     clear = (
         (Collisions(opts.obstacles, opts.self_collision, opts.margin),) if opts.collisions else ()
     )
-    part = verdict_batch(arm, answers, targets, opts, clear)
-    out.put(start, part)
+    success = verdict_batch(arm, answers, targets, opts, out, start, clear)
     if opts.collisions or spec.kind == "analytic":
         # A success that keeps clear stands: it is the answer ``solve`` gives (its first
         # run, from the same seed, ends there). Every other target is solved again
@@ -310,12 +309,12 @@ def solve_chunk(
         # (too far, wrist orientation, ...) and the next verified branch that ``solve``
         # would fall back to.
         numeric = opts.collisions and spec.kind != "analytic"
-        for i in np.flatnonzero(~part.success).tolist():
-            if numeric and part.status_code[i] == _COLLISION:
+        for i in np.flatnonzero(~success).tolist():
+            if numeric and out.status_code[start + i] == _COLLISION:
                 # verified, and colliding: its first run is this one, the search goes on
                 # from its row (a failure of the solver's own is solved again: its words
                 # are the single solve's)
-                row = _first_row(part, i, opts)
+                row = _first_row(out, start + i, opts)
                 again = request.but(target=targets.target(i), q0=seeds[i], t0=time.perf_counter())
                 r = going_on(arm, again, row)
             else:
@@ -324,7 +323,7 @@ def solve_chunk(
 
 
 def _first_row(part: BatchResult, i: int, opts: Options) -> Verdicts:
-    """Row ``i`` of a chunk's verdict as ``solve``'s own first run leaves it for the
+    """Row ``i`` of the batch's verdict as ``solve``'s own first run leaves it for the
     search (``armik.solve.avoid``): its status, words and counts, and its collision check's
     distance and pair where it was checked."""
     r = part[i]

@@ -139,6 +139,8 @@ def _numeric_array(value: object) -> np.ndarray | None:
 
 
 def _finite_rows(arr: np.ndarray, what: str) -> np.ndarray:
+    if np.isfinite(arr).all():  # the usual case, in one pass
+        return arr
     bad = ~np.isfinite(arr).reshape(len(arr), int(np.prod(arr.shape[1:]))).all(axis=1)
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
@@ -151,13 +153,16 @@ def _finite_rows(arr: np.ndarray, what: str) -> np.ndarray:
 
 def _from_matrices(T: np.ndarray) -> TargetBatch:
     _finite_rows(T, "4x4 transform")
-    last = np.abs(T[:, 3, :] - np.array([0.0, 0.0, 0.0, 1.0])).max(axis=1) > 1e-12
+    last = np.abs(T[:, 3, :] - _LAST_ROW) > 1e-12
     if last.any():
-        i = int(np.flatnonzero(last)[0])
+        i = int(np.flatnonzero(last.any(axis=1))[0])
         raise TargetError(
             f"target {i}: the last row of a 4x4 target must be (0, 0, 0, 1), got {T[i, 3].tolist()}"
         )
     return TargetBatch(T[:, :3, 3], _rotations(T[:, :3, :3]))
+
+
+_LAST_ROW = np.array([0.0, 0.0, 0.0, 1.0])
 
 
 def _rotations(R: np.ndarray) -> np.ndarray:

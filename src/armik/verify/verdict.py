@@ -355,36 +355,38 @@ def verdict_batch(
     answers: Answers,
     targets: TargetBatch,
     opts: SolverSettings,
+    out: BatchResult,
+    start: int = 0,
     constraints: tuple[Constraint, ...] = (),
-) -> BatchResult:
+) -> np.ndarray:
     """The verdict of a chunk of answers (one a target), as every verdict (``decide``),
     with each of ``constraints`` checked over the verified answers (a collision check's
-    distance and pair kept), in a ``BatchResult``'s columns; a success's words are written
-    when read."""
-    n = len(targets)
-    part = BatchResult.empty(n, arm.dof, solver="", time=0.0)
-    part.q[:] = answers.q
-    m = measure_batch(arm, part.q, targets, opts)
+    distance and pair kept), written into rows ``start:start + len(targets)`` of ``out``
+    (a success's words are written when read); returns the chunk's successes."""
+    stop = start + len(targets)
+    q = out.q[start:stop]
+    q[:] = answers.q
+    m = measure_batch(arm, q, targets, opts)
     found = decide(arm, answers, m, opts, targets.positions)
     for c in constraints:
         rows = np.flatnonzero(found.success)
-        found.judge(c.check(arm, part.q[rows]), rows.tolist())
-    part.iterations[:] = answers.iterations
-    part.restarts[:] = answers.restarts
+        found.judge(c.check(arm, q[rows]), rows.tolist())
+    out.iterations[start:stop] = answers.iterations
+    out.restarts[start:stop] = answers.restarts
     if opts.weights is not None or opts.region:  # measured apart: the distances beside
-        part._measured[:, 0], part._measured[:, 1] = found.position_error, found.orientation_error
-        part.position_error[:], part.orientation_error[:] = batch_distances(
-            arm, part.q, targets, opts
-        )
+        measured = out._measured[start:stop]
+        measured[:, 0], measured[:, 1] = found.position_error, found.orientation_error
+        position, orientation = batch_distances(arm, q, targets, opts)
     else:
-        part.position_error[:] = found.position_error
-        part.orientation_error[:] = found.orientation_error
-    part.status_code[:] = found.status
+        position, orientation = found.position_error, found.orientation_error
+    out.position_error[start:stop] = position
+    out.orientation_error[start:stop] = orientation
+    out.status_code[start:stop] = found.status
     success = found.success
-    part.success[:] = success
+    out.success[start:stop] = success
     for i in np.flatnonzero(~success).tolist():
-        part.reasons[i] = found.reason(i)
+        out.reasons[start + i] = found.reason(i)
     for i, kept in enumerate(found.extra or ()):
         if "min_distance" in kept:
-            part.put_distance(i, kept["min_distance"], kept["closest_pair"])
-    return part
+            out.put_distance(start + i, kept["min_distance"], kept["closest_pair"])
+    return success
