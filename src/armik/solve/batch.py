@@ -42,7 +42,7 @@ from armik.constraints.collision import checker
 from armik.errors import ArmikError, ArmikWarning, OptionError
 from armik.frozen import frozen
 from armik.options import Options
-from armik.request import Request
+from armik.request import Request, with_seed
 from armik.solve import backends, forked
 from armik.solve.progress import ProgressArg, make_progress
 from armik.solve.single import routed
@@ -134,7 +134,8 @@ def solve_batch(
 
     def job(start: int, stop: int | None = None) -> int:
         stop = min(start + chunk, n) if stop is None else stop
-        solve_chunk(arm, spec, batch[start:stop], seeds[start:stop], request, out, start)
+        part = batch if start == 0 and stop == n else batch[start:stop]
+        solve_chunk(arm, spec, part, seeds[start:stop], request, out, start)
         return stop - start
 
     done = 0
@@ -291,24 +292,23 @@ def solve_chunk(
             r = _row(arm, request, targets.target(i), seeds[i])
             out.put_result(start + i, r)
         return
-    opts = request.settings
+    opts = with_seed(request.opts, request.seed)
+    collisions = opts.obstacles or opts.self_collision  # ``opts.collisions``, inline
     # C-ordered and writable, as the compiled entries are compiled for (a broadcast or a
     # read-only seed would compile them again)
     if not (seeds.flags.c_contiguous and seeds.flags.writeable):
         seeds = np.array(seeds, order="C")
     answers = spec.run_batch(arm, targets, seeds, opts)
-    clear = (
-        (Collisions(opts.obstacles, opts.self_collision, opts.margin),) if opts.collisions else ()
-    )
+    clear = (Collisions(opts.obstacles, opts.self_collision, opts.margin),) if collisions else ()
     success = verdict_batch(arm, answers, targets, opts, out, start, clear)
-    if opts.collisions or spec.kind == "analytic":
+    if collisions or spec.kind == "analytic":
         # A success that keeps clear stands: it is the answer ``solve`` gives (its first
         # run, from the same seed, ends there). Every other target is solved again
         # (``_row``): a colliding one restarts (numeric) or tries the other
         # branches (closed forms); a closed form's rare failures get the specific reason
         # (too far, wrist orientation, ...) and the next verified branch that ``solve``
         # would fall back to.
-        numeric = opts.collisions and spec.kind != "analytic"
+        numeric = collisions and spec.kind != "analytic"
         for i in np.flatnonzero(~success).tolist():
             if numeric and out.status_code[start + i] == _COLLISION:
                 # verified, and colliding: its first run is this one, the search goes on
