@@ -118,3 +118,24 @@ def test_the_starts_count_as_restarts_and_spend_their_share_of_the_iterations():
     opts = Options(iteration_budget=40)  # the starts' share: 20 iterations
     prefer.near_answers(arm.kinematics, solve_from, arm.middle, opts, 0.0)
     assert 1 <= len(calls) <= 20
+
+
+@pytest.mark.parametrize("score", ["nearest", "limits", "manipulability"])
+def test_a_position_target_on_a_redundant_arm_is_ranked_not_refused(score):
+    """A position on a 7-joint arm with a preference: every answer reaches the point by
+    Pinocchio's own FK, ranked by its score (the swept search and the self-motion descent
+    hold a full pose only, so they step aside)."""
+    arm = conftest.arm("panda")
+    point = np.array([0.4, 0.1, 0.5])
+    model = arm.kinematics.model
+    data = model.createData()
+    tip = model.getFrameId(arm.tip)
+    found = arm.solve_all(point, prefer=score)
+    assert found and all(r.success for r in found)
+    for r in found:
+        pin.framesForwardKinematics(model, data, r.q)
+        assert np.linalg.norm(data.oMf[tip].translation - point) <= 1e-6
+    scores = [r.extra["score"] for r in found]
+    assert scores == sorted(scores)
+    one = arm.solve(point, prefer=score)
+    assert one.success and one.extra["score"] == scores[0]

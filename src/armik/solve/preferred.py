@@ -36,7 +36,8 @@ def preferred(arm: ArmModel, req: Request):
     target, q0, solver, _, _, _, every, t0, score, problem = req[:10]
     opts = req.settings
     plain = req.but(score=None, problem=None)
-    pose = problem is None and _plain_pose(opts)
+    # a full pose (read parsed the target): what the swept search and the descent hold
+    pose = problem is None and target.rotation is not None and _plain_pose(opts)
     seed = arm.seed(q0)
     swept = None
     if pose and solver == "auto":
