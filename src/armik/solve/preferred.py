@@ -37,7 +37,7 @@ def preferred(arm: ArmModel, req: Request):
     opts = req.settings
     plain = req.but(score=None, problem=None)
     # a full pose (read parsed the target): what the swept search and the descent hold
-    pose = problem is None and target.rotation is not None and _plain_pose(opts)
+    pose = problem is None and getattr(target, "rotation", None) is not None and _plain_pose(opts)
     seed = arm.seed(q0)
     swept = None
     if pose and solver == "auto":

@@ -106,7 +106,8 @@ def _build(arm: ArmModel, solver: str, opts: SolverSettings, position: bool, eve
         return _NO_PLAN
     if spec.prepare_pose is None:
         return _NO_PLAN
-    return Plan(arm, spec, opts, position)
+    plan = Plan(arm, spec, opts, position)
+    return _NO_PLAN if plan.run_pose is None else plan  # a runner declined: the general path
 
 
 class Plan:

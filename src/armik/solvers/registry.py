@@ -29,8 +29,9 @@ Run = Callable[["ArmModel", "Target", "np.ndarray", "SolverSettings", bool], "An
 # Many targets, one best attempt each: (arm, targets, q0 (N, dof), options) -> arrays.
 RunBatch = Callable[["ArmModel", "TargetBatch", "np.ndarray", "SolverSettings"], "Answers"]
 # One plain 4x4 pose at a time, prepared once per arm, options and target kind (see
-# ``armik.solve.prepared``): (arm, options, position_only) -> run_pose(H, q0, seed).
-PreparePose = Callable[["ArmModel", "SolverSettings", bool], Callable]
+# ``armik.solve.prepared``): (arm, options, position_only) -> run_pose(H, q0, seed), or None
+# where the solver has no runner for that input (the general path then).
+PreparePose = Callable[["ArmModel", "SolverSettings", bool], "Callable | None"]
 
 
 class Sweep(NamedTuple):

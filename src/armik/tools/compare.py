@@ -409,6 +409,8 @@ def speed(
         if prepare is None:
             raise TypeError(f"{name}'s solver {family!r} has no prepared runner to time")
         run_pose = prepare(kin, opts, False)
+        if run_pose is None:
+            raise TypeError(f"{name}'s solver {family!r} declines a plain pose to time")
         mats_armik = [T.homogeneous for T in poses]
         for T in poses[:20]:  # warm up: compiled kernels loaded, caches filled
             arm.solve(T, solver=family)

@@ -69,3 +69,18 @@ def test_a_tool_off_the_last_axis_goes_to_the_sweep():
     assert a.solve(T, bounds=FREE).solver == "dls"
     assert a.solve_all(T, bounds=FREE)[0].solver == "spin"
     assert spin_joint.aligned(model("ur5"), 2) and not spin_joint.aligned(model("ur5"), 0)
+
+
+@pytest.mark.parametrize("bounds", [FREE, (0.0, 0.0, 0.0, 0.0, 0.0, 0.3)])
+def test_a_family_without_a_prepared_runner_goes_the_general_way(bounds):
+    """The iiwa's spin: its family prepares no runner, so the prepared plan steps aside
+    (it built one that called None) and solve, solve_batch and a followed path answer."""
+    a = arm("kuka_iiwa14")
+    T = a.fk(a.random_q(21))
+    r = a.solve(T, bounds=bounds)
+    assert r.success, r.reason
+    assert abs(spun_about_z(T, a.fk(r.q))) <= bounds[5] + 1e-9
+    batch = a.solve_batch(np.array([T.homogeneous] * 2), bounds=bounds, workers=1)
+    assert batch.success.all()
+    path = a.solve_path([T, T], r.q, bounds=bounds)
+    assert path.success.all()

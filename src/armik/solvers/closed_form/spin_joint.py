@@ -91,6 +91,8 @@ def prepare_pose(arm: ArmModel, opts: SolverSettings, position: bool):
     if position or isinstance(family, str) or family.prepare_pose is None:
         return None
     runner = _RUNNER(arm, family.name)
+    if runner is None:
+        return None
     name, axis = family.name, spin.AXES[spin_k]
 
     def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False):
@@ -160,8 +162,8 @@ def _branches(
     """The closed form's branches that reach the target, nearest q0 first (q a writable
     copy: the spin turns its last column). The family's prepared runner where it takes the
     pose and seed as they are, else the family's answers."""
-    if family.prepare_pose is not None:
-        run_pose = _RUNNER(arm, family.name)
+    run_pose = None if family.prepare_pose is None else _RUNNER(arm, family.name)
+    if run_pose is not None:
         H = np.empty((4, 4))
         H[:3, :3], H[:3, 3], H[3] = target.rotation, target.position, (0.0, 0.0, 0.0, 1.0)
         got = run_pose(H, q0, 0, True)
