@@ -265,4 +265,4 @@ def measured_apart(reason: str, pos: float, ori: float | None, weighted: bool) -
     rot = "" if ori is None or ori != ori else f", {ori:.3g} rad"
     if weighted:
         return f"{reason} (on the weighted axes); the tip is {pos:.3g} m{rot} from the target"
-    return f"{reason}; the tip is {pos:.3g} m{rot} from the region's centre"
+    return f"{reason}; the tip is {pos:.3g} m{rot} from the region's centre, free components apart"

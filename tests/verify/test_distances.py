@@ -118,3 +118,20 @@ def test_the_prepared_plan_and_the_general_path_agree_on_a_region(options):
     )
     assert fast.measured == pytest.approx(general.measured, abs=1e-12)
     assert fast.reason == general.reason
+
+
+@pytest.mark.parametrize("solver", ["auto", "dls"])
+def test_weights_that_free_the_rotation_report_the_true_angle_on_every_route(solver):
+    """Rotation weights all 0 on a full pose: the verdict measures the position only, and
+    ``orientation_error`` is still the tip's angle to the target's rotation (Pinocchio's
+    FK), the same from ``solve``, ``solve_all`` and ``solve_batch``."""
+    a = arm("ur5")
+    T = a.fk(a.random_q(np.random.default_rng(2)))
+    w = (1, 1, 1, 0, 0, 0)
+    r = a.solve(T, weights=w, solver=solver)
+    assert r.success and r.orientation_error is not None
+    assert r.orientation_error == pytest.approx(_distances(a, r.q, T)[1], abs=1e-9)
+    for x in a.solve_all(T, weights=w, solver=solver):
+        assert x.orientation_error == pytest.approx(_distances(a, x.q, T)[1], abs=1e-9)
+    b = a.solve_batch(T.homogeneous[None], weights=w, solver=solver, workers=1)
+    assert b[0].orientation_error == pytest.approx(r.orientation_error, abs=1e-9)

@@ -152,9 +152,11 @@ class Plan:
         # (``armik.verify.distances``): unweighted, or a region's (``region_error``'s)
         self.apart = None
         self.weighted = opts.weights is not None
+        # the true distances measure the rotation of a full pose, whatever its weights
+        self.apart_rot = not (opts.position_only or position)
         if self.weighted and not opts.region:
             w, _, _ = measures_of(None, opts.position_only, position)
-            flags = 2 if measure_rot else 0
+            flags = 2 if self.apart_rot else 0
             self.apart = check_frame(
                 arm.T_base_world.rotation, arm.T_base_world.translation, w, flags, arm.lower,
                 arm.upper,
@@ -278,7 +280,7 @@ class Plan:
         if apart is None:
             return IKResult._from_fields(fields)
         d_pos, d_ori = apart[0], apart[1]
-        kept = fields_apart(fields, d_pos, d_ori if self.measure_rot else None, self.weighted)
+        kept = fields_apart(fields, d_pos, d_ori if self.apart_rot else None, self.weighted)
         r = IKResult._from_fields(fields)
         r.extra["measured"] = kept
         return r
@@ -383,7 +385,7 @@ class Plan:
         fk_checks(packed, kind, halton, self.fk_apart, H, Q, distances)
         out = []
         for fields, (pos, ori, _) in zip(verified, distances.tolist()):
-            kept = fields_apart(fields, pos, ori if self.measure_rot else None, self.weighted)
+            kept = fields_apart(fields, pos, ori if self.apart_rot else None, self.weighted)
             r = IKResult._from_fields(fields)
             r.extra["measured"] = kept
             out.append(r)
