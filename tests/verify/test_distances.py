@@ -135,3 +135,23 @@ def test_weights_that_free_the_rotation_report_the_true_angle_on_every_route(sol
         assert x.orientation_error == pytest.approx(_distances(a, x.q, T)[1], abs=1e-9)
     b = a.solve_batch(T.homogeneous[None], weights=w, solver=solver, workers=1)
     assert b[0].orientation_error == pytest.approx(r.orientation_error, abs=1e-9)
+
+
+def test_the_task_solver_reports_the_distance_to_a_region_centre():
+    """A box around a point that the task solver answers (its centre's compiled answer
+    out of the box's reach or off it): ``position_error`` is the tip's distance to the
+    point by Pinocchio's FK, the region's measure (0 inside) kept as ``measured``."""
+    a = arm("panda")
+    model = a.kinematics.model
+    data = model.createData()
+    tip = model.getFrameId(a.tip)
+    seen = 0
+    for seed in range(40, 56):
+        c = a.fk(a.random_q(seed)).translation + 0.02
+        r = a.solve([armik.Position(c, bounds=(0.03, 0.03, 0.03))], q0=a.middle)
+        pin.framesForwardKinematics(model, data, r.q)
+        assert r.position_error == pytest.approx(np.linalg.norm(data.oMf[tip].translation - c))
+        if r.solver == "tasks":
+            seen += 1
+            assert r.success and r.measured[0] == 0.0 and r.position_error > 0.0
+    assert seen  # the route under test was taken

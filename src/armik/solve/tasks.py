@@ -375,6 +375,16 @@ def _result(
         reason = reasons.tasks_hold(opts.tol_position, opts.tol_orientation, restarts)
     else:
         reason = reasons.tasks_missed(restarts, iterations, _describe(tasks, errors))
+    extra: dict = {"task_errors": errors}
+    centres = tuple([t.shrunk(0.0) for t in tasks])
+    if any(c is not t for c, t in zip(centres, tasks)):  # regions: the distances to their centres
+        apart = _measure(arm, centres, frame_ids(arm, centres), q, opts)
+        extra["measured"] = (max(positions, default=0.0), max(orientations, default=None))
+        positions = [e.position for e in apart if e.position is not None]
+        orientations = [e.orientation for e in apart if e.orientation is not None]
+        if status is Status.CONVERGED:
+            ori = max(orientations) if orientations else None
+            reason = reasons.measured_apart(reason, max(positions, default=0.0), ori, False)
     found = Verdicts(
         answers=one(q, Status.NOT_CONVERGED, reason, iterations=iterations, restarts=restarts),
         status=np.array([status.code], dtype=np.int8),
@@ -384,7 +394,7 @@ def _result(
         words=[reason],
         tol_position=opts.tol_position,
         tol_orientation=opts.tol_orientation,
-        extra=[{"task_errors": errors}],
+        extra=[extra],
     )
     return found.checked(arm, checked).result(0, SOLVER, time.perf_counter() - t0)
 
