@@ -5,6 +5,10 @@ verdict only when no free one follows."""
 
 from __future__ import annotations
 
+import json
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -144,3 +148,30 @@ def test_each_look_at_of_a_loop_with_obstacles_looks_at_its_own_point(panda):
         sight = (point - M.translation) / np.linalg.norm(point - M.translation)
         assert np.arccos(np.clip(sight @ M.rotation[:, 2], -1.0, 1.0)) <= 0.02 + 1e-6
         done += 1
+
+
+_FIRST_CALL = """
+import json, armik
+a = armik.load("panda")
+obs = [armik.Sphere(0.08, (0.35, 0.1, 0.45)), armik.Box((0.4, 0.05, 0.4), pose=(0.3, -0.3, 0.3))]
+T = a.fk(a.random_q(3, n=1)[0]); q0 = a.random_q(4, n=1)[0]
+out = []
+for _ in range(2):
+    r = a.solve(T, q0=q0, obstacles=obs, self_collision=True, margin=0.01)
+    out.append([r.status.name, r.restarts, r.q.tolist(), r.reason])
+print(json.dumps(out))
+"""
+
+
+def test_a_first_collision_checked_call_answers_as_every_later_one():
+    """In a new process the first collision-checked solve loads what it runs before its
+    budget's clock starts (a load of about 0.5-1 s once spent its 0.05 s timeout), so it
+    answers as the second does; and the reason counts the restarts ``restarts`` does (the
+    whole search's, not the last run's own)."""
+    got = subprocess.run(
+        [sys.executable, "-c", _FIRST_CALL], capture_output=True, text=True, check=True
+    )
+    first, second = json.loads(got.stdout.strip().splitlines()[-1])
+    assert first == second
+    status, restarts, _, reason = first
+    assert status == "CONVERGED" and reason.startswith(f"converged after {restarts} restart(s)")

@@ -124,6 +124,11 @@ def _kept(arm: ArmModel, solver: str, key: tuple, opts: Options, position: bool)
         spec = registry.choose(solver, arm, kind, plain)  # reads only the target's kind
         check = checker(arm, opts.obstacles, opts.self_collision)
         found = _Avoiding(spec, plain, (key, "plain"), check)
+        # what the search runs, loaded (or compiled) here, before its budget's clock starts:
+        # a first call in a process then answers as every later one does
+        if not plain.checks:
+            plan_for(arm, solver, found.key, plain, position, False)
+        check.distance(arm.middle)
         if len(kept) > 64:
             kept.clear()
             kept["generation"] = registry.generation

@@ -102,14 +102,29 @@ class Verdicts:
         return self
 
     def recounted(self, iterations: int, restarts: int) -> Verdicts:
-        """These rows with the counts of the whole search that found them."""
+        """These rows with the counts of the whole search that found them; a numeric
+        claim's words, which count its own run's restarts (``reasons.CONVERGED``), count
+        the search's, in the solver's words and in the verdict's written from them."""
         n = len(self)
+        own = self.answers.restarts.tolist()
+
+        def said(i: int, text: str | None) -> str | None:
+            claim = reasons.CONVERGED.format(own[i])
+            if text is None or not text.startswith(claim):
+                return text
+            return reasons.CONVERGED.format(restarts) + text[len(claim) :]
+
+        given = self.answers.reasons
         counts = replace(
             self.answers,
             iterations=np.full(n, iterations, dtype=np.int64),
             restarts=np.full(n, restarts, dtype=np.int64),
+            reasons=None
+            if given is None
+            else tuple([str(said(i, t)) for i, t in enumerate(given)]),
         )
-        return replace(self, answers=counts)
+        words = [said(i, t) for i, t in enumerate(self.words)]
+        return replace(self, answers=counts, words=words)
 
     def rank(self, i: int, seed: np.ndarray) -> tuple:
         """Row i's place among the rows: successes first, nearest ``seed``; then failures
