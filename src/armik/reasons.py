@@ -90,9 +90,11 @@ SELF_MOTION = "moved along the self-motion"  # a 7-joint answer moved for a pref
 SLID = "slid out of contact"  # a colliding answer moved off its contact on a path
 
 
-def held(joint: str, value: float, solver: str, reason: str) -> str:
-    """A 7-joint arm's answer with ``joint`` held at ``value`` (rad), the rest by ``solver``."""
-    return f"joint {joint!r} held at {value:.6g} rad; the other six by {solver}: {reason}"
+def held(joint: str, value: float, solver: str, reason: str, asked_for: str | None = None) -> str:
+    """A 7-joint arm's answer with ``joint`` held at ``value`` (rad), the rest by ``solver``
+    (``asked_for``: the whole arm's closed form asked for, which does not hold that joint)."""
+    instead = "" if asked_for is None else f" ({asked_for} solves all seven, not six)"
+    return f"joint {joint!r} held at {value:.6g} rad; the other six by {solver}{instead}: {reason}"
 
 
 def off_hold(joint: str, at: float, value: float) -> str:

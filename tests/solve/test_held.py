@@ -119,3 +119,22 @@ def test_a_path_with_a_joint_held_keeps_it_there(iiwa):
     poses = [iiwa.fk(q + 0.01 * k * np.array([1, 1, 0, 1, 1, 1, 1.0])) for k in range(3)]
     out = iiwa.solve_path(poses, q, hold={"j3": float(q[2])})
     assert out.success.all() and np.all(out.q[:, 2] == q[2])
+
+
+def test_a_solver_named_for_a_held_joint_it_does_not_hold_says_so():
+    """The swept closed form holds the Panda's joint 7: with joint 1 held, the six left are
+    solved by what "auto" chooses, and the reason says why the one named did not; a closed
+    form of neither the arm nor the six joints is refused naming the held joint; a second
+    held joint names the task solver that holds it."""
+    from armik.errors import SolverError
+
+    arm = armik.load("panda")
+    q = arm.random_q(950)
+    T = arm.fk(q)
+    r = arm.solve(T, hold={"panda_joint1": float(q[0])}, solver="swept")
+    assert r.success and r.solver != "swept" and "swept solves all seven" in r.reason
+    with pytest.raises(SolverError, match="with 'panda_joint1' held, six joints are left"):
+        arm.solve(T, hold={"panda_joint1": float(q[0])}, solver="srs")
+    with pytest.raises(OptionError, match="held by the task solver.*solver='auto', got 'swept'"):
+        two = {"panda_joint1": float(q[0]), "panda_joint2": float(q[1])}
+        arm.solve(T, hold=two, solver="swept")

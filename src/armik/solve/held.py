@@ -25,7 +25,7 @@ import numpy as np
 
 from armik import reasons
 from armik.constraints.hold import Hold
-from armik.errors import OptionError
+from armik.errors import OptionError, SolverError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.request import Request, with_seed
@@ -103,15 +103,23 @@ def solve_held(arm: ArmModel, req: Request, target, general):
         results = finish(arm, sweeping.name, answers, tgt, opts, seed, every, t0)
         return results if every else results[0]
     sub = locked_arm(arm, name, value)
+    asked_for = None  # a closed form of the whole arm asked for: "auto" solves the rest
     if solver != "auto" and _whole_arm_only(solver, arm, sub):
-        solver = "auto"  # a closed form of the whole 7R arm (srs), as a path passes it
+        asked_for, solver = solver, "auto"  # as a path passes its whole arm's choice (srs)
     free = np.delete(seed, k)
     # the checks are of the whole arm's joints: its verdict below runs them
-    found = general(sub, target, free, solver, replace(opts, hold=None, checks=()), True, t0)
+    try:
+        found = general(sub, target, free, solver, replace(opts, hold=None, checks=()), True, t0)
+    except SolverError as e:  # the solver named does not apply to the six joints left
+        raise SolverError(
+            f"with {name!r} held, six joints are left to solve: {e}",
+            solver=solver,
+            candidates=e.candidates,
+        ) from None
     answers = Answers.of(
         [np.insert(np.asarray(r.q, dtype=float), k, value) for r in found],
         [Status.CONVERGED if r.success else r.status for r in found],
-        [reasons.held(name, value, r.solver, r.reason) for r in found],
+        [reasons.held(name, value, r.solver, r.reason, asked_for) for r in found],
         arm.dof,
         branch=[r.branch for r in found],
         singular=[r.singular for r in found],

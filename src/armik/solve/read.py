@@ -65,12 +65,14 @@ def read(
                 check_said_twice(options, said, problem)
                 options = {**options, **said}
                 problem = None
+    held = False  # a plain target whose held joints only the task solver holds
     if problem is None and ("hold" in options or "constraints" in options):
         if _held_apart(arm, options):  # a plain pose or position: the task solver's task
             problem, options = _as_task(arm, target, options)
+            held = True
     opts, key, seed = settings(arm, options) if options else (_DEFAULT, (), 0)
     if problem is not None:
-        check_options(opts, solver)
+        check_options(opts, solver, held=held)
     if score is not None and problem is None:  # every answer ranked is to this target
         target = parsed(target, arm)
     # built as the tuple it is (``Request``'s own ``__new__`` is a Python call: every solve)
@@ -157,12 +159,20 @@ _SAID_BY_TASKS = ("position_only", "weights", "bounds")
 _CONSTRAINTS = ("obstacles", "self_collision")  # not yet for several tips
 
 
-def check_options(opts: Options, solver: str, several_tips: bool = False) -> None:
+def check_options(
+    opts: Options, solver: str, several_tips: bool = False, held: bool = False
+) -> None:
     """Refuse what a task list cannot take (yet, for ``several_tips``), naming the option
-    and the way round."""
+    and the way round; ``held``: the list is a plain target's, for its held joints."""
     if solver not in ("auto", SOLVER):
+        what = (
+            "these held joints are held by the task solver (a closed form holds one joint of "
+            "a 7-joint arm)"
+            if held
+            else "a list of tasks is solved by the task solver"
+        )
         raise OptionError(
-            f"a list of tasks is solved by solver='auto' (the task solver), got {solver!r}",
+            f"{what}: give solver='auto', got {solver!r}",
             option="solver",
             value=solver,
         )
