@@ -57,7 +57,8 @@ class Axis(Task):
         return TaskError(None, beyond, beyond <= tol_orientation)
 
     def shrunk(self, factor: float) -> Task:
-        return replaced(self, within=self.within * factor)
+        within = self.within * factor
+        return self if within == self.within else replaced(self, within=within)
 
     def rim(self, count: int) -> list[Task]:
         """The axis exactly along ``count`` directions tilted from ``direction`` by

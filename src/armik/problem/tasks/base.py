@@ -104,8 +104,9 @@ class Task(ABC):
 
     def shrunk(self, factor: float) -> Task:
         """The task with its region scaled by ``factor`` about its centre (a task without
-        a region: itself). A descent aimed inside the region ends inside it, not on the
-        region's edge where the residual has a kink and the steps chatter."""
+        a region, or one the factor leaves as it is: itself). A descent aimed inside the
+        region ends inside it, not on the region's edge where the residual has a kink and
+        the steps chatter."""
         return self
 
     def rim(self, count: int) -> list[Task]:

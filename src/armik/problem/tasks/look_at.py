@@ -77,4 +77,5 @@ class LookAt(Task):
         return TaskError(None, beyond, beyond <= tol_orientation)
 
     def shrunk(self, factor: float) -> Task:
-        return replaced(self, within=self.within * factor)
+        within = self.within * factor
+        return self if within == self.within else replaced(self, within=within)

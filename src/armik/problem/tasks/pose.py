@@ -81,4 +81,6 @@ class Pose(Task):
 
     def shrunk(self, factor: float) -> Task:
         bounds = scaled(self.bounds, factor)
+        if np.array_equal(bounds, self.bounds):  # no region: itself
+            return self
         return replaced(self, bounds=bounds, _free=np.where(self.weights == 0.0, math.inf, bounds))

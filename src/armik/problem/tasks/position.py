@@ -49,4 +49,5 @@ class Position(Task):
         return TaskError(pos, None, pos <= tol_position)
 
     def shrunk(self, factor: float) -> Task:
-        return replaced(self, bounds=scaled(self.bounds, factor))
+        bounds = scaled(self.bounds, factor)
+        return self if np.array_equal(bounds, self.bounds) else replaced(self, bounds=bounds)

@@ -73,7 +73,8 @@ class Relative(Task):
         return self.pose.measure(T, tol_position, tol_orientation)
 
     def shrunk(self, factor: float) -> Task:
-        return replaced(self, pose=self.pose.shrunk(factor))
+        pose = self.pose.shrunk(factor)
+        return self if pose is self.pose else replaced(self, pose=pose)
 
     def __repr__(self) -> str:
         return f"Relative({self.frame!r}, relative_to={self.relative_to!r})"
