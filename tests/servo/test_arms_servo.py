@@ -146,17 +146,23 @@ def test_a_target_out_of_reach_over_shared_joints_is_said_and_left(elbow_and_han
 def test_what_a_servo_over_shared_joints_does_not_take_is_refused(elbow_and_hand):
     robot = elbow_and_hand
     q0 = STARTS["panda"]
-    with pytest.raises(OptionError, match=r"obstacles= is not supported.*panda_joint1"):
-        robot.servo(q0, obstacles=[armik.Sphere(0.05, (1.0, 1.0, 1.0))])
+    with pytest.raises(OptionError, match="self_collision is not supported"):
+        robot.servo(q0, self_collision=True)
+    with pytest.raises(OptionError, match=r"weights= is not supported.*panda_joint1"):
+        robot.servo(q0, weights=[1.0] * 6)
     servo = robot.servo(q0)
     with pytest.raises(OptionError, match="share joints: one servo steps their union"):
         servo.servo("panda_hand")
     hand = robot.fk(q0, "panda_hand")
-    region = armik.Pose(hand, bounds=(0.01, 0.01, 0.01, 0.0, 0.0, 0.0))
-    with pytest.raises(TargetError, match="tip 'panda_hand' is Pose with bounds"):
-        servo.step({"panda_hand": region, "panda_link4": hand.translation})
+    elsewhere = armik.Pose(hand, frame="panda_link4")
+    with pytest.raises(TargetError, match="tip 'panda_hand'.*the servo follows tasks on the tip"):
+        servo.step({"panda_hand": elsewhere, "panda_link4": hand.translation})
     with pytest.raises(TargetError, match="the target of tip 'panda_link4'"):
         servo.step({"panda_hand": hand, "panda_link4": "up"})
+    bent = hand.homogeneous.copy()
+    bent[0, 0] = np.nan  # not a pose: read by the parser, refused naming the tip
+    with pytest.raises(TargetError, match="the target of tip 'panda_hand'"):
+        servo.step({"panda_hand": bent, "panda_link4": hand.translation})
     with pytest.raises(OptionError, match="q0 must hold 7"):
         robot.servo(q0[:5])
     with pytest.raises(OptionError, match="q0 must hold 7 finite"):
@@ -191,38 +197,41 @@ def test_a_shared_lift_and_continuous_joints_step_within_their_limits(pr2):
 
 @pytest.mark.parametrize("which", ["panda", "pr2"])
 def test_the_rows_over_shared_joints_are_pinocchio_s(which, elbow_and_hand, pr2):
-    """The compiled rows of the servo over shared joints (each chain's kernel FK, scattered
-    into the union's columns) against Pinocchio's FK and frame Jacobians of the union's
-    model, to 1e-12: revolute joints (the Panda), a prismatic lift and continuous joints
-    (PR2)."""
+    """The compiled rows of the servo over shared joints (each chain's kernel FK and its
+    servo's rows, scattered into the union's columns) against Pinocchio's FK and frame
+    Jacobians of the union's model, to 1e-12: a pose's six rows ``-(R_t^T (p - p_t),
+    log3(R_t^T R))`` and their Jacobian ``(R_t^T R J_v, Jlog3(R_t^T R) J_w)`` (LOCAL),
+    a position's three; revolute joints (the Panda), a prismatic lift and continuous
+    joints (PR2)."""
     robot = elbow_and_hand if which == "panda" else pr2
     servo = robot.servo(robot.middle)._union
     union = robot._joint()
     model, data = union.model, union.model.createData()
     rng = np.random.default_rng(7)
-    for _ in range(20):
+    first, second = robot.tips
+    for trial in range(20):
         q = robot.random_q(rng)
-        goals = {t: robot.fk(robot.random_q(rng), t) for t in robot.tips}
-        for k, tip in enumerate(robot.tips):
-            servo._goal_R[k], servo._goal_p[k] = goals[tip].rotation, goals[tip].translation
-        servo._rotated[:] = True
-        R_goal, p_goal = servo._goal_R, servo._goal_p
-        swapped = np.ascontiguousarray(R_goal[::-1]), np.ascontiguousarray(p_goal[::-1])
-        assert servo._rows(q, R_goal, p_goal, *swapped, True) == 12
-        E, E_last = servo._E, servo._E_last  # toward the goals, and toward them swapped
+        near = np.clip(q + rng.uniform(-0.5, 0.5, robot.dof), robot.lower, robot.upper)
+        goals = {t: robot.fk(near, t) for t in robot.tips}  # (log3 is ill-conditioned at pi)
+        if trial % 2:  # the first tip's position alone
+            goals[first] = goals[first].translation
+        E, A = servo.rows_at(goals, q)
+        assert E.shape == (12,) and A.shape == (12, robot.dof)
         pin.computeJointJacobians(model, data, union.to_pin(q))
-        R_bw = union.T_base_world.rotation
         for k, tip in enumerate(robot.tips):
             fid = model.getFrameId(tip)
             T = union.T_base_world * pin.updateFramePlacement(model, data, fid)
-            J = pin.getFrameJacobian(model, data, fid, pin.LOCAL_WORLD_ALIGNED)
+            J = pin.getFrameJacobian(model, data, fid, pin.LOCAL)
+            goal = goals[tip]
+            if not isinstance(goal, pin.SE3):
+                goal = pin.SE3(np.eye(3), goal)
+            M = goal.rotation.T @ T.rotation
             rows = slice(6 * k, 6 * k + 6)
-            assert np.allclose(E[rows][:3], goals[tip].translation - T.translation, atol=1e-12)
-            turned = pin.log3(goals[tip].rotation @ T.rotation.T)
-            assert np.allclose(E[rows][3:], turned, atol=1e-12)
-            other = goals[robot.tips[1 - k]]  # the last tick's goal, from the same FK
-            assert np.allclose(E_last[rows][:3], other.translation - T.translation, atol=1e-12)
-            turned = pin.log3(other.rotation @ T.rotation.T)
-            assert np.allclose(E_last[rows][3:], turned, atol=1e-12)
-            assert np.allclose(servo._A[rows][:3], R_bw @ J[:3], atol=1e-12)
-            assert np.allclose(servo._A[rows][3:], R_bw @ J[3:], atol=1e-12)
+            assert np.allclose(E[rows][:3], -goal.rotation.T @ (T.translation - goal.translation),
+                               rtol=0.0, atol=1e-12)  # fmt: skip
+            assert np.allclose(A[rows][:3], M @ J[:3], rtol=0.0, atol=1e-12)
+            if tip == first and trial % 2:
+                assert not E[rows][3:].any() and not A[rows][3:].any()  # rotation free
+                continue
+            assert np.allclose(E[rows][3:], -pin.log3(M), rtol=0.0, atol=1e-12)
+            assert np.allclose(A[rows][3:], pin.Jlog3(M) @ J[3:], rtol=0.0, atol=1e-12)
