@@ -235,3 +235,126 @@ def test_the_rows_over_shared_joints_are_pinocchio_s(which, elbow_and_hand, pr2)
                 continue
             assert np.allclose(E[rows][3:], -pin.log3(M), rtol=0.0, atol=1e-12)
             assert np.allclose(A[rows][3:], pin.Jlog3(M) @ J[3:], rtol=0.0, atol=1e-12)
+
+
+def _placed(robot: armik.Arms, q: np.ndarray) -> dict[str, pin.SE3]:
+    """Each tip's placement at the robot's q by Pinocchio's FK of the union's model (in
+    the base frame), not armik's."""
+    union = robot._joint()
+    data = union.model.createData()
+    pin.framesForwardKinematics(union.model, data, union.to_pin(q))
+    return {t: union.T_base_world * data.oMf[union.model.getFrameId(t)] for t in robot.tips}
+
+
+def test_a_region_over_shared_joints_is_reached_and_held(elbow_and_hand):
+    """The hand's target a box 2 cm about a point 6 cm off, its orientation exact, the
+    elbow's a 5 cm box about where it is: the hand stops at the box's face, not its
+    centre; every limit holds."""
+    robot = elbow_and_hand
+    q0 = STARTS["panda"]
+    start = _placed(robot, q0)
+    hand, elbow = start["panda_hand"], start["panda_link4"]
+    centre = pin.SE3(hand.rotation, hand.translation + hand.rotation @ [0.06, 0.0, 0.0])
+    box = (0.02, 0.02, 0.02, 0.0, 0.0, 0.0)
+    targets = {
+        "panda_hand": armik.Pose(centre, bounds=box),
+        "panda_link4": armik.Pose(elbow, bounds=(0.05, 0.05, 0.05, np.inf, np.inf, np.inf)),
+    }
+    servo = robot.servo(q0, dt=DT, acceleration_limits=15.0)
+    rec = servo.track([targets] * 1000)
+    over = violations(q0, rec.q, robot.lower, robot.upper, servo.velocity_limits, 15.0, DT)
+    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    assert rec.status[-1] == "on_target"
+    for q in rec.q[-200:]:  # held, by Pinocchio's FK
+        at = _placed(robot, q)
+        local = centre.rotation.T @ (at["panda_hand"].translation - centre.translation)
+        assert np.all(np.abs(local) <= 0.02 + 1e-6)
+        assert np.linalg.norm(pin.log3(centre.rotation.T @ at["panda_hand"].rotation)) < 1e-6
+        assert np.all(np.abs(at["panda_link4"].translation - elbow.translation) <= 0.05 + 1e-6)
+    assert np.isclose(local[0], -0.02, atol=1e-5)  # at the face nearest the start
+    assert rec.position_error[-1] > 0.039  # from the box's centre, as a chain's servo says
+
+
+@pytest.fixture(scope="module")
+def talos() -> armik.Arms:
+    """TALOS's two hands: their chains share the torso's two joints."""
+    from importlib import metadata
+
+    share = Path(str(metadata.distribution("example-robot-data").locate_file("cmeel.prefix")))
+    urdf = share / "share/example-robot-data/robots/talos_data/robots/talos_reduced.urdf"
+    return armik.load(urdf, tips=["gripper_left_base_link", "gripper_right_base_link"])
+
+
+def test_an_axis_and_a_look_at_over_shared_joints_are_held_in_their_cones(talos):
+    """The left hand 3 cm up with its z axis within 0.05 rad of a direction 0.4 rad off
+    its own; the right hand where it is, its z axis on the line to a point (a look-at):
+    both held by Pinocchio's FK, every limit on the sequence, on target (the cone's edge
+    one row, no singularity)."""
+    left, right = talos.tips
+    q0 = talos.middle
+    start = _placed(talos, q0)
+    z0 = start[left].rotation[:, 2]
+    turn = np.cross(z0, [0.0, 0.0, 1.0])
+    z_left = pin.exp3(0.4 * turn / np.linalg.norm(turn)) @ z0
+    point = start[right].translation + start[right].rotation @ [0.2, 0.1, 0.5]
+    targets = {
+        left: [
+            armik.Position(start[left].translation + [0.0, 0.0, 0.03]),
+            armik.Axis((0, 0, 1), z_left, within=0.05),
+        ],
+        right: [armik.Position(start[right].translation), armik.LookAt(point)],
+    }
+    servo = talos.servo(q0, dt=DT)
+    rec = servo.track([targets] * 1500)
+    over = violations(
+        q0, rec.q, talos.lower, talos.upper, servo.velocity_limits, servo.acceleration_limits,
+        DT,
+    )  # fmt: skip
+    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    assert rec.status[-1] == "on_target" and "singularity" not in set(rec.status.tolist()[500:])
+
+    def angle(a: np.ndarray, b: np.ndarray) -> float:
+        return float(np.arctan2(np.linalg.norm(np.cross(a, b)), a @ b))
+
+    assert angle(z0, z_left) > 0.39  # it had to turn
+    for q in rec.q[-100:]:
+        at = _placed(talos, q)
+        assert angle(at[left].rotation[:, 2], z_left) <= 0.05 + 1e-9
+        sight = point - at[right].translation
+        assert angle(at[right].rotation[:, 2], sight) <= 1e-9
+        up = at[left].translation - start[left].translation - [0, 0, 0.03]
+        assert np.linalg.norm(up) < 1e-9
+        assert np.linalg.norm(at[right].translation - start[right].translation) < 1e-9
+
+
+def test_an_obstacle_over_shared_joints_is_kept_at_the_margin(elbow_and_hand):
+    """The hand's circle passes through a sphere; the servo over the elbow and the hand
+    keeps it at the margin (each chain's distance by ``Arm.min_distance``), says so, and
+    is back on the circle past it; every limit holds."""
+    robot = elbow_and_hand
+    q0 = STARTS["panda"]
+    T0 = robot.fk(q0, "panda_hand")
+    sphere = armik.Sphere(0.05, tuple(T0.translation + np.array([0.0, 0.16, -0.16])))
+    elbow = armik.Pose(robot.fk(q0, "panda_link4"), bounds=(0.1,) * 3 + (np.inf,) * 3)
+    targets = [{"panda_hand": T, "panda_link4": elbow} for T in circle(T0, 3000, DT)]
+
+    def nearest(Q: np.ndarray) -> float:
+        return min(
+            robot.chain(tip).min_distance(part, [sphere])[0]
+            for q in Q
+            for tip, part in robot.split(q).items()
+        )
+
+    free = robot.servo(q0, dt=DT).track(targets)
+    assert nearest(free.q[::10]) < 0.0  # without the sphere the hand passes through it
+    servo = robot.servo(q0, dt=DT, obstacles=[sphere], margin=0.01)
+    rec = servo.track(targets)
+    over = violations(
+        q0, rec.q, robot.lower, robot.upper, servo.velocity_limits, servo.acceleration_limits,
+        DT,
+    )  # fmt: skip
+    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    assert nearest(rec.q) >= 0.01 - 1e-4
+    assert "obstacle" in set(rec.status.tolist())
+    end = _placed(robot, rec.q[-1])["panda_hand"]  # back on the circle past the sphere
+    assert np.linalg.norm(end.translation - targets[-1]["panda_hand"].translation) < 1e-5

@@ -22,6 +22,8 @@ servo's memory (``armik.servo.layout``), which also keeps the last tick's target
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -124,6 +126,8 @@ def stack(table, tasks, ws, E, A):
         )
         reg_p = max(reg_p, ws.val[0, 0])
         reg_r = max(reg_r, ws.val[0, 1])
+        if row[CONE] > 0.0:
+            _one_row(ws.e[0], ws.A[0], n)
         for k in range(6):
             e = ws.e[0, k]
             E[6 * t + k] = e if abs(e) > MET else 0.0
@@ -136,6 +140,23 @@ def stack(table, tasks, ws, E, A):
                 active += 1
                 break
     return reg_p, reg_r, active
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _one_row(e, A, n):
+    """A cone's rows 3-5 outside it, ``e = u h`` (u a unit vector, h the angle beyond the
+    cone), as the one row (h, u^T A) (``d(u h) = u dh + h du`` with ``u . du = 0``: the
+    same gradient ``A^T e``): three rows of rank one near the cone's edge would read as a
+    singularity and damp every other task's step."""
+    h = math.sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
+    if h == 0.0:
+        return
+    u0, u1, u2 = e[3] / h, e[4] / h, e[5] / h
+    e[3], e[4], e[5] = h, 0.0, 0.0
+    for c in range(n):
+        A[3, c] = u0 * A[3, c] + u1 * A[4, c] + u2 * A[5, c]
+        A[4, c] = 0.0
+        A[5, c] = 0.0
 
 
 @njit(cache=True, nogil=True, inline="always")
