@@ -8,10 +8,11 @@ tip most held back (``PRECEDENCE``), the largest errors and the smallest singula
 over the tips, and each tip's own step in ``tips``.
 
 Chains that share joints (a torso, a lift) take one step over their union instead
-(``armik.servo.union``): every tip's pose or position at once, every limit on every joint.
-Not supported, and refused by name: ``self_collision`` (each chain would check only itself,
-never the other arm), and on shared joints obstacles and targets other than poses and
-positions.
+(``armik.servo.union``): every tip's target at once (anything a chain's own servo takes),
+every limit on every joint, obstacles and self-collision (between the chains too) as rows
+of that step (``armik.servo.union_collisions``). Not supported, and refused by name:
+``self_collision`` on chains that share no joint (each chain would check only itself,
+never the other arm).
 """
 
 from __future__ import annotations
@@ -46,15 +47,18 @@ PRECEDENCE = (
 
 class ArmsServo:
     """One ``Servo`` per chain of an ``Arms`` whose chains share no joint, at rest at
-    ``q0`` (one value per joint of ``Arms.joint_names``); the options are each chain's
-    (``Arm.servo``'s). Raises ``OptionError`` for shared joints or ``self_collision``."""
+    ``q0`` (one value per joint of ``Arms.joint_names``), the options each chain's
+    (``Arm.servo``'s); one ``UnionServo`` over chains that share joints. Raises
+    ``OptionError`` for ``self_collision`` on chains that share no joint, and for an
+    option the union's servo does not take."""
 
     def __init__(self, arms: Arms, q0: object, **options: object) -> None:
-        if options.get("self_collision"):
+        if options.get("self_collision") and not arms.shared:
             raise OptionError(
-                "self_collision is not supported by a servo on several tips: each chain "
-                "would check itself only, never the other; give obstacles=, or servo one "
-                "chain (arms.chain(tip).servo(..., self_collision=True))",
+                "self_collision is not supported by a servo on several tips whose chains "
+                "share no joint: each chain would check itself only, never the other; give "
+                "obstacles=, or servo one chain (arms.chain(tip).servo(..., "
+                "self_collision=True))",
                 option="self_collision",
                 value=options["self_collision"],
             )

@@ -146,8 +146,10 @@ def test_a_target_out_of_reach_over_shared_joints_is_said_and_left(elbow_and_han
 def test_what_a_servo_over_shared_joints_does_not_take_is_refused(elbow_and_hand):
     robot = elbow_and_hand
     q0 = STARTS["panda"]
-    with pytest.raises(OptionError, match="self_collision is not supported"):
-        robot.servo(q0, self_collision=True)
+    with pytest.raises(OptionError, match="self_collision must be True or False"):
+        robot.servo(q0, self_collision="yes")
+    with pytest.raises(OptionError, match=r"margin must be a distance"):
+        robot.servo(q0, obstacles=[armik.Sphere(0.05, (1.0, 1.0, 1.0))], margin=-0.1)
     with pytest.raises(OptionError, match=r"weights= is not supported.*panda_joint1"):
         robot.servo(q0, weights=[1.0] * 6)
     servo = robot.servo(q0)
@@ -358,3 +360,70 @@ def test_an_obstacle_over_shared_joints_is_kept_at_the_margin(elbow_and_hand):
     assert "obstacle" in set(rec.status.tolist())
     end = _placed(robot, rec.q[-1])["panda_hand"]  # back on the circle past the sphere
     assert np.linalg.norm(end.translation - targets[-1]["panda_hand"].translation) < 1e-5
+
+
+@pytest.fixture(scope="module")
+def talos_srdf() -> armik.Arms:
+    """TALOS's two hands with its SRDF's pairs that never collide left out."""
+    from importlib import metadata
+
+    share = Path(str(metadata.distribution("example-robot-data").locate_file("cmeel.prefix")))
+    data = share / "share/example-robot-data/robots/talos_data"
+    return armik.load(
+        data / "robots/talos_reduced.urdf",
+        tips=["gripper_left_base_link", "gripper_right_base_link"],
+        srdf=data / "srdf/talos.srdf",
+    )
+
+
+def _between(robot: armik.Arms, Q: np.ndarray) -> float:
+    """The smallest distance between a link of the left arm and one of the right, by
+    coal on the URDF's collision meshes (not the servo's convex hulls) placed by
+    Pinocchio on the union's model."""
+    from importlib import metadata
+
+    union = robot._joint()
+    share = Path(str(metadata.distribution("example-robot-data").locate_file("cmeel.prefix")))
+    urdf = share / "share/example-robot-data/robots/talos_data/robots/talos_reduced.urdf"
+    dirs = [str(share / "share")]
+    geom = pin.buildGeomFromUrdf(union.model, str(urdf), pin.COLLISION, package_dirs=dirs)
+    sides = [
+        [k for k, o in enumerate(geom.geometryObjects) if side in o.name]
+        for side in ("_left_", "_right_")
+    ]
+    legs = {k for k, o in enumerate(geom.geometryObjects) if o.name.startswith("leg_")}
+    for a in sides[0]:
+        for b in sides[1]:
+            if a not in legs and b not in legs:
+                geom.addCollisionPair(pin.CollisionPair(a, b))
+    data, gdata = union.model.createData(), pin.GeometryData(geom)
+    nearest = np.inf
+    for q in Q:
+        pin.computeDistances(union.model, data, geom, gdata, union.to_pin(q))
+        nearest = min(nearest, min(r.min_distance for r in gdata.distanceResults))
+    return nearest
+
+
+def test_self_collision_between_the_chains_is_kept_at_the_margin(talos_srdf):
+    """Each hand led in 1.5 s to where the other is: without self_collision the arms pass
+    into each other; with it every left-arm link stays the margin from every right-arm
+    link (coal on the URDF's meshes), the servo says so, and every limit holds."""
+    robot = talos_srdf
+    left, right = robot.tips
+    q0 = robot.middle
+    at = {t: robot.fk(q0, t).translation for t in robot.tips}
+    middle = 0.5 * (at[left] + at[right])
+    goal = {left: middle + [0.0, -0.05, 0.0], right: middle + [0.0, 0.05, 0.0]}
+    stream = [{t: at[t] + min(1.0, k / 750) * (goal[t] - at[t]) for t in at} for k in range(1000)]
+    free = robot.servo(q0, dt=DT).track(stream)
+    assert free.status[-1] == "on_target"
+    assert _between(robot, free.q[-1:]) < 0.0
+    servo = robot.servo(q0, dt=DT, self_collision=True, margin=0.01)
+    rec = servo.track(stream)
+    over = violations(
+        q0, rec.q, robot.lower, robot.upper, servo.velocity_limits, servo.acceleration_limits,
+        DT,
+    )  # fmt: skip
+    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    assert _between(robot, rec.q[::4]) >= 0.01 - 1e-4
+    assert rec.status[-1] == "obstacle" and rec.position_error[-1] > 0.02

@@ -28,7 +28,6 @@ from armik.errors import OptionError, TargetError
 from armik.frozen import frozen
 from armik.model.union import Union
 from armik.servo import layout as k
-from armik.servo.collisions import CollisionRows, rows_for
 from armik.servo.limits import (
     DEFAULT_ACCELERATION,
     gain_of,
@@ -47,10 +46,11 @@ from armik.servo.servo import (
     SINGULAR,
 )
 from armik.servo.table import table
+from armik.servo.union_collisions import union_rows
 from armik.servo.union_tick import allocate, python_views, rows_at, stacked, tick
 
 KEYWORDS: tuple[str, ...] = ("dt", "velocity_limits", "acceleration_limits", "gain")
-KEYWORDS += ("tol_position", "tol_orientation", "obstacles", "margin")
+KEYWORDS += ("tol_position", "tol_orientation", "obstacles", "self_collision", "margin")
 
 
 class UnionServo:
@@ -70,6 +70,7 @@ class UnionServo:
         tol_position: float = ON_TARGET,
         tol_orientation: float = ON_TARGET,
         obstacles: object = None,
+        self_collision: object = False,
         margin: object = 0.01,
     ) -> None:
         self.union, self.tips = union, tuple(chains)
@@ -134,12 +135,15 @@ class UnionServo:
         self._counts = np.zeros(tips, dtype=np.int64)
         self._H = np.zeros((tips, 4, 4))
         self._no_rows = np.zeros((0, n + 1))
-        self._near = np.zeros((k.MAX_ROWS, n + 1))
-        self._collisions: list[CollisionRows] = []
-        for arm in arms:
-            rows = rows_for(arm, obstacles, False, margin, self.dt)  # type: ignore[arg-type]
-            if rows is not None:
-                self._collisions.append(rows)
+        self._collisions = union_rows(
+            arms,  # type: ignore[arg-type]
+            self._cols,
+            n,
+            obstacles,
+            self_collision,
+            margin,
+            self.dt,
+        )
 
     @property
     def q(self) -> np.ndarray:
@@ -173,7 +177,7 @@ class UnionServo:
                 counts[t] = 0
             else:
                 self._read(t, target)
-        near = self._no_rows if not self._collisions else self._rows(self._state[k.Q])
+        near = self._no_rows if self._collisions is None else self._collisions.at(self._state[k.Q])
         args = (self._packed, self._kinds, self._at, self._maps, self._mem, self._imem)
         bad = tick(self._tables, counts, H, *args, near)
         while bad >= 0:  # a 4x4 the parser does not keep as given: read it here
@@ -217,20 +221,3 @@ class UnionServo:
         o = t * k.MAX_TASKS
         self._tables[o : o + len(rows)] = rows
         self._counts[t] = len(rows)
-
-    def _rows(self, q: np.ndarray) -> np.ndarray:
-        """The collision rows at q (``C dq >= b``: (K, n + 1)) of every chain, their columns
-        the union's, the nearest ``MAX_ROWS`` pairs'."""
-        parts = [(r.at(q[c]), c) for r, c in zip(self._collisions, self._cols)]
-        K = sum(len(rows) for rows, _ in parts)
-        if K == 0:
-            return self._no_rows
-        near = self._near
-        near[:] = 0.0
-        order = np.argsort(-np.concatenate([rows[:, -1] for rows, _ in parts]))  # nearest first
-        flat = [(rows[i], cols) for rows, cols in parts for i in range(len(rows))]
-        for out, i in enumerate(order[: k.MAX_ROWS].tolist()):
-            row, cols = flat[i]
-            near[out, cols] = row[:-1]
-            near[out, -1] = row[-1]
-        return near[: min(K, k.MAX_ROWS)]
