@@ -63,6 +63,7 @@ class ArmsServo:
                 value=options["self_collision"],
             )
         self.tips = arms.tips
+        self._tip_set = set(arms.tips)
         self.joint_names = arms.joint_names
         self._servos: dict[str, Servo] = {}
         self._union: UnionServo | None = None
@@ -123,25 +124,8 @@ class ArmsServo:
         """One tick of every chain toward its tip's target (``targets``: tip -> anything
         ``Arm.servo``'s ``step`` takes); the joined step (module docstring). Raises
         ``TargetError`` unless every tip has a target and no other is named."""
-        if not isinstance(targets, Mapping):
-            raise TargetError(
-                f"a servo on several tips takes one target per tip, a mapping "
-                f"{{tip: target}} over {list(self.tips)}, got {type(targets).__name__}"
-            )
-        unknown = [t for t in targets if t not in self.tips]
-        missing = [t for t in self.tips if t not in targets]
-        if unknown or missing:
-            raise TargetError(
-                f"one target per tip of {list(self.tips)}: "
-                + "; ".join(
-                    part
-                    for part in (
-                        f"unknown tips {unknown}" if unknown else "",
-                        f"no target for {missing}" if missing else "",
-                    )
-                    if part
-                )
-            )
+        if type(targets) is not dict or targets.keys() != self._tip_set:
+            self._check(targets)  # (a dict over the tips, the common case, needs none)
         if self._union is not None:
             return self._union.step(targets)
         steps = {tip: s.step(targets[tip]) for tip, s in self._servos.items()}
@@ -166,6 +150,28 @@ class ArmsServo:
             conflict=any(s.conflict for s in steps.values()),
             tips=steps,
         )
+
+    def _check(self, targets: object) -> None:
+        """Raises ``TargetError`` unless ``targets`` maps every tip and no other."""
+        if not isinstance(targets, Mapping):
+            raise TargetError(
+                f"a servo on several tips takes one target per tip, a mapping "
+                f"{{tip: target}} over {list(self.tips)}, got {type(targets).__name__}"
+            )
+        unknown = [t for t in targets if t not in self.tips]
+        missing = [t for t in self.tips if t not in targets]
+        if unknown or missing:
+            raise TargetError(
+                f"one target per tip of {list(self.tips)}: "
+                + "; ".join(
+                    part
+                    for part in (
+                        f"unknown tips {unknown}" if unknown else "",
+                        f"no target for {missing}" if missing else "",
+                    )
+                    if part
+                )
+            )
 
     def track(self, targets: Iterable[Mapping[str, object]]) -> ServoRecord:
         """``step`` through ``targets`` (one mapping tip -> target a tick), in order."""

@@ -103,14 +103,11 @@ class UnionServo:
         # the chains' kernel arrays one after the other, and their joints' union columns
         arms = [chains[tip] for tip in self.tips]
         flats = [arm.kernel_chain.flat for arm in arms]  # type: ignore[attr-defined]
-        self._packed = np.concatenate([f.packed for f in flats])
-        self._kinds = np.concatenate([f.kind for f in flats])
         self._cols = [
             np.array([self.joint_names.index(j) for j in arm.joint_names], dtype=np.int64)  # type: ignore[attr-defined]
             for arm in arms
         ]
-        self._maps = np.concatenate(self._cols)
-        self._at = np.array(
+        at = np.array(
             [
                 np.cumsum([0] + [f.packed.shape[0] for f in flats]),
                 np.cumsum([0] + [f.kind.shape[0] for f in flats]),
@@ -118,11 +115,11 @@ class UnionServo:
             ],
             dtype=np.int64,
         )
-        most = max(len(c) for c in self._cols)
-        most_joints = max((f.kind.shape[0] - len(c)) // 2 for f, c in zip(flats, self._cols))
-        tips = len(self.tips)
-        self._mem, self._imem = allocate(n, tips, most, most_joints)
-        self._state, self._cfg, self._out = python_views(self._mem, n)
+        packed = np.concatenate([f.packed for f in flats])
+        kinds = np.concatenate([f.kind for f in flats])
+        self._mem, self._imem = allocate(n, packed, kinds, at, np.concatenate(self._cols))
+        views = python_views(self._mem, self._imem)
+        self._state, self._cfg, self._out, self._tables, self._H, self._counts = views
         self._state[k.Q], self._state[k.REST] = q, q
         self._state[k.VMAX], self._state[k.AMAX] = vmax, amax
         self._state[k.LO], self._state[k.HI] = union.lower, union.upper
@@ -131,9 +128,6 @@ class UnionServo:
         cfg[k.TOL_P], cfg[k.TOL_R] = tol_position, tol_orientation
         cfg[k.PULL], cfg[k.LAM_ERR] = PULL, DAMPING_ERROR
         cfg[k.SIGMA_EPS], cfg[k.LAM_MAX], cfg[k.LAM_MIN] = SINGULAR, DAMPING, LAMBDA_MIN
-        self._tables = np.zeros((tips * k.MAX_TASKS, k.COLUMNS))
-        self._counts = np.zeros(tips, dtype=np.int64)
-        self._H = np.zeros((tips, 4, 4))
         self._no_rows = np.zeros((0, n + 1))
         self._collisions = union_rows(
             arms,  # type: ignore[arg-type]
@@ -172,17 +166,16 @@ class UnionServo:
             if type(target) is pin.SE3:  # a pose's row is written by the compiled tick
                 H[t] = target.homogeneous  # type: ignore[attr-defined]
                 counts[t] = 0
-            elif type(target) is np.ndarray and target.shape == (4, 4):
+            elif type(target) is np.ndarray and target.shape == (4, 4) and target.dtype == float:
                 H[t] = target
                 counts[t] = 0
             else:
                 self._read(t, target)
         near = self._no_rows if self._collisions is None else self._collisions.at(self._state[k.Q])
-        args = (self._packed, self._kinds, self._at, self._maps, self._mem, self._imem)
-        bad = tick(self._tables, counts, H, *args, near)
+        bad = tick(self._mem, self._imem, near)
         while bad >= 0:  # a 4x4 the parser does not keep as given: read it here
             self._read(bad, targets[self.tips[bad]])
-            bad = tick(self._tables, counts, H, *args, near)
+            bad = tick(self._mem, self._imem, near)
         command = self._state[: k.ACC + 1].copy()  # q, dq, ddq: one read-only copy
         command.flags.writeable = False
         pos, ori, code, j, sigma, conflict = self._out.tolist()
@@ -205,9 +198,7 @@ class UnionServo:
         their Jacobian over the union's joints, as a tick builds them (for tests)."""
         for t, tip in enumerate(self.tips):
             self._read(t, targets[tip])
-        q = np.array(q, dtype=float)
-        args = (self._packed, self._kinds, self._at, self._maps, q, self._mem, self._imem)
-        rows = rows_at(self._tables, self._counts, self._H, *args)
+        rows = rows_at(np.array(q, dtype=float), self._mem, self._imem)
         E, A = stacked(self._mem, self._imem)
         return E[:rows].copy(), A[:rows].copy()
 

@@ -126,7 +126,8 @@ class UnionCollisions:
         reach = self.margin + ACTIVE
         a, b = self.pair_a, self.pair_b
         gap = np.linalg.norm(centre[a] - centre[b], axis=1) - self.radius[a] - self.radius[b]
-        near = [(g, i, j) for g, i, j in zip(gap.tolist(), a.tolist(), b.tolist()) if g < reach]
+        close = np.flatnonzero(gap < reach)
+        near = list(zip(gap[close].tolist(), a[close].tolist(), b[close].tolist()))
         if self.obstacles:  # (other: -1 - the obstacle)
             m = self.moving
             d = np.linalg.norm(centre[m][:, None, :] - self.obstacle_centre[None], axis=2)

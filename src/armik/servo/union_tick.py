@@ -46,7 +46,9 @@ from armik.servo.layout import (
 from armik.servo.step import scratch, scratch_size, status_code, step_within
 from armik.servo.tick import equal, pose_row, stack, views
 
-HEADER = 4  # ints: n, tips, the most joint values and the most joints of a chain
+# ints: n, tips, the most joint values and the most joints of a chain, the lengths of
+# the chains' packed floats, kinds and maps
+HEADER = 7
 
 
 def chain_size(n: int, N: int) -> int:
@@ -56,46 +58,96 @@ def chain_size(n: int, N: int) -> int:
     return ws + 36 + 12 + 6 * MAX_TASKS * (1 + n) + n
 
 
-def allocate(n: int, tips: int, most: int, most_joints: int) -> tuple[np.ndarray, np.ndarray]:
-    """(mem, imem), zero, for n joint values over ``tips`` chains of at most ``most`` joint
-    values and ``most_joints`` joints."""
-    fixed = STATE_ROWS * n + CFG + 2 * OUT + tips * MAX_TASKS * COLUMNS
-    floats = chain_size(most, most_joints) + scratch_size(n, 6 * MAX_TASKS * tips)
-    mem = np.zeros(fixed + floats)
-    imem = np.zeros(HEADER + tips + 3 * most + 5 * n, dtype=np.int64)
-    imem[:HEADER] = n, tips, most, most_joints
+def allocate(
+    n: int, packed: np.ndarray, kinds: np.ndarray, at: np.ndarray, maps: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """(mem, imem) for n joint values over the chains of ``packed``, ``kinds`` (cut at
+    ``at[0]``, ``at[1]``) and ``maps`` (cut at ``at[2]``), zero but for them."""
+    tips = at.shape[1] - 1
+    most = int(np.diff(at[2]).max())
+    most_joints = int(((np.diff(at[1]) - np.diff(at[2])) // 2).max())
+    P, K, M = packed.shape[0], kinds.shape[0], maps.shape[0]
+    head = np.array([n, tips, most, most_joints, P, K, M], dtype=np.int64)
+    f, i = offsets(head)
+    mem = np.zeros(f[-1] + chain_size(most, most_joints) + scratch_size(n, 6 * MAX_TASKS * tips))
+    imem = np.zeros(i[-1] + 3 * most + 5 * n, dtype=np.int64)
+    imem[:HEADER] = head
+    mem[f[7] : f[8]] = packed
+    imem[i[2] : i[3]] = at.ravel()
+    imem[i[3] : i[4]] = kinds
+    imem[i[4] : i[5]] = maps
     return mem, imem
 
 
-def python_views(mem: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(state, cfg, out): the views the ``UnionServo`` reads and sets."""
-    o = STATE_ROWS * n
-    return mem[:o].reshape((STATE_ROWS, n)), mem[o : o + CFG], mem[o + CFG : o + CFG + OUT]
+@njit(cache=True, nogil=True)
+def offsets(head):
+    """Where each part starts in mem (state, cfg, out, out2, the last tables, the tables,
+    the poses, the packed floats, the rest) and in imem (the last counts, the counts,
+    ``at``, the kinds, the maps, the rest), from imem's header."""
+    n, tips, P, K, M = head[0], head[1], head[4], head[5], head[6]
+    table = tips * MAX_TASKS * COLUMNS
+    f0 = STATE_ROWS * n
+    f = (0, f0, f0 + CFG, f0 + CFG + OUT, f0 + CFG + 2 * OUT)
+    f = f + (f[4] + table, f[4] + 2 * table, f[4] + 2 * table + 16 * tips)
+    f = f + (f[7] + P,)
+    i = (HEADER, HEADER + tips, HEADER + 2 * tips)
+    i = i + (i[2] + 3 * (tips + 1),)
+    i = i + (i[3] + K, i[3] + K + M)
+    return f, i
+
+
+def python_views(mem: np.ndarray, imem: np.ndarray) -> tuple[np.ndarray, ...]:
+    """(state, cfg, out, tables, poses, counts): the views the ``UnionServo`` reads and
+    sets."""
+    f, i = offsets(imem[:HEADER])
+    n, tips = int(imem[0]), int(imem[1])
+    return (
+        mem[f[0] : f[1]].reshape((STATE_ROWS, n)),
+        mem[f[1] : f[2]],
+        mem[f[2] : f[3]],
+        mem[f[5] : f[6]].reshape((tips * MAX_TASKS, COLUMNS)),
+        mem[f[6] : f[7]].reshape((tips, 4, 4)),
+        imem[i[1] : i[2]],
+    )
 
 
 def stacked(mem: np.ndarray, imem: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(E, A): the rows ``rows_at`` wrote, this tick's target's (2 x 6 ``MAX_TASKS`` tips)
     and their Jacobian (rows x n)."""
-    n, tips, most, most_joints = imem[:HEADER].tolist()
+    f, _ = offsets(imem[:HEADER])
+    n, tips, most, most_joints = imem[:4].tolist()
     m = 6 * MAX_TASKS * tips
-    o = STATE_ROWS * n + CFG + 2 * OUT + tips * MAX_TASKS * COLUMNS
-    o += chain_size(most, most_joints)
+    o = f[8] + chain_size(most, most_joints)
     return mem[o : o + m], mem[o + 2 * m : o + 2 * m + m * n].reshape((m, n))
 
 
 @njit(cache=True, nogil=True, inline="always")
 def _carve(mem, imem):
+    """The parts of ``offsets``: (state, cfg, out, out2, lasts, tables, poses, packed, the
+    floats' rest), (last counts, counts, at, kinds, maps, the ints' rest)."""
     n, tips = imem[0], imem[1]
-    o = STATE_ROWS * n
-    state = mem[:o].reshape((STATE_ROWS, n))
-    cfg = mem[o : o + CFG]
-    o += CFG
-    out = mem[o : o + OUT]
-    out2 = mem[o + OUT : o + 2 * OUT]
-    o += 2 * OUT
-    size = tips * MAX_TASKS * COLUMNS
-    lasts = mem[o : o + size].reshape((tips * MAX_TASKS, COLUMNS))
-    return state, cfg, out, out2, lasts, mem[o + size :]
+    f, i = offsets(imem[:HEADER])
+    rows = tips * MAX_TASKS
+    floats = (
+        mem[f[0] : f[1]].reshape((STATE_ROWS, n)),
+        mem[f[1] : f[2]],
+        mem[f[2] : f[3]],
+        mem[f[3] : f[4]],
+        mem[f[4] : f[5]].reshape((rows, COLUMNS)),
+        mem[f[5] : f[6]].reshape((rows, COLUMNS)),
+        mem[f[6] : f[7]].reshape((tips, 4, 4)),
+        mem[f[7] : f[8]],
+        mem[f[8] :],
+    )
+    ints = (
+        imem[i[0] : i[1]],
+        imem[i[1] : i[2]],
+        imem[i[2] : i[3]].reshape((3, tips + 1)),
+        imem[i[3] : i[4]],
+        imem[i[4] : i[5]],
+        imem[i[5] :],
+    )
+    return floats, ints
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
@@ -168,18 +220,18 @@ def _poses(tables, counts, H):
 
 
 @njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
-def rows_at(tables, counts, H, packed, kinds, at, maps, q, mem, imem):
+def rows_at(q, mem, imem):
     """``_rows`` at q (the test's view of them): the rows written, in the step's scratch
     (``stacked``); -1 for a pose that is not plain."""
     n, tips = imem[0], imem[1]
+    (state, cfg, out, out2, lasts, tables, H, packed, buf), ints = _carve(mem, imem)
+    last_counts, counts, at, kinds, maps, ib = ints
     if _poses(tables, counts, H) >= 0:
         return -1
-    state, cfg, out, out2, lasts, buf = _carve(mem, imem)
     cw = chain_floats(imem[2], imem[3])
     E, A2, M6, W, act, o = scratch(buf, cw, n, 6 * MAX_TASKS * tips)
     m = E.shape[0] // 2
-    ib = imem[HEADER + tips :]
-    res = _rows(tables, counts, lasts, imem[HEADER : HEADER + tips], packed, kinds, at, maps,
+    res = _rows(tables, counts, lasts, last_counts, packed, kinds, at, maps,
                 q, buf[:cw], ib[: 3 * imem[2]], E.reshape((2, m)), A2)  # fmt: skip
     return res[2]
 
@@ -192,21 +244,20 @@ def chain_floats(n, N):
 
 
 @njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
-def tick(tables, counts, H, packed, kinds, at, maps, mem, imem, rows_cb):
+def tick(mem, imem, rows_cb):
     """One tick of the union's state in ``mem`` toward every tip's target, within the
     collision rows ``rows_cb`` (K, n + 1: C, then b, for C dq >= b). Returns -1, or,
     having done nothing, the first tip whose pose H[t] is not one the target parser keeps
     as given (the caller parses it)."""
     n, tips, most = imem[0], imem[1], imem[2]
+    (state, cfg, out, out2, lasts, tables, H, packed, buf), ints = _carve(mem, imem)
+    last_counts, counts, at, kinds, maps, ib = ints
     bad = _poses(tables, counts, H)
     if bad >= 0:
         return bad
-    state, cfg, out, out2, lasts, buf = _carve(mem, imem)
     cw = chain_floats(most, imem[3])
     m = 6 * MAX_TASKS * tips
     E, A2, M6, W, act, o = scratch(buf, cw, n, m)
-    last_counts = imem[HEADER : HEADER + tips]
-    ib = imem[HEADER + tips :]
     cbuf, cibuf = buf[:cw], ib[: 3 * most]
     iv = ib[3 * most : 3 * most + 4 * n].reshape((4, n))
     every = ib[3 * most + 4 * n : 3 * most + 5 * n]
