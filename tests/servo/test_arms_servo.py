@@ -427,3 +427,54 @@ def test_self_collision_between_the_chains_is_kept_at_the_margin(talos_srdf):
     assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
     assert _between(robot, rec.q[::4]) >= 0.01 - 1e-4
     assert rec.status[-1] == "obstacle" and rec.position_error[-1] > 0.02
+
+
+def test_the_collision_rows_over_shared_joints_are_the_distances_derivatives(talos_srdf):
+    """Each self-collision row's C (the pair's normal on its witness points' Jacobians,
+    each from its chain, in the union's columns) is the derivative of the pair's distance,
+    which the test measures by coal on the same shapes placed by Pinocchio's FK of the
+    union's model: central differences along random directions, the torso's joints
+    moving both chains' links at once."""
+    import coal
+
+    robot = talos_srdf
+    left, right = robot.tips
+    q0 = robot.middle
+    at = {t: robot.fk(q0, t).translation for t in robot.tips}
+    middle = 0.5 * (at[left] + at[right])
+    goal = {left: middle + [0.0, -0.05, 0.0], right: middle + [0.0, 0.05, 0.0]}
+    servo = robot.servo(q0, dt=DT, self_collision=True, margin=0.01)
+    q = servo.track([goal] * 400).q[-1]  # the hands at the margin
+    rows = servo._union._collisions
+    C = rows.at(q).copy()
+    assert len(C) >= 4 and rows.nearest < 0.03
+    union = robot._joint()
+    model, data = union.model, union.model.createData()
+    request = coal.DistanceRequest()
+    request.gjk_tolerance = 1e-12
+
+    def placed(k: int, qq: np.ndarray) -> coal.Transform3s:
+        c, i = rows.objects[k]
+        obj = rows.geometry[c].model.geometryObjects[i]
+        frame = rows.arms[c].model.frames[obj.parentFrame]
+        link = frame.placement.inverse() * obj.placement  # the object in its link's frame
+        pin.framesForwardKinematics(model, data, union.to_pin(qq))
+        M = data.oMf[model.getFrameId(frame.name)] * link
+        return coal.Transform3s(M.rotation, M.translation)
+
+    def distance(a: int, b: int, qq: np.ndarray) -> float:
+        Ta, Tb = placed(a, qq), placed(b, qq)
+        result = coal.DistanceResult()
+        return coal.distance(rows.geoms[a], Ta, rows.geoms[b], Tb, request, result)
+
+    rng = np.random.default_rng(3)
+    between = 0
+    for k, (a, b) in enumerate(rows.pairs[:6]):
+        names = rows.names[a], rows.names[b]
+        between += ("left" in names[0]) != ("left" in names[1])
+        for _ in range(3):
+            v = rng.normal(size=robot.dof)
+            h = 1e-6
+            slope = (distance(a, b, q + h * v) - distance(a, b, q - h * v)) / (2 * h)
+            assert abs(slope - C[k, :-1] @ v) <= 1e-5 * (1.0 + np.linalg.norm(C[k, :-1])), names
+    assert between >= 1  # a pair of a link of each arm among them

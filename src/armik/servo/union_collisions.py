@@ -16,6 +16,7 @@ point's Jacobian from its chain's Pinocchio Jacobian, its columns the union's.
 
 from __future__ import annotations
 
+import heapq
 import math
 from collections.abc import Sequence
 
@@ -97,12 +98,15 @@ class UnionCollisions:
             [k for k in range(len(objects)) if self._joint(k) != 0], dtype=np.intp
         )
         geoms = [self._object(k).geometry for k in range(len(objects))]
+        self.geoms, self.joints = geoms, [self._joint(k) for k in range(len(objects))]
         self.radius = np.array([_radius(g) for g in geoms])
         self.centre = np.array([g.aabb_center for g in geoms]).reshape(-1, 3)
         self.pair_a = np.array([p for p, _ in self.self_pairs], dtype=np.intp)
         self.pair_b = np.array([q for _, q in self.self_pairs], dtype=np.intp)
         self.rows = np.zeros((MAX_ROWS, n + 1))
+        self.request = coal.DistanceRequest()
         self.nearest = math.inf  # m: the nearest pair's distance at the last ``at``
+        self.pairs: list[tuple[int, int]] = []  # each row's pair (an obstacle's: -1 - it)
 
     def _object(self, k: int) -> pin.GeometryObject:
         c, i = self.objects[k]
@@ -124,54 +128,70 @@ class UnionCollisions:
         R = np.array([M.rotation for M in placed])
         centre = np.array([M.translation for M in placed]) + np.einsum("kij,kj->ki", R, self.centre)
         reach = self.margin + ACTIVE
-        a, b = self.pair_a, self.pair_b
-        gap = np.linalg.norm(centre[a] - centre[b], axis=1) - self.radius[a] - self.radius[b]
+        pa, pb = self.pair_a, self.pair_b
+        gap = np.linalg.norm(centre[pa] - centre[pb], axis=1) - self.radius[pa] - self.radius[pb]
         close = np.flatnonzero(gap < reach)
-        near = list(zip(gap[close].tolist(), a[close].tolist(), b[close].tolist()))
+        near = list(zip(gap[close].tolist(), pa[close].tolist(), pb[close].tolist()))
         if self.obstacles:  # (other: -1 - the obstacle)
             m = self.moving
             d = np.linalg.norm(centre[m][:, None, :] - self.obstacle_centre[None], axis=2)
             gap = d - self.radius[m][:, None] - self.obstacle_radius[None]
             for i, s in zip(*np.nonzero(gap < reach)):
                 near.append((float(gap[i, s]), int(m[i]), -1 - int(s)))
-        found = []  # every pair the broad phase leaves, measured; the nearest become rows
-        for _, a, b in near:
-            ga, Ta = self._object(a).geometry, _transform(placed[a])
+        # the pairs the broad phase leaves, nearest bound first, measured until the
+        # ``MAX_ROWS`` nearest distances are known (no bound left below the farthest of them)
+        found: list[tuple[float, int, int, coal.DistanceResult]] = []
+        kept: list[float] = []  # the distances found, as a max-heap of the nearest, negated
+        request = self.request
+        transforms: dict[int, coal.Transform3s] = {}
+        for bound, a, b in sorted(near):
+            if len(kept) == MAX_ROWS and bound >= -kept[0]:
+                break
+            for k in (a, b) if b >= 0 else (a,):
+                if k not in transforms:
+                    transforms[k] = _transform(placed[k])
+            Ta = transforms[a]
             if b >= 0:
-                gb, Tb = self._object(b).geometry, _transform(placed[b])
+                gb, Tb = self.geoms[b], transforms[b]
             else:
                 gb, Tb = self.obstacles[-1 - b]
             result = coal.DistanceResult()
-            d = coal.distance(ga, Ta, gb, Tb, coal.DistanceRequest(), result)
+            d = coal.distance(self.geoms[a], Ta, gb, Tb, request, result)
             if d < reach:
                 found.append((d, a, b, result))
+                if len(kept) < MAX_ROWS:
+                    heapq.heappush(kept, -d)
+                elif d < -kept[0]:
+                    heapq.heapreplace(kept, -d)
         found.sort(key=lambda f: f[0])
         self.nearest = found[0][0] if found else math.inf
         K = 0
+        jacobians: dict = {}
+        self.pairs = [(a, b) for _, a, b, _ in found[:MAX_ROWS]]
         for d, a, b, result in found[:MAX_ROWS]:
-            Jd = -self._point(a, np.array(result.getNearestPoint1()))
+            Jd = -self._point(a, np.array(result.getNearestPoint1()), jacobians)
             if b >= 0:
-                Jd += self._point(b, np.array(result.getNearestPoint2()))
+                Jd += self._point(b, np.array(result.getNearestPoint2()), jacobians)
             self.rows[K, :-1] = np.array(result.normal) @ Jd
             self.rows[K, -1] = -self.gain * (d - self.margin)
             K += 1
         return self.rows[:K]
 
-    def _point(self, k: int, p: np.ndarray) -> np.ndarray:
-        """The 3 x n Jacobian (the union's columns) of the world point p fixed to object k."""
+    def _point(self, k: int, p: np.ndarray, jacobians: dict) -> np.ndarray:
+        """The 3 x n Jacobian (the union's columns) of the world point p fixed to object
+        k; ``jacobians``: this tick's joint Jacobians, by (chain, joint)."""
         c, _ = self.objects[k]
         out = np.zeros((3, self.n))
-        joint = self._joint(k)
+        joint = self.joints[k]
         if joint == 0:
             return out
-        model, data = self.arms[c].model, self.data[c]
-        J = pin.getJointJacobian(model, data, joint, pin.LOCAL_WORLD_ALIGNED)
-        rx, ry, rz = (p - data.oMi[joint].translation).tolist()
-        v, w = J[:3], J[3:]
-        v[0] -= ry * w[2] - rz * w[1]  # v + w x r = v - r x w
-        v[1] -= rz * w[0] - rx * w[2]
-        v[2] -= rx * w[1] - ry * w[0]
-        out[:, self.cols[c]] = v
+        data = self.data[c]
+        J = jacobians.get((c, joint))
+        if J is None:
+            J = pin.getJointJacobian(self.arms[c].model, data, joint, pin.LOCAL_WORLD_ALIGNED)
+            jacobians[c, joint] = J
+        r = p - data.oMi[joint].translation
+        out[:, self.cols[c]] = J[:3] + np.cross(J[3:].T, r).T  # v + w x r
         return out
 
 
