@@ -9,6 +9,10 @@ on 5 cm circles at 0.5 Hz in the base's y-z plane, orientation held (3000 ticks:
 the limits allow); ``reach``, the left hand 3 m along x for 1 s, then both hands back at
 the start for 2 s (1500 ticks).
 
+With ``--collisions``, armik alone on TALOS with its SRDF: both hands led in 1.5 s to
+where the other is (2 s), with and without ``self_collision=True`` (margin 1 cm),
+interleaved: the mean time of a tick and their ratio.
+
 Limits: the URDF's positions and velocities, 20 rad/s^2 on every joint. Reported per
 stream and solver: the largest excess over each limit of the commanded sequence by finite
 differences, the RMS of the larger hand's position error (after the first 0.1 s), the final
@@ -16,6 +20,7 @@ error, NaNs, the mean, median and p99 time of a tick and the mean CPU time of a 
 armik's over Pink's.
 
     PYTHONPATH=/tmp/peerpkgs python benchmarks/servo_shared.py [--seed 5] [--no-pink]
+        [--collisions]
 """
 
 from __future__ import annotations
@@ -37,10 +42,34 @@ TIPS = ("gripper_left_base_link", "gripper_right_base_link")
 DAMPING = 1e-6
 
 
-def talos() -> armik.Arms:
+def talos(srdf: bool = False) -> armik.Arms:
     share = Path(str(metadata.distribution("example-robot-data").locate_file("cmeel.prefix")))
-    urdf = share / "share/example-robot-data/robots/talos_data/robots/talos_reduced.urdf"
-    return armik.load(urdf, tips=list(TIPS))
+    data = share / "share/example-robot-data/robots/talos_data"
+    pairs = data / "srdf/talos.srdf" if srdf else None
+    return armik.load(data / "robots/talos_reduced.urdf", tips=list(TIPS), srdf=pairs)
+
+
+def collisions() -> None:
+    """The ``--collisions`` table (module docstring)."""
+    robot = talos(srdf=True)
+    q0 = robot.middle
+    at = {t: robot.fk(q0, t).translation for t in TIPS}
+    middle = 0.5 * (at[TIPS[0]] + at[TIPS[1]])
+    goal = {TIPS[0]: middle + [0.0, -0.05, 0.0], TIPS[1]: middle + [0.0, 0.05, 0.0]}
+    stream = [{t: at[t] + min(1.0, k / 750) * (goal[t] - at[t]) for t in TIPS} for k in range(1000)]
+    robot.servo(q0, self_collision=True).step(stream[0])  # the compiled parts, once
+    times: dict[str, list[float]] = {"without": [], "self_collision": []}
+    for _ in range(3):
+        for name in times:
+            servo = robot.servo(q0, dt=DT, self_collision=name != "without", margin=0.01)
+            t = time.perf_counter()
+            servo.track(stream)
+            times[name].append((time.perf_counter() - t) / len(stream) * 1e6)
+    rows = servo._union._collisions
+    pairs = len(rows.self_pairs)
+    print(f"TALOS with its SRDF, self-collision: {len(rows.objects)} links' shapes, {pairs} pairs")
+    a, b = np.mean(times["self_collision"]), np.mean(times["without"])
+    print(f"hands meet: without {b:.0f} us a tick, self_collision {a:.0f} us, ratio {a / b:.0f}")
 
 
 def streams(robot, q0) -> dict[str, list[dict]]:
@@ -134,7 +163,11 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seed", type=int, default=5)
     parser.add_argument("--no-pink", action="store_true")
+    parser.add_argument("--collisions", action="store_true")
     args = parser.parse_args()
+    if args.collisions:
+        collisions()
+        return
     try:
         import pink  # noqa: F401
 

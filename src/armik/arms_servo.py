@@ -8,10 +8,11 @@ tip most held back (``PRECEDENCE``), the largest errors and the smallest singula
 over the tips, and each tip's own step in ``tips``.
 
 Chains that share joints (a torso, a lift) take one step over their union instead
-(``armik.servo.union``): every tip's pose or position at once, every limit on every joint.
-Not supported, and refused by name: ``self_collision`` (each chain would check only itself,
-never the other arm), and on shared joints obstacles and targets other than poses and
-positions.
+(``armik.servo.union``): every tip's target at once (anything a chain's own servo takes),
+every limit on every joint, obstacles and self-collision (between the chains too) as rows
+of that step (``armik.servo.union_collisions``). Not supported, and refused by name:
+``self_collision`` on chains that share no joint (each chain would check only itself,
+never the other arm).
 """
 
 from __future__ import annotations
@@ -46,19 +47,23 @@ PRECEDENCE = (
 
 class ArmsServo:
     """One ``Servo`` per chain of an ``Arms`` whose chains share no joint, at rest at
-    ``q0`` (one value per joint of ``Arms.joint_names``); the options are each chain's
-    (``Arm.servo``'s). Raises ``OptionError`` for shared joints or ``self_collision``."""
+    ``q0`` (one value per joint of ``Arms.joint_names``), the options each chain's
+    (``Arm.servo``'s); one ``UnionServo`` over chains that share joints. Raises
+    ``OptionError`` for ``self_collision`` on chains that share no joint, and for an
+    option the union's servo does not take."""
 
     def __init__(self, arms: Arms, q0: object, **options: object) -> None:
-        if options.get("self_collision"):
+        if options.get("self_collision") and not arms.shared:
             raise OptionError(
-                "self_collision is not supported by a servo on several tips: each chain "
-                "would check itself only, never the other; give obstacles=, or servo one "
-                "chain (arms.chain(tip).servo(..., self_collision=True))",
+                "self_collision is not supported by a servo on several tips whose chains "
+                "share no joint: each chain would check itself only, never the other; give "
+                "obstacles=, or servo one chain (arms.chain(tip).servo(..., "
+                "self_collision=True))",
                 option="self_collision",
                 value=options["self_collision"],
             )
         self.tips = arms.tips
+        self._tip_set = set(arms.tips)
         self.joint_names = arms.joint_names
         self._servos: dict[str, Servo] = {}
         self._union: UnionServo | None = None
@@ -119,25 +124,8 @@ class ArmsServo:
         """One tick of every chain toward its tip's target (``targets``: tip -> anything
         ``Arm.servo``'s ``step`` takes); the joined step (module docstring). Raises
         ``TargetError`` unless every tip has a target and no other is named."""
-        if not isinstance(targets, Mapping):
-            raise TargetError(
-                f"a servo on several tips takes one target per tip, a mapping "
-                f"{{tip: target}} over {list(self.tips)}, got {type(targets).__name__}"
-            )
-        unknown = [t for t in targets if t not in self.tips]
-        missing = [t for t in self.tips if t not in targets]
-        if unknown or missing:
-            raise TargetError(
-                f"one target per tip of {list(self.tips)}: "
-                + "; ".join(
-                    part
-                    for part in (
-                        f"unknown tips {unknown}" if unknown else "",
-                        f"no target for {missing}" if missing else "",
-                    )
-                    if part
-                )
-            )
+        if type(targets) is not dict or targets.keys() != self._tip_set:
+            self._check(targets)  # (a dict over the tips, the common case, needs none)
         if self._union is not None:
             return self._union.step(targets)
         steps = {tip: s.step(targets[tip]) for tip, s in self._servos.items()}
@@ -162,6 +150,28 @@ class ArmsServo:
             conflict=any(s.conflict for s in steps.values()),
             tips=steps,
         )
+
+    def _check(self, targets: object) -> None:
+        """Raises ``TargetError`` unless ``targets`` maps every tip and no other."""
+        if not isinstance(targets, Mapping):
+            raise TargetError(
+                f"a servo on several tips takes one target per tip, a mapping "
+                f"{{tip: target}} over {list(self.tips)}, got {type(targets).__name__}"
+            )
+        unknown = [t for t in targets if t not in self.tips]
+        missing = [t for t in self.tips if t not in targets]
+        if unknown or missing:
+            raise TargetError(
+                f"one target per tip of {list(self.tips)}: "
+                + "; ".join(
+                    part
+                    for part in (
+                        f"unknown tips {unknown}" if unknown else "",
+                        f"no target for {missing}" if missing else "",
+                    )
+                    if part
+                )
+            )
 
     def track(self, targets: Iterable[Mapping[str, object]]) -> ServoRecord:
         """``step`` through ``targets`` (one mapping tip -> target a tick), in order."""

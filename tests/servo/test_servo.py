@@ -136,6 +136,22 @@ def test_position_and_axis_tasks():
     assert only.orientation_error is None and only.position_error < 1e-5
 
 
+def test_an_axis_within_a_cone_stops_on_its_edge_on_target():
+    """The cone's edge is one row (the angle beyond it), not three of rank one: no
+    singularity there, the axis on the edge and the position exact."""
+    arm, q0 = load("panda"), START["panda"]
+    T0 = arm.fk(q0)
+    z0 = T0.rotation[:, 2]
+    turn = np.cross(z0, [1.0, 0.0, 0.0])
+    z = pin.exp3(0.3 * turn / np.linalg.norm(turn)) @ z0
+    rec = arm.servo(q0, dt=DT).track([[Position(T0.translation), Axis((0, 0, 1), z, 0.1)]] * 800)
+    _check(arm, arm.servo(q0, dt=DT), q0, rec)
+    assert rec.status[-1] == "on_target" and "singularity" not in set(rec.status.tolist())
+    T = arm.fk(rec.q[-1])
+    assert abs(math.acos(np.clip(T.rotation[:, 2] @ z, -1.0, 1.0)) - 0.1) < 1e-9
+    assert np.linalg.norm(T.translation - T0.translation) < 1e-9
+
+
 def test_singular_stretched_arm_steps_without_nan():
     arm = load("ur5")
     q0 = np.array([0.0, -math.pi / 2, 0.0, -math.pi / 2, 0.0, 0.0])  # elbow straight

@@ -45,7 +45,7 @@ HEADER = 4  # ints: n, N, the packed floats' length, the kinds' length
 @njit(cache=True, nogil=True)
 def workspace(n, N):
     """(floats, ints): the tick's workspace for n joint values and N physical joints:
-    ``tick._views``' ``Workspace``, then ``tick._tick``'s own arrays (the three in step)."""
+    ``tick.views``' ``Workspace``, then ``step.scratch``'s arrays (the three in step)."""
     m = 6 * MAX_TASKS
     ws = 2 * n + 12 + 12 * n + 6 + NVEC * n + 4 * n * n + 6 * N + 6 * n + 18 + 9 + 36 + n
     ws += 36 + 12

@@ -1,31 +1,33 @@
 """A servo over chains that share joints (a torso, a lift): one step over their union.
 
 ``Arms.servo`` on tips whose chains share a joint ticks this instead of one ``Servo`` per
-chain: every tip's task is stacked over the union's joints (``armik.model.union``'s, in
-its base frame), and one damped least-squares step goes toward all of
-them at once, within the velocity box of ``armik.servo.box`` on every joint (position,
-velocity, acceleration and braking limits), by the box QP of ``kernel.step.active_set``.
-What a chain's own servo does the same way: the damping grows near a singularity (the
-smallest singular value of the stacked Jacobian) and with the error, the joints that the
-tasks leave free are pulled toward ``q0``, and the step corrects ``gain`` of the error a
-tick. A tip's target is a pose or a position; a region, an axis or a look-at (which a
-chain's own servo takes) is refused by name, as are obstacles and ``self_collision``.
+chain: every tip's target is stacked over the union's joints (``armik.model.union``'s, in
+its base frame), and one damped least-squares step goes toward all of them at once,
+within the velocity box of ``armik.servo.box`` on every joint (position, velocity,
+acceleration and braking limits). A tip's target is anything a chain's own servo takes
+(``armik.servo.table``: a pose, a position, ``armik.Pose(..., bounds=)``, ``Axis``,
+``LookAt``, a list of them on the tip), its rows those of a chain's own servo. What a
+chain's own servo does, this does the same way (``armik.servo.step``): the damping grows
+near a singularity and with the error, the joints that the tasks leave free are pulled
+toward ``q0``, the step corrects ``gain`` of the error a tick, and obstacles
+(``obstacles=``, ``margin=``) are kept at the margin by each chain's collision rows
+(``armik.servo.collisions``), their columns in the union's.
 
-The rows and the step are compiled (``armik.servo.union_tick``: each chain's kernel FK, its
-columns scattered into the union's); the targets are read and the result built in Python.
+The rows and the step are one compiled call (``armik.servo.union_tick``); a plain pose's
+row is written there, any other target is read here once a tick.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 
 import numpy as np
+import pinocchio as pin
 
 from armik.errors import OptionError, TargetError
 from armik.frozen import frozen
 from armik.model.union import Union
-from armik.problem.tasks import Pose, Position
+from armik.servo import layout as k
 from armik.servo.limits import (
     DEFAULT_ACCELERATION,
     gain_of,
@@ -33,20 +35,22 @@ from armik.servo.limits import (
     time_step,
     urdf_velocities,
 )
-from armik.servo.result import STATUSES, ServoStatus, ServoStep
-from armik.servo.union_tick import damped_step, task_rows
-from armik.targets.pose import Target, parse_target
+from armik.servo.result import STATUSES, ServoStep
+from armik.servo.servo import (
+    DAMPING,
+    DAMPING_ERROR,
+    LAMBDA_MIN,
+    ON_TARGET,
+    PULL,
+    REACH_SLACK,
+    SINGULAR,
+)
+from armik.servo.table import table
+from armik.servo.union_collisions import union_rows
+from armik.servo.union_tick import allocate, python_views, rows_at, stacked, tick
 
-SINGULAR = 0.05  # as ``armik.servo.servo``: below this smallest singular value ...
-DAMPING = 0.005  # ... the damping grows up to this at 0
-DAMPING_ERROR = 0.1  # and by this times the squared error
-LAMBDA_MIN = 1e-9
-PULL = 2.0  # 1/s toward q0 where the tasks leave joints free
-ON_TARGET = 1e-6  # m and rad
-REACH_SLACK = 1e-3  # m beyond a chain's reach bound before its target is out of reach
-BRAKED = 1e-3  # m: slowing to stop on a target farther than this is reported
 KEYWORDS: tuple[str, ...] = ("dt", "velocity_limits", "acceleration_limits", "gain")
-KEYWORDS += ("tol_position", "tol_orientation")
+KEYWORDS += ("tol_position", "tol_orientation", "obstacles", "self_collision", "margin")
 
 
 class UnionServo:
@@ -65,6 +69,9 @@ class UnionServo:
         gain: object = 1.0,
         tol_position: float = ON_TARGET,
         tol_orientation: float = ON_TARGET,
+        obstacles: object = None,
+        self_collision: object = False,
+        margin: object = 0.01,
     ) -> None:
         self.union, self.tips = union, tuple(chains)
         self._chains = dict(chains)
@@ -88,187 +95,120 @@ class UnionServo:
                 option="q0",
                 value=q0,
             )
-        self._vmax = per_joint(velocity_limits, union, "velocity_limits", urdf_velocities(union))
-        self._amax = per_joint(
+        vmax = per_joint(velocity_limits, union, "velocity_limits", urdf_velocities(union))
+        amax = per_joint(
             acceleration_limits, union, "acceleration_limits", np.full(n, DEFAULT_ACCELERATION)
         )
         g = gain_of(gain)
-        self._gain, self._tol = g, (float(tol_position), float(tol_orientation))
-        self._q, self._v, self._rest = q.copy(), np.zeros(n), q.copy()
-        self._last: dict[str, Target] | None = None  # the last tick's targets
         # the chains' kernel arrays one after the other, and their joints' union columns
-        flats = [chains[tip].kernel_chain.flat for tip in self.tips]  # type: ignore[attr-defined]
-        self._packed = np.concatenate([f.packed for f in flats])
-        self._kinds = np.concatenate([f.kind for f in flats])
-        self._pack_at = np.cumsum([0] + [f.packed.shape[0] for f in flats]).astype(np.int64)
-        self._kind_at = np.cumsum([0] + [f.kind.shape[0] for f in flats]).astype(np.int64)
-        cols = [[self.joint_names.index(j) for j in chains[t].joint_names] for t in self.tips]  # type: ignore[attr-defined]
-        self._maps = np.array([c for part in cols for c in part], dtype=np.int64)
-        self._map_at = np.cumsum([0] + [len(c) for c in cols]).astype(np.int64)
-        most = max(len(c) for c in cols)
-        tips = len(self.tips)
-        # the kernel FK's scratch: R, p, each joint's origin and axis, a chain's q, a log,
-        # R_goal R^T, and an empty restart table cut to each chain's joints
-        self._fk = (
-            np.empty((3, 3)),
-            np.empty(3),
-            np.empty((most, 3)),
-            np.empty((most, 3)),
-            np.empty(most),
-            np.empty(3),
-            np.empty((3, 3)),
-            np.empty((0, most)),
+        arms = [chains[tip] for tip in self.tips]
+        flats = [arm.kernel_chain.flat for arm in arms]  # type: ignore[attr-defined]
+        self._cols = [
+            np.array([self.joint_names.index(j) for j in arm.joint_names], dtype=np.int64)  # type: ignore[attr-defined]
+            for arm in arms
+        ]
+        at = np.array(
+            [
+                np.cumsum([0] + [f.packed.shape[0] for f in flats]),
+                np.cumsum([0] + [f.kind.shape[0] for f in flats]),
+                np.cumsum([0] + [len(c) for c in self._cols]),
+            ],
+            dtype=np.int64,
         )
-        self._goal_R, self._goal_p = np.empty((tips, 3, 3)), np.empty((tips, 3))
-        self._last_R, self._last_p = np.empty((tips, 3, 3)), np.empty((tips, 3))
-        self._rotated = np.zeros(tips, dtype=np.bool_)
-        self._E, self._E_last = np.empty(6 * tips), np.empty(6 * tips)
-        self._A = np.empty((6 * tips, n))
-        self._settings = np.array([SINGULAR, DAMPING, DAMPING_ERROR, LAMBDA_MIN, PULL])
-        self._scratch = (
-            np.empty(n),
-            np.empty(n),
-            np.empty(n),
-            np.zeros((5, n), dtype=np.int64),
-            np.zeros((n, n)),
-            np.zeros(n),
-            np.zeros(n),
-            np.zeros((n, n)),
-            np.zeros(n),
+        packed = np.concatenate([f.packed for f in flats])
+        kinds = np.concatenate([f.kind for f in flats])
+        self._mem, self._imem = allocate(n, packed, kinds, at, np.concatenate(self._cols))
+        views = python_views(self._mem, self._imem)
+        self._state, self._cfg, self._out, self._tables, self._H, self._counts = views
+        self._state[k.Q], self._state[k.REST] = q, q
+        self._state[k.VMAX], self._state[k.AMAX] = vmax, amax
+        self._state[k.LO], self._state[k.HI] = union.lower, union.upper
+        cfg = self._cfg
+        cfg[k.DT], cfg[k.GAIN], cfg[k.REACH_SLACK] = self.dt, g, REACH_SLACK
+        cfg[k.TOL_P], cfg[k.TOL_R] = tol_position, tol_orientation
+        cfg[k.PULL], cfg[k.LAM_ERR] = PULL, DAMPING_ERROR
+        cfg[k.SIGMA_EPS], cfg[k.LAM_MAX], cfg[k.LAM_MIN] = SINGULAR, DAMPING, LAMBDA_MIN
+        self._no_rows = np.zeros((0, n + 1))
+        self._collisions = union_rows(
+            arms,  # type: ignore[arg-type]
+            self._cols,
+            n,
+            obstacles,
+            self_collision,
+            margin,
+            self.dt,
         )
 
     @property
     def q(self) -> np.ndarray:
         """The last commanded joint values (rad, m), in the order of ``joint_names``."""
-        return self._q.copy()
+        return self._state[k.Q].copy()
 
     @property
     def dq(self) -> np.ndarray:
-        return self._v.copy()
+        """The last commanded velocity (rad/s, m/s)."""
+        return self._state[k.V].copy()
 
     @property
     def velocity_limits(self) -> np.ndarray:
-        return self._vmax.copy()
+        return self._state[k.VMAX].copy()
 
     @property
     def acceleration_limits(self) -> np.ndarray:
-        return self._amax.copy()
+        return self._state[k.AMAX].copy()
 
     def step(self, targets: Mapping[str, object]) -> ServoStep:
-        """One tick toward every tip's target (a pose or a position each)."""
-        goals = {tip: _goal(tip, targets[tip]) for tip in self.tips}
-        last = self._last if self._last is not None and _alike(self._last, goals) else goals
-        gR, gp, lR, lp, rotated = (
-            self._goal_R,
-            self._goal_p,
-            self._last_R,
-            self._last_p,
-            self._rotated,
-        )
+        """One tick toward every tip's target (anything a chain's own servo takes); raises
+        ``TargetError`` naming the tip whose target it cannot read."""
+        counts, H = self._counts, self._H
         for t, tip in enumerate(self.tips):
-            goal, before = goals[tip], last[tip]
-            gp[t], lp[t] = goal.position, before.position
-            rotated[t] = goal.rotation is not None
-            if rotated[t]:
-                gR[t], lR[t] = goal.rotation, before.rotation
-        union, dt = self.union, self.dt
-        E, E_last, A = self._E, self._E_last, self._A
-        m = self._rows(self._q, gR, gp, lR, lp, True)
-        lb, ub, v, ints, Hh, gap, mult, Lm, x = self._scratch
-        sigma, slowed, code, j, conflict = damped_step(
-            A[:m], E[:m], E_last[:m], self._q, self._v, self._rest, union.lower, union.upper,
-            self._vmax, self._amax, dt, self._gain, self._settings,
-            lb, ub, v, ints, Hh, gap, mult, Lm, x,
-        )  # fmt: skip
-        q = np.minimum(np.maximum(self._q + v * dt, union.lower), union.upper)
-        v = (q - self._q) / dt
-        a = (v - self._v) / dt
-        self._q, self._v, self._last = q, v, goals
-        self._rows(q, gR, gp, gR, gp, False)
-        pos, ori = _distances(E[:m], rotated)
-        status = self._status(code, sigma, goals, pos, ori)
-        if status is ServoStatus.TRACKING and slowed < 1.0 and pos > BRAKED:
-            status = ServoStatus.ACCELERATION_LIMIT  # slowing to stop on a far target
-        command = np.stack([q, v, a])
+            target = targets[tip]
+            if type(target) is pin.SE3:  # a pose's row is written by the compiled tick
+                H[t] = target.homogeneous  # type: ignore[attr-defined]
+                counts[t] = 0
+            elif type(target) is np.ndarray and target.shape == (4, 4) and target.dtype == float:
+                H[t] = target
+                counts[t] = 0
+            else:
+                self._read(t, target)
+        near = self._no_rows if self._collisions is None else self._collisions.at(self._state[k.Q])
+        bad = tick(self._mem, self._imem, near)
+        while bad >= 0:  # a 4x4 the parser does not keep as given: read it here
+            self._read(bad, targets[self.tips[bad]])
+            bad = tick(self._mem, self._imem, near)
+        command = self._state[: k.ACC + 1].copy()  # q, dq, ddq: one read-only copy
         command.flags.writeable = False
+        pos, ori, code, j, sigma, conflict = self._out.tolist()
         return frozen(
             ServoStep,
-            q=command[0],
-            dq=command[1],
-            ddq=command[2],
-            status=status,
-            joint=self.joint_names[j] if j >= 0 and status is STATUSES[code] else None,
-            position_error=pos,
-            orientation_error=ori,
+            q=command[k.Q],
+            dq=command[k.V],
+            ddq=command[k.ACC],
+            status=STATUSES[int(code)],
+            joint=self.joint_names[int(j)] if j >= 0 else None,
+            position_error=None if pos != pos else pos,  # NaN: not measured
+            orientation_error=None if ori != ori else ori,
             sigma=sigma,
-            conflict=bool(conflict),
+            conflict=conflict != 0.0,
             tips=None,
         )
 
-    def _rows(self, q, goal_R, goal_p, last_R, last_p, jac: bool) -> int:
-        """``task_rows`` at q: ``_E`` toward the goals, ``_E_last`` toward the last ones
-        (and ``_A`` with ``jac``); the rows written."""
-        fk_R, fk_p, origins, axes, qc, w, M, flat0 = self._fk
-        return int(
-            task_rows(
-                self._packed, self._pack_at, self._kinds, self._kind_at, self._maps,
-                self._map_at, q, goal_R, goal_p, last_R, last_p, self._rotated, self._E,
-                self._E_last, self._A, jac, fk_R, fk_p, origins, axes, qc, w, M, flat0,
-            )
-        )  # fmt: skip
+    def rows_at(self, targets: Mapping[str, object], q: np.ndarray) -> tuple[np.ndarray, ...]:
+        """(E, A): the stacked rows toward ``targets`` at the union's joint values q and
+        their Jacobian over the union's joints, as a tick builds them (for tests)."""
+        for t, tip in enumerate(self.tips):
+            self._read(t, targets[tip])
+        rows = rows_at(np.array(q, dtype=float), self._mem, self._imem)
+        E, A = stacked(self._mem, self._imem)
+        return E[:rows].copy(), A[:rows].copy()
 
-    def _status(self, code: int, sigma: float, goals: dict, pos: float, ori) -> ServoStatus:
-        """What limited the tick: a target out of reach, on target, a box (``code``), a
-        singularity, else tracking."""
-        for tip, goal in goals.items():
-            chain = self._chains[tip]
-            far = math.dist(goal.position.tolist(), chain.first_joint_origin.tolist())  # type: ignore[attr-defined]
-            if far > chain.reach + REACH_SLACK:  # type: ignore[attr-defined]
-                return ServoStatus.OUT_OF_REACH
-        tol_p, tol_r = self._tol
-        if pos <= tol_p and (ori is None or ori <= tol_r):
-            return ServoStatus.ON_TARGET
-        if STATUSES[code] is not ServoStatus.TRACKING:
-            return STATUSES[code]
-        if sigma < SINGULAR:
-            return ServoStatus.SINGULARITY
-        return ServoStatus.TRACKING
-
-
-def _distances(E: np.ndarray, rotated: np.ndarray) -> tuple[float, float | None]:
-    """The largest position error and the largest orientation error (None: no tip has a
-    rotation) of the stacked rows E."""
-    pos, ori, m = 0.0, None, 0
-    for turned in rotated.tolist():
-        pos = max(pos, math.sqrt(E[m] ** 2 + E[m + 1] ** 2 + E[m + 2] ** 2))
-        if turned:
-            o = math.sqrt(E[m + 3] ** 2 + E[m + 4] ** 2 + E[m + 5] ** 2)
-            ori = o if ori is None else max(ori, o)
-        m += 6 if turned else 3
-    return pos, ori
-
-
-def _goal(tip: str, target: object) -> Target:
-    """A tip's target as a pose or a position (a ``Target``); ``TargetError`` for any other
-    form, naming the way round."""
-    if isinstance(target, Pose):
-        if target.frame is None and not target.bounds.any() and (target.weights == 1.0).all():
-            return parse_target(target.T)
-    elif isinstance(target, Position):
-        if target.frame is None and not target.bounds.any():
-            return parse_target(target.p)
-    else:
+    def _read(self, t: int, target: object) -> None:
+        """Tip t's target parsed into its rows of the tables."""
+        tip = self.tips[t]
         try:
-            return parse_target(target)
+            rows = table(target, self._chains[tip])  # type: ignore[arg-type]
         except TargetError as error:
             raise TargetError(f"the target of tip {tip!r}: {error}") from None
-    raise TargetError(
-        f"a servo over chains that share joints follows a pose or a position per tip; the "
-        f"target of tip {tip!r} is {type(target).__name__} with bounds, weights or a frame: "
-        "give a plain pose or position, or servo a chain of its own (arms.chain(tip).servo)"
-    )
-
-
-def _alike(last: dict[str, Target], goals: dict[str, Target]) -> bool:
-    """Whether each tip's goal is of the kind it was last tick (a pose, a position)."""
-    return all((goals[t].rotation is None) == (last[t].rotation is None) for t in goals)
+        o = t * k.MAX_TASKS
+        self._tables[o : o + len(rows)] = rows
+        self._counts[t] = len(rows)

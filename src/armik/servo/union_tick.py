@@ -1,13 +1,19 @@
 """The servo over shared joints' tick, compiled: each tip's rows by its chain's kernel FK,
-stacked over the union's joints, and the damped step within the velocity box.
+stacked over the union's joints, and the damped step within every limit.
 
-``armik.servo.union`` calls ``union_tick`` once a tick. The chains are given as their
-kernel arrays one after the other (``packed`` and ``kinds`` cut at ``pack_at`` and
-``kind_at``) and ``maps``, each chain's joints' columns in the union (cut at ``map_at``).
-A tip's row block is its position error (base axes, m), then, where its goal has a
-rotation, its rotation error ``log3(R_goal R^T)`` (rad); its Jacobian's columns are each
-joint's ``w x (p - o)`` and ``w`` (``w`` zero and ``v`` the axis for a prismatic joint),
-in the base frame, scattered into the union's columns.
+``armik.servo.union`` calls ``tick`` once a tick. The chains are given as their kernel
+arrays one after the other (``packed`` and ``kinds`` cut at ``at[0]`` and ``at[1]``) and
+``maps``, each chain's joints' columns in the union (cut at ``at[2]``). Each tip's target
+is a table of tasks (``armik.servo.table``, at most ``MAX_TASKS`` rows, tip t's from row
+``t MAX_TASKS`` of ``tables``), or with ``counts[t] == 0`` the plain 4x4 pose ``H[t]``,
+its row written here. A tip's rows are those of a chain's own servo (``armik.servo.tick``'s
+``stack``: ``kernel.region``'s six rows a task, a pose, a position, a region, an axis in a
+cone, a look-at), their columns scattered into the union's; the step is a chain's own
+(``armik.servo.step``) over the union's joints.
+
+The memory (``allocate``): floats, the union's state, cfg and out as ``armik.servo.layout``
+lays them for one chain, then each tip's last table, a chain's scratch and the step's; ints,
+each tip's last task count, then the scratch.
 """
 
 from __future__ import annotations
@@ -17,126 +23,281 @@ import math
 import numpy as np
 from numba import njit
 
-from armik.kernel.chain import PRISMATIC, Flat
-from armik.kernel.fk import forward
-from armik.kernel.se3 import log3
-from armik.kernel.step import active_set
-from armik.servo.box import velocity_box
+from armik.kernel.chain import Flat, dof, joints, reach
+from armik.kernel.fk import forward, jacobian_local
+from armik.kernel.problem import NVEC
+from armik.kernel.single import plain_pose
+from armik.servo.distances import distances
+from armik.servo.layout import (
+    CFG,
+    COLUMNS,
+    CONE,
+    LOOK,
+    MAX_TASKS,
+    ORI_ERR,
+    OUT,
+    POS_ERR,
+    REACH_SLACK,
+    STATE_ROWS,
+    TOL_P,
+    TOL_R,
+    Q,
+)
+from armik.servo.step import scratch, scratch_size, status_code, step_within
+from armik.servo.tick import equal, pose_row, stack, views
 
-# what limited a tick, as ``armik.servo.result.ServoStatus`` orders them
-ON_TARGET, TRACKING, JOINT_LIMIT, VELOCITY_LIMIT, ACCELERATION_LIMIT = range(5)
-SINGULARITY, OUT_OF_REACH = 5, 6
-_BY_BOX = (TRACKING, JOINT_LIMIT, VELOCITY_LIMIT, ACCELERATION_LIMIT, JOINT_LIMIT)  # box.FREE..
+# ints: n, tips, the most joint values and the most joints of a chain, the lengths of
+# the chains' packed floats, kinds and maps
+HEADER = 7
+
+
+def chain_size(n: int, N: int) -> int:
+    """The floats a chain's scratch takes (``views``' ``Workspace`` and its own rows) for
+    n joint values and N joints."""
+    ws = 2 * n + 12 + 12 * n + 6 + NVEC * n + 4 * n * n + 6 * N + 6 * n + 18 + 9 + 36 + n
+    return ws + 36 + 12 + 6 * MAX_TASKS * (1 + n) + n
+
+
+def allocate(
+    n: int, packed: np.ndarray, kinds: np.ndarray, at: np.ndarray, maps: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """(mem, imem) for n joint values over the chains of ``packed``, ``kinds`` (cut at
+    ``at[0]``, ``at[1]``) and ``maps`` (cut at ``at[2]``), zero but for them."""
+    tips = at.shape[1] - 1
+    most = int(np.diff(at[2]).max())
+    most_joints = int(((np.diff(at[1]) - np.diff(at[2])) // 2).max())
+    P, K, M = packed.shape[0], kinds.shape[0], maps.shape[0]
+    head = np.array([n, tips, most, most_joints, P, K, M], dtype=np.int64)
+    f, i = offsets(head)
+    mem = np.zeros(f[-1] + chain_size(most, most_joints) + scratch_size(n, 6 * MAX_TASKS * tips))
+    imem = np.zeros(i[-1] + 3 * most + 5 * n, dtype=np.int64)
+    imem[:HEADER] = head
+    mem[f[7] : f[8]] = packed
+    imem[i[2] : i[3]] = at.ravel()
+    imem[i[3] : i[4]] = kinds
+    imem[i[4] : i[5]] = maps
+    return mem, imem
+
+
+@njit(cache=True, nogil=True)
+def offsets(head):
+    """Where each part starts in mem (state, cfg, out, out2, the last tables, the tables,
+    the poses, the packed floats, the rest) and in imem (the last counts, the counts,
+    ``at``, the kinds, the maps, the rest), from imem's header."""
+    n, tips, P, K, M = head[0], head[1], head[4], head[5], head[6]
+    table = tips * MAX_TASKS * COLUMNS
+    f0 = STATE_ROWS * n
+    f = (0, f0, f0 + CFG, f0 + CFG + OUT, f0 + CFG + 2 * OUT)
+    f = f + (f[4] + table, f[4] + 2 * table, f[4] + 2 * table + 16 * tips)
+    f = f + (f[7] + P,)
+    i = (HEADER, HEADER + tips, HEADER + 2 * tips)
+    i = i + (i[2] + 3 * (tips + 1),)
+    i = i + (i[3] + K, i[3] + K + M)
+    return f, i
+
+
+def python_views(mem: np.ndarray, imem: np.ndarray) -> tuple[np.ndarray, ...]:
+    """(state, cfg, out, tables, poses, counts): the views the ``UnionServo`` reads and
+    sets."""
+    f, i = offsets(imem[:HEADER])
+    n, tips = int(imem[0]), int(imem[1])
+    return (
+        mem[f[0] : f[1]].reshape((STATE_ROWS, n)),
+        mem[f[1] : f[2]],
+        mem[f[2] : f[3]],
+        mem[f[5] : f[6]].reshape((tips * MAX_TASKS, COLUMNS)),
+        mem[f[6] : f[7]].reshape((tips, 4, 4)),
+        imem[i[1] : i[2]],
+    )
+
+
+def stacked(mem: np.ndarray, imem: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(E, A): the rows ``rows_at`` wrote, this tick's target's (2 x 6 ``MAX_TASKS`` tips)
+    and their Jacobian (rows x n)."""
+    f, _ = offsets(imem[:HEADER])
+    n, tips, most, most_joints = imem[:4].tolist()
+    m = 6 * MAX_TASKS * tips
+    o = f[8] + chain_size(most, most_joints)
+    return mem[o : o + m], mem[o + 2 * m : o + 2 * m + m * n].reshape((m, n))
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _errors(goal_R, goal_p, t, rotated, R, p, M, w, E, m):
-    """Tip t's rows of E at the placement (R, p): its goal's position error, then, where
-    its goal has a rotation, the rotation error ``log3(R_goal R^T)`` (M: R_goal R^T)."""
-    for r in range(3):
-        E[m + r] = goal_p[t, r] - p[r]
-    if not rotated:
-        return
-    G = goal_R[t]
-    for a in range(3):
-        for b in range(3):
-            M[a, b] = G[a, 0] * R[b, 0] + G[a, 1] * R[b, 1] + G[a, 2] * R[b, 2]
-    log3(M, w)
-    E[m + 3], E[m + 4], E[m + 5] = w[0], w[1], w[2]
+def _carve(mem, imem):
+    """The parts of ``offsets``: (state, cfg, out, out2, lasts, tables, poses, packed, the
+    floats' rest), (last counts, counts, at, kinds, maps, the ints' rest)."""
+    n, tips = imem[0], imem[1]
+    f, i = offsets(imem[:HEADER])
+    rows = tips * MAX_TASKS
+    floats = (
+        mem[f[0] : f[1]].reshape((STATE_ROWS, n)),
+        mem[f[1] : f[2]],
+        mem[f[2] : f[3]],
+        mem[f[3] : f[4]],
+        mem[f[4] : f[5]].reshape((rows, COLUMNS)),
+        mem[f[5] : f[6]].reshape((rows, COLUMNS)),
+        mem[f[6] : f[7]].reshape((tips, 4, 4)),
+        mem[f[7] : f[8]],
+        mem[f[8] :],
+    )
+    ints = (
+        imem[i[0] : i[1]],
+        imem[i[1] : i[2]],
+        imem[i[2] : i[3]].reshape((3, tips + 1)),
+        imem[i[3] : i[4]],
+        imem[i[4] : i[5]],
+        imem[i[5] :],
+    )
+    return floats, ints
 
 
-@njit(cache=True, nogil=True)
-def task_rows(packed, pack_at, kinds, kind_at, maps, map_at, q, goal_R, goal_p, last_R,
-              last_p, rotated, E, E_last, A, jacobian,
-              R, p, origins, axes, qc, w, M, flat0):  # fmt: skip
-    """The stacked errors at the union's joint values q, from one FK of each chain: E
-    toward the goals, E_last toward the last tick's (of the same kinds), and with
-    ``jacobian`` E's Jacobian A over the union's joints; returns the rows written. ``R``,
-    ``p``, ``origins``, ``axes``, ``qc``, ``w``, ``M``: scratch; ``flat0`` (0, n): a chain's
-    empty restart table, cut to its joints."""
-    m = 0
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
+def _rows(tables, counts, lasts, last_counts, packed, kinds, at, maps, q, buf, ibuf, E, A):
+    """E[0], A[0]: every tip's rows toward its target at the union's joint values q, the
+    chains' columns scattered into the union's; E[1], A[1] toward the last tick's target
+    where a tip's moved (of the same form), else this tick's. ``buf``, ``ibuf``: a chain's
+    scratch. Returns (largest position and rotation distances from the regions, rows,
+    active rows, whether a target moved)."""
     n = q.shape[0]
-    for t in range(pack_at.shape[0] - 1):
-        cols = maps[map_at[t] : map_at[t + 1]]
+    most = ibuf.shape[0] // 3
+    reg_p = reg_r = 0.0
+    rows = active = 0
+    moved = False
+    for t in range(counts.shape[0]):
+        cols = maps[at[2, t] : at[2, t + 1]]
         nt = cols.shape[0]
+        hal = buf[buf.shape[0] - most : buf.shape[0] - most + nt].reshape((1, nt))
+        ch = Flat(packed[at[0, t] : at[0, t + 1]], kinds[at[1, t] : at[1, t + 1]], hal)
+        ws, o = views(buf, ibuf, nt, joints(ch))
+        Ec = buf[o : o + 6 * MAX_TASKS]
+        Ac = buf[o + 6 * MAX_TASKS : o + 6 * MAX_TASKS * (1 + nt)].reshape((6 * MAX_TASKS, nt))
+        qc = ws.q[0]
         for j in range(nt):
             qc[j] = q[cols[j]]
-        ch = Flat(packed[pack_at[t] : pack_at[t + 1]], kinds[kind_at[t] : kind_at[t + 1]],
-                  flat0[:, :nt])  # fmt: skip
-        forward(ch, qc[:nt], R, p, origins, axes)
-        _errors(goal_R, goal_p, t, rotated[t], R, p, M, w, E, m)
-        _errors(last_R, last_p, t, rotated[t], R, p, M, w, E_last, m)
-        rows = 6 if rotated[t] else 3
-        if jacobian:
-            for r in range(rows):
-                for c in range(n):
-                    A[m + r, c] = 0.0
-            for j in range(nt):
-                c = cols[j]
-                wx, wy, wz = axes[j, 0], axes[j, 1], axes[j, 2]
-                if kinds[kind_at[t] + nt + j] == PRISMATIC:
-                    A[m, c], A[m + 1, c], A[m + 2, c] = wx, wy, wz
-                    continue
-                dx, dy, dz = p[0] - origins[j, 0], p[1] - origins[j, 1], p[2] - origins[j, 2]
-                A[m, c] = wy * dz - wz * dy
-                A[m + 1, c] = wz * dx - wx * dz
-                A[m + 2, c] = wx * dy - wy * dx
-                if rows == 6:
-                    A[m + 3, c], A[m + 4, c], A[m + 5, c] = wx, wy, wz
-        m += rows
-    return m
+        R, p = ws.m3[0], ws.v3[0]
+        forward(ch, qc, R, p, ws.geo[0], ws.geo[1])
+        jacobian_local(ch, R, p, ws.geo[0], ws.geo[1], ws.J)
+        k = counts[t]
+        table = tables[t * MAX_TASKS : t * MAX_TASKS + k]
+        rp, rr, act = stack(table, k, ws, Ec, Ac)
+        reg_p, reg_r, active = max(reg_p, rp), max(reg_r, rr), active + act
+        _scatter(Ec, Ac, cols, rows, 6 * k, n, E[0], A[0])
+        last = lasts[t * MAX_TASKS : t * MAX_TASKS + k]
+        turned = last_counts[t] == k and not equal(last, table, k)
+        if turned:
+            for r in range(k):  # of the same form: its rows' count and meaning
+                turned = turned and last[r, LOOK] == table[r, LOOK]
+                turned = turned and last[r, CONE] == table[r, CONE]
+        if turned:
+            stack(last, k, ws, Ec, Ac)
+        moved = moved or turned
+        _scatter(Ec, Ac, cols, rows, 6 * k, n, E[1], A[1])
+        rows += 6 * k
+    return reg_p, reg_r, rows, active, moved
 
 
-@njit(cache=True, nogil=True)
-def damped_step(A, E, E_last, q, v_prev, rest, lo, hi, vmax, amax, dt, gain, settings,
-                lb, ub, v, ints, Hh, gap, mult, Lm, x):  # fmt: skip
-    """The step v (rad/s) toward E (the error now) from E_last (toward the last tick's
-    goals), within every joint's velocity box: the last correction slowed so that each
-    joint can stop on it, the goals' motion followed at once, the free joints pulled to
-    ``rest``; damped by ``settings`` (sigma_eps, lam_max, lam_err, lam_min, pull). Returns
-    (sigma, slowed, code, joint, conflict): ``code`` what a box held back (``_BY_BOX``),
-    ``joint`` which (-1: none)."""
-    sigma_eps, lam_max, lam_err, lam_min, pull = (
-        settings[0], settings[1], settings[2], settings[3], settings[4]
+@njit(cache=True, nogil=True, inline="always")
+def _scatter(Ec, Ac, cols, r0, rows, n, E, A):
+    """E[r0:r0 + rows], A's rows there: a chain's rows, its columns at ``cols``."""
+    for r in range(rows):
+        E[r0 + r] = Ec[r]
+        for c in range(n):
+            A[r0 + r, c] = 0.0
+        for j in range(cols.shape[0]):
+            A[r0 + r, cols[j]] = Ac[r, j]
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _poses(tables, counts, H):
+    """Each pose tip's row (``counts[t] == 0``: H[t]) in its table, its count then 1;
+    returns the first tip whose pose is not plain (-1: none)."""
+    for t in range(counts.shape[0]):
+        if counts[t] == 0:
+            if not plain_pose(H[t]):
+                return t
+            pose_row(H[t], tables[t * MAX_TASKS])
+            counts[t] = 1
+    return -1
+
+
+@njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
+def rows_at(q, mem, imem):
+    """``_rows`` at q (the test's view of them): the rows written, in the step's scratch
+    (``stacked``); -1 for a pose that is not plain."""
+    n, tips = imem[0], imem[1]
+    (state, cfg, out, out2, lasts, tables, H, packed, buf), ints = _carve(mem, imem)
+    last_counts, counts, at, kinds, maps, ib = ints
+    if _poses(tables, counts, H) >= 0:
+        return -1
+    cw = chain_floats(imem[2], imem[3])
+    E, A2, M6, W, act, o = scratch(buf, cw, n, 6 * MAX_TASKS * tips)
+    m = E.shape[0] // 2
+    res = _rows(tables, counts, lasts, last_counts, packed, kinds, at, maps,
+                q, buf[:cw], ib[: 3 * imem[2]], E.reshape((2, m)), A2)  # fmt: skip
+    return res[2]
+
+
+@njit(cache=True, nogil=True, inline="always")
+def chain_floats(n, N):
+    """``chain_size`` in compiled code."""
+    ws = 2 * n + 12 + 12 * n + 6 + NVEC * n + 4 * n * n + 6 * N + 6 * n + 18 + 9 + 36 + n
+    return ws + 36 + 12 + 6 * MAX_TASKS * (1 + n) + n
+
+
+@njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
+def tick(mem, imem, rows_cb):
+    """One tick of the union's state in ``mem`` toward every tip's target, within the
+    collision rows ``rows_cb`` (K, n + 1: C, then b, for C dq >= b). Returns -1, or,
+    having done nothing, the first tip whose pose H[t] is not one the target parser keeps
+    as given (the caller parses it)."""
+    n, tips, most = imem[0], imem[1], imem[2]
+    (state, cfg, out, out2, lasts, tables, H, packed, buf), ints = _carve(mem, imem)
+    last_counts, counts, at, kinds, maps, ib = ints
+    bad = _poses(tables, counts, H)
+    if bad >= 0:
+        return bad
+    cw = chain_floats(most, imem[3])
+    m = 6 * MAX_TASKS * tips
+    E, A2, M6, W, act, o = scratch(buf, cw, n, m)
+    cbuf, cibuf = buf[:cw], ib[: 3 * most]
+    iv = ib[3 * most : 3 * most + 4 * n].reshape((4, n))
+    every = ib[3 * most + 4 * n : 3 * most + 5 * n]
+    q = state[Q]
+    E2 = E.reshape((2, m))
+    reg_p, reg_r, rows, active, moved = _rows(
+        tables, counts, lasts, last_counts, packed, kinds, at, maps, q, cbuf, cibuf, E2, A2
+    )
+    within = reg_p <= cfg[TOL_P] and reg_r <= cfg[TOL_R]
+    held = step_within(
+        E2[0], A2[0], E2[1], A2[1], rows, active, moved, False, rows_cb, state, cfg, M6, W,
+        iv, every, act,
     )  # fmt: skip
-    n = q.shape[0]
-    # the smallest of A's min(rows, n) largest singular values, from the smaller Gram matrix
-    gram = A @ A.T if A.shape[0] < n else A.T @ A
-    sigma = math.sqrt(max(np.linalg.eigvalsh(gram)[0], 0.0)) if gram.shape[0] else math.inf
-    lam = lam_min + lam_err * np.dot(E, E)
-    if sigma < sigma_eps:
-        lam += lam_max * (1.0 - (sigma / sigma_eps) ** 2)
-    H = A.T @ A
-    for i in range(n):
-        H[i, i] += lam
-    G = np.linalg.inv(H)
-    fix = G @ (A.T @ E_last)
-    slowed = 1.0
-    for i in range(n):
-        want = abs(gain * fix[i] / dt)
-        if want > 0.0:
-            slowed = min(slowed, math.sqrt(2.0 * amax[i] * abs(fix[i])) / want)
-    free = (G @ (A.T @ (E - E_last))) / dt + slowed * gain * fix / dt
-    free += lam * (G @ (pull * (rest - q)))
-    lk = ints[0]
-    uk = ints[1]
-    conflict = False
-    for i in range(n):
-        lb[i], ub[i], lk[i], uk[i], c = velocity_box(
-            q[i], v_prev[i], lo[i], hi[i], vmax[i], amax[i], dt
-        )
-        conflict = conflict or c
-    if not active_set(G, free, lb, ub, free, ints[2], ints[3], ints[4], Hh, gap, mult, Lm, x):
-        x[:] = free
-    code, joint, most = TRACKING, -1, 0.0
-    for i in range(n):
-        v[i] = min(max(x[i], lb[i]), ub[i])
-        over = 0.0
-        box = 0
-        if v[i] >= ub[i] - 1e-12 and free[i] > ub[i]:
-            over, box = free[i] - ub[i], uk[i]
-        elif v[i] <= lb[i] + 1e-12 and free[i] < lb[i]:
-            over, box = lb[i] - free[i], lk[i]
-        if over > most:
-            code, joint, most = _BY_BOX[box], i, over
-    return sigma, slowed, code, joint, conflict
+    # the true distances the command leaves (each chain's FK at the new joint values)
+    far = False
+    pos = ori = -1.0
+    for t in range(tips):
+        cols = maps[at[2, t] : at[2, t + 1]]
+        nt = cols.shape[0]
+        hal = cbuf[cw - most : cw - most + nt].reshape((1, nt))
+        ch = Flat(packed[at[0, t] : at[0, t + 1]], kinds[at[1, t] : at[1, t + 1]], hal)
+        ws, _ = views(cbuf, cibuf, nt, joints(ch))
+        qc = ws.q[0]
+        for j in range(dof(ch)):
+            qc[j] = q[cols[j]]
+        R, p = ws.m3[0], ws.v3[0]
+        forward(ch, qc, R, p, ws.geo[0], ws.geo[1])
+        origin, reach_ = reach(ch)
+        k = counts[t]
+        table = tables[t * MAX_TASKS : t * MAX_TASKS + k]
+        far = distances(table, R, p, origin, reach_, cfg[REACH_SLACK], out2) or far
+        if not math.isnan(out2[POS_ERR]):
+            pos = max(pos, out2[POS_ERR])
+        if not math.isnan(out2[ORI_ERR]):
+            ori = max(ori, out2[ORI_ERR])
+        for r in range(k):  # this target, the next tick's last
+            for c in range(COLUMNS):
+                lasts[t * MAX_TASKS + r, c] = table[r, c]
+        last_counts[t] = k
+    out[POS_ERR] = pos if pos >= 0.0 else math.nan
+    out[ORI_ERR] = ori if ori >= 0.0 else math.nan
+    status_code(within, far, held, cfg, out)
+    return -1

@@ -1,0 +1,260 @@
+"""The servo's damped step within every limit, compiled: what one tick does once its rows
+are stacked, shared by a chain's tick (``armik.servo.tick``) and the tick over chains that
+share joints (``armik.servo.union_tick``).
+
+From the stacked rows E, A at q (this tick's target) and E1, A1 (the last tick's target at
+the same q, its motion since): the smallest singular value (``armik.servo.singular``) and
+the damping; the whole correction x toward this target and x_old toward the last one; the
+desired step, the target's motion (x - x_old) plus the last correction slowed so that
+every joint can stop on it; the nearest step to it within the velocity box of
+``armik.servo.box`` (``kernel.step.active_set``) and the collision rows
+(``armik.servo.rows``); q and v advanced. ``code`` says what held the tick back.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from armik.kernel.linalg import cholesky_factor, cholesky_substitute
+from armik.kernel.step import active_set
+from armik.servo.box import ACCELERATION, BRAKING, POSITION, VELOCITY, velocity_box
+from armik.servo.layout import (
+    ACC,
+    AMAX,
+    CODE,
+    CONFLICT,
+    DT,
+    GAIN,
+    GRAM,
+    HI,
+    JOINT,
+    LAM_ERR,
+    LAM_MAX,
+    LAM_MIN,
+    LO,
+    MAX_ROWS,
+    ORI_ERR,
+    POS_ERR,
+    PULL,
+    REST,
+    SIGMA,
+    SIGMA_EPS,
+    TOL_P,
+    TOL_R,
+    VMAX,
+    Q,
+    V,
+)
+from armik.servo.rows import with_rows
+from armik.servo.singular import smallest_singular
+
+# what limited a tick (``armik.servo.result.ServoStatus`` in this order)
+ON_TARGET, TRACKING, JOINT_LIMIT, VELOCITY_LIMIT, ACCELERATION_LIMIT = range(5)
+SINGULARITY, OUT_OF_REACH, OBSTACLE = 5, 6, 7
+BRAKED = 10.0  # tolerances: slowing to stop on a target farther than this is reported
+
+
+@njit(cache=True, nogil=True, inline="always")
+def take(buf, o, size):
+    return buf[o : o + size], o + size
+
+
+@njit(cache=True, nogil=True, inline="always")
+def scratch(buf, o, n, m):
+    """The step's arrays on ``buf`` from ``o`` for n joint values and m rows a target:
+    (E (2 m), A (2, m, n), mats (8, n, n), vecs (19, n), act (``MAX_ROWS``), the end)."""
+    E, o = take(buf, o, 2 * m)
+    Ab, o = take(buf, o, 2 * m * n)
+    mats, o = take(buf, o, 8 * n * n)
+    vecs, o = take(buf, o, 19 * n)
+    act, o = take(buf, o, MAX_ROWS)
+    return E, Ab.reshape((2, m, n)), mats.reshape((8, n, n)), vecs.reshape((19, n)), act, o
+
+
+def scratch_size(n: int, m: int) -> int:
+    """The floats ``scratch`` takes for n joint values and m rows a target."""
+    return 2 * m + 2 * m * n + 8 * n * n + 19 * n + MAX_ROWS
+
+
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
+def _factor(H, lam, Hl, L, free):
+    """L: the Cholesky factor of Hl = H + lam I (``kernel.linalg``'s form); the damping is
+    raised tenfold at a time should rounding leave Hl not positive definite."""
+    n = H.shape[0]
+    for i in range(n):
+        free[i] = 1
+    for _ in range(40):
+        for i in range(n):
+            for j in range(n):
+                Hl[i, j] = H[i, j]
+            Hl[i, i] += lam
+        if cholesky_factor(Hl, free, L):
+            return
+        lam *= 10.0
+
+
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
+def _inverse(L, free, unit, col, Gi):
+    """Gi = (L L^T)^-1, a column at a time."""
+    n = L.shape[0]
+    for c in range(n):
+        for i in range(n):
+            unit[i] = 1.0 if i == c else 0.0
+        cholesky_substitute(L, unit, free, col)
+        for i in range(n):
+            Gi[i, c] = col[i]
+
+
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
+def _gradient(E, A, m, g, lam, pull, state):
+    """g = A^T E + lam pull (rest - q): the minimiser of |A x - E|^2 + lam |x - z|^2 is
+    (A^T A + lam I)^-1 (A^T E + lam z), with z a pull toward the rest posture, which thus
+    acts only along the directions the damping gives up (near a singularity, far from
+    the target), so that the arm leaves a stretched, limit-held posture."""
+    n = A.shape[1]
+    for i in range(n):
+        s = 0.0
+        for r in range(m):
+            s += A[r, i] * E[r]
+        g[i] = s + lam * pull * (state[REST, i] - state[Q, i])
+
+
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
+def step_within(E0, A0, E1, A1, rows, active, moved, whole, rows_cb, state, cfg, M6, W, iv,
+                every, act):  # fmt: skip
+    """state's q and v advanced by one step toward E0, A0 (``rows`` rows, ``active`` of
+    them nonzero), from E1, A1 where the target ``moved`` since the last tick, within
+    every limit and the collision rows ``rows_cb`` (K, n + 1: C, then b, for C dq >= b).
+    With ``whole`` a desired step beyond a joint's velocity limit is scaled as a whole
+    (the tip keeps its line), else the box QP leaves the others to make up for it (a
+    slow lift under two arms). Returns (sigma, brake, scale, slowest, joint, bound,
+    blocked, conflict) for ``status_code``."""
+    n = A0.shape[1]
+    Hm, Hl, Lc, Gi, Hh, Lm = M6[0], M6[1], M6[2], M6[3], M6[4], M6[5]
+    S, Ls = M6[6], M6[7]  # the Gram matrix of ``singular`` and its factor
+    u, tmp, g, y, x, x_old, xf, lb, ub, dq, gap, mult, xo = (
+        W[0], W[1], W[2], W[3], W[4], W[5], W[6], W[7], W[8], W[9], W[10], W[11], W[12]
+    )  # fmt: skip
+    # (u: the Gram matrix's smallest eigenvector, kept between ticks)
+    lk, uk = W[13], W[14]
+    side, held, sub = iv[0], iv[1], iv[2]
+    q, v_prev = state[Q], state[V]
+    dt = cfg[DT]
+    # the normal matrix, the smallest singular value, the damping
+    for i in range(n):
+        for j in range(i + 1):
+            s = 0.0
+            for r in range(rows):
+                s += A0[r, i] * A0[r, j]
+            Hm[i, j] = s
+            Hm[j, i] = s
+    last_k = np.int64(cfg[GRAM])
+    sigma, k = smallest_singular(A0, rows, active, Hm, S, u, last_k, Ls, tmp, side)
+    cfg[GRAM] = k
+    eps = cfg[SIGMA_EPS]
+    lam = cfg[LAM_MIN]
+    for r in range(rows):  # and with the error (Levenberg-Marquardt): far, a gradient step
+        lam += cfg[LAM_ERR] * E0[r] * E0[r]
+    if sigma < eps:
+        lam += cfg[LAM_MAX] * (1.0 - (sigma / eps) ** 2)
+    pull = cfg[PULL] * dt * (lam - cfg[LAM_MIN]) / lam  # none on a plain step
+    _gradient(E0, A0, rows, g, lam, pull, state)
+    _factor(Hm, lam, Hl, Lc, every)
+    cholesky_substitute(Lc, g, every, x)  # the whole correction to this tick's target
+    for i in range(n):
+        x_old[i] = x[i]
+    if moved:  # the whole correction to the last tick's target, at this q
+        _gradient(E1, A1, rows, y, lam, pull, state)
+        cholesky_substitute(Lc, y, every, x_old)
+    # desired velocity: feed-forward of the target's motion, plus the last tick's remaining
+    # correction slowed so that every joint can stop on it at its acceleration limit
+    gain = cfg[GAIN]
+    brake = 1.0
+    for i in range(n):  # box.braking(a, dt, d) dt / d, for d = |x_old| gain
+        d = abs(x_old[i]) * gain
+        if d > 0.0:
+            a = state[AMAX, i]
+            brake = min(brake, 2.0 * a * dt / (a * dt + math.sqrt(a * a * dt * dt + 2.0 * a * d)))
+    scale = 1.0
+    slowest = -1
+    for i in range(n):
+        xf[i] = (x[i] - x_old[i]) + brake * gain * x_old[i]
+        vi = abs(xf[i]) / dt
+        if whole and vi * scale > state[VMAX, i]:
+            scale = state[VMAX, i] / vi
+            slowest = i
+    # the box of every limit, and the QP's step within it
+    conflict = False
+    inside = True
+    for i in range(n):
+        xf[i] *= scale
+        lo_v, hi_v, kl, ku, c = velocity_box(
+            q[i], v_prev[i], state[LO, i], state[HI, i], state[VMAX, i], state[AMAX, i], dt
+        )
+        conflict = conflict or c
+        lb[i], ub[i] = lo_v * dt, hi_v * dt
+        lk[i], uk[i] = kl, ku
+        if xf[i] < lb[i] or xf[i] > ub[i]:
+            inside = False
+    if inside:
+        for i in range(n):
+            dq[i] = xf[i]
+    else:
+        _inverse(Lc, every, y, tmp, Gi)
+        if not active_set(Gi, xf, lb, ub, xf, side, held, sub, Hh, gap, mult, Lm, xo):
+            for i in range(n):
+                xo[i] = xf[i]
+        for i in range(n):  # within the box whatever the rounding
+            dq[i] = min(max(xo[i], lb[i]), ub[i])
+    blocked = False
+    if rows_cb.shape[0] > 0:
+        C, b = rows_cb[:, :n], rows_cb[:, n]
+        blocked = with_rows(C, b, Hl, xf, lb, ub, dq, act, Hm, Gi, g, x, tmp, iv, M6[4:6], W[16:19])
+    # which bound held the step back most
+    worst, joint, bound = 0.0, -1, 0
+    for i in range(n):
+        gap_i = abs(xf[i] - dq[i])
+        if gap_i > worst and (dq[i] <= lb[i] or dq[i] >= ub[i]):
+            worst, joint = gap_i, i
+            bound = np.int64(lk[i]) if dq[i] <= lb[i] else np.int64(uk[i])
+    # advance: the velocity is the difference of the joint values actually commanded
+    for i in range(n):
+        qn = min(max(q[i] + dq[i], state[LO, i]), state[HI, i])
+        v = (qn - q[i]) / dt
+        state[ACC, i] = (v - v_prev[i]) / dt
+        state[V, i] = v
+        q[i] = qn
+    return sigma, brake, scale, slowest, joint, bound, blocked, conflict
+
+
+@njit(cache=True, nogil=True, inline="always")
+def status_code(within, far, held, cfg, out):
+    """out[CODE], out[JOINT], out[SIGMA], out[CONFLICT]: what limited the tick, from
+    ``step_within``'s answer ``held`` and the distances in out."""
+    sigma, brake, scale, slowest, joint, bound, blocked, conflict = held
+    code, who = TRACKING, joint
+    if within:
+        code, who = ON_TARGET, -1
+    elif far:
+        code, who = OUT_OF_REACH, -1
+    elif blocked:
+        code, who = OBSTACLE, -1
+    elif joint >= 0 and (bound == POSITION or bound == BRAKING):
+        code = JOINT_LIMIT
+    elif joint >= 0 and bound == VELOCITY:
+        code = VELOCITY_LIMIT
+    elif joint >= 0 and bound == ACCELERATION:
+        code = ACCELERATION_LIMIT
+    elif scale < 1.0:
+        code, who = VELOCITY_LIMIT, slowest
+    elif sigma < cfg[SIGMA_EPS]:
+        code, who = SINGULARITY, -1
+    elif brake < 0.5 and (  # (an error not measured is NaN: compares false)
+        out[POS_ERR] > BRAKED * cfg[TOL_P] or out[ORI_ERR] > BRAKED * cfg[TOL_R]
+    ):
+        code, who = ACCELERATION_LIMIT, -1
+    out[CODE], out[JOINT], out[SIGMA] = code, who, sigma
+    out[CONFLICT] = 1.0 if conflict else 0.0

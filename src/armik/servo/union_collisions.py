@@ -1,0 +1,236 @@
+"""Collision rows of a servo over chains that share joints: obstacles and self-collision,
+between the chains too, as velocity dampers on the union's step.
+
+Each chain's collision geometry (``armik.constraints.collision.arm_geometry``) holds every
+link of the robot, those off the chain frozen where the chain was cut. Here each link is
+taken from the chain that moves it: a chain's own links (on a joint of its own) from it,
+the shared links (on a shared joint, or fixed) from the first chain. The checked pairs:
+every moving link against every obstacle; a chain's own self-collision pairs among its
+links and the shared ones (its geometry's, the SRDF's disabled pairs left out); and every
+own link of one chain against every own link of another. A pair whose bounding spheres
+are farther than ``margin + ACTIVE`` apart costs nothing (the broad phase); for the
+others coal gives the distance d, the witness points and the normal n, and the row is
+``armik.servo.collisions``'s: ``n . (J_p2 - J_p1) dq >= -RATE dt (d - margin)``, each
+point's Jacobian from its chain's Pinocchio Jacobian, its columns the union's.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from collections.abc import Sequence
+
+import coal
+import numpy as np
+import pinocchio as pin
+
+from armik.constraints.collision import arm_geometry
+from armik.constraints.shapes import check_obstacles
+from armik.errors import CollisionError
+from armik.model.arm_model import ArmModel
+from armik.servo.collisions import ACTIVE, RATE
+from armik.servo.layout import MAX_ROWS
+
+FAR = 1e9  # m: a bounding radius for a shape without one (a half space)
+
+
+class UnionCollisions:
+    """The collision rows of ``arms`` (the chains, each with its joints' union columns
+    ``cols``, n union joints) at the union's joint values (``at``)."""
+
+    def __init__(
+        self,
+        arms: Sequence[ArmModel],
+        cols: Sequence[np.ndarray],
+        n: int,
+        obstacles: object,
+        self_collision: bool,
+        margin: float,
+        gain: float,
+    ) -> None:
+        shared = set.intersection(*(set(arm.joint_names) for arm in arms))
+        self.arms, self.cols, self.n = list(arms), list(cols), n
+        self.margin, self.gain = margin, gain
+        self.data = [arm.model.createData() for arm in arms]
+        self.geometry = [arm_geometry(arm) for arm in arms]
+        self.gdata = [pin.GeometryData(g.model) for g in self.geometry]
+        # each link's object from the chain that moves it: (chain, object index)
+        owner: dict[str, int] = {}
+        for c, (arm, g) in enumerate(zip(arms, self.geometry)):
+            for i, o in enumerate(g.model.geometryObjects):
+                joint = arm.model.names[o.parentJoint]
+                if o.parentJoint != 0 and joint not in shared:
+                    owner[g.links[i]] = c
+        objects: list[tuple[int, int]] = []  # (chain, its object)
+        key: dict[str, int] = {}  # an object's name -> its place in ``objects``
+        for c, g in enumerate(self.geometry):
+            for i, o in enumerate(g.model.geometryObjects):
+                if owner.get(g.links[i], 0) == c and o.name not in key:
+                    key[o.name] = len(objects)
+                    objects.append((c, i))
+        pairs: set[tuple[int, int]] = set()  # pairs of ``objects``
+        if self_collision:
+            for c, g in enumerate(self.geometry):
+                names = [o.name for o in g.model.geometryObjects]
+                for a, b in g.self_pairs:  # off another chain's own links (frozen here)
+                    if owner.get(g.links[a], c) == c and owner.get(g.links[b], c) == c:
+                        pairs.add((key[names[a]], key[names[b]]))
+            disabled = frozenset().union(*(arm.disabled_pairs for arm in arms))
+            for ka, (ca, a) in enumerate(objects):
+                for kb, (cb, b) in enumerate(objects):
+                    la, lb = self.geometry[ca].links[a], self.geometry[cb].links[b]
+                    if ca < cb and la in owner and lb in owner and owner[la] != owner[lb]:
+                        if tuple(sorted((la, lb))) not in disabled:
+                            pairs.add((ka, kb))
+        self.objects = objects
+        self.names = [self.geometry[c].links[i] for c, i in objects]
+        self.self_pairs = sorted(pairs)
+        self.shapes = check_obstacles(obstacles)
+        world = arms[0].T_world_base
+        self.obstacles = [
+            (s.geometry(), coal.Transform3s(world * s.placement())) for s in self.shapes
+        ]
+        self.obstacle_radius = np.array([_radius(g) for g, _ in self.obstacles])
+        self.obstacle_centre = np.array(
+            [T.transform(g.aabb_center) for g, T in self.obstacles]
+        ).reshape(-1, 3)
+        self.moving = np.array(
+            [k for k in range(len(objects)) if self._joint(k) != 0], dtype=np.intp
+        )
+        geoms = [self._object(k).geometry for k in range(len(objects))]
+        self.geoms, self.joints = geoms, [self._joint(k) for k in range(len(objects))]
+        self.radius = np.array([_radius(g) for g in geoms])
+        self.centre = np.array([g.aabb_center for g in geoms]).reshape(-1, 3)
+        self.pair_a = np.array([p for p, _ in self.self_pairs], dtype=np.intp)
+        self.pair_b = np.array([q for _, q in self.self_pairs], dtype=np.intp)
+        self.rows = np.zeros((MAX_ROWS, n + 1))
+        self.request = coal.DistanceRequest()
+        self.nearest = math.inf  # m: the nearest pair's distance at the last ``at``
+        self.pairs: list[tuple[int, int]] = []  # each row's pair (an obstacle's: -1 - it)
+
+    def _object(self, k: int) -> pin.GeometryObject:
+        c, i = self.objects[k]
+        return self.geometry[c].model.geometryObjects[i]
+
+    def _joint(self, k: int) -> int:
+        return int(self._object(k).parentJoint)
+
+    def at(self, q: np.ndarray) -> np.ndarray:
+        """The rows at the union's joint values q (rad, m), nearest pairs first, at most
+        ``MAX_ROWS``: (K, n + 1), C then b for ``C dq >= b``."""
+        for arm, data, g, gd, cols in zip(
+            self.arms, self.data, self.geometry, self.gdata, self.cols
+        ):
+            qp = arm.to_pin(q[cols])
+            pin.computeJointJacobians(arm.model, data, qp)
+            pin.updateGeometryPlacements(arm.model, data, g.model, gd)
+        placed = [self.gdata[c].oMg[i] for c, i in self.objects]
+        R = np.array([M.rotation for M in placed])
+        centre = np.array([M.translation for M in placed]) + np.einsum("kij,kj->ki", R, self.centre)
+        reach = self.margin + ACTIVE
+        pa, pb = self.pair_a, self.pair_b
+        gap = np.linalg.norm(centre[pa] - centre[pb], axis=1) - self.radius[pa] - self.radius[pb]
+        close = np.flatnonzero(gap < reach)
+        near = list(zip(gap[close].tolist(), pa[close].tolist(), pb[close].tolist()))
+        if self.obstacles:  # (other: -1 - the obstacle)
+            m = self.moving
+            d = np.linalg.norm(centre[m][:, None, :] - self.obstacle_centre[None], axis=2)
+            gap = d - self.radius[m][:, None] - self.obstacle_radius[None]
+            for i, s in zip(*np.nonzero(gap < reach)):
+                near.append((float(gap[i, s]), int(m[i]), -1 - int(s)))
+        # the pairs the broad phase leaves, nearest bound first, measured until the
+        # ``MAX_ROWS`` nearest distances are known (no bound left below the farthest of them)
+        found: list[tuple[float, int, int, coal.DistanceResult]] = []
+        kept: list[float] = []  # the distances found, as a max-heap of the nearest, negated
+        request = self.request
+        transforms: dict[int, coal.Transform3s] = {}
+        for bound, a, b in sorted(near):
+            if len(kept) == MAX_ROWS and bound >= -kept[0]:
+                break
+            for k in (a, b) if b >= 0 else (a,):
+                if k not in transforms:
+                    transforms[k] = _transform(placed[k])
+            Ta = transforms[a]
+            if b >= 0:
+                gb, Tb = self.geoms[b], transforms[b]
+            else:
+                gb, Tb = self.obstacles[-1 - b]
+            result = coal.DistanceResult()
+            d = coal.distance(self.geoms[a], Ta, gb, Tb, request, result)
+            if d < reach:
+                found.append((d, a, b, result))
+                if len(kept) < MAX_ROWS:
+                    heapq.heappush(kept, -d)
+                elif d < -kept[0]:
+                    heapq.heapreplace(kept, -d)
+        found.sort(key=lambda f: f[0])
+        self.nearest = found[0][0] if found else math.inf
+        K = 0
+        jacobians: dict = {}
+        self.pairs = [(a, b) for _, a, b, _ in found[:MAX_ROWS]]
+        for d, a, b, result in found[:MAX_ROWS]:
+            Jd = -self._point(a, np.array(result.getNearestPoint1()), jacobians)
+            if b >= 0:
+                Jd += self._point(b, np.array(result.getNearestPoint2()), jacobians)
+            self.rows[K, :-1] = np.array(result.normal) @ Jd
+            self.rows[K, -1] = -self.gain * (d - self.margin)
+            K += 1
+        return self.rows[:K]
+
+    def _point(self, k: int, p: np.ndarray, jacobians: dict) -> np.ndarray:
+        """The 3 x n Jacobian (the union's columns) of the world point p fixed to object
+        k; ``jacobians``: this tick's joint Jacobians, by (chain, joint)."""
+        c, _ = self.objects[k]
+        out = np.zeros((3, self.n))
+        joint = self.joints[k]
+        if joint == 0:
+            return out
+        data = self.data[c]
+        J = jacobians.get((c, joint))
+        if J is None:
+            J = pin.getJointJacobian(self.arms[c].model, data, joint, pin.LOCAL_WORLD_ALIGNED)
+            jacobians[c, joint] = J
+        r = p - data.oMi[joint].translation
+        out[:, self.cols[c]] = J[:3] + np.cross(J[3:].T, r).T  # v + w x r
+        return out
+
+
+def _radius(geometry: coal.CollisionGeometry) -> float:
+    """The radius of a sphere about ``aabb_center`` holding the shape (``FAR`` without)."""
+    geometry.computeLocalAABB()
+    r = float(geometry.aabb_radius)
+    return r if math.isfinite(r) else FAR
+
+
+def _transform(M: pin.SE3) -> coal.Transform3s:
+    return coal.Transform3s(M.rotation, M.translation)
+
+
+def union_rows(
+    arms: Sequence[ArmModel],
+    cols: Sequence[np.ndarray],
+    n: int,
+    obstacles: object,
+    self_collision: object,
+    margin: object,
+    dt: float,
+) -> UnionCollisions | None:
+    """The collision rows asked for, or None (no obstacle, no self-collision); a
+    ``CollisionError`` naming a bad option."""
+    if obstacles is None and not self_collision:
+        return None
+    if not isinstance(self_collision, bool):
+        raise CollisionError(
+            f"self_collision must be True or False, got {self_collision!r}",
+            option="self_collision",
+            value=self_collision,
+        )
+    try:
+        m = float(margin)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        m = float("nan")
+    if not 0.0 <= m < 1.0:
+        raise CollisionError(
+            f"margin must be a distance in [0, 1) m, got {margin!r}", option="margin", value=margin
+        )
+    return UnionCollisions(arms, cols, n, obstacles, self_collision, m, RATE * dt)
