@@ -467,8 +467,9 @@ class Arm:
         solver: str = "auto",
         **options: Any,
     ) -> BatchResult:
-        """Waypoints in order from ``q0`` (None: mid-limits), no silent jump over
-        ``max_joint_step``; ``plan="global"``: the least motion (``armik.solve.path``)."""
+        """Waypoints in order from ``q0`` (None: no start, the first waypoint free, solved
+        from mid-limits), no silent jump over ``max_joint_step``; ``plan="global"``: the
+        least motion (``armik.solve.path``)."""
         request, local = read_path(self.kinematics, poses, q0, solver, plan, options)
         return solve_path(self.kinematics, request, local, max_joint_step, plan)
 

@@ -84,8 +84,9 @@ def solve_path(
     plan: str = "follow",
     **options: Any,
 ) -> BatchResult:
-    """The waypoints (tip -> N waypoints) in order from ``q0``, never with a silent jump
-    larger than ``max_joint_step`` (one number or one per joint of ``joint_names``)."""
+    """The waypoints (tip -> N waypoints) in order from ``q0`` (None: the first free,
+    solved from mid-limits), never with a silent jump larger than ``max_joint_step`` (one
+    number or one per joint of ``joint_names``)."""
     t0 = time.perf_counter()
     n = _rows(arms, waypoints)
     start = arms.middle if q0 is None else _seeds(arms, q0, 1)[0]
@@ -94,7 +95,7 @@ def solve_path(
         parts = {
             tip: arms.chain(tip).solve_path(
                 rows,
-                None if q0 is None and plan == "global" else start[arms._columns[tip]],
+                None if q0 is None else start[arms._columns[tip]],  # None: a free start
                 max_joint_step=step[arms._columns[tip]],
                 plan=plan,
                 **options,
@@ -114,7 +115,7 @@ def solve_path(
     for i in range(n):
         row = {tip: rows[i] for tip, rows in waypoints.items()}
         r = arms.solve(row, q0=q_prev, **options)
-        if r.success:
+        if r.success and not (q0 is None and i == 0):  # without q0 the first is free
             r = _held(arms, r, q_prev, step, first=i == 0)
         out.put_result(i, r)
         if r.success:

@@ -212,6 +212,12 @@ def every_path_breaks(
     return f"every path {found}breaks here: from {start}, {'; '.join(why)}"
 
 
+def planned_over(move: str) -> str:
+    """Why a planned waypoint is a jump after all: the plan's step to it makes ``move``
+    (``moved``), over the bound the plan is held to."""
+    return f"the plan's step to it {move}, over the bound: no path planned within it"
+
+
 def jump(why: str, answer: str, measured_text: str) -> str:
     """A waypoint reached only by a move larger than ``max_joint_step`` (``discontinuous``):
     ``why`` in words, ``answer`` what q is, ``measured_text`` its measure."""

@@ -151,3 +151,33 @@ def test_max_joint_step_checks():
             a.solve_path([a.fk(q0)], q0, max_joint_step=bad)
     r = a.solve_path([a.fk(q0)], q0, max_joint_step=np.full(6, 0.2))
     assert r.success.all()
+
+
+def _few(a: armik.Arm, seed: int, planar: bool) -> list:
+    """Three waypoints 2 mm apart about a random configuration (positions on the planar
+    arm, poses on the others)."""
+    T = a.fk(a.random_q(seed))
+    if planar:
+        return [T.translation + [0.002 * k, 0.0, 0.0] for k in range(3)]
+    return [pin.SE3(T.rotation, T.translation + [0.0, 0.002 * k, 0.0]) for k in range(3)]
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda", "planar_2link"])
+def test_without_q0_the_first_waypoint_is_free(name):
+    """No q0: the first waypoint is solved from mid-limits as a seed but judged against no
+    start (before, it was reported a jump from mid-limits the user never gave); the others
+    follow it. With q0 = mid-limits given, that first step is checked as before."""
+    a = arm(name)
+    poses = _few(a, 3, name == "planar_2link")
+    r = a.solve_path(poses)
+    assert r.success.all(), [r.reason(i) for i in range(len(r))]
+    assert _moves(r.q[0], r).max() <= 0.5
+    for T, q in zip(poses, r.q):
+        if isinstance(T, pin.SE3):
+            assert np.linalg.norm(pin.log6(T.actInv(a.fk(q))).vector) <= 1e-6
+        else:
+            assert np.linalg.norm(a.fk(q).translation - T) <= 1e-6
+    given = a.solve_path(poses, a.middle)
+    assert given.status[0] == "discontinuous" and "from q0 (the start)" in given.reason(0)
+    assert given.success[1:].all()
+    _check_no_silent_jump(a.middle, given, 0.5)

@@ -51,3 +51,13 @@ def test_solve_prefers_by_a_score(capsys):
     assert manipulability(a.jacobian(got["results"][0]["q"])) == pytest.approx(
         -best.extra["score"], abs=1e-9
     )
+
+
+def test_path_without_q0_starts_free(tmp_path):
+    """No --q0: the first waypoint is judged against no start (as solve_path without q0)."""
+    a = arm("ur5")
+    T = a.fk(a.random_q(3))
+    poses = [pin.SE3(T.rotation, T.translation + [0.0, 0.002 * k, 0.0]) for k in range(3)]
+    np.save(tmp_path / "line.npy", np.array([P.homogeneous for P in poses]))
+    assert main(["path", "ur5", str(tmp_path / "line.npy"), "-o", str(tmp_path / "f.npz")]) == 0
+    assert BatchResult.load(tmp_path / "f.npz").success.all()

@@ -11,6 +11,12 @@ every path breaks at that waypoint: it is flagged with the smallest jump's joint
 and its children are taken without the step bound. An edge in ``forbidden`` (a pair of
 rungs a jump hides between: ``armik.solve.ladder``) counts as a jump too. Without q0 the
 first waypoint's states are every turn within the limits of every rung.
+
+A joint without limits on either side (a continuous joint, or one given infinite limits)
+is free: every turn of it is within its limits and no step's size depends on which one the
+state holds, so its turn is no part of a state (states that differ only in it are one, the
+cheapest parent's turn kept), it starts at its rung's own value, and it takes the turn
+nearest the state before however many turns the path has made.
 """
 
 from __future__ import annotations
@@ -28,7 +34,8 @@ EDGE = 1e-12  # rad or m: a value this far outside a limit is on it
 @njit(cache=True)
 def _child(B, r, q, lo, hi, periodic, out, turn):
     """The rung ``r`` with each joint turned to its value within the limits nearest ``q``,
-    into ``out`` (the turns into ``turn``); False where a joint has none."""
+    into ``out`` (the turns into ``turn``); False where a joint has none (or a limited one
+    would take a turn beyond -2 .. 2; a free joint takes any)."""
     for j in range(q.shape[0]):
         b = B[r, j]
         if not periodic[j]:
@@ -42,7 +49,7 @@ def _child(B, r, q, lo, hi, periodic, out, turn):
             v = b + TWO_PI * k
             if lo[j] - EDGE <= v <= hi[j] + EDGE and abs(v - q[j]) < abs(best - q[j]):
                 best, bk = v, k
-        if best == math.inf or bk < -2 or bk > 2:
+        if best == math.inf or (bk < -2 or bk > 2) and not _free(lo[j], hi[j]):
             return False
         out[j], turn[j] = best, bk
     return True
@@ -62,12 +69,23 @@ def _grow(a, n):
 
 
 @njit(cache=True)
+def _free(lo, hi):
+    """Whether a joint has no limit on either side: its turn is no part of a state."""
+    return lo == -math.inf and hi == math.inf
+
+
+@njit(cache=True)
 def _turn_range(b, lo, hi, periodic):
-    """(first, last) turn of a joint's value ``b`` within its limits (last < first: none)."""
+    """(first, last) turn of a joint's value ``b`` within its limits (last < first: none),
+    -2 .. 2 at most; a free joint's only turn is 0, its rung's own value."""
     if not periodic:
         return (0, 0) if lo - EDGE <= b <= hi + EDGE else (1, 0)
-    first = max(-2, math.ceil((lo - EDGE - b) / TWO_PI))
-    last = min(2, math.floor((hi + EDGE - b) / TWO_PI))
+    if _free(lo, hi):
+        return 0, 0
+    # clipped before rounding: an infinite limit on one side is no integer (numba's
+    # floor of inf is INT64_MIN)
+    first = math.ceil(max(-2.0, min(3.0, (lo - EDGE - b) / TWO_PI)))
+    last = math.floor(min(2.0, max(-3.0, (hi + EDGE - b) / TWO_PI)))
     return first, last
 
 
@@ -93,8 +111,10 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step, forbidden, node, weight):
         m_max = max(m_max, offs[i + 1] - offs[i])
     base = np.ones(d, np.int64)  # a joint without a period takes one turn, 0
     size = m_max
+    keyed = np.zeros(d, np.bool_)  # the joints whose turn is part of a state
     for j in range(d):
-        if periodic[j]:
+        if periodic[j] and not _free(lo[j], hi[j]):
+            keyed[j] = True
             base[j] = TURNS
             size *= TURNS
     table = np.full(size, -1, np.int64)
@@ -130,7 +150,7 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step, forbidden, node, weight):
                         while ok:
                             code = r - offs[i]
                             for j in range(d):
-                                code = code * base[j] + (turn[j] + 2 if periodic[j] else 0)
+                                code = code * base[j] + (turn[j] + 2 if keyed[j] else 0)
                             s_rung, s_parent = _grow(s_rung, count), _grow(s_parent, count)
                             s_turn, s_cost = _grow(s_turn, count), _grow(s_cost, count)
                             s_rung[count], s_parent[count], s_cost[count] = r, -1, node[r]
@@ -170,11 +190,13 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step, forbidden, node, weight):
                     cost = (0.0 if src < 0 else s_cost[src]) + weight * math.sqrt(norm2) + node[r]
                     code = r - offs[i]
                     for j in range(d):
-                        code = code * base[j] + (turn[j] + 2 if periodic[j] else 0)
+                        code = code * base[j] + (turn[j] + 2 if keyed[j] else 0)
                     at = table[code]
                     if at >= 0:
-                        if cost < s_cost[at]:
+                        if cost < s_cost[at]:  # a free joint's turn is the new parent's
                             s_cost[at], s_parent[at] = cost, src
+                            for j in range(d):
+                                s_turn[at, j] = turn[j]
                         continue
                     s_rung, s_parent = _grow(s_rung, count), _grow(s_parent, count)
                     s_turn, s_cost = _grow(s_turn, count), _grow(s_cost, count)

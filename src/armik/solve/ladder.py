@@ -53,6 +53,7 @@ from armik.targets.pose import Target
 TIE = 1e-6  # with a preference: the motion's weight beside the scores, a tie-break
 BEND = 0.125  # of max_joint_step: a halfway solution this far off the middle: halves checked
 DEPTH = 3  # rounds of halving at most: the poses at 1/2, then 1/4 and 3/4, then the eighths
+STEP_EDGE = 1e-9  # rad or m: a planned step this far over max_joint_step is on it
 
 
 def plan(
@@ -95,7 +96,7 @@ def plan(
     rung, Q, broken, hidden, joint, size = _checked(arm, spec, opts, targets, args, node, weight)
     first = True
     for i, rs in enumerate(rungs):
-        if rung[i] < 0:  # no solution at all: the waypoint's own failure
+        if rung[i] < 0:  # no solution: its own failure (else held to the step below)
             out.put_result(i, rs[0])
             out.reasons[i] = rs[0].reason
             continue
@@ -114,6 +115,36 @@ def plan(
         if score is not None:  # measured at the answer as given (its turns included)
             out._scores[i] = score(arm, out.q[i], reference)
         first = False
+    held_to_step(arm, out, None if q0 is None else start, np.asarray(step, dtype=float))
+
+
+def held_to_step(arm: ArmModel, out: BatchResult, start: np.ndarray | None, step) -> None:
+    """Every success in ``out`` within ``step`` (rad or m, per joint) of the answer the path
+    went on from (the last row before it that is a success or a jump; ``start`` for the
+    first, None: the first is free): a success further than that, whatever the plan did, is
+    ``discontinuous`` with the move in its reason. Never a silent jump."""
+    prev, whence = start, "q0 (the start)"
+    for i in range(len(out)):
+        q = out.q[i]
+        if out.success[i] and prev is not None:
+            moved = np.abs(q - prev)
+            if not (moved <= step + STEP_EDGE).all():  # NaN too
+                j = int(np.nanargmax(moved / step))
+                unit = "m" if arm.prismatic[j] else "rad"
+                move = reasons.moved(arm.joint_names[j], float(moved[j]), unit, whence, step[j])
+                measured = reasons.measured(
+                    float(out.position_error[i]),
+                    float(out.orientation_error[i]),
+                    out.tol_position,
+                    out.tol_orientation,
+                )
+                out.success[i] = False
+                out.status_code[i] = Status.DISCONTINUOUS.code
+                out.reasons[i] = reasons.jump(
+                    reasons.planned_over(move), "the planned answer", measured
+                )
+        if out.success[i] or out.status_code[i] == Status.DISCONTINUOUS.code:
+            prev, whence = q, "the previous waypoint's answer"
 
 
 def _turns(r: IKResult, choices: list[list[float]]) -> list[IKResult]:

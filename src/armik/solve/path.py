@@ -1,10 +1,11 @@
 """Paths: waypoints solved in order, without silent jumps between branches.
 
 ``solve_path`` solves each waypoint from the previous answer (the first from ``q0``, the
-configuration the arm is in). Angles are unwrapped onto the previous answer: a continuous
-joint, or a joint with limits wider than 2 pi, takes the equivalent value modulo 2 pi
-nearest the previous one that lies within its limits, so a tool spun through 360 degrees
-turns on rather than snapping back.
+configuration the arm is in, and held to ``max_joint_step`` from it; without ``q0`` the
+first is solved from mid-limits as a seed and free: no start to jump from). Angles are
+unwrapped onto the previous answer: a continuous joint, or a joint with limits wider than
+2 pi, takes the equivalent value modulo 2 pi nearest the previous one that lies within its
+limits, so a tool spun through 360 degrees turns on rather than snapping back.
 
 An answer that would move any joint by more than ``max_joint_step`` from the previous
 answer is not accepted as it is. The waypoint is re-solved near the previous configuration:
@@ -62,16 +63,18 @@ def solve_path(
 
     ``request.target``: anything ``solve_batch`` accepts ((N, 4, 4), (N, 7), (N, 3), a list).
     ``request.q0``: the configuration the arm starts from (rad, m); the first pose is held to
-    ``max_joint_step`` from it too. ``max_joint_step``: the largest move of any joint
-    between consecutive answers (rad for revolute joints, m for prismatic ones; one number
-    or one per joint; default 0.5). ``plan``: ``"follow"`` (each waypoint from the previous
-    answer, below) or ``"global"`` (every branch at every waypoint, or a numeric arm's
-    tracked answers, ``armik.solve.rungs``: the continuous path of least joint motion, or
-    with a score (``prefer=``) of the best summed score, ``armik.solve.ladder``; with
-    ``q0=None`` the path may start on any branch).
+    ``max_joint_step`` from it too. None: no start given, the first pose is free (solved
+    from mid-limits as a seed, on any branch; the later ones follow it). ``max_joint_step``:
+    the largest move of any joint between consecutive answers (rad for revolute joints, m
+    for prismatic ones; one number or one per joint; default 0.5). ``plan``: ``"follow"``
+    (each waypoint from the previous answer, below) or ``"global"`` (every branch at every
+    waypoint, or a numeric arm's tracked answers, ``armik.solve.rungs``: the continuous
+    path of least joint motion, or with a score (``prefer=``) of the best summed score,
+    ``armik.solve.ladder``; with ``q0=None`` the path may start on any branch and turn).
 
     Every answer is verified by Pinocchio FK (``Arm.solve``). A waypoint reachable only by
-    a larger move gets status ``discontinuous`` and a reason; never a silent jump.
+    a larger move gets status ``discontinuous`` and a reason; never a silent jump: either
+    plan's answers are checked against ``max_joint_step`` last (``ladder.held_to_step``).
     """
     t0 = request.t0
     poses, q0, solver, score = request.target, request.q0, request.solver, request.score
@@ -96,7 +99,7 @@ def solve_path(
             every = next(swept, every)
         if every.sweep is not None or every.kind == "numeric":  # rungs about the followed path
             followed = BatchResult.for_arm(arm, n, spec.name, opts, margin=opts.margin)
-            _walk(arm, batch, q_prev, step, request, local, followed)
+            _walk(arm, batch, q_prev, step, request, local, followed, free=q0 is None)
             found = (  # a 7R arm: joint 7 sampled; else answers tracked from start and breaks
                 rungs.held(arm, batch, q_prev, followed, request, every)
                 if every.sweep is not None
@@ -109,24 +112,27 @@ def solve_path(
         # with a preference, the continuous path of the best summed score (ladder.TIE)
         ladder.plan(arm, every, batch, found, start, step, opts, out, score, q_prev)
         return frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
-    chooser = None if score is None else _chooser(arm, score, q_prev, step, request)
-    _walk(arm, batch, q_prev, step, request, local, out, chooser)
+    chooser = None if score is None else _chooser(arm, score, q_prev, request)
+    _walk(arm, batch, q_prev, step, request, local, out, chooser, free=q0 is None)
+    ladder.held_to_step(arm, out, None if q0 is None else q_prev, step)
     out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     return out
 
 
-def _walk(arm, batch, q_prev, step, request, local, out, chooser=None) -> None:
+def _walk(arm, batch, q_prev, step, request, local, out, chooser=None, free=False) -> None:
     """Solve the waypoints in order, each from the previous answer, into ``out``
     (``request``: the path's; ``local``: the same without restarts);
-    ``chooser(target, r, q_prev)``: the answer kept among those within the step (a
-    preference), else ``r``."""
+    ``chooser(target, r, q_prev, within)``: the answer kept among those within ``within`` (a
+    preference), else ``r``; ``free``: no start given, the first answer (from ``q_prev``,
+    a seed) is held to no step, a preference choosing among every answer there."""
     for i in range(len(batch)):
         target = batch.target(i)
         r = unwrapped(arm, _at(arm, request, target, q_prev), q_prev)
-        if r.success and _jump(r.q, q_prev, step) > 1.0:
+        within = np.full(arm.dof, np.inf) if free and i == 0 else step
+        if r.success and _jump(r.q, q_prev, within) > 1.0:
             r = _near(arm, target, q_prev, step, local, r, first=i == 0)
         elif chooser is not None:
-            r = chooser(target, r, q_prev)
+            r = chooser(target, r, q_prev, within)
         out.put_result(i, r)
         if r.success or r.status is Status.DISCONTINUOUS:
             q_prev = np.array(r.q)
@@ -137,13 +143,13 @@ def _at(arm: ArmModel, request: Request, target: object, q: np.ndarray) -> IKRes
     return run(arm, request.but(target=target, q0=q, t0=time.perf_counter()))  # type: ignore[no-any-return]
 
 
-def _chooser(arm, score, start: np.ndarray, step: np.ndarray, request: Request):
-    """A preference's choice at each waypoint (``path_score.preferred``), scored against
-    the path's start."""
+def _chooser(arm, score, start: np.ndarray, request: Request):
+    """A preference's choice at each waypoint (``path_score.preferred``) among the answers
+    within a step of the one before, scored against the path's start."""
     reference = np.array(start, dtype=float)
 
-    def choose(target: Target, r: IKResult, q_prev: np.ndarray) -> IKResult:
-        return preferred(arm, target, r, q_prev, step, score, reference, request)
+    def choose(target: Target, r: IKResult, q_prev: np.ndarray, within: np.ndarray) -> IKResult:
+        return preferred(arm, target, r, q_prev, within, score, reference, request)
 
     return choose
 

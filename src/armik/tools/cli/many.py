@@ -61,8 +61,8 @@ def add_many_commands(command) -> None:
         "--q0",
         nargs="+",
         type=float,
-        help="the configuration the arm starts from (rad, m); default: the middle of the "
-        "limits, or with --plan global any branch",
+        help="the configuration the arm starts from (rad, m); default: none, the first "
+        "waypoint free (followed: solved from the middle of the limits; global: any branch)",
     )
     c.add_argument(
         "--plan",
@@ -200,8 +200,6 @@ def cmd_path(args: argparse.Namespace) -> int:
     arm = load_arm(args).kinematics
     targets, _ = read_targets_file(args.targets)
     q0 = None if args.q0 is None else np.array(args.q0)
-    if q0 is None and args.plan == "follow":
-        q0 = arm.middle
     request, local = read_path(arm, targets, q0, args.solver, args.plan, solve_options(args))
     result = solve_path(arm, request, local, args.max_joint_step, args.plan)
     return _written(result, out)
