@@ -1,0 +1,68 @@
+"""Bad input to the facade gets armik's own error naming the value and the fix, never a
+raw numpy, Pinocchio or OS exception and never a silent answer."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import armik
+
+
+@pytest.fixture(scope="module")
+def ur5():
+    return armik.load("ur5")
+
+
+@pytest.mark.parametrize("q", [[], [0.0], [0.0] * 9], ids=["empty", "one", "nine"])
+def test_within_limits_refuses_another_arms_length(ur5, q):
+    with pytest.raises(armik.OptionError, match=rf"q must have 6 values .*shape \({len(q)},\)"):
+        ur5.within_limits(q)
+
+
+def test_within_limits_refuses_no_numbers_and_several_rows(ur5):
+    with pytest.raises(armik.OptionError, match="q must be 6 numbers.*'abc'"):
+        ur5.within_limits("abc")
+    with pytest.raises(armik.OptionError, match=r"shape \(3, 6\); for 3 configurations"):
+        ur5.within_limits(np.zeros((3, 6)))
+    with pytest.raises(armik.OptionError, match="tol must be a number, got 'x'"):
+        ur5.within_limits(ur5.middle, tol="x")
+    assert ur5.within_limits(ur5.middle)
+    assert not ur5.within_limits([np.nan] * 6)  # a NaN is outside, as before
+    assert not ur5.within_limits(ur5.upper + 0.1)
+
+
+@pytest.mark.parametrize("rng", ["x", -1, 1.5])
+def test_random_q_refuses_a_seed_numpy_cannot_take(ur5, rng):
+    with pytest.raises(armik.OptionError, match=f"rng must be .*got {rng!r}") as info:
+        ur5.random_q(rng)
+    assert info.value.option == "rng"
+    np.testing.assert_array_equal(ur5.random_q(3), ur5.random_q(np.random.default_rng(3)))
+
+
+def test_posture_refuses_no_numbers():
+    with pytest.raises(armik.OptionError, match="Posture q_ref .*got 'x'"):
+        armik.Posture("x")
+    with pytest.raises(armik.OptionError, match="Posture q_ref .*got \\[\\]"):
+        armik.Posture([])
+    with pytest.raises(armik.OptionError, match="Posture weights must be 6 numbers .*'ab'"):
+        armik.Posture([0.0] * 6, weights="ab")
+
+
+def test_export_into_a_file_names_the_path(ur5, tmp_path):
+    file = tmp_path / "existing"
+    file.write_text("x")
+    with pytest.raises(armik.OptionError, match=f"out='{file}' cannot hold") as info:
+        armik.export(ur5, "u", out=file)
+    assert info.value.option == "out"
+    files = armik.export(ur5, "u", out=tmp_path / "new")  # a new folder is made
+    assert sorted(p.name for p in (tmp_path / "new").iterdir()) == sorted(files)
+
+
+def test_saving_a_batch_where_it_cannot_be_written_names_the_path(ur5, tmp_path):
+    res = ur5.solve_batch([ur5.fk(ur5.middle)])
+    nowhere = tmp_path / "no" / "x.npz"
+    with pytest.raises(armik.InputError, match=f"cannot write '{nowhere}'.*existing folder"):
+        res.save(nowhere)
+    with pytest.raises(armik.InputError, match=f"cannot write '{tmp_path}'"):
+        res.save(tmp_path)  # a folder
