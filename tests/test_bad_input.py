@@ -49,6 +49,17 @@ def test_posture_refuses_no_numbers():
         armik.Posture([0.0] * 6, weights="ab")
 
 
+def test_a_backend_returning_no_results_is_named(ur5):
+    T = ur5.fk(ur5.random_q(0))
+
+    def nothing(jobs, workers):
+        return None
+
+    for backend, got in ((nothing, "None"), (lambda jobs, workers: 3, "3")):
+        with pytest.raises(armik.ArmikError, match=f"returned {got}: a backend returns"):
+            ur5.solve_batch([T, T], backend=backend)
+
+
 def test_export_into_a_file_names_the_path(ur5, tmp_path):
     file = tmp_path / "existing"
     file.write_text("x")
