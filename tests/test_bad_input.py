@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import armik
+from armik.collision import write_srdf
 
 
 @pytest.fixture(scope="module")
@@ -77,3 +78,19 @@ def test_saving_a_batch_where_it_cannot_be_written_names_the_path(ur5, tmp_path)
         res.save(nowhere)
     with pytest.raises(armik.InputError, match=f"cannot write '{tmp_path}'"):
         res.save(tmp_path)  # a folder
+
+
+def test_srdf_refuses_a_urdf_and_other_xml(ur5, tmp_path):
+    with pytest.raises(armik.CollisionError, match="is a URDF, not an SRDF.*<joint>, <link>"):
+        armik.load("ur5", srdf=ur5.source)
+    other = tmp_path / "other.xml"
+    other.write_text("<config><x/></config>")
+    with pytest.raises(armik.CollisionError, match=f"'{other}' is not an SRDF.*<config>"):
+        armik.load("ur5", srdf=other)
+    stray = tmp_path / "stray.srdf"
+    stray.write_text('<robot name="ur5"><bar/></robot>')
+    with pytest.raises(armik.CollisionError, match=f"'{stray}' is not an SRDF.*<bar>"):
+        armik.load("ur5", srdf=stray)
+    empty = tmp_path / "empty.srdf"
+    write_srdf([], empty)  # no pair to disable: still an SRDF
+    assert armik.load("ur5", srdf=empty).kinematics.disabled_pairs == frozenset()

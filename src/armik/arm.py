@@ -18,6 +18,7 @@ import pinocchio as pin
 from armik import checked
 from armik.arms import Arms
 from armik.constraints import collision
+from armik.constraints.srdf import read_srdf
 from armik.errors import ArmikWarning, JointError, OptionError, URDFError, listing
 from armik.model import frames
 from armik.model.arm_model import ArmModel
@@ -237,7 +238,7 @@ def _built(
     )
     kinematics.package_dirs = dirs
     if srdf is not None:
-        kinematics.disabled_pairs = collision.read_srdf(srdf, info.links)
+        kinematics.disabled_pairs = read_srdf(srdf, info.links)
         srdf = str(Path(srdf).resolve())
     kinematics._recipe = Recipe(
         source if given is None else given,
