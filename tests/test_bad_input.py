@@ -8,6 +8,7 @@ import pytest
 
 import armik
 from armik.collision import write_srdf
+from armik.tools.cli import main
 
 
 @pytest.fixture(scope="module")
@@ -94,3 +95,17 @@ def test_srdf_refuses_a_urdf_and_other_xml(ur5, tmp_path):
     empty = tmp_path / "empty.srdf"
     write_srdf([], empty)  # no pair to disable: still an SRDF
     assert armik.load("ur5", srdf=empty).kinematics.disabled_pairs == frozenset()
+
+
+def test_cli_batch_says_which_arrays_it_reads(ur5, tmp_path, capsys):
+    poses = np.array([ur5.fk(ur5.random_q(i)).homogeneous for i in range(2)])
+    out = str(tmp_path / "o.npz")
+    np.savez(tmp_path / "foo.npz", foo=poses)
+    assert main(["batch", "ur5", str(tmp_path / "foo.npz"), "-o", out]) == 2
+    err = capsys.readouterr().err
+    assert "['foo']" in err and "'targets'" in err and "'q0'" in err, err
+    np.savez(tmp_path / "seeds.npz", targets=poses, seeds=np.zeros((2, 6)))
+    assert main(["batch", "ur5", str(tmp_path / "seeds.npz"), "-o", out]) == 2
+    assert "does not read: ['seeds']" in capsys.readouterr().err
+    np.savez(tmp_path / "plain.npz", poses)  # numpy's own name, arr_0, for one array
+    assert main(["batch", "ur5", str(tmp_path / "plain.npz"), "-o", out]) == 0
