@@ -15,8 +15,10 @@ from typing import TYPE_CHECKING, Any, overload
 import numpy as np
 import pinocchio as pin
 
+from armik import checked
 from armik.arms import Arms
 from armik.constraints import collision
+from armik.constraints.srdf import read_srdf
 from armik.errors import ArmikWarning, JointError, OptionError, URDFError, listing
 from armik.model import frames
 from armik.model.arm_model import ArmModel
@@ -236,7 +238,7 @@ def _built(
     )
     kinematics.package_dirs = dirs
     if srdf is not None:
-        kinematics.disabled_pairs = collision.read_srdf(srdf, info.links)
+        kinematics.disabled_pairs = read_srdf(srdf, info.links)
         srdf = str(Path(srdf).resolve())
     kinematics._recipe = Recipe(
         source if given is None else given,
@@ -374,15 +376,18 @@ class Arm:
     ) -> np.ndarray:
         """Uniform joint values within the limits, unlimited joints in [-pi, pi]: one
         configuration (dof,), or ``n`` of them (n, dof). ``rng``: a generator or a seed."""
-        return self.kinematics.random_q(rng, n)
+        return self.kinematics.random_q(checked.generator("rng", rng), n)
 
     def fk_batch(self, Q: object) -> np.ndarray:
         """Tip poses (N, 4, 4) of Q (N, dof) by the compiled FK (``fk``'s, to 1e-12)."""
         return self.kinematics.fk_batch(Q)
 
     def within_limits(self, q: object, tol: float = LIMIT_TOL) -> bool:
-        """Whether every joint of ``q`` lies within its limits (``tol`` rad or m beyond)."""
-        return self.kinematics.within_limits(q, tol)  # type: ignore[arg-type]
+        """Whether every joint of ``q`` (one configuration, ``dof`` values; a NaN is
+        outside) lies within its limits (``tol`` rad or m beyond); ``OptionError`` naming
+        ``q`` when it is not one configuration of this arm."""
+        q = checked.configuration("q", q, self.joint_names, finite=False)
+        return self.kinematics.within_limits(q, checked.number("tol", tol))
 
     def frames(self) -> list[str]:
         """The names of the URDF's frames on this arm's model (tips to choose from)."""

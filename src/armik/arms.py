@@ -26,11 +26,11 @@ import pinocchio as pin
 
 from armik import arms_every, arms_many, arms_reach
 from armik.arms_joined import joined, worse
+from armik.arms_kinematics import ArmsKinematics
 from armik.arms_options import per_chain, refuse_own_checks
 from armik.arms_servo import ArmsServo
 from armik.arms_tasks import by_tip
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
-from armik.model import frames
 from armik.model.arm_model import ArmModel
 from armik.model.union import Union
 from armik.problem.problem import Problem, as_problem, relative_tasks
@@ -51,8 +51,10 @@ from armik.targets.pose import parse_target, parsed
 UNION_ITERATIONS = 40  # a restart's descent over chains that share joints (_solve_together)
 
 
-class Arms:
-    """The chains of ``tips`` of one robot, each an ``Arm`` (``chain(tip)``)."""
+class Arms(ArmsKinematics):
+    """The chains of ``tips`` of one robot, each an ``Arm`` (``chain(tip)``); its
+    kinematics (``fk``, ``jacobian``, ``fk_batch``, ``within_limits``, ``random_q``,
+    ``split``) in ``armik.arms_kinematics``."""
 
     def __init__(self, chains: Mapping[str, object]) -> None:
         """``chains``: tip -> its ``Arm`` (the facade, kept for ``chain``); everything
@@ -100,59 +102,6 @@ class Arms:
     def chain(self, tip: str):
         """The ``Arm`` from the base to ``tip``."""
         return self._facades[self._known(tip)]
-
-    def _known(self, tip: str) -> str:
-        """``tip``, or ``FrameError`` naming the robot's tips."""
-        if tip not in self._chains:
-            raise FrameError(
-                f"unknown tip {tip!r}; this robot's tips: {list(self.tips)}",
-                frame=tip,
-                candidates=self.tips,
-            )
-        return tip
-
-    def split(self, q: object) -> dict[str, np.ndarray]:
-        """``q`` (one value per joint of ``joint_names``) as each chain's joint values."""
-        arr = np.asarray(q, dtype=float).reshape(-1)
-        if arr.shape != (self.dof,):
-            raise OptionError(
-                f"q must hold {self.dof} values, one per joint of {list(self.joint_names)}, "
-                f"got {arr.size}",
-                option="q",
-                value=q,
-            )
-        return {tip: arr[cols] for tip, cols in self._columns.items()}
-
-    def fk(self, q: object, frame: str | None = None):
-        """``T_base_frame`` at ``q``: a tip's (default: the first) or a chain's frame's."""
-        tip = self._chain_of(frame)
-        return frames.placement(self._chains[tip], self.split(q)[tip], frame)
-
-    def jacobian(
-        self, q: object, frame: str | None = None, reference: str | None = None
-    ) -> np.ndarray:
-        """The 6 x dof Jacobian over every joint of a tip (default: the first) or any
-        frame of a chain, in its own axes (``reference="local"``) or the base's
-        (``"base"``); zero for the joints not on its chain (``armik.model.frames``)."""
-        frame, reference = frames.frame_and_reference(frame, reference)
-        tip = self._chain_of(frame)
-        J = np.zeros((6, self.dof))
-        chain = self._chains[tip]
-        J[:, self._columns[tip]] = frames.jacobian(chain, self.split(q)[tip], frame, reference)
-        return J
-
-    def _chain_of(self, frame: str | None) -> str:
-        """The tip whose chain has ``frame`` (None: the first tip)."""
-        return self.tips[0] if frame is None else self._known(frames.owner(self._chains, frame))
-
-    def _random(self, rng: np.random.Generator) -> np.ndarray:
-        """A random configuration within the limits, in ``joint_names``'s order."""
-        if self._union is not None:
-            return self._union.random_q(rng)
-        return np.concatenate([a.random_q(rng) for a in self._chains.values()])
-
-    def random_q(self, rng: np.random.Generator | int | None = None) -> np.ndarray:
-        return self._random(np.random.default_rng(rng))
 
     def solve(self, targets: Mapping[str, object], *, q0: object = None, **options) -> IKResult:
         """Every tip at its target (any target form ``Arm.solve`` takes, or a task list),
@@ -395,15 +344,20 @@ class Arms:
     def _check_targets(self, targets: object) -> dict[str, list[Relative]]:
         """Each tip's ``Relative`` tasks, once the targets are checked: a mapping of known
         tips, each relative task on its own tip and relative to a known one."""
-        if type(targets) is dict and targets.keys() <= self._chains.keys():
+        if type(targets) is dict and targets and targets.keys() <= self._chains.keys():
             relative = _relative(targets)  # the common case: known tips, checked below
             if not relative:
                 return relative
-        if not isinstance(targets, Mapping) or not targets:
+        if not isinstance(targets, Mapping):
             raise OptionError(
                 f"targets must map tip names {list(self.tips)} to targets, got {targets!r}",
                 option="targets",
                 value=targets,
+            )
+        if not targets:
+            raise TargetError(
+                f"targets is an empty mapping {targets!r}: give a target for one or more of "
+                f"this robot's tips {list(self.tips)}, as {{tip: target}}"
             )
         unknown = [t for t in targets if t not in self._chains]
         relative = _relative(targets)

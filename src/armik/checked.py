@@ -1,9 +1,11 @@
-"""Numbers an option takes, checked: an ``OptionError`` naming the option, the value and
-what it must be otherwise (``armik.options``, ``armik.problem.budget``)."""
+"""Numbers an option takes (a seed, a configuration), checked: an ``OptionError`` naming the
+option, the value and what it must be otherwise (``armik.options``, ``armik.problem.budget``,
+the facades)."""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -55,3 +57,46 @@ def integer(key: str, value: object, minimum: int, maximum: int | None = None) -
             value=value,
         )
     return int(value)
+
+
+def generator(key: str, value: object) -> np.random.Generator:
+    """``value`` (a ``numpy.random.Generator``, a seed >= 0 or None) as a generator."""
+    try:
+        if isinstance(value, (str, bytes, float)):
+            raise TypeError
+        return np.random.default_rng(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise OptionError(
+            f"{key} must be a numpy.random.Generator, a whole-number seed >= 0 or None, "
+            f"got {value!r}",
+            option=key,
+            value=value,
+        ) from None
+
+
+def configuration(
+    key: str, value: object, joint_names: Sequence[str], finite: bool = True
+) -> np.ndarray:
+    """``value`` as one configuration, a float array of one value per joint of
+    ``joint_names`` (rad or m); with ``finite`` False a NaN or infinity passes (a limits
+    check says it is outside)."""
+    dof = len(joint_names)
+    try:
+        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
+            raise TypeError  # never drop an imaginary part silently
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise OptionError(
+            f"{key} must be {dof} numbers (one per joint), got {value!r}", option=key, value=value
+        ) from None
+    if arr.shape != (dof,):
+        several = f"; for {arr.shape[0]} configurations, ask one row at a time"
+        raise OptionError(
+            f"{key} must have {dof} values (one per joint: {', '.join(joint_names)}), got "
+            f"shape {arr.shape}{several if arr.ndim == 2 and arr.shape[1] == dof else ''}",
+            option=key,
+            value=value,
+        )
+    if finite and not np.isfinite(arr).all():
+        raise OptionError(f"{key} must be finite, got {arr.tolist()}", option=key, value=value)
+    return arr

@@ -6,6 +6,7 @@ returns the link pairs (not adjacent) that never touched, as MoveIt's setup assi
 ``armik.load(..., srdf=path)``.
 """
 
-from armik.constraints.collision import never_colliding_pairs, read_srdf, write_srdf
+from armik.constraints.collision import never_colliding_pairs
+from armik.constraints.srdf import read_srdf, write_srdf
 
 __all__ = ["never_colliding_pairs", "read_srdf", "write_srdf"]

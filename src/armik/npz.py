@@ -12,11 +12,18 @@ from armik.errors import InputError
 
 
 def save(path: str | Path, meta: dict, arrays: dict[str, np.ndarray]) -> Path:
-    """Write ``arrays`` and ``meta`` (JSON, with its "format") to ``path``."""
+    """Write ``arrays`` and ``meta`` (JSON, with its "format") to ``path``; ``InputError``
+    naming the path when it cannot be written (a missing folder, a folder, no permission)."""
     path = Path(path)
-    with open(path, "wb") as f:
-        # arg-type: numpy's stubs let the ** fill savez's allow_pickle, a bool
-        np.savez(f, **arrays, meta=np.array(json.dumps(meta)))  # type: ignore[arg-type]
+    try:
+        with open(path, "wb") as f:
+            # arg-type: numpy's stubs let the ** fill savez's allow_pickle, a bool
+            np.savez(f, **arrays, meta=np.array(json.dumps(meta)))  # type: ignore[arg-type]
+    except OSError as exc:
+        raise InputError(
+            f"cannot write {str(path)!r} ({exc.strerror or exc}): give a path in an existing "
+            "folder you can write to"
+        ) from None
     return path
 
 

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import math
 import threading
-import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from itertools import combinations
 from pathlib import Path
@@ -25,14 +24,13 @@ import pinocchio as pin
 
 from armik.constraints.bounds import ordered_bounds, ordered_bounds_many
 from armik.constraints.shapes import Shape, check_obstacles, convex_hull
+from armik.constraints.srdf import Pair, sorted_pair
 from armik.errors import CollisionError
 from armik.model.arm_model import ArmModel, model_of
 from armik.model.catalogue import erd_share
 from armik.model.derived import Derived
 from armik.model.reduce import reduce_model
 from armik.tolerances import FIXED_OVERLAP_TOL
-
-Pair = tuple[str, str]
 
 
 @dataclass(frozen=True)
@@ -420,48 +418,6 @@ def in_collision(
     return min_distance(arm, q, obstacles, self_collision)[0] < margin
 
 
-# -- SRDF -----------------------------------------------------------------------------------
-
-
-def read_srdf(path: object, links: tuple[str, ...]) -> frozenset[Pair]:
-    """The link pairs an SRDF's ``<disable_collisions link1= link2=>`` name, sorted.
-    Raises ``CollisionError`` for a missing or malformed file or an unknown link."""
-    if not isinstance(path, (str, Path)) or not Path(path).is_file():
-        raise CollisionError(
-            f"srdf {str(path)!r} is not an existing file: give the path of an SRDF",
-            option="srdf",
-            value=path,
-        )
-    try:
-        root = ET.parse(path).getroot()
-    except ET.ParseError as exc:
-        raise CollisionError(
-            f"srdf {str(path)!r} is not well-formed XML ({exc}): fix the XML",
-            option="srdf",
-            value=path,
-        ) from None
-    known = set(links)
-    out: set[Pair] = set()
-    for elem in root.iter("disable_collisions"):
-        names = []
-        for name in (elem.get("link1"), elem.get("link2")):
-            if name is None or name not in known:
-                raise CollisionError(
-                    f"srdf {str(path)!r}: <disable_collisions> names link {name!r}, which is "
-                    "not a link of the URDF: fix the name or load the SRDF of this robot",
-                    option="srdf",
-                    value=name,
-                )
-            names.append(name)
-        out.add(_sorted_pair(*names))
-    return frozenset(out)
-
-
-def _sorted_pair(a: str, b: str) -> Pair:
-    """``tuple(sorted((a, b)))``, typed as a pair."""
-    return (a, b) if a <= b else (b, a)
-
-
 def never_colliding_pairs(arm: object, n: int = 1000, seed: int = 0) -> list[Pair]:
     """The link pairs that can touch (not adjacent) yet never do over ``n`` random
     configurations within the limits, sorted: what MoveIt's setup assistant disables as
@@ -480,15 +436,6 @@ def never_colliding_pairs(arm: object, n: int = 1000, seed: int = 0) -> list[Pai
         pin.updateGeometryPlacements(arm.model, data, model, gd, arm.to_pin(q))
         pin.computeCollisions(model, gd, False)
         touched |= np.array([r.isCollision() for r in gd.collisionResults])
-    pairs = {_sorted_pair(g.links[a], g.links[b]) for a, b in g.candidates}
-    hit = {_sorted_pair(g.links[a], g.links[b]) for (a, b), t in zip(g.candidates, touched) if t}
+    pairs = {sorted_pair(g.links[a], g.links[b]) for a, b in g.candidates}
+    hit = {sorted_pair(g.links[a], g.links[b]) for (a, b), t in zip(g.candidates, touched) if t}
     return sorted(pairs - hit)
-
-
-def write_srdf(pairs, path, robot: str = "robot") -> None:
-    """Write ``pairs`` of link names as an SRDF's ``<disable_collisions reason="Never">``."""
-    root = ET.Element("robot", name=robot)
-    for a, b in pairs:
-        ET.SubElement(root, "disable_collisions", link1=str(a), link2=str(b), reason="Never")
-    ET.indent(root)
-    ET.ElementTree(root).write(path, encoding="unicode", xml_declaration=True)

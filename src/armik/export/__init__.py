@@ -87,8 +87,8 @@ def export(
 
     Raises ``OptionError`` when ``name`` is not a C identifier or a tolerance is not a
     positive number (as ``solve`` checks it), ``SolverError`` when the
-    arm's ``solve_all`` is not an exported closed form, ``OSError`` when ``out`` cannot be
-    written."""
+    arm's ``solve_all`` is not an exported closed form, ``OptionError`` when ``out`` is a
+    file or cannot be written."""
     model = model_of(arm)
     if not isinstance(name, str) or not _NAME.fullmatch(name):
         raise OptionError(
@@ -113,8 +113,22 @@ def export(
     if ikfast:
         files[f"{name}_ikfast.cpp"] = ikfast_file.source(name, c_text, rows.held)
     if out is not None:
-        folder = Path(out)
+        _write(Path(out), files)
+    return files
+
+
+def _write(folder: Path, files: dict[str, str]) -> None:
+    """``files`` written into ``folder`` (created if missing); ``OptionError`` naming the
+    path when it is a file or cannot be written."""
+    try:
         folder.mkdir(parents=True, exist_ok=True)
         for file, text in files.items():
             (folder / file).write_text(text)
-    return files
+    except OSError as exc:
+        raise OptionError(
+            f"out={str(folder)!r} cannot hold the exported files "
+            f"({exc.strerror or exc}{': ' + repr(exc.filename) if exc.filename else ''}): "
+            "give a folder, new or existing, that you can write to",
+            option="out",
+            value=str(folder),
+        ) from None

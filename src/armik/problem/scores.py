@@ -132,21 +132,33 @@ class Limits(Score):
         return -min(qi - lo, hi - qi)  # each joint is as far inside as it can be
 
 
+def _numbers(value: object, what: str, n: int | None = None) -> np.ndarray:
+    """``value`` as a flat float array; ``OptionError`` naming ``what`` when it is no
+    numbers (a string, a complex value, a ragged list)."""
+    try:
+        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
+            raise TypeError
+        return np.asarray(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        many = "one number per joint" if n is None else f"{n} numbers >= 0"
+        raise OptionError(
+            f"Posture {what} must be {many}, got {value!r}", option="prefer", value=value
+        ) from None
+
+
 class Posture(Score):
     """``sum(weights * (q - q_ref)^2)``: the answer nearest a reference posture."""
 
     name = "posture"
 
     def __init__(self, q_ref: object, weights: object = None) -> None:
-        self.q_ref = np.asarray(q_ref, dtype=float).reshape(-1)
-        if not np.isfinite(self.q_ref).all():
+        self.q_ref = _numbers(q_ref, "q_ref")
+        if self.q_ref.size == 0 or not np.isfinite(self.q_ref).all():
             raise OptionError(
-                f"Posture q_ref must be finite numbers, got {q_ref!r}", option="prefer"
+                f"Posture q_ref must be one finite number per joint, got {q_ref!r}", option="prefer"
             )
         n = self.q_ref.size
-        self.weights = (
-            np.ones(n) if weights is None else np.asarray(weights, dtype=float).reshape(-1)
-        )
+        self.weights = np.ones(n) if weights is None else _numbers(weights, "weights", n)
         if (
             self.weights.shape != (n,)
             or not np.isfinite(self.weights).all()

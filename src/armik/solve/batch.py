@@ -194,7 +194,13 @@ def _on_backend(run_jobs, jobs: list[Chunk], workers: int, out: BatchResult, bar
     """Each job's rows from ``run_jobs(jobs, workers)``, put in place as they come; an
     ``ArmikError`` naming the backend when it gives too few, too many or other results."""
     n, done, got = len(out), 0, 0
-    for part in run_jobs(jobs, workers):
+    parts = run_jobs(jobs, workers)
+    if isinstance(parts, (str, bytes, BatchResult)) or not hasattr(parts, "__iter__"):
+        raise ArmikError(
+            f"batch backend {run_jobs!r} returned {parts!r}: a backend returns each job's "
+            "result (job()) in the order of the jobs, as a list or an iterable yielding them"
+        )
+    for part in parts:
         if got == len(jobs):
             raise ArmikError(f"batch backend {run_jobs!r} gave more results than its jobs")
         job = jobs[got]

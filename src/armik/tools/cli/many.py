@@ -113,14 +113,7 @@ def read_targets_file(path: str) -> tuple[np.ndarray, np.ndarray | None]:
         elif suffix == ".npz":
             with np.load(p, allow_pickle=False) as z:
                 names = list(z.files)
-                if "targets" in names:
-                    arr = z["targets"]
-                elif len([n for n in names if n != "q0"]) == 1:
-                    arr = z[next(n for n in names if n != "q0")]
-                else:
-                    raise InputError(
-                        f"{path!r} holds the arrays {names}: name the targets array 'targets'"
-                    )
+                arr = z[_targets_key(path, names)]
                 q0 = z["q0"] if "q0" in names else None
         elif suffix == ".csv":
             arr = _read_csv(p)
@@ -134,6 +127,27 @@ def read_targets_file(path: str) -> tuple[np.ndarray, np.ndarray | None]:
     if arr.ndim == 2 and arr.shape[1] == 16:
         arr = arr.reshape(-1, 4, 4)
     return arr, q0
+
+
+def _targets_key(path: str, names: list[str]) -> str:
+    """The array of an .npz file that holds the targets: 'targets', or numpy's 'arr_0' of
+    ``np.savez(path, array)``; ``InputError`` naming the arrays armik does not read (a
+    misspelt 'q0' would otherwise leave the seeds out without a word)."""
+    reads = "armik reads the targets from 'targets' and per-target seeds from 'q0'"
+    others = [n for n in names if n != "q0"]
+    key = "targets" if "targets" in names else "arr_0" if others == ["arr_0"] else None
+    if key is None:
+        raise InputError(
+            f"{path!r} holds the arrays {names}: {reads}; name the targets array 'targets' "
+            "(np.savez(path, targets=..., q0=...))"
+        )
+    unread = [n for n in others if n != key]
+    if unread:
+        raise InputError(
+            f"{path!r} holds arrays armik does not read: {unread}; {reads}: rename them "
+            "or leave them out"
+        )
+    return key
 
 
 def _read_csv(path) -> np.ndarray:

@@ -1,0 +1,142 @@
+"""Several tips' kinematics in ``Arm``'s words (``armik.arms.Arms`` has them): a
+configuration over every joint split into each chain's, the placement and Jacobian of every
+tip or of one frame, tip poses of many configurations, the joint limits, random
+configurations. Each answer is its chain's own (``armik.model.frames``, the chain's model),
+the joints of the other chains zero in a Jacobian.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from armik import checked
+from armik.errors import FrameError, OptionError
+from armik.model import frames
+from armik.model.arm_model import ArmModel
+from armik.model.union import Union
+from armik.tolerances import LIMIT_TOL
+
+MOST_SAMPLES = 10**8  # random_q's n, as Arm.random_q takes it
+
+
+class ArmsKinematics:
+    """What ``Arms`` answers about its joints and frames, without solving."""
+
+    tips: tuple[str, ...]
+    joint_names: tuple[str, ...]
+    dof: int
+    lower: np.ndarray
+    upper: np.ndarray
+    _chains: dict[str, ArmModel]
+    _columns: dict[str, np.ndarray]
+    _union: Union | None
+
+    def _known(self, tip: str) -> str:
+        """``tip``, or ``FrameError`` naming the robot's tips."""
+        if tip not in self._chains:
+            raise FrameError(
+                f"unknown tip {tip!r}; this robot's tips: {list(self.tips)}",
+                frame=tip,
+                candidates=self.tips,
+            )
+        return tip
+
+    def split(self, q: object) -> dict[str, np.ndarray]:
+        """``q`` (one value per joint of ``joint_names``) as each chain's joint values."""
+        try:
+            if isinstance(q, (str, bytes)) or np.iscomplexobj(q):  # type: ignore[arg-type]
+                raise TypeError
+            arr = np.asarray(q, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            arr = None
+        if arr is None or arr.shape != (self.dof,):
+            got = f"{arr.size} values" if arr is not None else repr(q)
+            raise OptionError(
+                f"q must hold {self.dof} values, one per joint of {list(self.joint_names)}, "
+                f"got {got}",
+                option="q",
+                value=q,
+            )
+        return {tip: arr[cols] for tip, cols in self._columns.items()}
+
+    def fk(self, q: object, frame: str | None = None) -> dict[str, pin.SE3] | pin.SE3:
+        """``T_base_frame`` at ``q`` of ``frame`` (a tip or any frame of a chain); without
+        ``frame``, every tip's: {tip: ``T_base_tip``} in the order of ``tips``."""
+        if frame is None:
+            each = self.split(q)
+            return {tip: frames.placement(self._chains[tip], each[tip]) for tip in self.tips}
+        tip = self._chain_of(frame)
+        return frames.placement(self._chains[tip], self.split(q)[tip], frame)
+
+    def jacobian(
+        self, q: object, frame: str | None = None, reference: str | None = None
+    ) -> dict[str, np.ndarray] | np.ndarray:
+        """The 6 x dof Jacobian over every joint of ``frame`` (a tip or any frame of a
+        chain), in its own axes (``reference="local"``) or the base's (``"base"``); zero
+        for the joints not on its chain (``armik.model.frames``). Without ``frame``, every
+        tip's: {tip: J} in the order of ``tips``."""
+        frame, reference = frames.frame_and_reference(frame, reference)
+        each = self.split(q)
+        out = {}
+        for tip in self.tips if frame is None else (self._chain_of(frame),):
+            J = np.zeros((6, self.dof))
+            J[:, self._columns[tip]] = frames.jacobian(
+                self._chains[tip], each[tip], frame, reference
+            )
+            out[tip] = J
+        return out if frame is None else out[tip]
+
+    def fk_batch(self, Q: object) -> dict[str, np.ndarray]:
+        """Every tip's poses ``T_base_tip`` (N, 4, 4) of joint values Q (N, dof), rad or m,
+        by its chain's compiled FK (``Arm.fk_batch``): {tip: poses} in the order of ``tips``."""
+        try:
+            if isinstance(Q, (str, bytes)) or np.iscomplexobj(Q):  # type: ignore[arg-type]
+                raise TypeError
+            arr = np.array(Q, dtype=float, ndmin=2)
+        except (TypeError, ValueError):
+            raise OptionError(
+                f"Q must be an (N, {self.dof}) array of joint values, got {Q!r}",
+                option="Q",
+                value=Q,
+            ) from None
+        if arr.ndim != 2 or arr.shape[1] != self.dof:
+            raise OptionError(
+                f"Q must have shape (N, {self.dof}), one row per configuration (joints "
+                f"{list(self.joint_names)}), got {arr.shape}",
+                option="Q",
+                value=Q,
+            )
+        return {tip: self._chains[tip].fk_batch(arr[:, self._columns[tip]]) for tip in self.tips}
+
+    def within_limits(self, q: object, tol: float = LIMIT_TOL) -> bool:
+        """Whether every joint of ``q`` (one configuration, ``dof`` values; a NaN is
+        outside) lies within its limits (``tol`` rad or m beyond); ``OptionError`` naming
+        ``q`` when it is not one configuration of this robot."""
+        arr = checked.configuration("q", q, self.joint_names, finite=False)
+        tol = checked.number("tol", tol)
+        return bool(np.all(arr >= self.lower - tol) and np.all(arr <= self.upper + tol))
+
+    def _chain_of(self, frame: str) -> str:
+        """The tip whose chain has ``frame``."""
+        return self._known(frames.owner(self._chains, frame))
+
+    def _random(self, rng: np.random.Generator) -> np.ndarray:
+        """A random configuration within the limits, in ``joint_names``'s order."""
+        if self._union is not None:
+            return self._union.random_q(rng)
+        return np.concatenate([a.random_q(rng) for a in self._chains.values()])
+
+    def random_q(
+        self, rng: np.random.Generator | int | None = None, n: int | None = None
+    ) -> np.ndarray:
+        """Uniform joint values within the limits, unlimited joints in [-pi, pi]: one
+        configuration (dof,), or ``n`` of them (n, dof). ``rng``: a generator or a seed."""
+        gen = checked.generator("rng", rng)
+        if n is None:
+            return self._random(gen)
+        rows = checked.integer("n", n, 0, MOST_SAMPLES)
+        out = np.empty((rows, self.dof))
+        for i in range(rows):
+            out[i] = self._random(gen)
+        return out

@@ -1,0 +1,109 @@
+"""SRDF files: the link pairs an SRDF's ``<disable_collisions>`` exempts from the
+self-collision check (``armik.load(..., srdf=path)``), read and written; a file that is not
+an SRDF (a URDF given in its place, another XML) refused by name."""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+from armik.errors import CollisionError
+
+Pair = tuple[str, str]
+
+# the elements of an SRDF (MoveIt's srdfdom), children of its <robot>
+SRDF_ELEMENTS = frozenset(
+    {
+        "group",
+        "group_state",
+        "end_effector",
+        "virtual_joint",
+        "passive_joint",
+        "joint_property",
+        "disable_collisions",
+        "disable_default_collisions",
+        "enable_collisions",
+        "link_sphere_approximation",
+    }
+)
+URDF_ELEMENTS = frozenset({"link", "joint", "transmission", "gazebo", "material"})
+
+
+def read_srdf(path: object, links: tuple[str, ...]) -> frozenset[Pair]:
+    """The link pairs an SRDF's ``<disable_collisions link1= link2=>`` name, sorted.
+    Raises ``CollisionError`` for a missing or malformed file, a file that is not an SRDF
+    (its root not ``<robot>``, a URDF's ``<link>``/``<joint>`` in it, or children none of
+    which an SRDF has) or an unknown link."""
+    if not isinstance(path, (str, Path)) or not Path(path).is_file():
+        raise CollisionError(
+            f"srdf {str(path)!r} is not an existing file: give the path of an SRDF",
+            option="srdf",
+            value=path,
+        )
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as exc:
+        raise CollisionError(
+            f"srdf {str(path)!r} is not well-formed XML ({exc}): fix the XML",
+            option="srdf",
+            value=path,
+        ) from None
+    _is_srdf(root, str(path))
+    known = set(links)
+    out: set[Pair] = set()
+    for elem in root.iter("disable_collisions"):
+        names = []
+        for name in (elem.get("link1"), elem.get("link2")):
+            if name is None or name not in known:
+                raise CollisionError(
+                    f"srdf {str(path)!r}: <disable_collisions> names link {name!r}, which is "
+                    "not a link of the URDF: fix the name or load the SRDF of this robot",
+                    option="srdf",
+                    value=name,
+                )
+            names.append(name)
+        out.add(sorted_pair(*names))
+    return frozenset(out)
+
+
+def _is_srdf(root: ET.Element, path: str) -> None:
+    """``CollisionError`` naming ``path`` unless ``root`` reads as an SRDF's: a ``<robot>``
+    without a URDF's elements, its children (if any) including an SRDF's."""
+    tags = {child.tag for child in root if isinstance(child.tag, str)}
+    fix = "give the robot's SRDF (its <disable_collisions>, <group>, ...) as srdf="
+    if root.tag != "robot":
+        raise CollisionError(
+            f"srdf {path!r} is not an SRDF: its root element is <{root.tag}>, an SRDF's is "
+            f"<robot>: {fix}",
+            option="srdf",
+            value=path,
+        )
+    urdf = sorted(tags & URDF_ELEMENTS)
+    if urdf:
+        raise CollisionError(
+            f"srdf {path!r} is a URDF, not an SRDF: it has <{'>, <'.join(urdf)}> elements; "
+            f"the URDF is armik.load's first argument: {fix}",
+            option="srdf",
+            value=path,
+        )
+    if tags and not tags & SRDF_ELEMENTS:
+        raise CollisionError(
+            f"srdf {path!r} is not an SRDF: none of its elements "
+            f"<{'>, <'.join(sorted(tags))}> is an SRDF's: {fix}",
+            option="srdf",
+            value=path,
+        )
+
+
+def sorted_pair(a: str, b: str) -> Pair:
+    """``tuple(sorted((a, b)))``, typed as a pair."""
+    return (a, b) if a <= b else (b, a)
+
+
+def write_srdf(pairs, path, robot: str = "robot") -> None:
+    """Write ``pairs`` of link names as an SRDF's ``<disable_collisions reason="Never">``."""
+    root = ET.Element("robot", name=robot)
+    for a, b in pairs:
+        ET.SubElement(root, "disable_collisions", link1=str(a), link2=str(b), reason="Never")
+    ET.indent(root)
+    ET.ElementTree(root).write(path, encoding="unicode", xml_declaration=True)
