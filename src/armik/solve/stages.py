@@ -128,6 +128,9 @@ def _kept(arm: ArmModel, solver: str, key: tuple, opts: Options, position: bool)
         # a first call in a process then answers as every later one does
         if not plain.checks:
             plan_for(arm, solver, found.key, plain, position, False)
+        if spec.kind == "numeric":  # its restarts' entry: one iteration, no restart
+            once = but_options(plain, max_restarts=0, iteration_budget=1)
+            spec.run(arm, kind, arm.middle.copy(), once, False)
         check.distance(arm.middle)
         if len(kept) > 64:
             kept.clear()
