@@ -24,10 +24,20 @@ def outside_region(measured_text: str) -> str:
 CONVERGED = "converged after {} restart(s)"  # a numeric solver's claim: its restarts
 
 
+_VERIFIED = "verified by forward kinematics: "
+
+
 def verified(claim_reason: str | None, measured_text: str) -> str:
     """The reason of a success: the solver's own words, then the measure."""
-    reason = f"verified by forward kinematics: {measured_text}"
+    reason = _VERIFIED + measured_text
     return f"{claim_reason}; {reason}" if claim_reason else reason
+
+
+def claim_of(reason: str) -> str:
+    """A success's reason (``verified``) without its measure: the solver's own words,
+    for a verdict that measures the answer again (a held joint's whole arm)."""
+    head, _, _ = reason.partition(_VERIFIED)
+    return head.removesuffix("; ")
 
 
 def outside_limits(violations: list[str]) -> str:

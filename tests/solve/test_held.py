@@ -138,3 +138,15 @@ def test_a_solver_named_for_a_held_joint_it_does_not_hold_says_so():
     with pytest.raises(OptionError, match="held by the task solver.*solver='auto', got 'swept'"):
         two = {"panda_joint1": float(q[0]), "panda_joint2": float(q[1])}
         arm.solve(T, hold=two, solver="swept")
+
+
+@pytest.mark.parametrize("solver", ["auto", "dls"])
+def test_a_held_joints_result_says_its_verdict_once_and_counts_its_search(solver):
+    """The six joints' answer is verified again on the whole arm: its reason says the
+    measure once, and its counts are the six joints' search's (what its words say)."""
+    arm = armik.load("panda")
+    q = arm.random_q(950)
+    r = arm.solve(arm.fk(q), hold={"panda_joint1": float(q[0])}, solver=solver)
+    assert r.success and r.reason.count("verified by forward kinematics") == 1
+    if "restart(s)" in r.reason:
+        assert f"converged after {r.restarts} restart(s)" in r.reason and r.iterations > 0

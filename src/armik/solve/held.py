@@ -119,14 +119,22 @@ def solve_held(arm: ArmModel, req: Request, target, general):
     answers = Answers.of(
         [np.insert(np.asarray(r.q, dtype=float), k, value) for r in found],
         [Status.CONVERGED if r.success else r.status for r in found],
-        [reasons.held(name, value, r.solver, r.reason, asked_for) for r in found],
+        [reasons.held(name, value, r.solver, _claim(r), asked_for) for r in found],
         arm.dof,
+        iterations=[r.iterations for r in found],  # the six joints' search's counts
+        restarts=[r.restarts for r in found],
         branch=[r.branch for r in found],
         singular=[r.singular for r in found],
     )
     name_of = found[0].solver if found else solver
     results = finish(arm, name_of, answers, tgt, opts, seed, every, t0)
     return results if every else results[0]
+
+
+def _claim(r) -> str:
+    """What a result of the six joints left says of itself: a success's claim without the
+    measure the whole arm's verdict writes again, a failure's words."""
+    return reasons.claim_of(r.reason) if r.success else r.reason
 
 
 def _whole_arm_only(solver: str, arm: ArmModel, sub: ArmModel) -> bool:
