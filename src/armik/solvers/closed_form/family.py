@@ -68,7 +68,8 @@ class Family:
             np.int64(self.rows), out,
         )  # fmt: skip
         beyond = sixr_answers.beyond_reach(arm, pos)
-        return sixr_answers.of_rows(out[:n], self.family, self.closed_form, beyond)
+        limits = (arm.lower, arm.upper)  # an unreached row's closest q within them
+        return sixr_answers.of_rows(out[:n], self.family, self.closed_form, beyond, limits)
 
     def run_batch(
         self, arm: ArmModel, targets, q0: np.ndarray, opts: SolverSettings, seeds=None

@@ -64,7 +64,8 @@ def pose_runner(
 
     def answers(rows: np.ndarray, H: np.ndarray) -> Answers:
         """``rows`` as ``Answers`` (q read-only: solve_all's results' q are its rows)."""
-        got = of_rows(rows, family, closed_form, lambda: beyond_reach(arm, H[:3, 3]))
+        beyond = lambda: beyond_reach(arm, H[:3, 3])  # noqa: E731
+        got = of_rows(rows, family, closed_form, beyond, (arm.lower, arm.upper))
         got.q.setflags(write=False)
         return got
 
@@ -102,10 +103,11 @@ def beyond_reach(arm: ArmModel, position) -> str | None:
     return reasons.beyond_reach(distance, arm.reach) if distance > arm.reach else None
 
 
-def of_rows(rows: np.ndarray, family: str, closed_form: str, beyond=None) -> Answers:
+def of_rows(rows: np.ndarray, family: str, closed_form: str, beyond=None, limits=None) -> Answers:
     """The answers of a kernel's packed rows (see ``pack``), nearest first. ``beyond``:
     ``beyond_reach``'s reason (or a function giving it, asked only for an unreached row),
-    which makes a search's miss unreachable."""
+    which makes a search's miss unreachable. ``limits``: (lower, upper), the joint limits an
+    unreached row's closest configuration is clipped into (a failure's q within them)."""
     known = _KNOWN[closed_form] if closed_form in _KNOWN else _know(closed_form)
     # a reached row's words by 8 flags + branch bits: indexed, not called (calls count)
     said = [known[int(8 * f + bits)] for f, bits in rows[:, 6:8].tolist()]
@@ -117,9 +119,13 @@ def of_rows(rows: np.ndarray, family: str, closed_form: str, beyond=None) -> Ans
     codes, texts, labels, flags = zip(*said) if said else ((), (), (), ())
     n = len(said)
     counts = zero_counts(n)
+    q = rows[:, :6].copy()
+    if not reached and limits is not None:
+        missed = np.array(codes) != Status.CONVERGED.code
+        q[missed] = np.clip(q[missed], limits[0], limits[1])
     return frozen(
         Answers,
-        q=rows[:, :6].copy(),
+        q=q,
         claim=converged_claims(n) if reached else np.array(codes, dtype=np.int8),
         iterations=counts,
         restarts=counts,

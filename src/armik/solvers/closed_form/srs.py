@@ -175,8 +175,12 @@ def answers(arm: ArmModel, rows: np.ndarray, psi: float, swept: bool, position) 
         return sixr_answers.beyond_reach(arm, position)
 
     words = [said(psi, swept, row, beyond) for row in rows]
+    q = rows[:, :7].copy()
+    missed = np.array([w[0] is not Status.CONVERGED for w in words], dtype=bool)
+    if missed.any():  # a failure's closest configuration, within the limits
+        q[missed] = np.clip(q[missed], arm.lower, arm.upper)
     return Answers.of(
-        rows[:, :7],
+        q,
         [w[0] for w in words],
         [w[1] for w in words],
         7,
