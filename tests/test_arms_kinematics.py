@@ -74,3 +74,10 @@ def test_an_empty_target_mapping_is_refused_by_name(robot):
     for solve in (robot.solve, robot.solve_all):
         with pytest.raises(armik.TargetError, match=r"empty mapping \{\}.*'panda_hand'"):
             solve({})
+
+
+def test_an_empty_target_mapping_to_a_batch_or_a_path_is_refused_by_name(robot):
+    with pytest.raises(armik.TargetError, match=r"no targets.*'panda_hand'"):
+        robot.solve_batch({})
+    with pytest.raises(armik.TargetError, match=r"no targets.*'panda_hand'"):
+        robot.solve_path({}, None)

@@ -145,7 +145,11 @@ def _held(arms: Arms, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: 
 
 
 def _rows(arms: Arms, targets: object) -> int:
-    if not isinstance(targets, Mapping) or not targets:
+    if isinstance(targets, Mapping) and not targets:
+        raise TargetError(
+            f"no targets: give each tip's targets, {{tip: targets}} over {list(arms.tips)}"
+        )
+    if not isinstance(targets, Mapping):
         raise OptionError(
             f"targets must map tip names {list(arms.tips)} to each tip's targets, got "
             f"{type(targets).__name__}",
