@@ -46,7 +46,7 @@ from armik.kernel.problem import (
     workspace,
 )
 from armik.kernel.restarts import RESTART_CANDIDATES  # noqa: F401 (re-exported)
-from armik.kernel.single import POSE_ENTRIES
+from armik.kernel.single import EXACT_POSE_ENTRIES, POSE_ENTRIES
 from armik.kernel.step import backend_step
 from armik.kernel.warmup import prepare
 from armik.model.arm_model import ArmModel
@@ -271,7 +271,8 @@ def pose_runner(arm: ArmModel, opts: Options, step: Step, position_only: bool = 
     dof = arm.dof
     sf, si = packed_settings(opts, position_only, dof, 1, step)
     prepare(step.kind)
-    entry = POSE_ENTRIES[step.kind]
+    # without a region, the entry that compiles none of the region's code
+    entry = (POSE_ENTRIES if opts.region else EXACT_POSE_ENTRIES)[step.kind]
     packed, kind, halton_ = arm.kernel_chain.flat
     converged_code = _descent.CONVERGED
 
