@@ -30,7 +30,7 @@ from armik.kernel import restarts as _restarts
 from armik.kernel.chain import Flat, halton
 from armik.kernel.clock import thread_cpu_ns
 from armik.kernel.descent import CAREFUL_BELOW, KNOWN_MINIMUM_RADIUS  # noqa: F401 (re-exported)
-from armik.kernel.entry import ENTRIES
+from armik.kernel.entry import ENTRIES, EXACT_ENTRIES
 from armik.kernel.problem import (
     LOOK_POINT,
     LOOK_TOWARD,
@@ -234,7 +234,8 @@ def run_numeric(
     seeds = np.empty(1, dtype=np.uint64)
     seeds[0] = solve_seed(opts)  # (a third of np.array([seed], dtype=np.uint64)'s cost)
     prepare(step.kind)
-    ENTRIES[step.kind](*arm.kernel_chain.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
+    entry = (ENTRIES if opts.region else EXACT_ENTRIES)[step.kind]  # no region: no region code
+    entry(*arm.kernel_chain.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
     return kernel_answers(arm, target.position, q0, opts, sf, info[0], out_q[0], err[0])
 
 
@@ -350,7 +351,8 @@ def run_numeric_batch(
     err = np.empty((n_targets, 2))
     kc = arm.kernel_chain
     prepare(step.kind)
-    ENTRIES[step.kind](*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
+    entry = (ENTRIES if opts.region else EXACT_ENTRIES)[step.kind]  # no region: no region code
+    entry(*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
     return Answers(
         q=out_q[:, 0],
         claim=info[:, 0].astype(np.int8),
