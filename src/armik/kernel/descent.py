@@ -21,9 +21,10 @@ from numba import njit
 from armik.kernel.chain import CONTINUOUS, PRISMATIC, lower, reach, upper
 from armik.kernel.clock import thread_cpu_ns
 from armik.kernel.error import _evaluate
+from armik.kernel.fk import forward, jacobian_local
 from armik.kernel.linalg import copy_to
 from armik.kernel.problem import BEST, DQ, NO_LIMIT, SHIFT, U
-from armik.kernel.region import _evaluate_region
+from armik.kernel.region import rows_at
 from armik.kernel.restarts import _pick, seed_shift
 from armik.kernel.step import dls, qp, wrapped
 from armik.status import Status
@@ -75,11 +76,12 @@ def _near_known_minimum(ch, q, minima, count):
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 def _measure(ch, st, R_t, p_t, ws, slot):
     """The error, its Jacobian and the measures at ws.q[slot]: of the exact target, or of
-    its region when the target has bounds."""
+    its region when the target has bounds. The region's is ``region._evaluate_region``'s
+    body (its FK and Jacobian, then its rows called): one call from the descent, no more."""
     if st.region:
-        _evaluate_region(
-            ch, st.bounds, st.w, st.cone, st.cone_axis, st.look, st.look_point, R_t, p_t, ws, slot
-        )
+        forward(ch, ws.q[slot], ws.m3[0], ws.v3[0], ws.geo[0], ws.geo[1])
+        jacobian_local(ch, ws.m3[0], ws.v3[0], ws.geo[0], ws.geo[1], ws.J)
+        rows_at(st.bounds, st.w, st.cone, st.cone_axis, st.look, st.look_point, R_t, p_t, ws, slot)
     else:
         _evaluate(ch, st, R_t, p_t, ws, slot)
 
