@@ -8,7 +8,9 @@ compiled for the first solve and how long each took (nested: a caller's time inc
 callees'); with ``--profile``, it runs the first solve under cProfile and prints the share
 of LLVM, numba's inlining and its lowering. Extra environment (``NUMBA_OPT=1``, ...) passes through;
 ``ARMIK_COMPILE_HELPER=0`` measures one process compiling alone (``kernel.warmup``), and
-the events then list everything the first solve compiles.
+the events then list everything the first solve compiles. With ``--parts [NAME ...]``,
+``armik compile``'s parts (all by default; ``demo`` for ``armik demo``) in one process, each
+function's own compile CPU time and how many times it compiled.
 
 With ``--closed-forms``, the first closed-form solves instead: the UR5 (three parallel
 axes), then the IRB 120 (spherical wrist) in the same interpreter. With ``--general``, the
@@ -17,6 +19,7 @@ each, one interpreter each: the first ``solve``, ``solve_all`` and ``solve_batch
 with its CPU time.
 
     python benchmarks/compile_time.py [--events] [--profile] [--closed-forms | --general]
+    python benchmarks/compile_time.py --parts [demo | dls qp ...]
 """
 
 from __future__ import annotations
@@ -141,11 +144,15 @@ own = Own()
 event.register("numba:compile", own)
 import armik
 from armik import precompile
-names = sys.argv[1:] or list(precompile.PARTS)
+names = [n for n in sys.argv[1:] if n != "-v"] or list(precompile.PARTS)
 total = 0.0
 for name in names:
     c = time.process_time()
-    precompile.PARTS[name]()
+    if name == "demo":  # not a part: the demo's compilations, the helper off
+        from armik.tools.cli import main
+        main(["demo"])
+    else:
+        precompile.PARTS[name]()
     total += time.process_time() - c
     print(f"{name:24s} {time.process_time() - c:6.1f} s of CPU", flush=True)
 print(f"{'every part':24s} {total:6.1f} s of CPU")
@@ -160,6 +167,9 @@ for info in pkgutil.walk_packages(armik.__path__, "armik."):
         if isinstance(value, CPUDispatcher) and value.py_func.__module__ == info.name:
             if len(value.signatures) > 1:
                 print(f"  {info.name}.{key}: {len(value.signatures)}")
+                if "-v" in sys.argv[1:]:  # the signatures, to see where they differ
+                    for signature in value.signatures:
+                        print(f"    {signature}")
 """
 
 

@@ -51,6 +51,8 @@ def _numeric(solver: str) -> Callable[[], None]:
             arm.solve(T.translation, solver=solver, **_BUDGET)
             arm.solve(T, solver=solver, weights=(1, 1, 1, 1, 1, 0), **_BUDGET)
             arm.solve(T, solver=solver, position_only=True, **_BUDGET)
+            # a region: the pose entry with the region's code (a plain target's has none)
+            arm.solve(T, solver=solver, bounds=(0.01,) * 3 + (0.1,) * 3, **_BUDGET)
             arm.solve_all(T, solver=solver, max_solutions=2, **_BUDGET)
         # options that are data, not code: none may compile anything new
         _from_a_result(arm, T, solver, **_BUDGET)

@@ -13,6 +13,7 @@ from pathlib import Path
 import pytest
 
 import armik
+from armik import precompile
 from armik.errors import OptionError
 from armik.tools.cli import main
 from tests.conftest import TOUR_DONE, TOUR_STARTED
@@ -58,14 +59,16 @@ def test_a_tour_of_every_option_compiles_each_kernel_once():
     finally:  # the other test workers wait for this (tests/conftest.py)
         Path(TOUR_DONE).touch()
     got = json.loads(done.stdout.strip().splitlines()[-1])
-    assert got["parts"] == list(armik.precompile.PARTS)
+    assert got["parts"] == list(precompile.PARTS)
     counts = got["counts"]
     # the entries called from Python (their callees are compiled into them)
     for entry in (
         "armik.kernel.single.solve_pose_dls",
         "armik.kernel.single.solve_pose_qp",
-        "armik.kernel.entry.solve_targets_dls",
-        "armik.kernel.entry.solve_targets_qp",
+        "armik.kernel.single.solve_pose_dls_exact",
+        "armik.kernel.single.solve_pose_qp_exact",
+        "armik.kernel.entry.solve_targets_dls_exact",
+        "armik.kernel.entry.solve_targets_qp_exact",
         "armik.kernel.measure.placement_check",
         "armik.kernel.fk_many.fk_many",
         "armik.solvers.closed_form.three_parallel.solve_into",

@@ -172,3 +172,30 @@ def test_solve_flags_are_the_python_options(capsys):
     assert got["success"] and got["q"] == r.q.tolist()
     code, out, _ = run(capsys, "solve", "ur5", *args, "--position-only", "--json")
     assert code == 0 and json.loads(out)["results"][0]["orientation_error"] is None
+
+
+def test_parsing_imports_none_of_the_library():
+    """``armik --help`` and a command's parsing import no solver, no numba and no Pinocchio:
+    a command's own module is imported when it runs."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys\n"
+        "from armik.tools.cli import main\n"
+        "try:\n"
+        "    main(['--help'])\n"
+        "except SystemExit:\n"
+        "    pass\n"
+        "print(sorted(m for m in sys.modules if m.split('.')[0] in "
+        "('numba', 'pinocchio', 'numpy') or m in ('armik.arm', 'armik.solvers')))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip().splitlines()[-1] == "[]"
+
+
+def test_compile_parts_named_in_the_parser():
+    from armik.precompile import PARTS
+    from armik.tools.cli.commands import PART_NAMES
+
+    assert PART_NAMES == tuple(PARTS)

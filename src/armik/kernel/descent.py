@@ -21,9 +21,10 @@ from numba import njit
 from armik.kernel.chain import CONTINUOUS, PRISMATIC, lower, reach, upper
 from armik.kernel.clock import thread_cpu_ns
 from armik.kernel.error import _evaluate
+from armik.kernel.fk import forward, jacobian_local
 from armik.kernel.linalg import copy_to
 from armik.kernel.problem import BEST, DQ, NO_LIMIT, SHIFT, U
-from armik.kernel.region import _evaluate_region
+from armik.kernel.region import rows_at
 from armik.kernel.restarts import _pick, seed_shift
 from armik.kernel.step import dls, qp, wrapped
 from armik.status import Status
@@ -70,25 +71,29 @@ def _near_known_minimum(ch, q, minima, count):
     return False
 
 
-@njit(cache=True, nogil=True, inline="always")
+# Passed to ``descend`` as its ``measure``, as ``error._evaluate`` is for a target without a
+# region: the entries of such targets (``solve_one_dls_exact``, ...) compile no region code.
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 def _measure(ch, st, R_t, p_t, ws, slot):
     """The error, its Jacobian and the measures at ws.q[slot]: of the exact target, or of
-    its region when the target has bounds."""
+    its region when the target has bounds. The region's is ``region._evaluate_region``'s
+    body (its FK and Jacobian, then its rows called): one call from the descent, no more."""
     if st.region:
-        _evaluate_region(
-            ch, st.bounds, st.w, st.cone, st.cone_axis, st.look, st.look_point, R_t, p_t, ws, slot
-        )
+        forward(ch, ws.q[slot], ws.m3[0], ws.v3[0], ws.geo[0], ws.geo[1])
+        jacobian_local(ch, ws.m3[0], ws.v3[0], ws.geo[0], ws.geo[1], ws.J)
+        rows_at(st.bounds, st.w, st.cone, st.cone_axis, st.look, st.look_point, R_t, p_t, ws, slot)
     else:
         _evaluate(ch, st, R_t, p_t, ws, slot)
 
 
 @njit(cache=True, nogil=True, inline="always")
-def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, step):
-    """Iterate from ws.q[0] with ``step`` (``step.dls`` or ``step.qp``) for at most ``limit``
-    iterations (and, if ``deadline_ns`` is not NO_LIMIT, until the thread's CPU clock passes
-    it). Returns (iterations, converged, slot of the last state)."""
+def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, step, measure):
+    """Iterate from ws.q[0] with ``step`` (``step.dls`` or ``step.qp``), measuring with
+    ``measure`` (``_measure``, or ``error._evaluate`` for a target without a region), for
+    at most ``limit`` iterations (and, if ``deadline_ns`` is not NO_LIMIT, until the
+    thread's CPU clock passes it). Returns (iterations, converged, slot of the last state)."""
     cur = ZERO
-    _measure(ch, st, R_t, p_t, ws, cur)
+    measure(ch, st, R_t, p_t, ws, cur)
     best_sq = ws.val[cur, 2]
     mu = 1.0
     careful = False
@@ -109,7 +114,7 @@ def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, step):
         q, qn, dq = ws.q[cur], ws.q[trial], ws.vec[DQ]
         for i in range(n):
             qn[i] = min(max(q[i] + dq[i], lo[i]), hi[i])
-        _measure(ch, st, R_t, p_t, ws, trial)
+        measure(ch, st, R_t, p_t, ws, trial)
         it += 1
         if not careful or ws.val[trial, 2] < ws.val[cur, 2]:
             cur = trial
@@ -179,7 +184,7 @@ def _add_solution(ch, q, q0, u, out_q, found):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, step):
+def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, step, measure):
     """A whole solve of one target: descend from q0, then from restart seeds, until
     ``st.max_found`` distinct solutions, the restart limit or the budget.
 
@@ -188,6 +193,7 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, step):
     ``Status`` code), solutions found, iterations, restarts, 1 if the budget (time or
     iterations) ended the solve. err (2,): position and orientation error of the best
     unconverged attempt (m, rad; the iteration's measure, not the verification's).
+    ``step`` and ``measure`` as ``descend``'s.
     """
     start = thread_cpu_ns()
     deadline = NO_LIMIT
@@ -219,7 +225,7 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, step):
         limit = st.max_iterations
         if st.iteration_budget != NO_LIMIT:
             limit = min(limit, st.iteration_budget - iterations)
-        its, ok, cur = descend(ch, st, R_t, p_t, q0, ws, limit, deadline, n_minima, step)
+        its, ok, cur = descend(ch, st, R_t, p_t, q0, ws, limit, deadline, n_minima, step, measure)
         iterations += its
         sq = ws.val[cur, 2]
         if not ok and sq < CAREFUL_BELOW:  # a local minimum near the target
@@ -264,22 +270,37 @@ def solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, step):
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 def solve_one_dls(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err):
     """``solve_one`` with the dls step."""
-    solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, dls)
+    solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, dls, _measure)
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 def solve_one_qp(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err):
     """``solve_one`` with the qp step."""
-    solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, qp)
+    solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, qp, _measure)
+
+
+# A target without a region (most solves, ``armik demo``'s) through ``single``'s pose entries:
+# the region's error and rows (``region._evaluate_region``, ``rows_at``: a fifth of the
+# compile of a first dls solve) are not compiled in.
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
+def solve_one_dls_exact(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err):
+    """``solve_one_dls`` for a target without a region (``st.region`` False)."""
+    solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, dls, _evaluate)
+
+
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
+def solve_one_qp_exact(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err):
+    """``solve_one_qp`` for a target without a region (``st.region`` False)."""
+    solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, qp, _evaluate)
 
 
 @njit(cache=True, nogil=True)
 def descend_dls(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima):
     """``descend`` with the dls step (an entry for Python callers)."""
-    return descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, dls)
+    return descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, dls, _measure)
 
 
 @njit(cache=True, nogil=True)
 def descend_qp(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima):
     """``descend`` with the qp step (an entry for Python callers)."""
-    return descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, qp)
+    return descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, qp, _measure)

@@ -197,7 +197,7 @@ def fk_checks_beside(packed, kind, halton, frame, H_t, rows, n, col, skip):
     S = np.empty((n, joints(ch) + 1, STATE))
     R_t, p_t = split_pose(H_t)
     measure_rot = measure & 2 != 0
-    placed = 0
+    placed = np.int64(0)  # typed: a literal 0 compiles forward_row once more
     for i in range(n):
         if skip >> i & 1:
             continue

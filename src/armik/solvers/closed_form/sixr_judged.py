@@ -116,7 +116,7 @@ def judged(n, chain, packed, kind, halton, frame, judge, H, rows):
         rows[last, 9 + a] = H[a, 3]
     nj = (frame.shape[0] - 19) // 2
     lower, upper = frame[19 : 19 + nj], frame[19 + nj : 19 + 2 * nj]
-    later = 0  # bit i: row i claimed outside the limits, measured by ``finish``
+    later = np.int64(0)  # bit i: row i claimed outside the limits, measured by ``finish``
     for i in range(n):
         claimed = not int(rows[i, 6]) & LS and int(rows[i, 8]) != NOT_FOUND
         if claimed and not _within(rows, i, lower, upper):
@@ -159,7 +159,7 @@ def finish(ctx, rows, n):
             H[a, b] = rows[last, 3 * a + b]
         H[a, 3] = rows[last, 9 + a]
     H[3, 3] = 1.0
-    later = 0
+    later = np.int64(0)  # typed: a literal 0 compiles fk_checks_beside once more
     for i in range(n):
         if math.isnan(rows[i, ERROR]):
             later |= 1 << i

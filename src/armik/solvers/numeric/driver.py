@@ -30,7 +30,7 @@ from armik.kernel import restarts as _restarts
 from armik.kernel.chain import Flat, halton
 from armik.kernel.clock import thread_cpu_ns
 from armik.kernel.descent import CAREFUL_BELOW, KNOWN_MINIMUM_RADIUS  # noqa: F401 (re-exported)
-from armik.kernel.entry import ENTRIES
+from armik.kernel.entry import ENTRIES, EXACT_ENTRIES
 from armik.kernel.problem import (
     LOOK_POINT,
     LOOK_TOWARD,
@@ -46,7 +46,7 @@ from armik.kernel.problem import (
     workspace,
 )
 from armik.kernel.restarts import RESTART_CANDIDATES  # noqa: F401 (re-exported)
-from armik.kernel.single import POSE_ENTRIES
+from armik.kernel.single import EXACT_POSE_ENTRIES, POSE_ENTRIES
 from armik.kernel.step import backend_step
 from armik.kernel.warmup import prepare
 from armik.model.arm_model import ArmModel
@@ -239,7 +239,8 @@ def run_numeric(
     seeds = np.empty(1, dtype=np.uint64)
     seeds[0] = solve_seed(opts)  # (a third of np.array([seed], dtype=np.uint64)'s cost)
     prepare(step.kind)
-    ENTRIES[step.kind](*arm.kernel_chain.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
+    entry = (ENTRIES if opts.region else EXACT_ENTRIES)[step.kind]  # no region: no region code
+    entry(*arm.kernel_chain.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
     return kernel_answers(arm, target.position, q0, opts, sf, info[0], out_q[0], err[0])
 
 
@@ -278,7 +279,8 @@ def pose_runner(arm: ArmModel, opts: SolverSettings, step: Step, position_only: 
     dof = arm.dof
     sf, si = packed_settings(opts, position_only, dof, 1, step)
     prepare(step.kind)
-    entry = POSE_ENTRIES[step.kind]
+    # without a region, the entry that compiles none of the region's code
+    entry = (POSE_ENTRIES if opts.region else EXACT_POSE_ENTRIES)[step.kind]
     packed, kind, halton_ = arm.kernel_chain.flat
     converged_code = _descent.CONVERGED
 
@@ -358,7 +360,8 @@ def run_numeric_batch(
     err = np.empty((n_targets, 2))
     kc = arm.kernel_chain
     prepare(step.kind)
-    ENTRIES[step.kind](*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
+    entry = (ENTRIES if opts.region else EXACT_ENTRIES)[step.kind]  # no region: no region code
+    entry(*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
     return Answers(
         q=out_q[:, 0],
         claim=info[:, 0].astype(np.int8),

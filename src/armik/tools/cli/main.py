@@ -12,24 +12,15 @@ from pathlib import Path
 from typing import NoReturn
 
 from armik.errors import ArmikError, ArmikWarning
-from armik.model.catalogue import SPATIAL_ARMS
-from armik.tools import bench as bench_mod
-from armik.tools.cli.arms import (
-    add_arm_arguments,
-    add_solve_options,
-    cmd_demo,
-    cmd_info,
-    cmd_robots,
-    cmd_solve,
-    for_cli,
+from armik.tools.cli.commands import (
+    add_compile_command,
+    add_export_command,
+    add_many_commands,
+    add_servo_command,
+    add_view_command,
+    later,
 )
-from armik.tools.cli.compile import add_compile_command
-from armik.tools.cli.export import add_export_command
-from armik.tools.cli.many import add_many_commands
-from armik.tools.cli.servo import add_servo_command
-from armik.tools.cli.studies import cmd_bench, cmd_compare
-from armik.tools.cli.tips import cmd_info_tips, cmd_solve_tips
-from armik.tools.cli.view import add_view_command
+from armik.tools.cli.flags import add_arm_arguments, add_solve_options, for_cli
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -79,11 +70,11 @@ class _Parser(argparse.ArgumentParser):
 
 def _info(args: argparse.Namespace) -> int:
     args.tip = [*(args.tip or ()), *(args.tips or ())] or None  # --tips A B: --tip A --tip B
-    return cmd_info_tips(args) if len(args.tip or ()) > 1 else cmd_info(args)
+    return later("tips:cmd_info_tips" if len(args.tip or ()) > 1 else "arms:cmd_info")(args)
 
 
 def _solve(args: argparse.Namespace) -> int:
-    return cmd_solve_tips(args) if len(args.tip or ()) > 1 else cmd_solve(args)
+    return later("tips:cmd_solve_tips" if len(args.tip or ()) > 1 else "arms:cmd_solve")(args)
 
 
 def _positive_int(text: str) -> int:
@@ -111,7 +102,12 @@ def _parser() -> argparse.ArgumentParser:
         c.set_defaults(func=func)
         return c
 
-    command("robots", "list the bundled arms with their DOF and tip", "armik robots", cmd_robots)
+    command(
+        "robots",
+        "list the bundled arms with their DOF and tip",
+        "armik robots",
+        later("arms:cmd_robots"),
+    )
 
     c = command(
         "info",
@@ -211,7 +207,12 @@ def _parser() -> argparse.ArgumentParser:
     add_solve_options(c)
     c.add_argument("--json", action="store_true", help="machine-readable output")
 
-    command("demo", "solve a target on the 2-link arm and on the Panda", "armik demo", cmd_demo)
+    command(
+        "demo",
+        "solve a target on the 2-link arm and on the Panda",
+        "armik demo",
+        later("arms:cmd_demo"),
+    )
     add_many_commands(command)  # batch, reach
     add_compile_command(command)
     add_export_command(command)
@@ -222,12 +223,10 @@ def _parser() -> argparse.ArgumentParser:
         "bench",
         "benchmark the numeric solvers (TRAC-IK's protocol)",
         "armik bench --arms panda ur5 -n 2000 --peers rtb eaik",
-        cmd_bench,
+        later("studies:cmd_bench"),
     )
-    c.add_argument("--arms", nargs="+", default=list(SPATIAL_ARMS), help="arms to run")
-    c.add_argument(
-        "--solvers", nargs="+", default=list(bench_mod.DEFAULT_SOLVERS), help="dls qp clik"
-    )
+    c.add_argument("--arms", nargs="+", help="arms to run (default: every bundled spatial arm)")
+    c.add_argument("--solvers", nargs="+", help="solvers to run (default: dls qp clik)")
     c.add_argument("-n", type=int, default=2000, help="targets per arm (2000)")
     c.add_argument("--budget", type=float, default=0.005, help="seconds per solve (0.005)")
     c.add_argument("--seed", type=int, default=42, help="sampling seed (42)")
@@ -247,7 +246,7 @@ def _parser() -> argparse.ArgumentParser:
         "compare",
         "compare the analytic and numeric solvers, optionally with plots",
         "armik compare -n 500 --plot out/",
-        cmd_compare,
+        later("studies:cmd_compare"),
     )
     c.add_argument("-n", type=_positive_int, default=500, help="targets per experiment (500)")
     c.add_argument("--seed", type=int, default=7)

@@ -11,59 +11,7 @@ import numpy as np
 
 from armik.errors import OptionError
 from armik.servo.streams import START, circle, moved, violations
-from armik.tools.cli.arms import add_arm_arguments, load_arm
-
-
-def add_servo_command(command) -> None:
-    c = command(
-        "servo",
-        "stream a demo trajectory through the servo (one tick a target): a circle about the "
-        "tip, then a jump; print the tracking error, the limits hit and the time a tick",
-        "armik servo panda --circle 0.1 --hz 0.5 --seconds 2\n"
-        "         armik servo ur5 --circle 0.05 --seconds 1 --jump 0 0.25 0 --dt 0.004",
-        cmd_servo,
-    )
-    add_arm_arguments(c)
-    c.add_argument(
-        "--q0",
-        nargs="+",
-        type=float,
-        metavar="Q",
-        help="start joint values (rad, m), within the limits (default: a bundled arm's "
-        "start with room around the tip, else the middle of the limits)",
-    )
-    c.add_argument(
-        "--circle",
-        type=float,
-        default=0.1,
-        metavar="R",
-        help="radius (m) of the circle in the base's y-z plane through the tip, the "
-        "orientation held (0.1)",
-    )
-    c.add_argument("--hz", type=float, default=0.5, help="turns of the circle a second (0.5)")
-    c.add_argument("--seconds", type=float, default=2.0, help="length of the circle, s (2)")
-    c.add_argument(
-        "--jump",
-        nargs=3,
-        type=float,
-        metavar=("DX", "DY", "DZ"),
-        help="then a target this far (m, base frame) from where the circle ends, held 1.5 s",
-    )
-    c.add_argument("--dt", type=float, default=0.002, help="tick period, s (0.002: 500 Hz)")
-    c.add_argument(
-        "--acceleration-limit",
-        type=float,
-        default=None,
-        metavar="A",
-        help="rad/s^2 on every joint (default: the servo's, 20)",
-    )
-    c.add_argument(
-        "--velocity-limit",
-        type=float,
-        default=None,
-        metavar="V",
-        help="rad/s on every joint (default: the URDF's)",
-    )
+from armik.tools.cli.arms import load_arm
 
 
 def cmd_servo(args: argparse.Namespace) -> int:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 
+from armik.model.catalogue import SPATIAL_ARMS
 from armik.tools import bench as bench_mod
 from armik.tools import compare, compare_plots
 
@@ -12,8 +13,8 @@ from armik.tools import compare, compare_plots
 def cmd_bench(args: argparse.Namespace) -> int:
     notes: list[str] = []
     rows = bench_mod.run(
-        _names(args.arms),
-        _names(args.solvers),
+        _names(args.arms or list(SPATIAL_ARMS)),
+        _names(args.solvers or list(bench_mod.DEFAULT_SOLVERS)),
         n=args.n,
         budget=args.budget,
         seed=args.seed,

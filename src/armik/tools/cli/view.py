@@ -13,68 +13,8 @@ from armik.arm import Arm, load
 from armik.arms import Arms
 from armik.constraints.shapes_file import read_shapes
 from armik.errors import InputError
-from armik.tools.cli.arms import add_arm_arguments, load_arm
+from armik.tools.cli.arms import load_arm
 from armik.tools.cli.many import read_targets_file
-
-
-def add_view_command(command) -> None:
-    c = command(
-        "view",
-        "show an arm in the browser: drag the target and the arm follows (needs armik[view])",
-        "armik view panda --port 8080 --solver dls",
-        cmd_view,
-    )
-    add_arm_arguments(
-        c,
-        tip="tip frame; repeat it for several tips of one robot (as info and solve take "
-        "them): the whole robot, a gizmo per tip",
-        repeat_tip=True,
-        tips=True,
-        lock=False,
-    )
-    c.add_argument("--port", type=int, default=8080, help="port to serve on (8080; 0: any free)")
-    c.add_argument(
-        "--host", default="127.0.0.1", help="address to serve on (127.0.0.1; 0.0.0.0: all)"
-    )
-    c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
-    c.add_argument("--timeout", type=float, help="time budget of numeric solvers (s)")
-    c.add_argument(
-        "--obstacles",
-        metavar="FILE",
-        help='JSON list of boxes and spheres to draw, e.g. [{"type": "sphere", "radius": 0.1, '
-        '"center": [0.4, 0, 0.3]}] (drawn only: the solvers do not avoid them yet)',
-    )
-    c.add_argument(
-        "--path",
-        metavar="FILE",
-        help="waypoints file, as for armik path: solved with each --plan and shown side by "
-        "side, a slider stepping through the waypoints",
-    )
-    c.add_argument(
-        "--plan",
-        nargs="+",
-        choices=["follow", "global"],
-        default=["follow", "global"],
-        help="the plans of --path to show (default: both)",
-    )
-    c.add_argument(
-        "--max-joint-step",
-        type=float,
-        help="largest move of any joint between consecutive answers of --path (rad or m; 0.5)",
-    )
-    c.add_argument(
-        "--q0",
-        nargs="+",
-        type=float,
-        help="the configuration --path starts from (rad, m); default: the middle of the "
-        "limits, or for the global plan any branch",
-    )
-    c.add_argument(
-        "--servo",
-        action="store_true",
-        help="drags are followed by the servo within every limit, not solved (the panel's box)",
-    )
-    c.add_argument("--no-browser", action="store_true", help="do not open a browser tab")
 
 
 def cmd_view(args: argparse.Namespace) -> int:
