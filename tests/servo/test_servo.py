@@ -282,3 +282,28 @@ def test_bad_start_and_targets_raise():
     with pytest.raises(armik.TargetError, match="tip"):
         servo.step(Position((0.3, 0, 0.5), frame="panda_link4"))
     assert np.isfinite(servo.q).all()
+
+
+@pytest.mark.parametrize(
+    "options",
+    [
+        {"tol_position": float("nan")},
+        {"tol_position": -1e-6},
+        {"tol_orientation": "a"},
+        {"dt": True},
+        {"gain": None},
+    ],
+)
+def test_a_bad_servo_setting_is_refused_by_name(options):
+    """A NaN tolerance would never be on target, a bool is no period: refused by name."""
+    a = armik.load("ur5")
+    ((name, value),) = options.items()
+    with pytest.raises(armik.OptionError, match=name) as caught:
+        a.servo(a.middle, **options)
+    assert caught.value.option == name
+
+
+def test_numpy_numbers_are_numbers_to_a_servo():
+    a = armik.load("ur5")
+    s = a.servo(a.middle, dt=np.float32(0.002), gain=np.float32(0.5), tol_position=np.float64(1e-6))
+    assert s.dt == pytest.approx(0.002)

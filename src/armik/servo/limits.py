@@ -20,10 +20,7 @@ MAX_DT = 1.0  # s: a longer tick is no servo loop
 
 def time_step(dt: object) -> float:
     """``dt`` (s) as a float in (0, ``MAX_DT``]; raises ``OptionError`` otherwise."""
-    try:
-        value = float(dt)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        value = math.nan
+    value = _real(dt)
     if not 0.0 < value <= MAX_DT:
         raise OptionError(
             f"dt must be the tick's period in seconds, in (0, {MAX_DT:g}], got {dt!r}: "
@@ -37,7 +34,7 @@ def time_step(dt: object) -> float:
 def gain_of(gain: object) -> float:
     """``gain`` (the fraction of the error corrected a tick) as a float in (0, 1]; raises
     ``OptionError`` otherwise."""
-    g = float(gain) if isinstance(gain, (int, float)) else math.nan
+    g = _real(gain)
     if not 0.0 < g <= 1.0:
         raise OptionError(
             f"gain must be in (0, 1] (the fraction of the error corrected a tick), got {gain!r}",
@@ -45,6 +42,29 @@ def gain_of(gain: object) -> float:
             value=gain,
         )
     return g
+
+
+def tolerance_of(name: str, value: object) -> float:
+    """A tolerance of being on target (``tol_position`` m, ``tol_orientation`` rad) as a
+    float in (0, 1]; raises ``OptionError`` otherwise (NaN would never be on target)."""
+    tol = _real(value)
+    if not 0.0 < tol <= 1.0:
+        raise OptionError(
+            f"{name} must be in (0, 1] (m or rad: within it of the target a tick is on "
+            f"target), got {value!r}",
+            option=name,
+            value=value,
+        )
+    return tol
+
+
+def _real(value: object) -> float:
+    """``value`` as a float where it is a real number (a numpy one too; not a bool, a
+    string or None), else NaN, which every range check refuses."""
+    real = (int, float, np.integer, np.floating)
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, real):
+        return math.nan
+    return float(value)
 
 
 def urdf_velocities(arm: ArmModel | Union) -> np.ndarray:

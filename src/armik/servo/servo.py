@@ -19,6 +19,7 @@ from armik.servo.limits import (
     gain_of,
     per_joint,
     time_step,
+    tolerance_of,
     urdf_velocities,
 )
 from armik.servo.result import STATUSES, ServoRecord, ServoStep, record
@@ -76,7 +77,9 @@ class Servo:
         self._state[k.VMAX], self._state[k.AMAX] = vmax, amax
         self._state[k.LO], self._state[k.HI] = arm.lower, arm.upper
         self._cfg[k.DT], self._cfg[k.GAIN], self._cfg[k.REACH_SLACK] = self.dt, g, REACH_SLACK
-        self._cfg[k.TOL_P], self._cfg[k.TOL_R] = tol_position, tol_orientation
+        tol_p = tolerance_of("tol_position", tol_position)
+        tol_r = tolerance_of("tol_orientation", tol_orientation)
+        self._cfg[k.TOL_P], self._cfg[k.TOL_R] = tol_p, tol_r
         self._cfg[k.PULL], self._cfg[k.LAM_ERR] = PULL, DAMPING_ERROR
         self._cfg[k.SIGMA_EPS], self._cfg[k.LAM_MAX], self._cfg[k.LAM_MIN] = (
             SINGULAR,

@@ -33,6 +33,7 @@ from armik.servo.limits import (
     gain_of,
     per_joint,
     time_step,
+    tolerance_of,
     urdf_velocities,
 )
 from armik.servo.result import STATUSES, ServoStep
@@ -125,7 +126,9 @@ class UnionServo:
         self._state[k.LO], self._state[k.HI] = union.lower, union.upper
         cfg = self._cfg
         cfg[k.DT], cfg[k.GAIN], cfg[k.REACH_SLACK] = self.dt, g, REACH_SLACK
-        cfg[k.TOL_P], cfg[k.TOL_R] = tol_position, tol_orientation
+        tol_p = tolerance_of("tol_position", tol_position)
+        tol_r = tolerance_of("tol_orientation", tol_orientation)
+        cfg[k.TOL_P], cfg[k.TOL_R] = tol_p, tol_r
         cfg[k.PULL], cfg[k.LAM_ERR] = PULL, DAMPING_ERROR
         cfg[k.SIGMA_EPS], cfg[k.LAM_MAX], cfg[k.LAM_MIN] = SINGULAR, DAMPING, LAMBDA_MIN
         self._no_rows = np.zeros((0, n + 1))

@@ -185,8 +185,8 @@ def _spelled(value: object, arm: object) -> Target | None:
 
 def _several(what: str) -> str:
     return (
-        f"the target is {what}: solve() takes one pose; solve several with "
-        "Arm.solve_batch(targets), or pass one pose"
+        f"the target is {what}: a target is one pose; give one, or for several solve them "
+        "with Arm.solve_batch(targets) or stream them with a servo's track(targets)"
     )
 
 
