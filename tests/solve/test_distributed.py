@@ -73,9 +73,10 @@ def test_cli_cluster_address(client, tmp_path, capsys):
     np.testing.assert_array_equal(BatchResult.load(out).q, local.q)
 
 
-def test_bad_local_address():
-    with pytest.raises(InputError, match="local:N"):
-        armik_distributed.connect("local:two")
+@pytest.mark.parametrize("address", ["local:two", "local:0", "local:-1"])
+def test_bad_local_address(address):
+    with pytest.raises(InputError, match="local:N"):  # local:0: no worker, a wait forever
+        armik_distributed.connect(address)
 
 
 def test_a_constraint_of_ones_own_holds_on_the_cluster(client):

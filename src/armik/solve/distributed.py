@@ -151,8 +151,8 @@ def connect(address: str):
     distributed = _import_distributed()
     if address == "local" or address.startswith("local:"):
         count = address.partition(":")[2]
-        if count and not count.isdigit():
-            raise InputError(f"cluster address {address!r}: give local or local:N (N workers)")
+        if count and not (count.isdigit() and int(count) > 0):  # local:0 would wait forever
+            raise InputError(f"cluster address {address!r}: give local or local:N (N >= 1 workers)")
         cluster = distributed.LocalCluster(
             n_workers=int(count) if count else None,
             threads_per_worker=1,
