@@ -107,6 +107,11 @@ def test_reach_command_saves_and_plots(tmp_path, capsys):
     assert png.stat().st_size > 10_000
     assert main(["reach", "ur5", "--resolution", "-1"]) == 2
     assert "resolution must be" in capsys.readouterr().err
+    # a plot folder that is not there: refused before the run, nothing written
+    missing = tmp_path / "none" / "x.png"
+    other = tmp_path / "other.npz"
+    assert main(argv + ["-o", str(other), "--plot", str(missing)]) == 2
+    assert "plot folder" in capsys.readouterr().err and not other.exists()
 
 
 def test_batch_takes_the_solve_flags(tmp_path, capsys):

@@ -147,6 +147,9 @@ def _written(result, out: Path) -> int:
 
 
 def cmd_reach(args: argparse.Namespace) -> int:
+    out = _output(args.output)  # both paths checked before the run, not after it
+    if args.plot and not Path(args.plot).parent.is_dir():
+        raise InputError(f"plot folder {str(Path(args.plot).parent)!r} does not exist")
     arm = load_arm(args).kinematics
     client = None
     if args.cluster:
@@ -168,7 +171,7 @@ def cmd_reach(args: argparse.Namespace) -> int:
         if client is not None:
             distributed.close(client)
     print(m.summary())
-    print(f"wrote {m.save(args.output)}")
+    print(f"wrote {m.save(out)}")
     if args.plot:
         print(f"wrote {m.plot(args.plot)}")
     return 0
