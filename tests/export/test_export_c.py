@@ -157,3 +157,48 @@ def test_tighter_tolerances(tmp_path):
             assert wrapped_distance(got, want) < 1e-7
         dropped += len(loose.ik(T)) - len(Q)
     assert dropped >= 1
+
+
+# a rotation taking the x axis to (1, 1, 1) / sqrt(3)
+DIAGONAL = pin.exp3(np.array([0.0, -1.0, 1.0]) / np.sqrt(2.0) * np.arccos(1.0 / np.sqrt(3.0)))
+
+
+@pytest.mark.parametrize("name", ["ur5", "abb_irb120", "kinova", "panda"])
+def test_poses_solve_all_refuses_are_refused(name, tmp_path):
+    """-1 where ``solve_all`` raises a ``TargetError``: a reflection (orthonormal,
+    determinant -1) and a last row other than (0, 0, 0, 1) beyond the parser's 1e-12; a
+    last row within 1e-12 of it is solved as the pose itself, as ``solve_all`` solves it."""
+    arm = armik.load(name)
+    solver = Solver(arm, name, tmp_path)
+    rng = np.random.default_rng(17)
+    for _ in range(5):
+        q = arm.random_q(rng)
+        held = None if solver.held is None else q[solver.held]
+        T = arm.fk(q).homogeneous
+        reflected = T.copy()
+        reflected[:3, 0] *= -1
+        assert np.allclose(reflected[:3, :3].T @ reflected[:3, :3], np.eye(3))
+        rows = ([1.0, 2.0, 3.0, 4.0], [0.0, 0.0, 0.0, 1.0 + 2e-12], [0.0, -2e-12, 0.0, 1.0])
+        bad = [reflected] + [np.vstack([T[:3], row]) for row in rows]
+        nan_row = T.copy()
+        nan_row[3, 2] = np.nan
+        # |R^T R - I| (the parser's measure) 1.5e-6 where |R R^T - I| is 5e-7, and back
+        columns, rows_only = T.copy(), T.copy()
+        columns[:3, :3] = DIAGONAL @ np.diag([1.0 + 0.75e-6, 1.0, 1.0])
+        rows_only[:3, :3] = columns[:3, :3].T
+        for wrong in bad + [nan_row, columns]:
+            with pytest.raises(armik.TargetError):
+                arm.solve_all(wrong)
+            assert solver.ik_count(wrong, held)[0] == -1
+        arm.solve_all(rows_only)  # within 1e-6 of a rotation: no TargetError
+        assert solver.ik_count(rows_only, held)[0] >= 0
+        near = T.copy()
+        near[3] += [5e-13, -5e-13, 5e-13, -5e-13]
+        Q = solver.ik(near, held)
+        assert len(Q) >= 1 and np.array_equal(Q, solver.ik(T, held))
+        if held is None:
+            same_as_solve_all(arm, Q, near)
+        else:
+            hold = {arm.joint_names[solver.held]: held}
+            expected = [r.q for r in arm.solve_all(near, hold=hold) if r.success]
+            assert len(Q) == len(expected)

@@ -48,3 +48,8 @@ def test_ikfast_gives_n_iks_solutions(name, tmp_path):
     none = np.empty((8, arm.dof))
     args = (far.reshape(16).ctypes.data_as(_P), free.ctypes.data_as(_P), none.ctypes.data_as(_P))
     assert solve(*args) == 0
+    reflected = arm.fk(arm.random_q(rng)).homogeneous  # what N_ik refuses (-1): no solution
+    reflected[:3, 0] *= -1
+    T = np.ascontiguousarray(reflected).reshape(16)
+    free = np.array([0.0 if held is None else arm.middle[held]])
+    assert solve(T.ctypes.data_as(_P), free.ctypes.data_as(_P), none.ctypes.data_as(_P)) == 0

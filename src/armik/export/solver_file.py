@@ -31,6 +31,10 @@ from armik.model.geometry import Axes
 from armik.problem.settings import SolverSettings
 from armik.tolerances import LIMIT_TOL, ROTATION_TOL
 
+# How far a 4x4 target's last row may be from (0, 0, 0, 1), each entry: armik's target
+# parser's own (``armik.targets.pose._from_matrix``), so N_ik refuses what solve_all does.
+LAST_ROW_TOL = 1e-12
+
 
 @dataclass(frozen=True)
 class Rows:
@@ -58,6 +62,7 @@ def header(
 ) -> str:  # fmt: skip
     up = name.upper()
     title = _comment(f"{name}_ik.h: closed-form inverse kinematics of {summary}.")
+    last_row, rotation = c_source.num(LAST_ROW_TOL), c_source.num(ROTATION_TOL)
     if held is None:
         call, arg, define, held_text = "(T, q)", "", "", ""
     else:
@@ -74,9 +79,11 @@ def header(
    row-major, in the arm's base frame; the tip and tool offset as loaded), in the order
    armik's solve_all gives them (nearest the middle of the limits first), each verified by
    {name}_fk to {tol_position:g} m and {tol_orientation:g} rad. Returns how many (0: out of
-   reach), or -1 when T is not finite or its rotation is not orthonormal to 1e-6. At a
-   singular pose a free joint is set to the middle of its limits, as solve_all sets it
-   with no q0; a singular target gives fewer solutions than a regular one.{held_text}
+   reach), or -1 when T is not finite, its last row is not (0, 0, 0, 1) to {last_row},
+   or its rotation is not orthonormal to {rotation} or has determinant -1 (a
+   reflection): the poses solve_all refuses. At a singular pose a free joint is set to
+   the middle of its limits, as solve_all sets it with no q0; a singular target gives fewer
+   solutions than a regular one.{held_text}
    {name}_fk(q, T): the tip pose at joint values q (rad), row-major 4x4. */
 #ifndef {up}_IK_H
 #define {up}_IK_H
@@ -199,18 +206,24 @@ int @NAME@_ik(const double T[16], @HELD_PARAM@double q[][DOF])
     vec3 p;
     for (j = 0; j < 12; j++)
         if (!isfinite(T[j])) return -1;
+    for (j = 0; j < 4; j++)  /* the last row (0, 0, 0, 1); a NaN fails the test too */
+        if (!(fabs(T[12 + j] - (j == 3 ? 1.0 : 0.0)) <= LAST_ROW_TOL)) return -1;
     for (j = 0; j < 3; j++) {
         R.m[3 * j] = T[4 * j];
         R.m[3 * j + 1] = T[4 * j + 1];
         R.m[3 * j + 2] = T[4 * j + 2];
         p.v[j] = T[4 * j + 3];
     }
-    for (j = 0; j < 3; j++)
+    for (j = 0; j < 3; j++)  /* R^T R = I: columns j and k, as armik's target parser */
         for (k = 0; k < 3; k++) {
-            e = R.m[3 * j] * R.m[3 * k] + R.m[3 * j + 1] * R.m[3 * k + 1]
-                + R.m[3 * j + 2] * R.m[3 * k + 2] - (j == k ? 1.0 : 0.0);
+            e = R.m[j] * R.m[k] + R.m[3 + j] * R.m[3 + k] + R.m[6 + j] * R.m[6 + k]
+                - (j == k ? 1.0 : 0.0);
             if (!(fabs(e) <= ROTATION_TOL)) return -1;
         }
+    e = R.m[0] * (R.m[4] * R.m[8] - R.m[5] * R.m[7])
+        - R.m[1] * (R.m[3] * R.m[8] - R.m[5] * R.m[6])
+        + R.m[2] * (R.m[3] * R.m[7] - R.m[4] * R.m[6]);
+    if (e < 0.0) return -1;  /* determinant -1: a reflection, not a rotation */
 @HELD_CHECK@    n = rows(R, p, @HELD_ARG@W, C, S);
     for (r = 0; r < n; r++) {
         for (j = 0; j < DOF; j++)
@@ -277,6 +290,7 @@ def source(name: str, arm: ArmModel, ax: Axes, rows: Rows, opts: SolverSettings)
             f"static const double SNAP = {c_source.num(rows.snap)};",
             f"static const double LIMIT_TOL = {c_source.num(LIMIT_TOL)};",
             f"static const double ROTATION_TOL = {c_source.num(ROTATION_TOL)};",
+            f"static const double LAST_ROW_TOL = {c_source.num(LAST_ROW_TOL)};",
             f"static const double TOL_POSITION = {c_source.num(opts.tol_position)};",
             orientation,
         ]
