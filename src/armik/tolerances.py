@@ -22,8 +22,11 @@ MAX_COUNT = 2**62
 MAX_SOLUTIONS = 10_000
 MAX_WEIGHT = 1e6
 
-# Targets: how far from orthonormal a given rotation may be before it is refused.
+# Targets: how far from orthonormal a given rotation may be before it is refused, and how
+# far each entry of a 4x4 target's last row from (0, 0, 0, 1) (the Python parsers, the
+# compiled plain-pose check and an exported solver alike).
 ROTATION_TOL = 1e-6
+LAST_ROW_TOL = 1e-12
 
 # Structure: two axes are parallel when the angle between them is below ANGLE_TOL; lines
 # meet when they pass within DISTANCE_TOL of one point. A near miss is refused with the

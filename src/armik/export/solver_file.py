@@ -29,11 +29,7 @@ from armik.export import c_source, fk_code
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes
 from armik.problem.settings import SolverSettings
-from armik.tolerances import LIMIT_TOL, ROTATION_TOL
-
-# How far a 4x4 target's last row may be from (0, 0, 0, 1), each entry: armik's target
-# parser's own (``armik.targets.pose._from_matrix``), so N_ik refuses what solve_all does.
-LAST_ROW_TOL = 1e-12
+from armik.tolerances import LAST_ROW_TOL, LIMIT_TOL, ROTATION_TOL
 
 
 @dataclass(frozen=True)

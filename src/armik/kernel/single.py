@@ -26,10 +26,9 @@ from armik.kernel.entry import MINIMA_CAPACITY
 from armik.kernel.measure import inside_limits, split_pose
 from armik.kernel.problem import _workspace
 from armik.kernel.problem import unpack as unpack_settings
-from armik.tolerances import LIMIT_TOL, MAX_POSITION
+from armik.tolerances import LAST_ROW_TOL, LIMIT_TOL, MAX_POSITION
 
 ORTHONORMAL_TOL = 1e-14  # |R^T R - I| that the parser keeps without snapping to a rotation
-LAST_ROW_TOL = 1e-12  # the parser's tolerance on a 4x4 target's last row (0, 0, 0, 1)
 
 
 @njit(cache=True, nogil=True)

@@ -30,7 +30,7 @@ import numpy as np
 
 from armik.errors import InputError, TargetError
 from armik.targets.pose import SPELLINGS, Target, parse_target, spelling_of
-from armik.tolerances import ROTATION_TOL
+from armik.tolerances import LAST_ROW_TOL, ROTATION_TOL
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
@@ -153,7 +153,7 @@ def _finite_rows(arr: np.ndarray, what: str) -> np.ndarray:
 
 def _from_matrices(T: np.ndarray) -> TargetBatch:
     _finite_rows(T, "4x4 transform")
-    last = np.abs(T[:, 3, :] - _LAST_ROW) > 1e-12
+    last = np.abs(T[:, 3, :] - _LAST_ROW) > LAST_ROW_TOL
     if last.any():
         i = int(np.flatnonzero(last.any(axis=1))[0])
         raise TargetError(

@@ -28,7 +28,7 @@ import pinocchio as pin
 from armik.errors import TargetError
 from armik.frozen import frozen
 from armik.model.arm_model import model_of
-from armik.tolerances import MAX_POSITION, ROTATION_TOL
+from armik.tolerances import LAST_ROW_TOL, MAX_POSITION, ROTATION_TOL
 
 
 @dataclass(frozen=True, eq=False)
@@ -279,7 +279,7 @@ def _rotation_from_quat(quat: object) -> np.ndarray:
 
 def _from_matrix(M: np.ndarray) -> Target:
     last = M[3].tolist()
-    if not all(abs(x - y) <= 1e-12 for x, y in zip(last, (0.0, 0.0, 0.0, 1.0))):
+    if not all(abs(x - y) <= LAST_ROW_TOL for x, y in zip(last, (0.0, 0.0, 0.0, 1.0))):
         _finite(M, "4x4 target")
         raise TargetError(f"the last row of a 4x4 target must be (0, 0, 0, 1), got {last}")
     return _pose(M[:3, :3], M[:3, 3])  # checks the rest
