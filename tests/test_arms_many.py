@@ -116,3 +116,49 @@ def test_bad_many_targets_are_named(cell):
         cell.solve_batch(np.zeros((2, 3)))
     with pytest.raises(OptionError, match="positive and finite"):
         cell.solve_path({"l_tool0": np.zeros((2, 3))}, cell.middle, max_joint_step=-1.0)
+
+
+def baxter() -> armik.Arms:
+    robots = Path(armik.load("panda").source).parents[2]
+    urdf = robots / "baxter_description" / "urdf" / "baxter.urdf"
+    return armik.load(urdf, tips=["left_gripper", "right_gripper"])
+
+
+def _loop(robot: armik.Arms, targets: dict, n: int) -> np.ndarray:
+    return np.array([robot.solve({t: rows[i] for t, rows in targets.items()}).q for i in range(n)])
+
+
+@pytest.mark.parametrize("shared", [False, True], ids=["baxter", "panda_link4+hand"])
+def test_a_batch_takes_arm_s_batch_keywords_and_gives_the_loop_s_rows(shared):
+    robot = armik.load("panda", tips=["panda_link4", "panda_hand"]) if shared else baxter()
+    assert bool(robot.shared) == shared
+    n = 5
+    targets = robot.fk_batch(robot.random_q(3, n=n))
+    loop = _loop(robot, targets, n)
+    heard: list[tuple[int, int]] = []
+    keywords = [
+        {"workers": 2, "chunk_size": 2},
+        {"workers": 1, "chunk_size": 4, "progress": False},
+        {"workers": 2, "progress": lambda done, total: heard.append((done, total))},
+    ]
+    for kw in keywords:
+        b = robot.solve_batch(targets, **kw)
+        assert b.success.all(), b.summary()
+        np.testing.assert_array_equal(b.q, loop)
+    assert heard and heard[-1][0] == heard[-1][1] == n
+    with pytest.raises(OptionError, match="workers must be a whole number"):
+        robot.solve_batch(targets, workers=0)
+    with pytest.raises(OptionError, match="chunk_size must be a whole number"):
+        robot.solve_batch(targets, chunk_size=0)
+
+
+def test_a_batch_s_backend_goes_to_each_chain_or_is_refused_row_by_row():
+    robot = baxter()
+    targets = robot.fk_batch(robot.random_q(4, n=3))
+    b = robot.solve_batch(targets, backend="threads", workers=2)
+    np.testing.assert_array_equal(b.q, _loop(robot, targets, 3))
+    shared = armik.load("panda", tips=["panda_link4", "panda_hand"])
+    rows = shared.fk_batch(shared.random_q(4, n=2))
+    with pytest.raises(OptionError, match=r"backend=.*row by row.*drop backend=") as caught:
+        shared.solve_batch(rows, backend="threads")
+    assert caught.value.option == "backend"

@@ -155,7 +155,9 @@ class Arms(ArmsKinematics):
 
     def solve_batch(self, targets: Mapping[str, object], *, q0: object = None, **options):
         """Many targets per tip (tip -> N targets): a ``BatchResult`` over every joint, each
-        chain's own batch where the chains are independent (``armik.arms_many``)."""
+        chain's own batch where the chains are independent (``armik.arms_many``);
+        ``workers``, ``chunk_size``, ``progress`` and ``backend`` as ``Arm.solve_batch``'s
+        (``backend`` refused where the rows are solved one by one)."""
         refuse_own_checks(options)
         return arms_many.solve_batch(self, targets, q0=q0, **options)
 

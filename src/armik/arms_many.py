@@ -16,6 +16,7 @@ import dataclasses
 import math
 import time
 from collections.abc import Mapping, Sequence
+from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from typing import Any, Protocol
 
 import numpy as np
@@ -25,6 +26,8 @@ from armik.batch_result import BatchResult
 from armik.errors import OptionError, TargetError
 from armik.problem.problem import relative_tasks
 from armik.result import IKResult
+from armik.solve.batch import DEFAULT_CHUNK
+from armik.solve.progress import ProgressArg, make_progress
 from armik.solve.read import options as read_options
 from armik.status import Status
 
@@ -35,6 +38,7 @@ class Arms(Protocol):
 
     _columns: dict[str, np.ndarray]
     _union: Any
+    shared: tuple[str, ...]
 
     @property
     def tips(self) -> tuple[str, ...]: ...
@@ -56,24 +60,85 @@ _CONVERGED = Status.CONVERGED.code
 
 
 def solve_batch(
-    arms: Arms, targets: Mapping[str, Any], q0: object = None, **options: Any
+    arms: Arms,
+    targets: Mapping[str, Any],
+    q0: object = None,
+    *,
+    workers: int | None = None,
+    chunk_size: int | None = None,
+    progress: ProgressArg = None,
+    backend: object = None,
+    **options: Any,
 ) -> BatchResult:
     """Every row of ``targets`` (tip -> N targets) from ``q0`` (None: mid-limits, one
-    configuration, or one per row (N, dof)); one ``BatchResult`` over every joint."""
+    configuration, or one per row (N, dof)); one ``BatchResult`` over every joint.
+    ``workers``, ``chunk_size``, ``progress`` and ``backend`` as ``Arm.solve_batch``'s: on
+    independent chains each chain's batch takes them (a progress callable hears each
+    chain's batch in turn); row by row (module docstring) rows go in chunks of
+    ``chunk_size`` (default 256) on ``workers`` threads (default 1), and ``backend`` raises
+    ``OptionError``."""
     t0 = time.perf_counter()
     n = _rows(arms, targets)
     seeds = _seeds(arms, q0, n)
     if _independent(arms, targets):
+        batch = {"workers": workers, "chunk_size": chunk_size, "progress": progress}
         parts = {
-            tip: arms.chain(tip).solve_batch(rows, q0=seeds[:, arms._columns[tip]], **options)
+            tip: arms.chain(tip).solve_batch(
+                rows, q0=seeds[:, arms._columns[tip]], backend=backend, **batch, **options
+            )
             for tip, rows in targets.items()
         }
         return _joined(arms, parts, seeds, options, time.perf_counter() - t0)
+    if backend is not None:
+        raise OptionError(
+            "backend= runs the compiled batch's chunks; a batch over chains that share "
+            f"joints ({list(arms.shared)}) or with a Relative task is "
+            "solved row by row in this process (workers= threads, chunk_size= rows each): "
+            "drop backend=",
+            option="backend",
+            value=backend,
+        )
+    threads, size = _whole(workers, "workers", 1), _whole(chunk_size, "chunk_size", DEFAULT_CHUNK)
     out = _empty(arms, n, "arms", options)
-    for i in range(n):
-        row = {tip: rows[i] for tip, rows in targets.items()}
-        out.put_result(i, arms.solve(row, q0=seeds[i], **options))
+    bar = make_progress(progress, n, "+".join(arms.tips))
+
+    def chunk(first: int) -> int:
+        last = min(first + size, n)
+        for i in range(first, last):
+            row = {tip: rows[i] for tip, rows in targets.items()}
+            out.put_result(i, arms.solve(row, q0=seeds[i], **options))
+        return last - first
+
+    starts = range(0, n, size)
+    done = 0
+    if threads == 1 or len(starts) <= 1:
+        for first in starts:
+            done += chunk(first)
+            bar(done, n)
+    else:
+        with ThreadPoolExecutor(max_workers=threads, thread_name_prefix="armik") as pool:
+            pending = {pool.submit(chunk, first) for first in starts}
+            while pending:
+                finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for f in finished:
+                    done += f.result()  # a row's error raises here, as in a loop
+                bar(done, n)
+    bar.close()
     return _timed(out, t0)
+
+
+def _whole(value: object, name: str, default: int) -> int:
+    """``workers`` or ``chunk_size`` as a whole number >= 1 (None: ``default``)."""
+    if value is None:
+        return default
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        what = "threads" if name == "workers" else "targets per task"
+        raise OptionError(
+            f"{name} must be a whole number >= 1 ({what}), got {value!r}",
+            option=name,
+            value=value,
+        )
+    return int(value)
 
 
 def solve_path(

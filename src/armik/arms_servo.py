@@ -5,7 +5,9 @@ Chains that share no moving joint (two arms on one base) each get a ``Servo`` of
 robot's. The joined ``ServoStep`` holds the robot's ``q``, ``dq``, ``ddq`` (the chains'
 joints side by side, in the order of ``tips``, as ``Arms.joint_names``), the status of the
 tip most held back (``PRECEDENCE``), the largest errors and the smallest singular value
-over the tips, and each tip's own step in ``tips``.
+over the tips, and each tip's own step in ``tips``. ``velocity_limits`` and
+``acceleration_limits`` are the robot's, as over shared joints: a number, one per joint of
+``Arms.joint_names`` or a mapping by its joint names, each chain given its joints' part.
 
 Chains that share joints (a torso, a lift) take one step over their union instead
 (``armik.servo.union``): every tip's target at once (anything a chain's own servo takes),
@@ -22,7 +24,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from armik.errors import OptionError, TargetError
+from armik.errors import JointError, OptionError, TargetError
 from armik.frozen import frozen
 from armik.servo.result import ServoRecord, ServoStatus, ServoStep, record
 from armik.servo.servo import Servo, start
@@ -43,6 +45,44 @@ PRECEDENCE = (
     ServoStatus.TRACKING,
     ServoStatus.ON_TARGET,
 )
+
+
+LIMITS = ("velocity_limits", "acceleration_limits")  # per joint of the robot, split by chain
+
+
+def split_limits(arms: Arms, name: str, value: object) -> dict[str, object]:
+    """``value`` (a number, one per joint of ``arms.joint_names``, or a mapping from those
+    joints' names) as each tip's chain's: the number itself, its joints' values, its joints'
+    part of the mapping. Raises ``OptionError`` for another length, ``JointError`` for a
+    name no chain has; each chain's servo checks the values."""
+    names = list(arms.joint_names)
+    if isinstance(value, Mapping):
+        unknown = [joint for joint in value if joint not in names]
+        if unknown:
+            raise JointError(
+                f"{name} names {unknown}, not joints of this robot; its joints: {names}",
+                joint=str(unknown[0]),
+                candidates=names,
+            )
+        return {
+            tip: {j: v for j, v in value.items() if j in arms.chain(tip).joint_names}
+            for tip in arms.tips
+        }
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        arr = None
+    if arr is None or arr.ndim > 1 or (arr.ndim == 1 and arr.shape != (arms.dof,)):
+        got = f"shape {arr.shape}" if arr is not None else repr(value)
+        raise OptionError(
+            f"{name} must be a number, one per joint of the robot ({arms.dof}: "
+            f"{', '.join(names)}) or a mapping by those names, got {got}",
+            option=name,
+            value=value,
+        )
+    if arr.ndim == 0:
+        return {tip: value for tip in arms.tips}
+    return {tip: arr[cols] for tip, cols in arms._columns.items()}
 
 
 class ArmsServo:
@@ -82,7 +122,12 @@ class ArmsServo:
             self.dt = self._union.dt
             return
         parts = arms.split(q0)
-        self._servos = {tip: start(arms.chain(tip), parts[tip], **options) for tip in arms.tips}
+        each = {tip: dict(options) for tip in arms.tips}
+        for name in LIMITS:
+            if options.get(name) is not None:
+                for tip, value in split_limits(arms, name, options[name]).items():
+                    each[tip][name] = value
+        self._servos = {tip: start(arms.chain(tip), parts[tip], **each[tip]) for tip in arms.tips}
         self.dt = next(iter(self._servos.values())).dt
 
     def servo(self, tip: str) -> Servo:
