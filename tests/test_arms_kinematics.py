@@ -81,3 +81,8 @@ def test_an_empty_target_mapping_to_a_batch_or_a_path_is_refused_by_name(robot):
         robot.solve_batch({})
     with pytest.raises(armik.TargetError, match=r"no targets.*'panda_hand'"):
         robot.solve_path({}, None)
+
+
+def test_a_plan_that_is_none_is_refused_as_on_one_arm(robot):
+    with pytest.raises(armik.OptionError, match="plan must be 'follow'.*'bogus'"):
+        robot.solve_path(robot.fk_batch(robot.random_q(0, n=3)), robot.middle, plan="bogus")

@@ -28,6 +28,7 @@ from armik.problem.problem import relative_tasks
 from armik.result import IKResult
 from armik.solve.batch import DEFAULT_CHUNK
 from armik.solve.progress import ProgressArg, make_progress
+from armik.solve.read import check_plan
 from armik.solve.read import options as read_options
 from armik.status import Status
 
@@ -153,6 +154,7 @@ def solve_path(
     solved from mid-limits), never with a silent jump larger than ``max_joint_step`` (one
     number or one per joint of ``joint_names``)."""
     t0 = time.perf_counter()
+    check_plan(plan)  # a plan that is none: refused as Arm.solve_path refuses it
     n = _rows(arms, waypoints)
     start = arms.middle if q0 is None else _seeds(arms, q0, 1)[0]
     step = _step(arms, max_joint_step)
