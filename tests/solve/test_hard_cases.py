@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 import threading
-import time
 import warnings
 
 import numpy as np
@@ -90,12 +89,13 @@ def test_exact_full_stretch_and_base():
 
 
 @pytest.mark.parametrize("name", SPATIAL + ["planar_3link", "scara"])
-def test_far_target_returns_within_budget(name):
+def test_far_target_is_answered_without_a_search(name):
+    """A target 37 m away is refused by the reach bound before any iteration or restart
+    (counted, not timed: a loaded machine's clock says nothing of the search)."""
     a = arm(name)
-    t = time.perf_counter()
     r = a.solve([30.0, -20.0, 10.0], timeout=0.02)
-    assert time.perf_counter() - t < 0.5
-    assert not r.success and r.status in ("unreachable", "not_converged")
+    assert not r.success and r.status == "unreachable"
+    assert r.iterations == 0 and r.restarts == 0 and "beyond the arm's reach" in r.reason
 
 
 def test_target_reachable_only_outside_limits():
