@@ -87,19 +87,27 @@ class CollisionRows:
         return v
 
 
-def rows_for(
-    arm: ArmModel, obstacles: object, self_collision: object, margin: object, dt: float
-) -> CollisionRows | None:
-    """The servo's collision rows asked for, or None (no obstacle, no self-collision); a
-    ``CollisionError`` naming a bad option."""
+def asked(obstacles: object, self_collision: object) -> bool:
+    """Whether collision rows are asked for (obstacles, or ``self_collision``); a
+    ``CollisionError`` for a ``self_collision`` that is not True or False."""
     if obstacles is None and not self_collision:
-        return None
+        return False
     if not isinstance(self_collision, bool):
         raise CollisionError(
             f"self_collision must be True or False, got {self_collision!r}",
             option="self_collision",
             value=self_collision,
         )
+    return True
+
+
+def rows_for(
+    arm: ArmModel, obstacles: object, self_collision: object, margin: object, dt: float
+) -> CollisionRows | None:
+    """The servo's collision rows asked for, or None (no obstacle, no self-collision); a
+    ``CollisionError`` naming a bad option."""
+    if not asked(obstacles, self_collision):
+        return None
     shapes = check_obstacles(obstacles)
     try:
         m = float(margin)  # type: ignore[arg-type]

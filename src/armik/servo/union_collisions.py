@@ -28,7 +28,7 @@ from armik.constraints.collision import arm_geometry
 from armik.constraints.shapes import check_obstacles
 from armik.errors import CollisionError
 from armik.model.arm_model import ArmModel
-from armik.servo.collisions import ACTIVE, RATE
+from armik.servo.collisions import ACTIVE, RATE, asked
 from armik.servo.layout import MAX_ROWS
 
 FAR = 1e9  # m: a bounding radius for a shape without one (a half space)
@@ -217,14 +217,8 @@ def union_rows(
 ) -> UnionCollisions | None:
     """The collision rows asked for, or None (no obstacle, no self-collision); a
     ``CollisionError`` naming a bad option."""
-    if obstacles is None and not self_collision:
+    if not asked(obstacles, self_collision):
         return None
-    if not isinstance(self_collision, bool):
-        raise CollisionError(
-            f"self_collision must be True or False, got {self_collision!r}",
-            option="self_collision",
-            value=self_collision,
-        )
     try:
         m = float(margin)  # type: ignore[arg-type]
     except (TypeError, ValueError):
