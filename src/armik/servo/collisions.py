@@ -119,4 +119,4 @@ def rows_for(
             option="margin",
             value=margin,
         )
-    return CollisionRows(collision.checker(arm, shapes, self_collision), m, RATE * dt)
+    return CollisionRows(collision.checker(arm, shapes, self_collision is True), m, RATE * dt)

@@ -227,4 +227,4 @@ def union_rows(
         raise CollisionError(
             f"margin must be a distance in [0, 1) m, got {margin!r}", option="margin", value=margin
         )
-    return UnionCollisions(arms, cols, n, obstacles, self_collision, m, RATE * dt)
+    return UnionCollisions(arms, cols, n, obstacles, self_collision is True, m, RATE * dt)
