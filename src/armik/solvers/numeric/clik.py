@@ -4,7 +4,7 @@ As in Pinocchio's inverse-kinematics example: e = log6(T_tip^-1 T_target),
 v = -J^T (J J^T + damp I)^-1 e with J = -Jlog6(...) J_local, q <- integrate(q, v dt) with a
 fixed dt = 0.1, joints clipped into their limits, no restarts. Not chosen by "auto".
 
-SolverSettings: ``max_iterations`` caps the loop (Pinocchio's example uses 1000: the benchmark
+Options: ``max_iterations`` caps the loop (Pinocchio's example uses 1000: the benchmark
 passes that), ``iteration_budget`` caps it too, and ``timeout`` counts the solving thread's
 CPU time as for dls and qp. ``max_restarts``, ``seed`` and ``nullspace_gain`` have no effect:
 the loop has no restarts and no null-space term.

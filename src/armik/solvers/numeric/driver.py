@@ -96,7 +96,7 @@ def packed_settings(
     opts: SolverSettings, position_only: bool, dof: int, max_found: int, step: Step
 ) -> tuple[np.ndarray, np.ndarray]:
     """``settings`` as the kernel entry takes them, remembered: a loop of solves whose
-    options differ only in ``seed`` builds them once. SolverSettings that differ only in their
+    options differ only in ``seed`` builds them once. Settings that differ only in their
     budget (``timeout``, ``iteration_budget``, ``max_restarts``: what a collision-checked
     solve's restarts leave of it, different every time) patch the remembered ints."""
     budget = (opts.timeout, opts.max_restarts, opts.iteration_budget)
