@@ -11,6 +11,7 @@ import pinocchio as pin
 from armik.errors import OptionError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel, model_of
+from armik.model.union import Union
 from armik.servo import layout as k
 from armik.servo import table as _table
 from armik.servo.collisions import rows_for
@@ -34,7 +35,63 @@ PULL = 2.0  # 1/s: the pull toward q0 where the task leaves joints free or is da
 ON_TARGET = 1e-6  # m and rad: within these of every task's region a tick is on target
 
 
-class Servo:
+class Commanded:
+    """What a servo has commanded and within which limits, read from its state array
+    (``armik.servo.layout``): a chain's ``Servo`` and the union's ``UnionServo`` alike."""
+
+    _state: np.ndarray
+
+    @property
+    def velocity_limits(self) -> np.ndarray:
+        """rad/s (m/s) per joint."""
+        return self._state[k.VMAX].copy()
+
+    @property
+    def acceleration_limits(self) -> np.ndarray:
+        """rad/s^2 (m/s^2) per joint."""
+        return self._state[k.AMAX].copy()
+
+    @property
+    def q(self) -> np.ndarray:
+        """The last commanded joint values (rad, m), one per joint."""
+        return self._state[k.Q].copy()
+
+    @property
+    def dq(self) -> np.ndarray:
+        """The last commanded velocity (rad/s, m/s)."""
+        return self._state[k.V].copy()
+
+
+def at_rest(
+    state: np.ndarray,
+    cfg: np.ndarray,
+    arm: ArmModel | Union,
+    q: np.ndarray,
+    dt: float,
+    velocity_limits: object,
+    acceleration_limits: object,
+    gain: object,
+    tol_position: object,
+    tol_orientation: object,
+) -> None:
+    """A servo's state and settings at rest at ``q``, its limits and settings checked
+    (``armik.servo.limits``): what a chain's servo and the union's both start from."""
+    n = q.shape[0]
+    vmax = per_joint(velocity_limits, arm, "velocity_limits", urdf_velocities(arm))
+    amax = per_joint(
+        acceleration_limits, arm, "acceleration_limits", np.full(n, DEFAULT_ACCELERATION)
+    )
+    state[k.Q], state[k.REST] = q, q
+    state[k.VMAX], state[k.AMAX] = vmax, amax
+    state[k.LO], state[k.HI] = arm.lower, arm.upper
+    cfg[k.DT], cfg[k.GAIN], cfg[k.REACH_SLACK] = dt, gain_of(gain), REACH_SLACK
+    cfg[k.TOL_P] = tolerance_of("tol_position", tol_position)
+    cfg[k.TOL_R] = tolerance_of("tol_orientation", tol_orientation)
+    cfg[k.PULL], cfg[k.LAM_ERR] = PULL, DAMPING_ERROR
+    cfg[k.SIGMA_EPS], cfg[k.LAM_MAX], cfg[k.LAM_MIN] = SINGULAR, DAMPING, LAMBDA_MIN
+
+
+class Servo(Commanded):
     """Streaming IK for one arm from joint values ``q0`` at rest: ``step(target)`` gives the
     next command one tick of ``dt`` s later, within the joint limits, the velocity limits
     and the acceleration limits, braking in time for every position limit (see
@@ -66,49 +123,15 @@ class Servo:
                 option="q0",
                 value=q0,
             )
-        vmax = per_joint(velocity_limits, arm, "velocity_limits", urdf_velocities(arm))
-        amax = per_joint(
-            acceleration_limits, arm, "acceleration_limits", np.full(n, DEFAULT_ACCELERATION)
-        )
-        g = gain_of(gain)
         self._mem, self._imem = k.allocate(arm.kernel_chain.flat)
         self._state, self._cfg, self._out = k.python_views(self._mem, n)
-        self._state[k.Q], self._state[k.REST] = q, q
-        self._state[k.VMAX], self._state[k.AMAX] = vmax, amax
-        self._state[k.LO], self._state[k.HI] = arm.lower, arm.upper
-        self._cfg[k.DT], self._cfg[k.GAIN], self._cfg[k.REACH_SLACK] = self.dt, g, REACH_SLACK
-        tol_p = tolerance_of("tol_position", tol_position)
-        tol_r = tolerance_of("tol_orientation", tol_orientation)
-        self._cfg[k.TOL_P], self._cfg[k.TOL_R] = tol_p, tol_r
-        self._cfg[k.PULL], self._cfg[k.LAM_ERR] = PULL, DAMPING_ERROR
-        self._cfg[k.SIGMA_EPS], self._cfg[k.LAM_MAX], self._cfg[k.LAM_MIN] = (
-            SINGULAR,
-            DAMPING,
-            LAMBDA_MIN,
-        )
+        at_rest(
+            self._state, self._cfg, arm, q, self.dt, velocity_limits, acceleration_limits,
+            gain, tol_position, tol_orientation,
+        )  # fmt: skip
         self._names = arm.joint_names
         self._collisions = rows_for(arm, obstacles, self_collision, margin, self.dt)
         self._no_rows = np.zeros((0, n + 1))
-
-    @property
-    def velocity_limits(self) -> np.ndarray:
-        """rad/s (m/s) per joint."""
-        return self._state[k.VMAX].copy()
-
-    @property
-    def acceleration_limits(self) -> np.ndarray:
-        """rad/s^2 (m/s^2) per joint."""
-        return self._state[k.AMAX].copy()
-
-    @property
-    def q(self) -> np.ndarray:
-        """The last commanded joint values (rad, m)."""
-        return self._state[k.Q].copy()
-
-    @property
-    def dq(self) -> np.ndarray:
-        """The last commanded velocity (rad/s, m/s)."""
-        return self._state[k.V].copy()
 
     def step(self, target: object) -> ServoStep:
         """The command one tick later, toward ``target`` (anything ``Arm.solve`` takes for

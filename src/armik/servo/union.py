@@ -29,23 +29,10 @@ from armik.frozen import frozen
 from armik.model.union import Union
 from armik.servo import layout as k
 from armik.servo.limits import (
-    DEFAULT_ACCELERATION,
-    gain_of,
-    per_joint,
     time_step,
-    tolerance_of,
-    urdf_velocities,
 )
 from armik.servo.result import STATUSES, ServoStep
-from armik.servo.servo import (
-    DAMPING,
-    DAMPING_ERROR,
-    LAMBDA_MIN,
-    ON_TARGET,
-    PULL,
-    REACH_SLACK,
-    SINGULAR,
-)
+from armik.servo.servo import ON_TARGET, Commanded, at_rest
 from armik.servo.table import table
 from armik.servo.union_collisions import union_rows
 from armik.servo.union_tick import allocate, python_views, rows_at, stacked, tick
@@ -54,7 +41,7 @@ KEYWORDS: tuple[str, ...] = ("dt", "velocity_limits", "acceleration_limits", "ga
 KEYWORDS += ("tol_position", "tol_orientation", "obstacles", "self_collision", "margin")
 
 
-class UnionServo:
+class UnionServo(Commanded):
     """One servo over the union of ``chains`` (tip -> its ``ArmModel``) held in ``union``,
     at rest at ``q0`` (one value per joint of ``union.joint_names``)."""
 
@@ -96,11 +83,6 @@ class UnionServo:
                 option="q0",
                 value=q0,
             )
-        vmax = per_joint(velocity_limits, union, "velocity_limits", urdf_velocities(union))
-        amax = per_joint(
-            acceleration_limits, union, "acceleration_limits", np.full(n, DEFAULT_ACCELERATION)
-        )
-        g = gain_of(gain)
         # the chains' kernel arrays one after the other, and their joints' union columns
         arms = [chains[tip] for tip in self.tips]
         flats = [arm.kernel_chain.flat for arm in arms]  # type: ignore[attr-defined]
@@ -121,16 +103,10 @@ class UnionServo:
         self._mem, self._imem = allocate(n, packed, kinds, at, np.concatenate(self._cols))
         views = python_views(self._mem, self._imem)
         self._state, self._cfg, self._out, self._tables, self._H, self._counts = views
-        self._state[k.Q], self._state[k.REST] = q, q
-        self._state[k.VMAX], self._state[k.AMAX] = vmax, amax
-        self._state[k.LO], self._state[k.HI] = union.lower, union.upper
-        cfg = self._cfg
-        cfg[k.DT], cfg[k.GAIN], cfg[k.REACH_SLACK] = self.dt, g, REACH_SLACK
-        tol_p = tolerance_of("tol_position", tol_position)
-        tol_r = tolerance_of("tol_orientation", tol_orientation)
-        cfg[k.TOL_P], cfg[k.TOL_R] = tol_p, tol_r
-        cfg[k.PULL], cfg[k.LAM_ERR] = PULL, DAMPING_ERROR
-        cfg[k.SIGMA_EPS], cfg[k.LAM_MAX], cfg[k.LAM_MIN] = SINGULAR, DAMPING, LAMBDA_MIN
+        at_rest(
+            self._state, self._cfg, union, q, self.dt, velocity_limits, acceleration_limits,
+            gain, tol_position, tol_orientation,
+        )  # fmt: skip
         self._no_rows = np.zeros((0, n + 1))
         self._collisions = union_rows(
             arms,  # type: ignore[arg-type]
@@ -141,24 +117,6 @@ class UnionServo:
             margin,
             self.dt,
         )
-
-    @property
-    def q(self) -> np.ndarray:
-        """The last commanded joint values (rad, m), in the order of ``joint_names``."""
-        return self._state[k.Q].copy()
-
-    @property
-    def dq(self) -> np.ndarray:
-        """The last commanded velocity (rad/s, m/s)."""
-        return self._state[k.V].copy()
-
-    @property
-    def velocity_limits(self) -> np.ndarray:
-        return self._state[k.VMAX].copy()
-
-    @property
-    def acceleration_limits(self) -> np.ndarray:
-        return self._state[k.AMAX].copy()
 
     def step(self, targets: Mapping[str, object]) -> ServoStep:
         """One tick toward every tip's target (anything a chain's own servo takes); raises
