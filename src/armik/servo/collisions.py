@@ -109,6 +109,12 @@ def rows_for(
     if not asked(obstacles, self_collision):
         return None
     shapes = check_obstacles(obstacles)
+    checker = collision.checker(arm, shapes, self_collision is True)
+    return CollisionRows(checker, margin_of(margin), RATE * dt)
+
+
+def margin_of(margin: object) -> float:
+    """``margin`` (m) as a float in [0, 1); a ``CollisionError`` naming it otherwise."""
     try:
         m = float(margin)  # type: ignore[arg-type]
     except (TypeError, ValueError):
@@ -119,4 +125,4 @@ def rows_for(
             option="margin",
             value=margin,
         )
-    return CollisionRows(collision.checker(arm, shapes, self_collision is True), m, RATE * dt)
+    return m

@@ -26,9 +26,8 @@ import pinocchio as pin
 
 from armik.constraints.collision import arm_geometry
 from armik.constraints.shapes import check_obstacles
-from armik.errors import CollisionError
 from armik.model.arm_model import ArmModel
-from armik.servo.collisions import ACTIVE, RATE, asked
+from armik.servo.collisions import ACTIVE, RATE, asked, margin_of
 from armik.servo.layout import MAX_ROWS
 
 FAR = 1e9  # m: a bounding radius for a shape without one (a half space)
@@ -219,12 +218,5 @@ def union_rows(
     ``CollisionError`` naming a bad option."""
     if not asked(obstacles, self_collision):
         return None
-    try:
-        m = float(margin)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        m = float("nan")
-    if not 0.0 <= m < 1.0:
-        raise CollisionError(
-            f"margin must be a distance in [0, 1) m, got {margin!r}", option="margin", value=margin
-        )
+    m = margin_of(margin)
     return UnionCollisions(arms, cols, n, obstacles, self_collision is True, m, RATE * dt)
