@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
+from armik.checked import configuration
 from armik.errors import ArmikWarning, InputError, JointError, OptionError, listing
 from armik.kernel.chain import KernelChain
 from armik.kernel.coordinates import pin_configuration
@@ -378,25 +379,9 @@ class ArmModel:
         ]
 
     def check_q(self, q: object, name: str = "q") -> np.ndarray:
-        """``q`` as a float array of length ``dof``; raises ``OptionError`` otherwise."""
-        try:
-            if isinstance(q, (str, bytes)) or np.iscomplexobj(q):  # type: ignore[arg-type]
-                raise TypeError  # never drop an imaginary part silently
-            arr = np.asarray(q, dtype=float)
-        except (TypeError, ValueError):
-            raise OptionError(
-                f"{name} must be {self.dof} numbers, got {q!r}", option=name, value=q
-            ) from None
-        if arr.shape != (self.dof,):
-            raise OptionError(
-                f"{name} must have {self.dof} values (one per joint: "
-                f"{', '.join(self.joint_names)}), got shape {arr.shape}",
-                option=name,
-                value=q,
-            )
-        if not np.isfinite(arr).all():
-            raise OptionError(f"{name} must be finite, got {arr.tolist()}", option=name, value=q)
-        return arr
+        """``q`` as a float array of length ``dof``, finite; raises ``OptionError``
+        otherwise (``armik.checked.configuration``)."""
+        return configuration(name, q, self.joint_names)
 
     def seed(self, q0: object | None) -> np.ndarray:
         """Validate a seed configuration; ``None`` gives ``middle``.
