@@ -13,7 +13,7 @@ from armik.kernel import notice
 
 
 def _event(module: str):
-    func = SimpleNamespace(__module__=module)
+    func = SimpleNamespace(__module__=module, __qualname__="first")
     return SimpleNamespace(data={"dispatcher": SimpleNamespace(py_func=func)})
 
 
@@ -27,6 +27,10 @@ def quick(monkeypatch, tmp_path):
     monkeypatch.setenv(notice.ENVIRONMENT, "1")
     monkeypatch.setenv(notice.TIMES_ENVIRONMENT, str(tmp_path / notice.TIMES))
     monkeypatch.setattr(notice, "BURST_GAP", 0.01)
+
+
+def _key(what: str, module: str = "armik.kernel.step") -> str:
+    return notice.record_key(what, f"{module}.first")
 
 
 def _closed(n: notice._Notice) -> None:
@@ -63,7 +67,7 @@ def test_the_duration_said_is_measured_here_once_there_is_one(quick, tmp_path):
     _compile(n)
     assert "(once; about 25 s on a quiet 2-core machine)" in stream.getvalue()
     _closed(n)
-    took = json.loads((tmp_path / notice.TIMES).read_text())["the numeric solvers"]
+    took = json.loads((tmp_path / notice.TIMES).read_text())[_key("the numeric solvers")]
     assert 0.0 <= took < 60.0
     _compile(n)  # a later notice of the part (another cache, an upgrade)
     assert f"(once; it took {took:.0f} s here last time)" in stream.getvalue()
@@ -82,9 +86,9 @@ def test_a_line_open_at_exit_is_measured_to_its_last_compilation(quick, tmp_path
     n = notice._Notice(io.StringIO())
     _compile(n)
     n._close()  # what the exit does when the closing timer has not run
-    took = json.loads((tmp_path / notice.TIMES).read_text())["the numeric solvers"]
+    took = json.loads((tmp_path / notice.TIMES).read_text())[_key("the numeric solvers")]
     assert took >= 0.0
-    assert notice.measured() == {"the numeric solvers": took}
+    assert notice.measured() == {_key("the numeric solvers"): took}
 
 
 def test_a_line_ended_by_another_part_is_measured_too(quick, tmp_path):
@@ -93,5 +97,23 @@ def test_a_line_ended_by_another_part_is_measured_too(quick, tmp_path):
     _compile(n, "armik.solvers.closed_form.planar2r_kernel")
     _compile(n)  # the numeric solvers, before the first line's timer ran
     _closed(n)
-    assert set(notice.measured()) == {"the planar 2-link closed form", "the numeric solvers"}
+    assert set(notice.measured()) == {
+        _key("the planar 2-link closed form", "armik.solvers.closed_form.planar2r_kernel"),
+        _key("the numeric solvers"),
+    }
     assert stream.getvalue().count("armik: compiling") == 2
+
+
+def test_a_burst_that_begins_elsewhere_is_not_told_another_bursts_time(quick, tmp_path):
+    """A part compiled whole once, then only in part (its cache partly filled): the second
+    burst begins at another function, and is not told the first one's time."""
+    stream = io.StringIO()
+    n = notice._Notice(stream)
+    notice.record(_key("the numeric solvers"), 30.0)
+    _compile(n, "armik.kernel.entry")  # another entry of the same part
+    _closed(n)
+    assert "it took 30 s here last time" not in stream.getvalue()
+    assert "about 25 s on a quiet 2-core machine" in stream.getvalue()
+    _compile(n)  # the burst that was measured
+    _closed(n)
+    assert "it took 30 s here last time" in stream.getvalue()

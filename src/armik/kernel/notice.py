@@ -8,10 +8,11 @@ time taken. A call served from the cache says nothing.
 
 numba announces only real compilations ("numba:compile" events, not cache loads); the
 first outermost one of an armik function in a burst names the part. How long it takes is
-measured: each line's time is kept per part in ``compile-seconds.json`` in the user's
-cache directory (``ARMIK_COMPILE_TIMES`` names another file), and the next notice of that
-part on this machine (a new cache, an upgrade) says it; a part never measured here says
-``PARTS``' figure from the project's 2-core machine, as such.
+measured: each line's time is kept in ``compile-seconds.json`` in the user's cache
+directory (``ARMIK_COMPILE_TIMES`` names another file), under its part and the function
+that began it (``record_key``), and the next such notice on this machine (a new cache, an
+upgrade) says it; a burst never measured here says ``PARTS``' figure from the project's
+2-core machine, as such.
 ``ARMIK_COMPILE_NOTICE=0`` in the environment silences the notice. ``armik.compile``
 (``armik compile``) builds every part ahead of time.
 """
@@ -93,20 +94,23 @@ class _Notice(event.Listener):
         dispatcher = ev.data["dispatcher"]
         if isinstance(dispatcher, LiftedCode):
             return  # an objmode block, lifted again in each process at its first run: fast
-        module = getattr(getattr(dispatcher, "py_func", None), "__module__", "") or ""
+        func = getattr(dispatcher, "py_func", None)
+        module = getattr(func, "__module__", "") or ""
         if not module.startswith("armik"):
             return
         what, seconds = part_of(module)
+        key = record_key(what, f"{module}.{getattr(func, '__qualname__', '')}")
         with self.lock:
             if self.closing is not None:
                 self.closing.cancel()
                 self.closing = None
             # the FK check compiles within the solves' bursts: it goes on under their line
             if self.line is not None and what not in (self.line.what, _CHECK):
-                record(self.line.what, self.line.close())
+                record(self.line.key, self.line.close())
                 self.line = None
             if self.line is None:
-                self.line = _Line(what, seconds, self.stream or sys.stderr, measured().get(what))
+                stream = self.stream or sys.stderr
+                self.line = _Line(what, seconds, stream, measured().get(key), key)
 
     def on_end(self, ev: event.Event) -> None:
         self.depth -= 1
@@ -143,7 +147,7 @@ class _Notice(event.Listener):
     def _close(self) -> None:
         with self.lock:
             if self.line is not None:
-                record(self.line.what, self.line.close())
+                record(self.line.key, self.line.close())
                 self.line = None
             self.closing = None
 
@@ -151,8 +155,11 @@ class _Notice(event.Listener):
 class _Line:
     """The notice's line: written at once; on a terminal, redrawn with the seconds so far."""
 
-    def __init__(self, what: str, seconds: float, stream, here: float | None = None) -> None:
+    def __init__(
+        self, what: str, seconds: float, stream, here: float | None = None, key: str = ""
+    ) -> None:
         self.what = what
+        self.key = key or what  # what its time is kept under
         if here is not None:  # measured on this machine
             took = f"it took {here:.0f} s here last time"
         else:
@@ -187,7 +194,15 @@ class _Line:
             pass
 
 
-TIMES = "compile-seconds.json"  # part -> seconds its last notice's line was open
+TIMES = "compile-seconds.json"  # record_key -> seconds its last notice's line was open
+
+
+def record_key(what: str, first: str) -> str:
+    """What a burst's time is kept under: its part and the function that began it. A part
+    compiles more or less of itself as its cache is empty or partly filled (a weighted
+    solve after a plain one compiles only its own entry); a burst that begins at the same
+    function compiles the same functions, so its last time is the one to say."""
+    return f"{what}, from {first}"
 
 
 TIMES_ENVIRONMENT = "ARMIK_COMPILE_TIMES"  # the file, where not the user's cache directory
