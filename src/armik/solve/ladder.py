@@ -45,6 +45,7 @@ from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
 from armik.result import IKResult
 from armik.solve.prefer import turns
+from armik.solve.turning import ANY, Turning
 from armik.solvers.registry import SolverSpec
 from armik.status import Status
 from armik.targets.batch import TargetBatch
@@ -67,19 +68,21 @@ def plan(
     out: BatchResult,
     score=None,
     reference: np.ndarray | None = None,
+    turn: Turning = ANY,
 ) -> None:
     """The least-motion path over ``rungs`` (each waypoint's ``solve_all`` results for
     ``targets``, by ``spec``) from ``q0`` (None: from any turn of any rung of the first
     waypoint), every step taken checked halfway, into ``out``'s rows (the dynamic
     programming in ``armik.kernel.ladder``). With ``score``: the continuous path of the
-    least summed score against ``reference``, the motion breaking ties (``TIE``)."""
+    least summed score against ``reference``, the motion breaking ties (``TIE``). Only the
+    turns ``turn`` allows: no held joint turns, and a turned rung passes the checks."""
     good = [[r for r in rs if r.success] for rs in rungs]
     lower, upper, no_period = arm._limit_lists
-    periodic = ~np.array(no_period, dtype=bool)
-    if score is not None and score.turns_matter:  # each turn a rung of its own, scored
-        good = [[t for r in g for t in _turns(r, turns(arm, np.asarray(r.q)))] for g in good]
-        # the limited joints' turns are rungs now; an unlimited one the dynamic
-        # programming still turns next to the previous rung, its score taken as given
+    periodic = ~np.array(no_period, dtype=bool) & turn.free(arm.dof)
+    if (score is not None and score.turns_matter) or turn.checks:  # each turn a rung
+        good = [[t for r in g for t in _turns(arm, r, turn)] for g in good]
+        # the limited joints' turns are rungs now (scored, checked); an unlimited one the
+        # dynamic programming still turns next to the previous rung, its score as given
         periodic &= ~(np.isfinite(arm.lower) & np.isfinite(arm.upper))
     offs = np.zeros(len(rungs) + 1, dtype=np.int64)
     offs[1:] = np.cumsum([len(g) for g in good])
@@ -147,10 +150,15 @@ def held_to_step(arm: ArmModel, out: BatchResult, start: np.ndarray | None, step
             prev, whence = q, "the previous waypoint's answer"
 
 
-def _turns(r: IKResult, choices: list[list[float]]) -> list[IKResult]:
-    """``r`` at every combination of its joints' ``choices`` (``prefer.turns``: the values
-    2 pi apart within the limits): the same pose, each scored apart."""
-    return [dataclasses.replace(r, q=np.array(c)) for c in itertools.product(*choices)]
+def _turns(arm: ArmModel, r: IKResult, turn: Turning) -> list[IKResult]:
+    """``r`` at every combination of its joints' turns (``prefer.turns``: the values 2 pi
+    apart within the limits) that passes ``turn``'s checks: the same pose, each scored
+    apart (``r`` itself, verified, first)."""
+    Q = np.array(list(itertools.product(*turns(arm, np.asarray(r.q), turn))))
+    if turn.checks:
+        Q = Q[turn.keeps(arm, Q)]
+    Q.flags.writeable = False
+    return [dataclasses.replace(r, q=q) for q in Q]
 
 
 def _checked(

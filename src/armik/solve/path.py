@@ -41,6 +41,7 @@ from armik.solve import ladder, rungs
 from armik.solve.path_score import preferred
 from armik.solve.rungs import unwrapped
 from armik.solve.stages import run
+from armik.solve.turning import ANY, refuse_broken, turning
 from armik.solvers import registry
 from armik.status import Status
 from armik.targets.batch import parse_targets
@@ -83,6 +84,7 @@ def solve_path(
     n = len(batch)
     step = _max_step(arm, max_joint_step)
     q_prev = arm.seed(q0)
+    turn = turning(arm, request.opts, q_prev)  # the turns of an answer its constraints allow
     spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
     request, local = request.but(solver=spec.name), local.but(solver=spec.name)
     out = BatchResult.for_arm(arm, n, spec.name, opts, margin=opts.margin)
@@ -99,7 +101,7 @@ def solve_path(
             every = next(swept, every)
         if every.sweep is not None or every.kind == "numeric":  # rungs about the followed path
             followed = BatchResult.for_arm(arm, n, spec.name, opts, margin=opts.margin)
-            _walk(arm, batch, q_prev, step, request, local, followed, free=q0 is None)
+            _walk(arm, batch, q_prev, step, request, local, followed, None, q0 is None, turn)
             found = (  # a 7R arm: joint 7 sampled; else answers tracked from start and breaks
                 rungs.held(arm, batch, q_prev, followed, request, every)
                 if every.sweep is not None
@@ -110,27 +112,32 @@ def solve_path(
         out = BatchResult.for_arm(arm, n, every.name, opts, margin=opts.margin)
         start = None if q0 is None else q_prev
         # with a preference, the continuous path of the best summed score (ladder.TIE)
-        ladder.plan(arm, every, batch, found, start, step, opts, out, score, q_prev)
+        ladder.plan(arm, every, batch, found, start, step, opts, out, score, q_prev, turn)
+        refuse_broken(arm, out, turn)
         return frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     chooser = None if score is None else _chooser(arm, score, q_prev, request)
-    _walk(arm, batch, q_prev, step, request, local, out, chooser, free=q0 is None)
+    _walk(arm, batch, q_prev, step, request, local, out, chooser, q0 is None, turn)
     ladder.held_to_step(arm, out, None if q0 is None else q_prev, step)
+    refuse_broken(arm, out, turn)
     out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     return out
 
 
-def _walk(arm, batch, q_prev, step, request, local, out, chooser=None, free=False) -> None:
+def _walk(
+    arm, batch, q_prev, step, request, local, out, chooser=None, free=False, turn=ANY
+) -> None:
     """Solve the waypoints in order, each from the previous answer, into ``out``
     (``request``: the path's; ``local``: the same without restarts);
     ``chooser(target, r, q_prev, within)``: the answer kept among those within ``within`` (a
     preference), else ``r``; ``free``: no start given, the first answer (from ``q_prev``,
-    a seed) is held to no step, a preference choosing among every answer there."""
+    a seed) is held to no step, a preference choosing among every answer there; ``turn``:
+    the turns the request allows an answer (``armik.solve.turning``)."""
     for i in range(len(batch)):
         target = batch.target(i)
-        r = unwrapped(arm, _at(arm, request, target, q_prev), q_prev)
+        r = unwrapped(arm, _at(arm, request, target, q_prev), q_prev, turn)
         within = np.full(arm.dof, np.inf) if free and i == 0 else step
         if r.success and _jump(r.q, q_prev, within) > 1.0:
-            r = _near(arm, target, q_prev, step, local, r, first=i == 0)
+            r = _near(arm, target, q_prev, step, local, r, i == 0, turn)
         elif chooser is not None:
             r = chooser(target, r, q_prev, within)
         out.put_result(i, r)
@@ -187,11 +194,12 @@ def _near(
     local: Request,
     jumped: IKResult,
     first: bool,
+    turn=ANY,
 ) -> IKResult:
     """Re-solve ``target`` near ``q_prev``; the answer if within ``step``, else the smallest
     jump found, reported as discontinuous."""
     candidates = [jumped]
-    r = unwrapped(arm, _at(arm, local, target, q_prev), q_prev)
+    r = unwrapped(arm, _at(arm, local, target, q_prev), q_prev, turn)
     if r.success:
         if _jump(r.q, q_prev, step) <= 1.0:
             return r
@@ -202,7 +210,7 @@ def _near(
     while k <= MAX_SUBSTEPS:
         q, ok = q_prev, True
         for pose in _between(T_from, target, k):
-            s = unwrapped(arm, _at(arm, local, pose, q), q)
+            s = unwrapped(arm, _at(arm, local, pose, q), q, turn)
             if not s.success or _jump(s.q, q, step) > 1.0:
                 ok = False
                 break

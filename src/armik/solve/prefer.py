@@ -22,6 +22,7 @@ from armik import reasons
 from armik.model.arm_model import ArmModel
 from armik.problem.scores import Limits, Nearest, Posture, Score
 from armik.result import IKResult
+from armik.solve.turning import ANY, Turning
 from armik.solvers import registry
 from armik.tolerances import LIMIT_TOL
 from armik.verify.verdict import finish
@@ -30,31 +31,35 @@ TWO_PI = 2.0 * math.pi
 MAX_VARIANTS = 256  # per answer: 2 pi shifts of every joint that allows them, combined
 
 
-def turns(arm: ArmModel, q: np.ndarray) -> list[list[float]]:
+def turns(arm: ArmModel, q: np.ndarray, turn: Turning = ANY) -> list[list[float]]:
     """Per joint: its value and the values 2 pi turns away within its limits, on the
-    revolute joints whose limits span more than one turn."""
+    revolute joints whose limits span more than one turn and that ``turn`` lets move."""
     lower, upper, no_period = arm._limit_lists  # no period: prismatic, or a mimic's driver
     choices = []
-    for qi, lo, hi, linear in zip(q.tolist(), lower, upper, no_period):
+    free = turn.free(arm.dof).tolist()
+    for qi, lo, hi, linear, may in zip(q.tolist(), lower, upper, no_period, free):
         values = [qi]
-        if not linear and math.isfinite(lo) and math.isfinite(hi) and hi - lo > TWO_PI:
+        if may and not linear and math.isfinite(lo) and math.isfinite(hi) and hi - lo > TWO_PI:
             k_lo, k_hi = math.ceil((lo - qi) / TWO_PI), math.floor((hi - qi) / TWO_PI)
             values += [qi + k * TWO_PI for k in range(k_lo, k_hi + 1) if k != 0]
         choices.append(values)
     return choices
 
 
-def best_variant(arm: ArmModel, q: np.ndarray, score: Score, q0: np.ndarray) -> np.ndarray:
+def best_variant(
+    arm: ArmModel, q: np.ndarray, score: Score, q0: np.ndarray, turn: Turning = ANY
+) -> np.ndarray:
     """The 2 pi variant of ``q`` within the limits that ``score`` ranks first: ``q`` when
     turns do not change the score, each joint's best turn when it splits by joints, else
-    the best of every combination (at most ``MAX_VARIANTS``, ``q``'s own first)."""
+    the best of every combination (at most ``MAX_VARIANTS``, ``q``'s own first); only
+    turns ``turn`` allows (``q`` itself where the best one fails its checks)."""
     if not score.turns_matter:
         return q
     centre = _turn_centre(arm, score, q0)
     if centre is not None:
-        k = _turns_towards(arm, q, centre)
-        return q + TWO_PI * k if k.any() else q
-    choices = turns(arm, q)
+        k = _turns_towards(arm, q, centre, turn)
+        return turn.kept(arm, q + TWO_PI * k, q) if k.any() else q
+    choices = turns(arm, q, turn)
     if all(len(c) == 1 for c in choices):
         return q
     if score.per_joint(arm, 0, float(q[0]), q0) is not None:  # then a float for each joint
@@ -62,9 +67,12 @@ def best_variant(arm: ArmModel, q: np.ndarray, score: Score, q0: np.ndarray) -> 
         def by_joint(i: int) -> Callable[[float], float]:
             return lambda v: cast(float, score.per_joint(arm, i, v, q0))
 
-        return np.array([min(c, key=by_joint(i)) for i, c in enumerate(choices)])
-    combos = itertools.islice(itertools.product(*choices), MAX_VARIANTS)
-    return min((np.array(c) for c in combos), key=lambda x: score(arm, x, q0))
+        best = np.array([min(c, key=by_joint(i)) for i, c in enumerate(choices)])
+        return turn.kept(arm, best, q)
+    combos = list(itertools.islice(itertools.product(*choices), MAX_VARIANTS))
+    Q = np.array(combos)
+    allowed = Q[turn.keeps(arm, Q)] if turn.checks else Q  # q itself, the first, passes
+    return min((x for x in allowed), key=lambda x: score(arm, x, q0), default=q)
 
 
 def _turn_centre(arm: ArmModel, score: Score, q0: np.ndarray) -> np.ndarray | None:
@@ -81,11 +89,14 @@ def _turn_centre(arm: ArmModel, score: Score, q0: np.ndarray) -> np.ndarray | No
     return None
 
 
-def _turns_towards(arm: ArmModel, Q: np.ndarray, centre: np.ndarray) -> np.ndarray:
+def _turns_towards(
+    arm: ArmModel, Q: np.ndarray, centre: np.ndarray, turn: Turning = ANY
+) -> np.ndarray:
     """For configurations ``Q`` (rows, or one), the whole turns of 2 pi that bring each
     joint ``turns`` lets turn nearest ``centre`` within its limits (0 for the others)."""
     bounded = np.isfinite(arm.lower) & np.isfinite(arm.upper)
     free = bounded & (arm.upper - arm.lower > TWO_PI) & ~np.array(arm._limit_lists[2], bool)
+    free &= turn.free(arm.dof)
     if not free.any():
         return np.zeros_like(Q)
     with np.errstate(invalid="ignore"):  # the unlimited joints' bounds: masked below
@@ -102,12 +113,14 @@ def rank(
     t0: float,
     known: dict | None = None,
     count: int | None = None,
+    turn: Turning = ANY,
 ) -> list[IKResult]:
     """The successes of ``results``, each as its best 2 pi variant, best ``score`` first
     (ties: in the order found), then the failures as they were; each success carries its
     score in ``extra["score"]`` and the score's name in its reason. ``known``: as for
-    ``ordered``; ``count``: the first ``count`` results only (all ranked all the same)."""
-    scored = ordered(arm, results, score, q0, known)
+    ``ordered``; ``count``: the first ``count`` results only (all ranked all the same);
+    ``turn``: the turns the request allows."""
+    scored = ordered(arm, results, score, q0, known, turn)
     elapsed = time.perf_counter() - t0
     n = len(scored)
     ranked = [  # each one's words written on first read, as its own are
@@ -139,13 +152,14 @@ def ordered(
     score: Score,
     q0: np.ndarray,
     known: dict | None = None,
+    turn: Turning = ANY,
 ) -> list[tuple[float, IKResult, np.ndarray]]:
     """(score, result, its best 2 pi variant) for each distinct success of ``results``,
     best first (ties: in the order found). ``known``: scores by answer, read and filled in
     (a search that ranks its answers again with the ones it moved scores each once)."""
     known = {} if known is None else known
     found = [r for r in results if r.success]
-    variants = _variants(arm, found, score, q0)
+    variants = _variants(arm, found, score, q0, turn)
     scored: list[tuple[float, int, IKResult, np.ndarray]] = []
     seen: set[tuple[float, ...]] = set()
     for r, q, row in zip(found, variants, np.round(variants, 9).tolist()):
@@ -160,15 +174,18 @@ def ordered(
     return [(value, r, q) for value, _, r, q in scored]
 
 
-def _variants(arm: ArmModel, found: list[IKResult], score: Score, q0: np.ndarray) -> list:
-    """Each answer's best 2 pi variant (``best_variant``): its own read-only ``q`` where no
-    joint turns, else a new read-only array; for the named per-joint scores at once."""
+def _variants(
+    arm: ArmModel, found: list[IKResult], score: Score, q0: np.ndarray, turn: Turning
+) -> list:
+    """Each answer's best 2 pi variant (``best_variant``, of the turns ``turn`` allows):
+    its own read-only ``q`` where no joint turns, else a new read-only array; for the named
+    per-joint scores at once."""
     qs = [r.q for r in found]
     centre = _turn_centre(arm, score, q0) if score.turns_matter and qs else None
     if centre is None:
         out = []
         for q in qs:
-            v = best_variant(arm, q, score, q0)
+            v = best_variant(arm, q, score, q0, turn)
             if v is not q and np.array_equal(v, q):
                 v = q
             elif v is not q:
@@ -177,7 +194,9 @@ def _variants(arm: ArmModel, found: list[IKResult], score: Score, q0: np.ndarray
             out.append(v)
         return out
     Q = np.array(qs)
-    K = _turns_towards(arm, Q, centre)
+    K = _turns_towards(arm, Q, centre, turn)
+    if turn.checks:  # a turn that fails a check: the answer as verified
+        K[~turn.keeps(arm, Q + TWO_PI * K)] = 0.0
     turned: list = np.any(K, axis=1).tolist()
     if not any(turned):
         return qs
@@ -191,7 +210,9 @@ REFINE_STEPS = 16  # golden-section steps between the best grid value's neighbou
 GOLDEN = 0.6180339887498949
 
 
-def sweep_held(arm: ArmModel, target, q0: np.ndarray, opts, score: Score, t0: float):
+def sweep_held(
+    arm: ArmModel, target, q0: np.ndarray, opts, score: Score, t0: float, turn: Turning = ANY
+):
     """On a 7R arm the ``swept`` closed form applies to: the self-motion searched for the
     score, joint 7 on a grid over its range and then refined by golden section around the
     best value (every branch in closed form at each value, scored at its best 2 pi
@@ -216,7 +237,7 @@ def sweep_held(arm: ArmModel, target, q0: np.ndarray, opts, score: Score, t0: fl
         """The best score over the branches at joint 7 = ``theta`` (inf: none reached)."""
         Q = exact(theta)
         inside = Q[((Q >= lower) & (Q <= upper)).all(axis=1)]
-        scores = [score(arm, best_variant(arm, q, score, q0), q0) for q in inside]
+        scores = [score(arm, best_variant(arm, q, score, q0, turn), q0) for q in inside]
         return min(scores, default=math.inf)
 
     grid = np.linspace(lo, hi, SWEEP_GRID)

@@ -24,6 +24,7 @@ from armik.solve.nullspace import descend
 from armik.solve.prefer import rank, sweep_held
 from armik.solve.stages import narrowed, run
 from armik.solve.task_solve import solve_problem
+from armik.solve.turning import turning
 from armik.solvers import registry
 from armik.solvers.answers import Answers, one, stacked
 from armik.status import Status
@@ -39,12 +40,13 @@ def preferred(arm: ArmModel, req: Request):
     # a full pose (read parsed the target): what the swept search and the descent hold
     pose = problem is None and getattr(target, "rotation", None) is not None and _plain_pose(opts)
     seed = arm.seed(q0)
+    turn = turning(arm, req.opts, seed)  # the turns of an answer its constraints allow
     swept = None
     if pose and solver == "auto":
-        swept = sweep_held(arm, target, seed, opts, score, t0)
+        swept = sweep_held(arm, target, seed, opts, score, t0, turn)
     if swept and any(r.success for r in swept):
         first = run(arm, plain.but(every=False, t0=time.perf_counter()))
-        ranked = rank(arm, [first, *swept], score, seed, t0)
+        ranked = rank(arm, [first, *swept], score, seed, t0, turn=turn)
         return ranked if every else ranked[0]
     budget = opts.iteration_budget
     if budget is None:
@@ -68,12 +70,12 @@ def preferred(arm: ArmModel, req: Request):
         found = [*found, *prefer.near_answers(arm, solve_from, middle, opts, t0)]
     known: dict = {}  # each answer's score, computed once
     if arm.dof > 6 and pose:
-        best = [q for _, _, q in prefer.ordered(arm, found, score, seed, known)]
+        best = [q for _, _, q in prefer.ordered(arm, found, score, seed, known, turn)]
         if best:
             moved = _along_self_motion(arm, target, seed, opts, score, best, found[0].solver, t0)
             found = [*moved, *found]
     count = (opts.max_solutions if searched else None) if every else 1
-    ranked = rank(arm, found, score, seed, t0, known, count)
+    ranked = rank(arm, found, score, seed, t0, known, count, turn)
     return ranked if every else ranked[0]
 
 

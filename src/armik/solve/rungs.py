@@ -22,6 +22,7 @@ from armik.model.arm_model import ArmModel
 from armik.request import Request
 from armik.result import IKResult
 from armik.solve.stages import narrowed, run
+from armik.solve.turning import ANY, Turning, turning
 from armik.targets.pose import Target
 
 HELD_OFFSETS = 0.1 * np.arange(-2, 3)  # rad: joint 7's values about the followed path's
@@ -73,6 +74,7 @@ def tracked(arm: ArmModel, batch, q_start: np.ndarray, solver: str, followed, re
     n = len(batch)
     targets = [plain(batch.target(i)) for i in range(n)]
     local = narrowed(request, max_restarts=0).but(solver=solver)
+    turn = turning(arm, request.opts, q_start)
     rungs: list[list[IKResult]] = [[followed[i]] for i in range(n)]
     ok = np.asarray(followed.success, dtype=bool)
     breaks = [i for i in range(1, n) if not ok[i] and ok[i - 1]][:BREAKS]
@@ -80,14 +82,14 @@ def tracked(arm: ArmModel, batch, q_start: np.ndarray, solver: str, followed, re
         seed = q_start if s == 0 else np.asarray(followed.q[s - 1])
         found = _all(arm, request, targets[s], seed, solver)
         for start in [r for r in found if r.success][:TRACKS]:
-            if not _add(rungs[s], unwrapped(arm, start, seed)):
+            if not _add(rungs[s], unwrapped(arm, start, seed, turn)):
                 continue  # an answer already there: its track is run
             for indices in (range(s + 1, n), range(s - 1, -1, -1)):
-                _track(arm, targets, np.asarray(rungs[s][-1].q), indices, local, rungs)
+                _track(arm, targets, np.asarray(rungs[s][-1].q), indices, local, rungs, turn)
     return rungs
 
 
-def _track(arm, targets, start: np.ndarray, indices, local: Request, rungs) -> None:
+def _track(arm, targets, start: np.ndarray, indices, local: Request, rungs, turn) -> None:
     """Solve the waypoints ``indices`` in turn, each from the track's last answer, adding
     each answer to its waypoint's rungs; a track that reaches an answer already there has
     merged with another, and stops."""
@@ -96,7 +98,7 @@ def _track(arm, targets, start: np.ndarray, indices, local: Request, rungs) -> N
         r = run(arm, local.but(target=targets[i], q0=prev, t0=time.perf_counter()))
         if not r.success:
             continue  # out of reach here: the track goes on from its last answer
-        r = unwrapped(arm, r, prev)
+        r = unwrapped(arm, r, prev, turn)
         if not _add(rungs[i], r):
             return
         prev = np.asarray(r.q)
@@ -119,8 +121,12 @@ def plain(target: Target):
     return H
 
 
-def unwrapped(arm: ArmModel, r: IKResult, q_prev: np.ndarray) -> IKResult:
-    """``r`` with its angles moved by multiples of 2 pi next to ``q_prev`` (within limits);
-    the pose, hence the verification, is unchanged."""
+def unwrapped(arm: ArmModel, r: IKResult, q_prev: np.ndarray, turn: Turning = ANY) -> IKResult:
+    """``r`` with its angles moved by multiples of 2 pi next to ``q_prev`` (within limits;
+    only the turns ``turn`` allows); the pose, hence the verification, is unchanged."""
     q = arm.nearest_equivalent(r.q, q_prev)
+    if turn is not ANY and not np.array_equal(q, r.q):
+        fixed = list(turn.fixed)
+        q[fixed] = np.asarray(r.q)[fixed]
+        q = turn.kept(arm, q, np.asarray(r.q))
     return r if np.array_equal(q, r.q) else dataclasses.replace(r, q=q)

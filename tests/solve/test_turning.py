@@ -1,0 +1,106 @@
+"""A 2 pi turn of an answer keeps the pose but not a joint's value: the preferences, the
+global path and a followed path turn only what the request allows (``solve.turning``): no
+held joint turns, and no turned answer breaks a constraint of the user's own."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.constraints.base import Check, Constraint
+from armik.status import Status
+
+
+class PanNonNegative(Constraint):
+    """The UR5's shoulder pan at 0 or above: a check that reads a joint's value."""
+
+    def check(self, arm, Q):
+        return Check(Q[:, 0] >= 0.0, Status.JOINT_LIMITS, lambda i: f"pan {Q[i, 0]:.3f} < 0")
+
+
+@pytest.fixture(scope="module")
+def ur5():
+    return armik.load("ur5")
+
+
+def _pose(arm, seed):
+    q = arm.random_q(np.random.default_rng(seed))
+    q[0] = abs(q[0]) % np.pi + 0.5  # a pan in (0.5, 3.7): its turn by -2 pi is below 0
+    return q, arm.fk(q)
+
+
+# a preference toward -3 on every joint: without the constraints, the pan turns by -2 pi
+TOWARD = (
+    "nearest",
+    armik.Posture(np.full(6, -3.0)),
+    lambda q: float((q[0] + 3.0) ** 2),
+)
+
+
+@pytest.mark.parametrize("prefer", TOWARD, ids=["nearest", "posture", "callable"])
+def test_a_preference_does_not_turn_a_held_joint(ur5, prefer):
+    q, T = _pose(ur5, 1)
+    q0 = np.full(6, -3.0)
+    for spelled in ({"hold": {"shoulder_pan_joint": float(q[0])}},
+                    {"constraints": [armik.Hold("shoulder_pan_joint", float(q[0]))]}):  # fmt: skip
+        r = ur5.solve(T, q0=q0, prefer=prefer, **spelled)
+        assert r.success
+        assert r.q[0] == pytest.approx(q[0], abs=1e-9)
+
+
+@pytest.mark.parametrize("prefer", TOWARD[1:], ids=["posture", "callable"])
+def test_a_preference_does_not_turn_past_a_users_constraint(ur5, prefer):
+    """From q0 = 0 the closed form's answers keep their pan; the score pulls it to -3."""
+    _, T = _pose(ur5, 1)
+    c = PanNonNegative()
+    q0 = np.zeros(6)
+    r = ur5.solve(T, q0=q0, constraints=[c], prefer=prefer)
+    assert r.success and r.q[0] >= 0.0
+    every = ur5.solve_all(T, q0=q0, constraints=[c], prefer=prefer)
+    assert any(x.success for x in every)
+    assert all(x.q[0] >= 0.0 for x in every if x.success)
+    b = ur5.solve_batch([T, T], q0=q0, constraints=[c], prefer=prefer)
+    assert b.success.all() and (b.q[:, 0] >= 0.0).all()
+
+
+@pytest.mark.parametrize("prefer", TOWARD[1:], ids=["posture", "callable"])
+def test_the_same_preference_turns_where_nothing_forbids_it(ur5, prefer):
+    """The test above could fail: without the constraint, the pan does turn below 0."""
+    _, T = _pose(ur5, 1)
+    r = ur5.solve(T, q0=np.zeros(6), prefer=prefer)
+    assert r.success and r.q[0] < 0.0
+
+
+def _line(arm, seed):
+    _, T = _pose(arm, seed)
+    return [pin.SE3(T.rotation, T.translation + [0.0, 0.01 * k, 0.0]) for k in range(6)]
+
+
+@pytest.mark.parametrize("plan", ["follow", "global"])
+@pytest.mark.parametrize("prefer", [None, TOWARD[1]], ids=["motion", "posture"])
+def test_a_path_does_not_turn_past_a_users_constraint(ur5, plan, prefer):
+    out = ur5.solve_path(
+        _line(ur5, 1), None, constraints=[PanNonNegative()], plan=plan, prefer=prefer
+    )
+    assert out.success.all()
+    assert (out.q[:, 0] >= 0.0).all()
+
+
+def test_a_global_path_turns_where_nothing_forbids_it(ur5):
+    out = ur5.solve_path(_line(ur5, 1), None, plan="global", prefer=TOWARD[1])
+    assert out.success.all() and (out.q[:, 0] < 0.0).all()
+
+
+def test_a_path_row_a_plan_turned_past_a_constraint_is_refused_by_it(ur5):
+    """The last guard: a success whose answer breaks a check becomes that check's failure."""
+    from armik.solve.turning import Turning, refuse_broken
+
+    out = ur5.solve_path(_line(ur5, 1), None, constraints=[PanNonNegative()])
+    assert out.success.all()
+    out.q[2, 0] -= 2 * np.pi
+    refuse_broken(ur5.kinematics, out, Turning(checks=(PanNonNegative(),)))
+    assert not out.success[2] and out.success[[0, 1, 3, 4, 5]].all()
+    assert out.status[2] == Status.JOINT_LIMITS.value
+    assert "pan" in out.reasons[2]
