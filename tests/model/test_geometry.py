@@ -144,3 +144,39 @@ def test_compare_speed_table(capsys):
     assert main(["compare", "--speed", "-n", "5"]) == 0
     out = capsys.readouterr().out
     assert "| ur5 | three_parallel | 5/5 |" in out and "| abb_irb120 | spherical | 5/5 |" in out
+
+
+def _planar_urdf(origin: str, axis: str, along: str) -> str:
+    """A 2-link planar arm: its first joint at ``origin``, both axes along ``axis``, the
+    links along ``along`` (0.4 m, then a 0.3 m tool)."""
+    link1 = " ".join(str(0.4 * float(c)) for c in along.split())
+    tool = " ".join(str(0.3 * float(c)) for c in along.split())
+    limit = '<limit lower="-3" upper="3" effort="1" velocity="1"/>'
+    return f"""<robot name="p"><link name="b"/><link name="l1"/><link name="l2"/><link name="t"/>
+<joint name="a" type="revolute"><parent link="b"/><child link="l1"/><origin xyz="{origin}"/>
+<axis xyz="{axis}"/>{limit}</joint>
+<joint name="c" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="{link1}"/>
+<axis xyz="{axis}"/>{limit}</joint>
+<joint name="f" type="fixed"><parent link="l2"/><child link="t"/><origin xyz="{tool}"/></joint>
+</robot>"""
+
+
+@pytest.mark.parametrize(
+    "origin, axis, along, kept",
+    [
+        ("0.2 0.1 0.3", "0 0 1", "1 0 0", (0, 1)),  # the x-y plane, mounted off the origin
+        ("0.2 0.1 0.3", "0 0 -1", "1 0 0", (0, 1)),  # its axes the other way
+        ("0 0 0.5", "0 1 0", "0 0 1", (0, 2)),  # the x-z plane
+        ("0.1 0 0", "-1 0 0", "0 1 0", (1, 2)),  # the y-z plane
+    ],
+)
+def test_a_planar_arms_2_vector_is_in_the_base_frame(origin, axis, along, kept):
+    """(x, y) on a planar arm are the base frame's two axes across its plane, from the base's
+    origin: the point asked is the point reached, wherever the first joint is mounted."""
+    arm = armik.load(_planar_urdf(origin, axis, along), tip="t")
+    p = arm.fk([0.4, 0.7]).translation
+    r = arm.solve(p[list(kept)])
+    assert r.success
+    reached = arm.fk(r.q).translation
+    assert np.allclose(reached, p, atol=1e-9)
+    assert r.position_error == pytest.approx(np.linalg.norm(reached - p), abs=1e-12)

@@ -29,7 +29,8 @@ if TYPE_CHECKING:
 
 @dataclass(frozen=True)
 class Plane:
-    """Plane of motion, in the arm's base frame (m)."""
+    """Plane of motion, in the arm's base frame (m): ``x`` and ``y`` the base axes across it
+    in their order, from ``origin``, the plane's point nearest the base's origin."""
 
     origin: np.ndarray
     x: np.ndarray
@@ -63,17 +64,21 @@ def find_plane(arm: ArmModel) -> Plane | None:
         revolute = abs(np.linalg.norm(a) - 1.0) <= 1e-9
         if not revolute or np.linalg.norm(np.cross(a, normal)) > PARALLEL_TOL:
             return None
-    signs = np.sign(axes @ normal)
+    # the plane's coordinates are the base frame's two axes across the normal, in their
+    # order ((x, y) for a plane along the base's x-y, (x, z), (y, z)), from the point of
+    # the plane nearest the base's origin: a 2-vector target is in the base frame
     k = int(np.argmax(np.abs(normal)))
-    e = np.eye(3)[(k + 1) % 3]
-    x = e - (e @ normal) * normal
+    i, j = (m for m in range(3) if m != k)
+    x = np.eye(3)[i] - normal[i] * normal
     x /= np.linalg.norm(x)
-    y = np.cross(normal, x)
+    y = np.eye(3)[j] - normal[j] * normal - (np.eye(3)[j] @ x) * x
+    y /= np.linalg.norm(y)
+    normal = np.cross(x, y)  # (x, y, normal) right-handed, whichever way the axes point
+    signs = np.sign(axes @ normal)
     tip = arm.fk_pin(q).translation  # also leaves the joint placements in arm.data
     data = arm.data
     joints = [arm.T_base_world.act(data.oMi[j].translation) for j in range(1, arm.model.njoints)]
-    first = joints[0]
-    origin = first + ((tip - first) @ normal) * normal
+    origin = (tip @ normal) * normal
     plane = Plane(origin, x, y, normal, signs, np.zeros((arm.dof, 2)))
     object.__setattr__(plane, "joint_origins", np.array([plane.to_2d(p) for p in joints]))
     return plane
