@@ -104,3 +104,20 @@ def test_a_path_row_a_plan_turned_past_a_constraint_is_refused_by_it(ur5):
     assert not out.success[2] and out.success[[0, 1, 3, 4, 5]].all()
     assert out.status[2] == Status.JOINT_LIMITS.value
     assert "pan" in out.reasons[2]
+
+
+def test_an_answer_a_check_refuses_stands_at_a_turn_that_passes(ur5):
+    """From q0 = -3 the closed form turns the pan toward q0, below 0: the verdict takes the
+    turn of it that passes the check (the same pose) rather than refuse the pose."""
+    _, T = _pose(ur5, 2)
+    q0 = np.full(6, -3.0)
+    c = PanNonNegative()
+    bare = ur5.solve(T, q0=q0)
+    assert bare.success and bare.q[0] < 0.0  # the test below could fail
+    r = ur5.solve(T, q0=q0, constraints=[c])
+    assert r.success and r.q[0] >= 0.0
+    assert np.allclose(ur5.fk(r.q).homogeneous, T.homogeneous, atol=1e-9)
+    every = [x for x in ur5.solve_all(T, q0=q0, constraints=[c]) if x.success]
+    assert every and all(x.q[0] >= 0.0 for x in every)
+    b = ur5.solve_batch([T, T], q0=q0, constraints=[c])
+    assert b.success.all() and (b.q[:, 0] >= 0.0).all()

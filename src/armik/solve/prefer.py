@@ -10,7 +10,6 @@ reference), in boxes around it that grow to the whole range.
 
 from __future__ import annotations
 
-import itertools
 import math
 import time
 from collections.abc import Callable, Iterator
@@ -20,6 +19,8 @@ import numpy as np
 
 from armik import reasons
 from armik.model.arm_model import ArmModel
+from armik.model.turns import combinations
+from armik.model.turns import turns as model_turns
 from armik.problem.scores import Limits, Nearest, Posture, Score
 from armik.result import IKResult
 from armik.solve.turning import ANY, Turning
@@ -28,22 +29,12 @@ from armik.tolerances import LIMIT_TOL
 from armik.verify.verdict import finish
 
 TWO_PI = 2.0 * math.pi
-MAX_VARIANTS = 256  # per answer: 2 pi shifts of every joint that allows them, combined
 
 
 def turns(arm: ArmModel, q: np.ndarray, turn: Turning = ANY) -> list[list[float]]:
-    """Per joint: its value and the values 2 pi turns away within its limits, on the
-    revolute joints whose limits span more than one turn and that ``turn`` lets move."""
-    lower, upper, no_period = arm._limit_lists  # no period: prismatic, or a mimic's driver
-    choices = []
-    free = turn.free(arm.dof).tolist()
-    for qi, lo, hi, linear, may in zip(q.tolist(), lower, upper, no_period, free):
-        values = [qi]
-        if may and not linear and math.isfinite(lo) and math.isfinite(hi) and hi - lo > TWO_PI:
-            k_lo, k_hi = math.ceil((lo - qi) / TWO_PI), math.floor((hi - qi) / TWO_PI)
-            values += [qi + k * TWO_PI for k in range(k_lo, k_hi + 1) if k != 0]
-        choices.append(values)
-    return choices
+    """Per joint: its value and the values 2 pi turns away within its limits
+    (``armik.model.turns``), on the joints ``turn`` lets move."""
+    return model_turns(arm, q, turn.free(arm.dof))
 
 
 def best_variant(
@@ -51,7 +42,7 @@ def best_variant(
 ) -> np.ndarray:
     """The 2 pi variant of ``q`` within the limits that ``score`` ranks first: ``q`` when
     turns do not change the score, each joint's best turn when it splits by joints, else
-    the best of every combination (at most ``MAX_VARIANTS``, ``q``'s own first); only
+    the best of every combination (at most ``MAX_TURNS``, ``q``'s own first); only
     turns ``turn`` allows (``q`` itself where the best one fails its checks)."""
     if not score.turns_matter:
         return q
@@ -69,8 +60,7 @@ def best_variant(
 
         best = np.array([min(c, key=by_joint(i)) for i, c in enumerate(choices)])
         return turn.kept(arm, best, q)
-    combos = list(itertools.islice(itertools.product(*choices), MAX_VARIANTS))
-    Q = np.array(combos)
+    Q = combinations(choices)
     allowed = Q[turn.keeps(arm, Q)] if turn.checks else Q  # q itself, the first, passes
     return min((x for x in allowed), key=lambda x: score(arm, x, q0), default=q)
 

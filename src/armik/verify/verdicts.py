@@ -17,6 +17,7 @@ import numpy as np
 
 from armik import reasons
 from armik.constraints.base import Check, Constraint
+from armik.model.turns import combinations, turns
 from armik.result import IKResult
 from armik.solvers.answers import Answers, one, stacked
 from armik.status import _BY_CODE, FAILURE_RANK, Status
@@ -96,10 +97,38 @@ class Verdicts:
         return self
 
     def checked(self, arm: ArmModel, constraints: Sequence[Constraint]) -> Verdicts:
-        """These rows with every constraint's check of them applied (``judge``)."""
+        """These rows with every constraint's check of them applied (``judge``). A success
+        a check would refuse stands first at its turn by 2 pi (the same pose, errors and
+        collisions; ``armik.model.turns``) nearest it that passes them all, where one does:
+        a solver's choice of turn (nearest q0) is no reason to refuse the pose."""
+        if constraints:
+            self._turned_to_pass(arm, constraints)
         for c in constraints:
             self.judge(c.check(arm, self.answers.q))
         return self
+
+    def _turned_to_pass(self, arm: ArmModel, constraints: Sequence[Constraint]) -> None:
+        Q = self.answers.q
+        ok = self.success.copy()
+        for c in constraints:
+            ok &= np.asarray(c.check(arm, Q).ok, dtype=bool)
+        refused = np.flatnonzero(self.success & ~ok).tolist()
+        if not refused:
+            return
+        moved = np.array(Q, dtype=float)
+        for i in refused:
+            C = combinations(turns(arm, moved[i]))[1:]  # the row itself is refused
+            if not len(C):
+                continue
+            passes = np.ones(len(C), dtype=bool)
+            for c in constraints:
+                passes &= np.asarray(c.check(arm, C).ok, dtype=bool)
+            if passes.any():
+                shift = np.abs(C[passes] - moved[i]).sum(axis=1)
+                moved[i] = C[passes][int(np.argmin(shift))]
+        if not np.array_equal(moved, Q):
+            moved.flags.writeable = False
+            self.answers = replace(self.answers, q=moved)
 
     def recounted(self, iterations: int, restarts: int) -> Verdicts:
         """These rows with the counts of the whole search that found them; a numeric
