@@ -280,8 +280,10 @@ def solve_tasks(
     table = task_table(arm, tuple([t.shrunk(AIM) for t in tasks]), ids)
     started = time.thread_time()
     used = restarts = 0
-    best, best_errors = q, _measure(arm, tasks, ids, q, opts)
-    best_done = False
+    # the start is measured only where the first descent ends short of every task: a
+    # descent that closes in leaves nothing to compare it with
+    best, best_done = q, False
+    best_errors: list[TaskError] | None = None
     before = math.inf  # the last descent's end error: one still closing in goes on
     while True:
         left = budget.attempt(used)
@@ -290,7 +292,11 @@ def solve_tasks(
         errors = _measure(arm, tasks, ids, q, opts)
         # done: every task holds and every constraint (a collision check only then)
         done = all([e.within for e in errors]) and satisfied(arm, checked, q)
-        if done or (not best_done and _total(errors) < _total(best_errors)):
+        if not done and best_errors is None:
+            best_errors = _measure(arm, tasks, ids, best, opts)  # the start's
+        if done or (
+            not best_done and best_errors is not None and _total(errors) < _total(best_errors)
+        ):
             best, best_errors, best_done = q, errors, done
         if done or budget.spent(started, used) or not budget.may_restart(restarts):
             break
@@ -304,6 +310,7 @@ def solve_tasks(
         before = math.inf
         q = np.clip(arm.random_q(rng) if reseed is None else reseed(rng), *box)
         restarts += 1
+    assert best_errors is not None  # the first pass measured the start or took its end
     moved, secondary = False, score is None and opts.posture is not None
     if secondary:  # the posture followed in the tasks' null space once they hold
         score = Posture(*opts.posture)  # type: ignore[misc]
@@ -377,7 +384,7 @@ def _result(
         reason = reasons.tasks_missed(restarts, iterations, _describe(tasks, errors))
     extra: dict = {"task_errors": errors}
     centres = tuple([t.shrunk(0.0) for t in tasks])
-    if any(c is not t for c, t in zip(centres, tasks)):  # regions: the distances to their centres
+    if any([c is not t for c, t in zip(centres, tasks)]):  # regions: the distances to their centres
         apart = _measure(arm, centres, frame_ids(arm, centres), q, opts)
         extra["measured"] = (max(positions, default=0.0), max(orientations, default=None))
         positions = [e.position for e in apart if e.position is not None]
