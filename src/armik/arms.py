@@ -39,14 +39,14 @@ from armik.problem.tasks import Pose, Position, Relative, Task
 from armik.problem.tasks.base import replaced
 from armik.result import IKResult
 from armik.solutions import Solutions
-from armik.solve.read import check_options
+from armik.solve.read import check_options, read
 from armik.solve.read import options as read_options
-from armik.solve.single import solve_one
+from armik.solve.single import routed, solve_one
 from armik.solve.tasks import solve_tasks
 from armik.solvers.registry import get as get_solver
 from armik.solvers.registry import validate_name
 from armik.status import Status
-from armik.targets.pose import parse_target, parsed
+from armik.targets.pose import Target, parse_target, parsed
 
 UNION_ITERATIONS = 40  # a restart's descent over chains that share joints (_solve_together)
 
@@ -222,13 +222,14 @@ class Arms(ArmsKinematics):
         """Chains sharing joints: one task per tip on ``union``, the task solver. ``solver``
         names the chains' own solver, which gives the descent its starts."""
         options = dict(options)
-        score = self._score(options.pop("prefer", None))
+        prefer = options.pop("prefer", None)
+        score = None if prefer is None else self._score(prefer)
         solver = options.pop("solver", "auto")
         if solver != "auto":
             get_solver(solver)  # an unknown name refused here, not skipped by ``_start``
         tasks = []
         for tip, target in targets.items():
-            tasks += [_on(t, tip, self.tips) for t in _as_tasks(target)]
+            tasks += _as_tasks(target, tip, self.tips)
         opts = read_options(options)
         options["solver"] = solver  # each chain's start (``_start``)
         check_options(opts, "auto", several_tips=True)
@@ -311,7 +312,7 @@ class Arms(ArmsKinematics):
         fixed = np.zeros(self.dof, dtype=bool)
         relative = _relative(targets)
         held = self._holds(options)
-        order = _in_order(targets, relative) or list(targets)
+        order = (_in_order(targets, relative) if relative else None) or list(targets)
         if rng is not None and not relative:
             order = [order[i] for i in rng.permutation(len(order))]
         for tip in order:
@@ -331,13 +332,15 @@ class Arms(ArmsKinematics):
 
     def _parsed(self, tip: str, target: object) -> object:
         """A tip's target parsed, or its tasks as given."""
-        return target if as_problem(target) is not None else parse_target(target, self._chains[tip])
+        if type(target) not in _PLAIN and as_problem(target) is not None:
+            return target
+        return parse_target(target, self._chains[tip])
 
     def _solve_chain(self, tip: str, target: object, q0: np.ndarray, options: dict) -> IKResult:
         """One chain's answer to its target with its own options (``Arm.solve``'s route)."""
         rest = dict(options)
         solver = rest.pop("solver", "auto")
-        return solve_one(self._chains[tip], target, q0, solver, rest)  # type: ignore[no-any-return]
+        return routed(self._chains[tip], read(self._chains[tip], target, q0, solver, rest))  # type: ignore[no-any-return]
 
     def _holds(self, options: dict) -> dict[str, dict]:
         """Each tip's options (``arms_options.per_chain``)."""
@@ -377,15 +380,17 @@ class Arms(ArmsKinematics):
         return relative
 
 
-def _as_tasks(target: object) -> list[Task]:
-    """A tip's target as tasks: as given, or a ``Position`` or ``Pose``."""
-    problem = as_problem(target)
-    if problem is not None:
-        return list(problem.tasks)
-    target = parsed(target)
+def _as_tasks(target: object, tip: str, tips: Sequence[str]) -> list[Task]:
+    """A tip's target as tasks on ``tip``: its tasks as given (``_on``), or a ``Position``
+    or ``Pose`` of that tip."""
+    if type(target) is not Target:  # a parsed target holds no task
+        problem = as_problem(target)
+        if problem is not None:
+            return [_on(t, tip, tips) for t in problem.tasks]
+        target = parsed(target)
     if target.rotation is None:
-        return [Position(target.position)]
-    return [Pose(target)]
+        return [Position(target.position, frame=tip)]
+    return [Pose(target, frame=tip)]
 
 
 def _on(task: Task, tip: str, tips: Sequence[str]) -> Task:
@@ -411,7 +416,7 @@ def _relative(targets: Mapping[str, object]) -> dict[str, list[Relative]]:
     }
 
 
-_PLAIN = (np.ndarray, pin.SE3)  # target types that hold no task: skipped without a look
+_PLAIN = (np.ndarray, pin.SE3, Target)  # target types that hold no task: skipped unread
 
 
 def _in_order(targets: Mapping[str, object], relative: dict) -> list[str] | None:
