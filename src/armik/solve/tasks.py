@@ -32,6 +32,7 @@ from armik.constraints.hold import Hold
 from armik.constraints.limits import JointLimits
 from armik.errors import OptionError, TargetError
 from armik.model.arm_model import ArmModel
+from armik.model.derived import Derived
 from armik.problem.problem import Problem, as_problem, lower
 from armik.problem.scores import Posture, Score
 from armik.problem.settings import SolverSettings
@@ -83,8 +84,22 @@ def check_said_twice(options: dict, said: dict, problem: Problem | None = None) 
 
 def frame_ids(arm: ArmModel, tasks: tuple[Task, ...]) -> tuple[tuple[int, ...], ...]:
     """Each task's frames (``Task.frames``) as indices of the arm's Pinocchio model (None:
-    the tip); an ``armik`` error naming a frame the model does not have."""
-    return tuple([tuple([_frame_id(arm, t, f) for f in t.frames]) for t in tasks])
+    the tip); an ``armik`` error naming a frame the model does not have. Looked up once
+    per arm for the same frames (a loop of solves asks for the same ones)."""
+    names = tuple([tuple(t.frames) for t in tasks])
+    known = arm._derived.get(_IDS)  # read as a dict, not through a call: every solve
+    if known is None:
+        known = _IDS(arm)
+    found = known.get(names)
+    if found is None:
+        found = tuple([tuple([_frame_id(arm, t, f) for f in t.frames]) for t in tasks])
+        if len(known) > 256:
+            known.clear()
+        known[names] = found
+    return found
+
+
+_IDS: Derived[dict] = Derived("frame ids of task frames", lambda _: {})
 
 
 def _frame_id(arm: ArmModel, task: Task, frame: str | None) -> int:
