@@ -19,7 +19,7 @@ import dataclasses
 import math
 import time
 from collections.abc import Mapping, Sequence
-from typing import cast
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 import pinocchio as pin
@@ -47,6 +47,11 @@ from armik.solvers.registry import get as get_solver
 from armik.solvers.registry import validate_name
 from armik.status import Status
 from armik.targets.pose import Target, parse_target, parsed
+
+if TYPE_CHECKING:
+    from armik.constraints.base import Constraint
+    from armik.options import Options
+    from armik.problem.budget import Budget
 
 UNION_ITERATIONS = 40  # a restart's descent over chains that share joints (_solve_together)
 
@@ -89,6 +94,7 @@ class Arms(ArmsKinematics):
         # chains sharing no joint in one model, built for the first coupling task, and
         # the column of each of ``joint_names`` in it
         self._coupled: Union | None = None
+        self._plain: tuple | None = None  # ``_settings`` of a call without options
         self._permutation: np.ndarray | None = None
         index = {n: k for k, n in enumerate(self.joint_names)}
         self._columns = {
@@ -230,14 +236,8 @@ class Arms(ArmsKinematics):
         tasks = []
         for tip, target in targets.items():
             tasks += _as_tasks(target, tip, self.tips)
-        opts = read_options(options)
+        opts, unbound, budget = self._settings(options)
         options["solver"] = solver  # each chain's start (``_start``)
-        check_options(opts, "auto", several_tips=True)
-        if "max_iterations" not in options:
-            # short descents, many restarts: over every chain's joints a descent that has not
-            # closed in after 40 steps seldom does (TALOS's hands: 3 misses in 1200 targets
-            # against 11 with the default 100), and one closing in goes on (solve_tasks)
-            opts = dataclasses.replace(opts, max_iterations=UNION_ITERATIONS)
         seed = self.middle if q0 is None else np.asarray(q0, float)
         start = self._start(targets, seed, options)
         order = self._permutation
@@ -253,8 +253,8 @@ class Arms(ArmsKinematics):
 
         reference = seed if order is None else _scatter(seed, order)  # the score's q0
         # held joints at q0's values (not the start's), a box row of every step
-        constraints = tuple([c.at(cast(ArmModel, union), reference) for c in opts.constraints])
-        problem = Problem(tuple(tasks), constraints, opts.budget)
+        constraints = tuple([c.at(cast(ArmModel, union), reference) for c in unbound])
+        problem = Problem(tuple(tasks), constraints, budget)
         r = solve_tasks(  # the union serves as the arm (what solve_tasks reads of one)
             cast(ArmModel, union), problem, start, opts, t0,
             reseed=reseed, score=score, reference=reference,
@@ -271,6 +271,24 @@ class Arms(ArmsKinematics):
                 failed.append(tip)
         reason = r.reason if not failed else f"tips not within their tasks: {failed}; {r.reason}"
         return dataclasses.replace(r, reason=reason, extra={**r.extra, "errors": errors})
+
+    def _settings(self, options: dict) -> tuple[Options, tuple[Constraint, ...], Budget]:
+        """(settings, their constraints unbound, their budget): the descent's over every
+        chain's joints, ``options`` read and checked, a descent of ``UNION_ITERATIONS``
+        unless they say otherwise; those of a call without options read once and kept."""
+        if not options and self._plain is not None:
+            return self._plain
+        opts = read_options(options)
+        check_options(opts, "auto", several_tips=True)
+        if "max_iterations" not in options:
+            # short descents, many restarts: over every chain's joints a descent that has not
+            # closed in after 40 steps seldom does (TALOS's hands: 3 misses in 1200 targets
+            # against 11 with the default 100), and one closing in goes on (solve_tasks)
+            opts = dataclasses.replace(opts, max_iterations=UNION_ITERATIONS)
+        found = (opts, opts.constraints, opts.budget)
+        if not options:
+            self._plain = found
+        return found
 
     def _score(self, prefer: object) -> Score | None:
         """The score of ``prefer=`` over shared joints (the answer moved along the tasks'
