@@ -42,6 +42,7 @@ from armik.solutions import Solutions
 from armik.solve.read import check_options, read
 from armik.solve.read import options as read_options
 from armik.solve.single import routed, solve_one
+from armik.solve.stages import run
 from armik.solve.tasks import solve_tasks
 from armik.solvers.registry import get as get_solver
 from armik.solvers.registry import validate_name
@@ -358,7 +359,11 @@ class Arms(ArmsKinematics):
         """One chain's answer to its target with its own options (``Arm.solve``'s route)."""
         rest = dict(options)
         solver = rest.pop("solver", "auto")
-        return routed(self._chains[tip], read(self._chains[tip], target, q0, solver, rest))  # type: ignore[no-any-return]
+        arm = self._chains[tip]
+        request = read(arm, target, q0, solver, rest)
+        if request.score is None and request.problem is None:  # the compiled path's stages
+            return run(arm, request)  # type: ignore[no-any-return]
+        return routed(arm, request)  # type: ignore[no-any-return]
 
     def _holds(self, options: dict) -> dict[str, dict]:
         """Each tip's options (``arms_options.per_chain``)."""
