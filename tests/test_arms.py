@@ -12,6 +12,7 @@ import pinocchio as pin
 import pytest
 
 import armik
+from armik.arms import UNION_ITERATIONS
 from armik.constraints.hold import HELD_TOL
 from armik.status import Status
 
@@ -319,3 +320,18 @@ def test_a_flat_list_of_tasks_naming_their_frames_is_the_mapping(cell):
         cell.solve([armik.Pose(T_l)])
     with pytest.raises(armik.TargetError, match="no_such_link"):
         cell.solve([armik.Pose(T_l, frame="no_such_link")])
+
+
+def test_shared_joints_keep_the_settings_of_a_call_without_options_and_read_the_others():
+    """The descent's settings of a call without options are read once and kept with the
+    robot; a call with options reads its own, and the kept ones stay as they were."""
+    robot = talos()
+    q = robot.random_q(np.random.default_rng(5))
+    targets = {tip: robot.fk(q, frame=tip) for tip in robot.tips}
+    assert robot.solve(targets).success
+    kept = robot._plain
+    assert kept is not None and kept[0].max_iterations == UNION_ITERATIONS
+    r = robot.solve(targets, max_iterations=7, iteration_budget=3000)
+    assert r.success, r.reason
+    assert robot._settings({"max_iterations": 7})[0].max_iterations == 7
+    assert robot._plain is kept and robot._settings({}) is kept

@@ -19,7 +19,7 @@ import dataclasses
 import math
 import time
 from collections.abc import Mapping, Sequence
-from typing import cast
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 import pinocchio as pin
@@ -39,14 +39,20 @@ from armik.problem.tasks import Pose, Position, Relative, Task
 from armik.problem.tasks.base import replaced
 from armik.result import IKResult
 from armik.solutions import Solutions
-from armik.solve.read import check_options
+from armik.solve.read import check_options, read
 from armik.solve.read import options as read_options
-from armik.solve.single import solve_one
+from armik.solve.single import routed, solve_one
+from armik.solve.stages import run
 from armik.solve.tasks import solve_tasks
 from armik.solvers.registry import get as get_solver
 from armik.solvers.registry import validate_name
 from armik.status import Status
-from armik.targets.pose import parse_target, parsed
+from armik.targets.pose import Target, parse_target, parsed
+
+if TYPE_CHECKING:
+    from armik.constraints.base import Constraint
+    from armik.options import Options
+    from armik.problem.budget import Budget
 
 UNION_ITERATIONS = 40  # a restart's descent over chains that share joints (_solve_together)
 
@@ -89,6 +95,7 @@ class Arms(ArmsKinematics):
         # chains sharing no joint in one model, built for the first coupling task, and
         # the column of each of ``joint_names`` in it
         self._coupled: Union | None = None
+        self._plain: tuple | None = None  # ``_settings`` of a call without options
         self._permutation: np.ndarray | None = None
         index = {n: k for k, n in enumerate(self.joint_names)}
         self._columns = {
@@ -222,21 +229,16 @@ class Arms(ArmsKinematics):
         """Chains sharing joints: one task per tip on ``union``, the task solver. ``solver``
         names the chains' own solver, which gives the descent its starts."""
         options = dict(options)
-        score = self._score(options.pop("prefer", None))
+        prefer = options.pop("prefer", None)
+        score = None if prefer is None else self._score(prefer)
         solver = options.pop("solver", "auto")
         if solver != "auto":
             get_solver(solver)  # an unknown name refused here, not skipped by ``_start``
         tasks = []
         for tip, target in targets.items():
-            tasks += [_on(t, tip, self.tips) for t in _as_tasks(target)]
-        opts = read_options(options)
+            tasks += _as_tasks(target, tip, self.tips)
+        opts, unbound, budget = self._settings(options)
         options["solver"] = solver  # each chain's start (``_start``)
-        check_options(opts, "auto", several_tips=True)
-        if "max_iterations" not in options:
-            # short descents, many restarts: over every chain's joints a descent that has not
-            # closed in after 40 steps seldom does (TALOS's hands: 3 misses in 1200 targets
-            # against 11 with the default 100), and one closing in goes on (solve_tasks)
-            opts = dataclasses.replace(opts, max_iterations=UNION_ITERATIONS)
         seed = self.middle if q0 is None else np.asarray(q0, float)
         start = self._start(targets, seed, options)
         order = self._permutation
@@ -252,8 +254,8 @@ class Arms(ArmsKinematics):
 
         reference = seed if order is None else _scatter(seed, order)  # the score's q0
         # held joints at q0's values (not the start's), a box row of every step
-        constraints = tuple([c.at(cast(ArmModel, union), reference) for c in opts.constraints])
-        problem = Problem(tuple(tasks), constraints, opts.budget)
+        constraints = tuple([c.at(cast(ArmModel, union), reference) for c in unbound])
+        problem = Problem(tuple(tasks), constraints, budget)
         r = solve_tasks(  # the union serves as the arm (what solve_tasks reads of one)
             cast(ArmModel, union), problem, start, opts, t0,
             reseed=reseed, score=score, reference=reference,
@@ -270,6 +272,24 @@ class Arms(ArmsKinematics):
                 failed.append(tip)
         reason = r.reason if not failed else f"tips not within their tasks: {failed}; {r.reason}"
         return dataclasses.replace(r, reason=reason, extra={**r.extra, "errors": errors})
+
+    def _settings(self, options: dict) -> tuple[Options, tuple[Constraint, ...], Budget]:
+        """(settings, their constraints unbound, their budget): the descent's over every
+        chain's joints, ``options`` read and checked, a descent of ``UNION_ITERATIONS``
+        unless they say otherwise; those of a call without options read once and kept."""
+        if not options and self._plain is not None:
+            return self._plain
+        opts = read_options(options)
+        check_options(opts, "auto", several_tips=True)
+        if "max_iterations" not in options:
+            # short descents, many restarts: over every chain's joints a descent that has not
+            # closed in after 40 steps seldom does (TALOS's hands: 3 misses in 1200 targets
+            # against 11 with the default 100), and one closing in goes on (solve_tasks)
+            opts = dataclasses.replace(opts, max_iterations=UNION_ITERATIONS)
+        found = (opts, opts.constraints, opts.budget)
+        if not options:
+            self._plain = found
+        return found
 
     def _score(self, prefer: object) -> Score | None:
         """The score of ``prefer=`` over shared joints (the answer moved along the tasks'
@@ -311,7 +331,7 @@ class Arms(ArmsKinematics):
         fixed = np.zeros(self.dof, dtype=bool)
         relative = _relative(targets)
         held = self._holds(options)
-        order = _in_order(targets, relative) or list(targets)
+        order = (_in_order(targets, relative) if relative else None) or list(targets)
         if rng is not None and not relative:
             order = [order[i] for i in rng.permutation(len(order))]
         for tip in order:
@@ -331,13 +351,19 @@ class Arms(ArmsKinematics):
 
     def _parsed(self, tip: str, target: object) -> object:
         """A tip's target parsed, or its tasks as given."""
-        return target if as_problem(target) is not None else parse_target(target, self._chains[tip])
+        if type(target) not in _PLAIN and as_problem(target) is not None:
+            return target
+        return parse_target(target, self._chains[tip])
 
     def _solve_chain(self, tip: str, target: object, q0: np.ndarray, options: dict) -> IKResult:
         """One chain's answer to its target with its own options (``Arm.solve``'s route)."""
         rest = dict(options)
         solver = rest.pop("solver", "auto")
-        return solve_one(self._chains[tip], target, q0, solver, rest)  # type: ignore[no-any-return]
+        arm = self._chains[tip]
+        request = read(arm, target, q0, solver, rest)
+        if request.score is None and request.problem is None:  # the compiled path's stages
+            return run(arm, request)  # type: ignore[no-any-return]
+        return routed(arm, request)  # type: ignore[no-any-return]
 
     def _holds(self, options: dict) -> dict[str, dict]:
         """Each tip's options (``arms_options.per_chain``)."""
@@ -377,15 +403,17 @@ class Arms(ArmsKinematics):
         return relative
 
 
-def _as_tasks(target: object) -> list[Task]:
-    """A tip's target as tasks: as given, or a ``Position`` or ``Pose``."""
-    problem = as_problem(target)
-    if problem is not None:
-        return list(problem.tasks)
-    target = parsed(target)
+def _as_tasks(target: object, tip: str, tips: Sequence[str]) -> list[Task]:
+    """A tip's target as tasks on ``tip``: its tasks as given (``_on``), or a ``Position``
+    or ``Pose`` of that tip."""
+    if type(target) is not Target:  # a parsed target holds no task
+        problem = as_problem(target)
+        if problem is not None:
+            return [_on(t, tip, tips) for t in problem.tasks]
+        target = parsed(target)
     if target.rotation is None:
-        return [Position(target.position)]
-    return [Pose(target)]
+        return [Position(target.position, frame=tip)]
+    return [Pose(target, frame=tip)]
 
 
 def _on(task: Task, tip: str, tips: Sequence[str]) -> Task:
@@ -411,7 +439,7 @@ def _relative(targets: Mapping[str, object]) -> dict[str, list[Relative]]:
     }
 
 
-_PLAIN = (np.ndarray, pin.SE3)  # target types that hold no task: skipped without a look
+_PLAIN = (np.ndarray, pin.SE3, Target)  # target types that hold no task: skipped unread
 
 
 def _in_order(targets: Mapping[str, object], relative: dict) -> list[str] | None:

@@ -72,6 +72,8 @@ def with_unreachable(
 
 def _parsed(value: object) -> Target | None:
     """``value`` as a ``Target`` where it is one pose or position, else None."""
+    if type(value) is Target:  # parsed by the facade (``Arms.solve``)
+        return value
     if isinstance(value, Task) or (
         isinstance(value, list | tuple) and any(isinstance(v, Task) for v in value)
     ):

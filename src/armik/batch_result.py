@@ -19,6 +19,7 @@ if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
 
 _WORDS = np.array([s.value for s in Status])
+_NOT_CONVERGED = Status.NOT_CONVERGED.code  # the failure state rows start in (``empty``)
 FORMAT = "armik.BatchResult/1"
 
 
@@ -340,7 +341,7 @@ class BatchResult:
         return cls(
             q=np.zeros((n, dof)),
             success=np.zeros(n, dtype=bool),
-            status_code=np.full(n, Status.NOT_CONVERGED.code, dtype=np.int8),
+            status_code=np.full(n, _NOT_CONVERGED, dtype=np.int8),
             position_error=np.full(n, np.nan),
             orientation_error=np.full(n, np.nan),
             iterations=np.zeros(n, dtype=np.int32),

@@ -12,7 +12,7 @@ import pytest
 import armik
 from armik.options import Options
 from armik.problem.problem import Problem, as_problem, lower, tightened
-from armik.solve.tasks import solve_tasks
+from armik.solve.tasks import frame_ids, solve_tasks
 from armik.status import Status
 
 from .. import conftest
@@ -233,3 +233,16 @@ def test_a_preference_scores_a_task_list_without_a_compiled_form():
     r = ur5.solve([armik.Position(p, frame="forearm_link")], prefer="manipulability")
     assert r.success and r.solver == "tasks" and "score" in r.extra
     np.testing.assert_allclose(ur5.fk(r.q, frame="forearm_link").translation, p, atol=1e-6)
+
+
+def test_frame_ids_are_looked_up_once_per_arm_and_an_unknown_frame_is_still_named():
+    """The same tasks' frames give the same ids, kept with the arm; a task on a frame the
+    model does not have is refused by name whatever was kept before."""
+    km = conftest.arm("panda").kinematics
+    T = km.fk(km.middle)
+    tasks = (armik.Pose(T), armik.Position(T.translation, frame="panda_link4"))
+    ids = frame_ids(km, tasks)
+    assert ids == ((km.tip_frame_id,), (km.model.getFrameId("panda_link4"),))
+    assert frame_ids(km, (armik.Pose(T), armik.Position((0, 0, 1), frame="panda_link4"))) is ids
+    with pytest.raises(armik.TargetError, match="Position asks for frame 'nope'"):
+        frame_ids(km, (armik.Pose(T), armik.Position(T.translation, frame="nope")))

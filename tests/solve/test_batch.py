@@ -324,3 +324,25 @@ def test_a_slice_keeps_the_batch_s_margin_and_region():
     for part in (r[1:], r[np.array([False, True, True, False])]):
         assert part.margin == 0.02 and part.region
         assert part.reason(0) == r.reason(1) and "0.02" in part.reason(0)
+
+
+def test_nothing_is_called_to_report_where_nothing_is_reported():
+    """``progress.reporter``: None where nothing is reported (False, or None with stderr not
+    on a terminal), a reporter otherwise; a batch reports to the caller's callable on every
+    route and to nothing without one."""
+    from armik.solve.progress import reporter
+
+    assert reporter(False, 3, "x") is None
+    assert reporter(None, 3, "x") is None  # stderr is not a terminal here
+    seen: list = []
+    reporter(lambda d, t: seen.append((d, t)), 3, "x")(1, 3)
+    assert seen == [(1, 3)]
+    a = arm("ur5")
+    poses = _poses(a, 4, seed=2)
+    for workers in (1, 2):
+        seen.clear()
+        r = a.solve_batch(
+            poses, workers=workers, chunk_size=2, progress=lambda d, t: seen.append(d)
+        )
+        assert r.success.all() and seen == [2, 4]
+        assert a.solve_batch(poses, workers=workers, chunk_size=2, progress=False).success.all()

@@ -71,4 +71,7 @@ class Constraint(ABC):
 def satisfied(arm: ArmModel, constraints: tuple[Constraint, ...], q: np.ndarray) -> bool:
     """Whether ``q`` satisfies every constraint."""
     Q = q.reshape(1, -1)
-    return all(bool(c.check(arm, Q).ok[0]) for c in constraints)
+    for c in constraints:  # the first broken one ends it
+        if not c.check(arm, Q).ok[0]:
+            return False
+    return True

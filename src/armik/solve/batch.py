@@ -44,13 +44,14 @@ from armik.frozen import frozen
 from armik.options import Options
 from armik.request import Request, with_seed
 from armik.solve import backends, forked
-from armik.solve.progress import ProgressArg, make_progress
+from armik.solve.progress import ProgressArg, make_progress, reporter
 from armik.solve.single import routed
 from armik.solve.stages import going_on, run
 from armik.solve.tasks import SOLVER
 from armik.solvers import registry
 from armik.status import Status
 from armik.targets.batch import TargetBatch, parse_targets
+from armik.targets.pose import Target
 from armik.verify.verdict import verdict_batch
 from armik.verify.verdicts import Verdicts
 
@@ -61,6 +62,8 @@ if TYPE_CHECKING:
 DEFAULT_CHUNK = 256  # targets per chunk: small enough to balance threads, large enough
 #                      that the per-chunk overhead (a few Python calls) does not show
 _CONVERGED = Status.CONVERGED.code
+# a target of each kind (True: a position), what the registry's choice for a batch reads
+_KIND = {True: Target(np.zeros(3)), False: Target(np.zeros(3), np.eye(3))}
 _COLLISION = Status.COLLISION.code
 
 
@@ -103,7 +106,7 @@ def solve_batch(
             )
         label = SOLVER if request.score is None else f"{solver}, prefer"
         return _each(arm, request, progress, t0, label)
-    opts = request.settings
+    opts = with_seed(request.opts, request.seed)  # seeded once: every chunk reads these
     if opts.hold is not None:
         raise OptionError(
             "hold= is for solve and solve_all; for many targets with a joint held, solve "
@@ -119,23 +122,25 @@ def solve_batch(
             value=opts.swivel,
         )
     batch = parse_targets(targets, arm)
-    n = len(batch)
+    n = len(batch.positions)
     seeds = batch_seeds(arm, q0, n)
-    spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
+    # applicability reads a target for its kind only (a position or a pose): a sample
+    spec = registry.choose(solver, arm, _KIND[batch.rotations is None] if n else None, opts)
     request = request.but(solver=spec.name)
     workers = _workers(workers, spec)
     chunk = _chunk_size(chunk_size)
     claim = reasons.CONVERGED if spec.kind == "numeric" else ""  # a success's, as solve's
     out = BatchResult.for_arm(arm, n, spec.name, opts, claim, opts.margin)
-    if opts.collisions:  # the pairs in the checker's order, whatever order rows finish in
+    collisions = opts.obstacles or opts.self_collision  # ``opts.collisions``, from its fields
+    if collisions:  # the pairs in the checker's order, whatever order rows finish in
         out.pair_names.extend(checker(arm, opts.obstacles, opts.self_collision).pair_names)
-    bar = make_progress(progress, n, f"{arm.name}/{spec.name}")
+    bar = reporter(progress, n, f"{arm.name}/{spec.name}")  # None: nothing reported
     starts = range(0, n, chunk)
 
     def job(start: int, stop: int | None = None) -> int:
         stop = min(start + chunk, n) if stop is None else stop
         part = batch if start == 0 and stop == n else batch[start:stop]
-        solve_chunk(arm, spec, part, seeds[start:stop], request, out, start)
+        solve_chunk(arm, spec, part, seeds[start:stop], request, opts, out, start)
         return stop - start
 
     done = 0
@@ -144,12 +149,14 @@ def solve_batch(
             Chunk(arm, spec.name, batch[s : s + chunk], seeds[s : s + chunk], request, s)
             for s in starts
         ]
-        _on_backend(run_jobs, jobs, workers, out, bar)
+        _on_backend(run_jobs, jobs, workers, out, _or_quiet(bar))
     elif workers == 1 or len(starts) <= 1:
         for start in starts:
             done += job(start)
-            bar(done, n)
+            if bar is not None:
+                bar(done, n)
     elif _holds_gil(spec, opts) and forked.usable():
+        bar = _or_quiet(bar)
         # the first few here, before any fork: what they compile or load is compiled or
         # loaded once, and their time says whether the rest is worth a fork
         first = min(_BEFORE_FORK, n)
@@ -163,10 +170,16 @@ def solve_batch(
         else:
             _on_threads(job, range(first, n, chunk), workers, n, done, bar)
     else:
-        _on_threads(job, starts, workers, n, done, bar)
-    bar.close()
-    out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
+        _on_threads(job, starts, workers, n, done, _or_quiet(bar))
+    if bar is not None:
+        bar.close()
+    object.__setattr__(out, "time", time.perf_counter() - t0)  # the result is ours until returned
     return out
+
+
+def _or_quiet(bar):
+    """``bar``, or a reporter that reports nothing for None (``progress.reporter``)."""
+    return make_progress(False, 0, "") if bar is None else bar
 
 
 class Chunk(NamedTuple):
@@ -186,7 +199,7 @@ class Chunk(NamedTuple):
         spec = registry.get(self.solver)
         opts = self.request.settings
         out = BatchResult.for_arm(self.arm, len(self.targets), spec.name, opts, margin=opts.margin)
-        solve_chunk(self.arm, spec, self.targets, self.seeds, self.request, out, 0)
+        solve_chunk(self.arm, spec, self.targets, self.seeds, self.request, opts, out, 0)
         return out
 
 
@@ -288,17 +301,18 @@ def solve_chunk(
     targets: TargetBatch,
     seeds: np.ndarray,
     request: Request,
+    opts: Options,
     out: BatchResult,
     start: int,
 ) -> None:
     """Solve and verify one chunk, writing rows ``start:start + len(targets)`` of ``out``;
-    ``request``: the batch's, the solver ``spec``'s, a row's solve its copy."""
+    ``request``: the batch's, the solver ``spec``'s, a row's solve its copy; ``opts``: its
+    settings with its seed (``Request.settings``)."""
     if spec.run_batch is None:
         for i in range(len(targets)):
             r = _row(arm, request, targets.target(i), seeds[i])
             out.put_result(start + i, r)
         return
-    opts = with_seed(request.opts, request.seed)
     collisions = opts.obstacles or opts.self_collision  # ``opts.collisions``, inline
     # C-ordered and writable, as the compiled entries are compiled for (a broadcast or a
     # read-only seed would compile them again)

@@ -55,12 +55,19 @@ class _Callback:
 def make_progress(progress: ProgressArg, total: int, label: str):
     """A progress reporter ``(done, total)`` with ``close()``: a bar (True, or None with
     stderr on a terminal), the caller's callable, or nothing."""
+    found = reporter(progress, total, label)
+    return _Callback(None) if found is None else found
+
+
+def reporter(progress: ProgressArg, total: int, label: str) -> Progress | _Callback | None:
+    """``make_progress``'s reporter, or None where nothing is reported (False, or None with
+    stderr not on a terminal): a caller that checks for None calls nothing per step."""
     if progress is None:
         progress = sys.stderr.isatty()
     if progress is True:
         return Progress(label, total)
     if progress is False:
-        return _Callback(None)
+        return None
     if callable(progress):
         return _Callback(progress)
     raise OptionError(

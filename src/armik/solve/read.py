@@ -90,7 +90,8 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
         options = spelled(options)
     rows: list | None = None
     ranked = False  # each row's answers ranked by a preference
-    problems = task_problems(targets)
+    # an array holds poses or positions: tasks come as a list or a tuple
+    problems = task_problems(targets) if type(targets) in (list, tuple) else None
     if problems is not None:
         lowered = lower_all(problems, options, arm.tip)
         if lowered is None:  # no compiled form: the task solver, target by target
@@ -100,8 +101,11 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     if rows is None and options.get("prefer") is not None:  # each target's answers ranked
         batch = parse_targets(targets, arm)
         rows, ranked = [batch.target(i) for i in range(len(batch))], True
-    plain = {k: v for k, v in options.items() if k != "prefer"}
-    opts, key, seed = settings(arm, plain)
+    plain = options
+    if "prefer" in options:  # the rows' score, not a setting
+        plain = dict(options)
+        del plain["prefer"]
+    opts, key, seed = settings(arm, plain) if plain else (_DEFAULT, (), 0)
     if rows is None:
         return Request(targets, q0, solver, opts, key, seed, False, t0)
     each = tuple(read(arm, row, None, solver, options) for row in rows)

@@ -32,6 +32,7 @@ from armik.constraints.hold import Hold
 from armik.constraints.limits import JointLimits
 from armik.errors import OptionError, TargetError
 from armik.model.arm_model import ArmModel
+from armik.model.derived import Derived
 from armik.problem.problem import Problem, as_problem, lower
 from armik.problem.scores import Posture, Score
 from armik.problem.settings import SolverSettings
@@ -83,8 +84,22 @@ def check_said_twice(options: dict, said: dict, problem: Problem | None = None) 
 
 def frame_ids(arm: ArmModel, tasks: tuple[Task, ...]) -> tuple[tuple[int, ...], ...]:
     """Each task's frames (``Task.frames``) as indices of the arm's Pinocchio model (None:
-    the tip); an ``armik`` error naming a frame the model does not have."""
-    return tuple([tuple([_frame_id(arm, t, f) for f in t.frames]) for t in tasks])
+    the tip); an ``armik`` error naming a frame the model does not have. Looked up once
+    per arm for the same frames (a loop of solves asks for the same ones)."""
+    names = tuple([tuple(t.frames) for t in tasks])
+    known = arm._derived.get(_IDS)  # read as a dict, not through a call: every solve
+    if known is None:
+        known = _IDS(arm)
+    found = known.get(names)
+    if found is None:
+        found = tuple([tuple([_frame_id(arm, t, f) for f in t.frames]) for t in tasks])
+        if len(known) > 256:
+            known.clear()
+        known[names] = found
+    return found
+
+
+_IDS: Derived[dict] = Derived("frame ids of task frames", lambda _: {})
 
 
 def _frame_id(arm: ArmModel, task: Task, frame: str | None) -> int:
@@ -280,8 +295,10 @@ def solve_tasks(
     table = task_table(arm, tuple([t.shrunk(AIM) for t in tasks]), ids)
     started = time.thread_time()
     used = restarts = 0
-    best, best_errors = q, _measure(arm, tasks, ids, q, opts)
-    best_done = False
+    # the start is measured only where the first descent ends short of every task: a
+    # descent that closes in leaves nothing to compare it with
+    best, best_done = q, False
+    best_errors: list[TaskError] | None = None
     before = math.inf  # the last descent's end error: one still closing in goes on
     while True:
         left = budget.attempt(used)
@@ -290,7 +307,11 @@ def solve_tasks(
         errors = _measure(arm, tasks, ids, q, opts)
         # done: every task holds and every constraint (a collision check only then)
         done = all([e.within for e in errors]) and satisfied(arm, checked, q)
-        if done or (not best_done and _total(errors) < _total(best_errors)):
+        if not done and best_errors is None:
+            best_errors = _measure(arm, tasks, ids, best, opts)  # the start's
+        if done or (
+            not best_done and best_errors is not None and _total(errors) < _total(best_errors)
+        ):
             best, best_errors, best_done = q, errors, done
         if done or budget.spent(started, used) or not budget.may_restart(restarts):
             break
@@ -304,6 +325,7 @@ def solve_tasks(
         before = math.inf
         q = np.clip(arm.random_q(rng) if reseed is None else reseed(rng), *box)
         restarts += 1
+    assert best_errors is not None  # the first pass measured the start or took its end
     moved, secondary = False, score is None and opts.posture is not None
     if secondary:  # the posture followed in the tasks' null space once they hold
         score = Posture(*opts.posture)  # type: ignore[misc]
@@ -377,7 +399,7 @@ def _result(
         reason = reasons.tasks_missed(restarts, iterations, _describe(tasks, errors))
     extra: dict = {"task_errors": errors}
     centres = tuple([t.shrunk(0.0) for t in tasks])
-    if any(c is not t for c, t in zip(centres, tasks)):  # regions: the distances to their centres
+    if any([c is not t for c, t in zip(centres, tasks)]):  # regions: the distances to their centres
         apart = _measure(arm, centres, frame_ids(arm, centres), q, opts)
         extra["measured"] = (max(positions, default=0.0), max(orientations, default=None))
         positions = [e.position for e in apart if e.position is not None]

@@ -198,7 +198,7 @@ def _rotations(R: np.ndarray) -> np.ndarray:
 
 def _orthonormality_error(R: np.ndarray) -> np.ndarray:
     """max |R^T R - I| per matrix, from the six distinct dot products of the columns."""
-    c = [R[:, :, j] for j in range(3)]
+    c = (R[:, :, 0], R[:, :, 1], R[:, :, 2])
     err = np.zeros(len(R))
     for i in range(3):
         for j in range(i, 3):

@@ -68,11 +68,6 @@ class Measure:
         return reasons.outside_region(text) if self.region else text
 
 
-def _measures(opts: SolverSettings, position_only: bool) -> tuple[np.ndarray, bool, bool]:
-    """(weights, weighted, orientation measured) for a target kind."""
-    return measures_of(opts.weights, opts.position_only, position_only)
-
-
 @lru_cache(maxsize=256)
 def measures_of(weights, position_only_option: bool, position_only_target: bool):
     """(weights (6,), weighted, orientation measured): what the check measures for these
@@ -149,7 +144,9 @@ def measure_many(
     n = len(qs)
     if opts.region:
         return _region_many(arm, qs, target, opts)
-    w, weighted, measure_rot = _measures(opts, target.rotation is None)
+    w, weighted, measure_rot = measures_of(
+        opts.weights, opts.position_only, target.rotation is None
+    )
     Q = np.array(qs, dtype=float).reshape(n, arm.dof)  # C-ordered and writable
     H = np.eye(4)
     if target.rotation is not None:
@@ -181,7 +178,7 @@ def _region_many(arm: ArmModel, qs: list[np.ndarray], target: Target, opts: Solv
     R_t[:] = _EYE if target.rotation is None else target.rotation
     p_t = np.empty((n, 3))
     p_t[:] = target.position
-    out, measure_rot = _errors(arm, R_w, p_w, R_t, p_t, opts, target.rotation is None)
+    out, measure_rot = _errors(arm, R_w, p_w, R_t, p_t, opts, target.rotation is None, True)
     within = np.array([arm._within(q.tolist()) for q in qs], dtype=np.bool_)
     return BatchMeasure(
         out[:, 0],
@@ -259,13 +256,22 @@ def _placements(arm: ArmModel, rows, placed: list[bool]) -> tuple[np.ndarray, np
     return np.ascontiguousarray(H_w[:, :3, :3]), np.ascontiguousarray(H_w[:, :3, 3])
 
 
-def _errors(arm: ArmModel, R_w, p_w, R_t, p_t, opts: SolverSettings, position_only_target: bool):
+def _errors(
+    arm: ArmModel,
+    R_w,
+    p_w,
+    R_t,
+    p_t,
+    opts: SolverSettings,
+    position_only_target: bool,
+    region: bool,
+):
     """(errors (N, 2), orientation measured): each placement's position and orientation
     errors against its target (rotations ``R_t``, positions ``p_t``, C-ordered float64),
-    the distances outside the region where ``opts`` gives one; NaN where the orientation
-    is not measured."""
-    w, weighted, measure_rot = _measures(opts, position_only_target)
-    if opts.region:
+    the distances outside the region where ``opts`` gives one (``region``: whether they
+    do, ``opts.region``); NaN where the orientation is not measured."""
+    w, weighted, measure_rot = measures_of(opts.weights, opts.position_only, position_only_target)
+    if region:
         out = region_errors(
             arm.T_base_world,
             R_w,
@@ -295,7 +301,7 @@ def measure_batch(
     non-finite value fails (NaN errors, outside the limits). For the violated joints of a row
     by name, call ``arm.limit_violations(Q[i])``."""
     Q = np.array(Q, dtype=float)  # a C-ordered, writable copy (what the kernel is built for)
-    n = len(targets)
+    n = len(targets.positions)
     if Q.shape != (n, arm.dof):
         raise ValueError(f"Q must have shape ({n}, {arm.dof}), got {Q.shape}")
     finite = np.isfinite(Q).all(axis=1)  # a non-finite row: NaN placements and errors
@@ -308,10 +314,11 @@ def measure_batch(
         R_t = np.broadcast_to(_EYE, (n, 3, 3))
     R_t = np.array(R_t, dtype=float, order="C")
     p_t = np.array(targets.positions, dtype=float, order="C")
-    out, rotation = _errors(arm, R_w, p_w, R_t, p_t, opts, targets.position_only)
+    region = opts.region
+    out, rotation = _errors(arm, R_w, p_w, R_t, p_t, opts, targets.rotations is None, region)
     ch = arm.kernel_chain.chain
     inside = np.empty(n, dtype=np.bool_)
     within_limits(Q, ch.lower, ch.upper, LIMIT_TOL, inside)
     return BatchMeasure(
-        out[:, 0], out[:, 1], inside, opts.tol_position, opts.tol_orientation, rotation, opts.region
+        out[:, 0], out[:, 1], inside, opts.tol_position, opts.tol_orientation, rotation, region
     )

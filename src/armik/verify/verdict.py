@@ -106,14 +106,15 @@ def decide(
     where the measure holds. A failure's words are the solver's where it gave some, else
     written from its claim (``positions``: the targets', naming an unreachable one's
     distance)."""
-    n = len(answers)
     claim = answers.claim
+    n = len(claim)
     ok = m.ok
     if n <= _FEW:  # a solve's answers: the rule row by row costs less than array calls
-        claims = claim.tolist()
-        rows = zip(claims, ok.tolist(), m.within_limits.tolist())
-        codes = [_RULE[c == _CONVERGED][o][w] for c, o, w in rows]
-        status = np.array([c if d < 0 else d for c, d in zip(claims, codes)], dtype=np.int8)
+        codes = []
+        for c, o, w in zip(claim.tolist(), ok.tolist(), m.within_limits.tolist()):
+            d = _RULE[c == _CONVERGED][o][w]
+            codes.append(c if d < 0 else d)  # no rule: the claim stands
+        status = np.array(codes, dtype=np.int8)
     else:
         status = status_codes(claim, ok, m.within_limits)
     out = Verdicts(
@@ -363,7 +364,7 @@ def verdict_batch(
     with each of ``constraints`` checked over the verified answers (a collision check's
     distance and pair kept), written into rows ``start:start + len(targets)`` of ``out``
     (a success's words are written when read); returns the chunk's successes."""
-    stop = start + len(targets)
+    stop = start + len(answers.q)
     q = out.q[start:stop]
     q[:] = answers.q
     m = measure_batch(arm, q, targets, opts)
@@ -375,7 +376,7 @@ def verdict_batch(
         found.judge(c.check(arm, q[rows]), rows.tolist())
     out.iterations[start:stop] = answers.iterations
     out.restarts[start:stop] = answers.restarts
-    if opts.weights is not None or opts.region:  # measured apart: the distances beside
+    if opts.weights is not None or m.region:  # measured apart: the distances beside
         measured = out._measured[start:stop]
         measured[:, 0], measured[:, 1] = found.position_error, found.orientation_error
         position, orientation = batch_distances(arm, q, targets, opts)

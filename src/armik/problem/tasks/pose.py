@@ -80,6 +80,8 @@ class Pose(Task):
         return TaskError(pos, ori, pos <= tol_position and ori <= tol_orientation)
 
     def shrunk(self, factor: float) -> Task:
+        if math.isfinite(factor) and not self.bounds.any():  # an exact pose: no region
+            return self
         bounds = scaled(self.bounds, factor)
         if np.array_equal(bounds, self.bounds):  # no region: itself
             return self

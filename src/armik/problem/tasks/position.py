@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pinocchio as pin
 
@@ -49,5 +51,7 @@ class Position(Task):
         return TaskError(pos, None, pos <= tol_position)
 
     def shrunk(self, factor: float) -> Task:
+        if math.isfinite(factor) and not self.bounds.any():  # an exact point: no region
+            return self
         bounds = scaled(self.bounds, factor)
         return self if np.array_equal(bounds, self.bounds) else replaced(self, bounds=bounds)

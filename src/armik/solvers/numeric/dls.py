@@ -10,14 +10,12 @@ iteration is compiled (``armik.kernel.step.dls_step``); this file registers the 
 
 from __future__ import annotations
 
-import numpy as np
+from functools import partial
 
 from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
-from armik.solvers.answers import Answers
 from armik.solvers.numeric.driver import DLS_STEP, pose_runner, run_numeric, run_numeric_batch
 from armik.solvers.registry import SolverSpec, register
-from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 
 step = DLS_STEP  # the kernel's step for ``numeric.descend``
@@ -29,16 +27,10 @@ def applies(
     return None
 
 
-def run(
-    arm: ArmModel, target: Target, q0: np.ndarray, opts: SolverSettings, all_solutions: bool
-) -> Answers:
-    return run_numeric(arm, target, q0, opts, all_solutions, DLS_STEP)
-
-
-def run_batch(
-    arm: ArmModel, targets: TargetBatch, q0: np.ndarray, opts: SolverSettings, seeds=None
-) -> Answers:
-    return run_numeric_batch(arm, targets, q0, opts, DLS_STEP, seeds)
+# the numeric driver with this step, bound at registration: a solve enters the driver
+# directly (no call through this module)
+run = partial(run_numeric, step=DLS_STEP)
+run_batch = partial(run_numeric_batch, step=DLS_STEP)
 
 
 def prepare_pose(arm: ArmModel, opts: SolverSettings, position_only: bool):

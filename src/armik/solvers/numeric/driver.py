@@ -342,14 +342,14 @@ def run_numeric_batch(
     """N solves in one kernel call (GIL released): row i is what ``run_numeric`` returns
     first for target i from q0[i] with restart seed ``seeds[i]`` (default: every target
     uses ``opts.seed``, as a loop of ``solve`` with the same options would)."""
-    n_targets, dof = len(targets), arm.dof
+    n_targets, dof = len(targets.positions), arm.dof
     # C-ordered, writable float64 copies: numba compiles anew for any other layout.
     q0 = np.array(q0, dtype=float).reshape(n_targets, dof)
     if seeds is None:
         seeds = np.full(n_targets, solve_seed(opts), dtype=np.uint64)
     else:
         seeds = np.array(seeds).astype(np.uint64)
-    sf, si = packed_settings(opts, targets.position_only, dof, 1, step)
+    sf, si = packed_settings(opts, targets.rotations is None, dof, 1, step)
     if targets.rotations is None:
         R_t = np.broadcast_to(np.eye(3), (n_targets, 3, 3)).copy()
     else:
