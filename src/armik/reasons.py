@@ -125,6 +125,14 @@ def tasks_hold(tol_p: float, tol_r: float, restarts: int) -> str:
     )
 
 
+def unmoved(task: str, frame: str, error: str) -> str:
+    """A task on a frame no joint moves, which does not hold: no configuration meets it."""
+    return (
+        f"{task} is on frame {frame!r}, which none of the arm's joints moves, and is not met "
+        f"there ({error}): no configuration meets it; q is the start"
+    )
+
+
 def tasks_missed(restarts: int, iterations: int, closest: str) -> str:
     """A task list with no answer found within the budget; ``closest``: each task's error."""
     return (

@@ -246,3 +246,19 @@ def test_frame_ids_are_looked_up_once_per_arm_and_an_unknown_frame_is_still_name
     assert frame_ids(km, (armik.Pose(T), armik.Position((0, 0, 1), frame="panda_link4"))) is ids
     with pytest.raises(armik.TargetError, match="Position asks for frame 'nope'"):
         frame_ids(km, (armik.Pose(T), armik.Position(T.translation, frame="nope")))
+
+
+def test_a_task_on_a_frame_no_joint_moves_is_answered_at_once():
+    """panda_link0 is the base's link: a Position there that does not hold is unreachable
+    from any configuration, said with the frame's name and no search; one that holds does
+    not stop the other tasks."""
+    panda = armik.load("panda")
+    r = panda.solve([armik.Position([0.5, 0.0, 0.5], frame="panda_link0")], max_restarts=50)
+    assert not r.success
+    assert r.status is armik.Status.UNREACHABLE
+    assert "panda_link0" in r.reason and "none of the arm's joints" in r.reason
+    assert r.iterations == 0 and r.restarts == 0
+    tip = panda.fk(panda.middle + 0.1).translation
+    tasks = [armik.Position([0.0, 0.0, 0.0], frame="panda_link0"), armik.Position(tip)]
+    r = panda.solve(tasks)
+    assert r.success

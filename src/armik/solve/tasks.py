@@ -249,6 +249,28 @@ def _describe(tasks, errors: list[TaskError]) -> str:
     return ", ".join(parts)
 
 
+def _unmoved(arm: ArmModel, tasks, ids, q: np.ndarray, opts, t0: float) -> IKResult | None:
+    """Where a task is on frames no joint moves (the base's, a link fixed to it) and does not
+    hold: no configuration meets it, and the result says so at once (``unreachable``, the
+    frame named) rather than spend the budget; None otherwise."""
+    frames = arm.model.frames
+    still = [k for k, fs in enumerate(ids) if all(frames[f].parentJoint == 0 for f in fs)]
+    if not still:
+        return None
+    errors = _measure(arm, tasks, ids, q, opts)
+    missed = [k for k in still if not errors[k].within]
+    if not missed:
+        return None
+    k = missed[0]
+    r = _result(arm, tasks, q, errors, opts, 0, 0, t0, ())
+    why = reasons.unmoved(
+        type(tasks[k]).__name__,
+        frames[ids[k][0]].name,
+        _describe(tasks[k : k + 1], errors[k : k + 1]),
+    )
+    return dataclasses.replace(r, success=False, status=Status.UNREACHABLE, reason=why)
+
+
 def solve_tasks(
     arm: ArmModel,
     problem: Problem,
@@ -269,6 +291,9 @@ def solve_tasks(
     tasks = problem.tasks
     ids = frame_ids(arm, tasks)
     q = arm.seed(q0)
+    unmoved = _unmoved(arm, tasks, ids, q, opts, t0)
+    if unmoved is not None:
+        return unmoved
     reference = q.copy() if reference is None else reference
     # the constraints at this seed (a held joint's value), their box the step's rows, the
     # checks beyond the limits run on each descent's end
