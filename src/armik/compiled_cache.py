@@ -22,6 +22,7 @@ picks a function's cache locator when the function is decorated.
 from __future__ import annotations
 
 import hashlib
+import os
 import re
 import sys
 from functools import cache
@@ -43,12 +44,26 @@ def depended_on(root: Path = PACKAGE) -> list[Path]:
     imports a constant (an upper-case name) from. A module it takes classes or Python
     functions from (``Options``, the registry) does not count: an edit there compiles
     nothing again."""
-    found: set[Path] = set()
-    for path in root.rglob("*.py"):
-        text = path.read_text(encoding="utf-8")
-        if not _COMPILED.search(text):
+    # each source by its dotted name within ``root`` (a package by its __init__'s folder);
+    # a module file first where both spellings exist, as the paths were tried before.
+    # Plain strings, not paths, while they are looked up: hashing a path costs more.
+    modules: dict[str, list[str]] = {}
+    texts: dict[str, str] = {}
+    prefix = len(str(root)) + 1
+    for folder, _, files in os.walk(root):
+        for file in files:
+            if not file.endswith(".py"):
+                continue
+            name = os.path.join(folder, file)
+            with open(name, encoding="utf-8") as f:
+                texts[name] = f.read()
+            parts = name[prefix:-3].split(os.sep)
+            _place(modules, parts, name)
+    found: set[str] = set()
+    for name, text in texts.items():
+        if "njit" not in text or not _COMPILED.search(text):
             continue
-        found.add(path)
+        found.add(name)
         for module, names in _IMPORT.findall(text):
             parts = module.split(".")[1:]
             words = re.findall(r"\w+", names)
@@ -56,11 +71,17 @@ def depended_on(root: Path = PACKAGE) -> list[Path]:
             if parts and any(_CONSTANT.fullmatch(n) for n in words):
                 wheres.append(parts)
             for where in wheres:
-                for candidate in (root.joinpath(*where).with_suffix(".py"),
-                                  root.joinpath(*where, "__init__.py")):  # fmt: skip
-                    if candidate.is_file():
-                        found.add(candidate)
-    return sorted(found)
+                found.update(modules.get(".".join(where), ()))
+    return sorted(map(Path, found))
+
+
+def _place(modules: dict[str, list[str]], parts: list[str], name: str) -> None:
+    """Files ``name`` under its dotted name (``parts``), a package by its folder's, a module
+    file before a package's __init__ of the same name."""
+    if parts[-1] == "__init__":
+        modules.setdefault(".".join(parts[:-1]), []).append(name)
+    else:
+        modules.setdefault(".".join(parts), []).insert(0, name)
 
 
 def stamp(root: Path = PACKAGE) -> str:
