@@ -100,6 +100,16 @@ def _stamp() -> str:
     return stamp()
 
 
+_WRITABLE: set[str] = set()  # the cache folders numba found writable in this process
+
+
+@cache
+def _ours(py_file: str) -> bool:
+    """Whether ``py_file`` is one of armik's sources (once per file: a path resolves by a
+    system call for each of its parts)."""
+    return Path(py_file).resolve().is_relative_to(PACKAGE)
+
+
 def _stamped(base: type) -> type:
     """``base``, a numba cache locator, for armik's sources only and stamped by them all."""
 
@@ -107,9 +117,18 @@ def _stamped(base: type) -> type:
         def get_source_stamp(self) -> str:
             return _stamp()
 
+        def ensure_cache_path(self) -> None:
+            # numba's check writes a file in the folder for each function decorated; a folder
+            # found writable once in this process is taken as such while it is there
+            path = self.get_cache_path()
+            if path in _WRITABLE and os.path.isdir(path):
+                return
+            super().ensure_cache_path()
+            _WRITABLE.add(path)
+
         @classmethod
         def from_function(cls, py_func, py_file):
-            if getattr(sys, "frozen", False) or not Path(py_file).resolve().is_relative_to(PACKAGE):
+            if getattr(sys, "frozen", False) or not _ours(py_file):
                 return None
             return super().from_function(py_func, py_file)
 
