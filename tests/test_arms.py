@@ -319,3 +319,21 @@ def test_a_flat_list_of_tasks_naming_their_frames_is_the_mapping(cell):
         cell.solve([armik.Pose(T_l)])
     with pytest.raises(armik.TargetError, match="no_such_link"):
         cell.solve([armik.Pose(T_l, frame="no_such_link")])
+
+
+def test_a_bad_q0_is_named_whole_with_its_joint(cell):
+    """A q0 over the robot's 12 joints that is not finite: the message quoted one chain's
+    six values and no joint; it names the q0 given and the robot's joint."""
+    q = cell.random_q(np.random.default_rng(9))
+    T = {tip: cell.fk(q, tip) for tip in cell.tips}
+    q0 = np.r_[np.zeros(6), 0, 0, np.nan, 0, 0, 0]
+    for call in (cell.solve, cell.solve_all):
+        with pytest.raises(armik.OptionError, match="must be finite") as info:
+            call(T, q0=q0)
+        said = str(info.value)
+        assert str(q0.tolist()) in said and "'r_joint_3'" in said and "l_joint" not in said
+    many = {tip: [T[tip], T[tip]] for tip in cell.tips}
+    with pytest.raises(armik.OptionError, match="not finite at 'r_joint_3'"):
+        cell.solve_batch(many, q0=q0)
+    with pytest.raises(armik.OptionError, match="row 1 .* not finite at 'l_joint_2'"):
+        cell.solve_batch(many, q0=np.vstack([q, np.r_[0, np.inf, np.zeros(10)]]))

@@ -21,7 +21,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from armik import reasons
+from armik import checked, reasons
 from armik.batch_result import BatchResult
 from armik.errors import OptionError, TargetError
 from armik.options import Options
@@ -242,8 +242,16 @@ def _seeds(arms: Arms, q0: object, n: int) -> np.ndarray:
         return np.tile(arms.middle, (n, 1))
     q = np.asarray(q0, dtype=float)
     if q.shape == (arms.dof,):
-        return np.tile(q, (n, 1))
+        return np.tile(checked.configuration("q0", q, arms.joint_names), (n, 1))
     if q.shape == (n, arms.dof):
+        if not np.isfinite(q).all():  # the row and the robot's joint, not a chain's part
+            i, j = np.argwhere(~np.isfinite(q))[0]
+            raise OptionError(
+                f"q0 must be finite: row {i} is {q[i].tolist()}, not finite at "
+                f"{arms.joint_names[j]!r}",
+                option="q0",
+                value=q0,
+            )
         return q.copy()
     raise OptionError(
         f"q0 must be None, one configuration ({arms.dof} values, one per joint of "
