@@ -121,13 +121,19 @@ def add_many_commands(command) -> None:
 
     c = command(
         "reach",
-        "reachability map: per voxel, the fraction of tool orientations the arm reaches",
+        "reachability map: per voxel, the fraction of tool orientations the arm reaches "
+        "(an arm of fewer than 6 joints: whether it reaches the point)",
         "armik reach panda --resolution 0.1 --orientations 16 -o reach.npz --plot reach.png",
         later("many:cmd_reach"),
     )
     add_arm_arguments(c)
     c.add_argument("--resolution", type=float, default=0.1, help="voxel side, m (0.1)")
-    c.add_argument("--orientations", type=int, default=16, help="per voxel (16)")
+    c.add_argument(
+        "--orientations",
+        type=int,
+        default=16,
+        help="per voxel (16; unused by an arm of fewer than 6 joints: positions only)",
+    )
     c.add_argument("--timeout", type=float, default=0.005, help="budget per solve, s (0.005)")
     c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
     c.add_argument("--workers", type=int, help="threads (default: one per core)")
