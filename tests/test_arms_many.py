@@ -183,6 +183,7 @@ def test_batch_and_path_take_solve_s_prefer_and_solver(cell):
     assert "dls" in cell.solve_batch(many, solver="dls").solver
     p = cell.solve_path(ways, q, prefer=posture)
     assert p.success.all() and np.allclose(p.q[0], q, atol=1e-6)
+    assert cell.solve_batch(many, secondary=[posture]).success.all()  # split as in solve
     with pytest.raises(OptionError, match="has 6 values, the robot 12 joints"):
         cell.solve(T, prefer=armik.Posture(q[:6]))
 
