@@ -98,7 +98,7 @@ def configuration(
             value=value,
         )
     if finite and not np.isfinite(arr).all():
-        bad = [joint_names[i] for i in np.flatnonzero(~np.isfinite(arr))]
+        bad = [joint_names[int(i)] for i in np.flatnonzero(~np.isfinite(arr))]
         raise OptionError(
             f"{key} must be finite, got {arr.tolist()}: not finite at {listing(bad)}",
             option=key,
