@@ -335,3 +335,21 @@ def test_shared_joints_keep_the_settings_of_a_call_without_options_and_read_the_
     assert r.success, r.reason
     assert robot._settings({"max_iterations": 7})[0].max_iterations == 7
     assert robot._plain is kept and robot._settings({}) is kept
+
+
+def test_a_bad_q0_is_named_whole_with_its_joint(cell):
+    """A q0 over the robot's 12 joints that is not finite: the message quoted one chain's
+    six values and no joint; it names the q0 given and the robot's joint."""
+    q = cell.random_q(np.random.default_rng(9))
+    T = {tip: cell.fk(q, tip) for tip in cell.tips}
+    q0 = np.r_[np.zeros(6), 0, 0, np.nan, 0, 0, 0]
+    for call in (cell.solve, cell.solve_all):
+        with pytest.raises(armik.OptionError, match="must be finite") as info:
+            call(T, q0=q0)
+        said = str(info.value)
+        assert str(q0.tolist()) in said and "'r_joint_3'" in said and "l_joint" not in said
+    many = {tip: [T[tip], T[tip]] for tip in cell.tips}
+    with pytest.raises(armik.OptionError, match="not finite at 'r_joint_3'"):
+        cell.solve_batch(many, q0=q0)
+    with pytest.raises(armik.OptionError, match="row 1 .* not finite at 'l_joint_2'"):
+        cell.solve_batch(many, q0=np.vstack([q, np.r_[0, np.inf, np.zeros(10)]]))

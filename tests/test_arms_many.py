@@ -162,3 +162,41 @@ def test_a_batch_s_backend_goes_to_each_chain_or_is_refused_row_by_row():
     with pytest.raises(OptionError, match=r"backend=.*row by row.*drop backend=") as caught:
         shared.solve_batch(rows, backend="threads")
     assert caught.value.option == "backend"
+
+
+def test_batch_and_path_take_solve_s_prefer_and_solver(cell):
+    """What Arms.solve takes, solve_batch and solve_path take on independent chains:
+    prefer= and solver= went to each chain's batch, then were refused as unknown options
+    (after the work); a Posture over the robot's 12 joints is split by chain, as
+    secondary= is, on solve too."""
+    q = cell.random_q(np.random.default_rng(21))
+    T = {tip: cell.fk(q, tip) for tip in cell.tips}
+    many = {tip: [T[tip], T[tip]] for tip in cell.tips}
+    ways = {tip: line(T[tip], np.array([0.0, 0.002, 0.0]), 3) for tip in cell.tips}
+    posture = armik.Posture(q)  # one value per joint of the robot: the answer nearest q
+    assert np.allclose(cell.solve(T, prefer=posture).q, q, atol=1e-6)
+    b = cell.solve_batch(many, prefer=posture)
+    assert b.success.all() and np.allclose(b.q, q, atol=1e-6)
+    for options in ({"prefer": "manipulability"}, {"solver": "dls"}):
+        assert cell.solve_batch(many, **options).success.all()
+        assert cell.solve_path(ways, q, **options).success.all()
+    assert "dls" in cell.solve_batch(many, solver="dls").solver
+    p = cell.solve_path(ways, q, prefer=posture)
+    assert p.success.all() and np.allclose(p.q[0], q, atol=1e-6)
+    assert cell.solve_batch(many, secondary=[posture]).success.all()  # split as in solve
+    with pytest.raises(OptionError, match="has 6 values, the robot 12 joints"):
+        cell.solve(T, prefer=armik.Posture(q[:6]))
+
+
+def test_batch_and_path_refuse_a_bad_option_before_any_chain_runs(cell, monkeypatch):
+    def ran(*args, **kwargs):
+        raise AssertionError("a chain's batch ran before the options were checked")
+
+    chain = type(cell.chain("l_tool0"))
+    monkeypatch.setattr(chain, "solve_batch", ran)
+    monkeypatch.setattr(chain, "solve_path", ran)
+    rows = {tip: np.zeros((2, 3)) for tip in cell.tips}
+    with pytest.raises(OptionError, match="unknown option 'tolerance'"):
+        cell.solve_batch(rows, tolerance=1e-3)
+    with pytest.raises(OptionError, match="unknown option 'tolerance'"):
+        cell.solve_path(rows, cell.middle, tolerance=1e-3)

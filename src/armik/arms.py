@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, cast
 import numpy as np
 import pinocchio as pin
 
-from armik import arms_every, arms_many, arms_reach
+from armik import arms_every, arms_many, arms_reach, checked
 from armik.arms_joined import joined, worse
 from armik.arms_kinematics import ArmsKinematics
 from armik.arms_options import per_chain, refuse_own_checks
@@ -115,6 +115,8 @@ class Arms(ArmsKinematics):
         each chain by its own solver; one ``IKResult`` for the robot (module docstring)."""
         t0 = time.perf_counter()
         refuse_own_checks(options)
+        if q0 is not None:  # the whole q0, its bad joints named: not one chain's part of it
+            q0 = checked.configuration("q0", q0, self.joint_names)
         relative = self._check_targets(targets := by_tip(self._chains, targets))
         targets = {tip: self._parsed(tip, t) for tip, t in targets.items()}  # once, here
         if self._union is not None:
@@ -158,6 +160,8 @@ class Arms(ArmsKinematics):
         """Every answer for one target per tip, best first (``armik.arms_every``), as
         ``Arm.solve_all`` gives them: a ``Solutions``."""
         refuse_own_checks(options)
+        if q0 is not None:
+            q0 = checked.configuration("q0", q0, self.joint_names)
         return Solutions(arms_every.solve_all(self, by_tip(self._chains, targets), q0, **options))
 
     def solve_batch(self, targets: Mapping[str, object], *, q0: object = None, **options):

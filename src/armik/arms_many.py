@@ -21,9 +21,10 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from armik import reasons
+from armik import checked, reasons
 from armik.batch_result import BatchResult
 from armik.errors import OptionError, TargetError
+from armik.options import Options
 from armik.problem.problem import relative_tasks
 from armik.result import IKResult
 from armik.solve.batch import DEFAULT_CHUNK
@@ -54,6 +55,7 @@ class Arms(Protocol):
     def chain(self, tip: str) -> Any: ...
     def solve(self, targets: Mapping[str, object], *, q0: object = None, **options: Any) -> Any: ...
     def _check_targets(self, targets: object) -> dict: ...
+    def _holds(self, options: dict) -> dict[str, dict]: ...
 
 
 DEFAULT_MAX_JOINT_STEP = 0.5  # rad or m, as a single arm's path (armik.solve.path)
@@ -81,15 +83,17 @@ def solve_batch(
     t0 = time.perf_counter()
     n = _rows(arms, targets)
     seeds = _seeds(arms, q0, n)
+    opts = _read(options)
     if _independent(arms, targets):
         batch = {"workers": workers, "chunk_size": chunk_size, "progress": progress}
+        each = arms._holds(options)  # each chain's part of the options, as Arms.solve's
         parts = {
             tip: arms.chain(tip).solve_batch(
-                rows, q0=seeds[:, arms._columns[tip]], backend=backend, **batch, **options
+                rows, q0=seeds[:, arms._columns[tip]], backend=backend, **batch, **each[tip]
             )
             for tip, rows in targets.items()
         }
-        return _joined(arms, parts, seeds, options, time.perf_counter() - t0)
+        return _joined(arms, parts, seeds, opts, time.perf_counter() - t0)
     if backend is not None:
         raise OptionError(
             "backend= runs the compiled batch's chunks; a batch over chains that share "
@@ -100,7 +104,7 @@ def solve_batch(
             value=backend,
         )
     threads, size = _whole(workers, "workers", 1), _whole(chunk_size, "chunk_size", DEFAULT_CHUNK)
-    out = _empty(arms, n, "arms", options)
+    out = _empty(arms, n, "arms", opts)
     bar = make_progress(progress, n, "+".join(arms.tips))
 
     def chunk(first: int) -> int:
@@ -158,18 +162,20 @@ def solve_path(
     n = _rows(arms, waypoints)
     start = arms.middle if q0 is None else _seeds(arms, q0, 1)[0]
     step = _step(arms, max_joint_step)
+    opts = _read(options)
     if _independent(arms, waypoints):
+        each = arms._holds(options)  # each chain's part of the options, as Arms.solve's
         parts = {
             tip: arms.chain(tip).solve_path(
                 rows,
                 None if q0 is None else start[arms._columns[tip]],  # None: a free start
                 max_joint_step=step[arms._columns[tip]],
                 plan=plan,
-                **options,
+                **each[tip],
             )
             for tip, rows in waypoints.items()
         }
-        return _joined(arms, parts, np.tile(start, (n, 1)), options, time.perf_counter() - t0)
+        return _joined(arms, parts, np.tile(start, (n, 1)), opts, time.perf_counter() - t0)
     if plan != "follow":
         raise OptionError(
             f"plan={plan!r} over several tips needs chains that share no joint and no "
@@ -177,7 +183,7 @@ def solve_path(
             option="plan",
             value=plan,
         )
-    out = _empty(arms, n, "arms, path", options)
+    out = _empty(arms, n, "arms, path", opts)
     q_prev = start
     for i in range(n):
         row = {tip: rows[i] for tip, rows in waypoints.items()}
@@ -236,8 +242,16 @@ def _seeds(arms: Arms, q0: object, n: int) -> np.ndarray:
         return np.tile(arms.middle, (n, 1))
     q = np.asarray(q0, dtype=float)
     if q.shape == (arms.dof,):
-        return np.tile(q, (n, 1))
+        return np.tile(checked.configuration("q0", q, arms.joint_names), (n, 1))
     if q.shape == (n, arms.dof):
+        if not np.isfinite(q).all():  # the row and the robot's joint, not a chain's part
+            i, j = np.argwhere(~np.isfinite(q))[0]
+            raise OptionError(
+                f"q0 must be finite: row {i} is {q[i].tolist()}, not finite at "
+                f"{arms.joint_names[j]!r}",
+                option="q0",
+                value=q0,
+            )
         return q.copy()
     raise OptionError(
         f"q0 must be None, one configuration ({arms.dof} values, one per joint of "
@@ -272,8 +286,14 @@ def _independent(arms: Arms, targets: Mapping[str, Any]) -> bool:
     )
 
 
-def _empty(arms: Arms, n: int, solver: str, options: Mapping[str, Any]) -> BatchResult:
-    opts = read_options(options)
+def _read(options: Mapping[str, Any]) -> Options:
+    """The options every chain's solve reads, checked before any runs: an unknown one, or a
+    bad value, refused before the work, not after it. ``prefer=`` and ``solver=`` are each
+    chain's own solve's to read (``Arms.solve`` takes them)."""
+    return read_options({k: v for k, v in options.items() if k not in ("prefer", "solver")})
+
+
+def _empty(arms: Arms, n: int, solver: str, opts: Options) -> BatchResult:
     return BatchResult.empty(
         n,
         arms.dof,
@@ -295,13 +315,13 @@ def _joined(
     arms: Arms,
     parts: dict[str, BatchResult],
     seeds: np.ndarray,
-    options: Mapping[str, Any],
+    opts: Options,
     elapsed: float,
 ) -> BatchResult:
     """One row per target over every joint from each tip's rows (module docstring)."""
     n = len(seeds)
     solvers = "+".join(dict.fromkeys(b.solver for b in parts.values()))
-    out = _empty(arms, n, solvers, options)
+    out = _empty(arms, n, solvers, opts)
     out.q[:] = seeds
     out.success[:] = True
     out.status_code[:] = _CONVERGED

@@ -25,8 +25,10 @@ def per_chain(
     """Each tip's options: its chain (``chains[tip]``, the robot's joints ``columns[tip]``)
     holds the held joints it has (``hold=``, ``Hold``s; a held joint on no chain is a
     ``JointError``) and follows its joints' part of a posture over every joint
-    (``secondary=[armik.Posture(q_ref, weights)]``)."""
-    if not _PER_CHAIN.intersection(options):
+    (``secondary=[armik.Posture(q_ref, weights)]``, ``prefer=armik.Posture(q_ref, weights)``:
+    one value per joint of the robot)."""
+    prefer = _posture(options.get("prefer"), joint_names)
+    if not _PER_CHAIN.intersection(options) and prefer is None:
         return dict.fromkeys(chains, options)
     rest = spelled(options)
     posture = rest.pop("posture", None)
@@ -49,7 +51,20 @@ def per_chain(
         if posture is not None:
             q_ref, weights = (np.asarray(v)[columns[tip]] for v in posture)
             out[tip]["secondary"] = [Posture(q_ref, weights)]
+        if prefer is not None:
+            cols = columns[tip]
+            out[tip]["prefer"] = Posture(prefer.q_ref[cols], prefer.weights[cols])
     return out
+
+
+def _posture(prefer: object, joint_names: Sequence[str]) -> Posture | None:
+    """``prefer=`` where it is a ``Posture`` (then split by chain), else None; an
+    ``OptionError`` naming the robot's joints for one of another length (as for
+    ``secondary=``)."""
+    if not isinstance(prefer, Posture):
+        return None
+    fit_posture(prefer.q_ref.size, joint_names, "the robot", "prefer")
+    return prefer
 
 
 def refuse_own_checks(options: dict) -> None:

@@ -9,7 +9,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from armik.errors import OptionError
+from armik.errors import OptionError, listing
 
 
 def number(key: str, value: object) -> float:
@@ -98,5 +98,10 @@ def configuration(
             value=value,
         )
     if finite and not np.isfinite(arr).all():
-        raise OptionError(f"{key} must be finite, got {arr.tolist()}", option=key, value=value)
+        bad = [joint_names[int(i)] for i in np.flatnonzero(~np.isfinite(arr))]
+        raise OptionError(
+            f"{key} must be finite, got {arr.tolist()}: not finite at {listing(bad)}",
+            option=key,
+            value=value,
+        )
     return arr

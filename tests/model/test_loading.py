@@ -140,6 +140,16 @@ def test_bad_files(tmp_path, content, match):
         armik.load(write_urdf(tmp_path, content))
 
 
+@pytest.mark.parametrize("source", ["", "  ", "\n"])
+def test_empty_source_says_empty_not_directory(source):
+    # Path("") is "."; an empty name (an unset variable) is not the current folder
+    with pytest.raises(URDFError, match="source is empty") as info:
+        armik.load(source)
+    assert "directory" not in str(info.value)
+    with pytest.raises(URDFError, match="source is empty"):
+        armik.load(source, tips=["a", "b"])
+
+
 def test_missing_file_and_directory(tmp_path):
     with pytest.raises(URDFError, match="does not exist"):
         armik.load(tmp_path / "nope.urdf")

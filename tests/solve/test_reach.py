@@ -56,3 +56,19 @@ def test_bad_arguments():
         reachability(a, resolution=1e-300)
     with pytest.raises(InputError, match="not a reachability map"):
         ReachMap.load(__file__)
+
+
+def test_an_arm_of_fewer_than_6_joints_maps_positions(tmp_path):
+    """Sampled tool orientations over SO(3) are out of a 2-joint arm's reach: its map was 0
+    everywhere although solve reaches its plane; it is a map of positions, and says so."""
+    a = arm("planar_2link")
+    m = reachability(a, resolution=0.3, orientations=4, workers=1)
+    assert m.position_only and m.solves == int(np.isfinite(m.fraction).sum())
+    X, Y, Z = np.meshgrid(m.xs, m.ys, m.zs, indexing="ij")
+    on_plane = np.isclose(Z, 0.0) & np.isfinite(m.fraction)
+    r = np.hypot(X, Y)
+    assert (m.fraction[on_plane & (r > 0.25) & (r < 1.75)] == 1).all()
+    assert "positions only" in m.summary() and "fewer than 6 joints" in m.summary()
+    back = ReachMap.load(m.save(tmp_path / "m.npz"))
+    assert back.position_only and "positions only" in back.summary()
+    assert not reachability(arm("ur5"), resolution=0.5, orientations=1, timeout=0.001).position_only

@@ -102,8 +102,10 @@ def test_reach_command_saves_and_plots(tmp_path, capsys):
     assert main(argv + ["-o", str(out), "--plot", str(png), "--workers", "1"]) == 0
     text = capsys.readouterr().out
     assert "voxels" in text and f"wrote {png}" in text
+    assert "positions only" in text  # 2 joints: a map of positions, one solve a voxel
     m = ReachMap.load(out)
-    assert m.orientations == 2 and m.fraction.ndim == 3
+    assert m.position_only and m.orientations == 1 and m.fraction.ndim == 3
+    assert np.nanmax(m.fraction) == 1
     assert png.stat().st_size > 10_000
     assert main(["reach", "ur5", "--resolution", "-1"]) == 2
     assert "resolution must be" in capsys.readouterr().err

@@ -61,3 +61,25 @@ def test_path_without_q0_starts_free(tmp_path):
     np.save(tmp_path / "line.npy", np.array([P.homogeneous for P in poses]))
     assert main(["path", "ur5", str(tmp_path / "line.npy"), "-o", str(tmp_path / "f.npz")]) == 0
     assert BatchResult.load(tmp_path / "f.npz").success.all()
+
+
+def test_path_starts_from_the_files_q0_and_q0_flag_takes_its_place(tmp_path, capsys):
+    """An .npz's 'q0' is the path's start (it was read and dropped); --q0, as on batch, in
+    its place; a 'q0' of several rows is refused naming the file."""
+    a = arm("ur5")
+    start = a.random_q(3)
+    T = a.fk(start)
+    line = np.array([pin.SE3(T.rotation, T.translation + [0, 0.002 * k, 0]).homogeneous
+                     for k in range(5)])  # fmt: skip
+    np.savez(tmp_path / "seam.npz", targets=line, q0=start)
+    out = str(tmp_path / "p.npz")
+    assert main(["path", "ur5", str(tmp_path / "seam.npz"), "-o", out]) == 0
+    assert np.allclose(BatchResult.load(out).q[0], start, atol=1e-6)
+    np.savez(tmp_path / "rows.npz", targets=line, q0=np.tile(start, (5, 1)))
+    capsys.readouterr()
+    assert main(["path", "ur5", str(tmp_path / "rows.npz"), "-o", out]) == 2
+    err = capsys.readouterr().err
+    assert "rows.npz" in err and "'q0' has shape (5, 6)" in err and "--q0" in err
+    flag = ["--q0", *map(repr, start.tolist())]
+    assert main(["path", "ur5", str(tmp_path / "rows.npz"), "-o", out, *flag]) == 0
+    assert np.allclose(BatchResult.load(out).q[0], start, atol=1e-6)

@@ -173,3 +173,12 @@ def test_position_only_on_several_tips(capsys):
     for tip, T in targets.items():
         assert r["tips"][tip]["orientation_error"] is None
         assert np.linalg.norm(reached[tip].translation - T.translation) <= 2 * TOL["solve"]
+
+
+@pytest.mark.parametrize("name", ["batch", "path", "reach", "export", "servo"])
+def test_one_tip_commands_refuse_a_second_tip_by_name(capsys, name):
+    # these commands work on one tip: a second --tip was silently taken in place of the first
+    code, out, err = run(capsys, name, "ur5", "--tip", "tool0", "--tip", "wrist_3_link")
+    assert code == 2 and out == ""
+    assert "--tip given twice ('tool0', then 'wrist_3_link')" in err
+    assert f"'armik {name}' works on one tip" in err and "tips=[A, B]" in err

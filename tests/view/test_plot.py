@@ -50,3 +50,33 @@ def test_plot_into_an_axes_and_bad_input(tmp_path):
         armik.plot(a, [0.3, 0.4])
     with pytest.raises(armik.OptionError):
         armik.plot(a, [0.3, 0.4, 0.5], tmp_path / "x.png")
+
+
+def test_plot_names_a_missing_folder_and_an_ax_that_is_not_3d(tmp_path):
+    from matplotlib.figure import Figure
+
+    a = arm("ur5")
+    with pytest.raises(armik.InputError, match="folder .*missing.* does not exist"):
+        armik.plot(a, a.middle, tmp_path / "missing" / "arm.png")
+    for ax in (5, Figure().add_subplot()):  # a number, a 2D axes
+        with pytest.raises(armik.InputError, match="ax must be a matplotlib 3D axes"):
+            armik.plot(a, a.middle, ax=ax)
+
+
+def test_plot_marks_a_task_list_target(tmp_path):
+    """A task list (a form Arm.solve takes) is drawn: its Pose and Position tasks marked."""
+    from matplotlib.figure import Figure
+
+    a = arm("ur5")
+    T = a.fk(a.random_q(1))
+    tasks = [armik.Pose(T), armik.Position((0.3, 0.2, 0.3))]
+    path = armik.plot(a, a.middle, tmp_path / "tasks.png", target=tasks)
+    assert drawn_pixels(path) > drawn_pixels(armik.plot(a, a.middle, tmp_path / "arm.png"))
+
+    def lines(target) -> int:
+        ax = Figure().add_subplot(projection="3d")
+        return len(armik.plot(a, a.middle, ax=ax, target=target).lines)
+
+    bare = lines(None)
+    assert lines(tasks) == bare + 4  # a frame's three dashed axes and a cross
+    assert lines(T) == bare + 3 and lines([armik.Position((0.3, 0.2, 0.3))]) == bare + 1

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from armik.errors import FrameError, JointError, OptionError, listing
+from armik.errors import FrameError, JointError, OptionError, URDFError, listing
 from armik.model import mimic as _mimic
 from armik.model.default_tip import default_tip
 from armik.model.mimic import Mimic
@@ -265,7 +265,15 @@ def lookup_frame(full: pin.Model, name: str, role: str, frames: list[str]) -> in
 
 
 def check_frames(base: object, tip: object, source: str) -> None:
-    """A ``FrameError`` for a base or tip given as anything but a frame name."""
+    """A ``URDFError`` for an empty source (an unset variable, say), which as a path would
+    read as the current folder '.'; a ``FrameError`` for a base or tip given as anything
+    but a frame name."""
+    if not source.strip():
+        raise URDFError(
+            f"the source is empty ({source!r}): give a bundled robot name (armik.robots()), "
+            "a path to a URDF file, or the URDF's XML",
+            path=source,
+        )
     for role, value in (("base", base), ("tip", tip)):
         if value is not None and not isinstance(value, str):
             raise FrameError(

@@ -8,6 +8,11 @@ verified. This is the reachability part of a capability map (Zacharias et al., 2
 1 where the arm reaches the point in every sampled orientation, 0 where it reaches it in
 none. Voxels outside the reach bound are not sampled (NaN).
 
+An arm of fewer than 6 joints (a planar arm, a SCARA) reaches no point in every
+orientation, nor in almost any sampled one: its map is of positions, each voxel centre
+solved once as a position target (1: reached, 0: not), ``orientations`` unused and
+``ReachMap.position_only`` set; so is the map of any arm asked ``position_only=True``.
+
 Most targets of such a map are unreachable, and an unreachable target costs the solver's
 whole budget: the budget (``timeout``, default here 5 ms) sets the price of a map.
 """
@@ -37,7 +42,8 @@ DEFAULT_OPTIONS = {"timeout": 0.005, "tol_position": 1e-5, "tol_orientation": 1e
 @dataclass(frozen=True, eq=False)
 class ReachMap:
     """``fraction[i, j, k]``: the share of orientations solved at (xs[i], ys[j], zs[k])
-    (m, base frame); NaN outside the reach bound."""
+    (m, base frame); NaN outside the reach bound. ``position_only``: a map of positions
+    (an arm of fewer than 6 joints): 1 where the point is reached, 0 where not."""
 
     arm: str
     xs: np.ndarray
@@ -49,12 +55,20 @@ class ReachMap:
     solver: str
     time: float
     solves: int
+    position_only: bool = False
 
     def summary(self) -> str:
         sampled = np.isfinite(self.fraction)
         f = self.fraction[sampled]
         any_ = int((f > 0).sum())
         full = int((f == 1).sum())
+        if self.position_only:
+            return (
+                f"{self.arm}: {sampled.sum()} voxels of {self.resolution:g} m, positions only "
+                f"(an arm of fewer than 6 joints reaches no point in every orientation; "
+                f"{self.solves} solves, {self.solver}) in {self.time:.3g} s; "
+                f"position reached: {any_}"
+            )
         return (
             f"{self.arm}: {sampled.sum()} voxels of {self.resolution:g} m x {self.orientations} "
             f"orientations ({self.solves} solves, {self.solver}) in {self.time:.3g} s; "
@@ -71,6 +85,7 @@ class ReachMap:
             "solver": self.solver,
             "time": self.time,
             "solves": self.solves,
+            "position_only": self.position_only,
         }
         arrays = dict(xs=self.xs, ys=self.ys, zs=self.zs, fraction=self.fraction)
         return npz.save(path, meta, arrays)
@@ -118,12 +133,15 @@ class ReachMap:
             ax.set_title(title, fontsize=9)
         for ax in list(axes.flat)[len(panels) :]:
             ax.axis("off")
-        fig.suptitle(
-            f"{self.arm}: fraction of {self.orientations} tool orientations reached "
-            f"({self.resolution:g} m voxels)"
+        what = (
+            "positions reached"
+            if self.position_only
+            else f"fraction of {self.orientations} tool orientations reached"
         )
+        fig.suptitle(f"{self.arm}: {what} ({self.resolution:g} m voxels)")
         if image is not None:
-            fig.colorbar(image, ax=axes.ravel().tolist(), shrink=0.8, label="fraction reached")
+            label = "position reached" if self.position_only else "fraction reached"
+            fig.colorbar(image, ax=axes.ravel().tolist(), shrink=0.8, label=label)
         path = Path(path)
         fig.savefig(path, dpi=100)
         plt.close(fig)
@@ -168,7 +186,8 @@ def reachability(
 ) -> ReachMap:
     """Compute a reachability map (see the module docstring).
 
-    ``resolution``: voxel side (m). ``orientations``: tool orientations per voxel.
+    ``resolution``: voxel side (m). ``orientations``: tool orientations per voxel (an arm
+    of fewer than 6 joints: unused, its map is of positions, one solve a voxel).
     ``seed``: the orientation sample. ``workers`` / ``progress``: as for ``solve_batch``;
     ``client``: a Dask client to run on a cluster instead (``armik.solve.distributed``).
     ``options``: solver options (default ``timeout=0.005``, tolerances 1e-5 m / rad).
@@ -190,11 +209,14 @@ def reachability(
             option="orientations",
             value=orientations,
         )
+    # no orientation sample for fewer than 6 joints: it would reach none (module)
+    position_only = arm.dof < 6 or options.get("position_only") is True
+    per_voxel = 1 if position_only else orientations
     ratio = arm.reach / resolution  # a tiny resolution: its cube would overflow a float
     voxels = 4.0 / 3.0 * math.pi * ratio**3 if ratio < 1e100 else math.inf  # about
-    if voxels * orientations > MAX_SOLVES:
+    if voxels * per_voxel > MAX_SOLVES:
         raise OptionError(
-            f"about {voxels:.3g} voxels x {orientations} orientations is too many solves "
+            f"about {voxels:.3g} voxels x {per_voxel} orientations is too many solves "
             f"(more than {MAX_SOLVES:.0e}): raise resolution or lower orientations",
             option="resolution",
             value=resolution,
@@ -204,11 +226,13 @@ def reachability(
     # scipy.spatial at the first map, not with the CLI (0.3 s of every armik command)
     from scipy.spatial.transform import Rotation
 
-    rotations = Rotation.random(orientations, random_state=seed).as_matrix()  # (K, 3, 3)
-    v, k = len(centres), orientations
-    targets = TargetBatch(
-        np.repeat(centres, k, axis=0), np.tile(rotations, (v, 1, 1))
-    )  # voxel-major: rows v k .. v k + k - 1 are voxel v
+    v, k = len(centres), per_voxel
+    targets: TargetBatch | np.ndarray = centres  # positions: one a voxel
+    if not position_only:
+        rotations = Rotation.random(orientations, random_state=seed).as_matrix()  # (K, 3, 3)
+        targets = TargetBatch(
+            np.repeat(centres, k, axis=0), np.tile(rotations, (v, 1, 1))
+        )  # voxel-major: rows v k .. v k + k - 1 are voxel v
     opts: dict[str, Any] = {**DEFAULT_OPTIONS, **options}
     if client is not None:
         # Dask is imported only when a cluster is used: it takes a second to import
@@ -233,4 +257,5 @@ def reachability(
         solver=result.solver,
         time=result.time,
         solves=len(result),
+        position_only=position_only,
     )

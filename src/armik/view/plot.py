@@ -10,6 +10,8 @@ import numpy as np
 
 from armik.errors import InputError, ViewerError
 from armik.model.arm_model import ArmModel, model_of
+from armik.problem.problem import as_problem
+from armik.problem.tasks import Pose, Position
 from armik.result import IKResult
 from armik.targets.pose import parse_target
 from armik.view.stick import PRISMATIC_AXIS, REVOLUTE_AXIS, size, skeleton
@@ -32,16 +34,28 @@ def plot(
     """Draw ``arm`` at joints ``q`` (rad, m, or an ``IKResult``) as a stick figure: links
     as lines, joints as dots with their axes (orange: revolute, blue: prismatic), the tip
     frame as red/green/blue axes. ``others``: more configurations or ``IKResult``s, drawn
-    thinner in colours of their own and named in the legend by branch; ``target``: a pose
-    (any form ``Arm.solve`` takes) marked with dashed axes. ``elev``/``azim``: the view (deg).
+    thinner in colours of their own and named in the legend by branch; ``target``: any form
+    ``Arm.solve`` takes, a pose marked with dashed axes, a position with a cross; of a task
+    list its ``Pose`` and ``Position`` tasks are marked so (the other tasks are not drawn).
+    ``elev``/``azim``: the view (deg).
 
     Writes a PNG to ``path`` and returns its ``Path``, or draws into the matplotlib 3D
     ``ax`` given and returns it. Needs matplotlib (``pip install "armik[plot]"``, in
-    ``armik[view]`` too); raises ``InputError`` for a bad ``q`` or neither path nor ax.
+    ``armik[view]`` too); raises ``InputError`` for a bad ``q``, a PNG in a folder that does
+    not exist, an ``ax`` that is not a 3D axes, or neither path nor ax.
     """
     arm = model_of(arm)
     if path is None and ax is None:
         raise InputError("plot needs a path for the PNG (plot(arm, q, 'arm.png')) or an ax")
+    if ax is not None and getattr(ax, "name", None) != "3d":
+        raise InputError(
+            f"ax must be a matplotlib 3D axes (fig.add_subplot(projection='3d')), got {ax!r}"
+        )
+    if path is not None and ax is None and not Path(path).parent.is_dir():
+        raise InputError(
+            f"plot: the folder {str(Path(path).parent)!r} of {str(path)!r} does not exist: "
+            "create it, or write the PNG elsewhere"
+        )
     try:
         from matplotlib.figure import Figure
     except ImportError:
@@ -57,9 +71,12 @@ def plot(
     for k, (qk, name) in enumerate(rest):
         seen.append(_draw(ax, arm, qk, OTHERS[k % len(OTHERS)], 1.4, name, s, joints=False))
     if target is not None:
-        T = parse_target(target, arm).se3()
-        _frame(ax, T.translation, T.rotation, 0.14 * s, linestyle="--")
-        seen.append(T.translation[None])
+        for p, R in _marks(target, arm):
+            if R is None:
+                ax.plot(*p, "x", color="tab:red", ms=8, mew=2)
+            else:
+                _frame(ax, p, R, 0.14 * s, linestyle="--")
+            seen.append(p[None])
     _square(ax, np.vstack(seen))
     ax.view_init(elev=elev, azim=azim)
     ax.set_xlabel("x (m)")
@@ -71,8 +88,28 @@ def plot(
     if fig is None or path is None:  # path is None only with an ax given: fig is None
         return ax
     path = Path(path)
-    fig.savefig(path, dpi=110)
+    try:
+        fig.savefig(path, dpi=110)
+    except OSError as exc:
+        raise InputError(f"plot: cannot write {str(path)!r}: {exc.strerror or exc}") from None
     return path
+
+
+def _marks(target: object, arm: ArmModel) -> list[tuple[np.ndarray, np.ndarray | None]]:
+    """(position, rotation or None) of each mark of ``target``: a pose or a position, or a
+    task list's ``Pose`` and ``Position`` tasks."""
+    problem = as_problem(target)
+    if problem is None:
+        parsed = parse_target(target, arm)
+        T = parsed.se3()
+        return [(T.translation, None if parsed.rotation is None else T.rotation)]
+    marks: list[tuple[np.ndarray, np.ndarray | None]] = []
+    for task in problem.tasks:
+        if isinstance(task, Pose):
+            marks.append((task.T.translation, task.T.rotation))
+        elif isinstance(task, Position):
+            marks.append((np.asarray(task.p, float), None))
+    return marks
 
 
 def _configuration(arm: ArmModel, value: object, what: str) -> np.ndarray:

@@ -71,7 +71,12 @@ def add_many_commands(command) -> None:
         metavar="ADDRESS",
         help="run on a Dask cluster: tcp://host:8786, or local:N for N local processes",
     )
-    c.add_argument("--q0", nargs="+", type=float, help="one seed for every target (rad, m)")
+    c.add_argument(
+        "--q0",
+        nargs="+",
+        type=float,
+        help="one seed for every target (rad, m), in place of the file's 'q0'",
+    )
     c.add_argument("--tol", type=float, help="success tolerance, m and rad")
     add_solve_options(c)
     c.add_argument("--chunk-size", type=int, help="targets per task")
@@ -85,14 +90,18 @@ def add_many_commands(command) -> None:
         later("many:cmd_path"),
     )
     add_arm_arguments(c)
-    c.add_argument("targets", help="waypoints file, as for batch (one seed array is ignored)")
+    c.add_argument(
+        "targets",
+        help="waypoints file, as for batch; an .npz's array 'q0' (one configuration) is the start",
+    )
     c.add_argument("-o", "--output", required=True, help="results file (.npz)")
     c.add_argument(
         "--q0",
         nargs="+",
         type=float,
-        help="the configuration the arm starts from (rad, m); default: none, the first "
-        "waypoint free (followed: solved from the middle of the limits; global: any branch)",
+        help="the configuration the arm starts from (rad, m), in place of the file's 'q0'; "
+        "default: the file's 'q0', else none, the first waypoint free (followed: solved "
+        "from the middle of the limits; global: any branch)",
     )
     c.add_argument(
         "--plan",
@@ -112,13 +121,19 @@ def add_many_commands(command) -> None:
 
     c = command(
         "reach",
-        "reachability map: per voxel, the fraction of tool orientations the arm reaches",
+        "reachability map: per voxel, the fraction of tool orientations the arm reaches "
+        "(an arm of fewer than 6 joints: whether it reaches the point)",
         "armik reach panda --resolution 0.1 --orientations 16 -o reach.npz --plot reach.png",
         later("many:cmd_reach"),
     )
     add_arm_arguments(c)
     c.add_argument("--resolution", type=float, default=0.1, help="voxel side, m (0.1)")
-    c.add_argument("--orientations", type=int, default=16, help="per voxel (16)")
+    c.add_argument(
+        "--orientations",
+        type=int,
+        default=16,
+        help="per voxel (16; unused by an arm of fewer than 6 joints: positions only)",
+    )
     c.add_argument("--timeout", type=float, default=0.005, help="budget per solve, s (0.005)")
     c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
     c.add_argument("--workers", type=int, help="threads (default: one per core)")

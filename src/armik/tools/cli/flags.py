@@ -118,7 +118,7 @@ def add_arm_arguments(
     robot; ``tips``: ``--tips A B`` as well), and ``--lock`` unless ``lock`` is False."""
     c.add_argument("robot", help="bundled robot name or path to a URDF file")
     c.add_argument("--base", help=base)
-    c.add_argument("--tip", action="append" if repeat_tip else "store", help=tip)
+    c.add_argument("--tip", action="append" if repeat_tip else _OneTip, help=tip)
     if tips:
         c.add_argument(
             "--tips",
@@ -128,6 +128,21 @@ def add_arm_arguments(
         )
     if lock:
         add_lock_option(c)
+
+
+class _OneTip(argparse.Action):
+    """``--tip`` of a command that works on one tip: a second, other one is refused (exit 2),
+    not silently taken in place of the first."""
+
+    def __call__(self, parser, namespace, values, option_string=None) -> None:
+        before = getattr(namespace, self.dest, None)
+        if before is not None and before != values:
+            parser.error(
+                f"--tip given twice ({before!r}, then {values!r}): '{parser.prog}' works on "
+                "one tip; give --tip once (several tips of one robot: 'armik solve' and "
+                "'armik info' take --tip A --tip B; in Python, armik.load(robot, tips=[A, B]))"
+            )
+        setattr(namespace, self.dest, values)
 
 
 def add_lock_option(c: argparse.ArgumentParser) -> None:

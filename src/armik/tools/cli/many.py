@@ -132,8 +132,14 @@ def _output(path: str) -> Path:
 def cmd_path(args: argparse.Namespace) -> int:
     out = _output(args.output)
     arm = load_arm(args).kinematics
-    targets, _ = read_targets_file(args.targets)
-    q0 = None if args.q0 is None else np.array(args.q0)
+    targets, q0 = read_targets_file(args.targets)  # the file's 'q0': the path's start
+    if args.q0 is not None:  # as on batch, --q0 in place of the file's
+        q0 = np.array(args.q0)
+    elif q0 is not None and q0.ndim != 1:
+        raise InputError(
+            f"{args.targets!r}: its array 'q0' has shape {q0.shape}, but a path starts from "
+            "one configuration: save q0 as one value per joint, or give --q0"
+        )
     request, local = read_path(arm, targets, q0, args.solver, args.plan, solve_options(args))
     result = solve_path(arm, request, local, args.max_joint_step, args.plan)
     return _written(result, out)
