@@ -3,6 +3,7 @@ commanded sequence itself (``Arm.servo`` starts one; docs/servo.md)."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 
 import numpy as np
@@ -18,7 +19,9 @@ from armik.servo.collisions import rows_for
 from armik.servo.limits import (
     DEFAULT_ACCELERATION,
     gain_of,
+    mimic_own,
     per_joint,
+    through_mimics,
     time_step,
     tolerance_of,
     urdf_velocities,
@@ -81,6 +84,9 @@ def at_rest(
     amax = per_joint(
         acceleration_limits, arm, "acceleration_limits", np.full(n, DEFAULT_ACCELERATION)
     )
+    # a mimic joint's limits bind its driver, as its position limits do (``model.mimic``)
+    vmax = through_mimics(vmax, mimic_own(arm, velocity_limits, True, math.inf))
+    amax = through_mimics(amax, mimic_own(arm, acceleration_limits, False, DEFAULT_ACCELERATION))
     state[k.Q], state[k.REST] = q, q
     state[k.VMAX], state[k.AMAX] = vmax, amax
     state[k.LO], state[k.HI] = arm.lower, arm.upper
