@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -75,7 +76,7 @@ def urdf_velocities(arm: ArmModel | Union) -> np.ndarray:
     return np.where(out > 0.0, out, math.inf)
 
 
-def mimic_own(arm: ArmModel | Union, value: object, urdf: bool, default: float) -> list:
+def mimic_own(arm: ArmModel | Union, value: Any, urdf: bool, default: float) -> list:
     """(driver index, |multiplier|, the mimic joint's own limit) per mimic joint of ``arm``:
     its own limit is ``value`` where that is one number (every joint's), else its URDF
     velocity limit (``urdf``; inf where the URDF gives none) or ``default``. A union has no
