@@ -16,6 +16,7 @@ from armik.model.union import Union
 from armik.servo import layout as k
 from armik.servo import table as _table
 from armik.servo.collisions import rows_for
+from armik.servo.fixed import never_moved
 from armik.servo.limits import (
     DEFAULT_ACCELERATION,
     gain_of,
@@ -87,6 +88,8 @@ def at_rest(
     # a mimic joint's limits bind its driver, as its position limits do (``model.mimic``)
     vmax = through_mimics(vmax, mimic_own(arm, velocity_limits, True, math.inf))
     amax = through_mimics(amax, mimic_own(arm, acceleration_limits, False, DEFAULT_ACCELERATION))
+    if isinstance(arm, ArmModel):  # (a union's, per tip: ``UnionServo``)
+        cfg[k.FIXED : k.FIXED + 18] = never_moved(arm).ravel()
     state[k.Q], state[k.REST] = q, q
     state[k.VMAX], state[k.AMAX] = vmax, amax
     state[k.LO], state[k.HI] = arm.lower, arm.upper
