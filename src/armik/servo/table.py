@@ -80,7 +80,10 @@ def _row(row: KernelRow) -> np.ndarray:
     out[ROT : ROT + 9] = np.ravel(row.R_t)
     out[POS : POS + 3] = row.p_t
     out[BOUNDS : BOUNDS + 6] = np.where(np.asarray(row.bounds) == 0.0, -EXACT, row.bounds)
-    out[WEIGHTS : WEIGHTS + 6] = row.weights
+    # only a task's weights' ratios matter: (100, 100, 100, 1, 1, 1) is (1, 1, 1, .01, ...)
+    weights = np.asarray(row.weights, dtype=float)
+    top = weights.max()
+    out[WEIGHTS : WEIGHTS + 6] = weights / top if top > 0.0 else weights
     out[CONE] = row.cone
     out[AXIS : AXIS + 3] = row.axis
     out[LOOK] = row.look
