@@ -26,8 +26,10 @@ import numpy as np
 
 from armik.errors import JointError, OptionError, TargetError
 from armik.frozen import frozen
+from armik.model.arm_model import ArmModel
 from armik.servo.result import ServoRecord, ServoStatus, ServoStep, record
 from armik.servo.servo import Servo, start
+from armik.servo.table import at_tick, read, sequence
 from armik.servo.union import KEYWORDS as UNION_KEYWORDS
 from armik.servo.union import UnionServo
 
@@ -219,8 +221,26 @@ class ArmsServo:
             )
 
     def track(self, targets: Iterable[Mapping[str, object]]) -> ServoRecord:
-        """``step`` through ``targets`` (one mapping tip -> target a tick), in order."""
-        steps = [self.step(t) for t in targets]
-        if not steps:
-            raise OptionError("targets must hold at least one mapping", option="targets")
-        return record(steps)
+        """``step`` through ``targets`` (one mapping tip -> target a tick), in order. Every
+        target is read before the first tick: raises ``TargetError`` naming the first tick
+        and tip it cannot read (no tick run), ``OptionError`` for one mapping given alone
+        (``step`` takes one) or none."""
+        items = sequence(targets, mapping=True)
+        arms = self._arms()
+        for i, mapping in enumerate(items):
+            try:
+                self._check(mapping)
+                for tip in self.tips:
+                    try:
+                        read(mapping[tip], arms[tip])
+                    except TargetError as error:
+                        raise TargetError(f"the target of tip {tip!r}: {error}") from None
+            except TargetError as error:
+                raise at_tick(i, error) from None
+        return record([self.step(t) for t in items])
+
+    def _arms(self) -> dict[str, ArmModel]:
+        """Each tip's chain, whose targets it reads."""
+        if self._union is not None:
+            return dict(self._union._chains)  # type: ignore[arg-type]
+        return {tip: s.arm for tip, s in self._servos.items()}

@@ -10,16 +10,42 @@ from armik.servo.box import velocity_box
 from armik.servo.singular import smallest_singular
 
 
-def _sigma(A, rows, last_k=-1, u=None):
+def _sigma(A, rows, last_k=-1, u=None, scale=None):
+    """The servo's sigma of A's first ``rows`` rows, each at its ``scale`` (default: 1 for
+    a nonzero row, 0 for a zero one)."""
     n = A.shape[1]
-    active = int((np.abs(A[:rows]).sum(axis=1) > 0).sum())
+    if scale is None:
+        scale = (np.abs(A).sum(axis=1) > 0).astype(float)
+    active = int((scale[:rows] != 0).sum())
     u = np.zeros(n) if u is None else u
     work = np.zeros((3, n, n))
     sigma, k = smallest_singular(
-        A, rows, active, A.T @ A, work[0], u, last_k, work[1], np.zeros(n),
+        A, rows, active, scale, work[0], u, last_k, work[1], np.zeros(n),
         np.zeros(n, dtype=np.int64),
     )  # fmt: skip
     return sigma, k, u
+
+
+@pytest.mark.parametrize("n", [3, 5, 7])
+def test_a_counted_zero_row_is_a_singularity_and_scales_unweight(n, rng):
+    """A row that counts is in the measure even where it is zero (sigma 0 then); each row
+    is measured at its scale (1 over its weight), so that sigma is the unweighted rows'."""
+    A = np.zeros((24, n))
+    A[:2] = rng.normal(size=(2, n))
+    A[2] = 0.0  # asked for, zero at this q
+    scale = np.zeros(24)
+    scale[:3] = 1.0
+    sigma, k, _ = _sigma(A, 6, scale=scale)
+    assert k == min(3, n) and sigma < 1e-12
+    B = np.zeros((24, n))
+    B[:6] = rng.normal(size=(6, n))
+    w = np.array([1.0, 1.0, 1.0, 0.01, 0.01, 0.01])
+    Bw = B.copy()
+    Bw[:6] *= w[:, None]
+    scale = np.zeros(24)
+    scale[:6] = 1.0 / w
+    expected = np.linalg.svd(B[:6], compute_uv=False)[min(6, n) - 1]
+    assert abs(_sigma(Bw, 6, scale=scale)[0] - expected) <= 1e-10 * max(1.0, expected)
 
 
 @pytest.mark.parametrize("n", [1, 5, 6, 7, 9])

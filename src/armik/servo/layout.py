@@ -31,7 +31,11 @@ STATE_ROWS = 8
 # entries of cfg (GRAM and LAST are kept by the tick between ticks, 0 at the start)
 DT, TOL_P, TOL_R, SIGMA_EPS, LAM_MAX, LAM_MIN, GAIN, REACH_SLACK, PULL, LAM_ERR = range(10)
 GRAM, LAST = 10, 11  # the size of the Gram matrix whose vector is kept; the last tasks
-CFG = 12
+# from cfg[FIXED]: two 3 x 3 projectors onto the base frame's directions in which the tip
+# never moves (linear) and never turns (angular) at any q, a planar arm's normal and its
+# tilts (``armik.servo.fixed``): a task's row along them is not one the arm can follow
+FIXED = 12
+CFG = FIXED + 18
 # entries of out
 POS_ERR, ORI_ERR, CODE, JOINT, SIGMA, CONFLICT = range(6)
 OUT = 6
@@ -45,11 +49,11 @@ HEADER = 4  # ints: n, N, the packed floats' length, the kinds' length
 @njit(cache=True, nogil=True)
 def workspace(n, N):
     """(floats, ints): the tick's workspace for n joint values and N physical joints:
-    ``tick.views``' ``Workspace``, then ``step.scratch``'s arrays (the three in step)."""
+    ``tick.views``' ``Workspace``, then ``step.scratch``'s arrays (the four in step)."""
     m = 6 * MAX_TASKS
     ws = 2 * n + 12 + 12 * n + 6 + NVEC * n + 4 * n * n + 6 * N + 6 * n + 18 + 9 + 36 + n
     ws += 36 + 12
-    return ws + 2 * m + 2 * m * n + 8 * n * n + 19 * n + MAX_ROWS, 8 * n
+    return ws + 4 * m + 2 * m * n + 8 * n * n + 19 * n + MAX_ROWS, 8 * n
 
 
 def allocate(flat: Flat) -> tuple[np.ndarray, np.ndarray]:

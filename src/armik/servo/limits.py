@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -73,6 +74,39 @@ def urdf_velocities(arm: ArmModel | Union) -> np.ndarray:
     ids = [j for j in range(1, m.njoints) if m.joints[j].nq > 0]
     out = np.array([float(m.velocityLimit[m.joints[j].idx_v]) for j in ids])
     return np.where(out > 0.0, out, math.inf)
+
+
+def mimic_own(arm: ArmModel | Union, value: Any, urdf: bool, default: float) -> list:
+    """(driver index, |multiplier|, the mimic joint's own limit) per mimic joint of ``arm``:
+    its own limit is ``value`` where that is one number (every joint's), else its URDF
+    velocity limit (``urdf``; inf where the URDF gives none) or ``default``. A union has no
+    mimic joints (``armik.model.union`` refuses them)."""
+    mimics = getattr(arm, "mimics", ())
+    if not mimics:
+        return []
+    m = arm.physical_model  # type: ignore[union-attr]
+    one = np.ndim(value) == 0 and not isinstance(value, dict) and value is not None
+    out = []
+    for x in mimics:
+        if one:
+            own = _positive(value, "limit")
+        elif urdf:
+            own = float(m.velocityLimit[m.joints[m.getJointId(x.name)].idx_v])
+            own = own if own > 0.0 else math.inf
+        else:
+            own = default
+        out.append((arm.joint_index(x.driver), abs(x.multiplier), own))
+    return out
+
+
+def through_mimics(limits: np.ndarray, mimics: list) -> np.ndarray:
+    """``limits`` (per driving joint) narrowed so that every mimic joint keeps its own: a
+    driver moves a mimic joint |multiplier| times as fast, so its limit is at most the
+    mimic's divided by |multiplier| (``mimic_own``'s triples)."""
+    out = limits.copy()
+    for k, multiplier, own in mimics:
+        out[k] = min(out[k], own / multiplier)
+    return out
 
 
 def per_joint(value: object, arm: ArmModel | Union, name: str, default: np.ndarray) -> np.ndarray:

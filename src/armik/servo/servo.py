@@ -3,22 +3,26 @@ commanded sequence itself (``Arm.servo`` starts one; docs/servo.md)."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 
 import numpy as np
 import pinocchio as pin
 
-from armik.errors import OptionError
+from armik.errors import OptionError, TargetError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel, model_of
 from armik.model.union import Union
 from armik.servo import layout as k
 from armik.servo import table as _table
 from armik.servo.collisions import rows_for
+from armik.servo.fixed import never_moved
 from armik.servo.limits import (
     DEFAULT_ACCELERATION,
     gain_of,
+    mimic_own,
     per_joint,
+    through_mimics,
     time_step,
     tolerance_of,
     urdf_velocities,
@@ -81,6 +85,11 @@ def at_rest(
     amax = per_joint(
         acceleration_limits, arm, "acceleration_limits", np.full(n, DEFAULT_ACCELERATION)
     )
+    # a mimic joint's limits bind its driver, as its position limits do (``model.mimic``)
+    vmax = through_mimics(vmax, mimic_own(arm, velocity_limits, True, math.inf))
+    amax = through_mimics(amax, mimic_own(arm, acceleration_limits, False, DEFAULT_ACCELERATION))
+    if isinstance(arm, ArmModel):  # (a union's, per tip: ``UnionServo``)
+        cfg[k.FIXED : k.FIXED + 18] = never_moved(arm).ravel()
     state[k.Q], state[k.REST] = q, q
     state[k.VMAX], state[k.AMAX] = vmax, amax
     state[k.LO], state[k.HI] = arm.lower, arm.upper
@@ -139,8 +148,8 @@ class Servo(Commanded):
         list of them). Never raises for a target it can read, never returns NaN: a target
         it cannot reach within the limits is approached as far as they allow. Raises
         ``TargetError`` for a target it cannot read."""
-        out, state, mem, imem = self._out, self._state, self._mem, self._imem
-        near = self._no_rows if self._collisions is None else self._collisions.at(state[k.Q])
+        mem, imem = self._mem, self._imem
+        near = self._no_rows if self._collisions is None else self._collisions.at(self._state[k.Q])
         # a pose's table is written by the compiled tick itself, where it is a plain one
         if isinstance(target, pin.SE3):
             done = tick_pose(target.homogeneous, mem, imem, near)
@@ -150,6 +159,11 @@ class Servo(Commanded):
             done = False
         if not done:
             tick(_table.table(target, self.arm), mem, imem, near)
+        return self._command()
+
+    def _command(self) -> ServoStep:
+        """The last tick's command and what limited it."""
+        out, state = self._out, self._state
         command = state[: k.ACC + 1].copy()  # q, dq, ddq: one read-only copy
         command.flags.writeable = False
         pos, ori, code, j, sigma, conflict = out.tolist()
@@ -169,10 +183,26 @@ class Servo(Commanded):
 
     def track(self, targets: Iterable[object]) -> ServoRecord:
         """``step`` through ``targets`` in order, one tick each; the ticks' fields as arrays
-        of one row a tick."""
-        steps = [self.step(t) for t in targets]
-        if not steps:
-            raise OptionError("targets must hold at least one target", option="targets")
+        of one row a tick. Every target is read before the first tick: raises
+        ``TargetError`` naming the first it cannot read (no tick run), ``OptionError`` for
+        one target given alone (``step`` takes one) or none."""
+        items = _table.sequence(targets)
+        tables = []
+        for i, target in enumerate(items):
+            try:
+                tables.append(_table.read(target, self.arm))
+            except TargetError as error:
+                raise _table.at_tick(i, error) from None
+        mem, imem, steps = self._mem, self._imem, []
+        for target, rows in zip(items, tables):
+            near = (
+                self._no_rows if self._collisions is None else self._collisions.at(self._state[k.Q])
+            )
+            if rows is None:
+                tick_pose(_table.plain_matrix(target), mem, imem, near)
+            else:
+                tick(rows, mem, imem, near)
+            steps.append(self._command())
         return record(steps)
 
 

@@ -1,7 +1,14 @@
 """The smallest singular value that the servo's damping reads, compiled: the r-th largest
-singular value of the task Jacobian A (r = min(active rows, n)), by inverse iteration.
+singular value of the task Jacobian A (r = min(counted rows, n)), by inverse iteration.
 
-It is the smallest eigenvalue of the smaller Gram matrix, ``A_r A_r^T`` over the r active
+Which rows count, and at which scale, is the row's ``scale`` (``armik.servo.tick``'s
+``stack``): 0 for a row the task does not ask for (a freed axis, a zero weight, a region's
+row inside its bounds, a direction the arm never moves), else 1 over the row's weight, so
+that sigma is that of the unweighted rows the task asks for. A row that the task asks for
+counts even where it is zero at this q: that is the singularity (a stretched arm's row
+along its line), not a row to leave out.
+
+It is the smallest eigenvalue of the smaller Gram matrix, ``A_r A_r^T`` over the r counted
 rows when r <= n, else ``A^T A`` (their nonzero eigenvalues are the same). Each round is
 shifted to just below the Rayleigh quotient, an upper bound of the eigenvalue (a shift
 above it fails to factor, and a lower one is tried), so that from the last tick's vector
@@ -26,28 +33,32 @@ BELOW = 0.98  # the shift: this share of the Rayleigh quotient, where it keeps S
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
-def gram(A, rows, active, H, S, idx):
-    """k: the size of the smaller Gram matrix of A's first ``rows`` rows (``active`` of
-    them nonzero), written into S's top-left k x k block (H = A^T A, copied when
-    ``active`` exceeds n); ``idx`` (n ints) is scratch."""
+def gram(A, rows, active, scale, S, idx):
+    """k: the size of the smaller Gram matrix of A's first ``rows`` rows, each row times
+    its ``scale`` (0: not counted; ``active`` of them counted), written into S's top-left
+    k x k block; ``idx`` (n ints) is scratch."""
     n = A.shape[1]
-    if active > n:
+    if active > n:  # (A^T A over the counted rows: the others are zero or scaled out)
         for i in range(n):
-            for j in range(n):
-                S[i, j] = H[i, j]
+            for j in range(i + 1):
+                s = 0.0
+                for r in range(rows):
+                    if scale[r] != 0.0:
+                        s += A[r, i] * A[r, j] * scale[r] * scale[r]
+                S[i, j] = s
+                S[j, i] = s
         return n
     k = 0
     for r in range(rows):
-        for c in range(n):
-            if A[r, c] != 0.0:
-                idx[k] = r
-                k += 1
-                break
+        if scale[r] != 0.0:
+            idx[k] = r
+            k += 1
     for a in range(k):
         for b in range(a + 1):
             s = 0.0
             for c in range(n):
                 s += A[idx[a], c] * A[idx[b], c]
+            s *= scale[idx[a]] * scale[idx[b]]
             S[a, b] = s
             S[b, a] = s
     return k
@@ -148,10 +159,11 @@ def _rayleigh(S, u, k):
 
 
 @njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
-def smallest_singular(A, rows, active, H, S, u, last_k, L, y, idx):
-    """(sigma, k): the r-th largest singular value of A (r = min(active, n)) and the size
-    k of the Gram matrix it came from; u holds the last call's vector where that was of
-    size ``last_k``. ``idx`` (n ints) is scratch."""
-    k = gram(A, rows, active, H, S, idx)
+def smallest_singular(A, rows, active, scale, S, u, last_k, L, y, idx):
+    """(sigma, k): the r-th largest singular value of A's rows times their ``scale`` (r =
+    min(active, n), ``active`` the rows of nonzero scale) and the size k of the Gram matrix
+    it came from; u holds the last call's vector where that was of size ``last_k``.
+    ``idx`` (n ints) is scratch."""
+    k = gram(A, rows, active, scale, S, idx)
     ev = smallest(S, k, u, k == last_k, L, y)
     return (math.sqrt(ev) if ev < math.inf else math.inf), k

@@ -65,18 +65,21 @@ def take(buf, o, size):
 @njit(cache=True, nogil=True, inline="always")
 def scratch(buf, o, n, m):
     """The step's arrays on ``buf`` from ``o`` for n joint values and m rows a target:
-    (E (2 m), A (2, m, n), mats (8, n, n), vecs (19, n), act (``MAX_ROWS``), the end)."""
+    (E (2 m), A (2, m, n), mats (8, n, n), vecs (19, n), act (``MAX_ROWS``), scale (2, m):
+    each row's scale in the singular value, ``tick.stack``'s, the end)."""
     E, o = take(buf, o, 2 * m)
     Ab, o = take(buf, o, 2 * m * n)
     mats, o = take(buf, o, 8 * n * n)
     vecs, o = take(buf, o, 19 * n)
     act, o = take(buf, o, MAX_ROWS)
-    return E, Ab.reshape((2, m, n)), mats.reshape((8, n, n)), vecs.reshape((19, n)), act, o
+    sc, o = take(buf, o, 2 * m)
+    mats3, vecs2 = mats.reshape((8, n, n)), vecs.reshape((19, n))
+    return E, Ab.reshape((2, m, n)), mats3, vecs2, act, sc.reshape((2, m)), o
 
 
 def scratch_size(n: int, m: int) -> int:
     """The floats ``scratch`` takes for n joint values and m rows a target."""
-    return 2 * m + 2 * m * n + 8 * n * n + 19 * n + MAX_ROWS
+    return 4 * m + 2 * m * n + 8 * n * n + 19 * n + MAX_ROWS
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
@@ -123,11 +126,12 @@ def _gradient(E, A, m, g, lam, pull, state):
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
-def step_within(E0, A0, E1, A1, rows, active, moved, whole, rows_cb, state, cfg, M6, W, iv,
-                every, act):  # fmt: skip
+def step_within(E0, A0, E1, A1, rows, active, scale, moved, whole, rows_cb, state, cfg, M6,
+                W, iv, every, act):  # fmt: skip
     """state's q and v advanced by one step toward E0, A0 (``rows`` rows, ``active`` of
-    them nonzero), from E1, A1 where the target ``moved`` since the last tick, within
-    every limit and the collision rows ``rows_cb`` (K, n + 1: C, then b, for C dq >= b).
+    them counted in the singular value, each at its ``scale``: ``tick.stack``'s), from
+    E1, A1 where the target ``moved`` since the last tick, within every limit and the
+    collision rows ``rows_cb`` (K, n + 1: C, then b, for C dq >= b).
     With ``whole`` a desired step beyond a joint's velocity limit is scaled as a whole
     (the tip keeps its line), else the box QP leaves the others to make up for it (a
     slow lift under two arms). Returns (sigma, brake, scale, slowest, joint, bound,
@@ -152,7 +156,7 @@ def step_within(E0, A0, E1, A1, rows, active, moved, whole, rows_cb, state, cfg,
             Hm[i, j] = s
             Hm[j, i] = s
     last_k = np.int64(cfg[GRAM])
-    sigma, k = smallest_singular(A0, rows, active, Hm, S, u, last_k, Ls, tmp, side)
+    sigma, k = smallest_singular(A0, rows, active, scale, S, u, last_k, Ls, tmp, side)
     cfg[GRAM] = k
     eps = cfg[SIGMA_EPS]
     lam = cfg[LAM_MIN]

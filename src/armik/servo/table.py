@@ -9,11 +9,14 @@ Anything ``Arm.solve`` takes for one tip: a pose or a position in any spelling
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Mapping
 
 import numpy as np
+import pinocchio as pin
 
-from armik.errors import TargetError
+from armik.errors import OptionError, TargetError
 from armik.kernel.problem import NO_CONE, NO_LOOK
+from armik.kernel.single import plain_pose
 from armik.model.arm_model import ArmModel
 from armik.problem.problem import as_problem
 from armik.problem.tasks.base import KernelRow
@@ -80,9 +83,65 @@ def _row(row: KernelRow) -> np.ndarray:
     out[ROT : ROT + 9] = np.ravel(row.R_t)
     out[POS : POS + 3] = row.p_t
     out[BOUNDS : BOUNDS + 6] = np.where(np.asarray(row.bounds) == 0.0, -EXACT, row.bounds)
-    out[WEIGHTS : WEIGHTS + 6] = row.weights
+    # only a task's weights' ratios matter: (100, 100, 100, 1, 1, 1) is (1, 1, 1, .01, ...)
+    weights = np.asarray(row.weights, dtype=float)
+    top = weights.max()
+    out[WEIGHTS : WEIGHTS + 6] = weights / top if top > 0.0 else weights
     out[CONE] = row.cone
     out[AXIS : AXIS + 3] = row.axis
     out[LOOK] = row.look
     out[SIGHT : SIGHT + 3] = row.sight
     return out
+
+
+def plain_matrix(target: object) -> np.ndarray | None:
+    """The 4x4 of a ``pin.SE3`` or of a float64 C-order 4x4 array (what the compiled tick
+    may write itself, where ``plain_pose`` holds), else None."""
+    if isinstance(target, pin.SE3):
+        return target.homogeneous
+    if (
+        type(target) is np.ndarray
+        and target.shape == (4, 4)
+        and target.dtype == np.float64
+        and target.flags.c_contiguous
+    ):
+        return target
+    return None
+
+
+def read(target: object, arm: ArmModel) -> np.ndarray | None:
+    """None for a pose the compiled tick writes itself (``plain_matrix``, ``plain_pose``),
+    else ``target``'s table; raises ``TargetError`` for a target the servo cannot read."""
+    H = plain_matrix(target)
+    if H is not None and plain_pose(H):
+        return None
+    return table(target, arm)
+
+
+def sequence(targets: object, mapping: bool = False) -> list:
+    """``targets`` (``track``'s: one target a tick) as a list; raises ``OptionError`` for
+    one target given alone (a pose, a position, a task, with ``mapping`` a mapping tip ->
+    target) or none, naming the fix."""
+    one = isinstance(targets, (pin.SE3, str, bytes, Mapping)) or not isinstance(targets, Iterable)
+    if isinstance(targets, np.ndarray):
+        one = targets.ndim < 2 or targets.shape == (4, 4)
+    elif isinstance(targets, (list, tuple)) and targets:
+        one = all(isinstance(x, (int, float, np.number)) for x in targets)
+    if one:
+        what = "a mapping {tip: target}" if mapping else "a target"
+        raise OptionError(
+            f"track takes a sequence of targets, one a tick, got {what} alone "
+            f"({type(targets).__name__}): use step(...) for one tick, or pass a list "
+            "([target] * ticks)",
+            option="targets",
+            value=targets,
+        )
+    items = list(targets)  # type: ignore[call-overload]
+    if not items:
+        raise OptionError("targets must hold at least one target", option="targets")
+    return items
+
+
+def at_tick(i: int, error: TargetError) -> TargetError:
+    """``error`` of the target of tick i, said before any tick ran."""
+    return TargetError(f"target {i}: {error} (no tick ran: the servo is where it was)")

@@ -6,8 +6,9 @@ A tick, from the joint values q and the last velocity v_prev (``state``):
 
 1. the stacked error E and its Jacobian A at q, for this tick's target and for the last
    tick's (its motion since);
-2. the smallest of A's ``min(rows, n)`` largest singular values (``armik.servo.singular``)
-   says how close the arm is to a singularity, and the damping grows as it falls below
+2. the smallest of A's ``min(rows, n)`` largest singular values over the unweighted rows
+   the task asks for (``stack``, ``armik.servo.singular``) says how close the arm is to a
+   singularity, and the damping grows as it falls below
    ``SIGMA`` (so that the arm keeps moving along the directions it still has); the damped
    normal matrix ``A^T A + lam I`` is factored by Cholesky;
 3. the desired step: the target's motion in joint space (feed-forward), plus the last
@@ -39,6 +40,7 @@ from armik.servo.layout import (
     COLUMNS,
     CONE,
     EXACT,
+    FIXED,
     LAST,
     LOOK,
     MAX_TASKS,
@@ -59,6 +61,9 @@ from armik.servo.step import take as _take
 # hundred times smaller, and an exact row's residual (``EXACT``) is far below it, so that
 # a servo settled on a held target commands exactly zero motion, not rounding noise
 MET = 1e-14
+# an exact row whose direction lies within this (1 - its squared share along the
+# directions the arm never moves) of them is one the arm can never follow
+NEVER = 1e-12
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -101,13 +106,16 @@ def views(buf, ibuf, n, N):
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
-def stack(table, tasks, ws, E, A):
+def stack(table, tasks, ws, E, A, fixed, scale):
     """E, A: the six rows of each of the first ``tasks`` tasks at the placement in ws
-    (``forward``'s); returns the largest distances from the tasks' regions (m, rad) and how
-    many rows are active."""
+    (``forward``'s), and each row's ``scale`` in the singular value (``_counted``; the
+    base frame's directions the tip never moves and turns in ``fixed``, (2, 3, 3)
+    projectors); returns the largest distances from the tasks' regions (m, rad) and how
+    many rows count."""
     n = A.shape[1]
     slot = np.int64(0)
     reg_p = reg_r = 0.0
+    active = 0
     for t in range(tasks):
         row = table[t]
         R_t = row[ROT : ROT + 9].reshape((3, 3))
@@ -131,15 +139,41 @@ def stack(table, tasks, ws, E, A):
         for k in range(6):
             e = ws.e[0, k]
             E[6 * t + k] = e if abs(e) > MET else 0.0
+            nonzero = False
             for c in range(n):
                 A[6 * t + k, c] = ws.A[0, k, c]
-    active = 0
-    for r in range(6 * tasks):
-        for c in range(n):
-            if A[r, c] != 0.0:
+                nonzero = nonzero or ws.A[0, k, c] != 0.0
+            sc = _counted(row, k, R_t, nonzero, fixed)
+            scale[6 * t + k] = sc
+            if sc != 0.0:
                 active += 1
-                break
     return reg_p, reg_r, active
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _counted(row, k, R_t, nonzero, fixed):
+    """Row k's scale in the singular value (``armik.servo.singular``): 1 over its weight
+    where the task asks for it, else 0. A cone's rows (unweighted) and a region's count
+    where they are nonzero (outside it); a freed row (infinite bound, zero weight) never;
+    an exact row always, zero or not at this q, unless it lies along a direction in
+    which the arm never moves its tip (``fixed``: a planar arm's normal), where it is
+    zero at every q."""
+    if row[CONE] >= 0.0 and k >= 3:
+        return 1.0 if nonzero else 0.0
+    w, b = row[WEIGHTS + k], row[BOUNDS + k]
+    if not (w > 0.0 and b < math.inf):
+        return 0.0
+    if nonzero:
+        return 1.0 / w
+    if b > 0.0:  # a region's row inside it
+        return 0.0
+    P = fixed[0] if k < 3 else fixed[1]
+    a = k % 3  # the row's direction in the base frame: the target's axis R_t[:, a]
+    along = 0.0
+    for i in range(3):
+        s = P[i, 0] * R_t[0, a] + P[i, 1] * R_t[1, a] + P[i, 2] * R_t[2, a]
+        along += s * s
+    return 1.0 / w if 1.0 - along > NEVER else 0.0
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -215,7 +249,8 @@ def _tick(ch, table, rows_cb, state, cfg, out, last, buf, ibuf):
     n, N = dof(ch), joints(ch)
     ws, o = views(buf, ibuf, n, N)
     m = 6 * MAX_TASKS
-    E, A2, M6, W, act, o = scratch(buf, o, n, m)
+    E, A2, M6, W, act, sc, o = scratch(buf, o, n, m)
+    fixed = cfg[FIXED : FIXED + 18].reshape((2, 3, 3))
     iv = ibuf[3 * n : 7 * n].reshape((4, n))
     every = ibuf[7 * n : 8 * n]  # every joint free: the Cholesky factor's mask
     q = state[Q]
@@ -225,17 +260,18 @@ def _tick(ch, table, rows_cb, state, cfg, out, last, buf, ibuf):
     tasks = table.shape[0]
     rows = 6 * tasks
     E0, A0, E1, A1 = E[0:m], A2[0], E[m : 2 * m], A2[1]
-    reg_p, reg_r, active = stack(table, tasks, ws, E0, A0)
+    reg_p, reg_r, active = stack(table, tasks, ws, E0, A0, fixed, sc[0])
     within = reg_p <= cfg[TOL_P] and reg_r <= cfg[TOL_R]
     moved = cfg[LAST] == tasks and not equal(last, table, tasks)  # the last tick's target
     if moved:
         for t in range(tasks):
             moved = moved and last[t, LOOK] == table[t, LOOK] and last[t, CONE] == table[t, CONE]
         if moved:
-            stack(last, tasks, ws, E1, A1)
+            stack(last, tasks, ws, E1, A1, fixed, sc[1])
     held = step_within(
-        E0, A0, E1, A1, rows, active, moved, True, rows_cb, state, cfg, M6, W, iv, every, act
-    )
+        E0, A0, E1, A1, rows, active, sc[0], moved, True, rows_cb, state, cfg, M6, W, iv,
+        every, act,
+    )  # fmt: skip
     # the true distances the command leaves (the FK at the new joint values)
     forward(ch, q, R, p, ws.geo[0], ws.geo[1])
     origin, reach_ = reach(ch)

@@ -55,7 +55,7 @@ def chain_size(n: int, N: int) -> int:
     """The floats a chain's scratch takes (``views``' ``Workspace`` and its own rows) for
     n joint values and N joints."""
     ws = 2 * n + 12 + 12 * n + 6 + NVEC * n + 4 * n * n + 6 * N + 6 * n + 18 + 9 + 36 + n
-    return ws + 36 + 12 + 6 * MAX_TASKS * (1 + n) + n
+    return ws + 36 + 12 + 6 * MAX_TASKS * (2 + n) + n
 
 
 def allocate(
@@ -82,13 +82,14 @@ def allocate(
 @njit(cache=True, nogil=True)
 def offsets(head):
     """Where each part starts in mem (state, cfg, out, out2, the last tables, the tables,
-    the poses, the packed floats, the rest) and in imem (the last counts, the counts,
+    the poses and each tip's ``fixed`` projectors (``tick.stack``'s), the packed floats, the
+    rest) and in imem (the last counts, the counts,
     ``at``, the kinds, the maps, the rest), from imem's header."""
     n, tips, P, K, M = head[0], head[1], head[4], head[5], head[6]
     table = tips * MAX_TASKS * COLUMNS
     f0 = STATE_ROWS * n
     f = (0, f0, f0 + CFG, f0 + CFG + OUT, f0 + CFG + 2 * OUT)
-    f = f + (f[4] + table, f[4] + 2 * table, f[4] + 2 * table + 16 * tips)
+    f = f + (f[4] + table, f[4] + 2 * table, f[4] + 2 * table + 34 * tips)
     f = f + (f[7] + P,)
     i = (HEADER, HEADER + tips, HEADER + 2 * tips)
     i = i + (i[2] + 3 * (tips + 1),)
@@ -97,8 +98,8 @@ def offsets(head):
 
 
 def python_views(mem: np.ndarray, imem: np.ndarray) -> tuple[np.ndarray, ...]:
-    """(state, cfg, out, tables, poses, counts): the views the ``UnionServo`` reads and
-    sets."""
+    """(state, cfg, out, tables, poses, counts, fixed): the views the ``UnionServo`` reads
+    and sets."""
     f, i = offsets(imem[:HEADER])
     n, tips = int(imem[0]), int(imem[1])
     return (
@@ -106,8 +107,9 @@ def python_views(mem: np.ndarray, imem: np.ndarray) -> tuple[np.ndarray, ...]:
         mem[f[1] : f[2]],
         mem[f[2] : f[3]],
         mem[f[5] : f[6]].reshape((tips * MAX_TASKS, COLUMNS)),
-        mem[f[6] : f[7]].reshape((tips, 4, 4)),
+        mem[f[6] : f[6] + 16 * tips].reshape((tips, 4, 4)),
         imem[i[1] : i[2]],
+        mem[f[6] + 16 * tips : f[7]].reshape((tips, 2, 3, 3)),
     )
 
 
@@ -123,8 +125,8 @@ def stacked(mem: np.ndarray, imem: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 @njit(cache=True, nogil=True, inline="always")
 def _carve(mem, imem):
-    """The parts of ``offsets``: (state, cfg, out, out2, lasts, tables, poses, packed, the
-    floats' rest), (last counts, counts, at, kinds, maps, the ints' rest)."""
+    """The parts of ``offsets``: (state, cfg, out, out2, lasts, tables, poses, fixed,
+    packed, the floats' rest), (last counts, counts, at, kinds, maps, the ints' rest)."""
     n, tips = imem[0], imem[1]
     f, i = offsets(imem[:HEADER])
     rows = tips * MAX_TASKS
@@ -135,7 +137,8 @@ def _carve(mem, imem):
         mem[f[3] : f[4]],
         mem[f[4] : f[5]].reshape((rows, COLUMNS)),
         mem[f[5] : f[6]].reshape((rows, COLUMNS)),
-        mem[f[6] : f[7]].reshape((tips, 4, 4)),
+        mem[f[6] : f[6] + 16 * tips].reshape((tips, 4, 4)),
+        mem[f[6] + 16 * tips : f[7]].reshape((tips, 2, 3, 3)),
         mem[f[7] : f[8]],
         mem[f[8] :],
     )
@@ -151,12 +154,14 @@ def _carve(mem, imem):
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
-def _rows(tables, counts, lasts, last_counts, packed, kinds, at, maps, q, buf, ibuf, E, A):
+def _rows(tables, counts, lasts, last_counts, packed, kinds, at, maps, q, buf, ibuf, E, A,
+          fixed, scale):  # fmt: skip
     """E[0], A[0]: every tip's rows toward its target at the union's joint values q, the
-    chains' columns scattered into the union's; E[1], A[1] toward the last tick's target
-    where a tip's moved (of the same form), else this tick's. ``buf``, ``ibuf``: a chain's
-    scratch. Returns (largest position and rotation distances from the regions, rows,
-    active rows, whether a target moved)."""
+    chains' columns scattered into the union's, and their ``scale`` in the singular value
+    (``tick.stack``'s, tip t's with the projectors ``fixed[t]``); E[1], A[1] toward the
+    last tick's target where a tip's moved (of the same form), else this tick's. ``buf``,
+    ``ibuf``: a chain's scratch. Returns (largest position and rotation distances from the
+    regions, rows, counted rows, whether a target moved)."""
     n = q.shape[0]
     most = ibuf.shape[0] // 3
     reg_p = reg_r = 0.0
@@ -170,6 +175,7 @@ def _rows(tables, counts, lasts, last_counts, packed, kinds, at, maps, q, buf, i
         ws, o = views(buf, ibuf, nt, joints(ch))
         Ec = buf[o : o + 6 * MAX_TASKS]
         Ac = buf[o + 6 * MAX_TASKS : o + 6 * MAX_TASKS * (1 + nt)].reshape((6 * MAX_TASKS, nt))
+        Sc = buf[o + 6 * MAX_TASKS * (1 + nt) : o + 6 * MAX_TASKS * (2 + nt)]
         qc = ws.q[0]
         for j in range(nt):
             qc[j] = q[cols[j]]
@@ -178,9 +184,11 @@ def _rows(tables, counts, lasts, last_counts, packed, kinds, at, maps, q, buf, i
         jacobian_local(ch, R, p, ws.geo[0], ws.geo[1], ws.J)
         k = counts[t]
         table = tables[t * MAX_TASKS : t * MAX_TASKS + k]
-        rp, rr, act = stack(table, k, ws, Ec, Ac)
+        rp, rr, act = stack(table, k, ws, Ec, Ac, fixed[t], Sc)
         reg_p, reg_r, active = max(reg_p, rp), max(reg_r, rr), active + act
         _scatter(Ec, Ac, cols, rows, 6 * k, n, E[0], A[0])
+        for r in range(6 * k):
+            scale[rows + r] = Sc[r]
         last = lasts[t * MAX_TASKS : t * MAX_TASKS + k]
         turned = last_counts[t] == k and not equal(last, table, k)
         if turned:
@@ -188,7 +196,7 @@ def _rows(tables, counts, lasts, last_counts, packed, kinds, at, maps, q, buf, i
                 turned = turned and last[r, LOOK] == table[r, LOOK]
                 turned = turned and last[r, CONE] == table[r, CONE]
         if turned:
-            stack(last, k, ws, Ec, Ac)
+            stack(last, k, ws, Ec, Ac, fixed[t], Sc)
         moved = moved or turned
         _scatter(Ec, Ac, cols, rows, 6 * k, n, E[1], A[1])
         rows += 6 * k
@@ -224,15 +232,15 @@ def rows_at(q, mem, imem):
     """``_rows`` at q (the test's view of them): the rows written, in the step's scratch
     (``stacked``); -1 for a pose that is not plain."""
     n, tips = imem[0], imem[1]
-    (state, cfg, out, out2, lasts, tables, H, packed, buf), ints = _carve(mem, imem)
+    (state, cfg, out, out2, lasts, tables, H, fixed, packed, buf), ints = _carve(mem, imem)
     last_counts, counts, at, kinds, maps, ib = ints
     if _poses(tables, counts, H) >= 0:
         return -1
     cw = chain_floats(imem[2], imem[3])
-    E, A2, M6, W, act, o = scratch(buf, cw, n, 6 * MAX_TASKS * tips)
+    E, A2, M6, W, act, sc, o = scratch(buf, cw, n, 6 * MAX_TASKS * tips)
     m = E.shape[0] // 2
     res = _rows(tables, counts, lasts, last_counts, packed, kinds, at, maps,
-                q, buf[:cw], ib[: 3 * imem[2]], E.reshape((2, m)), A2)  # fmt: skip
+                q, buf[:cw], ib[: 3 * imem[2]], E.reshape((2, m)), A2, fixed, sc[0])  # fmt: skip
     return res[2]
 
 
@@ -240,7 +248,7 @@ def rows_at(q, mem, imem):
 def chain_floats(n, N):
     """``chain_size`` in compiled code."""
     ws = 2 * n + 12 + 12 * n + 6 + NVEC * n + 4 * n * n + 6 * N + 6 * n + 18 + 9 + 36 + n
-    return ws + 36 + 12 + 6 * MAX_TASKS * (1 + n) + n
+    return ws + 36 + 12 + 6 * MAX_TASKS * (2 + n) + n
 
 
 @njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
@@ -250,26 +258,27 @@ def tick(mem, imem, rows_cb):
     having done nothing, the first tip whose pose H[t] is not one the target parser keeps
     as given (the caller parses it)."""
     n, tips, most = imem[0], imem[1], imem[2]
-    (state, cfg, out, out2, lasts, tables, H, packed, buf), ints = _carve(mem, imem)
+    (state, cfg, out, out2, lasts, tables, H, fixed, packed, buf), ints = _carve(mem, imem)
     last_counts, counts, at, kinds, maps, ib = ints
     bad = _poses(tables, counts, H)
     if bad >= 0:
         return bad
     cw = chain_floats(most, imem[3])
     m = 6 * MAX_TASKS * tips
-    E, A2, M6, W, act, o = scratch(buf, cw, n, m)
+    E, A2, M6, W, act, sc, o = scratch(buf, cw, n, m)
     cbuf, cibuf = buf[:cw], ib[: 3 * most]
     iv = ib[3 * most : 3 * most + 4 * n].reshape((4, n))
     every = ib[3 * most + 4 * n : 3 * most + 5 * n]
     q = state[Q]
     E2 = E.reshape((2, m))
     reg_p, reg_r, rows, active, moved = _rows(
-        tables, counts, lasts, last_counts, packed, kinds, at, maps, q, cbuf, cibuf, E2, A2
-    )
+        tables, counts, lasts, last_counts, packed, kinds, at, maps, q, cbuf, cibuf, E2, A2,
+        fixed, sc[0],
+    )  # fmt: skip
     within = reg_p <= cfg[TOL_P] and reg_r <= cfg[TOL_R]
     held = step_within(
-        E2[0], A2[0], E2[1], A2[1], rows, active, moved, False, rows_cb, state, cfg, M6, W,
-        iv, every, act,
+        E2[0], A2[0], E2[1], A2[1], rows, active, sc[0], moved, False, rows_cb, state, cfg,
+        M6, W, iv, every, act,
     )  # fmt: skip
     # the true distances the command leaves (each chain's FK at the new joint values)
     far = False

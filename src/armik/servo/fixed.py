@@ -1,0 +1,36 @@
+"""The directions in which an arm never moves or turns its tip, at any joint values: a
+planar arm's tip never leaves its plane (the normal) nor tilts out of it (the two axes in
+the plane), so a task's row along them is zero at every q and not one the arm can follow.
+
+The servo's singular value counts every row the task asks for, zero at this q or not (a
+stretched arm's row along its line is the singularity itself), but these
+(``armik.servo.tick``'s ``stack``): else a planar arm asked for a position would read as
+singular everywhere. Found once, when a servo starts, from the base-frame Jacobian at a
+few joint values spread over the limits: the directions no column of any of them reaches.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from armik.model.arm_model import ArmModel
+
+SAMPLES = 16  # joint values (besides the middle): a direction reached at one q is at most
+RELATIVE = 1e-9  # a singular value of the stacked columns below this share of the largest
+
+
+def never_moved(arm: ArmModel) -> np.ndarray:
+    """(2, 3, 3): the projectors onto the base frame's directions in which ``arm`` never
+    moves its tip (linear) and never turns it (angular), zero for a spatial arm."""
+    qs = [arm.middle, *arm.random_q(np.random.default_rng(0), SAMPLES)]
+    J = np.hstack([arm.jacobian(q, "base") for q in qs])
+    return np.stack([_left_null(J[:3]), _left_null(J[3:])])
+
+
+def _left_null(M: np.ndarray) -> np.ndarray:
+    """The projector onto the directions that no column of M reaches."""
+    U, s, _ = np.linalg.svd(M, full_matrices=True)
+    top = s.max() if s.size else 0.0
+    rank = int((s > RELATIVE * max(top, 1.0)).sum())
+    N = U[:, rank:]
+    return N @ N.T

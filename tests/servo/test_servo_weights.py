@@ -1,0 +1,32 @@
+"""The servo's weights: read by their ratios only, and no false singularity from small
+ones (sigma is measured on the unweighted rows)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+import armik
+from armik.servo.streams import START
+from tests.conftest import arm as load
+
+
+def test_weights_by_their_ratios_and_no_false_singularity():
+    """Small rotation weights stalled 3e-5 m and 0.11 rad off a reachable target, called a
+    singularity (the weighted rows' sigma, 5.8e-3); the same ratios scaled by 100 reached
+    it. Sigma is the unweighted rows' and the weights are read by their ratios."""
+    ur5, q0 = load("ur5"), START["ur5"]
+    T0 = ur5.fk(q0)
+    R = pin.rpy.rpyToMatrix(0.5, 0.2, 0.1) @ T0.rotation
+    target = pin.SE3(R, T0.translation + [0.05, 0.05, 0.0])
+    plain = ur5.servo(q0).step(target)
+    records = []
+    for w in [(1, 1, 1, 0.01, 0.01, 0.01), (100, 100, 100, 1, 1, 1)]:
+        pose = armik.Pose(target, weights=w)
+        assert abs(ur5.servo(q0).step(pose).sigma - plain.sigma) < 1e-12
+        records.append(ur5.servo(q0).track([pose] * 3000))
+    small, large = records
+    np.testing.assert_array_equal(small.q, large.q)
+    assert small.status[-1] == "on_target"
+    assert small.position_error[-1] < 1e-6 and small.orientation_error[-1] < 1e-6
+    assert "singularity" not in set(small.status.tolist())
