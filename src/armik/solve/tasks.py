@@ -291,9 +291,11 @@ def solve_tasks(
     tasks = problem.tasks
     ids = frame_ids(arm, tasks)
     q = arm.seed(q0)
-    unmoved = _unmoved(arm, tasks, ids, q, opts, t0)
-    if unmoved is not None:
-        return unmoved
+    frames = arm.model.frames
+    if 0 in [frames[fs[0]].parentJoint for fs in ids]:  # a task on a frame no joint moves
+        unmoved = _unmoved(arm, tasks, ids, q, opts, t0)
+        if unmoved is not None:
+            return unmoved
     reference = q.copy() if reference is None else reference
     # the constraints at this seed (a held joint's value), their box the step's rows, the
     # checks beyond the limits run on each descent's end
