@@ -358,20 +358,29 @@ def _in_processes(names: Sequence[str], jobs: int, bar) -> dict[str, float]:
 
 def _tasks(names: Sequence[str], jobs: int) -> list[tuple[str, ...]]:
     """``names`` as the processes' tasks, longest first: on two processes those of each of
-    ``_HALVES`` in one task, else the parts of a ``_TOGETHER`` group in one task, in the
-    group's order; every other part alone; every part alone when that leaves fewer tasks
+    ``_HALVES`` in one task, in its order; else (or when that leaves one task: ``armik
+    compile dls qp swept``) the parts of a ``_TOGETHER`` group in one task, in the group's
+    order; every other part alone; every part alone when that still leaves fewer tasks
     than ``jobs`` processes (``armik compile dls qp``)."""
+    tasks = _grouped(names, _HALVES) if jobs == 2 else []
+    if len(tasks) < jobs:
+        tasks = _grouped(names, _TOGETHER)
+    if len(tasks) < jobs:
+        tasks = [(n,) for n in names]
+    return sorted(tasks, key=lambda t: -sum(_COST.get(n, 10) for n in t))
+
+
+def _grouped(names: Sequence[str], groups: Sequence[tuple[str, ...]]) -> list[tuple[str, ...]]:
+    """``names`` in the ``groups`` they belong to (in each group's order), every other one
+    alone."""
     left = list(names)
     tasks = []
-    for group in _HALVES if jobs == 2 else _TOGETHER:
+    for group in groups:
         task = tuple(n for n in group if n in left)
         if task:
             tasks.append(task)
             left = [n for n in left if n not in task]
-    tasks += [(n,) for n in left]
-    if len(tasks) < jobs:
-        tasks = [(n,) for n in names]
-    return sorted(tasks, key=lambda t: -sum(_COST.get(n, 10) for n in t))
+    return tasks + [(n,) for n in left]
 
 
 def _timed_each(task: tuple[str, ...]) -> dict[str, float]:
