@@ -169,9 +169,13 @@ def test_an_objmode_block_lifted_from_the_cache_is_not_announced(tmp_path):
 
 
 def test_the_numeric_parts_compile_in_one_process_when_there_are_tasks_enough():
-    from armik.precompile import PARTS, _tasks
+    from armik.precompile import _HALVES, PARTS, _tasks
 
-    tasks = _tasks(list(PARTS), 2)
+    tasks = _tasks(list(PARTS), 2)  # two processes: the two halves, each part once
+    assert sorted(tasks) == sorted(_HALVES)
+    assert sorted(n for t in tasks for n in t) == sorted(PARTS)
+    assert tasks[0][:2] == ("dls", "qp") or tasks[1][:2] == ("dls", "qp")  # dls first
+    tasks = _tasks(list(PARTS), 3)
     assert sorted(n for t in tasks for n in t) == sorted(PARTS)  # each part once
     assert ("dls", "qp", "batch", "hold", "path") in tasks  # one after another, dls first
     assert _tasks(["qp", "dls"], 2) in ([("dls",), ("qp",)], [("qp",), ("dls",)])

@@ -268,8 +268,10 @@ def _tick(ch, table, rows_cb, state, cfg, out, last, buf, ibuf):
             moved = moved and last[t, LOOK] == table[t, LOOK] and last[t, CONE] == table[t, CONE]
         if moved:
             stack(last, tasks, ws, E1, A1, fixed, sc[1])
+    # a bool, not the literal True: one compiled step_within with the union's tick (False)
+    whole = bool(True)  # noqa: UP018
     held = step_within(
-        E0, A0, E1, A1, rows, active, sc[0], moved, True, rows_cb, state, cfg, M6, W, iv,
+        E0, A0, E1, A1, rows, active, sc[0], moved, whole, rows_cb, state, cfg, M6, W, iv,
         every, act,
     )  # fmt: skip
     # the true distances the command leaves (the FK at the new joint values)

@@ -276,8 +276,10 @@ def tick(mem, imem, rows_cb):
         fixed, sc[0],
     )  # fmt: skip
     within = reg_p <= cfg[TOL_P] and reg_r <= cfg[TOL_R]
+    # a bool, not the literal False: one compiled step_within with the chain's tick (True)
+    whole = bool(False)  # noqa: UP018
     held = step_within(
-        E2[0], A2[0], E2[1], A2[1], rows, active, sc[0], moved, False, rows_cb, state, cfg,
+        E2[0], A2[0], E2[1], A2[1], rows, active, sc[0], moved, whole, rows_cb, state, cfg,
         M6, W, iv, every, act,
     )  # fmt: skip
     # the true distances the command leaves (each chain's FK at the new joint values)
