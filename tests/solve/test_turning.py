@@ -121,3 +121,28 @@ def test_an_answer_a_check_refuses_stands_at_a_turn_that_passes(ur5):
     assert every and all(x.q[0] >= 0.0 for x in every)
     b = ur5.solve_batch([T, T], q0=q0, constraints=[c])
     assert b.success.all() and (b.q[:, 0] >= 0.0).all()
+
+
+class FarFromEverything(Constraint):
+    """A check of the links' placements that every answer fails (as a collision check can),
+    counting the answers it is asked about."""
+
+    pose_only = True
+
+    def __init__(self):
+        self.asked = 0
+
+    def check(self, arm, Q):
+        self.asked += len(Q)
+        return Check(np.zeros(len(Q), bool), Status.COLLISION, lambda i: "too near")
+
+
+def test_a_check_of_the_pose_alone_is_not_tried_at_the_answers_turns(ur5):
+    """A turn by 2 pi leaves every link where it was: an answer such a check refuses is
+    refused as it is, its turns (up to 255 of them on the UR5) not checked."""
+    _, T = _pose(ur5, 2)
+    c = FarFromEverything()
+    r = ur5.solve(T, constraints=[c])
+    assert not r.success and r.status is Status.COLLISION
+    found = len(ur5.solve_all(T))
+    assert c.asked <= 2 * found  # each answer once or twice, never its turns

@@ -49,6 +49,10 @@ class Check(NamedTuple):
 class Constraint(ABC):
     """What every answer must satisfy; checked on each answer before it is a success."""
 
+    # whether the check reads the pose alone (the links' placements), which a joint's turn
+    # by 2 pi leaves as it is: no turn of a failing answer can pass it
+    pose_only: bool = False
+
     def said(self) -> dict[str, object]:
         """The constraint as the compiled path's options (``Options`` fields); none for a
         constraint that only its own ``check`` says (kept as itself: ``Options.checks``)."""

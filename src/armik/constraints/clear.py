@@ -33,6 +33,7 @@ class Collisions(Constraint):
     obstacles: tuple[Shape, ...] = ()
     self_collision: bool = False
     margin: float = 0.0
+    pose_only = True  # the links' placements: the same at every turn of an answer
 
     def __post_init__(self) -> None:
         values = {f.name: getattr(self, f.name) for f in fields(self)}

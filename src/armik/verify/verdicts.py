@@ -108,9 +108,12 @@ class Verdicts:
         return self
 
     def _turned_to_pass(self, arm: ArmModel, constraints: Sequence[Constraint]) -> None:
+        values = [c for c in constraints if not c.pose_only]  # what a turn can change
+        if not values:
+            return
         Q = self.answers.q
         ok = self.success.copy()
-        for c in constraints:
+        for c in values:
             ok &= np.asarray(c.check(arm, Q).ok, dtype=bool)
         refused = np.flatnonzero(self.success & ~ok).tolist()
         if not refused:
@@ -121,7 +124,7 @@ class Verdicts:
             if not len(C):
                 continue
             passes = np.ones(len(C), dtype=bool)
-            for c in constraints:
+            for c in values:
                 passes &= np.asarray(c.check(arm, C).ok, dtype=bool)
             if passes.any():
                 shift = np.abs(C[passes] - moved[i]).sum(axis=1)
