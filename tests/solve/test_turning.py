@@ -146,3 +146,51 @@ def test_a_check_of_the_pose_alone_is_not_tried_at_the_answers_turns(ur5):
     assert not r.success and r.status is Status.COLLISION
     found = len(ur5.solve_all(T))
     assert c.asked <= 2 * found  # each answer once or twice, never its turns
+
+
+class RollWindow(Constraint):
+    """The SCARA's tool roll, a joint without limits, within [0, 1] rad."""
+
+    def check(self, arm, Q):
+        ok = (Q[:, 3] >= 0.0) & (Q[:, 3] <= 1.0)
+        return Check(ok, Status.JOINT_LIMITS, lambda i: "roll outside [0, 1]")
+
+
+def test_a_joint_without_limits_is_turned_to_pass_a_check():
+    """Seeded a turn away on a continuous joint, the answer stands at the turn that passes,
+    as a joint with limits wider than a turn does, on every route."""
+    scara = armik.load("scara")
+    assert scara.lower[3] == -np.inf and scara.upper[3] == np.inf
+    q = np.array([0.4, 0.8, 0.1, 0.5])
+    T = scara.fk(q)
+    q0 = q.copy()
+    q0[3] -= 2 * np.pi
+    c = RollWindow()
+    r = scara.solve(T, q0=q0, constraints=[c])
+    assert r.success and r.q[3] == pytest.approx(0.5, abs=1e-6)
+    assert any(x.success for x in scara.solve_all(T, q0=q0, constraints=[c]))
+    assert scara.solve_batch([T], q0=q0, constraints=[c]).success.all()
+
+
+class Window(Constraint):
+    def __init__(self, j, lo, hi):
+        self.j, self.lo, self.hi = j, lo, hi
+
+    def check(self, arm, Q):
+        ok = (Q[:, self.j] >= self.lo) & (Q[:, self.j] <= self.hi)
+        return Check(ok, Status.JOINT_LIMITS, lambda i: "outside the window")
+
+
+def test_two_answers_2_pi_apart_are_not_turned_into_one():
+    """solve_all's numeric answers two of which lie 2 pi apart, both refused by a check:
+    one turn of them stands, the other stays refused; no configuration is listed twice."""
+    ur5 = armik.load("ur5")
+    q = ur5.random_q(2)
+    T = ur5.fk(q)
+    checks = [Window(5, -1.0, 1.0), Window(0, -1.0, 6.3)]
+    found = ur5.solve_all(T, q0=q, solver="dls", max_solutions=16, constraints=checks)
+    ok = [x.q for x in found if x.success]
+    assert ok
+    for i in range(len(ok)):
+        for j in range(i):
+            assert np.abs(ok[i] - ok[j]).max() >= 1e-4

@@ -17,9 +17,12 @@ TWO_PI = 2.0 * math.pi
 MAX_TURNS = 256  # combinations of the joints' turns at most, the configuration itself first
 
 
-def turns(arm: ArmModel, q: np.ndarray, free: np.ndarray | None = None) -> list[list[float]]:
+def turns(
+    arm: ArmModel, q: np.ndarray, free: np.ndarray | None = None, unlimited: int = 0
+) -> list[list[float]]:
     """Per joint: its value and the values 2 pi turns away within its limits, on the
-    revolute joints whose limits span more than one turn (``free``: only those joints)."""
+    revolute joints whose limits span more than one turn (``free``: only those joints);
+    a joint without limits (continuous) turned by up to ``unlimited`` turns each way."""
     lower, upper, no_period = arm._limit_lists  # no period: prismatic, or a mimic's driver
     may = [True] * arm.dof if free is None else free.tolist()
     choices = []
@@ -28,6 +31,8 @@ def turns(arm: ArmModel, q: np.ndarray, free: np.ndarray | None = None) -> list[
         if m and not linear and math.isfinite(lo) and math.isfinite(hi) and hi - lo > TWO_PI:
             k_lo, k_hi = math.ceil((lo - qi) / TWO_PI), math.floor((hi - qi) / TWO_PI)
             values += [qi + k * TWO_PI for k in range(k_lo, k_hi + 1) if k != 0]
+        elif m and not linear and unlimited and lo == -math.inf and hi == math.inf:
+            values += [qi + k * TWO_PI for k in range(-unlimited, unlimited + 1) if k != 0]
         choices.append(values)
     return choices
 

@@ -17,6 +17,7 @@ import numpy as np
 
 from armik import reasons
 from armik.constraints.base import Check, Constraint
+from armik.kernel.descent import DUPLICATE_TOL
 from armik.model.turns import combinations, turns
 from armik.result import IKResult
 from armik.solvers.answers import Answers, one, stacked
@@ -26,6 +27,7 @@ if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
 
 _CONVERGED = Status.CONVERGED.code
+UNLIMITED_TURNS = 2  # a continuous joint's turns tried for a check: up to 2 each way
 
 
 @dataclass(eq=False)
@@ -119,16 +121,22 @@ class Verdicts:
         if not refused:
             return
         moved = np.array(Q, dtype=float)
+        # a configuration stands for one answer only (two found 2 pi apart are one): a turn
+        # within DUPLICATE_TOL of an answer kept is not taken
+        kept = [moved[i] for i in np.flatnonzero(ok).tolist()]
         for i in refused:
-            C = combinations(turns(arm, moved[i]))[1:]  # the row itself is refused
-            if not len(C):
+            C = combinations(turns(arm, moved[i], unlimited=UNLIMITED_TURNS))[1:]
+            if not len(C):  # (the row itself, C's first, is refused)
                 continue
             passes = np.ones(len(C), dtype=bool)
             for c in values:
                 passes &= np.asarray(c.check(arm, C).ok, dtype=bool)
-            if passes.any():
-                shift = np.abs(C[passes] - moved[i]).sum(axis=1)
-                moved[i] = C[passes][int(np.argmin(shift))]
+            C = C[passes]
+            for k in np.argsort(np.abs(C - moved[i]).sum(axis=1), kind="stable").tolist():
+                if all(np.abs(C[k] - other).max() >= DUPLICATE_TOL for other in kept):
+                    moved[i] = C[k]
+                    kept.append(moved[i])
+                    break
         if not np.array_equal(moved, Q):
             moved.flags.writeable = False
             self.answers = replace(self.answers, q=moved)
