@@ -6,10 +6,11 @@ Every joint's axis is a line (point, unit direction) in the base frame at q = 0.
 closed-form family classifies these lines in its own file (``armik.solvers.closed_form``);
 ``armik.tolerances`` holds the angle and distance within which axes are parallel or meet.
 
-Plane coordinates (planar chains): origin on the first joint's axis at the tip's
-height, ``normal`` along the first joint's axis, ``x`` the projection of the base axis that
-follows the normal's largest component (z -> x, x -> y, y -> z), ``y = normal x x``. For an
-arm turning about the base z axis the plane's (x, y) are the base frame's (x, y).
+Plane coordinates (planar chains): from the plane's point nearest the base's origin, ``x``
+and ``y`` the base's two axes other than the one nearest the normal, in their order,
+projected onto the plane (``y`` then made square to ``x``), ``normal = x cross y``. On a
+plane along two base axes (x-y, x-z, y-z) they are those base axes. A 2-vector target gives
+the base coordinates along those two axes (``Plane.from_base``).
 """
 
 from __future__ import annotations
@@ -41,6 +42,21 @@ class Plane:
 
     def to_3d(self, xy: np.ndarray) -> np.ndarray:
         return self.origin + xy[0] * self.x + xy[1] * self.y
+
+    def from_base(self, xy) -> tuple[np.ndarray, np.ndarray]:
+        """(the plane's point, its plane coordinates) whose base coordinates across the
+        plane are ``xy``: the base's two axes other than the one nearest the normal, in
+        their order (x, y on a plane along the base's x-y), the third read off the plane.
+        On a plane along two base axes these are the plane coordinates themselves."""
+        k = int(np.argmax(np.abs(self.normal)))
+        i, j = (m for m in range(3) if m != k)
+        n = self.normal
+        if n[i] == 0.0 and n[j] == 0.0:  # along two base axes: (x, y) are its own coordinates
+            return self.to_3d(xy), xy
+        p = np.zeros(3)
+        p[i], p[j] = xy[0], xy[1]
+        p[k] = (n @ self.origin - n[i] * p[i] - n[j] * p[j]) / n[k]
+        return p, self.to_2d(p)
 
     def to_2d(self, p: np.ndarray) -> np.ndarray:
         d = p - self.origin

@@ -123,8 +123,9 @@ class Plan:
         self.run_pose = spec.prepare_pose(arm, opts, position)
         # a runner that also takes (x, y) targets in a planar arm's plane: those too
         self.plane = None
-        if position and getattr(self.run_pose, "takes_xy", False) and arm.plane is not None:
-            p = arm.plane
+        p = arm.plane
+        # (a plane along two base axes: there (x, y) are its coordinates, ``Plane.from_base``)
+        if position and getattr(self.run_pose, "takes_xy", False) and _along_axes(p):
             self.plane = (*p.origin.tolist(), *p.x.tolist(), *p.y.tolist())
         self.model, self.frame = arm.model, arm.tip_frame_id
         self.direct = arm.model.nq == arm.dof  # q is Pinocchio's configuration itself
@@ -201,7 +202,8 @@ class Plan:
             else:
                 xy = x, y = target.tolist()
                 o0, o1, o2, a0, a1, a2, b0, b1, b2 = self.plane
-                # ``Plane.to_3d``'s arithmetic, as the parser places it (a non-finite or
+                # ``Plane.to_3d``'s arithmetic (``from_base``'s on a plane along two base
+                # axes), as the parser places it (a non-finite or
                 # too distant one fails the runner's check: the general path refuses it)
                 H[0, 3] = o0 + x * a0 + y * b0
                 H[1, 3] = o1 + x * a1 + y * b1
@@ -429,3 +431,8 @@ def _seed_copy(q0: object, shape: tuple) -> np.ndarray | None:
 
 def _rank_key(fields: dict) -> tuple:
     return failure_rank(fields["status"], fields["position_error"], fields["orientation_error"])
+
+
+def _along_axes(plane) -> bool:
+    """Whether ``plane`` lies along two base axes (its normal along the third)."""
+    return plane is not None and int(np.count_nonzero(plane.normal)) == 1

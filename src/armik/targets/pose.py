@@ -37,7 +37,7 @@ class Target:
 
     position: np.ndarray
     rotation: np.ndarray | None = None
-    planar_xy: np.ndarray | None = None  # as given, when given as (x, y) in the arm's plane
+    planar_xy: np.ndarray | None = None  # a 2-vector target's point, in plane coordinates
 
     @property
     def planar(self) -> bool:
@@ -363,4 +363,5 @@ def _planar(xy: np.ndarray, arm: object) -> Target:
             f"a 2-vector target needs a planar arm, and {name} is not planar: "
             "give a position (x, y, z) or a full pose"
         )
-    return Target(_position(plane.to_3d(xy)), None, planar_xy=xy)
+    p, uv = plane.from_base(xy)  # base (x, y) across the plane; the kernel's coordinates
+    return Target(_position(p), None, planar_xy=uv)

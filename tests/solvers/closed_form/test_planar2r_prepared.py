@@ -158,7 +158,9 @@ def test_rotated_and_translated_arm(tmp_path, origin, rpy, tool):
     rng = np.random.default_rng(14)
     for _ in range(30):
         T = a.fk(a.random_q(rng))
-        xy = a.kinematics.plane.to_2d(T.translation)
+        # a 2-vector: the base coordinates across the (tilted) plane (``Plane.from_base``)
+        k = int(np.argmax(np.abs(a.kinematics.plane.normal)))
+        xy = T.translation[[m for m in range(3) if m != k]].copy()
         for target in (xy, T.translation.copy(), T, T.homogeneous):
             for q0 in (None, a.random_q(rng)):
                 fast, _ = _both(a, target, q0)
