@@ -90,10 +90,12 @@ def configuration(
             f"{key} must be {dof} numbers (one per joint), got {value!r}", option=key, value=value
         ) from None
     if arr.shape != (dof,):
-        several = f"; for {arr.shape[0]} configurations, ask one row at a time"
+        several = ""
+        if arr.ndim == 2 and arr.shape[1] == dof:
+            several = f"; for {arr.shape[0]} configurations, ask one row at a time"
         raise OptionError(
             f"{key} must have {dof} values (one per joint: {', '.join(joint_names)}), got "
-            f"shape {arr.shape}{several if arr.ndim == 2 and arr.shape[1] == dof else ''}",
+            f"shape {arr.shape}{several}",
             option=key,
             value=value,
         )

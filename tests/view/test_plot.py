@@ -80,3 +80,17 @@ def test_plot_marks_a_task_list_target(tmp_path):
     bare = lines(None)
     assert lines(tasks) == bare + 4  # a frame's three dashed axes and a cross
     assert lines(T) == bare + 3 and lines([armik.Position((0.3, 0.2, 0.3))]) == bare + 1
+
+
+def test_plot_names_a_folder_path_and_writes_the_png_it_returns(tmp_path):
+    """A folder as the path is refused naming a file in it; a name without a suffix is
+    written as name.png, the path returned; configurations that are not ones are refused
+    naming which."""
+    ur5 = armik.load("ur5")
+    q = ur5.middle
+    with pytest.raises(armik.InputError, match="is a folder"):
+        armik.plot(ur5, q, tmp_path)
+    out = armik.plot(ur5, q, tmp_path / "shot")
+    assert out == tmp_path / "shot.png" and out.is_file()
+    with pytest.raises(armik.OptionError, match=r"others\[0\]"):
+        armik.plot(ur5, q, tmp_path / "o.png", others=[1, 2])

@@ -51,6 +51,11 @@ def plot(
         raise InputError(
             f"ax must be a matplotlib 3D axes (fig.add_subplot(projection='3d')), got {ax!r}"
         )
+    if path is not None and ax is None and Path(path).is_dir():
+        raise InputError(
+            f"plot: {str(path)!r} is a folder: give the PNG's file name in it "
+            f"({str(Path(path) / 'arm.png')!r})"
+        )
     if path is not None and ax is None and not Path(path).parent.is_dir():
         raise InputError(
             f"plot: the folder {str(Path(path).parent)!r} of {str(path)!r} does not exist: "
@@ -88,6 +93,8 @@ def plot(
     if fig is None or path is None:  # path is None only with an ax given: fig is None
         return ax
     path = Path(path)
+    if not path.suffix:  # matplotlib writes "name.png": the path returned is the file written
+        path = path.with_suffix(".png")
     try:
         fig.savefig(path, dpi=110)
     except OSError as exc:
