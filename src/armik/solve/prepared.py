@@ -125,7 +125,7 @@ class Plan:
         self.plane = None
         p = arm.plane
         # (a plane along two base axes: there (x, y) are its coordinates, ``Plane.from_base``)
-        if position and getattr(self.run_pose, "takes_xy", False) and _along_axes(p):
+        if position and getattr(self.run_pose, "takes_xy", False) and p is not None and _along(p):
             self.plane = (*p.origin.tolist(), *p.x.tolist(), *p.y.tolist())
         self.model, self.frame = arm.model, arm.tip_frame_id
         self.direct = arm.model.nq == arm.dof  # q is Pinocchio's configuration itself
@@ -433,6 +433,6 @@ def _rank_key(fields: dict) -> tuple:
     return failure_rank(fields["status"], fields["position_error"], fields["orientation_error"])
 
 
-def _along_axes(plane) -> bool:
+def _along(plane) -> bool:
     """Whether ``plane`` lies along two base axes (its normal along the third)."""
-    return plane is not None and int(np.count_nonzero(plane.normal)) == 1
+    return int(np.count_nonzero(plane.normal)) == 1
