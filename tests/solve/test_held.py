@@ -107,10 +107,22 @@ def test_bad_hold_values_are_refused_with_the_fix(iiwa):
     assert issubclass(OptionError, InputError)
 
 
-def test_hold_in_a_batch_is_refused_with_the_fix(iiwa):
-    poses = np.array([iiwa.fk(np.zeros(7)).homogeneous])
-    with pytest.raises(OptionError, match=r"hold= is for solve and solve_all.*with_locked"):
-        iiwa.solve_batch(poses, hold={"j3": 0.0}, workers=1, progress=False)
+def test_hold_in_a_batch_holds_the_joint_on_every_row_as_solve_does(iiwa):
+    """A batch with a joint held is solved row by row as solve solves it, with or without a
+    preference (it was refused without one and taken with one)."""
+    rng = np.random.default_rng(4)
+    qs = [iiwa.random_q(rng) for _ in range(3)]
+    held = float(qs[0][2])
+    for q in qs:
+        q[2] = held
+    poses = np.array([iiwa.fk(q).homogeneous for q in qs])
+    for prefer in (None, "nearest"):
+        out = iiwa.solve_batch(poses, hold={"j3": held}, prefer=prefer, progress=False)
+        assert out.success.all()
+        assert np.allclose(out.q[:, 2], held, atol=1e-9)
+        for i, T in enumerate(poses):
+            r = iiwa.solve(T, hold={"j3": held}, prefer=prefer)
+            assert np.array_equal(r.q, out.q[i])
 
 
 def test_a_path_with_a_joint_held_keeps_it_there(iiwa):

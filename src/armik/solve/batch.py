@@ -98,8 +98,8 @@ def solve_batch(
     if request.rows is not None:  # no compiled form: each row's own request, one by one
         if run_jobs is not None:
             raise OptionError(
-                "backend= runs the compiled batch's chunks; this batch (prefer=, or task "
-                "lists the compiled batch has no form for) is solved row by row in this "
+                "backend= runs the compiled batch's chunks; this batch (prefer=, hold=, or "
+                "task lists the compiled batch has no form for) is solved row by row in this "
                 "process: drop backend=",
                 option="backend",
                 value=backend,
@@ -107,13 +107,6 @@ def solve_batch(
         label = SOLVER if request.score is None else f"{solver}, prefer"
         return _each(arm, request, progress, t0, label)
     opts = with_seed(request.opts, request.seed)  # seeded once: every chunk reads these
-    if opts.hold is not None:
-        raise OptionError(
-            "hold= is for solve and solve_all; for many targets with a joint held, solve "
-            "them on arm.with_locked({joint: value})",
-            option="hold",
-            value=opts.hold[0][0],
-        )
     if opts.swivel is not None:
         raise OptionError(
             "swivel= is for solve and solve_all: solve each target with arm.solve_all(T, "
