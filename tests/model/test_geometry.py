@@ -185,7 +185,7 @@ def test_a_planar_arms_2_vector_is_in_the_base_frame(origin, axis, along, kept):
 def test_a_tilted_planar_arms_2_vector_gives_the_base_x_and_y():
     """Axes along (0, -0.39, 0.92): the plane is along no two base axes. (x, y) are the base
     x and y of the plane's point, the third read off the plane: the tip reaches them."""
-    axis = "0 -0.3894 0.9211"
+    axis = "0 -0.389418342 0.921060994"  # (0, -sin 0.4, cos 0.4)
     arm = armik.load(_planar_urdf("0.1 0.2 0.3", axis, "1 0 0"), tip="t")
     p = arm.fk([0.4, 0.7]).translation
     r = arm.solve(p[:2])
