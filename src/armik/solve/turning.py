@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armik.constraints.base import Check, Constraint
+from armik.constraints.base import Constraint
 from armik.constraints.hold import Hold
 from armik.model.arm_model import ArmModel
 
@@ -29,15 +29,6 @@ class Turning:
         out = np.ones(dof, dtype=bool)
         out[list(self.fixed)] = False
         return out
-
-    def failed(self, arm: ArmModel, Q: np.ndarray) -> Check | None:
-        """The first check that some row of ``Q`` (N, dof) fails, None where every row
-        passes them all."""
-        for c in self.checks:
-            got = c.check(arm, Q)
-            if not np.asarray(got.ok, dtype=bool).all():
-                return got
-        return None
 
     def keeps(self, arm: ArmModel, Q: np.ndarray) -> np.ndarray:
         """(N,) bool: whether each row of ``Q`` passes every check."""
