@@ -18,6 +18,17 @@ from armik.servo.streams import circle, violations
 
 from ..test_arms import dual_irb120
 
+
+def assert_within_limits(robot, servo, q0, rec) -> None:
+    """No commanded position, velocity or acceleration past ``servo``'s limits, by finite
+    differences of the record's joint values from q0."""
+    over = violations(
+        q0, rec.q, robot.lower, robot.upper, servo.velocity_limits, servo.acceleration_limits,
+        DT,
+    )  # fmt: skip
+    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+
+
 DT = 0.002
 START = np.array([0.0, 0.2, 0.2, 0.0, 0.8, 0.0])  # each IRB 120 of the cell
 
@@ -43,10 +54,7 @@ def test_each_chain_is_its_own_servo_and_every_limit_holds(cell):
     alone_r = cell.chain("r_tool0").servo(START, dt=DT, acceleration_limits=15.0).track(right)
     assert rec.q.shape == (600, 12)
     assert np.array_equal(rec.q, np.hstack([alone_l.q, alone_r.q]))
-    over = violations(
-        q0, rec.q, cell.lower, cell.upper, servo.velocity_limits, servo.acceleration_limits, DT
-    )
-    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    assert_within_limits(cell, servo, q0, rec)
     # the joined step's errors are the larger tip's; the tips' own FK says where they are
     assert np.array_equal(
         rec.position_error, np.maximum(alone_l.position_error, alone_r.position_error)
@@ -189,10 +197,7 @@ def test_a_shared_lift_and_continuous_joints_step_within_their_limits(pr2):
     servo = pr2.servo(q0, dt=DT)
     rec = servo.track([up] * 1500)
     assert rec.status[-1] == "on_target" and rec.position_error[-1] < 1e-6
-    over = violations(
-        q0, rec.q, pr2.lower, pr2.upper, servo.velocity_limits, servo.acceleration_limits, DT
-    )
-    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    assert_within_limits(pr2, servo, q0, rec)
     for tip in pr2.tips:
         assert np.linalg.norm(pr2.fk(rec.q[-1], tip).translation - up[tip]) < 1e-6
 
@@ -308,11 +313,7 @@ def test_an_axis_and_a_look_at_over_shared_joints_are_held_in_their_cones(talos)
     }
     servo = talos.servo(q0, dt=DT)
     rec = servo.track([targets] * 1500)
-    over = violations(
-        q0, rec.q, talos.lower, talos.upper, servo.velocity_limits, servo.acceleration_limits,
-        DT,
-    )  # fmt: skip
-    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    assert_within_limits(talos, servo, q0, rec)
     assert rec.status[-1] == "on_target" and "singularity" not in set(rec.status.tolist()[500:])
 
     def angle(a: np.ndarray, b: np.ndarray) -> float:
@@ -351,11 +352,7 @@ def test_an_obstacle_over_shared_joints_is_kept_at_the_margin(elbow_and_hand):
     assert nearest(free.q[::10]) < 0.0  # without the sphere the hand passes through it
     servo = robot.servo(q0, dt=DT, obstacles=[sphere], margin=0.01)
     rec = servo.track(targets)
-    over = violations(
-        q0, rec.q, robot.lower, robot.upper, servo.velocity_limits, servo.acceleration_limits,
-        DT,
-    )  # fmt: skip
-    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    assert_within_limits(robot, servo, q0, rec)
     assert nearest(rec.q) >= 0.01 - 1e-4
     assert "obstacle" in set(rec.status.tolist())
     end = _placed(robot, rec.q[-1])["panda_hand"]  # back on the circle past the sphere
@@ -436,11 +433,7 @@ def test_self_collision_between_the_chains_is_kept_at_the_margin(talos_srdf):
     assert _between(robot, free.q[-1:]) < 0.0
     servo = robot.servo(q0, dt=DT, self_collision=True, margin=0.01)
     rec = servo.track(stream)
-    over = violations(
-        q0, rec.q, robot.lower, robot.upper, servo.velocity_limits, servo.acceleration_limits,
-        DT,
-    )  # fmt: skip
-    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    assert_within_limits(robot, servo, q0, rec)
     assert _between(robot, rec.q[::4]) >= 0.01 - 1e-4
     assert rec.status[-1] == "obstacle" and rec.position_error[-1] > 0.02
 
