@@ -62,7 +62,7 @@ def best_variant(
         return turn.kept(arm, best, q)
     Q = combinations(choices)
     allowed = Q[turn.keeps(arm, Q)] if turn.checks else Q  # q itself, the first, passes
-    return min((x for x in allowed), key=lambda x: score(arm, x, q0), default=q)
+    return min(allowed, key=lambda x: score(arm, x, q0), default=q)
 
 
 def _turn_centre(arm: ArmModel, score: Score, q0: np.ndarray) -> np.ndarray | None:
