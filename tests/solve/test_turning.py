@@ -93,6 +93,30 @@ def test_a_global_path_turns_where_nothing_forbids_it(ur5):
     assert out.success.all() and (out.q[:, 0] < 0.0).all()
 
 
+class Anything(Constraint):
+    """A user's check every configuration passes."""
+
+    def check(self, arm, Q):
+        return Check(np.ones(len(Q), dtype=bool), Status.JOINT_LIMITS, lambda i: "never")
+
+
+def test_a_global_path_with_a_check_no_turn_fails_plans_as_without_it(ur5, monkeypatch):
+    """Each turn a rung of its own only where a turn fails a check: a check every turn
+    passes leaves the plan the one without it."""
+    from armik.solve import ladder
+
+    plain = ur5.solve_path(_line(ur5, 1), None, plan="global")
+    expanded = []
+    turns = ladder._turns
+    monkeypatch.setattr(ladder, "_turns", lambda *a: expanded.append(a) or turns(*a))
+    out = ur5.solve_path(_line(ur5, 1), None, plan="global", constraints=[Anything()])
+    assert not expanded
+    assert out.success.all() and np.array_equal(out.q, plain.q)
+    # the count could fail: a check some turn fails makes each turn a rung
+    ur5.solve_path(_line(ur5, 1), None, plan="global", constraints=[PanNonNegative()])
+    assert expanded
+
+
 def test_a_path_row_a_plan_turned_past_a_constraint_is_refused_by_it(ur5):
     """The last guard: a success whose answer breaks a check becomes that check's failure."""
     from armik.solve.turning import Turning, refuse_broken

@@ -79,8 +79,8 @@ def plan(
     good = [[r for r in rs if r.success] for rs in rungs]
     lower, upper, no_period = arm._limit_lists
     periodic = ~np.array(no_period, dtype=bool) & turn.free(arm.dof)
-    if (score is not None and score.turns_matter) or turn.checks:  # each turn a rung
-        good = [[t for r in g for t in _turns(arm, r, turn)] for g in good]
+    if (score is not None and score.turns_matter) or _turns_checked(arm, good, turn):
+        good = [[t for r in g for t in _turns(arm, r, turn)] for g in good]  # each turn a rung
         # the limited joints' turns are rungs now (scored, checked); an unlimited one the
         # dynamic programming still turns next to the previous rung, its score as given
         periodic &= ~(np.isfinite(arm.lower) & np.isfinite(arm.upper))
@@ -150,11 +150,26 @@ def held_to_step(arm: ArmModel, out: BatchResult, start: np.ndarray | None, step
             prev, whence = q, "the previous waypoint's answer"
 
 
+def _turns_checked(arm: ArmModel, good: list[list[IKResult]], turn: Turning) -> bool:
+    """Whether some turn of some rung fails one of ``turn``'s checks: only then must each
+    turn be a rung of its own. Where every turn passes (a check that reads no joint's turn,
+    say), the plan may turn joints next to the previous rung as it does without checks."""
+    if not turn.checks:
+        return False
+    every = [_every_turn(arm, r, turn) for g in good for r in g]
+    return bool(every) and not turn.keeps(arm, np.concatenate(every)).all()
+
+
+def _every_turn(arm: ArmModel, r: IKResult, turn: Turning) -> np.ndarray:
+    """(M, dof): ``r`` at every combination of the turns ``turn`` lets its joints take."""
+    return np.array(list(itertools.product(*turns(arm, np.asarray(r.q), turn))))
+
+
 def _turns(arm: ArmModel, r: IKResult, turn: Turning) -> list[IKResult]:
     """``r`` at every combination of its joints' turns (``prefer.turns``: the values 2 pi
     apart within the limits) that passes ``turn``'s checks: the same pose, each scored
     apart (``r`` itself, verified, first)."""
-    Q = np.array(list(itertools.product(*turns(arm, np.asarray(r.q), turn))))
+    Q = _every_turn(arm, r, turn)
     if turn.checks:
         Q = Q[turn.keeps(arm, Q)]
     Q.flags.writeable = False
