@@ -218,3 +218,42 @@ def test_two_answers_2_pi_apart_are_not_turned_into_one():
     for i in range(len(ok)):
         for j in range(i):
             assert np.abs(ok[i] - ok[j]).max() >= 1e-4
+
+
+class PanWindow(Constraint):
+    """The UR5's pan within 0.01 rad of a value: only one turn of it passes."""
+
+    def __init__(self, pan: float):
+        self.pan = pan
+
+    def check(self, arm, Q):
+        ok = np.abs(Q[:, 0] - self.pan) <= 0.01
+        return Check(ok, Status.JOINT_LIMITS, lambda i: f"pan {Q[i, 0]:.3f} off the window")
+
+
+@pytest.mark.parametrize(
+    "prefer", ["nearest", "manipulability", TOWARD[1]], ids=["nearest", "manipulability", "posture"]
+)
+def test_a_followed_paths_preference_does_not_turn_past_a_users_constraint(ur5, prefer):
+    """The preference's candidates (every branch at a waypoint) are turned next to the
+    previous answer only as far as the check allows: a pan of 4.49 was turned to -1.79."""
+    q = ur5.random_q(np.random.default_rng(0))
+    q[0] = 4.49
+    T = ur5.fk(q)
+    out = ur5.solve_path([T, T], None, constraints=[PanWindow(4.49)], prefer=prefer)
+    assert out.success.all(), out.reasons
+    assert np.allclose(out.q[:, 0], 4.49, atol=0.01)
+
+
+def test_a_followed_paths_preference_moves_no_held_joint_along_the_self_motion():
+    """On the Panda the preference moves the followed answer along its self-motion; a held
+    joint stays out of that motion (it moved and every waypoint failed its hold)."""
+    arm = armik.load("panda")
+    q = arm.random_q(np.random.default_rng(2))
+    T = arm.fk(q)
+    line = [pin.SE3(T.rotation, T.translation + [0.0, 0.005 * k, 0.0]) for k in range(4)]
+    for joint in (0, 6):
+        hold = {arm.joint_names[joint]: float(q[joint])}
+        out = arm.solve_path(line, None, hold=hold, prefer="manipulability")
+        assert out.success.all(), out.reasons
+        assert np.allclose(out.q[:, joint], q[joint], atol=1e-9)

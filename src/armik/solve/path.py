@@ -41,7 +41,7 @@ from armik.solve import ladder, rungs
 from armik.solve.path_score import preferred
 from armik.solve.rungs import unwrapped
 from armik.solve.stages import run
-from armik.solve.turning import ANY, refuse_broken, turning
+from armik.solve.turning import ANY, Turning, refuse_broken, turning
 from armik.solvers import registry
 from armik.status import Status
 from armik.targets.batch import parse_targets
@@ -115,7 +115,7 @@ def solve_path(
         ladder.plan(arm, every, batch, found, start, step, opts, out, score, q_prev, turn)
         refuse_broken(arm, out, turn)
         return frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
-    chooser = None if score is None else _chooser(arm, score, q_prev, request)
+    chooser = None if score is None else _chooser(arm, score, q_prev, request, turn)
     _walk(arm, batch, q_prev, step, request, local, out, chooser, q0 is None, turn)
     ladder.held_to_step(arm, out, None if q0 is None else q_prev, step)
     refuse_broken(arm, out, turn)
@@ -150,13 +150,14 @@ def _at(arm: ArmModel, request: Request, target: object, q: np.ndarray) -> IKRes
     return run(arm, request.but(target=target, q0=q, t0=time.perf_counter()))  # type: ignore[no-any-return]
 
 
-def _chooser(arm, score, start: np.ndarray, request: Request):
+def _chooser(arm, score, start: np.ndarray, request: Request, turn: Turning):
     """A preference's choice at each waypoint (``path_score.preferred``) among the answers
-    within a step of the one before, scored against the path's start."""
+    within a step of the one before, scored against the path's start, turned only as
+    ``turn`` allows."""
     reference = np.array(start, dtype=float)
 
     def choose(target: Target, r: IKResult, q_prev: np.ndarray, within: np.ndarray) -> IKResult:
-        return preferred(arm, target, r, q_prev, within, score, reference, request)
+        return preferred(arm, target, r, q_prev, within, score, reference, request, turn)
 
     return choose
 

@@ -22,7 +22,9 @@ from armik.problem.settings import SolverSettings
 from armik.request import Request
 from armik.result import IKResult
 from armik.solve.nullspace import descend
+from armik.solve.rungs import unwrapped
 from armik.solve.stages import run
+from armik.solve.turning import ANY, Turning
 from armik.solvers import registry
 from armik.solvers.answers import one
 from armik.status import Status
@@ -41,9 +43,11 @@ def preferred(
     score: Score,
     reference: np.ndarray,
     request: Request,
+    turn: Turning = ANY,
 ) -> IKResult:
     """The best-scored verified answer at ``target`` within ``step`` of ``q_prev``, the
-    followed answer ``r`` among them (``reference``: the score's q0, the path's start)."""
+    followed answer ``r`` among them (``reference``: the score's q0, the path's start;
+    ``turn``: the turns and the self-motion the request allows: no held joint moves)."""
     if not r.success:
         return r
     candidates = [r]
@@ -51,10 +55,12 @@ def preferred(
     if registry.get(r.solver).kind != "numeric":  # every branch and turn, nearest first
         now = time.perf_counter()
         found = run(arm, request.but(target=target, q0=q_prev, solver=r.solver, every=True, t0=now))
-        candidates += [_turned(arm, c, q_prev) for c in found if c.success]
+        candidates += [unwrapped(arm, c, q_prev, turn) for c in found if c.success]
     elif arm.dof > 6 and _plain_pose(target, opts, opts.collisions):
         pose = pin.SE3(target.rotation, target.position)
         box = (np.maximum(arm.lower, q_prev - step), np.minimum(arm.upper, q_prev + step))
+        fixed = list(turn.fixed)  # a held joint stays where the followed answer holds it
+        box[0][fixed] = box[1][fixed] = np.asarray(r.q)[fixed]
         moved = descend(arm, r.q, pose, score, reference, math.inf, steps=STEPS, box=box)
         if not np.array_equal(moved, r.q):
             claim = one(moved, Status.CONVERGED, reasons.SELF_MOTION)
@@ -80,16 +86,6 @@ def preferred(
 
 
 _FIELDS = tuple(f for f in IKResult.__dataclass_fields__ if f not in ("reason", "time", "extra"))
-
-
-def _turned(arm: ArmModel, r: IKResult, q_prev: np.ndarray) -> IKResult:
-    """``r`` with each angle turned by 2 pi to its value nearest ``q_prev`` (the pose and
-    the verdict unchanged)."""
-    q = arm.nearest_equivalent(r.q, q_prev)
-    if np.array_equal(q, r.q):
-        return r
-    return IKResult(**{**{f: getattr(r, f) for f in _FIELDS}, "q": q, "reason": r.reason,
-                       "time": r.time, "extra": r.extra})  # fmt: skip
 
 
 def _plain_pose(target: Target, opts: SolverSettings, collisions: bool) -> bool:
