@@ -139,3 +139,25 @@ def test_a_position_target_on_a_redundant_arm_is_ranked_not_refused(score):
     assert scores == sorted(scores)
     one = arm.solve(point, prefer=score)
     assert one.success and one.extra["score"] == scores[0]
+
+
+@pytest.mark.parametrize("name", ["panda", "kuka_iiwa14"])
+def test_solve_all_with_a_preference_lists_every_answer_once_best_first(name):
+    """With ``prefer=`` on a redundant arm the answers of the search are ranked with every
+    answer ``solve_all`` finds (the Panda listed 2 of 16), and a copy of an answer the
+    descent moved a little is not listed beside it (two answers 1.6e-5 rad apart were)."""
+    from armik.kernel.descent import DUPLICATE_TOL
+
+    arm = conftest.arm(name)
+    rng = np.random.default_rng(11)
+    q = [arm.random_q(rng) for _ in range(4)][-1]
+    T = arm.fk(q)
+    plain = [r for r in arm.solve_all(T, q0=q, iteration_budget=20000) if r.success]
+    ranked = [r for r in arm.solve_all(T, q0=q, iteration_budget=20000, prefer="nearest")
+              if r.success]  # fmt: skip
+    assert len(ranked) >= len(plain)
+    for i, a in enumerate(ranked):
+        for b in ranked[:i]:
+            assert np.abs(a.q - b.q).max() >= DUPLICATE_TOL
+    scores = [r.extra["score"] for r in ranked]
+    assert scores == sorted(scores) and scores[0] == pytest.approx(0.0, abs=1e-9)

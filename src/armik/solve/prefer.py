@@ -18,6 +18,7 @@ from typing import cast
 import numpy as np
 
 from armik import reasons
+from armik.kernel.descent import DUPLICATE_TOL
 from armik.model.arm_model import ArmModel
 from armik.model.turns import combinations
 from armik.model.turns import turns as model_turns
@@ -153,7 +154,7 @@ def ordered(
     scored: list[tuple[float, int, IKResult, np.ndarray]] = []
     seen: set[tuple[float, ...]] = set()
     for r, q, row in zip(found, variants, np.round(variants, 9).tolist()):
-        key = tuple(row)  # one answer found twice counts once
+        key = tuple(row)
         if key not in seen:
             seen.add(key)
             value = known.get(key)
@@ -161,7 +162,13 @@ def ordered(
                 value = known[key] = score(arm, q, q0)
             scored.append((value, len(scored), r, q))
     scored.sort(key=lambda item: (item[0], item[1]))
-    return [(value, r, q) for value, _, r, q in scored]
+    kept: list[np.ndarray] = []  # one solution found twice (a copy moved a little) counts once
+    out = []
+    for value, _, r, q in scored:
+        if all(np.abs(q - other).max() >= DUPLICATE_TOL for other in kept):
+            kept.append(q)
+            out.append((value, r, q))
+    return out
 
 
 def _variants(

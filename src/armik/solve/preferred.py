@@ -45,8 +45,9 @@ def preferred(arm: ArmModel, req: Request):
     if pose and solver == "auto":
         swept = sweep_held(arm, target, seed, opts, score, t0, turn)
     if swept and any(r.success for r in swept):
-        first = run(arm, plain.but(every=False, t0=time.perf_counter()))
-        ranked = rank(arm, [first, *swept], score, seed, t0, turn=turn)
+        # every answer the plain request finds, ranked with the search's (one without every)
+        first = run(arm, plain.but(every=every, t0=time.perf_counter()))
+        ranked = rank(arm, [*(first if every else [first]), *swept], score, seed, t0, turn=turn)
         return ranked if every else ranked[0]
     budget = opts.iteration_budget
     if budget is None:
