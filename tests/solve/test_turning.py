@@ -257,3 +257,19 @@ def test_a_followed_paths_preference_moves_no_held_joint_along_the_self_motion()
         out = arm.solve_path(line, None, hold=hold, prefer="manipulability")
         assert out.success.all(), out.reasons
         assert np.allclose(out.q[:, joint], q[joint], atol=1e-9)
+
+
+@pytest.mark.parametrize("name, joint", [("scara", 3), ("kinova", 0)])
+def test_a_preference_turns_a_continuous_joint_toward_it(name, joint):
+    """A joint without limits turns by any whole turn: a posture 4 pi away on it is met (the
+    answer stayed 4 pi off, its score 158); a callable score turns it up to two turns."""
+    arm = armik.load(name)
+    q = arm.random_q(np.random.default_rng(4))
+    T = arm.fk(q)
+    q_ref = q.copy()
+    q_ref[joint] += 4 * np.pi
+    for prefer in (armik.Posture(q_ref), lambda x: float(np.sum((x - q_ref) ** 2))):
+        r = arm.solve(T, q0=q, prefer=prefer)
+        assert r.success and r.q[joint] == pytest.approx(q_ref[joint], abs=1e-6)
+    b = arm.solve_batch([T], q0=q, prefer=armik.Posture(q_ref))
+    assert b.success[0] and b.q[0, joint] == pytest.approx(q_ref[joint], abs=1e-6)

@@ -15,6 +15,7 @@ if TYPE_CHECKING:
 
 TWO_PI = 2.0 * math.pi
 MAX_TURNS = 256  # combinations of the joints' turns at most, the configuration itself first
+UNLIMITED_TURNS = 2  # a continuous joint's turns tried (for a check, a score): up to 2 each way
 
 
 def turns(

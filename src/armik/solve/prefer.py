@@ -20,7 +20,7 @@ import numpy as np
 from armik import reasons
 from armik.kernel.descent import DUPLICATE_TOL
 from armik.model.arm_model import ArmModel
-from armik.model.turns import combinations
+from armik.model.turns import UNLIMITED_TURNS, combinations
 from armik.model.turns import turns as model_turns
 from armik.problem.scores import Limits, Nearest, Posture, Score
 from armik.result import IKResult
@@ -32,10 +32,13 @@ from armik.verify.verdict import finish
 TWO_PI = 2.0 * math.pi
 
 
-def turns(arm: ArmModel, q: np.ndarray, turn: Turning = ANY) -> list[list[float]]:
+def turns(
+    arm: ArmModel, q: np.ndarray, turn: Turning = ANY, unlimited: int = 0
+) -> list[list[float]]:
     """Per joint: its value and the values 2 pi turns away within its limits
-    (``armik.model.turns``), on the joints ``turn`` lets move."""
-    return model_turns(arm, q, turn.free(arm.dof))
+    (``armik.model.turns``), on the joints ``turn`` lets move; a joint without limits
+    turned by up to ``unlimited`` turns each way."""
+    return model_turns(arm, q, turn.free(arm.dof), unlimited)
 
 
 def best_variant(
@@ -51,7 +54,7 @@ def best_variant(
     if centre is not None:
         k = _turns_towards(arm, q, centre, turn)
         return turn.kept(arm, q + TWO_PI * k, q) if k.any() else q
-    choices = turns(arm, q, turn)
+    choices = turns(arm, q, turn, UNLIMITED_TURNS)
     if all(len(c) == 1 for c in choices):
         return q
     if score.per_joint(arm, 0, float(q[0]), q0) is not None:  # then a float for each joint
@@ -86,8 +89,9 @@ def _turns_towards(
     """For configurations ``Q`` (rows, or one), the whole turns of 2 pi that bring each
     joint ``turns`` lets turn nearest ``centre`` within its limits (0 for the others)."""
     bounded = np.isfinite(arm.lower) & np.isfinite(arm.upper)
-    free = bounded & (arm.upper - arm.lower > TWO_PI) & ~np.array(arm._limit_lists[2], bool)
-    free &= turn.free(arm.dof)
+    unlimited = np.isneginf(arm.lower) & np.isposinf(arm.upper)  # continuous: any turn
+    free = (bounded & (arm.upper - arm.lower > TWO_PI)) | (unlimited & np.isfinite(centre))
+    free &= ~np.array(arm._limit_lists[2], bool) & turn.free(arm.dof)
     if not free.any():
         return np.zeros_like(Q)
     with np.errstate(invalid="ignore"):  # the unlimited joints' bounds: masked below

@@ -18,7 +18,7 @@ import numpy as np
 from armik import reasons
 from armik.constraints.base import Check, Constraint
 from armik.kernel.descent import DUPLICATE_TOL
-from armik.model.turns import combinations, turns
+from armik.model.turns import UNLIMITED_TURNS, combinations, turns
 from armik.result import IKResult
 from armik.solvers.answers import Answers, one, stacked
 from armik.status import _BY_CODE, FAILURE_RANK, Status
@@ -27,7 +27,6 @@ if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
 
 _CONVERGED = Status.CONVERGED.code
-UNLIMITED_TURNS = 2  # a continuous joint's turns tried for a check: up to 2 each way
 
 
 @dataclass(eq=False)
