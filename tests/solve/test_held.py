@@ -99,12 +99,30 @@ def test_bad_hold_values_are_refused_with_the_fix(iiwa):
     with pytest.raises(OptionError, match="map joint names"):
         iiwa.solve(T, hold="j3")
     ur5 = armik.load("ur5")
-    with pytest.raises(OptionError, match="7-joint arms.*6 joints.*as tasks"):  # weights:
-        ur5.solve(ur5.fk(np.zeros(6)), hold={"shoulder_pan_joint": 0.0}, weights=[1] * 6)
+    with pytest.raises(OptionError, match=r"6 joints.*path.*arm.with_locked\(\{'shoulder"):
+        ur5.solve_path([ur5.fk(np.zeros(6))] * 2, None, hold={"shoulder_pan_joint": 0.0})
     two = {"j3": 0.0, "j4": 0.0}  # no task holds them on a path: a path holds one joint
     with pytest.raises(OptionError, match="holds 2 joints.*as tasks"):
         iiwa.solve_path([T, T], np.zeros(7), hold=two)
     assert issubclass(OptionError, InputError)
+
+
+@pytest.mark.parametrize(
+    "said", [{"weights": (1, 1, 1, 1, 1, 0)}, {"bounds": (0, 0, 0, 0, 0, np.inf)}]
+)
+def test_a_held_joint_of_a_6_joint_arm_with_a_poses_weights_or_bounds(said):
+    """Held by the task solver, the weights and bounds said by the pose's task: refused
+    before, as if hold= were for 7-joint arms only."""
+    ur5 = armik.load("ur5")
+    q = np.array([0.3, -1.0, 1.2, -0.5, 1.0, 0.2])
+    T = ur5.fk(q)
+    T.rotation = T.rotation @ pin.exp3(np.array([0.0, 0.0, 0.7]))  # off about the free axis
+    r = ur5.solve(T, q0=q, hold={"shoulder_pan_joint": 0.3}, **said)
+    assert r.success and r.q[0] == pytest.approx(0.3, abs=1e-9)
+    got = ur5.fk(r.q)
+    assert np.linalg.norm(got.translation - T.translation) < 1e-6
+    axis_z = T.rotation[:, 2]
+    assert np.allclose(got.rotation[:, 2], axis_z, atol=1e-5)  # only the free axis turns
 
 
 def test_hold_in_a_batch_holds_the_joint_on_every_row_as_solve_does(iiwa):

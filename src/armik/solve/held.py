@@ -44,10 +44,12 @@ def held_joint(arm: ArmModel, hold: tuple[str, float | None], seed: np.ndarray):
     name, value = hold
     if arm.dof != 7:
         raise OptionError(
-            f"hold={{{name!r}: {value!r}}} is for 7-joint arms; arm {arm.name!r} has "
-            f"{arm.dof} joints: lock joints with arm.with_locked({{...}}) or "
-            "armik.load(..., locked={...}), or give the target as tasks (armik.Position, "
-            "armik.Pose), which hold a joint of any arm",
+            f"hold={{{name!r}: {value!r}}} here needs the closed form of a 7-joint arm with "
+            f"one joint held; arm {arm.name!r} has {arm.dof} joints. solve, solve_all and "
+            "solve_batch hold it by the task solver for a target said as a task "
+            "(armik.Pose(T, weights=..., bounds=...), armik.Position(p), armik.LookAt); for "
+            f"a path, solve on the arm with the joint locked: "
+            f"arm.with_locked({{{name!r}: value}})",
             option="hold",
             value=name,
         )

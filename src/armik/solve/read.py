@@ -211,21 +211,27 @@ def _held_apart(arm: ArmModel, options: dict) -> bool:
 
 
 # options a plain target's tasks cannot say: with them the compiled path's error stands
-_NOT_AS_TASK = ("weights", "bounds", "cone", "look_at", "toward")
+_NOT_AS_TASK = ("cone", "look_at", "toward")
+_SAID_BY_POSE = ("weights", "bounds")  # said by a full pose's task (``armik.Pose``)
 
 
 def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | None, dict]:
-    """(problem, options): the problem of a plain pose or position (``armik.Pose``,
-    ``armik.Position``; ``position_only`` said by the task), for the task solver to hold
-    joints the compiled path cannot; (None, ``options``) where the options say more than
-    such a task would (``_NOT_AS_TASK``): the compiled path's error then names the way."""
+    """(problem, options): the problem of a plain pose or position (``armik.Pose``, with
+    the pose's ``weights`` and ``bounds``; ``armik.Position``, ``position_only`` said by
+    the task), for the task solver to hold joints the compiled path cannot; (None,
+    ``options``) where the options say more than such a task would (``_NOT_AS_TASK``): the
+    compiled path's error then names the way."""
     if any(options.get(name) is not None for name in _NOT_AS_TASK):
         return None, options
     tgt = parsed(target, arm)
+    said = {name: options[name] for name in _SAID_BY_POSE if options.get(name) is not None}
+    if said and (tgt.rotation is None or options.get("position_only")):
+        return None, options
     if tgt.rotation is None or options.get("position_only"):
         rest = {k: v for k, v in options.items() if k != "position_only"}
         return as_problem(Position(tgt.position)), rest
-    return as_problem(Pose(pin.SE3(tgt.rotation, tgt.position))), options
+    rest = {k: v for k, v in options.items() if k not in said}
+    return as_problem(Pose(pin.SE3(tgt.rotation, tgt.position), **said)), rest
 
 
 def options(kwargs: Mapping[str, object]) -> Options:
