@@ -233,15 +233,7 @@ class Arms(ArmsKinematics):
         placements = {t: union.fk(r.q, t) for t in beyond}
         return arms_reach.with_unreachable(r, targets, beyond, placements, time.perf_counter() - t0)
 
-    def _solve_together(
-        self,
-        union: Union,
-        targets: Mapping[str, object],
-        relative: dict[str, list[Relative]],
-        q0,
-        options: dict,
-        t0: float,
-    ):
+    def _solve_together(self, union: Union, targets: Mapping, relative: dict, q0, options, t0):
         """Chains sharing joints: one task per tip on ``union``, the task solver (``relative``:
         each tip's ``Relative`` tasks). ``solver`` names the chains' own solver, which gives
         the descent its starts."""
