@@ -66,4 +66,3 @@ def with_unreachable(
         time=elapsed,
         extra={**r.extra, "errors": kept},
     )
-
