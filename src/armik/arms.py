@@ -115,10 +115,13 @@ class Arms(ArmsKinematics):
         """Every tip at its target (any target form ``Arm.solve`` takes, or a task list),
         each chain by its own solver; one ``IKResult`` for the robot (module docstring)."""
         t0 = time.perf_counter()
-        refuse_own_checks(options)
+        if "constraints" in options:  # a call only then: the common call has none
+            refuse_own_checks(options)
         if q0 is not None:  # the whole q0, its bad joints named: not one chain's part of it
             q0 = checked.configuration("q0", q0, self.joint_names)
-        relative = self._check_targets(targets := by_tip(self._chains, targets))
+        if type(targets) is not dict:  # a flat list of tasks, read by tip; a mapping as given
+            targets = by_tip(self._chains, targets)
+        relative = self._check_targets(targets)
         chains = self._chains
         targets = {  # parsed once, here; task lists as given
             tip: parse_target(t, chains[tip]) if type(t) in _PLAIN else _parsed(t, chains[tip])
@@ -267,7 +270,7 @@ class Arms(ArmsKinematics):
         reference = seed if order is None else _scatter(seed, order)  # the score's q0
         # held joints at q0's values (not the start's), a box row of every step
         constraints = tuple([c.at(cast(ArmModel, union), reference) for c in unbound])
-        problem = Problem(tuple(tasks), constraints, budget)
+        problem = frozen(Problem, tasks=tuple(tasks), constraints=constraints, budget=budget)
         r = solve_tasks(  # the union serves as the arm (what solve_tasks reads of one)
             cast(ArmModel, union), problem, start, opts, t0,
             reseed=reseed, score=score, reference=reference,
