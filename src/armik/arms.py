@@ -52,8 +52,8 @@ from armik.targets.pose import Target, parse_target, parsed
 
 if TYPE_CHECKING:
     from armik.constraints.base import Constraint
-    from armik.options import Options
     from armik.problem.budget import Budget
+    from armik.problem.settings import SolverSettings
 
 UNION_ITERATIONS = 40  # a restart's descent over chains that share joints (_solve_together)
 
@@ -124,7 +124,7 @@ class Arms(ArmsKinematics):
         relative = self._check_targets(targets)
         chains = self._chains
         targets = {  # parsed once, here; task lists as given
-            tip: parse_target(t, chains[tip]) if type(t) in _PLAIN else _parsed(t, chains[tip])
+            tip: t if type(t) not in _PLAIN and as_problem(t) else parse_target(t, chains[tip])
             for tip, t in targets.items()
         }
         if self._union is not None:
@@ -289,12 +289,10 @@ class Arms(ArmsKinematics):
             if not e.within and tip not in failed:
                 failed.append(tip)
         reason = r.reason if not failed else f"tips not within their tasks: {failed}; {r.reason}"
-        # the fields as they are, of their types already: built as ``frozen`` builds
-        return frozen(
-            IKResult, **{**r.__dict__, "reason": reason, "extra": {**r.extra, "errors": errors}}
-        )
+        extra = {**r.extra, "errors": errors}  # the fields of their types: built as frozen builds
+        return frozen(IKResult, **{**r.__dict__, "reason": reason, "extra": extra})
 
-    def _settings(self, options: dict) -> tuple[Options, tuple[Constraint, ...], Budget]:
+    def _settings(self, options: dict) -> tuple[SolverSettings, tuple[Constraint, ...], Budget]:
         """(settings, their constraints unbound, their budget): the descent's over every
         chain's joints, ``options`` read and checked, a descent of ``UNION_ITERATIONS``
         unless they say otherwise; those of a call without options read once and kept."""
@@ -418,11 +416,6 @@ class Arms(ArmsKinematics):
                 candidates=self.tips,
             )
         return relative
-
-
-def _parsed(target: object, arm: ArmModel) -> object:
-    """A target that may hold tasks: parsed, or its tasks as given."""
-    return target if as_problem(target) is not None else parse_target(target, arm)
 
 
 def _as_tasks(target: object, tip: str, tips: Sequence[str]) -> list[Task]:

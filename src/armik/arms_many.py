@@ -24,8 +24,8 @@ import numpy as np
 from armik import checked, reasons
 from armik.batch_result import BatchResult
 from armik.errors import OptionError, TargetError
-from armik.options import Options
 from armik.problem.problem import relative_tasks
+from armik.problem.settings import SolverSettings
 from armik.result import IKResult
 from armik.solve.batch import DEFAULT_CHUNK
 from armik.solve.progress import ProgressArg, make_progress
@@ -286,14 +286,14 @@ def _independent(arms: Arms, targets: Mapping[str, Any]) -> bool:
     )
 
 
-def _read(options: Mapping[str, Any]) -> Options:
+def _read(options: Mapping[str, Any]) -> SolverSettings:
     """The options every chain's solve reads, checked before any runs: an unknown one, or a
     bad value, refused before the work, not after it. ``prefer=`` and ``solver=`` are each
     chain's own solve's to read (``Arms.solve`` takes them)."""
     return read_options({k: v for k, v in options.items() if k not in ("prefer", "solver")})
 
 
-def _empty(arms: Arms, n: int, solver: str, opts: Options) -> BatchResult:
+def _empty(arms: Arms, n: int, solver: str, opts: SolverSettings) -> BatchResult:
     return BatchResult.empty(
         n,
         arms.dof,
@@ -315,7 +315,7 @@ def _joined(
     arms: Arms,
     parts: dict[str, BatchResult],
     seeds: np.ndarray,
-    opts: Options,
+    opts: SolverSettings,
     elapsed: float,
 ) -> BatchResult:
     """One row per target over every joint from each tip's rows (module docstring)."""
