@@ -165,6 +165,7 @@ def solve_path(
     opts = _read(options)
     if _independent(arms, waypoints):
         each = arms._holds(options)  # each chain's part of the options, as Arms.solve's
+        _path_holds(arms, each)
         parts = {
             tip: arms.chain(tip).solve_path(
                 rows,
@@ -194,6 +195,25 @@ def solve_path(
         if r.success:
             q_prev = np.array(r.q)
     return _timed(out, t0)
+
+
+def _path_holds(arms: Arms, each: Mapping[str, dict]) -> None:
+    """An ``OptionError`` naming the chain and the joint where a chain's held joints are
+    more than its path holds (one joint of a 7-joint chain, ``armik.solve.held``): said
+    before any chain's path runs, and of the chain, not of the robot it was cut from."""
+    for tip, options in each.items():
+        held = options.get("hold")
+        dof = arms.chain(tip).dof
+        if held and (dof != 7 or len(held) != 1):
+            joints = list(held)
+            raise OptionError(
+                f"hold: {', '.join(map(repr, joints))} on the chain to {tip!r} ({dof} joints): "
+                "a path holds one joint of a 7-joint chain; lock it (armik.load(..., "
+                "locked={...})), or solve each waypoint with Arms.solve, whose task solver "
+                "holds joints of any chain",
+                option="hold",
+                value=joints[0],
+            )
 
 
 def _held(arms: Arms, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: bool):
