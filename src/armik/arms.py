@@ -289,7 +289,7 @@ class Arms(ArmsKinematics):
             if not e.within and tip not in failed:
                 failed.append(tip)
         reason = r.reason if not failed else f"tips not within their tasks: {failed}; {r.reason}"
-        extra = {**r.extra, "errors": errors}  # the fields of their types: built as frozen builds
+        extra = {**r.extra, "errors": errors}  # r's fields are of their types: no __init__
         return frozen(IKResult, **{**r.__dict__, "reason": reason, "extra": extra})
 
     def _settings(self, options: dict) -> tuple[SolverSettings, tuple[Constraint, ...], Budget]:
