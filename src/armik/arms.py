@@ -31,6 +31,7 @@ from armik.arms_options import per_chain, refuse_own_checks
 from armik.arms_servo import ArmsServo
 from armik.arms_tasks import by_tip
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
+from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.model.union import Union
 from armik.problem.problem import Problem, as_problem, relative_tasks
@@ -51,8 +52,8 @@ from armik.targets.pose import Target, parse_target, parsed
 
 if TYPE_CHECKING:
     from armik.constraints.base import Constraint
-    from armik.options import Options
     from armik.problem.budget import Budget
+    from armik.problem.settings import SolverSettings
 
 UNION_ITERATIONS = 40  # a restart's descent over chains that share joints (_solve_together)
 
@@ -114,22 +115,29 @@ class Arms(ArmsKinematics):
         """Every tip at its target (any target form ``Arm.solve`` takes, or a task list),
         each chain by its own solver; one ``IKResult`` for the robot (module docstring)."""
         t0 = time.perf_counter()
-        refuse_own_checks(options)
+        if "constraints" in options:  # a call only then: the common call has none
+            refuse_own_checks(options)
         if q0 is not None:  # the whole q0, its bad joints named: not one chain's part of it
             q0 = checked.configuration("q0", q0, self.joint_names)
-        relative = self._check_targets(targets := by_tip(self._chains, targets))
-        targets = {tip: self._parsed(tip, t) for tip, t in targets.items()}  # once, here
+        if type(targets) is not dict:  # a flat list of tasks, read by tip; a mapping as given
+            targets = by_tip(self._chains, targets)
+        relative = self._check_targets(targets)
+        chains = self._chains
+        targets = {  # parsed once, here; task lists as given
+            tip: t if type(t) not in _PLAIN and as_problem(t) else parse_target(t, chains[tip])
+            for tip, t in targets.items()
+        }
         if self._union is not None:
-            beyond = {} if relative else arms_reach.beyond_reach(self._chains, targets)
+            beyond = {} if relative else arms_reach.beyond_reach(chains, targets)
             if beyond:
                 return self._reaching(beyond, targets, q0, options, t0)
-            return self._solve_together(self._union, targets, q0, options, t0)
+            return self._solve_together(self._union, targets, relative, q0, options, t0)
         seeds = self._middle_seeds if q0 is None else self.split(q0)
         if not relative:  # each chain alone: the common case, kept short
             solver = options.pop("solver", "auto")  # Arm.solve's route, without its frame
             if type(solver) is not str:
                 validate_name(solver)
-            chains, held = self._chains, self._holds(options) if options else None
+            held = self._holds(options) if options else None
             results = {
                 tip: solve_one(chains[tip], target, seeds[tip], solver, held[tip] if held else {})
                 for tip, target in targets.items()
@@ -137,21 +145,22 @@ class Arms(ArmsKinematics):
             return joined(self.tips, results, seeds, time.perf_counter() - t0)
         order = _in_order(targets, relative)
         if order is None:  # tips placed relative to each other in a cycle: all at once
-            return self._solve_together(self._joint(), targets, q0, options, t0)
+            return self._solve_together(self._joint(), targets, relative, q0, options, t0)
         results = {}
-        held = self._holds(options)
+        solver = options.get("solver", "auto")
+        held = self._holds({k: v for k, v in options.items() if k != "solver"})
         for tip in order:
             # a pose relative to a chain already solved is a pose in the base: exactly,
             # bounds included, since the chains share no joint
             target = targets[tip]
             if tip in relative:
                 target = _absolute(target, self._placements(results, seeds))
-            results[tip] = self._solve_chain(tip, target, seeds[tip], held[tip])
+            results[tip] = self._solve_chain(tip, target, seeds[tip], solver, held[tip])
         each = joined(self.tips, results, seeds, time.perf_counter() - t0)
         if each.success:
             return each
         # the reference chain's answer may be one the other cannot reach from: together
-        together = self._solve_together(self._joint(), targets, each.q, options, t0)
+        together = self._solve_together(self._joint(), targets, relative, each.q, options, t0)
         return together if together.success else each
 
     def solve_all(
@@ -217,7 +226,7 @@ class Arms(ArmsKinematics):
         union = cast(Union, self._union)
         rest = {t: v for t, v in targets.items() if t not in beyond}
         if rest:
-            r = self._solve_together(union, rest, q0, options, t0)
+            r = self._solve_together(union, rest, {}, q0, options, t0)
         else:  # nothing to solve: the start, as a solve that fails leaves it
             q = self.middle if q0 is None else np.asarray(q0, dtype=float)
             r = IKResult(
@@ -227,24 +236,26 @@ class Arms(ArmsKinematics):
         placements = {t: union.fk(r.q, t) for t in beyond}
         return arms_reach.with_unreachable(r, targets, beyond, placements, time.perf_counter() - t0)
 
-    def _solve_together(
-        self, union: Union, targets: Mapping[str, object], q0, options: dict, t0: float
-    ):
-        """Chains sharing joints: one task per tip on ``union``, the task solver. ``solver``
-        names the chains' own solver, which gives the descent its starts."""
+    def _solve_together(self, union: Union, targets: Mapping, relative: dict, q0, options, t0):
+        """Chains sharing joints: one task per tip on ``union``, the task solver (``relative``:
+        each tip's ``Relative`` tasks). ``solver`` names the chains' own solver, which gives
+        the descent its starts."""
         options = dict(options)
         prefer = options.pop("prefer", None)
         score = None if prefer is None else self._score(prefer)
         solver = options.pop("solver", "auto")
         if solver != "auto":
             get_solver(solver)  # an unknown name refused here, not skipped by ``_start``
-        tasks = []
+        tasks: list[Task] = []
         for tip, target in targets.items():
-            tasks += _as_tasks(target, tip, self.tips)
+            if type(target) is Target and target.rotation is not None:  # the common case
+                tasks.append(Pose.of(target, tip))
+            else:
+                tasks += _as_tasks(target, tip, self.tips)
         opts, unbound, budget = self._settings(options)
-        options["solver"] = solver  # each chain's start (``_start``)
+        held = self._holds(options) if options else None  # each chain's start (``_start``)
         seed = self.middle if q0 is None else np.asarray(q0, float)
-        start = self._start(targets, seed, options)
+        start = self._start(targets, seed, relative, solver, held)
         order = self._permutation
         start = start if order is None else _scatter(start, order)
 
@@ -253,13 +264,13 @@ class Arms(ArmsKinematics):
             # random order (the first sets the torso): nearer an answer than a random one
             # over many joints, and not always the same basin (TALOS's two hands: 6 misses
             # in 1000 targets against 14 from a random configuration alone)
-            q = self._start(targets, self._random(rng), options, rng)
+            q = self._start(targets, self._random(rng), relative, solver, held, rng)
             return q if order is None else _scatter(q, order)
 
         reference = seed if order is None else _scatter(seed, order)  # the score's q0
         # held joints at q0's values (not the start's), a box row of every step
         constraints = tuple([c.at(cast(ArmModel, union), reference) for c in unbound])
-        problem = Problem(tuple(tasks), constraints, budget)
+        problem = frozen(Problem, tasks=tuple(tasks), constraints=constraints, budget=budget)
         r = solve_tasks(  # the union serves as the arm (what solve_tasks reads of one)
             cast(ArmModel, union), problem, start, opts, t0,
             reseed=reseed, score=score, reference=reference,
@@ -270,14 +281,18 @@ class Arms(ArmsKinematics):
         failed: list[str] = []
         for task, e in zip(tasks, r.extra["task_errors"]):
             tip = cast(str, task.frame)  # ``_on`` named the tip
-            pos, ori = errors.get(tip, (None, None))
-            errors[tip] = (worse(pos, e.position), worse(ori, e.orientation))
+            if tip in errors:  # a tip's second task: its worse errors
+                pos, ori = errors[tip]
+                errors[tip] = (worse(pos, e.position), worse(ori, e.orientation))
+            else:
+                errors[tip] = (e.position, e.orientation)
             if not e.within and tip not in failed:
                 failed.append(tip)
         reason = r.reason if not failed else f"tips not within their tasks: {failed}; {r.reason}"
-        return dataclasses.replace(r, reason=reason, extra={**r.extra, "errors": errors})
+        extra = {**r.extra, "errors": errors}  # r's fields are of their types: no __init__
+        return frozen(IKResult, **{**r.__dict__, "reason": reason, "extra": extra})
 
-    def _settings(self, options: dict) -> tuple[Options, tuple[Constraint, ...], Budget]:
+    def _settings(self, options: dict) -> tuple[SolverSettings, tuple[Constraint, ...], Budget]:
         """(settings, their constraints unbound, their budget): the descent's over every
         chain's joints, ``options`` read and checked, a descent of ``UNION_ITERATIONS``
         unless they say otherwise; those of a call without options read once and kept."""
@@ -324,17 +339,18 @@ class Arms(ArmsKinematics):
         self,
         targets: Mapping[str, object],
         q: np.ndarray,
-        options: dict,
+        relative: dict[str, list[Relative]],
+        solver: str,
+        held: dict[str, dict] | None,
         rng: np.random.Generator | None = None,
     ):
         """Where the descent over every joint starts: each chain in turn solved by its own
-        compiled solver from ``q``, the joints an earlier chain set (a torso) kept at its
-        values; the descent then reconciles the chains. With ``rng``, the chains that no
-        relative task orders go in a random order (a restart: another chain sets the torso)."""
+        compiled solver (``solver``, with its options ``held``; None: none) from ``q``, the
+        joints an earlier chain set (a torso) kept at its values; the descent then
+        reconciles the chains. With ``rng``, the chains that no relative task (``relative``)
+        orders go in a random order (a restart: another chain sets the torso)."""
         q = q.copy()
         fixed = np.zeros(self.dof, dtype=bool)
-        relative = _relative(targets)
-        held = self._holds(options)
         order = (_in_order(targets, relative) if relative else None) or list(targets)
         if rng is not None and not relative:
             order = [order[i] for i in rng.permutation(len(order))]
@@ -345,7 +361,7 @@ class Arms(ArmsKinematics):
                 if tip in relative:
                     placements = {t: self._chains[t].fk(q[c]) for t, c in self._columns.items()}
                     target = _absolute(target, placements)
-                r = self._solve_chain(tip, target, q[cols], held[tip])
+                r = self._solve_chain(tip, target, q[cols], solver, held[tip] if held else {})
             except ArmikError:  # a task this chain's solver does not take: start as is
                 continue
             free = ~fixed[cols]
@@ -353,18 +369,13 @@ class Arms(ArmsKinematics):
             fixed[cols] = True
         return q
 
-    def _parsed(self, tip: str, target: object) -> object:
-        """A tip's target parsed, or its tasks as given."""
-        if type(target) not in _PLAIN and as_problem(target) is not None:
-            return target
-        return parse_target(target, self._chains[tip])
-
-    def _solve_chain(self, tip: str, target: object, q0: np.ndarray, options: dict) -> IKResult:
-        """One chain's answer to its target with its own options (``Arm.solve``'s route)."""
-        rest = dict(options)
-        solver = rest.pop("solver", "auto")
+    def _solve_chain(
+        self, tip: str, target: object, q0: np.ndarray, solver: str, options: dict
+    ) -> IKResult:
+        """One chain's answer to its target by ``solver`` with its own options (``Arm.solve``'s
+        route)."""
         arm = self._chains[tip]
-        request = read(arm, target, q0, solver, rest)
+        request = read(arm, target, q0, solver, options)
         if request.score is None and request.problem is None:  # the compiled path's stages
             return run(arm, request)  # type: ignore[no-any-return]
         return routed(arm, request)  # type: ignore[no-any-return]

@@ -24,8 +24,8 @@ import numpy as np
 from armik import checked, reasons
 from armik.batch_result import BatchResult
 from armik.errors import OptionError, TargetError
-from armik.options import Options
 from armik.problem.problem import relative_tasks
+from armik.problem.settings import SolverSettings
 from armik.result import IKResult
 from armik.solve.batch import DEFAULT_CHUNK
 from armik.solve.progress import ProgressArg, make_progress
@@ -165,6 +165,7 @@ def solve_path(
     opts = _read(options)
     if _independent(arms, waypoints):
         each = arms._holds(options)  # each chain's part of the options, as Arms.solve's
+        _path_holds(arms, each)
         parts = {
             tip: arms.chain(tip).solve_path(
                 rows,
@@ -194,6 +195,25 @@ def solve_path(
         if r.success:
             q_prev = np.array(r.q)
     return _timed(out, t0)
+
+
+def _path_holds(arms: Arms, each: Mapping[str, dict]) -> None:
+    """An ``OptionError`` naming the chain and the joint where a chain's held joints are
+    more than its path holds (one joint of a 7-joint chain, ``armik.solve.held``): said
+    before any chain's path runs, and of the chain, not of the robot it was cut from."""
+    for tip, options in each.items():
+        held = options.get("hold")
+        dof = arms.chain(tip).dof
+        if held and (dof != 7 or len(held) != 1):
+            joints = list(held)
+            raise OptionError(
+                f"hold: {', '.join(map(repr, joints))} on the chain to {tip!r} ({dof} joints): "
+                "a path holds one joint of a 7-joint chain; lock it (armik.load(..., "
+                "locked={...})), or solve each waypoint with Arms.solve, whose task solver "
+                "holds joints of any chain",
+                option="hold",
+                value=joints[0],
+            )
 
 
 def _held(arms: Arms, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: bool):
@@ -286,14 +306,14 @@ def _independent(arms: Arms, targets: Mapping[str, Any]) -> bool:
     )
 
 
-def _read(options: Mapping[str, Any]) -> Options:
+def _read(options: Mapping[str, Any]) -> SolverSettings:
     """The options every chain's solve reads, checked before any runs: an unknown one, or a
     bad value, refused before the work, not after it. ``prefer=`` and ``solver=`` are each
     chain's own solve's to read (``Arms.solve`` takes them)."""
     return read_options({k: v for k, v in options.items() if k not in ("prefer", "solver")})
 
 
-def _empty(arms: Arms, n: int, solver: str, opts: Options) -> BatchResult:
+def _empty(arms: Arms, n: int, solver: str, opts: SolverSettings) -> BatchResult:
     return BatchResult.empty(
         n,
         arms.dof,
@@ -315,7 +335,7 @@ def _joined(
     arms: Arms,
     parts: dict[str, BatchResult],
     seeds: np.ndarray,
-    opts: Options,
+    opts: SolverSettings,
     elapsed: float,
 ) -> BatchResult:
     """One row per target over every joint from each tip's rows (module docstring)."""

@@ -1,19 +1,23 @@
 """Each chain's options from a robot's (``armik.Arms``): the held joints a chain has, and
-its own joints' part of a posture over every joint; the rest as given."""
+its own joints' part of a posture over every joint; the rest as given. The options are
+read once (``armik.solve.read``) for what they hold and spell, however given (``hold=``,
+``armik.Hold``, ``secondary=``); each chain's solve reads its own part."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 
 import numpy as np
 
+from armik.constraints.base import Constraint
 from armik.constraints.hold import Hold
 from armik.errors import JointError, OptionError, listing
 from armik.model.arm_model import ArmModel
-from armik.options import spelled
 from armik.problem.scores import Posture, fit_posture
+from armik.solve.read import options as read_options
 
 _PER_CHAIN = frozenset(("hold", "constraints", "secondary", "posture"))
+_CHAIN_OWN = ("prefer", "solver")  # each chain's solve reads them: no setting
 
 
 def per_chain(
@@ -30,23 +34,33 @@ def per_chain(
     prefer = _posture(options.get("prefer"), joint_names)
     if not _PER_CHAIN.intersection(options) and prefer is None:
         return dict.fromkeys(chains, options)
-    rest = spelled(options)
-    posture = rest.pop("posture", None)
+    given = options.get("constraints")
+    if isinstance(given, Iterator):  # read twice below
+        options = {**options, "constraints": list(given)}
+    opts = read_options({k: v for k, v in options.items() if k not in _CHAIN_OWN})
+    rest = {k: v for k, v in options.items() if k not in _PER_CHAIN}
+    if "constraints" in options:  # read: a constraint or several; a ``Hold`` split by chain
+        given = options["constraints"]
+        others = [
+            c for c in ([given] if isinstance(given, Constraint) else given) if type(c) is not Hold
+        ]
+        if others:
+            rest["constraints"] = others
+    posture = opts.posture
     if posture is not None:  # over every joint of the robot, then split by chain
         fit_posture(len(posture[0]), joint_names, "the robot", "secondary")
-    given = rest.pop("hold", None)
-    holds = () if given is None else Hold.parse(given)
-    for h in holds:
-        if h.joint not in joint_names:
+    holds = opts.hold or ()
+    for joint, _ in holds:
+        if joint not in joint_names:
             raise JointError(
-                f"hold: unknown joint {h.joint!r}; the joints of tips {list(chains)}: "
+                f"hold: unknown joint {joint!r}; the joints of tips {list(chains)}: "
                 f"{listing(joint_names)}",
-                joint=h.joint,
+                joint=joint,
                 candidates=joint_names,
             )
     out = {}
     for tip, arm in chains.items():
-        mine = {h.joint: h.value for h in holds if h.joint in arm.joint_names}
+        mine = {joint: value for joint, value in holds if joint in arm.joint_names}
         out[tip] = {**rest, "hold": mine} if mine else dict(rest)
         if posture is not None:
             q_ref, weights = (np.asarray(v)[columns[tip]] for v in posture)
@@ -73,7 +87,7 @@ def refuse_own_checks(options: dict) -> None:
     it would call answers that violate it successes."""
     if "constraints" not in options:
         return
-    own = spelled({"constraints": options["constraints"]}).get("checks", ())
+    own = read_options({"constraints": options["constraints"]}).checks
     if own:
         raise OptionError(
             f"constraints: {own[0]!r} checks one arm's joints; on several tips give "

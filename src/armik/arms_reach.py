@@ -13,20 +13,18 @@ import numpy as np
 import pinocchio as pin
 
 from armik import reasons
-from armik.errors import ArmikError
-from armik.problem.tasks.base import Task
 from armik.result import IKResult
 from armik.status import Status
-from armik.targets.pose import Target, parsed
+from armik.targets.pose import Target
 
 
 def beyond_reach(chains: Mapping[str, object], targets: Mapping[str, object]) -> dict[str, str]:
-    """Each tip whose target (a pose or a position; task lists are not read) lies beyond
-    its chain's reach bound, with the reason that proves it."""
+    """Each tip whose target (a pose or a position, parsed by the facade: a ``Target``; task
+    lists are not read, their regions are the task solver's to measure) lies beyond its
+    chain's reach bound, with the reason that proves it."""
     out = {}
-    for tip, value in targets.items():
-        target = _parsed(value)
-        if target is None:
+    for tip, target in targets.items():
+        if type(target) is not Target:
             continue
         arm = chains[tip]
         distance = math.dist(target.position.tolist(), arm.first_joint_origin.tolist())  # type: ignore[attr-defined]
@@ -47,8 +45,8 @@ def with_unreachable(
     tip's errors at ``r.q`` (``placements``: each tip's pose there)."""
     errors = dict(r.extra.get("errors", {}))
     for tip in beyond:
-        target = _parsed(targets[tip])
-        assert target is not None  # ``beyond_reach`` read it
+        target = targets[tip]
+        assert type(target) is Target  # ``beyond_reach`` read it
         X = placements[tip]
         ori = None  # a position target has no orientation to miss
         if target.rotation is not None:
@@ -68,17 +66,3 @@ def with_unreachable(
         time=elapsed,
         extra={**r.extra, "errors": kept},
     )
-
-
-def _parsed(value: object) -> Target | None:
-    """``value`` as a ``Target`` where it is one pose or position, else None."""
-    if type(value) is Target:  # parsed by the facade (``Arms.solve``)
-        return value
-    if isinstance(value, Task) or (
-        isinstance(value, list | tuple) and any(isinstance(v, Task) for v in value)
-    ):
-        return None  # tasks: their regions are the task solver's to measure
-    try:
-        return parsed(value)
-    except ArmikError:
-        return None

@@ -262,3 +262,17 @@ def test_a_task_on_a_frame_no_joint_moves_is_answered_at_once():
     tasks = [armik.Position([0.0, 0.0, 0.0], frame="panda_link0"), armik.Position(tip)]
     r = panda.solve(tasks)
     assert r.success
+
+
+def test_the_distances_to_a_region_s_centre_are_measured_only_where_a_task_has_one():
+    """A result on a cone says what its verdict measured besides the distances to the
+    cone's centre (``measured``); on exact tasks, which have no centre apart, it does not."""
+    arm = conftest.arm("panda")
+    T = arm.fk(arm.random_q(np.random.default_rng(3)))
+    d = T.rotation[:, 2]
+    opts = Options(iteration_budget=400)
+    for within, regions in ((0.1, True), (0.0, False)):
+        problem = Problem((armik.Position(T.translation), armik.Axis((0, 0, 1), d, within)))
+        r = solve_tasks(arm.kinematics, problem, None, opts, 0.0)
+        assert ("measured" in r.extra) is regions, within
+        assert len(r.extra["task_errors"]) == 2

@@ -14,6 +14,7 @@ import armik
 from armik.errors import TargetError
 from armik.model.arm_model import ArmModel
 from armik.problem import Axis, LookAt, Pose, Position
+from armik.targets.pose import parse_target
 
 from ..conftest import arm as bundled
 
@@ -140,3 +141,17 @@ def test_bad_input_is_named(build, words):
     with pytest.raises(TargetError) as info:
         build()
     assert words.lower() in str(info.value).lower()
+
+
+def test_a_pose_of_a_parsed_target_is_the_pose_built_from_it():
+    """``Pose.of`` (a parsed full pose, not read again) builds what ``Pose(T, frame=)``
+    builds: the same placement, frame, bounds, weights and free axes, the same measure."""
+    T = pin.SE3(pin.rpy.rpyToMatrix(0.3, -0.2, 1.1), np.array([0.4, -0.1, 0.5]))
+    built, of = Pose(T, frame="hand"), Pose.of(parse_target(T), "hand")
+    assert of.frame == built.frame == "hand" and type(of) is Pose
+    assert np.array_equal(of.T.homogeneous, built.T.homogeneous)
+    for name in ("bounds", "weights", "_free"):
+        assert np.array_equal(getattr(of, name), getattr(built, name)), name
+    X = pin.SE3(pin.rpy.rpyToMatrix(0.31, -0.2, 1.1), np.array([0.41, -0.1, 0.5]))
+    assert of.measure(X, 1e-6, 1e-6) == built.measure(X, 1e-6, 1e-6)
+    assert of.shrunk(0.9) is of and of.kernel_row() is not None

@@ -19,6 +19,7 @@ from armik.kernel.frame_chains import FrameChains, frame_chains
 from armik.kernel.task_rows import PARAMS, descend
 from armik.model.derived import DerivedBy
 from armik.problem.tasks import Task
+from armik.problem.tasks.base import KernelRow
 
 # an arm's (or a union's) chains of a tuple of frames, or None where they have no form
 _CHAINS: DerivedBy[FrameChains | None] = DerivedBy("frame chains", frame_chains)
@@ -38,10 +39,15 @@ def task_table(arm, tasks: tuple[Task, ...], ids) -> TaskTable | None:
     """The table of ``tasks`` on their frames (``ids``: each task's frame ids in
     ``arm.model``, ``tasks.frame_ids``), or None where a task or a frame has no compiled
     form."""
-    rows = [t.kernel_row() for t in tasks]
-    if any([r is None for r in rows]) or any([len(f) not in (1, 2) for f in ids]):
-        return None
-    frames = tuple(dict.fromkeys([i for f in ids for i in f]))
+    rows: list[KernelRow] = []
+    found: dict[int, None] = {}  # the frames, in order, once each
+    for task, f in zip(tasks, ids):  # one pass: every solve of the task solver builds one
+        row = task.kernel_row()
+        if row is None or len(f) not in (1, 2):
+            return None
+        rows.append(row)
+        found.update(dict.fromkeys(f))
+    frames = tuple(found)
     chains = _CHAINS(arm, frames)
     if chains is None:
         return None
@@ -49,11 +55,11 @@ def task_table(arm, tasks: tuple[Task, ...], ids) -> TaskTable | None:
     R_t, p_t = np.empty((T, 3, 3)), np.empty((T, 3))
     params, ints = np.empty((T, PARAMS)), np.empty((T, 3), dtype=np.int64)
     for t, row in enumerate(rows):
-        R_t[t], p_t[t] = row.R_t, row.p_t  # type: ignore[union-attr]
-        params[t] = [*row.bounds, *row.weights, row.cone, *row.axis, *row.sight]  # type: ignore[union-attr]
+        R_t[t], p_t[t] = row.R_t, row.p_t
+        params[t] = [*row.bounds, *row.weights, row.cone, *row.axis, *row.sight]
         # a second frame is the one the first's pose is in (``Relative``)
         reference = frames.index(ids[t][1]) if len(ids[t]) == 2 else -1
-        ints[t] = frames.index(ids[t][0]), row.look, reference  # type: ignore[union-attr]
+        ints[t] = frames.index(ids[t][0]), row.look, reference
     return TaskTable(chains, R_t, p_t, params, ints)
 
 

@@ -11,9 +11,9 @@ success. A miss is ``not_converged``: a numeric search does not show a target ou
 With a score (``prefer=`` over several tips' shared joints: ``nearest``, ``limits``, an
 ``armik.Posture``, a cost; or a secondary ``armik.Posture``), the answer found is moved
 along what the tasks leave free (their null space: the self-motion, a region's slack)
-while the score falls
-(``armik.solve.nullspace``), and kept only where every task still holds on Pinocchio's
-FK: a posture task for the joints no task fixes. A local descent from the answer found.
+while the score falls (``armik.solve.nullspace``), and kept only where every task still
+holds on Pinocchio's FK: a posture task for the joints no task fixes. A local descent
+from the answer found.
 """
 
 from __future__ import annotations
@@ -51,9 +51,7 @@ NEAR = 1e-3  # m + rad: a descent ending this close goes on (``solve_tasks``) ..
 CLOSING = 0.5  # ... while each run of iterations at least halves its error
 AIM = 0.9  # the descent aims at the regions scaled by this (``Task.shrunk``)
 SCORE_STEPS = 40  # null-space steps for a score at most (each a few Newton steps)
-CENTRE_RESTARTS = (
-    20  # the centre's compiled attempt: it may be out of reach where the region is not
-)
+CENTRE_RESTARTS = 20  # the centre's compiled attempt: out of reach where the region may not be
 _AIMED = (Axis, LookAt)  # tasks on the orientation that position_only or weights would free
 
 
@@ -166,16 +164,14 @@ def _measure(
 ) -> list[TaskError]:
     """Each task on its frames' placements by Pinocchio's FK (the verdict's)."""
     if placed is None:
-        model, data = arm.model, arm.data
+        model, data, T_base = arm.model, arm.data, arm.T_base_world
         pin.forwardKinematics(model, data, arm.to_pin(q))
         placed = {
-            i: (arm.T_base_world * pin.updateFramePlacement(model, data, i), None)
+            i: (T_base * pin.updateFramePlacement(model, data, i), None)
             for i in {i for frames in ids for i in frames}
         }
-    return [
-        t.measure(T, opts.tol_position, opts.tol_orientation)
-        for t, (T, _) in zip(tasks, _on(tasks, ids, placed))
-    ]
+    tol_p, tol_o, get = opts.tol_position, opts.tol_orientation, placed.__getitem__
+    return [t.measure(t.placement(list(map(get, f)))[0], tol_p, tol_o) for t, f in zip(tasks, ids)]
 
 
 def measure_tasks(
@@ -319,7 +315,9 @@ def solve_tasks(
     q = np.clip(q, *box)
     rng = np.random.default_rng(opts.seed)
     budget = problem.budget
-    table = task_table(arm, tuple([t.shrunk(AIM) for t in tasks]), ids)
+    aims = tuple([t.shrunk(AIM) for t in tasks])
+    regions = any([a is not t for a, t in zip(aims, tasks)])  # else no task has one
+    table = task_table(arm, aims, ids)
     started = time.thread_time()
     used = restarts = 0
     # the start is measured only where the first descent ends short of every task: a
@@ -361,7 +359,7 @@ def solve_tasks(
             arm, tasks, ids, best, best_errors, score, reference, opts, started, checked
         )
         moved, best = q is not best, q
-    r = _result(arm, tasks, best, best_errors, opts, used, restarts, t0, checked)
+    r = _result(arm, tasks, best, best_errors, opts, used, restarts, t0, checked, regions)
     if score is None or not r.success:
         return r
     value = score(arm, r.q, reference)
@@ -412,10 +410,10 @@ def _scored(
 
 
 def _result(
-    arm, tasks, q, errors, opts: SolverSettings, iterations, restarts, t0, checked
+    arm, tasks, q, errors, opts: SolverSettings, iterations, restarts, t0, checked, regions=True
 ) -> IKResult:
     # the descent claims nothing: the verdict's rule on its measure alone, then the
-    # constraints' checks
+    # constraints' checks; ``regions``: whether a task may have one (else each is its centre)
     within = arm.within_limits(q)
     status = status_of(Status.NOT_CONVERGED, all([e.within for e in errors]) and within, within)
     positions = [e.position for e in errors if e.position is not None]
@@ -425,8 +423,8 @@ def _result(
     else:
         reason = reasons.tasks_missed(restarts, iterations, _describe(tasks, errors))
     extra: dict = {"task_errors": errors}
-    centres = tuple([t.shrunk(0.0) for t in tasks])
-    if any([c is not t for c, t in zip(centres, tasks)]):  # regions: the distances to their centres
+    centres = tuple([t.shrunk(0.0) for t in tasks]) if regions else tasks
+    if regions and any([c is not t for c, t in zip(centres, tasks)]):  # their centres' distances
         apart = _measure(arm, centres, frame_ids(arm, centres), q, opts)
         extra["measured"] = (max(positions, default=0.0), max(orientations, default=None))
         positions = [e.position for e in apart if e.position is not None]

@@ -106,7 +106,8 @@ class Task(ABC):
         """The task with its region scaled by ``factor`` about its centre (a task without
         a region, or one the factor leaves as it is: itself). A descent aimed inside the
         region ends inside it, not on the region's edge where the residual has a kink and
-        the steps chatter."""
+        the steps chatter. A task the descent's factor leaves as itself has no region: it
+        is itself at every factor (the task solver then measures no centre)."""
         return self
 
     def rim(self, count: int) -> list[Task]:

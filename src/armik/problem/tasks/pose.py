@@ -25,7 +25,7 @@ from armik.problem.tasks.base import (
     replaced,
     scaled,
 )
-from armik.targets.pose import parsed
+from armik.targets.pose import Target, parsed
 
 
 class Pose(Task):
@@ -50,6 +50,17 @@ class Pose(Task):
         self.weights = np.ones(6) if weights is None else check_weights(weights, 6, "weights")
         # a weight of 0 frees its axis as an infinite bound does
         self._free = np.where(self.weights == 0.0, math.inf, self.bounds)
+
+    @classmethod
+    def of(cls, target: Target, frame: str | None) -> Pose:
+        """The exact pose ``Pose(target, frame=frame)`` of a full pose parsed already (a
+        ``Target`` with a rotation), built without reading it again: one per tip of every
+        solve over shared joints (``armik.Arms``)."""
+        self = cls.__new__(cls)
+        self.T = pin.SE3(target.rotation, target.position)
+        self.frame = frame
+        self.bounds, self.weights, self._free = np.zeros(6), np.ones(6), np.zeros(6)
+        return self
 
     @property
     def rows(self) -> int:
