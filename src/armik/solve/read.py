@@ -230,6 +230,8 @@ def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | No
     if tgt.rotation is None or options.get("position_only"):
         rest = {k: v for k, v in options.items() if k != "position_only"}
         return as_problem(Position(tgt.position)), rest
+    if not said:  # parsed already: not read again
+        return as_problem(Pose.of(tgt, None)), options
     rest = {k: v for k, v in options.items() if k not in said}
     return as_problem(Pose(pin.SE3(tgt.rotation, tgt.position), **said)), rest
 
