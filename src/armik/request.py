@@ -66,5 +66,9 @@ def with_seed(opts: Options, seed: int | None) -> Options:
 
 def but_options(opts: Options, **changes: object) -> Options:
     """``opts`` with ``changes``, which are values of ``Options``' own fields, already of
-    their type (a copy, built without the frozen ``__init__``)."""
-    return frozen(Options, **{**opts.__dict__, **changes})
+    their type (a copy, built without the frozen ``__init__``; ``region`` derived again
+    where the bounds or the cone change)."""
+    values = {**opts.__dict__, **changes}
+    if "bounds" in changes or "cone" in changes:
+        values["region"] = values["bounds"] is not None or values["cone"] is not None
+    return frozen(Options, **values)
