@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import sys
 import time
 import warnings
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
@@ -41,6 +42,7 @@ from armik.constraints.clear import Collisions
 from armik.constraints.collision import checker
 from armik.errors import ArmikError, ArmikWarning, OptionError
 from armik.frozen import frozen
+from armik.model.derived import Derived
 from armik.options import Options
 from armik.request import Request, with_seed
 from armik.solve import backends, forked
@@ -117,8 +119,7 @@ def solve_batch(
     batch = parse_targets(targets, arm)
     n = len(batch.positions)
     seeds = batch_seeds(arm, q0, n)
-    # applicability reads a target for its kind only (a position or a pose): a sample
-    spec = registry.choose(solver, arm, _KIND[batch.rotations is None] if n else None, opts)
+    spec = _chosen(arm, solver, request.key, opts, batch.rotations is None if n else None)
     request = request.but(solver=spec.name)
     workers = _workers(workers, spec)
     chunk = _chunk_size(chunk_size)
@@ -127,7 +128,9 @@ def solve_batch(
     collisions = opts.obstacles or opts.self_collision  # ``opts.collisions``, from its fields
     if collisions:  # the pairs in the checker's order, whatever order rows finish in
         out.pair_names.extend(checker(arm, opts.obstacles, opts.self_collision).pair_names)
-    bar = reporter(progress, n, f"{arm.name}/{spec.name}")  # None: nothing reported
+    # None: nothing reported (no progress asked, or by default stderr no terminal)
+    quiet = progress is False or (progress is None and not sys.stderr.isatty())
+    bar = None if quiet else reporter(progress, n, f"{arm.name}/{spec.name}")
     starts = range(0, n, chunk)
 
     def job(start: int, stop: int | None = None) -> int:
@@ -168,6 +171,30 @@ def solve_batch(
         bar.close()
     object.__setattr__(out, "time", time.perf_counter() - t0)  # the result is ours until returned
     return out
+
+
+def _chosen(arm: ArmModel, solver: str, key: tuple | None, opts, position: bool | None):
+    """The solver of a batch of these options (all but ``seed``; ``key``: the request's)
+    and target kind (``position``; None: no target): "auto"'s choice kept per arm under
+    ``key`` (None: chosen every time), as the registry keeps it under the options."""
+    # applicability reads a target for its kind only (a position or a pose): a sample
+    if key is None or solver != "auto":  # a solver named: looked up by its name
+        return registry.choose(solver, arm, None if position is None else _KIND[position], opts)
+    kept = arm._derived.get(_CHOSEN)  # read as a dict, not through a call: every batch
+    if kept is None or kept.get("generation") != registry.generation:
+        kept = arm._derived[_CHOSEN] = {"generation": registry.generation}
+    spec = kept.get((solver, key, position))
+    if spec is None:
+        kind = None if position is None else _KIND[position]
+        spec = registry.choose(solver, arm, kind, opts)
+        if len(kept) > 64:
+            kept.clear()
+            kept["generation"] = registry.generation
+        kept[(solver, key, position)] = spec
+    return spec
+
+
+_CHOSEN: Derived[dict] = Derived("batch solver choices", lambda _: {})
 
 
 def _or_quiet(bar):
