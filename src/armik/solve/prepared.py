@@ -131,7 +131,7 @@ class Plan:
         self.direct = arm.model.nq == arm.dof  # q is Pinocchio's configuration itself
         self.shape = (arm.dof,)
         self.middle = arm.middle
-        w, weighted, measure_rot = measures_of(opts.weights, opts.position_only, position)
+        w, weighted, measure_rot = measures_of(arm, opts.weights, opts.position_only, position)
         self.measured = check_frame(  # what the compiled check measures against
             arm.T_base_world.rotation,
             arm.T_base_world.translation,
@@ -156,7 +156,7 @@ class Plan:
         # the true distances measure the rotation of a full pose, whatever its weights
         self.apart_rot = not (opts.position_only or position)
         if self.weighted and not opts.region:
-            w, _, _ = measures_of(None, opts.position_only, position)
+            w, _, _ = measures_of(arm, None, opts.position_only, position)
             flags = 2 if self.apart_rot else 0
             self.apart = check_frame(
                 arm.T_base_world.rotation, arm.T_base_world.translation, w, flags, arm.lower,
