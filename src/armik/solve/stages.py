@@ -19,8 +19,9 @@ import numpy as np
 import pinocchio as pin
 
 from armik import reasons
-from armik.constraints.clear import distances
+from armik.constraints.clear import Collisions, distances
 from armik.constraints.collision import Checker, checker
+from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.options import Options
@@ -221,8 +222,15 @@ def _run(arm, spec: SolverSpec, tgt: Target, q0, opts, every: bool, t0: float, f
     """The verified results of ``spec`` for the parsed target ``tgt`` (collisions checked
     where the options ask, a numeric solver going on from ``first`` when given)."""
     seed = arm.seed(q0)
-    if opts.collisions:
-        return solve_avoiding(arm, spec, tgt, seed, opts, every, t0, first)
+    if opts.obstacles or opts.self_collision:  # ``opts.collisions``, inline
+        # the options' own: validated where they were read
+        clear = frozen(
+            Collisions,
+            obstacles=opts.obstacles,
+            self_collision=opts.self_collision,
+            margin=opts.margin,
+        )
+        return solve_avoiding(arm, spec, tgt, seed, opts, clear, every, t0, first, opts.slide)
     answers = spec.run(arm, tgt, seed, opts, every)
     return finish(arm, spec.name, answers, tgt, opts, seed, every, t0)
 
