@@ -24,7 +24,6 @@ from armik.constraints.collision import Checker, checker
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
-from armik.options import Options
 from armik.request import Request, but_options, with_seed
 from armik.result import IKResult
 from armik.solve import far, parameter
@@ -108,29 +107,32 @@ class _Avoiding(NamedTuple):
     target kind reads before its target: kept under the request's key, as a plan is."""
 
     spec: SolverSpec  # chosen as without collisions (no solver reads them)
-    plain: Options  # the options without collisions: the plain solve tried first
-    key: tuple  # the plain solve's plan key
+    # the first such request without collisions: its options and plan key are the plain
+    # solve's, tried first (each call puts in its own target, start and seed)
+    plain: Request
     check: Checker
 
 
-def _kept(arm: ArmModel, solver: str, key: tuple, opts: Options, position: bool) -> _Avoiding:
-    """The ``_Avoiding`` of these options, built once per arm (registrations apart)."""
+def _kept(arm: ArmModel, req: Request, position: bool) -> _Avoiding:
+    """The ``_Avoiding`` of the request's options (its key: not None), built once per arm
+    (registrations apart)."""
+    solver, key = req.solver, req.key
     kept = arm._derived.get(_AVOIDING)  # read as a dict, not through a call: every solve
     if kept is None or kept.get("generation") != registry.generation:
         kept = arm._derived[_AVOIDING] = {"generation": registry.generation}
     found = kept.get((solver, key, position))
     if found is None:
-        plain = but_options(opts, **_NO_COLLISIONS)
+        plain = req.narrowed(**_NO_COLLISIONS)
         kind = Target(np.zeros(3)) if position else Target(np.zeros(3), np.eye(3))
-        spec = registry.choose(solver, arm, kind, plain)  # reads only the target's kind
-        check = checker(arm, opts.obstacles, opts.self_collision)
-        found = _Avoiding(spec, plain, (key, "plain"), check)
+        spec = registry.choose(solver, arm, kind, plain.opts)  # reads only the target's kind
+        check = checker(arm, req.opts.obstacles, req.opts.self_collision)
+        found = _Avoiding(spec, plain, check)
         # what the search runs, loaded (or compiled) here, before its budget's clock starts:
         # a first call in a process then answers as every later one does
-        if not plain.checks:
-            plan_for(arm, solver, found.key, plain, position, False)
+        if not plain.opts.checks:
+            plan_for(arm, solver, cast(tuple, plain.key), plain.opts, position, False)
         if spec.kind == "numeric":  # its restarts' entry: one iteration, no restart
-            once = but_options(plain, max_restarts=0, iteration_budget=1)
+            once = plain.narrowed(max_restarts=0, iteration_budget=1).opts
             spec.run(arm, kind, arm.middle.copy(), once, False)
         check.distance(arm.middle)
         if len(kept) > 64:
@@ -152,7 +154,8 @@ def _avoiding(arm: ArmModel, req: Request) -> IKResult:
     shape = cast(np.ndarray, target).shape if kind is np.ndarray else None
     plain_key: tuple | None
     if key is not None and (kind is _SE3 or shape == (4, 4) or shape == (3,)):
-        spec, plain, plain_key, check = _kept(arm, solver, key, opts, shape == (3,))
+        spec, kept, check = _kept(arm, req, shape == (3,))
+        plain, plain_key = kept.opts, kept.key
         if opts.look_at is not None or opts.toward is not None:  # this call's, not the key's
             plain = but_options(opts, **_NO_COLLISIONS)
     else:
@@ -233,26 +236,3 @@ def _run(arm, spec: SolverSpec, tgt: Target, q0, opts, every: bool, t0: float, f
         return solve_avoiding(arm, spec, tgt, seed, opts, clear, every, t0, first, opts.slide)
     answers = spec.run(arm, tgt, seed, opts, every)
     return finish(arm, spec.name, answers, tgt, opts, seed, every, t0)
-
-
-def narrowed(req: Request, **changes: object) -> Request:
-    """``req`` with some of its options changed (``changes``: values of ``Options``' own
-    fields, of their type), kept apart from the request's own: its plans and choices."""
-    key = None if req.key is None else (req.key, tuple(changes.items()))
-    return req.but(opts=but_options(req.opts, **changes), key=key)
-
-
-_AIMS = ("look_at", "toward")  # new at each of a loop of targets: out of the key
-
-
-def with_said(req: Request, said: dict, **changes: object) -> Request:
-    """``req`` with the options a lowered task list says (``said``, validated here as
-    options, over a cone the request holds) and ``changes`` (as ``narrowed``)."""
-    cone = {"cone": req.opts.cone} if req.opts.cone is not None and "cone" not in said else {}
-    given = Options.from_kwargs({**cone, **said})
-    values = {name: getattr(given, name) for name in said}
-    values.update(changes)
-    plain = tuple((k, v) for k, v in values.items() if k not in _AIMS)
-    aims = tuple(k for k in _AIMS if k in values)
-    key = None if req.key is None else (req.key, plain, aims)
-    return req.but(opts=but_options(req.opts, **values), key=key)
