@@ -96,12 +96,10 @@ def _warm(which: int) -> None:
 def packed_settings(
     arm: ArmModel, opts: SolverSettings, position_only: bool, max_found: int, step: Step
 ) -> tuple[np.ndarray, np.ndarray]:
-    """``settings`` as the kernel entry takes them, remembered per arm (``PACKED``): a loop
-    of solves whose options differ only in ``seed`` builds them once. Settings that differ
-    only in their budget (``timeout``, ``iteration_budget``, ``max_restarts``: what a
-    collision-checked solve's restarts leave of it, different every time) patch the
-    remembered ints."""
-    dof = arm.dof
+    """``settings`` as the kernel entry takes them, kept per arm (``PACKED``): a loop of
+    solves whose options differ only in ``seed`` builds them once. Settings that differ only
+    in their budget (``timeout``, ``iteration_budget``, ``max_restarts``: what restarts
+    with collisions leave of it, new each time) patch the remembered ints."""
     budget = (opts.timeout, opts.max_restarts, opts.iteration_budget)
     sight = opts.look_at if opts.look_at is not None else opts.toward  # written in per call
     key = (
@@ -125,7 +123,7 @@ def packed_settings(
         kept = PACKED(arm)
     found = kept.get(key)
     if found is None:
-        packed = pack_settings(settings(opts, position_only, dof, max_found, step))
+        packed = pack_settings(settings(opts, position_only, arm.dof, max_found, step))
         if len(kept) > 512:
             kept.clear()
         kept[key] = (budget, packed)
@@ -151,10 +149,8 @@ def _looking(packed: tuple[np.ndarray, np.ndarray], sight: tuple[float, float, f
 
 
 _LOOK_POINT = slice(21, 24)  # in ``problem.pack_settings``' floats
-# an arm's packed settings: (budget, (floats, ints)) under what else they are built from
-PACKED: Derived[dict[tuple, tuple[tuple, tuple[np.ndarray, np.ndarray]]]] = Derived(
-    "packed numeric settings", lambda _: {}
-)
+# an arm's packed settings, (budget, (floats, ints)) under what else they are built from
+PACKED: Derived[dict[tuple, tuple]] = Derived("packed numeric settings", lambda _: {})
 _MAX_RESTARTS, _TIMEOUT_NS, _ITERATION_BUDGET = 3, 5, 6  # in ``problem.pack_settings``' ints
 
 
@@ -287,8 +283,7 @@ def pose_runner(arm: ArmModel, opts: SolverSettings, step: Step, position_only: 
     function, its arguments); else the answers for the general verdict."""
     dof = arm.dof
     sf, si = packed_settings(arm, opts, position_only, 1, step)
-    if step.kind not in warmup.PREPARED:  # a warm process: nothing to prepare
-        warmup.prepare(step.kind)
+    warmup.prepare(step.kind)  # once per plan
     # without a region, the entry that compiles none of the region's code
     entry = (POSE_ENTRIES if opts.region else EXACT_POSE_ENTRIES)[step.kind]
     packed, kind, halton_ = arm.kernel_chain.flat
