@@ -125,7 +125,7 @@ def solve_batch(
     chunk = _chunk_size(chunk_size)
     claim = reasons.CONVERGED if spec.kind == "numeric" else ""  # a success's, as solve's
     out = BatchResult.for_arm(arm, n, spec.name, opts, claim, opts.margin)
-    clear = _clear(opts)
+    clear = _clear(opts) if opts.obstacles or opts.self_collision else ()  # none asked: no call
     if clear:  # the pairs in the checker's order, whatever order rows finish in
         out.pair_names.extend(checker(arm, opts.obstacles, opts.self_collision).pair_names)
     # None: nothing reported (no progress asked, or by default stderr no terminal)
@@ -219,7 +219,7 @@ class Chunk(NamedTuple):
         spec = registry.get(self.solver)
         opts = self.request.settings
         out = BatchResult.for_arm(self.arm, len(self.targets), spec.name, opts, margin=opts.margin)
-        clear = _clear(opts)
+        clear = _clear(opts) if opts.obstacles or opts.self_collision else ()
         solve_chunk(self.arm, spec, self.targets, self.seeds, self.request, opts, clear, out, 0)
         return out
 
@@ -310,11 +310,9 @@ _SHARES = 4  # chunks per process by default: a chunk of 256 left one of two pro
 # for most of a 400-target batch (measured: 2 processes slower than one)
 
 
-def _clear(opts) -> tuple[Collisions, ...]:
+def _clear(opts) -> tuple[Collisions]:
     """The collisions a batch's options check (``Options``' obstacles, self-collision and
-    margin), as the constraint the verdict applies; none without them."""
-    if not (opts.obstacles or opts.self_collision):  # ``opts.collisions``, from its fields
-        return ()
+    margin: some asked), as the constraint the verdict applies."""
     # the options' own: validated where they were read
     return (frozen(Collisions, obstacles=opts.obstacles, self_collision=opts.self_collision,
                    margin=opts.margin),)  # fmt: skip
