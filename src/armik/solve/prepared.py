@@ -117,7 +117,7 @@ class Plan:
         self, arm: ArmModel, spec: registry.SolverSpec, opts: SolverSettings, position: bool = False
     ) -> None:
         self.arm = arm
-        self.solver = spec.name
+        self.spec, self.solver = spec, spec.name
         self.complete = spec.complete  # its solve_all misses no solution (``SolverSpec``)
         self.position = position  # targets are positions (x, y, z), not full poses
         self.run_pose = spec.prepare_pose(arm, opts, position)

@@ -73,7 +73,17 @@ def run(arm: ArmModel, req: Request):
         found = plan.solve_all(target, q0, opts, seed, t0)
         if found is not None:  # a complete solver's answers are all there are
             return found if plan.complete else _beyond_search(arm, req, found)
-    results = general(arm, target, q0, solver, with_seed(opts, seed), every, t0)
+    opts = with_seed(opts, seed)
+    if plan is not None and solver == "auto":
+        # "auto"'s plan holds the general path's choice for its kind of target (the
+        # registry's choice reads a target for its kind only)
+        target = parsed(target, arm)
+        if (target.rotation is None) == plan.position:
+            results = _run(arm, plan.spec, target, q0, opts, every, t0)
+        else:
+            results = general(arm, target, q0, solver, opts, every, t0)
+    else:
+        results = general(arm, target, q0, solver, opts, every, t0)
     if every:
         return _beyond_search(arm, req, results)
     return results[0]

@@ -96,6 +96,10 @@ def measures_of(arm: ArmModel, weights, position_only_option: bool, position_onl
     return MEASURED(arm)[(weights, position_only_option, position_only_target)]
 
 
+# (the compiled FK check's frame, orientation measured) under ``Measured``'s keys, per arm
+FK_FRAMES: Derived[dict] = Derived("FK check frames", lambda _: {})
+
+
 def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: SolverSettings) -> Measure:
     """Measure ``q`` against ``target`` with Pinocchio FK and the joint limits."""
     model, data = arm.model, arm.data
@@ -161,16 +165,22 @@ def measure_many(
     n = len(qs)
     if opts.region:
         return _region_many(arm, qs, target, opts)
-    measured = arm._derived.get(MEASURED)  # read as a dict, not through a call
-    if measured is None:
-        measured = MEASURED(arm)
-    w, weighted, measure_rot = measured[(opts.weights, opts.position_only, target.rotation is None)]
+    key = (opts.weights, opts.position_only, target.rotation is None)
+    frames = arm._derived.get(FK_FRAMES)  # read as a dict, not through a call
+    found = None if frames is None else frames.get(key)
+    if found is None:
+        w, weighted, measure_rot = measures_of(arm, *key)
+        frame = fk_check_frame(w, int(weighted) | (2 if measure_rot else 0), arm.lower, arm.upper)
+        frames = FK_FRAMES(arm)
+        if len(frames) > 256:
+            frames.clear()
+        found = frames[key] = (frame, measure_rot)
+    frame, measure_rot = found
     Q = np.array(qs, dtype=float).reshape(n, arm.dof)  # C-ordered and writable
     H = np.eye(4)
     if target.rotation is not None:
         H[:3, :3] = target.rotation
     H[:3, 3] = target.position
-    frame = fk_check_frame(w, int(weighted) | (2 if measure_rot else 0), arm.lower, arm.upper)
     out = np.empty((n, 3))
     packed, kind, halton = arm.kernel_chain.flat
     fk_checks(packed, kind, halton, frame, H, Q, out)

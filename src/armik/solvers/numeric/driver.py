@@ -62,6 +62,7 @@ from armik.targets.pose import Target
 _EYE = np.eye(3)  # read only by the kernel
 _FLOAT = np.dtype(float)
 _CONVERGED = Status.CONVERGED
+_CONVERGED_CODE = _CONVERGED.code  # read once: a property
 _halton = halton  # the restart table (kept under its old name for readers and tests)
 
 
@@ -262,7 +263,7 @@ def kernel_answers(
         reason = converged_reason(restarts)
         return Answers(
             q=out_q[:found],
-            claim=np.full(found, _CONVERGED.code, dtype=np.int8),
+            claim=np.full(found, _CONVERGED_CODE, dtype=np.int8),
             iterations=np.full(found, iterations, dtype=np.int64),
             restarts=np.full(found, restarts, dtype=np.int64),
             reasons=(reason,) * found,
