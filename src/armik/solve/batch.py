@@ -42,9 +42,9 @@ from armik.constraints.clear import Collisions
 from armik.constraints.collision import checker
 from armik.errors import ArmikError, ArmikWarning, OptionError
 from armik.frozen import frozen
-from armik.model.derived import Derived
 from armik.request import Request, with_seed
 from armik.solve import backends, forked
+from armik.solve.prepared import chosen
 from armik.solve.progress import ProgressArg, make_progress, reporter
 from armik.solve.single import routed
 from armik.solve.stages import going_on, run
@@ -52,7 +52,6 @@ from armik.solve.tasks import SOLVER
 from armik.solvers import registry
 from armik.status import Status
 from armik.targets.batch import TargetBatch, parse_targets
-from armik.targets.pose import Target
 from armik.verify.verdict import verdict_batch
 from armik.verify.verdicts import Verdicts
 
@@ -64,8 +63,6 @@ if TYPE_CHECKING:
 DEFAULT_CHUNK = 256  # targets per chunk: small enough to balance threads, large enough
 #                      that the per-chunk overhead (a few Python calls) does not show
 _CONVERGED = Status.CONVERGED.code
-# a target of each kind (True: a position), what the registry's choice for a batch reads
-_KIND = {True: Target(np.zeros(3)), False: Target(np.zeros(3), np.eye(3))}
 _COLLISION = Status.COLLISION.code
 
 
@@ -119,7 +116,7 @@ def solve_batch(
     batch = parse_targets(targets, arm)
     n = len(batch.positions)
     seeds = batch_seeds(arm, q0, n)
-    spec = _chosen(arm, solver, request.key, opts, batch.rotations is None if n else None)
+    spec = chosen(arm, solver, request.key, opts, batch.rotations is None if n else None)
     request = request.but(solver=spec.name)
     workers = _workers(workers, spec)
     chunk = _chunk_size(chunk_size)
@@ -171,30 +168,6 @@ def solve_batch(
         bar.close()
     object.__setattr__(out, "time", time.perf_counter() - t0)  # the result is ours until returned
     return out
-
-
-def _chosen(arm: ArmModel, solver: str, key: tuple | None, opts, position: bool | None):
-    """The solver of a batch of these options (all but ``seed``; ``key``: the request's)
-    and target kind (``position``; None: no target): "auto"'s choice kept per arm under
-    ``key`` (None: chosen every time), as the registry keeps it under the options."""
-    # applicability reads a target for its kind only (a position or a pose): a sample
-    if key is None or solver != "auto":  # a solver named: looked up by its name
-        return registry.choose(solver, arm, None if position is None else _KIND[position], opts)
-    kept = arm._derived.get(_CHOSEN)  # read as a dict, not through a call: every batch
-    if kept is None or kept.get("generation") != registry.generation:
-        kept = arm._derived[_CHOSEN] = {"generation": registry.generation}
-    spec = kept.get((solver, key, position))
-    if spec is None:
-        kind = None if position is None else _KIND[position]
-        spec = registry.choose(solver, arm, kind, opts)
-        if len(kept) > 64:
-            kept.clear()
-            kept["generation"] = registry.generation
-        kept[(solver, key, position)] = spec
-    return spec
-
-
-_CHOSEN: Derived[dict] = Derived("batch solver choices", lambda _: {})
 
 
 def _or_quiet(bar):
