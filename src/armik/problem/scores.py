@@ -99,6 +99,16 @@ class Manipulability(Score):
         J = _frame_jacobian(arm.model, arm.data, qp, arm.tip_frame_id, _LOCAL).reshape(6, arm.dof)
         return -manipulability(J)
 
+    def many(self, arm: ArmModel, Q: np.ndarray, q0: np.ndarray) -> np.ndarray:
+        """Each row's cost as ``__call__`` gives it (a swept self-motion's branches)."""
+        model, data, frame, dof = arm.model, arm.data, arm.tip_frame_id, arm.dof
+        rows = Q if Q.dtype == _FLOAT and model.nq == dof else map(arm.to_pin, Q)
+        out = np.empty(len(Q))
+        for i, qp in enumerate(rows):
+            J = _frame_jacobian(model, data, qp, frame, _LOCAL).reshape(6, dof)
+            out[i] = -manipulability(J)
+        return out
+
     def words(self, value: float) -> str:
         return f"manipulability {-value:.6g}"  # the measure, not its negated cost
 

@@ -86,7 +86,8 @@ def _plain_pose(opts) -> bool:
         opts.region
         or opts.weights
         or opts.position_only
-        or opts.collisions
+        or opts.obstacles  # ``opts.collisions``, from its fields
+        or opts.self_collision
         or opts.hold
         or opts.swivel is not None
     )
