@@ -168,7 +168,12 @@ class Options(SolverSettings):
 
 
 _DEFAULT = Options()
-_NAMES = frozenset(f.name for f in fields(Options)) | {"constraints", "budget", "secondary"}
+# the options a call may give: every field its ``__init__`` takes (not ``region``, derived)
+_NAMES = frozenset(f.name for f in fields(Options) if f.init) | {
+    "constraints",
+    "budget",
+    "secondary",
+}
 
 
 def spelled(kwargs: dict[str, Any]) -> dict[str, Any]:

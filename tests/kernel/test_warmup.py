@@ -103,14 +103,14 @@ def test_no_helper_once_compiled(monkeypatch):
     a = armik.load("panda")
     a.solve(a.fk(a.middle), solver="dls")  # compiled or loaded: nothing left to share
     monkeypatch.setenv(warmup.ENVIRONMENT, "1")
-    monkeypatch.setattr(warmup, "_prepared", set())
+    monkeypatch.setattr(warmup, "PREPARED", set())
 
     def refuse(kind):
         raise AssertionError("a helper started with nothing to compile")
 
     monkeypatch.setattr(warmup, "_start_helper", refuse)
     warmup.prepare(problem.STEP_DLS)
-    assert problem.STEP_DLS in warmup._prepared
+    assert problem.STEP_DLS in warmup.PREPARED
 
 
 class _Helper:
@@ -139,7 +139,7 @@ def test_start_begins_the_helper_and_prepare_does_the_rest(monkeypatch):
     """``armik demo`` starts the helper before its 2-link arm: nothing compiles in this
     process until ``prepare``, which compiles the share and waits for that very helper."""
     compiled, started = [], []
-    monkeypatch.setattr(warmup, "_prepared", set())
+    monkeypatch.setattr(warmup, "PREPARED", set())
     monkeypatch.setattr(warmup, "_started", {})
     monkeypatch.setattr(warmup, "_needs_helper", lambda kind: True)
     monkeypatch.setattr(warmup, "_parts", lambda: ((), [(_Part(compiled), ("types",))]))
@@ -149,7 +149,7 @@ def test_start_begins_the_helper_and_prepare_does_the_rest(monkeypatch):
     assert started == [problem.STEP_DLS] and compiled == []
     warmup.prepare(problem.STEP_DLS)
     assert started == [problem.STEP_DLS] and compiled == [("types",)]  # no second helper
-    assert warmup._started == {} and problem.STEP_DLS in warmup._prepared
+    assert warmup._started == {} and problem.STEP_DLS in warmup.PREPARED
     warmup.start(problem.STEP_DLS)  # prepared already: nothing
     assert started == [problem.STEP_DLS]
 

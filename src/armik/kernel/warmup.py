@@ -44,7 +44,7 @@ ENVIRONMENT = "ARMIK_COMPILE_HELPER"  # "0": never start the helper, "1": even o
 HELPER_TIMEOUT = 300.0  # s: a helper still silent after this is stopped
 STEPS = {STEP_DLS: step.dls, STEP_QP: step.qp}
 
-_prepared: set[int] = set()
+PREPARED: set[int] = set()  # the steps prepared in this process: a hot caller checks it first
 _started: dict[int, subprocess.Popen] = {}  # helpers ``start`` began, for ``prepare``
 _lock = threading.Lock()
 
@@ -55,7 +55,7 @@ def start(kind: int) -> None:
     a program that does other work first (``armik demo``'s 2-link arm), so that the step
     compiles meanwhile and no notice names the numeric solvers before they are used."""
     with _lock:
-        if kind in _prepared or kind in _started or not _needs_helper(kind):
+        if kind in PREPARED or kind in _started or not _needs_helper(kind):
             return
         helper = _start_helper(kind)
         if helper is not None:
@@ -66,15 +66,15 @@ def prepare(kind: int) -> None:
     """Make sure the kernel parts of step ``kind`` (``problem.STEP_DLS`` or ``STEP_QP``)
     are compiled or loaded in this process, the step by a helper process when the cache
     lacks it (see the module). Cheap after the first call."""
-    if kind in _prepared:
+    if kind in PREPARED:
         return
     with _lock:
-        if kind in _prepared:
+        if kind in PREPARED:
             return
         try:
             _prepare(kind)
         finally:
-            _prepared.add(kind)
+            PREPARED.add(kind)
 
 
 def _needs_helper(kind: int) -> bool:

@@ -14,6 +14,7 @@ from abc import ABC, abstractmethod
 from collections.abc import Callable, Sequence
 
 import numpy as np
+import pinocchio as pin
 
 from armik.errors import OptionError
 from armik.model.arm_model import ArmModel  # a score reads the arm (its Jacobian, limits)
@@ -80,6 +81,10 @@ def manipulability(J: np.ndarray) -> float:
     return math.sqrt(max(float(np.linalg.det(M)), 0.0))
 
 
+_FLOAT = np.dtype(float)
+_frame_jacobian, _LOCAL = pin.computeFrameJacobian, pin.LOCAL
+
+
 class Manipulability(Score):
     """Minus the tip Jacobian's manipulability: the best-conditioned answer first."""
 
@@ -87,7 +92,22 @@ class Manipulability(Score):
     turns_matter = False  # the Jacobian depends on the angles' sines and cosines only
 
     def __call__(self, arm: ArmModel, q: np.ndarray, q0: np.ndarray) -> float:
-        return -manipulability(arm.jacobian(q))
+        # ``arm.jacobian(q)`` without checking q again: the answers scored are verified
+        # (a ranking scores each one many times, once per 2 pi variant and swept value)
+        direct = type(q) is np.ndarray and q.dtype == _FLOAT and arm.model.nq == arm.dof
+        qp = q if direct else arm.to_pin(q)
+        J = _frame_jacobian(arm.model, arm.data, qp, arm.tip_frame_id, _LOCAL).reshape(6, arm.dof)
+        return -manipulability(J)
+
+    def many(self, arm: ArmModel, Q: np.ndarray, q0: np.ndarray) -> np.ndarray:
+        """Each row's cost as ``__call__`` gives it (a swept self-motion's branches)."""
+        model, data, frame, dof = arm.model, arm.data, arm.tip_frame_id, arm.dof
+        rows = Q if Q.dtype == _FLOAT and model.nq == dof else map(arm.to_pin, Q)
+        out = np.empty(len(Q))
+        for i, qp in enumerate(rows):
+            J = _frame_jacobian(model, data, qp, frame, _LOCAL).reshape(6, dof)
+            out[i] = -manipulability(J)
+        return out
 
     def words(self, value: float) -> str:
         return f"manipulability {-value:.6g}"  # the measure, not its negated cost

@@ -12,7 +12,7 @@ a stage's field.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -92,6 +92,13 @@ class SolverSettings:
     iteration_budget: int | None = None
     posture: tuple[tuple[float, ...], tuple[float, ...]] | None = None
     checks: tuple[Constraint, ...] = ()
+    # Whether the target has a region around it (``bounds`` or ``cone``): the errors are
+    # measured outside it. Derived where the settings are built (here, or ``but`` for a
+    # copy), read as a plain attribute on every solve.
+    region: bool = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "region", self.bounds is not None or self.cone is not None)
 
     # Equal by class and every field, a subclass's too (``Options``): written here rather
     # than generated per class, so that the registry, which keeps its choices per settings,
@@ -127,12 +134,6 @@ class SolverSettings:
         if self.bounds is not None:
             found.append("spin" if self.cone is None and spin_of(self.bounds) else "bounds")
         return frozenset(found)
-
-    @property
-    def region(self) -> bool:
-        """Whether the target has a region around it (``bounds`` or ``cone``): the errors are
-        measured outside it."""
-        return self.bounds is not None or self.cone is not None
 
     @property
     def region_bounds(self) -> tuple[float, ...]:

@@ -25,10 +25,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from armik import reasons
-from armik.constraints.clear import collision_check, distances
+from armik.constraints.clear import Collisions, collision_check, distances
 from armik.constraints.collision import checker
 from armik.frozen import frozen
-from armik.options import Options
 from armik.solve import push
 from armik.solve.slide import slide
 from armik.solvers.answers import Answers, one
@@ -39,6 +38,7 @@ from armik.verify.verdicts import Verdicts, joined
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
+    from armik.problem.settings import SolverSettings
     from armik.solvers.registry import SolverSpec
 
 
@@ -56,41 +56,46 @@ def solve_avoiding(
     spec: SolverSpec,
     target,
     seed: np.ndarray,
-    opts: Options,
+    opts: SolverSettings,
+    clear: Collisions,
     every: bool,
     t0,
     first: First | None = None,
+    slide_first: bool = False,
 ):
-    """The verified, collision-checked results of ``spec`` for ``target`` (best first; the
-    first only unless ``every``); a numeric solver goes on from ``first`` when given."""
-    check = checker(arm, opts.obstacles, opts.self_collision)
+    """The verified results of ``spec`` for ``target`` (best first; the first only unless
+    ``every``), each kept ``clear`` of collisions; a numeric solver goes on from ``first``
+    when given, and with ``slide_first`` (the option ``slide``) slides its first colliding
+    answer out of contact before it restarts."""
+    check = checker(arm, clear.obstacles, clear.self_collision)
+    margin = clear.margin
     if not seed.flags.writeable:  # a read-only seed (a result's q) is another kernel type
         seed = seed.copy()
     if every:  # every answer's verdict, then the collision check of the N of them
         answers = spec.run(arm, target, seed, opts, True)
         found = verdicts(arm, answers, target, opts)
-        found.judge(collision_check(check, answers.q, opts.margin))
+        found.judge(collision_check(check, answers.q, margin))
         return ranked(found, spec.name, seed, True, t0)
     if spec.kind == "analytic":
         answers = spec.run(arm, target, seed, opts, True)
-        found = _first_free(arm, answers, target, opts, check, seed)
+        found = _first_free(arm, answers, target, opts, check, margin, seed)
         return ranked(found, spec.name, seed, False, t0)
-    runs = _restarting(arm, spec, target, seed, opts, check, first)
+    runs = _restarting(arm, spec, target, seed, opts, check, margin, first, slide_first)
     return [] if runs is None else ranked(runs, spec.name, seed, False, t0)
 
 
-def _checked(arm, answers, i: int, target, opts: Options, check) -> Verdicts:
+def _checked(arm, answers, i: int, target, opts: SolverSettings, check, margin) -> Verdicts:
     """The verdict of answer ``i`` of ``answers`` with its collision check."""
     found = decide_one(arm, answers.take([i]), measure(arm, answers.q[i], target, opts), opts)
-    return found.judge(collision_check(check, found.q, opts.margin))
+    return found.judge(collision_check(check, found.q, margin))
 
 
-def _first_free(arm, answers, target, opts: Options, check, seed) -> Verdicts:
+def _first_free(arm, answers, target, opts: SolverSettings, check, margin, seed) -> Verdicts:
     """Check the branches nearest the seed first (``nearest_first``); stop at the first
     verified, collision-free one."""
     rows = []
     for i in nearest_first(arm, answers, seed):
-        row = _checked(arm, answers, i, target, opts, check)
+        row = _checked(arm, answers, i, target, opts, check, margin)
         rows.append(row)
         if row.succeeded(0):
             return row
@@ -98,7 +103,15 @@ def _first_free(arm, answers, target, opts: Options, check, seed) -> Verdicts:
 
 
 def _restarting(
-    arm, spec, target, seed: np.ndarray, opts: Options, check, first: First | None
+    arm,
+    spec,
+    target,
+    seed: np.ndarray,
+    opts: SolverSettings,
+    check,
+    margin: float,
+    first: First | None,
+    slide_first: bool,
 ) -> Verdicts | None:
     """Run the numeric solver, from the seed (or go on from its ``first`` run) then from
     random configurations, until its verified answer is collision-free or the budget is
@@ -116,7 +129,7 @@ def _restarting(
         if run == 0 and first is not None:
             row = first.row
             if row.extra is None:  # a failure: its distance measured here, as below
-                row.judge(collision_check(check, row.q, opts.margin))
+                row.judge(collision_check(check, row.q, margin))
         else:
             left = _left(opts, start_cpu, used_iterations, used_restarts)
             if left is None:
@@ -125,7 +138,7 @@ def _restarting(
             measured = None  # a claimed answer's (distance, pair), measured once
             if run > 0 and len(answers) == 1 and answers.claim.item(0) == _CONVERGED:
                 distance, pair = measured = check.distance(answers.q[0])
-                if distance < opts.margin:  # claimed, colliding: on to the next start
+                if distance < margin:  # claimed, colliding: on to the next start
                     used_iterations += int(answers.iterations[0])
                     used_restarts += int(answers.restarts[0]) + 1
                     rows.append(
@@ -141,9 +154,9 @@ def _restarting(
                 )
                 found = found.take([best])
             if measured is None:
-                row = found.judge(collision_check(check, found.q, opts.margin))
+                row = found.judge(collision_check(check, found.q, margin))
             else:
-                row = found.judge(distances([measured], opts.margin))
+                row = found.judge(distances([measured], margin))
         used_iterations += int(row.answers.iterations[0])
         used_restarts += int(row.answers.restarts[0]) + (run > 0)
         row = row.recounted(used_iterations, used_restarts)
@@ -152,10 +165,10 @@ def _restarting(
         rows.append(row)
         if int(row.status[0]) != Status.COLLISION.code:
             break  # the solver itself found nothing within what was left
-        if run == 0 and opts.slide:
+        if run == 0 and slide_first:
             # the first answer only: it starts from the seed (a path's previous answer);
             # a restart's lands anywhere, where sliding buys no continuity
-            slid = _slid(arm, target, row, opts, check, start_cpu, used_iterations)
+            slid = _slid(arm, target, row, opts, check, margin, start_cpu, used_iterations)
             if slid is not None:
                 used_iterations = int(slid.answers.iterations[0])
                 slid = slid.recounted(used_iterations, used_restarts)
@@ -163,7 +176,7 @@ def _restarting(
                     return slid
                 rows.append(slid)
         elif run == 0 and PUSH:
-            got = _pushed(arm, spec, target, row, opts, check, start_cpu, used_iterations)
+            got = _pushed(arm, spec, target, row, opts, check, margin, start_cpu, used_iterations)
             used_iterations = got[1]
             rows.extend(p.recounted(used_iterations, used_restarts) for p in got[0])
             if got[0] and got[0][-1].succeeded(0):
@@ -171,7 +184,7 @@ def _restarting(
         q_start = lo + span * rng.random(dof)
     if not rows:
         return None
-    built = [r.row(arm, target, opts.margin) if type(r) is _Deferred else r for r in rows]
+    built = [r.row(arm, target, margin) if type(r) is _Deferred else r for r in rows]
     return joined(built, arm.dof)  # type: ignore[arg-type]
 
 
@@ -184,7 +197,7 @@ class _Deferred:
     ends without a free answer (its failure is then ranked among the others)."""
 
     answers: Answers  # one row
-    left: Options  # the options it ran with
+    left: SolverSettings  # the options it ran with
     distance: float
     pair: object
     iterations: int  # the search's counts after it
@@ -202,21 +215,21 @@ class _Deferred:
 PUSH = False
 
 
-def _pushed(arm, spec, target, row: Verdicts, opts: Options, check, start_cpu: float, used: int):
+def _pushed(arm, spec, target, row: Verdicts, opts, check, margin, start_cpu: float, used: int):
     """([verdict, ...], iterations used): ``row``'s colliding answer pushed clear with the
     servo's rows (``solve.push``) and descended on from there without restarts, up to
     ``push.PUSHES`` times while the answer still collides and the budget lasts."""
     found: list[Verdicts] = []
     q = row.q[0]
     for _ in range(push.PUSHES):
-        start = push.pushed(arm, check, q, opts.margin)
+        start = push.pushed(arm, check, q, margin)
         left = None if start is None else _left(opts, start_cpu, used, 0)
         if left is None:
             break
-        left = frozen(Options, **{**left.__dict__, "max_restarts": 0})
+        left = frozen(type(left), **{**left.__dict__, "max_restarts": 0})
         answers = spec.run(arm, target, start, left, False)
         got = verdicts(arm, answers, target, left).judge(
-            collision_check(check, answers.q[:1], opts.margin)
+            collision_check(check, answers.q[:1], margin)
         )
         used += int(answers.iterations[0])
         found.append(got)
@@ -229,7 +242,7 @@ def _pushed(arm, spec, target, row: Verdicts, opts: Options, check, start_cpu: f
 SLIDE_STEPS = 30  # steps of one slide, at most
 
 
-def _slid(arm, target, row: Verdicts, opts: Options, check, start_cpu: float, used: int):
+def _slid(arm, target, row: Verdicts, opts, check, margin, start_cpu: float, used: int):
     """The verdict of ``row``'s answer slid out of contact, within what is left of the
     budget; None when nothing is left."""
     steps = SLIDE_STEPS
@@ -239,15 +252,17 @@ def _slid(arm, target, row: Verdicts, opts: Options, check, start_cpu: float, us
         return None
     deadline = math.inf if opts.iteration_budget is not None else start_cpu + opts.timeout
     tol = min(opts.tol_position, opts.tol_orientation) * 0.1
-    q, taken = slide(arm, target, row.q[0], check, opts.margin, steps, deadline, tol)
+    q, taken = slide(arm, target, row.q[0], check, margin, steps, deadline, tol)
     slid = one(q, Status.CONVERGED, reasons.SLID, iterations=used + taken)
-    return _checked(arm, slid, 0, target, opts, check)
+    return _checked(arm, slid, 0, target, opts, check, margin)
 
 
-def _left(opts: Options, start_cpu: float, iterations: int, restarts: int) -> Options | None:
+def _left(
+    opts: SolverSettings, start_cpu: float, iterations: int, restarts: int
+) -> SolverSettings | None:
     """The options of the next run: what is left of the budget, or None when spent."""
     left = opts.budget.left(start_cpu, iterations, restarts)
     if left is None:
         return None
     seed = None if opts.seed is None else (opts.seed + restarts) % 2**63
-    return frozen(Options, **{**opts.__dict__, "seed": seed, **left.said()})
+    return frozen(type(opts), **{**opts.__dict__, "seed": seed, **left.said()})

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import sys
 import time
 import warnings
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
@@ -41,9 +42,9 @@ from armik.constraints.clear import Collisions
 from armik.constraints.collision import checker
 from armik.errors import ArmikError, ArmikWarning, OptionError
 from armik.frozen import frozen
-from armik.options import Options
 from armik.request import Request, with_seed
 from armik.solve import backends, forked
+from armik.solve.prepared import chosen
 from armik.solve.progress import ProgressArg, make_progress, reporter
 from armik.solve.single import routed
 from armik.solve.stages import going_on, run
@@ -51,19 +52,17 @@ from armik.solve.tasks import SOLVER
 from armik.solvers import registry
 from armik.status import Status
 from armik.targets.batch import TargetBatch, parse_targets
-from armik.targets.pose import Target
 from armik.verify.verdict import verdict_batch
 from armik.verify.verdicts import Verdicts
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
+    from armik.problem.settings import SolverSettings
     from armik.solvers.registry import SolverSpec
 
 DEFAULT_CHUNK = 256  # targets per chunk: small enough to balance threads, large enough
 #                      that the per-chunk overhead (a few Python calls) does not show
 _CONVERGED = Status.CONVERGED.code
-# a target of each kind (True: a position), what the registry's choice for a batch reads
-_KIND = {True: Target(np.zeros(3)), False: Target(np.zeros(3), np.eye(3))}
 _COLLISION = Status.COLLISION.code
 
 
@@ -117,23 +116,24 @@ def solve_batch(
     batch = parse_targets(targets, arm)
     n = len(batch.positions)
     seeds = batch_seeds(arm, q0, n)
-    # applicability reads a target for its kind only (a position or a pose): a sample
-    spec = registry.choose(solver, arm, _KIND[batch.rotations is None] if n else None, opts)
+    spec = chosen(arm, solver, request.key, opts, batch.rotations is None if n else None)
     request = request.but(solver=spec.name)
     workers = _workers(workers, spec)
     chunk = _chunk_size(chunk_size)
     claim = reasons.CONVERGED if spec.kind == "numeric" else ""  # a success's, as solve's
     out = BatchResult.for_arm(arm, n, spec.name, opts, claim, opts.margin)
-    collisions = opts.obstacles or opts.self_collision  # ``opts.collisions``, from its fields
-    if collisions:  # the pairs in the checker's order, whatever order rows finish in
+    clear = _clear(opts) if opts.obstacles or opts.self_collision else ()  # none asked: no call
+    if clear:  # the pairs in the checker's order, whatever order rows finish in
         out.pair_names.extend(checker(arm, opts.obstacles, opts.self_collision).pair_names)
-    bar = reporter(progress, n, f"{arm.name}/{spec.name}")  # None: nothing reported
+    # None: nothing reported (no progress asked, or by default stderr no terminal)
+    quiet = progress is False or (progress is None and not sys.stderr.isatty())
+    bar = None if quiet else reporter(progress, n, f"{arm.name}/{spec.name}")
     starts = range(0, n, chunk)
 
     def job(start: int, stop: int | None = None) -> int:
         stop = min(start + chunk, n) if stop is None else stop
         part = batch if start == 0 and stop == n else batch[start:stop]
-        solve_chunk(arm, spec, part, seeds[start:stop], request, opts, out, start)
+        solve_chunk(arm, spec, part, seeds[start:stop], request, opts, clear, out, start)
         return stop - start
 
     done = 0
@@ -148,7 +148,7 @@ def solve_batch(
             done += job(start)
             if bar is not None:
                 bar(done, n)
-    elif _holds_gil(spec, opts) and forked.usable():
+    elif (clear or spec.run_batch is None) and forked.usable():  # most work holds the GIL
         bar = _or_quiet(bar)
         # the first few here, before any fork: what they compile or load is compiled or
         # loaded once, and their time says whether the rest is worth a fork
@@ -192,7 +192,8 @@ class Chunk(NamedTuple):
         spec = registry.get(self.solver)
         opts = self.request.settings
         out = BatchResult.for_arm(self.arm, len(self.targets), spec.name, opts, margin=opts.margin)
-        solve_chunk(self.arm, spec, self.targets, self.seeds, self.request, opts, out, 0)
+        clear = _clear(opts) if opts.obstacles or opts.self_collision else ()
+        solve_chunk(self.arm, spec, self.targets, self.seeds, self.request, opts, clear, out, 0)
         return out
 
 
@@ -282,10 +283,12 @@ _SHARES = 4  # chunks per process by default: a chunk of 256 left one of two pro
 # for most of a 400-target batch (measured: 2 processes slower than one)
 
 
-def _holds_gil(spec: SolverSpec, opts: Options) -> bool:
-    """Whether most of a chunk's work holds the GIL (threads would wait for each other):
-    collision checks, or a solver without a compiled batch entry."""
-    return opts.collisions or spec.run_batch is None
+def _clear(opts) -> tuple[Collisions]:
+    """The collisions a batch's options check (``Options``' obstacles, self-collision and
+    margin: some asked), as the constraint the verdict applies."""
+    # the options' own: validated where they were read
+    return (frozen(Collisions, obstacles=opts.obstacles, self_collision=opts.self_collision,
+                   margin=opts.margin),)  # fmt: skip
 
 
 def solve_chunk(
@@ -294,25 +297,26 @@ def solve_chunk(
     targets: TargetBatch,
     seeds: np.ndarray,
     request: Request,
-    opts: Options,
+    opts: SolverSettings,
+    clear: tuple[Collisions, ...],
     out: BatchResult,
     start: int,
 ) -> None:
     """Solve and verify one chunk, writing rows ``start:start + len(targets)`` of ``out``;
     ``request``: the batch's, the solver ``spec``'s, a row's solve its copy; ``opts``: its
-    settings with its seed (``Request.settings``)."""
+    settings with its seed (``Request.settings``); ``clear``: the collisions they check
+    (``_clear``)."""
     if spec.run_batch is None:
         for i in range(len(targets)):
             r = _row(arm, request, targets.target(i), seeds[i])
             out.put_result(start + i, r)
         return
-    collisions = opts.obstacles or opts.self_collision  # ``opts.collisions``, inline
+    collisions = bool(clear)
     # C-ordered and writable, as the compiled entries are compiled for (a broadcast or a
     # read-only seed would compile them again)
     if not (seeds.flags.c_contiguous and seeds.flags.writeable):
         seeds = np.array(seeds, order="C")
     answers = spec.run_batch(arm, targets, seeds, opts)
-    clear = (Collisions(opts.obstacles, opts.self_collision, opts.margin),) if collisions else ()
     success = verdict_batch(arm, answers, targets, opts, out, start, clear)
     if collisions or spec.kind == "analytic":
         # A success that keeps clear stands: it is the answer ``solve`` gives (its first
@@ -335,7 +339,7 @@ def solve_chunk(
             out.put_result(start + i, r)
 
 
-def _first_row(part: BatchResult, i: int, opts: Options) -> Verdicts:
+def _first_row(part: BatchResult, i: int, opts: SolverSettings) -> Verdicts:
     """Row ``i`` of the batch's verdict as ``solve``'s own first run leaves it for the
     search (``armik.solve.avoid``): its status, words and counts, and its collision check's
     distance and pair where it was checked."""

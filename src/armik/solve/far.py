@@ -95,7 +95,7 @@ def _measure(arm: ArmModel, q: np.ndarray, tgt, opts: SolverSettings) -> Measure
     model, data = arm.model, arm.data
     pin.forwardKinematics(model, data, arm.to_pin(q))
     T = pin.updateFramePlacement(model, data, arm.tip_frame_id)
-    _, _, measure_rot = measures_of(opts.weights, opts.position_only, tgt.rotation is None)
+    _, _, measure_rot = measures_of(arm, opts.weights, opts.position_only, tgt.rotation is None)
     ch = arm.kernel_chain.chain
     R_bw, p_bw = ch.base_R.tolist(), ch.base_p.tolist()
     R_w, p_w = T.rotation.tolist(), T.translation.tolist()

@@ -53,8 +53,23 @@ def held_joint(arm: ArmModel, hold: tuple[str, float | None], seed: np.ndarray):
             option="hold",
             value=name,
         )
+    if value is not None:  # checked once per arm and value: a loop holds the same joint
+        kept = arm._derived.get(_CHECKED)  # read as a dict, not through a call
+        found = None if kept is None else kept.get(hold)
+        if found is not None:
+            return found
     held = Hold(name, value).at(arm, seed)  # a joint of the arm, a value within its limits
-    return held.index(arm), cast(float, held.value)
+    found = held.index(arm), cast(float, held.value)
+    if value is not None:
+        kept = _CHECKED(arm)
+        if len(kept) > 64:
+            kept.clear()
+        kept[hold] = found
+    return found
+
+
+# (index, value within the limits) of a held joint's (name, value), checked on this arm
+_CHECKED: Derived[dict] = Derived("held joints checked", lambda _: {})
 
 
 _KEPT: Derived[OrderedDict] = Derived("held arms", lambda _: OrderedDict())  # (name, value)
@@ -95,11 +110,7 @@ def solve_held(arm: ArmModel, req: Request, target, general):
     k, value = held_joint(arm, holds[0], seed)
     name = arm.joint_names[k]
     tgt = target if type(target) is Target else parsed(target, arm)  # the stages parsed it
-    asked = registry.sweeps(k) if solver == "auto" else [registry.get(solver)]
-    held_by = (s for s in asked if s.sweep is not None and s.sweep.joint == k)
-    sweeping = next(
-        (s for s in held_by if (s.declines(opts) or s.why_not(arm, tgt, opts)) is None), None
-    )
+    sweeping = _sweeping(arm, solver, req.key, k, tgt, opts)
     if sweeping is not None:  # a closed form at exactly that value (the Panda's joint 7)
         answers = sweeping.sweep.at_value(arm, tgt, seed, value)  # type: ignore[union-attr]
         results = finish(arm, sweeping.name, answers, tgt, opts, seed, every, t0)
@@ -131,6 +142,31 @@ def solve_held(arm: ArmModel, req: Request, target, general):
     name_of = found[0].solver if found else solver
     results = finish(arm, name_of, answers, tgt, opts, seed, every, t0)
     return results if every else results[0]
+
+
+def _sweeping(arm: ArmModel, solver: str, key: tuple | None, k: int, tgt: Target, opts):
+    """The solver asked for (or for "auto", the first) that sweeps joint ``k`` and takes
+    these options and target, or None: "auto"'s kept per arm under the request's ``key``
+    (None: chosen every time), as the registry keeps its choice (applicability reads a
+    target for its kind only)."""
+    kept = arm._derived.get(_SWEEPING) if key is not None and solver == "auto" else None
+    where = (key, k, tgt.rotation is None)
+    if kept is not None and kept["generation"] == registry.generation and where in kept:
+        return kept[where]
+    asked = registry.sweeps(k) if solver == "auto" else [registry.get(solver)]
+    held_by = (s for s in asked if s.sweep is not None and s.sweep.joint == k)
+    found = next(
+        (s for s in held_by if (s.declines(opts) or s.why_not(arm, tgt, opts)) is None), None
+    )
+    if key is not None and solver == "auto":
+        kept = arm._derived.get(_SWEEPING)
+        if kept is None or kept["generation"] != registry.generation or len(kept) > 64:
+            kept = arm._derived[_SWEEPING] = {"generation": registry.generation}
+        kept[where] = found
+    return found
+
+
+_SWEEPING: Derived[dict] = Derived("held joints' sweeping solvers", lambda _: {})
 
 
 def _claim(r) -> str:

@@ -39,6 +39,7 @@ from armik.request import Request
 from armik.result import IKResult
 from armik.solve import ladder, rungs
 from armik.solve.path_score import preferred
+from armik.solve.prepared import chosen
 from armik.solve.rungs import unwrapped
 from armik.solve.stages import run
 from armik.solve.turning import ANY, Turning, refuse_broken, turning
@@ -85,7 +86,10 @@ def solve_path(
     step = _max_step(arm, max_joint_step)
     q_prev = arm.seed(q0)
     turn = turning(arm, request.opts, q_prev)  # the turns of an answer its constraints allow
-    spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
+    if solver == "auto":  # kept per arm: the choice reads the first target's kind only
+        spec = chosen(arm, solver, request.key, opts, batch.rotations is None if n else None)
+    else:  # the solver named, which may read the target itself
+        spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
     request, local = request.but(solver=spec.name), local.but(solver=spec.name)
     out = BatchResult.for_arm(arm, n, spec.name, opts, margin=opts.margin)
     if plan == "global":

@@ -233,11 +233,14 @@ def sweep_held(
 
     exact = sweep.exact(arm, target, q0)
     lower, upper = arm.lower - LIMIT_TOL, arm.upper + LIMIT_TOL  # ``within_limits``' bounds
+    turns_matter = score.turns_matter
 
     def best_at(theta: float) -> float:
         """The best score over the branches at joint 7 = ``theta`` (inf: none reached)."""
         Q = exact(theta)
         inside = Q[((Q >= lower) & (Q <= upper)).all(axis=1)]
+        if not turns_matter:  # every branch as it is: the score's array form
+            return min(score.many(arm, inside, q0).tolist(), default=math.inf)
         scores = [score(arm, best_variant(arm, q, score, q0, turn), q0) for q in inside]
         return min(scores, default=math.inf)
 

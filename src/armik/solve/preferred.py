@@ -22,7 +22,7 @@ from armik.result import IKResult
 from armik.solve import prefer
 from armik.solve.nullspace import descend
 from armik.solve.prefer import rank, sweep_held
-from armik.solve.stages import narrowed, run
+from armik.solve.stages import run
 from armik.solve.task_solve import solve_problem
 from armik.solve.turning import turning
 from armik.solvers import registry
@@ -51,9 +51,9 @@ def preferred(arm: ArmModel, req: Request):
         return ranked if every else ranked[0]
     budget = opts.iteration_budget
     if budget is None:
-        share = narrowed(plain, timeout=opts.timeout * prefer.GATHER)
+        share = plain.narrowed(timeout=opts.timeout * prefer.GATHER)
     else:
-        share = narrowed(plain, iteration_budget=max(int(budget * prefer.GATHER_ITERATIONS), 1))
+        share = plain.narrowed(iteration_budget=max(int(budget * prefer.GATHER_ITERATIONS), 1))
     share = share.but(t0=time.perf_counter())
     if problem is None:  # solve_all's answers
         found = run(arm, share.but(every=True))
@@ -62,7 +62,7 @@ def preferred(arm: ArmModel, req: Request):
     # the task solver's one answer is no registered solver's: scored as it is
     searched = problem is None and bool(found) and registry.get(found[0].solver).kind == "numeric"
     if searched and pose:  # one descent from each start, by the solver that searched
-        once = narrowed(plain, max_restarts=0).but(solver=found[0].solver, every=False)
+        once = plain.narrowed(max_restarts=0).but(solver=found[0].solver, every=False)
 
         def solve_from(start: np.ndarray) -> IKResult:
             return run(arm, once.but(q0=start, t0=time.perf_counter()))  # type: ignore[no-any-return]
@@ -87,7 +87,8 @@ def _plain_pose(opts) -> bool:
         opts.region
         or opts.weights
         or opts.position_only
-        or opts.collisions
+        or opts.obstacles  # ``opts.collisions``, from its fields
+        or opts.self_collision
         or opts.hold
         or opts.swivel is not None
     )

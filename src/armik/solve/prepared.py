@@ -97,6 +97,30 @@ def plan_for(
 _PLANS: Derived[dict] = Derived("prepared solves", lambda _: {})  # read as a key, not called
 
 
+def chosen(arm: ArmModel, solver: str, key: tuple | None, opts, position: bool | None):
+    """The solver ``registry.choose`` gives for ``opts`` (all but ``seed``; ``key``: their
+    request's) and a target of that kind (``position``; None: no target), "auto"'s kept per
+    arm under ``key`` as a plan is (None: chosen every time): a batch's or a path's."""
+    kind = None if position is None else _KIND[position]  # applicability reads the kind only
+    if key is None or solver != "auto":  # a solver named: looked up by its name
+        return registry.choose(solver, arm, kind, opts)
+    kept = arm._derived.get(_CHOSEN)  # read as a dict, not through a call: every batch
+    if kept is None or kept["generation"] != registry.generation:
+        kept = arm._derived[_CHOSEN] = {"generation": registry.generation}
+    spec = kept.get((key, position))
+    if spec is None:
+        spec = registry.choose(solver, arm, kind, opts)
+        if len(kept) > 64:
+            kept = arm._derived[_CHOSEN] = {"generation": registry.generation}
+        kept[(key, position)] = spec
+    return spec
+
+
+_CHOSEN: Derived[dict] = Derived("auto's choices", lambda _: {})
+# a target of each kind (True: a position), what the registry's choice reads
+_KIND = {True: Target(np.zeros(3)), False: Target(np.zeros(3), np.eye(3))}
+
+
 def _build(arm: ArmModel, solver: str, opts: SolverSettings, position: bool, every: bool):
     # a target of the kind every plain target of the plan is
     target = Target(np.zeros(3)) if position else Target(np.zeros(3), np.eye(3))
@@ -117,7 +141,7 @@ class Plan:
         self, arm: ArmModel, spec: registry.SolverSpec, opts: SolverSettings, position: bool = False
     ) -> None:
         self.arm = arm
-        self.solver = spec.name
+        self.spec, self.solver = spec, spec.name
         self.complete = spec.complete  # its solve_all misses no solution (``SolverSpec``)
         self.position = position  # targets are positions (x, y, z), not full poses
         self.run_pose = spec.prepare_pose(arm, opts, position)
@@ -131,7 +155,7 @@ class Plan:
         self.direct = arm.model.nq == arm.dof  # q is Pinocchio's configuration itself
         self.shape = (arm.dof,)
         self.middle = arm.middle
-        w, weighted, measure_rot = measures_of(opts.weights, opts.position_only, position)
+        w, weighted, measure_rot = measures_of(arm, opts.weights, opts.position_only, position)
         self.measured = check_frame(  # what the compiled check measures against
             arm.T_base_world.rotation,
             arm.T_base_world.translation,
@@ -156,7 +180,7 @@ class Plan:
         # the true distances measure the rotation of a full pose, whatever its weights
         self.apart_rot = not (opts.position_only or position)
         if self.weighted and not opts.region:
-            w, _, _ = measures_of(None, opts.position_only, position)
+            w, _, _ = measures_of(arm, None, opts.position_only, position)
             flags = 2 if self.apart_rot else 0
             self.apart = check_frame(
                 arm.T_base_world.rotation, arm.T_base_world.translation, w, flags, arm.lower,

@@ -127,8 +127,10 @@ def read_path(
     unless told to (a waypoint re-solved near the previous answer)."""
     t0 = time.perf_counter()
     check_plan(plan)
-    score = parse_score(options.get("prefer"))
-    options = {k: v for k, v in options.items() if k != "prefer"}
+    score = None
+    if "prefer" in options:  # the path's score, not a setting
+        score = parse_score(options["prefer"])
+        options = {k: v for k, v in options.items() if k != "prefer"}
     if "budget" in options:  # as its options, which each rung's solve narrows
         options = spelled(options)
     problems = task_problems(poses)

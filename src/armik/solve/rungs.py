@@ -21,7 +21,7 @@ import numpy as np
 from armik.model.arm_model import ArmModel
 from armik.request import Request
 from armik.result import IKResult
-from armik.solve.stages import narrowed, run
+from armik.solve.stages import run
 from armik.solve.turning import ANY, Turning, turning
 from armik.targets.pose import Target
 
@@ -73,7 +73,7 @@ def tracked(arm: ArmModel, batch, q_start: np.ndarray, solver: str, followed, re
     failure where nothing reaches it) and every distinct answer a track reached there."""
     n = len(batch)
     targets = [plain(batch.target(i)) for i in range(n)]
-    local = narrowed(request, max_restarts=0).but(solver=solver)
+    local = request.narrowed(max_restarts=0).but(solver=solver)
     turn = turning(arm, request.opts, q_start)
     rungs: list[list[IKResult]] = [[followed[i]] for i in range(n)]
     ok = np.asarray(followed.success, dtype=bool)

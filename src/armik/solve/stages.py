@@ -19,11 +19,11 @@ import numpy as np
 import pinocchio as pin
 
 from armik import reasons
-from armik.constraints.clear import distances
+from armik.constraints.clear import Collisions, distances
 from armik.constraints.collision import Checker, checker
+from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
-from armik.options import Options
 from armik.request import Request, but_options, with_seed
 from armik.result import IKResult
 from armik.solve import far, parameter
@@ -73,7 +73,17 @@ def run(arm: ArmModel, req: Request):
         found = plan.solve_all(target, q0, opts, seed, t0)
         if found is not None:  # a complete solver's answers are all there are
             return found if plan.complete else _beyond_search(arm, req, found)
-    results = general(arm, target, q0, solver, with_seed(opts, seed), every, t0)
+    opts = with_seed(opts, seed)
+    if plan is not None and solver == "auto":
+        # "auto"'s plan holds the general path's choice for its kind of target (the
+        # registry's choice reads a target for its kind only)
+        target = parsed(target, arm)
+        if (target.rotation is None) == plan.position:
+            results = _run(arm, plan.spec, target, q0, opts, every, t0)
+        else:
+            results = general(arm, target, q0, solver, opts, every, t0)
+    else:
+        results = general(arm, target, q0, solver, opts, every, t0)
     if every:
         return _beyond_search(arm, req, results)
     return results[0]
@@ -107,29 +117,32 @@ class _Avoiding(NamedTuple):
     target kind reads before its target: kept under the request's key, as a plan is."""
 
     spec: SolverSpec  # chosen as without collisions (no solver reads them)
-    plain: Options  # the options without collisions: the plain solve tried first
-    key: tuple  # the plain solve's plan key
+    # the first such request without collisions: its options and plan key are the plain
+    # solve's, tried first (each call puts in its own target, start and seed)
+    plain: Request
     check: Checker
 
 
-def _kept(arm: ArmModel, solver: str, key: tuple, opts: Options, position: bool) -> _Avoiding:
-    """The ``_Avoiding`` of these options, built once per arm (registrations apart)."""
+def _kept(arm: ArmModel, req: Request, position: bool) -> _Avoiding:
+    """The ``_Avoiding`` of the request's options (its key: not None), built once per arm
+    (registrations apart)."""
+    solver, key = req.solver, req.key
     kept = arm._derived.get(_AVOIDING)  # read as a dict, not through a call: every solve
     if kept is None or kept.get("generation") != registry.generation:
         kept = arm._derived[_AVOIDING] = {"generation": registry.generation}
     found = kept.get((solver, key, position))
     if found is None:
-        plain = but_options(opts, **_NO_COLLISIONS)
+        plain = req.narrowed(**_NO_COLLISIONS)
         kind = Target(np.zeros(3)) if position else Target(np.zeros(3), np.eye(3))
-        spec = registry.choose(solver, arm, kind, plain)  # reads only the target's kind
-        check = checker(arm, opts.obstacles, opts.self_collision)
-        found = _Avoiding(spec, plain, (key, "plain"), check)
+        spec = registry.choose(solver, arm, kind, plain.opts)  # reads only the target's kind
+        check = checker(arm, req.opts.obstacles, req.opts.self_collision)
+        found = _Avoiding(spec, plain, check)
         # what the search runs, loaded (or compiled) here, before its budget's clock starts:
         # a first call in a process then answers as every later one does
-        if not plain.checks:
-            plan_for(arm, solver, found.key, plain, position, False)
+        if not plain.opts.checks:
+            plan_for(arm, solver, cast(tuple, plain.key), plain.opts, position, False)
         if spec.kind == "numeric":  # its restarts' entry: one iteration, no restart
-            once = but_options(plain, max_restarts=0, iteration_budget=1)
+            once = plain.narrowed(max_restarts=0, iteration_budget=1).opts
             spec.run(arm, kind, arm.middle.copy(), once, False)
         check.distance(arm.middle)
         if len(kept) > 64:
@@ -151,7 +164,8 @@ def _avoiding(arm: ArmModel, req: Request) -> IKResult:
     shape = cast(np.ndarray, target).shape if kind is np.ndarray else None
     plain_key: tuple | None
     if key is not None and (kind is _SE3 or shape == (4, 4) or shape == (3,)):
-        spec, plain, plain_key, check = _kept(arm, solver, key, opts, shape == (3,))
+        spec, kept, check = _kept(arm, req, shape == (3,))
+        plain, plain_key = kept.opts, kept.key
         if opts.look_at is not None or opts.toward is not None:  # this call's, not the key's
             plain = but_options(opts, **_NO_COLLISIONS)
     else:
@@ -221,30 +235,14 @@ def _run(arm, spec: SolverSpec, tgt: Target, q0, opts, every: bool, t0: float, f
     """The verified results of ``spec`` for the parsed target ``tgt`` (collisions checked
     where the options ask, a numeric solver going on from ``first`` when given)."""
     seed = arm.seed(q0)
-    if opts.collisions:
-        return solve_avoiding(arm, spec, tgt, seed, opts, every, t0, first)
+    if opts.obstacles or opts.self_collision:  # ``opts.collisions``, inline
+        # the options' own: validated where they were read
+        clear = frozen(
+            Collisions,
+            obstacles=opts.obstacles,
+            self_collision=opts.self_collision,
+            margin=opts.margin,
+        )
+        return solve_avoiding(arm, spec, tgt, seed, opts, clear, every, t0, first, opts.slide)
     answers = spec.run(arm, tgt, seed, opts, every)
     return finish(arm, spec.name, answers, tgt, opts, seed, every, t0)
-
-
-def narrowed(req: Request, **changes: object) -> Request:
-    """``req`` with some of its options changed (``changes``: values of ``Options``' own
-    fields, of their type), kept apart from the request's own: its plans and choices."""
-    key = None if req.key is None else (req.key, tuple(changes.items()))
-    return req.but(opts=but_options(req.opts, **changes), key=key)
-
-
-_AIMS = ("look_at", "toward")  # new at each of a loop of targets: out of the key
-
-
-def with_said(req: Request, said: dict, **changes: object) -> Request:
-    """``req`` with the options a lowered task list says (``said``, validated here as
-    options, over a cone the request holds) and ``changes`` (as ``narrowed``)."""
-    cone = {"cone": req.opts.cone} if req.opts.cone is not None and "cone" not in said else {}
-    given = Options.from_kwargs({**cone, **said})
-    values = {name: getattr(given, name) for name in said}
-    values.update(changes)
-    plain = tuple((k, v) for k, v in values.items() if k not in _AIMS)
-    aims = tuple(k for k in _AIMS if k in values)
-    key = None if req.key is None else (req.key, plain, aims)
-    return req.but(opts=but_options(req.opts, **values), key=key)

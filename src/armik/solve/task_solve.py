@@ -13,7 +13,7 @@ from armik.model.arm_model import ArmModel
 from armik.problem.problem import lower, rims, tightened
 from armik.request import Request
 from armik.result import IKResult
-from armik.solve.stages import narrowed, run, with_said
+from armik.solve.stages import run
 from armik.solve.tasks import CENTRE_RESTARTS, solve_tasks
 from armik.solvers import registry
 
@@ -40,16 +40,16 @@ def centre(arm: ArmModel, problem, req: Request) -> IKResult | None:
     base = req.but(solver="auto", every=False, t0=time.perf_counter(), score=None, problem=None)
     hold = req.opts.hold
     if hold is not None and (arm.dof != 7 or len(hold) != 1):  # held apart: the task
-        base = narrowed(base, hold=None)  # solver's box holds them
+        base = base.narrowed(hold=None)  # solver's box holds them
     restarts = min(req.opts.max_restarts, CENTRE_RESTARTS)
-    centre = run(arm, with_said(base, said, max_restarts=restarts).but(target=target))
+    centre = run(arm, base.with_said(said, max_restarts=restarts).but(target=target))
     if centre.success or registry.get(centre.solver).kind != "analytic":
         return centre  # a numeric miss shows nothing: the task solver goes on from it
     found = []
     for rim in rims(problem, RIM_SAMPLES):
         lowered = lower(rim, arm.tip)
         if lowered is not None:
-            r = run(arm, with_said(base, lowered[1]).but(target=lowered[0]))
+            r = run(arm, base.with_said(lowered[1]).but(target=lowered[0]))
             found += [r] if r.success else []
     seed = arm.seed(req.q0)
     return min(found, key=lambda r: float(np.linalg.norm(r.q - seed)), default=centre)

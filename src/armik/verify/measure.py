@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 import pinocchio as pin
@@ -33,6 +32,7 @@ from armik.kernel.measure import (
     within_limits,
 )
 from armik.model.arm_model import ArmModel
+from armik.model.derived import Derived
 from armik.problem.settings import SolverSettings
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
@@ -68,16 +68,36 @@ class Measure:
         return reasons.outside_region(text) if self.region else text
 
 
-@lru_cache(maxsize=256)
-def measures_of(weights, position_only_option: bool, position_only_target: bool):
+class Measured(dict):
+    """An arm's (weights (6,), weighted, orientation measured) under (``weights``,
+    ``position_only``, a position target): what the check measures for those options and
+    target kind, each built on its first lookup (``measured[key]``: a plain dict's lookup
+    after that)."""
+
+    def __missing__(self, key: tuple) -> tuple[np.ndarray, bool, bool]:
+        weights, position_only_option, position_only_target = key
+        w = SolverSettings(weights=weights, position_only=position_only_option).weight_vector(
+            position_only_target
+        )
+        position_only = position_only_option or position_only_target
+        measure_rot = not position_only and bool(w[3:].any())
+        if len(self) > 256:
+            self.clear()
+        found = self[key] = (w, weights is not None, measure_rot)
+        return found
+
+
+MEASURED: Derived[Measured] = Derived("measured axes", lambda _: Measured())
+
+
+def measures_of(arm: ArmModel, weights, position_only_option: bool, position_only_target: bool):
     """(weights (6,), weighted, orientation measured): what the check measures for these
-    options (``weights``, ``position_only``) and target kind, remembered."""
-    w = SolverSettings(weights=weights, position_only=position_only_option).weight_vector(
-        position_only_target
-    )
-    position_only = position_only_option or position_only_target
-    measure_rot = not position_only and bool(w[3:].any())
-    return w, weights is not None, measure_rot
+    options (``weights``, ``position_only``) and target kind, kept per arm (``MEASURED``)."""
+    return MEASURED(arm)[(weights, position_only_option, position_only_target)]
+
+
+# (the compiled FK check's frame, orientation measured) under ``Measured``'s keys, per arm
+FK_FRAMES: Derived[dict] = Derived("FK check frames", lambda _: {})
 
 
 def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: SolverSettings) -> Measure:
@@ -88,9 +108,10 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: SolverSettings) 
     direct = type(q) is np.ndarray and q.dtype == _FLOAT and model.nq == arm.dof
     pin.forwardKinematics(model, data, q if direct else arm.to_pin(q))
     T = pin.updateFramePlacement(model, data, arm.tip_frame_id)
-    w, weighted, measure_rot = measures_of(
-        opts.weights, opts.position_only, target.rotation is None
-    )
+    measured = arm._derived.get(MEASURED)  # read as a dict, not through a call
+    if measured is None:
+        measured = MEASURED(arm)
+    w, weighted, measure_rot = measured[(opts.weights, opts.position_only, target.rotation is None)]
     ch = arm.kernel_chain.chain
     if opts.region:
         R_t = _EYE if target.rotation is None else target.rotation
@@ -144,15 +165,22 @@ def measure_many(
     n = len(qs)
     if opts.region:
         return _region_many(arm, qs, target, opts)
-    w, weighted, measure_rot = measures_of(
-        opts.weights, opts.position_only, target.rotation is None
-    )
+    key = (opts.weights, opts.position_only, target.rotation is None)
+    frames = arm._derived.get(FK_FRAMES)  # read as a dict, not through a call
+    found = None if frames is None else frames.get(key)
+    if found is None:
+        w, weighted, measure_rot = measures_of(arm, *key)
+        frame = fk_check_frame(w, int(weighted) | (2 if measure_rot else 0), arm.lower, arm.upper)
+        frames = FK_FRAMES(arm)
+        if len(frames) > 256:
+            frames.clear()
+        found = frames[key] = (frame, measure_rot)
+    frame, measure_rot = found
     Q = np.array(qs, dtype=float).reshape(n, arm.dof)  # C-ordered and writable
     H = np.eye(4)
     if target.rotation is not None:
         H[:3, :3] = target.rotation
     H[:3, 3] = target.position
-    frame = fk_check_frame(w, int(weighted) | (2 if measure_rot else 0), arm.lower, arm.upper)
     out = np.empty((n, 3))
     packed, kind, halton = arm.kernel_chain.flat
     fk_checks(packed, kind, halton, frame, H, Q, out)
@@ -270,7 +298,10 @@ def _errors(
     errors against its target (rotations ``R_t``, positions ``p_t``, C-ordered float64),
     the distances outside the region where ``opts`` gives one (``region``: whether they
     do, ``opts.region``); NaN where the orientation is not measured."""
-    w, weighted, measure_rot = measures_of(opts.weights, opts.position_only, position_only_target)
+    measured = arm._derived.get(MEASURED)  # read as a dict, not through a call
+    if measured is None:
+        measured = MEASURED(arm)
+    w, weighted, measure_rot = measured[(opts.weights, opts.position_only, position_only_target)]
     if region:
         out = region_errors(
             arm.T_base_world,

@@ -27,6 +27,7 @@ from armik.kernel import box_qp as backend
 from armik.kernel import descent as _descent
 from armik.kernel import error as _error
 from armik.kernel import restarts as _restarts
+from armik.kernel import warmup
 from armik.kernel.chain import Flat, halton
 from armik.kernel.clock import thread_cpu_ns
 from armik.kernel.descent import CAREFUL_BELOW, KNOWN_MINIMUM_RADIUS  # noqa: F401 (re-exported)
@@ -48,8 +49,8 @@ from armik.kernel.problem import (
 from armik.kernel.restarts import RESTART_CANDIDATES  # noqa: F401 (re-exported)
 from armik.kernel.single import EXACT_POSE_ENTRIES, POSE_ENTRIES
 from armik.kernel.step import backend_step
-from armik.kernel.warmup import prepare
 from armik.model.arm_model import ArmModel
+from armik.model.derived import Derived
 from armik.problem.scores import fit_posture
 from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers, one
@@ -61,6 +62,7 @@ from armik.targets.pose import Target
 _EYE = np.eye(3)  # read only by the kernel
 _FLOAT = np.dtype(float)
 _CONVERGED = Status.CONVERGED
+_CONVERGED_CODE = _CONVERGED.code  # read once: a property
 _halton = halton  # the restart table (kept under its old name for readers and tests)
 
 
@@ -93,12 +95,12 @@ def _warm(which: int) -> None:
 
 
 def packed_settings(
-    opts: SolverSettings, position_only: bool, dof: int, max_found: int, step: Step
+    arm: ArmModel, opts: SolverSettings, position_only: bool, max_found: int, step: Step
 ) -> tuple[np.ndarray, np.ndarray]:
-    """``settings`` as the kernel entry takes them, remembered: a loop of solves whose
-    options differ only in ``seed`` builds them once. Settings that differ only in their
-    budget (``timeout``, ``iteration_budget``, ``max_restarts``: what a collision-checked
-    solve's restarts leave of it, different every time) patch the remembered ints."""
+    """``settings`` as the kernel entry takes them, kept per arm (``PACKED``): a loop of
+    solves whose options differ only in ``seed`` builds them once. Settings that differ only
+    in their budget (``timeout``, ``iteration_budget``, ``max_restarts``: what restarts
+    with collisions leave of it, new each time) patch the remembered ints."""
     budget = (opts.timeout, opts.max_restarts, opts.iteration_budget)
     sight = opts.look_at if opts.look_at is not None else opts.toward  # written in per call
     key = (
@@ -114,16 +116,18 @@ def packed_settings(
         opts.nullspace_gain,
         opts.posture,
         position_only,
-        dof,
         max_found,
         step,
     )
-    found = _PACKED.get(key)
+    kept = arm._derived.get(PACKED)  # read as a dict, not through a call: every solve
+    if kept is None:
+        kept = PACKED(arm)
+    found = kept.get(key)
     if found is None:
-        packed = pack_settings(settings(opts, position_only, dof, max_found, step))
-        if len(_PACKED) > 512:
-            _PACKED.clear()
-        _PACKED[key] = (budget, packed)
+        packed = pack_settings(settings(opts, position_only, arm.dof, max_found, step))
+        if len(kept) > 512:
+            kept.clear()
+        kept[key] = (budget, packed)
         return packed if sight is None else _looking(packed, sight)
     remembered, packed = found
     if budget == remembered:
@@ -146,7 +150,8 @@ def _looking(packed: tuple[np.ndarray, np.ndarray], sight: tuple[float, float, f
 
 
 _LOOK_POINT = slice(21, 24)  # in ``problem.pack_settings``' floats
-_PACKED: dict[tuple, tuple[tuple, tuple[np.ndarray, np.ndarray]]] = {}
+# an arm's packed settings, (budget, (floats, ints)) under what else they are built from
+PACKED: Derived[dict[tuple, tuple]] = Derived("packed numeric settings", lambda _: {})
 _MAX_RESTARTS, _TIMEOUT_NS, _ITERATION_BUDGET = 3, 5, 6  # in ``problem.pack_settings``' ints
 
 
@@ -227,7 +232,7 @@ def run_numeric(
 ) -> Answers:
     """Descend from q0, then from restart seeds until solved, out of budget or restarts."""
     max_found = opts.max_solutions if all_solutions else 1
-    sf, si = packed_settings(opts, target.position_only, arm.dof, max_found, step)
+    sf, si = packed_settings(arm, opts, target.position_only, max_found, step)
     # C-ordered, writable float64 rows (numba compiles anew for any other layout): views of
     # the inputs when they are such arrays already (the kernel only reads them), else copies.
     R_t = _c_float(_EYE if target.rotation is None else target.rotation)[None]
@@ -238,7 +243,8 @@ def run_numeric(
     err = np.empty((1, 2))
     seeds = np.empty(1, dtype=np.uint64)
     seeds[0] = solve_seed(opts)  # (a third of np.array([seed], dtype=np.uint64)'s cost)
-    prepare(step.kind)
+    if step.kind not in warmup.PREPARED:  # a warm process: nothing to prepare
+        warmup.prepare(step.kind)
     entry = (ENTRIES if opts.region else EXACT_ENTRIES)[step.kind]  # no region: no region code
     entry(*arm.kernel_chain.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
     return kernel_answers(arm, target.position, q0, opts, sf, info[0], out_q[0], err[0])
@@ -257,7 +263,7 @@ def kernel_answers(
         reason = converged_reason(restarts)
         return Answers(
             q=out_q[:found],
-            claim=np.full(found, _CONVERGED.code, dtype=np.int8),
+            claim=np.full(found, _CONVERGED_CODE, dtype=np.int8),
             iterations=np.full(found, iterations, dtype=np.int64),
             restarts=np.full(found, restarts, dtype=np.int64),
             reasons=(reason,) * found,
@@ -277,8 +283,8 @@ def pose_runner(arm: ArmModel, opts: SolverSettings, step: Step, position_only: 
     general path); for a converged claim (q, iterations, restarts, branch, singular, reason
     function, its arguments); else the answers for the general verdict."""
     dof = arm.dof
-    sf, si = packed_settings(opts, position_only, dof, 1, step)
-    prepare(step.kind)
+    sf, si = packed_settings(arm, opts, position_only, 1, step)
+    warmup.prepare(step.kind)  # once per plan
     # without a region, the entry that compiles none of the region's code
     entry = (POSE_ENTRIES if opts.region else EXACT_POSE_ENTRIES)[step.kind]
     packed, kind, halton_ = arm.kernel_chain.flat
@@ -349,7 +355,7 @@ def run_numeric_batch(
         seeds = np.full(n_targets, solve_seed(opts), dtype=np.uint64)
     else:
         seeds = np.array(seeds).astype(np.uint64)
-    sf, si = packed_settings(opts, targets.rotations is None, dof, 1, step)
+    sf, si = packed_settings(arm, opts, targets.rotations is None, 1, step)
     if targets.rotations is None:
         R_t = np.broadcast_to(np.eye(3), (n_targets, 3, 3)).copy()
     else:
@@ -359,7 +365,8 @@ def run_numeric_batch(
     info = np.empty((n_targets, 5), dtype=np.int64)
     err = np.empty((n_targets, 2))
     kc = arm.kernel_chain
-    prepare(step.kind)
+    if step.kind not in warmup.PREPARED:  # a warm process: nothing to prepare
+        warmup.prepare(step.kind)
     entry = (ENTRIES if opts.region else EXACT_ENTRIES)[step.kind]  # no region: no region code
     entry(*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
     return Answers(
