@@ -292,3 +292,13 @@ def measured_apart(reason: str, pos: float, ori: float | None, weighted: bool) -
     if weighted:
         return f"{reason} (on the weighted axes); the tip is {pos:.3g} m{rot} from the target"
     return f"{reason}; the tip is {pos:.3g} m{rot} from the region's centre, free components apart"
+
+
+def tasks_apart(reason: str, pos: float, ori: float | None) -> str:
+    """A task list with regions: its reason, then the largest distance of a task's frame
+    to its region's centre, what ``position_error`` and ``orientation_error`` report."""
+    rot = "" if ori is None or ori != ori else f", {ori:.3g} rad"
+    return (
+        f"{reason}; each task's frame is at most {pos:.3g} m{rot} from its region's centre, "
+        "free components apart"
+    )

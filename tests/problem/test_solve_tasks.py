@@ -276,3 +276,18 @@ def test_the_distances_to_a_region_s_centre_are_measured_only_where_a_task_has_o
         r = solve_tasks(arm.kinematics, problem, None, opts, 0.0)
         assert ("measured" in r.extra) is regions, within
         assert len(r.extra["task_errors"]) == 2
+
+
+def test_a_task_lists_errors_are_the_largest_of_its_frames_and_its_reason_says_so():
+    """The tip on its pose, the base's link 0.1 m from its box's centre (within the box):
+    the errors are the base's, and the reason no longer calls them the tip's."""
+    ur5 = conftest.arm("ur5")
+    q = ur5.random_q(0)
+    T = ur5.fk(q)
+    base = ur5.fk(q, "base_link").translation
+    box = armik.Position(base + [0.0, 0.0, 0.1], (0.2, 0.2, 0.2), frame="base_link")
+    r = ur5.solve([armik.Pose(T), box])
+    assert r.success
+    assert np.linalg.norm(ur5.fk(r.q).translation - T.translation) < 1e-6
+    assert r.position_error == pytest.approx(0.1, abs=1e-9)
+    assert "each task's frame is at most 0.1 m" in r.reason and "the tip is" not in r.reason

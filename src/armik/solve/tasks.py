@@ -429,9 +429,11 @@ def _result(
         extra["measured"] = (max(positions, default=0.0), max(orientations, default=None))
         positions = [e.position for e in apart if e.position is not None]
         orientations = [e.orientation for e in apart if e.orientation is not None]
-        if status is Status.CONVERGED:
-            ori = max(orientations) if orientations else None
-            reason = reasons.measured_apart(reason, max(positions, default=0.0), ori, False)
+        if status is Status.CONVERGED:  # several tasks: the largest of their frames'
+            ori, pos = max(orientations) if orientations else None, max(positions, default=0.0)
+            several = len(tasks) > 1
+            said = reasons.tasks_apart(reason, pos, ori) if several else None
+            reason = said or reasons.measured_apart(reason, pos, ori, False)
     found = Verdicts(
         answers=one(q, Status.NOT_CONVERGED, reason, iterations=iterations, restarts=restarts),
         status=np.array([status.code], dtype=np.int8),
