@@ -199,3 +199,20 @@ def test_compile_parts_named_in_the_parser():
     from armik.tools.cli.commands import PART_NAMES
 
     assert PART_NAMES == tuple(PARTS)
+
+
+def test_rpy_in_degrees_is_warned_of_and_taken_as_radians(capsys):
+    """--rpy 180 0 0 (degrees by mistake) is 180 rad as the help says, with one line on
+    stderr; angles within 2 pi say nothing."""
+    code, out, err = run(
+        capsys, "solve", "ur5", "--xyz", "0.4", "0.2", "0.3", "--rpy", "180", "0", "0", "--json"
+    )
+    assert code in (0, 1)
+    assert [line for line in err.splitlines() if "warning" in line] == [
+        "armik: warning: --rpy 180 0 0 looks like degrees; --rpy takes radians"
+    ]
+    assert json.loads(out)["results"]
+    code, _, err = run(
+        capsys, "solve", "ur5", "--xyz", "0.4", "0.2", "0.3", "--rpy", "3.1416", "0", "0"
+    )
+    assert code == 0 and "degrees" not in err
