@@ -366,13 +366,27 @@ def _pose(R: np.ndarray, p: np.ndarray) -> Target:
     return _target(p, R)
 
 
+def _not_planar(arm: Any) -> str:
+    """Why ``arm`` takes no 2-vector: the planar reading is of revolute joints about
+    parallel axes, without a mimic or prismatic joint even where the motion stays in a
+    plane."""
+    reading = "which the planar reading (revolute joints about parallel axes) does not take"
+    if arm is not None and arm.mimics:
+        names = ", ".join(repr(m.name) for m in arm.mimics)
+        return f"has the mimic joint(s) {names}, {reading}"
+    if arm is not None and any(arm.prismatic):
+        name = next(n for n, p in zip(arm.joint_names, arm.prismatic) if p)
+        return f"has the prismatic joint {name!r}, {reading}"
+    return "is not planar (its joint axes are not parallel)"
+
+
 def _planar(xy: np.ndarray, arm: object) -> Target:
     arm = None if arm is None else model_of(arm)  # armik.parse_target takes an Arm too
     plane = None if arm is None else arm.plane
     if plane is None:
         name = "this arm" if arm is None else f"arm {arm.name!r}"
         raise TargetError(
-            f"a 2-vector target needs a planar arm, and {name} is not planar: "
+            f"a 2-vector target needs a planar arm, and {name} {_not_planar(arm)}: "
             "give a position (x, y, z) or a full pose"
         )
     p, uv = plane.from_base(xy)  # base (x, y) across the plane; the kernel's coordinates
