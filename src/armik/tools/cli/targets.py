@@ -100,6 +100,12 @@ def _check_counts(tips: list[str], given: dict[str, list], n: int) -> None:
     if twice:
         raise InputError(f"--tip {twice[0]} is given twice: give each tip once")
     xyz = len(given["xyz"])
+    flat = [name for name in ("rpy", "quat", "axis") if given[name]]
+    if any(len(p) == 2 for p in given["xyz"]) and flat:
+        raise InputError(
+            f"--xy (a point on a planar arm's plane) does not go with --{flat[0]}: give "
+            f"--xyz X Y Z with --{flat[0]}, or --xy alone"
+        )
     if len(tips) <= 1 and xyz > 1:
         raise InputError(
             f"--xyz is given {xyz} times for one tip: for several tips give each its --tip "
