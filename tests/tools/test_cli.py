@@ -240,3 +240,6 @@ def test_xy_is_a_planar_arms_2_vector(capsys):
     with pytest.raises(SystemExit):
         main(["solve", "planar_2link"])
     assert "one of the arguments --xyz --xy is required" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["solve", "planar_2link", "--xyz", "1.2", "0.5"])
+    assert "expected 3 arguments (a planar arm's" in capsys.readouterr().err

@@ -64,6 +64,8 @@ class _Parser(argparse.ArgumentParser):
         self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
 
     def error(self, message: str) -> NoReturn:  # one line, exit code 2
+        if message == "argument --xyz: expected 3 arguments":
+            message += " (a planar arm's two coordinates across its plane: --xy A B)"
         print(f"armik: error: {message} (see '{self.prog} --help')", file=sys.stderr)
         raise SystemExit(2)
 
