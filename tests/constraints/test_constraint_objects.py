@@ -103,6 +103,9 @@ def test_a_held_joint_is_checked_against_the_arm():
         armik.Hold("elbow_joint", 9.0).at(arm, arm.middle)
     with pytest.raises(armik.OptionError, match="resolve it with Hold.at"):
         armik.Hold("elbow_joint").check(arm, arm.middle[None])
+    locked = arm.with_locked({"elbow_joint": 0.25})
+    with pytest.raises(armik.JointError, match="'elbow_joint' is locked at 0.25.*leave it out"):
+        armik.Hold("elbow_joint", 0.25).at(locked, locked.middle)
     seed = arm.random_q(0)
     held = armik.Hold("elbow_joint").at(arm, seed)
     assert held.value == seed[2]

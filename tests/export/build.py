@@ -13,8 +13,8 @@ import pytest
 
 import armik
 
-CFLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Werror"]
-CXXFLAGS = ["-std=c++14", "-O2", "-Wall", "-Wextra", "-Werror"]
+CFLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Wshadow", "-Werror"]
+CXXFLAGS = ["-std=c++14", "-O2", "-Wall", "-Wextra", "-Wshadow", "-Werror"]
 HERE = Path(__file__).parent
 _P = ctypes.POINTER(ctypes.c_double)
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 import subprocess
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -78,6 +79,17 @@ def test_cli(tmp_path, capsys):
     assert "to 1e-09 m and 2e-09 rad" in (out / "t_ik.h").read_text()
     assert main(["export", "ur5", "--name", "t", "--out", str(out), "--tol-position", "-1"]) == 2
     assert "tol_position must be > 0" in capsys.readouterr().err
+
+
+def test_cli_prints_the_paths_written(tmp_path, capsys, monkeypatch):
+    """--out "" writes into the current folder and --out sub/ into sub: the paths printed
+    are those of the files, not "/two_ik.h" or "sub//two_ik.h"."""
+    monkeypatch.chdir(tmp_path)
+    for out in ("", "sub/"):
+        assert main(["export", "planar_2link", "--name", "two", "--out", out]) == 0
+        printed = capsys.readouterr().out.split()
+        assert printed == [str(Path(out) / "two_ik.h"), str(Path(out) / "two_ik.c")]
+        assert all((tmp_path / p).is_file() and "//" not in p for p in printed)
 
 
 def test_two_solvers_link_into_one_library(tmp_path):

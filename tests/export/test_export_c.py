@@ -100,6 +100,12 @@ def test_out_of_reach_and_bad_poses(built):
     skewed = T.copy()
     skewed[:3, :3] *= 1.001
     assert solver.ik_count(skewed)[0] == -1
+    for x in (2e6, -1e300):  # beyond MAX_POSITION: a TargetError in Python, -1 in C
+        remote = T.copy()
+        remote[0, 3] = x
+        with pytest.raises(armik.TargetError, match="beyond"):
+            arm.solve_all(remote)
+        assert solver.ik_count(remote)[0] == -1
 
 
 def test_limits_narrower_than_a_turn(tmp_path):

@@ -195,3 +195,36 @@ def test_a_tilted_planar_arms_2_vector_gives_the_base_x_and_y():
     assert r.position_error == pytest.approx(np.linalg.norm(reached - p), abs=1e-12)
     b = arm.solve_batch(np.array([p[:2], p[:2]]))
     assert b.success.all() and np.allclose(arm.fk(b.q[0]).translation, p, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "axes, along, words",
+    [
+        (("0 1 0", "0 1 0"), "1 0 0", "all axes along [0.0, 1.0, 0.0]"),  # plane normal -y
+        (("0 0 -1", "0 0 -1"), "1 0 0", "all axes along [0.0, 0.0, -1.0]"),
+        (("-1 0 0", "-1 0 0"), "0 1 0", "all axes along [-1.0, 0.0, 0.0]"),
+        (
+            ("0 1 0", "0 -1 0"),
+            "1 0 0",
+            "axes along [0.0, 1.0, 0.0] (c about the opposite direction)",
+        ),
+    ],
+)
+def test_a_planar_arms_axes_as_the_urdf_turns_them(tmp_path, capsys, axes, along, words):
+    """armik info and the exported header say the joints' axis as the URDF gives it, not
+    the normal the plane's coordinates chose (-y for an arm about +y, in the x-z plane)."""
+    from armik.tools.cli import main
+
+    text = _planar_urdf("0 0 0.1", axes[0], along)
+    first = text.index("<axis")
+    second = text.index("<axis", first + 1)
+    text = text[:second] + text[second:].replace(axes[0], axes[1], 1)
+    arm = armik.load(text, tip="t")
+    plane = arm.kinematics.plane
+    assert plane is not None and plane.axes_words(list(arm.joint_names)) == words
+    path = tmp_path / "p.urdf"
+    path.write_text(text)
+    assert main(["info", str(path), "--tip", "t"]) == 0
+    assert f"planar: {words}\n" in capsys.readouterr().out
+    header = armik.export(arm, "p")["p_ik.h"]
+    assert words.removeprefix("all ") in " ".join(header.replace("*", "").split())

@@ -64,3 +64,16 @@ def test_package_dirs_are_kept(tmp_path, ur5_xml):
     assert a.kinematics.package_dirs == (str(tmp_path.resolve()),)
     assert pickle.loads(pickle.dumps(a)).kinematics.package_dirs == a.kinematics.package_dirs
     assert armik.load("ur5").kinematics.package_dirs == ()
+
+
+def test_a_path_given_as_the_text_points_to_load(tmp_path):
+    """load_string(path): the path named as a path and armik.load as the fix, not the XML
+    blamed; a missing file too when its name ends in .urdf."""
+    source = arm("ur5").source
+    for given in (source, str(tmp_path / "robot.urdf"), "arm.xacro"):
+        with pytest.raises(URDFError, match="a file's path, not the URDF's XML") as info:
+            armik.load_string(given)
+        assert f"armik.load({given!r})" in str(info.value)
+        assert "\n" not in str(info.value)
+    with pytest.raises(URDFError, match="not well-formed XML"):
+        armik.load_string("robot")  # neither XML nor a path: the XML is what is wrong

@@ -121,6 +121,30 @@ def test_position_with_matrix_or_scipy_rotation():
     assert r.success and r.orientation_error <= 1e-6
 
 
+def test_position_with_a_pinocchio_quaternion():
+    """pin.Quaternion, whose coeffs() are (x, y, z, w), is read as that quaternion (it was
+    called "not numeric" in a message broken over two lines), pin.AngleAxis as its turn;
+    what is not numeric is named on one line."""
+    R = Rotation.from_euler("xyz", [0.3, -0.2, 1.1])
+    p = np.array([0.3, 0.2, 0.4])
+    t = parse_target((p, pin.Quaternion(R.as_matrix())))
+    np.testing.assert_allclose(t.rotation, R.as_matrix(), atol=1e-12)
+    ur5 = arm("ur5")
+    T = ur5.fk(ur5.middle + 0.2)
+    r = ur5.solve((T.translation, pin.Quaternion(T.rotation)))
+    assert r.success and np.allclose(ur5.fk(r.q).rotation, T.rotation, atol=1e-6)
+    turn = pin.AngleAxis(0.7, np.array([0.0, 0.6, 0.8]))
+    t = parse_target((p, turn))
+    np.testing.assert_allclose(t.rotation, turn.toRotationMatrix(), atol=1e-12)
+
+    class Lines:
+        def __repr__(self) -> str:
+            return "first\nsecond"  # as Eigen's objects print
+
+    with pytest.raises(TargetError, match="target rotation first second is not numeric"):
+        parse_target((p, Lines()))
+
+
 def test_spatialmath_single_pose_is_accepted():
     ur5 = arm("ur5")
     T = ur5.fk(ur5.middle + 0.2)

@@ -91,6 +91,45 @@ def test_bad_matrices():
 
 
 def test_two_vector_needs_planar_arm():
-    with pytest.raises(TargetError, match="planar arm.*'panda'"):
+    with pytest.raises(TargetError, match="planar arm.*'panda' is not planar .*not parallel"):
         parse_target([0.3, 0.2], model("panda"))
     assert isinstance(TargetError("x"), ValueError)
+
+
+LIMIT = '<limit lower="-2" upper="2" effort="1" velocity="1"/>'
+
+
+def _flat_arm(third: str) -> str:
+    """Joints about z and a third joint ``third`` (its type and XML), every motion in the
+    base's x-y plane."""
+    joints = [("revolute", f'<axis xyz="0 0 1"/>{LIMIT}')] * 2 + [third]
+    parts = ['<robot name="flat"><link name="l0"/>']
+    for i, (kind, rest) in enumerate(joints, 1):
+        parts.append(
+            f'<link name="l{i}"/><joint name="j{i}" type="{kind}"><parent link="l{i - 1}"/>'
+            f'<child link="l{i}"/><origin xyz="{0 if i == 1 else 0.5} 0 0"/>{rest}</joint>'
+        )
+    return "".join(parts) + "</robot>"
+
+
+@pytest.mark.parametrize(
+    "third, words",
+    [
+        (
+            ("revolute", f'<axis xyz="0 0 1"/>{LIMIT}<mimic joint="j2" multiplier="0.5"/>'),
+            "has the mimic joint(s) 'j3'",
+        ),
+        (("prismatic", f'<axis xyz="1 0 0"/>{LIMIT}'), "has the prismatic joint 'j3'"),
+    ],
+)
+def test_two_vector_on_an_arm_with_a_mimic_or_prismatic_joint_says_why(third, words):
+    """Their motion stays in a plane, but the planar reading takes revolute joints only:
+    the refusal says so instead of calling the arm not planar."""
+    import armik
+
+    arm = armik.load_string(_flat_arm(third), tip="l3")
+    with pytest.raises(TargetError) as info:
+        arm.solve([0.3, 0.2])
+    text = str(info.value)
+    assert words in text and "does not take" in text and "not planar" not in text
+    assert "give a position (x, y, z)" in text

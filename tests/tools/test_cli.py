@@ -199,3 +199,47 @@ def test_compile_parts_named_in_the_parser():
     from armik.tools.cli.commands import PART_NAMES
 
     assert PART_NAMES == tuple(PARTS)
+
+
+def test_rpy_in_degrees_is_warned_of_and_taken_as_radians(capsys):
+    """--rpy 180 0 0 (degrees by mistake) is 180 rad as the help says, with one line on
+    stderr; angles within 2 pi say nothing."""
+    code, out, err = run(
+        capsys, "solve", "ur5", "--xyz", "0.4", "0.2", "0.3", "--rpy", "180", "0", "0", "--json"
+    )
+    assert code in (0, 1)
+    assert [line for line in err.splitlines() if "warning" in line] == [
+        "armik: warning: --rpy 180 0 0 looks like degrees; --rpy takes radians"
+    ]
+    assert json.loads(out)["results"]
+    code, _, err = run(
+        capsys, "solve", "ur5", "--xyz", "0.4", "0.2", "0.3", "--rpy", "3.1416", "0", "0"
+    )
+    assert code == 0 and "degrees" not in err
+
+
+def test_xy_is_a_planar_arms_2_vector(capsys):
+    """--xy A B on a planar arm is Python's 2-vector (the base's axes across its plane); on
+    another arm, with --rpy, or without any position, a one-line error naming the fix."""
+    import numpy as np
+
+    import armik
+
+    code, out, _ = run(capsys, "solve", "planar_2link", "--xy", "1.2", "0.5", "--json")
+    assert code == 0
+    q = json.loads(out)["results"][0]["q"]
+    reached = armik.load("planar_2link").fk(q).translation
+    assert np.allclose(reached[:2], [1.2, 0.5], atol=1e-9)
+    code, _, err = run(capsys, "solve", "ur5", "--xy", "0.3", "0.2")
+    assert code == 2 and "--xy needs a planar arm, and arm 'ur5' is not planar" in err
+    assert "give --xyz X Y Z" in err and len(err.strip().splitlines()) == 1
+    code, _, err = run(
+        capsys, "solve", "planar_2link", "--xy", "1.2", "0.5", "--rpy", "0", "0", "0"
+    )
+    assert code == 2 and "--xy (a point on a planar arm's plane) does not go with --rpy" in err
+    with pytest.raises(SystemExit):
+        main(["solve", "planar_2link"])
+    assert "one of the arguments --xyz --xy is required" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["solve", "planar_2link", "--xyz", "1.2", "0.5"])
+    assert "expected 3 arguments (a planar arm's" in capsys.readouterr().err

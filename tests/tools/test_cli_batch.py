@@ -61,7 +61,8 @@ def test_batch_options_and_seeds_from_the_file(tmp_path, poses, capsys):
 BAD_FILES = [
     ("missing.npy", None, "does not exist"),
     ("t.txt", b"1 2 3\n", "give a .npy, .npz or .csv"),
-    ("t.npy", b"garbage", "cannot read targets"),
+    ("t.npy", b"garbage", "t.npy' is not a valid .npy file"),
+    ("t.npz", b"garbage", "t.npz' is not a valid .npz file"),
     ("t.csv", b"1,2,3\n4,5\n", "different numbers of columns"),
     ("t.csv", b"x,y,z\n1,2,abc\n", "row 1 is not numbers"),
     ("t.csv", b"0.1,0.2,nan\n", "target 0: position contains NaN"),
@@ -78,6 +79,7 @@ def test_bad_files_one_line_exit_2(tmp_path, capsys, name, content, words):
     assert code == 2
     assert len(err.strip().splitlines()) == 1 and err.startswith("armik: error:"), err
     assert words in err or __import__("re").search(words, err), err
+    assert "allow_pickle" not in err
 
 
 def test_bad_npz_and_output(tmp_path, poses, capsys):
@@ -87,7 +89,11 @@ def test_bad_npz_and_output(tmp_path, poses, capsys):
     obj = np.empty(2, dtype=object)
     np.save(tmp_path / "obj.npy", obj, allow_pickle=True)
     assert main(["batch", "ur5", str(tmp_path / "obj.npy"), "-o", str(tmp_path / "o.npz")]) == 2
-    assert "cannot read targets" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "obj.npy' holds an array of Python objects" in err and "allow_pickle" not in err
+    np.savez(tmp_path / "obj.npz", targets=obj, allow_pickle=True)
+    assert main(["batch", "ur5", str(tmp_path / "obj.npz"), "-o", str(tmp_path / "o.npz")]) == 2
+    assert "obj.npz' holds an array of Python objects" in capsys.readouterr().err
     np.save(tmp_path / "t.npy", poses)
     assert main(["batch", "ur5", str(tmp_path / "t.npy"), "-o", str(tmp_path / "o.txt")]) == 2
     assert "*.npz" in capsys.readouterr().err

@@ -106,3 +106,43 @@ def test_bad_obstacles_files_exit_2_one_line(tmp_path, capsys, content, name, wo
 def test_margin_without_anything_to_check_names_the_flags(capsys):
     code, _, err = run(capsys, "solve", "ur5", *XYZ, "--margin", "0.01")
     assert code == 2 and "--obstacles or --self-collision" in err
+
+
+MESHED = """<robot name="r"><link name="l0"/>
+<link name="l1"><collision><geometry><mesh filename="package://parts/a.stl"/></geometry>
+</collision></link><link name="l2"/><link name="l3"><collision><geometry>
+<box size="0.1 0.1 0.1"/></geometry></collision></link>
+<joint name="j1" type="revolute"><parent link="l0"/><child link="l1"/><origin xyz="0 0 0.1"/>
+<axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+<joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0.1 0 0.3"/>
+<axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+<joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/><origin xyz="0.2 0 0.3"/>
+<axis xyz="1 0 0"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint></robot>"""
+FACES = [
+    ("0 0 0", "0.05 0 0", "0 0.05 0"),
+    ("0 0 0", "0 0.05 0", "0 0 0.05"),
+    ("0 0 0", "0 0 0.05", "0.05 0 0"),
+    ("0.05 0 0", "0 0 0.05", "0 0.05 0"),
+]
+FACETS = [
+    "facet normal 0 0 0\nouter loop\n" + "".join(f"vertex {v}\n" for v in face) for face in FACES
+]
+TETRAHEDRON = "solid a\n" + "".join(f + "endloop\nendfacet\n" for f in FACETS) + "endsolid a\n"
+
+
+def test_a_missing_mesh_names_the_way_the_command_line_has(tmp_path, capsys, monkeypatch):
+    """The fix the command line can follow: ROS_PACKAGE_PATH (Pinocchio reads it), not
+    Python's package_dirs=; with it set the mesh is found."""
+    (tmp_path / "robot").mkdir()
+    urdf = tmp_path / "robot" / "r.urdf"
+    urdf.write_text(MESHED)
+    monkeypatch.delenv("ROS_PACKAGE_PATH", raising=False)
+    argv = ["solve", urdf, "--tip", "l3", "--xyz", "0.2", "0.1", "0.6", "--self-collision"]
+    code, _, err = run(capsys, *argv)
+    assert code == 2 and "parts/a.stl" in err
+    assert "ROS_PACKAGE_PATH=DIR" in err and "package_dirs" not in err
+    (tmp_path / "pkgs" / "parts").mkdir(parents=True)
+    (tmp_path / "pkgs" / "parts" / "a.stl").write_text(TETRAHEDRON)
+    monkeypatch.setenv("ROS_PACKAGE_PATH", str(tmp_path / "pkgs"))
+    code, _, err = run(capsys, *argv)
+    assert "could not be read" not in err and code in (0, 1), err

@@ -65,6 +65,15 @@ class Hold(Constraint):
     def index(self, arm: ArmModel) -> int:
         """The held joint's index among the arm's joints; a ``JointError`` naming the arm's
         joints when it has none of that name."""
+        if self.joint not in arm.joint_names and self.joint in arm.locked:
+            at = arm.locked[self.joint]
+            raise JointError(
+                f"hold: joint {self.joint!r} is locked at {at!r} (locked=, --lock), not "
+                f"free: it already stays at {at!r}; leave it out of hold=, or "
+                "load the arm without locking it to hold it at another value",
+                joint=self.joint,
+                candidates=arm.joint_names,
+            )
         if self.joint not in arm.joint_names:
             raise JointError(
                 f"hold: unknown joint {self.joint!r}; the arm's joints: {listing(arm.joint_names)}",

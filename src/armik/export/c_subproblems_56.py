@@ -13,7 +13,7 @@ by the circles' heights along k2 and distances from it, which SP1's t2 attains),
 one that Newton's steps leave inexact goes through the Python's damped steps from where
 it came, so an ill-conditioned root is refined as the Python refines it.
 
-``sp5(p0, p1, p2, p3, k1, k2, k3, t1, t2, t3, &ls)`` and ``sp6(H, K, P, d1, d2, t1, t2,
+``sp5(u0, u1, u2, u3, k1, k2, k3, t1, t2, t3, &ls)`` and ``sp6(H, K, P, d1, d2, t1, t2,
 &ls)`` return the count n (-1: a continuum, one of it written) and write the angles of
 solution i into ``t1[i]``, ... (4 slots each; unused slots 0), ``ls`` when the one answer
 is a least-squares one.
@@ -205,19 +205,19 @@ static void profile(vec3 c, vec3 a, vec3 b, vec3 e2, double t, double *h, double
 static double ls5(const sp5_in *s, double best[3])
 {
     vec3 c1, a1, b1, c3, a3, b3;
-    double h1[SP_GRID], r1[SP_GRID], h3[SP_GRID], r3[SP_GRID], D[SP_GRID][SP_GRID], t, x[3];
+    double ht1[SP_GRID], r1[SP_GRID], ht3[SP_GRID], r3[SP_GRID], D[SP_GRID][SP_GRID], t, x[3];
     double floor_, rbest = HUGE_VAL, r;
     int starts[SP_STARTS][2], i, j, k, m;
     circle(s->q0, s->e1, s->q1, &c1, &a1, &b1);
     circle(s->q2, s->e3, s->q3, &c3, &a3, &b3);
     for (i = 0; i < SP_GRID; i++) {
         t = -IK_PI + 2.0 * IK_PI * i / SP_GRID;
-        profile(c1, a1, b1, s->e2, t, &h1[i], &r1[i]);
-        profile(c3, a3, b3, s->e2, t, &h3[i], &r3[i]);
+        profile(c1, a1, b1, s->e2, t, &ht1[i], &r1[i]);
+        profile(c3, a3, b3, s->e2, t, &ht3[i], &r3[i]);
     }
     for (i = 0; i < SP_GRID; i++)
         for (j = 0; j < SP_GRID; j++)
-            D[i][j] = (h1[i] - h3[j]) * (h1[i] - h3[j]) + (r1[i] - r3[j]) * (r1[i] - r3[j]);
+            D[i][j] = (ht1[i] - ht3[j]) * (ht1[i] - ht3[j]) + (r1[i] - r3[j]) * (r1[i] - r3[j]);
     for (i = 0; i < SP_STARTS; i++) starts[i][0] = starts[i][1] = 0;
     floor_ = 1e-16 * pmax(pmax(pmax(norm(s->q0), norm(s->q1)), norm(s->q2)), norm(s->q3));
     best[0] = best[1] = best[2] = 0.0;
@@ -239,9 +239,9 @@ static double ls5(const sp5_in *s, double best[3])
    their distances from it (SP1's t2 attains it). */
 static double gap5(vec3 e2, vec3 v1, vec3 v3)
 {
-    double h1 = dot(e2, v1), h3 = dot(e2, v3), d;
-    d = norm(sub(v1, scale(e2, h1))) - norm(sub(v3, scale(e2, h3)));
-    return sqrt((h1 - h3) * (h1 - h3) + d * d);
+    double ht1 = dot(e2, v1), ht3 = dot(e2, v3), d;
+    d = norm(sub(v1, scale(e2, ht1))) - norm(sub(v3, scale(e2, ht3)));
+    return sqrt((ht1 - ht3) * (ht1 - ht3) + d * d);
 }
 
 /* A pair (t1, t3) of pairs: gated as the Python gates it (its residual with t2 by SP1),
@@ -275,9 +275,9 @@ static int try5(const sp5_in *s, const vec3 cab[6], const double M[8], const dou
     return n;
 }
 
-/* Angles with p0 + rot(k1, t1) p1 = rot(k2, t2) (p2 + rot(k3, t3) p3): the count (-1: a
+/* Angles with u0 + rot(k1, t1) u1 = rot(k2, t2) (u2 + rot(k3, t3) u3): the count (-1: a
    continuum), solution i (t1[i], t2[i], t3[i]), *ls when it is a least-squares one. */
-static int sp5(vec3 p0, vec3 p1, vec3 p2, vec3 p3, vec3 k1, vec3 k2, vec3 k3,
+static int sp5(vec3 u0, vec3 u1, vec3 u2, vec3 u3, vec3 k1, vec3 k2, vec3 k3,
                double t1[4], double t2[4], double t3[4], int *ls)
 {
     sp5_in s;
@@ -285,8 +285,8 @@ static int sp5(vec3 p0, vec3 p1, vec3 p2, vec3 p3, vec3 k1, vec3 k2, vec3 k3,
     double size, sol[4][3], res[4], M[8], f[2], lengths, pr[8][2], psc[8][4], x[3], r;
     vec3 cab[6];
     int i, j, m, free_, n = 0;
-    s.q0 = p0; s.q1 = p1; s.q2 = p2; s.q3 = p3; s.e1 = k1; s.e2 = k2; s.e3 = k3;
-    size = pmax(pmax(pmax(norm(p0), norm(p1)), norm(p2)), norm(p3));
+    s.q0 = u0; s.q1 = u1; s.q2 = u2; s.q3 = u3; s.e1 = k1; s.e2 = k2; s.e3 = k3;
+    size = pmax(pmax(pmax(norm(u0), norm(u1)), norm(u2)), norm(u3));
     for (i = 0; i < 4; i++) {
         res[i] = HUGE_VAL;
         t1[i] = t2[i] = t3[i] = 0.0;
@@ -294,8 +294,8 @@ static int sp5(vec3 p0, vec3 p1, vec3 p2, vec3 p3, vec3 k1, vec3 k2, vec3 k3,
     }
     *ls = 0;
     if (size == 0.0) return -1;
-    circle(p0, k1, p1, &c1, &a1, &b1);
-    circle(p2, k3, p3, &c3, &a3, &b3);
+    circle(u0, k1, u1, &c1, &a1, &b1);
+    circle(u2, k3, u3, &c3, &a3, &b3);
     M[0] = dot(k2, a1); M[1] = dot(k2, b1); M[2] = -dot(k2, a3); M[3] = -dot(k2, b3);
     M[4] = dot(c1, a1) / size; M[5] = dot(c1, b1) / size;
     M[6] = -dot(c3, a3) / size; M[7] = -dot(c3, b3) / size;

@@ -75,7 +75,7 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
     equal = abs(geo.l1 - geo.l2) < planar2r.ZERO_LENGTH
     text = c_source.constants(names) + f"\n#define EQUAL_LINKS {int(equal)}\n" + ROWS
     summary = (
-        f"a planar 2-link arm (links {geo.l1:.6g} m and {geo.l2:.6g} m, axes along "
-        f"{[round(float(x), 6) for x in plane.normal]})"
+        f"a planar 2-link arm (links {geo.l1:.6g} m and {geo.l2:.6g} m, "
+        f"{plane.axes_words(list(arm.joint_names)).removeprefix('all ')})"
     )
     return Rows(text, 2, LIMIT_TOL, summary)

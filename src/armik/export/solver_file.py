@@ -29,7 +29,7 @@ from armik.export import c_source, fk_code
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes
 from armik.problem.settings import SolverSettings
-from armik.tolerances import LAST_ROW_TOL, LIMIT_TOL, ROTATION_TOL
+from armik.tolerances import LAST_ROW_TOL, LIMIT_TOL, MAX_POSITION, ROTATION_TOL
 
 
 @dataclass(frozen=True)
@@ -59,6 +59,7 @@ def header(
     up = name.upper()
     title = _comment(f"{name}_ik.h: closed-form inverse kinematics of {summary}.")
     last_row, rotation = c_source.num(LAST_ROW_TOL), c_source.num(ROTATION_TOL)
+    max_position = f"{MAX_POSITION:g}"
     if held is None:
         call, arg, define, held_text = "(T, q)", "", "", ""
     else:
@@ -75,9 +76,10 @@ def header(
    row-major, in the arm's base frame; the tip and tool offset as loaded), in the order
    armik's solve_all gives them (nearest the middle of the limits first), each verified by
    {name}_fk to {tol_position:g} m and {tol_orientation:g} rad. Returns how many (0: out of
-   reach), or -1 when T is not finite, its last row is not (0, 0, 0, 1) to {last_row},
-   or its rotation is not orthonormal to {rotation} or has determinant -1 (a
-   reflection): the poses solve_all refuses. At a singular pose a free joint is set to
+   reach), or -1 when T is not finite, its position is beyond {max_position} m from the base
+   in a coordinate, its last row is not (0, 0, 0, 1) to {last_row}, or its rotation is not
+   orthonormal to {rotation} or has determinant -1 (a reflection): the poses solve_all
+   refuses. At a singular pose a free joint is set to
    the middle of its limits, as solve_all sets it with no q0; a singular target gives fewer
    solutions than a regular one.{held_text}
    {name}_fk(q, T): the tip pose at joint values q (rad), row-major 4x4. */
@@ -209,6 +211,7 @@ int @NAME@_ik(const double T[16], @HELD_PARAM@double q[][DOF])
         R.m[3 * j + 1] = T[4 * j + 1];
         R.m[3 * j + 2] = T[4 * j + 2];
         p.v[j] = T[4 * j + 3];
+        if (!(fabs(p.v[j]) <= MAX_POSITION)) return -1;  /* a mistake, as armik refuses it */
     }
     for (j = 0; j < 3; j++)  /* R^T R = I: columns j and k, as armik's target parser */
         for (k = 0; k < 3; k++) {
@@ -287,6 +290,7 @@ def source(name: str, arm: ArmModel, ax: Axes, rows: Rows, opts: SolverSettings)
             f"static const double LIMIT_TOL = {c_source.num(LIMIT_TOL)};",
             f"static const double ROTATION_TOL = {c_source.num(ROTATION_TOL)};",
             f"static const double LAST_ROW_TOL = {c_source.num(LAST_ROW_TOL)};",
+            f"static const double MAX_POSITION = {c_source.num(MAX_POSITION)};  /* m */",
             f"static const double TOL_POSITION = {c_source.num(opts.tol_position)};",
             orientation,
         ]

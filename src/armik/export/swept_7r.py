@@ -39,12 +39,12 @@ static int rows(mat3 R, vec3 pos, double held, double W[][DOF], double C[][DOF],
                 double S[][DOF])
 {
     mat3 Rg = rot(U7, -held), R6 = mm(R, Rg), Ri;
-    vec3 p6 = add(mv(R, sub(C7, mv(Rg, C7))), pos), pi;
+    vec3 p_end = add(mv(R, sub(C7, mv(Rg, C7))), pos), pi;
     double c7 = cos(held), s7 = sin(held);
     int i, j, n;
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++) Ri.m[3 * i + j] = R6.m[3 * j + i];
-    pi = neg(mv(Ri, p6));
+    pi = neg(mv(Ri, p_end));
     n = reversed_rows(Ri, pi, W, C, S);
     for (i = 0; i < n; i++) {
         W[i][HELD] = held;

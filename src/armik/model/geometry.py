@@ -58,6 +58,16 @@ class Plane:
         p[k] = (n @ self.origin - n[i] * p[i] - n[j] * p[j]) / n[k]
         return p, self.to_2d(p)
 
+    def axes_words(self, names: list[str] | None = None) -> str:
+        """The joints' axis as the URDF turns them (the first joint's direction, not the
+        normal the plane's coordinates chose), naming any joint that turns the other way."""
+        axis = [round(float(v), 6) + 0.0 for v in self.normal * self.signs[0]]
+        other = [k for k, s in enumerate(self.signs) if s != self.signs[0]]
+        if not other:
+            return f"all axes along {axis}"
+        which = [names[k] if names else f"joint {k + 1}" for k in other]
+        return f"axes along {axis} ({', '.join(which)} about the opposite direction)"
+
     def to_2d(self, p: np.ndarray) -> np.ndarray:
         d = p - self.origin
         return np.array([d @ self.x, d @ self.y])

@@ -116,13 +116,8 @@ def reduce_chain(
             candidates=names,
         )
     for j in chain:
-        jname = full.names[j]
         if full.joints[j].nv != 1:
-            raise JointError(
-                f"joint {jname!r} ({full.joints[j].shortname()}) has {full.joints[j].nv} "
-                "degrees of freedom; armik handles revolute, continuous and prismatic joints",
-                joint=jname,
-            )
+            raise _many_dof(full, info, j, j == chain[0])
     mimics, fixed = _chain_mimics(full, info, chain, q_ref)
     for j, value in _mimic.off_chain_values(full, info, chain, q_ref, set(values)):
         set_joint(full, q_ref, j, value)
@@ -169,6 +164,24 @@ def reduce_chain(
         mimics=mimics,
         plain=plain,
         fixed_mimics=fixed,
+    )
+
+
+def _many_dof(full: pin.Model, info: URDFInfo, j: int, first: bool) -> JointError:
+    """A joint of several degrees of freedom (floating, planar) on the chain: the base
+    below it (its child link) or, past the first joint, a tip above it is the fix."""
+    jname, joint = full.names[j], full.joints[j]
+    xml = info.joints.get(jname)
+    kind = f"{xml.type}, {joint.shortname()}" if xml is not None else joint.shortname()
+    fix = "load the arm from below it"
+    if xml is not None:
+        fix = f"load the arm from the link below it, base={xml.child!r}"
+        if not first:
+            fix += f", or up to the link above it, tip={xml.parent!r}"
+    return JointError(
+        f"joint {jname!r} ({kind}) has {joint.nv} degrees of freedom; armik solves "
+        f"revolute, continuous and prismatic joints: {fix}",
+        joint=jname,
     )
 
 

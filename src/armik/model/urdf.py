@@ -118,6 +118,7 @@ def read_urdf_string(text: str, where: str = "<string>") -> tuple[pin.Model, URD
     try:
         root = ET.fromstring(text)
     except ET.ParseError as exc:  # only then: well-formed files pay nothing for this
+        _refuse_a_path(text, where)
         root, forgiven = forgiving_parse(text, where, exc)
         lenient = True  # Pinocchio gets the text as armik read it
     namespaced = root.tag.startswith("{")
@@ -131,6 +132,24 @@ def read_urdf_string(text: str, where: str = "<string>") -> tuple[pin.Model, URD
     model = _build(text, where, own_stack=info.depth > SHALLOW_DEPTH)
     # the text: collision geometry is read from it
     return model, replace(info, text=text, notes=forgiven + info.notes)
+
+
+def _refuse_a_path(text: str, where: str) -> None:
+    """A ``URDFError`` when the text that is not XML is a file's path (it names a file,
+    or ends in .urdf, .xacro or .xml, with no '<'): ``armik.load`` reads files."""
+    given = text.strip()
+    if "<" in given or "\n" in given or len(given) > 4096:
+        return
+    try:
+        names_a_file = Path(given).expanduser().is_file()
+    except (OSError, ValueError):  # a NUL byte, a name too long
+        names_a_file = False
+    if names_a_file or given.lower().endswith((".urdf", ".xacro", ".xml")):
+        raise URDFError(
+            f"URDF text {where!r} is {given!r}, a file's path, not the URDF's XML: read "
+            f"the file with armik.load({given!r}) (load_string takes the XML itself)",
+            path=where,
+        )
 
 
 # -- the file ------------------------------------------------------------------------------

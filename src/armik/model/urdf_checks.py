@@ -13,7 +13,7 @@ import warnings
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 
-from armik.errors import ArmikWarning, URDFError
+from armik.errors import ArmikWarning, URDFError, listing
 from armik.tolerances import MAX_LENGTH, MAX_LIMIT
 
 # Pinocchio's parser recursed about 2 KB of stack per link and crashed at 4000 links on an
@@ -60,6 +60,32 @@ class URDFInfo:
         for j in self.joints.values():
             out.setdefault(j.parent, []).append(j)
         return out
+
+
+def _roots_words(path: str, roots: list[str], joints: dict[str, JointXML]) -> str:
+    """Why a URDF without exactly one root link is refused, and what to do."""
+    found = f"URDF {path!r} must have exactly one root link (a link no joint has as child)"
+    if not roots:
+        return (
+            f"{found}, found none: the joints form a loop; a URDF is a tree: remove the joint "
+            "that closes the loop"
+        )
+    parents = {j.parent for j in joints.values()}
+    alone = [r for r in roots if r not in parents]  # in no joint at all
+    if len(alone) >= len(roots) - 1:
+        stray = alone if len(alone) < len(roots) else alone[1:]
+        one = len(stray) == 1
+        which = f"link {stray[0]!r} is" if one else f"links {listing(stray)} are"
+        return (
+            f"{found}, found {roots}: {which} in no joint; remove {'it' if one else 'them'}, "
+            f'or attach {"it" if one else "each"} with a <joint type="fixed"> to the link '
+            "it is mounted on"
+        )
+    return (
+        f"{found}, found {roots}, each the root of its own tree: join them with a joint "
+        '(a <joint type="fixed"> where one is mounted on another), or load each from a file '
+        "of its own"
+    )
 
 
 def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
@@ -112,6 +138,12 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
                 path=path,
             )
         jtype = joint.get("type")
+        if jtype is None:
+            raise URDFError(
+                f'{what} in {path!r} has no type attribute: add one, e.g. type="revolute" '
+                f"(URDF joint types are {', '.join(JOINT_TYPES)})",
+                path=path,
+            )
         if jtype not in JOINT_TYPES:
             raise URDFError(
                 f"{what} in {path!r} has type {jtype!r}; URDF joint types are "
@@ -158,7 +190,13 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
                         f'add {key}="1" or the real value',
                         path=path,
                     )
-                _number(limit.get(key), what, f"limit {key}", path)
+                value = _number(limit.get(key), what, f"limit {key}", path)
+                if value < 0.0 and jtype in ("revolute", "continuous", "prismatic"):
+                    raise URDFError(  # a magnitude: Pinocchio refuses it without a name
+                        f'{what} in {path!r}: <limit {key}="{limit.get(key)}"> is negative; '
+                        f"the {key} limit is a magnitude: write it without the minus sign",
+                        path=path,
+                    )
         if jtype in ("revolute", "prismatic"):
             if limit is None:
                 raise URDFError(
@@ -215,11 +253,7 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
             notes.append(f"joint {name!r} mimics {target!r}, which is not a joint of the file")
     roots = [name for name in links if name not in parent_of]
     if len(roots) != 1:
-        raise URDFError(
-            f"URDF {path!r} must have exactly one root link (a link no joint has as child), "
-            f"found {roots if roots else 'none: the joints form a loop'}",
-            path=path,
-        )
+        raise URDFError(_roots_words(path, roots, joints), path=path)
     depth = _depth(roots[0], joints, len(links), path)
     info = URDFInfo(
         root.get("name") or "",

@@ -2,7 +2,8 @@
 
 Accepted: a ``pinocchio.SE3``; a spatialmath ``SE3`` holding one pose; a 4x4 homogeneous
 matrix; a 3-vector (position only); ``(position, quaternion)`` with the quaternion in
-(x, y, z, w) order as in Pinocchio and scipy (a non-unit quaternion is normalised);
+(x, y, z, w) order as in Pinocchio and scipy (a non-unit quaternion is normalised), a
+``pinocchio.Quaternion`` or ``pinocchio.AngleAxis``;
 ``(position, 3x3 rotation matrix)``; ``(position, scipy Rotation)``; a 7-vector
 (x, y, z, qx, qy, qz, qw); and on a planar arm a 2-vector (x, y) in the arm's plane (see
 ``armik.model.geometry.Plane``). Every target is expressed in the arm's base frame, in metres.
@@ -198,16 +199,23 @@ def _array(value: object, what: str) -> np.ndarray:
     try:
         raw = np.asarray(value)
     except (TypeError, ValueError):
-        raise TargetError(f"{what} {value!r} is not numeric") from None
+        raise TargetError(f"{what} {_one_line(value)} is not numeric") from None
     kind = raw.dtype.kind
     if kind == "f":
         return raw
     if kind == "c":
-        raise TargetError(f"{what} {value!r} has complex numbers: give real numbers (m, rad)")
+        raise TargetError(
+            f"{what} {_one_line(value)} has complex numbers: give real numbers (m, rad)"
+        )
     try:
         return raw.astype(float)
     except (TypeError, ValueError):
-        raise TargetError(f"{what} {value!r} is not numeric") from None
+        raise TargetError(f"{what} {_one_line(value)} is not numeric") from None
+
+
+def _one_line(value: object) -> str:
+    """``repr(value)`` on one line (Eigen's objects print theirs over several)."""
+    return " ".join(repr(value).split())
 
 
 def _finite(arr: np.ndarray, what: str) -> np.ndarray:
@@ -240,12 +248,16 @@ def _vector(value: object, n: int, what: str) -> np.ndarray:
 
 def _rotation(value: object) -> np.ndarray:
     """The rotation of ``(position, rotation)``: a quaternion (x, y, z, w), a 3x3 matrix,
-    or a scipy ``Rotation`` holding one rotation."""
+    a scipy ``Rotation`` holding one rotation, a ``pin.Quaternion`` or ``pin.AngleAxis``."""
     if type(value).__module__.startswith("scipy.spatial") and hasattr(value, "as_matrix"):
         rotation: Any = value  # a scipy Rotation (scipy has no type information)
         if not getattr(rotation, "single", True):
             raise TargetError(_several(f"a scipy Rotation of {len(rotation)} rotations"))
         return np.asarray(rotation.as_matrix(), float)
+    if isinstance(value, pin.Quaternion):  # its coeffs() are (x, y, z, w)
+        return _rotation_from_quat(value.coeffs())
+    if isinstance(value, pin.AngleAxis):
+        return _rotation_from_quat(pin.Quaternion(value).coeffs())
     arr = _array(value, "target rotation")
     if arr.shape == (3, 3):
         return arr
@@ -354,13 +366,27 @@ def _pose(R: np.ndarray, p: np.ndarray) -> Target:
     return _target(p, R)
 
 
+def _not_planar(arm: Any) -> str:
+    """Why ``arm`` takes no 2-vector: the planar reading is of revolute joints about
+    parallel axes, without a mimic or prismatic joint even where the motion stays in a
+    plane."""
+    reading = "which the planar reading (revolute joints about parallel axes) does not take"
+    if arm is not None and arm.mimics:
+        names = ", ".join(repr(m.name) for m in arm.mimics)
+        return f"has the mimic joint(s) {names}, {reading}"
+    if arm is not None and any(arm.prismatic):
+        name = next(n for n, p in zip(arm.joint_names, arm.prismatic) if p)
+        return f"has the prismatic joint {name!r}, {reading}"
+    return "is not planar (its joint axes are not parallel)"
+
+
 def _planar(xy: np.ndarray, arm: object) -> Target:
     arm = None if arm is None else model_of(arm)  # armik.parse_target takes an Arm too
     plane = None if arm is None else arm.plane
     if plane is None:
         name = "this arm" if arm is None else f"arm {arm.name!r}"
         raise TargetError(
-            f"a 2-vector target needs a planar arm, and {name} is not planar: "
+            f"a 2-vector target needs a planar arm, and {name} {_not_planar(arm)}: "
             "give a position (x, y, z) or a full pose"
         )
     p, uv = plane.from_base(xy)  # base (x, y) across the plane; the kernel's coordinates

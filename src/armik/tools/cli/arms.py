@@ -138,7 +138,7 @@ def cmd_info(args: argparse.Namespace) -> int:
             f"{_link_lengths(arm)[i]:.4f}"
         )
     if arm.plane is not None:
-        print(f"  planar: all axes along {np.round(arm.plane.normal, 6).tolist()}")
+        print(f"  planar: {arm.plane.axes_words(list(arm.joint_names))}")
     print("structure:")
     classes = families.classify(arm)
     wide = max(map(len, classes))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from armik.export import export
 from armik.tools.cli.arms import load_arm
@@ -17,6 +18,6 @@ def cmd_export(args: argparse.Namespace) -> int:
         tol_position=args.tol_position,
         tol_orientation=args.tol_orientation,
     )
-    for name in files:
-        print(f"{args.out}/{name}")
+    for name in files:  # the paths written to ("" is the current folder, "sub/" is "sub")
+        print(Path(args.out) / name)
     return 0

@@ -158,11 +158,21 @@ def add_lock_option(c: argparse.ArgumentParser) -> None:
 def for_cli(message: str) -> str:
     """An error's words for the command line: Python's ``tip=``, ``base=``, ``obstacles=``
     and ``self_collision=`` are the flags ``--tip``, ``--base``, ``--obstacles`` and
-    ``--self-collision`` here."""
+    ``--self-collision`` here, a 2-vector ``--xy``, and ``package_dirs=`` the variable
+    ``ROS_PACKAGE_PATH``."""
     return (
         message.replace("pass tip=", "pass --tip")
         .replace("pass base=", "pass --base")
         .replace(
             "give obstacles=[...] or self_collision=True", "give --obstacles or --self-collision"
+        )
+        .replace("a 2-vector target needs a planar arm", "--xy needs a planar arm")
+        .replace(
+            "give a position (x, y, z) or a full pose",
+            "give --xyz X Y Z (with --rpy or --quat for a pose)",
+        )
+        .replace(  # Pinocchio reads the variable; the command line has no package_dirs=
+            "with armik.load(..., package_dirs=[...])",
+            "in the environment variable ROS_PACKAGE_PATH=DIR[:DIR...]",
         )
     )

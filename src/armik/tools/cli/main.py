@@ -64,6 +64,8 @@ class _Parser(argparse.ArgumentParser):
         self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
 
     def error(self, message: str) -> NoReturn:  # one line, exit code 2
+        if message == "argument --xyz: expected 3 arguments":
+            message += " (a planar arm's two coordinates across its plane: --xy A B)"
         print(f"armik: error: {message} (see '{self.prog} --help')", file=sys.stderr)
         raise SystemExit(2)
 
@@ -143,14 +145,24 @@ def _parser() -> argparse.ArgumentParser:
         tip="tip frame; repeat it, each followed by its target, for several tips of one robot",
         repeat_tip=True,
     )
-    c.add_argument(
+    where = c.add_mutually_exclusive_group(required=True)
+    where.add_argument(
         "--xyz",
         nargs=3,
         type=float,
-        required=True,
         action="append",
         metavar=("X", "Y", "Z"),
         help="target position in the base frame (m); once per --tip",
+    )
+    where.add_argument(
+        "--xy",
+        nargs=2,
+        type=float,
+        action="append",
+        dest="xyz",  # in --xyz's place: the n-th position, 2 numbers
+        metavar=("A", "B"),
+        help="instead of --xyz on a planar arm: a position on its plane by the base's two "
+        "axes across it, (x, y), (x, z) or (y, z) (m)",
     )
     rot = c.add_mutually_exclusive_group()
     rot.add_argument(

@@ -42,11 +42,31 @@ def read_targets_file(path: str) -> tuple[np.ndarray, np.ndarray | None]:
     except InputError:
         raise
     except (OSError, ValueError, EOFError) as exc:
+        if "allow_pickle" in str(exc):  # numpy's advice to unpickle: not armik's to relay
+            raise InputError(_not_numbers(p, path)) from None
         first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise InputError(f"cannot read targets from {path!r}: {first}") from None
     if arr.ndim == 2 and arr.shape[1] == 16:
         arr = arr.reshape(-1, 4, 4)
     return arr, q0
+
+
+def _not_numbers(p: Path, path: str) -> str:
+    """Why numpy would only unpickle ``p``: not numpy's file at all, or an array of Python
+    objects in one (which armik does not load: unpickling runs the file's code)."""
+    with p.open("rb") as f:
+        start = f.read(6)
+    if start == b"\x93NUMPY" or start.startswith(b"PK"):
+        return (
+            f"targets file {path!r} holds an array of Python objects, which armik does not "
+            "load: save the targets as numbers (a float array)"
+        )
+    kind = p.suffix.lower()
+    how = "numpy.save" if kind == ".npy" else "numpy.savez"
+    return (
+        f"targets file {path!r} is not a valid {kind} file (numpy's {kind} format): write "
+        f"it with {how}, or give the targets as a .csv file"
+    )
 
 
 def _targets_key(path: str, names: list[str]) -> str:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 
 import numpy as np
 import pinocchio as pin
@@ -43,6 +44,13 @@ def flag_targets(args: argparse.Namespace, options: dict, several: bool) -> list
                     "--within say the direction; leave it out, or give --rpy or --quat for a "
                     "pose"
                 )
+    for rpy in given["rpy"]:
+        if any(abs(a) > 2 * math.pi for a in rpy):  # taken as given: a warning, no refusal
+            shown = " ".join(f"{a:g}" for a in rpy)
+            print(
+                f"armik: warning: --rpy {shown} looks like degrees; --rpy takes radians",
+                file=sys.stderr,
+            )
     rotations = given["rpy"] or given["quat"]
     # several tips drop the orientation for --position-only here: no option says it there
     posed = bool(rotations) and not (several and options.get("position_only"))
@@ -92,6 +100,12 @@ def _check_counts(tips: list[str], given: dict[str, list], n: int) -> None:
     if twice:
         raise InputError(f"--tip {twice[0]} is given twice: give each tip once")
     xyz = len(given["xyz"])
+    flat = [name for name in ("rpy", "quat", "axis") if given[name]]
+    if any(len(p) == 2 for p in given["xyz"]) and flat:
+        raise InputError(
+            f"--xy (a point on a planar arm's plane) does not go with --{flat[0]}: give "
+            f"--xyz X Y Z with --{flat[0]}, or --xy alone"
+        )
     if len(tips) <= 1 and xyz > 1:
         raise InputError(
             f"--xyz is given {xyz} times for one tip: for several tips give each its --tip "
