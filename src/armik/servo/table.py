@@ -95,8 +95,8 @@ def _row(row: KernelRow) -> np.ndarray:
 
 
 def plain_matrix(target: object) -> np.ndarray | None:
-    """The 4x4 of a ``pin.SE3`` or of a float64 C-order 4x4 array (what the compiled tick
-    may write itself, where ``plain_pose`` holds), else None."""
+    """The 4x4 of a ``pin.SE3`` or of a writable float64 C-order 4x4 array (what the
+    compiled tick may write itself, where ``plain_pose`` holds), else None."""
     if isinstance(target, pin.SE3):
         return target.homogeneous
     if (
@@ -104,6 +104,7 @@ def plain_matrix(target: object) -> np.ndarray | None:
         and target.shape == (4, 4)
         and target.dtype == np.float64
         and target.flags.c_contiguous
+        and target.flags.writeable
     ):
         return target
     return None
