@@ -18,6 +18,7 @@ from armik.errors import OptionError, TargetError
 from armik.kernel.problem import NO_CONE, NO_LOOK
 from armik.kernel.single import plain_pose
 from armik.model.arm_model import ArmModel
+from armik.options import checked_weights
 from armik.problem.problem import as_problem
 from armik.problem.tasks.base import KernelRow
 from armik.servo.layout import (
@@ -84,7 +85,7 @@ def _row(row: KernelRow) -> np.ndarray:
     out[POS : POS + 3] = row.p_t
     out[BOUNDS : BOUNDS + 6] = np.where(np.asarray(row.bounds) == 0.0, -EXACT, row.bounds)
     # only a task's weights' ratios matter: (100, 100, 100, 1, 1, 1) is (1, 1, 1, .01, ...)
-    weights = np.asarray(row.weights, dtype=float)
+    weights = _weights(row.weights)
     top = weights.max()
     out[WEIGHTS : WEIGHTS + 6] = weights / top if top > 0.0 else weights
     out[CONE] = row.cone
@@ -92,6 +93,17 @@ def _row(row: KernelRow) -> np.ndarray:
     out[LOOK] = row.look
     out[SIGHT : SIGHT + 3] = row.sight
     return out
+
+
+def _weights(weights: object) -> np.ndarray:
+    """A task's weights by the rule ``solve`` reads them with (``options.checked_weights``:
+    none above ``MAX_WEIGHT`` nor more than ``MAX_WEIGHT`` times the smallest positive one,
+    whose squared errors would drown in the others' rounding); a ``TargetError`` with its
+    message otherwise."""
+    try:
+        return np.array(checked_weights(tuple(np.asarray(weights, dtype=float).tolist())))
+    except OptionError as error:
+        raise TargetError(str(error)) from None
 
 
 def plain_matrix(target: object) -> np.ndarray | None:
