@@ -130,7 +130,7 @@ class Options(SolverSettings):
                     value=values["seed"],
                 )
         if "weights" in values and values["weights"] is not None:
-            values["weights"] = _weights(values["weights"])
+            values["weights"] = checked_weights(values["weights"])
         if values.get("bounds") is not None:
             values["bounds"] = _bounds(values["bounds"])
         if values.get("cone") is not None:
@@ -280,7 +280,9 @@ def _numbers(value: object) -> np.ndarray:
         return np.array([np.nan])
 
 
-def _weights(value: object) -> tuple[float, ...]:
+def checked_weights(value: object) -> tuple[float, ...]:
+    """The option ``weights`` as 6 floats; ``OptionError`` naming the rule otherwise (the
+    servo reads a task's weights by the same rule)."""
     w = _numbers(value)
     if (
         w.shape != (6,)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
+import pytest
 
 import armik
 from armik.servo.streams import START
@@ -30,3 +31,21 @@ def test_weights_by_their_ratios_and_no_false_singularity():
     assert small.status[-1] == "on_target"
     assert small.position_error[-1] < 1e-6 and small.orientation_error[-1] < 1e-6
     assert "singularity" not in set(small.status.tolist())
+
+
+def test_weights_too_far_apart_refused_as_solve_refuses_them():
+    """Weights more than ``MAX_WEIGHT`` apart are refused by the servo as by ``solve``
+    (their message, the servo's ``TargetError``); at the limit they are taken."""
+    ur5, q0 = load("ur5"), START["ur5"]
+    T0 = ur5.fk(q0)
+    far = armik.Pose(T0, weights=(1, 1, 1, 1e-7, 1e-7, 1e-7))
+    with pytest.raises(armik.OptionError, match="at most 1e\\+06 times the smallest") as solved:
+        ur5.solve(far, max_iterations=5)
+    servo = ur5.servo(q0)
+    with pytest.raises(armik.TargetError, match="at most 1e\\+06 times the smallest") as served:
+        servo.step(far)
+    assert str(served.value) == str(solved.value)
+    with pytest.raises(armik.TargetError, match="target 1: weights must be"):
+        servo.track([T0, far])
+    np.testing.assert_array_equal(servo.q, q0)  # nothing commanded
+    servo.step(armik.Pose(T0, weights=(1, 1, 1, 1e-6, 1e-6, 1e-6)))

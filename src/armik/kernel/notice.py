@@ -41,7 +41,7 @@ PARTS = (
     ("armik.kernel.fk_many", "the batch forward kinematics", 3),
     ("armik.kernel.ladder", "the global path plan", 10),
     ("armik.kernel.task_rows", "the task solver's descent", 10),
-    ("armik.servo", "the servo's tick", 40),
+    ("armik.servo", "the servo's tick", 35),
     ("armik.kernel", "the numeric solvers", 25),
     ("armik.solvers.closed_form.spherical_wrist", "the spherical-wrist closed form", 20),
     ("armik.solvers.closed_form.three_parallel", "the three-parallel-axes closed form", 15),

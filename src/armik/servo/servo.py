@@ -28,7 +28,7 @@ from armik.servo.limits import (
     urdf_velocities,
 )
 from armik.servo.result import STATUSES, ServoRecord, ServoStep, record
-from armik.servo.tick import tick, tick_pose
+from armik.servo.tick import tick
 
 SINGULAR = 0.05  # below this smallest singular value (m/rad or 1) the damping grows ...
 DAMPING = 0.005  # ... up to this (added to A^T A) at a singular value of 0
@@ -152,9 +152,9 @@ class Servo(Commanded):
         near = self._no_rows if self._collisions is None else self._collisions.at(self._state[k.Q])
         # a pose's table is written by the compiled tick itself, where it is a plain one
         if isinstance(target, pin.SE3):
-            done = tick_pose(target.homogeneous, mem, imem, near)
+            done = tick(target.homogeneous, mem, imem, near)
         elif isinstance(target, np.ndarray) and target.shape == (4, 4) and _plain(target):
-            done = tick_pose(target, mem, imem, near)
+            done = tick(target, mem, imem, near)
         else:
             done = False
         if not done:
@@ -198,18 +198,20 @@ class Servo(Commanded):
             near = (
                 self._no_rows if self._collisions is None else self._collisions.at(self._state[k.Q])
             )
-            if rows is None:
-                tick_pose(_table.plain_matrix(target), mem, imem, near)
-            else:
-                tick(rows, mem, imem, near)
+            tick(_table.plain_matrix(target) if rows is None else rows, mem, imem, near)
             steps.append(self._command())
         return record(steps)
 
 
 def _plain(M: np.ndarray) -> bool:
-    """Whether the 4x4 M is of the one array type ``tick_pose`` is compiled for (no
-    subclass, float64, C order)."""
-    return type(M) is np.ndarray and M.dtype == np.float64 and M.flags.c_contiguous
+    """Whether the 4x4 M is of the one array type ``tick`` is compiled for (no subclass,
+    float64, C order, writable: a read-only array would compile the tick again)."""
+    return (
+        type(M) is np.ndarray
+        and M.dtype == np.float64
+        and M.flags.c_contiguous
+        and M.flags.writeable
+    )
 
 
 def start(arm: object, q0: object, **options: object) -> Servo:

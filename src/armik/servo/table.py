@@ -18,6 +18,7 @@ from armik.errors import OptionError, TargetError
 from armik.kernel.problem import NO_CONE, NO_LOOK
 from armik.kernel.single import plain_pose
 from armik.model.arm_model import ArmModel
+from armik.options import checked_weights
 from armik.problem.problem import as_problem
 from armik.problem.tasks.base import KernelRow
 from armik.servo.layout import (
@@ -84,7 +85,7 @@ def _row(row: KernelRow) -> np.ndarray:
     out[POS : POS + 3] = row.p_t
     out[BOUNDS : BOUNDS + 6] = np.where(np.asarray(row.bounds) == 0.0, -EXACT, row.bounds)
     # only a task's weights' ratios matter: (100, 100, 100, 1, 1, 1) is (1, 1, 1, .01, ...)
-    weights = np.asarray(row.weights, dtype=float)
+    weights = _weights(row.weights)
     top = weights.max()
     out[WEIGHTS : WEIGHTS + 6] = weights / top if top > 0.0 else weights
     out[CONE] = row.cone
@@ -94,9 +95,20 @@ def _row(row: KernelRow) -> np.ndarray:
     return out
 
 
+def _weights(weights: object) -> np.ndarray:
+    """A task's weights by the rule ``solve`` reads them with (``options.checked_weights``:
+    none above ``MAX_WEIGHT`` nor more than ``MAX_WEIGHT`` times the smallest positive one,
+    whose squared errors would drown in the others' rounding); a ``TargetError`` with its
+    message otherwise."""
+    try:
+        return np.array(checked_weights(tuple(np.asarray(weights, dtype=float).tolist())))
+    except OptionError as error:
+        raise TargetError(str(error)) from None
+
+
 def plain_matrix(target: object) -> np.ndarray | None:
-    """The 4x4 of a ``pin.SE3`` or of a float64 C-order 4x4 array (what the compiled tick
-    may write itself, where ``plain_pose`` holds), else None."""
+    """The 4x4 of a ``pin.SE3`` or of a writable float64 C-order 4x4 array (what the
+    compiled tick may write itself, where ``plain_pose`` holds), else None."""
     if isinstance(target, pin.SE3):
         return target.homogeneous
     if (
@@ -104,6 +116,7 @@ def plain_matrix(target: object) -> np.ndarray | None:
         and target.shape == (4, 4)
         and target.dtype == np.float64
         and target.flags.c_contiguous
+        and target.flags.writeable
     ):
         return target
     return None

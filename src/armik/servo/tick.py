@@ -204,15 +204,6 @@ def equal(last, table, tasks):
     return True
 
 
-@njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
-def tick(table, mem, imem, rows_cb):
-    """One tick toward the target ``table`` (tasks, ``COLUMNS``) on the servo's memory
-    (``armik.servo.layout``), within the collision rows ``rows_cb`` (K, n + 1: C, then b,
-    for C dq >= b)."""
-    ch, state, cfg, out, last, _, buf, ibuf = carve(mem, imem)
-    _tick(ch, table, rows_cb, state, cfg, out, last, buf, ibuf)
-
-
 @njit(cache=True, nogil=True, inline="always")
 def pose_row(H, row):
     """row: the table row of the plain 4x4 pose H (exact, every axis weighted)."""
@@ -229,23 +220,23 @@ def pose_row(H, row):
 
 
 @njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
-def tick_pose(H, mem, imem, rows_cb):
-    """``tick`` toward the 4x4 pose H, where it is one the target parser keeps exactly as
-    given (``kernel.single.plain_pose``): its table written here, not in Python. Returns
-    False, having done nothing, for any other H (the parser then reads it)."""
-    if not plain_pose(H):
-        return False
+def tick(target, mem, imem, rows_cb):
+    """One tick on the servo's memory (``armik.servo.layout``) toward ``target``, within the
+    collision rows ``rows_cb`` (K, n + 1: C, then b, for C dq >= b): ``state``'s joint
+    values and velocity advanced by one step, ``out`` saying what limited it. ``target``:
+    a table (tasks, ``COLUMNS``), or a 4x4 pose H, its table written here where it is one
+    the target parser keeps exactly as given (``kernel.single.plain_pose``). Returns False,
+    having done nothing, for any other H (the parser then reads it).
+
+    One compiled function for both: each entry would otherwise optimise and emit the
+    whole tick's machine code again (numba links a callee's code into every caller)."""
     ch, state, cfg, out, last, pose, buf, ibuf = carve(mem, imem)
-    pose_row(H, pose[0])
-    _tick(ch, pose, rows_cb, state, cfg, out, last, buf, ibuf)
-    return True
-
-
-@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
-def _tick(ch, table, rows_cb, state, cfg, out, last, buf, ibuf):
-    """The tick: ``state``'s joint values and velocity advanced by one step toward
-    ``table`` (``last``: the last tick's, its ``cfg[LAST]`` rows); ``out`` says what limited
-    it."""
+    table = target
+    if target.shape[1] != COLUMNS:  # a 4x4 pose
+        if not plain_pose(target):
+            return False
+        pose_row(target, pose[0])
+        table = pose
     n, N = dof(ch), joints(ch)
     ws, o = views(buf, ibuf, n, N)
     m = 6 * MAX_TASKS
@@ -283,3 +274,4 @@ def _tick(ch, table, rows_cb, state, cfg, out, last, buf, ibuf):
             last[t, c] = table[t, c]
     cfg[LAST] = tasks
     status_code(within, far, held, cfg, out)
+    return True
