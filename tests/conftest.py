@@ -120,38 +120,12 @@ TOUR_STARTED = TOUR_DONE + ".pid"
 TOUR_START_WAIT = 120.0  # s: a worker waits no longer for the tour to start
 
 
-# The tests that take longest once the tour has filled the cache (a fresh process compiling
-# into an empty cache, mypy, Chromium rendering on the CPU, the examples' processes): run
-# right after the tour, so that the run ends on short tests, which pytest-xdist's workers
-# share out, rather than one worker running a long test while the other has none left.
-# By node id; a module's tests stay together (the browser's page is a module fixture).
-LONG_FIRST = (
-    "tests/view/test_browser.py::",
-    "tests/kernel/test_warmup.py::test_cold_first_solve_loads_the_helpers_step",
-    "tests/kernel/test_compile.py::test_compiling_in_two_processes_fills_the_cache",
-    "tests/test_types.py::",
-    "tests/test_examples.py::",
-    "tests/test_compiled_cache.py::test_a_cache_filled_for_one_copy_of_the_sources",
-    "tests/kernel/test_compile.py::test_a_compiling_first_call_says_so_once",
-)
-
-
-def _long_rank(item) -> int:
-    """The place of ``item`` in ``LONG_FIRST``; past its end if it is not there."""
-    for rank, prefix in enumerate(LONG_FIRST):
-        if item.nodeid.startswith(prefix):
-            return rank
-    return len(LONG_FIRST)
-
-
 def pytest_collection_modifyitems(session, config, items) -> None:
     """The tour of every option (tests/kernel/test_compile.py) compiles every kernel into
     numba's cache, one process per core: run first, the rest of the suite loads what it
-    compiled instead of compiling it again on one core. Then the longest tests
-    (``LONG_FIRST``), then the rest in the order collected (a stable sort)."""
+    compiled instead of compiling it again on one core."""
     tour = [item for item in items if item.name == TOUR]
-    rest = [item for item in items if item not in tour]
-    items[:] = tour + sorted(rest, key=_long_rank)
+    items[:] = tour + [item for item in items if item not in tour]
 
 
 def pytest_runtest_setup(item) -> None:
