@@ -20,7 +20,7 @@ EXPECT = {
         "planar2r",
         "three_parallel",
         "spherical",
-        "| panda (joint 7 locked) | elimination_6r |",
+        "| panda (joint 1 locked) | elimination_6r |",
         "| random two_parallel arm | elimination_6r |",
         "| random two_intersecting arm | elimination_6r |",
         "success_vs_boundary.png",

@@ -75,12 +75,15 @@ def _random_arm(kind: str):
     return load_string(random_urdf(kind, np.random.default_rng(0)), base="world", tip="tool")
 
 
-def _closed_form(robot: str, solver: str, batch: bool = False) -> Callable[[], None]:
+def _closed_form(
+    robot: str, solver: str, batch: bool = False, locked: dict | None = None
+) -> Callable[[], None]:
     """``batch``: a ``solve_batch`` too (the family's compiled ``kernel_many``, which the
-    ``batch`` part compiles for the bundled arms' families)."""
+    ``batch`` part compiles for the bundled arms' families); ``locked``: joints of the
+    bundled arm locked (``load(robot, locked=...)``)."""
 
     def run() -> None:
-        arm = _random_arm(robot[7:]) if robot.startswith("random:") else load(robot)
+        arm = _random_arm(robot[7:]) if robot.startswith("random:") else load(robot, locked=locked)
         T = _pose(arm, 2)
         target = T.translation[:2] if solver == "planar2r" else T
         arm.solve(target, solver=solver)
@@ -208,6 +211,9 @@ PARTS: dict[str, Callable[[], None]] = {
     "three_parallel_general": _closed_form(
         "random:three_parallel_free", "three_parallel_general", batch=True
     ),
+    "spherical_shoulder": _closed_form(
+        "panda", "spherical_shoulder", batch=True, locked={"panda_joint7": 0.3}
+    ),
     # one part: both families share the search's compiled zero finder (search_zeros)
     "search_1d": _in_turn(
         _closed_form("random:two_parallel", "two_parallel", batch=True),
@@ -266,6 +272,7 @@ _HALVES = (
         "path",
         "spherical_general",
         "three_parallel_general",
+        "spherical_shoulder",
         "search_1d",
         "srs",
         "general_6r",

@@ -119,7 +119,7 @@ def _searched_arms():
     """Arms on which each search is registered to apply: (solver name, arm)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        locked = armik.load("panda", locked={"panda_joint7": 0.3})  # general_6r
+        locked = armik.load("panda", locked={"panda_joint1": 0.3})  # general_6r
     return [("two_parallel", armik.load(IRB140, tip="tool0")), ("general_6r", locked)]
 
 

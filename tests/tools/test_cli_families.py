@@ -39,7 +39,7 @@ def test_seven_r_arms_name_the_joints_to_hold(capsys, tmp_path):
     assert code == 0
     assert re.search(r"\n  j3 +spherical_wrist \(spherical wrist at .*axes 1 and 2 meet\)", out)
     held = re.search(r"analytic with one joint held: (.*)\n", out).group(1).split(", ")
-    assert held == ["j1", "j2", "j3", "j4", "j7"]  # j5, j6 leave the 2-D search
+    assert held == ["j1", "j2", "j3", "j4", "j5", "j6", "j7"]  # j5, j6: a spherical shoulder
     # joint 7 of the xArm7 leaves an arm the elimination solves (two_intersecting, a
     # search, fits it too); a search alone is not counted as analytic
     code, out, _ = run(capsys, "info", "xarm7")

@@ -3,8 +3,9 @@
 
 The C is written from the same family description the Python solver runs on (its
 ``classify``), one module a family: ``three_parallel``, ``spherical_wrist``,
-``three_parallel_general``, ``spherical_general``, ``planar2r``, and ``swept_7r`` (a 7R arm
-with joint 7 held: ``N_ik`` takes its value); ``solver_file`` adds what every family shares
+``three_parallel_general``, ``spherical_general``, ``spherical_shoulder`` (read from the
+tip as a spherical wrist), ``planar2r``, and ``swept_7r`` (a 7R arm with joint 7 held:
+``N_ik`` takes its value); ``solver_file`` adds what every family shares
 (2 pi shifts, limits, the verdict, the order), ``c_source`` the subproblems SP1-SP4,
 ``c_roots`` and ``c_subproblems_56`` SP5 and SP6. An arm whose ``solve_all`` is not one of
 those closed forms (and not a 7R arm ``swept_7r`` holds) is refused with a ``SolverError``
@@ -23,6 +24,7 @@ from armik.export import (
     planar2r,
     solver_file,
     spherical_general,
+    spherical_shoulder,
     spherical_wrist,
     swept_7r,
     three_parallel,
@@ -39,6 +41,7 @@ FAMILIES: dict[str, Callable] = {
     "spherical": spherical_wrist.rows,
     "three_parallel_general": three_parallel_general.rows,
     "spherical_general": spherical_general.rows,
+    "spherical_shoulder": spherical_shoulder.rows,
     "planar2r": planar2r.rows,
     "swept": swept_7r.rows,  # a 7R arm with joint 7 held: N_ik takes its value
 }

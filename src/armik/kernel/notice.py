@@ -46,6 +46,7 @@ PARTS = (
     ("armik.solvers.closed_form.spherical_wrist", "the spherical-wrist closed form", 20),
     ("armik.solvers.closed_form.three_parallel", "the three-parallel-axes closed form", 15),
     ("armik.solvers.closed_form.spherical_general", "the general spherical-wrist closed form", 30),
+    ("armik.solvers.closed_form.spherical_shoulder", "the spherical-shoulder closed form", 20),
     ("armik.solvers.closed_form.three_parallel_general", "the general 3-parallel closed form", 30),
     # both searches' compiled code is shared (search_zeros calls search_1d, search_q1, _q4)
     ("armik.solvers.closed_form.search_zeros", "the one-dimensional searches", 50),

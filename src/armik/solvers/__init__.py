@@ -6,6 +6,7 @@ from armik.solvers.closed_form import (  # noqa: F401  (registration)
     general_6r,
     planar2r,
     spherical_general,
+    spherical_shoulder,
     spherical_wrist,
     spin,
     spin_joint,

@@ -188,9 +188,10 @@ def run(
 ) -> Report:
     """Run every experiment; ``n`` targets each. ``spatial``: arms solved numerically only;
     ``closed_form``: 6R arms whose analytic family is compared with dls and qp;
-    ``general``: 7R arms with their last joint locked at 0.3 rad, 6R arms no closed form
-    fits, where the solver ``solve_all`` takes (``elimination_6r``, the searches behind it)
-    is compared with dls and qp the same way;
+    ``general``: 7R arms with their first joint locked at 0.3 rad, 6R arms no closed form
+    fits (the Panda's joint 7 locked leaves a spherical shoulder: ``spherical_shoulder``),
+    where the solver ``solve_all`` takes (``elimination_6r``, the searches behind it) is
+    compared with dls and qp the same way;
     ``families``: kinds of random 6R arm (``armik.model.random_arms``) for the families no
     bundled arm belongs to, compared the same way."""
     report = Report()
@@ -275,8 +276,8 @@ def run(
         _closed_form_arm(load(name), n, rng, report)
     for name in general:
         arm = load(name)
-        locked = arm.with_locked({arm.joint_names[-1]: 0.3})
-        _closed_form_arm(locked, n, rng, report, label=f"{name} (joint 7 locked)")
+        locked = arm.with_locked({arm.joint_names[0]: 0.3})
+        _closed_form_arm(locked, n, rng, report, label=f"{name} (joint 1 locked)")
     for kind in families:
         arm = load_string(random_urdf(kind, rng), base="world", tip="tool")
         _closed_form_arm(arm, n, rng, report, label=f"random {kind} arm")

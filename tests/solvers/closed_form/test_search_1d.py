@@ -130,12 +130,13 @@ def test_batch_equals_solve(kind):
 
 def test_a_spherical_shoulder_is_refused_by_the_search_over_q4():
     """The Panda with joint 7 locked: axes 1, 2, 3 meet and axes 5, 6 meet, but SP5 has no
-    shoulder offsets to work on; refused with the reason, auto takes the elimination."""
+    shoulder offsets to work on; refused with the reason, auto takes the closed form
+    (spherical_shoulder)."""
     a = armik.load("panda", locked={"panda_joint7": 0.3})
     why = two_intersecting.classify(a.kinematics)
     assert isinstance(why, str) and "spherical shoulder" in why, why
     r = a.solve_all(a.fk(a.middle))[0]
-    assert r.success and r.solver == "elimination_6r"
+    assert r.success and r.solver == "spherical_shoulder"
 
 
 def _replayed(kind: str, arm_index: int, config: int):

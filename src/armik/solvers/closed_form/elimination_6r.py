@@ -30,6 +30,7 @@ from armik.solvers.closed_form import (
     sixr,
     sixr_answers,
     spherical_general,
+    spherical_shoulder,
     three_parallel_general,
 )
 from armik.solvers.registry import SolverSpec, get, register
@@ -102,7 +103,8 @@ def classify(arm: ArmModel, ax: Axes | None = None) -> Plan | str:
     if why:
         return why
     ax = ax or axis_lines(arm)
-    for family in (spherical_general, three_parallel_general):  # Pieper's: in closed form
+    # Pieper's: in closed form
+    for family in (spherical_general, three_parallel_general, spherical_shoulder):
         if not isinstance(family.classify(arm, ax), str):
             return f"{family.FAMILY} solves this arm in closed form"
     chain = sixr.chain_6r(FAMILY, "", ax, [ax.points[i] for i in range(6)], "")

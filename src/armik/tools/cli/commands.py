@@ -23,6 +23,7 @@ PART_NAMES = (
     "three_parallel",
     "spherical_general",
     "three_parallel_general",
+    "spherical_shoulder",
     "search_1d",
     "swept",
     "srs",
