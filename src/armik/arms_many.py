@@ -22,6 +22,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from armik import checked, reasons
+from armik.arms_options import check_held
 from armik.batch_result import BatchResult
 from armik.errors import OptionError, TargetError
 from armik.problem.problem import relative_tasks
@@ -32,12 +33,14 @@ from armik.solve.progress import ProgressArg, make_progress
 from armik.solve.read import check_plan
 from armik.solve.read import options as read_options
 from armik.status import Status
+from armik.targets.batch import parse_targets
 
 
 class Arms(Protocol):
     """What these functions read of ``armik.arms.Arms`` (which calls them: named here, not
     imported, so that neither module imports the other)."""
 
+    _chains: dict[str, Any]
     _columns: dict[str, np.ndarray]
     _union: Any
     shared: tuple[str, ...]
@@ -87,11 +90,16 @@ def solve_batch(
     if _independent(arms, targets):
         batch = {"workers": workers, "chunk_size": chunk_size, "progress": progress}
         each = arms._holds(options)  # each chain's part of the options, as Arms.solve's
+        check_held(arms._chains, each, seeds, arms._columns)  # before any chain's batch
+        read = {  # arrays read before any chain's batch runs, once: their errors first
+            tip: parse_targets(rows, arms._chains[tip]) if type(rows) is np.ndarray else rows
+            for tip, rows in targets.items()
+        }
         parts = {
             tip: arms.chain(tip).solve_batch(
                 rows, q0=seeds[:, arms._columns[tip]], backend=backend, **batch, **each[tip]
             )
-            for tip, rows in targets.items()
+            for tip, rows in read.items()
         }
         return _joined(arms, parts, seeds, opts, time.perf_counter() - t0)
     if backend is not None:
@@ -166,6 +174,7 @@ def solve_path(
     if _independent(arms, waypoints):
         each = arms._holds(options)  # each chain's part of the options, as Arms.solve's
         _path_holds(arms, each)
+        check_held(arms._chains, each, start[None, :], arms._columns)
         parts = {
             tip: arms.chain(tip).solve_path(
                 rows,
