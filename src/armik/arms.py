@@ -28,6 +28,7 @@ from armik import arms_every, arms_many, arms_reach, checked
 from armik.arms_joined import joined, worse
 from armik.arms_kinematics import ArmsKinematics
 from armik.arms_options import per_chain, refuse_own_checks
+from armik.arms_prefer import is_cost, ranked, scored
 from armik.arms_servo import ArmsServo
 from armik.arms_tasks import as_tasks, by_tip, on
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
@@ -136,15 +137,23 @@ class Arms(ArmsKinematics):
             solver = options.pop("solver", "auto")  # Arm.solve's route, without its frame
             if type(solver) is not str:
                 validate_name(solver)
+            prefer = options.get("prefer") if options else None
+            if is_cost(prefer):  # a cost of the whole configuration (``arms_prefer``)
+                own = self._holds({**options, "solver": solver})
+                start = self.middle if q0 is None else q0
+                return ranked(self, targets, seeds, start, prefer, own, 1, t0)[0]
             held = self._holds(options) if options else None
             results = {
                 tip: solve_one(chains[tip], target, seeds[tip], solver, held[tip] if held else {})
                 for tip, target in targets.items()
             }
-            return joined(self.tips, results, seeds, time.perf_counter() - t0)
+            r = joined(self.tips, results, seeds, time.perf_counter() - t0)
+            return r if prefer is None else scored(r, prefer)
         order = _in_order(targets, relative)
         if order is None:  # tips placed relative to each other in a cycle: all at once
             return self._solve_together(self._joint(), targets, relative, q0, options, t0)
+        if is_cost(options.get("prefer")):  # the cost's whole configuration: no chain's
+            self._score(options["prefer"])
         results = {}
         solver = options.get("solver", "auto")
         held = self._holds({k: v for k, v in options.items() if k != "solver"})
@@ -157,7 +166,7 @@ class Arms(ArmsKinematics):
             results[tip] = self._solve_chain(tip, target, seeds[tip], solver, held[tip])
         each = joined(self.tips, results, seeds, time.perf_counter() - t0)
         if each.success:
-            return each
+            return each if options.get("prefer") is None else scored(each, options["prefer"])
         # the reference chain's answer may be one the other cannot reach from: together
         together = self._solve_together(self._joint(), targets, relative, each.q, options, t0)
         return together if together.success else each
