@@ -18,7 +18,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, cast
 
 import numpy as np
@@ -28,16 +28,16 @@ from armik import arms_every, arms_many, arms_reach, checked
 from armik.arms_joined import joined, worse
 from armik.arms_kinematics import ArmsKinematics
 from armik.arms_options import per_chain, refuse_own_checks
+from armik.arms_prefer import is_cost, ranked, scored
 from armik.arms_servo import ArmsServo
-from armik.arms_tasks import by_tip
+from armik.arms_tasks import as_tasks, by_tip, on
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.model.union import Union
 from armik.problem.problem import Problem, as_problem, relative_tasks
 from armik.problem.scores import Manipulability, Score, parse_score
-from armik.problem.tasks import Pose, Position, Relative, Task
-from armik.problem.tasks.base import replaced
+from armik.problem.tasks import Pose, Relative, Task
 from armik.result import IKResult
 from armik.solutions import Solutions
 from armik.solve.read import check_options, read
@@ -48,7 +48,7 @@ from armik.solve.tasks import solve_tasks
 from armik.solvers.registry import get as get_solver
 from armik.solvers.registry import validate_name
 from armik.status import Status
-from armik.targets.pose import Target, parse_target, parsed
+from armik.targets.pose import Target, parse_target
 
 if TYPE_CHECKING:
     from armik.constraints.base import Constraint
@@ -137,15 +137,23 @@ class Arms(ArmsKinematics):
             solver = options.pop("solver", "auto")  # Arm.solve's route, without its frame
             if type(solver) is not str:
                 validate_name(solver)
+            prefer = options.get("prefer") if options else None
+            if is_cost(prefer):  # a cost of the whole configuration (``arms_prefer``)
+                own = self._holds({**options, "solver": solver})
+                start = self.middle if q0 is None else q0
+                return ranked(self, targets, seeds, start, prefer, own, 1, t0)[0]
             held = self._holds(options) if options else None
             results = {
                 tip: solve_one(chains[tip], target, seeds[tip], solver, held[tip] if held else {})
                 for tip, target in targets.items()
             }
-            return joined(self.tips, results, seeds, time.perf_counter() - t0)
+            r = joined(self.tips, results, seeds, time.perf_counter() - t0)
+            return r if prefer is None else scored(r, prefer)
         order = _in_order(targets, relative)
         if order is None:  # tips placed relative to each other in a cycle: all at once
             return self._solve_together(self._joint(), targets, relative, q0, options, t0)
+        if is_cost(options.get("prefer")):  # the cost's whole configuration: no chain's
+            self._score(options["prefer"])
         results = {}
         solver = options.get("solver", "auto")
         held = self._holds({k: v for k, v in options.items() if k != "solver"})
@@ -158,7 +166,7 @@ class Arms(ArmsKinematics):
             results[tip] = self._solve_chain(tip, target, seeds[tip], solver, held[tip])
         each = joined(self.tips, results, seeds, time.perf_counter() - t0)
         if each.success:
-            return each
+            return each if options.get("prefer") is None else scored(each, options["prefer"])
         # the reference chain's answer may be one the other cannot reach from: together
         together = self._solve_together(self._joint(), targets, relative, each.q, options, t0)
         return together if together.success else each
@@ -251,7 +259,7 @@ class Arms(ArmsKinematics):
             if type(target) is Target and target.rotation is not None:  # the common case
                 tasks.append(Pose.of(target, tip))
             else:
-                tasks += _as_tasks(target, tip, self.tips)
+                tasks += as_tasks(target, tip, self.tips)
         opts, unbound, budget = self._settings(options)
         held = self._holds(options) if options else None  # each chain's start (``_start``)
         seed = self.middle if q0 is None else np.asarray(q0, float)
@@ -408,7 +416,7 @@ class Arms(ArmsKinematics):
             if tip in self._chains:
                 unknown += [t.relative_to for t in rel if t.relative_to not in self._chains]
                 for t in rel:
-                    _on(t, tip, self.tips)  # a pose of this tip's frame, not another's
+                    on(t, tip, self.tips)  # a pose of this tip's frame, not another's
         if unknown:
             raise FrameError(
                 f"unknown tips {unknown}; this robot's tips: {list(self.tips)}",
@@ -416,33 +424,6 @@ class Arms(ArmsKinematics):
                 candidates=self.tips,
             )
         return relative
-
-
-def _as_tasks(target: object, tip: str, tips: Sequence[str]) -> list[Task]:
-    """A tip's target as tasks on ``tip``: its tasks as given (``_on``), or a ``Position``
-    or ``Pose`` of that tip."""
-    if type(target) is not Target:  # a parsed target holds no task
-        problem = as_problem(target)
-        if problem is not None:
-            return [_on(t, tip, tips) for t in problem.tasks]
-        target = parsed(target)
-    if target.rotation is None:
-        return [Position(target.position, frame=tip)]
-    return [Pose(target, frame=tip)]
-
-
-def _on(task: Task, tip: str, tips: Sequence[str]) -> Task:
-    """``task`` on ``tip``, or on the frame it names that is no tip (an elbow, a camera
-    link of that chain); a task on another tip, or another tip's ``Relative``, is that
-    tip's to give."""
-    if task.frame is None:
-        return replaced(task, frame=tip)
-    if task.frame != tip and (task.frame in tips or isinstance(task, Relative)):
-        raise TargetError(
-            f"the target of tip {tip!r} holds a task on frame {task.frame!r}: give each tip "
-            "its own tasks"
-        )
-    return task
 
 
 def _relative(targets: Mapping[str, object]) -> dict[str, list[Relative]]:

@@ -3,10 +3,12 @@ says on one arm.
 
 Chains that share no joint each give every answer of their own ``solve_all`` (a closed
 form: every branch); the robot's answers are their combinations, each joined as
-``Arms.solve`` joins one (``armik.arms_joined``): successes first, nearest q0. Where a tip
-has no verified answer, the one joined result of each tip's best says which failed.
-Chains that share joints, or tips placed relative to each other, are solved together by
-the task solver, which finds one answer: ``solve_all`` gives that one.
+``Arms.solve`` joins one (``armik.arms_joined``): successes first, nearest q0, or with
+``prefer=`` best first by the robot's score of each, which each carries
+(``armik.arms_prefer``). Where a tip has no verified answer, the one joined result of
+each tip's best says which failed. Chains that share joints, or tips placed relative to
+each other, are solved together by the task solver, which finds one answer: ``solve_all``
+gives that one.
 """
 
 from __future__ import annotations
@@ -19,9 +21,10 @@ from typing import Any
 import numpy as np
 
 from armik.arms_joined import joined
+from armik.arms_prefer import is_cost, order, ranked
 from armik.result import IKResult
 
-MAX_COMBINATIONS = 256  # answers at most: the nearest q0 of every chain's verified ones
+MAX_COMBINATIONS = 256  # answers at most: the nearest q0 (the best) of every chain's verified ones
 
 
 def solve_all(arms: Any, targets: Mapping[str, object], q0: object = None, **options: Any):
@@ -32,6 +35,10 @@ def solve_all(arms: Any, targets: Mapping[str, object], q0: object = None, **opt
         return [arms.solve(targets, q0=q0, **options)]
     seeds = arms._middle_seeds if q0 is None else arms.split(q0)
     held = arms._holds(options)
+    prefer = options.get("prefer")
+    if is_cost(prefer):  # a cost of the whole configuration: ranked over the combinations
+        reference = arms.middle if q0 is None else np.asarray(q0, dtype=float)
+        return ranked(arms, targets, seeds, reference, prefer, held, MAX_COMBINATIONS, t0)
     found = {
         tip: arms.chain(tip).solve_all(target, q0=seeds[tip], **held[tip])
         for tip, target in targets.items()
@@ -41,11 +48,18 @@ def solve_all(arms: Any, targets: Mapping[str, object], q0: object = None, **opt
     if not all(good.values()):  # a tip with no answer: the best of each, joined
         best = {tip: rs[0] for tip, rs in found.items() if rs}
         return [joined(arms.tips, best, seeds, elapsed)]
-    reference = np.concatenate([seeds[tip] for tip in arms.tips])
     tips = list(good)
+    choices = itertools.product(*(good[tip] for tip in tips))
+    if prefer is not None:  # each chain's answers scored: the robot's score of each
+        listed = []
+        for value, choice in order(prefer, list(choices))[:MAX_COMBINATIONS]:
+            r = joined(arms.tips, dict(zip(tips, choice)), seeds, elapsed)
+            r.extra["score"] = value
+            listed.append(r)
+        return listed
+    reference = np.concatenate([seeds[tip] for tip in arms.tips])
     results: list[IKResult] = [
-        joined(arms.tips, dict(zip(tips, choice)), seeds, elapsed)
-        for choice in itertools.product(*(good[tip] for tip in tips))
+        joined(arms.tips, dict(zip(tips, choice)), seeds, elapsed) for choice in choices
     ]
     results.sort(key=lambda r: float(np.linalg.norm(r.q - reference)))
     return results[:MAX_COMBINATIONS]

@@ -7,7 +7,9 @@ compiled path, on every core) or path, and the rows joined: a row succeeds when 
 tip's does, its status is the first failing tip's, its errors the worst tip's, its reason
 names each tip that failed. Other robots (a shared torso, relative tasks) are solved row by
 row with ``Arms.solve``; a path then seeds each waypoint with the previous answer and
-reports a larger move than ``max_joint_step`` as ``discontinuous``, naming the joint.
+reports a larger move than ``max_joint_step`` as ``discontinuous``, naming the joint. A
+cost of the whole configuration (a callable ``prefer=``, ``armik.arms_prefer``) is a
+batch's row by row too, and refused on a path of chains that share no joint.
 """
 
 from __future__ import annotations
@@ -22,6 +24,8 @@ from typing import Any, Protocol
 import numpy as np
 
 from armik import checked, reasons
+from armik.arms_options import check_held
+from armik.arms_prefer import combined, is_cost
 from armik.batch_result import BatchResult
 from armik.errors import OptionError, TargetError
 from armik.problem.problem import relative_tasks
@@ -32,12 +36,14 @@ from armik.solve.progress import ProgressArg, make_progress
 from armik.solve.read import check_plan
 from armik.solve.read import options as read_options
 from armik.status import Status
+from armik.targets.batch import parse_targets
 
 
 class Arms(Protocol):
     """What these functions read of ``armik.arms.Arms`` (which calls them: named here, not
     imported, so that neither module imports the other)."""
 
+    _chains: dict[str, Any]
     _columns: dict[str, np.ndarray]
     _union: Any
     shared: tuple[str, ...]
@@ -84,20 +90,27 @@ def solve_batch(
     n = _rows(arms, targets)
     seeds = _seeds(arms, q0, n)
     opts = _read(options)
-    if _independent(arms, targets):
+    prefer = options.get("prefer")
+    if _independent(arms, targets) and not is_cost(prefer):
         batch = {"workers": workers, "chunk_size": chunk_size, "progress": progress}
         each = arms._holds(options)  # each chain's part of the options, as Arms.solve's
+        check_held(arms._chains, each, seeds, arms._columns)  # before any chain's batch
+        read = {  # arrays read before any chain's batch runs, once: their errors first
+            tip: parse_targets(rows, arms._chains[tip]) if type(rows) is np.ndarray else rows
+            for tip, rows in targets.items()
+        }
         parts = {
             tip: arms.chain(tip).solve_batch(
                 rows, q0=seeds[:, arms._columns[tip]], backend=backend, **batch, **each[tip]
             )
-            for tip, rows in targets.items()
+            for tip, rows in read.items()
         }
-        return _joined(arms, parts, seeds, opts, time.perf_counter() - t0)
+        return _joined(arms, parts, seeds, opts, time.perf_counter() - t0, prefer)
     if backend is not None:
         raise OptionError(
             "backend= runs the compiled batch's chunks; a batch over chains that share "
-            f"joints ({list(arms.shared)}) or with a Relative task is "
+            f"joints ({list(arms.shared)}), with a Relative task or with a cost of the "
+            "whole configuration (prefer=) is "
             "solved row by row in this process (workers= threads, chunk_size= rows each): "
             "drop backend=",
             option="backend",
@@ -163,9 +176,21 @@ def solve_path(
     start = arms.middle if q0 is None else _seeds(arms, q0, 1)[0]
     step = _step(arms, max_joint_step)
     opts = _read(options)
+    prefer = options.get("prefer")
     if _independent(arms, waypoints):
+        if is_cost(prefer):
+            raise OptionError(
+                f"prefer={prefer!r}: a cost of the robot's whole configuration on a path of "
+                "chains that share no joint, where each chain's path ranks its own answers; "
+                "give 'nearest', 'limits', 'manipulability' or armik.Posture over "
+                "robot.joint_names (split by chain), or solve each waypoint with "
+                "Arms.solve(..., prefer=cost)",
+                option="prefer",
+                value=prefer,
+            )
         each = arms._holds(options)  # each chain's part of the options, as Arms.solve's
         _path_holds(arms, each)
+        check_held(arms._chains, each, start[None, :], arms._columns)
         parts = {
             tip: arms.chain(tip).solve_path(
                 rows,
@@ -176,7 +201,8 @@ def solve_path(
             )
             for tip, rows in waypoints.items()
         }
-        return _joined(arms, parts, np.tile(start, (n, 1)), opts, time.perf_counter() - t0)
+        elapsed = time.perf_counter() - t0
+        return _joined(arms, parts, np.tile(start, (n, 1)), opts, elapsed, prefer)
     if plan != "follow":
         raise OptionError(
             f"plan={plan!r} over several tips needs chains that share no joint and no "
@@ -337,8 +363,10 @@ def _joined(
     seeds: np.ndarray,
     opts: SolverSettings,
     elapsed: float,
+    prefer: object = None,
 ) -> BatchResult:
-    """One row per target over every joint from each tip's rows (module docstring)."""
+    """One row per target over every joint from each tip's rows (module docstring), with
+    ``prefer``, each row's score the robot's from the tips' (``armik.arms_prefer``)."""
     n = len(seeds)
     solvers = "+".join(dict.fromkeys(b.solver for b in parts.values()))
     out = _empty(arms, n, solvers, opts)
@@ -360,6 +388,8 @@ def _joined(
         out.iterations[:] += b.iterations
         out.restarts[:] += b.restarts
     out.orientation_error[:] = orientation
+    if prefer is not None:
+        out._scores[:] = combined(prefer, np.array([b._scores for b in parts.values()]))
     for i in np.flatnonzero(~out.success):
         out.reasons[int(i)] = "; ".join(
             f"{tip}: {b.status[i]}: {b.reason(int(i))}"

@@ -71,6 +71,27 @@ def per_chain(
     return out
 
 
+def check_held(
+    chains: Mapping[str, ArmModel],
+    each: Mapping[str, dict],
+    seeds: np.ndarray,
+    columns: Mapping[str, np.ndarray],
+) -> None:
+    """A ``JointError`` for a held joint's value outside its limits, as a chain's solve
+    says it, before any chain runs: each tip's held joints (``each``, ``per_chain``'s), a
+    value of None at each row of ``seeds`` (rows over the robot's joints)."""
+    for tip, options in each.items():
+        arm = chains[tip]
+        for joint, value in (options.get("hold") or {}).items():
+            if value is None:
+                column = seeds[:, columns[tip][arm.joint_names.index(joint)]]
+                values = [float(column.min()), float(column.max())]
+            else:
+                values = [value]
+            for v in values:
+                Hold(joint, v).at(arm, arm.middle)
+
+
 def _posture(prefer: object, joint_names: Sequence[str]) -> Posture | None:
     """``prefer=`` where it is a ``Posture`` (then split by chain), else None; an
     ``OptionError`` naming the robot's joints for one of another length (as for

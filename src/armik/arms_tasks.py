@@ -1,16 +1,20 @@
 """A flat list of tasks for several tips, each naming its frame (Pink's and mink's habit:
 ``robot.solve([armik.Pose(T_l, frame=left), armik.Relative(right, left, T)])``), read as
-the mapping ``Arms.solve`` takes: each task under the tip whose chain holds its frame."""
+the mapping ``Arms.solve`` takes: each task under the tip whose chain holds its frame; and
+each tip's target as tasks on it (``as_tasks``), for the task solver."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 from armik.errors import TargetError
 from armik.model.arm_model import ArmModel
 from armik.model.frames import owner
-from armik.problem.tasks import Task
+from armik.problem.problem import as_problem
+from armik.problem.tasks import Pose, Position, Relative, Task
+from armik.problem.tasks.base import replaced
+from armik.targets.pose import Target, parsed
 
 
 def by_tip(chains: Mapping[str, ArmModel], targets: object) -> Any:
@@ -35,3 +39,30 @@ def by_tip(chains: Mapping[str, ArmModel], targets: object) -> Any:
             )
         out.setdefault(tip, []).append(task)
     return out
+
+
+def as_tasks(target: object, tip: str, tips: Sequence[str]) -> list[Task]:
+    """A tip's target as tasks on ``tip``: its tasks as given (``on``), or a ``Position``
+    or ``Pose`` of that tip."""
+    if type(target) is not Target:  # a parsed target holds no task
+        problem = as_problem(target)
+        if problem is not None:
+            return [on(t, tip, tips) for t in problem.tasks]
+        target = parsed(target)
+    if target.rotation is None:
+        return [Position(target.position, frame=tip)]
+    return [Pose(target, frame=tip)]
+
+
+def on(task: Task, tip: str, tips: Sequence[str]) -> Task:
+    """``task`` on ``tip``, or on the frame it names that is no tip (an elbow, a camera
+    link of that chain); a task on another tip, or another tip's ``Relative``, is that
+    tip's to give."""
+    if task.frame is None:
+        return replaced(task, frame=tip)
+    if task.frame != tip and (task.frame in tips or isinstance(task, Relative)):
+        raise TargetError(
+            f"the target of tip {tip!r} holds a task on frame {task.frame!r}: give each tip "
+            "its own tasks"
+        )
+    return task
