@@ -217,3 +217,11 @@ def test_a_path_refuses_a_held_joint_naming_its_chain_and_joint(cell, monkeypatc
         assert "the chain to 'r_tool0' (6 joints)" in str(caught.value)
         assert "dual_irb120" not in str(caught.value)
         assert caught.value.option == "hold" and caught.value.value == "r_joint_2"
+
+
+def test_holding_a_locked_joint_says_it_is_locked():
+    """As on one arm: the joint is named as locked at its value, not as unknown."""
+    robot = armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"], locked={"l_joint_1": 0.2})
+    T = robot.fk(robot.middle)
+    with pytest.raises(armik.JointError, match=r"'l_joint_1' is locked at 0.2"):
+        robot.solve(T, hold={"l_joint_1": 0.2})

@@ -52,6 +52,9 @@ def per_chain(
     holds = opts.hold or ()
     for joint, _ in holds:
         if joint not in joint_names:
+            for arm in chains.values():  # a locked joint is named as one, not as unknown
+                if joint in arm.locked:
+                    Hold(joint).index(arm)
             raise JointError(
                 f"hold: unknown joint {joint!r}; the joints of tips {list(chains)}: "
                 f"{listing(joint_names)}",
