@@ -7,7 +7,7 @@ back in the arm's order (joint 1 first).
 
 from __future__ import annotations
 
-from armik.export import c_source, spherical_wrist
+from armik.export import spherical_wrist
 from armik.export.solver_file import Rows
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes
@@ -15,19 +15,6 @@ from armik.solvers.closed_form import spherical_shoulder
 from armik.solvers.closed_form.sixr import SNAP, Chain6R
 
 ROWS = r"""
-/* Row n of the reversed chain (joints 6 to 1) in the arm's order. */
-static inline int put_reversed(double W[][DOF], double C[][DOF], double S[][DOF], int n,
-                               const double *q, const double *c, const double *s)
-{
-    int j;
-    for (j = 0; j < 6; j++) {
-        W[n][5 - j] = wrap(q[j]);
-        C[n][5 - j] = c[j];
-        S[n][5 - j] = s[j];
-    }
-    return n + 1;
-}
-
 static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][DOF])
 {
     mat3 Ri;
@@ -44,20 +31,7 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
     holds)."""
     geo = spherical_shoulder.classify(arm, ax)
     assert isinstance(geo, Chain6R)  # the caller chose the family by its solver's test
-    reversed_mid = [float(arm.middle[5 - j]) for j in range(6)]
-    chain = (
-        spherical_wrist.chain_text(spherical_shoulder.reversed_chain(geo))
-        .replace("MID[", "RMID[")
-        .replace("put_row(", "put_reversed(")
-        .replace("static int rows(", "static int reversed_rows(")
-    )
-    text = (
-        "/* the middle of the limits of joints 6 to 1 */\n"
-        f"static const double RMID[6] = {c_source.array(reversed_mid)};\n"
-        + ROWS.split("static int rows(")[0]
-        + chain
-        + "\nstatic int rows("
-        + ROWS.split("static int rows(")[1]
-    )
+    text = spherical_wrist.reversed_text(spherical_shoulder.reversed_chain(geo), arm.middle)
+    text += ROWS
     summary = f"a 6R arm with a spherical shoulder ({geo.description})"
     return Rows(text, 8, SNAP, summary)

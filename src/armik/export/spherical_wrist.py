@@ -117,6 +117,39 @@ def chain_text(geo: Chain6R) -> str:
     return c_source.constants(names) + "\n" + WRIST + body
 
 
+PUT_REVERSED = r"""
+/* Row n of the reversed chain (joints 6 to 1) in the arm's order. */
+static inline int put_reversed(double W[][DOF], double C[][DOF], double S[][DOF], int n,
+                               const double *q, const double *c, const double *s)
+{
+    int j;
+    for (j = 0; j < 6; j++) {
+        W[n][5 - j] = wrap(q[j]);
+        C[n][5 - j] = c[j];
+        S[n][5 - j] = s[j];
+    }
+    return n + 1;
+}
+"""
+
+
+def reversed_text(geo: Chain6R, middle) -> str:
+    """The C of a spherical-wrist chain read from the tip of an arm (``geo``: joints 6 to
+    1; ``middle``: the arm's middle of its limits, joint 1 first): its ``reversed_rows``
+    solve it for T^-1 and write each row in the arm's order (``put_reversed``)."""
+    reversed_mid = [float(middle[5 - j]) for j in range(6)]
+    chain = (
+        chain_text(geo)
+        .replace("MID[", "RMID[")
+        .replace("put_row(", "put_reversed(")
+        .replace("static int rows(", "static int reversed_rows(")
+    )
+    return (
+        "/* the middle of the limits of joints 6 to 1 */\n"
+        f"static const double RMID[6] = {c_source.array(reversed_mid)};\n" + PUT_REVERSED + chain
+    )
+
+
 def rows(arm: ArmModel, ax: Axes) -> Rows:
     """The C rows of ``arm``, a spherical-wrist arm (``spherical_wrist.classify`` holds)."""
     geo = spherical_wrist.classify(arm, ax)

@@ -22,19 +22,7 @@ from armik.solvers.closed_form.sixr import SNAP
 HELD = 6  # the joint swept_7r holds: joint 7
 
 ROWS = r"""
-/* Row n of the reversed chain (joints 6 to 1) in the arm's order; joint 7 is set after. */
-static inline int put_reversed(double W[][DOF], double C[][DOF], double S[][DOF], int n,
-                               const double *q, const double *c, const double *s)
-{
-    int j;
-    for (j = 0; j < 6; j++) {
-        W[n][5 - j] = wrap(q[j]);
-        C[n][5 - j] = c[j];
-        S[n][5 - j] = s[j];
-    }
-    return n + 1;
-}
-
+/* joints 1 to 6 by the reversed chain, joint 7 set after */
 static int rows(mat3 R, vec3 pos, double held, double W[][DOF], double C[][DOF],
                 double S[][DOF])
 {
@@ -60,21 +48,7 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
     """The C rows of ``arm`` with joint 7 held (``swept_7r.classify`` holds)."""
     sw = swept_7r.classify(arm, ax)
     assert isinstance(sw, swept_7r.Swept)  # the caller chose the family by its test
-    reversed_mid = [float(arm.middle[5 - j]) for j in range(6)]
-    chain = (
-        spherical_wrist.chain_text(sw.geo)
-        .replace("MID[", "RMID[")
-        .replace("put_row(", "put_reversed(")
-        .replace("static int rows(", "static int reversed_rows(")
-    )
     names = c_source.constants({"C7": sw.c, "U7": sw.u})
-    text = (
-        f"{names}\n/* the middle of the limits of joints 6 to 1 */\n"
-        f"static const double RMID[6] = {c_source.array(reversed_mid)};\n"
-        + ROWS.split("static int rows(")[0]
-        + chain
-        + "\nstatic int rows("
-        + ROWS.split("static int rows(")[1]
-    )
+    text = f"{names}\n" + spherical_wrist.reversed_text(sw.geo, arm.middle) + ROWS
     summary = f"a 7R arm with joint 7 held at an argument ({sw.description})"
     return Rows(text, 8, SNAP, summary, held=HELD)
