@@ -78,3 +78,23 @@ def test_each_waypoint_carries_its_score(plan, tmp_path):
     assert np.array_equal(back.score, path.score)
     plain = ur5.solve_path(poses, q, max_joint_step=0.3, plan=plan)
     assert np.isnan(plain.score).all() and plain[0].score is None
+
+
+@pytest.mark.parametrize("plan", ["follow", "global"])
+@pytest.mark.parametrize(("name", "turned"), [("kinova", 4 * np.pi), ("ur5", -2 * np.pi)])
+def test_a_free_start_takes_the_turn_the_score_prefers(name, turned, plan):
+    # a Posture whole turns away on joint 1 (continuous on the Kinova, 720 degrees of range
+    # on the UR5): without a start, the first answer is solve's, the posture itself, not the
+    # turn next to the mid-limit seed nor another branch nearer that turn
+    arm = conftest.arm(name)
+    q = arm.middle + 0.2
+    T = arm.fk(q)
+    poses = [pin.SE3(T.rotation, T.translation + [0, 0.01 * k, 0]) for k in range(4)]
+    posture = q.copy()
+    posture[0] += turned
+    one = arm.solve(poses[0], prefer=armik.Posture(posture))
+    path = arm.solve_path(poses, prefer=armik.Posture(posture), plan=plan)
+    assert path.success.all(), path.summary()
+    assert np.abs(path.q[0] - posture).max() < 1e-6, path.q[0] - posture
+    assert np.abs(one.q - posture).max() < 1e-6
+    assert np.abs(np.diff(path.q, axis=0)).max() <= 0.5 + 1e-12

@@ -44,7 +44,7 @@ from armik.kernel import ladder as kernel
 from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
 from armik.result import IKResult
-from armik.solve.prefer import turns
+from armik.solve.prefer import continuous_turned, turns
 from armik.solve.turning import ANY, Turning
 from armik.solvers.registry import SolverSpec
 from armik.status import Status
@@ -89,6 +89,9 @@ def plan(
     B = np.array([np.asarray(r.q) for g in good for r in g]).reshape(-1, arm.dof)
     node, weight = np.zeros(len(B)), 1.0
     if score is not None:  # the score decides, the motion breaks its ties
+        # a continuous joint scored at its best turn: the programming turns it next to the
+        # previous rung, and a first rung without a start stays as turned here
+        B = continuous_turned(arm, B, score, reference, turn)
         node = score.many(arm, B, reference)
         weight = TIE
     start = np.zeros(arm.dof) if q0 is None else np.asarray(q0, dtype=float)

@@ -138,7 +138,9 @@ def _walk(
     the turns the request allows an answer (``armik.solve.turning``)."""
     for i in range(len(batch)):
         target = batch.target(i)
-        r = unwrapped(arm, _at(arm, request, target, q_prev), q_prev, turn)
+        r = _at(arm, request, target, q_prev)
+        if not (free and i == 0 and chooser is not None):  # a free first answer: as preferred
+            r = unwrapped(arm, r, q_prev, turn)
         within = np.full(arm.dof, np.inf) if free and i == 0 else step
         if r.success and _jump(r.q, q_prev, within) > 1.0:
             r = _near(arm, target, q_prev, step, local, r, i == 0, turn)

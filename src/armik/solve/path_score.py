@@ -22,6 +22,7 @@ from armik.problem.settings import SolverSettings
 from armik.request import Request
 from armik.result import IKResult
 from armik.solve.nullspace import descend
+from armik.solve.prefer import best_variant
 from armik.solve.rungs import unwrapped
 from armik.solve.stages import run
 from armik.solve.turning import ANY, Turning
@@ -65,6 +66,8 @@ def preferred(
         if not np.array_equal(moved, r.q):
             claim = one(moved, Status.CONVERGED, reasons.SELF_MOTION)
             candidates += finish(arm, r.solver, claim, target, opts, q_prev, False, 0.0)
+    if np.isposinf(step).all():  # a free first answer: each at the turn the score ranks first
+        candidates = [_best_turn(arm, c, score, reference, turn) for c in candidates]
     within = [
         c for c in candidates if c.success and bool((np.abs(c.q - q_prev) <= step + 1e-12).all())
     ]
@@ -83,6 +86,18 @@ def preferred(
             "extra": {**best.extra, "score": values[k]},
         }
     )
+
+
+def _best_turn(
+    arm: ArmModel, r: IKResult, score: Score, reference: np.ndarray, turn: Turning
+) -> IKResult:
+    """``r`` at its best 2 pi variant for ``score`` (``prefer.best_variant``): the same pose."""
+    q = best_variant(arm, np.asarray(r.q), score, reference, turn)
+    if q is r.q or np.array_equal(q, r.q):
+        return r
+    q = np.array(q, dtype=float)
+    q.flags.writeable = False
+    return dataclasses.replace(r, q=q)
 
 
 _FIELDS = tuple(f for f in IKResult.__dataclass_fields__ if f not in ("reason", "time", "extra"))

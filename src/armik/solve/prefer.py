@@ -10,6 +10,7 @@ reference), in boxes around it that grow to the whole range.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Callable, Iterator
@@ -67,6 +68,26 @@ def best_variant(
     Q = combinations(choices)
     allowed = Q[turn.keeps(arm, Q)] if turn.checks else Q  # q itself, the first, passes
     return min(allowed, key=lambda x: score(arm, x, q0), default=q)
+
+
+def continuous_turned(
+    arm: ArmModel, Q: np.ndarray, score: Score, q0: np.ndarray, turn: Turning = ANY
+) -> np.ndarray:
+    """(N, dof): the rows of ``Q`` with their continuous joints (no limits) turned as
+    ``score`` ranks best (``best_variant`` on those joints alone; the others as given),
+    ``Q`` itself when nothing turns. A path's plan turns a limited joint through rungs of
+    their own, but scores a continuous one as the solver gave it."""
+    unlimited = np.isneginf(arm.lower) & np.isposinf(arm.upper) & turn.free(arm.dof)
+    if not score.turns_matter or not unlimited.any() or not len(Q):
+        return Q
+    only = dataclasses.replace(turn, fixed=tuple(np.flatnonzero(~unlimited).tolist()))
+    centre = _turn_centre(arm, score, q0)
+    if centre is None:
+        return np.array([best_variant(arm, q, score, q0, only) for q in Q])
+    K = _turns_towards(arm, Q, centre, only)
+    if only.checks:  # a turn that fails a check: the rung as verified
+        K[~only.keeps(arm, Q + TWO_PI * K)] = 0.0
+    return Q + TWO_PI * K if K.any() else Q
 
 
 def _turn_centre(arm: ArmModel, score: Score, q0: np.ndarray) -> np.ndarray | None:
