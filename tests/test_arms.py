@@ -353,3 +353,41 @@ def test_a_bad_q0_is_named_whole_with_its_joint(cell):
         cell.solve_batch(many, q0=q0)
     with pytest.raises(armik.OptionError, match="row 1 .* not finite at 'l_joint_2'"):
         cell.solve_batch(many, q0=np.vstack([q, np.r_[0, np.inf, np.zeros(10)]]))
+
+
+def test_a_link_of_either_arm_is_placed_by_the_chain_that_moves_it(cell):
+    # each chain's model holds every frame, the other arm locked: the other arm's links
+    # are placed by their own chain, as Pinocchio places them on the whole URDF
+    model = pin.buildModelFromXML(dual_irb120())
+    data = model.createData()
+    rng = np.random.default_rng(5)
+    for _ in range(3):
+        q = cell.random_q(rng)
+        full = pin.neutral(model)
+        for name, v in zip(cell.joint_names, q):
+            full[model.joints[model.getJointId(name)].idx_q] = v
+        pin.framesForwardKinematics(model, data, full)
+        for frame in ("l_link_3", "r_link_3", "r_link_5", "cell"):
+            truth = data.oMf[model.getFrameId(frame)]
+            assert cell.fk(q, frame).isApprox(truth, 1e-12), frame
+        J = cell.jacobian(q, "r_link_5", reference="base")
+        assert np.abs(J[:, :6]).max() == 0.0 and np.abs(J[:, 6:]).max() > 0.1
+
+
+def test_a_task_on_the_other_arms_link_is_that_arms_to_give(cell):
+    q = cell.random_q(4)
+    at = cell.fk(q, "r_link_3").translation
+    elbow = armik.Position(at, frame="r_link_3")
+    with pytest.raises(armik.TargetError, match="r_link_3.*give it in the target of 'r_tool0'"):
+        cell.solve({"l_tool0": [elbow]})
+    with pytest.raises(armik.TargetError, match="give each tip its own tasks"):
+        far = armik.Position(cell.fk(q, "r_tool0").translation, frame="r_tool0")
+        cell.solve({"l_tool0": [far]})
+    # in a flat list it goes to the chain that moves it, and holds there
+    left = armik.Pose(cell.fk(q, "l_tool0"), frame="l_tool0")
+    r = cell.solve([elbow, left])
+    assert r.success, r.reason
+    assert np.linalg.norm(cell.fk(r.q, "r_link_3").translation - at) < 1e-6
+    # a frame no chain moves (the common base) stays any tip's
+    base = armik.Position(cell.fk(q, "cell").translation, frame="cell")
+    assert cell.solve({"l_tool0": [base, left]}).success

@@ -30,12 +30,12 @@ from armik.arms_kinematics import ArmsKinematics
 from armik.arms_options import per_chain, refuse_own_checks
 from armik.arms_prefer import is_cost, ranked, scored
 from armik.arms_servo import ArmsServo
-from armik.arms_tasks import as_tasks, by_tip, on
+from armik.arms_tasks import as_tasks, by_tip, on, placed
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.model.union import Union
-from armik.problem.problem import Problem, as_problem, relative_tasks
+from armik.problem.problem import Problem, as_problem
 from armik.problem.scores import Manipulability, Score, parse_score
 from armik.problem.tasks import Pose, Relative, Task
 from armik.result import IKResult
@@ -396,7 +396,7 @@ class Arms(ArmsKinematics):
         """Each tip's ``Relative`` tasks, once the targets are checked: a mapping of known
         tips, each relative task on its own tip and relative to a known one."""
         if type(targets) is dict and targets and targets.keys() <= self._chains.keys():
-            relative = _relative(targets)  # the common case: known tips, checked below
+            relative = _relative(targets, self._chains)  # the common case: known tips
             if not relative:
                 return relative
         if not isinstance(targets, Mapping):
@@ -411,7 +411,7 @@ class Arms(ArmsKinematics):
                 f"this robot's tips {list(self.tips)}, as {{tip: target}}"
             )
         unknown = [t for t in targets if t not in self._chains]
-        relative = _relative(targets)
+        relative = _relative(targets, self._chains)
         for tip, rel in relative.items():
             if tip in self._chains:
                 unknown += [t.relative_to for t in rel if t.relative_to not in self._chains]
@@ -426,13 +426,20 @@ class Arms(ArmsKinematics):
         return relative
 
 
-def _relative(targets: Mapping[str, object]) -> dict[str, list[Relative]]:
-    """Each tip's ``Relative`` tasks."""
-    return {
-        tip: found
-        for tip, target in targets.items()
-        if type(target) not in _PLAIN and (found := relative_tasks(target))
-    }
+def _relative(targets: Mapping[str, object], chains: Mapping[str, ArmModel]) -> dict:
+    """Each tip's ``Relative`` tasks, once each known tip's tasks are checked to be on frames
+    its chain moves (``arms_tasks.placed``)."""
+    out: dict[str, list[Relative]] = {}
+    for tip, target in targets.items():
+        problem = None if type(target) in _PLAIN else as_problem(target)
+        if problem is None:
+            continue
+        if tip in chains:
+            placed(chains, tip, problem.tasks)
+        found = [t for t in problem.tasks if isinstance(t, Relative)]
+        if found:
+            out[tip] = found
+    return out
 
 
 _PLAIN = (np.ndarray, pin.SE3, Target)  # target types that hold no task: skipped unread

@@ -10,7 +10,7 @@ from typing import Any
 
 from armik.errors import TargetError
 from armik.model.arm_model import ArmModel
-from armik.model.frames import owner
+from armik.model.frames import moves, owner
 from armik.problem.problem import as_problem
 from armik.problem.tasks import Pose, Position, Relative, Task
 from armik.problem.tasks.base import replaced
@@ -39,6 +39,26 @@ def by_tip(chains: Mapping[str, ArmModel], targets: object) -> Any:
             )
         out.setdefault(tip, []).append(task)
     return out
+
+
+def placed(chains: Mapping[str, ArmModel], tip: str, tasks: Sequence[Task]) -> None:
+    """A ``TargetError`` for a task in ``tip``'s target on a frame that another chain's
+    joints move and ``tip``'s do not (a link of the other arm): ``tip``'s chain holds it
+    still, so its failure there would prove nothing of the robot."""
+    mine, tips = chains[tip], list(chains)
+    for task in tasks:
+        on(task, tip, tips)  # another tip's frame or its Relative: that tip's to give
+        frame = task.frame
+        if frame is None or frame == tip:
+            continue
+        other = owner(chains, frame)
+        if other != tip and other in chains and moves(chains[other], frame):
+            if not moves(mine, frame):
+                raise TargetError(
+                    f"the target of tip {tip!r} holds a {type(task).__name__} on frame "
+                    f"{frame!r}, which the chain of tip {other!r} moves and that of {tip!r} "
+                    f"does not: give it in the target of {other!r}"
+                )
 
 
 def as_tasks(target: object, tip: str, tips: Sequence[str]) -> list[Task]:

@@ -39,12 +39,21 @@ def frame_id(arm: ArmModel, frame: str | None) -> int:
 
 
 def owner(chains: Mapping[str, ArmModel], frame: str) -> str:
-    """The tip of the first of ``chains`` (tip -> model) that has ``frame``; ``frame``
-    itself where none has it (a tip is its own chain's)."""
+    """The tip of the first of ``chains`` (tip -> model) whose joints move ``frame``, else
+    of the first that has it (a frame fixed to the common base); ``frame`` itself where
+    none has it (a tip is its own chain's). Each chain's model holds every frame of the
+    robot, the other chains' joints locked: only the chain that moves a frame places it."""
     if frame in chains:
         return frame
-    found = (tip for tip, arm in chains.items() if arm.model.existFrame(str(frame)))
-    return next(found, frame)
+    having = [tip for tip, arm in chains.items() if arm.model.existFrame(str(frame))]
+    moving = (tip for tip in having if moves(chains[tip], frame))
+    return next(moving, having[0] if having else frame)
+
+
+def moves(arm: ArmModel, frame: str) -> bool:
+    """Whether some joint of ``arm`` moves its frame ``frame`` (one the model has)."""
+    model = arm.model
+    return bool(model.frames[model.getFrameId(str(frame))].parentJoint != 0)
 
 
 def frame_and_reference(frame: str | None, reference: str | None) -> tuple[str | None, str]:
