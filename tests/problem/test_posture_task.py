@@ -120,3 +120,15 @@ def test_the_task_solver_follows_a_posture_in_the_tasks_null_space():
         assert d_pulled <= d_plain + 1e-9
         nearer += d_pulled < d_plain - 1e-6
     assert nearer >= 3
+
+
+@pytest.mark.parametrize("solver", ["auto", "dls", "three_parallel"])
+def test_a_secondary_posture_of_another_arm_is_refused_whichever_solver_runs(solver):
+    # a closed form reads no posture; the request still is the user's mistake
+    ur5 = conftest.arm("ur5")
+    T = ur5.fk(ur5.random_q(1))
+    bad = [armik.Posture([0.0] * 5)]
+    with pytest.raises(armik.OptionError, match="has 5 values, the arm 6 joints"):
+        ur5.solve(T, solver=solver, secondary=bad)
+    with pytest.raises(armik.OptionError, match="has 5 values, the arm 6 joints"):
+        ur5.solve_batch([T, T], solver=solver, secondary=bad, workers=1)

@@ -24,7 +24,7 @@ from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.options import Options, spelled, with_sight
 from armik.problem.problem import Problem, as_problem, lower
-from armik.problem.scores import parse_score
+from armik.problem.scores import fit_posture, parse_score
 from armik.problem.tasks import Pose, Position, Task
 from armik.request import Request
 from armik.solve.tasks import SOLVER, check_said_twice, lower_all, task_problems
@@ -280,12 +280,12 @@ def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | 
             kept = _KEPT(arm)
         opts = kept.get(key)
     except TypeError:  # an unhashable value (a list of weights): validate every time
-        opts = Options.from_kwargs({**kwargs, "seed": seed})
+        opts = _fitted(arm, Options.from_kwargs({**kwargs, "seed": seed}))
         return (with_sight(opts, look, toward) if sight else opts), None, _seed(seed)
     if type(seed) is not int or not 0 <= seed < 2**63:  # a plain seed needs no call
         seed = _seed(seed)
     if opts is None:
-        opts = Options.from_kwargs({**kwargs, "seed": seed})  # the seed checked with them
+        opts = _fitted(arm, Options.from_kwargs({**kwargs, "seed": seed}))  # seed checked too
         if len(kept) > 256:
             kept.clear()
         kept[key] = opts
@@ -293,6 +293,14 @@ def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | 
 
 
 _KEPT: Derived[dict] = Derived("validated options", lambda _: {})
+
+
+def _fitted(arm: ArmModel, opts: Options) -> Options:
+    """``opts`` once what they say of the joints fits ``arm`` (a secondary posture: one
+    value per joint), whichever solver then runs."""
+    if opts.posture is not None:
+        fit_posture(len(opts.posture[0]), arm.joint_names, option="secondary")
+    return opts
 
 
 def _scene(arm: ArmModel, obstacles: list | tuple) -> int:
