@@ -180,3 +180,23 @@ def test_a_held_joints_result_says_its_verdict_once_and_counts_its_search(solver
     assert r.success and r.reason.count("verified by forward kinematics") == 1
     if "restart(s)" in r.reason:
         assert f"converged after {r.restarts} restart(s)" in r.reason and r.iterations > 0
+
+
+def test_a_path_holding_the_pandas_joint_7_is_solved_as_solve_solves_it():
+    # the sweep at the held value, as solve and solve_batch run it: a target no branch
+    # reaches at that value is proved unreachable, not left unconverged after the budget
+    panda = armik.load("panda")
+    hold = {"panda_joint7": 0.3}
+    q = panda.random_q(2)
+    q[6] = 0.3
+    T = panda.fk(q)
+    line = [pin.SE3(T.rotation, T.translation + [0, 0.002 * k, 0]) for k in range(4)]
+    for plan in ("follow", "global"):
+        path = panda.solve_path(line, q, hold=hold, plan=plan)
+        assert path.success.all() and path.solver == "swept", (plan, path.summary())
+        assert np.abs(path.q[:, 6] - 0.3).max() <= 1e-9
+    Tp = panda.fk(panda.random_q(2))
+    alone = panda.solve(Tp, q0=panda.random_q(1), hold=hold)
+    assert alone.status is armik.Status.UNREACHABLE, alone.reason
+    path = panda.solve_path([Tp, Tp], panda.random_q(1), hold=hold)
+    assert path.counts() == {"unreachable": 2} and path.solver == "swept", path.summary()

@@ -91,7 +91,8 @@ def plan(
     if score is not None:  # the score decides, the motion breaks its ties
         # a continuous joint scored at its best turn: the programming turns it next to the
         # previous rung, and a first rung without a start stays as turned here
-        B = continuous_turned(arm, B, score, reference, turn)
+        if reference is not None:
+            B = continuous_turned(arm, B, score, reference, turn)
         node = score.many(arm, B, reference)
         weight = TIE
     start = np.zeros(arm.dof) if q0 is None else np.asarray(q0, dtype=float)

@@ -90,7 +90,11 @@ def solve_path(
         spec = chosen(arm, solver, request.key, opts, batch.rotations is None if n else None)
     else:  # the solver named, which may read the target itself
         spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
-    request, local = request.but(solver=spec.name), local.but(solver=spec.name)
+    # a held joint with "auto": each waypoint's solver chosen as solve chooses it (the sweep
+    # at the held value where one applies), else the path's choice for every waypoint
+    held_auto = solver == "auto" and opts.hold is not None
+    if not held_auto:
+        request, local = request.but(solver=spec.name), local.but(solver=spec.name)
     out = BatchResult.for_arm(arm, n, spec.name, opts, margin=opts.margin)
     if plan == "global":
         # every solution: what solve_all would run (a search where one is not complete)
@@ -120,22 +124,25 @@ def solve_path(
         refuse_broken(arm, out, turn)
         return frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
     chooser = None if score is None else _chooser(arm, score, q_prev, request, turn)
-    _walk(arm, batch, q_prev, step, request, local, out, chooser, q0 is None, turn)
+    used = _walk(arm, batch, q_prev, step, request, local, out, chooser, q0 is None, turn)
     ladder.held_to_step(arm, out, None if q0 is None else q_prev, step)
     refuse_broken(arm, out, turn)
-    out = frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
+    label = used if held_auto and used is not None else out.solver
+    out = frozen(BatchResult, **{**vars(out), "solver": label, "time": time.perf_counter() - t0})
     return out
 
 
 def _walk(
     arm, batch, q_prev, step, request, local, out, chooser=None, free=False, turn=ANY
-) -> None:
+) -> str | None:
     """Solve the waypoints in order, each from the previous answer, into ``out``
     (``request``: the path's; ``local``: the same without restarts);
     ``chooser(target, r, q_prev, within)``: the answer kept among those within ``within`` (a
     preference), else ``r``; ``free``: no start given, the first answer (from ``q_prev``,
     a seed) is held to no step, a preference choosing among every answer there; ``turn``:
-    the turns the request allows an answer (``armik.solve.turning``)."""
+    the turns the request allows an answer (``armik.solve.turning``). Returns the solver
+    of the first verified answer, else of the first answer (None: no waypoint)."""
+    used = None
     for i in range(len(batch)):
         target = batch.target(i)
         r = _at(arm, request, target, q_prev)
@@ -149,6 +156,9 @@ def _walk(
         out.put_result(i, r)
         if r.success or r.status is Status.DISCONTINUOUS:
             q_prev = np.array(r.q)
+        if used is None or (r.success and not out.success[:i].any()):
+            used = r.solver
+    return used
 
 
 def _at(arm: ArmModel, request: Request, target: object, q: np.ndarray) -> IKResult:
