@@ -64,13 +64,14 @@ def test_solve_all_parses_once(parses, name):
     assert len(parses) <= 1, parses
 
 
-def test_a_path_parses_each_waypoint_once_at_most(parses):
-    a, T = _pose("ur5")
+@pytest.mark.parametrize("name", ["ur5", "panda"])  # the Panda's global plan: swept rungs
+def test_a_path_parses_each_waypoint_once_at_most(parses, name):
+    a, T = _pose(name)
     line = [pin.SE3(T.rotation, T.translation + [0, 0.01 * k, 0]) for k in range(3)]
     for plan in ("follow", "global"):
         parses.clear()
         a.solve_path(line, a.middle + 0.1, plan=plan)
-        assert len(parses) <= len(line), parses
+        assert len(parses) <= len(line), (plan, parses)
 
 
 def test_a_batch_parses_each_target_once_at_most(parses):

@@ -23,7 +23,6 @@ from armik.request import Request
 from armik.result import IKResult
 from armik.solve.stages import run
 from armik.solve.turning import ANY, Turning, turning
-from armik.targets.pose import Target
 
 HELD_OFFSETS = 0.1 * np.arange(-2, 3)  # rad: joint 7's values about the followed path's
 HELD_GRID = 6  # values across joint 7's range beside them: other branches, missed waypoints
@@ -35,7 +34,7 @@ SAME = 1e-6  # rad or m: a track this near another's answer has merged with it
 def every_branch(arm: ArmModel, batch, q_prev: np.ndarray, solver: str, request) -> list:
     """Each waypoint's ``solve_all`` results by ``solver`` (a pose as a 4x4 array takes the
     prepared path)."""
-    return [_all(arm, request, plain(batch.target(i)), q_prev, solver) for i in range(len(batch))]
+    return [_all(arm, request, batch.target(i), q_prev, solver) for i in range(len(batch))]
 
 
 def _all(arm: ArmModel, request: Request, target, q: np.ndarray, solver: str) -> list:
@@ -60,7 +59,7 @@ def held(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> 
         if followed.success[i]:
             theta = float(followed.q[i, j])
             found.append(followed[i])  # where joint 7 admits no closed form exactly there
-        target = plain(batch.target(i))
+        target = batch.target(i)
         for value in np.concatenate((np.clip(theta + HELD_OFFSETS, lo, hi), grid)):
             seed[j] = value  # where the closed form holds its joint first
             found += _all(arm, request, target, seed, spec.name)
@@ -72,7 +71,7 @@ def tracked(arm: ArmModel, batch, q_start: np.ndarray, solver: str, followed, re
     """A numeric arm's rungs (see the module): each waypoint's followed result (its own
     failure where nothing reaches it) and every distinct answer a track reached there."""
     n = len(batch)
-    targets = [plain(batch.target(i)) for i in range(n)]
+    targets = [batch.target(i) for i in range(n)]
     local = request.narrowed(max_restarts=0).but(solver=solver)
     turn = turning(arm, request.opts, q_start)
     rungs: list[list[IKResult]] = [[followed[i]] for i in range(n)]
@@ -110,15 +109,6 @@ def _add(found: list[IKResult], r: IKResult) -> bool:
         return False
     found.append(r)
     return True
-
-
-def plain(target: Target):
-    """A pose as its 4x4 array (a position as its 3 numbers): the prepared path's input."""
-    if target.rotation is None:
-        return target.position
-    H = np.eye(4)
-    H[:3, :3], H[:3, 3] = target.rotation, target.position
-    return H
 
 
 def unwrapped(arm: ArmModel, r: IKResult, q_prev: np.ndarray, turn: Turning = ANY) -> IKResult:
