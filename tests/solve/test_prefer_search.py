@@ -161,3 +161,33 @@ def test_solve_all_with_a_preference_lists_every_answer_once_best_first(name):
             assert np.abs(a.q - b.q).max() >= DUPLICATE_TOL
     scores = [r.extra["score"] for r in ranked]
     assert scores == sorted(scores) and scores[0] == pytest.approx(0.0, abs=1e-9)
+
+
+def test_the_preference_stages_clock_starts_after_their_kernels_are_loaded(monkeypatch):
+    # a process's first call loads (or compiles) the kernels its stages run; were that in
+    # the stages' shared time, the first call would gather fewer starts than every later
+    # one and answer differently. Each request is run once first, then the clock starts.
+    from armik.solve import preferred
+
+    events: list = []
+    load, near = preferred._load, prefer.near_answers
+
+    def loading(arm, req):
+        load(arm, req)
+        events.append(("loaded", req.every))
+
+    def gathering(arm, solve_from, middle, opts, clock):
+        events.append(("clock", clock <= time.thread_time()))
+        return near(arm, solve_from, middle, opts, clock)
+
+    monkeypatch.setattr(preferred, "_load", loading)
+    monkeypatch.setattr(prefer, "near_answers", gathering)
+    xarm = conftest.arm("xarm7")  # numeric: solve_all's answers, then starts near q0
+    T = xarm.fk(xarm.middle + 0.2)
+    r = xarm.solve(T, prefer="manipulability")
+    assert r.success, r.reason
+    assert events[:2] == [("loaded", True), ("loaded", False)] and events[2][0] == "clock"
+    assert preferred._LOADED(xarm.kinematics)  # once per arm and options: not again
+    events.clear()
+    xarm.solve(T, prefer="manipulability")
+    assert [e[0] for e in events] == ["loaded", "loaded", "clock"]

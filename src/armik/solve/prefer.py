@@ -328,21 +328,22 @@ def near_answers(
     solve_from: Callable[[np.ndarray], IKResult],
     middle: np.ndarray,
     opts,
-    t0: float,
+    clock: float,
 ) -> list[IKResult]:
     """The verified answers of one descent from each of ``near_starts`` (``solve_from``
     runs it), at most ``NEAR_STARTS`` and ``opts.max_restarts`` of them, until
-    ``NEAR_UNTIL`` of the timeout has passed since ``t0``, or with an iteration budget
+    ``NEAR_UNTIL`` of the timeout has passed since ``clock`` (the thread's CPU time,
+    ``time.thread_time``, as the budget is), or with an iteration budget
     until the starts have run ``1 - GATHER_ITERATIONS`` of it (deterministic: the starts
     come from ``opts.seed``)."""
     rng = np.random.default_rng(opts.seed)
     budget = opts.iteration_budget
     left = math.inf if budget is None else (1.0 - GATHER_ITERATIONS) * budget
-    deadline = t0 + NEAR_UNTIL * opts.timeout
+    deadline = clock + NEAR_UNTIL * opts.timeout
     found = []
     starts = near_starts(arm, middle, rng)
     for _ in range(min(NEAR_STARTS, opts.max_restarts)):
-        if left <= 0 or (budget is None and time.perf_counter() > deadline):
+        if left <= 0 or (budget is None and time.thread_time() > deadline):
             break
         r = solve_from(next(starts))
         left -= r.iterations

@@ -17,6 +17,7 @@ import pinocchio as pin
 
 from armik import reasons
 from armik.model.arm_model import ArmModel
+from armik.model.derived import Derived
 from armik.request import Request
 from armik.result import IKResult
 from armik.solve import prefer
@@ -54,6 +55,12 @@ def preferred(arm: ArmModel, req: Request):
         share = plain.narrowed(timeout=opts.timeout * prefer.GATHER)
     else:
         share = plain.narrowed(iteration_budget=max(int(budget * prefer.GATHER_ITERATIONS), 1))
+    if problem is None:  # what the search runs, loaded (or compiled) before its clock starts
+        _load(arm, share.but(every=True))
+        if pose:  # and the single descents from starts near q0
+            _load(arm, plain.narrowed(max_restarts=0).but(every=False))
+    # the shares' deadlines, in the budget's own time (the thread's CPU time), from here
+    clock = time.thread_time()
     share = share.but(t0=time.perf_counter())
     if problem is None:  # solve_all's answers
         found = run(arm, share.but(every=True))
@@ -68,16 +75,33 @@ def preferred(arm: ArmModel, req: Request):
             return run(arm, once.but(q0=start, t0=time.perf_counter()))  # type: ignore[no-any-return]
 
         middle = prefer.centre(arm, score, seed)
-        found = [*found, *prefer.near_answers(arm, solve_from, middle, opts, t0)]
+        found = [*found, *prefer.near_answers(arm, solve_from, middle, opts, clock)]
     known: dict = {}  # each answer's score, computed once
     if arm.dof > 6 and pose:
         best = [q for _, _, q in prefer.ordered(arm, found, score, seed, known, turn)]
         if best:
-            moved = _along_self_motion(arm, target, seed, opts, score, best, found[0].solver, t0)
+            solver_found = found[0].solver
+            moved = _along_self_motion(
+                arm, target, seed, opts, score, best, solver_found, t0, clock
+            )
             found = [*moved, *found]
     count = (opts.max_solutions if searched else None) if every else 1
     ranked = rank(arm, found, score, seed, t0, known, count, turn)
     return ranked if every else ranked[0]
+
+
+def _load(arm: ArmModel, req: Request) -> None:
+    """``req`` run once per arm and options for one iteration: the kernels it loads (or
+    compiles) on a process's first use, loaded outside the time the preference's stages
+    share, so that a first call answers as every later one."""
+    loaded = _LOADED(arm)
+    if req.key is None or (req.key, req.every) in loaded:
+        return
+    loaded.add((req.key, req.every))
+    run(arm, req.narrowed(iteration_budget=1).but(t0=time.perf_counter()))
+
+
+_LOADED: Derived[set] = Derived("requests a preference ran once", lambda _: set())
 
 
 def _plain_pose(opts) -> bool:
@@ -95,16 +119,17 @@ def _plain_pose(opts) -> bool:
 
 
 def _along_self_motion(
-    arm, tgt, seed, opts, score, best: list, solver: str, t0: float
+    arm, tgt, seed, opts, score, best: list, solver: str, t0: float, clock: float
 ) -> list[IKResult]:
     """A redundant arm's best answers (``prefer.DESCENTS`` distinct ones of ``best``, the
     configurations best first) each moved along its self-motion to a lower score
-    (``armik.solve.nullspace``) until ``prefer.DESCENT_UNTIL`` of the budget, verified
+    (``armik.solve.nullspace``) until ``prefer.DESCENT_UNTIL`` of the budget has passed
+    since ``clock`` (the thread's CPU time), verified
     again as ``solver``'s: the moved answers, to be ranked with the rest."""
     pose = pin.SE3(tgt.rotation, tgt.position)
     claims: list[Answers] = []
     for q in prefer.distinct(best, prefer.DESCENTS):
-        left = prefer.DESCENT_UNTIL * opts.timeout - (time.perf_counter() - t0)
+        left = prefer.DESCENT_UNTIL * opts.timeout - (time.thread_time() - clock)
         if opts.iteration_budget is not None:  # deterministic: the descent's own step cap
             left = math.inf
         elif left <= 0.0:
