@@ -107,10 +107,6 @@ class Arms(ArmsKinematics):
     def __repr__(self) -> str:
         return f"Arms(tips={list(self.tips)}, dof={self.dof})"
 
-    def chain(self, tip: str):
-        """The ``Arm`` from the base to ``tip``."""
-        return self._facades[self._known(tip)]
-
     def solve(self, targets: Mapping[str, object], *, q0: object = None, **options) -> IKResult:
         """Every tip at its target (any target form ``Arm.solve`` takes, or a task list),
         each chain by its own solver; one ``IKResult`` for the robot (module docstring)."""
@@ -217,16 +213,6 @@ class Arms(ArmsKinematics):
             tip: arm.fk(results[tip].q if tip in results else seeds[tip])
             for tip, arm in self._chains.items()
         }
-
-    def _joint(self) -> Union:
-        """Every chain in one model, for tasks that couple chains sharing no joint."""
-        if self._union is not None:
-            return self._union
-        if self._coupled is None:
-            self._coupled = Union(list(self._chains.values()))
-            names = self._coupled.joint_names
-            self._permutation = np.array([names.index(n) for n in self.joint_names])
-        return self._coupled
 
     def _reaching(self, beyond: dict[str, str], targets, q0, options: dict, t0: float):
         """Tips sharing joints, some provably beyond reach (``arms_reach``): the others

@@ -28,9 +28,28 @@ class ArmsKinematics:
     dof: int
     lower: np.ndarray
     upper: np.ndarray
+    shared: tuple[str, ...]  # the joints more than one chain holds
+    _facades: dict[str, object]  # tip -> its ``Arm``
     _chains: dict[str, ArmModel]
     _columns: dict[str, np.ndarray]
-    _union: Union | None
+    _union: Union | None  # the chains in one model where they share joints
+    _coupled: Union | None  # else, built for the first task that couples them
+    _permutation: np.ndarray | None  # ``joint_names``' columns in ``_coupled``
+
+    def chain(self, tip: str):
+        """The ``Arm`` from the base to ``tip``."""
+        return self._facades[self._known(tip)]
+
+    def _joint(self) -> Union:
+        """Every chain in one model: the union where they share joints, else built for the
+        first task (or servo) that couples them."""
+        if self._union is not None:
+            return self._union
+        if self._coupled is None:
+            self._coupled = Union(list(self._chains.values()))
+            names = self._coupled.joint_names
+            self._permutation = np.array([names.index(n) for n in self.joint_names])
+        return self._coupled
 
     def _known(self, tip: str) -> str:
         """``tip``, or ``FrameError`` naming the robot's tips."""

@@ -34,7 +34,7 @@ from armik.servo.union import KEYWORDS as UNION_KEYWORDS
 from armik.servo.union import UnionServo
 
 if TYPE_CHECKING:
-    from armik.arms import Arms
+    from armik.arms_kinematics import ArmsKinematics
 
 # the joined step's status: the first of these that some tip's step has
 PRECEDENCE = (
@@ -52,7 +52,7 @@ PRECEDENCE = (
 LIMITS = ("velocity_limits", "acceleration_limits")  # per joint of the robot, split by chain
 
 
-def split_limits(arms: Arms, name: str, value: object) -> dict[str, object]:
+def split_limits(arms: ArmsKinematics, name: str, value: object) -> dict[str, object]:
     """``value`` (a number, one per joint of ``arms.joint_names``, or a mapping from those
     joints' names) as each tip's chain's: the number itself, its joints' values, its joints'
     part of the mapping. Raises ``OptionError`` for another length, ``JointError`` for a
@@ -94,7 +94,7 @@ class ArmsServo:
     ``OptionError`` for ``self_collision`` on chains that share no joint, and for an
     option the union's servo does not take."""
 
-    def __init__(self, arms: Arms, q0: object, **options: object) -> None:
+    def __init__(self, arms: ArmsKinematics, q0: object, **options: object) -> None:
         if options.get("self_collision") and not arms.shared:
             raise OptionError(
                 "self_collision is not supported by a servo on several tips whose chains "

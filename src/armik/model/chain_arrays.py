@@ -23,10 +23,10 @@ from armik.kernel.chain import (
 )
 
 if TYPE_CHECKING:
-    from armik.model.arm_model import ArmModel
+    from armik.model.arm_view import ArmView
 
 
-def build_chain(arm: ArmModel) -> KernelChain:
+def build_chain(arm: ArmView) -> KernelChain:
     """Read ``arm``'s chain from its Pinocchio model of physical joints
     (``arm.physical_model``: a mimic joint there is a joint of its own) and its mimic map
     (``arm.joint_map``). Raises ``ValueError`` if the model is not a serial chain of

@@ -25,7 +25,7 @@ import pinocchio as pin
 from armik.tolerances import PARALLEL_TOL
 
 if TYPE_CHECKING:
-    from armik.model.arm_model import ArmModel
+    from armik.model.arm_view import ArmView
 
 
 @dataclass(frozen=True)
@@ -77,7 +77,7 @@ class Plane:
         return float((p - self.origin) @ self.normal)
 
 
-def find_plane(arm: ArmModel) -> Plane | None:
+def find_plane(arm: ArmView) -> Plane | None:
     if np.any(arm.prismatic) or arm.mimics:
         return None
     q = arm.to_pin(arm.middle)
@@ -128,7 +128,7 @@ class Axes:
     tip_rotation: np.ndarray  # (3, 3)
 
 
-def axis_lines(arm: ArmModel) -> Axes:
+def axis_lines(arm: ArmView) -> Axes:
     """The joint axis lines of ``arm`` at q = 0, read from the Pinocchio model."""
     q = arm.to_pin(np.zeros(arm.dof))
     T_tip = arm.fk_pin(q)  # leaves the joint placements in arm.data
