@@ -12,7 +12,6 @@ import pytest
 
 import armik
 from armik.kernel.ladder import _child
-from armik.solve.single import solve
 from armik.status import Status
 
 from .. import conftest
@@ -58,7 +57,7 @@ def test_the_plan_is_the_brute_force_optimum_on_a_short_path():
     assert planned.success.all()
     total = np.linalg.norm(np.diff(np.vstack([q0, planned.q]), axis=0), axis=1).sum()
     rungs = [
-        [np.asarray(r.q) for r in solve(arm.kinematics, T, q0=q0, all_solutions=True) if r.success]
+        [np.asarray(r.q) for r in arm.solve_all(T, q0=q0) if r.success]
         for T in poses
     ]
     lo, hi = arm.lower, arm.upper
@@ -113,7 +112,7 @@ def test_a_preferred_plan_is_the_brute_force_best_score_among_continuous_paths(p
     variants = []
     for T in poses:
         found = []
-        for r in solve(arm.kinematics, T, all_solutions=True):
+        for r in arm.solve_all(T):
             if not r.success:
                 continue
             turns = [

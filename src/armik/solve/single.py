@@ -1,4 +1,5 @@
-"""One target: ``solve`` and ``solve_all`` as the facade calls them.
+"""One target: ``solve`` and ``solve_all`` as the facades (``Arm``, and ``Arms`` for each
+chain) call them.
 
 The keyword options are read once into a request (``armik.solve.read``), which then takes
 one of three routes: the rank stage for a score (``armik.solve.preferred``), the task
@@ -9,33 +10,17 @@ from __future__ import annotations
 
 from armik.model.arm_model import ArmModel
 from armik.request import Request
-from armik.result import IKResult
 from armik.solve.preferred import preferred
 from armik.solve.read import read
 from armik.solve.stages import run
 from armik.solve.task_solve import solve_problem
 
 
-def solve(
-    arm: ArmModel,
-    target: object,
-    *,
-    q0: object = None,
-    solver: str = "auto",
-    all_solutions: bool = False,
-    **options: object,
-) -> list[IKResult]:
-    """Parse, choose a solver, run it, verify every answer, rank: best first."""
-    if not all_solutions:
-        return [solve_one(arm, target, q0, solver, options)]
-    return solve_one(arm, target, q0, solver, options, every=True)  # type: ignore[no-any-return]
-
-
 def solve_one(
     arm: ArmModel, target: object, q0: object, solver: str, options: dict, every: bool = False
 ):
-    """``solve(arm, target, q0=q0, solver=solver, **options)[0]`` (``Arm.solve``'s route),
-    or with ``every`` the whole list of ``all_solutions=True``."""
+    """``Arm.solve(target, q0=q0, solver=solver, **options)`` on ``arm``'s model (with
+    ``every``: ``Arm.solve_all``'s list): its options read into a request, then routed."""
     return routed(arm, read(arm, target, q0, solver, options, every))
 
 
