@@ -27,10 +27,11 @@ import pinocchio as pin
 from armik import arms_every, arms_many, arms_reach, checked
 from armik.arms_joined import joined, worse
 from armik.arms_kinematics import ArmsKinematics
-from armik.arms_options import per_chain, refuse_own_checks
+from armik.arms_options import chain_constraints, per_chain, refuse_own_checks
 from armik.arms_prefer import is_cost, ranked, scored
 from armik.arms_servo import ArmsServo
 from armik.arms_tasks import as_tasks, by_tip, on, placed
+from armik.constraints.on_chain import OnChain
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
@@ -112,7 +113,7 @@ class Arms(ArmsKinematics):
         each chain by its own solver; one ``IKResult`` for the robot (module docstring)."""
         t0 = time.perf_counter()
         if "constraints" in options:  # a call only then: the common call has none
-            refuse_own_checks(options)
+            refuse_own_checks(options, self.tips)
         if q0 is not None:  # the whole q0, its bad joints named: not one chain's part of it
             q0 = checked.configuration("q0", q0, self.joint_names)
         if type(targets) is not dict:  # a flat list of tasks, read by tip; a mapping as given
@@ -172,7 +173,7 @@ class Arms(ArmsKinematics):
     ) -> Solutions:
         """Every answer for one target per tip, best first (``armik.arms_every``), as
         ``Arm.solve_all`` gives them: a ``Solutions``."""
-        refuse_own_checks(options)
+        refuse_own_checks(options, self.tips)
         if q0 is not None:
             q0 = checked.configuration("q0", q0, self.joint_names)
         return Solutions(arms_every.solve_all(self, by_tip(self._chains, targets), q0, **options))
@@ -182,7 +183,7 @@ class Arms(ArmsKinematics):
         chain's own batch where the chains are independent (``armik.arms_many``);
         ``workers``, ``chunk_size``, ``progress`` and ``backend`` as ``Arm.solve_batch``'s
         (``backend`` refused where the rows are solved one by one)."""
-        refuse_own_checks(options)
+        refuse_own_checks(options, self.tips)
         return arms_many.solve_batch(self, targets, q0=q0, **options)
 
     def servo(self, q0: object, **options: object) -> ArmsServo:
@@ -202,7 +203,7 @@ class Arms(ArmsKinematics):
     ):
         """Waypoints per tip (tip -> N waypoints) in order from ``q0``, never with a silent
         jump larger than ``max_joint_step`` (``armik.arms_many``)."""
-        refuse_own_checks(options)
+        refuse_own_checks(options, self.tips)
         return arms_many.solve_path(
             self, waypoints, q0, max_joint_step=max_joint_step, plan=plan, **options
         )
@@ -246,8 +247,8 @@ class Arms(ArmsKinematics):
                 tasks.append(Pose.of(target, tip))
             else:
                 tasks += as_tasks(target, tip, self.tips)
-        opts, unbound, budget = self._settings(options)
         held = self._holds(options) if options else None  # each chain's start (``_start``)
+        opts, unbound, budget = self._settings(self._on_union(union, options))
         seed = self.middle if q0 is None else np.asarray(q0, float)
         start = self._start(targets, seed, relative, solver, held)
         order = self._permutation
@@ -285,6 +286,20 @@ class Arms(ArmsKinematics):
         reason = r.reason if not failed else f"tips not within their tasks: {failed}; {r.reason}"
         extra = {**r.extra, "errors": errors}  # r's fields are of their types: no __init__
         return frozen(IKResult, **{**r.__dict__, "reason": reason, "extra": extra})
+
+    def _on_union(self, union: Union, options: dict) -> dict:
+        """``options`` over ``union``'s joints: each tip's own constraints (``constraints={tip:
+        [...]}``) read that chain's joints of the union's answers (``OnChain``)."""
+        own = chain_constraints(options, self.tips)
+        if own is None:
+            return options
+        names = union.joint_names
+        on = []
+        for tip, given in own.items():
+            chain = self._chains[tip]
+            columns = np.array([names.index(n) for n in chain.joint_names])
+            on += [OnChain(c, tip, chain, columns) for c in given]
+        return {**options, "constraints": on}
 
     def _settings(self, options: dict) -> tuple[SolverSettings, tuple[Constraint, ...], Budget]:
         """(settings, their constraints unbound, their budget): the descent's over every

@@ -335,8 +335,11 @@ def _independent(arms: Arms, targets: Mapping[str, Any]) -> bool:
 def _read(options: Mapping[str, Any]) -> SolverSettings:
     """The options every chain's solve reads, checked before any runs: an unknown one, or a
     bad value, refused before the work, not after it. ``prefer=`` and ``solver=`` are each
-    chain's own solve's to read (``Arms.solve`` takes them)."""
-    return read_options({k: v for k, v in options.items() if k not in ("prefer", "solver")})
+    chain's own solve's to read (``Arms.solve`` takes them), and so are constraints given by
+    tip (``arms_options.chain_constraints``)."""
+    by_tip = isinstance(options.get("constraints"), Mapping)
+    own: tuple[str, ...] = ("prefer", "solver", "constraints") if by_tip else ("prefer", "solver")
+    return read_options({k: v for k, v in options.items() if k not in own})
 
 
 def _empty(arms: Arms, n: int, solver: str, opts: SolverSettings) -> BatchResult:

@@ -5,7 +5,7 @@ read once (``armik.solve.read``) for what they hold and spell, however given (``
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 
 import numpy as np
 
@@ -31,6 +31,11 @@ def per_chain(
     ``JointError``) and follows its joints' part of a posture over every joint
     (``secondary=[armik.Posture(q_ref, weights)]``, ``prefer=armik.Posture(q_ref, weights)``:
     one value per joint of the robot)."""
+    own = chain_constraints(options, chains)
+    if own is not None:  # each tip's own constraints: added to its options last
+        options = {k: v for k, v in options.items() if k != "constraints"}
+        each = per_chain(options, chains, columns, joint_names)
+        return {tip: _with(each[tip], own.get(tip, [])) for tip in chains}
     prefer = _posture(options.get("prefer"), joint_names)
     if not _PER_CHAIN.intersection(options) and prefer is None:
         return dict.fromkeys(chains, options)
@@ -105,18 +110,63 @@ def _posture(prefer: object, joint_names: Sequence[str]) -> Posture | None:
     return prefer
 
 
-def refuse_own_checks(options: dict) -> None:
-    """An ``OptionError`` for a constraint of the user's own class on several tips: its
-    check reads one arm's joints, and which (a chain's, the robot's) is not said; dropping
-    it would call answers that violate it successes."""
+def refuse_own_checks(options: dict, tips: Sequence[str]) -> None:
+    """An ``OptionError`` for a constraint of the user's own class in a flat list on
+    several tips: its check reads one arm's joints, and which chain's is not said (dropping
+    it would call answers that violate it successes); given by tip (``constraints={tip:
+    [...]}``), each is its chain's, checked here (``chain_constraints``)."""
     if "constraints" not in options:
+        return
+    if isinstance(options["constraints"], Mapping):
+        chain_constraints(options, tips)
         return
     own = read_options({"constraints": options["constraints"]}).checks
     if own:
         raise OptionError(
-            f"constraints: {own[0]!r} checks one arm's joints; on several tips give "
-            "armik.Hold and armik.Collisions, or solve each tip's chain "
+            f"constraints: {own[0]!r} checks one arm's joints; on several tips give it by "
+            "the tip whose chain it checks (constraints={tip: [...]}), or solve that chain "
             "(robot.chain(tip).solve(..., constraints=[...]))",
             option="constraints",
             value=own[0],
         )
+
+
+def chain_constraints(options: dict, tips: Iterable[str]) -> dict[str, list] | None:
+    """``constraints=`` given by tip (tip -> a constraint or several, each checking that
+    tip's chain as it would alone), checked: known tips, and checks of the user's own (a
+    ``Hold`` or ``Collisions`` names what it acts on: the flat list takes it); None where
+    ``constraints`` is no mapping."""
+    given = options.get("constraints")
+    if not isinstance(given, Mapping):
+        return None
+    tips = list(tips)
+    out: dict[str, list] = {}
+    for tip, value in given.items():
+        if tip not in tips:
+            raise OptionError(
+                f"constraints: unknown tip {tip!r}; give each tip's constraints under one "
+                f"of {tips}",
+                option="constraints",
+                value=tip,
+            )
+        items = [value] if isinstance(value, Constraint) else list(value)
+        for c in items:
+            if not isinstance(c, Constraint) or c.said():
+                raise OptionError(
+                    f"constraints[{tip!r}] holds {c!r}: by tip, give constraints of your own "
+                    "class (a check of that chain); armik.Hold and armik.Collisions go in "
+                    "the flat list (constraints=[...]), which names what they act on",
+                    option="constraints",
+                    value=c,
+                )
+        out[tip] = items
+    return out
+
+
+def _with(options: dict, constraints: list) -> dict:
+    """``options`` with ``constraints`` added to those it has."""
+    if not constraints:
+        return options
+    had = options.get("constraints")
+    before = [] if had is None else [had] if isinstance(had, Constraint) else list(had)
+    return {**options, "constraints": [*before, *constraints]}

@@ -153,3 +153,62 @@ def test_several_tips_refuse_what_they_cannot_honour():
     targets = {"panda_hand": robot.fk(q, "panda_hand"), "panda_link5": robot.fk(q, "panda_link5")}
     with pytest.raises(armik.OptionError, match="ElbowUp"):
         robot.solve(targets, constraints=[ElbowUp()])
+
+
+def test_several_tips_over_shared_joints_take_a_constraint_by_tip():
+    # one model of both chains (the task solver): the tip's check reads its chain's joints;
+    # where no answer holds it, the failure is the check's own, naming the tip
+    robot = armik.load("panda", tips=["panda_hand", "panda_link5"])
+    targets, qs = _targets(3)
+    refused = 0
+    for T, q in zip(targets, qs):
+        elbow = robot.fk(q, "panda_link5")  # fixes joints 1 to 4 nearly: joint 4 at -2
+        goal = {"panda_hand": T, "panda_link5": elbow}
+        r = robot.solve(goal, q0=q, constraints={"panda_hand": [ElbowUp()]})
+        assert not r.success, r.q
+        if r.reason.endswith("panda_hand: elbow below -1"):
+            assert r.status is armik.Status.JOINT_LIMITS
+            refused += 1
+    assert refused > 0
+    bent = Q_BENT.copy()
+    bent[3] = -0.5  # a pose whose elbow holds it: no answer refused that holds it
+    r = robot.solve(
+        {"panda_hand": robot.fk(bent, "panda_hand")}, constraints={"panda_hand": ElbowUp()}
+    )
+    assert r.success and r.q[3] > ELBOW, r.reason
+    with pytest.raises(armik.OptionError, match="unknown tip 'hand'"):
+        robot.solve({"panda_hand": targets[0]}, constraints={"hand": [ElbowUp()]})
+    with pytest.raises(armik.OptionError, match="armik.Hold and armik.Collisions go in"):
+        robot.solve(
+            {"panda_hand": targets[0]}, constraints={"panda_hand": [armik.Hold("panda_joint1")]}
+        )
+
+
+def test_independent_chains_take_a_constraint_by_tip_on_every_route():
+    from tests.test_arms import dual_irb120
+
+    cell = armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
+
+    class Below(Constraint):  # the right arm's joint 2 below a value: some branches break it
+        def check(self, arm, Q):
+            return Check(Q[:, 1] < LIMIT, armik.Status.JOINT_LIMITS, lambda i: "joint 2 above")
+
+    right = cell.chain("r_tool0")
+    LIMIT = 0.2
+    own = {"r_tool0": [Below()]}
+    rng = np.random.default_rng(3)
+    answers = []
+    for _ in range(4):
+        q = cell.random_q(rng)
+        T = {t: cell.fk(q, t) for t in cell.tips}
+        answers += [cell.solve(T, constraints=own), *cell.solve_all(T, constraints=own)]
+        rows = {t: [T[t], T[t]] for t in cell.tips}
+        batch = cell.solve_batch(rows, constraints=own, workers=1)
+        path = cell.solve_path(rows, q, constraints=own)
+        answers += [batch[i] for i in range(2)] + [path[i] for i in range(2)]
+    successes = [r for r in answers if r.success]
+    assert successes and len(successes) < len(answers)
+    for r in successes:
+        assert cell.split(r.q)["r_tool0"][1] < LIMIT, r.reason
+        assert np.allclose(right.fk(cell.split(r.q)["r_tool0"]).translation,
+                           cell.fk(r.q, "r_tool0").translation)  # fmt: skip

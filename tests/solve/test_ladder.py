@@ -56,10 +56,7 @@ def test_the_plan_is_the_brute_force_optimum_on_a_short_path():
     planned = arm.solve_path(poses, q0, max_joint_step=0.4, plan="global")
     assert planned.success.all()
     total = np.linalg.norm(np.diff(np.vstack([q0, planned.q]), axis=0), axis=1).sum()
-    rungs = [
-        [np.asarray(r.q) for r in arm.solve_all(T, q0=q0) if r.success]
-        for T in poses
-    ]
+    rungs = [[np.asarray(r.q) for r in arm.solve_all(T, q0=q0) if r.success] for T in poses]
     lo, hi = arm.lower, arm.upper
     periodic = ~np.array(arm.kinematics._limit_lists[2], dtype=bool)
     best = math.inf

@@ -67,6 +67,10 @@ class Union:
             for c, j in zip(self._continuous, joints)
         ]
         self.lower, self.upper = np.array(lo), np.array(hi)
+        # as ``ArmModel``'s, for a configuration's turns (``model.turns``): no mimic here, so
+        # 2 pi is a period of every joint but a prismatic one
+        prismatic = [j.shortname().startswith("JointModelP") for j in joints]
+        self._limit_lists = (self.lower.tolist(), self.upper.tolist(), prismatic)
         bounded = np.isfinite(self.lower) & np.isfinite(self.upper)
         self.middle = 0.5 * (
             np.where(bounded, self.lower, 0.0) + np.where(bounded, self.upper, 0.0)
