@@ -248,7 +248,8 @@ class Arms(ArmsKinematics):
             else:
                 tasks += as_tasks(target, tip, self.tips)
         held = self._holds(options) if options else None  # each chain's start (``_start``)
-        opts, unbound, budget = self._settings(self._on_union(union, options))
+        joint = self._on_union(union, options) if "constraints" in options else options
+        opts, unbound, budget = self._settings(joint)
         seed = self.middle if q0 is None else np.asarray(q0, float)
         start = self._start(targets, seed, relative, solver, held)
         order = self._permutation
