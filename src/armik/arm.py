@@ -413,9 +413,12 @@ class Arm:
     ) -> IKResult:
         """Solve IK for ``target`` (SE3, 4x4, xyz, (xyz, quat xyzw), or xy on a planar arm).
 
-        Returns one verified ``IKResult``: the best solution (within limits, nearest
-        ``q0``), or ``success=False`` with a status and reason. Raises ``InputError`` for
-        malformed input only; an unreachable target is a result, not an exception.
+        Returns one verified ``IKResult``: a closed form's branch within the limits nearest
+        ``q0``, a numeric solver's first verified answer from ``q0`` (not the nearest:
+        ``prefer="nearest"`` searches for it, ``prefer=`` for the best by any score,
+        docs/preferences.md), or ``success=False`` with a status and reason. Raises
+        ``InputError`` for malformed input only; an unreachable target is a result, not an
+        exception.
         """
         if type(solver) is not str:
             validate_name(solver)
