@@ -88,8 +88,11 @@ def load(
     ``robot_description``; see ``load_string``).
 
     The chain runs from ``base`` (default: the URDF root link) to ``tip`` (default: the
-    catalogue tip, else ``tool0`` as in REP 199, else the leaf at the end of the longest
-    chain of moving joints; ``Arm.tip_reason`` says which and why). A joint named in
+    catalogue tip, else ``tool0`` as in REP 199, else, when the longest chains end in a
+    gripper's jaws, the hand's one tool frame on fixed joints (the Panda URDF's
+    ``panda_hand_tcp``) or the hand itself when the jaws are named ``gripper`` or ``jaw``,
+    else the leaf at the end of the longest chain of moving joints; docs/urdf.md;
+    ``Arm.tip_reason`` says which and why). A joint named in
     ``locked`` (joint name -> rad or m, within its URDF limits) is held at that value: off
     the chain, or on it, where it becomes a fixed transform and the results carry only the
     free joints (``Arm.locked`` lists them). Every other joint off the chain is held at its
@@ -100,8 +103,9 @@ def load(
     name, else the URDF's ``<robot name>``.
 
     ``tips`` (instead of ``tip``): several tips of one robot from one base, an
-    ``armik.arms.Arms`` whose chains share no moving joint, solved together
-    (``Arms.solve({tip: target, ...})``).
+    ``armik.arms.Arms``, one chain per tip, solved together (``Arms.solve({tip: target,
+    ...})``); chains may share moving joints (a humanoid's torso: ``Arms.shared`` lists
+    them, docs/several-tips.md).
 
     Raises ``URDFError``, ``FrameError``, ``JointError`` or ``OptionError`` (all
     ``ValueError``) naming the bad value and the fix.
