@@ -92,10 +92,10 @@ def load(
     gripper's jaws, the hand's one tool frame on fixed joints (the Panda URDF's
     ``panda_hand_tcp``) or the hand itself when the jaws are named ``gripper`` or ``jaw``,
     else the leaf at the end of the longest chain of moving joints; docs/urdf.md;
-    ``Arm.tip_reason`` says which and why). A joint named in
-    ``locked`` (joint name -> rad or m, within its URDF limits) is held at that value: off
-    the chain, or on it, where it becomes a fixed transform and the results carry only the
-    free joints (``Arm.locked`` lists them). Every other joint off the chain is held at its
+    ``Arm.tip_reason`` says which and why). A joint named in ``locked`` (joint name -> rad
+    or m, within its URDF limits) is held at that value: off the chain, or on it, where it
+    becomes a fixed transform and the results carry only the free joints (``Arm.locked``
+    lists them). Every other joint off the chain is held at its
     neutral value. ``tip_offset`` (m, in the tip frame) moves the tool point.
     ``package_dirs``: folders where ``package://`` mesh paths are looked up (for meshes:
     collision geometry, the viewer). ``srdf``: an SRDF file whose ``<disable_collisions>``
