@@ -51,7 +51,7 @@ def cmd_view(args: argparse.Namespace) -> int:
         if obstacles:
             viewer.add_obstacles(obstacles)
         if args.servo:
-            viewer.follow(**({"obstacles": obstacles} if obstacles else {}))
+            viewer.follow(obstacles=obstacles or None)  # None: no collision rows
         for plan, batch in paths.items():
             bad = np.flatnonzero(~batch.success)
             where = f", failed at {bad[:10].tolist()}" if len(bad) else ""
