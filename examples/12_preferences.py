@@ -6,7 +6,9 @@ manipulable, the farthest from its joint limits, the nearest q0, a reference pos
 any cost of q. On the Panda, joint 7 is searched over its range, every other joint in
 closed form at each value, so the optimum is the self-motion's, not a local one.
 
-1. One Panda target, five answers: the default and one per score, each scored by all.
+1. One Panda target, six answers: the default and one per score (manipulability, limits,
+   nearest, a posture, a custom cost), each with its manipulability, limit margin, distance
+   to q0 and joint 7.
 2. A cost that raises is an armik error naming it.
 """
 

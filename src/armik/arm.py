@@ -88,20 +88,20 @@ def load(
     ``robot_description``; see ``load_string``).
 
     The chain runs from ``base`` (default: the URDF root link) to ``tip`` (default: the
-    catalogue tip, else ``tool0`` as in REP 199, else the leaf at the end of the longest
-    chain of moving joints; ``Arm.tip_reason`` says which and why). A joint named in
-    ``locked`` (joint name -> rad or m, within its URDF limits) is held at that value: off
-    the chain, or on it, where it becomes a fixed transform and the results carry only the
-    free joints (``Arm.locked`` lists them). Every other joint off the chain is held at its
+    catalogue tip, else ``tool0`` (REP 199), else a gripper's tool frame (the Panda URDF's
+    ``panda_hand_tcp``) or hand, else the end of the longest chain of moving joints:
+    docs/urdf.md; ``Arm.tip_reason`` says which and why). A joint named in ``locked``
+    (joint name -> rad or m, within its URDF limits) is held at that value: off the chain,
+    or on it, where it becomes a fixed transform and the results carry only the free
+    joints (``Arm.locked`` lists them). Every other joint off the chain is held at its
     neutral value. ``tip_offset`` (m, in the tip frame) moves the tool point.
     ``package_dirs``: folders where ``package://`` mesh paths are looked up (for meshes:
     collision geometry, the viewer). ``srdf``: an SRDF file whose ``<disable_collisions>``
     pairs of links are not checked for self-collision. The arm's name is the catalogue
     name, else the URDF's ``<robot name>``.
 
-    ``tips`` (instead of ``tip``): several tips of one robot from one base, an
-    ``armik.arms.Arms`` whose chains share no moving joint, solved together
-    (``Arms.solve({tip: target, ...})``).
+    ``tips`` (instead of ``tip``): an ``armik.arms.Arms``, a chain per tip from one base,
+    solved together (``Arms.solve({tip: target})``), sharing joints or not (``Arms.shared``).
 
     Raises ``URDFError``, ``FrameError``, ``JointError`` or ``OptionError`` (all
     ``ValueError``) naming the bad value and the fix.
@@ -413,9 +413,11 @@ class Arm:
     ) -> IKResult:
         """Solve IK for ``target`` (SE3, 4x4, xyz, (xyz, quat xyzw), or xy on a planar arm).
 
-        Returns one verified ``IKResult``: the best solution (within limits, nearest
-        ``q0``), or ``success=False`` with a status and reason. Raises ``InputError`` for
-        malformed input only; an unreachable target is a result, not an exception.
+        Returns one verified ``IKResult``: a closed form's branch within the limits nearest
+        ``q0``, a numeric solver's first verified answer from ``q0`` (``prefer="nearest"``
+        searches for the nearest), or ``success=False`` with a status and reason. Raises
+        ``InputError`` for malformed input only; an unreachable target is a result, not an
+        exception.
         """
         if type(solver) is not str:
             validate_name(solver)

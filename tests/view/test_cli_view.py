@@ -87,3 +87,47 @@ def test_view_reads_obstacles_from_a_json_file(tmp_path):
     )
     assert proc.returncode == 2
     assert "obstacle 0: 'type' must be one of 'box', 'sphere'" in proc.stderr
+
+
+def test_view_obstacles_are_drawn_and_avoided(tmp_path, monkeypatch):
+    """``--obstacles`` is in the viewer's solve options, as ``armik.view(arm,
+    obstacles=...)`` puts it: a drag whose plain answer hits the box is solved clear of it."""
+    import json
+
+    import numpy as np
+
+    import armik
+    from armik.constraints.shapes_file import read_shapes
+    from armik.tools.cli.main import main
+    from armik.view.viewer import Viewer
+
+    shapes = [
+        {"type": "halfspace", "normal": [0, 0, 1], "offset": 0},
+        {"type": "box", "size": [0.2, 0.2, 0.3], "position": [0.45, -0.3, 0.15]},
+    ]
+    path = tmp_path / "obstacles.json"
+    path.write_text(json.dumps(shapes))
+    scene = read_shapes(str(path))
+    served: list[Viewer] = []
+    monkeypatch.setattr(Viewer, "wait", lambda self: served.append(self))
+    monkeypatch.setattr(Viewer, "close", lambda self: None)  # closed below, once read
+    assert main(["view", "ur5", "--obstacles", str(path), "--port", "0", "--no-browser"]) == 0
+    (viewer,) = served
+    try:
+        assert len(viewer.obstacles) == 2 and viewer.options["obstacles"] == scene
+        ur5 = armik.load("ur5")
+        rng = np.random.default_rng(3)
+        for _ in range(200):  # a target reached clear of the scene that plain solve hits
+            q = ur5.random_q(rng)
+            T = ur5.fk(q)
+            if not ur5.in_collision(q, scene) and ur5.in_collision(
+                ur5.solve(T, q0=ur5.middle).q, scene
+            ):
+                break
+        else:
+            pytest.fail("no target whose plain answer collides")
+        r = viewer.set_target(T, q0=ur5.middle)
+        assert r.success and not ur5.in_collision(r.q, scene)
+    finally:
+        monkeypatch.undo()
+        viewer.close()

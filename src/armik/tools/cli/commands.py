@@ -206,8 +206,9 @@ def add_view_command(command) -> None:
     c.add_argument(
         "--obstacles",
         metavar="FILE",
-        help='JSON list of boxes and spheres to draw, e.g. [{"type": "sphere", "radius": 0.1, '
-        '"center": [0.4, 0, 0.3]}] (drawn only: the solvers do not avoid them yet)',
+        help='JSON list of boxes and spheres, e.g. [{"type": "sphere", "radius": 0.1, '
+        '"center": [0.4, 0, 0.3]}]: drawn and avoided (every solve, --path and --servo keep '
+        "clear of them)",
     )
     c.add_argument(
         "--path",

@@ -34,8 +34,12 @@ def cmd_view(args: argparse.Namespace) -> int:
         else:
             args.tip = tips or None  # --tips A alone is --tip A
             robot = load_arm(args)
-        paths = _solve_paths(robot, args) if args.path else {}
-        options = {} if args.timeout is None else {"timeout": args.timeout}
+        # the obstacles are drawn, and every solve (a drag, the ghosts, --path's plans) and
+        # --servo's servo keeps clear of them, as armik.view(arm, obstacles=...) does
+        options: dict = {} if args.timeout is None else {"timeout": args.timeout}
+        if obstacles:
+            options["obstacles"] = obstacles
+        paths = _solve_paths(robot, args, obstacles) if args.path else {}
         viewer = Viewer(
             robot,
             port=args.port,
@@ -47,7 +51,7 @@ def cmd_view(args: argparse.Namespace) -> int:
         if obstacles:
             viewer.add_obstacles(obstacles)
         if args.servo:
-            viewer.follow()
+            viewer.follow(obstacles=obstacles or None)  # None: no collision rows
         for plan, batch in paths.items():
             bad = np.flatnonzero(~batch.success)
             where = f", failed at {bad[:10].tolist()}" if len(bad) else ""
@@ -65,10 +69,12 @@ def cmd_view(args: argparse.Namespace) -> int:
     return 0
 
 
-def _solve_paths(arm, args: argparse.Namespace) -> dict:
-    """Each ``--plan``'s ``solve_path`` over the waypoints of ``--path``."""
+def _solve_paths(arm, args: argparse.Namespace, obstacles: list) -> dict:
+    """Each ``--plan``'s ``solve_path`` over the waypoints of ``--path``, clear of
+    ``obstacles``."""
     poses, _ = read_targets_file(args.path)
     q0 = None if args.q0 is None else np.array(args.q0)
+    clear = {"obstacles": obstacles} if obstacles else {}
     return {
         plan: arm.solve_path(
             poses,
@@ -76,6 +82,7 @@ def _solve_paths(arm, args: argparse.Namespace) -> dict:
             max_joint_step=args.max_joint_step,
             plan=plan,
             solver=args.solver,
+            **clear,
         )
         for plan in dict.fromkeys(args.plan)
     }
