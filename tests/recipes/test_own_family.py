@@ -174,6 +174,29 @@ def test_solve_batch(family, workers):
         np.testing.assert_allclose(res.q[i], qs[i], atol=1e-9)
 
 
+def test_solve_batch_on_a_dask_cluster(family):
+    # the workers are processes of their own: the family travels to them and is
+    # registered there, as the arm is (``armik.solve.distributed.SolverOnWorker``)
+    distributed = pytest.importorskip("distributed", reason="the cluster extra")
+    from armik.solve import distributed as on_dask
+
+    arm = bundled(ARM)
+    qs = _q(6, 6)
+    targets = [arm.fk(q) for q in qs]
+    cluster = distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None
+    )
+    try:
+        with distributed.Client(cluster) as client:
+            res = on_dask.solve_batch(arm, targets, q0=qs + 0.05, client=client, chunk_size=2)
+    finally:
+        cluster.close()
+    here = arm.solve_batch(targets, q0=qs + 0.05, workers=1)
+    assert res.solver == NAME and res.success.sum() >= 5, res.summary()
+    np.testing.assert_array_equal(res.q, here.q)
+    np.testing.assert_array_equal(res.success, here.success)
+
+
 @pytest.mark.parametrize("plan", ["follow", "global"])
 def test_solve_path(family, plan):
     arm = bundled(ARM)

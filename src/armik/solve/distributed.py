@@ -18,7 +18,8 @@ backend's are. The answers are those of the local ``solve_batch`` with the same 
 read once on the client.
 
 Every worker must be able to import armik and read the arm's URDF: bundled arms always can;
-a URDF path must exist on every worker's machine.
+a URDF path must exist on every worker's machine. A solver the client registered that is
+not armik's own travels too (``SolverOnWorker``), registered on each worker as it starts.
 """
 
 from __future__ import annotations
@@ -38,6 +39,8 @@ from armik.solve.batch import Chunk
 from armik.solve.batch import solve_batch as local_solve_batch
 from armik.solve.progress import ProgressArg
 from armik.solve.read import read_batch
+from armik.solvers import registry
+from armik.solvers.registry import SolverSpec
 
 DEFAULT_CHUNK = 2048  # targets per task: a task should take tens of milliseconds at least
 
@@ -79,6 +82,25 @@ class ArmOnWorker(_PluginBase):
     def setup(self, worker=None) -> None:
         self.arm = pickle.loads(self.blob)
         self.builds += 1
+
+
+class SolverOnWorker(_PluginBase):
+    """A solver registered in the client's process that armik does not register itself (a
+    family of the user's: CONTRIBUTING's recipe), registered on each worker as it starts
+    (and on workers that join later): a chunk looks its solver up by name there."""
+
+    def __init__(self, spec: SolverSpec) -> None:
+        self.spec = spec
+
+    def setup(self, worker=None) -> None:
+        if self.spec.name not in registry.solvers():
+            registry.register(self.spec)
+
+
+def _own_solver(name: str) -> SolverSpec | None:
+    """The spec of solver ``name`` where it comes from outside armik, else None."""
+    spec = registry.get(name)
+    return None if getattr(spec.run, "__module__", "").startswith("armik.") else spec
 
 
 def plugin_name(blob: bytes) -> str:
@@ -123,6 +145,9 @@ class OnDask:
         blob = pickle.dumps(jobs[0].arm)
         name = plugin_name(blob)
         client.register_plugin(ArmOnWorker(blob, name), name=name)
+        own = _own_solver(jobs[0].solver)  # a user's solver: registered there too
+        if own is not None:
+            client.register_plugin(SolverOnWorker(own), name=f"armik-solver-{own.name}")
         # each chunk without its arm (the plugin's copy runs it): a few bytes, not the model
         bare = [job._replace(arm=None) for job in jobs]  # type: ignore[arg-type]
         futures = [client.submit(_run_job, name, blob, job, pure=False) for job in bare]
