@@ -1,8 +1,8 @@
 """A task of a test's own, written by CONTRIBUTING's recipe: a ``Task`` subclass with its
 ``rows``, ``residual``, ``jacobian`` and ``measure`` and nothing else (no ``kernel_row``,
 no form for the plain-pose path), solved through ``solve``, ``solve_all``, ``solve_batch``
-(a list of task lists), ``prefer=`` and several tips, each answer checked by an FK
-computed here."""
+(a list of task lists), a followed ``solve_path``, ``prefer=`` and several tips, each
+answer checked by an FK computed here."""
 
 from __future__ import annotations
 
@@ -89,6 +89,24 @@ def test_solve_batch_of_task_lists():
     assert res.success.all()
     for i, z in enumerate(heights):
         assert abs(_height(ur5, res.q[i]) - z) < 1e-6
+
+
+def test_a_followed_path_of_task_lists():
+    # the task solver's, waypoint by waypoint from the one before: small moves, each held
+    # to max_joint_step; the global plan (every solution at each waypoint) refused by name
+    ur5 = bundled("ur5")
+    heights = [0.30, 0.31, 0.32, 0.33]
+    rows = [[Height(z)] for z in heights]
+    start = ur5.solve([Height(0.30)], q0=ur5.middle + 0.3).q  # at the first height already
+    path = ur5.solve_path(rows, start, max_joint_step=0.2)
+    assert path.success.all(), path.summary()
+    for i, z in enumerate(heights):
+        assert abs(_height(ur5, path.q[i]) - z) < 1e-6
+    assert np.abs(np.diff(np.vstack([start, path.q]), axis=0)).max() <= 0.2 + 1e-12
+    jumped = ur5.solve_path([[Height(0.3)], [Height(-0.3)]], ur5.middle, max_joint_step=0.05)
+    assert jumped.status[1] in ("discontinuous", "not_converged"), jumped.summary()
+    with pytest.raises(armik.TargetError, match="plan='global' plans over every solution"):
+        ur5.solve_path(rows, ur5.middle, plan="global")
 
 
 def test_a_preference_scores_its_answer():

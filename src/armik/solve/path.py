@@ -41,6 +41,7 @@ from armik.solve import ladder, rungs
 from armik.solve.path_score import preferred
 from armik.solve.prepared import chosen
 from armik.solve.rungs import unwrapped
+from armik.solve.single import routed
 from armik.solve.stages import run
 from armik.solve.turning import ANY, Turning, refuse_broken, turning
 from armik.solvers import registry
@@ -79,6 +80,8 @@ def solve_path(
     plan's answers are checked against ``max_joint_step`` last (``ladder.held_to_step``).
     """
     t0 = request.t0
+    if request.rows is not None:  # task lists without a compiled form: the task solver's
+        return _followed_rows(arm, request, _max_step(arm, max_joint_step))
     poses, q0, solver, score = request.target, request.q0, request.solver, request.score
     opts = request.settings
     batch = parse_targets(poses, arm)
@@ -130,6 +133,30 @@ def solve_path(
     label = used if held_auto and used is not None else out.solver
     out = frozen(BatchResult, **{**vars(out), "solver": label, "time": time.perf_counter() - t0})
     return out
+
+
+def _followed_rows(arm: ArmModel, request: Request, step: np.ndarray) -> BatchResult:
+    """A followed path of task lists without a compiled form (``request.rows``, each read
+    as ``solve`` reads it): each waypoint's answer from the previous one, then held to
+    ``step`` (``ladder.held_to_step``: a larger move is ``discontinuous``, never silent);
+    a score ranks each waypoint's answers as ``solve``'s does."""
+    rows = request.rows or ()
+    q_prev = arm.seed(request.q0)
+    opts = request.settings
+    out = BatchResult.for_arm(arm, len(rows), "tasks", opts, margin=opts.margin)
+    names = set()
+    for i, row in enumerate(rows):
+        r = routed(arm, row.but(q0=q_prev, t0=time.perf_counter(), score=request.score))
+        out.put_result(i, r)
+        out.reasons[i] = r.reason  # its own words, a success's too (a task list's)
+        names.add(r.solver)
+        if r.success:
+            q_prev = np.array(r.q)
+    ladder.held_to_step(arm, out, None if request.q0 is None else arm.seed(request.q0), step)
+    label = names.pop() if len(names) == 1 else out.solver
+    return frozen(
+        BatchResult, **{**vars(out), "solver": label, "time": time.perf_counter() - request.t0}
+    )
 
 
 def _walk(

@@ -136,13 +136,19 @@ def read_path(
     problems = task_problems(poses)
     if problems is not None:
         lowered = lower_all(problems, options, arm.tip)
-        if lowered is None:
-            raise TargetError(
-                "a path of task lists takes tasks the compiled path has a form for (a pose "
-                "with bounds or weights, a position, a position with a tip axis along a "
-                "direction or within a cone of it, a look-at at one point, the same in "
-                "every row); solve the others with solve or solve_batch"
-            )
+        if lowered is None:  # the task solver's, waypoint by waypoint, each as solve reads it
+            if plan == "global":
+                raise TargetError(
+                    "plan='global' plans over every solution at each waypoint, and the task "
+                    "lists given have no compiled form (the task solver gives one answer "
+                    "each): give plan='follow', or tasks the compiled path has a form for (a "
+                    "pose with bounds or weights, a position, a tip axis along a direction "
+                    "or within a cone of it, a look-at at one point, the same in every row)"
+                )
+            rows = tuple(read(arm, list(p.tasks), None, solver, options) for p in problems)
+            opts, key, seed = settings(arm, options)
+            path = Request(None, q0, solver, opts, key, seed, False, t0, score, rows=rows)
+            return path, path
         poses, options = lowered
     opts, key, seed = settings(arm, {**options, "max_restarts": 0})
     local = Request(poses, q0, solver, opts, key, seed, False, t0)
