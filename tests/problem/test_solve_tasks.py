@@ -191,9 +191,16 @@ def test_batches_and_paths_of_task_lists():
     p = arm.solve_path(look, Q[0], max_joint_step=0.5)
     assert p.success.all() and p[0].solver == "dls"
     assert all(spot.measure(arm.fk(q), 1e-6, 1e-6).within for q in p.q)
-    boxed = [[armik.Position(tasks[0].p, bounds=(0.01,) * 3), tasks[1]] for tasks in path[:2]]
-    with pytest.raises(armik.InputError, match="path of task lists"):
-        arm.solve_path(boxed, Q[0])
+    # no compiled form (a boxed position and an axis): followed by the task solver, each
+    # answer within its box and on its axis; the global plan refuses it
+    boxed = [[armik.Position(tasks[0].p, bounds=(0.01,) * 3), tasks[1]] for tasks in path[:3]]
+    p = arm.solve_path(boxed, Q[0], max_joint_step=0.1)
+    assert p.success.all(), p.summary()
+    for tasks, q in zip(boxed, p.q):
+        assert tasks[0].measure(arm.fk(q), 1e-6, 1e-6).within
+        assert tasks[1].measure(arm.fk(q), 1e-6, 1e-6).within
+    with pytest.raises(armik.InputError, match="plan='global'"):
+        arm.solve_path(boxed, Q[0], plan="global")
 
 
 def test_a_task_on_another_frame_of_the_chain():

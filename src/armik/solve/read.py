@@ -195,17 +195,28 @@ def check_options(
     refused = _SAID_BY_TASKS + (_CONSTRAINTS if several_tips else ())
     for name in refused:
         if getattr(opts, name) != getattr(defaults, name):
-            how = (
-                "say it in the tasks (armik.Pose(T, bounds=..., weights=...), armik.Position)"
-                if name in _SAID_BY_TASKS
-                else "solve each tip's arm for that option"
-            )
-            raise OptionError(
-                f"{name} does not apply to a list of tasks{' on several tips' * several_tips}: "
-                f"{how}",
-                option=name,
-                value=None,
-            )
+            raise OptionError(_not_taken(name, several_tips), option=name, value=None)
+
+
+def _not_taken(name: str, several_tips: bool) -> str:
+    """Why option ``name`` is refused, and the way round: by a task list, or where several
+    tips are solved together (one descent over every joint, by the task solver)."""
+    if not several_tips:
+        return (
+            f"{name} does not apply to a list of tasks: say it in the tasks "
+            "(armik.Pose(T, bounds=..., weights=...), armik.Position)"
+        )
+    if name in _SAID_BY_TASKS:
+        return (
+            f"{name} is not taken where several tips are solved together (chains that share "
+            "joints, or a task relating them: one task per tip): say it in each tip's target, "
+            "{tip: armik.Pose(T, bounds=..., weights=...)} or armik.Position"
+        )
+    return (
+        f"{name} is not taken where several tips are solved together (chains that share "
+        "joints, or a task relating them: the task solver, which checks no collision yet): "
+        "solve each chain alone, robot.chain(tip).solve(..., obstacles=...)"
+    )
 
 
 def _held_apart(arm: ArmModel, options: dict) -> bool:
