@@ -246,9 +246,9 @@ def test_one_pose_per_tip_is_refused_naming_the_tip_and_solve(cell, robot):
         },
     }
     for said, targets in spellings.items():
-        for call in (lambda: arms.solve_batch(targets), lambda: arms.solve_path(targets, q)):
+        for call, args in ((arms.solve_batch, ()), (arms.solve_path, (q,))):
             with pytest.raises(TargetError, match=f"tip {first} needs a sequence of poses") as e:
-                call()
+                call(targets, *args)
             assert said.replace("\\", "") in str(e.value) and "Arms.solve takes one pose" in str(
                 e.value
             )

@@ -64,7 +64,8 @@ def test_a_repeated_or_foreign_result_is_refused_by_name():
         arm.solve_batch(targets, chunk_size=3, backend=twice)
 
     def plain(jobs, workers):  # rows, but not as the job returned them: no row of their own
-        return [BatchResult(**{k: v for k, v in vars(job()).items() if k != "start"}) for job in jobs]
+        rows = [vars(job()) for job in jobs]
+        return [BatchResult(**{k: v for k, v in r.items() if k != "start"}) for r in rows]
 
     with pytest.raises(armik.ArmikError, match="batch backend .*plain.* for job 0"):
         arm.solve_batch(targets, chunk_size=3, backend=plain)
