@@ -46,6 +46,16 @@ class Plain(Constraint):
         return (Q[:, 2] > -5, armik.Status.JOINT_LIMITS, lambda i: "j3")
 
 
+class WhyRaises(Constraint):
+    def check(self, arm, Q):
+        return Check(Q[:, 2] > 5.0, armik.Status.JOINT_LIMITS, lambda i: f"j3 {Q[i + 99, 2]}")
+
+
+class WhyNumber(Constraint):
+    def check(self, arm, Q):
+        return Check(Q[:, 2] > 5.0, armik.Status.JOINT_LIMITS, lambda i: Q[i, 2])
+
+
 @pytest.fixture(scope="module")
 def panda():
     return bundled("panda")
@@ -69,6 +79,8 @@ def _solves(panda):
          r"armik.Status.JOINT_LIMITS"),
         (Raising, "its check raised ZeroDivisionError: float division by zero"),
         (Plain, "its check returned tuple, not a Check"),
+        (WhyRaises, r"its Check.why of answer 0 raised IndexError: index 99 is out of bounds"),
+        (WhyNumber, r"its Check.why of answer 0 must return a str, got np.float64"),
     ],
 )  # fmt: skip
 def test_a_bad_check_on_any_answers_is_named(panda, route, cls, said):

@@ -17,7 +17,7 @@ import functools
 from abc import ABC, abstractmethod
 from collections.abc import Callable
 from types import FunctionType
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
@@ -108,8 +108,8 @@ def _checked(own: Callable[..., object]) -> Callable[..., Check]:
             ok = got.ok
             if type(ok) is np.ndarray and ok.dtype == np.bool_ and ok.shape == (len(Q),):
                 if isinstance(got.status, Status) and got.status is not Status.CONVERGED:
-                    return got  # as it should be: no more calls
-        return _read(self, got, len(Q))
+                    return _said(self, got)  # its shape as it should be
+        return _said(self, _read(self, got, len(Q)))
 
     check._armik_checked = True  # type: ignore[attr-defined]
     return check
@@ -149,9 +149,48 @@ def _read(constraint: Constraint, got: object, n: int) -> Check:
             f"Check.status must be the armik.Status of a failing answer (e.g. armik.Status."
             f"JOINT_LIMITS), got {status!r}{named}"
         )
-    if not callable(got.why):
-        raise refused(f"Check.why must be a function of the answer's index, got {got.why!r}")
+    for field in ("why", "holds", "extra"):
+        if not callable(getattr(got, field)):
+            raise refused(f"Check.{field} must be a function, got {getattr(got, field)!r}")
     return got._replace(ok=ok)
+
+
+def _said(constraint: Constraint, got: Check) -> Check:
+    """``got`` with its words and extras (``why``, ``holds``, ``extra``: the user's
+    functions, called when the verdict reads a row) read through a check of each call: an
+    error raised, or a result other than a str (a dict for ``extra``), an ``OptionError``
+    naming the constraint's class."""
+    name = type(constraint).__name__
+
+    def read(field: str, fn: Callable[..., object], kind: type) -> Callable[..., Any]:
+        def call(i: int, *more: object) -> Any:
+            try:
+                out = fn(i, *more)
+            except ArmikError:
+                raise
+            except Exception as exc:
+                raise OptionError(
+                    f"constraint {name}: its Check.{field} of answer {i} raised "
+                    f"{type(exc).__name__}: {exc}",
+                    option="constraints",
+                    value=name,
+                ) from exc
+            if not isinstance(out, kind):
+                raise OptionError(
+                    f"constraint {name}: its Check.{field} of answer {i} must return a "
+                    f"{kind.__name__}, got {out!r}",
+                    option="constraints",
+                    value=name,
+                )
+            return out
+
+        return call
+
+    return got._replace(
+        why=read("why", got.why, str),
+        holds=got.holds if got.holds is _unchanged else read("holds", got.holds, str),
+        extra=got.extra if got.extra is _nothing else read("extra", got.extra, dict),
+    )
 
 
 _WORDS = {s.value for s in Status if s is not Status.CONVERGED}
