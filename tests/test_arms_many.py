@@ -225,3 +225,32 @@ def test_holding_a_locked_joint_says_it_is_locked():
     T = robot.fk(robot.middle)
     with pytest.raises(armik.JointError, match=r"'l_joint_1' is locked at 0.2"):
         robot.solve(T, hold={"l_joint_1": 0.2})
+
+
+@pytest.mark.parametrize("robot", ["cell", "talos"])
+def test_one_pose_per_tip_is_refused_naming_the_tip_and_solve(cell, robot):
+    """``Arms.solve``'s dict, one pose per tip, given to ``solve_batch`` or ``solve_path``
+    (which take each tip's N rows): a ``TargetError`` naming the tip, what it was given and
+    ``Arms.solve``, whatever the pose's spelling and whether the chains share joints."""
+    arms = cell if robot == "cell" else talos()
+    q = arms.middle + 0.1
+    poses = {tip: arms.fk(q, tip) for tip in arms.tips}
+    first = repr(arms.tips[0])
+    spellings = {
+        "one SE3": poses,
+        r"an array of shape \(4, 4\)": {t: T.homogeneous for t, T in poses.items()},
+        "one 4x4 matrix": {t: T.homogeneous.tolist() for t, T in poses.items()},
+        r"an array of shape \(3,\)": {t: T.translation for t, T in poses.items()},
+        r"one \(position, quaternion\)": {
+            t: (T.translation, pin.Quaternion(T.rotation).coeffs()) for t, T in poses.items()
+        },
+    }
+    for said, targets in spellings.items():
+        for call, args in ((arms.solve_batch, ()), (arms.solve_path, (q,))):
+            with pytest.raises(TargetError, match=f"tip {first} needs a sequence of poses") as e:
+                call(targets, *args)
+            assert said.replace("\\", "") in str(e.value) and "Arms.solve takes one pose" in str(
+                e.value
+            )
+    rows = {tip: [T, T] for tip, T in poses.items()}  # each tip's rows: solved
+    assert len(arms.solve_batch(rows)) == 2

@@ -87,7 +87,7 @@ def solve_batch(
     ``chunk_size`` (default 256) on ``workers`` threads (default 1), and ``backend`` raises
     ``OptionError``."""
     t0 = time.perf_counter()
-    n = _rows(arms, targets)
+    n = _rows(arms, targets, "solve_batch")
     seeds = _seeds(arms, q0, n)
     opts = _read(options)
     prefer = options.get("prefer")
@@ -172,7 +172,7 @@ def solve_path(
     number or one per joint of ``joint_names``)."""
     t0 = time.perf_counter()
     check_plan(plan)  # a plan that is none: refused as Arm.solve_path refuses it
-    n = _rows(arms, waypoints)
+    n = _rows(arms, waypoints, "solve_path")
     start = arms.middle if q0 is None else _seeds(arms, q0, 1)[0]
     step = _step(arms, max_joint_step)
     opts = _read(options)
@@ -263,7 +263,9 @@ def _held(arms: Arms, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: 
     )
 
 
-def _rows(arms: Arms, targets: object) -> int:
+def _rows(arms: Arms, targets: object, call: str) -> int:
+    """N, the rows of ``targets`` (tip -> N targets); a ``TargetError`` naming the tip given
+    one pose (the dict ``Arms.solve`` takes) where ``call`` (the method) needs its rows."""
     if isinstance(targets, Mapping) and not targets:
         raise TargetError(
             f"no targets: give each tip's targets, {{tip: targets}} over {list(arms.tips)}"
@@ -276,10 +278,48 @@ def _rows(arms: Arms, targets: object) -> int:
             value=targets,
         )
     arms._check_targets({tip: None for tip in targets})
+    for tip, rows in targets.items():
+        one = _one_pose(rows)
+        if one:
+            raise TargetError(
+                f"Arms.{call}: tip {tip!r} needs a sequence of poses, one per row (N rows), "
+                f"got {one}: give every tip its N poses, {{tip: [pose, ...]}}; Arms.solve "
+                "takes one pose per tip"
+            )
     sizes = {tip: len(rows) for tip, rows in targets.items()}
     if len(set(sizes.values())) != 1:
         raise TargetError(f"every tip needs as many targets as the others, got {sizes}")
     return next(iter(sizes.values()))
+
+
+def _one_pose(rows: object) -> str:
+    """What ``rows`` is when it is one pose (a ``pinocchio.SE3``, a 4x4 matrix, a (7,) row
+    or a (3,) position, ``(position, quaternion)``, a task) rather than a tip's N rows;
+    "" otherwise."""
+    if isinstance(rows, (str, bytes)) or not hasattr(rows, "__len__"):
+        many = hasattr(rows, "__iter__") and not isinstance(rows, (str, bytes))
+        return (
+            f"a {type(rows).__name__}, which has no length"
+            if many
+            else f"one {type(rows).__name__}"
+        )
+    if isinstance(rows, np.ndarray):
+        return f"an array of shape {rows.shape}" if rows.shape in _ONE_POSE else ""
+    if not isinstance(rows, (list, tuple)) or not rows:
+        return ""
+    if isinstance(rows[0], (int, float, np.number)) and len(rows) in (3, 7):
+        return f"one {type(rows).__name__} of {len(rows)} numbers"
+    shapes = [
+        np.shape(row) if isinstance(row, (list, tuple, np.ndarray)) else () for row in rows[:4]
+    ]
+    if len(rows) == 4 and shapes == [(4,)] * 4:
+        return "one 4x4 matrix"
+    if len(rows) == 2 and shapes == [(3,), (4,)]:
+        return "one (position, quaternion)"
+    return ""
+
+
+_ONE_POSE = ((4, 4), (7,), (3,))  # an array of one of these shapes is one target
 
 
 def _seeds(arms: Arms, q0: object, n: int) -> np.ndarray:

@@ -13,12 +13,15 @@ verdict applies it to N answers at once (``armik.verify.verdicts.Verdicts.judge`
 
 from __future__ import annotations
 
+import functools
 from abc import ABC, abstractmethod
 from collections.abc import Callable
-from typing import TYPE_CHECKING, NamedTuple
+from types import FunctionType
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from armik.errors import ArmikError, OptionError
 from armik.status import Status
 
 if TYPE_CHECKING:
@@ -70,6 +73,127 @@ class Constraint(ABC):
     @abstractmethod
     def check(self, arm: ArmModel, Q: np.ndarray) -> Check:
         """The check of the answers ``Q`` (N, dof)."""
+
+    def __init_subclass__(cls, **kwargs: object) -> None:
+        """A class of the user's own: its ``check`` read through ``_checked``, whichever
+        route calls it (armik's own constraints are read as they are: no call added)."""
+        super().__init_subclass__(**kwargs)
+        own = cls.__dict__.get("check")
+        if (
+            isinstance(own, FunctionType)
+            and not cls.__module__.startswith("armik.")
+            and not getattr(own, "_armik_checked", False)
+        ):
+            cls.check = _checked(own)  # type: ignore[method-assign]
+
+
+def _checked(own: Callable[..., object]) -> Callable[..., Check]:
+    """A user's ``check``, its result read as a ``Check`` of the answers given: an error it
+    raises, or a result of another shape, an ``OptionError`` naming its class."""
+
+    @functools.wraps(own)
+    def check(self: Constraint, arm: ArmModel, Q: np.ndarray) -> Check:
+        try:
+            got = own(self, arm, Q)
+        except ArmikError:
+            raise
+        except Exception as exc:
+            raise OptionError(
+                f"constraint {type(self).__name__}: its check raised {type(exc).__name__}: "
+                f"{exc} (on {len(Q)} answer(s), Q of shape {np.shape(Q)})",
+                option="constraints",
+                value=type(self).__name__,
+            ) from exc
+        if type(got) is Check:
+            ok = got.ok
+            if type(ok) is np.ndarray and ok.dtype == np.bool_ and ok.shape == (len(Q),):
+                if isinstance(got.status, Status) and got.status is not Status.CONVERGED:
+                    return _said(self, got)  # its shape as it should be
+        return _said(self, _read(self, got, len(Q)))
+
+    check._armik_checked = True  # type: ignore[attr-defined]
+    return check
+
+
+_SAY = "a check returns armik.constraints.base.Check(ok, status, why)"
+
+
+def _read(constraint: Constraint, got: object, n: int) -> Check:
+    """``got``, a user's check of ``n`` answers, as a ``Check`` with ``ok`` of shape (n,)
+    (one bool, or (1, 1), read as the one answer's); an ``OptionError`` naming the
+    constraint's class and what is wrong otherwise."""
+    name = type(constraint).__name__
+
+    def refused(what: str) -> OptionError:
+        return OptionError(f"constraint {name}: {what}", option="constraints", value=name)
+
+    if not isinstance(got, Check):
+        raise refused(f"its check returned {type(got).__name__}, not a Check: {_SAY}")
+    try:
+        ok = np.asarray(got.ok)
+    except Exception:  # an object numpy cannot read
+        ok = np.asarray(None)
+    if ok.dtype == np.bool_ and ok.shape != (n,) and n == 1 and ok.size == 1:
+        ok = ok.reshape(1)  # one bool for the one answer
+    if ok.dtype != np.bool_ or ok.shape != (n,):
+        given = f"{got.ok!r}" if ok.ndim == 0 else f"shape {ok.shape}, dtype {ok.dtype}"
+        hint = " (a column: give ok[:, 0])" if ok.shape == (n, 1) else ""
+        raise refused(
+            f"Check.ok must hold one bool per answer checked, shape ({n},) here, got {given}{hint}"
+        )
+    status = got.status
+    if not isinstance(status, Status) or status is Status.CONVERGED:
+        word = isinstance(status, str) and not isinstance(status, Status) and status in _WORDS
+        named = f" (a str): give armik.Status.{Status(status).name}" if word else ""
+        raise refused(
+            f"Check.status must be the armik.Status of a failing answer (e.g. armik.Status."
+            f"JOINT_LIMITS), got {status!r}{named}"
+        )
+    for field in ("why", "holds", "extra"):
+        if not callable(getattr(got, field)):
+            raise refused(f"Check.{field} must be a function, got {getattr(got, field)!r}")
+    return got._replace(ok=ok)
+
+
+def _said(constraint: Constraint, got: Check) -> Check:
+    """``got`` with its words and extras (``why``, ``holds``, ``extra``: the user's
+    functions, called when the verdict reads a row) read through a check of each call: an
+    error raised, or a result other than a str (a dict for ``extra``), an ``OptionError``
+    naming the constraint's class."""
+    name = type(constraint).__name__
+
+    def read(field: str, fn: Callable[..., object], kind: type) -> Callable[..., Any]:
+        def call(i: int, *more: object) -> Any:
+            try:
+                out = fn(i, *more)
+            except ArmikError:
+                raise
+            except Exception as exc:
+                raise OptionError(
+                    f"constraint {name}: its Check.{field} of answer {i} raised "
+                    f"{type(exc).__name__}: {exc}",
+                    option="constraints",
+                    value=name,
+                ) from exc
+            if not isinstance(out, kind):
+                raise OptionError(
+                    f"constraint {name}: its Check.{field} of answer {i} must return a "
+                    f"{kind.__name__}, got {out!r}",
+                    option="constraints",
+                    value=name,
+                )
+            return out
+
+        return call
+
+    return got._replace(
+        why=read("why", got.why, str),
+        holds=got.holds if got.holds is _unchanged else read("holds", got.holds, str),
+        extra=got.extra if got.extra is _nothing else read("extra", got.extra, dict),
+    )
+
+
+_WORDS = {s.value for s in Status if s is not Status.CONVERGED}
 
 
 def satisfied(arm: ArmModel, constraints: tuple[Constraint, ...], q: np.ndarray) -> bool:

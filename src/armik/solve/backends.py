@@ -2,11 +2,13 @@
 backend=...)``).
 
 A backend is a function ``run(jobs, workers)`` of a list of chunk jobs and the workers
-asked for, returning each job's result in the order of ``jobs`` (a list, or an iterable
-that yields them as they finish in that order). A job is a picklable callable of no
-arguments (``armik.solve.batch.Chunk``): called in any process that has armik, it solves
-and verifies its chunk there (the solver looked up there by name, every constraint of the
-request checked) and returns its rows as a ``BatchResult``, which the batch puts in place.
+asked for, returning each job's result as the job returned it, in any order (a list, or an
+iterable that yields them as they finish, ``concurrent.futures.as_completed``'s order
+too). A job is a picklable callable of no arguments (``armik.solve.batch.Chunk``): called
+in any process that has armik, it solves and verifies its chunk there (the solver looked
+up there by name, every constraint of the request checked) and returns its rows as a
+``BatchResult`` that names the row of the batch they start at (``armik.solve.batch.Rows``),
+where the batch puts them.
 So a backend only decides where and when the calls run: here one after another
 (``"serial"``), on threads (``"threads"``), on forked processes (``"processes"``, threads
 where forking is not safe: ``armik.solve.forked``), or anything of the user's own

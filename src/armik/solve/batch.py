@@ -179,7 +179,7 @@ class Chunk(NamedTuple):
     """One chunk of a batch as a backend's job (``armik.solve.backends``): picklable, and
     called in any process that has armik it solves and verifies its targets there, as the
     default path does (the solver ``solver`` looked up by name, every constraint of the
-    request checked), and returns their rows."""
+    request checked), and returns their rows (``Rows``: they name the row they start at)."""
 
     arm: ArmModel
     solver: str
@@ -188,42 +188,58 @@ class Chunk(NamedTuple):
     request: Request
     start: int  # its first row in the batch
 
-    def __call__(self) -> BatchResult:
+    def __call__(self) -> Rows:
         spec = registry.get(self.solver)
         opts = self.request.settings
         out = BatchResult.for_arm(self.arm, len(self.targets), spec.name, opts, margin=opts.margin)
         clear = _clear(opts) if opts.obstacles or opts.self_collision else ()
         solve_chunk(self.arm, spec, self.targets, self.seeds, self.request, opts, clear, out, 0)
-        return out
+        return Rows(**vars(out), start=self.start)
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Rows(BatchResult):
+    """A ``Chunk``'s answers, with the row of the batch they start at: the batch puts them
+    there, whatever order a backend gives them in."""
+
+    start: int = -1
 
 
 def _on_backend(run_jobs, jobs: list[Chunk], workers: int, out: BatchResult, bar) -> None:
-    """Each job's rows from ``run_jobs(jobs, workers)``, put in place as they come; an
-    ``ArmikError`` naming the backend when it gives too few, too many or other results."""
+    """Each job's rows from ``run_jobs(jobs, workers)``, put in place as they come, in any
+    order: each at the row its job starts at (``Rows.start``); an ``ArmikError`` naming the
+    backend when it gives too few, too many, repeated or other results."""
+    at = {job.start: job for job in jobs}
     n, done, got = len(out), 0, 0
     parts = run_jobs(jobs, workers)
     if isinstance(parts, (str, bytes, BatchResult)) or not hasattr(parts, "__iter__"):
         raise ArmikError(
             f"batch backend {run_jobs!r} returned {parts!r}: a backend returns each job's "
-            "result (job()) in the order of the jobs, as a list or an iterable yielding them"
+            "result (job()), as a list or an iterable yielding them"
         )
+    placed: set[int] = set()
     for part in parts:
-        if got == len(jobs):
-            raise ArmikError(f"batch backend {run_jobs!r} gave more results than its jobs")
-        job = jobs[got]
-        if not isinstance(part, BatchResult) or len(part) != len(job.targets):
+        job = at.get(part.start) if isinstance(part, Rows) else None
+        if job is None or len(part) != len(job.targets) or part.arm != out.arm:
             raise ArmikError(
-                f"batch backend {run_jobs!r} gave {part!r} for job {got}: a backend returns "
-                "each job's result (job()) in the order of the jobs"
+                f"batch backend {run_jobs!r} gave {part!r} for job {got} (its result {got}): "
+                "a backend returns each job's result (job()) as the job returned it, "
+                "in any order"
             )
-        out.put(job.start, part)
+        if part.start in placed:
+            raise ArmikError(
+                f"batch backend {run_jobs!r} gave the result of the job at row {part.start} "
+                "twice: a backend returns each job's result once"
+            )
+        placed.add(part.start)
+        out.put(part.start, part)
         got += 1
         done += len(part)
         bar(done, n)
     if got != len(jobs):
         raise ArmikError(
             f"batch backend {run_jobs!r} gave {got} results for {len(jobs)} jobs: a backend "
-            "returns each job's result (job()) in the order of the jobs"
+            "returns each job's result (job()), in any order"
         )
 
 

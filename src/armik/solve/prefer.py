@@ -99,8 +99,11 @@ def _turn_centre(arm: ArmModel, score: Score, q0: np.ndarray) -> np.ndarray | No
         return q0
     if isinstance(score, Posture) and score.q_ref.size == arm.dof:
         return score.q_ref
-    if isinstance(score, Limits):
-        return (arm.lower + arm.upper) / 2.0
+    if isinstance(score, Limits):  # an unlimited joint has no middle: NaN, as no centre
+        middle = np.full(arm.dof, np.nan)
+        bounded = np.isfinite(arm.lower) & np.isfinite(arm.upper)
+        middle[bounded] = (arm.lower[bounded] + arm.upper[bounded]) / 2.0
+        return middle
     return None
 
 

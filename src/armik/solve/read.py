@@ -285,10 +285,15 @@ def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | 
             del kwargs["toward"]
     try:
         # with the types: 1 == True, but validation may accept one and refuse the other;
-        # a held joint's dict as its items (a loop of solves holds the same joint), a list
-        # or tuple of obstacles as its scene's number (``_scene``)
+        # a held joint's dict as its items and their values' types (a held value of True
+        # is refused, 1 is not), a list or tuple of obstacles as its scene's number
+        # (``_scene``)
         hold = kwargs["hold"] if "hold" in kwargs else None
-        given = {**kwargs, "hold": tuple(hold.items())} if type(hold) is dict else kwargs
+        if type(hold) is dict:
+            items = (tuple(hold.items()), tuple(map(type, hold.values())))
+            given = {**kwargs, "hold": items}
+        else:
+            given = kwargs
         if "obstacles" in kwargs and type(kwargs["obstacles"]) in (list, tuple):
             given = {**given, "obstacles": _scene(arm, kwargs["obstacles"])}
         key = (tuple(given.items()), tuple(map(type, kwargs.values())), look is None, sight)
