@@ -33,6 +33,7 @@ from armik.constraints.limits import JointLimits
 from armik.errors import OptionError, TargetError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
+from armik.model.frames import named
 from armik.problem.problem import Problem, as_problem, lower
 from armik.problem.scores import Posture, Score
 from armik.problem.settings import SolverSettings
@@ -104,7 +105,7 @@ def _frame_id(arm: ArmModel, task: Task, frame: str | None) -> int:
     if frame is None or frame == arm.tip:
         return arm.tip_frame_id
     if arm.model.existFrame(frame):
-        return int(arm.model.getFrameId(frame))
+        return named(arm.model, frame)  # a name a joint and a link share: the link's
     names = sorted(f.name for f in arm.model.frames)
     raise TargetError(
         f"{type(task).__name__} asks for frame {frame!r}, which this arm's model does not "
@@ -411,9 +412,8 @@ def _scored(
 def _result(
     arm, tasks, q, errors, opts: SolverSettings, iterations, restarts, t0, checked
 ) -> IKResult:
-    # the descent claims nothing: the verdict's rule on its measure alone, then the
-    # constraints' checks; the errors the distances of the tasks' frames to their targets
-    # (``Task.centre``: no region, no weight 0), the verdict's measure apart where they differ
+    # the descent claims nothing: the verdict's rule on its measure alone, then the constraints'
+    # checks; the errors are the frames' distances to their targets (``Task.centre``)
     within = arm.within_limits(q)
     status = status_of(Status.NOT_CONVERGED, all([e.within for e in errors]) and within, within)
     positions = [e.position for e in errors if e.position is not None]
