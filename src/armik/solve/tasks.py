@@ -431,10 +431,9 @@ def _result(
         orientations = [e.orientation for e in apart if e.orientation is not None]
         if status is Status.CONVERGED:  # several tasks: the largest of their frames'
             ori, pos = max(orientations) if orientations else None, max(positions, default=0.0)
-            several = len(tasks) > 1
-            said = reasons.tasks_apart(reason, pos, ori) if several else None
-            weighted = not several and type(tasks[0]) is Pose and not tasks[0].weights.all()
-            reason = said or reasons.measured_apart(reason, pos, ori, weighted)
+            weighted = type(tasks[0]) is Pose and not tasks[0].weights.all()  # said alone
+            alone = reasons.measured_apart(reason, pos, ori, weighted)
+            reason = reasons.tasks_apart(reason, pos, ori) if len(tasks) > 1 else alone
     found = Verdicts(
         answers=one(q, Status.NOT_CONVERGED, reason, iterations=iterations, restarts=restarts),
         status=np.array([status.code], dtype=np.int8),
