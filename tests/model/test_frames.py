@@ -75,3 +75,35 @@ def test_a_path_starts_from_the_middle_without_q0():
     line = [pin.SE3(T.rotation, T.translation + [0, 0.01 * k, 0]) for k in range(3)]
     path = a.solve_path(line)
     np.testing.assert_array_equal(path.q, a.solve_path(line, a.middle).q)
+
+
+def test_a_name_a_joint_and_its_link_share_is_the_links_frame():
+    """The SCARA's ``quill`` names a joint and its child link: Pinocchio holds a frame of
+    each, at one placement; ``fk``, ``jacobian`` and a task read the link's, as ROS does."""
+    scara = bundled("scara")
+    q = scara.random_q(np.random.default_rng(4))
+    model = scara.model
+    data = model.createData()
+    link = model.getFrameId("quill", pin.FrameType.BODY)
+    pin.framesForwardKinematics(model, data, scara.kinematics.to_pin(q))
+    T = scara.fk(q, "quill")
+    assert T.isApprox(scara.kinematics.T_base_world * data.oMf[link], 1e-12)
+    J = pin.computeFrameJacobian(model, data, scara.kinematics.to_pin(q), link, pin.LOCAL)
+    np.testing.assert_allclose(scara.jacobian(q, frame="quill"), J, atol=1e-12)
+    r = scara.solve([armik.Position(T.translation, frame="quill")])
+    assert r.success, r.reason
+    assert np.linalg.norm(scara.fk(r.q, "quill").translation - T.translation) < 1e-6
+
+
+def test_a_name_of_frames_at_different_placements_is_refused_naming_them():
+    from armik.model.frames import named
+
+    model = bundled("scara").model.copy()
+    elbow = model.getFrameId("elbow")
+    joint = model.frames[model.getFrameId("quill", pin.FrameType.BODY)].parentJoint
+    frame = pin.Frame("elbow", joint, elbow, pin.SE3.Identity(), pin.FrameType.BODY)
+    model.addFrame(frame, False)
+    with pytest.raises(armik.FrameError, match="'elbow' names 2 frames") as caught:
+        named(model, "elbow")
+    assert len(caught.value.candidates) == 2
+    assert named(model, "link1") == model.getFrameId("link1")

@@ -25,16 +25,44 @@ REFERENCES = ("local", "base")
 
 def frame_id(arm: ArmModel, frame: str | None) -> int:
     """The Pinocchio frame index of ``frame`` (None or the tip: the tip's, its offset
-    included); a ``FrameError`` listing the arm's frames for a name the model lacks."""
+    included; a name a joint and a link share: ``named``); a ``FrameError`` listing the
+    arm's frames for a name the model lacks."""
     if frame is None or frame == arm.tip:
         return arm.tip_frame_id
     if isinstance(frame, str) and arm.model.existFrame(frame):
-        return int(arm.model.getFrameId(frame))
+        return named(arm.model, frame)
     names = arm.frames()
     raise FrameError(
         f"frame {frame!r} is not a frame of arm {arm.name!r}; its frames: {listing(names)}",
         frame=str(frame),
         candidates=names,
+    )
+
+
+def named(model: pin.Model, name: str) -> int:
+    """The index of the frame ``name`` of ``model`` (one it has). A URDF may give a joint
+    and a link one name (the bundled SCARA's ``quill``), and Pinocchio then holds a frame
+    of each: the link's (a ``BODY`` frame) is the one meant, as ROS tools read a frame's
+    name, and the joint's frame is placed where its child link is. Where the frames of a
+    name are not all at that one placement, a ``FrameError`` names them."""
+    found = [i for i, f in enumerate(model.frames) if f.name == name]
+    if len(found) == 1:
+        return found[0]
+    frames = [model.frames[i] for i in found]
+    bodies = [i for i, f in zip(found, frames) if f.type == pin.FrameType.BODY]
+    first = frames[0]
+    same = all(
+        f.parentJoint == first.parentJoint and f.placement.isApprox(first.placement, 1e-12)
+        for f in frames
+    )
+    if len(bodies) == 1 and same:
+        return bodies[0]
+    kinds = [f"{name} ({f.type.name.lower()}, on joint {f.parentJoint})" for f in frames]
+    raise FrameError(
+        f"frame {name!r} names {len(found)} frames of the model at different placements: "
+        f"{listing(kinds)}; name a frame one of them alone has",
+        frame=name,
+        candidates=kinds,
     )
 
 
@@ -53,7 +81,7 @@ def owner(chains: Mapping[str, ArmModel], frame: str) -> str:
 def moves(arm: ArmModel, frame: str) -> bool:
     """Whether some joint of ``arm`` moves its frame ``frame`` (one the model has)."""
     model = arm.model
-    return bool(model.frames[model.getFrameId(str(frame))].parentJoint != 0)
+    return bool(model.frames[named(model, str(frame))].parentJoint != 0)
 
 
 def frame_and_reference(frame: str | None, reference: str | None) -> tuple[str | None, str]:

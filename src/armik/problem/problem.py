@@ -78,6 +78,29 @@ def _refuse_looking_at_itself(tasks) -> None:
                 )
 
 
+def refuse_looking_from_target(positions: object, opts) -> None:
+    """The keyword spelling's ``_refuse_looking_at_itself``: a ``TargetError`` where the
+    option ``look_at`` (``opts``: validated options) is a point a target's position
+    (``positions``: one, or N of a batch or a path, m) holds the tip on exactly, its
+    position neither boxed (a finite bound) nor freed (an infinite bound, a weight of 0):
+    ``solve(p, look_at=p, cone=...)`` asks what ``[Position(p), LookAt(p)]`` asks."""
+    look = opts.look_at
+    if look is None:
+        return
+    bounds, weights = opts.bounds, opts.weights
+    if (bounds is not None and any(bounds[:3])) or (weights is not None and not all(weights[:3])):
+        return
+    at = np.asarray(positions, dtype=float).reshape(-1, 3)
+    near = np.flatnonzero(np.linalg.norm(at - np.asarray(look), axis=1) <= LOOK_FROM)
+    if len(near):
+        which = "the target's position" if len(at) == 1 else f"target {int(near[0])}'s position"
+        raise TargetError(
+            f"look_at point {list(look)} is {which}, where the tip itself is put: no "
+            "direction is left to aim along; look at another point, or give the tip's "
+            "position a box (bounds=) to stand back in"
+        )
+
+
 def relative_tasks(target: object) -> list[Relative]:
     """The ``Relative`` tasks of a target (none for a pose or a position)."""
     problem = as_problem(target)

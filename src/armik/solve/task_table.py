@@ -48,7 +48,10 @@ def task_table(arm, tasks: tuple[Task, ...], ids) -> TaskTable | None:
         rows.append(row)
         found.update(dict.fromkeys(f))
     frames = tuple(found)
-    chains = _CHAINS(arm, frames)
+    try:
+        chains = _CHAINS(arm, frames)
+    except ValueError:  # a name a joint's frame and a link's share: the kernel looks frames
+        return None  # up by name alone (``armik.model.frames.named``); the Python descent
     if chains is None:
         return None
     T = len(rows)

@@ -33,10 +33,11 @@ from armik.constraints.limits import JointLimits
 from armik.errors import OptionError, TargetError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
+from armik.model.frames import named
 from armik.problem.problem import Problem, as_problem, lower
 from armik.problem.scores import Posture, Score
 from armik.problem.settings import SolverSettings
-from armik.problem.tasks import Axis, LookAt, Task, TaskError
+from armik.problem.tasks import Axis, LookAt, Pose, Task, TaskError
 from armik.result import IKResult
 from armik.solve.nullspace import descend
 from armik.solve.task_table import descend_table, task_table
@@ -104,7 +105,7 @@ def _frame_id(arm: ArmModel, task: Task, frame: str | None) -> int:
     if frame is None or frame == arm.tip:
         return arm.tip_frame_id
     if arm.model.existFrame(frame):
-        return int(arm.model.getFrameId(frame))
+        return named(arm.model, frame)  # a name a joint and a link share: the link's
     names = sorted(f.name for f in arm.model.frames)
     raise TargetError(
         f"{type(task).__name__} asks for frame {frame!r}, which this arm's model does not "
@@ -316,7 +317,6 @@ def solve_tasks(
     rng = np.random.default_rng(opts.seed)
     budget = problem.budget
     aims = tuple([t.shrunk(AIM) for t in tasks])
-    regions = any([a is not t for a, t in zip(aims, tasks)])  # else no task has one
     table = task_table(arm, aims, ids)
     started = time.thread_time()
     used = restarts = 0
@@ -359,7 +359,7 @@ def solve_tasks(
             arm, tasks, ids, best, best_errors, score, reference, opts, started, checked
         )
         moved, best = q is not best, q
-    r = _result(arm, tasks, best, best_errors, opts, used, restarts, t0, checked, regions)
+    r = _result(arm, tasks, best, best_errors, opts, used, restarts, t0, checked)
     if score is None or not r.success:
         return r
     value = score(arm, r.q, reference)
@@ -410,10 +410,10 @@ def _scored(
 
 
 def _result(
-    arm, tasks, q, errors, opts: SolverSettings, iterations, restarts, t0, checked, regions=True
+    arm, tasks, q, errors, opts: SolverSettings, iterations, restarts, t0, checked
 ) -> IKResult:
-    # the descent claims nothing: the verdict's rule on its measure alone, then the
-    # constraints' checks; ``regions``: whether a task may have one (else each is its centre)
+    # the descent claims nothing: the verdict's rule on its measure alone, then the constraints'
+    # checks; the errors are the frames' distances to their targets (``Task.centre``)
     within = arm.within_limits(q)
     status = status_of(Status.NOT_CONVERGED, all([e.within for e in errors]) and within, within)
     positions = [e.position for e in errors if e.position is not None]
@@ -423,17 +423,17 @@ def _result(
     else:
         reason = reasons.tasks_missed(restarts, iterations, _describe(tasks, errors))
     extra: dict = {"task_errors": errors}
-    centres = tuple([t.shrunk(0.0) for t in tasks]) if regions else tasks
-    if regions and any([c is not t for c, t in zip(centres, tasks)]):  # their centres' distances
+    centres = tuple([t.centre() for t in tasks])
+    if any([c is not t for c, t in zip(centres, tasks)]):  # their centres' distances
         apart = _measure(arm, centres, frame_ids(arm, centres), q, opts)
         extra["measured"] = (max(positions, default=0.0), max(orientations, default=None))
         positions = [e.position for e in apart if e.position is not None]
         orientations = [e.orientation for e in apart if e.orientation is not None]
         if status is Status.CONVERGED:  # several tasks: the largest of their frames'
             ori, pos = max(orientations) if orientations else None, max(positions, default=0.0)
-            several = len(tasks) > 1
-            said = reasons.tasks_apart(reason, pos, ori) if several else None
-            reason = said or reasons.measured_apart(reason, pos, ori, False)
+            weighted = type(tasks[0]) is Pose and not tasks[0].weights.all()  # said alone
+            alone = reasons.measured_apart(reason, pos, ori, weighted)
+            reason = reasons.tasks_apart(reason, pos, ori) if len(tasks) > 1 else alone
     found = Verdicts(
         answers=one(q, Status.NOT_CONVERGED, reason, iterations=iterations, restarts=restarts),
         status=np.array([status.code], dtype=np.int8),

@@ -110,6 +110,13 @@ class Task(ABC):
         is itself at every factor (the task solver then measures no centre)."""
         return self
 
+    def centre(self) -> Task:
+        """The task measuring its frame's true distance to its target: its region shrunk to
+        its centre (``shrunk(0)``), an axis an infinite bound frees left free; what a
+        result's ``position_error`` and ``orientation_error`` report, beside the verdict's
+        measure (``measured``). Itself where the two are one."""
+        return self.shrunk(0.0)
+
     def rim(self, count: int) -> list[Task]:
         """Exact tasks at ``count`` points spread around the rim of the region, just inside
         it (each answer of one answers this task): where the region's centre is out of

@@ -90,6 +90,16 @@ class Pose(Task):
         pos, ori = float(np.linalg.norm(outside[:3])), float(np.linalg.norm(outside[3:]))
         return TaskError(pos, ori, pos <= tol_position and ori <= tol_orientation)
 
+    def centre(self) -> Task:
+        """``shrunk(0)`` with every weight 1: an axis weighted 0 is measured all the same,
+        the distance of the frame to the target's position (or rotation), as ``Arm.solve``
+        reports it with ``weights=``; only an infinite bound frees a component."""
+        centre = self.shrunk(0.0)
+        if self.weights.all():
+            return centre
+        bounds = scaled(self.bounds, 0.0)
+        return replaced(centre, bounds=bounds, weights=np.ones(6), _free=bounds)
+
     def shrunk(self, factor: float) -> Task:
         if math.isfinite(factor) and not self.bounds.any():  # an exact pose: no region
             return self

@@ -76,5 +76,9 @@ class Relative(Task):
         pose = self.pose.shrunk(factor)
         return self if pose is self.pose else replaced(self, pose=pose)
 
+    def centre(self) -> Task:
+        pose = self.pose.centre()
+        return self if pose is self.pose else replaced(self, pose=pose)
+
     def __repr__(self) -> str:
         return f"Relative({self.frame!r}, relative_to={self.relative_to!r})"
