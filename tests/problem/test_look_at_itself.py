@@ -63,3 +63,20 @@ def test_the_keyword_look_at_of_the_targets_own_point_is_refused_by_name():
         Options(),
     ):
         refuse_looking_from_target(p, opts)
+
+
+def test_the_keyword_look_at_of_its_own_point_is_refused_on_every_route():
+    panda = bundled("panda")
+    T = panda.fk(panda.middle)
+    p = T.translation
+    sight = {"look_at": p, "cone": (0, 0, 1, 0.0)}
+    with pytest.raises(armik.TargetError, match="the target's position"):
+        panda.solve(p, **sight)
+    with pytest.raises(armik.TargetError, match="the target's position"):
+        panda.solve_all(p, **sight)
+    with pytest.raises(armik.TargetError, match="target 1's position"):
+        panda.solve_batch([p + 0.05, p], workers=1, **sight)
+    with pytest.raises(armik.TargetError, match="target 0's position"):
+        panda.solve_path([p, p + 0.01], panda.middle, **sight)
+    # another point: solved
+    assert panda.solve(p, look_at=p + [0.0, 0.0, -0.3], cone=(0, 0, 1, 0.3)).success

@@ -23,7 +23,7 @@ from armik.errors import OptionError, TargetError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.options import Options, spelled, with_sight
-from armik.problem.problem import Problem, as_problem, lower
+from armik.problem.problem import Problem, as_problem, lower, refuse_looking_from_target
 from armik.problem.scores import fit_posture, parse_score
 from armik.problem.tasks import Pose, Position, Task
 from armik.request import Request
@@ -75,6 +75,9 @@ def read(
         check_options(opts, solver, held=held)
     if score is not None and problem is None:  # every answer ranked is to this target
         target = parsed(target, arm)
+    if opts.look_at is not None and problem is None:  # [Position(p), LookAt(p)]'s refusal
+        target = parsed(target, arm)  # parsed once: the stages read it as parsed
+        refuse_looking_from_target(target.position, opts)
     # built as the tuple it is (``Request``'s own ``__new__`` is a Python call: every solve)
     return _new(Request, (target, q0, solver, opts, key, seed, every, t0, score, problem, None))
 
@@ -109,6 +112,9 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     if rows is None and opts.hold is not None:  # held joints: each target solved as solve does
         batch = parse_targets(targets, arm)
         rows = [batch.target(i) for i in range(len(batch))]
+    if rows is None and opts.look_at is not None:  # [Position(p), LookAt(p)]'s refusal
+        targets = parse_targets(targets, arm)  # parsed once: the batch reads it as parsed
+        refuse_looking_from_target(targets.positions, opts)
     if rows is None:
         return Request(targets, q0, solver, opts, key, seed, False, t0)
     each = tuple(read(arm, row, None, solver, options) for row in rows)
@@ -151,6 +157,9 @@ def read_path(
             return path, path
         poses, options = lowered
     opts, key, seed = settings(arm, {**options, "max_restarts": 0})
+    if opts.look_at is not None:  # [Position(p), LookAt(p)]'s refusal, at every waypoint
+        poses = parse_targets(poses, arm)  # parsed once: the path reads it as parsed
+        refuse_looking_from_target(poses.positions, opts)
     local = Request(poses, q0, solver, opts, key, seed, False, t0)
     if plan == "follow" and "slide" not in options:
         options = {"slide": True, **options}
