@@ -58,7 +58,8 @@ def frame_chains(arm, frame_ids: tuple[int, ...]) -> FrameChains | None:
     span = np.where(np.isfinite(hi), hi, np.pi) - sample_lo
     packed, kind_parts = [], []
     for fid in frame_ids:
-        frame = model.frames[model.getFrameId(arm.model.frames[fid].name)]
+        own = arm.model.frames[fid]  # by name and type: a joint and its link may share a name
+        frame = model.frames[model.getFrameId(own.name, own.type)]
         path = [j for j in model.supports[frame.parentJoint] if j > 0]
         if not path:
             return None

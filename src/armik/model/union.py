@@ -17,6 +17,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.errors import JointError
+from armik.model.frames import named
 from armik.model.reduce import reduce_model
 from armik.tolerances import LIMIT_TOL
 
@@ -101,7 +102,7 @@ class Union:
         return qp
 
     def fk(self, q: np.ndarray, frame: str | None = None) -> pin.SE3:
-        fid = self.tip_frame_id if frame is None else self.model.getFrameId(frame)
+        fid = self.tip_frame_id if frame is None else named(self.model, frame)
         pin.forwardKinematics(self.model, self.data, self.to_pin(q))
         return self.T_base_world * pin.updateFramePlacement(self.model, self.data, fid)
 

@@ -48,10 +48,7 @@ def task_table(arm, tasks: tuple[Task, ...], ids) -> TaskTable | None:
         rows.append(row)
         found.update(dict.fromkeys(f))
     frames = tuple(found)
-    try:
-        chains = _CHAINS(arm, frames)
-    except ValueError:  # a name a joint's frame and a link's share: the kernel looks frames
-        return None  # up by name alone (``armik.model.frames.named``); the Python descent
+    chains = _CHAINS(arm, frames)
     if chains is None:
         return None
     T = len(rows)
