@@ -80,3 +80,15 @@ def test_the_keyword_look_at_of_its_own_point_is_refused_on_every_route():
         panda.solve_path([p, p + 0.01], panda.middle, **sight)
     # another point: solved
     assert panda.solve(p, look_at=p + [0.0, 0.0, -0.3], cone=(0, 0, 1, 0.3)).success
+
+
+def test_a_look_at_seeded_on_its_point_moves_off_it():
+    # the compiled step measured no error on the point (any axis "looked at it") and claimed
+    # convergence at once; it measures pi there, as the verdict does, and restarts
+    panda = bundled("panda")
+    q = panda.middle
+    p = panda.fk(q).translation
+    for solver in ("auto", "dls"):
+        r = panda.solve(armik.LookAt(p), q0=q, solver=solver)
+        assert r.success, r.reason
+        assert np.linalg.norm(panda.fk(r.q).translation - p) > 1e-6

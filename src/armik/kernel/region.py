@@ -170,8 +170,8 @@ def _look_rows(R, p, x, toward, J, a, cone, e, A, n):
     (``j``, ``v``: J's angular and linear rows); with ``toward``, around the unit direction
     ``x``: ``w = R^T x``, no position's part (L infinite in dw). With ``c = a x w``,
     ``s = |c|``, ``k = a . w``: ``dc = a x dw``, ``ds = c . dc / s``,
-    ``dtheta = k ds - s (a . dw)``. No rows where the tip is at the point (any axis looks
-    at it)."""
+    ``dtheta = k ds - s (a . dw)``. No rows where the tip is at the point, and the angle
+    there is pi, as the verdict measures it: no axis looks at a point from itself."""
     if toward:
         d0, d1, d2, L, far = x[0], x[1], x[2], 1.0, math.inf
     else:
@@ -185,7 +185,9 @@ def _look_rows(R, p, x, toward, J, a, cone, e, A, n):
         w2 = (R[0, 2] * d0 + R[1, 2] * d1 + R[2, 2] * d2) / L
         c0, c1, c2, s, k, h = _beyond(a, w0, w1, w2, cone)
     if h <= 0.0:
-        return _inside(e, A, n)
+        _inside(e, A, n)
+        # on the point: no line of sight, no axis aimed (the verdict's pi), no rows to leave
+        return math.pi if L <= LOOK_AT else 0.0
     near = s < _SMALL  # (anti)parallel: at the axis r = a x w itself, as ``_cone_rows``
     f = (1.0 if k > 0.0 else 0.0) if near else h / s
     e[3], e[4], e[5] = -c0 * f, -c1 * f, -c2 * f
