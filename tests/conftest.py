@@ -120,12 +120,35 @@ TOUR_STARTED = TOUR_DONE + ".pid"
 TOUR_START_WAIT = 120.0  # s: a worker waits no longer for the tour to start
 
 
+# The suite's longest tests (several seconds each on two busy cores, most of them a Python
+# of their own, a compile, a browser or mypy), by node id or its start: after the tour, before
+# the rest. pytest-xdist's worksteal gives each worker one run of the list and a worker that
+# runs out takes the tail of the other's; with these at the head, the last tests on either core
+# are short ones, and no long one started late keeps one core alone at the end.
+# tests/test_suite_order.py checks that each still names a test.
+LONG = (
+    "tests/view/test_browser.py::",  # all of it: one module-scoped browser page
+    "tests/kernel/test_warmup.py::test_cold_first_solve_loads_the_helpers_step",
+    "tests/kernel/test_compile.py::test_compiling_in_two_processes_fills_the_cache_a_new",
+    "tests/test_types.py::test_mypy_reports_no_error",
+    "tests/test_examples.py::test_examples_run",
+    "tests/test_compiled_cache.py::test_a_cache_filled_for_one_copy_of_the_sources_serves",
+    "tests/kernel/test_compile.py::test_a_compiling_first_call_says_so_once_and_a_cached",
+    "tests/kernel/test_compile.py::test_an_objmode_block_lifted_from_the_cache_is_not",
+    "tests/view/test_cli_view.py::",
+)
+
+
 def pytest_collection_modifyitems(session, config, items) -> None:
     """The tour of every option (tests/kernel/test_compile.py) compiles every kernel into
     numba's cache, one process per core: run first, the rest of the suite loads what it
-    compiled instead of compiling it again on one core."""
+    compiled instead of compiling it again on one core. The ``LONG`` tests next, in their
+    order there; the rest as collected."""
     tour = [item for item in items if item.name == TOUR]
-    items[:] = tour + [item for item in items if item not in tour]
+    long = [item for start in LONG for item in items if item.nodeid.startswith(start)]
+    first = tour + [item for item in long if item not in tour]
+    chosen = set(first)
+    items[:] = first + [item for item in items if item not in chosen]
 
 
 def pytest_runtest_setup(item) -> None:

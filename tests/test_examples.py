@@ -69,24 +69,79 @@ EXPECT = {
 }
 
 
+# The examples in two groups of about equal time, each run in one interpreter
+# (tests/run_examples.py): a fresh Python per example paid its start, imports and robot loads
+# fifteen times. Two groups, so that two workers can run them side by side; the viewer last
+# in its group, as it starts a server's threads.
+GROUPS = {
+    "plots_and_viewer": [
+        "01_worked_example.py",
+        "02_elbow_branches.py",
+        "03_failure_modes.py",
+        "04_choosing_a_solution.py",
+        "05_six_and_seven_dof.py",
+        "08_many_targets.py",
+        "09_view.py",
+    ],
+    "compare_and_the_rest": [
+        "07_compare.py",
+        "06_cartesian_path.py",
+        "10_collisions.py",
+        "11_tolerances.py",
+        "12_preferences.py",
+        "13_global_path.py",
+        "14_two_hands.py",
+        "15_servo.py",
+    ],
+}
+RUNNER = Path(__file__).with_name("run_examples.py")
+
+
 def test_every_example_is_listed():
     assert [p.name for p in EXAMPLES] == sorted(EXPECT)
+    assert sorted(name for group in GROUPS.values() for name in group) == sorted(EXPECT)
 
 
-@pytest.mark.parametrize("script", EXAMPLES, ids=lambda p: p.name)
-def test_example_runs(script, tmp_path):
+@pytest.mark.parametrize("group", sorted(GROUPS))
+def test_examples_run(group, tmp_path):
+    scripts = [str(p) for p in EXAMPLES if p.name in GROUPS[group]]
+    scripts.sort(key=lambda s: GROUPS[group].index(Path(s).name))
     proc = subprocess.run(
-        [sys.executable, str(script), "--out", str(tmp_path)],
+        [sys.executable, str(RUNNER), str(tmp_path), *scripts],
         capture_output=True,
         text=True,
         timeout=1200,  # a guard against a hang only: a cold compile on a busy machine is slow
         env={"MPLBACKEND": "Agg", "PATH": "", **_env()},
     )
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    for name in GROUPS[group]:
+        stem = Path(name).stem
+        stdout = (tmp_path / f"{stem}.stdout").read_text(encoding="utf-8")
+        stderr = (tmp_path / f"{stem}.stderr").read_text(encoding="utf-8")
+        assert (tmp_path / f"{stem}.code").read_text(encoding="utf-8") == "0", (name, stderr)
+        for words in EXPECT[name]:
+            assert words in stdout, (name, words, stdout)
+        for png in (tmp_path / stem).glob("*.png"):
+            assert png.stat().st_size > 10_000, (name, png)
+
+
+def test_the_runner_reports_a_failing_example(tmp_path):
+    """A script that raises, or exits non-zero, is reported so and the next still runs."""
+    (tmp_path / "bad.py").write_text("print('before')\nraise RuntimeError('broken')\n")
+    (tmp_path / "quit.py").write_text("import sys\nsys.exit(3)\n")
+    (tmp_path / "good.py").write_text("import sys\nprint('fine', sys.argv[1:2])\n")
+    out = tmp_path / "out"
+    scripts = [str(tmp_path / f"{n}.py") for n in ("bad", "quit", "good")]
+    proc = subprocess.run(
+        [sys.executable, str(RUNNER), str(out), *scripts], capture_output=True, text=True
+    )
     assert proc.returncode == 0, proc.stderr
-    for words in EXPECT[script.name]:
-        assert words in proc.stdout, proc.stdout
-    for png in tmp_path.glob("*.png"):
-        assert png.stat().st_size > 10_000
+    assert (out / "bad.code").read_text() == "1"
+    assert "RuntimeError: broken" in (out / "bad.stderr").read_text()
+    assert (out / "bad.stdout").read_text() == "before\n"
+    assert (out / "quit.code").read_text() == "3"
+    assert (out / "good.code").read_text() == "0"
+    assert (out / "good.stdout").read_text() == "fine ['--out']\n"
 
 
 def _env() -> dict:

@@ -5,6 +5,7 @@ over 500 lines, a README under 300 lines), read from the source."""
 from __future__ import annotations
 
 import ast
+import functools
 import shutil
 import subprocess
 import sys
@@ -73,6 +74,7 @@ def _imports(path: Path, name: str, mods: dict) -> set[str]:
     return {m for m in found if m in mods and m != name}
 
 
+@functools.cache  # parsed once for both cycle checks, which only read it
 def _graph() -> dict[str, set[str]]:
     mods = _modules()
     return {name: _imports(path, name, mods) for name, path in mods.items()}
