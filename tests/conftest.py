@@ -210,3 +210,13 @@ def decided_by_verdicts(r) -> bool:
     written by them, now or on first read), not the prepared path's claimed answer."""
     written = r.__dict__.get("_reason")
     return written is None or type(getattr(written[0], "__self__", None)).__name__ == "Verdicts"
+
+
+def whole_placements(model, data, names, q) -> None:
+    """Pinocchio's placements of every frame of the whole URDF's ``model`` into ``data``, at
+    the joints ``names`` set to ``q`` (an ``Arms`` configuration) and the rest neutral: what
+    a robot of several tips is checked against."""
+    full = pin.neutral(model)
+    for name, value in zip(names, q):
+        full[model.joints[model.getJointId(name)].idx_q] = value
+    pin.framesForwardKinematics(model, data, full)

@@ -15,6 +15,7 @@ import armik
 from armik.arms import UNION_ITERATIONS
 from armik.constraints.hold import HELD_TOL
 from armik.status import Status
+from tests.conftest import whole_placements
 
 ROBOTS = Path(__file__).resolve().parents[1] / "robots"
 
@@ -101,19 +102,14 @@ def test_two_hands_over_a_shared_torso():
     solved = 0
     for _ in range(40):
         q = robot.random_q(rng)
-        qf = pin.neutral(full)
-        for name, value in zip(robot.joint_names, q):
-            qf[full.joints[full.getJointId(name)].idx_q] = value
-        pin.framesForwardKinematics(full, data, qf)
+        whole_placements(full, data, robot.joint_names, q)
         targets = {tip: data.oMf[full.getFrameId(tip)].copy() for tip in tips}
         r = robot.solve(targets, iteration_budget=3000)  # deterministic, not timed
         if not r.success:
             assert r.status is Status.NOT_CONVERGED
             continue
         solved += 1
-        for name, value in zip(robot.joint_names, r.q):
-            qf[full.joints[full.getJointId(name)].idx_q] = value
-        pin.framesForwardKinematics(full, data, qf)
+        whole_placements(full, data, robot.joint_names, r.q)
         for tip in tips:
             err = pin.log6(targets[tip].inverse() * data.oMf[full.getFrameId(tip)]).vector
             assert np.abs(err).max() <= 2e-6
@@ -363,10 +359,7 @@ def test_a_link_of_either_arm_is_placed_by_the_chain_that_moves_it(cell):
     rng = np.random.default_rng(5)
     for _ in range(3):
         q = cell.random_q(rng)
-        full = pin.neutral(model)
-        for name, v in zip(cell.joint_names, q):
-            full[model.joints[model.getJointId(name)].idx_q] = v
-        pin.framesForwardKinematics(model, data, full)
+        whole_placements(model, data, cell.joint_names, q)
         for frame in ("l_link_3", "r_link_3", "r_link_5", "cell"):
             truth = data.oMf[model.getFrameId(frame)]
             assert cell.fk(q, frame).isApprox(truth, 1e-12), frame

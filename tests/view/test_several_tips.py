@@ -14,6 +14,7 @@ import armik
 from armik.view.nodes import wxyz_position
 from armik.view.robot import Robot
 
+from ..conftest import whole_placements
 from ..test_arms import dual_irb120
 
 pytest.importorskip("viser")
@@ -78,10 +79,7 @@ def test_every_link_is_drawn_once_where_the_whole_urdf_puts_it(torso):
     data = full.createData()
     for seed in range(3):
         q = robot.random_q(seed)
-        qf = pin.neutral(full)
-        for name, value in zip(robot.joint_names, q):
-            qf[full.joints[full.getJointId(name)].idx_q] = value
-        pin.framesForwardKinematics(full, data, qf)
+        whole_placements(full, data, robot.joint_names, q)
         for part, T in zip(view.body.parts, view.poses(q)):
             link = data.oMf[full.getFrameId(part.link)].homogeneous
             # each box's pose: by the chains' FK, and by the whole URDF's at its origin
