@@ -47,6 +47,8 @@ def test_a_cost_takes_the_whole_configuration_and_gets_the_best_combination(cell
     right = [x.q for x in cell.chain("r_tool0").solve_all(goal["r_tool0"]) if x.success]
     best = min(cost(np.r_[a, b]) for a, b in itertools.product(left, right))
     assert r.score <= best + 1e-9
+    for tip, own in r.extra["results"].items():  # the cost is the whole q's: each chain's too
+        assert own.score == r.score, tip
     b = cell.solve_batch({tip: [T] for tip, T in goal.items()}, prefer=cost)
     assert b.success.all() and b.score[0] == pytest.approx(r.score, abs=1e-9)
     with pytest.raises(OptionError, match="IndexError") as caught:

@@ -25,6 +25,7 @@ the chains after it at q0's values).
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -127,10 +128,18 @@ def ranked(
     elapsed = time.perf_counter() - t0
     out = []
     for value, _, choice in values[:count]:
-        r = joined(arms.tips, dict(zip(tips, choice)), seeds, elapsed)
+        # the cost is of the whole configuration: each chain's answer carries the robot's
+        # score, not the one its chain's search ranked it by (the other chains elsewhere)
+        own = {tip: _with_score(r, value) for tip, r in zip(tips, choice)}
+        r = joined(arms.tips, own, seeds, elapsed)
         r.extra["score"] = value
         out.append(r)
     return out
+
+
+def _with_score(r: IKResult, value: float) -> IKResult:
+    """``r`` with ``value`` as its score."""
+    return dataclasses.replace(r, extra={**r.extra, "score": value})
 
 
 def _part(
