@@ -194,7 +194,7 @@ def test_batches_and_paths_of_task_lists():
     # no compiled form (a boxed position and an axis): followed by the task solver, each
     # answer within its box and on its axis; the global plan refuses it
     boxed = [[armik.Position(tasks[0].p, bounds=(0.01,) * 3), tasks[1]] for tasks in path[:3]]
-    p = arm.solve_path(boxed, Q[0], max_joint_step=0.1)
+    p = arm.solve_path(boxed, Q[0], max_joint_step=0.1, iteration_budget=500)  # not timed
     assert p.success.all(), p.summary()
     for tasks, q in zip(boxed, p.q):
         assert tasks[0].measure(arm.fk(q), 1e-6, 1e-6).within

@@ -97,13 +97,16 @@ def test_a_followed_path_of_task_lists():
     ur5 = bundled("ur5")
     heights = [0.30, 0.31, 0.32, 0.33]
     rows = [[Height(z)] for z in heights]
-    start = ur5.solve([Height(0.30)], q0=ur5.middle + 0.3).q  # at the first height already
-    path = ur5.solve_path(rows, start, max_joint_step=0.2)
+    budget = {"iteration_budget": 500}  # not timed: the same answers on a busy machine
+    start = ur5.solve([Height(0.30)], q0=ur5.middle + 0.3, **budget).q  # at the first height
+    path = ur5.solve_path(rows, start, max_joint_step=0.2, **budget)
     assert path.success.all(), path.summary()
     for i, z in enumerate(heights):
         assert abs(_height(ur5, path.q[i]) - z) < 1e-6
     assert np.abs(np.diff(np.vstack([start, path.q]), axis=0)).max() <= 0.2 + 1e-12
-    jumped = ur5.solve_path([[Height(0.3)], [Height(-0.3)]], ur5.middle, max_joint_step=0.05)
+    jumped = ur5.solve_path(
+        [[Height(0.3)], [Height(-0.3)]], ur5.middle, max_joint_step=0.05, **budget
+    )
     assert jumped.status[1] in ("discontinuous", "not_converged"), jumped.summary()
     with pytest.raises(armik.TargetError, match="plan='global' plans over every solution"):
         ur5.solve_path(rows, ur5.middle, plan="global")
