@@ -210,7 +210,7 @@ def _on_backend(run_jobs, jobs: list[Chunk], workers: int, out: BatchResult, bar
     order: each at the row its job starts at (``Rows.start``); an ``ArmikError`` naming the
     backend when it gives too few, too many, repeated or other results."""
     at = {job.start: job for job in jobs}
-    n, done, got = len(out), 0, 0
+    n, done = len(out), 0
     parts = run_jobs(jobs, workers)
     if isinstance(parts, (str, bytes, BatchResult)) or not hasattr(parts, "__iter__"):
         raise ArmikError(
@@ -222,7 +222,7 @@ def _on_backend(run_jobs, jobs: list[Chunk], workers: int, out: BatchResult, bar
         job = at.get(part.start) if isinstance(part, Rows) else None
         if job is None or len(part) != len(job.targets) or part.arm != out.arm:
             raise ArmikError(
-                f"batch backend {run_jobs!r} gave {part!r} for job {got} (its result {got}): "
+                f"batch backend {run_jobs!r} gave {part!r} for job {len(placed)}: "
                 "a backend returns each job's result (job()) as the job returned it, "
                 "in any order"
             )
@@ -233,13 +233,12 @@ def _on_backend(run_jobs, jobs: list[Chunk], workers: int, out: BatchResult, bar
             )
         placed.add(part.start)
         out.put(part.start, part)
-        got += 1
         done += len(part)
         bar(done, n)
-    if got != len(jobs):
+    if len(placed) != len(jobs):
         raise ArmikError(
-            f"batch backend {run_jobs!r} gave {got} results for {len(jobs)} jobs: a backend "
-            "returns each job's result (job()), in any order"
+            f"batch backend {run_jobs!r} gave {len(placed)} results for {len(jobs)} jobs: a "
+            "backend returns each job's result (job()), in any order"
         )
 
 

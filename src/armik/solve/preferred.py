@@ -97,6 +97,8 @@ def _load(arm: ArmModel, req: Request) -> None:
     loaded = _LOADED(arm)
     if req.key is None or (req.key, req.every) in loaded:
         return
+    if len(loaded) > 256:  # bounded, as the kept options are
+        loaded.clear()
     loaded.add((req.key, req.every))
     run(arm, req.narrowed(iteration_budget=1).but(t0=time.perf_counter()))
 
