@@ -27,6 +27,10 @@ settings.load_profile("explore" if os.environ.get("ARMIK_FUZZ") == "1" else "fix
 # The compile notice goes to stderr whenever a kernel is compiled, which in a test run
 # depends on the numba cache and the order of the tests: off here, on where it is tested.
 os.environ["ARMIK_COMPILE_NOTICE"] = "0"
+# A first call compiles, as numba does, instead of running as Python while a helper process
+# compiles (kernel.tier): the tests' solves run the compiled code's iterations in their
+# budgets; tests/kernel/test_tier.py runs the Python forms.
+os.environ["ARMIK_FIRST_CALLS"] = "compile"
 # where a notice keeps the compile times it measured: not the user's file
 os.environ["ARMIK_COMPILE_TIMES"] = os.path.join(tempfile.mkdtemp(), "compile-seconds.json")
 
@@ -136,6 +140,7 @@ LONG = (
     "tests/kernel/test_compile.py::test_a_compiling_first_call_says_so_once_and_a_cached",
     "tests/kernel/test_compile.py::test_an_objmode_block_lifted_from_the_cache_is_not",
     "tests/view/test_cli_view.py::",
+    "tests/kernel/test_tier.py::test_a_first_call_runs_as_python_and_the_next_loads_the",
 )
 
 

@@ -31,6 +31,7 @@ from armik.arm import Arm, load, load_string
 from armik.constraints.collision import checker
 from armik.constraints.shapes import Box, HalfSpace, Sphere
 from armik.errors import OptionError, listing
+from armik.kernel.tier import compiling
 from armik.model.random_arms import random_urdf
 from armik.problem.tasks import Axis, Position
 from armik.solve.progress import make_progress
@@ -311,7 +312,11 @@ def compile(
             option="jobs",
             value=jobs,
         )
-    bar = make_progress(progress, len(names), "compile")
+    with compiling():  # what the parts call compiles here, not as Python (``kernel.tier``)
+        return _compile(names, jobs, make_progress(progress, len(names), "compile"))
+
+
+def _compile(names: Sequence[str], jobs: int, bar) -> dict:
     if jobs > 1 and len(names) > 1 and _spawn_starts():
         took = _in_processes(names, min(jobs, len(names)), bar)
         for name in names:  # from the cache now; compiles what a concurrent write lost

@@ -18,7 +18,7 @@ import numpy as np
 import armik
 import armik.kernel
 from armik.kernel import measure as check
-from armik.kernel import problem, step, warmup
+from armik.kernel import problem, step, tier, warmup
 
 # A fresh interpreter on a cache without the kernel's entries, descent, steps and share (see
 # ``_seed_with_callees``): a first dls solve and batch, then what compiled.
@@ -75,7 +75,7 @@ def _seed_with_callees(cache: Path) -> None:
 
 def test_cold_first_solve_loads_the_helpers_step(tmp_path):
     _seed_with_callees(tmp_path)
-    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path), warmup.ENVIRONMENT: "1"}
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path), tier.HELPER: "1"}
     out = subprocess.run(
         [sys.executable, "-c", COLD], env=env, capture_output=True, text=True, check=True
     )
@@ -93,16 +93,16 @@ def test_cold_first_solve_loads_the_helpers_step(tmp_path):
 
 
 def test_the_environment_decides_first(monkeypatch):
-    monkeypatch.setenv(warmup.ENVIRONMENT, "0")
-    assert not warmup._helper_allowed()
-    monkeypatch.setenv(warmup.ENVIRONMENT, "1")
-    assert warmup._helper_allowed()
+    monkeypatch.setenv(tier.HELPER, "0")
+    assert not tier.helper_allowed()
+    monkeypatch.setenv(tier.HELPER, "1")
+    assert tier.helper_allowed()
 
 
 def test_no_helper_once_compiled(monkeypatch):
     a = armik.load("panda")
     a.solve(a.fk(a.middle), solver="dls")  # compiled or loaded: nothing left to share
-    monkeypatch.setenv(warmup.ENVIRONMENT, "1")
+    monkeypatch.setenv(tier.HELPER, "1")
     monkeypatch.setattr(warmup, "PREPARED", set())
 
     def refuse(kind):

@@ -198,6 +198,28 @@ class _Line:
 TIMES = "compile-seconds.json"  # record_key -> seconds its last notice's line was open
 
 
+_BACKGROUND: set[str] = set()  # the parts said to compile in the background
+
+
+def in_background(module: str, name: str) -> None:
+    """Say, once per part and process, that the part of ``module``'s function ``name``
+    compiles in a helper process and that calls run as Python until it is done
+    (``kernel.tier``)."""
+    what, seconds = part_of(module)
+    if os.environ.get(ENVIRONMENT, "1") == "0" or what in _BACKGROUND:
+        return
+    _BACKGROUND.add(what)
+    here = measured().get(record_key(what, f"{module}.{name}"))
+    took = f"{here:.0f} s here last time" if here is not None else f"about {seconds:g} s"
+    try:
+        sys.stderr.write(
+            f"armik: compiling {what} for this machine in the background (once; {took}); "
+            "until then they run as Python, slower\n"
+        )
+    except (OSError, ValueError):
+        pass
+
+
 def record_key(what: str, first: str) -> str:
     """What a burst's time is kept under: its part and the function that began it. A part
     compiles more or less of itself as its cache is empty or partly filled (a weighted

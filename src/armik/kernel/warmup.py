@@ -24,7 +24,6 @@ then compiles the step itself, as it would without it.
 
 from __future__ import annotations
 
-import os
 import subprocess
 import sys
 import threading
@@ -39,8 +38,8 @@ from armik.kernel.descent import _add_solution, _near_known_minimum
 from armik.kernel.notice import NOTICE
 from armik.kernel.problem import STEP_DLS, STEP_QP, _workspace, unpack
 from armik.kernel.single import plain_pose, plain_seed
+from armik.kernel.tier import helper_allowed, python_first
 
-ENVIRONMENT = "ARMIK_COMPILE_HELPER"  # "0": never start the helper, "1": even on one CPU
 HELPER_TIMEOUT = 300.0  # s: a helper still silent after this is stopped
 STEPS = {STEP_DLS: step.dls, STEP_QP: step.qp}
 
@@ -55,7 +54,7 @@ def start(kind: int) -> None:
     a program that does other work first (``armik demo``'s 2-link arm), so that the step
     compiles meanwhile and no notice names the numeric solvers before they are used."""
     with _lock:
-        if kind in PREPARED or kind in _started or not _needs_helper(kind):
+        if kind in PREPARED or kind in _started or python_first() or not _needs_helper(kind):
             return
         helper = _start_helper(kind)
         if helper is not None:
@@ -72,7 +71,8 @@ def prepare(kind: int) -> None:
         if kind in PREPARED:
             return
         try:
-            _prepare(kind)
+            if not python_first():  # else a first call runs as Python (``tier``)
+                _prepare(kind)
         finally:
             PREPARED.add(kind)
 
@@ -81,7 +81,7 @@ def _needs_helper(kind: int) -> bool:
     """Whether a helper would shorten the first call of step ``kind`` (see the module)."""
     step_types, share = _parts()
     return not (
-        not _helper_allowed()
+        not helper_allowed()
         or all(types in dispatcher.overloads for dispatcher, types in share)  # nothing to share
         or _cached(STEPS[kind], step_types)
     )  # else the entry compiles or loads everything in order, as always
@@ -134,19 +134,6 @@ def _parts() -> tuple[tuple, list]:
         (_near_known_minimum, types(ch, q, Q, count)),
     ]
     return types(ch, st, ws, count, q, 1.0), share
-
-
-def _helper_allowed() -> bool:
-    setting = os.environ.get(ENVIRONMENT)
-    if setting in ("0", "1"):
-        return setting == "1"
-    if getattr(sys, "frozen", False) or not Path(sys.executable).name.lower().startswith("python"):
-        return False  # an application that embeds Python: sys.executable is not an interpreter
-    try:
-        cpus = len(os.sched_getaffinity(0))
-    except AttributeError:  # not on Linux
-        cpus = os.cpu_count() or 1
-    return cpus >= 2
 
 
 def _cached(dispatcher, types: tuple) -> bool:
