@@ -6,9 +6,12 @@ None when the solver applies to an arm and target, else the reason it does not.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal, NamedTuple
+
+import numpy as np
 
 from armik.errors import SolverError, listing
 from armik.model.derived import Derived
@@ -17,8 +20,6 @@ from armik.problem.settings import (
 )  # the choices are kept per options: hashed, compared
 
 if TYPE_CHECKING:
-    import numpy as np
-
     from armik.model.arm_model import ArmModel
     from armik.solvers.answers import Answers
     from armik.targets.batch import TargetBatch
@@ -32,6 +33,10 @@ RunBatch = Callable[["ArmModel", "TargetBatch", "np.ndarray", "SolverSettings"],
 # ``armik.solve.prepared``): (arm, options, position_only) -> run_pose(H, q0, seed), or None
 # where the solver has no runner for that input (the general path then).
 PreparePose = Callable[["ArmModel", "SolverSettings", bool], "Callable | None"]
+
+
+# (arm, target, seed, value, opts, every) -> answers: a sweep started at ``value`` (``Sweep``)
+FromValue = Callable[["ArmModel", "Target", "np.ndarray", float, "SolverSettings", bool], "Answers"]
 
 
 class Sweep(NamedTuple):
@@ -48,6 +53,10 @@ class Sweep(NamedTuple):
     # (arm, target, seed) -> value -> the configurations ``at_value`` claims there (k, dof),
     # without their words: a search over the values (a preference's) calls it many times
     exact: Callable[[ArmModel, Target, np.ndarray], Callable[[float], np.ndarray]]
+    # (arm, target, seed, value, opts, every) -> its answers swept from ``value`` on (that
+    # value first, then the others in its own order), as ``run`` gives them: a global path's
+    # rungs (``swept_from``); None: ``run`` from the seed with the joint at ``value``
+    from_value: FromValue | None = None
 
 
 class Parameter(NamedTuple):
@@ -221,6 +230,30 @@ def sweeps(joint: int = -1) -> list[SolverSpec]:
     """The solvers with a ``Sweep`` (that holds ``joint``, where one is given), highest
     priority first: the caller asks each whether it applies."""
     return [s for s in _BY_PRIORITY if s.sweep is not None and joint in (-1, s.sweep.joint)]
+
+
+def swept_from(spec: SolverSpec, value: float) -> SolverSpec:
+    """``spec`` with its sweep started at ``value`` (a global path's rung; the value an
+    argument, never a seed the caller wrote): its ``Sweep.from_value``, or where it declares
+    none, its ``run`` from the seed with the joint at ``value``. ``SolverError`` for a
+    solver that sweeps no joint."""
+    sweep = spec.sweep
+    if sweep is None:
+        raise SolverError(
+            f"solver {spec.name!r} sweeps no joint: a value to sweep from is for "
+            f"{listing([s.name for s in sweeps()])}",
+            solver=spec.name,
+            candidates=solvers(),
+        )
+
+    def run(arm: ArmModel, target: Target, seed: np.ndarray, opts: SolverSettings, every: bool):
+        if sweep.from_value is not None:
+            return sweep.from_value(arm, target, seed, value, opts, every)
+        start = np.array(seed, dtype=float)
+        start[sweep.joint] = value  # a ``run``'s sweep starts at its seed's value
+        return spec.run(arm, target, start, opts, every)
+
+    return dataclasses.replace(spec, run=run)
 
 
 def declaring(option: str | None = None) -> list[SolverSpec]:
