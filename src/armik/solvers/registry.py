@@ -2,6 +2,14 @@
 
 A solver is one file that builds a ``SolverSpec`` and calls ``register``. ``why_not`` returns
 None when the solver applies to an arm and target, else the reason it does not.
+
+Constraints, one rule: a solver declares the constraint classes its own steps keep beyond
+the joint limits (``SolverSpec.enforces``), and "auto" takes, among the solvers that
+apply, one that keeps every class a request holds before the others (``choose``); the
+verdict (``armik.verify``) checks every constraint of the request that no stage keeps by
+construction (the joint limits by its rule, ``Hold`` and ``Collisions`` by their stages),
+on every route, whatever the solver declares: a declaration never makes a broken answer a
+success.
 """
 
 from __future__ import annotations
@@ -120,6 +128,14 @@ class SolverSpec:
     # by name, so ``why_not`` reads the arm and the target only
     solves: frozenset[str] = frozenset(FORMS)
     needs: frozenset[str] = frozenset()
+    # The constraint classes beyond the joint limits its own steps keep (a ``Constraint``'s
+    # ``box`` rows): "auto" prefers it for a request holding them; the verdict checks them
+    # all the same (the module's rule)
+    enforces: frozenset[type] = frozenset()
+
+    def keeps(self, kinds: frozenset[type]) -> bool:
+        """Whether its own steps keep every constraint class of ``kinds``."""
+        return kinds <= self.enforces
 
     def declines(
         self, opts: SolverSettings | None, asked: frozenset[str] | None = None
@@ -201,6 +217,13 @@ def get(name: str) -> SolverSpec:
         ) from None
 
 
+def _keeping_first(checks: tuple) -> list[SolverSpec]:
+    """The solvers in ``choose``'s order for a request holding the constraints ``checks``:
+    those that keep every class of them (``SolverSpec.enforces``) first, by priority."""
+    kinds = frozenset(type(c) for c in checks)
+    return sorted(_BY_PRIORITY, key=lambda s: not s.keeps(kinds))  # stable: priority kept
+
+
 def why_not(
     name: str, arm: ArmModel, target: Target | None = None, opts: SolverSettings | None = None
 ) -> str | None:
@@ -273,8 +296,9 @@ def choose(
 ) -> SolverSpec:
     """The solver to run: ``name`` itself (if it applies) or the best one for "auto":
     the applicable solver of highest priority, where a search (``complete=False``) counts
-    only with ``every`` (every solution, ``solve_all``). ``SolverError`` when ``name`` is not
-    a registered name (or not a str)."""
+    only with ``every`` (every solution, ``solve_all``), and where the options hold
+    constraints of the user's own, one that keeps them all (``enforces``) before any other.
+    ``SolverError`` when ``name`` is not a registered name (or not a str)."""
     spec: SolverSpec | None
     if not isinstance(name, str) or name != "auto":
         spec = get(name)
@@ -297,7 +321,8 @@ def choose(
     if spec is not None:
         return spec
     asked = None if opts is None else opts.forms
-    for spec in _BY_PRIORITY:
+    checks = None if opts is None else opts.checks
+    for spec in _BY_PRIORITY if not checks else _keeping_first(checks):
         if (
             spec.auto
             and (every or spec.complete)
