@@ -116,11 +116,11 @@ class Rows(BatchResult):
     start: int = -1
 
 
-def place(run_jobs: Backend, jobs: Sequence[Any], workers: int, out: BatchResult, bar) -> None:
+def place(run_jobs: Backend, jobs: Sequence[Any], workers: int, out: BatchResult, bar) -> set[str]:
     """Each job's rows from ``run_jobs(jobs, workers)``, put in place in ``out`` as they
     come, in any order: each at the row its job starts at (``Rows.start``; a job's
     ``targets``, its rows' count); an ``ArmikError`` naming the backend when it gives too
-    few, too many, repeated or other results."""
+    few, too many, repeated or other results. Returns the solvers the parts name."""
     at = {job.start: job for job in jobs}
     n, done = len(out), 0
     parts = run_jobs(jobs, workers)
@@ -130,6 +130,7 @@ def place(run_jobs: Backend, jobs: Sequence[Any], workers: int, out: BatchResult
             "result (job()), as a list or an iterable yielding them"
         )
     placed: set[int] = set()
+    names: set[str] = set()
     for part in parts:
         job = at.get(part.start) if isinstance(part, Rows) else None
         if job is None or len(part) != len(job.targets) or part.arm != out.arm:
@@ -144,6 +145,7 @@ def place(run_jobs: Backend, jobs: Sequence[Any], workers: int, out: BatchResult
                 "twice: a backend returns each job's result once"
             )
         placed.add(part.start)
+        names.add(part.solver)
         out.put(part.start, part)
         done += len(part)
         bar(done, n)
@@ -152,6 +154,7 @@ def place(run_jobs: Backend, jobs: Sequence[Any], workers: int, out: BatchResult
             f"batch backend {run_jobs!r} gave {len(placed)} results for {len(jobs)} jobs: a "
             "backend returns each job's result (job()), in any order"
         )
+    return names
 
 
 register_backend("serial", serial)

@@ -78,15 +78,8 @@ def solve_rows(
             RowsChunk(arm, tuple(rows[s : s + chunk]), seeds[s : s + chunk], opts, label, s)
             for s in range(0, n, chunk)
         ]
-        names: set[str] = set()
-
-        def noted(jobs, workers):  # each part's solver, for the batch's name
-            for part in run_jobs(jobs, workers):
-                names.add(getattr(part, "solver", label))
-                yield part
-
         out = BatchResult.for_arm(arm, n, label, opts, margin=opts.margin)
-        place(noted, jobs, 1, out, bar)
+        names = place(run_jobs, jobs, 1, out, bar)  # each part named by its rows' solver
         named = names.pop() if len(names) == 1 else label
     bar.close()
     fields = {k: v for k, v in vars(out).items() if k != "start"}
