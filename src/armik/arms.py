@@ -49,7 +49,7 @@ from armik.solve.tasks import solve_tasks
 from armik.solvers.registry import get as get_solver
 from armik.solvers.registry import validate_name
 from armik.status import Status
-from armik.targets.pose import Target, parse_target
+from armik.targets.pose import Target, parse_by_tip
 
 if TYPE_CHECKING:
     from armik.constraints.base import Constraint
@@ -120,10 +120,8 @@ class Arms(ArmsKinematics):
             targets = by_tip(self._chains, targets)
         relative = self._check_targets(targets)
         chains = self._chains
-        targets = {  # parsed once, here; task lists as given
-            tip: t if type(t) not in _PLAIN and as_problem(t) else parse_target(t, chains[tip])
-            for tip, t in targets.items()
-        }
+        poses = {t: v for t, v in targets.items() if type(v) in _PLAIN or not as_problem(v)}
+        targets = {**targets, **parse_by_tip(poses, chains)}  # parsed once; task lists as given
         if self._union is not None:
             beyond = {} if relative else arms_reach.beyond_reach(chains, targets)
             if beyond:

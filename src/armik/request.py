@@ -46,6 +46,7 @@ class Request(NamedTuple):
     score: Any = None
     problem: Any = None
     rows: tuple[Request, ...] | None = None
+    sweep_from: float | None = None  # where the solver's sweep starts (``registry.swept_from``)
 
     def but(self, **changes: Any) -> Request:
         """This request with ``changes`` (fields by name)."""

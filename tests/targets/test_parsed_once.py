@@ -4,31 +4,43 @@ take the parsed ``Target`` (``armik.targets.pose.parsed``), never the raw value 
 from __future__ import annotations
 
 import sys
+from pathlib import Path
 
+import numpy as np
 import pinocchio as pin
 import pytest
 
 import armik
+import armik.arms  # noqa: F401  (imported before the fixture patches its parser)
 import armik.targets.pose as pose_module
 from tests.conftest import arm as bundled
 
 
 @pytest.fixture
 def parses(monkeypatch):
-    """The values ``parse_target`` parsed (not those it was handed parsed already), from
-    every armik module that calls it."""
+    """The values ``parse_target`` parsed (not those it was handed parsed already), and
+    the several-tip targets ``parse_by_tip`` parsed, from every armik module that calls
+    them."""
     seen: list = []
     original = pose_module.parse_target
+    original_by_tip = pose_module.parse_by_tip
 
     def counting(value, arm=None):
         if type(value) is not pose_module.Target:
             seen.append(type(value).__name__)
         return original(value, arm)
 
+    def counting_by_tip(targets, arms):
+        if any(type(v) is not pose_module.Target for v in targets.values()):
+            seen.append(f"tips {list(targets)}")
+        return original_by_tip(targets, arms)
+
     for module in list(sys.modules.values()):
         name = getattr(module, "__name__", "") or ""
         if name.startswith("armik") and getattr(module, "parse_target", None) is original:
             monkeypatch.setattr(module, "parse_target", counting)
+        if name.startswith("armik") and getattr(module, "parse_by_tip", None) is original_by_tip:
+            monkeypatch.setattr(module, "parse_by_tip", counting_by_tip)
     return seen
 
 
@@ -82,9 +94,32 @@ def test_a_batch_parses_each_target_once_at_most(parses):
     assert len(parses) <= len(T), parses
 
 
-def test_several_tips_parse_each_tips_target_once(parses):
-    robot = armik.load("panda", tips=["panda_hand", "panda_link5"])
-    q = robot.middle + 0.1
-    targets = {tip: robot.fk(q, tip) for tip in robot.tips}
-    robot.solve(targets)
-    assert len(parses) <= len(targets), parses
+def _talos() -> armik.Arms:
+    """TALOS's two hands, whose chains share the torso's two joints."""
+    robots = Path(armik.load("panda").source).parents[2]
+    urdf = robots / "talos_data" / "robots" / "talos_reduced.urdf"
+    return armik.load(urdf, tips=["gripper_left_base_link", "gripper_right_base_link"])
+
+
+@pytest.mark.parametrize("robot", ["panda, two tips", "talos, shared torso"])
+def test_several_tips_parse_their_targets_once(parses, robot):
+    """The request's target, one pose per tip, is parsed in one call (the chains apart, and
+    over the shared torso: one task per tip on the union), in each form a tip's pose takes."""
+    if robot.startswith("panda"):
+        arms = armik.load("panda", tips=["panda_hand", "panda_link5"])
+    else:
+        arms = _talos()
+    q = arms.middle + 0.1
+    placed = {tip: arms.fk(q, tip) for tip in arms.tips}
+    spelled = {t: (T.translation, pin.Quaternion(T.rotation).coeffs()) for t, T in placed.items()}
+    for targets in (placed, spelled):
+        parses.clear()
+        r = arms.solve(targets, iteration_budget=3000)
+        assert r.success, r.reason
+        assert len(parses) <= 1, parses
+
+
+def test_a_tips_bad_target_is_named_by_its_tip():
+    arms = armik.load("panda", tips=["panda_hand", "panda_link5"])
+    with pytest.raises(armik.TargetError, match="tip 'panda_link5'.*NaN"):
+        arms.solve({"panda_hand": arms.fk(arms.middle, "panda_hand"), "panda_link5": [np.nan] * 3})

@@ -7,7 +7,7 @@ iterable that yields them as they finish, ``concurrent.futures.as_completed``'s 
 too). A job is a picklable callable of no arguments (``armik.solve.batch.Chunk``): called
 in any process that has armik, it solves and verifies its chunk there (the solver looked
 up there by name, every constraint of the request checked) and returns its rows as a
-``BatchResult`` that names the row of the batch they start at (``armik.solve.batch.Rows``),
+``BatchResult`` that names the row of the batch they start at (``Rows``),
 where the batch puts them.
 So a backend only decides where and when the calls run: here one after another
 (``"serial"``), on threads (``"threads"``), on forked processes (``"processes"``, threads
@@ -20,12 +20,14 @@ threads, or on forked processes for work that holds the GIL, written in place.
 
 from __future__ import annotations
 
+import dataclasses
 import operator
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
-from armik.errors import OptionError, listing
+from armik.batch_result import BatchResult
+from armik.errors import ArmikError, OptionError, listing
 from armik.solve import forked
 
 Job = Callable[[], Any]  # one chunk: solved and verified where it is called
@@ -104,6 +106,55 @@ def processes(jobs: Sequence[Job], workers: int) -> Iterable[Any]:
     done: dict[int, Any] = {}
     forked.run(lambda k: jobs[k](), range(len(jobs)), workers, done.__setitem__)
     return [done[k] for k in range(len(jobs))]
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Rows(BatchResult):
+    """A job's answers, with the row of the batch they start at: the batch puts them
+    there, whatever order a backend gives them in."""
+
+    start: int = -1
+
+
+def place(run_jobs: Backend, jobs: Sequence[Any], workers: int, out: BatchResult, bar) -> set[str]:
+    """Each job's rows from ``run_jobs(jobs, workers)``, put in place in ``out`` as they
+    come, in any order: each at the row its job starts at (``Rows.start``; a job's
+    ``targets``, its rows' count); an ``ArmikError`` naming the backend when it gives too
+    few, too many, repeated or other results. Returns the solvers the parts name."""
+    at = {job.start: job for job in jobs}
+    n, done = len(out), 0
+    parts = run_jobs(jobs, workers)
+    if isinstance(parts, (str, bytes, BatchResult)) or not hasattr(parts, "__iter__"):
+        raise ArmikError(
+            f"batch backend {run_jobs!r} returned {parts!r}: a backend returns each job's "
+            "result (job()), as a list or an iterable yielding them"
+        )
+    placed: set[int] = set()
+    names: set[str] = set()
+    for part in parts:
+        job = at.get(part.start) if isinstance(part, Rows) else None
+        if job is None or len(part) != len(job.targets) or part.arm != out.arm:
+            raise ArmikError(
+                f"batch backend {run_jobs!r} gave {part!r} for job {len(placed)}: "
+                "a backend returns each job's result (job()) as the job returned it, "
+                "in any order"
+            )
+        if part.start in placed:
+            raise ArmikError(
+                f"batch backend {run_jobs!r} gave the result of the job at row {part.start} "
+                "twice: a backend returns each job's result once"
+            )
+        placed.add(part.start)
+        names.add(part.solver)
+        out.put(part.start, part)
+        done += len(part)
+        bar(done, n)
+    if len(placed) != len(jobs):
+        raise ArmikError(
+            f"batch backend {run_jobs!r} gave {len(placed)} results for {len(jobs)} jobs: a "
+            "backend returns each job's result (job()), in any order"
+        )
+    return names
 
 
 register_backend("serial", serial)

@@ -40,15 +40,14 @@ from armik import reasons
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions
 from armik.constraints.collision import checker
-from armik.errors import ArmikError, ArmikWarning, OptionError
+from armik.errors import ArmikWarning, OptionError
 from armik.frozen import frozen
 from armik.request import Request, with_seed
-from armik.solve import backends, forked
+from armik.solve import backends, batch_rows, forked
+from armik.solve.backends import Rows, place
 from armik.solve.prepared import chosen
 from armik.solve.progress import ProgressArg, make_progress, reporter
-from armik.solve.single import routed
 from armik.solve.stages import going_on, run
-from armik.solve.tasks import SOLVER
 from armik.solvers import registry
 from armik.status import Status
 from armik.targets.batch import TargetBatch, parse_targets
@@ -103,8 +102,8 @@ def solve_batch(
                 option="backend",
                 value=backend,
             )
-        label = SOLVER if request.score is None else f"{solver}, prefer"
-        return _each(arm, request, progress, t0, label)
+        seeds = batch_seeds(arm, q0, len(request.rows))
+        return batch_rows.solve_rows(arm, request, seeds, progress)
     opts = with_seed(request.opts, request.seed)  # seeded once: every chunk reads these
     if opts.swivel is not None:
         raise OptionError(
@@ -142,7 +141,7 @@ def solve_batch(
             Chunk(arm, spec.name, batch[s : s + chunk], seeds[s : s + chunk], request, s)
             for s in starts
         ]
-        _on_backend(run_jobs, jobs, workers, out, _or_quiet(bar))
+        place(run_jobs, jobs, workers, out, _or_quiet(bar))
     elif workers == 1 or len(starts) <= 1:
         for start in starts:
             done += job(start)
@@ -195,51 +194,6 @@ class Chunk(NamedTuple):
         clear = _clear(opts) if opts.obstacles or opts.self_collision else ()
         solve_chunk(self.arm, spec, self.targets, self.seeds, self.request, opts, clear, out, 0)
         return Rows(**vars(out), start=self.start)
-
-
-@dataclasses.dataclass(frozen=True, eq=False)
-class Rows(BatchResult):
-    """A ``Chunk``'s answers, with the row of the batch they start at: the batch puts them
-    there, whatever order a backend gives them in."""
-
-    start: int = -1
-
-
-def _on_backend(run_jobs, jobs: list[Chunk], workers: int, out: BatchResult, bar) -> None:
-    """Each job's rows from ``run_jobs(jobs, workers)``, put in place as they come, in any
-    order: each at the row its job starts at (``Rows.start``); an ``ArmikError`` naming the
-    backend when it gives too few, too many, repeated or other results."""
-    at = {job.start: job for job in jobs}
-    n, done = len(out), 0
-    parts = run_jobs(jobs, workers)
-    if isinstance(parts, (str, bytes, BatchResult)) or not hasattr(parts, "__iter__"):
-        raise ArmikError(
-            f"batch backend {run_jobs!r} returned {parts!r}: a backend returns each job's "
-            "result (job()), as a list or an iterable yielding them"
-        )
-    placed: set[int] = set()
-    for part in parts:
-        job = at.get(part.start) if isinstance(part, Rows) else None
-        if job is None or len(part) != len(job.targets) or part.arm != out.arm:
-            raise ArmikError(
-                f"batch backend {run_jobs!r} gave {part!r} for job {len(placed)}: "
-                "a backend returns each job's result (job()) as the job returned it, "
-                "in any order"
-            )
-        if part.start in placed:
-            raise ArmikError(
-                f"batch backend {run_jobs!r} gave the result of the job at row {part.start} "
-                "twice: a backend returns each job's result once"
-            )
-        placed.add(part.start)
-        out.put(part.start, part)
-        done += len(part)
-        bar(done, n)
-    if len(placed) != len(jobs):
-        raise ArmikError(
-            f"batch backend {run_jobs!r} gave {len(placed)} results for {len(jobs)} jobs: a "
-            "backend returns each job's result (job()), in any order"
-        )
 
 
 def _on_threads(job, starts, workers: int, n: int, done: int, bar) -> None:
@@ -414,29 +368,6 @@ def cores() -> int:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # not on Linux
         return os.cpu_count() or 1
-
-
-def _each(arm, request: Request, progress, t0: float, label: str) -> BatchResult:
-    """Targets the compiled batch has no form for (task lists it cannot lower together, a
-    score to rank by), one after another, each row's request (``request.rows``) as
-    ``solve`` takes it; the batch's solver is the one every row's result names, where they
-    name one."""
-    rows = request.rows or ()
-    n = len(rows)
-    seeds = batch_seeds(arm, request.q0, n)
-    opts = request.settings
-    out = BatchResult.for_arm(arm, n, label, opts, margin=opts.margin)
-    bar = make_progress(progress, n, f"{arm.name}/{label}")
-    names = set()
-    for i, row in enumerate(rows):
-        r = routed(arm, row.but(q0=seeds[i], t0=time.perf_counter()))
-        out.put_result(i, r)
-        names.add(r.solver)
-        out.reasons[i] = r.reason  # its own words, a success's too (a task list's)
-        bar(i + 1, n)
-    bar.close()
-    named = names.pop() if len(names) == 1 and label == SOLVER else label
-    return frozen(BatchResult, **{**vars(out), "solver": named, "time": time.perf_counter() - t0})
 
 
 def _workers(workers: object, spec: SolverSpec) -> int:

@@ -14,8 +14,10 @@ once, not once per chunk. The runner is a batch backend (``OnDask``, see
 ``armik.solve.backends``): the local ``solve_batch`` cuts the batch into its chunk jobs
 (``armik.solve.batch.Chunk``), which go out without the arm, run on the workers
 (verification included) and come back as ``BatchResult``s, put into their rows as every
-backend's are. The answers are those of the local ``solve_batch`` with the same options,
-read once on the client.
+backend's are. A batch with no compiled form (task lists, ``prefer=``, ``hold=``) goes out as
+chunks of rows (``armik.solve.batch_rows``), each row solved there as ``solve`` solves it.
+The answers are those of the local ``solve_batch`` with the same options, read once on the
+client.
 
 Every worker must be able to import armik and read the arm's URDF: bundled arms always can;
 a URDF path must exist on every worker's machine. A solver the client registered that is
@@ -35,8 +37,9 @@ import numpy as np
 from armik.batch_result import BatchResult
 from armik.errors import ArmikError, InputError, OptionError
 from armik.model.arm_model import ArmModel, model_of
-from armik.solve.batch import Chunk
+from armik.solve.batch import Chunk, batch_seeds
 from armik.solve.batch import solve_batch as local_solve_batch
+from armik.solve.batch_rows import RowsChunk, solve_rows
 from armik.solve.progress import ProgressArg
 from armik.solve.read import read_batch
 from armik.solvers import registry
@@ -97,10 +100,11 @@ class SolverOnWorker(_PluginBase):
             registry.register(self.spec)
 
 
-def _own_solver(name: str) -> SolverSpec | None:
-    """The spec of solver ``name`` where it comes from outside armik, else None."""
-    spec = registry.get(name)
-    return None if getattr(spec.run, "__module__", "").startswith("armik.") else spec
+def _own_solvers() -> list[SolverSpec]:
+    """The registered solvers that come from outside armik: a chunk names one, and "auto"
+    (a row-by-row batch's rows choose on the workers) may choose one."""
+    specs = [registry.get(name) for name in registry.solvers()]
+    return [s for s in specs if not getattr(s.run, "__module__", "").startswith("armik.")]
 
 
 def plugin_name(blob: bytes) -> str:
@@ -138,15 +142,14 @@ class OnDask:
     def __init__(self, client=None) -> None:
         self.client = client
 
-    def __call__(self, jobs: Sequence[Chunk], workers: int) -> Iterator[BatchResult]:
+    def __call__(self, jobs: Sequence[Chunk | RowsChunk], workers: int) -> Iterator[BatchResult]:
         client = self.client if self.client is not None else _default_client()
         if not jobs:
             return
         blob = pickle.dumps(jobs[0].arm)
         name = plugin_name(blob)
         client.register_plugin(ArmOnWorker(blob, name), name=name)
-        own = _own_solver(jobs[0].solver)  # a user's solver: registered there too
-        if own is not None:
+        for own in _own_solvers():  # a user's solver: registered there too
             client.register_plugin(SolverOnWorker(own), name=f"armik-solver-{own.name}")
         # each chunk without its arm (the plugin's copy runs it): a few bytes, not the model
         bare = [job._replace(arm=None) for job in jobs]  # type: ignore[arg-type]
@@ -221,12 +224,6 @@ def solve_batch(
     """
     arm = model_of(arm)
     request = read_batch(arm, targets, q0, solver, options)  # refused here, not on workers
-    if request.rows is not None:
-        raise OptionError(
-            "the cluster solves batches the compiled path has a form for; solve task lists "
-            "without one, or a batch with prefer=, with arm.solve_batch",
-            option="prefer" if request.score is not None else "targets",
-        )
     chunk = DEFAULT_CHUNK if chunk_size is None else chunk_size
     if isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or chunk < 1:
         raise OptionError(
@@ -237,6 +234,9 @@ def solve_batch(
     own = connect(address) if client is None and address is not None else None
     on_dask = OnDask(client if own is None else own)
     try:
+        if request.rows is not None:  # no compiled form: each row's request, as locally
+            seeds = batch_seeds(arm, request.q0, len(request.rows))
+            return solve_rows(arm, request, seeds, progress, on_dask, int(chunk))
         return local_solve_batch(arm, request, 1, int(chunk), progress, on_dask)
     finally:
         if own is not None:

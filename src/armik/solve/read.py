@@ -41,7 +41,9 @@ def read(
         kind = type(target)
         if kind is _SE3 or kind is np.ndarray:
             t0 = time.perf_counter()
-            return _new(Request, (target, q0, solver, _DEFAULT, (), 0, every, t0, None, None, None))
+            return _new(
+                Request, (target, q0, solver, _DEFAULT, (), 0, every, t0, None, None, None, None)
+            )
     t0 = time.perf_counter()
     score = None
     if "budget" in options:  # as its options, which the stages narrow (restarts, shares)
@@ -79,7 +81,9 @@ def read(
         target = parsed(target, arm)  # parsed once: the stages read it as parsed
         refuse_looking_from_target(target.position, opts)
     # built as the tuple it is (``Request``'s own ``__new__`` is a Python call: every solve)
-    return _new(Request, (target, q0, solver, opts, key, seed, every, t0, score, problem, None))
+    return _new(
+        Request, (target, q0, solver, opts, key, seed, every, t0, score, problem, None, None)
+    )
 
 
 def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options: dict) -> Request:

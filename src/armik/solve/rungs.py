@@ -52,7 +52,7 @@ def held(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> 
     j = spec.sweep.joint
     lo, hi = float(arm.lower[j]), float(arm.upper[j])
     grid = np.linspace(lo, hi, HELD_GRID + 2)[1:-1]
-    theta, seed = float(q_start[j]), np.array(q_start, dtype=float)
+    theta, seed = float(q_start[j]), np.array(q_start, dtype=float)  # read only
     rungs = []
     for i in range(len(batch)):
         found: list = []
@@ -61,8 +61,8 @@ def held(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> 
             found.append(followed[i])  # where joint 7 admits no closed form exactly there
         target = batch.target(i)
         for value in np.concatenate((np.clip(theta + HELD_OFFSETS, lo, hi), grid)):
-            seed[j] = value  # where the closed form holds its joint first
-            found += _all(arm, request, target, seed, spec.name)
+            swept = request.but(sweep_from=float(value))  # where its sweep starts
+            found += _all(arm, swept, target, seed, spec.name)
         rungs.append(found)
     return rungs
 

@@ -62,7 +62,10 @@ def run(arm: ArmModel, req: Request):
     # went to ``_avoiding`` above)
     plan = (
         None
-        if key is None or opts.checks or (every and (opts.obstacles or opts.self_collision))
+        if key is None
+        or opts.checks
+        or (every and (opts.obstacles or opts.self_collision))
+        or req.sweep_from is not None  # a sweep's start the plans do not take
         else plan_for(arm, solver, key, opts, vector, every)
     )
     if plan is not None and not every:
@@ -83,16 +86,21 @@ def run(arm: ArmModel, req: Request):
         else:
             results = general(arm, target, q0, solver, opts, every, t0)
     else:
-        results = general(arm, target, q0, solver, opts, every, t0)
+        results = general(arm, target, q0, solver, opts, every, t0, req.sweep_from)
     if every:
         return _beyond_search(arm, req, results)
     return results[0]
 
 
-def general(arm, target, q0, solver: str, opts, every: bool, t0: float) -> list[IKResult]:
-    """The general path: the solver chosen for the parsed target, run, verified."""
+def general(
+    arm, target, q0, solver: str, opts, every: bool, t0: float, sweep_from: float | None = None
+) -> list[IKResult]:
+    """The general path: the solver chosen for the parsed target (its sweep started at
+    ``sweep_from`` where given), run, verified."""
     tgt = parsed(target, arm)
     spec = registry.choose(solver, arm, tgt, opts, every)
+    if sweep_from is not None:
+        spec = registry.swept_from(spec, sweep_from)
     return _run(arm, spec, tgt, q0, opts, every, t0)
 
 

@@ -2,13 +2,24 @@
 
 A solver is one file that builds a ``SolverSpec`` and calls ``register``. ``why_not`` returns
 None when the solver applies to an arm and target, else the reason it does not.
+
+Constraints, one rule: a solver declares the constraint classes its own steps keep beyond
+the joint limits (``SolverSpec.enforces``), and "auto" takes, among the solvers that
+apply, one that keeps every class a request holds before the others (``choose``); the
+verdict (``armik.verify``) checks every constraint of the request that no stage keeps by
+construction (the joint limits by its rule, ``Hold`` and ``Collisions`` by their stages),
+on every route, whatever the solver declares: a declaration never makes a broken answer a
+success.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal, NamedTuple
+
+import numpy as np
 
 from armik.errors import SolverError, listing
 from armik.model.derived import Derived
@@ -17,8 +28,6 @@ from armik.problem.settings import (
 )  # the choices are kept per options: hashed, compared
 
 if TYPE_CHECKING:
-    import numpy as np
-
     from armik.model.arm_model import ArmModel
     from armik.solvers.answers import Answers
     from armik.targets.batch import TargetBatch
@@ -32,6 +41,10 @@ RunBatch = Callable[["ArmModel", "TargetBatch", "np.ndarray", "SolverSettings"],
 # ``armik.solve.prepared``): (arm, options, position_only) -> run_pose(H, q0, seed), or None
 # where the solver has no runner for that input (the general path then).
 PreparePose = Callable[["ArmModel", "SolverSettings", bool], "Callable | None"]
+
+
+# (arm, target, seed, value, opts, every) -> answers: a sweep started at ``value`` (``Sweep``)
+FromValue = Callable[["ArmModel", "Target", "np.ndarray", float, "SolverSettings", bool], "Answers"]
 
 
 class Sweep(NamedTuple):
@@ -48,6 +61,10 @@ class Sweep(NamedTuple):
     # (arm, target, seed) -> value -> the configurations ``at_value`` claims there (k, dof),
     # without their words: a search over the values (a preference's) calls it many times
     exact: Callable[[ArmModel, Target, np.ndarray], Callable[[float], np.ndarray]]
+    # (arm, target, seed, value, opts, every) -> its answers swept from ``value`` on (that
+    # value first, then the others in its own order), as ``run`` gives them: a global path's
+    # rungs (``swept_from``); None: ``run`` from the seed with the joint at ``value``
+    from_value: FromValue | None = None
 
 
 class Parameter(NamedTuple):
@@ -111,6 +128,14 @@ class SolverSpec:
     # by name, so ``why_not`` reads the arm and the target only
     solves: frozenset[str] = frozenset(FORMS)
     needs: frozenset[str] = frozenset()
+    # The constraint classes beyond the joint limits its own steps keep (a ``Constraint``'s
+    # ``box`` rows): "auto" prefers it for a request holding them; the verdict checks them
+    # all the same (the module's rule)
+    enforces: frozenset[type] = frozenset()
+
+    def keeps(self, kinds: frozenset[type]) -> bool:
+        """Whether its own steps keep every constraint class of ``kinds``."""
+        return kinds <= self.enforces
 
     def declines(
         self, opts: SolverSettings | None, asked: frozenset[str] | None = None
@@ -192,6 +217,13 @@ def get(name: str) -> SolverSpec:
         ) from None
 
 
+def _keeping_first(checks: tuple) -> list[SolverSpec]:
+    """The solvers in ``choose``'s order for a request holding the constraints ``checks``:
+    those that keep every class of them (``SolverSpec.enforces``) first, by priority."""
+    kinds = frozenset(type(c) for c in checks)
+    return sorted(_BY_PRIORITY, key=lambda s: not s.keeps(kinds))  # stable: priority kept
+
+
 def why_not(
     name: str, arm: ArmModel, target: Target | None = None, opts: SolverSettings | None = None
 ) -> str | None:
@@ -223,6 +255,30 @@ def sweeps(joint: int = -1) -> list[SolverSpec]:
     return [s for s in _BY_PRIORITY if s.sweep is not None and joint in (-1, s.sweep.joint)]
 
 
+def swept_from(spec: SolverSpec, value: float) -> SolverSpec:
+    """``spec`` with its sweep started at ``value`` (a global path's rung; the value an
+    argument, never a seed the caller wrote): its ``Sweep.from_value``, or where it declares
+    none, its ``run`` from the seed with the joint at ``value``. ``SolverError`` for a
+    solver that sweeps no joint."""
+    sweep = spec.sweep
+    if sweep is None:
+        raise SolverError(
+            f"solver {spec.name!r} sweeps no joint: a value to sweep from is for "
+            f"{listing([s.name for s in sweeps()])}",
+            solver=spec.name,
+            candidates=solvers(),
+        )
+
+    def run(arm: ArmModel, target: Target, seed: np.ndarray, opts: SolverSettings, every: bool):
+        if sweep.from_value is not None:
+            return sweep.from_value(arm, target, seed, value, opts, every)
+        start = np.array(seed, dtype=float)
+        start[sweep.joint] = value  # a ``run``'s sweep starts at its seed's value
+        return spec.run(arm, target, start, opts, every)
+
+    return dataclasses.replace(spec, run=run)
+
+
 def declaring(option: str | None = None) -> list[SolverSpec]:
     """The solvers whose ``Parameter`` the option ``option`` fixes (None: any option),
     highest priority first."""
@@ -240,8 +296,9 @@ def choose(
 ) -> SolverSpec:
     """The solver to run: ``name`` itself (if it applies) or the best one for "auto":
     the applicable solver of highest priority, where a search (``complete=False``) counts
-    only with ``every`` (every solution, ``solve_all``). ``SolverError`` when ``name`` is not
-    a registered name (or not a str)."""
+    only with ``every`` (every solution, ``solve_all``), and where the options hold
+    constraints of the user's own, one that keeps them all (``enforces``) before any other.
+    ``SolverError`` when ``name`` is not a registered name (or not a str)."""
     spec: SolverSpec | None
     if not isinstance(name, str) or name != "auto":
         spec = get(name)
@@ -264,7 +321,8 @@ def choose(
     if spec is not None:
         return spec
     asked = None if opts is None else opts.forms
-    for spec in _BY_PRIORITY:
+    checks = None if opts is None else opts.checks
+    for spec in _BY_PRIORITY if not checks else _keeping_first(checks):
         if (
             spec.auto
             and (every or spec.complete)

@@ -19,7 +19,7 @@ are refused, never cast.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -63,6 +63,24 @@ def parsed(value: object, arm: object = None) -> Target:
 def parse_target(value: object, arm: object = None) -> Target:
     """Parse any accepted form into a ``Target``; raises ``TargetError`` naming the problem.
     ``arm`` (an ``Arm`` or its model) places a 2-vector on a planar arm's plane."""
+    return _read(value, arm)
+
+
+def parse_by_tip(targets: Mapping[str, object], arms: Mapping[str, object]) -> dict[str, Target]:
+    """A several-tip target (tip -> one target in any form ``parse_target`` reads) parsed in
+    one call, each tip's value on its own chain ``arms[tip]`` (a 2-vector on that chain's
+    plane), a parsed ``Target`` kept as it is; a ``TargetError`` names the tip."""
+    out = {}
+    for tip, value in targets.items():
+        try:
+            out[tip] = value if type(value) is Target else _read(value, arms[tip])
+        except TargetError as exc:
+            raise TargetError(f"the target of tip {tip!r}: {exc}") from None
+    return out
+
+
+def _read(value: object, arm: object) -> Target:
+    """``parse_target``'s reading of one value, which ``parse_by_tip`` shares."""
     if isinstance(value, Target):
         return value
     if isinstance(value, pin.SE3):
@@ -179,7 +197,7 @@ def _spelled(value: object, arm: object) -> Target | None:
             return _target(_position(_vector(given.position, 3, "target position")), None)
         return _pose(given.rotation, _vector(given.position, 3, "target position"))
     try:
-        return parse_target(given, arm)
+        return _read(given, arm)
     except TargetError as exc:
         raise TargetError(f"the target spelling of {name} gave {given!r}: {exc}") from None
 

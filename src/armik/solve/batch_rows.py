@@ -1,0 +1,88 @@
+"""A batch the compiled batch has no form for (task lists it cannot lower together,
+``prefer=``, ``hold=``): each row's own request (``Request.rows``) solved as ``solve``
+solves it, in chunks of rows (``RowsChunk``) that run here one after another, or as a
+backend's jobs (the Dask runner, ``armik.solve.distributed``): the same answers either
+way, since each row is solved alone from its own seed.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterable
+from typing import TYPE_CHECKING, Any, NamedTuple
+
+import numpy as np
+
+from armik.batch_result import BatchResult
+from armik.frozen import frozen
+from armik.request import Request
+from armik.solve.backends import Rows, place
+from armik.solve.progress import ProgressArg, make_progress
+from armik.solve.single import routed
+from armik.solve.tasks import SOLVER
+
+if TYPE_CHECKING:
+    from armik.model.arm_model import ArmModel
+    from armik.options import Options
+
+
+class RowsChunk(NamedTuple):
+    """Rows ``start:start + len(targets)`` of a row-by-row batch as a backend's job:
+    picklable, and called in any process that has armik it solves each row's request from
+    its seed there (the solver looked up by name there, every constraint checked) and
+    returns their ``Rows``, named by the one solver they share, else by ``label``."""
+
+    arm: ArmModel
+    targets: tuple[Request, ...]  # the rows' own requests
+    seeds: np.ndarray  # (rows, dof)
+    opts: Options  # the batch's, with its seed
+    label: str  # the batch's solver where its rows name several
+    start: int  # its first row in the batch
+
+    def __call__(self, bar=None) -> Rows:
+        n = len(self.targets)
+        out = BatchResult.for_arm(self.arm, n, self.label, self.opts, margin=self.opts.margin)
+        names = set()
+        for i, row in enumerate(self.targets):
+            r = routed(self.arm, row.but(q0=self.seeds[i], t0=time.perf_counter()))
+            out.put_result(i, r)
+            names.add(r.solver)
+            out.reasons[i] = r.reason  # its own words, a success's too (a task list's)
+            if bar is not None:
+                bar(i + 1, n)
+        named = names.pop() if len(names) == 1 and self.label == SOLVER else self.label
+        return Rows(**{**vars(out), "solver": named}, start=self.start)
+
+
+def solve_rows(
+    arm: ArmModel,
+    request: Request,
+    seeds: np.ndarray,
+    progress: ProgressArg = None,
+    run_jobs: Callable[..., Iterable[Any]] | None = None,  # a backend (``Backend``)
+    chunk: int = 1,
+) -> BatchResult:
+    """The batch of ``request.rows``, each from its row of ``seeds``: here, one after
+    another, or as ``run_jobs``' jobs of ``chunk`` rows each; the batch's solver the one
+    every row's result names, where they name one."""
+    rows = request.rows or ()
+    n = len(rows)
+    opts = request.settings
+    label = SOLVER if request.score is None else f"{request.solver}, prefer"
+    bar = make_progress(progress, n, f"{arm.name}/{label}")
+    if run_jobs is None:
+        out: BatchResult = RowsChunk(arm, tuple(rows), seeds, opts, label, 0)(bar)
+        named = out.solver
+    else:
+        jobs = [
+            RowsChunk(arm, tuple(rows[s : s + chunk]), seeds[s : s + chunk], opts, label, s)
+            for s in range(0, n, chunk)
+        ]
+        out = BatchResult.for_arm(arm, n, label, opts, margin=opts.margin)
+        names = place(run_jobs, jobs, 1, out, bar)  # each part named by its rows' solver
+        named = names.pop() if len(names) == 1 else label
+    bar.close()
+    fields = {k: v for k, v in vars(out).items() if k != "start"}
+    return frozen(
+        BatchResult, **{**fields, "solver": named, "time": time.perf_counter() - request.t0}
+    )

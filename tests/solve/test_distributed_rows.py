@@ -1,0 +1,61 @@
+"""A batch the compiled batch has no form for (task lists on two frames, ``prefer=``) on a
+Dask cluster: each row solved on a worker as the local batch solves it, the same answers
+bit for bit."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import armik
+from armik.solve import distributed as on_dask
+
+from ..conftest import arm
+
+distributed = pytest.importorskip("distributed", reason="Dask is the optional cluster extra")
+
+FIELDS = ("q", "success", "status_code", "position_error", "orientation_error", "iterations")
+
+
+@pytest.fixture(scope="module")
+def client():
+    cluster = distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    )
+    c = distributed.Client(cluster)
+    yield c
+    c.close()
+    cluster.close()
+
+
+def _same(remote, local) -> None:
+    for field in FIELDS:
+        np.testing.assert_array_equal(getattr(remote, field), getattr(local, field), err_msg=field)
+    assert remote.reasons == local.reasons and remote.solver == local.solver
+
+
+def test_task_lists_on_two_frames_give_the_local_answers(client):
+    a = arm("panda")
+    qs = a.random_q(4, n=5)
+    rows = [
+        [
+            armik.Position(a.fk(q).translation),
+            armik.Position(a.fk(q, "panda_link4").translation, frame="panda_link4"),
+        ]
+        for q in qs
+    ]
+    rows[2] = [armik.Position((3.0, 0.0, 0.5)), rows[2][1]]  # out of reach
+    budget = dict(iteration_budget=400, max_restarts=3, seed=1)
+    local = a.solve_batch(rows, q0=qs[::-1], workers=1, progress=False, **budget)
+    remote = on_dask.solve_batch(a, rows, q0=qs[::-1], client=client, chunk_size=2, **budget)
+    assert local.solver == "tasks" and local.success.sum() >= 3 and not local.success[2]
+    _same(remote, local)
+
+
+def test_a_preference_gives_the_local_answers(client):
+    a = arm("ur5")
+    T = a.fk_batch(a.random_q(5, n=4))
+    local = a.solve_batch(T, prefer="manipulability", workers=1, progress=False)
+    remote = on_dask.solve_batch(a, T, prefer="manipulability", client=client, chunk_size=3)
+    assert local.success.all() and local.solver.endswith("prefer")
+    _same(remote, local)
