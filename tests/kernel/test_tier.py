@@ -2,13 +2,17 @@
 
 from __future__ import annotations
 
+import io
 import json
 import os
 import subprocess
 import sys
+import time
+import types
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from tests.kernel import python_battery
 
@@ -62,7 +66,8 @@ with event.install_recorder("numba:compile") as rec:
 compiled_here = [e[1].data["dispatcher"].py_func.__qualname__ for e in rec.buffer if e[1].is_start]
 hits = sum(sum(f.stats.cache_hits.values()) for f in tier.ran_as_python())
 print(json.dumps({"compiled_here": compiled_here, "ran": len(tier.ran_as_python()),
-                  "cache_hits": hits, "same": bool(np.allclose(first, second, atol=1e-12))}))
+                  "cache_hits": hits, "same": bool(np.allclose(first, second, atol=1e-12)),
+                  "helper_left": tier._state.helper is not None}))
 """
 
 
@@ -81,6 +86,7 @@ def test_a_first_call_runs_as_python_and_the_next_loads_the_helpers_code(tmp_pat
     assert got["compiled_here"] == []  # the helper compiled; this process loaded
     assert got["ran"] >= 1 and got["cache_hits"] >= got["ran"]
     assert got["same"]
+    assert not got["helper_left"]  # it was told to end once all was done
     assert "in the background" in out.stderr
 
 
@@ -122,3 +128,71 @@ def test_armik_compile_compiles_in_its_process_whatever_the_first_calls_do(tmp_p
     got = json.loads(out.stdout.splitlines()[-1])
     assert got["compiled"] >= 1 and got["helped"] == 0
     assert os.environ["ARMIK_FIRST_CALLS"] == "compile"  # the tests' setting, untouched
+
+
+def _count(now):
+    now[0] += 1.0  # a second of CPU time, run as Python
+
+
+def test_a_python_run_is_counted_by_the_budgets_at_compiled_speed(monkeypatch):
+    from numba import njit
+
+    from armik import cpu_time
+    from armik.kernel import as_python
+
+    now = [100.0]
+    monkeypatch.setattr(time, "thread_time", lambda: now[0])
+    before = cpu_time.thread_time()
+    as_python.run(njit(_count))(now)
+    assert cpu_time.thread_time() - before == pytest.approx(1.0 / as_python.SLOWER)
+
+
+def test_the_helpers_other_output_is_ignored_and_it_is_let_go_once_done(monkeypatch):
+    from armik.kernel import tier
+
+    state = tier._State()
+    monkeypatch.setattr(tier, "_state", state)
+    helper = object.__new__(tier._Helper)
+    stdin = io.BytesIO()
+    lines = [b"[cache] index saved\n", b"armik-compiled 0\n", b"armik-compiled 1\n"]
+    helper.process = types.SimpleNamespace(stdout=iter(lines[:2]), stdin=stdin)
+    helper.sent = [("f", ()), ("g", ())]
+    state.helper, state.jobs = helper, dict.fromkeys(helper.sent, "compiling")
+    helper._read()  # its output ends after job 0: it ended, job 1 is numba's call's now
+    assert state.jobs == dict.fromkeys(helper.sent, "done") and state.helper is None
+    helper.process.stdout = iter(lines)
+    state.helper, state.jobs = helper, dict.fromkeys(helper.sent, "compiling")
+    helper._read()
+    assert stdin.closed  # both done: told to end
+
+
+def test_a_compiling_block_compiles_and_leaves_the_environment_alone(monkeypatch):
+    from armik.kernel import tier
+
+    monkeypatch.setenv("ARMIK_FIRST_CALLS", "python")
+    assert tier.python_first()
+    with tier.compiling():
+        with tier.compiling():
+            assert not tier.python_first()
+        assert not tier.python_first()
+    assert tier.python_first() and os.environ["ARMIK_FIRST_CALLS"] == "python"
+
+
+def _jobs_in_child(queue):
+    from armik.kernel import tier
+
+    queue.put((len(tier._state.jobs), tier._state.helper is None, tier.wait(0)))
+
+
+def test_a_forked_process_starts_with_no_jobs_of_its_parent(monkeypatch):
+    import multiprocessing
+
+    from armik.kernel import tier
+
+    monkeypatch.setitem(tier._state.jobs, ("f", ()), "compiling")
+    context = multiprocessing.get_context("fork")
+    queue = context.Queue()
+    child = context.Process(target=_jobs_in_child, args=(queue,))
+    child.start()
+    child.join()
+    assert queue.get(timeout=60) == (0, True, True)

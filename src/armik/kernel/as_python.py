@@ -12,12 +12,14 @@ The functions keep their own modules' globals, read through a view (``_Globals``
 gives the Python form of each compiled value on first reading; nothing of the modules
 themselves changes. The one function numba builds from LLVM directly (the solve budget's
 CPU clock, ``clock.thread_cpu_ns``) has a Python twin here, whose clock runs ``SLOWER``
-times slower: so a time budget buys the Python run the work it buys the compiled code.
+times slower, as the budgets' clock in Python (``cpu_time``) counts a Python run: so a time
+budget buys the Python run the work it buys the compiled code.
 """
 
 from __future__ import annotations
 
 import builtins
+import threading
 import time
 import types
 from collections.abc import Callable
@@ -26,6 +28,7 @@ from typing import Any
 import numpy as np
 from numba.core.dispatcher import Dispatcher
 
+from armik import cpu_time
 from armik.kernel import clock
 
 # How much slower a solve runs as Python than compiled, per iteration: 75-110 for dls and
@@ -69,14 +72,26 @@ def python_of(dispatcher: Dispatcher) -> Callable:
 
 def run(dispatcher: Dispatcher) -> Callable:
     """A caller of ``python_of(dispatcher)`` as compiled code behaves: floating-point and
-    unsigned wrap-around without warnings (the restarts' hash multiplies mod 2^64)."""
+    unsigned wrap-around without warnings (the restarts' hash multiplies mod 2^64), and its
+    CPU time counted by the budgets at compiled speed (``cpu_time``)."""
     f = python_of(dispatcher)
 
     def as_compiled(*args):
-        with np.errstate(all="ignore"):
-            return f(*args)
+        outermost = not getattr(_running, "depth", 0)  # not a call back from an objmode block
+        _running.depth = getattr(_running, "depth", 0) + 1
+        started = time.thread_time()
+        try:
+            with np.errstate(all="ignore"):
+                return f(*args)
+        finally:
+            _running.depth -= 1
+            if outermost:
+                cpu_time.slowed((time.thread_time() - started) * (1 - 1 / SLOWER))
 
     return as_compiled
+
+
+_running = threading.local()  # .depth: Python runs under way in this thread
 
 
 class _Globals(dict):

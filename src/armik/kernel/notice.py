@@ -209,8 +209,8 @@ def in_background(module: str, name: str) -> None:
     if os.environ.get(ENVIRONMENT, "1") == "0" or what in _BACKGROUND:
         return
     _BACKGROUND.add(what)
-    here = measured().get(record_key(what, f"{module}.{name}"))
-    took = f"{here:.0f} s here last time" if here is not None else f"about {seconds:g} s"
+    here = measured().get(record_key(what, f"{module}.{name}"))  # the helper's, last time
+    took = f"{here:.0f} s here last time" if here and here >= 1 else f"about {seconds:g} s"
     try:
         sys.stderr.write(
             f"armik: compiling {what} for this machine in the background (once; {took}); "

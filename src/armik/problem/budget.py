@@ -15,10 +15,10 @@ collision retry, the task solver's descents): ``left`` is what remains for the n
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 from typing import cast
 
+from armik import cpu_time
 from armik.checked import integer, positive
 from armik.frozen import frozen
 from armik.tolerances import MAX_COUNT, MAX_TIMEOUT
@@ -63,11 +63,11 @@ class Budget:
         return self.iterations is not None
 
     def time_left(self, started: float) -> float:
-        """CPU seconds left of the timeout since ``started`` (``time.thread_time``); inf
+        """CPU seconds left of the timeout since ``started`` (``cpu_time.thread_time``); inf
         when the budget counts iterations."""
         if self.iterations is not None:
             return math.inf
-        return self.timeout - (time.thread_time() - started)  # type: ignore[operator]
+        return self.timeout - (cpu_time.thread_time() - started)  # type: ignore[operator]
 
     def spent(self, started: float, used: int) -> bool:
         """Whether nothing is left after ``used`` iterations since ``started``."""

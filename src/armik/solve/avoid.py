@@ -18,13 +18,12 @@ for no more successes (docs/collisions.md).
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from armik import reasons
+from armik import cpu_time, reasons
 from armik.constraints.clear import Collisions, collision_check, distances
 from armik.constraints.collision import checker
 from armik.frozen import frozen
@@ -118,7 +117,7 @@ def _restarting(
     spent; the rows of every run (None: the budget was spent before the first), or the free
     run's row alone. A restart's answer that the solver claims and that collides gets its
     verdict only if no free answer follows (``_Deferred``): the search goes on at once."""
-    start_cpu = time.thread_time() if first is None else first.started
+    start_cpu = cpu_time.thread_time() if first is None else first.started
     rng = np.random.default_rng(opts.seed)
     lo, hi = arm.sampling_box()  # ``arm.random_q(rng)``'s draws, the box found once:
     span, dof = hi - lo, arm.dof  # ``rng.uniform(lo, hi)``'s own arithmetic, 7x cheaper

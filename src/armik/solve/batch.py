@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from armik import reasons
+from armik import cpu_time, reasons
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions
 from armik.constraints.collision import checker
@@ -152,10 +152,10 @@ def solve_batch(
         # the first few here, before any fork: what they compile or load is compiled or
         # loaded once, and their time says whether the rest is worth a fork
         first = min(_BEFORE_FORK, n)
-        started = time.thread_time()
+        started = cpu_time.thread_time()
         done = job(0, first)
         bar(done, n)
-        if (time.thread_time() - started) / first * (n - first) >= FORK_WORTH and _idle():
+        if (cpu_time.thread_time() - started) / first * (n - first) >= FORK_WORTH and _idle():
             if chunk_size is None:  # every process a share: a few chunks each, not one of 256
                 chunk = min(chunk, max(1, -(-(n - first) // (_SHARES * workers))))
             _on_processes(job, out, n, first, chunk, workers, bar)

@@ -12,13 +12,13 @@ minimiser of the score on the tangent plane of the self-motion, ``-N (q - q0)`` 
 
 from __future__ import annotations
 
-import time
 from collections.abc import Sequence
 from typing import Protocol
 
 import numpy as np
 import pinocchio as pin
 
+from armik import cpu_time
 from armik.model.arm_model import ArmModel
 from armik.problem.scores import Nearest, Posture, Score
 
@@ -129,11 +129,11 @@ def descend(
     joint limits; a path passes its step's box about the previous answer)."""
     box = (arm.lower, arm.upper) if box is None else box
     held = HeldPose(arm, target) if isinstance(target, pin.SE3) else target
-    started = time.thread_time()
+    started = cpu_time.thread_time()
     best = score(arm, q, q0)
     length = FIRST
     for _ in range(steps):
-        if time.thread_time() - started > budget:
+        if cpu_time.thread_time() - started > budget:
             break
         J = held.jacobian(q)
         g = _gradient(arm, score, q, q0)
@@ -144,7 +144,7 @@ def descend(
         scale = _model_scale(score, best)
         trial = min(2.0 * length, np.inf if scale is None else scale * norm)
         for _ in range(HALVINGS + 1):
-            if trial < SHORTEST or time.thread_time() - started > budget:
+            if trial < SHORTEST or cpu_time.thread_time() - started > budget:
                 return q
             step = np.clip(q + (trial / norm) * d, *box)
             moved, error = _onto(held, step, box)

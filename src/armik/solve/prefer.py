@@ -18,7 +18,7 @@ from typing import cast
 
 import numpy as np
 
-from armik import reasons
+from armik import cpu_time, reasons
 from armik.kernel.descent import DUPLICATE_TOL
 from armik.model.arm_model import ArmModel
 from armik.model.turns import UNLIMITED_TURNS, combinations
@@ -336,7 +336,7 @@ def near_answers(
     """The verified answers of one descent from each of ``near_starts`` (``solve_from``
     runs it), at most ``NEAR_STARTS`` and ``opts.max_restarts`` of them, until
     ``NEAR_UNTIL`` of the timeout has passed since ``clock`` (the thread's CPU time,
-    ``time.thread_time``, as the budget is), or with an iteration budget
+    ``cpu_time.thread_time``, as the budget is), or with an iteration budget
     until the starts have run ``1 - GATHER_ITERATIONS`` of it (deterministic: the starts
     come from ``opts.seed``)."""
     rng = np.random.default_rng(opts.seed)
@@ -346,7 +346,7 @@ def near_answers(
     found = []
     starts = near_starts(arm, middle, rng)
     for _ in range(min(NEAR_STARTS, opts.max_restarts)):
-        if left <= 0 or (budget is None and time.thread_time() > deadline):
+        if left <= 0 or (budget is None and cpu_time.thread_time() > deadline):
             break
         r = solve_from(next(starts))
         left -= r.iterations

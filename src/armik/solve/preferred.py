@@ -15,7 +15,7 @@ import time
 import numpy as np
 import pinocchio as pin
 
-from armik import reasons
+from armik import cpu_time, reasons
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.request import Request
@@ -60,7 +60,7 @@ def preferred(arm: ArmModel, req: Request):
         if pose:  # and the single descents from starts near q0
             _load(arm, plain.narrowed(max_restarts=0).but(every=False))
     # the shares' deadlines, in the budget's own time (the thread's CPU time), from here
-    clock = time.thread_time()
+    clock = cpu_time.thread_time()
     share = share.but(t0=time.perf_counter())
     if problem is None:  # solve_all's answers
         found = run(arm, share.but(every=True))
@@ -131,7 +131,7 @@ def _along_self_motion(
     pose = pin.SE3(tgt.rotation, tgt.position)
     claims: list[Answers] = []
     for q in prefer.distinct(best, prefer.DESCENTS):
-        left = prefer.DESCENT_UNTIL * opts.timeout - (time.thread_time() - clock)
+        left = prefer.DESCENT_UNTIL * opts.timeout - (cpu_time.thread_time() - clock)
         if opts.iteration_budget is not None:  # deterministic: the descent's own step cap
             left = math.inf
         elif left <= 0.0:

@@ -15,11 +15,12 @@ other reachable configurations nearby).
 
 from __future__ import annotations
 
-import time
 from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
+
+from armik import cpu_time
 
 if TYPE_CHECKING:
     from armik.constraints.collision import Checker
@@ -44,7 +45,7 @@ def slide(
     tol: float,
 ) -> tuple[np.ndarray, int]:
     """(q, iterations used): the configuration reached from ``q`` (rad, m) within
-    ``iterations`` steps and before ``deadline`` (``time.thread_time``), stopping once the
+    ``iterations`` steps and before ``deadline`` (``cpu_time.thread_time``), stopping once the
     pose is within ``tol`` (m, rad) and every checked pair ``margin`` (m) apart."""
     model, data = arm.model, arm.data
     frame = arm.tip_frame_id
@@ -52,7 +53,7 @@ def slide(
     qp = arm.to_pin(q)
     lower, upper = arm.lower, arm.upper
     for it in range(iterations):
-        if time.thread_time() > deadline:
+        if cpu_time.thread_time() > deadline:
             return arm.from_pin(qp), it
         pin.computeJointJacobians(model, data, qp)
         M = pin.updateFramePlacement(model, data, frame)

@@ -18,7 +18,7 @@ from typing import Any, NamedTuple, cast
 import numpy as np
 import pinocchio as pin
 
-from armik import reasons
+from armik import cpu_time, reasons
 from armik.constraints.clear import Collisions, distances
 from armik.constraints.collision import Checker, checker
 from armik.frozen import frozen
@@ -185,7 +185,7 @@ def _avoiding(arm: ArmModel, req: Request) -> IKResult:
         plain_key = None if key is None else (key, "plain")
     first = None
     if spec.kind != "analytic":
-        started, now = time.thread_time(), time.perf_counter()
+        started, now = cpu_time.thread_time(), time.perf_counter()
         if plain_key is None:  # options no plan is kept for (obstacles): the general path
             r = _run(arm, spec, parsed(target, arm), q0, with_seed(plain, seed), False, now)[0]
         else:  # the plan's key apart from the options' with collisions
@@ -205,7 +205,7 @@ def going_on(arm: ArmModel, req: Request, row: Verdicts) -> IKResult:
     target, q0, solver, opts, _, seed, _, t0 = req[:8]
     tgt = parsed(target, arm)
     spec = registry.choose(solver, arm, tgt, but_options(opts, **_NO_COLLISIONS))
-    first = First(row, time.thread_time())
+    first = First(row, cpu_time.thread_time())
     return _run(arm, spec, tgt, q0, with_seed(opts, seed), False, t0, first)[0]  # type: ignore[no-any-return]
 
 

@@ -26,7 +26,7 @@ from collections.abc import Callable
 import numpy as np
 import pinocchio as pin
 
-from armik import reasons
+from armik import cpu_time, reasons
 from armik.constraints.base import Constraint, satisfied
 from armik.constraints.hold import Hold
 from armik.constraints.limits import JointLimits
@@ -318,7 +318,7 @@ def solve_tasks(
     budget = problem.budget
     aims = tuple([t.shrunk(AIM) for t in tasks])
     table = task_table(arm, aims, ids)
-    started = time.thread_time()
+    started = cpu_time.thread_time()
     used = restarts = 0
     # the start is measured only where the first descent ends short of every task: a
     # descent that closes in leaves nothing to compare it with

@@ -25,6 +25,7 @@ import numpy as np
 
 from armik.arm import Arm, load
 from armik.errors import OptionError
+from armik.kernel.tier import compiling
 from armik.model.catalogue import SPATIAL_ARMS
 from armik.problem.settings import SolverSettings
 from armik.targets.pose import parse_target
@@ -168,6 +169,7 @@ def bench_interleaved(
     return rows
 
 
+@compiling()  # times compiled code: a first call compiles, not run as Python
 def run(
     arms: Iterable[str] = SPATIAL_ARMS,
     solvers: Iterable[str] = DEFAULT_SOLVERS,

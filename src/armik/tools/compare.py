@@ -13,6 +13,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from armik.arm import Arm, load, load_string
+from armik.kernel.tier import compiling
 from armik.model.random_arms import random_urdf
 from armik.problem.settings import SolverSettings
 from armik.solvers import registry
@@ -178,6 +179,7 @@ def _measure(
 RANDOM_FAMILIES = ("spherical", "three_parallel_free", "two_parallel", "two_intersecting")
 
 
+@compiling()  # times compiled code: a first call compiles, not run as Python
 def run(
     n: int = 500,
     seed: int = 7,
@@ -383,6 +385,7 @@ def _eaik_row(arm: Arm, qs: list) -> Row | None:
     return Row.every_target_reachable(arm.name, "eaik (peer)", ok, times, errors)
 
 
+@compiling()  # times compiled code: a first call compiles, not run as Python
 def speed(
     names: tuple[str, ...] = ("ur5", "abb_irb120"), n: int = 500, seed: int = 7
 ) -> list[dict]:

@@ -13,11 +13,11 @@ the loop has no restarts and no null-space term.
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 import pinocchio as pin
 
+from armik import cpu_time
 from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers, one
@@ -41,7 +41,7 @@ def run(
     s = evaluate(pb, pb.q0_pin.copy())
     # after the first evaluation, which compiles the kernel's error in a fresh process
     # (seconds): as for dls and qp, compiling is not the solve's time
-    deadline = time.thread_time() + opts.timeout
+    deadline = cpu_time.thread_time() + opts.timeout
     limit = opts.max_iterations
     if opts.iteration_budget is not None:
         limit, deadline = min(limit, opts.iteration_budget), math.inf
@@ -50,7 +50,7 @@ def run(
         if converged(pb, s):
             q = arm.nearest_equivalent(arm.from_pin(s.qp), q0)
             return one(q, Status.CONVERGED, "CLIK converged", iterations=it)
-        if it == limit or time.thread_time() > deadline:
+        if it == limit or cpu_time.thread_time() > deadline:
             break
         A, e = s.A, s.e
         v = A.T @ np.linalg.solve(A @ A.T + DAMP * np.eye(6), e)
