@@ -115,12 +115,12 @@ def solve_batch(
     batch = parse_targets(targets, arm)
     n = len(batch.positions)
     seeds = batch_seeds(arm, q0, n)
-    spec = chosen(arm, solver, request.key, opts, batch.rotations is None if n else None)
+    spec = chosen(arm, solver, request.key, opts, batch.rotations is None if n else None, batch.aim)
     request = request.but(solver=spec.name)
     workers = _workers(workers, spec)
     chunk = _chunk_size(chunk_size)
     claim = reasons.CONVERGED if spec.kind == "numeric" else ""  # a success's, as solve's
-    out = BatchResult.for_arm(arm, n, spec.name, opts, claim, opts.margin)
+    out = BatchResult.for_arm(arm, n, spec.name, opts, claim, opts.margin, batch.aim is not None)
     clear = _clear(opts) if opts.obstacles or opts.self_collision else ()  # none asked: no call
     if clear:  # the pairs in the checker's order, whatever order rows finish in
         out.pair_names.extend(checker(arm, opts.obstacles, opts.self_collision).pair_names)
@@ -190,7 +190,9 @@ class Chunk(NamedTuple):
     def __call__(self) -> Rows:
         spec = registry.get(self.solver)
         opts = self.request.settings
-        out = BatchResult.for_arm(self.arm, len(self.targets), spec.name, opts, margin=opts.margin)
+        aimed = self.targets.aim is not None
+        n = len(self.targets)
+        out = BatchResult.for_arm(self.arm, n, spec.name, opts, margin=opts.margin, aimed=aimed)
         clear = _clear(opts) if opts.obstacles or opts.self_collision else ()
         solve_chunk(self.arm, spec, self.targets, self.seeds, self.request, opts, clear, out, 0)
         return Rows(**vars(out), start=self.start)
