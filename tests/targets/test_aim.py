@@ -77,3 +77,41 @@ def test_an_aim_said_twice_or_where_it_cannot_be_kept_is_refused_by_name():
         panda.solve([elbow, axis], cone=(0, 0, 1, 0.2))
     with pytest.raises(armik.OptionError, match="unknown option 'cones'.*'cone'"):
         panda.solve(T, cones=(0, 0, 1, 0.2))
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_a_global_path_checks_its_steps_against_the_aimed_targets(name):
+    """The plan's check for a jump hidden in a step solves the pose halfway with the path's
+    aim (a cone leaves the spin free): a waypoint given twice, reached by following without
+    a move, is reached by the plan too, never refused as a hidden jump."""
+    a = bundled(name)
+    rng = np.random.default_rng(11)
+    checked = 0
+    for _ in range(4):
+        T = a.fk(a.random_q(rng))
+        aimed = {"cone": (0, 0, 1, 0.1), **BUDGET}
+        followed = a.solve_path([T, T], a.middle, **aimed)
+        planned = a.solve_path([T, T], a.middle, plan="global", **aimed)
+        if followed.success[1]:
+            assert planned.success[1], planned[1].reason
+            checked += 1
+    assert checked >= 2
+
+
+def test_the_prepared_plan_measures_a_miss_against_the_aim():
+    """A prepared solve whose answer the general verdict decides (a miss under a small
+    budget) is measured against the target with its aim: the angle of the tip's axis to
+    its direction (an FK here), and outside the cone what the verdict measured."""
+    panda = bundled("panda")
+    rng = np.random.default_rng(2)
+    for _ in range(3):
+        T = panda.fk(panda.random_q(rng))
+        asked = {"cone": (0, 0, 1, 0.05), "iteration_budget": 3, "max_restarts": 0}
+        r = panda.solve(T, q0=panda.middle, **asked)
+        tip = panda.fk(r.q)
+        angle = float(np.arccos(np.clip(tip.rotation[:, 2] @ T.rotation[:, 2], -1.0, 1.0)))
+        assert not r.success and r.measured is not None, r.reason
+        assert r.orientation_error == pytest.approx(angle, abs=1e-9)
+        assert r.measured[1] == pytest.approx(max(angle - 0.05, 0.0), abs=1e-9)
+        distance = float(np.linalg.norm(tip.translation - T.translation))
+        assert r.position_error == pytest.approx(distance, abs=1e-9)
