@@ -333,6 +333,26 @@ def test_shared_joints_keep_the_settings_of_a_call_without_options_and_read_the_
     assert robot._plain is kept and robot._settings({}) is kept
 
 
+def test_an_aim_keyword_over_shared_joints_is_refused_by_name():
+    """``cone=``, ``look_at=`` and ``toward=`` are a target's aim, which the descent over
+    every joint takes as a tip's task: as keywords there they are refused by name, never
+    dropped; the task itself is solved."""
+    robot = armik.load("panda", tips=["panda_link4", "panda_hand"])
+    q = robot.random_q(np.random.default_rng(4))
+    T = robot.fk(q)
+    for aim in ({"cone": (0, 0, 1, 0.1)}, {"cone": (0, 0, 1, 0.1), "look_at": (0.5, 0, 0)}):
+        with pytest.raises(armik.OptionError, match="not taken where several tips") as info:
+            robot.solve(T, **aim)
+        assert info.value.option == "cone"
+    hand = robot.fk(q, frame="panda_hand")
+    tasks = [
+        armik.Pose(robot.fk(q, frame="panda_link4"), frame="panda_link4"),
+        armik.Position(hand.translation, frame="panda_hand"),
+        armik.Axis((0, 0, 1), hand.rotation[:, 2], 0.1, frame="panda_hand"),
+    ]
+    assert robot.solve(tasks, iteration_budget=3000).success
+
+
 def test_a_bad_q0_is_named_whole_with_its_joint(cell):
     """A q0 over the robot's 12 joints that is not finite: the message quoted one chain's
     six values and no joint; it names the q0 given and the robot's joint."""

@@ -306,6 +306,15 @@ class Arms(ArmsKinematics):
         unless they say otherwise; those of a call without options read once and kept."""
         if not options and self._plain is not None:
             return self._plain
+        aimed = next((k for k in ("cone", "look_at", "toward") if k in options), None)
+        if aimed is not None:  # a target's aim: one descent over every joint takes tasks
+            raise OptionError(
+                f"{aimed} is not taken where several tips are solved together (chains that "
+                "share joints, or a task relating them): say it as a task of the tip, "
+                "armik.Axis(..., frame=tip) or armik.LookAt(..., frame=tip)",
+                option=aimed,
+                value=options[aimed],
+            )
         opts = read_options(options)
         check_options(opts, "auto", several_tips=True)
         if "max_iterations" not in options:

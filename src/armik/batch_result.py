@@ -358,9 +358,11 @@ class BatchResult:
         opts: SolverSettings,
         claim: str = "",
         margin: float = 0.0,
+        aimed: bool = False,
     ) -> BatchResult:
         """``empty`` rows for n targets of ``arm``, labelled with its joints, tolerances and
-        the clearance its successes keep (``claim``: see the field)."""
+        the clearance its successes keep (``claim``: see the field); ``aimed``: the targets
+        have an aim (a cone: a region, as bounds are)."""
         return cls.empty(
             n,
             arm.dof,
@@ -371,7 +373,7 @@ class BatchResult:
             tol_position=opts.tol_position,
             tol_orientation=opts.tol_orientation,
             margin=margin,
-            region=opts.region,
+            region=opts.bounds is not None or aimed,
             claim=claim,
         )
 

@@ -16,7 +16,6 @@ from armik.constraints.hold import Hold
 from armik.constraints.limits import JointLimits
 from armik.constraints.shapes import Shape
 from armik.errors import OptionError, listing
-from armik.frozen import frozen
 from armik.problem.budget import Budget
 from armik.problem.scores import Posture
 from armik.problem.settings import SolverSettings
@@ -94,7 +93,7 @@ class Options(SolverSettings):
         for key in kwargs:
             if key not in _NAMES:
                 raise OptionError(
-                    f"unknown option {key!r}; options: {listing(sorted(_NAMES))}", option=key
+                    f"unknown option {key!r}; options: {listing(sorted(_LISTED))}", option=key
                 )
         values = dict(kwargs)
         for key, most, unit in _BOUNDED:
@@ -133,9 +132,6 @@ class Options(SolverSettings):
             values["weights"] = checked_weights(values["weights"])
         if values.get("bounds") is not None:
             values["bounds"] = _bounds(values["bounds"])
-        if values.get("cone") is not None:
-            values["cone"] = _cone(values["cone"])
-        look, toward = values.pop("look_at", None), values.pop("toward", None)
         for name in ("position_only", "slide"):
             if name in values:
                 flag = values[name]
@@ -163,17 +159,18 @@ class Options(SolverSettings):
                 option="qp_solver",
                 value=values["qp_solver"],
             )
-        made = cls(**values)
-        return made if look is None and toward is None else with_sight(made, look, toward)
+        return cls(**values)
 
 
 _DEFAULT = Options()
-# the options a call may give: every field its ``__init__`` takes (not ``region``, derived)
+# the options a call may give: every field its ``__init__`` takes (``cone``, ``look_at`` and
+# ``toward`` are the target's aim: ``armik.solve.read`` takes them out first)
 _NAMES = frozenset(f.name for f in fields(Options) if f.init) | {
     "constraints",
     "budget",
     "secondary",
 }
+_LISTED = _NAMES | {"cone", "look_at", "toward"}  # what a call may give, the aim's too
 
 
 def spelled(kwargs: dict[str, Any]) -> dict[str, Any]:
@@ -314,65 +311,3 @@ def _bounds(value: object) -> tuple[float, ...]:
             value=value,
         )
     return tuple(float(v) for v in b)
-
-
-def _cone(value: object) -> tuple[float, float, float, float]:
-    """(ax, ay, az, within): a non-zero axis (made unit) and an angle in [0, pi]."""
-    c = _numbers(value)
-    length = float(np.linalg.norm(c[:3])) if c.shape == (4,) else math.nan
-    if not (np.isfinite(c).all() and 1e-9 < length < math.inf and 0.0 <= c[3] <= math.pi):
-        raise OptionError(
-            "cone must be (ax, ay, az, within): a non-zero axis of the tip frame and an angle "
-            f"within [0, pi] rad (say it with armik.Position and armik.Axis); got {value!r}",
-            option="cone",
-            value=value,
-        )
-    a = c[:3] / length
-    return (float(a[0]), float(a[1]), float(a[2]), float(c[3]))
-
-
-def with_sight(opts: Options, look_at: object = None, toward: object = None) -> Options:
-    """``opts`` with the option ``look_at`` (a point) or ``toward`` (a direction, made
-    unit), validated: one of them, a cone to aim, a finite point or non-zero direction. A
-    copy, built without the frozen ``__init__``. Kept apart from the rest, as the seed is,
-    so that a loop of targets at new points validates and plans its options once
-    (``armik.solve.read.settings``)."""
-    name, value = ("look_at", look_at) if toward is None else ("toward", toward)
-    if look_at is not None and toward is not None:
-        raise OptionError(
-            "look_at and toward both say where the cone points: give one of them",
-            option="toward",
-            value=toward,
-        )
-    if opts.cone is None:
-        raise OptionError(
-            f"{name} needs cone=(ax, ay, az, within): the tip's axis that points there "
-            "(say it with armik.LookAt or armik.Axis)",
-            option=name,
-            value=value,
-        )
-    if (  # a task's point or direction, three floats already: checked without numpy
-        type(value) is tuple
-        and len(value) == 3
-        and type(value[0]) is float
-        and type(value[1]) is float
-        and type(value[2]) is float
-        and math.isfinite(value[0] + value[1] + value[2])
-        and (name == "look_at" or abs(value[0] ** 2 + value[1] ** 2 + value[2] ** 2 - 1) < 1e-12)
-    ):
-        return frozen(Options, **{**opts.__dict__, name: value})
-    p = _numbers(value)
-    length = float(np.linalg.norm(p)) if p.shape == (3,) else math.nan
-    if not (np.isfinite(p).all() and math.isfinite(length)) or (
-        name == "toward" and not length > 1e-9
-    ):
-        what = "a point (px, py, pz) in m" if name == "look_at" else "a non-zero direction"
-        raise OptionError(
-            f"{name} must be {what}, base frame (say it with armik.LookAt or armik.Axis); "
-            f"got {value!r}",
-            option=name,
-            value=value,
-        )
-    if name == "toward":
-        p = p / length
-    return frozen(Options, **{**opts.__dict__, name: (float(p[0]), float(p[1]), float(p[2]))})

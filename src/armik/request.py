@@ -59,26 +59,22 @@ class Request(NamedTuple):
         key = None if self.key is None else (self.key, tuple(changes.items()))
         return self._replace(opts=but_options(self.opts, **changes), key=key)
 
-    def with_said(self, said: dict, **changes: object) -> Request:
-        """This request with the options a lowered task list says (``said``, validated here
-        as options, over a cone the request holds) and ``changes`` (as ``narrowed``)."""
-        opts = self.opts
-        cone = {"cone": opts.cone} if opts.cone is not None and "cone" not in said else {}
-        given = Options.from_kwargs({**cone, **said})
+    def lowered(self, target: object, said: dict, **changes: object) -> Request:
+        """This request for a lowered task list (``armik.problem.problem.lower``): its
+        ``target``, the options it says (``said``, validated here as options) and
+        ``changes`` (as ``narrowed``), kept apart by those and by the target's aim."""
+        given = Options.from_kwargs(said)
         values = {name: getattr(given, name) for name in said}
         values.update(changes)
-        plain = tuple((k, v) for k, v in values.items() if k not in _AIMS)
-        aims = tuple(k for k in _AIMS if k in values)
-        key = None if self.key is None else (self.key, plain, aims)
-        return self._replace(opts=but_options(opts, **values), key=key)
+        aim = getattr(target, "aim", None)
+        shape = None if aim is None else aim.shape
+        key = None if self.key is None else (self.key, tuple(values.items()), shape)
+        return self._replace(target=target, opts=but_options(self.opts, **values), key=key)
 
     @property
     def settings(self) -> Options:
         """``opts`` with this call's seed in them."""
         return with_seed(self.opts, self.seed)
-
-
-_AIMS = ("look_at", "toward")  # new at each of a loop of targets: out of the key
 
 
 def with_seed(opts: Options, seed: int | None) -> Options:
@@ -90,9 +86,5 @@ def with_seed(opts: Options, seed: int | None) -> Options:
 
 def but_options(opts: Options, **changes: object) -> Options:
     """``opts`` with ``changes``, which are values of ``Options``' own fields, already of
-    their type (a copy, built without the frozen ``__init__``; ``region`` derived again
-    where the bounds or the cone change)."""
-    values = {**opts.__dict__, **changes}
-    if "bounds" in changes or "cone" in changes:
-        values["region"] = values["bounds"] is not None or values["cone"] is not None
-    return frozen(Options, **values)
+    their type (a copy, built without the frozen ``__init__``)."""
+    return frozen(Options, **{**opts.__dict__, **changes})

@@ -72,19 +72,22 @@ def test_inside_the_region_the_error_is_zero():
 
 
 def _rows(a, ws, q, target, said, cone=None, bounds=None):
-    """(e, A, orientation error): the compiled rows of a lowered target (``target``, the
-    options ``said``; ``cone`` and ``bounds`` given where they are not said) at ``q``."""
-    cone = said["cone"] if cone is None else cone
+    """(e, A, orientation error): the compiled rows of a lowered target (``target`` with
+    its aim, the options ``said``; ``cone`` and ``bounds`` given where they are not said)
+    at ``q``."""
+    aim = getattr(target, "aim", None)  # a cone lowers onto the target (``Target.aim``)
+    cone = aim.cone if cone is None else cone
     look, x = NO_LOOK, ORIGIN
-    if "look_at" in said:
-        look, x = LOOK_POINT, np.array(said["look_at"])
-    if "toward" in said:
-        look, x = LOOK_TOWARD, np.array(said["toward"])
+    if aim is not None and aim.point is not None:
+        look, x = LOOK_POINT, np.array(aim.point)
+    if aim is not None and aim.toward is not None:
+        look, x = LOOK_TOWARD, np.array(aim.toward)
+    p = target.position if aim is not None else target.translation
     ws.q[0][:] = q
     evaluate_region(
         a.kernel_chain.flat, np.array(said["bounds"]) if bounds is None else bounds,
         np.ones(6), cone[3], np.array(cone[:3]), look, x,
-        np.ascontiguousarray(target.rotation), np.ascontiguousarray(target.translation), ws, 0,
+        np.ascontiguousarray(target.rotation), np.ascontiguousarray(p), ws, 0,
     )  # fmt: skip
     return ws.e[0], ws.A[0], ws.val[0, 1]
 
@@ -131,7 +134,8 @@ def test_the_cone_rows_are_the_axis_task(robot, within):
         q, T, tasks = _axis_case(a, rng, k, within)
         target, said = lower(Problem(tuple(tasks)))
         # exactly along a coordinate axis it lowers to a free spin: the cone rows all the same
-        cone = said.get("cone", (*tasks[1].axis, within))
+        aim = getattr(target, "aim", None)
+        cone = (*tasks[1].axis, within) if aim is None else aim.cone
         rows = _rows(a, ws, q, target, said, cone, bounds=np.zeros(6))  # the position exact
         outside += _same_rows(rows, tasks[0], tasks[1], T, a.jacobian(q), target.rotation)
     assert outside >= 4  # the cone's rows were tested outside it, not only at zero
@@ -156,7 +160,7 @@ def test_the_look_rows_are_the_look_at_task(robot, within):
             point = T.translation + 0.3 * T.rotation[:, 2] + rng.normal(scale=1e-14, size=3)
         task = LookAt(point, axis, within)
         target, said = lower(Problem((task,)))
-        assert np.array_equal(said["look_at"], point)
+        assert np.array_equal(target.aim.point, point)
         outside += _same_rows(_rows(a, ws, q, target, said), None, task, T, a.jacobian(q))
     assert outside >= 4
 

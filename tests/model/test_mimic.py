@@ -20,7 +20,7 @@ from armik.kernel import fk
 from armik.options import Options
 from armik.solvers import registry
 from armik.solvers.closed_form import families
-from armik.solvers.numeric import driver
+from armik.solvers.numeric import pieces
 from armik.targets.pose import parse_target
 from armik.tolerances import LIMIT_TOL
 
@@ -144,8 +144,8 @@ def test_the_physical_chain_with_mimic_values_filled_in_is_the_same_arm(case, rn
 
 
 def kernel_jacobian(a, q) -> np.ndarray:
-    pb = driver.Problem.build(a.kinematics, parse_target(a.fk(q).homogeneous), q, Options())
-    driver.evaluate(pb, a.kinematics.to_pin(q))
+    pb = pieces.Problem.build(a.kinematics, parse_target(a.fk(q).homogeneous), q, Options())
+    pieces.evaluate(pb, a.kinematics.to_pin(q))
     return pb.ws.J.copy()
 
 

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 import armik
-from armik.options import Options
 from armik.problem.problem import Problem, lower
-from armik.solve.read import settings
+from armik.solve.read import options, read
+from armik.targets.aim import Aim
 from tests import conftest
 
 BUDGET = {"iteration_budget": 3000}  # deterministic
@@ -46,11 +46,11 @@ def test_look_ats_lower_to_the_cone_around_the_line_of_sight():
     p, point = np.array([0.3, 0.1, 0.4]), np.array([0.6, 0.1, 0.0])
     look = armik.LookAt(point, (1, 0, 0), 0.1)
     T, said = lower(Problem((armik.Position(p), look)))
-    assert said == {"cone": (1.0, 0.0, 0.0, 0.1), "look_at": (0.6, 0.1, 0.0)}
+    assert said == {} and T.aim == Aim((1.0, 0.0, 0.0), 0.1, point=(0.6, 0.1, 0.0))
     # the target's rotation is not read (the cone's direction is the line of sight)
-    assert np.array_equal(T.rotation, np.eye(3)) and np.array_equal(T.translation, p)
+    assert np.array_equal(T.rotation, np.eye(3)) and np.array_equal(T.position, p)
     T, said = lower(Problem((look,)))
-    assert said["bounds"] == (math.inf,) * 3 + (0.0,) * 3 and said["look_at"] == tuple(point)
+    assert said["bounds"] == (math.inf,) * 3 + (0.0,) * 3 and T.aim.point == tuple(point)
     T, said = lower(Problem((look, armik.Position(p, bounds=(0.01, 0.02, math.inf)))))
     assert said["bounds"] == (0.01, 0.02, math.inf, 0.0, 0.0, 0.0)
     assert np.array_equal(T.rotation, np.eye(3))  # the box in the base frame
@@ -74,8 +74,7 @@ def test_each_look_at_of_a_loop_looks_at_its_own_point():
     loop): each answer must still look at its own point, not the first's."""
     arm = conftest.arm("ur5")
     targets = _look_targets(arm, np.random.default_rng(9), 12, "held")
-    said = [{"cone": lower(Problem(tuple(t)))[1]["cone"], "look_at": t[1].point} for t in targets]
-    keys = {settings(arm.kinematics, s)[1] for s in said}
+    keys = {read(arm.kinematics, t, None, "auto", BUDGET).key for t in targets}
     assert len(keys) == 1
     for tasks in targets:
         r = arm.solve(tasks, **BUDGET)
@@ -137,6 +136,6 @@ def test_a_box_with_an_axis_is_solved_in_the_kernel(robot):
 )
 def test_bad_look_at_options_get_armik_errors(given, match):
     with pytest.raises(armik.OptionError, match=match):
-        Options.from_kwargs(given)
+        options(given)
     with pytest.raises(armik.OptionError, match=match):
         conftest.arm("ur5").solve(np.eye(4), **given)

@@ -39,30 +39,31 @@ def test_the_keyword_look_at_of_the_targets_own_point_is_refused_by_name():
     """``solve(p, look_at=p, cone=...)``'s check (``refuse_looking_from_target``): the
     refusal of ``[Position(p), LookAt(p)]``, for one target or a batch's; a box or a freed
     position, another point or no look-at pass."""
-    from armik.options import Options
     from armik.problem.problem import refuse_looking_from_target
+    from armik.solve.read import options
+    from armik.targets.aim import aim_of
+
+    def asked(**given):  # (the target's aim, the options), as a call's keywords are read
+        sight = {k: given.pop(k) for k in ("cone", "look_at") if k in given}
+        return aim_of(**sight), options(given)
 
     p = np.array([0.4, 0.1, 0.5])
-    looking = Options.from_kwargs({"cone": (0, 0, 1, 0.0), "look_at": p})
+    looking = asked(cone=(0, 0, 1, 0.0), look_at=p)
     with pytest.raises(armik.TargetError, match=r"look_at point .* the target's position"):
-        refuse_looking_from_target(p, looking)
+        refuse_looking_from_target(p, *looking)
     with pytest.raises(armik.TargetError, match="target 1's position"):
-        refuse_looking_from_target([p + 0.1, p], looking)
-    weighted = Options.from_kwargs({"cone": (0, 0, 1, 0.0), "look_at": p, "weights": (1,) * 6})
+        refuse_looking_from_target([p + 0.1, p], *looking)
+    weighted = asked(cone=(0, 0, 1, 0.0), look_at=p, weights=(1,) * 6)
     with pytest.raises(armik.TargetError):
-        refuse_looking_from_target(p, weighted)
-    for opts in (
-        Options.from_kwargs(
-            {"cone": (0, 0, 1, 0.0), "look_at": p, "bounds": (0.05,) * 3 + (0,) * 3}
-        ),
-        Options.from_kwargs(
-            {"cone": (0, 0, 1, 0.0), "look_at": p, "bounds": (np.inf,) * 3 + (0,) * 3}
-        ),
-        Options.from_kwargs({"cone": (0, 0, 1, 0.0), "look_at": p, "weights": (0, 0, 0, 1, 1, 1)}),
-        Options.from_kwargs({"cone": (0, 0, 1, 0.0), "look_at": p + 0.1}),
-        Options(),
+        refuse_looking_from_target(p, *weighted)
+    for aim, opts in (
+        asked(cone=(0, 0, 1, 0.0), look_at=p, bounds=(0.05,) * 3 + (0,) * 3),
+        asked(cone=(0, 0, 1, 0.0), look_at=p, bounds=(np.inf,) * 3 + (0,) * 3),
+        asked(cone=(0, 0, 1, 0.0), look_at=p, weights=(0, 0, 0, 1, 1, 1)),
+        asked(cone=(0, 0, 1, 0.0), look_at=p + 0.1),
+        asked(cone=(0, 0, 1, 0.0)),
     ):
-        refuse_looking_from_target(p, opts)
+        refuse_looking_from_target(p, aim, opts)
 
 
 def test_the_keyword_look_at_of_its_own_point_is_refused_on_every_route():

@@ -118,15 +118,15 @@ def test_lowering_and_tightening():
     cone = armik.Axis((0, 0, 1), (0, 0, -1), 0.1)
     target, said = lower(Problem((p, cone)))
     assert np.allclose(target.rotation @ [0, 0, 1], [0, 0, -1])
-    assert said == {"cone": (0.0, 0.0, 1.0, 0.1)}
+    assert said == {} and target.aim.cone == (0.0, 0.0, 1.0, 0.1)
     assert lower(tightened(Problem((p, cone))))[1] == {"bounds": (0.0,) * 5 + (math.inf,)}
     tilted = armik.Axis((1, 1, 0), (0, 0, -1))  # not one of the tip's axes: a cone of 0
     target, said = lower(Problem((p, tilted)))
-    assert np.allclose(said["cone"], (0.5**0.5, 0.5**0.5, 0.0, 0.0))
+    assert np.allclose(target.aim.cone, (0.5**0.5, 0.5**0.5, 0.0, 0.0))
     assert np.allclose(target.rotation @ tilted.axis, [0, 0, -1])
     boxed = armik.Position((0.3, 0.0, 0.4), bounds=(0.01, 0.01, 0.01))
     T, said = lower(Problem((boxed, cone)))  # the box in the base frame, the cone around
-    assert np.array_equal(T.rotation, np.eye(3)) and said["toward"] == tuple(cone.direction)
+    assert np.array_equal(T.rotation, np.eye(3)) and T.aim.toward == tuple(cone.direction)
     assert lower(Problem((armik.Position((0.3, 0.0, 0.4), frame="elbow"), cone))) is None
     assert as_problem((0.3, 0.0, 0.4)) is None and as_problem(p).tasks == (p,)
 

@@ -117,6 +117,16 @@ def test_bad_backends_are_named(own):
         panda.solve_batch(targets, chunk_size=2, backend=lambda jobs, workers: [])
     with pytest.raises(armik.ArmikError, match="gave None for job 0"):
         panda.solve_batch(targets, chunk_size=2, backend=lambda jobs, workers: [None, None])
-    with pytest.raises(armik.OptionError, match="row by row"):
-        panda.solve_batch(targets, prefer="manipulability", backend="reversed")
     assert "reversed" in backends()
+
+
+@pytest.mark.parametrize("name", ["reversed", "pool"])
+def test_a_batch_solved_row_by_row_runs_on_its_own_backend(own, name):
+    """A batch the compiled batch has no form for (``prefer=``): its chunks of rows are the
+    backend's jobs, each row solved from its own seed, with a constraint of the test's
+    own holding on every success: the default's answers."""
+    panda, targets, qs = _batch(5)
+    asked = {"prefer": "manipulability", "constraints": [BaseTurn()], **BUDGET}
+    got = panda.solve_batch(targets, q0=qs, chunk_size=2, backend=name, **asked)
+    _same(got, panda.solve_batch(targets, q0=qs, **asked))
+    assert got.success.any() and (np.abs(got.q[got.success, 0]) < 0.5).all()  # it holds

@@ -69,3 +69,34 @@ def test_a_repeated_or_foreign_result_is_refused_by_name():
 
     with pytest.raises(armik.ArmikError, match="batch backend .*plain.* for job 0"):
         arm.solve_batch(targets, chunk_size=3, backend=plain)
+
+
+def _rows_batches(name):
+    """(targets, options) of batches the compiled batch has no form for, solved row by
+    row: a preference to rank each row's answers by, and look-ats at different points."""
+    arm = bundled(name)
+    rng = np.random.default_rng(6)
+    poses = [arm.fk(arm.random_q(rng)) for _ in range(6)]
+    looks = [
+        [armik.Position(T.translation), armik.LookAt(T * np.array([0.0, 0.0, 0.3 + k / 10]))]
+        for k, T in enumerate(poses)
+    ]
+    return [(poses, {"prefer": "manipulability"}), (looks, {})]
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+@pytest.mark.parametrize("backend", [reversed_results, completion_order, "threads"])
+def test_a_batch_solved_row_by_row_runs_on_any_backend_as_here(name, backend):
+    """``backend=`` runs a batch without a compiled form too: chunks of rows
+    (``batch_rows.RowsChunk``), each row solved from its own seed as the local batch solves
+    it, in whatever order the backend gives them back."""
+    arm = bundled(name)
+    for targets, options in _rows_batches(name):
+        here = arm.solve_batch(targets, workers=1, **options, **BUDGET)
+        got = arm.solve_batch(
+            targets, chunk_size=4, workers=2, backend=backend, **options, **BUDGET
+        )
+        np.testing.assert_array_equal(got.q, here.q)
+        np.testing.assert_array_equal(got.success, here.success)
+        assert got.reasons == here.reasons and got.solver == here.solver
+        assert here.success.sum() >= 4, here.summary()

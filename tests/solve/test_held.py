@@ -200,3 +200,39 @@ def test_a_path_holding_the_pandas_joint_7_is_solved_as_solve_solves_it():
     assert alone.status is armik.Status.UNREACHABLE, alone.reason
     path = panda.solve_path([Tp, Tp], panda.random_q(1), hold=hold)
     assert path.counts() == {"unreachable": 2} and path.solver == "swept", path.summary()
+
+
+@pytest.mark.parametrize("plan", ["follow", "global"])
+def test_a_path_holding_a_joint_at_none_holds_it_at_the_starts_value(plan, monkeypatch):
+    """``hold={"panda_joint7": None}`` on a path holds the joint at q0's value, as on
+    ``solve`` (docs/solvers.md): every waypoint, and on a global plan every rung it plans
+    over, at that value, the answers an explicit hold at it gives; without q0 at the
+    middle of its limits."""
+    from armik.solve import ladder
+
+    panda = armik.load("panda")
+    q = panda.random_q(3)
+    q[6] = 0.4
+    step = np.array([1.0, -1.0, 1.0, 1.0, -1.0, 1.0, 0.0])  # joint 7 stays
+    line = [panda.fk(q + 0.03 * k * step) for k in range(1, 5)]
+    rungs: list = []
+    plan_over = ladder.plan
+
+    def spied(arm, every, batch, found, *args, **kwargs):
+        rungs.extend(r for at in found for r in at)
+        return plan_over(arm, every, batch, found, *args, **kwargs)
+
+    monkeypatch.setattr(ladder, "plan", spied)
+    budget = {"iteration_budget": 2000}
+    held = panda.solve_path(line, q, hold={"panda_joint7": None}, plan=plan, **budget)
+    given = panda.solve_path(line, q, hold={"panda_joint7": 0.4}, plan=plan, **budget)
+    assert held.success.all(), held.summary()
+    np.testing.assert_array_equal(held.q, given.q)
+    assert (held.q[:, 6] == 0.4).all()
+    for T, x in zip(line, held.q):
+        tip = panda.fk(x)
+        assert np.linalg.norm(tip.translation - T.translation) < 1e-6
+    assert (plan == "global") == bool(rungs)
+    assert all(r.q[6] == 0.4 for r in rungs)
+    middle = panda.solve_path(line[:2], None, hold={"panda_joint7": None}, plan=plan, **budget)
+    assert (middle.q[:, 6] == panda.middle[6]).all()

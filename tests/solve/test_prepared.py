@@ -20,6 +20,7 @@ from armik.solve.prepared import Plan, plan_for
 from armik.solve.read import settings
 from armik.solvers import registry
 from armik.solvers.answers import Answers
+from armik.targets.aim import aim_of
 from armik.targets.pose import parse_target
 
 from ..conftest import arm, assert_same_result, decided_by_verdicts
@@ -403,8 +404,10 @@ def test_a_region_on_a_numeric_solver_is_prepared_as_the_general_path(name, opti
     a = arm(name)
     options = dict(options)
     solver = options.pop("solver", "auto")
-    opts, key, _ = settings(a.kinematics, options)
-    assert isinstance(plan_for(a.kinematics, solver, key, opts), Plan)
+    plain = {k: v for k, v in options.items() if k != "cone"}
+    aim = aim_of(options.get("cone"))  # a cone is the target's, not the options'
+    opts, key, _ = settings(a.kinematics, plain)
+    assert isinstance(plan_for(a.kinematics, solver, key, opts, aim=aim), Plan)
     rng = np.random.default_rng(8)
     solved = 0
     for k in range(8):

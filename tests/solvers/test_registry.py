@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 import armik
 from armik import SolverError
 from armik.options import Options
+from armik.solve.read import options as options_of
 from armik.solvers import registry
+from armik.targets.aim import aim_of
+from armik.targets.pose import Target
 
 from ..conftest import arm, model
 
@@ -65,9 +69,11 @@ def test_what_a_solver_does_not_declare_is_refused_by_the_registry(options, name
     it takes: the registry refuses the others in its words, whatever its ``why_not`` says."""
     ur5 = model("ur5")
     spec = registry.get(name)
-    asked = Options.from_kwargs(options)
-    assert asked.forms <= set(registry.FORMS)
-    why = registry.why_not(name, ur5, None, asked)
+    asked = options_of(options)  # a cone is the target's aim
+    aim = aim_of(options.get("cone"))
+    target = None if aim is None else Target(np.zeros(3), np.eye(3), aim=aim)
+    assert asked.forms(aim is not None) <= set(registry.FORMS)
+    why = registry.why_not(name, ur5, target, asked)
     assert why is not None and words in why
     assert spec.why_not(ur5, None, asked) is None or name == "spherical"  # the arm's own: none
 

@@ -23,6 +23,8 @@ from armik.problem.budget import DEFAULT as DEFAULT_BUDGET
 from armik.problem.budget import Budget
 from armik.problem.tasks import Axis, LookAt, Pose, Position, Relative, Task
 from armik.problem.tasks.cone import cross
+from armik.targets.aim import Aim
+from armik.targets.pose import Target
 
 
 @dataclass(frozen=True)
@@ -78,13 +80,13 @@ def _refuse_looking_at_itself(tasks) -> None:
                 )
 
 
-def refuse_looking_from_target(positions: object, opts) -> None:
+def refuse_looking_from_target(positions: object, aim: Aim, opts) -> None:
     """The keyword spelling's ``_refuse_looking_at_itself``: a ``TargetError`` where the
-    option ``look_at`` (``opts``: validated options) is a point a target's position
-    (``positions``: one, or N of a batch or a path, m) holds the tip on exactly, its
-    position neither boxed (a finite bound) nor freed (an infinite bound, a weight of 0):
-    ``solve(p, look_at=p, cone=...)`` asks what ``[Position(p), LookAt(p)]`` asks."""
-    look = opts.look_at
+    aim's point (``aim.point``: ``look_at=``) is one a target's position (``positions``:
+    one, or N of a batch or a path, m) holds the tip on exactly, its position neither
+    boxed (a finite bound) nor freed (an infinite bound, a weight of 0; ``opts``: validated
+    options): ``solve(p, look_at=p, cone=...)`` asks what ``[Position(p), LookAt(p)]`` asks."""
+    look = aim.point
     if look is None:
         return
     bounds, weights = opts.bounds, opts.weights
@@ -139,8 +141,8 @@ def lower(problem: Problem, tip: str | None = None) -> tuple[object, dict] | Non
     (task,) = problem.tasks
     if type(task) is LookAt:  # the position free, the axis within its cone of the sight
         free = (math.inf,) * 3 + (0.0,) * 3
-        said = {"bounds": free, "cone": _look(task), "look_at": tuple(task.point.tolist())}
-        return pin.SE3(np.eye(3), task.point.copy()), said
+        aim = _look(task)._replace(point=tuple(task.point.tolist()))
+        return Target(task.point.copy(), np.eye(3), aim=aim), {"bounds": free}
     if type(task) is Pose:
         options: dict = {}
         # with bounds the option's weights act in the target frame, as the task's do
@@ -153,8 +155,8 @@ def lower(problem: Problem, tip: str | None = None) -> tuple[object, dict] | Non
         return np.array(task.p), {}
     if type(task) is Axis:  # a direction alone: the position free, the axis in its cone
         free = (math.inf,) * 3 + (0.0,) * 3
-        T = pin.SE3(_onto(task.axis, task.direction), np.zeros(3))
-        return T, {"bounds": free, "cone": _cone(task)}
+        R = _onto(task.axis, task.direction)
+        return Target(np.zeros(3), R, aim=_cone(task)), {"bounds": free}
     return None
 
 
@@ -164,7 +166,7 @@ def _point_and_axis(a: Task, b: Task) -> tuple[object, dict] | None:
     5-joint arm's "this point, pointing that way"): bounds that free the rotation about
     that axis, exactly (every rotation taking the axis onto the direction is the target's
     turned about the axis, whose log3 lies along it), so that a closed form's sweep
-    applies; else the cone (``Options.cone``), which the compiled step and the verdict
+    applies; else the cone (the target's ``aim``), which the compiled step and the verdict
     measure as ``Axis`` does. A position within a box (base frame) with an axis: the
     target's rotation the identity and the cone around the direction itself (``toward``)."""
     if type(a) is Axis:
@@ -172,20 +174,21 @@ def _point_and_axis(a: Task, b: Task) -> tuple[object, dict] | None:
     if type(a) is not Position or type(b) is not Axis:
         return None
     if a.bounds.any():  # a box in the base frame: the cone around the direction itself
-        said = {"bounds": (*a.bounds.tolist(), 0.0, 0.0, 0.0), "cone": _cone(b)}
-        return pin.SE3(np.eye(3), a.p.copy()), {**said, "toward": tuple(b.direction.tolist())}
-    T = pin.SE3(_onto(b.axis, b.direction), a.p.copy())
+        aim = _cone(b)._replace(toward=tuple(b.direction.tolist()))
+        said = {"bounds": (*a.bounds.tolist(), 0.0, 0.0, 0.0)}
+        return Target(a.p.copy(), np.eye(3), aim=aim), said
+    R = _onto(b.axis, b.direction)
     along = [k for k, x in enumerate(b.axis.tolist()) if abs(x) == 1.0]
     if b.within == 0.0 and len(along) == 1:
         bounds = [0.0] * 6
         bounds[3 + along[0]] = math.inf
-        return T, {"bounds": tuple(bounds)}
-    return T, {"cone": _cone(b)}
+        return pin.SE3(R, a.p.copy()), {"bounds": tuple(bounds)}
+    return Target(a.p.copy(), R, aim=_cone(b)), {}
 
 
 def _point_and_look(a: Task, b: Task) -> tuple[object, dict] | None:
     """A position (exact, or within its bounds in the base frame) with an axis looking at a
-    point: the cone around the line of sight (``Options.cone`` and ``look_at``), which the
+    point: the cone around the line of sight (the target's ``aim`` with its point), which the
     compiled step and the verdict measure as ``LookAt`` does; None where the point is the
     position itself (any axis holds there, the task solver's)."""
     if type(a) is LookAt:
@@ -197,20 +200,26 @@ def _point_and_look(a: Task, b: Task) -> tuple[object, dict] | None:
         return None
     # the target's rotation is not read: the cone's direction is the line of sight, and the
     # position's box is in the base frame
-    said: dict = {"cone": _look(b), "look_at": tuple(b.point.tolist())}
+    aim = _look(b)._replace(point=tuple(b.point.tolist()))
+    said: dict = {}
     if a.bounds.any():
         said["bounds"] = (*a.bounds.tolist(), 0.0, 0.0, 0.0)
-    return pin.SE3(np.eye(3), a.p.copy()), said
+    return Target(a.p.copy(), np.eye(3), aim=aim), said
 
 
-def _look(task: LookAt) -> tuple[float, ...]:
-    """``Options.cone`` of a ``LookAt``: its axis and angle (its point: ``look_at``)."""
-    return (*task.axis.tolist(), float(task.within))
+def _look(task: LookAt) -> Aim:
+    """The aim of a ``LookAt``: its axis and angle (its point: ``Aim.point``)."""
+    x, y, z = task.axis.tolist()
+    return _new(Aim, ((x, y, z), float(task.within), None, None))
 
 
-def _cone(task: Axis) -> tuple[float, ...]:
-    """``Options.cone`` of an ``Axis``: its axis (unit, tip frame) and angle."""
-    return (*task.axis.tolist(), float(task.within))
+def _cone(task: Axis) -> Aim:
+    """The aim of an ``Axis``: its axis (unit, tip frame) and angle."""
+    x, y, z = task.axis.tolist()
+    return _new(Aim, ((x, y, z), float(task.within), None, None))  # every solve: no __new__
+
+
+_new = tuple.__new__
 
 
 def _onto(u: np.ndarray, v: np.ndarray) -> np.ndarray:

@@ -2,7 +2,7 @@
 
 A solver's ``run``, ``run_batch`` and ``prepare_pose`` are typed against this record: the
 verification tolerances, the budget and seed of a search, the target's form beyond an exact
-pose (position only, weights, bounds, a cone, a look-at or a direction), the numeric
+pose (position only, weights, bounds; a cone is the target's own ``aim``), the numeric
 solvers' tuning and a user's own constraints, which the verdict checks. What only the
 stages read (obstacles, held joints, the swivel angle, the collision slide) is on
 ``armik.options.Options``, which extends this record; so mypy refuses a solver that reads
@@ -12,7 +12,7 @@ a stage's field.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -50,15 +50,8 @@ class SolverSettings:
       ``R_t^T (p - p_t)`` m, rotation ``log3(R_t^T R)`` rad), each component within +- its
       bound (bx, by, bz, brx, bry, brz); ``math.inf`` frees an axis. A success lies within
       the bounds (plus the tolerances); its errors are its distance outside them.
-    - ``cone``: (ax, ay, az, within): the tip's axis (ax, ay, az), in the tip frame, within
-      ``within`` rad of the target rotation's image of it (``R_t a``), its spin free; the
-      position as ``bounds`` say (exact without them). What ``armik.Position`` with an
-      ``armik.Axis`` lowers to (say it with those tasks); solved by ``dls`` and ``qp``.
-    - ``look_at``: (px, py, pz), m, base frame: the cone is around the line from the tip
-      to that point instead (what ``armik.LookAt`` lowers to; say it with that task).
-    - ``toward``: (dx, dy, dz), base frame: the cone is around that direction instead,
-      whatever the target's rotation (what ``armik.Axis`` with a box around a position
-      lowers to: the box in the base frame, the target's rotation the identity).
+    - A cone around a tip axis (``cone=``, ``look_at=``, ``toward=``) is the target's, not
+      a setting: its ``aim`` (``armik.targets.aim``), which the solver reads from the target.
     - ``qp_solver``: the qpsolvers backend of the ``qp`` solver ("osqp").
     - ``nullspace_gain``: pull toward q0 in the null space of redundant arms (1.0; 0 disables).
     - ``max_solutions``: cap on ``solve_all`` answers of numeric solvers (16).
@@ -83,22 +76,12 @@ class SolverSettings:
     position_only: bool = False
     weights: tuple[float, ...] | None = None
     bounds: tuple[float, ...] | None = None
-    cone: tuple[float, float, float, float] | None = None
-    look_at: tuple[float, float, float] | None = None
-    toward: tuple[float, float, float] | None = None
     qp_solver: str = "osqp"
     nullspace_gain: float = 1.0
     max_solutions: int = 16
     iteration_budget: int | None = None
     posture: tuple[tuple[float, ...], tuple[float, ...]] | None = None
     checks: tuple[Constraint, ...] = ()
-    # Whether the target has a region around it (``bounds`` or ``cone``): the errors are
-    # measured outside it. Derived where the settings are built (here, or ``but`` for a
-    # copy), read as a plain attribute on every solve.
-    region: bool = field(init=False, repr=False)
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "region", self.bounds is not None or self.cone is not None)
 
     # Equal by class and every field, a subclass's too (``Options``): written here rather
     # than generated per class, so that the registry, which keeps its choices per settings,
@@ -120,25 +103,26 @@ class SolverSettings:
             per_attempt=self.max_iterations,
         )
 
-    @property
-    def forms(self) -> frozenset[str]:
-        """What these options ask beyond an exact pose, as a solver declares what it solves
+    def forms(self, aimed: bool = False) -> frozenset[str]:
+        """What these options ask beyond an exact pose, with a target that has an aim or not
+        (``aimed``: a cone, ``Target.aim``), as a solver declares what it solves
         (``registry.FORMS``; "spin": bounds that free one rotation component only)."""
         found = []
         if self.position_only:
             found.append("position_only")
         if self.weights is not None:
             found.append("weights")
-        if self.cone is not None:
+        if aimed:
             found.append("cone")
         if self.bounds is not None:
-            found.append("spin" if self.cone is None and spin_of(self.bounds) else "bounds")
+            found.append("spin" if not aimed and spin_of(self.bounds) else "bounds")
         return frozenset(found)
 
     @property
     def region_bounds(self) -> tuple[float, ...]:
         """The bounds of the region (a cone alone: the position exact; the rotation
-        components are the cone's to measure then)."""
+        components are the cone's to measure then). The target has a region where it has
+        bounds or an aim (``opts.bounds is not None or target.aim is not None``)."""
         return self.bounds if self.bounds is not None else (0.0,) * 6
 
     def weight_vector(self, position_only_target: bool) -> np.ndarray:

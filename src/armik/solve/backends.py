@@ -4,7 +4,8 @@ backend=...)``).
 A backend is a function ``run(jobs, workers)`` of a list of chunk jobs and the workers
 asked for, returning each job's result as the job returned it, in any order (a list, or an
 iterable that yields them as they finish, ``concurrent.futures.as_completed``'s order
-too). A job is a picklable callable of no arguments (``armik.solve.batch.Chunk``): called
+too). A job is a picklable callable of no arguments (``armik.solve.batch.Chunk``, or
+``armik.solve.batch_rows.RowsChunk`` for a batch solved row by row): called
 in any process that has armik, it solves and verifies its chunk there (the solver looked
 up there by name, every constraint of the request checked) and returns its rows as a
 ``BatchResult`` that names the row of the batch they start at (``Rows``),

@@ -81,7 +81,8 @@ def solve_batch(
     ``armik.targets.batch``); its ``q0``: None (mid-limits), one configuration for all, or
     one per target (N, dof). ``workers``: threads, or processes for collision checks and
     solvers without a compiled batch entry (``armik.solve.forked``; default: the number of
-    cores for a solver with a compiled batch entry, else 1). ``chunk_size``: targets per
+    cores for a solver with a compiled batch entry, else 1; a batch solved row by row: 1,
+    or what a backend runs its jobs on). ``chunk_size``: targets per
     task (default 256). ``progress``: a bar on stderr when True, or a callable ``(done,
     total)``; default: a bar when stderr is a terminal. ``backend``: where the chunks run
     (``armik.solve.backends``: a registered name such as ``"serial"``, ``"threads"``,
@@ -93,17 +94,14 @@ def solve_batch(
     t0 = request.t0
     targets, q0, solver = request.target, request.q0, request.solver
     run_jobs = None if backend is None else backends.backend(backend)
-    if request.rows is not None:  # no compiled form: each row's own request, one by one
-        if run_jobs is not None:
-            raise OptionError(
-                "backend= runs the compiled batch's chunks; this batch (prefer=, hold=, or "
-                "task lists the compiled batch has no form for) is solved row by row in this "
-                "process: drop backend=",
-                option="backend",
-                value=backend,
-            )
+    if request.rows is not None:  # no compiled form: each row's own request
         seeds = batch_seeds(arm, q0, len(request.rows))
-        return batch_rows.solve_rows(arm, request, seeds, progress)
+        if run_jobs is None:  # here, one after another
+            return batch_rows.solve_rows(arm, request, seeds, progress)
+        # the backend's jobs: chunks of rows (``batch_rows.RowsChunk``), each row as here
+        chunk = _chunk_size(chunk_size)
+        workers = 1 if workers is None else _workers(workers, None)
+        return batch_rows.solve_rows(arm, request, seeds, progress, run_jobs, chunk, workers)
     opts = with_seed(request.opts, request.seed)  # seeded once: every chunk reads these
     if opts.swivel is not None:
         raise OptionError(
@@ -115,12 +113,12 @@ def solve_batch(
     batch = parse_targets(targets, arm)
     n = len(batch.positions)
     seeds = batch_seeds(arm, q0, n)
-    spec = chosen(arm, solver, request.key, opts, batch.rotations is None if n else None)
+    spec = chosen(arm, solver, request.key, opts, batch.rotations is None if n else None, batch.aim)
     request = request.but(solver=spec.name)
     workers = _workers(workers, spec)
     chunk = _chunk_size(chunk_size)
     claim = reasons.CONVERGED if spec.kind == "numeric" else ""  # a success's, as solve's
-    out = BatchResult.for_arm(arm, n, spec.name, opts, claim, opts.margin)
+    out = BatchResult.for_arm(arm, n, spec.name, opts, claim, opts.margin, batch.aim is not None)
     clear = _clear(opts) if opts.obstacles or opts.self_collision else ()  # none asked: no call
     if clear:  # the pairs in the checker's order, whatever order rows finish in
         out.pair_names.extend(checker(arm, opts.obstacles, opts.self_collision).pair_names)
@@ -190,7 +188,9 @@ class Chunk(NamedTuple):
     def __call__(self) -> Rows:
         spec = registry.get(self.solver)
         opts = self.request.settings
-        out = BatchResult.for_arm(self.arm, len(self.targets), spec.name, opts, margin=opts.margin)
+        aimed = self.targets.aim is not None
+        n = len(self.targets)
+        out = BatchResult.for_arm(self.arm, n, spec.name, opts, margin=opts.margin, aimed=aimed)
         clear = _clear(opts) if opts.obstacles or opts.self_collision else ()
         solve_chunk(self.arm, spec, self.targets, self.seeds, self.request, opts, clear, out, 0)
         return Rows(**vars(out), start=self.start)
@@ -370,9 +370,9 @@ def cores() -> int:
         return os.cpu_count() or 1
 
 
-def _workers(workers: object, spec: SolverSpec) -> int:
+def _workers(workers: object, spec: SolverSpec | None) -> int:
     if workers is None:
-        return cores() if spec.run_batch is not None else 1
+        return cores() if spec is not None and spec.run_batch is not None else 1
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
         raise OptionError(
             f"workers must be a whole number >= 1 (threads or processes), got {workers!r}",

@@ -1,8 +1,9 @@
 """A batch the compiled batch has no form for (task lists it cannot lower together,
 ``prefer=``, ``hold=``): each row's own request (``Request.rows``) solved as ``solve``
 solves it, in chunks of rows (``RowsChunk``) that run here one after another, or as a
-backend's jobs (the Dask runner, ``armik.solve.distributed``): the same answers either
-way, since each row is solved alone from its own seed.
+backend's jobs (``solve_batch(..., backend=...)``: ``armik.solve.backends``, the Dask
+runner ``armik.solve.distributed``): the same answers either way, since each row is
+solved alone from its own seed.
 """
 
 from __future__ import annotations
@@ -61,10 +62,12 @@ def solve_rows(
     progress: ProgressArg = None,
     run_jobs: Callable[..., Iterable[Any]] | None = None,  # a backend (``Backend``)
     chunk: int = 1,
+    workers: int = 1,
 ) -> BatchResult:
     """The batch of ``request.rows``, each from its row of ``seeds``: here, one after
-    another, or as ``run_jobs``' jobs of ``chunk`` rows each; the batch's solver the one
-    every row's result names, where they name one."""
+    another, or as ``run_jobs``' jobs of ``chunk`` rows each (on ``workers``, as the
+    backend takes them); the batch's solver the one every row's result names, where they
+    name one."""
     rows = request.rows or ()
     n = len(rows)
     opts = request.settings
@@ -79,7 +82,7 @@ def solve_rows(
             for s in range(0, n, chunk)
         ]
         out = BatchResult.for_arm(arm, n, label, opts, margin=opts.margin)
-        names = place(run_jobs, jobs, 1, out, bar)  # each part named by its rows' solver
+        names = place(run_jobs, jobs, workers, out, bar)  # each part named by its rows' solver
         named = names.pop() if len(names) == 1 else label
     bar.close()
     fields = {k: v for k, v in vars(out).items() if k != "start"}

@@ -37,7 +37,7 @@ from armik.solvers import registry
 from armik.solvers.answers import one
 from armik.solvers.numeric.driver import DLS_STEP, settings
 from armik.status import Status
-from armik.targets.pose import parsed
+from armik.targets.pose import Target, parsed
 from armik.verify.measure import BatchMeasure, Measure, measures_of
 from armik.verify.verdict import decide, ranked
 
@@ -71,7 +71,9 @@ def beyond_reach(arm: ArmModel, req: Request) -> IKResult | None:
 def _refused(arm: ArmModel, target: object, solver: str, opts: SolverSettings):
     """(the chosen solver's spec, the parsed target) when the kernel's reach test refuses
     ``target``, else None."""
-    if opts.weights is not None or opts.region or opts.look_at is not None or opts.toward:
+    if opts.weights is not None or opts.bounds is not None:
+        return None
+    if type(target) is Target and target.aim is not None:  # a cone: a region
         return None
     tgt = parsed(target, arm)
     spec = registry.choose(solver, arm, tgt, opts, False)
@@ -126,5 +128,5 @@ def _measure(arm: ArmModel, q: np.ndarray, tgt, opts: SolverSettings) -> Measure
         violations=violations,
         tol_position=opts.tol_position,
         tol_orientation=opts.tol_orientation,
-        region=opts.region,
+        region=False,  # ``_refused``: no region
     )

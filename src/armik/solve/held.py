@@ -156,7 +156,8 @@ def _sweeping(arm: ArmModel, solver: str, key: tuple | None, k: int, tgt: Target
     asked = registry.sweeps(k) if solver == "auto" else [registry.get(solver)]
     held_by = (s for s in asked if s.sweep is not None and s.sweep.joint == k)
     found = next(
-        (s for s in held_by if (s.declines(opts) or s.why_not(arm, tgt, opts)) is None), None
+        (s for s in held_by if (s.declines(opts, target=tgt) or s.why_not(arm, tgt, opts)) is None),
+        None,
     )
     if key is not None and solver == "auto":
         kept = arm._derived.get(_SWEEPING)

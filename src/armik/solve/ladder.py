@@ -266,7 +266,7 @@ def _jumps(arm, spec, opts, targets: TargetBatch, i, Qa, Qb, q0, step) -> np.nda
     for _ in range(DEPTH):
         P, R = _halfway(Pa, Ra, Pb, Rb)
         middle = 0.5 * (Qa + Qb)
-        q = _nearest(arm, spec, opts, P, R, middle)
+        q = _nearest(arm, spec, opts, P, R, middle, targets.aim)
         near = (np.abs(q - Qa) <= step).all(axis=1) & (np.abs(q - Qb) <= step).all(axis=1)
         far = ~near  # NaN (no solution) too
         jumped[which[far]] = True
@@ -311,12 +311,13 @@ def _halfway(Pa, Ra, Pb, Rb):
     return P, np.einsum("kij,kjl->kil", Ra, H)
 
 
-def _nearest(arm, spec: SolverSpec, opts: SolverSettings, P, R, seeds) -> np.ndarray:
-    """Per pose, the solution nearest its seed, each angle turned nearest it within the
-    limits; a row of NaN where there is none. An answer not claimed exact counts where its
-    FK is within the tolerances (a least-squares answer on the edge of the workspace)."""
+def _nearest(arm, spec: SolverSpec, opts: SolverSettings, P, R, seeds, aim=None) -> np.ndarray:
+    """Per pose (with the path's ``aim``), the solution nearest its seed, each angle turned
+    nearest it within the limits; a row of NaN where there is none. An answer not claimed
+    exact counts where its FK is within the tolerances (a least-squares answer on the edge
+    of the workspace)."""
     if spec.run_batch is not None and R is not None:  # the compiled batch: one call
-        got = spec.run_batch(arm, TargetBatch(P, R), seeds, opts)
+        got = spec.run_batch(arm, TargetBatch(P, R, aim), seeds, opts)
         q = np.array(got.q, dtype=float)
         ok = got.claim == Status.CONVERGED.code
         ok[~ok] = _reached(arm, q[~ok], P[~ok], R[~ok], opts)
@@ -324,7 +325,7 @@ def _nearest(arm, spec: SolverSpec, opts: SolverSettings, P, R, seeds) -> np.nda
         q = np.full_like(seeds, np.nan)
         for k, seed in enumerate(seeds):
             Pk, Rk = P[k : k + 1], None if R is None else R[k : k + 1]
-            target = Target(Pk[0].copy(), None if Rk is None else Rk[0].copy())
+            target = Target(Pk[0].copy(), None if Rk is None else Rk[0].copy(), aim=aim)
             got = spec.run(arm, target, seed.copy(), opts, True)
             for i in range(len(got)):
                 c = arm.nearest_equivalent(got.q[i], seed)

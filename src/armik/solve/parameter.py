@@ -57,7 +57,7 @@ def solve_at(arm: ArmModel, req: Request, option: str, value: float):
         )
     tgt = parsed(target, arm)
     opts = with_seed(opts, seed)
-    why_target = spec.declines(opts) or spec.why_not(arm, tgt, opts)
+    why_target = spec.declines(opts, target=tgt) or spec.why_not(arm, tgt, opts)
     if why_target is not None:
         raise OptionError(f"{option}={value!r}: {why_target}", option=option, value=value)
     start = arm.seed(q0)

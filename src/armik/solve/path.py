@@ -90,7 +90,8 @@ def solve_path(
     q_prev = arm.seed(q0)
     turn = turning(arm, request.opts, q_prev)  # the turns of an answer its constraints allow
     if solver == "auto":  # kept per arm: the choice reads the first target's kind only
-        spec = chosen(arm, solver, request.key, opts, batch.rotations is None if n else None)
+        position = batch.rotations is None if n else None
+        spec = chosen(arm, solver, request.key, opts, position, batch.aim)
     else:  # the solver named, which may read the target itself
         spec = registry.choose(solver, arm, batch.target(0) if n else None, opts)
     # a held joint with "auto": each waypoint's solver chosen as solve chooses it (the sweep
@@ -98,7 +99,9 @@ def solve_path(
     held_auto = solver == "auto" and opts.hold is not None
     if not held_auto:
         request, local = request.but(solver=spec.name), local.but(solver=spec.name)
-    out = BatchResult.for_arm(arm, n, spec.name, opts, margin=opts.margin)
+    out = BatchResult.for_arm(
+        arm, n, spec.name, opts, margin=opts.margin, aimed=batch.aim is not None
+    )
     if plan == "global":
         # every solution: what solve_all would run (a search where one is not complete)
         first = batch.target(0) if n else None
@@ -107,11 +110,13 @@ def solve_path(
             swept = (
                 s
                 for s in registry.sweeps()
-                if (s.declines(opts) or s.why_not(arm, first, opts)) is None
+                if (s.declines(opts, target=first) or s.why_not(arm, first, opts)) is None
             )
             every = next(swept, every)
         if every.sweep is not None or every.kind == "numeric":  # rungs about the followed path
-            followed = BatchResult.for_arm(arm, n, spec.name, opts, margin=opts.margin)
+            followed = BatchResult.for_arm(
+                arm, n, spec.name, opts, margin=opts.margin, aimed=batch.aim is not None
+            )
             _walk(arm, batch, q_prev, step, request, local, followed, None, q0 is None, turn)
             found = (  # a 7R arm: joint 7 sampled; else answers tracked from start and breaks
                 rungs.held(arm, batch, q_prev, followed, request, every)
@@ -120,7 +125,9 @@ def solve_path(
             )
         else:
             found = rungs.every_branch(arm, batch, q_prev, every.name, request)
-        out = BatchResult.for_arm(arm, n, every.name, opts, margin=opts.margin)
+        out = BatchResult.for_arm(
+            arm, n, every.name, opts, margin=opts.margin, aimed=batch.aim is not None
+        )
         start = None if q0 is None else q_prev
         # with a preference, the continuous path of the best summed score (ladder.TIE)
         ladder.plan(arm, every, batch, found, start, step, opts, out, score, q_prev, turn)
@@ -289,9 +296,13 @@ def _between(T_from: pin.SE3, target: Target, k: int) -> list[Target]:
     screw motion between them (positions only for a position target)."""
     if target.rotation is None:
         return [
-            Target(T_from.translation + (target.position - T_from.translation) * (j / k))
+            Target(
+                T_from.translation + (target.position - T_from.translation) * (j / k),
+                aim=target.aim,
+            )
             for j in range(1, k + 1)
         ]
     twist = pin.log6(T_from.actInv(target.se3()))
     poses = [T_from * pin.exp6(twist * (j / k)) for j in range(1, k)]
-    return [Target(T.translation.copy(), T.rotation.copy()) for T in poses] + [target]
+    between = [Target(T.translation.copy(), T.rotation.copy(), aim=target.aim) for T in poses]
+    return between + [target]

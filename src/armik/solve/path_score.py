@@ -106,4 +106,5 @@ _FIELDS = tuple(f for f in IKResult.__dataclass_fields__ if f not in ("reason", 
 def _plain_pose(target: Target, opts: SolverSettings, collisions: bool) -> bool:
     """A full pose without a region, weights or collisions: what the self-motion descent
     holds."""
-    return target.rotation is not None and not (opts.region or opts.weights or collisions)
+    region = opts.bounds is not None or target.aim is not None
+    return target.rotation is not None and not (region or opts.weights or collisions)

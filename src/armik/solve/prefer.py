@@ -246,7 +246,7 @@ def sweep_held(
         (
             s
             for s in registry.sweeps()
-            if (s.declines(opts) or s.why_not(arm, target, opts)) is None
+            if (s.declines(opts, target=target) or s.why_not(arm, target, opts)) is None
         ),
         None,
     )

@@ -39,7 +39,12 @@ def preferred(arm: ArmModel, req: Request):
     opts = req.settings
     plain = req.but(score=None, problem=None)
     # a full pose (read parsed the target): what the swept search and the descent hold
-    pose = problem is None and getattr(target, "rotation", None) is not None and _plain_pose(opts)
+    pose = (
+        problem is None
+        and getattr(target, "rotation", None) is not None
+        and getattr(target, "aim", None) is None  # a cone: a region
+        and _plain_pose(opts)
+    )
     seed = arm.seed(q0)
     turn = turning(arm, req.opts, seed)  # the turns of an answer its constraints allow
     swept = None
@@ -107,10 +112,11 @@ _LOADED: Derived[set] = Derived("requests a preference ran once", lambda _: set(
 
 
 def _plain_pose(opts) -> bool:
-    """Whether the options ask for the plain pose: no region, weights, held joint or
-    collisions (what the swept search and the self-motion descent assume)."""
+    """Whether the options ask for the plain pose: no bounds, weights, held joint or
+    collisions (what the swept search and the self-motion descent assume; the target's
+    aim is the caller's to check)."""
     return not (
-        opts.region
+        opts.bounds is not None
         or opts.weights
         or opts.position_only
         or opts.obstacles  # ``opts.collisions``, from its fields

@@ -47,6 +47,7 @@ from armik.result import IKResult
 from armik.solvers import registry
 from armik.solvers.answers import Answers
 from armik.solvers.claims import Claim
+from armik.targets.aim import Aim
 from armik.targets.pose import Target, parse_target
 from armik.verify.distances import fields_apart
 from armik.verify.judged import Judged
@@ -66,6 +67,7 @@ _FLOAT = np.dtype(float)
 _SE3 = pin.SE3
 _NO_PLAN = object()  # remembered: this solver and options have no plan
 _IDENTITY = np.eye(4)  # copied for a position target (a copy costs an eighth of np.eye)
+_SIGHTLESS = (None, None)  # a cone's (point, direction) where the target has no aim
 
 
 def plan_for(
@@ -75,11 +77,13 @@ def plan_for(
     opts: SolverSettings,
     position: bool = False,
     every: bool = False,
+    aim: Aim | None = None,
 ) -> Plan | None:
     """The plan of ``arm`` for ``solver``, the options whose ``solve._options`` key is
-    ``key`` and full poses (or positions, with ``position``), for one answer or, with
-    ``every``, every solution ("auto" may choose apart: ``registry.choose``); None when the
-    solver has no runner or does not apply to that kind of target."""
+    ``key`` and full poses (or positions, with ``position``) with ``aim`` (its shape is in
+    ``key``: ``armik.solve.read``), for one answer or, with ``every``, every solution
+    ("auto" may choose apart: ``registry.choose``); None when the solver has no runner or
+    does not apply to that kind of target."""
     # a registration may change what "auto" chooses: plans of each generation apart. The
     # arm's store read as a dict, not through a call: this runs on every solve.
     plans = arm._derived.get(_PLANS)
@@ -87,7 +91,7 @@ def plan_for(
         plans = arm._derived[_PLANS] = {"generation": registry.generation}
     plan = plans.get((solver, key, position, every))
     if plan is None:
-        plan = _build(arm, solver, opts, position, every)
+        plan = _build(arm, solver, opts, position, every, aim)
         if len(plans) > 64:
             plans = arm._derived[_PLANS] = {"generation": registry.generation}
         plans[(solver, key, position, every)] = plan
@@ -97,11 +101,12 @@ def plan_for(
 _PLANS: Derived[dict] = Derived("prepared solves", lambda _: {})  # read as a key, not called
 
 
-def chosen(arm: ArmModel, solver: str, key: tuple | None, opts, position: bool | None):
+def chosen(arm: ArmModel, solver: str, key: tuple | None, opts, position: bool | None, aim=None):
     """The solver ``registry.choose`` gives for ``opts`` (all but ``seed``; ``key``: their
-    request's) and a target of that kind (``position``; None: no target), "auto"'s kept per
-    arm under ``key`` as a plan is (None: chosen every time): a batch's or a path's."""
-    kind = None if position is None else _KIND[position]  # applicability reads the kind only
+    request's, which holds the shape of an aim) and a target of that kind (``position``;
+    None: no target) with ``aim``, "auto"'s kept per arm under ``key`` as a plan is (None:
+    chosen every time): a batch's or a path's."""
+    kind = None if position is None else _KIND[position] if aim is None else _kind(position, aim)
     if key is None or solver != "auto":  # a solver named: looked up by its name
         return registry.choose(solver, arm, kind, opts)
     kept = arm._derived.get(_CHOSEN)  # read as a dict, not through a call: every batch
@@ -117,20 +122,23 @@ def chosen(arm: ArmModel, solver: str, key: tuple | None, opts, position: bool |
 
 
 _CHOSEN: Derived[dict] = Derived("auto's choices", lambda _: {})
-# a target of each kind (True: a position), what the registry's choice reads
+# a target of each kind (True: a position) without an aim: what the registry's choice reads
 _KIND = {True: Target(np.zeros(3)), False: Target(np.zeros(3), np.eye(3))}
 
 
-def _build(arm: ArmModel, solver: str, opts: SolverSettings, position: bool, every: bool):
-    # a target of the kind every plain target of the plan is
-    target = Target(np.zeros(3)) if position else Target(np.zeros(3), np.eye(3))
+def _kind(position: bool, aim: Aim | None = None) -> Target:
+    """A target of the kind and aim every target of a plan or a batch has."""
+    return Target(np.zeros(3), None if position else np.eye(3), aim=aim)
+
+
+def _build(arm: ArmModel, solver: str, opts, position: bool, every: bool, aim: Aim | None):
     try:
-        spec = registry.choose(solver, arm, target, opts, every)
+        spec = registry.choose(solver, arm, _kind(position, aim), opts, every)
     except SolverError:  # the general path raises it, with its message
         return _NO_PLAN
     if spec.prepare_pose is None:
         return _NO_PLAN
-    plan = Plan(arm, spec, opts, position)
+    plan = Plan(arm, spec, opts, position, aim)
     return _NO_PLAN if plan.run_pose is None else plan  # a runner declined: the general path
 
 
@@ -138,13 +146,19 @@ class Plan:
     """One arm, one solver, one set of options (all but ``seed``); see the module."""
 
     def __init__(
-        self, arm: ArmModel, spec: registry.SolverSpec, opts: SolverSettings, position: bool = False
+        self,
+        arm: ArmModel,
+        spec: registry.SolverSpec,
+        opts: SolverSettings,
+        position: bool = False,
+        aim: Aim | None = None,
     ) -> None:
         self.arm = arm
         self.spec, self.solver = spec, spec.name
         self.complete = spec.complete  # its solve_all misses no solution (``SolverSpec``)
         self.position = position  # targets are positions (x, y, z), not full poses
-        self.run_pose = spec.prepare_pose(arm, opts, position)
+        # a solver of cones takes the targets' aim (its shape: the point is each call's)
+        self.run_pose = spec.prepare_pose(arm, opts, position, *(() if aim is None else (aim,)))
         # a runner that also takes (x, y) targets in a planar arm's plane: those too
         self.plane = None
         p = arm.plane
@@ -179,7 +193,8 @@ class Plan:
         self.weighted = opts.weights is not None
         # the true distances measure the rotation of a full pose, whatever its weights
         self.apart_rot = not (opts.position_only or position)
-        if self.weighted and not opts.region:
+        region = opts.bounds is not None or aim is not None
+        if self.weighted and not region:
             w, _, _ = measures_of(arm, None, opts.position_only, position)
             flags = 2 if self.apart_rot else 0
             self.apart = check_frame(
@@ -188,7 +203,7 @@ class Plan:
             )  # fmt: skip
             self.fk_apart = fk_check_frame(w, flags, arm.lower, arm.upper)  # several answers
         # a region (bounds, a cone): measured by ``verify.region``, as the general path does
-        self.region = (opts.region_bounds, w, opts.cone) if opts.region else None
+        self.region = (opts.region_bounds, w, aim and aim.cone) if region else None
         self.tol_p, self.tol_r = opts.tol_position, opts.tol_orientation
         # its every row solved, measured and judged in one compiled call
         judging = getattr(self.run_pose, "judging", None)
@@ -268,7 +283,9 @@ class Plan:
         H, q0, xy = plain
         if seed is None:
             seed = secrets.randbits(63)
-        sight = opts.look_at or opts.toward  # this call's: the plan is shared by points
+        # this call's point or direction: the plan is shared by points
+        aim = target.aim if type(target) is Target else None
+        sight = None if aim is None else aim.point if aim.point is not None else aim.toward
         if xy is not None:
             got = self.run_pose(H, q0, seed, False, xy)
         elif sight is not None:
@@ -278,7 +295,7 @@ class Plan:
         if got is None:
             return None
         if type(got) is not Claim:  # claims other than converged: the general verdict
-            return self._finish(got, H, q0, opts, t0, False, xy)[0]
+            return self._finish(got, H, q0, opts, t0, False, xy, aim)[0]
         q = got.q
         data, R_w, p_w = self.arm.tip_views()  # this thread's
         pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
@@ -292,7 +309,14 @@ class Plan:
         else:
             T_bw = self.arm.T_base_world
             pos, ori, *apart = region_error(
-                T_bw, R_w, p_w, H[:3, :3], H[:3, 3], *region, opts.look_at, opts.toward, True
+                T_bw,
+                R_w,
+                p_w,
+                H[:3, :3],
+                H[:3, 3],
+                *region,
+                *_SIGHTLESS if aim is None else (aim.point, aim.toward),
+                True,
             )
             inside = self.arm._within(q.tolist())
         ori = ori if self.measure_rot else None
@@ -301,7 +325,7 @@ class Plan:
         )
         if fields is None or not fields["success"]:  # the next row may pass: every row
             answers = self._refused(got, H, q0, seed, xy)
-            return self._finish(answers, H, q0, opts, t0, False, xy)[0]
+            return self._finish(answers, H, q0, opts, t0, False, xy, aim)[0]
         fields["solver"], fields["time"] = self.solver, time.perf_counter() - t0
         if apart is None:
             return IKResult._from_fields(fields)
@@ -429,13 +453,12 @@ class Plan:
             placements.append(place(model, data, frame).homogeneous)
         return np.array(placements) if placements else np.empty((0, 4, 4))
 
-    def _finish(
-        self, answers: Answers, H, q0, opts: SolverSettings, t0: float, every: bool, xy=None
-    ):
+    def _finish(self, answers: Answers, H, q0, opts, t0: float, every: bool, xy=None, aim=None):
         if xy is not None:  # as the user gave it: the closed form reads it as given
             target = parse_target(np.array(xy), self.arm)
         else:
             target = parse_target(H[:3, 3].copy() if self.position else H, self.arm)
+        target = target if aim is None else target.aimed(aim)  # measured as the target asks
         return finish(self.arm, self.solver, answers, target, opts, q0, every, t0)
 
 

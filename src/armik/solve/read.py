@@ -22,14 +22,15 @@ import pinocchio as pin
 from armik.errors import OptionError, TargetError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
-from armik.options import Options, spelled, with_sight
+from armik.options import Options, spelled
 from armik.problem.problem import Problem, as_problem, lower, refuse_looking_from_target
 from armik.problem.scores import fit_posture, parse_score
 from armik.problem.tasks import Pose, Position, Task
 from armik.request import Request
 from armik.solve.tasks import SOLVER, check_said_twice, lower_all, task_problems
-from armik.targets.batch import parse_targets
-from armik.targets.pose import parsed
+from armik.targets.aim import Aim, aim_of
+from armik.targets.batch import TargetBatch, parse_targets
+from armik.targets.pose import Target, parsed
 
 
 def read(
@@ -51,6 +52,9 @@ def read(
     if "prefer" in options:
         options = dict(options)
         score = parse_score(options.pop("prefer"))
+    aim = None
+    if "cone" in options or "look_at" in options or "toward" in options:
+        aim, options = _aim(options)
     problem = None
     kind = type(target)  # the common poses first: ``Task``'s isinstance is an ABC's check
     if (
@@ -65,10 +69,14 @@ def read(
             if lowered is not None and not (held and _held_apart(arm, options)):
                 target, said = lowered
                 check_said_twice(options, said, problem)
+                if aim is not None:  # a call only then: the lowered target's aim is read below
+                    aim = _aimed_once(target, aim)
                 options = {**options, **said}
                 problem = None
+            elif aim is not None:
+                raise OptionError(_AIM_OF_TASKS, option=_AIM_NAMES[0], value=aim)
     held = False  # a plain target whose held joints only the task solver holds
-    if problem is None and ("hold" in options or "constraints" in options):
+    if problem is None and aim is None and ("hold" in options or "constraints" in options):
         if _held_apart(arm, options):  # a plain pose or position: the task solver's task
             problem, options = _as_task(arm, target, options)
             held = True
@@ -77,9 +85,14 @@ def read(
         check_options(opts, solver, held=held)
     if score is not None and problem is None:  # every answer ranked is to this target
         target = parsed(target, arm)
-    if opts.look_at is not None and problem is None:  # [Position(p), LookAt(p)]'s refusal
-        target = parsed(target, arm)  # parsed once: the stages read it as parsed
-        refuse_looking_from_target(target.position, opts)
+    if aim is None and type(target) is Target:  # a row of an aimed batch or path
+        aim = target.aim
+    if aim is not None:  # the target carries it; its plans are kept apart by its shape
+        if type(target) is not Target or target.aim is not aim:
+            target = parsed(target, arm).aimed(aim)
+        key = None if key is None else (key, aim[0], aim[1], aim[2] is None, aim[3] is None)
+        if aim.point is not None:  # [Position(p), LookAt(p)]'s refusal
+            refuse_looking_from_target(target.position, aim, opts)
     # built as the tuple it is (``Request``'s own ``__new__`` is a Python call: every solve)
     return _new(
         Request, (target, q0, solver, opts, key, seed, every, t0, score, problem, None, None)
@@ -95,6 +108,9 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     t0 = time.perf_counter()
     if "budget" in options:  # as its options, which a row's solve may narrow
         options = spelled(options)
+    aim = None
+    if "cone" in options or "look_at" in options or "toward" in options:
+        aim, options = _aim(options)
     rows: list | None = None
     ranked = False  # each row's answers ranked by a preference
     # an array holds poses or positions: tasks come as a list or a tuple
@@ -102,9 +118,14 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     if problems is not None:
         lowered = lower_all(problems, options, arm.tip)
         if lowered is None:  # no compiled form: the task solver, target by target
+            if aim is not None:
+                raise OptionError(_AIM_OF_TASKS, option=_AIM_NAMES[0], value=aim)
             rows = [list(p.tasks) for p in problems]
         else:
             targets, options = lowered
+            aim = _aimed_once(targets, aim)
+    if aim is not None:  # every target's: the batch carries it
+        targets = _aimed_batch(parse_targets(targets, arm), aim)
     if rows is None and options.get("prefer") is not None:  # each target's answers ranked
         batch = parse_targets(targets, arm)
         rows, ranked = [batch.target(i) for i in range(len(batch))], True
@@ -116,9 +137,10 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     if rows is None and opts.hold is not None:  # held joints: each target solved as solve does
         batch = parse_targets(targets, arm)
         rows = [batch.target(i) for i in range(len(batch))]
-    if rows is None and opts.look_at is not None:  # [Position(p), LookAt(p)]'s refusal
-        targets = parse_targets(targets, arm)  # parsed once: the batch reads it as parsed
-        refuse_looking_from_target(targets.positions, opts)
+    if aim is not None:
+        key = None if key is None else (key, aim.shape)
+        if aim.point is not None:  # [Position(p), LookAt(p)]'s refusal
+            refuse_looking_from_target(targets.positions, aim, opts)  # type: ignore[attr-defined]
     if rows is None:
         return Request(targets, q0, solver, opts, key, seed, False, t0)
     each = tuple(read(arm, row, None, solver, options) for row in rows)
@@ -143,9 +165,14 @@ def read_path(
         options = {k: v for k, v in options.items() if k != "prefer"}
     if "budget" in options:  # as its options, which each rung's solve narrows
         options = spelled(options)
+    aim = None
+    if "cone" in options or "look_at" in options or "toward" in options:
+        aim, options = _aim(options)
     problems = task_problems(poses)
     if problems is not None:
         lowered = lower_all(problems, options, arm.tip)
+        if lowered is None and aim is not None:
+            raise OptionError(_AIM_OF_TASKS, option=_AIM_NAMES[0], value=aim)
         if lowered is None:  # the task solver's, waypoint by waypoint, each as solve reads it
             if plan == "global":
                 raise TargetError(
@@ -160,14 +187,19 @@ def read_path(
             path = Request(None, q0, solver, opts, key, seed, False, t0, score, rows=rows)
             return path, path
         poses, options = lowered
+        aim = _aimed_once(poses, aim)
     opts, key, seed = settings(arm, {**options, "max_restarts": 0})
-    if opts.look_at is not None:  # [Position(p), LookAt(p)]'s refusal, at every waypoint
-        poses = parse_targets(poses, arm)  # parsed once: the path reads it as parsed
-        refuse_looking_from_target(poses.positions, opts)
+    if aim is not None:  # every waypoint's: the path's batch carries it
+        poses = _aimed_batch(parse_targets(poses, arm), aim)
+        key = None if key is None else (key, aim.shape)
+        if aim.point is not None:  # [Position(p), LookAt(p)]'s refusal, at every waypoint
+            refuse_looking_from_target(poses.positions, aim, opts)
     local = Request(poses, q0, solver, opts, key, seed, False, t0)
     if plan == "follow" and "slide" not in options:
         options = {"slide": True, **options}
     opts, key, seed = settings(arm, options)
+    if aim is not None and key is not None:
+        key = (key, aim.shape)
     return Request(poses, q0, solver, opts, key, seed, False, t0, score), local
 
 
@@ -242,8 +274,6 @@ def _held_apart(arm: ArmModel, options: dict) -> bool:
     return count > 0 and (arm.dof != 7 or count != 1)
 
 
-# options a plain target's tasks cannot say: with them the compiled path's error stands
-_NOT_AS_TASK = ("cone", "look_at", "toward")
 _SAID_BY_POSE = ("weights", "bounds")  # said by a full pose's task (``armik.Pose``)
 
 
@@ -251,10 +281,8 @@ def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | No
     """(problem, options): the problem of a plain pose or position (``armik.Pose``, with
     the pose's ``weights`` and ``bounds``; ``armik.Position``, ``position_only`` said by
     the task), for the task solver to hold joints the compiled path cannot; (None,
-    ``options``) where the options say more than such a task would (``_NOT_AS_TASK``): the
-    compiled path's error then names the way."""
-    if any(options.get(name) is not None for name in _NOT_AS_TASK):
-        return None, options
+    ``options``) where the options say more than such a task would: the compiled path's
+    error then names the way (a target with an aim is not made a task: ``read``)."""
     tgt = parsed(target, arm)
     said = {name: options[name] for name in _SAID_BY_POSE if options.get(name) is not None}
     if said and (tgt.rotation is None or options.get("position_only")):
@@ -270,8 +298,47 @@ def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | No
 
 def options(kwargs: Mapping[str, object]) -> Options:
     """The validated options of ``kwargs`` (not remembered): what the facade's other
-    readers (the viewer, the C export, the CLI, ``Arms``) check keyword options by."""
-    return Options.from_kwargs(dict(kwargs))
+    readers (the viewer, the C export, the CLI, ``Arms``) check keyword options by; a
+    target's aim (``cone=``, ``look_at=``, ``toward=``) checked and left out."""
+    return Options.from_kwargs(_aim(dict(kwargs))[1])
+
+
+_AIM_NAMES = ("cone", "look_at", "toward")  # the keywords that spell a target's aim
+_AIM_OF_TASKS = (
+    "cone does not apply to a list of tasks the compiled path has no form for: say it in "
+    "the tasks (armik.Axis, armik.LookAt)"
+)
+
+
+def _aim(options: dict) -> tuple[Aim | None, dict]:
+    """(aim, the other options): the target's aim the keywords ``cone=``, ``look_at=`` and
+    ``toward=`` spell (``armik.targets.aim.aim_of``), taken out of the options."""
+    if "cone" not in options and "look_at" not in options and "toward" not in options:
+        return None, options
+    rest = {k: v for k, v in options.items() if k not in _AIM_NAMES}
+    return aim_of(options.get("cone"), options.get("look_at"), options.get("toward")), rest
+
+
+def _aimed_once(lowered: object, given: Aim | None) -> Aim | None:
+    """The aim of a lowered task list (a ``Target``'s, or the first of a list's: they
+    lower together with one aim), or ``given`` by keywords; an ``OptionError`` when both
+    say one."""
+    first = lowered[0] if type(lowered) is list and lowered else lowered
+    aim = first.aim if type(first) is Target else None
+    if aim is not None and given is not None:
+        name = "cone" if given.point is None and given.toward is None else "look_at"
+        raise OptionError(
+            f"{name} is given both by the task and as an option: give it in the task "
+            "(armik.Axis, armik.LookAt)",
+            option=name,
+            value=given,
+        )
+    return aim if aim is not None else given
+
+
+def _aimed_batch(batch: TargetBatch, aim: Aim) -> TargetBatch:
+    """``batch`` with every target's ``aim``."""
+    return TargetBatch(batch.positions, batch.rotations, aim)
 
 
 def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | None]:
@@ -280,22 +347,14 @@ def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | 
     this call's validated ``seed``. Validation costs a few us, and a loop of solves passes
     the same options, often with a new seed each time: the remembered options keep the
     seed they were first built with (``Request.settings`` gives them this call's). A
-    look-at's point or an axis' direction (``look_at``, ``toward``), new in each of a loop
-    of targets, is kept out of the key too, and written into this call's copy."""
+    target's aim (``cone=``, ``look_at=``, ``toward=``) is the target's, taken out before
+    (``_aim``)."""
     if not kwargs:
         return _DEFAULT, (), 0
     seed = kwargs.get("seed", 0)
-    look = kwargs["look_at"] if "look_at" in kwargs else None  # lookups, not calls
-    toward = kwargs["toward"] if "toward" in kwargs else None
-    sight = look is not None or toward is not None
-    if "seed" in kwargs or "look_at" in kwargs or "toward" in kwargs:
+    if "seed" in kwargs:
         kwargs = dict(kwargs)
-        if "seed" in kwargs:
-            del kwargs["seed"]
-        if "look_at" in kwargs:
-            del kwargs["look_at"]
-        if "toward" in kwargs:
-            del kwargs["toward"]
+        del kwargs["seed"]
     try:
         # with the types: 1 == True, but validation may accept one and refuse the other;
         # a held joint's dict as its items and their values' types (a held value of True
@@ -309,14 +368,14 @@ def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | 
             given = kwargs
         if "obstacles" in kwargs and type(kwargs["obstacles"]) in (list, tuple):
             given = {**given, "obstacles": _scene(arm, kwargs["obstacles"])}
-        key = (tuple(given.items()), tuple(map(type, kwargs.values())), look is None, sight)
+        key = (tuple(given.items()), tuple(map(type, kwargs.values())))
         kept = arm._derived.get(_KEPT)  # read as a dict, not through a call: every solve
         if kept is None:
             kept = _KEPT(arm)
         opts = kept.get(key)
     except TypeError:  # an unhashable value (a list of weights): validate every time
         opts = _fitted(arm, Options.from_kwargs({**kwargs, "seed": seed}))
-        return (with_sight(opts, look, toward) if sight else opts), None, _seed(seed)
+        return opts, None, _seed(seed)
     if type(seed) is not int or not 0 <= seed < 2**63:  # a plain seed needs no call
         seed = _seed(seed)
     if opts is None:
@@ -324,7 +383,7 @@ def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | 
         if len(kept) > 256:
             kept.clear()
         kept[key] = opts
-    return (with_sight(opts, look, toward) if sight else opts), key, seed
+    return opts, key, seed
 
 
 _KEPT: Derived[dict] = Derived("validated options", lambda _: {})

@@ -3,7 +3,8 @@ waypoint that a path may pass through.
 
 - A closed form: every branch of ``solve_all`` at every waypoint (``every_branch``).
 - A 7R arm whose joint 7 the swept closed form holds: every branch at joint 7 values about
-  the followed path's and on a grid over its range, and the followed answers (``held``).
+  the followed path's and on a grid over its range, and the followed answers (``held``);
+  with a joint held (``hold=``), every branch at its value.
 - Any other arm, by its numeric solver: answers tracked along the path (``tracked``): the
   followed path's own, and from distinct answers of ``solve_all`` at the first waypoint and
   where following breaks, each waypoint solved from the track's answer at the one before,
@@ -53,6 +54,9 @@ def held(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> 
     lo, hi = float(arm.lower[j]), float(arm.upper[j])
     grid = np.linspace(lo, hi, HELD_GRID + 2)[1:-1]
     theta, seed = float(q_start[j]), np.array(q_start, dtype=float)  # read only
+    # a held joint (``hold=``, None: at the start's value) is solved at its value whatever
+    # the sweep's start: one value gives every branch there
+    held_joint = request.opts.hold is not None
     rungs = []
     for i in range(len(batch)):
         found: list = []
@@ -60,7 +64,10 @@ def held(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> 
             theta = float(followed.q[i, j])
             found.append(followed[i])  # where joint 7 admits no closed form exactly there
         target = batch.target(i)
-        for value in np.concatenate((np.clip(theta + HELD_OFFSETS, lo, hi), grid)):
+        values = (
+            [theta] if held_joint else np.concatenate((np.clip(theta + HELD_OFFSETS, lo, hi), grid))
+        )
+        for value in values:
             swept = request.but(sweep_from=float(value))  # where its sweep starts
             found += _all(arm, swept, target, seed, spec.name)
         rungs.append(found)

@@ -58,6 +58,7 @@ def run(arm: ArmModel, req: Request):
     vector = (kind is np.ndarray and target.ndim == 1) or (
         kind is Target and target.rotation is None
     )
+    aim = target.aim if kind is Target else None  # its shape is in the key (``read``)
     # collisions and a user's checks are the general path's (one answer with collisions
     # went to ``_avoiding`` above)
     plan = (
@@ -66,7 +67,7 @@ def run(arm: ArmModel, req: Request):
         or opts.checks
         or (every and (opts.obstacles or opts.self_collision))
         or req.sweep_from is not None  # a sweep's start the plans do not take
-        else plan_for(arm, solver, key, opts, vector, every)
+        else plan_for(arm, solver, key, opts, vector, every, aim)
     )
     if plan is not None and not every:
         got = plan.solve(target, q0, opts, seed, t0)
@@ -141,7 +142,8 @@ def _kept(arm: ArmModel, req: Request, position: bool) -> _Avoiding:
     found = kept.get((solver, key, position))
     if found is None:
         plain = req.narrowed(**_NO_COLLISIONS)
-        kind = Target(np.zeros(3)) if position else Target(np.zeros(3), np.eye(3))
+        aim = req.target.aim if type(req.target) is Target else None  # its shape: in the key
+        kind = Target(np.zeros(3), None if position else np.eye(3), aim=aim)
         spec = registry.choose(solver, arm, kind, plain.opts)  # reads only the target's kind
         check = checker(arm, req.opts.obstacles, req.opts.self_collision)
         found = _Avoiding(spec, plain, check)
@@ -174,8 +176,6 @@ def _avoiding(arm: ArmModel, req: Request) -> IKResult:
     if key is not None and (kind is _SE3 or shape == (4, 4) or shape == (3,)):
         spec, kept, check = _kept(arm, req, shape == (3,))
         plain, plain_key = kept.opts, kept.key
-        if opts.look_at is not None or opts.toward is not None:  # this call's, not the key's
-            plain = but_options(opts, **_NO_COLLISIONS)
     else:
         plain = but_options(opts, **_NO_COLLISIONS)
         target = parsed(target, arm)

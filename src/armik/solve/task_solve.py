@@ -42,14 +42,14 @@ def centre(arm: ArmModel, problem, req: Request) -> IKResult | None:
     if hold is not None and (arm.dof != 7 or len(hold) != 1):  # held apart: the task
         base = base.narrowed(hold=None)  # solver's box holds them
     restarts = min(req.opts.max_restarts, CENTRE_RESTARTS)
-    centre = run(arm, base.with_said(said, max_restarts=restarts).but(target=target))
+    centre = run(arm, base.lowered(target, said, max_restarts=restarts))
     if centre.success or registry.get(centre.solver).kind != "analytic":
         return centre  # a numeric miss shows nothing: the task solver goes on from it
     found = []
     for rim in rims(problem, RIM_SAMPLES):
         lowered = lower(rim, arm.tip)
         if lowered is not None:
-            r = run(arm, base.with_said(lowered[1]).but(target=lowered[0]))
+            r = run(arm, base.lowered(*lowered))
             found += [r] if r.success else []
     seed = arm.seed(req.q0)
     return min(found, key=lambda r: float(np.linalg.norm(r.q - seed)), default=centre)

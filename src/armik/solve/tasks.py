@@ -475,17 +475,17 @@ def lower_all(
     problems: list[Problem], options: dict, tip: str | None = None
 ) -> tuple[list, dict] | None:
     """(targets, options) of the compiled batch when every problem lowers to the same
-    options (``armik.problem.problem.lower``), else None."""
-    targets, said = [], None
-    for problem in problems:
-        lowered = lower(problem, tip)
-        if lowered is None or (said is not None and lowered[1] != said):
+    options and aim (``problem.lower``; a batch shares one: ``TargetBatch.aim``), else None."""
+    targets, said = [], None  # the options and the aim every problem lowers to
+    for lowered in (lower(problem, tip) for problem in problems):
+        each = None if lowered is None else (lowered[1], getattr(lowered[0], "aim", None))
+        if each is None or (said is not None and each != said):
             return None
-        targets.append(lowered[0])
-        said = lowered[1]
+        targets.append(lowered[0])  # type: ignore[index]
+        said = each
     directed = next((p for p in problems if any(isinstance(t, _AIMED) for t in p.tasks)), None)
-    check_said_twice(options, said or {}, directed)
-    return targets, {**options, **(said or {})}
+    check_said_twice(options, said[0] if said else {}, directed)
+    return targets, {**options, **(said[0] if said else {})}
 
 
 def box_of(arm: ArmModel, constraints: tuple[Constraint, ...]) -> tuple[np.ndarray, np.ndarray]:

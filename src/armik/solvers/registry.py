@@ -39,8 +39,9 @@ Run = Callable[["ArmModel", "Target", "np.ndarray", "SolverSettings", bool], "An
 RunBatch = Callable[["ArmModel", "TargetBatch", "np.ndarray", "SolverSettings"], "Answers"]
 # One plain 4x4 pose at a time, prepared once per arm, options and target kind (see
 # ``armik.solve.prepared``): (arm, options, position_only) -> run_pose(H, q0, seed), or None
-# where the solver has no runner for that input (the general path then).
-PreparePose = Callable[["ArmModel", "SolverSettings", bool], "Callable | None"]
+# where the solver has no runner for that input (the general path then); a solver that
+# solves a cone ("cone" in ``solves``) takes the targets' aim too, as a fourth argument.
+PreparePose = Callable[..., "Callable | None"]
 
 
 # (arm, target, seed, value, opts, every) -> answers: a sweep started at ``value`` (``Sweep``)
@@ -78,7 +79,8 @@ class Parameter(NamedTuple):
     at_value: Callable[[ArmModel, Target, np.ndarray, float], Answers]
 
 
-# What a request may ask beyond an exact full pose (``Options.forms``), each form's words in
+# What a request may ask beyond an exact full pose (``Options.forms``; "cone": a target's
+# aim), each form's words in
 # a refusal, and what a solver needing one asks for
 FORMS = ("position_only", "weights", "bounds", "spin", "cone")
 _ASKED = {
@@ -138,13 +140,18 @@ class SolverSpec:
         return kinds <= self.enforces
 
     def declines(
-        self, opts: SolverSettings | None, asked: frozenset[str] | None = None
+        self,
+        opts: SolverSettings | None,
+        asked: frozenset[str] | None = None,
+        target: Target | None = None,
     ) -> str | None:
-        """Why this solver does not take these options, by the forms they ask (``asked``:
-        ``opts.forms``, given where many solvers are asked) against what it declares; else
+        """Why this solver does not take these options and this target, by the forms they
+        ask (``asked``: ``opts.forms(aimed)``, given where many solvers are asked; else read
+        from ``opts`` and whether ``target`` has an aim) against what it declares; else
         None. Whether it applies is this, then its own ``why_not(arm, target, opts)``."""
         if opts is not None:
-            asked = opts.forms if asked is None else asked
+            if asked is None:
+                asked = opts.forms(target is not None and target.aim is not None)
             if not self.needs <= asked:
                 return f"{self.name} needs {_needed(min(self.needs - asked))}"
             if not asked <= self.solves:
@@ -229,7 +236,7 @@ def why_not(
 ) -> str | None:
     """None if solver ``name`` applies, else the check that failed."""
     spec = get(name)
-    return spec.declines(opts) or spec.why_not(arm, target, opts)
+    return spec.declines(opts, target=target) or spec.why_not(arm, target, opts)
 
 
 def _needed(form: str) -> str:
@@ -302,7 +309,7 @@ def choose(
     spec: SolverSpec | None
     if not isinstance(name, str) or name != "auto":
         spec = get(name)
-        reason = spec.declines(opts) or spec.why_not(arm, target, opts)
+        reason = spec.declines(opts, target=target) or spec.why_not(arm, target, opts)
         if reason is not None:
             raise SolverError(
                 f"solver {name!r} does not apply to arm {arm.name!r}: {reason}",
@@ -311,8 +318,10 @@ def choose(
             )
         return spec
     # remembered per arm: applicability reads the target only for whether it is a position
-    key: tuple[bool, SolverSettings | None, bool, int] | None
-    key = (target is not None and target.rotation is None, opts, every, generation)
+    # and has an aim (a cone: a form)
+    aimed = target is not None and target.aim is not None
+    key: tuple[bool, bool, SolverSettings | None, bool, int] | None
+    key = (target is not None and target.rotation is None, aimed, opts, every, generation)
     chosen = arm._derived.get(_AUTO, _NONE)
     try:
         spec = chosen.get(key)
@@ -320,7 +329,7 @@ def choose(
         key = spec = None
     if spec is not None:
         return spec
-    asked = None if opts is None else opts.forms
+    asked = None if opts is None else opts.forms(aimed)
     checks = None if opts is None else opts.checks
     for spec in _BY_PRIORITY if not checks else _keeping_first(checks):
         if (

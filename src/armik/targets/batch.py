@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from armik.errors import InputError, TargetError
+from armik.targets.aim import Aim
 from armik.targets.pose import SPELLINGS, Target, parse_target, spelling_of
 from armik.tolerances import LAST_ROW_TOL, ROTATION_TOL
 
@@ -38,10 +39,12 @@ if TYPE_CHECKING:
 
 @dataclass(frozen=True, eq=False)
 class TargetBatch:
-    """N desired tip poses in the base frame (m). ``rotations`` is None for positions."""
+    """N desired tip poses in the base frame (m). ``rotations`` is None for positions;
+    ``aim``: every target's (``armik.targets.aim``), or None."""
 
     positions: np.ndarray  # (N, 3)
     rotations: np.ndarray | None = None  # (N, 3, 3)
+    aim: Aim | None = None
 
     def __len__(self) -> int:
         return len(self.positions)
@@ -64,14 +67,14 @@ class TargetBatch:
         """Target ``i`` as the ``Target`` that ``Arm.solve`` reads."""
         # Contiguous copies: rows of a view are strided, and compiled code specialises on that.
         R = None if self.rotations is None else np.ascontiguousarray(self.rotations[i])
-        return Target(np.ascontiguousarray(self.positions[i]), R)
+        return Target(np.ascontiguousarray(self.positions[i]), R, aim=self.aim)
 
     def __getitem__(self, index: slice | np.ndarray) -> TargetBatch:
         """A sub-batch (a slice or an index array: views where numpy gives views)."""
         if isinstance(index, (int, np.integer)):
             raise TypeError("index a TargetBatch with a slice or an array; .target(i) gives one")
         R = None if self.rotations is None else self.rotations[index]
-        return TargetBatch(self.positions[index], R)
+        return TargetBatch(self.positions[index], R, self.aim)
 
 
 def parse_targets(value: object, arm: ArmModel | None = None) -> TargetBatch:

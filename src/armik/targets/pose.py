@@ -29,16 +29,20 @@ import pinocchio as pin
 from armik.errors import TargetError
 from armik.frozen import frozen
 from armik.model.arm_model import model_of
+from armik.targets.aim import Aim
 from armik.tolerances import LAST_ROW_TOL, MAX_POSITION, ROTATION_TOL
 
 
 @dataclass(frozen=True, eq=False)
 class Target:
-    """A desired tip pose in the base frame. ``rotation`` is None for a position target."""
+    """A desired tip pose in the base frame. ``rotation`` is None for a position target;
+    ``aim``: a tip axis within a cone in place of the whole rotation (``armik.targets.aim``),
+    or None."""
 
     position: np.ndarray
     rotation: np.ndarray | None = None
     planar_xy: np.ndarray | None = None  # a 2-vector target's point, in plane coordinates
+    aim: Aim | None = None
 
     @property
     def planar(self) -> bool:
@@ -52,6 +56,10 @@ class Target:
         """The pose as ``T_base_target`` (identity rotation for a position target)."""
         R = np.eye(3) if self.rotation is None else self.rotation
         return pin.SE3(R, self.position)
+
+    def aimed(self, aim: Aim | None) -> Target:
+        """This target with ``aim`` (a copy, built without the frozen ``__init__``)."""
+        return frozen(Target, **{**self.__dict__, "aim": aim})
 
 
 def parsed(value: object, arm: object = None) -> Target:
@@ -357,7 +365,7 @@ def _determinant(
 
 def _target(p: np.ndarray, R: np.ndarray | None) -> Target:
     """``Target(p, R)`` without the frozen ``__init__``'s setattr per field."""
-    return frozen(Target, position=p, rotation=R, planar_xy=None)
+    return frozen(Target, position=p, rotation=R, planar_xy=None, aim=None)
 
 
 def _pose(R: np.ndarray, p: np.ndarray) -> Target:

@@ -24,35 +24,36 @@ from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
 from armik.result import IKResult
 from armik.targets.batch import TargetBatch
+from armik.targets.pose import Target
 from armik.verify.measure import BatchMeasure, measure, measure_batch
-
-
-def apart(opts: SolverSettings) -> bool:
-    """Whether the verdict of ``opts`` measures other than the distances to the target."""
-    return opts.weights is not None or opts.region
 
 
 def plain(opts: SolverSettings) -> SolverSettings:
     """``opts`` measuring the distances themselves: no weights, a region shrunk to its
     centre (each finite bound 0; an infinite one frees its component, which is then no
-    part of the target; a cone of its axis around its direction, 0 wide: the angle of the
-    tip's axis to the direction it should point along, the target's rotation otherwise
-    an artefact of the axis' lowering)."""
+    part of the target). A target's aim is shrunk by ``centred``."""
     changes: dict = {"weights": None}
     if opts.bounds is not None:
         changes["bounds"] = tuple(0.0 if math.isfinite(b) else b for b in opts.bounds)
-    if opts.cone is not None:
-        changes["cone"] = (*opts.cone[:3], 0.0)
     return frozen(type(opts), **{**opts.__dict__, **changes})
 
 
+def centred(target: Target) -> Target:
+    """``target`` with its aim 0 wide: the angle of the tip's axis to the direction it
+    should point along is its distance (the target's rotation otherwise an artefact of the
+    axis' lowering)."""
+    aim = target.aim
+    return target if aim is None else target.aimed(aim.centred())
+
+
 def with_distances(arm: ArmModel, results: list[IKResult], target, opts: SolverSettings) -> list:
-    """``results`` of a request ``apart``: each with its true distances to ``target``
-    (Pinocchio's FK), the verdict's measure kept as ``measured``."""
+    """``results`` of a request measured apart (weights, a region): each with its true
+    distances to ``target`` (Pinocchio's FK), the verdict's measure kept as ``measured``."""
     distance = plain(opts)
+    at = centred(target)
     out = []
     for r in results:
-        m = measure(arm, r.q, target, distance)
+        m = measure(arm, r.q, at, distance)
         out.append(_apart(r, m.position_error, m.orientation_error, opts.weights is not None))
     return out
 
@@ -88,5 +89,8 @@ def _said_apart(said: tuple, pos: float, ori: float | None, weighted: bool) -> s
 
 def batch_distances(arm: ArmModel, Q: np.ndarray, targets: TargetBatch, opts: SolverSettings):
     """The true distances of a batch's answers ``Q`` to their targets (``BatchMeasure``)."""
+    aim = targets.aim
+    if aim is not None:
+        targets = TargetBatch(targets.positions, targets.rotations, aim.centred())
     m: BatchMeasure = measure_batch(arm, Q, targets, plain(opts))
     return m.position_error, m.orientation_error

@@ -34,6 +34,7 @@ from armik.kernel.measure import (
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.problem.settings import SolverSettings
+from armik.targets.aim import Aim
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 from armik.tolerances import LIMIT_TOL
@@ -113,7 +114,9 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: SolverSettings) 
         measured = MEASURED(arm)
     w, weighted, measure_rot = measured[(opts.weights, opts.position_only, target.rotation is None)]
     ch = arm.kernel_chain.chain
-    if opts.region:
+    aim = target.aim
+    region = opts.bounds is not None or aim is not None
+    if region:
         R_t = _EYE if target.rotation is None else target.rotation
         pos, ori = region_error(
             arm.T_base_world,
@@ -123,9 +126,7 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: SolverSettings) 
             target.position,
             opts.region_bounds,
             w,
-            opts.cone,
-            opts.look_at,
-            opts.toward,
+            *_aim_args(aim),
         )
     # C-ordered, writable float64 arrays: numba compiles anew for every other layout, and
     # Pinocchio's rotation is Fortran-ordered. ``T.homogeneous`` is a fresh C-ordered 4x4
@@ -151,8 +152,14 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: SolverSettings) 
         violations=violations,
         tol_position=opts.tol_position,
         tol_orientation=opts.tol_orientation,
-        region=opts.region,
+        region=region,
     )
+
+
+def _aim_args(aim: Aim | None) -> tuple:
+    """(cone, look-at point, direction) of a target's aim, as the region's measure takes
+    them."""
+    return (None, None, None) if aim is None else (aim.cone, aim.point, aim.toward)
 
 
 def measure_many(
@@ -163,7 +170,7 @@ def measure_many(
     (``armik.kernel.measure.fk_checks``: Pinocchio's placement to 1e-12), its errors and
     limits; a region's errors from Pinocchio's placements, as ``measure`` measures them."""
     n = len(qs)
-    if opts.region:
+    if opts.bounds is not None or target.aim is not None:
         return _region_many(arm, qs, target, opts)
     key = (opts.weights, opts.position_only, target.rotation is None)
     frames = arm._derived.get(FK_FRAMES)  # read as a dict, not through a call
@@ -206,7 +213,8 @@ def _region_many(arm: ArmModel, qs: list[np.ndarray], target: Target, opts: Solv
     R_t[:] = _EYE if target.rotation is None else target.rotation
     p_t = np.empty((n, 3))
     p_t[:] = target.position
-    out, measure_rot = _errors(arm, R_w, p_w, R_t, p_t, opts, target.rotation is None, True)
+    position_only = target.rotation is None
+    out, measure_rot = _errors(arm, R_w, p_w, R_t, p_t, opts, position_only, True, target.aim)
     within = np.array([arm._within(q.tolist()) for q in qs], dtype=np.bool_)
     return BatchMeasure(
         out[:, 0],
@@ -215,7 +223,7 @@ def _region_many(arm: ArmModel, qs: list[np.ndarray], target: Target, opts: Solv
         opts.tol_position,
         opts.tol_orientation,
         measure_rot,
-        opts.region,
+        True,
     )
 
 
@@ -293,11 +301,12 @@ def _errors(
     opts: SolverSettings,
     position_only_target: bool,
     region: bool,
+    aim: Aim | None = None,
 ):
     """(errors (N, 2), orientation measured): each placement's position and orientation
     errors against its target (rotations ``R_t``, positions ``p_t``, C-ordered float64),
-    the distances outside the region where ``opts`` gives one (``region``: whether they
-    do, ``opts.region``); NaN where the orientation is not measured."""
+    the distances outside the region where ``opts`` and the targets' ``aim`` give one
+    (``region``: whether they do); NaN where the orientation is not measured."""
     measured = arm._derived.get(MEASURED)  # read as a dict, not through a call
     if measured is None:
         measured = MEASURED(arm)
@@ -311,9 +320,7 @@ def _errors(
             p_t,
             np.array(opts.region_bounds),
             w,
-            opts.cone,
-            opts.look_at,
-            opts.toward,
+            *_aim_args(aim),
         )
         if not measure_rot:
             out[:, 1] = np.nan
@@ -345,8 +352,10 @@ def measure_batch(
         R_t = np.broadcast_to(_EYE, (n, 3, 3))
     R_t = np.array(R_t, dtype=float, order="C")
     p_t = np.array(targets.positions, dtype=float, order="C")
-    region = opts.region
-    out, rotation = _errors(arm, R_w, p_w, R_t, p_t, opts, targets.rotations is None, region)
+    aim = targets.aim
+    region = opts.bounds is not None or aim is not None
+    position_only = targets.rotations is None
+    out, rotation = _errors(arm, R_w, p_w, R_t, p_t, opts, position_only, region, aim)
     ch = arm.kernel_chain.chain
     inside = np.empty(n, dtype=np.bool_)
     within_limits(Q, ch.lower, ch.upper, LIMIT_TOL, inside)

@@ -6,7 +6,7 @@ The error twist of the reached pose relative to the target, in the target frame
 (``R_t^T (p - p_t)``, ``log3(R_t^T R)``), is compared component by component with its
 bound (``inf`` or a zero weight frees the component); the position and orientation errors
 are the lengths of what lies outside: 0 inside the region, so that the tolerances mean
-what they mean for an exact target. With a cone (``Options.cone``), the orientation error
+what they mean for an exact target. With a cone (a target's ``aim``), the orientation error
 is the angle by which the tip axis ``a`` lies outside the cone around ``R_t a`` instead,
 or, for a look-at, around the line from the tip to its point, or around a base-frame
 direction (``toward``).

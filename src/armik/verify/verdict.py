@@ -90,7 +90,8 @@ def finish(
     else:
         found = first_verified(arm, answers, target, opts, seed)
     results = ranked(found, solver, seed, all_solutions, t0)
-    if opts.weights is not None or opts.region:  # measured apart: the distances beside
+    # measured apart (weights, a region: bounds or an aim): the distances beside
+    if opts.weights is not None or opts.bounds is not None or target.aim is not None:
         return with_distances(arm, results, target, opts)
     return results
 

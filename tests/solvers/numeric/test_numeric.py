@@ -14,7 +14,7 @@ import armik
 from armik.options import Options
 from armik.solvers import registry
 from armik.solvers.numeric import driver as numeric
-from armik.solvers.numeric import qp
+from armik.solvers.numeric import pieces, qp
 from armik.status import Status
 from armik.targets.pose import parse_target
 
@@ -60,15 +60,15 @@ def test_frame_jacobian_against_finite_differences(rng):
 def test_error_jacobian_against_finite_differences(rng):
     a = model("panda")
     target = parse_target(a.fk(a.random_q(rng)))
-    pb = numeric.Problem.build(a, target, a.middle, Options())
+    pb = pieces.Problem.build(a, target, a.middle, Options())
     qp_ = a.to_pin(a.random_q(rng))
-    s = numeric.evaluate(pb, qp_)
+    s = pieces.evaluate(pb, qp_)
     h = 1e-6
     for i in range(a.dof):
         dv = np.zeros(a.dof)
         dv[i] = h
-        ep = numeric.evaluate(pb, pin.integrate(a.model, qp_, dv)).e
-        em = numeric.evaluate(pb, pin.integrate(a.model, qp_, -dv)).e
+        ep = pieces.evaluate(pb, pin.integrate(a.model, qp_, dv)).e
+        em = pieces.evaluate(pb, pin.integrate(a.model, qp_, -dv)).e
         # e decreases along A: de/dq = -A
         np.testing.assert_allclose(-(ep - em) / (2 * h), s.A[:, i], atol=1e-6)
 
@@ -94,9 +94,9 @@ def test_qp_stays_inside_limits_near_limits():
 
 def test_qp_problem_has_the_expected_bounds(rng):
     a = model("panda")
-    pb = numeric.Problem.build(a, parse_target(a.fk(a.random_q(rng))), a.middle, Options())
+    pb = pieces.Problem.build(a, parse_target(a.fk(a.random_q(rng))), a.middle, Options())
     q = a.random_q(rng)
-    s = numeric.evaluate(pb, a.to_pin(q))
+    s = pieces.evaluate(pb, a.to_pin(q))
     problem = qp.build_problem(pb, s)
     assert isinstance(problem, qpsolvers.Problem)
     np.testing.assert_allclose(problem.lb, a.lower - q)
@@ -283,8 +283,8 @@ def test_unconverged_never_success(monkeypatch):
 
 def test_restart_seeds_cover_the_box_reproducibly():
     a = model("kinova")  # bounded and continuous joints
-    s1 = numeric.RestartSeeds(a, 3)
-    s2 = numeric.RestartSeeds(a, 3)
+    s1 = pieces.RestartSeeds(a, 3)
+    s2 = pieces.RestartSeeds(a, 3)
     pts = np.array([s1.next() for _ in range(600)])  # wraps around the 512-point table
     np.testing.assert_array_equal(pts[:10], [s2.next() for _ in range(10)])
     lo, hi = a.sampling_box()
@@ -314,9 +314,9 @@ def test_halton_table_is_the_radical_inverse():
 def test_restart_pick_is_the_candidate_nearest_the_target(rng):
     a = model("panda")
     target = parse_target(a.fk(a.random_q(rng)))
-    pb = numeric.Problem.build(a, target, a.middle, Options())
-    picker = numeric.RestartSeeds(a, 5)
-    plain = numeric.RestartSeeds(a, 5)
+    pb = pieces.Problem.build(a, target, a.middle, Options())
+    picker = pieces.RestartSeeds(a, 5)
+    plain = pieces.RestartSeeds(a, 5)
     for _ in range(3):
         picked = a.from_pin(picker.pick(pb))
         candidates = [plain.next() for _ in range(numeric.RESTART_CANDIDATES)]
@@ -327,11 +327,11 @@ def test_restart_pick_is_the_candidate_nearest_the_target(rng):
 def test_descent_stops_at_a_known_minimum(rng):
     a = model("ur5")
     q_star = a.random_q(rng)
-    pb = numeric.Problem.build(a, parse_target(a.fk(q_star)), a.middle, Options())
+    pb = pieces.Problem.build(a, parse_target(a.fk(q_star)), a.middle, Options())
     start = a.to_pin(q_star + 0.01)
     step = qp.make_step("osqp")
-    *_, ok = numeric.descend(pb, start, step, 100, math.inf)
+    *_, ok = pieces.descend(pb, start, step, 100, math.inf)
     assert ok  # on its own it converges to q_star ...
     # ... but told that an earlier attempt got stuck there, it gives up on the way
-    s, its, ok = numeric.descend(pb, start, step, 100, math.inf, a.to_pin(q_star)[None, :])
+    s, its, ok = pieces.descend(pb, start, step, 100, math.inf, a.to_pin(q_star)[None, :])
     assert not ok and its < 5 and s.sq < numeric.CAREFUL_BELOW

@@ -21,7 +21,7 @@ from armik import cpu_time
 from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers, one
-from armik.solvers.numeric.driver import Problem, converged, evaluate
+from armik.solvers.numeric.pieces import Problem, converged, evaluate
 from armik.solvers.registry import SolverSpec, register
 from armik.status import Status
 from armik.targets.pose import Target

@@ -16,6 +16,7 @@ from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
 from armik.solvers.numeric.driver import DLS_STEP, pose_runner, run_numeric, run_numeric_batch
 from armik.solvers.registry import SolverSpec, register
+from armik.targets.aim import Aim
 from armik.targets.pose import Target
 
 step = DLS_STEP  # the kernel's step for ``numeric.descend``
@@ -33,8 +34,8 @@ run = partial(run_numeric, step=DLS_STEP)
 run_batch = partial(run_numeric_batch, step=DLS_STEP)
 
 
-def prepare_pose(arm: ArmModel, opts: SolverSettings, position_only: bool):
-    return pose_runner(arm, opts, DLS_STEP, position_only)
+def prepare_pose(arm: ArmModel, opts: SolverSettings, position_only: bool, aim: Aim | None = None):
+    return pose_runner(arm, opts, DLS_STEP, position_only, aim)
 
 
 SPEC = register(

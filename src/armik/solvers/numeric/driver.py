@@ -4,20 +4,19 @@ The iteration itself (pose error and its exact Jacobian, damping, the bounded st
 active set on limits, the careful Levenberg-Marquardt mode, stall detection, restarts from
 a shifted Halton sequence with candidate picking, known minima, the null-space pull) is
 compiled: see ``armik.kernel`` (``descent.py`` documents the iteration, ``restarts.py`` the
-restarts). ``dls`` and ``qp`` differ only in their step. This module turns options into the
-kernel's ``Settings``, calls its entry (``kernel.entry``, one per step) for one target
-(``run_numeric``) or many (``run_numeric_batch``), and turns its arrays into ``Answers``.
+restarts). ``dls`` and ``qp`` differ only in their step. This module turns options and the
+target's aim into the kernel's ``Settings``, calls its entry (``kernel.entry``, one per
+step) for one target (``run_numeric``) or many (``run_numeric_batch``), and turns its
+arrays into ``Answers``.
 
-``Problem``, ``evaluate``, ``descend`` and ``RestartSeeds`` expose pieces of the kernel to
-tests and to readers; they call the compiled functions, they do not copy them.
+``pieces.py`` exposes pieces of the kernel (``Problem``, ``evaluate``, ``descend``,
+``RestartSeeds``) to tests, readers and ``clik``.
 """
 
 from __future__ import annotations
 
 import math
 import secrets
-import time
-from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
@@ -25,11 +24,8 @@ import numpy as np
 from armik import reasons
 from armik.kernel import box_qp as backend
 from armik.kernel import descent as _descent
-from armik.kernel import error as _error
-from armik.kernel import restarts as _restarts
 from armik.kernel import warmup
-from armik.kernel.chain import Flat, halton
-from armik.kernel.clock import thread_cpu_ns
+from armik.kernel.chain import halton
 from armik.kernel.descent import CAREFUL_BELOW, KNOWN_MINIMUM_RADIUS  # noqa: F401 (re-exported)
 from armik.kernel.entry import ENTRIES, EXACT_ENTRIES
 from armik.kernel.problem import (
@@ -38,13 +34,10 @@ from armik.kernel.problem import (
     NO_CONE,
     NO_LIMIT,
     NO_LOOK,
-    SHIFT,
     STEP_DLS,
     STEP_QP,
     Settings,
-    Workspace,
     pack_settings,
-    workspace,
 )
 from armik.kernel.restarts import RESTART_CANDIDATES  # noqa: F401 (re-exported)
 from armik.kernel.single import EXACT_POSE_ENTRIES, POSE_ENTRIES
@@ -56,6 +49,7 @@ from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers, one
 from armik.solvers.claims import claim
 from armik.status import Status
+from armik.targets.aim import Aim
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 
@@ -95,14 +89,20 @@ def _warm(which: int) -> None:
 
 
 def packed_settings(
-    arm: ArmModel, opts: SolverSettings, position_only: bool, max_found: int, step: Step
+    arm: ArmModel,
+    opts: SolverSettings,
+    position_only: bool,
+    max_found: int,
+    step: Step,
+    aim: Aim | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """``settings`` as the kernel entry takes them, kept per arm (``PACKED``): a loop of
     solves whose options differ only in ``seed`` builds them once. Settings that differ only
     in their budget (``timeout``, ``iteration_budget``, ``max_restarts``: what restarts
-    with collisions leave of it, new each time) patch the remembered ints."""
+    with collisions leave of it, new each time) patch the remembered ints. ``aim``: the
+    target's (``Target.aim``), its point or direction written in per call."""
     budget = (opts.timeout, opts.max_restarts, opts.iteration_budget)
-    sight = opts.look_at if opts.look_at is not None else opts.toward  # written in per call
+    sight = None if aim is None else aim.sight
     key = (
         opts.tol_position,
         opts.tol_orientation,
@@ -110,9 +110,7 @@ def packed_settings(
         opts.position_only,
         opts.weights,
         opts.bounds,
-        opts.cone,
-        opts.look_at is None,  # which sight, not where: the kernel reads it per call
-        opts.toward is None,
+        None if aim is None else aim.shape,  # which sight, not where: written in per call
         opts.nullspace_gain,
         opts.posture,
         position_only,
@@ -124,7 +122,7 @@ def packed_settings(
         kept = PACKED(arm)
     found = kept.get(key)
     if found is None:
-        packed = pack_settings(settings(opts, position_only, arm.dof, max_found, step))
+        packed = pack_settings(settings(opts, position_only, arm.dof, max_found, step, aim))
         if len(kept) > 512:
             kept.clear()
         kept[key] = (budget, packed)
@@ -159,16 +157,24 @@ def _timeout_ns(timeout: float) -> int:
     return min(int(timeout * 1e9), 2**62)
 
 
-def settings(opts: SolverSettings, position_only: bool, dof: int, max_found: int, step: Step):
-    """The kernel's ``Settings`` for these options, target kind and arm size."""
+def settings(
+    opts: SolverSettings,
+    position_only: bool,
+    dof: int,
+    max_found: int,
+    step: Step,
+    aim: Aim | None = None,
+):
+    """The kernel's ``Settings`` for these options, target kind (its ``aim`` too) and arm
+    size."""
     # only the ratios matter to the task: the smallest measured weight is 1, so that the
     # lightest rows stay well above the damping's floor (LAMBDA_MIN)
     w = opts.weight_vector(position_only)
     w = w / w[w > 0.0].min()
     full_task = opts.weights is None and not (opts.position_only or position_only)
-    region = opts.region
+    region = opts.bounds is not None or aim is not None
     bounds = np.array(opts.region_bounds)
-    cone = opts.cone
+    cone = None if aim is None else aim.cone
     # rows a bound frees do not count as task rows (a cone's rotation counts 2: a direction);
     # a box lets a far target come closer
     measured = w * np.isfinite(bounds)
@@ -199,10 +205,14 @@ def settings(opts: SolverSettings, position_only: bool, dof: int, max_found: int
         bounds,
         NO_CONE if cone is None else float(cone[3]),
         np.array((0.0, 0.0, 1.0) if cone is None else cone[:3]),
-        LOOK_POINT if opts.look_at is not None else LOOK_TOWARD if opts.toward else NO_LOOK,
-        np.array(opts.look_at or opts.toward or (0.0, 0.0, 0.0)),
+        NO_LOOK if aim is None else _LOOKS[aim.point is None, aim.toward is None],
+        np.array((0.0, 0.0, 0.0) if aim is None or aim.sight is None else aim.sight),
         *_posture(opts, dof),
     )
+
+
+# the kernel's sight under (no point, no direction)
+_LOOKS = {(False, True): LOOK_POINT, (True, False): LOOK_TOWARD, (True, True): NO_LOOK}
 
 
 def _posture(opts: SolverSettings, dof: int) -> tuple[np.ndarray, np.ndarray]:
@@ -232,7 +242,8 @@ def run_numeric(
 ) -> Answers:
     """Descend from q0, then from restart seeds until solved, out of budget or restarts."""
     max_found = opts.max_solutions if all_solutions else 1
-    sf, si = packed_settings(arm, opts, target.position_only, max_found, step)
+    aim = target.aim
+    sf, si = packed_settings(arm, opts, target.position_only, max_found, step, aim)
     # C-ordered, writable float64 rows (numba compiles anew for any other layout): views of
     # the inputs when they are such arrays already (the kernel only reads them), else copies.
     R_t = _c_float(_EYE if target.rotation is None else target.rotation)[None]
@@ -245,9 +256,10 @@ def run_numeric(
     seeds[0] = solve_seed(opts)  # (a third of np.array([seed], dtype=np.uint64)'s cost)
     if step.kind not in warmup.PREPARED:  # a warm process: nothing to prepare
         warmup.prepare(step.kind)
-    entry = (ENTRIES if opts.region else EXACT_ENTRIES)[step.kind]  # no region: no region code
+    region = opts.bounds is not None or aim is not None
+    entry = (ENTRIES if region else EXACT_ENTRIES)[step.kind]  # no region: no region code
     entry(*arm.kernel_chain.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
-    return kernel_answers(arm, target.position, q0, opts, sf, info[0], out_q[0], err[0])
+    return kernel_answers(arm, target.position, q0, opts, sf, info[0], out_q[0], err[0], region)
 
 
 def converged_reason(restarts: int) -> str:
@@ -255,9 +267,10 @@ def converged_reason(restarts: int) -> str:
 
 
 def kernel_answers(
-    arm: ArmModel, position, q0, opts: SolverSettings, sf, info, out_q, err
+    arm: ArmModel, position, q0, opts: SolverSettings, sf, info, out_q, err, region: bool
 ) -> Answers:
-    """The answers of one target from the kernel's outputs (see ``descent.solve_one``)."""
+    """The answers of one target from the kernel's outputs (see ``descent.solve_one``);
+    ``region``: the target has one (bounds or an aim)."""
     claim, found, iterations, restarts, out_of_budget = info.tolist()
     if claim == _descent.CONVERGED:
         reason = converged_reason(restarts)
@@ -271,22 +284,30 @@ def kernel_answers(
     if claim == _descent.UNREACHABLE:
         distance = math.dist(np.asarray(position).tolist(), arm.first_joint_origin.tolist())
         return one(q0.copy(), Status.UNREACHABLE, reasons.unreachable(distance, arm.reach))
-    why = _not_converged(opts, sf, bool(out_of_budget), restarts, err)
+    why = _not_converged(opts, sf, bool(out_of_budget), restarts, err, region)
     return one(out_q[0], Status.NOT_CONVERGED, why, iterations=iterations, restarts=restarts)
 
 
-def pose_runner(arm: ArmModel, opts: SolverSettings, step: Step, position_only: bool = False):
+def pose_runner(
+    arm: ArmModel,
+    opts: SolverSettings,
+    step: Step,
+    position_only: bool = False,
+    aim: Aim | None = None,
+):
     """``run_pose(H, q0, seed)`` for ``armik.solve.prepared``: one plain 4x4 pose ``H`` (base frame)
     from ``q0`` through the kernel's single-pose entry; with ``position_only``, H holds a
     position target (its rotation the identity, which the settings then ignore). Returns
     None when ``H`` or ``q0`` is not plain, or for ``every`` (nothing was solved: take the
     general path); for a converged claim (q, iterations, restarts, branch, singular, reason
-    function, its arguments); else the answers for the general verdict."""
+    function, its arguments); else the answers for the general verdict. ``aim``: every
+    target's (its shape; each call's point or direction is ``run_pose``'s ``point``)."""
     dof = arm.dof
-    sf, si = packed_settings(arm, opts, position_only, 1, step)
+    sf, si = packed_settings(arm, opts, position_only, 1, step, aim)
     warmup.prepare(step.kind)  # once per plan
     # without a region, the entry that compiles none of the region's code
-    entry = (POSE_ENTRIES if opts.region else EXACT_POSE_ENTRIES)[step.kind]
+    region = opts.bounds is not None or aim is not None
+    entry = (POSE_ENTRIES if region else EXACT_POSE_ENTRIES)[step.kind]
     packed, kind, halton_ = arm.kernel_chain.flat
     converged_code = _descent.CONVERGED
 
@@ -306,7 +327,7 @@ def pose_runner(arm: ArmModel, opts: SolverSettings, step: Step, position_only: 
             restarts = int(info[3])
             got = (out_q[0], int(info[2]), restarts, None, False, converged_reason, (restarts,))
             return claim(got)
-        return kernel_answers(arm, H[:3, 3], q0, opts, sf, info, out_q, err)
+        return kernel_answers(arm, H[:3, 3], q0, opts, sf, info, out_q, err, region)
 
     return run_pose
 
@@ -321,7 +342,7 @@ def _c_float(a) -> np.ndarray:
 
 
 def _not_converged(
-    opts: SolverSettings, sf: np.ndarray, out_of_budget: bool, restarts: int, err
+    opts: SolverSettings, sf: np.ndarray, out_of_budget: bool, restarts: int, err, region: bool
 ) -> str:
     if not out_of_budget and opts.max_restarts == 0:
         why = "one descent from q0 (max_restarts=0: no restarts)"
@@ -332,7 +353,7 @@ def _not_converged(
     errors = f"position error {err[0]:.3g} m"
     if sf[3:6].any():  # some rotation weight
         errors += f", orientation error {err[1]:.3g} rad"
-    if opts.region:  # the kernel measured the distances outside the region
+    if region:  # the kernel measured the distances outside the region
         errors = reasons.outside_region(errors)
     return reasons.not_converged(why, errors)
 
@@ -355,7 +376,8 @@ def run_numeric_batch(
         seeds = np.full(n_targets, solve_seed(opts), dtype=np.uint64)
     else:
         seeds = np.array(seeds).astype(np.uint64)
-    sf, si = packed_settings(arm, opts, targets.rotations is None, 1, step)
+    aim = targets.aim
+    sf, si = packed_settings(arm, opts, targets.rotations is None, 1, step, aim)
     if targets.rotations is None:
         R_t = np.broadcast_to(np.eye(3), (n_targets, 3, 3)).copy()
     else:
@@ -367,7 +389,8 @@ def run_numeric_batch(
     kc = arm.kernel_chain
     if step.kind not in warmup.PREPARED:  # a warm process: nothing to prepare
         warmup.prepare(step.kind)
-    entry = (ENTRIES if opts.region else EXACT_ENTRIES)[step.kind]  # no region: no region code
+    region = opts.bounds is not None or aim is not None
+    entry = (ENTRIES if region else EXACT_ENTRIES)[step.kind]  # no region: no region code
     entry(*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
     return Answers(
         q=out_q[:, 0],
@@ -375,125 +398,3 @@ def run_numeric_batch(
         iterations=info[:, 2].copy(),
         restarts=info[:, 3].copy(),
     )
-
-
-# -- pieces of the kernel, for tests and readers ------------------------------------------
-
-
-@dataclass
-class Problem:
-    """One target's settings, chain and scratch, for calling kernel pieces from Python."""
-
-    arm: ArmModel
-    chain: Flat
-    settings: Settings
-    R_t: np.ndarray
-    p_t: np.ndarray
-    q0: np.ndarray  # joint values (rad, m)
-    ws: Workspace
-
-    @classmethod
-    def build(cls, arm: ArmModel, target: Target, q0: np.ndarray, opts: SolverSettings) -> Problem:
-        R = np.eye(3) if target.rotation is None else target.rotation
-        return cls(
-            arm,
-            arm.kernel_chain.flat,
-            settings(opts, target.position_only, arm.dof, 1, DLS_STEP),
-            np.ascontiguousarray(R, dtype=float),
-            np.ascontiguousarray(target.position, dtype=float),
-            np.asarray(q0, dtype=float).copy(),
-            workspace(arm.dof, 64, arm.kernel_chain.chain.joint_kind.shape[0]),
-        )
-
-    @property
-    def q0_pin(self) -> np.ndarray:
-        return self.arm.to_pin(self.q0)
-
-    def with_step(self, step: Step) -> Problem:
-        st = self.settings._replace(step=step.kind, backend=step.backend)
-        return Problem(self.arm, self.chain, st, self.R_t, self.p_t, self.q0, self.ws)
-
-
-@dataclass(slots=True)
-class State:
-    """The pose error at one configuration (``qp``: Pinocchio coordinates)."""
-
-    qp: np.ndarray
-    e: np.ndarray  # weighted error twist
-    A: np.ndarray  # weighted error Jacobian
-    pos: float
-    rot: float
-    sq: float  # the least-squares objective |e|^2 (weighted)
-
-
-def _state(pb: Problem, slot: int) -> State:
-    ws = pb.ws
-    pos, rot, sq = ws.val[slot].tolist()
-    return State(pb.arm.to_pin(ws.q[slot]), ws.e[slot].copy(), ws.A[slot].copy(), pos, rot, sq)
-
-
-def converged(pb: Problem, s: State) -> bool:
-    """Within the iteration's tolerances (half the verification's)."""
-    return s.pos <= pb.settings.tol_pos and s.rot <= pb.settings.tol_rot
-
-
-def evaluate(pb: Problem, qp: np.ndarray) -> State:
-    """Pose error and its Jacobian at ``qp`` (Pinocchio coordinates), by the kernel."""
-    pb.ws.q[0] = pb.arm.from_pin(qp)
-    _error.evaluate(pb.chain, pb.settings, pb.R_t, pb.p_t, pb.ws, 0)
-    return _state(pb, 0)
-
-
-def descend(
-    pb: Problem,
-    qp: np.ndarray,
-    step: Step,
-    max_iterations: int,
-    deadline: float,
-    minima: np.ndarray | None = None,
-) -> tuple[State, int, bool]:
-    """One attempt of the kernel from ``qp``, until ``max_iterations`` or ``deadline``
-    (a ``time.perf_counter()`` value, inf for none); ``minima`` (rows in Pinocchio
-    coordinates) are where earlier attempts got stuck. Returns the last state, the
-    iterations used, and convergence."""
-    pb = pb.with_step(step)
-    ws = pb.ws
-    count = 0 if minima is None else len(minima)
-    if count > ws.minima.shape[0]:
-        raise ValueError(f"at most {ws.minima.shape[0]} known minima")
-    for k, row in enumerate(() if minima is None else minima):
-        ws.minima[k] = pb.arm.from_pin(row)
-    ws.q[0] = pb.arm.from_pin(qp)
-    deadline_ns = NO_LIMIT
-    if math.isfinite(deadline):
-        deadline_ns = thread_cpu_ns() + int(max(deadline - time.perf_counter(), 0.0) * 1e9)
-    entry = _descent.descend_dls if step.kind == STEP_DLS else _descent.descend_qp
-    its, ok, slot = entry(
-        pb.chain, pb.settings, pb.R_t, pb.p_t, pb.q0, ws, max_iterations, deadline_ns, count
-    )
-    return _state(pb, slot), its, ok
-
-
-class RestartSeeds:
-    """The restart configurations of a solve with seed ``seed`` (see ``kernel.restarts``)."""
-
-    def __init__(self, arm: ArmModel, seed: int | None) -> None:
-        self.arm = arm
-        self.chain = arm.kernel_chain.flat
-        self.shift = np.empty(arm.dof)
-        _restarts.seed_shift(secrets.randbits(63) if seed is None else int(seed), self.shift)
-        self.k = 0
-
-    def next(self) -> np.ndarray:
-        out = np.empty(self.arm.dof)
-        _restarts.restart_point(self.chain, self.shift, self.k, out)
-        self.k += 1
-        return out
-
-    def pick(self, pb: Problem) -> np.ndarray:
-        """The next candidates' configuration (Pinocchio coordinates) whose tip lands
-        nearest the target."""
-        out = np.empty(self.arm.dof)
-        pb.ws.vec[SHIFT] = self.shift
-        self.k = _restarts.pick(pb.chain, pb.settings, pb.R_t, pb.p_t, pb.ws, self.k, out)
-        return self.arm.to_pin(out)

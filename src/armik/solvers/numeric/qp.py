@@ -26,16 +26,10 @@ from armik.kernel import step as _step
 from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers
-from armik.solvers.numeric.driver import (
-    Problem,
-    State,
-    Step,
-    pose_runner,
-    qp_step,
-    run_numeric,
-    run_numeric_batch,
-)
+from armik.solvers.numeric.driver import Step, pose_runner, qp_step, run_numeric, run_numeric_batch
+from armik.solvers.numeric.pieces import Problem, State
 from armik.solvers.registry import SolverSpec, register
+from armik.targets.aim import Aim
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 
@@ -100,8 +94,8 @@ def run_batch(
     return run_numeric_batch(arm, targets, q0, opts, qp_step(opts.qp_solver), seeds)
 
 
-def prepare_pose(arm: ArmModel, opts: SolverSettings, position_only: bool):
-    return pose_runner(arm, opts, qp_step(opts.qp_solver), position_only)
+def prepare_pose(arm: ArmModel, opts: SolverSettings, position_only: bool, aim: Aim | None = None):
+    return pose_runner(arm, opts, qp_step(opts.qp_solver), position_only, aim)
 
 
 SPEC = register(

@@ -1,0 +1,137 @@
+"""``Aim``: where a target wants the tip's axis, carried by the parsed target.
+
+A target with an aim asks for a tip axis (unit, tip frame) within an angle of a
+direction instead of the target's whole rotation: the direction is the target rotation's
+image of the axis (``R_t a``), or the line from the tip to a point (``point``: an
+``armik.LookAt``), or a base-frame direction whatever the target's rotation (``toward``:
+an ``armik.Axis`` with a box around a position). It is what those tasks lower to
+(``armik.problem.problem.lower``) and what the keywords ``cone=``, ``look_at=`` and
+``toward=`` spell (``aim_of``, read once by ``armik.solve.read``); the compiled step and
+the verdict read it from the target (``Target.aim``, ``TargetBatch.aim``), never from the
+options.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from armik.errors import OptionError
+
+Vector = tuple[float, float, float]
+
+
+class Aim(NamedTuple):
+    axis: Vector  # the tip's axis, unit, in the tip frame
+    within: float  # rad, in [0, pi]
+    point: Vector | None = None  # look at this point (m, base frame)
+    toward: Vector | None = None  # or along this unit direction (base frame)
+
+    @property
+    def cone(self) -> tuple[float, float, float, float]:
+        """(ax, ay, az, within): the cone as the region's measure takes it."""
+        a = self.axis
+        return (a[0], a[1], a[2], self.within)
+
+    @property
+    def shape(self) -> tuple:
+        """What plans and packed settings are kept under: the cone and which sight, not
+        the point or direction (new at each of a loop of targets, written in per call;
+        ``armik.solve.read`` writes the same four values out)."""
+        return (self.axis, self.within, self.point is None, self.toward is None)
+
+    @property
+    def sight(self) -> Vector | None:
+        """The point or direction the kernel reads per call, or None."""
+        return self.point if self.point is not None else self.toward
+
+    def centred(self) -> Aim:
+        """This aim 0 wide: the angle of the axis from its direction is then measured."""
+        return self._replace(within=0.0)
+
+
+def aim_of(cone: object = None, look_at: object = None, toward: object = None) -> Aim | None:
+    """The aim the keywords ``cone=(ax, ay, az, within)``, ``look_at=(px, py, pz)`` and
+    ``toward=(dx, dy, dz)`` spell (None: none given); an ``OptionError`` naming the bad
+    value and the way to say it."""
+    if cone is None:
+        if look_at is not None or toward is not None:
+            name, value = ("look_at", look_at) if toward is None else ("toward", toward)
+            if look_at is not None and toward is not None:
+                raise OptionError(_BOTH, option="toward", value=toward)
+            raise OptionError(
+                f"{name} needs cone=(ax, ay, az, within): the tip's axis that points there "
+                "(say it with armik.LookAt or armik.Axis)",
+                option=name,
+                value=value,
+            )
+        return None
+    axis_within = _cone(cone)
+    aim = Aim(axis_within[:3], axis_within[3])  # type: ignore[arg-type]
+    if look_at is None and toward is None:
+        return aim
+    if look_at is not None and toward is not None:
+        raise OptionError(_BOTH, option="toward", value=toward)
+    if toward is None:
+        return aim._replace(point=_sight("look_at", look_at))
+    return aim._replace(toward=_sight("toward", toward))
+
+
+_BOTH = "look_at and toward both say where the cone points: give one of them"
+
+
+def _numbers(value: object) -> np.ndarray:
+    """``value`` as a float array, or [nan] for what is not numbers (a string, complex
+    numbers, ragged lists): the callers' checks then refuse it."""
+    try:
+        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
+            raise TypeError
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        return np.array([np.nan])
+
+
+def _cone(value: object) -> tuple[float, float, float, float]:
+    """(ax, ay, az, within): a non-zero axis (made unit) and an angle in [0, pi]."""
+    c = _numbers(value)
+    length = float(np.linalg.norm(c[:3])) if c.shape == (4,) else math.nan
+    if not (np.isfinite(c).all() and 1e-9 < length < math.inf and 0.0 <= c[3] <= math.pi):
+        raise OptionError(
+            "cone must be (ax, ay, az, within): a non-zero axis of the tip frame and an angle "
+            f"within [0, pi] rad (say it with armik.Position and armik.Axis); got {value!r}",
+            option="cone",
+            value=value,
+        )
+    a = c[:3] / length
+    return (float(a[0]), float(a[1]), float(a[2]), float(c[3]))
+
+
+def _sight(name: str, value: object) -> Vector:
+    """The point (``look_at``) or the direction, made unit (``toward``), as three floats."""
+    if (  # a task's point or direction, three floats already: checked without numpy
+        type(value) is tuple
+        and len(value) == 3
+        and type(value[0]) is float
+        and type(value[1]) is float
+        and type(value[2]) is float
+        and math.isfinite(value[0] + value[1] + value[2])
+        and (name == "look_at" or abs(value[0] ** 2 + value[1] ** 2 + value[2] ** 2 - 1) < 1e-12)
+    ):
+        return value  # type: ignore[return-value]
+    p = _numbers(value)
+    length = float(np.linalg.norm(p)) if p.shape == (3,) else math.nan
+    if not (np.isfinite(p).all() and math.isfinite(length)) or (
+        name == "toward" and not length > 1e-9
+    ):
+        what = "a point (px, py, pz) in m" if name == "look_at" else "a non-zero direction"
+        raise OptionError(
+            f"{name} must be {what}, base frame (say it with armik.LookAt or armik.Axis); "
+            f"got {value!r}",
+            option=name,
+            value=value,
+        )
+    if name == "toward":
+        p = p / length
+    return (float(p[0]), float(p[1]), float(p[2]))

@@ -1,0 +1,117 @@
+"""A cone, a look-at's point and a direction belong to the target (``Target.aim``): the
+keywords ``cone=``, ``look_at=`` and ``toward=`` are read once into the parsed target's aim,
+the same as what ``armik.Axis`` and ``armik.LookAt`` lower to, and the options hold none of
+them."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+import armik
+from armik.options import Options
+from armik.solve.read import read, read_batch, read_path
+from armik.targets.aim import Aim
+from armik.targets.batch import TargetBatch
+from armik.targets.pose import Target
+from tests.conftest import arm as bundled
+
+BUDGET = {"iteration_budget": 3000}
+
+
+def test_the_options_hold_no_part_of_the_target():
+    assert not {f.name for f in dataclasses.fields(Options)} & {"cone", "look_at", "toward"}
+
+
+def test_the_keywords_and_the_tasks_are_one_target_with_its_aim():
+    panda = bundled("panda")
+    T = panda.fk(panda.middle)
+    p, point = T.translation, T.translation + [0.0, 0.0, -0.3]
+    asked = {"cone": (0, 0, 2, 0.1), "look_at": point, "bounds": (0.01,) * 3 + (0.0,) * 3}
+    by_keywords = read(panda.kinematics, T, None, "auto", asked)
+    target = by_keywords.target
+    assert type(target) is Target and target.aim == Aim((0.0, 0.0, 1.0), 0.1, tuple(point))
+    assert by_keywords.opts.bounds == asked["bounds"]  # the options: the rest
+    tasks = [armik.Position(p, bounds=(0.01,) * 3), armik.LookAt(point, (0, 0, 1), 0.1)]
+    by_tasks = read(panda.kinematics, tasks, None, "auto", {})
+    assert by_tasks.target.aim == target.aim and by_tasks.opts == by_keywords.opts
+    # a direction whatever the rotation; a batch's and a path's targets share one aim
+    toward = read(panda.kinematics, p, None, "auto", {"cone": (0, 0, 1, 0.2), "toward": (0, 0, -2)})
+    assert toward.target.aim == Aim((0.0, 0.0, 1.0), 0.2, None, (0.0, 0.0, -1.0))
+    poses = [T, T]
+    batch = read_batch(panda.kinematics, poses, None, "auto", asked).target
+    path = read_path(panda.kinematics, poses, None, "auto", "follow", asked)[0].target
+    for many in (batch, path):
+        assert type(many) is TargetBatch and many.aim == target.aim
+        assert many.target(1).aim == target.aim and many[1:].aim == target.aim
+
+
+def test_an_aim_keyword_answers_as_the_task_it_spells():
+    panda = bundled("panda")
+    rng = np.random.default_rng(5)
+    for _ in range(4):
+        T = panda.fk(panda.random_q(rng))
+        z = T.rotation[:, 2]
+        point = T.translation + 0.4 * z
+        tasks = [armik.Position(T.translation), armik.LookAt(point, (0, 0, 1), 0.05)]
+        by_tasks = panda.solve(tasks, q0=panda.middle, **BUDGET)
+        pose = (T.translation, np.eye(3))  # the keyword spelling: the rotation is not read
+        sight = {"cone": (0, 0, 1, 0.05), "look_at": point}
+        by_keywords = panda.solve(pose, q0=panda.middle, **sight, **BUDGET)
+        assert by_tasks.success and by_keywords.success
+        np.testing.assert_array_equal(by_tasks.q, by_keywords.q)
+        batch = panda.solve_batch([pose] * 2, q0=panda.middle, workers=1, **sight, **BUDGET)
+        np.testing.assert_array_equal(batch.q[1], by_keywords.q)
+
+
+def test_an_aim_said_twice_or_where_it_cannot_be_kept_is_refused_by_name():
+    panda = bundled("panda")
+    T = panda.fk(panda.middle)
+    axis = armik.Axis((0, 0, 1), T.rotation[:, 2], 0.1)
+    with pytest.raises(armik.OptionError, match="cone is given both by the task and as an"):
+        panda.solve([armik.Position(T.translation), axis], cone=(0, 0, 1, 0.2))
+    elbow = armik.Position(T.translation, frame="panda_link4")  # no compiled form
+    with pytest.raises(armik.OptionError, match="cone does not apply to a list of tasks"):
+        panda.solve([elbow, axis], cone=(0, 0, 1, 0.2))
+    with pytest.raises(armik.OptionError, match="unknown option 'cones'.*'cone'"):
+        panda.solve(T, cones=(0, 0, 1, 0.2))
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_a_global_path_checks_its_steps_against_the_aimed_targets(name):
+    """The plan's check for a jump hidden in a step solves the pose halfway with the path's
+    aim (a cone leaves the spin free): a waypoint given twice, reached by following without
+    a move, is reached by the plan too, never refused as a hidden jump."""
+    a = bundled(name)
+    rng = np.random.default_rng(11)
+    checked = 0
+    for _ in range(4):
+        T = a.fk(a.random_q(rng))
+        aimed = {"cone": (0, 0, 1, 0.1), **BUDGET}
+        followed = a.solve_path([T, T], a.middle, **aimed)
+        planned = a.solve_path([T, T], a.middle, plan="global", **aimed)
+        if followed.success[1]:
+            assert planned.success[1], planned[1].reason
+            checked += 1
+    assert checked >= 2
+
+
+def test_the_prepared_plan_measures_a_miss_against_the_aim():
+    """A prepared solve whose answer the general verdict decides (a miss under a small
+    budget) is measured against the target with its aim: the angle of the tip's axis to
+    its direction (an FK here), and outside the cone what the verdict measured."""
+    panda = bundled("panda")
+    rng = np.random.default_rng(2)
+    for _ in range(3):
+        T = panda.fk(panda.random_q(rng))
+        asked = {"cone": (0, 0, 1, 0.05), "iteration_budget": 3, "max_restarts": 0}
+        r = panda.solve(T, q0=panda.middle, **asked)
+        tip = panda.fk(r.q)
+        angle = float(np.arccos(np.clip(tip.rotation[:, 2] @ T.rotation[:, 2], -1.0, 1.0)))
+        assert not r.success and r.measured is not None, r.reason
+        assert r.orientation_error == pytest.approx(angle, abs=1e-9)
+        assert r.measured[1] == pytest.approx(max(angle - 0.05, 0.0), abs=1e-9)
+        distance = float(np.linalg.norm(tip.translation - T.translation))
+        assert r.position_error == pytest.approx(distance, abs=1e-9)
