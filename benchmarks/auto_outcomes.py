@@ -24,6 +24,8 @@ import numpy as np
 
 import armik
 
+os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not Python runs
+
 
 def load(robot: str, tip: str | None) -> armik.Arm:
     if robot == "irb140":

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import resource
 import subprocess
 import sys
@@ -30,6 +31,8 @@ import pinocchio as pin
 import armik
 import armik.targets.batch
 from armik.tools import bench
+
+os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not Python runs
 
 
 def targets(arm: armik.Arm, n: int, seed: int = 42) -> np.ndarray:

@@ -14,6 +14,7 @@ Run: PYTHONPATH=src python benchmarks/collision_paths.py [--seeds 80] [--repeats
 from __future__ import annotations
 
 import argparse
+import os
 import time
 import warnings
 
@@ -21,6 +22,8 @@ import numpy as np
 import pinocchio as pin
 
 import armik
+
+os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not Python runs
 
 warnings.simplefilter("ignore")
 BUDGET = dict(iteration_budget=3000)

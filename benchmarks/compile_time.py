@@ -29,6 +29,8 @@ import subprocess
 import sys
 import tempfile
 
+os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not Python runs
+
 CHILD = r"""
 import sys, time
 events = "--events" in sys.argv

@@ -25,6 +25,7 @@ is the configuration's FK. Per family:
 from __future__ import annotations
 
 import argparse
+import os
 import time
 
 import numpy as np
@@ -32,6 +33,8 @@ import pinocchio as pin
 
 import armik
 from armik.model.random_arms import random_urdf
+
+os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not Python runs
 
 # family (solver name) -> the kind of random arm it is measured on
 FAMILIES = {

@@ -20,6 +20,8 @@ import sys
 import tempfile
 import time
 
+os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not Python runs
+
 CHILD = r"""
 import sys, time
 t0 = time.perf_counter()

@@ -23,6 +23,8 @@ import pinocchio as pin
 
 import armik
 
+os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not Python runs
+
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 from tests.ikgeo_cases import FILES, cases, found  # noqa: E402
 

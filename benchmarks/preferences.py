@@ -29,6 +29,8 @@ import pinocchio as pin
 
 from armik.problem.scores import manipulability
 
+os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not Python runs
+
 sys.path.insert(0, os.path.dirname(__file__))
 from tolerances import independent_fk, load, tracik  # noqa: E402
 

@@ -26,6 +26,7 @@ armik's over Pink's.
 from __future__ import annotations
 
 import argparse
+import os
 import time
 from importlib import metadata
 from pathlib import Path
@@ -36,6 +37,8 @@ import pinocchio as pin
 import armik
 from armik.servo.limits import DEFAULT_ACCELERATION
 from armik.servo.streams import violations
+
+os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not Python runs
 
 DT = 0.002
 TIPS = ("gripper_left_base_link", "gripper_right_base_link")

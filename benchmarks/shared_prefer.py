@@ -14,6 +14,7 @@ time.
 from __future__ import annotations
 
 import argparse
+import os
 import time
 from importlib import metadata
 from pathlib import Path
@@ -21,6 +22,8 @@ from pathlib import Path
 import numpy as np
 
 import armik
+
+os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not Python runs
 
 
 def talos() -> armik.Arms:

@@ -35,6 +35,7 @@ from __future__ import annotations
 import argparse
 import logging
 import math
+import os
 import time
 import warnings
 from pathlib import Path
@@ -44,6 +45,8 @@ import pinocchio as pin
 
 import armik
 from armik.model.union import Union
+
+os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not Python runs
 
 ROBOTS = {  # name: (label, URDF in example-robot-data's robots folder, (tip A, tip B))
     "talos": (

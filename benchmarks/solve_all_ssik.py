@@ -41,6 +41,7 @@ Without ssik the script times armik alone.
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
 import tempfile
 from pathlib import Path
@@ -52,6 +53,8 @@ from srs_ssik import timed  # the median of repeated calls, as the SRS benchmark
 
 import armik
 from armik.model.geometry import axis_lines
+
+os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not Python runs
 
 ARMS = ("ur5", "ur10", "abb_irb120", "kuka_kr6_r900", "kinova_jaco2", "ufactory_xarm6")
 SAME = 1e-6  # rad: one joint of two solutions of one set

@@ -11,10 +11,13 @@ from __future__ import annotations
 
 import ast
 import importlib.util
+import os
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
+
+os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not Python runs
 
 # name here -> the artifact's module under ssik.prebuilt
 ARTIFACTS = {

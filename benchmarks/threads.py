@@ -13,6 +13,7 @@ cores give then (other processes share them).
 from __future__ import annotations
 
 import argparse
+import os
 import time
 from concurrent.futures import ThreadPoolExecutor
 
@@ -21,6 +22,8 @@ from batch_bench import reference_ratio  # benchmarks/ is on the path when run a
 
 import armik
 from armik.tools import bench
+
+os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not Python runs
 
 OPTIONS = dict(timeout=0.005, tol_position=1e-5, tol_orientation=1e-5)
 

@@ -5,6 +5,7 @@ exceptions (which should be zero). Usage: python benchmarks/urdf_sweep.py [OUT.j
 from __future__ import annotations
 
 import json
+import os
 import sys
 import warnings
 from collections import Counter
@@ -13,6 +14,8 @@ import pinocchio as pin
 
 import armik
 from armik.model.catalogue import _erd_robot_dir
+
+os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not Python runs
 
 warnings.simplefilter("ignore")
 root = _erd_robot_dir()
