@@ -261,25 +261,37 @@ _TOGETHER = (("dls", "qp", "batch", "hold", "path"),)
 # whose longer half compiles least, from each part's compiled functions and their compile
 # times measured alone on an empty cache (2026-12-06; each half ~54 % of the parts' CPU
 # time, against ~61 % for the longer process of ``_TOGETHER`` and the parts shared out
-# one by one). Each list's order puts first what the other half needs too and last what
+# one by one), then evened out on `armik compile --all`'s two processes (2026-12-06: the
+# closed forms' half took 84 s of CPU, the other 76; the locked Panda's spherical shoulder
+# and the batch FK moved over, the shoulder after swept, whose spherical wrist code it
+# shares). Each list's order puts first what the other half needs too and last what
 # needs the other half's code, which is then loaded from the cache: dls's region rows
 # and linear algebra before the tasks', swept's held target before hold, the closed
 # forms' kernels before batch.
 _HALVES = (
-    ("dls", "qp", "swept", "servo", "planar2r", "clik", "collisions", "batch"),
+    (
+        "dls",
+        "qp",
+        "swept",
+        "spherical_shoulder",
+        "servo",
+        "planar2r",
+        "clik",
+        "collisions",
+        "fk_batch",
+        "batch",
+    ),
     (
         "spherical",
         "three_parallel",
         "path",
         "spherical_general",
         "three_parallel_general",
-        "spherical_shoulder",
         "search_1d",
         "srs",
         "general_6r",
         "elimination_6r",
         "hold",
-        "fk_batch",
         "tasks",
     ),
 )

@@ -11,7 +11,7 @@ import math
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def pin_configuration(q, idx_q, continuous, out):
     """out: Pinocchio's configuration of joint values q: joint i at out[idx_q[i]], a
     continuous one as (cos, sin) there."""

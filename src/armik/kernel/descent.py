@@ -294,13 +294,13 @@ def solve_one_qp_exact(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err):
     solve_one(ch, st, R_t, p_t, q0, seed, ws, out_q, info, err, qp, _evaluate)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def descend_dls(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima):
     """``descend`` with the dls step (an entry for Python callers)."""
     return descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, dls, _measure)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def descend_qp(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima):
     """``descend`` with the qp step (an entry for Python callers)."""
     return descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, qp, _measure)

@@ -26,7 +26,7 @@ from armik.kernel.problem import unpack as unpack_settings
 MINIMA_CAPACITY = 256  # known minima kept per solve (the oldest are dropped beyond)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_targets_dls(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, out_q, info, err):
     """Solve target i = (R_t[i], p_t[i]) (rotation, position in the base frame) from
     q0[i] with restart seed seeds[i], for every i, with the dls step. The chain is
@@ -39,7 +39,7 @@ def solve_targets_dls(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, out_q, 
         solve_one_dls(ch, st, R_t[i], p_t[i], q0[i], seeds[i], ws, out_q[i], info[i], err[i])
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_targets_qp(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, out_q, info, err):
     """``solve_targets_dls`` with the qp step."""
     ch = Flat(packed, kind, halton)
@@ -49,7 +49,7 @@ def solve_targets_qp(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, out_q, i
         solve_one_qp(ch, st, R_t[i], p_t[i], q0[i], seeds[i], ws, out_q[i], info[i], err[i])
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_targets_dls_exact(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, out_q, info, err):
     """``solve_targets_dls`` for settings without a region."""
     ch = Flat(packed, kind, halton)
@@ -59,7 +59,7 @@ def solve_targets_dls_exact(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, o
         solve_one_dls_exact(ch, st, R_t[i], p_t[i], q0[i], seeds[i], ws, out_q[i], info[i], err[i])
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_targets_qp_exact(packed, kind, halton, sf, si, R_t, p_t, q0, seeds, out_q, info, err):
     """``solve_targets_qp`` for settings without a region."""
     ch = Flat(packed, kind, halton)

@@ -101,7 +101,7 @@ def _evaluate(ch, st, R_t, p_t, ws, slot):
     val[0], val[1], val[2] = math.sqrt(pos2), math.sqrt(rot2), sq
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def evaluate(ch, st, R_t, p_t, ws, slot):
     """``_evaluate`` for Python callers: the kernel calls ``_evaluate``, compiled without the
     CPython wrapper (unboxing its tuple arguments cost compile time in every process)."""

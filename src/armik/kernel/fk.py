@@ -171,7 +171,7 @@ def jacobian_local(ch, R, p, origins, axes, J):
         J[5, c] += m * (r02 * wx + r12 * wy + r22 * wz)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def joint_frames(ch, q, H):
     """H (N + 1, 4, 4): the base frame's world placement inverted (row 0, where the model's
     fixed bodies hang), then each physical joint's frame after its motion, all in the base
@@ -218,7 +218,7 @@ def joint_frames(ch, q, H):
         homogeneous(R, t, H[i + 1])
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def homogeneous(R, p, T):
     """T (4 x 4) = [[R, p], [0, 0, 0, 1]] for the rotation R (3 x 3) and translation p."""
     for a in range(3):

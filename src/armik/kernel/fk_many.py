@@ -9,7 +9,7 @@ from armik.kernel.chain import Flat, joints
 from armik.kernel.fk import forward, homogeneous
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def fk_many(packed, kind, halton, Q, out):
     """out[i] = T_base_tip (4x4) of joint values Q[i] (rad, m), for every row of Q (rows, n),
     on the chain ``chain.Flat``'s arrays."""

@@ -28,7 +28,7 @@ def _same(a, b):
     return a == b and math.copysign(1.0, a) == math.copysign(1.0, b)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def forward_row(ch, Q, r, S, R, p, placed):
     """T_base_tip = (R, p) of row ``r`` of Q (``fk.forward``'s), the rows of the bit set
     ``placed`` (rows before r) placed already by this function with the same scratch

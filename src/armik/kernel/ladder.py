@@ -31,7 +31,7 @@ TURNS = 5  # turns a joint can take in a state: -2 .. 2 around its rung's own va
 EDGE = 1e-12  # rad or m: a value this far outside a limit is on it
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _child(B, r, q, lo, hi, periodic, out, turn):
     """The rung ``r`` with each joint turned to its value within the limits nearest ``q``,
     into ``out`` (the turns into ``turn``); False where a joint has none (or a limited one
@@ -55,7 +55,7 @@ def _child(B, r, q, lo, hi, periodic, out, turn):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _grow(a, n):
     """``a``, or a copy twice its length when row ``n`` does not fit."""
     if n < a.shape[0]:
@@ -68,13 +68,13 @@ def _grow(a, n):
     return b
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _free(lo, hi):
     """Whether a joint has no limit on either side: its turn is no part of a state."""
     return lo == -math.inf and hi == math.inf
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _turn_range(b, lo, hi, periodic):
     """(first, last) turn of a joint's value ``b`` within its limits (last < first: none),
     -2 .. 2 at most; a free joint's only turn is 0, its rung's own value."""
@@ -89,13 +89,13 @@ def _turn_range(b, lo, hi, periodic):
     return first, last
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def edge_code(a, b, n_rungs):
     """The code of the edge from rung ``a`` (-1: q0) to rung ``b`` in ``forbidden``."""
     return (a + 1) * n_rungs + b
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def plan(B, offs, q0, has_q0, lo, hi, periodic, step, forbidden, node, weight):
     """The least-cost path over the rungs ``B`` (rows ``offs[i]:offs[i + 1]`` for
     waypoint i) from ``q0`` (``has_q0`` False: from any turn of any first rung), without

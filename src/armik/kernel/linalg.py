@@ -24,7 +24,7 @@ def _all(free):
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def cholesky6(H, g, x):
     """x solves the 6 x 6 system H x = g by Cholesky, every row free. The loops of
     ``cholesky_solve`` written out for six rows, in the same order (the same numbers): the
@@ -184,7 +184,7 @@ def cholesky_substitute(L, g, free, x):
         x[i] = s * L[i, i]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def cholesky_solve(H, g, free, L, x):
     """x solves H[F][:, F] x = g[F] on the joints F where ``free`` (ints) is not 0 (H
     symmetric positive definite); x is 0 elsewhere. ``L`` is n x n scratch. Returns False

@@ -26,7 +26,7 @@ from armik.tolerances import LIMIT_TOL
 ONE = np.int64(1)  # a typed count: a literal would compile ``_checks`` once more
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def pose_error(R_bw, p_bw, R_w, p_w, R_t, p_t, w, weighted, measure_rot):
     """(position error, orientation error or NaN) of the tip placement T_world_tip =
     (R_w, p_w) against the target (R_t, p_t) in the base frame; T_base_world = (R_bw, p_bw)."""
@@ -62,7 +62,7 @@ def pose_error(R_bw, p_bw, R_w, p_w, R_t, p_t, w, weighted, measure_rot):
     return pos, math.sqrt(s)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def pose_errors(R_bw, p_bw, R_w, p_w, R_t, p_t, w, weighted, measure_rot, out):
     """out[i] = ``pose_error`` of placement i against target i, for every i."""
     for i in range(R_w.shape[0]):
@@ -71,7 +71,7 @@ def pose_errors(R_bw, p_bw, R_w, p_w, R_t, p_t, w, weighted, measure_rot, out):
         )
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def inside_limits(q, lower, upper, tol):
     """Every value of q within [lower - tol, upper + tol] (NaN is outside)."""
     for j in range(q.shape[0]):
@@ -80,14 +80,14 @@ def inside_limits(q, lower, upper, tol):
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def within_limits(Q, lower, upper, tol, out):
     """out[i]: ``inside_limits`` of row i of Q."""
     for i in range(Q.shape[0]):
         out[i] = inside_limits(Q[i], lower, upper, tol)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def split_pose(H):
     """(R, p) of the 4x4 ``H`` as new C-ordered arrays (the layout ``pose_error`` and the
     kernels are compiled for)."""
@@ -124,7 +124,7 @@ def fk_check_frame(w, measure: int, lower, upper) -> np.ndarray:
     return check_frame(np.eye(3), np.zeros(3), w, measure, lower, upper)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _frame(frame):
     """(R_bw, p_bw, w, measure, lower, upper) of a ``check_frame`` array (views)."""
     n = (frame.shape[0] - 19) // 2
@@ -138,7 +138,7 @@ def _frame(frame):
     )
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def placement_check(frame, R_w, p_w, H_t, q):
     """(position error, orientation error or NaN, within the limits) of one answer ``q``
     whose tip placement Pinocchio computed as (R_w, p_w) (world frame; read in place:
@@ -150,7 +150,7 @@ def placement_check(frame, R_w, p_w, H_t, q):
     return pos, ori, inside_limits(q, lower, upper, LIMIT_TOL)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def pose_checks(frame, H_w, H_t, Q, out):
     """out[i] = ``placement_check`` of answer Q[i] with tip placement H_w[i], for every i (the
     target split once)."""
@@ -168,7 +168,7 @@ def _check(frame, H_w, R_t, p_t, q):
     return pos, ori, inside_limits(q, lower, upper, LIMIT_TOL)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def fk_checks(packed, kind, halton, frame, H_t, Q, out):
     """out[i] = (position error, orientation error or NaN, 1.0 within the limits else 0.0)
     of the answer in the first n values of row i of Q (rows of n or more values: a closed
@@ -178,7 +178,7 @@ def fk_checks(packed, kind, halton, frame, H_t, Q, out):
     _checks(packed, kind, halton, frame, H_t, Q, Q.shape[0], out, np.int64(0))
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def fk_checks_beside(packed, kind, halton, frame, H_t, rows, n, col, skip):
     """``fk_checks`` of the first ``n`` rows of ``rows`` but those of the bit set ``skip``,
     each row's three values written into its own columns ``col`` to ``col + 2`` (a closed
@@ -211,7 +211,7 @@ def fk_checks_beside(packed, kind, halton, frame, H_t, rows, n, col, skip):
         rows[i, col], rows[i, col + 1], rows[i, col + 2] = pos, ori, inside
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _checks(packed, kind, halton, frame, H_t, Q, n, out, col):
     ch = Flat(packed, kind, halton)
     N = joints(ch)

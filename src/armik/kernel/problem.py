@@ -87,7 +87,7 @@ def pack_settings(st: Settings) -> tuple[np.ndarray, np.ndarray]:
     return np.array(floats), np.array(ints, dtype=np.int64)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def unpack(sf, si):
     """The ``Settings`` that ``pack_settings`` flattened into (sf, si)."""
     m = si[13]  # the posture's length: 0 or n
@@ -142,7 +142,7 @@ def _workspace(n, capacity, nj):
     )
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def workspace(n, capacity, nj):
     """``_workspace`` for Python callers (the kernel's copy goes without the CPython wrapper,
     whose boxing of the 15 arrays cost compile time in every process)."""

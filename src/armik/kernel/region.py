@@ -213,7 +213,7 @@ def _look_rows(R, p, x, toward, J, a, cone, e, A, n):
     return h
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def evaluate_region(ch, bounds, w, cone, a, look, x, R_t, p_t, ws, slot):
     """``_evaluate_region`` for Python callers (the tests)."""
     _evaluate_region(ch, bounds, w, cone, a, look, x, R_t, p_t, ws, slot)

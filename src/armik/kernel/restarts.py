@@ -71,7 +71,7 @@ def _pick(ch, st, R_t, p_t, ws, k, out):
     return k
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def pick(ch, st, R_t, p_t, ws, k, out):
     """``_pick`` for Python callers (the kernel's copy goes without the CPython wrapper)."""
     return _pick(ch, st, R_t, p_t, ws, k, out)

@@ -17,7 +17,7 @@ SERIES = 0.05
 NEAR_PI = 1e-2  # rad from pi: the axis comes from the symmetric part of R
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def rotation_angle(R):
     """The geodesic angle of R in [0, pi] (rad), accurate at 0 and at pi: atan2 of the
     sine (half the skew part) and the cosine (from the trace)."""

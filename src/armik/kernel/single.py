@@ -31,7 +31,7 @@ from armik.tolerances import LAST_ROW_TOL, LIMIT_TOL, MAX_POSITION
 ORTHONORMAL_TOL = 1e-14  # |R^T R - I| that the parser keeps without snapping to a rotation
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def plain_pose(H):
     """True when the 4x4 ``H`` is a pose the parser keeps exactly as given: finite, last
     row (0, 0, 0, 1), position within MAX_POSITION, rotation orthonormal to 1e-14 with
@@ -58,7 +58,7 @@ def plain_pose(H):
     return worst <= ORTHONORMAL_TOL and det > 0.0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def plain_seed(q, lo, hi):
     """True when every value of ``q`` is finite and within [lo - tol, hi + tol]: the seeds
     ``ArmModel.seed`` returns unchanged."""
@@ -72,7 +72,7 @@ def plain_seed(q, lo, hi):
 # step: numba inlines by copying the callee's IR (compile time in every process). The solve
 # itself is ``descent.solve_one_dls`` (or ``_qp``), compiled once for these entries and
 # ``entry``'s.
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_pose_dls(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
     """One target, the 4x4 pose ``H`` in the base frame, from ``q0`` with restart seed
     ``seed``, with the dls step; outputs as ``descent.solve_one`` (out_q (S, n), info (5,),
@@ -87,7 +87,7 @@ def solve_pose_dls(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_pose_qp(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
     """``solve_pose_dls`` with the qp step."""
     ch = Flat(packed, kind, halton)
@@ -100,7 +100,7 @@ def solve_pose_qp(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_pose_dls_exact(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
     """``solve_pose_dls`` for a target without a region: no region code compiled in. False,
     without solving, for settings with a region (``solve_pose_dls`` solves those)."""
@@ -116,7 +116,7 @@ def solve_pose_dls_exact(packed, kind, halton, sf, si, H, q0, seed, out_q, info,
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_pose_qp_exact(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
     """``solve_pose_dls_exact`` with the qp step."""
     ch = Flat(packed, kind, halton)

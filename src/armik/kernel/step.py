@@ -174,7 +174,7 @@ def inverse_spd(ws):
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def active_set(G_, x_free, lb, ub, start, side, held, sub, Hh, gap, mult, Lm, x):
     """The box QP's exact solution x by a primal-dual active-set iteration (Hintermueller,
     Ito and Kunisch), starting from the bounds that ``start`` crosses. Returns False if no
@@ -239,7 +239,7 @@ def active_set(G_, x_free, lb, ub, start, side, held, sub, Hh, gap, mult, Lm, x)
     return False
 
 
-@njit(cache=True, _nrt=True)  # not nogil: object mode needs the GIL
+@njit(cache=True, no_cfunc_wrapper=True, _nrt=True)  # not nogil: object mode needs the GIL
 def backend_step(Hm, g, lb, ub, which):
     """The QP backend's solution (NaNs if none), called with the GIL held (object mode)."""
     with objmode(sol="float64[:]"):

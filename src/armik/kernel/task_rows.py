@@ -77,7 +77,7 @@ def _in_reference(ch, other, ws, kept):
             R[i, j] = Rr[i, j]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _stack(fp, fo, ki, ko, halton, R_t, p_t, par, ti, q, tol_p, tol_r, ws, e, A, kept):
     """e (6T,) and A (6T, n) at q, each task's rows after the other; returns (|e|^2, every
     task within (tol_p, tol_r)). ``kept`` (10, n) is scratch for a frame's placement while
@@ -120,7 +120,7 @@ def _stack(fp, fo, ki, ko, halton, R_t, p_t, par, ti, q, tol_p, tol_r, ws, e, A,
     return cost, done
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def descend(fp, fo, ki, ko, halton, R_t, p_t, par, ti, q, lo, hi, iterations, tol_p, tol_r, lam0):
     """Levenberg-Marquardt from q (overwritten with the end) within [lo, hi]; returns
     (iterations used, every task within half the tolerances)."""
@@ -187,7 +187,7 @@ def descend(fp, fo, ki, ko, halton, R_t, p_t, par, ti, q, lo, hi, iterations, to
     return iterations, False
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def stacked(fp, fo, ki, ko, halton, R_t, p_t, par, ti, q):
     """(e, A) at q, minus the residual and its Jacobian: ``_stack`` for the tests."""
     n, m = q.shape[0], 6 * ti.shape[0]

@@ -46,7 +46,7 @@ EXACT = 1e-300
 HEADER = 4  # ints: n, N, the packed floats' length, the kinds' length
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def workspace(n, N):
     """(floats, ints): the tick's workspace for n joint values and N physical joints:
     ``tick.views``' ``Workspace``, then ``step.scratch``'s arrays (the four in step)."""

@@ -38,7 +38,7 @@ def _worst(C, b, dq, act):
     return worst
 
 
-@njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def with_rows(C, b, Hl, xf, lb, ub, dq, act, Hp, Gi, gp, xp, unit, iscratch, mats, vecs):
     """dq (in place): the step within the boxes [lb, ub] nearest xf in the metric of the
     damped normal matrix ``Hl``, with the violated rows of ``C dq >= b`` as penalties; returns

@@ -158,7 +158,7 @@ def _rayleigh(S, u, k):
     return s
 
 
-@njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def smallest_singular(A, rows, active, scale, S, u, last_k, L, y, idx):
     """(sigma, k): the r-th largest singular value of A's rows times their ``scale`` (r =
     min(active, n), ``active`` the rows of nonzero scale) and the size k of the Gram matrix

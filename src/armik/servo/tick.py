@@ -219,7 +219,7 @@ def pose_row(H, row):
     row[CONE], row[AXIS + 2], row[LOOK] = NO_CONE, 1.0, NO_LOOK
 
 
-@njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def tick(target, mem, imem, rows_cb):
     """One tick on the servo's memory (``armik.servo.layout``) toward ``target``, within the
     collision rows ``rows_cb`` (K, n + 1: C, then b, for C dq >= b): ``state``'s joint

@@ -79,7 +79,7 @@ def allocate(
     return mem, imem
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def offsets(head):
     """Where each part starts in mem (state, cfg, out, out2, the last tables, the tables,
     the poses and each tip's ``fixed`` projectors (``tick.stack``'s), the packed floats, the
@@ -227,7 +227,7 @@ def _poses(tables, counts, H):
     return -1
 
 
-@njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def rows_at(q, mem, imem):
     """``_rows`` at q (the test's view of them): the rows written, in the step's scratch
     (``stacked``); -1 for a pose that is not plain."""
@@ -251,7 +251,7 @@ def chain_floats(n, N):
     return ws + 36 + 12 + 6 * MAX_TASKS * (2 + n) + n
 
 
-@njit(cache=True, nogil=True, _nrt=False)  # type: ignore[call-overload]
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def tick(mem, imem, rows_cb):
     """One tick of the union's state in ``mem`` toward every tip's target, within the
     collision rows ``rows_cb`` (K, n + 1: C, then b, for C dq >= b). Returns -1, or,

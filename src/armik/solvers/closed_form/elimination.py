@@ -68,7 +68,7 @@ def cut_joints(cut: int) -> tuple[np.ndarray, int]:
     return np.array([5 - b if back else b for b in base], dtype=np.int64), (-1 if back else 1)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _loop(h, p, R_tip0, R9, P3, cut, LH, LR, LT):
     """Cut ``cut``'s loop for the target (R9, P3): axes ``LH`` (6, 3), links' rotations
     ``LR`` (6, 9) and translations ``LT`` (6, 3), joint 6 the dropped one."""
@@ -90,7 +90,7 @@ def _loop(h, p, R_tip0, R9, P3, cut, LH, LR, LT):
             LR[k, c] = Rl[c]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _fourteen(pv, lv, out, n0):
     """The 14 quantities of point ``pv`` and direction ``lv`` into ``out[n0:n0 + 14]``."""
     pp, pl = dot(pv, pv), dot(pv, lv)
@@ -103,7 +103,7 @@ def _fourteen(pv, lv, out, n0):
     out[n0 + 6], out[n0 + 7] = pp, pl
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _sides(LH, LR, LT, Lc, Rc):
     """The coefficients of both sides: ``Lc`` (14, 3, 3, 3) over (s, c, 1) of joints 3, 4,
     5 and ``Rc`` (14, 3, 3) of joints 1, 2, each side sampled at three angles a joint."""
@@ -145,20 +145,20 @@ def _sides(LH, LR, LT, Lc, Rc):
                 Rc[n, i, j] = s
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def row9(A, k):
     """Row ``k`` of an array of 9-vectors, a 9-tuple (a rotation)."""
     return (A[k, 0], A[k, 1], A[k, 2], A[k, 3], A[k, 4], A[k, 5], A[k, 6], A[k, 7], A[k, 8])
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def at9(A, k, a):
     """``A[k, a]`` of an array of 9-vectors, a 9-tuple (a rotation)."""
     return (A[k, a, 0], A[k, a, 1], A[k, a, 2], A[k, a, 3], A[k, a, 4], A[k, a, 5],
             A[k, a, 6], A[k, a, 7], A[k, a, 8])  # fmt: skip
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _fit3(S, Lc):
     """Samples S[14 (9a + 3b + c) + n] to coefficients Lc[n, i, j, k], one joint at a time."""
     W = np.empty((14, 3, 3, 3))
@@ -188,7 +188,7 @@ def _fit3(S, Lc):
                     Lc[n, a, b, c] = W[n, a, b, c]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _reflect(M, v, v2, k, m, c0, c1):
     """Columns ``c0`` to ``c1`` of ``M`` reflected by the Householder vector ``v`` (rows
     ``k`` to ``m``, squared norm ``v2``): M <- (I - 2 v v^T / v2) M."""
@@ -201,7 +201,7 @@ def _reflect(M, v, v2, k, m, c0, c1):
             M[r, c] -= f * v[r]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _householder(A, P):
     """Householder QR of ``A`` (14, 8) in place (R in its upper triangle) with ``P`` = Q^T
     (14, 14): its last 6 rows annihilate A's columns. Returns min |R_kk| / max |R_kk|."""
@@ -227,7 +227,7 @@ def _householder(A, P):
     return small / big if big > 0.0 else 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _line(W, n, u, v, axis, a):
     if axis == 0:
         return W[n, a, u, v]
@@ -236,7 +236,7 @@ def _line(W, n, u, v, axis, a):
     return W[n, u, v, a]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def lu(A, piv):
     """LU of the square ``A`` in place with partial pivoting (``piv`` the row order);
     returns the smallest |pivot| over the largest."""
@@ -265,7 +265,7 @@ def lu(A, piv):
     return small / big if big > 0.0 else 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def lu_solve(A, piv, b, x):
     """x = A^-1 b for ``A`` factored by ``lu``."""
     m = A.shape[0]
@@ -281,7 +281,7 @@ def lu_solve(A, piv, b, x):
         x[i] = s / A[i, i]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _matrices(E, phase, M):
     """M[0], M[1], M[2] (C, B, A: 12 x 12) of the 6 equations ``E`` (6, 3, 3, 3) over
     (s, c, 1) of joints 3, 4, 5, with q3 = phase + 2 atan(x3)."""
@@ -304,7 +304,7 @@ def _matrices(E, phase, M):
                             M[a, 6 + r, 3 * (b + 1) + c] += v
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def companion(h, p, R_tip0, R, pos, cut, K, state):
     """The 24 x 24 companion matrix ``K`` of cut ``cut``'s M(x3) for the target (rotation
     ``R`` 3 x 3, position ``pos``), and in ``state`` (``SIZE``) what ``solutions`` reads;

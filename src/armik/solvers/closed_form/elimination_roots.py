@@ -24,13 +24,13 @@ ITERATIONS = 60  # Newton steps at most (general_6r's)
 EXACT = 1e-11  # m and rad: a polished configuration this close to the target is an answer
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _angle(u, i0, i1):
     """2 atan2(u[i1], u[i0]): the angle whose half-angle tangent is u[i1] / u[i0]."""
     return 2.0 * math.atan2(u[i1], u[i0])
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _back(state, x, Mx, piv, u, z, q):
     """The loop's joint values (place order) of the root x3 = ``x`` into ``q``."""
     o_M = 14 * 27 + 8 * 14
@@ -106,19 +106,19 @@ def _back(state, x, Mx, piv, u, z, q):
     q[5] = math.atan2(dot(h6, cross(a, y)), dot(a, y))
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _h(state, at, k):
     return (state[at + 3 * k], state[at + 3 * k + 1], state[at + 3 * k + 2])
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _r(state, at, k):
     b = at + 12 * k
     return (state[b], state[b + 1], state[b + 2], state[b + 3], state[b + 4], state[b + 5],
             state[b + 6], state[b + 7], state[b + 8])  # fmt: skip
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def solutions(h, p, R_tip0, R, pos, state, roots, places, sign, q0, lower, upper, out):
     """Every root of ``roots`` (the companion's eigenvalues, complex) back-substituted,
     polished and deduplicated, packed nearest-first into ``out`` (``ROWS``, 11;

@@ -95,7 +95,7 @@ def classify(arm: ArmModel, ax: Axes | None = None) -> sixr.Chain6R | str:
     return sixr.chain_6r("general_6r", "", ax, pts, text)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def grid(h, p, R06, d, E, T, C):
     """The alignment error ``E[i, j, b]`` (with SP5's own miss, relative) and (q3, q4, q5)
     ``T[i, j, b]`` of SP5's branch b at q1 = -pi + 2 pi i / N, q2 likewise; ``C[i, j]`` the
@@ -138,7 +138,7 @@ def grid(h, p, R06, d, E, T, C):
             C[i, j] = n
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _lower_near(E, T, C, i, j, b, e):
     """Whether a neighbour of cell (i, j) has a branch on b's sheet lower than ``e``."""
     N = E.shape[0]
@@ -159,7 +159,7 @@ def _lower_near(E, T, C, i, j, b, e):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def seeds(E, T, C, threshold, S):
     """The grid's local minima below ``threshold``, lowest first, as rows (i, j, b) of
     ``S``; returns their count (at most ``len(S)``)."""
@@ -185,7 +185,7 @@ def seeds(E, T, C, threshold, S):
     return n
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def pose_error(h, p, R_tip0, R, pos, q, J, e):
     """The tip's error (target minus reached: position, then the rotation vector of
     R R_tip^T, world frame) into ``e`` and the world-frame Jacobian into ``J`` (6, 6) at
@@ -222,7 +222,7 @@ def pose_error(h, p, R_tip0, R, pos, q, J, e):
     return math.sqrt(total)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def polish(h, p, R_tip0, R, pos, q, iters):
     """Damped Newton steps (Levenberg-Marquardt) on the 6-D pose error from ``q`` (changed
     in place); returns the final |error|. A seed still ``GIVE_UP`` away after ``TRIES``
@@ -266,7 +266,7 @@ def polish(h, p, R_tip0, R, pos, q, iters):
     return r
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _seed_q(h, R06, i, j, t, N, q):
     """The full seed configuration of grid cell (i, j) and SP5 branch angles ``t``: q6 by
     SP1 from the rotation left to joint 6."""
@@ -283,7 +283,7 @@ def _seed_q(h, R06, i, j, t, N, q):
     q[5], _ = sp1(x, mtv(R05, mv(R06, x)), h6)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def kernel(h, p, R_tip0, R, pos, q0, lower, upper, N, threshold, out):
     """Every solution found for the target rotation ``R`` (3 x 3) and position ``pos`` (3),
     packed nearest-first into ``out`` (``ROWS``, 11) (``sixr.pack``; branches unlabelled);
@@ -325,7 +325,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, N, threshold, out):
     return n, sixr.pack(W, n, q0, lower, upper, h, p, np.int64(0), out)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def is_new(W, n, q):
     """Whether ``q`` is no answer among the first ``n`` rows of ``W``: some joint differs
     from each row's by more than ``SAME`` (modulo 2 pi)."""

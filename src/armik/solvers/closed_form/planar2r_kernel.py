@@ -56,7 +56,7 @@ TILTED = 6.0  # values: the tilt of the target orientation out of the plane
 MISSED = 7.0  # values: the branch's tip angle, the target's
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _two_product(x, y):
     """(x * y, its rounding error), exactly (Dekker)."""
     z = x * y
@@ -69,7 +69,7 @@ def _two_product(x, y):
     return z, ((xh * yh - z) + xh * yl + xl * yh) + xl * yl
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def hypot(a, b):
     """CPython's ``math.hypot(a, b)`` to the last bit (its ``vector_norm``: lossless
     scaling, exact squares, compensated sums, a differential correction)."""
@@ -105,12 +105,12 @@ def hypot(a, b):
     return post * (h / scale)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _angle(a):
     return math.atan2(math.sin(a), math.cos(a))
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _nearest(qi, ri, lo, hi):
     """``ArmModel.nearest_equivalent`` for one revolute joint: ``qi`` shifted by a multiple
     of 2 pi to the value nearest ``ri`` within [lo, hi] (up to ``LIMIT_TOL`` outside counts
@@ -130,7 +130,7 @@ def _nearest(qi, ri, lo, hi):
     return hi if hi < best else best
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _row(flat, q0, out, k, t1, t2, claim, branch, singular, code, v0, v1):
     """Write row ``k``: the joint values of link angles t1, t2 nearest q0, and the rest."""
     q1 = _angle(flat[S1] * (t1 - flat[ALPHA1]))
@@ -145,14 +145,14 @@ def _row(flat, q0, out, k, t1, t2, claim, branch, singular, code, v0, v1):
     out[k, 7] = v1
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _elbow(flat, heading, t2):
     """Link 1's angle for elbow angle t2 (the tip at the target's heading)."""
     l1, l2 = flat[L1], flat[L2]
     return heading - math.atan2(l2 * math.sin(t2), l1 + l2 * math.cos(t2))
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def rows(flat, H, q0, planar, x, y, out):
     """The target's rows (see the module); returns how many."""
     first = np.int64(0)  # not a literal 0: _row would compile for it too
@@ -211,7 +211,7 @@ def rows(flat, H, q0, planar, x, y, out):
     return n
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _dot(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
@@ -221,7 +221,7 @@ def _vec(flat, i):
     return flat[i], flat[i + 1], flat[i + 2]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _left(v, M0, M1, M2):
     """v @ M, M by its rows."""
     return (
@@ -231,13 +231,13 @@ def _left(v, M0, M1, M2):
     )
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _times_transposed(h, T):
     """h @ T^T, T by its rows."""
     return _dot(h, T[0]), _dot(h, T[1]), _dot(h, T[2])
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _orient(flat, H, out, n):
     """A full pose fixes the tip angle too: rows whose angle misses it are unreachable.
     M = R_target R_tip0^T must be a rotation about the plane normal."""
@@ -263,7 +263,7 @@ def _orient(flat, H, out, n):
             out[k, 2], out[k, 5], out[k, 6], out[k, 7] = UNREACHABLE, MISSED, _angle(got), want
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _eligible(flat, out, k):
     """Row ``k`` claimed converged and within the limits (``ArmModel.within_limits``)."""
     if out[k, 2] != CONVERGED:
@@ -274,7 +274,7 @@ def _eligible(flat, out, k):
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_into(flat, H, q0, planar, x, y, every, out):
     """``rows`` for the prepared solve, after checking in compiled code that ``H`` and
     ``q0`` are plain (``kernel.single``; else n = -1 and nothing solved). Returns (n,

@@ -42,7 +42,7 @@ MERGE = 1e-12  # roots closer than this (relative to 1 + |x|) are one root
 SAME = 1e-6  # rad: solutions closer than this in every angle are one solution
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _value(c, deg, x):
     """(p(x), p'(x)) by Horner's rule; ``c`` highest power first, ``deg + 1`` of them."""
     f = c[0]
@@ -53,7 +53,7 @@ def _value(c, deg, x):
     return f, df
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _size(c, deg, x):
     """sum |c_i| |x|^i: the size of p's terms at x (the scale of its rounding error)."""
     ax = abs(x)
@@ -63,7 +63,7 @@ def _size(c, deg, x):
     return m
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _bracketed(c, deg, lo, hi, flo):
     """The root of p in [lo, hi], where p(lo) = flo and p(hi) have opposite signs: Newton's
     method, with a bisection step whenever Newton would leave the bracket."""
@@ -85,7 +85,7 @@ def _bracketed(c, deg, lo, hi, flo):
     return x
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _roots_between(c, deg, crit, ncrit, out):
     """The real roots of p (``c``, leading coefficient nonzero) given its derivative's real
     roots ``crit[:ncrit]`` (ascending) written into ``out``; returns their count."""
@@ -116,7 +116,7 @@ def _roots_between(c, deg, crit, ncrit, out):
     return n
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _normalised(coef, deg):
     """The coefficients over the largest one, and the degree once leading ones below LEAD
     are dropped (-1: all zero)."""
@@ -134,7 +134,7 @@ def _normalised(coef, deg):
     return c, deg - start
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _real_roots(c, deg, out):
     """The real roots of the degree-``deg`` polynomial ``c`` (leading term nonzero) into
     ``out``, ascending; returns their count. The derivative's roots come first."""
@@ -166,7 +166,7 @@ def _real_roots(c, deg, out):
     return _roots_between(c, deg, crit, ncrit, out)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _solve(coef, deg):
     c, d = _normalised(coef, deg)
     out = np.zeros(4)
@@ -176,27 +176,27 @@ def _solve(coef, deg):
     return out[0], out[1], out[2], out[3], n
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def quartic(a, b, c, d, e):
     """Real roots of a x^4 + b x^3 + c x^2 + d x + e: (r0, r1, r2, r3, n), ascending."""
     return _solve(np.array((a, b, c, d, e)), 4)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def cubic(a, b, c, d):
     """Real roots of a x^3 + b x^2 + c x + d: (r0, r1, r2, n), ascending."""
     r0, r1, r2, _, n = _solve(np.array((a, b, c, d)), 3)
     return r0, r1, r2, n
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def quadratic(a, b, c):
     """Real roots of a x^2 + b x + c: (r0, r1, n), ascending."""
     r0, r1, _, _, n = _solve(np.array((a, b, c)), 2)
     return r0, r1, n
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def trig1(a, b, c):
     """theta with a sin(theta) + b cos(theta) = c: (t0, t1, n, ls), as SP4; n = -1 when
     a = b = 0 (every theta, or none: ls)."""
@@ -211,7 +211,7 @@ def trig1(a, b, c):
     return wrap(phi + t), wrap(phi - t), 2, False
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def trig2(A0, A1, B1, A2, B2):
     """Real roots of A0 + A1 sin t + B1 cos t + A2 sin 2t + B2 cos 2t (not all 0): up to 4
     angles and their count. In t = t0 + 2 atan(x) the equation is a quartic in x whose
@@ -241,7 +241,7 @@ def trig2(A0, A1, B1, A2, B2):
 # -- refining roots ------------------------------------------------------------------------
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def keep_distinct(sol, res, n, t, r):
     """Add solution ``t`` (angles, as many as ``sol`` has columns) with residual ``r`` to
     the ``n`` kept in ``sol``/``res``: a repeat replaces its twin if better, and past 4 the
@@ -272,7 +272,7 @@ def keep_distinct(sol, res, n, t, r):
     return n + 1 if n < 4 else n
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def newton_step(H, g, m, mu):
     """(step, ok): the step s with (H + mu I) s = -g for the symmetric m x m (m = 2 or 3)
     ``H`` (row-major, flat), by Cramer's rule; ok is False (and s zero) unless H + mu I is
@@ -303,7 +303,7 @@ def newton_step(H, g, m, mu):
     return s, True
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def grid_minima(D, out):
     """The local minima of the periodic grid ``D`` (each cell no higher than its 8
     neighbours, wrapping round), the lowest first: up to ``len(out)`` (i, j) rows written

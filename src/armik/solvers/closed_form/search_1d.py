@@ -74,12 +74,12 @@ GOLDEN = 0.6180339887498949
 POLISH_TOL = 1e-13  # m and rad: Newton on the pose stops below this error
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _wrapped(a):
     return a - 2.0 * math.pi * round(a / (2.0 * math.pi))
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def nearest(S, m, s):
     """(index, distance) of the state among ``S[:m]`` nearest ``s`` (largest wrapped
     angle difference); (-1, inf) when m = 0."""
@@ -93,7 +93,7 @@ def nearest(S, m, s):
     return best, dbest
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def rough(Ea, Sa, ma, Eb, Sb, mb):
     """Whether the branches change too much between two samples to be bracketed from them
     alone (a different count: a fold between them; a branch whose state moves more than
@@ -111,7 +111,7 @@ def rough(Ea, Sa, ma, Eb, Sb, mb):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def pair_brackets(xa, Ea, Sa, ma, xb, Eb, Sb, mb, Bx, Bs, count):
     """The brackets between two samples at xa < xb (errors ``E``, states ``S``, counts
     ``m``): each branch at xa whose nearest at xb (within ``JUMP``) has the other sign
@@ -126,7 +126,7 @@ def pair_brackets(xa, Ea, Sa, ma, xb, Eb, Sb, mb, Bx, Bs, count):
     return count
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def copy_sample(E, S, M, k, Es, Ss, Ms, u):
     """Sample k of (E, S, M) into row u of (Es, Ss, Ms)."""
     Ms[u] = M[k]
@@ -136,7 +136,7 @@ def copy_sample(E, S, M, k, Es, Ss, Ms, u):
             Ss[u, i, c] = S[k, i, c]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def add_bracket(Bx, Bs, count, a, fa, b, fb, st, jump):
     if count < Bx.shape[0]:
         Bx[count, 0], Bx[count, 1], Bx[count, 2], Bx[count, 3] = a, fa, b, fb
@@ -147,7 +147,7 @@ def add_bracket(Bx, Bs, count, a, fa, b, fb, st, jump):
     return count
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def fold_brackets(x, e, s, m, xf, Ef, Sf, mf, Bx, Bs, count):
     """Where branches are born or die between two samples, two of them meet at a fold and
     a zero near it is bracketed by neither sample: each of the ``mf`` branches of the
@@ -163,7 +163,7 @@ def fold_brackets(x, e, s, m, xf, Ef, Sf, mf, Bx, Bs, count):
     return count
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def dips(E, S, M, D, wrap):
     """Where a branch comes close to zero between samples without changing sign at them:
     a sample k whose |error| is below its neighbours' on its branch and whose parabola
@@ -210,13 +210,13 @@ def dips(E, S, M, D, wrap):
     return count
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def angle(k):
     """The grid's k-th angle (rad)."""
     return -math.pi + 2.0 * math.pi * k / GRID
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def falsi(a, fa, b, fb):
     """The next trial angle of regula falsi in the bracket (a, b) (bisection when the
     secant leaves it)."""
@@ -226,7 +226,7 @@ def falsi(a, fa, b, fb):
     return x
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def update(a, fa, b, fb, x, e, s, m, st, jump):
     """One Illinois step: the branch at ``x`` (``e``, ``s``: its ``m`` branches) nearest
     the followed state ``st`` (the state at b, updated in place) replaces an end of the
@@ -248,7 +248,7 @@ def update(a, fa, b, fb, x, e, s, m, st, jump):
     return a, fa, x, fx, 0
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _pose_error(h, p, R_tip0, R, pos, q, J, r):
     """The error (position, then rotation as a vector) of configuration ``q`` against the
     target into ``r`` (6) and the chain's Jacobian (world frame, at the tip) into ``J``
@@ -279,7 +279,7 @@ def _pose_error(h, p, R_tip0, R, pos, q, J, r):
     return big
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def solve6(A, b, tiny):
     """b = A^-1 b for the 6 x 6 ``A`` by Gaussian elimination with partial pivoting, in place
     (A is overwritten); False, b left half done, when a pivot is below ``tiny``."""
@@ -307,7 +307,7 @@ def solve6(A, b, tiny):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def polish(h, p, R_tip0, R, pos, q):
     """Newton steps on the whole pose from ``q`` (6, changed in place): returns the final
     error's largest entry (m or rad; see ``_pose_error``)."""
@@ -325,7 +325,7 @@ def polish(h, p, R_tip0, R, pos, q):
     return err
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def is_new(W, n, q):
     """Whether ``q`` differs (modulo 2 pi, by more than 1e-6 rad) from every one of the
     first ``n`` rows of ``W``."""
@@ -340,7 +340,7 @@ def is_new(W, n, q):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def put(W, n, q, flags, code):
     """Row ``n`` of ``W`` (``sixr``'s layout, 16 rows) from ``q``, wrapped; returns n + 1."""
     for j in range(6):
@@ -355,7 +355,7 @@ def put(W, n, q, flags, code):
 # -- the subproblems as a search calls them ---------------------------------------------------
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def sp5_roots(p0, p1, p2, p3, k1, k2, k3, out):
     """SP5's exact solutions as its quartic gives them, unrefined, no least-squares answer:
     (t1, t2, t3) rows into ``out`` (8, 3); returns the count (-1: a continuum, none
@@ -383,7 +383,7 @@ def sp5_roots(p0, p1, p2, p3, k1, k2, k3, out):
     return n
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def sp6_roots(h, k, p, d1, d2, out):
     """SP6's exact solutions as its quartic gives them, unrefined, no least-squares answer:
     (t1, t2) rows into ``out`` (8, 2); returns the count (-1: a continuum). For a search

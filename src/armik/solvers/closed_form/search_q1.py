@@ -61,7 +61,7 @@ MARGIN = 1e-6  # relative widening of the windows: rounding never shuts a soluti
 DEGENERATE = 0.05  # ``coupling`` below this: q2 + s3 q3 from the rotation is ill-conditioned
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _window(h, p, p16):
     """The windows of q1 where SP6 can have solutions, as (phi0, ua, ub, empty): q1 - phi0
     within [ua, ub] or [-ub, -ua] (ua = 0, ub = pi: the whole turn)."""
@@ -83,7 +83,7 @@ def _window(h, p, p16):
     return math.atan2(alpha, beta), math.acos(min(hi, 1.0)), math.acos(max(lo, -1.0)), False
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def q1_of(t, phi0, ua, ub):
     """q1 at the search's parameter ``t`` (rad, any turn): the turn t in [-pi, pi) runs
     over the window [ua, ub], the gap through pi, the window [-ub, -ua], the gap through
@@ -106,7 +106,7 @@ def q1_of(t, phi0, ua, ub):
     return t
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _sp6_at(h, p, R06, p16, q1):
     """SP6's (q6, q4) solutions at the trial ``q1`` and the pieces that follow."""
     h1, h2, h4, h5, h6 = vec(h[0]), vec(h[1]), vec(h[3]), vec(h[4]), vec(h[5])
@@ -124,7 +124,7 @@ def _sp6_at(h, p, R06, p16, q1):
     return R1, T, max(m, 0)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _rest(h, p, R06, R1, q4, q6):
     """(v, q23, M) for a trial: v the vector rot(h2, q2) p_23 must equal, q23 = q2 + s3 q3,
     M = R_01^T R_06 rot(h6, q6)^T."""
@@ -136,13 +136,13 @@ def _rest(h, p, R06, R1, q4, q6):
     return R4, M, q23, R13
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _v(p, R1, p16, R13, R4, M):
     w = mv(R13, add(vec(p[3]), mv(R4, vec(p[4]))))
     return sub(sub(sub(mtv(R1, p16), vec(p[1])), w), mv(M, vec(p[5])))
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def branches(x, h, p, R06, p16, e, s):
     """The branches at the search's parameter ``x`` (``search_1d``, ``search_zeros``):
     q1 = ``q1_of(x, ...)``."""
@@ -159,7 +159,7 @@ def branches(x, h, p, R06, p16, e, s):
     return m
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def coupling(h, state):
     """How well the rotation alone fixes q2 + s3 q3 on the branch ``state``: the part of
     rot(h4, q4) h5 across h2 (0 where axes 2, 3 and 5 are parallel), and which of the two
@@ -168,7 +168,7 @@ def coupling(h, state):
     return norm(cross(h2, u)), 0 if dot(h2, u) >= 0.0 else 1
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _split_by_position(h, p, R06, p16, x, state, q):
     """The configuration at q1 = ``x`` whose q2 + s3 q3 the position fixes (SP3's
     solution ``state[2]``: 1 or 2) and q5 the rest of the rotation."""
@@ -187,7 +187,7 @@ def _split_by_position(h, p, R06, p16, x, state, q):
     q[0], q[1], q[2], q[3], q[4], q[5] = x, q2, dot(h3, h2) * (q23 - q2), q4, q5, q6
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def configuration(h, p, R06, p16, x, state, q):
     """The configuration of the zero at the parameter ``x`` on the branch ``state``
     (q6, q4)."""

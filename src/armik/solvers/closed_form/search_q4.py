@@ -22,13 +22,13 @@ from armik.solvers.closed_form.search_1d import BRANCHES, sp5_roots
 from armik.solvers.closed_form.subproblems import add, dot, mm, mtv, mv, neg, rot, sp1, vec
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _R04(h, q1, q2, q3, q4):
     R = mm(rot(vec(h[0]), q1), rot(vec(h[1]), q2))
     return mm(mm(R, rot(vec(h[2]), q3)), rot(vec(h[3]), q4))
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def branches(x, h, p, R06, p16, e, s):
     """The branches at the trial angle ``x`` (``search_1d``, ``search_zeros``)."""
     h5, h6 = vec(h[4]), vec(h[5])
@@ -44,7 +44,7 @@ def branches(x, h, p, R06, p16, e, s):
     return m
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def configuration(h, p, R06, p16, x, state, q):
     """The configuration of the zero at q4 = ``x`` on the branch ``state`` (q1, q2, q3)."""
     h5, h6 = vec(h[4]), vec(h[5])

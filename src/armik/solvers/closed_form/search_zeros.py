@@ -53,7 +53,7 @@ REACHED = 1e-10  # m and rad: a polished zero reaches the target (Pinocchio veri
 WRAP, INNER = np.bool_(True), np.bool_(False)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _branches(family, x, h, p, R06, p16, e, s):
     """The family's branches at the trial angle ``x`` (``search_1d``)."""
     if family == OVER_Q1:
@@ -61,7 +61,7 @@ def _branches(family, x, h, p, R06, p16, e, s):
     return search_q4.branches(x, h, p, R06, p16, e, s)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _configuration(family, h, p, R06, p16, x, state, q):
     """The configuration of the zero at ``x`` on the branch ``state``, into ``q``."""
     if family == OVER_Q1:
@@ -70,7 +70,7 @@ def _configuration(family, h, p, R06, p16, x, state, q):
         search_q4.configuration(h, p, R06, p16, x, state, q)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _zeros(family, h, p, R06, p16, X, XS):
     """Every bracketed zero of the error over one turn (``search_1d``), at folds and dips
     too: the angles into ``X``, each branch's state there into ``XS`` (``CANDIDATES``
@@ -130,7 +130,7 @@ def _zeros(family, h, p, R06, p16, X, XS):
     return count
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _split_candidates(h, E, S, M, X, XS, count):
     """``search_q1``'s candidates where the rotation does not split q2 + s3 q3 from q5:
     at each grid sample where the branches come nearest that pose (a local minimum of
@@ -159,7 +159,7 @@ def _split_candidates(h, E, S, M, X, XS, count):
     return count
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _sampled_finer(family, xa, step, E, S, M, k, k2, h, p, R06, p16, Bx, Bs, nb):
     """The brackets of the rough grid interval from sample k to k2 (at xa, xa + step):
     sampled ``SUB`` times finer, each piece refined (``_refine``), and the dips among the
@@ -189,7 +189,7 @@ def _sampled_finer(family, xa, step, E, S, M, k, k2, h, p, R06, p16, Bx, Bs, nb)
     return nb
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _probe(family, xa, step, E, S, M, k, small, h, p, R06, p16, Bx, Bs, nb, e, s, st):
     """Between grid samples k and k + 1 (at xa, xa + step), where a branch keeps its sign,
     stays within ``small`` of zero at both and is nearer zero there than at the samples
@@ -221,7 +221,7 @@ def _probe(family, xa, step, E, S, M, k, small, h, p, R06, p16, Bx, Bs, nb, e, s
     return nb
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _dip(family, xk, step, side, ek, sk, h, p, R06, p16, Bx, Bs, nb, X, XS, count):
     """A dip at the sample ``xk`` (its branch's error ``ek``, state ``sk``; ``side`` as
     ``dips`` writes it, ``step`` to the neighbours): the extremum between the neighbours by
@@ -278,7 +278,7 @@ def _dip(family, xk, step, side, ek, sk, h, p, R06, p16, Bx, Bs, nb, X, XS, coun
     return nb, count
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _refine(family, xa, Ea, Sa, ma, xb, Eb, Sb, mb, h, p, R06, p16, Bx, Bs, nb):
     """The brackets of a rough grid interval (xa, xb) (``search_1d.rough``): halved where
     the branches still change too much, at most ``DEPTH`` times, and each piece bracketed
@@ -341,7 +341,7 @@ def _refine(family, xa, Ea, Sa, ma, xb, Eb, Sb, mb, h, p, R06, p16, Bx, Bs, nb):
     return nb
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _follow(family, x, h, p, R06, p16, e, s, st):
     """The error at ``x`` of the branch nearest the state ``st`` (updated); nan if none."""
     m = _branches(family, x, h, p, R06, p16, e, s)
@@ -353,7 +353,7 @@ def _follow(family, x, h, p, R06, p16, e, s, st):
     return e[j]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _bracket(family, xa, xm, fm, st, h, p, R06, p16, e, s, Bx, Bs, nb):
     """The bracket (xa, xm) of a dip's branch (its state ``st`` at xm), if it changes sign."""
     keep = st.copy()
@@ -363,7 +363,7 @@ def _bracket(family, xa, xm, fm, st, h, p, R06, p16, e, s, Bx, Bs, nb):
     return nb
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def kernel(h, p, R_tip0, R, pos, q0, lower, upper, family, labelled, out):
     """Every solution the search finds for the target rotation ``R`` (9-tuple, row-major)
     and position ``pos`` (3-tuple), each polished on the whole pose, packed nearest-first
@@ -386,7 +386,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, family, labelled, out):
     return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_into(chain, H, q0, every, out):
     """``kernel`` for one 4x4 pose ``H``, its rows packed into ``out`` (16, 11); returns
     ``sixr.hand_over``'s (n, head), or n = -1 and nothing solved when ``H`` or ``q0`` is
@@ -401,7 +401,7 @@ def solve_into(chain, H, q0, every, out):
     return sixr.hand_over(n, reached, labelled, h, p, out)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_all_into(ctx, H, q0, rows):
     """``kernel``'s every row for ``H`` in ``rows`` (16, ``sixr_judged.WIDTH``), unlabelled,
     measured and judged in the same call: ``sixr_judged.judged``'s (n, verdict), n = -1 and
@@ -414,7 +414,7 @@ def solve_all_into(ctx, H, q0, rows):
     return judged(n, chain, packed, kind, halton, frame, judge, H, rows)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def kernel_many(chain, Rs, ps, q0s):
     """``kernel`` for N targets: the row nearest q0 of each, and its claim code."""
     h, p, R_tip0, lower, upper, family = sixr.unflatten(chain)

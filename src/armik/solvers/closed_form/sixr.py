@@ -103,7 +103,7 @@ def not_revolute(arm: ArmModel, dof: int) -> str | None:
     return None
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def put_row(W, n, q1, q2, q3, q4, q5, q6, flags, code, v0, v1):
     """Write row ``n`` of a kernel's work array ``W`` (the layout above), each angle
     wrapped into (-pi, pi]; returns n + 1."""
@@ -120,7 +120,7 @@ def put_row(W, n, q1, q2, q3, q4, q5, q6, flags, code, v0, v1):
     return n + 1
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def elbow_code(p23, p34, h3, q3, wanted):
     """(reason code, span reached) of an elbow solved in the least-squares sense for the
     span ``wanted``: too far when it asked more than the arm's closest span, else too
@@ -129,7 +129,7 @@ def elbow_code(p23, p34, h3, q3, wanted):
     return (TOO_FAR if wanted > got else TOO_CLOSE), got
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def nearest_equivalents(Q, n, q0, lower, upper):
     """Shift every angle of the first 6 columns of the first ``n`` rows of ``Q`` by a multiple
     of 2 pi to the value nearest q0 within the limits (``ArmModel.nearest_equivalent``, compiled;
@@ -153,7 +153,7 @@ def nearest_equivalents(Q, n, q0, lower, upper):
                 Q[r, j] = min(max(best, lo), hi)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def forward(h, p, R_tip0, q):
     """The chain's own forward kinematics (product of exponentials): the tip's rotation
     (9-tuple, row-major) and position (3-tuple). The kernels do not call it (Pinocchio
@@ -166,7 +166,7 @@ def forward(h, p, R_tip0, q):
     return mm(R, mat(R_tip0)), pos
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def branch_bits(h, p, q):
     """The branch of configuration ``q``, read from its geometry (bits: 1 shoulder back,
     2 elbow down, 4 wrist flipped), so that a label means the same pose on every target.
@@ -214,7 +214,7 @@ def branch_bits(h, p, q):
     return bits
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _inside(W, r, lower, upper):
     for j in range(6):
         if not lower[j] - LIMIT_TOL <= W[r, j] <= upper[j] + LIMIT_TOL:
@@ -222,7 +222,7 @@ def _inside(W, r, lower, upper):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def pack(W, n, q0, lower, upper, h, p, labelled, out):
     """Copy the kernel's ``n`` rows of ``W`` into ``out`` nearest-first (reached, within
     limits, distance to q0: the order ``solve`` verifies them in); returns whether the first
@@ -327,7 +327,7 @@ _GEOMETRY = DerivedBy("6R geometry", lambda arm, key: key[1](arm))  # key: (fami
 _FLAT = DerivedBy("6R flat chain", _flat_of)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def unflatten(flat):
     """(h, p, R_tip0, lower, upper, variant) of a ``flat`` array, as views (called from
     Python too, as ``unflatten.py_func``)."""
@@ -341,7 +341,7 @@ def unflatten(flat):
     )
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def hand_over(n, reached, labelled, h, p, out):
     """(n, head) for a kernel's packed rows in ``out`` (``pack``, the first ``labelled``
     with their branch); head: the first row's branch bits, + 8 when singular, -1 unless it
@@ -371,7 +371,7 @@ def pose_arrays(target: Target) -> tuple[np.ndarray, np.ndarray]:
     return c(target.rotation, dtype=float), c(target.position, dtype=float)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def column(H):
     """The position column of the 4x4 ``H``, a 3-tuple."""
     return (H[0, 3], H[1, 3], H[2, 3])

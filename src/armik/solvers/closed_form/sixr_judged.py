@@ -83,7 +83,7 @@ def context(chain: np.ndarray, flat, frame: np.ndarray, judge: np.ndarray) -> np
     return np.concatenate([np.asarray(x, dtype=float).ravel() for x in parts])
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def split(ctx):
     """(chain, judge, frame, packed, kind, halton) of a ``context`` array: views, and the
     kinds and an empty restart table of the chain's width made here."""
@@ -98,7 +98,7 @@ def split(ctx):
     return ctx[HEAD:a], ctx[a:b], ctx[b:c], ctx[d:], kind, np.empty((0, dof))
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def judged(n, chain, packed, kind, halton, frame, judge, H, rows):
     """(n, verdict) of a kernel's ``n`` unlabelled rows in ``rows`` (n < 0: the pose or
     seed was not plain, nothing solved), judged in place, see the module; the target kept
@@ -144,7 +144,7 @@ def judged(n, chain, packed, kind, halton, frame, judge, H, rows):
     return n, DECIDED
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def finish(ctx, rows, n):
     """A decided target's ``n`` rows made whole when its results are built: the rows
     claimed outside the limits measured as ``judged`` measures the others (against the
@@ -178,7 +178,7 @@ def finish(ctx, rows, n):
         rows[r, 7] = branch_bits(h, p, rows[r, :6])
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _within(rows, i, lower, upper):
     """Row i's joint values within the limits (``kernel.measure``'s test: NaN is not)."""
     for j in range(lower.shape[0]):
@@ -187,7 +187,7 @@ def _within(rows, i, lower, upper):
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _general(n, chain, rows):
     """(n, GENERAL), every row labelled with its branch for the general verdict."""
     h, p, _, _, _, _ = unflatten(chain)
@@ -196,14 +196,14 @@ def _general(n, chain, rows):
     return n, GENERAL
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _before(rows, a, b):
     """Whether row ``a`` ranks before row ``b``: (rank, error) less."""
     ra, rb = rows[a, RANK], rows[b, RANK]
     return ra < rb or (ra == rb and rows[a, ERROR] < rows[b, ERROR])
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _order(rows, n):
     """The rows by (rank, error), ties in their order (a stable selection sort: at most 16
     rows): the verified ones (rank -1, error 0) keep the kernel's order."""

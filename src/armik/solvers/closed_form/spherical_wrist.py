@@ -100,7 +100,7 @@ def classify_axes(ax: Axes) -> sixr.Chain6R | str:
     )
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, W, n):
     """Append the (up to 2) wrist solutions for a placed wrist centre to the kernel's rows
     ``W`` (``sixr``'s layout); returns the count."""
@@ -126,7 +126,7 @@ def _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, W, n):
     return n
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
     """All closed-form solutions for the target rotation ``R`` (9-tuple, row-major) and
     position ``pos`` (3-tuple), packed nearest-first into ``out`` (8, 11), the first
@@ -213,7 +213,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
     return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_into(chain, H, q0, every, out):
     """``kernel`` for one 4x4 pose ``H``, its rows packed into ``out`` (8, 11); returns
     ``sixr.hand_over``'s (n, head), or n = -1 and nothing solved when ``H`` or ``q0`` is
@@ -227,7 +227,7 @@ def solve_into(chain, H, q0, every, out):
     return sixr.hand_over(n, reached, labelled, h, p, out)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_all_into(ctx, H, q0, rows):
     """``kernel``'s every row for ``H`` in ``rows`` (8, ``sixr_judged.WIDTH``), unlabelled,
     measured and judged in the same call: ``sixr_judged.judged``'s (n, verdict), n = -1 and
@@ -240,7 +240,7 @@ def solve_all_into(ctx, H, q0, rows):
     return judged(n, chain, packed, kind, halton, frame, judge, H, rows)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def kernel_many(chain, Rs, ps, q0s):
     """``kernel`` for N targets: the row nearest q0 of each, and its claim code."""
     h, p, R_tip0, lower, upper, variant = sixr.unflatten(chain)

@@ -70,7 +70,7 @@ TINY = 1e-9  # m: an elbow this near the line S-W leaves the swivel no effect
 TWO_PI = 2.0 * math.pi
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def parts(geo):
     """(h (7, 3), S, W0, E0, w_tip, R_tip0 (3, 3), lower, upper, ref) views of ``geo``."""
     return (
@@ -86,7 +86,7 @@ def parts(geo):
     )
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _basis(ref, h2, n):
     """(u1, u2): the reference direction with its part along ``n`` taken out, and n x u1
     (axis 2 at q = 0 stands in where the line S-W runs along the reference)."""
@@ -97,7 +97,7 @@ def _basis(ref, h2, n):
     return u1, cross(n, u1)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def elbow_wrist(geo, q):
     """The elbow E and the wrist W (3-tuples, base frame, m) of configuration ``q``: the
     arm's own forward kinematics of those two points (``swivel_of`` reads them; the tests
@@ -109,7 +109,7 @@ def elbow_wrist(geo, q):
     return add(s, mv(Rs, sub(e0, s))), add(s, mv(Rs, sub(W4, s)))
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def swivel_of(geo, q):
     """The swivel angle (rad, in (-pi, pi]) of configuration ``q`` (7 joint values):
     where its elbow lies on the circle about the line S-W; 0 where the elbow is on that
@@ -129,7 +129,7 @@ def swivel_of(geo, q):
     return math.atan2(dot(e, u2), dot(e, u1))
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _three(M, ha, hb, hc, free):
     """rot(ha, a) rot(hb, b) rot(hc, c) = M: (a0, a1, b0, b1, c0, c1, n, ls, singular),
     a kept at ``free`` where M hc lies along ha (a and c then turn about one line)."""
@@ -144,7 +144,7 @@ def _three(M, ha, hb, hc, free):
     return a0, a1, b0, b1, c0, c1, n, ls, singular
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _bits(h, q):
     """Branch bits: 1 joint 2, 2 joint 4, 4 joint 6 turned the negative way (the sign of
     the sine of its turn, read from the axes, so that a label means one pose)."""
@@ -156,7 +156,7 @@ def _bits(h, q):
     return bits
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _put(W, n, q, flags, code, v0, v1, h):
     for j in range(7):
         W[n, j] = wrap(q[j])
@@ -168,7 +168,7 @@ def _put(W, n, q, flags, code, v0, v1, h):
     return n + 1
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def at_swivel(geo, R, pos, psi, q0, W):
     """Every row (up to 8) at swivel angle ``psi`` for the target rotation ``R`` (9-tuple)
     and position ``pos`` (3-tuple) into ``W`` (8, ``COLUMNS``), unsorted, each angle in
@@ -247,7 +247,7 @@ def at_swivel(geo, R, pos, psi, q0, W):
     return count
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def nearest_equivalents(W, n, q0, lower, upper):
     """Each joint of the first ``n`` rows shifted by a multiple of 2 pi to the value
     nearest q0 within its limits (``sixr.nearest_equivalents`` over 7 joints)."""
@@ -264,7 +264,7 @@ def nearest_equivalents(W, n, q0, lower, upper):
                 W[r, j] = min(max(best, lo), hi)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def inside(W, r, lower, upper):
     """Whether row ``r`` is reached exactly and within the limits."""
     if int(W[r, 7]) & LS:
@@ -275,7 +275,7 @@ def inside(W, r, lower, upper):
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def elbow_inside(W, n, lower, upper):
     """Whether joint 4 of a reached row of the first ``n`` is within its limits: the elbow
     angle does not change with the swivel angle, so when none is, none is at any."""
@@ -285,7 +285,13 @@ def elbow_inside(W, n, lower, upper):
     return False
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
+def _before(a, b):
+    """a sorts before b: numba's and NumPy's order of floats, NaN after every number."""
+    return a < b or (math.isnan(b) and not math.isnan(a))
+
+
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def ordered(W, n, q0, lower, upper, out):
     """The first ``n`` rows of ``W`` into ``out`` nearest q0 first (reached within the
     limits first, then reached, then the rest); returns whether the first is reached
@@ -297,14 +303,22 @@ def ordered(W, n, q0, lower, upper, out):
             d2 += (W[r, j] - q0[j]) ** 2
         key[r] = math.sqrt(d2) + (0.0 if inside(W, r, lower, upper) else 1e4)
         key[r] += 1e8 if int(W[r, 7]) & LS else 0.0
-    order = np.argsort(key, kind="mergesort")
+    # a stable insertion sort of at most ROWS keys, NaN last: np.argsort(kind="mergesort")'s
+    # order, without compiling numba's merge sort (~2.5 s of CPU per process)
+    order = np.empty(n, dtype=np.int64)
+    for k in range(n):
+        j = k
+        while j > 0 and _before(key[k], key[order[j - 1]]):
+            order[j] = order[j - 1]
+            j -= 1
+        order[j] = k
     for k in range(n):
         for c in range(COLUMNS):
             out[k, c] = W[order[k], c]
     return n > 0 and inside(out, np.int64(0), lower, upper)  # typed: no Literal copy
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_at(geo, R, pos, psi, q0, out):
     """``at_swivel`` with every row shifted to its 2 pi equivalent nearest q0 and
     ``ordered``: (n, first reached within the limits)."""
@@ -315,7 +329,7 @@ def solve_at(geo, R, pos, psi, q0, out):
     return n, ordered(W, n, q0, lower, upper, out)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def swept(geo, R, pos, q0, out):
     """The first swivel angle, q0's then ``SWEEP`` more round the circle nearest q0's
     first, with a row reached within the limits: (psi, n, found) and its rows in ``out``;

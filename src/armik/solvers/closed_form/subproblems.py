@@ -39,7 +39,7 @@ SINGLE = 1e-7
 DEGENERATE = 1e-9  # SP4's h . rot(k, theta) p varies by less than this (m): theta is free
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def wrap(a):
     """The angle in (-pi, pi] (arithmetic: no trigonometric call)."""
     if -math.pi < a <= math.pi:
@@ -51,12 +51,12 @@ def wrap(a):
 # -- vectors (3-tuples) and rotations (9-tuples, row-major) ---------------------------------
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def vec(a):
     return (a[0], a[1], a[2])
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def mat(A):
     """A 3x3 array as a 9-tuple."""
     return (A[0, 0], A[0, 1], A[0, 2], A[1, 0], A[1, 1], A[1, 2], A[2, 0], A[2, 1], A[2, 2])
@@ -67,42 +67,42 @@ def matrix(R) -> np.ndarray:
     return np.array(R, dtype=float).reshape(3, 3)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def add(a, b):
     return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def sub(a, b):
     return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def scale(a, s):
     return (a[0] * s, a[1] * s, a[2] * s)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def neg(a):
     return (-a[0], -a[1], -a[2])
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def cross(a, b):
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def dot(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def norm(a):
     return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def rot(k, theta):
     """Rotation about unit axis ``k`` by ``theta`` (Rodrigues), a 9-tuple."""
     c, s = math.cos(theta), math.sin(theta)
@@ -121,7 +121,7 @@ def rot(k, theta):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def mv(A, x):
     """A x."""
     return (
@@ -131,7 +131,7 @@ def mv(A, x):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def mtv(A, x):
     """A^T x."""
     return (
@@ -141,7 +141,7 @@ def mtv(A, x):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def mm(A, B):
     """A B."""
     return (
@@ -157,7 +157,7 @@ def mm(A, B):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def mtm(A, B):
     """A^T B."""
     return (
@@ -173,7 +173,7 @@ def mtm(A, B):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def mmt(A, B):
     """A B^T."""
     return (
@@ -192,7 +192,7 @@ def mmt(A, B):
 # -- the subproblems ------------------------------------------------------------------------
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def sp1(p1, p2, k):
     """theta with rot(k, theta) p1 = p2; returns (theta, ls)."""
     kxp = cross(k, p1)
@@ -205,7 +205,7 @@ def sp1(p1, p2, k):
     return theta, ls
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def sp4(h, p, k, d):
     """theta with h . rot(k, theta) p = d; returns (t0, t1, n, ls)."""
     kxp = cross(k, p)
@@ -228,7 +228,7 @@ def sp4(h, p, k, d):
     return wrap(phi + t), wrap(phi - t), 2, False
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def sp3(p1, p2, k, d):
     """theta with |rot(k, theta) p1 - p2| = d; returns (t0, t1, n, ls)."""
     n2 = norm(p2)
@@ -238,7 +238,7 @@ def sp3(p1, p2, k, d):
     return sp4(scale(p2, 1.0 / n2), p1, k, target)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def sp2(p1, p2, k1, k2, free):
     """(theta1, theta2) with rot(k1, theta1) p1 = rot(k2, theta2) p2.
 

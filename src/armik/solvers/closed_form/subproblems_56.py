@@ -79,19 +79,19 @@ NOT_LS = np.bool_(False)
 # -- shared pieces ----------------------------------------------------------------------------
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _circle(o, k, p):
     """v(theta) = o + rot(k, theta) p = c + sin(theta) a + cos(theta) b: (c, a, b)."""
     along = scale(k, dot(k, p))
     return add(o, along), cross(k, p), sub(p, along)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _on(c, a, b, t):
     return add(c, add(scale(a, math.sin(t)), scale(b, math.cos(t))))
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _pairs(M, f, size, out):
     """Candidate angle pairs (ta, tb) of the two equations
     M[0] sa + M[1] ca + M[2] sb + M[3] cb = f[0] and M[4] sa + ... + M[7] cb = f[1]
@@ -157,7 +157,7 @@ def _pairs(M, f, size, out):
 # -- SP5 --------------------------------------------------------------------------------------
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _f5(q0, q1, q2, q3, e1, e2, e3, x):
     """|f|, the gradient and the Hessian (flat, row-major) of |f|^2 / 2 at the angles
     ``x``, for SP5's residual f = p0 + rot(k1, t1) p1 - rot(k2, t2) (p2 + rot(k3, t3) p3)."""
@@ -185,7 +185,7 @@ def _f5(q0, q1, q2, q3, e1, e2, e3, x):
     return norm(f), g, H
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _refine5(q0, q1, q2, q3, e1, e2, e3, t, iters, floor):
     """Damped Newton steps on |f|^2 / 2 (SP5's residual) from the angles ``t`` (3 floats),
     a step taken only when it lowers |f|, none once |f| is below ``floor``. Returns (angles,
@@ -211,7 +211,7 @@ def _refine5(q0, q1, q2, q3, e1, e2, e3, t, iters, floor):
     return x, r
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _profile(c, a, b, e2, t):
     """Height along k2 and distance from it of the circle point at angle t."""
     v = _on(c, a, b, t)
@@ -219,7 +219,7 @@ def _profile(c, a, b, e2, t):
     return h, norm(sub(v, scale(e2, h)))
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _ls5(q0, q1, q2, q3, e1, e2, e3):
     """SP5's least-squares answer: rot(k2, t2) v3 is closest to v1 at distance
     sqrt((h1 - h3)^2 + (rho1 - rho3)^2) (heights along k2, distances from it), searched
@@ -249,7 +249,7 @@ def _ls5(q0, q1, q2, q3, e1, e2, e3):
     return best, rbest
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _try5(q0, q1, q2, q3, e1, e2, e3, t1, t3, sol, res, n, size):
     """Complete (t1, t3) with t2 by SP1, refine, keep if exact; returns the count."""
     c1, a1, b1 = _circle(q0, e1, q1)
@@ -264,7 +264,7 @@ def _try5(q0, q1, q2, q3, e1, e2, e3, t1, t3, sol, res, n, size):
     return n
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _pack5(sol, n, ls):
     t = np.zeros((4, 3))
     for i in range(abs(n)):
@@ -279,7 +279,7 @@ def _pack5(sol, n, ls):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _system5(q0, q1, q2, q3, e1, e2, e3, size):
     """SP5's two equations in (sin, cos) of t1 and of t3 (``_pairs``' form): (M, f)."""
     c1, a1, b1 = _circle(q0, e1, q1)
@@ -303,7 +303,7 @@ def _system5(q0, q1, q2, q3, e1, e2, e3, size):
     return M, f
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def sp5(p0, p1, p2, p3, k1, k2, k3):
     """Angles with p0 + rot(k1, t1) p1 = rot(k2, t2) (p2 + rot(k3, t3) p3).
 
@@ -332,14 +332,14 @@ def sp5(p0, p1, p2, p3, k1, k2, k3):
 # -- SP6 --------------------------------------------------------------------------------------
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _term(h, k, p):
     """h . rot(k, theta) p = e + alpha sin(theta) + beta cos(theta): (e, alpha, beta)."""
     e = dot(h, k) * dot(k, p)
     return e, dot(h, cross(k, p)), dot(h, p) - e
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _f6(M, f, x):
     """|r|, the gradient and the Hessian (flat) of |r|^2 / 2 at the angles ``x`` for SP6's
     residuals r; ``M`` holds (alpha, beta) of the four terms, ``f`` the right-hand sides
@@ -357,7 +357,7 @@ def _f6(M, f, x):
     return math.hypot(r1, r2), g, H
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _refine6(M, f, t1, t2, iters, floor):
     """Damped Newton steps on SP6's |r|^2 / 2 from (t1, t2), as ``_refine5``."""
     x = np.array((t1, t2))
@@ -381,7 +381,7 @@ def _refine6(M, f, t1, t2, iters, floor):
     return x, r
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _ls6(M, f, floor):
     """SP6's least-squares answer: the local minima of a grid over (t1, t2), refined; the
     best of them."""
@@ -406,7 +406,7 @@ def _ls6(M, f, floor):
     return best, rbest
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _try6(M, f, t1, t2, sol, res, n, size):
     r, _, _ = _f6(M, f, np.array((t1, t2)))
     if r > ROOT_GATE * size:
@@ -417,7 +417,7 @@ def _try6(M, f, t1, t2, sol, res, n, size):
     return n
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _pack6(sol, n, ls):
     t = np.zeros((4, 2))
     for i in range(abs(n)):
@@ -425,7 +425,7 @@ def _pack6(sol, n, ls):
     return (t[0, 0], t[1, 0], t[2, 0], t[3, 0]), (t[0, 1], t[1, 1], t[2, 1], t[3, 1]), n, ls
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _system6(h, k, p, d1, d2):
     """SP6's two equations in (sin, cos) of t1 and t2 (``_pairs``' form): (M, f, size)."""
     e0, a0, b0 = _term(vec(h[0]), vec(k[0]), vec(p[0]))
@@ -442,7 +442,7 @@ def _system6(h, k, p, d1, d2):
     return M, f, size
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def sp6(h, k, p, d1, d2):
     """Angles with h[0] . rot(k[0], t1) p[0] + h[1] . rot(k[1], t2) p[1] = d1 and
     h[2] . rot(k[2], t1) p[2] + h[3] . rot(k[3], t2) p[3] = d2.

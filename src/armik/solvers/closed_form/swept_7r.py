@@ -100,7 +100,7 @@ def sweep_range(arm: ArmModel, q7: float) -> tuple[float, float]:
     return lo, hi
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def sweep_values(q7, lo, hi):
     """The values of joint 7 tried, in order: q7, then the ``SWEEP`` cell centres of
     [lo, hi], nearest q7 first (taken alternately from either side of q7's cell)."""
@@ -121,7 +121,7 @@ def sweep_values(q7, lo, hi):
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def held_target(c, u, R, pos, theta):
     """The target of the reversed chain with joint 7 at ``theta``: T6^-1, T6 = T_target
     G(theta), G the turn by -theta about the line through ``c`` along ``u`` (tip frame)."""
@@ -132,7 +132,7 @@ def held_target(c, u, R, pos, theta):
     return R_inv, -(R_inv @ p6)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def mat_array(M):
     """A 9-tuple (row-major) as a 3x3 array."""
     A = np.empty((3, 3))
@@ -142,7 +142,7 @@ def mat_array(M):
     return A
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def first_held(h, p, R_tip0, variant, c, u, R, pos, q0r, lower, upper, q7, lo, hi):
     """The first value of joint 7 (``sweep_values``) at which joints 6 to 1 (reversed: ``q0r``,
     ``lower``, ``upper`` in their order) reach the target exactly within their limits: that
@@ -234,7 +234,7 @@ def branch(sw: Swept, q: np.ndarray) -> str:
     return _HELD_LABELS[sixr.branch_bits(sw.geo.h, sw.geo.p, reversed_q)]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def held_rows(h, p, R_tip0, variant, c, u, R, pos, q0, lower, upper, lo7, hi7):
     """``first_held`` on the 7R chain's own joint order: (theta, rows (n, 12): q (7), flags,
     branch, code, values, found)."""

@@ -94,7 +94,7 @@ def classify(arm: ArmModel, ax: Axes | None = None) -> sixr.Chain6R | str:
     return sixr.chain_6r("three_parallel", "", ax, pts, text)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def elbow_span2(p2, p3, h3):
     """(min, max) of |p2 + rot(h3, q3) p3|^2 over q3: the squared distances the elbow spans."""
     a2, a3 = dot(p2, h3), dot(p3, h3)
@@ -104,7 +104,7 @@ def elbow_span2(p2, p3, h3):
     return base - 2.0 * r2 * r3, base + 2.0 * r2 * r3
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def reach_turn(c, p4, h2, theta, span2):
     """At the wrist singularity: the turn t nearest 0 such that, with q2 + q3 + q4 =
     theta + t, the elbow reaches the wrist, |c - rot(h2, theta + t) p4|^2 within ``span2``
@@ -137,7 +137,7 @@ def reach_turn(c, p4, h2, theta, span2):
     return (edge if t >= 0.0 else -edge) - t
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
     """All closed-form solutions for the target rotation ``R`` (9-tuple, row-major) and
     position ``pos`` (3-tuple), packed nearest-first into ``out`` (8, 11), the first
@@ -222,7 +222,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
     return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_into(chain, H, q0, every, out):
     """``kernel`` for one 4x4 pose ``H``, its rows packed into ``out`` (8, 11); returns
     ``sixr.hand_over``'s (n, head), or n = -1 and nothing solved when ``H`` or ``q0`` is
@@ -237,7 +237,7 @@ def solve_into(chain, H, q0, every, out):
     return sixr.hand_over(n, reached, labelled, h, p, out)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_all_into(ctx, H, q0, rows):
     """``kernel``'s every row for ``H`` in ``rows`` (8, ``sixr_judged.WIDTH``), unlabelled,
     measured and judged in the same call: ``sixr_judged.judged``'s (n, verdict), n = -1 and
@@ -250,7 +250,7 @@ def solve_all_into(ctx, H, q0, rows):
     return judged(n, chain, packed, kind, halton, frame, judge, H, rows)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def kernel_many(chain, Rs, ps, q0s):
     """``kernel`` for N targets: the row nearest q0 of each, and its claim code."""
     h, p, R_tip0, lower, upper, variant = sixr.unflatten(chain)

@@ -79,7 +79,7 @@ def classify(arm: ArmModel, ax: Axes | None = None) -> sixr.Chain6R | str:
     return sixr.chain_6r(FAMILY, "", ax, [P[0], P[1], P[2], P[3], P[4], P[5]], text)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
     """All closed-form solutions for the target rotation ``R`` (9-tuple, row-major) and
     position ``pos`` (3-tuple), packed nearest-first into ``out`` (8, 11), the first
@@ -146,7 +146,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
     return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_into(chain, H, q0, every, out):
     """``kernel`` for one 4x4 pose ``H``, its rows packed into ``out`` (8, 11); returns
     ``sixr.hand_over``'s (n, head), or n = -1 and nothing solved when ``H`` or ``q0`` is
@@ -161,7 +161,7 @@ def solve_into(chain, H, q0, every, out):
     return sixr.hand_over(n, reached, labelled, h, p, out)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def solve_all_into(ctx, H, q0, rows):
     """``kernel``'s every row for ``H`` in ``rows`` (8, ``sixr_judged.WIDTH``), unlabelled,
     measured and judged in the same call: ``sixr_judged.judged``'s (n, verdict), n = -1 and
@@ -174,7 +174,7 @@ def solve_all_into(ctx, H, q0, rows):
     return judged(n, chain, packed, kind, halton, frame, judge, H, rows)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def kernel_many(chain, Rs, ps, q0s):
     """``kernel`` for N targets: the row nearest q0 of each, and its claim code."""
     h, p, R_tip0, lower, upper, variant = sixr.unflatten(chain)
