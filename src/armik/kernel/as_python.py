@@ -42,7 +42,7 @@ def _python_clock() -> int:
 
 
 _TWINS: dict[Any, Callable] = {clock.thread_cpu_ns: _python_clock}
-_FUNCTIONS: dict[int, Callable] = {}  # id(dispatcher) -> its Python form
+_FUNCTIONS: dict[Dispatcher, Callable] = {}  # its Python form, by compiled function
 _MODULES: dict[str, _Globals] = {}  # module name -> the view of its globals
 
 
@@ -52,7 +52,7 @@ def is_armik(dispatcher: Dispatcher) -> bool:
 
 def python_of(dispatcher: Dispatcher) -> Callable:
     """``dispatcher``'s function run as Python, with what it calls (see the module)."""
-    known = _FUNCTIONS.get(id(dispatcher))
+    known = _FUNCTIONS.get(dispatcher)
     if known is not None:
         return known
     twin = _TWINS.get(dispatcher)
@@ -66,7 +66,7 @@ def python_of(dispatcher: Dispatcher) -> Callable:
     g = types.FunctionType(f.__code__, _globals_of(module), f.__name__, f.__defaults__, closure)
     g.__kwdefaults__ = f.__kwdefaults__
     g.__qualname__ = f.__qualname__
-    _FUNCTIONS[id(dispatcher)] = g
+    _FUNCTIONS[dispatcher] = g
     return g
 
 

@@ -68,7 +68,7 @@ class _State:
     def __init__(self) -> None:
         self.lock = threading.Lock()
         self.done = threading.Condition(self.lock)  # a job of the helper's is done
-        self.jobs: dict[tuple, str] = {}  # (id(function), types) -> "compiling" | "done"
+        self.jobs: dict[tuple, str] = {}  # (function, types) -> "compiling" | "done"
         self.functions: list[Dispatcher] = []  # the functions sent, in order
         self.helper: _Helper | None = None  # the helper at work, if any
         self.compiling = 0  # ``compiling()`` blocks open
@@ -136,7 +136,7 @@ def _compile_for_args(self: Dispatcher, *args: Any, **kws: Any) -> Callable:
         types = tuple(_type_of(self, a) for a in args)
     except Exception:  # numba's own call reports it
         return _COMPILE(self, *args, **kws)
-    key, state = (id(self), types), _state
+    key, state = (self, types), _state
     with state.lock:
         known = state.jobs.get(key)
         if known is None and not _large(args) and not _cached(self, types):
