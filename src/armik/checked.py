@@ -12,6 +12,17 @@ import numpy as np
 from armik.errors import OptionError, listing
 
 
+def numbers(value: object) -> np.ndarray:
+    """``value`` as a float array, or [nan] for what is not numbers (a string, complex
+    numbers, ragged lists): the callers' checks then refuse it."""
+    try:
+        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
+            raise TypeError
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        return np.array([np.nan])
+
+
 def number(key: str, value: object) -> float:
     """``value`` as a finite float (not a bool or a string)."""
     if isinstance(value, (str, bytes, bool, np.bool_)):

@@ -9,7 +9,7 @@ from typing import Any, TypeVar, cast
 
 import numpy as np
 
-from armik.checked import integer, number, positive
+from armik.checked import integer, number, numbers, positive
 from armik.constraints.base import Constraint
 from armik.constraints.clear import Collisions, collision_options
 from armik.constraints.hold import Hold
@@ -266,21 +266,10 @@ _BOUNDED = (
 )
 
 
-def _numbers(value: object) -> np.ndarray:
-    """``value`` as a float array, or [nan] for what is not numbers (a string, complex
-    numbers, ragged lists): the callers' checks then refuse it."""
-    try:
-        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
-            raise TypeError
-        return np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        return np.array([np.nan])
-
-
 def checked_weights(value: object) -> tuple[float, ...]:
     """The option ``weights`` as 6 floats; ``OptionError`` naming the rule otherwise (the
     servo reads a task's weights by the same rule)."""
-    w = _numbers(value)
+    w = numbers(value)
     if (
         w.shape != (6,)
         or not np.all(np.isfinite(w))
@@ -301,7 +290,7 @@ def checked_weights(value: object) -> tuple[float, ...]:
 
 def _bounds(value: object) -> tuple[float, ...]:
     """6 bounds >= 0 (m, m, m, rad, rad, rad), ``inf`` allowed (a free axis)."""
-    b = _numbers(value)
+    b = numbers(value)
     if b.shape != (6,) or np.isnan(b).any() or (b < 0).any():
         raise OptionError(
             "bounds must be 6 numbers >= 0 (bx, by, bz in m, brx, bry, brz in rad: how far "

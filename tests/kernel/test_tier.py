@@ -71,23 +71,29 @@ print(json.dumps({"compiled_here": compiled_here, "ran": len(tier.ran_as_python(
 """
 
 
-def test_a_first_call_runs_as_python_and_the_next_loads_the_helpers_code(tmp_path):
+def _first_calls_by_default(code: str, cache: Path) -> tuple[dict, str]:
+    """(the JSON ``code`` prints last, its stderr) in a process with the library's default
+    first calls (a helper even on one CPU, the notice on) on the empty cache ``cache``."""
     env = {
         **os.environ,
-        "NUMBA_CACHE_DIR": str(tmp_path),
-        "ARMIK_COMPILE_HELPER": "1",  # even on one CPU
+        "NUMBA_CACHE_DIR": str(cache),
+        "ARMIK_COMPILE_HELPER": "1",
         "ARMIK_COMPILE_NOTICE": "1",
         "PYTHONPATH": os.pathsep.join([str(HERE.parents[2]), os.environ.get("PYTHONPATH", "")]),
     }
     env.pop("ARMIK_FIRST_CALLS")
-    out = subprocess.run([sys.executable, "-c", HELPED], env=env, capture_output=True, text=True)
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
     assert out.returncode == 0, out.stderr[-3000:]
-    got = json.loads(out.stdout.splitlines()[-1])
+    return json.loads(out.stdout.splitlines()[-1]), out.stderr
+
+
+def test_a_first_call_runs_as_python_and_the_next_loads_the_helpers_code(tmp_path):
+    got, stderr = _first_calls_by_default(HELPED, tmp_path)
     assert got["compiled_here"] == []  # the helper compiled; this process loaded
     assert got["ran"] >= 1 and got["cache_hits"] >= got["ran"]
     assert got["same"]
     assert not got["helper_left"]  # it was told to end once all was done
-    assert "in the background" in out.stderr
+    assert "in the background" in stderr
 
 
 def test_an_arrays_type_is_numbas():
@@ -116,16 +122,7 @@ print(json.dumps({"compiled": sum(e[1].is_start for e in rec.buffer),
 
 
 def test_armik_compile_compiles_in_its_process_whatever_the_first_calls_do(tmp_path):
-    env = {
-        **os.environ,
-        "NUMBA_CACHE_DIR": str(tmp_path),
-        "ARMIK_COMPILE_HELPER": "1",
-        "PYTHONPATH": os.pathsep.join([str(HERE.parents[2]), os.environ.get("PYTHONPATH", "")]),
-    }
-    env.pop("ARMIK_FIRST_CALLS")
-    out = subprocess.run([sys.executable, "-c", COMPILE], env=env, capture_output=True, text=True)
-    assert out.returncode == 0, out.stderr[-3000:]
-    got = json.loads(out.stdout.splitlines()[-1])
+    got, _ = _first_calls_by_default(COMPILE, tmp_path)
     assert got["compiled"] >= 1 and got["helped"] == 0
     assert os.environ["ARMIK_FIRST_CALLS"] == "compile"  # the tests' setting, untouched
 

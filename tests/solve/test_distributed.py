@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import pickle
 
-import distributed  # the "cluster" extra, part of the "test" extra
 import numpy as np
 import pytest
 
@@ -15,17 +14,6 @@ from armik.solve import distributed as armik_distributed
 from armik.tools.cli import main
 
 from ..conftest import arm, model
-
-
-@pytest.fixture(scope="module")
-def client():
-    cluster = distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
-    )
-    c = distributed.Client(cluster)
-    yield c
-    c.close()
-    cluster.close()
 
 
 def _targets(name: str, n: int) -> np.ndarray:

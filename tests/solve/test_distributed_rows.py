@@ -17,17 +17,6 @@ distributed = pytest.importorskip("distributed", reason="Dask is the optional cl
 FIELDS = ("q", "success", "status_code", "position_error", "orientation_error", "iterations")
 
 
-@pytest.fixture(scope="module")
-def client():
-    cluster = distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
-    )
-    c = distributed.Client(cluster)
-    yield c
-    c.close()
-    cluster.close()
-
-
 def _same(remote, local) -> None:
     for field in FIELDS:
         np.testing.assert_array_equal(getattr(remote, field), getattr(local, field), err_msg=field)

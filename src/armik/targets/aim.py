@@ -18,6 +18,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from armik.checked import numbers
 from armik.errors import OptionError
 
 Vector = tuple[float, float, float]
@@ -82,20 +83,9 @@ def aim_of(cone: object = None, look_at: object = None, toward: object = None) -
 _BOTH = "look_at and toward both say where the cone points: give one of them"
 
 
-def _numbers(value: object) -> np.ndarray:
-    """``value`` as a float array, or [nan] for what is not numbers (a string, complex
-    numbers, ragged lists): the callers' checks then refuse it."""
-    try:
-        if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
-            raise TypeError
-        return np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        return np.array([np.nan])
-
-
 def _cone(value: object) -> tuple[float, float, float, float]:
     """(ax, ay, az, within): a non-zero axis (made unit) and an angle in [0, pi]."""
-    c = _numbers(value)
+    c = numbers(value)
     length = float(np.linalg.norm(c[:3])) if c.shape == (4,) else math.nan
     if not (np.isfinite(c).all() and 1e-9 < length < math.inf and 0.0 <= c[3] <= math.pi):
         raise OptionError(
@@ -120,7 +110,7 @@ def _sight(name: str, value: object) -> Vector:
         and (name == "look_at" or abs(value[0] ** 2 + value[1] ** 2 + value[2] ** 2 - 1) < 1e-12)
     ):
         return value  # type: ignore[return-value]
-    p = _numbers(value)
+    p = numbers(value)
     length = float(np.linalg.norm(p)) if p.shape == (3,) else math.nan
     if not (np.isfinite(p).all() and math.isfinite(length)) or (
         name == "toward" and not length > 1e-9
