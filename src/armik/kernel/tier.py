@@ -139,7 +139,7 @@ def _compile_for_args(self: Dispatcher, *args: Any, **kws: Any) -> Callable:
     key, state = (self, types), _state
     with state.lock:
         known = state.jobs.get(key)
-        if known is None and not _large(args) and not _cached(self, types):
+        if known is None and not _large(args) and not cached(self, types):
             if setting == "python":  # Python only, never compiled (the tests')
                 return run(self)
             if _send(state, key, self, types):
@@ -233,7 +233,7 @@ def _large(args: tuple) -> bool:
     return any(isinstance(a, np.ndarray) and a.size > LARGEST for a in args)
 
 
-def _cached(dispatcher: Dispatcher, types: tuple) -> bool:
+def cached(dispatcher: Dispatcher, types: tuple) -> bool:
     """Whether numba's cache holds ``dispatcher`` for ``types``: its index only, not the
     code (numba's own lookup, through attributes numba does not document: anything
     unexpected counts as cached, so that numba's own call goes on)."""
@@ -280,7 +280,7 @@ def serve() -> None:
             for part in qualname.split("."):
                 target = getattr(target, part)
             with _turn():
-                if not _cached(target, types):
+                if not cached(target, types):
                     t0 = time.perf_counter()
                     target.compile(types)
                     what = notice.part_of(module)[0]

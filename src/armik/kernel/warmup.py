@@ -38,7 +38,7 @@ from armik.kernel.descent import _add_solution, _near_known_minimum
 from armik.kernel.notice import NOTICE
 from armik.kernel.problem import STEP_DLS, STEP_QP, _workspace, unpack
 from armik.kernel.single import plain_pose, plain_seed
-from armik.kernel.tier import helper_allowed, python_first
+from armik.kernel.tier import cached, helper_allowed, python_first
 
 HELPER_TIMEOUT = 300.0  # s: a helper still silent after this is stopped
 STEPS = {STEP_DLS: step.dls, STEP_QP: step.qp}
@@ -83,7 +83,7 @@ def _needs_helper(kind: int) -> bool:
     return not (
         not helper_allowed()
         or all(types in dispatcher.overloads for dispatcher, types in share)  # nothing to share
-        or _cached(STEPS[kind], step_types)
+        or cached(STEPS[kind], step_types)
     )  # else the entry compiles or loads everything in order, as always
 
 
@@ -134,16 +134,6 @@ def _parts() -> tuple[tuple, list]:
         (_near_known_minimum, types(ch, q, Q, count)),
     ]
     return types(ch, st, ws, count, q, 1.0), share
-
-
-def _cached(dispatcher, types: tuple) -> bool:
-    """Whether numba's on-disk cache holds ``dispatcher`` compiled for ``types`` (numba's own
-    lookup, through an attribute numba does not document: anything unexpected counts as
-    cached, so that no helper starts)."""
-    try:
-        return dispatcher._cache.load_overload(types, dispatcher.targetctx) is not None
-    except Exception:
-        return True
 
 
 def _start_helper(kind: int) -> subprocess.Popen | None:
