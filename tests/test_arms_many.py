@@ -5,6 +5,10 @@ a path reported, naming the joint; bad input named."""
 
 from __future__ import annotations
 
+import multiprocessing
+import operator
+import pickle
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -12,6 +16,7 @@ import pinocchio as pin
 import pytest
 
 import armik
+from armik.constraints.base import Check, Constraint
 from armik.errors import FrameError, OptionError, TargetError
 
 from .test_arms import dual_irb120
@@ -152,16 +157,95 @@ def test_a_batch_takes_arm_s_batch_keywords_and_gives_the_loop_s_rows(shared):
         robot.solve_batch(targets, chunk_size=0)
 
 
-def test_a_batch_s_backend_goes_to_each_chain_or_is_refused_row_by_row():
+def test_a_batch_s_backend_goes_to_each_chain_or_runs_its_rows():
     robot = baxter()
     targets = robot.fk_batch(robot.random_q(4, n=3))
     b = robot.solve_batch(targets, backend="threads", workers=2)
     np.testing.assert_array_equal(b.q, _loop(robot, targets, 3))
+
+
+def _reversed(jobs, workers):
+    """A backend that gives the jobs' results last first: each is put at its own rows."""
+    return [job() for job in reversed(jobs)]
+
+
+def _rows_batches() -> list[tuple[armik.Arms, dict, dict]]:
+    """Batches solved row by row: a shared joint (one row out of reach), a Relative task,
+    a cost of the whole configuration, each with a joint limit tightened by constraints."""
     shared = armik.load("panda", tips=["panda_link4", "panda_hand"])
-    rows = shared.fk_batch(shared.random_q(4, n=2))
-    with pytest.raises(OptionError, match=r"backend=.*row by row.*drop backend=") as caught:
-        shared.solve_batch(rows, backend="threads")
-    assert caught.value.option == "backend"
+    rows = shared.fk_batch(shared.random_q(4, n=6))
+    rows["panda_hand"][4] = np.array(rows["panda_hand"][4])
+    rows["panda_hand"][4][:3, 3] = [3.0, 0.0, 0.5]
+    cell = armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
+    qs = cell.random_q(5, n=5)
+    left = [cell.fk(q, "l_tool0") for q in qs]
+    grips = [
+        armik.Relative("r_tool0", "l_tool0", cell.fk(q, "l_tool0").actInv(cell.fk(q, "r_tool0")))
+        for q in qs
+    ]
+    both = {tip: [cell.fk(q, tip) for q in qs] for tip in cell.tips}
+    cost = {"prefer": lambda q: float(np.sum(np.asarray(q) ** 2))}
+    return [
+        (shared, rows, {"seed": 3}),
+        (cell, {"l_tool0": left, "r_tool0": grips}, {"seed": 4}),
+        (cell, both, cost),
+    ]
+
+
+@pytest.mark.parametrize("backend", ["threads", "processes", _reversed])
+def test_a_batch_solved_row_by_row_runs_on_a_backend_as_here(backend):
+    """Chains that share joints, a Relative task, a cost of the whole configuration: the
+    rows go as chunks of rows (``armik.arms_rows.ArmsRows``) to the backend, each solved
+    there as ``Arms.solve`` solves it, the same answers and failures row by row."""
+    for robot, targets, options in _rows_batches():
+        here = robot.solve_batch(targets, progress=False, **options)
+        got = robot.solve_batch(
+            targets, backend=backend, workers=2, chunk_size=2, progress=False, **options
+        )
+        np.testing.assert_array_equal(got.q, here.q)
+        np.testing.assert_array_equal(got.success, here.success)
+        np.testing.assert_array_equal(got.status_code, here.status_code)
+        assert got.reasons == here.reasons and got.solver == here.solver == "arms"
+        assert here.success.sum() >= len(here) - 1, here.summary()
+    assert not here.success.all() or len(here) == 5
+    with pytest.raises(OptionError, match="unknown batch backend 'nowhere'"):
+        robot.solve_batch(targets, backend="nowhere", **options)
+
+
+class BaseTurn(Constraint):
+    """The Panda's joint 1 below 0.3 rad (a check alone, of the test's own)."""
+
+    def check(self, arm, Q):
+        return Check(Q[:, 0] < 0.3, armik.Status.JOINT_LIMITS, lambda i: "base turned")
+
+
+def _pickled_pool(jobs, workers):
+    """The jobs on a pool of forked processes, each job pickled there and back."""
+    context = multiprocessing.get_context("fork")
+    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        return list(pool.map(operator.call, jobs))
+
+
+def test_a_job_of_rows_checks_every_constraint_where_it_runs():
+    """Jobs of rows pickled and called in other processes: the robot travels as its
+    chains' recipes and each row's constraints are checked there (a held joint kept at its
+    seed's value, a check of the test's own on one tip's chain), as ``Arms.solve`` checks
+    them here."""
+    shared = armik.load("panda", tips=["panda_link4", "panda_hand"])
+    assert type(pickle.loads(pickle.dumps(shared))) is armik.Arms
+    qs = shared.random_q(8, n=6)
+    qs[:, 0] = [0.1, 0.6, -0.4, 0.9, 0.2, 0.5]  # rows 1, 3 and 5 break BaseTurn
+    targets = {tip: [shared.fk(q, tip) for q in qs] for tip in shared.tips}
+    options = {"hold": {"panda_joint2": None}, "constraints": {"panda_hand": [BaseTurn()]}}
+    here = shared.solve_batch(targets, q0=qs, progress=False, **options)
+    got = shared.solve_batch(
+        targets, q0=qs, backend=_pickled_pool, workers=2, chunk_size=2, **options
+    )
+    np.testing.assert_array_equal(got.q, here.q)
+    np.testing.assert_array_equal(got.success, [True, False, True, False, True, False])
+    np.testing.assert_array_equal(got.success, here.success)
+    np.testing.assert_array_equal(got.q[:, 1], qs[:, 1])  # held at each row's seed
+    assert "base turned" in got.reason(1) and got.reasons == here.reasons
 
 
 def test_batch_and_path_take_solve_s_prefer_and_solver(cell):

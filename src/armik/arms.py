@@ -105,6 +105,9 @@ class Arms(ArmsKinematics):
         }
         self._middle_seeds = self.split(self.middle)  # each chain's seed when q0 is None: read only
 
+    def __reduce__(self) -> tuple[type[Arms], tuple[dict[str, object]]]:
+        return (Arms, (self._facades,))  # its chains as their recipes: a backend's jobs carry it
+
     def __repr__(self) -> str:
         return f"Arms(tips={list(self.tips)}, dof={self.dof})"
 
@@ -180,7 +183,7 @@ class Arms(ArmsKinematics):
         """Many targets per tip (tip -> N targets): a ``BatchResult`` over every joint, each
         chain's own batch where the chains are independent (``armik.arms_many``);
         ``workers``, ``chunk_size``, ``progress`` and ``backend`` as ``Arm.solve_batch``'s
-        (``backend`` refused where the rows are solved one by one)."""
+        (``backend`` runs chunks of rows where they are solved one by one)."""
         refuse_own_checks(options, self.tips)
         return arms_many.solve_batch(self, targets, q0=q0, **options)
 

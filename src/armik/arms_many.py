@@ -18,7 +18,6 @@ import dataclasses
 import math
 import time
 from collections.abc import Mapping, Sequence
-from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from typing import Any, Protocol
 
 import numpy as np
@@ -26,13 +25,15 @@ import numpy as np
 from armik import checked, reasons
 from armik.arms_options import check_held
 from armik.arms_prefer import combined, is_cost
+from armik.arms_rows import empty, solve_rows
 from armik.batch_result import BatchResult
 from armik.errors import OptionError, TargetError
 from armik.problem.problem import relative_tasks
 from armik.problem.settings import SolverSettings
 from armik.result import IKResult
+from armik.solve import backends
 from armik.solve.batch import DEFAULT_CHUNK
-from armik.solve.progress import ProgressArg, make_progress
+from armik.solve.progress import ProgressArg
 from armik.solve.read import check_plan
 from armik.solve.read import options as read_options
 from armik.status import Status
@@ -106,42 +107,9 @@ def solve_batch(
             for tip, rows in read.items()
         }
         return _joined(arms, parts, seeds, opts, time.perf_counter() - t0, prefer)
-    if backend is not None:
-        raise OptionError(
-            "backend= runs the compiled batch's chunks; a batch over chains that share "
-            f"joints ({list(arms.shared)}), with a Relative task or with a cost of the "
-            "whole configuration (prefer=) is "
-            "solved row by row in this process (workers= threads, chunk_size= rows each): "
-            "drop backend=",
-            option="backend",
-            value=backend,
-        )
+    run_jobs = None if backend is None else backends.backend(backend)
     threads, size = _whole(workers, "workers", 1), _whole(chunk_size, "chunk_size", DEFAULT_CHUNK)
-    out = _empty(arms, n, "arms", opts)
-    bar = make_progress(progress, n, "+".join(arms.tips))
-
-    def chunk(first: int) -> int:
-        last = min(first + size, n)
-        for i in range(first, last):
-            row = {tip: rows[i] for tip, rows in targets.items()}
-            out.put_result(i, arms.solve(row, q0=seeds[i], **options))
-        return last - first
-
-    starts = range(0, n, size)
-    done = 0
-    if threads == 1 or len(starts) <= 1:
-        for first in starts:
-            done += chunk(first)
-            bar(done, n)
-    else:
-        with ThreadPoolExecutor(max_workers=threads, thread_name_prefix="armik") as pool:
-            pending = {pool.submit(chunk, first) for first in starts}
-            while pending:
-                finished, pending = wait(pending, return_when=FIRST_COMPLETED)
-                for f in finished:
-                    done += f.result()  # a row's error raises here, as in a loop
-                bar(done, n)
-    bar.close()
+    out = solve_rows(arms, targets, seeds, options, opts, size, threads, progress, run_jobs)
     return _timed(out, t0)
 
 
@@ -150,7 +118,7 @@ def _whole(value: object, name: str, default: int) -> int:
     if value is None:
         return default
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        what = "threads" if name == "workers" else "targets per task"
+        what = "threads, or a backend's workers" if name == "workers" else "targets per task"
         raise OptionError(
             f"{name} must be a whole number >= 1 ({what}), got {value!r}",
             option=name,
@@ -210,7 +178,7 @@ def solve_path(
             option="plan",
             value=plan,
         )
-    out = _empty(arms, n, "arms, path", opts)
+    out = empty(arms, n, "arms, path", opts)
     q_prev = start
     for i in range(n):
         row = {tip: rows[i] for tip, rows in waypoints.items()}
@@ -382,19 +350,6 @@ def _read(options: Mapping[str, Any]) -> SolverSettings:
     return read_options({k: v for k, v in options.items() if k not in own})
 
 
-def _empty(arms: Arms, n: int, solver: str, opts: SolverSettings) -> BatchResult:
-    return BatchResult.empty(
-        n,
-        arms.dof,
-        solver=solver,
-        time=0.0,
-        joint_names=arms.joint_names,
-        arm="+".join(arms.tips),
-        tol_position=opts.tol_position,
-        tol_orientation=opts.tol_orientation,
-    )
-
-
 def _timed(out: BatchResult, t0: float) -> BatchResult:
     object.__setattr__(out, "time", time.perf_counter() - t0)
     return out
@@ -412,7 +367,7 @@ def _joined(
     ``prefer``, each row's score the robot's from the tips' (``armik.arms_prefer``)."""
     n = len(seeds)
     solvers = "+".join(dict.fromkeys(b.solver for b in parts.values()))
-    out = _empty(arms, n, solvers, opts)
+    out = empty(arms, n, solvers, opts)
     out.q[:] = seeds
     out.success[:] = True
     out.status_code[:] = _CONVERGED

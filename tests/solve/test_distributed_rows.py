@@ -48,3 +48,23 @@ def test_a_preference_gives_the_local_answers(client):
     remote = on_dask.solve_batch(a, T, prefer="manipulability", client=client, chunk_size=3)
     assert local.success.all() and local.solver.endswith("prefer")
     _same(remote, local)
+
+
+def test_several_tips_solved_row_by_row_give_the_local_answers(client):
+    """``Arms.solve_batch`` over a shared joint and with a cost of the whole configuration
+    (a lambda, which Dask sends as its code) on the cluster: chunks of rows
+    (``armik.arms_rows.ArmsRows``), the robot sent once per worker as its chains' recipes,
+    each row solved there as ``Arms.solve`` solves it."""
+    shared = armik.load("panda", tips=["panda_link4", "panda_hand"])
+    qs = shared.random_q(6, n=5)
+    rows = shared.fk_batch(qs)
+    rows["panda_hand"][2, :3, 3] = [3.0, 0.0, 0.5]  # out of reach
+    options = {"hold": {"panda_joint2": None}, "prefer": lambda q: float(q @ q), "seed": 2}
+    local = shared.solve_batch(rows, q0=qs, progress=False, **options)
+    remote = shared.solve_batch(
+        rows, q0=qs, backend=on_dask.OnDask(client), chunk_size=2, progress=False, **options
+    )
+    assert local.solver == "arms" and local.success.sum() == 4 and not local.success[2]
+    _same(remote, local)
+    assert np.isfinite(local._scores[local.success]).all()
+    np.testing.assert_array_equal(remote._scores, local._scores)

@@ -1,0 +1,84 @@
+"""A several-tip batch solved row by row (chains that share joints, ``Relative`` tasks, a
+cost of the whole configuration: ``armik.arms_many``) as chunks of rows, each a batch
+backend's job (``ArmsRows``): picklable, the robot travelling as its chains' recipes, and
+called in any process that has armik it solves each row as ``Arms.solve`` solves it there,
+every tip verified and every constraint checked. The rows run here one chunk after
+another, on threads, or on a backend (``armik.solve.backends``: threads, forked processes,
+a Dask cluster's ``OnDask``), with the same answers: each row is solved alone from its own
+seed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from armik.batch_result import BatchResult
+from armik.problem.settings import SolverSettings
+from armik.solve import backends
+from armik.solve.backends import Backend, Rows, place
+from armik.solve.progress import ProgressArg, make_progress
+
+LABEL = "arms"  # the batch's solver: each row names its chains' own in its result
+
+
+class ArmsRows(NamedTuple):
+    """Rows ``start:start + len(targets)`` of the batch as a backend's job."""
+
+    arm: Any  # the ``armik.arms.Arms`` (``arm`` as every job's: a Dask runner sends it once)
+    targets: tuple[dict[str, object], ...]  # each row's target per tip
+    seeds: np.ndarray  # (rows, dof)
+    options: dict[str, Any]  # ``Arms.solve``'s, the same for every row
+    opts: SolverSettings  # the batch's tolerances, read once on the caller's side
+    start: int  # its first row in the batch
+
+    def __call__(self) -> Rows:
+        out = empty(self.arm, len(self.targets), LABEL, self.opts)
+        for i, row in enumerate(self.targets):
+            out.put_result(i, self.arm.solve(row, q0=self.seeds[i], **self.options))
+        return Rows(**vars(out), start=self.start)
+
+
+def solve_rows(
+    arms: Any,
+    targets: Mapping[str, Any],
+    seeds: np.ndarray,
+    options: dict[str, Any],
+    opts: SolverSettings,
+    chunk: int,
+    workers: int,
+    progress: ProgressArg = None,
+    run_jobs: Backend | None = None,
+) -> BatchResult:
+    """Every row of ``targets`` (tip -> N targets) from its row of ``seeds``, in jobs of
+    ``chunk`` rows: on ``run_jobs`` (a backend) with ``workers``, or without one here on
+    ``workers`` threads (1: one after another)."""
+    n = len(seeds)
+    rows = [{tip: each[i] for tip, each in targets.items()} for i in range(n)]
+    jobs = [
+        ArmsRows(arms, tuple(rows[s : s + chunk]), seeds[s : s + chunk], options, opts, s)
+        for s in range(0, n, chunk)
+    ]
+    if run_jobs is None:
+        run_jobs = backends.serial if workers == 1 or len(jobs) <= 1 else backends.threads
+    out = empty(arms, n, LABEL, opts)
+    bar = make_progress(progress, n, "+".join(arms.tips))
+    place(run_jobs, jobs, workers, out, bar)  # a row's error raises here, as in a loop
+    bar.close()
+    return out
+
+
+def empty(arms: Any, n: int, solver: str, opts: SolverSettings) -> BatchResult:
+    """A batch of ``n`` rows over every joint of ``arms``, to be filled in place."""
+    return BatchResult.empty(
+        n,
+        arms.dof,
+        solver=solver,
+        time=0.0,
+        joint_names=arms.joint_names,
+        arm="+".join(arms.tips),
+        tol_position=opts.tol_position,
+        tol_orientation=opts.tol_orientation,
+    )
