@@ -202,6 +202,30 @@ def test_a_path_holding_the_pandas_joint_7_is_solved_as_solve_solves_it():
     assert path.counts() == {"unreachable": 2} and path.solver == "swept", path.summary()
 
 
+def test_a_global_path_holding_another_joint_than_7_names_the_solver_that_solved_it():
+    """Joint 3 of the Panda held on a global path: no sweep runs (each rung is solved on
+    the arm with joint 3 locked, as solve solves it), so the result names that solver,
+    as the followed path does, not the sweep's; with a numeric solver named, both."""
+    panda = armik.load("panda")
+    q = panda.random_q(np.random.default_rng(1))
+    q[2] = 0.2
+    T = panda.fk(q)
+    line = [pin.SE3(T.rotation, T.translation + [0, 0.01 * k, 0]) for k in range(4)]
+    hold = {"panda_joint3": 0.2}
+    alone = panda.solve(line[0], q0=q, hold=hold)
+    assert alone.success and alone.solver != "swept"
+    for plan in ("follow", "global"):
+        path = panda.solve_path(line, q, hold=hold, plan=plan)
+        assert path.success.all() and path.solver == alone.solver, (plan, path.summary())
+        assert np.abs(path.q[:, 2] - 0.2).max() <= 1e-9
+        for pose, x in zip(line, path.q):
+            assert np.abs(pin.log6(pose.actInv(panda.fk(x))).vector).max() <= 1e-6
+    named = panda.solve_path(line, q, hold=hold, plan="global", solver="dls")
+    assert named.success.all() and "swept" not in named.solver.split("+"), named.solver
+    held7 = panda.solve_path(line, q, hold={"panda_joint7": float(q[6])}, plan="global")
+    assert held7.success.all() and held7.solver == "swept"  # the sweep at the held value
+
+
 @pytest.mark.parametrize("plan", ["follow", "global"])
 def test_a_path_holding_a_joint_at_none_holds_it_at_the_starts_value(plan, monkeypatch):
     """``hold={"panda_joint7": None}`` on a path holds the joint at q0's value, as on

@@ -69,13 +69,15 @@ def plan(
     score=None,
     reference: np.ndarray | None = None,
     turn: Turning = ANY,
-) -> None:
+) -> set[str]:
     """The least-motion path over ``rungs`` (each waypoint's ``solve_all`` results for
     ``targets``, by ``spec``) from ``q0`` (None: from any turn of any rung of the first
     waypoint), every step taken checked halfway, into ``out``'s rows (the dynamic
     programming in ``armik.kernel.ladder``). With ``score``: the continuous path of the
     least summed score against ``reference``, the motion breaking ties (``TIE``). Only the
-    turns ``turn`` allows: no held joint turns, and a turned rung passes the checks."""
+    turns ``turn`` allows: no held joint turns, and a turned rung passes the checks.
+    Returns the solvers the results it placed name (a held joint's rungs may come from
+    another solver than ``spec``: ``armik.solve.held``)."""
     good = [[r for r in rs if r.success] for rs in rungs]
     lower, upper, no_period = arm._limit_lists
     periodic = ~np.array(no_period, dtype=bool) & turn.free(arm.dof)
@@ -102,12 +104,15 @@ def plan(
     )  # fmt: skip
     rung, Q, broken, hidden, joint, size = _checked(arm, spec, opts, targets, args, node, weight)
     first = True
+    placed: set[str] = set()
     for i, rs in enumerate(rungs):
         if rung[i] < 0:  # no solution: its own failure (else held to the step below)
             out.put_result(i, rs[0])
             out.reasons[i] = rs[0].reason
+            placed.add(rs[0].solver)
             continue
         r = good[i][int(rung[i] - offs[i])]
+        placed.add(r.solver)
         if broken[i]:
             j = int(joint[i])
             # every solution only from a complete closed form: a search, a sweep, a
@@ -123,6 +128,7 @@ def plan(
             out._scores[i] = score(arm, out.q[i], reference)
         first = False
     held_to_step(arm, out, None if q0 is None else start, np.asarray(step, dtype=float))
+    return placed
 
 
 def held_to_step(arm: ArmModel, out: BatchResult, start: np.ndarray | None, step) -> None:

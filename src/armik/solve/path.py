@@ -117,7 +117,9 @@ def solve_path(
             followed = BatchResult.for_arm(
                 arm, n, spec.name, opts, margin=opts.margin, aimed=batch.aim is not None
             )
-            _walk(arm, batch, q_prev, step, request, local, followed, None, q0 is None, turn)
+            used = _walk(arm, batch, q_prev, step, request, local, followed, None, q0 is None, turn)
+            if held_auto and used is not None:  # its rows by the solver each waypoint chose
+                object.__setattr__(followed, "solver", used)
             found = (  # a 7R arm: joint 7 sampled; else answers tracked from start and breaks
                 rungs.held(arm, batch, q_prev, followed, request, every)
                 if every.sweep is not None
@@ -130,9 +132,16 @@ def solve_path(
         )
         start = None if q0 is None else q_prev
         # with a preference, the continuous path of the best summed score (ladder.TIE)
-        ladder.plan(arm, every, batch, found, start, step, opts, out, score, q_prev, turn)
+        made = ladder.plan(arm, every, batch, found, start, step, opts, out, score, q_prev, turn)
         refuse_broken(arm, out, turn)
-        return frozen(BatchResult, **{**vars(out), "time": time.perf_counter() - t0})
+        label = every.name
+        if every.sweep is not None and _holds_other(arm, opts, every.sweep.joint):
+            # no sweep ran: each rung was solved on the arm with the held joint locked
+            # (``armik.solve.held``), the followed answers by the solver each waypoint chose
+            label = "+".join(sorted(made)) or label
+        return frozen(
+            BatchResult, **{**vars(out), "solver": label, "time": time.perf_counter() - t0}
+        )
     chooser = None if score is None else _chooser(arm, score, q_prev, request, turn)
     used = _walk(arm, batch, q_prev, step, request, local, out, chooser, q0 is None, turn)
     ladder.held_to_step(arm, out, None if q0 is None else q_prev, step)
@@ -140,6 +149,11 @@ def solve_path(
     label = used if held_auto and used is not None else out.solver
     out = frozen(BatchResult, **{**vars(out), "solver": label, "time": time.perf_counter() - t0})
     return out
+
+
+def _holds_other(arm: ArmModel, opts, joint: int) -> bool:
+    """Whether ``opts`` hold a joint other than ``joint`` (a sweep's)."""
+    return opts.hold is not None and any(n != arm.joint_names[joint] for n, _ in opts.hold)
 
 
 def _followed_rows(arm: ArmModel, request: Request, step: np.ndarray) -> BatchResult:
