@@ -12,7 +12,10 @@ import pytest
 import armik
 from armik.constraints.collision import checker
 from armik.solve import slide as S
+from armik.solve.read import read
+from armik.targets.aim import aim_of
 from armik.targets.pose import parse_target
+from armik.verify.measure import measure
 
 from ..conftest import arm, model
 
@@ -108,3 +111,76 @@ def test_the_slide_is_an_option_a_followed_path_sets():
     assert seen == 2
     with pytest.raises(armik.OptionError, match="slide"):
         a.solve(a.fk(a.middle), slide="yes")
+
+
+def _colliding(a, rng, count: int):
+    """(q, sphere): ``count`` Panda configurations whose elbow is in a small sphere."""
+    found = []
+    while len(found) < count:
+        q = a.random_q(rng)
+        a.fk(q)
+        sphere = armik.Sphere(
+            0.05, a.kinematics.data.oMi[4].translation + rng.normal(size=3) * 0.03
+        )
+        if a.in_collision(q, [sphere]):
+            found.append((q, sphere))
+    return found
+
+
+def _sight_angle(a, q, point) -> float:
+    """The angle between the tip's z axis and its line of sight to ``point``, by FK."""
+    T = a.fk(q)
+    sight = np.asarray(point) - T.translation
+    return float(np.arccos(np.clip(T.rotation[:, 2] @ sight / np.linalg.norm(sight), -1, 1)))
+
+
+def test_a_slide_keeps_a_target_s_aim_not_its_rotation():
+    """A target with an aim asks for the tip's axis within a cone: an answer within it
+    already and clear stays where it is (the rotation beside the aim only points the cone),
+    and a colliding answer looking at a point slides out still looking at it, as the
+    verdict measures it, where it was pulled to the target's identity rotation."""
+    a = arm("panda")
+    rng = np.random.default_rng(5)
+    q = a.random_q(rng)
+    T = a.fk(q)
+    tilted = pin.SE3(T.rotation @ pin.exp3(np.array([0.25, 0.0, 0.0])), T.translation)
+    cone = parse_target(tilted).aimed(aim_of((0.0, 0.0, 1.0, 0.3)))
+    far = checker(a.kinematics, (armik.Sphere(0.05, (5.0, 0.0, 0.0)),), False)
+    out, used = S.slide(a.kinematics, cone, q, far, 0.0, 30, time.thread_time() + 1.0, 1e-7)
+    assert used == 0 and np.array_equal(out, q)  # within the cone: nothing to slide
+    kept = 0
+    for q, sphere in _colliding(a, rng, 20):
+        T = a.fk(q)
+        point = T * np.array([0.0, 0.0, 0.4])
+        tasks = [armik.Position(T.translation), armik.LookAt(point)]
+        request = read(a.kinematics, tasks, q, "auto", {})
+        target = request.target
+        assert target.aim is not None and target.aim.point is not None
+        ch = checker(a.kinematics, (sphere,), False)
+        out, used = S.slide(a.kinematics, target, q, ch, 0.0, 30, time.thread_time() + 1.0, 1e-7)
+        if used == 30:
+            continue  # the elbow cannot leave it near this pose: the restarts' job
+        assert ch.distance(out)[0] >= 0 and a.within_limits(out)
+        assert measure(a.kinematics, out, target, request.settings).pose_ok
+        assert np.linalg.norm(a.fk(out).translation - T.translation) < 1e-6
+        assert _sight_angle(a, out, point) < 1e-6
+        kept += 1
+    assert kept >= 3
+
+
+def test_a_solve_with_an_aim_slides_its_colliding_answer_clear():
+    """``solve(..., obstacles=, slide=True)`` of a position and a look-at: the first
+    answer collides and slides out of contact near q0, a success looking at the point
+    (its FK computed here), where the slide used to lose the aim and restarts took over."""
+    a = arm("panda")
+    slid = 0
+    for q, sphere in _colliding(a, np.random.default_rng(5), 20):
+        T = a.fk(q)
+        point = T * np.array([0.0, 0.0, 0.4])
+        tasks = [armik.Position(T.translation), armik.LookAt(point)]
+        r = a.solve(tasks, q0=q, obstacles=[sphere], slide=True, seed=1)
+        if not r.success:
+            continue
+        assert not a.in_collision(r.q, [sphere]) and _sight_angle(a, r.q, point) < 1e-5
+        slid += "slid out of contact" in r.reason
+    assert slid >= 2

@@ -7,6 +7,9 @@ normal n (from p1 to p2) and the points' Jacobians,
 
 so no pair closes faster than the damper allows, and one inside the margin is pushed out.
 Each step solves that small QP (the joint limits as rows too) by an active set, exactly.
+A target with an aim (``targets.aim``: a cone, a look-at, a direction) is its position and
+its axis within the cone (``aim_task``), not the rotation beside it: an answer the verdict
+takes keeps what it took it for, and the cone's freedom is the slide's too.
 A Python loop over Pinocchio and coal calls: ``solve.avoid`` uses it only when a numeric
 solver's verified answer collides, starting from that answer (it reaches the pose, so the
 slide keeps the pose and moves the arm out of contact, through its redundancy or its
@@ -21,10 +24,13 @@ import numpy as np
 import pinocchio as pin
 
 from armik import cpu_time
+from armik.problem.tasks.axis import Axis
+from armik.problem.tasks.look_at import LookAt
 
 if TYPE_CHECKING:
     from armik.constraints.collision import Checker
     from armik.model.arm_model import ArmModel
+    from armik.problem.tasks.base import Task
     from armik.targets.pose import Target
 
 D_ACT = 0.05  # m beyond the margin: pairs closer than this get a row
@@ -46,10 +52,12 @@ def slide(
 ) -> tuple[np.ndarray, int]:
     """(q, iterations used): the configuration reached from ``q`` (rad, m) within
     ``iterations`` steps and before ``deadline`` (``cpu_time.thread_time``), stopping once the
-    pose is within ``tol`` (m, rad) and every checked pair ``margin`` (m) apart."""
+    pose (with an aim: the position and the axis' angle outside its cone) is within ``tol``
+    (m, rad) and every checked pair ``margin`` (m) apart."""
     model, data = arm.model, arm.data
     frame = arm.tip_frame_id
     T_goal = arm.T_world_base * target.se3()
+    aim = aim_task(target)
     qp = arm.to_pin(q)
     lower, upper = arm.lower, arm.upper
     for it in range(iterations):
@@ -57,7 +65,13 @@ def slide(
             return arm.from_pin(qp), it
         pin.computeJointJacobians(model, data, qp)
         M = pin.updateFramePlacement(model, data, frame)
-        if target.rotation is None:
+        if aim is not None:  # the position, and the axis kept within its cone
+            J_tip = pin.getFrameJacobian(model, data, frame, pin.LOCAL)
+            T_base = arm.T_base_world * M
+            e = np.concatenate([M.rotation.T @ (T_goal.translation - M.translation),
+                                -aim.residual(T_base)])  # fmt: skip
+            J = np.vstack([J_tip[:3], aim.jacobian(T_base, J_tip)])
+        elif target.rotation is None:
             e = T_goal.translation - M.translation
             J = pin.getFrameJacobian(model, data, frame, pin.LOCAL_WORLD_ALIGNED)[:3]
         else:
@@ -76,6 +90,21 @@ def slide(
             dq *= MAX_STEP / biggest
         qp = pin.integrate(model, qp, dq)
     return arm.from_pin(qp), iterations
+
+
+def aim_task(target: Target) -> Task | None:
+    """The task a target's aim asks of the tip (``targets.aim``), whose residual is zero
+    inside the cone and whose angle outside it is what the verdict measures; None without
+    an aim. The rotation beside an aim only says where the cone points."""
+    aim = target.aim
+    if aim is None:
+        return None
+    if aim.point is not None:
+        return LookAt(aim.point, aim.axis, aim.within)
+    direction = aim.toward
+    if direction is None:  # the target rotation's image of the axis
+        direction = target.se3().rotation @ np.array(aim.axis)
+    return Axis(aim.axis, direction, aim.within)
 
 
 def _rows(
