@@ -364,3 +364,48 @@ def test_a_spin_off_the_last_axis_is_planned_over_the_spin_sweep():
         assert np.abs(M.translation).max() <= 1e-6
         assert np.abs(M.rotation[:, 2] - [0.0, 0.0, 1.0]).max() <= 1e-6
     assert np.abs(np.diff(np.vstack([q, planned.q]), axis=0)).max() <= 0.3 + 1e-12
+
+
+class _Unclaimed:
+    """A solver's spec whose one answer is ``q``, claimed not converged: the halfway check
+    then measures it itself (``ladder._nearest``)."""
+
+    run_batch = None
+
+    def __init__(self, q) -> None:
+        self.q = np.asarray(q, dtype=float)
+
+    def run(self, arm, target, seed, opts, every):
+        from armik.solvers.answers import Answers
+
+        return Answers.of([self.q], [Status.NOT_CONVERGED], ["best found"], arm.dof)
+
+
+def test_the_halfway_check_judges_an_answer_by_its_target_s_aim():
+    """An answer the solver does not claim is measured as the verdict measures it: with a
+    cone, on the tip's axis within the cone (taken: it was refused for the rotation beside
+    the aim), with a look-at on its line of sight (refused where its rotation is the
+    target's but its axis looks elsewhere: it was taken)."""
+    from armik.options import Options
+    from armik.solve import ladder
+    from armik.targets.aim import aim_of
+
+    panda = conftest.model("panda")
+    q = panda.random_q(np.random.default_rng(4))
+    T = panda.fk(q)
+    P = T.translation[None].copy()
+    tilted = (T.rotation @ pin.exp3(np.array([0.25, 0.0, 0.0])))[None]
+    opts = Options()
+    seeds = q[None].copy()
+    inside = aim_of((0.0, 0.0, 1.0, 0.3))
+    got = ladder._nearest(panda, _Unclaimed(q), opts, P, tilted, seeds, inside)
+    np.testing.assert_array_equal(got[0], q)  # its axis is 0.25 rad off: within 0.3
+    outside = aim_of((0.0, 0.0, 1.0, 0.2))
+    assert np.isnan(ladder._nearest(panda, _Unclaimed(q), opts, P, tilted, seeds, outside)).all()
+    aside = T * np.array([0.3, 0.0, 0.0])  # a point along the tip's x axis, not its z
+    look = aim_of((0.0, 0.0, 1.0, 0.0), look_at=aside)
+    exact = T.rotation[None].copy()
+    assert np.isnan(ladder._nearest(panda, _Unclaimed(q), opts, P, exact, seeds, look)).all()
+    ahead = aim_of((0.0, 0.0, 1.0, 0.0), look_at=T * np.array([0.0, 0.0, 0.3]))
+    got = ladder._nearest(panda, _Unclaimed(q), opts, P, exact, seeds, ahead)
+    np.testing.assert_array_equal(got[0], q)

@@ -48,8 +48,10 @@ from armik.solve.prefer import continuous_turned, turns
 from armik.solve.turning import ANY, Turning
 from armik.solvers.registry import SolverSpec
 from armik.status import Status
+from armik.targets.aim import Aim
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
+from armik.verify.measure import measure_batch
 
 TIE = 1e-6  # with a preference: the motion's weight beside the scores, a tie-break
 BEND = 0.125  # of max_joint_step: a halfway solution this far off the middle: halves checked
@@ -326,7 +328,7 @@ def _nearest(arm, spec: SolverSpec, opts: SolverSettings, P, R, seeds, aim=None)
         got = spec.run_batch(arm, TargetBatch(P, R, aim), seeds, opts)
         q = np.array(got.q, dtype=float)
         ok = got.claim == Status.CONVERGED.code
-        ok[~ok] = _reached(arm, q[~ok], P[~ok], R[~ok], opts)
+        ok[~ok] = _reached(arm, q[~ok], P[~ok], R[~ok], opts, aim)
     else:
         q = np.full_like(seeds, np.nan)
         for k, seed in enumerate(seeds):
@@ -336,7 +338,7 @@ def _nearest(arm, spec: SolverSpec, opts: SolverSettings, P, R, seeds, aim=None)
             for i in range(len(got)):
                 c = arm.nearest_equivalent(got.q[i], seed)
                 nearer = not np.abs(q[k] - seed).max() <= np.abs(c - seed).max()  # NaN: none yet
-                if nearer and (got.claimed(i) or _reached(arm, c[None], Pk, Rk, opts)[0]):
+                if nearer and (got.claimed(i) or _reached(arm, c[None], Pk, Rk, opts, aim)[0]):
                     q[k] = c
         ok = ~np.isnan(q).any(axis=1)
     ok &= ((q >= arm.lower - 1e-9) & (q <= arm.upper + 1e-9)).all(axis=1)
@@ -344,18 +346,13 @@ def _nearest(arm, spec: SolverSpec, opts: SolverSettings, P, R, seeds, aim=None)
     return q
 
 
-def _reached(arm, Q, P, R, opts: SolverSettings) -> np.ndarray:
-    """Whether the FK of each row of ``Q`` is on its pose within the tolerances."""
+def _reached(arm, Q, P, R, opts: SolverSettings, aim: Aim | None = None) -> np.ndarray:
+    """Whether the FK of each row of ``Q`` is on its pose within the tolerances, as the
+    verdict measures it (``verify.measure.measure_batch``): with ``aim``, the position and
+    the tip's axis within its cone, not the rotation beside it."""
     if not len(Q):
         return np.zeros(0, dtype=bool)
-    T = arm.fk_batch(Q)
-    ok = np.linalg.norm(T[:, :3, 3] - P, axis=1) <= opts.tol_position
-    if R is not None:  # the angle between the rotations, accurate near 0 and near pi
-        D = np.einsum("kji,kjl->kil", T[:, :3, :3], R)
-        w = np.stack((D[:, 2, 1] - D[:, 1, 2], D[:, 0, 2] - D[:, 2, 0], D[:, 1, 0] - D[:, 0, 1]))
-        cos = np.trace(D, axis1=1, axis2=2) - 1.0
-        ok &= np.arctan2(np.linalg.norm(w, axis=0), cos) <= opts.tol_orientation
-    return ok
+    return measure_batch(arm, Q, TargetBatch(P, R, aim), opts).pose_ok
 
 
 def _broken(arm, r: IKResult, j: int, size: float, step: float, hidden: bool, first, every, out):
