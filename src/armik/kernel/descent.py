@@ -91,7 +91,8 @@ def _measure(ch, st, R_t, p_t, ws, slot):
 def descend(ch, st, R_t, p_t, q0, ws, limit, deadline_ns, n_minima, step, measure):
     """Iterate from ws.q[0] with ``step`` (``step.dls`` or ``step.qp``), measuring with
     ``measure`` (``_measure``), for at most ``limit`` iterations (and, if ``deadline_ns`` is
-    not NO_LIMIT, until the thread's CPU clock passes it). Returns (iterations, converged, slot of the last state)."""
+    not NO_LIMIT, until the thread's CPU clock passes it). Returns (iterations, converged,
+    slot of the last state)."""
     cur = ZERO
     measure(ch, st, R_t, p_t, ws, cur)
     best_sq = ws.val[cur, 2]
