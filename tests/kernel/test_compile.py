@@ -65,10 +65,8 @@ def test_a_tour_of_every_option_compiles_each_kernel_once():
     for entry in (
         "armik.kernel.single.solve_pose_dls",
         "armik.kernel.single.solve_pose_qp",
-        "armik.kernel.single.solve_pose_dls_exact",
-        "armik.kernel.single.solve_pose_qp_exact",
-        "armik.kernel.entry.solve_targets_dls_exact",
-        "armik.kernel.entry.solve_targets_qp_exact",
+        "armik.kernel.entry.solve_targets_dls",
+        "armik.kernel.entry.solve_targets_qp",
         "armik.kernel.measure.placement_check",
         "armik.kernel.fk_many.fk_many",
         "armik.solvers.closed_form.three_parallel.solve_into",

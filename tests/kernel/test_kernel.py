@@ -201,10 +201,7 @@ def test_a_lying_kernel_is_caught_by_the_fk_check(monkeypatch):
         return lying
 
     monkeypatch.setattr(numeric, "ENTRIES", tuple(liar(e) for e in numeric.ENTRIES))
-    monkeypatch.setattr(numeric, "EXACT_ENTRIES", tuple(liar(e) for e in numeric.EXACT_ENTRIES))
     monkeypatch.setattr(numeric, "POSE_ENTRIES", tuple(pose_liar(e) for e in numeric.POSE_ENTRIES))
-    exact = tuple(pose_liar(e) for e in numeric.EXACT_POSE_ENTRIES)  # targets without a region
-    monkeypatch.setattr(numeric, "EXACT_POSE_ENTRIES", exact)
     a = armik.load("ur5")  # a fresh arm: its prepared solves use the lying entries
     q = a.random_q(np.random.default_rng(3))
     T = a.fk(q)

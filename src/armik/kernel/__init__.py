@@ -10,8 +10,7 @@ that no cached caller keeps a callee's old code.
 - ``linalg``: Cholesky solves for the small dense systems of a step.
 - ``clock``: the CPU time of the calling thread (the budget threads cannot steal).
 - ``step``: the damped least-squares step and the box-QP step (active set, QP fallback).
-- ``descent``: the pose error, one attempt (``descend``), restarts; for a target without a
-  region, ``solve_one_*_exact``, which compile none of the region's code.
+- ``descent``: the pose error, one attempt (``descend``), restarts.
 - ``entry``: ``solve_targets``, a whole solve for N targets, GIL released.
 - ``measure``: the verification errors from Pinocchio placements.
 - ``box_qp``: the QP backend the qp step falls back to (object mode, qpsolvers).

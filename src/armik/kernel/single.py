@@ -16,12 +16,7 @@ import numpy as np
 from numba import njit
 
 from armik.kernel.chain import Flat, joints, lower, upper
-from armik.kernel.descent import (
-    solve_one_dls,
-    solve_one_dls_exact,
-    solve_one_qp,
-    solve_one_qp_exact,
-)
+from armik.kernel.descent import solve_one_dls, solve_one_qp
 from armik.kernel.entry import MINIMA_CAPACITY
 from armik.kernel.measure import inside_limits, split_pose
 from armik.kernel.problem import _workspace
@@ -100,36 +95,4 @@ def solve_pose_qp(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
     return True
 
 
-@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
-def solve_pose_dls_exact(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
-    """``solve_pose_dls`` for a target without a region: no region code compiled in. False,
-    without solving, for settings with a region (``solve_pose_dls`` solves those)."""
-    ch = Flat(packed, kind, halton)
-    if not plain_pose(H) or not plain_seed(q0, lower(ch), upper(ch)):
-        return False
-    st = unpack_settings(sf, si)
-    if st.region:
-        return False
-    R_t, p_t = split_pose(H)
-    ws = _workspace(q0.shape[0], min(st.max_restarts + 1, MINIMA_CAPACITY), joints(ch))
-    solve_one_dls_exact(ch, st, R_t, p_t, q0, np.uint64(seed), ws, out_q, info, err)
-    return True
-
-
-@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
-def solve_pose_qp_exact(packed, kind, halton, sf, si, H, q0, seed, out_q, info, err):
-    """``solve_pose_dls_exact`` with the qp step."""
-    ch = Flat(packed, kind, halton)
-    if not plain_pose(H) or not plain_seed(q0, lower(ch), upper(ch)):
-        return False
-    st = unpack_settings(sf, si)
-    if st.region:
-        return False
-    R_t, p_t = split_pose(H)
-    ws = _workspace(q0.shape[0], min(st.max_restarts + 1, MINIMA_CAPACITY), joints(ch))
-    solve_one_qp_exact(ch, st, R_t, p_t, q0, np.uint64(seed), ws, out_q, info, err)
-    return True
-
-
 POSE_ENTRIES = (solve_pose_dls, solve_pose_qp)  # indexed by problem.STEP_DLS, STEP_QP
-EXACT_POSE_ENTRIES = (solve_pose_dls_exact, solve_pose_qp_exact)  # a target without a region

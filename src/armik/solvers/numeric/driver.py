@@ -27,7 +27,7 @@ from armik.kernel import descent as _descent
 from armik.kernel import warmup
 from armik.kernel.chain import halton
 from armik.kernel.descent import CAREFUL_BELOW, KNOWN_MINIMUM_RADIUS  # noqa: F401 (re-exported)
-from armik.kernel.entry import ENTRIES, EXACT_ENTRIES
+from armik.kernel.entry import ENTRIES
 from armik.kernel.problem import (
     LOOK_POINT,
     LOOK_TOWARD,
@@ -40,7 +40,7 @@ from armik.kernel.problem import (
     pack_settings,
 )
 from armik.kernel.restarts import RESTART_CANDIDATES  # noqa: F401 (re-exported)
-from armik.kernel.single import EXACT_POSE_ENTRIES, POSE_ENTRIES
+from armik.kernel.single import POSE_ENTRIES
 from armik.kernel.step import backend_step
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
@@ -257,7 +257,7 @@ def run_numeric(
     if step.kind not in warmup.PREPARED:  # a warm process: nothing to prepare
         warmup.prepare(step.kind)
     region = opts.bounds is not None or aim is not None
-    entry = (ENTRIES if region else EXACT_ENTRIES)[step.kind]  # no region: no region code
+    entry = ENTRIES[step.kind]
     entry(*arm.kernel_chain.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
     return kernel_answers(arm, target.position, q0, opts, sf, info[0], out_q[0], err[0], region)
 
@@ -305,9 +305,8 @@ def pose_runner(
     dof = arm.dof
     sf, si = packed_settings(arm, opts, position_only, 1, step, aim)
     warmup.prepare(step.kind)  # once per plan
-    # without a region, the entry that compiles none of the region's code
     region = opts.bounds is not None or aim is not None
-    entry = (POSE_ENTRIES if region else EXACT_POSE_ENTRIES)[step.kind]
+    entry = POSE_ENTRIES[step.kind]
     packed, kind, halton_ = arm.kernel_chain.flat
     converged_code = _descent.CONVERGED
 
@@ -389,8 +388,7 @@ def run_numeric_batch(
     kc = arm.kernel_chain
     if step.kind not in warmup.PREPARED:  # a warm process: nothing to prepare
         warmup.prepare(step.kind)
-    region = opts.bounds is not None or aim is not None
-    entry = (ENTRIES if region else EXACT_ENTRIES)[step.kind]  # no region: no region code
+    entry = ENTRIES[step.kind]
     entry(*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
     return Answers(
         q=out_q[:, 0],
