@@ -136,9 +136,13 @@ class BatchResult:
         pos, ori = self.position_error[i], self.orientation_error[i]
         if not math.isnan(apart[0]):  # the verdict measured apart: what it measured first
             pos, ori = apart[0], apart[1]
-        measured = reasons.measured(pos, ori, self.tol_position, self.tol_orientation)
+        tol_p, tol_r = self.tol_position, self.tol_orientation
+        if self.region:  # inside it for a success
+            measured = reasons.region(pos, ori, tol_p, tol_r, None)
+        else:
+            measured = reasons.measured(pos, ori, tol_p, tol_r)
         said = self.claim.format(int(self.restarts[i])) if self.claim and self.success[i] else None
-        text = reasons.verified(said, reasons.outside_region(measured) if self.region else measured)
+        text = reasons.verified(said, measured)
         if not math.isnan(apart[0]):
             pos, ori = float(self.position_error[i]), float(self.orientation_error[i])
             text = reasons.measured_apart(text, pos, ori, not self.region)

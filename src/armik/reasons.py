@@ -21,6 +21,24 @@ def outside_region(measured_text: str) -> str:
     return f"outside the region: {measured_text}"
 
 
+def region(pos: float, ori: float | None, tol_p: float, tol_r: float, cone: float | None) -> str:
+    """A measure of a target with a region (bounds, an aim): its errors are the distances
+    outside it, within the tolerances "inside the region", else "outside" (NaN: not
+    placed). With an aim (``cone``: its angle, rad) the orientation error is the tip axis'
+    angle outside its cone: "within its cone", or the axis' angle from its direction."""
+    inside = pos <= tol_p and (ori is None or ori <= tol_r)  # False for NaN
+    where = "inside" if inside else "outside"
+    if cone is None or ori is None or ori != ori:
+        return f"{where} the region: {measured(pos, ori, tol_p, tol_r)}"
+    text = f"{where} the region: {measured(pos, None, tol_p, tol_r)}"
+    if ori <= tol_r:
+        return f"{text}, the tip's axis within its cone of {cone:.3g} rad"
+    return (
+        f"{text}, the tip's axis {ori + cone:.3g} rad from its direction, outside its cone of "
+        f"{cone:.3g} rad{_tol_text(tol_r)}"
+    )
+
+
 CONVERGED = "converged after {} restart(s)"  # a numeric solver's claim: its restarts
 
 

@@ -20,7 +20,8 @@ class IKResult:
 
     ``q``: joint values (rad, m), one per joint, read-only. ``success`` is True only if the
     FK errors are within tolerance and every joint is within its limits. ``position_error``
-    (m) and ``orientation_error`` (rad, geodesic; None for a position-only target) are
+    (m) and ``orientation_error`` (rad, geodesic; for a target with an aim, the tip axis'
+    angle to its direction; None for a position-only target without one) are
     the distances of ``q``'s tip to the target; where the request measured other than
     them (weights, a region), ``measured`` gives what its verdict measured. ``time`` (s)
     covers the whole call including verification.

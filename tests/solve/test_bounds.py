@@ -88,7 +88,8 @@ def test_a_target_inside_its_bounds_needs_no_step():
     r = a.solve(boxed(a, q, np.random.default_rng(2)), bounds=BOX, q0=q)
     assert r.success and r.iterations == 0
     np.testing.assert_array_equal(r.q, q)
-    assert "outside the region: position error 0 m" in r.reason
+    assert "inside the region: position error 0 m" in r.reason  # a success says what held
+    assert "outside the region" not in r.reason
 
 
 def test_no_bounds_is_the_exact_target():
@@ -130,9 +131,10 @@ def test_batch_and_solve_all_take_bounds(tmp_path):
         r = a.solve(H, **opts)
         assert b.success[i] and r.success
         np.testing.assert_allclose(b.q[i], r.q, atol=1e-12)
-        assert "outside the region: position error" in b.reason(i)  # as a solve says
+        assert "inside the region: position error" in b.reason(i)  # as a solve says
+        assert "inside the region: position error" in r.reason
     kept = b[np.arange(len(poses)) % 2 == 0]  # a batch's rows keep their region
-    assert kept.region and "outside the region" in kept.reason(0)
+    assert kept.region and "inside the region" in kept.reason(0)
     back = armik.BatchResult.load(kept.save(tmp_path / "spun.npz"))
     assert back.region and back.reason(0) == kept.reason(0)
     assert not a.solve_batch(poses[:2], workers=1, progress=False).region

@@ -12,6 +12,7 @@ import pytest
 
 import armik
 from armik.kernel.ladder import _child
+from armik.solve import rungs
 from armik.status import Status
 
 from .. import conftest
@@ -250,6 +251,36 @@ def test_a_7r_plan_samples_joint_7_and_moves_no_more_than_following():
     assert steps.max() <= 0.3 + 1e-12
     assert motion(q, planned.q) <= motion(q, follow.q) + 1e-9
     assert len({round(x, 6) for x in planned.q[:, 6]}) > 1  # joint 7 moves with the path
+
+
+@pytest.mark.parametrize("solver", ["dls", "qp"])
+def test_a_7r_plan_by_a_named_numeric_solver_tracks_its_answers(solver, monkeypatch):
+    """``solver="dls"`` on the Panda: the rungs are that solver's answers tracked along the
+    path (``rungs.tracked``), not the swept closed form's "auto" would take, and the plan
+    is labelled with it; verified, within the step bound."""
+    panda = conftest.arm("panda")
+    rng = np.random.default_rng(5)
+    q = panda.random_q(rng)
+    T = panda.fk(q)
+    poses = [pin.SE3(T.rotation, T.translation + [0.005 * k, 0.0, 0.0]) for k in range(6)]
+    asked = []
+    tracked = rungs.tracked
+
+    def spy(arm, batch, q_start, name, followed, request):
+        asked.append(name)
+        return tracked(arm, batch, q_start, name, followed, request)
+
+    def unswept(*args):
+        raise AssertionError("the sweep ran for a named numeric solver")
+
+    monkeypatch.setattr(rungs, "tracked", spy)
+    monkeypatch.setattr(rungs, "held", unswept)
+    planned = panda.solve_path(poses, q, max_joint_step=0.3, plan="global", solver=solver)
+    assert asked == [solver] and planned.solver == solver, planned.summary()
+    assert planned.success.all(), planned.summary()
+    for pose, x in zip(poses, planned.q):
+        assert np.abs(pin.log6(pose.actInv(panda.fk(x))).vector).max() <= 1e-6
+    assert np.abs(np.diff(np.vstack([q, planned.q]), axis=0)).max() <= 0.3 + 1e-12
 
 
 def _across_the_wrist_singularity(arm):

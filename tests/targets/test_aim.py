@@ -115,3 +115,23 @@ def test_the_prepared_plan_measures_a_miss_against_the_aim():
         assert r.measured[1] == pytest.approx(max(angle - 0.05, 0.0), abs=1e-9)
         distance = float(np.linalg.norm(tip.translation - T.translation))
         assert r.position_error == pytest.approx(distance, abs=1e-9)
+
+
+def test_a_cone_alone_on_a_position_is_refused_with_the_way_to_say_it():
+    """``cone=`` without ``look_at=`` or ``toward=`` on a position: no rotation carries
+    the axis anywhere (it was held about the base frame's own axis); named, on every
+    route, with ``toward=`` spelled out. On a pose it is the rotation's axis, as before."""
+    a = bundled("ur5")
+    T = a.fk(a.middle)
+    p = T.translation
+    for call in (
+        lambda: a.solve(p, cone=(0, 0, 2, 0.1)),
+        lambda: a.solve_all(p, cone=(0, 0, 2, 0.1)),
+        lambda: a.solve_batch([p, p], cone=(0, 0, 2, 0.1), progress=False),
+        lambda: a.solve_path([p, p], a.middle, cone=(0, 0, 2, 0.1)),
+    ):
+        with pytest.raises(armik.OptionError, match=r"toward=\(0, 0, 1\)") as info:
+            call()
+        assert info.value.option == "cone" and "position target" in str(info.value)
+    assert a.solve(p, cone=(0, 0, 1, 0.1), toward=(0, 0, -1)).success
+    assert a.solve(T, cone=(0, 0, 1, 0.1)).success

@@ -106,7 +106,9 @@ def solve_path(
         # every solution: what solve_all would run (a search where one is not complete)
         first = batch.target(0) if n else None
         every = registry.choose(solver, arm, first, opts, True)
-        if every.kind == "numeric":  # a 7R arm whose joint 7 can be held: its sweep
+        # "auto" on a 7R arm whose joint 7 can be held: its sweep; a numeric solver the
+        # user names gives the rungs itself, its answers tracked (``rungs.tracked``)
+        if every.kind == "numeric" and solver == "auto":
             swept = (
                 s
                 for s in registry.sweeps()

@@ -178,7 +178,8 @@ class Plan:
             arm.lower,
             arm.upper,
         )
-        self.measure_rot = measure_rot
+        # an aim is measured, a position target's too: the angle outside its cone
+        self.measure_rot = measure_rot or aim is not None
         # several answers of one target: measured by the compiled FK, as the general
         # verdict measures them (``verify.measure.measure_many``)
         self.flat = arm.kernel_chain.flat
@@ -192,7 +193,7 @@ class Plan:
         self.apart = None
         self.weighted = opts.weights is not None
         # the true distances measure the rotation of a full pose, whatever its weights
-        self.apart_rot = not (opts.position_only or position)
+        self.apart_rot = aim is not None or not (opts.position_only or position)
         region = opts.bounds is not None or aim is not None
         if self.weighted and not region:
             w, _, _ = measures_of(arm, None, opts.position_only, position)
@@ -204,6 +205,7 @@ class Plan:
             self.fk_apart = fk_check_frame(w, flags, arm.lower, arm.upper)  # several answers
         # a region (bounds, a cone): measured by ``verify.region``, as the general path does
         self.region = (opts.region_bounds, w, aim and aim.cone) if region else None
+        self.cone = None if aim is None else aim.within  # what a success's words name
         self.tol_p, self.tol_r = opts.tol_position, opts.tol_orientation
         # its every row solved, measured and judged in one compiled call
         judging = getattr(self.run_pose, "judging", None)
@@ -321,7 +323,7 @@ class Plan:
             inside = self.arm._within(q.tolist())
         ori = ori if self.measure_rot else None
         fields = claimed_verdict(
-            self.arm, got, pos, ori, inside, self.tol_p, self.tol_r, region is not None
+            self.arm, got, pos, ori, inside, self.tol_p, self.tol_r, region is not None, self.cone
         )
         if fields is None or not fields["success"]:  # the next row may pass: every row
             answers = self._refused(got, H, q0, seed, xy)

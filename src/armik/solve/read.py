@@ -28,7 +28,7 @@ from armik.problem.scores import fit_posture, parse_score
 from armik.problem.tasks import Pose, Position, Task
 from armik.request import Request
 from armik.solve.tasks import SOLVER, check_said_twice, lower_all, task_problems
-from armik.targets.aim import Aim, aim_of
+from armik.targets.aim import Aim, aim_of, refuse_without_direction
 from armik.targets.batch import TargetBatch, parse_targets
 from armik.targets.pose import Target, parsed
 
@@ -90,6 +90,7 @@ def read(
     if aim is not None:  # the target carries it; its plans are kept apart by its shape
         if type(target) is not Target or target.aim is not aim:
             target = parsed(target, arm).aimed(aim)
+        refuse_without_direction(aim, target.rotation is not None)
         key = None if key is None else (key, aim[0], aim[1], aim[2] is None, aim[3] is None)
         if aim.point is not None:  # [Position(p), LookAt(p)]'s refusal
             refuse_looking_from_target(target.position, aim, opts)
@@ -126,6 +127,7 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
             aim = _aimed_once(targets, aim)
     if aim is not None:  # every target's: the batch carries it
         targets = _aimed_batch(parse_targets(targets, arm), aim)
+        refuse_without_direction(aim, targets.rotations is not None)
     if rows is None and options.get("prefer") is not None:  # each target's answers ranked
         batch = parse_targets(targets, arm)
         rows, ranked = [batch.target(i) for i in range(len(batch))], True
@@ -191,6 +193,7 @@ def read_path(
     opts, key, seed = settings(arm, {**options, "max_restarts": 0})
     if aim is not None:  # every waypoint's: the path's batch carries it
         poses = _aimed_batch(parse_targets(poses, arm), aim)
+        refuse_without_direction(aim, poses.rotations is not None)
         key = None if key is None else (key, aim.shape)
         if aim.point is not None:  # [Position(p), LookAt(p)]'s refusal, at every waypoint
             refuse_looking_from_target(poses.positions, aim, opts)

@@ -56,7 +56,11 @@ class Aim(NamedTuple):
 def aim_of(cone: object = None, look_at: object = None, toward: object = None) -> Aim | None:
     """The aim the keywords ``cone=(ax, ay, az, within)``, ``look_at=(px, py, pz)`` and
     ``toward=(dx, dy, dz)`` spell (None: none given); an ``OptionError`` naming the bad
-    value and the way to say it."""
+    value and the way to say it.
+
+    ``cone=`` alone points the axis where the target's rotation takes it (``R_t a``), so it
+    needs a pose: on a position target it is refused (``refuse_without_direction``), not
+    read as the identity's (the base frame's own axis, "up" for a tool's z)."""
     if cone is None:
         if look_at is not None or toward is not None:
             name, value = ("look_at", look_at) if toward is None else ("toward", toward)
@@ -125,3 +129,22 @@ def _sight(name: str, value: object) -> Vector:
     if name == "toward":
         p = p / length
     return (float(p[0]), float(p[1]), float(p[2]))
+
+
+def refuse_without_direction(aim: Aim, rotated: bool) -> None:
+    """An ``OptionError`` for a cone with nothing to point along: no look-at, no direction
+    and a target without a rotation (``rotated`` False: a position). Its axis would be
+    held about the base frame's axis of the same name, which no one asks for by saying
+    nothing (a tool's z "up"); the message says how to ask for that or anything else."""
+    if rotated or aim.point is not None or aim.toward is not None:
+        return
+    a = ", ".join(f"{x:g}" for x in aim.axis)
+    raise OptionError(
+        f"cone=({a}, {aim.within:g}) on a position target points the tip's axis nowhere: a "
+        "position has no rotation to carry the axis onto a direction; say where it points "
+        f"with toward=(dx, dy, dz) (a base-frame direction: toward=({a}) for the base "
+        "frame's own axis) or look_at=(px, py, pz), or give a pose whose rotation takes "
+        "the axis there",
+        option="cone",
+        value=aim.cone,
+    )

@@ -52,6 +52,7 @@ class Measure:
     tol_position: float
     tol_orientation: float
     region: bool = False  # the errors are the distances outside the target's bounds
+    cone: float | None = None  # rad: the aim's cone; the orientation error lies outside it
 
     @property
     def pose_ok(self) -> bool:
@@ -63,10 +64,10 @@ class Measure:
         return self.pose_ok and not self.violations
 
     def describe(self) -> str:
-        text = reasons.measured(
-            self.position_error, self.orientation_error, self.tol_position, self.tol_orientation
-        )
-        return reasons.outside_region(text) if self.region else text
+        pos, ori = self.position_error, self.orientation_error
+        if self.region:
+            return reasons.region(pos, ori, self.tol_position, self.tol_orientation, self.cone)
+        return reasons.measured(pos, ori, self.tol_position, self.tol_orientation)
 
 
 class Measured(dict):
@@ -128,6 +129,7 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: SolverSettings) 
             w,
             *_aim_args(aim),
         )
+        measure_rot = measure_rot or aim is not None  # an aim is measured, a position's too
     # C-ordered, writable float64 arrays: numba compiles anew for every other layout, and
     # Pinocchio's rotation is Fortran-ordered. ``T.homogeneous`` is a fresh C-ordered 4x4
     # whose top-left 3x3 block is the rotation: ``pose_error`` reads R_w[a, b] for a, b < 3
@@ -153,6 +155,7 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: SolverSettings) 
         tol_position=opts.tol_position,
         tol_orientation=opts.tol_orientation,
         region=region,
+        cone=None if aim is None else aim.within,
     )
 
 
@@ -224,6 +227,7 @@ def _region_many(arm: ArmModel, qs: list[np.ndarray], target: Target, opts: Solv
         opts.tol_orientation,
         measure_rot,
         True,
+        None if target.aim is None else target.aim.within,
     )
 
 
@@ -249,6 +253,7 @@ class BatchMeasure:
     tol_orientation: float
     rotation: bool = True  # the orientation is measured (else NaN throughout)
     region: bool = False  # the errors are the distances outside the target's region
+    cone: float | None = None  # rad: the aim's cone; the orientation error lies outside it
 
     @classmethod
     def of(cls, measures: list[Measure]) -> BatchMeasure:
@@ -265,6 +270,7 @@ class BatchMeasure:
             first.tol_orientation,
             rotation,
             first.region,
+            first.cone,
         )
 
     @property
@@ -306,7 +312,8 @@ def _errors(
     """(errors (N, 2), orientation measured): each placement's position and orientation
     errors against its target (rotations ``R_t``, positions ``p_t``, C-ordered float64),
     the distances outside the region where ``opts`` and the targets' ``aim`` give one
-    (``region``: whether they do); NaN where the orientation is not measured."""
+    (``region``: whether they do); NaN where the orientation is not measured. An aim is
+    measured whatever the weights and the target's kind: its angle outside the cone."""
     measured = arm._derived.get(MEASURED)  # read as a dict, not through a call
     if measured is None:
         measured = MEASURED(arm)
@@ -322,6 +329,7 @@ def _errors(
             w,
             *_aim_args(aim),
         )
+        measure_rot = measure_rot or aim is not None
         if not measure_rot:
             out[:, 1] = np.nan
         return out, measure_rot
@@ -359,6 +367,6 @@ def measure_batch(
     ch = arm.kernel_chain.chain
     inside = np.empty(n, dtype=np.bool_)
     within_limits(Q, ch.lower, ch.upper, LIMIT_TOL, inside)
-    return BatchMeasure(
-        out[:, 0], out[:, 1], inside, opts.tol_position, opts.tol_orientation, rotation, region
-    )
+    tol_p, tol_r = opts.tol_position, opts.tol_orientation
+    cone = None if aim is None else aim.within
+    return BatchMeasure(out[:, 0], out[:, 1], inside, tol_p, tol_r, rotation, region, cone)

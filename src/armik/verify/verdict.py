@@ -128,6 +128,7 @@ def decide(
         tol_position=m.tol_position,
         tol_orientation=m.tol_orientation,
         region=m.region,
+        cone=m.cone,
     )
     for i in np.flatnonzero(~ok).tolist():  # the rare failures get their words
         out.words[i] = _failure_words(arm, out, m, i, opts, positions)
@@ -153,6 +154,7 @@ def decide_one(arm: ArmModel, answers: Answers, m: Measure, opts: SolverSettings
         tol_orientation=m.tol_orientation,
         region=m.region,
         extra=None,
+        cone=m.cone,
     )
 
 
@@ -259,15 +261,18 @@ def seed_distance(q: np.ndarray, seed: np.ndarray) -> float:
     return float(np.sqrt(d.dot(d)))
 
 
-def success_reason(claim_reason, claim_args, pos, ori, tol_p, tol_r, region=False) -> str:
+def success_reason(
+    claim_reason, claim_args, pos, ori, tol_p, tol_r, region=False, cone=None
+) -> str:
     """The reason of a success from its parts: the claim's reason is ``claim_reason``
     itself, or ``claim_reason(*claim_args)`` when it is a function (results of prepared
     solves write their reason on first read, see ``IKResult``); ``region``: the errors are
-    the distances outside the target's region."""
+    the distances outside the target's region (``cone``: its aim's angle, rad)."""
     if callable(claim_reason):
         claim_reason = claim_reason(*claim_args)
-    text = reasons.measured(pos, ori, tol_p, tol_r)
-    return reasons.verified(claim_reason, reasons.outside_region(text) if region else text)
+    if region:
+        return reasons.verified(claim_reason, reasons.region(pos, ori, tol_p, tol_r, cone))
+    return reasons.verified(claim_reason, reasons.measured(pos, ori, tol_p, tol_r))
 
 
 def limits_reason(arm: ArmModel, q: np.ndarray) -> str:
@@ -284,10 +289,11 @@ def claimed_verdict(
     tol_p: float,
     tol_r: float,
     region: bool = False,
+    cone: float | None = None,
 ) -> dict | None:
     """``verdict`` of a prepared runner's claimed answer ``got`` from its measure (``ori``
     None where the orientation is not measured; ``inside``: within the limits; ``region``:
-    the errors are the distances outside the target's region),
+    the errors are the distances outside the target's region, ``cone``: its aim's angle),
     without building the ``Answers`` and ``Measure``: a success within the tolerances and
     the limits, ``joint_limits`` outside the limits, else None (the general ``verdict``
     decides: ``check_failed``'s reason needs the target's region). The fields of an
@@ -297,7 +303,9 @@ def claimed_verdict(
         q.setflags(write=False)
     its, rs, branch, singular = got.iterations, got.restarts, got.branch, got.singular
     why = (got.reason, got.reason_args)
-    return _claimed(arm, q, its, rs, branch, singular, pos, ori, inside, tol_p, tol_r, why, region)
+    return _claimed(
+        arm, q, its, rs, branch, singular, pos, ori, inside, tol_p, tol_r, why, region, cone
+    )
 
 
 def claimed_rows(
@@ -325,7 +333,9 @@ def claimed_rows(
     return out
 
 
-def _claimed(arm, q, its, rs, branch, singular, pos, ori, inside, tol_p, tol_r, why, region):
+def _claimed(
+    arm, q, its, rs, branch, singular, pos, ori, inside, tol_p, tol_r, why, region, cone=None
+):
     """The fields of a claimed answer's result but ``solver`` and ``time``, by the rule
     (``status_of`` a claim): a success within the tolerances and the limits,
     ``joint_limits`` outside the limits, else None (the general verdict decides). ``why``:
@@ -333,7 +343,7 @@ def _claimed(arm, q, its, rs, branch, singular, pos, ori, inside, tol_p, tol_r, 
     ok = inside and pos <= tol_p and (ori is None or ori <= tol_r)
     status = _DECIDED[1][1 if ok else 0][1 if inside else 0]
     if status is _SUCCESS:
-        reason: tuple = (success_reason, (why[0], why[1], pos, ori, tol_p, tol_r, region))
+        reason: tuple = (success_reason, (why[0], why[1], pos, ori, tol_p, tol_r, region, cone))
     elif status is _OUTSIDE:
         reason = (limits_reason, (arm, q))
     else:

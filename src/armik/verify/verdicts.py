@@ -43,6 +43,7 @@ class Verdicts:
     tol_orientation: float
     region: bool = False  # the errors are the distances outside the target's region
     extra: list[dict] | None = None  # per row, what its result keeps (a collision check)
+    cone: float | None = None  # rad: the aim's cone, the orientation error outside it
 
     def __len__(self) -> int:
         return len(self.words)
@@ -62,10 +63,10 @@ class Verdicts:
     def measured(self, i: int) -> str:
         """Row i's errors in words."""
         ori = self.orientation_error.item(i) if self.rotation else None
-        text = reasons.measured(
-            self.position_error.item(i), ori, self.tol_position, self.tol_orientation
-        )
-        return reasons.outside_region(text) if self.region else text
+        pos, tol_p, tol_r = self.position_error.item(i), self.tol_position, self.tol_orientation
+        if self.region:
+            return reasons.region(pos, ori, tol_p, tol_r, self.cone)
+        return reasons.measured(pos, ori, tol_p, tol_r)
 
     def reason(self, i: int) -> str:
         """Why row i ended as it did: a failure's words, or a success's claim (the solver's

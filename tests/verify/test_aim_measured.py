@@ -1,0 +1,126 @@
+"""A target's aim is measured whatever else is: a position target with ``cone=`` and
+``look_at=`` or ``toward=`` keeps no rotation, and its verdict measured the position alone,
+so an answer whose tip axis pointed anywhere was a success. The verdict measures the angle
+of the tip's axis outside its cone (``verify.region``) on every route; an answer outside
+it is refused, its reason naming the angle and the cone; ``orientation_error`` reports the
+axis' angle to its direction."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+import armik
+from armik.solve.read import read, read_batch
+from armik.solvers import registry
+from armik.solvers.answers import one
+from armik.status import Status
+from armik.verify.measure import measure, measure_batch, measure_many
+from tests.conftest import arm as bundled
+
+WITHIN = 0.1  # rad
+
+
+def _opposite(a: armik.Arm, seed: int):
+    """(q, its tip position, the direction opposite its tip's z axis): q reaches the
+    position with the axis pi from that direction."""
+    q = a.random_q(np.random.default_rng(seed))
+    T = a.fk(q)
+    return q, T.translation.copy(), -T.rotation[:, 2]
+
+
+def _aims(p: np.ndarray, away: np.ndarray) -> list[dict]:
+    """The keyword aims that q (axis along -away at p) violates by pi - WITHIN."""
+    return [
+        {"cone": (0, 0, 1, WITHIN), "toward": tuple(away)},
+        {"cone": (0, 0, 1, WITHIN), "look_at": tuple(p + 0.4 * away)},
+    ]
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_an_aim_on_a_position_target_is_measured(name):
+    """``measure``, ``measure_many`` and ``measure_batch``: the axis' angle outside its
+    cone, not None, and the pose refused; the words name the angle and the cone."""
+    a = bundled(name)
+    q, p, away = _opposite(a, 1)
+    for aim in _aims(p, away):
+        req = read(a.kinematics, p, None, "auto", aim)
+        assert req.target.rotation is None and req.target.aim is not None
+        m = measure(a.kinematics, q, req.target, req.opts)
+        assert m.position_error <= 1e-9
+        assert m.orientation_error == pytest.approx(math.pi - WITHIN, abs=1e-9)
+        assert not m.pose_ok and not m.ok
+        said = m.describe()
+        assert "outside the region" in said and "3.14 rad from its direction" in said
+        assert "outside its cone of 0.1 rad" in said
+        many = measure_many(a.kinematics, [q, q], req.target, req.opts)
+        np.testing.assert_allclose(many.orientation_error, math.pi - WITHIN, atol=1e-9)
+        assert not many.ok.any()
+        batch = read_batch(a.kinematics, [p, p], None, "auto", aim).target
+        b = measure_batch(a.kinematics, np.array([q, q]), batch, req.opts)
+        np.testing.assert_allclose(b.orientation_error, math.pi - WITHIN, atol=1e-9)
+        assert not b.pose_ok.any()
+
+
+@pytest.fixture
+def aimless():
+    """dls registered again as "aimless", below every bundled solver: it claims its seed
+    converged whatever the target, as a solver that ignores the aim would."""
+
+    def run(arm, target, q0, opts, all_solutions):
+        return one(np.array(q0, dtype=float), Status.CONVERGED, "claimed")
+
+    spec = dataclasses.replace(
+        registry.get("dls"), name="aimless", priority=1, run=run, prepare_pose=None,
+        run_batch=None,
+    )  # fmt: skip
+    registry.register(spec)
+    yield spec
+    registry.unregister("aimless")
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_an_answer_outside_the_aim_is_refused_on_every_route(name, aimless):
+    """The seed reaches the position with its axis pi from the aim: ``solve``,
+    ``solve_all``, ``solve_batch`` and ``solve_path`` refuse it, naming the angle and the
+    cone, and report the axis' angle to its direction as ``orientation_error``."""
+    a = bundled(name)
+    q, p, away = _opposite(a, 2)
+    for aim in _aims(p, away):
+        r = a.solve(p, q0=q, solver="aimless", **aim)
+        assert not r.success and r.status is Status.NOT_CONVERGED, r.reason
+        assert "3.14 rad from its direction, outside its cone of 0.1 rad" in r.reason
+        assert r.orientation_error == pytest.approx(math.pi, abs=1e-9)
+        assert r.measured[1] == pytest.approx(math.pi - WITHIN, abs=1e-9)
+        (every,) = a.solve_all(p, q0=q, solver="aimless", **aim)
+        assert not every.success and every.orientation_error == pytest.approx(math.pi, abs=1e-9)
+        b = a.solve_batch([p, p], q0=q, solver="aimless", workers=1, progress=False, **aim)
+        assert not b.success.any() and "outside its cone of 0.1 rad" in b.reason(1)
+        np.testing.assert_allclose(b.orientation_error, math.pi, atol=1e-9)
+        path = a.solve_path([p, p], q, solver="aimless", **aim)
+        assert not path.success.any() and "outside its cone" in path.reason(0)
+        np.testing.assert_allclose(path.orientation_error, math.pi, atol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_a_success_says_it_is_inside_the_region_and_the_cone(name):
+    """A verified answer's words say what held (inside the region, the axis within its
+    cone), and ``orientation_error`` is the axis' angle to its direction, within it."""
+    a = bundled(name)
+    q, p, away = _opposite(a, 3)
+    for aim in _aims(p, -away):  # the axis q has: inside the cone at once
+        for r in (a.solve(p, q0=q, **aim), a.solve_all(p, q0=q, **aim)[0]):
+            assert r.success, r.reason
+            assert "inside the region" in r.reason and "outside the region" not in r.reason
+            assert "the tip's axis within its cone of 0.1 rad" in r.reason
+            axis = a.fk(r.q).rotation[:, 2]
+            sight = -away if "toward" in aim else aim["look_at"] - a.fk(r.q).translation
+            sight = sight / np.linalg.norm(sight)
+            angle = math.atan2(np.linalg.norm(np.cross(axis, sight)), axis @ sight)
+            assert r.orientation_error == pytest.approx(angle, abs=1e-9)
+            assert r.orientation_error <= WITHIN + 1e-6
+        b = a.solve_batch([p, p], q0=q, workers=1, progress=False, **aim)
+        assert b.success.all() and "inside the region" in b.reason(0)
