@@ -264,7 +264,9 @@ _TOGETHER = (("dls", "qp", "batch", "hold", "path"),)
 # one by one), then evened out on `armik compile --all`'s two processes (2026-12-06: the
 # closed forms' half took 84 s of CPU, the other 76; the locked Panda's spherical shoulder
 # and the batch FK moved over, the shoulder after swept, whose spherical wrist code it
-# shares). Each list's order puts first what the other half needs too and last what
+# shares; 2026-12-07, with one numeric entry a step: 57 s against 61, and the UR5's
+# general 6R moved over, last, where the closed forms' checks are in the cache). Each
+# list's order puts first what the other half needs too and last what
 # needs the other half's code, which is then loaded from the cache: dls's region rows
 # and linear algebra before the tasks', swept's held target before hold, the closed
 # forms' kernels before batch.
@@ -280,6 +282,7 @@ _HALVES = (
         "collisions",
         "fk_batch",
         "batch",
+        "general_6r",
     ),
     (
         "spherical",
@@ -289,7 +292,6 @@ _HALVES = (
         "three_parallel_general",
         "search_1d",
         "srs",
-        "general_6r",
         "elimination_6r",
         "hold",
         "tasks",
@@ -298,13 +300,19 @@ _HALVES = (
 
 
 def compile(
-    names: Sequence[str] | None = None, *, progress: bool | None = None, jobs: int | None = None
+    names: Sequence[str] | None = None,
+    *,
+    progress: bool | None = None,
+    jobs: int | None = None,
+    load: bool = True,
 ) -> dict:
     """Compile the parts ``names`` (default: every part, ``PARTS``) into numba's cache and
     return how long each took (s): compiling where the cache lacked them, loading where it
     had them. ``jobs``: processes compiling at once (default: one per core). ``progress``:
-    a bar on stderr (default: when stderr is a terminal). Raises ``OptionError`` for an
-    unknown name, listing the parts, or a ``jobs`` that is not a positive int."""
+    a bar on stderr (default: when stderr is a terminal). ``load``: once other processes
+    compiled them, load the parts here too, so that this process's calls run them at once
+    (``armik compile``, which ends then, does not). Raises ``OptionError`` for an unknown
+    name, listing the parts, or a ``jobs`` that is not a positive int."""
     if names is None:
         names = list(PARTS)
     if isinstance(names, str):
@@ -325,16 +333,16 @@ def compile(
             value=jobs,
         )
     with compiling():  # what the parts call compiles here, not as Python (``kernel.tier``)
-        return _compile(names, jobs, make_progress(progress, len(names), "compile"))
+        return _compile(names, jobs, make_progress(progress, len(names), "compile"), load)
 
 
-def _compile(names: Sequence[str], jobs: int, bar) -> dict:
+def _compile(names: Sequence[str], jobs: int, bar, load: bool) -> dict:
     if jobs > 1 and len(names) > 1 and _spawn_starts():
         took = _in_processes(names, min(jobs, len(names)), bar)
         for name in names:  # from the cache now; compiles what a concurrent write lost
             if name not in took:  # a process that died (killed, out of memory): here
                 took[name] = _timed(name)
-            else:
+            elif load:
                 PARTS[name]()
     else:
         took = {}

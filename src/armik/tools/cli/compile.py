@@ -12,7 +12,7 @@ from armik.precompile import compile
 def cmd_compile(args: argparse.Namespace) -> int:
     names = None if args.all or not args.names else args.names
     t0 = time.perf_counter()
-    took = compile(names, jobs=args.jobs)
+    took = compile(names, jobs=args.jobs, load=False)  # the command ends: nothing to load
     wall = time.perf_counter() - t0
     for name, seconds in took.items():
         print(f"  {name:<15} {seconds:7.2f} s")
