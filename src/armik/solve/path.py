@@ -130,7 +130,10 @@ def solve_path(
         out = BatchResult.for_arm(arm, n, every.name, opts, margin=opts.margin, aim=batch.aim)
         start = None if q0 is None else q_prev
         # with a preference, the continuous path of the best summed score (ladder.TIE)
-        made = ladder.plan(arm, every, batch, found, start, step, opts, out, score, q_prev, turn)
+        held = request if opts.hold is not None else None  # halfway poses solved held too
+        made = ladder.plan(
+            arm, every, batch, found, start, step, opts, out, score, q_prev, turn, held
+        )
         refuse_broken(arm, out, turn)
         label = every.name
         if every.sweep is not None and _holds_other(arm, opts, every.sweep.joint):
