@@ -17,6 +17,7 @@ from armik.status import Status
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
+    from armik.targets.aim import Aim
 
 _WORDS = np.array([s.value for s in Status])
 _NOT_CONVERGED = Status.NOT_CONVERGED.code  # the failure state rows start in (``empty``)
@@ -45,6 +46,8 @@ class BatchResult:
       targets (weights, a region), what each verdict measured (position, orientation);
       ``position_error`` and ``orientation_error`` are the distances all the same. NaN
       where the verdict measured the distances themselves (``armik.verify.distances``).
+    - ``region``, ``cone``: the targets are regions (bounds, an aim) and the aim's cone (rad,
+      None: no aim), so that a success's ``reason(i)`` says what ``solve``'s says.
 
     ``len(r)``, ``r[i]`` (an ``IKResult``), ``r[mask]`` or ``r[a:b]`` (a ``BatchResult``),
     iteration over ``IKResult``s, ``save``/``load`` (.npz) and ``summary()``.
@@ -70,6 +73,7 @@ class BatchResult:
     pair_names: list[tuple[str, str]] = field(default_factory=list)
     score: np.ndarray | None = None  # (N,) with prefer=; NaN filled when None is given
     region: bool = False  # the targets are regions (bounds, a cone): errors lie outside them
+    cone: float | None = None  # rad: the targets' aim's cone (a batch shares one), None: no aim
     measured: np.ndarray | None = None  # (N, 2) the verdict's errors; NaN filled when None
     # a success's claim before its verdict's words, as ``solve`` says it ("{}": its
     # restarts; a numeric solver's ``reasons.CONVERGED``), or "" for none
@@ -138,7 +142,7 @@ class BatchResult:
             pos, ori = apart[0], apart[1]
         tol_p, tol_r = self.tol_position, self.tol_orientation
         if self.region:  # inside it for a success
-            measured = reasons.region(pos, ori, tol_p, tol_r, None)
+            measured = reasons.region(pos, ori, tol_p, tol_r, self.cone)
         else:
             measured = reasons.measured(pos, ori, tol_p, tol_r)
         said = self.claim.format(int(self.restarts[i])) if self.claim and self.success[i] else None
@@ -228,6 +232,7 @@ class BatchResult:
             pair_names=list(self.pair_names),
             score=self._scores[picked],
             region=self.region,
+            cone=self.cone,
             measured=self._measured[picked],
             claim=self.claim,
         )
@@ -281,6 +286,7 @@ class BatchResult:
             "tol_orientation": self.tol_orientation,
             "margin": self.margin,
             "region": self.region,
+            "cone": self.cone,
             "claim": self.claim,
             "statuses": _WORDS.tolist(),
             "pair_names": [list(p) for p in self.pair_names],
@@ -333,6 +339,7 @@ class BatchResult:
             pair_names=[tuple(p) for p in meta.get("pair_names", [])],
             score=arrays.get("score"),  # absent from files written before preferences
             region=bool(meta.get("region", False)),  # absent from files before regions
+            cone=_cone(meta.get("cone")),  # absent from files before it was kept
             measured=arrays.get("measured"),  # absent from files before it was kept
             claim=str(meta.get("claim", "")),  # absent from files before it was kept
         )
@@ -362,11 +369,11 @@ class BatchResult:
         opts: SolverSettings,
         claim: str = "",
         margin: float = 0.0,
-        aimed: bool = False,
+        aim: Aim | None = None,
     ) -> BatchResult:
         """``empty`` rows for n targets of ``arm``, labelled with its joints, tolerances and
-        the clearance its successes keep (``claim``: see the field); ``aimed``: the targets
-        have an aim (a cone: a region, as bounds are)."""
+        the clearance its successes keep (``claim``: see the field); ``aim``: the targets'
+        aim (a cone: a region, as bounds are, its angle named in a success's reason)."""
         return cls.empty(
             n,
             arm.dof,
@@ -377,7 +384,8 @@ class BatchResult:
             tol_position=opts.tol_position,
             tol_orientation=opts.tol_orientation,
             margin=margin,
-            region=opts.bounds is not None or aimed,
+            region=opts.bounds is not None or aim is not None,
+            cone=None if aim is None else aim.within,
             claim=claim,
         )
 
@@ -429,6 +437,12 @@ class BatchResult:
         except ValueError:
             self.pair_names.append(pair)
             return len(self.pair_names) - 1
+
+
+def _cone(saved: object) -> float | None:
+    """A saved cone (rad), None where the file has none (written without an aim, or
+    before the cone was kept: its successes' reasons then name no cone, as they did)."""
+    return None if saved is None else float(cast(float, saved))
 
 
 _ARRAYS = (

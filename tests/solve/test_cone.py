@@ -169,19 +169,46 @@ def test_a_look_at_of_the_point_it_stands_on_is_refused_by_name():
         a.solve([armik.Position(p), armik.LookAt(p, (0, 0, 1), 0.0)])
 
 
-@pytest.mark.parametrize("option", [{"position_only": True}, {"weights": (1, 1, 1, 0, 0, 0)}])
-def test_an_option_that_would_leave_the_axis_unmeasured_is_refused(option):
-    """``position_only`` or ``weights`` with an Axis: the verdict would not measure the axis,
-    so a success could miss it unseen; named, for solve, batches and paths."""
+_FREEING = [{"position_only": True}, {"weights": (1, 1, 1, 0, 0, 0)}, {"weights": (1,) * 5 + (0,)}]
+
+
+@pytest.mark.parametrize("option", _FREEING)
+def test_an_option_that_frees_an_aim_is_refused_in_either_spelling(option):
+    """``position_only`` or a rotation weight of 0 with an aim: the verdict measures the
+    axis whatever they say, so they would be overruled unseen. One rule refuses them by
+    name for a keyword cone and for an Axis in a task list alike, on solve, batches and
+    paths, with the same words."""
     a = arm("ur5")
     T = a.fk(a.middle)
-    tasks = [armik.Position(T.translation), armik.Axis((0, 0, 1), T.rotation[:, 2], 0.05)]
+    z = T.rotation[:, 2]
+    tasks = [armik.Position(T.translation), armik.Axis((0, 0, 1), z, 0.05)]
+    cone = {"cone": (0, 0, 1, 0.05), "toward": z}
     (name,) = option
+    said = []
     for call in (
         lambda: a.solve(tasks, **option),
+        lambda: a.solve(T.translation, **cone, **option),
         lambda: a.solve_batch([tasks, tasks], progress=False, **option),
+        lambda: a.solve_batch([T.translation] * 2, progress=False, **cone, **option),
         lambda: a.solve_path([tasks, tasks], a.middle, **option),
+        lambda: a.solve_path([T.translation] * 2, a.middle, **cone, **option),
     ):
-        with pytest.raises(OptionError, match=f"{name} does not apply") as info:
+        with pytest.raises(OptionError, match=f"{name} does not apply to a target with an aim"):
             call()
-        assert info.value.option == name
+        said.append(str(pytest.raises(OptionError, call).value))
+        assert pytest.raises(OptionError, call).value.option == name
+    assert len(set(said)) == 1
+
+
+def test_weights_that_free_no_rotation_go_with_an_aim_in_either_spelling():
+    """Position weights beside an aim (an axis pointed from anywhere along x) are taken in
+    either spelling: the answers are the same, verified with the axis in its cone."""
+    a = arm("ur5")
+    T = a.fk(a.middle)
+    z = T.rotation[:, 2]
+    tasks = [armik.Position(T.translation), armik.Axis((0, 0, 1), z, 0.05)]
+    weights = (0, 1, 1, 1, 1, 1)
+    by_tasks = a.solve(tasks, weights=weights, seed=1)
+    by_keywords = a.solve(T.translation, cone=(0, 0, 1, 0.05), toward=z, weights=weights, seed=1)
+    assert by_tasks.success and by_keywords.success
+    np.testing.assert_array_equal(by_tasks.q, by_keywords.q)

@@ -315,6 +315,49 @@ def test_a_jump_hidden_between_two_waypoints_is_reported():
     assert np.abs(np.diff(followed.q[:, 3])).max() > 0.5  # wrist 1 swings between samples
 
 
+_HELD = {"panda_joint3": 0.2}
+# (qa, qb) on the Panda with joint 3 at 0.2, no joint apart by more than 0.45: across its
+# wrist's singular line (a jump with joint 3 held, none with it free), and a clean step
+_ACROSS = (
+    [1.6998, -0.6397, 0.2, -1.963, -1.1733, -0.0049, -1.9236],
+    [2.0339, -0.3081, 0.2, -1.7935, -0.8469, -0.0175, -1.733],
+)
+_CLEAN = (
+    [-1.9485, -1.6786, 0.2, -0.1765, 0.8444, 3.5523, -0.8728],
+    [-1.7188, -1.7628, 0.2, -0.3771, 0.8897, 3.604, -0.8737],
+)
+
+
+def _between(Ta, Tb, n: int) -> list:
+    """``n`` poses from ``Ta`` to ``Tb``: the translation along its line, the rotation along
+    its geodesic (as the halfway check takes them)."""
+    w = pin.log3(Ta.rotation.T @ Tb.rotation)
+    return [
+        pin.SE3(Ta.rotation @ pin.exp3(w * t), (1 - t) * Ta.translation + t * Tb.translation)
+        for t in np.linspace(0.0, 1.0, n)
+    ]
+
+
+@pytest.mark.parametrize(("ends", "continuous"), [(_ACROSS, False), (_CLEAN, True)])
+def test_the_halfway_check_solves_the_held_problem(ends, continuous):
+    """With a joint held (``hold=``), a step is checked halfway on the problem solved, the
+    joint held: the check solved it with the joint free, so a step the held arm cannot make
+    (the poses between out of its reach) was a success, and a clean one was refused where
+    the free arm's nearest answer lay elsewhere. The same poses sampled 33 times, followed
+    with the joint held, say which is which."""
+    arm = conftest.arm("panda")
+    qa, qb = np.array(ends[0]), np.array(ends[1])
+    Ta, Tb = arm.fk(qa), arm.fk(qb)
+    planned = arm.solve_path([Ta, Tb], qa, plan="global", hold=_HELD)
+    assert planned.success.tolist() == [True, continuous]
+    assert np.allclose(planned.q[planned.success, 2], 0.2, atol=1e-12)
+    if not continuous:
+        assert planned.status[1] == Status.DISCONTINUOUS.value
+        assert "hides a jump" in planned[1].reason
+    followed = arm.solve_path(_between(Ta, Tb, 33), qa, hold=_HELD)
+    assert followed.success.all() == continuous
+
+
 def test_a_line_through_the_inner_hole_is_a_hidden_jump():
     """Planar 2-link (links 1 and 0.8 m: a hole of 0.2 m), positions 0.21 m out at +-0.4
     rad: the elbow stays folded and joint 1 turns 0.8 rad, within the step, but the
@@ -419,7 +462,9 @@ def test_the_halfway_check_judges_an_answer_by_its_target_s_aim():
     target's but its axis looks elsewhere: it was taken)."""
     from armik.options import Options
     from armik.solve import ladder
+    from armik.solve.turning import ANY
     from armik.targets.aim import aim_of
+    from armik.targets.batch import TargetBatch
 
     panda = conftest.model("panda")
     q = panda.random_q(np.random.default_rng(4))
@@ -428,15 +473,20 @@ def test_the_halfway_check_judges_an_answer_by_its_target_s_aim():
     tilted = (T.rotation @ pin.exp3(np.array([0.25, 0.0, 0.0])))[None]
     opts = Options()
     seeds = q[None].copy()
+
+    def nearest(R, aim):  # the halfway check's solve of pose P, R by _Unclaimed
+        half = ladder._Halfway(_Unclaimed(q), opts, TargetBatch(P, R, aim), None, ANY)
+        return ladder._nearest(panda, half, P, R, seeds)
+
     inside = aim_of((0.0, 0.0, 1.0, 0.3))
-    got = ladder._nearest(panda, _Unclaimed(q), opts, P, tilted, seeds, inside)
+    got = nearest(tilted, inside)
     np.testing.assert_array_equal(got[0], q)  # its axis is 0.25 rad off: within 0.3
     outside = aim_of((0.0, 0.0, 1.0, 0.2))
-    assert np.isnan(ladder._nearest(panda, _Unclaimed(q), opts, P, tilted, seeds, outside)).all()
+    assert np.isnan(nearest(tilted, outside)).all()
     aside = T * np.array([0.3, 0.0, 0.0])  # a point along the tip's x axis, not its z
     look = aim_of((0.0, 0.0, 1.0, 0.0), look_at=aside)
     exact = T.rotation[None].copy()
-    assert np.isnan(ladder._nearest(panda, _Unclaimed(q), opts, P, exact, seeds, look)).all()
+    assert np.isnan(nearest(exact, look)).all()
     ahead = aim_of((0.0, 0.0, 1.0, 0.0), look_at=T * np.array([0.0, 0.0, 0.3]))
-    got = ladder._nearest(panda, _Unclaimed(q), opts, P, exact, seeds, ahead)
+    got = nearest(exact, ahead)
     np.testing.assert_array_equal(got[0], q)

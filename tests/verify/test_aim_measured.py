@@ -8,6 +8,7 @@ axis' angle to its direction."""
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 
 import numpy as np
@@ -124,3 +125,33 @@ def test_a_success_says_it_is_inside_the_region_and_the_cone(name):
             assert r.orientation_error <= WITHIN + 1e-6
         b = a.solve_batch([p, p], q0=q, workers=1, progress=False, **aim)
         assert b.success.all() and "inside the region" in b.reason(0)
+
+
+@pytest.mark.parametrize("bounds", [None, (0.01,) * 3 + (0.0,) * 3])
+def test_a_batch_row_with_an_aim_says_what_solve_says(tmp_path, bounds):
+    """A batch success with an aim names its cone as ``solve`` does for the same answer
+    ("the tip's axis within its cone of 0.1 rad", ``reasons.region``), where it said
+    "orientation error 0 rad"; so does a path's, and the batch saved and loaded. A file
+    saved before the cone was kept loads, its successes naming no cone as they did."""
+    panda = bundled("panda")
+    rng = np.random.default_rng(2)
+    poses = [panda.fk(panda.random_q(rng)) for _ in range(4)]
+    options = {"cone": (0.0, 0.0, 1.0, WITHIN), "solver": "dls"}
+    if bounds is not None:
+        options["bounds"] = bounds
+    batch = panda.solve_batch(poses, q0=panda.middle, progress=False, **options)
+    back = armik.BatchResult.load(batch.save(tmp_path / "b.npz"))
+    for i, T in enumerate(poses):
+        r = panda.solve(T, q0=panda.middle, **options)
+        assert r.success and f"within its cone of {WITHIN:g} rad" in r.reason
+        assert batch.reason(i) == back.reason(i) == batch[i].reason == r.reason
+    path = panda.solve_path(poses[:1], q0=batch.q[0], **options)
+    assert path.success[0] and f"within its cone of {WITHIN:g} rad" in path.reason(0)
+    with np.load(tmp_path / "b.npz") as z:  # as a file written before the cone was kept
+        arrays = {k: z[k] for k in z.files}
+    meta = json.loads(str(arrays.pop("meta")))
+    del meta["cone"]
+    np.savez(tmp_path / "old.npz", **arrays, meta=np.array(json.dumps(meta)))
+    old = armik.BatchResult.load(tmp_path / "old.npz")
+    assert old.cone is None and "orientation error" in old.reason(0)
+    np.testing.assert_array_equal(old.q, batch.q)

@@ -251,7 +251,7 @@ def _slid(arm, target, row: Verdicts, opts, check, margin, start_cpu: float, use
         return None
     deadline = math.inf if opts.iteration_budget is not None else start_cpu + opts.timeout
     tol = min(opts.tol_position, opts.tol_orientation) * 0.1
-    q, taken = slide(arm, target, row.q[0], check, margin, steps, deadline, tol)
+    q, taken = slide(arm, target, row.q[0], check, margin, steps, deadline, tol, opts)
     slid = one(q, Status.CONVERGED, reasons.SLID, iterations=used + taken)
     return _checked(arm, slid, 0, target, opts, check, margin)
 

@@ -118,7 +118,7 @@ def solve_batch(
     workers = _workers(workers, spec)
     chunk = _chunk_size(chunk_size)
     claim = reasons.CONVERGED if spec.kind == "numeric" else ""  # a success's, as solve's
-    out = BatchResult.for_arm(arm, n, spec.name, opts, claim, opts.margin, batch.aim is not None)
+    out = BatchResult.for_arm(arm, n, spec.name, opts, claim, opts.margin, batch.aim)
     clear = _clear(opts) if opts.obstacles or opts.self_collision else ()  # none asked: no call
     if clear:  # the pairs in the checker's order, whatever order rows finish in
         out.pair_names.extend(checker(arm, opts.obstacles, opts.self_collision).pair_names)
@@ -188,9 +188,9 @@ class Chunk(NamedTuple):
     def __call__(self) -> Rows:
         spec = registry.get(self.solver)
         opts = self.request.settings
-        aimed = self.targets.aim is not None
         n = len(self.targets)
-        out = BatchResult.for_arm(self.arm, n, spec.name, opts, margin=opts.margin, aimed=aimed)
+        aim = self.targets.aim
+        out = BatchResult.for_arm(self.arm, n, spec.name, opts, margin=opts.margin, aim=aim)
         clear = _clear(opts) if opts.obstacles or opts.self_collision else ()
         solve_chunk(self.arm, spec, self.targets, self.seeds, self.request, opts, clear, out, 0)
         return Rows(**vars(out), start=self.start)

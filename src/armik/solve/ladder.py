@@ -25,7 +25,9 @@ from the step's middle, both halves are checked the same way, ``DEPTH`` rounds a
 step that fails is taken out, with every other step onto its waypoint that fails, and the
 path is planned again until every step taken passes; a waypoint that every path reaches
 only through such a step is ``discontinuous``. Only the steps taken are checked, each
-round in one compiled call.
+round in one compiled call. With a joint held (``hold=``) the halfway poses are solved as
+the rungs are, the joint held (``rungs.every_answer``), one by one: the solver alone would
+check the looser problem with the joint free.
 Collisions, when asked for, act through the rungs: ``solve_all`` with the same options
 marks a colliding branch failed, and a failed branch is no rung.
 """
@@ -34,6 +36,7 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+from typing import NamedTuple, cast
 
 import numpy as np
 import pinocchio as pin
@@ -43,8 +46,10 @@ from armik.batch_result import BatchResult
 from armik.kernel import ladder as kernel
 from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
+from armik.request import Request
 from armik.result import IKResult
 from armik.solve.prefer import continuous_turned, turns
+from armik.solve.rungs import every_answer, unwrapped
 from armik.solve.turning import ANY, Turning
 from armik.solvers.registry import SolverSpec
 from armik.status import Status
@@ -71,6 +76,7 @@ def plan(
     score=None,
     reference: np.ndarray | None = None,
     turn: Turning = ANY,
+    held: Request | None = None,
 ) -> set[str]:
     """The least-motion path over ``rungs`` (each waypoint's ``solve_all`` results for
     ``targets``, by ``spec``) from ``q0`` (None: from any turn of any rung of the first
@@ -78,8 +84,11 @@ def plan(
     programming in ``armik.kernel.ladder``). With ``score``: the continuous path of the
     least summed score against ``reference``, the motion breaking ties (``TIE``). Only the
     turns ``turn`` allows: no held joint turns, and a turned rung passes the checks.
-    Returns the solvers the results it placed name (a held joint's rungs may come from
-    another solver than ``spec``: ``armik.solve.held``)."""
+    ``held``: the path's request where it holds a joint (``hold=``): each halfway pose is
+    solved as its rungs were, held (``rungs.every_answer``), not by ``spec`` alone, which
+    would check the looser problem with the joint free. Returns the solvers the results it
+    placed name (a held joint's rungs may come from another solver than ``spec``:
+    ``armik.solve.held``)."""
     good = [[r for r in rs if r.success] for rs in rungs]
     lower, upper, no_period = arm._limit_lists
     periodic = ~np.array(no_period, dtype=bool) & turn.free(arm.dof)
@@ -104,7 +113,8 @@ def plan(
         B, offs, start, q0 is not None, np.array(lower), np.array(upper), periodic,
         np.asarray(step, dtype=float),
     )  # fmt: skip
-    rung, Q, broken, hidden, joint, size = _checked(arm, spec, opts, targets, args, node, weight)
+    half = _Halfway(spec, opts, targets, held, turn)
+    rung, Q, broken, hidden, joint, size = _checked(arm, half, args, node, weight)
     first = True
     placed: set[str] = set()
     for i, rs in enumerate(rungs):
@@ -188,9 +198,19 @@ def _turns(arm: ArmModel, r: IKResult, turn: Turning) -> list[IKResult]:
     return [dataclasses.replace(r, q=q) for q in Q]
 
 
-def _checked(
-    arm, spec: SolverSpec, opts: SolverSettings, targets: TargetBatch, args: tuple, node, weight
-):
+class _Halfway(NamedTuple):
+    """How a step's halfway poses are solved (``_nearest``): by ``spec`` with ``opts`` on
+    ``targets``' aim, or where ``held`` (the path's request) holds a joint, as its rungs
+    were, each answer turned as ``turn`` allows."""
+
+    spec: SolverSpec
+    opts: SolverSettings
+    targets: TargetBatch
+    held: Request | None
+    turn: Turning
+
+
+def _checked(arm, half: _Halfway, args: tuple, node, weight):
     """``kernel.plan(*args, forbidden, node, weight)`` where no step taken hides a jump: the
     steps taken are checked, and where one fails, every other step onto its waypoint too;
     those that fail are forbidden and the path planned again, until the steps taken pass."""
@@ -204,7 +224,7 @@ def _checked(
         new = np.array([c not in clean and c not in forbidden for c in code.tolist()], bool)
         i, a, code = i[new], a[new], code[new]
         Qa = np.where((a < 0)[:, None], start, Q[np.maximum(i - 1, 0)])
-        jumped = _jumps(arm, spec, opts, targets, i, Qa, Q[i], start, step)
+        jumped = _jumps(arm, half, i, Qa, Q[i], start, step)
         clean.update(code[~jumped].tolist())
         if not jumped.any():
             return got
@@ -213,7 +233,7 @@ def _checked(
             Qa, Qb, code = _onto(w, B, offs, start, (lower, upper, periodic), step)
             fresh = np.array([c not in clean and c not in forbidden for c in code.tolist()], bool)
             at = np.full(int(fresh.sum()), w)
-            bad = _jumps(arm, spec, opts, targets, at, Qa[fresh], Qb[fresh], start, step)
+            bad = _jumps(arm, half, at, Qa[fresh], Qb[fresh], start, step)
             forbidden.update(code[fresh][bad].tolist())
             clean.update(code[fresh][~bad].tolist())
 
@@ -249,12 +269,13 @@ def _steps(rung: np.ndarray, broken: np.ndarray, has_q0: bool, n_rungs: int):
     return i, before[i], (before[i] + 1) * n_rungs + rung[i]  # kernel.edge_code
 
 
-def _jumps(arm, spec, opts, targets: TargetBatch, i, Qa, Qb, q0, step) -> np.ndarray:
+def _jumps(arm, half: _Halfway, i, Qa, Qb, q0, step) -> np.ndarray:
     """Whether a jump hides in each step ``Qa[k]`` -> ``Qb[k]`` onto waypoint ``i[k]``
     (from the waypoint before, or from ``q0`` at waypoint 0): checked halfway (``BEND``,
     ``DEPTH``), every step of a round in one call of the solver."""
     if not len(i):
         return np.zeros(0, dtype=bool)
+    targets = half.targets
     Pb = targets.positions[i]
     Pa = targets.positions[np.maximum(i - 1, 0)]
     rotations = targets.rotations
@@ -274,7 +295,7 @@ def _jumps(arm, spec, opts, targets: TargetBatch, i, Qa, Qb, q0, step) -> np.nda
     for _ in range(DEPTH):
         P, R = _halfway(Pa, Ra, Pb, Rb)
         middle = 0.5 * (Qa + Qb)
-        q = _nearest(arm, spec, opts, P, R, middle, targets.aim)
+        q = _nearest(arm, half, P, R, middle)
         near = (np.abs(q - Qa) <= step).all(axis=1) & (np.abs(q - Qb) <= step).all(axis=1)
         far = ~near  # NaN (no solution) too
         jumped[which[far]] = True
@@ -319,11 +340,14 @@ def _halfway(Pa, Ra, Pb, Rb):
     return P, np.einsum("kij,kjl->kil", Ra, H)
 
 
-def _nearest(arm, spec: SolverSpec, opts: SolverSettings, P, R, seeds, aim=None) -> np.ndarray:
-    """Per pose (with the path's ``aim``), the solution nearest its seed, each angle turned
+def _nearest(arm, half: _Halfway, P, R, seeds) -> np.ndarray:
+    """Per pose (with the path's aim), the solution nearest its seed, each angle turned
     nearest it within the limits; a row of NaN where there is none. An answer not claimed
     exact counts where its FK is within the tolerances (a least-squares answer on the edge
-    of the workspace)."""
+    of the workspace). With a held joint, the verified answers of the held problem."""
+    spec, opts, aim = half.spec, half.opts, half.targets.aim
+    if half.held is not None:
+        return _nearest_held(arm, half, P, R, seeds)
     if spec.run_batch is not None and R is not None:  # the compiled batch: one call
         got = spec.run_batch(arm, TargetBatch(P, R, aim), seeds, opts)
         q = np.array(got.q, dtype=float)
@@ -343,6 +367,23 @@ def _nearest(arm, spec: SolverSpec, opts: SolverSettings, P, R, seeds, aim=None)
         ok = ~np.isnan(q).any(axis=1)
     ok &= ((q >= arm.lower - 1e-9) & (q <= arm.upper + 1e-9)).all(axis=1)
     q[~ok] = np.nan
+    return q
+
+
+def _nearest_held(arm, half: _Halfway, P, R, seeds) -> np.ndarray:
+    """``_nearest`` where the path holds a joint: each pose's verified answers as the
+    rungs are found (``rungs.every_answer``: the held joint at its value, a 6R chain), the
+    nearest its seed among them turned as the path turns its rungs."""
+    held = cast(Request, half.held)
+    q = np.full_like(seeds, np.nan)
+    for k, seed in enumerate(seeds):
+        target = Target(P[k].copy(), None if R is None else R[k].copy(), aim=half.targets.aim)
+        for r in every_answer(arm, held, target, seed, half.spec.name):
+            if not r.success:
+                continue
+            c = np.asarray(unwrapped(arm, r, seed, half.turn).q)
+            if not np.abs(q[k] - seed).max() <= np.abs(c - seed).max():  # NaN: none yet
+                q[k] = c
     return q
 
 

@@ -99,9 +99,7 @@ def solve_path(
     held_auto = solver == "auto" and opts.hold is not None
     if not held_auto:
         request, local = request.but(solver=spec.name), local.but(solver=spec.name)
-    out = BatchResult.for_arm(
-        arm, n, spec.name, opts, margin=opts.margin, aimed=batch.aim is not None
-    )
+    out = BatchResult.for_arm(arm, n, spec.name, opts, margin=opts.margin, aim=batch.aim)
     if plan == "global":
         # every solution: what solve_all would run (a search where one is not complete)
         first = batch.target(0) if n else None
@@ -117,7 +115,7 @@ def solve_path(
             every = next(swept, every)
         if every.sweep is not None or every.kind == "numeric":  # rungs about the followed path
             followed = BatchResult.for_arm(
-                arm, n, spec.name, opts, margin=opts.margin, aimed=batch.aim is not None
+                arm, n, spec.name, opts, margin=opts.margin, aim=batch.aim
             )
             used = _walk(arm, batch, q_prev, step, request, local, followed, None, q0 is None, turn)
             if held_auto and used is not None:  # its rows by the solver each waypoint chose
@@ -129,12 +127,13 @@ def solve_path(
             )
         else:
             found = rungs.every_branch(arm, batch, q_prev, every.name, request)
-        out = BatchResult.for_arm(
-            arm, n, every.name, opts, margin=opts.margin, aimed=batch.aim is not None
-        )
+        out = BatchResult.for_arm(arm, n, every.name, opts, margin=opts.margin, aim=batch.aim)
         start = None if q0 is None else q_prev
         # with a preference, the continuous path of the best summed score (ladder.TIE)
-        made = ladder.plan(arm, every, batch, found, start, step, opts, out, score, q_prev, turn)
+        held = request if opts.hold is not None else None  # halfway poses solved held too
+        made = ladder.plan(
+            arm, every, batch, found, start, step, opts, out, score, q_prev, turn, held
+        )
         refuse_broken(arm, out, turn)
         label = every.name
         if every.sweep is not None and _holds_other(arm, opts, every.sweep.joint):

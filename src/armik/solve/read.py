@@ -28,7 +28,7 @@ from armik.problem.scores import fit_posture, parse_score
 from armik.problem.tasks import Pose, Position, Task
 from armik.request import Request
 from armik.solve.tasks import SOLVER, check_said_twice, lower_all, task_problems
-from armik.targets.aim import Aim, aim_of, refuse_without_direction
+from armik.targets.aim import Aim, aim_of, refuse_freed, refuse_without_direction
 from armik.targets.batch import TargetBatch, parse_targets
 from armik.targets.pose import Target, parsed
 
@@ -68,7 +68,7 @@ def read(
             held = "hold" in options or "constraints" in options  # a call only then
             if lowered is not None and not (held and _held_apart(arm, options)):
                 target, said = lowered
-                check_said_twice(options, said, problem)
+                check_said_twice(options, said)
                 if aim is not None:  # a call only then: the lowered target's aim is read below
                     aim = _aimed_once(target, aim)
                 options = {**options, **said}
@@ -91,6 +91,7 @@ def read(
         if type(target) is not Target or target.aim is not aim:
             target = parsed(target, arm).aimed(aim)
         refuse_without_direction(aim, target.rotation is not None)
+        refuse_freed(aim, opts)
         key = None if key is None else (key, aim[0], aim[1], aim[2] is None, aim[3] is None)
         if aim.point is not None:  # [Position(p), LookAt(p)]'s refusal
             refuse_looking_from_target(target.position, aim, opts)
@@ -140,6 +141,7 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
         batch = parse_targets(targets, arm)
         rows = [batch.target(i) for i in range(len(batch))]
     if aim is not None:
+        refuse_freed(aim, opts)
         key = None if key is None else (key, aim.shape)
         if aim.point is not None:  # [Position(p), LookAt(p)]'s refusal
             refuse_looking_from_target(targets.positions, aim, opts)  # type: ignore[attr-defined]
@@ -194,6 +196,7 @@ def read_path(
     if aim is not None:  # every waypoint's: the path's batch carries it
         poses = _aimed_batch(parse_targets(poses, arm), aim)
         refuse_without_direction(aim, poses.rotations is not None)
+        refuse_freed(aim, opts)
         key = None if key is None else (key, aim.shape)
         if aim.point is not None:  # [Position(p), LookAt(p)]'s refusal, at every waypoint
             refuse_looking_from_target(poses.positions, aim, opts)

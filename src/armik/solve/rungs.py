@@ -35,11 +35,13 @@ SAME = 1e-6  # rad or m: a track this near another's answer has merged with it
 def every_branch(arm: ArmModel, batch, q_prev: np.ndarray, solver: str, request) -> list:
     """Each waypoint's ``solve_all`` results by ``solver`` (a pose as a 4x4 array takes the
     prepared path)."""
-    return [_all(arm, request, batch.target(i), q_prev, solver) for i in range(len(batch))]
+    return [every_answer(arm, request, batch.target(i), q_prev, solver) for i in range(len(batch))]
 
 
-def _all(arm: ArmModel, request: Request, target, q: np.ndarray, solver: str) -> list:
-    """``target``'s ``solve_all`` results by ``solver`` from ``q``, as ``request`` asks."""
+def every_answer(arm: ArmModel, request: Request, target, q: np.ndarray, solver: str) -> list:
+    """``target``'s ``solve_all`` results by ``solver`` from ``q``, as ``request`` asks (its
+    held joints held, its constraints checked): a rung's, and a global plan's halfway pose
+    where the request holds a joint (``ladder``)."""
     now = time.perf_counter()
     return run(arm, request.but(target=target, q0=q, solver=solver, every=True, t0=now))  # type: ignore[no-any-return]
 
@@ -69,7 +71,7 @@ def held(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> 
         )
         for value in values:
             swept = request.but(sweep_from=float(value))  # where its sweep starts
-            found += _all(arm, swept, target, seed, spec.name)
+            found += every_answer(arm, swept, target, seed, spec.name)
         rungs.append(found)
     return rungs
 
@@ -86,7 +88,7 @@ def tracked(arm: ArmModel, batch, q_start: np.ndarray, solver: str, followed, re
     breaks = [i for i in range(1, n) if not ok[i] and ok[i - 1]][:BREAKS]
     for s in [0, *breaks]:
         seed = q_start if s == 0 else np.asarray(followed.q[s - 1])
-        found = _all(arm, request, targets[s], seed, solver)
+        found = every_answer(arm, request, targets[s], seed, solver)
         for start in [r for r in found if r.success][:TRACKS]:
             if not _add(rungs[s], unwrapped(arm, start, seed, turn)):
                 continue  # an answer already there: its track is run

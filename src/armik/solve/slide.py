@@ -7,9 +7,11 @@ normal n (from p1 to p2) and the points' Jacobians,
 
 so no pair closes faster than the damper allows, and one inside the margin is pushed out.
 Each step solves that small QP (the joint limits as rows too) by an active set, exactly.
-A target with an aim (``targets.aim``: a cone, a look-at, a direction) is its position and
-its axis within the cone (``aim_task``), not the rotation beside it: an answer the verdict
-takes keeps what it took it for, and the cone's freedom is the slide's too.
+The pose is what the verdict measures (``_goal``): the axes ``weights`` and
+``position_only`` free are free here too; a region (``bounds``) is its distance outside the
+box, and a target with an aim (``targets.aim``: a cone, a look-at, a direction) its axis
+within the cone (``aim_task``), not the rotation beside it: an answer the verdict takes
+keeps what it took it for, and the region's freedom is the slide's too.
 A Python loop over Pinocchio and coal calls: ``solve.avoid`` uses it only when a numeric
 solver's verified answer collides, starting from that answer (it reaches the pose, so the
 slide keeps the pose and moves the arm out of contact, through its redundancy or its
@@ -24,8 +26,11 @@ import numpy as np
 import pinocchio as pin
 
 from armik import cpu_time
+from armik.problem.settings import SolverSettings
 from armik.problem.tasks.axis import Axis
 from armik.problem.tasks.look_at import LookAt
+from armik.problem.tasks.pose import Pose
+from armik.verify.measure import measures_of
 
 if TYPE_CHECKING:
     from armik.constraints.collision import Checker
@@ -49,15 +54,15 @@ def slide(
     iterations: int,
     deadline: float,
     tol: float,
+    opts: SolverSettings | None = None,
 ) -> tuple[np.ndarray, int]:
     """(q, iterations used): the configuration reached from ``q`` (rad, m) within
     ``iterations`` steps and before ``deadline`` (``cpu_time.thread_time``), stopping once the
-    pose (with an aim: the position and the axis' angle outside its cone) is within ``tol``
-    (m, rad) and every checked pair ``margin`` (m) apart."""
+    error ``opts`` measure (``_goal``: None, an exact pose) is within ``tol`` (m, rad) and
+    every checked pair ``margin`` (m) apart."""
     model, data = arm.model, arm.data
     frame = arm.tip_frame_id
-    T_goal = arm.T_world_base * target.se3()
-    aim = aim_task(target)
+    goal = _goal(arm, target, SolverSettings() if opts is None else opts)
     qp = arm.to_pin(q)
     lower, upper = arm.lower, arm.upper
     for it in range(iterations):
@@ -65,18 +70,7 @@ def slide(
             return arm.from_pin(qp), it
         pin.computeJointJacobians(model, data, qp)
         M = pin.updateFramePlacement(model, data, frame)
-        if aim is not None:  # the position, and the axis kept within its cone
-            J_tip = pin.getFrameJacobian(model, data, frame, pin.LOCAL)
-            T_base = arm.T_base_world * M
-            e = np.concatenate([M.rotation.T @ (T_goal.translation - M.translation),
-                                -aim.residual(T_base)])  # fmt: skip
-            J = np.vstack([J_tip[:3], aim.jacobian(T_base, J_tip)])
-        elif target.rotation is None:
-            e = T_goal.translation - M.translation
-            J = pin.getFrameJacobian(model, data, frame, pin.LOCAL_WORLD_ALIGNED)[:3]
-        else:
-            e = pin.log6(M.actInv(T_goal)).vector
-            J = pin.getFrameJacobian(model, data, frame, pin.LOCAL)
+        e, J = goal(M)
         q_now = arm.from_pin(qp)
         A, b, d_min = _rows(arm, check, q_now, margin)
         if d_min >= margin and np.abs(e).max() < tol:
@@ -90,6 +84,62 @@ def slide(
             dq *= MAX_STEP / biggest
         qp = pin.integrate(model, qp, dq)
     return arm.from_pin(qp), iterations
+
+
+def _goal(arm: ArmModel, target: Target, opts: SolverSettings):
+    """``goal(M)`` -> (e, J): the error the slide drives to 0 at the tip placement ``M``
+    (world) and its Jacobian in the tip's axes, the error the verdict measures
+    (``verify.measure``): the axes ``weights`` and ``position_only`` free are no rows; with a
+    region (``bounds``, an aim) the distance outside it (``verify.region``), the position
+    within its box in the target's axes and the rotation within its box or the tip axis
+    within its cone (``aim_task``), not the region's centre."""
+    model, data, frame = arm.model, arm.data, arm.tip_frame_id
+    w, weighted, rotation = measures_of(
+        arm, opts.weights, opts.position_only, target.rotation is None
+    )
+    T_goal = arm.T_world_base * target.se3()
+    if opts.bounds is not None or target.aim is not None:
+        free = np.where(w > 0.0, np.array(opts.region_bounds), np.inf)  # as the verdict frees
+        box, aim = Pose(target.se3(), bounds=free), aim_task(target)
+
+        def region(M: pin.SE3) -> tuple[np.ndarray, np.ndarray]:
+            J_tip = pin.getFrameJacobian(model, data, frame, pin.LOCAL)
+            T_base = arm.T_base_world * M
+            e, J = -box.residual(T_base), box.jacobian(T_base, J_tip)
+            if aim is not None:  # the cone replaces the rotation's rows
+                e, J = (
+                    np.concatenate([e[:3], -aim.residual(T_base)]),
+                    np.vstack([J[:3], aim.jacobian(T_base, J_tip)]),
+                )
+            return e, J
+
+        return region
+    if not rotation and not weighted:  # the distance to a point
+        return lambda M: (
+            T_goal.translation - M.translation,
+            pin.getFrameJacobian(model, data, frame, pin.LOCAL_WORLD_ALIGNED)[:3],
+        )
+    if not weighted:  # the full pose: its error twist in the tip's axes
+        return lambda M: (
+            pin.log6(M.actInv(T_goal)).vector,
+            pin.getFrameJacobian(model, data, frame, pin.LOCAL),
+        )
+    rows = np.flatnonzero(w[:6] > 0.0 if rotation else w[:3] > 0.0)  # the axes measured
+
+    def pose(M: pin.SE3) -> tuple[np.ndarray, np.ndarray]:
+        # the verdict's errors in the tip's axes, each zero where the target is reached:
+        # x = R^T (p_t - p), r = log3(R^T R_t); apart, as a weight frees one and not the
+        # other (log6's translation turns with the rotation a zero weight leaves free)
+        J_tip = pin.getFrameJacobian(model, data, frame, pin.LOCAL)
+        Jv, Jw = J_tip[:3], J_tip[3:]
+        x = M.rotation.T @ (T_goal.translation - M.translation)
+        R = M.rotation.T @ T_goal.rotation
+        r = pin.log3(R)
+        e = np.concatenate([x, r])
+        J = np.vstack([Jv - pin.skew(x) @ Jw, pin.Jlog3(R) @ R.T @ Jw])
+        return e[rows], J[rows]
+
+    return pose
 
 
 def aim_task(target: Target) -> Task | None:

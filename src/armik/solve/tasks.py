@@ -37,7 +37,7 @@ from armik.model.frames import named
 from armik.problem.problem import Problem, as_problem, lower
 from armik.problem.scores import Posture, Score
 from armik.problem.settings import SolverSettings
-from armik.problem.tasks import Axis, LookAt, Pose, Task, TaskError
+from armik.problem.tasks import Pose, Task, TaskError
 from armik.result import IKResult
 from armik.solve.nullspace import descend
 from armik.solve.task_table import descend_table, task_table
@@ -53,29 +53,17 @@ CLOSING = 0.5  # ... while each run of iterations at least halves its error
 AIM = 0.9  # the descent aims at the regions scaled by this (``Task.shrunk``)
 SCORE_STEPS = 40  # null-space steps for a score at most (each a few Newton steps)
 CENTRE_RESTARTS = 20  # the centre's compiled attempt: out of reach where the region may not be
-_AIMED = (Axis, LookAt)  # tasks on the orientation that position_only or weights would free
 
 
-def check_said_twice(options: dict, said: dict, problem: Problem | None = None) -> None:
-    """A task that says its bounds or weights, given the same option too: which one? And
-    an option that would leave a task of ``problem`` unmeasured: an ``Axis`` or a
-    ``LookAt`` with ``position_only`` or ``weights`` (the orientation they free)."""
+def check_said_twice(options: dict, said: dict) -> None:
+    """A task that says its bounds or weights, given the same option too: which one? (An
+    option that frees the orientation an ``Axis`` or a ``LookAt`` measures is refused with
+    the aim they lower to, as a keyword cone's: ``targets.aim.refuse_freed``.)"""
     for name in said:
         if name in options:
             raise OptionError(
                 f"{name} is given both by the task and as an option: give it in the task "
                 f"(armik.Pose(T, {name}=...))",
-                option=name,
-                value=options[name],
-            )
-    if problem is None or not any(isinstance(t, _AIMED) for t in problem.tasks):
-        return
-    for name in ("position_only", "weights"):
-        if options.get(name) not in (None, False):
-            raise OptionError(
-                f"{name} does not apply to a list of tasks with an Axis or a LookAt: the "
-                "axis would go unmeasured; say what is free in the tasks (an Axis leaves its "
-                "spin free, armik.Position alone drops the orientation)",
                 option=name,
                 value=options[name],
             )
@@ -483,8 +471,7 @@ def lower_all(
             return None
         targets.append(lowered[0])  # type: ignore[index]
         said = each
-    directed = next((p for p in problems if any(isinstance(t, _AIMED) for t in p.tasks)), None)
-    check_said_twice(options, said[0] if said else {}, directed)
+    check_said_twice(options, said[0] if said else {})
     return targets, {**options, **(said[0] if said else {})}
 
 

@@ -131,6 +131,29 @@ def _sight(name: str, value: object) -> Vector:
     return (float(p[0]), float(p[1]), float(p[2]))
 
 
+def refuse_freed(aim: Aim, opts) -> None:
+    """An ``OptionError`` for an option that frees the orientation an aim measures:
+    ``position_only=True`` or ``weights`` with a rotation weight of 0, on a target with an
+    aim (a cone by keywords, ``armik.Axis`` or ``armik.LookAt`` in a task list: one rule
+    for either spelling). The verdict measures the aim whatever they say, so they would
+    be silently overruled; the message says how to ask for either."""
+    if opts.position_only:
+        name, value = "position_only", True
+    elif opts.weights is not None and min(opts.weights[3:]) == 0.0:
+        name, value = "weights", opts.weights
+    else:
+        return
+    raise OptionError(
+        f"{name} does not apply to a target with an aim (cone=, look_at=, toward=, "
+        f"armik.Axis, armik.LookAt): {name}={value!r} frees a rotation the aim measures (the "
+        "tip's axis within its cone); drop it to hold the axis (the cone leaves the spin "
+        "about it free), or drop the aim (armik.Position alone) to leave the orientation "
+        "free",
+        option=name,
+        value=value,
+    )
+
+
 def refuse_without_direction(aim: Aim, rotated: bool) -> None:
     """An ``OptionError`` for a cone with nothing to point along: no look-at, no direction
     and a target without a rotation (``rotated`` False: a position). Its axis would be
