@@ -93,7 +93,11 @@ def tip_pose(X, tip, rot, t, R, p):
         R[2, j] = r20 * P0j + r21 * P1j + r22 * P2j
 
 
-@njit(cache=True, nogil=True, inline="always")
+# ``forward`` and ``jacobian_local`` are compiled once and called, not inlined by numba:
+# inlined, their IR was copied and typed again at each of a dozen call sites (4 s of CPU
+# of the numeric solvers' compile, 3 s of the task solver's); called, a Panda iteration
+# takes the same time (``benchmarks/kernel_iteration.py``: 648-688 ns against 661-685).
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True, _nrt=False)
 def forward(ch, q, R, p, origins, axes):
     """T_base_tip = (R, p) for joint values q (``ch``: a ``chain.Flat``); ``origins`` and
     ``axes`` (N x 3) receive each physical joint's origin and unit axis in the base frame,
@@ -125,7 +129,7 @@ def forward(ch, q, R, p, origins, axes):
     tip_pose(X, tip, rot, t, R, p)
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True, _nrt=False)
 def jacobian_local(ch, R, p, origins, axes, J):
     """J (6 x n): the tip Jacobian in the tip frame (LOCAL) from ``forward``'s outputs, a
     mimic joint's column added to its driver's times the multiplier."""

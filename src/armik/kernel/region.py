@@ -54,7 +54,9 @@ def rows_at(bounds, w, cone, a, look, x, R_t, p_t, ws, slot):
     _rows(bounds, w, cone, a, look, x, ws, slot)
 
 
-@njit(cache=True, nogil=True, inline="always")
+# Called from ``rows_at`` rather than inlined there: copying a callee this size into its
+# caller cost more compile time than compiling it once.
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 def _rows(bounds, w, cone, a, look, x, ws, slot):
     """ws.e[slot], ws.A[slot], ws.val[slot] from the placement (ws.m3[0], ws.v3[0]), its
     LOCAL Jacobian ws.J and the target seen from it (ws.m3[1], ws.v3[1])."""

@@ -43,7 +43,8 @@ def _most_joints(fo, ko, n):
     return nj
 
 
-@njit(cache=True, nogil=True, inline="always")
+# Called, not inlined: 2 s of the task solver's compile went to copying it into ``_stack``.
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 def _in_reference(ch, other, ws, kept):
     """ws.m3[0], ws.v3[0], ws.J: the placement of ``ch``'s frame in ``other``'s, ``T =
     T_other^-1 T_frame``, at ws.q[0], and its LOCAL Jacobian ``J_frame - Ad(T^-1)

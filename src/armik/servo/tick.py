@@ -66,7 +66,8 @@ MET = 1e-14
 NEVER = 1e-12
 
 
-@njit(cache=True, nogil=True, inline="always")
+# Called, not inlined at its three sites: 1.2 s less CPU to compile the servo.
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def views(buf, ibuf, n, N):
     """A ``kernel.problem.Workspace`` on ``buf`` and ``ibuf`` (one slot's rows read), and
     where the rest of ``buf`` starts."""
