@@ -265,7 +265,8 @@ _TOGETHER = (("dls", "qp", "batch", "hold", "path"),)
 # closed forms' half took 84 s of CPU, the other 76; the locked Panda's spherical shoulder
 # and the batch FK moved over, the shoulder after swept, whose spherical wrist code it
 # shares; 2026-12-07, with one numeric entry a step: 57 s against 61, and the UR5's
-# general 6R moved over, last, where the closed forms' checks are in the cache). Each
+# general 6R moved over, last, where the closed forms' checks are in the cache; then,
+# with the FK called instead of inlined, 52 s against 57.5, and the SRS arm moved over). Each
 # list's order puts first what the other half needs too and last what
 # needs the other half's code, which is then loaded from the cache: dls's region rows
 # and linear algebra before the tasks', swept's held target before hold, the closed
@@ -283,6 +284,7 @@ _HALVES = (
         "fk_batch",
         "batch",
         "general_6r",
+        "srs",
     ),
     (
         "spherical",
@@ -291,7 +293,6 @@ _HALVES = (
         "spherical_general",
         "three_parallel_general",
         "search_1d",
-        "srs",
         "elimination_6r",
         "hold",
         "tasks",
