@@ -274,6 +274,21 @@ def check_options(
     for name in refused:
         if getattr(opts, name) != getattr(defaults, name):
             raise OptionError(_not_taken(name, several_tips), option=name, value=None)
+    if opts.swivel is not None:  # the self-motion of one SRS arm's closed form
+        where, fix = (
+            ("several tips at once (chains that share joints, or a task relating them)",
+             "solve that chain alone, robot.chain(tip).solve(T, swivel=...)")
+            if several_tips
+            else ("these held joints", "hold one joint, or leave swivel= out")
+            if held
+            else ("a list of tasks", "give the pose, arm.solve(T, swivel=...)")
+        )  # fmt: skip
+        raise OptionError(
+            f"swivel={opts.swivel!r} is not taken by the task solver, which solves {where}: "
+            f"the swivel fixes an SRS arm's elbow in its closed form; {fix}",
+            option="swivel",
+            value=opts.swivel,
+        )
 
 
 def _not_taken(name: str, several_tips: bool) -> str:
