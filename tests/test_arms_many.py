@@ -121,6 +121,11 @@ def test_bad_many_targets_are_named(cell):
         cell.solve_batch(np.zeros((2, 3)))
     with pytest.raises(OptionError, match="positive and finite"):
         cell.solve_path({"l_tool0": np.zeros((2, 3))}, cell.middle, max_joint_step=-1.0)
+    # a step per joint of one chain (6 of the robot's 12), or words: named, no numpy error
+    for step in (np.full(6, 0.1), "abc"):
+        with pytest.raises(OptionError, match="one number or 12 numbers") as info:
+            cell.solve_path({"l_tool0": np.zeros((2, 3))}, cell.middle, max_joint_step=step)
+        assert info.value.option == "max_joint_step" and "r_joint_6" in str(info.value)
 
 
 def baxter() -> armik.Arms:

@@ -316,10 +316,17 @@ def _seeds(arms: Arms, q0: object, n: int) -> np.ndarray:
 
 
 def _step(arms: Arms, max_joint_step: object) -> np.ndarray:
-    step = np.broadcast_to(
-        np.asarray(DEFAULT_MAX_JOINT_STEP if max_joint_step is None else max_joint_step, float),
-        (arms.dof,),
-    ).copy()
+    """``max_joint_step`` over every joint of the robot: one number, or one per joint."""
+    value = DEFAULT_MAX_JOINT_STEP if max_joint_step is None else max_joint_step
+    try:
+        step = np.broadcast_to(np.asarray(value, float), (arms.dof,)).copy()
+    except (TypeError, ValueError):
+        raise OptionError(
+            f"max_joint_step must be one number or {arms.dof} numbers (rad or m), one per "
+            f"joint of {list(arms.joint_names)}, got {max_joint_step!r}",
+            option="max_joint_step",
+            value=max_joint_step,
+        ) from None
     if not (np.isfinite(step).all() and (step > 0).all()):
         raise OptionError(
             f"max_joint_step must be positive and finite, got {max_joint_step!r}",

@@ -128,7 +128,7 @@ AXIS = ["--axis", "0", "0", "1", "--toward", "0", "0", "-1"]
         ([*XYZ, *AXIS, "--within", "4"], "--within 4 is no angle"),
         ([*XYZ, *AXIS, "--within", "nan"], "--within nan is no angle"),
         ([*XYZ, *AXIS, "--bounds", "0", "0", "0", "0", "0", "inf"], "--bounds does not go with"),
-        ([*XYZ, *AXIS, "--weights", "1", "1", "1", "1", "1", "0"], "--weights does not go with"),
+        ([*XYZ, *AXIS, "--weights", "1", "1", "1", "1", "1", "0"], "1 1 0 does not go with --axis"),
         ([*XYZ, *AXIS, "--position-only"], "--position-only does not go with --axis"),
         ([*XYZ, *RPY, "--bounds", "0", "0", "0", "0", "0", "-1"], "--bounds must be 6 numbers"),
         ([*XYZ, *RPY, "--bounds", "0", "0", "nan", "0", "0", "0"], "--bounds must be 6 numbers"),
@@ -144,6 +144,33 @@ def test_bad_task_flags_exit_2_one_line(capsys, argv, message):
     code, _, err = run(capsys, "solve", "ur5", *argv)
     assert code == 2 and message in err, err
     assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+def test_weights_with_an_axis_follow_the_librarys_rule(capsys):
+    """--weights with --axis: refused where the library refuses it (a rotation weight of 0
+    frees the rotation the axis measures: ``targets.aim.refuse_freed``), in the flags'
+    words; other weights taken, as ``Arm.solve`` takes them, the answer's axis within its
+    cone. The command line refused any --weights with --axis."""
+    ur5 = arm("ur5")
+    T = ur5.fk(np.array([0.3, -1.1, 1.4, -0.6, -1.5, 0.9]))
+    argv = ["solve", "ur5", "--xyz", *words(T.translation), "--axis", "0", "0", "1"]
+    argv += ["--toward", *words(T.rotation[:, 2]), "--within", "0.1", "--json"]
+    code, out, err = run(capsys, *argv, "--weights", "1", "1", "1", "0.5", "0.5", "0.5")
+    assert code == 0, err
+    got = json.loads(out)["results"][0]
+    assert got["success"] and "the tip's axis within its cone of 0.1 rad" in got["reason"]
+    reached = ur5.fk(np.array(got["q"]))
+    assert np.linalg.norm(reached.translation - T.translation) <= TOL["solve"]
+    assert reached.rotation[:, 2] @ T.rotation[:, 2] >= math.cos(0.1 + TOL["solve"])
+    for bad in (["--weights", "1", "1", "1", "0", "1", "1"], ["--position-only"]):
+        with pytest.raises(armik.OptionError, match="frees a rotation the aim measures"):
+            ur5.solve(
+                [armik.Position(T.translation), armik.Axis((0, 0, 1), T.rotation[:, 2], 0.1)],
+                **({"position_only": True} if len(bad) == 1 else {"weights": (1, 1, 1, 0, 1, 1)}),
+            )
+        code, _, err = run(capsys, *argv, *bad)
+        assert code == 2 and f"{bad[0]}" in err and "does not go with --axis" in err, err
+        assert "frees the rotation --axis measures" in err and len(err.strip().splitlines()) == 1
 
 
 def test_a_cone_takes_a_solver_and_collisions(capsys):

@@ -163,6 +163,39 @@ def test_bad_several_tips_exit_2_one_line(capsys, urdf, argv, message):
     assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
 
 
+def test_weights_with_an_axis_per_tip_follow_the_librarys_rule(capsys):
+    """--axis on every tip with --weights: the Baxter's chains take weights that hold a
+    rotation, each answer's axis within its cone, and refuse a rotation weight of 0 or
+    --position-only (which free it) by the library's rule, in the flags' words; TALOS's
+    chains, solved together, take neither and say so by flag."""
+    for urdf in (BAXTER, TALOS):
+        robot = armik.load(urdf, tips=list(HANDS[urdf]))
+        targets = placements(urdf, robot.joint_names, robot.random_q(5))
+        flags: list[str] = []
+        for tip, T in targets.items():
+            flags += ["--tip", tip, "--xyz", *words(T.translation), "--axis", "0", "0", "1"]
+            flags += ["--toward", *words(T.rotation[:, 2]), "--within", "0.05"]
+        argv = ["solve", urdf, *flags, "--timeout", "1"]
+        weighed = ["--weights", "1", "1", "1", "0.5", "0.5", "0.5"]
+        code, out, err = run(capsys, *argv, *weighed, "--json")
+        if urdf == TALOS:
+            assert code == 2 and "--weights does not apply to these tips" in err, err
+            code, _, err = run(capsys, *argv, "--position-only")
+            assert code == 2 and "--position-only does not apply to these tips" in err, err
+            continue
+        assert code == 0, err
+        r = json.loads(out)["results"][0]
+        reached = placements(urdf, json.loads(out)["joints"], r["q"])
+        for tip, T in targets.items():
+            assert np.linalg.norm(reached[tip].translation - T.translation) <= 2 * TOL["solve"]
+            cos = reached[tip].rotation[:, 2] @ T.rotation[:, 2]
+            assert np.arccos(min(cos, 1.0)) <= 0.05 + TOL["solve"]
+        for bad in (["--weights", "1", "1", "1", "1", "1", "0"], ["--position-only"]):
+            code, _, err = run(capsys, *argv, *bad)
+            assert code == 2 and f"{bad[0]}" in err and "does not go with --axis" in err, err
+            assert "frees the rotation --axis measures" in err
+
+
 def test_position_only_on_several_tips(capsys):
     argv, targets = hand_flags(BAXTER, 6)
     code, out, err = run(capsys, "solve", BAXTER, *argv, "--position-only", "--json")

@@ -25,7 +25,7 @@ from armik.model.derived import Derived
 from armik.options import Options, spelled
 from armik.problem.problem import Problem, as_problem, lower, refuse_looking_from_target
 from armik.problem.scores import fit_posture, parse_score
-from armik.problem.tasks import Pose, Position, Task
+from armik.problem.tasks import Axis, LookAt, Pose, Position, Task
 from armik.request import Request
 from armik.solve.tasks import SOLVER, check_said_twice, lower_all, task_problems
 from armik.targets.aim import Aim, aim_of, refuse_freed, refuse_without_direction
@@ -56,6 +56,7 @@ def read(
     if "cone" in options or "look_at" in options or "toward" in options:
         aim, options = _aim(options)
     problem = None
+    freed = None  # an aim task lowered to a pose (``_task_aim``): refused what frees it
     kind = type(target)  # the common poses first: ``Task``'s isinstance is an ABC's check
     if (
         kind is not _SE3
@@ -69,6 +70,8 @@ def read(
             if lowered is not None and not (held and _held_apart(arm, options)):
                 target, said = lowered
                 check_said_twice(options, said)
+                if aim is None and type(target) is not Target:  # an Axis exactly along
+                    freed = _task_aim(problem)
                 if aim is not None:  # a call only then: the lowered target's aim is read below
                     aim = _aimed_once(target, aim)
                 options = {**options, **said}
@@ -83,6 +86,8 @@ def read(
     opts, key, seed = settings(arm, options) if options else (_DEFAULT, (), 0)
     if problem is not None:
         check_options(opts, solver, held=held)
+    if freed is not None:
+        refuse_freed(freed, opts)
     if score is not None and problem is None:  # every answer ranked is to this target
         target = parsed(target, arm)
     if aim is None and type(target) is Target:  # a row of an aimed batch or path
@@ -114,6 +119,7 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     if "cone" in options or "look_at" in options or "toward" in options:
         aim, options = _aim(options)
     rows: list | None = None
+    freed = None  # an aim task lowered to a pose (``_task_aim``): refused what frees it
     ranked = False  # each row's answers ranked by a preference
     # an array holds poses or positions: tasks come as a list or a tuple
     problems = task_problems(targets) if type(targets) in (list, tuple) else None
@@ -126,6 +132,7 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
         else:
             targets, options = lowered
             aim = _aimed_once(targets, aim)
+            freed = None if aim is not None else _tasks_aim(problems)
     if aim is not None:  # every target's: the batch carries it
         targets = _aimed_batch(parse_targets(targets, arm), aim)
         refuse_without_direction(aim, targets.rotations is not None)
@@ -140,6 +147,8 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     if rows is None and opts.hold is not None:  # held joints: each target solved as solve does
         batch = parse_targets(targets, arm)
         rows = [batch.target(i) for i in range(len(batch))]
+    if freed is not None:
+        refuse_freed(freed, opts)
     if aim is not None:
         refuse_freed(aim, opts)
         key = None if key is None else (key, aim.shape)
@@ -192,6 +201,8 @@ def read_path(
             return path, path
         poses, options = lowered
         aim = _aimed_once(poses, aim)
+        if aim is None and (freed := _tasks_aim(problems)) is not None:
+            refuse_freed(freed, settings(arm, options)[0])
     opts, key, seed = settings(arm, {**options, "max_restarts": 0})
     if aim is not None:  # every waypoint's: the path's batch carries it
         poses = _aimed_batch(parse_targets(poses, arm), aim)
@@ -207,6 +218,22 @@ def read_path(
     if aim is not None and key is not None:
         key = (key, aim.shape)
     return Request(poses, q0, solver, opts, key, seed, False, t0, score), local
+
+
+def _task_aim(problem: Problem) -> Aim | None:
+    """The aim of ``problem``'s ``Axis`` or ``LookAt`` task, or None: one lowered to a pose
+    (an axis of the tip's own exactly along a direction, its spin freed by bounds) carries
+    no aim, and what would free the axis it measures is refused all the same."""
+    for task in problem.tasks:
+        if type(task) is Axis or type(task) is LookAt:
+            x, y, z = task.axis.tolist()
+            return Aim((x, y, z), float(task.within))
+    return None
+
+
+def _tasks_aim(problems: list[Problem]) -> Aim | None:
+    """The first aim of ``problems``' tasks (``_task_aim``), or None."""
+    return next((a for a in map(_task_aim, problems) if a is not None), None)
 
 
 def check_plan(plan: object) -> None:
@@ -247,6 +274,21 @@ def check_options(
     for name in refused:
         if getattr(opts, name) != getattr(defaults, name):
             raise OptionError(_not_taken(name, several_tips), option=name, value=None)
+    if opts.swivel is not None:  # the self-motion of one SRS arm's closed form
+        where, fix = (
+            ("several tips at once (chains that share joints, or a task relating them)",
+             "solve that chain alone, robot.chain(tip).solve(T, swivel=...)")
+            if several_tips
+            else ("these held joints", "hold one joint, or leave swivel= out")
+            if held
+            else ("a list of tasks", "give the pose, arm.solve(T, swivel=...)")
+        )  # fmt: skip
+        raise OptionError(
+            f"swivel={opts.swivel!r} is not taken by the task solver, which solves {where}: "
+            f"the swivel fixes an SRS arm's elbow in its closed form; {fix}",
+            option="swivel",
+            value=opts.swivel,
+        )
 
 
 def _not_taken(name: str, several_tips: bool) -> str:

@@ -36,14 +36,13 @@ def flag_targets(args: argparse.Namespace, options: dict, several: bool) -> list
     bounds = options.get("bounds")
     if bounds is not None:
         _check_bounds(bounds)
-    if given["axis"]:
-        for flag in ("bounds", "weights", "position_only"):
-            if flag in options:
-                raise InputError(
-                    f"--{flag.replace('_', '-')} does not go with --axis: --axis, --toward and "
-                    "--within say the direction; leave it out, or give --rpy or --quat for a "
-                    "pose"
-                )
+    if given["axis"] and "bounds" in options:
+        raise InputError(
+            "--bounds does not go with --axis: --axis, --toward and --within say the "
+            "direction; leave it out, or give --rpy or --quat for a pose"
+        )
+    # --weights and --position-only go to the library with --axis, which refuses those
+    # that free the rotation the axis measures (``targets.aim.refuse_freed``): ``for_flags``
     for rpy in given["rpy"]:
         if any(abs(a) > 2 * math.pi for a in rpy):  # taken as given: a warning, no refusal
             shown = " ".join(f"{a:g}" for a in rpy)
@@ -78,12 +77,13 @@ def flag_targets(args: argparse.Namespace, options: dict, several: bool) -> list
             targets.append([Position(xyz, bounds=bounds[:3])])
         else:
             targets.append(xyz)
-    if given["axis"] or (posed and bounds is not None):
+    if posed and bounds is not None:
         options.pop("bounds", None)
         options.pop("weights", None)
     if several:  # said by the targets (a Position with bounds, a position for a pose)
-        options.pop("position_only", None)
         options.pop("bounds", None)
+        if not given["axis"]:  # with --axis, the library's to refuse (above)
+            options.pop("position_only", None)
     return targets
 
 
@@ -241,8 +241,21 @@ def task_lines(result, names: list[str], indent: str) -> list[str]:
 
 
 def for_flags(exc: OptionError) -> OptionError:
-    """The library's refusal of an option a task list does not take, in the words of the
-    flags (the CLI's task lists come from --axis and from regions)."""
+    """The library's refusal of an option a task list does not take, or of one that frees
+    the rotation an aim measures (``targets.aim.refuse_freed``), in the words of the flags
+    (the CLI's task lists come from --axis and from regions)."""
+    if "frees a rotation the aim measures" in str(exc):
+        flag = "--" + exc.option.replace("_", "-")
+        value = exc.value
+        shown = " ".join(f"{w:g}" for w in value) if isinstance(value, tuple) else ""
+        return OptionError(
+            f"{flag}{' ' + shown if shown else ''} does not go with --axis: it frees the "
+            "rotation --axis measures (the tip's axis within --within of its direction); "
+            f"leave {flag} out to hold the axis (the spin about it stays free), or leave "
+            "--axis out to leave the orientation free",
+            option=exc.option,
+            value=exc.value,
+        )
     if "list of tasks" not in str(exc):
         return exc
     flag = "--" + exc.option.replace("_", "-")

@@ -20,6 +20,7 @@ from armik.tools.cli.targets import flag_targets, for_flags, task_errors, task_n
 # options the task solver of chains that share joints does not take (flag -> option)
 _NOT_TOGETHER = {
     "--weights": "weights",
+    "--position-only": "position_only",  # left in the options with --axis only
     "--prefer": "prefer",
     "--obstacles": "obstacles",
     "--self-collision": "self_collision",
