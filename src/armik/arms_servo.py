@@ -27,6 +27,7 @@ import numpy as np
 from armik.errors import JointError, OptionError, TargetError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
+from armik.servo.collisions import margin_given
 from armik.servo.result import ServoRecord, ServoStatus, ServoStep, record
 from armik.servo.servo import Servo, start
 from armik.servo.table import at_tick, read, sequence
@@ -104,6 +105,7 @@ class ArmsServo:
                 option="self_collision",
                 value=options["self_collision"],
             )
+        margin_given(options)
         self.tips = arms.tips
         self._tip_set = set(arms.tips)
         self.joint_names = arms.joint_names

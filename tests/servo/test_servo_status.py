@@ -93,3 +93,20 @@ def test_a_target_one_tip_cannot_read_moves_no_chain_and_names_the_tip():
     s = servo.step({"l_tool0": up, "r_tool0": right})
     alone = cell.chain("l_tool0").servo(q, dt=DT).step(up)
     assert np.array_equal(s.q[:6], alone.q)
+
+
+@pytest.mark.parametrize("margin", [-0.1, float("nan"), "1 cm", 2.0])
+def test_a_bad_margin_is_refused_with_or_without_obstacles(margin):
+    """Unread without obstacles, a bad margin was taken whatever it was."""
+    arm = armik.load("panda")
+    with pytest.raises(armik.CollisionError, match="margin") as caught:
+        arm.servo(START["panda"], margin=margin)
+    assert caught.value.option == "margin"
+    cell = armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
+    q = np.array([0.0, 0.2, 0.2, 0.0, 0.8, 0.0])
+    with pytest.raises(armik.CollisionError, match="margin"):
+        cell.servo(np.concatenate([q, q]), margin=margin)
+    shared = armik.load("panda", tips=["panda_link4", "panda_hand"])
+    with pytest.raises(armik.CollisionError, match="margin"):
+        shared.servo(START["panda"], margin=margin)
+    arm.servo(START["panda"], margin=0.02)  # a distance: taken, as before

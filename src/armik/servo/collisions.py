@@ -113,6 +113,14 @@ def rows_for(
     return CollisionRows(checker, margin_of(margin), RATE * dt)
 
 
+def margin_given(options: dict[str, object]) -> None:
+    """A ``CollisionError`` for a ``margin=`` the servo options ``options`` give that is not
+    a distance in [0, 1) m, with collision rows asked for or not (unread without them, it
+    was taken whatever it was)."""
+    if "margin" in options:
+        margin_of(options["margin"])
+
+
 def margin_of(margin: object) -> float:
     """``margin`` (m) as a float in [0, 1); a ``CollisionError`` naming it otherwise."""
     try:

@@ -15,7 +15,7 @@ from armik.model.arm_model import ArmModel, model_of
 from armik.model.union import Union
 from armik.servo import layout as k
 from armik.servo import table as _table
-from armik.servo.collisions import rows_for
+from armik.servo.collisions import margin_given, rows_for
 from armik.servo.fixed import never_moved
 from armik.servo.limits import (
     DEFAULT_ACCELERATION,
@@ -230,6 +230,7 @@ def start(arm: object, q0: object, **options: object) -> Servo:
                 option=name,
                 value=options[name],
             )
+    margin_given(options)
     return Servo(model_of(arm), q0, **options)  # type: ignore[arg-type]
 
 
