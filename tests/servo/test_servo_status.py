@@ -110,3 +110,22 @@ def test_a_bad_margin_is_refused_with_or_without_obstacles(margin):
     with pytest.raises(armik.CollisionError, match="margin"):
         shared.servo(START["panda"], margin=margin)
     arm.servo(START["panda"], margin=0.02)  # a distance: taken, as before
+
+
+def test_self_collision_is_numpy_s_bool_too_and_never_none():
+    """``solve``'s rule: True or False, numpy's too (a mask's, a config's); None refused."""
+    arm = armik.load("panda")
+    q0 = START["panda"]
+    T0 = arm.fk(q0)
+    targets = [pin.SE3(T0.rotation, T0.translation + np.array([0.0, 0.1, -0.1]))] * 50
+    plain = arm.servo(q0, self_collision=True).track(targets)
+    numpy = arm.servo(q0, self_collision=np.True_).track(targets)
+    assert np.array_equal(plain.q, numpy.q)
+    arm.servo(q0, self_collision=np.False_)
+    with pytest.raises(armik.CollisionError, match="self_collision") as caught:
+        arm.servo(q0, self_collision=None)
+    assert caught.value.option == "self_collision"
+    shared = armik.load("panda", tips=["panda_link4", "panda_hand"])
+    shared.servo(q0, self_collision=np.True_)
+    with pytest.raises(armik.CollisionError, match="self_collision"):
+        shared.servo(q0, self_collision=None)
