@@ -27,6 +27,7 @@ import numpy as np
 from armik.errors import JointError, OptionError, TargetError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
+from armik.servo.collisions import margin_given
 from armik.servo.result import ServoRecord, ServoStatus, ServoStep, record
 from armik.servo.servo import Servo, start
 from armik.servo.table import at_tick, read, sequence
@@ -104,6 +105,7 @@ class ArmsServo:
                 option="self_collision",
                 value=options["self_collision"],
             )
+        margin_given(options)
         self.tips = arms.tips
         self._tip_set = set(arms.tips)
         self.joint_names = arms.joint_names
@@ -170,12 +172,15 @@ class ArmsServo:
     def step(self, targets: Mapping[str, object]) -> ServoStep:
         """One tick of every chain toward its tip's target (``targets``: tip -> anything
         ``Arm.servo``'s ``step`` takes); the joined step (module docstring). Raises
-        ``TargetError`` unless every tip has a target and no other is named."""
+        ``TargetError`` unless every tip has a target and no other is named, and naming
+        the tip whose target it cannot read; every target is read before any chain ticks,
+        so that a refused step moves none."""
         if type(targets) is not dict or targets.keys() != self._tip_set:
             self._check(targets)  # (a dict over the tips, the common case, needs none)
         if self._union is not None:
             return self._union.step(targets)
-        steps = {tip: s.step(targets[tip]) for tip, s in self._servos.items()}
+        tables = {tip: _read(tip, targets[tip], s.arm) for tip, s in self._servos.items()}
+        steps = {tip: s._tick(targets[tip], tables[tip]) for tip, s in self._servos.items()}
         first = min(steps.values(), key=lambda s: PRECEDENCE.index(s.status))
         command = np.concatenate([np.stack([s.q, s.dq, s.ddq]) for s in steps.values()], axis=1)
         command.flags.writeable = False
@@ -231,10 +236,7 @@ class ArmsServo:
             try:
                 self._check(mapping)
                 for tip in self.tips:
-                    try:
-                        read(mapping[tip], arms[tip])
-                    except TargetError as error:
-                        raise TargetError(f"the target of tip {tip!r}: {error}") from None
+                    _read(tip, mapping[tip], arms[tip])
             except TargetError as error:
                 raise at_tick(i, error) from None
         return record([self.step(t) for t in items])
@@ -244,3 +246,11 @@ class ArmsServo:
         if self._union is not None:
             return dict(self._union._chains)  # type: ignore[arg-type]
         return {tip: s.arm for tip, s in self._servos.items()}
+
+
+def _read(tip: str, target: object, arm: ArmModel) -> np.ndarray | None:
+    """``table.read`` of ``tip``'s target; its ``TargetError`` naming the tip."""
+    try:
+        return read(target, arm)
+    except TargetError as error:
+        raise TargetError(f"the target of tip {tip!r}: {error}") from None

@@ -90,15 +90,13 @@ class CollisionRows:
 def asked(obstacles: object, self_collision: object) -> bool:
     """Whether collision rows are asked for (obstacles, or ``self_collision``); a
     ``CollisionError`` for a ``self_collision`` that is not True or False."""
-    if obstacles is None and not self_collision:
-        return False
-    if not isinstance(self_collision, bool):
+    if not isinstance(self_collision, (bool, np.bool_)):  # (None too: solve's rule)
         raise CollisionError(
             f"self_collision must be True or False, got {self_collision!r}",
             option="self_collision",
             value=self_collision,
         )
-    return True
+    return obstacles is not None or bool(self_collision)
 
 
 def rows_for(
@@ -109,8 +107,16 @@ def rows_for(
     if not asked(obstacles, self_collision):
         return None
     shapes = check_obstacles(obstacles)
-    checker = collision.checker(arm, shapes, self_collision is True)
+    checker = collision.checker(arm, shapes, bool(self_collision))
     return CollisionRows(checker, margin_of(margin), RATE * dt)
+
+
+def margin_given(options: dict[str, object]) -> None:
+    """A ``CollisionError`` for a ``margin=`` the servo options ``options`` give that is not
+    a distance in [0, 1) m, with collision rows asked for or not (unread without them, it
+    was taken whatever it was)."""
+    if "margin" in options:
+        margin_of(options["margin"])
 
 
 def margin_of(margin: object) -> float:

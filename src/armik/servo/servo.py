@@ -15,7 +15,7 @@ from armik.model.arm_model import ArmModel, model_of
 from armik.model.union import Union
 from armik.servo import layout as k
 from armik.servo import table as _table
-from armik.servo.collisions import rows_for
+from armik.servo.collisions import margin_given, rows_for
 from armik.servo.fixed import never_moved
 from armik.servo.limits import (
     DEFAULT_ACCELERATION,
@@ -161,6 +161,13 @@ class Servo(Commanded):
             tick(_table.table(target, self.arm), mem, imem, near)
         return self._command()
 
+    def _tick(self, target: object, rows: np.ndarray | None) -> ServoStep:
+        """One tick toward ``target`` already read (``table.read``: its ``rows``, None for
+        a pose the compiled tick writes itself)."""
+        near = self._no_rows if self._collisions is None else self._collisions.at(self._state[k.Q])
+        tick(_table.plain_matrix(target) if rows is None else rows, self._mem, self._imem, near)
+        return self._command()
+
     def _command(self) -> ServoStep:
         """The last tick's command and what limited it."""
         out, state = self._out, self._state
@@ -193,14 +200,7 @@ class Servo(Commanded):
                 tables.append(_table.read(target, self.arm))
             except TargetError as error:
                 raise _table.at_tick(i, error) from None
-        mem, imem, steps = self._mem, self._imem, []
-        for target, rows in zip(items, tables):
-            near = (
-                self._no_rows if self._collisions is None else self._collisions.at(self._state[k.Q])
-            )
-            tick(_table.plain_matrix(target) if rows is None else rows, mem, imem, near)
-            steps.append(self._command())
-        return record(steps)
+        return record([self._tick(target, rows) for target, rows in zip(items, tables)])
 
 
 def _plain(M: np.ndarray) -> bool:
@@ -230,6 +230,7 @@ def start(arm: object, q0: object, **options: object) -> Servo:
                 option=name,
                 value=options[name],
             )
+    margin_given(options)
     return Servo(model_of(arm), q0, **options)  # type: ignore[arg-type]
 
 

@@ -151,6 +151,32 @@ def stack(table, tasks, ws, E, A, fixed, scale):
     return reg_p, reg_r, active
 
 
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
+def regions(table, tasks, ws):
+    """The largest distances (m, rad) of the placement in ws (ws.m3[0], ws.v3[0]) from the
+    first ``tasks`` tasks' regions, as ``stack`` measures them: whether a command is on
+    target. The rows go to ws's slot 1 and are not read (ws.J may be another placement's)."""
+    slot = np.int64(1)
+    reg_p = reg_r = 0.0
+    for t in range(tasks):
+        row = table[t]
+        rows_at(
+            row[BOUNDS : BOUNDS + 6],
+            row[WEIGHTS : WEIGHTS + 6],
+            row[CONE],
+            row[AXIS : AXIS + 3],
+            np.int64(row[LOOK]),
+            row[SIGHT : SIGHT + 3],
+            row[ROT : ROT + 9].reshape((3, 3)),
+            row[POS : POS + 3],
+            ws,
+            slot,
+        )
+        reg_p = max(reg_p, ws.val[1, 0])
+        reg_r = max(reg_r, ws.val[1, 1])
+    return reg_p, reg_r
+
+
 @njit(cache=True, nogil=True, inline="always")
 def _counted(row, k, R_t, nonzero, fixed):
     """Row k's scale in the singular value (``armik.servo.singular``): 1 over its weight
@@ -268,6 +294,11 @@ def tick(target, mem, imem, rows_cb):
     )  # fmt: skip
     # the true distances the command leaves (the FK at the new joint values)
     forward(ch, q, R, p, ws.geo[0], ws.geo[1])
+    # on target where the arm was and where the command is: a moving arm told to stop
+    # where it is passes through it, unable to stop within one tick
+    if within:
+        reg_p, reg_r = regions(table, tasks, ws)
+        within = reg_p <= cfg[TOL_P] and reg_r <= cfg[TOL_R]
     origin, reach_ = reach(ch)
     far = distances(table, R, p, origin, reach_, cfg[REACH_SLACK], out)
     for t in range(tasks):  # this target, the next tick's last

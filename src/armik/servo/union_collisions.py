@@ -219,4 +219,4 @@ def union_rows(
     if not asked(obstacles, self_collision):
         return None
     m = margin_of(margin)
-    return UnionCollisions(arms, cols, n, obstacles, self_collision is True, m, RATE * dt)
+    return UnionCollisions(arms, cols, n, obstacles, bool(self_collision), m, RATE * dt)

@@ -44,7 +44,7 @@ from armik.servo.layout import (
     Q,
 )
 from armik.servo.step import scratch, scratch_size, status_code, step_within
-from armik.servo.tick import equal, pose_row, stack, views
+from armik.servo.tick import equal, pose_row, regions, stack, views
 
 # ints: n, tips, the most joint values and the most joints of a chain, the lengths of
 # the chains' packed floats, kinds and maps
@@ -300,6 +300,9 @@ def tick(mem, imem, rows_cb):
         k = counts[t]
         table = tables[t * MAX_TASKS : t * MAX_TASKS + k]
         far = distances(table, R, p, origin, reach_, cfg[REACH_SLACK], out2) or far
+        if within:  # and where the command is (``tick.tick``)
+            rp, rr = regions(table, k, ws)
+            within = rp <= cfg[TOL_P] and rr <= cfg[TOL_R]
         if not math.isnan(out2[POS_ERR]):
             pos = max(pos, out2[POS_ERR])
         if not math.isnan(out2[ORI_ERR]):

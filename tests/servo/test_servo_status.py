@@ -1,0 +1,131 @@
+"""A tick's status is the command's: ``on_target`` only where Pinocchio's FK of the
+returned q is within the tolerances of the target, and a step refused on several tips
+moves no chain."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from armik.errors import TargetError
+from armik.servo.streams import START
+
+from ..test_arms import dual_irb120
+
+DT = 0.002
+TOL = 1e-6  # the servo's default tolerances (m, rad)
+
+
+def _off(T: pin.SE3, target: pin.SE3) -> tuple[float, float]:
+    """Pinocchio's distances of T from target (m, rad)."""
+    err = pin.log6(target.actInv(T)).vector
+    return float(np.linalg.norm(T.translation - target.translation)), float(np.linalg.norm(err[3:]))
+
+
+def _moving(servo, T0: pin.SE3) -> None:
+    """``servo`` sent 25 cm along y for 60 ticks: moving at speed."""
+    far = pin.SE3(T0.rotation, T0.translation + np.array([0.0, 0.25, 0.0]))
+    for _ in range(60):
+        servo.step(far)
+    assert np.abs(servo.dq).max() > 1.0
+
+
+class _Hand:
+    """A servo over shared joints stepped by the hand's target, the elbow's held."""
+
+    def __init__(self, servo, elbow: str, hand: str, at: np.ndarray) -> None:
+        self.servo, self.elbow, self.hand, self.at = servo, elbow, hand, at
+
+    def step(self, target: pin.SE3):
+        return self.servo.step({self.elbow: self.at, self.hand: target})
+
+    @property
+    def dq(self) -> np.ndarray:
+        return self.servo.dq
+
+
+def test_a_moving_arm_told_to_stop_where_it_is_is_not_on_target_until_it_is():
+    arm = armik.load("panda")
+    q0 = START["panda"]
+    servo = arm.servo(q0, dt=DT)
+    _moving(servo, arm.fk(q0))
+    here = arm.fk(servo.q)  # stop here: the arm cannot within one tick
+    first = servo.step(here)
+    assert first.status != "on_target"
+    assert _off(arm.fk(first.q), here)[0] > 1e-3  # the arm has passed it, as said
+    statuses = [first.status]
+    for _ in range(1000):
+        s = servo.step(here)
+        statuses.append(s.status)
+        if s.status == "on_target":  # the command's own FK, by Pinocchio
+            pos, rot = _off(arm.fk(s.q), here)
+            assert pos <= TOL and rot <= TOL
+            assert s.position_error <= TOL and s.orientation_error <= TOL
+    assert statuses[-1] == "on_target"
+
+
+def test_over_shared_joints_too_a_moving_arm_told_to_stop_is_not_on_target():
+    robot = armik.load("panda", tips=["panda_link4", "panda_hand"])
+    assert robot.shared
+    elbow, hand = robot.tips
+    q0 = START["panda"]
+    servo = robot.servo(q0, dt=DT)
+    _moving(_Hand(servo, elbow, hand, robot.fk(q0, elbow).translation), robot.fk(q0, hand))
+    here = {elbow: robot.fk(servo.q, elbow).translation, hand: robot.fk(servo.q, hand)}
+    s = servo.step(here)
+    assert s.status != "on_target"
+    assert _off(robot.fk(s.q, hand), here[hand])[0] > 1e-3
+
+
+def test_a_target_one_tip_cannot_read_moves_no_chain_and_names_the_tip():
+    cell = armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
+    q = np.array([0.0, 0.2, 0.2, 0.0, 0.8, 0.0])
+    q0 = np.concatenate([q, q])
+    servo = cell.servo(q0, dt=DT)
+    up = cell.fk(q0, "l_tool0").translation + np.array([0.0, 0.0, 0.05])
+    with pytest.raises(TargetError, match=r"the target of tip 'r_tool0': .*NaN"):
+        servo.step({"l_tool0": up, "r_tool0": np.array([np.nan, 0.0, 0.0])})
+    assert np.array_equal(servo.q, q0) and not servo.dq.any()  # neither chain ticked
+    # the same step with the right target ticks both, as a chain's own servo does
+    right = cell.fk(q0, "r_tool0")
+    s = servo.step({"l_tool0": up, "r_tool0": right})
+    alone = cell.chain("l_tool0").servo(q, dt=DT).step(up)
+    assert np.array_equal(s.q[:6], alone.q)
+
+
+@pytest.mark.parametrize("margin", [-0.1, float("nan"), "1 cm", 2.0])
+def test_a_bad_margin_is_refused_with_or_without_obstacles(margin):
+    """Unread without obstacles, a bad margin was taken whatever it was."""
+    arm = armik.load("panda")
+    with pytest.raises(armik.CollisionError, match="margin") as caught:
+        arm.servo(START["panda"], margin=margin)
+    assert caught.value.option == "margin"
+    cell = armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
+    q = np.array([0.0, 0.2, 0.2, 0.0, 0.8, 0.0])
+    with pytest.raises(armik.CollisionError, match="margin"):
+        cell.servo(np.concatenate([q, q]), margin=margin)
+    shared = armik.load("panda", tips=["panda_link4", "panda_hand"])
+    with pytest.raises(armik.CollisionError, match="margin"):
+        shared.servo(START["panda"], margin=margin)
+    arm.servo(START["panda"], margin=0.02)  # a distance: taken, as before
+
+
+def test_self_collision_is_numpy_s_bool_too_and_never_none():
+    """``solve``'s rule: True or False, numpy's too (a mask's, a config's); None refused."""
+    arm = armik.load("panda")
+    q0 = START["panda"]
+    T0 = arm.fk(q0)
+    targets = [pin.SE3(T0.rotation, T0.translation + np.array([0.0, 0.1, -0.1]))] * 50
+    plain = arm.servo(q0, self_collision=True).track(targets)
+    numpy = arm.servo(q0, self_collision=np.True_).track(targets)
+    assert np.array_equal(plain.q, numpy.q)
+    arm.servo(q0, self_collision=np.False_)
+    with pytest.raises(armik.CollisionError, match="self_collision") as caught:
+        arm.servo(q0, self_collision=None)
+    assert caught.value.option == "self_collision"
+    shared = armik.load("panda", tips=["panda_link4", "panda_hand"])
+    shared.servo(q0, self_collision=np.True_)
+    with pytest.raises(armik.CollisionError, match="self_collision"):
+        shared.servo(q0, self_collision=None)
