@@ -181,3 +181,23 @@ def test_without_q0_the_first_waypoint_is_free(name):
     assert given.status[0] == "discontinuous" and "from q0 (the start)" in given.reason(0)
     assert given.success[1:].all()
     _check_no_silent_jump(a.middle, given, 0.5)
+
+
+@pytest.mark.parametrize("plan", ["follow", "global"])
+def test_a_free_spin_stays_on_the_start_branch_at_a_singular_start(plan):
+    """The UR5's zero configuration (a wrist with two parallel axes) already on a point
+    with its z axis along a direction: the pose spelled with a free spin at another
+    rotation (an ``Axis`` with ``within=0`` lowers to one) is solved at the tip's own spin,
+    so the path stays at q0, as the same pose at the tip's rotation does; it used to move
+    wrist_1 by pi and call waypoint 0 discontinuous."""
+    ur5 = arm("ur5")
+    T = ur5.fk(ur5.middle)
+    turned = pin.SE3(T.rotation @ pin.exp3(np.array([0.0, 0.0, np.pi])), T.translation)
+    tasks = [armik.Position(T.translation), armik.Axis((0, 0, 1), T.rotation[:, 2], within=0)]
+    for poses, kw in (([tasks] * 2, {}), ([turned] * 2, {"bounds": (0, 0, 0, 0, 0, np.inf)})):
+        r = ur5.solve_path(poses, ur5.middle, plan=plan, **kw)
+        assert r.success.all(), r.reason(0)
+        assert np.abs(r.q - ur5.middle).max() < 1e-3  # was pi on wrist_1
+        for q in r.q:
+            assert np.allclose(ur5.fk(q).translation, T.translation, atol=1e-9)
+            assert np.allclose(ur5.fk(q).rotation[:, 2], T.rotation[:, 2], atol=1e-9)

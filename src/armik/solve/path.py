@@ -40,7 +40,7 @@ from armik.result import IKResult
 from armik.solve import ladder, rungs
 from armik.solve.path_score import preferred
 from armik.solve.prepared import chosen
-from armik.solve.rungs import unwrapped
+from armik.solve.rungs import free_spin, spun, spun_batch, unwrapped
 from armik.solve.single import routed
 from armik.solve.stages import run
 from armik.solve.turning import ANY, Turning, refuse_broken, turning
@@ -84,10 +84,11 @@ def solve_path(
         return _followed_rows(arm, request, _max_step(arm, max_joint_step))
     poses, q0, solver, score = request.target, request.q0, request.solver, request.score
     opts = request.settings
-    batch = parse_targets(poses, arm)
-    n = len(batch)
     step = _max_step(arm, max_joint_step)
     q_prev = arm.seed(q0)
+    # a spin the bounds free over a whole turn: each pose at the spin nearest the one before
+    batch = spun_batch(arm, parse_targets(poses, arm), q_prev, free_spin(opts.bounds))
+    n = len(batch)
     turn = turning(arm, request.opts, q_prev)  # the turns of an answer its constraints allow
     if solver == "auto":  # kept per arm: the choice reads the first target's kind only
         position = batch.rotations is None if n else None
@@ -192,8 +193,9 @@ def _walk(
     the turns the request allows an answer (``armik.solve.turning``). Returns the solver
     of the first verified answer, else of the first answer (None: no waypoint)."""
     used = None
+    spin = free_spin(request.settings.bounds)
     for i in range(len(batch)):
-        target = batch.target(i)
+        target = spun(arm, batch.target(i), q_prev, spin)
         r = _at(arm, request, target, q_prev)
         if not (free and i == 0 and chooser is not None):  # a free first answer: as preferred
             r = unwrapped(arm, r, q_prev, turn)

@@ -10,20 +10,34 @@ waypoint that a path may pass through.
   where following breaks, each waypoint solved from the track's answer at the one before,
   forward and backward. Not every solution: the plan is the least motion over what was
   tracked, and a break it reports is one no tracked answer passes.
+
+A spin the bounds free over a whole turn (``free_spin``; ``Axis(..., within=0)`` with a
+``Position`` lowers to one) makes every rotation of a pose about that axis the same set of
+poses, the one a target carries arbitrary; but a closed form solves it at that spin, and at
+a singular configuration (a wrist's two parallel axes sharing the spin as they please) the
+branches at another spin need not pass near the arm's. A path turns each pose to the spin
+nearest the one before, the first to the tip's at the start (``spun_batch``, ``spun``):
+no verdict changes, and the start's branch is found as at the tip's own rotation.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
 
 import numpy as np
+import pinocchio as pin
 
+from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
+from armik.problem.settings import spin_of
 from armik.request import Request
 from armik.result import IKResult
 from armik.solve.stages import run
 from armik.solve.turning import ANY, Turning, turning
+from armik.targets.batch import TargetBatch
+from armik.targets.pose import Target
 
 HELD_OFFSETS = 0.1 * np.arange(-2, 3)  # rad: joint 7's values about the followed path's
 HELD_GRID = 6  # values across joint 7's range beside them: other branches, missed waypoints
@@ -129,3 +143,42 @@ def unwrapped(arm: ArmModel, r: IKResult, q_prev: np.ndarray, turn: Turning = AN
         q[fixed] = np.asarray(r.q)[fixed]
         q = turn.kept(arm, q, np.asarray(r.q))
     return r if np.array_equal(q, r.q) else dataclasses.replace(r, q=q)
+
+
+def free_spin(bounds: tuple[float, ...] | None) -> int | None:
+    """The rotation component of the target frame that ``bounds`` free over a whole turn
+    (the position and the other components exact), else None."""
+    spin = spin_of(bounds)
+    return spin[0] if spin is not None and spin[1] >= math.pi else None
+
+
+def spun(arm: ArmModel, target: Target, q: np.ndarray, k: int | None) -> Target:
+    """``target`` turned about its own axis ``k`` (a spin free over a whole turn: the same
+    poses) to the rotation nearest the tip's at ``q``; unchanged where ``k`` is None, for a
+    position or an aim."""
+    if k is None or target.rotation is None or target.aim is not None:
+        return target
+    rotation = _nearest(target.rotation, arm.fk(q).rotation, k)
+    return frozen(Target, **{**target.__dict__, "rotation": rotation})
+
+
+def spun_batch(arm: ArmModel, batch: TargetBatch, q: np.ndarray, k: int | None) -> TargetBatch:
+    """``batch`` with each rotation turned about its axis ``k`` to the one nearest the
+    rotation before it (the first: the tip's at ``q``); unchanged where ``k`` is None, for
+    positions or an aim."""
+    if k is None or batch.rotations is None or batch.aim is not None or not len(batch):
+        return batch
+    rotations = np.array(batch.rotations, dtype=float)
+    previous = arm.fk(q).rotation
+    for i in range(len(rotations)):
+        rotations[i] = previous = _nearest(rotations[i], previous, k)
+    return frozen(TargetBatch, **{**batch.__dict__, "rotations": rotations})
+
+
+def _nearest(R: np.ndarray, near: np.ndarray, k: int) -> np.ndarray:
+    """``R`` turned about its own axis ``k`` to the rotation nearest ``near`` (the angle
+    that maximises the trace of ``near^T R R_k``)."""
+    M = R.T @ near  # ``near`` in R's frame
+    i, j = (k + 1) % 3, (k + 2) % 3
+    theta = math.atan2(M[j, i] - M[i, j], M[i, i] + M[j, j])
+    return np.asarray(R @ pin.exp3(theta * np.eye(3)[k]))
