@@ -225,3 +225,26 @@ def whole_placements(model, data, names, q) -> None:
     for name, value in zip(names, q):
         full[model.joints[model.getJointId(name)].idx_q] = value
     pin.framesForwardKinematics(model, data, full)
+
+
+@pytest.fixture
+def aimless():
+    """dls registered again as "aimless", below every bundled solver: it claims its seed
+    converged whatever the target, as a solver that ignores an aim would (the verdict's
+    check of the aim on every route, ``tests/verify/test_aim_measured.py``)."""
+    import dataclasses
+
+    from armik.solvers import registry
+    from armik.solvers.answers import one
+    from armik.status import Status
+
+    def run(arm, target, q0, opts, all_solutions):
+        return one(np.array(q0, dtype=float), Status.CONVERGED, "claimed")
+
+    spec = dataclasses.replace(
+        registry.get("dls"), name="aimless", priority=1, run=run, prepare_pose=None,
+        run_batch=None,
+    )  # fmt: skip
+    registry.register(spec)
+    yield spec
+    registry.unregister("aimless")

@@ -7,15 +7,10 @@ aim) is no exception; an answer outside a tip's aim is never called a success.""
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 import pytest
 
 import armik
-from armik.solvers import registry
-from armik.solvers.answers import one
-from armik.status import Status
 from tests.test_arms import dual_irb120
 
 FREEING = [{"position_only": True}, {"weights": (1, 1, 1, 1, 0, 1)}]
@@ -24,23 +19,6 @@ FREEING = [{"position_only": True}, {"weights": (1, 1, 1, 1, 0, 1)}]
 @pytest.fixture(scope="module")
 def cell() -> armik.Arms:
     return armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
-
-
-@pytest.fixture
-def aimless():
-    """dls registered again as "aimless": it claims its seed converged whatever the target,
-    as a solver that ignores the aim would."""
-
-    def run(arm, target, q0, opts, all_solutions):
-        return one(np.array(q0, dtype=float), Status.CONVERGED, "claimed")
-
-    spec = dataclasses.replace(
-        registry.get("dls"), name="aimless", priority=1, run=run, prepare_pose=None,
-        run_batch=None,
-    )  # fmt: skip
-    registry.register(spec)
-    yield spec
-    registry.unregister("aimless")
 
 
 def _routes(robot, targets: dict, q0, options: dict):

@@ -7,7 +7,6 @@ axis' angle to its direction."""
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import math
 
@@ -16,8 +15,6 @@ import pytest
 
 import armik
 from armik.solve.read import read, read_batch
-from armik.solvers import registry
-from armik.solvers.answers import one
 from armik.status import Status
 from armik.verify.measure import measure, measure_batch, measure_many
 from tests.conftest import arm as bundled
@@ -64,23 +61,6 @@ def test_an_aim_on_a_position_target_is_measured(name):
         b = measure_batch(a.kinematics, np.array([q, q]), batch, req.opts)
         np.testing.assert_allclose(b.orientation_error, math.pi - WITHIN, atol=1e-9)
         assert not b.pose_ok.any()
-
-
-@pytest.fixture
-def aimless():
-    """dls registered again as "aimless", below every bundled solver: it claims its seed
-    converged whatever the target, as a solver that ignores the aim would."""
-
-    def run(arm, target, q0, opts, all_solutions):
-        return one(np.array(q0, dtype=float), Status.CONVERGED, "claimed")
-
-    spec = dataclasses.replace(
-        registry.get("dls"), name="aimless", priority=1, run=run, prepare_pose=None,
-        run_batch=None,
-    )  # fmt: skip
-    registry.register(spec)
-    yield spec
-    registry.unregister("aimless")
 
 
 @pytest.mark.parametrize("name", ["ur5", "panda"])
