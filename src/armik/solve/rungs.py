@@ -27,7 +27,6 @@ import math
 import time
 
 import numpy as np
-import pinocchio as pin
 
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
@@ -36,6 +35,7 @@ from armik.request import Request
 from armik.result import IKResult
 from armik.solve.stages import run
 from armik.solve.turning import ANY, Turning, turning
+from armik.solvers.closed_form.spin import nearest_spin
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 
@@ -158,7 +158,7 @@ def spun(arm: ArmModel, target: Target, q: np.ndarray, k: int | None) -> Target:
     position or an aim."""
     if k is None or target.rotation is None or target.aim is not None:
         return target
-    rotation = _nearest(target.rotation, arm.fk(q).rotation, k)
+    rotation = nearest_spin(target.rotation, arm.fk(q).rotation, k)[0]
     return frozen(Target, **{**target.__dict__, "rotation": rotation})
 
 
@@ -171,14 +171,5 @@ def spun_batch(arm: ArmModel, batch: TargetBatch, q: np.ndarray, k: int | None) 
     rotations = np.array(batch.rotations, dtype=float)
     previous = arm.fk(q).rotation
     for i in range(len(rotations)):
-        rotations[i] = previous = _nearest(rotations[i], previous, k)
+        rotations[i] = previous = nearest_spin(rotations[i], previous, k)[0]
     return frozen(TargetBatch, **{**batch.__dict__, "rotations": rotations})
-
-
-def _nearest(R: np.ndarray, near: np.ndarray, k: int) -> np.ndarray:
-    """``R`` turned about its own axis ``k`` to the rotation nearest ``near`` (the angle
-    that maximises the trace of ``near^T R R_k``)."""
-    M = R.T @ near  # ``near`` in R's frame
-    i, j = (k + 1) % 3, (k + 2) % 3
-    theta = math.atan2(M[j, i] - M[i, j], M[i, i] + M[j, j])
-    return np.asarray(R @ pin.exp3(theta * np.eye(3)[k]))

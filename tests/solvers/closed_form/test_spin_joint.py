@@ -84,3 +84,45 @@ def test_a_family_without_a_prepared_runner_goes_the_general_way(bounds):
     assert batch.success.all()
     path = a.solve_path([T, T], r.q, bounds=bounds)
     assert path.success.all()
+
+
+NEAR = 1e-4  # rad: the closed form at the stretched elbow, itself singular, to about 3e-5
+
+
+def _reason_angle(reason: str) -> float:
+    return float(reason.split("turned by the last joint (")[1].split(" rad")[0])
+
+
+@pytest.mark.parametrize("robot", ["ur5", "abb_irb120"])
+def test_a_whole_turn_from_a_singular_start_stays_on_its_branch(robot):
+    """From the stretched wrist (joints 4 and 6 on one axis), a pose the tip already holds
+    but turned about its z: the answer is q0 itself, on every route, where the closed form
+    at the target's own spin gave another branch (wrist_1 moved by pi on the UR5)."""
+    a = arm(robot)
+    q0 = a.middle.copy()
+    T = turned(a.fk(q0), 2.5)  # the same poses over a whole turn: q0 reaches one
+    for r in (
+        a.solve(T, q0=q0, bounds=FREE),
+        a.solve((T.translation, T.rotation), q0=q0, bounds=FREE),  # the general path
+        a.solve_all(T, q0=q0, bounds=FREE)[0],
+    ):
+        assert r.success and r.solver == "spin_joint", r.reason
+        assert np.abs(r.q - q0).max() <= NEAR  # not pi away
+    batch = a.solve_batch(np.array([T.homogeneous]), q0=q0, bounds=FREE)
+    assert batch.success[0] and np.abs(batch.q[0] - q0).max() <= NEAR
+
+
+@pytest.mark.parametrize("robot", ["ur5", "abb_irb120"])
+def test_the_reason_s_spin_is_the_tips_turn_from_the_target(robot):
+    """The reason's angle is the tip's turn about the target's z, as Pinocchio's FK gives it,
+    whichever spin the closed form solved at."""
+    a = arm(robot)
+    rng = np.random.default_rng(5)
+    for _ in range(4):
+        T = turned(a.fk(a.random_q(rng)), rng.uniform(-3, 3))
+        q0 = a.random_q(rng)
+        for r in [a.solve(T, q0=q0, bounds=FREE), *a.solve_all(T, q0=q0, bounds=FREE)]:
+            if not r.success:
+                continue
+            turn = abs(spun_about_z(T, a.fk(r.q)))
+            assert abs(_reason_angle(r.reason) - turn) <= 1e-5, r.reason

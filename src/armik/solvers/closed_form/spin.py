@@ -34,6 +34,15 @@ AXES = "xyz"
 FAR = 1e6  # the refined distance where a spin has no admissible answer (Brent's needs finite)
 
 
+def nearest_spin(R: np.ndarray, near: np.ndarray, k: int) -> tuple[np.ndarray, float]:
+    """(``R`` turned about its own axis ``k``, the angle): the rotation nearest ``near``
+    over that spin (the angle maximises the trace of ``near^T R R_k``)."""
+    M = R.T @ near  # ``near`` in R's frame
+    i, j = (k + 1) % 3, (k + 2) % 3
+    theta = math.atan2(M[j, i] - M[i, j], M[i, i] + M[j, j])
+    return np.asarray(R @ pin.exp3(theta * np.eye(3)[k])), theta
+
+
 def family(arm: ArmModel, target: Target | None) -> registry.SolverSpec | str:
     """The complete closed form that solves the arm's exact poses, or why there is none."""
     try:

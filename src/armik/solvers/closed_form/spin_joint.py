@@ -18,6 +18,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
+from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.model.derived import DerivedBy
 from armik.problem.settings import SolverSettings
@@ -31,25 +32,32 @@ from armik.targets.pose import Target
 _CONVERGED = Status.CONVERGED.code
 
 
-def aligned(arm: ArmModel, k: int) -> bool:
-    """Whether turning the last joint turns the tip about its own axis ``k`` through its
-    origin (on Pinocchio's FK, at two configurations; either sense)."""
+def sense(arm: ArmModel, k: int) -> float:
+    """+1 (-1) when turning the last joint by t turns the tip by t (-t) about its own axis
+    ``k`` through its origin, on Pinocchio's FK at two configurations; 0 when it does not."""
     if arm.prismatic[-1]:
-        return False
+        return 0.0
     axis = np.eye(3)[k]
-    for q in (arm.middle, arm.middle + 0.37):
-        turned = q.copy()
-        turned[-1] += 0.4
-        T0, T1 = arm.fk(q), arm.fk(turned)
-        if not any(
-            (T0 * pin.SE3(pin.exp3(s * 0.4 * axis), np.zeros(3))).isApprox(T1, 1e-9)
-            for s in (1.0, -1.0)
-        ):
-            return False
-    return True
+    for s in (1.0, -1.0):
+        if all(_turns(arm, q, s * axis) for q in (arm.middle, arm.middle + 0.37)):
+            return s
+    return 0.0
 
 
-_ALIGNED = DerivedBy("spin axes that are the last joint's", aligned)  # per axis k
+def _turns(arm: ArmModel, q: np.ndarray, axis: np.ndarray) -> bool:
+    turned = q.copy()
+    turned[-1] += 0.4
+    return bool(
+        (arm.fk(q) * pin.SE3(pin.exp3(0.4 * axis), np.zeros(3))).isApprox(arm.fk(turned), 1e-9)
+    )
+
+
+def aligned(arm: ArmModel, k: int) -> bool:
+    """Whether turning the last joint turns the tip about its own axis ``k`` (either sense)."""
+    return _SENSE(arm, k) != 0.0
+
+
+_SENSE = DerivedBy("the last joint's sense about each spin axis", sense)  # per axis k
 
 
 def applies(
@@ -59,7 +67,7 @@ def applies(
     if why is not None:
         return why
     k, _ = spin.spin_of(opts.bounds)  # type: ignore[misc,union-attr]  # spin.applies checked it
-    if not _ALIGNED(arm, k):
+    if not aligned(arm, k):
         return (
             f"turning the last joint does not turn the tool about its {spin.AXES[k]} axis "
             "(the 'spin' solver sweeps that angle instead)"
@@ -73,11 +81,15 @@ def run(
     k, half = spin.spin_of(opts.bounds)  # type: ignore[misc]  # applies() checked it
     family = spin.family(arm, target)
     assert not isinstance(family, str)  # applies() checked it
-    found = _branches(arm, family, target, q0, opts)
+    rotation, shift = _from_q0(arm, target.rotation, q0, k, half)
+    turned = target if shift == 0.0 else frozen(Target, **{**target.__dict__, "rotation": rotation})
+    found = _branches(arm, family, turned, q0, opts)
     centre, order = _chosen(arm, found.q, q0, half, all_solutions)
     if not order:  # the closed form is complete: no answer over the range
         return _none(family.name, q0, half, len(found) > 0)
-    why = [_reason(family.name, spin.AXES[k], float(found.q[i, -1]), centre[i]) for i in order]
+    why = [
+        _reason(family.name, spin.AXES[k], float(found.q[i, -1]), centre[i] - shift) for i in order
+    ]
     return dataclasses.replace(found.take(order), reasons=tuple(why))
 
 
@@ -96,6 +108,10 @@ def prepare_pose(arm: ArmModel, opts: SolverSettings, position: bool):
     name, axis = family.name, spin.AXES[spin_k]
 
     def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False):
+        rotation, shift = _from_q0(arm, H[:3, :3], q0, spin_k, half)
+        if shift != 0.0:
+            H = H.copy()
+            H[:3, :3] = rotation
         got = runner(H, q0, 0, True)
         if got is None:
             return None
@@ -105,16 +121,28 @@ def prepare_pose(arm: ArmModel, opts: SolverSettings, position: bool):
         if not order:
             return _none(name, q0, half, len(keep) > 0)
         if every:
-            said = tuple([_reason(name, axis, float(Q[i, -1]), centre[i]) for i in order])
+            said = tuple([_reason(name, axis, float(Q[i, -1]), centre[i] - shift) for i in order])
             chosen = got.take([keep[i] for i in order])
             chosen = dataclasses.replace(chosen, q=Q[order], reasons=said)
             chosen.q.setflags(write=False)  # solve_all's results' q are its rows
             return chosen
         i, k = order[0], keep[order[0]]  # claimed reached: the claim, its reason the spin's
-        why = (name, axis, float(Q[i, -1]), centre[i])
+        why = (name, axis, float(Q[i, -1]), centre[i] - shift)
         return claim((Q[i], 0, 0, got.label(k), got.is_singular(k), _reason, why))
 
     return run_pose
+
+
+def _from_q0(arm: ArmModel, R, q0: np.ndarray, k: int, half: float):
+    """(rotation, shift): for a spin free over a whole turn, ``R`` turned about its axis
+    ``k`` to the tip's rotation at q0, and that turn in the last joint's values (the branch
+    values then count from the user's target); else (R, 0). The same poses either way; from
+    the tip's own spin, a closed form's branches at a singular q0 (a UR5's stretched wrist,
+    whose joints 4 and 6 share an axis) include q0's own."""
+    if half < math.pi or R is None:
+        return R, 0.0
+    rotation, theta = spin.nearest_spin(R, arm.fk(q0).rotation, k)
+    return rotation, _SENSE(arm, k) * theta
 
 
 def _chosen(arm: ArmModel, Q: np.ndarray, q0: np.ndarray, half: float, every: bool):
