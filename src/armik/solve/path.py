@@ -87,7 +87,9 @@ def solve_path(
     step = _max_step(arm, max_joint_step)
     q_prev = arm.seed(q0)
     # a spin the bounds free over a whole turn: each pose at the spin nearest the one before
-    batch = spun_batch(arm, parse_targets(poses, arm), q_prev, free_spin(opts.bounds))
+    batch = parse_targets(poses, arm)
+    if opts.bounds is not None:  # no call for a plain path
+        batch = spun_batch(arm, batch, q_prev, free_spin(opts.bounds))
     n = len(batch)
     turn = turning(arm, request.opts, q_prev)  # the turns of an answer its constraints allow
     if solver == "auto":  # kept per arm: the choice reads the first target's kind only
@@ -193,9 +195,10 @@ def _walk(
     the turns the request allows an answer (``armik.solve.turning``). Returns the solver
     of the first verified answer, else of the first answer (None: no waypoint)."""
     used = None
-    spin = free_spin(request.settings.bounds)
+    bounds = request.settings.bounds
+    spin = None if bounds is None else free_spin(bounds)  # no call for a plain path
     for i in range(len(batch)):
-        target = spun(arm, batch.target(i), q_prev, spin)
+        target = batch.target(i) if spin is None else spun(arm, batch.target(i), q_prev, spin)
         r = _at(arm, request, target, q_prev)
         if not (free and i == 0 and chooser is not None):  # a free first answer: as preferred
             r = unwrapped(arm, r, q_prev, turn)
