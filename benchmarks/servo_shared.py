@@ -64,7 +64,7 @@ def collisions() -> None:
     times: dict[str, list[float]] = {"without": [], "self_collision": []}
     for _ in range(3):
         for name in times:
-            servo = robot.servo(q0, dt=DT, self_collision=name != "without", margin=0.01)
+            servo = robot.servo(q0, dt=DT, self_collision=name != "without")
             t = time.perf_counter()
             servo.track(stream)
             times[name].append((time.perf_counter() - t) / len(stream) * 1e6)

@@ -109,7 +109,24 @@ def test_a_bad_margin_is_refused_with_or_without_obstacles(margin):
     shared = armik.load("panda", tips=["panda_link4", "panda_hand"])
     with pytest.raises(armik.CollisionError, match="margin"):
         shared.servo(START["panda"], margin=margin)
-    arm.servo(START["panda"], margin=0.02)  # a distance: taken, as before
+    ball = [armik.Sphere(0.05, (1.0, 1.0, 1.0))]
+    arm.servo(START["panda"], obstacles=ball, margin=0.02)  # a distance: taken, as before
+    arm.servo(START["panda"], margin=0.0)  # none: nothing asked of the collision checks
+
+
+def test_a_margin_with_nothing_to_keep_from_is_refused_as_solve_refuses_it():
+    """A margin and no obstacles, self_collision off: it checks nothing (a forgotten
+    obstacles=), as ``solve`` says; on one arm and on several tips alike."""
+    arm = armik.load("panda")
+    with pytest.raises(armik.CollisionError, match="checks nothing") as caught:
+        arm.servo(START["panda"], margin=0.02)
+    assert caught.value.option == "margin"
+    with pytest.raises(armik.OptionError, match="checks nothing"):
+        arm.solve(arm.fk(START["panda"]), margin=0.02)  # the same rule
+    shared = armik.load("panda", tips=["panda_link4", "panda_hand"])
+    with pytest.raises(armik.CollisionError, match="checks nothing"):
+        shared.servo(START["panda"], margin=0.02)
+    assert shared.servo(START["panda"], self_collision=True, margin=0.02) is not None
 
 
 def test_self_collision_is_numpy_s_bool_too_and_never_none():

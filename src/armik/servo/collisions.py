@@ -113,10 +113,19 @@ def rows_for(
 
 def margin_given(options: dict[str, object]) -> None:
     """A ``CollisionError`` for a ``margin=`` the servo options ``options`` give that is not
-    a distance in [0, 1) m, with collision rows asked for or not (unread without them, it
-    was taken whatever it was)."""
-    if "margin" in options:
-        margin_of(options["margin"])
+    a distance in [0, 1) m, or that is more than 0 with nothing to keep it from (no
+    obstacles, self_collision off): as ``solve`` says, it would check nothing."""
+    if "margin" not in options:
+        return
+    margin = margin_of(options["margin"])
+    obstacles, flag = options.get("obstacles"), options.get("self_collision", False)
+    if margin > 0.0 and not asked(obstacles, flag):
+        raise CollisionError(
+            f"margin={margin:g} m with no obstacles and self_collision off checks nothing: "
+            "give obstacles=[...] or self_collision=True",
+            option="margin",
+            value=options["margin"],
+        )
 
 
 def margin_of(margin: object) -> float:
