@@ -118,6 +118,7 @@ def test_the_reason_s_spin_is_the_tips_turn_from_the_target(robot):
     whichever spin the closed form solved at."""
     a = arm(robot)
     rng = np.random.default_rng(5)
+    checked = 0
     for _ in range(4):
         T = turned(a.fk(a.random_q(rng)), rng.uniform(-3, 3))
         q0 = a.random_q(rng)
@@ -126,3 +127,5 @@ def test_the_reason_s_spin_is_the_tips_turn_from_the_target(robot):
                 continue
             turn = abs(spun_about_z(T, a.fk(r.q)))
             assert abs(_reason_angle(r.reason) - turn) <= 1e-5, r.reason
+            checked += 1
+    assert checked >= 4  # answers were compared, not all skipped
