@@ -159,6 +159,8 @@ class Plan:
         self.position = position  # targets are positions (x, y, z), not full poses
         # a solver of cones takes the targets' aim (its shape: the point is each call's)
         self.run_pose = spec.prepare_pose(arm, opts, position, *(() if aim is None else (aim,)))
+        # a runner of one answer (a numeric one): ``solve_all`` takes the general path
+        self.every = not getattr(self.run_pose, "one_only", False)
         # a runner that also takes (x, y) targets in a planar arm's plane: those too
         self.plane = None
         p = arm.plane

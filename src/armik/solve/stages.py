@@ -73,7 +73,7 @@ def run(arm: ArmModel, req: Request):
         got = plan.solve(target, q0, opts, seed, t0)
         if got is not None:
             return got
-    elif plan is not None:
+    elif plan is not None and plan.every:
         found = plan.solve_all(target, q0, opts, seed, t0)
         if found is not None:  # a complete solver's answers are all there are
             return found if plan.complete else _beyond_search(arm, req, found)

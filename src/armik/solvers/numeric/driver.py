@@ -328,6 +328,7 @@ def pose_runner(
             return claim(got)
         return kernel_answers(arm, H[:3, 3], q0, opts, sf, info, out_q, err, region)
 
+    run_pose.one_only = True  # type: ignore[attr-defined]  # solve_all: the general path
     return run_pose
 
 
