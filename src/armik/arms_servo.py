@@ -45,6 +45,7 @@ PRECEDENCE = (
     ServoStatus.VELOCITY_LIMIT,
     ServoStatus.ACCELERATION_LIMIT,
     ServoStatus.SINGULARITY,
+    ServoStatus.STALLED,
     ServoStatus.TRACKING,
     ServoStatus.ON_TARGET,
 )

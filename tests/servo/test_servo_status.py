@@ -146,3 +146,33 @@ def test_self_collision_is_numpy_s_bool_too_and_never_none():
     shared.servo(q0, self_collision=np.True_)
     with pytest.raises(armik.CollisionError, match="self_collision"):
         shared.servo(q0, self_collision=None)
+
+
+def test_a_pose_a_five_joint_arm_cannot_take_ends_stalled_not_tracking():
+    """The SO-101 (5 joints) told to roll its tool 0.7 rad about x where it stands: it
+    settles at the nearest it gets, and says so, where it said ``tracking`` forever."""
+    arm = armik.load("so101")
+    q = arm.middle + 0.2
+    T = arm.fk(q)
+    rolled = pin.SE3(T.rotation @ pin.rpy.rpyToMatrix(0.7, 0.0, 0.0), T.translation)
+    servo = arm.servo(q0=q, dt=0.004)
+    steps = [servo.step(rolled) for _ in range(1500)]
+    last = steps[-1]
+    assert last.status == "stalled" and "stalled" in last.reason
+    assert last.position_error > 1e-3  # off target: the arm cannot take that pose
+    assert np.abs(last.dq).max() < 1e-9  # and holds still there
+    assert "tracking" not in {s.status.value for s in steps[-100:]}
+
+
+@pytest.mark.parametrize("name", ["ur5", "so101", "planar_2link"])
+def test_a_reachable_target_is_never_called_stalled(name):
+    """Targets the arm reaches (the FK of a configuration halfway to a random one) get
+    no ``stalled`` tick, whatever else holds them back on the way (a limit, a
+    singularity)."""
+    arm = armik.load(name)
+    for k in range(4):
+        q0, q1 = arm.random_q(2 * k), arm.random_q(2 * k + 1)
+        target = arm.fk(q0 + 0.5 * (q1 - q0))
+        servo = arm.servo(q0=q0, dt=0.004)
+        statuses = {servo.step(target).status.value for _ in range(1500)}
+        assert "stalled" not in statuses

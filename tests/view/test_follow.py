@@ -51,6 +51,19 @@ def test_a_follower_comes_to_rest_on_its_target_within_the_limits():
     assert f.frame() is not None
 
 
+def test_a_follower_comes_to_rest_where_it_stalls():
+    """A pose the 5-joint SO-101 cannot take: the follower stops ticking once the arm
+    rests as near as it gets, as it does on a target."""
+    a = arm("so101")
+    q0 = a.middle + 0.2
+    T = a.fk(q0)
+    f = Follower(a, q0, (a.tip,), dt=0.004)
+    f.aim({a.tip: pin.SE3(T.rotation @ pin.rpy.rpyToMatrix(0.7, 0.0, 0.0), T.translation)})
+    steps = _frames(f, 400)
+    assert steps and f.frame() is None
+    assert steps[-1].status == "stalled" and np.abs(steps[-1].dq).max() < 1e-9
+
+
 def test_several_tips_follow_each_their_target():
     a = arm("abb_irb120")
     robot = armik.load("abb_irb120", tips=[a.tip])  # an Arms of one chain

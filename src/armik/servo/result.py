@@ -22,6 +22,7 @@ class ServoStatus(str, Enum):
     SINGULARITY = "singularity"  # damped: a direction the arm has (almost) lost
     OUT_OF_REACH = "out_of_reach"  # the target lies beyond the arm's reach
     OBSTACLE = "obstacle"  # a collision row (an obstacle, or the arm itself) held it back
+    STALLED = "stalled"  # no motion brings it nearer: a target the arm cannot take from here
 
     def __str__(self) -> str:
         return self.value
@@ -38,6 +39,11 @@ def reason(status: ServoStatus, joint: str | None, sigma: float, conflict: bool)
         text = "tracking: no limit held the step back"
     elif status is ServoStatus.OUT_OF_REACH:
         text = "out of reach: the target lies beyond the arm's reach; moving toward it"
+    elif status is ServoStatus.STALLED:
+        text = (
+            "stalled: no motion of the joints brings the tip nearer the target; the nearest "
+            "it gets from here (a target this arm cannot take, or a local minimum)"
+        )
     elif status is ServoStatus.OBSTACLE:
         text = "obstacle: a pair near its margin held the step back"
     elif status is ServoStatus.SINGULARITY:

@@ -53,7 +53,11 @@ from armik.servo.singular import smallest_singular
 
 # what limited a tick (``armik.servo.result.ServoStatus`` in this order)
 ON_TARGET, TRACKING, JOINT_LIMIT, VELOCITY_LIMIT, ACCELERATION_LIMIT = range(5)
-SINGULARITY, OUT_OF_REACH, OBSTACLE = 5, 6, 7
+SINGULARITY, OUT_OF_REACH, OBSTACLE, STALLED = 5, 6, 7, 8
+# the error's part the joints can still remove, below which a tick makes no progress: the
+# gradient of the squared error, |A^T e|, against |A|_F |e| (zero at a least-squares
+# minimum: a pose the arm cannot take, the nearest it gets from here)
+STALL = 1e-3
 BRAKED = 10.0  # tolerances: slowing to stop on a target farther than this is reported
 
 
@@ -135,7 +139,7 @@ def step_within(E0, A0, E1, A1, rows, active, scale, moved, whole, rows_cb, stat
     With ``whole`` a desired step beyond a joint's velocity limit is scaled as a whole
     (the tip keeps its line), else the box QP leaves the others to make up for it (a
     slow lift under two arms). Returns (sigma, brake, scale, slowest, joint, bound,
-    blocked, conflict) for ``status_code``."""
+    blocked, conflict, stalled) for ``status_code``."""
     n = A0.shape[1]
     Hm, Hl, Lc, Gi, Hh, Lm = M6[0], M6[1], M6[2], M6[3], M6[4], M6[5]
     S, Ls = M6[6], M6[7]  # the Gram matrix of ``singular`` and its factor
@@ -159,13 +163,22 @@ def step_within(E0, A0, E1, A1, rows, active, scale, moved, whole, rows_cb, stat
     sigma, k = smallest_singular(A0, rows, active, scale, S, u, last_k, Ls, tmp, side)
     cfg[GRAM] = k
     eps = cfg[SIGMA_EPS]
-    lam = cfg[LAM_MIN]
+    lam, err2 = cfg[LAM_MIN], 0.0
     for r in range(rows):  # and with the error (Levenberg-Marquardt): far, a gradient step
         lam += cfg[LAM_ERR] * E0[r] * E0[r]
+        err2 += E0[r] * E0[r]
     if sigma < eps:
         lam += cfg[LAM_MAX] * (1.0 - (sigma / eps) ** 2)
     pull = cfg[PULL] * dt * (lam - cfg[LAM_MIN]) / lam  # none on a plain step
     _gradient(E0, A0, rows, g, lam, pull, state)
+    # how much of the error any motion removes (``STALL``): |A^T E|^2 against
+    # trace(A^T A) |E|^2, the pull taken back out of g
+    grad2, trace = 0.0, 0.0
+    for i in range(n):
+        gi = g[i] - lam * pull * (state[REST, i] - state[Q, i])
+        grad2 += gi * gi
+        trace += Hm[i, i]
+    stalled = grad2 < STALL * STALL * trace * err2
     _factor(Hm, lam, Hl, Lc, every)
     cholesky_substitute(Lc, g, every, x)  # the whole correction to this tick's target
     for i in range(n):
@@ -231,14 +244,14 @@ def step_within(E0, A0, E1, A1, rows, active, scale, moved, whole, rows_cb, stat
         state[ACC, i] = (v - v_prev[i]) / dt
         state[V, i] = v
         q[i] = qn
-    return sigma, brake, scale, slowest, joint, bound, blocked, conflict
+    return sigma, brake, scale, slowest, joint, bound, blocked, conflict, stalled
 
 
 @njit(cache=True, nogil=True, inline="always")
 def status_code(within, far, held, cfg, out):
     """out[CODE], out[JOINT], out[SIGMA], out[CONFLICT]: what limited the tick, from
     ``step_within``'s answer ``held`` and the distances in out."""
-    sigma, brake, scale, slowest, joint, bound, blocked, conflict = held
+    sigma, brake, scale, slowest, joint, bound, blocked, conflict, stalled = held
     code, who = TRACKING, joint
     if within:
         code, who = ON_TARGET, -1
@@ -260,5 +273,7 @@ def status_code(within, far, held, cfg, out):
         out[POS_ERR] > BRAKED * cfg[TOL_P] or out[ORI_ERR] > BRAKED * cfg[TOL_R]
     ):
         code, who = ACCELERATION_LIMIT, -1
+    elif stalled:
+        code, who = STALLED, -1
     out[CODE], out[JOINT], out[SIGMA] = code, who, sigma
     out[CONFLICT] = 1.0 if conflict else 0.0

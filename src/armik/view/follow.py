@@ -23,6 +23,8 @@ from armik.servo.result import ServoStatus, ServoStep
 FRAME = 1.0 / 30.0  # s of servo time a drawn frame (30 frames a second)
 STILL = 1e-9  # rad/s (m/s): slower than this on target, the motion has ended
 
+_AT_REST = (ServoStatus.ON_TARGET, ServoStatus.STALLED)  # still there: no tick moves it
+
 
 class Follower:
     """The servo of ``arm`` (an ``Arm``, or an ``Arms`` whose chains share no joint) from
@@ -45,14 +47,15 @@ class Follower:
 
     def frame(self) -> ServoStep | None:
         """One frame's ticks toward the targets: the last step, or None with no target or
-        once a step came to rest on target (until ``aim`` moves a target)."""
+        once a step came to rest on target, or as near as it gets (stalled), until ``aim``
+        moves a target."""
         if not self.moving:
             return None
         by_tip = isinstance(self.servo, ArmsServo)  # several tips: one target each
         target = self.targets if by_tip else self.targets[self.tips[0]]
         for _ in range(self.steps_a_frame):
             step = self.servo.step(target)
-            if step.status is ServoStatus.ON_TARGET and np.abs(step.dq).max() < STILL:
+            if step.status in _AT_REST and np.abs(step.dq).max() < STILL:
                 self.moving = False
                 break
         self.last = step
