@@ -2,7 +2,9 @@
 inside armik, modules entered, calls against the direction of the imports, target parses,
 as ``../shared/tools/route.py`` measures them (it sits beside the project's checkout).
 
-    python benchmarks/route_table.py        (from the project's root, in its environment)
+    python benchmarks/route_table.py [--modules]   (from the project's root, in its environment)
+
+``--modules``: each call's modules too, with their floors, in the order it enters them.
 """
 
 from __future__ import annotations
@@ -68,7 +70,10 @@ def main() -> None:
             text=True,
             check=True,
         ).stdout
-        print(f"{label:50s} {out.splitlines()[0]}")
+        lines = out.splitlines()
+        print(f"{label:50s} {lines[0]}")
+        if "--modules" in sys.argv[1:]:
+            print("\n".join(lines[1:]))
 
 
 if __name__ == "__main__":
