@@ -29,7 +29,7 @@ from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.servo.collisions import margin_given
 from armik.servo.result import ServoRecord, ServoStatus, ServoStep, record
-from armik.servo.servo import Servo, start
+from armik.servo.servo import Servo, refuse_unknown, start
 from armik.servo.table import at_tick, read, sequence
 from armik.servo.union import KEYWORDS as UNION_KEYWORDS
 from armik.servo.union import UnionServo
@@ -106,6 +106,7 @@ class ArmsServo:
                 option="self_collision",
                 value=options["self_collision"],
             )
+        refuse_unknown(options)  # what no servo takes, with the way to say it
         margin_given(options)
         self.tips = arms.tips
         self._tip_set = set(arms.tips)

@@ -4,6 +4,8 @@ moves no chain."""
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -176,3 +178,16 @@ def test_a_reachable_target_is_never_called_stalled(name):
         servo = arm.servo(q0=q0, dt=0.004)
         statuses = {servo.step(target).status.value for _ in range(1500)}
         assert "stalled" not in statuses
+
+
+@pytest.mark.parametrize("name", ["bounds", "weights", "position_only", "look_at", "hold"])
+def test_solve_options_given_to_a_servo_are_refused_with_the_way_to_say_them(name):
+    """``bounds=``, ``weights=``, ``position_only=`` ... belong to each tick's target; the
+    refusal says so (one arm and several tips alike), and ``hold=`` that no joint is held."""
+    arm = armik.load("ur5")
+    hint = "holds no joint" if name == "hold" else "armik.Pose(T, bounds=...)"
+    with pytest.raises(armik.OptionError, match=re.escape(hint)):
+        arm.servo(arm.middle, **{name: None})
+    robot = armik.load("panda", tips=["panda_link4", "panda_hand"])  # a shared union
+    with pytest.raises(armik.OptionError, match=re.escape(hint)):
+        robot.servo(robot.middle, **{name: None})

@@ -214,6 +214,32 @@ def _plain(M: np.ndarray) -> bool:
     )
 
 
+# solve's options the servo reads from each tick's target instead: the way to say them
+_AS_TASKS = (
+    ": say it with each tick's target, as a task: step(armik.Pose(T, bounds=...)), "
+    "step(armik.Pose(T, weights=...)), step(armik.Position(p)), or "
+    "step([armik.Position(p), armik.Axis(...)]) and armik.LookAt (docs/servo.md)"
+)
+_OF_THE_TARGET = {
+    **dict.fromkeys(("bounds", "weights", "position_only", "cone", "look_at", "toward"), _AS_TASKS),
+    "hold": ": the servo holds no joint (each moves within its velocity box); solve with "
+    "hold= for a configuration",
+}
+
+
+def refuse_unknown(options: dict) -> None:
+    """Raises ``OptionError`` for an option no servo takes, saying how to ask for it where
+    the servo reads it from the target (bounds, weights, a position, an axis)."""
+    for name in options:
+        if name not in KEYWORDS:
+            raise OptionError(
+                f"the servo takes no option {name!r}; its options: {', '.join(KEYWORDS)}"
+                + _OF_THE_TARGET.get(name, ""),
+                option=name,
+                value=options[name],
+            )
+
+
 def start(arm: object, q0: object, **options: object) -> Servo:
     """``Arm.servo(q0, dt=0.002, velocity_limits=None, acceleration_limits=None, gain=1.0)``:
     a ``Servo`` for ``arm`` (an ``Arm`` or its model) at rest at ``q0`` (rad, m; within the
@@ -223,13 +249,7 @@ def start(arm: object, q0: object, **options: object) -> Servo:
     arm ``margin`` m from ``obstacles`` (shapes in the base frame) and, with
     ``self_collision``, from itself (``armik.servo.collisions``). Raises ``OptionError``
     (``CollisionError``) naming a bad value. See docs/servo.md."""
-    for name in options:
-        if name not in KEYWORDS:
-            raise OptionError(
-                f"the servo takes no option {name!r}; its options: {', '.join(KEYWORDS)}",
-                option=name,
-                value=options[name],
-            )
+    refuse_unknown(options)
     margin_given(options)
     return Servo(model_of(arm), q0, **options)  # type: ignore[arg-type]
 
