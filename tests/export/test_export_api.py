@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+import shutil
 import subprocess
 from pathlib import Path
 
@@ -13,7 +14,7 @@ import armik
 from armik.export import FAMILIES
 from armik.solvers import registry
 from armik.tools.cli import main
-from tests.export.build import CFLAGS, compilers, run
+from tests.export.build import CFLAGS, HERE, compilers, run
 from tests.solvers.closed_form.random_arms import load_arm
 
 
@@ -105,3 +106,38 @@ def test_two_solvers_link_into_one_library(tmp_path):
     ).stdout.split()
     exported = {s for s in symbols if s.endswith(("_ik", "_fk"))}
     assert exported == {"ur5_ik", "ur5_fk", "abb_irb120_ik", "abb_irb120_fk"}
+
+
+def _bundled_exports() -> list[str]:
+    """The bundled arms with a closed form to export (a 7R arm: joint 7 held)."""
+    names = []
+    for name in armik.robots():
+        try:
+            armik.export(armik.load(name), "x")
+        except armik.SolverError:
+            continue
+        names.append(name)
+    return names
+
+
+@pytest.mark.parametrize("compiler", ["cc", "clang"])
+def test_every_bundled_export_compiles_without_a_warning(compiler, tmp_path):
+    """Each bundled arm's files, with every warning an error, as C99 and as C++ (the IKFast
+    file against the tests' ikfast.h): no unused helper, whichever a family calls. gcc
+    (``cc``) always; clang when it is installed."""
+    if compiler == "cc":
+        c, cxx = compilers()
+    else:
+        c, cxx = shutil.which("clang") or "", shutil.which("clang++") or ""
+        if not c or not cxx:
+            pytest.skip("clang or clang++ is not installed")
+    warnings = ["-Wall", "-Wextra", "-Werror"]
+    names = _bundled_exports()
+    assert {"ur5", "abb_irb120", "planar_2link", "panda", "kuka_iiwa14"} <= set(names)
+    for name in names:
+        armik.export(armik.load(name), name, tmp_path, ikfast=True)
+        source, obj = str(tmp_path / f"{name}_ik.c"), str(tmp_path / "x.o")
+        run(c, "-std=c99", *warnings, "-c", source, "-o", obj)
+        run(cxx, "-x", "c++", *warnings, "-c", source, "-o", obj)
+        wrapper = str(tmp_path / f"{name}_ikfast.cpp")
+        run(cxx, "-std=c++14", *warnings, f"-I{HERE}", f"-I{tmp_path}", "-c", wrapper, "-o", obj)

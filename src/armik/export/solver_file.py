@@ -121,7 +121,7 @@ def chain_constants(arm: ArmModel) -> str:
 PUT = r"""
 /* Row n of the candidates: each angle wrapped into (-pi, pi], with its cosine and sine
    (the verdict's forward kinematics reads them: no sine or cosine computed twice). */
-static inline int put_row(double W[][DOF], double C[][DOF], double S[][DOF], int n,
+static inline IK_UNUSED int put_row(double W[][DOF], double C[][DOF], double S[][DOF], int n,
                           const double *q, const double *c, const double *s)
 {
     int j;
