@@ -14,6 +14,7 @@ saying why each family does not apply, and naming a search ``solve_all`` would r
 
 from __future__ import annotations
 
+import math
 import os
 import re
 import secrets
@@ -137,7 +138,12 @@ def export(
         f"{name}_ik.c": c_text,
     }
     if ikfast:
-        files[f"{name}_ikfast.cpp"] = ikfast_file.source(name, c_text, rows.held)
+        limits = (
+            (float(model.lower[rows.held]), float(model.upper[rows.held]))
+            if rows.held is not None
+            else (-math.inf, math.inf)
+        )
+        files[f"{name}_ikfast.cpp"] = ikfast_file.source(name, c_text, rows.held, limits)
     if out is not None:
         _write(Path(out), files)
     return files
