@@ -83,7 +83,8 @@ def header(
    reach), or -1 when T is not finite, its position is beyond {max_position} m from the base
    in a coordinate, its last row is not (0, 0, 0, 1) to {last_row}, or its rotation is not
    orthonormal to {rotation} or has determinant -1 (a reflection): the poses solve_all
-   refuses. At a singular pose a free joint is set to
+   refuses. A rotation within that of orthonormal is solved as the nearest rotation, as
+   solve_all snaps it. At a singular pose a free joint is set to
    the middle of its limits, as solve_all sets it with no q0; a singular target gives fewer
    solutions than a regular one.{held_text}
    {name}_fk(q, T): the tip pose at joint values q (rad), row-major 4x4. */
