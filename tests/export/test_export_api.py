@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import errno
+import os
 import re
+import shutil
 import subprocess
 from pathlib import Path
 
@@ -13,7 +16,7 @@ import armik
 from armik.export import FAMILIES
 from armik.solvers import registry
 from armik.tools.cli import main
-from tests.export.build import CFLAGS, compilers, run
+from tests.export.build import CFLAGS, HERE, compilers, run
 from tests.solvers.closed_form.random_arms import load_arm
 
 
@@ -105,3 +108,97 @@ def test_two_solvers_link_into_one_library(tmp_path):
     ).stdout.split()
     exported = {s for s in symbols if s.endswith(("_ik", "_fk"))}
     assert exported == {"ur5_ik", "ur5_fk", "abb_irb120_ik", "abb_irb120_fk"}
+
+
+def _bundled_exports() -> list[str]:
+    """The bundled arms with a closed form to export (a 7R arm: joint 7 held)."""
+    names = []
+    for name in armik.robots():
+        try:
+            armik.export(armik.load(name), "x")
+        except armik.SolverError:
+            continue
+        names.append(name)
+    return names
+
+
+@pytest.mark.parametrize("compiler", ["cc", "clang"])
+def test_every_bundled_export_compiles_without_a_warning(compiler, tmp_path):
+    """Each bundled arm's files, with every warning an error, as C99 and as C++ (the IKFast
+    file against the tests' ikfast.h): no unused helper, whichever a family calls. gcc
+    (``cc``) always; clang when it is installed."""
+    if compiler == "cc":
+        c, cxx = compilers()
+    else:
+        c, cxx = shutil.which("clang") or "", shutil.which("clang++") or ""
+        if not c or not cxx:
+            pytest.skip("clang or clang++ is not installed")
+    warnings = ["-Wall", "-Wextra", "-Werror"]
+    names = _bundled_exports()
+    assert {"ur5", "abb_irb120", "planar_2link", "panda", "kuka_iiwa14"} <= set(names)
+    for name in names:
+        armik.export(armik.load(name), name, tmp_path, ikfast=True)
+        source, obj = str(tmp_path / f"{name}_ik.c"), str(tmp_path / "x.o")
+        run(c, "-std=c99", *warnings, "-c", source, "-o", obj)
+        run(cxx, "-x", "c++", *warnings, "-c", source, "-o", obj)
+        wrapper = str(tmp_path / f"{name}_ikfast.cpp")
+        run(cxx, "-std=c++14", *warnings, f"-I{HERE}", f"-I{tmp_path}", "-c", wrapper, "-o", obj)
+
+
+def test_files_are_replaced_all_or_none(tmp_path, monkeypatch):
+    """An export over an earlier one replaces its files; when one of them cannot be
+    written, none is: the folder keeps the earlier pair, which solve the same arm."""
+    arm, other = armik.load("ur5"), armik.load("abb_irb120")
+    before = armik.export(arm, "x", tmp_path, ikfast=True)
+    after = armik.export(other, "x", tmp_path, ikfast=True)  # replaced, as a generator does
+    assert all((tmp_path / f).read_text() == text for f, text in after.items())
+    armik.export(arm, "x", tmp_path, ikfast=True)
+    (tmp_path / "x_ikfast.cpp").unlink()
+    (tmp_path / "x_ikfast.cpp").mkdir()  # the third file cannot be written
+    with pytest.raises(armik.OptionError, match="x_ikfast.cpp"):
+        armik.export(other, "x", tmp_path, ikfast=True)
+    for f in ("x_ik.h", "x_ik.c"):
+        assert (tmp_path / f).read_text() == before[f]
+    (tmp_path / "x_ikfast.cpp").rmdir()
+    opened = os.open
+
+    def full(path, *args):  # the disk full at the second file
+        if "x_ik.c" in str(path):
+            raise OSError(errno.ENOSPC, "No space left on device", str(path))
+        return opened(path, *args)
+
+    monkeypatch.setattr(os, "open", full)
+    with pytest.raises(armik.OptionError, match="No space left"):
+        armik.export(other, "x", tmp_path)
+    assert sorted(os.listdir(tmp_path)) == ["x_ik.c", "x_ik.h"]  # no temporary left
+    for f in ("x_ik.h", "x_ik.c"):
+        assert (tmp_path / f).read_text() == before[f]
+
+
+def test_a_failed_export_leaves_no_folder_it_made(tmp_path):
+    out = tmp_path / "new" / "ik"
+    with pytest.raises(armik.OptionError, match="cannot hold"):
+        armik.export(armik.load("ur5"), "a" * 300, out)  # a file name too long
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    "options, words",
+    [
+        ({"out": 5}, "out must be a folder's path"),
+        ({"ikfast": "yes"}, "ikfast must be True or False, got 'yes'"),
+        ({"tol_orientation": 1e-300}, "tol_orientation=1e-300 is below .* at least 1e-12 rad"),
+        ({"tol_position": 5e-13}, "tol_position=5e-13 is below .* at least 1e-12 m"),
+    ],
+)
+def test_options_of_the_wrong_kind_are_named(options, words):
+    with pytest.raises(armik.OptionError, match=words):
+        armik.export(armik.load("ur5"), "x", **options)
+
+
+@pytest.mark.parametrize("name", ["_X", "__x", "_x", "a__b"])
+def test_names_c_reserves_are_refused(name, tmp_path, capsys):
+    with pytest.raises(armik.OptionError, match="reserved in C or C\\+\\+"):
+        armik.export(armik.load("ur5"), name)
+    assert main(["export", "ur5", "--name", name, "--out", str(tmp_path / "o")]) == 2
+    assert "reserved" in capsys.readouterr().err and not (tmp_path / "o").exists()

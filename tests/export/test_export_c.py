@@ -208,3 +208,20 @@ def test_poses_solve_all_refuses_are_refused(name, tmp_path):
             hold = {arm.joint_names[solver.held]: held}
             expected = [r.q for r in arm.solve_all(near, hold=hold) if r.success]
             assert len(Q) == len(expected)
+
+
+def test_nearly_orthonormal_rotations_are_solved_as_their_nearest_rotation(tmp_path):
+    """A rotation within 1e-6 of orthonormal (one ``solve_all`` accepts) is snapped onto the
+    nearest rotation and every row verified against it, as the parser snaps it: near the
+    UR5's wrist singularity (q5 within 0.1 rad of 0), where the raw matrix's error grows past
+    the 1e-6 verification, the C returns ``solve_all``'s solutions, no fewer."""
+    arm = armik.load("ur5")
+    solver = Solver(arm, "ur5", tmp_path)
+    rng = np.random.default_rng(1)
+    for _ in range(40):
+        q = arm.random_q(rng)
+        q[4] = rng.uniform(-0.1, 0.1)
+        T = arm.fk(q).homogeneous
+        T[:3, :3] += rng.uniform(-2e-7, 2e-7, (3, 3))
+        assert 1e-14 < np.abs(T[:3, :3].T @ T[:3, :3] - np.eye(3)).max() <= 1e-6
+        same_as_solve_all(arm, solver.ik(T), T)

@@ -53,3 +53,29 @@ def test_ikfast_gives_n_iks_solutions(name, tmp_path):
     T = np.ascontiguousarray(reflected).reshape(16)
     free = np.array([0.0 if held is None else arm.middle[held]])
     assert solve(T.ctypes.data_as(_P), free.ctypes.data_as(_P), none.ctypes.data_as(_P)) == 0
+
+
+def test_a_free_value_moveit_takes_as_within_the_limits_is_on_them(tmp_path):
+    """MoveIt's plugin seeds the free parameter with the robot's joint 7, which it takes up
+    to its LIMIT_TOLERANCE (1e-7 rad) outside a limit: ComputeIk solves such a value as the
+    limit itself, where N_ik (as solve_all's hold=) takes 1e-12 and refuses it; further
+    out, no solution."""
+    arm = armik.load("panda")
+    solver = Solver(arm, "panda", tmp_path, ikfast=True)
+    solve = solver.lib.ikfast_solve
+    solve.restype = ctypes.c_int
+    held = solver.held
+    rng = np.random.default_rng(4)
+    for limit, outward in ((arm.upper[held], 1.0), (arm.lower[held], -1.0)):
+        q = arm.random_q(rng)
+        q[held] = limit
+        T = np.ascontiguousarray(arm.fk(q).homogeneous).reshape(16)
+        expected = solver.ik(T, limit)
+        assert len(expected) >= 1
+        for past, n_wanted in ((1e-9, len(expected)), (9e-8, len(expected)), (1e-6, 0)):
+            free = np.array([limit + outward * past])
+            Q = np.full((8, arm.dof), np.nan)
+            n = solve(T.ctypes.data_as(_P), free.ctypes.data_as(_P), Q.ctypes.data_as(_P))
+            assert n == n_wanted, (limit, past, n)
+            assert np.array_equal(Q[:n], expected[:n]) and np.all(Q[:n, held] == limit)
+            assert solver.ik_count(T, free[0])[0] == -1  # N_ik itself keeps 1e-12

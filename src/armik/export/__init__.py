@@ -14,7 +14,10 @@ saying why each family does not apply, and naming a search ``solve_all`` would r
 
 from __future__ import annotations
 
+import math
+import os
 import re
+import secrets
 from collections.abc import Callable
 from pathlib import Path
 
@@ -47,6 +50,9 @@ FAMILIES: dict[str, Callable] = {
 }
 HELD_FAMILY = "swept"  # not solve_all's choice: the family of hold= on joint 7
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+# the smallest tolerance (m, rad) a verdict in double precision can tell from rounding: a
+# pose's entries carry errors of 1e-16 of the arm's size, its FK a few times more
+MIN_TOLERANCE = 1e-12
 
 
 def family(arm: ArmModel) -> str:
@@ -88,19 +94,37 @@ def export(
     ``tol_orientation`` (rad): how far a solution's FK may miss its target (armik's
     verification tolerances by default, 1e-6 m and 1e-6 rad, as ``solve_all`` verifies).
 
-    Raises ``OptionError`` when ``name`` is not a C identifier or a tolerance is not a
-    positive number (as ``solve`` checks it), ``SolverError`` when the
-    arm's ``solve_all`` is not an exported closed form, ``OptionError`` when ``out`` is a
-    file or cannot be written."""
+    Files of the same names in ``out`` are replaced, all of them or none: each is written
+    to a temporary file beside it and renamed once every one is written; a folder the
+    export created is removed when writing fails.
+
+    Raises ``OptionError`` when ``name`` is not a C identifier or one C reserves, a
+    tolerance is not a number of at least 1e-12 (``MIN_TOLERANCE``), ``out`` is not a path
+    or ``ikfast`` not a bool, ``SolverError`` when the arm's ``solve_all`` is not an
+    exported closed form, ``OptionError`` when ``out`` is a file or cannot be written."""
     model = model_of(arm)
-    if not isinstance(name, str) or not _NAME.fullmatch(name):
+    _check_name(name)
+    if out is not None and not isinstance(out, (str, os.PathLike)):
         raise OptionError(
-            f"name must be a C identifier (letters, digits, _), got {name!r}",
-            option="name",
-            value=name,
+            f"out must be a folder's path (a str or a Path) or None, got {out!r}",
+            option="out",
+            value=out,
+        )
+    if not isinstance(ikfast, bool):
+        raise OptionError(
+            f"ikfast must be True or False, got {ikfast!r}", option="ikfast", value=ikfast
         )
     tolerances = {"tol_position": tol_position, "tol_orientation": tol_orientation}
     opts = read_options({k: v for k, v in tolerances.items() if v is not None})
+    for key, unit in (("tol_position", "m"), ("tol_orientation", "rad")):
+        value = getattr(opts, key)
+        if value < MIN_TOLERANCE:
+            raise OptionError(
+                f"{key}={value!r} is below what double precision can verify: give a "
+                f"tolerance of at least {MIN_TOLERANCE:g} {unit} (1e-6 by default)",
+                option=key,
+                value=value,
+            )
     rows_of = FAMILIES[family(model)]
     ax = axis_lines(model)
     rows = rows_of(model, ax)
@@ -114,24 +138,72 @@ def export(
         f"{name}_ik.c": c_text,
     }
     if ikfast:
-        files[f"{name}_ikfast.cpp"] = ikfast_file.source(name, c_text, rows.held)
+        limits = (
+            (float(model.lower[rows.held]), float(model.upper[rows.held]))
+            if rows.held is not None
+            else (-math.inf, math.inf)
+        )
+        files[f"{name}_ikfast.cpp"] = ikfast_file.source(name, c_text, rows.held, limits)
     if out is not None:
         _write(Path(out), files)
     return files
 
 
+def _check_name(name: object) -> None:
+    """``OptionError`` unless ``name`` is a C identifier that is not reserved: no leading
+    underscore (the header's macros are the name in upper case, and ``_X``... is the
+    compiler's) and no ``__`` (C++ reserves it anywhere, and the header is read as C++)."""
+    if not isinstance(name, str) or not _NAME.fullmatch(name):
+        raise OptionError(
+            f"name must be a C identifier (letters, digits, _), got {name!r}",
+            option="name",
+            value=name,
+        )
+    if name.startswith("_") or "__" in name:
+        raise OptionError(
+            f"name {name!r} is reserved in C or C++ (a leading underscore, whose upper "
+            "case names the header's macros, or a double underscore): give a name that "
+            "starts with a letter and has no '__'",
+            option="name",
+            value=name,
+        )
+
+
 def _write(folder: Path, files: dict[str, str]) -> None:
-    """``files`` written into ``folder`` (created if missing); ``OptionError`` naming the
-    path when it is a file or cannot be written."""
+    """``files`` written into ``folder`` (created if missing), all or none: each to a
+    temporary file in ``folder``, renamed onto its name once all are written; an existing
+    file of one of those names that is not a writable regular file refuses the whole
+    export before anything is written, and a failure removes the temporaries and the
+    folders this call created. ``OptionError`` naming the path when it cannot be written."""
+    created = [p for p in (folder, *folder.parents) if not p.exists()]
+    written: dict[Path, Path] = {}
     try:
         folder.mkdir(parents=True, exist_ok=True)
+        for file in files:
+            target = folder / file
+            if target.exists() and not (target.is_file() and os.access(target, os.W_OK)):
+                raise PermissionError(13, "not a file it can replace", str(target))
         for file, text in files.items():
-            (folder / file).write_text(text)
+            temporary = folder / f".{file}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
+            # O_EXCL: a new file, with the mode (umask applied) open() gives any file
+            fd = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+            written[folder / file] = temporary
+            with os.fdopen(fd, "w") as stream:
+                stream.write(text)
+        for target, temporary in written.items():
+            os.replace(temporary, target)
     except OSError as exc:
+        for temporary in written.values():
+            temporary.unlink(missing_ok=True)
+        for path in created:  # deepest first: only those this call made, if still empty
+            try:
+                path.rmdir()
+            except OSError:
+                break
         raise OptionError(
             f"out={str(folder)!r} cannot hold the exported files "
             f"({exc.strerror or exc}{': ' + repr(exc.filename) if exc.filename else ''}): "
-            "give a folder, new or existing, that you can write to",
+            "give a folder, new or existing, that you can write to; nothing was written",
             option="out",
             value=str(folder),
         ) from None

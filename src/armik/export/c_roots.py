@@ -27,8 +27,8 @@ static const double RT_SAME = @SAME@;
 #define SP_GRID @GRID@
 #define SP_STARTS @STARTS@
 
-static inline double pmax(double a, double b) { return b > a ? b : a; }
-static inline double pmin(double a, double b) { return b < a ? b : a; }
+static inline IK_UNUSED double pmax(double a, double b) { return b > a ? b : a; }
+static inline IK_UNUSED double pmin(double a, double b) { return b < a ? b : a; }
 
 /* p(x) by Horner's rule, p'(x) into *df; c highest power first. */
 static double poly_value(const double *c, int deg, double x, double *df)
@@ -288,7 +288,7 @@ static int newton_step(const double *H, const double *g, int m, double mu, doubl
 
 /* The residual r = M (sin x0, cos x0, sin x1, cos x1) - (f0, f1) at sc = (sin x0, cos x0,
    sin x1, cos x1) into r; returns |r|. */
-static inline double resid2(const double M[8], const double f[2], const double sc[4],
+static inline IK_UNUSED double resid2(const double M[8], const double f[2], const double sc[4],
                             double r[2])
 {
     r[0] = M[0] * sc[0] + M[1] * sc[1] + M[2] * sc[2] + M[3] * sc[3] - f[0];

@@ -3,8 +3,10 @@ the Paden-Kahan subproblems, a line for line translation of
 ``armik.solvers.closed_form.subproblems`` (the same tolerances, the same branches).
 
 Vectors are ``vec3`` and rotations ``mat3`` (row-major), small structs passed by value as the
-compiled Python passes tuples. Every helper is ``static inline``: a family uses some of them,
-and an unused inline function draws no warning under ``-Wall -Wextra -Werror``.
+compiled Python passes tuples. Every helper is ``static inline IK_UNUSED``: a family uses
+some of them, and gcc warns of no unused inline function where clang does
+(``-Wunused-function``, an error under ``-Wall -Wextra -Werror``), so ``IK_UNUSED`` is
+``__attribute__((unused))`` under gcc and clang, nothing elsewhere.
 """
 
 from __future__ import annotations
@@ -62,6 +64,14 @@ def constants(names: dict[str, object]) -> str:
 
 HELPERS = (
     r"""
+#ifndef IK_UNUSED  /* a helper a family does not call draws no warning */
+#if defined(__GNUC__) || defined(__clang__)
+#define IK_UNUSED __attribute__((unused))
+#else
+#define IK_UNUSED
+#endif
+#endif
+
 typedef struct { double v[3]; } vec3;
 typedef struct { double m[9]; } mat3;
 
@@ -70,26 +80,26 @@ static const double IK_EPS = @EPS@;
 static const double IK_SINGLE = @SINGLE@;
 static const double IK_DEGENERATE = @DEGENERATE@;
 
-static inline vec3 add(vec3 a, vec3 b)
+static inline IK_UNUSED vec3 add(vec3 a, vec3 b)
 { vec3 r = {{a.v[0] + b.v[0], a.v[1] + b.v[1], a.v[2] + b.v[2]}}; return r; }
-static inline vec3 sub(vec3 a, vec3 b)
+static inline IK_UNUSED vec3 sub(vec3 a, vec3 b)
 { vec3 r = {{a.v[0] - b.v[0], a.v[1] - b.v[1], a.v[2] - b.v[2]}}; return r; }
-static inline vec3 scale(vec3 a, double s)
+static inline IK_UNUSED vec3 scale(vec3 a, double s)
 { vec3 r = {{a.v[0] * s, a.v[1] * s, a.v[2] * s}}; return r; }
-static inline vec3 neg(vec3 a) { vec3 r = {{-a.v[0], -a.v[1], -a.v[2]}}; return r; }
-static inline vec3 cross(vec3 a, vec3 b)
+static inline IK_UNUSED vec3 neg(vec3 a) { vec3 r = {{-a.v[0], -a.v[1], -a.v[2]}}; return r; }
+static inline IK_UNUSED vec3 cross(vec3 a, vec3 b)
 {
     vec3 r = {{a.v[1] * b.v[2] - a.v[2] * b.v[1], a.v[2] * b.v[0] - a.v[0] * b.v[2],
                a.v[0] * b.v[1] - a.v[1] * b.v[0]}};
     return r;
 }
-static inline double dot(vec3 a, vec3 b)
+static inline IK_UNUSED double dot(vec3 a, vec3 b)
 { return a.v[0] * b.v[0] + a.v[1] * b.v[1] + a.v[2] * b.v[2]; }
-static inline double norm(vec3 a)
+static inline IK_UNUSED double norm(vec3 a)
 { return sqrt(a.v[0] * a.v[0] + a.v[1] * a.v[1] + a.v[2] * a.v[2]); }
 
 /* The angle in (-pi, pi]. */
-static inline double wrap(double a)
+static inline IK_UNUSED double wrap(double a)
 {
     if (-IK_PI < a && a <= IK_PI) return a;
     a -= 2.0 * IK_PI * floor(a / (2.0 * IK_PI));
@@ -97,7 +107,7 @@ static inline double wrap(double a)
 }
 
 /* Rotation by t about the unit axis k (Rodrigues), with c = cos t and s = sin t. */
-static inline mat3 rot_cs(vec3 k, double c, double s)
+static inline IK_UNUSED mat3 rot_cs(vec3 k, double c, double s)
 {
     double v = 1.0 - c, x = k.v[0], y = k.v[1], z = k.v[2];
     mat3 r = {{c + x * x * v, x * y * v - z * s, x * z * v + y * s,
@@ -105,9 +115,9 @@ static inline mat3 rot_cs(vec3 k, double c, double s)
                z * x * v - y * s, z * y * v + x * s, c + z * z * v}};
     return r;
 }
-static inline mat3 rot(vec3 k, double t) { return rot_cs(k, cos(t), sin(t)); }
+static inline IK_UNUSED mat3 rot(vec3 k, double t) { return rot_cs(k, cos(t), sin(t)); }
 
-static inline vec3 mv(mat3 A, vec3 x)  /* A x */
+static inline IK_UNUSED vec3 mv(mat3 A, vec3 x)  /* A x */
 {
     const double *a = A.m;
     vec3 r = {{a[0] * x.v[0] + a[1] * x.v[1] + a[2] * x.v[2],
@@ -115,7 +125,7 @@ static inline vec3 mv(mat3 A, vec3 x)  /* A x */
                a[6] * x.v[0] + a[7] * x.v[1] + a[8] * x.v[2]}};
     return r;
 }
-static inline vec3 mtv(mat3 A, vec3 x)  /* A^T x */
+static inline IK_UNUSED vec3 mtv(mat3 A, vec3 x)  /* A^T x */
 {
     const double *a = A.m;
     vec3 r = {{a[0] * x.v[0] + a[3] * x.v[1] + a[6] * x.v[2],
@@ -123,7 +133,7 @@ static inline vec3 mtv(mat3 A, vec3 x)  /* A^T x */
                a[2] * x.v[0] + a[5] * x.v[1] + a[8] * x.v[2]}};
     return r;
 }
-static inline mat3 mm(mat3 A, mat3 B)  /* A B */
+static inline IK_UNUSED mat3 mm(mat3 A, mat3 B)  /* A B */
 {
     mat3 r; int i, j;
     for (i = 0; i < 3; i++)
@@ -132,7 +142,7 @@ static inline mat3 mm(mat3 A, mat3 B)  /* A B */
                              + A.m[3 * i + 2] * B.m[6 + j];
     return r;
 }
-static inline mat3 mtm(mat3 A, mat3 B)  /* A^T B */
+static inline IK_UNUSED mat3 mtm(mat3 A, mat3 B)  /* A^T B */
 {
     mat3 r; int i, j;
     for (i = 0; i < 3; i++)
@@ -140,7 +150,7 @@ static inline mat3 mtm(mat3 A, mat3 B)  /* A^T B */
             r.m[3 * i + j] = A.m[i] * B.m[j] + A.m[3 + i] * B.m[3 + j] + A.m[6 + i] * B.m[6 + j];
     return r;
 }
-static inline mat3 mmt(mat3 A, mat3 B)  /* A B^T */
+static inline IK_UNUSED mat3 mmt(mat3 A, mat3 B)  /* A B^T */
 {
     mat3 r; int i, j;
     for (i = 0; i < 3; i++)
@@ -151,7 +161,7 @@ static inline mat3 mmt(mat3 A, mat3 B)  /* A B^T */
 }
 
 /* SP1: theta with rot(k, theta) p1 = p2 (least squares when none). */
-static inline double sp1(vec3 p1, vec3 p2, vec3 k)
+static inline IK_UNUSED double sp1(vec3 p1, vec3 p2, vec3 k)
 {
     vec3 kxp = cross(k, p1);
     return atan2(dot(kxp, p2), -dot(cross(k, kxp), p2));
@@ -159,7 +169,7 @@ static inline double sp1(vec3 p1, vec3 p2, vec3 k)
 
 /* SP1 with the cosine and sine of theta too (by libm when p1 and p2 leave it free, so
    that they are theta's whatever sign atan2 gives a zero). */
-static inline double sp1cs(vec3 p1, vec3 p2, vec3 k, double *c, double *s)
+static inline IK_UNUSED double sp1cs(vec3 p1, vec3 p2, vec3 k, double *c, double *s)
 {
     vec3 kxp = cross(k, p1);
     double a = dot(kxp, p2), b = -dot(cross(k, kxp), p2), r = sqrt(a * a + b * b), t;
@@ -171,7 +181,7 @@ static inline double sp1cs(vec3 p1, vec3 p2, vec3 k, double *c, double *s)
 
 /* SP4: theta with h . rot(k, theta) p = d; returns the count (2, 1, or -1 when every
    theta gives the same value), the roots in t[0], t[1]. */
-static inline int sp4(vec3 h, vec3 p, vec3 k, double d, double t[2])
+static inline IK_UNUSED int sp4(vec3 h, vec3 p, vec3 k, double d, double t[2])
 {
     vec3 kxp = cross(k, p);
     double a = dot(h, kxp), b = -dot(h, cross(k, kxp));
@@ -193,7 +203,7 @@ static inline int sp4(vec3 h, vec3 p, vec3 k, double d, double t[2])
 }
 
 /* SP3: theta with |rot(k, theta) p1 - p2| = d. */
-static inline int sp3(vec3 p1, vec3 p2, vec3 k, double d, double t[2])
+static inline IK_UNUSED int sp3(vec3 p1, vec3 p2, vec3 k, double d, double t[2])
 {
     double n2 = norm(p2);
     if (n2 <= IK_EPS) { t[0] = t[1] = 0.0; return -1; }
@@ -202,7 +212,7 @@ static inline int sp3(vec3 p1, vec3 p2, vec3 k, double d, double t[2])
 
 /* SP3 with the cosines and sines of its angles too: the two regular roots' from SP4's
    atan2 and acos terms by the angle sums (no libm call), the others' from libm. */
-static inline int sp3cs(vec3 p1, vec3 p2, vec3 k, double d, double t[2], double c[2],
+static inline IK_UNUSED int sp3cs(vec3 p1, vec3 p2, vec3 k, double d, double t[2], double c[2],
                         double s[2])
 {
     double n2 = norm(p2), a, b, rho, x, sr;
@@ -234,7 +244,7 @@ static inline int sp3cs(vec3 p1, vec3 p2, vec3 k, double d, double t[2], double 
 /* SP2: (a[i], b[i]) with rot(k1, a) p1 = rot(k2, b) p2, -1 when p1 lies on k1 (a = free),
    with their cosines and sines (ca, sa, cb, sb) from SP1's (no libm call but the free
    angle's). */
-static inline int sp2cs(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double free_, double a[2],
+static inline IK_UNUSED int sp2cs(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double free_, double a[2],
                         double b[2], double ca[2], double sa[2], double cb[2], double sb[2])
 {
     double n1 = norm(p1), n2 = norm(p2), k12, den, c1, c2, alpha, beta, g2, g;

@@ -139,7 +139,7 @@ static void circle(vec3 o, vec3 k, vec3 p, vec3 *c, vec3 *a, vec3 *b)
     *b = sub(p, along);
 }
 
-static inline vec3 on(vec3 c, vec3 a, vec3 b, double t)
+static inline IK_UNUSED vec3 on(vec3 c, vec3 a, vec3 b, double t)
 { return add(c, add(scale(a, sin(t)), scale(b, cos(t)))); }
 
 /* |f|, the gradient and the Hessian of |f|^2 / 2 at x for SP5's residual. */

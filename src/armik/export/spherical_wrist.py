@@ -119,7 +119,7 @@ def chain_text(geo: Chain6R) -> str:
 
 PUT_REVERSED = r"""
 /* Row n of the reversed chain (joints 6 to 1) in the arm's order. */
-static inline int put_reversed(double W[][DOF], double C[][DOF], double S[][DOF], int n,
+static inline IK_UNUSED int put_reversed(double W[][DOF], double C[][DOF], double S[][DOF], int n,
                                const double *q, const double *c, const double *s)
 {
     int j;
