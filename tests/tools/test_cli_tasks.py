@@ -81,6 +81,30 @@ def test_axis_toward_within(capsys):
     assert code == 0 and "success=True" in out
 
 
+def test_prefer_with_a_region_or_an_axis_is_the_librarys(capsys):
+    """--prefer beside --bounds or --axis (a task list): the library's preferred answer,
+    each task measured at it; --prefer was refused after the solve, exit 2."""
+    ur5 = arm("ur5")
+    T = ur5.fk(np.array([0.3, -1.1, 1.4, -0.6, -1.5, 0.9]))
+    rpy = pin.rpy.matrixToRpy(T.rotation)
+    T = pin.SE3(pin.rpy.rpyToMatrix(*rpy), T.translation)  # as the flags say it
+    bounds = (0, 0, 0, 0, 0, math.inf)
+    z = T.rotation[:, 2]
+    for flags, tasks in [
+        (["--rpy", *words(rpy), "--bounds", "0", "0", "0", "0", "0", "inf"],
+         [armik.Pose(T, bounds=bounds)]),
+        (["--axis", "0", "0", "1", "--toward", *words(z)],
+         [armik.Position(T.translation), armik.Axis((0, 0, 1), z)]),
+    ]:  # fmt: skip
+        argv = ["solve", "ur5", "--xyz", *words(T.translation), *flags]
+        code, out, err = run(capsys, *argv, "--prefer", "manipulability", "--json")
+        assert code == 0, err
+        got = json.loads(out)["results"][0]
+        r = ur5.solve(tasks, prefer="manipulability")
+        assert r.success and got["success"] and got["q"] == r.q.tolist()
+        assert got["score"] == r.score and all(t["within"] for t in got["task_errors"])
+
+
 def test_axis_out_of_reach_exit_1(capsys):
     code, out, _ = run(
         capsys,
