@@ -20,7 +20,7 @@ import pinocchio as pin
 
 from armik.errors import JointError, URDFError, listing
 from armik.model.urdf import URDFInfo
-from armik.tolerances import MAX_LIMIT
+from armik.tolerances import LIMIT_TOL, MAX_LIMIT
 
 
 class Mimic(NamedTuple):
@@ -141,6 +141,31 @@ def driver_range(plain: pin.Model, info: URDFInfo, m: Mimic) -> tuple[float, flo
     hi = hi if hi <= MAX_LIMIT else math.inf
     a, b = (lo - m.offset) / m.multiplier, (hi - m.offset) / m.multiplier
     return (a, b) if a <= b else (b, a)
+
+
+def check_locked_driver(
+    full: pin.Model, info: URDFInfo, jid: int, value: float, locked: dict[str, float]
+) -> None:
+    """Refuse a driver locked by name (``locked``: joint -> value) that holds its mimic
+    joint ``jid`` at ``value`` outside the mimic joint's own URDF limits: each answer would
+    put that joint outside them. Raises ``JointError`` naming both joints and the driver's
+    values that keep the mimic joint within its limits."""
+    name = full.names[jid]
+    driver = info.mimic.get(name)
+    multiplier, offset = info.mimic_factors.get(name, (1.0, 0.0))
+    if driver not in locked or multiplier == 0.0:
+        return
+    lo, hi = driver_range(full, info, Mimic(name, driver, multiplier, offset))
+    if lo - LIMIT_TOL <= locked[driver] <= hi + LIMIT_TOL:
+        return
+    unit = "m" if info.joint_types.get(name) == "prismatic" else "rad"
+    raise JointError(
+        f"locking {driver!r} at {locked[driver]:g} holds its mimic joint {name!r} at "
+        f"{value:g} {unit} ({multiplier:g} x {locked[driver]:g} + {offset:g}), outside the "
+        f"URDF limits of {name!r}: lock {driver!r} within [{lo:g}, {hi:g}], or lock {name!r} "
+        "too",
+        joint=driver,
+    )
 
 
 def joint_map(arm) -> tuple[tuple, list[int], tuple[np.ndarray, np.ndarray]]:
