@@ -5,7 +5,8 @@ free, every other joint held at its value in the chains' arms (neutral, or ``loc
 solver (``armik.solve.tasks``), one task per tip, verified by Pinocchio's FK of this model.
 It gives that solver what it reads of an arm: the model, per-thread data, joint values to
 Pinocchio's configuration, limits, seeds and the base frame. Revolute, prismatic and
-continuous joints; a chain with a mimic joint is refused.
+continuous joints; a chain with a mimic joint is refused. A tip's frame is its tool point
+where its chain has a ``tip_offset``, as on the chain.
 """
 
 from __future__ import annotations
@@ -47,6 +48,9 @@ class Union:
         keep = {full.getJointId(n) for n in names}
         lock = [j for j in range(1, full.njoints) if full.joints[j].nq > 0 and j not in keep]
         self.model = reduce_model(full, lock, q_ref)
+        for arm in chains:  # a tip names its tool point, as on its chain (``frames.frame_id``)
+            if arm.tip_offset is not None:
+                _to_tool_point(self.model, arm.tip, arm.tip_offset)
         self.tip = first.tip
         self.tip_frame_id = self.model.getFrameId(first.tip)
         base = self.model.getFrameId(first.base)
@@ -127,3 +131,13 @@ class Union:
     def within_limits(self, q: np.ndarray, tol: float = LIMIT_TOL) -> bool:
         q = np.asarray(q, dtype=float)
         return bool(np.all(q >= self.lower - tol) and np.all(q <= self.upper + tol))
+
+
+def _to_tool_point(model: pin.Model, tip: str, offset: tuple[float, float, float]) -> None:
+    """The frame ``tip`` of ``model`` moved by ``offset`` (m, in the tip frame): a tip's
+    name means its tool point on its chain, where ``tip_offset`` adds it (``reduce``), and
+    so it does where the chains are solved together and verified on this model."""
+    fid = named(model, tip)
+    frame = model.frames[fid]
+    frame.placement = frame.placement * pin.SE3(np.eye(3), np.asarray(offset, dtype=float))
+    model.frames[fid] = frame

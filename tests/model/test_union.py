@@ -1,0 +1,70 @@
+"""Several tips over shared joints solved in one model (``armik.model.union``): each tip's
+frame there is the one its chain reads, its ``tip_offset`` included, so that a success is
+true of the tool points (checked with yourdfpy, an independent reader)."""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+import pinocchio as pin
+import yourdfpy
+
+import armik
+
+from ..conftest import TOL
+
+LIM = '<limit lower="-3" upper="3" effort="1" velocity="1"/>'
+
+
+def _joint(name: str, parent: str, child: str, xyz: str, axis: str) -> str:
+    return (
+        f'<joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/>'
+        f'<origin xyz="{xyz}" rpy="0.1 0 0"/><axis xyz="{axis}"/>{LIM}</joint>'
+    )
+
+
+# a torso joint both arms share, then two 3R arms
+XML = (
+    '<robot name="two">'
+    + "".join(f'<link name="{n}"/>' for n in ("base", "torso", "a1", "a2", "ta", "b1", "b2", "tb"))
+    + _joint("t", "base", "torso", "0 0 0.2", "0 0 1")
+    + _joint("a_1", "torso", "a1", "0 0.2 0", "0 1 0")
+    + _joint("a_2", "a1", "a2", "0.3 0 0", "0 1 0")
+    + _joint("a_3", "a2", "ta", "0.25 0 0", "1 0 0")
+    + _joint("b_1", "torso", "b1", "0 -0.2 0", "0 1 0")
+    + _joint("b_2", "b1", "b2", "0.3 0 0", "0 1 0")
+    + _joint("b_3", "b2", "tb", "0.25 0 0", "1 0 0")
+    + "</robot>"
+)
+OFFSET = (0.05, 0.0, 0.1)
+
+
+def tool_points(robot, q) -> dict[str, pin.SE3]:
+    """Each tip's tool point (``OFFSET`` in its frame) at ``q`` by yourdfpy."""
+    reader = yourdfpy.URDF.load(io.StringIO(XML), load_meshes=False)
+    cfg = dict(zip(robot.joint_names, np.asarray(q, dtype=float)))
+    reader.update_cfg({n: cfg[n] for n in reader.actuated_joint_names})
+    offset = pin.SE3(np.eye(3), np.array(OFFSET))
+    return {t: pin.SE3(reader.get_transform(t, "base")) * offset for t in robot.tips}
+
+
+def test_shared_joints_solve_the_tool_points_of_a_tip_offset(rng):
+    robot = armik.load(XML, tips=["ta", "tb"], tip_offset=OFFSET)
+    assert robot.shared == ("t",)
+    for q in robot.random_q(rng, 3):
+        targets = tool_points(robot, q)
+        fk = robot.fk(q)
+        assert all(fk[t].isApprox(targets[t], 1e-12) for t in robot.tips)
+        r = robot.solve(targets, q0=robot.middle)
+        assert r.success, r.reason
+        reached = tool_points(robot, r.q)
+        for t in robot.tips:
+            assert np.linalg.norm(reached[t].translation - targets[t].translation) < TOL["solve"]
+        # the tips' links there: a success only where the tool points are there too
+        links = armik.load(XML, tips=["ta", "tb"]).fk(q)
+        r = robot.solve(links, q0=robot.middle, timeout=0.02)
+        if r.success:
+            reached = tool_points(robot, r.q)
+            for t in robot.tips:
+                assert np.linalg.norm(reached[t].translation - links[t].translation) < TOL["solve"]
