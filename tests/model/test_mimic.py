@@ -340,6 +340,20 @@ def test_a_locked_driver_that_holds_its_mimic_outside_its_limits_is_refused():
         assert armik.load_string(branch_urdf(2.0, 0.3), tip=tip, locked={"jx": 0.8}).dof >= 1
 
 
+def test_a_mimic_or_locked_joint_of_the_chain_is_named_as_such_where_a_joint_is_asked():
+    # j3 = -0.5 j2 + 0.2 follows j2; each is on the chain, none is a joint of the arm
+    a = armik.load_string(five_joint_urdf(-0.5, 0.2))
+    with pytest.raises(JointError, match=r"'j3' mimics 'j2' on this arm's chain .*name 'j2'"):
+        a.with_limits({"j3": (-1.0, 1.0)})
+    b = armik.load_string(five_joint_urdf(-0.5, 0.2), locked={"j2": 0.4})
+    with pytest.raises(JointError, match=r"'j2' is locked at 0.4 on this arm's chain"):
+        b.with_limits({"j2": (-1.0, 1.0)})
+    with pytest.raises(JointError, match=r"'j3' mimics 'j2', which does not move on this arm"):
+        b.with_limits({"j3": (-1.0, 1.0)})
+    with pytest.raises(JointError, match=r"'nope' is not on this arm's chain"):
+        b.with_limits({"nope": (-1.0, 1.0)})
+
+
 def test_the_mimic_joint_itself_can_be_locked():
     a = armik.load_string(five_joint_urdf(), locked={"j3": 0.1})
     assert a.joint_names == ["j1", "j2", "j5"] and [m.name for m in a.kinematics.mimics] == ["j4"]

@@ -168,6 +168,27 @@ def check_locked_driver(
     )
 
 
+def not_a_joint(arm, name: str) -> str:
+    """Why ``name`` is no joint of ``arm`` (an ``ArmModel``), for its errors: a mimic joint
+    of its chain follows its driver, a joint locked on it or a mimic joint fixed there is
+    a fixed transform, any other name is not on the chain."""
+    for m in arm.mimics:
+        if m.name == name:
+            return (
+                f"mimics {m.driver!r} on this arm's chain ({m.multiplier:g} x {m.driver} + "
+                f"{m.offset:g}): its value follows the driver's; name {m.driver!r}"
+            )
+    if name in arm.locked_on_chain:
+        return f"is locked at {arm.locked[name]:g} on this arm's chain (locked=), a fixed transform"
+    fixed = arm.chain.fixed_mimics or {}
+    if name in fixed:
+        return (
+            f"mimics {arm.info.mimic.get(name)!r}, which does not move on this arm's chain: it "
+            f"is held at {fixed[name]:g} there, a fixed transform"
+        )
+    return "is not on this arm's chain"
+
+
 def joint_map(arm) -> tuple[tuple, list[int], tuple[np.ndarray, np.ndarray]]:
     """For the physical joints of ``arm.physical_model`` (the reduced model, mimic joints as
     joints of their own) and the driving joints ``arm.joint_names``: (driver, multiplier,
