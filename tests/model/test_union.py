@@ -8,6 +8,7 @@ import io
 
 import numpy as np
 import pinocchio as pin
+import pytest
 import yourdfpy
 
 import armik
@@ -68,3 +69,20 @@ def test_shared_joints_solve_the_tool_points_of_a_tip_offset(rng):
             reached = tool_points(robot, r.q)
             for t in robot.tips:
                 assert np.linalg.norm(reached[t].translation - links[t].translation) < TOL["solve"]
+
+
+@pytest.mark.filterwarnings("ignore:joint 't' has:armik.ArmikWarning")
+def test_the_union_reads_each_joints_limits_as_its_chain_does(rng):
+    """The shared joint's URDF limits "0 0" (not given) or +-1e16 (free) are no limits, on
+    the chains and in their one model alike: read as Pinocchio holds them, the torso was
+    pinned at 0 (its poses at t = 2 failed) or sampled over +-1e16 rad."""
+    for lo, hi in [("0", "0"), ("-1e16", "1e16")]:
+        torso = f'<limit lower="{lo}" upper="{hi}" effort="1" velocity="1"/>'
+        robot = armik.load(XML.replace(LIM + "</joint>", torso + "</joint>", 1), tips=["ta", "tb"])
+        assert robot.joint_names[0] == "t" and robot.chain("ta").lower[0] == -np.inf
+        assert robot.lower[0] == -np.inf and robot.upper[0] == np.inf
+        assert np.all(np.abs(robot.random_q(rng)) <= np.pi)
+        q = robot.random_q(rng)
+        q[0] = 2.0
+        r = robot.solve(robot.fk(q), q0=robot.middle)
+        assert r.success and robot.within_limits(r.q), r.reason

@@ -63,15 +63,15 @@ class Union:
         self.dof = self.model.nv
         joints = [self.model.joints[self.model.getJointId(n)] for n in self.joint_names]
         self._continuous = [j.nq == 2 for j in joints]
-        lo = [
-            -math.inf if c else self.model.lowerPositionLimit[j.idx_q]
-            for c, j in zip(self._continuous, joints)
-        ]
-        hi = [
-            math.inf if c else self.model.upperPositionLimit[j.idx_q]
-            for c, j in zip(self._continuous, joints)
-        ]
-        self.lower, self.upper = np.array(lo), np.array(hi)
+        # each joint's limits as its chain reads them (the URDF's "0 0" and +-1e16 unlimited,
+        # a continuous joint unlimited): Pinocchio's model holds the numbers as written
+        limits = {
+            n: (lo, hi)
+            for arm in chains
+            for n, lo, hi in zip(arm.joint_names, arm.lower.tolist(), arm.upper.tolist())
+        }
+        self.lower = np.array([limits[n][0] for n in self.joint_names])
+        self.upper = np.array([limits[n][1] for n in self.joint_names])
         # as ``ArmModel``'s, for a configuration's turns (``model.turns``): no mimic here, so
         # 2 pi is a period of every joint but a prismatic one
         prismatic = [j.shortname().startswith("JointModelP") for j in joints]
