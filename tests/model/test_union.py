@@ -86,3 +86,39 @@ def test_the_union_reads_each_joints_limits_as_its_chain_does(rng):
         q[0] = 2.0
         r = robot.solve(robot.fk(q), q0=robot.middle)
         assert r.success and robot.within_limits(r.q), r.reason
+
+
+# the first arm's elbow mimics a joint on no chain (held at 1 x 0 + 0.7 on it), and a
+# continuous wrist on the second arm, locked at 0.5
+HELD = (
+    XML.replace("</robot>", "")
+    .replace('<link name="a2"/>', '<link name="a2"/><link name="am"/><link name="side"/>')
+    .replace('<link name="tb"/>', '<link name="tb"/><link name="tc"/>')
+    .replace('parent link="a2"', 'parent link="am"')
+    + _joint("a_m", "a2", "am", "0.1 0 0", "0 0 1").replace(
+        "</joint>", '<mimic joint="jx" multiplier="1" offset="0.7"/></joint>'
+    )
+    + _joint("jx", "base", "side", "0 0 -0.1", "1 0 0")
+    + _joint("b_c", "tb", "tc", "0.1 0 0", "0 1 0").replace('type="revolute"', 'type="continuous"')
+    + "</robot>"
+)
+
+
+def test_the_union_holds_the_joints_the_chains_hold_where_they_hold_them(rng):
+    """A mimic joint fixed on a chain (its driver moves on none) and a continuous joint
+    locked on one are held in the chains' one model where the chains hold them: it held
+    them at 0, and solved (and verified) another robot, its targets missed."""
+    robot = armik.load(HELD, tips=["ta", "tc"], locked={"b_c": 0.5})
+    assert robot.shared == ("t",) and "a_m" not in robot.joint_names
+    reader = yourdfpy.URDF.load(io.StringIO(HELD), load_meshes=False)
+    for q in robot.random_q(rng, 3):
+        cfg = {**dict(zip(robot.joint_names, q)), "jx": 0.0, "b_c": 0.5}
+        reader.update_cfg({n: cfg[n] for n in reader.actuated_joint_names})
+        targets = {t: pin.SE3(reader.get_transform(t, "base")) for t in robot.tips}
+        r = robot.solve(targets, q0=robot.middle)
+        assert r.success, r.reason
+        cfg.update(zip(robot.joint_names, r.q))
+        reader.update_cfg({n: cfg[n] for n in reader.actuated_joint_names})
+        for t in robot.tips:
+            reached = reader.get_transform(t, "base")[:3, 3]
+            assert np.linalg.norm(reached - targets[t].translation) < TOL["solve"]

@@ -19,7 +19,7 @@ import pinocchio as pin
 
 from armik.errors import JointError
 from armik.model.frames import named
-from armik.model.reduce import reduce_model
+from armik.model.reduce import reduce_model, set_joint
 from armik.tolerances import LIMIT_TOL
 
 TWO_PI = 2.0 * math.pi
@@ -39,12 +39,12 @@ class Union:
                     "joints take chains without them for now",
                     joint=next(iter(arm.mimics)),
                 )
+        # every joint off the chains held where the chains hold it: at its lock, a mimic
+        # joint fixed on a chain at its driver's value (``reduce``), else neutral
         q_ref = pin.neutral(full)
         for arm in chains:
-            for jname, value in arm.locked.items():
-                jid = full.getJointId(jname)
-                if full.joints[jid].nq == 1:
-                    q_ref[full.joints[jid].idx_q] = value
+            for jname, value in {**arm.locked, **(arm.chain.fixed_mimics or {})}.items():
+                set_joint(full, q_ref, full.getJointId(jname), value)
         keep = {full.getJointId(n) for n in names}
         lock = [j for j in range(1, full.njoints) if full.joints[j].nq > 0 and j not in keep]
         self.model = reduce_model(full, lock, q_ref)
