@@ -31,10 +31,6 @@ from armik.model.geometry import Axes
 from armik.problem.settings import SolverSettings
 from armik.tolerances import LAST_ROW_TOL, LIMIT_TOL, MAX_POSITION, ROTATION_TOL
 
-# a rotation further than this from orthonormal (an entry of |R^T R - I|) is snapped onto
-# the nearest rotation before it is solved, as ``armik.targets.pose`` snaps a target's
-ROTATION_SNAP = 1e-14
-
 
 @dataclass(frozen=True)
 class Rows:
@@ -200,31 +196,9 @@ static int verified(const double *q, const double *c, const double *s, mat3 R, v
     return @ORIENTATION@;
 }
 
-/* The rotation nearest R (R^T R within ROTATION_TOL of I, det R > 0): the orthogonal factor
-   of R's polar decomposition, the parser's U V^T from R's SVD, by Newton's iteration
-   R <- (R + R^-T) / 2, whose error squares at each step (1e-6, 5e-13, 1e-25). */
-static mat3 nearest_rotation(mat3 R)
-{
-    mat3 F;
-    double d;
-    int i, step;
-    for (step = 0; step < 3; step++) {
-        for (i = 0; i < 3; i++) {  /* F = det(R) R^-T: the cofactors, row by row */
-            const double *a = R.m + 3 * ((i + 1) % 3), *b = R.m + 3 * ((i + 2) % 3);
-            F.m[3 * i] = a[1] * b[2] - a[2] * b[1];
-            F.m[3 * i + 1] = a[2] * b[0] - a[0] * b[2];
-            F.m[3 * i + 2] = a[0] * b[1] - a[1] * b[0];
-        }
-        d = R.m[0] * F.m[0] + R.m[1] * F.m[1] + R.m[2] * F.m[2];
-        for (i = 0; i < 9; i++) R.m[i] = 0.5 * (R.m[i] + F.m[i] / d);
-    }
-    return R;
-}
-
 int @NAME@_ik(const double T[16], @HELD_PARAM@double q[][DOF])
 {
     double W[MAX_ROWS][DOF], C[MAX_ROWS][DOF], S[MAX_ROWS][DOF], key[MAX_ROWS], e;
-    double worst = 0.0;  /* the largest entry of |R^T R - I| */
     int keep[MAX_ROWS], n, r, j, k, count = 0, taken = 0, best;
     mat3 R;
     vec3 p;
@@ -244,14 +218,11 @@ int @NAME@_ik(const double T[16], @HELD_PARAM@double q[][DOF])
             e = R.m[j] * R.m[k] + R.m[3 + j] * R.m[3 + k] + R.m[6 + j] * R.m[6 + k]
                 - (j == k ? 1.0 : 0.0);
             if (!(fabs(e) <= ROTATION_TOL)) return -1;
-            worst = fabs(e) > worst ? fabs(e) : worst;
         }
     e = R.m[0] * (R.m[4] * R.m[8] - R.m[5] * R.m[7])
         - R.m[1] * (R.m[3] * R.m[8] - R.m[5] * R.m[6])
         + R.m[2] * (R.m[3] * R.m[7] - R.m[4] * R.m[6]);
     if (e < 0.0) return -1;  /* determinant -1: a reflection, not a rotation */
-    /* solved and verified on the nearest rotation, as the parser snaps it */
-    if (worst > SNAP_ABOVE) R = nearest_rotation(R);
 @HELD_CHECK@    n = rows(R, p, @HELD_ARG@W, C, S);
     for (r = 0; r < n; r++) {
         for (j = 0; j < DOF; j++)
@@ -318,7 +289,6 @@ def source(name: str, arm: ArmModel, ax: Axes, rows: Rows, opts: SolverSettings)
             f"static const double SNAP = {c_source.num(rows.snap)};",
             f"static const double LIMIT_TOL = {c_source.num(LIMIT_TOL)};",
             f"static const double ROTATION_TOL = {c_source.num(ROTATION_TOL)};",
-            f"static const double SNAP_ABOVE = {c_source.num(ROTATION_SNAP)};  /* the parser's */",
             f"static const double LAST_ROW_TOL = {c_source.num(LAST_ROW_TOL)};",
             f"static const double MAX_POSITION = {c_source.num(MAX_POSITION)};  /* m */",
             f"static const double TOL_POSITION = {c_source.num(opts.tol_position)};",
