@@ -122,3 +122,21 @@ def test_the_union_holds_the_joints_the_chains_hold_where_they_hold_them(rng):
         for t in robot.tips:
             reached = reader.get_transform(t, "base")[:3, 3]
             assert np.linalg.norm(reached - targets[t].translation) < TOL["solve"]
+
+
+@pytest.mark.parametrize("offset", [None, (0.0, 0.0, 0.05)])
+def test_a_tip_a_joint_shares_its_name_with(rng, offset):
+    """The bundled SCARA's link and joint 'quill' share a name: its tip is the link's frame
+    (its tool point with an offset) in the chains' one model too, where Pinocchio's lookup
+    by name raised its own ValueError (several frames match)."""
+    robot = armik.load("scara", tips=["quill", "tool"], tip_offset=offset)
+    assert "quill" in robot.shared
+    alone = armik.load("scara", tip="quill", tip_offset=offset)
+    for q in robot.random_q(rng, 2):
+        targets = robot.fk(q)
+        mine = q[[robot.joint_names.index(n) for n in alone.joint_names]]
+        assert targets["quill"].isApprox(alone.fk(mine), 1e-12)
+        r = robot.solve(targets, q0=robot.middle)
+        assert r.success, r.reason
+        mine = r.q[[robot.joint_names.index(n) for n in alone.joint_names]]
+        assert np.linalg.norm(alone.fk(mine).translation - targets["quill"].translation) < 1e-6

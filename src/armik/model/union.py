@@ -52,8 +52,8 @@ class Union:
             if arm.tip_offset is not None:
                 _to_tool_point(self.model, arm.tip, arm.tip_offset)
         self.tip = first.tip
-        self.tip_frame_id = self.model.getFrameId(first.tip)
-        base = self.model.getFrameId(first.base)
+        self.tip_frame_id = named(self.model, first.tip)  # a link's, where a joint shares it
+        base = named(self.model, first.base)
         data = self.model.createData()
         pin.framesForwardKinematics(self.model, data, pin.neutral(self.model))
         self.T_base_world = data.oMf[base].inverse()
@@ -137,7 +137,10 @@ def _to_tool_point(model: pin.Model, tip: str, offset: tuple[float, float, float
     """The frame ``tip`` of ``model`` moved by ``offset`` (m, in the tip frame): a tip's
     name means its tool point on its chain, where ``tip_offset`` adds it (``reduce``), and
     so it does where the chains are solved together and verified on this model."""
-    fid = named(model, tip)
-    frame = model.frames[fid]
-    frame.placement = frame.placement * pin.SE3(np.eye(3), np.asarray(offset, dtype=float))
-    model.frames[fid] = frame
+    link = model.frames[named(model, tip)]
+    for fid, frame in enumerate(model.frames):  # a joint's frame of the name, where it is
+        if frame.name == tip and frame.parentJoint == link.parentJoint:  # the link's (SCARA)
+            if frame.placement.isApprox(link.placement, 1e-12):
+                offset_se3 = pin.SE3(np.eye(3), np.asarray(offset, dtype=float))
+                frame.placement = link.placement * offset_se3
+                model.frames[fid] = frame
