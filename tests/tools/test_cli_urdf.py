@@ -95,6 +95,15 @@ def test_usage_hint_names_the_command_once(capsys):
     assert code == 2 and "'armik --help'" in err and "armik armik" not in err
     code, err = parse_error(capsys, "solve", "ur5")
     assert code == 2 and "'armik solve --help'" in err
+    # a flag the command does not take: that command's help, where the flags are
+    for argv, extra in [
+        (["info", "ur5", "--tip-offset", "0", "0", "1"], "--tip-offset 0 0 1"),
+        (["robots", "extra"], "extra"),
+    ]:
+        code, err = parse_error(capsys, *argv)
+        hint = f"(see 'armik {argv[0]} --help')"
+        assert code == 2 and f"unrecognized arguments: {extra} {hint}" in err
+        assert len(err.strip().splitlines()) == 1
 
 
 @pytest.mark.parametrize("n", ["0", "-3", "x"])

@@ -26,7 +26,9 @@ from armik.tools.cli.flags import add_arm_arguments, add_solve_options, for_cli
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = _parser()
-    args = parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra:  # named with the command's own help, where the command was given
+        getattr(args, "command_parser", parser).error(f"unrecognized arguments: {' '.join(extra)}")
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
@@ -102,7 +104,7 @@ def _parser() -> argparse.ArgumentParser:
             epilog=f"example: {example}",
             formatter_class=argparse.RawDescriptionHelpFormatter,
         )
-        c.set_defaults(func=func)
+        c.set_defaults(func=func, command_parser=c)
         return c
 
     command(
