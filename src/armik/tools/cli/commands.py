@@ -297,12 +297,12 @@ def add_servo_command(command) -> None:
         type=float,
         default=None,
         metavar="A",
-        help="rad/s^2 on every joint (default: the servo's, 20)",
+        help="rad/s^2 on every joint, m/s^2 on a prismatic one (default: the servo's, 20)",
     )
     c.add_argument(
         "--velocity-limit",
         type=float,
         default=None,
         metavar="V",
-        help="rad/s on every joint (default: the URDF's)",
+        help="rad/s on every joint, m/s on a prismatic one (default: the URDF's)",
     )
