@@ -74,6 +74,20 @@ def test_a_jaw_named_so_leaves_the_hand_as_the_tip(tmp_path, fixed, jaw, link):
     assert "the hand 'hand'" in a.tip_reason and f"'{jaw}'" in a.tip_reason
 
 
+@pytest.mark.parametrize("jaw", ["j1", "gripper"])
+def test_one_moving_joint_from_the_base_is_the_arm_not_a_jaw(tmp_path, jaw):
+    """A single moving joint from the base beside a fixed leaf (a camera mount): the joint
+    is the arm, its link the tip. The gripper rule took the base for a hand and its fixed
+    leaf (or the base itself) for the tip: a chain with no moving joint, refused."""
+    text = chain(
+        joint(jaw, "base", "l1"),
+        joint("l1_l2", "l1", "l2", jtype="fixed", xyz="0.3 0 0"),
+        joint("cam_fixed", "base", "camera", jtype="fixed"),
+    )
+    a = armik.load(write_urdf(tmp_path, text))
+    assert (a.tip, a.dof, a.joint_names) == ("l2", 1, [jaw])
+
+
 def test_a_finger_robot_keeps_its_last_joint(tmp_path):
     """'finger' names no jaw: a finger robot's last joint is part of its chain."""
     text = chain(*ARM, joint("finger_lower_joint", "hand", "finger_lower_link"))

@@ -107,3 +107,14 @@ def test_a_name_of_frames_at_different_placements_is_refused_naming_them():
         named(model, "elbow")
     assert len(caught.value.candidates) == 2
     assert named(model, "link1") == model.getFrameId("link1")
+
+
+def test_an_unknown_frame_names_the_closest(rng):
+    ur5 = bundled("ur5")
+    with pytest.raises(armik.FrameError, match=r"'wrist3_link' .*; closest: 'wrist_3_link'"):
+        ur5.fk(ur5.random_q(rng), frame="wrist3_link")
+    with pytest.raises(armik.FrameError, match=r"'wrist3_link' .*; closest: 'wrist_3_link'"):
+        ur5.jacobian(ur5.random_q(rng), frame="wrist3_link")
+    with pytest.raises(armik.FrameError) as caught:
+        ur5.fk(ur5.middle, frame="nothing_like_it")
+    assert "closest" not in str(caught.value) and "'tool0'" in str(caught.value)

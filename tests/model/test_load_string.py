@@ -77,3 +77,41 @@ def test_a_path_given_as_the_text_points_to_load(tmp_path):
         assert "\n" not in str(info.value)
     with pytest.raises(URDFError, match="not well-formed XML"):
         armik.load_string("robot")  # neither XML nor a path: the XML is what is wrong
+
+
+XACRO = """<?xml version="1.0"?><robot name="xa" xmlns:xacro="http://www.ros.org/wiki/xacro">
+<xacro:macro name="tool" params="parent"><link name="tool"/>
+<joint name="tj" type="fixed"><parent link="${parent}"/><child link="tool"/>
+<origin xyz="0 0 0.2"/></joint></xacro:macro>
+<link name="base"/><link name="l1"/><link name="l2"/>
+<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/>
+<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+<joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0.3 0 0"/>
+<axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+<xacro:tool parent="l2"/>
+</robot>"""
+
+
+def test_xacro_text_is_refused_with_the_way_to_expand_it(tmp_path):
+    """load_string reads plain URDF: a xacro text is refused naming the way to expand it,
+    where its macros were skipped as urdfdom skips unknown tags (no 'tool' link: another
+    tip, silently) and its ${...} was refused as a number alone."""
+    with pytest.raises(URDFError, match=r"is xacro \(<xacro:\.\.\.> tags\): load_string reads"):
+        armik.load_string(XACRO)
+    with pytest.raises(URDFError, match=r"is xacro"):
+        armik.load(XACRO)  # the text given to load: the same reader
+    start, end = XACRO.index("<xacro:macro"), XACRO.index("</xacro:macro>") + 14
+    expression = (XACRO[:start] + XACRO[end:]).replace('<xacro:tool parent="l2"/>', "")
+    expression = expression.replace("0.3 0 0", "${0.1*3} 0 0")
+    with pytest.raises(URDFError, match=r"'\$\{0.1\*3\}' is not a finite number.*holds xacro's"):
+        armik.load_string(expression)
+    # in comments, or with the prefix undeclared, the tags are no xacro: plain URDF
+    commented = XACRO.replace(XACRO[start:end], f"<!-- {XACRO[start:end]} -->")
+    commented = commented.replace('<xacro:tool parent="l2"/>', '<!-- <xacro:tool parent="l2"/> -->')
+    assert armik.load_string(commented).tip == "l2"
+    plain = XACRO.replace(' xmlns:xacro="http://www.ros.org/wiki/xacro"', "")
+    with pytest.warns(armik.ArmikWarning, match="without xmlns:xacro declared"):
+        assert armik.load_string(plain).tip == "l2"
+    path = tmp_path / "arm.urdf.xacro"  # a file: expanded (the xacro package installed)
+    path.write_text(XACRO)
+    assert armik.load(str(path)).tip == "tool"

@@ -325,6 +325,35 @@ def test_a_locked_driver_or_a_zero_multiplier_fixes_the_mimic(rng):
     assert dist(b.fk(q), yourdfpy_fk(zero, cfg)) < TOL["fk_exact"]
 
 
+def test_a_locked_driver_that_holds_its_mimic_outside_its_limits_is_refused():
+    # j3 = -0.5 j2 + 0.2 within [-1, 1]: j2 within [-1.6, 2.4]; -2 is within j2's own
+    with pytest.raises(JointError, match=r"locking 'j2' at -2 holds its mimic joint 'j3' at 1.2"):
+        armik.load_string(five_joint_urdf(-0.5, 0.2), locked={"j2": -2.0})
+    assert armik.load_string(five_joint_urdf(-0.5, 0.2), locked={"j2": -1.5}).dof == 2
+    # j2 = 2 jx + 0.3 within [-2, 2]: jx within [-1.15, 0.85], its own limits [-2, 2];
+    # jx off the chain, j2 on it (tip) or off it too (l1)
+    for tip in ("tip", "l1"):
+        with pytest.raises(JointError, match=r"within \[-1.15, 0.85\], or lock 'j2' too"):
+            armik.load_string(branch_urdf(2.0, 0.3), tip=tip, locked={"jx": 1.5})
+        a = armik.load_string(branch_urdf(2.0, 0.3), tip=tip, locked={"jx": 1.5, "j2": 1.0})
+        assert a.locked == {"jx": 1.5, "j2": 1.0}
+        assert armik.load_string(branch_urdf(2.0, 0.3), tip=tip, locked={"jx": 0.8}).dof >= 1
+
+
+def test_a_mimic_or_locked_joint_of_the_chain_is_named_as_such_where_a_joint_is_asked():
+    # j3 = -0.5 j2 + 0.2 follows j2; each is on the chain, none is a joint of the arm
+    a = armik.load_string(five_joint_urdf(-0.5, 0.2))
+    with pytest.raises(JointError, match=r"'j3' mimics 'j2' on this arm's chain .*name 'j2'"):
+        a.with_limits({"j3": (-1.0, 1.0)})
+    b = armik.load_string(five_joint_urdf(-0.5, 0.2), locked={"j2": 0.4})
+    with pytest.raises(JointError, match=r"'j2' is locked at 0.4 on this arm's chain"):
+        b.with_limits({"j2": (-1.0, 1.0)})
+    with pytest.raises(JointError, match=r"'j3' mimics 'j2', which does not move on this arm"):
+        b.with_limits({"j3": (-1.0, 1.0)})
+    with pytest.raises(JointError, match=r"'nope' is not on this arm's chain"):
+        b.with_limits({"nope": (-1.0, 1.0)})
+
+
 def test_the_mimic_joint_itself_can_be_locked():
     a = armik.load_string(five_joint_urdf(), locked={"j3": 0.1})
     assert a.joint_names == ["j1", "j2", "j5"] and [m.name for m in a.kinematics.mimics] == ["j4"]

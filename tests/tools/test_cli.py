@@ -79,6 +79,10 @@ def test_solve_unreachable_exit_1(capsys):
         (["solve", "ur5", "--xyz", "0.4", "0", "0", "--lock", "elbow_joint"], "expected NAME="),
         (["batch", "ur5", "t.npy", "-o", "o.npz", "--lock", "elbow_joint:1"], "expected NAME="),
         (["reach", "ur5", "--lock", "elbow_joint=x"], "must be a number"),
+        (["compare", "--seed", "-1"], "--seed: expected a whole number in [0, 4294967295]"),
+        (["bench", "--seed", "-1", "-n", "1"], "--seed: expected a whole number in [0,"),
+        (["reach", "ur5", "--seed", "4294967296"], "--seed: expected a whole number in [0,"),
+        (["reach", "ur5", "--seed", "1.5"], "--seed: expected a whole number in [0,"),
     ],
 )
 def test_bad_input_exit_2_one_line(capsys, argv, words):

@@ -67,6 +67,9 @@ BAD_FILES = [
     ("t.csv", b"x,y,z\n1,2,abc\n", "row 1 is not numbers"),
     ("t.csv", b"0.1,0.2,nan\n", "target 0: position contains NaN"),
     ("t.csv", b"1,2,3,4\n", r"shape \(1, 4\)"),
+    ("t.csv", b"0.4 0.2 0.3\n", "its one line, '0.4 0.2 0.3', is no row of numbers"),
+    ("t.csv", b"x,y,z\n", "its one line, 'x,y,z', is no row of numbers"),
+    ("t.csv", b"# a comment\n", "the file holds no rows of numbers; write one target a line"),
 ]
 
 

@@ -50,3 +50,11 @@ def test_servo_refuses_bad_input_with_one_line(capsys):
         assert code == 2, (argv, out)
         assert err.startswith("armik: error:") and said in err, err
         assert len(err.strip().splitlines()) == 1
+
+
+def test_servo_help_gives_a_prismatic_joints_units(capsys):
+    code, out, _ = run(capsys, "servo", "--help")
+    text = " ".join(out.split())  # argparse wraps the help
+    assert code == 0
+    assert "rad/s on every joint, m/s on a prismatic one" in text
+    assert "rad/s^2 on every joint, m/s^2 on a prismatic one" in text

@@ -81,6 +81,56 @@ def test_axis_toward_within(capsys):
     assert code == 0 and "success=True" in out
 
 
+def test_prefer_with_a_region_or_an_axis_is_the_librarys(capsys):
+    """--prefer beside --bounds or --axis (a task list): the library's preferred answer,
+    each task measured at it; --prefer was refused after the solve, exit 2."""
+    ur5 = arm("ur5")
+    T = ur5.fk(np.array([0.3, -1.1, 1.4, -0.6, -1.5, 0.9]))
+    rpy = pin.rpy.matrixToRpy(T.rotation)
+    T = pin.SE3(pin.rpy.rpyToMatrix(*rpy), T.translation)  # as the flags say it
+    bounds = (0, 0, 0, 0, 0, math.inf)
+    z = T.rotation[:, 2]
+    for flags, tasks in [
+        (["--rpy", *words(rpy), "--bounds", "0", "0", "0", "0", "0", "inf"],
+         [armik.Pose(T, bounds=bounds)]),
+        (["--axis", "0", "0", "1", "--toward", *words(z)],
+         [armik.Position(T.translation), armik.Axis((0, 0, 1), z)]),
+    ]:  # fmt: skip
+        argv = ["solve", "ur5", "--xyz", *words(T.translation), *flags]
+        code, out, err = run(capsys, *argv, "--prefer", "manipulability", "--json")
+        assert code == 0, err
+        got = json.loads(out)["results"][0]
+        r = ur5.solve(tasks, prefer="manipulability")
+        assert r.success and got["success"] and got["q"] == r.q.tolist()
+        assert got["score"] == r.score and all(t["within"] for t in got["task_errors"])
+
+
+def test_bounds_with_an_axis_is_a_box_for_the_position(capsys):
+    """--bounds BX BY BZ 0 0 0 with --axis (--toward or --look-at): the tip's origin within
+    the box (base frame), as ``armik.Position(p, bounds=...)`` beside the aim; the answer is
+    the library's, measured on the arm's FK. Refused before (exit 2)."""
+    ur5 = arm("ur5")
+    T = ur5.fk(np.array([0.3, -1.1, 1.4, -0.6, -1.5, 0.9]))
+    p = T.translation + np.array([0.02, 0.0, 0.0])  # the tip 2 cm off, the box 3 cm wide
+    z = T.rotation[:, 2]
+    box = (0.03, 0.03, 0.03)
+    point = T.translation + 0.5 * z
+    for flags, aim in [
+        (["--toward", *words(z), "--within", "0.05"], armik.Axis((0, 0, 1), z, 0.05)),
+        (["--look-at", *words(point), "--within", "0.05"], armik.LookAt(point, (0, 0, 1), 0.05)),
+    ]:  # fmt: skip
+        argv = ["solve", "ur5", "--xyz", *words(p), "--axis", "0", "0", "1", *flags]
+        code, out, err = run(capsys, *argv, "--bounds", *words(box), "0", "0", "0", "--json")
+        assert code == 0, err
+        got = json.loads(out)["results"][0]
+        r = ur5.solve([armik.Position(p, bounds=box), aim])
+        assert r.success and got["success"] and got["q"] == r.q.tolist()
+        reached = ur5.fk(np.array(got["q"]))
+        assert np.all(np.abs(reached.translation - p) <= np.array(box) + TOL["solve"])
+        assert [t["task"] for t in got["task_errors"]] == ["Position", type(aim).__name__]
+        assert all(t["within"] for t in got["task_errors"])
+
+
 def test_axis_out_of_reach_exit_1(capsys):
     code, out, _ = run(
         capsys,
@@ -127,7 +177,7 @@ AXIS = ["--axis", "0", "0", "1", "--toward", "0", "0", "-1"]
         ([*XYZ, "--axis", "0", "0", "1", "--toward", "nan", "0", "1"], "--toward nan 0 1 is no"),
         ([*XYZ, *AXIS, "--within", "4"], "--within 4 is no angle"),
         ([*XYZ, *AXIS, "--within", "nan"], "--within nan is no angle"),
-        ([*XYZ, *AXIS, "--bounds", "0", "0", "0", "0", "0", "inf"], "--bounds does not go with"),
+        ([*XYZ, *AXIS, "--bounds", "0", "0", "0", "0", "0", "inf"], "bounds 0 0 inf do not go"),
         ([*XYZ, *AXIS, "--weights", "1", "1", "1", "1", "1", "0"], "1 1 0 does not go with --axis"),
         ([*XYZ, *AXIS, "--position-only"], "--position-only does not go with --axis"),
         ([*XYZ, *RPY, "--bounds", "0", "0", "0", "0", "0", "-1"], "--bounds must be 6 numbers"),

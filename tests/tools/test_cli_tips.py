@@ -119,6 +119,24 @@ def test_regions_and_directions_per_tip(capsys):
         assert np.linalg.norm(reached[tip].translation - T.translation) <= 2 * TOL["solve"]
         cos = reached[tip].rotation[:, 2] @ T.rotation[:, 2]
         assert np.arccos(min(cos, 1.0)) <= 0.05 + TOL["solve"]
+    # --bounds with --axis: each tip's origin within its box, 2 cm off the point given
+    box = ["0.03", "0.03", "0.03", "0", "0", "0"]
+    moved: list[str] = []
+    for tip, T in targets.items():
+        point = T.translation + np.array([0.02, 0.0, 0.0])
+        moved += ["--tip", tip, "--xyz", *words(point), "--axis", "0", "0", "1"]
+        moved += ["--toward", *words(T.rotation[:, 2]), "--within", "0.05"]
+    argv = ["solve", TALOS, *moved, "--bounds", *box, "--timeout", "1", "--json"]
+    code, out, err = run(capsys, *argv)
+    assert code == 0, err
+    r = json.loads(out)["results"][0]
+    assert r["success"] and r["tips"][left]["task_errors"][0]["within"]
+    reached = placements(TALOS, json.loads(out)["joints"], r["q"])
+    for tip, T in targets.items():
+        point = T.translation + np.array([0.02, 0.0, 0.0])
+        assert np.all(np.abs(reached[tip].translation - point) <= 0.03 + TOL["solve"])
+        cos = reached[tip].rotation[:, 2] @ T.rotation[:, 2]
+        assert np.arccos(min(cos, 1.0)) <= 0.05 + TOL["solve"]
 
 
 def test_a_tip_out_of_reach_exit_1(capsys):

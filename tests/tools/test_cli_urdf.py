@@ -3,6 +3,8 @@ no traceback; closed pipes; negative numbers; the frame tree."""
 
 from __future__ import annotations
 
+import json
+import math
 import os
 import subprocess
 import sys
@@ -93,12 +95,38 @@ def test_usage_hint_names_the_command_once(capsys):
     assert code == 2 and "'armik --help'" in err and "armik armik" not in err
     code, err = parse_error(capsys, "solve", "ur5")
     assert code == 2 and "'armik solve --help'" in err
+    # a flag the command does not take: that command's help, where the flags are
+    for argv, extra in [
+        (["info", "ur5", "--tip-offset", "0", "0", "1"], "--tip-offset 0 0 1"),
+        (["robots", "extra"], "extra"),
+    ]:
+        code, err = parse_error(capsys, *argv)
+        hint = f"(see 'armik {argv[0]} --help')"
+        assert code == 2 and f"unrecognized arguments: {extra} {hint}" in err
+        assert len(err.strip().splitlines()) == 1
 
 
 @pytest.mark.parametrize("n", ["0", "-3", "x"])
 def test_compare_needs_one_target_or_more(capsys, n):
     code, err = parse_error(capsys, "compare", "-n", n)
     assert code == 2 and "whole number >= 1" in err and len(err.strip().splitlines()) == 1
+
+
+def test_compare_json_is_strict_json_with_nothing_reachable(capsys):
+    """A figure with nothing to measure (no reachable target among a small ``-n``: a median
+    of none) is null: ``NaN`` is no JSON, and strict readers refuse the whole output."""
+
+    def refuse(constant):
+        raise ValueError(f"{constant} is no JSON")
+
+    code, out, _ = run(capsys, "compare", "-n", "3", "--json")
+    assert code == 0
+    rows = json.loads(out, parse_constant=refuse)["rows"]
+    assert all(r["pos_err_median"] is None for r in rows if r["reachable"] == 0)
+    from armik.tools.cli.studies import as_json
+
+    got = json.loads(as_json({"a": [float("nan"), 1.5, float("inf")], "b": (2, -math.inf)}))
+    assert got == {"a": [None, 1.5, None], "b": [2, None]}
 
 
 def test_all_prints_the_call_time_once(capsys):

@@ -180,7 +180,8 @@ class ArmModel:
             return self.joint_names.index(name)
         except ValueError:
             raise JointError(
-                f"joint {name!r} is not on this arm's chain; joints: {listing(self.joint_names)}",
+                f"joint {name!r} {_mimic.not_a_joint(self, name)}; joints: "
+                f"{listing(self.joint_names)}",
                 joint=name,
                 candidates=self.joint_names,
             ) from None

@@ -40,7 +40,8 @@ def default_tip(info: URDFInfo, base: str) -> tuple[str, str]:
             frame=base,
         )
     top = sorted((leaf for leaf in leaves if leaf[1] == best), key=lambda leaf: leaf[0])
-    tool = _tool_frame(info, children, {last for _, _, last in top})
+    # a gripper hangs from a hand an arm moves: one moving joint from the base is the arm
+    tool = _tool_frame(info, children, {last for _, _, last in top}) if best > 1 else None
     if tool is not None:
         return tool
     if len(top) == 1:

@@ -9,6 +9,7 @@ spelling ``jacobian(q, "base")`` (the tip's Jacobian in base axes) still means t
 
 from __future__ import annotations
 
+import difflib
 from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
@@ -32,10 +33,12 @@ def frame_id(arm: ArmModel, frame: str | None) -> int:
     if isinstance(frame, str) and arm.model.existFrame(frame):
         return named(arm.model, frame)
     names = arm.frames()
+    close = difflib.get_close_matches(str(frame), names, n=5, cutoff=0.5)
+    hint = f"closest: {listing(close)}; " if close else ""
     raise FrameError(
-        f"frame {frame!r} is not a frame of arm {arm.name!r}; its frames: {listing(names)}",
+        f"frame {frame!r} is not a frame of arm {arm.name!r}; {hint}its frames: {listing(names)}",
         frame=str(frame),
-        candidates=names,
+        candidates=close or names,
     )
 
 

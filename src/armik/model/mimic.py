@@ -20,7 +20,7 @@ import pinocchio as pin
 
 from armik.errors import JointError, URDFError, listing
 from armik.model.urdf import URDFInfo
-from armik.tolerances import MAX_LIMIT
+from armik.tolerances import LIMIT_TOL, MAX_LIMIT
 
 
 class Mimic(NamedTuple):
@@ -141,6 +141,52 @@ def driver_range(plain: pin.Model, info: URDFInfo, m: Mimic) -> tuple[float, flo
     hi = hi if hi <= MAX_LIMIT else math.inf
     a, b = (lo - m.offset) / m.multiplier, (hi - m.offset) / m.multiplier
     return (a, b) if a <= b else (b, a)
+
+
+def check_locked_driver(
+    full: pin.Model, info: URDFInfo, jid: int, value: float, locked: dict[str, float]
+) -> None:
+    """Refuse a driver locked by name (``locked``: joint -> value) that holds its mimic
+    joint ``jid`` at ``value`` outside the mimic joint's own URDF limits: each answer would
+    put that joint outside them. Raises ``JointError`` naming both joints and the driver's
+    values that keep the mimic joint within its limits."""
+    name = full.names[jid]
+    driver = info.mimic.get(name)
+    multiplier, offset = info.mimic_factors.get(name, (1.0, 0.0))
+    if driver not in locked or multiplier == 0.0:
+        return
+    lo, hi = driver_range(full, info, Mimic(name, driver, multiplier, offset))
+    if lo - LIMIT_TOL <= locked[driver] <= hi + LIMIT_TOL:
+        return
+    unit = "m" if info.joint_types.get(name) == "prismatic" else "rad"
+    raise JointError(
+        f"locking {driver!r} at {locked[driver]:g} holds its mimic joint {name!r} at "
+        f"{value:g} {unit} ({multiplier:g} x {locked[driver]:g} + {offset:g}), outside the "
+        f"URDF limits of {name!r}: lock {driver!r} within [{lo:g}, {hi:g}], or lock {name!r} "
+        "too",
+        joint=driver,
+    )
+
+
+def not_a_joint(arm, name: str) -> str:
+    """Why ``name`` is no joint of ``arm`` (an ``ArmModel``), for its errors: a mimic joint
+    of its chain follows its driver, a joint locked on it or a mimic joint fixed there is
+    a fixed transform, any other name is not on the chain."""
+    for m in arm.mimics:
+        if m.name == name:
+            return (
+                f"mimics {m.driver!r} on this arm's chain ({m.multiplier:g} x {m.driver} + "
+                f"{m.offset:g}): its value follows the driver's; name {m.driver!r}"
+            )
+    if name in arm.locked_on_chain:
+        return f"is locked at {arm.locked[name]:g} on this arm's chain (locked=), a fixed transform"
+    fixed = arm.chain.fixed_mimics or {}
+    if name in fixed:
+        return (
+            f"mimics {arm.info.mimic.get(name)!r}, which does not move on this arm's chain: it "
+            f"is held at {fixed[name]:g} there, a fixed transform"
+        )
+    return "is not on this arm's chain"
 
 
 def joint_map(arm) -> tuple[tuple, list[int], tuple[np.ndarray, np.ndarray]]:

@@ -120,7 +120,10 @@ def reduce_chain(
             raise _many_dof(full, info, j, j == chain[0])
     mimics, fixed = _chain_mimics(full, info, chain, q_ref)
     for j, value in _mimic.off_chain_values(full, info, chain, q_ref, set(values)):
+        _mimic.check_locked_driver(full, info, j, value, values)
         set_joint(full, q_ref, j, value)
+    for jname, value in fixed.items():
+        _mimic.check_locked_driver(full, info, full.getJointId(jname), value, values)
     if fixed:
         chain = [j for j in chain if full.names[j] not in fixed]
         if not chain:

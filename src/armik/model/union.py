@@ -5,7 +5,8 @@ free, every other joint held at its value in the chains' arms (neutral, or ``loc
 solver (``armik.solve.tasks``), one task per tip, verified by Pinocchio's FK of this model.
 It gives that solver what it reads of an arm: the model, per-thread data, joint values to
 Pinocchio's configuration, limits, seeds and the base frame. Revolute, prismatic and
-continuous joints; a chain with a mimic joint is refused.
+continuous joints; a chain with a mimic joint is refused. A tip's frame is its tool point
+where its chain has a ``tip_offset``, as on the chain.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ import pinocchio as pin
 
 from armik.errors import JointError
 from armik.model.frames import named
-from armik.model.reduce import reduce_model
+from armik.model.reduce import reduce_model, set_joint
 from armik.tolerances import LIMIT_TOL
 
 TWO_PI = 2.0 * math.pi
@@ -38,18 +39,21 @@ class Union:
                     "joints take chains without them for now",
                     joint=next(iter(arm.mimics)),
                 )
+        # every joint off the chains held where the chains hold it: at its lock, a mimic
+        # joint fixed on a chain at its driver's value (``reduce``), else neutral
         q_ref = pin.neutral(full)
         for arm in chains:
-            for jname, value in arm.locked.items():
-                jid = full.getJointId(jname)
-                if full.joints[jid].nq == 1:
-                    q_ref[full.joints[jid].idx_q] = value
+            for jname, value in {**arm.locked, **(arm.chain.fixed_mimics or {})}.items():
+                set_joint(full, q_ref, full.getJointId(jname), value)
         keep = {full.getJointId(n) for n in names}
         lock = [j for j in range(1, full.njoints) if full.joints[j].nq > 0 and j not in keep]
         self.model = reduce_model(full, lock, q_ref)
+        for arm in chains:  # a tip names its tool point, as on its chain (``frames.frame_id``)
+            if arm.tip_offset is not None:
+                _to_tool_point(self.model, arm.tip, arm.tip_offset)
         self.tip = first.tip
-        self.tip_frame_id = self.model.getFrameId(first.tip)
-        base = self.model.getFrameId(first.base)
+        self.tip_frame_id = named(self.model, first.tip)  # a link's, where a joint shares it
+        base = named(self.model, first.base)
         data = self.model.createData()
         pin.framesForwardKinematics(self.model, data, pin.neutral(self.model))
         self.T_base_world = data.oMf[base].inverse()
@@ -59,15 +63,15 @@ class Union:
         self.dof = self.model.nv
         joints = [self.model.joints[self.model.getJointId(n)] for n in self.joint_names]
         self._continuous = [j.nq == 2 for j in joints]
-        lo = [
-            -math.inf if c else self.model.lowerPositionLimit[j.idx_q]
-            for c, j in zip(self._continuous, joints)
-        ]
-        hi = [
-            math.inf if c else self.model.upperPositionLimit[j.idx_q]
-            for c, j in zip(self._continuous, joints)
-        ]
-        self.lower, self.upper = np.array(lo), np.array(hi)
+        # each joint's limits as its chain reads them (the URDF's "0 0" and +-1e16 unlimited,
+        # a continuous joint unlimited): Pinocchio's model holds the numbers as written
+        limits = {
+            n: (lo, hi)
+            for arm in chains
+            for n, lo, hi in zip(arm.joint_names, arm.lower.tolist(), arm.upper.tolist())
+        }
+        self.lower = np.array([limits[n][0] for n in self.joint_names])
+        self.upper = np.array([limits[n][1] for n in self.joint_names])
         # as ``ArmModel``'s, for a configuration's turns (``model.turns``): no mimic here, so
         # 2 pi is a period of every joint but a prismatic one
         prismatic = [j.shortname().startswith("JointModelP") for j in joints]
@@ -127,3 +131,16 @@ class Union:
     def within_limits(self, q: np.ndarray, tol: float = LIMIT_TOL) -> bool:
         q = np.asarray(q, dtype=float)
         return bool(np.all(q >= self.lower - tol) and np.all(q <= self.upper + tol))
+
+
+def _to_tool_point(model: pin.Model, tip: str, offset: tuple[float, float, float]) -> None:
+    """The frame ``tip`` of ``model`` moved by ``offset`` (m, in the tip frame): a tip's
+    name means its tool point on its chain, where ``tip_offset`` adds it (``reduce``), and
+    so it does where the chains are solved together and verified on this model."""
+    link = model.frames[named(model, tip)]
+    for fid, frame in enumerate(model.frames):  # a joint's frame of the name, where it is
+        if frame.name == tip and frame.parentJoint == link.parentJoint:  # the link's (SCARA)
+            if frame.placement.isApprox(link.placement, 1e-12):
+                offset_se3 = pin.SE3(np.eye(3), np.asarray(offset, dtype=float))
+                frame.placement = link.placement * offset_se3
+                model.frames[fid] = frame

@@ -73,9 +73,9 @@ def read_urdf(path: str | Path) -> tuple[pin.Model, URDFInfo]:
     path = Path(path)
     text = _read_text(path)
     if _is_xacro(path, text):
-        return read_urdf_string(_expand_xacro(path, text), str(path))
+        return _read_string(_expand_xacro(path, text), str(path))
     try:
-        return read_urdf_string(text, str(path))
+        return _read_string(text, str(path))
     except URDFError as exc:
         # ${...} or $(...) left in a plain-looking file: xacro syntax. Generated URDFs keep
         # some in attributes nobody reads (and in comments), so only a file that fails as
@@ -91,7 +91,7 @@ def read_urdf(path: str | Path) -> tuple[pin.Model, URDFInfo]:
                 "(armik[xacro]) and armik expands it itself)",
                 path=str(path),
             ) from None
-    return read_urdf_string(_expand_xacro(path, text), str(path))
+    return _read_string(_expand_xacro(path, text), str(path))
 
 
 def urdf_text(path: str | Path) -> str:
@@ -110,6 +110,25 @@ def urdf_text(path: str | Path) -> str:
 
 
 def read_urdf_string(text: str, where: str = "<string>") -> tuple[pin.Model, URDFInfo]:
+    """Check the URDF text (plain URDF: a xacro text is refused, naming the way to expand
+    it), normalise its axes, and build the Pinocchio model."""
+    expand = (
+        "load_string reads plain URDF: expand it with 'xacro robot.urdf.xacro > robot.urdf' "
+        "(ROS), or save it as a .xacro file and armik.load that file (pip install xacro)"
+    )
+    if "<xacro:" in text and _is_xacro(Path("text"), text):  # tags urdfdom would skip
+        raise URDFError(f"URDF text {where!r} is xacro (<xacro:...> tags): {expand}", path=where)
+    try:
+        return _read_string(text, where)
+    except URDFError as exc:
+        live = _COMMENT.sub("", text)
+        if "${" not in live and "$(" not in live:
+            raise
+        message = f"{exc} (the text holds xacro's ${{...}} or $(...): {expand})"
+        raise URDFError(message, path=exc.path) from None
+
+
+def _read_string(text: str, where: str) -> tuple[pin.Model, URDFInfo]:
     """Check the URDF text, normalise its axes, and build the Pinocchio model."""
     if not text.strip():
         raise URDFError(f"URDF file {where!r} is empty", path=where)

@@ -254,12 +254,15 @@ def cmd_solve(args: argparse.Namespace) -> int:
 
 
 def _with_task_errors(arm: Arm, tasks, r: IKResult, options: dict) -> IKResult:
-    """``r`` with each task's error at its ``q`` (Pinocchio's FK) where it has none."""
+    """``r`` with each task's error at its ``q`` (Pinocchio's FK) where it has none, within
+    the tolerances of ``options`` (the only options a measure reads: ``prefer`` and the
+    others the solve took are no options of a measure)."""
     if "task_errors" in r.extra:
         return r
     problem = as_problem(tasks)
     assert problem is not None  # names were found: a task list
-    errors = measure_tasks(arm.kinematics, problem, r.q, read_options(options))
+    tolerances = {k: v for k, v in options.items() if k in ("tol_position", "tol_orientation")}
+    errors = measure_tasks(arm.kinematics, problem, r.q, read_options(tolerances))
     return dataclasses.replace(r, extra={**r.extra, "task_errors": errors})
 
 

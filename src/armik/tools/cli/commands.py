@@ -49,6 +49,19 @@ def later(where: str) -> Callable[[argparse.Namespace], int]:
     return run
 
 
+def seed_number(text: str) -> int:
+    """A ``--seed`` (a sampling seed): a whole number in [0, 2**32 - 1], as numpy seeds."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if not 0 <= value < 2**32:
+        raise argparse.ArgumentTypeError(
+            f"expected a whole number in [0, 4294967295] (a sampling seed), got {text!r}"
+        )
+    return value
+
+
 def add_many_commands(command) -> None:
     c = command(
         "batch",
@@ -139,7 +152,7 @@ def add_many_commands(command) -> None:
     c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
     c.add_argument("--workers", type=int, help="threads (default: one per core)")
     c.add_argument("--cluster", metavar="ADDRESS", help="run on a Dask cluster (see batch)")
-    c.add_argument("--seed", type=int, default=0, help="orientation sample seed (0)")
+    c.add_argument("--seed", type=seed_number, default=0, help="orientation sample seed (0)")
     c.add_argument("-o", "--output", default="reach.npz", help="map file (reach.npz)")
     c.add_argument("--plot", metavar="PNG", help="also draw slices into this PNG")
 
@@ -284,12 +297,12 @@ def add_servo_command(command) -> None:
         type=float,
         default=None,
         metavar="A",
-        help="rad/s^2 on every joint (default: the servo's, 20)",
+        help="rad/s^2 on every joint, m/s^2 on a prismatic one (default: the servo's, 20)",
     )
     c.add_argument(
         "--velocity-limit",
         type=float,
         default=None,
         metavar="V",
-        help="rad/s on every joint (default: the URDF's)",
+        help="rad/s on every joint, m/s on a prismatic one (default: the URDF's)",
     )

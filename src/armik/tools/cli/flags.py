@@ -32,7 +32,8 @@ def add_solve_options(c: argparse.ArgumentParser) -> None:
         type=float,
         metavar=("BX", "BY", "BZ", "BRX", "BRY", "BRZ"),
         help="a region around the target: each component of the error in the target frame "
-        "within +- its bound (m, rad); inf frees it (TRAC-IK's bounds)",
+        "within +- its bound (m, rad); inf frees it (TRAC-IK's bounds); with --axis, the "
+        "position's box (base frame) and 0 0 0 for the rotation",
     )
     c.add_argument("--position-only", action="store_true", help="ignore the target's orientation")
     c.add_argument(

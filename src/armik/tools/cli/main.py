@@ -19,13 +19,16 @@ from armik.tools.cli.commands import (
     add_servo_command,
     add_view_command,
     later,
+    seed_number,
 )
 from armik.tools.cli.flags import add_arm_arguments, add_solve_options, for_cli
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = _parser()
-    args = parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra:  # named with the command's own help, where the command was given
+        getattr(args, "command_parser", parser).error(f"unrecognized arguments: {' '.join(extra)}")
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
@@ -101,7 +104,7 @@ def _parser() -> argparse.ArgumentParser:
             epilog=f"example: {example}",
             formatter_class=argparse.RawDescriptionHelpFormatter,
         )
-        c.set_defaults(func=func)
+        c.set_defaults(func=func, command_parser=c)
         return c
 
     command(
@@ -241,7 +244,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--solvers", nargs="+", help="solvers to run (default: dls qp clik)")
     c.add_argument("-n", type=int, default=2000, help="targets per arm (2000)")
     c.add_argument("--budget", type=float, default=0.005, help="seconds per solve (0.005)")
-    c.add_argument("--seed", type=int, default=42, help="sampling seed (42)")
+    c.add_argument("--seed", type=seed_number, default=42, help="sampling seed (42)")
     c.add_argument("--tol", type=float, default=1e-5, help="success tolerance, m and rad")
     c.add_argument(
         "--repeats", type=int, default=1, help="passes over the targets, other solver seeds (1)"
@@ -261,7 +264,7 @@ def _parser() -> argparse.ArgumentParser:
         later("studies:cmd_compare"),
     )
     c.add_argument("-n", type=_positive_int, default=500, help="targets per experiment (500)")
-    c.add_argument("--seed", type=int, default=7)
+    c.add_argument("--seed", type=seed_number, default=7, help="sampling seed (7)")
     c.add_argument("--plot", metavar="DIR", help="write PNG figures to DIR (needs matplotlib)")
     c.add_argument("--json", action="store_true", help="print JSON")
     c.add_argument(

@@ -93,12 +93,19 @@ def _targets_key(path: str, names: list[str]) -> str:
 def _read_csv(path) -> np.ndarray:
     with open(path, newline="") as f:
         rows = [r for r in csv.reader(f) if r and not r[0].lstrip().startswith("#")]
+    header = None
     if rows and not _numeric(rows[0]):
-        rows = rows[1:]  # a header line
+        header, rows = rows[0], rows[1:]  # a header line
+    if not rows:
+        line = "" if header is None else f": its one line, {','.join(header)[:80]!r}, is no"
+        raise ValueError(
+            f"the file holds no rows of numbers{line}{' row of numbers' if line else ''}; "
+            "write one target a line, its numbers separated by commas (x,y,z)"
+        )
     widths = {len(r) for r in rows}
     if len(widths) > 1:
         raise ValueError(f"rows have different numbers of columns: {sorted(widths)}")
-    out = np.empty((len(rows), widths.pop() if widths else 0))
+    out = np.empty((len(rows), widths.pop()))
     for i, r in enumerate(rows):
         try:
             out[i] = [float(v) for v in r]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 
 from armik.model.catalogue import SPATIAL_ARMS
 from armik.tools import bench as bench_mod
@@ -25,7 +26,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
         notes=notes,
     )
     if args.json:
-        print(json.dumps([r.as_dict() for r in rows], indent=2))
+        print(as_json([r.as_dict() for r in rows]))
     else:
         passes = f" x {args.repeats} passes (other solver seeds)" if args.repeats > 1 else ""
         print(
@@ -47,16 +48,32 @@ def cmd_compare(args: argparse.Namespace) -> int:
     if args.speed:
         rows = compare.speed(n=args.n, seed=args.seed)
         if args.json:
-            print(json.dumps(rows, indent=2))
+            print(as_json(rows))
         else:
             print(compare.speed_table(rows))
         return 0
     report = compare.run(n=args.n, seed=args.seed)
     if args.json:
-        print(json.dumps(report.as_dict(), indent=2))
+        print(as_json(report.as_dict()))
     else:
         print(report.text())
     if args.plot:
         for path in compare_plots.plot(report, args.plot):
             print(f"wrote {path}")
     return 0
+
+
+def as_json(value: object) -> str:
+    """``value`` as JSON that every reader takes: a figure with nothing to measure (no
+    reachable target in a small ``-n``: a median of none, NaN) is null, not ``NaN``."""
+    return json.dumps(_finite(value), indent=2, allow_nan=False)
+
+
+def _finite(value: object) -> object:
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    return value

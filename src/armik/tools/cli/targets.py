@@ -3,9 +3,10 @@
 Each tip takes ``--xyz`` with ``--rpy`` or ``--quat`` (a pose), with ``--axis``,
 ``--toward`` and ``--within`` (a point and a direction of the tip's axis, within a cone:
 ``[armik.Position, armik.Axis]``) or ``--look-at`` instead of ``--toward`` (the axis aimed at
-a point: ``[armik.Position, armik.LookAt]``), or alone (a position). A pose with ``--bounds`` is an
-``armik.Pose`` with those bounds (and ``--weights``, which then weigh the error in the
-target frame, as without a task list).
+a point: ``[armik.Position, armik.LookAt]``; ``--bounds`` with rotation bounds 0 0 0: the
+position within their box, ``armik.Position(xyz, bounds=...)``), or alone (a position). A pose with
+``--bounds`` is an ``armik.Pose`` with those bounds (and ``--weights``, which then weigh the
+error in the target frame, as without a task list).
 """
 
 from __future__ import annotations
@@ -36,11 +37,16 @@ def flag_targets(args: argparse.Namespace, options: dict, several: bool) -> list
     bounds = options.get("bounds")
     if bounds is not None:
         _check_bounds(bounds)
-    if given["axis"] and "bounds" in options:
-        raise InputError(
-            "--bounds does not go with --axis: --axis, --toward and --within say the "
-            "direction; leave it out, or give --rpy or --quat for a pose"
-        )
+    box = None  # with --axis: the position's box (base frame), the direction --within's
+    if given["axis"] and bounds is not None:
+        if any(bounds[3:]):
+            shown = " ".join(f"{b:g}" for b in bounds[3:])
+            raise InputError(
+                f"--bounds' rotation bounds {shown} do not go with --axis: --within bounds "
+                "the axis, and its spin is free; give 0 0 0 for BRX BRY BRZ (BX BY BZ: the "
+                "position's box, base frame)"
+            )
+        box = bounds[:3]
     # --weights and --position-only go to the library with --axis, which refuses those
     # that free the rotation the axis measures (``targets.aim.refuse_freed``): ``for_flags``
     for rpy in given["rpy"]:
@@ -60,10 +66,10 @@ def flag_targets(args: argparse.Namespace, options: dict, several: bool) -> list
             within = given["within"][i] if given["within"] else 0.0
             if given["look_at"]:
                 point = given["look_at"][i]
-                targets.append(_point_and_look(xyz, given["axis"][i], point, within))
+                targets.append(_point_and_look(xyz, given["axis"][i], point, within, box))
             else:
                 toward = given["toward"][i]
-                targets.append(_point_and_axis(xyz, given["axis"][i], toward, within))
+                targets.append(_point_and_axis(xyz, given["axis"][i], toward, within, box))
         elif posed:
             if given["rpy"]:
                 pose: object = pin.SE3(pin.rpy.rpyToMatrix(*given["rpy"][i]), xyz)
@@ -80,6 +86,8 @@ def flag_targets(args: argparse.Namespace, options: dict, several: bool) -> list
     if posed and bounds is not None:
         options.pop("bounds", None)
         options.pop("weights", None)
+    if box is not None:  # in the Position: the weights go on to the library (``for_flags``)
+        options.pop("bounds", None)
     if several:  # said by the targets (a Position with bounds, a position for a pose)
         options.pop("bounds", None)
         if not given["axis"]:  # with --axis, the library's to refuse (above)
@@ -169,8 +177,9 @@ def _check_bounds(bounds: tuple[float, ...]) -> None:
         )
 
 
-def _point_and_look(xyz: np.ndarray, axis, point, within: float) -> list[Task]:
-    """``[Position(xyz), LookAt(point, axis, within)]``, each value checked under its flag."""
+def _point_and_look(xyz: np.ndarray, axis, point, within: float, box=None) -> list[Task]:
+    """``[Position(xyz, bounds=box), LookAt(point, axis, within)]``, each value checked
+    under its flag."""
     if not all(math.isfinite(v) for v in point):
         raise TargetError(
             f"--look-at {' '.join(f'{v:g}' for v in point)} is no point: give 3 finite "
@@ -178,15 +187,16 @@ def _point_and_look(xyz: np.ndarray, axis, point, within: float) -> list[Task]:
         )
     _check_direction("axis", axis, "0 0 1")
     _check_within(within)
-    return [Position(xyz), LookAt(point, axis, within)]
+    return [Position(xyz, bounds=box), LookAt(point, axis, within)]
 
 
-def _point_and_axis(xyz: np.ndarray, axis, toward, within: float) -> list[Task]:
-    """``[Position(xyz), Axis(axis, toward, within)]``, each vector checked under its flag."""
+def _point_and_axis(xyz: np.ndarray, axis, toward, within: float, box=None) -> list[Task]:
+    """``[Position(xyz, bounds=box), Axis(axis, toward, within)]``, each vector checked
+    under its flag."""
     _check_direction("axis", axis, "0 0 1")
     _check_direction("toward", toward, "0 0 -1")
     _check_within(within)
-    return [Position(xyz), Axis(axis, toward, within)]
+    return [Position(xyz, bounds=box), Axis(axis, toward, within)]
 
 
 def _check_direction(flag: str, vector, example: str) -> None:
