@@ -149,7 +149,7 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     if rows is None and opts.hold is not None:  # held joints: each target solved as solve does
         batch = parse_targets(targets, arm)
         rows = [batch.target(i) for i in range(len(batch))]
-    if rows is not None and lowered is not None:
+    if rows is not None and lowered is not None and problems is not None:
         # lowered task lists solved row by row: each row its own task list, read as
         # ``solve`` reads it (a lowered target made a held joint's task would lose its aim)
         rows, options = [list(p.tasks) for p in problems], given
