@@ -127,6 +127,33 @@ def test_solve_batch_on_one_and_two_workers(workers):
     assert _honest(res[i] for i in range(len(res))) > 0
 
 
+class BaseAhead(Constraint):
+    """Joint 1 of a UR5 above zero: a branch breaking it passes at its turn by 2 pi."""
+
+    def check(self, arm, Q):
+        return Check(Q[:, 0] > 0.0, armik.Status.JOINT_LIMITS, lambda i: "base behind 0")
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_a_closed_form_batch_row_is_the_solve_of_that_row(workers):
+    """A row's nearest branch that passes the check only turned by 2 pi gives way to the
+    nearest branch that passes as it is, as in ``solve``."""
+    ur5 = bundled("ur5")
+    targets = [ur5.fk(q) for q in ur5.random_q(5, n=4)]
+    own = [BaseAhead()]
+    res = ur5.solve_batch(
+        np.array([T.homogeneous for T in targets]), constraints=own, workers=workers
+    )
+    turned = 0
+    for i, T in enumerate(targets):
+        r = ur5.solve(T, constraints=own)
+        assert res.success[i] == r.success
+        np.testing.assert_allclose(res.q[i], r.q, atol=1e-12)
+        plain = ur5.solve(T)
+        turned += plain.q[0] <= 0.0 and plain.q[0] + 2 * np.pi < ur5.upper[0]
+    assert turned > 0  # some row's nearest branch passes only turned
+
+
 @pytest.mark.parametrize("plan", ["follow", "global"])
 def test_solve_path(plan):
     ur5 = bundled("ur5")
