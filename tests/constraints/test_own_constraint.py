@@ -192,6 +192,26 @@ def test_a_numeric_answer_the_check_refuses_restarts_within_the_budget():
         np.testing.assert_allclose(res.q[i], r.q, atol=1e-12)
 
 
+def test_a_closed_form_giving_one_answer_goes_on_to_the_branches_that_hold():
+    """``spin_joint``'s one answer (its nearest branch) refused by the check gives way to
+    the nearest branch that holds it, as ``solve_all`` lists them, where the solve
+    failed."""
+    ur5 = bundled("ur5")
+    q = ur5.random_q(2)
+    q[0] = 0.2
+    T = ur5.fk(q)
+    start = ur5.middle.copy()
+    start[0] = 2.5
+    spin = {"bounds": (0, 0, 0, 0, 0, np.inf)}
+    plain = ur5.solve(T, q0=start, **spin)
+    assert plain.success and plain.solver == "spin_joint" and np.cos(plain.q[0]) <= 0.5
+    r = ur5.solve(T, q0=start, constraints=[BaseAhead60()], **spin)
+    assert r.success and r.solver == "spin_joint" and np.cos(r.q[0]) > 0.5, r.reason
+    holding = [a for a in ur5.solve_all(T, q0=start, constraints=[BaseAhead60()], **spin)]
+    nearest = min((a for a in holding if a.success), key=lambda a: np.linalg.norm(a.q - start))
+    np.testing.assert_allclose(r.q, nearest.q, atol=1e-9)
+
+
 @pytest.mark.parametrize("plan", ["follow", "global"])
 def test_solve_path(plan):
     ur5 = bundled("ur5")
