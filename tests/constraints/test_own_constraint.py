@@ -127,6 +127,61 @@ def test_solve_batch_on_one_and_two_workers(workers):
     assert _honest(res[i] for i in range(len(res))) > 0
 
 
+class BaseAhead(Constraint):
+    """Joint 1 of a UR5 above zero: a branch breaking it passes at its turn by 2 pi."""
+
+    def check(self, arm, Q):
+        return Check(Q[:, 0] > 0.0, armik.Status.JOINT_LIMITS, lambda i: "base behind 0")
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_a_closed_form_batch_row_is_the_solve_of_that_row(workers):
+    """A row's nearest branch that passes the check only turned by 2 pi gives way to the
+    nearest branch that passes as it is, as in ``solve``."""
+    ur5 = bundled("ur5")
+    targets = [ur5.fk(q) for q in ur5.random_q(5, n=4)]
+    own = [BaseAhead()]
+    res = ur5.solve_batch(
+        np.array([T.homogeneous for T in targets]), constraints=own, workers=workers
+    )
+    turned = 0
+    for i, T in enumerate(targets):
+        r = ur5.solve(T, constraints=own)
+        assert res.success[i] == r.success
+        np.testing.assert_allclose(res.q[i], r.q, atol=1e-12)
+        plain = ur5.solve(T)
+        turned += plain.q[0] <= 0.0 and plain.q[0] + 2 * np.pi < ur5.upper[0]
+    assert turned > 0  # some row's nearest branch passes only turned
+
+
+class BaseAhead60(Constraint):
+    """Joint 1 within 60 degrees of 0 at any turn (``check`` alone): no turn by 2 pi of
+    an answer that breaks it passes."""
+
+    def check(self, arm, Q):
+        return Check(np.cos(Q[:, 0]) > 0.5, armik.Status.JOINT_LIMITS, lambda i: "base aside")
+
+
+def test_a_closed_form_giving_one_answer_goes_on_to_the_branches_that_hold():
+    """``spin_joint``'s one answer (its nearest branch) refused by the check gives way to
+    the nearest branch that holds it, as ``solve_all`` lists them, where the solve
+    failed."""
+    ur5 = bundled("ur5")
+    q = ur5.random_q(2)
+    q[0] = 0.2
+    T = ur5.fk(q)
+    start = ur5.middle.copy()
+    start[0] = 2.5
+    spin = {"bounds": (0, 0, 0, 0, 0, np.inf)}
+    plain = ur5.solve(T, q0=start, **spin)
+    assert plain.success and plain.solver == "spin_joint" and np.cos(plain.q[0]) <= 0.5
+    r = ur5.solve(T, q0=start, constraints=[BaseAhead60()], **spin)
+    assert r.success and r.solver == "spin_joint" and np.cos(r.q[0]) > 0.5, r.reason
+    holding = [a for a in ur5.solve_all(T, q0=start, constraints=[BaseAhead60()], **spin)]
+    nearest = min((a for a in holding if a.success), key=lambda a: np.linalg.norm(a.q - start))
+    np.testing.assert_allclose(r.q, nearest.q, atol=1e-9)
+
+
 @pytest.mark.parametrize("plan", ["follow", "global"])
 def test_solve_path(plan):
     ur5 = bundled("ur5")

@@ -110,6 +110,22 @@ def test_a_batch_of_cones_is_the_loop_of_solves():
         assert _angle(a.fk(b.q[i]).rotation[:, 2], tasks[1].direction) <= 0.05 + 1e-6
 
 
+def test_a_batch_of_cones_with_a_held_joint_is_the_loop_of_solves():
+    """Each row holds its cone, as its own solve does, where the row's lowered pose made
+    a held joint's task held the exact rotation, its aim dropped."""
+    a = arm("ur5")
+    rng = np.random.default_rng(11)
+    cones = _cones(a, rng, 3, 0.1)
+    hold = {a.joint_names[-1]: float(cones[0][1][-1])}
+    rows = [tasks for tasks, _ in cones]
+    b = a.solve_batch(rows, workers=1, progress=False, hold=hold, iteration_budget=5000)
+    for i, tasks in enumerate(rows):
+        r = a.solve(tasks, hold=hold, iteration_budget=5000)
+        assert r.success and b.success[i]
+        np.testing.assert_allclose(b.q[i], r.q, atol=1e-12)
+        assert _angle(a.fk(b.q[i]).rotation[:, 2], tasks[1].direction) <= 0.1 + 1e-6
+
+
 def test_an_unreachable_cone_fails_with_a_reason():
     a = arm("ur5")
     far = [armik.Position((3.0, 0.0, 0.5)), armik.Axis((0, 0, 1), (0, 0, -1), 0.1)]

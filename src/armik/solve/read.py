@@ -115,6 +115,7 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     t0 = time.perf_counter()
     if "budget" in options:  # as its options, which a row's solve may narrow
         options = spelled(options)
+    given = options  # a row solved as ``solve`` solves it reads its task list with these
     aim = None
     if "cone" in options or "look_at" in options or "toward" in options:
         aim, options = _aim(options)
@@ -123,6 +124,7 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     ranked = False  # each row's answers ranked by a preference
     # an array holds poses or positions: tasks come as a list or a tuple
     problems = task_problems(targets) if type(targets) in (list, tuple) else None
+    lowered = None
     if problems is not None:
         lowered = lower_all(problems, options, arm.tip)
         if lowered is None:  # no compiled form: the task solver, target by target
@@ -147,6 +149,10 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     if rows is None and opts.hold is not None:  # held joints: each target solved as solve does
         batch = parse_targets(targets, arm)
         rows = [batch.target(i) for i in range(len(batch))]
+    if rows is not None and lowered is not None and problems is not None:
+        # lowered task lists solved row by row: each row its own task list, read as
+        # ``solve`` reads it (a lowered target made a held joint's task would lose its aim)
+        rows, options = [list(p.tasks) for p in problems], given
     if freed is not None:
         refuse_freed(freed, opts)
     if aim is not None:
