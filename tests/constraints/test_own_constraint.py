@@ -162,6 +162,36 @@ class BaseAhead60(Constraint):
         return Check(np.cos(Q[:, 0]) > 0.5, armik.Status.JOINT_LIMITS, lambda i: "base aside")
 
 
+def test_a_numeric_answer_the_check_refuses_restarts_within_the_budget():
+    """A numeric solve whose first answer breaks the check runs again from random
+    configurations, as the collision retry does, where it gave up at the first; a batch's
+    row is that solve; ``max_restarts=0`` keeps the first run's refusal."""
+    ur5 = bundled("ur5")
+    own = [BaseAhead60()]
+    BUDGET = {"iteration_budget": 5000}  # deterministic: counted, not timed
+    Q = ur5.random_q(3, n=6)
+    Q[:, 0] = np.linspace(-0.9, 0.9, len(Q))  # each position has an answer that holds it
+    positions = [ur5.fk(q).translation for q in Q]
+    refused = 0
+    for p in positions:
+        plain = ur5.solve(p)
+        assert plain.success and plain.solver == "dls"
+        if np.cos(plain.q[0]) > 0.5:
+            continue
+        refused += 1
+        r = ur5.solve(p, constraints=own, **BUDGET)
+        assert r.success and np.cos(r.q[0]) > 0.5 and r.restarts > 0, r.reason
+        assert np.linalg.norm(ur5.fk(r.q).translation - p) < 1e-6
+        once = ur5.solve(p, constraints=own, max_restarts=0, **BUDGET)
+        assert not once.success and once.reason == "base aside" and once.restarts == 0
+    assert refused > 0
+    res = ur5.solve_batch(np.array(positions), constraints=own, workers=1, **BUDGET)
+    for i, p in enumerate(positions):
+        r = ur5.solve(p, constraints=own, **BUDGET)
+        assert res.success[i] == r.success
+        np.testing.assert_allclose(res.q[i], r.q, atol=1e-12)
+
+
 def test_a_closed_form_giving_one_answer_goes_on_to_the_branches_that_hold():
     """``spin_joint``'s one answer (its nearest branch) refused by the check gives way to
     the nearest branch that holds it, as ``solve_all`` lists them, where the solve

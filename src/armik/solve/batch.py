@@ -292,13 +292,14 @@ def solve_chunk(
         # answer, which takes the nearest branch that passes as it is first
         stop = start + len(targets)
         success = success & (out.q[start:stop] == answers.q).all(axis=1)
-    if collisions or spec.kind == "analytic":
+    if collisions or spec.kind == "analytic" or opts.checks:
         # A success that keeps clear stands: it is the answer ``solve`` gives (its first
         # run, from the same seed, ends there). Every other target is solved again
         # (``_row``): a colliding one restarts (numeric) or tries the other
         # branches (closed forms); a closed form's rare failures get the specific reason
         # (too far, wrist orientation, ...) and the next verified branch that ``solve``
-        # would fall back to.
+        # would fall back to; a numeric answer a user's check refuses restarts as in
+        # ``solve``.
         numeric = collisions and spec.kind != "analytic"
         for i in np.flatnonzero(~success).tolist():
             if numeric and out.status_code[start + i] == _COLLISION:

@@ -82,13 +82,18 @@ def finish(
     seed: np.ndarray,
     all_solutions: bool,
     t0: float,
+    counts: tuple[int, int] | None = None,
 ) -> list[IKResult]:
     """Verify ``answers`` (all of them, or nearest-first up to the first success), rank
-    them best first and build the results; ``t0`` is the call's ``perf_counter`` start."""
+    them best first and build the results; ``t0`` is the call's ``perf_counter`` start;
+    ``counts``: the iterations and restarts of the whole search that ran them, where it
+    ran more than these answers' run."""
     if all_solutions:
         found = verdicts(arm, answers, target, opts)
     else:
         found = first_verified(arm, answers, target, opts, seed)
+    if counts is not None:
+        found = found.recounted(*counts)
     results = ranked(found, solver, seed, all_solutions, t0)
     # measured apart (weights, a region: bounds or an aim): the distances beside
     if opts.weights is not None or opts.bounds is not None or target.aim is not None:
