@@ -1,4 +1,6 @@
-"""Solves with collisions checked (options ``obstacles``, ``self_collision``, ``margin``).
+"""Solves with collisions checked (options ``obstacles``, ``self_collision``, ``margin``),
+and a numeric solve under a user's own checks (``solve_holding``), which restarts as the
+collision search does where the verdict refuses its answer.
 
 Every answer gets the verdict of any solve (FK and limits), then the collision check
 (``armik.constraints.clear``): a success must keep every checked pair ``margin``
@@ -18,7 +20,7 @@ for no more successes (docs/collisions.md).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -32,13 +34,21 @@ from armik.solve.slide import slide
 from armik.solvers.answers import Answers, one
 from armik.status import Status
 from armik.verify.measure import measure
-from armik.verify.verdict import decide_one, nearest_first, ranked, seed_distance, verdicts
+from armik.verify.verdict import (
+    decide_one,
+    finish,
+    nearest_first,
+    ranked,
+    seed_distance,
+    verdicts,
+)
 from armik.verify.verdicts import Verdicts, joined
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
     from armik.problem.settings import SolverSettings
     from armik.solvers.registry import SolverSpec
+    from armik.targets.pose import Target
 
 
 @dataclass(frozen=True)
@@ -188,6 +198,35 @@ def _restarting(
 
 
 _CONVERGED = Status.CONVERGED.code
+
+
+def solve_holding(
+    arm: ArmModel, spec: SolverSpec, tgt: Target, seed: np.ndarray, opts: SolverSettings, t0: float
+):
+    """A numeric solver's results under a user's checks: where the verdict refuses the
+    answer it claimed (a check broken at every turn), the solver runs again from random
+    configurations within what is left of the budget (``timeout`` or
+    ``iteration_budget``, and ``max_restarts``), as the collision retry does, until an
+    answer holds every check; the first run's failure where none does."""
+    started = cpu_time.thread_time()
+    answers = spec.run(arm, tgt, seed, opts, False)
+    first = finish(arm, spec.name, answers, tgt, opts, seed, False, t0)
+    rng = np.random.default_rng(opts.seed)
+    lo, hi = arm.sampling_box()
+    used, restarts = int(answers.iterations[0]), int(answers.restarts[0])
+    refused = not first[0].success and answers.claim.item(0) == _CONVERGED
+    while refused:
+        left = None if restarts >= opts.max_restarts else _left(opts, started, used, restarts)
+        if left is None:
+            break
+        answers = spec.run(arm, tgt, lo + (hi - lo) * rng.random(arm.dof), left, False)
+        used, restarts = used + int(answers.iterations[0]), restarts + int(answers.restarts[0]) + 1
+        got = finish(arm, spec.name, answers, tgt, left, seed, False, t0, (used, restarts))
+        if got[0].success:
+            return got
+    if restarts > first[0].restarts:  # the first run's refusal, with the search's counts
+        return [replace(first[0], iterations=used, restarts=restarts)]
+    return first
 
 
 @dataclass(frozen=True)

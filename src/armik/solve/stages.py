@@ -27,12 +27,11 @@ from armik.model.derived import Derived
 from armik.request import Request, but_options, with_seed
 from armik.result import IKResult
 from armik.solve import far, parameter
-from armik.solve.avoid import First, _left, solve_avoiding
+from armik.solve.avoid import First, solve_avoiding, solve_holding
 from armik.solve.held import solve_held
 from armik.solve.prepared import plan_for
 from armik.solvers import registry
 from armik.solvers.registry import SolverSpec
-from armik.status import Status
 from armik.targets.pose import Target, parsed
 from armik.verify.verdict import finish
 from armik.verify.verdicts import Verdicts
@@ -255,7 +254,7 @@ def _run(arm, spec: SolverSpec, tgt: Target, q0, opts, every: bool, t0: float, f
         return solve_avoiding(arm, spec, tgt, seed, opts, clear, every, t0, first, opts.slide)
     if opts.checks and not every:
         if spec.kind != "analytic":
-            return _holding(arm, spec, tgt, seed, opts, t0)
+            return solve_holding(arm, spec, tgt, seed, opts, t0)
         answers = spec.run(arm, tgt, seed, opts, False)
         found = finish(arm, spec.name, answers, tgt, opts, seed, False, t0)
         if found[0].success or len(answers) > 1:
@@ -267,33 +266,3 @@ def _run(arm, spec: SolverSpec, tgt: Target, q0, opts, every: bool, t0: float, f
         return again if again[0].success else found
     answers = spec.run(arm, tgt, seed, opts, every)
     return finish(arm, spec.name, answers, tgt, opts, seed, every, t0)
-
-
-def _holding(arm: ArmModel, spec: SolverSpec, tgt: Target, seed: np.ndarray, opts, t0: float):
-    """A numeric solver's results under a user's checks: where the verdict refuses the
-    answer it claimed (a check broken at every turn), the solver runs again from random
-    configurations within what is left of the budget (``timeout`` or
-    ``iteration_budget``, and ``max_restarts``), as the collision retry does, until an
-    answer holds every check; the first run's failure where none does."""
-    started = cpu_time.thread_time()
-    answers = spec.run(arm, tgt, seed, opts, False)
-    first = finish(arm, spec.name, answers, tgt, opts, seed, False, t0)
-    rng = np.random.default_rng(opts.seed)
-    lo, hi = arm.sampling_box()
-    used, restarts = int(answers.iterations[0]), int(answers.restarts[0])
-    refused = not first[0].success and answers.claim.item(0) == _CONVERGED
-    while refused:
-        left = None if restarts >= opts.max_restarts else _left(opts, started, used, restarts)
-        if left is None:
-            break
-        answers = spec.run(arm, tgt, lo + (hi - lo) * rng.random(arm.dof), left, False)
-        used, restarts = used + int(answers.iterations[0]), restarts + int(answers.restarts[0]) + 1
-        got = finish(arm, spec.name, answers, tgt, left, seed, False, t0, (used, restarts))
-        if got[0].success:
-            return got
-    if restarts > first[0].restarts:  # the first run's refusal, with the search's counts
-        return [dataclasses.replace(first[0], iterations=used, restarts=restarts)]
-    return first
-
-
-_CONVERGED = Status.CONVERGED.code
