@@ -156,6 +156,26 @@ def test_solve_from_the_generating_configuration_returns_it():
         assert _same_angles(r.q, q, 1e-9)
 
 
+def test_a_stretched_elbow_keeps_the_shoulder_roll_nearest_q0():
+    # the elbow on the line S-W (joint 4 at 0): the swivel angle moves nothing and the
+    # shoulder's roll about the line is free; it is q0's, so the configuration comes back
+    a = arm("kuka_iiwa14")
+    rng = np.random.default_rng(8)
+    for _ in range(6):
+        q = a.random_q(rng)
+        q[0] = q[3] = 0.0
+        T = a.fk(q)
+        psi = srs.swivel_of(a.kinematics, q)
+        every = a.solve_all(T, swivel=psi, q0=q)
+        assert any(r.success and np.abs(r.q - q).max() < 1e-9 for r in every)
+        assert all(r.singular for r in every)
+        r = a.solve(T, q0=q)
+        assert r.success and r.solver == "srs" and np.abs(r.q - q).max() < 1e-9
+        # from the middle: within the limits, where the roll the swivel angle gave was not
+        good = [r for r in a.solve_all(T, swivel=psi) if r.success]
+        assert good and all(_pose_error(a, r.q, T) < 1e-9 for r in good)
+
+
 def test_solve_from_the_middle_finds_an_answer_within_the_limits():
     a = arm("kuka_iiwa14")
     rng = np.random.default_rng(6)
