@@ -57,7 +57,6 @@ from armik.solvers.closed_form.subproblems import (
 from armik.tolerances import ANGLE_TOL, DISTANCE_TOL
 
 CLOSED_FORM = "closed form (spherical wrist)"
-FREE_SWEEP = 64  # values of a free joint tried where q0's leaves every row outside the limits
 FAMILY = "spherical_wrist"
 
 
@@ -143,17 +142,17 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
 
     A free joint (the wrist centre on axis 1: joint 1; axes 4 and 6 in line: joint 4) is
     kept at q0's value; where that leaves no row reached within the limits, the joint's
-    other values are tried, nearest q0's first (``FREE_SWEEP`` of them over a turn within
+    other values are tried, nearest q0's first (``sixr.FREE_SWEEP`` of them over a turn within
     its limits), and the first that gives one is kept."""
     n, first, free = _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out)
     if first or free == 0 or n == 0:
         return n, first
     j = 0 if free & 1 else 3
     lo, hi = max(lower[j], q0[j] - math.pi), min(upper[j], q0[j] + math.pi)
-    step = 2.0 * math.pi / FREE_SWEEP
+    step = 2.0 * math.pi / sixr.FREE_SWEEP
     seed = q0.copy()
     rows = np.empty_like(out)
-    for k in range(1, FREE_SWEEP + 1):
+    for k in range(1, sixr.FREE_SWEEP + 1):
         value = q0[j] + (step * ((k + 1) // 2) if k % 2 else -step * (k // 2))
         if not lo <= value <= hi:
             continue
