@@ -215,6 +215,27 @@ def test_a_held_joint_gives_every_branch_at_its_value():
 
 
 @pytest.mark.parametrize(
+    "q",
+    [
+        [0.5177, 1.9569, -1.87, 1.9376, -2.2664, 2.0944, 3.0543],
+        [-1.2448, 2.0944, 1.8291, -2.0944, -1.4691, -1.1036, -1.6708],
+        [-0.0556, 1.1511, -2.9671, 2.0944, -0.3301, -1.3254, -0.5914],
+    ],
+)
+def test_the_held_elbow_frees_joint_3_within_the_limits(q):
+    # joint 4 held: the span from the shoulder to the wrist is fixed and joint 3 turns the
+    # wrist round it, free; at q0's value it broke a limit, at another it does not
+    a = arm("kuka_iiwa14")
+    q = np.clip(np.array(q), a.lower, a.upper)
+    T = a.fk(q)
+    good = [r for r in a.solve_all(T, hold={"iiwa_joint_4": float(q[3])}) if r.success]
+    assert good and all(r.singular and r.q[3] == q[3] for r in good)
+    assert all(a.within_limits(r.q) and _pose_error(a, r.q, T) < 1e-9 for r in good)
+    r = a.solve(T, hold={"iiwa_joint_4": float(q[3])})
+    assert r.success and r.q[2] != a.middle[2]
+
+
+@pytest.mark.parametrize(
     "options, words",
     [
         ({"swivel": "up"}, "swivel must be a number"),

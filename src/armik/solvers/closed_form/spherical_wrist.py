@@ -140,14 +140,15 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
     position ``pos`` (3-tuple), packed nearest-first into ``out`` (8, 11), the first
     ``labelled`` with their branch; returns (n, first reached) (see ``sixr.pack``).
 
-    A free joint (the wrist centre on axis 1: joint 1; axes 4 and 6 in line: joint 4) is
-    kept at q0's value; where that leaves no row reached within the limits, the joint's
-    other values are tried, nearest q0's first (``sixr.FREE_SWEEP`` of them over a turn within
-    its limits), and the first that gives one is kept."""
+    A free joint (the wrist centre on axis 1: joint 1; axes 4 and 6 in line: joint 4; an
+    elbow whose turn leaves the span unchanged: joint 3) is kept at q0's value; where that
+    leaves no row reached within the limits, the joint's other values are tried, nearest
+    q0's first (``sixr.FREE_SWEEP`` of them over a turn within its limits), and the first
+    that gives one is kept."""
     n, first, free = _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out)
     if first or free == 0 or n == 0:
         return n, first
-    j = 0 if free & 1 else 3
+    j = 0 if free & 1 else (2 if free & 4 else 3)
     lo, hi = max(lower[j], q0[j] - math.pi), min(upper[j], q0[j] + math.pi)
     step = 2.0 * math.pi / sixr.FREE_SWEEP
     seed = q0.copy()
@@ -169,7 +170,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
 @njit(cache=True, no_cfunc_wrapper=True)
 def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
     """``kernel`` with each free joint at q0's value: (n, first reached, free: bit 1 joint 1
-    free, bit 2 joint 4 free)."""
+    free, bit 2 joint 4, bit 4 joint 3)."""
     free = 0
     W = np.empty((8, 11))
     h1, h2, h3, h4 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[3])
@@ -201,6 +202,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             if n3 == -1:
                 n3, c0 = 1, q0[2]
                 flag3 |= SINGULAR
+                free |= 4
             elif n3 == 1 and not ls3:
                 flag3 |= SINGULAR  # stretched or folded
             if ls3:
@@ -226,6 +228,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
         if n3 == -1:
             n3, c0 = 1, q0[2]
             flag3 |= SINGULAR
+            free |= 4
         elif n3 == 1 and not ls3:
             flag3 |= SINGULAR
         if ls3:
