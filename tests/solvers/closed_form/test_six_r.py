@@ -204,6 +204,47 @@ def test_shoulder_singularity_keeps_q1_at_q0():
     assert r.success and r.singular and r.q[0] == q0[0]
 
 
+@pytest.mark.parametrize(
+    "rpy, height",
+    [((-0.39, 2.85, 2.39), 0.64), ((1.08, 2.22, -1.64), 0.66), ((1.84, -1.1, -2.11), 0.58)],
+)
+def test_a_free_joint_leaves_q0_where_q0s_value_breaks_a_limit(rpy, height):
+    # the wrist centre on axis 1: with joint 1 at q0's value every row breaks a limit, at
+    # another value of it the pose is reached within them
+    a = arm("abb_irb120")
+    geo = spherical_wrist.classify(a.kinematics)
+    R = pin.rpy.rpyToMatrix(*rpy)
+    T = pin.SE3(R, np.array([0.0, 0.0, height]) + R @ geo.R_tip0.T @ geo.p[6])
+    q0 = a.middle
+    r = a.solve(T, q0=q0)
+    assert r.success and r.singular and r.solver == "spherical", r.reason
+    assert r.q[0] != q0[0] and abs(r.q[0] - q0[0]) <= math.pi
+    good = [x for x in a.solve_all(T, q0=q0) if x.success]
+    assert good and all(a.within_limits(x.q) and pose_error(a, x.q, T) < 1e-9 for x in good)
+    stuck = a.with_limits({a.joint_names[0]: (q0[0] - 1e-3, q0[0] + 1e-3)})
+    assert not any(x.success for x in stuck.solve_all(T, q0=q0))  # q0's value reaches none
+
+
+def test_a_free_wrist_leaves_q0_where_q0s_value_breaks_a_limit():
+    # the UR5's wrists limited: at the wrist singularity joint 6 at q0's value can leave
+    # every row outside the limits of a pose q, within them, reaches
+    ur5 = arm("ur5")
+    names = ur5.joint_names
+    a = ur5.with_limits({names[3]: (-1.0, 1.0), names[5]: (-0.8, 0.8), names[0]: (-1.5, 1.5)})
+    rng = np.random.default_rng(3)
+    moved = 0
+    for _ in range(60):
+        q = a.random_q(rng)
+        q[4] = 0.0
+        if not a.within_limits(q):
+            continue
+        T = a.fk(q)
+        good = [r for r in a.solve_all(T) if r.success]
+        assert good and all(a.within_limits(r.q) and pose_error(a, r.q, T) < 1e-9 for r in good)
+        moved += any(r.singular and r.q[5] != a.middle[5] for r in good)
+    assert moved  # the case: q0's joint 6 did not do
+
+
 def test_unreachable_says_why_and_gives_a_configuration():
     a = arm("abb_irb120")
     R = pin.rpy.rpyToMatrix(0.0, math.pi / 2, 0.0)

@@ -19,6 +19,7 @@ from armik.status import Status
 from armik.targets.pose import parse_target
 
 from ...conftest import arm, model
+from .random_arms import load_arm
 
 FREE = (0.0, 0.0, 0.0, 0.0, 0.0, math.inf)
 
@@ -107,3 +108,22 @@ def test_a_spin_window_the_limits_exclude_is_not_converged():
 
 def spin_options(bounds) -> Options:
     return Options.from_kwargs({"bounds": bounds})
+
+
+@pytest.mark.parametrize("kind, seed", [("spherical", 0), ("three_parallel_free", 2)])
+def test_every_solution_of_a_label_given_twice_is_kept(kind, seed):
+    # the 16-solution families name two answers by one label: each is its own branch
+    a = load_arm(kind, np.random.default_rng(seed))
+    rng = np.random.default_rng(7)
+    twice = 0
+    for _ in range(3):
+        T = a.fk(a.random_q(rng))
+        plain = [r for r in a.solve_all(T) if r.success]
+        every = a.solve_all(T, bounds=FREE)
+        assert every[0].solver == "spin" and all(r.success for r in every)
+        twice += any("#" in r.branch for r in plain)
+        assert len(every) >= len(plain)  # the target's own spin is in the range
+        for r in every:
+            err = pin.log3(T.rotation.T @ a.fk(r.q).rotation)
+            assert np.abs(err[:2]).max() < 1e-6
+    assert twice  # the case: a label the closed form gives twice

@@ -156,6 +156,26 @@ def test_solve_from_the_generating_configuration_returns_it():
         assert _same_angles(r.q, q, 1e-9)
 
 
+def test_a_stretched_elbow_keeps_the_shoulder_roll_nearest_q0():
+    # the elbow on the line S-W (joint 4 at 0): the swivel angle moves nothing and the
+    # shoulder's roll about the line is free; it is q0's, so the configuration comes back
+    a = arm("kuka_iiwa14")
+    rng = np.random.default_rng(8)
+    for _ in range(6):
+        q = a.random_q(rng)
+        q[0] = q[3] = 0.0
+        T = a.fk(q)
+        psi = srs.swivel_of(a.kinematics, q)
+        every = a.solve_all(T, swivel=psi, q0=q)
+        assert any(r.success and np.abs(r.q - q).max() < 1e-9 for r in every)
+        assert all(r.singular for r in every)
+        r = a.solve(T, q0=q)
+        assert r.success and r.solver == "srs" and np.abs(r.q - q).max() < 1e-9
+        # from the middle: within the limits, where the roll the swivel angle gave was not
+        good = [r for r in a.solve_all(T, swivel=psi) if r.success]
+        assert good and all(_pose_error(a, r.q, T) < 1e-9 for r in good)
+
+
 def test_solve_from_the_middle_finds_an_answer_within_the_limits():
     a = arm("kuka_iiwa14")
     rng = np.random.default_rng(6)
@@ -192,6 +212,27 @@ def test_a_held_joint_gives_every_branch_at_its_value():
         assert results[0].solver == solver  # a closed form either way
         assert any(_same_angles(r.q, q) for r in results)
         assert all(r.q[k] == q[k] and _pose_error(a, r.q, T) < 1e-9 for r in results if r.success)
+
+
+@pytest.mark.parametrize(
+    "q",
+    [
+        [0.5177, 1.9569, -1.87, 1.9376, -2.2664, 2.0944, 3.0543],
+        [-1.2448, 2.0944, 1.8291, -2.0944, -1.4691, -1.1036, -1.6708],
+        [-0.0556, 1.1511, -2.9671, 2.0944, -0.3301, -1.3254, -0.5914],
+    ],
+)
+def test_the_held_elbow_frees_joint_3_within_the_limits(q):
+    # joint 4 held: the span from the shoulder to the wrist is fixed and joint 3 turns the
+    # wrist round it, free; at q0's value it broke a limit, at another it does not
+    a = arm("kuka_iiwa14")
+    q = np.clip(np.array(q), a.lower, a.upper)
+    T = a.fk(q)
+    good = [r for r in a.solve_all(T, hold={"iiwa_joint_4": float(q[3])}) if r.success]
+    assert good and all(r.singular and r.q[3] == q[3] for r in good)
+    assert all(a.within_limits(r.q) and _pose_error(a, r.q, T) < 1e-9 for r in good)
+    r = a.solve(T, hold={"iiwa_joint_4": float(q[3])})
+    assert r.success and r.q[2] != a.middle[2]
 
 
 @pytest.mark.parametrize(

@@ -68,6 +68,21 @@ def test_an_unreachable_target_fails_with_the_reason():
     assert np.all(np.isfinite(r.q))
 
 
+def test_a_held_joint_7_the_pose_is_out_of_reach_from_says_it_is_held():
+    # the pose is reachable (q made it); with joint 7 2.5 rad away it is not: the reason
+    # says so, not that the target is beyond the arm
+    a = arm("panda")
+    q = a.random_q(np.random.default_rng(3))
+    T = a.fk(q)
+    assert any(r.success for r in a.solve_all(T, hold={"panda_joint7": float(q[6])}))
+    value = float(q[6]) + 2.5 if q[6] < 0 else float(q[6]) - 2.5
+    results = a.solve_all(T, hold={"panda_joint7": value})
+    assert results and not any(r.success for r in results)
+    for r in results:
+        assert r.solver == "swept" and r.q[6] == value
+        assert r.reason.startswith(f"with joint 7 held at {value:.6g} rad: "), r.reason
+
+
 @pytest.mark.parametrize("q7", [-2.8973, -1.0, 0.0, 0.3, 2.8973])
 def test_the_sweep_tries_every_cell_once_nearest_first(q7):
     lo, hi = -2.8973, 2.8973

@@ -40,6 +40,7 @@ from armik.status import Status
 from armik.targets.pose import Target
 from armik.tolerances import LIMIT_TOL
 
+FREE_SWEEP = 64  # values of a free joint tried where q0's leaves every row outside the limits
 LS = 1
 SINGULAR = 2
 TWO_PI = 2.0 * math.pi

@@ -22,6 +22,8 @@ the elbow stretched or folded (the two elbow roots merge into one).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -104,6 +106,12 @@ def classify_axes(ax: Axes) -> sixr.Chain6R | str:
 def _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, W, n):
     """Append the (up to 2) wrist solutions for a placed wrist centre to the kernel's rows
     ``W`` (``sixr``'s layout); returns the count."""
+    return _wrist_free(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, W, n)[0]
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def _wrist_free(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, W, n):
+    """``_wrist``: (the count, whether q4 was free: axes 4 and 6 in line)."""
     R36 = mtm(R03, R06)
     a0, a1, b0, b1, nw, lsw = sp2(mv(R36, h6), h6, neg(h4), h5, q0[3])
     sing = False
@@ -123,14 +131,47 @@ def _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, W, n):
         if sing:
             f |= SINGULAR
         n = sixr.put_row(W, n, q1, q2, q3, q4, q5, q6, f, c, v0, v1)
-    return n
+    return n, sing
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
 def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
     """All closed-form solutions for the target rotation ``R`` (9-tuple, row-major) and
     position ``pos`` (3-tuple), packed nearest-first into ``out`` (8, 11), the first
-    ``labelled`` with their branch; returns (n, first reached) (see ``sixr.pack``)."""
+    ``labelled`` with their branch; returns (n, first reached) (see ``sixr.pack``).
+
+    A free joint (the wrist centre on axis 1: joint 1; axes 4 and 6 in line: joint 4; an
+    elbow whose turn leaves the span unchanged: joint 3) is kept at q0's value; where that
+    leaves no row reached within the limits, the joint's other values are tried, nearest
+    q0's first (``sixr.FREE_SWEEP`` of them over a turn within its limits), and the first
+    that gives one is kept."""
+    n, first, free = _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out)
+    if first or free == 0 or n == 0:
+        return n, first
+    j = 0 if free & 1 else (2 if free & 4 else 3)
+    lo, hi = max(lower[j], q0[j] - math.pi), min(upper[j], q0[j] + math.pi)
+    step = 2.0 * math.pi / sixr.FREE_SWEEP
+    seed = q0.copy()
+    rows = np.empty_like(out)
+    for k in range(1, sixr.FREE_SWEEP + 1):
+        value = q0[j] + (step * ((k + 1) // 2) if k % 2 else -step * (k // 2))
+        if not lo <= value <= hi:
+            continue
+        seed[j] = value
+        m, ok, _ = _kernel(h, p, R_tip0, R, pos, seed, lower, upper, variant, labelled, rows)
+        if ok:
+            for r in range(m):
+                for c in range(out.shape[1]):
+                    out[r, c] = rows[r, c]
+            return m, True
+    return n, first
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
+    """``kernel`` with each free joint at q0's value: (n, first reached, free: bit 1 joint 1
+    free, bit 2 joint 4, bit 4 joint 3)."""
+    free = 0
     W = np.empty((8, 11))
     h1, h2, h3, h4 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[3])
     h5, h6 = vec(h[4]), vec(h[5])
@@ -145,6 +186,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
         if n1 == -1:  # wrist centre on axis 1
             n1, a0 = 1, q0[0]
             flag1 |= SINGULAR
+            free |= 1
         if ls1:
             flag1 |= LS
             cd1 = SHOULDER_OFFSET
@@ -160,6 +202,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             if n3 == -1:
                 n3, c0 = 1, q0[2]
                 flag3 |= SINGULAR
+                free |= 4
             elif n3 == 1 and not ls3:
                 flag3 |= SINGULAR  # stretched or folded
             if ls3:
@@ -173,10 +216,11 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 u = add(p2, mv(R3, p3))
                 q2, _ = sp1(u, v, h2)
                 R03 = mm(mm(R1, rot(h2, q2)), R3)
-                n = _wrist(
+                n, sing = _wrist_free(
                     R03, R06, h4, h5, h6, q0, q1, q2, q3, flag3, cd3, w0, w1,
                     W, n,
                 )  # fmt: skip
+                free |= 2 if sing else 0
     else:  # axes 1 and 2 meet (p_12 = 0)
         n16 = norm(p16)
         c0, c1, n3, ls3 = sp3(p3, neg(p2), h3, n16)
@@ -184,6 +228,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
         if n3 == -1:
             n3, c0 = 1, q0[2]
             flag3 |= SINGULAR
+            free |= 4
         elif n3 == 1 and not ls3:
             flag3 |= SINGULAR
         if ls3:
@@ -199,18 +244,20 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             if n12 == -1:  # wrist centre on axis 1
                 n12 = 1
                 flag |= SINGULAR
+                free |= 1
             if ls12 and not ls3:
                 flag |= LS
             for i12 in range(n12):
                 q1 = a0 if i12 == 0 else a1
                 q2 = b0 if i12 == 0 else b1
                 R03 = mm(mm(rot(h1, q1), rot(h2, q2)), R3)
-                n = _wrist(
+                n, sing = _wrist_free(
                     R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd3, w0, w1,
                     W, n,
                 )  # fmt: skip
+                free |= 2 if sing else 0
     sixr.nearest_equivalents(W, n, q0, lower, upper)
-    return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out)
+    return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out), free
 
 
 @njit(cache=True, nogil=True, no_cfunc_wrapper=True)

@@ -8,7 +8,8 @@ A sweep, not a proof: an admissible window narrower than its grid (5 degrees) ca
 missed, so ``auto`` takes it only for every solution (``solve_all``); ``solver="spin"``
 asks for it for one answer. ``solve`` returns the answer nearest q0 over the range (the
 grid's best, refined by Brent's method); ``solve_all`` returns, for each branch of the
-closed form, that branch's answer nearest q0 over the range.
+closed form, that branch's answer nearest q0 over the range (a label the closed form gives
+twice at one spin is two branches: its nearest answer and the other).
 """
 
 from __future__ import annotations
@@ -119,27 +120,27 @@ def _nearest(arm, spec, target, q0, opts, k, half, thetas) -> Answers:
 
 def _every_branch(arm, spec, target, q0, opts, k, half, thetas) -> Answers:
     """Each branch's answer nearest q0 over the range (branches by the closed form's
-    labels)."""
-    samples: dict[str | None, list[tuple[float, float]]] = {}
+    labels; a label given twice at one spin, as the 16-solution families do, is two
+    branches: ``_keyed``)."""
+    samples: dict[tuple[str | None, int], list[tuple[float, float]]] = {}
     for t in thetas.tolist():
-        got = _exact(arm, spec, target, q0, opts, k, t)
-        for i in range(len(got)):
-            samples.setdefault(got.label(i), []).append((float(np.linalg.norm(got.q[i] - q0)), t))
+        for key, qk in _keyed(_exact(arm, spec, target, q0, opts, k, t), q0).items():
+            samples.setdefault(key, []).append((float(np.linalg.norm(qk - q0)), t))
     if not samples:
         return _missed(q0, k, len(thetas))
     result = []
-    for label, found in samples.items():
+    for key, found in samples.items():
         d0, t0 = min(found)
 
-        def f(t: float, label: str | None = label) -> float:
-            q = _of_branch(_exact(arm, spec, target, q0, opts, k, t), label)
+        def f(t: float, key: tuple[str | None, int] = key) -> float:
+            q = _of_branch(_exact(arm, spec, target, q0, opts, k, t), key, q0)
             return float(np.linalg.norm(q - q0)) if q is not None else FAR
 
         i = int(np.argmin(np.abs(thetas - t0)))
         best = _brent(f, _bracket(thetas, i, half))
         theta = float(best.x) if best.fun < d0 else t0
-        q = _of_branch(_exact(arm, spec, target, q0, opts, k, theta), label)
-        result.append(_found(q, k, theta, spec.name, label))  # type: ignore[arg-type]
+        q = _of_branch(_exact(arm, spec, target, q0, opts, k, theta), key, q0)
+        result.append(_found(q, k, theta, spec.name, key[0]))  # type: ignore[arg-type]
     return stacked(result, arm.dof)
 
 
@@ -152,9 +153,23 @@ def _brent(f, bounds: tuple[float, float]):
     return minimize_scalar(f, bounds=bounds, method="bounded", options={"xatol": XATOL})
 
 
-def _of_branch(got: Answers, label: str | None) -> np.ndarray | None:
-    """The first answer of branch ``label`` among ``got``, None where it has none."""
-    return next((got.q[i] for i in range(len(got)) if got.label(i) == label), None)
+def _keyed(got: Answers, q0: np.ndarray) -> dict[tuple[str | None, int], np.ndarray]:
+    """``got``'s answers by (label, rank): the rank among the answers of that label by
+    distance to q0, so that two answers one label names (the 16-solution families give a
+    label twice) are two branches, not one."""
+    order = sorted(range(len(got)), key=lambda i: float(np.linalg.norm(got.q[i] - q0)))
+    seen: dict[str | None, int] = {}
+    keyed = {}
+    for i in order:
+        label = got.label(i)
+        rank = seen[label] = seen.get(label, -1) + 1
+        keyed[(label, rank)] = got.q[i]
+    return keyed
+
+
+def _of_branch(got: Answers, key: tuple[str | None, int], q0: np.ndarray) -> np.ndarray | None:
+    """The answer of branch ``key`` (``_keyed``) among ``got``, None where it has none."""
+    return _keyed(got, q0).get(key)
 
 
 def _exact(arm, spec, target, q0, opts, k, t: float) -> Answers:

@@ -19,7 +19,8 @@ with its part along n taken out, u2 = n x u1. psi = 0 puts the elbow on the side
 points to (up, on an iiwa standing on its base): ``swivel_of`` reads it from any
 configuration. Up to 2 x 2 x 2 = 8 rows a swivel angle; the free angle of a singular
 shoulder or wrist (axes 1 and 3, or 5 and 7, in line) is kept at q0 and the row flagged
-singular, as is a stretched or folded elbow (the swivel then does not move the elbow).
+singular, as is a stretched or folded elbow (the swivel then does not move the elbow: the
+shoulder's roll about the line S-W is the one nearest q0's shoulder, ``_roll_of``).
 
 The geometry is one flat array (``GEO`` long): h (21), S, W0, E0, w_tip (3 each), R_tip0
 (9), lower, upper (7 each), the reference direction (3). Rows (``COLUMNS`` wide): q (7),
@@ -169,6 +170,23 @@ def _put(W, n, q, flags, code, v0, v1, h):
 
 
 @njit(cache=True, nogil=True, no_cfunc_wrapper=True)
+def _roll_of(h1, h2, h3, q0, n, g, ag, f):
+    """(f, n x f): where the shoulder takes ``g`` when the elbow lies on the line S-W (a
+    stretched or folded elbow: the swivel angle moves nothing, the shoulder's roll about
+    the line is free), the roll nearest q0's shoulder rotation Rs0 (f maximises the trace
+    of Rs0^T Rs: the part of Rs0 g across n plus (Rs0 (a x g)) x n); ``f`` (the swivel
+    angle's) where q0's shoulder leaves no direction."""
+    Rs0 = mm(mm(rot(h1, q0[0]), rot(h2, q0[1])), rot(h3, q0[2]))
+    r = mv(Rs0, g)
+    v = add(sub(r, scale(n, dot(r, n))), cross(mv(Rs0, ag), n))
+    nv = norm(v)
+    if nv < TINY:
+        return f, cross(n, f)
+    v = scale(v, 1.0 / nv)
+    return v, cross(n, v)
+
+
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def at_swivel(geo, R, pos, psi, q0, W):
     """Every row (up to 8) at swivel angle ``psi`` for the target rotation ``R`` (9-tuple)
     and position ``pos`` (3-tuple) into ``W`` (8, ``COLUMNS``), unsorted, each angle in
@@ -204,22 +222,26 @@ def at_swivel(geo, R, pos, psi, q0, W):
         g = sub(e, scale(a, dot(e, a)))
         rho = norm(g)
         flag = flag4
-        if rho < TINY:  # the elbow on the line S-W: any roll of the shoulder about it
+        on_line = rho < TINY
+        if on_line:  # the elbow on the line S-W: any roll of the shoulder about it
             flag |= SINGULAR
             g = cross(a, h2) if norm(cross(a, h2)) > 0.1 else cross(a, h1)
             rho = norm(g)
         g = scale(g, 1.0 / rho)
         ag = cross(a, g)
+        fr, nfr = f, nf
+        if on_line:
+            fr, nfr = _roll_of(h1, h2, h3, q0, n, g, ag, f)
         Rs = (
-            n[0] * a[0] + f[0] * g[0] + nf[0] * ag[0],
-            n[0] * a[1] + f[0] * g[1] + nf[0] * ag[1],
-            n[0] * a[2] + f[0] * g[2] + nf[0] * ag[2],
-            n[1] * a[0] + f[1] * g[0] + nf[1] * ag[0],
-            n[1] * a[1] + f[1] * g[1] + nf[1] * ag[1],
-            n[1] * a[2] + f[1] * g[2] + nf[1] * ag[2],
-            n[2] * a[0] + f[2] * g[0] + nf[2] * ag[0],
-            n[2] * a[1] + f[2] * g[1] + nf[2] * ag[1],
-            n[2] * a[2] + f[2] * g[2] + nf[2] * ag[2],
+            n[0] * a[0] + fr[0] * g[0] + nfr[0] * ag[0],
+            n[0] * a[1] + fr[0] * g[1] + nfr[0] * ag[1],
+            n[0] * a[2] + fr[0] * g[2] + nfr[0] * ag[2],
+            n[1] * a[0] + fr[1] * g[0] + nfr[1] * ag[0],
+            n[1] * a[1] + fr[1] * g[1] + nfr[1] * ag[1],
+            n[1] * a[2] + fr[1] * g[2] + nfr[1] * ag[2],
+            n[2] * a[0] + fr[2] * g[0] + nfr[2] * ag[0],
+            n[2] * a[1] + fr[2] * g[1] + nfr[2] * ag[1],
+            n[2] * a[2] + fr[2] * g[2] + nfr[2] * ag[2],
         )
         x0, x1, y0, y1, z0, z1, ns, lss, sings = _three(Rs, h1, h2, h3, q0[0])
         Mw = mtm(mm(Rs, R4), R_tool)

@@ -201,6 +201,8 @@ def _answers(
                     f"no value of joint 7 swept gave an exact solution; at {theta:.6g} rad: "
                     f"{reason}"
                 )
+            else:  # held: out of reach with joint 7 there, not beyond the arm's reach
+                reason = f"with joint 7 held at {theta:.6g} rad: {reason}"
         else:
             reason = held.get(singular) or held.setdefault(singular, held_reason(theta, singular))
             claim = Status.CONVERGED

@@ -142,7 +142,40 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
     """All closed-form solutions for the target rotation ``R`` (9-tuple, row-major) and
     position ``pos`` (3-tuple), packed nearest-first into ``out`` (8, 11), the first
     ``labelled`` with their branch; returns (n, first reached) (see ``sixr.pack``).
-    ``variant`` is unused: the arguments every family's kernel takes (``family``)."""
+    ``variant`` is unused: the arguments every family's kernel takes (``family``).
+
+    A free joint (the wrist point on axis 1: joint 1; the wrist singular: joint 6; an elbow
+    whose turn leaves the span unchanged: joint 3) is kept at q0's value; where that leaves
+    no row reached within the limits, the joint's other values are tried, nearest q0's first
+    (``sixr.FREE_SWEEP`` over a turn within its limits), and the first that gives one is
+    kept."""
+    n, first, free = _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out)
+    if first or free == 0 or n == 0:
+        return n, first
+    j = 0 if free & 1 else (2 if free & 4 else 5)
+    lo, hi = max(lower[j], q0[j] - math.pi), min(upper[j], q0[j] + math.pi)
+    step = 2.0 * math.pi / sixr.FREE_SWEEP
+    seed = q0.copy()
+    rows = np.empty_like(out)
+    for k in range(1, sixr.FREE_SWEEP + 1):
+        value = q0[j] + (step * ((k + 1) // 2) if k % 2 else -step * (k // 2))
+        if not lo <= value <= hi:
+            continue
+        seed[j] = value
+        m, ok, _ = _kernel(h, p, R_tip0, R, pos, seed, lower, upper, variant, labelled, rows)
+        if ok:
+            for r in range(m):
+                for c in range(out.shape[1]):
+                    out[r, c] = rows[r, c]
+            return m, True
+    return n, first
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
+    """``kernel`` with each free joint at q0's value: (n, first reached, free: bit 1 joint 1
+    free, bit 2 joint 6, bit 4 joint 3)."""
+    free = 0
     W = np.empty((8, 11))
     h1, h2, h3, h4 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[3])
     h5, h6 = vec(h[4]), vec(h[5])
@@ -159,6 +192,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
     if n1 == -1:
         n1, a0 = 1, q0[0]
         flag1 |= SINGULAR
+        free |= 1
     if ls1:
         flag1 |= LS
         cd1 = SHOULDER_OFFSET
@@ -189,6 +223,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 # wrist point is then out of the elbow's reach
                 q6 = q0[5]
                 flag6 |= SINGULAR
+                free |= 2
                 R234 = mmt(mmt(M, rot(h6, q6)), R5)
                 q234, _ = sp1(x, mv(R234, x), h2)
                 turn = reach_turn(sub(mtv(R1, p16), p1), p4, h2, q234, span2)
@@ -205,6 +240,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             if n3 == -1:
                 n3, c0 = 1, q0[2]
                 flag3 |= SINGULAR
+                free |= 4
             elif n3 == 1 and not ls3:
                 flag3 |= SINGULAR  # stretched or folded
             if ls3:
@@ -219,7 +255,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 q4 = s4 * (q234 - q2 - s3 * q3)
                 n = sixr.put_row(W, n, q1, q2, q3, q4, q5, q6, flag3, cd3, w0, w1)
     sixr.nearest_equivalents(W, n, q0, lower, upper)
-    return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out)
+    return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out), free
 
 
 @njit(cache=True, nogil=True, no_cfunc_wrapper=True)
