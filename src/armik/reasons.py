@@ -106,7 +106,10 @@ def resting_on_limits(reason: str, joints: list[str]) -> str:
 def search_missed(search: str, search_reason: str, solver: str, reason: str) -> str:
     """What "auto" says when the search it chose for every solution verified none and it
     went on to one answer from ``solver`` (each with its own reason)."""
-    return f"{search} (a search) verified no solution ({search_reason}); {solver}: {reason}"
+    return (
+        f"{search} (a search, not a proof) found no solution it could verify "
+        f"({search_reason}); {solver}: {reason}"
+    )
 
 
 def claimed(status: str, measured_text: str) -> str:
