@@ -50,6 +50,11 @@ def ur5_narrow() -> armik.Arm:
     return ur5.with_limits({names[0]: (-1.5, 1.5), names[3]: (-1.0, 1.0), names[5]: (-0.8, 0.8)})
 
 
+def narrowed(name: str, joint: int, limits: tuple[float, float]) -> armik.Arm:
+    arm = armik.load(name)
+    return arm.with_limits({arm.joint_names[joint]: limits})
+
+
 def joint1_narrow(name: str, **load: object) -> armik.Arm:
     arm = armik.load(name, **load)
     return arm.with_limits({arm.joint_names[0]: (-0.4, 0.4)})
@@ -58,6 +63,12 @@ def joint1_narrow(name: str, **load: object) -> armik.Arm:
 # (the arm, its singular poses, the joint they leave free)
 CASES = {
     "abb_irb120 wrist centre on axis 1": (lambda: armik.load("abb_irb120"), shoulder_singular, 0),
+    # axes 4 and 6 in line: joint 4 free, its middle leaving joint 6 outside its limits
+    "abb_irb120 wrist singular, joint 6 narrowed": (
+        lambda: narrowed("abb_irb120", 5, (-0.5, 0.5)),
+        reached_with(4),
+        3,
+    ),
     "ur5 wrist singular, wrists narrowed": (ur5_narrow, reached_with(4), 5),
     # joint 2 at 0: axes 1 and 3 in line, the reversed chain's wrist singular (joint 3 free)
     "panda joint 7 held": (lambda: joint1_narrow("panda"), reached_with(1), 2),
