@@ -4,8 +4,9 @@ A family (``planar2r``, ``three_parallel``, ``spherical_wrist`` in this package)
 C text of ``static int rows(mat3 R, vec3 p, double W[][DOF], double C[][DOF], double
 S[][DOF])``: its candidate joint values for the target (R, p) written by ``put_row``, each
 angle in (-pi, pi] with its cosine and sine, a singular case's free joint at the middle of
-its limits (``solve_all``'s seed when none is given). This module adds what every family
-shares, as the Python path does it:
+its limits (``solve_all``'s seed when none is given), or at the values ``Rows.sweep`` tries
+where that leaves no row verified. This module adds what every family shares, as the Python
+path does it:
 
 - each angle shifted by 2 pi to the value nearest the middle of its limits within them
   (``sixr.nearest_equivalents``; a family's ``snap``: how far outside a limit counts as on
@@ -29,6 +30,7 @@ from armik.export import c_source, fk_code
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes
 from armik.problem.settings import SolverSettings
+from armik.solvers.closed_form.sixr import FREE_SWEEP
 from armik.tolerances import LAST_ROW_TOL, LIMIT_TOL, MAX_POSITION, ROTATION_TOL
 
 # a rotation further than this from orthonormal (an entry of |R^T R - I|) is snapped onto
@@ -42,13 +44,20 @@ class Rows:
     most rows it writes, how far outside a limit counts as on it (rad), and one line saying
     what it solves. ``held``: the index of a joint whose value ``N_ik`` takes as an argument
     (a 7R arm with a joint held; ``rows`` then takes it after the target, ``static int
-    rows(mat3 R, vec3 p, double held, ...)``, and writes it in its column), else None."""
+    rows(mat3 R, vec3 p, double held, ...)``, and writes it in its column), else None.
+    ``sweep``: the joints a singular pose leaves free, in the order the family's kernel
+    sweeps them (``rows`` then takes the seed and a mask after the target and the held
+    value, ``..., const double *Q0, int *mask, W, C, S)``: a free joint at Q0's value, its
+    bit set in ``*mask``); where no row at the middle of the limits is verified, the first
+    free joint's other values are tried as ``sixr.FREE_SWEEP`` does, nearest the middle
+    first, and the first value that gives a verified row is kept."""
 
     text: str
     max_rows: int
     snap: float
     summary: str
     held: int | None = None
+    sweep: tuple[int, ...] = ()
 
 
 def _comment(text: str) -> str:
@@ -85,8 +94,9 @@ def header(
    orthonormal to {rotation} or has determinant -1 (a reflection): the poses solve_all
    refuses. A rotation within that of orthonormal is solved as the nearest rotation, as
    solve_all snaps it. At a singular pose a free joint is set to
-   the middle of its limits, as solve_all sets it with no q0; a singular target gives fewer
-   solutions than a regular one.{held_text}
+   the middle of its limits, as solve_all sets it with no q0 (where that leaves none within
+   the limits, its other values nearest the middle first, as solve_all tries them); a
+   singular target gives fewer solutions than a regular one.{held_text}
    {name}_fk(q, T): the tip pose at joint values q (rad), row-major 4x4. */
 #ifndef {up}_IK_H
 #define {up}_IK_H
@@ -222,11 +232,29 @@ static mat3 nearest_rotation(mat3 R)
     return R;
 }
 
+/* Rows 0 to n - 1 shifted by 2 pi nearest the middle, each one's distance to it in key; bit
+   r of *taken set for each row not verified. Returns how many are verified. */
+static int judge(int n, double W[][DOF], double C[][DOF], double S[][DOF], mat3 R, vec3 p,
+                 double *key, int *taken)
+{
+    int r, j, kept = 0;
+    for (r = 0; r < n; r++) {
+        for (j = 0; j < DOF; j++)
+            if (j != HELD) W[r][j] = nearest(W[r][j], MID[j], LO[j], HI[j]);
+        key[r] = 0.0;
+        for (j = 0; j < DOF; j++) key[r] += (W[r][j] - MID[j]) * (W[r][j] - MID[j]);
+        key[r] = sqrt(key[r]);
+        if (verified(W[r], C[r], S[r], R, p)) kept++;
+        else *taken |= 1 << r;
+    }
+    return kept;
+}
+@SWEEP_FN@
 int @NAME@_ik(const double T[16], @HELD_PARAM@double q[][DOF])
 {
     double W[MAX_ROWS][DOF], C[MAX_ROWS][DOF], S[MAX_ROWS][DOF], key[MAX_ROWS], e;
     double worst = 0.0;  /* the largest entry of |R^T R - I| */
-    int keep[MAX_ROWS], n, r, j, k, count = 0, taken = 0, best;
+    int n, r, j, k, count = 0, taken = 0, best;
     mat3 R;
     vec3 p;
     for (j = 0; j < 12; j++)
@@ -253,16 +281,7 @@ int @NAME@_ik(const double T[16], @HELD_PARAM@double q[][DOF])
     if (e < 0.0) return -1;  /* determinant -1: a reflection, not a rotation */
     /* solved and verified on the nearest rotation, as the parser snaps it */
     if (worst > SNAP_ABOVE) R = nearest_rotation(R);
-@HELD_CHECK@    n = rows(R, p, @HELD_ARG@W, C, S);
-    for (r = 0; r < n; r++) {
-        for (j = 0; j < DOF; j++)
-            if (j != HELD) W[r][j] = nearest(W[r][j], MID[j], LO[j], HI[j]);
-        keep[r] = verified(W[r], C[r], S[r], R, p);
-        key[r] = 0.0;
-        for (j = 0; j < DOF; j++) key[r] += (W[r][j] - MID[j]) * (W[r][j] - MID[j]);
-        key[r] = sqrt(key[r]);
-        if (!keep[r]) taken |= 1 << r;
-    }
+@HELD_CHECK@@ROWS@
     for (k = 0; k < n; k++) {  /* nearest the middle first; ties keep the rows' order */
         best = -1;
         for (r = 0; r < n; r++)
@@ -283,9 +302,65 @@ HELD_CHECK = """    if (!(LO[HELD] - LIMIT_TOL <= held && held <= HI[HELD] + LIM
 """
 
 
-def _common(name: str, held: int | None) -> str:
-    """``COMMON`` for solver ``name``, with the held joint's argument when there is one."""
+ROWS = """    n = rows(R, p, @HELD_ARG@W, C, S);
+    judge(n, W, C, S, R, p, key, &taken);"""
+
+SWEEP_ROWS = "    n = sweep(R, p, @HELD_ARG@W, C, S, key, &taken);"
+
+# the rows of a family with free joints (``Rows.sweep``): at the middle of the limits, else
+# at the first of the free joint's other values that gives a verified row, as
+# ``spherical_wrist.kernel`` and ``three_parallel.kernel`` sweep it
+SWEEP = """
+/* The first free joint's index in the order the closed form sweeps them. */
+static int swept_joint(int mask)
+{
+@ORDER@
+}
+
+/* The rows at the middle of the limits, judged; where a joint is free there and none is
+   verified, the rows at the free joint's other values (FREE_SWEEP over a turn within its
+   limits, nearest the middle first: +step, -step, +2 step, ...), the first that gives a
+   verified row kept. Returns the number of rows, judged (bit r of *taken: row r refused). */
+static int sweep(mat3 R, vec3 p, @HELD_PARAM@double W[][DOF], double C[][DOF],
+                 double S[][DOF], double *key, int *taken)
+{
+    double seed[DOF], step = 2.0 * IK_PI / FREE_SWEEP, lo, hi, value;
+    int mask = 0, unused = 0, n, m, j, k;
+    n = rows(R, p, @HELD_ARG@MID, &mask, W, C, S);
+    if (judge(n, W, C, S, R, p, key, taken) > 0 || mask == 0 || n == 0) return n;
+    j = swept_joint(mask);
+    lo = LO[j] > MID[j] - IK_PI ? LO[j] : MID[j] - IK_PI;
+    hi = HI[j] < MID[j] + IK_PI ? HI[j] : MID[j] + IK_PI;
+    for (k = 0; k < DOF; k++) seed[k] = MID[k];
+    for (k = 1; k <= FREE_SWEEP; k++) {
+        value = MID[j] + (k % 2 ? step * ((k + 1) / 2) : -step * (k / 2));
+        if (!(lo <= value && value <= hi)) continue;
+        seed[j] = value;
+        m = rows(R, p, @HELD_ARG@seed, &unused, W, C, S);
+        *taken = 0;
+        if (judge(m, W, C, S, R, p, key, taken) > 0) return m;
+    }
+    return 0;  /* no value gives a verified row */
+}
+"""
+
+
+def _sweep(order: tuple[int, ...]) -> str:
+    """``SWEEP``'s function choosing the joint to sweep from the free joints' bits."""
+    *first, last = order
+    lines = [f"    if (mask & (1 << {j})) return {j};" for j in first]
+    return "\n".join([*lines, f"    return {last};"])
+
+
+def _common(name: str, held: int | None, order: tuple[int, ...] = ()) -> str:
+    """``COMMON`` for solver ``name``, with the held joint's argument when there is one and
+    the sweep over a free joint when ``order`` names the free joints (``Rows.sweep``)."""
     text = COMMON.replace("@NAME@", name)
+    if order:
+        text = text.replace("@SWEEP_FN@", SWEEP.replace("@ORDER@", _sweep(order)))
+        text = text.replace("@ROWS@", SWEEP_ROWS)
+    else:
+        text = text.replace("@SWEEP_FN@", "").replace("@ROWS@", ROWS)
     parts = ("double held, ", HELD_CHECK, "held, ") if held is not None else ("", "", "")
     for key, value in zip(("@HELD_PARAM@", "@HELD_CHECK@", "@HELD_ARG@"), parts):
         text = text.replace(key, value)
@@ -317,6 +392,7 @@ def source(name: str, arm: ArmModel, ax: Axes, rows: Rows, opts: SolverSettings)
             f"#define MAX_ROWS {rows.max_rows}",
             f"#define HELD {-1 if rows.held is None else rows.held}  /* a held joint's index */",
             f"static const double SNAP = {c_source.num(rows.snap)};",
+            f"#define FREE_SWEEP {FREE_SWEEP}  /* values of a free joint tried */",
             f"static const double LIMIT_TOL = {c_source.num(LIMIT_TOL)};",
             f"static const double ROTATION_TOL = {c_source.num(ROTATION_TOL)};",
             f"static const double SNAP_ABOVE = {c_source.num(ROTATION_SNAP)};  /* the parser's */",
@@ -339,6 +415,6 @@ def source(name: str, arm: ArmModel, ax: Axes, rows: Rows, opts: SolverSettings)
         fk_code.source(ax),
         PUT,
         rows.text,
-        _common(name, rows.held).replace("@ORIENTATION@", test),
+        _common(name, rows.held, rows.sweep).replace("@ORIENTATION@", test),
     ]
     return "\n".join(parts)

@@ -20,7 +20,7 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
     mat3 R06 = mmt(R, R_TIP0), R03;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0);
     double t1[4], t2[4], t3[4], q[6], c[6], s[6];
-    int m, ls, i, j, n = 0;
+    int m, ls, i, j, n = 0, mask = 0;  /* a free joint 4 stays at the middle: no sweep */
     m = sp5(neg(p1), p16, p2, p3, neg(h1), h2, h3, t1, t2, t3, &ls);
     if (m == -1) m = 1;  /* a continuum (the wrist centre on axis 1): one of it */
     for (i = 0; i < m; i++) {
@@ -32,7 +32,7 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
             s[j] = sin(q[j]);
         }
         R03 = mm(mm(rot_cs(h1, c[0], s[0]), rot_cs(h2, c[1], s[1])), rot_cs(h3, c[2], s[2]));
-        n = wrist(R03, R06, q, c, s, W, C, S, n);
+        n = wrist(R03, R06, MID, &mask, q, c, s, W, C, S, n);
     }
     return n;
 }
@@ -47,6 +47,7 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
     names = {f"h{i + 1}": h[i] for i in range(6)}
     names.update({f"p{i}": p[i] for i in (0, 1, 2, 3, 6)})
     names["R_TIP0"] = geo.R_tip0
-    text = c_source.constants(names) + "\n" + c_subproblems_56.source(sp5=True) + WRIST + ROWS
+    text = c_source.constants(names) + "\nenum { J3 = 3 };  /* joint 4's column */\n"
+    text += c_subproblems_56.source(sp5=True) + WRIST + ROWS
     summary = f"a 6R arm with a spherical wrist, general first axes ({geo.description})"
     return Rows(text, 8, SNAP, summary)

@@ -15,13 +15,14 @@ from armik.solvers.closed_form import spherical_shoulder
 from armik.solvers.closed_form.sixr import SNAP, Chain6R
 
 ROWS = r"""
-static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][DOF])
+static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
+                double C[][DOF], double S[][DOF])
 {
     mat3 Ri;
     int i, j;
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++) Ri.m[3 * i + j] = R.m[3 * j + i];
-    return reversed_rows(Ri, neg(mv(Ri, pos)), W, C, S);
+    return reversed_rows(Ri, neg(mv(Ri, pos)), Q0, mask, W, C, S);
 }
 """
 
@@ -31,7 +32,7 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
     holds)."""
     geo = spherical_shoulder.classify(arm, ax)
     assert isinstance(geo, Chain6R)  # the caller chose the family by its solver's test
-    text = spherical_wrist.reversed_text(spherical_shoulder.reversed_chain(geo), arm.middle)
-    text += ROWS
+    text = spherical_wrist.reversed_text(spherical_shoulder.reversed_chain(geo)) + ROWS
     summary = f"a 6R arm with a spherical shoulder ({geo.description})"
-    return Rows(text, 8, SNAP, summary)
+    sweep = tuple(5 - j for j in spherical_wrist.FREE)  # the reversed chain's, as it sweeps
+    return Rows(text, 8, SNAP, summary, sweep=sweep)

@@ -15,14 +15,18 @@ from armik.solvers.closed_form import subproblems as sp
 from armik.solvers.closed_form.sixr import SNAP, Chain6R
 
 WRIST = r"""
-/* The (up to 2) wrist solutions for a placed wrist centre, appended to W. */
-static int wrist(mat3 R03, mat3 R06, double q[6], double c[6], double s[6],
-                 double W[][DOF], double C[][DOF], double S[][DOF], int n)
+/* The (up to 2) wrist solutions for a placed wrist centre, appended to W; joint 4 free
+   (axes 4 and 6 in line) at Q0's value, its bit set in *mask. */
+static int wrist(mat3 R03, mat3 R06, const double *Q0, int *mask, double q[6], double c[6],
+                 double s[6], double W[][DOF], double C[][DOF], double S[][DOF], int n)
 {
     mat3 R36 = mtm(R03, R06), R6;
     double a[2], b[2], ca[2], sa[2], cb[2], sb[2];
-    int nw = sp2cs(mv(R36, h6), h6, neg(h4), h5, MID[3], a, b, ca, sa, cb, sb), i;
-    if (nw == -1) nw = 1;
+    int nw = sp2cs(mv(R36, h6), h6, neg(h4), h5, Q0[J3], a, b, ca, sa, cb, sb), i;
+    if (nw == -1) {
+        nw = 1;
+        *mask |= 1 << J3;
+    }
     for (i = 0; i < nw; i++) {
         q[3] = a[i];
         q[4] = b[i];
@@ -39,14 +43,19 @@ static int wrist(mat3 R03, mat3 R06, double q[6], double c[6], double s[6],
 """
 
 PARALLEL_23 = r"""
-static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][DOF])
+static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
+                double C[][DOF], double S[][DOF])
 {
-    mat3 R06 = mmt(R, R_TIP0), R1, R3;
+    mat3 R06 = mmt(R, R_TIP0), R1, R3, R03;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), v;
     double t1[2], t3[2], q[6], c[6], s[6];
     int n1, n3, i1, i3, n = 0;
     n1 = sp4(h2, p16, neg(h1), D1, t1);
-    if (n1 == -1) { n1 = 1; t1[0] = MID[0]; }  /* wrist centre on axis 1 */
+    if (n1 == -1) {  /* wrist centre on axis 1 */
+        n1 = 1;
+        t1[0] = Q0[J0];
+        *mask |= 1 << J0;
+    }
     for (i1 = 0; i1 < n1; i1++) {
         q[0] = t1[i1];
         c[0] = cos(q[0]);
@@ -54,14 +63,19 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
         R1 = rot_cs(h1, c[0], s[0]);
         v = sub(mtv(R1, p16), p1);
         n3 = sp3(p3, neg(p2), h3, norm(v), t3);
-        if (n3 == -1) { n3 = 1; t3[0] = MID[2]; }
+        if (n3 == -1) {
+            n3 = 1;
+            t3[0] = Q0[J2];
+            *mask |= 1 << J2;
+        }
         for (i3 = 0; i3 < n3; i3++) {
             q[2] = t3[i3];
             c[2] = cos(q[2]);
             s[2] = sin(q[2]);
             R3 = rot_cs(h3, c[2], s[2]);
             q[1] = sp1cs(add(p2, mv(R3, p3)), v, h2, &c[1], &s[1]);
-            n = wrist(mm(mm(R1, rot_cs(h2, c[1], s[1])), R3), R06, q, c, s, W, C, S, n);
+            R03 = mm(mm(R1, rot_cs(h2, c[1], s[1])), R3);
+            n = wrist(R03, R06, Q0, mask, q, c, s, W, C, S, n);
         }
     }
     return n;
@@ -69,21 +83,29 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
 """
 
 MEETING_12 = r"""
-static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][DOF])
+static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
+                double C[][DOF], double S[][DOF])
 {
     mat3 R06 = mmt(R, R_TIP0), R1, R3;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0);
     double t3[2], a[2], b[2], ca[2], sa[2], cb[2], sb[2], q[6], c[6], s[6];
     int n3, n12, i3, i, n = 0;
     n3 = sp3(p3, neg(p2), h3, norm(p16), t3);
-    if (n3 == -1) { n3 = 1; t3[0] = MID[2]; }
+    if (n3 == -1) {
+        n3 = 1;
+        t3[0] = Q0[J2];
+        *mask |= 1 << J2;
+    }
     for (i3 = 0; i3 < n3; i3++) {
         q[2] = t3[i3];
         c[2] = cos(q[2]);
         s[2] = sin(q[2]);
         R3 = rot_cs(h3, c[2], s[2]);
-        n12 = sp2cs(p16, add(p2, mv(R3, p3)), neg(h1), h2, MID[0], a, b, ca, sa, cb, sb);
-        if (n12 == -1) n12 = 1;  /* wrist centre on axis 1 */
+        n12 = sp2cs(p16, add(p2, mv(R3, p3)), neg(h1), h2, Q0[J0], a, b, ca, sa, cb, sb);
+        if (n12 == -1) {  /* wrist centre on axis 1 */
+            n12 = 1;
+            *mask |= 1 << J0;
+        }
         for (i = 0; i < n12; i++) {
             q[0] = a[i];
             q[1] = b[i];
@@ -92,7 +114,7 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
             c[1] = cb[i];
             s[1] = sb[i];
             R1 = mm(rot_cs(h1, c[0], s[0]), rot_cs(h2, c[1], s[1]));
-            n = wrist(mm(R1, R3), R06, q, c, s, W, C, S, n);
+            n = wrist(mm(R1, R3), R06, Q0, mask, q, c, s, W, C, S, n);
         }
     }
     return n;
@@ -100,9 +122,15 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
 """
 
 
-def chain_text(geo: Chain6R) -> str:
+# the chain's free joints (1, 3, 4) in the order ``spherical_wrist.kernel`` sweeps them
+FREE = (0, 2, 3)
+
+
+def chain_text(geo: Chain6R, joints: tuple[int, ...] = FREE) -> str:
     """The constants of the chain ``geo`` (a spherical-wrist ``Chain6R``, either variant)
-    and the C of its ``wrist`` and ``rows``."""
+    and the C of its ``wrist`` and ``rows``; ``joints``: the arm's indices of the chain's
+    joints 1, 3 and 4 (``J0``, ``J2``, ``J3``: a free joint's value is read from the seed
+    ``Q0`` and its bit set in ``*mask`` at them)."""
     h, p = geo.h, geo.p
     names = {f"h{i + 1}": h[i] for i in range(6)}
     names.update({f"p{i}": p[i] for i in (0, 2, 3, 6)})
@@ -114,7 +142,9 @@ def chain_text(geo: Chain6R) -> str:
         body = PARALLEL_23
     else:
         body = MEETING_12
-    return c_source.constants(names) + "\n" + WRIST + body
+    j0, j2, j3 = joints
+    free = f"enum {{ J0 = {j0}, J2 = {j2}, J3 = {j3} }};  /* the free joints' columns */\n"
+    return c_source.constants(names) + "\n" + free + WRIST + body
 
 
 PUT_REVERSED = r"""
@@ -133,21 +163,16 @@ static inline IK_UNUSED int put_reversed(double W[][DOF], double C[][DOF], doubl
 """
 
 
-def reversed_text(geo: Chain6R, middle) -> str:
+def reversed_text(geo: Chain6R) -> str:
     """The C of a spherical-wrist chain read from the tip of an arm (``geo``: joints 6 to
-    1; ``middle``: the arm's middle of its limits, joint 1 first): its ``reversed_rows``
-    solve it for T^-1 and write each row in the arm's order (``put_reversed``)."""
-    reversed_mid = [float(middle[5 - j]) for j in range(6)]
+    1): its ``reversed_rows`` solve it for T^-1 and write each row in the arm's order
+    (``put_reversed``), a free joint's value read from the seed ``Q0`` in the arm's order."""
     chain = (
-        chain_text(geo)
-        .replace("MID[", "RMID[")
+        chain_text(geo, tuple(5 - j for j in FREE))
         .replace("put_row(", "put_reversed(")
         .replace("static int rows(", "static int reversed_rows(")
     )
-    return (
-        "/* the middle of the limits of joints 6 to 1 */\n"
-        f"static const double RMID[6] = {c_source.array(reversed_mid)};\n" + PUT_REVERSED + chain
-    )
+    return PUT_REVERSED + chain
 
 
 def rows(arm: ArmModel, ax: Axes) -> Rows:
@@ -155,4 +180,4 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
     geo = spherical_wrist.classify(arm, ax)
     assert isinstance(geo, Chain6R)  # the caller chose the family by its solver's test
     summary = f"a 6R arm with a spherical wrist ({geo.description})"
-    return Rows(chain_text(geo), 8, SNAP, summary)
+    return Rows(chain_text(geo), 8, SNAP, summary, sweep=FREE)

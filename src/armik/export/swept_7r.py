@@ -23,8 +23,8 @@ HELD = 6  # the joint swept_7r holds: joint 7
 
 ROWS = r"""
 /* joints 1 to 6 by the reversed chain, joint 7 set after */
-static int rows(mat3 R, vec3 pos, double held, double W[][DOF], double C[][DOF],
-                double S[][DOF])
+static int rows(mat3 R, vec3 pos, double held, const double *Q0, int *mask, double W[][DOF],
+                double C[][DOF], double S[][DOF])
 {
     mat3 Rg = rot(U7, -held), R6 = mm(R, Rg), Ri;
     vec3 p_end = add(mv(R, sub(C7, mv(Rg, C7))), pos), pi;
@@ -33,7 +33,7 @@ static int rows(mat3 R, vec3 pos, double held, double W[][DOF], double C[][DOF],
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++) Ri.m[3 * i + j] = R6.m[3 * j + i];
     pi = neg(mv(Ri, p_end));
-    n = reversed_rows(Ri, pi, W, C, S);
+    n = reversed_rows(Ri, pi, Q0, mask, W, C, S);
     for (i = 0; i < n; i++) {
         W[i][HELD] = held;
         C[i][HELD] = c7;
@@ -49,6 +49,7 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
     sw = swept_7r.classify(arm, ax)
     assert isinstance(sw, swept_7r.Swept)  # the caller chose the family by its test
     names = c_source.constants({"C7": sw.c, "U7": sw.u})
-    text = f"{names}\n" + spherical_wrist.reversed_text(sw.geo, arm.middle) + ROWS
+    text = f"{names}\n" + spherical_wrist.reversed_text(sw.geo) + ROWS
     summary = f"a 7R arm with joint 7 held at an argument ({sw.description})"
-    return Rows(text, 8, SNAP, summary, held=HELD)
+    sweep = tuple(5 - j for j in spherical_wrist.FREE)  # the reversed chain's, as it sweeps
+    return Rows(text, 8, SNAP, summary, held=HELD, sweep=sweep)

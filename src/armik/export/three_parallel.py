@@ -38,14 +38,19 @@ static double reach_turn(vec3 c, double theta)
     return (t >= 0.0 ? edge : -edge) - t;
 }
 
-static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][DOF])
+static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
+                double C[][DOF], double S[][DOF])
 {
     mat3 R06 = mmt(R, R_TIP0), R1, M, R5, R234;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), a, b, v;
     double t1[2], t5[2], t3[2], q[6], c[6], s[6], q234, c234, s234, turn, ca, sa, sg;
     int n1, n5, n3, i1, i5, i3, n = 0;
     n1 = sp4(h2, p16, neg(h1), D1, t1);
-    if (n1 == -1) { n1 = 1; t1[0] = MID[0]; }
+    if (n1 == -1) {  /* wrist point on axis 1 */
+        n1 = 1;
+        t1[0] = Q0[0];
+        *mask |= 1 << 0;
+    }
     for (i1 = 0; i1 < n1; i1++) {
         q[0] = t1[i1];
         c[0] = cos(q[0]);
@@ -53,7 +58,7 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
         R1 = rot_cs(h1, c[0], s[0]);
         M = mtm(R1, R06);
         n5 = sp4(h2, h6, h5, dot(h2, mv(M, h6)), t5);
-        if (n5 == -1) { n5 = 1; t5[0] = MID[4]; }
+        if (n5 == -1) { n5 = 1; t5[0] = Q0[4]; }
         for (i5 = 0; i5 < n5; i5++) {
             q[4] = t5[i5];
             c[4] = cos(q[4]);
@@ -62,9 +67,10 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
             a = mtv(M, h2);
             b = mtv(R5, h2);
             if (norm(cross(a, h6)) < IK_SINGLE || norm(cross(b, h6)) < IK_SINGLE) {
-                /* wrist singular: q6 kept at the middle of its limits unless the wrist point
-                   is then out of the elbow's reach */
-                q[5] = MID[5];
+                /* wrist singular: q6 kept at the seed's value unless the wrist point is then
+                   out of the elbow's reach */
+                q[5] = Q0[5];
+                *mask |= 1 << 5;
                 R234 = mmt(mmt(M, rot(h6, q[5])), R5);
                 q234 = sp1(X, mv(R234, X), h2);
                 turn = reach_turn(sub(mtv(R1, p16), p1), q234);
@@ -78,7 +84,11 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
             q234 = sp1cs(X, mv(R234, X), h2, &c234, &s234);
             v = sub(sub(mtv(R1, p16), p1), mv(R234, p4));
             n3 = sp3(p3, neg(p2), h3, norm(v), t3);
-            if (n3 == -1) { n3 = 1; t3[0] = MID[2]; }
+            if (n3 == -1) {
+                n3 = 1;
+                t3[0] = Q0[2];
+                *mask |= 1 << 2;
+            }
             for (i3 = 0; i3 < n3; i3++) {
                 q[2] = t3[i3];
                 c[2] = cos(q[2]);
@@ -121,4 +131,5 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
         HAIR=three_parallel.HAIR,
     )
     summary = f"a 6R arm with axes 2, 3, 4 parallel and axes 5, 6 meeting ({geo.description})"
-    return Rows(c_source.constants(names) + "\n" + ROWS, 8, SNAP, summary)
+    # the free joints (1, 3, 6) in the order ``three_parallel.kernel`` sweeps them
+    return Rows(c_source.constants(names) + "\n" + ROWS, 8, SNAP, summary, sweep=(0, 2, 5))
