@@ -103,13 +103,6 @@ def solve_batch(
         workers = 1 if workers is None else _workers(workers, None)
         return batch_rows.solve_rows(arm, request, seeds, progress, run_jobs, chunk, workers)
     opts = with_seed(request.opts, request.seed)  # seeded once: every chunk reads these
-    if opts.swivel is not None:
-        raise OptionError(
-            "swivel= is for solve and solve_all: solve each target with arm.solve_all(T, "
-            "swivel=...)",
-            option="swivel",
-            value=opts.swivel,
-        )
     batch = parse_targets(targets, arm)
     n = len(batch.positions)
     seeds = batch_seeds(arm, q0, n)
