@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast, overload
@@ -21,6 +21,8 @@ if TYPE_CHECKING:
 
 _WORDS = np.array([s.value for s in Status])
 _NOT_CONVERGED = Status.NOT_CONVERGED.code  # the failure state rows start in (``empty``)
+NO_BRANCH = -1  # ``branch_code``: a row without a branch label
+UNREAD = -2  # ``branch_code``: the branch of the row's q, read by ``brancher`` when first read
 FORMAT = "armik.BatchResult/1"
 
 
@@ -48,6 +50,9 @@ class BatchResult:
       where the verdict measured the distances themselves (``armik.verify.distances``).
     - ``region``, ``cone``: the targets are regions (bounds, an aim) and the aim's cone (rad,
       None: no aim), so that a success's ``reason(i)`` says what ``solve``'s says.
+    - ``branch`` (N,): each answer's branch label as ``solve`` gives it, None where none;
+      stored as codes, ``branch_code`` indices into ``branch_names`` (-1: none), a compiled
+      closed form's read from its answers by ``brancher`` when first read.
 
     ``len(r)``, ``r[i]`` (an ``IKResult``), ``r[mask]`` or ``r[a:b]`` (a ``BatchResult``),
     iteration over ``IKResult``s, ``save``/``load`` (.npz) and ``summary()``.
@@ -78,9 +83,17 @@ class BatchResult:
     # a success's claim before its verdict's words, as ``solve`` says it ("{}": its
     # restarts; a numeric solver's ``reasons.CONVERGED``), or "" for none
     claim: str = ""
+    branch_code: np.ndarray | None = None  # (N,) int16; NO_BRANCH filled when None is given
+    branch_names: list[str] = field(default_factory=list)
+    # the codes of UNREAD rows' q (k, dof) in ``branch_names``, which start with its ``labels``
+    brancher: Callable[[np.ndarray], np.ndarray] | None = None
 
     def __post_init__(self) -> None:
         n = len(self.success)
+        if self.branch_code is None:
+            object.__setattr__(self, "branch_code", np.full(n, NO_BRANCH, dtype=np.int16))
+        if not self.branch_names:  # a brancher's codes index its labels
+            self.branch_names.extend(getattr(self.brancher, "labels", ()))
         if self.min_distance is None:
             object.__setattr__(self, "min_distance", np.full(n, np.nan))
         if self.score is None:
@@ -95,25 +108,40 @@ class BatchResult:
     def __len__(self) -> int:
         return len(self.success)
 
+    # the arrays a None given is filled as, typed as arrays (``__post_init__``)
     @property
     def _scores(self) -> np.ndarray:
-        """``score``: an array once built (``__post_init__`` fills a None)."""
         return cast(np.ndarray, self.score)
 
     @property
     def _distances(self) -> np.ndarray:
-        """``min_distance``: an array once built (``__post_init__`` fills a None)."""
         return cast(np.ndarray, self.min_distance)
 
     @property
     def _measured(self) -> np.ndarray:
-        """``measured``: an array once built (``__post_init__`` fills a None)."""
         return cast(np.ndarray, self.measured)
 
     @property
     def _pairs(self) -> np.ndarray:
-        """``pair_index``: an array once built (``__post_init__`` fills a None)."""
         return cast(np.ndarray, self.pair_index)
+
+    @property
+    def _codes(self) -> np.ndarray:  # UNREAD rows included
+        return cast(np.ndarray, self.branch_code)
+
+    def _branch_codes(self, rows: np.ndarray | None = None) -> np.ndarray:
+        """The codes of ``rows`` (None: every row), those UNREAD read and kept first."""
+        codes = self._codes
+        unread = np.flatnonzero(codes == UNREAD) if rows is None else rows[codes[rows] == UNREAD]
+        if len(unread):
+            codes[unread] = NO_BRANCH if self.brancher is None else self.brancher(self.q[unread])
+        return codes if rows is None else codes[rows]
+
+    @property
+    def branch(self) -> np.ndarray:
+        """(N,) each answer's branch label as ``solve`` gives it (objects; None: none)."""
+        names = np.array([*self.branch_names, None], dtype=object)  # -1: the None at the end
+        return cast(np.ndarray, names[self._branch_codes()])
 
     @property
     def status(self) -> np.ndarray:
@@ -180,7 +208,7 @@ class BatchResult:
     ) -> IKResult | BatchResult:
         if isinstance(index, (int, np.integer)):
             i = self._index(index)
-            ori = float(self.orientation_error[i])
+            ori, code = float(self.orientation_error[i]), int(self._branch_codes(np.array([i]))[0])
             extra: dict[str, Any] = {"index": i, "batch_time": self.time}
             if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):
                 extra["min_distance"] = float(self._distances[i])
@@ -201,6 +229,7 @@ class BatchResult:
                 orientation_error=None if math.isnan(ori) else ori,
                 time=self.time / max(len(self), 1),
                 restarts=int(self.restarts[i]),
+                branch=None if code < 0 else self.branch_names[code],
                 extra=extra,
             )
         picked = np.arange(len(self))[index]
@@ -235,6 +264,9 @@ class BatchResult:
             cone=self.cone,
             measured=self._measured[picked],
             claim=self.claim,
+            branch_code=self._codes[picked],
+            branch_names=list(self.branch_names),
+            brancher=self.brancher,
         )
 
     def __iter__(self) -> Iterator[IKResult]:
@@ -288,6 +320,7 @@ class BatchResult:
             "region": self.region,
             "cone": self.cone,
             "claim": self.claim,
+            "branch_names": list(self.branch_names),
             "statuses": _WORDS.tolist(),
             "pair_names": [list(p) for p in self.pair_names],
         }
@@ -306,6 +339,7 @@ class BatchResult:
             pair_index=self._pairs,
             score=self._scores,
             measured=self._measured,
+            branch_code=self._branch_codes(),
         )
         return npz.save(path, meta, arrays)
 
@@ -342,6 +376,8 @@ class BatchResult:
             cone=_cone(meta.get("cone")),  # absent from files before it was kept
             measured=arrays.get("measured"),  # absent from files before it was kept
             claim=str(meta.get("claim", "")),  # absent from files before it was kept
+            branch_code=arrays.get("branch_code"),  # absent from files before it was kept
+            branch_names=[str(b) for b in meta.get("branch_names", [])],
         )
 
     # -- building ---------------------------------------------------------------------
@@ -370,6 +406,7 @@ class BatchResult:
         claim: str = "",
         margin: float = 0.0,
         aim: Aim | None = None,
+        brancher: Callable[[np.ndarray], np.ndarray] | None = None,
     ) -> BatchResult:
         """``empty`` rows for n targets of ``arm``, labelled with its joints, tolerances and
         the clearance its successes keep (``claim``: see the field); ``aim``: the targets'
@@ -387,6 +424,7 @@ class BatchResult:
             region=opts.bounds is not None or aim is not None,
             cone=None if aim is None else aim.within,
             claim=claim,
+            brancher=brancher,
         )
 
     def put(self, start: int, part: BatchResult) -> None:
@@ -400,6 +438,13 @@ class BatchResult:
             self._pairs[start:stop] = mine[part._pairs]  # -1 stays -1
         else:
             self._pairs[start:stop] = part._pairs
+        codes = part._codes
+        if part.branch_names != self.branch_names or self.brancher is None:
+            codes = part._branch_codes()  # read where they were, in this batch's names
+            if part.branch_names != self.branch_names:
+                ours = [_interned(self.branch_names, b) for b in part.branch_names] + [NO_BRANCH]
+                codes = np.array(ours, dtype=np.int16)[codes]  # -1 stays -1
+        self._codes[start:stop] = codes
 
     def put_result(self, i: int, r: IKResult) -> None:
         """Copy one ``IKResult`` into row ``i``."""
@@ -410,6 +455,7 @@ class BatchResult:
         self.orientation_error[i] = math.nan if r.orientation_error is None else r.orientation_error
         self.iterations[i] = r.iterations
         self.restarts[i] = r.restarts
+        self._codes[i] = NO_BRANCH if r.branch is None else _interned(self.branch_names, r.branch)
         s = r.extra.get("score")
         if s is not None:
             self._scores[i] = s
@@ -431,12 +477,16 @@ class BatchResult:
 
     def _pair(self, pair: tuple[str, str]) -> int:
         """The index of ``pair`` in ``pair_names``, appended when new."""
-        pair = cast("tuple[str, str]", tuple(pair))  # given as any sequence of two names
-        try:
-            return self.pair_names.index(pair)
-        except ValueError:
-            self.pair_names.append(pair)
-            return len(self.pair_names) - 1
+        return _interned(self.pair_names, tuple(pair))  # given as any sequence of two names
+
+
+def _interned(names: list[Any], name: Any) -> int:
+    """The index of ``name`` in ``names``, appended when new."""
+    try:
+        return names.index(name)
+    except ValueError:
+        names.append(name)
+        return len(names) - 1
 
 
 def _cone(saved: object) -> float | None:
@@ -445,15 +495,5 @@ def _cone(saved: object) -> float | None:
     return None if saved is None else float(cast(float, saved))
 
 
-_ARRAYS = (
-    "q",
-    "success",
-    "status_code",
-    "position_error",
-    "orientation_error",
-    "iterations",
-    "restarts",
-    "min_distance",
-    "score",
-    "measured",
-)
+_ARRAYS: tuple[str, ...] = ("q", "success", "status_code", "position_error", "orientation_error")
+_ARRAYS += ("iterations", "restarts", "min_distance", "score", "measured")

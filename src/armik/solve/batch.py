@@ -32,12 +32,13 @@ import sys
 import time
 import warnings
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
 from armik import cpu_time, reasons
-from armik.batch_result import BatchResult
+from armik.batch_result import UNREAD, BatchResult
 from armik.constraints.clear import Collisions
 from armik.constraints.collision import checker
 from armik.errors import ArmikWarning, OptionError
@@ -49,6 +50,8 @@ from armik.solve.prepared import chosen
 from armik.solve.progress import ProgressArg, make_progress, reporter
 from armik.solve.stages import going_on, run
 from armik.solvers import registry
+from armik.solvers.closed_form import sixr
+from armik.solvers.closed_form.family import Family
 from armik.status import Status
 from armik.targets.batch import TargetBatch, parse_targets
 from armik.verify.verdict import verdict_batch
@@ -103,13 +106,6 @@ def solve_batch(
         workers = 1 if workers is None else _workers(workers, None)
         return batch_rows.solve_rows(arm, request, seeds, progress, run_jobs, chunk, workers)
     opts = with_seed(request.opts, request.seed)  # seeded once: every chunk reads these
-    if opts.swivel is not None:
-        raise OptionError(
-            "swivel= is for solve and solve_all: solve each target with arm.solve_all(T, "
-            "swivel=...)",
-            option="swivel",
-            value=opts.swivel,
-        )
     batch = parse_targets(targets, arm)
     n = len(batch.positions)
     seeds = batch_seeds(arm, q0, n)
@@ -118,7 +114,8 @@ def solve_batch(
     workers = _workers(workers, spec)
     chunk = _chunk_size(chunk_size)
     claim = reasons.CONVERGED if spec.kind == "numeric" else ""  # a success's, as solve's
-    out = BatchResult.for_arm(arm, n, spec.name, opts, claim, opts.margin, batch.aim)
+    branches = _branches(arm, spec)
+    out = BatchResult.for_arm(arm, n, spec.name, opts, claim, opts.margin, batch.aim, branches)
     clear = _clear(opts) if opts.obstacles or opts.self_collision else ()  # none asked: no call
     if clear:  # the pairs in the checker's order, whatever order rows finish in
         out.pair_names.extend(checker(arm, opts.obstacles, opts.self_collision).pair_names)
@@ -190,7 +187,8 @@ class Chunk(NamedTuple):
         opts = self.request.settings
         n = len(self.targets)
         aim = self.targets.aim
-        out = BatchResult.for_arm(self.arm, n, spec.name, opts, margin=opts.margin, aim=aim)
+        branches = _branches(self.arm, spec)
+        out = BatchResult.for_arm(self.arm, n, spec.name, opts, "", opts.margin, aim, branches)
         clear = _clear(opts) if opts.obstacles or opts.self_collision else ()
         solve_chunk(self.arm, spec, self.targets, self.seeds, self.request, opts, clear, out, 0)
         return Rows(**vars(out), start=self.start)
@@ -287,6 +285,8 @@ def solve_chunk(
         seeds = np.array(seeds, order="C")
     answers = spec.run_batch(arm, targets, seeds, opts)
     success = verdict_batch(arm, answers, targets, opts, out, start, clear)
+    if out.brancher is not None:  # each row's branch read from its answer when first read
+        out._codes[start : start + len(targets)] = UNREAD  # a row solved again: its own
     if spec.kind == "analytic" and opts.checks:
         # a branch that passed a user's check only turned by 2 pi is not ``solve``'s
         # answer, which takes the nearest branch that passes as it is first
@@ -312,6 +312,37 @@ def solve_chunk(
             else:
                 r = _row(arm, request, targets.target(i), seeds[i])
             out.put_result(start + i, r)
+
+
+@dataclass(frozen=True, eq=False)
+class Branches:
+    """A 6R closed form's branch codes (``sixr.LABELS``) of a batch's answers, read from
+    each answer's geometry (``sixr.branch_bits``, as ``solve``'s kernel labels its answer)
+    in one compiled call when a result is read (``BatchResult.brancher``): the batch
+    itself computes none. ``h``, ``p``: the family's chain (``sixr.flat``)."""
+
+    h: np.ndarray
+    p: np.ndarray
+
+    @property
+    def labels(self) -> tuple[str, ...]:
+        return sixr.LABELS
+
+    def __call__(self, q: np.ndarray) -> np.ndarray:
+        rows = np.zeros((len(q), 8))  # ``sixr.pack``'s columns: q, then the branch in 7
+        rows[:, :6] = q
+        sixr.hand_over(len(q), False, 0, self.h, self.p, rows)  # labels every row
+        return rows[:, 7].astype(np.int16)
+
+
+def _branches(arm: ArmModel, spec: SolverSpec) -> Branches | None:
+    """What reads the branches of ``spec``'s compiled batch rows: a 6R family's
+    ``Branches``, None for any other solver (its rows solved by ``solve`` carry theirs)."""
+    family = getattr(spec.run_batch, "__self__", None)
+    if not isinstance(family, Family):
+        return None
+    h, p = sixr.unflatten.py_func(sixr.flat(arm, family.family, family.classify))[:2]
+    return Branches(h, p)
 
 
 def _first_row(part: BatchResult, i: int, opts: SolverSettings) -> Verdicts:

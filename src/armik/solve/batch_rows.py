@@ -1,7 +1,7 @@
 """A batch the compiled batch has no form for (task lists it cannot lower together,
-``prefer=``, ``hold=``): each row's own request (``Request.rows``) solved as ``solve``
-solves it, in chunks of rows (``RowsChunk``) that run here one after another, or as a
-backend's jobs (``solve_batch(..., backend=...)``: ``armik.solve.backends``, the Dask
+``prefer=``, ``hold=``, ``swivel=``): each row's own request (``Request.rows``) solved as
+``solve`` solves it, in chunks of rows (``RowsChunk``) that run here one after another, or
+as a backend's jobs (``solve_batch(..., backend=...)``: ``armik.solve.backends``, the Dask
 runner ``armik.solve.distributed``): the same answers either way, since each row is
 solved alone from its own seed.
 """

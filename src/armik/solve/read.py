@@ -110,8 +110,8 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     """The request of ``solve_batch(arm, targets, q0=q0, solver=solver, **options)``: the
     targets as given, or task lists lowered together to the compiled batch's targets and
     options; where the compiled batch has no form for them (task lists that do not lower
-    together, a preference, a held joint), each row's own request in ``rows``, read as
-    ``solve`` reads it."""
+    together, a preference, a held joint, a swivel angle), each row's own request in
+    ``rows``, read as ``solve`` reads it."""
     t0 = time.perf_counter()
     if "budget" in options:  # as its options, which a row's solve may narrow
         options = spelled(options)
@@ -146,7 +146,8 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
         plain = dict(options)
         del plain["prefer"]
     opts, key, seed = settings(arm, plain) if plain else (_DEFAULT, (), 0)
-    if rows is None and opts.hold is not None:  # held joints: each target solved as solve does
+    if rows is None and (opts.hold is not None or opts.swivel is not None):
+        # held joints, an SRS arm's swivel angle: each target solved as solve does
         batch = parse_targets(targets, arm)
         rows = [batch.target(i) for i in range(len(batch))]
     if rows is not None and lowered is not None and problems is not None:

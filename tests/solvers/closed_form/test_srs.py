@@ -251,7 +251,7 @@ def test_bad_swivel_options_are_clear_errors(options, words):
         a.solve_all(a.fk(np.full(7, 0.2)), **options)
 
 
-def test_swivel_on_other_arms_and_in_batches_is_refused():
+def test_swivel_on_other_arms_is_refused_and_a_batch_takes_it():
     p = arm("panda")
     with pytest.raises(
         armik.OptionError,
@@ -259,7 +259,9 @@ def test_swivel_on_other_arms_and_in_batches_is_refused():
     ):
         p.solve(p.fk(p.middle), swivel=0.2)
     a = arm("kuka_iiwa14")
-    with pytest.raises(armik.OptionError, match="swivel= is for solve and solve_all"):
-        a.solve_batch(np.array([a.fk(np.full(7, 0.2)).homogeneous]), swivel=0.2, workers=1)
+    # a batch takes it: each row at that swivel angle (tests/solve/test_batch_swivel.py)
+    batch = a.solve_batch(np.array([a.fk(np.full(7, 0.2)).homogeneous]), swivel=0.2, workers=1)
+    assert batch.success.all()
+    assert _same_angles(srs.swivel_of(a.kinematics, batch.q[0]), 0.2, 1e-9)
     with pytest.raises(armik.OptionError, match="full pose"):
         a.solve(a.fk(np.full(7, 0.2)).translation, swivel=0.2)
