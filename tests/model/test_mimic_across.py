@@ -53,7 +53,7 @@ def test_tips_coupled_through_a_mimic_joint_are_refused_naming_it(tips):
         "joint 'jr' on the chain to 'rt' mimics 'jl'",
         "moves on the chain to 'lf'",
         "tip='rt' or tip='lf'",
-        "lock the driver (locked={'jl': value})",
+        "lock the driver (locked={'jl': value}, --lock jl=VALUE)",
     ):
         assert words in text, text
 

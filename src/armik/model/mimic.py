@@ -130,7 +130,7 @@ def across(chains: dict) -> None:
                 f"{tip!r} holds {name!r} fixed at {value:g}, where the robot moves it with "
                 f"{driver!r}; armik does not solve tips coupled through a mimic joint: load one "
                 f"tip (tip={tip!r} or tip={other!r}), or lock the driver (locked={{{driver!r}: "
-                "value}) so that both chains hold it",
+                f"value}}, --lock {driver}=VALUE) so that both chains hold it",
                 joint=name,
             )
 
