@@ -119,6 +119,6 @@ def closest(name: object, names: Iterable[str]) -> list[str]:
 
 
 def did_you_mean(name: object, names: Iterable[str]) -> str:
-    """ "did you mean 'x'? " naming the ``closest`` of ``names``, or "" where none is close."""
+    """The words "did you mean 'x'? " naming the ``closest`` of ``names`` ("" if none)."""
     close = closest(name, names)
     return f"did you mean {listing(close)}? " if close else ""
