@@ -19,7 +19,7 @@ from armik import checked
 from armik.arms import Arms
 from armik.constraints import collision
 from armik.constraints.srdf import read_srdf
-from armik.errors import ArmikWarning, JointError, OptionError, URDFError, listing
+from armik.errors import ArmikWarning, JointError, OptionError, URDFError, did_you_mean, listing
 from armik.model import frames
 from armik.model.arm_model import ArmModel
 from armik.model.catalogue import CATALOGUE, entry
@@ -139,7 +139,7 @@ def load(
         if not _exists(path) and path.suffix.lower() not in (".urdf", ".xml"):
             raise URDFError(
                 f"{_shown(name)!r} is neither a bundled robot ({listing(CATALOGUE)}) nor an "
-                "existing URDF file: check the name or the path",
+                f"existing URDF file: {did_you_mean(name, CATALOGUE)}check the name or the path",
                 path=name,
             )
         name = path.stem

@@ -34,6 +34,7 @@ from armik.arms_tasks import as_tasks, by_tip, on, placed
 from armik.constraints.on_chain import OnChain
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.frozen import frozen
+from armik.model import mimic
 from armik.model.arm_model import ArmModel
 from armik.model.union import Union
 from armik.problem.problem import Problem, as_problem
@@ -73,6 +74,7 @@ class Arms(ArmsKinematics):
             for tip, arm in chains.items()
         }
         chains = self._chains
+        mimic.across(chains)  # a mimic joint on one chain driven from another: refused
         names = [j for arm in chains.values() for j in arm.joint_names]
         shared = sorted({n for n in names if names.count(n) > 1})
         self.tips: tuple[str, ...] = tuple(chains)

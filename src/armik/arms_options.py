@@ -55,13 +55,15 @@ def per_chain(
     if posture is not None:  # over every joint of the robot, then split by chain
         fit_posture(len(posture[0]), joint_names, "the robot", "secondary")
     holds = opts.hold or ()
-    for joint, _ in holds:
+    for joint, value in holds:
         if joint not in joint_names:
-            for arm in chains.values():  # a locked joint is named as one, not as unknown
-                if joint in arm.locked:
-                    Hold(joint).index(arm)
+            # a locked joint or a mimic joint is named as one, not as unknown
+            why = next(
+                filter(None, (Hold(joint, value).not_free(a) for a in chains.values())), None
+            )
             raise JointError(
-                f"hold: unknown joint {joint!r}; the joints of tips {list(chains)}: "
+                why
+                or f"hold: unknown joint {joint!r}; the joints of tips {list(chains)}: "
                 f"{listing(joint_names)}",
                 joint=joint,
                 candidates=joint_names,

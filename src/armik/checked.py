@@ -70,6 +70,26 @@ def integer(key: str, value: object, minimum: int, maximum: int | None = None) -
     return int(value)
 
 
+MOST_SEED = 2**32 - 1  # numpy's legacy seeds (scipy's ``random_state``): [0, 2**32 - 1]
+
+
+def sampling_seed(
+    key: str, value: object
+) -> int | np.random.Generator | np.random.RandomState | None:
+    """``value`` as a sampling seed numpy takes as ``random_state``: a whole number in
+    [0, 2**32 - 1] (the CLI's ``--seed`` words), or None or a numpy generator as given."""
+    if value is None or isinstance(value, (np.random.Generator, np.random.RandomState)):
+        return value
+    if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)):
+        if 0 <= value <= MOST_SEED:
+            return int(value)
+    raise OptionError(
+        f"{key} must be a whole number in [0, {MOST_SEED}] (a sampling seed), got {value!r}",
+        option=key,
+        value=value,
+    )
+
+
 def generator(key: str, value: object) -> np.random.Generator:
     """``value`` (a ``numpy.random.Generator``, a seed >= 0 or None) as a generator."""
     try:

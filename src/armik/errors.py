@@ -7,6 +7,7 @@ with ``success=False``.
 
 from __future__ import annotations
 
+import difflib
 from collections.abc import Callable, Iterable
 
 
@@ -110,3 +111,14 @@ def listing(names: Iterable[str], limit: int = 40) -> str:
     if len(names) > limit:
         shown += f", ... ({len(names) - limit} more)"
     return shown
+
+
+def closest(name: object, names: Iterable[str]) -> list[str]:
+    """The names most like ``name`` (difflib's, at most 5): an error's suggestions."""
+    return difflib.get_close_matches(str(name), list(names), n=5, cutoff=0.5)
+
+
+def did_you_mean(name: object, names: Iterable[str]) -> str:
+    """The words "did you mean 'x'? " naming the ``closest`` of ``names`` ("" if none)."""
+    close = closest(name, names)
+    return f"did you mean {listing(close)}? " if close else ""

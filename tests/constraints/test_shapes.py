@@ -91,3 +91,57 @@ def test_bad_collision_options_are_refused():
         ur5.solve(T, margin=0.01)
     with pytest.raises(armik.OptionError, match="self_collision must be True or False"):
         ur5.solve(T, self_collision="yes")
+
+
+def _stl(path, triangles) -> str:
+    """An ASCII STL of ``triangles`` (each three (x, y, z) vertices) at ``path``."""
+    path.write_text(
+        "solid s\n"
+        + "".join(
+            "facet normal 0 0 0\nouter loop\n"
+            + "".join(f"vertex {x} {y} {z}\n" for x, y, z in t)
+            + "endloop\nendfacet\n"
+            for t in triangles
+        )
+        + "endsolid s\n"
+    )
+    return str(path)
+
+
+TRIANGLE = [((0, 0, 0), (0.1, 0, 0), (0, 0.1, 0))]
+SQUARE = [((0, 0, 0), (1, 0, 0), (1, 1, 0)), ((0, 0, 0), (1, 1, 0), (0, 1, 0))]  # flat
+LINE = [((0, 0, 0), (1, 0, 0), (2, 0, 0)), ((0, 0, 0), (2, 0, 0), (3, 0, 0))]
+
+
+@pytest.mark.parametrize(
+    "triangles, given",
+    [
+        (TRIANGLE, "3 vertices"),
+        (SQUARE, "4 vertices, all in one plane"),
+        (LINE, "4 vertices, all on one line"),
+    ],
+)
+def test_a_mesh_that_is_no_solid_is_refused_where_it_is_built(tmp_path, triangles, given):
+    """coal's convex hull raised its own ValueError on fewer than 4 vertices, and ended the
+    process (a segmentation fault) on 4 or more in one plane or line."""
+    path = _stl(tmp_path / "flat.stl", triangles)
+    with pytest.raises(armik.CollisionError, match=f"has {given}: a collision mesh needs 4 or"):
+        armik.Mesh(path)
+
+
+def test_a_robots_collision_mesh_that_is_no_solid_is_named_with_its_link(tmp_path):
+    """A URDF's collision mesh of 3 vertices: coal's ValueError from a solve under
+    self_collision; an armik error naming the mesh and its link."""
+    mesh = _stl(tmp_path / "l1.stl", TRIANGLE)
+    lim = '<limit lower="-3" upper="3" effort="1" velocity="1"/>'
+    xml = (
+        '<robot name="pk"><link name="base"/><link name="l1"><collision><geometry>'
+        f'<mesh filename="{mesh}"/></geometry></collision></link><link name="l2"/>'
+        '<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>'
+        f'<origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>{lim}</joint>'
+        '<joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>'
+        f'<origin xyz="0.3 0 0"/><axis xyz="0 1 0"/>{lim}</joint></robot>'
+    )
+    a = armik.load_string(xml, tip="l2")
+    with pytest.raises(armik.CollisionError, match=r"mesh '.*l1.stl' of link 'l1' .* 3 vertices"):
+        a.solve([0.3, 0.0, 0.1], self_collision=True)

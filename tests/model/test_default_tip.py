@@ -86,6 +86,7 @@ def test_one_moving_joint_from_the_base_is_the_arm_not_a_jaw(tmp_path, jaw):
     )
     a = armik.load(write_urdf(tmp_path, text))
     assert (a.tip, a.dof, a.joint_names) == ("l2", 1, [jaw])
+    assert a.tip_reason.endswith("(1 moving joint)"), a.tip_reason  # not "1 moving joints"
 
 
 def test_a_finger_robot_keeps_its_last_joint(tmp_path):
@@ -93,6 +94,7 @@ def test_a_finger_robot_keeps_its_last_joint(tmp_path):
     text = chain(*ARM, joint("finger_lower_joint", "hand", "finger_lower_link"))
     a = armik.load(write_urdf(tmp_path, text))
     assert (a.tip, a.dof) == ("finger_lower_link", 4)
+    assert "(4 moving joints)" in a.tip_reason, a.tip_reason
 
 
 def test_a_jaw_with_a_joint_below_is_part_of_the_arm(tmp_path):

@@ -10,6 +10,7 @@ import pytest
 
 import armik
 from armik.errors import FrameError, JointError, URDFError
+from armik.model.catalogue import entry
 
 from ..conftest import ALL_ROBOTS, arm, two_link_urdf, write_urdf
 
@@ -155,8 +156,15 @@ def test_missing_file_and_directory(tmp_path):
         armik.load(tmp_path / "nope.urdf")
     with pytest.raises(URDFError, match="directory"):
         armik.load(tmp_path)
-    with pytest.raises(URDFError, match="neither a bundled robot"):
+    with pytest.raises(URDFError, match="neither a bundled robot") as info:
         armik.load("no_such_robot")
+    assert "did you mean" not in str(info.value)  # nothing close to suggest
+    with pytest.raises(URDFError, match=r"did you mean 'panda'\? check the name"):
+        armik.load("pand")
+    with pytest.raises(URDFError, match=r"did you mean 'kuka_iiwa14'\?"):
+        armik.load("kuka")
+    with pytest.raises(armik.InputError, match=r"unknown robot 'pand': did you mean 'panda'\?"):
+        entry("pand")
     with pytest.raises(URDFError, match="robot name or a path"):
         armik.load(42)
 

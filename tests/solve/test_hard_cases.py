@@ -68,6 +68,14 @@ def test_q0_outside_limits_is_clipped_with_warning():
     with pytest.warns(ArmikWarning, match="panda_joint4 = 0 outside"):
         r = a.solve(a.fk(a.middle), q0=np.zeros(7))  # all zeros: joint 4 is outside
     assert r.success
+    # a hair outside: six digits read "2.8973 outside [-2.8973, 2.8973]"; the excess says why
+    q0 = a.middle.copy()
+    q0[0], q0[3] = a.upper[0] + 1e-9, a.lower[3] - 2e-9
+    with pytest.warns(ArmikWarning) as caught:
+        a.solve(a.fk(a.middle), q0=q0)
+    text = str(caught[0].message)
+    assert "panda_joint1 is 1e-09 past its upper limit 2.8973; " in text, text
+    assert "panda_joint4 is 2e-09 past its lower limit -3.0718" in text, text
 
 
 @pytest.mark.parametrize("name", ["panda", "ur5"])

@@ -56,6 +56,10 @@ def test_bad_arguments():
         reachability(a, resolution=1e-300)
     with pytest.raises(InputError, match="not a reachability map"):
         ReachMap.load(__file__)
+    # numpy's own ValueError before: the CLI's words for a --seed out of range
+    for seed in (-1, 2**32, 1.5, True):
+        with pytest.raises(OptionError, match=r"seed must be a whole number in \[0, 4294967295\]"):
+            reachability(a, resolution=0.5, orientations=2, seed=seed)
 
 
 def test_an_arm_of_fewer_than_6_joints_maps_positions(tmp_path):

@@ -23,7 +23,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.constraints.bounds import ordered_bounds, ordered_bounds_many
-from armik.constraints.shapes import Shape, check_obstacles, convex_hull
+from armik.constraints.shapes import Shape, check_obstacles, convex_hull, solid
 from armik.constraints.srdf import Pair, sorted_pair
 from armik.errors import CollisionError
 from armik.model.arm_model import ArmModel, model_of
@@ -77,8 +77,11 @@ def _build_geometry(arm: ArmModel) -> ArmGeometry:
     links = tuple(full.frames[o.parentFrame].name for o in geom.geometryObjects)
     if chain.locked_joints:
         _, geom = reduce_model(full, list(chain.locked_joints), chain.q_ref, geom)
-    for o in geom.geometryObjects:
+    for o, link in zip(geom.geometryObjects, links):
         if isinstance(o.geometry, coal.BVHModelBase):
+            mesh = f"the collision mesh {o.meshPath!r} of link {link!r} of arm {arm.name!r}"
+            fix = "give that <collision> a mesh of a solid, or a <box>, in the URDF"
+            solid(o.geometry, mesh, fix)
             o.geometry = convex_hull(o.geometry)
     bodies = [o.parentJoint for o in geom.geometryObjects]
     parents = arm.model.parents

@@ -21,6 +21,7 @@ import numpy as np
 from armik import reasons
 from armik.constraints.base import Check, Constraint
 from armik.errors import JointError, OptionError, listing
+from armik.model.mimic import not_a_joint
 from armik.status import Status
 from armik.tolerances import LIMIT_TOL
 
@@ -63,24 +64,43 @@ class Hold(Constraint):
         return {"hold": {self.joint: self.value}}
 
     def index(self, arm: ArmModel) -> int:
-        """The held joint's index among the arm's joints; a ``JointError`` naming the arm's
-        joints when it has none of that name."""
-        if self.joint not in arm.joint_names and self.joint in arm.locked:
-            at = arm.locked[self.joint]
-            raise JointError(
-                f"hold: joint {self.joint!r} is locked at {at!r} (locked=, --lock), not "
-                f"free: it already stays at {at!r}; leave it out of hold=, or "
-                "load the arm without locking it to hold it at another value",
-                joint=self.joint,
-                candidates=arm.joint_names,
+        """The held joint's index among the arm's joints; a ``JointError`` saying why it is
+        no joint of the arm (``not_free``), or naming the arm's joints."""
+        if self.joint in arm.joint_names:
+            return arm.joint_names.index(self.joint)
+        why = self.not_free(arm)
+        if why is None:
+            why = (
+                f"hold: unknown joint {self.joint!r}; the arm's joints: {listing(arm.joint_names)}"
             )
-        if self.joint not in arm.joint_names:
-            raise JointError(
-                f"hold: unknown joint {self.joint!r}; the arm's joints: {listing(arm.joint_names)}",
-                joint=self.joint,
-                candidates=arm.joint_names,
+        raise JointError(why, joint=self.joint, candidates=arm.joint_names)
+
+    def not_free(self, arm: ArmModel) -> str | None:
+        """Why the held joint, a joint of ``arm``'s URDF but none of its free joints, cannot be
+        held: it is locked, or a mimic joint (following a driver on the chain, or fixed
+        there); None for any other name."""
+        name = self.joint
+        if name in arm.locked:
+            at = arm.locked[name]
+            return (
+                f"hold: joint {name!r} is locked at {at!r} (locked=, --lock), not free: it "
+                f"already stays at {at!r}; leave it out of hold=, or load the arm without "
+                "locking it to hold it at another value"
             )
-        return arm.joint_names.index(self.joint)
+        m = next((m for m in arm.mimics if m.name == name), None)
+        if m is not None:
+            where = ""
+            if self.value is not None:  # the driver's value that puts it at the held one
+                driver = (self.value - m.offset) / m.multiplier
+                where = f" ({m.driver} = {driver:g} holds {name} at {self.value:g})"
+            return (
+                f"hold: joint {name!r} is a mimic joint following {m.driver!r} on the chain to "
+                f"{arm.tip!r} ({name} = {m.multiplier:g} x {m.driver} + {m.offset:g}): its "
+                f"driver sets its value; hold {m.driver!r} instead{where}"
+            )
+        if name in (arm.chain.fixed_mimics or {}):
+            return f"hold: joint {name!r} {not_a_joint(arm, name)}; leave it out of hold="
+        return None
 
     def at(self, arm: ArmModel, seed: np.ndarray) -> Hold:
         """The hold at its value (the seed's where it has none), which must lie within the

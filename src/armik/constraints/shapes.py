@@ -244,8 +244,11 @@ class Mesh(Shape):
         object.__setattr__(self, "path", str(Path(path).resolve()))
         object.__setattr__(self, "pose", _pose("Mesh", pose))
         object.__setattr__(self, "scale", _length("Mesh", "scale", scale))
+        self._read()  # a file coal cannot read, or no solid, refused here
 
-    def geometry(self) -> coal.CollisionGeometry:
+    def _read(self) -> coal.BVHModelBase:
+        """The file's triangles, scaled; ``CollisionError`` where coal cannot read them or
+        they are no solid (``solid``)."""
         try:
             bvh = coal.MeshLoader().load(self.path, np.full(3, self.scale))
         except Exception as exc:  # coal's loader raises its own types
@@ -254,12 +257,46 @@ class Mesh(Shape):
                 "(STL, OBJ, DAE)",
                 value=self.path,
             ) from None
-        return convex_hull(bvh)
+        solid(bvh, f"Mesh {self.path!r}", "give a mesh of a solid (a Box for a plate)")
+        return bvh
+
+    def geometry(self) -> coal.CollisionGeometry:
+        return convex_hull(self._read())
+
+
+# the thinnest spread of a mesh's vertices, over their widest, that counts as a solid: coal's
+# convex hull (qhull) ends the process on a flat mesh, already below about 3e-8
+FLAT = 1e-6
+
+
+def solid(bvh: coal.BVHModelBase, what: str, fix: str) -> None:
+    """Refuse the mesh ``bvh`` (``what``: how the error names it, ``fix``: the way out) unless
+    its vertices span a solid: 4 or more, not all in one plane (its convex hull, what
+    distances are measured to, has a volume; coal refuses fewer than 4 points and crashes
+    on a flat set). Raises ``CollisionError``."""
+    points = np.asarray(bvh.vertices(), dtype=float).reshape(-1, 3)
+    n = len(points)
+    if n >= 4:
+        centred = points - points.mean(axis=0)
+        axes = np.linalg.svd(centred, full_matrices=False)[2]  # widest spread first
+        spread = np.ptp(centred @ axes.T, axis=0)
+        if spread[2] > FLAT * spread[0]:
+            return
+        lying = "on one point" if spread[0] == 0 else "on one line"
+        lying = lying if spread[1] <= FLAT * spread[0] else "in one plane"
+        given = f"{n} vertices, all {lying}"
+    else:
+        given = f"{n} vert{'ex' if n == 1 else 'ices'}"
+    raise CollisionError(
+        f"{what} has {given}: a collision mesh needs 4 or more vertices not all in one plane "
+        f"(a solid: armik measures distances to its convex hull); {fix}",
+        value=what,
+    )
 
 
 def convex_hull(bvh: coal.BVHModelBase) -> coal.ConvexBase:
-    """The convex hull of a triangle mesh: distances to it cost a hundredth of the mesh's
-    (docs/collisions.md)."""
+    """The convex hull of a triangle mesh (a solid: ``solid``): distances to it cost a
+    hundredth of the mesh's (docs/collisions.md)."""
     bvh.buildConvexHull(True, "Qt")
     return bvh.convex
 

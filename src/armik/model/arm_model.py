@@ -38,6 +38,15 @@ _FLOAT = np.dtype(float)
 _le = operator.le
 
 
+def _violation(name: str, v: float, lo: float, hi: float) -> str:
+    """Joint ``name`` at ``v`` outside [``lo``, ``hi``], in words: the value and the limits to
+    six digits; how far past which limit where six digits would hide it."""
+    if float(f"{lo:.6g}") <= float(f"{v:.6g}") <= float(f"{hi:.6g}"):  # (False for NaN)
+        side, limit, by = ("upper", hi, v - hi) if v > hi else ("lower", lo, lo - v)
+        return f"{name} is {by:.2g} past its {side} limit {limit:.6g}"  # 1e-09 past 2.87979
+    return f"{name} = {v:.6g} outside [{lo:.6g}, {hi:.6g}]"
+
+
 class ArmModel:
     """The kinematic chain of one robot arm: what every solver, check and tool reads
     (``armik.load`` builds one inside its facade, ``Arm.kinematics``)."""
@@ -374,7 +383,7 @@ class ArmModel:
         values = np.asarray(q, dtype=float).tolist()  # plain floats: numpy per joint is slow
         lower, upper, _ = self._limit_lists
         return [
-            f"{name} = {v:.6g} outside [{lo:.6g}, {hi:.6g}]"
+            _violation(name, v, lo, hi)
             for name, v, lo, hi in zip(self.joint_names, values, lower, upper)
             if not lo - tol <= v <= hi + tol
         ]

@@ -12,7 +12,7 @@ from functools import cache
 from importlib import metadata
 from pathlib import Path
 
-from armik.errors import InputError, listing
+from armik.errors import InputError, did_you_mean, listing
 
 ARMIK = "armik"
 ERD = "example-robot-data"
@@ -140,8 +140,10 @@ def entry(name: str) -> RobotEntry:
     try:
         return CATALOGUE[name]
     except KeyError:
+        hint = did_you_mean(name, CATALOGUE)
         raise InputError(
-            f"unknown robot {name!r}: pass a path to a URDF file or one of {listing(CATALOGUE)}"
+            f"unknown robot {name!r}: {hint}pass a path to a URDF file or one of "
+            f"{listing(CATALOGUE)}"
         ) from None
 
 

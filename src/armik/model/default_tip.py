@@ -40,24 +40,25 @@ def default_tip(info: URDFInfo, base: str) -> tuple[str, str]:
             frame=base,
         )
     top = sorted((leaf for leaf in leaves if leaf[1] == best), key=lambda leaf: leaf[0])
+    joints = f"{best} moving joint{'' if best == 1 else 's'}"
     # a gripper hangs from a hand an arm moves: one moving joint from the base is the arm
     tool = _tool_frame(info, children, {last for _, _, last in top}) if best > 1 else None
     if tool is not None:
         return tool
     if len(top) == 1:
-        return top[0][0], f"the leaf at the end of the longest chain ({best} moving joints)"
+        return top[0][0], f"the leaf at the end of the longest chain ({joints})"
     lasts = {last for _, _, last in top if last is not None}  # each: best > 0 moving joints
     if len(lasts) == 1:
         joint = info.joints[lasts.pop()]
         return joint.child, (
             f"the link after the last moving joint {joint.name!r} of the longest chain "
-            f"({best} moving joints); the leaves {listing(n for n, _, _ in top)} hang from "
+            f"({joints}); the leaves {listing(n for n, _, _ in top)} hang from "
             "it on fixed joints"
         )
     names = [n for n, _, _ in top]
     raise FrameError(
         f"no tip given and the URDF has {len(names)} leaf links at the end of chains of "
-        f"{best} moving joints: pass tip= one of {listing(names)}",
+        f"{joints}: pass tip= one of {listing(names)}",
         frame="",
         candidates=names,
     )

@@ -9,14 +9,13 @@ spelling ``jacobian(q, "base")`` (the tip's Jacobian in base axes) still means t
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
 
-from armik.errors import FrameError, OptionError, listing
+from armik.errors import FrameError, OptionError, closest, listing
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
@@ -33,7 +32,7 @@ def frame_id(arm: ArmModel, frame: str | None) -> int:
     if isinstance(frame, str) and arm.model.existFrame(frame):
         return named(arm.model, frame)
     names = arm.frames()
-    close = difflib.get_close_matches(str(frame), names, n=5, cutoff=0.5)
+    close = closest(frame, names)
     hint = f"closest: {listing(close)}; " if close else ""
     raise FrameError(
         f"frame {frame!r} is not a frame of arm {arm.name!r}; {hint}its frames: {listing(names)}",

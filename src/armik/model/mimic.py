@@ -109,6 +109,32 @@ def off_chain_values(
     return values
 
 
+def across(chains: dict) -> None:
+    """Refuse chains (tip -> ``ArmModel``, one URDF) where a mimic joint held fixed on one
+    chain follows a driver that moves on another: that chain (alone, or in the chains' union)
+    holds it at its driver's value in the reference configuration (``fixed_mimics``), while
+    the robot's own configuration moves it with the driver, its tip elsewhere. Raises
+    ``JointError`` naming the mimic joint, its driver, both tips and the ways round."""
+    for tip, arm in chains.items():
+        for name, value in (arm.chain.fixed_mimics or {}).items():
+            driver = arm.info.mimic.get(name)
+            multiplier, offset = arm.info.mimic_factors.get(name, (1.0, 0.0))
+            if multiplier == 0.0:  # held at its offset whatever the driver does
+                continue
+            other = next((t for t, a in chains.items() if driver in a.joint_names), None)
+            if other is None:
+                continue
+            raise JointError(
+                f"joint {name!r} on the chain to {tip!r} mimics {driver!r} ({multiplier:g} x "
+                f"{driver} + {offset:g}), which moves on the chain to {other!r}: the chain to "
+                f"{tip!r} holds {name!r} fixed at {value:g}, where the robot moves it with "
+                f"{driver!r}; armik does not solve tips coupled through a mimic joint: load one "
+                f"tip (tip={tip!r} or tip={other!r}), or lock the driver (locked={{{driver!r}: "
+                f"value}}, --lock {driver}=VALUE) so that both chains hold it",
+                joint=name,
+            )
+
+
 def joint_value(model: pin.Model, q: np.ndarray, jid: int) -> float:
     """The value (rad or m) of joint ``jid`` in the configuration ``q``."""
     joint = model.joints[jid]

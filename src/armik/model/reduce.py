@@ -7,7 +7,6 @@ a base frame to a tip frame; ``armik.model.arm_model.ArmModel`` is built on it.
 
 from __future__ import annotations
 
-import difflib
 import logging
 import math
 from collections.abc import Callable, Iterable, Mapping
@@ -17,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from armik.errors import FrameError, JointError, OptionError, URDFError, listing
+from armik.errors import FrameError, JointError, OptionError, URDFError, closest, listing
 from armik.model import mimic as _mimic
 from armik.model.default_tip import default_tip
 from armik.model.mimic import Mimic
@@ -210,7 +209,7 @@ def _locked_joint(full: pin.Model, jname: str) -> int:
     """The id of the locked joint ``jname``; raises ``JointError`` listing the joints."""
     if not full.existJointName(jname):
         all_joints = list(full.names)[1:]
-        close = difflib.get_close_matches(jname, all_joints, n=5, cutoff=0.5)
+        close = closest(jname, all_joints)
         hint = f"closest: {listing(close)}; " if close else ""
         raise JointError(
             f"locked joint {jname!r} does not exist; {hint}joints: {listing(all_joints)}",
@@ -266,7 +265,7 @@ def lookup_frame(full: pin.Model, name: str, role: str, frames: list[str]) -> in
     try:
         return frame_id(full, name)
     except KeyError:
-        close = difflib.get_close_matches(name, frames, n=5, cutoff=0.5)
+        close = closest(name, frames)
         hint = f"closest: {listing(close)}; " if close else ""
         shown = (
             f"frames: {listing(frames)}"

@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from armik import npz
+from armik import checked, npz
 from armik.errors import InputError, OptionError
 from armik.model.arm_model import ArmModel, model_of
 from armik.solve.batch import solve_batch
@@ -209,6 +209,7 @@ def reachability(
             option="orientations",
             value=orientations,
         )
+    sample = checked.sampling_seed("seed", seed)  # numpy's own ValueError otherwise
     # no orientation sample for fewer than 6 joints: it would reach none (module)
     position_only = arm.dof < 6 or options.get("position_only") is True
     per_voxel = 1 if position_only else orientations
@@ -229,7 +230,7 @@ def reachability(
     v, k = len(centres), per_voxel
     targets: TargetBatch | np.ndarray = centres  # positions: one a voxel
     if not position_only:
-        rotations = Rotation.random(orientations, random_state=seed).as_matrix()  # (K, 3, 3)
+        rotations = Rotation.random(orientations, random_state=sample).as_matrix()  # (K, 3, 3)
         targets = TargetBatch(
             np.repeat(centres, k, axis=0), np.tile(rotations, (v, 1, 1))
         )  # voxel-major: rows v k .. v k + k - 1 are voxel v
