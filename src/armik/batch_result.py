@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any, cast, overload
 
 import numpy as np
 
-from armik import npz, reasons
+from armik import batch_file, reasons
 from armik.problem.settings import SolverSettings
 from armik.result import IKResult
 from armik.status import Status
@@ -23,7 +23,6 @@ _WORDS = np.array([s.value for s in Status])
 _NOT_CONVERGED = Status.NOT_CONVERGED.code  # the failure state rows start in (``empty``)
 NO_BRANCH = -1  # ``branch_code``: a row without a branch label
 UNREAD = -2  # ``branch_code``: the branch of the row's q, read by ``brancher`` when first read
-FORMAT = "armik.BatchResult/1"
 
 
 @dataclass(frozen=True, eq=False)
@@ -108,29 +107,34 @@ class BatchResult:
     def __len__(self) -> int:
         return len(self.success)
 
-    # the arrays a None given is filled as, typed as arrays (``__post_init__``)
     @property
     def _scores(self) -> np.ndarray:
+        """``score``: an array once built (``__post_init__`` fills a None)."""
         return cast(np.ndarray, self.score)
 
     @property
     def _distances(self) -> np.ndarray:
+        """``min_distance``: an array once built (``__post_init__`` fills a None)."""
         return cast(np.ndarray, self.min_distance)
 
     @property
     def _measured(self) -> np.ndarray:
+        """``measured``: an array once built (``__post_init__`` fills a None)."""
         return cast(np.ndarray, self.measured)
 
     @property
     def _pairs(self) -> np.ndarray:
+        """``pair_index``: an array once built (``__post_init__`` fills a None)."""
         return cast(np.ndarray, self.pair_index)
 
     @property
-    def _codes(self) -> np.ndarray:  # UNREAD rows included
+    def _codes(self) -> np.ndarray:
+        """``branch_code``: an array once built, UNREAD rows included."""
         return cast(np.ndarray, self.branch_code)
 
-    def _branch_codes(self, rows: np.ndarray | None = None) -> np.ndarray:
-        """The codes of ``rows`` (None: every row), those UNREAD read and kept first."""
+    def branch_codes(self, rows: np.ndarray | None = None) -> np.ndarray:
+        """The ``branch_code`` of ``rows`` (None: every row), those UNREAD read from their
+        q and kept first."""
         codes = self._codes
         unread = np.flatnonzero(codes == UNREAD) if rows is None else rows[codes[rows] == UNREAD]
         if len(unread):
@@ -141,7 +145,7 @@ class BatchResult:
     def branch(self) -> np.ndarray:
         """(N,) each answer's branch label as ``solve`` gives it (objects; None: none)."""
         names = np.array([*self.branch_names, None], dtype=object)  # -1: the None at the end
-        return cast(np.ndarray, names[self._branch_codes()])
+        return cast(np.ndarray, names[self.branch_codes()])
 
     @property
     def status(self) -> np.ndarray:
@@ -208,7 +212,7 @@ class BatchResult:
     ) -> IKResult | BatchResult:
         if isinstance(index, (int, np.integer)):
             i = self._index(index)
-            ori, code = float(self.orientation_error[i]), int(self._branch_codes(np.array([i]))[0])
+            ori, code = float(self.orientation_error[i]), int(self.branch_codes(np.array([i]))[0])
             extra: dict[str, Any] = {"index": i, "batch_time": self.time}
             if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):
                 extra["min_distance"] = float(self._distances[i])
@@ -306,79 +310,14 @@ class BatchResult:
     # -- files ------------------------------------------------------------------------
 
     def save(self, path: str | Path) -> Path:
-        """Write the arrays and the metadata to an ``.npz`` file (no pickles)."""
-        keys = np.array(sorted(self.reasons), dtype=np.int64)
-        meta = {
-            "format": FORMAT,
-            "solver": self.solver,
-            "time": self.time,
-            "arm": self.arm,
-            "joint_names": list(self.joint_names),
-            "tol_position": self.tol_position,
-            "tol_orientation": self.tol_orientation,
-            "margin": self.margin,
-            "region": self.region,
-            "cone": self.cone,
-            "claim": self.claim,
-            "branch_names": list(self.branch_names),
-            "statuses": _WORDS.tolist(),
-            "pair_names": [list(p) for p in self.pair_names],
-        }
-        arrays = dict(
-            q=self.q,
-            success=self.success,
-            status_code=self.status_code,
-            status=self.status,
-            position_error=self.position_error,
-            orientation_error=self.orientation_error,
-            iterations=self.iterations,
-            restarts=self.restarts,
-            reason_index=keys,
-            reason_text=np.array([self.reasons[int(k)] for k in keys], dtype=str),
-            min_distance=self._distances,
-            pair_index=self._pairs,
-            score=self._scores,
-            measured=self._measured,
-            branch_code=self._branch_codes(),
-        )
-        return npz.save(path, meta, arrays)
+        """Write the arrays and the metadata to an ``.npz`` file (no pickles;
+        ``armik.batch_file``)."""
+        return batch_file.save(self, path)
 
     @classmethod
     def load(cls, path: str | Path) -> BatchResult:
         """Read a file written by ``save``; raises ``InputError`` if it is not one."""
-        meta, arrays = npz.load(path, FORMAT, "a batch result written by BatchResult.save")
-        words = meta["statuses"]
-        codes = np.array([Status(w).code for w in words], dtype=np.int8)
-        return cls(
-            q=arrays["q"],
-            success=arrays["success"],
-            status_code=codes[arrays["status_code"]],  # through the words: codes may move
-            position_error=arrays["position_error"],
-            orientation_error=arrays["orientation_error"],
-            iterations=arrays["iterations"],
-            restarts=arrays["restarts"],
-            solver=meta["solver"],
-            time=float(meta["time"]),
-            joint_names=tuple(meta["joint_names"]),
-            arm=meta["arm"],
-            tol_position=float(meta["tol_position"]),
-            tol_orientation=float(meta["tol_orientation"]),
-            margin=float(meta.get("margin", 0.0)),
-            reasons={
-                int(k): str(t)
-                for k, t in zip(arrays["reason_index"].tolist(), arrays["reason_text"])
-            },
-            min_distance=arrays.get("min_distance"),  # absent from files of armik <= 0.x
-            pair_index=arrays.get("pair_index"),
-            pair_names=[tuple(p) for p in meta.get("pair_names", [])],
-            score=arrays.get("score"),  # absent from files written before preferences
-            region=bool(meta.get("region", False)),  # absent from files before regions
-            cone=_cone(meta.get("cone")),  # absent from files before it was kept
-            measured=arrays.get("measured"),  # absent from files before it was kept
-            claim=str(meta.get("claim", "")),  # absent from files before it was kept
-            branch_code=arrays.get("branch_code"),  # absent from files before it was kept
-            branch_names=[str(b) for b in meta.get("branch_names", [])],
-        )
+        return cls(**batch_file.fields(path))
 
     # -- building ---------------------------------------------------------------------
 
@@ -440,7 +379,7 @@ class BatchResult:
             self._pairs[start:stop] = part._pairs
         codes = part._codes
         if part.branch_names != self.branch_names or self.brancher is None:
-            codes = part._branch_codes()  # read where they were, in this batch's names
+            codes = part.branch_codes()  # read where they were, in this batch's names
             if part.branch_names != self.branch_names:
                 ours = [_interned(self.branch_names, b) for b in part.branch_names] + [NO_BRANCH]
                 codes = np.array(ours, dtype=np.int16)[codes]  # -1 stays -1
@@ -489,11 +428,15 @@ def _interned(names: list[Any], name: Any) -> int:
         return len(names) - 1
 
 
-def _cone(saved: object) -> float | None:
-    """A saved cone (rad), None where the file has none (written without an aim, or
-    before the cone was kept: its successes' reasons then name no cone, as they did)."""
-    return None if saved is None else float(cast(float, saved))
-
-
-_ARRAYS: tuple[str, ...] = ("q", "success", "status_code", "position_error", "orientation_error")
-_ARRAYS += ("iterations", "restarts", "min_distance", "score", "measured")
+_ARRAYS = (
+    "q",
+    "success",
+    "status_code",
+    "position_error",
+    "orientation_error",
+    "iterations",
+    "restarts",
+    "min_distance",
+    "score",
+    "measured",
+)
