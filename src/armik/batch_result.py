@@ -394,7 +394,14 @@ class BatchResult:
         self.orientation_error[i] = math.nan if r.orientation_error is None else r.orientation_error
         self.iterations[i] = r.iterations
         self.restarts[i] = r.restarts
-        self._codes[i] = NO_BRANCH if r.branch is None else _interned(self.branch_names, r.branch)
+        # its label's code, written out here: a path puts every waypoint's result
+        names, branch = self.branch_names, r.branch
+        code = NO_BRANCH if branch is None else len(names)
+        if branch is not None and branch in names:
+            code = names.index(branch)
+        elif branch is not None:
+            names.append(branch)
+        cast(np.ndarray, self.branch_code)[i] = code
         s = r.extra.get("score")
         if s is not None:
             self._scores[i] = s
