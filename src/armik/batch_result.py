@@ -385,6 +385,11 @@ class BatchResult:
                 codes = np.array(ours, dtype=np.int16)[codes]  # -1 stays -1
         self._codes[start:stop] = codes
 
+    def branches_unread(self, start: int, stop: int) -> None:
+        """Rows ``start:stop`` label their branch from their q when first read
+        (``brancher``): a compiled batch's rows, which compute no label."""
+        self._codes[start:stop] = UNREAD
+
     def put_result(self, i: int, r: IKResult) -> None:
         """Copy one ``IKResult`` into row ``i``."""
         self.q[i] = r.q

@@ -38,7 +38,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from armik import cpu_time, reasons
-from armik.batch_result import UNREAD, BatchResult
+from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions
 from armik.constraints.collision import checker
 from armik.errors import ArmikWarning, OptionError
@@ -286,7 +286,7 @@ def solve_chunk(
     answers = spec.run_batch(arm, targets, seeds, opts)
     success = verdict_batch(arm, answers, targets, opts, out, start, clear)
     if out.brancher is not None:  # each row's branch read from its answer when first read
-        out._codes[start : start + len(targets)] = UNREAD  # a row solved again: its own
+        out.branches_unread(start, start + len(targets))  # a row solved again: its own
     if spec.kind == "analytic" and opts.checks:
         # a branch that passed a user's check only turned by 2 pi is not ``solve``'s
         # answer, which takes the nearest branch that passes as it is first
