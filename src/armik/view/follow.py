@@ -23,7 +23,9 @@ from armik.servo.result import ServoStatus, ServoStep
 FRAME = 1.0 / 30.0  # s of servo time a drawn frame (30 frames a second)
 STILL = 1e-9  # rad/s (m/s): slower than this on target, the motion has ended
 
-_AT_REST = (ServoStatus.ON_TARGET, ServoStatus.STALLED)  # still there: no tick moves it
+# still there, no tick moves it: on target, or as near as it gets (stalled, or stretched
+# toward a target beyond its reach)
+_AT_REST = (ServoStatus.ON_TARGET, ServoStatus.STALLED, ServoStatus.OUT_OF_REACH)
 
 
 class Follower:
@@ -54,8 +56,8 @@ class Follower:
 
     def frame(self) -> ServoStep | None:
         """One frame's ticks toward the targets: the last step, or None with no target or
-        once a step came to rest on target, or as near as it gets (stalled), until ``aim``
-        moves a target."""
+        once a step came to rest on target, or as near as it gets (stalled, out of reach),
+        until ``aim`` moves a target."""
         if not self.moving:
             return None
         by_tip = isinstance(self.servo, ArmsServo)  # several tips: one target each
