@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from armik.checked import configuration
 from armik.errors import JointError, OptionError, TargetError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
@@ -127,7 +128,7 @@ class ArmsServo:
             self._union = UnionServo(arms._joint(), chains, q0, **options)  # type: ignore[arg-type]
             self.dt = self._union.dt
             return
-        parts = arms.split(q0)
+        parts = arms.split(configuration("q0", q0, self.joint_names))
         each = {tip: dict(options) for tip in arms.tips}
         for name in LIMITS:
             if options.get(name) is not None:

@@ -173,9 +173,9 @@ def test_what_a_servo_over_shared_joints_does_not_take_is_refused(elbow_and_hand
     bent[0, 0] = np.nan  # not a pose: read by the parser, refused naming the tip
     with pytest.raises(TargetError, match="the target of tip 'panda_hand'"):
         servo.step({"panda_hand": bent, "panda_link4": hand.translation})
-    with pytest.raises(OptionError, match="q0 must hold 7"):
+    with pytest.raises(OptionError, match="q0 must have 7 values"):
         robot.servo(q0[:5])
-    with pytest.raises(OptionError, match="q0 must hold 7 finite"):
+    with pytest.raises(OptionError, match="q0 must be 7 numbers"):
         robot.servo("up")
     with pytest.raises(OptionError, match="within the joint limits"):
         robot.servo(robot.upper + 0.1)

@@ -81,3 +81,19 @@ def test_one_chain_s_count_or_another_joint_is_refused_naming_the_robot_s(cell):
     assert caught.value.joint == "wrist"
     with pytest.raises(OptionError, match="velocity_limits must be positive"):
         cell.servo(q0, velocity_limits=[1.0] * 11 + [-1.0])
+
+
+@pytest.mark.parametrize("shared", [False, True])
+def test_a_bad_q0_is_refused_as_q0_naming_the_joints_outside(cell, shared):
+    """Chains side by side and over shared joints alike: q0 (named so, not ``q``) must
+    hold one finite value per robot joint, None included, and a q0 outside the limits is
+    refused naming each joint outside and its limits."""
+    robot = armik.load("panda", tips=["panda_link4", "panda_hand"]) if shared else cell
+    for bad in (None, np.zeros(3), "abc"):
+        with pytest.raises(OptionError, match="^q0 must") as e:
+            robot.servo(bad)
+        assert e.value.option == "q0"
+    q0 = robot.middle.copy()
+    q0[1] = robot.upper[1] + 0.1
+    with pytest.raises(OptionError, match=f"within the joint limits.*{robot.joint_names[1]}"):
+        robot.servo(q0)

@@ -25,6 +25,23 @@ def test_one_target_alone_is_refused_with_the_way_round():
         ur5.servo(q0).track([])
 
 
+def test_no_sequence_at_all_is_not_called_one_target():
+    """None or a string is no target: the refusal says what was given, not that one target
+    (on several tips, one mapping) came alone."""
+    ur5, q0 = armik.load("ur5"), START["ur5"]
+    cell = armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
+    both = np.concatenate([START["abb_irb120"]] * 2)
+    for servo in (ur5.servo(q0), cell.servo(both)):
+        for nothing in (None, "targets"):
+            with pytest.raises(OptionError, match="sequence of targets.*got (NoneType|str)") as e:
+                servo.track(nothing)
+            assert "alone" not in str(e.value)
+    T = cell.fk(both, "l_tool0")  # one pose, not a mapping, on several tips
+    with pytest.raises(OptionError, match=r"each a mapping \{tip: target\}.*got SE3") as e:
+        cell.servo(both).track(T)
+    assert "alone" not in str(e.value)
+
+
 def test_a_bad_target_is_named_by_its_tick_before_any_tick_runs():
     ur5, q0 = armik.load("ur5"), START["ur5"]
     T0 = ur5.fk(q0)

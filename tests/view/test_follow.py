@@ -13,6 +13,7 @@ import armik
 from armik.view.follow import Follower
 
 from ..conftest import arm
+from ..test_arms import dual_irb120
 
 BENT = np.array([0.0, 0.0, 0.0, 0.0, 0.6, 0.0])  # rad: the IRB 120's wrist bent
 
@@ -64,6 +65,23 @@ def test_a_follower_comes_to_rest_where_it_stalls():
     assert steps[-1].status == "stalled" and np.abs(steps[-1].dq).max() < 1e-9
 
 
+def test_a_follower_comes_to_rest_stretched_toward_a_target_beyond_reach():
+    """A target 3 m away: the arm stretches toward it and stays; the follower stops
+    ticking there, as where it stalls, and moves again at the next aim."""
+    a = arm("ur5")
+    q0 = np.array([0.3, -1.2, 1.4, -1.5, -1.5, 0.2])
+    T = a.fk(q0)
+    f = Follower(a, q0, (a.tip,), dt=0.002)
+    f.aim({a.tip: pin.SE3(T.rotation, T.translation + np.array([3.0, 0.0, 0.0]))})
+    steps = _frames(f, 300)
+    assert steps and f.frame() is None
+    assert steps[-1].status == "out_of_reach" and np.abs(steps[-1].dq).max() < 1e-9
+    assert np.isfinite(steps[-1].q).all()
+    f.aim({a.tip: T})  # back where it started
+    steps = _frames(f, 300)
+    assert steps[-1].status == "on_target" and f.frame() is None
+
+
 def test_several_tips_follow_each_their_target():
     a = arm("abb_irb120")
     robot = armik.load("abb_irb120", tips=[a.tip])  # an Arms of one chain
@@ -73,6 +91,20 @@ def test_several_tips_follow_each_their_target():
     f.aim({a.tip: T})
     steps = _frames(f, 300)
     assert steps[-1].status == "on_target"
+
+
+def test_on_several_tips_a_tip_not_aimed_holds_its_pose():
+    """The viewer aims only the tips dragged so far: the others hold where they are, and
+    the servo (one target per tip) follows the one dragged."""
+    cell = armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
+    q0 = np.concatenate([BENT + [0.0, 0.2, 0.2, 0.0, 0.2, 0.0]] * 2)
+    T = cell.fk(q0 + 0.1, "l_tool0")
+    f = Follower(cell, q0, tuple(cell.tips), dt=0.002)
+    f.aim({"l_tool0": T})
+    steps = _frames(f, 300)
+    assert steps and f.frame() is None and steps[-1].status == "on_target"
+    assert np.linalg.norm(pin.log6(cell.fk(steps[-1].q, "l_tool0").inverse() * T)) < 1e-5
+    assert np.allclose(steps[-1].q[6:], q0[6:], rtol=0.0, atol=1e-12)  # the other arm held
 
 
 @pytest.fixture

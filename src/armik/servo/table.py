@@ -140,6 +140,18 @@ def sequence(targets: object, mapping: bool = False) -> list:
         one = targets.ndim < 2 or targets.shape == (4, 4)
     elif isinstance(targets, (list, tuple)) and targets:
         one = all(isinstance(x, (int, float, np.number)) for x in targets)
+    if (
+        targets is None
+        or isinstance(targets, (str, bytes))
+        or (one and mapping and not isinstance(targets, Mapping))
+    ):  # no target at all, or no mapping: not "one given alone"
+        each = " (each a mapping {tip: target})" if mapping else ""
+        raise OptionError(
+            f"track takes a sequence of targets, one a tick{each}, got "
+            f"{type(targets).__name__} {targets!r:.60}: pass a list ([target] * ticks)",
+            option="targets",
+            value=targets,
+        )
     if one:
         what = "a mapping {tip: target}" if mapping else "a target"
         raise OptionError(

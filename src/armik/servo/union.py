@@ -24,8 +24,10 @@ from collections.abc import Mapping
 import numpy as np
 import pinocchio as pin
 
+from armik.checked import configuration
 from armik.errors import OptionError, TargetError
 from armik.frozen import frozen
+from armik.model.arm_model import _violation
 from armik.model.union import Union
 from armik.servo import layout as k
 from armik.servo.fixed import never_moved
@@ -67,20 +69,16 @@ class UnionServo(Commanded):
         self.joint_names = union.joint_names
         n = union.dof
         self.dt = time_step(dt)
-        try:
-            q = np.asarray(q0, dtype=float) if q0 is not None else union.middle.copy()
-        except (TypeError, ValueError):
-            q = np.full(1, np.nan)  # refused below, by name
-        if q.shape != (n,) or not np.all(np.isfinite(q)):
-            raise OptionError(
-                f"q0 must hold {n} finite joint values ({', '.join(self.joint_names)}), got {q0!r}",
-                option="q0",
-                value=q0,
-            )
+        q = configuration("q0", q0, self.joint_names)  # one finite value per joint
         if not union.within_limits(q, 0.0):
+            outside = [
+                _violation(name, v, lo, hi)
+                for name, v, lo, hi in zip(self.joint_names, q, union.lower, union.upper)
+                if not lo <= v <= hi
+            ]
             raise OptionError(
                 "q0 must lie within the joint limits (a servo never commands a position "
-                "outside them)",
+                "outside them): " + "; ".join(outside),
                 option="q0",
                 value=q0,
             )

@@ -23,7 +23,9 @@ from armik.servo.result import ServoStatus, ServoStep
 FRAME = 1.0 / 30.0  # s of servo time a drawn frame (30 frames a second)
 STILL = 1e-9  # rad/s (m/s): slower than this on target, the motion has ended
 
-_AT_REST = (ServoStatus.ON_TARGET, ServoStatus.STALLED)  # still there: no tick moves it
+# still there, no tick moves it: on target, or as near as it gets (stalled, or stretched
+# toward a target beyond its reach)
+_AT_REST = (ServoStatus.ON_TARGET, ServoStatus.STALLED, ServoStatus.OUT_OF_REACH)
 
 
 class Follower:
@@ -33,7 +35,7 @@ class Follower:
     ``frame()`` steps toward them. ``tips``: the tips in order (one arm: its one tip)."""
 
     def __init__(self, arm: object, q0: np.ndarray, tips: tuple[str, ...], **options: object):
-        self.tips = tips
+        self.arm, self.tips = arm, tips
         self.servo = arm.servo(q0, **options)  # type: ignore[attr-defined]
         self.steps_a_frame = max(1, round(FRAME / self.servo.dt))
         self.targets: dict[str, object] = {}
@@ -41,14 +43,21 @@ class Follower:
         self.moving = False
 
     def aim(self, targets: Mapping[str, object]) -> None:
-        """Follow ``targets`` (tip -> target) from the next frame on."""
+        """Follow ``targets`` (tip -> target) from the next frame on. On several tips, a
+        tip given no target holds its pose where the servo has it now (the viewer aims only
+        the tips dragged so far; the servo takes one target per tip)."""
         self.targets = dict(targets)
         self.moving = bool(self.targets)
+        if self.moving and isinstance(self.servo, ArmsServo):
+            q = self.servo.q
+            for tip in self.tips:
+                if tip not in self.targets:
+                    self.targets[tip] = self.arm.fk(q, tip)  # type: ignore[attr-defined]
 
     def frame(self) -> ServoStep | None:
         """One frame's ticks toward the targets: the last step, or None with no target or
-        once a step came to rest on target, or as near as it gets (stalled), until ``aim``
-        moves a target."""
+        once a step came to rest on target, or as near as it gets (stalled, out of reach),
+        until ``aim`` moves a target."""
         if not self.moving:
             return None
         by_tip = isinstance(self.servo, ArmsServo)  # several tips: one target each
