@@ -29,8 +29,8 @@ _AT_REST = (ServoStatus.ON_TARGET, ServoStatus.STALLED, ServoStatus.OUT_OF_REACH
 
 
 class Follower:
-    """The servo of ``arm`` (an ``Arm``, or an ``Arms``: its chains side by side or their union) from
-    ``q0``, with ``Arm.servo``'s options (``dt``, ``velocity_limits``,
+    """The servo of ``arm`` (an ``Arm``, or an ``Arms``: its chains side by side or their
+    union) from ``q0``, with ``Arm.servo``'s options (``dt``, ``velocity_limits``,
     ``acceleration_limits``, ``obstacles``, ...). ``aim({tip: target})`` sets targets,
     ``frame()`` steps toward them. ``tips``: the tips in order (one arm: its one tip)."""
 
