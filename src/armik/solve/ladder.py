@@ -119,6 +119,9 @@ def plan(
     )  # fmt: skip
     half = _Halfway(spec, opts, targets, held, turn)
     rung, Q, broken, hidden, joint, size = _checked(arm, half, args, node, weight)
+    free = periodic & np.isneginf(arm.lower) & np.isposinf(arm.upper)  # no limits: any turn
+    if score is not None and score.turns_matter and free.any():  # jumps: at the turns scored
+        _restarted(arm, Q, B[np.maximum(rung, 0)], rung >= 0, broken, free, turn)
     first = True
     placed: set[str] = set()
     for i, rs in enumerate(rungs):
@@ -145,6 +148,24 @@ def plan(
         first = False
     held_to_step(arm, out, None if q0 is None else start, np.asarray(step, dtype=float))
     return placed
+
+
+def _restarted(arm, Q, scored, reached, broken, free, turn: Turning) -> None:
+    """With a score, a joint without limits (``free``) after a break where every path
+    jumps: the dynamic programming turns it next to the answer before, but scored the rung
+    at the turn the score ranks best (``scored``: each waypoint's rung as scored). The
+    path from the break to the next one is turned by whole turns onto that rung's turn, in
+    place in ``Q``: the same poses, the same steps between them, the jump there reported
+    as it is, and the waypoint's score the one the plan chose it by. Kept where the turned
+    rows pass ``turn``'s checks."""
+    starts = np.flatnonzero(broken & reached).tolist()
+    for a, b in zip(starts, [*starts[1:], len(Q)]):
+        k = np.round((scored[a] - Q[a]) / (2.0 * np.pi)) * free
+        if not k.any():
+            continue
+        rows = Q[a:b] + 2.0 * np.pi * k
+        if not turn.checks or turn.keeps(arm, rows[reached[a:b]]).all():
+            Q[a:b] = rows
 
 
 def held_to_step(arm: ArmModel, out: BatchResult, start: np.ndarray | None, step) -> None:
