@@ -48,6 +48,8 @@ def test_bad_arguments():
     a = arm("ur5")
     with pytest.raises(OptionError, match="resolution"):
         reachability(a, resolution=0)
+    with pytest.raises(OptionError, match="got 'fine'"):  # the value given, not nan
+        reachability(a, resolution="fine")
     with pytest.raises(OptionError, match="orientations"):
         reachability(a, orientations=0)
     with pytest.raises(OptionError, match="too many solves"):

@@ -193,15 +193,16 @@ def reachability(
     ``options``: solver options (default ``timeout=0.005``, tolerances 1e-5 m / rad).
     """
     arm = model_of(arm)
+    given = resolution
     try:
         resolution = float(resolution)
     except (TypeError, ValueError):
         resolution = math.nan
     if not (math.isfinite(resolution) and resolution > 0):
-        raise OptionError(
-            f"resolution must be a voxel side > 0 (m), got {resolution!r}",
+        raise OptionError(  # the value as given: a word read as NaN is no NaN of the user's
+            f"resolution must be a voxel side > 0 (m), got {given!r}",
             option="resolution",
-            value=resolution,
+            value=given,
         )
     if isinstance(orientations, bool) or not isinstance(orientations, int) or orientations < 1:
         raise OptionError(
