@@ -94,3 +94,21 @@ def test_the_cluster_is_a_batch_backend(client):
     np.testing.assert_array_equal(remote.q, local.q)
     assert remote.reasons == local.reasons and remote.pair_names == local.pair_names
     assert remote.pair_names  # the checker's pairs, named
+
+
+def test_a_default_client_that_never_connected_is_refused_by_name(monkeypatch):
+    """A client whose connection failed (``Client("nonsense")``) stays Dask's default: a
+    backend without a client finds it, and refuses it by name rather than failing in
+    Dask's own words when the batch is sent."""
+    distributed = pytest.importorskip("distributed")
+
+    class Failed:
+        status = "connecting"
+
+        def register_plugin(self, *args, **kwargs):
+            raise ValueError("missing port number in address 'nonsense'")
+
+    monkeypatch.setattr(distributed, "get_client", lambda: Failed())
+    a = arm("ur5")
+    with pytest.raises(InputError, match="default Dask client is not connected"):
+        a.solve_batch(_targets("ur5", 4), backend=armik_distributed.OnDask())

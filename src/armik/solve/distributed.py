@@ -165,11 +165,18 @@ class OnDask:
 def _default_client():
     distributed = _import_distributed()
     try:
-        return distributed.get_client()
+        client = distributed.get_client()
     except ValueError:
         raise InputError(
             "no Dask client: pass client= or address= (e.g. tcp://host:8786 or local:2)"
         ) from None
+    status = getattr(client, "status", "running")
+    if status != "running":  # a client whose connection failed stays the default one
+        raise InputError(
+            f"the default Dask client is not connected (status {status!r}): pass client= "
+            "or address= (e.g. tcp://host:8786 or local:2)"
+        )
+    return client
 
 
 def connect(address: str):
