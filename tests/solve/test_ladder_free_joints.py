@@ -201,3 +201,14 @@ def test_a_posture_plan_jumps_onto_the_turns_it_scored():
             assert np.abs(planned.q[i] - last).max() <= STEP + EDGE
         if planned.success[i] or planned.status[i] == Status.DISCONTINUOUS:
             last = planned.q[i]
+
+
+def test_a_scored_plan_without_any_answer_is_every_row_s_failure():
+    """No waypoint of the Kinova's path has an answer (out of reach): a plan with a score
+    that a turn changes gives each row its own failure."""
+    arm = conftest.arm("kinova")
+    T0 = arm.fk(arm.random_q(3))
+    far = [pin.SE3(T0.rotation, T0.translation + [4.0 + 0.01 * k, 0, 0]) for k in range(3)]
+    planned = arm.solve_path(far, None, max_joint_step=STEP, plan="global", prefer="nearest")
+    assert not planned.success.any()
+    assert all(s == "unreachable" for s in planned.status)

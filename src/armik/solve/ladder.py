@@ -120,7 +120,7 @@ def plan(
     half = _Halfway(spec, opts, targets, held, turn)
     rung, Q, broken, hidden, joint, size = _checked(arm, half, args, node, weight)
     free = periodic & np.isneginf(arm.lower) & np.isposinf(arm.upper)  # no limits: any turn
-    if score is not None and score.turns_matter and free.any():  # jumps: at the turns scored
+    if score is not None and score.turns_matter and free.any() and len(B):  # jumps: as scored
         _restarted(arm, Q, B[np.maximum(rung, 0)], rung >= 0, broken, free, turn)
     first = True
     placed: set[str] = set()
