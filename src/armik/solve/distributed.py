@@ -229,6 +229,12 @@ def solve_batch(
     ``client``: a ``distributed.Client``; or ``address`` (see ``connect``); or neither, to
     use the current default client. ``chunk_size``: targets per task (2048).
     """
+    if hasattr(arm, "tips") and hasattr(arm, "chain"):  # an armik.Arms: its own batch
+        raise InputError(
+            f"distributed.solve_batch takes one arm, got {arm!r}: a robot of several tips "
+            "runs its batch on the cluster as a backend, robot.solve_batch(targets, "
+            "backend=distributed.OnDask(client))"
+        )
     arm = model_of(arm)
     request = read_batch(arm, targets, q0, solver, options)  # refused here, not on workers
     chunk = DEFAULT_CHUNK if chunk_size is None else chunk_size

@@ -192,6 +192,11 @@ def reachability(
     ``client``: a Dask client to run on a cluster instead (``armik.solve.distributed``).
     ``options``: solver options (default ``timeout=0.005``, tolerances 1e-5 m / rad).
     """
+    if hasattr(arm, "tips") and hasattr(arm, "chain"):  # an armik.Arms: a map per tip
+        raise InputError(
+            f"a reachability map is of one arm's tip, got {arm!r}: map each chain, "
+            "reachability(robot.chain(tip), ...)"
+        )
     arm = model_of(arm)
     given = resolution
     try:
