@@ -94,3 +94,32 @@ def test_the_cluster_is_a_batch_backend(client):
     np.testing.assert_array_equal(remote.q, local.q)
     assert remote.reasons == local.reasons and remote.pair_names == local.pair_names
     assert remote.pair_names  # the checker's pairs, named
+
+
+def test_a_default_client_that_never_connected_is_refused_by_name(monkeypatch):
+    """A client whose connection failed (``Client("nonsense")``) stays Dask's default: a
+    backend without a client finds it, and refuses it by name rather than failing in
+    Dask's own words when the batch is sent."""
+    distributed = pytest.importorskip("distributed")
+
+    class Failed:
+        status = "connecting"
+
+        def register_plugin(self, *args, **kwargs):
+            raise ValueError("missing port number in address 'nonsense'")
+
+    monkeypatch.setattr(distributed, "get_client", lambda: Failed())
+    a = arm("ur5")
+    with pytest.raises(InputError, match="default Dask client is not connected"):
+        a.solve_batch(_targets("ur5", 4), backend=armik_distributed.OnDask())
+
+
+def test_a_robot_of_several_tips_is_sent_as_a_backend():
+    """``distributed.solve_batch`` takes one arm: a robot of several tips is refused
+    naming the way its own batch runs on the cluster (``backend=OnDask(client)``)."""
+    from ..test_arms import dual_irb120
+
+    robot = armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
+    targets = {tip: np.array([robot.fk(robot.middle, tip).homogeneous]) for tip in robot.tips}
+    with pytest.raises(InputError, match=r"backend=distributed\.OnDask\(client\)"):
+        armik_distributed.solve_batch(robot, targets, address="local:1")

@@ -166,3 +166,49 @@ def test_a_broken_plan_is_never_a_silent_jump(monkeypatch):
         over = [i for i in range(len(planned)) if "over the bound" in planned.reason(i)]
         assert over and all(planned.status[i] == Status.DISCONTINUOUS.value for i in over)
         assert "rad from" in planned.reason(over[0])
+
+
+def test_a_posture_plan_jumps_onto_the_turns_it_scored():
+    """The Kinova's tool spun a turn where part of the spin is out of reach: the plan breaks
+    after the gap. A posture's plan scored each rung there with its continuous joints at
+    their best turns, so the answers after the jump take those turns (the same poses), and
+    its summed score is no worse than the least-motion plan's over the same waypoints."""
+    arm = conftest.arm("kinova")
+    ref, weights = arm.random_q(5), np.linspace(0.5, 2.0, arm.dof)
+    q = arm.random_q(41)
+    T0 = arm.fk(q)
+    poses = [
+        T0 * pin.SE3(pin.exp3(np.array([0, 0, 2 * math.pi * k / 29])), np.zeros(3))
+        for k in range(30)
+    ]
+    posture = armik.Posture(ref, weights)
+    planned = arm.solve_path(poses, q, max_joint_step=STEP, plan="global", prefer=posture)
+    plain = arm.solve_path(poses, q, max_joint_step=STEP, plan="global")
+    assert (planned.status == Status.DISCONTINUOUS).any()  # the case: a jump after a gap
+    assert np.array_equal(planned.success, plain.success)
+
+    def cost(Q):
+        return float((((Q - ref) ** 2) @ weights).sum())
+
+    ok = planned.success
+    assert np.allclose(planned.score[ok], ((planned.q[ok] - ref) ** 2) @ weights)
+    assert cost(planned.q[ok]) <= cost(plain.q[ok]) + 1e-9
+    for i in np.flatnonzero(ok):
+        assert np.abs(pin.log6(poses[i].actInv(arm.fk(planned.q[i]))).vector).max() <= 1e-6
+    last = None
+    for i in range(len(planned)):  # within the step of the answer the path went on from
+        if planned.success[i] and last is not None:
+            assert np.abs(planned.q[i] - last).max() <= STEP + EDGE
+        if planned.success[i] or planned.status[i] == Status.DISCONTINUOUS:
+            last = planned.q[i]
+
+
+def test_a_scored_plan_without_any_answer_is_every_row_s_failure():
+    """No waypoint of the Kinova's path has an answer (out of reach): a plan with a score
+    that a turn changes gives each row its own failure."""
+    arm = conftest.arm("kinova")
+    T0 = arm.fk(arm.random_q(3))
+    far = [pin.SE3(T0.rotation, T0.translation + [4.0 + 0.01 * k, 0, 0]) for k in range(3)]
+    planned = arm.solve_path(far, None, max_joint_step=STEP, plan="global", prefer="nearest")
+    assert not planned.success.any()
+    assert all(s == "unreachable" for s in planned.status)

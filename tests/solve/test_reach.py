@@ -48,6 +48,8 @@ def test_bad_arguments():
     a = arm("ur5")
     with pytest.raises(OptionError, match="resolution"):
         reachability(a, resolution=0)
+    with pytest.raises(OptionError, match="got 'fine'"):  # the value given, not nan
+        reachability(a, resolution="fine")
     with pytest.raises(OptionError, match="orientations"):
         reachability(a, orientations=0)
     with pytest.raises(OptionError, match="too many solves"):
@@ -76,3 +78,15 @@ def test_an_arm_of_fewer_than_6_joints_maps_positions(tmp_path):
     back = ReachMap.load(m.save(tmp_path / "m.npz"))
     assert back.position_only and "positions only" in back.summary()
     assert not reachability(arm("ur5"), resolution=0.5, orientations=1, timeout=0.001).position_only
+
+
+def test_a_robot_of_several_tips_is_mapped_chain_by_chain():
+    """An ``armik.Arms`` has no one tip to map: refused naming ``robot.chain(tip)``, not
+    as if it were no arm of ``armik.load``'s."""
+    import armik
+
+    from ..test_arms import dual_irb120
+
+    robot = armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
+    with pytest.raises(InputError, match=r"robot\.chain\(tip\)"):
+        reachability(robot, resolution=0.5, orientations=1)

@@ -165,11 +165,18 @@ class OnDask:
 def _default_client():
     distributed = _import_distributed()
     try:
-        return distributed.get_client()
+        client = distributed.get_client()
     except ValueError:
         raise InputError(
             "no Dask client: pass client= or address= (e.g. tcp://host:8786 or local:2)"
         ) from None
+    status = getattr(client, "status", "running")
+    if status != "running":  # a client whose connection failed stays the default one
+        raise InputError(
+            f"the default Dask client is not connected (status {status!r}): pass client= "
+            "or address= (e.g. tcp://host:8786 or local:2)"
+        )
+    return client
 
 
 def connect(address: str):
@@ -222,6 +229,12 @@ def solve_batch(
     ``client``: a ``distributed.Client``; or ``address`` (see ``connect``); or neither, to
     use the current default client. ``chunk_size``: targets per task (2048).
     """
+    if hasattr(arm, "tips") and hasattr(arm, "chain"):  # an armik.Arms: its own batch
+        raise InputError(
+            f"distributed.solve_batch takes one arm, got {arm!r}: a robot of several tips "
+            "runs its batch on the cluster as a backend, robot.solve_batch(targets, "
+            "backend=distributed.OnDask(client))"
+        )
     arm = model_of(arm)
     request = read_batch(arm, targets, q0, solver, options)  # refused here, not on workers
     chunk = DEFAULT_CHUNK if chunk_size is None else chunk_size

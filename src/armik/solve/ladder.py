@@ -18,16 +18,17 @@ the path may start on any rung.
 A step within the bound may still hide a jump between its waypoints (a wrist swinging
 through half a turn near a singularity, a joint out of its limits or the pose out of reach
 halfway). Each step the plan takes is checked halfway, on the pose with the translation
-halved and the rotation halved along its geodesic: the solver's solution there
-nearest the step's middle must lie within ``max_joint_step`` of both ends, as it must if a
-waypoint were added halfway. Where that solution bends more than ``BEND`` of the bound away
-from the step's middle, both halves are checked the same way, ``DEPTH`` rounds at most. A
-step that fails is taken out, with every other step onto its waypoint that fails, and the
-path is planned again until every step taken passes; a waypoint that every path reaches
-only through such a step is ``discontinuous``. Only the steps taken are checked, each
-round in one compiled call. With a joint held (``hold=``) the halfway poses are solved as
-the rungs are, the joint held (``rungs.every_answer``), one by one: the solver alone would
-check the looser problem with the joint free.
+halved and the rotation halved along its geodesic: the solver's solution there nearest the
+step's middle must lie within ``max_joint_step`` of both ends, as it must if a waypoint
+were added halfway (a sweep's or a search's solver, which may miss the nearest, is helped
+by one numeric descent from the middle: ``_descended``). Where that solution bends more
+than ``BEND`` of the bound away from the step's middle, both halves are checked the same
+way, ``DEPTH`` rounds at most. A step that fails is taken out, with every other step onto
+its waypoint that fails, and the path is planned again until every step taken passes; a
+waypoint that every path reaches only through such a step is ``discontinuous``. Only the
+steps taken are checked, each round in one compiled call. With a joint held (``hold=``)
+the halfway poses are solved as the rungs are, the joint held (``rungs.every_answer``),
+one by one: the solver alone would check the looser problem with the joint free.
 Collisions, when asked for, act through the rungs: ``solve_all`` with the same options
 marks a colliding branch failed, and a failed branch is no rung.
 """
@@ -43,6 +44,8 @@ import pinocchio as pin
 
 from armik import reasons
 from armik.batch_result import BatchResult
+from armik.errors import ArmikError
+from armik.frozen import frozen
 from armik.kernel import ladder as kernel
 from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
@@ -51,6 +54,7 @@ from armik.result import IKResult
 from armik.solve.prefer import continuous_turned, turns
 from armik.solve.rungs import every_answer, unwrapped
 from armik.solve.turning import ANY, Turning
+from armik.solvers import registry
 from armik.solvers.registry import SolverSpec
 from armik.status import Status
 from armik.targets.aim import Aim
@@ -115,6 +119,9 @@ def plan(
     )  # fmt: skip
     half = _Halfway(spec, opts, targets, held, turn)
     rung, Q, broken, hidden, joint, size = _checked(arm, half, args, node, weight)
+    free = periodic & np.isneginf(arm.lower) & np.isposinf(arm.upper)  # no limits: any turn
+    if score is not None and score.turns_matter and free.any() and len(B):  # jumps: as scored
+        _restarted(arm, Q, B[np.maximum(rung, 0)], rung >= 0, broken, free, turn)
     first = True
     placed: set[str] = set()
     for i, rs in enumerate(rungs):
@@ -141,6 +148,24 @@ def plan(
         first = False
     held_to_step(arm, out, None if q0 is None else start, np.asarray(step, dtype=float))
     return placed
+
+
+def _restarted(arm, Q, scored, reached, broken, free, turn: Turning) -> None:
+    """With a score, a joint without limits (``free``) after a break where every path
+    jumps: the dynamic programming turns it next to the answer before, but scored the rung
+    at the turn the score ranks best (``scored``: each waypoint's rung as scored). The
+    path from the break to the next one is turned by whole turns onto that rung's turn, in
+    place in ``Q``: the same poses, the same steps between them, the jump there reported
+    as it is, and the waypoint's score the one the plan chose it by. Kept where the turned
+    rows pass ``turn``'s checks."""
+    starts = np.flatnonzero(broken & reached).tolist()
+    for a, b in zip(starts, [*starts[1:], len(Q)]):
+        k = np.round((scored[a] - Q[a]) / (2.0 * np.pi)) * free
+        if not k.any():
+            continue
+        rows = Q[a:b] + 2.0 * np.pi * k
+        if not turn.checks or turn.keeps(arm, rows[reached[a:b]]).all():
+            Q[a:b] = rows
 
 
 def held_to_step(arm: ArmModel, out: BatchResult, start: np.ndarray | None, step) -> None:
@@ -297,6 +322,8 @@ def _jumps(arm, half: _Halfway, i, Qa, Qb, q0, step) -> np.ndarray:
         middle = 0.5 * (Qa + Qb)
         q = _nearest(arm, half, P, R, middle)
         near = (np.abs(q - Qa) <= step).all(axis=1) & (np.abs(q - Qb) <= step).all(axis=1)
+        if not near.all() and _may_miss(half):  # a sweep's or a search's: descend too
+            near |= _descended(arm, half, P, R, middle, q, ~near, (Qa, Qb, step))
         far = ~near  # NaN (no solution) too
         jumped[which[far]] = True
         bend = np.max(np.abs(q - middle) / step, axis=1)
@@ -313,6 +340,46 @@ def _jumps(arm, half: _Halfway, i, Qa, Qb, q0, step) -> np.ndarray:
                 np.concatenate((R[closer], Rb[closer])),
             )
     return jumped
+
+
+def _may_miss(half: _Halfway) -> bool:
+    """Whether the solution nearest a seed ``_nearest`` finds may miss one nearer: a sweep
+    over a joint (the 7R arm's), a search, a numeric solver; not a complete closed form,
+    whose every branch is at hand, nor a held joint's rungs (solved as they were)."""
+    spec = half.spec
+    incomplete = spec.kind == "numeric" or not spec.complete or spec.sweep is not None
+    return half.held is None and incomplete
+
+
+def _descended(arm, half: _Halfway, P, R, seeds, q, rows, ends) -> np.ndarray:
+    """For ``rows`` of the halfway poses, one local descent of the numeric solver from the
+    step's middle (``seeds``), no restarts: where its answer is on the pose (Pinocchio's FK,
+    ``_reached``), within the limits and within the step of both ends (``ends``: the ends
+    and the step), it is the halfway solution (written into ``q``) and no jump hides there.
+    Returns the rows so found. The sweep's branches at a few values of its joint may pass
+    by a solution the self-motion holds next to the step (an arm along a joint limit)."""
+    Qa, Qb, step = ends
+    found = np.zeros(len(seeds), dtype=bool)
+    opts = frozen(type(half.opts), **{**half.opts.__dict__, "max_restarts": 0})
+    aim = half.targets.aim
+    for k in np.flatnonzero(rows).tolist():
+        target = Target(P[k].copy(), None if R is None else R[k].copy(), aim=aim)
+        try:
+            spec = registry.choose("auto", arm, target, opts)
+        except ArmikError:
+            return found
+        if spec.kind != "numeric":
+            return found
+        got = spec.run(arm, target, seeds[k].copy(), opts, False)
+        for i in range(len(got)):
+            c = arm.nearest_equivalent(got.q[i], seeds[k])
+            inside = bool(((c >= arm.lower - 1e-9) & (c <= arm.upper + 1e-9)).all())
+            close = bool((np.abs(c - Qa[k]) <= step).all() and (np.abs(c - Qb[k]) <= step).all())
+            Pk, Rk = P[k : k + 1], None if R is None else R[k : k + 1]
+            if inside and close and _reached(arm, c[None], Pk, Rk, half.opts, aim)[0]:
+                q[k], found[k] = c, True
+                break
+    return found
 
 
 def _halfway(Pa, Ra, Pb, Rb):

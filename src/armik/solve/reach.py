@@ -192,16 +192,22 @@ def reachability(
     ``client``: a Dask client to run on a cluster instead (``armik.solve.distributed``).
     ``options``: solver options (default ``timeout=0.005``, tolerances 1e-5 m / rad).
     """
+    if hasattr(arm, "tips") and hasattr(arm, "chain"):  # an armik.Arms: a map per tip
+        raise InputError(
+            f"a reachability map is of one arm's tip, got {arm!r}: map each chain, "
+            "reachability(robot.chain(tip), ...)"
+        )
     arm = model_of(arm)
+    given = resolution
     try:
         resolution = float(resolution)
     except (TypeError, ValueError):
         resolution = math.nan
     if not (math.isfinite(resolution) and resolution > 0):
-        raise OptionError(
-            f"resolution must be a voxel side > 0 (m), got {resolution!r}",
+        raise OptionError(  # the value as given: a word read as NaN is no NaN of the user's
+            f"resolution must be a voxel side > 0 (m), got {given!r}",
             option="resolution",
-            value=resolution,
+            value=given,
         )
     if isinstance(orientations, bool) or not isinstance(orientations, int) or orientations < 1:
         raise OptionError(
