@@ -33,7 +33,10 @@ def load(
     """(meta without its "format", the arrays ``keys`` or all) of a file ``save`` wrote with
     this ``format``; ``InputError`` saying the file is not ``what`` otherwise."""
     try:
-        with np.load(path, allow_pickle=False) as z:
+        z = np.load(path, allow_pickle=False)
+        if not isinstance(z, np.lib.npyio.NpzFile):  # a .npy array: no archive of ours
+            raise ValueError(f"one {type(z).__name__}, not an .npz archive")
+        with z:
             meta = json.loads(str(z["meta"]))
             if meta.get("format") != format:
                 raise KeyError("format")

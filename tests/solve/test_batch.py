@@ -217,6 +217,9 @@ def test_result_api_and_npz_round_trip(tmp_path):
     (tmp_path / "junk.npz").write_bytes(b"not a zip")
     with pytest.raises(armik.InputError, match="not a batch result"):
         BatchResult.load(tmp_path / "junk.npz")
+    np.save(tmp_path / "array.npy", r.q)  # an array of its own, no archive
+    with pytest.raises(armik.InputError, match="not a batch result.*not an .npz archive"):
+        BatchResult.load(tmp_path / "array.npy")
 
 
 def test_position_targets_have_no_orientation_error():
