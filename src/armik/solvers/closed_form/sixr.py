@@ -104,34 +104,6 @@ def not_revolute(arm: ArmModel, dof: int) -> str | None:
     return None
 
 
-@njit(cache=True, no_cfunc_wrapper=True, inline="always")
-def free_swept(kernel, other, h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
-    """A family's ``kernel`` (returning n, first reached, free bits) with its free joint
-    swept: kept at q0's value; where that leaves no row reached within the limits, its
-    other values are tried, nearest q0's first (``FREE_SWEEP`` steps over a turn about
-    q0's value, those within the limits), and the first that gives one is kept. The free
-    joint: joint 1 (bit 1), joint 3 (bit 4), else joint ``other`` (0-based). Inlined:
-    numba caches a caller that passes its own kernel only so."""
-    n, first, free = kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out)
-    if first or free == 0 or n == 0:
-        return n, first
-    j = 0 if free & 1 else (2 if free & 4 else other)
-    lo, hi = max(lower[j], q0[j] - math.pi), min(upper[j], q0[j] + math.pi)
-    step = 2.0 * math.pi / FREE_SWEEP
-    seed = q0.copy()
-    rows = np.empty_like(out)
-    for k in range(1, FREE_SWEEP + 1):
-        value = q0[j] + (step * ((k + 1) // 2) if k % 2 else -step * (k // 2))
-        if not lo <= value <= hi:
-            continue
-        seed[j] = value
-        m, ok, _ = kernel(h, p, R_tip0, R, pos, seed, lower, upper, variant, labelled, rows)
-        if ok:
-            out[:m] = rows[:m]
-            return m, True
-    return n, first
-
-
 @njit(cache=True, no_cfunc_wrapper=True)
 def put_row(W, n, q1, q2, q3, q4, q5, q6, flags, code, v0, v1):
     """Write row ``n`` of a kernel's work array ``W`` (the layout above), each angle

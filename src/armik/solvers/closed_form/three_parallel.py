@@ -149,9 +149,26 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
     no row reached within the limits, the joint's other values are tried, nearest q0's first
     (``sixr.FREE_SWEEP`` over a turn within its limits), and the first that gives one is
     kept."""
-    return sixr.free_swept(
-        _kernel, 5, h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out
-    )
+    n, first, free = _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out)
+    if first or free == 0 or n == 0:
+        return n, first
+    j = 0 if free & 1 else (2 if free & 4 else 5)
+    lo, hi = max(lower[j], q0[j] - math.pi), min(upper[j], q0[j] + math.pi)
+    step = 2.0 * math.pi / sixr.FREE_SWEEP
+    seed = q0.copy()
+    rows = np.empty_like(out)
+    for k in range(1, sixr.FREE_SWEEP + 1):
+        value = q0[j] + (step * ((k + 1) // 2) if k % 2 else -step * (k // 2))
+        if not lo <= value <= hi:
+            continue
+        seed[j] = value
+        m, ok, _ = _kernel(h, p, R_tip0, R, pos, seed, lower, upper, variant, labelled, rows)
+        if ok:
+            for r in range(m):
+                for c in range(out.shape[1]):
+                    out[r, c] = rows[r, c]
+            return m, True
+    return n, first
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
