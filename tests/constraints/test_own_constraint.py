@@ -302,3 +302,26 @@ def test_independent_chains_take_a_constraint_by_tip_on_every_route():
         assert cell.split(r.q)["r_tool0"][1] < LIMIT, r.reason
         assert np.allclose(right.fk(cell.split(r.q)["r_tool0"]).translation,
                            cell.fk(r.q, "r_tool0").translation)  # fmt: skip
+
+
+def test_with_collisions_checked_a_check_refusing_the_answer_restarts_too():
+    """With obstacles checked, a numeric answer a user's check refuses (clear of every
+    obstacle) restarts as a colliding one does, where the search stopped at it."""
+    ur5 = bundled("ur5")
+    far = [armik.Sphere(0.05, (3.0, 3.0, 3.0))]  # never near: only the check refuses
+    BUDGET = {"iteration_budget": 5000}
+    Q = ur5.random_q(3, n=6)
+    Q[:, 0] = np.linspace(-0.9, 0.9, len(Q))
+    refused = 0
+    for q in Q:
+        p = ur5.fk(q).translation
+        plain = ur5.solve(p, obstacles=far, **BUDGET)
+        assert plain.success
+        if np.cos(plain.q[0]) > 0.5:
+            continue
+        refused += 1
+        r = ur5.solve(p, obstacles=far, constraints=[BaseAhead60()], **BUDGET)
+        assert r.success and np.cos(r.q[0]) > 0.5 and r.restarts > 0, r.reason
+        assert np.linalg.norm(ur5.fk(r.q).translation - p) < 1e-6
+        assert r.extra["min_distance"] > 1.0
+    assert refused > 0

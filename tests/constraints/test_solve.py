@@ -240,3 +240,22 @@ def test_paths_around_an_obstacle_go_round_it_or_say_where_they_cannot():
                 previous = path.q[i]
         around += bool(path.success.all())
     assert checked >= 4 and around >= 1
+
+
+@pytest.mark.parametrize("solver", ["auto", "dls"])
+def test_weighted_with_collisions_reports_the_true_distances(solver):
+    """A weighted request with obstacles checked reports its true distances to the target
+    and what its verdict measured beside them, as without obstacles."""
+    ur5 = arm("ur5")
+    q = ur5.random_q(4)
+    T = ur5.fk(q)
+    aside = pin.SE3(T.rotation, T.translation + np.array([0.0, 0.0, 0.05]))
+    weights = (1, 1, 0, 1, 1, 1)  # z not measured: 5 cm off along it is a success
+    far = [armik.Sphere(0.05, (3.0, 3.0, 3.0))]
+    plain = ur5.solve(aside, q0=q, weights=weights, solver=solver)
+    r = ur5.solve(aside, q0=q, weights=weights, solver=solver, obstacles=far)
+    for got in (plain, r):
+        assert got.success, got.reason
+        true = np.linalg.norm(ur5.fk(got.q).translation - aside.translation)
+        assert got.position_error == pytest.approx(true, abs=1e-9) and true > 0.01
+        assert got.measured is not None and got.measured[0] < 1e-4

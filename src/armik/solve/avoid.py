@@ -1,14 +1,15 @@
-"""Solves with collisions checked (options ``obstacles``, ``self_collision``, ``margin``),
-and a numeric solve under a user's own checks (``solve_holding``), which restarts as the
-collision search does where the verdict refuses its answer.
+"""Solves with collisions checked (options ``obstacles``, ``self_collision``, ``margin``)
+or a user's own checks (``checks``): where the verdict refuses an answer the solver
+claimed, the search goes on.
 
-Every answer gets the verdict of any solve (FK and limits), then the collision check
-(``armik.constraints.clear``): a success must keep every checked pair ``margin``
-apart. A closed form's branches, from one run of its kernel, are checked nearest the seed
-first, and the first collision-free verified one is the answer. A numeric solver whose
-verified answer collides is run again from a random configuration, within what is left of
-the budget (``timeout`` or ``iteration_budget``, and ``max_restarts``); when none is free
-the result is ``Status.COLLISION`` naming the closest pair.
+Every answer gets the verdict of any solve (FK, limits and the user's checks), then the
+collision check (``armik.constraints.clear``): a success must keep every checked pair
+``margin`` apart. A closed form's branches, from one run of its kernel, are checked nearest
+the seed first, and the first collision-free verified one is the answer. A numeric solver
+whose claimed answer the verdict refuses (it collides, or breaks a check) is run again from
+a random configuration, within what is left of the budget (``timeout`` or
+``iteration_budget``, and ``max_restarts``); when none holds, the result is the best
+failure (``Status.COLLISION`` naming the closest pair, or the check's status and words).
 
 On a path (``solve_path``), a numeric answer that reaches the pose but collides is first
 slid out of contact (``solve.slide``: damped least squares on the pose with each close
@@ -20,7 +21,7 @@ for no more successes (docs/collisions.md).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -34,10 +35,10 @@ from armik.solve import push
 from armik.solve.slide import slide
 from armik.solvers.answers import Answers, one
 from armik.status import Status
+from armik.verify.distances import with_distances
 from armik.verify.measure import measure
 from armik.verify.verdict import (
     decide_one,
-    finish,
     nearest_first,
     ranked,
     seed_distance,
@@ -49,7 +50,6 @@ if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
     from armik.problem.settings import SolverSettings
     from armik.solvers.registry import SolverSpec
-    from armik.targets.pose import Target
 
 
 @dataclass(frozen=True)
@@ -67,37 +67,46 @@ def solve_avoiding(
     target,
     seed: np.ndarray,
     opts: SolverSettings,
-    clear: Collisions,
+    clear: Collisions | None,
     every: bool,
     t0,
     first: First | None = None,
     slide_first: bool = False,
 ):
     """The verified results of ``spec`` for ``target`` (best first; the first only unless
-    ``every``), each kept ``clear`` of collisions; a numeric solver goes on from ``first``
-    when given, and with ``slide_first`` (the option ``slide``) slides its first colliding
-    answer out of contact before it restarts."""
-    check = checker(arm, clear.obstacles, clear.self_collision)
-    margin = clear.margin
+    ``every``), each kept ``clear`` of collisions (None: only the verdict's checks); a
+    numeric solver goes on from ``first`` when given, and with ``slide_first`` (the option
+    ``slide``) slides its first colliding answer out of contact before it restarts."""
+    check = None if clear is None else checker(arm, clear.obstacles, clear.self_collision)
+    margin = math.inf if clear is None else clear.margin
     if not seed.flags.writeable:  # a read-only seed (a result's q) is another kernel type
         seed = seed.copy()
     if every:  # every answer's verdict, then the collision check of the N of them
         answers = spec.run(arm, target, seed, opts, True)
         found = verdicts(arm, answers, target, opts)
-        found.judge(collision_check(check, answers.q, margin))
-        return ranked(found, spec.name, seed, True, t0)
-    if spec.kind == "analytic":
+        if check is not None:
+            found.judge(collision_check(check, answers.q, margin))
+    elif spec.kind == "analytic":
         answers = spec.run(arm, target, seed, opts, True)
         found = _first_free(arm, answers, target, opts, check, margin, seed)
-        return ranked(found, spec.name, seed, False, t0)
-    runs = _restarting(arm, spec, target, seed, opts, check, margin, first, slide_first)
-    return [] if runs is None else ranked(runs, spec.name, seed, False, t0)
+    else:
+        if first is None:
+            _load(arm, spec, target, seed, opts)
+        runs = _restarting(arm, spec, target, seed, opts, check, margin, first, slide_first)
+        if runs is None:
+            return []
+        found = runs
+    results = ranked(found, spec.name, seed, every, t0)
+    # measured apart (weights, a region: bounds or an aim): the true distances beside
+    if opts.weights is not None or opts.bounds is not None or target.aim is not None:
+        return with_distances(arm, results, target, opts)
+    return results
 
 
 def _checked(arm, answers, i: int, target, opts: SolverSettings, check, margin) -> Verdicts:
     """The verdict of answer ``i`` of ``answers`` with its collision check."""
     found = decide_one(arm, answers.take([i]), measure(arm, answers.q[i], target, opts), opts)
-    return found.judge(collision_check(check, found.q, margin))
+    return found if check is None else found.judge(collision_check(check, found.q, margin))
 
 
 def _first_free(arm, answers, target, opts: SolverSettings, check, margin, seed) -> Verdicts:
@@ -124,10 +133,11 @@ def _restarting(
     slide_first: bool,
 ) -> Verdicts | None:
     """Run the numeric solver, from the seed (or go on from its ``first`` run) then from
-    random configurations, until its verified answer is collision-free or the budget is
-    spent; the rows of every run (None: the budget was spent before the first), or the free
-    run's row alone. A restart's answer that the solver claims and that collides gets its
-    verdict only if no free answer follows (``_Deferred``): the search goes on at once."""
+    random configurations, while the verdict refuses the answer it claims (it collides by
+    ``check``, or breaks the verdict's checks) and the budget lasts; the rows of every run
+    (None: the budget was spent before the first), or the verified run's row alone. A
+    restart's answer that the solver claims and that collides gets its verdict only if no
+    free answer follows (``_Deferred``): the search goes on at once."""
     start_cpu = cpu_time.thread_time() if first is None else first.started
     rng = np.random.default_rng(opts.seed)
     lo, hi = arm.sampling_box()  # ``arm.random_q(rng)``'s draws, the box found once:
@@ -138,7 +148,7 @@ def _restarting(
     for run in range(opts.max_restarts + 1):
         if run == 0 and first is not None:
             row = first.row
-            if row.extra is None:  # a failure: its distance measured here, as below
+            if row.extra is None and check is not None:  # its distance measured here
                 row.judge(collision_check(check, row.q, margin))
         else:
             left = _left(opts, start_cpu, used_iterations, used_restarts)
@@ -146,7 +156,8 @@ def _restarting(
                 break
             answers = spec.run(arm, target, q_start, left, False)
             measured = None  # a claimed answer's (distance, pair), measured once
-            if run > 0 and len(answers) == 1 and answers.claim.item(0) == _CONVERGED:
+            claimed = len(answers) == 1 and answers.claim.item(0) == _CONVERGED
+            if run > 0 and claimed and check is not None:
                 distance, pair = measured = check.distance(answers.q[0])
                 if distance < margin:  # claimed, colliding: on to the next start
                     used_iterations += int(answers.iterations[0])
@@ -163,19 +174,22 @@ def _restarting(
                     key=lambda i: (not found.succeeded(i), seed_distance(answers.q[i], seed)),
                 )
                 found = found.take([best])
-            if measured is None:
+            if measured is not None:
+                row = found.judge(distances([measured], margin))
+            elif check is not None:
                 row = found.judge(collision_check(check, found.q, margin))
             else:
-                row = found.judge(distances([measured], margin))
+                row = found
         used_iterations += int(row.answers.iterations[0])
         used_restarts += int(row.answers.restarts[0]) + (run > 0)
         row = row.recounted(used_iterations, used_restarts)
         if row.succeeded(0):  # the first free answer: the one the rows rank first
             return row
         rows.append(row)
-        if int(row.status[0]) != Status.COLLISION.code:
+        colliding = int(row.status[0]) == _COLLISION  # (a result's row claims its status)
+        if not colliding and row.answers.claim.item(0) != _CONVERGED:
             break  # the solver itself found nothing within what was left
-        if run == 0 and slide_first:
+        if run == 0 and slide_first and colliding:
             # the first answer only: it starts from the seed (a path's previous answer);
             # a restart's lands anywhere, where sliding buys no continuity
             slid = _slid(arm, target, row, opts, check, margin, start_cpu, used_iterations)
@@ -185,7 +199,7 @@ def _restarting(
                 if slid.succeeded(0):
                     return slid
                 rows.append(slid)
-        elif run == 0 and PUSH:
+        elif run == 0 and PUSH and colliding:
             got = _pushed(arm, spec, target, row, opts, check, margin, start_cpu, used_iterations)
             used_iterations = got[1]
             rows.extend(p.recounted(used_iterations, used_restarts) for p in got[0])
@@ -198,47 +212,22 @@ def _restarting(
     return joined(built, arm.dof)  # type: ignore[arg-type]
 
 
-_CONVERGED = Status.CONVERGED.code
+_CONVERGED, _COLLISION = Status.CONVERGED.code, Status.COLLISION.code
 
 
-def solve_holding(
-    arm: ArmModel, spec: SolverSpec, tgt: Target, seed: np.ndarray, opts: SolverSettings, t0: float
-):
-    """A numeric solver's results under a user's checks: where the verdict refuses the
-    answer it claimed (a check broken at every turn), the solver runs again from random
-    configurations within what is left of the budget (``timeout`` or
-    ``iteration_budget``, and ``max_restarts``), as the collision retry does, until an
-    answer holds every check; the first run's failure where none does."""
+def _load(arm: ArmModel, spec: SolverSpec, target, seed: np.ndarray, opts: SolverSettings):
+    """Load (or compile) a numeric solver's kernel before the budget's clock starts: one
+    iteration, once per arm and kind of target, as the collision search's first plain solve
+    does (a first call in a process then searches as later ones)."""
     loaded = _LOADED(arm)
-    kind = (spec.name, tgt.rotation is None, opts.bounds is not None or tgt.aim is not None)
+    kind = (spec.name, target.rotation is None, opts.bounds is not None or target.aim is not None)
     if kind not in loaded:
-        # its kernel loaded (or compiled) before the budget's clock starts, one iteration,
-        # as the collision search's: a first call in a process then searches as later ones
         once = frozen(type(opts), **{**opts.__dict__, "max_restarts": 0, "iteration_budget": 1})
-        spec.run(arm, tgt, seed.copy(), once, False)
+        spec.run(arm, target, seed.copy(), once, False)
         loaded.add(kind)
-    started = cpu_time.thread_time()
-    answers = spec.run(arm, tgt, seed, opts, False)
-    first = finish(arm, spec.name, answers, tgt, opts, seed, False, t0)
-    rng = np.random.default_rng(opts.seed)
-    lo, hi = arm.sampling_box()
-    used, restarts = int(answers.iterations[0]), int(answers.restarts[0])
-    refused = not first[0].success and answers.claim.item(0) == _CONVERGED
-    while refused:
-        left = None if restarts >= opts.max_restarts else _left(opts, started, used, restarts)
-        if left is None:
-            break
-        answers = spec.run(arm, tgt, lo + (hi - lo) * rng.random(arm.dof), left, False)
-        used, restarts = used + int(answers.iterations[0]), restarts + int(answers.restarts[0]) + 1
-        got = finish(arm, spec.name, answers, tgt, left, seed, False, t0, (used, restarts))
-        if got[0].success:
-            return got
-    if restarts > first[0].restarts:  # the first run's refusal, with the search's counts
-        return [replace(first[0], iterations=used, restarts=restarts)]
-    return first
 
 
-_LOADED: Derived[set] = Derived("numeric solvers run once under a user's checks", lambda _: set())
+_LOADED: Derived[set] = Derived("numeric solvers run once before a search", lambda _: set())
 
 
 @dataclass(frozen=True)

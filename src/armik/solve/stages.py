@@ -27,7 +27,7 @@ from armik.model.derived import Derived
 from armik.request import Request, but_options, with_seed
 from armik.result import IKResult
 from armik.solve import far, parameter
-from armik.solve.avoid import First, solve_avoiding, solve_holding
+from armik.solve.avoid import First, solve_avoiding
 from armik.solve.held import solve_held
 from armik.solve.prepared import plan_for
 from armik.solvers import registry
@@ -229,7 +229,9 @@ def _clear_at_once(check: Checker, r: IKResult, opts, started: float, t0: float)
         fields.pop("reason", None)
         fields["_reason"] = (_said_clear, (said, pair, distance, opts.margin))
     fields["time"] = time.perf_counter() - t0
+    kept = fields.pop("extra")  # what the verdict measured apart (weights, a region)
     clear = IKResult._from_fields(fields)
+    clear.extra.update(kept)
     clear.extra["min_distance"], clear.extra["closest_pair"] = distance, pair
     return clear, None
 
@@ -253,8 +255,8 @@ def _run(arm, spec: SolverSpec, tgt: Target, q0, opts, every: bool, t0: float, f
         )
         return solve_avoiding(arm, spec, tgt, seed, opts, clear, every, t0, first, opts.slide)
     if opts.checks and not every:
-        if spec.kind != "analytic":
-            return solve_holding(arm, spec, tgt, seed, opts, t0)
+        if spec.kind != "analytic":  # restarted while a check refuses its answer
+            return solve_avoiding(arm, spec, tgt, seed, opts, None, False, t0)
         answers = spec.run(arm, tgt, seed, opts, False)
         found = finish(arm, spec.name, answers, tgt, opts, seed, False, t0)
         if found[0].success or len(answers) > 1:
