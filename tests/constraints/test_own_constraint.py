@@ -325,3 +325,19 @@ def test_with_collisions_checked_a_check_refusing_the_answer_restarts_too():
         assert np.linalg.norm(ur5.fk(r.q).translation - p) < 1e-6
         assert r.extra["min_distance"] > 1.0
     assert refused > 0
+
+
+@pytest.mark.parametrize("k", [2, 3, 8, 12, 13])
+def test_a_restart_refused_by_the_check_goes_on_among_obstacles(k):
+    """Collisions and a user's check together: a restart's answer clear of the box but
+    refused by the check goes on to the next start (one search), where the search ended
+    there and the solve failed although answers that hold both exist."""
+    ur5 = bundled("ur5")
+    box = armik.Box((0.3, 0.3, 0.3), (0.35, 0.25, 0.4))
+    q = ur5.random_q(k)
+    q[0] = np.random.default_rng(k).uniform(-0.9, 0.9)  # an answer with the base ahead
+    p = ur5.fk(q).translation
+    r = ur5.solve(p, obstacles=[box], constraints=[BaseAhead60()], iteration_budget=5000, seed=k)
+    assert r.success, r.reason
+    assert np.cos(r.q[0]) > 0.5 and r.extra["min_distance"] >= 0.0
+    assert np.linalg.norm(ur5.fk(r.q).translation - p) < 1e-6
