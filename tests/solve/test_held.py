@@ -98,13 +98,25 @@ def test_bad_hold_values_are_refused_with_the_fix(iiwa):
         iiwa.solve(T, hold={})
     with pytest.raises(OptionError, match="map joint names"):
         iiwa.solve(T, hold="j3")
-    ur5 = armik.load("ur5")
-    with pytest.raises(OptionError, match=r"6 joints.*path.*arm.with_locked\(\{'shoulder"):
-        ur5.solve_path([ur5.fk(np.zeros(6))] * 2, None, hold={"shoulder_pan_joint": 0.0})
-    two = {"j3": 0.0, "j4": 0.0}  # no task holds them on a path: a path holds one joint
-    with pytest.raises(OptionError, match="holds 2 joints.*as tasks"):
-        iiwa.solve_path([T, T], np.zeros(7), hold=two)
+    two = {"j3": 0.0, "j4": 0.0}  # the task solver's, one answer a waypoint: no global plan
+    with pytest.raises(OptionError, match=r"plan='global'.*plan='follow'.*with_locked"):
+        iiwa.solve_path([T, T], np.zeros(7), hold=two, plan="global")
     assert issubclass(OptionError, InputError)
+
+
+def test_a_path_holds_joints_the_compiled_path_cannot_as_solve_does():
+    """``hold=`` on a path where no closed form holds it (a 6-joint arm, two joints of a
+    7-joint arm) is the task solver's, waypoint by waypoint, as ``solve`` takes it, where
+    it was refused; every waypoint's answer holds the joint and reaches its position."""
+    ur5 = armik.load("ur5")
+    q = ur5.middle + 0.1
+    start = ur5.fk(q).translation
+    points = [start + np.array([0.0, 0.01 * k, 0.0]) for k in range(3)]
+    path = ur5.solve_path(points, q, hold={"wrist_3_joint": 0.1})
+    assert path.success.all()
+    for p, answer in zip(points, path.q):
+        assert answer[5] == 0.1 and np.linalg.norm(ur5.fk(answer).translation - p) < 1e-6
+        assert np.abs(answer - q).max() < 0.5  # followed from the start, not elsewhere
 
 
 @pytest.mark.parametrize(
@@ -260,3 +272,31 @@ def test_a_path_holding_a_joint_at_none_holds_it_at_the_starts_value(plan, monke
     assert all(r.q[6] == 0.4 for r in rungs)
     middle = panda.solve_path(line[:2], None, hold={"panda_joint7": None}, plan=plan, **budget)
     assert (middle.q[:, 6] == panda.middle[6]).all()
+
+
+def test_held_joints_with_an_aim_are_the_task_solvers_on_every_route():
+    """``hold=`` with ``cone=`` on a 6-joint arm: the aimed target as the tasks it lowers
+    from (its position and an ``armik.Axis``), held by the task solver, on ``solve``,
+    ``solve_batch`` and a followed path, where ``solve`` refused it and a batch dropped
+    the cone (every row an exact pose, failed)."""
+    ur5 = armik.load("ur5")
+    q = ur5.middle + 0.1
+    T = ur5.fk(q)
+    cone = (0.0, 0.0, 1.0, 0.1)  # the tool's z within 0.1 rad: its spin is free
+
+    def holds(answer, target):
+        F = ur5.fk(answer)
+        angle = np.arccos(np.clip(F.rotation[:, 2] @ target.rotation[:, 2], -1, 1))
+        near = np.linalg.norm(F.translation - target.translation) < 1e-6
+        return answer[5] == 0.7 and near and angle <= 0.1 + 1e-6
+
+    r = ur5.solve(T, q0=q, hold={"wrist_3_joint": 0.7}, cone=cone)
+    assert r.success and holds(r.q, T), r.reason
+    batch = ur5.solve_batch([T, T], q0=q, hold={"wrist_3_joint": 0.7}, cone=cone, workers=1)
+    assert batch.success.all() and all(holds(a, T) for a in batch.q)
+    shifted = [pin.SE3(T.rotation, T.translation + [0.0, 0.01 * k, 0.0]) for k in range(3)]
+    near = ur5.solve(T, q0=q, hold={"wrist_3_joint": 0.7}, cone=cone).q  # start held
+    path = ur5.solve_path(shifted, near, hold={"wrist_3_joint": 0.7}, cone=cone)
+    assert path.success.all() and all(holds(a, t) for a, t in zip(path.q, shifted))
+    with pytest.raises(OptionError, match="on a position target points the tip.s axis nowhere"):
+        ur5.solve(T.translation, hold={"wrist_3_joint": 0.7}, cone=cone)

@@ -45,11 +45,11 @@ def held_joint(arm: ArmModel, hold: tuple[str, float | None], seed: np.ndarray):
     if arm.dof != 7:
         raise OptionError(
             f"hold={{{name!r}: {value!r}}} here needs the closed form of a 7-joint arm with "
-            f"one joint held; arm {arm.name!r} has {arm.dof} joints. solve, solve_all and "
-            "solve_batch hold it by the task solver for a target said as a task "
-            "(armik.Pose(T, weights=..., bounds=...), armik.Position(p), armik.LookAt); for "
-            f"a path, solve on the arm with the joint locked: "
-            f"arm.with_locked({{{name!r}: value}})",
+            f"one joint held; arm {arm.name!r} has {arm.dof} joints. The task solver holds "
+            "it for a pose, a position or an aimed pose, or a target said as tasks "
+            "(armik.Pose(T, weights=..., bounds=...), armik.Position(p), armik.LookAt), not "
+            "for weights or rotation bounds with an aim; or solve on the arm with the joint "
+            f"locked: arm.with_locked({{{name!r}: value}})",
             option="hold",
             value=name,
         )

@@ -79,10 +79,12 @@ def read(
             elif aim is not None:
                 raise OptionError(_AIM_OF_TASKS, option=_AIM_NAMES[0], value=aim)
     held = False  # a plain target whose held joints only the task solver holds
-    if problem is None and aim is None and ("hold" in options or "constraints" in options):
+    if problem is None and ("hold" in options or "constraints" in options):
         if _held_apart(arm, options):  # a plain pose or position: the task solver's task
-            problem, options = _as_task(arm, target, options)
-            held = True
+            given = target if aim is None else parsed(target, arm).aimed(aim)
+            problem, options = _as_task(arm, given, options)
+            held = problem is not None
+            aim = aim if problem is None else None
     opts, key, seed = settings(arm, options) if options else (_DEFAULT, (), 0)
     if problem is not None:
         check_options(opts, solver, held=held)
@@ -203,13 +205,27 @@ def read_path(
                     "or within a cone of it, a look-at at one point, the same in every row)"
                 )
             rows = tuple(read(arm, list(p.tasks), None, solver, options) for p in problems)
-            opts, key, seed = settings(arm, options)
-            path = Request(None, q0, solver, opts, key, seed, False, t0, score, rows=rows)
-            return path, path
+            return _by_rows(arm, rows, q0, solver, options, t0, score)
         poses, options = lowered
         aim = _aimed_once(poses, aim)
         if aim is None and (freed := _tasks_aim(problems)) is not None:
             refuse_freed(freed, settings(arm, options)[0])
+    elif "hold" in options or "constraints" in options:
+        if _held_apart(arm, options):  # joints only the task solver holds: as solve does
+            if plan == "global":
+                raise OptionError(
+                    "plan='global' plans over every solution at each waypoint, and the joints "
+                    "held here are held by the task solver, which gives one answer each: give "
+                    "plan='follow', or lock them: arm.with_locked({name: value})",
+                    option="hold",
+                    value=options.get("hold"),
+                )
+            batch = parse_targets(poses, arm)
+            each = [batch.target(i) for i in range(len(batch))]
+            if aim is not None:  # every waypoint's, as the compiled path's batch carries it
+                each = [t.aimed(aim) for t in each]
+            rows = tuple(read(arm, t, None, solver, options) for t in each)
+            return _by_rows(arm, rows, q0, solver, options, t0, score)
     opts, key, seed = settings(arm, {**options, "max_restarts": 0})
     if aim is not None:  # every waypoint's: the path's batch carries it
         poses = _aimed_batch(parse_targets(poses, arm), aim)
@@ -225,6 +241,14 @@ def read_path(
     if aim is not None and key is not None:
         key = (key, aim.shape)
     return Request(poses, q0, solver, opts, key, seed, False, t0, score), local
+
+
+def _by_rows(arm, rows: tuple, q0, solver: str, options: dict, t0: float, score):
+    """(request, local) of a path solved waypoint by waypoint, each ``rows``' own request
+    (read as ``solve`` reads it), the followed path's."""
+    opts, key, seed = settings(arm, options)
+    path = Request(None, q0, solver, opts, key, seed, False, t0, score, rows=rows)
+    return path, path
 
 
 def _task_aim(problem: Problem) -> Aim | None:
@@ -340,6 +364,8 @@ def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | No
     error then names the way (a target with an aim is not made a task: ``read``)."""
     tgt = parsed(target, arm)
     said = {name: options[name] for name in _SAID_BY_POSE if options.get(name) is not None}
+    if tgt.aim is not None:  # the tasks it lowers from (``armik.problem.problem.lower``)
+        return _aimed_tasks(tgt, options)
     if said and (tgt.rotation is None or options.get("position_only")):
         return None, options
     if tgt.rotation is None or options.get("position_only"):
@@ -349,6 +375,27 @@ def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | No
         return as_problem(Pose.of(tgt, None)), options
     rest = {k: v for k, v in options.items() if k not in said}
     return as_problem(Pose(pin.SE3(tgt.rotation, tgt.position), **said)), rest
+
+
+def _aimed_tasks(tgt: Target, options: dict) -> tuple[Problem | None, dict]:
+    """(problem, options): an aimed target as the tasks it lowers from: its position (in
+    the box ``bounds`` says, base frame) and an ``armik.LookAt`` of its point or an
+    ``armik.Axis`` along its direction (``toward``, else where the target's rotation takes
+    the axis); (None, ``options``) where they say more (weights, rotation bounds)."""
+    aim = tgt.aim
+    refuse_without_direction(aim, tgt.rotation is not None)
+    bounds = options.get("bounds")
+    box = None if bounds is None else np.asarray(bounds, dtype=float)
+    if options.get("weights") is not None or (box is not None and box[3:].any()):
+        return None, options
+    rest = {k: v for k, v in options.items() if k not in ("bounds", "position_only")}
+    at = Position(tgt.position, None if box is None else box[:3])
+    if aim.point is not None:
+        sight: Task = LookAt(aim.point, aim.axis, aim.within)
+    else:
+        direction = aim.toward if aim.toward is not None else tgt.rotation @ aim.axis
+        sight = Axis(aim.axis, direction, aim.within)
+    return as_problem([at, sight]), rest
 
 
 def options(kwargs: Mapping[str, object]) -> Options:
