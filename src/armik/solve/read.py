@@ -365,7 +365,7 @@ def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | No
     tgt = parsed(target, arm)
     said = {name: options[name] for name in _SAID_BY_POSE if options.get(name) is not None}
     if tgt.aim is not None:  # the tasks it lowers from (``armik.problem.problem.lower``)
-        return _aimed_tasks(tgt, options)
+        return _aimed_tasks(tgt, tgt.aim, options)
     if said and (tgt.rotation is None or options.get("position_only")):
         return None, options
     if tgt.rotation is None or options.get("position_only"):
@@ -377,12 +377,11 @@ def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | No
     return as_problem(Pose(pin.SE3(tgt.rotation, tgt.position), **said)), rest
 
 
-def _aimed_tasks(tgt: Target, options: dict) -> tuple[Problem | None, dict]:
+def _aimed_tasks(tgt: Target, aim: Aim, options: dict) -> tuple[Problem | None, dict]:
     """(problem, options): an aimed target as the tasks it lowers from: its position (in
     the box ``bounds`` says, base frame) and an ``armik.LookAt`` of its point or an
     ``armik.Axis`` along its direction (``toward``, else where the target's rotation takes
     the axis); (None, ``options``) where they say more (weights, rotation bounds)."""
-    aim = tgt.aim
     refuse_without_direction(aim, tgt.rotation is not None)
     bounds = options.get("bounds")
     box = None if bounds is None else np.asarray(bounds, dtype=float)
@@ -393,7 +392,8 @@ def _aimed_tasks(tgt: Target, options: dict) -> tuple[Problem | None, dict]:
     if aim.point is not None:
         sight: Task = LookAt(aim.point, aim.axis, aim.within)
     else:
-        direction = aim.toward if aim.toward is not None else tgt.rotation @ aim.axis
+        rotation = np.eye(3) if tgt.rotation is None else tgt.rotation  # (toward: unread)
+        direction = aim.toward if aim.toward is not None else rotation @ aim.axis
         sight = Axis(aim.axis, direction, aim.within)
     return as_problem([at, sight]), rest
 
