@@ -97,3 +97,16 @@ def test_public_functions_below_the_facade_take_either():
         model_of("ur5")
     pairs = armik.collision.never_colliding_pairs(arm, n=20)
     assert pairs == armik.collision.never_colliding_pairs(arm.kinematics, n=20)
+
+
+@pytest.mark.parametrize("name", ["constraints", "secondary", "budget"])
+def test_none_is_an_option_not_given(name):
+    """``constraints=None``, ``secondary=None`` and ``budget=None`` mean none given, as
+    None does for every other option (``obstacles``, ``hold``, ``prefer``), where they were
+    refused as not a constraint, a Posture or a Budget."""
+    ur5 = armik.load("ur5")
+    T = ur5.fk(ur5.middle + 0.1)
+    plain = ur5.solve(T, seed=3)
+    r = ur5.solve(T, seed=3, **{name: None})
+    assert r.success and np.array_equal(r.q, plain.q)
+    assert ur5.solve_batch([T, T], workers=1, **{name: None}).success.all()

@@ -179,8 +179,8 @@ def spelled(kwargs: dict[str, Any]) -> dict[str, Any]:
     what is not a constraint or a budget, and for an option given twice."""
     values = dict(kwargs)
     said: dict[str, Any] = {}
-    if "budget" in values:
-        given = _checked(values.pop("budget"), Budget, "budget", "must be an armik.Budget")
+    if "budget" in values and values.pop("budget") is not None:  # None: not given, as any
+        given = _checked(kwargs["budget"], Budget, "budget", "must be an armik.Budget")
         _add(said, values, given.said(), "the budget")
     if "constraints" in values:
         checks = list(values.pop("checks", ()))
@@ -224,8 +224,11 @@ def _checked(value: object, kind: type[_T], option: str, what: str) -> _T:
 
 
 def _items(given: object) -> list[object]:
-    """The items of ``constraints=``: one constraint or an iterable of them."""
-    if isinstance(given, Constraint) or given is None or isinstance(given, (str, bytes, Mapping)):
+    """The items of ``constraints=`` or ``secondary=``: one, an iterable of them, or None
+    (none, as None is for every option)."""
+    if given is None:
+        return []
+    if isinstance(given, Constraint) or isinstance(given, (str, bytes, Mapping)):
         return [given]
     try:
         return list(cast(Iterable[object], given))
