@@ -68,3 +68,16 @@ def test_labels_survive_slices_merges_and_files(tmp_path):
     assert list(batch.branch) == words  # the failure's label too: solve's
     back = BatchResult.load(batch.save(tmp_path / "b.npz"))
     assert [r.branch for r in back] == words
+
+
+@pytest.mark.parametrize("name", ["ur5", "abb_irb120"])
+def test_a_closed_form_rows_reason_is_solves(name):
+    """A compiled closed-form batch row's reason is ``solve``'s, its closed form's words
+    first ("closed form (spherical wrist); verified ..."), where the batch said only what
+    it verified."""
+    a = arm(name)
+    T = a.fk_batch(a.random_q(5, n=4))
+    batch = a.solve_batch(T, q0=a.middle, workers=1)
+    for i in range(len(T)):
+        r = a.solve(T[i], q0=a.middle)
+        assert r.success and batch.reason(i) == r.reason and r.reason.startswith("closed form (")

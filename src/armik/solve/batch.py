@@ -113,7 +113,7 @@ def solve_batch(
     request = request.but(solver=spec.name)
     workers = _workers(workers, spec)
     chunk = _chunk_size(chunk_size)
-    claim = reasons.CONVERGED if spec.kind == "numeric" else ""  # a success's, as solve's
+    claim = reasons.CONVERGED if spec.kind == "numeric" else _closed_form(spec)  # as solve's
     branches = _branches(arm, spec)
     out = BatchResult.for_arm(arm, n, spec.name, opts, claim, opts.margin, batch.aim, branches)
     clear = _clear(opts) if opts.obstacles or opts.self_collision else ()  # none asked: no call
@@ -343,6 +343,13 @@ def _branches(arm: ArmModel, spec: SolverSpec) -> Branches | None:
         return None
     h, p = sixr.unflatten.py_func(sixr.flat(arm, family.family, family.classify))[:2]
     return Branches(h, p)
+
+
+def _closed_form(spec: SolverSpec) -> str:
+    """The words a success of ``spec``'s compiled batch rows begins with, as ``solve``'s
+    reason does: a 6R family's ("closed form (spherical wrist)"), else none."""
+    family = getattr(spec.run_batch, "__self__", None)
+    return family.closed_form if isinstance(family, Family) else ""
 
 
 def _first_row(part: BatchResult, i: int, opts: SolverSettings) -> Verdicts:
