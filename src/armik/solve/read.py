@@ -361,7 +361,7 @@ def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | No
     the pose's ``weights`` and ``bounds``; ``armik.Position``, ``position_only`` said by
     the task), for the task solver to hold joints the compiled path cannot; (None,
     ``options``) where the options say more than such a task would: the compiled path's
-    error then names the way (a target with an aim is not made a task: ``read``)."""
+    error then names the way. An aimed target is the tasks it lowers from (``_aimed_tasks``)."""
     tgt = parsed(target, arm)
     said = {name: options[name] for name in _SAID_BY_POSE if options.get(name) is not None}
     if tgt.aim is not None:  # the tasks it lowers from (``armik.problem.problem.lower``)
