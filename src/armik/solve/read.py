@@ -25,11 +25,21 @@ from armik.model.derived import Derived
 from armik.options import Options, spelled
 from armik.problem.problem import Problem, as_problem, lower, refuse_looking_from_target
 from armik.problem.scores import fit_posture, parse_score
-from armik.problem.tasks import Axis, LookAt, Pose, Position, Task
+from armik.problem.tasks import Pose, Position, Task
 from armik.request import Request
+from armik.solve.read_aim import (
+    AIM_NAMES,
+    AIM_OF_TASKS,
+    aimed_batch,
+    aimed_once,
+    aimed_tasks,
+    keyword_aim,
+    task_aim,
+    tasks_aim,
+)
 from armik.solve.tasks import SOLVER, check_said_twice, lower_all, task_problems
-from armik.targets.aim import Aim, aim_of, refuse_freed, refuse_without_direction
-from armik.targets.batch import TargetBatch, parse_targets
+from armik.targets.aim import refuse_freed, refuse_without_direction
+from armik.targets.batch import parse_targets
 from armik.targets.pose import Target, parsed
 
 
@@ -54,9 +64,9 @@ def read(
         score = parse_score(options.pop("prefer"))
     aim = None
     if "cone" in options or "look_at" in options or "toward" in options:
-        aim, options = _aim(options)
+        aim, options = keyword_aim(options)
     problem = None
-    freed = None  # an aim task lowered to a pose (``_task_aim``): refused what frees it
+    freed = None  # an aim task lowered to a pose (``task_aim``): refused what frees it
     kind = type(target)  # the common poses first: ``Task``'s isinstance is an ABC's check
     if (
         kind is not _SE3
@@ -71,13 +81,13 @@ def read(
                 target, said = lowered
                 check_said_twice(options, said)
                 if aim is None and type(target) is not Target:  # an Axis exactly along
-                    freed = _task_aim(problem)
+                    freed = task_aim(problem)
                 if aim is not None:  # a call only then: the lowered target's aim is read below
-                    aim = _aimed_once(target, aim)
+                    aim = aimed_once(target, aim)
                 options = {**options, **said}
                 problem = None
             elif aim is not None:
-                raise OptionError(_AIM_OF_TASKS, option=_AIM_NAMES[0], value=aim)
+                raise OptionError(AIM_OF_TASKS, option=AIM_NAMES[0], value=aim)
     held = False  # a plain target whose held joints only the task solver holds
     if problem is None and ("hold" in options or "constraints" in options):
         if _held_apart(arm, options):  # a plain pose or position: the task solver's task
@@ -120,9 +130,9 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     given = options  # a row solved as ``solve`` solves it reads its task list with these
     aim = None
     if "cone" in options or "look_at" in options or "toward" in options:
-        aim, options = _aim(options)
+        aim, options = keyword_aim(options)
     rows: list | None = None
-    freed = None  # an aim task lowered to a pose (``_task_aim``): refused what frees it
+    freed = None  # an aim task lowered to a pose (``task_aim``): refused what frees it
     ranked = False  # each row's answers ranked by a preference
     # an array holds poses or positions: tasks come as a list or a tuple
     problems = task_problems(targets) if type(targets) in (list, tuple) else None
@@ -131,14 +141,14 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
         lowered = lower_all(problems, options, arm.tip)
         if lowered is None:  # no compiled form: the task solver, target by target
             if aim is not None:
-                raise OptionError(_AIM_OF_TASKS, option=_AIM_NAMES[0], value=aim)
+                raise OptionError(AIM_OF_TASKS, option=AIM_NAMES[0], value=aim)
             rows = [list(p.tasks) for p in problems]
         else:
             targets, options = lowered
-            aim = _aimed_once(targets, aim)
-            freed = None if aim is not None else _tasks_aim(problems)
+            aim = aimed_once(targets, aim)
+            freed = None if aim is not None else tasks_aim(problems)
     if aim is not None:  # every target's: the batch carries it
-        targets = _aimed_batch(parse_targets(targets, arm), aim)
+        targets = aimed_batch(parse_targets(targets, arm), aim)
         refuse_without_direction(aim, targets.rotations is not None)
     if rows is None and options.get("prefer") is not None:  # each target's answers ranked
         batch = parse_targets(targets, arm)
@@ -189,12 +199,12 @@ def read_path(
         options = spelled(options)
     aim = None
     if "cone" in options or "look_at" in options or "toward" in options:
-        aim, options = _aim(options)
+        aim, options = keyword_aim(options)
     problems = task_problems(poses)
     if problems is not None:
         lowered = lower_all(problems, options, arm.tip)
         if lowered is None and aim is not None:
-            raise OptionError(_AIM_OF_TASKS, option=_AIM_NAMES[0], value=aim)
+            raise OptionError(AIM_OF_TASKS, option=AIM_NAMES[0], value=aim)
         if lowered is None:  # the task solver's, waypoint by waypoint, each as solve reads it
             if plan == "global":
                 raise TargetError(
@@ -207,8 +217,8 @@ def read_path(
             rows = tuple(read(arm, list(p.tasks), None, solver, options) for p in problems)
             return _by_rows(arm, rows, q0, solver, options, t0, score)
         poses, options = lowered
-        aim = _aimed_once(poses, aim)
-        if aim is None and (freed := _tasks_aim(problems)) is not None:
+        aim = aimed_once(poses, aim)
+        if aim is None and (freed := tasks_aim(problems)) is not None:
             refuse_freed(freed, settings(arm, options)[0])
     elif "hold" in options or "constraints" in options:
         if _held_apart(arm, options):  # joints only the task solver holds: as solve does
@@ -228,7 +238,7 @@ def read_path(
             return _by_rows(arm, rows, q0, solver, options, t0, score)
     opts, key, seed = settings(arm, {**options, "max_restarts": 0})
     if aim is not None:  # every waypoint's: the path's batch carries it
-        poses = _aimed_batch(parse_targets(poses, arm), aim)
+        poses = aimed_batch(parse_targets(poses, arm), aim)
         refuse_without_direction(aim, poses.rotations is not None)
         refuse_freed(aim, opts)
         key = None if key is None else (key, aim.shape)
@@ -249,22 +259,6 @@ def _by_rows(arm, rows: tuple, q0, solver: str, options: dict, t0: float, score)
     opts, key, seed = settings(arm, options)
     path = Request(None, q0, solver, opts, key, seed, False, t0, score, rows=rows)
     return path, path
-
-
-def _task_aim(problem: Problem) -> Aim | None:
-    """The aim of ``problem``'s ``Axis`` or ``LookAt`` task, or None: one lowered to a pose
-    (an axis of the tip's own exactly along a direction, its spin freed by bounds) carries
-    no aim, and what would free the axis it measures is refused all the same."""
-    for task in problem.tasks:
-        if type(task) is Axis or type(task) is LookAt:
-            x, y, z = task.axis.tolist()
-            return Aim((x, y, z), float(task.within))
-    return None
-
-
-def _tasks_aim(problems: list[Problem]) -> Aim | None:
-    """The first aim of ``problems``' tasks (``_task_aim``), or None."""
-    return next((a for a in map(_task_aim, problems) if a is not None), None)
 
 
 def check_plan(plan: object) -> None:
@@ -361,11 +355,11 @@ def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | No
     the pose's ``weights`` and ``bounds``; ``armik.Position``, ``position_only`` said by
     the task), for the task solver to hold joints the compiled path cannot; (None,
     ``options``) where the options say more than such a task would: the compiled path's
-    error then names the way. An aimed target is the tasks it lowers from (``_aimed_tasks``)."""
+    error then names the way. An aimed target is the tasks it lowers from (``aimed_tasks``)."""
     tgt = parsed(target, arm)
     said = {name: options[name] for name in _SAID_BY_POSE if options.get(name) is not None}
     if tgt.aim is not None:  # the tasks it lowers from (``armik.problem.problem.lower``)
-        return _aimed_tasks(tgt, tgt.aim, options)
+        return aimed_tasks(tgt, tgt.aim, options)
     if said and (tgt.rotation is None or options.get("position_only")):
         return None, options
     if tgt.rotation is None or options.get("position_only"):
@@ -377,70 +371,11 @@ def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | No
     return as_problem(Pose(pin.SE3(tgt.rotation, tgt.position), **said)), rest
 
 
-def _aimed_tasks(tgt: Target, aim: Aim, options: dict) -> tuple[Problem | None, dict]:
-    """(problem, options): an aimed target as the tasks it lowers from: its position (in
-    the box ``bounds`` says, base frame) and an ``armik.LookAt`` of its point or an
-    ``armik.Axis`` along its direction (``toward``, else where the target's rotation takes
-    the axis); (None, ``options``) where they say more (weights, rotation bounds)."""
-    refuse_without_direction(aim, tgt.rotation is not None)
-    bounds = options.get("bounds")
-    box = None if bounds is None else np.asarray(bounds, dtype=float)
-    if options.get("weights") is not None or (box is not None and box[3:].any()):
-        return None, options
-    rest = {k: v for k, v in options.items() if k not in ("bounds", "position_only")}
-    at = Position(tgt.position, None if box is None else box[:3])
-    if aim.point is not None:
-        sight: Task = LookAt(aim.point, aim.axis, aim.within)
-    else:
-        rotation = np.eye(3) if tgt.rotation is None else tgt.rotation  # (toward: unread)
-        direction = aim.toward if aim.toward is not None else rotation @ aim.axis
-        sight = Axis(aim.axis, direction, aim.within)
-    return as_problem([at, sight]), rest
-
-
 def options(kwargs: Mapping[str, object]) -> Options:
     """The validated options of ``kwargs`` (not remembered): what the facade's other
     readers (the viewer, the C export, the CLI, ``Arms``) check keyword options by; a
     target's aim (``cone=``, ``look_at=``, ``toward=``) checked and left out."""
-    return Options.from_kwargs(_aim(dict(kwargs))[1])
-
-
-_AIM_NAMES = ("cone", "look_at", "toward")  # the keywords that spell a target's aim
-_AIM_OF_TASKS = (
-    "cone does not apply to a list of tasks the compiled path has no form for: say it in "
-    "the tasks (armik.Axis, armik.LookAt)"
-)
-
-
-def _aim(options: dict) -> tuple[Aim | None, dict]:
-    """(aim, the other options): the target's aim the keywords ``cone=``, ``look_at=`` and
-    ``toward=`` spell (``armik.targets.aim.aim_of``), taken out of the options."""
-    if "cone" not in options and "look_at" not in options and "toward" not in options:
-        return None, options
-    rest = {k: v for k, v in options.items() if k not in _AIM_NAMES}
-    return aim_of(options.get("cone"), options.get("look_at"), options.get("toward")), rest
-
-
-def _aimed_once(lowered: object, given: Aim | None) -> Aim | None:
-    """The aim of a lowered task list (a ``Target``'s, or the first of a list's: they
-    lower together with one aim), or ``given`` by keywords; an ``OptionError`` when both
-    say one."""
-    first = lowered[0] if type(lowered) is list and lowered else lowered
-    aim = first.aim if type(first) is Target else None
-    if aim is not None and given is not None:
-        name = "cone" if given.point is None and given.toward is None else "look_at"
-        raise OptionError(
-            f"{name} is given both by the task and as an option: give it in the task "
-            "(armik.Axis, armik.LookAt)",
-            option=name,
-            value=given,
-        )
-    return aim if aim is not None else given
-
-
-def _aimed_batch(batch: TargetBatch, aim: Aim) -> TargetBatch:
-    """``batch`` with every target's ``aim``."""
-    return TargetBatch(batch.positions, batch.rotations, aim)
+    return Options.from_kwargs(keyword_aim(dict(kwargs))[1])
 
 
 def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | None]:
