@@ -196,7 +196,7 @@ def test_a_task_list_holds_a_joint_of_any_arm():
         assert r.success and r.solver == "tasks" and r.q[5] == 0.7
         assert np.linalg.norm(ur5.fk(r.q).translation - p) <= 1e-6
         assert "held at 0.7" in r.reason
-    with pytest.raises(armik.OptionError, match=r"target said as a task \(armik.Pose"):
+    with pytest.raises(armik.OptionError, match=r"said as tasks \(armik.Pose"):
         ur5.solve(p, constraints=[armik.Hold("wrist_3_joint", 0.7)], weights=[1] * 6)
     panda = conftest.arm("panda")
     q = panda.random_q(rng)
