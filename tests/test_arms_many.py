@@ -291,23 +291,6 @@ def test_batch_and_path_refuse_a_bad_option_before_any_chain_runs(cell, monkeypa
         cell.solve_path(rows, cell.middle, tolerance=1e-3)
 
 
-def test_a_path_refuses_a_held_joint_naming_its_chain_and_joint(cell, monkeypatch):
-    """A chain's path holds one joint of a 7-joint chain: a joint held on a 6-joint chain is
-    refused before any chain's path runs, naming that chain and joint, not the robot."""
-
-    def ran(*args, **kwargs):
-        raise AssertionError("a chain's path ran before its held joints were checked")
-
-    monkeypatch.setattr(type(cell.chain("l_tool0")), "solve_path", ran)
-    rows = {tip: np.zeros((2, 3)) for tip in cell.tips}
-    for hold in ({"hold": {"r_joint_2": None}}, {"constraints": [armik.Hold("r_joint_2", 0.1)]}):
-        with pytest.raises(OptionError, match="r_joint_2") as caught:
-            cell.solve_path(rows, cell.middle, **hold)
-        assert "the chain to 'r_tool0' (6 joints)" in str(caught.value)
-        assert "dual_irb120" not in str(caught.value)
-        assert caught.value.option == "hold" and caught.value.value == "r_joint_2"
-
-
 def test_holding_a_locked_joint_says_it_is_locked():
     """As on one arm: the joint is named as locked at its value, not as unknown."""
     robot = armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"], locked={"l_joint_1": 0.2})

@@ -25,7 +25,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik import arms_every, arms_many, arms_reach, checked
-from armik.arms_joined import joined, worse
+from armik.arms_joined import by_tip_errors, joined
 from armik.arms_kinematics import ArmsKinematics
 from armik.arms_options import chain_constraints, per_chain, refuse_own_checks
 from armik.arms_prefer import is_cost, ranked, scored
@@ -46,7 +46,7 @@ from armik.solve.read import check_options, read
 from armik.solve.read import options as read_options
 from armik.solve.single import routed, solve_one
 from armik.solve.stages import run
-from armik.solve.tasks import solve_tasks
+from armik.solve.tasks import measure_tasks, solve_tasks
 from armik.solvers.registry import get as get_solver
 from armik.solvers.registry import validate_name
 from armik.status import Status
@@ -274,19 +274,17 @@ class Arms(ArmsKinematics):
             cast(ArmModel, union), problem, start, opts, t0,
             reseed=reseed, score=score, reference=reference,
         )  # fmt: skip
+        measured = r.extra["task_errors"]
+        # each tip's errors are its frames' true distances, as the result's (the tasks'
+        # centres), not a region's or a weighting's measure: as on chains solved apart
+        centres = tuple([t.centre() for t in tasks])
+        if any([c is not t for c, t in zip(centres, tasks)]):
+            true = measure_tasks(cast(ArmModel, union), Problem(centres), r.q, opts)
+        else:
+            true = measured
         if order is not None:  # back to the chains' joints side by side
             r = dataclasses.replace(r, q=r.q[order])
-        errors: dict[str, tuple] = {}
-        failed: list[str] = []
-        for task, e in zip(tasks, r.extra["task_errors"]):
-            tip = cast(str, task.frame)  # ``_on`` named the tip
-            if tip in errors:  # a tip's second task: its worse errors
-                pos, ori = errors[tip]
-                errors[tip] = (worse(pos, e.position), worse(ori, e.orientation))
-            else:
-                errors[tip] = (e.position, e.orientation)
-            if not e.within and tip not in failed:
-                failed.append(tip)
+        errors, failed = by_tip_errors(tasks, measured, true)
         reason = r.reason if not failed else f"tips not within their tasks: {failed}; {r.reason}"
         extra = {**r.extra, "errors": errors}  # r's fields are of their types: no __init__
         return frozen(IKResult, **{**r.__dict__, "reason": reason, "extra": extra})

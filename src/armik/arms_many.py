@@ -157,7 +157,6 @@ def solve_path(
                 value=prefer,
             )
         each = arms._holds(options)  # each chain's part of the options, as Arms.solve's
-        _path_holds(arms, each)
         check_held(arms._chains, each, start[None, :], arms._columns)
         parts = {
             tip: arms.chain(tip).solve_path(
@@ -189,25 +188,6 @@ def solve_path(
         if r.success:
             q_prev = np.array(r.q)
     return _timed(out, t0)
-
-
-def _path_holds(arms: Arms, each: Mapping[str, dict]) -> None:
-    """An ``OptionError`` naming the chain and the joint where a chain's held joints are
-    more than its path holds (one joint of a 7-joint chain, ``armik.solve.held``): said
-    before any chain's path runs, and of the chain, not of the robot it was cut from."""
-    for tip, options in each.items():
-        held = options.get("hold")
-        dof = arms.chain(tip).dof
-        if held and (dof != 7 or len(held) != 1):
-            joints = list(held)
-            raise OptionError(
-                f"hold: {', '.join(map(repr, joints))} on the chain to {tip!r} ({dof} joints): "
-                "a path holds one joint of a 7-joint chain; lock it (armik.load(..., "
-                "locked={...})), or solve each waypoint with Arms.solve, whose task solver "
-                "holds joints of any chain",
-                option="hold",
-                value=joints[0],
-            )
 
 
 def _held(arms: Arms, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: bool):
@@ -357,6 +337,22 @@ def _read(options: Mapping[str, Any]) -> SolverSettings:
     return read_options({k: v for k, v in options.items() if k not in own})
 
 
+def _measured(out: BatchResult, parts) -> None:
+    """Each row's ``measured`` where some tip's verdict measured other than its distances
+    (a region, weights): the worst tip's, each other tip's distances standing for it."""
+    rows = np.zeros(len(out.q), dtype=bool)
+    worst = np.zeros((len(out.q), 2))
+    worst[:, 1] = math.nan
+    for b in parts:
+        apart = ~np.isnan(b._measured[:, 0])
+        rows |= apart
+        pos = np.where(apart, b._measured[:, 0], b.position_error)
+        ori = np.where(apart, b._measured[:, 1], b.orientation_error)
+        worst[:, 0] = np.fmax(worst[:, 0], pos)
+        worst[:, 1] = np.fmax(worst[:, 1], ori)
+    out._measured[rows] = worst[rows]
+
+
 def _timed(out: BatchResult, t0: float) -> BatchResult:
     object.__setattr__(out, "time", time.perf_counter() - t0)
     return out
@@ -393,6 +389,7 @@ def _joined(
         out.iterations[:] += b.iterations
         out.restarts[:] += b.restarts
     out.orientation_error[:] = orientation
+    _measured(out, parts.values())
     if prefer is not None:
         out._scores[:] = combined(prefer, np.array([b._scores for b in parts.values()]))
     for i in np.flatnonzero(~out.success):

@@ -1,0 +1,142 @@
+"""``Arms`` and ``Arm`` in one vocabulary: a result's errors are the true distances on every
+route of several tips, what a region or a weighting measured beside them (``measured``);
+options a chain's own batch or path takes are taken where the chains share no joint; a
+flat list of tasks naming their frames is the dict's request, in a batch and a path too.
+Every success checked on Pinocchio's FK of the whole URDF."""
+
+from __future__ import annotations
+
+from importlib import metadata
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from tests.conftest import whole_placements
+
+from .test_arms import dual_irb120
+
+SHARE = Path(str(metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share")))
+TALOS = SHARE / "example-robot-data/robots/talos_data/robots/talos_reduced.urdf"
+HANDS = ["gripper_left_base_link", "gripper_right_base_link"]
+OFFSET = pin.SE3(np.eye(3), np.array([0.02, 0.0, 0.0]))  # 2 cm from the region's centre
+BOX = (0.05, 0.05, 0.05, 0.0, 0.0, 0.0)  # a 5 cm box, the rotation exact
+
+
+@pytest.fixture(scope="module")
+def cell() -> armik.Arms:
+    return armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
+
+
+@pytest.fixture(scope="module")
+def talos() -> armik.Arms:
+    return armik.load(TALOS, tips=HANDS)
+
+
+def _whole(robot: armik.Arms, source: str | Path):
+    model = pin.buildModelFromXML(source) if "<robot" in str(source) else None
+    if model is None:
+        model = pin.buildModelFromUrdf(str(source))
+    return model, model.createData()
+
+
+def _distance(model, data, robot, q, frame: str, T: pin.SE3) -> tuple[float, float]:
+    """``frame``'s (position, orientation) distance to ``T`` at ``q`` by Pinocchio's FK of
+    the whole URDF."""
+    whole_placements(model, data, robot.joint_names, q)
+    M = data.oMf[model.getFrameId(frame)]
+    return float(np.linalg.norm(M.translation - T.translation)), float(
+        np.linalg.norm(pin.log3(T.rotation.T @ M.rotation))
+    )
+
+
+@pytest.mark.parametrize("name", ["cell", "talos"])
+def test_a_region_s_result_says_true_distances_and_what_it_measured(name, request):
+    """A tip in a 5 cm box around a target 2 cm away: ``position_error`` and ``errors[tip]``
+    are the distances to the box's centre by Pinocchio's FK, and ``measured`` what the
+    region measured (0 inside it), on chains solved apart and together alike (it was None
+    apart; ``errors`` was the region's measure together)."""
+    robot = request.getfixturevalue(name)
+    model, data = _whole(robot, dual_irb120() if name == "cell" else TALOS)
+    left, right = robot.tips
+    rng = np.random.default_rng(4)
+    for _ in range(3):
+        q = robot.random_q(rng)
+        T = robot.fk(q)
+        centre = T[left] * OFFSET
+        r = robot.solve({left: [armik.Pose(centre, bounds=BOX, frame=left)], right: T[right]})
+        assert r.success, r.reason
+        assert robot.within_limits(r.q)
+        pos, ori = _distance(model, data, robot, r.q, left, centre)
+        assert r.errors[left][0] == pytest.approx(pos, abs=1e-9)
+        assert r.errors[left][1] == pytest.approx(ori, abs=1e-6)
+        assert r.position_error == pytest.approx(max(pos, r.errors[right][0]), abs=1e-9)
+        assert pos > 1e-3  # the box's centre is not where the tip is held
+        assert r.measured is not None and r.measured[0] < 1e-6  # inside the region
+        for tip, Tt in ((right, T[right]),):
+            assert _distance(model, data, robot, r.q, tip, Tt)[0] < 1e-6
+
+
+@pytest.mark.parametrize("name", ["cell", "talos"])
+def test_a_weighted_result_says_the_rotation_it_left_free(name, request):
+    """A tip's rotation weighted 0: ``errors[tip]`` is its true angle to the target's
+    rotation, as ``orientation_error`` is (it was 0 where the chains share joints)."""
+    robot = request.getfixturevalue(name)
+    model, data = _whole(robot, dual_irb120() if name == "cell" else TALOS)
+    left, right = robot.tips
+    q = robot.random_q(2)
+    T = robot.fk(q)
+    turned = T[left] * pin.SE3(pin.exp3(np.array([0.0, 0.0, 0.3])), np.zeros(3))
+    weights = (1, 1, 1, 0, 0, 0)
+    r = robot.solve({left: [armik.Pose(turned, weights=weights, frame=left)], right: T[right]})
+    assert r.success, r.reason
+    pos, ori = _distance(model, data, robot, r.q, left, turned)
+    assert pos < 1e-6 and ori > 0.05
+    assert r.errors[left][1] == pytest.approx(ori, abs=1e-6)
+    assert r.orientation_error == pytest.approx(ori, abs=1e-6)
+    assert r.measured is not None and r.measured[1] < 1e-6
+
+
+def test_a_batch_of_independent_chains_keeps_what_each_row_measured(cell):
+    """Each chain's batch measures its region: the joined rows keep it in ``measured`` as
+    the one-arm batch does (it was NaN), the distances in ``position_error``."""
+    left = cell.chain("l_tool0")
+    rng = np.random.default_rng(6)
+    Q = cell.random_q(rng, 4)
+    rows = {"l_tool0": [cell.fk(q, "l_tool0") * OFFSET for q in Q]}
+    rows["r_tool0"] = [cell.fk(q, "r_tool0") for q in Q]
+    b = cell.solve_batch(rows, q0=Q, bounds=BOX)
+    alone = left.solve_batch(rows["l_tool0"], q0=Q[:, :6], bounds=BOX)
+    assert b.success.all() and alone.success.all()
+    assert not np.isnan(alone.measured[:, 0]).any()
+    np.testing.assert_array_equal(b.measured[:, 0], alone.measured[:, 0])
+    np.testing.assert_array_equal(b.position_error, alone.position_error)
+    for i, q in enumerate(b.q):
+        assert cell.within_limits(q)
+        T = cell.fk(q, "l_tool0")
+        assert np.linalg.norm(T.translation - rows["l_tool0"][i].translation) == pytest.approx(
+            b.position_error[i], abs=1e-9
+        )
+
+
+def test_a_path_holds_a_joint_of_a_chain_as_that_chain_s_path_does(cell):
+    """``hold=`` on a path of chains that share no joint: each chain's path holds its own
+    joints, as ``Arm.solve_path`` does (it was refused on any chain but a 7-joint one)."""
+    rng = np.random.default_rng(8)
+    q0 = cell.random_q(rng)
+    toward = np.sign(cell.middle - q0)  # every waypoint within the limits
+    toward[0] = 0.0
+    steps = [q0 + 0.03 * k * toward for k in range(4)]
+    rows = {tip: [cell.fk(q, tip) for q in steps] for tip in cell.tips}
+    p = cell.solve_path(rows, q0, hold={"l_joint_1": None})
+    left = cell.chain("l_tool0").solve_path(rows["l_tool0"], q0[:6], hold={"l_joint_1": None})
+    assert p.success.all(), p.reasons
+    np.testing.assert_array_equal(p.q[:, :6], left.q)
+    assert np.abs(p.q[:, 0] - q0[0]).max() < 1e-9  # held at q0's value
+    for q, i in zip(p.q, range(len(steps))):
+        assert cell.within_limits(q)
+        for tip in cell.tips:
+            err = pin.log6(rows[tip][i].actInv(cell.fk(q, tip))).vector
+            assert np.linalg.norm(err) < 1e-6
