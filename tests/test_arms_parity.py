@@ -140,3 +140,53 @@ def test_a_path_holds_a_joint_of_a_chain_as_that_chain_s_path_does(cell):
         for tip in cell.tips:
             err = pin.log6(rows[tip][i].actInv(cell.fk(q, tip))).vector
             assert np.linalg.norm(err) < 1e-6
+
+
+def _rows(robot: armik.Arms, n: int, seed: int) -> tuple[np.ndarray, dict, list]:
+    """n configurations, each tip's poses at them as the dict's rows, and the same rows as
+    flat lists of tasks naming their frames."""
+    Q = robot.random_q(seed, n)
+    poses = {tip: [robot.fk(q, tip) for q in Q] for tip in robot.tips}
+    flat = [[armik.Pose(poses[tip][i], frame=tip) for tip in robot.tips] for i in range(n)]
+    return Q, poses, flat
+
+
+@pytest.mark.parametrize("name", ["cell", "talos"])
+def test_batch_and_path_take_rows_of_flat_task_lists_as_the_dict(name, request):
+    """``solve_batch`` and ``solve_path`` take N rows, each a flat list of tasks naming their
+    frames, as ``solve`` takes one: the same answers as the dict's (they were refused)."""
+    robot = request.getfixturevalue(name)
+    model, data = _whole(robot, dual_irb120() if name == "cell" else TALOS)
+    Q, poses, flat = _rows(robot, 3, 12)
+    b = robot.solve_batch(flat)
+    np.testing.assert_array_equal(b.q, robot.solve_batch(poses).q)
+    assert b.success.all(), b.reasons
+    for i, q in enumerate(b.q):
+        assert robot.within_limits(q)
+        for tip in robot.tips:
+            pos, ori = _distance(model, data, robot, q, tip, poses[tip][i])
+            assert pos < 1e-6 and ori < 1e-6
+    p = robot.solve_path(flat, Q[0])
+    np.testing.assert_array_equal(p.q, robot.solve_path(poses, Q[0]).q)
+    np.testing.assert_array_equal(p.success, robot.solve_path(poses, Q[0]).success)
+
+
+def test_rows_naming_other_tips_are_refused_naming_the_row(cell):
+    _, _, flat = _rows(cell, 2, 13)
+    with pytest.raises(armik.TargetError, match="row 1 of the tasks gives tips"):
+        cell.solve_batch([flat[0], flat[1][:1]])
+
+
+@pytest.mark.parametrize("name", ["cell", "talos"])
+def test_a_servo_steps_to_a_flat_task_list_as_to_the_dict(name, request):
+    """``step`` and ``track`` take a flat list of tasks naming their frames, as
+    ``Arms.solve`` does: the same ticks as the dict's (it was a ``TargetError``)."""
+    robot = request.getfixturevalue(name)
+    q0 = robot.random_q(14)
+    T = robot.fk(robot.random_q(15))
+    flat = [armik.Pose(T[tip], frame=tip) for tip in robot.tips]
+    by_dict, by_list = robot.servo(q0), robot.servo(q0)
+    for _ in range(3):
+        np.testing.assert_array_equal(by_list.step(flat).q, by_dict.step(T).q)
+    track = robot.servo(q0).track([flat] * 3)
+    np.testing.assert_array_equal(track.q, robot.servo(q0).track([T] * 3).q)

@@ -30,7 +30,7 @@ from armik.arms_kinematics import ArmsKinematics
 from armik.arms_options import chain_constraints, per_chain, refuse_own_checks
 from armik.arms_prefer import is_cost, ranked, scored
 from armik.arms_servo import ArmsServo
-from armik.arms_tasks import as_tasks, by_tip, on, placed
+from armik.arms_tasks import as_tasks, by_tip, on, placed, rows_by_tip
 from armik.constraints.on_chain import OnChain
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.frozen import frozen
@@ -182,11 +182,13 @@ class Arms(ArmsKinematics):
         return Solutions(arms_every.solve_all(self, by_tip(self._chains, targets), q0, **options))
 
     def solve_batch(self, targets: Mapping[str, object], *, q0: object = None, **options):
-        """Many targets per tip (tip -> N targets): a ``BatchResult`` over every joint, each
+        """Many targets per tip (tip -> N targets, or N rows each a flat list of tasks as
+        ``solve`` takes): a ``BatchResult`` over every joint, each
         chain's own batch where the chains are independent (``armik.arms_many``);
         ``workers``, ``chunk_size``, ``progress`` and ``backend`` as ``Arm.solve_batch``'s
         (``backend`` runs chunks of rows where they are solved one by one)."""
         refuse_own_checks(options, self.tips)
+        targets = rows_by_tip(self._chains, targets)  # rows of flat task lists: by tip
         return arms_many.solve_batch(self, targets, q0=q0, **options)
 
     def servo(self, q0: object, **options: object) -> ArmsServo:
@@ -204,9 +206,11 @@ class Arms(ArmsKinematics):
         plan: str = "follow",
         **options,
     ):
-        """Waypoints per tip (tip -> N waypoints) in order from ``q0``, never with a silent
-        jump larger than ``max_joint_step`` (``armik.arms_many``)."""
+        """Waypoints per tip (tip -> N waypoints, or N flat task lists) in order from
+        ``q0``, never with a silent jump larger than ``max_joint_step``
+        (``armik.arms_many``)."""
         refuse_own_checks(options, self.tips)
+        waypoints = rows_by_tip(self._chains, waypoints)
         return arms_many.solve_path(
             self, waypoints, q0, max_joint_step=max_joint_step, plan=plan, **options
         )

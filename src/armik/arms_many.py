@@ -220,7 +220,8 @@ def _rows(arms: Arms, targets: object, call: str) -> int:
         )
     if not isinstance(targets, Mapping):
         raise OptionError(
-            f"targets must map tip names {list(arms.tips)} to each tip's targets, got "
+            f"targets must map tip names {list(arms.tips)} to each tip's targets, or be N "
+            "rows, each a list of tasks naming their frames (armik.Pose(T, frame=tip)), got "
             f"{type(targets).__name__}",
             option="targets",
             value=targets,

@@ -41,6 +41,32 @@ def by_tip(chains: Mapping[str, ArmModel], targets: object) -> Any:
     return out
 
 
+def rows_by_tip(chains: Mapping[str, ArmModel], rows: object) -> Any:
+    """A batch's or a path's rows, each a flat list of tasks naming their frames (``by_tip``'s
+    list), as the mapping tip -> its N rows of tasks; any other spelling as given. A
+    ``TargetError`` names a row whose tips are not the first row's."""
+    if not isinstance(rows, (list, tuple)) or not rows:
+        return rows
+    if not all(isinstance(r, Task) or _tasks(r) for r in rows):
+        return rows  # the mapping check names what is wrong
+    out: dict[str, list[list[Task]]] = {}
+    for i, row in enumerate(rows):
+        each = by_tip(chains, [row] if isinstance(row, Task) else list(row))
+        if i and each.keys() != out.keys():
+            raise TargetError(
+                f"row {i} of the tasks gives tips {list(each)}, row 0 {list(out)}: every row "
+                "names the same tips, as each tip needs its N targets"
+            )
+        for tip, tasks in each.items():
+            out.setdefault(tip, []).append(tasks)
+    return out
+
+
+def _tasks(row: object) -> bool:
+    """Whether ``row`` is a non-empty list of tasks."""
+    return isinstance(row, (list, tuple)) and bool(row) and all(isinstance(t, Task) for t in row)
+
+
 def placed(chains: Mapping[str, ArmModel], tip: str, tasks: Sequence[Task]) -> None:
     """A ``TargetError`` for a task in ``tip``'s target on a frame that another chain's
     joints move and ``tip``'s do not (a link of the other arm): ``tip``'s chain holds it
