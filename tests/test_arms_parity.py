@@ -190,3 +190,64 @@ def test_a_servo_steps_to_a_flat_task_list_as_to_the_dict(name, request):
         np.testing.assert_array_equal(by_list.step(flat).q, by_dict.step(T).q)
     track = robot.servo(q0).track([flat] * 3)
     np.testing.assert_array_equal(track.q, robot.servo(q0).track([T] * 3).q)
+
+
+@pytest.mark.parametrize("name", ["cell", "talos"])
+def test_limits_replaced_on_every_chain_that_holds_the_joint(name, request):
+    """``with_limits`` as on one arm: the robot's limits, each chain's and every answer
+    inside the new ones, a shared torso joint's on both hands' chains (it was missing)."""
+    robot = request.getfixturevalue(name)
+    joint = robot.joint_names[0]
+    narrow = robot.with_limits({joint: (-0.1, 0.1)})
+    assert isinstance(narrow, armik.Arms) and narrow.joint_names == robot.joint_names
+    assert (narrow.lower[0], narrow.upper[0]) == (-0.1, 0.1)
+    assert robot.lower[0] < -0.1  # the robot it was made from keeps its own
+    for tip in narrow.tips:
+        chain = narrow.chain(tip)
+        if joint in chain.joint_names:
+            i = chain.joint_names.index(joint)
+            assert (chain.lower[i], chain.upper[i]) == (-0.1, 0.1)
+    assert (np.abs(narrow.random_q(3, 20)[:, 0]) <= 0.1).all()
+    r = narrow.solve(narrow.fk(narrow.random_q(4)), q0=narrow.random_q(5))
+    assert r.success and narrow.within_limits(r.q) and abs(r.q[0]) <= 0.1
+    with pytest.raises(armik.JointError, match="unknown joint 'nope'; this robot's joints"):
+        robot.with_limits({"nope": (0.0, 1.0)})
+
+
+@pytest.mark.parametrize("name", ["cell", "talos"])
+def test_joints_locked_on_every_chain(name, request):
+    """``with_locked`` as on one arm: the joint leaves every chain, the rest solved."""
+    robot = request.getfixturevalue(name)
+    joint = robot.joint_names[0]
+    locked = robot.with_locked({joint: 0.05})
+    assert joint not in locked.joint_names and locked.dof == robot.dof - 1
+    model, data = _whole(robot, dual_irb120() if name == "cell" else TALOS)
+    q = locked.random_q(6)
+    T = locked.fk(q)
+    r = locked.solve(T)
+    assert r.success and locked.within_limits(r.q)
+    full = dict(zip(locked.joint_names, r.q))
+    full[joint] = 0.05
+    for tip in locked.tips:
+        whole_placements(model, data, list(full), list(full.values()))
+        base = data.oMf[model.getFrameId(locked.base)]
+        M = base.actInv(data.oMf[model.getFrameId(tip)])
+        assert np.linalg.norm(pin.log6(T[tip].actInv(M)).vector) < 1e-6
+    with pytest.raises(armik.JointError, match="'nope'"):
+        robot.with_locked({"nope": 0.0})
+
+
+def test_names_and_frames_as_one_arm_s(talos):
+    """``base``, ``neutral``, ``joint_types`` and ``frames()`` read as ``Arm``'s, over
+    ``joint_names`` (they were missing)."""
+    left = talos.chain(HANDS[0])
+    assert talos.base == left.base
+    own = dict(zip(left.joint_names, left.neutral))
+    assert [talos.neutral[talos.joint_names.index(n)] for n in own] == list(own.values())
+    assert talos.joint_types == ["revolute"] * talos.dof
+    assert set(left.frames()) <= set(talos.frames()) and "arm_right_4_link" in talos.frames()
+    assert len(talos.frames()) == len(set(talos.frames()))
+    q = talos.random_q(7)
+    for frame in ("arm_left_4_link", "arm_right_4_link"):
+        assert frame in talos.frames()
+        talos.fk(q, frame)
