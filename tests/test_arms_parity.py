@@ -251,3 +251,38 @@ def test_names_and_frames_as_one_arm_s(talos):
     for frame in ("arm_left_4_link", "arm_right_4_link"):
         assert frame in talos.frames()
         talos.fk(q, frame)
+
+
+@pytest.mark.parametrize("q0", ["x", [object()] * 12, np.ones(12) * 1j])
+def test_a_batch_or_path_q0_that_is_not_numbers_is_an_option_error(cell, q0):
+    """As ``solve``'s q0: an ``OptionError`` naming q0 (it was numpy's ValueError or
+    TypeError, or a complex q0 cast to its real part with a warning)."""
+    rows = {tip: [cell.fk(cell.middle, tip)] for tip in cell.tips}
+    for call in (cell.solve_batch, lambda r, q0: cell.solve_path(r, q0)):
+        with pytest.raises(armik.OptionError, match="q0 must be None, one configuration") as e:
+            call(rows, q0=q0)
+        assert e.value.option == "q0"
+
+
+@pytest.mark.parametrize("frame", [["l_tool0"], {}, 3])
+def test_a_frame_that_is_no_name_is_a_frame_error(cell, frame):
+    """``fk``, ``jacobian`` and ``chain`` given a frame that is no name: a ``FrameError``
+    (a list or a dict raised Python's TypeError: unhashable)."""
+    q = cell.middle
+    with pytest.raises(armik.FrameError):
+        cell.fk(q, frame)
+    with pytest.raises(armik.FrameError):
+        cell.jacobian(q, frame)
+    with pytest.raises(armik.FrameError):
+        cell.chain(frame)
+
+
+def test_a_misspelt_frame_names_the_closest_frames(talos):
+    """A frame on no chain: the closest frames of every chain, not only the tips (``fk``
+    takes any frame of a chain, as ``Arm.fk`` does)."""
+    q = talos.middle
+    with pytest.raises(armik.FrameError, match="closest: 'arm_right_4_link'") as e:
+        talos.fk(q, "arm_right_4_lnk")
+    assert e.value.frame == "arm_right_4_lnk" and "arm_right_4_link" in e.value.candidates
+    with pytest.raises(armik.FrameError, match="is on no chain of tips"):
+        talos.jacobian(q, "nope", reference="local")

@@ -7,8 +7,9 @@ the joints of the other chains zero in a Jacobian.
 
 from __future__ import annotations
 
+import difflib
 from collections.abc import Mapping
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import pinocchio as pin
@@ -115,7 +116,7 @@ class ArmsKinematics:
 
     def _known(self, tip: str) -> str:
         """``tip``, or ``FrameError`` naming the robot's tips."""
-        if tip not in self._chains:
+        if not isinstance(tip, str) or tip not in self._chains:
             raise FrameError(
                 f"unknown tip {tip!r}; this robot's tips: {list(self.tips)}",
                 frame=tip,
@@ -199,8 +200,18 @@ class ArmsKinematics:
         return bool(np.all(arr >= self.lower - tol) and np.all(arr <= self.upper + tol))
 
     def _chain_of(self, frame: str) -> str:
-        """The tip whose chain has ``frame``."""
-        return self._known(frames.owner(self._chains, frame))
+        """The tip whose chain has ``frame``; ``FrameError`` naming the closest frames."""
+        tip = frames.owner(self._chains, frame) if isinstance(frame, str) else None
+        if tip in self._chains:
+            return cast(str, tip)
+        names = self.frames()
+        close = difflib.get_close_matches(str(frame), names, n=3)
+        raise FrameError(
+            f"frame {frame!r} is on no chain of tips {list(self.tips)}; closest: "
+            f"{', '.join(map(repr, close)) or 'none'}; robot.frames() lists every frame",
+            frame=str(frame),
+            candidates=close or names,
+        )
 
     def _random(self, rng: np.random.Generator) -> np.ndarray:
         """A random configuration within the limits, in ``joint_names``'s order."""

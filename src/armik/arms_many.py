@@ -275,25 +275,30 @@ def _seeds(arms: Arms, q0: object, n: int) -> np.ndarray:
     """(n, dof) seeds from None, one configuration or one per row."""
     if q0 is None:
         return np.tile(arms.middle, (n, 1))
-    q = np.asarray(q0, dtype=float)
+    try:  # numbers only: a string or a complex value is no configuration
+        if isinstance(q0, (str, bytes)) or np.iscomplexobj(q0):  # type: ignore[arg-type]
+            raise TypeError
+        q = np.asarray(q0, dtype=float)
+    except (TypeError, ValueError):
+        q = None
+    if q is None or q.shape not in ((arms.dof,), (n, arms.dof)):
+        got = f"shape {q.shape}" if q is not None else f"{q0!r:.80}"
+        raise OptionError(
+            f"q0 must be None, one configuration ({arms.dof} values, one per joint of "
+            f"{list(arms.joint_names)}) or one per target ({n}, {arms.dof}), got {got}",
+            option="q0",
+            value=q0,
+        )
     if q.shape == (arms.dof,):
         return np.tile(checked.configuration("q0", q, arms.joint_names), (n, 1))
-    if q.shape == (n, arms.dof):
-        if not np.isfinite(q).all():  # the row and the robot's joint, not a chain's part
-            i, j = np.argwhere(~np.isfinite(q))[0]
-            raise OptionError(
-                f"q0 must be finite: row {i} is {q[i].tolist()}, not finite at "
-                f"{arms.joint_names[j]!r}",
-                option="q0",
-                value=q0,
-            )
-        return q.copy()
-    raise OptionError(
-        f"q0 must be None, one configuration ({arms.dof} values, one per joint of "
-        f"{list(arms.joint_names)}) or one per target ({n}, {arms.dof}), got shape {q.shape}",
-        option="q0",
-        value=q0,
-    )
+    if not np.isfinite(q).all():  # the row and the robot's joint, not a chain's part
+        i, j = np.argwhere(~np.isfinite(q))[0]
+        raise OptionError(
+            f"q0 must be finite: row {i} is {q[i].tolist()}, not finite at {arms.joint_names[j]!r}",
+            option="q0",
+            value=q0,
+        )
+    return q.copy()
 
 
 def _step(arms: Arms, max_joint_step: object) -> np.ndarray:
