@@ -286,3 +286,28 @@ def test_a_misspelt_frame_names_the_closest_frames(talos):
     assert e.value.frame == "arm_right_4_lnk" and "arm_right_4_link" in e.value.candidates
     with pytest.raises(armik.FrameError, match="is on no chain of tips"):
         talos.jacobian(q, "nope", reference="local")
+
+
+@pytest.mark.parametrize("spelling", ["flat", "tasks"])
+def test_a_tip_out_of_reach_said_as_tasks_is_the_dict_s_answer(talos, spelling):
+    """Over a shared torso, a hand's exact position 3 m away said as a task (a flat list,
+    or a tip's task list) is ``unreachable`` at once, naming the hand, the other hand
+    solved: the answer of the dict of plain targets (it was a not_converged compromise
+    after the whole budget, both hands missed)."""
+    left, right = HANDS
+    T = talos.fk(talos.random_q(3))
+    far = T[right].translation + np.array([3.0, 0.0, 0.0])
+    plain = talos.solve({left: T[left], right: far})
+    if spelling == "flat":
+        said = talos.solve([armik.Pose(T[left], frame=left), armik.Position(far, frame=right)])
+    else:
+        said = talos.solve({left: [armik.Pose(T[left])], right: [armik.Position(far)]})
+    assert said.status is armik.Status.UNREACHABLE and f"tip {right!r}" in said.reason
+    np.testing.assert_array_equal(said.q, plain.q)
+    assert said.errors == plain.errors
+    model, data = _whole(talos, TALOS)
+    pos, ori = _distance(model, data, talos, said.q, left, T[left])
+    assert pos < 1e-6 and ori < 1e-6 and talos.within_limits(said.q)
+    assert said.errors[right][0] == pytest.approx(
+        _distance(model, data, talos, said.q, right, pin.SE3(np.eye(3), far))[0], abs=1e-9
+    )
