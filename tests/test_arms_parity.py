@@ -311,3 +311,31 @@ def test_a_tip_out_of_reach_said_as_tasks_is_the_dict_s_answer(talos, spelling):
     assert said.errors[right][0] == pytest.approx(
         _distance(model, data, talos, said.q, right, pin.SE3(np.eye(3), far))[0], abs=1e-9
     )
+
+
+def test_a_joint_held_at_q0_s_value_is_held_so_on_every_restart():
+    """Over shared joints ``hold={joint: None}`` is ``hold={joint: q0[joint]}``: the same
+    answer, found within the budget. Each restart's chains held the joint at the restart's
+    random value instead, so that their starts missed and spent the budget (1 restart, a
+    failure, where the value said gave an answer after 3)."""
+    robot = armik.load("panda", tips=["panda_link4", "panda_hand"])
+    rng = np.random.default_rng(61)
+    j = 2
+    joint = robot.joint_names[j]
+    found = 0
+    for _ in range(6):
+        q0, q = robot.random_q(rng), robot.random_q(rng)
+        q[j] = q0[j]
+        T = robot.fk(q)
+        # restarts counted, not timed: the same restarts on a busy machine
+        budget = {"timeout": 10.0, "max_restarts": 8}
+        by_value = robot.solve(T, q0=q0, hold={joint: float(q0[j])}, **budget)
+        at_q0 = robot.solve(T, q0=q0, hold={joint: None}, **budget)
+        np.testing.assert_array_equal(at_q0.q, by_value.q)
+        assert at_q0.success == by_value.success and at_q0.restarts == by_value.restarts
+        if at_q0.success:
+            found += 1
+            assert at_q0.q[j] == q0[j] and robot.within_limits(at_q0.q)
+            for tip in robot.tips:
+                assert np.linalg.norm(pin.log6(T[tip].actInv(robot.fk(at_q0.q, tip))).vector) < 1e-6
+    assert found >= 5

@@ -27,7 +27,7 @@ import pinocchio as pin
 from armik import arms_every, arms_many, arms_reach, checked
 from armik.arms_joined import by_tip_errors, joined
 from armik.arms_kinematics import ArmsKinematics
-from armik.arms_options import chain_constraints, per_chain, refuse_own_checks
+from armik.arms_options import at_seed, chain_constraints, per_chain, refuse_own_checks
 from armik.arms_prefer import is_cost, ranked, scored
 from armik.arms_servo import ArmsServo
 from armik.arms_tasks import as_tasks, by_tip, on, placed, rows_by_tip
@@ -254,10 +254,11 @@ class Arms(ArmsKinematics):
                 tasks.append(Pose.of(target, tip))
             else:
                 tasks += as_tasks(target, tip, self.tips)
-        held = self._holds(options) if options else None  # each chain's start (``_start``)
+        seed = self.middle if q0 is None else np.asarray(q0, float)
+        # each chain's start (``_start``); None held at q0's value, not a restart's random one
+        held = at_seed(self._holds(options), self.joint_names, seed) if options else None
         joint = self._on_union(union, options) if "constraints" in options else options
         opts, unbound, budget = self._settings(joint)
-        seed = self.middle if q0 is None else np.asarray(q0, float)
         start = self._start(targets, seed, relative, solver, held)
         order = self._permutation
         start = start if order is None else _scatter(start, order)
