@@ -339,3 +339,27 @@ def test_a_joint_held_at_q0_s_value_is_held_so_on_every_restart():
             for tip in robot.tips:
                 assert np.linalg.norm(pin.log6(T[tip].actInv(robot.fk(at_q0.q, tip))).vector) < 1e-6
     assert found >= 5
+
+
+def test_the_order_tips_are_given_in_is_no_part_of_the_request(talos):
+    """Over a shared torso, ``{right: ..., left: ...}``, ``{left: ..., right: ...}`` and a
+    flat list in either order are one request: the same answer (the order a dict or a list
+    gave the tips in chose which hand's start set the torso, and so the answer)."""
+    left, right = HANDS
+    model, data = _whole(talos, TALOS)
+    rng = np.random.default_rng(17)
+    for _ in range(3):
+        T = talos.fk(talos.random_q(rng))
+        first = talos.solve({left: T[left], right: T[right]})
+        spellings = [
+            {right: T[right], left: T[left]},
+            [armik.Pose(T[right], frame=right), armik.Pose(T[left], frame=left)],
+            [armik.Pose(T[left], frame=left), armik.Pose(T[right], frame=right)],
+        ]
+        for said in spellings:
+            np.testing.assert_array_equal(talos.solve(said).q, first.q)
+        np.testing.assert_array_equal(talos.solve_all(spellings[0])[0].q, first.q)
+        assert first.success and talos.within_limits(first.q)
+        for tip in HANDS:
+            pos, ori = _distance(model, data, talos, first.q, tip, T[tip])
+            assert pos < 1e-6 and ori < 1e-6

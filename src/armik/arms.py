@@ -121,8 +121,8 @@ class Arms(ArmsKinematics):
             refuse_own_checks(options, self.tips)
         if q0 is not None:  # the whole q0, its bad joints named: not one chain's part of it
             q0 = checked.configuration("q0", q0, self.joint_names)
-        if type(targets) is not dict:  # a flat list of tasks, read by tip; a mapping as given
-            targets = by_tip(self._chains, targets)
+        # a flat list of tasks read by tip; the tips in the robot's order, as the solve's
+        targets = by_tip(self._chains, targets)
         relative = self._check_targets(targets)
         chains = self._chains
         poses = {t: v for t, v in targets.items() if type(v) in _PLAIN or not as_problem(v)}

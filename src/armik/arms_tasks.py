@@ -18,8 +18,12 @@ from armik.targets.pose import Target, parsed
 
 
 def by_tip(chains: Mapping[str, ArmModel], targets: object) -> Any:
-    """``targets`` as tip -> its tasks where it is a list of tasks, else as given; a
-    ``TargetError`` for a task that names no frame or a frame on no chain."""
+    """``targets`` as tip -> its tasks where it is a list of tasks, a mapping over the tips
+    in the order of ``chains`` (the robot's tips: the order a mapping or a list gives them
+    in is no part of the request), else as given; a ``TargetError`` for a task that names
+    no frame or a frame on no chain."""
+    if isinstance(targets, Mapping):
+        return in_order(chains, targets)
     if not isinstance(targets, (list, tuple)) or not targets:
         return targets
     if not all(isinstance(t, Task) for t in targets):
@@ -38,7 +42,17 @@ def by_tip(chains: Mapping[str, ArmModel], targets: object) -> Any:
                 f"{list(chains)} has"
             )
         out.setdefault(tip, []).append(task)
-    return out
+    return in_order(chains, out)
+
+
+def in_order(chains: Mapping[str, ArmModel], targets: Mapping) -> Mapping:
+    """``targets`` (tip -> target) over the tips in the order of ``chains``; as given where
+    they are in it already, or name a tip no chain has (the caller's check names it)."""
+    keys = list(targets)
+    order = [t for t in chains if t in targets]
+    if keys == order or len(order) != len(keys):
+        return targets
+    return {t: targets[t] for t in order}
 
 
 def rows_by_tip(chains: Mapping[str, ArmModel], rows: object) -> Any:
