@@ -242,6 +242,8 @@ def test_a_job_of_rows_checks_every_constraint_where_it_runs():
     qs[:, 0] = [0.1, 0.6, -0.4, 0.9, 0.2, 0.5]  # rows 1, 3 and 5 break BaseTurn
     targets = {tip: [shared.fk(q, tip) for q in qs] for tip in shared.tips}
     options = {"hold": {"panda_joint2": None}, "constraints": {"panda_hand": [BaseTurn()]}}
+    # restarts counted, not timed: a failed row's reason says them, the same in a job
+    options |= {"max_restarts": 8, "timeout": 10.0}
     here = shared.solve_batch(targets, q0=qs, progress=False, **options)
     got = shared.solve_batch(
         targets, q0=qs, backend=_pickled_pool, workers=2, chunk_size=2, **options
