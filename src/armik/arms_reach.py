@@ -72,11 +72,11 @@ def with_unreachable(
 
 
 def exact(target: object, tip: str) -> Target | None:
-    """``target`` as the pose or position it says exactly: a ``Target``, or a task list of
-    one exact ``Pose`` or ``Position`` on ``tip`` (``problem.lower``'s, without options);
-    None for any other (a region, weights, an aim, several tasks)."""
+    """``target`` as the pose or position it says: a ``Target`` (parsed by the facade), or
+    a task list of one exact ``Pose`` or ``Position`` on ``tip`` (``problem.lower``'s,
+    without options); None for any other task list (a region, weights, several tasks)."""
     if type(target) is Target:
-        return None if target.aim is not None else target
+        return target
     problem = None if isinstance(target, np.ndarray) else as_problem(target)
     lowered = None if problem is None else lower(problem, tip)
     if lowered is None or lowered[1] or not isinstance(lowered[0], (pin.SE3, np.ndarray)):
