@@ -1,6 +1,7 @@
 """One result for a robot of several tips (``armik.Arms``) from each chain's own: the
 joints side by side, a success only when every tip is verified, the reason naming each
-tip that failed."""
+tip that failed, the errors the distances to the targets with what a region or weights
+measured beside them (``measured``), as one arm's result has them."""
 
 from __future__ import annotations
 

@@ -1,8 +1,9 @@
 """Several tips' kinematics in ``Arm``'s words (``armik.arms.Arms`` has them): a
 configuration over every joint split into each chain's, the placement and Jacobian of every
 tip or of one frame, tip poses of many configurations, the joint limits, random
-configurations. Each answer is its chain's own (``armik.model.frames``, the chain's model),
-the joints of the other chains zero in a Jacobian.
+configurations, the names and frames; a copy with limits replaced or joints locked on every
+chain that holds them. Each answer is its chain's own (``armik.model.frames``, the chain's
+model), the joints of the other chains zero in a Jacobian.
 """
 
 from __future__ import annotations

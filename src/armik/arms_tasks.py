@@ -1,7 +1,8 @@
 """A flat list of tasks for several tips, each naming its frame (Pink's and mink's habit:
 ``robot.solve([armik.Pose(T_l, frame=left), armik.Relative(right, left, T)])``), read as
-the mapping ``Arms.solve`` takes: each task under the tip whose chain holds its frame; and
-each tip's target as tasks on it (``as_tasks``), for the task solver."""
+the mapping ``Arms.solve`` takes: each task under the tip whose chain holds its frame, the
+tips in the robot's order (a batch's rows each so, ``rows_by_tip``); and each tip's target
+as tasks on it (``as_tasks``), for the task solver."""
 
 from __future__ import annotations
 
