@@ -363,3 +363,13 @@ def test_the_order_tips_are_given_in_is_no_part_of_the_request(talos):
         for tip in HANDS:
             pos, ori = _distance(model, data, talos, first.q, tip, T[tip])
             assert pos < 1e-6 and ori < 1e-6
+
+
+@pytest.mark.parametrize("name", ["cell", "talos"])
+def test_a_posture_of_another_length_is_said_of_the_robot(name, request):
+    """Over shared joints as apart: the posture is one value a joint of the robot (the
+    union's check said "the arm")."""
+    robot = request.getfixturevalue(name)
+    with pytest.raises(armik.OptionError, match=f"the robot {robot.dof} joints") as e:
+        robot.solve(robot.fk(robot.middle), prefer=armik.Posture(np.zeros(3)))
+    assert e.value.option == "prefer"

@@ -38,7 +38,7 @@ from armik.model import mimic
 from armik.model.arm_model import ArmModel
 from armik.model.union import Union
 from armik.problem.problem import Problem, as_problem
-from armik.problem.scores import Manipulability, Score, parse_score
+from armik.problem.scores import Manipulability, Posture, Score, fit_posture, parse_score
 from armik.problem.tasks import Pose, Relative, Task
 from armik.result import IKResult
 from armik.solutions import Solutions
@@ -336,9 +336,10 @@ class Arms(ArmsKinematics):
         return found
 
     def _score(self, prefer: object) -> Score | None:
-        """The score of ``prefer=`` over shared joints (the answer moved along the tasks'
-        null space, ``solve_tasks``), or None; an ``OptionError`` where it has no meaning
-        over several tips."""
+        """The score of ``prefer=`` over shared joints (moved along the tasks' null space,
+        ``solve_tasks``), or None; an ``OptionError`` where it means nothing over several tips."""
+        if isinstance(prefer, Posture):  # one value a joint of the robot, said so
+            fit_posture(prefer.q_ref.size, self.joint_names, "the robot", "prefer")
         score = parse_score(prefer)
         if score is None:
             return None
@@ -397,8 +398,7 @@ class Arms(ArmsKinematics):
     def _solve_chain(
         self, tip: str, target: object, q0: np.ndarray, solver: str, options: dict
     ) -> IKResult:
-        """One chain's answer to its target by ``solver`` with its own options (``Arm.solve``'s
-        route)."""
+        """One chain's answer by ``solver`` with its own options (``Arm.solve``'s route)."""
         arm = self._chains[tip]
         request = read(arm, target, q0, solver, options)
         if request.score is None and request.problem is None:  # the compiled path's stages
