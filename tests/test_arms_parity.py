@@ -373,3 +373,28 @@ def test_a_posture_of_another_length_is_said_of_the_robot(name, request):
     with pytest.raises(armik.OptionError, match=f"the robot {robot.dof} joints") as e:
         robot.solve(robot.fk(robot.middle), prefer=armik.Posture(np.zeros(3)))
     assert e.value.option == "prefer"
+
+
+@pytest.mark.parametrize(("name", "elbow"), [("cell", "l_link_3"), ("talos", "arm_left_4_link")])
+def test_an_elbow_s_task_counts_in_its_tip_s_errors(name, elbow, request):
+    """``r.errors`` is keyed by tip on every route: an elbow's task in the left tip's list
+    counts in the left tip's errors, as a chain solved alone counts it (over shared joints
+    the elbow had an entry of its own, the tip's left without it)."""
+    robot = request.getfixturevalue(name)
+    left, right = robot.tips
+    q = robot.random_q(12)
+    T = robot.fk(q)
+    near = robot.fk(q, elbow).translation + np.array([0.03, 0.0, 0.0])
+    box = armik.Position(near, (0.05,) * 3, frame=elbow)
+    r = robot.solve({left: [armik.Pose(T[left]), box], right: T[right]})
+    assert r.success and robot.within_limits(r.q), r.reason
+    assert set(r.errors) == {left, right}
+    model, data = _whole(robot, dual_irb120() if name == "cell" else TALOS)
+    whole_placements(model, data, robot.joint_names, r.q)
+    base = data.oMf[model.getFrameId(robot.base)]
+    at = base.actInv(data.oMf[model.getFrameId(elbow)]).translation
+    tip = _distance(model, data, robot, r.q, left, T[left])[0]
+    assert r.errors[left][0] == pytest.approx(max(float(np.linalg.norm(at - near)), tip), abs=1e-9)
+    flat = robot.solve([armik.Pose(T[left], frame=left), box, armik.Pose(T[right], frame=right)])
+    np.testing.assert_array_equal(flat.q, r.q)
+    assert flat.errors == r.errors

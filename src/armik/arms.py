@@ -30,7 +30,7 @@ from armik.arms_kinematics import ArmsKinematics
 from armik.arms_options import at_seed, chain_constraints, per_chain, refuse_own_checks
 from armik.arms_prefer import is_cost, ranked, scored
 from armik.arms_servo import ArmsServo
-from armik.arms_tasks import as_tasks, by_tip, on, placed, rows_by_tip
+from armik.arms_tasks import absolute, as_tasks, by_tip, on, placed, rows_by_tip
 from armik.constraints.on_chain import OnChain
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.frozen import frozen
@@ -162,7 +162,7 @@ class Arms(ArmsKinematics):
             # bounds included, since the chains share no joint
             target = targets[tip]
             if tip in relative:
-                target = _absolute(target, self._placements(results, seeds))
+                target = absolute(target, self._placements(results, seeds))
             results[tip] = self._solve_chain(tip, target, seeds[tip], solver, held[tip])
         each = joined(self.tips, results, seeds, time.perf_counter() - t0)
         if each.success:
@@ -249,11 +249,13 @@ class Arms(ArmsKinematics):
         if solver != "auto":
             get_solver(solver)  # an unknown name refused here, not skipped by ``_start``
         tasks: list[Task] = []
+        given: list[str] = []  # the tip each task is given by: whose errors it counts in
         for tip, target in targets.items():
             if type(target) is Target and target.rotation is not None:  # the common case
                 tasks.append(Pose.of(target, tip))
             else:
                 tasks += as_tasks(target, tip, self.tips)
+            given += [tip] * (len(tasks) - len(given))
         seed = self.middle if q0 is None else np.asarray(q0, float)
         # each chain's start (``_start``); None held at q0's value, not a restart's random one
         held = at_seed(self._holds(options), self.joint_names, seed) if options else None
@@ -289,7 +291,7 @@ class Arms(ArmsKinematics):
             true = measured
         if order is not None:  # back to the chains' joints side by side
             r = dataclasses.replace(r, q=r.q[order])
-        errors, failed = by_tip_errors(tasks, measured, true)
+        errors, failed = by_tip_errors(given, measured, true)
         reason = r.reason if not failed else f"tips not within their tasks: {failed}; {r.reason}"
         extra = {**r.extra, "errors": errors}  # r's fields are of their types: no __init__
         return frozen(IKResult, **{**r.__dict__, "reason": reason, "extra": extra})
@@ -386,7 +388,7 @@ class Arms(ArmsKinematics):
             try:
                 if tip in relative:
                     placements = {t: self._chains[t].fk(q[c]) for t, c in self._columns.items()}
-                    target = _absolute(target, placements)
+                    target = absolute(target, placements)
                 r = self._solve_chain(tip, target, q[cols], solver, held[tip] if held else {})
             except ArmikError:  # a task this chain's solver does not take: start as is
                 continue
@@ -475,21 +477,6 @@ def _in_order(targets: Mapping[str, object], relative: dict) -> list[str] | None
         order += ready
         pending = [t for t in pending if t not in ready]
     return order
-
-
-def _absolute(target: object, placements: Mapping[str, pin.SE3]) -> object:
-    """``target`` with each ``Relative`` task a ``Pose`` in the base, its reference frame
-    at ``placements``; any other target as it is."""
-    problem = as_problem(target)
-    if problem is None or not any(isinstance(t, Relative) for t in problem.tasks):
-        return target
-    tasks: list[Task] = []
-    for t in problem.tasks:
-        if isinstance(t, Relative):
-            ref = cast(str, t.relative_to)
-            t = Pose(placements[ref] * t.pose.T, bounds=t.pose.bounds, weights=t.pose.weights)
-        tasks.append(t)
-    return tasks
 
 
 def _scatter(q: np.ndarray, order: np.ndarray) -> np.ndarray:

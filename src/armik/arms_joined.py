@@ -91,14 +91,14 @@ def worse(a: float | None, b: float | None) -> float | None:
     return b if a is None else a if b is None else max(a, b)
 
 
-def by_tip_errors(tasks, measured, true) -> tuple[dict[str, tuple], list[str]]:
+def by_tip_errors(tips, measured, true) -> tuple[dict[str, tuple], list[str]]:
     """({tip: (position, orientation)}, the tips not within their tasks) from the tasks of
-    a solve over every joint, each on its tip (``frame``), ``measured`` by the verdict
+    a solve over every joint, each given by its tip (``tips``: one a task, an elbow's task
+    counted in its tip's, as a chain solved alone counts it), ``measured`` by the verdict
     (``task_errors``) and ``true``: their centres' distances, the worse of a tip's tasks."""
     errors: dict[str, tuple] = {}
     failed: list[str] = []
-    for task, e, d in zip(tasks, measured, true):
-        tip = task.frame
+    for tip, e, d in zip(tips, measured, true):
         if tip in errors:  # a tip's second task: its worse errors
             pos, ori = errors[tip]
             errors[tip] = (worse(pos, d.position), worse(ori, d.orientation))

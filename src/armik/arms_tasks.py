@@ -7,7 +7,9 @@ as tasks on it (``as_tasks``), for the task solver."""
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import Any, cast
+
+import pinocchio as pin
 
 from armik.errors import TargetError
 from armik.model.arm_model import ArmModel
@@ -127,3 +129,18 @@ def on(task: Task, tip: str, tips: Sequence[str]) -> Task:
             "its own tasks"
         )
     return task
+
+
+def absolute(target: object, placements: Mapping[str, pin.SE3]) -> object:
+    """``target`` with each ``Relative`` task a ``Pose`` in the base, its reference frame
+    at ``placements``; any other target as it is."""
+    problem = as_problem(target)
+    if problem is None or not any(isinstance(t, Relative) for t in problem.tasks):
+        return target
+    tasks: list[Task] = []
+    for t in problem.tasks:
+        if isinstance(t, Relative):
+            ref = cast(str, t.relative_to)
+            t = Pose(placements[ref] * t.pose.T, bounds=t.pose.bounds, weights=t.pose.weights)
+        tasks.append(t)
+    return tasks
