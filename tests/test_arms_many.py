@@ -242,6 +242,8 @@ def test_a_job_of_rows_checks_every_constraint_where_it_runs():
     qs[:, 0] = [0.1, 0.6, -0.4, 0.9, 0.2, 0.5]  # rows 1, 3 and 5 break BaseTurn
     targets = {tip: [shared.fk(q, tip) for q in qs] for tip in shared.tips}
     options = {"hold": {"panda_joint2": None}, "constraints": {"panda_hand": [BaseTurn()]}}
+    # restarts counted, not timed: a failed row's reason says them, the same in a job
+    options |= {"max_restarts": 8, "timeout": 10.0}
     here = shared.solve_batch(targets, q0=qs, progress=False, **options)
     got = shared.solve_batch(
         targets, q0=qs, backend=_pickled_pool, workers=2, chunk_size=2, **options
@@ -289,23 +291,6 @@ def test_batch_and_path_refuse_a_bad_option_before_any_chain_runs(cell, monkeypa
         cell.solve_batch(rows, tolerance=1e-3)
     with pytest.raises(OptionError, match="unknown option 'tolerance'"):
         cell.solve_path(rows, cell.middle, tolerance=1e-3)
-
-
-def test_a_path_refuses_a_held_joint_naming_its_chain_and_joint(cell, monkeypatch):
-    """A chain's path holds one joint of a 7-joint chain: a joint held on a 6-joint chain is
-    refused before any chain's path runs, naming that chain and joint, not the robot."""
-
-    def ran(*args, **kwargs):
-        raise AssertionError("a chain's path ran before its held joints were checked")
-
-    monkeypatch.setattr(type(cell.chain("l_tool0")), "solve_path", ran)
-    rows = {tip: np.zeros((2, 3)) for tip in cell.tips}
-    for hold in ({"hold": {"r_joint_2": None}}, {"constraints": [armik.Hold("r_joint_2", 0.1)]}):
-        with pytest.raises(OptionError, match="r_joint_2") as caught:
-            cell.solve_path(rows, cell.middle, **hold)
-        assert "the chain to 'r_tool0' (6 joints)" in str(caught.value)
-        assert "dual_irb120" not in str(caught.value)
-        assert caught.value.option == "hold" and caught.value.value == "r_joint_2"
 
 
 def test_holding_a_locked_joint_says_it_is_locked():

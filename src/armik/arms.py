@@ -25,12 +25,12 @@ import numpy as np
 import pinocchio as pin
 
 from armik import arms_every, arms_many, arms_reach, checked
-from armik.arms_joined import joined, worse
+from armik.arms_joined import by_tip_errors, joined
 from armik.arms_kinematics import ArmsKinematics
-from armik.arms_options import chain_constraints, per_chain, refuse_own_checks
+from armik.arms_options import at_seed, chain_constraints, per_chain, refuse_own_checks
 from armik.arms_prefer import is_cost, ranked, scored
 from armik.arms_servo import ArmsServo
-from armik.arms_tasks import as_tasks, by_tip, on, placed
+from armik.arms_tasks import absolute, as_tasks, by_tip, on, placed, rows_by_tip
 from armik.constraints.on_chain import OnChain
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.frozen import frozen
@@ -38,7 +38,7 @@ from armik.model import mimic
 from armik.model.arm_model import ArmModel
 from armik.model.union import Union
 from armik.problem.problem import Problem, as_problem
-from armik.problem.scores import Manipulability, Score, parse_score
+from armik.problem.scores import Manipulability, Posture, Score, fit_posture, parse_score
 from armik.problem.tasks import Pose, Relative, Task
 from armik.result import IKResult
 from armik.solutions import Solutions
@@ -46,7 +46,7 @@ from armik.solve.read import check_options, read
 from armik.solve.read import options as read_options
 from armik.solve.single import routed, solve_one
 from armik.solve.stages import run
-from armik.solve.tasks import solve_tasks
+from armik.solve.tasks import measure_tasks, solve_tasks
 from armik.solvers.registry import get as get_solver
 from armik.solvers.registry import validate_name
 from armik.status import Status
@@ -121,8 +121,8 @@ class Arms(ArmsKinematics):
             refuse_own_checks(options, self.tips)
         if q0 is not None:  # the whole q0, its bad joints named: not one chain's part of it
             q0 = checked.configuration("q0", q0, self.joint_names)
-        if type(targets) is not dict:  # a flat list of tasks, read by tip; a mapping as given
-            targets = by_tip(self._chains, targets)
+        # a flat list of tasks read by tip; the tips in the robot's order, as the solve's
+        targets = by_tip(self._chains, targets)
         relative = self._check_targets(targets)
         chains = self._chains
         poses = {t: v for t, v in targets.items() if type(v) in _PLAIN or not as_problem(v)}
@@ -162,7 +162,7 @@ class Arms(ArmsKinematics):
             # bounds included, since the chains share no joint
             target = targets[tip]
             if tip in relative:
-                target = _absolute(target, self._placements(results, seeds))
+                target = absolute(target, self._placements(results, seeds))
             results[tip] = self._solve_chain(tip, target, seeds[tip], solver, held[tip])
         each = joined(self.tips, results, seeds, time.perf_counter() - t0)
         if each.success:
@@ -182,11 +182,13 @@ class Arms(ArmsKinematics):
         return Solutions(arms_every.solve_all(self, by_tip(self._chains, targets), q0, **options))
 
     def solve_batch(self, targets: Mapping[str, object], *, q0: object = None, **options):
-        """Many targets per tip (tip -> N targets): a ``BatchResult`` over every joint, each
+        """Many targets per tip (tip -> N targets, or N rows each a flat list of tasks as
+        ``solve`` takes): a ``BatchResult`` over every joint, each
         chain's own batch where the chains are independent (``armik.arms_many``);
         ``workers``, ``chunk_size``, ``progress`` and ``backend`` as ``Arm.solve_batch``'s
         (``backend`` runs chunks of rows where they are solved one by one)."""
         refuse_own_checks(options, self.tips)
+        targets = rows_by_tip(self._chains, targets)  # rows of flat task lists: by tip
         return arms_many.solve_batch(self, targets, q0=q0, **options)
 
     def servo(self, q0: object, **options: object) -> ArmsServo:
@@ -204,9 +206,11 @@ class Arms(ArmsKinematics):
         plan: str = "follow",
         **options,
     ):
-        """Waypoints per tip (tip -> N waypoints) in order from ``q0``, never with a silent
-        jump larger than ``max_joint_step`` (``armik.arms_many``)."""
+        """Waypoints per tip (tip -> N waypoints, or N flat task lists) in order from
+        ``q0``, never with a silent jump larger than ``max_joint_step``
+        (``armik.arms_many``)."""
         refuse_own_checks(options, self.tips)
+        waypoints = rows_by_tip(self._chains, waypoints)
         return arms_many.solve_path(
             self, waypoints, q0, max_joint_step=max_joint_step, plan=plan, **options
         )
@@ -245,15 +249,18 @@ class Arms(ArmsKinematics):
         if solver != "auto":
             get_solver(solver)  # an unknown name refused here, not skipped by ``_start``
         tasks: list[Task] = []
+        given: list[str] = []  # the tip each task is given by: whose errors it counts in
         for tip, target in targets.items():
             if type(target) is Target and target.rotation is not None:  # the common case
                 tasks.append(Pose.of(target, tip))
             else:
                 tasks += as_tasks(target, tip, self.tips)
-        held = self._holds(options) if options else None  # each chain's start (``_start``)
+            given += [tip] * (len(tasks) - len(given))
+        seed = self.middle if q0 is None else np.asarray(q0, float)
+        # each chain's start (``_start``); None held at q0's value, not a restart's random one
+        held = at_seed(self._holds(options), self.joint_names, seed) if options else None
         joint = self._on_union(union, options) if "constraints" in options else options
         opts, unbound, budget = self._settings(joint)
-        seed = self.middle if q0 is None else np.asarray(q0, float)
         start = self._start(targets, seed, relative, solver, held)
         order = self._permutation
         start = start if order is None else _scatter(start, order)
@@ -274,19 +281,17 @@ class Arms(ArmsKinematics):
             cast(ArmModel, union), problem, start, opts, t0,
             reseed=reseed, score=score, reference=reference,
         )  # fmt: skip
+        measured = r.extra["task_errors"]
+        # each tip's errors are its frames' true distances, as the result's (the tasks'
+        # centres), not a region's or a weighting's measure: as on chains solved apart
+        centres = tuple([t.centre() for t in tasks])
+        if any([c is not t for c, t in zip(centres, tasks)]):
+            true = measure_tasks(cast(ArmModel, union), Problem(centres), r.q, opts)
+        else:
+            true = measured
         if order is not None:  # back to the chains' joints side by side
             r = dataclasses.replace(r, q=r.q[order])
-        errors: dict[str, tuple] = {}
-        failed: list[str] = []
-        for task, e in zip(tasks, r.extra["task_errors"]):
-            tip = cast(str, task.frame)  # ``_on`` named the tip
-            if tip in errors:  # a tip's second task: its worse errors
-                pos, ori = errors[tip]
-                errors[tip] = (worse(pos, e.position), worse(ori, e.orientation))
-            else:
-                errors[tip] = (e.position, e.orientation)
-            if not e.within and tip not in failed:
-                failed.append(tip)
+        errors, failed = by_tip_errors(given, measured, true)
         reason = r.reason if not failed else f"tips not within their tasks: {failed}; {r.reason}"
         extra = {**r.extra, "errors": errors}  # r's fields are of their types: no __init__
         return frozen(IKResult, **{**r.__dict__, "reason": reason, "extra": extra})
@@ -333,9 +338,10 @@ class Arms(ArmsKinematics):
         return found
 
     def _score(self, prefer: object) -> Score | None:
-        """The score of ``prefer=`` over shared joints (the answer moved along the tasks'
-        null space, ``solve_tasks``), or None; an ``OptionError`` where it has no meaning
-        over several tips."""
+        """The score of ``prefer=`` over shared joints (moved along the tasks' null space,
+        ``solve_tasks``), or None; an ``OptionError`` where it means nothing over several tips."""
+        if isinstance(prefer, Posture):  # one value a joint of the robot, said so
+            fit_posture(prefer.q_ref.size, self.joint_names, "the robot", "prefer")
         score = parse_score(prefer)
         if score is None:
             return None
@@ -382,7 +388,7 @@ class Arms(ArmsKinematics):
             try:
                 if tip in relative:
                     placements = {t: self._chains[t].fk(q[c]) for t, c in self._columns.items()}
-                    target = _absolute(target, placements)
+                    target = absolute(target, placements)
                 r = self._solve_chain(tip, target, q[cols], solver, held[tip] if held else {})
             except ArmikError:  # a task this chain's solver does not take: start as is
                 continue
@@ -394,8 +400,7 @@ class Arms(ArmsKinematics):
     def _solve_chain(
         self, tip: str, target: object, q0: np.ndarray, solver: str, options: dict
     ) -> IKResult:
-        """One chain's answer to its target by ``solver`` with its own options (``Arm.solve``'s
-        route)."""
+        """One chain's answer by ``solver`` with its own options (``Arm.solve``'s route)."""
         arm = self._chains[tip]
         request = read(arm, target, q0, solver, options)
         if request.score is None and request.problem is None:  # the compiled path's stages
@@ -472,21 +477,6 @@ def _in_order(targets: Mapping[str, object], relative: dict) -> list[str] | None
         order += ready
         pending = [t for t in pending if t not in ready]
     return order
-
-
-def _absolute(target: object, placements: Mapping[str, pin.SE3]) -> object:
-    """``target`` with each ``Relative`` task a ``Pose`` in the base, its reference frame
-    at ``placements``; any other target as it is."""
-    problem = as_problem(target)
-    if problem is None or not any(isinstance(t, Relative) for t in problem.tasks):
-        return target
-    tasks: list[Task] = []
-    for t in problem.tasks:
-        if isinstance(t, Relative):
-            ref = cast(str, t.relative_to)
-            t = Pose(placements[ref] * t.pose.T, bounds=t.pose.bounds, weights=t.pose.weights)
-        tasks.append(t)
-    return tasks
 
 
 def _scatter(q: np.ndarray, order: np.ndarray) -> np.ndarray:

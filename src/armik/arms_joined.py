@@ -1,6 +1,7 @@
 """One result for a robot of several tips (``armik.Arms``) from each chain's own: the
 joints side by side, a success only when every tip is verified, the reason naming each
-tip that failed."""
+tip that failed, the errors the distances to the targets with what a region or weights
+measured beside them (``measured``), as one arm's result has them."""
 
 from __future__ import annotations
 
@@ -20,6 +21,7 @@ def joined(tips, results: dict[str, IKResult], seeds, elapsed: float) -> IKResul
     solvers: dict[str, None] = {}  # the solvers' names, in order, once each
     iterations = restarts = 0
     position, orientation, singular = 0.0, None, False
+    measured = False  # some tip's request measured other than its distances (a region)
     for tip in tips:
         r = results.get(tip)
         if r is None:
@@ -39,6 +41,7 @@ def joined(tips, results: dict[str, IKResult], seeds, elapsed: float) -> IKResul
         if ori is not None and (orientation is None or ori > orientation):
             orientation = ori
         singular = singular or d["singular"]
+        measured = measured or "measured" in d["extra"]
     q = np.concatenate(parts)
     q.setflags(write=False)  # a result's q is read-only; setflags is the cheaper spelling
     out = IKResult._from_fields(
@@ -58,7 +61,19 @@ def joined(tips, results: dict[str, IKResult], seeds, elapsed: float) -> IKResul
         }
     )
     out.__dict__["extra"] = {"errors": errors, "results": results}
+    if measured:  # beside the true distances, what the verdicts measured: the worst tip's
+        out.__dict__["extra"]["measured"] = _measured(results.values())
     return out
+
+
+def _measured(results) -> tuple[float, float | None]:
+    """The worst of what each result's verdict measured (its distances where it measured
+    them alone), as one result's ``measured`` over several tasks."""
+    position, orientation = 0.0, None
+    for r in results:
+        pos, ori = r.measured or (r.position_error, r.orientation_error)
+        position, orientation = max(position, pos), worse(orientation, ori)
+    return position, orientation
 
 
 _CONVERGED = Status.CONVERGED
@@ -74,3 +89,21 @@ def _reason(results: dict[str, IKResult], failed: list[str]) -> str:
 def worse(a: float | None, b: float | None) -> float | None:
     """The larger of two errors, either of which may be unmeasured (None)."""
     return b if a is None else a if b is None else max(a, b)
+
+
+def by_tip_errors(tips, measured, true) -> tuple[dict[str, tuple], list[str]]:
+    """({tip: (position, orientation)}, the tips not within their tasks) from the tasks of
+    a solve over every joint, each given by its tip (``tips``: one a task, an elbow's task
+    counted in its tip's, as a chain solved alone counts it), ``measured`` by the verdict
+    (``task_errors``) and ``true``: their centres' distances, the worse of a tip's tasks."""
+    errors: dict[str, tuple] = {}
+    failed: list[str] = []
+    for tip, e, d in zip(tips, measured, true):
+        if tip in errors:  # a tip's second task: its worse errors
+            pos, ori = errors[tip]
+            errors[tip] = (worse(pos, d.position), worse(ori, d.orientation))
+        else:
+            errors[tip] = (d.position, d.orientation)
+        if not e.within and tip not in failed:
+            failed.append(tip)
+    return errors, failed

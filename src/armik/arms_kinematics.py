@@ -1,19 +1,25 @@
 """Several tips' kinematics in ``Arm``'s words (``armik.arms.Arms`` has them): a
 configuration over every joint split into each chain's, the placement and Jacobian of every
 tip or of one frame, tip poses of many configurations, the joint limits, random
-configurations. Each answer is its chain's own (``armik.model.frames``, the chain's model),
-the joints of the other chains zero in a Jacobian.
+configurations, the names and frames; a copy with limits replaced or joints locked on every
+chain that holds them. Each answer is its chain's own (``armik.model.frames``, the chain's
+model), the joints of the other chains zero in a Jacobian.
 """
 
 from __future__ import annotations
+
+import difflib
+from collections.abc import Mapping
+from typing import Any, cast
 
 import numpy as np
 import pinocchio as pin
 
 from armik import checked
-from armik.errors import FrameError, OptionError
+from armik.errors import FrameError, JointError, OptionError
 from armik.model import frames
 from armik.model.arm_model import ArmModel
+from armik.model.reduce import check_limits
 from armik.model.union import Union
 from armik.tolerances import LIMIT_TOL
 
@@ -29,7 +35,7 @@ class ArmsKinematics:
     lower: np.ndarray
     upper: np.ndarray
     shared: tuple[str, ...]  # the joints more than one chain holds
-    _facades: dict[str, object]  # tip -> its ``Arm``
+    _facades: dict[str, Any]  # tip -> its ``Arm``
     _chains: dict[str, ArmModel]
     _columns: dict[str, np.ndarray]
     _union: Union | None  # the chains in one model where they share joints
@@ -39,6 +45,64 @@ class ArmsKinematics:
     def chain(self, tip: str):
         """The ``Arm`` from the base to ``tip``."""
         return self._facades[self._known(tip)]
+
+    @property
+    def base(self) -> str:
+        """The frame every chain starts from (``Arm.base``)."""
+        return next(iter(self._chains.values())).base
+
+    @property
+    def neutral(self) -> np.ndarray:
+        """Each joint's neutral value (``Arm.neutral``), in the order of ``joint_names``."""
+        return self._by_joint(lambda arm: arm.neutral)
+
+    @property
+    def joint_types(self) -> list[str]:
+        """Each joint's URDF type (``Arm.joint_types``), in the order of ``joint_names``."""
+        return [str(t) for t in self._by_joint(lambda arm: arm.joint_types)]
+
+    def _by_joint(self, read) -> np.ndarray:
+        """``read(chain)`` (one value per joint of that chain) over ``joint_names``."""
+        each: dict[str, Any] = {}
+        for arm in self._facades.values():
+            each.update(zip(arm.joint_names, read(arm)))
+        return np.array([each[n] for n in self.joint_names])
+
+    def frames(self) -> list[str]:
+        """The frames of every chain's model, each once (``Arm.frames``): what ``fk`` and
+        ``jacobian`` take as ``frame``."""
+        names = [f for arm in self._chains.values() for f in arm.frames()]
+        return list(dict.fromkeys(names))
+
+    def with_limits(self, limits: Mapping[str, tuple[float, float]]):
+        """A copy of this robot with some joint limits replaced (name -> (lower, upper), rad
+        or m), on every chain that holds the joint (``Arm.with_limits``)."""
+        given = check_limits(limits, self._joint_index)
+        chains = {
+            tip: arm.with_limits({n: v for n, v in given.items() if n in arm.joint_names})
+            for tip, arm in self._facades.items()
+        }
+        return self._rebuilt(chains)
+
+    def with_locked(self, locked: Mapping[str, float]):
+        """A new robot with the joints of ``locked`` (name -> rad or m) locked at those
+        values on every chain (``Arm.with_locked``: on or off a chain, its errors)."""
+        return self._rebuilt({tip: arm.with_locked(locked) for tip, arm in self._facades.items()})
+
+    def _rebuilt(self, chains: dict[str, Any]) -> Any:
+        """A robot of this type over ``chains`` (tip -> ``Arm``), as ``armik.load`` builds."""
+        make: Any = type(self)
+        return make(chains)
+
+    def _joint_index(self, name: str) -> int:
+        """Index of joint ``name`` in ``joint_names``; ``JointError`` listing them."""
+        if name not in self.joint_names:
+            raise JointError(
+                f"unknown joint {name!r}; this robot's joints: {list(self.joint_names)}",
+                joint=name,
+                candidates=self.joint_names,
+            )
+        return self.joint_names.index(name)
 
     def _joint(self) -> Union:
         """Every chain in one model: the union where they share joints, else built for the
@@ -53,7 +117,7 @@ class ArmsKinematics:
 
     def _known(self, tip: str) -> str:
         """``tip``, or ``FrameError`` naming the robot's tips."""
-        if tip not in self._chains:
+        if not isinstance(tip, str) or tip not in self._chains:
             raise FrameError(
                 f"unknown tip {tip!r}; this robot's tips: {list(self.tips)}",
                 frame=tip,
@@ -137,8 +201,18 @@ class ArmsKinematics:
         return bool(np.all(arr >= self.lower - tol) and np.all(arr <= self.upper + tol))
 
     def _chain_of(self, frame: str) -> str:
-        """The tip whose chain has ``frame``."""
-        return self._known(frames.owner(self._chains, frame))
+        """The tip whose chain has ``frame``; ``FrameError`` naming the closest frames."""
+        tip = frames.owner(self._chains, frame) if isinstance(frame, str) else None
+        if tip in self._chains:
+            return cast(str, tip)
+        names = self.frames()
+        close = difflib.get_close_matches(str(frame), names, n=3)
+        raise FrameError(
+            f"frame {frame!r} is on no chain of tips {list(self.tips)}; closest: "
+            f"{', '.join(map(repr, close)) or 'none'}; robot.frames() lists every frame",
+            frame=str(frame),
+            candidates=close or names,
+        )
 
     def _random(self, rng: np.random.Generator) -> np.ndarray:
         """A random configuration within the limits, in ``joint_names``'s order."""

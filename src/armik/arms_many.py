@@ -157,7 +157,6 @@ def solve_path(
                 value=prefer,
             )
         each = arms._holds(options)  # each chain's part of the options, as Arms.solve's
-        _path_holds(arms, each)
         check_held(arms._chains, each, start[None, :], arms._columns)
         parts = {
             tip: arms.chain(tip).solve_path(
@@ -191,25 +190,6 @@ def solve_path(
     return _timed(out, t0)
 
 
-def _path_holds(arms: Arms, each: Mapping[str, dict]) -> None:
-    """An ``OptionError`` naming the chain and the joint where a chain's held joints are
-    more than its path holds (one joint of a 7-joint chain, ``armik.solve.held``): said
-    before any chain's path runs, and of the chain, not of the robot it was cut from."""
-    for tip, options in each.items():
-        held = options.get("hold")
-        dof = arms.chain(tip).dof
-        if held and (dof != 7 or len(held) != 1):
-            joints = list(held)
-            raise OptionError(
-                f"hold: {', '.join(map(repr, joints))} on the chain to {tip!r} ({dof} joints): "
-                "a path holds one joint of a 7-joint chain; lock it (armik.load(..., "
-                "locked={...})), or solve each waypoint with Arms.solve, whose task solver "
-                "holds joints of any chain",
-                option="hold",
-                value=joints[0],
-            )
-
-
 def _held(arms: Arms, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: bool):
     """``r``, or ``r`` reported ``discontinuous`` when a joint moves by more than its step."""
     moved = np.abs(np.asarray(r.q) - q_prev)
@@ -240,7 +220,8 @@ def _rows(arms: Arms, targets: object, call: str) -> int:
         )
     if not isinstance(targets, Mapping):
         raise OptionError(
-            f"targets must map tip names {list(arms.tips)} to each tip's targets, got "
+            f"targets must map tip names {list(arms.tips)} to each tip's targets, or be N "
+            "rows, each a list of tasks naming their frames (armik.Pose(T, frame=tip)), got "
             f"{type(targets).__name__}",
             option="targets",
             value=targets,
@@ -294,25 +275,30 @@ def _seeds(arms: Arms, q0: object, n: int) -> np.ndarray:
     """(n, dof) seeds from None, one configuration or one per row."""
     if q0 is None:
         return np.tile(arms.middle, (n, 1))
-    q = np.asarray(q0, dtype=float)
+    try:  # numbers only: a string or a complex value is no configuration
+        if isinstance(q0, (str, bytes)) or np.iscomplexobj(q0):  # type: ignore[arg-type]
+            raise TypeError
+        q = np.asarray(q0, dtype=float)
+    except (TypeError, ValueError):
+        q = None
+    if q is None or q.shape not in ((arms.dof,), (n, arms.dof)):
+        got = f"shape {q.shape}" if q is not None else f"{q0!r:.80}"
+        raise OptionError(
+            f"q0 must be None, one configuration ({arms.dof} values, one per joint of "
+            f"{list(arms.joint_names)}) or one per target ({n}, {arms.dof}), got {got}",
+            option="q0",
+            value=q0,
+        )
     if q.shape == (arms.dof,):
         return np.tile(checked.configuration("q0", q, arms.joint_names), (n, 1))
-    if q.shape == (n, arms.dof):
-        if not np.isfinite(q).all():  # the row and the robot's joint, not a chain's part
-            i, j = np.argwhere(~np.isfinite(q))[0]
-            raise OptionError(
-                f"q0 must be finite: row {i} is {q[i].tolist()}, not finite at "
-                f"{arms.joint_names[j]!r}",
-                option="q0",
-                value=q0,
-            )
-        return q.copy()
-    raise OptionError(
-        f"q0 must be None, one configuration ({arms.dof} values, one per joint of "
-        f"{list(arms.joint_names)}) or one per target ({n}, {arms.dof}), got shape {q.shape}",
-        option="q0",
-        value=q0,
-    )
+    if not np.isfinite(q).all():  # the row and the robot's joint, not a chain's part
+        i, j = np.argwhere(~np.isfinite(q))[0]
+        raise OptionError(
+            f"q0 must be finite: row {i} is {q[i].tolist()}, not finite at {arms.joint_names[j]!r}",
+            option="q0",
+            value=q0,
+        )
+    return q.copy()
 
 
 def _step(arms: Arms, max_joint_step: object) -> np.ndarray:
@@ -357,6 +343,22 @@ def _read(options: Mapping[str, Any]) -> SolverSettings:
     return read_options({k: v for k, v in options.items() if k not in own})
 
 
+def _measured(out: BatchResult, parts) -> None:
+    """Each row's ``measured`` where some tip's verdict measured other than its distances
+    (a region, weights): the worst tip's, each other tip's distances standing for it."""
+    rows = np.zeros(len(out.q), dtype=bool)
+    worst = np.zeros((len(out.q), 2))
+    worst[:, 1] = math.nan
+    for b in parts:
+        apart = ~np.isnan(b._measured[:, 0])
+        rows |= apart
+        pos = np.where(apart, b._measured[:, 0], b.position_error)
+        ori = np.where(apart, b._measured[:, 1], b.orientation_error)
+        worst[:, 0] = np.fmax(worst[:, 0], pos)
+        worst[:, 1] = np.fmax(worst[:, 1], ori)
+    out._measured[rows] = worst[rows]
+
+
 def _timed(out: BatchResult, t0: float) -> BatchResult:
     object.__setattr__(out, "time", time.perf_counter() - t0)
     return out
@@ -393,6 +395,7 @@ def _joined(
         out.iterations[:] += b.iterations
         out.restarts[:] += b.restarts
     out.orientation_error[:] = orientation
+    _measured(out, parts.values())
     if prefer is not None:
         out._scores[:] = combined(prefer, np.array([b._scores for b in parts.values()]))
     for i in np.flatnonzero(~out.success):

@@ -81,6 +81,20 @@ def per_chain(
     return out
 
 
+def at_seed(each: dict[str, dict], joint_names: Sequence[str], seed: np.ndarray) -> dict:
+    """Each tip's options (``per_chain``'s) with a joint held at None (q0's value) held at
+    its value in ``seed`` (over ``joint_names``): the value q0 gives it wherever the
+    chain's solve starts."""
+    out = {}
+    for tip, options in each.items():
+        held = options.get("hold")
+        if held and None in held.values():
+            at = {j: float(seed[joint_names.index(j)]) if v is None else v for j, v in held.items()}
+            options = {**options, "hold": at}
+        out[tip] = options
+    return out
+
+
 def check_held(
     chains: Mapping[str, ArmModel],
     each: Mapping[str, dict],

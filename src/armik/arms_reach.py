@@ -13,18 +13,21 @@ import numpy as np
 import pinocchio as pin
 
 from armik import reasons
+from armik.problem.problem import as_problem, lower
 from armik.result import IKResult
 from armik.status import Status
-from armik.targets.pose import Target
+from armik.targets.pose import Target, parsed
 
 
 def beyond_reach(chains: Mapping[str, object], targets: Mapping[str, object]) -> dict[str, str]:
-    """Each tip whose target (a pose or a position, parsed by the facade: a ``Target``; task
-    lists are not read, their regions are the task solver's to measure) lies beyond its
-    chain's reach bound, with the reason that proves it."""
+    """Each tip whose target (a pose or a position, parsed by the facade: a ``Target``, or
+    a task list that says one exactly, as ``Arm.solve`` reads it; regions are the task
+    solver's to measure) lies beyond its chain's reach bound, with the reason that proves
+    it."""
     out = {}
-    for tip, target in targets.items():
-        if type(target) is not Target:
+    for tip, given in targets.items():
+        target = exact(given, tip)
+        if target is None:
             continue
         arm = chains[tip]
         distance = math.dist(target.position.tolist(), arm.first_joint_origin.tolist())  # type: ignore[attr-defined]
@@ -45,8 +48,8 @@ def with_unreachable(
     tip's errors at ``r.q`` (``placements``: each tip's pose there)."""
     errors = dict(r.extra.get("errors", {}))
     for tip in beyond:
-        target = targets[tip]
-        assert type(target) is Target  # ``beyond_reach`` read it
+        target = exact(targets[tip], tip)
+        assert target is not None  # ``beyond_reach`` read it
         X = placements[tip]
         ori = None  # a position target has no orientation to miss
         if target.rotation is not None:
@@ -66,3 +69,16 @@ def with_unreachable(
         time=elapsed,
         extra={**r.extra, "errors": kept},
     )
+
+
+def exact(target: object, tip: str) -> Target | None:
+    """``target`` as the pose or position it says: a ``Target`` (parsed by the facade), or
+    a task list of one exact ``Pose`` or ``Position`` on ``tip`` (``problem.lower``'s,
+    without options); None for any other task list (a region, weights, several tasks)."""
+    if type(target) is Target:
+        return target
+    problem = None if isinstance(target, np.ndarray) else as_problem(target)
+    lowered = None if problem is None else lower(problem, tip)
+    if lowered is None or lowered[1] or not isinstance(lowered[0], (pin.SE3, np.ndarray)):
+        return None
+    return parsed(lowered[0])

@@ -24,10 +24,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from armik.arms_tasks import by_tip
 from armik.checked import configuration
 from armik.errors import JointError, OptionError, TargetError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
+from armik.problem.tasks.base import replaced
 from armik.servo.collisions import margin_given
 from armik.servo.result import ServoRecord, ServoStatus, ServoStep, record
 from armik.servo.servo import Servo, refuse_unknown, start
@@ -177,7 +179,10 @@ class ArmsServo:
         ``Arm.servo``'s ``step`` takes); the joined step (module docstring). Raises
         ``TargetError`` unless every tip has a target and no other is named, and naming
         the tip whose target it cannot read; every target is read before any chain ticks,
-        so that a refused step moves none."""
+        so that a refused step moves none. A flat list of tasks, each naming its frame, is
+        read as that mapping (``Arms.solve``'s)."""
+        if type(targets) is list or type(targets) is tuple:
+            targets = _by_tip(self._arms(), targets)
         if type(targets) is not dict or targets.keys() != self._tip_set:
             self._check(targets)  # (a dict over the tips, the common case, needs none)
         if self._union is not None:
@@ -211,7 +216,8 @@ class ArmsServo:
         if not isinstance(targets, Mapping):
             raise TargetError(
                 f"a servo on several tips takes one target per tip, a mapping "
-                f"{{tip: target}} over {list(self.tips)}, got {type(targets).__name__}"
+                f"{{tip: target}} over {list(self.tips)} or a list of tasks each naming its "
+                f"frame (armik.Pose(T, frame=tip)), got {type(targets).__name__}"
             )
         unknown = [t for t in targets if t not in self.tips]
         missing = [t for t in self.tips if t not in targets]
@@ -237,6 +243,8 @@ class ArmsServo:
         arms = self._arms()
         for i, mapping in enumerate(items):
             try:
+                if isinstance(mapping, (list, tuple)):  # a flat list of tasks
+                    items[i] = mapping = _by_tip(arms, mapping)
                 self._check(mapping)
                 for tip in self.tips:
                     _read(tip, mapping[tip], arms[tip])
@@ -249,6 +257,18 @@ class ArmsServo:
         if self._union is not None:
             return dict(self._union._chains)  # type: ignore[arg-type]
         return {tip: s.arm for tip, s in self._servos.items()}
+
+
+def _by_tip(chains: Mapping[str, ArmModel], tasks: list | tuple) -> object:
+    """A flat list of tasks as the mapping tip -> its tasks (``arms_tasks.by_tip``), each
+    task on its tip said without its frame, as a chain's servo takes it."""
+    out = by_tip(chains, tasks)
+    if type(out) is not dict:
+        return out  # not tasks: ``_check`` names what is wrong
+    return {
+        tip: [replaced(t, frame=None) if t.frame == tip else t for t in each]
+        for tip, each in out.items()
+    }
 
 
 def _read(tip: str, target: object, arm: ArmModel) -> np.ndarray | None:

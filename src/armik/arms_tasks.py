@@ -1,12 +1,15 @@
 """A flat list of tasks for several tips, each naming its frame (Pink's and mink's habit:
 ``robot.solve([armik.Pose(T_l, frame=left), armik.Relative(right, left, T)])``), read as
-the mapping ``Arms.solve`` takes: each task under the tip whose chain holds its frame; and
-each tip's target as tasks on it (``as_tasks``), for the task solver."""
+the mapping ``Arms.solve`` takes: each task under the tip whose chain holds its frame, the
+tips in the robot's order (a batch's rows each so, ``rows_by_tip``); and each tip's target
+as tasks on it (``as_tasks``), for the task solver."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import Any, cast
+
+import pinocchio as pin
 
 from armik.errors import TargetError
 from armik.model.arm_model import ArmModel
@@ -18,8 +21,12 @@ from armik.targets.pose import Target, parsed
 
 
 def by_tip(chains: Mapping[str, ArmModel], targets: object) -> Any:
-    """``targets`` as tip -> its tasks where it is a list of tasks, else as given; a
-    ``TargetError`` for a task that names no frame or a frame on no chain."""
+    """``targets`` as tip -> its tasks where it is a list of tasks, a mapping over the tips
+    in the order of ``chains`` (the robot's tips: the order a mapping or a list gives them
+    in is no part of the request), else as given; a ``TargetError`` for a task that names
+    no frame or a frame on no chain."""
+    if isinstance(targets, Mapping):
+        return in_order(chains, targets)
     if not isinstance(targets, (list, tuple)) or not targets:
         return targets
     if not all(isinstance(t, Task) for t in targets):
@@ -38,7 +45,43 @@ def by_tip(chains: Mapping[str, ArmModel], targets: object) -> Any:
                 f"{list(chains)} has"
             )
         out.setdefault(tip, []).append(task)
+    return in_order(chains, out)
+
+
+def in_order(chains: Mapping[str, ArmModel], targets: Mapping) -> Mapping:
+    """``targets`` (tip -> target) over the tips in the order of ``chains``; as given where
+    they are in it already, or name a tip no chain has (the caller's check names it)."""
+    keys = list(targets)
+    order = [t for t in chains if t in targets]
+    if keys == order or len(order) != len(keys):
+        return targets
+    return {t: targets[t] for t in order}
+
+
+def rows_by_tip(chains: Mapping[str, ArmModel], rows: object) -> Any:
+    """A batch's or a path's rows, each a flat list of tasks naming their frames (``by_tip``'s
+    list), as the mapping tip -> its N rows of tasks; any other spelling as given. A
+    ``TargetError`` names a row whose tips are not the first row's."""
+    if not isinstance(rows, (list, tuple)) or not rows:
+        return rows
+    if not all(isinstance(r, Task) or _tasks(r) for r in rows):
+        return rows  # the mapping check names what is wrong
+    out: dict[str, list[list[Task]]] = {}
+    for i, row in enumerate(rows):
+        each = by_tip(chains, [row] if isinstance(row, Task) else list(row))
+        if i and each.keys() != out.keys():
+            raise TargetError(
+                f"row {i} of the tasks gives tips {list(each)}, row 0 {list(out)}: every row "
+                "names the same tips, as each tip needs its N targets"
+            )
+        for tip, tasks in each.items():
+            out.setdefault(tip, []).append(tasks)
     return out
+
+
+def _tasks(row: object) -> bool:
+    """Whether ``row`` is a non-empty list of tasks."""
+    return isinstance(row, (list, tuple)) and bool(row) and all(isinstance(t, Task) for t in row)
 
 
 def placed(chains: Mapping[str, ArmModel], tip: str, tasks: Sequence[Task]) -> None:
@@ -86,3 +129,18 @@ def on(task: Task, tip: str, tips: Sequence[str]) -> Task:
             "its own tasks"
         )
     return task
+
+
+def absolute(target: object, placements: Mapping[str, pin.SE3]) -> object:
+    """``target`` with each ``Relative`` task a ``Pose`` in the base, its reference frame
+    at ``placements``; any other target as it is."""
+    problem = as_problem(target)
+    if problem is None or not any(isinstance(t, Relative) for t in problem.tasks):
+        return target
+    tasks: list[Task] = []
+    for t in problem.tasks:
+        if isinstance(t, Relative):
+            ref = cast(str, t.relative_to)
+            t = Pose(placements[ref] * t.pose.T, bounds=t.pose.bounds, weights=t.pose.weights)
+        tasks.append(t)
+    return tasks
