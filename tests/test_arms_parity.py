@@ -398,3 +398,12 @@ def test_an_elbow_s_task_counts_in_its_tip_s_errors(name, elbow, request):
     flat = robot.solve([armik.Pose(T[left], frame=left), box, armik.Pose(T[right], frame=right)])
     np.testing.assert_array_equal(flat.q, r.q)
     assert flat.errors == r.errors
+
+
+def test_solve_path_names_its_waypoints_as_arm_does(cell):
+    """``solve_path(poses=...)`` on several tips, as on one arm: the keyword was
+    ``waypoints`` there, so the call ``Arm`` takes raised ``TypeError``."""
+    q = cell.middle + 0.1
+    poses = {tip: [cell.fk(q, tip)] * 2 for tip in cell.tips}
+    path = cell.solve_path(poses=poses, q0=q)
+    assert path.success.all()

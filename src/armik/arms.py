@@ -199,18 +199,18 @@ class Arms(ArmsKinematics):
 
     def solve_path(
         self,
-        waypoints: Mapping[str, object],
+        poses: Mapping[str, object],
         q0: object = None,
         *,
         max_joint_step: float | np.ndarray | None = None,
         plan: str = "follow",
         **options,
     ):
-        """Waypoints per tip (tip -> N waypoints, or N flat task lists) in order from
-        ``q0``, never with a silent jump larger than ``max_joint_step``
-        (``armik.arms_many``)."""
+        """Waypoints per tip (``poses``: tip -> N waypoints, or N flat task lists; named as
+        ``Arm.solve_path``'s) in order from ``q0``, never with a silent jump larger than
+        ``max_joint_step`` (``armik.arms_many``)."""
         refuse_own_checks(options, self.tips)
-        waypoints = rows_by_tip(self._chains, waypoints)
+        waypoints = rows_by_tip(self._chains, poses)
         return arms_many.solve_path(
             self, waypoints, q0, max_joint_step=max_joint_step, plan=plan, **options
         )
