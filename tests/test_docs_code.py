@@ -67,3 +67,41 @@ def test_the_blocks_of_a_page_run(page, tmp_path, monkeypatch):
             run(block.code, str(page), namespace, block.line)
             ran += 1
     assert ran, f"{page.name}: every block is marked not-run"
+
+
+_NUMBER = re.compile(r"[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
+
+
+def _same_numbers(shown: str, printed: str) -> bool:
+    """The same words, the same counts, and the same measures to 1 % (a value at rounding's
+    level, below 1e-12, matches any other there)."""
+    if _NUMBER.sub("#", shown) != _NUMBER.sub("#", printed):
+        return False
+    for a, b in zip(_NUMBER.findall(shown), _NUMBER.findall(printed)):
+        if a.lstrip("+-").isdigit() and a != b:  # a count: exact
+            return False
+        x, y = float(a), float(b)
+        if abs(x) < 1e-12 and abs(y) < 1e-12:
+            continue
+        if abs(x - y) > 0.01 * max(abs(x), abs(y)):
+            return False
+    return True
+
+
+@needs_docs
+def test_servo_sample_output_is_what_the_command_prints(capsys):
+    """servo.md's `$ armik servo ...` session, line for line but the tick's times."""
+    from armik.tools.cli import main
+
+    text = (DOCS / "servo.md").read_text()
+    session = re.search(r"```\n\$ armik (servo [^\n]*)\n(.*?)```", text, flags=re.S)
+    assert session, "servo.md has no '$ armik servo' session"
+    assert main(session.group(1).split()) in (0, None)
+    printed = capsys.readouterr().out.splitlines()
+    shown = session.group(2).splitlines()
+    assert len(printed) == len(shown), printed
+    for want, got in zip(shown, printed):
+        if want.startswith("tick:"):  # a time on this machine
+            assert got.startswith("tick:")
+            continue
+        assert _same_numbers(want, got), f"servo.md shows\n  {want}\narmik servo prints\n  {got}"

@@ -157,3 +157,48 @@ def test_readme_headline_numbers_are_in_performance_page():
     performance = (DOCS / "performance.md").read_text()
     missing = [n for n in numbers if n not in performance]
     assert not missing, f"README's headline numbers not in docs/performance.md: {missing}"
+
+
+def _flags(main, command: str) -> set[str]:
+    """The long options `armik COMMAND --help` lists."""
+    out = io.StringIO()
+    with pytest.raises(SystemExit), contextlib.redirect_stdout(out):
+        main([command, "--help"])
+    return set(re.findall(r"(--[a-z][\w-]*)", out.getvalue()))
+
+
+def _command_lines(text: str) -> list[tuple[str, str]]:
+    """(command, line) for every `armik X ...` of the text: a fenced line and the indented
+    lines that continue it, or an inline span; comments after '#' left out."""
+    found = []
+    for block in re.findall(r"```\w*\n(.*?)```", text, flags=re.S):
+        command = None
+        for line in block.splitlines():
+            start = re.match(r"\s*(?:\$ )?armik ([a-z]+)\b", line)
+            if start:
+                command = start.group(1)
+            elif not (command and re.match(r"\s+[\[-]", line)):
+                command = None
+            if command:
+                found.append((command, line.split("#")[0]))
+    for span in re.findall(r"`armik ([a-z]+)([^`]*)`", re.sub(r"```.*?```", "", text, flags=re.S)):
+        found.append(span)
+    return found
+
+
+@needs_docs
+def test_docs_command_flags_exist():
+    """Every --flag on an `armik X` line of the README and docs/ is one of X's."""
+    main = _main()
+    known: dict[str, set[str]] = {}
+    wrong = []
+    for page in [ROOT / "README.md", *PAGES]:
+        for command, line in _command_lines(page.read_text()):
+            flags = known.setdefault(command, _flags(main, command))
+            wrong += [
+                f"{page.name}: armik {command} has no {flag} ({line.strip()})"
+                for flag in re.findall(r"(?<![\w-])(--[a-z][\w-]*)", line)
+                if flag not in flags
+            ]
+    assert len(known) >= 10, f"too few commands found: {sorted(known)}"
+    assert not wrong, "\n".join(wrong)
