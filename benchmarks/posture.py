@@ -20,8 +20,8 @@ import armik
 
 os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not Python runs
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests"))
-from test_arms import dual_irb120  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))  # the tests package
+from tests.test_arms import dual_irb120  # noqa: E402
 
 BUDGET = {"iteration_budget": 3000}  # deterministic: the same numbers on every machine
 
