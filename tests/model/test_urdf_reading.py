@@ -175,8 +175,17 @@ def test_locked_joint_named_like_a_link(tmp_path):
 # -- 10. deep trees are refused before Pinocchio's parser could crash ---------------------
 
 
-def deep_chain(n: int) -> str:
-    return chain(*(joint(f"j{i}", f"l{i}", f"l{i + 1}", xyz="0 0 0.01") for i in range(n)))
+def deep_chain(n: int, moving_every: int = 1) -> str:
+    """A chain n links deep, one joint in ``moving_every`` revolute, the others fixed."""
+    return chain(
+        *(
+            joint(
+                f"j{i}", f"l{i}", f"l{i + 1}", "revolute" if i % moving_every == 0 else "fixed",
+                xyz="0 0 0.01",
+            )
+            for i in range(n)
+        )
+    )  # fmt: skip
 
 
 def test_tree_deeper_than_the_limit_is_refused(tmp_path):
@@ -208,7 +217,7 @@ def test_deep_tree_parses_on_a_small_thread_stack(tmp_path):
     # 600 links crashed Pinocchio's parser on a 512 kB thread stack (measured at 300);
     # armik parses on a thread of its own with a large stack. In a subprocess: a crash
     # must not take the test run down.
-    path = write_urdf(tmp_path, deep_chain(600))
+    path = write_urdf(tmp_path, deep_chain(600, moving_every=3))  # 200 moving joints
     code = textwrap.dedent(
         f"""
         import threading
@@ -223,7 +232,21 @@ def test_deep_tree_parses_on_a_small_thread_stack(tmp_path):
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
     assert done.returncode == 0, done.stderr[-500:]
-    assert done.stdout.strip() == "601"
+    assert done.stdout.strip() == "201"
+
+
+def test_more_moving_joints_than_pinocchio_data_can_hold_are_refused_by_count(tmp_path):
+    """A URDF of 300 moving joints, chain or tree: a ``URDFError`` naming the count and
+    the fix, where Pinocchio's data (about 1.8 GB a copy) ended the process; a tree of as
+    many links with the joints past the limit fixed still loads."""
+    n = urdf_mod.MAX_MOVING + 44
+    with pytest.raises(URDFError, match=f"has {n} moving joints.*up to 256.*fixed"):
+        urdf_mod.read_urdf_string(deep_chain(n))
+    star = chain(*(joint(f"j{i}", "l0", f"b{i}") for i in range(n)))
+    with pytest.raises(URDFError, match=f"has {n} moving joints"):
+        urdf_mod.read_urdf_string(star)
+    model = urdf_mod.read_urdf_string(deep_chain(n, moving_every=2))[0]
+    assert model.nv == (n + 1) // 2
 
 
 # -- 13. files that are not files -------------------------------------------------------

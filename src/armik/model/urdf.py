@@ -9,7 +9,8 @@ How armik reads a URDF (docs/urdf.md says the same):
 
 - Only regular files up to ``MAX_FILE_BYTES`` are read (never a device or a named pipe),
   and trees deeper than ``MAX_DEPTH`` links are refused: Pinocchio's parser recurses once
-  per link and crashed the process at about 4000 links on an 8 MB stack (measured).
+  per link and crashed the process at about 4000 links on an 8 MB stack (measured); so are
+  files of more than ``MAX_MOVING`` moving joints (Pinocchio's data would take gigabytes).
 - Joint axes follow ROS (Pinocchio, KDL, MoveIt): the unit vector along ``<axis xyz>``.
   A non-unit axis is normalised with an ``ArmikWarning`` (yourdfpy and pybullet would
   move a prismatic joint ``norm`` times as far); a zero, tiny (norm below
@@ -45,11 +46,12 @@ from pathlib import Path
 import pinocchio as pin
 
 from armik.errors import URDFError
-from armik.model.urdf_checks import MAX_DEPTH, JointXML, URDFInfo, inspect
+from armik.model.urdf_checks import MAX_DEPTH, MAX_MOVING, JointXML, URDFInfo, inspect
 from armik.model.urdf_lenient import forgiving_parse
 
 __all__ = [
     "MAX_DEPTH",
+    "MAX_MOVING",
     "MAX_FILE_BYTES",
     "JointXML",
     "URDFInfo",

@@ -19,6 +19,10 @@ from armik.tolerances import MAX_LENGTH, MAX_LIMIT
 # Pinocchio's parser recursed about 2 KB of stack per link and crashed at 4000 links on an
 # 8 MB stack (measured with pin 4.1): deeper trees are refused before it sees them.
 MAX_DEPTH = 1000
+# Pinocchio's data for a model grows as about nv^2.7 (measured with pin 4.1: 0.14 GB at 100
+# joints, 0.6 GB at 200, 1.8 GB at 300, whether a chain or a tree): more moving joints than
+# this would take gigabytes per thread, or end the process, before any chain is cut.
+MAX_MOVING = 256
 AXIS_MIN_NORM = 1e-6
 AXIS_UNIT_TOL = 1e-9  # |norm - 1| below this is a unit axis already
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
@@ -255,6 +259,7 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
     if len(roots) != 1:
         raise URDFError(_roots_words(path, roots, joints), path=path)
     depth = _depth(roots[0], joints, len(links), path)
+    _refuse_too_many(joints, path)
     info = URDFInfo(
         root.get("name") or "",
         roots[0],
@@ -268,6 +273,19 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
         mimic_factors=factors,
     )
     return info, changed
+
+
+def _refuse_too_many(joints: dict[str, JointXML], path: str) -> None:
+    """A ``URDFError`` for more than ``MAX_MOVING`` moving joints, naming the count."""
+    moving = sum(j.type in MOVING for j in joints.values())
+    if moving > MAX_MOVING:
+        raise URDFError(
+            f"{path!r} has {moving} moving joints: armik reads URDFs of up to {MAX_MOVING} "
+            "(Pinocchio's data for the whole model grows as about the cube of their count: "
+            "1.8 GB at 300); make the joints you do not solve for fixed in the URDF "
+            '(type="fixed")',
+            path=path,
+        )
 
 
 def _depth(root: str, joints: dict[str, JointXML], n_links: int, path: str) -> int:
