@@ -122,7 +122,8 @@ class Arms(ArmsKinematics):
         if q0 is not None:  # the whole q0, its bad joints named: not one chain's part of it
             q0 = checked.configuration("q0", q0, self.joint_names)
         # a flat list of tasks read by tip; the tips in the robot's order, as the solve's
-        targets = by_tip(self._chains, targets)
+        if type(targets) is not dict or tuple(targets) != self.tips:  # else as by_tip gives it
+            targets = by_tip(self._chains, targets)
         relative = self._check_targets(targets)
         chains = self._chains
         poses = {t: v for t, v in targets.items() if type(v) in _PLAIN or not as_problem(v)}
@@ -284,11 +285,11 @@ class Arms(ArmsKinematics):
         measured = r.extra["task_errors"]
         # each tip's errors are its frames' true distances, as the result's (the tasks'
         # centres), not a region's or a weighting's measure: as on chains solved apart
-        centres = tuple([t.centre() for t in tasks])
-        if any([c is not t for c, t in zip(centres, tasks)]):
-            true = measure_tasks(cast(ArmModel, union), Problem(centres), r.q, opts)
-        else:
-            true = measured
+        true = measured  # exact poses: what the verdict measured is the distance
+        if not all([type(t) is Pose and not t.bounds.any() and t.weights.all() for t in tasks]):
+            centres = tuple([t.centre() for t in tasks])
+            if any([c is not t for c, t in zip(centres, tasks)]):
+                true = measure_tasks(cast(ArmModel, union), Problem(centres), r.q, opts)
         if order is not None:  # back to the chains' joints side by side
             r = dataclasses.replace(r, q=r.q[order])
         errors, failed = by_tip_errors(given, measured, true)

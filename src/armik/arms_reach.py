@@ -26,7 +26,7 @@ def beyond_reach(chains: Mapping[str, object], targets: Mapping[str, object]) ->
     it."""
     out = {}
     for tip, given in targets.items():
-        target = exact(given, tip)
+        target = given if type(given) is Target else exact(given, tip)  # parsed: the usual
         if target is None:
             continue
         arm = chains[tip]
