@@ -8,6 +8,7 @@ from importlib import metadata
 from pathlib import Path
 
 import numpy as np
+import pinocchio as pin
 import pytest
 from numba import njit
 
@@ -172,3 +173,19 @@ def test_a_planar_arm_held_off_by_its_elbow_says_joint_limit_then_rests_stalled(
     assert q[1] == pytest.approx(0.5, abs=1e-9)  # at the elbow's limit
     assert record.position_error[-1] > 0.4
     assert _largest_drop(arm, q, lambda T: np.linalg.norm(target - T.translation)) < 1e-6
+
+
+@pytest.mark.parametrize("away", [200, 300, 700])
+def test_the_irb120_sent_far_away_and_back_recovers(away):
+    """The IRB 120 from START sent 3 m away, then back to where it started: after 300
+    ticks away it folded through its elbow singularity onto the other branch and stayed
+    at joint 3's lower limit, 0.14 m off, joint_limit for good. It now stretches less
+    deep into the singularity (the damping grows with the error no joint removes) and is
+    back on target within 500 ticks of the return, whatever the excursion."""
+    arm = armik.load("abb_irb120")
+    q0 = START["abb_irb120"]
+    T0 = arm.fk(q0)
+    far = pin.SE3(T0.rotation, T0.translation + np.array([3.0, 0.0, 0.0]))
+    record = arm.servo(q0, dt=0.002).track([far] * away + [T0] * 500)
+    assert record.status[-1] == "on_target" and record.position_error[-1] < 1e-9
+    assert "stalled" not in set(record.status.tolist())
