@@ -149,14 +149,22 @@ def _unremoved(E, A, m, scale, h, Hm, mu, Hl, L, free, z):
     Gauss-Newton step leaves out outweigh the ones it keeps. ``Hl``, ``L`` (n x n) and
     ``z`` (n) are scratch."""
     n = Hm.shape[0]
+    trace = 0.0
+    for i in range(n):
+        trace += Hm[i, i]
+    mu = max(mu, 1e-15 * (trace + 1.0))  # (raised tenfold should rounding need it)
+    factored = False
     for _ in range(40):
         for i in range(n):
             for j in range(n):
                 Hl[i, j] = Hm[i, j]
             Hl[i, i] += mu
         if cholesky_factor(Hl, free, L):
+            factored = True
             break
         mu *= 10.0
+    if not factored:
+        return 0.0, 0.0
     cholesky_substitute(L, h, free, z)
     left = whole = 0.0
     for k in range(m):
