@@ -35,7 +35,9 @@ GRAM, LAST = 10, 11  # the size of the Gram matrix whose vector is kept; the las
 # never moves (linear) and never turns (angular) at any q, a planar arm's normal and its
 # tilts (``armik.servo.fixed``): a task's row along them is not one the arm can follow
 FIXED = 12
-CFG = FIXED + 18
+# the length (m) that bounds the task's second derivatives (``servo.curvature``)
+CURVE = FIXED + 18
+CFG = CURVE + 1
 # entries of out
 POS_ERR, ORI_ERR, CODE, JOINT, SIGMA, CONFLICT = range(6)
 OUT = 6

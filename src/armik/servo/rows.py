@@ -16,6 +16,7 @@ from numba import njit
 
 from armik.kernel.linalg import cholesky_factor, cholesky_substitute
 from armik.kernel.step import active_set
+from armik.servo.box_qp import nearest_in_box
 
 WEIGHT = 1e6
 PASSES = 8  # rows added at most
@@ -93,9 +94,8 @@ def with_rows(C, b, Hl, xf, lb, ub, dq, act, Hp, Gi, gp, xp, unit, iscratch, mat
             xp[i] = s
         if not active_set(
             Gi, xp, lb, ub, xp, side, held, sub, mats[1], vecs[1], vecs[2], mats[0], dq
-        ):
-            for i in range(n):
-                dq[i] = xp[i]
+        ):  # cycled: the primal method, which cannot
+            nearest_in_box(Hp, xp, lb, ub, dq, side, sub, mats[1], vecs[1], vecs[2])
         for i in range(n):
             dq[i] = min(max(dq[i], lb[i]), ub[i])
     return added

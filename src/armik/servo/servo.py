@@ -100,6 +100,18 @@ def at_rest(
     cfg[k.SIGMA_EPS], cfg[k.LAM_MAX], cfg[k.LAM_MIN] = SINGULAR, DAMPING, LAMBDA_MIN
 
 
+def curvature(arms: list) -> float:
+    """A length (m) that bounds how fast the tips' rows turn as the joints move: the
+    error's second derivatives are at most about this times the error (a lever arm from a
+    joint to the tip, the longest chain's reach; 1 for a rotation row). The step's damping
+    grows with it times the error the step cannot remove (``armik.servo.step``): the
+    Gauss-Newton step leaves those terms out, and where they outweigh the ones it keeps (a
+    target the limits keep out of reach, the arm stretched toward it) it overshoots and
+    the arm never settles."""
+    reach = max(float(model_of(arm).reach) for arm in arms)
+    return max(reach, 1.0) if math.isfinite(reach) else 1.0
+
+
 class Servo(Commanded):
     """Streaming IK for one arm from joint values ``q0`` at rest: ``step(target)`` gives the
     next command one tick of ``dt`` s later, within the joint limits, the velocity limits
@@ -138,6 +150,7 @@ class Servo(Commanded):
             self._state, self._cfg, arm, q, self.dt, velocity_limits, acceleration_limits,
             gain, tol_position, tol_orientation,
         )  # fmt: skip
+        self._cfg[k.CURVE] = curvature([arm])
         self._names = arm.joint_names
         self._collisions = rows_for(arm, obstacles, self_collision, margin, self.dt)
         self._no_rows = np.zeros((0, n + 1))

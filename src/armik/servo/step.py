@@ -7,8 +7,9 @@ the same q, its motion since): the smallest singular value (``armik.servo.singul
 the damping; the whole correction x toward this target and x_old toward the last one; the
 desired step, the target's motion (x - x_old) plus the last correction slowed so that
 every joint can stop on it; the nearest step to it within the velocity box of
-``armik.servo.box`` (``kernel.step.active_set``) and the collision rows
-(``armik.servo.rows``); q and v advanced. ``code`` says what held the tick back.
+``armik.servo.box`` (``kernel.step.active_set``, else ``armik.servo.box_qp``) and the
+collision rows (``armik.servo.rows``); q and v advanced. ``code`` says what held the tick
+back.
 """
 
 from __future__ import annotations
@@ -21,11 +22,13 @@ from numba import njit
 from armik.kernel.linalg import cholesky_factor, cholesky_substitute
 from armik.kernel.step import active_set
 from armik.servo.box import ACCELERATION, BRAKING, POSITION, VELOCITY, velocity_box
+from armik.servo.box_qp import nearest_in_box
 from armik.servo.layout import (
     ACC,
     AMAX,
     CODE,
     CONFLICT,
+    CURVE,
     DT,
     GAIN,
     GRAM,
@@ -54,11 +57,17 @@ from armik.servo.singular import smallest_singular
 # what limited a tick (``armik.servo.result.ServoStatus`` in this order)
 ON_TARGET, TRACKING, JOINT_LIMIT, VELOCITY_LIMIT, ACCELERATION_LIMIT = range(5)
 SINGULARITY, OUT_OF_REACH, OBSTACLE, STALLED = 5, 6, 7, 8
-# the error's part the joints can still remove, below which a tick makes no progress: the
-# gradient of the squared error, |A^T e|, against |A|_F |e| (zero at a least-squares
-# minimum: a pose the arm cannot take, the nearest it gets from here)
-STALL = 1e-3
 BRAKED = 10.0  # tolerances: slowing to stop on a target farther than this is reported
+# The Gauss-Newton step leaves out the error times the rows' second derivatives, about
+# the curvature length (``servo.curvature``) times the error. Where the joints cannot
+# remove the error, these terms outweigh A^T A and the step overshoots a minimum the
+# limits hold it off from (a TALOS arm wandered at 1 rad/s 9 mm from it): the damping
+# grows by the curvature length times the error left after a step damped by UNREMOVED of
+# the curvature length times the error, times that error's share of the error squared
+# (none while tracking a target the joints reach: the step as before)
+UNREMOVED = 1e-2
+RESIDUAL = 1e-3  # of the plain damping: below it none (the plain step to the last bit)
+WEAK = 1e2  # (``_weak``)
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -130,16 +139,108 @@ def _gradient(E, A, m, g, lam, pull, state):
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
+def _unremoved(E, A, m, scale, h, Hm, mu, Hl, L, free, z):
+    """(|E - A z|^2, |E|^2) over the rows the task asks for (``scale`` not 0; a row along
+    a direction the tip never moves has no second derivative either), z = (A^T A + mu
+    I)^-1 h over the ``free`` joints (ints), h = A^T E: the error a step over them damped
+    by mu (of the curvature length times the error) leaves. None where they remove the
+    error; all of it at a least-squares minimum (A^T E = 0), and wherever only directions
+    whose squared singular value is below mu could remove it: there the terms the
+    Gauss-Newton step leaves out outweigh the ones it keeps. ``Hl``, ``L`` (n x n) and
+    ``z`` (n) are scratch."""
+    n = Hm.shape[0]
+    trace = 0.0
+    for i in range(n):
+        trace += Hm[i, i]
+    mu = max(mu, 1e-15 * (trace + 1.0))  # (raised tenfold should rounding need it)
+    factored = False
+    for _ in range(40):
+        for i in range(n):
+            for j in range(n):
+                Hl[i, j] = Hm[i, j]
+            Hl[i, i] += mu
+        if cholesky_factor(Hl, free, L):
+            factored = True
+            break
+        mu *= 10.0
+    if not factored:
+        return 0.0, 0.0
+    cholesky_substitute(L, h, free, z)
+    left = whole = 0.0
+    for k in range(m):
+        if scale[k] == 0.0:
+            continue
+        e = E[k]
+        whole += e * e
+        for i in range(n):
+            e -= A[k, i] * z[i]
+        left += e * e
+    return left, whole
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _weak(sigma, scale, rows, active, free, mu):
+    """Whether some direction of the task may have a squared singular value within
+    ``WEAK`` of mu (``_unremoved`` then measured; else it would add under 1e-6 of the
+    curvature length times the error, the step as good as the plain one, and a tick
+    tracking a target saves a second factorisation): a joint pinned at a limit, more rows
+    than joints, or the smallest singular value of the weighted rows (at least sigma over
+    the largest row scale) that small."""
+    if active > free.shape[0]:
+        return True
+    for i in range(free.shape[0]):
+        if free[i] == 0:
+            return True
+    top = 0.0
+    for r in range(rows):
+        top = max(top, scale[r])
+    if top == 0.0:
+        return False
+    weak = sigma / top
+    return weak * weak < WEAK * mu
+
+
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
+def _within_limits(x, q, state, Hl, t, lb, ub, side, free, L, r, p):
+    """x (in place): the correction within the position limits nearest x in the metric of
+    the damped normal matrix ``Hl`` (``box_qp``), where x crosses one: a joint at its
+    limit that x pushes past it stays there and the others make up for it as far as
+    they can. Else the braking toward x is read off a motion no joint can make, and the
+    step that the box leaves the others, slowed for it, crawls (a saddle the arm would
+    leave at once is left in seconds). ``t``, ``lb``, ``ub``, ``r``, ``p`` (n), ``side``,
+    ``free`` (n ints) and ``L`` (n x n) are scratch. Returns the joint held back most at
+    its limit (-1: none)."""
+    n = x.shape[0]
+    crosses = False
+    for i in range(n):
+        lb[i] = state[LO, i] - q[i]
+        ub[i] = state[HI, i] - q[i]
+        t[i] = x[i]
+        crosses = crosses or x[i] < lb[i] or x[i] > ub[i]
+    if not crosses:
+        return -1
+    nearest_in_box(Hl, t, lb, ub, x, side, free, L, r, p)
+    worst, most = -1, 0.0
+    for i in range(n):
+        if (x[i] <= lb[i] or x[i] >= ub[i]) and abs(t[i] - x[i]) > most:
+            worst, most = i, abs(t[i] - x[i])
+    return worst
+
+
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def step_within(E0, A0, E1, A1, rows, active, scale, moved, whole, rows_cb, state, cfg, M6,
-                W, iv, every, act):  # fmt: skip
+                W, iv, every, act, stalled, saddle):  # fmt: skip
     """state's q and v advanced by one step toward E0, A0 (``rows`` rows, ``active`` of
     them counted in the singular value, each at its ``scale``: ``tick.stack``'s), from
     E1, A1 where the target ``moved`` since the last tick, within every limit and the
     collision rows ``rows_cb`` (K, n + 1: C, then b, for C dq >= b).
     With ``whole`` a desired step beyond a joint's velocity limit is scaled as a whole
     (the tip keeps its line), else the box QP leaves the others to make up for it (a
-    slow lift under two arms). Returns (sigma, brake, scale, slowest, joint, bound,
-    blocked, conflict, stalled) for ``status_code``."""
+    slow lift under two arms). ``stalled``: q is a local minimum of the error within the
+    position limits (``armik.servo.minimum``), where the step holds still; ``saddle``: the
+    gradient vanishes there but the error falls at second order. ``iv[2]``: the joints
+    free to move (``minimum.first_order``'s). Returns (sigma, brake, scale, slowest,
+    joint, bound, blocked, conflict, stalled) for ``status_code``."""
     n = A0.shape[1]
     Hm, Hl, Lc, Gi, Hh, Lm = M6[0], M6[1], M6[2], M6[3], M6[4], M6[5]
     S, Ls = M6[6], M6[7]  # the Gram matrix of ``singular`` and its factor
@@ -170,22 +271,30 @@ def step_within(E0, A0, E1, A1, rows, active, scale, moved, whole, rows_cb, stat
     if sigma < eps:
         lam += cfg[LAM_MAX] * (1.0 - (sigma / eps) ** 2)
     pull = cfg[PULL] * dt * (lam - cfg[LAM_MIN]) / lam  # none on a plain step
+    lam_g = lam
     _gradient(E0, A0, rows, g, lam, pull, state)
-    # how much of the error any motion removes (``STALL``): |A^T E|^2 against
-    # trace(A^T A) |E|^2, the pull taken back out of g
-    grad2, trace = 0.0, 0.0
-    for i in range(n):
-        gi = g[i] - lam * pull * (state[REST, i] - state[Q, i])
-        grad2 += gi * gi
-        trace += Hm[i, i]
-    stalled = grad2 < STALL * STALL * trace * err2
+    for i in range(n):  # y = A^T E: the pull taken back out of g
+        y[i] = g[i] - lam * pull * (state[REST, i] - q[i])
+    # damped for the terms the Gauss-Newton step leaves out (``UNREMOVED``); at a saddle
+    # (``minimum``), the plain step, which leaves it at once
+    mu = UNREMOVED * cfg[CURVE] * math.sqrt(err2)
+    if err2 > 0.0 and not saddle and _weak(sigma, scale, rows, active, sub, mu):
+        left2, whole2 = _unremoved(E0, A0, rows, scale, y, Hm, mu, Hl, Lm, sub, tmp)
+        extra = cfg[CURVE] * left2 * math.sqrt(left2) / whole2 if whole2 > 0.0 else 0.0
+        if extra > RESIDUAL * lam:  # (else the plain step, to the last bit)
+            lam += extra  # (in the normal matrix only: the pull keeps lam_g)
     _factor(Hm, lam, Hl, Lc, every)
     cholesky_substitute(Lc, g, every, x)  # the whole correction to this tick's target
+    at_limit = _within_limits(x, q, state, Hl, xf, lb, ub, side, sub, Lm, gap, mult)
+    if stalled:  # a local minimum within the limits (``minimum``): held still there
+        for i in range(n):
+            x[i] = 0.0
     for i in range(n):
         x_old[i] = x[i]
-    if moved:  # the whole correction to the last tick's target, at this q
-        _gradient(E1, A1, rows, y, lam, pull, state)
+    if moved and not stalled:  # the whole correction to the last tick's target, at this q
+        _gradient(E1, A1, rows, y, lam_g, pull, state)
         cholesky_substitute(Lc, y, every, x_old)
+        _within_limits(x_old, q, state, Hl, xf, lb, ub, side, sub, Lm, gap, mult)
     # desired velocity: feed-forward of the target's motion, plus the last tick's remaining
     # correction slowed so that every joint can stop on it at its acceleration limit
     gain = cfg[GAIN]
@@ -222,8 +331,8 @@ def step_within(E0, A0, E1, A1, rows, active, scale, moved, whole, rows_cb, stat
     else:
         _inverse(Lc, every, y, tmp, Gi)
         if not active_set(Gi, xf, lb, ub, xf, side, held, sub, Hh, gap, mult, Lm, xo):
-            for i in range(n):
-                xo[i] = xf[i]
+            # cycled: the primal method, which cannot (clipping xf need not lower the error)
+            nearest_in_box(Hl, xf, lb, ub, xo, side, sub, Lm, gap, mult)
         for i in range(n):  # within the box whatever the rounding
             dq[i] = min(max(xo[i], lb[i]), ub[i])
     blocked = False
@@ -237,6 +346,8 @@ def step_within(E0, A0, E1, A1, rows, active, scale, moved, whole, rows_cb, stat
         if gap_i > worst and (dq[i] <= lb[i] or dq[i] >= ub[i]):
             worst, joint = gap_i, i
             bound = np.int64(lk[i]) if dq[i] <= lb[i] else np.int64(uk[i])
+    if joint < 0 and at_limit >= 0:  # no box held it back: the limits held the correction
+        joint, bound = at_limit, np.int64(POSITION)
     # advance: the velocity is the difference of the joint values actually commanded
     for i in range(n):
         qn = min(max(q[i] + dq[i], state[LO, i]), state[HI, i])
@@ -260,7 +371,8 @@ def status_code(within, far, held, cfg, out):
     elif blocked:
         code, who = OBSTACLE, -1
     elif joint >= 0 and (bound == POSITION or bound == BRAKING):
-        code = JOINT_LIMIT
+        # at a limit no other motion gets past: the nearest the arm gets, within them
+        code, who = (STALLED, -1) if stalled else (JOINT_LIMIT, joint)
     elif joint >= 0 and bound == VELOCITY:
         code = VELOCITY_LIMIT
     elif joint >= 0 and bound == ACCELERATION:

@@ -54,6 +54,7 @@ from armik.servo.layout import (
     Q,
     carve,
 )
+from armik.servo.minimum import PROBE, curvature_column, first_order, no_descent
 from armik.servo.step import scratch, status_code, step_within
 from armik.servo.step import take as _take
 
@@ -246,6 +247,29 @@ def pose_row(H, row):
     row[CONE], row[AXIS + 2], row[LOOK] = NO_CONE, 1.0, NO_LOOK
 
 
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
+def _at_minimum(ch, table, tasks, ws, q, E, A, rows, Ep, Ap, scp, fixed, free, M6, cfg):
+    """Whether q, where the projected gradient vanishes, is a local minimum of the error
+    over the ``free`` joints (``minimum.no_descent``): the rows' derivatives from the rows
+    at q moved ``PROBE`` along each (into Ep, Ap, scp), ws's placement left at q again."""
+    n = q.shape[0]
+    R, p = ws.m3[0], ws.v3[0]
+    for j in range(n):
+        if free[j] == 0:
+            continue
+        qj = q[j]
+        step = PROBE * max(1.0, abs(qj))
+        q[j] = qj + step
+        forward(ch, q, R, p, ws.geo[0], ws.geo[1])
+        jacobian_local(ch, R, p, ws.geo[0], ws.geo[1], ws.J)
+        stack(table, tasks, ws, Ep, Ap, fixed, scp)
+        q[j] = qj
+        curvature_column(E, A, Ap, rows, step, j, M6[0])
+    forward(ch, q, R, p, ws.geo[0], ws.geo[1])
+    jacobian_local(ch, R, p, ws.geo[0], ws.geo[1], ws.J)
+    return no_descent(E, A, rows, M6[0], free, cfg, M6[1], M6[2])
+
+
 @njit(cache=True, nogil=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def tick(target, mem, imem, rows_cb):
     """One tick on the servo's memory (``armik.servo.layout``) toward ``target``, within the
@@ -280,6 +304,13 @@ def tick(target, mem, imem, rows_cb):
     E0, A0, E1, A1 = E[0:m], A2[0], E[m : 2 * m], A2[1]
     reg_p, reg_r, active = stack(table, tasks, ws, E0, A0, fixed, sc[0])
     within = reg_p <= cfg[TOL_P] and reg_r <= cfg[TOL_R]
+    free = iv[2]
+    saddle = first_order(E0, A0, rows, state, cfg, W[15], free)
+    stalled = False
+    if saddle:  # and no way on at second order (the rows at q moved: E1, A1 as scratch)
+        stalled = _at_minimum(ch, table, tasks, ws, q, E0, A0, rows, E1, A1, sc[1], fixed,
+                              free, M6, cfg)  # fmt: skip
+        saddle = not stalled
     moved = cfg[LAST] == tasks and not equal(last, table, tasks)  # the last tick's target
     if moved:
         for t in range(tasks):
@@ -290,7 +321,7 @@ def tick(target, mem, imem, rows_cb):
     whole = bool(True)  # noqa: UP018
     held = step_within(
         E0, A0, E1, A1, rows, active, sc[0], moved, whole, rows_cb, state, cfg, M6, W, iv,
-        every, act,
+        every, act, stalled, saddle,
     )  # fmt: skip
     # the true distances the command leaves (the FK at the new joint values)
     forward(ch, q, R, p, ws.geo[0], ws.geo[1])

@@ -35,7 +35,7 @@ from armik.servo.limits import (
     time_step,
 )
 from armik.servo.result import STATUSES, ServoStep
-from armik.servo.servo import ON_TARGET, Commanded, at_rest
+from armik.servo.servo import ON_TARGET, Commanded, at_rest, curvature
 from armik.servo.table import table
 from armik.servo.union_collisions import union_rows
 from armik.servo.union_tick import allocate, python_views, rows_at, stacked, tick
@@ -108,6 +108,7 @@ class UnionServo(Commanded):
             self._state, self._cfg, union, q, self.dt, velocity_limits, acceleration_limits,
             gain, tol_position, tol_orientation,
         )  # fmt: skip
+        self._cfg[k.CURVE] = curvature(arms)
         self._no_rows = np.zeros((0, n + 1))
         self._collisions = union_rows(
             arms,  # type: ignore[arg-type]

@@ -43,6 +43,7 @@ from armik.servo.layout import (
     TOL_R,
     Q,
 )
+from armik.servo.minimum import PROBE, curvature_column, first_order, no_descent
 from armik.servo.step import scratch, scratch_size, status_code, step_within
 from armik.servo.tick import equal, pose_row, regions, stack, views
 
@@ -69,7 +70,8 @@ def allocate(
     P, K, M = packed.shape[0], kinds.shape[0], maps.shape[0]
     head = np.array([n, tips, most, most_joints, P, K, M], dtype=np.int64)
     f, i = offsets(head)
-    mem = np.zeros(f[-1] + chain_size(most, most_joints) + scratch_size(n, 6 * MAX_TASKS * tips))
+    m = 6 * MAX_TASKS * tips
+    mem = np.zeros(f[-1] + chain_size(most, most_joints) + scratch_size(n, m) + 3 * m + 2 * m * n)
     imem = np.zeros(i[-1] + 3 * most + 5 * n, dtype=np.int64)
     imem[:HEADER] = head
     mem[f[7] : f[8]] = packed
@@ -276,11 +278,30 @@ def tick(mem, imem, rows_cb):
         fixed, sc[0],
     )  # fmt: skip
     within = reg_p <= cfg[TOL_P] and reg_r <= cfg[TOL_R]
+    free = iv[2]
+    saddle = first_order(E2[0], A2[0], rows, state, cfg, W[15], free)
+    stalled = False
+    if saddle:  # and no way on at second order (the rows at q moved, past the scratch)
+        Ep = buf[o : o + 2 * m].reshape((2, m))
+        Ap = buf[o + 2 * m : o + 2 * m + 2 * m * n].reshape((2, m, n))
+        scp = buf[o + 2 * m + 2 * m * n : o + 3 * m + 2 * m * n]
+        for j in range(n):
+            if free[j] == 0:
+                continue
+            qj = q[j]
+            step = PROBE * max(1.0, abs(qj))
+            q[j] = qj + step
+            _rows(tables, counts, lasts, last_counts, packed, kinds, at, maps, q, cbuf, cibuf,
+                  Ep, Ap, fixed, scp)  # fmt: skip
+            q[j] = qj
+            curvature_column(E2[0], A2[0], Ap[0], rows, step, j, M6[0])
+        stalled = no_descent(E2[0], A2[0], rows, M6[0], free, cfg, M6[1], M6[2])
+        saddle = not stalled
     # a bool, not the literal False: one compiled step_within with the chain's tick (True)
     whole = bool(False)  # noqa: UP018
     held = step_within(
         E2[0], A2[0], E2[1], A2[1], rows, active, sc[0], moved, whole, rows_cb, state, cfg,
-        M6, W, iv, every, act,
+        M6, W, iv, every, act, stalled, saddle,
     )  # fmt: skip
     # the true distances the command leaves (each chain's FK at the new joint values)
     far = False
