@@ -96,3 +96,18 @@ def test_through_the_edge_of_reach(case, tmp_path):
     far = T0.copy()
     far[:3, 3] = origin + [0.0, 0.0, 10.0 + arm.kinematics.reach]
     assert solver.ik_count(far, held)[0] == 0
+
+
+def test_a_stretched_elbow_is_one_branch_as_in_solve_all(tmp_path):
+    """The Kinova's stretched elbow: its double root, split ~5e-6 rad by the model's
+    rounding, is one root in C as in solve_all (4 rows, not 4 pairs)."""
+    arm = armik.load("kinova")
+    solver = Solver(arm, "s", tmp_path)
+    for q in ([1.2, 2.6, np.pi, 1.4, 3.3, -1.2], [-0.1, 4.9, np.pi, -0.9, 3.5, -1.1]):
+        T = arm.fk(np.array(q)).homogeneous
+        Q = solver.ik(T)
+        check_solutions(arm, Q, T)
+        expected = verified_answers(arm, T, None)
+        assert len(Q) == len(expected) == 4
+        assert all(wrapped_distance(a, b) < 1e-7 for a, b in zip(Q, expected))
+        assert all(wrapped_distance(Q[i], Q[j]) > 1e-3 for i in range(4) for j in range(i))

@@ -384,3 +384,21 @@ def test_a_batch_passes_writable_seeds_as_the_prepared_solve_does(monkeypatch):
     assert len(got) == 2
     for q0s in got:
         assert q0s.flags.writeable and q0s.flags.c_contiguous and q0s.shape == (4, 6)
+
+
+@pytest.mark.parametrize(
+    "q",
+    [[1.2, 2.6, math.pi, 1.4, 3.3, -1.2], [-0.1, 4.9, math.pi, -0.9, 3.5, -1.1]],
+)
+def test_kinova_stretched_elbow_is_one_branch_flagged_singular(q):
+    # the model's rounding (1e-12 m) split the stretched elbow's double root into two roots
+    # ~5e-6 rad apart: 8 answers in 4 pairs, none flagged singular
+    a = arm("kinova")
+    T = a.fk(np.array(q))
+    found = [r for r in a.solve_all(T) if r.success]
+    assert len(found) == 4 and all(r.singular for r in found)
+    for i, r in enumerate(found):
+        assert all(wrapped(r.q - s.q).max() > 1e-3 for s in found[:i])
+        got = a.fk(r.q)
+        assert np.linalg.norm(got.translation - T.translation) < 1e-12
+        assert np.linalg.norm(pin.log3(got.rotation.T @ T.rotation)) < 1e-12

@@ -37,6 +37,7 @@ from armik.solvers.closed_form.sixr_judged import GENERAL, UNLABELLED, judged, s
 from armik.solvers.closed_form.subproblems import (
     add,
     dot,
+    elbow,
     mat,
     mm,
     mmt,
@@ -49,7 +50,6 @@ from armik.solvers.closed_form.subproblems import (
     scale,
     sp1,
     sp2,
-    sp3,
     sp4,
     sub,
     vec,
@@ -197,7 +197,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             R1 = rot(h1, q1)
             v = sub(mtv(R1, p16), p1)
             nv = norm(v)
-            c0, c1, n3, ls3 = sp3(p3, neg(p2), h3, nv)
+            c0, c1, n3, ls3 = elbow(p3, neg(p2), h3, nv)
             flag3, cd3, w0, w1 = flag1, cd1, v0, v1
             if n3 == -1:
                 n3, c0 = 1, q0[2]
@@ -223,7 +223,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 free |= 2 if sing else 0
     else:  # axes 1 and 2 meet (p_12 = 0)
         n16 = norm(p16)
-        c0, c1, n3, ls3 = sp3(p3, neg(p2), h3, n16)
+        c0, c1, n3, ls3 = elbow(p3, neg(p2), h3, n16)
         flag3, cd3, w0, w1 = 0, 0, 0.0, 0.0
         if n3 == -1:
             n3, c0 = 1, q0[2]
