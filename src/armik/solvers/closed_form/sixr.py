@@ -48,6 +48,11 @@ TWO_PI = 2.0 * math.pi
 # outside it; a value this close is put on the limit (moving the tip by ~1e-9 m, which the FK
 # check measures as always)
 SNAP = 1e-9
+# rad: Newton steps stop at a pose error of 1e-14, which near a double root (a singular
+# pose, where the error grows with the square of the step) leaves a root ~1e-7 from where it
+# lies: one on a limit can come back that far past it. Such a row is put on the limit (the
+# tip moves by 1e-7 m at most per metre of reach, which the FK check measures as always).
+POLISHED_SNAP = 1e-7
 # rad: a value within this of pi from q0's either way is a tie, which goes to q0 + pi; rows
 # whose distances to q0 are this close go by the first joint (in the chain's order) whose
 # values differ by more than it, the smaller first. The exported C's ``nearest`` and
@@ -162,6 +167,19 @@ def nearest_equivalents(Q, n, q0, lower, upper):
                         best = c
             if not math.isnan(best):
                 Q[r, j] = min(max(best, lo), hi)
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def onto_limits(Q, n, lower, upper):
+    """Put each joint of the first ``n`` rows of ``Q`` up to ``POLISHED_SNAP`` past a limit
+    on it (after ``nearest_equivalents``, for Newton-polished rows)."""
+    for r in range(n):
+        for j in range(6):
+            v, lo, hi = Q[r, j], lower[j], upper[j]
+            if lo - POLISHED_SNAP <= v < lo:
+                Q[r, j] = lo
+            elif hi < v <= hi + POLISHED_SNAP:
+                Q[r, j] = hi
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
