@@ -111,3 +111,26 @@ def test_a_stretched_elbow_is_one_branch_as_in_solve_all(tmp_path):
         assert len(Q) == len(expected) == 4
         assert all(wrapped_distance(a, b) < 1e-7 for a, b in zip(Q, expected))
         assert all(wrapped_distance(Q[i], Q[j]) > 1e-3 for i in range(4) for j in range(i))
+
+
+def test_a_span_along_the_free_axis_as_in_solve_all(tmp_path):
+    """The iiwa with joint 7 held and its elbow stretched: joints 6 to 1 read from the tip
+    are a spherical wrist whose span lies along joint 5's axis, free at the middle of its
+    limits in C as in solve_all, every row to 1e-12 m."""
+    arm = armik.load("kuka_iiwa14")
+    solver = Solver(arm, "s", tmp_path)
+    rng = np.random.default_rng(1)
+    at_middle = 0
+    for _ in range(10):
+        q = arm.random_q(rng)
+        q[3] = 0.0
+        T = arm.fk(q).homogeneous
+        Q = solver.ik(T, float(q[6]))
+        expected = verified_answers(arm, T, float(q[6]))
+        assert 0 < len(Q) == len(expected)
+        assert all(wrapped_distance(a, b) < 1e-7 for a, b in zip(Q, expected))
+        for row in Q:
+            assert max(reached(arm, row, T)) < 1e-12
+        assert np.all(Q[:, 4] == Q[0, 4])  # one value of the free joint (swept if need be)
+        at_middle += Q[0, 4] == arm.kinematics.middle[4]
+    assert at_middle >= 8

@@ -217,6 +217,15 @@ static inline IK_UNUSED int sp3(vec3 p1, vec3 p2, vec3 k, double d, double t[2])
                 IK_ELBOW * d / n2, t);
 }
 
+/* The angle nearest t where |rot(k, .) p1 - p2| is at its largest or smallest (the elbow
+   stretched or folded; subproblems.elbow_extreme). */
+static inline IK_UNUSED double elbow_extreme(vec3 p1, vec3 p2, vec3 k, double t)
+{
+    vec3 kxp = cross(k, p1);
+    double phi = atan2(dot(p2, kxp), -dot(p2, cross(k, kxp)));
+    return cos(t - phi) >= 0.0 ? phi : wrap(phi + IK_PI);
+}
+
 /* SP3 with the cosines and sines of its angles too: the two regular roots' from SP4's
    atan2 and acos terms by the angle sums (no libm call), the others' from libm. */
 static inline IK_UNUSED int sp3cs(vec3 p1, vec3 p2, vec3 k, double d, double t[2], double c[2],

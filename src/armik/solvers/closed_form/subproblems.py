@@ -260,6 +260,15 @@ def elbow(p1, p2, k, d):
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
+def elbow_extreme(p1, p2, k, theta):
+    """The angle nearest ``theta`` where |rot(k, .) p1 - p2| is at its largest or smallest
+    (the elbow stretched or folded)."""
+    kxp = cross(k, p1)
+    phi = math.atan2(dot(p2, kxp), -dot(p2, cross(k, kxp)))  # p2 . rot p1 largest
+    return phi if math.cos(theta - phi) >= 0.0 else wrap(phi + math.pi)
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
 def _sp3(p1, p2, k, d, merge):
     n2 = norm(p2)
     if n2 <= EPS:  # |rot p1 - 0| = |p1| whatever theta: exact only if |p1| = d
