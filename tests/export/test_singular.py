@@ -96,3 +96,41 @@ def test_through_the_edge_of_reach(case, tmp_path):
     far = T0.copy()
     far[:3, 3] = origin + [0.0, 0.0, 10.0 + arm.kinematics.reach]
     assert solver.ik_count(far, held)[0] == 0
+
+
+def test_a_stretched_elbow_is_one_branch_as_in_solve_all(tmp_path):
+    """The Kinova's stretched elbow: its double root, split ~5e-6 rad by the model's
+    rounding, is one root in C as in solve_all (4 rows, not 4 pairs)."""
+    arm = armik.load("kinova")
+    solver = Solver(arm, "s", tmp_path)
+    for q in ([1.2, 2.6, np.pi, 1.4, 3.3, -1.2], [-0.1, 4.9, np.pi, -0.9, 3.5, -1.1]):
+        T = arm.fk(np.array(q)).homogeneous
+        Q = solver.ik(T)
+        check_solutions(arm, Q, T)
+        expected = verified_answers(arm, T, None)
+        assert len(Q) == len(expected) == 4
+        assert all(wrapped_distance(a, b) < 1e-7 for a, b in zip(Q, expected))
+        assert all(wrapped_distance(Q[i], Q[j]) > 1e-3 for i in range(4) for j in range(i))
+
+
+def test_a_span_along_the_free_axis_as_in_solve_all(tmp_path):
+    """The iiwa with joint 7 held and its elbow stretched: joints 6 to 1 read from the tip
+    are a spherical wrist whose span lies along joint 5's axis, free at the middle of its
+    limits in C as in solve_all, every row to 1e-12 m."""
+    arm = armik.load("kuka_iiwa14")
+    solver = Solver(arm, "s", tmp_path)
+    rng = np.random.default_rng(1)
+    at_middle = 0
+    for _ in range(10):
+        q = arm.random_q(rng)
+        q[3] = 0.0
+        T = arm.fk(q).homogeneous
+        Q = solver.ik(T, float(q[6]))
+        expected = verified_answers(arm, T, float(q[6]))
+        assert 0 < len(Q) == len(expected)
+        assert all(wrapped_distance(a, b) < 1e-7 for a, b in zip(Q, expected))
+        for row in Q:
+            assert max(reached(arm, row, T)) < 1e-12
+        assert np.all(Q[:, 4] == Q[0, 4])  # one value of the free joint (swept if need be)
+        at_middle += Q[0, 4] == arm.kinematics.middle[4]
+    assert at_middle >= 8

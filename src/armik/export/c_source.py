@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from armik.solvers.closed_form.subproblems import DEGENERATE, EPS, SINGLE
+from armik.solvers.closed_form.subproblems import DEGENERATE, ELBOW, EPS, SINGLE
 
 
 def num(x: float) -> str:
@@ -79,6 +79,7 @@ static const double IK_PI = 3.141592653589793;
 static const double IK_EPS = @EPS@;
 static const double IK_SINGLE = @SINGLE@;
 static const double IK_DEGENERATE = @DEGENERATE@;
+static const double IK_ELBOW = @ELBOW@;
 
 static inline IK_UNUSED vec3 add(vec3 a, vec3 b)
 { vec3 r = {{a.v[0] + b.v[0], a.v[1] + b.v[1], a.v[2] + b.v[2]}}; return r; }
@@ -180,8 +181,9 @@ static inline IK_UNUSED double sp1cs(vec3 p1, vec3 p2, vec3 k, double *c, double
 }
 
 /* SP4: theta with h . rot(k, theta) p = d; returns the count (2, 1, or -1 when every
-   theta gives the same value), the roots in t[0], t[1]. */
-static inline IK_UNUSED int sp4(vec3 h, vec3 p, vec3 k, double d, double t[2])
+   theta gives the same value), the roots in t[0], t[1]. Two roots that a change of d by
+   merge (m) or less makes one are one, phi + r kept (subproblems._sp4). */
+static inline IK_UNUSED int sp4m(vec3 h, vec3 p, vec3 k, double d, double merge, double t[2])
 {
     vec3 kxp = cross(k, p);
     double a = dot(h, kxp), b = -dot(h, cross(k, kxp));
@@ -198,16 +200,30 @@ static inline IK_UNUSED int sp4(vec3 h, vec3 p, vec3 k, double d, double t[2])
     if (r < IK_SINGLE) { t[0] = wrap(phi); return 1; }
     if (r > IK_PI - IK_SINGLE) { t[0] = wrap(phi + IK_PI); return 1; }
     t[0] = wrap(phi + r);
+    if (rho * (1.0 - fabs(x)) <= merge) return 1;  /* a double root but for rounding */
     t[1] = wrap(phi - r);
     return 2;
 }
+static inline IK_UNUSED int sp4(vec3 h, vec3 p, vec3 k, double d, double t[2])
+{ return sp4m(h, p, k, d, 0.0, t); }
 
-/* SP3: theta with |rot(k, theta) p1 - p2| = d. */
+/* SP3 at an elbow: theta with |rot(k, theta) p1 - p2| = d, its two roots one where a change
+   of d by IK_ELBOW (m) or less makes them a double root (subproblems.elbow). */
 static inline IK_UNUSED int sp3(vec3 p1, vec3 p2, vec3 k, double d, double t[2])
 {
     double n2 = norm(p2);
     if (n2 <= IK_EPS) { t[0] = t[1] = 0.0; return -1; }
-    return sp4(scale(p2, 1.0 / n2), p1, k, (dot(p1, p1) + n2 * n2 - d * d) / (2.0 * n2), t);
+    return sp4m(scale(p2, 1.0 / n2), p1, k, (dot(p1, p1) + n2 * n2 - d * d) / (2.0 * n2),
+                IK_ELBOW * d / n2, t);
+}
+
+/* The angle nearest t where |rot(k, .) p1 - p2| is at its largest or smallest (the elbow
+   stretched or folded; subproblems.elbow_extreme). */
+static inline IK_UNUSED double elbow_extreme(vec3 p1, vec3 p2, vec3 k, double t)
+{
+    vec3 kxp = cross(k, p1);
+    double phi = atan2(dot(p2, kxp), -dot(p2, cross(k, kxp)));
+    return cos(t - phi) >= 0.0 ? phi : wrap(phi + IK_PI);
 }
 
 /* SP3 with the cosines and sines of its angles too: the two regular roots' from SP4's
@@ -281,4 +297,5 @@ static inline IK_UNUSED int sp2cs(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double fre
 """.replace("@EPS@", num(EPS))
     .replace("@SINGLE@", num(SINGLE))
     .replace("@DEGENERATE@", num(DEGENERATE))
+    .replace("@ELBOW@", num(ELBOW))
 )

@@ -17,7 +17,8 @@ path does it:
   moves by at most ``snap``) reaches the target within the tolerances (armik's
   ``Options.tol_position``, ``tol_orientation`` unless given), so a least-squares row or
   a NaN never leaves;
-- the order of ``solve_all``: nearest the middle of the limits first (a stable sort).
+- the order of ``solve_all``: nearest the middle of the limits first, ties by the joint
+  values (``before``, ``sixr.pack``'s rule).
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ from armik.export import c_source, fk_code
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes
 from armik.problem.settings import SolverSettings
-from armik.solvers.closed_form.sixr import FREE_SWEEP
+from armik.solvers.closed_form.sixr import FREE_SWEEP, TIE
 from armik.tolerances import LAST_ROW_TOL, LIMIT_TOL, MAX_POSITION, ROTATION_TOL
 
 # a rotation further than this from orthonormal (an entry of |R^T R - I|) is snapped onto
@@ -45,6 +46,8 @@ class Rows:
     what it solves. ``held``: the index of a joint whose value ``N_ik`` takes as an argument
     (a 7R arm with a joint held; ``rows`` then takes it after the target, ``static int
     rows(mat3 R, vec3 p, double held, ...)``, and writes it in its column), else None.
+    ``reversed``: the family solves the chain read from the tip (joints 6 to 1), so that
+    ties in the distance go by the joints in that order, as its kernel's ``sixr.pack``.
     ``sweep``: the joints a singular pose leaves free, in the order the family's kernel
     sweeps them (``rows`` then takes the seed and a mask after the target and the held
     value, ``..., const double *Q0, int *mask, W, C, S)``: a free joint at Q0's value, its
@@ -58,6 +61,7 @@ class Rows:
     summary: str
     held: int | None = None
     sweep: tuple[int, ...] = ()
+    reversed: bool = False
 
 
 def _comment(text: str) -> str:
@@ -163,14 +167,17 @@ void @NAME@_fk(const double q[DOF], double T[16])
 }
 
 /* qi shifted by a multiple of 2 pi to the value nearest ri within [lo, hi] (up to SNAP
-   outside counts as on a limit); qi itself when no such value exists. */
+   outside counts as on a limit; of two as near to TIE, ri + pi); qi itself when no such
+   value exists (sixr.nearest_equivalents). */
 static double nearest(double qi, double ri, double lo, double hi)
 {
     const double two_pi = 2.0 * IK_PI;
-    double near, best, c[3];
+    double near, best, c[3], d = qi - ri;
     int k, found = 0;
-    if (-IK_PI <= qi - ri && qi - ri <= IK_PI && lo <= qi && qi <= hi) return qi;
+    if (-IK_PI <= d && d <= IK_PI + TIE && lo <= qi && qi <= hi)  /* a tie: ri + pi */
+        return d <= -IK_PI + TIE && qi + two_pi <= hi ? qi + two_pi : qi;
     near = qi + two_pi * nearbyint((ri - qi) / two_pi);
+    if (near - ri <= -IK_PI + TIE && near + two_pi <= hi + SNAP) near += two_pi;
     if (lo - SNAP <= near && near <= hi + SNAP) {
         best = near;
     } else {
@@ -188,6 +195,20 @@ static double nearest(double qi, double ri, double lo, double hi)
     }
     best = best > lo ? best : lo;
     return best < hi ? best : hi;
+}
+
+/* Whether row a (its distance to the middle ka) goes before row b (kb): nearer by more than
+   TIE, or as near and smaller at the first joint, in the order of the chain the family
+   solves (TIE_ORDER), where they differ by more than TIE (sixr._before). */
+static int before(const double *a, double ka, const double *b, double kb)
+{
+    int i, j;
+    if (fabs(ka - kb) > TIE) return ka < kb;
+    for (i = 0; i < DOF; i++) {
+        j = TIE_ORDER[i];
+        if (fabs(a[j] - b[j]) > TIE) return a[j] < b[j];
+    }
+    return 0;
 }
 
 /* Whether joint values q (cosines c, sines s) reach the target (R, p) within the limits and
@@ -282,10 +303,11 @@ int @NAME@_ik(const double T[16], @HELD_PARAM@double q[][DOF])
     /* solved and verified on the nearest rotation, as the parser snaps it */
     if (worst > SNAP_ABOVE) R = nearest_rotation(R);
 @HELD_CHECK@@ROWS@
-    for (k = 0; k < n; k++) {  /* nearest the middle first; ties keep the rows' order */
+    for (k = 0; k < n; k++) {  /* nearest the middle first, ties by before() */
         best = -1;
         for (r = 0; r < n; r++)
-            if (!(taken & (1 << r)) && (best < 0 || key[r] < key[best])) best = r;
+            if (!(taken & (1 << r)) && (best < 0 || before(W[r], key[r], W[best], key[best])))
+                best = r;
         if (best < 0) break;
         taken |= 1 << best;
         for (j = 0; j < DOF; j++) q[count][j] = W[best][j];
@@ -386,12 +408,15 @@ def source(name: str, arm: ArmModel, ax: Axes, rows: Rows, opts: SolverSettings)
     verdict's tolerances are ``opts.tol_position`` (m) and ``opts.tol_orientation`` (rad)."""
     up = name.upper()
     orientation, test = _orientation(opts.tol_orientation)
+    tie_order = range(arm.dof - 1, -1, -1) if rows.reversed else range(arm.dof)
     defines = "\n".join(
         [
             f"#define DOF {up}_IK_DOF",
             f"#define MAX_ROWS {rows.max_rows}",
             f"#define HELD {-1 if rows.held is None else rows.held}  /* a held joint's index */",
             f"static const double SNAP = {c_source.num(rows.snap)};",
+            f"static const double TIE = {c_source.num(TIE)};  /* rad: as near, as one */",
+            f"static const int TIE_ORDER[DOF] = {{{', '.join(map(str, tie_order))}}};",
             f"#define FREE_SWEEP {FREE_SWEEP}  /* values of a free joint tried */",
             f"static const double LIMIT_TOL = {c_source.num(LIMIT_TOL)};",
             f"static const double ROTATION_TOL = {c_source.num(ROTATION_TOL)};",

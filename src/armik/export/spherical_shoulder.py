@@ -35,4 +35,4 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
     text = spherical_wrist.reversed_text(spherical_shoulder.reversed_chain(geo)) + ROWS
     summary = f"a 6R arm with a spherical shoulder ({geo.description})"
     sweep = tuple(5 - j for j in spherical_wrist.FREE)  # the reversed chain's, as it sweeps
-    return Rows(text, 8, SNAP, summary, sweep=sweep)
+    return Rows(text, 8, SNAP, summary, sweep=sweep, reversed=True)

@@ -87,8 +87,8 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
                 double C[][DOF], double S[][DOF])
 {
     mat3 R06 = mmt(R, R_TIP0), R1, R3;
-    vec3 p16 = sub(sub(pos, mv(R06, p6)), p0);
-    double t3[2], a[2], b[2], ca[2], sa[2], cb[2], sb[2], q[6], c[6], s[6];
+    vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), u;
+    double t3[2], a[2], b[2], ca[2], sa[2], cb[2], sb[2], q[6], c[6], s[6], e;
     int n3, n12, i3, i, n = 0;
     n3 = sp3(p3, neg(p2), h3, norm(p16), t3);
     if (n3 == -1) {
@@ -98,6 +98,23 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
     }
     for (i3 = 0; i3 < n3; i3++) {
         q[2] = t3[i3];
+        if (n3 == 1) {  /* stretched or folded: a span along axis 2 leaves joint 2 free */
+            e = elbow_extreme(p3, neg(p2), h3, q[2]);
+            u = add(p2, mv(rot(h3, e), p3));
+            q[1] = Q0[J1];
+            c[1] = cos(q[1]);
+            s[1] = sin(q[1]);
+            q[0] = sp1cs(mv(rot_cs(h2, c[1], s[1]), u), p16, h1, &c[0], &s[0]);
+            R1 = mm(rot_cs(h1, c[0], s[0]), rot_cs(h2, c[1], s[1]));
+            if (norm(cross(h2, u)) <= STRAIGHT && norm(sub(mv(R1, u), p16)) <= STRAIGHT) {
+                q[2] = e;
+                c[2] = cos(e);
+                s[2] = sin(e);
+                *mask |= 1 << J1;
+                n = wrist(mm(R1, rot_cs(h3, c[2], s[2])), R06, Q0, mask, q, c, s, W, C, S, n);
+                continue;
+            }
+        }
         c[2] = cos(q[2]);
         s[2] = sin(q[2]);
         R3 = rot_cs(h3, c[2], s[2]);
@@ -122,15 +139,15 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
 """
 
 
-# the chain's free joints (1, 3, 4) in the order ``spherical_wrist.kernel`` sweeps them
-FREE = (0, 2, 3)
+# the chain's free joints (1, 3, 2, 4) in the order ``spherical_wrist.kernel`` sweeps them
+FREE = (0, 2, 1, 3)
 
 
 def chain_text(geo: Chain6R, joints: tuple[int, ...] = FREE) -> str:
     """The constants of the chain ``geo`` (a spherical-wrist ``Chain6R``, either variant)
     and the C of its ``wrist`` and ``rows``; ``joints``: the arm's indices of the chain's
-    joints 1, 3 and 4 (``J0``, ``J2``, ``J3``: a free joint's value is read from the seed
-    ``Q0`` and its bit set in ``*mask`` at them)."""
+    joints 1, 3, 2 and 4 (``J0``, ``J2``, ``J1``, ``J3``: a free joint's value is read from
+    the seed ``Q0`` and its bit set in ``*mask`` at them)."""
     h, p = geo.h, geo.p
     names = {f"h{i + 1}": h[i] for i in range(6)}
     names.update({f"p{i}": p[i] for i in (0, 2, 3, 6)})
@@ -142,8 +159,10 @@ def chain_text(geo: Chain6R, joints: tuple[int, ...] = FREE) -> str:
         body = PARALLEL_23
     else:
         body = MEETING_12
-    j0, j2, j3 = joints
-    free = f"enum {{ J0 = {j0}, J2 = {j2}, J3 = {j3} }};  /* the free joints' columns */\n"
+    j0, j2, j1, j3 = joints
+    free = f"enum {{ J0 = {j0}, J1 = {j1}, J2 = {j2}, J3 = {j3} }};  /* the free joints */\n"
+    if body is MEETING_12:  # m: joint 2 free there (spherical_wrist.STRAIGHT)
+        free += f"static const double STRAIGHT = {c_source.num(spherical_wrist.STRAIGHT)};\n"
     return c_source.constants(names) + "\n" + free + WRIST + body
 
 

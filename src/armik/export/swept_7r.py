@@ -52,4 +52,4 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
     text = f"{names}\n" + spherical_wrist.reversed_text(sw.geo) + ROWS
     summary = f"a 7R arm with joint 7 held at an argument ({sw.description})"
     sweep = tuple(5 - j for j in spherical_wrist.FREE)  # the reversed chain's, as it sweeps
-    return Rows(text, 8, SNAP, summary, held=HELD, sweep=sweep)
+    return Rows(text, 8, SNAP, summary, held=HELD, sweep=sweep, reversed=True)

@@ -384,3 +384,40 @@ def test_a_batch_passes_writable_seeds_as_the_prepared_solve_does(monkeypatch):
     assert len(got) == 2
     for q0s in got:
         assert q0s.flags.writeable and q0s.flags.c_contiguous and q0s.shape == (4, 6)
+
+
+@pytest.mark.parametrize(
+    "q",
+    [[1.2, 2.6, math.pi, 1.4, 3.3, -1.2], [-0.1, 4.9, math.pi, -0.9, 3.5, -1.1]],
+)
+def test_kinova_stretched_elbow_is_one_branch_flagged_singular(q):
+    # the model's rounding (1e-12 m) split the stretched elbow's double root into two roots
+    # ~5e-6 rad apart: 8 answers in 4 pairs, none flagged singular
+    a = arm("kinova")
+    T = a.fk(np.array(q))
+    found = [r for r in a.solve_all(T) if r.success]
+    assert len(found) == 4 and all(r.singular for r in found)
+    for i, r in enumerate(found):
+        assert all(wrapped(r.q - s.q).max() > 1e-3 for s in found[:i])
+        got = a.fk(r.q)
+        assert np.linalg.norm(got.translation - T.translation) < 1e-12
+        assert np.linalg.norm(pin.log3(got.rotation.T @ T.rotation)) < 1e-12
+
+
+def test_a_span_along_axis_2_leaves_joint_2_free_at_q0s_value():
+    # the iiwa with joint 1 held and its elbow stretched: joints 2 to 7 are a spherical wrist
+    # whose axes 1 and 2 meet, and the span lies along axis 2 (iiwa joint 3), so that joint
+    # is free; SP2 at its degenerate circles gave rows in duplicate, joint 3 at 0 or pi, 1e-10 m off
+    a = arm("kuka_iiwa14")
+    q = np.array([1.641, 1.0836, 0.7, 0.0, -1.5708, 1.2, -0.5])
+    T = a.fk(q)
+    hold = {"iiwa_joint_1": float(q[0])}
+    found = [r for r in a.solve_all(T, hold=hold, q0=q) if r.success]
+    assert len(found) == 2 and all(r.singular and r.q[2] == q[2] for r in found)
+    assert wrapped(found[0].q - found[1].q).max() > 1e-3
+    for r in found:
+        got = a.fk(r.q)
+        assert np.linalg.norm(got.translation - T.translation) < 1e-12
+        assert np.linalg.norm(pin.log3(got.rotation.T @ T.rotation)) < 1e-12
+    r = a.solve(T, hold=hold, q0=q)
+    assert r.success and np.abs(r.q - q).max() < 1e-12

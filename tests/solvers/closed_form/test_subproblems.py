@@ -141,3 +141,24 @@ def test_sp2_least_squares_and_free_angle():
     a, b = np.array([a0, a1]), np.array([b0, b1])
     assert n == -1 and not ls and a[0] == 0.3
     assert np.linalg.norm(rot(k2, b[0]) @ p2 - np.array([0, 0, 1.0])) < 1e-12
+
+
+def test_elbow_merges_a_double_root_split_by_rounding_only(rng):
+    """Within ELBOW (m) of its full stretch an elbow has one root, exact, where SP3 gives two
+    a few 1e-6 rad apart; 1e-8 m short of it, both roots, as SP3's."""
+    for _ in range(N):
+        k, p1, p2 = unit(rng.normal(size=3)), rng.normal(size=3), rng.normal(size=3)
+        # |rot(k, t) p1 - p2| at its largest: the parts across k opposite
+        across = np.linalg.norm(np.cross(k, p1)) * np.linalg.norm(np.cross(k, p2))
+        stretch = math.sqrt(p1 @ p1 + p2 @ p2 - 2.0 * ((k @ p1) * (k @ p2) - across))
+        for short, merged in ((1e-12, True), (1e-8, False)):
+            d = stretch - short
+            *split, n3, _ = sp.sp3(p1, p2, k, d)
+            *thetas, n, ls = sp.elbow(p1, p2, k, d)
+            assert not ls
+            if merged:
+                assert n == 1 and min(angdiff(thetas[0], t) for t in split[:n3]) == 0.0
+            else:
+                assert n == n3 == 2 and thetas == split
+            for t in thetas[:n]:
+                assert abs(np.linalg.norm(rot(k, t) @ p1 - p2) - d) < 1e-12

@@ -148,5 +148,6 @@ def solutions(h, p, R_tip0, R, pos, state, roots, places, sign, q0, lower, upper
         elif off <= REAL:
             sure = False
     sixr.nearest_equivalents(W, n, q0, lower, upper)
+    sixr.onto_limits(W, n, lower, upper)  # a polished double root a hair past a limit
     sixr.pack(W, n, q0, lower, upper, h, p, np.int64(ROWS), out)
     return n, sure

@@ -322,6 +322,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, N, threshold, out):
         n = sixr.put_row(W, n, best[0], best[1], best[2], best[3], best[4], best[5],
                          np.int64(sixr.LS), np.int64(0), 0.0, 0.0)  # fmt: skip
     sixr.nearest_equivalents(W, n, q0, lower, upper)
+    sixr.onto_limits(W, n, lower, upper)  # a polished double root a hair past a limit
     return n, sixr.pack(W, n, q0, lower, upper, h, p, np.int64(0), out)
 
 

@@ -26,6 +26,7 @@ import numpy as np
 from numba import njit
 
 from armik.kernel.single import plain_pose, plain_seed
+from armik.solvers.closed_form.sixr import TIE as HALF_TURN_TIE
 from armik.tolerances import LIMIT_TOL
 
 SINGULAR_TOL = 1e-12  # |cos t2| beyond 1 - this: the two branches merge
@@ -114,10 +115,15 @@ def _angle(a):
 def _nearest(qi, ri, lo, hi):
     """``ArmModel.nearest_equivalent`` for one revolute joint: ``qi`` shifted by a multiple
     of 2 pi to the value nearest ``ri`` within [lo, hi] (up to ``LIMIT_TOL`` outside counts
-    as on the limit); ``qi`` when no such value exists. Python's min and max, spelled out."""
-    if -math.pi <= qi - ri <= math.pi and lo <= qi <= hi:
-        return qi
+    as on the limit; a tie goes to ri + pi, ``sixr.nearest_equivalents``' rule); ``qi`` when
+    no such value exists. Python's min and max, spelled out."""
+    d = qi - ri
+    if -math.pi <= d <= math.pi + HALF_TURN_TIE and lo <= qi <= hi:
+        tie = d <= -math.pi + HALF_TURN_TIE and qi + TWO_PI <= hi
+        return qi + TWO_PI if tie else qi
     near = qi + TWO_PI * round((ri - qi) / TWO_PI)
+    if near - ri <= -math.pi + HALF_TURN_TIE and near + TWO_PI <= hi + LIMIT_TOL:
+        near += TWO_PI
     best = math.nan
     for c in (near, near - TWO_PI, near + TWO_PI, qi):
         if lo - LIMIT_TOL <= c <= hi + LIMIT_TOL and (

@@ -48,6 +48,16 @@ TWO_PI = 2.0 * math.pi
 # outside it; a value this close is put on the limit (moving the tip by ~1e-9 m, which the FK
 # check measures as always)
 SNAP = 1e-9
+# rad: Newton steps stop at a pose error of 1e-14, which near a double root (a singular
+# pose, where the error grows with the square of the step) leaves a root ~1e-7 from where it
+# lies: one on a limit can come back that far past it. Such a row is put on the limit (the
+# tip moves by 1e-7 m at most per metre of reach, which the FK check measures as always).
+POLISHED_SNAP = 1e-7
+# rad: a value within this of pi from q0's either way is a tie, which goes to q0 + pi; rows
+# whose distances to q0 are this close go by the first joint (in the chain's order) whose
+# values differ by more than it, the smaller first. The exported C's ``nearest`` and
+# ``before`` have the same rule.
+TIE = 1e-9
 
 # Reason codes of the kernels.
 SHOULDER_OFFSET = 1
@@ -134,14 +144,19 @@ def elbow_code(p23, p34, h3, q3, wanted):
 def nearest_equivalents(Q, n, q0, lower, upper):
     """Shift every angle of the first 6 columns of the first ``n`` rows of ``Q`` by a multiple
     of 2 pi to the value nearest q0 within the limits (``ArmModel.nearest_equivalent``, compiled;
-    up to ``SNAP`` outside a limit counts as on it); a joint with no such value keeps its
-    value."""
+    up to ``SNAP`` outside a limit counts as on it; of two as near to ``TIE``, q0 + pi, not
+    q0 - pi); a joint with no such value keeps its value."""
     for r in range(n):
         for j in range(6):
             qi, ri, lo, hi = Q[r, j], q0[j], lower[j], upper[j]
-            if -math.pi <= qi - ri <= math.pi and lo <= qi <= hi:
+            d = qi - ri
+            if -math.pi <= d <= math.pi + TIE and lo <= qi <= hi:
+                if d <= -math.pi + TIE and qi + TWO_PI <= hi:  # a tie: ri + pi, as wrap's
+                    Q[r, j] = qi + TWO_PI
                 continue
             near = qi + TWO_PI * round((ri - qi) / TWO_PI)  # the nearest of all
+            if near - ri <= -math.pi + TIE and near + TWO_PI <= hi + SNAP:  # a tie
+                near += TWO_PI
             if lo - SNAP <= near <= hi + SNAP:
                 Q[r, j] = min(max(near, lo), hi)
                 continue
@@ -152,6 +167,19 @@ def nearest_equivalents(Q, n, q0, lower, upper):
                         best = c
             if not math.isnan(best):
                 Q[r, j] = min(max(best, lo), hi)
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def onto_limits(Q, n, lower, upper):
+    """Put each joint of the first ``n`` rows of ``Q`` up to ``POLISHED_SNAP`` past a limit
+    on it (after ``nearest_equivalents``, for Newton-polished rows)."""
+    for r in range(n):
+        for j in range(6):
+            v, lo, hi = Q[r, j], lower[j], upper[j]
+            if lo - POLISHED_SNAP <= v < lo:
+                Q[r, j] = lo
+            elif hi < v <= hi + POLISHED_SNAP:
+                Q[r, j] = hi
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
@@ -224,13 +252,26 @@ def _inside(W, r, lower, upper):
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
+def _before(W, r, b):
+    """Whether row r of ``W`` goes before row b: a key (column 7) smaller by more than
+    ``TIE``, or one as small and the smaller value at the first joint where they differ by
+    more than ``TIE`` (a sum's rounding, or the C's, does not decide a tie)."""
+    if abs(W[r, 7] - W[b, 7]) > TIE:
+        return W[r, 7] < W[b, 7]
+    for j in range(6):
+        if abs(W[r, j] - W[b, j]) > TIE:
+            return W[r, j] < W[b, j]
+    return False
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
 def pack(W, n, q0, lower, upper, h, p, labelled, out):
     """Copy the kernel's ``n`` rows of ``W`` into ``out`` nearest-first (reached, within
-    limits, distance to q0: the order ``solve`` verifies them in); returns whether the first
-    row is reached and within the limits (then it is ``solve``'s answer if Pinocchio
-    verifies it). Branch labels (column 7) are read for the first ``labelled`` rows (every
-    row for ``solve_all``, the first for ``solve``, none for a batch); the others' is 0.
-    ``W``'s column 7 is used for the sort key."""
+    limits, distance to q0: the order ``solve`` verifies them in; ties by ``_before``);
+    returns whether the first row is reached and within the limits (then it is ``solve``'s
+    answer if Pinocchio verifies it). Branch labels (column 7) are read for the first
+    ``labelled`` rows (every row for ``solve_all``, the first for ``solve``, none for a
+    batch); the others' is 0. ``W``'s column 7 is used for the sort key."""
     for r in range(n):
         d2 = 0.0
         for j in range(6):
@@ -239,10 +280,10 @@ def pack(W, n, q0, lower, upper, h, p, labelled, out):
         W[r, 7] = math.sqrt(d2) + (1e4 if outside else 0.0) + (1e8 if int(W[r, 6]) & LS else 0.0)
     first_ok = False
     taken = 0  # bit r: row r copied
-    for k in range(n):  # selection sort, stable: at most 16 rows, no allocation
+    for k in range(n):  # selection sort: at most 16 rows, no allocation
         best = np.int64(-1)  # typed: a literal -1 compiles _inside once more
         for r in range(n):
-            if not taken & (1 << r) and (best < 0 or W[r, 7] < W[best, 7]):
+            if not taken & (1 << r) and (best < 0 or _before(W, r, best)):
                 best = r
         taken |= 1 << best
         if k == 0:

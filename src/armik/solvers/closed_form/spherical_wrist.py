@@ -17,7 +17,8 @@ axes 4, 5, 6 all at the wrist centre W), for the target (R, p):
 
 Up to 2 x 2 x 2 = 8 solutions. Singular cases keep the free angle at q0 (``singular``):
 the wrist (axes 4 and 6 aligned: q4 free), the shoulder (wrist centre on axis 1: q1 free),
-the elbow stretched or folded (the two elbow roots merge into one).
+the elbow stretched or folded (the two elbow roots merge into one; where axes 1 and 2
+meet and the span then lies along axis 2, q2 free).
 """
 
 from __future__ import annotations
@@ -36,7 +37,10 @@ from armik.solvers.closed_form.sixr import LS, SHOULDER_OFFSET, SINGULAR, WRIST_
 from armik.solvers.closed_form.sixr_judged import GENERAL, UNLABELLED, judged, split
 from armik.solvers.closed_form.subproblems import (
     add,
+    cross,
     dot,
+    elbow,
+    elbow_extreme,
     mat,
     mm,
     mmt,
@@ -49,7 +53,6 @@ from armik.solvers.closed_form.subproblems import (
     scale,
     sp1,
     sp2,
-    sp3,
     sp4,
     sub,
     vec,
@@ -57,6 +60,10 @@ from armik.solvers.closed_form.subproblems import (
 from armik.tolerances import ANGLE_TOL, DISTANCE_TOL
 
 CLOSED_FORM = "closed form (spherical wrist)"
+# m: a stretched or folded elbow whose span lies this near axis 2, with joint 2 at q0's
+# value placing the wrist centre this near the target's, leaves joint 2 free (axes 1 and 2
+# meeting); that costs no more than this, where SP2 at two nearly tangent circles loses more
+STRAIGHT = 1e-11
 FAMILY = "spherical_wrist"
 
 
@@ -141,14 +148,15 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
     ``labelled`` with their branch; returns (n, first reached) (see ``sixr.pack``).
 
     A free joint (the wrist centre on axis 1: joint 1; axes 4 and 6 in line: joint 4; an
-    elbow whose turn leaves the span unchanged: joint 3) is kept at q0's value; where that
+    elbow whose turn leaves the span unchanged: joint 3; axes 1 and 2 meeting, the elbow
+    stretched or folded along axis 2: joint 2) is kept at q0's value; where that
     leaves no row reached within the limits, the joint's other values are tried, nearest
     q0's first (``sixr.FREE_SWEEP`` of them over a turn within its limits), and the first
     that gives one is kept."""
     n, first, free = _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out)
     if first or free == 0 or n == 0:
         return n, first
-    j = 0 if free & 1 else (2 if free & 4 else 3)
+    j = 0 if free & 1 else (2 if free & 4 else (1 if free & 8 else 3))
     lo, hi = max(lower[j], q0[j] - math.pi), min(upper[j], q0[j] + math.pi)
     step = 2.0 * math.pi / sixr.FREE_SWEEP
     seed = q0.copy()
@@ -170,7 +178,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
 @njit(cache=True, no_cfunc_wrapper=True)
 def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
     """``kernel`` with each free joint at q0's value: (n, first reached, free: bit 1 joint 1
-    free, bit 2 joint 4, bit 4 joint 3)."""
+    free, bit 2 joint 4, bit 4 joint 3, bit 8 joint 2)."""
     free = 0
     W = np.empty((8, 11))
     h1, h2, h3, h4 = vec(h[0]), vec(h[1]), vec(h[2]), vec(h[3])
@@ -197,7 +205,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             R1 = rot(h1, q1)
             v = sub(mtv(R1, p16), p1)
             nv = norm(v)
-            c0, c1, n3, ls3 = sp3(p3, neg(p2), h3, nv)
+            c0, c1, n3, ls3 = elbow(p3, neg(p2), h3, nv)
             flag3, cd3, w0, w1 = flag1, cd1, v0, v1
             if n3 == -1:
                 n3, c0 = 1, q0[2]
@@ -223,7 +231,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 free |= 2 if sing else 0
     else:  # axes 1 and 2 meet (p_12 = 0)
         n16 = norm(p16)
-        c0, c1, n3, ls3 = sp3(p3, neg(p2), h3, n16)
+        c0, c1, n3, ls3 = elbow(p3, neg(p2), h3, n16)
         flag3, cd3, w0, w1 = 0, 0, 0.0, 0.0
         if n3 == -1:
             n3, c0 = 1, q0[2]
@@ -237,6 +245,22 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             w0 = n16
         for i3 in range(n3):
             q3 = c0 if i3 == 0 else c1
+            if n3 == 1:  # stretched or folded: a span along axis 2 leaves joint 2 free
+                e = elbow_extreme(p3, neg(p2), h3, q3)
+                u = add(p2, mv(rot(h3, e), p3))
+                q2 = q0[1]
+                R2 = rot(h2, q2)
+                q1, _ = sp1(mv(R2, u), p16, h1)
+                R12 = mm(rot(h1, q1), R2)
+                miss = norm(sub(mv(R12, u), p16))  # where q2 = q0's puts the wrist centre
+                if norm(cross(h2, u)) <= STRAIGHT and miss <= STRAIGHT:
+                    R03 = mm(R12, rot(h3, e))
+                    n, sing = _wrist_free(
+                        R03, R06, h4, h5, h6, q0, q1, q2, e, flag3 | SINGULAR, cd3, w0, w1,
+                        W, n,
+                    )  # fmt: skip
+                    free |= 8 | (2 if sing else 0)
+                    continue
             R3 = rot(h3, q3)
             u = add(p2, mv(R3, p3))
             a0, a1, b0, b1, n12, ls12 = sp2(p16, u, neg(h1), h2, q0[0])

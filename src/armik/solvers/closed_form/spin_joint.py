@@ -202,7 +202,9 @@ def _branches(
 
 def _reached(got: Answers) -> Answers:
     """The rows of ``got`` claimed reached (q a writable copy)."""
-    return got.take(np.flatnonzero(got.claim == _CONVERGED).tolist())
+    picked = got.take(np.flatnonzero(got.claim == _CONVERGED).tolist())
+    # one row is taken as a view of got's q, read-only where got holds solve_all's rows
+    return dataclasses.replace(picked, q=picked.q.copy())
 
 
 # per family name: the closed form's prepared runner (the families' runners take no option)

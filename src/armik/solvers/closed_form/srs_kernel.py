@@ -45,6 +45,7 @@ from armik.solvers.closed_form.subproblems import (
     add,
     cross,
     dot,
+    elbow,
     mat,
     mm,
     mmt,
@@ -56,7 +57,6 @@ from armik.solvers.closed_form.subproblems import (
     scale,
     sp1,
     sp2,
-    sp3,
     sub,
     vec,
     wrap,
@@ -203,7 +203,7 @@ def at_swivel(geo, R, pos, psi, q0, W):
     f = add(scale(u1, math.cos(psi)), scale(u2, math.sin(psi)))
     nf = cross(n, f)
     R_tool = mmt(R, mat(R_tip0))
-    t0, t1, n4, ls4 = sp3(sub(w0, e0), sub(s, e0), h4, D)
+    t0, t1, n4, ls4 = elbow(sub(w0, e0), sub(s, e0), h4, D)
     flag4, code, v0, v1 = 0, 0, 0.0, 0.0
     if n4 == 1 and not ls4:
         flag4 |= SINGULAR  # stretched or folded

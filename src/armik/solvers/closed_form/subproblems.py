@@ -19,6 +19,11 @@ no exact solution exists and the returned angle(s) solve it in the least-squares
   set to ``free``; theta2 follows.
 - SP3 ``sp3(p1, p2, k, d) -> (t0, t1, n, ls)``: |rot(k, theta) p1 - p2| = d; up to 2.
   LS: minimises | |rot(k, theta) p1 - p2| - d |.
+- Elbow ``elbow(p1, p2, k, d) -> (t0, t1, n, ls)``: SP3 at an elbow, whose two roots are one
+  (stretched or folded) when a change of d by ``ELBOW`` (m) or less makes them a double
+  root: the model's own rounding (1e-12 m on the Kinova, 1e-10 m on the UR5) splits them
+  by 1e-6 rad and more.
+  The exact root t0 is kept, so merging costs no accuracy.
 - SP4 ``sp4(h, p, k, d) -> (t0, t1, n, ls)``: h . rot(k, theta) p = d (h unit); up to 2.
   LS: the theta nearest to satisfying it. ``n = -1``: h . rot(k, theta) p does not depend
   on theta (p along k, or h along k); every theta solves it if d matches.
@@ -34,9 +39,14 @@ import math
 import numpy as np
 from numba import njit
 
+from armik.tolerances import DISTANCE_TOL
+
 EPS = 1e-12
 SINGLE = 1e-7
 DEGENERATE = 1e-9  # SP4's h . rot(k, theta) p varies by less than this (m): theta is free
+# m: an elbow whose span this small a change makes a double root is stretched or folded:
+# the closed forms take axis lines within DISTANCE_TOL as meeting, so they cannot tell it
+ELBOW = DISTANCE_TOL
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
@@ -208,6 +218,13 @@ def sp1(p1, p2, k):
 @njit(cache=True, no_cfunc_wrapper=True)
 def sp4(h, p, k, d):
     """theta with h . rot(k, theta) p = d; returns (t0, t1, n, ls)."""
+    return _sp4(h, p, k, d, 0.0)
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def _sp4(h, p, k, d, merge):
+    """``sp4``; two roots that a change of d by ``merge`` (m) or less makes one are one, the
+    root phi + t kept (0: only roots within ``SINGLE`` rad of each other merge)."""
     kxp = cross(k, p)
     a = dot(h, kxp)  # coefficient of sin
     b = -dot(h, cross(k, kxp))  # coefficient of cos
@@ -225,17 +242,40 @@ def sp4(h, p, k, d):
         return wrap(phi), 0.0, 1, False
     if t > math.pi - SINGLE:
         return wrap(phi + math.pi), 0.0, 1, False
+    if rho * (1.0 - abs(x)) <= merge:  # a double root but for rounding: keep an exact one
+        return wrap(phi + t), 0.0, 1, False
     return wrap(phi + t), wrap(phi - t), 2, False
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
 def sp3(p1, p2, k, d):
     """theta with |rot(k, theta) p1 - p2| = d; returns (t0, t1, n, ls)."""
+    return _sp3(p1, p2, k, d, 0.0)
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def elbow(p1, p2, k, d):
+    """``sp3`` at an elbow: roots a change of d by ``ELBOW`` or less makes one are one."""
+    return _sp3(p1, p2, k, d, ELBOW)
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def elbow_extreme(p1, p2, k, theta):
+    """The angle nearest ``theta`` where |rot(k, .) p1 - p2| is at its largest or smallest
+    (the elbow stretched or folded)."""
+    kxp = cross(k, p1)
+    phi = math.atan2(dot(p2, kxp), -dot(p2, cross(k, kxp)))  # p2 . rot p1 largest
+    return phi if math.cos(theta - phi) >= 0.0 else wrap(phi + math.pi)
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def _sp3(p1, p2, k, d, merge):
     n2 = norm(p2)
     if n2 <= EPS:  # |rot p1 - 0| = |p1| whatever theta: exact only if |p1| = d
         return 0.0, 0.0, -1, abs(norm(p1) - d) > EPS * max(d, 1.0)
     target = (dot(p1, p1) + n2 * n2 - d * d) / (2.0 * n2)
-    return sp4(scale(p2, 1.0 / n2), p1, k, target)
+    # d^2 = |p1|^2 + n2^2 - 2 n2 (h . rot p1): SP4's d moves by n2 / d times d's change
+    return _sp4(scale(p2, 1.0 / n2), p1, k, target, merge * d / n2)
 
 
 @njit(cache=True, no_cfunc_wrapper=True)

@@ -39,6 +39,7 @@ from armik.solvers.closed_form.subproblems import (
     add,
     cross,
     dot,
+    elbow,
     mat,
     mmt,
     mtm,
@@ -49,7 +50,6 @@ from armik.solvers.closed_form.subproblems import (
     rot,
     scale,
     sp1,
-    sp3,
     sp4,
     sub,
     vec,
@@ -235,7 +235,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             q234, _ = sp1(x, mv(R234, x), h2)
             v = sub(sub(mtv(R1, p16), p1), mv(R234, p4))
             nv = norm(v)
-            c0, c1, n3, ls3 = sp3(p3, neg(p2), h3, nv)
+            c0, c1, n3, ls3 = elbow(p3, neg(p2), h3, nv)
             flag3, cd3, w0, w1 = flag6, cd5, v0, v1
             if n3 == -1:
                 n3, c0 = 1, q0[2]

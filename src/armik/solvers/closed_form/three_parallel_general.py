@@ -36,6 +36,7 @@ from armik.solvers.closed_form.subproblems import (
     add,
     cross,
     dot,
+    elbow,
     mat,
     mmt,
     mtm,
@@ -46,7 +47,6 @@ from armik.solvers.closed_form.subproblems import (
     rot,
     scale,
     sp1,
-    sp3,
     sub,
     vec,
 )
@@ -126,7 +126,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
         q14, _ = sp1(x, mv(R14, x), h2)
         v = sub(sub(mtv(R1, p16), p1), mv(R14, add(p4, mv(R5, p5))))
         nv = norm(v)
-        c0, c1, n3, ls3 = sp3(p3, neg(p2), h3, nv)
+        c0, c1, n3, ls3 = elbow(p3, neg(p2), h3, nv)
         f3, cd3, w0, w1 = f6, 0, 0.0, 0.0
         if n3 == -1:
             n3, c0 = 1, q0[2]

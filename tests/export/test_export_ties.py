@@ -1,0 +1,43 @@
+"""Ties: a joint value pi from the middle of its limits either way, and rows as near the
+middle, come out of ``N_ik`` as ``solve_all`` gives them (one rule in both: ``sixr.TIE``)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import armik
+from armik.solvers.closed_form import sixr
+from tests.export.build import Solver
+from tests.export.test_export_c import check_solutions
+
+QUARTERS = [0.0, np.pi / 2, -np.pi / 2, np.pi, -np.pi]
+
+
+@pytest.mark.parametrize("name", ["ur5", "abb_irb120"])
+def test_ties_come_out_as_solve_all_gives_them(name, tmp_path):
+    """Configurations of quarter turns: answers pi from the middle and branches as near it
+    as another are common; each row is solve_all's, in its order, to the turn."""
+    arm = armik.load(name)
+    solver = Solver(arm, "t", tmp_path)
+    rng = np.random.default_rng(3)
+    for _ in range(150):
+        q = np.clip(rng.choice(QUARTERS, size=arm.dof), arm.lower, arm.upper)
+        T = arm.fk(q).homogeneous
+        Q = solver.ik(T)
+        check_solutions(arm, Q, T)
+        expected = [r.q for r in arm.solve_all(T) if r.success]
+        assert len(Q) == len(expected)
+        for got, want in zip(Q, expected):
+            assert np.abs(got - want).max() < 1e-9, (q.tolist(), got.tolist(), want.tolist())
+
+
+def test_a_value_pi_from_q0_goes_to_q0_plus_pi():
+    """Either way round, to sixr.TIE: the C's nearest() has the same rule."""
+    lower, upper = np.full(6, -7.0), np.full(6, 7.0)
+    q0 = np.array([0.0, 0.5, -1.0, 2.0, 0.0, 0.0])
+    for shift in (-np.pi, np.pi, -np.pi + 0.5 * sixr.TIE, np.pi + 0.5 * sixr.TIE):
+        W = np.zeros((1, 11))
+        W[0, :6] = q0 + shift
+        sixr.nearest_equivalents(W, 1, q0, lower, upper)
+        assert np.all(np.abs(W[0, :6] - (q0 + np.pi)) <= sixr.TIE)
