@@ -4,7 +4,9 @@ and the fix."""
 
 from __future__ import annotations
 
+import math
 import os
+import re
 import subprocess
 import sys
 import textwrap
@@ -64,6 +66,17 @@ def test_huge_and_tilted_axes_are_normalised_and_fk_stays_rigid(tmp_path, rng):
             R = T.rotation
             assert np.abs(R.T @ R - np.eye(3)).max() < 1e-12
             assert np.abs(T.homogeneous - b.fk(q).homogeneous).max() < 1e-12
+
+
+def test_a_nearly_unit_axis_warns_with_a_norm_that_is_not_one(tmp_path):
+    # six digits of (1, 2, 3) / sqrt(14): norm 0.9999999, which "%.6g" printed as 1
+    axis = "0.267261 0.534522 0.801784"
+    norm = math.hypot(*map(float, axis.split()))
+    with pytest.warns(ArmikWarning, match="'j2'") as seen:
+        a = load_text(tmp_path, arm3(axis2=axis))
+    for text in [str(w.message) for w in seen] + list(a.info.notes):
+        said = float(re.search(r"norm ([0-9.e+-]+)", text).group(1))
+        assert said != 1.0 and abs(said - norm) < 1e-9, text
 
 
 # -- 2. non-unit prismatic axis: the ROS reading, said out loud ---------------------------

@@ -16,6 +16,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.errors import FrameError, OptionError, closest, listing
+from armik.model import mimic_frames
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
@@ -107,6 +108,9 @@ def placement(arm: ArmModel, q: object, frame: str | None = None) -> pin.SE3:
     if frame is None or frame == arm.tip:
         return arm.fk(q)  # type: ignore[arg-type]
     fid = frame_id(arm, frame)
+    whole = mimic_frames.full_frame(arm, frame)
+    if whole is not None:
+        return mimic_frames.placement(arm, q, whole)
     pin.framesForwardKinematics(arm.model, arm.data, arm.to_pin(arm.check_q(q)))
     return arm.T_base_world * arm.data.oMf[fid]
 
@@ -121,9 +125,13 @@ def jacobian(
     if frame is None or frame == arm.tip:
         return arm.jacobian(q, reference)  # type: ignore[arg-type]
     fid = frame_id(arm, frame)
-    qp = arm.to_pin(arm.check_q(q))
     kind = pin.LOCAL if reference == "local" else pin.LOCAL_WORLD_ALIGNED
-    J = pin.computeFrameJacobian(arm.model, arm.data, qp, fid, kind).reshape(6, arm.dof)
+    whole = mimic_frames.full_frame(arm, frame)
+    if whole is not None:
+        J = mimic_frames.jacobian(arm, q, whole, kind)
+    else:
+        qp = arm.to_pin(arm.check_q(q))
+        J = pin.computeFrameJacobian(arm.model, arm.data, qp, fid, kind).reshape(6, arm.dof)
     if reference == "local":
         return J.copy()
     R = arm.T_base_world.rotation

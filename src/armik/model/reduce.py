@@ -219,16 +219,21 @@ def _locked_joint(full: pin.Model, jname: str) -> int:
     return full.getJointId(jname)
 
 
+# Values that float() reads but that are no joint value: text, complex, bools (True is 1)
+_NOT_NUMBERS = (str, bytes, complex, bool, np.bool_)
+
+
 def locked_value(full: pin.Model, info: URDFInfo, jid: int, value: object) -> float:
     """``value`` as the float a joint is locked at (rad or m). Raises ``JointError`` naming
     the joint, the value and the limits when it is not a finite number or lies outside the
     joint's URDF limits (a continuous joint, or a side without a limit, takes any value)."""
     jname = full.names[jid]
     try:
-        if isinstance(value, (str, bytes, complex)) or np.iscomplexobj(value):  # type: ignore[arg-type]
-            raise TypeError  # never parse text or drop an imaginary part
+        # never parse text, drop an imaginary part, or read True as 1 rad
+        if isinstance(value, _NOT_NUMBERS) or np.iscomplexobj(value):  # type: ignore[arg-type]
+            raise TypeError
         number = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # OverflowError: an int beyond 1e308
         number = math.nan
     if not math.isfinite(number):
         raise JointError(
@@ -330,7 +335,7 @@ def check_offset(offset: object) -> tuple[float, float, float] | None:
         if np.iscomplexobj(arr):
             raise TypeError
         arr = arr.astype(float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise OptionError(
             f"tip_offset must be numbers, got {offset!r}: {fix}", option="tip_offset", value=offset
         ) from None
@@ -417,10 +422,10 @@ def check_limit_value(jname: str, value: object) -> float:
     """A joint limit given to ``with_limits`` as a float (rad or m; +-inf: no limit on
     that side); raises ``JointError`` naming the joint otherwise."""
     try:
-        if isinstance(value, (str, bytes, complex)) or np.iscomplexobj(value):  # type: ignore[arg-type]
+        if isinstance(value, _NOT_NUMBERS) or np.iscomplexobj(value):  # type: ignore[arg-type]
             raise TypeError
         out = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         out = math.nan
     if math.isnan(out) or (math.isfinite(out) and abs(out) > MAX_LIMIT):
         raise JointError(

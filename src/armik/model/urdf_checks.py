@@ -183,7 +183,7 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
             changed |= moved
             if moved:
                 notes.append(
-                    f"joint {name!r}: axis norm {norm:.6g} read as the unit axis (ROS reading)"
+                    f"joint {name!r}: axis norm {_norm(norm)} read as the unit axis (ROS reading)"
                 )
         limit = joint.find("limit")
         if limit is not None:
@@ -344,18 +344,24 @@ def _axis(joint: ET.Element, name: str, jtype: str, path: str) -> tuple[float, b
     elem.set("xyz", " ".join(repr(c) for c in unit))
     if jtype == "prismatic":
         msg = (
-            f"joint {name!r} has a non-unit axis xyz={text!r} (norm {norm:.6g}); armik reads "
+            f"joint {name!r} has a non-unit axis xyz={text!r} (norm {_norm(norm)}); armik reads "
             "it as the unit axis, as Pinocchio, KDL and MoveIt do (1 m of joint value moves "
-            f"1 m); yourdfpy and pybullet would move {norm:.6g} m: write a unit axis to "
+            f"1 m); yourdfpy and pybullet would move {_norm(norm)} m: write a unit axis to "
             "silence this"
         )
     else:
         msg = (
-            f"joint {name!r} has a non-unit axis xyz={text!r} (norm {norm:.6g}); armik "
+            f"joint {name!r} has a non-unit axis xyz={text!r} (norm {_norm(norm)}); armik "
             "normalises it (the rotation is about the unit axis)"
         )
     warnings.warn(msg, ArmikWarning, stacklevel=6)
     return norm, True
+
+
+def _norm(norm: float) -> str:
+    """An axis norm as text that is never "1": six digits print 0.99999974 as 1, which
+    reads as no reason for a warning; ten resolve AXIS_UNIT_TOL."""
+    return f"{norm:.10g}"
 
 
 def _origin(elem: ET.Element, what: str, path: str) -> None:

@@ -1,0 +1,97 @@
+"""Frames that hang from a mimic joint off the chain whose driver moves on the chain (a
+parallelogram's passive link, a finger driven by a chain joint).
+
+The reduced model holds every joint off the chain fixed at its reference value, so such a
+frame would stay put while its driver turns; ROS tools (robot_state_publisher, yourdfpy)
+move the mimic joint with its driver. Their placements and Jacobians are read on the
+URDF's whole model instead, each mimic joint at multiplier x driver + offset.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+import pinocchio as pin
+
+from armik.model.reduce import frame_id, set_joint
+
+if TYPE_CHECKING:
+    from armik.model.arm_model import ArmModel
+
+
+def followers(arm: ArmModel) -> dict[int, tuple[int, float, float]]:
+    """Whole-model joint id of each mimic joint the chain's model holds fixed although its
+    driver moves on the chain -> (driver's index in q, multiplier, offset). A mimic joint
+    locked by name stays at its value."""
+    chain, info = arm.chain, arm.info
+    fixed = set(chain.locked_joints)
+    out = {}
+    for name, driver in info.mimic.items():
+        if driver not in arm.joint_names or name in chain.locked:
+            continue
+        jid = chain.full.getJointId(name)
+        if jid in fixed:
+            m, c = info.mimic_factors.get(name, (1.0, 0.0))
+            out[jid] = (arm.joint_names.index(driver), m, c)
+    return out
+
+
+def full_frame(arm: ArmModel, frame: str) -> int | None:
+    """The whole model's id of ``frame`` when a follower (``followers``) moves it, else
+    None: its placement in the chain's model is then the whole story."""
+    moved = followers(arm)
+    if not moved:
+        return None
+    full = arm.chain.full
+    if not full.existFrame(frame):
+        return None
+    fid = frame_id(full, frame)
+    j = full.frames[fid].parentJoint
+    while j > 0:
+        if j in moved:
+            return fid
+        j = full.parents[j]
+    return None
+
+
+def _full_q(arm: ArmModel, q: np.ndarray) -> np.ndarray:
+    """The whole model's configuration at q: the reference one (locked values), the
+    chain's joints at q, and every mimic joint of a moving driver following it."""
+    full = arm.chain.full
+    qf = np.array(arm.chain.q_ref, dtype=float)
+    for name, value in zip(arm.joint_names, q):
+        set_joint(full, qf, full.getJointId(name), float(value))
+    for mimic in arm.chain.mimics:
+        k = arm.joint_names.index(mimic.driver)
+        set_joint(full, qf, full.getJointId(mimic.name), mimic.multiplier * q[k] + mimic.offset)
+    for jid, (k, m, c) in followers(arm).items():
+        set_joint(full, qf, jid, m * q[k] + c)
+    return qf
+
+
+def placement(arm: ArmModel, q: object, fid: int) -> pin.SE3:
+    """``T_base_frame`` of the whole model's frame ``fid`` at q."""
+    full = arm.chain.full
+    data = full.createData()
+    pin.framesForwardKinematics(full, data, _full_q(arm, arm.check_q(q)))
+    return arm.T_base_world * data.oMf[fid]
+
+
+def jacobian(arm: ArmModel, q: object, fid: int, kind: pin.ReferenceFrame) -> np.ndarray:
+    """The 6 x dof Jacobian of the whole model's frame ``fid`` at q (``kind``: LOCAL or
+    LOCAL_WORLD_ALIGNED): each mimic joint's column folded into its driver's, times its
+    multiplier, as the chain's model folds them."""
+    full = arm.chain.full
+    qv = np.asarray(arm.check_q(q), dtype=float)
+    data = full.createData()
+    Jf = pin.computeFrameJacobian(full, data, _full_q(arm, qv), fid, kind)
+    column = {name: full.joints[full.getJointId(name)].idx_v for name in full.names[1:]}
+    J = np.zeros((6, arm.dof))
+    for k, name in enumerate(arm.joint_names):
+        J[:, k] = Jf[:, column[name]]
+    for mimic in arm.chain.mimics:
+        J[:, arm.joint_names.index(mimic.driver)] += mimic.multiplier * Jf[:, column[mimic.name]]
+    for jid, (k, m, _) in followers(arm).items():
+        J[:, k] += m * Jf[:, full.joints[jid].idx_v]
+    return J
