@@ -109,3 +109,26 @@ def test_cli_batch_says_which_arrays_it_reads(ur5, tmp_path, capsys):
     assert "does not read: ['seeds']" in capsys.readouterr().err
     np.savez(tmp_path / "plain.npz", poses)  # numpy's own name, arr_0, for one array
     assert main(["batch", "ur5", str(tmp_path / "plain.npz"), "-o", out]) == 0
+
+
+def test_an_int_beyond_a_floats_range_is_an_armik_error_everywhere():
+    """A Python int too large for a float (10**400) in a configuration, a seed, a batch's
+    seeds, a target or a tolerance is an armik error naming it, where Python's
+    ``OverflowError`` escaped."""
+    a = armik.load("scara")
+    big = 10**400
+    T = a.fk(np.zeros(4))
+    calls = [
+        lambda: a.fk([big, 0, 0, 0]),
+        lambda: a.fk_batch([[big, 0, 0, 0]]),
+        lambda: a.within_limits([big, 0, 0, 0]),
+        lambda: a.solve(T, q0=[big, 0, 0, 0]),
+        lambda: a.solve_batch([T, T], q0=[big, 0, 0, 0]),
+        lambda: a.solve_path([T, T], [big, 0, 0, 0]),
+        lambda: a.solve([big, 0, 0]),
+        lambda: a.solve_batch([[big, 0, 0]] * 2),
+        lambda: a.solve(T, tol_position=big),
+    ]
+    for call in calls:
+        with pytest.raises(armik.ArmikError):
+            call()

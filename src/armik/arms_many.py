@@ -279,7 +279,7 @@ def _seeds(arms: Arms, q0: object, n: int) -> np.ndarray:
         if isinstance(q0, (str, bytes)) or np.iscomplexobj(q0):  # type: ignore[arg-type]
             raise TypeError
         q = np.asarray(q0, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
         q = None
     if q is None or q.shape not in ((arms.dof,), (n, arms.dof)):
         got = f"shape {q.shape}" if q is not None else f"{q0!r:.80}"

@@ -21,6 +21,8 @@ def numbers(value: object) -> np.ndarray:
         return np.asarray(value, dtype=float)
     except (TypeError, ValueError):
         return np.array([np.nan])
+    except OverflowError:  # an int beyond a float's range: not finite, as the checks say
+        return np.array([np.inf])
 
 
 def number(key: str, value: object) -> float:
@@ -33,6 +35,8 @@ def number(key: str, value: object) -> float:
         raise OptionError(
             f"{key} must be a number, got {value!r}", option=key, value=value
         ) from None
+    except OverflowError:  # an int beyond a float's range
+        out = math.inf
     if not math.isfinite(out):
         raise OptionError(f"{key} must be finite, got {value!r}", option=key, value=value)
     return out
@@ -119,6 +123,13 @@ def configuration(
     except (TypeError, ValueError):
         raise OptionError(
             f"{key} must be {dof} numbers (one per joint), got {value!r}", option=key, value=value
+        ) from None
+    except OverflowError:  # an int beyond a float's range
+        raise OptionError(
+            f"{key} must be {dof} finite numbers (one per joint): a value of {value!r} is too "
+            "large for a float",
+            option=key,
+            value=value,
         ) from None
     if arr.shape != (dof,):
         several = ""

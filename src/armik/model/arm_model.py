@@ -341,9 +341,10 @@ class ArmModel:
             if isinstance(Q, (str, bytes)) or np.iscomplexobj(Q):  # type: ignore[arg-type]
                 raise TypeError
             Q = np.array(Q, dtype=float, order="C", ndmin=2)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
             raise OptionError(
-                f"Q must be an (N, {self.dof}) array of joint values, got {Q!r}", option="Q"
+                f"Q must be an (N, {self.dof}) array of finite joint values, got {Q!r}",
+                option="Q",
             ) from None
         if Q.ndim != 2 or Q.shape[1] != self.dof:
             raise OptionError(

@@ -376,9 +376,9 @@ def batch_seeds(arm: ArmModel, q0: object, n: int) -> np.ndarray:
         if isinstance(q0, (str, bytes)) or np.iscomplexobj(q0):  # type: ignore[arg-type]  # any object: numpy reads it
             raise TypeError  # never drop an imaginary part silently
         q = np.asarray(q0, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
         raise OptionError(
-            f"q0 must be {arm.dof} real numbers or an (N, {arm.dof}) array, got {q0!r}",
+            f"q0 must be {arm.dof} finite real numbers or an (N, {arm.dof}) array, got {q0!r}",
             option="q0",
         ) from None
     if q.shape == (arm.dof,):

@@ -474,7 +474,10 @@ def _seed_copy(q0: object, shape: tuple) -> np.ndarray | None:
     if kind is list or kind is tuple:
         if len(q0) != shape[0] or not all(type(v) is float or type(v) is int for v in q0):
             return None
-        return np.array(q0, dtype=float)
+        try:
+            return np.array(q0, dtype=float)
+        except OverflowError:  # an int beyond a float's range: ``ArmModel.seed`` names it
+            return None
     if kind is np.ndarray and q0.dtype == _FLOAT and q0.shape == shape:
         return np.ascontiguousarray(q0) if q0.flags.writeable else q0.copy()
     return None

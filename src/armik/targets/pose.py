@@ -237,6 +237,8 @@ def _array(value: object, what: str) -> np.ndarray:
         return raw.astype(float)
     except (TypeError, ValueError):
         raise TargetError(f"{what} {_one_line(value)} is not numeric") from None
+    except OverflowError:  # an int beyond a float's range
+        raise TargetError(f"{what} {_one_line(value)} has a value too large for a float") from None
 
 
 def _one_line(value: object) -> str:
