@@ -44,13 +44,23 @@ def seed_shift(seed, shift):
         shift[j] = float(_mix(x) >> np.uint64(11)) * (1.0 / 9007199254740992.0)
 
 
+# Each pass over the table past the first is turned by another rotation: pass w adds
+# w * (WRAP + WRAP_STEP * j) to joint j (irrational steps: no pass repeats another), so a
+# search of more restarts than the table holds (1000 by default, 128 a table of 512 points
+# at RESTART_CANDIDATES each) does not start where it started before.
+WRAP = 0.6180339887498949  # the golden ratio's fractional part
+WRAP_STEP = 0.41421356237309515  # sqrt(2) - 1
+
+
 @njit(cache=True, nogil=True, inline="always")
 def restart_point(ch, shift, k, out):
     """out: the k-th restart configuration of the shifted sequence (rad, m)."""
-    row = ch.halton[k % ch.halton.shape[0]]
+    n = ch.halton.shape[0]
+    passes = k // n
+    row = ch.halton[k - passes * n]
     lo, span = sample_box(ch)
     for j in range(out.shape[0]):
-        u = row[j] + shift[j]
+        u = row[j] + shift[j] + passes * (WRAP + WRAP_STEP * j)
         u -= np.floor(u)
         out[j] = lo[j] + span[j] * u
 

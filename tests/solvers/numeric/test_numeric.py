@@ -295,6 +295,27 @@ def test_restart_seeds_cover_the_box_reproducibly():
         assert np.all(np.abs(counts - 64) <= 20)
 
 
+def test_restart_seeds_past_the_table_are_new_points():
+    """A search of more restarts than the table holds (1000 by default against 512 points,
+    4 scored a restart) draws new points on each pass, turned by another rotation; the
+    first pass is the table's own, as before."""
+    a = model("kinova")
+    seeds = pieces.RestartSeeds(a, 3)
+    n = a.kernel_chain.flat.halton.shape[0]
+    pts = np.array([seeds.next() for _ in range(3 * n)])
+    lo, hi = a.sampling_box()
+    assert np.all(pts >= lo) and np.all(pts <= hi)
+    u = (a.kernel_chain.flat.halton + seeds.shift) % 1.0  # the first pass, as the table
+    np.testing.assert_allclose(pts[:n], lo + (hi - lo) * u, rtol=0, atol=1e-12)
+    for passes in (1, 2):  # no point of a later pass is one of an earlier pass's
+        later = pts[passes * n : (passes + 1) * n]
+        gaps = np.abs(later[:, None, :] - pts[None, : passes * n, :]).max(axis=2)
+        assert gaps.min() > 1e-3
+    for j in range(a.dof):  # and each pass covers the box as evenly as the first
+        counts = np.histogram(pts[n : 2 * n, j], bins=8, range=(lo[j], hi[j]))[0]
+        assert np.all(np.abs(counts - n / 8) <= 20)
+
+
 def test_beyond_reach_returns_the_seed_at_once():
     a = arm("ur5")
     q0 = a.middle + 0.2
