@@ -300,3 +300,18 @@ def test_held_joints_with_an_aim_are_the_task_solvers_on_every_route():
     assert path.success.all() and all(holds(a, t) for a, t in zip(path.q, shifted))
     with pytest.raises(OptionError, match="on a position target points the tip.s axis nowhere"):
         ur5.solve(T.translation, hold={"wrist_3_joint": 0.7}, cone=cone)
+
+
+def test_a_held_value_outside_the_limits_is_told_in_the_joints_unit_and_digits():
+    """The refusal of a held value outside a joint's limits prints the limits to as many
+    digits as tell them from the value (a UR wrist's 2 pi, 6.28319 against 6.2832 given),
+    in metres for a prismatic joint."""
+    ur5 = armik.load("ur5")
+    T = ur5.fk(ur5.middle)
+    with pytest.raises(JointError, match=r"6.2832 rad .*\[-6.283185307, 6.283185307\] rad"):
+        ur5.solve(T, hold={"wrist_3_joint": 6.2832})
+    scara = armik.load("scara")
+    k = int(np.flatnonzero(scara.kinematics.prismatic)[0])
+    name, beyond = scara.joint_names[k], float(scara.upper[k]) + 0.01
+    with pytest.raises(JointError, match=rf"{beyond!r} m is outside .* m: give"):
+        scara.solve(scara.fk(scara.middle), hold={name: beyond})

@@ -109,9 +109,11 @@ class Hold(Constraint):
         value = float(seed[k]) if self.value is None else self.value
         lo, hi = float(arm.lower[k]), float(arm.upper[k])
         if not lo - LIMIT_TOL <= value <= hi + LIMIT_TOL:
+            unit = "m" if arm.prismatic[k] else "rad"
+            # the limits to as many digits as tell them from a value just outside
             raise JointError(
-                f"hold: {value!r} rad is outside joint {self.joint!r}'s limits "
-                f"[{lo:.6g}, {hi:.6g}]: give a value within them",
+                f"hold: {value!r} {unit} is outside joint {self.joint!r}'s limits "
+                f"[{lo:.10g}, {hi:.10g}] {unit}: give a value within them",
                 joint=self.joint,
             )
         return Hold(self.joint, min(max(value, lo), hi))
