@@ -44,10 +44,13 @@ FREE_SWEEP = 64  # values of a free joint tried where q0's leaves every row outs
 LS = 1
 SINGULAR = 2
 TWO_PI = 2.0 * math.pi
-# rad: a closed form's rounding (1e-12 and more) can put a joint that lies on its limit just
-# outside it; a value this close is put on the limit (moving the tip by ~1e-9 m, which the FK
-# check measures as always)
-SNAP = 1e-9
+# rad: a closed form's rounding (1e-12 and more), or a singular row's turn a hair inside the
+# elbow's reach (``three_parallel.reach_turn``: 1e-9 and more), can put a joint that lies on
+# its limit just outside it; a value this close is put on the limit (moving the tip by up to
+# 1e-7 m per metre of reach, which the FK check measures as always). At 1e-9, the UR5's
+# stretched wrist-singular row at 2 pi + 1.006e-9 was turned to 0 instead, and a path
+# spinning wrist 3 onto its limit jumped 2 pi back.
+SNAP = 1e-7
 # rad: Newton steps stop at a pose error of 1e-14, which near a double root (a singular
 # pose, where the error grows with the square of the step) leaves a root ~1e-7 from where it
 # lies: one on a limit can come back that far past it. Such a row is put on the limit (the
