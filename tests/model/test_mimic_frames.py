@@ -94,3 +94,27 @@ def test_a_passive_mimic_joint_locked_by_name_stays_at_its_value(tmp_path, rng):
         want = _reference(arm, robot, at_held, "l1")
         want = np.linalg.inv(want) @ _reference(arm, robot, at_held, "rod")
         np.testing.assert_allclose(l1_rod.homogeneous, want, atol=1e-12)
+
+
+def test_collision_objects_below_a_passive_mimic_joint_follow_its_driver(tmp_path, rng):
+    """A box on the passive rod is checked where the rod is (its driver turned), not where
+    the reference value left it: a sphere on the rod's end at q touches it, one where the
+    rod would be at the reference value does not; the self-collision geometry likewise
+    (distances by coal on yourdfpy's placement of the box)."""
+    box = '<collision><origin xyz="0 0 0.1"/><geometry><box size="0.02 0.02 0.2"/></geometry></collision>'
+    text = URDF.replace('<link name="rod"/>', f'<link name="rod">{box}</link>')
+    path = write_urdf(tmp_path, text)
+    arm = armik.load(path, tip="tool")
+    robot = yourdfpy.URDF.load(str(path), load_meshes=False)
+    for _ in range(5):
+        q = arm.random_q(rng)
+        end = _reference(arm, robot, q, "rod")  # the rod's frame, as ROS places it
+        centre = (end @ np.array([0.0, 0.0, 0.1, 1.0]))[:3]  # the box's centre
+        held = arm.fk(arm.middle, frame="rod").act(np.array([0.0, 0.0, 0.1]))
+        if np.linalg.norm(held - centre) < 0.2:
+            continue  # the rod where it would be held: too near to tell apart
+        assert arm.in_collision(q, obstacles=[armik.Sphere(0.02, centre)])
+        assert not arm.in_collision(q, obstacles=[armik.Sphere(0.02, held)])
+        beyond = (end @ np.array([0.0, 0.0, 0.3, 1.0]))[:3]  # 0.1 past the box's end
+        d, pair = arm.min_distance(q, obstacles=[armik.Sphere(0.05, beyond)])
+        assert pair[0] == "rod" and d == pytest.approx(0.1 - 0.05, abs=1e-6)

@@ -26,6 +26,7 @@ from armik.constraints.bounds import ordered_bounds, ordered_bounds_many
 from armik.constraints.shapes import Shape, check_obstacles, convex_hull, solid
 from armik.constraints.srdf import Pair, sorted_pair
 from armik.errors import CollisionError
+from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel, model_of
 from armik.model.catalogue import erd_share
 from armik.model.derived import Derived
@@ -42,6 +43,9 @@ class ArmGeometry:
     moving: tuple[bool, ...]  # whether it moves relative to the base
     candidates: tuple[tuple[int, int], ...]  # pairs that can touch (not adjacent, not rigid)
     self_pairs: tuple[tuple[int, int], ...]  # candidates minus the SRDF's disabled pairs
+    # objects a mimic joint off the chain moves with its driver on it, placed by the whole
+    # model at each q (``model.mimic_frames.followed_objects``): the cut model holds them still
+    followed: tuple = ()
 
 
 def arm_geometry(arm: ArmModel) -> ArmGeometry:
@@ -75,6 +79,7 @@ def _build_geometry(arm: ArmModel) -> ArmGeometry:
             option="obstacles",
         )
     links = tuple(full.frames[o.parentFrame].name for o in geom.geometryObjects)
+    followed = mimic_frames.followed_objects(arm, geom)
     if chain.locked_joints:
         _, geom = reduce_model(full, list(chain.locked_joints), chain.q_ref, geom)
     for o, link in zip(geom.geometryObjects, links):
@@ -101,9 +106,10 @@ def _build_geometry(arm: ArmModel) -> ArmGeometry:
     return ArmGeometry(
         model=geom,
         links=links,
-        moving=tuple(j != 0 for j in bodies),
+        moving=tuple(j != 0 or i in {k for k, _, _ in followed} for i, j in enumerate(bodies)),
         candidates=tuple(candidates),
         self_pairs=self_pairs,
+        followed=followed,
     )
 
 
@@ -156,6 +162,9 @@ class Checker:
         # frame, where the chain's FK places the joints (``bounds.ordered_bounds``)
         centre, self._radius = _spheres(g.model)
         self._capsule = _capsules(g.model)
+        self._followed = g.followed
+        for i, _, _ in g.followed:  # placed apart: bounded by nothing, every pair asked
+            self._radius[i] = self._capsule[i, 6] = UNBOUNDED
         self._joint_of = np.array([o.parentJoint for o in g.model.geometryObjects], dtype=np.intp)
         self._frames = arm.model.njoints
         self._centre = np.array(
@@ -186,6 +195,8 @@ class Checker:
             gd = self.geometry_data()
         arm = self.arm
         pin.updateGeometryPlacements(arm.model, arm.data, self.model, gd, arm.to_pin(q))
+        if self._followed:
+            mimic_frames.place_followed(arm, q, gd, self._followed)
         bound, order, ranked = self._ordered(q)
         return self._closest(gd, bound, order, ranked)
 
@@ -209,6 +220,8 @@ class Checker:
         out = []
         for i, k in enumerate(ranked.tolist()):
             update(model, data, geometry, gd, to_pin(Q[i]))
+            if self._followed:
+                mimic_frames.place_followed(arm, Q[i], gd, self._followed)
             out.append(closest(gd, bound[i], order[i], k))
         return out
 
@@ -268,6 +281,7 @@ class Checker:
 
 
 BOUND_SLACK = 1e-6  # m: coal's distances may fall this far below an exact lower bound
+UNBOUNDED = 1e9  # m: the bounding radius of an object placed apart (no bound prunes it)
 
 
 def _spheres(model: pin.GeometryModel) -> tuple[np.ndarray, np.ndarray]:

@@ -4,7 +4,8 @@ parallelogram's passive link, a finger driven by a chain joint).
 The reduced model holds every joint off the chain fixed at its reference value, so such a
 frame would stay put while its driver turns; ROS tools (robot_state_publisher, yourdfpy)
 move the mimic joint with its driver. Their placements and Jacobians are read on the
-URDF's whole model instead, each mimic joint at multiplier x driver + offset.
+URDF's whole model instead, each mimic joint at multiplier x driver + offset; so are the
+collision objects they carry (``followed_objects``, ``place_followed``).
 """
 
 from __future__ import annotations
@@ -95,3 +96,31 @@ def jacobian(arm: ArmModel, q: object, fid: int, kind: pin.ReferenceFrame) -> np
     for jid, (k, m, _) in followers(arm).items():
         J[:, k] += m * Jf[:, full.joints[jid].idx_v]
     return J
+
+
+def followed_objects(arm: ArmModel, geom: pin.GeometryModel) -> tuple:
+    """(object index, whole-model joint id, placement in that joint) of each object of
+    ``geom`` (on the whole model) that a follower (``followers``) moves."""
+    moved = followers(arm)
+    if not moved:
+        return ()
+    parents = arm.chain.full.parents
+    out = []
+    for i, o in enumerate(geom.geometryObjects):
+        j = o.parentJoint
+        while j > 0 and j not in moved:
+            j = parents[j]
+        if j > 0:
+            out.append((i, o.parentJoint, o.placement.copy()))
+    return tuple(out)
+
+
+def place_followed(arm: ArmModel, q: np.ndarray, gd: pin.GeometryData, followed: tuple) -> None:
+    """Put each of ``followed``'s objects (``followed_objects``) where the whole model
+    places it at q, in ``gd``'s world placements (the chain's model left them at the
+    reference value)."""
+    full = arm.chain.full
+    data = full.createData()
+    pin.forwardKinematics(full, data, _full_q(arm, np.asarray(q, dtype=float)))
+    for i, joint, placement in followed:
+        gd.oMg[i] = data.oMi[joint] * placement
