@@ -46,11 +46,12 @@ def _names(values: list[str]) -> list[str]:
 
 def cmd_compare(args: argparse.Namespace) -> int:
     if args.speed:
-        rows = compare.speed(n=args.n, seed=args.seed)
+        notes: list[str] = []
+        rows = compare.speed(n=args.n, seed=args.seed, notes=notes)
         if args.json:
             print(as_json(rows))
         else:
-            print(compare.speed_table(rows))
+            print("\n".join([compare.speed_table(rows), *notes]))
         return 0
     report = compare.run(n=args.n, seed=args.seed)
     if args.json:
