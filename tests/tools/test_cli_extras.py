@@ -1,14 +1,60 @@
-"""A plain install (no extras): a missing peer is named with its extra."""
+"""A plain install (no extras): a flag that needs one says what to install in one line,
+before the run it would otherwise end, and a missing peer is named with its extra."""
 
 from __future__ import annotations
 
 import sys
 
-from armik.tools import compare
+import pytest
+
+from armik.errors import ArmikError
+from armik.tools import compare, compare_plots
 
 from .cli_run import run
 
+PLOT = 'pip install "armik[plot]"'
 PEERS = 'pip install "armik[peers]"'
+
+
+def _refuse(*args, **kwargs):
+    raise AssertionError("the run started before the missing extra was said")
+
+
+def test_reach_plot_without_matplotlib_stops_before_the_map(capsys, monkeypatch, tmp_path):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)  # import matplotlib fails
+    out = tmp_path / "reach.npz"
+    code, _, err = run(
+        capsys, "reach", "planar_2link", "--resolution", "0.5", "-o", out,
+        "--plot", tmp_path / "reach.png",
+    )  # fmt: skip
+    assert code == 2 and PLOT in err and len(err.strip().splitlines()) == 1
+    assert not out.exists()  # nothing computed: the map would have been written first
+
+
+def test_compare_plot_without_matplotlib_stops_before_the_run(capsys, monkeypatch, tmp_path):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    monkeypatch.setattr(compare, "run", _refuse)
+    code, out, err = run(capsys, "compare", "-n", "2", "--plot", tmp_path / "figures")
+    assert code == 2 and out == ""
+    assert err.startswith("armik: error: --plot") and PLOT in err
+    assert len(err.strip().splitlines()) == 1
+
+
+def test_comparison_figures_without_matplotlib_raise_an_armik_error(monkeypatch, tmp_path):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    with pytest.raises(ArmikError, match=r'pip install "armik\[plot\]"'):
+        compare_plots.plot(compare.Report(), tmp_path)
+
+
+def test_view_without_viser_says_so_before_loading_or_solving(capsys, monkeypatch, tmp_path):
+    from armik.tools.cli import view
+
+    monkeypatch.setitem(sys.modules, "viser", None)
+    monkeypatch.setattr(view, "load_arm", _refuse)
+    monkeypatch.setattr(view, "_solve_paths", _refuse)
+    code, out, err = run(capsys, "view", "ur5", "--no-browser", "--path", tmp_path / "x.npy")
+    assert code == 2 and out == ""
+    assert 'pip install "armik[view]"' in err and len(err.strip().splitlines()) == 1
 
 
 def _without_peers(monkeypatch):
