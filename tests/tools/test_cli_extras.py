@@ -88,3 +88,13 @@ def test_compare_speed_says_eaik_is_not_installed(capsys, monkeypatch):
     code, out, _ = run(capsys, "compare", "--speed", "-n", "2")
     assert code == 0 and "| ur5 | three_parallel | 2/2 |" in out
     assert out.strip().splitlines()[-1] == f"eaik not timed: EAIK is not installed: {PEERS}"
+
+
+@pytest.mark.parametrize(
+    "command, extra",
+    [("reach", "plot"), ("compare", "plot"), ("batch", "cluster"), ("bench", "peers"),
+     ("view", "view")],
+)  # fmt: skip
+def test_help_names_the_extra_a_flag_needs(capsys, command, extra):
+    code, out, _ = run(capsys, command, "--help")
+    assert code == 0 and f"(needs armik[{extra}])" in " ".join(out.split())
