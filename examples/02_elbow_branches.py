@@ -1,7 +1,10 @@
 """Elbow-up and elbow-down: the 2-link arm drawn in both configurations, and its workspace.
 
-Writes elbow_branches.png into --out (default: a temporary folder).
+Writes elbow_branches.png into --out (default: a temporary folder); needs matplotlib
+(``pip install "armik[plot]"``).
 """
+
+import sys
 
 import numpy as np
 from _common import out_dir, pyplot
@@ -11,6 +14,8 @@ from armik.solvers.closed_form import planar2r
 
 out = out_dir(__doc__)
 plt = pyplot()
+if plt is None:  # a figure is all this example makes
+    sys.exit()
 arm = armik.load("planar_2link")
 geo = planar2r.geometry(arm.kinematics)  # the closed form reads the arm model
 

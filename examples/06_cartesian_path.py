@@ -23,24 +23,25 @@ for p in line:
     q = np.asarray(r.q)
     rows.append((*q, r.success, r.singular))
 rows = np.array(rows, dtype=float)
-fig, ax = plt.subplots(figsize=(7, 4))
-ax.plot(line[:, 0], rows[:, 0], label="q1")
-ax.plot(line[:, 0], rows[:, 1], label="q2")
-ax.fill_between(
-    line[:, 0],
-    -1.5,
-    1.5,
-    where=rows[:, 2] == 0,
-    color="red",
-    alpha=0.15,
-    label="unreachable: closest configuration",
-)
-ax.axvline(1.8, color="k", lw=0.8, ls=":")
-ax.set_xlabel("x along the path (m)")
-ax.set_ylabel("joint angle (rad)")
-ax.set_title("2-link arm along a line through the stretched singularity")
-ax.legend(fontsize=8)
-fig.savefig(out / "path_2link.png", dpi=110)
+if plt is not None:
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.plot(line[:, 0], rows[:, 0], label="q1")
+    ax.plot(line[:, 0], rows[:, 1], label="q2")
+    ax.fill_between(
+        line[:, 0],
+        -1.5,
+        1.5,
+        where=rows[:, 2] == 0,
+        color="red",
+        alpha=0.15,
+        label="unreachable: closest configuration",
+    )
+    ax.axvline(1.8, color="k", lw=0.8, ls=":")
+    ax.set_xlabel("x along the path (m)")
+    ax.set_ylabel("joint angle (rad)")
+    ax.set_title("2-link arm along a line through the stretched singularity")
+    ax.legend(fontsize=8)
+    fig.savefig(out / "path_2link.png", dpi=110)
 first_fail = line[np.argmax(rows[:, 2] == 0), 0]
 jump = np.abs(np.diff(rows[:, :2], axis=0)).max()
 print(
@@ -60,16 +61,18 @@ for a in angles:
     q = np.asarray(r.q)
     qs.append(q)
 qs = np.array(qs)
-fig, ax = plt.subplots(figsize=(7, 4))
-for j in range(panda.dof):
-    ax.plot(np.degrees(angles), qs[:, j], label=panda.joint_names[j])
-ax.set_xlabel("angle along the circle (deg)")
-ax.set_ylabel("joint angle (rad)")
-ax.set_title("Panda along a 15 cm circle, fixed orientation")
-ax.legend(fontsize=7)
-fig.savefig(out / "path_panda.png", dpi=110)
+if plt is not None:
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for j in range(panda.dof):
+        ax.plot(np.degrees(angles), qs[:, j], label=panda.joint_names[j])
+    ax.set_xlabel("angle along the circle (deg)")
+    ax.set_ylabel("joint angle (rad)")
+    ax.set_title("Panda along a 15 cm circle, fixed orientation")
+    ax.legend(fontsize=7)
+    fig.savefig(out / "path_panda.png", dpi=110)
 print(
     f"panda: {ok}/{len(angles)} points reached; largest joint jump "
     f"{np.abs(np.diff(qs, axis=0)).max():.3f} rad"
 )
-print(f"figures in {out}")
+if plt is not None:
+    print(f"figures in {out}")

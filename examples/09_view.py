@@ -24,15 +24,16 @@ T = ur5.fk(q)
 solutions = ur5.solve_all(T, q0=q)
 print(f"{len(solutions)} branches, all verified: {all(r.success for r in solutions)}")
 
-fig = plt.figure(figsize=(15, 7.6), layout="constrained")
-for k, r in enumerate(solutions):
-    ax = fig.add_subplot(2, (len(solutions) + 1) // 2, k + 1, projection="3d")
-    title = r.branch.replace("/", "\n") + ("" if k else "\n(nearest q0)")
-    armik.plot(ur5, r, ax=ax, target=T, title=title, elev=20, azim=-50)
-fig.suptitle("ur5: every solution of one target (three_parallel), drawn by armik.plot")
-path = out / "ur5_branches.png"
-fig.savefig(path, dpi=80)
-print(f"wrote {path}")
+if plt is not None:
+    fig = plt.figure(figsize=(15, 7.6), layout="constrained")
+    for k, r in enumerate(solutions):
+        ax = fig.add_subplot(2, (len(solutions) + 1) // 2, k + 1, projection="3d")
+        title = r.branch.replace("/", "\n") + ("" if k else "\n(nearest q0)")
+        armik.plot(ur5, r, ax=ax, target=T, title=title, elev=20, azim=-50)
+    fig.suptitle("ur5: every solution of one target (three_parallel), drawn by armik.plot")
+    path = out / "ur5_branches.png"
+    fig.savefig(path, dpi=80)
+    print(f"wrote {path}")
 
 if importlib.util.find_spec("viser") is None:
     print('viewer skipped: pip install "armik[view]"')

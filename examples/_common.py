@@ -20,8 +20,13 @@ def out_dir(description: str, figures: bool = True) -> Path | None:
 
 
 def pyplot():
-    """matplotlib on the Agg backend: figures go to files, never to a window."""
-    import matplotlib
+    """matplotlib on the Agg backend: figures go to files, never to a window. None, said in
+    one line, where it is not installed (the plot extra): the example runs without figures."""
+    try:
+        import matplotlib
+    except ImportError:
+        print('figures skipped: matplotlib is not installed: pip install "armik[plot]"')
+        return None
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -247,3 +247,16 @@ def test_xy_is_a_planar_arms_2_vector(capsys):
     with pytest.raises(SystemExit):
         main(["solve", "planar_2link", "--xyz", "1.2", "0.5"])
     assert "expected 3 arguments (a planar arm's" in capsys.readouterr().err
+
+
+def test_compile_prints_its_times_in_one_column(capsys, monkeypatch):
+    from armik.tools.cli import compile as cli_compile
+
+    def took(names, jobs, load):
+        return {name: 0.5 for name in names}
+
+    monkeypatch.setattr(cli_compile, "compile", took)
+    code, out, _ = run(capsys, "compile", "dls", "three_parallel_general", "fk_batch")
+    rows = out.splitlines()[:-1]
+    assert code == 0 and len(rows) == 3
+    assert len({row.index("0.50 s") for row in rows}) == 1, out

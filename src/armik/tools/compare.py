@@ -18,7 +18,7 @@ from armik.model.random_arms import random_urdf
 from armik.problem.settings import SolverSettings
 from armik.solvers import registry
 from armik.targets.pose import parse_target
-from armik.tools.peers import EAIKPeer, PeerUnavailable
+from armik.tools.peers import EAIKPeer, PeerMissing, PeerUnavailable
 
 BUDGET = 0.005  # s per numeric solve, as in the benchmark
 TIGHT = 1e-12  # m, position tolerance on the 2-link arm
@@ -68,9 +68,14 @@ class Report:
     rows: list[Row] = field(default_factory=list)
     samples: dict = field(default_factory=dict)  # per (arm, solver): raw arrays for plots
     singular: list[dict] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)  # what was not measured, and why
 
     def as_dict(self) -> dict:
-        return {"rows": [r.as_dict() for r in self.rows], "near_boundary": self.singular}
+        return {
+            "rows": [r.as_dict() for r in self.rows],
+            "near_boundary": self.singular,
+            "notes": self.notes,
+        }
 
     def text(self) -> str:
         lines = [
@@ -99,6 +104,7 @@ class Report:
             "column is the largest distance, modulo 2 pi, to the nearest analytic branch; "
             "eaik: all solutions per call, without armik's verification)"
         )
+        lines += self.notes
         if self.singular:
             lines += [
                 "",
@@ -337,7 +343,7 @@ def _closed_form_arm(
         }
         report.rows.append(row)
     report.rows.append(_solve_all_row(arm, family, poses, q0s, name))
-    peer = _eaik_row(arm, qs)
+    peer = _eaik_row(arm, qs, report.notes)
     if peer is not None:
         report.rows.append(peer)
 
@@ -355,21 +361,26 @@ def _solve_all_row(arm: Arm, family: str, poses: list, q0s: list, name: str) -> 
     return Row.every_target_reachable(name, f"{family} (solve_all)", ok, times, errors)
 
 
-def _eaik(arm: Arm):
+def _eaik(arm: Arm, notes: list[str]):
     """EAIK's model of ``arm`` (``armik.tools.peers``: its decomposition and its FK checked
-    against armik's), None when EAIK is not installed or does not apply."""
+    against armik's), None when EAIK does not apply or is not installed (then said once in
+    ``notes``, with what to install: an empty column alone does not say why)."""
     try:
         return EAIKPeer(arm, tol=1e-6).robot
+    except PeerMissing as exc:
+        if f"eaik not timed: {exc}" not in notes:
+            notes.append(f"eaik not timed: {exc}")
+        return None
     except PeerUnavailable:
         return None
 
 
-def _eaik_row(arm: Arm, qs: list) -> Row | None:
+def _eaik_row(arm: Arm, qs: list, notes: list[str]) -> Row | None:
     """EAIK (closed form, C++ through Python bindings) on the same configurations, all
     solutions per call, timed in the same run; None when it is not installed or does not
     apply. Its success: one of its solutions reproduces the pose by its own
     forward kinematics within 1e-6."""
-    robot = _eaik(arm)
+    robot = _eaik(arm, notes)
     if robot is None:
         return None
     times, ok, errors = [], [], []
@@ -387,13 +398,17 @@ def _eaik_row(arm: Arm, qs: list) -> Row | None:
 
 @compiling()  # times compiled code: a first call compiles, not run as Python
 def speed(
-    names: tuple[str, ...] = ("ur5", "abb_irb120"), n: int = 500, seed: int = 7
+    names: tuple[str, ...] = ("ur5", "abb_irb120"),
+    n: int = 500,
+    seed: int = 7,
+    notes: list[str] | None = None,
 ) -> list[dict]:
     """Median times (us) of the closed form alone (the compiled kernel and its ranking, as
     ``solve`` runs it, before verification), of ``solve`` and
     ``solve_all`` with it (verification included) and of EAIK's all-solutions ``IK`` (when
-    installed), measured in one loop, interleaved target by target so that machine load
-    hits them alike."""
+    installed; else said in ``notes``), measured in one loop, interleaved target by target
+    so that machine load hits them alike."""
+    notes = [] if notes is None else notes
     rng = np.random.default_rng(seed)
     rows = []
     for name in names:
@@ -404,7 +419,7 @@ def speed(
         ).name
         qs = [arm.random_q(rng) for _ in range(n)]
         poses = [arm.fk(q) for q in qs]
-        peer = _eaik(arm)
+        peer = _eaik(arm, notes)
         mats = [peer.fwdKin(np.asarray(q)) for q in qs] if peer is not None else []
         opts = SolverSettings()
         # the closed form's prepared runner (what a prepared solve calls): compiled kernel

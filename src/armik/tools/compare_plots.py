@@ -7,11 +7,24 @@ from pathlib import Path
 
 import numpy as np
 
+from armik.errors import ArmikError
 from armik.tools.compare import Report
+
+
+def need_matplotlib(what: str) -> None:
+    """Raise ``ArmikError`` naming the plot extra when matplotlib is not installed: checked
+    before a run that would otherwise end in an ImportError."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise ArmikError(
+            f'{what} draws with matplotlib, which is not installed: pip install "armik[plot]"'
+        ) from None
 
 
 def plot(report: Report, out_dir: str | Path) -> list[Path]:
     """Write the comparison figures as PNG files into ``out_dir``; returns their paths."""
+    need_matplotlib("the comparison's figures")
     import matplotlib
 
     matplotlib.use("Agg")

@@ -34,8 +34,18 @@ PEERS = ("rtb", "eaik")
 FK_AGREEMENT = 1e-9  # m and rotation-matrix entries: the peer's FK must match armik's
 
 
+INSTALL = 'pip install "armik[peers]"'
+
+
 class PeerUnavailable(Exception):
     """The peer is not installed or does not apply to this arm (the message says why)."""
+
+
+class PeerMissing(PeerUnavailable):
+    """The peer's library is not installed: the message names the extra that installs it."""
+
+    def __init__(self, library: str) -> None:
+        super().__init__(f"{library} is not installed: {INSTALL}")
 
 
 @dataclass
@@ -82,7 +92,7 @@ class RTBPeer(Peer):
             import roboticstoolbox as rtb
             from spatialmath import SE3
         except ImportError:
-            raise PeerUnavailable("roboticstoolbox-python is not installed") from None
+            raise PeerMissing("roboticstoolbox-python") from None
         path = _kinematics_only(arm.kinematics.source)
         try:
             robot = rtb.Robot.URDF(path)
@@ -117,7 +127,7 @@ class EAIKPeer(Peer):
         try:
             from eaik.IK_URDF import UrdfRobot
         except ImportError:
-            raise PeerUnavailable("EAIK is not installed") from None
+            raise PeerMissing("EAIK") from None
         try:
             self.robot = UrdfRobot(arm.kinematics.source)
         except Exception as exc:  # EAIK refuses what it cannot decompose

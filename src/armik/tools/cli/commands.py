@@ -83,7 +83,8 @@ def add_many_commands(command) -> None:
     c.add_argument(
         "--cluster",
         metavar="ADDRESS",
-        help="run on a Dask cluster: tcp://host:8786, or local:N for N local processes",
+        help="run on a Dask cluster: tcp://host:8786, or local:N for N local processes "
+        "(needs armik[cluster])",
     )
     c.add_argument(
         "--q0",
@@ -154,7 +155,9 @@ def add_many_commands(command) -> None:
     c.add_argument("--cluster", metavar="ADDRESS", help="run on a Dask cluster (see batch)")
     c.add_argument("--seed", type=seed_number, default=0, help="orientation sample seed (0)")
     c.add_argument("-o", "--output", default="reach.npz", help="map file (reach.npz)")
-    c.add_argument("--plot", metavar="PNG", help="also draw slices into this PNG")
+    c.add_argument(
+        "--plot", metavar="PNG", help="also draw slices into this PNG (needs armik[plot])"
+    )
 
 
 def add_compile_command(command) -> None:

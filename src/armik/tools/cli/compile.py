@@ -14,7 +14,8 @@ def cmd_compile(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     took = compile(names, jobs=args.jobs, load=False)  # the command ends: nothing to load
     wall = time.perf_counter() - t0
+    width = max(map(len, took), default=0)  # one column: three_parallel_general is 22
     for name, seconds in took.items():
-        print(f"  {name:<15} {seconds:7.2f} s")
+        print(f"  {name:<{width}} {seconds:7.2f} s")
     print(f"compiled {len(took)} parts in {wall:.1f} s")
     return 0

@@ -253,7 +253,8 @@ def _parser() -> argparse.ArgumentParser:
         "--peers",
         nargs="+",
         default=[],
-        help="other IK libraries timed on the same targets: rtb (Robotics Toolbox ik_LM), eaik",
+        help="other IK libraries timed on the same targets: rtb (Robotics Toolbox ik_LM), eaik "
+        "(needs armik[peers])",
     )
     c.add_argument("--json", action="store_true", help="print JSON rows")
 
@@ -265,7 +266,7 @@ def _parser() -> argparse.ArgumentParser:
     )
     c.add_argument("-n", type=_positive_int, default=500, help="targets per experiment (500)")
     c.add_argument("--seed", type=seed_number, default=7, help="sampling seed (7)")
-    c.add_argument("--plot", metavar="DIR", help="write PNG figures to DIR (needs matplotlib)")
+    c.add_argument("--plot", metavar="DIR", help="write PNG figures to DIR (needs armik[plot])")
     c.add_argument("--json", action="store_true", help="print JSON")
     c.add_argument(
         "--speed",

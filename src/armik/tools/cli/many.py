@@ -183,6 +183,13 @@ def cmd_reach(args: argparse.Namespace) -> int:
     out = _output(args.output)  # both paths checked before the run, not after it
     if args.plot and not Path(args.plot).parent.is_dir():
         raise InputError(f"plot folder {str(Path(args.plot).parent)!r} does not exist")
+    if args.plot:  # the map's figure: a missing matplotlib said now, not after the run
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            raise InputError(
+                '--plot draws with matplotlib, which is not installed: pip install "armik[plot]"'
+            ) from None
     arm = load_arm(args).kinematics
     client = None
     if args.cluster:

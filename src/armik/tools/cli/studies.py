@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+from pathlib import Path
 
 from armik.model.catalogue import SPATIAL_ARMS
 from armik.tools import bench as bench_mod
@@ -46,12 +47,16 @@ def _names(values: list[str]) -> list[str]:
 
 def cmd_compare(args: argparse.Namespace) -> int:
     if args.speed:
-        rows = compare.speed(n=args.n, seed=args.seed)
+        notes: list[str] = []
+        rows = compare.speed(n=args.n, seed=args.seed, notes=notes)
         if args.json:
             print(as_json(rows))
         else:
-            print(compare.speed_table(rows))
+            print("\n".join([compare.speed_table(rows), *notes]))
         return 0
+    if args.plot:  # before the run, not after it: matplotlib and a folder to write in
+        compare_plots.need_matplotlib("--plot")
+        Path(args.plot).mkdir(parents=True, exist_ok=True)
     report = compare.run(n=args.n, seed=args.seed)
     if args.json:
         print(as_json(report.as_dict()))

@@ -18,8 +18,10 @@ from armik.tools.cli.many import read_targets_file
 
 
 def cmd_view(args: argparse.Namespace) -> int:
+    from armik.view.server import import_viser
     from armik.view.viewer import Viewer
 
+    import_viser()  # without the extra, say what to install before loading and solving
     viewer = None
     try:
         obstacles = read_shapes(args.obstacles) if args.obstacles else []
