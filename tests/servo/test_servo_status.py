@@ -202,3 +202,13 @@ def test_solve_options_given_to_a_servo_are_refused_with_the_way_to_say_them(nam
     robot = armik.load("panda", tips=["panda_link4", "panda_hand"])  # a shared union
     with pytest.raises(armik.OptionError, match=re.escape(hint)):
         robot.servo(robot.middle, **{name: None})
+
+
+def test_a_limit_that_is_not_positive_is_refused_in_its_own_unit():
+    """``velocity_limits=0`` names a velocity's unit and ``acceleration_limits=-1`` an
+    acceleration's; both said "rad/s or rad/s^2"."""
+    ur5 = armik.load("ur5")
+    with pytest.raises(armik.OptionError, match=r"velocity_limits must be positive \(rad/s or m/s"):
+        ur5.servo(ur5.middle, velocity_limits=0)
+    with pytest.raises(armik.OptionError, match=r"acceleration_limits .*\(rad/s\^2 or m/s\^2"):
+        ur5.servo(ur5.middle, acceleration_limits=-1)

@@ -121,7 +121,7 @@ def per_joint(value: object, arm: ArmModel | Union, name: str, default: np.ndarr
     else:
         try:
             arr = np.asarray(value, dtype=float)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise OptionError(
                 f"{name} must be a number or {arm.dof} numbers, got {value!r}",
                 option=name,
@@ -148,8 +148,9 @@ def _positive(x: object, name: str) -> float:
     except (TypeError, ValueError):
         value = math.nan
     if not value > 0.0:
+        unit = "rad/s^2 or m/s^2" if name.startswith("acceleration") else "rad/s or m/s"
         raise OptionError(
-            f"{name} must be positive (rad/s or rad/s^2 per joint), got {x!r}",
+            f"{name} must be positive ({unit} per joint), got {x!r}",
             option=name,
             value=x,
         )
