@@ -99,9 +99,12 @@ def test_a_passive_mimic_joint_locked_by_name_stays_at_its_value(tmp_path, rng):
 def test_collision_objects_below_a_passive_mimic_joint_follow_its_driver(tmp_path, rng):
     """A box on the passive rod is checked where the rod is (its driver turned), not where
     the reference value left it: a sphere on the rod's end at q touches it, one where the
-    rod would be at the reference value does not; the self-collision geometry likewise
-    (distances by coal on yourdfpy's placement of the box)."""
-    box = '<collision><origin xyz="0 0 0.1"/><geometry><box size="0.02 0.02 0.2"/></geometry></collision>'
+    rod would be at the reference value does not, and the distance past the box's end is
+    measured on yourdfpy's placement of the rod."""
+    box = (
+        '<collision><origin xyz="0 0 0.1"/>'
+        '<geometry><box size="0.02 0.02 0.2"/></geometry></collision>'
+    )
     text = URDF.replace('<link name="rod"/>', f'<link name="rod">{box}</link>')
     path = write_urdf(tmp_path, text)
     arm = armik.load(path, tip="tool")
