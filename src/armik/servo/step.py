@@ -99,17 +99,26 @@ def scratch_size(n: int, m: int) -> int:
 def _factor(H, lam, Hl, L, free):
     """L: the Cholesky factor of Hl = H + lam I (``kernel.linalg``'s form); the damping is
     raised tenfold at a time should rounding leave Hl not positive definite."""
-    n = H.shape[0]
-    for i in range(n):
+    for i in range(H.shape[0]):
         free[i] = 1
+    _damped_factor(H, lam, Hl, L, free)
+
+
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
+def _damped_factor(H, lam, Hl, L, free):
+    """Whether L is the Cholesky factor of Hl = H + lam I over the ``free`` joints, the
+    damping raised tenfold at a time (40 times at most) should rounding leave Hl not
+    positive definite."""
+    n = H.shape[0]
     for _ in range(40):
         for i in range(n):
             for j in range(n):
                 Hl[i, j] = H[i, j]
             Hl[i, i] += lam
         if cholesky_factor(Hl, free, L):
-            return
+            return True
         lam *= 10.0
+    return False
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
@@ -153,17 +162,7 @@ def _unremoved(E, A, m, scale, h, Hm, mu, Hl, L, free, z):
     for i in range(n):
         trace += Hm[i, i]
     mu = max(mu, 1e-15 * (trace + 1.0))  # (raised tenfold should rounding need it)
-    factored = False
-    for _ in range(40):
-        for i in range(n):
-            for j in range(n):
-                Hl[i, j] = Hm[i, j]
-            Hl[i, i] += mu
-        if cholesky_factor(Hl, free, L):
-            factored = True
-            break
-        mu *= 10.0
-    if not factored:
+    if not _damped_factor(Hm, mu, Hl, L, free):
         return 0.0, 0.0
     cholesky_substitute(L, h, free, z)
     left = whole = 0.0
