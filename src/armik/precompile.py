@@ -266,7 +266,9 @@ _TOGETHER = (("dls", "qp", "batch", "hold", "path"),)
 # and the batch FK moved over, the shoulder after swept, whose spherical wrist code it
 # shares; 2026-12-07, with one numeric entry a step: 57 s against 61, and the UR5's
 # general 6R moved over, last, where the closed forms' checks are in the cache; then,
-# with the FK called instead of inlined, 52 s against 57.5, and the SRS arm moved over). Each
+# with the FK called instead of inlined, 52 s against 57.5, and the SRS arm moved over;
+# then the servo's settling grew its half by 4 s and the UR5's general 6R went back, last:
+# `armik compile --all` 57.5-57.8 s against 58.6-62). Each
 # list's order puts first what the other half needs too and last what
 # needs the other half's code, which is then loaded from the cache: dls's region rows
 # and linear algebra before the tasks', swept's held target before hold, the closed
@@ -283,7 +285,6 @@ _HALVES = (
         "collisions",
         "fk_batch",
         "batch",
-        "general_6r",
         "srs",
     ),
     (
@@ -296,6 +297,7 @@ _HALVES = (
         "elimination_6r",
         "hold",
         "tasks",
+        "general_6r",
     ),
 )
 
