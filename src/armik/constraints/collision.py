@@ -196,7 +196,7 @@ class Checker:
         arm = self.arm
         pin.updateGeometryPlacements(arm.model, arm.data, self.model, gd, arm.to_pin(q))
         if self._followed:
-            mimic_frames.place_followed(arm, q, gd, self._followed)
+            mimic_frames.place_followed(arm, q, gd, self._followed, self._full_data())
         bound, order, ranked = self._ordered(q)
         return self._closest(gd, bound, order, ranked)
 
@@ -221,7 +221,7 @@ class Checker:
         for i, k in enumerate(ranked.tolist()):
             update(model, data, geometry, gd, to_pin(Q[i]))
             if self._followed:
-                mimic_frames.place_followed(arm, Q[i], gd, self._followed)
+                mimic_frames.place_followed(arm, Q[i], gd, self._followed, self._full_data())
             out.append(closest(gd, bound[i], order[i], k))
         return out
 
@@ -245,6 +245,13 @@ class Checker:
                     if d < best:
                         best, k_best = d, k
         return float(best), self.pair_names[k_best]
+
+    def _full_data(self) -> pin.Data:
+        """This thread's data of the URDF's whole model (``_followed``'s placements)."""
+        data = getattr(self._local, "full", None)
+        if data is None:
+            data = self._local.full = self.arm.chain.full.createData()
+        return data
 
     def geometry_data(self) -> pin.GeometryData:
         """This thread's ``GeometryData`` of the checker's model."""

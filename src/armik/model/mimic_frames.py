@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
+from armik.model.derived import Derived
 from armik.model.reduce import frame_id, set_joint
 
 if TYPE_CHECKING:
@@ -24,7 +25,11 @@ if TYPE_CHECKING:
 def followers(arm: ArmModel) -> dict[int, tuple[int, float, float]]:
     """Whole-model joint id of each mimic joint the chain's model holds fixed although its
     driver moves on the chain -> (driver's index in q, multiplier, offset). A mimic joint
-    locked by name stays at its value."""
+    locked by name stays at its value. Found once per arm (every collision query reads it)."""
+    return _FOLLOWERS(arm)
+
+
+def _followers(arm: ArmModel) -> dict[int, tuple[int, float, float]]:
     chain, info = arm.chain, arm.info
     fixed = set(chain.locked_joints)
     out = {}
@@ -36,6 +41,9 @@ def followers(arm: ArmModel) -> dict[int, tuple[int, float, float]]:
             m, c = info.mimic_factors.get(name, (1.0, 0.0))
             out[jid] = (arm.joint_names.index(driver), m, c)
     return out
+
+
+_FOLLOWERS: Derived[dict] = Derived("mimic joints off the chain that follow it", _followers)
 
 
 def full_frame(arm: ArmModel, frame: str) -> int | None:
@@ -115,12 +123,13 @@ def followed_objects(arm: ArmModel, geom: pin.GeometryModel) -> tuple:
     return tuple(out)
 
 
-def place_followed(arm: ArmModel, q: np.ndarray, gd: pin.GeometryData, followed: tuple) -> None:
+def place_followed(
+    arm: ArmModel, q: np.ndarray, gd: pin.GeometryData, followed: tuple, data: pin.Data
+) -> None:
     """Put each of ``followed``'s objects (``followed_objects``) where the whole model
     places it at q, in ``gd``'s world placements (the chain's model left them at the
-    reference value)."""
+    reference value); ``data``: the whole model's, the caller's thread's."""
     full = arm.chain.full
-    data = full.createData()
     pin.forwardKinematics(full, data, _full_q(arm, np.asarray(q, dtype=float)))
     for i, joint, placement in followed:
         gd.oMg[i] = data.oMi[joint] * placement
