@@ -306,7 +306,9 @@ def test_independent_chains_take_a_constraint_by_tip_on_every_route():
 
 def test_with_collisions_checked_a_check_refusing_the_answer_restarts_too():
     """With obstacles checked, a numeric answer a user's check refuses (clear of every
-    obstacle) restarts as a colliding one does, where the search stopped at it."""
+    obstacle) restarts as a colliding one does. (The first run's refusal restarted before
+    too, in the plain solve the collision search starts from; a restart's refusal is
+    ``test_a_restart_refused_by_the_check_goes_on_among_obstacles``.)"""
     ur5 = bundled("ur5")
     far = [armik.Sphere(0.05, (3.0, 3.0, 3.0))]  # never near: only the check refuses
     BUDGET = {"iteration_budget": 5000}
