@@ -323,3 +323,18 @@ def tasks_apart(reason: str, pos: float, ori: float | None) -> str:
         f"{reason}; each task's frame is at most {pos:.3g} m{rot} from its region's centre, "
         "free components apart"
     )
+
+
+def orientation_unreachable(angle: float, fixed: bool, tol: float) -> str:
+    """A target rotation ``angle`` rad (at least) from every rotation the tip takes, its
+    chain's structure bounding them (``fixed``: no joint turns), beyond ``tol``
+    (``tol_orientation``), refused before any iteration."""
+    takes = (
+        "the one orientation the tip has (no joint turns)"
+        if fixed
+        else "every orientation the tip takes (all its turning joints are parallel)"
+    )
+    return (
+        f"the target's orientation is {angle:.3g} rad from {takes}, beyond tol_orientation "
+        f"({tol:g} rad); q is the seed, unchanged"
+    )

@@ -48,6 +48,7 @@ from armik.problem.scores import fit_posture
 from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers, one
 from armik.solvers.claims import claim
+from armik.solvers.numeric import orientations
 from armik.status import Status
 from armik.targets.aim import Aim
 from armik.targets.batch import TargetBatch
@@ -254,12 +255,38 @@ def run_numeric(
     err = np.empty((1, 2))
     seeds = np.empty(1, dtype=np.uint64)
     seeds[0] = solve_seed(opts)  # (a third of np.array([seed], dtype=np.uint64)'s cost)
+    family = arm._derived.get(orientations.FAMILY, _UNBUILT)
+    if family is _UNBUILT:
+        family = orientations.FAMILY(arm)
+    if target.rotation is not None and family is not None:
+        plain = orientations.measured_plainly(opts, target.position_only, aim is not None)
+        why = _misoriented(arm, R_t[0], p_t[0], opts, sf) if plain else None
+        if why is not None:
+            return one(q0.copy(), Status.UNREACHABLE, why)
     if step.kind not in warmup.PREPARED:  # a warm process: nothing to prepare
         warmup.prepare(step.kind)
     region = opts.bounds is not None or aim is not None
     entry = ENTRIES[step.kind]
     entry(*arm.kernel_chain.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
     return kernel_answers(arm, target.position, q0, opts, sf, info[0], out_q[0], err[0], region)
+
+
+def _misoriented(arm: ArmModel, R_t, p_t, opts: SolverSettings, sf) -> str | None:
+    """Why the rotation ``R_t`` of a plainly measured target
+    (``orientations.measured_plainly``) is beyond those ``arm``'s structure allows
+    (``orientations.refused``), for a target within the reach bound (beyond it the kernel
+    refuses it by its distance, as ``solve.far`` does); else None."""
+    why = orientations.refused(arm, R_t, opts)
+    if why is None:
+        return None
+    ch = arm.kernel_chain.chain
+    if math.dist(np.asarray(p_t).tolist(), ch.origin.tolist()) > ch.reach + sf[_REACH_SLACK]:
+        return None
+    return why
+
+
+_REACH_SLACK = 9  # in ``problem.pack_settings``' floats
+_UNBUILT = object()  # an arm's ``orientations.FAMILY`` not built yet (read as a dict: no call)
 
 
 def converged_reason(restarts: int) -> str:
@@ -298,8 +325,9 @@ def pose_runner(
     """``run_pose(H, q0, seed)`` for ``armik.solve.prepared``: one plain 4x4 pose ``H`` (base frame)
     from ``q0`` through the kernel's single-pose entry; with ``position_only``, H holds a
     position target (its rotation the identity, which the settings then ignore). Returns
-    None when ``H`` or ``q0`` is not plain, or for ``every`` (nothing was solved: take the
-    general path); for a converged claim (q, iterations, restarts, branch, singular, reason
+    None when ``H`` or ``q0`` is not plain, for a rotation the arm's structure never takes
+    (``run_numeric`` refuses it), or for ``every`` (nothing was solved: take the general
+    path); for a converged claim (q, iterations, restarts, branch, singular, reason
     function, its arguments); else the answers for the general verdict. ``aim``: every
     target's (its shape; each call's point or direction is ``run_pose``'s ``point``)."""
     dof = arm.dof
@@ -309,10 +337,16 @@ def pose_runner(
     entry = POSE_ENTRIES[step.kind]
     packed, kind, halton_ = arm.kernel_chain.flat
     converged_code = _descent.CONVERGED
+    # a rotation the arm's structure bounds, plainly measured: refused by ``run_numeric``
+    bounded = orientations.FAMILY(arm) is not None and orientations.measured_plainly(
+        opts, position_only, aim is not None
+    )
 
     def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False, point=None):
         if every:  # solve_all: the general path (max_solutions descents)
             return None
+        if bounded and _misoriented(arm, H[:3, :3], H[:3, 3], opts, sf) is not None:
+            return None  # the general path: H and q0 read there, the rotation refused
         s = sf
         if point is not None:  # this call's look-at point or direction (``packed_settings``)
             s = sf.copy()
@@ -383,6 +417,13 @@ def run_numeric_batch(
     else:
         R_t = np.array(targets.rotations, dtype=float)
     p_t = np.array(targets.positions, dtype=float)
+    family = arm._derived.get(orientations.FAMILY, _UNBUILT)
+    if family is _UNBUILT:
+        family = orientations.FAMILY(arm)
+    if targets.rotations is not None and family is not None:
+        refusals = _batch_refusals(arm, targets, opts, sf, R_t, p_t)
+        if refusals:
+            return _batch_with_refusals(arm, opts, step, sf, si, R_t, p_t, q0, seeds, refusals)
     out_q = np.empty((n_targets, 1, dof))
     info = np.empty((n_targets, 5), dtype=np.int64)
     err = np.empty((n_targets, 2))
@@ -397,3 +438,46 @@ def run_numeric_batch(
         iterations=info[:, 2].copy(),
         restarts=info[:, 3].copy(),
     )
+
+
+def _batch_with_refusals(arm: ArmModel, opts, step, sf, si, R_t, p_t, q0, seeds, refusals):
+    """A batch's answers where rows ``refusals`` ({row: why}) are refused (q0 kept): the
+    others in one kernel call, every row in words (a solved one's as the single solve's)."""
+    n_targets = len(p_t)
+    rows = [i for i in range(n_targets) if i not in refusals]
+    out_q, info, err = _batch_kernel(arm, sf, si, R_t[rows], p_t[rows], q0[rows], seeds[rows], step)
+    q, claim = q0, np.full(n_targets, Status.UNREACHABLE.code, dtype=np.int8)
+    iterations, restarts = np.zeros(n_targets, dtype=np.int64), np.zeros(n_targets, dtype=np.int64)
+    words = dict(refusals)
+    for k, i in enumerate(rows):
+        got = kernel_answers(arm, p_t[i], q0[i], opts, sf, info[k], out_q[k], err[k], False)
+        q[i], claim[i], iterations[i], restarts[i] = out_q[k, 0], info[k, 0], info[k, 2], info[k, 3]
+        words[i] = "" if got.claimed(0) else got.reason(0)  # a success: the verdict's words
+    reasons_ = tuple(words[i] for i in range(n_targets))
+    return Answers(q=q, claim=claim, iterations=iterations, restarts=restarts, reasons=reasons_)
+
+
+def _batch_kernel(arm: ArmModel, sf, si, R_t, p_t, q0, seeds, step: Step):
+    """(out_q, info, err) of one kernel call over these rows."""
+    n_targets = len(p_t)
+    out_q = np.empty((n_targets, 1, arm.dof))
+    info = np.empty((n_targets, 5), dtype=np.int64)
+    err = np.empty((n_targets, 2))
+    if step.kind not in warmup.PREPARED:  # a warm process: nothing to prepare
+        warmup.prepare(step.kind)
+    entry = ENTRIES[step.kind]
+    entry(*arm.kernel_chain.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
+    return out_q, info, err
+
+
+def _batch_refusals(arm: ArmModel, targets: TargetBatch, opts, sf, R_t, p_t) -> dict[int, str]:
+    """{row: why} of a batch's rotations beyond those the arm's structure allows
+    (``_misoriented``); empty for another target kind."""
+    if not orientations.measured_plainly(opts, False, targets.aim is not None):
+        return {}
+    found = {}
+    for i in range(len(p_t)):
+        why = _misoriented(arm, R_t[i], p_t[i], opts, sf)
+        if why is not None:
+            found[i] = why
+    return found
