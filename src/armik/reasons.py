@@ -338,3 +338,14 @@ def orientation_unreachable(angle: float, fixed: bool, tol: float) -> str:
         f"the target's orientation is {angle:.3g} rad from {takes}, beyond tol_orientation "
         f"({tol:g} rad); q is the seed, unchanged"
     )
+
+
+def slides_unreachable(distance: float, tol: float) -> str:
+    """A position ``distance`` m (at least) from every one a chain of prismatic joints only
+    reaches within its limits, beyond ``tol`` (``tol_position``), refused before any
+    iteration."""
+    return (
+        f"the target is {distance:.3g} m from every position the tip reaches (its joints all "
+        f"slide, within their limits), beyond tol_position ({tol:g} m); q is the seed, "
+        "unchanged"
+    )

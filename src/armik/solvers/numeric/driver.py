@@ -48,7 +48,7 @@ from armik.problem.scores import fit_posture
 from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers, one
 from armik.solvers.claims import claim
-from armik.solvers.numeric import orientations
+from armik.solvers.numeric import orientations, slides
 from armik.status import Status
 from armik.targets.aim import Aim
 from armik.targets.batch import TargetBatch
@@ -258,9 +258,9 @@ def run_numeric(
     family = arm._derived.get(orientations.FAMILY, _UNBUILT)
     if family is _UNBUILT:
         family = orientations.FAMILY(arm)
-    if target.rotation is not None and family is not None:
-        plain = orientations.measured_plainly(opts, target.position_only, aim is not None)
-        why = _misoriented(arm, R_t[0], p_t[0], opts, sf) if plain else None
+    if family is not None and aim is None and opts.weights is None and opts.bounds is None:
+        turned = target.rotation is not None and not opts.position_only
+        why = _beyond_structure(arm, R_t[0] if turned else None, p_t[0], opts, sf)
         if why is not None:
             return one(q0.copy(), Status.UNREACHABLE, why)
     if step.kind not in warmup.PREPARED:  # a warm process: nothing to prepare
@@ -271,12 +271,15 @@ def run_numeric(
     return kernel_answers(arm, target.position, q0, opts, sf, info[0], out_q[0], err[0], region)
 
 
-def _misoriented(arm: ArmModel, R_t, p_t, opts: SolverSettings, sf) -> str | None:
-    """Why the rotation ``R_t`` of a plainly measured target
-    (``orientations.measured_plainly``) is beyond those ``arm``'s structure allows
-    (``orientations.refused``), for a target within the reach bound (beyond it the kernel
+def _beyond_structure(arm: ArmModel, R_t, p_t, opts: SolverSettings, sf) -> str | None:
+    """Why a target measured plainly (no weights, no region) is beyond what ``arm``'s
+    structure allows: its rotation ``R_t`` (None: not measured) beyond the tip's
+    (``orientations.refused``), or its position ``p_t`` beyond a gantry's
+    (``slides.refused``); for a target within the reach bound only (beyond it the kernel
     refuses it by its distance, as ``solve.far`` does); else None."""
-    why = orientations.refused(arm, R_t, opts)
+    why = None if R_t is None else orientations.refused(arm, R_t, opts)
+    if why is None:
+        why = slides.refused(arm, p_t, opts)
     if why is None:
         return None
     ch = arm.kernel_chain.chain
@@ -338,14 +341,14 @@ def pose_runner(
     packed, kind, halton_ = arm.kernel_chain.flat
     converged_code = _descent.CONVERGED
     # a rotation the arm's structure bounds, plainly measured: refused by ``run_numeric``
-    bounded = orientations.FAMILY(arm) is not None and orientations.measured_plainly(
-        opts, position_only, aim is not None
-    )
+    bounded = orientations.FAMILY(arm) is not None
+    bounded = bounded and aim is None and opts.weights is None and opts.bounds is None
+    turned = not (position_only or opts.position_only)
 
     def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False, point=None):
         if every:  # solve_all: the general path (max_solutions descents)
             return None
-        if bounded and _misoriented(arm, H[:3, :3], H[:3, 3], opts, sf) is not None:
+        if bounded and _beyond_structure(arm, H[:3, :3] if turned else None, H[:3, 3], opts, sf):
             return None  # the general path: H and q0 read there, the rotation refused
         s = sf
         if point is not None:  # this call's look-at point or direction (``packed_settings``)
@@ -420,7 +423,7 @@ def run_numeric_batch(
     family = arm._derived.get(orientations.FAMILY, _UNBUILT)
     if family is _UNBUILT:
         family = orientations.FAMILY(arm)
-    if targets.rotations is not None and family is not None:
+    if family is not None:
         refusals = _batch_refusals(arm, targets, opts, sf, R_t, p_t)
         if refusals:
             return _batch_with_refusals(arm, opts, step, sf, si, R_t, p_t, q0, seeds, refusals)
@@ -472,12 +475,13 @@ def _batch_kernel(arm: ArmModel, sf, si, R_t, p_t, q0, seeds, step: Step):
 
 def _batch_refusals(arm: ArmModel, targets: TargetBatch, opts, sf, R_t, p_t) -> dict[int, str]:
     """{row: why} of a batch's rotations beyond those the arm's structure allows
-    (``_misoriented``); empty for another target kind."""
-    if not orientations.measured_plainly(opts, False, targets.aim is not None):
+    (``_beyond_structure``); empty for another target kind."""
+    if targets.aim is not None or opts.weights is not None or opts.bounds is not None:
         return {}
+    turned = targets.rotations is not None and not opts.position_only
     found = {}
     for i in range(len(p_t)):
-        why = _misoriented(arm, R_t[i], p_t[i], opts, sf)
+        why = _beyond_structure(arm, R_t[i] if turned else None, p_t[i], opts, sf)
         if why is not None:
             found[i] = why
     return found

@@ -105,22 +105,10 @@ def _quaternion(M: np.ndarray) -> tuple[float, np.ndarray]:
     return (M[m, j] - M[j, m]) / s, v
 
 
-def measured_plainly(opts: SolverSettings, position_only: bool, aimed: bool) -> bool:
-    """Whether the verdict measures a target's rotation as the plain angle to it, against
-    ``tol_orientation``: no weights, no region, not position only."""
-    return not (
-        position_only
-        or aimed
-        or opts.position_only
-        or opts.weights is not None
-        or opts.bounds is not None
-    )
-
-
 def refused(arm: ArmModel, R_t: np.ndarray, opts: SolverSettings) -> str | None:
     """Why no configuration of ``arm`` reaches the rotation ``R_t`` (base frame) within
     ``tol_orientation``, or None when one may (or the arm's rotations are not bounded by its
-    structure). For a plainly measured target only (``measured_plainly``)."""
+    structure). For a target measured plainly (no weights, no region, not position only)."""
     family = FAMILY(arm)
     if family is None:
         return None

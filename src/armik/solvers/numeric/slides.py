@@ -1,0 +1,105 @@
+"""The positions a chain of prismatic joints only (a gantry) reaches, and a target beyond
+them refused at once.
+
+Without a turning joint the tip never turns and its position is affine in the joint values,
+``p(q) = p0 + B q`` (a mimic follower adds its multiplier times its driver's column and its
+offset to ``p0``): the positions within the limits are a box's image, and the least
+distance from a target to them is a small box-constrained least-squares problem. Its
+unlimited joints are taken out first (the target and the other columns projected off the
+directions they span: every direction a column spans at all, so that nothing is missed),
+then the bounded ones are solved for (least squares; ``scipy.optimize.lsq_linear``'s
+bounded one where that answer leaves the box) and the distance
+taken from a lower bound that holds whatever that answer's accuracy: for the convex
+``f(x) = |B x - r|^2 / 2``, ``f(y) >= f(x) + g . (y - x)`` over the box, ``g`` the gradient
+at x. Beyond ``tol_position`` no configuration passes the verdict, the joint limits of
+mimic followers apart (they only shrink the set): the numeric solvers then answer
+``unreachable`` without an iteration, where the reach bound (infinite with an unlimited
+rail) did not refuse it and the descent spent every restart on it.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from armik import reasons
+from armik.kernel.chain import PRISMATIC
+from armik.model.arm_model import ArmModel
+from armik.model.derived import Derived
+from armik.problem.settings import SolverSettings
+
+MARGIN = 1e-9  # m, and that much per metre of the problem's size: rounding
+SPAN_TOL = 1e-14  # relative singular value of an unlimited joint's column still counted
+
+
+class Slides(NamedTuple):
+    """``p(q) = p0 + B q`` (base frame, m) for ``lower <= q <= upper``."""
+
+    p0: np.ndarray  # (3,)
+    B: np.ndarray  # (3, n)
+    lower: np.ndarray  # (n,)
+    upper: np.ndarray  # (n,)
+
+
+def _slides(arm: ArmModel) -> Slides | None:
+    ch = arm.kernel_chain.chain
+    if (ch.joint_kind != PRISMATIC).any():
+        return None
+    R, p = np.eye(3), np.zeros(3)
+    B = np.zeros((3, len(ch.kind)))
+    for i in range(len(ch.joint_kind)):
+        p = p + R @ ch.joint_p[i]
+        R = R @ ch.joint_R[i]
+        w = R @ ch.axis[i]
+        B[:, ch.driver[i]] += ch.multiplier[i] * w
+        p = p + ch.offset[i] * w
+    p = p + R @ ch.tip_p
+    return Slides(p, B, np.asarray(ch.lower, dtype=float), np.asarray(ch.upper, dtype=float))
+
+
+SLIDES: Derived[Slides | None] = Derived("a prismatic chain's positions", _slides)
+
+
+def distance(slides: Slides, p_t: np.ndarray) -> float:
+    """A lower bound on the distance (m) from ``p_t`` (base frame) to every position
+    ``slides`` reaches."""
+    r = np.asarray(p_t, dtype=float) - slides.p0
+    lo, hi, B = slides.lower, slides.upper, slides.B
+    free = ~(np.isfinite(lo) & np.isfinite(hi))
+    if free.any():  # project off every direction the unlimited joints span
+        U, s, _ = np.linalg.svd(B[:, free], full_matrices=False)
+        Q = U[:, s > SPAN_TOL * max(float(s.max(initial=0.0)), 1.0)]
+        off = np.eye(3) - Q @ Q.T
+        r, B = off @ r, off @ B[:, ~free]
+        lo, hi = lo[~free], hi[~free]
+    fixed = lo >= hi  # limits that hold a joint still: its column moves the target
+    if fixed.any():
+        r = r - B[:, fixed] @ lo[fixed]
+        B, lo, hi = B[:, ~fixed], lo[~fixed], hi[~fixed]
+    if B.shape[1] == 0:
+        return float(np.linalg.norm(r))
+    x = np.linalg.lstsq(B, r, rcond=None)[0]  # the box apart: the usual answer, at once
+    if not ((lo <= x) & (x <= hi)).all():
+        from scipy.optimize import lsq_linear  # only for a target the box holds back
+
+        x = np.clip(lsq_linear(B, r, bounds=(lo, hi), method="bvls").x, lo, hi)
+    res = B @ x - r
+    g = B.T @ res
+    f = 0.5 * float(res @ res) + float(np.minimum(g * (lo - x), g * (hi - x)).sum())
+    return math.sqrt(max(2.0 * f, 0.0))
+
+
+def refused(arm: ArmModel, p_t: np.ndarray, opts: SolverSettings) -> str | None:
+    """Why no configuration of ``arm`` reaches the position ``p_t`` (base frame) within
+    ``tol_position``, or None when one may or the arm has a turning joint. For a target
+    measured plainly (no weights, no region)."""
+    slides = SLIDES(arm)
+    if slides is None:
+        return None
+    d = distance(slides, p_t)
+    size = float(np.abs(p_t).sum() + np.abs(slides.p0).sum())
+    if not d > opts.tol_position + MARGIN * (1.0 + size):
+        return None
+    return reasons.slides_unreachable(d, opts.tol_position)
