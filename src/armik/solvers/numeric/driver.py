@@ -48,7 +48,7 @@ from armik.problem.scores import fit_posture
 from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers, one
 from armik.solvers.claims import claim
-from armik.solvers.numeric import orientations, slides
+from armik.solvers.numeric import orientations, rails, slides
 from armik.status import Status
 from armik.targets.aim import Aim
 from armik.targets.batch import TargetBatch
@@ -267,7 +267,11 @@ def run_numeric(
         warmup.prepare(step.kind)
     region = opts.bounds is not None or aim is not None
     entry = ENTRIES[step.kind]
-    entry(*arm.kernel_chain.flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
+    rails_ = arm._derived.get(rails.UNLIMITED)
+    if rails_ is None:
+        rails_ = rails.UNLIMITED(arm)
+    flat = rails.toward(arm, p_t[0], q0, rails_) if len(rails_) else arm.kernel_chain.flat
+    entry(*flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
     return kernel_answers(arm, target.position, q0, opts, sf, info[0], out_q[0], err[0], region)
 
 
@@ -339,6 +343,7 @@ def pose_runner(
     region = opts.bounds is not None or aim is not None
     entry = POSE_ENTRIES[step.kind]
     packed, kind, halton_ = arm.kernel_chain.flat
+    unlimited = rails.UNLIMITED(arm)
     converged_code = _descent.CONVERGED
     # a rotation the arm's structure bounds, plainly measured: refused by ``run_numeric``
     bounded = orientations.FAMILY(arm) is not None
@@ -357,7 +362,10 @@ def pose_runner(
         out_q = np.empty((1, dof))
         info = np.empty(5, dtype=np.int64)
         err = np.empty(2)
-        if not entry(packed, kind, halton_, s, si, H, q0, seed, out_q, info, err):
+        chain = packed
+        if len(unlimited):  # restarts along a rail without limits: toward the target
+            chain = rails.toward(arm, H[:3, 3], np.asarray(q0, dtype=float), unlimited)[0]
+        if not entry(chain, kind, halton_, s, si, H, q0, seed, out_q, info, err):
             return None
         if info[0] == converged_code:
             restarts = int(info[3])
@@ -423,10 +431,13 @@ def run_numeric_batch(
     family = arm._derived.get(orientations.FAMILY, _UNBUILT)
     if family is _UNBUILT:
         family = orientations.FAMILY(arm)
-    if family is not None:
-        refusals = _batch_refusals(arm, targets, opts, sf, R_t, p_t)
-        if refusals:
-            return _batch_with_refusals(arm, opts, step, sf, si, R_t, p_t, q0, seeds, refusals)
+    unlimited = arm._derived.get(rails.UNLIMITED)
+    if unlimited is None:
+        unlimited = rails.UNLIMITED(arm)
+    if family is not None or len(unlimited):
+        refusals = {} if family is None else _batch_refusals(arm, targets, opts, sf, R_t, p_t)
+        if refusals or len(unlimited):
+            return _batch_rows(arm, opts, step, sf, si, R_t, p_t, q0, seeds, refusals)
     out_q = np.empty((n_targets, 1, dof))
     info = np.empty((n_targets, 5), dtype=np.int64)
     err = np.empty((n_targets, 2))
@@ -443,34 +454,24 @@ def run_numeric_batch(
     )
 
 
-def _batch_with_refusals(arm: ArmModel, opts, step, sf, si, R_t, p_t, q0, seeds, refusals):
-    """A batch's answers where rows ``refusals`` ({row: why}) are refused (q0 kept): the
-    others in one kernel call, every row in words (a solved one's as the single solve's)."""
+def _batch_rows(arm: ArmModel, opts, step, sf, si, R_t, p_t, q0, seeds, refusals):
+    """A batch's answers where rows ``refusals`` ({row: why}) are refused (q0 kept), the
+    others solved (``rails.batch_kernel``); with refusals, every row in words (a solved
+    one's as the single solve's)."""
     n_targets = len(p_t)
     rows = [i for i in range(n_targets) if i not in refusals]
-    out_q, info, err = _batch_kernel(arm, sf, si, R_t[rows], p_t[rows], q0[rows], seeds[rows], step)
+    got = rails.batch_kernel(arm, sf, si, R_t[rows], p_t[rows], q0[rows], seeds[rows], step.kind)
+    out_q, info, err = got
     q, claim = q0, np.full(n_targets, Status.UNREACHABLE.code, dtype=np.int8)
     iterations, restarts = np.zeros(n_targets, dtype=np.int64), np.zeros(n_targets, dtype=np.int64)
     words = dict(refusals)
     for k, i in enumerate(rows):
-        got = kernel_answers(arm, p_t[i], q0[i], opts, sf, info[k], out_q[k], err[k], False)
+        if refusals:
+            one_ = kernel_answers(arm, p_t[i], q0[i], opts, sf, info[k], out_q[k], err[k], False)
+            words[i] = "" if one_.claimed(0) else one_.reason(0)  # a success: the verdict's
         q[i], claim[i], iterations[i], restarts[i] = out_q[k, 0], info[k, 0], info[k, 2], info[k, 3]
-        words[i] = "" if got.claimed(0) else got.reason(0)  # a success: the verdict's words
-    reasons_ = tuple(words[i] for i in range(n_targets))
+    reasons_ = tuple(words[i] for i in range(n_targets)) if refusals else None
     return Answers(q=q, claim=claim, iterations=iterations, restarts=restarts, reasons=reasons_)
-
-
-def _batch_kernel(arm: ArmModel, sf, si, R_t, p_t, q0, seeds, step: Step):
-    """(out_q, info, err) of one kernel call over these rows."""
-    n_targets = len(p_t)
-    out_q = np.empty((n_targets, 1, arm.dof))
-    info = np.empty((n_targets, 5), dtype=np.int64)
-    err = np.empty((n_targets, 2))
-    if step.kind not in warmup.PREPARED:  # a warm process: nothing to prepare
-        warmup.prepare(step.kind)
-    entry = ENTRIES[step.kind]
-    entry(*arm.kernel_chain.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
-    return out_q, info, err
 
 
 def _batch_refusals(arm: ArmModel, targets: TargetBatch, opts, sf, R_t, p_t) -> dict[int, str]:
