@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import armik
+from armik.options import Options
 from armik.solvers.numeric import slides
 
 L = 'effort="1" velocity="1"'
@@ -88,5 +89,8 @@ def test_the_distance_bounds_every_reached_position_and_is_the_true_one_at_a_fac
 
 
 def test_arms_with_a_turning_joint_have_no_slides():
+    """Nor does a non-finite position get an answer here: the parser refuses it."""
+    gantry = armik.load_string(XYZ)
+    assert slides.refused(gantry.kinematics, np.array([np.nan, 9.0, 9.0]), Options()) is None
     assert slides.SLIDES(armik.load("scara").kinematics) is None
     assert slides.SLIDES(armik.load("ur5").kinematics) is None

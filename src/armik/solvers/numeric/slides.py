@@ -96,7 +96,7 @@ def refused(arm: ArmModel, p_t: np.ndarray, opts: SolverSettings) -> str | None:
     ``tol_position``, or None when one may or the arm has a turning joint. For a target
     measured plainly (no weights, no region)."""
     slides = SLIDES(arm)
-    if slides is None:
+    if slides is None or not np.isfinite(p_t).all():  # non-finite: the parser's to refuse
         return None
     d = distance(slides, p_t)
     size = float(np.abs(p_t).sum() + np.abs(slides.p0).sum())
