@@ -356,3 +356,25 @@ def test_descent_stops_at_a_known_minimum(rng):
     # ... but told that an earlier attempt got stuck there, it gives up on the way
     s, its, ok = pieces.descend(pb, start, step, 100, math.inf, a.to_pin(q_star)[None, :])
     assert not ok and its < 5 and s.sq < numeric.CAREFUL_BELOW
+
+
+@pytest.mark.parametrize("solver", NUMERIC)
+@pytest.mark.parametrize(
+    ("budget", "said"),
+    [
+        ({"max_restarts": 20}, "restart limit (max_restarts=20)"),
+        ({"iteration_budget": 300}, "iteration budget (300 iterations"),
+    ],
+)
+def test_a_batch_row_that_does_not_converge_says_why_as_solve_does(solver, budget, said):
+    """What ended the search (the restart limit or the budget) and its best errors, in the
+    words ``solve`` gives the same target from the same seed; a batch said "the time budget
+    (..., at most N restarts)" whatever ended it."""
+    a = arm("panda")
+    hopeless = pin.SE3(pin.utils.rotate("x", 2.0), np.array([0.0, 0.0, -0.3]))
+    rows = [a.fk(a.random_q(1)), hopeless]
+    b = a.solve_batch(rows, solver=solver, seed=0, workers=1, progress=False, **budget)
+    r = a.solve(hopeless, solver=solver, seed=0, **budget)
+    assert b.success.tolist() == [True, False] and not r.success
+    assert said in r.reason and b[1].reason == r.reason
+    np.testing.assert_array_equal(b.q[1], r.q)

@@ -434,10 +434,15 @@ def run_numeric_batch(
     unlimited = arm._derived.get(rails.UNLIMITED)
     if unlimited is None:
         unlimited = rails.UNLIMITED(arm)
+    region = opts.bounds is not None or aim is not None
     if family is not None or len(unlimited):
         refusals = {} if family is None else _batch_refusals(arm, targets, opts, sf, R_t, p_t)
         if refusals or len(unlimited):
-            return _batch_rows(arm, opts, step, sf, si, R_t, p_t, q0, seeds, refusals)
+            rows = [i for i in range(n_targets) if i not in refusals]
+            got = rails.batch_kernel(
+                arm, sf, si, R_t[rows], p_t[rows], q0[rows], seeds[rows], step.kind
+            )
+            return _worded(arm, opts, sf, p_t, q0, rows, got, refusals, region)
     out_q = np.empty((n_targets, 1, dof))
     info = np.empty((n_targets, 5), dtype=np.int64)
     err = np.empty((n_targets, 2))
@@ -446,6 +451,8 @@ def run_numeric_batch(
         warmup.prepare(step.kind)
     entry = ENTRIES[step.kind]
     entry(*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
+    if (info[:, 0] == _descent.NOT_CONVERGED).any():  # in the single solve's words
+        return _worded(arm, opts, sf, p_t, q0, range(n_targets), (out_q, info, err), {}, region)
     return Answers(
         q=out_q[:, 0],
         claim=info[:, 0].astype(np.int8),
@@ -454,23 +461,22 @@ def run_numeric_batch(
     )
 
 
-def _batch_rows(arm: ArmModel, opts, step, sf, si, R_t, p_t, q0, seeds, refusals):
-    """A batch's answers where rows ``refusals`` ({row: why}) are refused (q0 kept), the
-    others solved (``rails.batch_kernel``); with refusals, every row in words (a solved
-    one's as the single solve's)."""
-    n_targets = len(p_t)
-    rows = [i for i in range(n_targets) if i not in refusals]
-    got = rails.batch_kernel(arm, sf, si, R_t[rows], p_t[rows], q0[rows], seeds[rows], step.kind)
+def _worded(arm: ArmModel, opts, sf, p_t, q0, rows, got, refusals, region: bool) -> Answers:
+    """A batch's answers, the kernel's (``got``: out_q, info, err) for ``rows``, the others
+    refused (``refusals``: {row: why}, q0 kept); where a row failed, every row in words: a
+    solved one's as the single solve's (``kernel_answers``), a success's the verdict's."""
     out_q, info, err = got
-    q, claim = q0, np.full(n_targets, Status.UNREACHABLE.code, dtype=np.int8)
-    iterations, restarts = np.zeros(n_targets, dtype=np.int64), np.zeros(n_targets, dtype=np.int64)
+    n = len(p_t)
+    q, claim = q0.copy(), np.full(n, Status.UNREACHABLE.code, dtype=np.int8)
+    iterations, restarts = np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64)
     words = dict(refusals)
+    failed = bool(refusals) or bool((info[:, 0] == _descent.NOT_CONVERGED).any())
     for k, i in enumerate(rows):
-        if refusals:
-            one_ = kernel_answers(arm, p_t[i], q0[i], opts, sf, info[k], out_q[k], err[k], False)
-            words[i] = "" if one_.claimed(0) else one_.reason(0)  # a success: the verdict's
+        if failed:
+            one_ = kernel_answers(arm, p_t[i], q0[i], opts, sf, info[k], out_q[k], err[k], region)
+            words[i] = "" if one_.claimed(0) else one_.reason(0)
         q[i], claim[i], iterations[i], restarts[i] = out_q[k, 0], info[k, 0], info[k, 2], info[k, 3]
-    reasons_ = tuple(words[i] for i in range(n_targets)) if refusals else None
+    reasons_ = tuple(words[i] for i in range(n)) if failed else None
     return Answers(q=q, claim=claim, iterations=iterations, restarts=restarts, reasons=reasons_)
 
 
