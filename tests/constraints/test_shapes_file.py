@@ -44,6 +44,10 @@ def test_plain_shapes_and_their_checks(tmp_path):
             "not both",
         ),
         ([3], "give a shape"),
+        ([{"type": ["box"], "size": [1, 1, 1]}], "'type' must be one of"),
+        ([{"type": "box", "size": [1, 1, 1], 1: 2, "foo": 3}], "unknown keys [1, 'foo']"),
+        ([{"type": "sphere", "radius": 10**400}], "Sphere radius"),
+        ([{"type": "box", "size": [1, 1, 1], "position": [10**400, 0, 0]}], "position must be 3"),
         ({"type": "sphere", "radius": 1}, "list of shapes"),
     ],
 )

@@ -98,7 +98,7 @@ def _distance(value: object) -> float:
         if isinstance(value, (str, bytes, bool, np.bool_)):
             raise TypeError
         margin = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
         margin = float("nan")
     if not 0.0 <= margin <= MAX_LENGTH:
         raise OptionError(

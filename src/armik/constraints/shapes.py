@@ -35,7 +35,7 @@ def _pose(shape: str, value: object) -> tuple[float, ...]:
         if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
             raise TypeError
         arr = np.array(value, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
         raise CollisionError(f"{shape} pose {value!r} is not a pose: {fix}", value=value) from None
     if arr.shape == (3,):
         T = np.eye(4)
@@ -65,7 +65,7 @@ def _length(shape: str, name: str, value: object, zero: bool = False) -> float:
         if isinstance(value, (str, bytes, bool)):
             raise TypeError
         out = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
         out = math.nan
     if not (math.isfinite(out) and (out >= 0 if zero else out > 0) and out <= MAX_LENGTH):
         bound = ">= 0" if zero else "> 0"
@@ -82,7 +82,7 @@ def _vector(shape: str, name: str, value: object) -> tuple[float, float, float]:
         if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
             raise TypeError
         arr = np.array(value, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
         arr = np.array([np.nan])
     if arr.shape != (3,) or not np.isfinite(arr).all() or np.abs(arr).max() > MAX_LENGTH:
         raise CollisionError(
@@ -211,7 +211,7 @@ class HalfSpace(Shape):
             if isinstance(offset, (str, bytes, bool)):
                 raise TypeError
             d = float(offset)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
             d = math.nan
         if not math.isfinite(d) or abs(d) > MAX_LENGTH:
             raise CollisionError(

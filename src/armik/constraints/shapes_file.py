@@ -105,14 +105,14 @@ def _yaml(p: Path, text: str):
 
 def _from_mapping(i: int, item: Mapping) -> Shape:
     kind = item.get("type")
-    if kind not in KEYS:
+    if not isinstance(kind, str) or kind not in KEYS:  # (a list or a mapping: unhashable)
         raise CollisionError(
             f"obstacle {i}: 'type' must be one of {', '.join(map(repr, KEYS))}, got {kind!r}",
             value=kind,
         )
     needed, optional, cls = KEYS[kind]
     given = set(item) - {"type"}
-    unknown = sorted(given - needed - optional)
+    unknown = sorted(given - needed - optional, key=str)  # (YAML keys may be numbers)
     if unknown:
         raise CollisionError(
             f"obstacle {i} ({kind}): unknown keys {unknown}; a {kind} takes "
@@ -146,7 +146,7 @@ def _placed(i: int, kind: str, position, item: Mapping) -> np.ndarray:
     try:
         quat = np.array(q, dtype=float).reshape(4)
         p = np.array(position, dtype=float).reshape(3)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
         raise CollisionError(
             f"obstacle {i} ({kind}): position must be 3 numbers and quaternion 4 (x, y, z, w)",
             value=item,
