@@ -14,7 +14,7 @@ from armik.constraints.bounds import PREFIX
 from armik.constraints.collision import arm_geometry, checker
 from armik.model.catalogue import erd_share
 
-from ..conftest import arm, model
+from ..conftest import arm, model, write_urdf
 
 TABLE = armik.HalfSpace((0, 0, 1), 0)
 BOX = armik.Box((0.2, 0.3, 0.4), (0.45, 0.1, 0.2))
@@ -231,3 +231,38 @@ def test_each_capsule_holds_its_objects_points(name):
         far = np.linalg.norm(p - (end0 + np.outer(s, d)), axis=1)
         assert (far <= radius).all()
         assert radius <= np.linalg.norm(p - p.mean(axis=0), axis=1).max() + 1e-9  # not loose
+
+
+_LIMIT = 'effort="1" velocity="1"'
+# a parallelogram's rod: a box on a link that a passive mimic joint off the chain turns
+# with j2, beside the prismatic link l3 (the only two links with collision geometry)
+_ROD_URDF = f"""<?xml version="1.0"?>
+<robot name="rod">
+  <link name="base"/><link name="l1"/><link name="l2"/><link name="tool"/>
+  <link name="l3"><collision><origin xyz="0 0 0.15"/>
+    <geometry><box size="0.06 0.06 0.3"/></geometry></collision></link>
+  <link name="rod"><collision><origin xyz="0 0 0.21"/>
+    <geometry><box size="0.06 0.06 0.42"/></geometry></collision></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+    <origin xyz="0 0 0.3"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" {_LIMIT}/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>
+    <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" {_LIMIT}/></joint>
+  <joint name="j3" type="prismatic"><parent link="l2"/><child link="l3"/>
+    <origin xyz="0 0 0.4"/><axis xyz="0 0 1"/><limit lower="0" upper="0.3" {_LIMIT}/></joint>
+  <joint name="tool_fix" type="fixed"><parent link="l3"/><child link="tool"/>
+    <origin xyz="0 0 0.3"/></joint>
+  <joint name="passive" type="revolute"><parent link="l1"/><child link="rod"/>
+    <origin xyz="0.25 0 0.17"/><axis xyz="0 1 0"/><limit lower="-6" upper="6" {_LIMIT}/>
+    <mimic joint="j2" multiplier="1.5" offset="-1.03"/></joint>
+</robot>
+"""
+
+
+def test_never_colliding_pairs_place_a_passive_mimic_links_objects_by_its_driver(tmp_path):
+    # sampled with the rod where its driver puts it, as every check measures it: a pair that
+    # touches in the samples is not "never", or an SRDF written from it switches it off
+    a = armik.load(write_urdf(tmp_path, _ROD_URDF), tip="tool")
+    assert _link_pairs(a, "candidates") == {("l3", "rod")}
+    touching = [q for q in a.random_q(0, n=50) if a.min_distance(q, self_collision=True)[0] < 0]
+    assert touching  # the rod, turned by j2, hits l3 in some of the samples
+    assert armik.collision.never_colliding_pairs(a, n=50, seed=0) == []

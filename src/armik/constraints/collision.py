@@ -456,8 +456,11 @@ def never_colliding_pairs(arm: object, n: int = 1000, seed: int = 0) -> list[Pai
     gd = pin.GeometryData(model)
     touched = np.zeros(len(g.candidates), bool)
     data = arm.model.createData()
+    full = arm.chain.full.createData() if g.followed else None
     for q in arm.random_q(seed, n=int(n)):
         pin.updateGeometryPlacements(arm.model, data, model, gd, arm.to_pin(q))
+        if full is not None:  # where their drivers put them, as every check places them
+            mimic_frames.place_followed(arm, q, gd, g.followed, full)
         pin.computeCollisions(model, gd, False)
         touched |= np.array([r.isCollision() for r in gd.collisionResults])
     pairs = {sorted_pair(g.links[a], g.links[b]) for a, b in g.candidates}
