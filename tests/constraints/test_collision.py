@@ -266,3 +266,38 @@ def test_never_colliding_pairs_place_a_passive_mimic_links_objects_by_its_driver
     touching = [q for q in a.random_q(0, n=50) if a.min_distance(q, self_collision=True)[0] < 0]
     assert touching  # the rod, turned by j2, hits l3 in some of the samples
     assert armik.collision.never_colliding_pairs(a, n=50, seed=0) == []
+
+
+def test_a_passive_mimic_links_pairs_with_the_links_beside_it_are_checked(tmp_path):
+    # the rod turns relative to l1 and l2 (its driver's rate times 1.5): a body of its own,
+    # not welded to l1, so its pair with l2 is checked; measured against the whole model
+    l2 = (
+        '<link name="l2"><collision><origin xyz="0 0 0.2"/>'
+        '<geometry><box size="0.06 0.06 0.4"/></geometry></collision></link>'
+    )
+    path = write_urdf(tmp_path, _ROD_URDF.replace('<link name="l2"/>', l2))
+    a = armik.load(path, tip="tool")
+    assert {("l2", "rod"), ("l3", "rod")} <= _link_pairs(a)
+    full = pin.buildModelFromUrdf(str(path))
+    data = full.createData()
+    geom = pin.buildGeomFromUrdf(full, str(path), pin.COLLISION)
+    objects = {full.frames[o.parentFrame].name: o for o in geom.geometryObjects}
+
+    def placed(link):
+        o = objects[link]
+        M = data.oMi[o.parentJoint] * o.placement
+        return o.geometry, coal.Transform3s(M.rotation, M.translation)
+
+    crossing = 0
+    for q in a.random_q(1, n=60):
+        qf = pin.neutral(full)
+        for name, value in zip(a.joint_names, q):
+            qf[full.joints[full.getJointId(name)].idx_q] = value
+        qf[full.joints[full.getJointId("passive")].idx_q] = 1.5 * q[1] - 1.03  # the mimic
+        pin.forwardKinematics(full, data, qf)
+        req, res = coal.DistanceRequest(), coal.DistanceResult()
+        d = coal.distance(*placed("rod"), *placed("l2"), req, res)
+        if d < 0:
+            crossing += 1
+            assert a.min_distance(q, self_collision=True)[0] <= d + 1e-6
+    assert crossing  # the rod crosses l2 in some of the samples

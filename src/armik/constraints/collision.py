@@ -6,7 +6,8 @@ The geometry is the URDF's ``<collision>`` elements, read by Pinocchio's
 (``pin.buildReducedModel`` with the geometry), every mesh replaced by its convex hull.
 Self-collision pairs are the pairs of geometry objects on bodies that move relative to one
 another, minus adjacent bodies (the two sides of one moving joint, links joined by fixed
-joints being one body) and minus the pairs an SRDF disables. Links that never move relative
+joints being one body, a link a passive mimic joint moves a body of its own) and minus the
+pairs an SRDF disables. Links that never move relative
 to the base are checked against the obstacles once, when a ``Checker`` is built.
 """
 
@@ -80,6 +81,7 @@ def _build_geometry(arm: ArmModel) -> ArmGeometry:
         )
     links = tuple(full.frames[o.parentFrame].name for o in geom.geometryObjects)
     followed = mimic_frames.followed_objects(arm, geom)
+    body, parent = _bodies(arm, [o.parentJoint for o in geom.geometryObjects])
     if chain.locked_joints:
         _, geom = reduce_model(full, list(chain.locked_joints), chain.q_ref, geom)
     for o, link in zip(geom.geometryObjects, links):
@@ -89,12 +91,11 @@ def _build_geometry(arm: ArmModel) -> ArmGeometry:
             solid(o.geometry, mesh, fix)
             o.geometry = convex_hull(o.geometry)
     bodies = [o.parentJoint for o in geom.geometryObjects]
-    parents = arm.model.parents
     touching = {tuple(sorted((j.parent, j.child))) for j in arm.info.joints.values()}
     candidates = []
     for a, b in combinations(range(geom.ngeoms), 2):
-        ja, jb = bodies[a], bodies[b]
-        if ja == jb or parents[ja] == jb or parents[jb] == ja:
+        ja, jb = body[a], body[b]
+        if ja == jb or parent[ja] == jb or parent[jb] == ja:
             continue  # rigidly joined, or the two sides of one joint
         if tuple(sorted((links[a], links[b]))) in touching:
             continue
@@ -114,6 +115,25 @@ def _build_geometry(arm: ArmModel) -> ArmGeometry:
 
 
 _GEOMETRY = Derived("collision geometry", _build_geometry)
+
+
+def _bodies(arm: ArmModel, joints: list[int]) -> tuple[list[int], dict[int, int]]:
+    """The body of each object whose whole-model joint is in ``joints``: the joint that
+    moves it there (its own, or the nearest above it that moves: one of the chain's, or a
+    mimic joint off the chain that follows its driver, ``mimic_frames.followers``), 0 for
+    the base's; and each body's parent body. A followed link is a body of its own, as it
+    moves relative to the link it hangs from: welded to that link, a parallelogram's rod
+    was paired as that link, its pairs with the links beside it never checked."""
+    full = arm.chain.full
+    held = set(arm.chain.locked_joints) - set(mimic_frames.followers(arm))
+
+    def body(j: int) -> int:
+        while j != 0 and j in held:
+            j = full.parents[j]
+        return j
+
+    out = [body(j) for j in joints]
+    return out, {b: body(full.parents[b]) if b else 0 for b in out}
 
 
 def obstacle_name(i: int, shape: Shape) -> str:
