@@ -153,6 +153,25 @@ def test_in_collision_and_margin():
     assert not a.in_collision(q, [BOX], margin=d - 1e-3) or d - 1e-3 < 0
 
 
+@pytest.mark.parametrize("margin", [None, "1cm", float("nan"), -0.01, 10**400])
+def test_in_collision_refuses_a_margin_that_is_no_distance(margin):
+    # a NaN said "clear" of any overlap, a negative margin allowed one; None a TypeError
+    a = arm("ur5")
+    q = a.random_q(11)
+    with pytest.raises(armik.OptionError, match="margin must be a distance"):
+        a.in_collision(q, [BOX], margin=margin)
+
+
+@pytest.mark.parametrize("flag", ["no", 1, None])
+def test_min_distance_refuses_a_self_collision_that_is_no_bool(flag):
+    # "no" read as true measured the self-collision pairs; as the constraint refuses it
+    a = arm("ur5")
+    with pytest.raises(armik.OptionError, match="self_collision must be True or False"):
+        a.min_distance(a.middle, [BOX], self_collision=flag)
+    with pytest.raises(armik.OptionError, match="self_collision must be True or False"):
+        a.in_collision(a.middle, [BOX], self_collision=flag)
+
+
 def test_a_table_under_the_base_is_accepted_an_obstacle_through_it_is_refused():
     a = arm("ur5")
     a.min_distance(a.middle, obstacles=[TABLE])  # the base sits 3 mm into its table

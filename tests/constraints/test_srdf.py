@@ -69,3 +69,14 @@ def test_an_unknown_link_of_any_element_is_named(tmp_path, body, named):
     with pytest.raises(armik.CollisionError) as info:
         armik.load("ur5", srdf=_srdf(tmp_path, body))
     assert named in str(info.value) and "not a link of the URDF" in str(info.value)
+
+
+@pytest.mark.parametrize("pairs", [[("base_link",)], ["ab"], [3]])
+def test_write_srdf_refuses_what_is_no_pair_of_links(tmp_path, pairs):
+    with pytest.raises(armik.CollisionError, match="pairs of link names"):
+        armik.collision.write_srdf(pairs, tmp_path / "x.srdf")
+
+
+def test_never_colliding_pairs_refuses_a_seed_that_is_no_whole_number():
+    with pytest.raises(armik.CollisionError, match="seed must be a whole number"):
+        armik.collision.never_colliding_pairs(arm("ur5"), n=3, seed="x")

@@ -26,13 +26,13 @@ import pinocchio as pin
 from armik.constraints.bounds import ordered_bounds, ordered_bounds_many
 from armik.constraints.shapes import Shape, check_obstacles, convex_hull, solid
 from armik.constraints.srdf import Pair, sorted_pair
-from armik.errors import CollisionError
+from armik.errors import CollisionError, OptionError
 from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel, model_of
 from armik.model.catalogue import erd_share
 from armik.model.derived import Derived
 from armik.model.reduce import reduce_model
-from armik.tolerances import FIXED_OVERLAP_TOL
+from armik.tolerances import FIXED_OVERLAP_TOL, MAX_LENGTH
 
 
 @dataclass(frozen=True)
@@ -443,6 +443,7 @@ def min_distance(
 ) -> tuple[float, Pair | None]:
     """(distance m, (name_a, name_b)): the closest checked pair at ``q`` (rad, m)."""
     from_obstacles = check_obstacles(obstacles)
+    self_collision = flag(self_collision)
     if not from_obstacles and not self_collision:
         raise CollisionError(
             "nothing to measure: give obstacles=[...] or self_collision=True",
@@ -459,7 +460,35 @@ def in_collision(
     margin: float = 0.0,
 ) -> bool:
     """Whether some checked pair at ``q`` is closer than ``margin`` (m)."""
-    return min_distance(arm, q, obstacles, self_collision)[0] < margin
+    return min_distance(arm, q, obstacles, self_collision)[0] < margin_of(margin)
+
+
+def flag(value: object) -> bool:
+    """``self_collision`` as a bool: True or False (numpy's too), else ``OptionError``."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise OptionError(
+            f"self_collision must be True or False, got {value!r}",
+            option="self_collision",
+            value=value,
+        )
+    return bool(value)
+
+
+def margin_of(value: object) -> float:
+    """``margin`` as a distance in [0, MAX_LENGTH] m, else ``OptionError`` naming it."""
+    try:
+        if isinstance(value, (str, bytes, bool, np.bool_)):
+            raise TypeError
+        margin = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
+        margin = float("nan")
+    if not 0.0 <= margin <= MAX_LENGTH:
+        raise OptionError(
+            f"margin must be a distance in [0, {MAX_LENGTH:g}] m, got {value!r}",
+            option="margin",
+            value=value,
+        )
+    return margin
 
 
 def never_colliding_pairs(arm: object, n: int = 1000, seed: int = 0) -> list[Pair]:
@@ -469,6 +498,10 @@ def never_colliding_pairs(arm: object, n: int = 1000, seed: int = 0) -> list[Pai
     arm = model_of(arm)
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise CollisionError(f"n must be a whole number >= 1, got {n!r}", option="n", value=n)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise CollisionError(
+            f"seed must be a whole number >= 0, got {seed!r}", option="seed", value=seed
+        )
     g = arm_geometry(arm)
     model = g.model.copy()
     for a, b in g.candidates:

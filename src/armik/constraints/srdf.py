@@ -116,7 +116,16 @@ def sorted_pair(a: str, b: str) -> Pair:
 def write_srdf(pairs, path, robot: str = "robot") -> None:
     """Write ``pairs`` of link names as an SRDF's ``<disable_collisions reason="Never">``."""
     root = ET.Element("robot", name=robot)
-    for a, b in pairs:
+    for pair in pairs:
+        try:
+            if isinstance(pair, (str, bytes)):  # two letters are no pair of links
+                raise TypeError
+            a, b = pair
+        except (TypeError, ValueError):
+            raise CollisionError(
+                f"write_srdf takes pairs of link names (link1, link2), got {pair!r}",
+                value=pair,
+            ) from None
         ET.SubElement(root, "disable_collisions", link1=str(a), link2=str(b), reason="Never")
     ET.indent(root)
     ET.ElementTree(root).write(path, encoding="unicode", xml_declaration=True)
