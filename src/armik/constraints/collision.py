@@ -25,10 +25,10 @@ import pinocchio as pin
 
 from armik.constraints.bounds import ordered_bounds, ordered_bounds_many
 from armik.constraints.shapes import Shape, check_obstacles, convex_hull, solid
-from armik.constraints.srdf import Pair, sorted_pair
+from armik.constraints.srdf import Pair
 from armik.errors import CollisionError, OptionError
 from armik.model import mimic_frames
-from armik.model.arm_model import ArmModel, model_of
+from armik.model.arm_model import ArmModel
 from armik.model.catalogue import erd_share
 from armik.model.derived import Derived
 from armik.model.reduce import reduce_model
@@ -489,33 +489,3 @@ def margin_of(value: object) -> float:
             value=value,
         )
     return margin
-
-
-def never_colliding_pairs(arm: object, n: int = 1000, seed: int = 0) -> list[Pair]:
-    """The link pairs that can touch (not adjacent) yet never do over ``n`` random
-    configurations within the limits, sorted: what MoveIt's setup assistant disables as
-    "Never". Ignores the arm's own SRDF. ``write_srdf`` writes them."""
-    arm = model_of(arm)
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise CollisionError(f"n must be a whole number >= 1, got {n!r}", option="n", value=n)
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise CollisionError(
-            f"seed must be a whole number >= 0, got {seed!r}", option="seed", value=seed
-        )
-    g = arm_geometry(arm)
-    model = g.model.copy()
-    for a, b in g.candidates:
-        model.addCollisionPair(pin.CollisionPair(a, b))
-    gd = pin.GeometryData(model)
-    touched = np.zeros(len(g.candidates), bool)
-    data = arm.model.createData()
-    full = arm.chain.full.createData() if g.followed else None
-    for q in arm.random_q(seed, n=int(n)):
-        pin.updateGeometryPlacements(arm.model, data, model, gd, arm.to_pin(q))
-        if full is not None:  # where their drivers put them, as every check places them
-            mimic_frames.place_followed(arm, q, gd, g.followed, full)
-        pin.computeCollisions(model, gd, False)
-        touched |= np.array([r.isCollision() for r in gd.collisionResults])
-    pairs = {sorted_pair(g.links[a], g.links[b]) for a, b in g.candidates}
-    hit = {sorted_pair(g.links[a], g.links[b]) for (a, b), t in zip(g.candidates, touched) if t}
-    return sorted(pairs - hit)
