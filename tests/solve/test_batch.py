@@ -175,8 +175,12 @@ def test_q0_checks():
         a.solve_batch(poses, q0=bad)
     outside = np.zeros((3, 6))
     outside[2, 2] = 10.0
-    with pytest.warns(armik.ArmikWarning, match="1 target.*target 2"):
+    with pytest.warns(armik.ArmikWarning, match="1 target.*target 2") as said:
         a.solve_batch(poses, q0=outside, workers=1)
+    assert said[0].filename == __file__  # the caller's line, not armik's arm.py
+    with pytest.warns(armik.ArmikWarning, match="1 target.*target 2") as said:
+        a.solve_batch(poses, q0=outside, prefer="nearest")  # row by row: the same words
+    assert said[0].filename == __file__
     for workers in (0, 1.5, True):
         with pytest.raises(OptionError, match="workers"):
             a.solve_batch(poses, workers=workers)

@@ -37,3 +37,15 @@ def test_a_constraint_that_cannot_pickle_is_named_before_the_batch_goes(client, 
         a.solve_batch(T, backend=backend, chunk_size=3, progress=False, **options)
     # the same batch here: the constraint holds (every answer passes it)
     assert a.solve_batch(T, workers=1, progress=False, **options).success.all()
+
+
+@pytest.mark.parametrize("rows", [False, True])
+def test_seeds_clipped_into_the_limits_are_said_at_the_callers_line(client, rows):
+    a = arm("ur5")
+    T = a.fk_batch(a.random_q(1, n=3))
+    outside = np.zeros((3, 6))
+    outside[2, 2] = 10.0
+    options = {"prefer": "nearest"} if rows else {}
+    with pytest.warns(armik.ArmikWarning, match="1 target.*target 2") as said:
+        armik_distributed.solve_batch(a, T, q0=outside, client=client, progress=False, **options)
+    assert said[0].filename == __file__

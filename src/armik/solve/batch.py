@@ -367,9 +367,10 @@ def _row(arm: ArmModel, request: Request, target, seed: np.ndarray):
     return run(arm, request.but(target=target, q0=seed, t0=time.perf_counter()))
 
 
-def batch_seeds(arm: ArmModel, q0: object, n: int) -> np.ndarray:
+def batch_seeds(arm: ArmModel, q0: object, n: int, stacklevel: int = 4) -> np.ndarray:
     """(n, dof) seeds: mid-limits, one configuration for every target, or one per target.
-    Seeds outside the limits are clipped into them with one ``ArmikWarning``."""
+    Seeds outside the limits are clipped into them with one ``ArmikWarning``, said at the
+    caller ``stacklevel`` frames up (``Arm.solve_batch``'s: the user's line, not armik's)."""
     if q0 is None:
         return np.broadcast_to(arm.middle, (n, arm.dof))
     try:
@@ -400,7 +401,7 @@ def batch_seeds(arm: ArmModel, q0: object, n: int) -> np.ndarray:
             f"q0 outside the joint limits was clipped into them for {int(outside.sum())} "
             f"target(s); the first, target {i}: " + "; ".join(arm.limit_violations(q[i])),
             ArmikWarning,
-            stacklevel=3,
+            stacklevel=stacklevel,
         )
         q = np.clip(q, arm.lower, arm.upper)
     return q
