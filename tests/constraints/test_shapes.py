@@ -69,7 +69,7 @@ def test_every_shape_converts_to_its_coal_geometry(tmp_path):
         (lambda: armik.HalfSpace((0, 0, 0), 0), "normal must not be zero"),
         (lambda: armik.HalfSpace((0, 0, 1), math.inf), "offset must be a finite"),
         (lambda: armik.Mesh("/no/such/mesh.stl"), "not an existing file"),
-        (lambda: armik.Mesh(__file__, scale=-1), "Mesh scale"),
+        (lambda: armik.Mesh(__file__, scale=-1), "Mesh scale must be a factor > 0"),
         # an int beyond a float's range (JSON reads one from 400 digits)
         (lambda: armik.Sphere(10**400), "Sphere radius"),
         (lambda: armik.Sphere(0.1, (10**400, 0, 0)), "Sphere center must be 3"),

@@ -59,8 +59,11 @@ def _pose(shape: str, value: object) -> tuple[float, ...]:
     return tuple(arr.ravel().tolist())
 
 
-def _length(shape: str, name: str, value: object, zero: bool = False) -> float:
-    """A length in m, > 0 (>= 0 with ``zero``) and finite; else ``CollisionError``."""
+def _length(
+    shape: str, name: str, value: object, zero: bool = False, unit: str = "a number of metres"
+) -> float:
+    """A length in m, > 0 (>= 0 with ``zero``) and finite; else ``CollisionError`` naming
+    it as ``unit``."""
     try:
         if isinstance(value, (str, bytes, bool)):
             raise TypeError
@@ -70,8 +73,7 @@ def _length(shape: str, name: str, value: object, zero: bool = False) -> float:
     if not (math.isfinite(out) and (out >= 0 if zero else out > 0) and out <= MAX_LENGTH):
         bound = ">= 0" if zero else "> 0"
         raise CollisionError(
-            f"{shape} {name} must be a number of metres {bound} and at most {MAX_LENGTH:g}, "
-            f"got {value!r}",
+            f"{shape} {name} must be {unit} {bound} and at most {MAX_LENGTH:g}, got {value!r}",
             value=value,
         )
     return out
@@ -243,7 +245,7 @@ class Mesh(Shape):
             )
         object.__setattr__(self, "path", str(Path(path).resolve()))
         object.__setattr__(self, "pose", _pose("Mesh", pose))
-        object.__setattr__(self, "scale", _length("Mesh", "scale", scale))
+        object.__setattr__(self, "scale", _length("Mesh", "scale", scale, unit="a factor"))
         self._read()  # a file coal cannot read, or no solid, refused here
 
     def _read(self) -> coal.BVHModelBase:
