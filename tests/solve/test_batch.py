@@ -353,3 +353,23 @@ def test_nothing_is_called_to_report_where_nothing_is_reported():
         )
         assert r.success.all() and seen == [2, 4]
         assert a.solve_batch(poses, workers=workers, chunk_size=2, progress=False).success.all()
+
+
+def test_a_backends_job_carries_its_own_rows_not_the_batchs():
+    # a job pickled to a cluster carried the whole batch's targets and seeds: the traffic
+    # of a batch grew as the square of its size
+    import cloudpickle
+
+    a = arm("ur5")
+    sizes = {}
+
+    def spy(jobs, workers):
+        sizes[len(jobs)] = len(cloudpickle.dumps(jobs[0]._replace(arm=None)))
+        return [job() for job in jobs]
+
+    for n in (64, 1024):
+        Q = a.random_q(1, n=n)
+        local = a.solve_batch(a.fk_batch(Q), q0=Q, workers=1, progress=False)
+        remote = a.solve_batch(a.fk_batch(Q), q0=Q, backend=spy, chunk_size=32, progress=False)
+        np.testing.assert_array_equal(remote.q, local.q)
+    assert sizes[32] < 1.1 * sizes[2]  # 16 times the targets, the same job

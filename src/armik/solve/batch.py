@@ -132,8 +132,11 @@ def solve_batch(
 
     done = 0
     if run_jobs is not None:
+        # each job without the batch's targets and seeds (its rows' own are its fields):
+        # a job pickled to a cluster carried every target, the batch's size each time
+        bare = request.but(target=None, q0=None)
         jobs = [
-            Chunk(arm, spec.name, batch[s : s + chunk], seeds[s : s + chunk], request, s)
+            Chunk(arm, spec.name, batch[s : s + chunk], seeds[s : s + chunk], bare, s)
             for s in starts
         ]
         place(run_jobs, jobs, workers, out, _or_quiet(bar))
