@@ -14,7 +14,7 @@ from armik.constraints.bounds import PREFIX
 from armik.constraints.collision import arm_geometry, checker
 from armik.model.catalogue import erd_share
 
-from ..conftest import arm, model
+from ..conftest import arm, model, write_urdf
 
 TABLE = armik.HalfSpace((0, 0, 1), 0)
 BOX = armik.Box((0.2, 0.3, 0.4), (0.45, 0.1, 0.2))
@@ -153,6 +153,25 @@ def test_in_collision_and_margin():
     assert not a.in_collision(q, [BOX], margin=d - 1e-3) or d - 1e-3 < 0
 
 
+@pytest.mark.parametrize("margin", [None, "1cm", float("nan"), -0.01, 10**400])
+def test_in_collision_refuses_a_margin_that_is_no_distance(margin):
+    # a NaN said "clear" of any overlap, a negative margin allowed one; None a TypeError
+    a = arm("ur5")
+    q = a.random_q(11)
+    with pytest.raises(armik.OptionError, match="margin must be a distance"):
+        a.in_collision(q, [BOX], margin=margin)
+
+
+@pytest.mark.parametrize("flag", ["no", 1, None])
+def test_min_distance_refuses_a_self_collision_that_is_no_bool(flag):
+    # "no" read as true measured the self-collision pairs; as the constraint refuses it
+    a = arm("ur5")
+    with pytest.raises(armik.OptionError, match="self_collision must be True or False"):
+        a.min_distance(a.middle, [BOX], self_collision=flag)
+    with pytest.raises(armik.OptionError, match="self_collision must be True or False"):
+        a.in_collision(a.middle, [BOX], self_collision=flag)
+
+
 def test_a_table_under_the_base_is_accepted_an_obstacle_through_it_is_refused():
     a = arm("ur5")
     a.min_distance(a.middle, obstacles=[TABLE])  # the base sits 3 mm into its table
@@ -231,3 +250,73 @@ def test_each_capsule_holds_its_objects_points(name):
         far = np.linalg.norm(p - (end0 + np.outer(s, d)), axis=1)
         assert (far <= radius).all()
         assert radius <= np.linalg.norm(p - p.mean(axis=0), axis=1).max() + 1e-9  # not loose
+
+
+_LIMIT = 'effort="1" velocity="1"'
+# a parallelogram's rod: a box on a link that a passive mimic joint off the chain turns
+# with j2, beside the prismatic link l3 (the only two links with collision geometry)
+_ROD_URDF = f"""<?xml version="1.0"?>
+<robot name="rod">
+  <link name="base"/><link name="l1"/><link name="l2"/><link name="tool"/>
+  <link name="l3"><collision><origin xyz="0 0 0.15"/>
+    <geometry><box size="0.06 0.06 0.3"/></geometry></collision></link>
+  <link name="rod"><collision><origin xyz="0 0 0.21"/>
+    <geometry><box size="0.06 0.06 0.42"/></geometry></collision></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+    <origin xyz="0 0 0.3"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" {_LIMIT}/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>
+    <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" {_LIMIT}/></joint>
+  <joint name="j3" type="prismatic"><parent link="l2"/><child link="l3"/>
+    <origin xyz="0 0 0.4"/><axis xyz="0 0 1"/><limit lower="0" upper="0.3" {_LIMIT}/></joint>
+  <joint name="tool_fix" type="fixed"><parent link="l3"/><child link="tool"/>
+    <origin xyz="0 0 0.3"/></joint>
+  <joint name="passive" type="revolute"><parent link="l1"/><child link="rod"/>
+    <origin xyz="0.25 0 0.17"/><axis xyz="0 1 0"/><limit lower="-6" upper="6" {_LIMIT}/>
+    <mimic joint="j2" multiplier="1.5" offset="-1.03"/></joint>
+</robot>
+"""
+
+
+def test_never_colliding_pairs_place_a_passive_mimic_links_objects_by_its_driver(tmp_path):
+    # sampled with the rod where its driver puts it, as every check measures it: a pair that
+    # touches in the samples is not "never", or an SRDF written from it switches it off
+    a = armik.load(write_urdf(tmp_path, _ROD_URDF), tip="tool")
+    assert _link_pairs(a, "candidates") == {("l3", "rod")}
+    touching = [q for q in a.random_q(0, n=50) if a.min_distance(q, self_collision=True)[0] < 0]
+    assert touching  # the rod, turned by j2, hits l3 in some of the samples
+    assert armik.collision.never_colliding_pairs(a, n=50, seed=0) == []
+
+
+def test_a_passive_mimic_links_pairs_with_the_links_beside_it_are_checked(tmp_path):
+    # the rod turns relative to l1 and l2 (its driver's rate times 1.5): a body of its own,
+    # not welded to l1, so its pair with l2 is checked; measured against the whole model
+    l2 = (
+        '<link name="l2"><collision><origin xyz="0 0 0.2"/>'
+        '<geometry><box size="0.06 0.06 0.4"/></geometry></collision></link>'
+    )
+    path = write_urdf(tmp_path, _ROD_URDF.replace('<link name="l2"/>', l2))
+    a = armik.load(path, tip="tool")
+    assert {("l2", "rod"), ("l3", "rod")} <= _link_pairs(a)
+    full = pin.buildModelFromUrdf(str(path))
+    data = full.createData()
+    geom = pin.buildGeomFromUrdf(full, str(path), pin.COLLISION)
+    objects = {full.frames[o.parentFrame].name: o for o in geom.geometryObjects}
+
+    def placed(link):
+        o = objects[link]
+        M = data.oMi[o.parentJoint] * o.placement
+        return o.geometry, coal.Transform3s(M.rotation, M.translation)
+
+    crossing = 0
+    for q in a.random_q(1, n=60):
+        qf = pin.neutral(full)
+        for name, value in zip(a.joint_names, q):
+            qf[full.joints[full.getJointId(name)].idx_q] = value
+        qf[full.joints[full.getJointId("passive")].idx_q] = 1.5 * q[1] - 1.03  # the mimic
+        pin.forwardKinematics(full, data, qf)
+        req, res = coal.DistanceRequest(), coal.DistanceResult()
+        d = coal.distance(*placed("rod"), *placed("l2"), req, res)
+        if d < 0:
+            crossing += 1
+            assert a.min_distance(q, self_collision=True)[0] <= d + 1e-6
+    assert crossing  # the rod crosses l2 in some of the samples

@@ -69,7 +69,12 @@ def test_every_shape_converts_to_its_coal_geometry(tmp_path):
         (lambda: armik.HalfSpace((0, 0, 0), 0), "normal must not be zero"),
         (lambda: armik.HalfSpace((0, 0, 1), math.inf), "offset must be a finite"),
         (lambda: armik.Mesh("/no/such/mesh.stl"), "not an existing file"),
-        (lambda: armik.Mesh(__file__, scale=-1), "Mesh scale"),
+        (lambda: armik.Mesh(__file__, scale=-1), "Mesh scale must be a factor > 0"),
+        # an int beyond a float's range (JSON reads one from 400 digits)
+        (lambda: armik.Sphere(10**400), "Sphere radius"),
+        (lambda: armik.Sphere(0.1, (10**400, 0, 0)), "Sphere center must be 3"),
+        (lambda: armik.Box((0.1, 0.2, 0.3), (10**400, 0, 0)), "not a pose"),
+        (lambda: armik.HalfSpace((0, 0, 1), 10**400), "offset must be a finite"),
     ],
 )
 def test_bad_shapes_are_refused_naming_the_value(build, match):
@@ -87,6 +92,8 @@ def test_bad_collision_options_are_refused():
         ur5.solve(T, obstacles="table")
     with pytest.raises(armik.OptionError, match="margin must be"):
         ur5.solve(T, obstacles=[armik.Sphere(0.1, (2, 2, 2))], margin=-0.1)
+    with pytest.raises(armik.OptionError, match="margin must be"):  # beyond a float's range
+        ur5.solve(T, obstacles=[armik.Sphere(0.1, (2, 2, 2))], margin=10**400)
     with pytest.raises(armik.OptionError, match="checks nothing"):
         ur5.solve(T, margin=0.01)
     with pytest.raises(armik.OptionError, match="self_collision must be True or False"):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -44,6 +45,10 @@ def test_plain_shapes_and_their_checks(tmp_path):
             "not both",
         ),
         ([3], "give a shape"),
+        ([{"type": ["box"], "size": [1, 1, 1]}], "'type' must be one of"),
+        ([{"type": "box", "size": [1, 1, 1], 1: 2, "foo": 3}], "unknown keys [1, 'foo']"),
+        ([{"type": "sphere", "radius": 10**400}], "Sphere radius"),
+        ([{"type": "box", "size": [1, 1, 1], "position": [10**400, 0, 0]}], "position must be 3"),
         ({"type": "sphere", "radius": 1}, "list of shapes"),
     ],
 )
@@ -62,3 +67,23 @@ def test_obstacles_file_errors(tmp_path):
     (tmp_path / "y.json").write_text('{"type": "sphere"}')
     with pytest.raises(armik.InputError, match="list of shapes"):
         read_shapes(tmp_path / "y.json")
+
+
+def test_a_meshs_relative_path_is_read_beside_the_obstacles_file(tmp_path, monkeypatch):
+    scene = tmp_path / "scene"
+    scene.mkdir()
+    corners = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)]
+    faces = [(0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3)]
+    body = "".join(
+        "facet normal 0 0 0\nouter loop\n"
+        + "".join("vertex {} {} {}\n".format(*corners[k]) for k in f)
+        + "endloop\nendfacet\n"
+        for f in faces
+    )
+    (scene / "fixture.stl").write_text(f"solid t\n{body}endsolid t\n")
+    (scene / "cell.json").write_text('[{"type": "mesh", "path": "fixture.stl"}]')
+    monkeypatch.chdir(tmp_path)  # no fixture.stl here: read from the working folder, none
+    (mesh,) = read_shapes(Path("scene") / "cell.json")
+    assert mesh.path == str((scene / "fixture.stl").resolve())
+    with pytest.raises(armik.CollisionError, match="not an existing file"):
+        as_shapes([{"type": "mesh", "path": "fixture.stl"}])  # in memory: the working folder

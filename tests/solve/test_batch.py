@@ -175,8 +175,12 @@ def test_q0_checks():
         a.solve_batch(poses, q0=bad)
     outside = np.zeros((3, 6))
     outside[2, 2] = 10.0
-    with pytest.warns(armik.ArmikWarning, match="1 target.*target 2"):
+    with pytest.warns(armik.ArmikWarning, match="1 target.*target 2") as said:
         a.solve_batch(poses, q0=outside, workers=1)
+    assert said[0].filename == __file__  # the caller's line, not armik's arm.py
+    with pytest.warns(armik.ArmikWarning, match="1 target.*target 2") as said:
+        a.solve_batch(poses, q0=outside, prefer="nearest")  # row by row: the same words
+    assert said[0].filename == __file__
     for workers in (0, 1.5, True):
         with pytest.raises(OptionError, match="workers"):
             a.solve_batch(poses, workers=workers)
@@ -349,3 +353,23 @@ def test_nothing_is_called_to_report_where_nothing_is_reported():
         )
         assert r.success.all() and seen == [2, 4]
         assert a.solve_batch(poses, workers=workers, chunk_size=2, progress=False).success.all()
+
+
+def test_a_backends_job_carries_its_own_rows_not_the_batchs():
+    # a job pickled to a cluster carried the whole batch's targets and seeds: the traffic
+    # of a batch grew as the square of its size
+    import cloudpickle
+
+    a = arm("ur5")
+    sizes = {}
+
+    def spy(jobs, workers):
+        sizes[len(jobs)] = len(cloudpickle.dumps(jobs[0]._replace(arm=None)))
+        return [job() for job in jobs]
+
+    for n in (64, 1024):
+        Q = a.random_q(1, n=n)
+        local = a.solve_batch(a.fk_batch(Q), q0=Q, workers=1, progress=False)
+        remote = a.solve_batch(a.fk_batch(Q), q0=Q, backend=spy, chunk_size=32, progress=False)
+        np.testing.assert_array_equal(remote.q, local.q)
+    assert sizes[32] < 1.1 * sizes[2]  # 16 times the targets, the same job

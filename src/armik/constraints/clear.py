@@ -15,11 +15,10 @@ import numpy as np
 
 from armik import reasons
 from armik.constraints.base import Check, Constraint
-from armik.constraints.collision import checker
+from armik.constraints.collision import checker, flag, margin_of
 from armik.constraints.shapes import Shape, check_obstacles
 from armik.errors import OptionError
 from armik.status import Status
-from armik.tolerances import MAX_LENGTH
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
@@ -72,16 +71,9 @@ def collision_options(values: dict[str, Any]) -> None:
     if "obstacles" in values:
         values["obstacles"] = check_obstacles(values["obstacles"])
     if "self_collision" in values:
-        flag = values["self_collision"]
-        if not isinstance(flag, (bool, np.bool_)):
-            raise OptionError(
-                f"self_collision must be True or False, got {flag!r}",
-                option="self_collision",
-                value=flag,
-            )
-        values["self_collision"] = bool(flag)
+        values["self_collision"] = flag(values["self_collision"])
     if "margin" in values:
-        margin = _distance(values["margin"])
+        margin = margin_of(values["margin"])
         if margin > 0 and not (values.get("obstacles") or values.get("self_collision")):
             raise OptionError(
                 f"margin={margin:g} m with no obstacles and self_collision off checks "
@@ -90,20 +82,3 @@ def collision_options(values: dict[str, Any]) -> None:
                 value=margin,
             )
         values["margin"] = margin + 0.0
-
-
-def _distance(value: object) -> float:
-    """``margin`` as a distance in [0, MAX_LENGTH] m."""
-    try:
-        if isinstance(value, (str, bytes, bool, np.bool_)):
-            raise TypeError
-        margin = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        margin = float("nan")
-    if not 0.0 <= margin <= MAX_LENGTH:
-        raise OptionError(
-            f"margin must be a distance in [0, {MAX_LENGTH:g}] m, got {value!r}",
-            option="margin",
-            value=value,
-        )
-    return margin

@@ -6,7 +6,8 @@ The geometry is the URDF's ``<collision>`` elements, read by Pinocchio's
 (``pin.buildReducedModel`` with the geometry), every mesh replaced by its convex hull.
 Self-collision pairs are the pairs of geometry objects on bodies that move relative to one
 another, minus adjacent bodies (the two sides of one moving joint, links joined by fixed
-joints being one body) and minus the pairs an SRDF disables. Links that never move relative
+joints being one body, a link a passive mimic joint moves a body of its own) and minus the
+pairs an SRDF disables. Links that never move relative
 to the base are checked against the obstacles once, when a ``Checker`` is built.
 """
 
@@ -24,14 +25,14 @@ import pinocchio as pin
 
 from armik.constraints.bounds import ordered_bounds, ordered_bounds_many
 from armik.constraints.shapes import Shape, check_obstacles, convex_hull, solid
-from armik.constraints.srdf import Pair, sorted_pair
-from armik.errors import CollisionError
+from armik.constraints.srdf import Pair
+from armik.errors import CollisionError, OptionError
 from armik.model import mimic_frames
-from armik.model.arm_model import ArmModel, model_of
+from armik.model.arm_model import ArmModel
 from armik.model.catalogue import erd_share
 from armik.model.derived import Derived
 from armik.model.reduce import reduce_model
-from armik.tolerances import FIXED_OVERLAP_TOL
+from armik.tolerances import FIXED_OVERLAP_TOL, MAX_LENGTH
 
 
 @dataclass(frozen=True)
@@ -80,6 +81,7 @@ def _build_geometry(arm: ArmModel) -> ArmGeometry:
         )
     links = tuple(full.frames[o.parentFrame].name for o in geom.geometryObjects)
     followed = mimic_frames.followed_objects(arm, geom)
+    body, parent = _bodies(arm, [o.parentJoint for o in geom.geometryObjects])
     if chain.locked_joints:
         _, geom = reduce_model(full, list(chain.locked_joints), chain.q_ref, geom)
     for o, link in zip(geom.geometryObjects, links):
@@ -89,12 +91,11 @@ def _build_geometry(arm: ArmModel) -> ArmGeometry:
             solid(o.geometry, mesh, fix)
             o.geometry = convex_hull(o.geometry)
     bodies = [o.parentJoint for o in geom.geometryObjects]
-    parents = arm.model.parents
     touching = {tuple(sorted((j.parent, j.child))) for j in arm.info.joints.values()}
     candidates = []
     for a, b in combinations(range(geom.ngeoms), 2):
-        ja, jb = bodies[a], bodies[b]
-        if ja == jb or parents[ja] == jb or parents[jb] == ja:
+        ja, jb = body[a], body[b]
+        if ja == jb or parent[ja] == jb or parent[jb] == ja:
             continue  # rigidly joined, or the two sides of one joint
         if tuple(sorted((links[a], links[b]))) in touching:
             continue
@@ -114,6 +115,25 @@ def _build_geometry(arm: ArmModel) -> ArmGeometry:
 
 
 _GEOMETRY = Derived("collision geometry", _build_geometry)
+
+
+def _bodies(arm: ArmModel, joints: list[int]) -> tuple[list[int], dict[int, int]]:
+    """The body of each object whose whole-model joint is in ``joints``: the joint that
+    moves it there (its own, or the nearest above it that moves: one of the chain's, or a
+    mimic joint off the chain that follows its driver, ``mimic_frames.followers``), 0 for
+    the base's; and each body's parent body. A followed link is a body of its own, as it
+    moves relative to the link it hangs from: welded to that link, a parallelogram's rod
+    was paired as that link, its pairs with the links beside it never checked."""
+    full = arm.chain.full
+    held = set(arm.chain.locked_joints) - set(mimic_frames.followers(arm))
+
+    def body(j: int) -> int:
+        while j != 0 and j in held:
+            j = full.parents[j]
+        return j
+
+    out = [body(j) for j in joints]
+    return out, {b: body(full.parents[b]) if b else 0 for b in out}
 
 
 def obstacle_name(i: int, shape: Shape) -> str:
@@ -423,6 +443,7 @@ def min_distance(
 ) -> tuple[float, Pair | None]:
     """(distance m, (name_a, name_b)): the closest checked pair at ``q`` (rad, m)."""
     from_obstacles = check_obstacles(obstacles)
+    self_collision = flag(self_collision)
     if not from_obstacles and not self_collision:
         raise CollisionError(
             "nothing to measure: give obstacles=[...] or self_collision=True",
@@ -439,27 +460,32 @@ def in_collision(
     margin: float = 0.0,
 ) -> bool:
     """Whether some checked pair at ``q`` is closer than ``margin`` (m)."""
-    return min_distance(arm, q, obstacles, self_collision)[0] < margin
+    return min_distance(arm, q, obstacles, self_collision)[0] < margin_of(margin)
 
 
-def never_colliding_pairs(arm: object, n: int = 1000, seed: int = 0) -> list[Pair]:
-    """The link pairs that can touch (not adjacent) yet never do over ``n`` random
-    configurations within the limits, sorted: what MoveIt's setup assistant disables as
-    "Never". Ignores the arm's own SRDF. ``write_srdf`` writes them."""
-    arm = model_of(arm)
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise CollisionError(f"n must be a whole number >= 1, got {n!r}", option="n", value=n)
-    g = arm_geometry(arm)
-    model = g.model.copy()
-    for a, b in g.candidates:
-        model.addCollisionPair(pin.CollisionPair(a, b))
-    gd = pin.GeometryData(model)
-    touched = np.zeros(len(g.candidates), bool)
-    data = arm.model.createData()
-    for q in arm.random_q(seed, n=int(n)):
-        pin.updateGeometryPlacements(arm.model, data, model, gd, arm.to_pin(q))
-        pin.computeCollisions(model, gd, False)
-        touched |= np.array([r.isCollision() for r in gd.collisionResults])
-    pairs = {sorted_pair(g.links[a], g.links[b]) for a, b in g.candidates}
-    hit = {sorted_pair(g.links[a], g.links[b]) for (a, b), t in zip(g.candidates, touched) if t}
-    return sorted(pairs - hit)
+def flag(value: object) -> bool:
+    """``self_collision`` as a bool: True or False (numpy's too), else ``OptionError``."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise OptionError(
+            f"self_collision must be True or False, got {value!r}",
+            option="self_collision",
+            value=value,
+        )
+    return bool(value)
+
+
+def margin_of(value: object) -> float:
+    """``margin`` as a distance in [0, MAX_LENGTH] m, else ``OptionError`` naming it."""
+    try:
+        if isinstance(value, (str, bytes, bool, np.bool_)):
+            raise TypeError
+        margin = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
+        margin = float("nan")
+    if not 0.0 <= margin <= MAX_LENGTH:
+        raise OptionError(
+            f"margin must be a distance in [0, {MAX_LENGTH:g}] m, got {value!r}",
+            option="margin",
+            value=value,
+        )
+    return margin

@@ -35,7 +35,7 @@ def _pose(shape: str, value: object) -> tuple[float, ...]:
         if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
             raise TypeError
         arr = np.array(value, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
         raise CollisionError(f"{shape} pose {value!r} is not a pose: {fix}", value=value) from None
     if arr.shape == (3,):
         T = np.eye(4)
@@ -59,19 +59,21 @@ def _pose(shape: str, value: object) -> tuple[float, ...]:
     return tuple(arr.ravel().tolist())
 
 
-def _length(shape: str, name: str, value: object, zero: bool = False) -> float:
-    """A length in m, > 0 (>= 0 with ``zero``) and finite; else ``CollisionError``."""
+def _length(
+    shape: str, name: str, value: object, zero: bool = False, unit: str = "a number of metres"
+) -> float:
+    """A length in m, > 0 (>= 0 with ``zero``) and finite; else ``CollisionError`` naming
+    it as ``unit``."""
     try:
         if isinstance(value, (str, bytes, bool)):
             raise TypeError
         out = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
         out = math.nan
     if not (math.isfinite(out) and (out >= 0 if zero else out > 0) and out <= MAX_LENGTH):
         bound = ">= 0" if zero else "> 0"
         raise CollisionError(
-            f"{shape} {name} must be a number of metres {bound} and at most {MAX_LENGTH:g}, "
-            f"got {value!r}",
+            f"{shape} {name} must be {unit} {bound} and at most {MAX_LENGTH:g}, got {value!r}",
             value=value,
         )
     return out
@@ -82,7 +84,7 @@ def _vector(shape: str, name: str, value: object) -> tuple[float, float, float]:
         if isinstance(value, (str, bytes)) or np.iscomplexobj(value):  # type: ignore[arg-type]
             raise TypeError
         arr = np.array(value, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
         arr = np.array([np.nan])
     if arr.shape != (3,) or not np.isfinite(arr).all() or np.abs(arr).max() > MAX_LENGTH:
         raise CollisionError(
@@ -211,7 +213,7 @@ class HalfSpace(Shape):
             if isinstance(offset, (str, bytes, bool)):
                 raise TypeError
             d = float(offset)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
             d = math.nan
         if not math.isfinite(d) or abs(d) > MAX_LENGTH:
             raise CollisionError(
@@ -243,7 +245,7 @@ class Mesh(Shape):
             )
         object.__setattr__(self, "path", str(Path(path).resolve()))
         object.__setattr__(self, "pose", _pose("Mesh", pose))
-        object.__setattr__(self, "scale", _length("Mesh", "scale", scale))
+        object.__setattr__(self, "scale", _length("Mesh", "scale", scale, unit="a factor"))
         self._read()  # a file coal cannot read, or no solid, refused here
 
     def _read(self) -> coal.BVHModelBase:

@@ -36,9 +36,11 @@ KEYS = {
 }
 
 
-def as_shapes(items: Iterable[Shape | Mapping]) -> list[Shape]:
+def as_shapes(items: Iterable[Shape | Mapping], folder: Path | None = None) -> list[Shape]:
     """``items`` as shapes: each a shape (``armik.Box``, ...) or its plain form (see the
-    module). Raises ``CollisionError`` naming the item and what is wrong with it."""
+    module); a mesh's relative path read from ``folder`` where it names a file there (the
+    obstacles file's own folder, as a URDF's meshes are), else as given. Raises
+    ``CollisionError`` naming the item and what is wrong with it."""
     if isinstance(items, (Shape, Mapping, str, bytes)):
         raise CollisionError(
             f"obstacles must be a list of shapes, got {type(items).__name__}: wrap one "
@@ -50,7 +52,7 @@ def as_shapes(items: Iterable[Shape | Mapping]) -> list[Shape]:
         if isinstance(item, Shape):
             out.append(item)
         elif isinstance(item, Mapping):
-            out.append(_from_mapping(i, item))
+            out.append(_from_mapping(i, _beside(item, folder) if folder else item))
         else:
             raise CollisionError(
                 f"obstacle {i} is a {type(item).__name__}: give a shape (armik.Box, "
@@ -82,7 +84,16 @@ def read_shapes(path: str | Path) -> list[Shape]:
             ) from None
     if not isinstance(data, list):
         raise CollisionError(f"obstacles file {str(p)!r} must hold a list of shapes", value=str(p))
-    return as_shapes(data)
+    return as_shapes(data, p.parent)
+
+
+def _beside(item: Mapping, folder: Path) -> Mapping:
+    """``item`` with a mesh's relative ``path`` read from ``folder`` when a file is there."""
+    path = item.get("path")
+    if item.get("type") != "mesh" or not isinstance(path, str) or Path(path).is_absolute():
+        return item
+    there = folder / path
+    return {**item, "path": str(there)} if there.is_file() else item
 
 
 def _yaml(p: Path, text: str):
@@ -105,14 +116,14 @@ def _yaml(p: Path, text: str):
 
 def _from_mapping(i: int, item: Mapping) -> Shape:
     kind = item.get("type")
-    if kind not in KEYS:
+    if not isinstance(kind, str) or kind not in KEYS:  # (a list or a mapping: unhashable)
         raise CollisionError(
             f"obstacle {i}: 'type' must be one of {', '.join(map(repr, KEYS))}, got {kind!r}",
             value=kind,
         )
     needed, optional, cls = KEYS[kind]
     given = set(item) - {"type"}
-    unknown = sorted(given - needed - optional)
+    unknown = sorted(given - needed - optional, key=str)  # (YAML keys may be numbers)
     if unknown:
         raise CollisionError(
             f"obstacle {i} ({kind}): unknown keys {unknown}; a {kind} takes "
@@ -146,7 +157,7 @@ def _placed(i: int, kind: str, position, item: Mapping) -> np.ndarray:
     try:
         quat = np.array(q, dtype=float).reshape(4)
         p = np.array(position, dtype=float).reshape(3)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
         raise CollisionError(
             f"obstacle {i} ({kind}): position must be 3 numbers and quaternion 4 (x, y, z, w)",
             value=item,

@@ -1,6 +1,8 @@
-"""SRDF files: the link pairs an SRDF's ``<disable_collisions>`` exempts from the
-self-collision check (``armik.load(..., srdf=path)``), read and written; a file that is not
-an SRDF (a URDF given in its place, another XML) refused by name."""
+"""SRDF files: the link pairs an SRDF exempts from the self-collision check
+(``armik.load(..., srdf=path)``: its ``<disable_collisions>``, and every pair of a
+``<disable_default_collisions>`` link but those ``<enable_collisions>`` names), read and
+written; a file that is not an SRDF (a URDF given in its place, another XML) refused by
+name."""
 
 from __future__ import annotations
 
@@ -30,7 +32,11 @@ URDF_ELEMENTS = frozenset({"link", "joint", "transmission", "gazebo", "material"
 
 
 def read_srdf(path: object, links: tuple[str, ...]) -> frozenset[Pair]:
-    """The link pairs an SRDF's ``<disable_collisions link1= link2=>`` name, sorted.
+    """The link pairs an SRDF exempts from the self-collision check, sorted, read as MoveIt
+    reads them (srdfdom, then its allowed collision matrix): every pair of a link that
+    ``<disable_default_collisions link=>`` names, but the pairs ``<enable_collisions link1=
+    link2=>`` names, and every pair ``<disable_collisions link1= link2=>`` names; the
+    ``<robot>``'s own children only, each name without the spaces around it.
     Raises ``CollisionError`` for a missing or malformed file, a file that is not an SRDF
     (its root not ``<robot>``, a URDF's ``<link>``/``<joint>`` in it, or children none of
     which an SRDF has) or an unknown link."""
@@ -50,20 +56,27 @@ def read_srdf(path: object, links: tuple[str, ...]) -> frozenset[Pair]:
         ) from None
     _is_srdf(root, str(path))
     known = set(links)
-    out: set[Pair] = set()
-    for elem in root.iter("disable_collisions"):
-        names = []
-        for name in (elem.get("link1"), elem.get("link2")):
-            if name is None or name not in known:
-                raise CollisionError(
-                    f"srdf {str(path)!r}: <disable_collisions> names link {name!r}, which is "
-                    "not a link of the URDF: fix the name or load the SRDF of this robot",
-                    option="srdf",
-                    value=name,
-                )
-            names.append(name)
-        out.add(sorted_pair(*names))
-    return frozenset(out)
+
+    def link(elem: ET.Element, attribute: str) -> str:
+        name = elem.get(attribute)
+        name = None if name is None else name.strip()  # as srdfdom trims it
+        if name is None or name not in known:
+            raise CollisionError(
+                f"srdf {str(path)!r}: <{elem.tag}> names link {name!r}, which is not a link "
+                "of the URDF: fix the name or load the SRDF of this robot",
+                option="srdf",
+                value=name,
+            )
+        return name
+
+    def pairs(tag: str) -> set[Pair]:
+        return {sorted_pair(link(e, "link1"), link(e, "link2")) for e in root.findall(tag)}
+
+    alone = {link(e, "link") for e in root.findall("disable_default_collisions")}
+    enabled, disabled = pairs("enable_collisions"), pairs("disable_collisions")
+    # MoveIt's order: the defaults, then the pairs enabled, then those disabled (which win)
+    by_default = {sorted_pair(a, b) for a in alone for b in known if b != a}
+    return frozenset((by_default - enabled) | disabled)
 
 
 def _is_srdf(root: ET.Element, path: str) -> None:
@@ -103,7 +116,16 @@ def sorted_pair(a: str, b: str) -> Pair:
 def write_srdf(pairs, path, robot: str = "robot") -> None:
     """Write ``pairs`` of link names as an SRDF's ``<disable_collisions reason="Never">``."""
     root = ET.Element("robot", name=robot)
-    for a, b in pairs:
+    for pair in pairs:
+        try:
+            if isinstance(pair, (str, bytes)):  # two letters are no pair of links
+                raise TypeError
+            a, b = pair
+        except (TypeError, ValueError):
+            raise CollisionError(
+                f"write_srdf takes pairs of link names (link1, link2), got {pair!r}",
+                value=pair,
+            ) from None
         ET.SubElement(root, "disable_collisions", link1=str(a), link2=str(b), reason="Never")
     ET.indent(root)
     ET.ElementTree(root).write(path, encoding="unicode", xml_declaration=True)

@@ -132,8 +132,11 @@ def solve_batch(
 
     done = 0
     if run_jobs is not None:
+        # each job without the batch's targets and seeds (its rows' own are its fields):
+        # a job pickled to a cluster carried every target, the batch's size each time
+        bare = request.but(target=None, q0=None)
         jobs = [
-            Chunk(arm, spec.name, batch[s : s + chunk], seeds[s : s + chunk], request, s)
+            Chunk(arm, spec.name, batch[s : s + chunk], seeds[s : s + chunk], bare, s)
             for s in starts
         ]
         place(run_jobs, jobs, workers, out, _or_quiet(bar))
@@ -367,9 +370,10 @@ def _row(arm: ArmModel, request: Request, target, seed: np.ndarray):
     return run(arm, request.but(target=target, q0=seed, t0=time.perf_counter()))
 
 
-def batch_seeds(arm: ArmModel, q0: object, n: int) -> np.ndarray:
+def batch_seeds(arm: ArmModel, q0: object, n: int, stacklevel: int = 4) -> np.ndarray:
     """(n, dof) seeds: mid-limits, one configuration for every target, or one per target.
-    Seeds outside the limits are clipped into them with one ``ArmikWarning``."""
+    Seeds outside the limits are clipped into them with one ``ArmikWarning``, said at the
+    caller ``stacklevel`` frames up (``Arm.solve_batch``'s: the user's line, not armik's)."""
     if q0 is None:
         return np.broadcast_to(arm.middle, (n, arm.dof))
     try:
@@ -400,7 +404,7 @@ def batch_seeds(arm: ArmModel, q0: object, n: int) -> np.ndarray:
             f"q0 outside the joint limits was clipped into them for {int(outside.sum())} "
             f"target(s); the first, target {i}: " + "; ".join(arm.limit_violations(q[i])),
             ArmikWarning,
-            stacklevel=3,
+            stacklevel=stacklevel,
         )
         q = np.clip(q, arm.lower, arm.upper)
     return q

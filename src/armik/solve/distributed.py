@@ -153,6 +153,7 @@ class OnDask:
             client.register_plugin(SolverOnWorker(own), name=f"armik-solver-{own.name}")
         # each chunk without its arm (the plugin's copy runs it): a few bytes, not the model
         bare = [job._replace(arm=None) for job in jobs]  # type: ignore[arg-type]
+        _travels(bare[0])  # every job holds the batch's request: its options, constraints
         futures = [client.submit(_run_job, name, blob, job, pure=False) for job in bare]
         try:
             for f in futures:
@@ -160,6 +161,24 @@ class OnDask:
                 f.release()
         finally:  # an error or Ctrl-C: the tasks not yet run are dropped
             client.cancel([f for f in futures if not f.done()])
+
+
+def _travels(job: Chunk | RowsChunk) -> None:
+    """``ArmikError`` naming what stops ``job`` from pickling as Dask pickles it: the
+    request a job holds travels to the workers, a user's constraint with a lock or an open
+    file in it too, where Dask's own ``TypeError`` said only "Could not serialize"."""
+    import cloudpickle  # type: ignore[import-untyped]  # Dask's own pickler: installed with it
+
+    try:
+        cloudpickle.dumps(job)
+    except Exception as exc:  # noqa: BLE001 - whatever the pickler raises, named below
+        raise ArmikError(
+            f"the batch cannot go to the Dask cluster: its jobs do not pickle "
+            f"({type(exc).__name__}: {exc}); the targets, options and constraints travel to "
+            "the workers, so each must pickle (a constraint holding a lock, an open file or "
+            "a connection cannot): drop that from it, or run the batch here (backend= "
+            '"processes" or "threads")'
+        ) from None
 
 
 def _default_client():
@@ -248,7 +267,7 @@ def solve_batch(
     on_dask = OnDask(client if own is None else own)
     try:
         if request.rows is not None:  # no compiled form: each row's request, as locally
-            seeds = batch_seeds(arm, request.q0, len(request.rows))
+            seeds = batch_seeds(arm, request.q0, len(request.rows), stacklevel=3)
             return solve_rows(arm, request, seeds, progress, on_dask, int(chunk))
         return local_solve_batch(arm, request, 1, int(chunk), progress, on_dask)
     finally:

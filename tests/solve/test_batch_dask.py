@@ -1,0 +1,51 @@
+"""A batch sent to a Dask cluster whose jobs cannot travel: named by armik."""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+import pytest
+
+import armik
+from armik.constraints.base import Check, Constraint
+from armik.solve import distributed as armik_distributed
+from armik.status import Status
+
+from ..conftest import arm
+
+
+class HoldsALock(Constraint):
+    """A user's constraint that keeps a lock (for its own bookkeeping): it cannot pickle."""
+
+    def __init__(self) -> None:
+        self.lock = threading.Lock()
+
+    def check(self, arm, Q):
+        return Check(np.ones(len(Q), bool), Status.JOINT_LIMITS, lambda i: "")
+
+
+@pytest.mark.parametrize("rows", [False, True])
+def test_a_constraint_that_cannot_pickle_is_named_before_the_batch_goes(client, rows):
+    # compiled chunks and rows alike; Dask's own TypeError said "Could not serialize object
+    # of type LLGExpr"
+    a = arm("ur5")
+    T = a.fk_batch(a.random_q(1, n=6))
+    options = {"constraints": [HoldsALock()], **({"prefer": "nearest"} if rows else {})}
+    backend = armik_distributed.OnDask(client)
+    with pytest.raises(armik.ArmikError, match=r"do not pickle \(TypeError: cannot pickle"):
+        a.solve_batch(T, backend=backend, chunk_size=3, progress=False, **options)
+    # the same batch here: the constraint holds (every answer passes it)
+    assert a.solve_batch(T, workers=1, progress=False, **options).success.all()
+
+
+@pytest.mark.parametrize("rows", [False, True])
+def test_seeds_clipped_into_the_limits_are_said_at_the_callers_line(client, rows):
+    a = arm("ur5")
+    T = a.fk_batch(a.random_q(1, n=3))
+    outside = np.zeros((3, 6))
+    outside[2, 2] = 10.0
+    options = {"prefer": "nearest"} if rows else {}
+    with pytest.warns(armik.ArmikWarning, match="1 target.*target 2") as said:
+        armik_distributed.solve_batch(a, T, q0=outside, client=client, progress=False, **options)
+    assert said[0].filename == __file__
