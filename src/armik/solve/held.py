@@ -93,11 +93,38 @@ def locked_arm(arm: ArmModel, name: str, value: float):
 def solve_held(arm: ArmModel, req: Request, target, general):
     """The verified results of ``req``, a solve with a held joint (``hold=``; see the
     module), whose target is ``target`` (the stages parsed it): a list with ``every``,
-    else one result. ``general``: ``armik.solve.single``'s general path, which
+    else one result. ``general``: ``armik.solve.stages``' general path, which
     solves the locked arm (passed in: that module calls this one)."""
-    q0, solver, every, t0 = req.q0, req.solver, req.every, req.t0
+    every = req.every
     opts = with_seed(req.opts, req.seed)
-    seed = arm.seed(q0)
+    seed = arm.seed(req.q0)
+    tgt = target if type(target) is Target else parsed(target, arm)  # the stages parsed it
+    held = Held(arm, req, general)
+    answers = held.run(arm, tgt, seed, opts, every)
+    results = finish(arm, held.name, answers, tgt, opts, seed, every, req.t0)
+    return results if every else results[0]
+
+
+class Held:
+    """The held solve as a solver the collision search runs (``armik.solve.avoid``): its
+    ``run`` gives every answer at the held value, the whole arm's joints, unverified; its
+    ``name`` is then the solver's that gave them. A closed form's branches, or the locked
+    arm's every solution: the search checks them nearest first against the whole arm's
+    collision model, as a closed form's."""
+
+    kind = "analytic"
+
+    def __init__(self, arm: ArmModel, req: Request, general) -> None:
+        self.req, self.general, self.name = req, general, req.solver
+
+    def run(self, arm: ArmModel, tgt: Target, seed: np.ndarray, opts, every: bool) -> Answers:
+        answers, self.name = _held_answers(arm, self.req, tgt, seed, opts, self.general)
+        return answers
+
+
+def _held_answers(arm: ArmModel, req: Request, tgt: Target, seed, opts, general):
+    """(answers, solver name) of the held solve (see ``Held``)."""
+    solver, t0 = req.solver, req.t0
     holds = cast("tuple[tuple[str, float | None], ...]", opts.hold)  # set: the caller checked
     if len(holds) != 1:
         raise OptionError(
@@ -109,20 +136,18 @@ def solve_held(arm: ArmModel, req: Request, target, general):
         )
     k, value = held_joint(arm, holds[0], seed)
     name = arm.joint_names[k]
-    tgt = target if type(target) is Target else parsed(target, arm)  # the stages parsed it
     sweeping = _sweeping(arm, solver, req.key, k, tgt, opts)
     if sweeping is not None:  # a closed form at exactly that value (the Panda's joint 7)
-        answers = sweeping.sweep.at_value(arm, tgt, seed, value)  # type: ignore[union-attr]
-        results = finish(arm, sweeping.name, answers, tgt, opts, seed, every, t0)
-        return results if every else results[0]
+        return sweeping.sweep.at_value(arm, tgt, seed, value), sweeping.name  # type: ignore[union-attr]
     sub = locked_arm(arm, name, value)
     asked_for = None  # a closed form of the whole arm asked for: "auto" solves the rest
     if solver != "auto" and _whole_arm_only(solver, arm, sub):
         asked_for, solver = solver, "auto"  # as a path passes its whole arm's choice (srs)
     free = np.delete(seed, k)
-    # the checks are of the whole arm's joints: its verdict below runs them
+    # the checks and collisions are of the whole arm: its verdict and search run them
+    alone = replace(opts, hold=None, checks=(), obstacles=(), self_collision=False)
     try:
-        found = general(sub, target, free, solver, replace(opts, hold=None, checks=()), True, t0)
+        found = general(sub, tgt, free, solver, alone, True, t0)
     except SolverError as e:  # the solver named does not apply to the six joints left
         raise SolverError(
             f"with {name!r} held, six joints are left to solve: {e}",
@@ -139,9 +164,7 @@ def solve_held(arm: ArmModel, req: Request, target, general):
         branch=[r.branch for r in found],
         singular=[r.singular for r in found],
     )
-    name_of = found[0].solver if found else solver
-    results = finish(arm, name_of, answers, tgt, opts, seed, every, t0)
-    return results if every else results[0]
+    return answers, found[0].solver if found else solver
 
 
 def _sweeping(arm: ArmModel, solver: str, key: tuple | None, k: int, tgt: Target, opts):

@@ -28,7 +28,7 @@ from armik.request import Request, but_options, with_seed
 from armik.result import IKResult
 from armik.solve import far, parameter
 from armik.solve.avoid import First, solve_avoiding
-from armik.solve.held import solve_held
+from armik.solve.held import Held, solve_held
 from armik.solve.prepared import plan_for
 from armik.solvers import registry
 from armik.solvers.registry import SolverSpec
@@ -47,6 +47,8 @@ def run(arm: ArmModel, req: Request):
         return parameter.solve_at(arm, req, "swivel", opts.swivel)
     if opts.hold is not None:
         target = parsed(target, arm)  # once: the held arm's solve and its verdict read it
+        if opts.obstacles or opts.self_collision:  # every branch at the value, kept clear
+            return _held_clear(arm, req, target)
         return solve_held(arm, req, target, general)
     if not every and (opts.obstacles or opts.self_collision):  # ``opts.collisions``, inline
         return _avoiding(arm, req)
@@ -91,6 +93,22 @@ def run(arm: ArmModel, req: Request):
     if every:
         return _beyond_search(arm, req, results)
     return results[0]
+
+
+def _held_clear(arm: ArmModel, req: Request, target: Target):
+    """A held joint's solve with collisions checked: its answers at the held value (a closed
+    form's branches, the locked arm's every solution) searched as a closed form's are, the
+    nearest verified one that keeps clear of the whole arm's collision model first."""
+    opts = with_seed(req.opts, req.seed)
+    clear = frozen(
+        Collisions,
+        obstacles=opts.obstacles,
+        self_collision=opts.self_collision,
+        margin=opts.margin,
+    )
+    held = Held(arm, req, general)
+    found = solve_avoiding(arm, held, target, arm.seed(req.q0), opts, clear, req.every, req.t0)  # type: ignore[arg-type]
+    return found if req.every else found[0]
 
 
 def general(
