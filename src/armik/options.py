@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, fields
 from typing import Any, TypeVar, cast
 
@@ -250,9 +250,21 @@ def _add(said: dict[str, Any], values: dict[str, Any], more: dict[str, object], 
                     )
             said["hold"] = {**said["hold"], **value}  # type: ignore[dict-item]
             continue
+        if name in _JOINED and name in said and name not in values:  # two armik.Collisions
+            said[name] = _JOINED[name](said[name], value)
+            continue
         if name in said or name in values:
             raise OptionError(_twice(name, by, name in said), option=name, value=value)
         said[name] = value
+
+
+# what two ``armik.Collisions`` say together: both scenes, either's self-collision, the
+# larger margin (kept by every pair, it keeps each constraint's)
+_JOINED: dict[str, Callable[[Any, Any], Any]] = {
+    "obstacles": lambda a, b: (*_items(a), *_items(b)),
+    "self_collision": lambda a, b: a or b,
+    "margin": max,
+}
 
 
 def _twice(name: str, by: str, by_two: bool) -> str:

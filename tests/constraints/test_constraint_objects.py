@@ -257,3 +257,21 @@ def test_a_failure_says_which_joints_its_best_rests_on_a_limit_of():
     assert "the best found rests on wrist_flex at its upper limit" in r.reason
     b = so101.solve_batch([tasks], iteration_budget=2000, seed=0, workers=1, progress=False)
     assert np.array_equal(b.q[0], r.q) and b.reason(0).endswith(r.reason.rsplit("; ", 1)[1])
+
+
+def test_two_collision_constraints_hold_together():
+    """Two armik.Collisions: both scenes kept, either's self-collision, the larger margin;
+    an answer clear of one scene but inside the other is refused."""
+    arm = conftest.arm("ur5")
+    q = arm.middle + 0.3
+    T = arm.fk(q)
+    at_tip = armik.Collisions(obstacles=[armik.Sphere(0.05, T.translation)])  # every answer
+    far = armik.Collisions(obstacles=[armik.Sphere(0.05, (3, 3, 3))], margin=0.01)
+    own = armik.Collisions(self_collision=True)
+    for cons in ([at_tip, far], [far, at_tip], [own, at_tip]):
+        r = arm.solve(T, q0=q, constraints=cons)
+        assert r.status == armik.Status.COLLISION
+        b = arm.solve_batch(T.homogeneous[None], q0=q, constraints=cons, progress=False)
+        assert b.status[0] == armik.Status.COLLISION
+    r = arm.solve(T, q0=q, constraints=[far, own])
+    assert r.success and r.extra["min_distance"] >= 0.01
