@@ -3,10 +3,13 @@ middle, come out of ``N_ik`` as ``solve_all`` gives them (one rule in both: ``si
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 
 import armik
+from armik.kernel.descent import DUPLICATE_TOL
 from armik.solvers.closed_form import sixr
 from tests.export.build import Solver
 from tests.export.test_export_c import check_solutions, reached
@@ -69,3 +72,37 @@ def test_held_7r_rows_as_near_the_middle_come_as_solve_all_gives_them(tmp_path):
         d = np.linalg.norm(Q - arm.middle, axis=1)
         tied += bool(len(d) > 1 and np.any(np.abs(np.diff(np.sort(d))) <= sixr.TIE))
     assert tied >= 10  # the sweep is made of ties
+
+
+@pytest.mark.parametrize("name", ["kuka_iiwa14", "panda_locked"])
+def test_a_double_root_is_listed_once(name, tmp_path):
+    """Joint 2 at 0 (axes 1 and 3 in line: a singular target): the chain read from the tip
+    finds a solution twice, 1e-8 apart. solve_all lists it once (the general verdict's
+    rows with joint 7 held, the judged rows with it locked), and N_ik too: the same count,
+    each row one of solve_all's."""
+    arm = armik.load(name.removesuffix("_locked"))
+    if name.endswith("_locked"):
+        arm = arm.with_locked({arm.joint_names[6]: 0.0})
+    solver = Solver(arm, "s", tmp_path)
+    rng = np.random.default_rng(7)
+    lo, hi = arm.lower, arm.upper
+    found = 0
+    for _ in range(40):
+        q = np.clip(arm.middle + rng.choice(QUARTERS, size=arm.dof), lo, hi)
+        q[1] = 0.0
+        T = arm.fk(q).homogeneous
+        if solver.held is None:
+            expected = [r.q for r in arm.solve_all(T) if r.success]
+            Q = solver.ik(T)
+        else:
+            hold = {arm.joint_names[solver.held]: q[solver.held]}
+            expected = [r.q for r in arm.solve_all(T, hold=hold) if r.success]
+            Q = solver.ik(T, q[solver.held])
+        for rows in (expected, list(Q)):
+            for a, b in itertools.combinations(rows, 2):
+                assert np.abs(a - b).max() >= DUPLICATE_TOL, (q.tolist(), a.tolist(), b.tolist())
+        assert len(Q) == len(expected), q.tolist()
+        for got in Q:  # at a singular target the rows carry 1e-8 of rounding
+            assert min(np.abs(got - want).max() for want in expected) < 1e-6
+        found += len(expected)
+    assert found >= 40

@@ -9,6 +9,7 @@ import pytest
 
 import armik
 from armik.constraints.clear import distances
+from armik.kernel.descent import DUPLICATE_TOL
 from armik.options import Options
 from armik.solvers.answers import Answers
 from armik.solvers.closed_form.sixr import TIE
@@ -152,3 +153,17 @@ def test_rows_as_near_the_seed_to_the_tie_keep_the_solvers_order():
     found = Verdicts(answers, status, np.zeros(6), np.zeros(6), True, [None] * 6, 1e-6, 1e-6)
     assert found.order(seed) == [3, 0, 2, 4, 5, 1]
     assert nearest_first(arm, answers, seed) == [3, 0, 2, 4, 5, 1]
+
+
+def test_a_success_listed_twice_is_listed_once():
+    """Verdicts.once: a success within DUPLICATE_TOL of an earlier one in every joint (a
+    double root found twice) is left out; one as near that is a failure, or farther in one
+    joint, stays."""
+    e = np.eye(6)
+    Q = [e[0], e[0] + 1e-8, e[0] + 1e-8 * e[1], e[0] + 2 * DUPLICATE_TOL * e[5], e[2]]
+    answers = Answers.of(Q, [Status.CONVERGED] * 5, ["w"] * 5, 6)
+    status = np.array([Status.CONVERGED.code] * 5, dtype=np.int8)
+    status[2] = Status.NOT_CONVERGED.code
+    found = Verdicts(answers, status, np.zeros(5), np.zeros(5), True, [None] * 5, 1e-6, 1e-6)
+    assert found.once([4, 1, 0, 3, 2]) == [4, 1, 3, 2]
+    assert found.once([0, 4]) == [0, 4]

@@ -207,6 +207,7 @@ def ranked(found: Verdicts, solver: str, seed, all_solutions: bool, t0: float):
     order = found.order(seed)
     if not all_solutions:
         return found.results(order[:1], solver, time.perf_counter() - t0)
+    order = found.once(order)
     branch = found.answers.branch
     labels = numbered([None] * n if branch is None else [branch[i] for i in order])
     return found.results(order, solver, time.perf_counter() - t0, labels)
