@@ -9,12 +9,15 @@ import pytest
 
 import armik
 from armik.constraints.clear import distances
+from armik.kernel.descent import DUPLICATE_TOL
 from armik.options import Options
 from armik.solvers.answers import Answers
+from armik.solvers.closed_form.sixr import TIE
 from armik.status import Status
 from armik.targets.pose import parse_target
 from armik.verify.measure import measure, measure_many
-from armik.verify.verdict import decide, decide_one
+from armik.verify.verdict import decide, decide_one, nearest_first
+from armik.verify.verdicts import Verdicts
 from tests import conftest
 
 CLAIMS = [Status.CONVERGED, Status.NOT_CONVERGED, Status.UNREACHABLE, Status.CONVERGED]
@@ -125,3 +128,42 @@ def test_a_batch_of_answers_is_decided_as_one_solve_decides():
         if not r.success:  # in the same words, though a batch's solver gives none
             assert res.reason(i) == r.reason
     assert not res.success[3] and "beyond the arm's reach" in res.reason(3)
+
+
+def test_rows_as_near_the_seed_to_the_tie_keep_the_solvers_order():
+    """Successes by distance to the seed, but distances within sixr.TIE of each other (a
+    sum's rounding) in the solver's order, as a closed form and the exported C list them;
+    nearest_first (one answer's order) alike; the failures after them."""
+    arm = conftest.model("ur5")
+    seed = np.zeros(6)
+    e = np.eye(6)
+    Q = [
+        e[0] * (1.0 + 1e-13),  # as near as rows 2 and 4: first, the solver's first
+        e[1] * 3.0,  # a failure
+        e[2],
+        e[3] * 0.5,  # nearer by more than TIE
+        e[4] * (1.0 - 1e-13),
+        e[5] * (1.0 + 3 * TIE),  # farther by more than TIE
+    ]
+    claims = [Status.CONVERGED] * 6
+    claims[1] = Status.UNREACHABLE
+    answers = Answers.of(Q, claims, ["w"] * 6, 6)
+    status = np.array([Status.CONVERGED.code] * 6, dtype=np.int8)
+    status[1] = Status.UNREACHABLE.code
+    found = Verdicts(answers, status, np.zeros(6), np.zeros(6), True, [None] * 6, 1e-6, 1e-6)
+    assert found.order(seed) == [3, 0, 2, 4, 5, 1]
+    assert nearest_first(arm, answers, seed) == [3, 0, 2, 4, 5, 1]
+
+
+def test_a_success_listed_twice_is_listed_once():
+    """Verdicts.once: a success within DUPLICATE_TOL of an earlier one in every joint (a
+    double root found twice) is left out; one as near that is a failure, or farther in one
+    joint, stays."""
+    e = np.eye(6)
+    Q = [e[0], e[0] + 1e-8, e[0] + 1e-8 * e[1], e[0] + 2 * DUPLICATE_TOL * e[5], e[2]]
+    answers = Answers.of(Q, [Status.CONVERGED] * 5, ["w"] * 5, 6)
+    status = np.array([Status.CONVERGED.code] * 5, dtype=np.int8)
+    status[2] = Status.NOT_CONVERGED.code
+    found = Verdicts(answers, status, np.zeros(5), np.zeros(5), True, [None] * 5, 1e-6, 1e-6)
+    assert found.once([4, 1, 0, 3, 2]) == [4, 1, 3, 2]
+    assert found.once([0, 4]) == [0, 4]

@@ -18,7 +18,8 @@ path does it:
   ``Options.tol_position``, ``tol_orientation`` unless given), so a least-squares row or
   a NaN never leaves;
 - the order of ``solve_all``: nearest the middle of the limits first, ties by the joint
-  values (``before``, ``sixr.pack``'s rule).
+  values (``before``, ``sixr.pack``'s rule), a row within ``DUPLICATE_TOL`` of one listed
+  before it in every joint left out, as ``solve_all`` leaves it (a double root found twice).
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ import textwrap
 from dataclasses import dataclass
 
 from armik.export import c_source, fk_code
+from armik.kernel.descent import DUPLICATE_TOL
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes
 from armik.problem.settings import SolverSettings
@@ -211,6 +213,19 @@ static int before(const double *a, double ka, const double *b, double kb)
     return 0;
 }
 
+/* Whether row w is within DUPLICATE_TOL of one of the first count rows of q in every
+   joint: the same solution (solve_all lists it once). */
+static int listed(double q[][DOF], int count, const double *w)
+{
+    int i, j;
+    for (i = 0; i < count; i++) {
+        for (j = 0; j < DOF; j++)
+            if (!(fabs(q[i][j] - w[j]) < DUPLICATE_TOL)) break;
+        if (j == DOF) return 1;
+    }
+    return 0;
+}
+
 /* Whether joint values q (cosines c, sines s) reach the target (R, p) within the limits and
    the tolerances. */
 static int verified(const double *q, const double *c, const double *s, mat3 R, vec3 p)
@@ -310,6 +325,7 @@ int @NAME@_ik(const double T[16], @HELD_PARAM@double q[][DOF])
                 best = r;
         if (best < 0) break;
         taken |= 1 << best;
+        if (listed(q, count, W[best])) continue;  /* a double root found twice: once */
         for (j = 0; j < DOF; j++) q[count][j] = W[best][j];
         count++;
     }
@@ -416,6 +432,7 @@ def source(name: str, arm: ArmModel, ax: Axes, rows: Rows, opts: SolverSettings)
             f"#define HELD {-1 if rows.held is None else rows.held}  /* a held joint's index */",
             f"static const double SNAP = {c_source.num(rows.snap)};",
             f"static const double TIE = {c_source.num(TIE)};  /* rad: as near, as one */",
+            f"static const double DUPLICATE_TOL = {c_source.num(DUPLICATE_TOL)};  /* one */",
             f"static const int TIE_ORDER[DOF] = {{{', '.join(map(str, tie_order))}}};",
             f"#define FREE_SWEEP {FREE_SWEEP}  /* values of a free joint tried */",
             f"static const double LIMIT_TOL = {c_source.num(LIMIT_TOL)};",

@@ -27,7 +27,7 @@ from armik.status import Status
 from armik.tolerances import LIMIT_TOL
 from armik.verify.distances import batch_distances, with_distances
 from armik.verify.measure import BatchMeasure, Measure, measure, measure_batch, measure_many
-from armik.verify.verdicts import Verdicts
+from armik.verify.verdicts import Verdicts, tied
 
 if TYPE_CHECKING:
     from armik.constraints.base import Constraint
@@ -207,6 +207,7 @@ def ranked(found: Verdicts, solver: str, seed, all_solutions: bool, t0: float):
     order = found.order(seed)
     if not all_solutions:
         return found.results(order[:1], solver, time.perf_counter() - t0)
+    order = found.once(order)
     branch = found.answers.branch
     labels = numbered([None] * n if branch is None else [branch[i] for i in order])
     return found.results(order, solver, time.perf_counter() - t0, labels)
@@ -248,7 +249,8 @@ def first_verified(arm: ArmModel, answers: Answers, target, opts: SolverSettings
 
 def nearest_first(arm: ArmModel, answers: Answers, seed: np.ndarray) -> list[int]:
     """The rows in the order they are verified for one answer: claimed converged, within
-    the limits, then by distance to the seed (ties: the solver's order)."""
+    the limits, then by distance to the seed (ties to ``sixr.TIE``: the solver's order,
+    ``verdicts.tied``), as ``solve_all`` lists them."""
     Q = answers.q
     # the keys in one pass over the rows (``within_limits``' bounds, as arrays)
     lo, hi = arm.lower - LIMIT_TOL, arm.upper + LIMIT_TOL
@@ -258,7 +260,7 @@ def nearest_first(arm: ArmModel, answers: Answers, seed: np.ndarray) -> list[int
     for q, c, w in zip(Q, claimed, inside):
         d = q - seed
         keys.append((not c, not w, float(np.sqrt(d.dot(d)))))
-    return sorted(range(len(keys)), key=keys.__getitem__)
+    return tied(sorted(range(len(keys)), key=keys.__getitem__), keys, Q.shape[1])
 
 
 def seed_distance(q: np.ndarray, seed: np.ndarray) -> float:

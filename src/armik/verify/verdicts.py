@@ -21,6 +21,7 @@ from armik.kernel.descent import DUPLICATE_TOL
 from armik.model.turns import UNLIMITED_TURNS, combinations, turns
 from armik.result import IKResult
 from armik.solvers.answers import Answers, one, stacked
+from armik.solvers.closed_form.sixr import TIE
 from armik.status import _BY_CODE, FAILURE_RANK, Status
 
 if TYPE_CHECKING:
@@ -246,7 +247,8 @@ class Verdicts:
 
     def order(self, seed: np.ndarray) -> list[int]:
         """The rows in ``rank``'s order, their keys computed in one pass (as ``rank``
-        computes each)."""
+        computes each); successes as near the seed to ``sixr.TIE`` in the solver's order
+        (``tied``)."""
         ok = (self.status == _CONVERGED).tolist()
         pos, ori = self.position_error.tolist(), self.orientation_error.tolist()
         keys: list[tuple] = []
@@ -257,7 +259,35 @@ class Verdicts:
             else:
                 status = _BY_CODE[self.status.item(i)]
                 keys.append((1, *failure_rank(status, pos[i], ori[i] if self.rotation else None)))
-        return sorted(range(len(keys)), key=keys.__getitem__)
+        order = sorted(range(len(keys)), key=keys.__getitem__)
+        verified = sum(ok)  # first: the successes, nearest the seed first (ties: ``tied``)
+        return tied(order[:verified], keys, self.answers.q.shape[1]) + order[verified:]
+
+    def once(self, order: list[int]) -> list[int]:
+        """``order`` without a success within ``DUPLICATE_TOL`` of one before it in every
+        joint: the same solution, which a closed form can find twice at a double root (two
+        rows 1e-8 apart at a singular target), listed once."""
+        ok = [i for i in order if self.succeeded(i)]
+        if len(ok) < 2:
+            return order
+        S = self.answers.q[ok]
+        # the rows as near in joint 1 (a numeric solve_all keeps up to 10000: no m x m array)
+        first = S[:, 0]
+        by = np.argsort(first, kind="stable")
+        ranked = first[by]
+        lo = np.searchsorted(ranked, first - DUPLICATE_TOL, side="right")
+        hi = np.searchsorted(ranked, first + DUPLICATE_TOL, side="left")
+        if np.all(hi - lo <= 1):  # each row alone within DUPLICATE_TOL in joint 1
+            return order
+        kept = np.zeros(len(ok), dtype=bool)
+        twice = set()
+        for a in range(len(ok)):
+            near = [b for b in by[lo[a] : hi[a]].tolist() if b < a and kept[b]]
+            if near and np.any(np.abs(S[near] - S[a]).max(axis=1) < DUPLICATE_TOL):
+                twice.add(ok[a])
+            else:
+                kept[a] = True
+        return [i for i in order if i not in twice] if twice else order
 
     def result(self, i: int, solver: str, time: float) -> IKResult:
         """Row i as a result."""
@@ -300,6 +330,28 @@ class Verdicts:
             tol_orientation=tol_orientation,
             extra=[dict(r.extra)] if r.extra else None,
         )
+
+
+def tied(order: list[int], keys: Sequence[tuple], dof: int) -> list[int]:
+    """``order`` (rows sorted by ``keys``, whose last item is a distance to the seed) with
+    each run of rows whose keys agree but for distances within ``sixr.TIE`` of the one before
+    put back in the solver's order (their indices): a closed form lists its rows nearest q0
+    first, rows as near to ``TIE`` by the first joint whose values differ (``sixr._before``,
+    the exported C's ``before``), so that a sum's rounding decides no tie. Rows of two
+    joints keep ``order``: ``planar2r`` leaves its ties to the exact distance
+    (``planar2r_kernel.TIE``, ``planar2r._farther``)."""
+    if dof <= 2 or len(order) < 2:
+        return order
+    runs = [[order[0]]]
+    for a, b in zip(order, order[1:]):
+        ka, kb = keys[a], keys[b]
+        if kb[:-1] == ka[:-1] and kb[-1] - ka[-1] <= TIE:
+            runs[-1].append(b)
+        else:
+            runs.append([b])
+    if len(runs) == len(order):  # no ties: the usual case
+        return order
+    return [i for run in runs for i in sorted(run)]
 
 
 def failure_rank(status: Status, position_error: float, orientation_error) -> tuple:

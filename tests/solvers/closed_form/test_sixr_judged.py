@@ -59,7 +59,8 @@ class _Case:
 
     def judge(self, rows: np.ndarray, whole: bool = False):
         """``judged`` of ``rows`` (n, WIDTH) in an array of one row more, as the prepared
-        solve passes them, then ``finish`` with ``whole``; the rows written back."""
+        solve passes them, then ``finish`` of the rows it kept with ``whole``; the rows
+        written back."""
         buffer = np.vstack([rows, np.zeros((1, WIDTH))])
         m = self.arm.kinematics
         got = judged(
@@ -67,7 +68,7 @@ class _Case:
             self.H, buffer,
         )  # fmt: skip
         if whole:
-            finish(self.ctx, buffer, len(rows))
+            finish(self.ctx, buffer, got[0])
         rows[:] = buffer[:-1]
         return got
 
@@ -88,6 +89,15 @@ class _Case:
         )  # fmt: skip
         assert verdict == DECIDED
         return self.judged_results().solutions(buffer, n, 0.0)
+
+
+def _turned(a, q: np.ndarray) -> np.ndarray:
+    """q with its last joint turned by 2 pi within the limits: the same pose and branch,
+    another configuration (two rows of one q are one solution, listed once)."""
+    other = q.copy()
+    other[5] += 2 * np.pi if q[5] + 2 * np.pi <= a.upper[5] else -2 * np.pi
+    assert a.within_limits(other)
+    return other
 
 
 def _row(q, flags: int = 0, tag: int = 0, code: int = 0) -> np.ndarray:
@@ -135,7 +145,7 @@ def test_verified_rows_first_in_their_order_then_failures_by_rank_and_error():
             _row(q, 0, 2),
             _row(far, LS, 3, SHOULDER_OFFSET),
             _row(outside, 0, 4),
-            _row(q, 0, 5),
+            _row(_turned(a, q), 0, 5),
         ]
     )
     before = rows.copy()
@@ -178,6 +188,23 @@ def test_what_the_rule_alone_does_not_decide_goes_to_the_general_verdict(change)
     assert rows[:, 7].tolist() == [sixr.branch_bits(h, p, r[:6].copy()) for r in rows]
 
 
+def test_a_verified_row_found_twice_is_kept_once():
+    """Two verified rows within DUPLICATE_TOL in every joint (a double root the kernel found
+    twice) are one solution: the first kept, the rows after it moved up, a failure as near
+    kept; decided by the rule as before."""
+    case = _Case()
+    a, q = case.arm, case.q
+    outside = q.copy()
+    outside[0] = a.upper[0] + 0.2  # claimed outside the limits: measured by finish
+    rows = np.array(
+        [_row(q, 0, 1), _row(outside, 0, 2), _row(q + 1e-9, 0, 3), _row(_turned(a, q), 0, 4)]
+    )
+    n, verdict = case.judge(rows, whole=True)
+    assert (n, verdict) == (3, DECIDED)
+    assert rows[:3, TAG].tolist() == [1, 4, 2]
+    assert rows[2, STATUS] == Status.JOINT_LIMITS.code and rows[2, MEASURED] > 0.0
+
+
 def test_a_decided_targets_labels_are_read_with_its_results():
     case = _Case()
     q = case.q
@@ -196,6 +223,6 @@ def test_a_decided_targets_labels_are_read_with_its_results():
 def test_a_label_met_twice_is_numbered():
     case = _Case()
     q = case.q
-    twice = [r.branch for r in case.results(np.array([_row(q), _row(q)]))]
+    twice = [r.branch for r in case.results(np.array([_row(q), _row(_turned(case.arm, q))]))]
     once = [r.branch for r in case.results(np.array([_row(q), _row(0.9 * q, LS, 1, 1)]))]
     assert twice == [once[0], f"{once[0]}#2"]

@@ -34,6 +34,7 @@ import math
 import numpy as np
 from numba import njit
 
+from armik.kernel.descent import DUPLICATE_TOL
 from armik.kernel.measure import fk_checks_beside
 from armik.solvers.closed_form.sixr import LS, NOT_FOUND, branch_bits, unflatten
 from armik.status import FAILURE_RANK, Status
@@ -124,6 +125,7 @@ def judged(n, chain, packed, kind, halton, frame, judge, H, rows):
     fk_checks_beside(packed, kind, halton, frame, H, rows, n, np.int64(MEASURED), later)
     tol_p, tol_r = judge[0], judge[1]
     rot = int(frame[18]) & 2 != 0
+    n, later = _once(rows, n, later, tol_p, tol_r, rot)
     for i in range(n):
         if later >> i & 1:  # joint_limits, whatever its errors: measured when read
             rows[i, MEASURED], rows[i, MEASURED + 1], rows[i, MEASURED + 2] = np.nan, np.nan, 0.0
@@ -176,6 +178,45 @@ def finish(ctx, rows, n):
     h, p, _, _, _, _ = unflatten(chain)
     for r in range(n):
         rows[r, 7] = branch_bits(h, p, rows[r, :6])
+
+
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
+def _holds(rows, i, tol_p, tol_r, rot):
+    """Whether row i's measure holds: within the limits, reaching the target."""
+    pos, ori = rows[i, MEASURED], rows[i, MEASURED + 1]
+    return rows[i, MEASURED + 2] > 0.0 and pos <= tol_p and (not rot or ori <= tol_r)
+
+
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
+def _once(rows, n, later, tol_p, tol_r, rot):
+    """(n, later) of the first ``n`` measured rows without a row whose measure holds within
+    ``DUPLICATE_TOL`` in every joint of an earlier such row (a double root the kernel found
+    twice, 1e-8 apart at a singular target: one solution, listed once), the others moved up
+    in their order; ``later``'s bits follow them."""
+    kept = 0
+    moved = np.int64(0)
+    for i in range(n):
+        waits = later >> i & 1
+        if not waits and _holds(rows, i, tol_p, tol_r, rot):
+            twice = False
+            for k in range(kept):
+                if not moved >> k & 1 and _holds(rows, k, tol_p, tol_r, rot):
+                    twice = True
+                    for j in range(6):
+                        if not abs(rows[i, j] - rows[k, j]) < DUPLICATE_TOL:
+                            twice = False
+                            break
+                    if twice:
+                        break
+            if twice:
+                continue
+        if kept != i:
+            for c in range(rows.shape[1]):
+                rows[kept, c] = rows[i, c]
+        if waits:
+            moved |= np.int64(1) << kept
+        kept += 1
+    return kept, moved
 
 
 @njit(cache=True, nogil=True, no_cfunc_wrapper=True)
