@@ -61,7 +61,7 @@ from armik.verify.verdict import (
     numbered,
     seed_distance,
 )
-from armik.verify.verdicts import failure_rank
+from armik.verify.verdicts import failure_rank, tied
 
 _FLOAT = np.dtype(float)
 _SE3 = pin.SE3
@@ -405,8 +405,10 @@ class Plan:
         # verified answers nearest q0 first (the runner's order; a verified answer it did
         # not claim is ranked among them), then the others ranked as ``verdict.ranked`` ranks
         # them (a stable sort on the same key)
-        if unclaimed:
-            verified.sort(key=lambda f: seed_distance(f["q"], q0))
+        if unclaimed:  # as near q0 to ``sixr.TIE``: the runner's order, as the C's
+            keys = [(seed_distance(f["q"], q0),) for f in verified]
+            order = tied(sorted(range(len(keys)), key=keys.__getitem__), keys, self.arm.dof)
+            verified = [verified[i] for i in order]
         failed.sort(key=lambda pair: pair[0])
         if failed:
             verified += [fields for _, fields in failed]
