@@ -18,7 +18,7 @@ import pinocchio as pin
 
 from armik.constraints.base import Constraint
 from armik.constraints.limits import JointLimits
-from armik.errors import TargetError
+from armik.errors import OptionError, TargetError
 from armik.problem.budget import DEFAULT as DEFAULT_BUDGET
 from armik.problem.budget import Budget
 from armik.problem.tasks import Axis, LookAt, Pose, Position, Relative, Task
@@ -158,6 +158,24 @@ def lower(problem: Problem, tip: str | None = None) -> tuple[object, dict] | Non
         R = _onto(task.axis, task.direction)
         return Target(np.zeros(3), R, aim=_cone(task)), {"bounds": free}
     return None
+
+
+def refuse_position_only(problem: Problem, options: dict) -> None:
+    """An ``OptionError`` for ``position_only=True`` beside a task list the compiled path
+    solves (``lower``) that holds a ``Pose``: the option dropped the pose's rotation unseen,
+    so an answer whatever its rotation was a success with no orientation error (a list the
+    task solver takes refuses the option; weights and bounds given so are the ``Pose``'s
+    own, ``check_said_twice``)."""
+    if not options.get("position_only"):
+        return
+    if any(type(t) is Pose for t in problem.tasks):
+        raise OptionError(
+            "position_only=True drops the rotation a Pose task holds: say what is held in "
+            "the tasks, armik.Position(p) for the position alone, or armik.Pose(T, "
+            "bounds=(0, 0, 0, inf, inf, inf)) for the pose's position",
+            option="position_only",
+            value=True,
+        )
 
 
 def _point_and_axis(a: Task, b: Task) -> tuple[object, dict] | None:

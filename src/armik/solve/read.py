@@ -23,7 +23,13 @@ from armik.errors import OptionError, TargetError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.options import Options, spelled
-from armik.problem.problem import Problem, as_problem, lower, refuse_looking_from_target
+from armik.problem.problem import (
+    Problem,
+    as_problem,
+    lower,
+    refuse_looking_from_target,
+    refuse_position_only,
+)
 from armik.problem.scores import fit_posture, parse_score
 from armik.problem.tasks import Pose, Position, Task
 from armik.request import Request
@@ -80,6 +86,8 @@ def read(
             if lowered is not None and not (held and _held_apart(arm, options)):
                 target, said = lowered
                 check_said_twice(options, said)
+                if "position_only" in options:
+                    refuse_position_only(problem, options)
                 if aim is None and type(target) is not Target:  # an Axis exactly along
                     freed = task_aim(problem)
                 if aim is not None:  # a call only then: the lowered target's aim is read below
