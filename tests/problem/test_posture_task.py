@@ -132,3 +132,34 @@ def test_a_secondary_posture_of_another_arm_is_refused_whichever_solver_runs(sol
         ur5.solve(T, solver=solver, secondary=bad)
     with pytest.raises(armik.OptionError, match="has 5 values, the arm 6 joints"):
         ur5.solve_batch([T, T], solver=solver, secondary=bad, workers=1)
+
+
+def _two_frames(arm, rng):
+    """A Panda task list only the task solver takes: the tip's position, the elbow's
+    within 10 cm, from a random configuration."""
+    q_true = arm.random_q(rng)
+    tip = conftest.frame_position(arm, q_true, arm.tip)
+    elbow = conftest.frame_position(arm, q_true, "panda_link4")
+    return [armik.Position(tip), armik.Position(elbow, bounds=[0.1] * 3, frame="panda_link4")]
+
+
+def test_prefer_on_a_task_list_gives_the_task_solver_the_whole_budget():
+    """The task solver's one answer is scored, nothing else searched: it ran on the share
+    of the budget a search of many answers gathers with (half the iterations), and lists
+    it solved without ``prefer=`` failed with it. The same answer with or without."""
+    arm = conftest.arm("ur5")
+    rng = np.random.default_rng(8)
+    for _ in range(6):
+        q = arm.random_q(rng)
+        T = arm.fk(q)
+        forearm = conftest.frame_position(arm, q, "forearm_link")
+        tasks = [
+            armik.Position(T.translation, bounds=(0.01,) * 3),
+            armik.LookAt(T.translation + 0.4 * T.rotation[:, 2], (0, 0, 1), 0.02),
+            armik.Position(forearm, bounds=(0.05,) * 3, frame="forearm_link"),
+        ]
+        plain = arm.solve(tasks, q0=arm.middle, iteration_budget=600)
+        ranked = arm.solve(tasks, q0=arm.middle, iteration_budget=600, prefer="manipulability")
+        assert ranked.success == plain.success, (plain.reason, ranked.reason)
+        if plain.success:
+            np.testing.assert_allclose(ranked.q, plain.q, atol=1e-12)
