@@ -143,6 +143,33 @@ def _two_frames(arm, rng):
     return [armik.Position(tip), armik.Position(elbow, bounds=[0.1] * 3, frame="panda_link4")]
 
 
+def test_with_prefer_as_well_the_preference_decides_the_move_along_the_null_space():
+    """docs/preferences.md: a task list follows a secondary posture A once its tasks hold,
+    and with ``prefer=armik.Posture(B)`` as well the preference decides that move. The
+    move followed A, the preference only scored its end: the answer was A's, farther
+    from B than the plain answer on some targets. Each answer verified on both frames."""
+    arm = conftest.arm("panda")
+    rng = np.random.default_rng(4)
+    A = arm.middle.copy()
+    B = arm.middle + np.array([1.2, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0])
+    lower = 0
+    for _ in range(4):
+        tasks = _two_frames(arm, rng)
+        kw = dict(q0=arm.middle, secondary=[armik.Posture(A)], **BUDGET)
+        toward_a = arm.solve(tasks, **kw)
+        both = arm.solve(tasks, prefer=armik.Posture(B), **kw)
+        assert toward_a.success and both.success, (toward_a.reason, both.reason)
+        tip, elbow = tasks[0].p, tasks[1].p
+        assert np.linalg.norm(conftest.frame_position(arm, both.q, arm.tip) - tip) <= 1e-6
+        off = np.abs(conftest.frame_position(arm, both.q, "panda_link4") - elbow)
+        assert np.all(off <= 0.1 + 1e-6)
+        cost_a, cost_both = (float(((r.q - B) ** 2).sum()) for r in (toward_a, both))
+        assert both.score == pytest.approx(cost_both, abs=1e-9)
+        assert cost_both <= cost_a + 1e-9
+        lower += cost_both < cost_a - 1e-3
+    assert lower >= 3
+
+
 def test_prefer_on_a_task_list_gives_the_task_solver_the_whole_budget():
     """The task solver's one answer is scored, nothing else searched: it ran on the share
     of the budget a search of many answers gathers with (half the iterations), and lists
