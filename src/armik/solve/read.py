@@ -213,6 +213,11 @@ def read_path(
         lowered = lower_all(problems, options, arm.tip)
         if lowered is None and aim is not None:
             raise OptionError(AIM_OF_TASKS, option=AIM_NAMES[0], value=aim)
+        if lowered is not None and _held_apart(arm, options):  # as solve reads each list
+            if plan == "global":
+                raise _held_global(options)
+            rows = tuple(read(arm, list(p.tasks), None, solver, options) for p in problems)
+            return _by_rows(arm, rows, q0, solver, options, t0, score)
         if lowered is None:  # the task solver's, waypoint by waypoint, each as solve reads it
             if plan == "global":
                 raise TargetError(
@@ -231,13 +236,7 @@ def read_path(
     elif "hold" in options or "constraints" in options:
         if _held_apart(arm, options):  # joints only the task solver holds: as solve does
             if plan == "global":
-                raise OptionError(
-                    "plan='global' plans over every solution at each waypoint, and the joints "
-                    "held here are held by the task solver, which gives one answer each: give "
-                    "plan='follow', or lock them: arm.with_locked({name: value})",
-                    option="hold",
-                    value=options.get("hold"),
-                )
+                raise _held_global(options)
             batch = parse_targets(poses, arm)
             each = [batch.target(i) for i in range(len(batch))]
             if aim is not None:  # every waypoint's, as the compiled path's batch carries it
@@ -259,6 +258,17 @@ def read_path(
     if aim is not None and key is not None:
         key = (key, aim.shape)
     return Request(poses, q0, solver, opts, key, seed, False, t0, score), local
+
+
+def _held_global(options: dict) -> OptionError:
+    """The refusal of a global plan whose held joints only the task solver holds."""
+    return OptionError(
+        "plan='global' plans over every solution at each waypoint, and the joints held here "
+        "are held by the task solver, which gives one answer each: give plan='follow', or "
+        "lock them: arm.with_locked({name: value})",
+        option="hold",
+        value=options.get("hold"),
+    )
 
 
 def _by_rows(arm, rows: tuple, q0, solver: str, options: dict, t0: float, score):
