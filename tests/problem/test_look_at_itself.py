@@ -93,3 +93,32 @@ def test_a_look_at_seeded_on_its_point_moves_off_it():
         r = panda.solve(armik.LookAt(p), q0=q, solver=solver, iteration_budget=2000)
         assert r.success, r.reason
         assert np.linalg.norm(panda.fk(r.q).translation - p) > 1e-6
+
+
+def test_a_frame_within_the_position_tolerance_of_the_point_looks_at_nothing():
+    """The measure refuses a frame standing within ``tol_position`` of the point (the line
+    of sight is any direction a move within the tolerance gives). It refused only within
+    1e-9 m: a secondary posture moved the task solver's answer 4e-8 to 8e-8 m from the
+    point, called a success."""
+    ur5 = bundled("ur5")
+    q = ur5.middle
+    T = ur5.fk(q)
+    point = T.translation + T.rotation[:, 2] * 5e-7  # along the tool's z, 0.5 um ahead
+    look = armik.LookAt(point)
+    assert not look.measure(T, 1e-6, 1e-6).within
+    assert look.measure(T, 1e-7, 1e-6).within  # a tighter position tolerance: a sight
+    rng = np.random.default_rng(8)
+    for _ in range(5):
+        qt = ur5.random_q(rng)
+        qt[0] = rng.uniform(-0.8, 0.8)
+        p = ur5.fk(qt).translation
+        tasks = [armik.Position(p, bounds=(0.05,) * 3), armik.LookAt(p)]
+        r = ur5.solve(
+            tasks, q0=ur5.middle, secondary=[armik.Posture(ur5.middle)], iteration_budget=2000
+        )
+        if r.success:
+            F = ur5.fk(r.q)
+            sight = p - F.translation
+            assert np.linalg.norm(sight) > 1e-6, r.reason
+            assert np.all(np.abs(sight) <= 0.05 + 1e-6)
+            assert float(F.rotation[:, 2] @ sight) >= np.linalg.norm(sight) * np.cos(1e-6)

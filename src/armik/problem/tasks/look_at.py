@@ -71,7 +71,9 @@ class LookAt(Task):
 
     def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
         d, distance = self._sight(T)
-        if distance <= LOOK_AT:  # standing on the point: no line of sight, nothing aimed
+        # standing on the point, to within the position's tolerance: no line of sight (its
+        # direction is any a move within the tolerance gives), nothing aimed
+        if distance <= max(LOOK_AT, tol_position):
             return TaskError(None, math.pi, False)
         beyond = max(cone.angle(self.axis, T.rotation.T @ d) - self.within, 0.0)
         return TaskError(None, beyond, beyond <= tol_orientation)
