@@ -95,6 +95,24 @@ def test_a_look_at_seeded_on_its_point_moves_off_it():
         assert np.linalg.norm(panda.fk(r.q).translation - p) > 1e-6
 
 
+def test_a_box_too_small_to_stand_back_in_is_refused_as_no_box():
+    """A box of 1e-7 m around the point looked at leaves the frame within 1e-6 m of it, as
+    an exact position does: refused by name in both spellings; a box of 1e-4 m is taken."""
+    ur5 = bundled("ur5")
+    p = ur5.fk(ur5.random_q(2)).translation
+    tiny = (1e-7,) * 3
+    with pytest.raises(armik.TargetError, match=r"LookAt point .* box .* wider than 1e-06 m"):
+        ur5.solve([armik.Position(p, bounds=tiny), armik.LookAt(p)])
+    with pytest.raises(armik.TargetError, match=r"the target's position.* wider than 1e-06 m"):
+        ur5.solve(p, look_at=p, cone=(0, 0, 1, 0.0), bounds=tiny + (0, 0, 0))
+    r = ur5.solve([armik.Position(p, bounds=(1e-4,) * 3), armik.LookAt(p)], iteration_budget=2000)
+    assert r.success, r.reason
+    F = ur5.fk(r.q)
+    sight = p - F.translation
+    assert np.linalg.norm(sight) > 1e-6 and np.all(np.abs(sight) <= 1e-4 + 1e-6)
+    assert float(F.rotation[:, 2] @ sight) >= np.linalg.norm(sight) * np.cos(1e-6)
+
+
 def test_a_frame_within_the_position_tolerance_of_the_point_looks_at_nothing():
     """The measure refuses a frame standing within ``tol_position`` of the point (the line
     of sight is any direction a move within the tolerance gives). It refused only within

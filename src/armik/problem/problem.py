@@ -61,45 +61,55 @@ def as_problem(target: object) -> Problem | None:
 
 def _refuse_looking_at_itself(tasks) -> None:
     """A ``TargetError`` for a ``LookAt`` whose point is where a task of its frame holds
-    that frame exactly: no line of sight is left to aim along, and every axis would pass."""
+    that frame, exactly or within a box that keeps it within ``LOOK_FROM`` of the point: no
+    line of sight is left to aim along, and every axis would pass."""
     for look in (t for t in tasks if type(t) is LookAt):
         for t in tasks:
             if t.frame != look.frame:
                 continue
-            if type(t) is Position and not t.bounds.any():
-                at = t.p
-            elif type(t) is Pose and not t.bounds[:3].any() and t.weights[:3].all():
-                at = t.T.translation
+            if type(t) is Position:
+                at, box = t.p, t.bounds
+            elif type(t) is Pose and t.weights[:3].all():
+                at, box = t.T.translation, t.bounds[:3]
             else:
                 continue
-            if float(np.linalg.norm(look.point - at)) <= LOOK_FROM:
+            # the farthest the box lets the frame stand from the point (at most)
+            if float(np.linalg.norm(look.point - at) + np.linalg.norm(box)) <= LOOK_FROM:
+                within = f" (its box {box.tolist()} m)" if box.any() else ""
                 raise TargetError(
                     f"LookAt point {look.point.tolist()} is where {type(t).__name__} puts the "
-                    "frame itself: no direction is left to aim along; look at another point, "
-                    "or give the frame's position a box (bounds=) to stand back in"
+                    f"frame itself{within}: no direction is left to aim along; look at "
+                    f"another point, or give the frame's position a box (bounds=) to stand "
+                    f"back in, wider than {LOOK_FROM:g} m"
                 )
 
 
 def refuse_looking_from_target(positions: object, aim: Aim, opts) -> None:
     """The keyword spelling's ``_refuse_looking_at_itself``: a ``TargetError`` where the
     aim's point (``aim.point``: ``look_at=``) is one a target's position (``positions``:
-    one, or N of a batch or a path, m) holds the tip on exactly, its position neither
-    boxed (a finite bound) nor freed (an infinite bound, a weight of 0; ``opts``: validated
-    options): ``solve(p, look_at=p, cone=...)`` asks what ``[Position(p), LookAt(p)]`` asks."""
+    one, or N of a batch or a path, m) holds the tip on, exactly or within a box no wider
+    than ``LOOK_FROM``, its position not freed (an infinite bound, a weight of 0; ``opts``:
+    validated options): ``solve(p, look_at=p, cone=...)`` asks what ``[Position(p),
+    LookAt(p)]`` asks."""
     look = aim.point
     if look is None:
         return
     bounds, weights = opts.bounds, opts.weights
-    if (bounds is not None and any(bounds[:3])) or (weights is not None and not all(weights[:3])):
+    if weights is not None and not all(weights[:3]):
+        return
+    # the farthest a box lets the tip stand from the point (at most): a box within
+    # LOOK_FROM of it leaves no line of sight either
+    box = 0.0 if bounds is None else float(np.linalg.norm(bounds[:3]))
+    if not box <= LOOK_FROM:
         return
     at = np.asarray(positions, dtype=float).reshape(-1, 3)
-    near = np.flatnonzero(np.linalg.norm(at - np.asarray(look), axis=1) <= LOOK_FROM)
+    near = np.flatnonzero(np.linalg.norm(at - np.asarray(look), axis=1) + box <= LOOK_FROM)
     if len(near):
         which = "the target's position" if len(at) == 1 else f"target {int(near[0])}'s position"
         raise TargetError(
             f"look_at point {list(look)} is {which}, where the tip itself is put: no "
             "direction is left to aim along; look at another point, or give the tip's "
-            "position a box (bounds=) to stand back in"
+            f"position a box (bounds=) to stand back in, wider than {LOOK_FROM:g} m"
         )
 
 
