@@ -6,6 +6,7 @@ plain pose or position given as its task. Every answer is checked on the arm's F
 from __future__ import annotations
 
 import numpy as np
+import pinocchio as pin
 import pytest
 
 import armik
@@ -116,3 +117,36 @@ def test_a_followed_path_of_task_lists_holds_a_joint_of_a_six_joint_arm():
     with pytest.raises(armik.OptionError, match="plan='global' .* held here") as e:
         arm.solve_path(rows, q, plan="global", hold=hold, **BUDGET)
     assert e.value.option == "hold"
+
+
+def test_tip_frame_weights_the_task_solver_would_read_in_the_target_frame_are_refused():
+    """``weights=`` weigh the tip frame's error; a pose whose held joints the task solver
+    holds became ``armik.Pose(T, weights=w)``, weighed in the target frame. With x and the
+    spin free the two free other poses: a UR5 answer 2 cm off in the tip frame's weighted y
+    was a success. Refused by name; weights that free x alone are taken, the pose's
+    weighted tip-frame error within the tolerance on an FK computed here."""
+    arm = conftest.arm("ur5")
+    q = np.array([0.2, -1.0, 1.4, -0.6, 1.1, 0.3])
+    T = arm.fk(q)
+    turn = T.rotation @ pin.exp3(np.array([0.0, 0.0, 0.5]))
+    target = pin.SE3(turn, T.translation + 0.05 * T.rotation[:, 0])
+    hold = {"wrist_3_joint": float(q[5])}
+    for call in (
+        lambda: arm.solve(target, q0=q, weights=(0, 1, 1, 1, 1, 0), hold=hold, **BUDGET),
+        lambda: arm.solve_batch([target] * 2, q0=q, weights=(0, 1, 1, 0, 0, 0), hold=hold),
+    ):
+        with pytest.raises(armik.OptionError, match="weigh the tip frame's error") as e:
+            call()
+        assert e.value.option == "weights"
+    w = np.array([0, 1, 1, 1, 1, 1.0])
+    reach = pin.SE3(T.rotation, T.translation + 0.05 * T.rotation[:, 0])
+    r = arm.solve(reach, q0=q, weights=tuple(w), hold=hold, **BUDGET)
+    assert r.success, r.reason
+    F = arm.fk(r.q)
+    tip = np.concatenate(
+        [
+            F.rotation.T @ (F.translation - reach.translation),
+            pin.log3(F.rotation.T @ reach.rotation),
+        ]
+    )
+    assert np.linalg.norm(w * tip) <= 1e-6 and abs(r.q[5] - q[5]) <= 1e-9

@@ -188,6 +188,32 @@ def refuse_position_only(problem: Problem, options: dict) -> None:
         )
 
 
+def refuse_tip_frame_weights(said: dict) -> None:
+    """An ``OptionError`` for ``weights`` without ``bounds`` (``said``: the options a pose's
+    task would take) that free a position axis and a rotation, on a pose the task solver
+    takes for its held joints: ``weights=`` weigh the error in the tip frame, the task's
+    (``armik.Pose(T, weights=...)``) in the target's, and with a rotation free a position
+    axis of one frame is not the other's; the task's verdict would call a success a pose
+    the option's rule refuses (other weights free the same poses in either frame)."""
+    if said.get("weights") is None or said.get("bounds") is not None:
+        return
+    try:
+        w = np.asarray(said["weights"], dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        return  # the options' check names it
+    if w.shape != (6,) or w[:3].all() or w[3:].all():
+        return
+    raise OptionError(
+        f"weights={said['weights']!r} weigh the tip frame's error, and the joints held here "
+        "are held by the task solver, which weighs a pose's error in the target frame: with "
+        "a rotation free, a position axis freed in one frame is not the other's; say it in "
+        "the target frame, armik.Pose(T, weights=...), or lock the joints: "
+        "arm.with_locked({name: value})",
+        option="weights",
+        value=said["weights"],
+    )
+
+
 def _point_and_axis(a: Task, b: Task) -> tuple[object, dict] | None:
     """A position with an axis within a cone of a direction: a pose whose rotation takes
     the axis onto the direction. Exactly along it and the axis one of the tip's own (a

@@ -29,6 +29,7 @@ from armik.problem.problem import (
     lower,
     refuse_looking_from_target,
     refuse_position_only,
+    refuse_tip_frame_weights,
 )
 from armik.problem.scores import fit_posture, parse_score
 from armik.problem.tasks import Pose, Position, Task
@@ -385,6 +386,7 @@ def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | No
         return as_problem(Position(tgt.position)), rest
     if not said:  # parsed already: not read again
         return as_problem(Pose.of(tgt, None)), options
+    refuse_tip_frame_weights(said)
     rest = {k: v for k, v in options.items() if k not in said}
     return as_problem(Pose(pin.SE3(tgt.rotation, tgt.position), **said)), rest
 
