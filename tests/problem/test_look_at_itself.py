@@ -113,18 +113,18 @@ def test_a_box_too_small_to_stand_back_in_is_refused_as_no_box():
     assert float(F.rotation[:, 2] @ sight) >= np.linalg.norm(sight) * np.cos(1e-6)
 
 
-def test_a_frame_within_the_position_tolerance_of_the_point_looks_at_nothing():
-    """The measure refuses a frame standing within ``tol_position`` of the point (the line
-    of sight is any direction a move within the tolerance gives). It refused only within
-    1e-9 m: a secondary posture moved the task solver's answer 4e-8 to 8e-8 m from the
-    point, called a success."""
+def test_a_frame_within_a_micrometre_of_the_point_looks_at_nothing():
+    """The measure refuses a frame standing within 1e-6 m of the point (the distance within
+    which the request is refused: no line of sight), whatever the tolerances. It refused only
+    within 1e-9 m: a secondary posture moved the task solver's answer 4e-8 to 8e-8 m from
+    the point, called a success."""
     ur5 = bundled("ur5")
     q = ur5.middle
     T = ur5.fk(q)
-    point = T.translation + T.rotation[:, 2] * 5e-7  # along the tool's z, 0.5 um ahead
-    look = armik.LookAt(point)
-    assert not look.measure(T, 1e-6, 1e-6).within
-    assert look.measure(T, 1e-7, 1e-6).within  # a tighter position tolerance: a sight
+    ahead = [T.translation + T.rotation[:, 2] * d for d in (5e-7, 2e-6)]  # along the tool's z
+    for tol in (1e-6, 1e-9, 1e-3):
+        assert not armik.LookAt(ahead[0]).measure(T, tol, 1e-6).within
+        assert armik.LookAt(ahead[1]).measure(T, tol, 1e-6).within
     rng = np.random.default_rng(8)
     for _ in range(5):
         qt = ur5.random_q(rng)

@@ -23,6 +23,7 @@ from armik.problem.budget import DEFAULT as DEFAULT_BUDGET
 from armik.problem.budget import Budget
 from armik.problem.tasks import Axis, LookAt, Pose, Position, Relative, Task
 from armik.problem.tasks.cone import cross
+from armik.problem.tasks.look_at import SIGHT
 from armik.targets.aim import Aim
 from armik.targets.pose import Target
 
@@ -125,7 +126,7 @@ def tightened(problem: Problem) -> Problem:
     return replace(problem, tasks=tuple(t.shrunk(0.0) for t in problem.tasks))
 
 
-LOOK_FROM = 1e-6  # m: a point nearer the position than this is no direction to aim at
+LOOK_FROM = SIGHT  # m: a point nearer the position than this is no direction to aim at
 
 
 def rims(problem: Problem, count: int) -> list[Problem]:
