@@ -163,3 +163,32 @@ def test_a_box_of_one_number_a_side_holds_every_joint():
     r = arm.solve(tasks, q0=q + 0.05, constraints=[Boxed((-1.5, 1.5))], iteration_budget=2000)
     assert r.success, r.reason
     assert np.all(np.abs(r.q) <= 1.5)
+
+
+class AtNone(Boxed):
+    def at(self, arm, seed):
+        return None  # meant: "nothing to resolve"
+
+
+class AtRaises(Boxed):
+    def at(self, arm, seed):
+        return {"wrist": 1}["elbow"]
+
+
+@pytest.mark.parametrize(
+    ("cls", "said"),
+    [
+        (AtNone, r"its at\(arm, seed\) must return the constraint resolved .* got None"),
+        (AtRaises, "its at raised KeyError: 'elbow'"),
+    ],
+)
+def test_a_bad_at_is_named(panda, cls, said):
+    """A user's ``at`` (the constraint resolved for one solve) returning no constraint, or
+    raising: a bare AttributeError ('NoneType' has no 'box') or KeyError
+    came out of the task solver."""
+    T = panda.fk(panda.middle + 0.1)
+    elbow = panda.fk(panda.middle + 0.1, "panda_link4").translation
+    tasks = [armik.Pose(T), armik.Position(elbow, bounds=(0.05,) * 3, frame="panda_link4")]
+    with pytest.raises(armik.OptionError, match=f"constraint {cls.__name__}: {said}") as e:
+        panda.solve(tasks, constraints=[cls(None)], iteration_budget=100)
+    assert e.value.option == "constraints"

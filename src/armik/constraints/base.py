@@ -92,6 +92,13 @@ class Constraint(ABC):
             and not getattr(rows, "_armik_checked", False)
         ):
             cls.box = _boxed(rows)  # type: ignore[method-assign]
+        resolve = cls.__dict__.get("at")
+        if (
+            isinstance(resolve, FunctionType)
+            and not cls.__module__.startswith("armik.")
+            and not getattr(resolve, "_armik_checked", False)
+        ):
+            cls.at = _resolved(resolve)  # type: ignore[method-assign]
 
 
 def _checked(own: Callable[..., object]) -> Callable[..., Check]:
@@ -166,6 +173,36 @@ def _boxed(own: Callable[..., object]) -> Callable[..., tuple[np.ndarray, np.nda
 
     box._armik_checked = True  # type: ignore[attr-defined]
     return box
+
+
+def _resolved(own: Callable[..., object]) -> Callable[..., Constraint]:
+    """A user's ``at``, its result read as a ``Constraint``: an error it raises, or another
+    result, an ``OptionError`` naming its class."""
+
+    @functools.wraps(own)
+    def at(self: Constraint, arm: ArmModel, seed: np.ndarray) -> Constraint:
+        name = type(self).__name__
+        try:
+            got = own(self, arm, seed)
+        except ArmikError:
+            raise
+        except Exception as exc:
+            raise OptionError(
+                f"constraint {name}: its at raised {type(exc).__name__}: {exc}",
+                option="constraints",
+                value=name,
+            ) from exc
+        if not isinstance(got, Constraint):
+            raise OptionError(
+                f"constraint {name}: its at(arm, seed) must return the constraint resolved "
+                f"for that solve (a Constraint: self where nothing changes), got {got!r}",
+                option="constraints",
+                value=name,
+            )
+        return got
+
+    at._armik_checked = True  # type: ignore[attr-defined]
+    return at
 
 
 _SAY = "a check returns armik.constraints.base.Check(ok, status, why)"
