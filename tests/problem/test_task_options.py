@@ -48,3 +48,20 @@ def test_position_only_beside_a_position_task_is_taken():
     r = ur5.solve([armik.Position(p)], q0=ur5.middle, position_only=True)
     assert r.success, r.reason
     assert np.linalg.norm(ur5.fk(r.q).translation - p) <= 1e-6
+
+
+def test_bounds_beside_an_axis_that_says_its_own_name_the_tasks_that_take_a_box():
+    """``bounds=`` beside ``[Position(p), Axis(a, d)]`` (the spin about the axis freed by
+    bounds of the list's own): the refusal named ``armik.Pose(T, bounds=...)`` alone, a
+    task the list does not hold; it names the Position's box and why the list has bounds."""
+    ur5 = conftest.arm("ur5")
+    T = ur5.fk(ur5.random_q(4))
+    tasks = [armik.Position(T.translation), armik.Axis((0, 0, 1), T.rotation[:, 2])]
+    try:
+        ur5.solve(tasks, bounds=(0.01, 0.01, 0.01, 0, 0, 0))
+    except armik.OptionError as e:
+        assert e.option == "bounds"
+        assert "armik.Position(p, bounds=...)" in str(e)
+        assert "an armik.Axis or armik.LookAt says the bounds of what it frees itself" in str(e)
+    else:
+        raise AssertionError("taken")

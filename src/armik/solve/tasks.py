@@ -61,9 +61,15 @@ def check_said_twice(options: dict, said: dict) -> None:
     the aim they lower to, as a keyword cone's: ``targets.aim.refuse_freed``.)"""
     for name in said:
         if name in options:
+            box = (
+                ", armik.Position(p, bounds=...)); an armik.Axis or armik.LookAt says the "
+                "bounds of what it frees itself (the position, the spin about the axis"
+                if name == "bounds"
+                else ""
+            )
             raise OptionError(
                 f"{name} is given both by the task and as an option: give it in the task "
-                f"(armik.Pose(T, {name}=...))",
+                f"(armik.Pose(T, {name}=...){box})",
                 option=name,
                 value=options[name],
             )
