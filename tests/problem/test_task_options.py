@@ -65,3 +65,34 @@ def test_bounds_beside_an_axis_that_says_its_own_name_the_tasks_that_take_a_box(
         assert "an armik.Axis or armik.LookAt says the bounds of what it frees itself" in str(e)
     else:
         raise AssertionError("taken")
+
+
+def test_bounds_beside_a_position_and_a_cone_are_refused_on_every_route():
+    """``[Position(p), Axis(a, d, 0.1)]`` lowers to a pose whose rotation the lowering
+    chooses (one taking a onto d): ``bounds=`` beside it was read in that rotation's frame,
+    so a box free along x let a UR5's tip off along y and z, a success; the keyword spelling
+    and ``Position(p, bounds=...)`` read the box in the base frame. Refused by name; the
+    Position's own box is taken, the tip off along base x alone on an FK computed here."""
+    ur5 = conftest.arm("ur5")
+    q = np.array([0.2, -1.0, 1.4, -0.6, 1.1, 0.3])
+    T = ur5.fk(q)
+    d = T.rotation[:, 2]
+    p = T.translation + np.array([0.0, 0.04, 0.0])
+    box = (0.05, 0.0, 0.0, 0.0, 0.0, 0.0)
+    tasks = [armik.Position(p), armik.Axis((0, 0, 1), d, 0.1)]
+    for call in _routes(ur5, tasks, q, {"bounds": box}):
+        try:
+            call()
+        except armik.OptionError as e:
+            assert e.option == "bounds" and "armik.Position(p, bounds=(bx, by, bz))" in str(e)
+            continue
+        raise AssertionError("taken")
+    r = ur5.solve([armik.Position(p, bounds=box[:3]), armik.Axis((0, 0, 1), d, 0.1)], q0=q)
+    assert r.success, r.reason
+    F = ur5.fk(r.q)
+    off = F.translation - p
+    assert abs(off[0]) <= 0.05 + 1e-6 and np.linalg.norm(off[1:]) <= 1e-6
+    assert float(F.rotation[:, 2] @ d) >= np.cos(0.1 + 1e-6)
+    r = ur5.solve(tasks, q0=q, bounds=(0,) * 6)  # a box of nothing widens nothing: taken
+    assert r.success, r.reason
+    assert np.linalg.norm(ur5.fk(r.q).translation - p) <= 1e-6

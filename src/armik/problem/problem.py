@@ -171,21 +171,37 @@ def lower(problem: Problem, tip: str | None = None) -> tuple[object, dict] | Non
     return None
 
 
-def refuse_position_only(problem: Problem, options: dict) -> None:
-    """An ``OptionError`` for ``position_only=True`` beside a task list the compiled path
-    solves (``lower``) that holds a ``Pose``: the option dropped the pose's rotation unseen,
-    so an answer whatever its rotation was a success with no orientation error (a list the
-    task solver takes refuses the option; weights and bounds given so are the ``Pose``'s
-    own, ``check_said_twice``)."""
-    if not options.get("position_only"):
-        return
-    if any(type(t) is Pose for t in problem.tasks):
+def refuse_beside_tasks(problem: Problem, options: dict) -> None:
+    """An ``OptionError`` for an option beside a task list the compiled path solves
+    (``lower``) that it would read against the tasks: ``position_only=True`` beside a
+    ``Pose`` (it dropped the pose's rotation unseen: an answer whatever its rotation was a
+    success with no orientation error), and ``bounds`` beside a ``Position`` with an
+    ``Axis`` in a cone (read in the frame of a rotation the lowering chose, which no one
+    named: a box free along x let the tip off along y and z). A list the task solver takes
+    refuses these options; weights and bounds given beside a ``Pose`` are its own
+    (``check_said_twice``)."""
+    if options.get("position_only") and any(type(t) is Pose for t in problem.tasks):
         raise OptionError(
             "position_only=True drops the rotation a Pose task holds: say what is held in "
             "the tasks, armik.Position(p) for the position alone, or armik.Pose(T, "
             "bounds=(0, 0, 0, inf, inf, inf)) for the pose's position",
             option="position_only",
             value=True,
+        )
+    bounds = options.get("bounds")
+    if bounds is None or {type(t) for t in problem.tasks} != {Position, Axis}:
+        return
+    try:
+        widens = bool(np.any(np.asarray(bounds, dtype=float) != 0.0))
+    except (TypeError, ValueError):
+        return  # the options' check names it
+    if widens:
+        raise OptionError(
+            f"bounds={bounds!r} beside a Position and an Axis have no frame of their own to be "
+            "read in: give the position's box in the task, armik.Position(p, bounds=(bx, by, "
+            "bz)) (base frame), the Axis's cone as its within",
+            option="bounds",
+            value=bounds,
         )
 
 

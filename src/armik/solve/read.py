@@ -27,8 +27,8 @@ from armik.problem.problem import (
     Problem,
     as_problem,
     lower,
+    refuse_beside_tasks,
     refuse_looking_from_target,
-    refuse_position_only,
     refuse_tip_frame_weights,
 )
 from armik.problem.scores import fit_posture, parse_score
@@ -87,8 +87,8 @@ def read(
             if lowered is not None and not (held and _held_apart(arm, options)):
                 target, said = lowered
                 check_said_twice(options, said)
-                if "position_only" in options:
-                    refuse_position_only(problem, options)
+                if "position_only" in options or "bounds" in options:
+                    refuse_beside_tasks(problem, options)
                 if aim is None and type(target) is not Target:  # an Axis exactly along
                     freed = task_aim(problem)
                 if aim is not None:  # a call only then: the lowered target's aim is read below

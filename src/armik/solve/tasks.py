@@ -34,7 +34,7 @@ from armik.errors import OptionError, TargetError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.model.frames import named
-from armik.problem.problem import Problem, as_problem, lower, refuse_position_only
+from armik.problem.problem import Problem, as_problem, lower, refuse_beside_tasks
 from armik.problem.scores import Posture, Score
 from armik.problem.settings import SolverSettings
 from armik.problem.tasks import Pose, Task, TaskError
@@ -478,9 +478,9 @@ def lower_all(
         targets.append(lowered[0])  # type: ignore[index]
         said = each
     check_said_twice(options, said[0] if said else {})
-    if "position_only" in options:
+    if "position_only" in options or "bounds" in options:
         for problem in problems:
-            refuse_position_only(problem, options)
+            refuse_beside_tasks(problem, options)
     return targets, {**options, **(said[0] if said else {})}
 
 
