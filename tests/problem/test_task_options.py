@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
+import pytest
 
 import armik
 
@@ -96,3 +97,28 @@ def test_bounds_beside_a_position_and_a_cone_are_refused_on_every_route():
     r = ur5.solve(tasks, q0=q, bounds=(0,) * 6)  # a box of nothing widens nothing: taken
     assert r.success, r.reason
     assert np.linalg.norm(ur5.fk(r.q).translation - p) <= 1e-6
+
+
+@pytest.mark.parametrize("within", [0.0, 0.05])
+def test_a_free_position_weight_beside_a_position_and_an_axis_is_the_base_frame_s(within):
+    """``weights=(0, 1, 1, 1, 1, 1)`` beside ``[Position(p), Axis(a, d)]``: read in the
+    frame of the pose's rotation the lowering chose (one taking a onto d), the free x was
+    an axis no one named, and a UR5's tip 1.9 cm off along it a success. Read in the base
+    frame, as the keyword spelling ``toward=d`` reads it: the same answer, off along base x
+    alone on an FK computed here, the axis within its cone."""
+    ur5 = conftest.arm("ur5")
+    q = np.array([0.2, -1.0, 1.4, -0.6, 1.1, 0.3])
+    T = ur5.fk(q)
+    d = T.rotation[:, 2]
+    p = T.translation + 0.03 * T.rotation[:, 1]
+    w = (0, 1, 1, 1, 1, 1)
+    tasks = [armik.Position(p), armik.Axis((0, 0, 1), d, within)]
+    r = ur5.solve(tasks, q0=q, weights=w)
+    keyword = ur5.solve(p, q0=q, cone=(0, 0, 1, within), toward=tuple(d), weights=w)
+    assert r.success and keyword.success, (r.reason, keyword.reason)
+    np.testing.assert_array_equal(r.q, keyword.q)
+    F = ur5.fk(r.q)
+    assert np.linalg.norm((F.translation - p)[1:]) <= 1e-6
+    assert float(F.rotation[:, 2] @ d) >= np.cos(within + 1e-6)
+    batch = ur5.solve_batch([tasks, tasks], q0=q, weights=w, progress=False)
+    np.testing.assert_array_equal(batch[1].q, r.q)

@@ -140,13 +140,18 @@ def rims(problem: Problem, count: int) -> list[Problem]:
     ]
 
 
-def lower(problem: Problem, tip: str | None = None) -> tuple[object, dict] | None:
+def lower(
+    problem: Problem, tip: str | None = None, weights: object = None
+) -> tuple[object, dict] | None:
     """(target, options) of the compiled path for a problem it has a form for, else None;
-    a task on frame ``tip`` is on the arm's tip, as one on no frame."""
+    a task on frame ``tip`` is on the arm's tip, as one on no frame. ``weights``: the
+    option given beside it (a position weight of 0 beside a ``Position`` and an ``Axis``
+    is read in the base frame, as the keyword spelling ``toward=`` reads it)."""
     if any(t.frame is not None and t.frame != tip for t in problem.tasks):
         return None
     if len(problem.tasks) == 2:
-        return _point_and_axis(*problem.tasks) or _point_and_look(*problem.tasks)
+        based = weights is not None and _frees_position(weights)
+        return _point_and_axis(*problem.tasks, based) or _point_and_look(*problem.tasks)
     if len(problem.tasks) != 1:
         return None
     (task,) = problem.tasks
@@ -231,22 +236,33 @@ def refuse_tip_frame_weights(said: dict) -> None:
     )
 
 
-def _point_and_axis(a: Task, b: Task) -> tuple[object, dict] | None:
+def _frees_position(weights: object) -> bool:
+    """Whether ``weights`` (the option, unchecked) give a position axis a weight of 0."""
+    try:
+        w = np.asarray(weights, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        return False  # the options' check names it
+    return w.shape == (6,) and not w[:3].all()
+
+
+def _point_and_axis(a: Task, b: Task, based: bool = False) -> tuple[object, dict] | None:
     """A position with an axis within a cone of a direction: a pose whose rotation takes
     the axis onto the direction. Exactly along it and the axis one of the tip's own (a
     5-joint arm's "this point, pointing that way"): bounds that free the rotation about
     that axis, exactly (every rotation taking the axis onto the direction is the target's
     turned about the axis, whose log3 lies along it), so that a closed form's sweep
     applies; else the cone (the target's ``aim``), which the compiled step and the verdict
-    measure as ``Axis`` does. A position within a box (base frame) with an axis: the
-    target's rotation the identity and the cone around the direction itself (``toward``)."""
+    measure as ``Axis`` does. A position within a box (base frame) with an axis, or with
+    ``based`` (weights that free a position axis, which the pose's rotation, the
+    lowering's choice, would turn): the target's rotation the identity and the cone around
+    the direction itself (``toward``), the box and the weights in the base frame."""
     if type(a) is Axis:
         a, b = b, a
     if type(a) is not Position or type(b) is not Axis:
         return None
-    if a.bounds.any():  # a box in the base frame: the cone around the direction itself
+    if a.bounds.any() or based:  # in the base frame: the cone around the direction itself
         aim = _cone(b)._replace(toward=tuple(b.direction.tolist()))
-        said = {"bounds": (*a.bounds.tolist(), 0.0, 0.0, 0.0)}
+        said = {"bounds": (*a.bounds.tolist(), 0.0, 0.0, 0.0)} if a.bounds.any() else {}
         return Target(a.p.copy(), np.eye(3), aim=aim), said
     R = _onto(b.axis, b.direction)
     along = [k for k, x in enumerate(b.axis.tolist()) if abs(x) == 1.0]

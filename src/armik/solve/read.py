@@ -82,7 +82,7 @@ def read(
     ):
         problem = as_problem(target)
         if problem is not None:
-            lowered = lower(problem, arm.tip)
+            lowered = lower(problem, arm.tip, options.get("weights"))
             held = "hold" in options or "constraints" in options  # a call only then
             if lowered is not None and not (held and _held_apart(arm, options)):
                 target, said = lowered

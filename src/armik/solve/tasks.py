@@ -471,7 +471,8 @@ def lower_all(
     """(targets, options) of the compiled batch when every problem lowers to the same
     options and aim (``problem.lower``; a batch shares one: ``TargetBatch.aim``), else None."""
     targets, said = [], None  # the options and the aim every problem lowers to
-    for lowered in (lower(problem, tip) for problem in problems):
+    weights = options.get("weights")
+    for lowered in (lower(problem, tip, weights) for problem in problems):
         each = None if lowered is None else (lowered[1], getattr(lowered[0], "aim", None))
         if each is None or (said is not None and each != said):
             return None
