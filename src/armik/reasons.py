@@ -323,3 +323,16 @@ def tasks_apart(reason: str, pos: float, ori: float | None) -> str:
         f"{reason}; each task's frame is at most {pos:.3g} m{rot} from its region's centre, "
         "free components apart"
     )
+
+
+def frame_apart(reason: str, frame: str, pos: float, ori: float | None, weighted: bool) -> str:
+    """``measured_apart`` for one task on a frame other than the tip: that frame's
+    distance to its target (weighted axes) or to its region's centre."""
+    rot = "" if ori is None or ori != ori else f", {ori:.3g} rad"
+    if weighted:
+        said = f"frame {frame!r} is {pos:.3g} m{rot} from the target"
+        return f"{reason} (on the weighted axes); {said}"
+    return (
+        f"{reason}; frame {frame!r} is {pos:.3g} m{rot} from the region's centre, free "
+        "components apart"
+    )

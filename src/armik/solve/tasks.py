@@ -61,12 +61,9 @@ def check_said_twice(options: dict, said: dict) -> None:
     the aim they lower to, as a keyword cone's: ``targets.aim.refuse_freed``.)"""
     for name in said:
         if name in options:
-            box = (
-                ", armik.Position(p, bounds=...)); an armik.Axis or armik.LookAt says the "
-                "bounds of what it frees itself (the position, the spin about the axis"
-                if name == "bounds"
-                else ""
-            )
+            box = ", armik.Position(p, bounds=...)); an armik.Axis or armik.LookAt says the "
+            box += "bounds of what it frees itself (the position, the spin about the axis"
+            box = box if name == "bounds" else ""
             raise OptionError(
                 f"{name} is given both by the task and as an option: give it in the task "
                 f"(armik.Pose(T, {name}=...){box})",
@@ -426,8 +423,13 @@ def _result(
         if status is Status.CONVERGED:  # several tasks: the largest of their frames'
             ori, pos = max(orientations) if orientations else None, max(positions, default=0.0)
             weighted = type(tasks[0]) is Pose and not tasks[0].weights.all()  # said alone
-            alone = reasons.measured_apart(reason, pos, ori, weighted)
-            reason = reasons.tasks_apart(reason, pos, ori) if len(tasks) > 1 else alone
+            frames = tasks[0].frames if len(tasks) == 1 else ()
+            if frames in ((None,), (arm.tip,)):  # the tip's
+                reason = reasons.measured_apart(reason, pos, ori, weighted)
+            elif len(frames) == 1:  # one task on another frame: that frame's
+                reason = reasons.frame_apart(reason, str(tasks[0].frame), pos, ori, weighted)
+            else:
+                reason = reasons.tasks_apart(reason, pos, ori)
     found = Verdicts(
         answers=one(q, Status.NOT_CONVERGED, reason, iterations=iterations, restarts=restarts),
         status=np.array([status.code], dtype=np.int8),
