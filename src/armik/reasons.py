@@ -348,4 +348,14 @@ def slides_unreachable(distance: float, tol: float) -> str:
         f"the target is {distance:.3g} m from every position the tip reaches (its joints all "
         f"slide, within their limits), beyond tol_position ({tol:g} m); q is the seed, "
         "unchanged"
+def frame_apart(reason: str, frame: str, pos: float, ori: float | None, weighted: bool) -> str:
+    """``measured_apart`` for one task on a frame other than the tip: that frame's
+    distance to its target (weighted axes) or to its region's centre."""
+    rot = "" if ori is None or ori != ori else f", {ori:.3g} rad"
+    if weighted:
+        said = f"frame {frame!r} is {pos:.3g} m{rot} from the target"
+        return f"{reason} (on the weighted axes); {said}"
+    return (
+        f"{reason}; frame {frame!r} is {pos:.3g} m{rot} from the region's centre, free "
+        "components apart"
     )

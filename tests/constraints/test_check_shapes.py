@@ -114,3 +114,81 @@ def test_only_a_user_s_check_is_read_through():
     assert not hasattr(Hold.check, "_armik_checked")
     assert not hasattr(JointLimits.check, "_armik_checked")
     assert BoolOk.check._armik_checked and BoolOk.check.__wrapped__.__name__ == "check"
+
+
+class Boxed(Constraint):
+    """A constraint whose ``box`` (the task solver's step rows) gives ``rows``."""
+
+    def __init__(self, rows):
+        self.rows = rows
+
+    def box(self, arm):
+        if isinstance(self.rows, str):
+            raise KeyError("joint_9")
+        return self.rows
+
+    def check(self, arm, Q):
+        return Check(np.ones(len(Q), bool), armik.Status.JOINT_LIMITS, lambda i: "never")
+
+
+@pytest.mark.parametrize(
+    ("rows", "said"),
+    [
+        ((np.zeros(3), np.ones(3)), r"7 numbers each .* got shapes \(3,\) and \(3,\)"),
+        (np.zeros(7), r"must return None or \(lower, upper\)"),
+        (("a", "b"), r"must return None or \(lower, upper\)"),
+        ((np.full(7, np.nan), np.ones(7)), r"lower <= upper.* joint 0 \(panda_joint1\)"),
+        ((np.ones(7), -np.ones(7)), r"lower <= upper.* gave \[1.0, -1.0\]"),
+        ("raise", "its box raised KeyError: 'joint_9'"),
+    ],
+)
+def test_a_bad_box_is_named(panda, rows, said):
+    """A user's ``box`` of another shape than one number per joint, below its lower row,
+    or raising: numpy's broadcast and ufunc errors came out of the task solver's step (a
+    single array was read as its first two numbers for every joint)."""
+    T = panda.fk(panda.middle + 0.1)
+    elbow = panda.fk(panda.middle + 0.1, "panda_link4").translation
+    tasks = [armik.Pose(T), armik.Position(elbow, bounds=(0.05,) * 3, frame="panda_link4")]
+    with pytest.raises(armik.OptionError, match=f"constraint Boxed: .*{said}") as e:
+        panda.solve(tasks, constraints=[Boxed(rows)], iteration_budget=100)
+    assert e.value.option == "constraints"
+
+
+def test_a_box_of_one_number_a_side_holds_every_joint():
+    """``(lower, upper)`` as two numbers: every joint within them, the answer's too."""
+    arm = bundled("ur5")
+    q = np.array([0.2, -1.0, 1.4, -0.6, 1.1, 0.3])
+    elbow = arm.fk(q, "forearm_link").translation
+    tasks = [armik.Position(arm.fk(q).translation), armik.Position(elbow, frame="forearm_link")]
+    r = arm.solve(tasks, q0=q + 0.05, constraints=[Boxed((-1.5, 1.5))], iteration_budget=2000)
+    assert r.success, r.reason
+    assert np.all(np.abs(r.q) <= 1.5)
+
+
+class AtNone(Boxed):
+    def at(self, arm, seed):
+        return None  # meant: "nothing to resolve"
+
+
+class AtRaises(Boxed):
+    def at(self, arm, seed):
+        return {"wrist": 1}["elbow"]
+
+
+@pytest.mark.parametrize(
+    ("cls", "said"),
+    [
+        (AtNone, r"its at\(arm, seed\) must return the constraint resolved .* got None"),
+        (AtRaises, "its at raised KeyError: 'elbow'"),
+    ],
+)
+def test_a_bad_at_is_named(panda, cls, said):
+    """A user's ``at`` (the constraint resolved for one solve) returning no constraint, or
+    raising: a bare AttributeError ('NoneType' has no 'box') or KeyError
+    came out of the task solver."""
+    T = panda.fk(panda.middle + 0.1)
+    elbow = panda.fk(panda.middle + 0.1, "panda_link4").translation
+    tasks = [armik.Pose(T), armik.Position(elbow, bounds=(0.05,) * 3, frame="panda_link4")]
+    with pytest.raises(armik.OptionError, match=f"constraint {cls.__name__}: {said}") as e:
+        panda.solve(tasks, constraints=[cls(None)], iteration_budget=100)
+    assert e.value.option == "constraints"

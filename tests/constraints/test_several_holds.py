@@ -6,6 +6,7 @@ plain pose or position given as its task. Every answer is checked on the arm's F
 from __future__ import annotations
 
 import numpy as np
+import pinocchio as pin
 import pytest
 
 import armik
@@ -88,3 +89,64 @@ def test_held_joints_that_leave_the_pose_out_of_reach_fail_honestly():
     r = arm.solve(T, hold={n: 0.0 for n in names}, iteration_budget=300)
     assert not r.success and r.reason
     assert np.all(r.q[:5] == 0.0)
+
+
+def test_a_followed_path_of_task_lists_holds_a_joint_of_a_six_joint_arm():
+    """A UR5 path of task lists the compiled path takes (a position, the tool's z within
+    0.1 rad of a direction) with a joint held: each waypoint's list read as ``solve`` reads
+    it, the joint held by the task solver. It was refused as needing a 7-joint arm's closed
+    form, where ``solve``, ``solve_batch`` and a path of plain poses all held it; a global
+    plan is refused by name (the task solver gives one answer a waypoint)."""
+    arm = conftest.arm("ur5")
+    q = np.array([0.2, 0.3, 1.0, -0.5, 0.8, 0.1])
+    T = arm.fk(q)
+    z = T.rotation[:, 2]
+    rows = [
+        [armik.Position(T.translation + [0.0, 0.0, dz]), armik.Axis((0, 0, 1), z, 0.1)]
+        for dz in (0.0, 0.005, 0.01)
+    ]
+    hold = {"shoulder_lift_joint": 0.3}
+    path = arm.solve_path(rows, q, hold=hold, **BUDGET)
+    for i, tasks in enumerate(rows):
+        r = path[i]
+        assert r.success, r.reason
+        assert abs(r.q[1] - 0.3) <= 1e-9
+        F = arm.fk(r.q)
+        assert np.linalg.norm(F.translation - tasks[0].p) <= 1e-6
+        assert float(F.rotation[:, 2] @ z) >= np.cos(0.1 + 1e-6)
+    with pytest.raises(armik.OptionError, match="plan='global' .* held here") as e:
+        arm.solve_path(rows, q, plan="global", hold=hold, **BUDGET)
+    assert e.value.option == "hold"
+
+
+def test_tip_frame_weights_the_task_solver_would_read_in_the_target_frame_are_refused():
+    """``weights=`` weigh the tip frame's error; a pose whose held joints the task solver
+    holds became ``armik.Pose(T, weights=w)``, weighed in the target frame. With x and the
+    spin free the two free other poses: a UR5 answer 2 cm off in the tip frame's weighted y
+    was a success. Refused by name; weights that free x alone are taken, the pose's
+    weighted tip-frame error within the tolerance on an FK computed here."""
+    arm = conftest.arm("ur5")
+    q = np.array([0.2, -1.0, 1.4, -0.6, 1.1, 0.3])
+    T = arm.fk(q)
+    turn = T.rotation @ pin.exp3(np.array([0.0, 0.0, 0.5]))
+    target = pin.SE3(turn, T.translation + 0.05 * T.rotation[:, 0])
+    hold = {"wrist_3_joint": float(q[5])}
+    for call in (
+        lambda: arm.solve(target, q0=q, weights=(0, 1, 1, 1, 1, 0), hold=hold, **BUDGET),
+        lambda: arm.solve_batch([target] * 2, q0=q, weights=(0, 1, 1, 0, 0, 0), hold=hold),
+    ):
+        with pytest.raises(armik.OptionError, match="weigh the tip frame's error") as e:
+            call()
+        assert e.value.option == "weights"
+    w = np.array([0, 1, 1, 1, 1, 1.0])
+    reach = pin.SE3(T.rotation, T.translation + 0.05 * T.rotation[:, 0])
+    r = arm.solve(reach, q0=q, weights=tuple(w), hold=hold, **BUDGET)
+    assert r.success, r.reason
+    F = arm.fk(r.q)
+    tip = np.concatenate(
+        [
+            F.rotation.T @ (F.translation - reach.translation),
+            pin.log3(F.rotation.T @ reach.rotation),
+        ]
+    )
+    assert np.linalg.norm(w * tip) <= 1e-6 and abs(r.q[5] - q[5]) <= 1e-9

@@ -93,3 +93,50 @@ def test_a_look_at_seeded_on_its_point_moves_off_it():
         r = panda.solve(armik.LookAt(p), q0=q, solver=solver, iteration_budget=2000)
         assert r.success, r.reason
         assert np.linalg.norm(panda.fk(r.q).translation - p) > 1e-6
+
+
+def test_a_box_too_small_to_stand_back_in_is_refused_as_no_box():
+    """A box of 1e-7 m around the point looked at leaves the frame within 1e-6 m of it, as
+    an exact position does: refused by name in both spellings; a box of 1e-4 m is taken."""
+    ur5 = bundled("ur5")
+    p = ur5.fk(ur5.random_q(2)).translation
+    tiny = (1e-7,) * 3
+    with pytest.raises(armik.TargetError, match=r"LookAt point .* box .* wider than 1e-06 m"):
+        ur5.solve([armik.Position(p, bounds=tiny), armik.LookAt(p)])
+    with pytest.raises(armik.TargetError, match=r"the target's position.* wider than 1e-06 m"):
+        ur5.solve(p, look_at=p, cone=(0, 0, 1, 0.0), bounds=tiny + (0, 0, 0))
+    r = ur5.solve([armik.Position(p, bounds=(1e-4,) * 3), armik.LookAt(p)], iteration_budget=2000)
+    assert r.success, r.reason
+    F = ur5.fk(r.q)
+    sight = p - F.translation
+    assert np.linalg.norm(sight) > 1e-6 and np.all(np.abs(sight) <= 1e-4 + 1e-6)
+    assert float(F.rotation[:, 2] @ sight) >= np.linalg.norm(sight) * np.cos(1e-6)
+
+
+def test_a_frame_within_a_micrometre_of_the_point_looks_at_nothing():
+    """The measure refuses a frame standing within 1e-6 m of the point (the distance within
+    which the request is refused: no line of sight), whatever the tolerances. It refused only
+    within 1e-9 m: a secondary posture moved the task solver's answer 4e-8 to 8e-8 m from
+    the point, called a success."""
+    ur5 = bundled("ur5")
+    q = ur5.middle
+    T = ur5.fk(q)
+    ahead = [T.translation + T.rotation[:, 2] * d for d in (5e-7, 2e-6)]  # along the tool's z
+    for tol in (1e-6, 1e-9, 1e-3):
+        assert not armik.LookAt(ahead[0]).measure(T, tol, 1e-6).within
+        assert armik.LookAt(ahead[1]).measure(T, tol, 1e-6).within
+    rng = np.random.default_rng(8)
+    for _ in range(5):
+        qt = ur5.random_q(rng)
+        qt[0] = rng.uniform(-0.8, 0.8)
+        p = ur5.fk(qt).translation
+        tasks = [armik.Position(p, bounds=(0.05,) * 3), armik.LookAt(p)]
+        r = ur5.solve(
+            tasks, q0=ur5.middle, secondary=[armik.Posture(ur5.middle)], iteration_budget=2000
+        )
+        if r.success:
+            F = ur5.fk(r.q)
+            sight = p - F.translation
+            assert np.linalg.norm(sight) > 1e-6, r.reason
+            assert np.all(np.abs(sight) <= 0.05 + 1e-6)
+            assert float(F.rotation[:, 2] @ sight) >= np.linalg.norm(sight) * np.cos(1e-6)

@@ -132,3 +132,61 @@ def test_a_secondary_posture_of_another_arm_is_refused_whichever_solver_runs(sol
         ur5.solve(T, solver=solver, secondary=bad)
     with pytest.raises(armik.OptionError, match="has 5 values, the arm 6 joints"):
         ur5.solve_batch([T, T], solver=solver, secondary=bad, workers=1)
+
+
+def _two_frames(arm, rng):
+    """A Panda task list only the task solver takes: the tip's position, the elbow's
+    within 10 cm, from a random configuration."""
+    q_true = arm.random_q(rng)
+    tip = conftest.frame_position(arm, q_true, arm.tip)
+    elbow = conftest.frame_position(arm, q_true, "panda_link4")
+    return [armik.Position(tip), armik.Position(elbow, bounds=[0.1] * 3, frame="panda_link4")]
+
+
+def test_with_prefer_as_well_the_preference_decides_the_move_along_the_null_space():
+    """docs/preferences.md: a task list follows a secondary posture A once its tasks hold,
+    and with ``prefer=armik.Posture(B)`` as well the preference decides that move. The
+    move followed A, the preference only scored its end: the answer was A's, farther
+    from B than the plain answer on some targets. Each answer verified on both frames."""
+    arm = conftest.arm("panda")
+    rng = np.random.default_rng(4)
+    A = arm.middle.copy()
+    B = arm.middle + np.array([1.2, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0])
+    lower = 0
+    for _ in range(4):
+        tasks = _two_frames(arm, rng)
+        kw = dict(q0=arm.middle, secondary=[armik.Posture(A)], **BUDGET)
+        toward_a = arm.solve(tasks, **kw)
+        both = arm.solve(tasks, prefer=armik.Posture(B), **kw)
+        assert toward_a.success and both.success, (toward_a.reason, both.reason)
+        tip, elbow = tasks[0].p, tasks[1].p
+        assert np.linalg.norm(conftest.frame_position(arm, both.q, arm.tip) - tip) <= 1e-6
+        off = np.abs(conftest.frame_position(arm, both.q, "panda_link4") - elbow)
+        assert np.all(off <= 0.1 + 1e-6)
+        cost_a, cost_both = (float(((r.q - B) ** 2).sum()) for r in (toward_a, both))
+        assert both.score == pytest.approx(cost_both, abs=1e-9)
+        assert cost_both <= cost_a + 1e-9
+        lower += cost_both < cost_a - 1e-3
+    assert lower >= 3
+
+
+def test_prefer_on_a_task_list_gives_the_task_solver_the_whole_budget():
+    """The task solver's one answer is scored, nothing else searched: it ran on the share
+    of the budget a search of many answers gathers with (half the iterations), and lists
+    it solved without ``prefer=`` failed with it. The same answer with or without."""
+    arm = conftest.arm("ur5")
+    rng = np.random.default_rng(8)
+    for _ in range(6):
+        q = arm.random_q(rng)
+        T = arm.fk(q)
+        forearm = conftest.frame_position(arm, q, "forearm_link")
+        tasks = [
+            armik.Position(T.translation, bounds=(0.01,) * 3),
+            armik.LookAt(T.translation + 0.4 * T.rotation[:, 2], (0, 0, 1), 0.02),
+            armik.Position(forearm, bounds=(0.05,) * 3, frame="forearm_link"),
+        ]
+        plain = arm.solve(tasks, q0=arm.middle, iteration_budget=600)
+        ranked = arm.solve(tasks, q0=arm.middle, iteration_budget=600, prefer="manipulability")
+        assert ranked.success == plain.success, (plain.reason, ranked.reason)
+        if plain.success:
+            np.testing.assert_allclose(ranked.q, plain.q, atol=1e-12)

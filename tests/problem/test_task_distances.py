@@ -82,3 +82,20 @@ def test_weighted_poses_over_a_shared_torso_report_each_tips_true_distance():
     assert min(far) > 0.1  # the positions free: neither hand is at its target's position
     assert r.position_error == pytest.approx(max(far), abs=1e-9)
     assert r.measured is not None and r.measured[0] <= 1e-6
+
+
+def test_one_task_on_another_frame_is_not_called_the_tip_s():
+    """One task with a region on the Panda's fourth link: its distance to the region's
+    centre was "the tip is ... from the region's centre" in the reason, the tip being
+    elsewhere; it is the task's frame's, the distance an FK computed here gives."""
+    panda = arm("panda")
+    q = panda.middle + 0.2
+    elbow = panda.fk(q, "panda_link4").translation
+    box = armik.Position(elbow + [0.0, 0.0, 0.03], bounds=(0.05,) * 3, frame="panda_link4")
+    r = panda.solve([box], q0=q, iteration_budget=500)
+    assert r.success, r.reason
+    reached = panda.fk(r.q, "panda_link4").translation
+    assert r.position_error == pytest.approx(np.linalg.norm(reached - box.p), abs=1e-9)
+    assert "the tip is" not in r.reason and "frame 'panda_link4' is" in r.reason
+    on_tip = panda.solve([armik.Position(panda.fk(q).translation, bounds=(0.05,) * 3)], q0=q)
+    assert "the tip is" in on_tip.reason or on_tip.solver != "tasks"

@@ -146,3 +146,43 @@ def test_an_unknown_frame_names_the_frame(bad):
     ur5 = bundled("ur5")
     with pytest.raises(armik.ArmikError, match="no_such_link"):
         ur5.solve(bad)
+
+
+class TwoRows(Height):
+    def residual(self, T: pin.SE3) -> np.ndarray:
+        return np.array([T.translation[2] - self.z, 0.0])  # rows says 1
+
+
+class WideJacobian(Height):
+    def jacobian(self, T: pin.SE3, J: np.ndarray) -> np.ndarray:
+        return J[:2]
+
+
+class FloatMeasure(Height):
+    def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float):
+        return 0.0
+
+
+class RaisingResidual(Height):
+    def residual(self, T: pin.SE3) -> np.ndarray:
+        return np.array([self.table[T.translation[2]]])  # no such attribute
+
+
+@pytest.mark.parametrize(
+    ("cls", "said"),
+    [
+        (TwoRows, r"its residual must be an array of shape \(1,\) .* got shape \(2,\)"),
+        (WideJacobian, r"its jacobian must be an array of shape \(1, 6\) .* got shape \(2, 6\)"),
+        (FloatMeasure, r"its measure must return a TaskError.* got 0.0"),
+        (RaisingResidual, "its residual raised AttributeError: .*'table'"),
+    ],
+)
+def test_a_member_of_another_shape_or_that_raises_is_named(cls, said):
+    """A task of the user's own whose residual, Jacobian or measure gives another shape
+    than its rows say, or raises: a ``TargetError`` naming its class, where numpy's matmul
+    and concatenate errors (or the bare AttributeError) came out of the task solver."""
+    ur5 = bundled("ur5")
+    tasks = [cls(0.3), armik.Axis((0, 0, 1), (0, 0, -1), 0.1)]
+    with pytest.raises(armik.TargetError, match=f"task {cls.__name__}: {said}"):
+        ur5.solve(tasks, iteration_budget=100)
+    assert Height.residual._armik_checked and not hasattr(armik.Axis.residual, "_armik_checked")

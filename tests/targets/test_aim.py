@@ -135,3 +135,25 @@ def test_a_cone_alone_on_a_position_is_refused_with_the_way_to_say_it():
         assert info.value.option == "cone" and "position target" in str(info.value)
     assert a.solve(p, cone=(0, 0, 1, 0.1), toward=(0, 0, -1)).success
     assert a.solve(T, cone=(0, 0, 1, 0.1)).success
+
+
+def test_position_only_beside_an_aim_is_refused_with_joints_the_task_solver_holds():
+    """``position_only=True`` beside ``cone=``/``toward=`` is refused by name; with a joint
+    of a 6-joint arm held (the task solver's: the aimed target becomes its tasks) it was
+    dropped unsaid, the request solved as if it had not been given."""
+    ur5 = bundled("ur5")
+    q = np.array([0.2, -1.0, 1.4, -0.6, 1.1, 0.3])
+    T = ur5.fk(q)
+    p = T.translation
+    aim = {"cone": (0, 0, 1, 0.1), "toward": tuple(T.rotation[:, 2])}
+    kw = {**aim, "position_only": True, "hold": {"wrist_3_joint": float(q[5])}}
+    for call in (
+        lambda: ur5.solve(p, q0=q, **kw),
+        lambda: ur5.solve_batch([p, p], q0=q, progress=False, **kw),
+        lambda: ur5.solve_path([p, p], q, **kw),
+    ):
+        with pytest.raises(
+            armik.OptionError, match="position_only does not apply to a target"
+        ) as e:
+            call()
+        assert e.value.option == "position_only"

@@ -85,6 +85,20 @@ class Constraint(ABC):
             and not getattr(own, "_armik_checked", False)
         ):
             cls.check = _checked(own)  # type: ignore[method-assign]
+        rows = cls.__dict__.get("box")
+        if (
+            isinstance(rows, FunctionType)
+            and not cls.__module__.startswith("armik.")
+            and not getattr(rows, "_armik_checked", False)
+        ):
+            cls.box = _boxed(rows)  # type: ignore[method-assign]
+        resolve = cls.__dict__.get("at")
+        if (
+            isinstance(resolve, FunctionType)
+            and not cls.__module__.startswith("armik.")
+            and not getattr(resolve, "_armik_checked", False)
+        ):
+            cls.at = _resolved(resolve)  # type: ignore[method-assign]
 
 
 def _checked(own: Callable[..., object]) -> Callable[..., Check]:
@@ -113,6 +127,82 @@ def _checked(own: Callable[..., object]) -> Callable[..., Check]:
 
     check._armik_checked = True  # type: ignore[attr-defined]
     return check
+
+
+def _boxed(own: Callable[..., object]) -> Callable[..., tuple[np.ndarray, np.ndarray] | None]:
+    """A user's ``box``, its result read as None or (lower, upper), one number per joint
+    each or one for all (rad or m, +-inf for none), lower <= upper: an error it raises, or
+    a result of another shape, an ``OptionError`` naming its class and what is wrong."""
+
+    @functools.wraps(own)
+    def box(self: Constraint, arm: ArmModel) -> tuple[np.ndarray, np.ndarray] | None:
+        name = type(self).__name__
+
+        def refused(what: str) -> OptionError:
+            return OptionError(f"constraint {name}: {what}", option="constraints", value=name)
+
+        try:
+            got = own(self, arm)
+        except ArmikError:
+            raise
+        except Exception as exc:
+            raise refused(f"its box raised {type(exc).__name__}: {exc}") from exc
+        if got is None:
+            return None
+        n = arm.dof
+        say = f"(lower, upper), {n} numbers each (one per joint, rad or m; +-inf for none)"
+        try:  # a number stands for every joint
+            lower, upper = (np.array(b, dtype=float) for b in got)  # type: ignore[attr-defined]
+            if lower.ndim == 0:
+                lower = np.full(n, lower)
+            if upper.ndim == 0:
+                upper = np.full(n, upper)
+        except (TypeError, ValueError):
+            raise refused(f"its box must return None or {say}, got {got!r}") from None
+        if lower.shape != (n,) or upper.shape != (n,):
+            raise refused(
+                f"its box must return None or {say}, got shapes {lower.shape} and {upper.shape}"
+            )
+        if np.isnan(lower).any() or np.isnan(upper).any() or (lower > upper).any():
+            j = int(np.flatnonzero(~(lower <= upper))[0])
+            raise refused(
+                f"its box must give lower <= upper, numbers, at every joint; at joint {j} "
+                f"({arm.joint_names[j]}) it gave [{lower[j]}, {upper[j]}]"
+            )
+        return lower, upper
+
+    box._armik_checked = True  # type: ignore[attr-defined]
+    return box
+
+
+def _resolved(own: Callable[..., object]) -> Callable[..., Constraint]:
+    """A user's ``at``, its result read as a ``Constraint``: an error it raises, or another
+    result, an ``OptionError`` naming its class."""
+
+    @functools.wraps(own)
+    def at(self: Constraint, arm: ArmModel, seed: np.ndarray) -> Constraint:
+        name = type(self).__name__
+        try:
+            got = own(self, arm, seed)
+        except ArmikError:
+            raise
+        except Exception as exc:
+            raise OptionError(
+                f"constraint {name}: its at raised {type(exc).__name__}: {exc}",
+                option="constraints",
+                value=name,
+            ) from exc
+        if not isinstance(got, Constraint):
+            raise OptionError(
+                f"constraint {name}: its at(arm, seed) must return the constraint resolved "
+                f"for that solve (a Constraint: self where nothing changes), got {got!r}",
+                option="constraints",
+                value=name,
+            )
+        return got
+
+    at._armik_checked = True  # type: ignore[attr-defined]
+    return at
 
 
 _SAY = "a check returns armik.constraints.base.Check(ok, status, why)"

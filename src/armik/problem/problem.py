@@ -18,11 +18,12 @@ import pinocchio as pin
 
 from armik.constraints.base import Constraint
 from armik.constraints.limits import JointLimits
-from armik.errors import TargetError
+from armik.errors import OptionError, TargetError
 from armik.problem.budget import DEFAULT as DEFAULT_BUDGET
 from armik.problem.budget import Budget
 from armik.problem.tasks import Axis, LookAt, Pose, Position, Relative, Task
 from armik.problem.tasks.cone import cross
+from armik.problem.tasks.look_at import SIGHT
 from armik.targets.aim import Aim
 from armik.targets.pose import Target
 
@@ -61,45 +62,55 @@ def as_problem(target: object) -> Problem | None:
 
 def _refuse_looking_at_itself(tasks) -> None:
     """A ``TargetError`` for a ``LookAt`` whose point is where a task of its frame holds
-    that frame exactly: no line of sight is left to aim along, and every axis would pass."""
+    that frame, exactly or within a box that keeps it within ``LOOK_FROM`` of the point: no
+    line of sight is left to aim along, and every axis would pass."""
     for look in (t for t in tasks if type(t) is LookAt):
         for t in tasks:
             if t.frame != look.frame:
                 continue
-            if type(t) is Position and not t.bounds.any():
-                at = t.p
-            elif type(t) is Pose and not t.bounds[:3].any() and t.weights[:3].all():
-                at = t.T.translation
+            if type(t) is Position:
+                at, box = t.p, t.bounds
+            elif type(t) is Pose and t.weights[:3].all():
+                at, box = t.T.translation, t.bounds[:3]
             else:
                 continue
-            if float(np.linalg.norm(look.point - at)) <= LOOK_FROM:
+            # the farthest the box lets the frame stand from the point (at most)
+            if float(np.linalg.norm(look.point - at) + np.linalg.norm(box)) <= LOOK_FROM:
+                within = f" (its box {box.tolist()} m)" if box.any() else ""
                 raise TargetError(
                     f"LookAt point {look.point.tolist()} is where {type(t).__name__} puts the "
-                    "frame itself: no direction is left to aim along; look at another point, "
-                    "or give the frame's position a box (bounds=) to stand back in"
+                    f"frame itself{within}: no direction is left to aim along; look at "
+                    f"another point, or give the frame's position a box (bounds=) to stand "
+                    f"back in, wider than {LOOK_FROM:g} m"
                 )
 
 
 def refuse_looking_from_target(positions: object, aim: Aim, opts) -> None:
     """The keyword spelling's ``_refuse_looking_at_itself``: a ``TargetError`` where the
     aim's point (``aim.point``: ``look_at=``) is one a target's position (``positions``:
-    one, or N of a batch or a path, m) holds the tip on exactly, its position neither
-    boxed (a finite bound) nor freed (an infinite bound, a weight of 0; ``opts``: validated
-    options): ``solve(p, look_at=p, cone=...)`` asks what ``[Position(p), LookAt(p)]`` asks."""
+    one, or N of a batch or a path, m) holds the tip on, exactly or within a box no wider
+    than ``LOOK_FROM``, its position not freed (an infinite bound, a weight of 0; ``opts``:
+    validated options): ``solve(p, look_at=p, cone=...)`` asks what ``[Position(p),
+    LookAt(p)]`` asks."""
     look = aim.point
     if look is None:
         return
     bounds, weights = opts.bounds, opts.weights
-    if (bounds is not None and any(bounds[:3])) or (weights is not None and not all(weights[:3])):
+    if weights is not None and not all(weights[:3]):
+        return
+    # the farthest a box lets the tip stand from the point (at most): a box within
+    # LOOK_FROM of it leaves no line of sight either
+    box = 0.0 if bounds is None else float(np.linalg.norm(bounds[:3]))
+    if not box <= LOOK_FROM:
         return
     at = np.asarray(positions, dtype=float).reshape(-1, 3)
-    near = np.flatnonzero(np.linalg.norm(at - np.asarray(look), axis=1) <= LOOK_FROM)
+    near = np.flatnonzero(np.linalg.norm(at - np.asarray(look), axis=1) + box <= LOOK_FROM)
     if len(near):
         which = "the target's position" if len(at) == 1 else f"target {int(near[0])}'s position"
         raise TargetError(
             f"look_at point {list(look)} is {which}, where the tip itself is put: no "
             "direction is left to aim along; look at another point, or give the tip's "
-            "position a box (bounds=) to stand back in"
+            f"position a box (bounds=) to stand back in, wider than {LOOK_FROM:g} m"
         )
 
 
@@ -115,7 +126,7 @@ def tightened(problem: Problem) -> Problem:
     return replace(problem, tasks=tuple(t.shrunk(0.0) for t in problem.tasks))
 
 
-LOOK_FROM = 1e-6  # m: a point nearer the position than this is no direction to aim at
+LOOK_FROM = SIGHT  # m: a point nearer the position than this is no direction to aim at
 
 
 def rims(problem: Problem, count: int) -> list[Problem]:
@@ -129,13 +140,18 @@ def rims(problem: Problem, count: int) -> list[Problem]:
     ]
 
 
-def lower(problem: Problem, tip: str | None = None) -> tuple[object, dict] | None:
+def lower(
+    problem: Problem, tip: str | None = None, weights: object = None
+) -> tuple[object, dict] | None:
     """(target, options) of the compiled path for a problem it has a form for, else None;
-    a task on frame ``tip`` is on the arm's tip, as one on no frame."""
+    a task on frame ``tip`` is on the arm's tip, as one on no frame. ``weights``: the
+    option given beside it (a position weight of 0 beside a ``Position`` and an ``Axis``
+    is read in the base frame, as the keyword spelling ``toward=`` reads it)."""
     if any(t.frame is not None and t.frame != tip for t in problem.tasks):
         return None
     if len(problem.tasks) == 2:
-        return _point_and_axis(*problem.tasks) or _point_and_look(*problem.tasks)
+        based = weights is not None and _frees_position(weights)
+        return _point_and_axis(*problem.tasks, based) or _point_and_look(*problem.tasks)
     if len(problem.tasks) != 1:
         return None
     (task,) = problem.tasks
@@ -160,22 +176,93 @@ def lower(problem: Problem, tip: str | None = None) -> tuple[object, dict] | Non
     return None
 
 
-def _point_and_axis(a: Task, b: Task) -> tuple[object, dict] | None:
+def refuse_beside_tasks(problem: Problem, options: dict) -> None:
+    """An ``OptionError`` for an option beside a task list the compiled path solves
+    (``lower``) that it would read against the tasks: ``position_only=True`` beside a
+    ``Pose`` (it dropped the pose's rotation unseen: an answer whatever its rotation was a
+    success with no orientation error), and ``bounds`` beside a ``Position`` with an
+    ``Axis`` in a cone (read in the frame of a rotation the lowering chose, which no one
+    named: a box free along x let the tip off along y and z). A list the task solver takes
+    refuses these options; weights and bounds given beside a ``Pose`` are its own
+    (``check_said_twice``)."""
+    if options.get("position_only") and any(type(t) is Pose for t in problem.tasks):
+        raise OptionError(
+            "position_only=True drops the rotation a Pose task holds: say what is held in "
+            "the tasks, armik.Position(p) for the position alone, or armik.Pose(T, "
+            "bounds=(0, 0, 0, inf, inf, inf)) for the pose's position",
+            option="position_only",
+            value=True,
+        )
+    bounds = options.get("bounds")
+    if bounds is None or {type(t) for t in problem.tasks} != {Position, Axis}:
+        return
+    try:
+        widens = bool(np.any(np.asarray(bounds, dtype=float) != 0.0))
+    except (TypeError, ValueError):
+        return  # the options' check names it
+    if widens:
+        raise OptionError(
+            f"bounds={bounds!r} beside a Position and an Axis have no frame of their own to be "
+            "read in: give the position's box in the task, armik.Position(p, bounds=(bx, by, "
+            "bz)) (base frame), the Axis's cone as its within",
+            option="bounds",
+            value=bounds,
+        )
+
+
+def refuse_tip_frame_weights(said: dict) -> None:
+    """An ``OptionError`` for ``weights`` without ``bounds`` (``said``: the options a pose's
+    task would take) that free a position axis and a rotation, on a pose the task solver
+    takes for its held joints: ``weights=`` weigh the error in the tip frame, the task's
+    (``armik.Pose(T, weights=...)``) in the target's, and with a rotation free a position
+    axis of one frame is not the other's; the task's verdict would call a success a pose
+    the option's rule refuses (other weights free the same poses in either frame)."""
+    if said.get("weights") is None or said.get("bounds") is not None:
+        return
+    try:
+        w = np.asarray(said["weights"], dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        return  # the options' check names it
+    if w.shape != (6,) or w[:3].all() or w[3:].all():
+        return
+    raise OptionError(
+        f"weights={said['weights']!r} weigh the tip frame's error, and the joints held here "
+        "are held by the task solver, which weighs a pose's error in the target frame: with "
+        "a rotation free, a position axis freed in one frame is not the other's; say it in "
+        "the target frame, armik.Pose(T, weights=...), or lock the joints: "
+        "arm.with_locked({name: value})",
+        option="weights",
+        value=said["weights"],
+    )
+
+
+def _frees_position(weights: object) -> bool:
+    """Whether ``weights`` (the option, unchecked) give a position axis a weight of 0."""
+    try:
+        w = np.asarray(weights, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        return False  # the options' check names it
+    return w.shape == (6,) and not w[:3].all()
+
+
+def _point_and_axis(a: Task, b: Task, based: bool = False) -> tuple[object, dict] | None:
     """A position with an axis within a cone of a direction: a pose whose rotation takes
     the axis onto the direction. Exactly along it and the axis one of the tip's own (a
     5-joint arm's "this point, pointing that way"): bounds that free the rotation about
     that axis, exactly (every rotation taking the axis onto the direction is the target's
     turned about the axis, whose log3 lies along it), so that a closed form's sweep
     applies; else the cone (the target's ``aim``), which the compiled step and the verdict
-    measure as ``Axis`` does. A position within a box (base frame) with an axis: the
-    target's rotation the identity and the cone around the direction itself (``toward``)."""
+    measure as ``Axis`` does. A position within a box (base frame) with an axis, or with
+    ``based`` (weights that free a position axis, which the pose's rotation, the
+    lowering's choice, would turn): the target's rotation the identity and the cone around
+    the direction itself (``toward``), the box and the weights in the base frame."""
     if type(a) is Axis:
         a, b = b, a
     if type(a) is not Position or type(b) is not Axis:
         return None
-    if a.bounds.any():  # a box in the base frame: the cone around the direction itself
+    if a.bounds.any() or based:  # in the base frame: the cone around the direction itself
         aim = _cone(b)._replace(toward=tuple(b.direction.tolist()))
-        said = {"bounds": (*a.bounds.tolist(), 0.0, 0.0, 0.0)}
+        said = {"bounds": (*a.bounds.tolist(), 0.0, 0.0, 0.0)} if a.bounds.any() else {}
         return Target(a.p.copy(), np.eye(3), aim=aim), said
     R = _onto(b.axis, b.direction)
     along = [k for k, x in enumerate(b.axis.tolist()) if abs(x) == 1.0]

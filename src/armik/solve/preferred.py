@@ -69,8 +69,10 @@ def preferred(arm: ArmModel, req: Request):
     share = share.but(t0=time.perf_counter())
     if problem is None:  # solve_all's answers
         found = run(arm, share.but(every=True))
-    else:
-        found = [solve_problem(arm, share.but(problem=problem, every=False))]
+    else:  # the task solver's one answer, on the whole budget: nothing else is searched;
+        # a secondary posture's move along the tasks' null space follows the preference
+        whole = plain.but(problem=problem, every=False, t0=time.perf_counter())
+        found = [solve_problem(arm, whole, score if opts.posture is not None else None)]
     # the task solver's one answer is no registered solver's: scored as it is
     searched = problem is None and bool(found) and registry.get(found[0].solver).kind == "numeric"
     if searched and pose:  # one descent from each start, by the solver that searched

@@ -23,7 +23,14 @@ from armik.errors import OptionError, TargetError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.options import Options, spelled
-from armik.problem.problem import Problem, as_problem, lower, refuse_looking_from_target
+from armik.problem.problem import (
+    Problem,
+    as_problem,
+    lower,
+    refuse_beside_tasks,
+    refuse_looking_from_target,
+    refuse_tip_frame_weights,
+)
 from armik.problem.scores import fit_posture, parse_score
 from armik.problem.tasks import Pose, Position, Task
 from armik.request import Request
@@ -75,11 +82,13 @@ def read(
     ):
         problem = as_problem(target)
         if problem is not None:
-            lowered = lower(problem, arm.tip)
+            lowered = lower(problem, arm.tip, options.get("weights"))
             held = "hold" in options or "constraints" in options  # a call only then
             if lowered is not None and not (held and _held_apart(arm, options)):
                 target, said = lowered
                 check_said_twice(options, said)
+                if "position_only" in options or "bounds" in options:
+                    refuse_beside_tasks(problem, options)
                 if aim is None and type(target) is not Target:  # an Axis exactly along
                     freed = task_aim(problem)
                 if aim is not None:  # a call only then: the lowered target's aim is read below
@@ -205,6 +214,11 @@ def read_path(
         lowered = lower_all(problems, options, arm.tip)
         if lowered is None and aim is not None:
             raise OptionError(AIM_OF_TASKS, option=AIM_NAMES[0], value=aim)
+        if lowered is not None and _held_apart(arm, options):  # as solve reads each list
+            if plan == "global":
+                raise _held_global(options)
+            rows = tuple(read(arm, list(p.tasks), None, solver, options) for p in problems)
+            return _by_rows(arm, rows, q0, solver, options, t0, score)
         if lowered is None:  # the task solver's, waypoint by waypoint, each as solve reads it
             if plan == "global":
                 raise TargetError(
@@ -223,13 +237,7 @@ def read_path(
     elif "hold" in options or "constraints" in options:
         if _held_apart(arm, options):  # joints only the task solver holds: as solve does
             if plan == "global":
-                raise OptionError(
-                    "plan='global' plans over every solution at each waypoint, and the joints "
-                    "held here are held by the task solver, which gives one answer each: give "
-                    "plan='follow', or lock them: arm.with_locked({name: value})",
-                    option="hold",
-                    value=options.get("hold"),
-                )
+                raise _held_global(options)
             batch = parse_targets(poses, arm)
             each = [batch.target(i) for i in range(len(batch))]
             if aim is not None:  # every waypoint's, as the compiled path's batch carries it
@@ -251,6 +259,17 @@ def read_path(
     if aim is not None and key is not None:
         key = (key, aim.shape)
     return Request(poses, q0, solver, opts, key, seed, False, t0, score), local
+
+
+def _held_global(options: dict) -> OptionError:
+    """The refusal of a global plan whose held joints only the task solver holds."""
+    return OptionError(
+        "plan='global' plans over every solution at each waypoint, and the joints held here "
+        "are held by the task solver, which gives one answer each: give plan='follow', or "
+        "lock them: arm.with_locked({name: value})",
+        option="hold",
+        value=options.get("hold"),
+    )
 
 
 def _by_rows(arm, rows: tuple, q0, solver: str, options: dict, t0: float, score):
@@ -367,6 +386,7 @@ def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | No
         return as_problem(Position(tgt.position)), rest
     if not said:  # parsed already: not read again
         return as_problem(Pose.of(tgt, None)), options
+    refuse_tip_frame_weights(said)
     rest = {k: v for k, v in options.items() if k not in said}
     return as_problem(Pose(pin.SE3(tgt.rotation, tgt.position), **said)), rest
 

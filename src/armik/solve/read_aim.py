@@ -5,12 +5,14 @@
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 
 from armik.errors import OptionError
 from armik.problem.problem import Problem, as_problem
 from armik.problem.tasks import Axis, LookAt, Position, Task
-from armik.targets.aim import Aim, aim_of, refuse_without_direction
+from armik.targets.aim import Aim, aim_of, refuse_freed, refuse_without_direction
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 
@@ -37,6 +39,8 @@ def aimed_tasks(tgt: Target, aim: Aim, options: dict) -> tuple[Problem | None, d
     ``armik.Axis`` along its direction (``toward``, else where the target's rotation takes
     the axis); (None, ``options``) where they say more (weights, rotation bounds)."""
     refuse_without_direction(aim, tgt.rotation is not None)
+    if options.get("position_only"):  # as the compiled path refuses it: the aim measured
+        refuse_freed(aim, SimpleNamespace(position_only=True, weights=None))
     bounds = options.get("bounds")
     box = None if bounds is None else np.asarray(bounds, dtype=float)
     if options.get("weights") is not None or (box is not None and box[3:].any()):

@@ -11,6 +11,7 @@ import numpy as np
 
 from armik.model.arm_model import ArmModel
 from armik.problem.problem import lower, rims, tightened
+from armik.problem.scores import Score
 from armik.request import Request
 from armik.result import IKResult
 from armik.solve.stages import run
@@ -18,11 +19,13 @@ from armik.solve.tasks import CENTRE_RESTARTS, solve_tasks
 from armik.solvers import registry
 
 
-def solve_problem(arm: ArmModel, req: Request) -> IKResult:
-    """The task solver's verified result for ``req.problem``, from its centre's answer."""
+def solve_problem(arm: ArmModel, req: Request, score: Score | None = None) -> IKResult:
+    """The task solver's verified result for ``req.problem``, from its centre's answer;
+    with ``score``, moved along the tasks' null space while it falls (``solve_tasks``)."""
     opts = req.settings
     problem = dataclasses.replace(req.problem, constraints=opts.constraints, budget=opts.budget)
-    return solve_tasks(arm, problem, req.q0, opts, req.t0, centre(arm, problem, req))
+    start = centre(arm, problem, req)
+    return solve_tasks(arm, problem, req.q0, opts, req.t0, start, score=score)
 
 
 RIM_SAMPLES = 8  # points on a region's rim tried where a closed form misses its centre

@@ -34,7 +34,7 @@ from armik.errors import OptionError, TargetError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.model.frames import named
-from armik.problem.problem import Problem, as_problem, lower
+from armik.problem.problem import Problem, as_problem, lower, refuse_beside_tasks
 from armik.problem.scores import Posture, Score
 from armik.problem.settings import SolverSettings
 from armik.problem.tasks import Pose, Task, TaskError
@@ -61,9 +61,12 @@ def check_said_twice(options: dict, said: dict) -> None:
     the aim they lower to, as a keyword cone's: ``targets.aim.refuse_freed``.)"""
     for name in said:
         if name in options:
+            box = ", armik.Position(p, bounds=...)); an armik.Axis or armik.LookAt says the "
+            box += "bounds of what it frees itself (the position, the spin about the axis"
+            box = box if name == "bounds" else ""
             raise OptionError(
                 f"{name} is given both by the task and as an option: give it in the task "
-                f"(armik.Pose(T, {name}=...))",
+                f"(armik.Pose(T, {name}=...){box})",
                 option=name,
                 value=options[name],
             )
@@ -420,8 +423,13 @@ def _result(
         if status is Status.CONVERGED:  # several tasks: the largest of their frames'
             ori, pos = max(orientations) if orientations else None, max(positions, default=0.0)
             weighted = type(tasks[0]) is Pose and not tasks[0].weights.all()  # said alone
-            alone = reasons.measured_apart(reason, pos, ori, weighted)
-            reason = reasons.tasks_apart(reason, pos, ori) if len(tasks) > 1 else alone
+            frames = tasks[0].frames if len(tasks) == 1 else ()
+            if frames in ((None,), (arm.tip,)):  # the tip's
+                reason = reasons.measured_apart(reason, pos, ori, weighted)
+            elif len(frames) == 1:  # one task on another frame: that frame's
+                reason = reasons.frame_apart(reason, str(tasks[0].frame), pos, ori, weighted)
+            else:
+                reason = reasons.tasks_apart(reason, pos, ori)
     found = Verdicts(
         answers=one(q, Status.NOT_CONVERGED, reason, iterations=iterations, restarts=restarts),
         status=np.array([status.code], dtype=np.int8),
@@ -465,13 +473,17 @@ def lower_all(
     """(targets, options) of the compiled batch when every problem lowers to the same
     options and aim (``problem.lower``; a batch shares one: ``TargetBatch.aim``), else None."""
     targets, said = [], None  # the options and the aim every problem lowers to
-    for lowered in (lower(problem, tip) for problem in problems):
+    weights = options.get("weights")
+    for lowered in (lower(problem, tip, weights) for problem in problems):
         each = None if lowered is None else (lowered[1], getattr(lowered[0], "aim", None))
         if each is None or (said is not None and each != said):
             return None
         targets.append(lowered[0])  # type: ignore[index]
         said = each
     check_said_twice(options, said[0] if said else {})
+    if "position_only" in options or "bounds" in options:
+        for problem in problems:
+            refuse_beside_tasks(problem, options)
     return targets, {**options, **(said[0] if said else {})}
 
 

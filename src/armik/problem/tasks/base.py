@@ -12,15 +12,18 @@ frame's own axes: ``v = R^T dp/dt``, ``w`` with ``dR/dt = R [w]x``).
 from __future__ import annotations
 
 import copy
+import functools
 import math
 from abc import ABC, abstractmethod
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import NamedTuple
+from types import FunctionType
+from typing import Any, NamedTuple
 
 import numpy as np
 import pinocchio as pin
 
-from armik.errors import TargetError
+from armik.errors import ArmikError, TargetError
 from armik.kernel.problem import NO_CONE, NO_LOOK
 
 #: A frame's placement ``T_base_frame`` and its LOCAL Jacobian (None where only measured).
@@ -68,6 +71,18 @@ class Task(ABC):
     """One thing asked of one frame (``frame``: None for the arm's tip)."""
 
     frame: str | None = None
+
+    def __init_subclass__(cls, **kwargs: object) -> None:
+        """A class of the user's own: its ``residual``, ``jacobian`` and ``measure`` read
+        through ``_read`` (an error they raise, a result of another shape: a ``TargetError``
+        naming the class); armik's own tasks are read as they are, no call added."""
+        super().__init_subclass__(**kwargs)
+        if cls.__module__.startswith("armik."):
+            return
+        for name in ("residual", "jacobian", "measure"):
+            own = cls.__dict__.get(name)
+            if isinstance(own, FunctionType) and not getattr(own, "_armik_checked", False):
+                setattr(cls, name, _read(name, own))
 
     @property
     def frames(self) -> tuple[str | None, ...]:
@@ -122,6 +137,49 @@ class Task(ABC):
         it (each answer of one answers this task): where the region's centre is out of
         reach, its rim may not be, and a compiled form may solve it. Default: none."""
         return []
+
+
+def _read(name: str, own: Callable[..., Any]) -> Callable[..., Any]:
+    """A user's task member ``name`` checked on each call: ``residual`` (rows,) numbers,
+    ``jacobian`` (rows, nv) from the (6, nv) ``J`` it was given, ``measure`` a
+    ``TaskError``; otherwise, or where it raises, a ``TargetError`` naming the class."""
+
+    @functools.wraps(own)
+    def read(self: Task, T: pin.SE3, *more: Any) -> Any:
+        task = type(self).__name__
+        try:
+            got = own(self, T, *more)
+        except ArmikError:
+            raise
+        except Exception as exc:
+            raise TargetError(
+                f"task {task}: its {name} raised {type(exc).__name__}: {exc}"
+            ) from exc
+        if name == "measure":
+            if not isinstance(got, TaskError):
+                raise TargetError(
+                    f"task {task}: its measure must return a TaskError(position, orientation, "
+                    f"within) (armik.problem.tasks.base), got {got!r}"
+                )
+            return got
+        rows = self.rows
+        shape = (rows,) if name == "residual" else (rows, np.shape(more[0])[1])
+        if type(got) is np.ndarray and got.shape == shape and got.dtype == np.float64:
+            return got
+        try:
+            out = np.asarray(got, dtype=float)
+        except (TypeError, ValueError):
+            out = None
+        if out is None or out.shape != shape:
+            given = f"shape {np.shape(got)}" if out is not None else repr(got)
+            raise TargetError(
+                f"task {task}: its {name} must be an array of shape {shape} (rows = {rows}: "
+                f"its rows property), got {given}"
+            )
+        return out
+
+    read._armik_checked = True  # type: ignore[attr-defined]
+    return read
 
 
 def scaled(bounds: np.ndarray, factor: float) -> np.ndarray:

@@ -23,6 +23,8 @@ from armik.problem.tasks.base import (
 from armik.targets.pose import _vector
 from armik.tolerances import LOOK_AT
 
+SIGHT = 1e-6  # m: a frame nearer its point than this has no line of sight to aim along
+
 
 class LookAt(Task):
     """``axis`` (in ``frame``'s own axes; None: the tip) within ``within`` rad of the line
@@ -71,7 +73,9 @@ class LookAt(Task):
 
     def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
         d, distance = self._sight(T)
-        if distance <= LOOK_AT:  # standing on the point: no line of sight, nothing aimed
+        # standing on the point, to within SIGHT: no line of sight (a move of the frame by
+        # a micrometre turns it any way), nothing aimed
+        if distance <= SIGHT:
             return TaskError(None, math.pi, False)
         beyond = max(cone.angle(self.axis, T.rotation.T @ d) - self.within, 0.0)
         return TaskError(None, beyond, beyond <= tol_orientation)
