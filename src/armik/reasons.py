@@ -348,6 +348,9 @@ def slides_unreachable(distance: float, tol: float) -> str:
         f"the target is {distance:.3g} m from every position the tip reaches (its joints all "
         f"slide, within their limits), beyond tol_position ({tol:g} m); q is the seed, "
         "unchanged"
+    )
+
+
 def frame_apart(reason: str, frame: str, pos: float, ori: float | None, weighted: bool) -> str:
     """``measured_apart`` for one task on a frame other than the tip: that frame's
     distance to its target (weighted axes) or to its region's centre."""
