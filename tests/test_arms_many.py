@@ -328,3 +328,40 @@ def test_one_pose_per_tip_is_refused_naming_the_tip_and_solve(cell, robot):
             )
     rows = {tip: [T, T] for tip, T in poses.items()}  # each tip's rows: solved
     assert len(arms.solve_batch(rows)) == 2
+
+
+def _true_errors(robot: armik.Arms, q: np.ndarray, tip: str, target: np.ndarray):
+    """(position m, orientation rad or None) of ``tip`` at ``q`` from ``target`` (a 4x4
+    pose or a position), by Pinocchio's FK of the tip's chain."""
+    X = robot.chain(tip).fk(robot.split(q)[tip])
+    if np.shape(target) == (3,):
+        return float(np.linalg.norm(X.translation - target)), None
+    T = pin.SE3(np.asarray(target))
+    rot = float(np.linalg.norm(pin.log3(T.rotation.T @ X.rotation)))
+    return float(np.linalg.norm(X.translation - T.translation)), rot
+
+
+@pytest.mark.parametrize("shared", [False, True], ids=["cell", "panda_link4+hand"])
+def test_a_batch_s_rows_give_each_tip_s_errors_as_solve_does(cell, shared):
+    robot = armik.load("panda", tips=["panda_link4", "panda_hand"]) if shared else cell
+    first, last = robot.tips
+    qs = robot.random_q(6, n=4)
+    rows = {first: [robot.fk(q, first).translation for q in qs]}
+    rows[last] = [robot.fk(q, last).homogeneous for q in qs]
+    rows[last][2] = np.array(rows[last][2])
+    rows[last][2][:3, 3] = [3.0, 0.0, 0.5]  # out of reach: a failure, its errors all the same
+    batch = robot.solve_batch(rows)
+    path = robot.solve_path(rows, robot.middle, max_joint_step=10.0)
+    for b in (batch, path):
+        assert list(b.errors) == list(robot.tips) and not b.success[2]
+        for i, r in enumerate(b):
+            assert list(r.errors) == list(robot.tips)
+            for tip in robot.tips:
+                pos, rot = _true_errors(robot, r.q, tip, rows[tip][i])
+                assert r.errors[tip][0] == pytest.approx(pos, abs=1e-9)
+                assert (r.errors[tip][1] is None) == (rot is None)
+                if rot is not None:
+                    assert r.errors[tip][1] == pytest.approx(rot, abs=1e-9)
+            assert r.position_error == max(e[0] for e in r.errors.values())
+        assert b[2:][0].errors == b[2].errors  # a slice keeps them
+    assert batch[0].errors.keys() == robot.solve({t: rows[t][0] for t in rows}).errors.keys()

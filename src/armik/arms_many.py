@@ -395,6 +395,8 @@ def _joined(
         out.iterations[:] += b.iterations
         out.restarts[:] += b.restarts
     out.orientation_error[:] = orientation
+    for tip in [t for t in arms.tips if t in parts]:  # each tip's distances, in tips' order
+        out.errors[tip] = np.column_stack([parts[tip].position_error, parts[tip].orientation_error])
     _measured(out, parts.values())
     if prefer is not None:
         out._scores[:] = combined(prefer, np.array([b._scores for b in parts.values()]))
