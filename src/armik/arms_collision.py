@@ -1,0 +1,164 @@
+"""Collisions of several tips (``Arms.min_distance``, ``Arms.in_collision``): the robot's
+links at one configuration over every joint, against obstacles and against each other.
+
+Each link is taken from the chain that moves it, as the servo over several chains takes it
+(``armik.servo.union_collisions``): a chain's own links (on a joint of its own) from that
+chain at its joints' values, the shared and fixed links from the first chain. The pairs:
+every moving link against every obstacle (an obstacle that a link fixed to the base sinks
+into is refused, as on one arm); with ``self_collision`` each chain's own self-collision
+pairs among its links and the shared ones (its SRDF's disabled pairs left out) and every
+own link of one chain against every own link of another. Coal measures each pair, asked in
+the order of a lower bound on its distance (the bounding spheres) until that bound passes
+the smallest distance found: the closest pair of all. With one tip these are the pairs and
+distances of ``Arm.min_distance``.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from typing import Any
+
+import coal
+import numpy as np
+import pinocchio as pin
+
+from armik import checked
+from armik.constraints.collision import BOUND_SLACK, _check_fixed, obstacle_name
+from armik.constraints.shapes import check_obstacles
+from armik.constraints.srdf import Pair
+from armik.errors import CollisionError
+from armik.model import mimic_frames
+from armik.servo.union_collisions import FAR, UnionCollisions
+
+MOST_CHECKERS = 32  # kept per robot, one per set of obstacles, as one arm keeps them
+
+
+class ArmsChecker:
+    """The distances of every pair of ``arms`` (an ``armik.Arms``) to ``obstacles`` and,
+    with ``self_collision``, among its links (the module's pairs)."""
+
+    def __init__(self, arms: Any, obstacles: tuple, self_collision: bool) -> None:
+        chains = [arms._chains[t] for t in arms.tips]
+        self.cols = [arms._columns[t] for t in arms.tips]
+        self.joint_names = arms.joint_names
+        # the union servo's objects and pairs: each link from the chain that moves it
+        self.links = UnionCollisions(
+            chains, self.cols, arms.dof, obstacles, self_collision, 0.0, 0.0
+        )
+        links = self.links
+        for k, (c, i) in enumerate(links.objects):  # fixed to the base: checked once, here
+            if links.joints[k] == 0:
+                for s, shape in enumerate(links.shapes):
+                    obj = pin.GeometryObject(
+                        obstacle_name(s, shape),
+                        0,
+                        0,
+                        chains[c].T_world_base * shape.placement(),
+                        shape.geometry(),
+                    )
+                    _check_fixed(chains[c], links.geometry[c], i, obj, shape, s)
+        self.chains = chains
+        self.names = [
+            *links.names,
+            *(obstacle_name(s, shape) for s, shape in enumerate(links.shapes)),
+        ]
+        self._local = threading.local()
+
+    def _data(self) -> tuple[list, list, list]:
+        """This thread's data of each chain's model, geometry and whole model."""
+        found = getattr(self._local, "data", None)
+        if found is None:
+            found = self._local.data = (
+                [arm.model.createData() for arm in self.chains],
+                [pin.GeometryData(g.model) for g in self.links.geometry],
+                [arm.chain.full.createData() for arm in self.chains],
+            )
+        return found
+
+    def distance(self, q: np.ndarray) -> tuple[float, Pair | None]:
+        """(distance m, (name_a, name_b)) of the closest pair at the robot's joint values
+        ``q`` (rad, m); negative when they overlap; (inf, None) with no pair."""
+        links = self.links
+        datas, gdatas, fulls = self._data()
+        for arm, g, data, gd, full, cols in zip(
+            self.chains, links.geometry, datas, gdatas, fulls, self.cols
+        ):
+            pin.updateGeometryPlacements(arm.model, data, g.model, gd, arm.to_pin(q[cols]))
+            if g.followed:  # below a mimic joint off the chain: where the whole model puts it
+                mimic_frames.place_followed(arm, q[cols], gd, g.followed, full)
+        placed = [gdatas[c].oMg[i] for c, i in links.objects]
+        centre = np.array(
+            [M.translation + M.rotation @ c for M, c in zip(placed, links.centre)]
+        ).reshape(-1, 3)
+        pa, pb = links.pair_a, links.pair_b
+        near = np.linalg.norm(centre[pa] - centre[pb], axis=1) - links.radius[pa] - links.radius[pb]
+        bounds = list(zip(near.tolist(), pa.tolist(), pb.tolist()))
+        m = links.moving
+        for s in range(len(links.obstacles)):
+            if links.obstacle_radius[s] < FAR:
+                d = np.linalg.norm(centre[m] - links.obstacle_centre[s], axis=1)
+                gap = d - links.radius[m] - links.obstacle_radius[s]
+            else:  # a half space: no bound, always asked
+                gap = np.full(len(m), -math.inf)
+            bounds += zip(gap.tolist(), m.tolist(), [-1 - s] * len(m))
+        best, found = math.inf, None
+        request = coal.DistanceRequest()
+        for bound, a, b in sorted(bounds):
+            if bound - BOUND_SLACK >= best:
+                break  # every later bound is at least this one
+            Ma = placed[a]
+            if b >= 0:
+                gb, Mb = links.geoms[b], placed[b]
+                Tb = coal.Transform3s(Mb.rotation, Mb.translation)
+            else:
+                gb, Tb = links.obstacles[-1 - b]
+            d = coal.distance(
+                links.geoms[a],
+                coal.Transform3s(Ma.rotation, Ma.translation),
+                gb,
+                Tb,
+                request,
+                coal.DistanceResult(),
+            )
+            if d < best:
+                best, found = d, (a, b)
+        if found is None:
+            return math.inf, None
+        a, b = found
+        other = self.names[b] if b >= 0 else self.names[len(links.names) - 1 - b]
+        return float(best), (self.names[a], other)
+
+
+def min_distance(
+    arms: Any, q: object, obstacles: object = (), self_collision: bool = False
+) -> tuple[float, Pair | None]:
+    """(distance m, (name_a, name_b)): the closest checked pair at ``q`` (the robot's joint
+    values, rad, m); ``CollisionError`` when there is nothing to measure."""
+    shapes = check_obstacles(obstacles)
+    if not shapes and not self_collision:
+        raise CollisionError(
+            "nothing to measure: give obstacles=[...] or self_collision=True",
+            option="obstacles",
+        )
+    q = checked.configuration("q", q, arms.joint_names)
+    checkers = arms.__dict__.setdefault("_checkers", {})  # one per set of obstacles
+    key = (shapes, bool(self_collision))
+    found = checkers.get(key)
+    if found is None:
+        if len(checkers) >= MOST_CHECKERS:
+            checkers.clear()
+        found = checkers[key] = ArmsChecker(arms, shapes, bool(self_collision))
+    return found.distance(q)
+
+
+def in_collision(
+    arms: Any,
+    q: object,
+    obstacles: object = (),
+    self_collision: bool = False,
+    margin: float = 0.0,
+) -> bool:
+    """Whether some checked pair at ``q`` is closer than ``margin`` (m)."""
+    margin = checked.number("margin", margin)
+    return min_distance(arms, q, obstacles, self_collision)[0] < margin

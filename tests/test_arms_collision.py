@@ -1,0 +1,138 @@
+"""``Arms.min_distance``, ``Arms.in_collision`` and ``Arms.intervals``, as ``Arm``'s: with one
+tip the same answers as the ``Arm``; on TALOS's two hands every chain's links at the
+robot's configuration, between the chains too, checked by coal on Pinocchio's placements
+of the whole URDF; intervals of the chain its parameter belongs to."""
+
+from __future__ import annotations
+
+import coal
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import armik
+from tests.conftest import whole_placements
+
+from .test_arms_parity import HANDS, SHARE, TALOS
+
+OBSTACLES = [armik.Box((0.3, 0.3, 0.3), (0.4, 0.0, 0.4)), armik.HalfSpace((0, 0, 1), -0.2)]
+
+
+@pytest.mark.parametrize("name", ["panda", "ur5"])
+def test_one_tip_measures_as_its_arm(name):
+    arm = armik.load(name)
+    robot = armik.load(name, tips=[arm.tip])
+    for q in arm.random_q(1, 12):
+        for obstacles, itself in ((OBSTACLES, False), ((), True), (OBSTACLES, True)):
+            d, pair = robot.min_distance(q, obstacles, itself)
+            expected, expected_pair = arm.min_distance(q, obstacles, itself)
+            assert pair == expected_pair and d == pytest.approx(expected, abs=1e-6)
+            for margin in (0.0, 0.05):
+                got = robot.in_collision(q, obstacles, itself, margin=margin)
+                assert got == arm.in_collision(q, obstacles, itself, margin=margin)
+
+
+def _hulls():
+    """TALOS's whole URDF, its collision meshes as convex hulls (as armik checks them)."""
+    model = pin.buildModelFromUrdf(str(TALOS))
+    geom = pin.buildGeomFromUrdf(model, str(TALOS), pin.COLLISION, package_dirs=[str(SHARE)])
+    for o in geom.geometryObjects:
+        if isinstance(o.geometry, coal.BVHModelBase):
+            o.geometry.buildConvexHull(True, "Qt")
+            o.geometry = o.geometry.convex
+    return model, geom
+
+
+def _coal(geometry_a, Ma: pin.SE3, geometry_b, Mb: pin.SE3) -> float:
+    return coal.distance(
+        geometry_a,
+        coal.Transform3s(Ma.rotation, Ma.translation),
+        geometry_b,
+        coal.Transform3s(Mb.rotation, Mb.translation),
+        coal.DistanceRequest(),
+        coal.DistanceResult(),
+    )
+
+
+def test_two_hands_are_measured_against_each_other_and_obstacles_at_the_robot_s_q():
+    robot = armik.load(TALOS, tips=HANDS, srdf=TALOS.parents[1] / "srdf" / "talos.srdf")
+    model, geom = _hulls()
+    data, gd = model.createData(), pin.GeometryData(geom)
+    links = [model.frames[o.parentFrame].name for o in geom.geometryObjects]
+    left = [i for i, n in enumerate(links) if n.startswith(("arm_left", "gripper_left"))]
+    right = [i for i, n in enumerate(links) if n.startswith(("arm_right", "gripper_right"))]
+    # the hands brought together: they overlap, which neither chain alone sees (each holds
+    # the other arm where it was cut)
+    p = sum(robot.fk(robot.middle, tip).translation for tip in HANDS) / 2 + [0.25, 0.0, 0.0]
+    r = robot.solve({HANDS[0]: p + [0, 0.03, 0], HANDS[1]: p - [0, 0.03, 0]})
+    assert r.success
+    rng = np.random.default_rng(3)
+    for q in [r.q, *robot.random_q(rng, 4)]:
+        whole_placements(model, data, robot.joint_names, q)
+        pin.updateGeometryPlacements(model, data, geom, gd)
+        placed = list(gd.oMg)
+        d, (a, b) = robot.min_distance(q, self_collision=True)
+        ia, ib = links.index(a), links.index(b)
+        g = geom.geometryObjects
+        assert d == pytest.approx(_coal(g[ia].geometry, placed[ia], g[ib].geometry, placed[ib]))
+        between = min(
+            _coal(g[i].geometry, placed[i], g[k].geometry, placed[k]) for i in left for k in right
+        )
+        assert d <= between + 1e-9
+        assert robot.in_collision(q, self_collision=True, margin=d + 1e-6)
+        assert not robot.in_collision(q, self_collision=True, margin=d - 1e-6)
+        # a ball beside the left hand: the nearest of every link the robot moves
+        ball = armik.Sphere(0.05, (*(robot.fk(q, HANDS[0]).translation + [0.0, 0.0, 0.12]),))
+        d, (link, obstacle) = robot.min_distance(q, [ball])
+        world = pin.SE3(ball.placement())  # the base is TALOS's root: world and base agree
+        each = [_coal(o.geometry, M, coal.Sphere(0.05), world) for o, M in zip(g, placed)]
+        assert obstacle == "obstacles[0] (Sphere)" and link == links[int(np.argmin(each))]
+        assert d == pytest.approx(min(each))
+    d, pair = robot.min_distance(r.q, self_collision=True)
+    assert pair == tuple(HANDS) and d < 0
+    for tip in HANDS:
+        assert robot.chain(tip).min_distance(robot.split(r.q)[tip], self_collision=True)[0] > 0
+
+
+def test_bad_collision_queries_are_armik_errors():
+    robot = armik.load("panda", tips=["panda_link4", "panda_hand"])
+    with pytest.raises(armik.OptionError, match="9 values|7 values|one per joint"):
+        robot.min_distance(np.zeros(3), self_collision=True)
+    with pytest.raises(armik.CollisionError, match="nothing to measure"):
+        robot.min_distance(robot.middle)
+    with pytest.raises(armik.CollisionError):
+        robot.min_distance(robot.middle, obstacles="box")
+    with pytest.raises(armik.OptionError, match="margin must be a number"):
+        robot.in_collision(robot.middle, self_collision=True, margin="1 cm")
+
+
+def test_intervals_are_the_chain_s_whose_parameter_is_asked():
+    robot = armik.load("kuka_iiwa14", tips=["iiwa_link_4", "iiwa_link_ee"])
+    arm = robot.chain("iiwa_link_ee")
+    q = robot.random_q(np.random.default_rng(2))
+    T = {tip: robot.fk(q, tip) for tip in robot.tips}
+    got = robot.intervals({"iiwa_link_ee": T["iiwa_link_ee"]}, "swivel", q0=q)
+    expected = arm.intervals(T["iiwa_link_ee"], "swivel", q0=robot.split(q)["iiwa_link_ee"])
+    assert got == expected and got.branches
+    # each interval's middle: its branch's answer at that swivel, checked by Pinocchio's FK
+    for label, spans in got.branches.items():
+        lo, hi = spans[0]
+        answers = arm.solve_all(T["iiwa_link_ee"], swivel=(lo + hi) / 2)
+        found = [a for a in answers if a.branch == label]
+        assert found and found[0].success
+        X = arm.fk(found[0].q)
+        assert np.linalg.norm(pin.log6(T["iiwa_link_ee"].actInv(X)).vector) < 1e-6
+    one = armik.load("kuka_iiwa14", tips=[arm.tip])
+    assert one.intervals({arm.tip: T["iiwa_link_ee"]}, "swivel") == arm.intervals(
+        T["iiwa_link_ee"], "swivel"
+    )
+    with pytest.raises(armik.OptionError, match="one chain's self-motion"):
+        robot.intervals(T, "iiwa_joint_1")  # on both chains
+    with pytest.raises(armik.OptionError, match="give one tip's target"):
+        robot.intervals(T, "swivel")
+    with pytest.raises(armik.TargetError, match="iiwa_link_ee"):
+        robot.intervals({"iiwa_link_4": T["iiwa_link_4"]}, "iiwa_joint_7")
+    with pytest.raises(armik.FrameError, match="unknown tip"):
+        robot.intervals({"hand": T["iiwa_link_4"]}, "swivel")
+    with pytest.raises(armik.OptionError, match="target must map"):
+        robot.intervals(T["iiwa_link_ee"], "swivel")
