@@ -365,3 +365,19 @@ def test_a_batch_s_rows_give_each_tip_s_errors_as_solve_does(cell, shared):
             assert r.position_error == max(e[0] for e in r.errors.values())
         assert b[2:][0].errors == b[2].errors  # a slice keeps them
     assert batch[0].errors.keys() == robot.solve({t: rows[t][0] for t in rows}).errors.keys()
+
+
+def test_a_batch_reads_the_tips_in_the_robot_s_order_as_solve_does(cell):
+    q = cell.random_q(3)
+    T = cell.fk(q, "l_tool0")
+    # both out of reach, the dict naming the right tip first: the reason names the left
+    # first, as solve's does, and the row's status is the left tip's
+    targets = {
+        "r_tool0": np.array([0.0, -0.5, 3.0]),
+        "l_tool0": T * pin.SE3(np.eye(3), np.array([3.0, 0.0, 0.0])),
+    }
+    r = cell.solve(targets)
+    rows = {tip: [target] for tip, target in targets.items()}
+    for b in (cell.solve_batch(rows), cell.solve_path(rows, q)):
+        assert b.reason(0) == r.reason and b.reason(0).startswith("l_tool0: ")
+        assert b.status[0] == r.status.value and list(b.errors) == list(cell.tips)

@@ -89,6 +89,7 @@ def solve_batch(
     ``OptionError``."""
     t0 = time.perf_counter()
     n = _rows(arms, targets, "solve_batch")
+    targets = _in_tips_order(arms, targets)
     seeds = _seeds(arms, q0, n)
     opts = _read(options)
     prefer = options.get("prefer")
@@ -141,6 +142,7 @@ def solve_path(
     t0 = time.perf_counter()
     check_plan(plan)  # a plan that is none: refused as Arm.solve_path refuses it
     n = _rows(arms, waypoints, "solve_path")
+    waypoints = _in_tips_order(arms, waypoints)
     start = arms.middle if q0 is None else _seeds(arms, q0, 1)[0]
     step = _step(arms, max_joint_step)
     opts = _read(options)
@@ -239,6 +241,13 @@ def _rows(arms: Arms, targets: object, call: str) -> int:
     if len(set(sizes.values())) != 1:
         raise TargetError(f"every tip needs as many targets as the others, got {sizes}")
     return next(iter(sizes.values()))
+
+
+def _in_tips_order(arms: Arms, targets: Mapping[str, Any]) -> dict[str, Any]:
+    """``targets`` in the order of ``arms.tips``, as ``Arms.solve`` reads them: the first
+    failing tip's status and the order of the reason's tips are the robot's, not the
+    dict's."""
+    return {tip: targets[tip] for tip in arms.tips if tip in targets}
 
 
 def _one_pose(rows: object) -> str:
