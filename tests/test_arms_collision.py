@@ -5,6 +5,9 @@ of the whole URDF; intervals of the chain its parameter belongs to."""
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
+
 import coal
 import numpy as np
 import pinocchio as pin
@@ -136,3 +139,62 @@ def test_intervals_are_the_chain_s_whose_parameter_is_asked():
         robot.intervals({"hand": T["iiwa_link_4"]}, "swivel")
     with pytest.raises(armik.OptionError, match="target must map"):
         robot.intervals(T["iiwa_link_ee"], "swivel")
+
+
+def dual(name: str) -> str:
+    """Two of the bundled ``name`` 1 m apart on one base, links and joints prefixed."""
+    text = Path(armik.load(name).source).read_text()
+    body = re.sub(r"<!--.*?-->", "", text[text.index("<robot") :], flags=re.S)
+    body = body[body.index(">") + 1 : body.rindex("</robot>")]
+    children = set(re.findall(r'<child link="([^"]+)"', body))
+    base = next(n for n in re.findall(r'<link name="([^"]+)"', body) if n not in children)
+    arms = [
+        re.sub(
+            r'(?<=\s)(name|link)="([^"]+)"',
+            lambda m, s=side: f'{m.group(1)}="{s}{m.group(2)}"',
+            body,
+        )
+        + f'<joint name="{side}mount" type="fixed"><parent link="cell"/>'
+        f'<child link="{side}{base}"/><origin xyz="0 {y} 0"/></joint>'
+        for side, y in (("l_", 0.5), ("r_", -0.5))
+    ]
+    return '<robot name="dual"><link name="cell"/>' + "".join(arms) + "</robot>"
+
+
+def test_two_arms_that_share_no_joint_are_checked_against_each_other():
+    robot = armik.load(dual("ur5"), tips=["l_tool0", "r_tool0"])
+    down = pin.utils.rpyToMatrix(np.pi, 0.0, 0.0)
+    # both tools 8 cm apart between the arms: each chain alone is clear (the other arm
+    # held where it was cut), the two arms at their answers overlap
+    close = {
+        "l_tool0": pin.SE3(down, np.array([0.4, 0.04, 0.3])),
+        "r_tool0": pin.SE3(down, np.array([0.4, -0.04, 0.3])),
+    }
+    plain = robot.solve(close)
+    assert plain.success and robot.min_distance(plain.q, self_collision=True)[0] < 0
+    rows = {tip: [T] for tip, T in close.items()}
+    for given in (
+        {"self_collision": True},
+        {"constraints": [armik.Collisions(self_collision=True)]},
+    ):
+        results = [
+            robot.solve(close, **given),
+            robot.solve_batch(rows, **given)[0],
+            robot.solve_path(rows, None, **given)[0],
+            *robot.solve_all(close, **given),
+        ]
+        for r in results:
+            d, pair = robot.min_distance(r.q, self_collision=True)
+            assert r.success == (d >= 0.0), (r.reason, d, pair)
+            if not r.success and r.status == armik.Status.COLLISION and d < 0:
+                assert r.closest_pair == pair and "chains' answers together" in r.reason
+        assert not results[0].success and results[0].status == armik.Status.COLLISION
+    apart = {
+        "l_tool0": pin.SE3(down, np.array([0.4, 0.3, 0.3])),
+        "r_tool0": pin.SE3(down, np.array([0.4, -0.3, 0.3])),
+    }
+    r = robot.solve(apart, self_collision=True, margin=0.001)
+    assert r.success and r.min_distance >= 0.001
+    assert (r.min_distance, r.closest_pair) == robot.min_distance(r.q, self_collision=True)
+    b = robot.solve_batch({tip: [T, T] for tip, T in apart.items()}, self_collision=True)
+    assert b.success.all() and (b.min_distance >= 0).all() and "collision-free" in b.reason(0)

@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, cast
 import numpy as np
 import pinocchio as pin
 
-from armik import arms_every, arms_many, arms_reach, checked
+from armik import arms_collision, arms_every, arms_many, arms_reach, checked
 from armik.arms_joined import by_tip_errors, joined
 from armik.arms_kinematics import ArmsKinematics
 from armik.arms_options import at_seed, chain_constraints, per_chain, refuse_own_checks
@@ -116,6 +116,11 @@ class Arms(ArmsKinematics):
     def solve(self, targets: Mapping[str, object], *, q0: object = None, **options) -> IKResult:
         """Every tip at its target (any target form ``Arm.solve`` takes, or a task list),
         each chain by its own solver; one ``IKResult`` for the robot (module docstring)."""
+        r = self._solve(targets, q0, options)
+        margin = arms_collision.between(self, options) if options else None
+        return r if margin is None else arms_collision.clear(self, r, margin)
+
+    def _solve(self, targets: Mapping[str, object], q0: object, options: dict) -> IKResult:
         t0 = time.perf_counter()
         if "constraints" in options:  # a call only then: the common call has none
             refuse_own_checks(options, self.tips)
@@ -180,7 +185,8 @@ class Arms(ArmsKinematics):
         refuse_own_checks(options, self.tips)
         if q0 is not None:
             q0 = checked.configuration("q0", q0, self.joint_names)
-        return Solutions(arms_every.solve_all(self, by_tip(self._chains, targets), q0, **options))
+        found = arms_every.solve_all(self, by_tip(self._chains, targets), q0, **options)
+        return Solutions(arms_collision.kept(self, found, arms_collision.between(self, options)))
 
     def solve_batch(self, targets: Mapping[str, object], *, q0: object = None, **options):
         """Many targets per tip (tip -> N targets, or N rows each a flat list of tasks as

@@ -15,21 +15,27 @@ distances of ``Arm.min_distance``.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import threading
+from collections.abc import Mapping
 from typing import Any
 
 import coal
 import numpy as np
 import pinocchio as pin
 
-from armik import checked
+from armik import checked, reasons
+from armik.batch_result import BatchResult
+from armik.constraints.clear import Collisions
 from armik.constraints.collision import BOUND_SLACK, _check_fixed, obstacle_name
 from armik.constraints.shapes import check_obstacles
 from armik.constraints.srdf import Pair
 from armik.errors import CollisionError
 from armik.model import mimic_frames
+from armik.result import IKResult
 from armik.servo.union_collisions import FAR, UnionCollisions
+from armik.status import Status
 
 MOST_CHECKERS = 32  # kept per robot, one per set of obstacles, as one arm keeps them
 
@@ -162,3 +168,77 @@ def in_collision(
     """Whether some checked pair at ``q`` is closer than ``margin`` (m)."""
     margin = checked.number("margin", margin)
     return min_distance(arms, q, obstacles, self_collision)[0] < margin
+
+
+def between(arms: Any, options: Mapping[str, Any]) -> object:
+    """The margin of the self-collision check ``options`` ask for (``self_collision=True``,
+    or an ``armik.Collisions`` with it in a flat ``constraints`` list) on chains that share
+    no joint, as given (each chain's solve checks it); None where none is asked. Each
+    chain checks its own links against the other chains held where it was cut: the robot
+    checks its chains' answers together (``clear``, ``clear_rows``)."""
+    if not options or arms._union is not None:
+        return None
+    flag = options.get("self_collision")
+    if isinstance(flag, (bool, np.bool_)) and flag:
+        return options.get("margin", 0.0)
+    given = options.get("constraints")
+    if given is None or isinstance(given, Mapping):  # by tip: each chain's own
+        return None
+    given = given if isinstance(given, (list, tuple)) else [given]
+    found = [c.margin for c in given if isinstance(c, Collisions) and c.self_collision]
+    return max(found) if found else None
+
+
+def _own(arms: Any) -> ArmsChecker:
+    """The robot's checker of its own links (no obstacle), kept as ``min_distance``'s."""
+    checkers = arms.__dict__.setdefault("_checkers", {})
+    found = checkers.get(((), True))
+    if found is None:
+        found = checkers[(), True] = ArmsChecker(arms, (), True)
+    return found
+
+
+def clear(arms: Any, r: IKResult, margin: object) -> IKResult:
+    """``r``, a joined result of chains that share no joint, with the robot's own closest
+    pair at ``r.q`` (``min_distance``, ``closest_pair``): a ``Status.COLLISION`` failure
+    where it is nearer than ``margin``."""
+    if not r.success:
+        return r
+    d, pair = _own(arms).distance(np.asarray(r.q, dtype=float))
+    m = checked.number("margin", margin)
+    extra = {**r.extra, "min_distance": d, "closest_pair": pair}
+    if d >= m:
+        return dataclasses.replace(r, extra=extra)
+    return dataclasses.replace(
+        r,
+        success=False,
+        status=Status.COLLISION,
+        reason=reasons.chains_collide(pair, d, m),
+        extra=extra,
+    )
+
+
+def kept(arms: Any, results: list[IKResult], margin: object) -> list[IKResult]:
+    """``solve_all``'s answers (``results``) clear of each other (``clear``); where none
+    is, the first of them as the failure it is (``clear``)."""
+    if margin is None:
+        return results
+    each = [clear(arms, r, margin) for r in results]
+    found = [r for r in each if r.success]
+    return found or each[:1]
+
+
+def clear_rows(arms: Any, out: BatchResult, margin: object) -> None:
+    """``clear`` on every successful row of ``out`` (a joined batch or path), in place."""
+    if margin is None:
+        return
+    m = checked.number("margin", margin)
+    own = _own(arms)
+    object.__setattr__(out, "margin", m)
+    for i in np.flatnonzero(out.success).tolist():
+        d, pair = own.distance(out.q[i])
+        out.put_distance(i, d, pair)
+        if d < m:
+            out.success[i] = False
+            out.status_code[i] = Status.COLLISION.code
+            out.reasons[i] = reasons.chains_collide(pair, d, m)

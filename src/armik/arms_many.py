@@ -23,6 +23,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from armik import checked, reasons
+from armik.arms_collision import between, clear_rows
 from armik.arms_options import check_held
 from armik.arms_prefer import combined, is_cost
 from armik.arms_rows import empty, solve_rows
@@ -107,7 +108,9 @@ def solve_batch(
             )
             for tip, rows in read.items()
         }
-        return _joined(arms, parts, seeds, opts, time.perf_counter() - t0, prefer)
+        out = _joined(arms, parts, seeds, opts, time.perf_counter() - t0, prefer)
+        clear_rows(arms, out, between(arms, options))  # the chains' answers together
+        return _timed(out, t0)
     run_jobs = None if backend is None else backends.backend(backend)
     threads, size = _whole(workers, "workers", 1), _whole(chunk_size, "chunk_size", DEFAULT_CHUNK)
     out = solve_rows(arms, targets, seeds, options, opts, size, threads, progress, run_jobs)
@@ -170,8 +173,9 @@ def solve_path(
             )
             for tip, rows in waypoints.items()
         }
-        elapsed = time.perf_counter() - t0
-        return _joined(arms, parts, np.tile(start, (n, 1)), opts, elapsed, prefer)
+        out = _joined(arms, parts, np.tile(start, (n, 1)), opts, 0.0, prefer)
+        clear_rows(arms, out, between(arms, options))  # the chains' answers together
+        return _timed(out, t0)
     if plan != "follow":
         raise OptionError(
             f"plan={plan!r} over several tips needs chains that share no joint and no "

@@ -323,3 +323,13 @@ def tasks_apart(reason: str, pos: float, ori: float | None) -> str:
         f"{reason}; each task's frame is at most {pos:.3g} m{rot} from its region's centre, "
         "free components apart"
     )
+
+
+def chains_collide(pair: tuple[str, str] | None, distance: float, margin: float) -> str:
+    """Several tips on chains that share no joint, each verified and clear alone (the
+    other chains held where it was cut): the robot at their answers side by side is not."""
+    together = in_collision(pair, distance, margin)
+    return (
+        f"every tip reached, but the chains' answers together are {together} (each chain "
+        "was checked alone, the other chains held where it was cut)"
+    )
