@@ -198,3 +198,25 @@ def test_two_arms_that_share_no_joint_are_checked_against_each_other():
     assert (r.min_distance, r.closest_pair) == robot.min_distance(r.q, self_collision=True)
     b = robot.solve_batch({tip: [T, T] for tip, T in apart.items()}, self_collision=True)
     assert b.success.all() and (b.min_distance >= 0).all() and "collision-free" in b.reason(0)
+
+
+def test_a_relative_target_out_of_reach_with_options_the_joint_descent_refuses_is_a_failure():
+    robot = armik.load(dual("ur5"), tips=["l_tool0", "r_tool0"])
+    left = pin.SE3(pin.utils.rpyToMatrix(np.pi, 0.0, 0.0), np.array([0.4, 0.3, 0.3]))
+    beside = pin.SE3(np.eye(3), np.array([0.0, 0.6, 0.0]))
+    options = [
+        {"self_collision": True},
+        {"obstacles": [armik.Sphere(0.05, (2.0, 2.0, 2.0))]},
+        {"prefer": "nearest"},
+    ]
+    for given in options:
+        near = {"l_tool0": left, "r_tool0": armik.Relative("r_tool0", "l_tool0", beside)}
+        r = robot.solve(near, **given)
+        assert r.success
+        T = robot.fk(r.q, "l_tool0").actInv(robot.fk(r.q, "r_tool0"))
+        assert np.linalg.norm(pin.log6(beside.actInv(T)).vector) < 1e-6
+        # 5 m from the left tool: the same call, a failure naming the tip, not an error
+        far = armik.Relative("r_tool0", "l_tool0", pin.SE3(np.eye(3), np.array([0.0, 5.0, 0.0])))
+        r = robot.solve({"l_tool0": left, "r_tool0": far}, **given)
+        assert not r.success and r.status == armik.Status.UNREACHABLE
+        assert r.reason.startswith("r_tool0: unreachable") and f"{next(iter(given))}=" in r.reason

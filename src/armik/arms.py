@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, cast
 import numpy as np
 import pinocchio as pin
 
-from armik import arms_collision, arms_every, arms_many, arms_reach, checked
+from armik import arms_collision, arms_every, arms_many, arms_reach, checked, reasons
 from armik.arms_joined import by_tip_errors, joined
 from armik.arms_kinematics import ArmsKinematics
 from armik.arms_options import at_seed, chain_constraints, per_chain, refuse_own_checks
@@ -174,7 +174,10 @@ class Arms(ArmsKinematics):
         if each.success:
             return each if options.get("prefer") is None else scored(each, options["prefer"])
         # the reference chain's answer may be one the other cannot reach from: together
-        together = self._solve_together(self._joint(), targets, relative, each.q, options, t0)
+        try:
+            together = self._solve_together(self._joint(), targets, relative, each.q, options, t0)
+        except OptionError as e:  # an option the chains took and the joint descent does not
+            return dataclasses.replace(each, reason=reasons.not_together(each.reason, e.option))
         return together if together.success else each
 
     def solve_all(

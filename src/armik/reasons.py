@@ -333,3 +333,11 @@ def chains_collide(pair: tuple[str, str] | None, distance: float, margin: float)
         f"every tip reached, but the chains' answers together are {together} (each chain "
         "was checked alone, the other chains held where it was cut)"
     )
+
+
+def not_together(reason: str, option: object) -> str:
+    """Tips placed relative to each other on chains that share no joint, solved one chain
+    after another and failing: ``reason``, and why every chain at once was not tried."""
+    return (
+        f"{reason}; every chain at once (the task solver) was not tried: it does not take {option}="
+    )
