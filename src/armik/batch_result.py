@@ -198,6 +198,8 @@ class BatchResult:
 
     def _index(self, i: int | np.integer[Any]) -> int:
         n = len(self)
+        if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)):
+            raise IndexError(f"a target index is a whole number in [-{n}, {n}), got {i!r:.80}")
         i = int(i)
         if not -n <= i < n:
             raise IndexError(f"target index {i} out of range for a batch of {n}")
@@ -214,7 +216,7 @@ class BatchResult:
     def __getitem__(
         self, index: int | np.integer[Any] | slice | np.ndarray | Sequence[int] | Sequence[bool]
     ) -> IKResult | BatchResult:
-        if isinstance(index, (int, np.integer)):
+        if isinstance(index, (int, np.integer)) and not isinstance(index, (bool, np.bool_)):
             i = self._index(index)
             ori, code = float(self.orientation_error[i]), int(self.branch_codes(np.array([i]))[0])
             extra: dict[str, Any] = {"index": i, "batch_time": self.time}
@@ -246,9 +248,16 @@ class BatchResult:
                 branch=None if code < 0 else self.branch_names[code],
                 extra=extra,
             )
-        picked = np.arange(len(self))[index]
-        if picked.ndim != 1:
-            raise IndexError("index a BatchResult with an int, a slice, a mask or an index list")
+        try:  # numpy's indexing, its words replaced by ours
+            picked = np.arange(len(self))[index]
+        except (IndexError, TypeError, ValueError):
+            picked = np.zeros((0, 0), dtype=np.intp)
+        if picked.ndim != 1 or isinstance(index, (bool, np.bool_)):
+            n = len(self)
+            raise IndexError(
+                f"index a BatchResult of {n} rows with an int or a list of ints in [-{n}, {n}), "
+                f"a slice or a mask of {n} bools, got {index!r:.80}"
+            )
         reasons = {}
         if self.reasons:
             keys = np.fromiter(self.reasons, dtype=np.int64, count=len(self.reasons))
