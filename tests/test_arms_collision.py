@@ -220,3 +220,15 @@ def test_a_relative_target_out_of_reach_with_options_the_joint_descent_refuses_i
         r = robot.solve({"l_tool0": left, "r_tool0": far}, **given)
         assert not r.success and r.status == armik.Status.UNREACHABLE
         assert r.reason.startswith("r_tool0: unreachable") and f"{next(iter(given))}=" in r.reason
+
+
+def test_a_collision_flag_or_a_parameter_that_is_no_name_is_refused_by_name():
+    robot = armik.load("kuka_iiwa14", tips=["iiwa_link_4", "iiwa_link_ee"])
+    for flag in ("yes", 1, np.zeros((2, 2))):
+        with pytest.raises(armik.CollisionError, match="self_collision must be True or False"):
+            robot.min_distance(robot.middle, self_collision=flag)
+    T = {"iiwa_link_ee": robot.fk(robot.middle, "iiwa_link_ee")}
+    for over in (np.zeros((2, 2)), None, 7):
+        with pytest.raises(armik.OptionError, match="over must name a joint") as info:
+            robot.intervals(T, over)  # type: ignore[arg-type]
+        assert info.value.option == "over"

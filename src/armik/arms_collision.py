@@ -142,6 +142,12 @@ def min_distance(
     """(distance m, (name_a, name_b)): the closest checked pair at ``q`` (the robot's joint
     values, rad, m); ``CollisionError`` when there is nothing to measure."""
     shapes = check_obstacles(obstacles)
+    if not isinstance(self_collision, (bool, np.bool_)):
+        raise CollisionError(
+            f"self_collision must be True or False, got {self_collision!r:.80}",
+            option="self_collision",
+            value=self_collision,
+        )
     if not shapes and not self_collision:
         raise CollisionError(
             "nothing to measure: give obstacles=[...] or self_collision=True",

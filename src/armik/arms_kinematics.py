@@ -267,6 +267,12 @@ class ArmsKinematics:
                 value=target,
             )
         given = [self._known(t) for t in target]
+        if not isinstance(over, str):
+            raise OptionError(
+                f'over must name a joint or an option ("swivel"), got {over!r:.80}',
+                option="over",
+                value=over,
+            )
         holding = [t for t in self.tips if over in self._chains[t].joint_names]
         if len(holding) > 1:
             raise OptionError(
