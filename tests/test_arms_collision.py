@@ -232,3 +232,29 @@ def test_a_collision_flag_or_a_parameter_that_is_no_name_is_refused_by_name():
         with pytest.raises(armik.OptionError, match="over must name a joint") as info:
             robot.intervals(T, over)  # type: ignore[arg-type]
         assert info.value.option == "over"
+
+
+def test_arms_that_collide_take_another_combination_of_their_answers():
+    robot = armik.load(dual("ur5"), tips=["l_tool0", "r_tool0"])
+    rng = np.random.default_rng(0)
+    rows = []
+    for _ in range(30):  # both tools 8-30 cm apart between the arms, one orientation
+        R, c = pin.exp3(rng.normal(size=3)), np.array([rng.uniform(0.2, 0.6), 0.0, 0.35])
+        gap = np.array([0.0, rng.uniform(0.04, 0.15), 0.0])
+        rows.append({"l_tool0": pin.SE3(R, c + gap), "r_tool0": pin.SE3(R, c - gap)})
+    moved = 0  # targets whose first answer collides and another combination does not
+    results = [robot.solve(row, self_collision=True) for row in rows]
+    for row, r in zip(rows, results):
+        d, pair = robot.min_distance(r.q, self_collision=True)
+        assert r.success == (d >= 0.0) or r.status != armik.Status.COLLISION
+        first = robot.solve(row)
+        if r.success and robot.min_distance(first.q, self_collision=True)[0] < 0:
+            moved += 1
+        if r.status == armik.Status.COLLISION:
+            assert not robot.solve_all(row, self_collision=True)[0].success
+    assert moved >= 1
+    b = robot.solve_batch(
+        {tip: [row[tip] for row in rows] for tip in robot.tips}, self_collision=True
+    )
+    np.testing.assert_array_equal(b.success, [r.success for r in results])
+    np.testing.assert_allclose(b.q[b.success], [r.q for r in results if r.success], atol=1e-9)

@@ -116,9 +116,8 @@ class Arms(ArmsKinematics):
     def solve(self, targets: Mapping[str, object], *, q0: object = None, **options) -> IKResult:
         """Every tip at its target (any target form ``Arm.solve`` takes, or a task list),
         each chain by its own solver; one ``IKResult`` for the robot (module docstring)."""
-        r = self._solve(targets, q0, options)
-        margin = arms_collision.between(self, options) if options else None
-        return r if margin is None else arms_collision.clear(self, r, margin)
+        r = self._solve(targets, q0, dict(options) if options else options)
+        return arms_collision.clear_or_other(self, r, targets, q0, options) if options else r
 
     def _solve(self, targets: Mapping[str, object], q0: object, options: dict) -> IKResult:
         t0 = time.perf_counter()

@@ -25,7 +25,8 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from armik import checked, reasons
+from armik import arms_every, checked, reasons
+from armik.arms_tasks import by_tip
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions
 from armik.constraints.collision import BOUND_SLACK, _check_fixed, obstacle_name
@@ -224,6 +225,27 @@ def clear(arms: Any, r: IKResult, margin: object) -> IKResult:
     )
 
 
+def clear_or_other(arms: Any, r: IKResult, targets: object, q0: object, options: dict) -> IKResult:
+    """``r`` where ``options`` ask no check between the chains (``between``), else
+    ``clear(arms, r, margin)``, or where the chains' answers collide with each other the
+    nearest clear combination of every chain's answers (``solve_all``'s, ``kept``) for
+    ``targets`` from ``q0`` with ``options`` (``Arms.solve``'s): another branch of one
+    arm often keeps it out of the other's way. Tips placed relative to each other have
+    one answer: ``r``'s."""
+    margin = between(arms, options)
+    if margin is None:
+        return r
+    found = clear(arms, r, margin)
+    if found.success or found.status is not Status.COLLISION:
+        return found
+    each = by_tip(arms._chains, targets)
+    if arms._check_targets(each):
+        return found
+    seed = None if q0 is None else checked.configuration("q0", q0, arms.joint_names)
+    others = kept(arms, arms_every.solve_all(arms, each, seed, **options), margin)
+    return others[0] if others and others[0].success else found
+
+
 def kept(arms: Any, results: list[IKResult], margin: object) -> list[IKResult]:
     """``solve_all``'s answers (``results``) clear of each other (``clear``); where none
     is, the first of them as the failure it is (``clear``)."""
@@ -234,10 +256,12 @@ def kept(arms: Any, results: list[IKResult], margin: object) -> list[IKResult]:
     return found or each[:1]
 
 
-def clear_rows(arms: Any, out: BatchResult, margin: object) -> None:
-    """``clear`` on every successful row of ``out`` (a joined batch or path), in place."""
+def clear_rows(arms: Any, out: BatchResult, margin: object) -> list[int]:
+    """``clear`` on every successful row of ``out`` (a joined batch or path), in place: the
+    rows it finds in collision."""
     if margin is None:
-        return
+        return []
+    found = []
     m = checked.number("margin", margin)
     own = _own(arms)
     object.__setattr__(out, "margin", m)
@@ -248,3 +272,5 @@ def clear_rows(arms: Any, out: BatchResult, margin: object) -> None:
             out.success[i] = False
             out.status_code[i] = Status.COLLISION.code
             out.reasons[i] = reasons.chains_collide(pair, d, m)
+            found.append(i)
+    return found

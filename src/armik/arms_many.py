@@ -109,7 +109,11 @@ def solve_batch(
             for tip, rows in read.items()
         }
         out = _joined(arms, parts, seeds, opts, time.perf_counter() - t0, prefer)
-        clear_rows(arms, out, between(arms, options))  # the chains' answers together
+        # the chains' answers together; a row whose arms collide solved again as
+        # ``Arms.solve`` solves it, which tries the other combinations of their answers
+        for i in clear_rows(arms, out, between(arms, options)):
+            row = {tip: rows[i] for tip, rows in targets.items()}
+            out.put_result(i, arms.solve(row, q0=seeds[i], **options))
         return _timed(out, t0)
     run_jobs = None if backend is None else backends.backend(backend)
     threads, size = _whole(workers, "workers", 1), _whole(chunk_size, "chunk_size", DEFAULT_CHUNK)
