@@ -381,3 +381,15 @@ def test_a_batch_reads_the_tips_in_the_robot_s_order_as_solve_does(cell):
     for b in (cell.solve_batch(rows), cell.solve_path(rows, q)):
         assert b.reason(0) == r.reason and b.reason(0).startswith("l_tool0: ")
         assert b.status[0] == r.status.value and list(b.errors) == list(cell.tips)
+
+
+@pytest.mark.parametrize("backend", [None, "threads"])
+def test_a_bad_row_solved_row_by_row_is_named(backend):
+    robot = armik.load("panda", tips=["panda_link4", "panda_hand"])
+    rows = robot.fk_batch(robot.random_q(2, n=4))
+    rows["panda_hand"] = np.array(rows["panda_hand"])
+    rows["panda_hand"][2, 0, 0] = np.nan
+    with pytest.raises(TargetError, match=r"^target 2: the target of tip 'panda_hand': .*NaN"):
+        robot.solve_batch(rows, backend=backend, chunk_size=1, workers=2)
+    with pytest.raises(TargetError, match=r"^target 2: the target of tip 'panda_hand'"):
+        robot.solve_path(rows, robot.middle)

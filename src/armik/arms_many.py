@@ -26,7 +26,7 @@ from armik import checked, reasons
 from armik.arms_collision import between, clear_rows
 from armik.arms_options import check_held
 from armik.arms_prefer import combined, is_cost
-from armik.arms_rows import empty, solve_rows
+from armik.arms_rows import empty, row_named, solve_rows
 from armik.batch_result import BatchResult
 from armik.errors import OptionError, TargetError
 from armik.problem.problem import relative_tasks
@@ -191,7 +191,8 @@ def solve_path(
     q_prev = start
     for i in range(n):
         row = {tip: rows[i] for tip, rows in waypoints.items()}
-        r = arms.solve(row, q0=q_prev, **options)
+        with row_named(i):
+            r = arms.solve(row, q0=q_prev, **options)
         if r.success and not (q0 is None and i == 0):  # without q0 the first is free
             r = _held(arms, r, q_prev, step, first=i == 0)
         out.put_result(i, r)
