@@ -393,3 +393,24 @@ def test_a_bad_row_solved_row_by_row_is_named(backend):
         robot.solve_batch(rows, backend=backend, chunk_size=1, workers=2)
     with pytest.raises(TargetError, match=r"^target 2: the target of tip 'panda_hand'"):
         robot.solve_path(rows, robot.middle)
+
+
+@pytest.mark.parametrize("robot", ["cell", "talos"])
+def test_a_tip_left_out_keeps_q0_clipped_into_the_limits(cell, robot):
+    robot = cell if robot == "cell" else talos()
+    given, left_out = robot.tips
+    q0 = robot.middle.copy()
+    j = robot.joint_names.index(robot.chain(left_out).joint_names[-1])
+    q0[j] = robot.upper[j] + 0.5  # a joint of the tip left out beyond its limit
+    T = robot.fk(robot.random_q(1), given)
+    calls = [
+        lambda: robot.solve({given: T}, q0=q0),
+        lambda: robot.solve_batch({given: [T]}, q0=q0)[0],
+        lambda: robot.solve_batch({given: [T]}, q0=q0[None, :])[0],
+        lambda: robot.solve_path({given: [T]}, q0, max_joint_step=10.0)[0],
+    ]
+    for call in calls:
+        with pytest.warns(armik.ArmikWarning, match=f"clipped into them: {robot.joint_names[j]}"):
+            r = call()
+        assert r.success and robot.within_limits(r.q, tol=0.0)
+        assert r.q[j] == robot.upper[j]

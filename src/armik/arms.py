@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, cast
 import numpy as np
 import pinocchio as pin
 
-from armik import arms_collision, arms_every, arms_many, arms_reach, checked, reasons
+from armik import arms_collision, arms_every, arms_many, arms_reach, reasons
 from armik.arms_joined import by_tip_errors, joined
 from armik.arms_kinematics import ArmsKinematics
 from armik.arms_options import at_seed, chain_constraints, per_chain, refuse_own_checks
@@ -124,7 +124,7 @@ class Arms(ArmsKinematics):
         if "constraints" in options:  # a call only then: the common call has none
             refuse_own_checks(options, self.tips)
         if q0 is not None:  # the whole q0, its bad joints named: not one chain's part of it
-            q0 = checked.configuration("q0", q0, self.joint_names)
+            q0 = self._seed(q0)  # clipped into the limits, as Arm's seed
         # a flat list of tasks read by tip; the tips in the robot's order, as the solve's
         if type(targets) is not dict or tuple(targets) != self.tips:  # else as by_tip gives it
             targets = by_tip(self._chains, targets)
@@ -186,7 +186,7 @@ class Arms(ArmsKinematics):
         ``Arm.solve_all`` gives them: a ``Solutions``."""
         refuse_own_checks(options, self.tips)
         if q0 is not None:
-            q0 = checked.configuration("q0", q0, self.joint_names)
+            q0 = self._seed(q0)  # clipped into the limits, as Arm's seed
         found = arms_every.solve_all(self, by_tip(self._chains, targets), q0, **options)
         return Solutions(arms_collision.kept(self, found, arms_collision.between(self, options)))
 

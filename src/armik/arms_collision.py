@@ -241,7 +241,7 @@ def clear_or_other(arms: Any, r: IKResult, targets: object, q0: object, options:
     each = by_tip(arms._chains, targets)
     if arms._check_targets(each):
         return found
-    seed = None if q0 is None else checked.configuration("q0", q0, arms.joint_names)
+    seed = None if q0 is None else arms._seed(q0)
     others = kept(arms, arms_every.solve_all(arms, each, seed, **options), margin)
     return others[0] if others and others[0].success else found
 

@@ -11,6 +11,7 @@ and ``intervals`` of one chain's self-motion (``armik.solve.intervals``).
 from __future__ import annotations
 
 import difflib
+import warnings
 from collections.abc import Mapping
 from typing import Any, cast
 
@@ -19,7 +20,7 @@ import pinocchio as pin
 
 from armik import arms_collision, checked
 from armik.constraints.srdf import Pair
-from armik.errors import FrameError, JointError, OptionError, TargetError
+from armik.errors import ArmikWarning, FrameError, JointError, OptionError, TargetError
 from armik.model import frames
 from armik.model.arm_model import ArmModel
 from armik.model.reduce import check_limits
@@ -128,6 +129,27 @@ class ArmsKinematics:
                 candidates=self.tips,
             )
         return tip
+
+    def _seed(self, q0: object, row: int | None = None) -> np.ndarray:
+        """``q0`` (one value per joint of ``joint_names``) checked, and clipped into the
+        limits with an ``ArmikWarning`` where it lies outside them, as ``Arm``'s seed is: a
+        tip left out keeps these values, so the robot's answer stays within its limits
+        (``row``: the row of a batch's q0 it is)."""
+        q = checked.configuration("q0", q0, self.joint_names)
+        if bool(np.all(q >= self.lower - LIMIT_TOL) and np.all(q <= self.upper + LIMIT_TOL)):
+            return q
+        said = dict.fromkeys(
+            text
+            for tip, arm in self._chains.items()
+            for text in arm.limit_violations(q[self._columns[tip]])
+        )
+        where = "q0" if row is None else f"q0's row {row}"
+        warnings.warn(
+            f"{where} outside the joint limits was clipped into them: " + "; ".join(said),
+            ArmikWarning,
+            stacklevel=4,
+        )
+        return np.clip(q, self.lower, self.upper)
 
     def split(self, q: object) -> dict[str, np.ndarray]:
         """``q`` (one value per joint of ``joint_names``) as each chain's joint values."""

@@ -22,7 +22,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from armik import checked, reasons
+from armik import reasons
 from armik.arms_collision import between, clear_rows
 from armik.arms_options import check_held
 from armik.arms_prefer import combined, is_cost
@@ -64,6 +64,7 @@ class Arms(Protocol):
     def solve(self, targets: Mapping[str, object], *, q0: object = None, **options: Any) -> Any: ...
     def _check_targets(self, targets: object) -> dict: ...
     def _holds(self, options: dict) -> dict[str, dict]: ...
+    def _seed(self, q0: object, row: int | None = None) -> np.ndarray: ...
 
 
 DEFAULT_MAX_JOINT_STEP = 0.5  # rad or m, as a single arm's path (armik.solve.path)
@@ -308,7 +309,7 @@ def _seeds(arms: Arms, q0: object, n: int) -> np.ndarray:
             value=q0,
         )
     if q.shape == (arms.dof,):
-        return np.tile(checked.configuration("q0", q, arms.joint_names), (n, 1))
+        return np.tile(arms._seed(q), (n, 1))  # clipped into the limits, as Arm's seed
     if not np.isfinite(q).all():  # the row and the robot's joint, not a chain's part
         i, j = np.argwhere(~np.isfinite(q))[0]
         raise OptionError(
@@ -316,7 +317,7 @@ def _seeds(arms: Arms, q0: object, n: int) -> np.ndarray:
             option="q0",
             value=q0,
         )
-    return q.copy()
+    return np.array([arms._seed(row, i) for i, row in enumerate(q)]).reshape(q.shape)
 
 
 def _step(arms: Arms, max_joint_step: object) -> np.ndarray:
