@@ -258,3 +258,24 @@ def test_arms_that_collide_take_another_combination_of_their_answers():
     )
     np.testing.assert_array_equal(b.success, [r.success for r in results])
     np.testing.assert_allclose(b.q[b.success], [r.q for r in results if r.success], atol=1e-9)
+
+
+def test_obstacles_beside_self_collision_are_in_the_closest_pair_a_success_reports():
+    robot = armik.load(dual("ur5"), tips=["l_tool0", "r_tool0"])
+    down = pin.utils.rpyToMatrix(np.pi, 0.0, 0.0)
+    apart = {
+        "l_tool0": pin.SE3(down, np.array([0.5, 0.3, 0.4])),
+        "r_tool0": pin.SE3(down, np.array([0.5, -0.3, 0.4])),
+    }
+    ball = armik.Sphere(0.05, (0.5, 0.3, 0.349))  # 1 mm under the left tool
+    given = [
+        {"obstacles": [ball], "self_collision": True},
+        {"constraints": [armik.Collisions(obstacles=[ball], self_collision=True)]},
+    ]
+    for options in given:
+        r = robot.solve(apart, **options)
+        b = robot.solve_batch({tip: [T] for tip, T in apart.items()}, **options)
+        assert r.success and b.success[0]
+        closest = robot.min_distance(r.q, [ball], True)
+        assert (r.min_distance, r.closest_pair) == closest and "obstacles[0]" in closest[1][1]
+        assert (b.min_distance[0], b.closest_pair(0)) == robot.min_distance(b.q[0], [ball], True)

@@ -177,42 +177,47 @@ def in_collision(
     return min_distance(arms, q, obstacles, self_collision)[0] < margin
 
 
-def between(arms: Any, options: Mapping[str, Any]) -> object:
-    """The margin of the self-collision check ``options`` ask for (``self_collision=True``,
-    or an ``armik.Collisions`` with it in a flat ``constraints`` list) on chains that share
-    no joint, as given (each chain's solve checks it); None where none is asked. Each
-    chain checks its own links against the other chains held where it was cut: the robot
-    checks its chains' answers together (``clear``, ``clear_rows``)."""
+def between(arms: Any, options: Mapping[str, Any]) -> tuple[object, tuple] | None:
+    """(margin, obstacles) of the self-collision check ``options`` ask for
+    (``self_collision=True``, or an ``armik.Collisions`` with it in a flat ``constraints``
+    list) on chains that share no joint, the margin as given (each chain's solve checks
+    it); None where none is asked. Each chain checks its own links against the other
+    chains held where it was cut: the robot checks its chains' answers together, the
+    obstacles with them, so that the closest pair it reports is the closest of all
+    (``clear``, ``clear_rows``)."""
     if not options or arms._union is not None:
         return None
     flag = options.get("self_collision")
     if isinstance(flag, (bool, np.bool_)) and flag:
-        return options.get("margin", 0.0)
+        return options.get("margin", 0.0), check_obstacles(options.get("obstacles"))
     given = options.get("constraints")
     if given is None or isinstance(given, Mapping):  # by tip: each chain's own
         return None
     given = given if isinstance(given, (list, tuple)) else [given]
-    found = [c.margin for c in given if isinstance(c, Collisions) and c.self_collision]
-    return max(found) if found else None
+    found = [c for c in given if isinstance(c, Collisions) and c.self_collision]
+    if not found:
+        return None
+    shapes = tuple(dict.fromkeys(s for c in found for s in c.obstacles))
+    return max(c.margin for c in found), shapes
 
 
-def _own(arms: Any) -> ArmsChecker:
-    """The robot's checker of its own links (no obstacle), kept as ``min_distance``'s."""
+def _checker(arms: Any, shapes: tuple) -> ArmsChecker:
+    """The robot's checker of its own links and ``shapes``, kept as ``min_distance``'s."""
     checkers = arms.__dict__.setdefault("_checkers", {})
-    found = checkers.get(((), True))
+    found = checkers.get((shapes, True))
     if found is None:
-        found = checkers[(), True] = ArmsChecker(arms, (), True)
+        found = checkers[shapes, True] = ArmsChecker(arms, shapes, True)
     return found
 
 
-def clear(arms: Any, r: IKResult, margin: object) -> IKResult:
-    """``r``, a joined result of chains that share no joint, with the robot's own closest
-    pair at ``r.q`` (``min_distance``, ``closest_pair``): a ``Status.COLLISION`` failure
-    where it is nearer than ``margin``."""
+def clear(arms: Any, r: IKResult, asked: tuple[object, tuple]) -> IKResult:
+    """``r``, a joined result of chains that share no joint, with the robot's closest pair
+    at ``r.q`` (``min_distance``, ``closest_pair``) of those ``asked`` (``between``): a
+    ``Status.COLLISION`` failure where it is nearer than the margin."""
     if not r.success:
         return r
-    d, pair = _own(arms).distance(np.asarray(r.q, dtype=float))
-    m = checked.number("margin", margin)
+    d, pair = _checker(arms, asked[1]).distance(np.asarray(r.q, dtype=float))
+    m = checked.number("margin", asked[0])
     extra = {**r.extra, "min_distance": d, "closest_pair": pair}
     if d >= m:
         return dataclasses.replace(r, extra=extra)
@@ -227,43 +232,43 @@ def clear(arms: Any, r: IKResult, margin: object) -> IKResult:
 
 def clear_or_other(arms: Any, r: IKResult, targets: object, q0: object, options: dict) -> IKResult:
     """``r`` where ``options`` ask no check between the chains (``between``), else
-    ``clear(arms, r, margin)``, or where the chains' answers collide with each other the
+    ``clear(arms, r, asked)``, or where the chains' answers collide with each other the
     nearest clear combination of every chain's answers (``solve_all``'s, ``kept``) for
     ``targets`` from ``q0`` with ``options`` (``Arms.solve``'s): another branch of one
     arm often keeps it out of the other's way. Tips placed relative to each other have
     one answer: ``r``'s."""
-    margin = between(arms, options)
-    if margin is None:
+    asked = between(arms, options)
+    if asked is None:
         return r
-    found = clear(arms, r, margin)
+    found = clear(arms, r, asked)
     if found.success or found.status is not Status.COLLISION:
         return found
     each = by_tip(arms._chains, targets)
     if arms._check_targets(each):
         return found
     seed = None if q0 is None else arms._seed(q0)
-    others = kept(arms, arms_every.solve_all(arms, each, seed, **options), margin)
+    others = kept(arms, arms_every.solve_all(arms, each, seed, **options), asked)
     return others[0] if others and others[0].success else found
 
 
-def kept(arms: Any, results: list[IKResult], margin: object) -> list[IKResult]:
+def kept(arms: Any, results: list[IKResult], asked: tuple[object, tuple] | None) -> list[IKResult]:
     """``solve_all``'s answers (``results``) clear of each other (``clear``); where none
     is, the first of them as the failure it is (``clear``)."""
-    if margin is None:
+    if asked is None:
         return results
-    each = [clear(arms, r, margin) for r in results]
+    each = [clear(arms, r, asked) for r in results]
     found = [r for r in each if r.success]
     return found or each[:1]
 
 
-def clear_rows(arms: Any, out: BatchResult, margin: object) -> list[int]:
+def clear_rows(arms: Any, out: BatchResult, asked: tuple[object, tuple] | None) -> list[int]:
     """``clear`` on every successful row of ``out`` (a joined batch or path), in place: the
     rows it finds in collision."""
-    if margin is None:
+    if asked is None:
         return []
     found = []
-    m = checked.number("margin", margin)
-    own = _own(arms)
+    m = checked.number("margin", asked[0])
+    own = _checker(arms, asked[1])
     object.__setattr__(out, "margin", m)
     for i in np.flatnonzero(out.success).tolist():
         d, pair = own.distance(out.q[i])
