@@ -279,3 +279,22 @@ def test_obstacles_beside_self_collision_are_in_the_closest_pair_a_success_repor
         closest = robot.min_distance(r.q, [ball], True)
         assert (r.min_distance, r.closest_pair) == closest and "obstacles[0]" in closest[1][1]
         assert (b.min_distance[0], b.closest_pair(0)) == robot.min_distance(b.q[0], [ball], True)
+
+
+def test_two_arms_checked_against_obstacles_say_the_robot_s_closest_pair():
+    robot = armik.load(dual("ur5"), tips=["l_tool0", "r_tool0"])
+    down = pin.utils.rpyToMatrix(np.pi, 0.0, 0.0)
+    apart = {
+        "l_tool0": pin.SE3(down, np.array([0.5, 0.3, 0.4])),
+        "r_tool0": pin.SE3(down, np.array([0.5, -0.3, 0.4])),
+    }
+    balls = [armik.Sphere(0.05, (0.5, 0.3, 0.3)), armik.Sphere(0.05, (0.5, -0.3, 0.32))]
+    r = robot.solve(apart, obstacles=balls, margin=0.01)
+    b = robot.solve_batch({tip: [T, T] for tip, T in apart.items()}, obstacles=balls, margin=0.01)
+    assert r.success and b.success.all()
+    d, pair = robot.min_distance(r.q, balls)
+    assert r.min_distance == pytest.approx(d, abs=1e-9) and r.closest_pair == pair
+    for i in range(2):
+        d, pair = robot.min_distance(b.q[i], balls)
+        assert b.min_distance[i] == pytest.approx(d, abs=1e-9) and b.closest_pair(i) == pair
+        assert "collision-free: closest" in b.reason(i) and "(margin 0.01 m)" in b.reason(i)

@@ -378,6 +378,18 @@ def _measured(out: BatchResult, parts) -> None:
     out._measured[rows] = worst[rows]
 
 
+def _nearest(out: BatchResult, parts) -> None:
+    """Each row's closest pair where the chains checked collisions: the nearest of the
+    chains' (each checked its own links), with the margin their successes kept."""
+    for b in parts:
+        if np.isnan(b._distances).all():
+            continue
+        object.__setattr__(out, "margin", max(out.margin, b.margin))
+        nearer = ~(b._distances >= out._distances)  # NaN in out: not checked yet
+        for i in np.flatnonzero(nearer & ~np.isnan(b._distances)).tolist():
+            out.put_distance(i, float(b._distances[i]), b.closest_pair(i))
+
+
 def _timed(out: BatchResult, t0: float) -> BatchResult:
     object.__setattr__(out, "time", time.perf_counter() - t0)
     return out
@@ -417,6 +429,7 @@ def _joined(
     for tip in [t for t in arms.tips if t in parts]:  # each tip's distances, in tips' order
         out.errors[tip] = np.column_stack([parts[tip].position_error, parts[tip].orientation_error])
     _measured(out, parts.values())
+    _nearest(out, parts.values())
     if prefer is not None:
         out._scores[:] = combined(prefer, np.array([b._scores for b in parts.values()]))
     for i in np.flatnonzero(~out.success):
