@@ -39,6 +39,7 @@ from armik.solve.read import check_plan
 from armik.solve.read import options as read_options
 from armik.status import Status
 from armik.targets.batch import parse_targets
+from armik.tolerances import LIMIT_TOL
 
 
 class Arms(Protocol):
@@ -58,6 +59,10 @@ class Arms(Protocol):
     def joint_names(self) -> Sequence[str]: ...
     @property
     def middle(self) -> np.ndarray: ...
+
+    lower: np.ndarray
+    upper: np.ndarray
+
     @property
     def prismatic(self) -> np.ndarray: ...
     def chain(self, tip: str) -> Any: ...
@@ -317,7 +322,11 @@ def _seeds(arms: Arms, q0: object, n: int) -> np.ndarray:
             option="q0",
             value=q0,
         )
-    return np.array([arms._seed(row, i) for i, row in enumerate(q)]).reshape(q.shape)
+    out = q.copy()
+    outside = (q < arms.lower - LIMIT_TOL) | (q > arms.upper + LIMIT_TOL)
+    for i in np.flatnonzero(outside.any(axis=1)).tolist():  # clipped, as Arm's seed
+        out[i] = arms._seed(q[i], i)
+    return out
 
 
 def _step(arms: Arms, max_joint_step: object) -> np.ndarray:
