@@ -394,9 +394,10 @@ def _nearest(out: BatchResult, parts) -> None:
         if np.isnan(b._distances).all():
             continue
         object.__setattr__(out, "margin", max(out.margin, b.margin))
-        nearer = ~(b._distances >= out._distances)  # NaN in out: not checked yet
-        for i in np.flatnonzero(nearer & ~np.isnan(b._distances)).tolist():
-            out.put_distance(i, float(b._distances[i]), b.closest_pair(i))
+        rows = ~(b._distances >= out._distances) & ~np.isnan(b._distances)  # NaN: unchecked
+        ours = np.array([out._pair(p) for p in b.pair_names] + [-1], dtype=np.int32)
+        out._distances[rows] = b._distances[rows]
+        out._pairs[rows] = ours[b._pairs[rows]]  # -1 stays -1
 
 
 def _timed(out: BatchResult, t0: float) -> BatchResult:
