@@ -5,6 +5,7 @@ of the whole URDF; intervals of the chain its parameter belongs to."""
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
@@ -298,3 +299,37 @@ def test_two_arms_checked_against_obstacles_say_the_robot_s_closest_pair():
         d, pair = robot.min_distance(b.q[i], balls)
         assert b.min_distance[i] == pytest.approx(d, abs=1e-9) and b.closest_pair(i) == pair
         assert "collision-free: closest" in b.reason(i) and "(margin 0.01 m)" in b.reason(i)
+
+
+def test_three_tips_two_sharing_a_torso_place_every_link_where_the_robot_does():
+    # TALOS's hands share the torso, its left foot shares nothing: a link is taken from a
+    # chain that moves it, never from one that froze it where it was cut
+    robot = armik.load(TALOS, tips=[*HANDS, "leg_left_6_link"])
+    model, geom = _hulls()
+    data, gd = model.createData(), pin.GeometryData(geom)
+    links = [model.frames[o.parentFrame].name for o in geom.geometryObjects]
+    g = geom.geometryObjects
+    arms = [i for i, n in enumerate(links) if n.startswith(("arm_", "gripper_"))]
+    leg = [i for i, n in enumerate(links) if n.startswith("leg_left")]
+    fixed = ("base_link", "leg_right")
+    for q in robot.random_q(np.random.default_rng(5), 4):
+        whole_placements(model, data, robot.joint_names, q)
+        pin.updateGeometryPlacements(model, data, geom, gd)
+        placed = list(gd.oMg)
+        for tip, off in ((HANDS[0], 0.12), (HANDS[1], 0.12), ("leg_left_6_link", 0.3)):
+            ball = armik.Sphere(0.05, (*(robot.fk(q, tip).translation + [off, 0.0, 0.12]),))
+            each = [
+                _coal(o.geometry, M, coal.Sphere(0.05), pin.SE3(ball.placement()))
+                for o, M in zip(g, placed)
+            ]
+            # links fixed to the base (the right leg, held) are checked once, not measured
+            each = [e if not links[i].startswith(fixed) else math.inf for i, e in enumerate(each)]
+            d, (link, _) = robot.min_distance(q, [ball])
+            assert d == pytest.approx(min(each)) and link == links[int(np.argmin(each))]
+        d, (a, b) = robot.min_distance(q, self_collision=True)
+        ia, ib = links.index(a), links.index(b)
+        assert d == pytest.approx(_coal(g[ia].geometry, placed[ia], g[ib].geometry, placed[ib]))
+        apart = min(
+            _coal(g[i].geometry, placed[i], g[k].geometry, placed[k]) for i in arms for k in leg
+        )
+        assert d <= apart + 1e-9

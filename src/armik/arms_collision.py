@@ -1,16 +1,14 @@
 """Collisions of several tips (``Arms.min_distance``, ``Arms.in_collision``): the robot's
 links at one configuration over every joint, against obstacles and against each other.
 
-Each link is taken from the chain that moves it, as the servo over several chains takes it
-(``armik.servo.union_collisions``): a chain's own links (on a joint of its own) from that
-chain at its joints' values, the shared and fixed links from the first chain. The pairs:
-every moving link against every obstacle (an obstacle that a link fixed to the base sinks
-into is refused, as on one arm); with ``self_collision`` each chain's own self-collision
-pairs among its links and the shared ones (its SRDF's disabled pairs left out) and every
-own link of one chain against every own link of another. Coal measures each pair, asked in
-the order of a lower bound on its distance (the bounding spheres) until that bound passes
-the smallest distance found: the closest pair of all. With one tip these are the pairs and
-distances of ``Arm.min_distance``.
+Each link is taken from a chain that places it where the robot does, and the pairs are
+``armik.arms_links``': every link a joint moves against every obstacle (an obstacle that a
+link fixed to the base sinks into is refused, as on one arm); with ``self_collision`` each
+chain's own self-collision pairs among the links it places (its SRDF's disabled pairs left
+out) and the links of two chains that no one chain places both. Coal measures each pair,
+asked in the order of a lower bound on its distance (the bounding spheres) until that
+bound passes the smallest distance found: the closest pair of all. With one tip these are
+the pairs and distances of ``Arm.min_distance``.
 """
 
 from __future__ import annotations
@@ -26,6 +24,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik import arms_every, checked, reasons
+from armik.arms_links import UNBOUNDED, Links
 from armik.arms_tasks import by_tip
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions
@@ -35,7 +34,6 @@ from armik.constraints.srdf import Pair
 from armik.errors import CollisionError
 from armik.model import mimic_frames
 from armik.result import IKResult
-from armik.servo.union_collisions import FAR, UnionCollisions
 from armik.status import Status
 
 MOST_CHECKERS = 32  # kept per robot, one per set of obstacles, as one arm keeps them
@@ -49,10 +47,7 @@ class ArmsChecker:
         chains = [arms._chains[t] for t in arms.tips]
         self.cols = [arms._columns[t] for t in arms.tips]
         self.joint_names = arms.joint_names
-        # the union servo's objects and pairs: each link from the chain that moves it
-        self.links = UnionCollisions(
-            chains, self.cols, arms.dof, obstacles, self_collision, 0.0, 0.0
-        )
+        self.links = Links(chains, obstacles, self_collision)  # each link from its chain
         links = self.links
         for k, (c, i) in enumerate(links.objects):  # fixed to the base: checked once, here
             if links.joints[k] == 0:
@@ -103,7 +98,7 @@ class ArmsChecker:
         bounds = list(zip(near.tolist(), pa.tolist(), pb.tolist()))
         m = links.moving
         for s in range(len(links.obstacles)):
-            if links.obstacle_radius[s] < FAR:
+            if links.obstacle_radius[s] < UNBOUNDED:
                 d = np.linalg.norm(centre[m] - links.obstacle_centre[s], axis=1)
                 gap = d - links.radius[m] - links.obstacle_radius[s]
             else:  # a half space: no bound, always asked
