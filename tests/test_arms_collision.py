@@ -333,3 +333,25 @@ def test_three_tips_two_sharing_a_torso_place_every_link_where_the_robot_does():
             _coal(g[i].geometry, placed[i], g[k].geometry, placed[k]) for i in arms for k in leg
         )
         assert d <= apart + 1e-9
+
+
+def test_a_servo_over_shared_joints_refuses_the_collisions_its_rows_would_not_hold():
+    two = armik.load(TALOS, tips=HANDS)
+    wall = armik.HalfSpace((-1.0, 0.0, 0.0), -1.5)
+    with pytest.raises(armik.OptionError, match="give it as an armik.Box") as info:
+        two.servo(two.middle, obstacles=[wall])
+    assert info.value.option == "obstacles"
+    # the same wall as a thick box: held, the left hand stops at the margin before it
+    x = float(two.fk(two.middle, HANDS[0]).translation[0]) + 0.15
+    box = armik.Box((1.0, 4.0, 4.0), (x + 0.5, 0.0, 0.0))
+    servo = two.servo(two.middle, obstacles=[box], margin=0.01)
+    T = two.fk(two.middle)
+    goal = {**T, HANDS[0]: pin.SE3(T[HANDS[0]].rotation, T[HANDS[0]].translation + [0.4, 0, 0])}
+    for _ in range(800):
+        step = servo.step(goal)
+    assert two.min_distance(step.q, [box])[0] >= 0.01 - 1e-6
+    three = armik.load(TALOS, tips=[*HANDS, "leg_left_6_link"])
+    for given in ({"obstacles": [box]}, {"self_collision": True}):
+        with pytest.raises(armik.OptionError, match="are not on every chain"):
+            three.servo(three.middle, **given)
+    assert three.servo(three.middle).step(three.fk(three.middle)).q.shape == (three.dof,)
