@@ -328,3 +328,89 @@ def test_one_pose_per_tip_is_refused_naming_the_tip_and_solve(cell, robot):
             )
     rows = {tip: [T, T] for tip, T in poses.items()}  # each tip's rows: solved
     assert len(arms.solve_batch(rows)) == 2
+
+
+def _true_errors(robot: armik.Arms, q: np.ndarray, tip: str, target: np.ndarray):
+    """(position m, orientation rad or None) of ``tip`` at ``q`` from ``target`` (a 4x4
+    pose or a position), by Pinocchio's FK of the tip's chain."""
+    X = robot.chain(tip).fk(robot.split(q)[tip])
+    if np.shape(target) == (3,):
+        return float(np.linalg.norm(X.translation - target)), None
+    T = pin.SE3(np.asarray(target))
+    rot = float(np.linalg.norm(pin.log3(T.rotation.T @ X.rotation)))
+    return float(np.linalg.norm(X.translation - T.translation)), rot
+
+
+@pytest.mark.parametrize("shared", [False, True], ids=["cell", "panda_link4+hand"])
+def test_a_batch_s_rows_give_each_tip_s_errors_as_solve_does(cell, shared):
+    robot = armik.load("panda", tips=["panda_link4", "panda_hand"]) if shared else cell
+    first, last = robot.tips
+    qs = robot.random_q(6, n=4)
+    rows = {first: [robot.fk(q, first).translation for q in qs]}
+    rows[last] = [robot.fk(q, last).homogeneous for q in qs]
+    rows[last][2] = np.array(rows[last][2])
+    rows[last][2][:3, 3] = [3.0, 0.0, 0.5]  # out of reach: a failure, its errors all the same
+    batch = robot.solve_batch(rows)
+    path = robot.solve_path(rows, robot.middle, max_joint_step=10.0)
+    for b in (batch, path):
+        assert list(b.errors) == list(robot.tips) and not b.success[2]
+        for i, r in enumerate(b):
+            assert list(r.errors) == list(robot.tips)
+            for tip in robot.tips:
+                pos, rot = _true_errors(robot, r.q, tip, rows[tip][i])
+                assert r.errors[tip][0] == pytest.approx(pos, abs=1e-9)
+                assert (r.errors[tip][1] is None) == (rot is None)
+                if rot is not None:
+                    assert r.errors[tip][1] == pytest.approx(rot, abs=1e-9)
+            assert r.position_error == max(e[0] for e in r.errors.values())
+        assert b[2:][0].errors == b[2].errors  # a slice keeps them
+    assert batch[0].errors.keys() == robot.solve({t: rows[t][0] for t in rows}).errors.keys()
+
+
+def test_a_batch_reads_the_tips_in_the_robot_s_order_as_solve_does(cell):
+    q = cell.random_q(3)
+    T = cell.fk(q, "l_tool0")
+    # both out of reach, the dict naming the right tip first: the reason names the left
+    # first, as solve's does, and the row's status is the left tip's
+    targets = {
+        "r_tool0": np.array([0.0, -0.5, 3.0]),
+        "l_tool0": T * pin.SE3(np.eye(3), np.array([3.0, 0.0, 0.0])),
+    }
+    r = cell.solve(targets)
+    rows = {tip: [target] for tip, target in targets.items()}
+    for b in (cell.solve_batch(rows), cell.solve_path(rows, q)):
+        assert b.reason(0) == r.reason and b.reason(0).startswith("l_tool0: ")
+        assert b.status[0] == r.status.value and list(b.errors) == list(cell.tips)
+
+
+@pytest.mark.parametrize("backend", [None, "threads"])
+def test_a_bad_row_solved_row_by_row_is_named(backend):
+    robot = armik.load("panda", tips=["panda_link4", "panda_hand"])
+    rows = robot.fk_batch(robot.random_q(2, n=4))
+    rows["panda_hand"] = np.array(rows["panda_hand"])
+    rows["panda_hand"][2, 0, 0] = np.nan
+    with pytest.raises(TargetError, match=r"^target 2: the target of tip 'panda_hand': .*NaN"):
+        robot.solve_batch(rows, backend=backend, chunk_size=1, workers=2)
+    with pytest.raises(TargetError, match=r"^target 2: the target of tip 'panda_hand'"):
+        robot.solve_path(rows, robot.middle)
+
+
+@pytest.mark.parametrize("robot", ["cell", "talos"])
+def test_a_tip_left_out_keeps_q0_clipped_into_the_limits(cell, robot):
+    robot = cell if robot == "cell" else talos()
+    given, left_out = robot.tips
+    q0 = robot.middle.copy()
+    j = robot.joint_names.index(robot.chain(left_out).joint_names[-1])
+    q0[j] = robot.upper[j] + 0.5  # a joint of the tip left out beyond its limit
+    T = robot.fk(robot.random_q(1), given)
+    calls = [
+        lambda: robot.solve({given: T}, q0=q0),
+        lambda: robot.solve_batch({given: [T]}, q0=q0)[0],
+        lambda: robot.solve_batch({given: [T]}, q0=q0[None, :])[0],
+        lambda: robot.solve_path({given: [T]}, q0, max_joint_step=10.0)[0],
+    ]
+    for call in calls:
+        with pytest.warns(armik.ArmikWarning, match=f"clipped into them: {robot.joint_names[j]}"):
+            r = call()
+        assert r.success and robot.within_limits(r.q, tol=0.0)
+        assert r.q[j] == robot.upper[j]

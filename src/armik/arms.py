@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, cast
 import numpy as np
 import pinocchio as pin
 
-from armik import arms_every, arms_many, arms_reach, checked
+from armik import arms_collision, arms_every, arms_many, arms_reach, reasons
 from armik.arms_joined import by_tip_errors, joined
 from armik.arms_kinematics import ArmsKinematics
 from armik.arms_options import at_seed, chain_constraints, per_chain, refuse_own_checks
@@ -116,11 +116,15 @@ class Arms(ArmsKinematics):
     def solve(self, targets: Mapping[str, object], *, q0: object = None, **options) -> IKResult:
         """Every tip at its target (any target form ``Arm.solve`` takes, or a task list),
         each chain by its own solver; one ``IKResult`` for the robot (module docstring)."""
+        r = self._solve(targets, q0, dict(options) if options else options)
+        return arms_collision.clear_or_other(self, r, targets, q0, options) if options else r
+
+    def _solve(self, targets: Mapping[str, object], q0: object, options: dict) -> IKResult:
         t0 = time.perf_counter()
         if "constraints" in options:  # a call only then: the common call has none
             refuse_own_checks(options, self.tips)
         if q0 is not None:  # the whole q0, its bad joints named: not one chain's part of it
-            q0 = checked.configuration("q0", q0, self.joint_names)
+            q0 = self._seed(q0)  # clipped into the limits, as Arm's seed
         # a flat list of tasks read by tip; the tips in the robot's order, as the solve's
         if type(targets) is not dict or tuple(targets) != self.tips:  # else as by_tip gives it
             targets = by_tip(self._chains, targets)
@@ -169,7 +173,10 @@ class Arms(ArmsKinematics):
         if each.success:
             return each if options.get("prefer") is None else scored(each, options["prefer"])
         # the reference chain's answer may be one the other cannot reach from: together
-        together = self._solve_together(self._joint(), targets, relative, each.q, options, t0)
+        try:
+            together = self._solve_together(self._joint(), targets, relative, each.q, options, t0)
+        except OptionError as e:  # an option the chains took and the joint descent does not
+            return dataclasses.replace(each, reason=reasons.not_together(each.reason, e.option))
         return together if together.success else each
 
     def solve_all(
@@ -179,8 +186,9 @@ class Arms(ArmsKinematics):
         ``Arm.solve_all`` gives them: a ``Solutions``."""
         refuse_own_checks(options, self.tips)
         if q0 is not None:
-            q0 = checked.configuration("q0", q0, self.joint_names)
-        return Solutions(arms_every.solve_all(self, by_tip(self._chains, targets), q0, **options))
+            q0 = self._seed(q0)  # clipped into the limits, as Arm's seed
+        found = arms_every.solve_all(self, by_tip(self._chains, targets), q0, **options)
+        return Solutions(arms_collision.kept(self, found, arms_collision.between(self, options)))
 
     def solve_batch(self, targets: Mapping[str, object], *, q0: object = None, **options):
         """Many targets per tip (tip -> N targets, or N rows each a flat list of tasks as

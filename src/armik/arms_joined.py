@@ -1,7 +1,9 @@
 """One result for a robot of several tips (``armik.Arms``) from each chain's own: the
 joints side by side, a success only when every tip is verified, the reason naming each
 tip that failed, the errors the distances to the targets with what a region or weights
-measured beside them (``measured``), as one arm's result has them."""
+measured beside them (``measured``), and the nearest of the chains' closest pairs where
+they checked collisions (``min_distance``, ``closest_pair``), as one arm's result has
+them."""
 
 from __future__ import annotations
 
@@ -22,6 +24,7 @@ def joined(tips, results: dict[str, IKResult], seeds, elapsed: float) -> IKResul
     iterations = restarts = 0
     position, orientation, singular = 0.0, None, False
     measured = False  # some tip's request measured other than its distances (a region)
+    near = None  # the closest pair some tip's collision check found: (distance, pair)
     for tip in tips:
         r = results.get(tip)
         if r is None:
@@ -41,7 +44,10 @@ def joined(tips, results: dict[str, IKResult], seeds, elapsed: float) -> IKResul
         if ori is not None and (orientation is None or ori > orientation):
             orientation = ori
         singular = singular or d["singular"]
-        measured = measured or "measured" in d["extra"]
+        extra = d["extra"]
+        measured = measured or "measured" in extra
+        if "min_distance" in extra and (near is None or extra["min_distance"] < near[0]):
+            near = (extra["min_distance"], extra.get("closest_pair"))
     q = np.concatenate(parts)
     q.setflags(write=False)  # a result's q is read-only; setflags is the cheaper spelling
     out = IKResult._from_fields(
@@ -63,6 +69,8 @@ def joined(tips, results: dict[str, IKResult], seeds, elapsed: float) -> IKResul
     out.__dict__["extra"] = {"errors": errors, "results": results}
     if measured:  # beside the true distances, what the verdicts measured: the worst tip's
         out.__dict__["extra"]["measured"] = _measured(results.values())
+    if near is not None:  # each chain checked its own links: the robot's, the nearest
+        out.__dict__["extra"].update(min_distance=near[0], closest_pair=near[1])
     return out
 
 

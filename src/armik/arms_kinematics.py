@@ -3,24 +3,29 @@ configuration over every joint split into each chain's, the placement and Jacobi
 tip or of one frame, tip poses of many configurations, the joint limits, random
 configurations, the names and frames; a copy with limits replaced or joints locked on every
 chain that holds them. Each answer is its chain's own (``armik.model.frames``, the chain's
-model), the joints of the other chains zero in a Jacobian.
+model), the joints of the other chains zero in a Jacobian. Beside them, ``Arm``'s
+``min_distance`` and ``in_collision`` over every chain's links (``armik.arms_collision``)
+and ``intervals`` of one chain's self-motion (``armik.solve.intervals``).
 """
 
 from __future__ import annotations
 
 import difflib
+import warnings
 from collections.abc import Mapping
 from typing import Any, cast
 
 import numpy as np
 import pinocchio as pin
 
-from armik import checked
-from armik.errors import FrameError, JointError, OptionError
+from armik import arms_collision, checked
+from armik.constraints.srdf import Pair
+from armik.errors import ArmikWarning, FrameError, JointError, OptionError, TargetError
 from armik.model import frames
 from armik.model.arm_model import ArmModel
 from armik.model.reduce import check_limits
 from armik.model.union import Union
+from armik.solve.intervals import Intervals, intervals
 from armik.tolerances import LIMIT_TOL
 
 MOST_SAMPLES = 10**8  # random_q's n, as Arm.random_q takes it
@@ -124,6 +129,27 @@ class ArmsKinematics:
                 candidates=self.tips,
             )
         return tip
+
+    def _seed(self, q0: object, row: int | None = None) -> np.ndarray:
+        """``q0`` (one value per joint of ``joint_names``) checked, and clipped into the
+        limits with an ``ArmikWarning`` where it lies outside them, as ``Arm``'s seed is: a
+        tip left out keeps these values, so the robot's answer stays within its limits
+        (``row``: the row of a batch's q0 it is)."""
+        q = checked.configuration("q0", q0, self.joint_names)
+        if bool(np.all(q >= self.lower - LIMIT_TOL) and np.all(q <= self.upper + LIMIT_TOL)):
+            return q
+        said = dict.fromkeys(
+            text
+            for tip, arm in self._chains.items()
+            for text in arm.limit_violations(q[self._columns[tip]])
+        )
+        where = "q0" if row is None else f"q0's row {row}"
+        warnings.warn(
+            f"{where} outside the joint limits was clipped into them: " + "; ".join(said),
+            ArmikWarning,
+            stacklevel=4,
+        )
+        return np.clip(q, self.lower, self.upper)
 
     def split(self, q: object) -> dict[str, np.ndarray]:
         """``q`` (one value per joint of ``joint_names``) as each chain's joint values."""
@@ -233,3 +259,64 @@ class ArmsKinematics:
         for i in range(rows):
             out[i] = self._random(gen)
         return out
+
+    def min_distance(
+        self, q: object, obstacles: object = (), self_collision: bool = False
+    ) -> tuple[float, Pair | None]:
+        """(distance m, (name_a, name_b)): the closest pair at joint values ``q`` (rad, m,
+        one per joint of ``joint_names``) among every chain's links and ``obstacles``
+        (shapes in the base frame) and, with ``self_collision``, the robot's own links, of
+        one chain and between chains (``armik.arms_collision``); negative when they
+        overlap. Raises ``CollisionError`` when the URDF has no collision geometry."""
+        return arms_collision.min_distance(self, q, obstacles, self_collision)
+
+    def in_collision(
+        self, q: object, obstacles: object = (), self_collision: bool = False, margin: float = 0.0
+    ) -> bool:
+        """Whether some pair ``min_distance`` checks is closer than ``margin`` (m) at ``q``."""
+        return arms_collision.in_collision(self, q, obstacles, self_collision, margin)
+
+    def intervals(self, target: object, over: str, *, q0: object = None) -> Intervals:
+        """Each branch's intervals of ``over`` within the limits (``Arm.intervals``) on the
+        chain it parametrises: ``over`` a joint (the chain that holds it), or an option
+        ("swivel") of the one tip ``target`` names; ``target`` as ``solve``'s, {tip:
+        target} (other tips' targets unread), ``q0`` over every joint."""
+        if not isinstance(target, Mapping) or not target:
+            raise OptionError(
+                f"target must map a tip of {list(self.tips)} to its target, {{tip: target}}, "
+                f"got {target!r:.80}",
+                option="target",
+                value=target,
+            )
+        given = [self._known(t) for t in target]
+        if not isinstance(over, str):
+            raise OptionError(
+                f'over must name a joint or an option ("swivel"), got {over!r:.80}',
+                option="over",
+                value=over,
+            )
+        holding = [t for t in self.tips if over in self._chains[t].joint_names]
+        if len(holding) > 1:
+            raise OptionError(
+                f"joint {over!r} is on the chains of tips {holding}: its value moves each of "
+                "them, where intervals are one chain's self-motion; give a joint of one chain",
+                option="over",
+                value=over,
+            )
+        if not holding and len(given) > 1:
+            raise OptionError(
+                f"over={over!r} is a parameter of one chain, and target names tips {given}: "
+                "give one tip's target, {tip: target}",
+                option="over",
+                value=over,
+            )
+        tip = holding[0] if holding else given[0]
+        if tip not in target:
+            raise TargetError(
+                f"joint {over!r} is on the chain to {tip!r}: give that tip's target, "
+                f"{{{tip!r}: target}}"
+            )
+        seed = None
+        if q0 is not None:
+            seed = checked.configuration("q0", q0, self.joint_names)[self._columns[tip]]
+        return intervals(self._chains[tip], target[tip], over, seed)

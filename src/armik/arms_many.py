@@ -22,10 +22,11 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from armik import checked, reasons
+from armik import reasons
+from armik.arms_collision import between, clear_rows
 from armik.arms_options import check_held
 from armik.arms_prefer import combined, is_cost
-from armik.arms_rows import empty, solve_rows
+from armik.arms_rows import empty, row_named, solve_rows
 from armik.batch_result import BatchResult
 from armik.errors import OptionError, TargetError
 from armik.problem.problem import relative_tasks
@@ -38,6 +39,7 @@ from armik.solve.read import check_plan
 from armik.solve.read import options as read_options
 from armik.status import Status
 from armik.targets.batch import parse_targets
+from armik.tolerances import LIMIT_TOL
 
 
 class Arms(Protocol):
@@ -57,12 +59,17 @@ class Arms(Protocol):
     def joint_names(self) -> Sequence[str]: ...
     @property
     def middle(self) -> np.ndarray: ...
+
+    lower: np.ndarray
+    upper: np.ndarray
+
     @property
     def prismatic(self) -> np.ndarray: ...
     def chain(self, tip: str) -> Any: ...
     def solve(self, targets: Mapping[str, object], *, q0: object = None, **options: Any) -> Any: ...
     def _check_targets(self, targets: object) -> dict: ...
     def _holds(self, options: dict) -> dict[str, dict]: ...
+    def _seed(self, q0: object, row: int | None = None) -> np.ndarray: ...
 
 
 DEFAULT_MAX_JOINT_STEP = 0.5  # rad or m, as a single arm's path (armik.solve.path)
@@ -89,6 +96,7 @@ def solve_batch(
     ``OptionError``."""
     t0 = time.perf_counter()
     n = _rows(arms, targets, "solve_batch")
+    targets = _in_tips_order(arms, targets)
     seeds = _seeds(arms, q0, n)
     opts = _read(options)
     prefer = options.get("prefer")
@@ -106,7 +114,13 @@ def solve_batch(
             )
             for tip, rows in read.items()
         }
-        return _joined(arms, parts, seeds, opts, time.perf_counter() - t0, prefer)
+        out = _joined(arms, parts, seeds, opts, time.perf_counter() - t0, prefer)
+        # the chains' answers together; a row whose arms collide solved again as
+        # ``Arms.solve`` solves it, which tries the other combinations of their answers
+        for i in clear_rows(arms, out, between(arms, options)):
+            row = {tip: rows[i] for tip, rows in targets.items()}
+            out.put_result(i, arms.solve(row, q0=seeds[i], **options))
+        return _timed(out, t0)
     run_jobs = None if backend is None else backends.backend(backend)
     threads, size = _whole(workers, "workers", 1), _whole(chunk_size, "chunk_size", DEFAULT_CHUNK)
     out = solve_rows(arms, targets, seeds, options, opts, size, threads, progress, run_jobs)
@@ -141,6 +155,7 @@ def solve_path(
     t0 = time.perf_counter()
     check_plan(plan)  # a plan that is none: refused as Arm.solve_path refuses it
     n = _rows(arms, waypoints, "solve_path")
+    waypoints = _in_tips_order(arms, waypoints)
     start = arms.middle if q0 is None else _seeds(arms, q0, 1)[0]
     step = _step(arms, max_joint_step)
     opts = _read(options)
@@ -168,8 +183,9 @@ def solve_path(
             )
             for tip, rows in waypoints.items()
         }
-        elapsed = time.perf_counter() - t0
-        return _joined(arms, parts, np.tile(start, (n, 1)), opts, elapsed, prefer)
+        out = _joined(arms, parts, np.tile(start, (n, 1)), opts, 0.0, prefer)
+        clear_rows(arms, out, between(arms, options))  # the chains' answers together
+        return _timed(out, t0)
     if plan != "follow":
         raise OptionError(
             f"plan={plan!r} over several tips needs chains that share no joint and no "
@@ -181,7 +197,8 @@ def solve_path(
     q_prev = start
     for i in range(n):
         row = {tip: rows[i] for tip, rows in waypoints.items()}
-        r = arms.solve(row, q0=q_prev, **options)
+        with row_named(i):
+            r = arms.solve(row, q0=q_prev, **options)
         if r.success and not (q0 is None and i == 0):  # without q0 the first is free
             r = _held(arms, r, q_prev, step, first=i == 0)
         out.put_result(i, r)
@@ -241,6 +258,13 @@ def _rows(arms: Arms, targets: object, call: str) -> int:
     return next(iter(sizes.values()))
 
 
+def _in_tips_order(arms: Arms, targets: Mapping[str, Any]) -> dict[str, Any]:
+    """``targets`` in the order of ``arms.tips``, as ``Arms.solve`` reads them: the first
+    failing tip's status and the order of the reason's tips are the robot's, not the
+    dict's."""
+    return {tip: targets[tip] for tip in arms.tips if tip in targets}
+
+
 def _one_pose(rows: object) -> str:
     """What ``rows`` is when it is one pose (a ``pinocchio.SE3``, a 4x4 matrix, a (7,) row
     or a (3,) position, ``(position, quaternion)``, a task) rather than a tip's N rows;
@@ -290,7 +314,7 @@ def _seeds(arms: Arms, q0: object, n: int) -> np.ndarray:
             value=q0,
         )
     if q.shape == (arms.dof,):
-        return np.tile(checked.configuration("q0", q, arms.joint_names), (n, 1))
+        return np.tile(arms._seed(q), (n, 1))  # clipped into the limits, as Arm's seed
     if not np.isfinite(q).all():  # the row and the robot's joint, not a chain's part
         i, j = np.argwhere(~np.isfinite(q))[0]
         raise OptionError(
@@ -298,7 +322,11 @@ def _seeds(arms: Arms, q0: object, n: int) -> np.ndarray:
             option="q0",
             value=q0,
         )
-    return q.copy()
+    out = q.copy()
+    outside = (q < arms.lower - LIMIT_TOL) | (q > arms.upper + LIMIT_TOL)
+    for i in np.flatnonzero(outside.any(axis=1)).tolist():  # clipped, as Arm's seed
+        out[i] = arms._seed(q[i], i)
+    return out
 
 
 def _step(arms: Arms, max_joint_step: object) -> np.ndarray:
@@ -359,6 +387,19 @@ def _measured(out: BatchResult, parts) -> None:
     out._measured[rows] = worst[rows]
 
 
+def _nearest(out: BatchResult, parts) -> None:
+    """Each row's closest pair where the chains checked collisions: the nearest of the
+    chains' (each checked its own links), with the margin their successes kept."""
+    for b in parts:
+        if np.isnan(b._distances).all():
+            continue
+        object.__setattr__(out, "margin", max(out.margin, b.margin))
+        rows = ~(b._distances >= out._distances) & ~np.isnan(b._distances)  # NaN: unchecked
+        ours = np.array([out._pair(p) for p in b.pair_names] + [-1], dtype=np.int32)
+        out._distances[rows] = b._distances[rows]
+        out._pairs[rows] = ours[b._pairs[rows]]  # -1 stays -1
+
+
 def _timed(out: BatchResult, t0: float) -> BatchResult:
     object.__setattr__(out, "time", time.perf_counter() - t0)
     return out
@@ -395,7 +436,10 @@ def _joined(
         out.iterations[:] += b.iterations
         out.restarts[:] += b.restarts
     out.orientation_error[:] = orientation
+    for tip in [t for t in arms.tips if t in parts]:  # each tip's distances, in tips' order
+        out.errors[tip] = np.column_stack([parts[tip].position_error, parts[tip].orientation_error])
     _measured(out, parts.values())
+    _nearest(out, parts.values())
     if prefer is not None:
         out._scores[:] = combined(prefer, np.array([b._scores for b in parts.values()]))
     for i in np.flatnonzero(~out.success):

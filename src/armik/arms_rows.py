@@ -10,12 +10,14 @@ seed.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
 from typing import Any, NamedTuple
 
 import numpy as np
 
 from armik.batch_result import BatchResult
+from armik.errors import TargetError
 from armik.problem.settings import SolverSettings
 from armik.solve import backends
 from armik.solve.backends import Backend, Rows, place
@@ -37,8 +39,21 @@ class ArmsRows(NamedTuple):
     def __call__(self) -> Rows:
         out = empty(self.arm, len(self.targets), LABEL, self.opts)
         for i, row in enumerate(self.targets):
-            out.put_result(i, self.arm.solve(row, q0=self.seeds[i], **self.options))
+            with row_named(self.start + i):
+                out.put_result(i, self.arm.solve(row, q0=self.seeds[i], **self.options))
         return Rows(**vars(out), start=self.start)
+
+
+@contextmanager
+def row_named(i: int) -> Iterator[None]:
+    """A ``TargetError`` of row ``i`` of a batch or a path says the row, as one arm's batch
+    says it ("target 3: ...")."""
+    try:
+        yield
+    except TargetError as e:
+        if e.args and isinstance(e.args[0], str) and not e.args[0].startswith("target "):
+            e.args = (f"target {i}: {e.args[0]}", *e.args[1:])
+        raise
 
 
 def solve_rows(

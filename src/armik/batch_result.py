@@ -49,6 +49,9 @@ class BatchResult:
       where the verdict measured the distances themselves (``armik.verify.distances``).
     - ``region``, ``cone``: the targets are regions (bounds, an aim) and the aim's cone (rad,
       None: no aim), so that a success's ``reason(i)`` says what ``solve``'s says.
+    - ``errors``: on several tips (``armik.Arms``), tip -> (N, 2) each row's distances to
+      that tip's target (position m, orientation rad, NaN where not measured), as
+      ``Arms.solve``'s ``errors[tip]``; empty for one arm.
     - ``branch`` (N,): each answer's branch label as ``solve`` gives it, None where none;
       stored as codes, ``branch_code`` indices into ``branch_names`` (-1: none), a compiled
       closed form's read from its answers by ``brancher`` when first read.
@@ -86,6 +89,7 @@ class BatchResult:
     branch_names: list[str] = field(default_factory=list)
     # the codes of UNREAD rows' q (k, dof) in ``branch_names``, which start with its ``labels``
     brancher: Callable[[np.ndarray], np.ndarray] | None = None
+    errors: dict[str, np.ndarray] = field(default_factory=dict)  # tip -> (N, 2), several tips
 
     def __post_init__(self) -> None:
         n = len(self.success)
@@ -194,6 +198,8 @@ class BatchResult:
 
     def _index(self, i: int | np.integer[Any]) -> int:
         n = len(self)
+        if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)):
+            raise IndexError(f"a target index is a whole number in [-{n}, {n}), got {i!r:.80}")
         i = int(i)
         if not -n <= i < n:
             raise IndexError(f"target index {i} out of range for a batch of {n}")
@@ -210,7 +216,7 @@ class BatchResult:
     def __getitem__(
         self, index: int | np.integer[Any] | slice | np.ndarray | Sequence[int] | Sequence[bool]
     ) -> IKResult | BatchResult:
-        if isinstance(index, (int, np.integer)):
+        if isinstance(index, (int, np.integer)) and not isinstance(index, (bool, np.bool_)):
             i = self._index(index)
             ori, code = float(self.orientation_error[i]), int(self.branch_codes(np.array([i]))[0])
             extra: dict[str, Any] = {"index": i, "batch_time": self.time}
@@ -222,6 +228,12 @@ class BatchResult:
             if not math.isnan(self._measured[i, 0]):
                 pos, rot = self._measured[i].tolist()
                 extra["measured"] = (pos, None if math.isnan(rot) else rot)
+            if self.errors:  # several tips: each tip's, as ``Arms.solve`` gives them
+                extra["errors"] = {
+                    tip: (float(e[i, 0]), None if math.isnan(e[i, 1]) else float(e[i, 1]))
+                    for tip, e in self.errors.items()
+                    if not math.isnan(e[i, 0])
+                }
             return IKResult(
                 q=self.q[i],
                 success=bool(self.success[i]),
@@ -236,9 +248,16 @@ class BatchResult:
                 branch=None if code < 0 else self.branch_names[code],
                 extra=extra,
             )
-        picked = np.arange(len(self))[index]
-        if picked.ndim != 1:
-            raise IndexError("index a BatchResult with an int, a slice, a mask or an index list")
+        try:  # numpy's indexing, its words replaced by ours
+            picked = np.arange(len(self))[index]
+        except (IndexError, TypeError, ValueError):
+            picked = np.zeros((0, 0), dtype=np.intp)
+        if picked.ndim != 1 or isinstance(index, (bool, np.bool_)):
+            n = len(self)
+            raise IndexError(
+                f"index a BatchResult of {n} rows with an int or a list of ints in [-{n}, {n}), "
+                f"a slice or a mask of {n} bools, got {index!r:.80}"
+            )
         reasons = {}
         if self.reasons:
             keys = np.fromiter(self.reasons, dtype=np.int64, count=len(self.reasons))
@@ -271,6 +290,7 @@ class BatchResult:
             branch_code=self._codes[picked],
             branch_names=list(self.branch_names),
             brancher=self.brancher,
+            errors={tip: e[picked] for tip, e in self.errors.items()},
         )
 
     def __iter__(self) -> Iterator[IKResult]:
@@ -384,6 +404,15 @@ class BatchResult:
                 ours = [_interned(self.branch_names, b) for b in part.branch_names] + [NO_BRANCH]
                 codes = np.array(ours, dtype=np.int16)[codes]  # -1 stays -1
         self._codes[start:stop] = codes
+        for tip, e in part.errors.items():
+            self.tip_errors(tip)[start:stop] = e
+
+    def tip_errors(self, tip: str) -> np.ndarray:
+        """``errors[tip]``, (N, 2), made (NaN: not measured) on first use while assembling."""
+        e = self.errors.get(tip)
+        if e is None:
+            e = self.errors[tip] = np.full((len(self), 2), np.nan)
+        return e
 
     def branches_unread(self, start: int, stop: int) -> None:
         """Rows ``start:stop`` label their branch from their q when first read
@@ -416,6 +445,8 @@ class BatchResult:
         apart = r.extra.get("measured")
         if apart is not None:
             self._measured[i] = (apart[0], math.nan if apart[1] is None else apart[1])
+        for tip, (pos, ori) in (r.extra.get("errors") or {}).items():  # several tips
+            self.tip_errors(tip)[i] = (pos, math.nan if ori is None else ori)
         if r.success:
             self.reasons.pop(i, None)  # a row solved again: its earlier failure's words go
         else:

@@ -362,3 +362,21 @@ def frame_apart(reason: str, frame: str, pos: float, ori: float | None, weighted
         f"{reason}; frame {frame!r} is {pos:.3g} m{rot} from the region's centre, free "
         "components apart"
     )
+
+
+def chains_collide(pair: tuple[str, str] | None, distance: float, margin: float) -> str:
+    """Several tips on chains that share no joint, each verified and clear alone (the
+    other chains held where it was cut): the robot at their answers side by side is not."""
+    together = in_collision(pair, distance, margin)
+    return (
+        f"every tip reached, but the chains' answers together are {together} (each chain "
+        "was checked alone, the other chains held where it was cut)"
+    )
+
+
+def not_together(reason: str, option: object) -> str:
+    """Tips placed relative to each other on chains that share no joint, solved one chain
+    after another and failing: ``reason``, and why every chain at once was not tried."""
+    return (
+        f"{reason}; every chain at once (the task solver) was not tried: it does not take {option}="
+    )

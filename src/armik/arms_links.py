@@ -1,0 +1,120 @@
+"""Every link of a robot of several tips (``armik.Arms``) once, each from a chain that places
+it where the robot does, and the pairs its collision checks measure (``armik.arms_collision``).
+
+Each chain's collision geometry (``armik.constraints.collision.arm_geometry``) holds every
+link of the URDF, those off the chain frozen where the chain was cut. A link is placed by
+its nearest joint above it that some chain moves; every chain that holds that joint places
+it as the robot does, the others where they froze it. So each link is taken from the chain
+whose model hangs it on the deepest joint (the first such chain; a link below a mimic joint
+that a chain moves by its driver, ``followed``, from that chain). Two links are a pair where
+some chain places both as the robot does and counts them a self-collision pair (not rigidly
+joined, not adjacent, not disabled by its SRDF); two links that no one chain places both
+(each on a joint of its own chain: two arms) are a pair unless an SRDF disables it. Every
+link a joint moves is paired with every obstacle.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import coal
+import numpy as np
+
+from armik.constraints.collision import ArmGeometry, arm_geometry
+from armik.constraints.shapes import Shape
+from armik.model.arm_model import ArmModel
+
+UNBOUNDED = 1e9  # m: a bounding radius for a shape without one (a half space)
+
+
+class Links:
+    """The objects of ``chains`` (each an ``ArmModel`` of one URDF) once each and their
+    pairs (the module's rule); ``obstacles`` as shapes in the base frame."""
+
+    def __init__(
+        self, chains: list[ArmModel], obstacles: tuple[Shape, ...], self_collision: bool
+    ) -> None:
+        full = chains[0].chain.full  # the URDF's model, every chain cut from it
+        depth = [0] * full.njoints
+        for j in range(1, full.njoints):
+            depth[j] = depth[full.parents[j]] + 1
+        self.geometry: list[ArmGeometry] = [arm_geometry(arm) for arm in chains]
+        # the depth, in the URDF's tree, of the joint each chain hangs each object on
+        placed: dict[str, list[int]] = {}
+        followed: dict[str, int] = {}
+        for c, (arm, g) in enumerate(zip(chains, self.geometry)):
+            moved = {i for i, _, _ in g.followed}
+            for i, o in enumerate(g.model.geometryObjects):
+                joint = arm.model.names[o.parentJoint]
+                deep = depth[full.getJointId(joint)] if o.parentJoint else 0
+                placed.setdefault(o.name, [-1] * len(chains))[c] = deep
+                if i in moved:
+                    followed.setdefault(o.name, c)
+        owner = {name: followed.get(name, int(np.argmax(deeps))) for name, deeps in placed.items()}
+        # the chains that place each object as the robot does
+        right = {name: {c for c, d in enumerate(ds) if d == max(ds)} for name, ds in placed.items()}
+        for name, c in followed.items():
+            right[name] = {c}
+        self.objects: list[tuple[int, int]] = []  # (chain, its object)
+        key: dict[str, int] = {}
+        for c, g in enumerate(self.geometry):
+            for i, o in enumerate(g.model.geometryObjects):
+                if owner[o.name] == c and o.name not in key:
+                    key[o.name] = len(self.objects)
+                    self.objects.append((c, i))
+        pairs: set[tuple[int, int]] = set()
+        if self_collision:
+            for c, g in enumerate(self.geometry):
+                names = [o.name for o in g.model.geometryObjects]
+                for a, b in g.self_pairs:
+                    if c in right[names[a]] and c in right[names[b]]:
+                        pairs.add(tuple(sorted((key[names[a]], key[names[b]]))))  # type: ignore[arg-type]
+            disabled = frozenset().union(*(arm.disabled_pairs for arm in chains))
+            objects = [self._object(k) for k in range(len(self.objects))]
+            for ka in range(len(self.objects)):
+                for kb in range(ka + 1, len(self.objects)):
+                    na, nb = objects[ka].name, objects[kb].name
+                    if right[na] & right[nb]:
+                        continue  # one chain places both (a link fixed to the base, every
+                        # chain): that chain's own pairs said
+                    la, lb = self.link(ka), self.link(kb)
+                    if tuple(sorted((la, lb))) not in disabled:
+                        pairs.add((ka, kb))
+        self.names = [self.link(k) for k in range(len(self.objects))]
+        self.self_pairs = sorted(pairs)
+        self.pair_a = np.array([a for a, _ in self.self_pairs], dtype=np.intp)
+        self.pair_b = np.array([b for _, b in self.self_pairs], dtype=np.intp)
+        self.joints = [int(self._object(k).parentJoint) for k in range(len(self.objects))]
+        self.moving = np.array([k for k, j in enumerate(self.joints) if j != 0], dtype=np.intp)
+        self.geoms = [self._object(k).geometry for k in range(len(self.objects))]
+        self.radius = np.array([_radius(g) for g in self.geoms])
+        self.centre = np.array([g.aabb_center for g in self.geoms]).reshape(-1, 3)
+        self.shapes = obstacles
+        world = chains[0].T_world_base
+        self.obstacles = [
+            (s.geometry(), coal.Transform3s(world * s.placement())) for s in obstacles
+        ]
+        self.obstacle_radius = np.array([_radius(g) for g, _ in self.obstacles])
+        centres = [
+            T.transform(g.aabb_center) if _radius(g) < UNBOUNDED else np.zeros(3)
+            for g, T in self.obstacles
+        ]
+        self.obstacle_centre = np.array(centres).reshape(-1, 3)
+
+    def _object(self, k: int) -> Any:
+        c, i = self.objects[k]
+        return self.geometry[c].model.geometryObjects[i]
+
+    def link(self, k: int) -> str:
+        """The link of object ``k``."""
+        c, i = self.objects[k]
+        return self.geometry[c].links[i]
+
+
+def _radius(geometry: coal.CollisionGeometry) -> float:
+    """The radius of a sphere about ``aabb_center`` holding the shape (``UNBOUNDED``
+    without one)."""
+    geometry.computeLocalAABB()
+    r = float(geometry.aabb_radius)
+    return r if math.isfinite(r) else UNBOUNDED
