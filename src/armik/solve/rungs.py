@@ -36,6 +36,7 @@ from armik.result import IKResult
 from armik.solve.stages import run
 from armik.solve.turning import ANY, Turning, turning
 from armik.solvers.closed_form.spin import nearest_spin
+from armik.status import Status
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 
@@ -76,9 +77,10 @@ def held(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> 
     rungs = []
     for i in range(len(batch)):
         found: list = []
-        if followed.success[i]:
-            theta = float(followed.q[i, j])
-            found.append(followed[i])  # where joint 7 admits no closed form exactly there
+        own = reached(followed, i)
+        if own is not None:
+            theta = float(own.q[j])
+            found.append(own)  # where joint 7 admits no closed form exactly there
         target = batch.target(i)
         values = (
             [theta] if held_joint else np.concatenate((np.clip(theta + HELD_OFFSETS, lo, hi), grid))
@@ -90,6 +92,17 @@ def held(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> 
     return rungs
 
 
+def reached(followed, i: int) -> IKResult | None:
+    """The followed path's verified answer at waypoint ``i`` as a rung: its success, or the
+    answer of a jump (``discontinuous``: verified, reported for the move to it, which a
+    plan may make elsewhere); None where it reached nothing."""
+    if followed.success[i]:
+        return followed[i]  # type: ignore[no-any-return]
+    if followed.status_code[i] != Status.DISCONTINUOUS.code:
+        return None
+    return dataclasses.replace(followed[i], success=True, status=Status.CONVERGED)
+
+
 def tracked(arm: ArmModel, batch, q_start: np.ndarray, solver: str, followed, request) -> list:
     """A numeric arm's rungs (see the module): each waypoint's followed result (its own
     failure where nothing reaches it) and every distinct answer a track reached there."""
@@ -97,7 +110,7 @@ def tracked(arm: ArmModel, batch, q_start: np.ndarray, solver: str, followed, re
     targets = [batch.target(i) for i in range(n)]
     local = request.narrowed(max_restarts=0).but(solver=solver)
     turn = turning(arm, request.opts, q_start)
-    rungs: list[list[IKResult]] = [[followed[i]] for i in range(n)]
+    rungs: list[list[IKResult]] = [[reached(followed, i) or followed[i]] for i in range(n)]
     ok = np.asarray(followed.success, dtype=bool)
     breaks = [i for i in range(1, n) if not ok[i] and ok[i - 1]][:BREAKS]
     for s in [0, *breaks]:
