@@ -1,5 +1,6 @@
-"""plan="global" where the rungs are not every solution (a numeric solver's tracks): the
-followed path's answers are rungs, so the plan breaks nowhere following goes through."""
+"""plan="global" where the rungs are not every solution (an SRS arm's swivel, a numeric
+solver's tracks): the followed path's answers are rungs, so the plan breaks nowhere
+following goes through, and says its breaks are among the answers found."""
 
 from __future__ import annotations
 
@@ -22,6 +23,39 @@ def _verified(arm, poses, q0, planned, step):
             assert np.abs(q - prev).max() <= step + 1e-9
         if planned.success[i] or planned.status[i] == "discontinuous":
             prev = q
+
+
+def test_an_srs_plan_goes_where_following_goes():
+    """The iiwa (``srs``: every branch at one swivel angle): the tool tilted about its x
+    axis from a random configuration. Following drifts the swivel with the path and solves
+    every waypoint; the plan, whose rungs were every branch at the start's swivel only,
+    broke at waypoint 13. Its rungs now hold the followed answers and every branch at
+    their swivel too."""
+    arm = conftest.arm("kuka_iiwa14")
+    q = arm.random_q(13)
+    T0 = arm.fk(q)
+    poses = [T0 * pin.SE3(pin.exp3(np.array([0.05 * k, 0.0, 0.0])), np.zeros(3)) for k in range(16)]
+    followed = arm.solve_path(poses, q, max_joint_step=0.3)
+    planned = arm.solve_path(poses, q, max_joint_step=0.3, plan="global")
+    assert followed.success.all(), followed.summary()
+    assert planned.success.all(), planned.summary()
+    assert planned.solver == "srs"
+    _verified(arm, poses, q, planned, 0.3)
+
+
+def test_an_srs_break_claims_only_the_answers_found():
+    """A quarter turn of the tool between two waypoints of the iiwa: the plan flags the
+    waypoint, and says the break is among the answers found (one swivel angle's branches
+    are not every solution of a 7-joint arm), not that every path breaks."""
+    arm = conftest.arm("kuka_iiwa14")
+    q = arm.random_q(8)
+    T0 = arm.fk(q)
+    turn = pin.SE3(pin.exp3(np.array([0.0, 0.0, math.pi / 2])), np.zeros(3))
+    poses = [T0 if k <= 5 else T0 * turn for k in range(10)]
+    planned = arm.solve_path(poses, q, max_joint_step=0.2, plan="global")
+    assert np.flatnonzero(~planned.success).tolist() == [6], planned.summary()
+    reason = planned[6].reason
+    assert "every path through the answers found breaks here" in reason, reason
 
 
 def test_a_followed_jump_s_answer_is_a_rung():

@@ -135,8 +135,9 @@ def plan(
         if broken[i]:
             j = int(joint[i])
             # every solution only from a complete closed form: a search, a sweep, a
-            # sample of the self-motion or a numeric solver's tracks show the answers found
-            every = spec.kind != "numeric" and spec.complete
+            # sample of the self-motion (a swivel's too) or a numeric solver's tracks show
+            # the answers found
+            every = spec.kind != "numeric" and spec.complete and spec.parameter is None
             r = _broken(
                 arm, r, j, float(size[i]), float(step[j]), bool(hidden[i]), first, every, out
             )

@@ -5,6 +5,9 @@ waypoint that a path may pass through.
 - A 7R arm whose joint 7 the swept closed form holds: every branch at joint 7 values about
   the followed path's and on a grid over its range, and the followed answers (``held``);
   with a joint held (``hold=``), every branch at its value.
+- An arm whose closed form answers at one value of a parameter read from the seed (an SRS
+  arm's swivel, the iiwa): every branch at the start's value and at each followed
+  answer's, and the followed answers (``swivelled``).
 - Any other arm, by its numeric solver: answers tracked along the path (``tracked``): the
   followed path's own, and from distinct answers of ``solve_all`` at the first waypoint and
   where following breaks, each waypoint solved from the track's answer at the one before,
@@ -88,6 +91,27 @@ def held(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> 
         for value in values:
             swept = request.but(sweep_from=float(value))  # where its sweep starts
             found += every_answer(arm, swept, target, seed, spec.name)
+        rungs.append(found)
+    return rungs
+
+
+def swivelled(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> list:
+    """The rungs of an arm whose closed form answers at one value of a parameter it reads
+    from the seed (``Parameter``: an SRS arm's swivel): at each waypoint every branch at
+    the start's value, the followed path's answer, and every branch at that answer's value
+    (the last one reached where following missed): the plan passes wherever following does
+    (unless a hidden jump rules a step out), not only at the start's swivel."""
+    rungs = []
+    seed = np.array(q_start, dtype=float)
+    for i in range(len(batch)):
+        target = batch.target(i)
+        found = every_answer(arm, request, target, q_start, spec.name)
+        own = reached(followed, i)
+        if own is not None:
+            found.append(own)
+            seed = np.array(own.q, dtype=float)
+        if not np.array_equal(seed, q_start):
+            found += every_answer(arm, request, target, seed, spec.name)
         rungs.append(found)
     return rungs
 
