@@ -12,8 +12,8 @@ programming keeps, for every rung, the least total joint motion (the sum of the 
 Euclidean norms) from q0, and the path is read back from the best last rung. Where no edge
 leaves a waypoint's rungs, every path breaks there: the waypoint is ``discontinuous`` with
 the joint and the size of the smallest possible jump, and the plan goes on from every rung
-after it. The first step is held to ``max_joint_step`` from q0 as every other; without q0
-the path may start on any rung.
+after it, at every turn within the limits. The first step is held to ``max_joint_step``
+from q0 as every other; without q0 the path may start on any rung.
 
 A step within the bound may still hide a jump between its waypoints (a wrist swinging
 through half a turn near a singularity, a joint out of its limits or the pose out of reach
