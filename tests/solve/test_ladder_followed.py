@@ -9,6 +9,8 @@ import math
 import numpy as np
 import pinocchio as pin
 
+import armik
+
 from .. import conftest
 
 
@@ -77,3 +79,28 @@ def test_a_followed_jump_s_answer_is_a_rung():
     assert not (followed.success & ~planned.success).any(), planned.summary()
     assert planned.success.sum() >= followed.success.sum()
     _verified(panda, poses, q, planned, 0.3)
+
+
+def test_a_plan_with_collisions_follows_as_following_does():
+    """The Panda along a line past a sphere, its own links checked too (margin 1 cm): a
+    followed path slides a colliding answer clear near the previous one and goes through
+    waypoint 5; the plan's own followed path, whose answers are its rungs, did not slide,
+    and the plan broke there. It now follows as ``plan="follow"`` does."""
+    panda = conftest.arm("panda")
+    q = panda.random_q(424)
+    T0 = panda.fk(q)
+    d = np.array([0.16285073, -0.18298902, -0.96953322])
+    poses = [pin.SE3(T0.rotation, T0.translation + d * 0.01 * k) for k in range(12)]
+    scene = [
+        armik.Sphere(0.08, (0.1232466, -0.23728116, 0.48909041)),
+        armik.HalfSpace((0, 0, 1), -0.05),
+    ]
+    kw = {"obstacles": scene, "self_collision": True, "margin": 0.01}
+    kw |= {"iteration_budget": 3000, "seed": 0}  # deterministic, not timed
+    followed = panda.solve_path(poses, q, max_joint_step=0.3, **kw)
+    planned = panda.solve_path(poses, q, max_joint_step=0.3, plan="global", **kw)
+    assert followed.success[5], followed.summary()
+    assert not (followed.success & ~planned.success).any(), planned.summary()
+    _verified(panda, poses, q, planned, 0.3)
+    for x in planned.q[planned.success]:
+        assert panda.min_distance(x, obstacles=scene, self_collision=True)[0] >= 0.01 - 1e-9

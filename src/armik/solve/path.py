@@ -121,7 +121,9 @@ def solve_path(
             followed = BatchResult.for_arm(
                 arm, n, spec.name, opts, margin=opts.margin, aim=batch.aim
             )
-            used = _walk(arm, batch, q_prev, step, request, local, followed, None, q0 is None, turn)
+            # as plan="follow" solves it: a colliding answer slid clear near the previous one
+            walked = request if opts.slide or not opts.collisions else request.narrowed(slide=True)
+            used = _walk(arm, batch, q_prev, step, walked, local, followed, None, q0 is None, turn)
             if held_auto and used is not None:  # its rows by the solver each waypoint chose
                 object.__setattr__(followed, "solver", used)
             # a 7R arm: joint 7 sampled, or the swivel at the start's and the followed
