@@ -104,3 +104,29 @@ def test_a_plan_with_collisions_follows_as_following_does():
     _verified(panda, poses, q, planned, 0.3)
     for x in planned.q[planned.success]:
         assert panda.min_distance(x, obstacles=scene, self_collision=True)[0] >= 0.01 - 1e-9
+
+
+def test_a_spin_sweep_s_plan_goes_where_following_goes():
+    """The UR5's tool free to spin about its x axis (``bounds``), along a line: the rungs
+    are the ``spin`` sweep's answers at spins sampled over the bound, which may miss the
+    one following takes. Following (by ``dls``) goes through every waypoint; the plan over
+    the sweep's answers alone broke at one. With the followed answers among its rungs it
+    goes where following goes."""
+    ur5 = conftest.arm("ur5")
+    q = ur5.random_q(9)
+    T = ur5.fk(q)
+    d = np.array([0.005, 0.0, 0.003])
+    poses = [pin.SE3(T.rotation, T.translation + d * k) for k in range(30)]
+    kw = {"bounds": (0, 0, 0, math.inf, 0, 0), "iteration_budget": 3000, "seed": 0}
+    followed = ur5.solve_path(poses, q, max_joint_step=0.3, **kw)
+    planned = ur5.solve_path(poses, q, max_joint_step=0.3, plan="global", **kw)
+    assert followed.success.all(), followed.summary()
+    assert planned.success.all() and planned.solver == "spin", planned.summary()
+    prev = q
+    for pose, x in zip(poses, planned.q):
+        F = ur5.fk(x)
+        assert np.linalg.norm(F.translation - pose.translation) <= 1e-6
+        w = pin.log3(pose.rotation.T @ F.rotation)  # about x only
+        assert abs(w[1]) <= 1e-6 and abs(w[2]) <= 1e-6
+        assert ur5.within_limits(x) and np.abs(x - prev).max() <= 0.3 + 1e-9
+        prev = x

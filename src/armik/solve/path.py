@@ -116,8 +116,8 @@ def solve_path(
                 if (s.declines(opts, target=first) or s.why_not(arm, first, opts)) is None
             )
             every = next(swept, every)
-        about = every.sweep is not None or every.kind == "numeric" or every.parameter is not None
-        if about:  # rungs about the followed path
+        # not every solution: a sweep's, a numeric solver's, a swivel's, a search's
+        if every.kind == "numeric" or not every.complete or every.parameter is not None:
             followed = BatchResult.for_arm(
                 arm, n, spec.name, opts, margin=opts.margin, aim=batch.aim
             )
@@ -127,11 +127,12 @@ def solve_path(
             if held_auto and used is not None:  # its rows by the solver each waypoint chose
                 object.__setattr__(followed, "solver", used)
             # a 7R arm: joint 7 sampled, or the swivel at the start's and the followed
-            # answers'; else answers tracked from the start and the breaks
+            # answers'; a search's answers and the followed ones; else answers tracked
+            # from the start and the breaks
             if every.sweep is not None:
                 found = rungs.held(arm, batch, q_prev, followed, request, every)
             elif every.kind != "numeric":
-                found = rungs.swivelled(arm, batch, q_prev, followed, request, every)
+                found = rungs.beside(arm, batch, q_prev, followed, request, every)
             else:
                 found = rungs.tracked(arm, batch, q_prev, every.name, followed, request)
         else:

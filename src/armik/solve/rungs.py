@@ -7,7 +7,8 @@ waypoint that a path may pass through.
   with a joint held (``hold=``), every branch at its value.
 - An arm whose closed form answers at one value of a parameter read from the seed (an SRS
   arm's swivel, the iiwa): every branch at the start's value and at each followed
-  answer's, and the followed answers (``swivelled``).
+  answer's, and the followed answers (``beside``); a closed form that may miss answers (a
+  search, a spin's sweep): its answers and the followed ones.
 - Any other arm, by its numeric solver: answers tracked along the path (``tracked``): the
   followed path's own, and from distinct answers of ``solve_all`` at the first waypoint and
   where following breaks, each waypoint solved from the track's answer at the one before,
@@ -95,12 +96,14 @@ def held(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> 
     return rungs
 
 
-def swivelled(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> list:
-    """The rungs of an arm whose closed form answers at one value of a parameter it reads
-    from the seed (``Parameter``: an SRS arm's swivel): at each waypoint every branch at
-    the start's value, the followed path's answer, and every branch at that answer's value
-    (the last one reached where following missed): the plan passes wherever following does
-    (unless a hidden jump rules a step out), not only at the start's swivel."""
+def beside(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> list:
+    """The rungs of a closed form that gives not every solution, beside the followed
+    path's: at each waypoint ``spec``'s answers from the start and the followed path's
+    answer, so that the plan passes wherever following does (unless a hidden jump rules a
+    step out); where ``spec`` answers at one value of a parameter it reads from the seed
+    (``Parameter``: an SRS arm's swivel), every branch at the followed answer's value too
+    (the last one reached where following missed), not only at the start's."""
+    reseed = spec.parameter is not None
     rungs = []
     seed = np.array(q_start, dtype=float)
     for i in range(len(batch)):
@@ -110,7 +113,7 @@ def swivelled(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec
         if own is not None:
             found.append(own)
             seed = np.array(own.q, dtype=float)
-        if not np.array_equal(seed, q_start):
+        if reseed and not np.array_equal(seed, q_start):
             found += every_answer(arm, request, target, seed, spec.name)
         rungs.append(found)
     return rungs
