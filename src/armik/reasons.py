@@ -380,3 +380,23 @@ def not_together(reason: str, option: object) -> str:
     return (
         f"{reason}; every chain at once (the task solver) was not tried: it does not take {option}="
     )
+
+
+def every_path_since_breaks(
+    every: bool,
+    since: str,
+    hidden: bool,
+    smallest: tuple[str, float, str, float] | None,
+) -> str:
+    """``every_path_breaks`` where a solution of the waypoint before that the plan does not
+    reach goes on to this one within the bound: every path from ``since`` (the plan's last
+    break, or its start) without a jump breaks here, and one through that solution breaks
+    on its way to it."""
+    why = every_path_breaks(every, False, hidden, smallest).split("the waypoint before, ", 1)[1]
+    found = "" if every else "through the answers found "
+    other = "solution" if every else "answer found"
+    return (
+        f"every path {found}from {since} without a jump breaks here (one through another "
+        f"{other} of the waypoint before goes on here, but breaks on its way there): from "
+        f"every {other} so reached at the waypoint before, {why}"
+    )

@@ -78,3 +78,14 @@ def test_a_parameter_no_closed_form_answers_at_is_refused_with_the_choices():
         a.intervals(T, "swivel")
     with pytest.raises(armik.OptionError, match="panda_joint7"):
         a.intervals(T, "panda_joint1")
+
+
+@pytest.mark.parametrize("over", [None, 6, ("swivel",)])
+def test_a_parameter_that_is_no_name_is_refused(over):
+    """``over`` names an option or a joint: None matched any declared option and gave the
+    iiwa's swivel intervals labelled None; it is refused, naming the value."""
+    a = arm("kuka_iiwa14")
+    T = a.fk(np.array([0.3, -0.8, 0.5, 1.2, -0.4, 0.9, 0.2]))
+    with pytest.raises(armik.OptionError, match="over must be the name") as got:
+        a.intervals(T, over)
+    assert repr(over) in str(got.value)

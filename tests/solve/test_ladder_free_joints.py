@@ -104,8 +104,9 @@ def test_a_continuous_joint_arm_is_planned_and_breaks_only_where_every_path_does
     flagged = np.flatnonzero(planned.status == Status.DISCONTINUOUS.value).tolist()
     assert flagged == _breaks(arm, poses)
     assert planned.success.sum() > 20
-    for i in flagged:
-        assert "every path breaks here" in planned[i].reason
+    for i in flagged:  # every path, or every one since the plan's last break
+        reason = planned[i].reason
+        assert "every path breaks here" in reason or "without a jump breaks here" in reason
 
 
 def test_an_unlimited_base_on_a_ur5_is_planned_end_to_end():

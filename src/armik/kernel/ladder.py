@@ -8,8 +8,11 @@ parent's cost plus the step's Euclidean norm. Children that are the same rung wi
 same turns are one state (the cheapest parent kept), found in a table indexed by the rung
 and the turns, so a layer costs its candidates, not their square. Where no child is kept,
 every path breaks at that waypoint: it is flagged with the smallest jump's joint and size,
-and its children are taken without the step bound. An edge in ``forbidden`` (a pair of
-rungs a jump hides between: ``armik.solve.ladder``) counts as a jump too. Without q0 the
+and its children are taken without the step bound, and every rung at every turn within the
+limits too, from the cheapest state before (``_every_turn``): the turn that leaves room
+for the rest of the path need not be the one nearest the answer before. An edge in
+``forbidden`` (a pair of rungs a jump hides between: ``armik.solve.ladder``) counts as a
+jump too. Without q0 the
 first waypoint's states are every turn within the limits of every rung.
 
 A joint without limits on either side (a continuous joint, or one given infinite limits)
@@ -87,6 +90,60 @@ def _turn_range(b, lo, hi, periodic):
     first = math.ceil(max(-2.0, min(3.0, (lo - EDGE - b) / TWO_PI)))
     last = math.floor(min(2.0, max(-3.0, (hi + EDGE - b) / TWO_PI)))
     return first, last
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def _every_turn(
+    B, i0, i1, Q, src, cost0, lo, hi, periodic, keyed, base, node, weight, table, touched,
+    n_touched, s_rung, s_parent, s_turn, s_cost, count,
+):  # fmt: skip
+    """Every rung ``i0 .. i1 - 1`` at every turn within the limits (a free joint's nearest
+    ``Q``) as a state reached from ``src`` (at ``Q``, of cost ``cost0``) by a jump: where
+    every path breaks, the turn that leaves room for the rest of the path (a wrist spun on
+    past its limit) may be none nearest the answer before. Returns the grown arrays,
+    ``count`` and ``n_touched``."""
+    d = Q.shape[0]
+    first, last, turn = np.zeros(d, np.int64), np.zeros(d, np.int64), np.zeros(d, np.int64)
+    for r in range(i0, i1):
+        ok = True
+        for j in range(d):
+            if periodic[j] and _free(lo[j], hi[j]):
+                first[j] = last[j] = math.floor((Q[j] - B[r, j]) / TWO_PI + 0.5)
+            else:
+                first[j], last[j] = _turn_range(B[r, j], lo[j], hi[j], periodic[j])
+            ok = ok and last[j] >= first[j]
+            turn[j] = first[j]
+        while ok:
+            norm2, code = 0.0, r - i0
+            for j in range(d):
+                dq = B[r, j] + TWO_PI * turn[j] - Q[j]
+                norm2 += dq * dq
+                code = code * base[j] + (turn[j] + 2 if keyed[j] else 0)
+            cost = cost0 + weight * math.sqrt(norm2) + node[r]
+            at = table[code]
+            if at >= 0:
+                if cost < s_cost[at]:
+                    s_cost[at], s_parent[at] = cost, src
+                    for j in range(d):
+                        s_turn[at, j] = turn[j]
+            else:
+                s_rung, s_parent = _grow(s_rung, count), _grow(s_parent, count)
+                s_turn, s_cost = _grow(s_turn, count), _grow(s_cost, count)
+                s_rung[count], s_parent[count], s_cost[count] = r, src, cost
+                for j in range(d):
+                    s_turn[count, j] = turn[j]
+                table[code] = count
+                touched[n_touched] = code
+                n_touched += 1
+                count += 1
+            j = d - 1  # the next combination of turns, as an odometer
+            while j >= 0 and turn[j] == last[j]:
+                turn[j] = first[j]
+                j -= 1
+            if j < 0:
+                break
+            turn[j] += 1
+    return s_rung, s_parent, s_turn, s_cost, count, n_touched
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
@@ -207,6 +264,18 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step, forbidden, node, weight):
                     touched[n_touched] = code
                     n_touched += 1
                     count += 1
+            if not bounded:  # a jump: every turn too, from the cheapest state before
+                src = -1
+                for t in range(prev_lo, prev_hi if started else prev_lo):
+                    if src < 0 or s_cost[t] < s_cost[src]:
+                        src = t
+                for j in range(d):
+                    Q[j] = q0[j] if src < 0 else B[s_rung[src], j] + TWO_PI * s_turn[src, j]
+                s_rung, s_parent, s_turn, s_cost, count, n_touched = _every_turn(
+                    B, offs[i], offs[i + 1], Q, src, 0.0 if src < 0 else s_cost[src], lo, hi,
+                    periodic, keyed, base, node, weight, table, touched, n_touched, s_rung,
+                    s_parent, s_turn, s_cost, count,
+                )  # fmt: skip
             if count > start or not bounded or (not started and not has_q0):
                 break
             broken[i], hidden[i] = True, seen

@@ -107,7 +107,14 @@ def _edge(admissible: Callable[[float], set[str]], label: str, out: float, insid
 
 def _parameter(arm: ArmModel, tgt: Target, over: str, seed: np.ndarray):
     """(spec, at_value, lower, upper): the solver that answers at one value of ``over``
-    and the range to sample."""
+    and the range to sample (``over`` a name: None would match any option)."""
+    if not isinstance(over, str):
+        raise OptionError(
+            f"over must be the name of what to sweep (an option such as 'swivel', or a "
+            f"joint's name), got {over!r}",
+            option="over",
+            value=over,
+        )
     for spec in registry.declaring(over):
         if spec.parameter is not None and spec.why_not(arm, tgt, None) is None:
             return spec, spec.parameter.at_value, -math.pi, math.pi

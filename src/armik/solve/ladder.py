@@ -12,8 +12,8 @@ programming keeps, for every rung, the least total joint motion (the sum of the 
 Euclidean norms) from q0, and the path is read back from the best last rung. Where no edge
 leaves a waypoint's rungs, every path breaks there: the waypoint is ``discontinuous`` with
 the joint and the size of the smallest possible jump, and the plan goes on from every rung
-after it. The first step is held to ``max_joint_step`` from q0 as every other; without q0
-the path may start on any rung.
+after it, at every turn within the limits. The first step is held to ``max_joint_step``
+from q0 as every other; without q0 the path may start on any rung.
 
 A step within the bound may still hide a jump between its waypoints (a wrist swinging
 through half a turn near a singularity, a joint out of its limits or the pose out of reach
@@ -118,7 +118,7 @@ def plan(
         np.asarray(step, dtype=float),
     )  # fmt: skip
     half = _Halfway(spec, opts, targets, held, turn)
-    rung, Q, broken, hidden, joint, size = _checked(arm, half, args, node, weight)
+    (rung, Q, broken, hidden, joint, size), forbidden = _checked(arm, half, args, node, weight)
     free = periodic & np.isneginf(arm.lower) & np.isposinf(arm.upper)  # no limits: any turn
     if score is not None and score.turns_matter and free.any() and len(B):  # jumps: as scored
         _restarted(arm, Q, B[np.maximum(rung, 0)], rung >= 0, broken, free, turn)
@@ -135,11 +135,14 @@ def plan(
         if broken[i]:
             j = int(joint[i])
             # every solution only from a complete closed form: a search, a sweep, a
-            # sample of the self-motion or a numeric solver's tracks show the answers found
-            every = spec.kind != "numeric" and spec.complete
+            # sample of the self-motion (a swivel's too) or a numeric solver's tracks show
+            # the answers found
+            every = spec.kind != "numeric" and spec.complete and spec.parameter is None
+            onto = _onto(i, B, offs, start, args[4:7], step)[2]
             r = _broken(
-                arm, r, j, float(size[i]), float(step[j]), bool(hidden[i]), first, every, out
-            )
+                arm, r, j, float(size[i]), float(step[j]), bool(hidden[i]), first, every, out,
+                _since(i, rung, broken, q0 is not None, first, forbidden, onto),
+            )  # fmt: skip
             out.reasons[i] = r.reason
         out.put_result(i, r)  # a success's reason is the row's, written when read
         out.q[i] = Q[i]  # the rung turned by 2 pi: the same pose
@@ -238,7 +241,8 @@ class _Halfway(NamedTuple):
 def _checked(arm, half: _Halfway, args: tuple, node, weight):
     """``kernel.plan(*args, forbidden, node, weight)`` where no step taken hides a jump: the
     steps taken are checked, and where one fails, every other step onto its waypoint too;
-    those that fail are forbidden and the path planned again, until the steps taken pass."""
+    those that fail are forbidden and the path planned again, until the steps taken pass.
+    Returns the plan and the forbidden edges' codes."""
     B, offs, start, has_q0, lower, upper, periodic, step = args
     forbidden: set[int] = set()
     clean: set[int] = set()
@@ -252,7 +256,7 @@ def _checked(arm, half: _Halfway, args: tuple, node, weight):
         jumped = _jumps(arm, half, i, Qa, Q[i], start, step)
         clean.update(code[~jumped].tolist())
         if not jumped.any():
-            return got
+            return got, forbidden
         forbidden.update(code[jumped].tolist())
         for w in np.unique(i[jumped]).tolist():  # the other ways onto the waypoint
             Qa, Qb, code = _onto(w, B, offs, start, (lower, upper, periodic), step)
@@ -463,7 +467,17 @@ def _reached(arm, Q, P, R, opts: SolverSettings, aim: Aim | None = None) -> np.n
     return measure_batch(arm, Q, TargetBatch(P, R, aim), opts).pose_ok
 
 
-def _broken(arm, r: IKResult, j: int, size: float, step: float, hidden: bool, first, every, out):
+def _since(i, rung, broken, has_q0, first, forbidden, onto) -> str | None:
+    """Where a path that breaks at ``i`` went on from without a jump (the plan's last break
+    or its start), where a solution of the waypoint before that the plan does not reach
+    goes on to ``i`` in a step no jump hides in (``onto``: the steps' codes); else None."""
+    if first or rung[i - 1] < 0 or not np.isin(onto, list(forbidden), invert=True).any():
+        return None
+    b = [k for k in range(i) if broken[k] and rung[k] >= 0]
+    return f"waypoint {b[-1]}" if b else ("q0" if has_q0 else "its start")
+
+
+def _broken(arm, r: IKResult, j, size, step, hidden: bool, first, every, out, since=None):
     measured = reasons.measured(
         r.position_error, r.orientation_error, out.tol_position, out.tol_orientation
     )
@@ -476,7 +490,9 @@ def _broken(arm, r: IKResult, j: int, size: float, step: float, hidden: bool, fi
         success=False,
         status=Status.DISCONTINUOUS,
         reason=reasons.jump(
-            reasons.every_path_breaks(every, first, hidden, smallest),
+            reasons.every_path_breaks(every, first, hidden, smallest)
+            if since is None
+            else reasons.every_path_since_breaks(every, since, hidden, smallest),
             "the planned answer",
             measured,
         ),

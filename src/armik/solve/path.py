@@ -116,18 +116,25 @@ def solve_path(
                 if (s.declines(opts, target=first) or s.why_not(arm, first, opts)) is None
             )
             every = next(swept, every)
-        if every.sweep is not None or every.kind == "numeric":  # rungs about the followed path
+        # not every solution: a sweep's, a numeric solver's, a swivel's, a search's
+        if every.kind == "numeric" or not every.complete or every.parameter is not None:
             followed = BatchResult.for_arm(
                 arm, n, spec.name, opts, margin=opts.margin, aim=batch.aim
             )
-            used = _walk(arm, batch, q_prev, step, request, local, followed, None, q0 is None, turn)
+            # as plan="follow" solves it: a colliding answer slid clear near the previous one
+            walked = request if opts.slide or not opts.collisions else request.narrowed(slide=True)
+            used = _walk(arm, batch, q_prev, step, walked, local, followed, None, q0 is None, turn)
             if held_auto and used is not None:  # its rows by the solver each waypoint chose
                 object.__setattr__(followed, "solver", used)
-            found = (  # a 7R arm: joint 7 sampled; else answers tracked from start and breaks
-                rungs.held(arm, batch, q_prev, followed, request, every)
-                if every.sweep is not None
-                else rungs.tracked(arm, batch, q_prev, every.name, followed, request)
-            )
+            # a 7R arm: joint 7 sampled, or the swivel at the start's and the followed
+            # answers'; a search's answers and the followed ones; else answers tracked
+            # from the start and the breaks
+            if every.sweep is not None:
+                found = rungs.held(arm, batch, q_prev, followed, request, every)
+            elif every.kind != "numeric":
+                found = rungs.beside(arm, batch, q_prev, followed, request, every)
+            else:
+                found = rungs.tracked(arm, batch, q_prev, every.name, followed, request)
         else:
             found = rungs.every_branch(arm, batch, q_prev, every.name, request)
         out = BatchResult.for_arm(arm, n, every.name, opts, margin=opts.margin, aim=batch.aim)

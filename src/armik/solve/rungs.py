@@ -5,6 +5,10 @@ waypoint that a path may pass through.
 - A 7R arm whose joint 7 the swept closed form holds: every branch at joint 7 values about
   the followed path's and on a grid over its range, and the followed answers (``held``);
   with a joint held (``hold=``), every branch at its value.
+- An arm whose closed form answers at one value of a parameter read from the seed (an SRS
+  arm's swivel, the iiwa): every branch at the start's value and at each followed
+  answer's, and the followed answers (``beside``); a closed form that may miss answers (a
+  search, a spin's sweep): its answers and the followed ones.
 - Any other arm, by its numeric solver: answers tracked along the path (``tracked``): the
   followed path's own, and from distinct answers of ``solve_all`` at the first waypoint and
   where following breaks, each waypoint solved from the track's answer at the one before,
@@ -36,6 +40,7 @@ from armik.result import IKResult
 from armik.solve.stages import run
 from armik.solve.turning import ANY, Turning, turning
 from armik.solvers.closed_form.spin import nearest_spin
+from armik.status import Status
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 
@@ -76,9 +81,10 @@ def held(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> 
     rungs = []
     for i in range(len(batch)):
         found: list = []
-        if followed.success[i]:
-            theta = float(followed.q[i, j])
-            found.append(followed[i])  # where joint 7 admits no closed form exactly there
+        own = reached(followed, i)
+        if own is not None:
+            theta = float(own.q[j])
+            found.append(own)  # where joint 7 admits no closed form exactly there
         target = batch.target(i)
         values = (
             [theta] if held_joint else np.concatenate((np.clip(theta + HELD_OFFSETS, lo, hi), grid))
@@ -90,6 +96,40 @@ def held(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> 
     return rungs
 
 
+def beside(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> list:
+    """The rungs of a closed form that gives not every solution, beside the followed
+    path's: at each waypoint ``spec``'s answers from the start and the followed path's
+    answer, so that the plan passes wherever following does (unless a hidden jump rules a
+    step out); where ``spec`` answers at one value of a parameter it reads from the seed
+    (``Parameter``: an SRS arm's swivel), every branch at the followed answer's value too
+    (the last one reached where following missed), not only at the start's."""
+    reseed = spec.parameter is not None
+    rungs = []
+    seed = np.array(q_start, dtype=float)
+    for i in range(len(batch)):
+        target = batch.target(i)
+        found = every_answer(arm, request, target, q_start, spec.name)
+        own = reached(followed, i)
+        if own is not None:
+            found.append(own)
+            seed = np.array(own.q, dtype=float)
+        if reseed and not np.array_equal(seed, q_start):
+            found += every_answer(arm, request, target, seed, spec.name)
+        rungs.append(found)
+    return rungs
+
+
+def reached(followed, i: int) -> IKResult | None:
+    """The followed path's verified answer at waypoint ``i`` as a rung: its success, or the
+    answer of a jump (``discontinuous``: verified, reported for the move to it, which a
+    plan may make elsewhere); None where it reached nothing."""
+    if followed.success[i]:
+        return followed[i]  # type: ignore[no-any-return]
+    if followed.status_code[i] != Status.DISCONTINUOUS.code:
+        return None
+    return dataclasses.replace(followed[i], success=True, status=Status.CONVERGED)
+
+
 def tracked(arm: ArmModel, batch, q_start: np.ndarray, solver: str, followed, request) -> list:
     """A numeric arm's rungs (see the module): each waypoint's followed result (its own
     failure where nothing reaches it) and every distinct answer a track reached there."""
@@ -97,7 +137,7 @@ def tracked(arm: ArmModel, batch, q_start: np.ndarray, solver: str, followed, re
     targets = [batch.target(i) for i in range(n)]
     local = request.narrowed(max_restarts=0).but(solver=solver)
     turn = turning(arm, request.opts, q_start)
-    rungs: list[list[IKResult]] = [[followed[i]] for i in range(n)]
+    rungs: list[list[IKResult]] = [[reached(followed, i) or followed[i]] for i in range(n)]
     ok = np.asarray(followed.success, dtype=bool)
     breaks = [i for i in range(1, n) if not ok[i] and ok[i - 1]][:BREAKS]
     for s in [0, *breaks]:
