@@ -178,14 +178,15 @@ def _unremoved(E, A, m, scale, h, Hm, mu, Hl, L, free, z):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _weak(sigma, scale, rows, active, free, mu):
+def _weak(sigma, scale, rows, active, rank, free, mu):
     """Whether some direction of the task may have a squared singular value within
     ``WEAK`` of mu (``_unremoved`` then measured; else it would add under 1e-6 of the
     curvature length times the error, the step as good as the plain one, and a tick
     tracking a target saves a second factorisation): a joint pinned at a limit, more rows
-    than joints, or the smallest singular value of the weighted rows (at least sigma over
-    the largest row scale) that small."""
-    if active > free.shape[0]:
+    than can be independent (than joints, or than the tip's structural ranks allow), or
+    the smallest singular value of the weighted rows (at least sigma over the largest row
+    scale) that small."""
+    if active > rank:
         return True
     for i in range(free.shape[0]):
         if free[i] == 0:
@@ -227,10 +228,11 @@ def _within_limits(x, q, state, Hl, t, lb, ub, side, free, L, r, p):
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
-def step_within(E0, A0, E1, A1, rows, active, scale, moved, whole, rows_cb, state, cfg, M6,
-                W, iv, every, act, stalled, saddle):  # fmt: skip
+def step_within(E0, A0, E1, A1, rows, active, rank, scale, moved, whole, rows_cb, state, cfg,
+                M6, W, iv, every, act, stalled, saddle):  # fmt: skip
     """state's q and v advanced by one step toward E0, A0 (``rows`` rows, ``active`` of
-    them counted in the singular value, each at its ``scale``: ``tick.stack``'s), from
+    them counted in the singular value, each at its ``scale``: ``tick.stack``'s, at most
+    ``rank`` of them independent at any q: ``tick.rank_bound``'s), from
     E1, A1 where the target ``moved`` since the last tick, within every limit and the
     collision rows ``rows_cb`` (K, n + 1: C, then b, for C dq >= b).
     With ``whole`` a desired step beyond a joint's velocity limit is scaled as a whole
@@ -260,7 +262,8 @@ def step_within(E0, A0, E1, A1, rows, active, scale, moved, whole, rows_cb, stat
             Hm[i, j] = s
             Hm[j, i] = s
     last_k = np.int64(cfg[GRAM])
-    sigma, k = smallest_singular(A0, rows, active, scale, S, u, last_k, Ls, tmp, side)
+    rank = min(n, rank)  # (W[16] is scratch until the collision rows)
+    sigma, k = smallest_singular(A0, rows, active, rank, scale, S, u, last_k, Ls, tmp, side, W[16])
     cfg[GRAM] = k
     eps = cfg[SIGMA_EPS]
     lam, err2 = cfg[LAM_MIN], 0.0
@@ -277,7 +280,7 @@ def step_within(E0, A0, E1, A1, rows, active, scale, moved, whole, rows_cb, stat
     # damped for the terms the Gauss-Newton step leaves out (``UNREMOVED``); at a saddle
     # (``minimum``), the plain step, which leaves it at once
     mu = UNREMOVED * cfg[CURVE] * math.sqrt(err2)
-    if err2 > 0.0 and not saddle and _weak(sigma, scale, rows, active, sub, mu):
+    if err2 > 0.0 and not saddle and _weak(sigma, scale, rows, active, rank, sub, mu):
         left2, whole2 = _unremoved(E0, A0, rows, scale, y, Hm, mu, Hl, Lm, sub, tmp)
         extra = cfg[CURVE] * left2 * math.sqrt(left2) / whole2 if whole2 > 0.0 else 0.0
         if extra > RESIDUAL * lam:  # (else the plain step, to the last bit)
