@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from armik.kernel.linalg import cholesky_block
@@ -31,6 +32,7 @@ SETTLED = 1e-14  # stop when a round moves the estimate by less (of the Gram's t
 SHIFT = 1e-13  # of the trace: keeps a singular Gram's factor positive definite
 BELOW = 0.98  # the shift: this share of the Rayleigh quotient, where it keeps S - shift I
 # positive definite
+COLD = np.bool_(False)  # a fixed start (typed: a literal would compile ``smallest`` again)
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
@@ -182,7 +184,7 @@ def smallest_singular(A, rows, active, rank, scale, S, u, last_k, L, y, idx, v):
     (n floats, scratch). ``idx`` (n ints) is scratch."""
     k = gram(A, rows, active, scale, S, idx)
     for _ in range(k - min(k, rank)):
-        smallest(S, k, v, False, L, y)
+        smallest(S, k, v, COLD, L, y)
         _lift(S, k, v)
     ev = smallest(S, k, u, k == last_k, L, y)
     return (math.sqrt(ev) if ev < math.inf else math.inf), k
