@@ -10,9 +10,9 @@ from armik.servo.box import velocity_box
 from armik.servo.singular import smallest_singular
 
 
-def _sigma(A, rows, last_k=-1, u=None, scale=None):
+def _sigma(A, rows, last_k=-1, u=None, scale=None, rank=1000):
     """The servo's sigma of A's first ``rows`` rows, each at its ``scale`` (default: 1 for
-    a nonzero row, 0 for a zero one)."""
+    a nonzero row, 0 for a zero one), at most ``rank`` of them independent."""
     n = A.shape[1]
     if scale is None:
         scale = (np.abs(A).sum(axis=1) > 0).astype(float)
@@ -20,8 +20,8 @@ def _sigma(A, rows, last_k=-1, u=None, scale=None):
     u = np.zeros(n) if u is None else u
     work = np.zeros((3, n, n))
     sigma, k = smallest_singular(
-        A, rows, active, scale, work[0], u, last_k, work[1], np.zeros(n),
-        np.zeros(n, dtype=np.int64),
+        A, rows, active, rank, scale, work[0], u, last_k, work[1], np.zeros(n),
+        np.zeros(n, dtype=np.int64), np.zeros(n),
     )  # fmt: skip
     return sigma, k, u
 
@@ -79,6 +79,23 @@ def test_smallest_singular_value_warm_and_singular(rng):
     A[:6, 1] = 2.0 * A[:6, 0]
     sigma, _, _ = _sigma(A, 6, k, u)
     assert 0.0 <= sigma < 1e-6
+
+
+@pytest.mark.parametrize(("n", "rows", "rank"), [(4, 3, 2), (7, 6, 5), (5, 9, 3), (7, 3, 1)])
+def test_the_rank_th_singular_value_of_rows_of_lower_rank(n, rows, rank, rng):
+    """Rows of rank ``rank`` at every q (a tip on a joint's axis): sigma is the rank-th
+    largest singular value, the smaller ones (zero) lifted out of the way, from a cold
+    start and from the last call's vector on a turning matrix."""
+    u, k = None, -1
+    base = rng.normal(size=(rows, rank)) @ rng.normal(size=(rank, n))
+    for t in range(20):
+        A = np.zeros((24, n))
+        turn = np.linalg.qr(np.eye(rows) + 1e-2 * t * rng.normal(size=(rows, rows)))[0]
+        A[:rows] = turn @ base
+        sigma, k, u = _sigma(A, rows, k, u, rank=rank)
+        expected = np.linalg.svd(A, compute_uv=False)[rank - 1]
+        assert abs(sigma - expected) <= 1e-10 * max(1.0, expected)
+        assert expected > 1e-3  # (a value the plain smallest would read as 0)
 
 
 def test_box_never_empty_and_braking_stops_before_the_limit(rng):

@@ -189,3 +189,20 @@ def test_the_irb120_sent_far_away_and_back_recovers(away):
     record = arm.servo(q0, dt=0.002).track([far] * away + [T0] * 500)
     assert record.status[-1] == "on_target" and record.position_error[-1] < 1e-9
     assert "stalled" not in set(record.status.tolist())
+
+
+def test_near_a_singularity_the_pull_never_holds_the_arm_short_of_its_target():
+    """The Kinova sent 25 cm along y comes near its wrist singularity (sigma 0.02), where
+    the damping's pull toward q0 once balanced the gradient: it came to rest 0.8 mm off a
+    target a Gauss-Newton step from there reaches, saying 'singularity' for good. The
+    pull now acts only along what no row sees: on target, by Pinocchio's FK."""
+    arm = armik.load("kinova")
+    q0 = np.array([0.41, 3.82, 3.6, 0.38, 2.65, -0.12])
+    T0 = arm.fk(q0)
+    target = pin.SE3(T0.rotation, T0.translation + np.array([0.0, 0.25, 0.0]))
+    record = arm.servo(q0).track([target] * 2000)
+    assert record.sigma[-1] < 0.05  # (near the singularity)
+    assert set(record.status[-500:].tolist()) == {"on_target"}
+    T = arm.fk(record.q[-1])
+    assert np.linalg.norm(T.translation - target.translation) < 1e-6
+    assert np.linalg.norm(pin.log3(target.rotation.T @ T.rotation)) < 1e-6

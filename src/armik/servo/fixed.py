@@ -27,6 +27,22 @@ def never_moved(arm: ArmModel) -> np.ndarray:
     return np.stack([_left_null(J[:3]), _left_null(J[3:])])
 
 
+def structural_ranks(arm: ArmModel) -> np.ndarray:
+    """(3,) floats: the ranks of the tip's base-frame Jacobian at joint values where it is
+    of full rank (the largest over the same samples as ``never_moved``): of its linear
+    rows, its angular rows and the six. A tip on a joint's axis never moves along it:
+    the Panda's ``panda_link4`` moves on a sphere around the shoulder, its position rows of
+    rank 2 at every q, so the smallest of three singular values is always zero and a
+    singularity is read off the rank-th (``armik.servo.tick.rank_bound``)."""
+    qs = [arm.middle, *arm.random_q(np.random.default_rng(0), SAMPLES)]
+    ranks = np.zeros(3)
+    for q in qs:
+        J = arm.jacobian(q, "base")
+        for i, M in enumerate((J[:3], J[3:], J)):
+            ranks[i] = max(ranks[i], _rank(M))
+    return ranks
+
+
 def _left_null(M: np.ndarray) -> np.ndarray:
     """The projector onto the directions that no column of M reaches."""
     U, s, _ = np.linalg.svd(M, full_matrices=True)
@@ -34,3 +50,10 @@ def _left_null(M: np.ndarray) -> np.ndarray:
     rank = int((s > RELATIVE * max(top, 1.0)).sum())
     N = U[:, rank:]
     return N @ N.T
+
+
+def _rank(M: np.ndarray) -> int:
+    """M's rank: its singular values above ``RELATIVE`` of the largest (or of 1)."""
+    s = np.linalg.svd(M, compute_uv=False)
+    top = s.max() if s.size else 0.0
+    return int((s > RELATIVE * max(top, 1.0)).sum())

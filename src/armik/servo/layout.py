@@ -37,7 +37,10 @@ GRAM, LAST = 10, 11  # the size of the Gram matrix whose vector is kept; the las
 FIXED = 12
 # the length (m) that bounds the task's second derivatives (``servo.curvature``)
 CURVE = FIXED + 18
-CFG = CURVE + 1
+# the tip's structural ranks: its linear rows', its angular rows', the six's
+# (``armik.servo.fixed.structural_ranks``): what bounds how many rows are independent
+RANKS = CURVE + 1
+CFG = RANKS + 3
 # entries of out
 POS_ERR, ORI_ERR, CODE, JOINT, SIGMA, CONFLICT = range(6)
 OUT = 6

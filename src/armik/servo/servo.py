@@ -16,7 +16,7 @@ from armik.model.union import Union
 from armik.servo import layout as k
 from armik.servo import table as _table
 from armik.servo.collisions import margin_given, rows_for
-from armik.servo.fixed import never_moved
+from armik.servo.fixed import never_moved, structural_ranks
 from armik.servo.limits import (
     DEFAULT_ACCELERATION,
     gain_of,
@@ -90,6 +90,7 @@ def at_rest(
     amax = through_mimics(amax, mimic_own(arm, acceleration_limits, False, DEFAULT_ACCELERATION))
     if isinstance(arm, ArmModel):  # (a union's, per tip: ``UnionServo``)
         cfg[k.FIXED : k.FIXED + 18] = never_moved(arm).ravel()
+        cfg[k.RANKS : k.RANKS + 3] = structural_ranks(arm)
     state[k.Q], state[k.REST] = q, q
     state[k.VMAX], state[k.AMAX] = vmax, amax
     state[k.LO], state[k.HI] = arm.lower, arm.upper

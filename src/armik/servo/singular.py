@@ -1,5 +1,6 @@
 """The smallest singular value that the servo's damping reads, compiled: the r-th largest
-singular value of the task Jacobian A (r = min(counted rows, n)), by inverse iteration.
+singular value of the task Jacobian A (r = min(counted rows, n, the rows' structural
+rank)), by inverse iteration.
 
 Which rows count, and at which scale, is the row's ``scale`` (``armik.servo.tick``'s
 ``stack``): 0 for a row the task does not ask for (a freed axis, a zero weight, a region's
@@ -21,6 +22,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from armik.kernel.linalg import cholesky_block
@@ -30,6 +32,7 @@ SETTLED = 1e-14  # stop when a round moves the estimate by less (of the Gram's t
 SHIFT = 1e-13  # of the trace: keeps a singular Gram's factor positive definite
 BELOW = 0.98  # the shift: this share of the Rayleigh quotient, where it keeps S - shift I
 # positive definite
+COLD = np.bool_(False)  # a fixed start (typed: a literal would compile ``smallest`` again)
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
@@ -158,12 +161,30 @@ def _rayleigh(S, u, k):
     return s
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _lift(S, k, v):
+    """S's k x k block plus its trace times v v^T (v of unit length): v's eigenvalue, near
+    zero, raised above every other, which keep theirs where v is an eigenvector."""
+    trace = 0.0
+    for i in range(k):
+        trace += S[i, i]
+    for i in range(k):
+        for j in range(k):
+            S[i, j] += trace * v[i] * v[j]
+
+
 @njit(cache=True, nogil=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
-def smallest_singular(A, rows, active, scale, S, u, last_k, L, y, idx):
+def smallest_singular(A, rows, active, rank, scale, S, u, last_k, L, y, idx, v):
     """(sigma, k): the r-th largest singular value of A's rows times their ``scale`` (r =
-    min(active, n), ``active`` the rows of nonzero scale) and the size k of the Gram matrix
-    it came from; u holds the last call's vector where that was of size ``last_k``.
-    ``idx`` (n ints) is scratch."""
+    min(active, n, rank), ``active`` the rows of nonzero scale, ``rank`` at most how many
+    of them are independent at any q: ``tick.rank_bound``) and the size k of the Gram
+    matrix it came from; u holds the last call's vector where that was of size
+    ``last_k``. Where r < k, the k - r smallest eigenvalues (zero at every q) are found
+    first and lifted out of the way, each by inverse iteration from a fixed start into v
+    (n floats, scratch). ``idx`` (n ints) is scratch."""
     k = gram(A, rows, active, scale, S, idx)
+    for _ in range(k - min(k, rank)):
+        smallest(S, k, v, COLD, L, y)
+        _lift(S, k, v)
     ev = smallest(S, k, u, k == last_k, L, y)
     return (math.sqrt(ev) if ev < math.inf else math.inf), k

@@ -68,6 +68,7 @@ BRAKED = 10.0  # tolerances: slowing to stop on a target farther than this is re
 UNREMOVED = 1e-2
 RESIDUAL = 1e-3  # of the plain damping: below it none (the plain step to the last bit)
 WEAK = 1e2  # (``_weak``)
+UNSEEN = 1e-12  # of the normal matrix's trace: the pull's damping (``_unseen``)
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -134,17 +135,40 @@ def _inverse(L, free, unit, col, Gi):
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
-def _gradient(E, A, m, g, lam, pull, state):
-    """g = A^T E + lam pull (rest - q): the minimiser of |A x - E|^2 + lam |x - z|^2 is
-    (A^T A + lam I)^-1 (A^T E + lam z), with z a pull toward the rest posture, which thus
-    acts only along the directions the damping gives up (near a singularity, far from
-    the target), so that the arm leaves a stretched, limit-held posture."""
+def _gradient(E, A, m, g, lam, pull, z):
+    """g = A^T E + lam pull z: the minimiser of |A x - E|^2 + lam |x - pull z|^2 is (A^T A +
+    lam I)^-1 (A^T E + lam pull z), with z the way to the rest posture that no row sees
+    (``_unseen``), which thus acts only along the directions the damping gives up and the
+    task leaves free, so that the arm leaves a stretched, limit-held posture."""
     n = A.shape[1]
     for i in range(n):
         s = 0.0
         for r in range(m):
             s += A[r, i] * E[r]
-        g[i] = s + lam * pull * (state[REST, i] - state[Q, i])
+        g[i] = s + lam * pull * z[i]
+
+
+@njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
+def _unseen(Hm, state, Hl, L, every, t, z):
+    """z: the way to the rest posture, rest - q, projected onto the directions in which
+    the rows do not move, ``mu (A^T A + mu I)^-1`` (mu a share ``UNSEEN`` of the trace: 1
+    along a null direction of A, mu / s^2 along one of singular value s): a redundant
+    arm's self-motion, a stretched arm's fold. Along a direction the rows see, however
+    weakly, the pull balanced the gradient near a singularity and the arm came to rest
+    short of a target it reaches (a Kinova 0.9 mm off for good, saying ``singularity``).
+    ``Hl``, ``L`` (n x n) and ``t`` (n) are scratch."""
+    n = Hm.shape[0]
+    trace = 0.0
+    for i in range(n):
+        trace += Hm[i, i]
+    mu = UNSEEN * (trace + 1.0)
+    for i in range(n):
+        t[i] = mu * (state[REST, i] - state[Q, i])
+    if _damped_factor(Hm, mu, Hl, L, every):
+        cholesky_substitute(L, t, every, z)
+    else:
+        for i in range(n):
+            z[i] = 0.0
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
@@ -178,14 +202,15 @@ def _unremoved(E, A, m, scale, h, Hm, mu, Hl, L, free, z):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _weak(sigma, scale, rows, active, free, mu):
+def _weak(sigma, scale, rows, active, rank, free, mu):
     """Whether some direction of the task may have a squared singular value within
     ``WEAK`` of mu (``_unremoved`` then measured; else it would add under 1e-6 of the
     curvature length times the error, the step as good as the plain one, and a tick
     tracking a target saves a second factorisation): a joint pinned at a limit, more rows
-    than joints, or the smallest singular value of the weighted rows (at least sigma over
-    the largest row scale) that small."""
-    if active > free.shape[0]:
+    than can be independent (than joints, or than the tip's structural ranks allow), or
+    the smallest singular value of the weighted rows (at least sigma over the largest row
+    scale) that small."""
+    if active > rank:
         return True
     for i in range(free.shape[0]):
         if free[i] == 0:
@@ -227,10 +252,11 @@ def _within_limits(x, q, state, Hl, t, lb, ub, side, free, L, r, p):
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
-def step_within(E0, A0, E1, A1, rows, active, scale, moved, whole, rows_cb, state, cfg, M6,
-                W, iv, every, act, stalled, saddle):  # fmt: skip
+def step_within(E0, A0, E1, A1, rows, active, rank, scale, moved, whole, rows_cb, state, cfg,
+                M6, W, iv, every, act, stalled, saddle):  # fmt: skip
     """state's q and v advanced by one step toward E0, A0 (``rows`` rows, ``active`` of
-    them counted in the singular value, each at its ``scale``: ``tick.stack``'s), from
+    them counted in the singular value, each at its ``scale``: ``tick.stack``'s, at most
+    ``rank`` of them independent at any q: ``tick.rank_bound``'s), from
     E1, A1 where the target ``moved`` since the last tick, within every limit and the
     collision rows ``rows_cb`` (K, n + 1: C, then b, for C dq >= b).
     With ``whole`` a desired step beyond a joint's velocity limit is scaled as a whole
@@ -260,7 +286,8 @@ def step_within(E0, A0, E1, A1, rows, active, scale, moved, whole, rows_cb, stat
             Hm[i, j] = s
             Hm[j, i] = s
     last_k = np.int64(cfg[GRAM])
-    sigma, k = smallest_singular(A0, rows, active, scale, S, u, last_k, Ls, tmp, side)
+    rank = min(n, rank)  # (W[16] is scratch until the collision rows)
+    sigma, k = smallest_singular(A0, rows, active, rank, scale, S, u, last_k, Ls, tmp, side, W[16])
     cfg[GRAM] = k
     eps = cfg[SIGMA_EPS]
     lam, err2 = cfg[LAM_MIN], 0.0
@@ -271,13 +298,15 @@ def step_within(E0, A0, E1, A1, rows, active, scale, moved, whole, rows_cb, stat
         lam += cfg[LAM_MAX] * (1.0 - (sigma / eps) ** 2)
     pull = cfg[PULL] * dt * (lam - cfg[LAM_MIN]) / lam  # none on a plain step
     lam_g = lam
-    _gradient(E0, A0, rows, g, lam, pull, state)
+    z = W[17]  # the pull's way, along what no row sees (W[16:19] scratch until the rows)
+    _unseen(Hm, state, Hl, Lm, every, tmp, z)
+    _gradient(E0, A0, rows, g, lam, pull, z)
     for i in range(n):  # y = A^T E: the pull taken back out of g
-        y[i] = g[i] - lam * pull * (state[REST, i] - q[i])
+        y[i] = g[i] - lam * pull * z[i]
     # damped for the terms the Gauss-Newton step leaves out (``UNREMOVED``); at a saddle
     # (``minimum``), the plain step, which leaves it at once
     mu = UNREMOVED * cfg[CURVE] * math.sqrt(err2)
-    if err2 > 0.0 and not saddle and _weak(sigma, scale, rows, active, sub, mu):
+    if err2 > 0.0 and not saddle and _weak(sigma, scale, rows, active, rank, sub, mu):
         left2, whole2 = _unremoved(E0, A0, rows, scale, y, Hm, mu, Hl, Lm, sub, tmp)
         extra = cfg[CURVE] * left2 * math.sqrt(left2) / whole2 if whole2 > 0.0 else 0.0
         if extra > RESIDUAL * lam:  # (else the plain step, to the last bit)
@@ -291,7 +320,7 @@ def step_within(E0, A0, E1, A1, rows, active, scale, moved, whole, rows_cb, stat
     for i in range(n):
         x_old[i] = x[i]
     if moved and not stalled:  # the whole correction to the last tick's target, at this q
-        _gradient(E1, A1, rows, y, lam_g, pull, state)
+        _gradient(E1, A1, rows, y, lam_g, pull, z)
         cholesky_substitute(Lc, y, every, x_old)
         _within_limits(x_old, q, state, Hl, xf, lb, ub, side, sub, Lm, gap, mult)
     # desired velocity: feed-forward of the target's motion, plus the last tick's remaining

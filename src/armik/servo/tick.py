@@ -6,9 +6,9 @@ A tick, from the joint values q and the last velocity v_prev (``state``):
 
 1. the stacked error E and its Jacobian A at q, for this tick's target and for the last
    tick's (its motion since);
-2. the smallest of A's ``min(rows, n)`` largest singular values over the unweighted rows
-   the task asks for (``stack``, ``armik.servo.singular``) says how close the arm is to a
-   singularity, and the damping grows as it falls below
+2. the smallest of A's ``min(rows, n, rank)`` largest singular values over the unweighted
+   rows the task asks for (``stack``, ``rank_bound``, ``armik.servo.singular``) says how
+   close the arm is to a singularity, and the damping grows as it falls below
    ``SIGMA`` (so that the arm keeps moving along the directions it still has); the damped
    normal matrix ``A^T A + lam I`` is factored by Cholesky;
 3. the desired step: the target's motion in joint space (feed-forward), plus the last
@@ -45,6 +45,7 @@ from armik.servo.layout import (
     LOOK,
     MAX_TASKS,
     POS,
+    RANKS,
     REACH_SLACK,
     ROT,
     SIGHT,
@@ -150,6 +151,29 @@ def stack(table, tasks, ws, E, A, fixed, scale):
             if sc != 0.0:
                 active += 1
     return reg_p, reg_r, active
+
+
+@njit(cache=True, nogil=True, inline="always")
+def rank_bound(table, tasks, scale, ranks):
+    """How many of the rows counted in the singular value (``stack``'s ``scale``) can be
+    independent at any q: the tip's structural ranks (``armik.servo.fixed``'s: its linear
+    velocity's, its angular velocity's, its twist's) bound those of the position rows
+    (each reads the linear velocity), of the rotation's and a cone's (the angular
+    velocity) and of all; a line of sight's rows read both. The damping's sigma is the
+    bound-th singular value: the smallest of more rows would be zero at every q."""
+    lin = ang = both = 0
+    for t in range(tasks):
+        look = table[t, LOOK] != NO_LOOK
+        for k in range(6):
+            if scale[6 * t + k] != 0.0:
+                if k < 3:
+                    lin += 1
+                elif look:
+                    both += 1
+                else:
+                    ang += 1
+    r_lin, r_ang, r_all = np.int64(ranks[0]), np.int64(ranks[1]), np.int64(ranks[2])
+    return min(r_all, min(lin, r_lin) + min(ang, r_ang) + both)
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
@@ -303,6 +327,7 @@ def tick(target, mem, imem, rows_cb):
     rows = 6 * tasks
     E0, A0, E1, A1 = E[0:m], A2[0], E[m : 2 * m], A2[1]
     reg_p, reg_r, active = stack(table, tasks, ws, E0, A0, fixed, sc[0])
+    rank = rank_bound(table, tasks, sc[0], cfg[RANKS : RANKS + 3])
     within = reg_p <= cfg[TOL_P] and reg_r <= cfg[TOL_R]
     free = iv[2]
     saddle = first_order(E0, A0, rows, state, cfg, W[15], free)
@@ -320,8 +345,8 @@ def tick(target, mem, imem, rows_cb):
     # a bool, not the literal True: one compiled step_within with the union's tick (False)
     whole = bool(True)  # noqa: UP018
     held = step_within(
-        E0, A0, E1, A1, rows, active, sc[0], moved, whole, rows_cb, state, cfg, M6, W, iv,
-        every, act, stalled, saddle,
+        E0, A0, E1, A1, rows, active, rank, sc[0], moved, whole, rows_cb, state, cfg, M6, W,
+        iv, every, act, stalled, saddle,
     )  # fmt: skip
     # the true distances the command leaves (the FK at the new joint values)
     forward(ch, q, R, p, ws.geo[0], ws.geo[1])

@@ -30,7 +30,7 @@ from armik.frozen import frozen
 from armik.model.arm_model import _violation
 from armik.model.union import Union
 from armik.servo import layout as k
-from armik.servo.fixed import never_moved
+from armik.servo.fixed import never_moved, structural_ranks
 from armik.servo.limits import (
     time_step,
 )
@@ -101,9 +101,10 @@ class UnionServo(Commanded):
         kinds = np.concatenate([f.kind for f in flats])
         self._mem, self._imem = allocate(n, packed, kinds, at, np.concatenate(self._cols))
         views = python_views(self._mem, self._imem)
-        self._state, self._cfg, self._out, self._tables, self._H, self._counts, fixed = views
+        self._state, self._cfg, self._out, self._tables, self._H, self._counts, fixed, ranks = views
         for t, arm in enumerate(arms):
             fixed[t] = never_moved(arm)  # type: ignore[arg-type]
+            ranks[t] = structural_ranks(arm)  # type: ignore[arg-type]
         at_rest(
             self._state, self._cfg, union, q, self.dt, velocity_limits, acceleration_limits,
             gain, tol_position, tol_orientation,

@@ -45,7 +45,7 @@ from armik.servo.layout import (
 )
 from armik.servo.minimum import PROBE, curvature_column, first_order, no_descent
 from armik.servo.step import scratch, scratch_size, status_code, step_within
-from armik.servo.tick import equal, pose_row, regions, stack, views
+from armik.servo.tick import equal, pose_row, rank_bound, regions, stack, views
 
 # ints: n, tips, the most joint values and the most joints of a chain, the lengths of
 # the chains' packed floats, kinds and maps
@@ -84,14 +84,14 @@ def allocate(
 @njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def offsets(head):
     """Where each part starts in mem (state, cfg, out, out2, the last tables, the tables,
-    the poses and each tip's ``fixed`` projectors (``tick.stack``'s), the packed floats, the
-    rest) and in imem (the last counts, the counts,
-    ``at``, the kinds, the maps, the rest), from imem's header."""
+    the poses, each tip's ``fixed`` projectors (``tick.stack``'s) and its structural
+    ranks (``tick.rank_bound``'s), the packed floats, the rest) and in imem (the last
+    counts, the counts, ``at``, the kinds, the maps, the rest), from imem's header."""
     n, tips, P, K, M = head[0], head[1], head[4], head[5], head[6]
     table = tips * MAX_TASKS * COLUMNS
     f0 = STATE_ROWS * n
     f = (0, f0, f0 + CFG, f0 + CFG + OUT, f0 + CFG + 2 * OUT)
-    f = f + (f[4] + table, f[4] + 2 * table, f[4] + 2 * table + 34 * tips)
+    f = f + (f[4] + table, f[4] + 2 * table, f[4] + 2 * table + 37 * tips)
     f = f + (f[7] + P,)
     i = (HEADER, HEADER + tips, HEADER + 2 * tips)
     i = i + (i[2] + 3 * (tips + 1),)
@@ -100,8 +100,8 @@ def offsets(head):
 
 
 def python_views(mem: np.ndarray, imem: np.ndarray) -> tuple[np.ndarray, ...]:
-    """(state, cfg, out, tables, poses, counts, fixed): the views the ``UnionServo`` reads
-    and sets."""
+    """(state, cfg, out, tables, poses, counts, fixed, ranks): the views the
+    ``UnionServo`` reads and sets."""
     f, i = offsets(imem[:HEADER])
     n, tips = int(imem[0]), int(imem[1])
     return (
@@ -111,7 +111,8 @@ def python_views(mem: np.ndarray, imem: np.ndarray) -> tuple[np.ndarray, ...]:
         mem[f[5] : f[6]].reshape((tips * MAX_TASKS, COLUMNS)),
         mem[f[6] : f[6] + 16 * tips].reshape((tips, 4, 4)),
         imem[i[1] : i[2]],
-        mem[f[6] + 16 * tips : f[7]].reshape((tips, 2, 3, 3)),
+        mem[f[6] + 16 * tips : f[6] + 34 * tips].reshape((tips, 2, 3, 3)),
+        mem[f[6] + 34 * tips : f[7]].reshape((tips, 3)),
     )
 
 
@@ -128,7 +129,7 @@ def stacked(mem: np.ndarray, imem: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 @njit(cache=True, nogil=True, inline="always")
 def _carve(mem, imem):
     """The parts of ``offsets``: (state, cfg, out, out2, lasts, tables, poses, fixed,
-    packed, the floats' rest), (last counts, counts, at, kinds, maps, the ints' rest)."""
+    ranks, packed, the floats' rest), (last counts, counts, at, kinds, maps, the ints' rest)."""
     n, tips = imem[0], imem[1]
     f, i = offsets(imem[:HEADER])
     rows = tips * MAX_TASKS
@@ -140,7 +141,8 @@ def _carve(mem, imem):
         mem[f[4] : f[5]].reshape((rows, COLUMNS)),
         mem[f[5] : f[6]].reshape((rows, COLUMNS)),
         mem[f[6] : f[6] + 16 * tips].reshape((tips, 4, 4)),
-        mem[f[6] + 16 * tips : f[7]].reshape((tips, 2, 3, 3)),
+        mem[f[6] + 16 * tips : f[6] + 34 * tips].reshape((tips, 2, 3, 3)),
+        mem[f[6] + 34 * tips : f[7]].reshape((tips, 3)),
         mem[f[7] : f[8]],
         mem[f[8] :],
     )
@@ -157,17 +159,18 @@ def _carve(mem, imem):
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def _rows(tables, counts, lasts, last_counts, packed, kinds, at, maps, q, buf, ibuf, E, A,
-          fixed, scale):  # fmt: skip
+          fixed, ranks, scale):  # fmt: skip
     """E[0], A[0]: every tip's rows toward its target at the union's joint values q, the
     chains' columns scattered into the union's, and their ``scale`` in the singular value
     (``tick.stack``'s, tip t's with the projectors ``fixed[t]``); E[1], A[1] toward the
     last tick's target where a tip's moved (of the same form), else this tick's. ``buf``,
     ``ibuf``: a chain's scratch. Returns (largest position and rotation distances from the
-    regions, rows, counted rows, whether a target moved)."""
+    regions, rows, counted rows, at most how many of them are independent (the tips'
+    ``tick.rank_bound`` with their ``ranks[t]``), whether a target moved)."""
     n = q.shape[0]
     most = ibuf.shape[0] // 3
     reg_p = reg_r = 0.0
-    rows = active = 0
+    rows = active = bound = 0
     moved = False
     for t in range(counts.shape[0]):
         cols = maps[at[2, t] : at[2, t + 1]]
@@ -188,6 +191,7 @@ def _rows(tables, counts, lasts, last_counts, packed, kinds, at, maps, q, buf, i
         table = tables[t * MAX_TASKS : t * MAX_TASKS + k]
         rp, rr, act = stack(table, k, ws, Ec, Ac, fixed[t], Sc)
         reg_p, reg_r, active = max(reg_p, rp), max(reg_r, rr), active + act
+        bound += rank_bound(table, k, Sc, ranks[t])
         _scatter(Ec, Ac, cols, rows, 6 * k, n, E[0], A[0])
         for r in range(6 * k):
             scale[rows + r] = Sc[r]
@@ -202,7 +206,7 @@ def _rows(tables, counts, lasts, last_counts, packed, kinds, at, maps, q, buf, i
         moved = moved or turned
         _scatter(Ec, Ac, cols, rows, 6 * k, n, E[1], A[1])
         rows += 6 * k
-    return reg_p, reg_r, rows, active, moved
+    return reg_p, reg_r, rows, active, bound, moved
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -234,15 +238,15 @@ def rows_at(q, mem, imem):
     """``_rows`` at q (the test's view of them): the rows written, in the step's scratch
     (``stacked``); -1 for a pose that is not plain."""
     n, tips = imem[0], imem[1]
-    (state, cfg, out, out2, lasts, tables, H, fixed, packed, buf), ints = _carve(mem, imem)
+    (state, cfg, out, out2, lasts, tables, H, fixed, ranks, packed, buf), ints = _carve(mem, imem)
     last_counts, counts, at, kinds, maps, ib = ints
     if _poses(tables, counts, H) >= 0:
         return -1
     cw = chain_floats(imem[2], imem[3])
     E, A2, M6, W, act, sc, o = scratch(buf, cw, n, 6 * MAX_TASKS * tips)
     m = E.shape[0] // 2
-    res = _rows(tables, counts, lasts, last_counts, packed, kinds, at, maps,
-                q, buf[:cw], ib[: 3 * imem[2]], E.reshape((2, m)), A2, fixed, sc[0])  # fmt: skip
+    res = _rows(tables, counts, lasts, last_counts, packed, kinds, at, maps, q, buf[:cw],
+                ib[: 3 * imem[2]], E.reshape((2, m)), A2, fixed, ranks, sc[0])  # fmt: skip
     return res[2]
 
 
@@ -260,7 +264,7 @@ def tick(mem, imem, rows_cb):
     having done nothing, the first tip whose pose H[t] is not one the target parser keeps
     as given (the caller parses it)."""
     n, tips, most = imem[0], imem[1], imem[2]
-    (state, cfg, out, out2, lasts, tables, H, fixed, packed, buf), ints = _carve(mem, imem)
+    (state, cfg, out, out2, lasts, tables, H, fixed, ranks, packed, buf), ints = _carve(mem, imem)
     last_counts, counts, at, kinds, maps, ib = ints
     bad = _poses(tables, counts, H)
     if bad >= 0:
@@ -273,9 +277,9 @@ def tick(mem, imem, rows_cb):
     every = ib[3 * most + 4 * n : 3 * most + 5 * n]
     q = state[Q]
     E2 = E.reshape((2, m))
-    reg_p, reg_r, rows, active, moved = _rows(
+    reg_p, reg_r, rows, active, rank, moved = _rows(
         tables, counts, lasts, last_counts, packed, kinds, at, maps, q, cbuf, cibuf, E2, A2,
-        fixed, sc[0],
+        fixed, ranks, sc[0],
     )  # fmt: skip
     within = reg_p <= cfg[TOL_P] and reg_r <= cfg[TOL_R]
     free = iv[2]
@@ -292,7 +296,7 @@ def tick(mem, imem, rows_cb):
             step = PROBE * max(1.0, abs(qj))
             q[j] = qj + step
             _rows(tables, counts, lasts, last_counts, packed, kinds, at, maps, q, cbuf, cibuf,
-                  Ep, Ap, fixed, scp)  # fmt: skip
+                  Ep, Ap, fixed, ranks, scp)  # fmt: skip
             q[j] = qj
             curvature_column(E2[0], A2[0], Ap[0], rows, step, j, M6[0])
         stalled = no_descent(E2[0], A2[0], rows, M6[0], free, cfg, M6[1], M6[2])
@@ -300,8 +304,8 @@ def tick(mem, imem, rows_cb):
     # a bool, not the literal False: one compiled step_within with the chain's tick (True)
     whole = bool(False)  # noqa: UP018
     held = step_within(
-        E2[0], A2[0], E2[1], A2[1], rows, active, sc[0], moved, whole, rows_cb, state, cfg,
-        M6, W, iv, every, act, stalled, saddle,
+        E2[0], A2[0], E2[1], A2[1], rows, active, rank, sc[0], moved, whole, rows_cb, state,
+        cfg, M6, W, iv, every, act, stalled, saddle,
     )  # fmt: skip
     # the true distances the command leaves (each chain's FK at the new joint values)
     far = False
