@@ -267,7 +267,8 @@ class Verdicts:
         """``order`` without a success within ``DUPLICATE_TOL`` of one before it in every
         joint: the same solution, which a closed form can find twice at a double root (two
         rows 1e-8 apart at a singular target), listed once."""
-        ok = [i for i in order if self.succeeded(i)]
+        good = (self.status == _CONVERGED).tolist()  # one pass, no call a row
+        ok = [i for i in order if good[i]]
         if len(ok) < 2:
             return order
         S = self.answers.q[ok]

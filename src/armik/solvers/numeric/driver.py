@@ -344,6 +344,7 @@ def pose_runner(
     entry = POSE_ENTRIES[step.kind]
     packed, kind, halton_ = arm.kernel_chain.flat
     unlimited = rails.UNLIMITED(arm)
+    on_rails = len(unlimited) > 0  # read once: no call in a warm solve
     converged_code = _descent.CONVERGED
     # a rotation the arm's structure bounds, plainly measured: refused by ``run_numeric``
     bounded = orientations.FAMILY(arm) is not None
@@ -363,7 +364,7 @@ def pose_runner(
         info = np.empty(5, dtype=np.int64)
         err = np.empty(2)
         chain = packed
-        if len(unlimited):  # restarts along a rail without limits: toward the target
+        if on_rails:  # restarts along a rail without limits: toward the target
             chain = rails.toward(arm, H[:3, 3], np.asarray(q0, dtype=float), unlimited)[0]
         if not entry(chain, kind, halton_, s, si, H, q0, seed, out_q, info, err):
             return None
