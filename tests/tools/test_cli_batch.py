@@ -64,10 +64,14 @@ BAD_FILES = [
     ("t.npy", b"garbage", "t.npy' is not a valid .npy file"),
     ("t.npz", b"garbage", "t.npz' is not a valid .npz file"),
     ("t.csv", b"1,2,3\n4,5\n", "different numbers of columns"),
-    ("t.csv", b"x,y,z\n1,2,abc\n", "row 1 is not numbers"),
+    ("t.csv", b"x,y,z\n1,2,abc\n", "line 2 is not numbers: '1,2,abc'"),
+    # a typo in the first row: refused by its line, not taken for a header and dropped
+    ("t.csv", b"0.4,0.2,O.3\n0.3,0.1,0.4\n", "line 1 is not numbers: '0.4,0.2,O.3'"),
+    ("t.csv", b"0.4 0.2 0.3\n0.3 0.1 0.4\n", "line 1 is not numbers: .* with commas"),
+    ("t.csv", b"0.4,0.2,0.3,\n", "line 1 is not numbers: .* a field is empty"),
     ("t.csv", b"0.1,0.2,nan\n", "target 0: position contains NaN"),
     ("t.csv", b"1,2,3,4\n", r"shape \(1, 4\)"),
-    ("t.csv", b"0.4 0.2 0.3\n", "its one line, '0.4 0.2 0.3', is no row of numbers"),
+    ("t.csv", b"0.4 0.2 0.3\n", "line 1 is not numbers: '0.4 0.2 0.3'; separate the"),
     ("t.csv", b"x,y,z\n", "its one line, 'x,y,z', is no row of numbers"),
     ("t.csv", b"# a comment\n", "the file holds no rows of numbers; write one target a line"),
 ]
@@ -83,6 +87,21 @@ def test_bad_files_one_line_exit_2(tmp_path, capsys, name, content, words):
     assert len(err.strip().splitlines()) == 1 and err.startswith("armik: error:"), err
     assert words in err or __import__("re").search(words, err), err
     assert "allow_pickle" not in err
+
+
+def test_csv_blank_lines_comments_and_byte_order_mark(tmp_path, poses, capsys):
+    """Lines of spaces, comments and Excel's byte-order mark are no targets; every other
+    line is one, in the order of the file."""
+    rows = [",".join(f"{v:.17g}" for v in p[:3, 3]) for p in poses[:3]]
+    text = f"\ufeff# x,y,z\n{rows[0]}\n   \n{rows[1]}\n\t\n  # a note\n{rows[2]}\n"
+    (tmp_path / "t.csv").write_text(text, encoding="utf-8")
+    out = tmp_path / "o.npz"
+    assert main(["batch", "ur5", str(tmp_path / "t.csv"), "-o", str(out), "--workers", "1"]) == 0
+    assert "3/3 solved" in capsys.readouterr().out
+    r = BatchResult.load(out)
+    a = arm("ur5")
+    reached = [a.fk(q).translation for q in r.q]
+    np.testing.assert_allclose(reached, poses[:3, :3, 3], atol=1e-6)
 
 
 def test_bad_npz_and_output(tmp_path, poses, capsys):
