@@ -70,6 +70,8 @@ BAD_FILES = [
     ("t.csv", b"0.4 0.2 0.3\n0.3 0.1 0.4\n", "line 1 is not numbers: .* with commas"),
     ("t.csv", b"0.4,0.2,0.3,\n", "line 1 is not numbers: .* a field is empty"),
     ("t.csv", b"0.1,0.2,nan\n", "target 0: position contains NaN"),
+    # a file's 2-vector on a spatial arm: the library's words, no flag the command lacks
+    ("t.csv", b"1.2,0.5\n", r"target 0: a 2-vector target needs a planar arm.* \(x, y, z\)"),
     ("t.csv", b"1,2,3,4\n", r"shape \(1, 4\)"),
     ("t.csv", b"0.4 0.2 0.3\n", "line 1 is not numbers: '0.4 0.2 0.3'; separate the"),
     ("t.csv", b"x,y,z\n", "its one line, 'x,y,z', is no row of numbers"),
