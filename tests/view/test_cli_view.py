@@ -76,6 +76,20 @@ def test_view_on_a_port_in_use_is_one_line_naming_it():
     assert line.startswith("armik: error: port") and str(port) in line and "--port" in line
 
 
+def test_view_on_a_host_of_another_machine_is_one_line_naming_it():
+    """192.0.2.1 (TEST-NET) is no address of this machine: exit 2 with one line, where
+    viser's server waited for ever."""
+    proc = subprocess.run(
+        [*COMMAND, "planar_2link", "--host", "192.0.2.1", "--port", "0", "--no-browser"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert proc.returncode == 2, proc.stderr
+    (line,) = proc.stderr.strip().splitlines()
+    assert line.startswith("armik: error: cannot serve on host '192.0.2.1'") and "--host" in line
+
+
 def test_view_reads_obstacles_from_a_json_file(tmp_path):
     bad = tmp_path / "obstacles.json"
     bad.write_text('[{"type": "cone"}]')

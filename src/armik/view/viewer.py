@@ -208,7 +208,7 @@ class Viewer:
     @property
     def url(self) -> str:
         host = "localhost" if self.host in ("", "0.0.0.0", "::") else self.host
-        return f"http://{host}:{self.port}"
+        return f"http://{f'[{host}]' if ':' in host else host}:{self.port}"  # IPv6: [::1]
 
     @property
     def q(self) -> np.ndarray:
