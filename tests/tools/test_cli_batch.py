@@ -146,6 +146,19 @@ def test_reach_command_saves_and_plots(tmp_path, capsys):
     assert "plot folder" in capsys.readouterr().err and not other.exists()
 
 
+def test_reach_plot_kinds_said_before_the_run_and_the_file_written_named(tmp_path, capsys):
+    """--plot x.xyz, a kind matplotlib does not write: refused before the run, where a
+    ValueError traceback came after it; --plot without a suffix names the .png written."""
+    argv = ["reach", "planar_2link", "--resolution", "0.5", "--orientations", "1"]
+    out = tmp_path / "r.npz"
+    assert main(argv + ["-o", str(out), "--plot", str(tmp_path / "r.xyz")]) == 2
+    err = capsys.readouterr().err
+    assert "matplotlib writes no .xyz file: name it .png" in err and not out.exists()
+    assert main(argv + ["-o", str(out), "--plot", str(tmp_path / "map")]) == 0
+    png = tmp_path / "map.png"
+    assert f"wrote {png}\n" in capsys.readouterr().out and png.stat().st_size > 10_000
+
+
 def test_batch_takes_the_solve_flags(tmp_path, capsys):
     a = arm("ur5")
     T = np.array([a.fk(q).homogeneous for q in a.random_q(4, n=5)])

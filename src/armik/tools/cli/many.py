@@ -198,11 +198,20 @@ def cmd_reach(args: argparse.Namespace) -> int:
         raise InputError(f"plot folder {str(Path(args.plot).parent)!r} does not exist")
     if args.plot:  # the map's figure: a missing matplotlib said now, not after the run
         try:
-            import matplotlib  # noqa: F401
+            from matplotlib.figure import Figure
         except ImportError:
             raise InputError(
                 '--plot draws with matplotlib, which is not installed: pip install "armik[plot]"'
             ) from None
+        kind = Path(args.plot).suffix[1:].lower()
+        kinds = Figure().canvas.get_supported_filetypes()
+        if not kind:  # matplotlib writes name.png: the file said written is the one written
+            args.plot = str(Path(args.plot).with_suffix(".png"))
+        elif kind not in kinds:
+            raise InputError(
+                f"--plot {args.plot!r}: matplotlib writes no .{kind} file: name it .png, or "
+                f"one of {', '.join('.' + k for k in sorted(kinds))}"
+            )
     arm = load_arm(args).kinematics
     client = None
     if args.cluster:
