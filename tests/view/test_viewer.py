@@ -253,6 +253,14 @@ def test_obstacles_are_drawn_and_kept(viewer):
         viewer.add_obstacles(armik.Sphere(0.1))
     with pytest.raises(armik.InputError, match="radius"):
         viewer.add_obstacles([{"type": "sphere", "radius": -1}])
+    assert viewer.add_obstacles(None) == shapes  # None, as obstacles=None: nothing added
+
+
+def test_a_host_that_is_no_string_is_named():
+    from armik.view.server import check_host
+
+    with pytest.raises(armik.ViewerError, match="host must be a name or an address.*got 5"):
+        check_host(5)  # type: ignore[arg-type]
 
 
 def test_bad_input_is_refused_with_the_fix(viewer):

@@ -72,6 +72,8 @@ def check_host(host: str) -> None:
         "pass --host 127.0.0.1 (or host='127.0.0.1') to serve this machine only, 0.0.0.0 "
         "for every network interface, or one of this machine's own addresses"
     )
+    if not isinstance(host, str):
+        raise ViewerError(f"host must be a name or an address (a str), got {host!r}: {fix}")
     try:
         found = socket.getaddrinfo(host or None, 0, type=socket.SOCK_STREAM)
     except (socket.gaierror, UnicodeError) as exc:

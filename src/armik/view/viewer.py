@@ -328,7 +328,7 @@ class Viewer:
         ``Cylinder``, ``HalfSpace``, ``Mesh``, or their plain mappings,
         ``armik.constraints.shapes_file``), in the base frame (m). Returns every obstacle
         added so far. Pass the same shapes as ``obstacles=`` to solve clear of them."""
-        shapes = as_shapes(shapes)
+        shapes = as_shapes(() if shapes is None else shapes)  # None: nothing to draw
         scene = self._server.scene
         with self._lock:
             for shape in shapes:
