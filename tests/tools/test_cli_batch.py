@@ -47,6 +47,19 @@ def test_batch_files_of_every_kind_agree(tmp_path, poses, capsys):
         assert r.success.all()
 
 
+def test_a_file_of_one_target_is_a_batch_of_one(tmp_path, poses, capsys):
+    """One 4x4 pose, or one row x y z qx qy qz qw, saved alone: one target, where the
+    command said to use Arm.solve, which it has not."""
+    for name, array in (("T.npy", poses[0]), ("row.npy", _rows7(poses[:1])[0])):
+        np.save(tmp_path / name, array)
+        out = tmp_path / f"{name}.npz"
+        code = main(["batch", "ur5", str(tmp_path / name), "-o", str(out), "--workers", "1"])
+        assert code == 0, capsys.readouterr().err
+        assert "1/1 solved" in capsys.readouterr().out
+        reached = arm("ur5").fk(BatchResult.load(out).q[0]).homogeneous
+        np.testing.assert_allclose(reached, poses[0], atol=1e-6)
+
+
 def test_batch_options_and_seeds_from_the_file(tmp_path, poses, capsys):
     q0 = np.tile(arm("ur5").middle, (len(poses), 1))
     np.savez(tmp_path / "t.npz", targets=poses[:, :3, 3], q0=q0)  # positions, with seeds

@@ -46,6 +46,8 @@ def read_targets_file(path: str) -> tuple[np.ndarray, np.ndarray | None]:
             raise InputError(_not_numbers(p, path)) from None
         first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise InputError(f"cannot read targets from {path!r}: {first}") from None
+    if arr.ndim == 1 or arr.shape == (4, 4):  # a file of one target: a batch of one
+        arr = arr[None]
     if arr.ndim == 2 and arr.shape[1] == 16:
         arr = arr.reshape(-1, 4, 4)
     return arr, q0
