@@ -256,6 +256,14 @@ def test_obstacles_are_drawn_and_kept(viewer):
     assert viewer.add_obstacles(None) == shapes  # None, as obstacles=None: nothing added
 
 
+def test_obstacles_on_an_arm_without_collision_geometry_refused_at_once():
+    a = arm("planar_2link")  # no <collision> in its URDF
+    with pytest.raises(armik.CollisionError, match="no <collision> geometry"):
+        armik.view(a, port=0, open_browser=False, obstacles=[armik.Sphere(0.1, (0.5, 0, 0))])
+    with pytest.raises(armik.CollisionError, match="no <collision> geometry"):
+        armik.view(a, port=0, open_browser=False, self_collision=True)
+
+
 def test_a_host_that_is_no_string_is_named():
     from armik.view.server import check_host
 

@@ -77,6 +77,7 @@ class Viewer:
                 value=port,
             )
         robot.check_solver(solver)  # SolverError for an unknown or inapplicable name
+        robot.check_collisions(options)  # CollisionError for an arm without <collision>s
         # OptionError now rather than at the first drag
         checked = read_options({k: v for k, v in options.items() if k != "prefer"})
         self._tol = (checked.tol_position, checked.tol_orientation)

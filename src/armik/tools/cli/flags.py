@@ -176,6 +176,10 @@ def for_cli(message: str) -> str:
         .replace(
             "give obstacles=[...] or self_collision=True", "give --obstacles or --self-collision"
         )
+        .replace(
+            "solve without obstacles= and self_collision=",
+            "leave out --obstacles and --self-collision",
+        )
         .replace(  # Pinocchio reads the variable; the command line has no package_dirs=
             "with armik.load(..., package_dirs=[...])",
             "in the environment variable ROS_PACKAGE_PATH=DIR[:DIR...]",
