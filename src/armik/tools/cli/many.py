@@ -200,6 +200,7 @@ def cmd_reach(args: argparse.Namespace) -> int:
         raise InputError(f"plot folder {str(Path(args.plot).parent)!r} does not exist")
     if args.plot:  # the map's figure: a missing matplotlib said now, not after the run
         try:
+            import matplotlib  # noqa: F401  (first: its submodules may be loaded already)
             from matplotlib.figure import Figure
         except ImportError:
             raise InputError(
