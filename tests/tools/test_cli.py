@@ -222,6 +222,16 @@ def test_rpy_in_degrees_is_warned_of_and_taken_as_radians(capsys):
     assert code == 0 and "degrees" not in err
 
 
+def test_rpy_not_finite_is_refused_by_its_flag_not_taken_for_degrees(capsys):
+    code, _, err = run(
+        capsys, "solve", "ur5", "--xyz", "0.4", "0.2", "0.3", "--rpy", "inf", "0", "0"
+    )
+    assert code == 2
+    assert (
+        err == "armik: error: --rpy inf 0 0 is not 3 finite angles: give roll, pitch, yaw (rad)\n"
+    )
+
+
 def test_xy_is_a_planar_arms_2_vector(capsys):
     """--xy A B on a planar arm is Python's 2-vector (the base's axes across its plane); on
     another arm, with --rpy, or without any position, a one-line error naming the fix."""

@@ -47,6 +47,19 @@ def test_batch_files_of_every_kind_agree(tmp_path, poses, capsys):
         assert r.success.all()
 
 
+def test_a_file_of_one_target_is_a_batch_of_one(tmp_path, poses, capsys):
+    """One 4x4 pose, or one row x y z qx qy qz qw, saved alone: one target, where the
+    command said to use Arm.solve, which it has not."""
+    for name, array in (("T.npy", poses[0]), ("row.npy", _rows7(poses[:1])[0])):
+        np.save(tmp_path / name, array)
+        out = tmp_path / f"{name}.npz"
+        code = main(["batch", "ur5", str(tmp_path / name), "-o", str(out), "--workers", "1"])
+        assert code == 0, capsys.readouterr().err
+        assert "1/1 solved" in capsys.readouterr().out
+        reached = arm("ur5").fk(BatchResult.load(out).q[0]).homogeneous
+        np.testing.assert_allclose(reached, poses[0], atol=1e-6)
+
+
 def test_batch_options_and_seeds_from_the_file(tmp_path, poses, capsys):
     q0 = np.tile(arm("ur5").middle, (len(poses), 1))
     np.savez(tmp_path / "t.npz", targets=poses[:, :3, 3], q0=q0)  # positions, with seeds
@@ -64,10 +77,16 @@ BAD_FILES = [
     ("t.npy", b"garbage", "t.npy' is not a valid .npy file"),
     ("t.npz", b"garbage", "t.npz' is not a valid .npz file"),
     ("t.csv", b"1,2,3\n4,5\n", "different numbers of columns"),
-    ("t.csv", b"x,y,z\n1,2,abc\n", "row 1 is not numbers"),
+    ("t.csv", b"x,y,z\n1,2,abc\n", "line 2 is not numbers: '1,2,abc'"),
+    # a typo in the first row: refused by its line, not taken for a header and dropped
+    ("t.csv", b"0.4,0.2,O.3\n0.3,0.1,0.4\n", "line 1 is not numbers: '0.4,0.2,O.3'"),
+    ("t.csv", b"0.4 0.2 0.3\n0.3 0.1 0.4\n", "line 1 is not numbers: .* with commas"),
+    ("t.csv", b"0.4,0.2,0.3,\n", "line 1 is not numbers: .* a field is empty"),
     ("t.csv", b"0.1,0.2,nan\n", "target 0: position contains NaN"),
+    # a file's 2-vector on a spatial arm: the library's words, no flag the command lacks
+    ("t.csv", b"1.2,0.5\n", r"target 0: a 2-vector target needs a planar arm.* \(x, y, z\)"),
     ("t.csv", b"1,2,3,4\n", r"shape \(1, 4\)"),
-    ("t.csv", b"0.4 0.2 0.3\n", "its one line, '0.4 0.2 0.3', is no row of numbers"),
+    ("t.csv", b"0.4 0.2 0.3\n", "line 1 is not numbers: '0.4 0.2 0.3'; separate the"),
     ("t.csv", b"x,y,z\n", "its one line, 'x,y,z', is no row of numbers"),
     ("t.csv", b"# a comment\n", "the file holds no rows of numbers; write one target a line"),
 ]
@@ -83,6 +102,21 @@ def test_bad_files_one_line_exit_2(tmp_path, capsys, name, content, words):
     assert len(err.strip().splitlines()) == 1 and err.startswith("armik: error:"), err
     assert words in err or __import__("re").search(words, err), err
     assert "allow_pickle" not in err
+
+
+def test_csv_blank_lines_comments_and_byte_order_mark(tmp_path, poses, capsys):
+    """Lines of spaces, comments and Excel's byte-order mark are no targets; every other
+    line is one, in the order of the file."""
+    rows = [",".join(f"{v:.17g}" for v in p[:3, 3]) for p in poses[:3]]
+    text = f"\ufeff# x,y,z\n{rows[0]}\n   \n{rows[1]}\n\t\n  # a note\n{rows[2]}\n"
+    (tmp_path / "t.csv").write_text(text, encoding="utf-8")
+    out = tmp_path / "o.npz"
+    assert main(["batch", "ur5", str(tmp_path / "t.csv"), "-o", str(out), "--workers", "1"]) == 0
+    assert "3/3 solved" in capsys.readouterr().out
+    r = BatchResult.load(out)
+    a = arm("ur5")
+    reached = [a.fk(q).translation for q in r.q]
+    np.testing.assert_allclose(reached, poses[:3, :3, 3], atol=1e-6)
 
 
 def test_bad_npz_and_output(tmp_path, poses, capsys):
@@ -123,6 +157,19 @@ def test_reach_command_saves_and_plots(tmp_path, capsys):
     other = tmp_path / "other.npz"
     assert main(argv + ["-o", str(other), "--plot", str(missing)]) == 2
     assert "plot folder" in capsys.readouterr().err and not other.exists()
+
+
+def test_reach_plot_kinds_said_before_the_run_and_the_file_written_named(tmp_path, capsys):
+    """--plot x.xyz, a kind matplotlib does not write: refused before the run, where a
+    ValueError traceback came after it; --plot without a suffix names the .png written."""
+    argv = ["reach", "planar_2link", "--resolution", "0.5", "--orientations", "1"]
+    out = tmp_path / "r.npz"
+    assert main(argv + ["-o", str(out), "--plot", str(tmp_path / "r.xyz")]) == 2
+    err = capsys.readouterr().err
+    assert "matplotlib writes no .xyz file: name it .png" in err and not out.exists()
+    assert main(argv + ["-o", str(out), "--plot", str(tmp_path / "map")]) == 0
+    png = tmp_path / "map.png"
+    assert f"wrote {png}\n" in capsys.readouterr().out and png.stat().st_size > 10_000
 
 
 def test_batch_takes_the_solve_flags(tmp_path, capsys):

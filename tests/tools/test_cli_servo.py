@@ -41,10 +41,17 @@ def test_servo_takes_the_limits_and_start_it_is_given(capsys):
 def test_servo_refuses_bad_input_with_one_line(capsys):
     for argv, said in [
         (["--dt", "-1"], "dt must be the tick's period"),
-        (["--seconds", "0"], "--seconds must be positive"),
-        (["--circle", "-0.1"], "--circle must be a radius"),
+        (["--seconds", "0"], "--seconds must be a positive"),
+        (["--circle", "-0.1"], "--circle must be a finite radius"),
         (["--q0", "1", "2"], "q0 must have 6 values"),
         (["--acceleration-limit", "-3"], "acceleration_limits"),
+        # not finite, or more ticks than the demo makes: one line, not a traceback or a hang
+        (["--seconds", "inf"], "--seconds must be a positive finite number"),
+        (["--hz", "inf"], "--hz must be a positive finite number"),
+        (["--circle", "inf"], "--circle must be a finite radius"),
+        (["--jump", "nan", "0", "0"], "--jump must be 3 finite numbers"),
+        (["--dt", "1e-300"], "2e+300 ticks, more than this demo streams"),
+        (["--seconds", "1e9"], "5e+11 ticks, more than this demo streams"),
     ]:
         code, out, err = run(capsys, "servo", "ur5", *argv)
         assert code == 2, (argv, out)

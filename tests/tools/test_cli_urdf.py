@@ -112,6 +112,18 @@ def test_compare_needs_one_target_or_more(capsys, n):
     assert code == 2 and "whole number >= 1" in err and len(err.strip().splitlines()) == 1
 
 
+def test_compare_plot_folder_and_speed_refused_in_one_line(capsys, tmp_path):
+    """--plot on a file: one line naming the flag, not OSError's words alone; --plot with
+    --speed, which draws nothing: refused, not ignored."""
+    file = tmp_path / "figures"
+    file.write_text("")
+    code, _, err = run(capsys, "compare", "-n", "1", "--plot", str(file))
+    assert code == 2 and err.startswith(f"armik: error: --plot {str(file)!r} cannot be")
+    code, _, err = run(capsys, "compare", "--speed", "--plot", str(tmp_path / "out"))
+    assert code == 2 and "give --speed or --plot" in err and not (tmp_path / "out").exists()
+    assert len(err.strip().splitlines()) == 1
+
+
 def test_compare_json_is_strict_json_with_nothing_reachable(capsys):
     """A figure with nothing to measure (no reachable target among a small ``-n``: a median
     of none) is null: ``NaN`` is no JSON, and strict readers refuse the whole output."""

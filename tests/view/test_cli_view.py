@@ -76,6 +76,36 @@ def test_view_on_a_port_in_use_is_one_line_naming_it():
     assert line.startswith("armik: error: port") and str(port) in line and "--port" in line
 
 
+def test_view_on_a_host_of_another_machine_is_one_line_naming_it():
+    """192.0.2.1 (TEST-NET) is no address of this machine: exit 2 with one line, where
+    viser's server waited for ever."""
+    proc = subprocess.run(
+        [*COMMAND, "planar_2link", "--host", "192.0.2.1", "--port", "0", "--no-browser"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert proc.returncode == 2, proc.stderr
+    (line,) = proc.stderr.strip().splitlines()
+    assert line.startswith("armik: error: cannot serve on host '192.0.2.1'") and "--host" in line
+
+
+def test_view_obstacles_on_an_arm_without_collision_geometry_exit_2(tmp_path):
+    """Refused before serving, as the docs say, where the viewer served and refused every
+    drag."""
+    shapes = tmp_path / "obstacles.json"
+    shapes.write_text('[{"type": "sphere", "radius": 0.1, "center": [0.5, 0, 0]}]')
+    proc = subprocess.run(
+        [*COMMAND, "planar_2link", "--obstacles", str(shapes), "--port", "0", "--no-browser"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert proc.returncode == 2, proc.stdout + proc.stderr
+    (line,) = proc.stderr.strip().splitlines()
+    assert "has no <collision> geometry" in line and "leave out --obstacles" in line, line
+
+
 def test_view_reads_obstacles_from_a_json_file(tmp_path):
     bad = tmp_path / "obstacles.json"
     bad.write_text('[{"type": "cone"}]')

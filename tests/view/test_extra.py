@@ -43,6 +43,27 @@ def test_without_viser_view_says_how_to_install_it():
     assert 'pip install "armik[view]"' in line
 
 
+def test_without_pycollada_the_dae_meshes_warning_says_how_to_install_it():
+    """The Kinova's .dae meshes without pycollada: the stick figure, and a warning naming
+    the extra to install, not a path to check."""
+    proc = run(
+        "import sys, warnings; sys.modules['collada'] = None\n"  # as if it were not installed
+        "import armik\n"
+        "from armik.view.scene import arm_body\n"
+        "with warnings.catch_warnings(record=True) as caught:\n"
+        "    warnings.simplefilter('always')\n"
+        "    body = arm_body(armik.load('kinova').kinematics)\n"
+        "print(body.kind)\n"
+        "for w in caught:\n"
+        "    print(w.message)\n"
+    )
+    assert proc.returncode == 0, proc.stderr
+    kind, said = proc.stdout.splitlines()  # one warning
+    assert kind == "stick"
+    assert "base.dae" in said and 'pip install "armik[view]"' in said, said
+    assert "ROS_PACKAGE_PATH" not in said
+
+
 def test_the_view_names_are_there():
     assert {"view", "plot", "Viewer", "ViewerError", "Box", "Sphere"} <= set(armik.__all__)
     assert callable(armik.view) and callable(armik.plot)

@@ -63,6 +63,14 @@ def test_plot_names_a_missing_folder_and_an_ax_that_is_not_3d(tmp_path):
             armik.plot(a, a.middle, ax=ax)
 
 
+def test_plot_names_a_file_kind_matplotlib_does_not_write(tmp_path):
+    a = arm("ur5")
+    with pytest.raises(armik.InputError, match=r"matplotlib writes no \.xyz file.*name it \.png"):
+        armik.plot(a, a.middle, tmp_path / "arm.xyz")
+    assert not list(tmp_path.iterdir())
+    assert armik.plot(a, a.middle, tmp_path / "arm.svg").stat().st_size > 1000
+
+
 def test_plot_marks_a_task_list_target(tmp_path):
     """A task list (a form Arm.solve takes) is drawn: its Pose and Position tasks marked."""
     from matplotlib.figure import Figure

@@ -212,6 +212,24 @@ def test_a_port_in_use_is_one_line_naming_the_port():
     assert info.value.port == port
 
 
+@pytest.mark.parametrize("host", ["192.0.2.1", "no such host.invalid"])
+def test_a_host_it_cannot_serve_on_is_one_line_naming_it(host):
+    """An address of another machine (192.0.2.1: TEST-NET, nobody's) or a name that does not
+    resolve: refused before viser's server starts, which would wait on it for ever."""
+    from armik.view.server import check_host
+
+    with pytest.raises(armik.ViewerError) as info:
+        check_host(host)
+    message = str(info.value)
+    assert f"host {host!r}" in message and "--host 127.0.0.1" in message and "\n" not in message
+    check_host("127.0.0.1")  # this machine's: nothing said
+
+
+def test_an_ipv6_host_is_bracketed_in_the_url():
+    with armik.view(arm("planar_2link"), port=0, host="::1", open_browser=False) as v:
+        assert v.url == f"http://[::1]:{v.port}"
+
+
 def test_show_reach_draws_the_reached_voxels(viewer):
     xs = ys = zs = np.array([-0.1, 0.0, 0.1])
     fraction = np.full((3, 3, 3), np.nan)
@@ -235,6 +253,22 @@ def test_obstacles_are_drawn_and_kept(viewer):
         viewer.add_obstacles(armik.Sphere(0.1))
     with pytest.raises(armik.InputError, match="radius"):
         viewer.add_obstacles([{"type": "sphere", "radius": -1}])
+    assert viewer.add_obstacles(None) == shapes  # None, as obstacles=None: nothing added
+
+
+def test_obstacles_on_an_arm_without_collision_geometry_refused_at_once():
+    a = arm("planar_2link")  # no <collision> in its URDF
+    with pytest.raises(armik.CollisionError, match="no <collision> geometry"):
+        armik.view(a, port=0, open_browser=False, obstacles=[armik.Sphere(0.1, (0.5, 0, 0))])
+    with pytest.raises(armik.CollisionError, match="no <collision> geometry"):
+        armik.view(a, port=0, open_browser=False, self_collision=True)
+
+
+def test_a_host_that_is_no_string_is_named():
+    from armik.view.server import check_host
+
+    with pytest.raises(armik.ViewerError, match="host must be a name or an address.*got 5"):
+        check_host(5)  # type: ignore[arg-type]
 
 
 def test_bad_input_is_refused_with_the_fix(viewer):

@@ -65,6 +65,13 @@ def plot(
         from matplotlib.figure import Figure
     except ImportError:
         raise ViewerError('plotting needs matplotlib: pip install "armik[plot]"') from None
+    kind = Path(path).suffix[1:].lower() if path is not None and ax is None else ""
+    kinds = Figure().canvas.get_supported_filetypes() if kind else {}
+    if kind and kind not in kinds:
+        raise InputError(
+            f"plot: matplotlib writes no .{kind} file ({str(path)!r}): name it .png, or one "
+            f"of {', '.join('.' + k for k in sorted(kinds))}"
+        )
     main = _configuration(arm, q, "q")
     rest = [(_configuration(arm, o, f"others[{i}]"), _name(o, i)) for i, o in enumerate(others)]
     fig = None

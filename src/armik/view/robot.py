@@ -20,6 +20,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.arms import Arms
+from armik.constraints.collision import arm_geometry
 from armik.errors import InputError, OptionError
 from armik.problem.tasks import Task
 from armik.result import IKResult
@@ -164,6 +165,13 @@ class Robot:
         # "auto" is Arms.solve's default; chains sharing joints take no solver= at all
         chosen = {} if solver == "auto" else {"solver": solver}
         return self.source.solve(dict(targets), q0=q0, **chosen, **options)  # type: ignore[attr-defined]
+
+    def check_collisions(self, options: Mapping[str, object]) -> None:
+        """``CollisionError`` now, not at every drag, when ``options`` ask for collision
+        checks (``obstacles``, ``self_collision``) and a chain has no collision geometry."""
+        if options.get("obstacles") or options.get("self_collision"):
+            for arm in self.chains.values():
+                arm_geometry(arm)
 
     def check_solver(self, solver: str) -> None:
         """``SolverError`` for a name unknown or inapplicable to a chain."""

@@ -50,9 +50,12 @@ def _build(arm: ArmModel) -> Body:
     if missing:
         more = f" ({len(missing) - 1} more meshes missing)" if len(missing) > 1 else ""
         note = f"mesh {missing[0]}{more}"
+        if any("pycollada" in m for m in missing):  # trimesh reads .dae with pycollada
+            fix = 'pip install "armik[view]", whose pycollada reads .dae meshes'
+        else:
+            fix = "check the path, or the package's folder in ROS_PACKAGE_PATH"
         warnings.warn(
-            f"{arm.name}: {note}; drawing the stick figure instead (check the path, or the "
-            "package's folder in ROS_PACKAGE_PATH)",
+            f"{arm.name}: {note}; drawing the stick figure instead ({fix})",
             ArmikWarning,
             stacklevel=3,
         )

@@ -36,6 +36,7 @@ def start(host: str, port: int, label: str) -> tuple[viser.ViserServer, int]:
     ``ViewerError`` naming the port and the fix when it is in use."""
     viser = import_viser()
     _quiet_stray_connections()
+    check_host(host)  # viser's server would wait forever on a host it cannot bind
     if port and not port_free(host, port):
         raise port_error(host, port)
     with contextlib.redirect_stdout(io.StringIO()):  # viser's banner: the viewer's url says it
@@ -62,6 +63,32 @@ def port_error(host: str, port: int) -> ViewerError:
         f"port (--port {port + 1}, or port={port + 1}), or port 0 for any free one",
         port=port,
     )
+
+
+def check_host(host: str) -> None:
+    """``ViewerError`` naming ``host`` and the fix unless a server can listen on it: a name
+    that does not resolve, or an address of another machine."""
+    fix = (
+        "pass --host 127.0.0.1 (or host='127.0.0.1') to serve this machine only, 0.0.0.0 "
+        "for every network interface, or one of this machine's own addresses"
+    )
+    if not isinstance(host, str):
+        raise ViewerError(f"host must be a name or an address (a str), got {host!r}: {fix}")
+    try:
+        found = socket.getaddrinfo(host or None, 0, type=socket.SOCK_STREAM)
+    except (socket.gaierror, UnicodeError) as exc:
+        why = getattr(exc, "strerror", None) or str(exc)
+        raise ViewerError(f"host {host!r} does not resolve ({why}): {fix}") from None
+    problem = ""
+    for family, kind, _, _, address in found:
+        with socket.socket(family, kind) as s:
+            try:
+                s.bind(address)
+            except OSError as exc:
+                problem = exc.strerror or str(exc)
+                continue
+        return
+    raise ViewerError(f"cannot serve on host {host!r} ({problem}): {fix}")
 
 
 def port_free(host: str, port: int) -> bool:

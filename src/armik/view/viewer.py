@@ -77,6 +77,7 @@ class Viewer:
                 value=port,
             )
         robot.check_solver(solver)  # SolverError for an unknown or inapplicable name
+        robot.check_collisions(options)  # CollisionError for an arm without <collision>s
         # OptionError now rather than at the first drag
         checked = read_options({k: v for k, v in options.items() if k != "prefer"})
         self._tol = (checked.tol_position, checked.tol_orientation)
@@ -208,7 +209,7 @@ class Viewer:
     @property
     def url(self) -> str:
         host = "localhost" if self.host in ("", "0.0.0.0", "::") else self.host
-        return f"http://{host}:{self.port}"
+        return f"http://{f'[{host}]' if ':' in host else host}:{self.port}"  # IPv6: [::1]
 
     @property
     def q(self) -> np.ndarray:
@@ -328,7 +329,7 @@ class Viewer:
         ``Cylinder``, ``HalfSpace``, ``Mesh``, or their plain mappings,
         ``armik.constraints.shapes_file``), in the base frame (m). Returns every obstacle
         added so far. Pass the same shapes as ``obstacles=`` to solve clear of them."""
-        shapes = as_shapes(shapes)
+        shapes = as_shapes(() if shapes is None else shapes)  # None: nothing to draw
         scene = self._server.scene
         with self._lock:
             for shape in shapes:

@@ -8,6 +8,7 @@ runs, ``commands.later``).
 from __future__ import annotations
 
 import argparse
+import re
 
 
 def add_solve_options(c: argparse.ArgumentParser) -> None:
@@ -160,17 +161,24 @@ def for_cli(message: str) -> str:
     """An error's words for the command line: Python's ``tip=``, ``base=``, ``obstacles=``
     and ``self_collision=`` are the flags ``--tip``, ``--base``, ``--obstacles`` and
     ``--self-collision`` here, a 2-vector ``--xy``, and ``package_dirs=`` the variable
-    ``ROS_PACKAGE_PATH``."""
+    ``ROS_PACKAGE_PATH``. A target read from a file (``target 3: ...``: batch, path) came
+    from no flag: its words stay."""
+    if not re.match(r"target \d+: ", message):
+        message = message.replace(
+            "a 2-vector target needs a planar arm", "--xy needs a planar arm"
+        ).replace(
+            "give a position (x, y, z) or a full pose",
+            "give --xyz X Y Z (with --rpy or --quat for a pose)",
+        )
     return (
         message.replace("pass tip=", "pass --tip")
         .replace("pass base=", "pass --base")
         .replace(
             "give obstacles=[...] or self_collision=True", "give --obstacles or --self-collision"
         )
-        .replace("a 2-vector target needs a planar arm", "--xy needs a planar arm")
         .replace(
-            "give a position (x, y, z) or a full pose",
-            "give --xyz X Y Z (with --rpy or --quat for a pose)",
+            "solve without obstacles= and self_collision=",
+            "leave out --obstacles and --self-collision",
         )
         .replace(  # Pinocchio reads the variable; the command line has no package_dirs=
             "with armik.load(..., package_dirs=[...])",

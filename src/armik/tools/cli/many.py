@@ -46,6 +46,8 @@ def read_targets_file(path: str) -> tuple[np.ndarray, np.ndarray | None]:
             raise InputError(_not_numbers(p, path)) from None
         first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise InputError(f"cannot read targets from {path!r}: {first}") from None
+    if arr.ndim == 1 or arr.shape == (4, 4):  # a file of one target: a batch of one
+        arr = arr[None]
     if arr.ndim == 2 and arr.shape[1] == 16:
         arr = arr.reshape(-1, 4, 4)
     return arr, q0
@@ -91,35 +93,48 @@ def _targets_key(path: str, names: list[str]) -> str:
 
 
 def _read_csv(path) -> np.ndarray:
-    with open(path, newline="") as f:
-        rows = [r for r in csv.reader(f) if r and not r[0].lstrip().startswith("#")]
+    """The rows of numbers of a .csv file. Skipped: blank lines, lines starting with '#', a
+    byte-order mark, and a first line that is a header (no field of it a number, such as
+    x,y,z); any other line that is not numbers is refused by its line number in the file."""
+    with open(path, newline="", encoding="utf-8-sig") as f:
+        lines = [
+            (n, r)
+            for n, r in enumerate(csv.reader(f), start=1)
+            if any(v.strip() for v in r) and not r[0].lstrip().startswith("#")
+        ]
     header = None
-    if rows and not _numeric(rows[0]):
-        header, rows = rows[0], rows[1:]  # a header line
-    if not rows:
+    if lines and not any(map(_numbers, lines[0][1])):
+        header, lines = lines[0][1], lines[1:]  # a header line: names, no number
+    if not lines:
         line = "" if header is None else f": its one line, {','.join(header)[:80]!r}, is no"
         raise ValueError(
             f"the file holds no rows of numbers{line}{' row of numbers' if line else ''}; "
             "write one target a line, its numbers separated by commas (x,y,z)"
         )
-    widths = {len(r) for r in rows}
+    for n, r in lines:
+        if not all(_numbers(v) and len(v.split()) == 1 for v in r):
+            raise ValueError(f"line {n} is not numbers: {','.join(r)[:80]!r}; {_fix(r)}")
+    widths = {len(r) for _, r in lines}
     if len(widths) > 1:
         raise ValueError(f"rows have different numbers of columns: {sorted(widths)}")
-    out = np.empty((len(rows), widths.pop()))
-    for i, r in enumerate(rows):
-        try:
-            out[i] = [float(v) for v in r]
-        except ValueError:
-            raise ValueError(f"row {i + 1} is not numbers: {','.join(r)[:80]}") from None
-    return out
+    return np.array([[float(v) for v in r] for _, r in lines], dtype=float)
 
 
-def _numeric(row: list[str]) -> bool:
+def _numbers(field: str) -> bool:
+    """Whether ``field`` is one number or several separated by spaces."""
     try:
-        [float(v) for v in row]
+        return bool([float(v) for v in field.split()])
     except ValueError:
         return False
-    return True
+
+
+def _fix(row: list[str]) -> str:
+    """What to do about a row of a .csv file that is not numbers."""
+    if any(_numbers(v) and len(v.split()) > 1 for v in row):
+        return "separate the numbers with commas (x,y,z), not spaces"
+    if any(not v.strip() for v in row):
+        return "a field is empty: give one number in each, separated by commas"
+    return "give one target a line, its numbers separated by commas (x,y,z)"
 
 
 def cmd_batch(args: argparse.Namespace) -> int:
@@ -185,11 +200,21 @@ def cmd_reach(args: argparse.Namespace) -> int:
         raise InputError(f"plot folder {str(Path(args.plot).parent)!r} does not exist")
     if args.plot:  # the map's figure: a missing matplotlib said now, not after the run
         try:
-            import matplotlib  # noqa: F401
+            import matplotlib  # noqa: F401  (first: its submodules may be loaded already)
+            from matplotlib.figure import Figure
         except ImportError:
             raise InputError(
                 '--plot draws with matplotlib, which is not installed: pip install "armik[plot]"'
             ) from None
+        kind = Path(args.plot).suffix[1:].lower()
+        kinds = Figure().canvas.get_supported_filetypes()
+        if not kind:  # matplotlib writes name.png: the file said written is the one written
+            args.plot = str(Path(args.plot).with_suffix(".png"))
+        elif kind not in kinds:
+            raise InputError(
+                f"--plot {args.plot!r}: matplotlib writes no .{kind} file: name it .png, or "
+                f"one of {', '.join('.' + k for k in sorted(kinds))}"
+            )
     arm = load_arm(args).kinematics
     client = None
     if args.cluster:

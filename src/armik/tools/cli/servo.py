@@ -5,6 +5,7 @@ and the commanded sequence's largest excess over each limit (finite differences)
 from __future__ import annotations
 
 import argparse
+import math
 import time
 
 import numpy as np
@@ -12,6 +13,8 @@ import numpy as np
 from armik.errors import OptionError
 from armik.servo.streams import START, circle, moved, violations
 from armik.tools.cli.arms import load_arm
+
+MAX_TICKS = 1_000_000  # the circle's targets are made before the first tick
 
 
 def cmd_servo(args: argparse.Namespace) -> int:
@@ -23,13 +26,21 @@ def cmd_servo(args: argparse.Namespace) -> int:
     else:
         q0 = arm.middle
     for flag, value in (("--seconds", args.seconds), ("--hz", args.hz)):
-        if not value > 0.0:
-            raise OptionError(f"{flag} must be positive, got {value!r}", option=flag, value=value)
-    if not args.circle >= 0.0:
+        if not 0.0 < value < math.inf:
+            raise OptionError(
+                f"{flag} must be a positive finite number, got {value!r}", option=flag, value=value
+            )
+    if not 0.0 <= args.circle < math.inf:
         raise OptionError(
-            f"--circle must be a radius >= 0 m, got {args.circle!r}",
+            f"--circle must be a finite radius >= 0 m, got {args.circle!r}",
             option="--circle",
             value=args.circle,
+        )
+    if args.jump is not None and not np.isfinite(args.jump).all():
+        raise OptionError(
+            f"--jump must be 3 finite numbers (m, base frame), got {args.jump}",
+            option="--jump",
+            value=args.jump,
         )
     servo = arm.servo(
         q0,
@@ -38,8 +49,17 @@ def cmd_servo(args: argparse.Namespace) -> int:
         velocity_limits=args.velocity_limit,
     )
     dt = servo.dt
+    ticks = max(1, round(args.seconds / dt)) if args.seconds / dt <= MAX_TICKS else None
+    if ticks is None:
+        raise OptionError(
+            f"--seconds {args.seconds:g} at --dt {dt:g} s is {args.seconds / dt:.3g} ticks, "
+            f"more than this demo streams ({MAX_TICKS:,}): give a shorter --seconds or a "
+            "longer --dt",
+            option="--seconds",
+            value=args.seconds,
+        )
     T0 = arm.fk(q0)
-    stream = circle(T0, max(1, round(args.seconds / dt)), dt, args.circle, args.hz)
+    stream = circle(T0, ticks, dt, args.circle, args.hz)
     legs = [("circle", stream)]
     if args.jump is not None:
         end = stream[-1]

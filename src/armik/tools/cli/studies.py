@@ -7,6 +7,7 @@ import json
 import math
 from pathlib import Path
 
+from armik.errors import InputError
 from armik.model.catalogue import SPATIAL_ARMS
 from armik.tools import bench as bench_mod
 from armik.tools import compare, compare_plots
@@ -46,6 +47,10 @@ def _names(values: list[str]) -> list[str]:
 
 
 def cmd_compare(args: argparse.Namespace) -> int:
+    if args.speed and args.plot:
+        raise InputError(
+            "--speed times the closed forms only and draws no figure: give --speed or --plot"
+        )
     if args.speed:
         notes: list[str] = []
         rows = compare.speed(n=args.n, seed=args.seed, notes=notes)
@@ -56,7 +61,13 @@ def cmd_compare(args: argparse.Namespace) -> int:
         return 0
     if args.plot:  # before the run, not after it: matplotlib and a folder to write in
         compare_plots.need_matplotlib("--plot")
-        Path(args.plot).mkdir(parents=True, exist_ok=True)
+        try:
+            Path(args.plot).mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InputError(
+                f"--plot {args.plot!r} cannot be the figures' folder ({exc.strerror or exc}): "
+                "give a folder, new or existing, that you can write to"
+            ) from None
     report = compare.run(n=args.n, seed=args.seed)
     if args.json:
         print(as_json(report.as_dict()))

@@ -50,8 +50,10 @@ def flag_targets(args: argparse.Namespace, options: dict, several: bool) -> list
     # --weights and --position-only go to the library with --axis, which refuses those
     # that free the rotation the axis measures (``targets.aim.refuse_freed``): ``for_flags``
     for rpy in given["rpy"]:
+        shown = " ".join(f"{a:g}" for a in rpy)
+        if not all(math.isfinite(a) for a in rpy):  # not taken for degrees: refused by name
+            raise InputError(f"--rpy {shown} is not 3 finite angles: give roll, pitch, yaw (rad)")
         if any(abs(a) > 2 * math.pi for a in rpy):  # taken as given: a warning, no refusal
-            shown = " ".join(f"{a:g}" for a in rpy)
             print(
                 f"armik: warning: --rpy {shown} looks like degrees; --rpy takes radians",
                 file=sys.stderr,
