@@ -93,60 +93,6 @@ def _turn_range(b, lo, hi, periodic):
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
-def _every_turn(
-    B, i0, i1, Q, src, cost0, lo, hi, periodic, keyed, base, node, weight, table, touched,
-    n_touched, s_rung, s_parent, s_turn, s_cost, count,
-):  # fmt: skip
-    """Every rung ``i0 .. i1 - 1`` at every turn within the limits (a free joint's nearest
-    ``Q``) as a state reached from ``src`` (at ``Q``, of cost ``cost0``) by a jump: where
-    every path breaks, the turn that leaves room for the rest of the path (a wrist spun on
-    past its limit) may be none nearest the answer before. Returns the grown arrays,
-    ``count`` and ``n_touched``."""
-    d = Q.shape[0]
-    first, last, turn = np.zeros(d, np.int64), np.zeros(d, np.int64), np.zeros(d, np.int64)
-    for r in range(i0, i1):
-        ok = True
-        for j in range(d):
-            if periodic[j] and _free(lo[j], hi[j]):
-                first[j] = last[j] = math.floor((Q[j] - B[r, j]) / TWO_PI + 0.5)
-            else:
-                first[j], last[j] = _turn_range(B[r, j], lo[j], hi[j], periodic[j])
-            ok = ok and last[j] >= first[j]
-            turn[j] = first[j]
-        while ok:
-            norm2, code = 0.0, r - i0
-            for j in range(d):
-                dq = B[r, j] + TWO_PI * turn[j] - Q[j]
-                norm2 += dq * dq
-                code = code * base[j] + (turn[j] + 2 if keyed[j] else 0)
-            cost = cost0 + weight * math.sqrt(norm2) + node[r]
-            at = table[code]
-            if at >= 0:
-                if cost < s_cost[at]:
-                    s_cost[at], s_parent[at] = cost, src
-                    for j in range(d):
-                        s_turn[at, j] = turn[j]
-            else:
-                s_rung, s_parent = _grow(s_rung, count), _grow(s_parent, count)
-                s_turn, s_cost = _grow(s_turn, count), _grow(s_cost, count)
-                s_rung[count], s_parent[count], s_cost[count] = r, src, cost
-                for j in range(d):
-                    s_turn[count, j] = turn[j]
-                table[code] = count
-                touched[n_touched] = code
-                n_touched += 1
-                count += 1
-            j = d - 1  # the next combination of turns, as an odometer
-            while j >= 0 and turn[j] == last[j]:
-                turn[j] = first[j]
-                j -= 1
-            if j < 0:
-                break
-            turn[j] += 1
-    return s_rung, s_parent, s_turn, s_cost, count, n_touched
-
-
-@njit(cache=True, no_cfunc_wrapper=True)
 def edge_code(a, b, n_rungs):
     """The code of the edge from rung ``a`` (-1: q0) to rung ``b`` in ``forbidden``."""
     return (a + 1) * n_rungs + b
@@ -190,41 +136,15 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step, forbidden, node, weight):
         if offs[i + 1] == offs[i]:
             continue  # no solution: the path goes on from the states before
         start, n_touched = count, 0
+        initial = not started and not has_q0  # every turn within the limits, at no cost
         for bounded in (True, False):
             best_ratio, best_joint, best_size, seen = math.inf, -1, 0.0, False
-            sources = 1 if not started else prev_hi - prev_lo
+            sources = 0 if initial else (1 if not started else prev_hi - prev_lo)
             for s in range(sources):
                 src = -1 if not started else prev_lo + s
                 for j in range(d):
                     Q[j] = q0[j] if src < 0 else B[s_rung[src], j] + TWO_PI * s_turn[src, j]
                 for r in range(offs[i], offs[i + 1]):
-                    if not started and not has_q0:  # every turn within the limits
-                        ok = True
-                        for j in range(d):
-                            first[j], last[j] = _turn_range(B[r, j], lo[j], hi[j], periodic[j])
-                            ok = ok and last[j] >= first[j]
-                            turn[j] = first[j]
-                        while ok:
-                            code = r - offs[i]
-                            for j in range(d):
-                                code = code * base[j] + (turn[j] + 2 if keyed[j] else 0)
-                            s_rung, s_parent = _grow(s_rung, count), _grow(s_parent, count)
-                            s_turn, s_cost = _grow(s_turn, count), _grow(s_cost, count)
-                            s_rung[count], s_parent[count], s_cost[count] = r, -1, node[r]
-                            for j in range(d):
-                                s_turn[count, j] = turn[j]
-                            table[code] = count
-                            touched[n_touched] = code
-                            n_touched += 1
-                            count += 1
-                            j = d - 1  # the next combination of turns, as an odometer
-                            while j >= 0 and turn[j] == last[j]:
-                                turn[j] = first[j]
-                                j -= 1
-                            if j < 0:
-                                break
-                            turn[j] += 1
-                        continue
                     if not _child(B, r, Q, lo, hi, periodic, child, turn):
                         continue
                     ratio, joint, size, norm2 = 0.0, 0, 0.0, 0.0
@@ -264,19 +184,57 @@ def plan(B, offs, q0, has_q0, lo, hi, periodic, step, forbidden, node, weight):
                     touched[n_touched] = code
                     n_touched += 1
                     count += 1
-            if not bounded:  # a jump: every turn too, from the cheapest state before
+            if initial or not bounded:  # every rung at every turn within the limits:
+                # the first states, or after a jump from the cheapest state before (the
+                # turn that leaves room for the rest of the path, a wrist spun on past its
+                # limit, may be none nearest the answer before; a free joint's: nearest)
                 src = -1
                 for t in range(prev_lo, prev_hi if started else prev_lo):
                     if src < 0 or s_cost[t] < s_cost[src]:
                         src = t
                 for j in range(d):
                     Q[j] = q0[j] if src < 0 else B[s_rung[src], j] + TWO_PI * s_turn[src, j]
-                s_rung, s_parent, s_turn, s_cost, count, n_touched = _every_turn(
-                    B, offs[i], offs[i + 1], Q, src, 0.0 if src < 0 else s_cost[src], lo, hi,
-                    periodic, keyed, base, node, weight, table, touched, n_touched, s_rung,
-                    s_parent, s_turn, s_cost, count,
-                )  # fmt: skip
-            if count > start or not bounded or (not started and not has_q0):
+                cost0 = 0.0 if src < 0 else s_cost[src]
+                for r in range(offs[i], offs[i + 1]):
+                    ok = True
+                    for j in range(d):
+                        if not initial and periodic[j] and _free(lo[j], hi[j]):
+                            first[j] = last[j] = math.floor((Q[j] - B[r, j]) / TWO_PI + 0.5)
+                        else:
+                            first[j], last[j] = _turn_range(B[r, j], lo[j], hi[j], periodic[j])
+                        ok = ok and last[j] >= first[j]
+                        turn[j] = first[j]
+                    while ok:
+                        norm2, code = 0.0, r - offs[i]
+                        for j in range(d):
+                            dq = B[r, j] + TWO_PI * turn[j] - Q[j]
+                            norm2 += dq * dq
+                            code = code * base[j] + (turn[j] + 2 if keyed[j] else 0)
+                        cost = node[r] if initial else cost0 + weight * math.sqrt(norm2) + node[r]
+                        at = table[code]
+                        if at >= 0:
+                            if cost < s_cost[at]:
+                                s_cost[at], s_parent[at] = cost, src
+                                for j in range(d):
+                                    s_turn[at, j] = turn[j]
+                        else:
+                            s_rung, s_parent = _grow(s_rung, count), _grow(s_parent, count)
+                            s_turn, s_cost = _grow(s_turn, count), _grow(s_cost, count)
+                            s_rung[count], s_parent[count], s_cost[count] = r, src, cost
+                            for j in range(d):
+                                s_turn[count, j] = turn[j]
+                            table[code] = count
+                            touched[n_touched] = code
+                            n_touched += 1
+                            count += 1
+                        j = d - 1  # the next combination of turns, as an odometer
+                        while j >= 0 and turn[j] == last[j]:
+                            turn[j] = first[j]
+                            j -= 1
+                        if j < 0:
+                            break
+                        turn[j] += 1
+            if count > start or not bounded or initial:
                 break
             broken[i], hidden[i] = True, seen
             jump_joint[i], jump_size[i] = best_joint, best_size
