@@ -75,30 +75,16 @@ class Constraint(ABC):
         """The check of the answers ``Q`` (N, dof)."""
 
     def __init_subclass__(cls, **kwargs: object) -> None:
-        """A class of the user's own: its ``check`` read through ``_checked``, whichever
+        """A class of the user's own: its ``check``, ``box`` and ``at`` read through
+        ``_checked``, ``_boxed`` and ``_resolved``, whichever
         route calls it (armik's own constraints are read as they are: no call added)."""
         super().__init_subclass__(**kwargs)
-        own = cls.__dict__.get("check")
-        if (
-            isinstance(own, FunctionType)
-            and not cls.__module__.startswith("armik.")
-            and not getattr(own, "_armik_checked", False)
-        ):
-            cls.check = _checked(own)  # type: ignore[method-assign]
-        rows = cls.__dict__.get("box")
-        if (
-            isinstance(rows, FunctionType)
-            and not cls.__module__.startswith("armik.")
-            and not getattr(rows, "_armik_checked", False)
-        ):
-            cls.box = _boxed(rows)  # type: ignore[method-assign]
-        resolve = cls.__dict__.get("at")
-        if (
-            isinstance(resolve, FunctionType)
-            and not cls.__module__.startswith("armik.")
-            and not getattr(resolve, "_armik_checked", False)
-        ):
-            cls.at = _resolved(resolve)  # type: ignore[method-assign]
+        if cls.__module__.startswith("armik."):
+            return
+        for name, read in (("check", _checked), ("box", _boxed), ("at", _resolved)):
+            own = cls.__dict__.get(name)
+            if isinstance(own, FunctionType) and not getattr(own, "_armik_checked", False):
+                setattr(cls, name, read(own))
 
 
 def _checked(own: Callable[..., object]) -> Callable[..., Check]:
