@@ -76,8 +76,8 @@ class Constraint(ABC):
 
     def __init_subclass__(cls, **kwargs: object) -> None:
         """A class of the user's own: its ``check``, ``box`` and ``at`` read through
-        ``_checked``, ``_boxed`` and ``_resolved``, whichever
-        route calls it (armik's own constraints are read as they are: no call added)."""
+        ``_checked``, ``_boxed`` and ``_resolved``, whichever route calls them (armik's own
+        constraints are read as they are: no call added)."""
         super().__init_subclass__(**kwargs)
         if cls.__module__.startswith("armik."):
             return
