@@ -90,3 +90,13 @@ def test_a_robot_of_several_tips_is_mapped_chain_by_chain():
     robot = armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
     with pytest.raises(InputError, match=r"robot\.chain\(tip\)"):
         reachability(robot, resolution=0.5, orientations=1)
+
+
+def test_a_plot_names_the_file_it_writes_and_refuses_a_kind_matplotlib_lacks(tmp_path):
+    pytest.importorskip("matplotlib", reason="the plot extra (matplotlib) is not installed")
+    m = reachability(arm("planar_2link"), 0.6, 1)
+    written = m.plot(tmp_path / "map")
+    assert written == tmp_path / "map.png" and written.is_file()
+    with pytest.raises(InputError, match=r"no \.xyz file.*\.png"):
+        m.plot(tmp_path / "map.xyz")
+    assert not (tmp_path / "map.xyz").exists()

@@ -108,6 +108,16 @@ class ReachMap:
             import matplotlib.pyplot as plt
         except ImportError:
             raise InputError('plotting needs matplotlib: pip install "armik[plot]"') from None
+        path = Path(path)
+        if not path.suffix:  # matplotlib writes "name.png": the path returned is the file written
+            path = path.with_suffix(".png")
+        kinds = plt.figure().canvas.get_supported_filetypes()
+        plt.close("all")
+        if path.suffix[1:].lower() not in kinds:
+            raise InputError(
+                f"ReachMap.plot: matplotlib writes no {path.suffix} file ({str(path)!r}): name "
+                f"it .png, or one of {', '.join('.' + k for k in sorted(kinds))}"
+            )
         cols = 3
         rows = math.ceil((slices + 1) / cols)
         fig, axes = plt.subplots(
@@ -142,7 +152,6 @@ class ReachMap:
         if image is not None:
             label = "position reached" if self.position_only else "fraction reached"
             fig.colorbar(image, ax=axes.ravel().tolist(), shrink=0.8, label=label)
-        path = Path(path)
         fig.savefig(path, dpi=100)
         plt.close(fig)
         return path
