@@ -83,6 +83,9 @@ def test_a_path_of_two_independent_arms(cell):
         assert b.success.all(), b.summary()
         steps = np.abs(np.diff(np.vstack([q0, b.q]), axis=0))
         assert steps.max() <= 0.2 + 1e-12
+    for bad in (True, "0.2", [0.2, 0.2]):  # a bool is no step: not read as 1.0 rad
+        with pytest.raises(OptionError, match="max_joint_step must be one number"):
+            cell.solve_path(ways, q0, max_joint_step=bad)
 
 
 def talos() -> armik.Arms:

@@ -28,6 +28,7 @@ from armik.arms_options import check_held
 from armik.arms_prefer import combined, is_cost
 from armik.arms_rows import empty, row_named, solve_rows
 from armik.batch_result import BatchResult
+from armik.checked import per_joint
 from armik.errors import OptionError, TargetError
 from armik.problem.problem import relative_tasks
 from armik.problem.settings import SolverSettings
@@ -331,23 +332,8 @@ def _seeds(arms: Arms, q0: object, n: int) -> np.ndarray:
 
 def _step(arms: Arms, max_joint_step: object) -> np.ndarray:
     """``max_joint_step`` over every joint of the robot: one number, or one per joint."""
-    value = DEFAULT_MAX_JOINT_STEP if max_joint_step is None else max_joint_step
-    try:
-        step = np.broadcast_to(np.asarray(value, float), (arms.dof,)).copy()
-    except (TypeError, ValueError):
-        raise OptionError(
-            f"max_joint_step must be one number or {arms.dof} numbers (rad or m), one per "
-            f"joint of {list(arms.joint_names)}, got {max_joint_step!r}",
-            option="max_joint_step",
-            value=max_joint_step,
-        ) from None
-    if not (np.isfinite(step).all() and (step > 0).all()):
-        raise OptionError(
-            f"max_joint_step must be positive and finite, got {max_joint_step!r}",
-            option="max_joint_step",
-            value=max_joint_step,
-        )
-    return step
+    joints = list(arms.joint_names)
+    return per_joint("max_joint_step", max_joint_step, DEFAULT_MAX_JOINT_STEP, joints)
 
 
 def _independent(arms: Arms, targets: Mapping[str, Any]) -> bool:

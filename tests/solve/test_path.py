@@ -146,9 +146,12 @@ def test_first_waypoint_far_from_q0_is_reported():
 def test_max_joint_step_checks():
     a = arm("ur5")
     q0 = a.middle
-    for bad in (0.0, -1, np.nan, [0.1, 0.2], "x"):
+    for bad in (0.0, -1, np.nan, [0.1, 0.2], "x", True, [1.0, 1.0, 1.0, 1.0, 1.0, True]):
         with pytest.raises(OptionError, match="max_joint_step"):
             a.solve_path([a.fk(q0)], q0, max_joint_step=bad)
+        for plan in ("global",) if bad is True else ():
+            with pytest.raises(OptionError, match="max_joint_step"):
+                a.solve_path([a.fk(q0)], q0, max_joint_step=bad, plan=plan)
     r = a.solve_path([a.fk(q0)], q0, max_joint_step=np.full(6, 0.2))
     assert r.success.all()
 

@@ -32,7 +32,7 @@ import pinocchio as pin
 
 from armik import reasons
 from armik.batch_result import BatchResult
-from armik.errors import OptionError
+from armik.checked import per_joint
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.request import Request
@@ -240,23 +240,7 @@ def _chooser(arm, score, start: np.ndarray, request: Request, turn: Turning):
 
 
 def _max_step(arm: ArmModel, value: object) -> np.ndarray:
-    if value is None:
-        return np.full(arm.dof, DEFAULT_MAX_JOINT_STEP)
-    try:
-        step = np.broadcast_to(np.asarray(value, dtype=float), (arm.dof,)).copy()
-    except (TypeError, ValueError):
-        raise OptionError(
-            f"max_joint_step must be one number or {arm.dof} numbers (rad or m), got {value!r}",
-            option="max_joint_step",
-            value=value,
-        ) from None
-    if not (np.isfinite(step).all() and (step > 0).all()):
-        raise OptionError(
-            f"max_joint_step must be finite and > 0, got {value!r}",
-            option="max_joint_step",
-            value=value,
-        )
-    return step
+    return per_joint("max_joint_step", value, DEFAULT_MAX_JOINT_STEP, arm.joint_names)
 
 
 def _jump(q: np.ndarray, q_prev: np.ndarray, step: np.ndarray) -> float:
