@@ -200,3 +200,13 @@ def test_info_frames_without_a_tip_lists_the_frames_to_choose_from(capsys, tmp_p
     assert code == 2 and "pass --tip one of" in err and "tip=" not in err
     code, out, _ = run(capsys, "info", path, "--tip", "cam", "--frames")
     assert code == 0 and "-> cam  (the tip)" in out and "-> tip  (leaf)" in out
+
+
+def test_bench_takes_the_tip_its_error_asks_for(capsys, tmp_path):
+    path = _two_leaves(tmp_path)
+    code, _, err = run(capsys, "bench", "--arms", path, "--solvers", "dls", "-n", "2")
+    assert code == 2 and "pass --tip one of" in err
+    code, out, _ = run(
+        capsys, "bench", "--arms", path, "--tip", "tip", "--solvers", "dls", "-n", "2", "--json"
+    )
+    assert code == 0 and '"solver": "dls"' in out

@@ -181,10 +181,11 @@ def run(
     show_progress: bool = False,
     peers: Iterable[str] = (),
     notes: list[str] | None = None,
+    tip: str | None = None,
 ) -> list[BenchRow]:
     """Run the benchmark; returns one row per (arm, solver or peer), N = n x repeats solves.
     A peer that is not installed or does not apply to an arm is skipped, with the reason
-    appended to ``notes``."""
+    appended to ``notes``. ``tip``: the tip frame of every arm (a URDF file's chain end)."""
     _check(n >= 1, "n", n, "the number of targets per arm must be at least 1")
     _check(repeats >= 1, "repeats", repeats, "the number of passes must be at least 1")
     _check(budget > 0, "budget", budget, "the time budget per solve must be > 0 seconds")
@@ -195,7 +196,7 @@ def run(
     rows = []
     solvers = list(solvers)
     for name in arms:
-        arm = load(name)
+        arm = load(name) if tip is None else load(name, tip=tip)
         poses = targets(arm, n, seed)
         active = []
         for peer in peers:

@@ -256,6 +256,7 @@ def _parser() -> argparse.ArgumentParser:
         help="other IK libraries timed on the same targets: rtb (Robotics Toolbox ik_LM), eaik "
         "(needs armik[peers])",
     )
+    c.add_argument("--tip", help="the tip frame of the arms given (a URDF with several ends)")
     c.add_argument("--json", action="store_true", help="print JSON rows")
 
     c = command(

@@ -26,6 +26,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
         show_progress=not args.json,
         peers=_names(args.peers),
         notes=notes,
+        tip=args.tip,
     )
     if args.json:
         print(as_json([r.as_dict() for r in rows]))
