@@ -26,7 +26,7 @@ import numpy as np
 
 from armik.arms_tasks import by_tip
 from armik.checked import configuration
-from armik.constraints.shapes import HalfSpace, check_obstacles
+from armik.constraints.shapes import check_obstacles
 from armik.errors import JointError, OptionError, TargetError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
@@ -95,20 +95,11 @@ def split_limits(arms: ArmsKinematics, name: str, value: object) -> dict[str, ob
 
 def _refuse_unchecked(arms: ArmsKinematics, options: Mapping[str, object]) -> None:
     """An ``OptionError`` for the collisions the union's rows (``armik.servo.union``) would
-    not hold: a half space (its broad phase never keeps one) and, where some joints are
-    shared by a few chains but not all (three tips, two on a torso), any obstacle or
+    not hold: where some joints are shared by a few chains but not all (three tips, two on
+    a torso), any obstacle or
     self-collision (a chain's links would be read from another chain, which held them
     where it was cut). Refused by name rather than a servo that drives through them."""
     shapes = check_obstacles(options.get("obstacles"))
-    flat = next((s for s in shapes if isinstance(s, HalfSpace)), None)
-    if flat is not None:
-        raise OptionError(
-            f"obstacles: {flat!r} is not held by a servo over chains that share joints "
-            f"({list(arms.shared)}) yet: give it as an armik.Box (a thick slab), or servo "
-            "one chain (arms.chain(tip).servo(..., obstacles=[...]))",
-            option="obstacles",
-            value=flat,
-        )
     every = set.intersection(*(set(arms.chain(t).joint_names) for t in arms.tips))
     if (shapes or options.get("self_collision")) and set(arms.shared) - every:
         raise OptionError(

@@ -5,7 +5,8 @@ Each chain's collision geometry (``armik.constraints.collision.arm_geometry``) h
 link of the robot, those off the chain frozen where the chain was cut. Here each link is
 taken from the chain that moves it: a chain's own links (on a joint of its own) from it,
 the shared links (on a shared joint, or fixed) from the first chain. The checked pairs:
-every moving link against every obstacle; a chain's own self-collision pairs among its
+every moving link against every obstacle (a half space too: it has no bounding sphere, so
+the broad phase keeps it); a chain's own self-collision pairs among its
 links and the shared ones (its geometry's, the SRDF's disabled pairs left out); and every
 own link of one chain against every own link of another. A pair whose bounding spheres
 are farther than ``margin + ACTIVE`` apart costs nothing (the broad phase); for the
@@ -90,9 +91,13 @@ class UnionCollisions:
             (s.geometry(), coal.Transform3s(world * s.placement())) for s in self.shapes
         ]
         self.obstacle_radius = np.array([_radius(g) for g, _ in self.obstacles])
-        self.obstacle_centre = np.array(
-            [T.transform(g.aabb_center) for g, T in self.obstacles]
-        ).reshape(-1, 3)
+        # a shape without a bounding sphere (a half space) centred anywhere: its radius
+        # FAR keeps every link's pair with it (its box's centre is at -1e308 m)
+        centres = [
+            T.transform(g.aabb_center) if _radius(g) < FAR else np.zeros(3)
+            for g, T in self.obstacles
+        ]
+        self.obstacle_centre = np.array(centres).reshape(-1, 3)
         self.moving = np.array(
             [k for k in range(len(objects)) if self._joint(k) != 0], dtype=np.intp
         )
