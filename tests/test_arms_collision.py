@@ -335,13 +335,37 @@ def test_three_tips_two_sharing_a_torso_place_every_link_where_the_robot_does():
         assert d <= apart + 1e-9
 
 
-def test_a_servo_over_shared_joints_refuses_the_collisions_its_rows_would_not_hold():
+def _nearest_in_a_stream(robot, servo, goal, shape, ticks: int) -> float:
+    """The smallest distance from ``shape`` to any link of the robot at its middle and
+    after each of ``ticks`` ticks toward ``goal``, each by coal on Pinocchio's placements of
+    the whole URDF (the base is TALOS's root: world and base agree)."""
+    model, geom = _hulls()
+    data, gd = model.createData(), pin.GeometryData(geom)
+    world = pin.SE3(shape.placement())
+    nearest = math.inf
+    for tick in range(ticks + 1):
+        q = servo.step(goal).q if tick else robot.middle
+        whole_placements(model, data, robot.joint_names, q)
+        pin.updateGeometryPlacements(model, data, geom, gd)
+        for o, M in zip(geom.geometryObjects, gd.oMg):
+            nearest = min(nearest, _coal(o.geometry, M, shape.geometry(), world))
+    return nearest
+
+
+def test_a_servo_over_shared_joints_keeps_a_half_space_at_the_margin():
     two = armik.load(TALOS, tips=HANDS)
-    wall = armik.HalfSpace((-1.0, 0.0, 0.0), -1.5)
-    with pytest.raises(armik.OptionError, match="give it as an armik.Box") as info:
-        two.servo(two.middle, obstacles=[wall])
-    assert info.value.option == "obstacles"
-    # the same wall as a thick box: held, the left hand stops at the margin before it
+    # a wall 10 cm before the robot's foremost point (x >= 0 solid: as deep as that point)
+    foremost = -_nearest_in_a_stream(two, None, None, armik.HalfSpace((-1.0, 0.0, 0.0), 0.0), 0)
+    wall = armik.HalfSpace((-1.0, 0.0, 0.0), -(foremost + 0.1))
+    T = two.fk(two.middle)
+    goal = {t: pin.SE3(T[t].rotation, T[t].translation + [0.4, 0.0, 0.0]) for t in HANDS}
+    servo = two.servo(two.middle, obstacles=[wall], margin=0.01)  # both hands sent through it
+    assert _nearest_in_a_stream(two, servo, goal, wall, 800) >= 0.01 - 1e-4
+
+
+def test_a_servo_over_shared_joints_keeps_clear_with_a_third_tip_off_the_torso():
+    two = armik.load(TALOS, tips=HANDS)
+    # a thick box: held, the left hand stops at the margin before it
     x = float(two.fk(two.middle, HANDS[0]).translation[0]) + 0.15
     box = armik.Box((1.0, 4.0, 4.0), (x + 0.5, 0.0, 0.0))
     servo = two.servo(two.middle, obstacles=[box], margin=0.01)
@@ -350,8 +374,40 @@ def test_a_servo_over_shared_joints_refuses_the_collisions_its_rows_would_not_ho
     for _ in range(800):
         step = servo.step(goal)
     assert two.min_distance(step.q, [box])[0] >= 0.01 - 1e-6
-    three = armik.load(TALOS, tips=[*HANDS, "leg_left_6_link"])
-    for given in ({"obstacles": [box]}, {"self_collision": True}):
-        with pytest.raises(armik.OptionError, match="are not on every chain"):
-            three.servo(three.middle, **given)
-    assert three.servo(three.middle).step(three.fk(three.middle)).q.shape == (three.dof,)
+    # the hands on the torso and the left foot, which shares none of their joints: each
+    # hand's links are read from its own chain (the other hand's holds them frozen)
+    srdf = TALOS.parents[1] / "srdf" / "talos.srdf"
+    three = armik.load(TALOS, tips=[*HANDS, "leg_left_6_link"], srdf=srdf)
+    q0, T = three.middle, three.fk(three.middle)
+    ahead = T[HANDS[0]].translation
+    for dx in np.arange(0.15, 0.5, 0.01):  # a ball 8 cm or more before the left hand
+        ball = armik.Sphere(0.05, (*(ahead + [dx, 0.0, 0.0]),))
+        if _nearest_in_a_stream(three, None, None, ball, 0) > 0.08:
+            break
+    goal = {**T, HANDS[0]: pin.SE3(T[HANDS[0]].rotation, ahead + [0.3, 0.0, 0.0])}
+    servo = three.servo(q0, obstacles=[ball], margin=0.01)  # the hand sent through it
+    assert _nearest_in_a_stream(three, servo, goal, ball, 800) >= 0.01 - 1e-4
+    # each hand led in 1.5 s to where the other is: every left-arm link stays the margin
+    # from every right-arm link
+    at = {t: T[t].translation for t in HANDS}
+    middle = 0.5 * (at[HANDS[0]] + at[HANDS[1]])
+    end = {HANDS[0]: middle - [0.0, 0.05, 0.0], HANDS[1]: middle + [0.0, 0.05, 0.0]}
+    servo = three.servo(q0, self_collision=True, margin=0.01)
+    model, geom = _hulls()
+    data, gd = model.createData(), pin.GeometryData(geom)
+    links = [model.frames[o.parentFrame].name for o in geom.geometryObjects]
+    left = [i for i, n in enumerate(links) if n.startswith(("arm_left", "gripper_left"))]
+    right = [i for i, n in enumerate(links) if n.startswith(("arm_right", "gripper_right"))]
+    g = geom.geometryObjects
+    for k in range(1000):
+        share = min(1.0, k / 750)
+        goal = {**T, **{t: at[t] + share * (end[t] - at[t]) for t in HANDS}}
+        q = servo.step(goal).q
+        if k % 4 == 3:
+            whole_placements(model, data, three.joint_names, q)
+            pin.updateGeometryPlacements(model, data, geom, gd)
+            P = gd.oMg
+            apart = min(
+                _coal(g[i].geometry, P[i], g[j].geometry, P[j]) for i in left for j in right
+            )
+            assert apart >= 0.01 - 1e-4, k

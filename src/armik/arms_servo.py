@@ -26,7 +26,6 @@ import numpy as np
 
 from armik.arms_tasks import by_tip
 from armik.checked import configuration
-from armik.constraints.shapes import HalfSpace, check_obstacles
 from armik.errors import JointError, OptionError, TargetError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
@@ -93,33 +92,6 @@ def split_limits(arms: ArmsKinematics, name: str, value: object) -> dict[str, ob
     return {tip: arr[cols] for tip, cols in arms._columns.items()}
 
 
-def _refuse_unchecked(arms: ArmsKinematics, options: Mapping[str, object]) -> None:
-    """An ``OptionError`` for the collisions the union's rows (``armik.servo.union``) would
-    not hold: a half space (its broad phase never keeps one) and, where some joints are
-    shared by a few chains but not all (three tips, two on a torso), any obstacle or
-    self-collision (a chain's links would be read from another chain, which held them
-    where it was cut). Refused by name rather than a servo that drives through them."""
-    shapes = check_obstacles(options.get("obstacles"))
-    flat = next((s for s in shapes if isinstance(s, HalfSpace)), None)
-    if flat is not None:
-        raise OptionError(
-            f"obstacles: {flat!r} is not held by a servo over chains that share joints "
-            f"({list(arms.shared)}) yet: give it as an armik.Box (a thick slab), or servo "
-            "one chain (arms.chain(tip).servo(..., obstacles=[...]))",
-            option="obstacles",
-            value=flat,
-        )
-    every = set.intersection(*(set(arms.chain(t).joint_names) for t in arms.tips))
-    if (shapes or options.get("self_collision")) and set(arms.shared) - every:
-        raise OptionError(
-            f"obstacles and self_collision are not held by a servo over tips {list(arms.tips)} "
-            f"whose shared joints {sorted(set(arms.shared) - every)} are not on every chain "
-            "yet: servo the tips that share them (armik.load(..., tips=[...])), or one chain",
-            option="obstacles" if shapes else "self_collision",
-            value=options.get("obstacles") if shapes else options.get("self_collision"),
-        )
-
-
 class ArmsServo:
     """One ``Servo`` per chain of an ``Arms`` whose chains share no joint, at rest at
     ``q0`` (one value per joint of ``Arms.joint_names``), the options each chain's
@@ -154,7 +126,6 @@ class ArmsServo:
                         option=name,
                         value=value,
                     )
-            _refuse_unchecked(arms, options)
             chains = {tip: arms.chain(tip).kinematics for tip in arms.tips}
             self._union = UnionServo(arms._joint(), chains, q0, **options)  # type: ignore[arg-type]
             self.dt = self._union.dt

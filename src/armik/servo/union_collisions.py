@@ -3,15 +3,17 @@ between the chains too, as velocity dampers on the union's step.
 
 Each chain's collision geometry (``armik.constraints.collision.arm_geometry``) holds every
 link of the robot, those off the chain frozen where the chain was cut. Here each link is
-taken from the chain that moves it: a chain's own links (on a joint of its own) from it,
-the shared links (on a shared joint, or fixed) from the first chain. The checked pairs:
-every moving link against every obstacle; a chain's own self-collision pairs among its
-links and the shared ones (its geometry's, the SRDF's disabled pairs left out); and every
-own link of one chain against every own link of another. A pair whose bounding spheres
-are farther than ``margin + ACTIVE`` apart costs nothing (the broad phase); for the
-others coal gives the distance d, the witness points and the normal n, and the row is
-``armik.servo.collisions``'s: ``n . (J_p2 - J_p1) dq >= -RATE dt (d - margin)``, each
-point's Jacobian from its chain's Pinocchio Jacobian, its columns the union's.
+taken once, as ``Arms.min_distance`` takes it (``armik.arms_links``): from a chain that
+places it where the robot does (the one that hangs it on the deepest joint, never one that
+froze it, three tips with two on a torso too), and the pairs are those the robot's checks
+measure: every moving link against every obstacle (a half space too: it has no bounding
+sphere, so the broad phase keeps it), and with self-collision each chain's own pairs among
+the links it places and every pair of links no one chain places both (two arms), an
+SRDF's disabled pairs left out. A pair whose bounding spheres are farther than ``margin +
+ACTIVE`` apart costs nothing (the broad phase); for the others coal gives the distance d,
+the witness points and the normal n, and the row is ``armik.servo.collisions``'s:
+``n . (J_p2 - J_p1) dq >= -RATE dt (d - margin)``, each point's Jacobian from its chain's
+Pinocchio Jacobian, its columns the union's.
 """
 
 from __future__ import annotations
@@ -24,13 +26,11 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from armik.constraints.collision import arm_geometry
+from armik.arms_links import Links
 from armik.constraints.shapes import check_obstacles
 from armik.model.arm_model import ArmModel
 from armik.servo.collisions import ACTIVE, RATE, asked, margin_of
 from armik.servo.layout import MAX_ROWS
-
-FAR = 1e9  # m: a bounding radius for a shape without one (a half space)
 
 
 class UnionCollisions:
@@ -47,72 +47,25 @@ class UnionCollisions:
         margin: float,
         gain: float,
     ) -> None:
-        shared = set.intersection(*(set(arm.joint_names) for arm in arms))
         self.arms, self.cols, self.n = list(arms), list(cols), n
         self.margin, self.gain = margin, gain
         self.data = [arm.model.createData() for arm in arms]
-        self.geometry = [arm_geometry(arm) for arm in arms]
-        self.gdata = [pin.GeometryData(g.model) for g in self.geometry]
-        # each link's object from the chain that moves it: (chain, object index)
-        owner: dict[str, int] = {}
-        for c, (arm, g) in enumerate(zip(arms, self.geometry)):
-            for i, o in enumerate(g.model.geometryObjects):
-                joint = arm.model.names[o.parentJoint]
-                if o.parentJoint != 0 and joint not in shared:
-                    owner[g.links[i]] = c
-        objects: list[tuple[int, int]] = []  # (chain, its object)
-        key: dict[str, int] = {}  # an object's name -> its place in ``objects``
-        for c, g in enumerate(self.geometry):
-            for i, o in enumerate(g.model.geometryObjects):
-                if owner.get(g.links[i], 0) == c and o.name not in key:
-                    key[o.name] = len(objects)
-                    objects.append((c, i))
-        pairs: set[tuple[int, int]] = set()  # pairs of ``objects``
-        if self_collision:
-            for c, g in enumerate(self.geometry):
-                names = [o.name for o in g.model.geometryObjects]
-                for a, b in g.self_pairs:  # off another chain's own links (frozen here)
-                    if owner.get(g.links[a], c) == c and owner.get(g.links[b], c) == c:
-                        pairs.add((key[names[a]], key[names[b]]))
-            disabled = frozenset().union(*(arm.disabled_pairs for arm in arms))
-            for ka, (ca, a) in enumerate(objects):
-                for kb, (cb, b) in enumerate(objects):
-                    la, lb = self.geometry[ca].links[a], self.geometry[cb].links[b]
-                    if ca < cb and la in owner and lb in owner and owner[la] != owner[lb]:
-                        if tuple(sorted((la, lb))) not in disabled:
-                            pairs.add((ka, kb))
-        self.objects = objects
-        self.names = [self.geometry[c].links[i] for c, i in objects]
-        self.self_pairs = sorted(pairs)
         self.shapes = check_obstacles(obstacles)
-        world = arms[0].T_world_base
-        self.obstacles = [
-            (s.geometry(), coal.Transform3s(world * s.placement())) for s in self.shapes
-        ]
-        self.obstacle_radius = np.array([_radius(g) for g, _ in self.obstacles])
-        self.obstacle_centre = np.array(
-            [T.transform(g.aabb_center) for g, T in self.obstacles]
-        ).reshape(-1, 3)
-        self.moving = np.array(
-            [k for k in range(len(objects)) if self._joint(k) != 0], dtype=np.intp
-        )
-        geoms = [self._object(k).geometry for k in range(len(objects))]
-        self.geoms, self.joints = geoms, [self._joint(k) for k in range(len(objects))]
-        self.radius = np.array([_radius(g) for g in geoms])
-        self.centre = np.array([g.aabb_center for g in geoms]).reshape(-1, 3)
-        self.pair_a = np.array([p for p, _ in self.self_pairs], dtype=np.intp)
-        self.pair_b = np.array([q for _, q in self.self_pairs], dtype=np.intp)
+        # each link once, from a chain that places it where the robot does, and the pairs
+        # the robot's own checks measure (``Arms.min_distance``'s)
+        links = Links(self.arms, self.shapes, self_collision)
+        self.geometry = links.geometry
+        self.gdata = [pin.GeometryData(g.model) for g in self.geometry]
+        self.objects, self.names, self.self_pairs = links.objects, links.names, links.self_pairs
+        self.obstacles = links.obstacles
+        self.obstacle_radius, self.obstacle_centre = links.obstacle_radius, links.obstacle_centre
+        self.moving, self.geoms, self.joints = links.moving, links.geoms, links.joints
+        self.radius, self.centre = links.radius, links.centre
+        self.pair_a, self.pair_b = links.pair_a, links.pair_b
         self.rows = np.zeros((MAX_ROWS, n + 1))
         self.request = coal.DistanceRequest()
         self.nearest = math.inf  # m: the nearest pair's distance at the last ``at``
         self.pairs: list[tuple[int, int]] = []  # each row's pair (an obstacle's: -1 - it)
-
-    def _object(self, k: int) -> pin.GeometryObject:
-        c, i = self.objects[k]
-        return self.geometry[c].model.geometryObjects[i]
-
-    def _joint(self, k: int) -> int:
-        return int(self._object(k).parentJoint)
 
     def at(self, q: np.ndarray) -> np.ndarray:
         """The rows at the union's joint values q (rad, m), nearest pairs first, at most
@@ -192,13 +145,6 @@ class UnionCollisions:
         r = p - data.oMi[joint].translation
         out[:, self.cols[c]] = J[:3] + np.cross(J[3:].T, r).T  # v + w x r
         return out
-
-
-def _radius(geometry: coal.CollisionGeometry) -> float:
-    """The radius of a sphere about ``aabb_center`` holding the shape (``FAR`` without)."""
-    geometry.computeLocalAABB()
-    r = float(geometry.aabb_radius)
-    return r if math.isfinite(r) else FAR
 
 
 def _transform(M: pin.SE3) -> coal.Transform3s:
