@@ -75,10 +75,13 @@ def _rows(plan: Plan, R, pos, q0, lower, upper, out) -> tuple[int, bool, float]:
     roots = np.linalg.eigvals(K)
     if not np.all(np.isfinite(roots)):
         return 0, False, regular
-    n, sure = elimination_roots.solutions(
-        chain.h, chain.p, chain.R_tip0, R, pos, state, roots, plan.places, plan.sign, q0,
-        lower, upper, out,
-    )  # fmt: skip
+    args = (chain.h, chain.p, chain.R_tip0, R, pos, state, roots)
+    rest = (plan.places, plan.sign, q0, lower, upper, out)
+    n, sure, lost = elimination_roots.solutions(*args, elimination_roots.NO_SEEDS, *rest)
+    if lost:  # a multiple root: its solutions read off M(x3)'s null space too
+        seeds = elimination_roots.seeds(state, roots)
+        if len(seeds):  # as sure as before: some of a multiple root's can be complex
+            n, _, _ = elimination_roots.solutions(*args, seeds, *rest)
     return n, sure, regular
 
 
