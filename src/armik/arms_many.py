@@ -28,13 +28,13 @@ from armik.arms_options import check_held
 from armik.arms_prefer import combined, is_cost
 from armik.arms_rows import empty, row_named, solve_rows
 from armik.batch_result import BatchResult
-from armik.checked import per_joint
 from armik.errors import OptionError, TargetError
 from armik.problem.problem import relative_tasks
 from armik.problem.settings import SolverSettings
 from armik.result import IKResult
 from armik.solve import backends
 from armik.solve.batch import DEFAULT_CHUNK
+from armik.solve.path import max_step
 from armik.solve.progress import ProgressArg
 from armik.solve.read import check_plan
 from armik.solve.read import options as read_options
@@ -73,7 +73,6 @@ class Arms(Protocol):
     def _seed(self, q0: object, row: int | None = None) -> np.ndarray: ...
 
 
-DEFAULT_MAX_JOINT_STEP = 0.5  # rad or m, as a single arm's path (armik.solve.path)
 _CONVERGED = Status.CONVERGED.code
 
 
@@ -332,8 +331,7 @@ def _seeds(arms: Arms, q0: object, n: int) -> np.ndarray:
 
 def _step(arms: Arms, max_joint_step: object) -> np.ndarray:
     """``max_joint_step`` over every joint of the robot: one number, or one per joint."""
-    joints = list(arms.joint_names)
-    return per_joint("max_joint_step", max_joint_step, DEFAULT_MAX_JOINT_STEP, joints)
+    return max_step(max_joint_step, list(arms.joint_names))
 
 
 def _independent(arms: Arms, targets: Mapping[str, Any]) -> bool:

@@ -57,30 +57,6 @@ def positive(key: str, value: object, most: float, unit: str) -> float:
     return out
 
 
-def per_joint(
-    key: str, value: object, default: float, joints: Sequence[str]
-) -> np.ndarray:  # fmt: skip
-    """``value`` (None: ``default``) as one positive, finite float per joint of ``joints``:
-    one number for all, or one each (rad or m; not bools, strings or complex numbers)."""
-    if value is None:
-        return np.full(len(joints), default)
-    flags = value if isinstance(value, (list, tuple, np.ndarray)) else [value]
-    bools = any(isinstance(v, (bool, np.bool_)) for v in np.ravel(np.asarray(flags, object)))
-    got = numbers(value)
-    if bools or isinstance(value, (str, bytes)) or got.ndim > 1 or got.size not in (1, len(joints)):
-        raise OptionError(
-            f"{key} must be one number or {len(joints)} numbers (rad or m), one per joint of "
-            f"{list(joints)}, got {value!r}",
-            option=key,
-            value=value,
-        )
-    if not (np.isfinite(got).all() and (got > 0).all()):
-        raise OptionError(
-            f"{key} must be positive and finite, got {value!r}", option=key, value=value
-        )
-    return np.broadcast_to(got, (len(joints),)).copy()
-
-
 def integer(key: str, value: object, minimum: int, maximum: int | None = None) -> int:
     """``value`` as an int in [``minimum``, ``maximum``] (not a bool or a float)."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):

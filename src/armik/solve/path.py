@@ -26,13 +26,14 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from collections.abc import Sequence
 
 import numpy as np
 import pinocchio as pin
 
 from armik import reasons
 from armik.batch_result import BatchResult
-from armik.checked import per_joint
+from armik.errors import OptionError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.request import Request
@@ -81,10 +82,10 @@ def solve_path(
     """
     t0 = request.t0
     if request.rows is not None:  # task lists without a compiled form: the task solver's
-        return _followed_rows(arm, request, _max_step(arm, max_joint_step))
+        return _followed_rows(arm, request, max_step(max_joint_step, arm.joint_names))
     poses, q0, solver, score = request.target, request.q0, request.solver, request.score
     opts = request.settings
-    step = _max_step(arm, max_joint_step)
+    step = max_step(max_joint_step, arm.joint_names)
     q_prev = arm.seed(q0)
     # a spin the bounds free over a whole turn: each pose at the spin nearest the one before
     batch = parse_targets(poses, arm)
@@ -239,8 +240,33 @@ def _chooser(arm, score, start: np.ndarray, request: Request, turn: Turning):
     return choose
 
 
-def _max_step(arm: ArmModel, value: object) -> np.ndarray:
-    return per_joint("max_joint_step", value, DEFAULT_MAX_JOINT_STEP, arm.joint_names)
+def max_step(value: object, joints: Sequence[str]) -> np.ndarray:
+    """``max_joint_step`` (None: the default) as one positive, finite float per joint of
+    ``joints`` (rad or m): one number for all, or one each; not bools or strings (``Arm``'s
+    paths and ``Arms``')."""
+    n = len(joints)
+    if value is None:
+        return np.full(n, DEFAULT_MAX_JOINT_STEP)
+    try:
+        if isinstance(value, (str, bytes)) or any(
+            isinstance(v, (bool, np.bool_)) for v in np.ravel(np.asarray(value, dtype=object))
+        ):
+            raise TypeError
+        step = np.broadcast_to(np.asarray(value, dtype=float), (n,)).copy()
+    except (TypeError, ValueError, OverflowError):
+        raise OptionError(
+            f"max_joint_step must be one number or {n} numbers (rad or m), one per joint of "
+            f"{list(joints)}, got {value!r}",
+            option="max_joint_step",
+            value=value,
+        ) from None
+    if not (np.isfinite(step).all() and (step > 0).all()):
+        raise OptionError(
+            f"max_joint_step must be positive and finite, got {value!r}",
+            option="max_joint_step",
+            value=value,
+        )
+    return step
 
 
 def _jump(q: np.ndarray, q_prev: np.ndarray, step: np.ndarray) -> float:
