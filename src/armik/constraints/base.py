@@ -87,23 +87,30 @@ class Constraint(ABC):
                 setattr(cls, name, read(own))
 
 
+def _refused(name: str, what: str) -> OptionError:
+    """What is wrong with a user's constraint class ``name``, as an ``OptionError``."""
+    return OptionError(f"constraint {name}: {what}", option="constraints", value=name)
+
+
+def _called(name: str, what: str, fn: Callable[..., Any], *args: object, said: str = "") -> Any:
+    """``fn(*args)``, a member of the user's constraint class ``name``: an armik error passes,
+    another it raises is an ``OptionError`` saying ``its {what} raised ...`` (then ``said``)."""
+    try:
+        return fn(*args)
+    except ArmikError:
+        raise
+    except Exception as exc:
+        raise _refused(name, f"its {what} raised {type(exc).__name__}: {exc}{said}") from exc
+
+
 def _checked(own: Callable[..., object]) -> Callable[..., Check]:
     """A user's ``check``, its result read as a ``Check`` of the answers given: an error it
     raises, or a result of another shape, an ``OptionError`` naming its class."""
 
     @functools.wraps(own)
     def check(self: Constraint, arm: ArmModel, Q: np.ndarray) -> Check:
-        try:
-            got = own(self, arm, Q)
-        except ArmikError:
-            raise
-        except Exception as exc:
-            raise OptionError(
-                f"constraint {type(self).__name__}: its check raised {type(exc).__name__}: "
-                f"{exc} (on {len(Q)} answer(s), Q of shape {np.shape(Q)})",
-                option="constraints",
-                value=type(self).__name__,
-            ) from exc
+        on = f" (on {len(Q)} answer(s), Q of shape {np.shape(Q)})"
+        got = _called(type(self).__name__, "check", own, self, arm, Q, said=on)
         if type(got) is Check:
             ok = got.ok
             if type(ok) is np.ndarray and ok.dtype == np.bool_ and ok.shape == (len(Q),):
@@ -123,16 +130,7 @@ def _boxed(own: Callable[..., object]) -> Callable[..., tuple[np.ndarray, np.nda
     @functools.wraps(own)
     def box(self: Constraint, arm: ArmModel) -> tuple[np.ndarray, np.ndarray] | None:
         name = type(self).__name__
-
-        def refused(what: str) -> OptionError:
-            return OptionError(f"constraint {name}: {what}", option="constraints", value=name)
-
-        try:
-            got = own(self, arm)
-        except ArmikError:
-            raise
-        except Exception as exc:
-            raise refused(f"its box raised {type(exc).__name__}: {exc}") from exc
+        got = _called(name, "box", own, self, arm)
         if got is None:
             return None
         n = arm.dof
@@ -144,16 +142,18 @@ def _boxed(own: Callable[..., object]) -> Callable[..., tuple[np.ndarray, np.nda
             if upper.ndim == 0:
                 upper = np.full(n, upper)
         except (TypeError, ValueError):
-            raise refused(f"its box must return None or {say}, got {got!r}") from None
+            raise _refused(name, f"its box must return None or {say}, got {got!r}") from None
         if lower.shape != (n,) or upper.shape != (n,):
-            raise refused(
-                f"its box must return None or {say}, got shapes {lower.shape} and {upper.shape}"
+            raise _refused(
+                name,
+                f"its box must return None or {say}, got shapes {lower.shape} and {upper.shape}",
             )
         if np.isnan(lower).any() or np.isnan(upper).any() or (lower > upper).any():
             j = int(np.flatnonzero(~(lower <= upper))[0])
-            raise refused(
+            raise _refused(
+                name,
                 f"its box must give lower <= upper, numbers, at every joint; at joint {j} "
-                f"({arm.joint_names[j]}) it gave [{lower[j]}, {upper[j]}]"
+                f"({arm.joint_names[j]}) it gave [{lower[j]}, {upper[j]}]",
             )
         return lower, upper
 
@@ -168,22 +168,12 @@ def _resolved(own: Callable[..., object]) -> Callable[..., Constraint]:
     @functools.wraps(own)
     def at(self: Constraint, arm: ArmModel, seed: np.ndarray) -> Constraint:
         name = type(self).__name__
-        try:
-            got = own(self, arm, seed)
-        except ArmikError:
-            raise
-        except Exception as exc:
-            raise OptionError(
-                f"constraint {name}: its at raised {type(exc).__name__}: {exc}",
-                option="constraints",
-                value=name,
-            ) from exc
+        got = _called(name, "at", own, self, arm, seed)
         if not isinstance(got, Constraint):
-            raise OptionError(
-                f"constraint {name}: its at(arm, seed) must return the constraint resolved "
-                f"for that solve (a Constraint: self where nothing changes), got {got!r}",
-                option="constraints",
-                value=name,
+            raise _refused(
+                name,
+                f"its at(arm, seed) must return the constraint resolved for that solve (a "
+                f"Constraint: self where nothing changes), got {got!r}",
             )
         return got
 
@@ -201,7 +191,7 @@ def _read(constraint: Constraint, got: object, n: int) -> Check:
     name = type(constraint).__name__
 
     def refused(what: str) -> OptionError:
-        return OptionError(f"constraint {name}: {what}", option="constraints", value=name)
+        return _refused(name, what)
 
     if not isinstance(got, Check):
         raise refused(f"its check returned {type(got).__name__}, not a Check: {_SAY}")
@@ -240,23 +230,11 @@ def _said(constraint: Constraint, got: Check) -> Check:
 
     def read(field: str, fn: Callable[..., object], kind: type) -> Callable[..., Any]:
         def call(i: int, *more: object) -> Any:
-            try:
-                out = fn(i, *more)
-            except ArmikError:
-                raise
-            except Exception as exc:
-                raise OptionError(
-                    f"constraint {name}: its Check.{field} of answer {i} raised "
-                    f"{type(exc).__name__}: {exc}",
-                    option="constraints",
-                    value=name,
-                ) from exc
+            out = _called(name, f"Check.{field} of answer {i}", fn, i, *more)
             if not isinstance(out, kind):
-                raise OptionError(
-                    f"constraint {name}: its Check.{field} of answer {i} must return a "
-                    f"{kind.__name__}, got {out!r}",
-                    option="constraints",
-                    value=name,
+                raise _refused(
+                    name,
+                    f"its Check.{field} of answer {i} must return a {kind.__name__}, got {out!r}",
                 )
             return out
 
