@@ -150,14 +150,7 @@ def min_distance(
             option="obstacles",
         )
     q = checked.configuration("q", q, arms.joint_names)
-    checkers = arms.__dict__.setdefault("_checkers", {})  # one per set of obstacles
-    key = (shapes, bool(self_collision))
-    found = checkers.get(key)
-    if found is None:
-        if len(checkers) >= MOST_CHECKERS:
-            checkers.clear()
-        found = checkers[key] = ArmsChecker(arms, shapes, bool(self_collision))
-    return found.distance(q)
+    return _checker(arms, shapes, bool(self_collision)).distance(q)
 
 
 def in_collision(
@@ -196,12 +189,16 @@ def between(arms: Any, options: Mapping[str, Any]) -> tuple[object, tuple] | Non
     return max(c.margin for c in found), shapes
 
 
-def _checker(arms: Any, shapes: tuple) -> ArmsChecker:
-    """The robot's checker of its own links and ``shapes``, kept as ``min_distance``'s."""
+def _checker(arms: Any, shapes: tuple, self_collision: bool = True) -> ArmsChecker:
+    """The robot's checker of ``shapes`` (and its own links with ``self_collision``), kept
+    per robot, one per set of obstacles (the last ``MOST_CHECKERS``)."""
     checkers = arms.__dict__.setdefault("_checkers", {})
-    found = checkers.get((shapes, True))
+    key = (shapes, self_collision)
+    found = checkers.get(key)
     if found is None:
-        found = checkers[shapes, True] = ArmsChecker(arms, shapes, True)
+        if len(checkers) >= MOST_CHECKERS:
+            checkers.clear()
+        found = checkers[key] = ArmsChecker(arms, shapes, self_collision)
     return found
 
 

@@ -65,5 +65,6 @@ def test_a_held_batch_among_obstacles_keeps_clear(panda):
     b = panda.solve_batch(
         T, hold={"panda_joint7": value}, obstacles=BALL, self_collision=True, progress=False
     )
+    assert np.isfinite(b.min_distance).all()  # every row's collisions checked
     for i in np.flatnonzero(b.success):
         assert panda.min_distance(b.q[i], BALL, True)[0] >= 0

@@ -9,7 +9,7 @@ same turns are one state (the cheapest parent kept), found in a table indexed by
 and the turns, so a layer costs its candidates, not their square. Where no child is kept,
 every path breaks at that waypoint: it is flagged with the smallest jump's joint and size,
 and its children are taken without the step bound, and every rung at every turn within the
-limits too, from the cheapest state before (``_every_turn``): the turn that leaves room
+limits too, from the cheapest state before (one loop in ``plan``): the turn that leaves room
 for the rest of the path need not be the one nearest the answer before. An edge in
 ``forbidden`` (a pair of rungs a jump hides between: ``armik.solve.ladder``) counts as a
 jump too. Without q0 the

@@ -99,7 +99,7 @@ def solve_held(arm: ArmModel, req: Request, target, general):
     opts = with_seed(req.opts, req.seed)
     seed = arm.seed(req.q0)
     tgt = target if type(target) is Target else parsed(target, arm)  # the stages parsed it
-    held = Held(arm, req, general)
+    held = Held(req, general)
     answers = held.run(arm, tgt, seed, opts, every)
     results = finish(arm, held.name, answers, tgt, opts, seed, every, req.t0)
     return results if every else results[0]
@@ -114,7 +114,7 @@ class Held:
 
     kind = "analytic"
 
-    def __init__(self, arm: ArmModel, req: Request, general) -> None:
+    def __init__(self, req: Request, general) -> None:
         self.req, self.general, self.name = req, general, req.solver
 
     def run(self, arm: ArmModel, tgt: Target, seed: np.ndarray, opts, every: bool) -> Answers:

@@ -106,13 +106,13 @@ class ReachMap:
 
             matplotlib.use("Agg")
             import matplotlib.pyplot as plt
+            from matplotlib.figure import Figure
         except ImportError:
             raise InputError('plotting needs matplotlib: pip install "armik[plot]"') from None
         path = Path(path)
         if not path.suffix:  # matplotlib writes "name.png": the path returned is the file written
             path = path.with_suffix(".png")
-        kinds = plt.figure().canvas.get_supported_filetypes()
-        plt.close("all")
+        kinds = Figure().canvas.get_supported_filetypes()  # no pyplot figure: the user's stay
         if path.suffix[1:].lower() not in kinds:
             raise InputError(
                 f"ReachMap.plot: matplotlib writes no {path.suffix} file ({str(path)!r}): name "

@@ -106,7 +106,7 @@ def _held_clear(arm: ArmModel, req: Request, target: Target):
         self_collision=opts.self_collision,
         margin=opts.margin,
     )
-    held = Held(arm, req, general)
+    held = Held(req, general)
     found = solve_avoiding(arm, held, target, arm.seed(req.q0), opts, clear, req.every, req.t0)  # type: ignore[arg-type]
     return found if req.every else found[0]
 
