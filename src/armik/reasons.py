@@ -234,6 +234,13 @@ def every_path_breaks(
     and/or the smallest possible one (joint, size, unit, max_joint_step)."""
     before = "every solution of" if every else "every answer found at"
     start = "q0 (the start)" if first else f"{before} the waypoint before"
+    found = "" if every else "through the answers found "
+    return f"every path {found}breaks here: from {start}, {_jumps(hidden, smallest)}"
+
+
+def _jumps(hidden: bool, smallest: tuple[str, float, str, float] | None) -> str:
+    """Why every step onto a waypoint is a jump: one hidden inside every step and/or the
+    smallest possible one."""
     why = []
     if hidden:
         why.append(
@@ -247,8 +254,7 @@ def every_path_breaks(
             f"the smallest {'other ' if hidden else ''}possible jump moves "
             f"{joint} by {size:.3g} {unit} (max_joint_step {step:g})"
         )
-    found = "" if every else "through the answers found "
-    return f"every path {found}breaks here: from {start}, {'; '.join(why)}"
+    return "; ".join(why)
 
 
 def planned_over(move: str) -> str:
@@ -392,7 +398,7 @@ def every_path_since_breaks(
     reach goes on to this one within the bound: every path from ``since`` (the plan's last
     break, or its start) without a jump breaks here, and one through that solution breaks
     on its way to it."""
-    why = every_path_breaks(every, False, hidden, smallest).split("the waypoint before, ", 1)[1]
+    why = _jumps(hidden, smallest)
     found = "" if every else "through the answers found "
     other = "solution" if every else "answer found"
     return (
