@@ -214,13 +214,10 @@ def read_path(
         lowered = lower_all(problems, options, arm.tip)
         if lowered is None and aim is not None:
             raise OptionError(AIM_OF_TASKS, option=AIM_NAMES[0], value=aim)
-        if lowered is not None and _held_apart(arm, options):  # as solve reads each list
-            if plan == "global":
-                raise _held_global(options)
-            rows = tuple(read(arm, list(p.tasks), None, solver, options) for p in problems)
-            return _by_rows(arm, rows, q0, solver, options, t0, score)
-        if lowered is None:  # the task solver's, waypoint by waypoint, each as solve reads it
-            if plan == "global":
+        if lowered is None or _held_apart(arm, options):  # the task solver's, waypoint by
+            if plan == "global":  # waypoint, each list as solve reads it
+                if lowered is not None:
+                    raise _held_global(options)
                 raise TargetError(
                     "plan='global' plans over every solution at each waypoint, and the task "
                     "lists given have no compiled form (the task solver gives one answer "
