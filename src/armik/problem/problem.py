@@ -320,3 +320,20 @@ def _onto(u: np.ndarray, v: np.ndarray) -> np.ndarray:
         axis = cross(u, other)
         return pin.exp3(math.pi * axis / np.linalg.norm(axis))
     return pin.exp3(math.atan2(s, c) * axis / s)
+
+
+def check_said_twice(options: dict, said: dict) -> None:
+    """A task that says its bounds or weights, given the same option too: which one? (An
+    option that frees the orientation an ``Axis`` or a ``LookAt`` measures is refused with
+    the aim they lower to, as a keyword cone's: ``targets.aim.refuse_freed``.)"""
+    for name in said:
+        if name in options:
+            box = ", armik.Position(p, bounds=...)); an armik.Axis or armik.LookAt says the "
+            box += "bounds of what it frees itself (the position, the spin about the axis"
+            box = box if name == "bounds" else ""
+            raise OptionError(
+                f"{name} is given both by the task and as an option: give it in the task "
+                f"(armik.Pose(T, {name}=...){box})",
+                option=name,
+                value=options[name],
+            )

@@ -26,6 +26,7 @@ from armik.options import Options, spelled
 from armik.problem.problem import (
     Problem,
     as_problem,
+    check_said_twice,
     lower,
     refuse_beside_tasks,
     refuse_looking_from_target,
@@ -44,7 +45,7 @@ from armik.solve.read_aim import (
     task_aim,
     tasks_aim,
 )
-from armik.solve.tasks import SOLVER, check_said_twice, lower_all, task_problems
+from armik.solve.tasks import SOLVER, lower_all, task_problems
 from armik.targets.aim import refuse_freed, refuse_without_direction
 from armik.targets.batch import parse_targets
 from armik.targets.pose import Target, parsed

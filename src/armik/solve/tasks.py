@@ -30,11 +30,12 @@ from armik import cpu_time, reasons
 from armik.constraints.base import Constraint, satisfied
 from armik.constraints.hold import Hold
 from armik.constraints.limits import JointLimits
-from armik.errors import OptionError, TargetError
+from armik.errors import TargetError
+from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.model.frames import named
-from armik.problem.problem import Problem, as_problem, lower, refuse_beside_tasks
+from armik.problem.problem import Problem, as_problem, check_said_twice, lower, refuse_beside_tasks
 from armik.problem.scores import Posture, Score
 from armik.problem.settings import SolverSettings
 from armik.problem.tasks import Pose, Task, TaskError
@@ -53,23 +54,6 @@ CLOSING = 0.5  # ... while each run of iterations at least halves its error
 AIM = 0.9  # the descent aims at the regions scaled by this (``Task.shrunk``)
 SCORE_STEPS = 40  # null-space steps for a score at most (each a few Newton steps)
 CENTRE_RESTARTS = 20  # the centre's compiled attempt: out of reach where the region may not be
-
-
-def check_said_twice(options: dict, said: dict) -> None:
-    """A task that says its bounds or weights, given the same option too: which one? (An
-    option that frees the orientation an ``Axis`` or a ``LookAt`` measures is refused with
-    the aim they lower to, as a keyword cone's: ``targets.aim.refuse_freed``.)"""
-    for name in said:
-        if name in options:
-            box = ", armik.Position(p, bounds=...)); an armik.Axis or armik.LookAt says the "
-            box += "bounds of what it frees itself (the position, the spin about the axis"
-            box = box if name == "bounds" else ""
-            raise OptionError(
-                f"{name} is given both by the task and as an option: give it in the task "
-                f"(armik.Pose(T, {name}=...){box})",
-                option=name,
-                value=options[name],
-            )
 
 
 def frame_ids(arm: ArmModel, tasks: tuple[Task, ...]) -> tuple[tuple[int, ...], ...]:
@@ -96,7 +80,11 @@ def _frame_id(arm: ArmModel, task: Task, frame: str | None) -> int:
     if frame is None or frame == arm.tip:
         return arm.tip_frame_id
     if arm.model.existFrame(frame):
-        return named(arm.model, frame)  # a name a joint and a link share: the link's
+        i = named(arm.model, frame)  # a name a joint and a link share: the link's
+        whole = mimic_frames.full_frame(arm, frame) if isinstance(arm, ArmModel) else None
+        if whole is not None:  # a mimic joint the chain's model holds moves it: placed on
+            _FOLLOWED(arm)[i] = whole  # the whole model, as Arm.fk(q, frame=) places it
+        return i
     names = sorted(f.name for f in arm.model.frames)
     raise TargetError(
         f"{type(task).__name__} asks for frame {frame!r}, which this arm's model does not "
@@ -104,13 +92,20 @@ def _frame_id(arm: ArmModel, task: Task, frame: str | None) -> int:
     )
 
 
+_FOLLOWED: Derived[dict] = Derived("task frames a mimic joint off the chain moves", lambda _: {})
+
+
 def _placed(arm: ArmModel, q: np.ndarray, ids) -> dict:
     """Each frame's (T_base_frame, LOCAL Jacobian) at ``q`` from one pass of Pinocchio's
     kinematics; a frame the chain does not move keeps a zero Jacobian."""
     model, data = arm.model, arm.data
     pin.computeJointJacobians(model, data, arm.to_pin(q))
-    placed = {}
+    placed, followed = {}, arm._derived.get(_FOLLOWED)
     for i in {i for frames in ids for i in frames}:
+        if followed and i in followed:
+            J = mimic_frames.jacobian(arm, q, followed[i], pin.LOCAL)
+            placed[i] = (mimic_frames.placement(arm, q, followed[i]), J)
+            continue
         T = arm.T_base_world * pin.updateFramePlacement(model, data, i)
         placed[i] = (T, pin.getFrameJacobian(model, data, i, pin.LOCAL).reshape(6, arm.dof))
     return placed
@@ -162,6 +157,9 @@ def _measure(
             i: (T_base * pin.updateFramePlacement(model, data, i), None)
             for i in {i for frames in ids for i in frames}
         }
+        if followed := arm._derived.get(_FOLLOWED):  # placed on the whole model (_frame_id)
+            for i in placed.keys() & followed.keys():
+                placed[i] = (mimic_frames.placement(arm, q, followed[i]), None)
     tol_p, tol_o, get = opts.tol_position, opts.tol_orientation, placed.__getitem__
     return [t.measure(t.placement(list(map(get, f)))[0], tol_p, tol_o) for t, f in zip(tasks, ids)]
 
@@ -308,7 +306,9 @@ def solve_tasks(
     rng = np.random.default_rng(opts.seed)
     budget = problem.budget
     aims = tuple([t.shrunk(AIM) for t in tasks])
-    table = task_table(arm, aims, ids)
+    followed = arm._derived.get(_FOLLOWED)  # the compiled table places the chain's frames
+    on_chain = not followed or not any([i in followed for fs in ids for i in fs])
+    table = task_table(arm, aims, ids) if on_chain else None
     started = cpu_time.thread_time()
     used = restarts = 0
     # the start is measured only where the first descent ends short of every task: a
