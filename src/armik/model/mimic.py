@@ -13,6 +13,7 @@ its own limits.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from typing import NamedTuple
 
 import numpy as np
@@ -33,12 +34,17 @@ class Mimic(NamedTuple):
 
 
 def resolve(
-    full: pin.Model, info: URDFInfo, jid: int, moving: list[int], q_ref: np.ndarray
+    full: pin.Model,
+    info: URDFInfo,
+    jid: int,
+    moving: list[int],
+    q_ref: np.ndarray,
+    locked: Mapping[str, float],
 ) -> Mimic | float:
     """What the mimic joint ``jid`` of the chain becomes: a ``Mimic`` of a driver among
     ``moving`` (the chain's joints left free, base first), or the value (rad or m) it is
-    fixed at: multiplier x the driver's value in ``q_ref`` + offset, or the offset for a
-    zero multiplier. Raises ``URDFError`` for a driver that is unknown or is itself a mimic
+    fixed at: multiplier x the driver's value (``driver_value``) + offset, or the offset
+    for a zero multiplier. Raises ``URDFError`` for a driver that is unknown or is itself a mimic
     joint (a cycle included), ``JointError`` for a pair Pinocchio cannot model."""
     name = full.names[jid]
     driver = info.mimic[name]
@@ -66,7 +72,7 @@ def resolve(
     if multiplier == 0.0:
         return offset + 0.0
     if did not in moving:  # off the chain, or locked: fixed at its driver's value
-        return multiplier * joint_value(full, q_ref, did) + offset
+        return multiplier * driver_value(full, q_ref, did, locked) + offset
     for j, role in ((jid, "mimic"), (did, "driver")):
         if full.joints[j].nq != 1:
             raise JointError(
@@ -86,11 +92,15 @@ def resolve(
 
 
 def off_chain_values(
-    full: pin.Model, info: URDFInfo, moving: list[int], q_ref: np.ndarray, locked: set[str]
+    full: pin.Model,
+    info: URDFInfo,
+    moving: list[int],
+    q_ref: np.ndarray,
+    locked: Mapping[str, float],
 ) -> list[tuple[int, float]]:
     """(joint id, value) for the mimic joints off the chain: each is locked at multiplier x
-    its driver's value in ``q_ref`` (its lock, or neutral) + offset, as a gripper's second
-    finger follows the first. Left as they are: joints ``locked`` by name, and mimics of
+    its driver's value (``driver_value``: its lock, or neutral) + offset, as a gripper's
+    second finger follows the first. Left as they are: joints ``locked`` by name, and mimics of
     an unknown joint, of another mimic joint (readers differ there: yourdfpy takes the
     offset alone) or of a joint that moves on the chain (``moving``; off the chain they move
     nothing the solvers see)."""
@@ -105,7 +115,7 @@ def off_chain_values(
         if did in moving:
             continue
         multiplier, offset = info.mimic_factors.get(name, (1.0, 0.0))
-        values.append((jid, multiplier * joint_value(full, q_ref, did) + offset))
+        values.append((jid, multiplier * driver_value(full, q_ref, did, locked) + offset))
     return values
 
 
@@ -133,6 +143,20 @@ def across(chains: dict) -> None:
                 f"value}}, --lock {driver}=VALUE) so that both chains hold it",
                 joint=name,
             )
+
+
+def driver_value(
+    model: pin.Model, q_ref: np.ndarray, jid: int, locked: Mapping[str, float]
+) -> float:
+    """The value (rad or m) of the driver ``jid`` that its mimic joints follow: the value it
+    is locked at by name (``locked``), else its value in ``q_ref``. A continuous driver's
+    lock is taken as given, turns included: ``q_ref`` holds only its cos and sin, and
+    multiplier x (4 - 2 pi) + offset is not where ROS tools put the mimic joint of a driver
+    at 4 rad."""
+    name = model.names[jid]
+    if name in locked:
+        return float(locked[name])
+    return joint_value(model, q_ref, jid)
 
 
 def joint_value(model: pin.Model, q: np.ndarray, jid: int) -> float:

@@ -117,8 +117,8 @@ def reduce_chain(
     for j in chain:
         if full.joints[j].nv != 1:
             raise _many_dof(full, info, j, j == chain[0])
-    mimics, fixed = _chain_mimics(full, info, chain, q_ref)
-    for j, value in _mimic.off_chain_values(full, info, chain, q_ref, set(values)):
+    mimics, fixed = _chain_mimics(full, info, chain, q_ref, values)
+    for j, value in _mimic.off_chain_values(full, info, chain, q_ref, values):
         _mimic.check_locked_driver(full, info, j, value, values)
         set_joint(full, q_ref, j, value)
     for jname, value in fixed.items():
@@ -188,7 +188,11 @@ def _many_dof(full: pin.Model, info: URDFInfo, j: int, first: bool) -> JointErro
 
 
 def _chain_mimics(
-    full: pin.Model, info: URDFInfo, chain: list[int], q_ref: np.ndarray
+    full: pin.Model,
+    info: URDFInfo,
+    chain: list[int],
+    q_ref: np.ndarray,
+    locked: Mapping[str, float],
 ) -> tuple[tuple[Mimic, ...], dict[str, float]]:
     """The mimic joints of ``chain``: those that follow a driver on it, and those fixed at a
     value (written into ``q_ref``, to be locked there). See ``armik.model.mimic.resolve``."""
@@ -196,7 +200,7 @@ def _chain_mimics(
     fixed: dict[str, float] = {}
     for j in chain:
         if full.names[j] in info.mimic:
-            got = _mimic.resolve(full, info, j, chain, q_ref)
+            got = _mimic.resolve(full, info, j, chain, q_ref, locked)
             if isinstance(got, Mimic):
                 mimics.append(got)
             else:
