@@ -136,6 +136,35 @@ def test_huge_limits_mean_free_with_a_warning(tmp_path, rng):
     assert r.success, r.reason
 
 
+SAFETY = '<safety_controller k_position="100" k_velocity="10" {}/>'
+
+
+def test_soft_limits_of_a_safety_controller_bound_the_joint_as_moveit_reads_them(tmp_path):
+    # TIAGo's arm_1_joint: <limit> [0, 2.749], soft limits [0.07, 2.679]; MoveIt and
+    # trac_ik bound it by both, the controller holds it there
+    limit = '<limit lower="-2" upper="2" effort="1" velocity="1"/>'
+    soft = SAFETY.format('soft_lower_limit="-0.5" soft_upper_limit="3"')
+    a = load_text(tmp_path, arm3(limit2=limit + soft))
+    assert (a.lower[1], a.upper[1]) == (-0.5, 2.0) and (a.lower[0], a.upper[0]) == (-2, 2)
+    assert any("'j2'" in n and "safety_controller" in n for n in a.info.notes)
+    q = np.array([0.3, -1.0, 0.4])  # j2 within <limit>, outside the soft limits
+    assert not a.within_limits(q)
+    r = a.solve(a.fk(q))
+    assert not r.success or r.q[1] >= -0.5 - 1e-9
+    with pytest.raises(armik.JointError, match="'j2'.*outside its URDF limits"):
+        load_text(tmp_path, arm3(limit2=limit + soft), "locked.urdf", locked={"j2": -1.0})
+    one_side = SAFETY.format('soft_upper_limit="1.5"')  # the other side stays <limit>'s
+    b = load_text(tmp_path, arm3(limit2=limit + one_side), "one.urdf")
+    assert (b.lower[1], b.upper[1]) == (-2.0, 1.5)
+
+
+def test_soft_limits_that_leave_no_value_are_refused_naming_the_joint(tmp_path):
+    limit = '<limit lower="-2" upper="2" effort="1" velocity="1"/>'
+    soft = SAFETY.format('soft_lower_limit="2.5" soft_upper_limit="3"')
+    with pytest.raises(URDFError, match="'j2'.*safety_controller.*leave no value"):
+        load_text(tmp_path, arm3(limit2=limit + soft))
+
+
 # -- 9. names shared by a link and a joint ------------------------------------------------
 
 

@@ -17,6 +17,8 @@ How armik reads a URDF (docs/urdf.md says the same):
   ``AXIS_MIN_NORM``), non-finite or missing ``xyz`` is refused.
 - ``<limit lower="0" upper="0">`` (or no lower/upper) means "not given": the joint is
   unlimited, with an ``ArmikWarning``. Other equal limits pin the joint at that value.
+  The soft limits of a ``<safety_controller>`` bound the joint within ``<limit>``, as
+  MoveIt reads them.
 - Lengths above ``MAX_LENGTH`` m are refused: their arithmetic overflows in the solvers'
   restarts. Limits beyond ``MAX_LIMIT`` (rad or m; Gazebo models write +-1e16 for "free")
   mean no limit on that side, with an ``ArmikWarning``.
