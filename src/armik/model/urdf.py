@@ -49,6 +49,7 @@ import pinocchio as pin
 
 from armik.errors import URDFError
 from armik.model.urdf_checks import MAX_DEPTH, MAX_MOVING, JointXML, URDFInfo, inspect
+from armik.model.urdf_geometry import check_collisions
 from armik.model.urdf_lenient import forgiving_parse
 
 __all__ = [
@@ -150,6 +151,7 @@ def _read_string(text: str, where: str) -> tuple[pin.Model, URDFInfo]:
             if isinstance(elem.tag, str) and elem.tag.startswith("{"):
                 elem.tag = elem.tag.split("}", 1)[1]
     info, changed = inspect(root, where)
+    check_collisions(root, where)
     if changed or namespaced or lenient:
         text = ET.tostring(root, encoding="unicode")
     model = _build(text, where, own_stack=info.depth > SHALLOW_DEPTH)
