@@ -197,6 +197,19 @@ def test_link_named_universe_and_tip_named_like_a_joint(tmp_path):
     assert r.success, r.reason
 
 
+def test_a_joint_named_universe_locks_at_its_value(tmp_path, rng):
+    # Pinocchio's joint 0 is "universe": looked up by name, the lock went there and the
+    # URDF's joint stayed at 0, its arm 0.5 rad off the robot
+    text = chain(joint("universe", "base", "l1"), joint("j2", "l1", "tool", xyz="0.3 0 0"))
+    a = load_text(tmp_path, text, locked={"universe": 0.5})
+    free = load_text(tmp_path, text, "free.urdf")
+    assert a.joint_names == ["j2"] and a.locked == {"universe": 0.5}
+    for q in rng.uniform(-1, 1, (3, 1)):
+        assert a.fk(q).isApprox(free.fk([0.5, q[0]]), 1e-12)
+    with pytest.raises(armik.JointError, match="locked joint 'universe' does not exist"):
+        load_text(tmp_path, chain(joint("j1", "base", "l1")), "none.urdf", locked={"universe": 0})
+
+
 def test_locked_joint_named_like_a_link(tmp_path):
     # As in example-robot-data's ANYmal C: link "RH_KFE" is the parent of joint "RH_KFE".
     text = chain(

@@ -211,7 +211,8 @@ def _chain_mimics(
 
 def _locked_joint(full: pin.Model, jname: str) -> int:
     """The id of the locked joint ``jname``; raises ``JointError`` listing the joints."""
-    if not full.existJointName(jname):
+    ids = [j for j in range(1, full.njoints) if full.names[j] == jname]  # 0: 'universe'
+    if not ids:
         all_joints = list(full.names)[1:]
         close = closest(jname, all_joints)
         hint = f"closest: {listing(close)}; " if close else ""
@@ -220,7 +221,7 @@ def _locked_joint(full: pin.Model, jname: str) -> int:
             joint=jname,
             candidates=all_joints,
         )
-    return full.getJointId(jname)
+    return ids[0]
 
 
 # Values that float() reads but that are no joint value: text, complex, bools (True is 1)
