@@ -579,3 +579,22 @@ def test_a_continuous_driver_locked_past_pi_moves_its_mimics_by_the_value_as_giv
         for link in ("tip", "s"):
             theirs = pin.SE3(reader.get_transform(frame_to=link, frame_from="base"))
             assert dist(a.fk(q, frame=link), theirs) < TOL["fk_exact"], link
+
+
+def test_a_driver_named_universe_drives_its_mimic_joint(rng):
+    # Pinocchio's joint 0 is "universe": looked up by name, the driver was taken for it,
+    # and the mimic joint was fixed at 0.5 x 0 (the arm's FK 0.16 rad off the robot)
+    links = "".join(f'<link name="{n}"/>' for n in ("base", "l1", "l2", "tip"))
+    half = mimic_tag("universe", 0.5, 0)
+    xml = (
+        f'<robot name="named">{links}'
+        + joint("universe", "revolute", "base", "l1", "0 0 0.1", "0 0 1")
+        + joint("j2", "revolute", "l1", "l2", "0.3 0 0", "0 0 1", mimic=half)
+        + joint("j3", "revolute", "l2", "tip", "0.3 0 0", "0 0 1")
+        + "</robot>"
+    )  # fmt: skip
+    a = armik.load_string(xml)
+    assert a.joint_names == ["universe", "j3"]
+    assert [(m.name, m.driver) for m in a.kinematics.mimics] == [("j2", "universe")]
+    for q in a.random_q(rng, 3):
+        assert dist(a.fk(q), yourdfpy_fk(xml, mimic_values(a, q))) < TOL["fk_exact"]

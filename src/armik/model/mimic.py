@@ -49,7 +49,8 @@ def resolve(
     name = full.names[jid]
     driver = info.mimic[name]
     multiplier, offset = info.mimic_factors.get(name, (1.0, 0.0))
-    if driver not in info.joints or not full.existJointName(driver):
+    did = joint_id(full, driver)
+    if driver not in info.joints or did is None:
         raise URDFError(
             f"joint {name!r} on the chain mimics {driver!r}, which is not a moving joint of "
             "the URDF: name an existing joint in its <mimic joint=...>, or remove the tag"
@@ -68,7 +69,6 @@ def resolve(
             f"{info.mimic[driver]!r}: make {name!r} mimic a joint that is not a mimic "
             "joint (multipliers and offsets compose)"
         )
-    did = full.getJointId(driver)
     if multiplier == 0.0:
         return offset + 0.0
     if did not in moving:  # off the chain, or locked: fixed at its driver's value
@@ -106,13 +106,10 @@ def off_chain_values(
     nothing the solvers see)."""
     values = []
     for name, driver in info.mimic.items():
-        if not full.existJointName(name) or name in locked or driver in info.mimic:
+        jid, did = joint_id(full, name), joint_id(full, driver)
+        if jid is None or name in locked or driver in info.mimic:
             continue
-        jid = full.getJointId(name)
-        if jid in moving or not full.existJointName(driver):
-            continue
-        did = full.getJointId(driver)
-        if did in moving:
+        if jid in moving or did is None or did in moving:
             continue
         multiplier, offset = info.mimic_factors.get(name, (1.0, 0.0))
         values.append((jid, multiplier * driver_value(full, q_ref, did, locked) + offset))
@@ -159,6 +156,20 @@ def driver_value(
     return joint_value(model, q_ref, jid)
 
 
+def joint_id(model: pin.Model, name: str) -> int | None:
+    """The id of the joint ``name`` of ``model``, or None: never joint 0, which Pinocchio
+    names 'universe' whatever the URDF names its joints (``getJointId`` would find it)."""
+    return next((j for j in range(1, model.njoints) if model.names[j] == name), None)
+
+
+def joint_of(model: pin.Model, name: str) -> int:
+    """``joint_id`` of a joint ``model`` has (``KeyError`` otherwise)."""
+    jid = joint_id(model, name)
+    if jid is None:
+        raise KeyError(name)
+    return jid
+
+
 def joint_value(model: pin.Model, q: np.ndarray, jid: int) -> float:
     """The value (rad or m) of joint ``jid`` in the configuration ``q``."""
     joint = model.joints[jid]
@@ -173,7 +184,7 @@ def follow(plain: pin.Model, mimics: tuple[Mimic, ...]) -> pin.Model:
     model = plain
     for m in mimics:
         model = pin.transformJointIntoMimic(
-            model, model.getJointId(m.driver), model.getJointId(m.name), m.multiplier, m.offset
+            model, joint_of(model, m.driver), joint_of(model, m.name), m.multiplier, m.offset
         )
     return model
 
@@ -182,7 +193,7 @@ def driver_range(plain: pin.Model, info: URDFInfo, m: Mimic) -> tuple[float, flo
     """The driver's values (rad or m) that keep the mimic joint ``m`` within its URDF limits:
     (limits - offset) / multiplier, in order for a negative multiplier; (-inf, inf) for a
     mimic joint without limits."""
-    joint = plain.joints[plain.getJointId(m.name)]
+    joint = plain.joints[joint_of(plain, m.name)]
     if joint.nq != 1 or m.name in info.unset_limits:
         return -math.inf, math.inf
     lo = float(plain.lowerPositionLimit[joint.idx_q])

@@ -122,7 +122,7 @@ def reduce_chain(
         _mimic.check_locked_driver(full, info, j, value, values)
         set_joint(full, q_ref, j, value)
     for jname, value in fixed.items():
-        _mimic.check_locked_driver(full, info, full.getJointId(jname), value, values)
+        _mimic.check_locked_driver(full, info, _mimic.joint_of(full, jname), value, values)
     if fixed:
         chain = [j for j in chain if full.names[j] not in fixed]
         if not chain:
