@@ -215,12 +215,11 @@ def _locked_joint(full: pin.Model, jname: str) -> int:
     if not ids:
         all_joints = list(full.names)[1:]
         close = closest(jname, all_joints)
-        hint = f"closest: {listing(close)}; " if close else ""
-        raise JointError(
-            f"locked joint {jname!r} does not exist; {hint}joints: {listing(all_joints)}",
-            joint=jname,
-            candidates=all_joints,
-        )
+        hint = f"does not exist; closest: {listing(close)}; " if close else "does not exist; "
+        if any(f.name == jname and f.type == pin.FIXED_JOINT for f in full.frames[1:]):
+            hint = "is a fixed joint: it has no value to lock; the moving "
+        message = f"locked joint {jname!r} {hint}joints: {listing(all_joints)}"
+        raise JointError(message, joint=jname, candidates=all_joints)
     return ids[0]
 
 
