@@ -197,7 +197,9 @@ def test_pickling_keeps_the_locked_joints(make):
         ("panda", {"panda_joint7": float("inf")}, "must be a finite number"),
         ("panda", {"panda_joint7": "0.3"}, "must be a finite number"),
         ("panda", {"panda_joint7": 1 + 2j}, "must be a finite number"),
-        ("panda", {"panda_joint8": 0.0}, "locked joint 'panda_joint8' does not exist; closest"),
+        ("panda", {"panda_joint9": 0.0}, "locked joint 'panda_joint9' does not exist; closest"),
+        # the Panda's flange joint is fixed in its URDF: it exists, with no value to lock
+        ("panda", {"panda_joint8": 0.0}, "locked joint 'panda_joint8' is a fixed joint: it has"),
         ("panda", {7: 0.0}, "joint names (str)"),
         ("panda", ["panda_joint7"], "locked must map joint names"),
         (

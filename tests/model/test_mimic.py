@@ -545,3 +545,56 @@ def test_the_pandas_second_finger_follows_the_first():
     a = armik.load("panda", locked={"panda_finger_joint1": 0.03})
     full = a.kinematics.chain.full
     assert a.kinematics.chain.q_ref[full.idx_qs[full.getJointId("panda_finger_joint2")]] == 0.03
+
+
+def wheel_urdf() -> str:
+    """A continuous 'wheel' (no limits) drives a prismatic slide on the chain to 'tip' and
+    another, 'side', off it: q_slide = 0.5 q_wheel + 0.1."""
+    links = "".join(f'<link name="{n}"/>' for n in ("base", "w", "l1", "tip", "s"))
+    slide = mimic_tag("wheel", 0.5, 0.1)
+    return (
+        f'<robot name="wheely">{links}'
+        + joint("wheel", "continuous", "base", "w", "0 0 0.1", "0 0 1")
+        + joint("j1", "revolute", "base", "l1", "0 0 0.2", "0 0 1")
+        + joint("slide", "prismatic", "l1", "tip", "0.1 0 0", "1 0 0", -10, 10, slide)
+        + joint("side", "prismatic", "base", "s", "0 0.1 0", "0 1 0", -10, 10, slide)
+        + "</robot>"
+    )
+
+
+@pytest.mark.parametrize("angle", [4.0, -4.0, 7.5])
+def test_a_continuous_driver_locked_past_pi_moves_its_mimics_by_the_value_as_given(angle, rng):
+    # Pinocchio holds the wheel as (cos, sin): read back, 4 rad is 4 - 2 pi, and the slides
+    # were put 0.5 x 2 pi = 3.14 m from where robot_state_publisher and yourdfpy put them
+    xml = wheel_urdf()
+    a = armik.load_string(xml, tip="tip", locked={"wheel": angle})
+    assert a.joint_names == ["j1"] and a.kinematics.chain.fixed_mimics == {
+        "slide": pytest.approx(0.5 * angle + 0.1)
+    }
+    reader = yourdfpy.URDF.load(
+        io.StringIO(xml), load_meshes=False, build_collision_scene_graph=False
+    )
+    for q in a.random_q(rng, 3):
+        reader.update_cfg({"wheel": angle, "j1": q[0]})
+        for link in ("tip", "s"):
+            theirs = pin.SE3(reader.get_transform(frame_to=link, frame_from="base"))
+            assert dist(a.fk(q, frame=link), theirs) < TOL["fk_exact"], link
+
+
+def test_a_driver_named_universe_drives_its_mimic_joint(rng):
+    # Pinocchio's joint 0 is "universe": looked up by name, the driver was taken for it,
+    # and the mimic joint was fixed at 0.5 x 0 (the arm's FK 0.16 rad off the robot)
+    links = "".join(f'<link name="{n}"/>' for n in ("base", "l1", "l2", "tip"))
+    half = mimic_tag("universe", 0.5, 0)
+    xml = (
+        f'<robot name="named">{links}'
+        + joint("universe", "revolute", "base", "l1", "0 0 0.1", "0 0 1")
+        + joint("j2", "revolute", "l1", "l2", "0.3 0 0", "0 0 1", mimic=half)
+        + joint("j3", "revolute", "l2", "tip", "0.3 0 0", "0 0 1")
+        + "</robot>"
+    )  # fmt: skip
+    a = armik.load_string(xml)
+    assert a.joint_names == ["universe", "j3"]
+    assert [(m.name, m.driver) for m in a.kinematics.mimics] == [("j2", "universe")]
+    for q in a.random_q(rng, 3):
+        assert dist(a.fk(q), yourdfpy_fk(xml, mimic_values(a, q))) < TOL["fk_exact"]

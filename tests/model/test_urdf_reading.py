@@ -136,6 +136,35 @@ def test_huge_limits_mean_free_with_a_warning(tmp_path, rng):
     assert r.success, r.reason
 
 
+SAFETY = '<safety_controller k_position="100" k_velocity="10" {}/>'
+
+
+def test_soft_limits_of_a_safety_controller_bound_the_joint_as_moveit_reads_them(tmp_path):
+    # TIAGo's arm_1_joint: <limit> [0, 2.749], soft limits [0.07, 2.679]; MoveIt and
+    # trac_ik bound it by both, the controller holds it there
+    limit = '<limit lower="-2" upper="2" effort="1" velocity="1"/>'
+    soft = SAFETY.format('soft_lower_limit="-0.5" soft_upper_limit="3"')
+    a = load_text(tmp_path, arm3(limit2=limit + soft))
+    assert (a.lower[1], a.upper[1]) == (-0.5, 2.0) and (a.lower[0], a.upper[0]) == (-2, 2)
+    assert any("'j2'" in n and "safety_controller" in n for n in a.info.notes)
+    q = np.array([0.3, -1.0, 0.4])  # j2 within <limit>, outside the soft limits
+    assert not a.within_limits(q)
+    r = a.solve(a.fk(q))
+    assert not r.success or r.q[1] >= -0.5 - 1e-9
+    with pytest.raises(armik.JointError, match="'j2'.*outside its URDF limits"):
+        load_text(tmp_path, arm3(limit2=limit + soft), "locked.urdf", locked={"j2": -1.0})
+    one_side = SAFETY.format('soft_upper_limit="1.5"')  # the other side stays <limit>'s
+    b = load_text(tmp_path, arm3(limit2=limit + one_side), "one.urdf")
+    assert (b.lower[1], b.upper[1]) == (-2.0, 1.5)
+
+
+def test_soft_limits_that_leave_no_value_are_refused_naming_the_joint(tmp_path):
+    limit = '<limit lower="-2" upper="2" effort="1" velocity="1"/>'
+    soft = SAFETY.format('soft_lower_limit="2.5" soft_upper_limit="3"')
+    with pytest.raises(URDFError, match="'j2'.*safety_controller.*leave no value"):
+        load_text(tmp_path, arm3(limit2=limit + soft))
+
+
 # -- 9. names shared by a link and a joint ------------------------------------------------
 
 
@@ -166,6 +195,19 @@ def test_link_named_universe_and_tip_named_like_a_joint(tmp_path):
     assert a.dof == 1 and a.joint_names == ["l2"]
     r = a.solve(a.fk([0.7]).translation)
     assert r.success, r.reason
+
+
+def test_a_joint_named_universe_locks_at_its_value(tmp_path, rng):
+    # Pinocchio's joint 0 is "universe": looked up by name, the lock went there and the
+    # URDF's joint stayed at 0, its arm 0.5 rad off the robot
+    text = chain(joint("universe", "base", "l1"), joint("j2", "l1", "tool", xyz="0.3 0 0"))
+    a = load_text(tmp_path, text, locked={"universe": 0.5})
+    free = load_text(tmp_path, text, "free.urdf")
+    assert a.joint_names == ["j2"] and a.locked == {"universe": 0.5}
+    for q in rng.uniform(-1, 1, (3, 1)):
+        assert a.fk(q).isApprox(free.fk([0.5, q[0]]), 1e-12)
+    with pytest.raises(armik.JointError, match="locked joint 'universe' does not exist"):
+        load_text(tmp_path, chain(joint("j1", "base", "l1")), "none.urdf", locked={"universe": 0})
 
 
 def test_locked_joint_named_like_a_link(tmp_path):

@@ -13,6 +13,7 @@ its own limits.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from typing import NamedTuple
 
 import numpy as np
@@ -33,17 +34,23 @@ class Mimic(NamedTuple):
 
 
 def resolve(
-    full: pin.Model, info: URDFInfo, jid: int, moving: list[int], q_ref: np.ndarray
+    full: pin.Model,
+    info: URDFInfo,
+    jid: int,
+    moving: list[int],
+    q_ref: np.ndarray,
+    locked: Mapping[str, float],
 ) -> Mimic | float:
     """What the mimic joint ``jid`` of the chain becomes: a ``Mimic`` of a driver among
     ``moving`` (the chain's joints left free, base first), or the value (rad or m) it is
-    fixed at: multiplier x the driver's value in ``q_ref`` + offset, or the offset for a
-    zero multiplier. Raises ``URDFError`` for a driver that is unknown or is itself a mimic
+    fixed at: multiplier x the driver's value (``driver_value``) + offset, or the offset
+    for a zero multiplier. Raises ``URDFError`` for a driver that is unknown or is itself a mimic
     joint (a cycle included), ``JointError`` for a pair Pinocchio cannot model."""
     name = full.names[jid]
     driver = info.mimic[name]
     multiplier, offset = info.mimic_factors.get(name, (1.0, 0.0))
-    if driver not in info.joints or not full.existJointName(driver):
+    did = joint_id(full, driver)
+    if driver not in info.joints or did is None:
         raise URDFError(
             f"joint {name!r} on the chain mimics {driver!r}, which is not a moving joint of "
             "the URDF: name an existing joint in its <mimic joint=...>, or remove the tag"
@@ -62,11 +69,10 @@ def resolve(
             f"{info.mimic[driver]!r}: make {name!r} mimic a joint that is not a mimic "
             "joint (multipliers and offsets compose)"
         )
-    did = full.getJointId(driver)
     if multiplier == 0.0:
         return offset + 0.0
     if did not in moving:  # off the chain, or locked: fixed at its driver's value
-        return multiplier * joint_value(full, q_ref, did) + offset
+        return multiplier * driver_value(full, q_ref, did, locked) + offset
     for j, role in ((jid, "mimic"), (did, "driver")):
         if full.joints[j].nq != 1:
             raise JointError(
@@ -86,26 +92,27 @@ def resolve(
 
 
 def off_chain_values(
-    full: pin.Model, info: URDFInfo, moving: list[int], q_ref: np.ndarray, locked: set[str]
+    full: pin.Model,
+    info: URDFInfo,
+    moving: list[int],
+    q_ref: np.ndarray,
+    locked: Mapping[str, float],
 ) -> list[tuple[int, float]]:
     """(joint id, value) for the mimic joints off the chain: each is locked at multiplier x
-    its driver's value in ``q_ref`` (its lock, or neutral) + offset, as a gripper's second
-    finger follows the first. Left as they are: joints ``locked`` by name, and mimics of
+    its driver's value (``driver_value``: its lock, or neutral) + offset, as a gripper's
+    second finger follows the first. Left as they are: joints ``locked`` by name, and mimics of
     an unknown joint, of another mimic joint (readers differ there: yourdfpy takes the
     offset alone) or of a joint that moves on the chain (``moving``; off the chain they move
     nothing the solvers see)."""
     values = []
     for name, driver in info.mimic.items():
-        if not full.existJointName(name) or name in locked or driver in info.mimic:
+        jid, did = joint_id(full, name), joint_id(full, driver)
+        if jid is None or name in locked or driver in info.mimic:
             continue
-        jid = full.getJointId(name)
-        if jid in moving or not full.existJointName(driver):
-            continue
-        did = full.getJointId(driver)
-        if did in moving:
+        if jid in moving or did is None or did in moving:
             continue
         multiplier, offset = info.mimic_factors.get(name, (1.0, 0.0))
-        values.append((jid, multiplier * joint_value(full, q_ref, did) + offset))
+        values.append((jid, multiplier * driver_value(full, q_ref, did, locked) + offset))
     return values
 
 
@@ -135,6 +142,34 @@ def across(chains: dict) -> None:
             )
 
 
+def driver_value(
+    model: pin.Model, q_ref: np.ndarray, jid: int, locked: Mapping[str, float]
+) -> float:
+    """The value (rad or m) of the driver ``jid`` that its mimic joints follow: the value it
+    is locked at by name (``locked``), else its value in ``q_ref``. A continuous driver's
+    lock is taken as given, turns included: ``q_ref`` holds only its cos and sin, and
+    multiplier x (4 - 2 pi) + offset is not where ROS tools put the mimic joint of a driver
+    at 4 rad."""
+    name = model.names[jid]
+    if name in locked:
+        return float(locked[name])
+    return joint_value(model, q_ref, jid)
+
+
+def joint_id(model: pin.Model, name: str) -> int | None:
+    """The id of the joint ``name`` of ``model``, or None: never joint 0, which Pinocchio
+    names 'universe' whatever the URDF names its joints (``getJointId`` would find it)."""
+    return next((j for j in range(1, model.njoints) if model.names[j] == name), None)
+
+
+def joint_of(model: pin.Model, name: str) -> int:
+    """``joint_id`` of a joint ``model`` has (``KeyError`` otherwise)."""
+    jid = joint_id(model, name)
+    if jid is None:
+        raise KeyError(name)
+    return jid
+
+
 def joint_value(model: pin.Model, q: np.ndarray, jid: int) -> float:
     """The value (rad or m) of joint ``jid`` in the configuration ``q``."""
     joint = model.joints[jid]
@@ -149,7 +184,7 @@ def follow(plain: pin.Model, mimics: tuple[Mimic, ...]) -> pin.Model:
     model = plain
     for m in mimics:
         model = pin.transformJointIntoMimic(
-            model, model.getJointId(m.driver), model.getJointId(m.name), m.multiplier, m.offset
+            model, joint_of(model, m.driver), joint_of(model, m.name), m.multiplier, m.offset
         )
     return model
 
@@ -158,7 +193,7 @@ def driver_range(plain: pin.Model, info: URDFInfo, m: Mimic) -> tuple[float, flo
     """The driver's values (rad or m) that keep the mimic joint ``m`` within its URDF limits:
     (limits - offset) / multiplier, in order for a negative multiplier; (-inf, inf) for a
     mimic joint without limits."""
-    joint = plain.joints[plain.getJointId(m.name)]
+    joint = plain.joints[joint_of(plain, m.name)]
     if joint.nq != 1 or m.name in info.unset_limits:
         return -math.inf, math.inf
     lo = float(plain.lowerPositionLimit[joint.idx_q])

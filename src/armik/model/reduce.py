@@ -117,12 +117,12 @@ def reduce_chain(
     for j in chain:
         if full.joints[j].nv != 1:
             raise _many_dof(full, info, j, j == chain[0])
-    mimics, fixed = _chain_mimics(full, info, chain, q_ref)
-    for j, value in _mimic.off_chain_values(full, info, chain, q_ref, set(values)):
+    mimics, fixed = _chain_mimics(full, info, chain, q_ref, values)
+    for j, value in _mimic.off_chain_values(full, info, chain, q_ref, values):
         _mimic.check_locked_driver(full, info, j, value, values)
         set_joint(full, q_ref, j, value)
     for jname, value in fixed.items():
-        _mimic.check_locked_driver(full, info, full.getJointId(jname), value, values)
+        _mimic.check_locked_driver(full, info, _mimic.joint_of(full, jname), value, values)
     if fixed:
         chain = [j for j in chain if full.names[j] not in fixed]
         if not chain:
@@ -188,7 +188,11 @@ def _many_dof(full: pin.Model, info: URDFInfo, j: int, first: bool) -> JointErro
 
 
 def _chain_mimics(
-    full: pin.Model, info: URDFInfo, chain: list[int], q_ref: np.ndarray
+    full: pin.Model,
+    info: URDFInfo,
+    chain: list[int],
+    q_ref: np.ndarray,
+    locked: Mapping[str, float],
 ) -> tuple[tuple[Mimic, ...], dict[str, float]]:
     """The mimic joints of ``chain``: those that follow a driver on it, and those fixed at a
     value (written into ``q_ref``, to be locked there). See ``armik.model.mimic.resolve``."""
@@ -196,7 +200,7 @@ def _chain_mimics(
     fixed: dict[str, float] = {}
     for j in chain:
         if full.names[j] in info.mimic:
-            got = _mimic.resolve(full, info, j, chain, q_ref)
+            got = _mimic.resolve(full, info, j, chain, q_ref, locked)
             if isinstance(got, Mimic):
                 mimics.append(got)
             else:
@@ -207,16 +211,16 @@ def _chain_mimics(
 
 def _locked_joint(full: pin.Model, jname: str) -> int:
     """The id of the locked joint ``jname``; raises ``JointError`` listing the joints."""
-    if not full.existJointName(jname):
+    ids = [j for j in range(1, full.njoints) if full.names[j] == jname]  # 0: 'universe'
+    if not ids:
         all_joints = list(full.names)[1:]
         close = closest(jname, all_joints)
-        hint = f"closest: {listing(close)}; " if close else ""
-        raise JointError(
-            f"locked joint {jname!r} does not exist; {hint}joints: {listing(all_joints)}",
-            joint=jname,
-            candidates=all_joints,
-        )
-    return full.getJointId(jname)
+        hint = f"does not exist; closest: {listing(close)}; " if close else "does not exist; "
+        if any(f.name == jname and f.type == pin.FIXED_JOINT for f in full.frames[1:]):
+            hint = "is a fixed joint: it has no value to lock; the moving "
+        message = f"locked joint {jname!r} {hint}joints: {listing(all_joints)}"
+        raise JointError(message, joint=jname, candidates=all_joints)
+    return ids[0]
 
 
 # Values that float() reads but that are no joint value: text, complex, bools (True is 1)

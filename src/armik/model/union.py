@@ -19,6 +19,7 @@ import pinocchio as pin
 
 from armik.errors import JointError
 from armik.model.frames import named
+from armik.model.mimic import joint_of
 from armik.model.reduce import reduce_model, set_joint
 from armik.tolerances import LIMIT_TOL
 
@@ -44,8 +45,8 @@ class Union:
         q_ref = pin.neutral(full)
         for arm in chains:
             for jname, value in {**arm.locked, **(arm.chain.fixed_mimics or {})}.items():
-                set_joint(full, q_ref, full.getJointId(jname), value)
-        keep = {full.getJointId(n) for n in names}
+                set_joint(full, q_ref, joint_of(full, jname), value)
+        keep = {joint_of(full, n) for n in names}
         lock = [j for j in range(1, full.njoints) if full.joints[j].nq > 0 and j not in keep]
         self.model = reduce_model(full, lock, q_ref)
         for arm in chains:  # a tip names its tool point, as on its chain (``frames.frame_id``)
@@ -57,11 +58,11 @@ class Union:
         data = self.model.createData()
         pin.framesForwardKinematics(self.model, data, pin.neutral(self.model))
         self.T_base_world = data.oMf[base].inverse()
-        ids = [self.model.getJointId(n) for n in names]
+        ids = [joint_of(self.model, n) for n in names]
         self._order = sorted(range(len(ids)), key=lambda k: self.model.joints[ids[k]].idx_v)
         self.joint_names = tuple(names[k] for k in self._order)
         self.dof = self.model.nv
-        joints = [self.model.joints[self.model.getJointId(n)] for n in self.joint_names]
+        joints = [self.model.joints[joint_of(self.model, n)] for n in self.joint_names]
         self._continuous = [j.nq == 2 for j in joints]
         # each joint's limits as its chain reads them (the URDF's "0 0" and +-1e16 unlimited,
         # a continuous joint unlimited): Pinocchio's model holds the numbers as written

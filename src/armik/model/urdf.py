@@ -17,6 +17,8 @@ How armik reads a URDF (docs/urdf.md says the same):
   ``AXIS_MIN_NORM``), non-finite or missing ``xyz`` is refused.
 - ``<limit lower="0" upper="0">`` (or no lower/upper) means "not given": the joint is
   unlimited, with an ``ArmikWarning``. Other equal limits pin the joint at that value.
+  The soft limits of a ``<safety_controller>`` bound the joint within ``<limit>``, as
+  MoveIt reads them.
 - Lengths above ``MAX_LENGTH`` m are refused: their arithmetic overflows in the solvers'
   restarts. Limits beyond ``MAX_LIMIT`` (rad or m; Gazebo models write +-1e16 for "free")
   mean no limit on that side, with an ``ArmikWarning``.
@@ -47,6 +49,7 @@ import pinocchio as pin
 
 from armik.errors import URDFError
 from armik.model.urdf_checks import MAX_DEPTH, MAX_MOVING, JointXML, URDFInfo, inspect
+from armik.model.urdf_geometry import check_collisions
 from armik.model.urdf_lenient import forgiving_parse
 
 __all__ = [
@@ -148,6 +151,7 @@ def _read_string(text: str, where: str) -> tuple[pin.Model, URDFInfo]:
             if isinstance(elem.tag, str) and elem.tag.startswith("{"):
                 elem.tag = elem.tag.split("}", 1)[1]
     info, changed = inspect(root, where)
+    check_collisions(root, where)
     if changed or namespaced or lenient:
         text = ET.tostring(root, encoding="unicode")
     model = _build(text, where, own_stack=info.depth > SHALLOW_DEPTH)

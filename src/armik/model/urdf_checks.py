@@ -211,6 +211,16 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
                 )
             lower = _number(limit.get("lower", "0"), what, "lower limit", path)
             upper = _number(limit.get("upper", "0"), what, "upper limit", path)
+            if lower <= upper and not lower == upper == 0.0:
+                soft = _soft_limits(joint, limit, lower, upper, name, path)
+                if soft is not None:
+                    notes.append(
+                        f"joint {name!r}: limits [{soft[0]:g}, {soft[1]:g}], its "
+                        f"<safety_controller> soft limits within <limit> [{lower:g}, "
+                        f"{upper:g}] (as MoveIt reads them)"
+                    )
+                    lower, upper = soft
+                    changed = True
             huge = [side for v, side in ((lower, "lower"), (upper, "upper")) if abs(v) > MAX_LIMIT]
             if huge:
                 msg = (
@@ -273,6 +283,41 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
         mimic_factors=factors,
     )
     return info, changed
+
+
+def _soft_limits(
+    joint: ET.Element, limit: ET.Element, lower: float, upper: float, name: str, path: str
+) -> tuple[float, float] | None:
+    """The limits of a revolute or prismatic joint narrowed by the soft limits of its
+    ``<safety_controller>`` (each one written), as MoveIt and trac_ik bound the joint:
+    its controller holds it within them. Writes them into ``limit`` (Pinocchio reads them
+    there) and returns them; None where they narrow nothing. A ``URDFError`` where nothing
+    is left."""
+    safety = joint.find("safety_controller")
+    if safety is None:
+        return None
+    what = f"joint {name!r}"
+    lo, hi = lower, upper
+    for key in ("soft_lower_limit", "soft_upper_limit"):
+        if safety.get(key) is None:
+            continue
+        value = _number(safety.get(key), what, f"safety_controller {key}", path, finite=False)
+        if math.isnan(value):
+            _number("nan", what, f"safety_controller {key}", path)  # refused, named
+        lo, hi = (max(lo, value), hi) if key == "soft_lower_limit" else (lo, min(hi, value))
+    if lo > hi:
+        raise URDFError(
+            f"{what} in {path!r}: the soft limits of its <safety_controller> "
+            f'(soft_lower_limit="{safety.get("soft_lower_limit")}", soft_upper_limit='
+            f'"{safety.get("soft_upper_limit")}") leave no value within its <limit> '
+            f"[{lower:g}, {upper:g}]: write soft limits within the limits",
+            path=path,
+        )
+    if (lo, hi) == (lower, upper):
+        return None
+    limit.set("lower", repr(lo))
+    limit.set("upper", repr(hi))
+    return lo, hi
 
 
 def _refuse_too_many(joints: dict[str, JointXML], path: str) -> None:
