@@ -133,3 +133,39 @@ def place_followed(
     pin.forwardKinematics(full, data, _full_q(arm, np.asarray(q, dtype=float)))
     for i, joint, placement in followed:
         gd.oMg[i] = data.oMi[joint] * placement
+
+
+def place_followed_moving(
+    arm: ArmModel, q: np.ndarray, gd: pin.GeometryData, followed: tuple, data: pin.Data
+) -> None:
+    """``place_followed``, with the whole model's joint Jacobians at q computed in ``data``
+    too, for ``followed_jacobian`` (a servo's collision rows on a followed object)."""
+    full = arm.chain.full
+    pin.computeJointJacobians(full, data, _full_q(arm, np.asarray(q, dtype=float)))
+    for i, joint, placement in followed:
+        gd.oMg[i] = data.oMi[joint] * placement
+
+
+def followed_jacobian(arm: ArmModel, data: pin.Data, joint: int) -> np.ndarray:
+    """The 6 x dof Jacobian (LOCAL_WORLD_ALIGNED, at the origin of the whole model's joint
+    ``joint``) over the chain's joints, from ``data``'s Jacobians (``place_followed_moving``):
+    each mimic joint's column folded into its driver's, times its multiplier."""
+    J = pin.getJointJacobian(arm.chain.full, data, joint, pin.LOCAL_WORLD_ALIGNED)
+    return J @ _FOLD(arm)  # type: ignore[no-any-return]
+
+
+def _fold(arm: ArmModel) -> np.ndarray:
+    """(whole model's nv, dof): a whole-model Jacobian's columns onto the chain's joints."""
+    full = arm.chain.full
+    F = np.zeros((full.nv, arm.dof))
+    for k, name in enumerate(arm.joint_names):
+        F[full.joints[full.getJointId(name)].idx_v, k] = 1.0
+    for mimic in arm.chain.mimics:
+        k = arm.joint_names.index(mimic.driver)
+        F[full.joints[full.getJointId(mimic.name)].idx_v, k] += mimic.multiplier
+    for jid, (k, m, _) in followers(arm).items():
+        F[full.joints[jid].idx_v, k] += m
+    return F
+
+
+_FOLD: Derived[np.ndarray] = Derived("a whole-model Jacobian's columns on the chain", _fold)

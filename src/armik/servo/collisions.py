@@ -9,7 +9,9 @@ the distance d, the witness points p1, p2 and the normal n from p1 to p2; the ro
 
 lets the pair close by at most a share ``RATE dt`` of its gap to the margin a tick, and
 pushes a pair inside the margin apart (Pink's and mink's collision avoidance; the
-velocity damper of Faverjon and Tournassoud). The rows are ``(K, n + 1)``: C, then b.
+velocity damper of Faverjon and Tournassoud). The rows are ``(K, n + 1)``: C, then b. A
+link below a mimic joint off the chain that follows its driver on it is placed, and its
+points' Jacobians read, on the URDF's whole model (``armik.model.mimic_frames``).
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ import pinocchio as pin
 from armik.constraints import collision
 from armik.constraints.shapes import check_obstacles
 from armik.errors import CollisionError
+from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
 from armik.servo.layout import MAX_ROWS
 
@@ -40,6 +43,11 @@ class CollisionRows:
         self.data = arm.model.createData()
         self.rows = np.zeros((MAX_ROWS, arm.dof + 1))
         self.nearest = float("inf")  # m: the nearest pair's distance at the last ``at``
+        # objects below a mimic joint off the chain that follows its driver on it: placed,
+        # and their points' Jacobians read, on the whole model (the cut one holds them still)
+        self.followed = collision.arm_geometry(arm).followed
+        self.follower = {i: joint for i, joint, _ in self.followed}
+        self.full = arm.chain.full.createData() if self.followed else None
 
     def at(self, q: np.ndarray) -> np.ndarray:
         """The rows at q (rad, m), nearest pairs first, at most ``MAX_ROWS``."""
@@ -55,6 +63,8 @@ class CollisionRows:
         qp = arm.to_pin(q)
         pin.computeJointJacobians(model, data, qp)
         pin.updateGeometryPlacements(model, data, gm, gd)
+        if self.followed:
+            mimic_frames.place_followed_moving(arm, q, gd, self.followed, self.full)
         K = 0
         for k in near[np.argsort(bound[near])].tolist():
             if K == MAX_ROWS:
@@ -74,12 +84,18 @@ class CollisionRows:
 
     def _point(self, i: int, p: np.ndarray) -> np.ndarray:
         """The 3 x dof Jacobian of the world point p fixed to geometry object i."""
-        joint = self.check.model.geometryObjects[i].parentJoint
-        if joint == 0:
-            return np.zeros((3, self.arm.dof))
-        model, data = self.arm.model, self.data
-        J = pin.getJointJacobian(model, data, joint, pin.LOCAL_WORLD_ALIGNED)
-        rx, ry, rz = (p - data.oMi[joint].translation).tolist()
+        if i in self.follower:  # moved by a mimic joint off the chain
+            joint = self.follower[i]
+            J = mimic_frames.followed_jacobian(self.arm, self.full, joint)
+            origin = self.full.oMi[joint].translation  # type: ignore[union-attr]
+        else:
+            joint = self.check.model.geometryObjects[i].parentJoint
+            if joint == 0:
+                return np.zeros((3, self.arm.dof))
+            model, data = self.arm.model, self.data
+            J = pin.getJointJacobian(model, data, joint, pin.LOCAL_WORLD_ALIGNED)
+            origin = data.oMi[joint].translation
+        rx, ry, rz = (p - origin).tolist()
         v, w = J[:3], J[3:]
         v[0] -= ry * w[2] - rz * w[1]  # v + w x r = v - r x w
         v[1] -= rz * w[0] - rx * w[2]

@@ -28,6 +28,7 @@ import pinocchio as pin
 
 from armik.arms_links import Links
 from armik.constraints.shapes import check_obstacles
+from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
 from armik.servo.collisions import ACTIVE, RATE, asked, margin_of
 from armik.servo.layout import MAX_ROWS
@@ -62,6 +63,16 @@ class UnionCollisions:
         self.moving, self.geoms, self.joints = links.moving, links.geoms, links.joints
         self.radius, self.centre = links.radius, links.centre
         self.pair_a, self.pair_b = links.pair_a, links.pair_b
+        # a link below a mimic joint off its chain that follows its driver on it: placed,
+        # and its points' Jacobians read, on the whole model (the cut one holds it still)
+        self.full = [
+            arm.chain.full.createData() if g.followed else None
+            for arm, g in zip(arms, self.geometry)
+        ]
+        follower = {
+            (c, i): joint for c, g in enumerate(self.geometry) for i, joint, _ in g.followed
+        }
+        self.follower = {k: follower[o] for k, o in enumerate(self.objects) if o in follower}
         self.rows = np.zeros((MAX_ROWS, n + 1))
         self.request = coal.DistanceRequest()
         self.nearest = math.inf  # m: the nearest pair's distance at the last ``at``
@@ -70,12 +81,14 @@ class UnionCollisions:
     def at(self, q: np.ndarray) -> np.ndarray:
         """The rows at the union's joint values q (rad, m), nearest pairs first, at most
         ``MAX_ROWS``: (K, n + 1), C then b for ``C dq >= b``."""
-        for arm, data, g, gd, cols in zip(
-            self.arms, self.data, self.geometry, self.gdata, self.cols
+        for arm, data, g, gd, cols, full in zip(
+            self.arms, self.data, self.geometry, self.gdata, self.cols, self.full
         ):
             qp = arm.to_pin(q[cols])
             pin.computeJointJacobians(arm.model, data, qp)
             pin.updateGeometryPlacements(arm.model, data, g.model, gd)
+            if full is not None:  # below a mimic joint off the chain: the whole model's
+                mimic_frames.place_followed_moving(arm, q[cols], gd, g.followed, full)
         placed = [self.gdata[c].oMg[i] for c, i in self.objects]
         R = np.array([M.rotation for M in placed])
         centre = np.array([M.translation for M in placed]) + np.einsum("kij,kj->ki", R, self.centre)
@@ -134,6 +147,12 @@ class UnionCollisions:
         k; ``jacobians``: this tick's joint Jacobians, by (chain, joint)."""
         c, _ = self.objects[k]
         out = np.zeros((3, self.n))
+        if k in self.follower:  # moved by a mimic joint off its chain
+            joint, full = self.follower[k], self.full[c]
+            Jf = mimic_frames.followed_jacobian(self.arms[c], full, joint)
+            r = p - full.oMi[joint].translation  # type: ignore[union-attr]
+            out[:, self.cols[c]] = Jf[:3] + np.cross(Jf[3:].T, r).T
+            return out
         joint = self.joints[k]
         if joint == 0:
             return out
