@@ -41,7 +41,7 @@ def _arm(s: str, y: float) -> str:
 
 
 # a torso with two arms, each with a rod that a passive mimic joint off the chain turns
-# with the elbow (j2)
+# with the elbow (j2), and a rod hung from the base that turns with the torso
 URDF = f"""<?xml version="1.0"?>
 <robot name="rods">
   <link name="base"/><link name="torso"/>
@@ -49,6 +49,11 @@ URDF = f"""<?xml version="1.0"?>
     <origin xyz="0 0 0.3"/><axis xyz="0 0 1"/><limit lower="-2" upper="2" {_LIMIT}/></joint>
 {_arm("l", 0.3)}
 {_arm("r", -0.3)}
+  <link name="brod"><collision><origin xyz="0 0 0.15"/>
+    <geometry><box size="0.03 0.03 0.3"/></geometry></collision></link>
+  <joint name="b_passive" type="revolute"><parent link="base"/><child link="brod"/>
+    <origin xyz="0.3 0 0"/><axis xyz="0 1 0"/><limit lower="-6" upper="6" {_LIMIT}/>
+    <mimic joint="torso_j" multiplier="1" offset="0"/></joint>
 </robot>
 """
 
@@ -61,14 +66,15 @@ class Whole:
         self.data = self.model.createData()
         self.geom = pin.buildGeomFromUrdf(self.model, str(path), pin.COLLISION)
 
-    def rod(self, names, q) -> tuple[coal.CollisionGeometry, coal.Transform3s]:
+    def rod(self, names, q, link="l_rod") -> tuple[coal.CollisionGeometry, coal.Transform3s]:
         values = dict(zip(names, q))
         values.update({f"{s}_passive": 1.2 * values.get(f"{s}_j2", 0.0) + 0.1 for s in "lr"})
+        values["b_passive"] = values["torso_j"]
         qf = pin.neutral(self.model)
         for name, v in values.items():
             qf[self.model.joints[self.model.getJointId(name)].idx_q] = v
         pin.forwardKinematics(self.model, self.data, qf)
-        (o,) = [o for o in self.geom.geometryObjects if o.name.startswith("l_rod")]
+        (o,) = [o for o in self.geom.geometryObjects if o.name.startswith(link)]
         M = self.data.oMi[o.parentJoint] * o.placement
         return o.geometry, coal.Transform3s(M.rotation, M.translation)
 
@@ -83,10 +89,10 @@ def _ball() -> tuple[armik.Sphere, tuple]:
     )
 
 
-def _nearest(whole: Whole, names, Q, shape) -> float:
+def _nearest(whole: Whole, names, Q, shape, link="l_rod") -> float:
     request = coal.DistanceRequest()
     return min(
-        coal.distance(*whole.rod(names, q), *shape, request, coal.DistanceResult()) for q in Q
+        coal.distance(*whole.rod(names, q, link), *shape, request, coal.DistanceResult()) for q in Q
     )
 
 
@@ -144,3 +150,26 @@ def test_a_rods_row_is_the_derivative_of_its_distance_over_a_shared_torso(tmp_pa
         u /= np.linalg.norm(u)
         slope = (d(q + h * u) - d(q - h * u)) / (2 * h)
         assert abs(C[0, :-1] @ u - slope) < 1e-5 * max(1.0, abs(slope))
+
+
+def test_a_rod_hung_from_the_base_turned_by_the_shared_torso_is_kept_at_the_margin(tmp_path):
+    """The rod on the base turns with the torso, which both chains share: the servo over
+    the torso pairs it with the sphere its sweep passes through (the chains' cut models
+    hang it on the base, as if it never moved)."""
+    path = write_urdf(tmp_path, URDF)
+    robot = armik.load(path, tips=["l_tool", "r_tool"])
+    names = robot.joint_names
+    q0 = np.zeros(len(names))
+    goal = q0.copy()
+    goal[names.index("torso_j")] = 0.7
+    target = {t: robot.fk(goal, t).translation for t in robot.tips}
+    centre = np.array([0.3 + 0.3 * np.sin(0.5), 0.0, 0.3 * np.cos(0.5)])  # at torso 0.5
+    ball = armik.Sphere(0.03, tuple(centre))
+    shape = (coal.Sphere(0.03), coal.Transform3s(np.eye(3), centre))
+    whole = Whole(path)
+    free = robot.servo(q0, dt=DT, velocity_limits=1.0).track([target] * 800)
+    assert _nearest(whole, names, free.q, shape, "brod") < 0.0
+    servo = robot.servo(q0, dt=DT, velocity_limits=1.0, obstacles=[ball], margin=0.01)
+    rec = servo.track([target] * 800)
+    assert _nearest(whole, names, rec.q, shape, "brod") >= 0.01 - 1e-4
+    assert "obstacle" in set(rec.status.tolist())

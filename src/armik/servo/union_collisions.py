@@ -73,6 +73,8 @@ class UnionCollisions:
             (c, i): joint for c, g in enumerate(self.geometry) for i, joint, _ in g.followed
         }
         self.follower = {k: follower[o] for k, o in enumerate(self.objects) if o in follower}
+        # ... moving even where the cut model hangs it on the base (a mimic of a joint there)
+        self.moving = np.union1d(self.moving, list(self.follower)).astype(np.intp)
         self.rows = np.zeros((MAX_ROWS, n + 1))
         self.request = coal.DistanceRequest()
         self.nearest = math.inf  # m: the nearest pair's distance at the last ``at``
