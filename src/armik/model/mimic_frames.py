@@ -186,7 +186,7 @@ def followed_jacobian(arm: ArmModel, data: pin.Data, joint: int) -> np.ndarray:
     ``joint``) over the chain's joints, from ``data``'s Jacobians (``place_followed_moving``):
     each mimic joint's column folded into its driver's, times its multiplier."""
     J = pin.getJointJacobian(arm.chain.full, data, joint, pin.LOCAL_WORLD_ALIGNED)
-    return J @ _FOLD(arm)  # type: ignore[no-any-return]
+    return J.reshape(6, -1) @ _FOLD(arm)  # (one joint: Pinocchio gives (6,))  # type: ignore[no-any-return]
 
 
 def _fold(arm: ArmModel) -> np.ndarray:

@@ -94,6 +94,7 @@ class CollisionRows:
                 return np.zeros((3, self.arm.dof))
             model, data = self.arm.model, self.data
             J = pin.getJointJacobian(model, data, joint, pin.LOCAL_WORLD_ALIGNED)
+            J = J.reshape(6, self.arm.dof)  # one joint: Pinocchio gives (6,)
             origin = data.oMi[joint].translation
         rx, ry, rz = (p - origin).tolist()
         v, w = J[:3], J[3:]

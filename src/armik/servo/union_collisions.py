@@ -169,6 +169,7 @@ class UnionCollisions:
         J = jacobians.get((c, joint))
         if J is None:
             J = pin.getJointJacobian(self.arms[c].model, data, joint, pin.LOCAL_WORLD_ALIGNED)
+            J = J.reshape(6, len(self.cols[c]))  # one joint: Pinocchio gives (6,)
             jacobians[c, joint] = J
         r = p - data.oMi[joint].translation
         out[:, self.cols[c]] = J[:3] + np.cross(J[3:].T, r).T  # v + w x r
