@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import coal
 import numpy as np
+import pytest
 
 import armik
 
@@ -56,3 +57,24 @@ def test_an_arm_of_one_joint_keeps_an_obstacle_at_the_margin(tmp_path):
     _, rec = _run(tmp_path, [edge])
     assert _to_edge(rec.q) >= 0.01 - 1e-6
     assert rec.status[-1] == "obstacle"
+
+
+def test_the_rows_are_the_nearest_pairs_where_more_are_within_reach(tmp_path):
+    """Sixteen bars 3 cm from the plate's broad faces, their lower bounds (the plate's
+    bounding capsule) below zero, fill as many rows; the box beyond its edge, its bound
+    tight, is nearer than any bar once the plate slides toward it: it gets a row and the
+    plate stops at the margin (it took the first pairs by bound, and went 2.5 cm in)."""
+    bars = [
+        armik.Box((0.6, 0.02, 0.02), (0.1, side * 0.041, z))
+        for side in (1, -1)
+        for z in np.linspace(0.05, 0.55, 8)
+    ]
+    edge = armik.Box((0.02, 0.1, 0.1), EDGE)
+    arm, rec = _run(tmp_path, [*bars, edge])
+    assert len(bars) == 16
+    assert _to_edge(rec.q) >= 0.01 - 1e-6
+    assert min(arm.min_distance(q, bars)[0] for q in rec.q[::20]) > 0.029
+    rows = arm.servo([0.0], obstacles=[*bars, edge], margin=0.01)._collisions
+    C = rows.at(np.array([0.095]))  # the edge 5 mm away, every bar 3 cm
+    distances = np.sort(rows.margin - C[:, -1] / rows.gain)
+    assert len(C) == 16 and distances[0] == pytest.approx(0.005, abs=1e-9)

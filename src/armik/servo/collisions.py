@@ -16,6 +16,9 @@ points' Jacobians read, on the URDF's whole model (``armik.model.mimic_frames``)
 
 from __future__ import annotations
 
+import heapq
+from typing import Any
+
 import numpy as np
 import pinocchio as pin
 
@@ -50,7 +53,8 @@ class CollisionRows:
         self.full = arm.chain.full.createData() if self.followed else None
 
     def at(self, q: np.ndarray) -> np.ndarray:
-        """The rows at q (rad, m), nearest pairs first, at most ``MAX_ROWS``."""
+        """The rows at q (rad, m) of the ``MAX_ROWS`` nearest pairs within reach at most,
+        in the order of their bounds."""
         arm, check, data = self.arm, self.check, self.data
         reach = self.margin + self.active
         bound = check.bounds(q)
@@ -65,15 +69,28 @@ class CollisionRows:
         pin.updateGeometryPlacements(model, data, gm, gd)
         if self.followed:
             mimic_frames.place_followed_moving(arm, q, gd, self.followed, self.full)
-        K = 0
+        # measured in the order of their bounds until the ``MAX_ROWS`` nearest distances
+        # are known (no bound left below the farthest of them); their rows in that order
+        found: list[tuple[float, int, Any]] = []
+        kept: list[float] = []  # the distances within reach, as a max-heap, negated
         for k in near[np.argsort(bound[near])].tolist():
-            if K == MAX_ROWS:
+            if len(kept) == MAX_ROWS and bound[k] >= -kept[0]:
                 break
             r = pin.computeDistance(gm, gd, k)
             d = r.min_distance
             self.nearest = min(self.nearest, d)
             if d >= reach:
                 continue
+            found.append((d, k, r))
+            if len(kept) < MAX_ROWS:
+                heapq.heappush(kept, -d)
+            elif d < -kept[0]:
+                heapq.heapreplace(kept, -d)
+        if len(found) > MAX_ROWS:
+            nearest = sorted(range(len(found)), key=lambda i: found[i][0])[:MAX_ROWS]
+            found = [found[i] for i in sorted(nearest)]
+        K = 0
+        for d, k, r in found:
             pair = gm.collisionPairs[k]
             Jd = self._point(pair.second, np.array(r.getNearestPoint2()))
             Jd -= self._point(pair.first, np.array(r.getNearestPoint1()))
