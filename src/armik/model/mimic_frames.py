@@ -10,12 +10,13 @@ collision objects they carry (``followed_objects``, ``place_followed``).
 
 from __future__ import annotations
 
+import threading
 from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
 
-from armik.model.derived import Derived
+from armik.model.derived import Derived, DerivedBy
 from armik.model.reduce import frame_id, set_joint
 
 if TYPE_CHECKING:
@@ -48,10 +49,15 @@ _FOLLOWERS: Derived[dict] = Derived("mimic joints off the chain that follow it",
 
 def full_frame(arm: ArmModel, frame: str) -> int | None:
     """The whole model's id of ``frame`` when a follower (``followers``) moves it, else
-    None: its placement in the chain's model is then the whole story."""
-    moved = followers(arm)
-    if not moved:
+    None: its placement in the chain's model is then the whole story. Found once per arm
+    and frame."""
+    if not followers(arm):
         return None
+    return _FULL_FRAME(arm, frame)
+
+
+def _full_frame(arm: ArmModel, frame: str) -> int | None:
+    moved = followers(arm)
     full = arm.chain.full
     if not full.existFrame(frame):
         return None
@@ -62,6 +68,23 @@ def full_frame(arm: ArmModel, frame: str) -> int | None:
             return fid
         j = full.parents[j]
     return None
+
+
+_FULL_FRAME: DerivedBy[int | None] = DerivedBy("a frame a follower moves", _full_frame)
+
+
+def _data(arm: ArmModel) -> pin.Data:
+    """This thread's data of the whole model (``placement``, ``jacobian``)."""
+    local = _LOCAL(arm)
+    data = getattr(local, "data", None)
+    if data is None:
+        data = local.data = arm.chain.full.createData()
+    return data
+
+
+_LOCAL: Derived[threading.local] = Derived(
+    "each thread's data of the whole model", lambda arm: threading.local()
+)
 
 
 def _full_q(arm: ArmModel, q: np.ndarray) -> np.ndarray:
@@ -81,8 +104,7 @@ def _full_q(arm: ArmModel, q: np.ndarray) -> np.ndarray:
 
 def placement(arm: ArmModel, q: object, fid: int) -> pin.SE3:
     """``T_base_frame`` of the whole model's frame ``fid`` at q."""
-    full = arm.chain.full
-    data = full.createData()
+    full, data = arm.chain.full, _data(arm)
     pin.framesForwardKinematics(full, data, _full_q(arm, arm.check_q(q)))
     return arm.T_base_world * data.oMf[fid]
 
@@ -93,17 +115,30 @@ def jacobian(arm: ArmModel, q: object, fid: int, kind: pin.ReferenceFrame) -> np
     multiplier, as the chain's model folds them."""
     full = arm.chain.full
     qv = np.asarray(arm.check_q(q), dtype=float)
-    data = full.createData()
-    Jf = pin.computeFrameJacobian(full, data, _full_q(arm, qv), fid, kind)
-    column = {name: full.joints[full.getJointId(name)].idx_v for name in full.names[1:]}
+    Jf = pin.computeFrameJacobian(full, _data(arm), _full_q(arm, qv), fid, kind)
+    own, folded = _COLUMNS(arm)
     J = np.zeros((6, arm.dof))
-    for k, name in enumerate(arm.joint_names):
-        J[:, k] = Jf[:, column[name]]
-    for mimic in arm.chain.mimics:
-        J[:, arm.joint_names.index(mimic.driver)] += mimic.multiplier * Jf[:, column[mimic.name]]
-    for jid, (k, m, _) in followers(arm).items():
-        J[:, k] += m * Jf[:, full.joints[jid].idx_v]
+    for k, c in enumerate(own):
+        J[:, k] = Jf[:, c]
+    for k, m, c in folded:  # the chain's mimic joints, then the followers
+        J[:, k] += m * Jf[:, c]
     return J
+
+
+def _columns(arm: ArmModel) -> tuple[list[int], list[tuple[int, float, int]]]:
+    """The whole model's Jacobian column of each chain joint, and (driver's index,
+    multiplier, column) of each mimic joint folded into its driver (``jacobian``)."""
+    full = arm.chain.full
+    own = [full.joints[full.getJointId(name)].idx_v for name in arm.joint_names]
+    folded = [
+        (arm.joint_names.index(m.driver), m.multiplier, full.joints[full.getJointId(m.name)].idx_v)
+        for m in arm.chain.mimics
+    ]
+    folded += [(k, m, full.joints[jid].idx_v) for jid, (k, m, _) in followers(arm).items()]
+    return own, folded
+
+
+_COLUMNS: Derived[tuple] = Derived("the whole model's Jacobian columns on the chain", _columns)
 
 
 def followed_objects(arm: ArmModel, geom: pin.GeometryModel) -> tuple:
@@ -133,3 +168,39 @@ def place_followed(
     pin.forwardKinematics(full, data, _full_q(arm, np.asarray(q, dtype=float)))
     for i, joint, placement in followed:
         gd.oMg[i] = data.oMi[joint] * placement
+
+
+def place_followed_moving(
+    arm: ArmModel, q: np.ndarray, gd: pin.GeometryData, followed: tuple, data: pin.Data
+) -> None:
+    """``place_followed``, with the whole model's joint Jacobians at q computed in ``data``
+    too, for ``followed_jacobian`` (a servo's collision rows on a followed object)."""
+    full = arm.chain.full
+    pin.computeJointJacobians(full, data, _full_q(arm, np.asarray(q, dtype=float)))
+    for i, joint, placement in followed:
+        gd.oMg[i] = data.oMi[joint] * placement
+
+
+def followed_jacobian(arm: ArmModel, data: pin.Data, joint: int) -> np.ndarray:
+    """The 6 x dof Jacobian (LOCAL_WORLD_ALIGNED, at the origin of the whole model's joint
+    ``joint``) over the chain's joints, from ``data``'s Jacobians (``place_followed_moving``):
+    each mimic joint's column folded into its driver's, times its multiplier."""
+    J = pin.getJointJacobian(arm.chain.full, data, joint, pin.LOCAL_WORLD_ALIGNED)
+    return J.reshape(6, -1) @ _FOLD(arm)  # (one joint: Pinocchio gives (6,))  # type: ignore[no-any-return]
+
+
+def _fold(arm: ArmModel) -> np.ndarray:
+    """(whole model's nv, dof): a whole-model Jacobian's columns onto the chain's joints."""
+    full = arm.chain.full
+    F = np.zeros((full.nv, arm.dof))
+    for k, name in enumerate(arm.joint_names):
+        F[full.joints[full.getJointId(name)].idx_v, k] = 1.0
+    for mimic in arm.chain.mimics:
+        k = arm.joint_names.index(mimic.driver)
+        F[full.joints[full.getJointId(mimic.name)].idx_v, k] += mimic.multiplier
+    for jid, (k, m, _) in followers(arm).items():
+        F[full.joints[jid].idx_v, k] += m
+    return F
+
+
+_FOLD: Derived[np.ndarray] = Derived("a whole-model Jacobian's columns on the chain", _fold)

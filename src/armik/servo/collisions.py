@@ -9,10 +9,15 @@ the distance d, the witness points p1, p2 and the normal n from p1 to p2; the ro
 
 lets the pair close by at most a share ``RATE dt`` of its gap to the margin a tick, and
 pushes a pair inside the margin apart (Pink's and mink's collision avoidance; the
-velocity damper of Faverjon and Tournassoud). The rows are ``(K, n + 1)``: C, then b.
+velocity damper of Faverjon and Tournassoud). The rows are ``(K, n + 1)``: C, then b. A
+link below a mimic joint off the chain that follows its driver on it is placed, and its
+points' Jacobians read, on the URDF's whole model (``armik.model.mimic_frames``).
 """
 
 from __future__ import annotations
+
+import heapq
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -20,6 +25,7 @@ import pinocchio as pin
 from armik.constraints import collision
 from armik.constraints.shapes import check_obstacles
 from armik.errors import CollisionError
+from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
 from armik.servo.layout import MAX_ROWS
 
@@ -40,9 +46,15 @@ class CollisionRows:
         self.data = arm.model.createData()
         self.rows = np.zeros((MAX_ROWS, arm.dof + 1))
         self.nearest = float("inf")  # m: the nearest pair's distance at the last ``at``
+        # objects below a mimic joint off the chain that follows its driver on it: placed,
+        # and their points' Jacobians read, on the whole model (the cut one holds them still)
+        self.followed = collision.arm_geometry(arm).followed
+        self.follower = {i: joint for i, joint, _ in self.followed}
+        self.full = arm.chain.full.createData() if self.followed else None
 
     def at(self, q: np.ndarray) -> np.ndarray:
-        """The rows at q (rad, m), nearest pairs first, at most ``MAX_ROWS``."""
+        """The rows at q (rad, m) of the ``MAX_ROWS`` nearest pairs within reach at most,
+        in the order of their bounds."""
         arm, check, data = self.arm, self.check, self.data
         reach = self.margin + self.active
         bound = check.bounds(q)
@@ -55,15 +67,30 @@ class CollisionRows:
         qp = arm.to_pin(q)
         pin.computeJointJacobians(model, data, qp)
         pin.updateGeometryPlacements(model, data, gm, gd)
-        K = 0
+        if self.followed:
+            mimic_frames.place_followed_moving(arm, q, gd, self.followed, self.full)
+        # measured in the order of their bounds until the ``MAX_ROWS`` nearest distances
+        # are known (no bound left below the farthest of them); their rows in that order
+        found: list[tuple[float, int, Any]] = []
+        kept: list[float] = []  # the distances within reach, as a max-heap, negated
         for k in near[np.argsort(bound[near])].tolist():
-            if K == MAX_ROWS:
+            if len(kept) == MAX_ROWS and bound[k] >= -kept[0]:
                 break
             r = pin.computeDistance(gm, gd, k)
             d = r.min_distance
             self.nearest = min(self.nearest, d)
             if d >= reach:
                 continue
+            found.append((d, k, r))
+            if len(kept) < MAX_ROWS:
+                heapq.heappush(kept, -d)
+            elif d < -kept[0]:
+                heapq.heapreplace(kept, -d)
+        if len(found) > MAX_ROWS:
+            nearest = sorted(range(len(found)), key=lambda i: found[i][0])[:MAX_ROWS]
+            found = [found[i] for i in sorted(nearest)]
+        K = 0
+        for d, k, r in found:
             pair = gm.collisionPairs[k]
             Jd = self._point(pair.second, np.array(r.getNearestPoint2()))
             Jd -= self._point(pair.first, np.array(r.getNearestPoint1()))
@@ -74,12 +101,19 @@ class CollisionRows:
 
     def _point(self, i: int, p: np.ndarray) -> np.ndarray:
         """The 3 x dof Jacobian of the world point p fixed to geometry object i."""
-        joint = self.check.model.geometryObjects[i].parentJoint
-        if joint == 0:
-            return np.zeros((3, self.arm.dof))
-        model, data = self.arm.model, self.data
-        J = pin.getJointJacobian(model, data, joint, pin.LOCAL_WORLD_ALIGNED)
-        rx, ry, rz = (p - data.oMi[joint].translation).tolist()
+        if i in self.follower:  # moved by a mimic joint off the chain
+            joint = self.follower[i]
+            J = mimic_frames.followed_jacobian(self.arm, self.full, joint)
+            origin = self.full.oMi[joint].translation  # type: ignore[union-attr]
+        else:
+            joint = self.check.model.geometryObjects[i].parentJoint
+            if joint == 0:
+                return np.zeros((3, self.arm.dof))
+            model, data = self.arm.model, self.data
+            J = pin.getJointJacobian(model, data, joint, pin.LOCAL_WORLD_ALIGNED)
+            J = J.reshape(6, self.arm.dof)  # one joint: Pinocchio gives (6,)
+            origin = data.oMi[joint].translation
+        rx, ry, rz = (p - origin).tolist()
         v, w = J[:3], J[3:]
         v[0] -= ry * w[2] - rz * w[1]  # v + w x r = v - r x w
         v[1] -= rz * w[0] - rx * w[2]

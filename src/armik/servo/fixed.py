@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from armik.model.arm_model import ArmModel
+from armik.model.derived import Derived
 
 SAMPLES = 16  # joint values (besides the middle): a direction reached at one q is at most
 RELATIVE = 1e-9  # a singular value of the stacked columns below this share of the largest
@@ -22,9 +23,7 @@ RELATIVE = 1e-9  # a singular value of the stacked columns below this share of t
 def never_moved(arm: ArmModel) -> np.ndarray:
     """(2, 3, 3): the projectors onto the base frame's directions in which ``arm`` never
     moves its tip (linear) and never turns it (angular), zero for a spatial arm."""
-    qs = [arm.middle, *arm.random_q(np.random.default_rng(0), SAMPLES)]
-    J = np.hstack([arm.jacobian(q, "base") for q in qs])
-    return np.stack([_left_null(J[:3]), _left_null(J[3:])])
+    return _FOUND(arm)[0].copy()
 
 
 def structural_ranks(arm: ArmModel) -> np.ndarray:
@@ -34,13 +33,26 @@ def structural_ranks(arm: ArmModel) -> np.ndarray:
     the Panda's ``panda_link4`` moves on a sphere around the shoulder, its position rows of
     rank 2 at every q, so the smallest of three singular values is always zero and a
     singularity is read off the rank-th (``armik.servo.tick.rank_bound``)."""
+    return _FOUND(arm)[1].copy()
+
+
+def _found(arm: ArmModel) -> tuple[np.ndarray, np.ndarray]:
+    """(``never_moved``, ``structural_ranks``), from one sampling of the tip's Jacobian,
+    kept with the arm (each servo started on it reads them)."""
     qs = [arm.middle, *arm.random_q(np.random.default_rng(0), SAMPLES)]
+    Js = [arm.jacobian(q, "base") for q in qs]
+    J = np.hstack(Js)
+    fixed = np.stack([_left_null(J[:3]), _left_null(J[3:])])
     ranks = np.zeros(3)
-    for q in qs:
-        J = arm.jacobian(q, "base")
-        for i, M in enumerate((J[:3], J[3:], J)):
+    for Jq in Js:
+        for i, M in enumerate((Jq[:3], Jq[3:], Jq)):
             ranks[i] = max(ranks[i], _rank(M))
-    return ranks
+    return fixed, ranks
+
+
+_FOUND: Derived[tuple] = Derived(
+    "the directions a tip never moves in, its Jacobian's ranks", _found
+)
 
 
 def _left_null(M: np.ndarray) -> np.ndarray:

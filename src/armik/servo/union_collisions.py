@@ -27,7 +27,9 @@ import numpy as np
 import pinocchio as pin
 
 from armik.arms_links import Links
+from armik.constraints.collision import _check_fixed, obstacle_name
 from armik.constraints.shapes import check_obstacles
+from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
 from armik.servo.collisions import ACTIVE, RATE, asked, margin_of
 from armik.servo.layout import MAX_ROWS
@@ -62,6 +64,24 @@ class UnionCollisions:
         self.moving, self.geoms, self.joints = links.moving, links.geoms, links.joints
         self.radius, self.centre = links.radius, links.centre
         self.pair_a, self.pair_b = links.pair_a, links.pair_b
+        # a link below a mimic joint off its chain that follows its driver on it: placed,
+        # and its points' Jacobians read, on the whole model (the cut one holds it still)
+        self.full = [
+            arm.chain.full.createData() if g.followed else None
+            for arm, g in zip(arms, self.geometry)
+        ]
+        follower = {
+            (c, i): joint for c, g in enumerate(self.geometry) for i, joint, _ in g.followed
+        }
+        self.follower = {k: follower[o] for k, o in enumerate(self.objects) if o in follower}
+        # ... moving even where the cut model hangs it on the base (a mimic of a joint there)
+        self.moving = np.union1d(self.moving, list(self.follower)).astype(np.intp)
+        for k in np.setdiff1d(np.arange(len(self.objects)), self.moving).tolist():
+            c, i = self.objects[k]  # fixed to the base: an obstacle it sinks into refused
+            for s, shape in enumerate(self.shapes):
+                world = arms[c].T_world_base * shape.placement()
+                obj = pin.GeometryObject(obstacle_name(s, shape), 0, 0, world, shape.geometry())
+                _check_fixed(arms[c], self.geometry[c], i, obj, shape, s)
         self.rows = np.zeros((MAX_ROWS, n + 1))
         self.request = coal.DistanceRequest()
         self.nearest = math.inf  # m: the nearest pair's distance at the last ``at``
@@ -70,12 +90,14 @@ class UnionCollisions:
     def at(self, q: np.ndarray) -> np.ndarray:
         """The rows at the union's joint values q (rad, m), nearest pairs first, at most
         ``MAX_ROWS``: (K, n + 1), C then b for ``C dq >= b``."""
-        for arm, data, g, gd, cols in zip(
-            self.arms, self.data, self.geometry, self.gdata, self.cols
+        for arm, data, g, gd, cols, full in zip(
+            self.arms, self.data, self.geometry, self.gdata, self.cols, self.full
         ):
             qp = arm.to_pin(q[cols])
             pin.computeJointJacobians(arm.model, data, qp)
             pin.updateGeometryPlacements(arm.model, data, g.model, gd)
+            if full is not None:  # below a mimic joint off the chain: the whole model's
+                mimic_frames.place_followed_moving(arm, q[cols], gd, g.followed, full)
         placed = [self.gdata[c].oMg[i] for c, i in self.objects]
         R = np.array([M.rotation for M in placed])
         centre = np.array([M.translation for M in placed]) + np.einsum("kij,kj->ki", R, self.centre)
@@ -134,6 +156,12 @@ class UnionCollisions:
         k; ``jacobians``: this tick's joint Jacobians, by (chain, joint)."""
         c, _ = self.objects[k]
         out = np.zeros((3, self.n))
+        if k in self.follower:  # moved by a mimic joint off its chain
+            joint, full = self.follower[k], self.full[c]
+            Jf = mimic_frames.followed_jacobian(self.arms[c], full, joint)
+            r = p - full.oMi[joint].translation  # type: ignore[union-attr]
+            out[:, self.cols[c]] = Jf[:3] + np.cross(Jf[3:].T, r).T
+            return out
         joint = self.joints[k]
         if joint == 0:
             return out
@@ -141,6 +169,7 @@ class UnionCollisions:
         J = jacobians.get((c, joint))
         if J is None:
             J = pin.getJointJacobian(self.arms[c].model, data, joint, pin.LOCAL_WORLD_ALIGNED)
+            J = J.reshape(6, len(self.cols[c]))  # one joint: Pinocchio gives (6,)
             jacobians[c, joint] = J
         r = p - data.oMi[joint].translation
         out[:, self.cols[c]] = J[:3] + np.cross(J[3:].T, r).T  # v + w x r
