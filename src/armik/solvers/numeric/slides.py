@@ -62,22 +62,31 @@ def _slides(arm: ArmModel) -> Slides | None:
 SLIDES: Derived[Slides | None] = Derived("a prismatic chain's positions", _slides)
 
 
-def distance(slides: Slides, p_t: np.ndarray) -> float:
-    """A lower bound on the distance (m) from ``p_t`` (base frame) to every position
-    ``slides`` reaches."""
-    r = np.asarray(p_t, dtype=float) - slides.p0
+def _reduced(slides: Slides) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``distance``'s problem as (off, c, B, lo, hi): the least ``|B x - r|`` over
+    ``lo <= x <= hi``, ``r = off p_t - c``; the unlimited joints' directions projected off
+    (``off``) and the joints held still by their limits taken into ``c``."""
     lo, hi, B = slides.lower, slides.upper, slides.B
+    off = np.eye(3)
     free = ~(np.isfinite(lo) & np.isfinite(hi))
     if free.any():  # project off every direction the unlimited joints span
         U, s, _ = np.linalg.svd(B[:, free], full_matrices=False)
         Q = U[:, s > SPAN_TOL * max(float(s.max(initial=0.0)), 1.0)]
-        off = np.eye(3) - Q @ Q.T
-        r, B = off @ r, off @ B[:, ~free]
-        lo, hi = lo[~free], hi[~free]
+        off = off - Q @ Q.T
+        B, lo, hi = off @ B[:, ~free], lo[~free], hi[~free]
+    c = off @ slides.p0
     fixed = lo >= hi  # limits that hold a joint still: its column moves the target
     if fixed.any():
-        r = r - B[:, fixed] @ lo[fixed]
+        c = c + B[:, fixed] @ lo[fixed]
         B, lo, hi = B[:, ~fixed], lo[~fixed], hi[~fixed]
+    return off, c, B, lo, hi
+
+
+def distance(slides: Slides, p_t: np.ndarray) -> float:
+    """A lower bound on the distance (m) from ``p_t`` (base frame) to every position
+    ``slides`` reaches."""
+    off, c, B, lo, hi = _reduced(slides)
+    r = off @ np.asarray(p_t, dtype=float) - c
     if B.shape[1] == 0:
         return float(np.linalg.norm(r))
     x = np.linalg.lstsq(B, r, rcond=None)[0]  # the box apart: the usual answer, at once
@@ -89,6 +98,58 @@ def distance(slides: Slides, p_t: np.ndarray) -> float:
     g = B.T @ res
     f = 0.5 * float(res @ res) + float(np.minimum(g * (lo - x), g * (hi - x)).sum())
     return math.sqrt(max(2.0 * f, 0.0))
+
+
+class Near(NamedTuple):
+    """``distance``'s unconstrained answer and its residual, affine in the target:
+    ``(x, e) = A p_t + a0`` (k values, then 3), for ``lo <= x <= hi``."""
+
+    A: np.ndarray  # (k + 3, 3)
+    a0: np.ndarray  # (k + 3,)
+    lower: np.ndarray  # (k,)
+    upper: np.ndarray  # (k,)
+    plain: tuple[tuple[float, ...], ...]  # ``near_one``'s: the rows (A's, a0's), the limits
+
+
+def _near(arm: ArmModel) -> Near | None:
+    slides = SLIDES(arm)
+    if slides is None:
+        return None
+    off, c, B, lo, hi = _reduced(slides)
+    P = np.linalg.pinv(B)  # the least-squares answer x = P r
+    E = B @ P - np.eye(3)  # its residual B x - r = E r
+    A = np.vstack([P @ off, E @ off])
+    a0 = -np.concatenate([P @ c, E @ c])
+    plain = tuple(tuple(row) for row in np.column_stack([A, a0]).tolist())
+    return Near(A, a0, lo, hi, plain + (tuple(lo.tolist()), tuple(hi.tolist())))
+
+
+NEAR: Derived[Near | None] = Derived("a prismatic chain's nearest positions", _near)
+
+
+def near(arm: ArmModel, P: np.ndarray, tol: float) -> np.ndarray:
+    """For positions ``P`` (m, 3, base frame): True where the least-squares answer within
+    the limits leaves them within half of ``tol`` (so that ``refused`` never refuses
+    them), or the arm has a turning joint; False says nothing."""
+    n = NEAR(arm)
+    if n is None:
+        return np.ones(len(P), dtype=bool)
+    Y = P @ n.A.T + n.a0
+    k = len(n.lower)
+    x, e = Y[:, :k], Y[:, k:]
+    inside = ((n.lower <= x) & (x <= n.upper)).all(axis=1)
+    return inside & ((e * e).sum(axis=1) <= (0.5 * tol) ** 2)
+
+
+def near_one(n: Near, p_t: np.ndarray, tol: float) -> bool:
+    """``near`` of one position ``p_t`` (3,) on ``NEAR(arm)``, on plain floats."""
+    x, y, z = p_t.tolist()
+    Y = [ax * x + ay * y + az * z + a0 for ax, ay, az, a0 in n.plain[:-2]]
+    k = len(Y) - 3
+    lo, hi = n.plain[-2:]
+    if not all(lo[i] <= Y[i] <= hi[i] for i in range(k)):
+        return False
+    return Y[k] * Y[k] + Y[k + 1] * Y[k + 1] + Y[k + 2] * Y[k + 2] <= (0.5 * tol) ** 2
 
 
 def refused(arm: ArmModel, p_t: np.ndarray, opts: SolverSettings) -> str | None:

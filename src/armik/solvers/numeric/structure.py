@@ -1,0 +1,77 @@
+"""A target measured plainly (no weights, no region, no aim) beyond what an arm's structure
+allows, refused before the kernel runs: its rotation beyond every one the tip takes
+(``orientations``: a gantry, a SCARA, a planar arm), its position beyond every one a chain
+of prismatic joints reaches (``slides``). A target within reach first passes cheap,
+vectorised measures (``orientations.near``, ``slides.near``: a few products with what is
+kept per arm), and only one they do not pass is measured exactly, so that a solve on such
+an arm pays about a microsecond for it where the target is reachable."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from armik.model.arm_model import ArmModel
+from armik.problem.settings import SolverSettings
+from armik.solvers.numeric import orientations, slides
+
+REACH_SLACK = 9  # in ``problem.pack_settings``' floats
+
+
+def beyond(arm: ArmModel, R_t, p_t, opts: SolverSettings, sf) -> str | None:
+    """Why a target measured plainly is beyond what ``arm``'s structure allows (an arm
+    whose ``orientations.FAMILY`` is not None): its rotation ``R_t`` (None: not measured)
+    beyond the tip's (``orientations.refused``), or its position ``p_t`` beyond a gantry's
+    (``slides.refused``); for a target within the reach bound only (beyond it the kernel
+    refuses it by its distance, as ``solve.far`` does); else None."""
+    family, near = orientations.FAMILY(arm), slides.NEAR(arm)
+    turned = True
+    if R_t is not None and family is not None:
+        turned = orientations.near_one(family, R_t, opts.tol_orientation)
+    placed = near is None or slides.near_one(near, p_t, opts.tol_position)
+    if turned and placed:
+        return None
+    return _exactly(arm, R_t, p_t, opts, sf, turned, placed)
+
+
+def refusals(arm: ArmModel, R_t, p_t, opts: SolverSettings, sf) -> dict[int, str]:
+    """{row: why} of a batch's targets (rotations ``R_t``, None: not measured; positions
+    ``p_t``) that ``beyond`` refuses: the cheap measures over every row at once, then each
+    row they do not pass alone."""
+    turned, placed = _passed(arm, R_t, p_t, opts)
+    found = {}
+    for i in np.flatnonzero(~(turned & placed)).tolist():
+        R = None if R_t is None else R_t[i]
+        why = _exactly(arm, R, p_t[i], opts, sf, turned[i], placed[i])
+        if why is not None:
+            found[i] = why
+    return found
+
+
+def _passed(arm: ArmModel, R_t, P, opts: SolverSettings) -> tuple[np.ndarray, np.ndarray]:
+    """Where the rows' rotations (``R_t``, (m, 3, 3); None: not measured, every row) and
+    positions (``P``, (m, 3)) pass the cheap measures."""
+    every = np.ones(len(P), dtype=bool)
+    family = orientations.FAMILY(arm)
+    turned = every
+    if R_t is not None and family is not None:
+        turned = orientations.near(family, R_t, opts.tol_orientation)
+    placed = every if slides.NEAR(arm) is None else slides.near(arm, P, opts.tol_position)
+    return turned, placed
+
+
+def _exactly(arm: ArmModel, R_t, p_t, opts, sf, turned: bool, placed: bool) -> str | None:
+    """``beyond``, the measures passed (``turned``: the rotation's, ``placed``: the
+    position's) skipped."""
+    why = None
+    if R_t is not None and not turned:
+        why = orientations.refused(arm, R_t, opts)
+    if why is None and not placed:
+        why = slides.refused(arm, p_t, opts)
+    if why is None:
+        return None
+    ch = arm.kernel_chain.chain
+    if math.dist(np.asarray(p_t).tolist(), ch.origin.tolist()) > ch.reach + sf[REACH_SLACK]:
+        return None
+    return why
