@@ -400,3 +400,14 @@ def every_path_since_breaks(
         f"{other} of the waypoint before goes on here, but breaks on its way there): from "
         f"every {other} so reached at the waypoint before, {why}"
     )
+
+
+def height_unreachable(distance: float, tol: float) -> str:
+    """A target ``distance`` m (along the turning joints' common axis) from every height a
+    chain whose turning axes are all parallel reaches within its limits, beyond ``tol``
+    (``tol_position``), refused before any iteration."""
+    return (
+        f"the target is {distance:.3g} m, along the axis its turning joints share, from every "
+        f"height the tip reaches (turning about parallel axes keeps it; its slides within "
+        f"their limits change it), beyond tol_position ({tol:g} m); q is the seed, unchanged"
+    )

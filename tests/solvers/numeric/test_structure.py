@@ -12,7 +12,7 @@ import pytest
 
 import armik
 from armik.options import Options
-from armik.solvers.numeric import orientations, slides, structure
+from armik.solvers.numeric import heights, orientations, slides, structure
 
 from .test_orientations import GANTRY, SCARA
 from .test_slides import SKEWED, XYZ
@@ -40,6 +40,7 @@ def test_a_reachable_target_is_not_measured_exactly(monkeypatch, solver):
 
     monkeypatch.setattr(orientations, "refused", exact)
     monkeypatch.setattr(slides, "refused", exact)
+    monkeypatch.setattr(heights, "refused", exact)
     for name, arm in _arms().items():
         rng = np.random.default_rng(3)
         poses = [arm.fk(arm.random_q(rng)) for _ in range(4)]

@@ -1,10 +1,12 @@
 """A target measured plainly (no weights, no region, no aim) beyond what an arm's structure
 allows, refused before the kernel runs: its rotation beyond every one the tip takes
 (``orientations``: a gantry, a SCARA, a planar arm), its position beyond every one a chain
-of prismatic joints reaches (``slides``). A target within reach first passes cheap,
-vectorised measures (``orientations.near``, ``slides.near``: a few products with what is
-kept per arm), and only one they do not pass is measured exactly, so that a solve on such
-an arm pays about a microsecond for it where the target is reachable."""
+of prismatic joints reaches (``slides``) or beyond the heights along parallel turning axes
+(``heights``: a planar arm's plane, a SCARA's quill travel). A target within reach first
+passes cheap measures (``orientations.near``, ``slides.near``, ``heights.near``: a few
+products with what is kept per arm; on plain floats for one target, vectorised over a
+batch), and only one they do not pass is measured exactly, so that a solve on such an arm
+pays about a microsecond for it where the target is reachable."""
 
 from __future__ import annotations
 
@@ -14,7 +16,7 @@ import numpy as np
 
 from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
-from armik.solvers.numeric import orientations, slides
+from armik.solvers.numeric import heights, orientations, slides
 
 REACH_SLACK = 9  # in ``problem.pack_settings``' floats
 
@@ -23,13 +25,19 @@ def beyond(arm: ArmModel, R_t, p_t, opts: SolverSettings, sf) -> str | None:
     """Why a target measured plainly is beyond what ``arm``'s structure allows (an arm
     whose ``orientations.FAMILY`` is not None): its rotation ``R_t`` (None: not measured)
     beyond the tip's (``orientations.refused``), or its position ``p_t`` beyond a gantry's
-    (``slides.refused``); for a target within the reach bound only (beyond it the kernel
+    (``slides.refused``) or its height beyond the tip's (``heights.refused``); for a target
+    within the reach bound only (beyond it the kernel
     refuses it by its distance, as ``solve.far`` does); else None."""
     family, near = orientations.FAMILY(arm), slides.NEAR(arm)
     turned = True
     if R_t is not None and family is not None:
         turned = orientations.near_one(family, R_t, opts.tol_orientation)
     placed = near is None or slides.near_one(near, p_t, opts.tol_position)
+    above = arm._derived.get(heights.HEIGHTS, _UNBUILT)
+    if above is _UNBUILT:
+        above = heights.HEIGHTS(arm)
+    if above is not None and placed:
+        placed = heights.height(above, p_t) <= 0.5 * opts.tol_position
     if turned and placed:
         return None
     return _exactly(arm, R_t, p_t, opts, sf, turned, placed)
@@ -58,7 +66,12 @@ def _passed(arm: ArmModel, R_t, P, opts: SolverSettings) -> tuple[np.ndarray, np
     if R_t is not None and family is not None:
         turned = orientations.near(family, R_t, opts.tol_orientation)
     placed = every if slides.NEAR(arm) is None else slides.near(arm, P, opts.tol_position)
+    if heights.HEIGHTS(arm) is not None:
+        placed = placed & heights.near(arm, P, opts.tol_position)
     return turned, placed
+
+
+_UNBUILT = object()  # an arm's ``heights.HEIGHTS`` not built yet (read as a dict: no call)
 
 
 def _exactly(arm: ArmModel, R_t, p_t, opts, sf, turned: bool, placed: bool) -> str | None:
@@ -68,7 +81,7 @@ def _exactly(arm: ArmModel, R_t, p_t, opts, sf, turned: bool, placed: bool) -> s
     if R_t is not None and not turned:
         why = orientations.refused(arm, R_t, opts)
     if why is None and not placed:
-        why = slides.refused(arm, p_t, opts)
+        why = slides.refused(arm, p_t, opts) or heights.refused(arm, p_t, opts)
     if why is None:
         return None
     ch = arm.kernel_chain.chain
