@@ -106,3 +106,22 @@ def test_a_batch_s_centres_come_from_one_call_of_the_kernel_s_fk(monkeypatch):
     for k in range(6):
         np.testing.assert_allclose(many[k], rails.centres(kin, P[k], q0[k], joints), atol=1e-9)
     np.testing.assert_allclose(many[:, 0], Q[:, joints[0]], atol=0.5)  # the wrist's reach
+
+
+@pytest.mark.parametrize("solver", ["dls", "qp"])
+def test_the_centre_holds_with_q0_far_along_the_rails(solver):
+    """q0 1e6 to 1e300 m along one rail, and along two: the centres come from the rails at
+    0 and 1 m, not from q0 plus 1 m (which rounds back to q0 beyond 1e16 m, a division by
+    0 and a NaN box); the target near the origin is reached (checked by Pinocchio's FK)."""
+    one = armik.load_string(XYZ).with_limits({"px": (-np.inf, np.inf)})
+    two = one.with_limits({"py": (-np.inf, np.inf)})
+    for arm, p in ((one, [5.0, 0.2, -0.1]), (two, [50.0, -30.0, -0.2])):
+        joints = rails.UNLIMITED(arm.kinematics)
+        for far in (1e6, 1e17, 1e300):
+            q0 = np.array([0.0, 0.0, 0.1])
+            q0[joints] = far
+            got = rails.centres(arm.kinematics, np.array(p), q0, joints)
+            np.testing.assert_allclose(got, np.array(p)[joints], atol=1e-9)
+            r = arm.solve(np.array(p), q0=q0, solver=solver, seed=0)
+            assert r.success, r.reason
+            assert np.linalg.norm(arm.fk(r.q).translation - p) < 1e-6

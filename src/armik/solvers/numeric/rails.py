@@ -61,26 +61,33 @@ def centres(arm: ArmModel, p_t: np.ndarray, q0: np.ndarray, joints: np.ndarray) 
 
 def centres_many(arm: ArmModel, P: np.ndarray, Q0: np.ndarray, joints: np.ndarray) -> np.ndarray:
     """``centres`` of positions ``P`` (m, 3) from joint values ``Q0`` (m, n), (m, k): the
-    tip's position is affine in the prismatic joints' values, so that the kernel's FK
-    (``kernel.fk_many``) at q0 and at q0 with each joint moved 1 m gives it."""
+    tip's position is affine in the prismatic joints' values, ``base + C x``, so that the
+    kernel's FK (``kernel.fk_many``) at q0 with those joints at 0, then each at 1 m, gives
+    it (exact moves, whatever q0's values along the rails: 1e17 m plus 1 m is 1e17 m)."""
     m, k = len(P), len(joints)
     if m == 0:
         return np.empty((0, k))
     Q = np.repeat(np.asarray(Q0, dtype=float)[:, None, :], 1 + k, axis=1)  # (m, 1 + k, n)
-    Q[:, 1 + np.arange(k), joints] += 1.0
-    moved = Q[:, 1 + np.arange(k), joints] - Q[:, 0, joints]  # 1 m, as rounding left it
+    Q[:, :, joints] = np.vstack([np.zeros(k), np.eye(k)])
     out = np.empty((m * (1 + k), 4, 4))
     fk_many(*arm.kernel_chain.flat, Q.reshape(m * (1 + k), arm.dof), out)
     at = out[:, :3, 3].reshape(m, 1 + k, 3)
-    cols = (at[:, 1:] - at[:, :1]) / moved[:, :, None]  # (m, k, 3): each joint's direction
+    C = at[:, 1:] - at[:, :1]  # (m, k, 3): each joint's direction
     r = np.asarray(P, dtype=float) - at[:, 0]
-    if k == 1:
-        c = cols[:, 0]
-        shift = ((c * r).sum(axis=1) / (c * c).sum(axis=1))[:, None]
-    else:  # least squares, the least shift where columns are parallel
-        shift = (np.linalg.pinv(cols.transpose(0, 2, 1)) @ r[:, :, None])[:, :, 0]
+    x0 = np.asarray(Q0, dtype=float)[:, joints]
+    if k == 1:  # the nearest point along the rail (a rail that moves nothing: q0)
+        c, cc = C[:, 0], (C[:, 0] ** 2).sum(axis=1)
+        x = np.where(cc > 0.0, (c * r).sum(axis=1) / np.where(cc > 0.0, cc, 1.0), x0[:, 0])
+        x = x[:, None]
+    else:  # least squares, q0's values along directions the rails do not span
+        x = np.empty((m, k))
+        for i in range(m):
+            U, sv, Vt = np.linalg.svd(C[i].T)
+            rank = int((sv > 1e-12 * max(float(sv.max(initial=0.0)), 1.0)).sum())
+            V, Vn = Vt[:rank].T, Vt[rank:].T
+            x[i] = V @ ((U[:, :rank].T @ r[i]) / sv[:rank]) + Vn @ (Vn.T @ x0[i])
     ch = arm.kernel_chain.chain
-    return np.clip(Q[:, 0, joints] + shift, ch.lower[joints], ch.upper[joints])
+    return np.clip(x, ch.lower[joints], ch.upper[joints])
 
 
 def toward(arm: ArmModel, p_t: np.ndarray, q0: np.ndarray, joints: np.ndarray) -> Flat:
