@@ -48,7 +48,7 @@ from armik.problem.scores import fit_posture
 from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers, one
 from armik.solvers.claims import claim
-from armik.solvers.numeric import orientations, rails, structure
+from armik.solvers.numeric import rails, structure
 from armik.status import Status
 from armik.targets.aim import Aim
 from armik.targets.batch import TargetBatch
@@ -255,10 +255,10 @@ def run_numeric(
     err = np.empty((1, 2))
     seeds = np.empty(1, dtype=np.uint64)
     seeds[0] = solve_seed(opts)  # (a third of np.array([seed], dtype=np.uint64)'s cost)
-    family = arm._derived.get(orientations.FAMILY, _UNBUILT)
-    if family is _UNBUILT:
-        family = orientations.FAMILY(arm)
-    if family is not None and aim is None and opts.weights is None and opts.bounds is None:
+    bounded = arm._derived.get(structure.BOUNDED)
+    if bounded is None:
+        bounded = structure.BOUNDED(arm)
+    if bounded and aim is None and opts.weights is None and opts.bounds is None:
         turned = target.rotation is not None and not opts.position_only
         why = structure.beyond(arm, R_t[0] if turned else None, p_t[0], opts, sf)
         if why is not None:
@@ -273,9 +273,6 @@ def run_numeric(
     flat = rails.toward(arm, p_t[0], q0, rails_) if len(rails_) else arm.kernel_chain.flat
     entry(*flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
     return kernel_answers(arm, target.position, q0, opts, sf, info[0], out_q[0], err[0], region)
-
-
-_UNBUILT = object()  # an arm's ``orientations.FAMILY`` not built yet (read as a dict: no call)
 
 
 def converged_reason(restarts: int) -> str:
@@ -328,8 +325,8 @@ def pose_runner(
     unlimited = rails.UNLIMITED(arm)
     on_rails = len(unlimited) > 0  # read once: no call in a warm solve
     converged_code = _descent.CONVERGED
-    # a rotation the arm's structure bounds, plainly measured: refused by ``run_numeric``
-    bounded = orientations.FAMILY(arm) is not None
+    # a target the arm's structure bounds, plainly measured: refused by ``run_numeric``
+    bounded = structure.BOUNDED(arm)
     bounded = bounded and aim is None and opts.weights is None and opts.bounds is None
     turned = not (position_only or opts.position_only)
 
@@ -411,15 +408,15 @@ def run_numeric_batch(
     else:
         R_t = np.array(targets.rotations, dtype=float)
     p_t = np.array(targets.positions, dtype=float)
-    family = arm._derived.get(orientations.FAMILY, _UNBUILT)
-    if family is _UNBUILT:
-        family = orientations.FAMILY(arm)
+    bounded = arm._derived.get(structure.BOUNDED)
+    if bounded is None:
+        bounded = structure.BOUNDED(arm)
     unlimited = arm._derived.get(rails.UNLIMITED)
     if unlimited is None:
         unlimited = rails.UNLIMITED(arm)
     region = opts.bounds is not None or aim is not None
-    if family is not None or len(unlimited):
-        refusals = {} if family is None else _refusals(arm, targets, opts, sf, R_t, p_t)
+    if bounded or len(unlimited):
+        refusals = _refusals(arm, targets, opts, sf, R_t, p_t) if bounded else {}
         if refusals or len(unlimited):
             rows = [i for i in range(n_targets) if i not in refusals]
             got = rails.batch_kernel(

@@ -15,15 +15,25 @@ import math
 import numpy as np
 
 from armik.model.arm_model import ArmModel
+from armik.model.derived import Derived
 from armik.problem.settings import SolverSettings
 from armik.solvers.numeric import heights, orientations, slides
 
 REACH_SLACK = 9  # in ``problem.pack_settings``' floats
 
 
+def _bounded(arm: ArmModel) -> bool:
+    return orientations.FAMILY(arm) is not None or slides.SLIDES(arm) is not None
+
+
+# whether ``arm``'s structure bounds its targets at all (a family of rotations, or slides
+# first): the solves of any other arm never call ``beyond``
+BOUNDED: Derived[bool] = Derived("a structure that bounds the targets", _bounded)
+
+
 def beyond(arm: ArmModel, R_t, p_t, opts: SolverSettings, sf) -> str | None:
     """Why a target measured plainly is beyond what ``arm``'s structure allows (an arm
-    whose ``orientations.FAMILY`` is not None): its rotation ``R_t`` (None: not measured)
+    ``BOUNDED``): its rotation ``R_t`` (None: not measured)
     beyond the tip's (``orientations.refused``), or its position ``p_t`` beyond a gantry's
     (``slides.refused``) or its height beyond the tip's (``heights.refused``); for a target
     within the reach bound only (beyond it the kernel
