@@ -6,7 +6,7 @@ of prismatic joints reaches (``slides``) or beyond the heights along parallel tu
 passes cheap measures (``orientations.near``, ``slides.near``, ``heights.near``: a few
 products with what is kept per arm; on plain floats for one target, vectorised over a
 batch), and only one they do not pass is measured exactly, so that a solve on such an arm
-pays about a microsecond for it where the target is reachable."""
+pays a few microseconds for it where the target is reachable."""
 
 from __future__ import annotations
 
