@@ -406,3 +406,25 @@ def every_path_since_breaks(
         f"{other} of the waypoint before goes on here, but breaks on its way there): from "
         f"every {other} so reached at the waypoint before, {why}"
     )
+
+
+def height_unreachable(distance: float, tol: float) -> str:
+    """A target ``distance`` m (along the turning joints' common axis) from every height a
+    chain whose turning axes are all parallel reaches within its limits, beyond ``tol``
+    (``tol_position``), refused before any iteration."""
+    return (
+        f"the target is {distance:.3g} m, along the axis its turning joints share, from every "
+        f"height the tip reaches (turning about parallel axes keeps it; its slides within "
+        f"their limits change it), beyond tol_position ({tol:g} m); q is the seed, unchanged"
+    )
+
+
+def slides_wrist_unreachable(distance: float, wrist: float, tol: float) -> str:
+    """A position ``distance`` m (at least) from every one a chain reaches whose slides
+    come before its turning joints, these reaching at most ``wrist`` m from the first one's
+    origin, beyond ``tol`` (``tol_position``), refused before any iteration."""
+    return (
+        f"the target is {distance:.3g} m from every position the tip reaches (its slides, "
+        f"within their limits, carry its turning joints, which reach at most {wrist:.3g} m "
+        f"from the first one), beyond tol_position ({tol:g} m); q is the seed, unchanged"
+    )

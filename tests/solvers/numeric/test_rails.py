@@ -74,3 +74,54 @@ def test_the_restart_box_is_centred_toward_the_target_and_others_untouched():
     assert low.packed[at + joints[0]] == 0.0
     for name in ("ur5", "kinova", "scara"):
         assert len(rails.UNLIMITED(armik.load(name).kinematics)) == 0
+
+
+def test_a_batch_s_centres_come_from_one_call_of_the_kernel_s_fk(monkeypatch):
+    """``solve_batch`` on a rail arm: every row's centre from one ``kernel.fk_many`` call
+    (the kernel's FK, not one written again, nor one a row), each the single solve's
+    ``centres``, and every row solved (checked by Pinocchio's FK)."""
+    _, arm, _ = _arms()[1]
+    kin = arm.kinematics
+    joints = rails.UNLIMITED(kin)
+    calls = []
+    real = rails.fk_many
+
+    def counted(*args):
+        calls.append(len(args[3]))
+        return real(*args)
+
+    monkeypatch.setattr(rails, "fk_many", counted)
+    rng = np.random.default_rng(2)
+    Q = np.array([arm.random_q(rng) for _ in range(6)])
+    Q[:, joints[0]] = [3.0, 40.0, 90.0, 250.0, 0.5, 700.0]
+    targets = [arm.fk(q) for q in Q]
+    b = arm.solve_batch(targets, solver="dls", seed=0, workers=1, progress=False)
+    assert calls == [6 * (1 + len(joints))]
+    assert b.success.all()
+    for k, T in enumerate(targets):
+        assert np.linalg.norm(pin.log6(arm.fk(b.q[k]).actInv(T)).vector) < 1e-5
+    q0 = np.tile(np.where(np.isfinite(arm.middle), arm.middle, 0.0), (6, 1))
+    P = np.array([T.translation for T in targets])
+    many = rails.centres_many(kin, P, q0, joints)
+    for k in range(6):
+        np.testing.assert_allclose(many[k], rails.centres(kin, P[k], q0[k], joints), atol=1e-9)
+    np.testing.assert_allclose(many[:, 0], Q[:, joints[0]], atol=0.5)  # the wrist's reach
+
+
+@pytest.mark.parametrize("solver", ["dls", "qp"])
+def test_the_centre_holds_with_q0_far_along_the_rails(solver):
+    """q0 1e6 to 1e300 m along one rail, and along two: the centres come from the rails at
+    0 and 1 m, not from q0 plus 1 m (which rounds back to q0 beyond 1e16 m, a division by
+    0 and a NaN box); the target near the origin is reached (checked by Pinocchio's FK)."""
+    one = armik.load_string(XYZ).with_limits({"px": (-np.inf, np.inf)})
+    two = one.with_limits({"py": (-np.inf, np.inf)})
+    for arm, p in ((one, [5.0, 0.2, -0.1]), (two, [50.0, -30.0, -0.2])):
+        joints = rails.UNLIMITED(arm.kinematics)
+        for far in (1e6, 1e17, 1e300):
+            q0 = np.array([0.0, 0.0, 0.1])
+            q0[joints] = far
+            got = rails.centres(arm.kinematics, np.array(p), q0, joints)
+            np.testing.assert_allclose(got, np.array(p)[joints], atol=1e-9)
+            r = arm.solve(np.array(p), q0=q0, solver=solver, seed=0)
+            assert r.success, r.reason
+            assert np.linalg.norm(arm.fk(r.q).translation - p) < 1e-6

@@ -94,3 +94,37 @@ def test_arms_with_a_turning_joint_have_no_slides():
     assert slides.refused(gantry.kinematics, np.array([np.nan, 9.0, 9.0]), Options()) is None
     assert slides.SLIDES(armik.load("scara").kinematics) is None
     assert slides.SLIDES(armik.load("ur5").kinematics) is None
+
+
+@pytest.mark.parametrize("solver", ["dls", "qp"])
+def test_a_gantry_with_a_wrist_refuses_a_position_beyond_its_travel_at_once(solver):
+    """Slides first, then a wrist reaching 0.35 m from its first joint: a position 3 m
+    beyond the rail's end or the cross slide's, pose or position, is ``unreachable`` by
+    ``solve`` (its prepared plan and the general path) and ``solve_batch``, with no
+    iteration and the seed returned, where every restart was spent on it
+    (``not_converged``); every position reached is within the bound and solved."""
+    from .test_long_rail import GANTRY
+
+    arm = armik.load_string(GANTRY.replace("RAIL", "10"))
+    s = slides.SLIDES(arm.kinematics)
+    assert s is not None and s.wrist == pytest.approx(0.2 + np.hypot(0.02, 0.15))
+    rng = np.random.default_rng(4)
+    reached = [arm.fk(arm.random_q(rng)) for _ in range(200)]
+    for T in reached:
+        assert slides.distance(s, T.translation) - s.wrist <= 1e-12
+        assert slides.refused(arm.kinematics, T.translation, Options()) is None
+    q0 = np.asarray(arm.middle, dtype=float)
+    for p in ([13.0, 3.0, 0.5], [5.0, 9.0, 0.5]):
+        T = reached[0].copy()
+        T.translation = np.array(p)
+        for target in (T, (T.translation.copy(), T.rotation.copy()), T.translation):
+            r = arm.solve(target, solver=solver, q0=q0, seed=0)
+            assert r.status == "unreachable" and r.iterations == 0, r.reason
+            assert "2.65 m from every position the tip reaches (its slides" in r.reason
+            np.testing.assert_array_equal(r.q, q0)
+        b = arm.solve_batch([reached[1], T], solver=solver, seed=0, workers=1, progress=False)
+        assert b.success.tolist() == [True, False] and "its slides" in b.reason(1)
+        ok = arm.solve(reached[1], solver=solver, seed=0)
+        assert ok.success
+        assert np.linalg.norm(arm.fk(ok.q).translation - reached[1].translation) < 1e-6
+    assert slides.SLIDES(armik.load("scara").kinematics) is None  # a slide after a turn

@@ -48,7 +48,7 @@ from armik.problem.scores import fit_posture
 from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers, one
 from armik.solvers.claims import claim
-from armik.solvers.numeric import orientations, rails, slides
+from armik.solvers.numeric import rails, structure
 from armik.status import Status
 from armik.targets.aim import Aim
 from armik.targets.batch import TargetBatch
@@ -255,12 +255,12 @@ def run_numeric(
     err = np.empty((1, 2))
     seeds = np.empty(1, dtype=np.uint64)
     seeds[0] = solve_seed(opts)  # (a third of np.array([seed], dtype=np.uint64)'s cost)
-    family = arm._derived.get(orientations.FAMILY, _UNBUILT)
-    if family is _UNBUILT:
-        family = orientations.FAMILY(arm)
-    if family is not None and aim is None and opts.weights is None and opts.bounds is None:
+    bounded = arm._derived.get(structure.BOUNDED)
+    if bounded is None:
+        bounded = structure.BOUNDED(arm)
+    if bounded and aim is None and opts.weights is None and opts.bounds is None:
         turned = target.rotation is not None and not opts.position_only
-        why = _beyond_structure(arm, R_t[0] if turned else None, p_t[0], opts, sf)
+        why = structure.beyond(arm, R_t[0] if turned else None, p_t[0], opts, sf)
         if why is not None:
             return one(q0.copy(), Status.UNREACHABLE, why)
     if step.kind not in warmup.PREPARED:  # a warm process: nothing to prepare
@@ -273,27 +273,6 @@ def run_numeric(
     flat = rails.toward(arm, p_t[0], q0, rails_) if len(rails_) else arm.kernel_chain.flat
     entry(*flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
     return kernel_answers(arm, target.position, q0, opts, sf, info[0], out_q[0], err[0], region)
-
-
-def _beyond_structure(arm: ArmModel, R_t, p_t, opts: SolverSettings, sf) -> str | None:
-    """Why a target measured plainly (no weights, no region) is beyond what ``arm``'s
-    structure allows: its rotation ``R_t`` (None: not measured) beyond the tip's
-    (``orientations.refused``), or its position ``p_t`` beyond a gantry's
-    (``slides.refused``); for a target within the reach bound only (beyond it the kernel
-    refuses it by its distance, as ``solve.far`` does); else None."""
-    why = None if R_t is None else orientations.refused(arm, R_t, opts)
-    if why is None:
-        why = slides.refused(arm, p_t, opts)
-    if why is None:
-        return None
-    ch = arm.kernel_chain.chain
-    if math.dist(np.asarray(p_t).tolist(), ch.origin.tolist()) > ch.reach + sf[_REACH_SLACK]:
-        return None
-    return why
-
-
-_REACH_SLACK = 9  # in ``problem.pack_settings``' floats
-_UNBUILT = object()  # an arm's ``orientations.FAMILY`` not built yet (read as a dict: no call)
 
 
 def converged_reason(restarts: int) -> str:
@@ -346,15 +325,15 @@ def pose_runner(
     unlimited = rails.UNLIMITED(arm)
     on_rails = len(unlimited) > 0  # read once: no call in a warm solve
     converged_code = _descent.CONVERGED
-    # a rotation the arm's structure bounds, plainly measured: refused by ``run_numeric``
-    bounded = orientations.FAMILY(arm) is not None
+    # a target the arm's structure bounds, plainly measured: refused by ``run_numeric``
+    bounded = structure.BOUNDED(arm)
     bounded = bounded and aim is None and opts.weights is None and opts.bounds is None
     turned = not (position_only or opts.position_only)
 
     def run_pose(H: np.ndarray, q0: np.ndarray, seed: int, every: bool = False, point=None):
         if every:  # solve_all: the general path (max_solutions descents)
             return None
-        if bounded and _beyond_structure(arm, H[:3, :3] if turned else None, H[:3, 3], opts, sf):
+        if bounded and structure.beyond(arm, H[:3, :3] if turned else None, H[:3, 3], opts, sf):
             return None  # the general path: H and q0 read there, the rotation refused
         s = sf
         if point is not None:  # this call's look-at point or direction (``packed_settings``)
@@ -429,15 +408,15 @@ def run_numeric_batch(
     else:
         R_t = np.array(targets.rotations, dtype=float)
     p_t = np.array(targets.positions, dtype=float)
-    family = arm._derived.get(orientations.FAMILY, _UNBUILT)
-    if family is _UNBUILT:
-        family = orientations.FAMILY(arm)
+    bounded = arm._derived.get(structure.BOUNDED)
+    if bounded is None:
+        bounded = structure.BOUNDED(arm)
     unlimited = arm._derived.get(rails.UNLIMITED)
     if unlimited is None:
         unlimited = rails.UNLIMITED(arm)
     region = opts.bounds is not None or aim is not None
-    if family is not None or len(unlimited):
-        refusals = {} if family is None else _batch_refusals(arm, targets, opts, sf, R_t, p_t)
+    if bounded or len(unlimited):
+        refusals = _refusals(arm, targets, opts, sf, R_t, p_t) if bounded else {}
         if refusals or len(unlimited):
             rows = [i for i in range(n_targets) if i not in refusals]
             got = rails.batch_kernel(
@@ -481,15 +460,10 @@ def _worded(arm: ArmModel, opts, sf, p_t, q0, rows, got, refusals, region: bool)
     return Answers(q=q, claim=claim, iterations=iterations, restarts=restarts, reasons=reasons_)
 
 
-def _batch_refusals(arm: ArmModel, targets: TargetBatch, opts, sf, R_t, p_t) -> dict[int, str]:
-    """{row: why} of a batch's rotations beyond those the arm's structure allows
-    (``_beyond_structure``); empty for another target kind."""
+def _refusals(arm: ArmModel, targets: TargetBatch, opts, sf, R_t, p_t) -> dict[int, str]:
+    """{row: why} of a batch's targets beyond what the arm's structure allows
+    (``structure.refusals``); empty for another target kind."""
     if targets.aim is not None or opts.weights is not None or opts.bounds is not None:
         return {}
     turned = targets.rotations is not None and not opts.position_only
-    found = {}
-    for i in range(len(p_t)):
-        why = _beyond_structure(arm, R_t[i] if turned else None, p_t[i], opts, sf)
-        if why is not None:
-            found[i] = why
-    return found
+    return structure.refusals(arm, R_t if turned else None, p_t, opts, sf)

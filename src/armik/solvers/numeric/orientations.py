@@ -45,6 +45,8 @@ class Family(NamedTuple):
     axis: np.ndarray | None  # (3,) unit, base frame
     R0: np.ndarray  # (3, 3) the tip's rotation with every physical joint at 0, base frame
     slack: float  # rad
+    # ``near_one``'s plain floats: ``R0`` row by row (no axis), or ``R0^T axis`` and ``axis``
+    plain: tuple[float, ...] = ()
 
 
 def _family(arm: ArmModel) -> Family | None:
@@ -57,14 +59,14 @@ def _family(arm: ArmModel) -> Family | None:
             axes.append(R @ ch.axis[i])
     R0 = R @ ch.tip_R
     if not axes:
-        return Family(None, R0, 0.0)
+        return Family(None, R0, 0.0, tuple(R0.ravel().tolist()))
     a = axes[0] / np.linalg.norm(axes[0])
     slack = 0.0
     for w in axes[1:]:  # the angle between the lines
         slack += math.atan2(float(np.linalg.norm(np.cross(w, a))), abs(float(w @ a)))
     if slack > MAX_SLACK:
         return None
-    return Family(a, R0, 2.0 * slack)
+    return Family(a, R0, 2.0 * slack, tuple((R0.T @ a).tolist() + a.tolist()))
 
 
 FAMILY: Derived[Family | None] = Derived("reachable orientations", _family)
@@ -82,6 +84,46 @@ def gap(family: Family, R_t: np.ndarray) -> float:
         across = float(np.linalg.norm(np.cross(v, family.axis)))
         angle = 2.0 * math.atan2(across, math.sqrt(c * c + along * along))
     return angle - family.slack
+
+
+def near(family: Family, R_t: np.ndarray, tol: float) -> np.ndarray:
+    """For rotations ``R_t`` (m, 3, 3, base frame): True where a cheap measure puts one
+    within half of ``tol`` (the family's slack added) of ``family``, so that ``refused``
+    never refuses it; False says nothing. The measure is ``gap``'s angle, as a chord: the
+    angle of ``M = R_t R0^T`` (no axis: ``|R_t - R0| = 2 sqrt(2) sin(angle / 2)``,
+    Frobenius) or of its swing off its twist about the axis, the angle between ``axis`` and
+    ``M axis`` (``|R_t R0^T axis - axis| = 2 sin(angle / 2)``); a target's rotation is
+    orthonormal to 1e-14, so that the two measures agree far within half the tolerance."""
+    if family.axis is None:
+        d = R_t - family.R0
+        chord2 = 0.5 * (d * d).sum(axis=(1, 2))
+    else:
+        d = R_t @ (family.R0.T @ family.axis) - family.axis
+        chord2 = (d * d).sum(axis=1)
+    return chord2 <= chord2_within(family, tol)
+
+
+def near_one(family: Family, R_t: np.ndarray, tol: float) -> bool:
+    """``near`` of one rotation ``R_t`` (3, 3), on plain floats (a fifth of its cost)."""
+    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = R_t.tolist()
+    if family.axis is None:
+        s00, s01, s02, s10, s11, s12, s20, s21, s22 = family.plain
+        d = [r00 - s00, r01 - s01, r02 - s02, r10 - s10, r11 - s11, r12 - s12]
+        d += (r20 - s20, r21 - s21, r22 - s22)
+        chord2 = 0.5 * sum(x * x for x in d)
+    else:
+        b0, b1, b2, a0, a1, a2 = family.plain
+        d0 = r00 * b0 + r01 * b1 + r02 * b2 - a0
+        d1 = r10 * b0 + r11 * b1 + r12 * b2 - a1
+        d2 = r20 * b0 + r21 * b1 + r22 * b2 - a2
+        chord2 = d0 * d0 + d1 * d1 + d2 * d2
+    return chord2 <= chord2_within(family, tol)
+
+
+def chord2_within(family: Family, tol: float) -> float:
+    """The squared chord (``near``'s) of half of ``tol``, the family's slack added."""
+    angle = 0.5 * (tol + family.slack)
+    return math.inf if angle >= math.pi else (2.0 * math.sin(0.5 * angle)) ** 2
 
 
 def _quaternion(M: np.ndarray) -> tuple[float, np.ndarray]:

@@ -9,7 +9,8 @@ metres along the rail was never reached (the gantry at 50 m: 1000 restarts,
 for those joints is as wide as before, ``2 pi``, but centred on the values that, the other
 joints at q0, bring the tip nearest the target's position: the tip's position is affine in
 the prismatic joints' values, each moving it along its axis (in the base frame at q0), so
-that centre is one small least-squares solve, clipped into a one-sided limit. The first
+that the kernel's FK at q0 and at q0 with each such joint moved gives that centre by one
+small least-squares solve, clipped into a one-sided limit (a batch's rows in one FK call). The first
 attempt still starts at q0, and every other arm's chain is the one it always had.
 """
 
@@ -18,8 +19,9 @@ from __future__ import annotations
 import numpy as np
 
 from armik.kernel import warmup
-from armik.kernel.chain import PRISMATIC, Flat
+from armik.kernel.chain import PRISMATIC, Flat, flatten
 from armik.kernel.entry import ENTRIES
+from armik.kernel.fk_many import fk_many
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 
@@ -37,46 +39,75 @@ def _unlimited(arm: ArmModel) -> np.ndarray:
 UNLIMITED: Derived[np.ndarray] = Derived("unlimited prismatic joints", _unlimited)
 
 
-def _turn(axis: np.ndarray, angle: float) -> np.ndarray:
-    K = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
-    return np.eye(3) + np.sin(angle) * K + (1.0 - np.cos(angle)) * (K @ K)
+def _box_places(arm: ArmModel) -> tuple[np.ndarray, np.ndarray]:
+    """Where ``kernel.chain.flatten`` writes the restart box (``Chain.sample_lo``, then
+    ``sample_span``) in the flat chain: found by flattening the chain with each marked."""
+    ch = arm.kernel_chain.chain
+    marked = np.full(len(ch.kind), np.nan)
+    lo = np.flatnonzero(np.isnan(flatten(ch._replace(sample_lo=marked))))
+    span = np.flatnonzero(np.isnan(flatten(ch._replace(sample_span=marked))))
+    return lo, span
+
+
+# the indexes of the restart box's lower corners and spans in the arm's ``Flat.packed``
+BOX_PLACES: Derived[tuple[np.ndarray, np.ndarray]] = Derived("restart box", _box_places)
 
 
 def centres(arm: ArmModel, p_t: np.ndarray, q0: np.ndarray, joints: np.ndarray) -> np.ndarray:
     """The values of ``joints`` (unlimited prismatic) that, the other joints at ``q0``, bring
     the tip nearest ``p_t`` (base frame), within their one-sided limits."""
+    return centres_many(arm, np.asarray(p_t, dtype=float)[None], q0[None], joints)[0]
+
+
+def centres_many(arm: ArmModel, P: np.ndarray, Q0: np.ndarray, joints: np.ndarray) -> np.ndarray:
+    """``centres`` of positions ``P`` (m, 3) from joint values ``Q0`` (m, n), (m, k): the
+    tip's position is affine in the prismatic joints' values, ``base + C x``, so that the
+    kernel's FK (``kernel.fk_many``) at q0 with those joints at 0, then each at 1 m, gives
+    it (exact moves, whatever q0's values along the rails: 1e17 m plus 1 m is 1e17 m)."""
+    m, k = len(P), len(joints)
+    if m == 0:
+        return np.empty((0, k))
+    Q = np.repeat(np.asarray(Q0, dtype=float)[:, None, :], 1 + k, axis=1)  # (m, 1 + k, n)
+    Q[:, :, joints] = np.vstack([np.zeros(k), np.eye(k)])
+    out = np.empty((m * (1 + k), 4, 4))
+    fk_many(*arm.kernel_chain.flat, Q.reshape(m * (1 + k), arm.dof), out)
+    at = out[:, :3, 3].reshape(m, 1 + k, 3)
+    C = at[:, 1:] - at[:, :1]  # (m, k, 3): each joint's direction
+    r = np.asarray(P, dtype=float) - at[:, 0]
+    x0 = np.asarray(Q0, dtype=float)[:, joints]
+    if k == 1:  # the nearest point along the rail (a rail that moves nothing: q0)
+        c, cc = C[:, 0], (C[:, 0] ** 2).sum(axis=1)
+        x = np.where(cc > 0.0, (c * r).sum(axis=1) / np.where(cc > 0.0, cc, 1.0), x0[:, 0])
+        x = x[:, None]
+    else:  # least squares, q0's values along directions the rails do not span
+        x = np.empty((m, k))
+        for i in range(m):
+            U, sv, Vt = np.linalg.svd(C[i].T)
+            rank = int((sv > 1e-12 * max(float(sv.max(initial=0.0)), 1.0)).sum())
+            V, Vn = Vt[:rank].T, Vt[rank:].T
+            x[i] = V @ ((U[:, :rank].T @ r[i]) / sv[:rank]) + Vn @ (Vn.T @ x0[i])
     ch = arm.kernel_chain.chain
-    R, t = np.eye(3), np.zeros(3)
-    cols = np.zeros((3, len(ch.kind)))
-    for i in range(len(ch.joint_kind)):
-        t = t + R @ ch.joint_p[i]
-        R = R @ ch.joint_R[i]
-        x = ch.multiplier[i] * q0[ch.driver[i]] + ch.offset[i]
-        if ch.joint_kind[i] == PRISMATIC:
-            w = R @ ch.axis[i]
-            t = t + x * w
-            cols[:, ch.driver[i]] += ch.multiplier[i] * w
-        else:
-            R = R @ _turn(ch.axis[i], x)
-    tip = t + R @ ch.tip_p
-    shift = np.linalg.lstsq(cols[:, joints], np.asarray(p_t, dtype=float) - tip, rcond=None)[0]
-    return np.clip(q0[joints] + shift, ch.lower[joints], ch.upper[joints])
+    return np.clip(x, ch.lower[joints], ch.upper[joints])
 
 
 def toward(arm: ArmModel, p_t: np.ndarray, q0: np.ndarray, joints: np.ndarray) -> Flat:
     """``arm``'s flat chain with the restart box of ``joints`` (``UNLIMITED``) 2 pi wide
     around ``centres``, inside their one-sided limits."""
-    ch, flat = arm.kernel_chain.chain, arm.kernel_chain.flat
+    flat = arm.kernel_chain.flat
     if not (np.isfinite(p_t).all() and np.isfinite(q0).all()):
         return flat  # input the kernel's entry refuses (the general path reads it)
-    n, N = len(ch.kind), len(ch.joint_kind)
-    lo = centres(arm, p_t, q0, joints) - np.pi
-    lo = np.maximum(lo, ch.lower[joints])
+    return _boxed(arm, centres(arm, p_t, q0, joints), joints)
+
+
+def _boxed(arm: ArmModel, centre: np.ndarray, joints: np.ndarray) -> Flat:
+    """``arm``'s flat chain, the restart box of ``joints`` 2 pi wide around ``centre``."""
+    ch, flat = arm.kernel_chain.chain, arm.kernel_chain.flat
+    lo = np.maximum(centre - np.pi, ch.lower[joints])
     lo = np.minimum(lo, ch.upper[joints] - 2.0 * np.pi)
+    lows, spans = BOX_PLACES(arm)
     packed = flat.packed.copy()
-    at = 15 * N + 12 + 2 * n  # ``kernel.chain.sample_box``: n lower corners, then n spans
-    packed[at + joints] = lo
-    packed[at + n + joints] = 2.0 * np.pi
+    packed[lows[joints]] = lo
+    packed[spans[joints]] = 2.0 * np.pi
     return Flat(packed, flat.kind, flat.halton)
 
 
@@ -93,8 +124,12 @@ def batch_kernel(arm: ArmModel, sf, si, R_t, p_t, q0, seeds, step_kind: int):
     joints = UNLIMITED(arm)
     if not len(joints):
         entry(*arm.kernel_chain.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
-    for i in range(n_targets if len(joints) else 0):
+        return out_q, info, err
+    # rows the kernel's entry refuses (not finite) keep the chain: the general path reads them
+    rows = np.flatnonzero(np.isfinite(p_t).all(axis=1) & np.isfinite(q0).all(axis=1))
+    centre = dict(zip(rows.tolist(), centres_many(arm, p_t[rows], q0[rows], joints)))
+    for i in range(n_targets):
         r = slice(i, i + 1)
-        flat = toward(arm, p_t[i], q0[i], joints)
+        flat = _boxed(arm, centre[i], joints) if i in centre else arm.kernel_chain.flat
         entry(*flat, sf, si, R_t[r], p_t[r], q0[r], seeds[r], out_q[r], info[r], err[r])
     return out_q, info, err
