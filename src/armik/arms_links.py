@@ -86,7 +86,12 @@ class Links:
         self.pair_a = np.array([a for a, _ in self.self_pairs], dtype=np.intp)
         self.pair_b = np.array([b for _, b in self.self_pairs], dtype=np.intp)
         self.joints = [int(self._object(k).parentJoint) for k in range(len(self.objects))]
-        self.moving = np.array([k for k, j in enumerate(self.joints) if j != 0], dtype=np.intp)
+        # moving: on a joint of its chain, or turned by a mimic joint that chain moves by its
+        # driver (placed on the whole model) even where the cut model hangs it on the base
+        turned = {key[name] for name in followed}
+        self.moving = np.array(
+            [k for k, j in enumerate(self.joints) if j != 0 or k in turned], dtype=np.intp
+        )
         self.geoms = [self._object(k).geometry for k in range(len(self.objects))]
         self.radius = np.array([_radius(g) for g in self.geoms])
         self.centre = np.array([g.aabb_center for g in self.geoms]).reshape(-1, 3)
