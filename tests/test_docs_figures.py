@@ -53,3 +53,21 @@ def test_servo_settle_counts_are_the_script_s():
     assert got == (reached, n, singular)
     assert (total["last stalled"], total["moving"]) == (stalled, moving)
     assert total["stalled_on_way"] == 0
+
+
+@needs_docs
+def test_paths_numeric_arm_counts_are_the_script_s():
+    from benchmarks.global_paths import run
+
+    text = _flat("paths.md")
+    found = re.search(
+        r"`python benchmarks/global_paths.py --arms xarm7 --paths 20 -n 100`: solved end to "
+        r"end: follow (\d+) / 20, global from q0 (\d+) / 20, global from any start (\d+) / 20; "
+        r"waypoints flagged (\d+) / (\d+) / (\d+);",
+        text,
+    )
+    assert found, "paths.md no longer states the script's xArm7 counts"
+    shown = list(map(int, found.groups()))
+    counts = run("xarm7", 20, 100, 0.005)
+    plans = ("follow", "global", "global, any start")
+    assert [counts[p][0] for p in plans] + [counts[p][1] for p in plans] == shown
