@@ -71,3 +71,20 @@ def test_paths_numeric_arm_counts_are_the_script_s():
     counts = run("xarm7", 20, 100, 0.005)
     plans = ("follow", "global", "global, any start")
     assert [counts[p][0] for p in plans] + [counts[p][1] for p in plans] == shown
+
+
+@needs_docs
+def test_readme_s_misses_of_the_one_dimensional_searches_are_the_script_s():
+    from benchmarks.families_6r import FAMILIES, measure
+
+    text = " ".join((DOCS.parent / "README.md").read_text().split())
+    found = re.search(
+        r"(\d+) of (\d+) in `benchmarks/families_6r.py --arms (\d+) --configs (\d+)`", text
+    )
+    assert found, "README no longer states the searches' misses"
+    missed, total, arms, configs = map(int, found.groups())
+    searches = ("two_parallel", "two_intersecting")
+    assert total == len(searches) * arms * configs
+    got = [measure(s, FAMILIES[s], arms, configs, 0) for s in searches]
+    assert sum(m["false"] + m["limits"] for m in got) == 0
+    assert sum(m["checked"] - m["found"] + m["near"] - m["near_found"] for m in got) == missed
