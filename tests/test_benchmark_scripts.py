@@ -1,0 +1,31 @@
+"""Benchmark scripts that the docs name run to their end (their figures are in
+docs/performance.md and docs/servo.md): each part called with little work, for what it
+prints or returns, not for its times."""
+
+from __future__ import annotations
+
+import importlib.util
+
+import numpy as np
+
+
+def test_fixed_cost_measures_a_closed_form_with_or_without_eaik():
+    from benchmarks.fixed_cost import NOTES, measure
+
+    m = measure("ur5", "auto", 3)
+    assert m["solver"] == "three_parallel"
+    assert all(np.isfinite(m[k]) and m[k] > 0 for k in ("solve_us", "solve_all_us"))
+    if importlib.util.find_spec("eaik") is None:
+        assert "eaik_us" not in m and any("eaik not timed" in n for n in NOTES)
+    else:
+        assert m["eaik_us"] > 0
+
+
+def test_servo_benchmark_runs_its_sphere_stream(capsys):
+    from benchmarks.servo import sphere_stream
+
+    sphere_stream()
+    rows = [line for line in capsys.readouterr().out.splitlines() if "avoiding" in line]
+    assert [r.split("|")[1].strip() for r in rows] == ["not avoiding", "avoiding"]
+    plain, kept = (float(r.split("|")[2]) for r in rows)
+    assert plain < 0.0 <= kept  # the sphere on the circle's way, kept clear beside it
