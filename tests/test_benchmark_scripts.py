@@ -7,6 +7,7 @@ from __future__ import annotations
 import importlib.util
 
 import numpy as np
+import pytest
 
 
 def test_fixed_cost_measures_a_closed_form_with_or_without_eaik():
@@ -29,3 +30,14 @@ def test_servo_benchmark_runs_its_sphere_stream(capsys):
     assert [r.split("|")[1].strip() for r in rows] == ["not avoiding", "avoiding"]
     plain, kept = (float(r.split("|")[2]) for r in rows)
     assert plain < 0.0 <= kept  # the sphere on the circle's way, kept clear beside it
+
+
+def test_preferences_says_what_to_install_without_trac_ik(monkeypatch, capsys):
+    if importlib.util.find_spec("trac_ik") is not None:
+        pytest.skip("TRAC-IK is installed: the comparison runs")
+    from benchmarks import preferences
+
+    monkeypatch.setattr("sys.argv", ["preferences.py", "-n", "1"])
+    with pytest.raises(SystemExit) as info:
+        preferences.main()
+    assert info.value.code == 2 and "pip install pytracik" in capsys.readouterr().err
