@@ -41,3 +41,16 @@ def test_preferences_says_what_to_install_without_trac_ik(monkeypatch, capsys):
     with pytest.raises(SystemExit) as info:
         preferences.main()
     assert info.value.code == 2 and "pip install pytracik" in capsys.readouterr().err
+
+
+def test_every_benchmark_script_is_in_the_benchmarks_page():
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    page = root / "docs" / "benchmarks.md"
+    if not page.exists():
+        pytest.skip("docs/ is not part of this tree")
+    text = page.read_text()
+    scripts = sorted(p.name for p in (root / "benchmarks").glob("*.py") if p.name != "__init__.py")
+    helpers = {"ssik_prebuilt.py"}  # imported by the ssik scripts, named in their row
+    assert [s for s in scripts if f"| `{s}` |" not in text and s not in helpers] == []
