@@ -36,6 +36,8 @@ from armik.solve.prepared import plan_for
 from armik.solve.read import settings
 from armik.tools.compare import _eaik
 
+NOTES: list[str] = []  # why a peer's column is empty (EAIK not installed), printed last
+
 os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not Python runs
 
 BENCH = dict(timeout=0.005, tol_position=1e-5, tol_orientation=1e-5, seed=3)
@@ -105,7 +107,7 @@ def measure(name: str, solver: str, number: int) -> dict:
         out8 = np.empty((8, 11))
         out["compiled_us"] = best(lambda: solve_into(chain, H, q, False, out8), number)
         out["bare_steps_us"] = best(bare_steps(kin, T, q, plan, solve_into, chain), number)
-        peer = _eaik(arm)  # None when EAIK is not installed
+        peer = _eaik(arm, NOTES)  # None when EAIK is not installed or does not apply
         if peer is not None:  # its all-solutions call, timed the same way on the same pose
             H_peer = peer.fwdKin(np.asarray(q))
             out["eaik_us"] = best(lambda: peer.IK(H_peer), number)
@@ -173,6 +175,8 @@ def main() -> None:
         m = measure(name, args.solver, args.number)
         cells = (f"{m[c]:.2f}" if c in m else "n/a" for c in cols)  # solve_all: closed forms
         print(f"| {name} | {m['solver']} | " + " | ".join(cells) + " |")
+    for note in NOTES:
+        print(note)
 
 
 if __name__ == "__main__":

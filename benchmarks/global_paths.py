@@ -73,7 +73,8 @@ def motion(q0, Q) -> float:
     return float(np.linalg.norm(np.diff(np.vstack([q0, Q]), axis=0), axis=1).sum())
 
 
-def run(name: str, count: int, n: int, spacing: float) -> None:
+def run(name: str, count: int, n: int, spacing: float) -> dict[str, tuple[int, int]]:
+    """Prints a line per plan; returns each plan's (paths solved, waypoints flagged)."""
     arm = armik.load(name)
     rng = np.random.default_rng(35)
     plans = {"follow": [], "global": [], "global, any start": []}
@@ -90,6 +91,7 @@ def run(name: str, count: int, n: int, spacing: float) -> None:
             hidden = sum(HIDDEN in text for text in p.reasons.values())
             plans[label].append((p.success.all(), int((~p.success).sum()), p, start, dt, hidden))
     both = [i for i in range(count) if plans["follow"][i][0] and plans["global"][i][0]]
+    counts = {}
     for label, rows in plans.items():
         solved = sum(r[0] for r in rows)
         flagged = sum(r[1] for r in rows)
@@ -103,6 +105,8 @@ def run(name: str, count: int, n: int, spacing: float) -> None:
             f"{1e3 * np.mean([r[4] for r in rows]):6.1f} ms",
             flush=True,
         )
+        counts[label] = (int(solved), int(flagged))
+    return counts
 
 
 def spin(n: int, repeats: int) -> None:

@@ -5,6 +5,7 @@ pull), two IRB 120s given positions (each chain its own joints' part), TALOS' tw
 over a shared torso (the task solver's move along the tasks' null space).
 
     python benchmarks/posture.py [-n 200]
+    OPENBLAS_CORETYPE=Haswell python benchmarks/posture.py -n 200  (the docs' table)
 """
 
 from __future__ import annotations
@@ -23,7 +24,10 @@ os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))  # the tests package
 from tests.test_arms import dual_irb120  # noqa: E402
 
-BUDGET = {"iteration_budget": 3000}  # deterministic: the same numbers on every machine
+# deterministic: the same numbers on every machine whose numpy runs the same OpenBLAS
+# kernels (OPENBLAS_CORETYPE=Haswell, as tests/golden/blas_kernels.py pins them, gives
+# docs/several-tips.md's table; an AVX-512 machine's own kernels move TALOS's 2.23 to 2.21)
+BUDGET = {"iteration_budget": 3000}
 
 
 def compare(name: str, robot, targets, seeds, q_ref: np.ndarray) -> None:

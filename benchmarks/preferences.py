@@ -19,6 +19,7 @@ how many answers armik ranked, its time and where its answer came from.
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import os
 import re
 import sys
@@ -104,6 +105,8 @@ def main() -> None:
     parser.add_argument("--prefer", nargs="+", default=list(MODES))
     parser.add_argument("--lost", action="store_true", help="print each target armik loses")
     args = parser.parse_args()
+    if importlib.util.find_spec("trac_ik") is None:  # the comparison is the point
+        parser.exit(2, "preferences.py compares with TRAC-IK: pip install pytracik\n")
     for name in args.arms:
         for prefer in args.prefer:
             run(name, prefer, args.n, args.lost)

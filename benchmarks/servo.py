@@ -218,7 +218,9 @@ def sphere_stream() -> None:
           "| final (m) | mean (us) | median (us) | p99 (us) |")  # fmt: skip
     print("|---|---|---|---|---|---|---|")
     for obstacles in (None, [sphere]):
-        Q, times, failed, cpu = run_armik(arm, q0, targets, obstacles=obstacles, margin=MARGIN)
+        # a margin with no obstacle checks nothing and is refused: only beside the sphere
+        options = {"obstacles": obstacles, "margin": MARGIN} if obstacles else {}
+        Q, times, failed, cpu = run_armik(arm, q0, targets, **options)
         m = measure(arm, q0, "circle", targets, Q, times, failed, cpu)
         d = min(arm.min_distance(q, [sphere])[0] for q in Q)
         o = m["over"]
