@@ -190,6 +190,8 @@ def test_pickling_keeps_the_locked_joints(make):
     "name, locked, words",
     [
         ("panda", {"panda_joint7": 3.5}, "outside its URDF limits [-2.8973, 2.8973] rad"),
+        # a value just past a limit reads past it, not as the limit itself
+        ("panda", {"panda_joint7": 2.897301}, "locked value 2.897301 rad for 'panda_joint7'"),
         ("panda", {"panda_joint4": 0.0}, "'panda_joint4' is outside its URDF limits"),
         ("panda", {"panda_finger_joint1": 0.5}, "outside its URDF limits [0, 0.04] m"),
         ("scara", {"quill": -0.1}, "locked value -0.1 m for 'quill' is outside"),

@@ -254,8 +254,8 @@ def locked_value(full: pin.Model, info: URDFInfo, jid: int, value: object) -> fl
     if not lo - LIMIT_TOL <= number <= hi + LIMIT_TOL:
         unit = "m" if info.joint_types.get(jname) == "prismatic" else "rad"
         raise JointError(
-            f"locked value {number:g} {unit} for {jname!r} is outside its URDF limits "
-            f"[{lo:g}, {hi:g}] {unit}: lock it at a value within them",
+            f"locked value {number:.10g} {unit} for {jname!r} is outside its URDF limits "
+            f"[{lo:.10g}, {hi:.10g}] {unit}: lock it at a value within them",
             joint=jname,
         )
     return number
