@@ -145,7 +145,8 @@ class Checker:
     ``self_collision``): ``distance(q)`` is the smallest over every checked pair.
 
     Each of the arm's geometry objects has a bounding sphere and each obstacle a bounding
-    box (a half space's reaches ``FAR`` below its plane), so each pair has a lower bound on
+    box (a half space's reaches 2 ``FAR`` below its plane, and ``FAR`` past the base's
+    origin where that is inside), so each pair has a lower bound on
     its signed distance (sphere to sphere, sphere to box); ``distance`` asks coal for the
     pairs in the order of their bounds and stops at the first bound beyond the smallest
     distance found: the same answer as asking for every pair, for a few of coal's calls
@@ -372,7 +373,7 @@ def _sphere(geom) -> tuple[np.ndarray, float]:
     return np.array(geom.aabb_center), float(geom.aabb_radius)
 
 
-FAR = 100.0  # m: the depth of a half space's box, beyond any arm's reach
+FAR = 100.0  # m: beyond any arm's reach from its base's origin
 
 
 def _box_of(geom, M: pin.SE3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -382,7 +383,11 @@ def _box_of(geom, M: pin.SE3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         normal = M.rotation @ np.array(geom.n)
         offset = float(geom.d + normal @ M.translation)
         R = _frame_of(normal)
-        return R, (offset - FAR) * normal, np.array([FAR, FAR, FAR])
+        # from the plane to 2 FAR below it, and at least to FAR below the base's origin: a
+        # base deep inside (a plane beyond FAR) is still inside the box, else the bound,
+        # the distance to a box the arm is outside, would skip the pair
+        depth = max(FAR, (offset + FAR) / 2)
+        return R, (offset - depth) * normal, np.array([depth, FAR, FAR])
     if isinstance(geom, coal.Box):
         return M.rotation.copy(), M.translation.copy(), np.array(geom.halfSide)
     geom.computeLocalAABB()
