@@ -152,3 +152,30 @@ def test_a_robots_collision_mesh_that_is_no_solid_is_named_with_its_link(tmp_pat
     a = armik.load_string(xml, tip="l2")
     with pytest.raises(armik.CollisionError, match=r"mesh '.*l1.stl' of link 'l1' .* 3 vertices"):
         a.solve([0.3, 0.0, 0.1], self_collision=True)
+
+
+def _tetra(corner, size: float) -> list:
+    """A tetrahedron's four faces, its right-angled corner at ``corner``."""
+    o = np.asarray(corner, dtype=float)
+    x, y, z = (o + size * e for e in np.eye(3))
+    return [(o, x, y), (o, y, z), (o, z, x), (x, y, z)]
+
+
+def test_a_mesh_file_written_again_is_measured_as_it_is_now(tmp_path):
+    # a scan's hull rewritten to one file: the new armik.Mesh is not the old one, so the
+    # arm's kept checker (one per scene) is not measured in its place
+    panda = armik.load("panda")
+    q = panda.random_q(1, n=1)[0]
+    elbow = panda.fk(q, "panda_link4").translation
+    path = tmp_path / "scan.stl"
+    far = armik.Mesh(_stl(path, _tetra((5.0, 5.0, 5.0), 0.1)))
+    assert panda.min_distance(q, [far])[0] > 5.0
+    near = armik.Mesh(_stl(path, _tetra(elbow - 0.1, 0.3)))  # around the elbow now
+    d, pair = panda.min_distance(q, [near])
+    assert d < 0 and pair[1] == "obstacles[0] (Mesh)"
+    assert near != far and near.path == far.path
+    r = panda.solve(panda.fk(q), q0=q, obstacles=[near], max_restarts=0)
+    assert not r.success or panda.min_distance(r.q, [near])[0] >= 0
+    # the file changed under a Mesh whose hull was never read: refused by name
+    with pytest.raises(armik.CollisionError, match="changed since this armik.Mesh was made"):
+        far.geometry()

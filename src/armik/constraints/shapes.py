@@ -8,9 +8,10 @@ shapes (and the ``Options`` holding them) hash and compare by value.
 
 from __future__ import annotations
 
+import hashlib
 import math
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, cast
 
@@ -230,11 +231,13 @@ class HalfSpace(Shape):
 @dataclass(frozen=True, init=False)
 class Mesh(Shape):
     """The convex hull of the mesh file at ``path`` (STL, OBJ, DAE, ... as coal's loader
-    reads them), scaled by ``scale`` and placed at ``pose``."""
+    reads them), scaled by ``scale`` and placed at ``pose``: the file as it is when the
+    ``Mesh`` is made (``digest``, its bytes' SHA-256, tells two versions of one file apart)."""
 
     path: str
     pose: tuple[float, ...]
     scale: float
+    digest: str = field(repr=False)
 
     def __init__(self, path, pose=None, scale=1.0) -> None:
         if not isinstance(path, (str, Path)) or not Path(path).is_file():
@@ -246,11 +249,28 @@ class Mesh(Shape):
         object.__setattr__(self, "path", str(Path(path).resolve()))
         object.__setattr__(self, "pose", _pose("Mesh", pose))
         object.__setattr__(self, "scale", _length("Mesh", "scale", scale, unit="a factor"))
+        object.__setattr__(self, "digest", self._digest())
         self._read()  # a file coal cannot read, or no solid, refused here
+
+    def _digest(self) -> str:
+        try:
+            return hashlib.sha256(Path(self.path).read_bytes()).hexdigest()
+        except OSError as exc:
+            raise CollisionError(
+                f"Mesh {self.path!r} could not be read ({exc.strerror}): give a mesh file "
+                "armik may read",
+                value=self.path,
+            ) from None
 
     def _read(self) -> coal.BVHModelBase:
         """The file's triangles, scaled; ``CollisionError`` where coal cannot read them or
-        they are no solid (``solid``)."""
+        they are no solid (``solid``), or the file changed since the ``Mesh`` was made."""
+        if self._digest() != self.digest:  # a checker kept for this Mesh holds the old one
+            raise CollisionError(
+                f"Mesh {self.path!r} changed since this armik.Mesh was made: make "
+                "armik.Mesh(path) again for the file as it is now",
+                value=self.path,
+            )
         try:
             bvh = coal.MeshLoader().load(self.path, np.full(3, self.scale))
         except Exception as exc:  # coal's loader raises its own types
