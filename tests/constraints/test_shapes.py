@@ -100,6 +100,18 @@ def test_bad_collision_options_are_refused():
         ur5.solve(T, self_collision="yes")
 
 
+def test_a_shape_s_plain_form_given_as_obstacles_is_named_as_such():
+    # a dict was read as its keys: "obstacles[0] is 'type', not a shape"
+    ur5 = armik.load("ur5")
+    T = ur5.fk(ur5.middle)
+    plain = {"type": "sphere", "radius": 0.1, "center": [2, 2, 2]}
+    with pytest.raises(armik.CollisionError, match=r"list of shapes .*got \{'type'") as info:
+        ur5.solve(T, obstacles=plain)
+    assert "obstacles[0]" not in str(info.value)
+    with pytest.raises(armik.CollisionError, match=r"obstacles\[0\] .* plain form.*as_shapes"):
+        ur5.solve(T, obstacles=[plain])
+
+
 def _stl(path, triangles) -> str:
     """An ASCII STL of ``triangles`` (each three (x, y, z) vertices) at ``path``."""
     path.write_text(

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import hashlib
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, cast
@@ -334,7 +334,7 @@ def check_obstacles(value: object) -> tuple[Shape, ...]:
         return (value,)
     names = ", ".join(f"armik.{s.__name__}" for s in SHAPES)
     try:
-        if isinstance(value, (str, bytes)):
+        if isinstance(value, (str, bytes, Mapping)):  # a mapping's items are its keys
             raise TypeError
         items = tuple(cast("Iterable[Any]", value))  # not iterable: TypeError, caught below
     except TypeError:
@@ -343,7 +343,13 @@ def check_obstacles(value: object) -> tuple[Shape, ...]:
         ) from None
     for i, item in enumerate(items):
         if not isinstance(item, Shape):
+            plain = (
+                " (a mapping is a shape's plain form, what an obstacles file holds: read it "
+                "with armik.constraints.shapes_file.as_shapes)"
+                if isinstance(item, Mapping)
+                else ""
+            )
             raise CollisionError(
-                f"obstacles[{i}] is {item!r}, not a shape: give {names}", value=item
+                f"obstacles[{i}] is {item!r}, not a shape{plain}: give {names}", value=item
             )
     return items
