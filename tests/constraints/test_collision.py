@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pickle
+import re
 
 import coal
 import numpy as np
@@ -185,6 +186,23 @@ def test_an_arm_without_collision_geometry_says_so():
         a.solve([1.2, 0.5], obstacles=[armik.Sphere(0.1, (5, 5, 0))])
     with pytest.raises(armik.CollisionError, match="no <collision> geometry"):
         a.min_distance([0.0, 0.0], self_collision=True)
+
+
+def test_an_arm_whose_moving_links_have_no_geometry_says_so(tmp_path):
+    # geometry on the base alone: the upper link passed through the ball, "collision-free:
+    # closest no pair to check" a success
+    base = '<link name="base"><collision><geometry><box size="0.2 0.2 0.1"/></geometry>'
+    text = _BARE_BASE_URDF.replace('<link name="base"/>', base + "</collision></link>")
+    for link in ("l1", "l2", "l3"):
+        text = re.sub(
+            rf'<link name="{link}">.*?</link>', f'<link name="{link}"/>', text, flags=re.S
+        )
+    a = armik.load(write_urdf(tmp_path, text), tip="tool")
+    ball = armik.Sphere(0.1, (0.0, 0.0, 0.55))
+    with pytest.raises(armik.CollisionError, match=r"only on links that never move .*\(base\)"):
+        a.solve(a.fk(a.middle).translation, obstacles=[ball])
+    with pytest.raises(armik.CollisionError, match="only on links that never move"):
+        a.min_distance(a.middle, self_collision=True)
 
 
 def test_the_pairs_come_smallest_bound_first():

@@ -154,6 +154,14 @@ class Checker:
 
     def __init__(self, arm: ArmModel, obstacles: tuple[Shape, ...], self_collision: bool) -> None:
         g = arm_geometry(arm)
+        if not any(g.moving):  # nothing a joint moves could be measured: every answer clear
+            raise CollisionError(
+                f"arm {arm.name!r} has <collision> geometry only on links that never move "
+                f"relative to its base ({', '.join(dict.fromkeys(g.links))}), so collisions "
+                "cannot be checked: add <collision> elements to the links its joints move, "
+                "or solve without obstacles= and self_collision=",
+                option="obstacles",
+            )
         model = g.model.copy()
         names = list(g.links)
         pairs = list(g.self_pairs) if self_collision else []
