@@ -28,7 +28,7 @@ from armik.arms_links import UNBOUNDED, Links
 from armik.arms_tasks import by_tip
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions
-from armik.constraints.collision import BOUND_SLACK, _check_fixed, margin_of, obstacle_name
+from armik.constraints.collision import BOUND_SLACK, _check_fixed, obstacle_name
 from armik.constraints.shapes import check_obstacles
 from armik.constraints.srdf import Pair
 from armik.errors import CollisionError
@@ -160,9 +160,8 @@ def in_collision(
     self_collision: bool = False,
     margin: float = 0.0,
 ) -> bool:
-    """Whether some checked pair at ``q`` is closer than ``margin`` (m), as
-    ``Arm.in_collision``: a margin in [0, MAX_LENGTH]."""
-    margin = margin_of(margin)
+    """Whether some checked pair at ``q`` is closer than ``margin`` (m)."""
+    margin = checked.number("margin", margin)
     return min_distance(arms, q, obstacles, self_collision)[0] < margin
 
 
