@@ -49,6 +49,14 @@ class ArmsChecker:
         self.joint_names = arms.joint_names
         self.links = Links(chains, obstacles, self_collision)  # each link from its chain
         links = self.links
+        if not len(links.moving):  # as one arm's checker refuses it (``Checker``)
+            raise CollisionError(
+                f"robot {chains[0].name!r} has <collision> geometry only on links that never "
+                f"move relative to its base ({', '.join(dict.fromkeys(links.names))}), so "
+                "collisions cannot be checked: add <collision> elements to the links its "
+                "joints move, or solve without obstacles= and self_collision=",
+                option="obstacles",
+            )
         for k, (c, i) in enumerate(links.objects):  # fixed to the base: checked once, here
             if links.joints[k] == 0:
                 for s, shape in enumerate(links.shapes):

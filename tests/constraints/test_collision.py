@@ -203,6 +203,9 @@ def test_an_arm_whose_moving_links_have_no_geometry_says_so(tmp_path):
         a.solve(a.fk(a.middle).translation, obstacles=[ball])
     with pytest.raises(armik.CollisionError, match="only on links that never move"):
         a.min_distance(a.middle, self_collision=True)
+    robot = armik.load(write_urdf(tmp_path, text), tips=["tool"])
+    with pytest.raises(armik.CollisionError, match=r"only on links that never move .*\(base\)"):
+        robot.min_distance(robot.middle, [ball])
 
 
 def test_the_pairs_come_smallest_bound_first():
