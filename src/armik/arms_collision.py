@@ -28,7 +28,7 @@ from armik.arms_links import UNBOUNDED, Links
 from armik.arms_tasks import by_tip
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions
-from armik.constraints.collision import BOUND_SLACK, _check_fixed, obstacle_name
+from armik.constraints.collision import BOUND_SLACK, _check_fixed, _unmoved, obstacle_name
 from armik.constraints.shapes import check_obstacles
 from armik.constraints.srdf import Pair
 from armik.errors import CollisionError
@@ -50,13 +50,7 @@ class ArmsChecker:
         self.links = Links(chains, obstacles, self_collision)  # each link from its chain
         links = self.links
         if not len(links.moving):  # as one arm's checker refuses it (``Checker``)
-            raise CollisionError(
-                f"robot {chains[0].name!r} has <collision> geometry only on links that never "
-                f"move relative to its base ({', '.join(dict.fromkeys(links.names))}), so "
-                "collisions cannot be checked: add <collision> elements to the links its "
-                "joints move, or solve without obstacles= and self_collision=",
-                option="obstacles",
-            )
+            raise _unmoved(f"robot {chains[0].name!r}", links.names)
         for k, (c, i) in enumerate(links.objects):  # fixed to the base: checked once, here
             if links.joints[k] == 0:
                 for s, shape in enumerate(links.shapes):

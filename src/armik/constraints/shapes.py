@@ -19,7 +19,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from armik.errors import CollisionError
+from armik.errors import CollisionError, OptionError
 from armik.tolerances import MAX_LENGTH, ROTATION_TOL
 
 _IDENTITY = tuple(np.eye(4).ravel().tolist())
@@ -353,3 +353,31 @@ def check_obstacles(value: object) -> tuple[Shape, ...]:
                 f"obstacles[{i}] is {item!r}, not a shape{plain}: give {names}", value=item
             )
     return items
+
+
+def flag(value: object) -> bool:
+    """``self_collision`` as a bool: True or False (numpy's too), else ``OptionError``."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise OptionError(
+            f"self_collision must be True or False, got {value!r}",
+            option="self_collision",
+            value=value,
+        )
+    return bool(value)
+
+
+def margin_of(value: object) -> float:
+    """``margin`` as a distance in [0, MAX_LENGTH] m, else ``OptionError`` naming it."""
+    try:
+        if isinstance(value, (str, bytes, bool, np.bool_)):
+            raise TypeError
+        margin = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
+        margin = float("nan")
+    if not 0.0 <= margin <= MAX_LENGTH:
+        raise OptionError(
+            f"margin must be a distance in [0, {MAX_LENGTH:g}] m, got {value!r}",
+            option="margin",
+            value=value,
+        )
+    return margin
