@@ -75,6 +75,13 @@ def test_every_shape_converts_to_its_coal_geometry(tmp_path):
         (lambda: armik.Sphere(0.1, (10**400, 0, 0)), "Sphere center must be 3"),
         (lambda: armik.Box((0.1, 0.2, 0.3), (10**400, 0, 0)), "not a pose"),
         (lambda: armik.HalfSpace((0, 0, 1), 10**400), "offset must be a finite"),
+        # no order (a set), or keys (a dict): sides in whichever order they iterate
+        (lambda: armik.Box({0.5, 0.1, 0.3}), "3 full side lengths .* in that order"),
+        (lambda: armik.Box({0.5: "x", 0.1: "y", 0.3: "z"}), "in that order"),
+        # numpy's True, refused as True is, not a side of 1 m
+        (lambda: armik.Box((np.True_, 0.1, 0.1)), "Box size must be"),
+        (lambda: armik.Sphere(np.True_), "Sphere radius"),
+        (lambda: armik.HalfSpace((0, 0, 1), np.True_), "offset must be a finite"),
     ],
 )
 def test_bad_shapes_are_refused_naming_the_value(build, match):

@@ -66,7 +66,7 @@ def _length(
     """A length in m, > 0 (>= 0 with ``zero``) and finite; else ``CollisionError`` naming
     it as ``unit``."""
     try:
-        if isinstance(value, (str, bytes, bool)):
+        if isinstance(value, (str, bytes, bool, np.bool_)):
             raise TypeError
         out = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
@@ -125,9 +125,11 @@ class Box(Shape):
             sides = list(size)
         except TypeError:
             sides = [size]
-        if isinstance(size, (str, bytes)) or len(sides) != 3:
+        if isinstance(size, (str, bytes, set, frozenset, Mapping)) or len(sides) != 3:
             raise CollisionError(
-                f"Box size must be 3 full side lengths (x, y, z) in m, got {size!r}", value=size
+                f"Box size must be 3 full side lengths (x, y, z) in m, in that order (a list, a "
+                f"tuple or an array), got {size!r}",
+                value=size,
             )
         dims = tuple(_length("Box", "size", v) for v in sides)
         object.__setattr__(self, "size", dims)
@@ -211,7 +213,7 @@ class HalfSpace(Shape):
                 value=normal,
             )
         try:
-            if isinstance(offset, (str, bytes, bool)):
+            if isinstance(offset, (str, bytes, bool, np.bool_)):
                 raise TypeError
             d = float(offset)
         except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
