@@ -412,3 +412,24 @@ def test_a_servo_over_shared_joints_keeps_clear_with_a_third_tip_off_the_torso()
                 _coal(g[i].geometry, P[i], g[j].geometry, P[j]) for i in left for j in right
             )
             assert apart >= 0.01 - 1e-4, k
+
+
+def test_two_collisions_constraints_keep_the_larger_margin_between_the_chains_too():
+    # obstacles at 1.5 cm and self-collision (at 0) are one check at 1.5 cm for every pair,
+    # as each chain applies it; between the chains the robot took the self-collision's 0
+    robot = armik.load(dual("panda"), tips=["l_panda_hand", "r_panda_hand"])
+    far = armik.Sphere(0.05, (3.0, 3.0, 3.0))
+    two = [armik.Collisions(obstacles=[far], margin=0.015), armik.Collisions(self_collision=True)]
+    down, c = pin.utils.rpyToMatrix(np.pi, 0.0, 0.0), np.array([0.5, 0.0, 0.4])
+    solved = 0
+    for gap in np.linspace(0.095, 0.115, 9):  # the hands from touching to 2 cm apart
+        T = {
+            "l_panda_hand": pin.SE3(down, c + [0, gap, 0]),
+            "r_panda_hand": pin.SE3(down, c - [0, gap, 0]),
+        }
+        r = robot.solve(T, constraints=two)
+        if r.success:
+            solved += 1
+            d, pair = robot.min_distance(r.q, [far], True)
+            assert d >= 0.015 and (r.min_distance, r.closest_pair) == (d, pair)
+    assert solved

@@ -28,7 +28,7 @@ from armik.arms_links import UNBOUNDED, Links
 from armik.arms_tasks import by_tip
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions
-from armik.constraints.collision import BOUND_SLACK, _check_fixed, obstacle_name
+from armik.constraints.collision import BOUND_SLACK, _check_fixed, _unmoved, obstacle_name
 from armik.constraints.shapes import check_obstacles
 from armik.constraints.srdf import Pair
 from armik.errors import CollisionError
@@ -49,6 +49,8 @@ class ArmsChecker:
         self.joint_names = arms.joint_names
         self.links = Links(chains, obstacles, self_collision)  # each link from its chain
         links = self.links
+        if not len(links.moving):  # as one arm's checker refuses it (``Checker``)
+            raise _unmoved(f"robot {chains[0].name!r}", links.names)
         for k, (c, i) in enumerate(links.objects):  # fixed to the base: checked once, here
             if links.joints[k] == 0:
                 for s, shape in enumerate(links.shapes):
@@ -168,11 +170,11 @@ def in_collision(
 def between(arms: Any, options: Mapping[str, Any]) -> tuple[object, tuple] | None:
     """(margin, obstacles) of the self-collision check ``options`` ask for
     (``self_collision=True``, or an ``armik.Collisions`` with it in a flat ``constraints``
-    list) on chains that share no joint, the margin as given (each chain's solve checks
-    it); None where none is asked. Each chain checks its own links against the other
-    chains held where it was cut: the robot checks its chains' answers together, the
-    obstacles with them, so that the closest pair it reports is the closest of all
-    (``clear``, ``clear_rows``)."""
+    list: then every ``Collisions`` of the list together) on chains that share no joint,
+    the margin as given (each chain's solve checks it); None where none is asked. Each
+    chain checks its own links against the other chains held where it was cut: the robot
+    checks its chains' answers together, the obstacles with them, so that the closest
+    pair it reports is the closest of all (``clear``, ``clear_rows``)."""
     if not options or arms._union is not None:
         return None
     flag = options.get("self_collision")
@@ -182,10 +184,12 @@ def between(arms: Any, options: Mapping[str, Any]) -> tuple[object, tuple] | Non
     if given is None or isinstance(given, Mapping):  # by tip: each chain's own
         return None
     given = given if isinstance(given, (list, tuple)) else [given]
-    found = [c for c in given if isinstance(c, Collisions) and c.self_collision]
-    if not found:
+    found = [c for c in given if isinstance(c, Collisions)]
+    if not any(c.self_collision for c in found):
         return None
-    shapes = tuple(dict.fromkeys(s for c in found for s in c.obstacles))
+    # what they say together, as each chain checks it (``options._JOINED``): every scene
+    # in their order, the largest margin kept by every pair
+    shapes = tuple(s for c in found for s in c.obstacles)
     return max(c.margin for c in found), shapes
 
 

@@ -137,6 +137,7 @@ class Boxed(Constraint):
         ((np.zeros(3), np.ones(3)), r"7 numbers each .* got shapes \(3,\) and \(3,\)"),
         (np.zeros(7), r"must return None or \(lower, upper\)"),
         (("a", "b"), r"must return None or \(lower, upper\)"),
+        ((-(10**400), 10**400), r"must return None or \(lower, upper\)"),  # beyond a float
         ((np.full(7, np.nan), np.ones(7)), r"lower <= upper.* joint 0 \(panda_joint1\)"),
         ((np.ones(7), -np.ones(7)), r"lower <= upper.* gave \[1.0, -1.0\]"),
         ("raise", "its box raised KeyError: 'joint_9'"),

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pickle
+import re
 
 import coal
 import numpy as np
@@ -187,6 +188,26 @@ def test_an_arm_without_collision_geometry_says_so():
         a.min_distance([0.0, 0.0], self_collision=True)
 
 
+def test_an_arm_whose_moving_links_have_no_geometry_says_so(tmp_path):
+    # geometry on the base alone: the upper link passed through the ball, "collision-free:
+    # closest no pair to check" a success
+    base = '<link name="base"><collision><geometry><box size="0.2 0.2 0.1"/></geometry>'
+    text = _BARE_BASE_URDF.replace('<link name="base"/>', base + "</collision></link>")
+    for link in ("l1", "l2", "l3"):
+        text = re.sub(
+            rf'<link name="{link}">.*?</link>', f'<link name="{link}"/>', text, flags=re.S
+        )
+    a = armik.load(write_urdf(tmp_path, text), tip="tool")
+    ball = armik.Sphere(0.1, (0.0, 0.0, 0.55))
+    with pytest.raises(armik.CollisionError, match=r"only on links that never move .*\(base\)"):
+        a.solve(a.fk(a.middle).translation, obstacles=[ball])
+    with pytest.raises(armik.CollisionError, match="only on links that never move"):
+        a.min_distance(a.middle, self_collision=True)
+    robot = armik.load(write_urdf(tmp_path, text), tips=["tool"])
+    with pytest.raises(armik.CollisionError, match=r"only on links that never move .*\(base\)"):
+        robot.min_distance(robot.middle, [ball])
+
+
 def test_the_pairs_come_smallest_bound_first():
     a = model("panda")
     ch = checker(a, (TABLE, BOX, SPHERE), True)
@@ -320,3 +341,39 @@ def test_a_passive_mimic_links_pairs_with_the_links_beside_it_are_checked(tmp_pa
             crossing += 1
             assert a.min_distance(q, self_collision=True)[0] <= d + 1e-6
     assert crossing  # the rod crosses l2 in some of the samples
+
+
+_BARE_BASE_URDF = f"""<robot name="bare_base">
+  <link name="base"/><link name="tool"/>
+  <link name="l1"><collision><origin xyz="0 0 0.1"/>
+    <geometry><box size="0.06 0.06 0.2"/></geometry></collision></link>
+  <link name="l2"><collision><origin xyz="0 0 0.15"/>
+    <geometry><box size="0.06 0.06 0.3"/></geometry></collision></link>
+  <link name="l3"><collision><origin xyz="0 0 0.15"/>
+    <geometry><box size="0.06 0.06 0.3"/></geometry></collision></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+    <origin xyz="0 0 0.1"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" {_LIMIT}/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>
+    <origin xyz="0 0 0.2"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" {_LIMIT}/></joint>
+  <joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/>
+    <origin xyz="0 0 0.3"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" {_LIMIT}/></joint>
+  <joint name="tool_fix" type="fixed"><parent link="l3"/><child link="tool"/>
+    <origin xyz="0 0 0.3"/></joint>
+</robot>
+"""
+
+
+def test_an_arm_deep_inside_a_half_space_is_in_collision(tmp_path):
+    # a base without geometry: no link fixed to it refuses the plane. Its moving links,
+    # 500 m inside, overlap the plane by that much, with their own pair (l1 and l3, its
+    # bound below the plane's) measured beside it
+    a = armik.load(write_urdf(tmp_path, _BARE_BASE_URDF), tip="tool")
+    assert _link_pairs(a) == {("l1", "l3")}
+    inside = armik.HalfSpace((0, 0, -1), 500.0)  # the solid z >= -500
+    for q in a.random_q(2, n=5):
+        alone, pair = a.min_distance(q, [inside])
+        assert alone < -499 and pair[1] == "obstacles[0] (HalfSpace)"
+        assert a.min_distance(q, [inside], self_collision=True) == (alone, pair)
+    T = a.fk(a.middle)
+    r = a.solve(T.translation, obstacles=[inside], self_collision=True)
+    assert not r.success and r.status == armik.Status.COLLISION and r.min_distance < -499

@@ -84,6 +84,7 @@ def test_constraints_said_twice_or_not_constraints_are_refused():
         (lambda: armik.Hold(3, 0.1), "joint must be a joint's name, got 3"),
         (lambda: armik.Hold("j", math.nan), "finite number.*nan"),
         (lambda: armik.Hold("j", "up"), "finite number.*'up'"),
+        (lambda: armik.Hold("j", 10**400), "finite number"),  # beyond a float's range
         (lambda: armik.Collisions(margin=-0.1, self_collision=True), "margin.*-0.1"),
         (lambda: armik.Collisions(margin=0.1), "checks nothing"),
         (lambda: armik.Collisions(self_collision="yes"), "True or False, got 'yes'"),

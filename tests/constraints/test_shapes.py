@@ -75,6 +75,13 @@ def test_every_shape_converts_to_its_coal_geometry(tmp_path):
         (lambda: armik.Sphere(0.1, (10**400, 0, 0)), "Sphere center must be 3"),
         (lambda: armik.Box((0.1, 0.2, 0.3), (10**400, 0, 0)), "not a pose"),
         (lambda: armik.HalfSpace((0, 0, 1), 10**400), "offset must be a finite"),
+        # no order (a set), or keys (a dict): sides in whichever order they iterate
+        (lambda: armik.Box({0.5, 0.1, 0.3}), "3 full side lengths .* in that order"),
+        (lambda: armik.Box({0.5: "x", 0.1: "y", 0.3: "z"}), "in that order"),
+        # numpy's True, refused as True is, not a side of 1 m
+        (lambda: armik.Box((np.True_, 0.1, 0.1)), "Box size must be"),
+        (lambda: armik.Sphere(np.True_), "Sphere radius"),
+        (lambda: armik.HalfSpace((0, 0, 1), np.True_), "offset must be a finite"),
     ],
 )
 def test_bad_shapes_are_refused_naming_the_value(build, match):
@@ -98,6 +105,18 @@ def test_bad_collision_options_are_refused():
         ur5.solve(T, margin=0.01)
     with pytest.raises(armik.OptionError, match="self_collision must be True or False"):
         ur5.solve(T, self_collision="yes")
+
+
+def test_a_shape_s_plain_form_given_as_obstacles_is_named_as_such():
+    # a dict was read as its keys: "obstacles[0] is 'type', not a shape"
+    ur5 = armik.load("ur5")
+    T = ur5.fk(ur5.middle)
+    plain = {"type": "sphere", "radius": 0.1, "center": [2, 2, 2]}
+    with pytest.raises(armik.CollisionError, match=r"list of shapes .*got \{'type'") as info:
+        ur5.solve(T, obstacles=plain)
+    assert "obstacles[0]" not in str(info.value)
+    with pytest.raises(armik.CollisionError, match=r"obstacles\[0\] .* plain form.*as_shapes"):
+        ur5.solve(T, obstacles=[plain])
 
 
 def _stl(path, triangles) -> str:
@@ -152,3 +171,30 @@ def test_a_robots_collision_mesh_that_is_no_solid_is_named_with_its_link(tmp_pat
     a = armik.load_string(xml, tip="l2")
     with pytest.raises(armik.CollisionError, match=r"mesh '.*l1.stl' of link 'l1' .* 3 vertices"):
         a.solve([0.3, 0.0, 0.1], self_collision=True)
+
+
+def _tetra(corner, size: float) -> list:
+    """A tetrahedron's four faces, its right-angled corner at ``corner``."""
+    o = np.asarray(corner, dtype=float)
+    x, y, z = (o + size * e for e in np.eye(3))
+    return [(o, x, y), (o, y, z), (o, z, x), (x, y, z)]
+
+
+def test_a_mesh_file_written_again_is_measured_as_it_is_now(tmp_path):
+    # a scan's hull rewritten to one file: the new armik.Mesh is not the old one, so the
+    # arm's kept checker (one per scene) is not measured in its place
+    panda = armik.load("panda")
+    q = panda.random_q(1, n=1)[0]
+    elbow = panda.fk(q, "panda_link4").translation
+    path = tmp_path / "scan.stl"
+    far = armik.Mesh(_stl(path, _tetra((5.0, 5.0, 5.0), 0.1)))
+    assert panda.min_distance(q, [far])[0] > 5.0
+    near = armik.Mesh(_stl(path, _tetra(elbow - 0.1, 0.3)))  # around the elbow now
+    d, pair = panda.min_distance(q, [near])
+    assert d < 0 and pair[1] == "obstacles[0] (Mesh)"
+    assert near != far and near.path == far.path
+    r = panda.solve(panda.fk(q), q0=q, obstacles=[near], max_restarts=0)
+    assert not r.success or panda.min_distance(r.q, [near])[0] >= 0
+    # the file changed under a Mesh whose hull was never read: refused by name
+    with pytest.raises(armik.CollisionError, match="changed since this armik.Mesh was made"):
+        far.geometry()

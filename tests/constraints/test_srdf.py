@@ -77,6 +77,21 @@ def test_write_srdf_refuses_what_is_no_pair_of_links(tmp_path, pairs):
         armik.collision.write_srdf(pairs, tmp_path / "x.srdf")
 
 
+@pytest.mark.parametrize("pairs", [None, 5, "ab"])
+def test_write_srdf_refuses_what_is_no_list_of_pairs(tmp_path, pairs):
+    with pytest.raises(armik.CollisionError, match="a list of pairs of link names"):
+        armik.collision.write_srdf(pairs, tmp_path / "x.srdf")
+    assert not (tmp_path / "x.srdf").exists()
+
+
+def test_write_srdf_names_a_path_it_cannot_write(tmp_path):
+    with pytest.raises(armik.CollisionError, match="cannot write the SRDF .*no/such/folder"):
+        armik.collision.write_srdf([("base_link", "elbow")], tmp_path / "no/such/folder/x.srdf")
+    for path in (None, 3):  # 3 would be a file descriptor to open
+        with pytest.raises(armik.CollisionError, match="path must be a file path"):
+            armik.collision.write_srdf([("base_link", "elbow")], path)
+
+
 def test_never_colliding_pairs_refuses_a_seed_that_is_no_whole_number():
     with pytest.raises(armik.CollisionError, match="seed must be a whole number"):
         armik.collision.never_colliding_pairs(arm("ur5"), n=3, seed="x")

@@ -141,7 +141,7 @@ def _boxed(own: Callable[..., object]) -> Callable[..., tuple[np.ndarray, np.nda
                 lower = np.full(n, lower)
             if upper.ndim == 0:
                 upper = np.full(n, upper)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
             raise _refused(name, f"its box must return None or {say}, got {got!r}") from None
         if lower.shape != (n,) or upper.shape != (n,):
             raise _refused(

@@ -15,8 +15,8 @@ import numpy as np
 
 from armik import reasons
 from armik.constraints.base import Check, Constraint
-from armik.constraints.collision import checker, flag, margin_of
-from armik.constraints.shapes import Shape, check_obstacles
+from armik.constraints.collision import checker
+from armik.constraints.shapes import Shape, check_obstacles, flag, margin_of
 from armik.errors import OptionError
 from armik.status import Status
 

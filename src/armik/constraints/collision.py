@@ -24,15 +24,15 @@ import numpy as np
 import pinocchio as pin
 
 from armik.constraints.bounds import ordered_bounds, ordered_bounds_many
-from armik.constraints.shapes import Shape, check_obstacles, convex_hull, solid
+from armik.constraints.shapes import Shape, check_obstacles, convex_hull, flag, margin_of, solid
 from armik.constraints.srdf import Pair
-from armik.errors import CollisionError, OptionError
+from armik.errors import CollisionError
 from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
 from armik.model.catalogue import erd_share
 from armik.model.derived import Derived
 from armik.model.reduce import reduce_model
-from armik.tolerances import FIXED_OVERLAP_TOL, MAX_LENGTH
+from armik.tolerances import FIXED_OVERLAP_TOL
 
 
 @dataclass(frozen=True)
@@ -136,6 +136,17 @@ def _bodies(arm: ArmModel, joints: list[int]) -> tuple[list[int], dict[int, int]
     return out, {b: body(full.parents[b]) if b else 0 for b in out}
 
 
+def _unmoved(what: str, links) -> CollisionError:
+    """The error for ``what`` (an arm, a robot) whose ``links`` with geometry never move."""
+    return CollisionError(
+        f"{what} has <collision> geometry only on links that never move relative to its base "
+        f"({', '.join(dict.fromkeys(links))}), so collisions cannot be checked: add "
+        "<collision> elements to the links its joints move, or solve without obstacles= "
+        "and self_collision=",
+        option="obstacles",
+    )
+
+
 def obstacle_name(i: int, shape: Shape) -> str:
     return f"obstacles[{i}] ({type(shape).__name__})"
 
@@ -145,7 +156,8 @@ class Checker:
     ``self_collision``): ``distance(q)`` is the smallest over every checked pair.
 
     Each of the arm's geometry objects has a bounding sphere and each obstacle a bounding
-    box (a half space's reaches ``FAR`` below its plane), so each pair has a lower bound on
+    box (a half space's reaches 2 ``FAR`` below its plane, and ``FAR`` past the base's
+    origin where that is inside), so each pair has a lower bound on
     its signed distance (sphere to sphere, sphere to box); ``distance`` asks coal for the
     pairs in the order of their bounds and stops at the first bound beyond the smallest
     distance found: the same answer as asking for every pair, for a few of coal's calls
@@ -153,6 +165,8 @@ class Checker:
 
     def __init__(self, arm: ArmModel, obstacles: tuple[Shape, ...], self_collision: bool) -> None:
         g = arm_geometry(arm)
+        if not any(g.moving):  # nothing a joint moves could be measured: every answer clear
+            raise _unmoved(f"arm {arm.name!r}", g.links)
         model = g.model.copy()
         names = list(g.links)
         pairs = list(g.self_pairs) if self_collision else []
@@ -372,7 +386,7 @@ def _sphere(geom) -> tuple[np.ndarray, float]:
     return np.array(geom.aabb_center), float(geom.aabb_radius)
 
 
-FAR = 100.0  # m: the depth of a half space's box, beyond any arm's reach
+FAR = 100.0  # m: beyond any arm's reach from its base's origin
 
 
 def _box_of(geom, M: pin.SE3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -382,7 +396,9 @@ def _box_of(geom, M: pin.SE3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         normal = M.rotation @ np.array(geom.n)
         offset = float(geom.d + normal @ M.translation)
         R = _frame_of(normal)
-        return R, (offset - FAR) * normal, np.array([FAR, FAR, FAR])
+        # 2 FAR below the plane, and at least FAR past the base's origin (an arm deep inside)
+        depth = max(FAR, (offset + FAR) / 2)
+        return R, (offset - depth) * normal, np.array([depth, FAR, FAR])
     if isinstance(geom, coal.Box):
         return M.rotation.copy(), M.translation.copy(), np.array(geom.halfSide)
     geom.computeLocalAABB()
@@ -461,31 +477,3 @@ def in_collision(
 ) -> bool:
     """Whether some checked pair at ``q`` is closer than ``margin`` (m)."""
     return min_distance(arm, q, obstacles, self_collision)[0] < margin_of(margin)
-
-
-def flag(value: object) -> bool:
-    """``self_collision`` as a bool: True or False (numpy's too), else ``OptionError``."""
-    if not isinstance(value, (bool, np.bool_)):
-        raise OptionError(
-            f"self_collision must be True or False, got {value!r}",
-            option="self_collision",
-            value=value,
-        )
-    return bool(value)
-
-
-def margin_of(value: object) -> float:
-    """``margin`` as a distance in [0, MAX_LENGTH] m, else ``OptionError`` naming it."""
-    try:
-        if isinstance(value, (str, bytes, bool, np.bool_)):
-            raise TypeError
-        margin = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
-        margin = float("nan")
-    if not 0.0 <= margin <= MAX_LENGTH:
-        raise OptionError(
-            f"margin must be a distance in [0, {MAX_LENGTH:g}] m, got {value!r}",
-            option="margin",
-            value=value,
-        )
-    return margin

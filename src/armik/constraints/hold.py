@@ -154,7 +154,7 @@ def _finite(joint: str, value: object) -> float:
         if isinstance(value, (str, bytes, bool, np.bool_)):
             raise TypeError
         out = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
         out = math.nan
     if not math.isfinite(out):
         raise OptionError(

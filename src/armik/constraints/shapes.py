@@ -8,9 +8,10 @@ shapes (and the ``Options`` holding them) hash and compare by value.
 
 from __future__ import annotations
 
+import hashlib
 import math
-from collections.abc import Iterable
-from dataclasses import dataclass
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, cast
 
@@ -18,7 +19,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from armik.errors import CollisionError
+from armik.errors import CollisionError, OptionError
 from armik.tolerances import MAX_LENGTH, ROTATION_TOL
 
 _IDENTITY = tuple(np.eye(4).ravel().tolist())
@@ -65,7 +66,7 @@ def _length(
     """A length in m, > 0 (>= 0 with ``zero``) and finite; else ``CollisionError`` naming
     it as ``unit``."""
     try:
-        if isinstance(value, (str, bytes, bool)):
+        if isinstance(value, (str, bytes, bool, np.bool_)):
             raise TypeError
         out = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
@@ -124,9 +125,11 @@ class Box(Shape):
             sides = list(size)
         except TypeError:
             sides = [size]
-        if isinstance(size, (str, bytes)) or len(sides) != 3:
+        if isinstance(size, (str, bytes, set, frozenset, Mapping)) or len(sides) != 3:
             raise CollisionError(
-                f"Box size must be 3 full side lengths (x, y, z) in m, got {size!r}", value=size
+                f"Box size must be 3 full side lengths (x, y, z) in m, in that order (a list, a "
+                f"tuple or an array), got {size!r}",
+                value=size,
             )
         dims = tuple(_length("Box", "size", v) for v in sides)
         object.__setattr__(self, "size", dims)
@@ -210,7 +213,7 @@ class HalfSpace(Shape):
                 value=normal,
             )
         try:
-            if isinstance(offset, (str, bytes, bool)):
+            if isinstance(offset, (str, bytes, bool, np.bool_)):
                 raise TypeError
             d = float(offset)
         except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
@@ -230,11 +233,13 @@ class HalfSpace(Shape):
 @dataclass(frozen=True, init=False)
 class Mesh(Shape):
     """The convex hull of the mesh file at ``path`` (STL, OBJ, DAE, ... as coal's loader
-    reads them), scaled by ``scale`` and placed at ``pose``."""
+    reads them), scaled by ``scale`` and placed at ``pose``: the file as it is when the
+    ``Mesh`` is made (``digest``, its bytes' SHA-256, tells two versions of one file apart)."""
 
     path: str
     pose: tuple[float, ...]
     scale: float
+    digest: str = field(repr=False)
 
     def __init__(self, path, pose=None, scale=1.0) -> None:
         if not isinstance(path, (str, Path)) or not Path(path).is_file():
@@ -246,11 +251,28 @@ class Mesh(Shape):
         object.__setattr__(self, "path", str(Path(path).resolve()))
         object.__setattr__(self, "pose", _pose("Mesh", pose))
         object.__setattr__(self, "scale", _length("Mesh", "scale", scale, unit="a factor"))
+        object.__setattr__(self, "digest", self._digest())
         self._read()  # a file coal cannot read, or no solid, refused here
+
+    def _digest(self) -> str:
+        try:
+            return hashlib.sha256(Path(self.path).read_bytes()).hexdigest()
+        except OSError as exc:
+            raise CollisionError(
+                f"Mesh {self.path!r} could not be read ({exc.strerror}): give a mesh file "
+                "armik may read",
+                value=self.path,
+            ) from None
 
     def _read(self) -> coal.BVHModelBase:
         """The file's triangles, scaled; ``CollisionError`` where coal cannot read them or
-        they are no solid (``solid``)."""
+        they are no solid (``solid``), or the file changed since the ``Mesh`` was made."""
+        if self._digest() != self.digest:  # a checker kept for this Mesh holds the old one
+            raise CollisionError(
+                f"Mesh {self.path!r} changed since this armik.Mesh was made: make "
+                "armik.Mesh(path) again for the file as it is now",
+                value=self.path,
+            )
         try:
             bvh = coal.MeshLoader().load(self.path, np.full(3, self.scale))
         except Exception as exc:  # coal's loader raises its own types
@@ -314,7 +336,7 @@ def check_obstacles(value: object) -> tuple[Shape, ...]:
         return (value,)
     names = ", ".join(f"armik.{s.__name__}" for s in SHAPES)
     try:
-        if isinstance(value, (str, bytes)):
+        if isinstance(value, (str, bytes, Mapping)):  # a mapping's items are its keys
             raise TypeError
         items = tuple(cast("Iterable[Any]", value))  # not iterable: TypeError, caught below
     except TypeError:
@@ -323,7 +345,41 @@ def check_obstacles(value: object) -> tuple[Shape, ...]:
         ) from None
     for i, item in enumerate(items):
         if not isinstance(item, Shape):
+            plain = (
+                " (a mapping is a shape's plain form, what an obstacles file holds: read it "
+                "with armik.constraints.shapes_file.as_shapes)"
+                if isinstance(item, Mapping)
+                else ""
+            )
             raise CollisionError(
-                f"obstacles[{i}] is {item!r}, not a shape: give {names}", value=item
+                f"obstacles[{i}] is {item!r}, not a shape{plain}: give {names}", value=item
             )
     return items
+
+
+def flag(value: object) -> bool:
+    """``self_collision`` as a bool: True or False (numpy's too), else ``OptionError``."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise OptionError(
+            f"self_collision must be True or False, got {value!r}",
+            option="self_collision",
+            value=value,
+        )
+    return bool(value)
+
+
+def margin_of(value: object) -> float:
+    """``margin`` as a distance in [0, MAX_LENGTH] m, else ``OptionError`` naming it."""
+    try:
+        if isinstance(value, (str, bytes, bool, np.bool_)):
+            raise TypeError
+        margin = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
+        margin = float("nan")
+    if not 0.0 <= margin <= MAX_LENGTH:
+        raise OptionError(
+            f"margin must be a distance in [0, {MAX_LENGTH:g}] m, got {value!r}",
+            option="margin",
+            value=value,
+        )
+    return margin

@@ -114,7 +114,23 @@ def sorted_pair(a: str, b: str) -> Pair:
 
 
 def write_srdf(pairs, path, robot: str = "robot") -> None:
-    """Write ``pairs`` of link names as an SRDF's ``<disable_collisions reason="Never">``."""
+    """Write ``pairs`` of link names as an SRDF's ``<disable_collisions reason="Never">``.
+    Raises ``CollisionError`` naming a bad pair or path, or why the file was not written."""
+    if not isinstance(path, (str, Path)):  # an int would be written to that descriptor
+        raise CollisionError(
+            f"write_srdf's path must be a file path (str or pathlib.Path), got {path!r}",
+            option="path",
+            value=path,
+        )
+    try:
+        if isinstance(pairs, (str, bytes)):
+            raise TypeError
+        pairs = list(pairs)
+    except TypeError:
+        raise CollisionError(
+            f"write_srdf takes a list of pairs of link names [(link1, link2), ...], got {pairs!r}",
+            value=pairs,
+        ) from None
     root = ET.Element("robot", name=robot)
     for pair in pairs:
         try:
@@ -128,4 +144,9 @@ def write_srdf(pairs, path, robot: str = "robot") -> None:
             ) from None
         ET.SubElement(root, "disable_collisions", link1=str(a), link2=str(b), reason="Never")
     ET.indent(root)
-    ET.ElementTree(root).write(path, encoding="unicode", xml_declaration=True)
+    try:
+        ET.ElementTree(root).write(path, encoding="unicode", xml_declaration=True)
+    except OSError as exc:
+        raise CollisionError(
+            f"cannot write the SRDF {str(path)!r}: {exc.strerror or exc}", value=str(path)
+        ) from None
