@@ -11,7 +11,7 @@ import numpy as np
 
 from armik.checked import integer, number, numbers, positive
 from armik.constraints.base import Constraint
-from armik.constraints.clear import Collisions, collision_options
+from armik.constraints.clear import Collisions, collision_options, of_options
 from armik.constraints.hold import Hold
 from armik.constraints.limits import JointLimits
 from armik.constraints.shapes import Shape
@@ -76,7 +76,7 @@ class Options(SolverSettings):
         if self.hold is not None:
             found.extend(Hold(*pair) for pair in self.hold)
         if self.collisions:
-            found.append(Collisions(self.obstacles, self.self_collision, self.margin))
+            found.append(of_options(self))  # validated as they were read
         return (*found, *self.checks)
 
     @property

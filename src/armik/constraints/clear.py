@@ -18,6 +18,7 @@ from armik.constraints.base import Check, Constraint
 from armik.constraints.collision import checker
 from armik.constraints.shapes import Shape, check_obstacles, flag, margin_of
 from armik.errors import OptionError
+from armik.frozen import frozen
 from armik.status import Status
 
 if TYPE_CHECKING:
@@ -46,6 +47,18 @@ class Collisions(Constraint):
     def check(self, arm: ArmModel, Q: np.ndarray) -> Check:
         check = checker(arm, self.obstacles, self.self_collision)
         return distances(check.distances(Q), self.margin)
+
+
+def of_options(opts: Any) -> Collisions:
+    """The collisions ``opts`` (``Options``, or the settings a solve reads: validated where
+    they were read) check, as the constraint the verdict applies; built without reading
+    them again (``frozen``)."""
+    return frozen(
+        Collisions,
+        obstacles=opts.obstacles,
+        self_collision=opts.self_collision,
+        margin=opts.margin,
+    )
 
 
 def distances(found: list[tuple[float, Any]], margin: float) -> Check:

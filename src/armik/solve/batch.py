@@ -39,10 +39,9 @@ import numpy as np
 
 from armik import cpu_time, reasons
 from armik.batch_result import BatchResult
-from armik.constraints.clear import Collisions
+from armik.constraints.clear import Collisions, of_options
 from armik.constraints.collision import checker
 from armik.errors import ArmikWarning, OptionError
-from armik.frozen import frozen
 from armik.request import Request, with_seed
 from armik.solve import backends, batch_rows, forked
 from armik.solve.backends import Rows, place
@@ -256,9 +255,7 @@ _SHARES = 4  # chunks per process by default: a chunk of 256 left one of two pro
 def _clear(opts) -> tuple[Collisions]:
     """The collisions a batch's options check (``Options``' obstacles, self-collision and
     margin: some asked), as the constraint the verdict applies."""
-    # the options' own: validated where they were read
-    return (frozen(Collisions, obstacles=opts.obstacles, self_collision=opts.self_collision,
-                   margin=opts.margin),)  # fmt: skip
+    return (of_options(opts),)  # the options' own: validated where they were read
 
 
 def solve_chunk(

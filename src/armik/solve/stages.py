@@ -19,9 +19,8 @@ import numpy as np
 import pinocchio as pin
 
 from armik import cpu_time, reasons
-from armik.constraints.clear import Collisions, distances
+from armik.constraints.clear import distances, of_options
 from armik.constraints.collision import Checker, checker
-from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.request import Request, but_options, with_seed
@@ -100,12 +99,7 @@ def _held_clear(arm: ArmModel, req: Request, target: Target):
     form's branches, the locked arm's every solution) searched as a closed form's are, the
     nearest verified one that keeps clear of the whole arm's collision model first."""
     opts = with_seed(req.opts, req.seed)
-    clear = frozen(
-        Collisions,
-        obstacles=opts.obstacles,
-        self_collision=opts.self_collision,
-        margin=opts.margin,
-    )
+    clear = of_options(opts)
     held = Held(req, general)
     found = solve_avoiding(arm, held, target, arm.seed(req.q0), opts, clear, req.every, req.t0)  # type: ignore[arg-type]
     return found if req.every else found[0]
@@ -264,13 +258,7 @@ def _run(arm, spec: SolverSpec, tgt: Target, q0, opts, every: bool, t0: float, f
     where the options ask, a numeric solver going on from ``first`` when given)."""
     seed = arm.seed(q0)
     if opts.obstacles or opts.self_collision:  # ``opts.collisions``, inline
-        # the options' own: validated where they were read
-        clear = frozen(
-            Collisions,
-            obstacles=opts.obstacles,
-            self_collision=opts.self_collision,
-            margin=opts.margin,
-        )
+        clear = of_options(opts)  # the options' own: validated where they were read
         return solve_avoiding(arm, spec, tgt, seed, opts, clear, every, t0, first, opts.slide)
     if opts.checks and not every:
         if spec.kind != "analytic":  # restarted while a check refuses its answer
