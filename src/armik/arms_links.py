@@ -21,11 +21,9 @@ from typing import Any
 import coal
 import numpy as np
 
-from armik.constraints.collision import ArmGeometry, arm_geometry
+from armik.constraints.collision import UNBOUNDED, ArmGeometry, arm_geometry
 from armik.constraints.shapes import Shape
 from armik.model.arm_model import ArmModel
-
-UNBOUNDED = 1e9  # m: a bounding radius for a shape without one (a half space)
 
 
 class Links:
