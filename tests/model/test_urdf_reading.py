@@ -153,9 +153,24 @@ def test_soft_limits_of_a_safety_controller_bound_the_joint_as_moveit_reads_them
     assert not r.success or r.q[1] >= -0.5 - 1e-9
     with pytest.raises(armik.JointError, match="'j2'.*outside its URDF limits"):
         load_text(tmp_path, arm3(limit2=limit + soft), "locked.urdf", locked={"j2": -1.0})
-    one_side = SAFETY.format('soft_upper_limit="1.5"')  # the other side stays <limit>'s
+    # a soft limit not written is 0, as urdfdom reads it for MoveIt and trac_ik
+    one_side = SAFETY.format('soft_upper_limit="1.5"')
     b = load_text(tmp_path, arm3(limit2=limit + one_side), "one.urdf")
-    assert (b.lower[1], b.upper[1]) == (-2.0, 1.5)
+    assert (b.lower[1], b.upper[1]) == (0.0, 1.5)
+
+
+def test_soft_limits_that_narrow_to_zero_pin_the_joint_and_do_not_free_it(tmp_path):
+    """lower = upper = 0 in <limit> means no limits given; soft limits that narrow real
+    limits to [0, 0] pin the joint there, as MoveIt reads them."""
+    for hard, soft in (("-1", "1"), ("0", "2")):
+        limit = f'<limit lower="{hard}" upper="{soft}" effort="1" velocity="1"/>'
+        pinned = SAFETY.format('soft_lower_limit="0" soft_upper_limit="0"')
+        a = load_text(tmp_path, arm3(limit2=limit + pinned), f"pinned{hard}.urdf")
+        assert (a.lower[1], a.upper[1]) == (0.0, 0.0)
+        q = np.array([0.3, 2.5, 0.4])  # j2 past every limit the file writes
+        assert not a.within_limits(q)
+        r = a.solve(a.fk(q))
+        assert not r.success or abs(r.q[1]) <= 1e-9
 
 
 def test_soft_limits_that_leave_no_value_are_refused_naming_the_joint(tmp_path):

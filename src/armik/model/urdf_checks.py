@@ -209,9 +209,11 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
                     "continuous if it turns freely",
                     path=path,
                 )
+            written = limit.get("lower"), limit.get("upper")  # as the file says them
             lower = _number(limit.get("lower", "0"), what, "lower limit", path)
             upper = _number(limit.get("upper", "0"), what, "upper limit", path)
-            if lower <= upper and not lower == upper == 0.0:
+            unlimited = lower == upper == 0.0  # no limits given (soft ones narrow nothing)
+            if lower <= upper and not unlimited:
                 soft = _soft_limits(joint, limit, lower, upper, name, path)
                 if soft is not None:
                     notes.append(
@@ -225,7 +227,7 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
             if huge:
                 msg = (
                     f"joint {name!r} has {' and '.join(huge)} limit(s) beyond +-{MAX_LIMIT:g} "
-                    f"(lower={limit.get('lower')}, upper={limit.get('upper')}), read as no "
+                    f"(lower={written[0]}, upper={written[1]}), read as no "
                     "limit on that side"
                     + (": make it a continuous joint" if jtype == "revolute" else "")
                 )
@@ -237,7 +239,7 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
                     "swap them in the <limit> element",
                     path=path,
                 )
-            if lower == upper == 0.0:
+            if unlimited:
                 unset.add(name)
                 msg = (
                     f"joint {name!r} has lower = upper = 0, read as no limits given: "
@@ -289,19 +291,19 @@ def _soft_limits(
     joint: ET.Element, limit: ET.Element, lower: float, upper: float, name: str, path: str
 ) -> tuple[float, float] | None:
     """The limits of a revolute or prismatic joint narrowed by the soft limits of its
-    ``<safety_controller>`` (each one written), as MoveIt and trac_ik bound the joint:
-    its controller holds it within them. Writes them into ``limit`` (Pinocchio reads them
-    there) and returns them; None where they narrow nothing. A ``URDFError`` where nothing
-    is left."""
+    ``<safety_controller>``, as MoveIt and trac_ik bound the joint: its controller holds it
+    within them. A soft limit not written is 0, as urdfdom reads it for them (a
+    ``soft_upper_limit`` alone on [-2, 2] leaves [0, upper]). Writes them into ``limit``
+    (Pinocchio reads them there) and returns them; None where they narrow nothing. A
+    ``URDFError`` where nothing is left."""
     safety = joint.find("safety_controller")
     if safety is None:
         return None
     what = f"joint {name!r}"
     lo, hi = lower, upper
     for key in ("soft_lower_limit", "soft_upper_limit"):
-        if safety.get(key) is None:
-            continue
-        value = _number(safety.get(key), what, f"safety_controller {key}", path, finite=False)
+        text = safety.get(key, "0")
+        value = _number(text, what, f"safety_controller {key}", path, finite=False)
         if math.isnan(value):
             _number("nan", what, f"safety_controller {key}", path)  # refused, named
         lo, hi = (max(lo, value), hi) if key == "soft_lower_limit" else (lo, min(hi, value))
