@@ -64,3 +64,28 @@ def test_a_success_stands_where_ros_places_the_frame_not_where_the_chain_holds_i
     r = arm.solve([armik.Position(held, frame="ft")], seed=0)
     assert r.success, r.reason  # the finger bent, ft still reaches that point
     assert np.linalg.norm(_ros(r.q) - held) < 1e-6
+
+
+def test_a_chain_joint_named_universe_moves_the_frame_as_ros_does():
+    """Pinocchio names its root joint 'universe': a URDF joint of that name is the URDF's
+    joint, in the frame's placement, its Jacobian and the task solver."""
+    text = URDF.replace('name="j1"', 'name="universe"')
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        arm = armik.load_string(text, tip="c")
+    robot = yourdfpy.URDF.load(io.StringIO(text))
+    q = np.array([0.5, 0.9])
+    robot.update_cfg({"universe": q[0], "j2": q[1]})
+    goal = robot.get_transform("ft", "a")[:3, 3]
+    assert np.linalg.norm(arm.fk(q, frame="ft").translation - goal) < 1e-12
+    h = 1e-7
+    J = arm.jacobian(q, frame="ft", reference="base")[:3]
+    for k in range(2):
+        dq = np.zeros(2)
+        dq[k] = h
+        slope = arm.fk(q + dq, frame="ft").translation - arm.fk(q - dq, frame="ft").translation
+        assert np.allclose(J[:, k], slope / (2 * h), atol=1e-6)
+    r = arm.solve([armik.Position(goal, frame="ft")], q0=q + 0.2, seed=0)
+    assert r.success, r.reason
+    robot.update_cfg({"universe": r.q[0], "j2": r.q[1]})
+    assert np.linalg.norm(robot.get_transform("ft", "a")[:3, 3] - goal) < 1e-6

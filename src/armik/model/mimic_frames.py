@@ -17,6 +17,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.model.derived import Derived, DerivedBy
+from armik.model.mimic import joint_of
 from armik.model.reduce import frame_id, set_joint
 
 if TYPE_CHECKING:
@@ -37,7 +38,7 @@ def _followers(arm: ArmModel) -> dict[int, tuple[int, float, float]]:
     for name, driver in info.mimic.items():
         if driver not in arm.joint_names or name in chain.locked:
             continue
-        jid = chain.full.getJointId(name)
+        jid = joint_of(chain.full, name)
         if jid in fixed:
             m, c = info.mimic_factors.get(name, (1.0, 0.0))
             out[jid] = (arm.joint_names.index(driver), m, c)
@@ -93,10 +94,10 @@ def _full_q(arm: ArmModel, q: np.ndarray) -> np.ndarray:
     full = arm.chain.full
     qf = np.array(arm.chain.q_ref, dtype=float)
     for name, value in zip(arm.joint_names, q):
-        set_joint(full, qf, full.getJointId(name), float(value))
+        set_joint(full, qf, joint_of(full, name), float(value))
     for mimic in arm.chain.mimics:
         k = arm.joint_names.index(mimic.driver)
-        set_joint(full, qf, full.getJointId(mimic.name), mimic.multiplier * q[k] + mimic.offset)
+        set_joint(full, qf, joint_of(full, mimic.name), mimic.multiplier * q[k] + mimic.offset)
     for jid, (k, m, c) in followers(arm).items():
         set_joint(full, qf, jid, m * q[k] + c)
     return qf
@@ -112,33 +113,10 @@ def placement(arm: ArmModel, q: object, fid: int) -> pin.SE3:
 def jacobian(arm: ArmModel, q: object, fid: int, kind: pin.ReferenceFrame) -> np.ndarray:
     """The 6 x dof Jacobian of the whole model's frame ``fid`` at q (``kind``: LOCAL or
     LOCAL_WORLD_ALIGNED): each mimic joint's column folded into its driver's, times its
-    multiplier, as the chain's model folds them."""
-    full = arm.chain.full
+    multiplier, as the chain's model folds them (``_fold``)."""
     qv = np.asarray(arm.check_q(q), dtype=float)
-    Jf = pin.computeFrameJacobian(full, _data(arm), _full_q(arm, qv), fid, kind)
-    own, folded = _COLUMNS(arm)
-    J = np.zeros((6, arm.dof))
-    for k, c in enumerate(own):
-        J[:, k] = Jf[:, c]
-    for k, m, c in folded:  # the chain's mimic joints, then the followers
-        J[:, k] += m * Jf[:, c]
-    return J
-
-
-def _columns(arm: ArmModel) -> tuple[list[int], list[tuple[int, float, int]]]:
-    """The whole model's Jacobian column of each chain joint, and (driver's index,
-    multiplier, column) of each mimic joint folded into its driver (``jacobian``)."""
-    full = arm.chain.full
-    own = [full.joints[full.getJointId(name)].idx_v for name in arm.joint_names]
-    folded = [
-        (arm.joint_names.index(m.driver), m.multiplier, full.joints[full.getJointId(m.name)].idx_v)
-        for m in arm.chain.mimics
-    ]
-    folded += [(k, m, full.joints[jid].idx_v) for jid, (k, m, _) in followers(arm).items()]
-    return own, folded
-
-
-_COLUMNS: Derived[tuple] = Derived("the whole model's Jacobian columns on the chain", _columns)
+    Jf = pin.computeFrameJacobian(arm.chain.full, _data(arm), _full_q(arm, qv), fid, kind)
+    return Jf.reshape(6, -1) @ _FOLD(arm)  # type: ignore[no-any-return]
 
 
 def followed_objects(arm: ArmModel, geom: pin.GeometryModel) -> tuple:
@@ -194,10 +172,10 @@ def _fold(arm: ArmModel) -> np.ndarray:
     full = arm.chain.full
     F = np.zeros((full.nv, arm.dof))
     for k, name in enumerate(arm.joint_names):
-        F[full.joints[full.getJointId(name)].idx_v, k] = 1.0
+        F[full.joints[joint_of(full, name)].idx_v, k] = 1.0
     for mimic in arm.chain.mimics:
         k = arm.joint_names.index(mimic.driver)
-        F[full.joints[full.getJointId(mimic.name)].idx_v, k] += mimic.multiplier
+        F[full.joints[joint_of(full, mimic.name)].idx_v, k] += mimic.multiplier
     for jid, (k, m, _) in followers(arm).items():
         F[full.joints[jid].idx_v, k] += m
     return F

@@ -211,8 +211,8 @@ def _chain_mimics(
 
 def _locked_joint(full: pin.Model, jname: str) -> int:
     """The id of the locked joint ``jname``; raises ``JointError`` listing the joints."""
-    ids = [j for j in range(1, full.njoints) if full.names[j] == jname]  # 0: 'universe'
-    if not ids:
+    jid = _mimic.joint_id(full, jname)
+    if jid is None:
         all_joints = list(full.names)[1:]
         close = closest(jname, all_joints)
         hint = f"does not exist; closest: {listing(close)}; " if close else "does not exist; "
@@ -220,7 +220,7 @@ def _locked_joint(full: pin.Model, jname: str) -> int:
             hint = "is a fixed joint: it has no value to lock; the moving "
         message = f"locked joint {jname!r} {hint}joints: {listing(all_joints)}"
         raise JointError(message, joint=jname, candidates=all_joints)
-    return ids[0]
+    return jid
 
 
 # Values that float() reads but that are no joint value: text, complex, bools (True is 1)
