@@ -89,3 +89,20 @@ def test_a_chain_joint_named_universe_moves_the_frame_as_ros_does():
     assert r.success, r.reason
     robot.update_cfg({"universe": r.q[0], "j2": r.q[1]})
     assert np.linalg.norm(robot.get_transform("ft", "a")[:3, 3] - goal) < 1e-6
+
+
+def test_over_shared_joints_a_task_on_such_a_frame_is_refused_by_name(tmp_path):
+    """Several tips over a shared joint solve on the union of their chains, which holds a
+    mimic joint off the chains still: a task on a frame it turns is refused, naming the
+    chain that takes it alone, not solved where the frame is not."""
+    extra = '<link name="d"/>' + JOINT.format("j3", "b", "d", "0 0.2 0", "revolute", "")
+    path = tmp_path / "two.urdf"
+    path.write_text(URDF.replace("</robot>", extra + "</robot>"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = armik.load(path, tips=["c", "d"])
+    q = np.array([0.5, 0.9, 0.3])
+    d = robot.fk(q)["d"].translation
+    ft = robot.fk(q, frame="ft").translation
+    with pytest.raises(armik.TargetError, match="'ft' is turned by a mimic joint.*chain\\('c'\\)"):
+        robot.solve([armik.Position(ft, frame="ft"), armik.Position(d, frame="d")], seed=0)

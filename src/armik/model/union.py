@@ -17,7 +17,8 @@ import threading
 import numpy as np
 import pinocchio as pin
 
-from armik.errors import JointError
+from armik.errors import JointError, TargetError
+from armik.model import mimic_frames
 from armik.model.frames import named
 from armik.model.mimic import joint_of
 from armik.model.reduce import reduce_model, set_joint
@@ -83,6 +84,7 @@ class Union:
         )
         self._local = threading.local()
         self._derived: dict = {}  # ``armik.model.derived``: what modules keep (frame chains)
+        self._chains = tuple(chains)
 
     @property
     def data(self) -> pin.Data:
@@ -110,6 +112,18 @@ class Union:
         fid = self.tip_frame_id if frame is None else named(self.model, frame)
         pin.forwardKinematics(self.model, self.data, self.to_pin(q))
         return self.T_base_world * pin.updateFramePlacement(self.model, self.data, fid)
+
+    def refuse_followed(self, frame: str) -> None:
+        """A ``TargetError`` for a task on ``frame`` where a mimic joint off the chains turns
+        it with a chain's joint (``mimic_frames``): the union holds that joint still."""
+        for arm in self._chains:
+            if mimic_frames.full_frame(arm, frame) is not None:
+                raise TargetError(
+                    f"frame {frame!r} is turned by a mimic joint off the chains, with a joint "
+                    f"of the chain to {arm.tip!r}: over shared joints the task solver holds "
+                    f"that mimic joint still; solve that chain alone (robot.chain({arm.tip!r})"
+                    ".solve([...])), or give a frame on a chain"
+                )
 
     def joint_index(self, name: str) -> int:
         """Index of joint ``name`` in q; raises ``JointError`` listing the joints."""

@@ -74,6 +74,7 @@ def frame_ids(arm: ArmModel, tasks: tuple[Task, ...]) -> tuple[tuple[int, ...], 
 
 
 _IDS: Derived[dict] = Derived("frame ids of task frames", lambda _: {})
+_FOLLOWED: Derived[dict] = Derived("task frames a mimic joint off the chain moves", lambda _: {})
 
 
 def _frame_id(arm: ArmModel, task: Task, frame: str | None) -> int:
@@ -81,18 +82,16 @@ def _frame_id(arm: ArmModel, task: Task, frame: str | None) -> int:
         return arm.tip_frame_id
     if arm.model.existFrame(frame):
         i = named(arm.model, frame)  # a name a joint and a link share: the link's
-        whole = mimic_frames.full_frame(arm, frame) if isinstance(arm, ArmModel) else None
-        if whole is not None:  # a mimic joint the chain's model holds moves it: placed on
-            _FOLLOWED(arm)[i] = whole  # the whole model, as Arm.fk(q, frame=) places it
+        if not isinstance(arm, ArmModel):  # a union of chains holds such a frame still
+            arm.refuse_followed(frame)
+        elif (whole := mimic_frames.full_frame(arm, frame)) is not None:  # a mimic joint the
+            _FOLLOWED(arm)[i] = whole  # chain's model holds moves it: placed on the whole model
         return i
     names = sorted(f.name for f in arm.model.frames)
     raise TargetError(
         f"{type(task).__name__} asks for frame {frame!r}, which this arm's model does not "
         f"have; its frames: {names}"
     )
-
-
-_FOLLOWED: Derived[dict] = Derived("task frames a mimic joint off the chain moves", lambda _: {})
 
 
 def _placed(arm: ArmModel, q: np.ndarray, ids) -> dict:
