@@ -28,7 +28,7 @@ from armik.arms_links import UNBOUNDED, Links
 from armik.arms_tasks import by_tip
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions
-from armik.constraints.collision import BOUND_SLACK, _check_fixed, _unmoved, obstacle_name
+from armik.constraints.collision import BOUND_SLACK, _unmoved, obstacle_name
 from armik.constraints.shapes import check_obstacles
 from armik.constraints.srdf import Pair
 from armik.errors import CollisionError
@@ -51,17 +51,6 @@ class ArmsChecker:
         links = self.links
         if not len(links.moving):  # as one arm's checker refuses it (``Checker``)
             raise _unmoved(f"robot {chains[0].name!r}", links.names)
-        for k, (c, i) in enumerate(links.objects):  # fixed to the base: checked once, here
-            if links.joints[k] == 0:
-                for s, shape in enumerate(links.shapes):
-                    obj = pin.GeometryObject(
-                        obstacle_name(s, shape),
-                        0,
-                        0,
-                        chains[c].T_world_base * shape.placement(),
-                        shape.geometry(),
-                    )
-                    _check_fixed(chains[c], links.geometry[c], i, obj, shape, s)
         self.chains = chains
         self.names = [
             *links.names,

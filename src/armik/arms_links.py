@@ -20,8 +20,15 @@ from typing import Any
 
 import coal
 import numpy as np
+import pinocchio as pin
 
-from armik.constraints.collision import UNBOUNDED, ArmGeometry, arm_geometry
+from armik.constraints.collision import (
+    UNBOUNDED,
+    ArmGeometry,
+    arm_geometry,
+    check_fixed,
+    obstacle_name,
+)
 from armik.constraints.shapes import Shape
 from armik.model.arm_model import ArmModel
 
@@ -104,6 +111,12 @@ class Links:
             for g, T in self.obstacles
         ]
         self.obstacle_centre = np.array(centres).reshape(-1, 3)
+        for k in np.setdiff1d(np.arange(len(self.objects)), self.moving).tolist():
+            c, i = self.objects[k]  # no joint moves it: an obstacle it sinks into is refused
+            for s, shape in enumerate(obstacles):
+                world = chains[c].T_world_base * shape.placement()
+                obj = pin.GeometryObject(obstacle_name(s, shape), 0, 0, world, shape.geometry())
+                check_fixed(chains[c], self.geometry[c], i, obj, shape, s)
 
     def _object(self, k: int) -> Any:
         c, i = self.objects[k]

@@ -182,7 +182,7 @@ class Checker:
                 if moving:
                     pairs.append((i, index))
                 else:
-                    _check_fixed(arm, g, i, obj, shape, k)
+                    check_fixed(arm, g, i, obj, shape, k)
             box = _box_of(obj.geometry, arm.T_base_world * placement)
             boxes.extend([box] * (len(pairs) - first))
         for a, b in pairs:
@@ -415,7 +415,7 @@ def _frame_of(normal: np.ndarray) -> np.ndarray:
     return np.column_stack([normal, y, np.cross(normal, y)])
 
 
-def _check_fixed(arm, g: ArmGeometry, i: int, obj, shape: Shape, k: int) -> None:
+def check_fixed(arm, g: ArmGeometry, i: int, obj, shape: Shape, k: int) -> None:
     """Refuse an obstacle that a link fixed to the base sinks into (beyond a base resting
     on its table: ``FIXED_OVERLAP_TOL``)."""
     data = arm.model.createData()

@@ -27,7 +27,6 @@ import numpy as np
 import pinocchio as pin
 
 from armik.arms_links import Links
-from armik.constraints.collision import _check_fixed, obstacle_name
 from armik.constraints.shapes import check_obstacles
 from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
@@ -74,14 +73,6 @@ class UnionCollisions:
             (c, i): joint for c, g in enumerate(self.geometry) for i, joint, _ in g.followed
         }
         self.follower = {k: follower[o] for k, o in enumerate(self.objects) if o in follower}
-        # ... moving even where the cut model hangs it on the base (a mimic of a joint there)
-        self.moving = np.union1d(self.moving, list(self.follower)).astype(np.intp)
-        for k in np.setdiff1d(np.arange(len(self.objects)), self.moving).tolist():
-            c, i = self.objects[k]  # fixed to the base: an obstacle it sinks into refused
-            for s, shape in enumerate(self.shapes):
-                world = arms[c].T_world_base * shape.placement()
-                obj = pin.GeometryObject(obstacle_name(s, shape), 0, 0, world, shape.geometry())
-                _check_fixed(arms[c], self.geometry[c], i, obj, shape, s)
         self.rows = np.zeros((MAX_ROWS, n + 1))
         self.request = coal.DistanceRequest()
         self.nearest = math.inf  # m: the nearest pair's distance at the last ``at``
