@@ -54,9 +54,10 @@ TWO_PI = 2.0 * math.pi
 SNAP = 1e-7
 # rad: Newton steps stop at a pose error of 1e-14, which near a double root (a singular
 # pose, where the error grows with the square of the step) leaves a root ~1e-7 from where it
-# lies: one on a limit can come back that far past it. Such a row is put on the limit (the
-# tip moves by 1e-7 m at most per metre of reach, which the FK check measures as always).
-POLISHED_SNAP = 1e-7
+# lies: one on a limit can come back that far past it, and more (the Panda with joint 4
+# held at a pose that loses a rank: 1.4e-7). Such a row is put on the limit (the tip moves
+# by 1e-6 m at most per metre of reach, which the FK check measures as always).
+POLISHED_SNAP = 1e-6
 # rad: a value within this of pi from q0's either way is a tie, which goes to q0 + pi; rows
 # whose distances to q0 are this close go by the first joint (in the chain's order) whose
 # values differ by more than it, the smaller first. The exported C's ``nearest`` and
