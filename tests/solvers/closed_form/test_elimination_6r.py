@@ -197,6 +197,40 @@ def test_a_polished_root_a_hair_past_a_limit_is_put_on_it():
         assert a.within_limits(r.q) and _pose_error(a, r.q, T) < 1e-6
 
 
+@pytest.mark.parametrize("held", ["panda_joint4", "panda_joint6"])
+def test_a_family_of_solutions_is_flagged_singular(held):
+    """The Panda with joint 2 at 0 (axes 1 and 3 in line: the target fixes only q1 + q3) and
+    one joint held: the search's grid gave samples of the family, 5 degrees apart, each
+    listed as a solution of its own and none flagged singular."""
+    a = armik.load("panda")
+    q = np.array([0.0, 0.0, 0.0, -np.pi / 2, np.pi / 2, np.pi, -np.pi / 2])
+    T = a.fk(q)
+    hold = {held: float(q[a.joint_names.index(held)])}
+    found = [r for r in a.solve_all(T, hold=hold, q0=q) if r.success]
+    assert len(found) > 1
+    for r in found:
+        assert abs(r.q[0] + r.q[2]) < 1e-6  # on the family
+        assert r.singular and "family of solutions" in r.reason
+    # a regular target of the same arm: nothing flagged
+    q = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.6])
+    regular = a.solve_all(a.fk(q), hold={held: float(q[a.joint_names.index(held)])})
+    assert any(r.success for r in regular)
+    assert not any(r.singular for r in regular)
+
+
+def test_a_root_of_a_rank_deficient_pose_on_a_limit_is_put_on_it():
+    """The Panda with joint 4 held at -pi/2, joint 1 on its upper limit, at a pose where the
+    six joints left lose a rank (joint 6 at pi): Newton left the root 1.4e-7 rad past the
+    limit (more than 1e-7), failed as joint_limits, and solve_all had no success."""
+    a = armik.load("panda")
+    q = np.array([a.upper[0], np.pi / 2, 0.0, -np.pi / 2, -np.pi / 2, np.pi, -np.pi / 2])
+    T = a.fk(q)
+    found = [r for r in a.solve_all(T, hold={"panda_joint4": float(q[3])}, q0=q) if r.success]
+    assert any(wrapped_distance(r.q, q) < 1e-5 for r in found)
+    for r in found:
+        assert a.within_limits(r.q) and _pose_error(a, r.q, T) < 1e-6
+
+
 @pytest.mark.parametrize(
     "q",
     [

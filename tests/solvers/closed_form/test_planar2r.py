@@ -232,3 +232,17 @@ def test_property_outside_the_annulus_is_unreachable(radius, angle):
         assert r.status == "unreachable" and "dead zone" in r.reason
     else:
         assert r.singular  # within tolerance of the boundary: merged branches
+
+
+@pytest.mark.parametrize("limit", [3.14159, 3.1415, 3.0])
+def test_a_target_made_on_the_elbow_limit_near_the_fold(limit):
+    # acos near -1 loses digits: the elbow came back 1e-11 rad past a limit the target was
+    # made on, both rows failed as joint_limits though q is a solution within the limits
+    a = arm("planar_2link").with_limits({"joint2": (-limit, limit)})
+    for q1 in (0.3, -1.2, 2.5):
+        q = np.array([q1, limit])
+        p = a.fk(q).translation
+        r = a.solve(p, q0=q)
+        assert r.success and np.abs(r.q - q).max() < 1e-6, (q, r.q, r.status)
+        assert a.within_limits(r.q)
+        assert any(s.success and np.abs(s.q - q).max() < 1e-6 for s in a.solve_all(p))

@@ -153,7 +153,7 @@ def run(
     R, pos, q0 = np.array(R), np.array(pos), np.array(q0, dtype=float)
     lower, upper = np.array(arm.lower, dtype=float), np.array(arm.upper, dtype=float)
     n, sure, _ = _rows(plan, R, pos, q0, lower, upper, out)
-    ours = sixr_answers.of_rows(out[:n], FAMILY, CLOSED_FORM)
+    ours = general_6r.rank_lost(arm, sixr_answers.of_rows(out[:n], FAMILY, CLOSED_FORM))
     if sure and n > 0:
         return ours
     # not sure, or nothing found: the search the arm had before, and what it adds

@@ -26,6 +26,7 @@ found. Branch labels are the answers' indices, nearest q0 first.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -67,6 +68,7 @@ THRESHOLD = 1.0  # alignment error (|R_05 h6 - R_06 h6|) below which a grid mini
 SHEET = 0.3  # rad: SP5 branches of neighbouring cells this close (q3, q4, q5) are one sheet
 SEEDS = 128  # seeds polished at most, the lowest first
 ROWS = 16  # at most 16 solutions
+RANK_LOST = 1e-9  # of the largest singular value: a Jacobian this near rank 5 has lost one
 ITERATIONS = 60  # Newton steps at most (a root where the Jacobian is singular converges slowly)
 TRIES, GIVE_UP = 12, 1e-3  # Newton steps after which a seed this far from the target is left
 EXACT = 1e-11  # m and rad: a polished configuration this close to the target is an answer
@@ -366,7 +368,32 @@ def run(
         said = [f"{SEARCH_FAILED}; dls: {found.reason(i)}" for i in range(len(found))]
         return found.reworded(said)
     labels = [str(k) for k in range(n)]
-    return Answers.of(out[:n, :6], [Status.CONVERGED] * n, [CLOSED_FORM] * n, 6, branch=labels)
+    found = Answers.of(out[:n, :6], [Status.CONVERGED] * n, [CLOSED_FORM] * n, 6, branch=labels)
+    return rank_lost(arm, found)
+
+
+def rank_lost(arm: ArmModel, found: Answers) -> Answers:
+    """``found`` with each claimed row where the Jacobian loses a rank (smallest singular
+    value below ``RANK_LOST`` of the largest) flagged singular and said so: the target
+    then has a family of solutions (the Panda's axes 1 and 3 in line with a joint held),
+    of which the search's grid gives samples, where they were listed as so many separate
+    solutions, none flagged."""
+    flags = np.zeros(len(found), np.bool_) if found.singular is None else found.singular.copy()
+    said = [found.reason(i) for i in range(len(found))]
+    lost = False
+    for i in range(len(found)):
+        if not found.claimed(i) or flags[i]:
+            continue
+        s = np.linalg.svd(arm.jacobian(found.q[i]), compute_uv=False)
+        if s[-1] < RANK_LOST * s[0]:
+            flags[i], lost = True, True
+            said[i] += (
+                f"; singular: the joints lose a rank here (smallest singular value of the "
+                f"Jacobian {s[-1]:.1e}), the target has a family of solutions and this is one"
+            )
+    if not lost:
+        return found
+    return dataclasses.replace(found, singular=flags, reasons=tuple(said))
 
 
 SPEC = register(

@@ -31,6 +31,7 @@ from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers
 from armik.solvers.claims import claim
 from armik.solvers.closed_form import planar2r_kernel as kernel
+from armik.solvers.closed_form.sixr import SNAP
 from armik.solvers.registry import SolverSpec, register
 from armik.status import Status
 from armik.targets.pose import Target
@@ -173,7 +174,7 @@ def run(
         q0 = np.array(q0, dtype=float)  # one compiled signature: a writeable C array
     out = np.empty((2, 8))
     n = kernel.rows(flat(arm, opts, orient), H, q0, planar, x, y, out)
-    return _answers(out[:n], out[:n, :2].copy())
+    return _answers(out[:n], out[:n, :2].copy(), arm)
 
 
 _BRANCHES = {
@@ -226,8 +227,17 @@ def _farther(out: np.ndarray, q0: np.ndarray) -> bool:
     return math.sqrt(d[0].dot(d[0])) > math.sqrt(d[1].dot(d[1]))
 
 
-def _answers(rows: np.ndarray, Q: np.ndarray) -> Answers:
-    """The answers of the kernel's rows, in their order, q the rows of ``Q``."""
+def _answers(rows: np.ndarray, Q: np.ndarray, arm: ArmModel) -> Answers:
+    """The answers of the kernel's rows, in their order, q the rows of ``Q`` (a joint up to
+    ``sixr.SNAP`` past a limit put on it, in place: the elbow's acos near the fold loses
+    digits, so a target made on a limit there came back 1.1e-11 rad past it and was failed
+    as joint_limits; the FK check measures the move, 1e-7 m per metre of reach at most)."""
+    np.clip(
+        Q,
+        np.where(Q >= arm.lower - SNAP, arm.lower, Q),
+        np.where(Q <= arm.upper + SNAP, arm.upper, Q),
+        out=Q,
+    )
     claims, texts, labels, flags = [], [], [], []
     for claimed, branch, singular, code, v0, v1 in rows[:, 2:].tolist():
         label = _BRANCHES[branch]
@@ -273,7 +283,7 @@ def prepare_pose(arm: ArmModel, opts: SolverSettings, position: bool):
             return None
         if n == 2 and _farther(out, q0):  # nearest q0 first, as solve_all lists them
             out[:2] = out[1::-1].copy()
-        got = _answers(out[:n], out[:n, :2])
+        got = _answers(out[:n], out[:n, :2], arm)
         got.q.setflags(write=False)  # solve_all's results' q are its rows
         return got
 

@@ -26,6 +26,7 @@ from armik.solvers.closed_form.subproblems import (
     add,
     cross,
     dot,
+    elbow_extreme,
     mat,
     mm,
     mv,
@@ -53,9 +54,10 @@ TWO_PI = 2.0 * math.pi
 SNAP = 1e-7
 # rad: Newton steps stop at a pose error of 1e-14, which near a double root (a singular
 # pose, where the error grows with the square of the step) leaves a root ~1e-7 from where it
-# lies: one on a limit can come back that far past it. Such a row is put on the limit (the
-# tip moves by 1e-7 m at most per metre of reach, which the FK check measures as always).
-POLISHED_SNAP = 1e-7
+# lies: one on a limit can come back that far past it, and more (the Panda with joint 4
+# held at a pose that loses a rank: 1.4e-7). Such a row is put on the limit (the tip moves
+# by 1e-6 m at most per metre of reach, which the FK check measures as always).
+POLISHED_SNAP = 1e-6
 # rad: a value within this of pi from q0's either way is a tie, which goes to q0 + pi; rows
 # whose distances to q0 are this close go by the first joint (in the chain's order) whose
 # values differ by more than it, the smaller first. The exported C's ``nearest`` and
@@ -170,6 +172,59 @@ def nearest_equivalents(Q, n, q0, lower, upper):
                         best = c
             if not math.isnan(best):
                 Q[r, j] = min(max(best, lo), hi)
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def _from_ref(v, ref, lo, hi):
+    """|c - ref| for c the value of angle ``v`` (by whole turns) nearest ``ref`` within
+    [lo, hi] (up to ``SNAP`` past a limit counts as on it); inf when no turn of it is."""
+    near = v + TWO_PI * round((ref - v) / TWO_PI)
+    best = math.inf
+    for c in (near, near - TWO_PI, near + TWO_PI):
+        if lo - SNAP <= c <= hi + SNAP and abs(c - ref) < best:
+            best = abs(c - ref)
+    return best
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def mirror_root(p1, p2, k, theta):
+    """The other root of a merged elbow root ``theta`` (``subproblems.elbow``'s one root
+    where rounding split a double root): its mirror about the extreme beside it; theta
+    itself where it lies on the extreme."""
+    return wrap(2.0 * elbow_extreme(p1, p2, k, theta) - theta)
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def _row_cost(W, r, q0, lower, upper):
+    """(joints of row ``r`` with no turn within their limits, the distance of joint 3's turn
+    nearest q0's within its limits to q0's: the elbow's, whose root the row was solved
+    from)."""
+    outside = 0
+    for j in range(6):
+        if _from_ref(W[r, j], q0[j], lower[j], upper[j]) == math.inf:
+            outside += 1
+    return outside, _from_ref(W[r, 2], q0[2], lower[2], upper[2])
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def keep_nearer(W, a, b, c, q0, lower, upper):
+    """Rows [a, b) of ``W`` solved from a merged elbow root and rows [b, c) from its mirror
+    (``mirror_root``: both exact, the same branches in the same order): of each pair the
+    row with fewer joints outside the limits, then with joint 3 nearer q0's within its
+    limits by more than ``TIE``, is left in [a, b); returns b, the row count. Where the
+    counts differ the first rows are kept. An elbow stretched onto its limit (the UR5's at
+    pi, a limit of +-pi) kept the root whose turn near q0 lies past it, and the other
+    joints follow the root to first order (1e-7 rad and more on the Kinova's stretched
+    elbow), so one on its limit came out past it."""
+    if c - b != b - a:
+        return b
+    for i in range(b - a):
+        out_a, d_a = _row_cost(W, a + i, q0, lower, upper)
+        out_b, d_b = _row_cost(W, b + i, q0, lower, upper)
+        if out_b < out_a or (out_b == out_a and d_b < d_a - TIE):
+            for col in range(W.shape[1]):
+                W[a + i, col] = W[b + i, col]
+    return b
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
