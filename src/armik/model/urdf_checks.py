@@ -116,10 +116,10 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
         for elem in link.iter("origin"):
             _origin(elem, f"link {name!r}", path)
         for elem in link.iter("mass"):
-            _number(elem.get("value", "0"), f"link {name!r}", "mass value", path)
+            xml_number(elem.get("value", "0"), f"link {name!r}", "mass value", path)
         for elem in link.iter("inertia"):
             for key in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"):
-                _number(elem.get(key, "0"), f"link {name!r}", f"inertia {key}", path)
+                xml_number(elem.get(key, "0"), f"link {name!r}", f"inertia {key}", path)
     if not links:
         raise URDFError(f"URDF {path!r} has no <link> element", path=path)
     link_set = set(links)
@@ -194,7 +194,7 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
                         f'add {key}="1" or the real value',
                         path=path,
                     )
-                value = _number(limit.get(key), what, f"limit {key}", path)
+                value = xml_number(limit.get(key), what, f"limit {key}", path)
                 if value < 0.0 and jtype in ("revolute", "continuous", "prismatic"):
                     raise URDFError(  # a magnitude: Pinocchio refuses it without a name
                         f'{what} in {path!r}: <limit {key}="{limit.get(key)}"> is negative; '
@@ -210,8 +210,8 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
                     path=path,
                 )
             written = limit.get("lower"), limit.get("upper")  # as the file says them
-            lower = _number(limit.get("lower", "0"), what, "lower limit", path)
-            upper = _number(limit.get("upper", "0"), what, "upper limit", path)
+            lower = xml_number(limit.get("lower", "0"), what, "lower limit", path)
+            upper = xml_number(limit.get("upper", "0"), what, "upper limit", path)
             unlimited = lower == upper == 0.0  # no limits given (soft ones narrow nothing)
             if lower <= upper and not unlimited:
                 soft = _soft_limits(joint, limit, lower, upper, name, path)
@@ -253,14 +253,14 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
         elif limit is not None:
             for key in ("lower", "upper"):
                 if limit.get(key) is not None:
-                    _number(limit.get(key), what, f"limit {key}", path)
+                    xml_number(limit.get(key), what, f"limit {key}", path)
         mim = joint.find("mimic")
         if mim is not None:
             mimic[name] = mim.get("joint", "?")
             pair = [1.0, 0.0]  # the URDF defaults
             for k, key in enumerate(("multiplier", "offset")):
                 if mim.get(key) is not None:
-                    pair[k] = _number(mim.get(key), what, f"mimic {key}", path)
+                    pair[k] = xml_number(mim.get(key), what, f"mimic {key}", path)
             factors[name] = (pair[0], pair[1])
         joints[name] = JointXML(name, jtype, parent, child, norm)
 
@@ -303,9 +303,9 @@ def _soft_limits(
     lo, hi = lower, upper
     for key in ("soft_lower_limit", "soft_upper_limit"):
         text = safety.get(key, "0")
-        value = _number(text, what, f"safety_controller {key}", path, finite=False)
+        value = xml_number(text, what, f"safety_controller {key}", path, finite=False)
         if math.isnan(value):
-            _number("nan", what, f"safety_controller {key}", path)  # refused, named
+            xml_number("nan", what, f"safety_controller {key}", path)  # refused, named
         lo, hi = (max(lo, value), hi) if key == "soft_lower_limit" else (lo, min(hi, value))
     if lo > hi:
         raise URDFError(
@@ -374,7 +374,7 @@ def _axis(joint: ET.Element, name: str, jtype: str, path: str) -> tuple[float, b
     fix = 'write the axis direction, e.g. <axis xyz="0 0 1"/>'
     if text is None:
         raise URDFError(f"joint {name!r} in {path!r} has an <axis> without xyz: {fix}", path=path)
-    v = _vector(text, f"joint {name!r}", "axis xyz", path, finite=False)
+    v = xml_vector(text, f"joint {name!r}", "axis xyz", path, finite=False)
     if not all(math.isfinite(c) for c in v):
         raise URDFError(
             f"joint {name!r} in {path!r} has a non-finite axis xyz={text!r}: {fix}", path=path
@@ -416,7 +416,7 @@ def _origin(elem: ET.Element, what: str, path: str) -> None:
         text = elem.get(key)
         if text is None:
             continue
-        v = _vector(text, what, f"origin {key}", path)
+        v = xml_vector(text, what, f"origin {key}", path)
         if max(abs(c) for c in v) > MAX_LENGTH:
             raise URDFError(
                 f"{what} in {path!r} has origin {key}={text!r}, beyond the {MAX_LENGTH:g} "
@@ -425,17 +425,17 @@ def _origin(elem: ET.Element, what: str, path: str) -> None:
             )
 
 
-def _vector(text: str, what: str, attr: str, path: str, finite: bool = True) -> list[float]:
+def xml_vector(text: str, what: str, attr: str, path: str, finite: bool = True) -> list[float]:
     parts = text.split()
     if len(parts) != 3:
         raise URDFError(
             f"{what} in {path!r} has {attr}={text!r}: expected 3 numbers separated by spaces",
             path=path,
         )
-    return [_number(p, what, attr, path, finite=finite, whole=text) for p in parts]
+    return [xml_number(p, what, attr, path, finite=finite, whole=text) for p in parts]
 
 
-def _number(
+def xml_number(
     text: str | None,
     what: str,
     attr: str,

@@ -14,7 +14,7 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 
 from armik.errors import URDFError
-from armik.model.urdf_checks import _number, _vector
+from armik.model.urdf_checks import xml_number, xml_vector
 
 SHAPES = ("sphere", "box", "cylinder", "mesh")
 
@@ -61,8 +61,8 @@ def _check(collision: ET.Element, what: str, path: str, capsules: bool) -> None:
     attr = f"<collision> {shape.tag}"
     if kind in ("sphere", "cylinder"):
         for key in needed[kind]:
-            _number(shape.get(key), what, f"{attr} {key}", path)
+            xml_number(shape.get(key), what, f"{attr} {key}", path)
     elif kind == "box":
-        _vector(shape.get("size", ""), what, f"{attr} size", path)
+        xml_vector(shape.get("size", ""), what, f"{attr} size", path)
     elif shape.get("scale") is not None:
-        _vector(shape.get("scale", ""), what, f"{attr} scale", path)
+        xml_vector(shape.get("scale", ""), what, f"{attr} scale", path)

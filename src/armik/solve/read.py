@@ -215,8 +215,9 @@ def read_path(
         lowered = lower_all(problems, options, arm.tip)
         if lowered is None and aim is not None:
             raise OptionError(AIM_OF_TASKS, option=AIM_NAMES[0], value=aim)
-        if lowered is None or _held_apart(arm, options):  # the task solver's, waypoint by
-            if plan == "global":  # waypoint, each list as solve reads it
+        # no compiled form, or joints only the task solver holds: each list as solve reads it
+        if lowered is None or _held_apart(arm, options):
+            if plan == "global":
                 if lowered is not None:
                     raise _held_global(options)
                 raise TargetError(
