@@ -2,8 +2,9 @@
 orientation, 8-30 cm apart between the arms, so that the chains' first answers often
 collide. Counted per target: whether the chains' first answers collide with each other,
 with no collision check (``robot.solve(row)``) and with each chain checked alone
-(``Arms._solve``: its own links against the other arm held where it was cut, before the
-robot tries the other combinations of the chains' answers), and what ``robot.solve(row,
+(``robot.chain(tip).solve(target, self_collision=True)``: its own links against the other
+arm held where it was cut, as the robot's solve checks each chain before it tries the other
+combinations of the chains' answers), and what ``robot.solve(row,
 self_collision=True)`` gives (a success, or a ``collision`` failure). Every success is
 checked again: ``robot.min_distance`` at its q keeps every pair apart, and Pinocchio's FK
 puts each tool within 1e-6 of its target. ``solve_batch`` on the same rows must agree
@@ -46,14 +47,20 @@ def measure(n: int = 60, seed: int = 0) -> dict:
     """The counts over ``n`` targets of ``rows(n, seed)`` (the module docstring)."""
     robot = armik.load(dual("ur5"), tips=["l_tool0", "r_tool0"])
     targets = rows(n, seed)
+    index = {name: k for k, name in enumerate(robot.joint_names)}
     out: dict = {"first": 0, "alone": 0, "checked": 0, "false": 0, "statuses": {}}
     results = []
     for row in targets:
         first = robot.solve(row)
         if first.success and robot.min_distance(first.q, self_collision=True)[0] < 0.0:
             out["first"] += 1
-        alone = robot._solve(row, None, {"self_collision": True})
-        if alone.success and robot.min_distance(alone.q, self_collision=True)[0] < 0.0:
+        solved, alone = True, np.array(robot.middle, dtype=float)
+        for tip in robot.tips:
+            chain = robot.chain(tip)
+            each = chain.solve(row[tip], self_collision=True)
+            solved = solved and each.success
+            alone[[index[j] for j in chain.joint_names]] = each.q
+        if solved and robot.min_distance(alone, self_collision=True)[0] < 0.0:
             out["alone"] += 1
         r = robot.solve(row, self_collision=True)
         results.append(r)

@@ -72,12 +72,17 @@ def run_arm(name: str, n: int, ticks: int, seed: int, detail: bool = False) -> d
     }
 
 
-def totals(arms=ARMS, n: int = 20, seconds: float = 5.0, seed: int = 0) -> Counter[str]:
+def totals(
+    arms=ARMS, n: int = 20, seconds: float = 5.0, seed: int = 0, each=None, detail: bool = False
+) -> Counter[str]:
     """The counts summed over ``arms``: targets, reached, stalled_on_way, moving, and
-    ``last STATUS`` for each last status of a target not reached."""
+    ``last STATUS`` for each last status of a target not reached; ``each(row)`` is called
+    with each arm's ``run_arm`` row as it is measured."""
     total: Counter[str] = Counter()
     for name in arms:
-        row = run_arm(name, n, round(seconds / DT), seed)
+        row = run_arm(name, n, round(seconds / DT), seed, detail)
+        if each is not None:
+            each(row)
         total.update(
             targets=row["n"],
             reached=row["reached"],
@@ -106,21 +111,15 @@ def main() -> None:
         "arm | reached | stalled tick on the way | not reached, by last status | error (m) "
         "| sigma | still moving"
     )
-    total: Counter[str] = Counter()
-    for name in args.arms:
-        row = run_arm(name, args.n, ticks, args.seed, args.detail)
+
+    def show(row: dict) -> None:
         rest = ", ".join(f"{k} {v}" for k, v in sorted(row["last"].items())) or "-"
         print(
-            f"{name} | {row['reached']}/{row['n']} | {row['stalled_on_way']} | {rest} | "
+            f"{row['arm']} | {row['reached']}/{row['n']} | {row['stalled_on_way']} | {rest} | "
             f"{span(row['errors'])} | {span(row['sigmas'])} | {row['moving']}"
         )
-        total.update(
-            targets=row["n"],
-            reached=row["reached"],
-            stalled_on_way=row["stalled_on_way"],
-            moving=row["moving"],
-        )
-        total.update({f"last {k}": v for k, v in row["last"].items()})
+
+    total = totals(args.arms, args.n, args.seconds, args.seed, show, args.detail)
     print("total: " + ", ".join(f"{k} {v}" for k, v in total.items()))
 
 

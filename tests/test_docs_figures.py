@@ -1,6 +1,9 @@
 """Counts the docs state are what the benchmark script named beside them prints: the
-scripts are seeded and their counts use no clock, so a count that moves with the code
-moves the test (the docs are updated with the script's new output)."""
+scripts are seeded, so a count that moves with the code moves the test (the docs are
+updated with the script's new output). Their counts use no clock but for
+``benchmarks/global_paths.py``'s: its xArm7 paths are solved numerically (dls) under the
+default CPU ``timeout`` (0.05 s per solve, no ``iteration_budget``), so a solve near its
+timeout may end otherwise on a machine loaded enough to slow it that far."""
 
 from __future__ import annotations
 

@@ -189,8 +189,8 @@ def test_an_arm_without_collision_geometry_says_so():
 
 
 def test_an_arm_whose_moving_links_have_no_geometry_says_so(tmp_path):
-    # geometry on the base alone: the upper link passed through the ball, "collision-free:
-    # closest no pair to check" a success
+    # geometry on the base alone: no pair a solve could keep apart, so a ball the upper
+    # link passes through is refused by name, not called collision-free
     base = '<link name="base"><collision><geometry><box size="0.2 0.2 0.1"/></geometry>'
     text = _BARE_BASE_URDF.replace('<link name="base"/>', base + "</collision></link>")
     for link in ("l1", "l2", "l3"):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import pickle
 
 import coal
 import numpy as np
@@ -108,7 +109,7 @@ def test_bad_collision_options_are_refused():
 
 
 def test_a_shape_s_plain_form_given_as_obstacles_is_named_as_such():
-    # a dict was read as its keys: "obstacles[0] is 'type', not a shape"
+    # a mapping is not read as its keys ("obstacles[0] is 'type', not a shape")
     ur5 = armik.load("ur5")
     T = ur5.fk(ur5.middle)
     plain = {"type": "sphere", "radius": 0.1, "center": [2, 2, 2]}
@@ -180,21 +181,26 @@ def _tetra(corner, size: float) -> list:
     return [(o, x, y), (o, y, z), (o, z, x), (x, y, z)]
 
 
-def test_a_mesh_file_written_again_is_measured_as_it_is_now(tmp_path):
-    # a scan's hull rewritten to one file: the new armik.Mesh is not the old one, so the
-    # arm's kept checker (one per scene) is not measured in its place
+def test_a_mesh_is_the_file_as_it_was_read(tmp_path):
+    # a scan's hull rewritten to one file: the new armik.Mesh is not the old one, and the
+    # old one keeps the shape it read, on the arm that measured it, on a new arm and in a
+    # copy pickled to a worker
     panda = armik.load("panda")
     q = panda.random_q(1, n=1)[0]
     elbow = panda.fk(q, "panda_link4").translation
     path = tmp_path / "scan.stl"
     far = armik.Mesh(_stl(path, _tetra((5.0, 5.0, 5.0), 0.1)))
-    assert panda.min_distance(q, [far])[0] > 5.0
+    before = panda.min_distance(q, [far])[0]
+    assert before > 5.0
     near = armik.Mesh(_stl(path, _tetra(elbow - 0.1, 0.3)))  # around the elbow now
     d, pair = panda.min_distance(q, [near])
     assert d < 0 and pair[1] == "obstacles[0] (Mesh)"
-    assert near != far and near.path == far.path
+    assert near != far and near.path == far.path and near.digest != far.digest
     r = panda.solve(panda.fk(q), q0=q, obstacles=[near], max_restarts=0)
-    assert not r.success or panda.min_distance(r.q, [near])[0] >= 0
-    # the file changed under a Mesh whose hull was never read: refused by name
-    with pytest.raises(armik.CollisionError, match="changed since this armik.Mesh was made"):
-        far.geometry()
+    assert r.status == "collision" and "obstacles[0] (Mesh)" in r.reason, r.reason
+    other = panda.with_limits({"panda_joint1": (-2.0, 2.0)})
+    copy = pickle.loads(pickle.dumps(far))
+    assert copy == far and np.array_equal(copy.vertices, far.vertices)
+    for arm, mesh in ((panda, far), (other, far), (panda, copy)):
+        assert arm.min_distance(q, [mesh])[0] == pytest.approx(before, abs=1e-12)
+    assert armik.Mesh(path) == near

@@ -233,13 +233,17 @@ class HalfSpace(Shape):
 @dataclass(frozen=True, init=False)
 class Mesh(Shape):
     """The convex hull of the mesh file at ``path`` (STL, OBJ, DAE, ... as coal's loader
-    reads them), scaled by ``scale`` and placed at ``pose``: the file as it is when the
-    ``Mesh`` is made (``digest``, its bytes' SHA-256, tells two versions of one file apart)."""
+    reads them), scaled by ``scale`` and placed at ``pose``: the file as it was when the
+    ``Mesh`` was made. Its vertices are read then and kept (``vertices``, m, scaled; they
+    go with a pickled ``Mesh`` to worker processes), so the file written again later changes
+    nothing of this ``Mesh``: make ``armik.Mesh(path)`` again for the file as it is then.
+    ``digest``, the vertices' SHA-256, tells two versions of one file apart."""
 
     path: str
     pose: tuple[float, ...]
     scale: float
     digest: str = field(repr=False)
+    vertices: np.ndarray = field(repr=False, compare=False)  # (m, 3), read-only
 
     def __init__(self, path, pose=None, scale=1.0) -> None:
         if not isinstance(path, (str, Path)) or not Path(path).is_file():
@@ -251,28 +255,14 @@ class Mesh(Shape):
         object.__setattr__(self, "path", str(Path(path).resolve()))
         object.__setattr__(self, "pose", _pose("Mesh", pose))
         object.__setattr__(self, "scale", _length("Mesh", "scale", scale, unit="a factor"))
-        object.__setattr__(self, "digest", self._digest())
-        self._read()  # a file coal cannot read, or no solid, refused here
+        vertices = self._read()  # a file coal cannot read, or no solid, refused here
+        vertices.setflags(write=False)
+        object.__setattr__(self, "vertices", vertices)
+        object.__setattr__(self, "digest", hashlib.sha256(vertices.tobytes()).hexdigest())
 
-    def _digest(self) -> str:
-        try:
-            return hashlib.sha256(Path(self.path).read_bytes()).hexdigest()
-        except OSError as exc:
-            raise CollisionError(
-                f"Mesh {self.path!r} could not be read ({exc.strerror}): give a mesh file "
-                "armik may read",
-                value=self.path,
-            ) from None
-
-    def _read(self) -> coal.BVHModelBase:
-        """The file's triangles, scaled; ``CollisionError`` where coal cannot read them or
-        they are no solid (``solid``), or the file changed since the ``Mesh`` was made."""
-        if self._digest() != self.digest:  # a checker kept for this Mesh holds the old one
-            raise CollisionError(
-                f"Mesh {self.path!r} changed since this armik.Mesh was made: make "
-                "armik.Mesh(path) again for the file as it is now",
-                value=self.path,
-            )
+    def _read(self) -> np.ndarray:
+        """The file's vertices, scaled; ``CollisionError`` where coal cannot read them or
+        they are no solid (``solid``)."""
         try:
             bvh = coal.MeshLoader().load(self.path, np.full(3, self.scale))
         except Exception as exc:  # coal's loader raises its own types
@@ -282,10 +272,14 @@ class Mesh(Shape):
                 value=self.path,
             ) from None
         solid(bvh, f"Mesh {self.path!r}", "give a mesh of a solid (a Box for a plate)")
-        return bvh
+        return np.array(bvh.vertices(), dtype=float).reshape(-1, 3)
 
     def geometry(self) -> coal.CollisionGeometry:
-        return convex_hull(self._read())
+        bvh = coal.BVHModelOBBRSS()  # the kept vertices: their hull is the mesh's
+        bvh.beginModel(0, len(self.vertices))
+        bvh.addVertices(np.array(self.vertices))
+        bvh.endModel()
+        return convex_hull(bvh)
 
 
 # the thinnest spread of a mesh's vertices, over their widest, that counts as a solid: coal's

@@ -1,7 +1,7 @@
 """A chain whose turning axes are all parallel (a planar arm, a SCARA) keeps the tip's
 height along them but for its slides: a target beyond those heights is refused by the
-numeric solvers at once as ``unreachable``, where they spent every restart and said
-``not_converged`` (``solvers/numeric/heights.py``); every height reached stays solvable."""
+numeric solvers at once as ``unreachable`` (``solvers/numeric/heights.py``); every height
+reached stays solvable."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import pytest
 
 import armik
 from armik.options import Options
-from armik.solvers.numeric import heights
+from armik.solvers.numeric import heights, orientations
 
 from .test_orientations import SCARA
 
@@ -111,3 +111,25 @@ def test_a_height_within_the_tolerance_is_not_refused():
     p[2] = h.high + 2 * opts.tol_position
     assert heights.refused(arm.kinematics, p, opts) is not None
     assert heights.refused(arm.kinematics, np.array([np.nan, 0.0, 1.0]), opts) is None
+
+
+def test_axes_parallel_to_rounding_have_heights():
+    """A SCARA whose second joint is turned by pi about x (``rpy="3.14159..."``) with its
+    axis reversed, its axes parallel to 5e-16 rad: its heights hold every height reached,
+    and a target 0.1 m above them is ``unreachable`` with no iteration."""
+    flip = SCARA.replace('rpy="TILT 0 0"', 'rpy="3.141592653589793 0 0"')
+    flip = flip.replace(
+        '<child link="l2"/><axis xyz="0 0 1"/>', '<child link="l2"/><axis xyz="0 0 -1"/>'
+    )
+    arm = armik.load_string(flip)
+    assert 0.0 < orientations.FAMILY(arm.kinematics).slack <= heights.SLACK
+    h = heights.HEIGHTS(arm.kinematics)
+    assert h is not None
+    rng = np.random.default_rng(2)
+    got = [float(arm.fk(arm.random_q(rng)).translation @ h.axis) for _ in range(300)]
+    assert h.low <= min(got) and max(got) <= h.high
+    T = arm.fk(arm.middle)
+    target = T.translation + np.array(h.axis) * (h.high - float(T.translation @ h.axis) + 0.1)
+    r = arm.solve(target, solver="dls", seed=0)
+    assert r.status == "unreachable" and r.iterations == 0, r.reason
+    assert "0.1 m, along the axis its turning joints share" in r.reason

@@ -1,6 +1,5 @@
 """A target within what a structurally limited arm (a gantry, a SCARA, a planar arm) allows
-passes cheap measures and is never measured exactly (``solvers/numeric/structure.py``),
-where every solve on such an arm ran ``orientations.refused`` and ``slides.refused``; the
+passes cheap measures and is never measured exactly (``solvers/numeric/structure.py``); the
 cheap measures never pass a target the exact ones refuse, and a batch refuses the rows a
 loop of single solves refuses."""
 
@@ -59,15 +58,17 @@ def test_a_reachable_target_is_not_measured_exactly(monkeypatch, solver):
 
 
 def test_the_cheap_measures_never_pass_what_the_exact_ones_refuse():
-    """Rotations tilted and positions moved by every scale around the tolerances: where a
-    cheap measure passes one, the exact one does not refuse it; the cheap ones pass every
-    reached pose and fail a target well beyond."""
+    """Rotations tilted and positions moved by every scale around the tolerances, and
+    heights from the ends of the reached ones to three tolerances beyond: where a cheap
+    measure passes one, the exact one does not refuse it; the cheap ones pass every reached
+    pose and fail a target well beyond."""
     opts = Options()
     rng = np.random.default_rng(0)
     for name, arm in _arms().items():
         kin = arm.kinematics
         family = orientations.FAMILY(kin)
         near = slides.NEAR(kin)
+        above = heights.HEIGHTS(kin)
         poses = [arm.fk(arm.random_q(rng)) for _ in range(20)]
         R = np.array([T.rotation for T in poses])
         P = np.array([T.translation for T in poses])
@@ -89,10 +90,30 @@ def test_the_cheap_measures_never_pass_what_the_exact_ones_refuse():
                     assert placed == slides.near_one(near, pt, opts.tol_position)
                     if placed:
                         assert slides.refused(kin, pt, opts) is None, (name, size)
+                if above is not None:
+                    _heights_agree(kin, above, pt, opts, (name, size))
+        if above is not None and np.isfinite([above.low, above.high]).all():
+            tol, axis = opts.tol_position, np.array(above.axis)
+            for f in 0.05 * np.arange(61) + 0.025:  # tolerances beyond, none at a bound
+                for end, sign in ((above.high, 1.0), (above.low, -1.0)):
+                    pt = P[0] + (end - float(P[0] @ axis) + sign * f * tol) * axis
+                    passed = _heights_agree(kin, above, pt, opts, (name, f))
+                    assert passed == (f < 0.5), (name, f)
+                    assert (heights.refused(kin, pt, opts) is None) == (f < 1.0), (name, f)
         far = poses[0].rotation @ pin.exp3(np.array([0.5, 0.0, 0.0]))
         assert family is None or not orientations.near(family, far[None], 1e-6)[0], name
         if near is not None:
             assert not slides.near(kin, P[:1] + 10.0, opts.tol_position)[0], name
+
+
+def _heights_agree(kin, above, pt, opts, what) -> bool:
+    """Whether ``pt``'s height passes the cheap measure (``heights.near``, and ``beyond``'s
+    plain floats agreeing), having checked that the exact one then does not refuse it."""
+    passed = heights.near(kin, pt[None], opts.tol_position)[0]
+    assert passed == (heights.height(above, pt) <= 0.5 * opts.tol_position), what
+    if passed:
+        assert heights.refused(kin, pt, opts) is None, what
+    return bool(passed)
 
 
 def test_a_batch_refuses_the_rows_single_solves_refuse():

@@ -8,14 +8,19 @@ values, ``h0 + c . q`` (a mimic follower adds its multiplier times its driver's 
 offset), and within the limits it spans ``[low, high]`` (infinite where a slide along the
 axis has no limit). A target's height beyond them by more than ``tol_position`` is beyond
 every configuration, the joint limits of mimic followers apart (they only shrink the set):
-the numeric solvers answer ``unreachable`` without an iteration, where the descent spent
-every restart on it and said ``not_converged``. Read only where the axes are exactly
-parallel (``orientations.Family.slack`` 0, as a URDF's axes along one direction give); the
-heights are found by the kernel's FK (``kernel.fk_many``) at q = 0 and one slide moved.
+the numeric solvers answer ``unreachable`` without an iteration. Read only where the axes
+are parallel to rounding (``orientations.Family.slack`` at most ``SLACK`` rad, as a URDF's
+axes along one direction give, a joint turned by ``rpy="3.14159265 0 0"`` with its axis
+reversed among them): a turn about an axis ``eps`` off ``a`` moves a point at most ``2 eps``
+times its distance from the joint, so the heights are widened by the slack times the
+chain's reach (``ArmModel.reach``, which bounds every such distance). The heights are found
+by the kernel's FK (``kernel.fk_many``) at q = 0 and one slide moved, where every turning
+joint is at 0 and the axes' slack moves nothing.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import NamedTuple
 
 import numpy as np
@@ -29,6 +34,7 @@ from armik.problem.settings import SolverSettings
 from armik.solvers.numeric import orientations
 
 MARGIN = 1e-9  # m, and that much per metre of the problem's size: rounding
+SLACK = 1e-12  # rad: the most ``orientations.Family.slack`` of axes read as parallel
 
 
 class Heights(NamedTuple):
@@ -42,7 +48,7 @@ class Heights(NamedTuple):
 
 def _heights(arm: ArmModel) -> Heights | None:
     family = orientations.FAMILY(arm)
-    if family is None or family.axis is None or family.slack != 0.0:
+    if family is None or family.axis is None or family.slack > SLACK:
         return None
     ch = arm.kernel_chain.chain
     n = len(ch.kind)
@@ -58,6 +64,8 @@ def _heights(arm: ArmModel) -> Heights | None:
     ends[:, c == 0.0] = 0.0
     low = float(h[0] + ends.min(axis=0).sum())
     high = float(h[0] + ends.max(axis=0).sum())
+    if family.slack > 0.0:  # the turns about axes a little off ``a``
+        low, high = low - family.slack * ch.reach, high + family.slack * ch.reach
     a = tuple(family.axis.tolist())
     return Heights(a, low, high, float(np.abs(h).max()))  # type: ignore[arg-type]
 
@@ -65,7 +73,7 @@ def _heights(arm: ArmModel) -> Heights | None:
 HEIGHTS: Derived[Heights | None] = Derived("heights along parallel axes", _heights)
 
 
-def height(heights: Heights, p_t) -> float:
+def height(heights: Heights, p_t: np.ndarray | Sequence[float]) -> float:
     """How far (m) the position ``p_t`` (base frame) is beyond the heights, 0 within."""
     x, y, z = p_t.tolist() if isinstance(p_t, np.ndarray) else p_t
     ax, ay, az = heights.axis

@@ -17,9 +17,8 @@ origin, and the tip is at most ``wrist`` from it (the fixed distances between th
 origins after it and the tip, summed): the distance to the box's image less ``wrist`` bounds
 the distance to every position the tip reaches. Beyond ``tol_position`` no configuration
 passes the verdict, the joint limits of mimic followers apart (they only shrink the set):
-the numeric solvers then answer ``unreachable`` without an iteration, where the reach bound
-(infinite with an unlimited rail) did not refuse it and the descent spent every restart on
-it.
+the numeric solvers then answer ``unreachable`` without an iteration, also where the reach
+bound (infinite with an unlimited rail) does not refuse it.
 """
 
 from __future__ import annotations

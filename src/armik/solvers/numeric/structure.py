@@ -31,7 +31,9 @@ def _bounded(arm: ArmModel) -> bool:
 BOUNDED: Derived[bool] = Derived("a structure that bounds the targets", _bounded)
 
 
-def beyond(arm: ArmModel, R_t, p_t, opts: SolverSettings, sf) -> str | None:
+def beyond(
+    arm: ArmModel, R_t: np.ndarray | None, p_t: np.ndarray, opts: SolverSettings, sf: np.ndarray
+) -> str | None:
     """Why a target measured plainly is beyond what ``arm``'s structure allows (an arm
     ``BOUNDED``): its rotation ``R_t`` (None: not measured)
     beyond the tip's (``orientations.refused``), or its position ``p_t`` beyond a gantry's
@@ -53,7 +55,9 @@ def beyond(arm: ArmModel, R_t, p_t, opts: SolverSettings, sf) -> str | None:
     return _exactly(arm, R_t, p_t, opts, sf, turned, placed)
 
 
-def refusals(arm: ArmModel, R_t, p_t, opts: SolverSettings, sf) -> dict[int, str]:
+def refusals(
+    arm: ArmModel, R_t: np.ndarray | None, p_t: np.ndarray, opts: SolverSettings, sf: np.ndarray
+) -> dict[int, str]:
     """{row: why} of a batch's targets (rotations ``R_t``, None: not measured; positions
     ``p_t``) that ``beyond`` refuses: the cheap measures over every row at once, then each
     row they do not pass alone."""
@@ -67,7 +71,9 @@ def refusals(arm: ArmModel, R_t, p_t, opts: SolverSettings, sf) -> dict[int, str
     return found
 
 
-def _passed(arm: ArmModel, R_t, P, opts: SolverSettings) -> tuple[np.ndarray, np.ndarray]:
+def _passed(
+    arm: ArmModel, R_t: np.ndarray | None, P: np.ndarray, opts: SolverSettings
+) -> tuple[np.ndarray, np.ndarray]:
     """Where the rows' rotations (``R_t``, (m, 3, 3); None: not measured, every row) and
     positions (``P``, (m, 3)) pass the cheap measures."""
     every = np.ones(len(P), dtype=bool)
@@ -84,7 +90,15 @@ def _passed(arm: ArmModel, R_t, P, opts: SolverSettings) -> tuple[np.ndarray, np
 _UNBUILT = object()  # an arm's ``heights.HEIGHTS`` not built yet (read as a dict: no call)
 
 
-def _exactly(arm: ArmModel, R_t, p_t, opts, sf, turned: bool, placed: bool) -> str | None:
+def _exactly(
+    arm: ArmModel,
+    R_t: np.ndarray | None,
+    p_t: np.ndarray,
+    opts: SolverSettings,
+    sf: np.ndarray,
+    turned: bool,
+    placed: bool,
+) -> str | None:
     """``beyond``, the measures passed (``turned``: the rotation's, ``placed``: the
     position's) skipped."""
     why = None
