@@ -127,3 +127,23 @@ def test_bundled_meshes_are_found():
     body, caught = _body(model("panda"))
     assert body.kind == "meshes" and caught == []
     assert {"panda_link0", "panda_link7", "panda_hand"} <= {p.link for p in body.parts}
+
+
+def test_a_mesh_obstacle_is_drawn_as_the_hull_its_collisions_measure(tmp_path):
+    """The viewer draws an ``armik.Mesh`` from the vertices it kept when it was made, as
+    its collisions measure it, not from its file as it is now."""
+    from armik.view.scenery import draw_obstacle
+
+    from ..constraints.test_shapes import _stl, _tetra
+
+    path = tmp_path / "scan.stl"
+    mesh = armik.Mesh(_stl(path, _tetra((2.0, 2.0, 2.0), 0.1)))
+    _stl(path, _tetra((3.0, 2.0, 2.0), 0.1))  # the file written again
+
+    class Scene:
+        def add_mesh_simple(self, name, vertices, faces, **kw):
+            self.vertices = np.asarray(vertices)
+
+    scene = Scene()
+    draw_obstacle(scene, "/obstacle", mesh)
+    assert np.allclose(np.sort(scene.vertices, axis=0), np.sort(mesh.vertices, axis=0))

@@ -57,7 +57,7 @@ def draw_obstacle(scene, name: str, shape: Shape) -> None:
             wxyz, position = wxyz_position(T)
         else:
             assert isinstance(shape, Mesh)
-            mesh = trimesh.load(shape.path, force="mesh")
-            mesh.apply_scale(shape.scale)
+            # the hull of the vertices kept when it was made: what its collisions measure
+            mesh = trimesh.convex.convex_hull(np.array(shape.vertices))
         scene.add_mesh_simple(name, mesh.vertices, mesh.faces, color=OBSTACLE, opacity=0.6,
                               wxyz=wxyz, position=position)  # fmt: skip
