@@ -268,11 +268,13 @@ _TOGETHER = (("dls", "qp", "batch", "hold", "path"),)
 # general 6R moved over, last, where the closed forms' checks are in the cache; then,
 # with the FK called instead of inlined, 52 s against 57.5, and the SRS arm moved over;
 # then the servo's settling grew its half by 4 s and the UR5's general 6R went back, last:
-# `armik compile --all` 57.5-57.8 s against 58.6-62). Each
+# `armik compile --all` 57.5-57.8 s against 58.6-62; then, with a callee's module
+# optimised in its callers only (``kernel.linked``), the numeric half 48.4 s against 57.2,
+# and the task solver moved over, after dls, whose region rows and linear algebra it
+# finds in memory: 50.4 against 52.7, 53.9 s of wall time against 58.4). Each
 # list's order puts first what the other half needs too and last what
-# needs the other half's code, which is then loaded from the cache: dls's region rows
-# and linear algebra before the tasks', swept's held target before hold, the closed
-# forms' kernels before batch.
+# needs the other half's code, which is then loaded from the cache: swept's held target
+# before hold, the closed forms' kernels before batch.
 _HALVES = (
     (
         "dls",
@@ -285,6 +287,7 @@ _HALVES = (
         "collisions",
         "fk_batch",
         "batch",
+        "tasks",
         "srs",
     ),
     (
@@ -296,7 +299,6 @@ _HALVES = (
         "search_1d",
         "elimination_6r",
         "hold",
-        "tasks",
         "general_6r",
     ),
 )

@@ -233,3 +233,30 @@ def test_compiled_functions_make_no_c_callback_wrapper():
                         if not options.get("no_cfunc_wrapper"):
                             wrapped.append(f"{module.__name__}.{name}")
     assert wrapped == []
+
+
+ONE_PART = textwrap.dedent(
+    """
+    import sys
+    from armik import precompile
+    from armik.kernel import fk
+    precompile.PARTS[sys.argv[1]]()
+    print(len(fk.forward.signatures), len(fk.jacobian_local.signatures))
+    """
+)
+
+
+def test_the_task_solver_compiles_the_fk_once(tmp_path):
+    # a frame's placement in another's (``task_rows._in_reference``) is written to a
+    # C-ordered rotation as every other caller's: a strided one compiled the FK and its
+    # Jacobian a second time, in every process that compiles the task solver
+    environ = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path), "ARMIK_COMPILE_HELPER": "0"}
+    environ["PYTHONPATH"] = os.pathsep.join(sys.path)
+    done = subprocess.run(
+        [sys.executable, "-c", ONE_PART, "tasks"],
+        env=environ,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert done.stdout.split() == ["1", "1"]

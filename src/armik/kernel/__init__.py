@@ -18,6 +18,8 @@ that no cached caller keeps a callee's old code.
 - ``notice``: the line on stderr while a first call compiles.
 - ``loop_idiom``: LLVM's loop-idiom pass off while armik's code compiles (most of the
   compile time of the 6R closed forms).
+- ``linked``: a function never called from Python optimised in its callers' modules only
+  (LLVM's module passes once per entry, not once per compiled function above the code).
 
 The solve (``descent.solve_one_dls``, ``solve_one_qp``) and the functions its loop calls are
 compiled with ``_nrt=False``: without numba's reference counting, whose atomic increments
@@ -44,5 +46,8 @@ warnings.filterwarnings(
     "ignore", message="Code running in object mode won't allow parallel", category=NumbaWarning
 )
 
-# the compile notice, and LLVM's loop-idiom pass off while armik's code compiles
-from armik.kernel import loop_idiom, notice  # noqa: E402, F401
+# the compile notice, LLVM's loop-idiom pass off while armik's code compiles, and a module
+# of a function never called from Python optimised in its callers only
+from armik.kernel import linked, loop_idiom, notice  # noqa: E402, F401
+
+linked.install()

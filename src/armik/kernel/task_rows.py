@@ -51,7 +51,10 @@ def _in_reference(ch, other, ws, kept):
     J_other`` (``armik.Relative``'s)."""
     n = ws.J.shape[1]
     q, geo = ws.q[0], ws.geo
-    R_f, p_f, J_f = kept[0:3, 0:3], kept[3, 0:3], kept[4:10]
+    # R_f C-ordered (rows 0-2 of kept read as one 3x3): ``forward`` and ``jacobian_local``
+    # compile once, for the C-ordered rotation every other caller passes
+    R_f = kept[0:3].reshape(-1)[0:9].reshape((3, 3))
+    p_f, J_f = kept[3, 0:3], kept[4:10]
     forward(ch, q, R_f, p_f, geo[0], geo[1])
     jacobian_local(ch, R_f, p_f, geo[0], geo[1], J_f)
     R, p, J = ws.m3[0], ws.v3[0], ws.J
