@@ -259,22 +259,12 @@ _COST = {
 _TOGETHER = (("dls", "qp", "batch", "hold", "path"),)
 # On two processes (two cores, the common case), every part in one of two lists: the split
 # whose longer half compiles least, from each part's compiled functions and their compile
-# times measured alone on an empty cache (2026-12-06; each half ~54 % of the parts' CPU
-# time, against ~61 % for the longer process of ``_TOGETHER`` and the parts shared out
-# one by one), then evened out on `armik compile --all`'s two processes (2026-12-06: the
-# closed forms' half took 84 s of CPU, the other 76; the locked Panda's spherical shoulder
-# and the batch FK moved over, the shoulder after swept, whose spherical wrist code it
-# shares; 2026-12-07, with one numeric entry a step: 57 s against 61, and the UR5's
-# general 6R moved over, last, where the closed forms' checks are in the cache; then,
-# with the FK called instead of inlined, 52 s against 57.5, and the SRS arm moved over;
-# then the servo's settling grew its half by 4 s and the UR5's general 6R went back, last:
-# `armik compile --all` 57.5-57.8 s against 58.6-62; then, with a callee's module
-# optimised in its callers only (``kernel.linked``), the numeric half 48.4 s against 57.2,
-# and the task solver moved over, after dls, whose region rows and linear algebra it
-# finds in memory: 50.4 against 52.7, 53.9 s of wall time against 58.4). Each
-# list's order puts first what the other half needs too and last what
-# needs the other half's code, which is then loaded from the cache: swept's held target
-# before hold, the closed forms' kernels before batch.
+# times measured alone on an empty cache, evened out on `armik compile --all`'s two
+# processes (2026-12-07: 50.4 and 52.7 s of CPU, 53.9 s of wall time; how it got there:
+# docs/compile-time.md). Each list's order puts first what the other half needs too and
+# last what needs the other half's code, which is then loaded from the cache: swept's held
+# target before hold, the closed forms' kernels before batch, the task solver after dls,
+# whose region rows and linear algebra it finds in memory.
 _HALVES = (
     (
         "dls",

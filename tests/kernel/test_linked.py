@@ -1,6 +1,6 @@
 """A function never called from Python (``no_cpython_wrapper``) is linked into its callers,
 whose module passes optimise it (``armik.kernel.linked``): its own module is not optimised
-whole a second time, and the caller's answers are the same."""
+whole a second time, and the caller still solves its system to 1e-12."""
 
 from __future__ import annotations
 

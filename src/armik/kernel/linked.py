@@ -22,7 +22,7 @@ class _Compiling(event.Listener):
     """The dispatchers compiling, innermost last."""
 
     def __init__(self) -> None:
-        self.stack: list = []
+        self.stack: list[object] = []
 
     def on_start(self, ev: event.Event) -> None:
         self.stack.append(ev.data.get("dispatcher") if isinstance(ev.data, dict) else None)
@@ -38,7 +38,7 @@ event.register("numba:compile", COMPILING)
 _WHOLE = codegen.CPUCodeLibrary._optimize_final_module
 
 
-def linked_only(dispatcher) -> bool:
+def linked_only(dispatcher: object) -> bool:
     """Whether ``dispatcher`` is an armik function never called from Python."""
     module = getattr(getattr(dispatcher, "py_func", None), "__module__", "") or ""
     if not (module == "armik" or module.startswith("armik.")):

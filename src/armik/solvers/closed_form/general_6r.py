@@ -376,8 +376,7 @@ def rank_lost(arm: ArmModel, found: Answers) -> Answers:
     """``found`` with each claimed row where the Jacobian loses a rank (smallest singular
     value below ``RANK_LOST`` of the largest) flagged singular and said so: the target
     then has a family of solutions (the Panda's axes 1 and 3 in line with a joint held),
-    of which the search's grid gives samples, where they were listed as so many separate
-    solutions, none flagged."""
+    of which the search's grid gives samples."""
     flags = np.zeros(len(found), np.bool_) if found.singular is None else found.singular.copy()
     said = [found.reason(i) for i in range(len(found))]
     lost = False

@@ -230,8 +230,8 @@ def _farther(out: np.ndarray, q0: np.ndarray) -> bool:
 def _answers(rows: np.ndarray, Q: np.ndarray, arm: ArmModel) -> Answers:
     """The answers of the kernel's rows, in their order, q the rows of ``Q`` (a joint up to
     ``sixr.SNAP`` past a limit put on it, in place: the elbow's acos near the fold loses
-    digits, so a target made on a limit there came back 1.1e-11 rad past it and was failed
-    as joint_limits; the FK check measures the move, 1e-7 m per metre of reach at most)."""
+    digits, so a configuration on a limit there comes back up to ~1e-11 rad past it; the
+    FK check measures the move, 1e-7 m per metre of reach at most)."""
     np.clip(
         Q,
         np.where(Q >= arm.lower - SNAP, arm.lower, Q),
