@@ -106,3 +106,17 @@ def test_over_shared_joints_a_task_on_such_a_frame_is_refused_by_name(tmp_path):
     ft = robot.fk(q, frame="ft").translation
     with pytest.raises(armik.TargetError, match="'ft' is turned by a mimic joint.*chain\\('c'\\)"):
         robot.solve([armik.Position(ft, frame="ft"), armik.Position(d, frame="d")], seed=0)
+
+
+def test_the_frame_placed_in_one_pass_is_where_fk_and_the_jacobian_put_it(arm):
+    """The task solver's one pass (``mimic_frames.placed``) gives the frame's placement and
+    Jacobian that ``Arm.fk`` and ``Arm.jacobian`` give, and the Jacobian is the slope."""
+    import pinocchio as pin
+
+    from armik.model import mimic_frames
+
+    fid = mimic_frames.full_frame(arm.kinematics, "ft")
+    for q in np.random.default_rng(0).uniform(-1.5, 1.5, (10, 2)):
+        T, J = mimic_frames.placed(arm.kinematics, q, fid, pin.LOCAL)
+        assert T.isApprox(arm.fk(q, frame="ft"), 1e-14)
+        assert np.allclose(J, arm.jacobian(q, frame="ft", reference="local"), atol=1e-14)

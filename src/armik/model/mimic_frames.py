@@ -119,6 +119,17 @@ def jacobian(arm: ArmModel, q: object, fid: int, kind: pin.ReferenceFrame) -> np
     return Jf.reshape(6, -1) @ _FOLD(arm)  # type: ignore[no-any-return]
 
 
+def placed(
+    arm: ArmModel, q: object, fid: int, kind: pin.ReferenceFrame
+) -> tuple[pin.SE3, np.ndarray]:
+    """(``placement``, ``jacobian``) of frame ``fid`` at q from one pass of the whole
+    model's kinematics (the task solver asks for both at every step)."""
+    full, data = arm.chain.full, _data(arm)
+    pin.computeJointJacobians(full, data, _full_q(arm, np.asarray(arm.check_q(q), dtype=float)))
+    T = arm.T_base_world * pin.updateFramePlacement(full, data, fid)
+    return T, pin.getFrameJacobian(full, data, fid, kind).reshape(6, -1) @ _FOLD(arm)
+
+
 def followed_objects(arm: ArmModel, geom: pin.GeometryModel) -> tuple:
     """(object index, whole-model joint id, placement in that joint) of each object of
     ``geom`` (on the whole model) that a follower (``followers``) moves."""

@@ -101,9 +101,8 @@ def _placed(arm: ArmModel, q: np.ndarray, ids) -> dict:
     pin.computeJointJacobians(model, data, arm.to_pin(q))
     placed, followed = {}, arm._derived.get(_FOLLOWED)
     for i in {i for frames in ids for i in frames}:
-        if followed and i in followed:
-            J = mimic_frames.jacobian(arm, q, followed[i], pin.LOCAL)
-            placed[i] = (mimic_frames.placement(arm, q, followed[i]), J)
+        if followed and i in followed:  # one pass of the whole model's kinematics
+            placed[i] = mimic_frames.placed(arm, q, followed[i], pin.LOCAL)
             continue
         T = arm.T_base_world * pin.updateFramePlacement(model, data, i)
         placed[i] = (T, pin.getFrameJacobian(model, data, i, pin.LOCAL).reshape(6, arm.dof))
