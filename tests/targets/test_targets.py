@@ -133,3 +133,28 @@ def test_two_vector_on_an_arm_with_a_mimic_or_prismatic_joint_says_why(third, wo
     text = str(info.value)
     assert words in text and "does not take" in text and "not planar" not in text
     assert "give a position (x, y, z)" in text
+
+
+@pytest.mark.parametrize("form", ["(N, 4, 4)", "(N, 7)", "(N, 3)"])
+def test_a_batch_position_beyond_reach_of_any_arm_is_refused_as_one_target_is(form):
+    """``parse_target`` refuses a position beyond ``MAX_POSITION`` (the error arithmetic
+    overflows); a batch's array forms hold each row to the same, naming the row."""
+    from armik.targets.batch import parse_targets
+    from armik.tolerances import MAX_POSITION
+
+    T = np.array([pin.SE3.Random().homogeneous for _ in range(3)])
+    T[1, 0, 3] = 10 * MAX_POSITION
+    with pytest.raises(TargetError, match="beyond"):
+        parse_target(T[1])
+    value = {
+        "(N, 4, 4)": T,
+        "(N, 7)": np.hstack([T[:, :3, 3], np.tile([0.0, 0.0, 0.0, 1.0], (3, 1))]),
+        "(N, 3)": T[:, :3, 3],
+    }[form]
+    with pytest.raises(TargetError, match=r"target 1: position .* is beyond 1e\+06 m"):
+        parse_targets(value)
+    if value.ndim == 3:  # at the bound: taken, as one target is
+        value[1, 0, 3] = MAX_POSITION
+    else:
+        value[1, 0] = MAX_POSITION
+    parse_targets(value)

@@ -12,12 +12,12 @@
 - a list or tuple of objects of a class with a registered spelling
   (``armik.targets.pose.register_spelling``), each read by it.
 
-Every target is checked as ``parse_target`` checks one (finite, rotation orthonormal with
-determinant +1, last row (0, 0, 0, 1), quaternion not zero) and an error names the index of
-the first bad target. Rotations within ``ROTATION_TOL`` of orthonormal are snapped onto the
-nearest rotation. To keep memory flat for millions of targets, a ``TargetBatch`` read from
-an array may share memory with it (positions and rotations as views): do not modify the
-array while it is being solved.
+Every target is checked as ``parse_target`` checks one (finite, its position within
+``MAX_POSITION``, rotation orthonormal with determinant +1, last row (0, 0, 0, 1),
+quaternion not zero) and an error names the index of the first bad target. Rotations within
+``ROTATION_TOL`` of orthonormal are snapped onto the nearest rotation. To keep memory flat
+for millions of targets, a ``TargetBatch`` read from an array may share memory with it
+(positions and rotations as views): do not modify the array while it is being solved.
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ import numpy as np
 from armik.errors import InputError, TargetError
 from armik.targets.aim import Aim
 from armik.targets.pose import SPELLINGS, Target, parse_target, spelling_of
-from armik.tolerances import LAST_ROW_TOL, ROTATION_TOL
+from armik.tolerances import LAST_ROW_TOL, MAX_POSITION, ROTATION_TOL
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
@@ -105,7 +105,10 @@ def parse_targets(value: object, arm: ArmModel | None = None) -> TargetBatch:
         if arr.ndim == 2 and arr.shape[1] == 7:
             return _from_rows7(arr)
         if arr.ndim == 2 and arr.shape[1] == 3:
-            return TargetBatch(_finite_rows(arr, "position"))
+            _finite_rows(arr, "position")
+            if (np.abs(arr) > MAX_POSITION).any():
+                _far(arr)
+            return TargetBatch(arr)
         if arr.shape in ((4, 4), (7,), (3,), (2,)):
             raise TargetError(
                 f"an array of shape {arr.shape} is one target: use Arm.solve, or give an "
@@ -154,6 +157,18 @@ def _finite_rows(arr: np.ndarray, what: str) -> np.ndarray:
     return arr
 
 
+def _far(p: np.ndarray) -> None:
+    """The ``TargetError`` of positions ``p`` (N, 3) not all within ``MAX_POSITION`` of the
+    base (``parse_target`` refuses one such), naming the first row beyond it."""
+    rows = (np.abs(p) > MAX_POSITION).any(axis=1)
+    i = int(np.flatnonzero(rows)[0])
+    raise TargetError(
+        f"target {i}: position {p[i].tolist()} is beyond {MAX_POSITION:g} m from the base "
+        f"({int(rows.sum())} such target(s)): give positions in metres (no arm reaches this "
+        "far, and the error arithmetic would overflow)"
+    )
+
+
 def _from_matrices(T: np.ndarray) -> TargetBatch:
     _finite_rows(T, "4x4 transform")
     last = np.abs(T[:, 3, :] - _LAST_ROW) > LAST_ROW_TOL
@@ -162,6 +177,8 @@ def _from_matrices(T: np.ndarray) -> TargetBatch:
         raise TargetError(
             f"target {i}: the last row of a 4x4 target must be (0, 0, 0, 1), got {T[i, 3].tolist()}"
         )
+    if (np.abs(T[:, :3, 3]) > MAX_POSITION).any():
+        _far(T[:, :3, 3])
     return TargetBatch(T[:, :3, 3], _rotations(T[:, :3, :3]))
 
 
@@ -238,6 +255,8 @@ def _from_rows7(rows: np.ndarray) -> TargetBatch:
     R[:, 2, 0] = 2 * (x * z - y * w)
     R[:, 2, 1] = 2 * (y * z + x * w)
     R[:, 2, 2] = 1 - 2 * (x * x + y * y)
+    if (np.abs(rows[:, :3]) > MAX_POSITION).any():
+        _far(rows[:, :3])
     return TargetBatch(rows[:, :3], R)
 
 
