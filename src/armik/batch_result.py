@@ -177,8 +177,8 @@ class BatchResult:
         if not math.isnan(apart[0]):  # the verdict measured apart: what it measured first
             pos, ori = apart[0], apart[1]
         tol_p, tol_r = self.tol_position, self.tol_orientation
-        if self.region:  # inside it for a success
-            measured = reasons.region(pos, ori, tol_p, tol_r, self.cone)
+        if self.region:  # inside it for a success; NaN: no orientation measured (a position)
+            measured = reasons.region(pos, None if ori != ori else ori, tol_p, tol_r, self.cone)
         else:
             measured = reasons.measured(pos, ori, tol_p, tol_r)
         said = self.claim.format(int(self.restarts[i])) if self.claim and self.success[i] else None

@@ -155,3 +155,19 @@ def test_the_task_solver_reports_the_distance_to_a_region_centre():
             seen += 1
             assert r.success and r.measured[0] == 0.0 and r.position_error > 0.0
     assert seen  # the route under test was taken
+
+
+def test_a_solved_batch_of_positions_in_a_box_says_inside_the_region_as_solve_does():
+    """A position target has no orientation to measure (NaN in a batch's arrays): a solved
+    row's reason says "inside the region", as ``solve``'s result for the same target."""
+    panda = arm("panda")
+    q0 = panda.random_q(np.random.default_rng(3))
+    p = panda.fk(q0).translation + (0.03, 0.0, 0.0)  # outside the box around q0's tip
+    options = dict(q0=q0, bounds=(0.01, 0.01, 0.01, 0.0, 0.0, 0.0))
+    one = panda.solve(p, **options)
+    many = panda.solve_batch([p, p], **options)
+    assert one.success and many.success.all(), (one.reason, many.summary())
+    assert not math.isnan(many.measured[0, 0])  # measured apart: the box's own measure
+    for i in range(2):
+        assert "inside the region" in many.reason(i) and many.reason(i) == one.reason
+        assert many[i].reason == one.reason
