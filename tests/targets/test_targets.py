@@ -158,3 +158,20 @@ def test_a_batch_position_beyond_reach_of_any_arm_is_refused_as_one_target_is(fo
     else:
         value[1, 0] = MAX_POSITION
     parse_targets(value)
+
+
+def test_a_spatialmath_quaternion_is_read_by_its_scalar_and_vector_parts():
+    """spatialmath's quaternions are (w, x, y, z) as arrays: ``(p, UnitQuaternion(R))`` is
+    the pose (p, R), a ``Quaternion`` of any norm too, and one holding several rotations is
+    refused as several poses are, not read as its first."""
+    sm = pytest.importorskip("spatialmath")
+    T = pin.SE3.Random()
+    unit = sm.UnitQuaternion(T.rotation)
+    for rotation in (unit, sm.Quaternion(3.0 * unit.A), sm.SO3(T.rotation)):
+        t = parse_target((T.translation, rotation))
+        np.testing.assert_allclose(t.rotation, T.rotation, atol=1e-12)
+    two = sm.UnitQuaternion([unit, sm.UnitQuaternion.Rx(0.3)])
+    with pytest.raises(TargetError, match="UnitQuaternion of 2 rotations"):
+        parse_target((T.translation, two))
+    with pytest.raises(TargetError, match="SO3 of 2 rotations"):
+        parse_target((T.translation, sm.SO3([sm.SO3.Rx(0.1), sm.SO3.Ry(0.2)])))

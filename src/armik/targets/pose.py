@@ -4,7 +4,9 @@ Accepted: a ``pinocchio.SE3``; a spatialmath ``SE3`` holding one pose; a 4x4 hom
 matrix; a 3-vector (position only); ``(position, quaternion)`` with the quaternion in
 (x, y, z, w) order as in Pinocchio and scipy (a non-unit quaternion is normalised), a
 ``pinocchio.Quaternion`` or ``pinocchio.AngleAxis``;
-``(position, 3x3 rotation matrix)``; ``(position, scipy Rotation)``; a 7-vector
+``(position, 3x3 rotation matrix)``; ``(position, scipy Rotation)``; ``(position,
+spatialmath SO3, UnitQuaternion or Quaternion)`` (a quaternion by its parts, scalar
+first as spatialmath holds it); a 7-vector
 (x, y, z, qx, qy, qz, qw); and on a planar arm a 2-vector (x, y) in the arm's plane (see
 ``armik.model.geometry.Plane``). Every target is expressed in the arm's base frame, in metres.
 A class of the user's own is read by the function registered for it
@@ -276,12 +278,17 @@ def _vector(value: object, n: int, what: str) -> np.ndarray:
 
 def _rotation(value: object) -> np.ndarray:
     """The rotation of ``(position, rotation)``: a quaternion (x, y, z, w), a 3x3 matrix,
-    a scipy ``Rotation`` holding one rotation, a ``pin.Quaternion`` or ``pin.AngleAxis``."""
-    if type(value).__module__.startswith("scipy.spatial") and hasattr(value, "as_matrix"):
+    a scipy ``Rotation`` holding one rotation, a ``pin.Quaternion`` or ``pin.AngleAxis``, a
+    spatialmath ``SO3``, ``UnitQuaternion`` or ``Quaternion`` holding one (read by its
+    scalar and vector parts: its array is (w, x, y, z))."""
+    module = type(value).__module__
+    if module.startswith("scipy.spatial") and hasattr(value, "as_matrix"):
         rotation: Any = value  # a scipy Rotation (scipy has no type information)
         if not getattr(rotation, "single", True):
             raise TargetError(_several(f"a scipy Rotation of {len(rotation)} rotations"))
         return np.asarray(rotation.as_matrix(), float)
+    if module.startswith("spatialmath") and hasattr(value, "A"):
+        return _spatialmath_rotation(value)
     if isinstance(value, pin.Quaternion):  # its coeffs() are (x, y, z, w)
         return _rotation_from_quat(value.coeffs())
     if isinstance(value, pin.AngleAxis):
@@ -295,6 +302,21 @@ def _rotation(value: object) -> np.ndarray:
         f"the rotation of (position, rotation) has shape {arr.shape}: give a quaternion "
         "of 4 numbers (x, y, z, w), a 3x3 rotation matrix or a scipy Rotation"
     )
+
+
+def _spatialmath_rotation(value: Any) -> np.ndarray:
+    """The rotation of a spatialmath object holding one: a quaternion by its scalar ``s``
+    and vector ``v`` (its array, and numpy's reading of it, is (w, x, y, z), not the
+    (x, y, z, w) a quaternion is read in here), else its array (an ``SO3``'s 3x3; other
+    shapes are refused by ``_rotation``)."""
+    n = len(value)
+    name = type(value).__name__
+    if n != 1:
+        raise TargetError(_several(f"a spatialmath {name} of {n} rotations"))
+    if hasattr(value, "s") and hasattr(value, "v"):  # (Unit)Quaternion: scalar first
+        x, y, z = _vector(value.v, 3, f"the vector part of spatialmath {name}").tolist()
+        return _rotation_from_quat((x, y, z, float(value.s)))
+    return _rotation(_array(value.A, "target rotation"))
 
 
 def _rotation_from_quat(quat: object) -> np.ndarray:
