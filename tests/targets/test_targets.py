@@ -175,3 +175,32 @@ def test_a_spatialmath_quaternion_is_read_by_its_scalar_and_vector_parts():
         parse_target((T.translation, two))
     with pytest.raises(TargetError, match="SO3 of 2 rotations"):
         parse_target((T.translation, sm.SO3([sm.SO3.Rx(0.1), sm.SO3.Ry(0.2)])))
+
+
+def test_a_target_built_by_hand_is_checked_as_its_parts():
+    """``armik.Target`` is public: one built with a position of 2 numbers was solved as if
+    it had 3 (a success, its third read past the array's end), a 2x2 rotation or a row of a
+    batch raised numpy's error. Its parts are checked as the parser checks them; plain
+    parts given as lists are read as arrays."""
+    import armik
+
+    from ..conftest import arm
+
+    ur5 = arm("ur5")
+    T = ur5.fk(ur5.random_q(np.random.default_rng(1)))
+    short = armik.Target(np.array([0.3, 0.2]))
+    flat = armik.Target(T.translation, np.eye(2))
+    for bad, words in ((short, "3 numbers"), (flat, r"shape \(2, 2\)")):
+        with pytest.raises(TargetError, match=words):
+            ur5.solve(bad)
+        with pytest.raises(TargetError, match="target 1: .*" + words):
+            ur5.solve_batch([T, bad])
+        with pytest.raises(TargetError, match=words):
+            parse_target(bad)
+    with pytest.raises(TargetError, match="target 0: .*determinant -1"):
+        ur5.solve_batch([armik.Target(T.translation, -T.rotation)])
+    listed = armik.Target(list(T.translation), T.rotation.tolist())
+    r = ur5.solve(listed)
+    assert r.success, r.reason
+    np.testing.assert_allclose(ur5.fk(r.q).translation, T.translation, atol=1e-9)
+    assert ur5.solve_batch([listed, T]).success.all()

@@ -48,7 +48,7 @@ from armik.solve.read_aim import (
 from armik.solve.tasks import SOLVER, lower_all, task_problems
 from armik.targets.aim import refuse_freed, refuse_without_direction
 from armik.targets.batch import parse_targets
-from armik.targets.pose import Target, parsed
+from armik.targets.pose import Target, checked, parsed
 
 
 def read(
@@ -112,6 +112,15 @@ def read(
         refuse_freed(freed, opts)
     if score is not None and problem is None:  # every answer ranked is to this target
         target = parsed(target, arm)
+    if type(target) is Target:  # one built by hand: its parts checked where not plain
+        p, R = target.position, target.rotation
+        if not (
+            type(p) is np.ndarray
+            and p.shape == _POINT
+            and p.dtype == _FLOAT
+            and (R is None or (type(R) is np.ndarray and R.shape == _MATRIX and R.dtype == _FLOAT))
+        ):
+            target = checked(target)
     if aim is None and type(target) is Target:  # a row of an aimed batch or path
         aim = target.aim
     if aim is not None:  # the target carries it; its plans are kept apart by its shape
@@ -481,5 +490,6 @@ def _seed(seed: object) -> int | None:
 
 
 _SE3 = pin.SE3
+_POINT, _MATRIX, _FLOAT = (3,), (3, 3), np.dtype(float)  # a Target's plain parts
 _new = tuple.__new__
 _DEFAULT = Options()  # frozen: shared by every call without options

@@ -92,7 +92,7 @@ def parse_by_tip(targets: Mapping[str, object], arms: Mapping[str, object]) -> d
 def _read(value: object, arm: object) -> Target:
     """``parse_target``'s reading of one value, which ``parse_by_tip`` shares."""
     if isinstance(value, Target):
-        return value
+        return checked(value)
     if isinstance(value, pin.SE3):
         return _se3(value)
     if SPELLINGS:  # an empty dict is false: the common forms pay nothing for the hook
@@ -128,6 +128,28 @@ def _read(value: object, arm: object) -> Target:
         f"cannot read a target of shape {arr.shape}: give a pinocchio.SE3, a 4x4 matrix, "
         "a position (x, y, z), (position, quaternion xyzw), or (x, y) on a planar arm"
     )
+
+
+def checked(t: Target) -> Target:
+    """A ``Target`` built by hand (``armik.Target(position, rotation)``) with its parts
+    checked and copied as ``parse_target`` checks a position and a rotation (a 3-vector
+    within ``MAX_POSITION``, a 3x3 rotation snapped within ``ROTATION_TOL``); its aim and
+    plane point kept. ``TargetError`` naming the part that is not."""
+    p = _vector(t.position, 3, "target position")
+    if t.rotation is None:
+        out = _target(_position(p), None)
+    else:
+        R = _array(t.rotation, "target rotation")
+        if R.shape != (3, 3):
+            raise TargetError(
+                f"the rotation of a Target has shape {R.shape}: give a 3x3 rotation matrix, "
+                "or build the target with armik.parse_target((position, rotation))"
+            )
+        out = _pose(R, p)
+    if t.planar_xy is None and t.aim is None:
+        return out
+    return frozen(Target, position=out.position, rotation=out.rotation,
+                  planar_xy=t.planar_xy, aim=t.aim)  # fmt: skip
 
 
 Spelling = Callable[[Any], object]  # the user's object -> a form ``parse_target`` reads
@@ -203,9 +225,7 @@ def _spelled(value: object, arm: object) -> Target | None:
             "class: give a Target, a pinocchio.SE3, a 4x4, (position, quaternion) or a position"
         )
     if isinstance(given, Target):  # built by the user: checked as its parts
-        if given.rotation is None:
-            return _target(_position(_vector(given.position, 3, "target position")), None)
-        return _pose(given.rotation, _vector(given.position, 3, "target position"))
+        return checked(given)
     try:
         return _read(given, arm)
     except TargetError as exc:
