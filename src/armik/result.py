@@ -131,7 +131,8 @@ class IKResult:
     def as_dict(self) -> dict[str, Any]:
         """Plain JSON-ready dictionary; with ``min_distance`` and ``closest_pair`` when
         collisions were checked, ``score`` with a preference, ``errors`` per tip with
-        several."""
+        several, ``measured`` (position, orientation) where the verdict measured other
+        than the distances (weights, a region)."""
         out = {
             "q": self.q.tolist(),
             "success": self.success,
@@ -153,6 +154,8 @@ class IKResult:
             out["score"] = self.score
         if self.errors is not None:
             out["errors"] = {tip: list(e) for tip, e in self.errors.items()}
+        if self.measured is not None:
+            out["measured"] = list(self.measured)
         return out
 
 

@@ -171,3 +171,17 @@ def test_a_solved_batch_of_positions_in_a_box_says_inside_the_region_as_solve_do
     for i in range(2):
         assert "inside the region" in many.reason(i) and many.reason(i) == one.reason
         assert many[i].reason == one.reason
+
+
+def test_the_plain_dictionary_of_a_result_keeps_what_its_verdict_measured():
+    """``as_dict`` (what ``--json`` prints) holds ``measured`` beside the distances where
+    the verdict measured apart, and no such key where it measured the distances."""
+    ur5 = arm("ur5")
+    T = _off(ur5, 4, (0.004, 0.0, 0.0))
+    boxed = ur5.solve(T, bounds=(0.01,) * 6)
+    weighted = ur5.solve(T, weights=(1, 1, 1, 1, 1, 0))
+    for r in (boxed, weighted, ur5.solve_batch([T, T], bounds=(0.01,) * 6)[1]):
+        assert r.success and r.measured is not None, r.reason
+        d = r.as_dict()
+        assert d["measured"] == list(r.measured) and d["position_error"] == r.position_error
+    assert "measured" not in ur5.solve(T).as_dict()
