@@ -132,3 +132,20 @@ def test_an_int_beyond_a_floats_range_is_an_armik_error_everywhere():
     for call in calls:
         with pytest.raises(armik.ArmikError):
             call()
+
+
+@pytest.mark.parametrize(
+    "options",
+    [{"position_only": np.array([1.0, 0.0])}, {"bounds": (0.1, 0.1, -1.0)}],
+    ids=["position_only array", "bounds of 3"],
+)
+def test_an_option_beside_a_task_list_is_named_before_the_tasks_read_it(ur5, options):
+    """An option given beside a task list the compiled path lowers was read against the
+    tasks before it was checked: numpy's "truth value of an array is ambiguous"."""
+    T = ur5.fk(ur5.middle)
+    tasks = [armik.Pose(T)]
+    name = next(iter(options))
+    with pytest.raises(armik.OptionError, match=name):
+        ur5.solve(tasks, **options)
+    with pytest.raises(armik.OptionError, match=name):
+        ur5.solve_batch([tasks, tasks], **options)

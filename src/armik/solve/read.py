@@ -73,7 +73,7 @@ def read(
     aim = None
     if "cone" in options or "look_at" in options or "toward" in options:
         aim, options = keyword_aim(options)
-    problem = None
+    problem = beside = None  # beside: (tasks, options) beside a lowered list, checked once read
     freed = None  # an aim task lowered to a pose (``task_aim``): refused what frees it
     kind = type(target)  # the common poses first: ``Task``'s isinstance is an ABC's check
     if (
@@ -88,8 +88,8 @@ def read(
             if lowered is not None and not (held and _held_apart(arm, options)):
                 target, said = lowered
                 check_said_twice(options, said)
-                if "position_only" in options or "bounds" in options:
-                    refuse_beside_tasks(problem, options)
+                if "position_only" in options or "bounds" in options:  # once read, below
+                    beside = (problem, options)
                 if aim is None and type(target) is not Target:  # an Axis exactly along
                     freed = task_aim(problem)
                 if aim is not None:  # a call only then: the lowered target's aim is read below
@@ -106,6 +106,8 @@ def read(
             held = problem is not None
             aim = aim if problem is None else None
     opts, key, seed = settings(arm, options) if options else (_DEFAULT, (), 0)
+    if beside is not None:  # after ``settings``, which names a value that is not one
+        refuse_beside_tasks(*beside)
     if problem is not None:
         check_options(opts, solver, held=held)
     if freed is not None:
@@ -157,6 +159,8 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     problems = task_problems(targets) if type(targets) in (list, tuple) else None
     lowered = None
     if problems is not None:
+        if "position_only" in options or "bounds" in options:  # read before the tasks see them
+            settings(arm, {k: v for k, v in options.items() if k != "prefer"})
         lowered = lower_all(problems, options, arm.tip)
         if lowered is None:  # no compiled form: the task solver, target by target
             if aim is not None:
