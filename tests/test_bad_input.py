@@ -149,3 +149,5 @@ def test_an_option_beside_a_task_list_is_named_before_the_tasks_read_it(ur5, opt
         ur5.solve(tasks, **options)
     with pytest.raises(armik.OptionError, match=name):
         ur5.solve_batch([tasks, tasks], **options)
+    with pytest.raises(armik.OptionError, match=name):
+        ur5.solve_path([tasks, tasks], ur5.middle, **options)

@@ -159,8 +159,7 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     problems = task_problems(targets) if type(targets) in (list, tuple) else None
     lowered = None
     if problems is not None:
-        if "position_only" in options or "bounds" in options:  # read before the tasks see them
-            settings(arm, {k: v for k, v in options.items() if k != "prefer"})
+        settings(arm, {k: v for k, v in options.items() if k != "prefer"})  # before the tasks
         lowered = lower_all(problems, options, arm.tip)
         if lowered is None:  # no compiled form: the task solver, target by target
             if aim is not None:
@@ -225,6 +224,7 @@ def read_path(
         aim, options = keyword_aim(options)
     problems = task_problems(poses)
     if problems is not None:
+        settings(arm, options)  # its values named before the tasks read them
         lowered = lower_all(problems, options, arm.tip)
         if lowered is None and aim is not None:
             raise OptionError(AIM_OF_TASKS, option=AIM_NAMES[0], value=aim)
