@@ -204,3 +204,21 @@ def test_a_target_built_by_hand_is_checked_as_its_parts():
     assert r.success, r.reason
     np.testing.assert_allclose(ur5.fk(r.q).translation, T.translation, atol=1e-9)
     assert ur5.solve_batch([listed, T]).success.all()
+
+
+def test_a_rotation_alone_or_tasks_among_poses_are_named_as_such():
+    """A rotation without a position, or a row of tasks in a batch of poses, was refused
+    as "not numeric"; the refusal says what it is and what to give."""
+    from scipy.spatial.transform import Rotation
+
+    import armik
+
+    from ..conftest import arm
+
+    for rotation in (pin.Quaternion(1, 0, 0, 0), Rotation.from_rotvec([0, 0, 0.1])):
+        with pytest.raises(TargetError, match="a rotation without a position"):
+            parse_target(rotation)
+    ur5 = arm("ur5")
+    T = ur5.fk(ur5.middle)
+    with pytest.raises(TargetError, match="target 1: .* is a list of tasks where a pose"):
+        ur5.solve_batch([T, [armik.Position(T.translation)]])

@@ -113,7 +113,11 @@ def _read(value: object, arm: object) -> Target:
     if isinstance(value, (tuple, list)) and len(value) == 2 and not np.isscalar(value[0]):
         position, rotation = value
         return _pose(_rotation(rotation), _vector(position, 3, "target position"))
-    arr = _array(value, "target")
+    try:
+        arr = _array(value, "target")
+    except TargetError:
+        _not_a_pose(value)  # a rotation alone, tasks among poses: said as such
+        raise
     if (arr.ndim == 3 and arr.shape[1:] == (4, 4)) or (arr.ndim == 2 and arr.shape[1] in (3, 7)):
         raise TargetError(_several(f"an array of shape {arr.shape}"))
     if arr.shape == (4, 4):
@@ -230,6 +234,27 @@ def _spelled(value: object, arm: object) -> Target | None:
         return _read(given, arm)
     except TargetError as exc:
         raise TargetError(f"the target spelling of {name} gave {given!r}: {exc}") from None
+
+
+def _not_a_pose(value: object) -> None:
+    """A ``TargetError`` saying what ``value`` is where it is a rotation without a position
+    or a list of tasks (``armik.Pose``, ...) read where poses are (a batch's row among
+    poses); else nothing (the caller's error stands)."""
+    if isinstance(value, (pin.Quaternion, pin.AngleAxis)) or (
+        type(value).__module__.startswith("scipy.spatial") and hasattr(value, "as_matrix")
+    ):
+        raise TargetError(
+            f"target {_one_line(value)} is a rotation without a position: give (position, "
+            "rotation), e.g. ((x, y, z), rotation)"
+        ) from None
+    listed = isinstance(value, (list, tuple))
+    items: tuple | list = value if isinstance(value, (list, tuple)) else (value,)
+    if items and all(type(v).__module__.startswith("armik.problem.tasks") for v in items):
+        what = "a list of tasks" if listed else "a task"
+        raise TargetError(
+            f"target {_one_line(value)} is {what} where a pose is read: give every target "
+            "of a batch or a path as tasks, or every one as a pose or a position"
+        ) from None
 
 
 def _several(what: str) -> str:
