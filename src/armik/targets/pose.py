@@ -248,7 +248,7 @@ def _not_a_pose(value: object) -> None:
             "rotation), e.g. ((x, y, z), rotation)"
         ) from None
     listed = isinstance(value, (list, tuple))
-    items: tuple | list = value if isinstance(value, (list, tuple)) else (value,)
+    items: tuple[Any, ...] | list[Any] = value if isinstance(value, (list, tuple)) else (value,)
     if items and all(type(v).__module__.startswith("armik.problem.tasks") for v in items):
         what = "a list of tasks" if listed else "a task"
         raise TargetError(
