@@ -190,7 +190,8 @@ def test_a_target_built_by_hand_is_checked_as_its_parts():
     T = ur5.fk(ur5.random_q(np.random.default_rng(1)))
     short = armik.Target(np.array([0.3, 0.2]))
     flat = armik.Target(T.translation, np.eye(2))
-    for bad, words in ((short, "3 numbers"), (flat, r"shape \(2, 2\)")):
+    nan = armik.Target(np.array([np.nan, 0.0, 0.0]), T.rotation)  # was "joint_limits"
+    for bad, words in ((short, "3 numbers"), (flat, r"shape \(2, 2\)"), (nan, "NaN")):
         with pytest.raises(TargetError, match=words):
             ur5.solve(bad)
         with pytest.raises(TargetError, match="target 1: .*" + words):

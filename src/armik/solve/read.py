@@ -13,6 +13,7 @@ per arm: a loop of solves passes the same options, often with a new seed each ti
 from __future__ import annotations
 
 import itertools
+import math
 import time
 from collections.abc import Mapping
 
@@ -115,13 +116,11 @@ def read(
     if score is not None and problem is None:  # every answer ranked is to this target
         target = parsed(target, arm)
     if type(target) is Target:  # one built by hand: its parts checked where not plain
-        p, R = target.position, target.rotation
-        if not (
-            type(p) is np.ndarray
-            and p.shape == _POINT
-            and p.dtype == _FLOAT
-            and (R is None or (type(R) is np.ndarray and R.shape == _MATRIX and R.dtype == _FLOAT))
-        ):
+        p, R = target.position, target.rotation  # plain: finite float arrays, 3 and 3 x 3
+        ok = type(p) is np.ndarray and p.shape == _POINT and p.dtype == _FLOAT
+        if R is not None:
+            ok = ok and type(R) is np.ndarray and R.shape == _MATRIX and R.dtype == _FLOAT
+        if not (ok and math.isfinite(p.sum() + (0.0 if R is None else R.sum()))):
             target = checked(target)
     if aim is None and type(target) is Target:  # a row of an aimed batch or path
         aim = target.aim
