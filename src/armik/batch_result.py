@@ -315,10 +315,19 @@ class BatchResult:
         )
         if solved:
             worst = self.position_error[self.success].max()
-            line += f"; largest error of the solved: {worst:.2g} m"
+            apart = self._measured[self.success]  # NaN where the distances were measured
+            if np.isnan(apart[:, 0]).all():
+                line += f"; largest error of the solved: {worst:.2g} m"
+            else:  # the errors are distances; the verdicts measured the region or weights
+                to = "the region's centre" if self.region else "the target"
+                line += f"; largest distance to {to} of the solved: {worst:.2g} m"
             ori = self.orientation_error[self.success]
             if not np.isnan(ori).all():
                 line += f", {np.nanmax(ori):.2g} rad"
+            if not np.isnan(apart[:, 0]).all():
+                line += f" (the verdicts measured at most {np.nanmax(apart[:, 0]):.2g} m"
+                rot = "" if np.isnan(apart[:, 1]).all() else f", {np.nanmax(apart[:, 1]):.2g} rad"
+                line += f"{rot})"
             d = self._distances[self.success]
             if not np.isnan(d).all():
                 k = int(np.nanargmin(d))

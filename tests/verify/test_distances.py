@@ -185,3 +185,20 @@ def test_the_plain_dictionary_of_a_result_keeps_what_its_verdict_measured():
         d = r.as_dict()
         assert d["measured"] == list(r.measured) and d["position_error"] == r.position_error
     assert "measured" not in ur5.solve(T).as_dict()
+
+
+def test_a_batch_summary_calls_the_distances_of_a_region_or_weights_distances():
+    """A batch measured apart reports distances (to the region's centre, to the target):
+    its summary says so, with what the verdicts measured, where it said "largest error"
+    of a 0.003 m distance inside a box of 0.01 m."""
+    ur5 = arm("ur5")
+    T = _off(ur5, 4, (0.003, 0.0, 0.0))
+    boxed = ur5.solve_batch([T, T], bounds=(0.01,) * 6)
+    weighted = ur5.solve_batch([T, T], weights=(1, 1, 1, 1, 1, 0))
+    plain = ur5.solve_batch([T, T])
+    assert boxed.success.all() and weighted.success.all() and plain.success.all()
+    line = boxed.summary()
+    assert "largest error" not in line and "distance to the region's centre" in line
+    assert f"{boxed.position_error.max():.2g} m" in line and "verdicts measured at most" in line
+    assert "distance to the target" in weighted.summary()
+    assert "largest error of the solved" in plain.summary()
