@@ -223,3 +223,21 @@ def test_a_rotation_alone_or_tasks_among_poses_are_named_as_such():
     T = ur5.fk(ur5.middle)
     with pytest.raises(TargetError, match="target 1: .* is a list of tasks where a pose"):
         ur5.solve_batch([T, [armik.Position(T.translation)]])
+
+
+def test_a_lowered_task_list_or_a_target_by_hand_beyond_reach_of_any_arm_is_refused():
+    """A position beyond ``MAX_POSITION`` is refused as the parser refuses one, where it
+    comes as an ``armik.Target`` built by hand or from a task list lowered to one (a
+    ``Position`` with an ``Axis``): it was solved, ``unreachable`` at an infinite distance."""
+    import armik
+
+    from ..conftest import arm
+
+    ur5 = arm("ur5")
+    far = [2e6, 0.0, 0.0]
+    for target in (
+        armik.Target(np.array(far)),
+        [armik.Position(far), armik.Axis((0, 0, 1), (0, 0, 1), 0.1)],
+    ):
+        with pytest.raises(TargetError, match=r"beyond 1e\+06 m"):
+            ur5.solve(target)
