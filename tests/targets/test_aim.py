@@ -157,3 +157,34 @@ def test_position_only_beside_an_aim_is_refused_with_joints_the_task_solver_hold
         ) as e:
             call()
         assert e.value.option == "position_only"
+
+
+def test_rotation_bounds_beside_an_aim_are_refused_not_dropped_unread():
+    """A cone replaces the rotation's components: bounds of 0.01 rad on them beside a cone
+    of 0.5 rad were dropped, and an answer 0.2 rad off the target's rotation was a success.
+    They are refused by name on every route; 0 and inf (no width, free) say nothing beside a
+    cone and are taken, as the lowered task lists and the command line give them."""
+    import pinocchio as pin
+
+    ur5 = bundled("ur5")
+    q = ur5.random_q(2)
+    T = ur5.fk(q)
+    X = pin.SE3(T.rotation @ pin.exp3(np.array([0.2, 0.0, 0.0])), T.translation)
+    point = T.translation + 0.3 * T.rotation[:, 2]
+    box = (0.0, 0.0, 0.0, 0.01, 0.01, 0.01)
+    cone = {"cone": (0.0, 0.0, 1.0, 0.5), "bounds": box}
+    calls = [
+        lambda: ur5.solve(X, q0=q, **cone),
+        lambda: ur5.solve(T.translation, q0=q, toward=T.rotation[:, 2], **cone),
+        lambda: ur5.solve_batch([X, X], q0=q, **cone),
+        lambda: ur5.solve_path([X, X], q, **cone),
+        lambda: ur5.solve(
+            [armik.Position(T.translation), armik.LookAt(point, (0, 0, 1), 0.5)], bounds=box
+        ),
+    ]
+    for call in calls:
+        with pytest.raises(armik.OptionError, match=r"bound the rotation's components"):
+            call()
+    for rotation in ((0.0, 0.0, 0.0), (np.inf, np.inf, np.inf)):
+        r = ur5.solve(X, q0=q, cone=(0, 0, 1, 0.5), bounds=(0.01, 0.01, 0.01, *rotation))
+        assert r.success, r.reason

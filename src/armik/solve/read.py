@@ -112,7 +112,7 @@ def read(
     if problem is not None:
         check_options(opts, solver, held=held)
     if freed is not None:
-        refuse_freed(freed, opts)
+        refuse_freed(freed, opts, aimed=False)
     if score is not None and problem is None:  # every answer ranked is to this target
         target = parsed(target, arm)
     if type(target) is Target:  # one built by hand: its parts checked where not plain
@@ -188,7 +188,7 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
         # ``solve`` reads it (a lowered target made a held joint's task would lose its aim)
         rows, options = [list(p.tasks) for p in problems], given
     if freed is not None:
-        refuse_freed(freed, opts)
+        refuse_freed(freed, opts, aimed=False)
     if aim is not None:
         refuse_freed(aim, opts)
         key = None if key is None else (key, aim.shape)
@@ -244,7 +244,7 @@ def read_path(
         poses, options = lowered
         aim = aimed_once(poses, aim)
         if aim is None and (freed := tasks_aim(problems)) is not None:
-            refuse_freed(freed, settings(arm, options)[0])
+            refuse_freed(freed, settings(arm, options)[0], aimed=False)
     elif "hold" in options or "constraints" in options:
         if _held_apart(arm, options):  # joints only the task solver holds: as solve does
             if plan == "global":

@@ -131,12 +131,26 @@ def _sight(name: str, value: object) -> Vector:
     return (float(p[0]), float(p[1]), float(p[2]))
 
 
-def refuse_freed(aim: Aim, opts) -> None:
+def refuse_freed(aim: Aim, opts, aimed: bool = True) -> None:
     """An ``OptionError`` for an option that frees the orientation an aim measures:
     ``position_only=True`` or ``weights`` with a rotation weight of 0, on a target with an
     aim (a cone by keywords, ``armik.Axis`` or ``armik.LookAt`` in a task list: one rule
     for either spelling). The verdict measures the aim whatever they say, so they would
-    be silently overruled; the message says how to ask for either."""
+    be silently overruled; the message says how to ask for either. Where the target
+    carries the aim (``aimed``; not an ``Axis`` lowered to a pose whose spin its bounds
+    free), ``bounds`` holding a rotation component within a finite width too: the cone
+    replaces the rotation's components, which they would bound unread (0, no width, and
+    inf, free, say nothing beside a cone)."""
+    bounds = getattr(opts, "bounds", None) if aimed else None
+    if bounds is not None and any(0.0 < b < math.inf for b in bounds[3:]):
+        raise OptionError(
+            f"bounds={tuple(bounds)!r} bound the rotation's components beside an aim "
+            "(cone=, look_at=, toward=, armik.Axis, armik.LookAt), which measures the tip's "
+            "axis within its cone in their place: give the cone's angle as its within and "
+            "the rotation's bounds 0 (or inf), or drop the aim to bound the rotation",
+            option="bounds",
+            value=bounds,
+        )
     if opts.position_only:
         name, value = "position_only", True
     elif opts.weights is not None and min(opts.weights[3:]) == 0.0:
