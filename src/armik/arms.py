@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, cast
 import numpy as np
 import pinocchio as pin
 
-from armik import arms_collision, arms_every, arms_many, arms_reach, reasons
+from armik import arms_apart, arms_collision, arms_every, arms_many, arms_reach, reasons
 from armik.arms_joined import by_tip_errors, joined
 from armik.arms_kinematics import ArmsKinematics
 from armik.arms_options import at_seed, chain_constraints, per_chain, refuse_own_checks
@@ -146,8 +146,11 @@ class Arms(ArmsKinematics):
             if is_cost(prefer):  # a cost of the whole configuration (``arms_prefer``)
                 own = self._holds({**options, "solver": solver})
                 start = self.middle if q0 is None else q0
-                return ranked(self, targets, seeds, start, prefer, own, 1, t0)[0]
+                return ranked(
+                    arms_apart.viewed(self, own), targets, seeds, start, prefer, own, 1, t0
+                )[0]
             held = self._holds(options) if options else None
+            chains = arms_apart.chains(self, held) if held else chains  # collisions: apart
             results = {
                 tip: solve_one(chains[tip], target, seeds[tip], solver, held[tip] if held else {})
                 for tip, target in targets.items()
@@ -410,7 +413,7 @@ class Arms(ArmsKinematics):
         self, tip: str, target: object, q0: np.ndarray, solver: str, options: dict
     ) -> IKResult:
         """One chain's answer by ``solver`` with its own options (``Arm.solve``'s route)."""
-        arm = self._chains[tip]
+        arm = arms_apart.model(self, tip, options) if options else self._chains[tip]  # collisions
         request = read(arm, target, q0, solver, options)
         if request.score is None and request.problem is None:  # the compiled path's stages
             return run(arm, request)  # type: ignore[no-any-return]

@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from armik.arms_apart import facade, viewed
 from armik.arms_joined import joined
 from armik.arms_prefer import is_cost, order, ranked
 from armik.result import IKResult
@@ -38,9 +39,11 @@ def solve_all(arms: Any, targets: Mapping[str, object], q0: object = None, **opt
     prefer = options.get("prefer")
     if is_cost(prefer):  # a cost of the whole configuration: ranked over the combinations
         reference = arms.middle if q0 is None else np.asarray(q0, dtype=float)
-        return ranked(arms, targets, seeds, reference, prefer, held, MAX_COMBINATIONS, t0)
+        return ranked(
+            viewed(arms, held), targets, seeds, reference, prefer, held, MAX_COMBINATIONS, t0
+        )
     found = {
-        tip: arms.chain(tip).solve_all(target, q0=seeds[tip], **held[tip])
+        tip: facade(arms, tip, held[tip]).solve_all(target, q0=seeds[tip], **held[tip])
         for tip, target in targets.items()
     }
     good = {tip: [r for r in rs if r.success] for tip, rs in found.items()}

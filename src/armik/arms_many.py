@@ -23,6 +23,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from armik import reasons
+from armik.arms_apart import facade
 from armik.arms_collision import between, clear_rows
 from armik.arms_options import check_held
 from armik.arms_prefer import combined, is_cost
@@ -109,7 +110,7 @@ def solve_batch(
             for tip, rows in targets.items()
         }
         parts = {
-            tip: arms.chain(tip).solve_batch(
+            tip: facade(arms, tip, each[tip]).solve_batch(
                 rows, q0=seeds[:, arms._columns[tip]], backend=backend, **batch, **each[tip]
             )
             for tip, rows in read.items()
@@ -174,7 +175,7 @@ def solve_path(
         each = arms._holds(options)  # each chain's part of the options, as Arms.solve's
         check_held(arms._chains, each, start[None, :], arms._columns)
         parts = {
-            tip: arms.chain(tip).solve_path(
+            tip: facade(arms, tip, each[tip]).solve_path(
                 rows,
                 None if q0 is None else start[arms._columns[tip]],  # None: a free start
                 max_joint_step=step[arms._columns[tip]],

@@ -1,0 +1,85 @@
+"""Obstacles on chains that share no joint: each chain's solve leaves out the links another
+chain moves (``armik.arms_apart``), so an obstacle where a chain alone holds the other arm
+is no link "that never moves"; every success keeps every link of the whole URDF the margin
+clear of it, by coal on Pinocchio's placements computed here."""
+
+from __future__ import annotations
+
+import pickle
+
+import coal
+import pinocchio as pin
+import pytest
+
+import armik
+from armik import arms_apart
+from armik.model.catalogue import erd_share
+
+from .test_arms_collision import dual
+
+
+def _whole(text: str):
+    """The whole URDF's model and its collision geometry, meshes as convex hulls."""
+    model = pin.buildModelFromXML(text)
+    geom = pin.buildGeomFromUrdfString(model, text, pin.COLLISION, package_dirs=[erd_share()])
+    for o in geom.geometryObjects:
+        if isinstance(o.geometry, coal.BVHModelBase):
+            o.geometry.buildConvexHull(True, "Qt")
+            o.geometry = o.geometry.convex
+    return model, geom
+
+
+def _clearance(model, geom, robot, q, shape) -> float:
+    """The smallest distance of any link of the whole URDF to ``shape`` at ``q``."""
+    qf = pin.neutral(model)
+    for name, v in zip(robot.joint_names, q):
+        qf[model.joints[model.getJointId(name)].idx_q] = v
+    data, gdata = model.createData(), pin.GeometryData(geom)
+    pin.updateGeometryPlacements(model, data, geom, gdata, qf)
+    P = shape.placement()
+    return min(
+        coal.distance(
+            o.geometry,
+            coal.Transform3s(gdata.oMg[i].rotation, gdata.oMg[i].translation),
+            shape.geometry(),
+            coal.Transform3s(P.rotation, P.translation),
+            coal.DistanceRequest(),
+            coal.DistanceResult(),
+        )
+        for i, o in enumerate(geom.geometryObjects)
+    )
+
+
+def test_an_obstacle_where_a_chain_holds_the_other_arm_is_solved_around():
+    text = dual("ur5")
+    robot = armik.load(text, tips=["l_tool0", "r_tool0"])
+    left = robot.chain("l_tool0").kinematics
+    full = left.chain.full
+    data = full.createData()
+    pin.framesForwardKinematics(full, data, left.chain.q_ref)
+    # a ball about the right forearm as the left chain holds it (its cut): the right arm
+    # moves, so the robot can clear it
+    ball = armik.Sphere(0.05, data.oMf[full.getFrameId("r_forearm_link")].translation)
+    with pytest.raises(armik.CollisionError, match="never moves"):  # the chain alone: as before
+        robot.chain("l_tool0").solve(robot.fk(robot.middle, "l_tool0"), obstacles=[ball])
+    model, geom = _whole(text)
+    qs = robot.random_q(3, 6)
+    goals = [{tip: robot.fk(q, tip) for tip in robot.tips} for q in qs]
+    rows = {tip: [g[tip] for g in goals] for tip in robot.tips}
+    margin = 0.02
+    given = {"obstacles": [ball], "margin": margin}
+    results = [robot.solve(g, **given) for g in goals]
+    results += [robot.solve(goals[0], prefer=lambda x: float(x[0] ** 2), **given)]
+    results += list(robot.solve_all(goals[1], **given))
+    results += list(robot.solve_batch(rows, **given))
+    results += list(robot.solve_path(rows, None, max_joint_step=10.0, **given))
+    assert len(results) > 20 and all(r.success for r in results)
+    for r in results:
+        assert _clearance(model, geom, robot, r.q, ball) >= margin - 1e-9
+    # the chain's model within the robot travels to worker processes as itself
+    arm = arms_apart.facade(robot, "l_tool0", given)
+    assert arm.kinematics is not left
+    again = pickle.loads(pickle.dumps(arm))
+    assert arms_apart.LEFT_OUT(again.kinematics) == arms_apart.LEFT_OUT(arm.kinematics)
+    assert "r_forearm_link_0" in arms_apart.LEFT_OUT(arm.kinematics)
+    assert arms_apart.facade(robot, "l_tool0", {}) is robot.chain("l_tool0")
