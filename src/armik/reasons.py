@@ -428,3 +428,17 @@ def slides_wrist_unreachable(distance: float, wrist: float, tol: float) -> str:
         f"within their limits, carry its turning joints, which reach at most {wrist:.3g} m "
         f"from the first one), beyond tol_position ({tol:g} m); q is the seed, unchanged"
     )
+
+
+def held_overlap(arm: str, overlaps: tuple[tuple[str, str, float], ...]) -> str:
+    """Pairs of links an arm's chain holds where it was cut (joints off the chain, or the
+    base) that overlap at its neutral configuration: left out of its self-collision check."""
+    listed = ", ".join(f"{a!r} and {b!r} by {d:.3g} m" for a, b, d in overlaps[:4])
+    more = f" and {len(overlaps) - 4} more" if len(overlaps) > 4 else ""
+    return (
+        f"self_collision on arm {arm!r}: links its chain holds where it was cut (their "
+        f"joints off the chain, or the base) overlap at its neutral configuration ({listed}"
+        f"{more}), so those pairs are left out of the check, as an SRDF's disabled pairs: "
+        "lock the joints that hold them at values that keep them apart "
+        "(armik.load(..., locked={joint: value})) to have them checked"
+    )
