@@ -16,7 +16,6 @@ every joint, a success when every tip's answer is one, per tip in ``extra``.
 from __future__ import annotations
 
 import dataclasses
-import math
 import time
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, cast
@@ -49,7 +48,6 @@ from armik.solve.stages import run
 from armik.solve.tasks import measure_tasks, solve_tasks
 from armik.solvers.registry import get as get_solver
 from armik.solvers.registry import validate_name
-from armik.status import Status
 from armik.targets.pose import Target, parse_by_tip
 
 if TYPE_CHECKING:
@@ -135,7 +133,7 @@ class Arms(ArmsKinematics):
         if self._union is not None:
             beyond = {} if relative else arms_reach.beyond_reach(chains, targets)
             if beyond:
-                return self._reaching(beyond, targets, q0, options, t0)
+                return arms_reach.reaching(self, beyond, targets, q0, options, t0)
             return self._solve_together(self._union, targets, relative, q0, options, t0)
         seeds = self._middle_seeds if q0 is None else self.split(q0)
         if not relative:  # each chain alone: the common case, kept short
@@ -233,22 +231,6 @@ class Arms(ArmsKinematics):
             tip: arm.fk(results[tip].q if tip in results else seeds[tip])
             for tip, arm in self._chains.items()
         }
-
-    def _reaching(self, beyond: dict[str, str], targets, q0, options: dict, t0: float):
-        """Tips sharing joints, some provably beyond reach (``arms_reach``): the others
-        solved together, the failure naming the tips that cannot reach."""
-        union = cast(Union, self._union)
-        rest = {t: v for t, v in targets.items() if t not in beyond}
-        if rest:
-            r = self._solve_together(union, rest, {}, q0, options, t0)
-        else:  # nothing to solve: the start, as a solve that fails leaves it
-            q = self.middle if q0 is None else np.asarray(q0, dtype=float)
-            r = IKResult(
-                q=q, success=False, status=Status.UNREACHABLE, reason="", solver="task",
-                iterations=0, position_error=math.inf, orientation_error=None, time=0.0,
-            )  # fmt: skip
-        placements = {t: union.fk(r.q, t) for t in beyond}
-        return arms_reach.with_unreachable(r, targets, beyond, placements, time.perf_counter() - t0)
 
     def _solve_together(self, union: Union, targets: Mapping, relative: dict, q0, options, t0):
         """Chains sharing joints: one task per tip on ``union``, the task solver (``relative``:

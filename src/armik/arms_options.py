@@ -165,7 +165,14 @@ def chain_constraints(options: dict, tips: Iterable[str]) -> dict[str, list] | N
                 option="constraints",
                 value=tip,
             )
-        items = [value] if isinstance(value, Constraint) else list(value)
+        try:
+            items = [value] if isinstance(value, Constraint) else list(value)
+        except TypeError:  # no constraint and no iterable of them
+            raise OptionError(
+                f"constraints[{tip!r}] must be a constraint or a list of them, got {value!r:.80}",
+                option="constraints",
+                value=value,
+            ) from None
         for c in items:
             if not isinstance(c, Constraint) or c.said():
                 raise OptionError(
