@@ -8,6 +8,7 @@ from __future__ import annotations
 import pickle
 
 import coal
+import numpy as np
 import pinocchio as pin
 import pytest
 
@@ -83,3 +84,18 @@ def test_an_obstacle_where_a_chain_holds_the_other_arm_is_solved_around():
     assert arms_apart.LEFT_OUT(again.kinematics) == arms_apart.LEFT_OUT(arm.kinematics)
     assert "r_forearm_link_0" in arms_apart.LEFT_OUT(arm.kinematics)
     assert arms_apart.facade(robot, "l_tool0", {}) is robot.chain("l_tool0")
+
+
+def test_chains_that_collide_together_are_said_to_be_checked_without_the_other_arm():
+    robot = armik.load(dual("ur5"), tips=["l_tool0", "r_tool0"])
+    down = pin.utils.rpyToMatrix(np.pi, 0.0, 0.0)
+    close = {
+        "l_tool0": pin.SE3(down, np.array([0.4, 0.04, 0.3])),
+        "r_tool0": pin.SE3(down, np.array([0.4, -0.04, 0.3])),
+    }
+    rel = armik.Relative("r_tool0", "l_tool0", close["l_tool0"].actInv(close["r_tool0"]))
+    r = robot.solve({"l_tool0": close["l_tool0"], "r_tool0": rel}, self_collision=True)
+    b = robot.solve_path({tip: [T] for tip, T in close.items()}, None, self_collision=True)
+    for reason in (r.reason, b.reasons[0]):
+        assert "in collision" in reason and "against the obstacles and its own links" in reason
+        assert "held where it was cut" not in reason  # each chain leaves the other arm out

@@ -161,8 +161,8 @@ def between(arms: Any, options: Mapping[str, Any]) -> tuple[object, tuple] | Non
     (``self_collision=True``, or an ``armik.Collisions`` with it in a flat ``constraints``
     list: then every ``Collisions`` of the list together) on chains that share no joint,
     the margin as given (each chain's solve checks it); None where none is asked. Each
-    chain checks its own links against the other chains held where it was cut: the robot
-    checks its chains' answers together, the obstacles with them, so that the closest
+    chain checks its own links, those another chain moves left out (``arms_apart``): the
+    robot checks its chains' answers together, the obstacles with them, so that the closest
     pair it reports is the closest of all (``clear``, ``clear_rows``)."""
     if not options or arms._union is not None:
         return None
@@ -210,7 +210,7 @@ def clear(arms: Any, r: IKResult, asked: tuple[object, tuple]) -> IKResult:
         r,
         success=False,
         status=Status.COLLISION,
-        reason=reasons.chains_collide(pair, d, m),
+        reason=reasons.apart_collide(pair, d, m),
         extra=extra,
     )
 
@@ -261,6 +261,6 @@ def clear_rows(arms: Any, out: BatchResult, asked: tuple[object, tuple] | None) 
         if d < m:
             out.success[i] = False
             out.status_code[i] = Status.COLLISION.code
-            out.reasons[i] = reasons.chains_collide(pair, d, m)
+            out.reasons[i] = reasons.apart_collide(pair, d, m)
             found.append(i)
     return found

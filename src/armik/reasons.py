@@ -442,3 +442,14 @@ def held_overlap(arm: str, overlaps: tuple[tuple[str, str, float], ...]) -> str:
         "lock the joints that hold them at values that keep them apart "
         "(armik.load(..., locked={joint: value})) to have them checked"
     )
+
+
+def apart_collide(pair: tuple[str, str] | None, distance: float, margin: float) -> str:
+    """Several tips on chains that share no joint, each verified and clear alone (against
+    the obstacles and its own links, those another chain moves left to it): the robot at
+    their answers side by side is not."""
+    together = in_collision(pair, distance, margin)
+    return (
+        f"every tip reached, but the chains' answers together are {together} (each chain "
+        "was checked alone, against the obstacles and its own links)"
+    )
