@@ -99,3 +99,56 @@ def test_chains_that_collide_together_are_said_to_be_checked_without_the_other_a
     for reason in (r.reason, b.reasons[0]):
         assert "in collision" in reason and "against the obstacles and its own links" in reason
         assert "held where it was cut" not in reason  # each chain leaves the other arm out
+
+
+def _apart(model, geom, robot, q) -> float:
+    """The smallest distance between a link of the left arm and one of the right, by coal
+    on the whole URDF at ``q``."""
+    qf = pin.neutral(model)
+    for name, v in zip(robot.joint_names, q):
+        qf[model.joints[model.getJointId(name)].idx_q] = v
+    data, gdata = model.createData(), pin.GeometryData(geom)
+    pin.updateGeometryPlacements(model, data, geom, gdata, qf)
+    links = [model.frames[o.parentFrame].name for o in geom.geometryObjects]
+    M = [coal.Transform3s(m.rotation, m.translation) for m in gdata.oMg]
+    objects = geom.geometryObjects
+    return min(
+        coal.distance(
+            objects[i].geometry, M[i], objects[j].geometry, M[j],
+            coal.DistanceRequest(), coal.DistanceResult(),
+        )
+        for i in range(len(objects))
+        for j in range(len(objects))
+        if links[i].startswith("l_") and links[j].startswith("r_")
+    )  # fmt: skip
+
+
+def test_a_hand_placed_relative_to_the_other_takes_another_answer_clear_of_it():
+    text = dual("ur5")
+    robot = armik.load(text, tips=["l_tool0", "r_tool0"])
+    model, geom = _whole(text)
+    down = pin.utils.rpyToMatrix(np.pi, 0.0, 0.0)
+    rng = np.random.default_rng(3)
+    plain = placed = 0
+    for _ in range(12):  # tools 8-30 cm apart between the arms, pointing down
+        x, z, gap = rng.uniform(0.3, 0.5), rng.uniform(0.2, 0.45), rng.uniform(0.08, 0.3)
+        T_l = pin.SE3(down, np.array([x, gap / 2, z]))
+        T_r = pin.SE3(down, np.array([x, -gap / 2, z]))
+        box = armik.Relative("r_tool0", "l_tool0", T_l.actInv(T_r))
+        each = robot.solve({"l_tool0": T_l, "r_tool0": T_r}, self_collision=True)
+        r = robot.solve({"l_tool0": T_l, "r_tool0": box}, self_collision=True)
+        plain += each.success
+        placed += r.success
+        if r.success:
+            assert _apart(model, geom, robot, r.q) >= 0.0
+            qf = pin.neutral(model)
+            for name, v in zip(robot.joint_names, r.q):
+                qf[model.joints[model.getJointId(name)].idx_q] = v
+            data = model.createData()
+            pin.framesForwardKinematics(model, data, qf)
+            for tip, T in (("l_tool0", T_l), ("r_tool0", T_r)):  # by the whole URDF's FK
+                M = data.oMf[model.getFrameId(tip)]
+                assert np.linalg.norm(pin.log6(M.actInv(T)).vector) < 1e-6
+        else:
+            assert r.status is armik.Status.COLLISION
+    assert placed == plain >= 10  # as many as where each hand's pose is given apart
