@@ -152,3 +152,29 @@ def test_a_hand_placed_relative_to_the_other_takes_another_answer_clear_of_it():
         else:
             assert r.status is armik.Status.COLLISION
     assert placed == plain >= 10  # as many as where each hand's pose is given apart
+
+
+def test_a_tip_left_out_keeps_q0_and_its_arm_is_checked_against_the_obstacles():
+    text = dual("ur5")
+    robot = armik.load(text, tips=["l_tool0", "r_tool0"])
+    model, geom = _whole(text)
+    q0 = robot.middle.copy()
+    ball = armik.Sphere(0.05, robot.fk(q0, "r_forearm_link").translation)  # at q0's right arm
+    T = robot.fk(robot.random_q(1), "l_tool0")
+    given = {"obstacles": [ball]}
+    for q in (q0, robot.random_q(4)):  # the right arm in the ball, and (most likely) not
+        results = [
+            robot.solve({"l_tool0": T}, q0=q, **given),
+            robot.solve_all({"l_tool0": T}, q0=q, **given)[0],
+            robot.solve_batch({"l_tool0": [T]}, q0=q, **given)[0],
+            robot.solve_path({"l_tool0": [T]}, q, max_joint_step=10.0, **given)[0],
+        ]
+        inside = _clearance(model, geom, robot, q, ball) < 0  # q0's right arm in the ball
+        for r in results:
+            assert np.allclose(r.q[6:], q[6:])  # the right arm kept at q0's values
+            if r.success:
+                assert _clearance(model, geom, robot, r.q, ball) >= 0
+            if inside:
+                assert r.status is armik.Status.COLLISION and "['r_tool0']" in r.reason
+        assert inside == (q is q0)
+        assert inside or all(r.success for r in results)

@@ -106,7 +106,7 @@ def test_bad_collision_queries_are_armik_errors():
         robot.min_distance(robot.middle)
     with pytest.raises(armik.CollisionError):
         robot.min_distance(robot.middle, obstacles="box")
-    with pytest.raises(armik.OptionError, match="margin must be a distance"):
+    with pytest.raises(armik.OptionError, match="margin must be a number"):
         robot.in_collision(robot.middle, self_collision=True, margin="1 cm")
 
 

@@ -51,15 +51,3 @@ def test_options_are_read_where_every_tip_is_beyond_reach(talos, options, error)
             talos.solve(targets, **options)
     r = talos.solve({HANDS[0]: far, HANDS[1]: far})  # without them: the failure it was
     assert not r.success and r.status is armik.Status.UNREACHABLE
-
-
-def test_a_margin_arms_in_collision_takes_is_the_one_an_arm_takes():
-    robot = armik.load(dual("ur5"), tips=["l_tool0", "r_tool0"])
-    arm = robot.chain("l_tool0")
-    for margin in (-1.0, float("inf"), True, "a"):
-        with pytest.raises(armik.ArmikError, match="margin") as one:
-            arm.in_collision(arm.middle, self_collision=True, margin=margin)
-        with pytest.raises(armik.ArmikError, match="margin") as several:
-            robot.in_collision(robot.middle, self_collision=True, margin=margin)
-        assert str(several.value) == str(one.value)
-    assert robot.in_collision(robot.middle, self_collision=True, margin=0.0) in (True, False)

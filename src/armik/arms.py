@@ -189,7 +189,8 @@ class Arms(ArmsKinematics):
         if q0 is not None:
             q0 = self._seed(q0)  # clipped into the limits, as Arm's seed
         found = arms_every.solve_all(self, by_tip(self._chains, targets), q0, **options)
-        return Solutions(arms_collision.kept(self, found, arms_collision.between(self, options)))
+        asked = arms_collision.between(self, options, targets)
+        return Solutions(arms_collision.kept(self, found, asked))
 
     def solve_batch(self, targets: Mapping[str, object], *, q0: object = None, **options):
         """Many targets per tip (tip -> N targets, or N rows each a flat list of tasks as

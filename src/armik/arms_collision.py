@@ -31,7 +31,7 @@ from armik.arms_tasks import absolute, by_tip
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions
 from armik.constraints.collision import BOUND_SLACK, _unmoved, obstacle_name
-from armik.constraints.shapes import check_obstacles, margin_of
+from armik.constraints.shapes import check_obstacles
 from armik.constraints.srdf import Pair
 from armik.errors import CollisionError
 from armik.model import mimic_frames
@@ -153,36 +153,45 @@ def in_collision(
     self_collision: bool = False,
     margin: float = 0.0,
 ) -> bool:
-    """Whether some checked pair at ``q`` is closer than ``margin`` (m), as ``Arm``'s reads
-    it (a distance in [0, 1e6] m)."""
-    margin = margin_of(margin)
+    """Whether some checked pair at ``q`` is closer than ``margin`` (m)."""
+    margin = checked.number("margin", margin)
     return min_distance(arms, q, obstacles, self_collision)[0] < margin
 
 
-def between(arms: Any, options: Mapping[str, Any]) -> tuple[object, tuple] | None:
-    """(margin, obstacles) of the self-collision check ``options`` ask for
-    (``self_collision=True``, or an ``armik.Collisions`` with it in a flat ``constraints``
-    list: then every ``Collisions`` of the list together) on chains that share no joint,
-    the margin as given (each chain's solve checks it); None where none is asked. Each
-    chain checks its own links, those another chain moves left out (``arms_apart``): the
-    robot checks its chains' answers together, the obstacles with them, so that the closest
-    pair it reports is the closest of all (``clear``, ``clear_rows``)."""
+def between(
+    arms: Any, options: Mapping[str, Any], targets: object = None
+) -> tuple[object, tuple, bool] | None:
+    """(margin, obstacles, self_collision) of the check of the robot's configuration that
+    ``options`` ask for on chains that share no joint, the margin as given (each chain's
+    solve checks it); None where none is asked. With ``self_collision=True`` (or an
+    ``armik.Collisions`` with it in a flat ``constraints`` list: then every ``Collisions``
+    of the list together): each chain checks its own links, those another chain moves left
+    out (``arms_apart``), so the robot checks its chains' answers together, the obstacles
+    with them, and the closest pair it reports is the closest of all (``clear``,
+    ``clear_rows``). With obstacles alone, where ``targets`` (``Arms.solve``'s, or tip ->
+    rows) leave a tip out: no chain checked that tip's links at the values q0 keeps."""
     if not options or arms._union is not None:
         return None
     flag = options.get("self_collision")
     if isinstance(flag, (bool, np.bool_)) and flag:
-        return options.get("margin", 0.0), check_obstacles(options.get("obstacles"))
+        return options.get("margin", 0.0), check_obstacles(options.get("obstacles")), True
     given = options.get("constraints")
-    if given is None or isinstance(given, Mapping):  # by tip: each chain's own
-        return None
-    given = given if isinstance(given, (list, tuple)) else [given]
-    found = [c for c in given if isinstance(c, Collisions)]
-    if not any(c.self_collision for c in found):
-        return None
+    found = []
+    if given is not None and not isinstance(given, Mapping):  # by tip: each chain's own
+        given = given if isinstance(given, (list, tuple)) else [given]
+        found = [c for c in given if isinstance(c, Collisions)]
     # what they say together, as each chain checks it (``options._JOINED``): every scene
     # in their order, the largest margin kept by every pair
     shapes = tuple(s for c in found for s in c.obstacles)
-    return max(c.margin for c in found), shapes
+    if any(c.self_collision for c in found):
+        return max(c.margin for c in found), shapes, True
+    tips = by_tip(arms._chains, targets)
+    if not isinstance(tips, Mapping) or not set(arms.tips) - set(tips):
+        return None  # every tip's chain checked its links against the obstacles
+    if found:
+        return max(c.margin for c in found), shapes, False
+    shapes = check_obstacles(options.get("obstacles"))
+    return (options.get("margin", 0.0), shapes, False) if shapes else None
 
 
 def _checker(arms: Any, shapes: tuple, self_collision: bool = True) -> ArmsChecker:
@@ -198,13 +207,13 @@ def _checker(arms: Any, shapes: tuple, self_collision: bool = True) -> ArmsCheck
     return found
 
 
-def clear(arms: Any, r: IKResult, asked: tuple[object, tuple]) -> IKResult:
+def clear(arms: Any, r: IKResult, asked: tuple[object, tuple, bool]) -> IKResult:
     """``r``, a joined result of chains that share no joint, with the robot's closest pair
     at ``r.q`` (``min_distance``, ``closest_pair``) of those ``asked`` (``between``): a
     ``Status.COLLISION`` failure where it is nearer than the margin."""
     if not r.success:
         return r
-    d, pair = _checker(arms, asked[1]).distance(np.asarray(r.q, dtype=float))
+    d, pair = _checker(arms, asked[1], asked[2]).distance(np.asarray(r.q, dtype=float))
     m = checked.number("margin", asked[0])
     extra = {**r.extra, "min_distance": d, "closest_pair": pair}
     if d >= m:
@@ -213,9 +222,16 @@ def clear(arms: Any, r: IKResult, asked: tuple[object, tuple]) -> IKResult:
         r,
         success=False,
         status=Status.COLLISION,
-        reason=reasons.apart_collide(pair, d, m),
+        reason=_words(arms, pair, d, m, r.extra.get("results", arms._chains)),
         extra=extra,
     )
+
+
+def _words(arms: Any, pair: Pair | None, d: float, m: float, solved: Mapping) -> str:
+    """The reason of a collision ``clear`` finds: between the chains' answers, or where
+    some tip is not ``solved`` (a mapping by tip), at the values q0 keeps for its chain."""
+    left = [t for t in arms.tips if t not in solved]
+    return reasons.left_collide(pair, d, m, left) if left else reasons.apart_collide(pair, d, m)
 
 
 def clear_or_other(arms: Any, r: IKResult, targets: object, q0: object, options: dict) -> IKResult:
@@ -225,7 +241,7 @@ def clear_or_other(arms: Any, r: IKResult, targets: object, q0: object, options:
     ``targets`` from ``q0`` with ``options`` (``Arms.solve``'s): another branch of one
     arm often keeps it out of the other's way. Tips placed relative to each other take
     each chain's answers in turn (``_in_turn``)."""
-    asked = between(arms, options)
+    asked = between(arms, options, targets)
     if asked is None:
         return r
     found = clear(arms, r, asked)
@@ -283,7 +299,9 @@ def _in_turn(arms, found: IKResult, targets, relative: dict, q0, options: dict, 
     return next((r for r in (clear(arms, r, asked) for r in results) if r.success), found)
 
 
-def kept(arms: Any, results: list[IKResult], asked: tuple[object, tuple] | None) -> list[IKResult]:
+def kept(
+    arms: Any, results: list[IKResult], asked: tuple[object, tuple, bool] | None
+) -> list[IKResult]:
     """``solve_all``'s answers (``results``) clear of each other (``clear``); where none
     is, the first of them as the failure it is (``clear``)."""
     if asked is None:
@@ -293,14 +311,14 @@ def kept(arms: Any, results: list[IKResult], asked: tuple[object, tuple] | None)
     return found or each[:1]
 
 
-def clear_rows(arms: Any, out: BatchResult, asked: tuple[object, tuple] | None) -> list[int]:
+def clear_rows(arms: Any, out: BatchResult, asked: tuple[object, tuple, bool] | None) -> list[int]:
     """``clear`` on every successful row of ``out`` (a joined batch or path), in place: the
     rows it finds in collision."""
     if asked is None:
         return []
     found = []
     m = checked.number("margin", asked[0])
-    own = _checker(arms, asked[1])
+    own = _checker(arms, asked[1], asked[2])
     object.__setattr__(out, "margin", m)
     for i in np.flatnonzero(out.success).tolist():
         d, pair = own.distance(out.q[i])
@@ -308,6 +326,6 @@ def clear_rows(arms: Any, out: BatchResult, asked: tuple[object, tuple] | None) 
         if d < m:
             out.success[i] = False
             out.status_code[i] = Status.COLLISION.code
-            out.reasons[i] = reasons.apart_collide(pair, d, m)
+            out.reasons[i] = _words(arms, pair, d, m, out.errors)
             found.append(i)
     return found

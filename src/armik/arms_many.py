@@ -118,7 +118,7 @@ def solve_batch(
         out = _joined(arms, parts, seeds, opts, time.perf_counter() - t0, prefer)
         # the chains' answers together; a row whose arms collide solved again as
         # ``Arms.solve`` solves it, which tries the other combinations of their answers
-        for i in clear_rows(arms, out, between(arms, options)):
+        for i in clear_rows(arms, out, between(arms, options, targets)):
             row = {tip: rows[i] for tip, rows in targets.items()}
             out.put_result(i, arms.solve(row, q0=seeds[i], **options))
         return _timed(out, t0)
@@ -185,7 +185,7 @@ def solve_path(
             for tip, rows in waypoints.items()
         }
         out = _joined(arms, parts, np.tile(start, (n, 1)), opts, 0.0, prefer)
-        clear_rows(arms, out, between(arms, options))  # the chains' answers together
+        clear_rows(arms, out, between(arms, options, waypoints))  # the answers together
         return _timed(out, t0)
     if plan != "follow":
         raise OptionError(

@@ -453,3 +453,15 @@ def apart_collide(pair: tuple[str, str] | None, distance: float, margin: float) 
         f"every tip reached, but the chains' answers together are {together} (each chain "
         "was checked alone, against the obstacles and its own links)"
     )
+
+
+def left_collide(pair: tuple[str, str] | None, distance: float, margin: float, left) -> str:
+    """Several tips on chains that share no joint, each given tip verified and clear, the
+    chains of the tips ``left`` out of the targets keeping q0's values: the robot's
+    configuration is not clear of the obstacles."""
+    together = in_collision(pair, distance, margin)
+    return (
+        f"every tip given reached, but the robot's configuration is {together}: the chains "
+        f"of tips {list(left)}, given no target, keep q0's values, which no solve moved "
+        "clear (give those tips a target, or a q0 clear of the obstacles)"
+    )
