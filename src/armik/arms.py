@@ -26,7 +26,7 @@ import pinocchio as pin
 from armik import arms_apart, arms_collision, arms_every, arms_many, arms_reach, reasons
 from armik.arms_joined import by_tip_errors, joined
 from armik.arms_kinematics import ArmsKinematics
-from armik.arms_options import at_seed, chain_constraints, per_chain, refuse_own_checks
+from armik.arms_options import at_seed, chain_constraints, held_apart, per_chain, refuse_own_checks
 from armik.arms_prefer import is_cost, ranked, scored
 from armik.arms_servo import ArmsServo
 from armik.arms_tasks import absolute, as_tasks, by_tip, on, placed, rows_by_tip
@@ -144,11 +144,13 @@ class Arms(ArmsKinematics):
             if is_cost(prefer):  # a cost of the whole configuration (``arms_prefer``)
                 own = self._holds({**options, "solver": solver})
                 start = self.middle if q0 is None else q0
+                seeds = held_apart(seeds, own, chains, targets)
                 return ranked(
                     arms_apart.viewed(self, own), targets, seeds, start, prefer, own, 1, t0
                 )[0]
             held = self._holds(options) if options else None
             chains = arms_apart.chains(self, held) if held else chains  # collisions: apart
+            seeds = held_apart(seeds, held, chains, targets) if held else seeds
             results = {
                 tip: solve_one(chains[tip], target, seeds[tip], solver, held[tip] if held else {})
                 for tip, target in targets.items()
@@ -163,6 +165,7 @@ class Arms(ArmsKinematics):
         results = {}
         solver = options.get("solver", "auto")
         held = self._holds({k: v for k, v in options.items() if k != "solver"})
+        seeds = held_apart(seeds, held, chains, targets)
         for tip in order:
             # a pose relative to a chain already solved is a pose in the base: exactly,
             # bounds included, since the chains share no joint

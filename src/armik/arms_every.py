@@ -22,6 +22,7 @@ import numpy as np
 
 from armik.arms_apart import facade, viewed
 from armik.arms_joined import joined
+from armik.arms_options import held_apart
 from armik.arms_prefer import is_cost, order, ranked
 from armik.result import IKResult
 
@@ -36,6 +37,7 @@ def solve_all(arms: Any, targets: Mapping[str, object], q0: object = None, **opt
         return [arms.solve(targets, q0=q0, **options)]
     seeds = arms._middle_seeds if q0 is None else arms.split(q0)
     held = arms._holds(options)
+    seeds = held_apart(seeds, held, arms._chains, targets)  # a tip left out: its holds
     prefer = options.get("prefer")
     if is_cost(prefer):  # a cost of the whole configuration: ranked over the combinations
         reference = arms.middle if q0 is None else np.asarray(q0, dtype=float)

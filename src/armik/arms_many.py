@@ -25,7 +25,7 @@ import numpy as np
 from armik import reasons
 from armik.arms_apart import facade
 from armik.arms_collision import between, clear_rows
-from armik.arms_options import check_held
+from armik.arms_options import check_held, held_apart
 from armik.arms_prefer import combined, is_cost
 from armik.arms_rows import empty, row_named, solve_rows
 from armik.batch_result import BatchResult
@@ -115,6 +115,7 @@ def solve_batch(
             )
             for tip, rows in read.items()
         }
+        seeds = _held_apart(arms, seeds, each, parts)
         out = _joined(arms, parts, seeds, opts, time.perf_counter() - t0, prefer)
         # the chains' answers together; a row whose arms collide solved again as
         # ``Arms.solve`` solves it, which tries the other combinations of their answers
@@ -126,6 +127,17 @@ def solve_batch(
     threads, size = _whole(workers, "workers", 1), _whole(chunk_size, "chunk_size", DEFAULT_CHUNK)
     out = solve_rows(arms, targets, seeds, options, opts, size, threads, progress, run_jobs)
     return _timed(out, t0)
+
+
+def _held_apart(arms: Arms, seeds: np.ndarray, each: dict, parts: Mapping) -> np.ndarray:
+    """``seeds`` (rows over the robot's joints) with the held joints of the tips given no
+    rows (not in ``parts``) at their values (``arms_options.held_apart``)."""
+    each_seed = {tip: seeds[:, cols] for tip, cols in arms._columns.items()}
+    held = held_apart(each_seed, each, arms._chains, parts)
+    out = seeds.copy()
+    for tip, cols in arms._columns.items():
+        out[:, cols] = held[tip]
+    return out
 
 
 def _whole(value: object, name: str, default: int) -> int:
@@ -184,7 +196,9 @@ def solve_path(
             )
             for tip, rows in waypoints.items()
         }
-        out = _joined(arms, parts, np.tile(start, (n, 1)), opts, 0.0, prefer)
+        out = _joined(
+            arms, parts, _held_apart(arms, np.tile(start, (n, 1)), each, parts), opts, 0.0, prefer
+        )
         clear_rows(arms, out, between(arms, options, waypoints))  # the answers together
         return _timed(out, t0)
     if plan != "follow":
