@@ -25,7 +25,7 @@ import pinocchio as pin
 
 from armik import arms_every, checked, reasons
 from armik.arms_apart import facade
-from armik.arms_joined import joined
+from armik.arms_joined import held, joined, left_out
 from armik.arms_links import UNBOUNDED, Links
 from armik.arms_tasks import absolute, by_tip
 from armik.batch_result import BatchResult
@@ -241,6 +241,7 @@ def clear_or_other(arms: Any, r: IKResult, targets: object, q0: object, options:
     ``targets`` from ``q0`` with ``options`` (``Arms.solve``'s): another branch of one
     arm often keeps it out of the other's way. Tips placed relative to each other take
     each chain's answers in turn (``_in_turn``)."""
+    r = held(arms, r, left_out(arms, options, targets))  # a tip left out: its constraints
     asked = between(arms, options, targets)
     if asked is None:
         return r

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from armik.arms_apart import facade, viewed
-from armik.arms_joined import joined
+from armik.arms_joined import held, joined, left_out
 from armik.arms_options import held_apart
 from armik.arms_prefer import is_cost, order, ranked
 from armik.result import IKResult
@@ -30,7 +30,14 @@ MAX_COMBINATIONS = 256  # answers at most: the nearest q0 (the best) of every ch
 
 
 def solve_all(arms: Any, targets: Mapping[str, object], q0: object = None, **options: Any):
-    """Every answer of ``arms`` (an ``armik.Arms``) for one target per tip, best first."""
+    """Every answer of ``arms`` (an ``armik.Arms``) for one target per tip, best first; a
+    tip left out holds its constraints at the values it keeps (``arms_joined.held``)."""
+    found = _every(arms, targets, q0, **options)
+    checks = left_out(arms, options, targets)
+    return [held(arms, r, checks) for r in found] if checks else found
+
+
+def _every(arms: Any, targets: Mapping[str, object], q0: object = None, **options: Any):
     t0 = time.perf_counter()
     relative = arms._check_targets(targets)
     if arms._union is not None or relative:

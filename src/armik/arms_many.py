@@ -25,6 +25,7 @@ import numpy as np
 from armik import reasons
 from armik.arms_apart import facade
 from armik.arms_collision import between, clear_rows
+from armik.arms_joined import held_rows, left_out
 from armik.arms_options import check_held, held_apart
 from armik.arms_prefer import combined, is_cost
 from armik.arms_rows import empty, row_named, solve_rows
@@ -117,6 +118,7 @@ def solve_batch(
         }
         seeds = _held_apart(arms, seeds, each, parts)
         out = _joined(arms, parts, seeds, opts, time.perf_counter() - t0, prefer)
+        held_rows(arms, out, left_out(arms, options, targets))  # a tip left out: its checks
         # the chains' answers together; a row whose arms collide solved again as
         # ``Arms.solve`` solves it, which tries the other combinations of their answers
         for i in clear_rows(arms, out, between(arms, options, targets)):
@@ -199,6 +201,7 @@ def solve_path(
         out = _joined(
             arms, parts, _held_apart(arms, np.tile(start, (n, 1)), each, parts), opts, 0.0, prefer
         )
+        held_rows(arms, out, left_out(arms, options, waypoints))  # a tip left out: its checks
         clear_rows(arms, out, between(arms, options, waypoints))  # the answers together
         return _timed(out, t0)
     if plan != "follow":

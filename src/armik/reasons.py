@@ -465,3 +465,9 @@ def left_collide(pair: tuple[str, str] | None, distance: float, margin: float, l
         f"of tips {list(left)}, given no target, keep q0's values, which no solve moved "
         "clear (give those tips a target, or a q0 clear of the obstacles)"
     )
+
+
+def left_out_fails(tip: str, why: str) -> str:
+    """A constraint given by ``tip``, a tip given no target on chains that share no joint,
+    failing at the values its chain keeps from q0: its check's ``why``."""
+    return f"tip {tip!r}, given no target, keeps q0's values, where {why}"
