@@ -27,6 +27,7 @@ from armik import arms_every, checked, reasons
 from armik.arms_apart import facade
 from armik.arms_joined import held, joined, left_out
 from armik.arms_links import UNBOUNDED, Links
+from armik.arms_options import held_apart
 from armik.arms_tasks import absolute, by_tip
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions
@@ -282,6 +283,7 @@ def _in_turn(arms, found: IKResult, targets, relative: dict, q0, options: dict, 
     solver = options.get("solver", "auto")
     held = arms._holds({k: v for k, v in options.items() if k != "solver"})
     chains = arms._chains
+    seeds = held_apart(seeds, held, chains, targets)  # a tip left out: its held joints
     combos: list[dict[str, IKResult]] = [{}]
     for tip in order:
         grown = []
