@@ -186,6 +186,8 @@ def between(
     shapes = tuple(s for c in found for s in c.obstacles)
     if any(c.self_collision for c in found):
         return max(c.margin for c in found), shapes, True
+    if not found and options.get("obstacles") is None:
+        return None
     tips = by_tip(arms._chains, targets)
     if not isinstance(tips, Mapping) or not set(arms.tips) - set(tips):
         return None  # every tip's chain checked its links against the obstacles
