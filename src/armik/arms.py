@@ -16,7 +16,6 @@ every joint, a success when every tip's answer is one, per tip in ``extra``.
 from __future__ import annotations
 
 import dataclasses
-import math
 import time
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, cast
@@ -24,10 +23,10 @@ from typing import TYPE_CHECKING, cast
 import numpy as np
 import pinocchio as pin
 
-from armik import arms_collision, arms_every, arms_many, arms_reach, reasons
+from armik import arms_apart, arms_collision, arms_every, arms_many, arms_reach, reasons
 from armik.arms_joined import by_tip_errors, joined
 from armik.arms_kinematics import ArmsKinematics
-from armik.arms_options import at_seed, chain_constraints, per_chain, refuse_own_checks
+from armik.arms_options import at_seed, chain_constraints, held_apart, per_chain, refuse_own_checks
 from armik.arms_prefer import is_cost, ranked, scored
 from armik.arms_servo import ArmsServo
 from armik.arms_tasks import absolute, as_tasks, by_tip, on, placed, rows_by_tip
@@ -49,7 +48,6 @@ from armik.solve.stages import run
 from armik.solve.tasks import measure_tasks, solve_tasks
 from armik.solvers.registry import get as get_solver
 from armik.solvers.registry import validate_name
-from armik.status import Status
 from armik.targets.pose import Target, parse_by_tip
 
 if TYPE_CHECKING:
@@ -135,7 +133,7 @@ class Arms(ArmsKinematics):
         if self._union is not None:
             beyond = {} if relative else arms_reach.beyond_reach(chains, targets)
             if beyond:
-                return self._reaching(beyond, targets, q0, options, t0)
+                return arms_reach.reaching(self, beyond, targets, q0, options, t0)
             return self._solve_together(self._union, targets, relative, q0, options, t0)
         seeds = self._middle_seeds if q0 is None else self.split(q0)
         if not relative:  # each chain alone: the common case, kept short
@@ -146,8 +144,13 @@ class Arms(ArmsKinematics):
             if is_cost(prefer):  # a cost of the whole configuration (``arms_prefer``)
                 own = self._holds({**options, "solver": solver})
                 start = self.middle if q0 is None else q0
-                return ranked(self, targets, seeds, start, prefer, own, 1, t0)[0]
+                seeds = held_apart(seeds, own, chains, targets)
+                return ranked(
+                    arms_apart.viewed(self, own), targets, seeds, start, prefer, own, 1, t0
+                )[0]
             held = self._holds(options) if options else None
+            chains = arms_apart.chains(self, held) if held else chains  # collisions: apart
+            seeds = held_apart(seeds, held, chains, targets) if held else seeds
             results = {
                 tip: solve_one(chains[tip], target, seeds[tip], solver, held[tip] if held else {})
                 for tip, target in targets.items()
@@ -162,6 +165,7 @@ class Arms(ArmsKinematics):
         results = {}
         solver = options.get("solver", "auto")
         held = self._holds({k: v for k, v in options.items() if k != "solver"})
+        seeds = held_apart(seeds, held, chains, targets)
         for tip in order:
             # a pose relative to a chain already solved is a pose in the base: exactly,
             # bounds included, since the chains share no joint
@@ -188,7 +192,8 @@ class Arms(ArmsKinematics):
         if q0 is not None:
             q0 = self._seed(q0)  # clipped into the limits, as Arm's seed
         found = arms_every.solve_all(self, by_tip(self._chains, targets), q0, **options)
-        return Solutions(arms_collision.kept(self, found, arms_collision.between(self, options)))
+        asked = arms_collision.between(self, options, targets)
+        return Solutions(arms_collision.kept(self, found, asked))
 
     def solve_batch(self, targets: Mapping[str, object], *, q0: object = None, **options):
         """Many targets per tip (tip -> N targets, or N rows each a flat list of tasks as
@@ -230,22 +235,6 @@ class Arms(ArmsKinematics):
             tip: arm.fk(results[tip].q if tip in results else seeds[tip])
             for tip, arm in self._chains.items()
         }
-
-    def _reaching(self, beyond: dict[str, str], targets, q0, options: dict, t0: float):
-        """Tips sharing joints, some provably beyond reach (``arms_reach``): the others
-        solved together, the failure naming the tips that cannot reach."""
-        union = cast(Union, self._union)
-        rest = {t: v for t, v in targets.items() if t not in beyond}
-        if rest:
-            r = self._solve_together(union, rest, {}, q0, options, t0)
-        else:  # nothing to solve: the start, as a solve that fails leaves it
-            q = self.middle if q0 is None else np.asarray(q0, dtype=float)
-            r = IKResult(
-                q=q, success=False, status=Status.UNREACHABLE, reason="", solver="task",
-                iterations=0, position_error=math.inf, orientation_error=None, time=0.0,
-            )  # fmt: skip
-        placements = {t: union.fk(r.q, t) for t in beyond}
-        return arms_reach.with_unreachable(r, targets, beyond, placements, time.perf_counter() - t0)
 
     def _solve_together(self, union: Union, targets: Mapping, relative: dict, q0, options, t0):
         """Chains sharing joints: one task per tip on ``union``, the task solver (``relative``:
@@ -410,7 +399,7 @@ class Arms(ArmsKinematics):
         self, tip: str, target: object, q0: np.ndarray, solver: str, options: dict
     ) -> IKResult:
         """One chain's answer by ``solver`` with its own options (``Arm.solve``'s route)."""
-        arm = self._chains[tip]
+        arm = arms_apart.model(self, tip, options) if options else self._chains[tip]  # collisions
         request = read(arm, target, q0, solver, options)
         if request.score is None and request.problem is None:  # the compiled path's stages
             return run(arm, request)  # type: ignore[no-any-return]

@@ -24,8 +24,11 @@ import numpy as np
 import pinocchio as pin
 
 from armik import arms_every, checked, reasons
+from armik.arms_apart import facade
+from armik.arms_joined import held, joined, left_out
 from armik.arms_links import UNBOUNDED, Links
-from armik.arms_tasks import by_tip
+from armik.arms_options import held_apart
+from armik.arms_tasks import absolute, by_tip
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions
 from armik.constraints.collision import BOUND_SLACK, _unmoved, obstacle_name
@@ -156,30 +159,42 @@ def in_collision(
     return min_distance(arms, q, obstacles, self_collision)[0] < margin
 
 
-def between(arms: Any, options: Mapping[str, Any]) -> tuple[object, tuple] | None:
-    """(margin, obstacles) of the self-collision check ``options`` ask for
-    (``self_collision=True``, or an ``armik.Collisions`` with it in a flat ``constraints``
-    list: then every ``Collisions`` of the list together) on chains that share no joint,
-    the margin as given (each chain's solve checks it); None where none is asked. Each
-    chain checks its own links against the other chains held where it was cut: the robot
-    checks its chains' answers together, the obstacles with them, so that the closest
-    pair it reports is the closest of all (``clear``, ``clear_rows``)."""
+def between(
+    arms: Any, options: Mapping[str, Any], targets: object = None
+) -> tuple[object, tuple, bool] | None:
+    """(margin, obstacles, self_collision) of the check of the robot's configuration that
+    ``options`` ask for on chains that share no joint, the margin as given (each chain's
+    solve checks it); None where none is asked. With ``self_collision=True`` (or an
+    ``armik.Collisions`` with it in a flat ``constraints`` list: then every ``Collisions``
+    of the list together): each chain checks its own links, those another chain moves left
+    out (``arms_apart``), so the robot checks its chains' answers together, the obstacles
+    with them, and the closest pair it reports is the closest of all (``clear``,
+    ``clear_rows``). With obstacles alone, where ``targets`` (``Arms.solve``'s, or tip ->
+    rows) leave a tip out: no chain checked that tip's links at the values q0 keeps."""
     if not options or arms._union is not None:
         return None
     flag = options.get("self_collision")
     if isinstance(flag, (bool, np.bool_)) and flag:
-        return options.get("margin", 0.0), check_obstacles(options.get("obstacles"))
+        return options.get("margin", 0.0), check_obstacles(options.get("obstacles")), True
     given = options.get("constraints")
-    if given is None or isinstance(given, Mapping):  # by tip: each chain's own
-        return None
-    given = given if isinstance(given, (list, tuple)) else [given]
-    found = [c for c in given if isinstance(c, Collisions)]
-    if not any(c.self_collision for c in found):
-        return None
+    found = []
+    if given is not None and not isinstance(given, Mapping):  # by tip: each chain's own
+        given = given if isinstance(given, (list, tuple)) else [given]
+        found = [c for c in given if isinstance(c, Collisions)]
     # what they say together, as each chain checks it (``options._JOINED``): every scene
     # in their order, the largest margin kept by every pair
     shapes = tuple(s for c in found for s in c.obstacles)
-    return max(c.margin for c in found), shapes
+    if any(c.self_collision for c in found):
+        return max(c.margin for c in found), shapes, True
+    if not found and options.get("obstacles") is None:
+        return None
+    tips = by_tip(arms._chains, targets)
+    if not isinstance(tips, Mapping) or not set(arms.tips) - set(tips):
+        return None  # every tip's chain checked its links against the obstacles
+    if found:
+        return max(c.margin for c in found), shapes, False
+    shapes = check_obstacles(options.get("obstacles"))
+    return (options.get("margin", 0.0), shapes, False) if shapes else None
 
 
 def _checker(arms: Any, shapes: tuple, self_collision: bool = True) -> ArmsChecker:
@@ -195,13 +210,13 @@ def _checker(arms: Any, shapes: tuple, self_collision: bool = True) -> ArmsCheck
     return found
 
 
-def clear(arms: Any, r: IKResult, asked: tuple[object, tuple]) -> IKResult:
+def clear(arms: Any, r: IKResult, asked: tuple[object, tuple, bool]) -> IKResult:
     """``r``, a joined result of chains that share no joint, with the robot's closest pair
     at ``r.q`` (``min_distance``, ``closest_pair``) of those ``asked`` (``between``): a
     ``Status.COLLISION`` failure where it is nearer than the margin."""
     if not r.success:
         return r
-    d, pair = _checker(arms, asked[1]).distance(np.asarray(r.q, dtype=float))
+    d, pair = _checker(arms, asked[1], asked[2]).distance(np.asarray(r.q, dtype=float))
     m = checked.number("margin", asked[0])
     extra = {**r.extra, "min_distance": d, "closest_pair": pair}
     if d >= m:
@@ -210,9 +225,16 @@ def clear(arms: Any, r: IKResult, asked: tuple[object, tuple]) -> IKResult:
         r,
         success=False,
         status=Status.COLLISION,
-        reason=reasons.chains_collide(pair, d, m),
+        reason=_words(arms, pair, d, m, r.extra.get("results", arms._chains)),
         extra=extra,
     )
+
+
+def _words(arms: Any, pair: Pair | None, d: float, m: float, solved: Mapping) -> str:
+    """The reason of a collision ``clear`` finds: between the chains' answers, or where
+    some tip is not ``solved`` (a mapping by tip), at the values q0 keeps for its chain."""
+    left = [t for t in arms.tips if t not in solved]
+    return reasons.left_collide(pair, d, m, left) if left else reasons.apart_collide(pair, d, m)
 
 
 def clear_or_other(arms: Any, r: IKResult, targets: object, q0: object, options: dict) -> IKResult:
@@ -220,23 +242,71 @@ def clear_or_other(arms: Any, r: IKResult, targets: object, q0: object, options:
     ``clear(arms, r, asked)``, or where the chains' answers collide with each other the
     nearest clear combination of every chain's answers (``solve_all``'s, ``kept``) for
     ``targets`` from ``q0`` with ``options`` (``Arms.solve``'s): another branch of one
-    arm often keeps it out of the other's way. Tips placed relative to each other have
-    one answer: ``r``'s."""
-    asked = between(arms, options)
+    arm often keeps it out of the other's way. Tips placed relative to each other take
+    each chain's answers in turn (``_in_turn``)."""
+    r = held(arms, r, left_out(arms, options, targets))  # a tip left out: its constraints
+    asked = between(arms, options, targets)
     if asked is None:
         return r
     found = clear(arms, r, asked)
     if found.success or found.status is not Status.COLLISION:
         return found
     each = by_tip(arms._chains, targets)
-    if arms._check_targets(each):
-        return found
+    relative = arms._check_targets(each)
+    if relative:  # one answer a chain's answer before: each combination of them tried
+        return _in_turn(arms, found, each, relative, q0, options, asked)
     seed = None if q0 is None else arms._seed(q0)
     others = kept(arms, arms_every.solve_all(arms, each, seed, **options), asked)
     return others[0] if others and others[0].success else found
 
 
-def kept(arms: Any, results: list[IKResult], asked: tuple[object, tuple] | None) -> list[IKResult]:
+MOST_IN_TURN = 64  # combinations of the chains' answers tried for tips placed relatively
+
+
+def _in_turn(arms, found: IKResult, targets, relative: dict, q0, options: dict, asked):
+    """Tips placed relative to each other on chains that share no joint, ``found`` (their
+    answer, ``Arms.solve``'s) a collision between the chains: each chain's answers
+    (``solve_all``) in turn, a relative tip's target placed by the answers of the chains
+    before it (as ``Arms.solve`` places it by theirs), nearest q0 first; the first
+    combination clear of the collisions ``asked``, else ``found``."""
+    order: list[str] = []
+    pending = list(targets)
+    while pending:  # each tip after those its Relative tasks are relative to
+        ready = [
+            t
+            for t in pending
+            if not {r.relative_to for r in relative.get(t, [])} - {t} & set(pending)
+        ]
+        if not ready or options.get("prefer") is not None:
+            return found  # a cycle (solved at once: one answer), or a ranking of its own
+        order += ready
+        pending = [t for t in pending if t not in ready]
+    seeds = arms._middle_seeds if q0 is None else arms.split(arms._seed(q0))
+    solver = options.get("solver", "auto")
+    held = arms._holds({k: v for k, v in options.items() if k != "solver"})
+    chains = arms._chains
+    seeds = held_apart(seeds, held, chains, targets)  # a tip left out: its held joints
+    combos: list[dict[str, IKResult]] = [{}]
+    for tip in order:
+        grown = []
+        for done in combos:
+            target = targets[tip]
+            if tip in relative:
+                at = {t: arm.fk(done[t].q if t in done else seeds[t]) for t, arm in chains.items()}
+                target = absolute(target, at)
+            arm = facade(arms, tip, held[tip])
+            answers = arm.solve_all(target, q0=seeds[tip], solver=solver, **held[tip])
+            grown += [{**done, tip: r} for r in answers if r.success]
+        combos = grown[:MOST_IN_TURN]
+    start = np.concatenate([seeds[t] for t in arms.tips])
+    results = [joined(arms.tips, done, seeds, found.time) for done in combos]
+    results.sort(key=lambda r: float(np.linalg.norm(r.q - start)))
+    return next((r for r in (clear(arms, r, asked) for r in results) if r.success), found)
+
+
+def kept(
+    arms: Any, results: list[IKResult], asked: tuple[object, tuple, bool] | None
+) -> list[IKResult]:
     """``solve_all``'s answers (``results``) clear of each other (``clear``); where none
     is, the first of them as the failure it is (``clear``)."""
     if asked is None:
@@ -246,14 +316,14 @@ def kept(arms: Any, results: list[IKResult], asked: tuple[object, tuple] | None)
     return found or each[:1]
 
 
-def clear_rows(arms: Any, out: BatchResult, asked: tuple[object, tuple] | None) -> list[int]:
+def clear_rows(arms: Any, out: BatchResult, asked: tuple[object, tuple, bool] | None) -> list[int]:
     """``clear`` on every successful row of ``out`` (a joined batch or path), in place: the
     rows it finds in collision."""
     if asked is None:
         return []
     found = []
     m = checked.number("margin", asked[0])
-    own = _checker(arms, asked[1])
+    own = _checker(arms, asked[1], asked[2])
     object.__setattr__(out, "margin", m)
     for i in np.flatnonzero(out.success).tolist():
         d, pair = own.distance(out.q[i])
@@ -261,6 +331,6 @@ def clear_rows(arms: Any, out: BatchResult, asked: tuple[object, tuple] | None) 
         if d < m:
             out.success[i] = False
             out.status_code[i] = Status.COLLISION.code
-            out.reasons[i] = reasons.chains_collide(pair, d, m)
+            out.reasons[i] = _words(arms, pair, d, m, out.errors)
             found.append(i)
     return found

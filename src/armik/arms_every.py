@@ -20,7 +20,9 @@ from typing import Any
 
 import numpy as np
 
-from armik.arms_joined import joined
+from armik.arms_apart import facade, viewed
+from armik.arms_joined import held, joined, left_out
+from armik.arms_options import held_apart
 from armik.arms_prefer import is_cost, order, ranked
 from armik.result import IKResult
 
@@ -28,19 +30,29 @@ MAX_COMBINATIONS = 256  # answers at most: the nearest q0 (the best) of every ch
 
 
 def solve_all(arms: Any, targets: Mapping[str, object], q0: object = None, **options: Any):
-    """Every answer of ``arms`` (an ``armik.Arms``) for one target per tip, best first."""
+    """Every answer of ``arms`` (an ``armik.Arms``) for one target per tip, best first; a
+    tip left out holds its constraints at the values it keeps (``arms_joined.held``)."""
+    found = _every(arms, targets, q0, **options)
+    checks = left_out(arms, options, targets)
+    return [held(arms, r, checks) for r in found] if checks else found
+
+
+def _every(arms: Any, targets: Mapping[str, object], q0: object = None, **options: Any):
     t0 = time.perf_counter()
     relative = arms._check_targets(targets)
     if arms._union is not None or relative:
         return [arms.solve(targets, q0=q0, **options)]
     seeds = arms._middle_seeds if q0 is None else arms.split(q0)
     held = arms._holds(options)
+    seeds = held_apart(seeds, held, arms._chains, targets)  # a tip left out: its holds
     prefer = options.get("prefer")
     if is_cost(prefer):  # a cost of the whole configuration: ranked over the combinations
         reference = arms.middle if q0 is None else np.asarray(q0, dtype=float)
-        return ranked(arms, targets, seeds, reference, prefer, held, MAX_COMBINATIONS, t0)
+        return ranked(
+            viewed(arms, held), targets, seeds, reference, prefer, held, MAX_COMBINATIONS, t0
+        )
     found = {
-        tip: arms.chain(tip).solve_all(target, q0=seeds[tip], **held[tip])
+        tip: facade(arms, tip, held[tip]).solve_all(target, q0=seeds[tip], **held[tip])
         for tip, target in targets.items()
     }
     good = {tip: [r for r in rs if r.success] for tip, rs in found.items()}

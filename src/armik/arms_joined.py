@@ -7,8 +7,15 @@ them."""
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Mapping
+from typing import Any
+
 import numpy as np
 
+from armik import reasons
+from armik.arms_options import chain_constraints
+from armik.arms_tasks import by_tip
 from armik.result import IKResult
 from armik.status import Status
 
@@ -115,3 +122,45 @@ def by_tip_errors(tips, measured, true) -> tuple[dict[str, tuple], list[str]]:
         if not e.within and tip not in failed:
             failed.append(tip)
     return errors, failed
+
+
+def left_out(arms: Any, options: dict, targets: object) -> list[tuple[str, Any]]:
+    """(tip, constraint) of each constraint given by tip (``constraints={tip: [...]}``) on
+    chains that share no joint whose tip ``targets`` leave out: no chain's solve checks
+    it, and that chain keeps q0's values (``held``, ``held_rows`` check them)."""
+    own = chain_constraints(options, arms.tips) if "constraints" in options else None
+    if not own or arms._union is not None:
+        return []
+    tips = by_tip(arms._chains, targets)
+    solved = set(tips) if isinstance(tips, Mapping) else set(arms.tips)
+    return [(tip, c) for tip, given in own.items() if tip not in solved for c in given]
+
+
+def held(arms: Any, r: IKResult, checks: list[tuple[str, Any]]) -> IKResult:
+    """``r``, or where a constraint of a tip left out (``left_out``) fails at its values in
+    ``r.q``, the failure its check says, naming the tip."""
+    if not r.success or not checks:
+        return r
+    for tip, c in checks:
+        arm, q = arms._chains[tip], np.asarray(r.q, dtype=float)[arms._columns[tip]]
+        found = c.at(arm, q).check(arm, q[None, :])
+        if not found.ok[0]:
+            why = reasons.left_out_fails(tip, found.why(0))
+            return dataclasses.replace(r, success=False, status=found.status, reason=why)
+    return r
+
+
+def held_rows(arms: Any, out: Any, checks: list[tuple[str, Any]]) -> None:
+    """``held`` on every successful row of ``out`` (a joined ``BatchResult``), in place."""
+    for tip, c in checks:
+        arm, cols = arms._chains[tip], arms._columns[tip]
+        rows = np.flatnonzero(out.success)
+        if not len(rows):
+            return
+        Q = np.ascontiguousarray(out.q[rows][:, cols])
+        found = c.at(arm, Q[0]).check(arm, Q)
+        for k in np.flatnonzero(~found.ok).tolist():
+            i = int(rows[k])
+            out.success[i] = False
+            out.status_code[i] = found.status.code
+            out.reasons[i] = reasons.left_out_fails(tip, found.why(k))

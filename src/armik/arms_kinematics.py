@@ -19,6 +19,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik import arms_collision, checked
+from armik.arms_tasks import placing
 from armik.constraints.srdf import Pair
 from armik.errors import ArmikWarning, FrameError, JointError, OptionError, TargetError
 from armik.model import frames
@@ -228,7 +229,7 @@ class ArmsKinematics:
 
     def _chain_of(self, frame: str) -> str:
         """The tip whose chain has ``frame``; ``FrameError`` naming the closest frames."""
-        tip = frames.owner(self._chains, frame) if isinstance(frame, str) else None
+        tip = placing(self._chains, frame) if isinstance(frame, str) else None
         if tip in self._chains:
             return cast(str, tip)
         names = self.frames()

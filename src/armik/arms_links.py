@@ -40,27 +40,9 @@ class Links:
     def __init__(
         self, chains: list[ArmModel], obstacles: tuple[Shape, ...], self_collision: bool
     ) -> None:
-        full = chains[0].chain.full  # the URDF's model, every chain cut from it
-        depth = [0] * full.njoints
-        for j in range(1, full.njoints):
-            depth[j] = depth[full.parents[j]] + 1
         self.geometry: list[ArmGeometry] = [arm_geometry(arm) for arm in chains]
-        # the depth, in the URDF's tree, of the joint each chain hangs each object on
-        placed: dict[str, list[int]] = {}
-        followed: dict[str, int] = {}
-        for c, (arm, g) in enumerate(zip(chains, self.geometry)):
-            moved = {i for i, _, _ in g.followed}
-            for i, o in enumerate(g.model.geometryObjects):
-                joint = arm.model.names[o.parentJoint]
-                deep = depth[full.getJointId(joint)] if o.parentJoint else 0
-                placed.setdefault(o.name, [-1] * len(chains))[c] = deep
-                if i in moved:
-                    followed.setdefault(o.name, c)
+        placed, followed, right = _placing(chains, self.geometry)
         owner = {name: followed.get(name, int(np.argmax(deeps))) for name, deeps in placed.items()}
-        # the chains that place each object as the robot does
-        right = {name: {c for c, d in enumerate(ds) if d == max(ds)} for name, ds in placed.items()}
-        for name, c in followed.items():
-            right[name] = {c}
         self.objects: list[tuple[int, int]] = []  # (chain, its object)
         key: dict[str, int] = {}
         for c, g in enumerate(self.geometry):
@@ -126,6 +108,44 @@ class Links:
         """The link of object ``k``."""
         c, i = self.objects[k]
         return self.geometry[c].links[i]
+
+
+def _placing(chains: list[ArmModel], geometry: list[ArmGeometry]) -> tuple[dict, dict, dict]:
+    """(placed, followed, right) of the objects of ``chains`` (their ``geometry``), by
+    object name: the depth in the URDF's tree of the joint each chain hangs it on (-1: not
+    in that chain's geometry), the chain that moves it below a mimic joint by its driver,
+    and the chains that place it as the robot does (the deepest, or that one)."""
+    full = chains[0].chain.full  # the URDF's model, every chain cut from it
+    depth = [0] * full.njoints
+    for j in range(1, full.njoints):
+        depth[j] = depth[full.parents[j]] + 1
+    placed: dict[str, list[int]] = {}
+    followed: dict[str, int] = {}
+    for c, (arm, g) in enumerate(zip(chains, geometry)):
+        moved = {i for i, _, _ in g.followed}
+        for i, o in enumerate(g.model.geometryObjects):
+            joint = arm.model.names[o.parentJoint]
+            deep = depth[full.getJointId(joint)] if o.parentJoint else 0
+            placed.setdefault(o.name, [-1] * len(chains))[c] = deep
+            if i in moved:
+                followed.setdefault(o.name, c)
+    right = {name: {c for c, d in enumerate(ds) if d == max(ds)} for name, ds in placed.items()}
+    for name, c in followed.items():
+        right[name] = {c}
+    return placed, followed, right
+
+
+def moved_elsewhere(chains: list[ArmModel]) -> list[frozenset[str]]:
+    """For each of ``chains`` (each an ``ArmModel`` of one URDF, sharing no joint), the
+    names of its collision objects that another chain places as the robot does and it
+    does not (its cut holds them still, or carries them on its own joints, where the
+    robot moves them with another chain's)."""
+    geometry = [arm_geometry(arm) for arm in chains]
+    right = _placing(chains, geometry)[2]
+    return [
+        frozenset(o.name for o in g.model.geometryObjects if c not in right[o.name])
+        for c, g in enumerate(geometry)
+    ]
 
 
 def _radius(geometry: coal.CollisionGeometry) -> float:

@@ -23,8 +23,10 @@ from typing import Any, Protocol
 import numpy as np
 
 from armik import reasons
+from armik.arms_apart import facade
 from armik.arms_collision import between, clear_rows
-from armik.arms_options import check_held
+from armik.arms_joined import held_rows, left_out
+from armik.arms_options import check_held, held_apart
 from armik.arms_prefer import combined, is_cost
 from armik.arms_rows import empty, row_named, solve_rows
 from armik.batch_result import BatchResult
@@ -109,15 +111,17 @@ def solve_batch(
             for tip, rows in targets.items()
         }
         parts = {
-            tip: arms.chain(tip).solve_batch(
+            tip: facade(arms, tip, each[tip]).solve_batch(
                 rows, q0=seeds[:, arms._columns[tip]], backend=backend, **batch, **each[tip]
             )
             for tip, rows in read.items()
         }
+        seeds = _held_apart(arms, seeds, each, parts)
         out = _joined(arms, parts, seeds, opts, time.perf_counter() - t0, prefer)
+        held_rows(arms, out, left_out(arms, options, targets))  # a tip left out: its checks
         # the chains' answers together; a row whose arms collide solved again as
         # ``Arms.solve`` solves it, which tries the other combinations of their answers
-        for i in clear_rows(arms, out, between(arms, options)):
+        for i in clear_rows(arms, out, between(arms, options, targets)):
             row = {tip: rows[i] for tip, rows in targets.items()}
             out.put_result(i, arms.solve(row, q0=seeds[i], **options))
         return _timed(out, t0)
@@ -125,6 +129,17 @@ def solve_batch(
     threads, size = _whole(workers, "workers", 1), _whole(chunk_size, "chunk_size", DEFAULT_CHUNK)
     out = solve_rows(arms, targets, seeds, options, opts, size, threads, progress, run_jobs)
     return _timed(out, t0)
+
+
+def _held_apart(arms: Arms, seeds: np.ndarray, each: dict, parts: Mapping) -> np.ndarray:
+    """``seeds`` (rows over the robot's joints) with the held joints of the tips given no
+    rows (not in ``parts``) at their values (``arms_options.held_apart``)."""
+    each_seed = {tip: seeds[:, cols] for tip, cols in arms._columns.items()}
+    held = held_apart(each_seed, each, arms._chains, parts)
+    out = seeds.copy()
+    for tip, cols in arms._columns.items():
+        out[:, cols] = held[tip]
+    return out
 
 
 def _whole(value: object, name: str, default: int) -> int:
@@ -174,7 +189,7 @@ def solve_path(
         each = arms._holds(options)  # each chain's part of the options, as Arms.solve's
         check_held(arms._chains, each, start[None, :], arms._columns)
         parts = {
-            tip: arms.chain(tip).solve_path(
+            tip: facade(arms, tip, each[tip]).solve_path(
                 rows,
                 None if q0 is None else start[arms._columns[tip]],  # None: a free start
                 max_joint_step=step[arms._columns[tip]],
@@ -183,8 +198,11 @@ def solve_path(
             )
             for tip, rows in waypoints.items()
         }
-        out = _joined(arms, parts, np.tile(start, (n, 1)), opts, 0.0, prefer)
-        clear_rows(arms, out, between(arms, options))  # the chains' answers together
+        out = _joined(
+            arms, parts, _held_apart(arms, np.tile(start, (n, 1)), each, parts), opts, 0.0, prefer
+        )
+        held_rows(arms, out, left_out(arms, options, waypoints))  # a tip left out: its checks
+        clear_rows(arms, out, between(arms, options, waypoints))  # the answers together
         return _timed(out, t0)
     if plan != "follow":
         raise OptionError(

@@ -165,7 +165,14 @@ def chain_constraints(options: dict, tips: Iterable[str]) -> dict[str, list] | N
                 option="constraints",
                 value=tip,
             )
-        items = [value] if isinstance(value, Constraint) else list(value)
+        try:
+            items = [value] if isinstance(value, Constraint) else list(value)
+        except TypeError:  # no constraint and no iterable of them
+            raise OptionError(
+                f"constraints[{tip!r}] must be a constraint or a list of them, got {value!r:.80}",
+                option="constraints",
+                value=value,
+            ) from None
         for c in items:
             if not isinstance(c, Constraint) or c.said():
                 raise OptionError(
@@ -186,3 +193,26 @@ def _with(options: dict, constraints: list) -> dict:
     had = options.get("constraints")
     before = [] if had is None else [had] if isinstance(had, Constraint) else list(had)
     return {**options, "constraints": [*before, *constraints]}
+
+
+def held_apart(
+    seeds: Mapping[str, np.ndarray],
+    each: Mapping[str, dict],
+    chains: Mapping[str, ArmModel],
+    solved: Iterable[str],
+) -> dict[str, np.ndarray]:
+    """Each chain's seed (its joint values, or rows of them), where its tip is not among
+    ``solved`` (given no target) with the joints its options ``each`` (``per_chain``'s)
+    hold at their values (checked within the limits, as a chain's solve checks them): a
+    chain left out keeps q0's values but for those, as over shared joints."""
+    out = dict(seeds)
+    done = set(solved)
+    for tip, options in each.items():
+        held = {j: v for j, v in (options.get("hold") or {}).items() if v is not None}
+        if tip in done or not held:
+            continue
+        arm, q = chains[tip], np.array(seeds[tip], dtype=float)
+        for joint, value in held.items():
+            q[..., arm.joint_names.index(joint)] = Hold(joint, value).at(arm, arm.middle).value
+        out[tip] = q
+    return out

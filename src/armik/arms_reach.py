@@ -7,7 +7,9 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import time
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -15,8 +17,38 @@ import pinocchio as pin
 from armik import reasons
 from armik.problem.problem import as_problem, lower
 from armik.result import IKResult
+from armik.solvers.registry import get as get_solver
 from armik.status import Status
 from armik.targets.pose import Target, parsed
+
+
+def reaching(arms: Any, beyond: dict[str, str], targets, q0, options: dict, t0: float):
+    """Tips sharing joints (``arms``, an ``Arms``), some provably beyond reach
+    (``beyond_reach``): the others solved together, the failure naming the tips that
+    cannot reach; with none left, ``options`` read all the same (a bad one refused by name,
+    as where some tip is solved) and the start kept, as a solve that fails leaves it."""
+    union = arms._union
+    rest = {t: v for t, v in targets.items() if t not in beyond}
+    if rest:
+        r = arms._solve_together(union, rest, {}, q0, options, t0)
+    else:
+        q = arms.middle if q0 is None else np.asarray(q0, dtype=float)
+        if options:  # what ``Arms._solve_together`` reads of them, read here
+            options = dict(options)
+            arms._score(options.pop("prefer", None))
+            solver = options.pop("solver", "auto")
+            if solver != "auto":
+                get_solver(solver)
+            arms._holds(options)
+            joint = arms._on_union(union, options) if "constraints" in options else options
+            for c in arms._settings(joint)[1]:
+                c.at(union, q)  # a held value within its joint's limits
+        r = IKResult(
+            q=q, success=False, status=Status.UNREACHABLE, reason="", solver="task",
+            iterations=0, position_error=math.inf, orientation_error=None, time=0.0,
+        )  # fmt: skip
+    placements = {t: union.fk(r.q, t) for t in beyond}
+    return with_unreachable(r, targets, beyond, placements, time.perf_counter() - t0)
 
 
 def beyond_reach(chains: Mapping[str, object], targets: Mapping[str, object]) -> dict[str, str]:

@@ -13,7 +13,7 @@ import pinocchio as pin
 
 from armik.errors import TargetError
 from armik.model.arm_model import ArmModel
-from armik.model.frames import moves, owner
+from armik.model.frames import moves, named, owner
 from armik.problem.problem import as_problem
 from armik.problem.tasks import Pose, Position, Relative, Task
 from armik.problem.tasks.base import replaced
@@ -38,7 +38,7 @@ def by_tip(chains: Mapping[str, ArmModel], targets: object) -> Any:
                 f"{type(task).__name__} in a list of tasks for several tips names no frame: "
                 f"give frame= (one of the tips {list(chains)}, or a frame of their chains)"
             )
-        tip = owner(chains, task.frame)
+        tip = placing(chains, task.frame)
         if tip not in chains:
             raise TargetError(
                 f"{type(task).__name__} names frame {task.frame!r}, which no chain of tips "
@@ -46,6 +46,28 @@ def by_tip(chains: Mapping[str, ArmModel], targets: object) -> Any:
             )
         out.setdefault(tip, []).append(task)
     return in_order(chains, out)
+
+
+def placing(chains: Mapping[str, ArmModel], frame: str) -> str:
+    """The tip whose chain places ``frame`` as the robot does (``frames.owner``'s, or
+    ``frame`` where no chain has it): where several chains move it (it hangs below joints
+    they share: a torso carries the other arm, which the chain holds still), the one that
+    hangs it on the deepest joint of the URDF's tree."""
+    tip = owner(chains, frame)
+    if tip not in chains or tip == frame:
+        return tip
+    movers = [t for t, arm in chains.items() if arm.model.existFrame(frame) and moves(arm, frame)]
+    return max(movers, key=lambda t: _depth(chains[t], frame)) if len(movers) > 1 else tip
+
+
+def _depth(arm: ArmModel, frame: str) -> int:
+    """How many joints of the URDF's tree lie above the joint ``arm`` hangs ``frame`` on."""
+    model, full = arm.model, arm.chain.full
+    j = full.getJointId(model.names[model.frames[named(model, frame)].parentJoint])
+    depth = 0
+    while j:
+        j, depth = full.parents[j], depth + 1
+    return depth
 
 
 def in_order(chains: Mapping[str, ArmModel], targets: Mapping) -> Mapping:

@@ -428,3 +428,46 @@ def slides_wrist_unreachable(distance: float, wrist: float, tol: float) -> str:
         f"within their limits, carry its turning joints, which reach at most {wrist:.3g} m "
         f"from the first one), beyond tol_position ({tol:g} m); q is the seed, unchanged"
     )
+
+
+def held_overlap(arm: str, overlaps: tuple[tuple[str, str, float], ...]) -> str:
+    """Pairs of links an arm's chain holds where it was cut (joints off the chain, or the
+    base) that overlap at its neutral configuration: left out of its self-collision check."""
+    listed = ", ".join(f"{a!r} and {b!r} by {d:.3g} m" for a, b, d in overlaps[:4])
+    more = f" and {len(overlaps) - 4} more" if len(overlaps) > 4 else ""
+    return (
+        f"self_collision on arm {arm!r}: links its chain holds where it was cut (their "
+        f"joints off the chain, or the base) overlap at its neutral configuration ({listed}"
+        f"{more}), so those pairs are left out of the check, as an SRDF's disabled pairs: "
+        "lock the joints that hold them at values that keep them apart "
+        "(armik.load(..., locked={joint: value})) to have them checked"
+    )
+
+
+def apart_collide(pair: tuple[str, str] | None, distance: float, margin: float) -> str:
+    """Several tips on chains that share no joint, each verified and clear alone (against
+    the obstacles and its own links, those another chain moves left to it): the robot at
+    their answers side by side is not."""
+    together = in_collision(pair, distance, margin)
+    return (
+        f"every tip reached, but the chains' answers together are {together} (each chain "
+        "was checked alone, against the obstacles and its own links)"
+    )
+
+
+def left_collide(pair: tuple[str, str] | None, distance: float, margin: float, left) -> str:
+    """Several tips on chains that share no joint, each given tip verified and clear, the
+    chains of the tips ``left`` out of the targets keeping q0's values: the robot's
+    configuration is not clear of the obstacles."""
+    together = in_collision(pair, distance, margin)
+    return (
+        f"every tip given reached, but the robot's configuration is {together}: the chains "
+        f"of tips {list(left)}, given no target, keep q0's values, which no solve moved "
+        "clear (give those tips a target, or a q0 clear of the obstacles)"
+    )
+
+
+def left_out_fails(tip: str, why: str) -> str:
+    """A constraint given by ``tip``, a tip given no target on chains that share no joint,
+    failing at the values its chain keeps from q0: its check's ``why``."""
+    return f"tip {tip!r}, given no target, keeps q0's values, where {why}"

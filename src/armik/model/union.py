@@ -78,6 +78,7 @@ class Union:
         # 2 pi is a period of every joint but a prismatic one
         prismatic = [j.shortname().startswith("JointModelP") for j in joints]
         self._limit_lists = (self.lower.tolist(), self.upper.tolist(), prismatic)
+        self.prismatic = np.array(prismatic, dtype=bool)  # a held value's unit (``Hold.at``)
         bounded = np.isfinite(self.lower) & np.isfinite(self.upper)
         self.middle = 0.5 * (
             np.where(bounded, self.lower, 0.0) + np.where(bounded, self.upper, 0.0)

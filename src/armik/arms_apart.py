@@ -1,0 +1,107 @@
+"""Each chain of a robot of several tips (``armik.Arms``) as its solves that check
+collisions read it: the chain's model, the links another chain moves left out of its
+collision geometry.
+
+A chain alone (``robot.chain(tip)``) holds the other chains where it was cut: their links
+are part of its scene, fixed to its base or carried by its own joints. Within the robot
+another chain moves them: that chain checks them against the obstacles, and with
+``self_collision`` the robot checks the chains' answers against each other
+(``armik.arms_collision``). So a chain's solve with collisions on chains that share no
+joint takes a copy of its model (its kinematics, limits and solvers the chain's) whose
+geometry leaves out the objects another chain places (``arms_links.moved_elsewhere``);
+``robot.chain(tip)`` is left as it is.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from armik.arms_links import moved_elsewhere
+from armik.constraints.base import Constraint
+from armik.constraints.clear import Collisions
+from armik.constraints.collision import LEFT_OUT
+from armik.model.arm_model import ArmModel
+
+
+def asks(options: Mapping[str, Any] | None) -> bool:
+    """Whether one chain's ``options`` (``Arms._holds``' part of them) check collisions."""
+    if not options:
+        return False
+    if options.get("obstacles") is not None or options.get("self_collision"):
+        return True
+    given = options.get("constraints")
+    items = [given] if isinstance(given, Constraint) else given
+    return isinstance(items, (list, tuple)) and any(isinstance(c, Collisions) for c in items)
+
+
+def chains(arms: Any, each: Mapping[str, Mapping[str, Any]] | None) -> dict[str, ArmModel]:
+    """The model each chain's solve with its options ``each`` (tip -> options) takes:
+    ``arms._chains`` unless they check collisions on chains that share no joint."""
+    if arms._union is not None or not each or not any(asks(o) for o in each.values()):
+        return arms._chains  # type: ignore[no-any-return]
+    found = arms.__dict__.get("_apart")
+    if found is None:
+        tips = list(arms.tips)
+        left = moved_elsewhere([arms._chains[t] for t in tips])
+        found = {t: _without(arms._chains[t], out) for t, out in zip(tips, left)}
+        arms.__dict__["_apart"] = found
+    return found  # type: ignore[no-any-return]
+
+
+def model(arms: Any, tip: str, options: Mapping[str, Any] | None) -> ArmModel:
+    """The model ``tip``'s chain solves with ``options`` (its own) on."""
+    return chains(arms, {tip: options} if options else None)[tip]
+
+
+def facade(arms: Any, tip: str, options: Mapping[str, Any] | None) -> Any:
+    """The ``Arm`` ``tip``'s chain solves with ``options`` (its own) as: ``arms.chain(tip)``,
+    or one on the chain's model within the robot (``chains``)."""
+    arm = arms.chain(tip)
+    found = model(arms, tip, options)
+    return arm if found is arm.kinematics else type(arm)(found)
+
+
+@dataclass(frozen=True)
+class InRobot:
+    """How a chain's model within a robot is built again (as it pickles: an ``ArmModel``
+    travels as its recipe): the chain's own recipe, the objects left out."""
+
+    recipe: Any
+    left_out: frozenset[str]
+
+    def build_model(self) -> ArmModel:
+        return _without(self.recipe.build_model(), self.left_out)
+
+
+def _without(arm: ArmModel, left_out: frozenset[str]) -> ArmModel:
+    """A copy of ``arm`` whose collision geometry leaves out the objects ``left_out``
+    (``arm`` itself when there are none)."""
+    if not left_out:
+        return arm
+    copy = arm.with_limits({})  # the same limits, nothing derived kept
+    copy._derived[LEFT_OUT] = left_out
+    if arm._recipe is not None:
+        copy._recipe = InRobot(arm._recipe, left_out)
+    return copy
+
+
+def viewed(arms: Any, each: Mapping[str, Mapping[str, Any]]) -> Any:
+    """``arms``, or where its chains' options ``each`` (tip -> options) check collisions,
+    ``arms`` whose ``chain(tip)`` is the ``Arm`` that chain solves as (``facade``): what a
+    search over the chains' answers (``arms_prefer.ranked``) reads of a robot."""
+    return _Viewed(arms, each) if chains(arms, each) is not arms._chains else arms
+
+
+class _Viewed:
+    """``arms`` with each chain as ``facade`` gives it for its options ``each``."""
+
+    def __init__(self, arms: Any, each: Mapping[str, Mapping[str, Any]]) -> None:
+        self._arms, self._each = arms, each
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._arms, name)
+
+    def chain(self, tip: str) -> Any:
+        return facade(self._arms, tip, self._each[tip])

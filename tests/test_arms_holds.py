@@ -1,0 +1,71 @@
+"""A joint held on the chain of a tip given no target: the robot's answer has it at the
+held value on every route (that chain keeps q0's values but for it), as over shared
+joints; a held value outside its limits is refused by name."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import armik
+from armik.constraints.base import Check, Constraint
+
+from .test_arms_collision import dual
+
+
+def test_a_joint_held_on_a_chain_given_no_target_is_at_its_value():
+    robot = armik.load(dual("ur5"), tips=["l_tool0", "r_tool0"])
+    k = robot.joint_names.index("r_elbow_joint")
+    q0 = robot.random_q(2)
+    T = robot.fk(robot.random_q(1), "l_tool0")
+    for given in (
+        {"hold": {"r_elbow_joint": 0.3}},
+        {"constraints": [armik.Hold("r_elbow_joint", 0.3)]},
+    ):
+        results = [
+            robot.solve({"l_tool0": T}, q0=q0, **given),
+            robot.solve({"l_tool0": T}, q0=q0, prefer=lambda x: float(x[0] ** 2), **given),
+            *robot.solve_all({"l_tool0": T}, q0=q0, **given)[:3],
+            robot.solve_batch({"l_tool0": [T, T]}, q0=q0, **given)[1],
+            robot.solve_path({"l_tool0": [T]}, q0, max_joint_step=10.0, **given)[0],
+        ]
+        for r in results:
+            assert r.success and r.q[k] == 0.3
+            others = [i for i in range(6, 12) if i != k]
+            assert (r.q[others] == q0[others]).all()  # the rest of the arm: q0's values
+    held = robot.solve({"l_tool0": T}, q0=q0, hold={"r_elbow_joint": None})
+    assert held.success and held.q[k] == q0[k]  # None: q0's value
+    with pytest.raises(armik.JointError, match="r_elbow_joint"):
+        robot.solve({"l_tool0": T}, hold={"r_elbow_joint": 100.0})
+
+
+class _Below(Constraint):
+    """A joint of one chain at most ``value`` (rad): a check of the test's own."""
+
+    def __init__(self, joint: str, value: float) -> None:
+        self.joint, self.value = joint, value
+
+    def check(self, arm, Q):
+        k = arm.joint_names.index(self.joint)
+        ok = np.asarray(Q)[:, k] <= self.value
+        return Check(ok, armik.Status.UNREACHABLE, lambda i: "above")
+
+
+def test_a_tip_left_out_holds_its_own_constraints_at_the_values_it_keeps():
+    robot = armik.load(dual("ur5"), tips=["l_tool0", "r_tool0"])
+    k = robot.joint_names.index("r_elbow_joint")
+    T = robot.fk(robot.random_q(1), "l_tool0")
+    given = {"constraints": {"r_tool0": [_Below("r_elbow_joint", 0.0)]}}
+    for value in (1.0, -1.0):  # q0's right elbow breaks it, then keeps it
+        q0 = robot.middle.copy()
+        q0[k] = value
+        results = [
+            robot.solve({"l_tool0": T}, q0=q0, **given),
+            *robot.solve_all({"l_tool0": T}, q0=q0, **given)[:3],
+            robot.solve_batch({"l_tool0": [T, T]}, q0=q0, **given)[1],
+            robot.solve_path({"l_tool0": [T]}, q0, max_joint_step=10.0, **given)[0],
+        ]
+        for r in results:
+            assert r.q[k] == value and r.success == (value <= 0.0)
+            if not r.success:
+                assert "'r_tool0'" in r.reason and r.status is armik.Status.UNREACHABLE

@@ -1,0 +1,53 @@
+"""Bad input to several tips is an armik error naming it on every route: a tip's
+constraints that are no constraint, a held torso joint outside its limits over shared
+joints, and options given where every tip's target is beyond reach (read as where one tip
+is solved)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import armik
+
+from .test_arms_collision import dual
+from .test_arms_parity import HANDS, TALOS
+
+
+def test_a_tip_s_constraints_that_are_no_constraint_are_refused_by_name():
+    robot = armik.load(dual("ur5"), tips=["l_tool0", "r_tool0"])
+    T = robot.fk(robot.middle, "l_tool0")
+    with pytest.raises(armik.OptionError, match=r"constraints\['l_tool0'\]"):
+        robot.solve({"l_tool0": T}, constraints={"l_tool0": 3})
+
+
+@pytest.fixture(scope="module")
+def talos():
+    return armik.load(TALOS, tips=HANDS)
+
+
+def test_a_held_joint_outside_its_limits_over_shared_joints_is_named(talos):
+    T = talos.fk(talos.middle, HANDS[0])
+    for joint in ("torso_1_joint", "arm_left_1_joint"):
+        with pytest.raises(armik.JointError, match=f"outside joint '{joint}'"):
+            talos.solve({HANDS[0]: T}, hold={joint: 100.0})
+
+
+@pytest.mark.parametrize(
+    ("options", "error"),
+    [
+        ({"bogus": 1}, armik.OptionError),
+        ({"solver": "bogus"}, armik.SolverError),
+        ({"hold": {"nope": 1.0}}, armik.JointError),
+        ({"hold": {"torso_1_joint": 100.0}}, armik.JointError),
+        ({"margin": -1}, armik.OptionError),
+    ],
+)
+def test_options_are_read_where_every_tip_is_beyond_reach(talos, options, error):
+    far = np.array([5.0, 0.0, 0.0])
+    near = talos.fk(talos.middle, HANDS[0]).translation
+    for targets in ({HANDS[0]: near, HANDS[1]: far}, {HANDS[0]: far, HANDS[1]: far}):
+        with pytest.raises(error):
+            talos.solve(targets, **options)
+    r = talos.solve({HANDS[0]: far, HANDS[1]: far})  # without them: the failure it was
+    assert not r.success and r.status is armik.Status.UNREACHABLE
