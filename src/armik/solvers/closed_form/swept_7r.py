@@ -284,12 +284,30 @@ def exact_at(arm: ArmModel, target: Target, q0: np.ndarray) -> Callable[[float],
         rows = rows_at(theta)
         return rows[(rows[:, 7].astype(np.int64) & sixr.LS) == 0, :7]
 
+    labelled_at = _rows_at(sw, target, q0, arm, _EVERY_LABEL)
+
+    def branches(theta: float) -> tuple[np.ndarray, list[int]]:
+        """``exact``'s configurations and each one's branch (``sixr.branch_bits`` of joints
+        6 to 1, read by the kernel): a branch moves continuously with joint 7, so a search
+        can follow each one."""
+        rows = labelled_at(theta)
+        exact = (rows[:, 7].astype(np.int64) & sixr.LS) == 0
+        return rows[exact, :7], rows[exact, 8].astype(np.int64).tolist()
+
+    exact.branches = branches  # type: ignore[attr-defined]
     return exact
 
 
-def _rows_at(sw: Swept, target: Target, q0: np.ndarray, arm: ArmModel):
-    """theta -> the closed form's rows (n, 12) with joint 7 at theta: q (7), flags, branch,
-    code, values; the target's arrays and the reversed chain's read once."""
+_NO_LABEL = np.int64(0)  # the kernel labels no row (typed, as every count it takes: one compile)
+_EVERY_LABEL = np.int64(8)  # the kernel labels every row with its branch
+
+
+def _rows_at(
+    sw: Swept, target: Target, q0: np.ndarray, arm: ArmModel, labelled: np.int64 = _NO_LABEL
+):
+    """theta -> the closed form's rows (n, 12) with joint 7 at theta: q (7), flags, branch
+    (read for the first ``labelled`` rows, else 0), code, values; the target's arrays and
+    the reversed chain's read once."""
     R, pos = sixr.pose_arrays(target)
     R, pos = np.array(R), np.array(pos)  # writable: one signature
     q0r = np.array(q0[5::-1], dtype=float)  # the reversed chain's order
@@ -301,7 +319,7 @@ def _rows_at(sw: Swept, target: Target, q0: np.ndarray, arm: ArmModel):
         R_inv, p_inv = held_target(sw.c, sw.u, R, pos, float(theta))
         n, _ = spherical.kernel(
             sw.geo.h, sw.geo.p, sw.geo.R_tip0, mat(R_inv), vec(p_inv), q0r, lor, hir,
-            sw.variant, np.int64(0), out,
+            sw.variant, labelled, out,
         )  # fmt: skip
         rows = np.empty((n, 12))
         rows[:, :6] = out[:n, 5::-1]  # joints 1 to 6 again
