@@ -286,6 +286,8 @@ def sweep_held(
         if not len(Q):
             return {}
         over = np.maximum(np.maximum(lower - Q, Q - upper).max(axis=1), 0.0)
+        if turn.checks:  # a row a constraint of the request refuses: none to search for
+            over[~turn.keeps(arm, Q)] = math.inf
         inside = over <= 0.0
         values = np.full(len(Q), math.inf)
         if inside.any() and not turns_matter:  # every row as it is: the score's array form
