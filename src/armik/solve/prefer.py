@@ -241,7 +241,14 @@ GOLDEN = 0.6180339887498949
 
 
 def sweep_held(
-    arm: ArmModel, target, q0: np.ndarray, opts, score: Score, t0: float, turn: Turning = ANY
+    arm: ArmModel,
+    target,
+    q0: np.ndarray,
+    opts,
+    score: Score,
+    t0: float,
+    turn: Turning = ANY,
+    solver: str = "auto",
 ):
     """On a 7R arm the ``swept`` closed form applies to: the self-motion searched for the
     score, joint 7 on a grid over its range, then refined by golden section around the
@@ -249,12 +256,13 @@ def sweep_held(
     and narrow reachable intervals the grid steps over sought where the branches' limit
     violation dips between grid values (every branch in closed form at each value, scored
     at its best 2 pi variant); the best configurations verified (``finish``). None where
-    it does not apply."""
+    it does not apply (or ``solver``, where not "auto", sweeps no joint)."""
     spec = next(
         (
             s
             for s in registry.sweeps()
-            if (s.declines(opts, target=target) or s.why_not(arm, target, opts)) is None
+            if solver in ("auto", s.name)
+            and (s.declines(opts, target=target) or s.why_not(arm, target, opts)) is None
         ),
         None,
     )
