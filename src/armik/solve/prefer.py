@@ -276,7 +276,11 @@ def sweep_held(
     # with the joint, so each one's score is followed alone), else one for every row
     branches = getattr(exact, "branches", None) or partial(_one_branch, exact)
     lower, upper = arm.lower - LIMIT_TOL, arm.upper + LIMIT_TOL  # ``within_limits``' bounds
-    turns_matter = score.turns_matter
+    # a turn of 2 pi changes the score only on a joint whose range holds one (the Panda's do not)
+    span = np.where(
+        np.isfinite(arm.lower) & np.isfinite(arm.upper), arm.upper - arm.lower, math.inf
+    )
+    turns_matter = score.turns_matter and bool(((span > TWO_PI) & turn.free(arm.dof)).any())
 
     def at(theta: float, only: frozenset | None = None) -> dict[int, tuple[float, float]]:
         """Per branch at joint 7 = ``theta`` (those of ``only`` where given): (its best
