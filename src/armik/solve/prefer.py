@@ -23,11 +23,11 @@ import numpy as np
 from armik import cpu_time, reasons
 from armik.kernel.descent import DUPLICATE_TOL
 from armik.model.arm_model import ArmModel
-from armik.model.turns import UNLIMITED_TURNS, combinations
+from armik.model.turns import UNLIMITED_TURNS
 from armik.model.turns import turns as model_turns
 from armik.problem.scores import Limits, Nearest, Posture, Score
 from armik.result import IKResult
-from armik.solve.turning import ANY, Turning
+from armik.solve.turning import ANY, Turning, best_kept
 from armik.solvers import registry
 from armik.tolerances import LIMIT_TOL
 from armik.verify.verdict import finish
@@ -49,14 +49,14 @@ def best_variant(
 ) -> np.ndarray:
     """The 2 pi variant of ``q`` within the limits that ``score`` ranks first: ``q`` when
     turns do not change the score, each joint's best turn when it splits by joints, else
-    the best of every combination (at most ``MAX_TURNS``, ``q``'s own first); only
-    turns ``turn`` allows (``q`` itself where the best one fails its checks)."""
+    the best of every combination (at most ``MAX_TURNS``, ``q``'s own first); only turns
+    ``turn`` allows (``turning.best_kept``: the best that pass its checks)."""
     if not score.turns_matter:
         return q
     centre = _turn_centre(arm, score, q0)
     if centre is not None:
         k = _turns_towards(arm, q, centre, turn)
-        return turn.kept(arm, q + TWO_PI * k, q) if k.any() else q
+        return best_kept(arm, q, score, q0, turn, q + TWO_PI * k) if k.any() else q
     choices = turns(arm, q, turn, UNLIMITED_TURNS)
     if all(len(c) == 1 for c in choices):
         return q
@@ -66,10 +66,8 @@ def best_variant(
             return lambda v: cast(float, score.per_joint(arm, i, v, q0))
 
         best = np.array([min(c, key=by_joint(i)) for i, c in enumerate(choices)])
-        return turn.kept(arm, best, q)
-    Q = combinations(choices)
-    allowed = Q[turn.keeps(arm, Q)] if turn.checks else Q  # q itself, the first, passes
-    return min(allowed, key=lambda x: score(arm, x, q0), default=q)
+        return best_kept(arm, q, score, q0, turn, best)
+    return best_kept(arm, q, score, q0, turn)
 
 
 def continuous_turned(
@@ -222,12 +220,17 @@ def _variants(
         return out
     Q = np.array(qs)
     K = _turns_towards(arm, Q, centre, turn)
-    if turn.checks:  # a turn that fails a check: the answer as verified
-        K[~turn.keeps(arm, Q + TWO_PI * K)] = 0.0
+    failed = np.zeros(len(Q), dtype=bool)
+    if turn.checks:  # turns that fail a check: the best of the answer's that pass
+        failed = np.any(K, axis=1) & ~turn.keeps(arm, Q + TWO_PI * K)
+        K[failed] = 0.0
     turned: list = np.any(K, axis=1).tolist()
-    if not any(turned):
+    if not any(turned) and not failed.any():
         return qs
     moved = Q + TWO_PI * K
+    for i in np.flatnonzero(failed).tolist():
+        moved[i] = best_kept(arm, qs[i], score, q0, turn)
+        turned[i] = not np.array_equal(moved[i], qs[i])
     moved.flags.writeable = False
     return [moved[i] if turned[i] else q for i, q in enumerate(qs)]
 
@@ -272,8 +275,7 @@ def sweep_held(
     lo, hi = (float(x) for x in sweep.range(arm, float(q0[sweep.joint])))
 
     exact = sweep.exact(arm, target, q0)
-    # each configuration's branch where the sweep tells it (a branch moves continuously
-    # with the joint, so each one's score is followed alone), else one for every row
+    # each row's branch where the sweep tells it (each followed alone), else one for all
     branches = getattr(exact, "branches", None) or partial(_one_branch, exact)
     lower, upper = arm.lower - LIMIT_TOL, arm.upper + LIMIT_TOL  # ``within_limits``' bounds
     # a turn of 2 pi changes the score only on a joint whose range holds one (the Panda's do not)
@@ -339,8 +341,7 @@ def sweep_held(
 
 
 def _one_branch(exact: Callable[[float], np.ndarray], theta: float) -> tuple:
-    """``exact``'s configurations at ``theta``, all of one branch (a sweep that does not
-    tell them apart)."""
+    """``exact``'s configurations at ``theta``, all of one branch (a sweep without any)."""
     Q = exact(theta)
     return Q, [0] * len(Q)
 
