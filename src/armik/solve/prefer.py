@@ -14,6 +14,8 @@ import dataclasses
 import math
 import time
 from collections.abc import Callable, Iterator
+from functools import partial
+from operator import itemgetter
 from typing import cast
 
 import numpy as np
@@ -21,11 +23,11 @@ import numpy as np
 from armik import cpu_time, reasons
 from armik.kernel.descent import DUPLICATE_TOL
 from armik.model.arm_model import ArmModel
-from armik.model.turns import UNLIMITED_TURNS, combinations
+from armik.model.turns import UNLIMITED_TURNS
 from armik.model.turns import turns as model_turns
 from armik.problem.scores import Limits, Nearest, Posture, Score
 from armik.result import IKResult
-from armik.solve.turning import ANY, Turning
+from armik.solve.turning import ANY, Turning, best_kept
 from armik.solvers import registry
 from armik.tolerances import LIMIT_TOL
 from armik.verify.verdict import finish
@@ -47,14 +49,14 @@ def best_variant(
 ) -> np.ndarray:
     """The 2 pi variant of ``q`` within the limits that ``score`` ranks first: ``q`` when
     turns do not change the score, each joint's best turn when it splits by joints, else
-    the best of every combination (at most ``MAX_TURNS``, ``q``'s own first); only
-    turns ``turn`` allows (``q`` itself where the best one fails its checks)."""
+    the best of every combination (at most ``MAX_TURNS``, ``q``'s own first); only turns
+    ``turn`` allows (``turning.best_kept``: the best that pass its checks)."""
     if not score.turns_matter:
         return q
     centre = _turn_centre(arm, score, q0)
     if centre is not None:
         k = _turns_towards(arm, q, centre, turn)
-        return turn.kept(arm, q + TWO_PI * k, q) if k.any() else q
+        return best_kept(arm, q, score, q0, turn, q + TWO_PI * k) if k.any() else q
     choices = turns(arm, q, turn, UNLIMITED_TURNS)
     if all(len(c) == 1 for c in choices):
         return q
@@ -64,10 +66,8 @@ def best_variant(
             return lambda v: cast(float, score.per_joint(arm, i, v, q0))
 
         best = np.array([min(c, key=by_joint(i)) for i, c in enumerate(choices)])
-        return turn.kept(arm, best, q)
-    Q = combinations(choices)
-    allowed = Q[turn.keeps(arm, Q)] if turn.checks else Q  # q itself, the first, passes
-    return min(allowed, key=lambda x: score(arm, x, q0), default=q)
+        return best_kept(arm, q, score, q0, turn, best)
+    return best_kept(arm, q, score, q0, turn)
 
 
 def continuous_turned(
@@ -220,33 +220,52 @@ def _variants(
         return out
     Q = np.array(qs)
     K = _turns_towards(arm, Q, centre, turn)
-    if turn.checks:  # a turn that fails a check: the answer as verified
-        K[~turn.keeps(arm, Q + TWO_PI * K)] = 0.0
+    failed = np.zeros(len(Q), dtype=bool)
+    if turn.checks:  # turns that fail a check: the best of the answer's that pass
+        failed = np.any(K, axis=1) & ~turn.keeps(arm, Q + TWO_PI * K)
+        K[failed] = 0.0
     turned: list = np.any(K, axis=1).tolist()
-    if not any(turned):
+    if not any(turned) and not failed.any():
         return qs
     moved = Q + TWO_PI * K
+    for i in np.flatnonzero(failed).tolist():
+        moved[i] = best_kept(arm, qs[i], score, q0, turn)
+        turned[i] = not np.array_equal(moved[i], qs[i])
     moved.flags.writeable = False
     return [moved[i] if turned[i] else q for i, q in enumerate(qs)]
 
 
 SWEEP_GRID = 32  # values of the held joint over its range, before the refinement
-REFINE_STEPS = 16  # golden-section steps between the best grid value's neighbours
+REFINE_STEPS = 12  # golden-section steps between a grid value's neighbours
+REFINED = 3  # the grid's least values (of any branch) refined, best first
+PROBED = 2  # the grid's dips of the limit violation searched for a narrow interval
+EDGE_STEPS = 6  # bisection steps to each edge of a narrow interval found
 GOLDEN = 0.6180339887498949
 
 
 def sweep_held(
-    arm: ArmModel, target, q0: np.ndarray, opts, score: Score, t0: float, turn: Turning = ANY
+    arm: ArmModel,
+    target,
+    q0: np.ndarray,
+    opts,
+    score: Score,
+    t0: float,
+    turn: Turning = ANY,
+    solver: str = "auto",
 ):
     """On a 7R arm the ``swept`` closed form applies to: the self-motion searched for the
-    score, joint 7 on a grid over its range and then refined by golden section around the
-    best value (every branch in closed form at each value, scored at its best 2 pi
-    variant); the best configurations verified (``finish``). None where it does not apply."""
+    score, joint 7 on a grid over its range, then refined by golden section around the
+    grid's best local minima (a minimum at the edge of a reachable interval among them),
+    and narrow reachable intervals the grid steps over sought where the branches' limit
+    violation dips between grid values (every branch in closed form at each value, scored
+    at its best 2 pi variant); the best configurations verified (``finish``). None where
+    it does not apply (or ``solver``, where not "auto", sweeps no joint)."""
     spec = next(
         (
             s
             for s in registry.sweeps()
-            if (s.declines(opts, target=target) or s.why_not(arm, target, opts)) is None
+            if solver in ("auto", s.name)
+            and (s.declines(opts, target=target) or s.why_not(arm, target, opts)) is None
         ),
         None,
     )
@@ -256,38 +275,151 @@ def sweep_held(
     lo, hi = (float(x) for x in sweep.range(arm, float(q0[sweep.joint])))
 
     exact = sweep.exact(arm, target, q0)
+    # each row's branch where the sweep tells it (each followed alone), else one for all
+    branches = getattr(exact, "branches", None) or partial(_one_branch, exact)
     lower, upper = arm.lower - LIMIT_TOL, arm.upper + LIMIT_TOL  # ``within_limits``' bounds
-    turns_matter = score.turns_matter
+    # a turn of 2 pi changes the score only on a joint whose range holds one (the Panda's do not)
+    span = np.where(
+        np.isfinite(arm.lower) & np.isfinite(arm.upper), arm.upper - arm.lower, math.inf
+    )
+    turns_matter = score.turns_matter and bool(((span > TWO_PI) & turn.free(arm.dof)).any())
 
-    def best_at(theta: float) -> float:
-        """The best score over the branches at joint 7 = ``theta`` (inf: none reached)."""
-        Q = exact(theta)
-        inside = Q[((Q >= lower) & (Q <= upper)).all(axis=1)]
-        if not turns_matter:  # every branch as it is: the score's array form
-            return min(score.many(arm, inside, q0).tolist(), default=math.inf)
-        scores = [score(arm, best_variant(arm, q, score, q0, turn), q0) for q in inside]
-        return min(scores, default=math.inf)
+    def at(theta: float, only: frozenset | None = None) -> dict[int, tuple[float, float]]:
+        """Per branch at joint 7 = ``theta`` (those of ``only`` where given): (its best
+        score within the limits, inf where it is outside them; its smallest limit
+        violation, 0 within them). A branch not reached there is absent. (Loops, not
+        comprehensions: the search calls it about a hundred times.)"""
+        Q, labels = branches(theta)
+        if only is not None:
+            keep, kept = [], []
+            for i, b in enumerate(labels):
+                if b in only:
+                    keep.append(i)
+                    kept.append(b)
+            Q, labels = Q[keep], kept
+        if not len(Q):
+            return {}
+        over = np.maximum(np.maximum(lower - Q, Q - upper).max(axis=1), 0.0)
+        if turn.checks:  # a row a constraint of the request refuses: none to search for
+            over[~turn.keeps(arm, Q)] = math.inf
+        inside = over <= 0.0
+        values = np.full(len(Q), math.inf)
+        if inside.any() and not turns_matter:  # every row as it is: the score's array form
+            values[inside] = score.many(arm, Q[inside], q0)
+        elif inside.any():
+            for i in np.flatnonzero(inside).tolist():
+                values[i] = score(arm, best_variant(arm, Q[i], score, q0, turn), q0)
+        out: dict[int, tuple[float, float]] = {}
+        for b, v, o in zip(labels, values.tolist(), over.tolist()):
+            old = out.get(b)
+            out[b] = (v, o) if old is None else (min(old[0], v), min(old[1], o))
+        return out
 
-    grid = np.linspace(lo, hi, SWEEP_GRID)
-    values = [best_at(float(t)) for t in grid]
-    k = int(np.argmin(values))
-    if not math.isfinite(values[k]):
+    def on(group: frozenset, part: int) -> Callable[[float], float]:
+        """The best score (``part`` 0) or the least violation (1) of ``group``'s branches."""
+        return lambda theta: min([x[part] for x in at(theta, group).values()], default=math.inf)
+
+    grid = [float(t) for t in np.linspace(lo, hi, SWEEP_GRID)]
+    found = [at(t) for t in grid]
+    seen = [(v, t) for got, t in zip(found, grid) for v, _ in got.values()]  # (score, value)
+    n = len(grid)
+
+    def around(k: int) -> tuple[float, float]:
+        return grid[max(k - 1, 0)], grid[min(k + 1, n - 1)]
+
+    lows = _turning_points(found, 0)  # of each branch's score: its least values
+    dips = _turning_points(found, 1)  # of its limit violation, where it is outside them
+    for _, k, group in lows[:REFINED]:
+        seen += _golden(on(group, 0), *around(k), REFINE_STEPS)
+    for _, k, group in dips[:PROBED]:
+        seen += _narrow(on(group, 1), on(group, 0), *around(k))
+    value, theta = min(seen, key=itemgetter(0), default=(math.inf, 0.0))  # ties: first tried
+    if not math.isfinite(value):
         return []
-    a, b = float(grid[max(k - 1, 0)]), float(grid[min(k + 1, len(grid) - 1)])
+    answers = sweep.at_value(arm, target, q0, theta)
+    return finish(arm, spec.name, answers, target, opts, q0, True, t0)
+
+
+def _one_branch(exact: Callable[[float], np.ndarray], theta: float) -> tuple:
+    """``exact``'s configurations at ``theta``, all of one branch (a sweep without any)."""
+    Q = exact(theta)
+    return Q, [0] * len(Q)
+
+
+def _turning_points(found: list[dict], part: int) -> list[tuple]:
+    """(value, k, group) where the grid's values ``found`` (per branch, its score and its
+    limit violation: ``part`` 0 or 1) have a least value at the k-th: of the group's best
+    score where it is within the limits (0), or of its violation where it is not (1);
+    smallest first. Branches of the same values on the whole grid (a wrist's flip, which
+    a score or the limits may not tell apart) form one group, each value their best."""
+    labels = sorted(set().union(*found))
+    values = np.full((2, len(found), len(labels)), math.inf)  # score, violation
+    for k, got in enumerate(found):
+        for j, b in enumerate(labels):
+            if b in got:
+                values[:, k, j] = got[b]
+    groups: dict[bytes, list[int]] = {}
+    for j, column in enumerate(np.round(values[part], 12).T):
+        groups.setdefault(column.tobytes(), []).append(j)
+    out = []
+    for members in groups.values():
+        score, over = values[:, :, members].min(axis=2)
+        f = over if part else score  # a violation's neighbours within the limits: 0
+        padded = np.concatenate(([math.inf], f, [math.inf]))
+        least = np.isfinite(f) & (f <= padded[:-2]) & (f <= padded[2:])
+        if part:  # out of the limits there, reached
+            least &= (score == math.inf) & (f > 0.0)
+        group = frozenset(labels[j] for j in members)
+        out += [(float(f[k]), k, group) for k in np.flatnonzero(least).tolist()]
+    out.sort(key=itemgetter(0, 1))
+    return out
+
+
+def _golden(
+    fn: Callable[[float], float], a: float, b: float, steps: int, until: float = -math.inf
+) -> list:
+    """(fn(x), x) at each value a golden-section search for the least ``fn`` on [a, b]
+    tried (``steps`` steps after its first two values; stopping once one is ``until``)."""
     c, d = b - GOLDEN * (b - a), a + GOLDEN * (b - a)
-    fc, fd = best_at(c), best_at(d)
-    for _ in range(REFINE_STEPS):
+    fc, fd = fn(c), fn(d)
+    out = [(fc, c), (fd, d)]
+    for _ in range(steps):
+        if min(fc, fd) <= until:
+            break
         if fc <= fd:
             b, d, fd = d, c, fc
             c = b - GOLDEN * (b - a)
-            fc = best_at(c)
+            fc = fn(c)
+            out.append((fc, c))
         else:
             a, c, fc = c, d, fd
             d = a + GOLDEN * (b - a)
-            fd = best_at(d)
-    theta = min((float(grid[k]), values[k]), (c, fc), (d, fd), key=lambda x: x[1])[0]
-    answers = sweep.at_value(arm, target, q0, theta)
-    return finish(arm, spec.name, answers, target, opts, q0, True, t0)
+            fd = fn(d)
+            out.append((fd, d))
+    return out
+
+
+def _narrow(
+    violation: Callable[[float], float], best_at: Callable[[float], float], a: float, b: float
+) -> list:
+    """(score, x) of values tried in a narrow interval within [a, b] where a branch is
+    within the limits, where its limit violation dips between grid values: a golden-section
+    search for a value with none, then each edge of its interval by bisection and the
+    score's golden section between them; [] where the violation stays above 0."""
+    least, inside = min(_golden(violation, a, b, REFINE_STEPS, until=0.0), key=itemgetter(0))
+    if least > 0.0:
+        return []
+    edges = []
+    for out in (a, b):  # from the value inside toward each end (out of reach or limits)
+        x_in, x_out = inside, out
+        for _ in range(EDGE_STEPS):
+            mid = (x_in + x_out) / 2.0
+            if math.isfinite(best_at(mid)):
+                x_in = mid
+            else:
+                x_out = mid
+        edges.append(x_in)
+    return [(best_at(inside), inside), *_golden(best_at, edges[0], edges[1], REFINE_STEPS)]
 
 
 # The numeric search's shares of the budget (``timeout``, or ``iteration_budget``): solve_all

@@ -48,8 +48,8 @@ def preferred(arm: ArmModel, req: Request):
     seed = arm.seed(q0)
     turn = turning(arm, req.opts, seed)  # the turns of an answer its constraints allow
     swept = None
-    if pose and solver == "auto":
-        swept = sweep_held(arm, target, seed, opts, score, t0, turn)
+    if pose and (solver == "auto" or registry.get(solver).sweep is not None):
+        swept = sweep_held(arm, target, seed, opts, score, t0, turn, solver)
     if swept and any(r.success for r in swept):
         # every answer the plain request finds, ranked with the search's (one without every)
         first = run(arm, plain.but(every=every, t0=time.perf_counter()))

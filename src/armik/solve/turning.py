@@ -17,6 +17,7 @@ import numpy as np
 from armik.constraints.base import Constraint
 from armik.constraints.hold import Hold
 from armik.model.arm_model import ArmModel
+from armik.model.turns import UNLIMITED_TURNS, combinations, turns
 
 
 @dataclass(frozen=True)
@@ -74,3 +75,18 @@ def refuse_broken(arm: ArmModel, out, turn: Turning) -> None:
                 out.success[i] = False
                 out.status_code[i] = got.status.code
                 out.reasons[i] = got.why(k)
+
+
+def best_kept(
+    arm: ArmModel, q: np.ndarray, score, q0: np.ndarray, turn: Turning, first=None
+) -> np.ndarray:
+    """``first`` (a turn of the verified ``q``: each joint's best) where given and it passes
+    ``turn``'s checks; else the variant of ``q`` by turns of 2 pi (its combinations within
+    the limits on the joints ``turn`` lets turn, at most ``MAX_TURNS``, ``q``'s own first)
+    that ``score`` (``armik.problem.scores.Score``) ranks first among those that pass: a
+    check on one joint's value (``q[0] >= 0``) keeps the other joints' turns."""
+    if first is not None and turn.kept(arm, first, q) is first:
+        return first  # type: ignore[no-any-return]
+    Q = combinations(turns(arm, q, turn.free(arm.dof), UNLIMITED_TURNS))
+    allowed = Q[turn.keeps(arm, Q)] if turn.checks else Q  # q itself, the first, passes
+    return min(allowed, key=lambda x: score(arm, x, q0), default=q)

@@ -11,7 +11,9 @@ shoulder; and its first two meet: joints 6 and 5), as on the Franka Panda, its c
 
 ``solve`` holds joint 7 at q0's value first, then at ``SWEEP`` values over its range,
 nearest q0's first, and stops at the first value with an exact answer within the limits:
-the answer keeps joint 7 as near q0 as the target allows. ``solve_all`` returns every
+the answer keeps joint 7 as near q0 as the target allows. Where none is, an interval
+narrower than the values' spacing is sought where the branches' limit violation dips
+between them (``_narrow``). ``solve_all`` returns every
 branch of that value of joint 7 (a redundant arm has infinitely many solutions: these are
 the ones with joint 7 there). Every answer is verified by Pinocchio FK as always. Not
 chosen by ``solver="auto"``; ask for it with ``solver="swept"``.
@@ -284,13 +286,36 @@ def exact_at(arm: ArmModel, target: Target, q0: np.ndarray) -> Callable[[float],
         rows = rows_at(theta)
         return rows[(rows[:, 7].astype(np.int64) & sixr.LS) == 0, :7]
 
+    labelled_at = _rows_at(sw, target, q0, arm, _EVERY_LABEL)
+
+    def branches(theta: float) -> tuple[np.ndarray, list[int]]:
+        """``exact``'s configurations and each one's branch (``sixr.branch_bits`` of joints
+        6 to 1, read by the kernel): a branch moves continuously with joint 7, so a search
+        can follow each one."""
+        rows = labelled_at(theta)
+        exact = (rows[:, 7].astype(np.int64) & sixr.LS) == 0
+        return rows[exact, :7], rows[exact, 8].astype(np.int64).tolist()
+
+    exact.branches = branches  # type: ignore[attr-defined]
     return exact
 
 
-def _rows_at(sw: Swept, target: Target, q0: np.ndarray, arm: ArmModel):
-    """theta -> the closed form's rows (n, 12) with joint 7 at theta: q (7), flags, branch,
-    code, values; the target's arrays and the reversed chain's read once."""
+_NO_LABEL = np.int64(0)  # the kernel labels no row (typed, as every count it takes: one compile)
+_EVERY_LABEL = np.int64(8)  # the kernel labels every row with its branch
+
+
+def _rows_at(
+    sw: Swept, target: Target, q0: np.ndarray, arm: ArmModel, labelled: np.int64 = _NO_LABEL
+):
+    """theta -> the closed form's rows (n, 12) with joint 7 at theta: q (7), flags, branch
+    (read for the first ``labelled`` rows, else 0), code, values; the target's arrays and
+    the reversed chain's read once."""
     R, pos = sixr.pose_arrays(target)
+    return _rows_at_pose(sw, R, pos, q0, arm, labelled)
+
+
+def _rows_at_pose(sw: Swept, R, pos, q0: np.ndarray, arm: ArmModel, labelled: np.int64 = _NO_LABEL):
+    """``_rows_at`` of the target's rotation ``R`` and position ``pos``."""
     R, pos = np.array(R), np.array(pos)  # writable: one signature
     q0r = np.array(q0[5::-1], dtype=float)  # the reversed chain's order
     lor = np.array(arm.lower[5::-1], dtype=float)
@@ -301,7 +326,7 @@ def _rows_at(sw: Swept, target: Target, q0: np.ndarray, arm: ArmModel):
         R_inv, p_inv = held_target(sw.c, sw.u, R, pos, float(theta))
         n, _ = spherical.kernel(
             sw.geo.h, sw.geo.p, sw.geo.R_tip0, mat(R_inv), vec(p_inv), q0r, lor, hir,
-            sw.variant, np.int64(0), out,
+            sw.variant, labelled, out,
         )  # fmt: skip
         rows = np.empty((n, 12))
         rows[:, :6] = out[:n, 5::-1]  # joints 1 to 6 again
@@ -312,12 +337,73 @@ def _rows_at(sw: Swept, target: Target, q0: np.ndarray, arm: ArmModel):
     return rows_at
 
 
+NARROW_DIPS = 4  # dips of the limit violation between swept values searched, least first
+NARROW_STEPS = 16  # golden-section steps in each
+
+
+def _narrow(arm: ArmModel, sw: Swept, R, pos, q0: np.ndarray):
+    """Where no swept value of joint 7 gave a row within the limits: (theta, rows, True) at
+    a value where one is, in an interval narrower than the sweep's cells, else None. The
+    least limit violation of the exact rows at each cell's centre; where it dips between
+    cells without reaching 0 there, a golden-section search of the dip for a value where
+    it does (the ``NARROW_DIPS`` least dips, the value nearest q0's joint 7 kept)."""
+    lo7, hi7 = sweep_range(arm, float(q0[6]))
+    rows_at = _rows_at_pose(sw, R, pos, q0, arm)
+    lower, upper = arm.lower - sixr.LIMIT_TOL, arm.upper + sixr.LIMIT_TOL
+
+    def violation(theta: float) -> float:
+        rows = rows_at(theta)
+        Q = rows[(rows[:, 7].astype(np.int64) & sixr.LS) == 0, :7]
+        if not len(Q):
+            return math.inf
+        return max(float(np.maximum(lower - Q, Q - upper).max(axis=1).min()), 0.0)
+
+    width = (hi7 - lo7) / SWEEP
+    x = [lo7 + (k + 0.5) * width for k in range(SWEEP)]
+    f = [violation(t) for t in x]
+    dips = [
+        (f[k], k)
+        for k in range(SWEEP)
+        if 0.0 < f[k] < math.inf
+        and f[k] <= (f[k - 1] if k else math.inf)
+        and f[k] <= (f[k + 1] if k + 1 < SWEEP else math.inf)
+    ]
+    found = []
+    for _, k in sorted(dips)[:NARROW_DIPS]:
+        a, b = (x[k - 1] if k else lo7), (x[k + 1] if k + 1 < SWEEP else hi7)
+        c, d = b - _GOLDEN * (b - a), a + _GOLDEN * (b - a)
+        fc, fd = violation(c), violation(d)
+        for _ in range(NARROW_STEPS):
+            if not fc or not fd:
+                break
+            if fc <= fd:
+                b, d, fd = d, c, fc
+                c = b - _GOLDEN * (b - a)
+                fc = violation(c)
+            else:
+                a, c, fc = c, d, fd
+                d = a + _GOLDEN * (b - a)
+                fd = violation(d)
+        if not fc or not fd:
+            found.append(c if not fc else d)
+    if not found:
+        return None
+    theta = min(found, key=lambda t: abs(t - float(q0[6])))
+    return theta, rows_at(theta), True
+
+
+_GOLDEN = 0.6180339887498949
+
+
 def run(
     arm: ArmModel, target: Target, q0: np.ndarray, opts: SolverSettings, all_solutions: bool
 ) -> Answers:
     R, pos = sixr.pose_arrays(target)
     sw = cast(Swept, geometry(arm))  # ``applies`` holds: the geometry, no reason
-    theta, rows, found = _held(arm, sw, R, pos, np.ascontiguousarray(q0, float))
+    q0 = np.ascontiguousarray(q0, float)
+    theta, rows, found = _held(arm, sw, R, pos, q0)
+    if not found:  # a narrow interval of joint 7 the sweep's cells stepped over
+        theta, rows, found = _narrow(arm, sw, R, pos, q0) or (theta, rows, found)
     if all_solutions:
         exact = [r for r in rows if not int(r[7]) & sixr.LS]
         rows = np.array(exact) if exact and found else rows
@@ -345,6 +431,8 @@ def prepare_pose(arm: ArmModel, opts: SolverSettings, position_only: bool):
             return None
         R, pos = split_pose(H)
         theta, rows, found = _held(arm, sw, R, pos, q0)
+        if not found:  # a narrow interval of joint 7 the sweep's cells stepped over
+            theta, rows, found = _narrow(arm, sw, R, pos, q0) or (theta, rows, found)
         if not found:
             return _answers(sw, rows[:1], theta, True, _beyond(arm, pos, rows[:1]))
         singular = bool(int(rows[0, 7]) & sixr.SINGULAR)
