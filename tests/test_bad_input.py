@@ -151,3 +151,21 @@ def test_an_option_beside_a_task_list_is_named_before_the_tasks_read_it(ur5, opt
         ur5.solve_batch([tasks, tasks], **options)
     with pytest.raises(armik.OptionError, match=name):
         ur5.solve_path([tasks, tasks], ur5.middle, **options)
+
+
+@pytest.mark.parametrize("key", ["tol_position", "tol_orientation"])
+@pytest.mark.parametrize("route", ["solve", "solve_all", "solve_batch", "solve_path"])
+def test_a_tolerance_below_what_double_precision_verifies_is_refused(ur5, key, route):
+    # at 2e-16 an independent FK put 17 of solve_all's successes past the tolerance by
+    # rounding alone; 1e-12 is the floor the exported solver keeps too
+    q = ur5.middle + 0.1
+    T = ur5.fk(q)
+    call = {
+        "solve": lambda **o: ur5.solve(T, **o),
+        "solve_all": lambda **o: ur5.solve_all(T, **o)[0],
+        "solve_batch": lambda **o: ur5.solve_batch([T, T], **o),
+        "solve_path": lambda **o: ur5.solve_path([T, T], q, **o),
+    }[route]
+    with pytest.raises(armik.OptionError, match=rf"{key}=2e-16 is below .* at least 1e-12"):
+        call(**{key: 2e-16})
+    assert np.all(np.atleast_1d(getattr(call(**{key: 1e-12}), "success")))

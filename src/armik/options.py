@@ -25,6 +25,7 @@ from armik.tolerances import (
     MAX_SOLUTIONS,
     MAX_TIMEOUT,
     MAX_WEIGHT,
+    MIN_TOLERANCE,
 )
 
 
@@ -99,6 +100,14 @@ class Options(SolverSettings):
         for key, most, unit in _BOUNDED:
             if key in values:
                 values[key] = positive(key, values[key], most, unit)
+                if key.startswith("tol_") and values[key] < MIN_TOLERANCE:
+                    raise OptionError(
+                        f"{key}={values[key]!r} is below what double precision can verify: "
+                        f"give a tolerance of at least {MIN_TOLERANCE:g} {unit} (1e-6 by "
+                        "default)",
+                        option=key,
+                        value=values[key],
+                    )
         for key in ("max_restarts", "max_iterations", "max_solutions"):
             if key in values:
                 values[key] = integer(

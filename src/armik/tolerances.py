@@ -28,6 +28,10 @@ MAX_WEIGHT = 1e6
 ROTATION_TOL = 1e-6
 LAST_ROW_TOL = 1e-12
 
+# Verification: a tolerance below MIN_TOLERANCE is below what double precision can check
+# (the FK's own rounding reaches 1e-15 on a metre-long arm), so it is refused.
+MIN_TOLERANCE = 1e-12  # m or rad
+
 # Structure: two axes are parallel when the angle between them is below ANGLE_TOL; lines
 # meet when they pass within DISTANCE_TOL of one point. A near miss is refused with the
 # measured number, never given a closed form that is only approximately right.
