@@ -105,6 +105,9 @@ def test_an_arm_arriving_fast_stops_before_the_margin():
     target = pin.SE3(T0.rotation, T0.translation + np.array([-0.2774, 0.3002, 0.1883]))
     assert np.abs(arm.servo(q0, dt=DT).track([target] * 800).dq).max() > 3.0  # unhindered
     rec = arm.servo(q0, dt=DT, obstacles=[ball], margin=MARGIN).track([target] * 800)
+    first = list(rec.status).index("obstacle")  # braking for the ball, still far off: said so
+    assert arm.min_distance(rec.q[first], [ball])[0] > MARGIN + 0.05
+    assert "could stop" in rec.reason[first]
     assert rec.status[-1] == "on_target"
     model = pin.buildModelFromUrdf(arm.source)
     geom = _hulls(model, Path(arm.source))
