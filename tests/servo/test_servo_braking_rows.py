@@ -104,7 +104,12 @@ def test_an_arm_arriving_fast_stops_before_the_margin():
     ball = armik.Sphere(0.04, tuple(centre))
     target = pin.SE3(T0.rotation, T0.translation + np.array([-0.2774, 0.3002, 0.1883]))
     assert np.abs(arm.servo(q0, dt=DT).track([target] * 800).dq).max() > 3.0  # unhindered
-    rec = arm.servo(q0, dt=DT, obstacles=[ball], margin=MARGIN).track([target] * 800)
+    servo = arm.servo(q0, dt=DT, obstacles=[ball], margin=MARGIN)
+    rec = servo.track([target] * 800)
+    over = violations(
+        q0, rec.q, arm.lower, arm.upper, servo.velocity_limits, servo.acceleration_limits, DT
+    )
+    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
     first = list(rec.status).index("obstacle")  # braking for the ball, still far off: said so
     assert arm.min_distance(rec.q[first], [ball])[0] > MARGIN + 0.05
     assert "could stop" in rec.reason[first]
