@@ -9,7 +9,9 @@ the distance d, the witness points p1, p2 and the normal n from p1 to p2; the ro
 
 lets the pair close by at most a share ``RATE dt`` of its gap to the margin a tick, and
 pushes a pair inside the margin apart (Pink's and mink's collision avoidance; the
-velocity damper of Faverjon and Tournassoud). The rows are ``(K, n + 1)``: C, then b. A
+velocity damper of Faverjon and Tournassoud). The rows are ``(K, n + 1)``: C, then b; the
+compiled step (``armik.servo.rows``) keeps each pair its braking distance off and adds its
+braking row. Pairs are taken as far out as the joints need to stop (``ahead``). A
 link below a mimic joint off the chain that follows its driver on it is placed, and its
 points' Jacobians read, on the URDF's whole model (``armik.model.mimic_frames``).
 """
@@ -27,10 +29,9 @@ from armik.constraints.shapes import check_obstacles
 from armik.errors import CollisionError
 from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
-from armik.servo.layout import MAX_ROWS
+from armik.servo.layout import AMAX, MAX_ROWS, RATE, V
 
 ACTIVE = 0.05  # m beyond the margin: pairs nearer than this give a row
-RATE = 10.0  # 1/s: the share of its gap to the margin a pair may close a second
 
 
 class CollisionRows:
@@ -52,11 +53,11 @@ class CollisionRows:
         self.follower = {i: joint for i, joint, _ in self.followed}
         self.full = arm.chain.full.createData() if self.followed else None
 
-    def at(self, q: np.ndarray) -> np.ndarray:
-        """The rows at q (rad, m) of the ``MAX_ROWS`` nearest pairs within reach at most,
-        in the order of their bounds."""
+    def at(self, q: np.ndarray, ahead: float = 0.0) -> np.ndarray:
+        """The rows at q (rad, m) of the ``MAX_ROWS`` nearest pairs within reach (``ahead``
+        m farther: ``ahead``'s) at most, in the order of their bounds."""
         arm, check, data = self.arm, self.check, self.data
-        reach = self.margin + self.active
+        reach = self.margin + self.active + ahead
         bound = check.bounds(q)
         near = np.flatnonzero(bound < reach)
         self.nearest = float("inf")
@@ -119,6 +120,16 @@ class CollisionRows:
         v[1] -= rz * w[0] - rx * w[2]
         v[2] -= rx * w[1] - ry * w[0]
         return v
+
+
+def ahead(state: np.ndarray, length: float) -> float:
+    """m: how much farther than ``ACTIVE`` a servo's rows reach at the velocities of its
+    ``state``, a bound on any pair's braking distance (``armik.servo.rows``): each joint
+    braking at its acceleration limit turns v^2 / (2 a) on, which moves a point by at most
+    ``length`` (the longest chain's reach, ``servo.curvature``) times that. A pair entering
+    the rows nearer than that could not stop before the margin."""
+    v, a = state[V], state[AMAX]
+    return length * float(np.sum(v * v / (2.0 * a)))
 
 
 def asked(obstacles: object, self_collision: object) -> bool:

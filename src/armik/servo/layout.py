@@ -25,6 +25,7 @@ ROT, POS, BOUNDS, WEIGHTS, CONE, AXIS, LOOK, SIGHT = 0, 9, 12, 18, 24, 25, 28, 2
 COLUMNS = 32
 MAX_TASKS = 4
 MAX_ROWS = 16  # collision rows a tick (``armik.servo.collisions``), the nearest pairs'
+RATE = 10.0  # 1/s: the share of its gap to the margin a pair may close a second (its damper)
 # rows of the state (n columns): joint values, last velocity, limits; the tick's acceleration
 Q, V, ACC, VMAX, AMAX, LO, HI, REST = range(8)  # Q, V, ACC first: the command
 STATE_ROWS = 8
@@ -58,7 +59,7 @@ def workspace(n, N):
     m = 6 * MAX_TASKS
     ws = 2 * n + 12 + 12 * n + 6 + NVEC * n + 4 * n * n + 6 * N + 6 * n + 18 + 9 + 36 + n
     ws += 36 + 12
-    return ws + 4 * m + 2 * m * n + 8 * n * n + 19 * n + MAX_ROWS, 8 * n
+    return ws + 4 * m + 2 * m * n + 8 * n * n + 19 * n + 2 * MAX_ROWS, 8 * n
 
 
 def allocate(flat: Flat) -> tuple[np.ndarray, np.ndarray]:

@@ -45,7 +45,10 @@ def reason(status: ServoStatus, joint: str | None, sigma: float, conflict: bool)
             "it gets from here (a target this arm cannot take, or a local minimum)"
         )
     elif status is ServoStatus.OBSTACLE:
-        text = "obstacle: a pair near its margin held the step back"
+        text = (
+            "obstacle: a pair near its margin, or nearer it than the joints moving it could "
+            "stop in, held the step back"
+        )
     elif status is ServoStatus.SINGULARITY:
         text = f"near a singularity (smallest singular value {sigma:.3g}): the step is damped"
     elif joint is None:

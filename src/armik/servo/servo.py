@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
@@ -15,7 +16,7 @@ from armik.model.arm_model import ArmModel, model_of
 from armik.model.union import Union
 from armik.servo import layout as k
 from armik.servo import table as _table
-from armik.servo.collisions import margin_given, rows_for
+from armik.servo.collisions import CollisionRows, ahead, margin_given, rows_for
 from armik.servo.fixed import never_moved, structural_ranks
 from armik.servo.limits import (
     DEFAULT_ACCELERATION,
@@ -29,6 +30,9 @@ from armik.servo.limits import (
 )
 from armik.servo.result import STATUSES, ServoRecord, ServoStep, record
 from armik.servo.tick import tick
+
+if TYPE_CHECKING:
+    from armik.servo.union_collisions import UnionCollisions
 
 SINGULAR = 0.05  # below this smallest singular value (m/rad or 1) the damping grows ...
 DAMPING = 0.005  # ... up to this (added to A^T A) at a singular value of 0
@@ -44,6 +48,17 @@ class Commanded:
     (``armik.servo.layout``): a chain's ``Servo`` and the union's ``UnionServo`` alike."""
 
     _state: np.ndarray
+    _cfg: np.ndarray
+    _collisions: CollisionRows | UnionCollisions | None
+    _no_rows: np.ndarray
+
+    def _rows(self) -> np.ndarray:
+        """This tick's collision rows (none without obstacles and self-collision), as far
+        out as the joints' velocities need to stop (``collisions.ahead``)."""
+        if self._collisions is None:
+            return self._no_rows
+        state = self._state
+        return self._collisions.at(state[k.Q], ahead(state, self._cfg[k.CURVE]))
 
     @property
     def velocity_limits(self) -> np.ndarray:
@@ -163,7 +178,7 @@ class Servo(Commanded):
         it cannot reach within the limits is approached as far as they allow. Raises
         ``TargetError`` for a target it cannot read."""
         mem, imem = self._mem, self._imem
-        near = self._no_rows if self._collisions is None else self._collisions.at(self._state[k.Q])
+        near = self._rows()
         # a pose's table is written by the compiled tick itself, where it is a plain one
         if isinstance(target, pin.SE3):
             done = tick(target.homogeneous, mem, imem, near)
@@ -178,7 +193,7 @@ class Servo(Commanded):
     def _tick(self, target: object, rows: np.ndarray | None) -> ServoStep:
         """One tick toward ``target`` already read (``table.read``: its ``rows``, None for
         a pose the compiled tick writes itself)."""
-        near = self._no_rows if self._collisions is None else self._collisions.at(self._state[k.Q])
+        near = self._rows()
         tick(_table.plain_matrix(target) if rows is None else rows, self._mem, self._imem, near)
         return self._command()
 

@@ -79,13 +79,14 @@ def take(buf, o, size):
 @njit(cache=True, nogil=True, inline="always")
 def scratch(buf, o, n, m):
     """The step's arrays on ``buf`` from ``o`` for n joint values and m rows a target:
-    (E (2 m), A (2, m, n), mats (8, n, n), vecs (19, n), act (``MAX_ROWS``), scale (2, m):
+    (E (2 m), A (2, m, n), mats (8, n, n), vecs (19, n), act (2 ``MAX_ROWS``: each pair's
+    damper and braking, ``armik.servo.rows``), scale (2, m):
     each row's scale in the singular value, ``tick.stack``'s, the end)."""
     E, o = take(buf, o, 2 * m)
     Ab, o = take(buf, o, 2 * m * n)
     mats, o = take(buf, o, 8 * n * n)
     vecs, o = take(buf, o, 19 * n)
-    act, o = take(buf, o, MAX_ROWS)
+    act, o = take(buf, o, 2 * MAX_ROWS)
     sc, o = take(buf, o, 2 * m)
     mats3, vecs2 = mats.reshape((8, n, n)), vecs.reshape((19, n))
     return E, Ab.reshape((2, m, n)), mats3, vecs2, act, sc.reshape((2, m)), o
@@ -93,7 +94,7 @@ def scratch(buf, o, n, m):
 
 def scratch_size(n: int, m: int) -> int:
     """The floats ``scratch`` takes for n joint values and m rows a target."""
-    return 4 * m + 2 * m * n + 8 * n * n + 19 * n + MAX_ROWS
+    return 4 * m + 2 * m * n + 8 * n * n + 19 * n + 2 * MAX_ROWS
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
@@ -366,7 +367,8 @@ def step_within(E0, A0, E1, A1, rows, active, rank, scale, moved, whole, rows_cb
     blocked = False
     if rows_cb.shape[0] > 0:
         C, b = rows_cb[:, :n], rows_cb[:, n]
-        blocked = with_rows(C, b, Hl, xf, lb, ub, dq, act, Hm, Gi, g, x, tmp, iv, M6[4:6], W[16:19])
+        blocked = with_rows(C, b, v_prev, state[AMAX], dt, Hl, xf, lb, ub, dq, act, Hm, Gi, g, x,
+                            tmp, iv, M6[4:6], W[16:19])  # fmt: skip
     # which bound held the step back most
     worst, joint, bound = 0.0, -1, 0
     for i in range(n):

@@ -135,7 +135,7 @@ class UnionServo(Commanded):
                 counts[t] = 0
             else:
                 self._read(t, target)
-        near = self._no_rows if self._collisions is None else self._collisions.at(self._state[k.Q])
+        near = self._rows()
         bad = tick(self._mem, self._imem, near)
         while bad >= 0:  # a 4x4 the parser does not keep as given: read it here
             self._read(bad, targets[self.tips[bad]])

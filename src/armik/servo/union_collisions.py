@@ -75,12 +75,16 @@ class UnionCollisions:
         self.follower = {k: follower[o] for k, o in enumerate(self.objects) if o in follower}
         self.rows = np.zeros((MAX_ROWS, n + 1))
         self.request = coal.DistanceRequest()
+        # witness points to 1e-9: at coal's default (1e-6) a face's normal turned the row
+        # 3e-5 off the distance's derivative, the hands side by side
+        self.request.gjk_tolerance = 1e-9
         self.nearest = math.inf  # m: the nearest pair's distance at the last ``at``
         self.pairs: list[tuple[int, int]] = []  # each row's pair (an obstacle's: -1 - it)
 
-    def at(self, q: np.ndarray) -> np.ndarray:
+    def at(self, q: np.ndarray, ahead: float = 0.0) -> np.ndarray:
         """The rows at the union's joint values q (rad, m), nearest pairs first, at most
-        ``MAX_ROWS``: (K, n + 1), C then b for ``C dq >= b``."""
+        ``MAX_ROWS``: (K, n + 1), C then b for ``C dq >= b``; ``ahead`` m farther than
+        ``ACTIVE`` beyond the margin (``collisions.ahead``)."""
         for arm, data, g, gd, cols, full in zip(
             self.arms, self.data, self.geometry, self.gdata, self.cols, self.full
         ):
@@ -92,7 +96,7 @@ class UnionCollisions:
         placed = [self.gdata[c].oMg[i] for c, i in self.objects]
         R = np.array([M.rotation for M in placed])
         centre = np.array([M.translation for M in placed]) + np.einsum("kij,kj->ki", R, self.centre)
-        reach = self.margin + ACTIVE
+        reach = self.margin + ACTIVE + ahead
         pa, pb = self.pair_a, self.pair_b
         gap = np.linalg.norm(centre[pa] - centre[pb], axis=1) - self.radius[pa] - self.radius[pb]
         close = np.flatnonzero(gap < reach)
