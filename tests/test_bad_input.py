@@ -168,4 +168,4 @@ def test_a_tolerance_below_what_double_precision_verifies_is_refused(ur5, key, r
     }[route]
     with pytest.raises(armik.OptionError, match=rf"{key}=2e-16 is below .* at least 1e-12"):
         call(**{key: 2e-16})
-    assert np.all(np.atleast_1d(getattr(call(**{key: 1e-12}), "success")))
+    assert np.all(np.atleast_1d(call(**{key: 1e-12}).success))
