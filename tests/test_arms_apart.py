@@ -178,3 +178,20 @@ def test_a_tip_left_out_keeps_q0_and_its_arm_is_checked_against_the_obstacles():
                 assert r.status is armik.Status.COLLISION and "['r_tool0']" in r.reason
         assert inside == (q is q0)
         assert inside or all(r.success for r in results)
+
+
+def test_a_servo_on_chains_apart_streams_around_an_obstacle_where_a_chain_holds_the_other_arm():
+    text = dual("ur5")
+    robot = armik.load(text, tips=["l_tool0", "r_tool0"])
+    left = robot.chain("l_tool0").kinematics
+    data = left.chain.full.createData()
+    pin.framesForwardKinematics(left.chain.full, data, left.chain.q_ref)
+    ball = armik.Sphere(0.05, data.oMf[left.chain.full.getFrameId("r_forearm_link")].translation)
+    model, geom = _whole(text)
+    q0 = robot.random_q(2)
+    assert _clearance(model, geom, robot, q0, ball) > 0.05
+    servo = robot.servo(q0, obstacles=[ball], margin=0.02)  # refused as "never moves" before
+    goal = {tip: robot.fk(robot.random_q(4), tip) for tip in robot.tips}
+    nearest = min(_clearance(model, geom, robot, servo.step(goal).q, ball) for _ in range(300))
+    assert nearest >= 0.02 - 1e-4
+    assert not np.allclose(servo.q, q0)  # it moved

@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from armik.arms_apart import facade
 from armik.arms_tasks import by_tip
 from armik.checked import configuration
 from armik.errors import JointError, OptionError, TargetError
@@ -136,7 +137,11 @@ class ArmsServo:
             if options.get(name) is not None:
                 for tip, value in split_limits(arms, name, options[name]).items():
                     each[tip][name] = value
-        self._servos = {tip: start(arms.chain(tip), parts[tip], **each[tip]) for tip in arms.tips}
+        # each chain's scene leaves out the links another chain moves (that chain's servo
+        # keeps them clear): held where it was cut, they are no obstacle of its own
+        self._servos = {
+            tip: start(facade(arms, tip, each[tip]), parts[tip], **each[tip]) for tip in arms.tips
+        }
         self.dt = next(iter(self._servos.values())).dt
 
     def servo(self, tip: str) -> Servo:
