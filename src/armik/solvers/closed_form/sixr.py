@@ -26,6 +26,7 @@ from armik.solvers.closed_form.subproblems import (
     add,
     cross,
     dot,
+    elbow_extreme,
     mat,
     mm,
     mv,
@@ -171,6 +172,34 @@ def nearest_equivalents(Q, n, q0, lower, upper):
                         best = c
             if not math.isnan(best):
                 Q[r, j] = min(max(best, lo), hi)
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def _from_ref(v, ref, lo, hi):
+    """|c - ref| for c the value of angle ``v`` (by whole turns) nearest ``ref`` within
+    [lo, hi] (up to ``SNAP`` past a limit counts as on it); inf when no turn of it is."""
+    near = v + TWO_PI * round((ref - v) / TWO_PI)
+    best = math.inf
+    for c in (near, near - TWO_PI, near + TWO_PI):
+        if lo - SNAP <= c <= hi + SNAP and abs(c - ref) < best:
+            best = abs(c - ref)
+    return best
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def elbow_side(p1, p2, k, theta, ref, lo, hi):
+    """Of the one root ``theta`` that ``subproblems.elbow(p1, p2, k, d)`` keeps where it
+    merges two (the elbow stretched or folded, the roots split by rounding into theta and
+    its mirror about the extreme between them, both exact), the one whose value within the
+    joint's limits [lo, hi] lies nearer ``ref`` (q0's value): theta, or its mirror where
+    theta's turns all lie outside the limits or farther from ``ref`` (by more than ``TIE``).
+    An elbow stretched onto a limit (the UR5's elbow at pi, a limit of +-pi) kept the root
+    just past it, whose turn within the limits is the other way round."""
+    e = elbow_extreme(p1, p2, k, theta)
+    mirror = wrap(2.0 * e - theta)
+    if _from_ref(mirror, ref, lo, hi) < _from_ref(theta, ref, lo, hi) - TIE:
+        return mirror
+    return theta
 
 
 @njit(cache=True, no_cfunc_wrapper=True)

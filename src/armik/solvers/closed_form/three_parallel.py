@@ -243,6 +243,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 free |= 4
             elif n3 == 1 and not ls3:
                 flag3 |= SINGULAR  # stretched or folded
+                c0 = sixr.elbow_side(p3, neg(p2), h3, c0, q0[2], lower[2], upper[2])
             if ls3:
                 flag3 |= LS
                 if cd3 == 0:

@@ -133,6 +133,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             f3 |= SINGULAR
         elif n3 == 1 and not ls3:
             f3 |= SINGULAR  # stretched or folded
+            c0 = sixr.elbow_side(p3, neg(p2), h3, c0, q0[2], lower[2], upper[2])
         if ls3:
             f3 |= LS
             cd3, w1 = sixr.elbow_code(p2, p3, h3, c0, nv)
