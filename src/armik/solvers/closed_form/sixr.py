@@ -187,19 +187,44 @@ def _from_ref(v, ref, lo, hi):
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
-def elbow_side(p1, p2, k, theta, ref, lo, hi):
-    """Of the one root ``theta`` that ``subproblems.elbow(p1, p2, k, d)`` keeps where it
-    merges two (the elbow stretched or folded, the roots split by rounding into theta and
-    its mirror about the extreme between them, both exact), the one whose value within the
-    joint's limits [lo, hi] lies nearer ``ref`` (q0's value): theta, or its mirror where
-    theta's turns all lie outside the limits or farther from ``ref`` (by more than ``TIE``).
-    An elbow stretched onto a limit (the UR5's elbow at pi, a limit of +-pi) kept the root
-    just past it, whose turn within the limits is the other way round."""
-    e = elbow_extreme(p1, p2, k, theta)
-    mirror = wrap(2.0 * e - theta)
-    if _from_ref(mirror, ref, lo, hi) < _from_ref(theta, ref, lo, hi) - TIE:
-        return mirror
-    return theta
+def mirror_root(p1, p2, k, theta):
+    """The other root of a merged elbow root ``theta`` (``subproblems.elbow``'s one root
+    where rounding split a double root): its mirror about the extreme beside it; theta
+    itself where it lies on the extreme."""
+    return wrap(2.0 * elbow_extreme(p1, p2, k, theta) - theta)
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def _row_cost(W, r, q0, lower, upper):
+    """(joints of row ``r`` with no turn within their limits, the distance of joint 3's turn
+    nearest q0's within its limits to q0's: the elbow's, whose root the row was solved
+    from)."""
+    outside = 0
+    for j in range(6):
+        if _from_ref(W[r, j], q0[j], lower[j], upper[j]) == math.inf:
+            outside += 1
+    return outside, _from_ref(W[r, 2], q0[2], lower[2], upper[2])
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def keep_nearer(W, a, b, c, q0, lower, upper):
+    """Rows [a, b) of ``W`` solved from a merged elbow root and rows [b, c) from its mirror
+    (``mirror_root``: both exact, the same branches in the same order): of each pair the
+    row with fewer joints outside the limits, then with joint 3 nearer q0's within its
+    limits by more than ``TIE``, is left in [a, b); returns b, the row count. Where the
+    counts differ the first rows are kept. An elbow stretched onto its limit (the UR5's at
+    pi, a limit of +-pi) kept the root whose turn near q0 lies past it, and the other
+    joints follow the root to first order (1e-7 rad and more on the Kinova's stretched
+    elbow), so one on its limit came out past it."""
+    if c - b != b - a:
+        return b
+    for i in range(b - a):
+        out_a, d_a = _row_cost(W, a + i, q0, lower, upper)
+        out_b, d_b = _row_cost(W, b + i, q0, lower, upper)
+        if out_b < out_a or (out_b == out_a and d_b < d_a - TIE):
+            for col in range(W.shape[1]):
+                W[a + i, col] = W[b + i, col]
+    return b
 
 
 @njit(cache=True, no_cfunc_wrapper=True)

@@ -1,6 +1,7 @@
-"""An elbow stretched or folded onto a joint limit: of the two roots rounding splits the
-double root into (both exact), the closed forms keep the one within the limits nearest q0
-(``sixr.elbow_side``), so that solve from q0 = q gives q back."""
+"""An elbow stretched or folded at a joint limit: of the two roots rounding splits the
+double root into (both exact), the closed forms keep, branch by branch, the row with fewer
+joints outside the limits, then with the elbow nearer q0's (``sixr.mirror_root``,
+``sixr.keep_nearer``), so that solve from q0 = q gives q back."""
 
 from __future__ import annotations
 
@@ -56,7 +57,21 @@ def test_stretched_onto_a_one_sided_limit(wrist):
     assert far_or_failed(a, qs) == []
 
 
-def test_elbow_side_takes_the_mirror_only_for_the_limits_or_q0():
+def test_kinova_stretched_with_a_joint_on_its_limit():
+    # joint 3 at pi stretches the JACO 2's elbow; the root kept moved joint 2 or 5 on their
+    # lower limits 1e-7 rad past them (joint_limits), and solve answered another branch
+    a = arm("kinova")
+    rng = np.random.default_rng(2)
+    qs = []
+    for k in range(30):
+        q = a.random_q(rng)
+        q[2] = math.pi
+        q[1 if k % 2 else 4] = a.lower[1 if k % 2 else 4]
+        qs.append(q)
+    assert far_or_failed(a, qs) == []
+
+
+def test_mirror_root_and_keep_nearer():
     p1, p2, k = (0.4, 0.1, 0.0), (-0.3, 0.2, 0.05), (0.0, 0.0, 1.0)
     e = elbow_extreme(p1, p2, k, 0.3)
     t = 1e-5
@@ -64,10 +79,24 @@ def test_elbow_side_takes_the_mirror_only_for_the_limits_or_q0():
     def span(a):
         return norm(sub(mv(rot(k, a), p1), p2))
 
+    assert sixr.mirror_root(p1, p2, k, e + t) == pytest.approx(e - t, abs=1e-12)
     assert span(e + t) == pytest.approx(span(e - t), abs=1e-15)  # both roots of one span
-    # the limit at the extreme, on the mirror's side: the mirror
-    assert sixr.elbow_side(p1, p2, k, e + t, e, e - 1.0, e) == pytest.approx(e - t, abs=1e-12)
-    # no limit in the way, q0 on the extreme: a tie keeps the root given
-    assert sixr.elbow_side(p1, p2, k, e + t, e, -10.0, 10.0) == e + t
-    # q0 on the mirror's side: the mirror
-    assert sixr.elbow_side(p1, p2, k, e + t, e - 0.5, -10.0, 10.0) == pytest.approx(e - t)
+    assert sixr.mirror_root(p1, p2, k, e) == e
+    q0 = np.array([0.0, 0.5, e, 0.0, 0.0, 0.0])
+    lower, upper = np.full(6, -3.0), np.full(6, 3.0)
+    W = np.zeros((2, 11))
+    W[0, :6] = [0.0, 0.5 - 3e-7, e + t, 0.0, 0.0, 0.0]
+    W[1, :6] = [0.0, 0.5 + 3e-7, e - t, 0.0, 0.0, 0.0]
+    W[1, 6] = 7.0  # the row's other columns come with it
+    # joint 2's lower limit at q0's value: the first row lies 3e-7 past it (beyond
+    # sixr.SNAP), the second kept
+    lower[1] = 0.5
+    assert sixr.keep_nearer(W, 0, 1, 2, q0, lower, upper) == 1
+    assert W[0, 1] == 0.5 + 3e-7 and W[0, 6] == 7.0
+    # both within the limits, as near q0 (to TIE): the first kept
+    W[0, :7] = [0.0, 0.5 + 1e-7, e + t, 0.0, 0.0, 0.0, 0.0]
+    W[1, :7] = [0.0, 0.5 + 1e-7, e - t, 0.0, 0.0, 0.0, 7.0]
+    assert sixr.keep_nearer(W, 0, 1, 2, q0, np.full(6, -3.0), upper) == 1
+    assert W[0, 6] == 0.0
+    # counts that differ: the first rows kept as they are
+    assert sixr.keep_nearer(W, 0, 1, 1, q0, lower, upper) == 1
