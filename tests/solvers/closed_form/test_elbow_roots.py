@@ -100,3 +100,23 @@ def test_mirror_root_and_keep_nearer():
     assert W[0, 6] == 0.0
     # counts that differ: the first rows kept as they are
     assert sixr.keep_nearer(W, 0, 1, 1, q0, lower, upper) == 1
+
+
+def test_elbow_roots():
+    p1, p2, k = (0.4, 0.1, 0.0), (-0.3, 0.2, 0.05), (0.0, 0.0, 1.0)
+    e = elbow_extreme(p1, p2, k, 0.3)
+    t = 1e-5
+
+    def span(a):
+        return norm(sub(mv(rot(k, a), p1), p2))
+
+    # a span a hair short of the extreme: one root (subproblems.elbow merges them), its
+    # mirror solved too
+    c0, c1, n, ls, roots = sixr.elbow_roots(p1, p2, k, span(e + t), 9.0)
+    assert (n, ls, roots) == (1, False, 2)
+    assert sorted([c0, c1]) == pytest.approx([e - t, e + t], abs=1e-9)
+    # regular roots as they are; every turn spans it: one root, the free value's
+    c0, c1, n, ls, roots = sixr.elbow_roots(p1, p2, k, span(e + 0.5), 9.0)
+    assert (n, roots) == (2, 2)
+    c0, c1, n, ls, roots = sixr.elbow_roots(p1, (0.0, 0.0, 0.0), k, norm(p1), 9.0)
+    assert (c0, n, roots) == (9.0, -1, 1)

@@ -26,6 +26,7 @@ from armik.solvers.closed_form.subproblems import (
     add,
     cross,
     dot,
+    elbow,
     elbow_extreme,
     mat,
     mm,
@@ -195,6 +196,22 @@ def mirror_root(p1, p2, k, theta):
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
+def elbow_roots(p1, p2, k, d, free):
+    """``subproblems.elbow``'s (c0, c1, n, ls) for the span ``d`` and how many roots to
+    solve: one, c0 = ``free`` (q0's), where every turn spans d (n = -1); two where rounding
+    split a stretched or folded elbow's double root into one (n = 1, not least squares):
+    c1 its mirror (``mirror_root``, both exact; ``keep_nearer`` keeps the better row of
+    each pair), one where that is c0 itself; else n."""
+    c0, c1, n, ls = elbow(p1, p2, k, d)
+    if n == -1:
+        return free, c1, n, ls, 1
+    if n == 1 and not ls:
+        c1 = mirror_root(p1, p2, k, c0)
+        return c0, c1, n, ls, 1 if c1 == c0 else 2
+    return c0, c1, n, ls, n
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
 def _row_cost(W, r, q0, lower, upper):
     """(joints of row ``r`` with no turn within their limits, the distance of joint 3's turn
     nearest q0's within its limits to q0's: the elbow's, whose root the row was solved
@@ -211,11 +228,10 @@ def keep_nearer(W, a, b, c, q0, lower, upper):
     """Rows [a, b) of ``W`` solved from a merged elbow root and rows [b, c) from its mirror
     (``mirror_root``: both exact, the same branches in the same order): of each pair the
     row with fewer joints outside the limits, then with joint 3 nearer q0's within its
-    limits by more than ``TIE``, is left in [a, b); returns b, the row count. Where the
-    counts differ the first rows are kept. An elbow stretched onto its limit (the UR5's at
-    pi, a limit of +-pi) kept the root whose turn near q0 lies past it, and the other
-    joints follow the root to first order (1e-7 rad and more on the Kinova's stretched
-    elbow), so one on its limit came out past it."""
+    limits by more than ``TIE``, is left in [a, b); returns b, the row count (where the
+    counts differ the first rows are kept). The other joints follow the root to first order
+    (1e-7 rad and more on the Kinova's stretched elbow): the wrong root puts one on its
+    limit past it, or the elbow itself (the UR5's at pi, a limit of +-pi)."""
     if c - b != b - a:
         return b
     for i in range(b - a):
