@@ -56,8 +56,8 @@ SNAP = 1e-7
 # rad: Newton steps stop at a pose error of 1e-14, which near a double root (a singular
 # pose, where the error grows with the square of the step) leaves a root ~1e-7 from where it
 # lies: one on a limit can come back that far past it, and more (the Panda with joint 4
-# held at a pose that loses a rank: 1.4e-7). Such a row is put on the limit (the tip moves
-# by 1e-6 m at most per metre of reach, which the FK check measures as always).
+# held at a pose that loses a rank: 1.4e-7). Such a row, its Jacobian near rank 5, is put
+# on the limit (``general_6r.onto_limits``; the FK check measures the tip as always).
 POLISHED_SNAP = 1e-6
 # rad: a value within this of pi from q0's either way is a tie, which goes to q0 + pi; rows
 # whose distances to q0 are this close go by the first joint (in the chain's order) whose
@@ -244,16 +244,17 @@ def keep_nearer(W, a, b, c, q0, lower, upper):
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
-def onto_limits(Q, n, lower, upper):
-    """Put each joint of the first ``n`` rows of ``Q`` up to ``POLISHED_SNAP`` past a limit
-    on it (after ``nearest_equivalents``, for Newton-polished rows)."""
-    for r in range(n):
-        for j in range(6):
-            v, lo, hi = Q[r, j], lower[j], upper[j]
-            if lo - POLISHED_SNAP <= v < lo:
-                Q[r, j] = lo
-            elif hi < v <= hi + POLISHED_SNAP:
-                Q[r, j] = hi
+def onto_limits(Q, r, lower, upper, put):
+    """Whether a joint of row ``r`` of ``Q`` lies up to ``POLISHED_SNAP`` past a limit; with
+    ``put``, each such joint is put on it (Newton-polished rows, after nearest_equivalents)."""
+    past = False
+    for j in range(6):
+        v, lo, hi = Q[r, j], lower[j], upper[j]
+        if lo - POLISHED_SNAP <= v < lo or hi < v <= hi + POLISHED_SNAP:
+            past = True
+            if put:
+                Q[r, j] = min(max(v, lo), hi)
+    return past
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
