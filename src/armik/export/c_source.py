@@ -181,9 +181,11 @@ static inline IK_UNUSED double sp1cs(vec3 p1, vec3 p2, vec3 k, double *c, double
 }
 
 /* SP4: theta with h . rot(k, theta) p = d; returns the count (2, 1, or -1 when every
-   theta gives the same value), the roots in t[0], t[1]. Two roots that a change of d by
-   merge (m) or less makes one are one, phi + r kept (subproblems._sp4). */
-static inline IK_UNUSED int sp4m(vec3 h, vec3 p, vec3 k, double d, double merge, double t[2])
+   theta gives the same value), the roots in t[0], t[1], *ls set when one root is only the
+   least-squares answer. Two roots that a change of d by merge (m) or less makes one are
+   one, phi + r kept (subproblems._sp4). */
+static inline IK_UNUSED int sp4m(vec3 h, vec3 p, vec3 k, double d, double merge, double t[2],
+                       int *ls)
 {
     vec3 kxp = cross(k, p);
     double a = dot(h, kxp), b = -dot(h, cross(k, kxp));
@@ -192,10 +194,15 @@ static inline IK_UNUSED int sp4m(vec3 h, vec3 p, vec3 k, double d, double merge,
     tol = np > ad ? np : ad;
     tol = IK_DEGENERATE * (tol > 1.0 ? tol : 1.0);
     t[0] = t[1] = 0.0;
+    *ls = 0;
     if (rho <= tol) return -1;
     phi = atan2(a, b);
     x = c / rho;
-    if (fabs(x) >= 1.0) { t[0] = wrap(x > 0 ? phi : phi + IK_PI); return 1; }
+    if (fabs(x) >= 1.0) {
+        *ls = fabs(x) > 1.0 + IK_EPS;
+        t[0] = wrap(x > 0 ? phi : phi + IK_PI);
+        return 1;
+    }
     r = acos(x);
     if (r < IK_SINGLE) { t[0] = wrap(phi); return 1; }
     if (r > IK_PI - IK_SINGLE) { t[0] = wrap(phi + IK_PI); return 1; }
@@ -205,16 +212,20 @@ static inline IK_UNUSED int sp4m(vec3 h, vec3 p, vec3 k, double d, double merge,
     return 2;
 }
 static inline IK_UNUSED int sp4(vec3 h, vec3 p, vec3 k, double d, double t[2])
-{ return sp4m(h, p, k, d, 0.0, t); }
+{
+    int ls;
+    return sp4m(h, p, k, d, 0.0, t, &ls);
+}
 
 /* SP3 at an elbow: theta with |rot(k, theta) p1 - p2| = d, its two roots one where a change
    of d by IK_ELBOW (m) or less makes them a double root (subproblems.elbow). */
-static inline IK_UNUSED int sp3(vec3 p1, vec3 p2, vec3 k, double d, double t[2])
+static inline IK_UNUSED int sp3(vec3 p1, vec3 p2, vec3 k, double d, double t[2], int *ls)
 {
     double n2 = norm(p2);
+    *ls = 0;
     if (n2 <= IK_EPS) { t[0] = t[1] = 0.0; return -1; }
     return sp4m(scale(p2, 1.0 / n2), p1, k, (dot(p1, p1) + n2 * n2 - d * d) / (2.0 * n2),
-                IK_ELBOW * d / n2, t);
+                IK_ELBOW * d / n2, t, ls);
 }
 
 /* The angle nearest t where |rot(k, .) p1 - p2| is at its largest or smallest (the elbow
@@ -226,14 +237,31 @@ static inline IK_UNUSED double elbow_extreme(vec3 p1, vec3 p2, vec3 k, double t)
     return cos(t - phi) >= 0.0 ? phi : wrap(phi + IK_PI);
 }
 
-/* SP3 with the cosines and sines of its angles too: the two regular roots' from SP4's
-   atan2 and acos terms by the angle sums (no libm call), the others' from libm. */
-static inline IK_UNUSED int sp3cs(vec3 p1, vec3 p2, vec3 k, double d, double t[2], double c[2],
-                        double s[2])
+/* The elbow's roots as the closed forms solve them (sixr.elbow_roots): sp3's count (-1, 1
+   or 2) returned, how many roots to solve in *roots. Where rounding split a stretched or
+   folded elbow's double root into one (1, not least squares), its mirror about the extreme
+   beside it is t[1], both exact: both solved (2; 1 where the mirror is the root itself),
+   the better row of each pair kept by keep_nearer. 1 where every turn spans d (-1). */
+static inline IK_UNUSED int elbow_roots(vec3 p1, vec3 p2, vec3 k, double d, double t[2],
+                              int *roots)
+{
+    int ls, n = sp3(p1, p2, k, d, t, &ls);
+    *roots = n == 2 ? 2 : 1;
+    if (n == 1 && !ls) {
+        t[1] = wrap(2.0 * elbow_extreme(p1, p2, k, t[0]) - t[0]);
+        *roots = t[1] != t[0] ? 2 : 1;
+    }
+    return n;
+}
+
+/* elbow_roots with the cosines and sines of its angles too: the two regular roots' from
+   SP4's atan2 and acos terms by the angle sums (no libm call), the others' from libm. */
+static inline IK_UNUSED int elbow_roots_cs(vec3 p1, vec3 p2, vec3 k, double d, double t[2],
+                                 double c[2], double s[2], int *roots)
 {
     double n2 = norm(p2), a, b, rho, x, sr;
     vec3 h, kxp;
-    int n = sp3(p1, p2, k, d, t), i;
+    int n = elbow_roots(p1, p2, k, d, t, roots), i;
     if (n == 2) {  /* as sp4 found them: phi + r and phi - r, cos r = x */
         h = scale(p2, 1.0 / n2);
         kxp = cross(k, p1);
@@ -299,3 +327,53 @@ static inline IK_UNUSED int sp2cs(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double fre
     .replace("@DEGENERATE@", num(DEGENERATE))
     .replace("@ELBOW@", num(ELBOW))
 )
+
+
+# The C of ``sixr.keep_nearer`` (after the limits ``LO``, ``HI``, ``SNAP`` and ``TIE``): of a
+# merged elbow root's rows and its mirror's, the better of each pair kept. Joints 1 to 6 of
+# the chain the family solves are columns 0 to 5 (in the arm's order when it is read from the
+# tip; a held seventh joint is written after).
+KEEP_NEARER = r"""
+/* |c - ref| for c the value of angle v (by whole turns) nearest ref within [lo, hi] (up to
+   SNAP past a limit counts as on it); INFINITY when no turn of it is (sixr._from_ref). */
+static IK_UNUSED double from_ref(double v, double ref, double lo, double hi)
+{
+    const double two_pi = 2.0 * IK_PI;
+    double near = v + two_pi * nearbyint((ref - v) / two_pi), best = INFINITY, c;
+    int k;
+    for (k = -1; k <= 1; k++) {
+        c = near + k * two_pi;
+        if (lo - SNAP <= c && c <= hi + SNAP && fabs(c - ref) < best) best = fabs(c - ref);
+    }
+    return best;
+}
+
+/* Rows [a, b) solved from a merged elbow root and rows [b, c) from its mirror (both exact,
+   the same branches in the same order): of each pair the row with fewer joints outside the
+   limits, then with the elbow (column e) nearer Q0's within its limits by more than TIE, is
+   left in [a, b); returns b, the row count. Where the counts differ the first rows are kept
+   (sixr.keep_nearer). */
+static IK_UNUSED int keep_nearer(double W[][DOF], double C[][DOF], double S[][DOF], int a,
+                                 int b, int c, int e, const double *Q0)
+{
+    int i, j, out_a, out_b;
+    double d_a, d_b;
+    if (c - b != b - a) return b;
+    for (i = 0; i < b - a; i++) {
+        out_a = out_b = 0;
+        for (j = 0; j < 6; j++) {
+            out_a += from_ref(W[a + i][j], Q0[j], LO[j], HI[j]) == INFINITY;
+            out_b += from_ref(W[b + i][j], Q0[j], LO[j], HI[j]) == INFINITY;
+        }
+        d_a = from_ref(W[a + i][e], Q0[e], LO[e], HI[e]);
+        d_b = from_ref(W[b + i][e], Q0[e], LO[e], HI[e]);
+        if (out_b < out_a || (out_b == out_a && d_b < d_a - TIE))
+            for (j = 0; j < 6; j++) {
+                W[a + i][j] = W[b + i][j];
+                C[a + i][j] = C[b + i][j];
+                S[a + i][j] = S[b + i][j];
+            }
+    }
+    return b;
+}
+"""

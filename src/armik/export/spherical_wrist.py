@@ -49,7 +49,7 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
     mat3 R06 = mmt(R, R_TIP0), R1, R3, R03;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), v;
     double t1[2], t3[2], q[6], c[6], s[6];
-    int n1, n3, i1, i3, n = 0;
+    int n1, n3, roots, i1, i3, start, mid, n = 0;
     n1 = sp4(h2, p16, neg(h1), D1, t1);
     if (n1 == -1) {  /* wrist centre on axis 1 */
         n1 = 1;
@@ -62,13 +62,15 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
         s[0] = sin(q[0]);
         R1 = rot_cs(h1, c[0], s[0]);
         v = sub(mtv(R1, p16), p1);
-        n3 = sp3(p3, neg(p2), h3, norm(v), t3);
+        n3 = elbow_roots(p3, neg(p2), h3, norm(v), t3, &roots);
         if (n3 == -1) {
             n3 = 1;
             t3[0] = Q0[J2];
             *mask |= 1 << J2;
         }
-        for (i3 = 0; i3 < n3; i3++) {
+        start = mid = n;
+        for (i3 = 0; i3 < roots; i3++) {
+            if (i3 == 1) mid = n;
             q[2] = t3[i3];
             c[2] = cos(q[2]);
             s[2] = sin(q[2]);
@@ -77,6 +79,8 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
             R03 = mm(mm(R1, rot_cs(h2, c[1], s[1])), R3);
             n = wrist(R03, R06, Q0, mask, q, c, s, W, C, S, n);
         }
+        if (roots > n3)  /* a merged root and its mirror: the better rows of the two */
+            n = keep_nearer(W, C, S, start, mid, n, J2, Q0);
     }
     return n;
 }
@@ -89,14 +93,16 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
     mat3 R06 = mmt(R, R_TIP0), R1, R3;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), u;
     double t3[2], a[2], b[2], ca[2], sa[2], cb[2], sb[2], q[6], c[6], s[6], e;
-    int n3, n12, i3, i, n = 0;
-    n3 = sp3(p3, neg(p2), h3, norm(p16), t3);
+    int n3, roots, n12, i3, i, start, mid, n = 0;
+    n3 = elbow_roots(p3, neg(p2), h3, norm(p16), t3, &roots);
     if (n3 == -1) {
         n3 = 1;
         t3[0] = Q0[J2];
         *mask |= 1 << J2;
     }
-    for (i3 = 0; i3 < n3; i3++) {
+    start = mid = n;
+    for (i3 = 0; i3 < roots; i3++) {
+        if (i3 == 1) mid = n;
         q[2] = t3[i3];
         if (n3 == 1) {  /* stretched or folded: a span along axis 2 leaves joint 2 free */
             e = elbow_extreme(p3, neg(p2), h3, q[2]);
@@ -134,6 +140,8 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
             n = wrist(mm(R1, R3), R06, Q0, mask, q, c, s, W, C, S, n);
         }
     }
+    if (roots > n3)  /* a merged root and its mirror: the better rows of the two */
+        n = keep_nearer(W, C, S, start, mid, n, J2, Q0);
     return n;
 }
 """
@@ -163,7 +171,7 @@ def chain_text(geo: Chain6R, joints: tuple[int, ...] = FREE) -> str:
     free = f"enum {{ J0 = {j0}, J1 = {j1}, J2 = {j2}, J3 = {j3} }};  /* the free joints */\n"
     if body is MEETING_12:  # m: joint 2 free there (spherical_wrist.STRAIGHT)
         free += f"static const double STRAIGHT = {c_source.num(spherical_wrist.STRAIGHT)};\n"
-    return c_source.constants(names) + "\n" + free + WRIST + body
+    return c_source.constants(names) + "\n" + free + c_source.KEEP_NEARER + WRIST + body
 
 
 PUT_REVERSED = r"""

@@ -44,7 +44,7 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
     mat3 R06 = mmt(R, R_TIP0), R1, M, R5, R234;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), a, b, v;
     double t1[2], t5[2], t3[2], q[6], c[6], s[6], q234, c234, s234, turn, ca, sa, sg;
-    int n1, n5, n3, i1, i5, i3, n = 0;
+    int n1, n5, n3, roots, i1, i5, i3, n = 0;
     n1 = sp4(h2, p16, neg(h1), D1, t1);
     if (n1 == -1) {  /* wrist point on axis 1 */
         n1 = 1;
@@ -83,13 +83,13 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
             R234 = mmt(mmt(M, rot_cs(h6, c[5], s[5])), R5);
             q234 = sp1cs(X, mv(R234, X), h2, &c234, &s234);
             v = sub(sub(mtv(R1, p16), p1), mv(R234, p4));
-            n3 = sp3(p3, neg(p2), h3, norm(v), t3);
+            n3 = elbow_roots(p3, neg(p2), h3, norm(v), t3, &roots);
             if (n3 == -1) {
                 n3 = 1;
                 t3[0] = Q0[2];
                 *mask |= 1 << 2;
             }
-            for (i3 = 0; i3 < n3; i3++) {
+            for (i3 = 0; i3 < roots; i3++) {
                 q[2] = t3[i3];
                 c[2] = cos(q[2]);
                 s[2] = sin(q[2]);
@@ -104,6 +104,8 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
                 s[3] = S4 > 0.0 ? s[3] : -s[3];
                 n = put_row(W, C, S, n, q, c, s);
             }
+            if (roots > n3)  /* a merged root and its mirror: the better row of the two */
+                n = keep_nearer(W, C, S, n - 2, n - 1, n, 2, Q0);
         }
     }
     return n;
@@ -132,4 +134,5 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
     )
     summary = f"a 6R arm with axes 2, 3, 4 parallel and axes 5, 6 meeting ({geo.description})"
     # the free joints (1, 3, 6) in the order ``three_parallel.kernel`` sweeps them
-    return Rows(c_source.constants(names) + "\n" + ROWS, 8, SNAP, summary, sweep=(0, 2, 5))
+    text = c_source.constants(names) + "\n" + c_source.KEEP_NEARER + ROWS
+    return Rows(text, 8, SNAP, summary, sweep=(0, 2, 5))

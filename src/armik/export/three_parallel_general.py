@@ -20,7 +20,7 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
     mat3 R06 = mmt(R, R_TIP0), R1, R5, M, R14;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), H6[4], K6[4], P6[4], a, v;
     double t1[4], t5[4], t3[2], c3[2], s3[2], q[6], c[6], s[6], q14, c14, s14, nv;
-    int m, ls, i, i3, n3, n = 0;
+    int m, ls, i, i3, n3, roots, n = 0;
     H6[0] = H6[1] = H6[2] = H6[3] = h2;
     K6[0] = K6[2] = neg(h1);
     K6[1] = K6[3] = h5;
@@ -52,14 +52,14 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
         q14 = sp1cs(X, mv(R14, X), h2, &c14, &s14);
         v = sub(sub(mtv(R1, p16), p1), mv(R14, add(p4, mv(R5, p5))));
         nv = norm(v);
-        n3 = sp3cs(p3, neg(p2), h3, nv, t3, c3, s3);
+        n3 = elbow_roots_cs(p3, neg(p2), h3, nv, t3, c3, s3, &roots);
         if (n3 == -1) {
             n3 = 1;
             t3[0] = MID[2];
             c3[0] = cos(MID[2]);
             s3[0] = sin(MID[2]);
         }
-        for (i3 = 0; i3 < n3; i3++) {
+        for (i3 = 0; i3 < roots; i3++) {
             q[2] = t3[i3];
             c[2] = c3[i3];
             s[2] = s3[i3];
@@ -68,6 +68,8 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
 @Q4_CS@
             n = put_row(W, C, S, n, q, c, s);
         }
+        if (roots > n3)  /* a merged root and its mirror: the better row of the two */
+            n = keep_nearer(W, C, S, n - 2, n - 1, n, 2, MID);
     }
     return n;
 }
@@ -116,6 +118,7 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
         S4=dot(h[3], h[1]),
     )
     body = ROWS.replace("@Q4_CS@", _q4_cs(names["S3"], names["S4"]))
-    text = c_source.constants(names) + "\n" + c_subproblems_56.source(sp6=True) + body
+    text = c_source.constants(names) + "\n" + c_subproblems_56.source(sp6=True)
+    text += c_source.KEEP_NEARER + body
     summary = f"a 6R arm with axes 2, 3, 4 parallel, the wrist general ({geo.description})"
     return Rows(text, 8, SNAP, summary)

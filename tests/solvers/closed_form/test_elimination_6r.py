@@ -231,6 +231,25 @@ def test_a_root_of_a_rank_deficient_pose_on_a_limit_is_put_on_it():
         assert a.within_limits(r.q) and _pose_error(a, r.q, T) < 1e-6
 
 
+@pytest.mark.parametrize("off", [5e-7, 9e-7])
+def test_a_regular_root_past_a_limit_stays_past_it(off):
+    """The Panda with joint 4 held, the target made with joint 1 ``off`` rad past its upper
+    limit at a regular pose (the Jacobian far from singular): Newton leaves that root within
+    1e-14, so it lies past the limit; it was put on the limit (sixr.POLISHED_SNAP, meant for
+    double roots), an answer 3e-7 m off called a success (or, to tighter tolerances, failed
+    as not converged)."""
+    a = armik.load("panda")
+    q = np.array([a.upper[0] + off, 0.4, 0.3, -np.pi / 2, 0.2, 1.9, 0.5])
+    T = a.fk(q)
+    found = a.solve_all(T, hold={"panda_joint4": float(q[3])}, q0=np.clip(q, a.lower, a.upper))
+    nearest = min(found, key=lambda r: wrapped_distance(r.q, q))
+    assert not nearest.success and nearest.status == armik.Status.JOINT_LIMITS
+    assert wrapped_distance(nearest.q, q) < 1e-9
+    for r in found:
+        if r.success:
+            assert a.within_limits(r.q) and _pose_error(a, r.q, T) < 1e-9
+
+
 @pytest.mark.parametrize(
     "q",
     [

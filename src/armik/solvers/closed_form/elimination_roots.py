@@ -15,7 +15,7 @@ from numba import njit
 
 from armik.solvers.closed_form import sixr
 from armik.solvers.closed_form.elimination import SIZE, lu, lu_solve
-from armik.solvers.closed_form.general_6r import is_new, polish
+from armik.solvers.closed_form.general_6r import is_new, onto_limits, polish
 from armik.solvers.closed_form.subproblems import cross, dot, mat, mm, mmt, mtm, mv, rot, vec
 
 REAL = 1e-7  # rad: an eigenvalue whose angle is this close to real is a solution's
@@ -158,7 +158,7 @@ def solutions(h, p, R_tip0, R, pos, state, roots, seeds, places, sign, q0, lower
             lost += 1
             sure = sure and off > REAL
     sixr.nearest_equivalents(W, n, q0, lower, upper)
-    sixr.onto_limits(W, n, lower, upper)  # a polished double root a hair past a limit
+    onto_limits(h, p, R_tip0, R9, P3, W, n, lower, upper)  # a double root a hair past one
     sixr.pack(W, n, q0, lower, upper, h, p, np.int64(ROWS), out)
     return n, sure, lost
 

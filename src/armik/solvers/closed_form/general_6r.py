@@ -69,6 +69,7 @@ SHEET = 0.3  # rad: SP5 branches of neighbouring cells this close (q3, q4, q5) a
 SEEDS = 128  # seeds polished at most, the lowest first
 ROWS = 16  # at most 16 solutions
 RANK_LOST = 1e-9  # of the largest singular value: a Jacobian this near rank 5 has lost one
+SNAP_RANK = 1e-5  # of |J|: a smallest singular value below it puts a row on a limit
 ITERATIONS = 60  # Newton steps at most (a root where the Jacobian is singular converges slowly)
 TRIES, GIVE_UP = 12, 1e-3  # Newton steps after which a seed this far from the target is left
 EXACT = 1e-11  # m and rad: a polished configuration this close to the target is an answer
@@ -269,6 +270,48 @@ def polish(h, p, R_tip0, R, pos, q, iters):
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
+def onto_limits(h, p, R_tip0, R, pos, W, n, lower, upper):
+    """Put each joint of the first ``n`` rows of ``W`` up to ``sixr.POLISHED_SNAP`` past a
+    limit on it (``sixr.onto_limits``) in the rows whose Jacobian is near rank 5: its
+    smallest singular value (two steps of inverse iteration) below ``SNAP_RANK`` of its
+    size. Newton left such a double root up to ~1e-6 rad from where it lies; a regular root
+    it leaves within 1e-14 over that value, so that a row past a limit by more than
+    ``sixr.SNAP`` (``nearest_equivalents`` put the nearer on it) is past it, as the exact
+    solution is: the Panda's joint 1 5e-7 rad past its limit was put on it, a success."""
+    J, A, e, x, q = np.empty((6, 6)), np.empty((6, 6)), np.empty(6), np.empty(6), np.empty(6)
+    for r in range(n):
+        if not sixr.onto_limits(W, r, lower, upper, False):
+            continue
+        for j in range(6):
+            q[j], x[j] = W[r, j], 1.0 / math.sqrt(6.0)
+        pose_error(h, p, R_tip0, R, pos, q, J, e)
+        size = 0.0
+        for a in range(6):
+            for c in range(6):
+                size += J[a, c] * J[a, c]
+                A[a, c] = J[a, c]
+        smallest = 0.0  # 1 / |J^-1 x| for a unit x: the smallest singular value or more
+        for it in range(2):
+            if it > 0:
+                for a in range(6):
+                    for c in range(6):
+                        A[a, c] = J[a, c]
+            grown = 0.0
+            if solve6(A, x, 1e-300):
+                for j in range(6):
+                    grown += x[j] * x[j]
+            grown = math.sqrt(grown)
+            if not (grown > 0.0 and math.isfinite(grown)):
+                smallest = 0.0
+                break
+            smallest = 1.0 / grown
+            for j in range(6):
+                x[j] /= grown
+        if smallest < SNAP_RANK * math.sqrt(size):
+            sixr.onto_limits(W, r, lower, upper, True)
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
 def _seed_q(h, R06, i, j, t, N, q):
     """The full seed configuration of grid cell (i, j) and SP5 branch angles ``t``: q6 by
     SP1 from the rotation left to joint 6."""
@@ -324,7 +367,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, N, threshold, out):
         n = sixr.put_row(W, n, best[0], best[1], best[2], best[3], best[4], best[5],
                          np.int64(sixr.LS), np.int64(0), 0.0, 0.0)  # fmt: skip
     sixr.nearest_equivalents(W, n, q0, lower, upper)
-    sixr.onto_limits(W, n, lower, upper)  # a polished double root a hair past a limit
+    onto_limits(h, p, R_tip0, R9, P3, W, n, lower, upper)  # a double root a hair past one
     return n, sixr.pack(W, n, q0, lower, upper, h, p, np.int64(0), out)
 
 

@@ -39,7 +39,6 @@ from armik.solvers.closed_form.subproblems import (
     add,
     cross,
     dot,
-    elbow,
     elbow_extreme,
     mat,
     mm,
@@ -205,10 +204,9 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             R1 = rot(h1, q1)
             v = sub(mtv(R1, p16), p1)
             nv = norm(v)
-            c0, c1, n3, ls3 = elbow(p3, neg(p2), h3, nv)
+            c0, c1, n3, ls3, roots = sixr.elbow_roots(p3, neg(p2), h3, nv, q0[2])
             flag3, cd3, w0, w1 = flag1, cd1, v0, v1
             if n3 == -1:
-                n3, c0 = 1, q0[2]
                 flag3 |= SINGULAR
                 free |= 4
             elif n3 == 1 and not ls3:
@@ -218,8 +216,10 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 if cd3 == 0:
                     cd3, w1 = sixr.elbow_code(p2, p3, h3, c0, nv)
                     w0 = nv
-            for i3 in range(n3):
+            start = mid = n
+            for i3 in range(roots):
                 q3 = c0 if i3 == 0 else c1
+                mid = n if i3 == 1 else mid
                 R3 = rot(h3, q3)
                 u = add(p2, mv(R3, p3))
                 q2, _ = sp1(u, v, h2)
@@ -229,23 +229,27 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                     W, n,
                 )  # fmt: skip
                 free |= 2 if sing else 0
+            if n3 == 1 and roots == 2:  # a merged root and its mirror: the better kept
+                n = sixr.keep_nearer(W, start, mid, n, q0, lower, upper)
     else:  # axes 1 and 2 meet (p_12 = 0)
         n16 = norm(p16)
-        c0, c1, n3, ls3 = elbow(p3, neg(p2), h3, n16)
+        c0, c1, n3, ls3, roots = sixr.elbow_roots(p3, neg(p2), h3, n16, q0[2])
         flag3, cd3, w0, w1 = 0, 0, 0.0, 0.0
         if n3 == -1:
-            n3, c0 = 1, q0[2]
             flag3 |= SINGULAR
             free |= 4
         elif n3 == 1 and not ls3:
-            flag3 |= SINGULAR
+            flag3 |= SINGULAR  # stretched or folded
+        single = n3 != 2
         if ls3:
             flag3 |= LS
             cd3, w1 = sixr.elbow_code(p2, p3, h3, c0, n16)
             w0 = n16
-        for i3 in range(n3):
+        start = mid = n
+        for i3 in range(roots):
             q3 = c0 if i3 == 0 else c1
-            if n3 == 1:  # stretched or folded: a span along axis 2 leaves joint 2 free
+            mid = n if i3 == 1 else mid
+            if single:  # stretched or folded: a span along axis 2 leaves joint 2 free
                 e = elbow_extreme(p3, neg(p2), h3, q3)
                 u = add(p2, mv(rot(h3, e), p3))
                 q2 = q0[1]
@@ -280,6 +284,8 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                     W, n,
                 )  # fmt: skip
                 free |= 2 if sing else 0
+        if n3 == 1 and roots == 2:  # a merged root and its mirror: the better kept
+            n = sixr.keep_nearer(W, start, mid, n, q0, lower, upper)
     sixr.nearest_equivalents(W, n, q0, lower, upper)
     return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out), free
 

@@ -39,7 +39,6 @@ from armik.solvers.closed_form.subproblems import (
     add,
     cross,
     dot,
-    elbow,
     mat,
     mmt,
     mtm,
@@ -235,10 +234,9 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             q234, _ = sp1(x, mv(R234, x), h2)
             v = sub(sub(mtv(R1, p16), p1), mv(R234, p4))
             nv = norm(v)
-            c0, c1, n3, ls3 = elbow(p3, neg(p2), h3, nv)
+            c0, c1, n3, ls3, roots = sixr.elbow_roots(p3, neg(p2), h3, nv, q0[2])
             flag3, cd3, w0, w1 = flag6, cd5, v0, v1
             if n3 == -1:
-                n3, c0 = 1, q0[2]
                 flag3 |= SINGULAR
                 free |= 4
             elif n3 == 1 and not ls3:
@@ -248,12 +246,15 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 if cd3 == 0:
                     cd3, w1 = sixr.elbow_code(p2, p3, h3, c0, nv)
                     w0 = nv
-            for i3 in range(n3):
+            start = n
+            for i3 in range(roots):
                 q3 = c0 if i3 == 0 else c1
                 u = add(p2, mv(rot(h3, q3), p3))
                 q2, _ = sp1(u, v, h2)
                 q4 = s4 * (q234 - q2 - s3 * q3)
                 n = sixr.put_row(W, n, q1, q2, q3, q4, q5, q6, flag3, cd3, w0, w1)
+            if n3 == 1 and roots == 2:  # a merged root and its mirror: the better kept
+                n = sixr.keep_nearer(W, start, start + 1, n, q0, lower, upper)
     sixr.nearest_equivalents(W, n, q0, lower, upper)
     return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out), free
 

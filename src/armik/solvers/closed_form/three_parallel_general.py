@@ -36,7 +36,6 @@ from armik.solvers.closed_form.subproblems import (
     add,
     cross,
     dot,
-    elbow,
     mat,
     mmt,
     mtm,
@@ -126,22 +125,22 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
         q14, _ = sp1(x, mv(R14, x), h2)
         v = sub(sub(mtv(R1, p16), p1), mv(R14, add(p4, mv(R5, p5))))
         nv = norm(v)
-        c0, c1, n3, ls3 = elbow(p3, neg(p2), h3, nv)
+        c0, c1, n3, ls3, roots = sixr.elbow_roots(p3, neg(p2), h3, nv, q0[2])
         f3, cd3, w0, w1 = f6, 0, 0.0, 0.0
-        if n3 == -1:
-            n3, c0 = 1, q0[2]
-            f3 |= SINGULAR
-        elif n3 == 1 and not ls3:
-            f3 |= SINGULAR  # stretched or folded
+        if n3 == -1 or (n3 == 1 and not ls3):
+            f3 |= SINGULAR  # every turn spans it, or stretched or folded
         if ls3:
             f3 |= LS
             cd3, w1 = sixr.elbow_code(p2, p3, h3, c0, nv)
             w0 = nv
-        for i3 in range(n3):
+        start = n
+        for i3 in range(roots):
             q3 = c0 if i3 == 0 else c1
             q2, _ = sp1(add(p2, mv(rot(h3, q3), p3)), v, h2)
             q4 = s4 * (q14 - q2 - s3 * q3)
             n = sixr.put_row(W, n, q1, q2, q3, q4, q5, q6, f3, cd3, w0, w1)
+        if n3 == 1 and roots == 2:  # a merged root and its mirror: the better kept
+            n = sixr.keep_nearer(W, start, start + 1, n, q0, lower, upper)
     sixr.nearest_equivalents(W, n, q0, lower, upper)
     return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out)
 
