@@ -50,9 +50,6 @@ FAMILIES: dict[str, Callable] = {
 }
 HELD_FAMILY = "swept"  # not solve_all's choice: the family of hold= on joint 7
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
-# the smallest tolerance (m, rad) a verdict in double precision can tell from rounding: a
-# pose's entries carry errors of 1e-16 of the arm's size, its FK a few times more
-MIN_TOLERANCE = 1e-12
 
 
 def family(arm: ArmModel) -> str:
@@ -99,8 +96,8 @@ def export(
     export created is removed when writing fails.
 
     Raises ``OptionError`` when ``name`` is not a C identifier or one C reserves, a
-    tolerance is not a number of at least 1e-12 (``MIN_TOLERANCE``), ``out`` is not a path
-    or ``ikfast`` not a bool, ``SolverError`` when the arm's ``solve_all`` is not an
+    tolerance is not a number of at least 1e-12 (``tolerances.MIN_TOLERANCE``), ``out``
+    is not a path or ``ikfast`` not a bool, ``SolverError`` when the arm's ``solve_all`` is not an
     exported closed form, ``OptionError`` when ``out`` is a file or cannot be written."""
     model = model_of(arm)
     _check_name(name)
@@ -115,16 +112,8 @@ def export(
             f"ikfast must be True or False, got {ikfast!r}", option="ikfast", value=ikfast
         )
     tolerances = {"tol_position": tol_position, "tol_orientation": tol_orientation}
+    # below tolerances.MIN_TOLERANCE refused there, as every route refuses it
     opts = read_options({k: v for k, v in tolerances.items() if v is not None})
-    for key, unit in (("tol_position", "m"), ("tol_orientation", "rad")):
-        value = getattr(opts, key)
-        if value < MIN_TOLERANCE:
-            raise OptionError(
-                f"{key}={value!r} is below what double precision can verify: give a "
-                f"tolerance of at least {MIN_TOLERANCE:g} {unit} (1e-6 by default)",
-                option=key,
-                value=value,
-            )
     rows_of = FAMILIES[family(model)]
     ax = axis_lines(model)
     rows = rows_of(model, ax)
