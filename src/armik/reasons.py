@@ -430,20 +430,6 @@ def slides_wrist_unreachable(distance: float, wrist: float, tol: float) -> str:
     )
 
 
-def held_overlap(arm: str, overlaps: tuple[tuple[str, str, float], ...]) -> str:
-    """Pairs of links an arm's chain holds where it was cut (joints off the chain, or the
-    base) that overlap at its neutral configuration: left out of its self-collision check."""
-    listed = ", ".join(f"{a!r} and {b!r} by {d:.3g} m" for a, b, d in overlaps[:4])
-    more = f" and {len(overlaps) - 4} more" if len(overlaps) > 4 else ""
-    return (
-        f"self_collision on arm {arm!r}: links its chain holds where it was cut (their "
-        f"joints off the chain, or the base) overlap at its neutral configuration ({listed}"
-        f"{more}), so those pairs are left out of the check, as an SRDF's disabled pairs: "
-        "lock the joints that hold them at values that keep them apart "
-        "(armik.load(..., locked={joint: value})) to have them checked"
-    )
-
-
 def apart_collide(pair: tuple[str, str] | None, distance: float, margin: float) -> str:
     """Several tips on chains that share no joint, each verified and clear alone (against
     the obstacles and its own links, those another chain moves left to it): the robot at

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import math
 import threading
-import warnings
 from dataclasses import dataclass
 from itertools import combinations
 from pathlib import Path
@@ -24,12 +23,10 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from armik import reasons
 from armik.constraints.bounds import ordered_bounds, ordered_bounds_many
-from armik.constraints.held_pairs import held_overlaps
 from armik.constraints.shapes import Shape, check_obstacles, convex_hull, flag, margin_of, solid
 from armik.constraints.srdf import Pair
-from armik.errors import ArmikWarning, CollisionError
+from armik.errors import CollisionError
 from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
 from armik.model.catalogue import erd_share
@@ -50,9 +47,6 @@ class ArmGeometry:
     # objects a mimic joint off the chain moves with its driver on it, placed by the whole
     # model at each q (``model.mimic_frames.followed_objects``): the cut model holds them still
     followed: tuple = ()
-    # (link, link, depth m) of the candidates left out of ``self_pairs``: two links the cut
-    # holds (a joint off the chain, or the base), overlapping at the neutral configuration
-    held_overlaps: tuple[tuple[str, str, float], ...] = ()
 
 
 def arm_geometry(arm: ArmModel) -> ArmGeometry:
@@ -89,8 +83,7 @@ def _build_geometry(arm: ArmModel) -> ArmGeometry:
         )
     links = tuple(full.frames[o.parentFrame].name for o in geom.geometryObjects)
     followed = mimic_frames.followed_objects(arm, geom)
-    joints = [o.parentJoint for o in geom.geometryObjects]
-    body, parent = _bodies(arm, joints)
+    body, parent = _bodies(arm, [o.parentJoint for o in geom.geometryObjects])
     if chain.locked_joints:
         _, geom = reduce_model(full, list(chain.locked_joints), chain.q_ref, geom)
     for o, link in zip(geom.geometryObjects, links):
@@ -113,15 +106,13 @@ def _build_geometry(arm: ArmModel) -> ArmGeometry:
     self_pairs = tuple(
         (a, b) for a, b in candidates if tuple(sorted((links[a], links[b]))) not in disabled
     )
-    overlaps = held_overlaps(arm, geom, joints, self_pairs)  # held where cut, in each other
     return ArmGeometry(
         model=geom,
         links=links,
         moving=tuple(j != 0 or i in {k for k, _, _ in followed} for i, j in enumerate(bodies)),
         candidates=tuple(candidates),
-        self_pairs=tuple(p for p in self_pairs if p not in overlaps),
+        self_pairs=self_pairs,
         followed=followed,
-        held_overlaps=tuple((links[a], links[b], d) for (a, b), d in overlaps.items()),
     )
 
 
@@ -184,8 +175,6 @@ class Checker:
         model = g.model.copy()
         names = list(g.links)
         pairs = list(g.self_pairs) if self_collision else []
-        if self_collision and g.held_overlaps:
-            warnings.warn(reasons.held_overlap(arm.name, g.held_overlaps), ArmikWarning, 3)
         n_self = len(pairs)
         boxes: list[tuple] = []  # per obstacle pair: the obstacle's bounding box
         for k, shape in enumerate(obstacles):
