@@ -26,6 +26,7 @@ from concurrent.futures.process import BrokenProcessPool
 from typing import Any
 
 import numpy as np
+from pinocchio import SE3
 
 from armik.arm import Arm, load, load_string
 from armik.constraints.collision import checker
@@ -46,9 +47,13 @@ def _pose(arm: Arm, seed: int):
 
 def _numeric(solver: str) -> Callable[[], None]:
     def run() -> None:
-        for name in ("ur5", "panda", "kinova"):  # 6 and 7 joints, continuous joints
+        # 6 and 7 joints, continuous joints; the SCARA's slides and parallel axes: the
+        # batch FK its rails and heights place restarts with, a target beyond its heights
+        # measured where it is refused
+        for name in ("ur5", "panda", "kinova", "scara"):
             arm = load(name)
             T = _pose(arm, 1)
+            arm.solve(T.translation * 10, solver=solver, **_BUDGET)
             arm.solve(T, solver=solver, **_BUDGET)
             arm.solve(T.translation, solver=solver, **_BUDGET)
             arm.solve(T, solver=solver, weights=(1, 1, 1, 1, 1, 0), **_BUDGET)
@@ -66,8 +71,16 @@ def _numeric(solver: str) -> Callable[[], None]:
 
 
 def _clik() -> None:
-    arm = load("ur5")
-    arm.solve(_pose(arm, 1), solver="clik", max_iterations=5)
+    for name in ("ur5", "kinova"):  # continuous joints too
+        arm = load(name)
+        arm.solve(_pose(arm, 1), solver="clik", max_iterations=5)
+
+
+def _continuous() -> None:
+    """Joint values to Pinocchio's on an arm with continuous joints (the Kinova): every
+    call on such an arm starts there."""
+    arm = load("kinova")
+    arm.fk(arm.middle.copy())
 
 
 def _random_arm(kind: str):
@@ -84,12 +97,17 @@ def _closed_form(
     bundled arm locked (``load(robot, locked=...)``)."""
 
     def run() -> None:
+        _continuous()
         arm = _random_arm(robot[7:]) if robot.startswith("random:") else load(robot, locked=locked)
         T = _pose(arm, 2)
         target = T.translation[:2] if solver == "planar2r" else T
         arm.solve(target, solver=solver)
         arm.solve(target, q0=arm.middle + 0.1, solver=solver)
         [r.branch for r in arm.solve_all(target, solver=solver)]  # results read: made whole
+        # a target out of reach: its verdict measured by the FK check
+        far = 10 * target if solver == "planar2r" else SE3(T.rotation, 10 * T.translation)
+        arm.solve(far, solver=solver)
+        [r.status for r in arm.solve_all(far, solver=solver)]
         if solver != "planar2r":
             _from_a_result(arm, T, solver)
         if batch:
@@ -169,6 +187,7 @@ def _path() -> None:
 def _tasks_part() -> None:
     """Tasks on two frames of the Panda (the tip's position and axis, the elbow's position):
     the task solver's compiled descent."""
+    _continuous()
     arm = load("panda")
     T = arm.fk(arm.middle)
     tasks = [Position(T.translation), Axis((0, 0, 1), T.rotation[:, 2], 0.05)]
@@ -176,6 +195,7 @@ def _tasks_part() -> None:
 
 
 def _fk_batch() -> None:
+    _continuous()
     arm = load("ur5")
     arm.fk_batch(arm.random_q(0, n=2))
 
@@ -189,6 +209,7 @@ def _collisions() -> None:
 
 
 def _servo() -> None:
+    _continuous()
     arm = load("ur5")
     q = np.array([0.3, -1.2, 1.4, -1.5, -1.5, 0.2])
     T = arm.fk(q)
@@ -221,7 +242,7 @@ PARTS: dict[str, Callable[[], None]] = {
         _closed_form("random:two_intersecting", "two_intersecting", batch=True),
     ),
     "swept": _closed_form("panda", "swept"),
-    "srs": _in_turn(_closed_form("kuka_iiwa14", "srs"), lambda: _swivel("kuka_iiwa14")),
+    "srs": _in_turn(_closed_form("kuka_iiwa14", "srs", batch=True), lambda: _swivel("kuka_iiwa14")),
     "general_6r": _closed_form("ur5", "general_6r"),
     "elimination_6r": _closed_form("random:two_parallel", "elimination_6r"),
     "hold": _hold,
