@@ -93,7 +93,7 @@ def _closed_form(
     robot: str, solver: str, batch: bool = False, locked: dict | None = None
 ) -> Callable[[], None]:
     """``batch``: a ``solve_batch`` too (the family's compiled ``kernel_many``, which the
-    ``batch`` part compiles for the bundled arms' families); ``locked``: joints of the
+    ``batch`` part compiles for the UR5's family); ``locked``: joints of the
     bundled arm locked (``load(robot, locked=...)``)."""
 
     def run() -> None:
@@ -167,9 +167,6 @@ def _batch() -> None:
         q0 = arm.solve_batch(poses, solver=solver, workers=1, progress=False, **options).q
         q0.flags.writeable = False
         arm.solve_batch(poses, q0=q0, solver=solver, workers=1, progress=False, **options)
-    arm = load("abb_irb120")
-    poses = np.array([_pose(arm, s).homogeneous for s in range(4)])
-    arm.solve_batch(poses, solver="spherical", workers=1, progress=False)
 
 
 def _numeric_only(solver: str) -> dict:
@@ -182,6 +179,13 @@ def _path() -> None:
     poses = [arm.fk(q + 0.01 * k) for k in range(3)]
     arm.solve_path(poses, q, **_BUDGET)
     arm.solve_path(poses, q, plan="global", **_BUDGET)  # the plan's ladder
+    # the other bundled families' rungs: every branch of each waypoint in one call
+    for robot in ("planar_2link", "abb_irb120"):
+        arm = load(robot)
+        q = arm.random_q(np.random.default_rng(3))
+        poses = [arm.fk(q + 0.01 * k) for k in range(3)]
+        line = [T.translation[:2] for T in poses] if robot == "planar_2link" else poses
+        arm.solve_path(line, q, plan="global")
 
 
 def _tasks_part() -> None:
@@ -227,7 +231,7 @@ PARTS: dict[str, Callable[[], None]] = {
     "qp": _numeric("qp"),
     "clik": _clik,
     "planar2r": _closed_form("planar_2link", "planar2r"),
-    "spherical": _closed_form("abb_irb120", "spherical"),
+    "spherical": _closed_form("abb_irb120", "spherical", batch=True),
     "three_parallel": _closed_form("ur5", "three_parallel"),
     "spherical_general": _closed_form("random:spherical", "spherical_general", batch=True),
     "three_parallel_general": _closed_form(

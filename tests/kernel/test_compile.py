@@ -348,6 +348,13 @@ _AFTER = [
         "    Q.flags.writeable = False\n    a.fk_batch(Q)\n",
     ),
     (
+        "dls planar2r spherical three_parallel swept path",
+        "for n in ('planar_2link', 'abb_irb120', 'ur5', 'panda'):\n    a = armik.load(n)\n"
+        "    q = a.random_q(1)\n    line = [a.fk(q + 0.01 * k) for k in range(3)]\n"
+        "    if n == 'planar_2link':\n        line = [T.translation[:2] for T in line]\n"
+        "    a.solve_path(line, q, **B)\n    a.solve_path(line, q, plan='global', **B)\n",
+    ),
+    (
         "tasks",
         "a = armik.load('kinova')\nT = a.fk(a.middle)\n"
         "a.solve([armik.Position(T.translation), armik.Axis((0, 0, 1), T.rotation[:, 2], 0.05),"
