@@ -37,6 +37,7 @@ def test_the_compile_parts_a_family_adds_are_named_where_the_tests_read_them():
     [
         ("A task", ("`problem/__init__.py`", "tests/test_contributing.py")),
         ("A constraint", ("tests/test_contributing.py",)),
+        ("A score", ("`_NAMED`", "`tools/cli/flags.py`")),
     ],
 )
 def test_a_new_file_is_named_in_the_layout_and_exported(title, steps):
