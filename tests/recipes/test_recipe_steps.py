@@ -44,3 +44,9 @@ def test_a_new_file_is_named_in_the_layout_and_exported(title, steps):
     recipe = _recipe(title)
     for step in steps:
         assert step in recipe, step
+
+
+def test_the_set_up_names_every_check_ci_runs_on_a_new_module():
+    set_up = TEXT[TEXT.index("## Set up") : TEXT.index("## Package layout")]
+    for check in ("tests/test_house.py", "tests/test_types.py"):
+        assert check in set_up, check
