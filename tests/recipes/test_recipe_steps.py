@@ -30,6 +30,7 @@ def test_the_compile_parts_a_family_adds_are_named_where_the_tests_read_them():
     for step in ("`_HALVES`", "`PART_NAMES`", "make_golden.py", "tests/test_contributing.py"):
         assert step in family, step
     assert "complete=False" in family  # a search's misses are no proof
+    assert "`SEARCHES`" in family  # armik info's words for a search
 
 
 @pytest.mark.parametrize(
