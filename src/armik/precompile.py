@@ -30,6 +30,7 @@ from pinocchio import SE3
 
 from armik.arm import Arm, load, load_string
 from armik.constraints.collision import checker
+from armik.constraints.limits import JointLimits
 from armik.constraints.shapes import Box, HalfSpace, Sphere
 from armik.errors import OptionError, listing
 from armik.kernel.tier import compiling
@@ -104,6 +105,9 @@ def _closed_form(
         arm.solve(target, solver=solver)
         arm.solve(target, q0=arm.middle + 0.1, solver=solver)
         [r.branch for r in arm.solve_all(target, solver=solver)]  # results read: made whole
+        # the general path, where the prepared one steps aside (a constraint, obstacles)
+        arm.solve(target, solver=solver, constraints=[JointLimits()])
+        [r.branch for r in arm.solve_all(target, solver=solver, constraints=[JointLimits()])]
         # a target out of reach: its verdict measured by the FK check
         far = 10 * target if solver == "planar2r" else SE3(T.rotation, 10 * T.translation)
         arm.solve(far, solver=solver)

@@ -273,6 +273,7 @@ AFTER_PARTS = textwrap.dedent(
     from numba.core.registry import CPUDispatcher
     import armik
     from armik import precompile
+    from armik.constraints.limits import JointLimits
 
     modules = []
     for info in pkgutil.walk_packages(armik.__path__, "armik."):
@@ -305,6 +306,8 @@ for name in ARMS:
     for target in TARGETS(T, far):
         arm.solve(target, solver=SOLVER, **B)
         [r.status for r in arm.solve_all(target, solver=SOLVER, **B)]
+        # a constraint of the user's: the general path, where the prepared one steps aside
+        arm.solve(target, solver=SOLVER, constraints=[JointLimits()], **B)
 """
 _NUMERIC = ("ur5", "panda", "kinova", "scara", "planar_3link", "so101")
 _POSES = "lambda T, far: (T, far)"
