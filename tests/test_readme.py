@@ -102,6 +102,16 @@ def test_readme_commands_exist():
         assert stop.value.code == 0, f"'armik {command}' is not a command"
 
 
+def test_readme_names_every_command():
+    """Each command of ``armik --help`` is in the README's Command line section."""
+    from armik.tools.cli.main import _parser
+
+    parser = _parser()
+    (commands,) = [a.choices for a in parser._actions if a.choices and "solve" in a.choices]
+    missing = sorted(set(commands) - _subcommands(section(README, "Command line")))
+    assert not missing, f"the README's Command line does not name: {missing}"
+
+
 @needs_docs
 def test_docs_commands_exist():
     main = _main()

@@ -26,9 +26,11 @@ from concurrent.futures.process import BrokenProcessPool
 from typing import Any
 
 import numpy as np
+from pinocchio import SE3
 
 from armik.arm import Arm, load, load_string
 from armik.constraints.collision import checker
+from armik.constraints.limits import JointLimits
 from armik.constraints.shapes import Box, HalfSpace, Sphere
 from armik.errors import OptionError, listing
 from armik.kernel.tier import compiling
@@ -46,9 +48,13 @@ def _pose(arm: Arm, seed: int):
 
 def _numeric(solver: str) -> Callable[[], None]:
     def run() -> None:
-        for name in ("ur5", "panda", "kinova"):  # 6 and 7 joints, continuous joints
+        # 6 and 7 joints, continuous joints; the SCARA's slides and parallel axes: the
+        # batch FK its rails and heights place restarts with, a target beyond its heights
+        # measured where it is refused
+        for name in ("ur5", "panda", "kinova", "scara"):
             arm = load(name)
             T = _pose(arm, 1)
+            arm.solve(T.translation * 10, solver=solver, **_BUDGET)
             arm.solve(T, solver=solver, **_BUDGET)
             arm.solve(T.translation, solver=solver, **_BUDGET)
             arm.solve(T, solver=solver, weights=(1, 1, 1, 1, 1, 0), **_BUDGET)
@@ -66,8 +72,16 @@ def _numeric(solver: str) -> Callable[[], None]:
 
 
 def _clik() -> None:
-    arm = load("ur5")
-    arm.solve(_pose(arm, 1), solver="clik", max_iterations=5)
+    for name in ("ur5", "kinova"):  # continuous joints too
+        arm = load(name)
+        arm.solve(_pose(arm, 1), solver="clik", max_iterations=5)
+
+
+def _continuous() -> None:
+    """Joint values to Pinocchio's on an arm with continuous joints (the Kinova): every
+    call on such an arm starts there."""
+    arm = load("kinova")
+    arm.fk(arm.middle.copy())
 
 
 def _random_arm(kind: str):
@@ -80,16 +94,24 @@ def _closed_form(
     robot: str, solver: str, batch: bool = False, locked: dict | None = None
 ) -> Callable[[], None]:
     """``batch``: a ``solve_batch`` too (the family's compiled ``kernel_many``, which the
-    ``batch`` part compiles for the bundled arms' families); ``locked``: joints of the
+    ``batch`` part compiles for the UR5's family); ``locked``: joints of the
     bundled arm locked (``load(robot, locked=...)``)."""
 
     def run() -> None:
+        _continuous()
         arm = _random_arm(robot[7:]) if robot.startswith("random:") else load(robot, locked=locked)
         T = _pose(arm, 2)
         target = T.translation[:2] if solver == "planar2r" else T
         arm.solve(target, solver=solver)
         arm.solve(target, q0=arm.middle + 0.1, solver=solver)
         [r.branch for r in arm.solve_all(target, solver=solver)]  # results read: made whole
+        # the general path, where the prepared one steps aside (a constraint, obstacles)
+        arm.solve(target, solver=solver, constraints=[JointLimits()])
+        [r.branch for r in arm.solve_all(target, solver=solver, constraints=[JointLimits()])]
+        # a target out of reach: its verdict measured by the FK check
+        far = 10 * target if solver == "planar2r" else SE3(T.rotation, 10 * T.translation)
+        arm.solve(far, solver=solver)
+        [r.status for r in arm.solve_all(far, solver=solver)]
         if solver != "planar2r":
             _from_a_result(arm, T, solver)
         if batch:
@@ -149,9 +171,6 @@ def _batch() -> None:
         q0 = arm.solve_batch(poses, solver=solver, workers=1, progress=False, **options).q
         q0.flags.writeable = False
         arm.solve_batch(poses, q0=q0, solver=solver, workers=1, progress=False, **options)
-    arm = load("abb_irb120")
-    poses = np.array([_pose(arm, s).homogeneous for s in range(4)])
-    arm.solve_batch(poses, solver="spherical", workers=1, progress=False)
 
 
 def _numeric_only(solver: str) -> dict:
@@ -164,11 +183,19 @@ def _path() -> None:
     poses = [arm.fk(q + 0.01 * k) for k in range(3)]
     arm.solve_path(poses, q, **_BUDGET)
     arm.solve_path(poses, q, plan="global", **_BUDGET)  # the plan's ladder
+    # the other bundled families' rungs: every branch of each waypoint in one call
+    for robot in ("planar_2link", "abb_irb120"):
+        arm = load(robot)
+        q = arm.random_q(np.random.default_rng(3))
+        poses = [arm.fk(q + 0.01 * k) for k in range(3)]
+        line = [T.translation[:2] for T in poses] if robot == "planar_2link" else poses
+        arm.solve_path(line, q, plan="global")
 
 
 def _tasks_part() -> None:
     """Tasks on two frames of the Panda (the tip's position and axis, the elbow's position):
     the task solver's compiled descent."""
+    _continuous()
     arm = load("panda")
     T = arm.fk(arm.middle)
     tasks = [Position(T.translation), Axis((0, 0, 1), T.rotation[:, 2], 0.05)]
@@ -176,6 +203,7 @@ def _tasks_part() -> None:
 
 
 def _fk_batch() -> None:
+    _continuous()
     arm = load("ur5")
     arm.fk_batch(arm.random_q(0, n=2))
 
@@ -189,6 +217,7 @@ def _collisions() -> None:
 
 
 def _servo() -> None:
+    _continuous()
     arm = load("ur5")
     q = np.array([0.3, -1.2, 1.4, -1.5, -1.5, 0.2])
     T = arm.fk(q)
@@ -206,7 +235,7 @@ PARTS: dict[str, Callable[[], None]] = {
     "qp": _numeric("qp"),
     "clik": _clik,
     "planar2r": _closed_form("planar_2link", "planar2r"),
-    "spherical": _closed_form("abb_irb120", "spherical"),
+    "spherical": _closed_form("abb_irb120", "spherical", batch=True),
     "three_parallel": _closed_form("ur5", "three_parallel"),
     "spherical_general": _closed_form("random:spherical", "spherical_general", batch=True),
     "three_parallel_general": _closed_form(
@@ -221,7 +250,7 @@ PARTS: dict[str, Callable[[], None]] = {
         _closed_form("random:two_intersecting", "two_intersecting", batch=True),
     ),
     "swept": _closed_form("panda", "swept"),
-    "srs": _in_turn(_closed_form("kuka_iiwa14", "srs"), lambda: _swivel("kuka_iiwa14")),
+    "srs": _in_turn(_closed_form("kuka_iiwa14", "srs", batch=True), lambda: _swivel("kuka_iiwa14")),
     "general_6r": _closed_form("ur5", "general_6r"),
     "elimination_6r": _closed_form("random:two_parallel", "elimination_6r"),
     "hold": _hold,

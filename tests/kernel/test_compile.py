@@ -260,3 +260,127 @@ def test_the_task_solver_compiles_the_fk_once(tmp_path):
         check=True,
     )
     assert done.stdout.split() == ["1", "1"]
+
+
+# A process that compiled only some parts (``armik compile PART``), then solves as a user of
+# those parts does: every compiled function it calls was built by the parts, so nothing new
+# is loaded from the cache (with an empty cache: nothing compiles at the first solve).
+AFTER_PARTS = textwrap.dedent(
+    """
+    import importlib, pkgutil, sys
+    import numpy as np
+    import pinocchio as pin
+    from numba.core.registry import CPUDispatcher
+    import armik
+    from armik import precompile
+    from armik.constraints.limits import JointLimits
+
+    modules = []
+    for info in pkgutil.walk_packages(armik.__path__, "armik."):
+        if not info.name.startswith(("armik.view", "armik.tools")):
+            modules.append(importlib.import_module(info.name))
+
+    def signatures():
+        return {
+            (f"{m.__name__}.{name}", str(s))
+            for m in modules
+            for name, v in vars(m).items()
+            if isinstance(v, CPUDispatcher) and v.py_func.__module__ == m.__name__
+            for s in v.signatures
+        }
+
+    for part in sys.argv[1].split():
+        precompile.PARTS[part]()
+    built = signatures()
+    B = {"iteration_budget": 50}
+    exec(sys.argv[2])
+    print(sorted({name for name, _ in signatures() - built}))
+    """
+)
+
+_SOLVES = """
+for name in ARMS:
+    arm = armik.load(name)
+    T = arm.fk(arm.random_q(0))
+    far = pin.SE3(T.rotation, 10 * T.translation)
+    for target in TARGETS(T, far):
+        arm.solve(target, solver=SOLVER, **B)
+        [r.status for r in arm.solve_all(target, solver=SOLVER, **B)]
+        # a constraint of the user's: the general path, where the prepared one steps aside
+        arm.solve(target, solver=SOLVER, constraints=[JointLimits()], **B)
+"""
+_NUMERIC = ("ur5", "panda", "kinova", "scara", "planar_3link", "so101")
+_POSES = "lambda T, far: (T, far)"
+_CLOSED = {
+    "planar2r": (("planar_2link",), "lambda T, far: (T.translation[:2], far.translation[:2])"),
+    "spherical": (("abb_irb120",), _POSES),
+    "three_parallel": (("ur5", "z1"), _POSES),
+    "swept": (("panda",), _POSES),
+    "srs": (("kuka_iiwa14",), _POSES),
+    # a target out of reach on the Kinova measures a read-only answer, which compiles the
+    # joint values' conversion once more (``ArmModel.to_pin``): reachable targets only
+    "spherical_general": (("kinova",), "lambda T, far: (T,)"),
+}
+
+
+def _uses(solver: str, arms, targets: str, batch: bool = False) -> str:
+    code = f"ARMS = {arms!r}\nSOLVER = {solver!r}\nTARGETS = {targets}\n" + _SOLVES
+    if batch:
+        code += (
+            "    H = np.array([arm.fk(arm.random_q(s)).homogeneous for s in range(2)])\n"
+            "    arm.solve_batch(H, solver=SOLVER, workers=1, progress=False)\n"
+        )
+    return code
+
+
+_AFTER = [
+    *[
+        (s, _uses(s, _NUMERIC, "lambda T, far: (T, T.translation, far, far.translation)"))
+        for s in ("dls", "qp")
+    ],
+    ("clik", _uses("clik", _NUMERIC, _POSES).replace("[r.status", "# [r.status")),
+    *[(s, _uses(s, arms, targets)) for s, (arms, targets) in _CLOSED.items()],
+    *[
+        (f"{s} batch", _uses(s, arms, targets, batch=True))
+        for s, (arms, targets) in _CLOSED.items()
+    ],
+    (
+        "fk_batch",
+        "for n in ('kinova', 'scara', 'ur5'):\n    a = armik.load(n)\n"
+        "    Q = a.random_q(0, n=3)\n    a.fk_batch(Q)\n"
+        "    Q.flags.writeable = False\n    a.fk_batch(Q)\n",
+    ),
+    (
+        "dls planar2r spherical three_parallel swept path",
+        "for n in ('planar_2link', 'abb_irb120', 'ur5', 'panda'):\n    a = armik.load(n)\n"
+        "    q = a.random_q(1)\n    line = [a.fk(q + 0.01 * k) for k in range(3)]\n"
+        "    if n == 'planar_2link':\n        line = [T.translation[:2] for T in line]\n"
+        "    a.solve_path(line, q, **B)\n    a.solve_path(line, q, plan='global', **B)\n",
+    ),
+    (
+        "tasks",
+        "a = armik.load('kinova')\nT = a.fk(a.middle)\n"
+        "a.solve([armik.Position(T.translation), armik.Axis((0, 0, 1), T.rotation[:, 2], 0.05),"
+        " armik.Position(a.fk(a.middle, 'j2s6s200_link_4').translation, bounds=(0.1,) * 3,"
+        " frame='j2s6s200_link_4')])\n",
+    ),
+    ("servo", "a = armik.load('kinova')\na.servo(a.middle).step(a.fk(a.middle))\n"),
+]
+
+
+@pytest.mark.parametrize(("parts", "uses"), _AFTER, ids=[p for p, _ in _AFTER])
+def test_a_part_compiled_alone_builds_everything_its_solves_call(parts, uses):
+    # `armik compile dls` did not build the batch FK that a SCARA's rails and heights place
+    # restarts with (about 3 s at its first solve), nor the FK check of a target out of
+    # reach; a closed form's part not the check of its unreachable answers; no part the
+    # joint values of an arm with continuous joints
+    environ = {**os.environ, "ARMIK_FIRST_CALLS": "compile", "ARMIK_COMPILE_HELPER": "0"}
+    environ["PYTHONPATH"] = os.pathsep.join(sys.path)
+    done = subprocess.run(
+        [sys.executable, "-c", AFTER_PARTS, parts, uses],
+        env=environ,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert done.stdout.strip().splitlines()[-1] == "[]"

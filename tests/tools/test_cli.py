@@ -205,6 +205,22 @@ def test_compile_parts_named_in_the_parser():
     assert PART_NAMES == tuple(PARTS)
 
 
+def test_prefer_choices_are_the_named_scores():
+    # the parser imports none of the library: its --prefer choices are written out, and a
+    # score named in problem/scores.py without them would be refused by the CLI
+    from armik.problem.scores import _NAMED
+    from armik.tools.cli.main import _parser
+
+    commands = next(a for a in _parser()._actions if a.choices and "solve" in a.choices).choices
+    choices = {
+        tuple(a.choices)
+        for command in ("solve", "batch", "path")
+        for a in commands[command]._actions
+        if a.dest == "prefer"
+    }
+    assert choices == {tuple(_NAMED)}
+
+
 def test_rpy_in_degrees_is_warned_of_and_taken_as_radians(capsys):
     """--rpy 180 0 0 (degrees by mistake) is 180 rad as the help says, with one line on
     stderr; angles within 2 pi say nothing."""

@@ -10,6 +10,7 @@ import pinocchio as pin
 import pytest
 
 from armik.batch_result import BatchResult
+from armik.errors import InputError
 from armik.problem.scores import manipulability
 from armik.tools.cli import main
 
@@ -83,3 +84,30 @@ def test_path_starts_from_the_files_q0_and_q0_flag_takes_its_place(tmp_path, cap
     flag = ["--q0", *map(repr, start.tolist())]
     assert main(["path", "ur5", str(tmp_path / "rows.npz"), "-o", out, *flag]) == 0
     assert np.allclose(BatchResult.load(out).q[0], start, atol=1e-6)
+
+
+def test_view_path_starts_where_armik_path_does(tmp_path):
+    # `armik view --path` read the waypoints as `armik path` does but dropped the file's
+    # 'q0': its followed plan started from the middle of the limits instead
+    import argparse
+
+    from armik.tools.cli.view import _solve_paths
+
+    poses, q = _spun(12)
+    np.savez(tmp_path / "spin.npz", targets=poses, q0=q)
+    args = argparse.Namespace(
+        path=str(tmp_path / "spin.npz"), q0=None, plan=["follow"], max_joint_step=0.3,
+        solver="auto",
+    )  # fmt: skip
+    ur5 = arm("ur5")
+    shown = _solve_paths(ur5, args, [])["follow"]
+    assert main(["path", "ur5", args.path, "--max-joint-step", "0.3", "-o",
+                 str(tmp_path / "f.npz")]) == 0  # fmt: skip
+    written = BatchResult.load(tmp_path / "f.npz")
+    assert np.array_equal(shown.q, written.q) and np.array_equal(shown.success, written.success)
+    assert shown.success[0] and np.abs(shown.q[0] - q).max() <= 0.3  # from the file's q0
+    np.savez(tmp_path / "bad.npz", targets=poses, q0=np.tile(q, (2, 1)))
+    with pytest.raises(InputError, match="a path starts from one configuration"):
+        _solve_paths(
+            ur5, argparse.Namespace(**{**vars(args), "path": str(tmp_path / "bad.npz")}), []
+        )

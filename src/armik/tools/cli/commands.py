@@ -248,8 +248,9 @@ def add_view_command(command) -> None:
         "--q0",
         nargs="+",
         type=float,
-        help="the configuration --path starts from (rad, m); default: the middle of the "
-        "limits, or for the global plan any branch",
+        help="the configuration --path starts from (rad, m), in place of the file's 'q0'; "
+        "default: the file's 'q0', else the middle of the limits, or for the global plan "
+        "any branch",
     )
     c.add_argument(
         "--servo",

@@ -171,17 +171,24 @@ def _output(path: str) -> Path:
     return out
 
 
+def path_start(path, in_file, given) -> np.ndarray | None:
+    """A path's start: ``--q0`` (``given``), else the waypoints file's 'q0' (``in_file``),
+    which is one configuration; else None."""
+    if given is not None:  # as on batch, --q0 in place of the file's
+        return np.array(given)
+    if in_file is not None and in_file.ndim != 1:
+        raise InputError(
+            f"{str(path)!r}: its array 'q0' has shape {in_file.shape}, but a path starts from "
+            "one configuration: save q0 as one value per joint, or give --q0"
+        )
+    return in_file
+
+
 def cmd_path(args: argparse.Namespace) -> int:
     out = _output(args.output)
     arm = load_arm(args).kinematics
-    targets, q0 = read_targets_file(args.targets)  # the file's 'q0': the path's start
-    if args.q0 is not None:  # as on batch, --q0 in place of the file's
-        q0 = np.array(args.q0)
-    elif q0 is not None and q0.ndim != 1:
-        raise InputError(
-            f"{args.targets!r}: its array 'q0' has shape {q0.shape}, but a path starts from "
-            "one configuration: save q0 as one value per joint, or give --q0"
-        )
+    targets, q0 = read_targets_file(args.targets)
+    q0 = path_start(args.targets, q0, args.q0)
     request, local = read_path(arm, targets, q0, args.solver, args.plan, solve_options(args))
     result = solve_path(arm, request, local, args.max_joint_step, args.plan)
     return _written(result, out)

@@ -14,7 +14,7 @@ from armik.arms import Arms
 from armik.constraints.shapes_file import read_shapes
 from armik.errors import InputError
 from armik.tools.cli.arms import load_arm
-from armik.tools.cli.many import read_targets_file
+from armik.tools.cli.many import path_start, read_targets_file
 
 
 def cmd_view(args: argparse.Namespace) -> int:
@@ -74,8 +74,8 @@ def cmd_view(args: argparse.Namespace) -> int:
 def _solve_paths(arm, args: argparse.Namespace, obstacles: list) -> dict:
     """Each ``--plan``'s ``solve_path`` over the waypoints of ``--path``, clear of
     ``obstacles``."""
-    poses, _ = read_targets_file(args.path)
-    q0 = None if args.q0 is None else np.array(args.q0)
+    poses, in_file = read_targets_file(args.path)
+    q0 = path_start(args.path, in_file, args.q0)  # as armik path reads the file
     clear = {"obstacles": obstacles} if obstacles else {}
     return {
         plan: arm.solve_path(
