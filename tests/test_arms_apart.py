@@ -81,8 +81,8 @@ def test_an_obstacle_where_a_chain_holds_the_other_arm_is_solved_around():
     arm = arms_apart.facade(robot, "l_tool0", given)
     assert arm.kinematics is not left
     again = pickle.loads(pickle.dumps(arm))
-    assert arms_apart.LEFT_OUT(again.kinematics) == arms_apart.LEFT_OUT(arm.kinematics)
-    assert "r_forearm_link_0" in arms_apart.LEFT_OUT(arm.kinematics)
+    assert again.kinematics.left_out == arm.kinematics.left_out
+    assert "r_forearm_link_0" in arm.kinematics.left_out
     assert arms_apart.facade(robot, "l_tool0", {}) is robot.chain("l_tool0")
 
 
@@ -195,3 +195,26 @@ def test_a_servo_on_chains_apart_streams_around_an_obstacle_where_a_chain_holds_
     nearest = min(_clearance(model, geom, robot, servo.step(goal).q, ball) for _ in range(300))
     assert nearest >= 0.02 - 1e-4
     assert not np.allclose(servo.q, q0)  # it moved
+
+
+def test_a_chain_within_the_robot_locks_and_limits_as_itself():
+    robot = armik.load(dual("panda"), tips=["l_panda_hand", "r_panda_hand"])
+    down, c = pin.utils.rpyToMatrix(np.pi, 0.0, 0.0), np.array([0.5, 0.0, 0.4])
+    T = {
+        "l_panda_hand": pin.SE3(down, c + [0, 0.2, 0]),
+        "r_panda_hand": pin.SE3(down, c - [0, 0.2, 0]),
+    }
+    far = armik.Sphere(0.05, (3.0, 3.0, 3.0))
+    # joint 3 held: the held solve locks the chain's model (a raw AttributeError before)
+    r = robot.solve(T, hold={"l_panda_joint3": 0.3}, obstacles=[far])
+    assert r.success
+    assert r.q[robot.joint_names.index("l_panda_joint3")] == 0.3
+    arm = arms_apart.facade(robot, "l_panda_hand", {"obstacles": [far]}).kinematics
+    left_out = arm.left_out
+    assert left_out and all(n.startswith("r_") for n in left_out)
+    narrowed = arm.with_limits({"l_panda_joint1": (-1.0, 1.0)})
+    locked = arm.with_locked({"l_panda_joint3": 0.3})
+    for model in (narrowed, locked, pickle.loads(pickle.dumps(narrowed))):
+        assert model.left_out == left_out
+    assert pickle.loads(pickle.dumps(narrowed)).upper[0] == 1.0
+    assert "l_panda_joint3" not in locked.joint_names

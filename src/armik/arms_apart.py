@@ -21,7 +21,6 @@ from typing import Any
 from armik.arms_links import moved_elsewhere
 from armik.constraints.base import Constraint
 from armik.constraints.clear import Collisions
-from armik.constraints.collision import LEFT_OUT
 from armik.model.arm_model import ArmModel
 
 
@@ -71,8 +70,23 @@ class InRobot:
     recipe: Any
     left_out: frozenset[str]
 
+    @property
+    def limits(self) -> tuple[tuple[str, float, float], ...]:
+        return self.recipe.limits  # type: ignore[no-any-return]
+
+    @property
+    def text(self) -> str | None:  # the viewer reads the URDF of an arm read from text
+        return self.recipe.text  # type: ignore[no-any-return]
+
     def build_model(self) -> ArmModel:
         return _without(self.recipe.build_model(), self.left_out)
+
+    def relimited(self, limits: tuple[tuple[str, float, float], ...]) -> InRobot:
+        return InRobot(self.recipe.relimited(limits), self.left_out)
+
+    def locked_model(self, locked: object, example: str) -> ArmModel:
+        """The chain's model with ``locked`` locked too, within the robot as this one is."""
+        return _without(self.recipe.locked_model(locked, example), self.left_out)
 
 
 def _without(arm: ArmModel, left_out: frozenset[str]) -> ArmModel:
@@ -81,7 +95,7 @@ def _without(arm: ArmModel, left_out: frozenset[str]) -> ArmModel:
     if not left_out:
         return arm
     copy = arm.with_limits({})  # the same limits, nothing derived kept
-    copy._derived[LEFT_OUT] = left_out
+    copy.left_out = left_out
     if arm._recipe is not None:
         copy._recipe = InRobot(arm._recipe, left_out)
     return copy

@@ -72,7 +72,7 @@ def _build_geometry(arm: ArmModel) -> ArmGeometry:
             "folders that hold its meshes' packages with armik.load(..., package_dirs=[...])",
             option="package_dirs",
         ) from None
-    for name in LEFT_OUT(arm):  # links another chain of a robot moves (``armik.arms_apart``)
+    for name in arm.left_out:  # links another chain of a robot moves (``armik.arms_apart``)
         geom.removeGeometryObject(name)
     if geom.ngeoms == 0:
         raise CollisionError(
@@ -117,9 +117,6 @@ def _build_geometry(arm: ArmModel) -> ArmGeometry:
 
 
 _GEOMETRY = Derived("collision geometry", _build_geometry)
-# the names of the objects left out of an arm's geometry: none, but on a chain's model
-# within a robot of several tips, those another chain moves (``armik.arms_apart``)
-LEFT_OUT: Derived[frozenset[str]] = Derived("objects another chain moves", lambda _: frozenset())
 
 
 def _bodies(arm: ArmModel, joints: list[int]) -> tuple[list[int], dict[int, int]]:

@@ -13,7 +13,6 @@ import operator
 import threading
 import warnings
 from collections.abc import Mapping
-from dataclasses import replace
 from functools import cached_property
 from types import MappingProxyType
 from typing import Any
@@ -88,6 +87,9 @@ class ArmModel:
         self._local = threading.local()
         self._derived: dict[Any, Any] = {}  # ``armik.model.derived``: what modules keep
         self._recipe: Any = None  # how ``armik.load`` built it (``armik.arm.Recipe``), to pickle
+        # objects of the URDF's collision geometry left out: a chain's within a robot, those
+        # another chain moves (``armik.arms_apart``)
+        self.left_out: frozenset[str] = frozenset()
 
     def __reduce__(self) -> tuple[Any, tuple[()]]:
         # A Pinocchio model does not pickle portably: the arm travels as its recipe.
@@ -167,7 +169,7 @@ class ArmModel:
         if self._recipe is not None:
             kept = tuple(x for x in self._recipe.limits if x[0] not in checked)
             new = tuple((n, lo, hi) for n, (lo, hi) in checked.items())
-            clone._recipe = replace(self._recipe, limits=kept + new)
+            clone._recipe = self._recipe.relimited(kept + new)
         return clone
 
     def with_locked(self, locked: Mapping[str, float]) -> ArmModel:
