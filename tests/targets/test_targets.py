@@ -241,3 +241,21 @@ def test_a_lowered_task_list_or_a_target_by_hand_beyond_reach_of_any_arm_is_refu
     ):
         with pytest.raises(TargetError, match=r"beyond 1e\+06 m"):
             ur5.solve(target)
+
+
+@pytest.mark.parametrize(
+    "rotation",
+    [lambda R: 2.0 * R, lambda R: R + 1e-3, lambda R: -R],
+    ids=["scaled", "off by 1e-3", "reflected"],
+)
+def test_a_target_built_by_hand_whose_rotation_is_no_rotation_is_refused_by_solve(rotation):
+    # solve's quick check of a hand-built Target read its shape alone: 2 R came out a
+    # failed FK check, where solve_batch refused it by name
+    import armik
+
+    arm = armik.load("ur5")
+    T = arm.fk(arm.random_q(3))
+    target = armik.Target(T.translation.copy(), rotation(T.rotation))
+    for call in (arm.solve, arm.solve_all, lambda t: arm.solve_batch([t])):
+        with pytest.raises(TargetError, match="orthonormal|determinant"):
+            call(target)
