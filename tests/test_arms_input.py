@@ -51,3 +51,14 @@ def test_options_are_read_where_every_tip_is_beyond_reach(talos, options, error)
             talos.solve(targets, **options)
     r = talos.solve({HANDS[0]: far, HANDS[1]: far})  # without them: the failure it was
     assert not r.success and r.status is armik.Status.UNREACHABLE
+
+
+def test_a_target_built_by_hand_whose_rotation_is_no_rotation_is_refused_by_name(talos):
+    q = talos.random_q(1)
+    T = {tip: talos.fk(q, tip) for tip in talos.tips}
+    left = talos.tips[0]
+    good = armik.Target(T[left].translation.copy(), T[left].rotation.copy())
+    assert talos.solve({**T, left: good}).success  # a Target by hand, a rotation: solved
+    bad = armik.Target(T[left].translation.copy(), 2.0 * T[left].rotation)
+    with pytest.raises(armik.TargetError, match=f"tip {left!r}.*not orthonormal"):
+        talos.solve({**T, left: bad})

@@ -400,6 +400,8 @@ class Arms(ArmsKinematics):
     ) -> IKResult:
         """One chain's answer by ``solver`` with its own options (``Arm.solve``'s route)."""
         arm = arms_apart.model(self, tip, options) if options else self._chains[tip]  # collisions
+        if type(target) is Target and target.rotation is not None and target.aim is None:
+            target = pin.SE3(target.rotation, target.position)  # parsed and checked: a plain pose
         request = read(arm, target, q0, solver, options)
         if request.score is None and request.problem is None:  # the compiled path's stages
             return run(arm, request)  # type: ignore[no-any-return]

@@ -49,7 +49,7 @@ from armik.solve.read_aim import (
 from armik.solve.tasks import SOLVER, lower_all, task_problems
 from armik.targets.aim import refuse_freed, refuse_without_direction
 from armik.targets.batch import parse_targets
-from armik.targets.pose import MAX_POSITION, ROTATION_TOL, Target, checked, parsed
+from armik.targets.pose import MAX_POSITION, Target, checked, is_rotation, parsed
 
 
 def read(
@@ -120,7 +120,7 @@ def read(
         ok = type(p) is np.ndarray and p.shape == _POINT and p.dtype == _FLOAT
         if R is not None:
             ok = ok and type(R) is np.ndarray and R.shape == _MATRIX and R.dtype == _FLOAT
-            ok = ok and np.abs(R @ R.T - _EYE).max() <= ROTATION_TOL and np.linalg.det(R) > 0
+            ok = ok and is_rotation(R)
         if not (ok and p.dot(p) <= _FAR and math.isfinite(0.0 if R is None else R.sum())):
             target = checked(target)  # (the parser's rule: each coordinate within 1e6 m)
     if aim is None and type(target) is Target:  # a row of an aimed batch or path
@@ -495,6 +495,6 @@ def _seed(seed: object) -> int | None:
 
 _SE3 = pin.SE3
 # a Target's plain parts: float arrays of 3 and a rotation, the position within MAX_POSITION
-_POINT, _MATRIX, _FLOAT, _FAR, _EYE = (3,), (3, 3), np.dtype(float), MAX_POSITION**2, np.eye(3)
+_POINT, _MATRIX, _FLOAT, _FAR = (3,), (3, 3), np.dtype(float), MAX_POSITION**2
 _new = tuple.__new__
 _DEFAULT = Options()  # frozen: shared by every call without options

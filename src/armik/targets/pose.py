@@ -79,11 +79,11 @@ def parse_target(value: object, arm: object = None) -> Target:
 def parse_by_tip(targets: Mapping[str, object], arms: Mapping[str, object]) -> dict[str, Target]:
     """A several-tip target (tip -> one target in any form ``parse_target`` reads) parsed in
     one call, each tip's value on its own chain ``arms[tip]`` (a 2-vector on that chain's
-    plane), a parsed ``Target`` kept as it is; a ``TargetError`` names the tip."""
+    plane), a ``Target`` checked as its parts; a ``TargetError`` names the tip."""
     out = {}
     for tip, value in targets.items():
         try:
-            out[tip] = value if type(value) is Target else _read(value, arms[tip])
+            out[tip] = _read(value, arms[tip])
         except TargetError as exc:
             raise TargetError(f"the target of tip {tip!r}: {exc}") from None
     return out
@@ -430,6 +430,13 @@ def _determinant(
     a: float, b: float, c: float, d: float, e: float, f: float, g: float, h: float, i: float
 ) -> float:
     return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
+
+
+def is_rotation(R: np.ndarray) -> bool:
+    """Whether a finite 3x3 ``R`` is a rotation as the parser takes one: orthonormal within
+    ``ROTATION_TOL``, not a reflection."""
+    v = R.ravel().tolist()
+    return _orthonormality_error(*v) <= ROTATION_TOL and _determinant(*v) > 0
 
 
 def _target(p: np.ndarray, R: np.ndarray | None) -> Target:
