@@ -327,3 +327,11 @@ def test_a_first_task_solve_loads_its_compiled_descent_before_its_budget_starts(
         [sys.executable, "-c", FIRST_TASK_SOLVE], capture_output=True, text=True, check=True
     ).stdout.split()
     assert out == ["True", "[True,", "True]", "True"], out
+
+
+def test_a_failed_task_lists_reason_says_which_tasks_held():
+    robot = armik.load("panda", tips=["panda_hand", "panda_link4"])
+    r = robot.solve({"panda_hand": (0.4, 0, 0.4), "panda_link4": (0, 0, 0.5)})
+    assert not r.success
+    closest = r.reason.split("closest: ")[1]
+    assert "held" in closest and "outside" in closest, r.reason  # one met, one not

@@ -229,7 +229,9 @@ def _describe(tasks, errors: list[TaskError]) -> str:
             words.append(f"{e.position:.3g} m")
         if e.orientation is not None:
             words.append(f"{e.orientation:.3g} rad")
-        parts.append(f"{type(t).__name__} {' and '.join(words)} outside")
+        parts.append(
+            f"{type(t).__name__} {' and '.join(words)} {'held' if e.within else 'outside'}"
+        )
     return ", ".join(parts)
 
 
