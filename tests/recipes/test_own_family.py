@@ -254,3 +254,10 @@ def test_unregister_drops_what_auto_chose(family):
     finally:
         registry.register(family)
     assert arm.solve(T).solver == NAME
+
+
+def test_a_taken_solver_name_is_an_armik_error_naming_it():
+    from armik.solvers import registry
+
+    with pytest.raises(armik.SolverError, match="solver name 'dls' is taken: register it"):
+        registry.register(registry.get("dls"))

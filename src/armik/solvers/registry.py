@@ -175,7 +175,12 @@ generation = 0  # counts registrations and removals: what was chosen before may 
 def register(spec: SolverSpec) -> SolverSpec:
     global generation
     if spec.name in _REGISTRY or spec.name == "auto":
-        raise ValueError(f"solver name {spec.name!r} is taken")
+        raise SolverError(
+            f"solver name {spec.name!r} is taken: register it under another name, or "
+            "unregister the one there first",
+            solver=spec.name,
+            candidates=list(_REGISTRY),
+        )
     _REGISTRY[spec.name] = spec
     generation += 1
     _BY_PRIORITY[:] = sorted(_REGISTRY.values(), key=lambda s: -s.priority)
