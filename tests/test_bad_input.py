@@ -169,3 +169,11 @@ def test_a_tolerance_below_what_double_precision_verifies_is_refused(ur5, key, r
     with pytest.raises(armik.OptionError, match=rf"{key}=2e-16 is below .* at least 1e-12"):
         call(**{key: 2e-16})
     assert np.all(np.atleast_1d(call(**{key: 1e-12}).success))
+
+
+def test_a_finite_bound_beyond_any_reach_is_refused_with_inf_as_the_way(ur5):
+    # (1e300,) * 3 overflowed numpy's dot in the numeric solver's error norm
+    T = ur5.fk(ur5.middle + 0.1)
+    with pytest.raises(armik.OptionError, match=r"at most 1e6 .*math.inf frees"):
+        ur5.solve(T, bounds=(1e300,) * 3 + (0.0,) * 3)
+    assert ur5.solve(T, bounds=(float("inf"),) * 3 + (0.0,) * 3).success

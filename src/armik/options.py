@@ -315,10 +315,17 @@ def checked_weights(value: object) -> tuple[float, ...]:
 def _bounds(value: object) -> tuple[float, ...]:
     """6 bounds >= 0 (m, m, m, rad, rad, rad), ``inf`` allowed (a free axis)."""
     b = numbers(value)
-    if b.shape != (6,) or np.isnan(b).any() or (b < 0).any():
+    # a finite bound beyond any reach is a free axis said as a number: its square overflows
+    if (
+        b.shape != (6,)
+        or np.isnan(b).any()
+        or (b < 0).any()
+        or (np.isfinite(b) & (b > MAX_LENGTH)).any()
+    ):
         raise OptionError(
-            "bounds must be 6 numbers >= 0 (bx, by, bz in m, brx, bry, brz in rad: how far "
-            f"each component of the error may lie on either side; math.inf frees it); got "
+            "bounds must be 6 numbers >= 0 and at most 1e6 (bx, by, bz in m, brx, bry, brz in "
+            "rad: how far each component of the error may lie on either side; math.inf frees "
+            f"it); got "
             f"{value!r}",
             option="bounds",
             value=value,
