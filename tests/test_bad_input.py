@@ -177,3 +177,10 @@ def test_a_finite_bound_beyond_any_reach_is_refused_with_inf_as_the_way(ur5):
     with pytest.raises(armik.OptionError, match=r"at most 1e6 .*math.inf frees"):
         ur5.solve(T, bounds=(1e300,) * 3 + (0.0,) * 3)
     assert ur5.solve(T, bounds=(float("inf"),) * 3 + (0.0,) * 3).success
+
+
+def test_a_batch_of_task_lists_names_the_row_that_is_not_one(ur5):
+    p = ur5.fk(ur5.middle).translation
+    rows = [[armik.Position(p)]] * 2 + [[armik.Position(p), 5]]
+    with pytest.raises(armik.TargetError, match="target 2: a list of tasks holds only tasks"):
+        ur5.solve_batch(rows)

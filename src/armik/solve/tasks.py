@@ -455,9 +455,11 @@ def task_problems(targets: object) -> list[Problem] | None:
     ):
         return None
     problems = []
-    row: object
-    for i, row in enumerate(targets):  # type: ignore[arg-type]
-        problem = as_problem(row)
+    for i, row in enumerate(targets):  # type: ignore[arg-type,var-annotated]
+        try:
+            problem = as_problem(row)
+        except TargetError as error:  # a row that is no task list: said with its number
+            raise TargetError(f"target {i}: {error}") from None
         if problem is None:
             raise TargetError(
                 f"target {i} is {row!r}: a batch of tasks holds a task or a list of tasks in "
