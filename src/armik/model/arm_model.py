@@ -229,8 +229,8 @@ class ArmModel:
         q = np.asarray(q, dtype=float)
         if q.shape != (self.dof,):
             raise ValueError(f"q must have {self.dof} values, got shape {q.shape}")
-        out = np.empty(self.model.nq)
-        pin_configuration(q, self._idx_q, self._continuous, out)
+        out = np.empty(self.model.nq)  # a read-only q (an answer's row) copied: one kernel
+        pin_configuration(q if q.flags.writeable else q.copy(), self._idx_q, self._continuous, out)
         return out
 
     def from_pin(self, qp: np.ndarray, copy: bool = True) -> np.ndarray:
