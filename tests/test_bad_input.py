@@ -184,3 +184,8 @@ def test_a_batch_of_task_lists_names_the_row_that_is_not_one(ur5):
     rows = [[armik.Position(p)]] * 2 + [[armik.Position(p), 5]]
     with pytest.raises(armik.TargetError, match="target 2: a list of tasks holds only tasks"):
         ur5.solve_batch(rows)
+
+
+def test_a_name_in_another_case_is_suggested():
+    with pytest.raises(armik.ArmikError, match="did you mean 'ur5'"):
+        armik.load("UR5")

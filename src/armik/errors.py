@@ -114,8 +114,13 @@ def listing(names: Iterable[str], limit: int = 40) -> str:
 
 
 def closest(name: object, names: Iterable[str]) -> list[str]:
-    """The names most like ``name`` (difflib's, at most 5): an error's suggestions."""
-    return difflib.get_close_matches(str(name), list(names), n=5, cutoff=0.5)
+    """The names most like ``name`` (difflib's, at most 5, whatever their case): an error's
+    suggestions ('UR5' finds 'ur5')."""
+    by_lower: dict[str, str] = {}
+    for n in names:
+        by_lower.setdefault(n.lower(), n)
+    found = difflib.get_close_matches(str(name).lower(), list(by_lower), n=5, cutoff=0.5)
+    return [by_lower[f] for f in found]
 
 
 def did_you_mean(name: object, names: Iterable[str]) -> str:
