@@ -300,10 +300,6 @@ class Recipe:
         kept = tuple(x for x in self.limits if x[0] not in new)
         return replace(self, locked=locking, limits=kept).build_model()
 
-    def relimited(self, limits: tuple[tuple[str, float, float], ...]) -> Recipe:
-        """This recipe with its replaced limits ``limits`` (``ArmModel.with_limits``)."""
-        return replace(self, limits=limits)
-
     def build_model(self) -> ArmModel:
         """The arm model this recipe builds (how an ``ArmModel`` unpickles)."""
         return self.build().kinematics

@@ -15,7 +15,7 @@ geometry leaves out the objects another chain places (``arms_links.moved_elsewhe
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from armik.arms_links import moved_elsewhere
@@ -65,28 +65,24 @@ def facade(arms: Any, tip: str, options: Mapping[str, Any] | None) -> Any:
 @dataclass(frozen=True)
 class InRobot:
     """How a chain's model within a robot is built again (as it pickles: an ``ArmModel``
-    travels as its recipe): the chain's own recipe, the objects left out."""
+    travels as its recipe): the chain's own recipe, the objects left out, the limits
+    replaced since (``ArmModel.with_limits`` replaces them here, as in a ``Recipe``)."""
 
     recipe: Any
     left_out: frozenset[str]
-
-    @property
-    def limits(self) -> tuple[tuple[str, float, float], ...]:
-        return self.recipe.limits  # type: ignore[no-any-return]
+    limits: tuple[tuple[str, float, float], ...]
 
     @property
     def text(self) -> str | None:  # the viewer reads the URDF of an arm read from text
         return self.recipe.text  # type: ignore[no-any-return]
 
     def build_model(self) -> ArmModel:
-        return _without(self.recipe.build_model(), self.left_out)
-
-    def relimited(self, limits: tuple[tuple[str, float, float], ...]) -> InRobot:
-        return InRobot(self.recipe.relimited(limits), self.left_out)
+        return _without(replace(self.recipe, limits=self.limits).build_model(), self.left_out)
 
     def locked_model(self, locked: object, example: str) -> ArmModel:
         """The chain's model with ``locked`` locked too, within the robot as this one is."""
-        return _without(self.recipe.locked_model(locked, example), self.left_out)
+        chain = replace(self.recipe, limits=self.limits)
+        return _without(chain.locked_model(locked, example), self.left_out)
 
 
 def _without(arm: ArmModel, left_out: frozenset[str]) -> ArmModel:
@@ -97,7 +93,7 @@ def _without(arm: ArmModel, left_out: frozenset[str]) -> ArmModel:
     copy = arm.with_limits({})  # the same limits, nothing derived kept
     copy.left_out = left_out
     if arm._recipe is not None:
-        copy._recipe = InRobot(arm._recipe, left_out)
+        copy._recipe = InRobot(arm._recipe, left_out, arm._recipe.limits)
     return copy
 
 

@@ -13,6 +13,7 @@ import operator
 import threading
 import warnings
 from collections.abc import Mapping
+from dataclasses import replace
 from functools import cached_property
 from types import MappingProxyType
 from typing import Any
@@ -169,7 +170,7 @@ class ArmModel:
         if self._recipe is not None:
             kept = tuple(x for x in self._recipe.limits if x[0] not in checked)
             new = tuple((n, lo, hi) for n, (lo, hi) in checked.items())
-            clone._recipe = self._recipe.relimited(kept + new)
+            clone._recipe = replace(self._recipe, limits=kept + new)
         return clone
 
     def with_locked(self, locked: Mapping[str, float]) -> ArmModel:

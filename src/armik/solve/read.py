@@ -55,8 +55,7 @@ from armik.targets.pose import MAX_POSITION, Target, checked, is_rotation, parse
 def read(
     arm: ArmModel, target: object, q0: object, solver: str, options: dict, every: bool = False
 ) -> Request:
-    """The request of ``solve(arm, target, q0=q0, solver=solver, **options)`` (with
-    ``every``: ``solve_all``); see the module."""
+    """The request of ``solve(arm, target, q0, solver, **options)`` (``every``: solve_all)."""
     if not options:  # the common call: nothing to read but a plain pose or position
         kind = type(target)
         if kind is _SE3 or kind is np.ndarray:

@@ -445,8 +445,7 @@ def _result(
 
 
 def task_problems(targets: object) -> list[Problem] | None:
-    """The problems of a batch whose targets are tasks or lists of tasks; None for the
-    other batch spellings (arrays of poses or positions, lists of them)."""
+    """The problems of a batch of tasks or task lists; None for the other batch spellings."""
     if type(targets) not in (list, tuple) or not targets:
         return None
     first = targets[0]  # type: ignore[index]
