@@ -19,7 +19,6 @@ points' Jacobians read, on the URDF's whole model (``armik.model.mimic_frames``)
 from __future__ import annotations
 
 import heapq
-from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -29,6 +28,7 @@ from armik.constraints.shapes import check_obstacles
 from armik.errors import CollisionError
 from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
+from armik.servo.box import SAFE
 from armik.servo.layout import AMAX, MAX_ROWS, RATE, V
 
 ACTIVE = 0.05  # m beyond the margin: pairs nearer than this give a row
@@ -53,9 +53,17 @@ class CollisionRows:
         self.follower = {i: joint for i, joint, _ in self.followed}
         self.full = arm.chain.full.createData() if self.followed else None
 
-    def at(self, q: np.ndarray, ahead: float = 0.0) -> np.ndarray:
-        """The rows at q (rad, m) of the ``MAX_ROWS`` nearest pairs within reach (``ahead``
-        m farther: ``ahead``'s) at most, in the order of their bounds."""
+    def at(
+        self,
+        q: np.ndarray,
+        ahead: float = 0.0,
+        v: np.ndarray | None = None,
+        amax: np.ndarray | None = None,
+    ) -> np.ndarray:
+        """The rows at q (rad, m) of the ``MAX_ROWS`` most urgent pairs within reach
+        (``ahead`` m farther: ``ahead``'s) at most, most urgent first: a pair's urgency is
+        its distance less its braking distance at the velocities v (rad/s, m/s) and the
+        acceleration limits ``amax`` (``urgency``; none given: its distance)."""
         arm, check, data = self.arm, self.check, self.data
         reach = self.margin + self.active + ahead
         bound = check.bounds(q)
@@ -70,35 +78,33 @@ class CollisionRows:
         pin.updateGeometryPlacements(model, data, gm, gd)
         if self.followed:
             mimic_frames.place_followed_moving(arm, q, gd, self.followed, self.full)
-        # measured in the order of their bounds until the ``MAX_ROWS`` nearest distances
-        # are known (no bound left below the farthest of them); their rows in that order
-        found: list[tuple[float, int, Any]] = []
-        kept: list[float] = []  # the distances within reach, as a max-heap, negated
+        # measured in the order of their bounds until the ``MAX_ROWS`` most urgent are
+        # known: no bound left below the least urgent of them by more than ``ahead`` (a
+        # bound on any pair's braking distance)
+        slow = urgency(v, amax)
+        kept: list[tuple[float, int, float, np.ndarray]] = []  # (-urgency, k, d, C)
         for k in near[np.argsort(bound[near])].tolist():
-            if len(kept) == MAX_ROWS and bound[k] >= -kept[0]:
+            if len(kept) == MAX_ROWS and bound[k] - ahead >= -kept[0][0]:
                 break
             r = pin.computeDistance(gm, gd, k)
             d = r.min_distance
             self.nearest = min(self.nearest, d)
-            if d >= reach:
+            if d >= reach or (len(kept) == MAX_ROWS and d - ahead >= -kept[0][0]):
                 continue
-            found.append((d, k, r))
-            if len(kept) < MAX_ROWS:
-                heapq.heappush(kept, -d)
-            elif d < -kept[0]:
-                heapq.heapreplace(kept, -d)
-        if len(found) > MAX_ROWS:
-            nearest = sorted(range(len(found)), key=lambda i: found[i][0])[:MAX_ROWS]
-            found = [found[i] for i in sorted(nearest)]
-        K = 0
-        for d, k, r in found:
             pair = gm.collisionPairs[k]
             Jd = self._point(pair.second, np.array(r.getNearestPoint2()))
             Jd -= self._point(pair.first, np.array(r.getNearestPoint1()))
-            self.rows[K, :-1] = np.array(r.normal) @ Jd
+            C = np.array(r.normal) @ Jd
+            u = d if slow is None else d - float(np.abs(C) @ slow)
+            if len(kept) < MAX_ROWS:
+                heapq.heappush(kept, (-u, k, d, C))
+            elif u < -kept[0][0]:
+                heapq.heapreplace(kept, (-u, k, d, C))
+        kept.sort(key=lambda e: (-e[0], e[1]))
+        for K, (_, _, d, C) in enumerate(kept):
+            self.rows[K, :-1] = C
             self.rows[K, -1] = -self.gain * (d - self.margin)
-            K += 1
-        return self.rows[:K]
+        return self.rows[: len(kept)]
 
     def _point(self, i: int, p: np.ndarray) -> np.ndarray:
         """The 3 x dof Jacobian of the world point p fixed to geometry object i."""
@@ -130,6 +136,16 @@ def ahead(state: np.ndarray, length: float) -> float:
     the rows nearer than that could not stop before the margin."""
     v, a = state[V], state[AMAX]
     return length * float(np.sum(v * v / (2.0 * a)))
+
+
+def urgency(v: np.ndarray | None, amax: np.ndarray | None) -> np.ndarray | None:
+    """Each joint's braking turn v^2 / (2 a) (rad, m) at the velocities v and acceleration
+    limits ``amax`` (kept ``SAFE`` inside, as ``armik.servo.rows`` brakes), or None (none
+    given): a pair's braking distance is its row's |C| times it, and the rows are the pairs
+    whose gap less that is smallest, those that must brake first."""
+    if v is None or amax is None:
+        return None
+    return v * v / (2.0 * amax * (1.0 - SAFE))
 
 
 def asked(obstacles: object, self_collision: object) -> bool:

@@ -54,11 +54,13 @@ class Commanded:
 
     def _rows(self) -> np.ndarray:
         """This tick's collision rows (none without obstacles and self-collision), as far
-        out as the joints' velocities need to stop (``collisions.ahead``)."""
+        out as the joints' velocities need to stop (``collisions.ahead``), the pairs that
+        must brake first."""
         if self._collisions is None:
             return self._no_rows
         state = self._state
-        return self._collisions.at(state[k.Q], ahead(state, self._cfg[k.CURVE]))
+        reach = ahead(state, self._cfg[k.CURVE])
+        return self._collisions.at(state[k.Q], reach, state[k.V], state[k.AMAX])
 
     @property
     def velocity_limits(self) -> np.ndarray:

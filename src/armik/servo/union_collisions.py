@@ -30,7 +30,7 @@ from armik.arms_links import Links
 from armik.constraints.shapes import check_obstacles
 from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
-from armik.servo.collisions import ACTIVE, RATE, asked, margin_of
+from armik.servo.collisions import ACTIVE, RATE, asked, margin_of, urgency
 from armik.servo.layout import MAX_ROWS
 
 
@@ -73,6 +73,7 @@ class UnionCollisions:
             (c, i): joint for c, g in enumerate(self.geometry) for i, joint, _ in g.followed
         }
         self.follower = {k: follower[o] for k, o in enumerate(self.objects) if o in follower}
+        self._levers()
         self.rows = np.zeros((MAX_ROWS, n + 1))
         self.request = coal.DistanceRequest()
         # witness points to 1e-9: at coal's default (1e-6) a face's normal turned the row
@@ -81,10 +82,18 @@ class UnionCollisions:
         self.nearest = math.inf  # m: the nearest pair's distance at the last ``at``
         self.pairs: list[tuple[int, int]] = []  # each row's pair (an obstacle's: -1 - it)
 
-    def at(self, q: np.ndarray, ahead: float = 0.0) -> np.ndarray:
-        """The rows at the union's joint values q (rad, m), nearest pairs first, at most
+    def at(
+        self,
+        q: np.ndarray,
+        ahead: float = 0.0,
+        v: np.ndarray | None = None,
+        amax: np.ndarray | None = None,
+    ) -> np.ndarray:
+        """The rows at the union's joint values q (rad, m), most urgent first, at most
         ``MAX_ROWS``: (K, n + 1), C then b for ``C dq >= b``; ``ahead`` m farther than
-        ``ACTIVE`` beyond the margin (``collisions.ahead``)."""
+        ``ACTIVE`` beyond the margin (``collisions.ahead``). A pair's urgency is its gap to
+        the margin less its braking distance at the velocities v (rad/s, m/s) and the
+        acceleration limits ``amax`` (``collisions.urgency``; none given: at rest)."""
         for arm, data, g, gd, cols, full in zip(
             self.arms, self.data, self.geometry, self.gdata, self.cols, self.full
         ):
@@ -107,14 +116,25 @@ class UnionCollisions:
             gap = d - self.radius[m][:, None] - self.obstacle_radius[None]
             for i, s in zip(*np.nonzero(gap < reach)):
                 near.append((float(gap[i, s]), int(m[i]), -1 - int(s)))
-        # the pairs the broad phase leaves, nearest bound first, measured until the
-        # ``MAX_ROWS`` nearest distances are known (no bound left below the farthest of them)
+        # the pairs the broad phase leaves, most urgent bound first (the distance's less
+        # the braking distance's, ``_reach``), measured until no bound is below the
+        # ``MAX_ROWS``-th nearest distance (an urgency is at most the distance); the rows
+        # are the ``MAX_ROWS`` most urgent of those measured. By distance
+        # alone, TALOS's hands sent at each other at once filled the rows with the torso's
+        # and the arms' near pairs, slow ones, and the fingertips, closing at 3 m/s, came
+        # among them 0.17 m apart, too late to stop: they passed 0.2 mm into each other
+        slow = urgency(v, amax)
+        share = np.zeros(len(self.objects)) if slow is None else self._reach(centre, slow)
+        for f in self.follower:  # (on the whole model: the joints' own bound)
+            share[f] = max(share[f], ahead)
+        order = sorted((g - share[a] - (share[b] if b >= 0 else 0.0), a, b) for g, a, b in near)
         found: list[tuple[float, int, int, coal.DistanceResult]] = []
-        kept: list[float] = []  # the distances found, as a max-heap of the nearest, negated
+        kept: list[float] = []  # the ``MAX_ROWS`` nearest distances, a max-heap, negated
         request = self.request
         transforms: dict[int, coal.Transform3s] = {}
-        for bound, a, b in sorted(near):
-            if len(kept) == MAX_ROWS and bound >= -kept[0]:
+        self.nearest = math.inf
+        for first, a, b in order:  # (a pair's urgency is at most its distance)
+            if len(kept) == MAX_ROWS and first >= -kept[0]:
                 break
             for k in (a, b) if b >= 0 else (a,):
                 if k not in transforms:
@@ -126,49 +146,112 @@ class UnionCollisions:
                 gb, Tb = self.obstacles[-1 - b]
             result = coal.DistanceResult()
             d = coal.distance(self.geoms[a], Ta, gb, Tb, request, result)
-            if d < reach:
-                found.append((d, a, b, result))
-                if len(kept) < MAX_ROWS:
-                    heapq.heappush(kept, -d)
-                elif d < -kept[0]:
-                    heapq.heapreplace(kept, -d)
+            self.nearest = min(self.nearest, d)
+            if d >= reach:
+                continue
+            found.append((d, a, b, result))
+            if len(kept) < MAX_ROWS:
+                heapq.heappush(kept, -d)
+            elif d < -kept[0]:
+                heapq.heapreplace(kept, -d)
         found.sort(key=lambda f: f[0])
-        self.nearest = found[0][0] if found else math.inf
-        K = 0
-        jacobians: dict = {}
-        self.pairs = [(a, b) for _, a, b, _ in found[:MAX_ROWS]]
-        for d, a, b, result in found[:MAX_ROWS]:
-            Jd = -self._point(a, np.array(result.getNearestPoint1()), jacobians)
-            if b >= 0:
-                Jd += self._point(b, np.array(result.getNearestPoint2()), jacobians)
-            self.rows[K, :-1] = np.array(result.normal) @ Jd
-            self.rows[K, -1] = -self.gain * (d - self.margin)
-            K += 1
+        if len(found) > MAX_ROWS:  # those that may be among the most urgent
+            last = found[MAX_ROWS - 1][0]
+            found = [
+                f for f in found if f[0] - share[f[1]] - (f[2] >= 0) * share[max(f[2], 0)] <= last
+            ]
+        C = self._closing(found)
+        if slow is not None and len(found) > MAX_ROWS:
+            urgent = np.array([f[0] for f in found]) - np.abs(C) @ slow
+            pick = np.argsort(urgent, kind="stable")[:MAX_ROWS]
+        else:
+            pick = np.arange(min(len(found), MAX_ROWS))
+        self.pairs = [found[i][1:3] for i in pick.tolist()]
+        K = len(pick)
+        self.rows[:K, :-1] = C[pick]
+        self.rows[:K, -1] = [-self.gain * (found[i][0] - self.margin) for i in pick.tolist()]
         return self.rows[:K]
 
-    def _point(self, k: int, p: np.ndarray, jacobians: dict) -> np.ndarray:
-        """The 3 x n Jacobian (the union's columns) of the world point p fixed to object
-        k; ``jacobians``: this tick's joint Jacobians, by (chain, joint)."""
+    def _closing(self, found: list) -> np.ndarray:
+        """(len(found), n): each pair's row, n . (J_p2 - J_p1), its witness points'
+        Jacobians from their chains', the union's columns, all pairs at once."""
+        P = len(found)
+        J = np.zeros((2, P, 6, self.n))  # each side's joint Jacobian, then at its point
+        r = np.zeros((2, P, 3))  # each point from its joint's origin
+        normal = np.zeros((P, 3))
+        joints: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray] | None] = {}
+        for i, (_, a, b, result) in enumerate(found):
+            normal[i] = result.normal
+            for side, k, p in (
+                (0, a, result.getNearestPoint1()),
+                (1, b, result.getNearestPoint2()),
+            ):
+                if k < 0:
+                    continue
+                if k not in joints:
+                    joints[k] = self._joint(k)
+                held = joints[k]
+                if held is not None:
+                    Jk, cols, origin = held
+                    J[side, i][:, cols] = Jk
+                    r[side, i] = np.asarray(p) - origin
+        w, lin = J[:, :, 3:], J[:, :, :3]  # v + w x r, each point
+        point = lin + np.cross(w, r[:, :, :, None], axisa=2, axisb=2, axisc=2)
+        return np.einsum("pi,pin->pn", normal, point[1] - point[0])
+
+    def _joint(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """Object k's joint Jacobian (6 x its chain's joints, at the joint's origin, in
+        Pinocchio's ``LOCAL_WORLD_ALIGNED``), its union columns and the origin; None
+        where no joint moves it."""
         c, _ = self.objects[k]
-        out = np.zeros((3, self.n))
         if k in self.follower:  # moved by a mimic joint off its chain
             joint, full = self.follower[k], self.full[c]
             Jf = mimic_frames.followed_jacobian(self.arms[c], full, joint)
-            r = p - full.oMi[joint].translation  # type: ignore[union-attr]
-            out[:, self.cols[c]] = Jf[:3] + np.cross(Jf[3:].T, r).T
-            return out
+            return Jf, self.cols[c], full.oMi[joint].translation  # type: ignore[union-attr]
         joint = self.joints[k]
         if joint == 0:
-            return out
+            return None
         data = self.data[c]
-        J = jacobians.get((c, joint))
-        if J is None:
-            J = pin.getJointJacobian(self.arms[c].model, data, joint, pin.LOCAL_WORLD_ALIGNED)
-            J = J.reshape(6, len(self.cols[c]))  # one joint: Pinocchio gives (6,)
-            jacobians[c, joint] = J
-        r = p - data.oMi[joint].translation
-        out[:, self.cols[c]] = J[:3] + np.cross(J[3:].T, r).T  # v + w x r
-        return out
+        J = pin.getJointJacobian(self.arms[c].model, data, joint, pin.LOCAL_WORLD_ALIGNED)
+        J = J.reshape(6, len(self.cols[c]))  # one joint: Pinocchio gives (6,)
+        return J, self.cols[c], data.oMi[joint].translation
+
+    def _levers(self) -> None:
+        """What bounds each object's braking distance: ``moves`` (objects x n), 1 where
+        the union's joint moves it (every joint of its chain where a mimic joint off the
+        chain turns it, or one of them has no single velocity), ``slide`` (n) 1 on a
+        prismatic joint, and ``origin``, each union joint's (chain, Pinocchio joint)."""
+        self.moves = np.zeros((len(self.objects), self.n))
+        self.slide = np.zeros(self.n)
+        origin: dict[int, tuple[int, int]] = {}
+        for k, (c, _) in enumerate(self.objects):
+            model, cols = self.arms[c].model, self.cols[c]
+            j, chain = self.joints[k], []
+            while j > 0:
+                chain.append(j)
+                j = model.parents[j]
+            if k in self.follower or any(model.joints[j].nv != 1 for j in chain):
+                self.moves[k, cols] = 1.0
+            for j in chain:
+                joint = model.joints[j]
+                if joint.nv == 1:
+                    col = int(cols[joint.idx_v])
+                    self.moves[k, col] = 1.0
+                    origin.setdefault(col, (c, j))
+                    self.slide[col] = 1.0 if joint.shortname().startswith("JointModelP") else 0.0
+        self.origin = [origin.get(col, (-1, 0)) for col in range(self.n)]
+
+    def _reach(self, centre: np.ndarray, slow: np.ndarray) -> np.ndarray:
+        """m: a bound on each object's share of any pair's braking distance, each joint's
+        braking turn ``slow`` times the most it moves the object's points a radian (or a
+        m): its bounding sphere's farthest point from the joint's origin (1 on a prismatic
+        joint); a pair's braking distance is at most its objects' sum."""
+        origins = np.zeros((self.n, 3))
+        for col, (c, j) in enumerate(self.origin):
+            if c >= 0:
+                origins[col] = self.data[c].oMi[j].translation
+        far = np.linalg.norm(centre[:, None, :] - origins[None], axis=2) + self.radius[:, None]
+        return (self.moves * (far + self.slide)) @ slow
 
 
 def _transform(M: pin.SE3) -> coal.Transform3s:
