@@ -85,9 +85,13 @@ def continuous_turned(
     if centre is None:
         return np.array([best_variant(arm, q, score, q0, only) for q in Q])
     K = _turns_towards(arm, Q, centre, only)
-    if only.checks:  # a turn that fails a check: the rung as verified
-        K[~only.keeps(arm, Q + TWO_PI * K)] = 0.0
-    return Q + TWO_PI * K if K.any() else Q
+    failed = np.any(K, axis=1) & ~only.keeps(arm, Q + TWO_PI * K) if only.checks else None
+    if failed is None or not failed.any():
+        return Q + TWO_PI * K if K.any() else Q
+    out = Q + TWO_PI * K  # a turn that fails a check: the best of the row's turns that pass
+    for i in np.flatnonzero(failed).tolist():
+        out[i] = best_kept(arm, Q[i], score, q0, only)
+    return out
 
 
 def _turn_centre(arm: ArmModel, score: Score, q0: np.ndarray) -> np.ndarray | None:
