@@ -13,7 +13,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from functools import partial
 from operator import itemgetter
 from typing import cast
@@ -244,6 +244,7 @@ SWEEP_GRID = 32  # values of the held joint over its range, before the refinemen
 REFINE_STEPS = 12  # golden-section steps between a grid value's neighbours
 REFINED = 3  # the grid's least values (of any branch) refined, best first
 PROBED = 2  # the grid's dips of the limit violation searched for a narrow interval
+EDGES = 2  # the cells where a branch's reach ends, outside the limits, searched as dips
 EDGE_STEPS = 6  # bisection steps to each edge of a narrow interval found
 
 
@@ -261,8 +262,10 @@ def sweep_held(
     score, joint 7 on a grid over its range, then refined by golden section around the
     grid's best local minima (a minimum at the edge of a reachable interval among them),
     and narrow reachable intervals the grid steps over sought where the branches' limit
-    violation dips between grid values (every branch in closed form at each value, scored
-    at its best 2 pi variant); the best configurations verified (``finish``). None where
+    violation dips between grid values, or in a cell where a branch's reach ends
+    (``_reach_edges``: it may fall to 0 there, though it falls on toward the next value);
+    every branch in closed form at each value, scored at its best 2 pi variant; the best
+    configurations verified (``finish``). None where
     it does not apply (or ``solver``, where not "auto", sweeps no joint)."""
     spec = next(
         (
@@ -337,6 +340,8 @@ def sweep_held(
         seen += golden(on(group, 0), *around(k), REFINE_STEPS)
     for _, k, group in dips[:PROBED]:
         seen += _narrow(on(group, 1), on(group, 0), *around(k))
+    for _, k, j, group in _reach_edges(found)[:EDGES]:
+        seen += _narrow(on(group, 1), on(group, 0), grid[min(j, k)], grid[max(j, k)])
     value, theta = min(seen, key=itemgetter(0), default=(math.inf, 0.0))  # ties: first tried
     if not math.isfinite(value):
         return []
@@ -354,8 +359,42 @@ def _turning_points(found: list[dict], part: int) -> list[tuple]:
     """(value, k, group) where the grid's values ``found`` (per branch, its score and its
     limit violation: ``part`` 0 or 1) have a least value at the k-th: of the group's best
     score where it is within the limits (0), or of its violation where it is not (1);
-    smallest first. Branches of the same values on the whole grid (a wrist's flip, which
-    a score or the limits may not tell apart) form one group, each value their best."""
+    smallest first."""
+    out = []
+    for group, score, over in _groups(found, part):
+        f = over if part else score  # a violation's neighbours within the limits: 0
+        padded = np.concatenate(([math.inf], f, [math.inf]))
+        least = np.isfinite(f) & (f <= padded[:-2]) & (f <= padded[2:])
+        if part:  # out of the limits there, reached
+            least &= (score == math.inf) & (f > 0.0)
+        out += [(float(f[k]), k, group) for k in np.flatnonzero(least).tolist()]
+    out.sort(key=itemgetter(0, 1))
+    return out
+
+
+def _reach_edges(found: list[dict]) -> list[tuple]:
+    """(violation, k, j, group) where the grid's k-th value reaches the group's branches
+    outside the limits and its neighbour, the j-th, does not reach them: the cell holds
+    the edge of their reachable interval, where the joints move fast (two branches meet
+    there), and may hold a narrow interval within the limits that no dip shows; least
+    violation first."""
+    out = []
+    for group, score, over in _groups(found, 1):
+        outside = np.isfinite(over) & (over > 0.0) & (score == math.inf)
+        for k in np.flatnonzero(outside).tolist():
+            out += [
+                (float(over[k]), k, j, group)
+                for j in (k - 1, k + 1)
+                if 0 <= j < len(over) and over[j] == math.inf
+            ]
+    out.sort(key=itemgetter(0, 1, 2))
+    return out
+
+
+def _groups(found: list[dict], part: int) -> Iterator[tuple]:
+    """(group, score, violation) over the grid's values ``found``: branches of the same
+    values (``part`` 0: scores, 1: violations) on the whole grid (a wrist's flip, which a
+    score or the limits may not tell apart) form one group, each value their best."""
     labels = sorted(set().union(*found))
     values = np.full((2, len(found), len(labels)), math.inf)  # score, violation
     for k, got in enumerate(found):
@@ -365,18 +404,9 @@ def _turning_points(found: list[dict], part: int) -> list[tuple]:
     groups: dict[bytes, list[int]] = {}
     for j, column in enumerate(np.round(values[part], 12).T):
         groups.setdefault(column.tobytes(), []).append(j)
-    out = []
     for members in groups.values():
         score, over = values[:, :, members].min(axis=2)
-        f = over if part else score  # a violation's neighbours within the limits: 0
-        padded = np.concatenate(([math.inf], f, [math.inf]))
-        least = np.isfinite(f) & (f <= padded[:-2]) & (f <= padded[2:])
-        if part:  # out of the limits there, reached
-            least &= (score == math.inf) & (f > 0.0)
-        group = frozenset(labels[j] for j in members)
-        out += [(float(f[k]), k, group) for k in np.flatnonzero(least).tolist()]
-    out.sort(key=itemgetter(0, 1))
-    return out
+        yield frozenset(labels[j] for j in members), score, over
 
 
 def _narrow(
