@@ -47,6 +47,8 @@ def _dense_best(arm, T, q0: np.ndarray, score, count: int = 2001, keep=None) -> 
         # value outside the limits that is no dip (the violation falls on toward the next)
         ("nearest", (7019, 8019)),
         ("manipulability", (7052, 8052)),
+        # best at a value of joint 7 one group's search tried, by another group's branch
+        ("limits", (1159, 6159)),
     ],
 )
 def test_the_sweep_finds_the_best_the_grid_steps_over(prefer, seeds):

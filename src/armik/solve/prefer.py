@@ -245,6 +245,7 @@ REFINE_STEPS = 12  # golden-section steps between a grid value's neighbours
 REFINED = 3  # the grid's least values (of any branch) refined, best first
 PROBED = 2  # the grid's dips of the limit violation searched for a narrow interval
 EDGES = 2  # the cells where a branch's reach ends, outside the limits, searched as dips
+RESCORED = 4  # the best values of joint 7 tried, scored again by every branch there
 EDGE_STEPS = 6  # bisection steps to each edge of a narrow interval found
 
 
@@ -264,9 +265,10 @@ def sweep_held(
     and narrow reachable intervals the grid steps over sought where the branches' limit
     violation dips between grid values, or in a cell where a branch's reach ends
     (``_reach_edges``: it may fall to 0 there, though it falls on toward the next value);
-    every branch in closed form at each value, scored at its best 2 pi variant; the best
-    configurations verified (``finish``). None where
-    it does not apply (or ``solver``, where not "auto", sweeps no joint)."""
+    every branch in closed form at each value, scored at its best 2 pi variant; the
+    ``RESCORED`` best values tried scored again by every branch there, the best one's
+    configurations verified (``finish``). None where it does not apply (or ``solver``,
+    where not "auto", sweeps no joint)."""
     spec = next(
         (
             s
@@ -342,6 +344,9 @@ def sweep_held(
         seen += _narrow(on(group, 1), on(group, 0), *around(k))
     for _, k, j, group in _reach_edges(found)[:EDGES]:
         seen += _narrow(on(group, 1), on(group, 0), grid[min(j, k)], grid[max(j, k)])
+    # a group's search scored its group alone: the best values tried, by every branch there
+    top = sorted(seen, key=itemgetter(0))[:RESCORED]
+    seen = [(min([v for v, _ in at(t).values()], default=math.inf), t) for _, t in top]
     value, theta = min(seen, key=itemgetter(0), default=(math.inf, 0.0))  # ties: first tried
     if not math.isfinite(value):
         return []
