@@ -12,7 +12,7 @@ import pinocchio as pin
 import pytest
 
 from armik.problem.scores import Nearest
-from armik.solve import prefer
+from armik.solve import prefer_near
 from armik.solve.nullspace import descend
 
 from .. import conftest
@@ -76,10 +76,10 @@ def test_the_descent_ends_where_the_distance_is_stationary_along_the_self_motion
 def test_the_starts_near_q0_grow_from_q0_to_the_whole_range():
     arm = conftest.arm("xarm7")
     q0 = arm.random_q(8)
-    starts = prefer.near_starts(arm.kinematics, q0, np.random.default_rng(0))
-    drawn = np.array([next(starts) for _ in range(prefer.NEAR_STARTS)])
+    starts = prefer_near.near_starts(arm.kinematics, q0, np.random.default_rng(0))
+    drawn = np.array([next(starts) for _ in range(prefer_near.NEAR_STARTS)])
     half = np.minimum((arm.upper - arm.lower) / 2.0, math.pi)
-    assert (np.abs(drawn[0] - q0) <= prefer.NEAR_FIRST * half + 1e-12).all()
+    assert (np.abs(drawn[0] - q0) <= prefer_near.NEAR_FIRST * half + 1e-12).all()
     assert all(arm.within_limits(q) for q in drawn)
     spread = np.abs(drawn - q0).max(axis=1)
     assert spread[-8:].mean() > 5.0 * spread[:8].mean()
@@ -112,11 +112,11 @@ def test_the_starts_count_as_restarts_and_spend_their_share_of_the_iterations():
         return arm.solve(T, q0=start, solver="dls", max_restarts=0)
 
     opts = Options(max_restarts=3, timeout=10.0)
-    prefer.near_answers(arm.kinematics, solve_from, arm.middle, opts, time.perf_counter())
+    prefer_near.near_answers(arm.kinematics, solve_from, arm.middle, opts, time.perf_counter())
     assert len(calls) == 3
     calls.clear()
     opts = Options(iteration_budget=40)  # the starts' share: 20 iterations
-    prefer.near_answers(arm.kinematics, solve_from, arm.middle, opts, 0.0)
+    prefer_near.near_answers(arm.kinematics, solve_from, arm.middle, opts, 0.0)
     assert 1 <= len(calls) <= 20
 
 
@@ -170,7 +170,7 @@ def test_the_preference_stages_clock_starts_after_their_kernels_are_loaded(monke
     from armik.solve import preferred
 
     events: list = []
-    load, near = preferred._load, prefer.near_answers
+    load, near = preferred._load, prefer_near.near_answers
 
     def loading(arm, req):
         load(arm, req)
@@ -181,7 +181,7 @@ def test_the_preference_stages_clock_starts_after_their_kernels_are_loaded(monke
         return near(arm, solve_from, middle, opts, clock)
 
     monkeypatch.setattr(preferred, "_load", loading)
-    monkeypatch.setattr(prefer, "near_answers", gathering)
+    monkeypatch.setattr(prefer_near, "near_answers", gathering)
     xarm = conftest.arm("xarm7")  # numeric: solve_all's answers, then starts near q0
     T = xarm.fk(xarm.middle + 0.2)
     r = xarm.solve(T, prefer="manipulability")

@@ -4,7 +4,7 @@ the limits allow, scored (``armik.problem.scores``); the best first.
 Closed forms give every branch, so their best is the best over the finite set of
 solutions within the limits; numeric solvers give the distinct answers their budget finds,
 so theirs is the best found: ``solve_all``'s answers from q0 and its restarts, then
-answers from starts near the score's centre (``near_answers``: q0, or a ``Posture``'s
+answers from starts near the score's centre (``prefer_near``: q0, or a ``Posture``'s
 reference), in boxes around it that grow to the whole range.
 """
 
@@ -20,7 +20,7 @@ from typing import cast
 
 import numpy as np
 
-from armik import cpu_time, reasons
+from armik import reasons
 from armik.kernel.descent import DUPLICATE_TOL
 from armik.model.arm_model import ArmModel
 from armik.model.turns import UNLIMITED_TURNS
@@ -29,6 +29,7 @@ from armik.problem.scores import Limits, Nearest, Posture, Score
 from armik.result import IKResult
 from armik.solve.turning import ANY, Turning, best_kept
 from armik.solvers import registry
+from armik.solvers.closed_form.swept_7r import dip_within, golden
 from armik.tolerances import LIMIT_TOL
 from armik.verify.verdict import finish
 
@@ -85,9 +86,13 @@ def continuous_turned(
     if centre is None:
         return np.array([best_variant(arm, q, score, q0, only) for q in Q])
     K = _turns_towards(arm, Q, centre, only)
-    if only.checks:  # a turn that fails a check: the rung as verified
-        K[~only.keeps(arm, Q + TWO_PI * K)] = 0.0
-    return Q + TWO_PI * K if K.any() else Q
+    failed = np.any(K, axis=1) & ~only.keeps(arm, Q + TWO_PI * K) if only.checks else None
+    if failed is None or not failed.any():
+        return Q + TWO_PI * K if K.any() else Q
+    out = Q + TWO_PI * K  # a turn that fails a check: the best of the row's turns that pass
+    for i in np.flatnonzero(failed).tolist():
+        out[i] = best_kept(arm, Q[i], score, q0, only)
+    return out
 
 
 def _turn_centre(arm: ArmModel, score: Score, q0: np.ndarray) -> np.ndarray | None:
@@ -239,8 +244,9 @@ SWEEP_GRID = 32  # values of the held joint over its range, before the refinemen
 REFINE_STEPS = 12  # golden-section steps between a grid value's neighbours
 REFINED = 3  # the grid's least values (of any branch) refined, best first
 PROBED = 2  # the grid's dips of the limit violation searched for a narrow interval
+EDGES = 2  # the cells where a branch's reach ends, outside the limits, searched as dips
+RESCORED = 4  # the best values of joint 7 tried, scored again by every branch there
 EDGE_STEPS = 6  # bisection steps to each edge of a narrow interval found
-GOLDEN = 0.6180339887498949
 
 
 def sweep_held(
@@ -257,9 +263,12 @@ def sweep_held(
     score, joint 7 on a grid over its range, then refined by golden section around the
     grid's best local minima (a minimum at the edge of a reachable interval among them),
     and narrow reachable intervals the grid steps over sought where the branches' limit
-    violation dips between grid values (every branch in closed form at each value, scored
-    at its best 2 pi variant); the best configurations verified (``finish``). None where
-    it does not apply (or ``solver``, where not "auto", sweeps no joint)."""
+    violation dips between grid values, or in a cell where a branch's reach ends
+    (``_reach_edges``: it may fall to 0 there, though it falls on toward the next value);
+    every branch in closed form at each value, scored at its best 2 pi variant; the
+    ``RESCORED`` best values tried scored again by every branch there, the best one's
+    configurations verified (``finish``). None where it does not apply (or ``solver``,
+    where not "auto", sweeps no joint)."""
     spec = next(
         (
             s
@@ -330,9 +339,14 @@ def sweep_held(
     lows = _turning_points(found, 0)  # of each branch's score: its least values
     dips = _turning_points(found, 1)  # of its limit violation, where it is outside them
     for _, k, group in lows[:REFINED]:
-        seen += _golden(on(group, 0), *around(k), REFINE_STEPS)
+        seen += golden(on(group, 0), *around(k), REFINE_STEPS)
     for _, k, group in dips[:PROBED]:
         seen += _narrow(on(group, 1), on(group, 0), *around(k))
+    for _, k, j, group in _reach_edges(found)[:EDGES]:
+        seen += _narrow(on(group, 1), on(group, 0), grid[min(j, k)], grid[max(j, k)])
+    # a group's search scored its group alone: the best values tried, by every branch there
+    top = sorted(seen, key=itemgetter(0))[:RESCORED]
+    seen = [(min([v for v, _ in at(t).values()], default=math.inf), t) for _, t in top]
     value, theta = min(seen, key=itemgetter(0), default=(math.inf, 0.0))  # ties: first tried
     if not math.isfinite(value):
         return []
@@ -350,8 +364,42 @@ def _turning_points(found: list[dict], part: int) -> list[tuple]:
     """(value, k, group) where the grid's values ``found`` (per branch, its score and its
     limit violation: ``part`` 0 or 1) have a least value at the k-th: of the group's best
     score where it is within the limits (0), or of its violation where it is not (1);
-    smallest first. Branches of the same values on the whole grid (a wrist's flip, which
-    a score or the limits may not tell apart) form one group, each value their best."""
+    smallest first."""
+    out = []
+    for group, score, over in _groups(found, part):
+        f = over if part else score  # a violation's neighbours within the limits: 0
+        padded = np.concatenate(([math.inf], f, [math.inf]))
+        least = np.isfinite(f) & (f <= padded[:-2]) & (f <= padded[2:])
+        if part:  # out of the limits there, reached
+            least &= (score == math.inf) & (f > 0.0)
+        out += [(float(f[k]), k, group) for k in np.flatnonzero(least).tolist()]
+    out.sort(key=itemgetter(0, 1))
+    return out
+
+
+def _reach_edges(found: list[dict]) -> list[tuple]:
+    """(violation, k, j, group) where the grid's k-th value reaches the group's branches
+    outside the limits and its neighbour, the j-th, does not reach them: the cell holds
+    the edge of their reachable interval, where the joints move fast (two branches meet
+    there), and may hold a narrow interval within the limits that no dip shows; least
+    violation first."""
+    out = []
+    for group, score, over in _groups(found, 1):
+        outside = np.isfinite(over) & (over > 0.0) & (score == math.inf)
+        for k in np.flatnonzero(outside).tolist():
+            out += [
+                (float(over[k]), k, j, group)
+                for j in (k - 1, k + 1)
+                if 0 <= j < len(over) and over[j] == math.inf
+            ]
+    out.sort(key=itemgetter(0, 1, 2))
+    return out
+
+
+def _groups(found: list[dict], part: int) -> Iterator[tuple]:
+    """(group, score, violation) over the grid's values ``found``: branches of the same
+    values (``part`` 0: scores, 1: violations) on the whole grid (a wrist's flip, which a
+    score or the limits may not tell apart) form one group, each value their best."""
     labels = sorted(set().union(*found))
     values = np.full((2, len(found), len(labels)), math.inf)  # score, violation
     for k, got in enumerate(found):
@@ -361,53 +409,20 @@ def _turning_points(found: list[dict], part: int) -> list[tuple]:
     groups: dict[bytes, list[int]] = {}
     for j, column in enumerate(np.round(values[part], 12).T):
         groups.setdefault(column.tobytes(), []).append(j)
-    out = []
     for members in groups.values():
         score, over = values[:, :, members].min(axis=2)
-        f = over if part else score  # a violation's neighbours within the limits: 0
-        padded = np.concatenate(([math.inf], f, [math.inf]))
-        least = np.isfinite(f) & (f <= padded[:-2]) & (f <= padded[2:])
-        if part:  # out of the limits there, reached
-            least &= (score == math.inf) & (f > 0.0)
-        group = frozenset(labels[j] for j in members)
-        out += [(float(f[k]), k, group) for k in np.flatnonzero(least).tolist()]
-    out.sort(key=itemgetter(0, 1))
-    return out
-
-
-def _golden(
-    fn: Callable[[float], float], a: float, b: float, steps: int, until: float = -math.inf
-) -> list:
-    """(fn(x), x) at each value a golden-section search for the least ``fn`` on [a, b]
-    tried (``steps`` steps after its first two values; stopping once one is ``until``)."""
-    c, d = b - GOLDEN * (b - a), a + GOLDEN * (b - a)
-    fc, fd = fn(c), fn(d)
-    out = [(fc, c), (fd, d)]
-    for _ in range(steps):
-        if min(fc, fd) <= until:
-            break
-        if fc <= fd:
-            b, d, fd = d, c, fc
-            c = b - GOLDEN * (b - a)
-            fc = fn(c)
-            out.append((fc, c))
-        else:
-            a, c, fc = c, d, fd
-            d = a + GOLDEN * (b - a)
-            fd = fn(d)
-            out.append((fd, d))
-    return out
+        yield frozenset(labels[j] for j in members), score, over
 
 
 def _narrow(
     violation: Callable[[float], float], best_at: Callable[[float], float], a: float, b: float
 ) -> list:
     """(score, x) of values tried in a narrow interval within [a, b] where a branch is
-    within the limits, where its limit violation dips between grid values: a golden-section
-    search for a value with none, then each edge of its interval by bisection and the
+    within the limits, where its limit violation dips between grid values: a value with
+    none (``swept_7r.dip_within``), then each edge of its interval by bisection and the
     score's golden section between them; [] where the violation stays above 0."""
-    least, inside = min(_golden(violation, a, b, REFINE_STEPS, until=0.0), key=itemgetter(0))
-    if least > 0.0:
+    inside = dip_within(violation, a, b)
+    if inside is None:
         return []
     edges = []
     for out in (a, b):  # from the value inside toward each end (out of reach or limits)
@@ -419,81 +434,4 @@ def _narrow(
             else:
                 x_out = mid
         edges.append(x_in)
-    return [(best_at(inside), inside), *_golden(best_at, edges[0], edges[1], REFINE_STEPS)]
-
-
-# The numeric search's shares of the budget (``timeout``, or ``iteration_budget``): solve_all
-# from q0 and its restarts; the starts near the centre until NEAR_UNTIL of the timeout has
-# passed (or the other half of the iterations is spent); the self-motion descents of the
-# best answers until DESCENT_UNTIL (``armik.solve.nullspace``).
-GATHER = 0.25  # of the timeout (CPU time of the kernel)
-GATHER_ITERATIONS = 0.5  # of the iteration budget
-NEAR_UNTIL = 0.35
-DESCENT_UNTIL = 0.7
-NEAR_STARTS = 32  # starts near the centre at most, one descent each (and max_restarts)
-NEAR_FIRST = 0.1  # the first box's half-width, a fraction of each joint's half-range
-NEAR_GROWTH = 1.1  # each next box this much wider, until it holds the whole range
-DESCENTS = 4  # distinct answers moved along the self-motion, best first
-
-
-def centre(arm: ArmModel, score: Score, q0: np.ndarray) -> np.ndarray:
-    """Where the best answer is likely near: a ``Posture``'s reference, else q0."""
-    if isinstance(score, Posture) and score.q_ref.size == arm.dof:
-        return np.clip(score.q_ref, arm.lower, arm.upper)
-    return q0
-
-
-def near_starts(arm: ArmModel, middle: np.ndarray, rng: np.random.Generator) -> Iterator:
-    """Starts drawn uniformly in boxes around ``middle`` (within the limits), the k-th of
-    half-width ``NEAR_FIRST * NEAR_GROWTH**k`` times each joint's half-range (pi at most,
-    unlimited joints pi): perturbations of growing size, the last ones over the whole
-    range (the solver's own restarts cover the range evenly; these search near q0 first,
-    where the nearest answer lies)."""
-    half = np.minimum((arm.upper - arm.lower) / 2.0, math.pi)
-    size = NEAR_FIRST
-    while True:
-        lo = np.maximum(arm.lower, middle - size * half)
-        hi = np.minimum(arm.upper, middle + size * half)
-        yield lo + rng.random(arm.dof) * (hi - lo)
-        size = min(size * NEAR_GROWTH, 2.0)
-
-
-def near_answers(
-    arm: ArmModel,
-    solve_from: Callable[[np.ndarray], IKResult],
-    middle: np.ndarray,
-    opts,
-    clock: float,
-) -> list[IKResult]:
-    """The verified answers of one descent from each of ``near_starts`` (``solve_from``
-    runs it), at most ``NEAR_STARTS`` and ``opts.max_restarts`` of them, until
-    ``NEAR_UNTIL`` of the timeout has passed since ``clock`` (the thread's CPU time,
-    ``cpu_time.thread_time``, as the budget is), or with an iteration budget
-    until the starts have run ``1 - GATHER_ITERATIONS`` of it (deterministic: the starts
-    come from ``opts.seed``)."""
-    rng = np.random.default_rng(opts.seed)
-    budget = opts.iteration_budget
-    left = math.inf if budget is None else (1.0 - GATHER_ITERATIONS) * budget
-    deadline = clock + NEAR_UNTIL * opts.timeout
-    found = []
-    starts = near_starts(arm, middle, rng)
-    for _ in range(min(NEAR_STARTS, opts.max_restarts)):
-        if left <= 0 or (budget is None and cpu_time.thread_time() > deadline):
-            break
-        r = solve_from(next(starts))
-        left -= r.iterations
-        if r.success:
-            found.append(r)
-    return found
-
-
-def distinct(qs: list[np.ndarray], count: int, tol: float = 1e-3) -> list[np.ndarray]:
-    """The first ``count`` of ``qs`` that differ from every earlier one kept by more than
-    ``tol`` on some joint (answers a few solver tolerances apart move to the same place)."""
-    kept: list[np.ndarray] = []
-    for q in qs:
-        if len(kept) == count:
-            break
-        if all(np.abs(q - k).max() > tol for k in kept):
-            kept.append(q)
-    return kept
+    return [(best_at(inside), inside), *golden(best_at, edges[0], edges[1], REFINE_STEPS)]

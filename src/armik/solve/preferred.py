@@ -3,7 +3,7 @@
 On a 7R arm the swept closed form applies to, the self-motion is searched for the score
 (every solution has some value of joint 7) with the plain answer beside it; else the
 answers ``solve_all`` finds, and where a numeric solver found them, those of starts near
-q0 too (``prefer.near_answers``), the best moved along the self-motion on a redundant arm
+q0 too (``prefer_near.near_answers``), the best moved along the self-motion on a redundant arm
 (``_along_self_motion``). A task list without a compiled form is solved by the task
 solver, its answer scored."""
 
@@ -20,9 +20,9 @@ from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.request import Request
 from armik.result import IKResult
-from armik.solve import prefer
+from armik.solve import prefer_near
 from armik.solve.nullspace import descend
-from armik.solve.prefer import rank, sweep_held
+from armik.solve.prefer import ordered, rank, sweep_held
 from armik.solve.stages import run
 from armik.solve.task_solve import solve_problem
 from armik.solve.turning import turning
@@ -57,9 +57,9 @@ def preferred(arm: ArmModel, req: Request):
         return ranked if every else ranked[0]
     budget = opts.iteration_budget
     if budget is None:
-        share = plain.narrowed(timeout=opts.timeout * prefer.GATHER)
+        share = plain.narrowed(timeout=opts.timeout * prefer_near.GATHER)
     else:
-        share = plain.narrowed(iteration_budget=max(int(budget * prefer.GATHER_ITERATIONS), 1))
+        share = plain.narrowed(iteration_budget=max(int(budget * prefer_near.GATHER_ITERATIONS), 1))
     if problem is None:  # what the search runs, loaded (or compiled) before its clock starts
         _load(arm, share.but(every=True))
         if pose:  # and the single descents from starts near q0
@@ -81,11 +81,11 @@ def preferred(arm: ArmModel, req: Request):
         def solve_from(start: np.ndarray) -> IKResult:
             return run(arm, once.but(q0=start, t0=time.perf_counter()))  # type: ignore[no-any-return]
 
-        middle = prefer.centre(arm, score, seed)
-        found = [*found, *prefer.near_answers(arm, solve_from, middle, opts, clock)]
+        middle = prefer_near.centre(arm, score, seed)
+        found = [*found, *prefer_near.near_answers(arm, solve_from, middle, opts, clock)]
     known: dict = {}  # each answer's score, computed once
     if arm.dof > 6 and pose:
-        best = [q for _, _, q in prefer.ordered(arm, found, score, seed, known, turn)]
+        best = [q for _, _, q in ordered(arm, found, score, seed, known, turn)]
         if best:
             solver_found = found[0].solver
             moved = _along_self_motion(
@@ -131,15 +131,15 @@ def _plain_pose(opts) -> bool:
 def _along_self_motion(
     arm, tgt, seed, opts, score, best: list, solver: str, t0: float, clock: float
 ) -> list[IKResult]:
-    """A redundant arm's best answers (``prefer.DESCENTS`` distinct ones of ``best``, the
+    """A redundant arm's best answers (``prefer_near.DESCENTS`` distinct ones of ``best``, the
     configurations best first) each moved along its self-motion to a lower score
-    (``armik.solve.nullspace``) until ``prefer.DESCENT_UNTIL`` of the budget has passed
+    (``armik.solve.nullspace``) until ``prefer_near.DESCENT_UNTIL`` of the budget has passed
     since ``clock`` (the thread's CPU time), verified
     again as ``solver``'s: the moved answers, to be ranked with the rest."""
     pose = pin.SE3(tgt.rotation, tgt.position)
     claims: list[Answers] = []
-    for q in prefer.distinct(best, prefer.DESCENTS):
-        left = prefer.DESCENT_UNTIL * opts.timeout - (cpu_time.thread_time() - clock)
+    for q in prefer_near.distinct(best, prefer_near.DESCENTS):
+        left = prefer_near.DESCENT_UNTIL * opts.timeout - (cpu_time.thread_time() - clock)
         if opts.iteration_budget is not None:  # deterministic: the descent's own step cap
             left = math.inf
         elif left <= 0.0:

@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from operator import itemgetter
 from typing import cast
 
 import numpy as np
@@ -338,15 +339,49 @@ def _rows_at_pose(sw: Swept, R, pos, q0: np.ndarray, arm: ArmModel, labelled: np
 
 
 NARROW_DIPS = 4  # dips of the limit violation between swept values searched, least first
-NARROW_STEPS = 16  # golden-section steps in each
+GOLDEN = 0.6180339887498949
+DIP_STEPS = 16  # golden-section steps in a dip of the limit violation
+
+
+def golden(
+    fn: Callable[[float], float], a: float, b: float, steps: int, until: float = -math.inf
+) -> list[tuple[float, float]]:
+    """(fn(x), x) at each value a golden-section search for the least ``fn`` on [a, b]
+    tried (``steps`` steps after its first two values; stopping once one is ``until``)."""
+    c, d = b - GOLDEN * (b - a), a + GOLDEN * (b - a)
+    fc, fd = fn(c), fn(d)
+    out = [(fc, c), (fd, d)]
+    for _ in range(steps):
+        if min(fc, fd) <= until:
+            break
+        if fc <= fd:
+            b, d, fd = d, c, fc
+            c = b - GOLDEN * (b - a)
+            fc = fn(c)
+            out.append((fc, c))
+        else:
+            a, c, fc = c, d, fd
+            d = a + GOLDEN * (b - a)
+            fd = fn(d)
+            out.append((fd, d))
+    return out
+
+
+def dip_within(violation: Callable[[float], float], a: float, b: float) -> float | None:
+    """A value of [a, b] where ``violation`` (a branch's limit violation, 0 within the
+    limits, inf where it is not reached) is 0, the first a golden-section search of its
+    dip tried (``DIP_STEPS`` steps); None where it stays above 0. Here and in the
+    preference's sweep (``armik.solve.prefer``)."""
+    least, x = min(golden(violation, a, b, DIP_STEPS, until=0.0), key=itemgetter(0))
+    return x if least <= 0.0 else None
 
 
 def _narrow(arm: ArmModel, sw: Swept, R, pos, q0: np.ndarray):
     """Where no swept value of joint 7 gave a row within the limits: (theta, rows, True) at
     a value where one is, in an interval narrower than the sweep's cells, else None. The
     least limit violation of the exact rows at each cell's centre; where it dips between
-    cells without reaching 0 there, a golden-section search of the dip for a value where
-    it does (the ``NARROW_DIPS`` least dips, the value nearest q0's joint 7 kept)."""
+    cells without reaching 0 there, a search of the dip for a value where it does
+    (``dip_within``: the ``NARROW_DIPS`` least dips, the value nearest q0's joint 7 kept)."""
     lo7, hi7 = sweep_range(arm, float(q0[6]))
     rows_at = _rows_at_pose(sw, R, pos, q0, arm)
     lower, upper = arm.lower - sixr.LIMIT_TOL, arm.upper + sixr.LIMIT_TOL
@@ -371,28 +406,13 @@ def _narrow(arm: ArmModel, sw: Swept, R, pos, q0: np.ndarray):
     found = []
     for _, k in sorted(dips)[:NARROW_DIPS]:
         a, b = (x[k - 1] if k else lo7), (x[k + 1] if k + 1 < SWEEP else hi7)
-        c, d = b - _GOLDEN * (b - a), a + _GOLDEN * (b - a)
-        fc, fd = violation(c), violation(d)
-        for _ in range(NARROW_STEPS):
-            if not fc or not fd:
-                break
-            if fc <= fd:
-                b, d, fd = d, c, fc
-                c = b - _GOLDEN * (b - a)
-                fc = violation(c)
-            else:
-                a, c, fc = c, d, fd
-                d = a + _GOLDEN * (b - a)
-                fd = violation(d)
-        if not fc or not fd:
-            found.append(c if not fc else d)
+        theta = dip_within(violation, a, b)
+        if theta is not None:
+            found.append(theta)
     if not found:
         return None
     theta = min(found, key=lambda t: abs(t - float(q0[6])))
     return theta, rows_at(theta), True
-
-
-_GOLDEN = 0.6180339887498949
 
 
 def run(
