@@ -268,7 +268,10 @@ class Arms(ArmsKinematics):
             # random order (the first sets the torso): nearer an answer than a random one
             # over many joints, and not always the same basin (TALOS's two hands: 6 misses
             # in 1000 targets against 14 from a random configuration alone)
-            q = self._start(targets, self._random(rng), relative, solver, held, rng)
+            # a few attempts a chain (the descent's restarts search): each chain solved on the
+            # whole budget again, a check no answer holds made the restarts cost its square
+            few = {tip: {**(held[tip] if held else {}), "max_restarts": 3} for tip in self.tips}
+            q = self._start(targets, self._random(rng), relative, solver, few, rng)
             return q if order is None else _scatter(q, order)
 
         reference = seed if order is None else _scatter(seed, order)  # the score's q0
