@@ -29,7 +29,7 @@ from armik.problem.scores import Limits, Nearest, Posture, Score
 from armik.result import IKResult
 from armik.solve.turning import ANY, Turning, best_kept
 from armik.solvers import registry
-from armik.solvers.closed_form.swept_7r import dip_within, golden
+from armik.solvers.closed_form.swept_7r import DIP_STEPS, golden_search
 from armik.tolerances import LIMIT_TOL
 from armik.verify.verdict import finish
 
@@ -412,6 +412,28 @@ def _groups(found: list[dict], part: int) -> Iterator[tuple]:
     for members in groups.values():
         score, over = values[:, :, members].min(axis=2)
         yield frozenset(labels[j] for j in members), score, over
+
+
+def golden(fn, a: float, b: float, steps: int, until: float = -math.inf) -> list:
+    """(fn(x), x) at each value ``swept_7r.golden_search`` tries, stopping once one is
+    ``until`` (after its first two): driven here, where ``fn`` is (no call up)."""
+    out: list[tuple[float, float]] = []
+    search = golden_search(a, b, steps)
+    x = next(search)
+    while True:
+        out.append((fn(x), x))
+        if len(out) >= 2 and min(out)[0] <= until:
+            return out
+        try:
+            x = search.send(out[-1][0])
+        except StopIteration:
+            return out
+
+
+def dip_within(violation, a: float, b: float) -> float | None:
+    """``swept_7r.dip_within`` of a violation this module measures."""
+    least, x = min(golden(violation, a, b, DIP_STEPS, until=0.0), key=itemgetter(0))
+    return x if least <= 0.0 else None
 
 
 def _narrow(

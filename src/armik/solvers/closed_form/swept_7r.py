@@ -22,7 +22,7 @@ chosen by ``solver="auto"``; ask for it with ``solver="swept"``.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Generator
 from dataclasses import dataclass
 from operator import itemgetter
 from typing import cast
@@ -343,28 +343,40 @@ GOLDEN = 0.6180339887498949
 DIP_STEPS = 16  # golden-section steps in a dip of the limit violation
 
 
-def golden(
-    fn: Callable[[float], float], a: float, b: float, steps: int, until: float = -math.inf
-) -> list[tuple[float, float]]:
-    """(fn(x), x) at each value a golden-section search for the least ``fn`` on [a, b]
-    tried (``steps`` steps after its first two values; stopping once one is ``until``)."""
+def golden_search(a: float, b: float, steps: int) -> Generator[float, float, None]:
+    """The values a golden-section search for the least of a function on [a, b] tries
+    (``steps`` after its first two), each sent the function's value there: its caller
+    evaluates the function, so that the search calls none of a module above it."""
     c, d = b - GOLDEN * (b - a), a + GOLDEN * (b - a)
-    fc, fd = fn(c), fn(d)
-    out = [(fc, c), (fd, d)]
+    fc = yield c
+    fd = yield d
     for _ in range(steps):
-        if min(fc, fd) <= until:
-            break
         if fc <= fd:
             b, d, fd = d, c, fc
             c = b - GOLDEN * (b - a)
-            fc = fn(c)
-            out.append((fc, c))
+            fc = yield c
         else:
             a, c, fc = c, d, fd
             d = a + GOLDEN * (b - a)
-            fd = fn(d)
-            out.append((fd, d))
-    return out
+            fd = yield d
+
+
+def golden(
+    fn: Callable[[float], float], a: float, b: float, steps: int, until: float = -math.inf
+) -> list[tuple[float, float]]:
+    """(fn(x), x) at each value ``golden_search`` tries, stopping once one is ``until``
+    (after its first two)."""
+    out: list[tuple[float, float]] = []
+    search = golden_search(a, b, steps)
+    x = next(search)
+    while True:
+        out.append((fn(x), x))
+        if len(out) >= 2 and min(out)[0] <= until:
+            return out
+        try:
+            x = search.send(out[-1][0])
+        except StopIteration:
+            return out
 
 
 def dip_within(violation: Callable[[float], float], a: float, b: float) -> float | None:
