@@ -270,7 +270,7 @@ class Arms(ArmsKinematics):
             # in 1000 targets against 14 from a random configuration alone)
             # a few attempts a chain (the descent's restarts search): each chain solved on the
             # whole budget again, a check no answer holds made the restarts cost its square
-            few = {tip: {**(held[tip] if held else {}), "max_restarts": 3} for tip in self.tips}
+            few = {tip: _few(held[tip] if held else {}) for tip in self.tips}
             q = self._start(targets, self._random(rng), relative, solver, few, rng)
             return q if order is None else _scatter(q, order)
 
@@ -487,3 +487,10 @@ def _scatter(q: np.ndarray, order: np.ndarray) -> np.ndarray:
     out = np.empty_like(q)
     out[order] = q
     return out
+
+
+def _few(options: dict) -> dict:
+    """A chain's ``options`` with 3 restarts, in its budget where it gives one."""
+    if "budget" in options:
+        return {**options, "budget": dataclasses.replace(options["budget"], restarts=3)}
+    return {**options, "max_restarts": 3}

@@ -363,3 +363,26 @@ def test_the_restarts_of_several_tips_take_a_few_attempts_a_chain_where_no_answe
     assert r.restarts > 10  # the descent did restart
     # a start: each chain at most 4 attempts; the first start and the verdicts aside
     assert len(calls) <= 12 * (r.restarts + 1), (len(calls), r.restarts)
+
+
+def test_the_restarts_starts_keep_a_budget_given_as_one(monkeypatch):
+    # 3 restarts were added as max_restarts beside budget=Budget(restarts=...): every
+    # chain's start solve was refused ("given twice") and each restart began at random
+    robot = armik.load("panda", tips=["panda_hand", "panda_link5"])
+    refused = []
+    solve_chain = type(robot)._solve_chain
+
+    def recorded(self, *args):
+        try:
+            return solve_chain(self, *args)
+        except armik.ArmikError as error:
+            refused.append(error)
+            raise
+
+    monkeypatch.setattr(type(robot), "_solve_chain", recorded)
+    (T,), (q,) = _targets(1)
+    goal = {"panda_hand": T, "panda_link5": robot.fk(q, "panda_link5")}
+    budget = armik.Budget(iterations=3000, restarts=20)
+    r = robot.solve(goal, q0=q, constraints={"panda_hand": [ElbowUp()]}, budget=budget)
+    assert not r.success and r.restarts > 0
+    assert refused == []
