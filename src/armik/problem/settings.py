@@ -30,7 +30,8 @@ class SolverSettings:
     a user's own constraints. ``armik.options.Options`` adds what the stages around a solver
     read (collisions, held joints, the swivel); a solver is typed against this part only.
 
-    - ``tol_position``, ``tol_orientation``: verification tolerances (1e-6 m, 1e-6 rad).
+    - ``tol_position``, ``tol_orientation``: verification tolerances (1e-6 m, 1e-6 rad),
+      at least ``tolerances.MIN_TOLERANCE`` (1e-12).
     - ``timeout``: budget of a numeric solve, restarts included, in CPU time of the thread
       that solves (0.05 s): other threads' work does not count, so the same seeded call
       gives the same answer whether one thread or eight are solving (up to the thread's
