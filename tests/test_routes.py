@@ -3,11 +3,14 @@ calls made inside armik stay within what the one-request design brought them to 
 the calls of 4b1fe1a on the first three rows, at most half of them on the others), they
 enter no more of armik's modules than they do today, and a target is parsed at most once.
 Counted by a profile hook, as ``../shared/tools/route.py`` counts them: a count, not a
-time."""
+time. No call goes against the direction of the imports (a "call up", by that tool's
+floors: it sits beside the project's checkout, as in CI)."""
 
 from __future__ import annotations
 
+import importlib.util
 import sys
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -46,6 +49,21 @@ MODULES = {
 }
 
 
+ROUTE = Path(__file__).resolve().parents[1].parent / "shared" / "tools" / "route.py"
+
+
+def _floors():
+    """``route.py``'s floor of a module (1 + the highest floor it imports at module level),
+    read from this checkout's sources."""
+    if not ROUTE.is_file():
+        pytest.skip(f"{ROUTE} is not beside the checkout: calls up are not counted")
+    spec = importlib.util.spec_from_file_location("shared_route", ROUTE)
+    route = importlib.util.module_from_spec(spec)  # type: ignore[arg-type]
+    spec.loader.exec_module(route)  # type: ignore[union-attr]
+    route.SRC = str(Path(__file__).resolve().parents[1] / "src")
+    return route.floor
+
+
 def _route(setup: str, call: str) -> tuple[int, int, set[str]]:
     """(Python calls inside armik, target parses, modules entered) of one warm ``call``."""
     env: dict = {"armik": armik, "np": np, "pin": pin}
@@ -76,3 +94,33 @@ def test_a_warm_route_stays_as_short_as_the_design_made_it(label, setup, call):
     assert parses <= 1, f"{label}: the target parsed {parses} times"
     assert calls <= MOST[label], f"{label}: {calls} Python calls, at most {MOST[label]}"
     assert len(modules) <= MODULES[label], f"{label}: enters {sorted(modules)}"
+
+
+@pytest.mark.parametrize(("label", "setup", "call"), ROWS, ids=[r[0] for r in ROWS])
+def test_a_warm_route_makes_no_call_up(label, setup, call):
+    # the preference sweep's golden section called its function back from swept_7r: 114
+    # calls against the direction of the imports
+    floor = _floors()
+    env: dict = {"armik": armik, "np": np, "pin": pin}
+    exec(setup, env)
+    exec(call, env)  # warm
+    stack: list[str | None] = []
+    up: list[tuple[str, str]] = []
+
+    def hook(frame, event, arg):
+        if event == "call":
+            module = frame.f_globals.get("__name__", "")
+            inside = module.startswith("armik")
+            if inside and stack and stack[-1] and stack[-1] != module:
+                if floor(module) > floor(stack[-1]):
+                    up.append((stack[-1], f"{module}.{frame.f_code.co_name}"))
+            stack.append(module if inside else None)
+        elif event == "return" and stack:
+            stack.pop()
+
+    sys.setprofile(hook)
+    try:
+        exec(call, env)
+    finally:
+        sys.setprofile(None)
+    assert not up, f"{label}: {len(up)} calls up, the first {up[:3]}"
