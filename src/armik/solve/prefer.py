@@ -415,19 +415,12 @@ def _groups(found: list[dict], part: int) -> Iterator[tuple]:
 
 
 def golden(fn, a: float, b: float, steps: int, until: float = -math.inf) -> list:
-    """(fn(x), x) at each value ``swept_7r.golden_search`` tries, stopping once one is
-    ``until`` (after its first two): driven here, where ``fn`` is (no call up)."""
+    """(fn(x), x) at each value ``swept_7r.golden_search`` tries: driven here, where
+    ``fn`` is (no call against the imports)."""
     out: list[tuple[float, float]] = []
-    search = golden_search(a, b, steps)
-    x = next(search)
-    while True:
+    for x in golden_search(a, b, steps, out, until):
         out.append((fn(x), x))
-        if len(out) >= 2 and min(out)[0] <= until:
-            return out
-        try:
-            x = search.send(out[-1][0])
-        except StopIteration:
-            return out
+    return out
 
 
 def dip_within(violation, a: float, b: float) -> float | None:

@@ -22,7 +22,7 @@ chosen by ``solver="auto"``; ask for it with ``solver="swept"``.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Generator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from operator import itemgetter
 from typing import cast
@@ -343,40 +343,39 @@ GOLDEN = 0.6180339887498949
 DIP_STEPS = 16  # golden-section steps in a dip of the limit violation
 
 
-def golden_search(a: float, b: float, steps: int) -> Generator[float, float, None]:
+def golden_search(
+    a: float, b: float, steps: int, tried: list[tuple[float, float]], until: float = -math.inf
+) -> Iterator[float]:
     """The values a golden-section search for the least of a function on [a, b] tries
-    (``steps`` after its first two), each sent the function's value there: its caller
+    (``steps`` after its first two), each read back as ``tried[-1]`` ((value, x), which
+    its caller appends); it stops once one is ``until``, after its first two. The caller
     evaluates the function, so that the search calls none of a module above it."""
     c, d = b - GOLDEN * (b - a), a + GOLDEN * (b - a)
-    fc = yield c
-    fd = yield d
+    yield c
+    fc = tried[-1][0]
+    yield d
+    fd = tried[-1][0]
     for _ in range(steps):
+        if min(fc, fd) <= until:
+            return
         if fc <= fd:
             b, d, fd = d, c, fc
             c = b - GOLDEN * (b - a)
-            fc = yield c
+            yield c
+            fc = tried[-1][0]
         else:
             a, c, fc = c, d, fd
             d = a + GOLDEN * (b - a)
-            fd = yield d
+            yield d
+            fd = tried[-1][0]
 
 
-def golden(
-    fn: Callable[[float], float], a: float, b: float, steps: int, until: float = -math.inf
-) -> list[tuple[float, float]]:
-    """(fn(x), x) at each value ``golden_search`` tries, stopping once one is ``until``
-    (after its first two)."""
+def golden(fn: Callable[[float], float], a: float, b: float, steps: int, until: float = -math.inf):
+    """(fn(x), x) at each value ``golden_search`` tries."""
     out: list[tuple[float, float]] = []
-    search = golden_search(a, b, steps)
-    x = next(search)
-    while True:
+    for x in golden_search(a, b, steps, out, until):
         out.append((fn(x), x))
-        if len(out) >= 2 and min(out)[0] <= until:
-            return out
-        try:
-            x = search.send(out[-1][0])
-        except StopIteration:
-            return out
+    return out
 
 
 def dip_within(violation: Callable[[float], float], a: float, b: float) -> float | None:
