@@ -15,7 +15,14 @@ def out_dir(description: str, figures: bool = True) -> Path | None:
     if not figures:
         return None
     path = Path(args.out) if args.out else Path(tempfile.mkdtemp(prefix="armik-"))
-    path.mkdir(parents=True, exist_ok=True)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        (path / ".armik-write-check").touch()
+        (path / ".armik-write-check").unlink()
+    except OSError as error:  # one line, as the command line says it, not a traceback
+        parser.error(
+            f"--out {args.out}: cannot write there ({error.strerror}): give a folder you can write"
+        )
     return path
 
 

@@ -148,3 +148,18 @@ def _env() -> dict:
     import os
 
     return {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+
+
+def test_an_out_folder_that_cannot_be_written_is_one_line(tmp_path):
+    # it was a FileNotFoundError's traceback from Path.mkdir
+    blocker = tmp_path / "a_file"
+    blocker.write_text("")
+    example = next(e for e in EXAMPLES if e.name.startswith("02_"))
+    done = subprocess.run(
+        [sys.executable, str(example), "--out", str(blocker / "figures")],
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 2
+    assert "Traceback" not in done.stderr
+    assert f"--out {blocker / 'figures'}: cannot write there" in done.stderr
