@@ -38,8 +38,10 @@ def why_not(arm, target=None, _opts=None):
 
 def run(arm, target, q0, opts, all_solutions):
     """Both elbow branches of the position in the plane z = 0 (the orientation is not
-    chosen: the verdict measures it), nearest ``q0`` first; out of reach, the stretched
-    arm towards it, claimed unreachable."""
+    chosen: the verdict measures it), nearest ``q0`` first, each joint within the arm's
+    limits (+-pi: joint 1 turned by 2 pi into them, joint 2 an arccosine's value, which it
+    keeps it declares, ``enforces_limits=True``); out of reach, the stretched arm towards
+    it, claimed unreachable."""
     x, y = float(target.position[0]), float(target.position[1])
     r = math.hypot(x, y)
     c = (r * r - L1 * L1 - L2 * L2) / (2 * L1 * L2)
@@ -52,6 +54,7 @@ def run(arm, target, q0, opts, all_solutions):
         q1 = math.atan2(y, x) - math.atan2(L2 * math.sin(q2), L1 + L2 * math.cos(q2))
         if WRONG["on"] and label == "elbow-down":
             q1 += 0.1
+        q1 = math.remainder(q1, 2 * math.pi)  # its 2 pi turn within the limits, +-pi
         rows.append(((q1, q2), label))
     rows.sort(key=lambda row: float(np.linalg.norm(np.subtract(row[0], q0))))
     q = np.array([row[0] for row in rows])
@@ -66,7 +69,7 @@ def family():
         SolverSpec(
             name=NAME,
             kind="analytic",
-            enforces_limits=False,
+            enforces_limits=True,  # its answers within the arm's limits (``run``)
             priority=1000,  # above planar2r (100): "auto" takes it wherever it applies
             why_not=why_not,
             run=run,

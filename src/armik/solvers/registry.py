@@ -3,9 +3,11 @@
 A solver is one file that builds a ``SolverSpec`` and calls ``register``. ``why_not`` returns
 None when the solver applies to an arm and target, else the reason it does not.
 
-Constraints, one rule: a solver declares the constraint classes its own steps keep beyond
-the joint limits (``SolverSpec.enforces``), and "auto" takes, among the solvers that
-apply, one that keeps every class a request holds before the others (``choose``); the
+Constraints, one rule: a solver declares whether its own steps keep the joint limits
+(``SolverSpec.enforces_limits``) and the constraint classes they keep beyond them
+(``SolverSpec.enforces``), and "auto" takes, among the solvers that apply, one that keeps
+every class a request holds before the others, and then, on an arm with a limited joint,
+one that keeps the limits before one that does not (``choose``); the
 verdict (``armik.verify``) checks every constraint of the request that no stage keeps by
 construction (the joint limits by its rule, ``Hold`` and ``Collisions`` by their stages),
 on every route, whatever the solver declares: a declaration never makes a broken answer a
@@ -102,6 +104,10 @@ class SolverSpec:
 
     name: str
     kind: Literal["analytic", "numeric"]
+    # True when its own steps keep every answer it claims within the joint limits (a
+    # projection, a clip, a 2 pi turn into them, a branch beyond them claimed as such):
+    # "auto" takes it, on an arm with a limited joint, before any solver that applies and
+    # does not (whatever their priorities); the verdict checks the limits all the same
     enforces_limits: bool
     priority: int
     why_not: WhyNot  # None when the solver applies to the arm and target, else why not
@@ -166,6 +172,8 @@ _REGISTRY: dict[str, SolverSpec] = {}
 
 
 _BY_PRIORITY: list[SolverSpec] = []
+# "auto"'s order on an arm with a limited joint: the solvers keeping the limits first
+_LIMITS_KEPT_FIRST: list[SolverSpec] = []
 # (position target, options, every, generation) -> spec; read as a key, not called: each solve
 _AUTO: Derived[dict] = Derived("auto's choices", lambda _: {})
 _NONE: dict = {}  # no choice kept yet (never written: a new dict replaces it)
@@ -183,8 +191,13 @@ def register(spec: SolverSpec) -> SolverSpec:
         )
     _REGISTRY[spec.name] = spec
     generation += 1
-    _BY_PRIORITY[:] = sorted(_REGISTRY.values(), key=lambda s: -s.priority)
+    _order()
     return spec
+
+
+def _order() -> None:
+    _BY_PRIORITY[:] = sorted(_REGISTRY.values(), key=lambda s: -s.priority)
+    _LIMITS_KEPT_FIRST[:] = sorted(_BY_PRIORITY, key=lambda s: not s.enforces_limits)
 
 
 def unregister(name: str) -> SolverSpec:
@@ -195,7 +208,7 @@ def unregister(name: str) -> SolverSpec:
     spec = get(name)
     del _REGISTRY[name]
     generation += 1
-    _BY_PRIORITY[:] = sorted(_REGISTRY.values(), key=lambda s: -s.priority)
+    _order()
     return spec
 
 
@@ -229,11 +242,16 @@ def get(name: str) -> SolverSpec:
         ) from None
 
 
-def _keeping_first(checks: tuple) -> list[SolverSpec]:
-    """The solvers in ``choose``'s order for a request holding the constraints ``checks``:
-    those that keep every class of them (``SolverSpec.enforces``) first, by priority."""
+def _keeping_first(checks: tuple | None, limited: bool) -> list[SolverSpec]:
+    """The solvers in ``choose``'s order for a request holding the constraints ``checks``
+    on an arm with a limited joint or not (``limited``): those that keep every class of
+    them (``SolverSpec.enforces``) first, then (``limited``) those that keep the joint
+    limits (``SolverSpec.enforces_limits``), by priority."""
+    order = _LIMITS_KEPT_FIRST if limited else _BY_PRIORITY
+    if not checks:
+        return order
     kinds = frozenset(type(c) for c in checks)
-    return sorted(_BY_PRIORITY, key=lambda s: not s.keeps(kinds))  # stable: priority kept
+    return sorted(order, key=lambda s: not s.keeps(kinds))  # stable: the order kept
 
 
 def why_not(
@@ -308,8 +326,10 @@ def choose(
 ) -> SolverSpec:
     """The solver to run: ``name`` itself (if it applies) or the best one for "auto":
     the applicable solver of highest priority, where a search (``complete=False``) counts
-    only with ``every`` (every solution, ``solve_all``), and where the options hold
-    constraints of the user's own, one that keeps them all (``enforces``) before any other.
+    only with ``every`` (every solution, ``solve_all``), where the options hold
+    constraints of the user's own, one that keeps them all (``enforces``) before any other,
+    and on an arm with a limited joint, one that keeps the joint limits
+    (``enforces_limits``) before one that does not.
     ``SolverError`` when ``name`` is not a registered name (or not a str)."""
     spec: SolverSpec | None
     if not isinstance(name, str) or name != "auto":
@@ -336,7 +356,8 @@ def choose(
         return spec
     asked = None if opts is None else opts.forms(aimed)
     checks = None if opts is None else opts.checks
-    for spec in _BY_PRIORITY if not checks else _keeping_first(checks):
+    limited = len(getattr(arm, "bounded", ())) > 0  # a joint with a finite limit
+    for spec in _keeping_first(checks, limited):
         if (
             spec.auto
             and (every or spec.complete)
