@@ -29,6 +29,7 @@ from armik.kernel.fk_many import fk_many
 from armik.model import mimic as _mimic
 from armik.model.chain_arrays import build_chain
 from armik.model.geometry import Plane, find_plane
+from armik.model.limit_units import in_radians
 from armik.model.reduce import check_limits, reduce_chain
 from armik.model.urdf import URDFInfo
 from armik.tolerances import LIMIT_TOL, MAX_LIMIT
@@ -150,7 +151,7 @@ class ArmModel:
 
     def with_limits(self, limits: Mapping[str, tuple[float, float]]) -> ArmModel:
         """A copy of this arm with some joint limits replaced (name -> (lower, upper))."""
-        checked = check_limits(limits, self.joint_index)
+        checked = in_radians(check_limits(limits, self.joint_index), self)
         lower, upper = self.lower.copy(), self.upper.copy()
         for jname, (lo, hi) in checked.items():
             i = self.joint_index(jname)
