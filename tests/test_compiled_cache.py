@@ -204,3 +204,61 @@ def test_every_package_with_compiled_code_registers_the_rule_first():
         )
         assert out.returncode == 0, out.stderr
         assert out.stdout and set(out.stdout.split()) == {"True"}, (name, out.stdout)
+
+
+# The notices a first call gives while the cache lacks a part (``armik.kernel.notice``) and
+# the command they name, which builds what that call needs (``armik.precompile``).
+
+
+def test_a_first_numeric_solve_in_the_background_says_one_line_naming_the_command(
+    monkeypatch, capsys, tmp_path
+):
+    from armik.kernel import notice
+
+    monkeypatch.delenv(notice.ENVIRONMENT, raising=False)
+    monkeypatch.setenv(notice.TIMES_ENVIRONMENT, str(tmp_path / "times.json"))
+    monkeypatch.setattr(notice, "_BACKGROUND", set())
+    # a first dls solve sends its entry, then the verdict's FK check, to the helper
+    notice.in_background("armik.kernel.single", "solve_pose_dls")
+    notice.in_background("armik.kernel.measure", "placement_check")
+    err = capsys.readouterr().err
+    assert err.count("armik: compiling") == 1, err
+    assert "the numeric solvers" in err and "`armik compile dls qp batch tasks`" in err
+    # the FK check alone (nothing said before it) is still said, with its command
+    monkeypatch.setattr(notice, "_BACKGROUND", set())
+    notice.in_background("armik.kernel.measure", "placement_check")
+    err = capsys.readouterr().err
+    assert err.count("armik: compiling the forward-kinematics check") == 1
+    assert "`armik compile`" in err
+
+
+def test_every_command_a_notice_names_is_parts_armik_compile_has():
+    from armik.kernel import notice
+    from armik.precompile import PARTS
+
+    for _prefix, what, _seconds in notice.PARTS:
+        words = notice.command(what).split()
+        assert words[:2] == ["armik", "compile"], what
+        assert all(part in PARTS for part in words[2:]), (what, words)
+
+
+def test_the_tasks_part_builds_a_tip_only_task_list():
+    """After ``armik compile tasks`` alone, a task list on the tip alone (a position, with an
+    axis: what the numeric solver's entry solves) needs no compiled function more."""
+    from tests.kernel.test_compile import AFTER_PARTS
+
+    uses = (
+        "a = armik.load('kinova')\nT = a.fk(a.middle)\n"
+        "a.solve([armik.Position(T.translation)])\n"
+        "a.solve([armik.Position(T.translation), armik.Axis((0, 0, 1), T.rotation[:, 2], 0.05)])\n"
+    )
+    environ = {**os.environ, "ARMIK_FIRST_CALLS": "compile", "ARMIK_COMPILE_HELPER": "0"}
+    environ["PYTHONPATH"] = os.pathsep.join(sys.path)
+    done = subprocess.run(
+        [sys.executable, "-c", AFTER_PARTS, "tasks", uses],
+        env=environ,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert done.stdout.strip().splitlines()[-1] == "[]", done.stdout

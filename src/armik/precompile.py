@@ -194,11 +194,14 @@ def _path() -> None:
 
 def _tasks_part() -> None:
     """Tasks on two frames of the Panda (the tip's position and axis, the elbow's position):
-    the task solver's compiled descent."""
+    the task solver's compiled descent; and on the tip alone (a position, with an axis):
+    the numeric solver's entry such a list lowers to, as ``dls``' part builds it."""
     _continuous()
     arm = load("panda")
     T = arm.fk(arm.middle)
     tasks = [Position(T.translation), Axis((0, 0, 1), T.rotation[:, 2], 0.05)]
+    arm.solve(tasks[:1])
+    arm.solve(tasks)
     arm.solve([*tasks, Position((0.0, 0.0, 0.5), bounds=(0.2,) * 3, frame="panda_link4")])
 
 

@@ -2,9 +2,11 @@
 
 numba compiles a kernel at its first call and keeps the machine code in its on-disk cache;
 later processes load it in milliseconds. A first call that compiles can take seconds, so
-armik says so, once per part and process: "armik: compiling the dls and qp solvers for this
-machine (once, about 9 s)". On a terminal the line counts the seconds and ends with the
-time taken. A call served from the cache says nothing.
+armik says so, once per part and process: "armik: compiling the numeric solvers for this
+machine (once; about 25 s on a quiet 2-core machine); `armik compile dls qp batch tasks`
+builds it ahead of time" (``COMMANDS``: the parts of ``armik compile`` that build it). On a
+terminal the line counts the seconds and ends with the time taken. A call served from the
+cache says nothing; the FK check, which compiles with a solve, says nothing of its own.
 
 numba announces only real compilations ("numba:compile" events, not cache loads); the
 first outermost one of an armik function in a burst names the part. How long it takes is
@@ -64,6 +66,37 @@ PARTS = (
     ("armik", "armik's compiled code", 5),
 )
 _CHECK = PARTS[0][1]  # the forward-kinematics check
+# what each part's line tells to run to build it ahead of time: ``armik compile``'s parts
+# (``armik.precompile.PARTS``) whose calls compile it; where none is named, every part
+_NUMERIC = "dls qp batch tasks"  # a solve, a batch, a tip-only task list lower to its entries
+COMMANDS = {
+    "the batch forward kinematics": "fk_batch",
+    "the global path plan": "path",
+    "the task solver's descent": "tasks",
+    "the servo's tick": "servo",
+    "the numeric solvers": _NUMERIC,
+    "the spherical-wrist closed form": "spherical",
+    "the three-parallel-axes closed form": "three_parallel",
+    "the general spherical-wrist closed form": "spherical_general",
+    "the spherical-shoulder closed form": "spherical_shoulder",
+    "the general 3-parallel closed form": "three_parallel_general",
+    "the one-dimensional searches": "search_1d",
+    "the swept 7R closed form": "swept",
+    "the SRS 7R closed form": "srs",
+    "the general 6R search": "general_6r",
+    "the 6R elimination": "elimination_6r",
+    "the planar 2-link closed form": "planar2r",
+    "the collision checks' bounds": "collisions",
+}
+
+
+def command(what: str) -> str:
+    """The command that builds part ``what`` ahead of time: ``armik compile`` with the
+    parts whose calls compile it (every part where ``COMMANDS`` names none)."""
+    parts = COMMANDS.get(what)
+    return f"armik compile {parts}" if parts else "armik compile"
+
+
 BURST_GAP = 1.0  # s: compilations this close together are one wait, told in one line
 
 
@@ -165,7 +198,8 @@ class _Line:
             took = f"it took {here:.0f} s here last time"
         else:
             took = f"about {seconds:g} s on a quiet 2-core machine"
-        self.text = f"armik: compiling {what} for this machine (once; {took})"
+        ahead = f"`{command(what)}` builds it ahead of time"
+        self.text = f"armik: compiling {what} for this machine (once; {took}); {ahead}"
         self.stream = stream
         self.t0 = time.perf_counter()
         self.ended = self.t0  # when its last compilation (or hold) ended
@@ -208,13 +242,16 @@ def in_background(module: str, name: str) -> None:
     what, seconds = part_of(module)
     if os.environ.get(ENVIRONMENT, "1") == "0" or what in _BACKGROUND:
         return
+    if what == _CHECK and _BACKGROUND:  # it compiles with the solve said before: one line
+        return
     _BACKGROUND.add(what)
     here = measured().get(record_key(what, f"{module}.{name}"))  # the helper's, last time
     took = f"{here:.0f} s here last time" if here and here >= 1 else f"about {seconds:g} s"
     try:
         sys.stderr.write(
             f"armik: compiling {what} for this machine in the background (once; {took}); "
-            "until then they run as Python, slower\n"
+            f"until then they run as Python, slower; `{command(what)}` builds them ahead of "
+            "time\n"
         )
     except (OSError, ValueError):
         pass
