@@ -181,7 +181,10 @@ generation = 0  # counts registrations and removals: what was chosen before may 
 
 
 def register(spec: SolverSpec) -> SolverSpec:
+    """Add ``spec`` under its name; ``SolverError`` naming the field for a spec whose fields
+    are not what ``SolverSpec`` declares (nothing is registered then), or a name taken."""
     global generation
+    _check(spec)
     if spec.name in _REGISTRY or spec.name == "auto":
         raise SolverError(
             f"solver name {spec.name!r} is taken: register it under another name, or "
@@ -193,6 +196,63 @@ def register(spec: SolverSpec) -> SolverSpec:
     generation += 1
     _order()
     return spec
+
+
+def _check(spec: object) -> None:
+    """``SolverError`` naming the first field of ``spec`` that is not what a ``SolverSpec``
+    declares, its value and what it takes: checked before anything is registered."""
+    if not isinstance(spec, SolverSpec):
+        raise SolverError(
+            f"register takes a SolverSpec, got {spec!r}", solver=str(spec), candidates=solvers()
+        )
+    name = spec.name if isinstance(spec.name, str) else repr(spec.name)
+    wrong = _wrong_field(spec)
+    if wrong is not None:
+        field, takes = wrong
+        raise SolverError(
+            f"solver {name!r}: SolverSpec.{field} must be {takes}, got "
+            f"{getattr(spec, field)!r}; nothing was registered",
+            solver=name,
+            candidates=solvers(),
+        )
+
+
+def _wrong_field(spec: SolverSpec) -> tuple[str, str] | None:
+    """(field, what it takes) of the first field ``spec`` gives wrong, else None."""
+    forms = f"a frozenset of {', '.join(map(repr, FORMS))}"
+    checks = (
+        ("name", "a non-empty str", isinstance(spec.name, str) and spec.name != ""),
+        ("kind", "'analytic' or 'numeric'", spec.kind in ("analytic", "numeric")),
+        ("enforces_limits", "True or False", isinstance(spec.enforces_limits, bool)),
+        ("priority", "an int (higher wins)", _is_int(spec.priority)),
+        ("why_not", "a function (arm, target, opts) -> None or why not", callable(spec.why_not)),
+        ("run", "a function (arm, target, q0, opts, every) -> Answers", callable(spec.run)),
+        ("summary", "a str", isinstance(spec.summary, str)),
+        ("auto", "True or False", isinstance(spec.auto, bool)),
+        ("complete", "True or False", isinstance(spec.complete, bool)),
+        ("run_batch", "None or a function", spec.run_batch is None or callable(spec.run_batch)),
+        ("prepare_pose", "None or a function", _optional(spec.prepare_pose)),
+        ("solves", forms, _forms(spec.solves)),
+        ("needs", forms, _forms(spec.needs)),
+        ("enforces", "a frozenset of Constraint classes", _classes(spec.enforces)),
+    )
+    return next(((field, takes) for field, takes, ok in checks if not ok), None)
+
+
+def _is_int(value: object) -> bool:
+    return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
+
+
+def _optional(value: object) -> bool:
+    return value is None or callable(value)
+
+
+def _forms(value: object) -> bool:
+    return isinstance(value, frozenset) and all(f in FORMS for f in value)
+
+
+def _classes(value: object) -> bool:
+    return isinstance(value, frozenset) and all(isinstance(c, type) for c in value)
 
 
 def _order() -> None:
