@@ -262,3 +262,18 @@ def test_the_tasks_part_builds_a_tip_only_task_list():
         check=True,
     )
     assert done.stdout.strip().splitlines()[-1] == "[]", done.stdout
+
+
+def test_armik_compile_gives_no_notice_of_its_own_parts(monkeypatch):
+    """``armik compile`` prints each part's time: a notice telling to run ``armik compile``
+    would be what is running. Its parts run with the notice off, and it is on again after."""
+    from armik import precompile
+    from armik.kernel import notice
+
+    monkeypatch.setenv(notice.ENVIRONMENT, "1")
+    seen = []
+    monkeypatch.setitem(
+        precompile.PARTS, "probe", lambda: seen.append(os.environ.get(notice.ENVIRONMENT))
+    )
+    precompile.compile(["probe"], jobs=1, progress=False)
+    assert seen == ["0"] and os.environ[notice.ENVIRONMENT] == "1"

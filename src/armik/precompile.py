@@ -16,11 +16,12 @@ the cache that takes a fraction of a second, and it compiles again whatever was 
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import os
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any
@@ -359,8 +360,24 @@ def compile(
             option="jobs",
             value=jobs,
         )
-    with compiling():  # what the parts call compiles here, not as Python (``kernel.tier``)
+    with compiling(), _no_notice():  # compiled here, not as Python (``kernel.tier``)
         return _compile(names, jobs, make_progress(progress, len(names), "compile"), load)
+
+
+@contextlib.contextmanager
+def _no_notice() -> Iterator[None]:
+    """No compile notice while the parts compile here, as in the processes (``_quiet``):
+    the times printed and the bar say it, and a notice's "`armik compile ...` builds it
+    ahead of time" is what is running."""
+    before = os.environ.get("ARMIK_COMPILE_NOTICE")
+    os.environ["ARMIK_COMPILE_NOTICE"] = "0"
+    try:
+        yield
+    finally:
+        if before is None:
+            del os.environ["ARMIK_COMPILE_NOTICE"]
+        else:
+            os.environ["ARMIK_COMPILE_NOTICE"] = before
 
 
 def _compile(names: Sequence[str], jobs: int, bar, load: bool) -> dict:
