@@ -91,8 +91,18 @@ def test_without_limits_priority_decides(unlimited_family):
 
 
 def test_the_bundled_solvers_all_keep_the_limits():
-    """Every built-in solver "auto" may take declares it keeps the limits: the order is
-    their priorities' (no bundled arm's choice depends on the declaration)."""
-    for name in armik.solvers():
-        spec = registry.get(name)
-        assert spec.enforces_limits or not spec.auto, name
+    """Every built-in solver declares it keeps the limits: the order is their priorities'
+    (no bundled arm's choice depends on the declaration)."""
+    assert all(registry.get(name).enforces_limits for name in armik.solvers())
+
+
+@pytest.mark.parametrize("robot", ["panda", "kinova", "scara"])
+def test_clik_keeps_what_it_declares(robot):
+    """``clik`` clips every step into the limits: each answer, a success or not, within
+    the limits, joint 1 narrowed to (-1, 1)."""
+    arm = bundled(robot)
+    narrow = arm.with_limits({arm.joint_names[0]: (-1.0, 1.0)})
+    for s in range(6):
+        T = arm.fk(arm.random_q(s))
+        r = narrow.solve(T, solver="clik", q0=narrow.random_q(100 + s), max_iterations=100)
+        assert narrow.within_limits(r.q), (s, r.q)

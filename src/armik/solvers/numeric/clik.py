@@ -66,7 +66,7 @@ SPEC = register(
     SolverSpec(
         name="clik",
         kind="numeric",
-        enforces_limits=False,
+        enforces_limits=True,  # every step clipped into the limits (``clip_pin``)
         priority=0,
         why_not=applies,
         solves=frozenset({"position_only", "weights"}),
