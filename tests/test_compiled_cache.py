@@ -277,3 +277,11 @@ def test_armik_compile_gives_no_notice_of_its_own_parts(monkeypatch):
     )
     precompile.compile(["probe"], jobs=1, progress=False)
     assert seen == ["0"] and os.environ[notice.ENVIRONMENT] == "1"
+
+
+def test_armik_compile_refuses_names_that_are_no_part_names_by_value():
+    import pytest
+
+    for names in (3, [["dls"]], b"dls", [None]):
+        with pytest.raises(armik.OptionError, match=r"names must be a part's name.*got"):
+            armik.compile(names)  # type: ignore[arg-type]

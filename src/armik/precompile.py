@@ -343,8 +343,7 @@ def compile(
     name, listing the parts, or a ``jobs`` that is not a positive int."""
     if names is None:
         names = list(PARTS)
-    if isinstance(names, str):
-        names = [names]
+    names = _names(names)
     unknown = [n for n in names if n not in PARTS]
     if unknown:
         raise OptionError(
@@ -362,6 +361,27 @@ def compile(
         )
     with compiling(), _no_notice():  # compiled here, not as Python (``kernel.tier``)
         return _compile(names, jobs, make_progress(progress, len(names), "compile"), load)
+
+
+def _names(names: object) -> list[str]:
+    """``names`` as a list of names: one name, or a list of them; ``OptionError`` naming
+    the value otherwise (a number, bytes, a list holding a list)."""
+    if isinstance(names, str):
+        return [names]
+    listed: list | None = None
+    if not isinstance(names, (bytes, bytearray, memoryview)):
+        try:
+            listed = list(names)  # type: ignore[call-overload]
+        except TypeError:
+            pass
+    if listed is None or not all(isinstance(n, str) for n in listed):
+        raise OptionError(
+            f"names must be a part's name or a list of them (str), got {names!r}; parts: "
+            f"{listing(PARTS)}",
+            option="names",
+            value=names,
+        )
+    return listed
 
 
 @contextlib.contextmanager
