@@ -100,7 +100,9 @@ _NEEDED = {
 
 @dataclass(frozen=True)
 class SolverSpec:
-    """One registered solver. Higher ``priority`` wins under ``solver="auto"``."""
+    """One registered solver. Higher ``priority`` wins under ``solver="auto"``, among the
+    solvers that keep the joint limits (``enforces_limits``) first on an arm with a limited
+    joint (``choose``)."""
 
     name: str
     kind: Literal["analytic", "numeric"]
