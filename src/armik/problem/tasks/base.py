@@ -240,10 +240,14 @@ def unit(vector: object, what: str) -> np.ndarray:
         raise TargetError(f"{what} must be 3 numbers, got {vector!r}") from None
     if arr.shape != (3,) or not np.isfinite(arr).all():
         raise TargetError(f"{what} must be 3 finite numbers, got {vector!r}")
-    norm = float(np.linalg.norm(arr))
-    if norm < 1e-9:
+    # its length from the vector scaled by its largest entry: the sum of squares of
+    # (1e308, 1e308, 0) overflows to inf, which made it the zero vector, held by any axis
+    scale = float(np.abs(arr).max())
+    shape = arr / scale if scale > 0.0 else arr
+    norm = float(np.linalg.norm(shape))
+    if norm * scale < 1e-9:
         raise TargetError(f"{what} must have a length, got {arr.tolist()} (zero length)")
-    return arr / norm
+    return shape / norm
 
 
 def check_angle(within: object, what: str) -> float:
