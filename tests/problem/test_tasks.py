@@ -178,3 +178,21 @@ def test_an_axis_of_huge_entries_is_its_direction(huge):
     if r.success:
         F = ur5.fk(r.q)
         assert float((F.rotation @ along) @ T.rotation[:, 2]) >= math.cos(1e-6)
+
+
+def test_a_finite_task_bound_beyond_any_reach_is_refused_by_its_task():
+    """A task's bounds follow the ``bounds=`` option's rule (at most 1e6 where finite,
+    ``math.inf`` frees an axis), refused where the task is built and named by it: a
+    ``Pose`` of such bounds was refused at the solve in the option's words, a ``Position``
+    of them taken."""
+    T = pin.SE3(np.eye(3), np.array([0.3, 0.1, 0.4]))
+    for build, name in (
+        (lambda b: Position(T.translation, bounds=(b,) * 3), "Position bounds"),
+        (lambda b: Pose(T, bounds=(b,) * 3 + (0, 0, 0)), "Pose bounds"),
+        (lambda b: armik.Relative("a", "b", T, bounds=(0,) * 3 + (b,) * 3), "Pose bounds"),
+    ):
+        for b in (1e7, 1e300):
+            with pytest.raises(TargetError, match=rf"{name} must be at most 1e6 .*math.inf frees"):
+                build(b)
+        build(1e6)
+        build(math.inf)
