@@ -386,3 +386,32 @@ def test_the_restarts_starts_keep_a_budget_given_as_one(monkeypatch):
     r = robot.solve(goal, q0=q, constraints={"panda_hand": [ElbowUp()]}, budget=budget)
     assert not r.success and r.restarts > 0
     assert refused == []
+
+
+class WrapsInPlace(Constraint):
+    """Holds every answer, but writes into the ``Q`` it is given: joint 1 wrapped into
+    [0, 2 pi) in place, a normalisation a user may write before comparing angles."""
+
+    def check(self, arm, Q):
+        Q[:, 0] = np.mod(Q[:, 0], 2.0 * np.pi)
+        return Check(np.ones(len(Q), dtype=bool), armik.Status.JOINT_LIMITS, lambda i: "never")
+
+
+@pytest.mark.parametrize("how", [{}, {"solver": "dls"}, {"solver": "swept"}], ids=str)
+def test_a_check_writing_into_its_answers_changes_no_answer(how):
+    """A check is given a copy of the answers: the ones it wrote into were reported as they
+    were measured no more (joint 1 of a Panda at -0.5 turned to 5.8, outside its limits,
+    called a success on ``solve`` and ``solve_all``)."""
+    panda = bundled("panda")
+    q = Q_BENT.copy()
+    q[0] = -0.5  # the answer nearest q0 has joint 1 below 0: the check's wrap moves it
+    T = panda.fk(q)
+    found = [panda.solve(T, q0=q, constraints=[WrapsInPlace()], **how)]
+    found += list(panda.solve_all(T, q0=q, constraints=[WrapsInPlace()], **how))
+    assert any(r.success and r.q[0] < 0.0 for r in found)
+    for r in found:
+        if r.success:
+            F = panda.fk(r.q)
+            assert panda.within_limits(r.q), r.q
+            assert np.linalg.norm(F.translation - T.translation) <= 1e-6
+            assert np.linalg.norm(pin.log3(T.rotation.T @ F.rotation)) <= 1e-6

@@ -87,3 +87,15 @@ def test_a_meshs_relative_path_is_read_beside_the_obstacles_file(tmp_path, monke
     assert mesh.path == str((scene / "fixture.stl").resolve())
     with pytest.raises(armik.CollisionError, match="not an existing file"):
         as_shapes([{"type": "mesh", "path": "fixture.stl"}])  # in memory: the working folder
+
+
+@pytest.mark.parametrize("big", [1e308, 1e200])
+def test_a_quaternion_of_huge_entries_is_its_rotation(big):
+    """A quaternion whose squares overflow is the rotation it spells, as the same one of
+    ordinary entries: it normalised to (0, 0, 0, 0), whose matrix is the identity, and the
+    obstacle stood unturned, where a check measured distances to a box the file did not
+    place."""
+    huge = as_shapes([{"type": "box", "size": [1, 2, 3], "quaternion": [0, 0, big, big]}])[0]
+    plain = as_shapes([{"type": "box", "size": [1, 2, 3], "quaternion": [0, 0, 1, 1]}])[0]
+    np.testing.assert_allclose(huge.T, plain.T, atol=1e-15)
+    np.testing.assert_allclose(huge.T[:3, 0], [0, 1, 0], atol=1e-12)  # 90 deg about z

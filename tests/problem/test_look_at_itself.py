@@ -140,3 +140,28 @@ def test_a_frame_within_a_micrometre_of_the_point_looks_at_nothing():
             assert np.linalg.norm(sight) > 1e-6, r.reason
             assert np.all(np.abs(sight) <= 0.05 + 1e-6)
             assert float(F.rotation[:, 2] @ sight) >= np.linalg.norm(sight) * np.cos(1e-6)
+
+
+def test_the_compiled_verdict_refuses_a_tip_within_a_micrometre_of_its_point():
+    """The compiled path's verdict (``armik.verify.region``) measures a look-at as
+    ``LookAt.measure`` does: a tip within 1e-6 m of the point has no line of sight. It took
+    one only within 1e-9 m: a seed 5e-7 m behind the point, its axis on it, was a success
+    on ``solve``, ``solve_batch`` and ``solve_path`` where the task's own measure refuses
+    it."""
+    ur5 = bundled("ur5")
+    for k in (1, 4):
+        q = ur5.random_q(k)
+        T = ur5.fk(q)
+        point = T.translation + 5e-7 * T.rotation[:, 2]  # on the tool's z, 5e-7 m ahead
+        look = armik.LookAt(point)
+        assert not look.measure(T, 1e-6, 1e-6).within
+        found = [ur5.solve([look], q0=q, solver=s, iteration_budget=200) for s in ("auto", "qp")]
+        batch = ur5.solve_batch([[look], [look]], q0=q, workers=1, iteration_budget=200)
+        found += [batch[i] for i in range(len(batch))]
+        path = ur5.solve_path([[look], [look]], q, iteration_budget=200)
+        found += [path[i] for i in range(len(path))]
+        for r in found:
+            F = ur5.fk(r.q)
+            assert not r.success or look.measure(F, 1e-6, 1e-6).within, r.reason
+            if not r.success and np.linalg.norm(point - F.translation) <= 1e-6:
+                assert r.orientation_error == pytest.approx(np.pi)

@@ -155,3 +155,44 @@ def test_a_pose_of_a_parsed_target_is_the_pose_built_from_it():
     X = pin.SE3(pin.rpy.rpyToMatrix(0.31, -0.2, 1.1), np.array([0.41, -0.1, 0.5]))
     assert of.measure(X, 1e-6, 1e-6) == built.measure(X, 1e-6, 1e-6)
     assert of.shrunk(0.9) is of and of.kernel_row() is not None
+
+
+@pytest.mark.parametrize("huge", [1e308, 1e200])
+def test_an_axis_of_huge_entries_is_its_direction(huge):
+    """A direction spelled with entries whose squares overflow (``(1e308, 1e308, 0)``) is
+    that direction: its unit vector was (0, 0, 0), which every placement "held" (the angle
+    of the zero vector to any is 0), and a task list of it was a success pointing anywhere."""
+    along = np.array([1.0, 1.0, 0.0]) / math.sqrt(2.0)
+    for task in (
+        Axis((huge, huge, 0), (0, 0, 1)),
+        Axis((0, 0, 1), (huge, huge, 0)),
+        LookAt((0, 0, 1), (huge, huge, 0)),
+    ):
+        unit = task.axis if not np.array_equal(task.axis, (0, 0, 1)) else task.direction
+        np.testing.assert_allclose(unit, along, atol=1e-15)
+    ur5 = bundled("ur5")
+    T = ur5.fk(ur5.random_q(1))
+    tasks = [armik.Position(T.translation), Axis((huge, huge, 0), T.rotation[:, 2])]
+    assert not tasks[1].measure(T, 1e-6, 1e-6).within  # the tool's z is along it, not x + y
+    r = ur5.solve(tasks, q0=ur5.middle, iteration_budget=300)
+    if r.success:
+        F = ur5.fk(r.q)
+        assert float((F.rotation @ along) @ T.rotation[:, 2]) >= math.cos(1e-6)
+
+
+def test_a_finite_task_bound_beyond_any_reach_is_refused_by_its_task():
+    """A task's bounds follow the ``bounds=`` option's rule (at most 1e6 where finite,
+    ``math.inf`` frees an axis), refused where the task is built and named by it: a
+    ``Pose`` of such bounds was refused at the solve in the option's words, a ``Position``
+    of them taken."""
+    T = pin.SE3(np.eye(3), np.array([0.3, 0.1, 0.4]))
+    for build, name in (
+        (lambda b: Position(T.translation, bounds=(b,) * 3), "Position bounds"),
+        (lambda b: Pose(T, bounds=(b,) * 3 + (0, 0, 0)), "Pose bounds"),
+        (lambda b: armik.Relative("a", "b", T, bounds=(0,) * 3 + (b,) * 3), "Pose bounds"),
+    ):
+        for b in (1e7, 1e300):
+            with pytest.raises(TargetError, match=rf"{name} must be at most 1e6 .*math.inf frees"):
+                build(b)
+        build(1e6)
+        build(math.inf)

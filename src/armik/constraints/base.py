@@ -110,7 +110,9 @@ def _checked(own: Callable[..., object]) -> Callable[..., Check]:
     @functools.wraps(own)
     def check(self: Constraint, arm: ArmModel, Q: np.ndarray) -> Check:
         on = f" (on {len(Q)} answer(s), Q of shape {np.shape(Q)})"
-        got = _called(type(self).__name__, "check", own, self, arm, Q, said=on)
+        # a copy: a check that writes into its Q (wraps an angle in place) leaves the
+        # answers the verdict measured as they are
+        got = _called(type(self).__name__, "check", own, self, arm, np.array(Q), said=on)
         if type(got) is Check:
             ok = got.ok
             if type(ok) is np.ndarray and ok.dtype == np.bool_ and ok.shape == (len(Q),):
@@ -168,7 +170,7 @@ def _resolved(own: Callable[..., object]) -> Callable[..., Constraint]:
     @functools.wraps(own)
     def at(self: Constraint, arm: ArmModel, seed: np.ndarray) -> Constraint:
         name = type(self).__name__
-        got = _called(name, "at", own, self, arm, seed)
+        got = _called(name, "at", own, self, arm, np.array(seed))  # a copy, as ``check``'s Q
         if not isinstance(got, Constraint):
             raise _refused(
                 name,

@@ -162,6 +162,8 @@ def _placed(i: int, kind: str, position, item: Mapping) -> np.ndarray:
             f"obstacle {i} ({kind}): position must be 3 numbers and quaternion 4 (x, y, z, w)",
             value=item,
         ) from None
+    if np.isfinite(quat).all() and np.abs(quat).max() > 1e150:  # its squares overflow: the
+        quat = quat / np.abs(quat).max()  # quaternion scaled first (inf made it the identity)
     norm = float(np.linalg.norm(quat))
     if not np.isfinite(quat).all() or norm < 1e-9:
         raise CollisionError(

@@ -20,7 +20,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.problem.tasks.cone import angle
-from armik.tolerances import LOOK_AT
+from armik.problem.tasks.look_at import SIGHT
 
 
 def region_errors(
@@ -86,7 +86,9 @@ def region_error(
     elif look_at is not None:  # around the line of sight (``LookAt``)
         sight = np.array(look_at) - p
         distance = float(np.linalg.norm(sight))
-        if not distance > LOOK_AT:  # on the point: no line of sight, nothing aimed at it
+        # on the point, to within ``SIGHT`` as ``LookAt.measure`` has it: no line of sight,
+        # nothing aimed at it (a move of the tip by a micrometre turns the sight any way)
+        if not distance > SIGHT:
             orientation = tilt = math.pi
         else:
             tilt = angle(R @ np.array(cone[:3]), sight / distance)

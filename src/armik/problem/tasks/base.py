@@ -25,6 +25,7 @@ import pinocchio as pin
 
 from armik.errors import ArmikError, TargetError
 from armik.kernel.problem import NO_CONE, NO_LOOK
+from armik.tolerances import MAX_LENGTH
 
 #: A frame's placement ``T_base_frame`` and its LOCAL Jacobian (None where only measured).
 Placed = tuple[pin.SE3, np.ndarray | None]
@@ -216,6 +217,13 @@ def check_bounds(bounds: object, n: int, what: str) -> np.ndarray:
             f"{what} must be >= 0 (a tolerance on each side; math.inf frees an axis), got "
             f"{arr.tolist()}"
         )
+    # a finite bound beyond any reach is a free axis said as a number (the bounds= option's
+    # rule): its square overflows, and the compiled path refused it in the option's words
+    if (np.isfinite(arr) & (arr > MAX_LENGTH)).any():
+        raise TargetError(
+            f"{what} must be at most 1e6 (m or rad) where finite: math.inf frees an axis; "
+            f"got {arr.tolist()}"
+        )
     return arr
 
 
@@ -240,6 +248,9 @@ def unit(vector: object, what: str) -> np.ndarray:
         raise TargetError(f"{what} must be 3 numbers, got {vector!r}") from None
     if arr.shape != (3,) or not np.isfinite(arr).all():
         raise TargetError(f"{what} must be 3 finite numbers, got {vector!r}")
+    big = float(np.abs(arr).max())
+    if big > 1e150:  # the sum of squares of (1e308, 1e308, 0) overflows: the vector scaled
+        arr = arr / big  # first (its length inf made it zero, which any axis held)
     norm = float(np.linalg.norm(arr))
     if norm < 1e-9:
         raise TargetError(f"{what} must have a length, got {arr.tolist()} (zero length)")
