@@ -200,7 +200,7 @@ def between(
 def _checker(arms: Any, shapes: tuple, self_collision: bool = True) -> ArmsChecker:
     """The robot's checker of ``shapes`` (and its own links with ``self_collision``), kept
     per robot, one per set of obstacles (the last ``MOST_CHECKERS``)."""
-    checkers = arms.__dict__.setdefault("_checkers", {})
+    checkers = arms._checkers
     key = (shapes, self_collision)
     found = checkers.get(key)
     if found is None:
