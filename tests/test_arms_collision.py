@@ -83,8 +83,10 @@ def test_two_hands_are_measured_against_each_other_and_obstacles_at_the_robot_s_
             _coal(g[i].geometry, placed[i], g[k].geometry, placed[k]) for i in left for k in right
         )
         assert d <= between + 1e-9
-        assert robot.in_collision(q, self_collision=True, margin=d + 1e-6)
-        assert not robot.in_collision(q, self_collision=True, margin=d - 1e-6)
+        assert robot.in_collision(q, self_collision=True) == (d < 0)
+        if d >= 1e-6:  # a margin is a distance: one within it is in collision
+            assert robot.in_collision(q, self_collision=True, margin=d + 1e-6)
+            assert not robot.in_collision(q, self_collision=True, margin=d - 1e-6)
         # a ball beside the left hand: the nearest of every link the robot moves
         ball = armik.Sphere(0.05, (*(robot.fk(q, HANDS[0]).translation + [0.0, 0.0, 0.12]),))
         d, (link, obstacle) = robot.min_distance(q, [ball])
@@ -106,8 +108,13 @@ def test_bad_collision_queries_are_armik_errors():
         robot.min_distance(robot.middle)
     with pytest.raises(armik.CollisionError):
         robot.min_distance(robot.middle, obstacles="box")
-    with pytest.raises(armik.OptionError, match="margin must be a number"):
-        robot.in_collision(robot.middle, self_collision=True, margin="1 cm")
+    arm = robot.chain("panda_hand")
+    for margin in ("1 cm", -0.01, float("nan")):  # not a distance: refused, as one arm's
+        with pytest.raises(armik.OptionError, match="margin must be a distance") as said:
+            robot.in_collision(robot.middle, self_collision=True, margin=margin)
+        with pytest.raises(armik.OptionError) as one:
+            arm.in_collision(arm.middle, self_collision=True, margin=margin)
+        assert str(said.value) == str(one.value)
 
 
 def test_intervals_are_the_chain_s_whose_parameter_is_asked():
