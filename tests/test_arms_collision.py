@@ -440,3 +440,44 @@ def test_two_collisions_constraints_keep_the_larger_margin_between_the_chains_to
             d, pair = robot.min_distance(r.q, [far], True)
             assert d >= 0.015 and (r.min_distance, r.closest_pair) == (d, pair)
     assert solved
+
+
+def test_one_arm_s_chain_holds_the_other_arm_in_the_leg_until_it_is_locked_clear():
+    # docs/several-tips.md: TALOS's left chain holds the right hand in the right leg at the
+    # upright torso; the torso held upright, a collision naming the pair; the right
+    # shoulder locked out (``locked=``), clear of the leg at every torso value, solved
+    srdf = TALOS.parents[1] / "srdf" / "talos.srdf"
+    left = HANDS[0]
+    arm = armik.load(TALOS, tip=left, srdf=srdf)
+    model, geom = _hulls()
+    data, gd = model.createData(), pin.GeometryData(geom)
+    links = [model.frames[o.parentFrame].name for o in geom.geometryObjects]
+    leg = [i for i, n in enumerate(links) if n == "leg_right_3_link"]
+    hand = [i for i, n in enumerate(links) if n.startswith(("gripper_right", "wrist_right"))]
+    g = geom.geometryObjects
+
+    def gap(names, q) -> float:  # the right hand's distance to the right leg, whole URDF
+        whole_placements(model, data, names, q)
+        pin.updateGeometryPlacements(model, data, geom, gd)
+        return min(
+            _coal(g[a].geometry, gd.oMg[a], g[b].geometry, gd.oMg[b]) for a in leg for b in hand
+        )
+
+    q = arm.middle.copy()
+    q[:2] = 0.0  # the torso upright
+    assert gap(arm.joint_names, q) < -0.05
+    upright = {"torso_1_joint": 0.0, "torso_2_joint": 0.0}
+    r = arm.solve(arm.fk(q), q0=q, self_collision=True, hold=upright)
+    assert not r.success and r.status is armik.Status.COLLISION
+    assert "leg_right_3_link" in r.reason and "gripper_right" in r.reason
+    out = {"arm_right_2_joint": -0.4}
+    clear = armik.load(TALOS, tip=left, srdf=srdf, locked=out)
+    names = [*clear.joint_names, *out]
+    for torso in clear.random_q(0, 20)[:, :2]:
+        assert gap(names, [*torso, *q[2:], -0.4]) > 0.0
+    r = clear.solve(arm.fk(q), q0=q, self_collision=True, hold=upright)
+    assert r.success and np.allclose(r.q[:2], 0.0)
+    assert gap(names, [*r.q, -0.4]) > 0.0
+    whole_placements(model, data, names, [*r.q, -0.4])
+    T = data.oMf[model.getFrameId(left)]
+    assert np.linalg.norm(pin.log6(T.actInv(arm.fk(q))).vector) < 1e-5
