@@ -225,6 +225,13 @@ class ArmsKinematics:
                 option="Q",
                 value=Q,
             )
+        if not np.isfinite(arr).all():  # the robot's row and joint, not a chain's part of it
+            i, j = np.argwhere(~np.isfinite(arr))[0]
+            raise OptionError(
+                f"row {i} of Q is not finite at {self.joint_names[j]!r}: {arr[i].tolist()}",
+                option="Q",
+                value=Q,
+            )
         return {tip: self._chains[tip].fk_batch(arr[:, self._columns[tip]]) for tip in self.tips}
 
     def within_limits(self, q: object, tol: float = LIMIT_TOL) -> bool:
