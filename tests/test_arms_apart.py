@@ -218,3 +218,26 @@ def test_a_chain_within_the_robot_locks_and_limits_as_itself():
         assert model.left_out == left_out
     assert pickle.loads(pickle.dumps(narrowed)).upper[0] == 1.0
     assert "l_panda_joint3" not in locked.joint_names
+
+
+def test_the_chains_within_the_robot_are_its_own_attribute_and_a_new_robot_builds_its_own():
+    from armik.arms_kinematics import ArmsKinematics
+
+    assert "_apart" in ArmsKinematics.__annotations__  # declared, with its type and when kept
+    robot = armik.load(dual("ur5"), tips=["l_tool0", "r_tool0"])
+    assert robot._apart is None  # nothing built before a solve asks for collisions
+    far = armik.Sphere(0.05, (3.0, 3.0, 3.0))
+    goal = {tip: robot.fk(robot.middle, tip) for tip in robot.tips}
+    assert robot.solve(goal).success and robot._apart is None  # no collisions: the chains'
+    assert robot.solve(goal, obstacles=[far]).success
+    built = robot._apart
+    assert built is not None and list(built) == list(robot.tips)
+    assert arms_apart.facade(robot, "l_tool0", {"obstacles": [far]}).kinematics is built["l_tool0"]
+    assert robot.solve(goal, obstacles=[far]).success and robot._apart is built  # kept
+    narrowed = robot.with_limits({"l_shoulder_pan_joint": (-1.0, 1.0)})
+    assert narrowed._apart is None  # a new robot: its chains' limits, not this one's
+    assert narrowed.solve(goal, obstacles=[far]).success
+    within = narrowed._apart
+    assert within is not None and within["l_tool0"].upper[0] == 1.0
+    assert within["l_tool0"].left_out == built["l_tool0"].left_out
+    assert pickle.loads(pickle.dumps(narrowed))._apart is None

@@ -83,8 +83,10 @@ def test_two_hands_are_measured_against_each_other_and_obstacles_at_the_robot_s_
             _coal(g[i].geometry, placed[i], g[k].geometry, placed[k]) for i in left for k in right
         )
         assert d <= between + 1e-9
-        assert robot.in_collision(q, self_collision=True, margin=d + 1e-6)
-        assert not robot.in_collision(q, self_collision=True, margin=d - 1e-6)
+        assert robot.in_collision(q, self_collision=True) == (d < 0)
+        if d >= 1e-6:  # a margin is a distance: one within it is in collision
+            assert robot.in_collision(q, self_collision=True, margin=d + 1e-6)
+            assert not robot.in_collision(q, self_collision=True, margin=d - 1e-6)
         # a ball beside the left hand: the nearest of every link the robot moves
         ball = armik.Sphere(0.05, (*(robot.fk(q, HANDS[0]).translation + [0.0, 0.0, 0.12]),))
         d, (link, obstacle) = robot.min_distance(q, [ball])
@@ -106,8 +108,13 @@ def test_bad_collision_queries_are_armik_errors():
         robot.min_distance(robot.middle)
     with pytest.raises(armik.CollisionError):
         robot.min_distance(robot.middle, obstacles="box")
-    with pytest.raises(armik.OptionError, match="margin must be a number"):
-        robot.in_collision(robot.middle, self_collision=True, margin="1 cm")
+    arm = robot.chain("panda_hand")
+    for margin in ("1 cm", -0.01, float("nan")):  # not a distance: refused, as one arm's
+        with pytest.raises(armik.OptionError, match="margin must be a distance") as said:
+            robot.in_collision(robot.middle, self_collision=True, margin=margin)
+        with pytest.raises(armik.OptionError) as one:
+            arm.in_collision(arm.middle, self_collision=True, margin=margin)
+        assert str(said.value) == str(one.value)
 
 
 def test_intervals_are_the_chain_s_whose_parameter_is_asked():
@@ -433,3 +440,44 @@ def test_two_collisions_constraints_keep_the_larger_margin_between_the_chains_to
             d, pair = robot.min_distance(r.q, [far], True)
             assert d >= 0.015 and (r.min_distance, r.closest_pair) == (d, pair)
     assert solved
+
+
+def test_one_arm_s_chain_holds_the_other_arm_in_the_leg_until_it_is_locked_clear():
+    # docs/several-tips.md: TALOS's left chain holds the right hand in the right leg at the
+    # upright torso; the torso held upright, a collision naming the pair; the right
+    # shoulder locked out (``locked=``), clear of the leg at every torso value, solved
+    srdf = TALOS.parents[1] / "srdf" / "talos.srdf"
+    left = HANDS[0]
+    arm = armik.load(TALOS, tip=left, srdf=srdf)
+    model, geom = _hulls()
+    data, gd = model.createData(), pin.GeometryData(geom)
+    links = [model.frames[o.parentFrame].name for o in geom.geometryObjects]
+    leg = [i for i, n in enumerate(links) if n == "leg_right_3_link"]
+    hand = [i for i, n in enumerate(links) if n.startswith(("gripper_right", "wrist_right"))]
+    g = geom.geometryObjects
+
+    def gap(names, q) -> float:  # the right hand's distance to the right leg, whole URDF
+        whole_placements(model, data, names, q)
+        pin.updateGeometryPlacements(model, data, geom, gd)
+        return min(
+            _coal(g[a].geometry, gd.oMg[a], g[b].geometry, gd.oMg[b]) for a in leg for b in hand
+        )
+
+    q = arm.middle.copy()
+    q[:2] = 0.0  # the torso upright
+    assert gap(arm.joint_names, q) < -0.05
+    upright = {"torso_1_joint": 0.0, "torso_2_joint": 0.0}
+    r = arm.solve(arm.fk(q), q0=q, self_collision=True, hold=upright)
+    assert not r.success and r.status is armik.Status.COLLISION
+    assert "leg_right_3_link" in r.reason and "gripper_right" in r.reason
+    out = {"arm_right_2_joint": -0.4}
+    clear = armik.load(TALOS, tip=left, srdf=srdf, locked=out)
+    names = [*clear.joint_names, *out]
+    for torso in clear.random_q(0, 20)[:, :2]:
+        assert gap(names, [*torso, *q[2:], -0.4]) > 0.0
+    r = clear.solve(arm.fk(q), q0=q, self_collision=True, hold=upright)
+    assert r.success and np.allclose(r.q[:2], 0.0)
+    assert gap(names, [*r.q, -0.4]) > 0.0
+    whole_placements(model, data, names, [*r.q, -0.4])
+    T = data.oMf[model.getFrameId(left)]
+    assert np.linalg.norm(pin.log6(T.actInv(arm.fk(q))).vector) < 1e-5

@@ -45,6 +45,9 @@ def test_fk_batch_gives_every_tips_poses(robot):
         robot.fk_batch(np.zeros((2, 3)))
     with pytest.raises(armik.OptionError, match="Q must be an .*'abc'"):
         robot.fk_batch("abc")
+    Q[3, 6] = np.nan  # the robot's row and joint named, not one chain's part of the row
+    with pytest.raises(armik.OptionError, match="row 3 of Q is not finite at 'panda_joint7'"):
+        robot.fk_batch(Q)
 
 
 def test_random_q_takes_n_as_arm_does(robot):

@@ -99,6 +99,8 @@ class Arms(ArmsKinematics):
         self._coupled: Union | None = None
         self._plain: tuple | None = None  # ``_settings`` of a call without options
         self._permutation: np.ndarray | None = None
+        self._apart = None  # each chain's model checking collisions within the robot
+        self._checkers = {}  # the robot's collision checkers, one per set of obstacles
         index = {n: k for k, n in enumerate(self.joint_names)}
         self._columns = {
             tip: np.array([index[n] for n in arm.joint_names]) for tip, arm in self._chains.items()

@@ -16,12 +16,15 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from armik.arms_links import moved_elsewhere
 from armik.constraints.base import Constraint
 from armik.constraints.clear import Collisions
 from armik.model.arm_model import ArmModel
+
+if TYPE_CHECKING:
+    from armik.arms_kinematics import ArmsKinematics
 
 
 def asks(options: Mapping[str, Any] | None) -> bool:
@@ -35,18 +38,20 @@ def asks(options: Mapping[str, Any] | None) -> bool:
     return isinstance(items, (list, tuple)) and any(isinstance(c, Collisions) for c in items)
 
 
-def chains(arms: Any, each: Mapping[str, Mapping[str, Any]] | None) -> dict[str, ArmModel]:
+def chains(
+    arms: ArmsKinematics, each: Mapping[str, Mapping[str, Any]] | None
+) -> dict[str, ArmModel]:
     """The model each chain's solve with its options ``each`` (tip -> options) takes:
-    ``arms._chains`` unless they check collisions on chains that share no joint."""
+    ``arms._chains`` unless they check collisions on chains that share no joint (then
+    ``arms._apart``, built on the first such solve)."""
     if arms._union is not None or not each or not any(asks(o) for o in each.values()):
-        return arms._chains  # type: ignore[no-any-return]
-    found = arms.__dict__.get("_apart")
+        return arms._chains
+    found = arms._apart
     if found is None:
         tips = list(arms.tips)
         left = moved_elsewhere([arms._chains[t] for t in tips])
-        found = {t: _without(arms._chains[t], out) for t, out in zip(tips, left)}
-        arms.__dict__["_apart"] = found
-    return found  # type: ignore[no-any-return]
+        found = arms._apart = {t: _without(arms._chains[t], out) for t, out in zip(tips, left)}
+    return found
 
 
 def model(arms: Any, tip: str, options: Mapping[str, Any] | None) -> ArmModel:

@@ -32,7 +32,7 @@ from armik.arms_tasks import absolute, by_tip
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions
 from armik.constraints.collision import BOUND_SLACK, _unmoved, obstacle_name
-from armik.constraints.shapes import check_obstacles
+from armik.constraints.shapes import check_obstacles, margin_of
 from armik.constraints.srdf import Pair
 from armik.errors import CollisionError
 from armik.model import mimic_frames
@@ -154,9 +154,9 @@ def in_collision(
     self_collision: bool = False,
     margin: float = 0.0,
 ) -> bool:
-    """Whether some checked pair at ``q`` is closer than ``margin`` (m)."""
-    margin = checked.number("margin", margin)
-    return min_distance(arms, q, obstacles, self_collision)[0] < margin
+    """Whether some checked pair at ``q`` is closer than ``margin`` (m, a distance: an
+    overlap allowed is refused, as ``Arm.in_collision`` refuses it)."""
+    return min_distance(arms, q, obstacles, self_collision)[0] < margin_of(margin)
 
 
 def between(
@@ -200,7 +200,7 @@ def between(
 def _checker(arms: Any, shapes: tuple, self_collision: bool = True) -> ArmsChecker:
     """The robot's checker of ``shapes`` (and its own links with ``self_collision``), kept
     per robot, one per set of obstacles (the last ``MOST_CHECKERS``)."""
-    checkers = arms.__dict__.setdefault("_checkers", {})
+    checkers = arms._checkers
     key = (shapes, self_collision)
     found = checkers.get(key)
     if found is None:

@@ -47,6 +47,14 @@ class ArmsKinematics:
     _union: Union | None  # the chains in one model where they share joints
     _coupled: Union | None  # else, built for the first task that couples them
     _permutation: np.ndarray | None  # ``joint_names``' columns in ``_coupled``
+    # tip -> its chain's model within the robot, the links another chain moves left out
+    # of its collision geometry (``armik.arms_apart.chains``): None until a solve on chains
+    # that share no joint first checks collisions, then kept; a new robot (``with_limits``,
+    # ``with_locked``, a backend's copy) starts without it
+    _apart: dict[str, ArmModel] | None
+    # (obstacles, self_collision) -> the checker of the robot's links against them
+    # (``armik.arms_collision``), the last ``MOST_CHECKERS`` kept; a new robot starts empty
+    _checkers: dict[tuple[tuple, bool], arms_collision.ArmsChecker]
 
     def chain(self, tip: str):
         """The ``Arm`` from the base to ``tip``."""
@@ -214,6 +222,13 @@ class ArmsKinematics:
             raise OptionError(
                 f"Q must have shape (N, {self.dof}), one row per configuration (joints "
                 f"{list(self.joint_names)}), got {arr.shape}",
+                option="Q",
+                value=Q,
+            )
+        if not np.isfinite(arr).all():  # the robot's row and joint, not a chain's part of it
+            i, j = np.argwhere(~np.isfinite(arr))[0]
+            raise OptionError(
+                f"row {i} of Q is not finite at {self.joint_names[j]!r}: {arr[i].tolist()}",
                 option="Q",
                 value=Q,
             )

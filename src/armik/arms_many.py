@@ -36,6 +36,7 @@ from armik.problem.settings import SolverSettings
 from armik.result import IKResult
 from armik.solve import backends
 from armik.solve.batch import DEFAULT_CHUNK
+from armik.solve.ladder import STEP_EDGE
 from armik.solve.path import max_step
 from armik.solve.progress import ProgressArg
 from armik.solve.read import check_plan
@@ -76,6 +77,7 @@ class Arms(Protocol):
 
 
 _CONVERGED = Status.CONVERGED.code
+_JUMP = Status.DISCONTINUOUS.code
 
 
 def solve_batch(
@@ -122,8 +124,7 @@ def solve_batch(
         # the chains' answers together; a row whose arms collide solved again as
         # ``Arms.solve`` solves it, which tries the other combinations of their answers
         for i in clear_rows(arms, out, between(arms, options, targets)):
-            row = {tip: rows[i] for tip, rows in targets.items()}
-            out.put_result(i, arms.solve(row, q0=seeds[i], **options))
+            out.put_result(i, _solved(arms, targets, i, seeds[i], options))
         return _timed(out, t0)
     run_jobs = None if backend is None else backends.backend(backend)
     threads, size = _whole(workers, "workers", 1), _whole(chunk_size, "chunk_size", DEFAULT_CHUNK)
@@ -202,7 +203,9 @@ def solve_path(
             arms, parts, _held_apart(arms, np.tile(start, (n, 1)), each, parts), opts, 0.0, prefer
         )
         held_rows(arms, out, left_out(arms, options, waypoints))  # a tip left out: its checks
-        clear_rows(arms, out, between(arms, options, waypoints))  # the answers together
+        found = clear_rows(arms, out, between(arms, options, waypoints))  # the answers together
+        if not out.success.all():  # the rows after a failed one: from the success before it
+            _follow(arms, out, waypoints, start, step, options, q0 is None, set(found))
         return _timed(out, t0)
     if plan != "follow":
         raise OptionError(
@@ -212,17 +215,39 @@ def solve_path(
             value=plan,
         )
     out = empty(arms, n, "arms, path", opts)
-    q_prev = start
-    for i in range(n):
-        row = {tip: rows[i] for tip, rows in waypoints.items()}
-        with row_named(i):
-            r = arms.solve(row, q0=q_prev, **options)
-        if r.success and not (q0 is None and i == 0):  # without q0 the first is free
-            r = _held(arms, r, q_prev, step, first=i == 0)
-        out.put_result(i, r)
-        if r.success:
-            q_prev = np.array(r.q)
+    _follow(arms, out, waypoints, start, step, options, q0 is None)
     return _timed(out, t0)
+
+
+def _solved(arms: Arms, targets: Mapping[str, Any], i: int, q0: object, options: dict) -> Any:
+    """Row ``i`` of ``targets`` (tip -> rows) as ``Arms.solve`` solves it from ``q0``: where
+    the chains' first answers collide, the nearest clear combination of their answers."""
+    row = {tip: rows[i] for tip, rows in targets.items()}
+    with row_named(i):
+        return arms.solve(row, q0=q0, **options)
+
+
+def _follow(arms, out, waypoints, start, step, options, free: bool, again=None) -> None:
+    """A path's rows (``out``) each solved from the last success before it (``start`` before
+    any; ``free``: no q0, the first row from anywhere), a larger move than ``step``
+    ``discontinuous``. With ``again`` (each chain's path run from its own answers, the rows
+    a check between the chains then failed): those rows, and after a failed row each success
+    that moves more than ``step`` from the row the path went on from, the last success or
+    jump (as one arm's path, ``ladder.held_to_step``), solved again from there."""
+    q_prev = start
+    after = len(out.q) if again is None else int(np.argmin(out.success))  # the first failed
+    for i in range(len(out.q)):
+        redo = again is None or i in again
+        if not redo and i > after and out.success[i] and not free:
+            redo = bool((np.abs(out.q[i] - q_prev) > step + STEP_EDGE).any())
+        if redo:
+            r = _solved(arms, waypoints, i, q_prev, options)
+            if r.success and not (free and i == 0):  # without q0 the first is free
+                r = _held(arms, r, q_prev, step, first=i == 0)
+            out.put_result(i, r)
+        jump = again is not None and out.status_code[i] == _JUMP
+        if out.success[i] or jump:
+            q_prev, free = np.array(out.q[i]), False
 
 
 def _held(arms: Arms, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: bool):
