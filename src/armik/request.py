@@ -28,10 +28,14 @@ or solver, one answer or every one), never a dict of options to validate again.
 
 from __future__ import annotations
 
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
+from armik.constraints.base import at_start
 from armik.frozen import frozen
 from armik.options import Options
+
+if TYPE_CHECKING:
+    from armik.model.arm_model import ArmModel
 
 
 class Request(NamedTuple):
@@ -88,3 +92,10 @@ def but_options(opts: Options, **changes: object) -> Options:
     """``opts`` with ``changes``, which are values of ``Options``' own fields, already of
     their type (a copy, built without the frozen ``__init__``)."""
     return frozen(Options, **{**opts.__dict__, **changes})
+
+
+def resolved(opts: Options, arm: ArmModel, q0: object) -> Options:
+    """``opts`` with a user's own constraints resolved for this call from its start ``q0``
+    (``armik.constraints.base.at_start``): ``opts`` itself where none has an ``at``."""
+    checks = at_start(opts.checks, arm, q0)
+    return opts if checks is opts.checks else but_options(opts, checks=checks)

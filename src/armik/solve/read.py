@@ -35,7 +35,7 @@ from armik.problem.problem import (
 )
 from armik.problem.scores import fit_posture, parse_score
 from armik.problem.tasks import Pose, Position, Task
-from armik.request import Request
+from armik.request import Request, resolved
 from armik.solve.read_aim import (
     AIM_NAMES,
     AIM_OF_TASKS,
@@ -132,6 +132,7 @@ def read(
         key = None if key is None else (key, aim[0], aim[1], aim[2] is None, aim[3] is None)
         if aim.point is not None:  # [Position(p), LookAt(p)]'s refusal
             refuse_looking_from_target(target.position, aim, opts)
+    opts = resolved(opts, arm, q0) if opts.checks and problem is None else opts  # own: at q0
     # built as the tuple it is (``Request``'s own ``__new__`` is a Python call: every solve)
     return _new(
         Request, (target, q0, solver, opts, key, seed, every, t0, score, problem, None, None)
@@ -194,9 +195,10 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
         key = None if key is None else (key, aim.shape)
         if aim.point is not None:  # [Position(p), LookAt(p)]'s refusal
             refuse_looking_from_target(targets.positions, aim, opts)  # type: ignore[attr-defined]
+    opts = resolved(opts, arm, q0) if opts.checks else opts  # a user's own: at the one q0
     if rows is None:
         return Request(targets, q0, solver, opts, key, seed, False, t0)
-    each = tuple(read(arm, row, None, solver, options) for row in rows)
+    each = tuple(read(arm, row, q0 if opts.checks else None, solver, options) for row in rows)
     score = parse_score(options["prefer"]) if ranked else None
     return Request(None, q0, solver, opts, key, seed, False, t0, score, rows=each)
 
@@ -239,7 +241,7 @@ def read_path(
                     "pose with bounds or weights, a position, a tip axis along a direction "
                     "or within a cone of it, a look-at at one point, the same in every row)"
                 )
-            rows = tuple(read(arm, list(p.tasks), None, solver, options) for p in problems)
+            rows = tuple(read(arm, list(p.tasks), q0, solver, options) for p in problems)
             return _by_rows(arm, rows, q0, solver, options, t0, score)
         poses, options = lowered
         aim = aimed_once(poses, aim)
@@ -253,7 +255,7 @@ def read_path(
             each = [batch.target(i) for i in range(len(batch))]
             if aim is not None:  # every waypoint's, as the compiled path's batch carries it
                 each = [t.aimed(aim) for t in each]
-            rows = tuple(read(arm, t, None, solver, options) for t in each)
+            rows = tuple(read(arm, t, q0, solver, options) for t in each)
             return _by_rows(arm, rows, q0, solver, options, t0, score)
     opts, key, seed = settings(arm, {**options, "max_restarts": 0})
     if aim is not None:  # every waypoint's: the path's batch carries it
@@ -263,10 +265,12 @@ def read_path(
         key = None if key is None else (key, aim.shape)
         if aim.point is not None:  # [Position(p), LookAt(p)]'s refusal, at every waypoint
             refuse_looking_from_target(poses.positions, aim, opts)
+    opts = resolved(opts, arm, q0) if opts.checks else opts  # a user's own: at the path's q0
     local = Request(poses, q0, solver, opts, key, seed, False, t0)
     if plan == "follow" and "slide" not in options:
         options = {"slide": True, **options}
     opts, key, seed = settings(arm, options)
+    opts = resolved(opts, arm, q0) if opts.checks else opts
     if aim is not None and key is not None:
         key = (key, aim.shape)
     return Request(poses, q0, solver, opts, key, seed, False, t0, score), local
@@ -403,20 +407,17 @@ def _as_task(arm: ArmModel, target: object, options: dict) -> tuple[Problem | No
 
 
 def options(kwargs: Mapping[str, object]) -> Options:
-    """The validated options of ``kwargs`` (not remembered): what the facade's other
-    readers (the viewer, the C export, the CLI, ``Arms``) check keyword options by; a
-    target's aim (``cone=``, ``look_at=``, ``toward=``) checked and left out."""
+    """The validated options of ``kwargs`` (not remembered), a target's aim checked and
+    left out: what the viewer, the C export, the CLI and ``Arms`` check options by."""
     return Options.from_kwargs(keyword_aim(dict(kwargs))[1])
 
 
 def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | None]:
     """(options, key, seed): ``Options.from_kwargs(kwargs)``, remembered for ``arm`` under
     ``key`` (None: not remembered) when the values other than ``seed`` are hashable, and
-    this call's validated ``seed``. Validation costs a few us, and a loop of solves passes
-    the same options, often with a new seed each time: the remembered options keep the
-    seed they were first built with (``Request.settings`` gives them this call's). A
-    target's aim (``cone=``, ``look_at=``, ``toward=``) is the target's, taken out before
-    (``_aim``)."""
+    this call's validated ``seed``. A loop of solves passes the same options, often with a
+    new seed each time: the remembered options keep the seed they were first built with
+    (``Request.settings`` gives them this call's). A target's aim is taken out before."""
     if not kwargs:
         return _DEFAULT, (), 0
     seed = kwargs.get("seed", 0)
@@ -424,10 +425,8 @@ def settings(arm: ArmModel, kwargs: dict) -> tuple[Options, tuple | None, int | 
         kwargs = dict(kwargs)
         del kwargs["seed"]
     try:
-        # with the types: 1 == True, but validation may accept one and refuse the other;
-        # a held joint's dict as its items and their values' types (a held value of True
-        # is refused, 1 is not), a list or tuple of obstacles as its scene's number
-        # (``_scene``)
+        # with the types (1 == True, but a held value of True is refused, 1 is not); a held
+        # joint's dict as its items, a list or tuple of obstacles as its scene's number
         hold = kwargs["hold"] if "hold" in kwargs else None
         if type(hold) is dict:
             items = (tuple(hold.items()), tuple(map(type, hold.values())))

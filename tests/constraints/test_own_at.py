@@ -1,0 +1,109 @@
+"""A user's constraint resolved from the call's start (its ``at(arm, seed)``, CONTRIBUTING's
+recipe) is resolved on every route, not only the task solver's: unresolved, its check
+would run on nothing (here it raises; a check that passed unresolved would let any answer
+through)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import armik
+from armik.constraints.base import Check, Constraint
+from tests.conftest import arm as bundled
+
+REACH = 0.3  # joint 1 within this of the start's value (rad)
+
+
+class NearStart(Constraint):
+    """Joint 1 within ``REACH`` of the start's value; unresolved it has nothing to hold."""
+
+    def __init__(self, ref=None):
+        self.ref = ref
+
+    def at(self, arm, seed):
+        return NearStart(float(seed[0]))
+
+    def check(self, arm, Q):
+        if self.ref is None:
+            raise ValueError("NearStart: resolve with at(arm, seed) first")
+        return Check(
+            np.abs(Q[:, 0] - self.ref) < REACH, armik.Status.JOINT_LIMITS, lambda i: "moved"
+        )
+
+
+Q = np.array([0.4, -0.6, 1.2, 0.3, 1.1, -0.5])
+
+
+def _ur5():
+    arm = bundled("ur5")
+    return arm, arm.fk(Q)
+
+
+def _start(shift: float) -> np.ndarray:
+    q0 = Q.copy()
+    q0[0] += shift
+    return q0
+
+
+@pytest.mark.parametrize(
+    "how",
+    [{}, {"solver": "dls"}, {"prefer": "nearest"}, {"obstacles": [armik.Sphere(0.05, (2, 2, 2))]}],
+)
+def test_solve_resolves_it_from_q0(how):
+    arm, T = _ur5()
+    near = arm.solve(T, q0=_start(0.1), constraints=[NearStart()], **how)
+    assert near.success and abs(near.q[0] - Q[0]) < 1e-6, near.reason
+    far = arm.solve(T, q0=_start(1.0), constraints=[NearStart()], **how)
+    assert not far.success and far.reason == "moved"
+
+
+def test_solve_all_resolves_it_from_q0():
+    arm, T = _ur5()
+    every = arm.solve_all(T, q0=_start(0.1), constraints=[NearStart()])
+    held = [r for r in every if r.success]
+    assert held and all(abs(r.q[0] - Q[0] - 0.1) < REACH for r in held)
+    assert len(held) < len(every)  # the branches with joint 1 elsewhere are refused
+
+
+def test_a_batch_resolves_it_from_its_one_start_and_refuses_a_start_per_row():
+    arm, T = _ur5()
+    rows = arm.solve_batch([T, T], q0=_start(0.1), constraints=[NearStart()], workers=1)
+    assert all(r.success and abs(r.q[0] - Q[0]) < 1e-6 for r in rows)
+    rows = arm.solve_batch([T, T], q0=_start(1.0), constraints=[NearStart()], workers=1)
+    assert not any(r.success for r in rows)
+    with pytest.raises(armik.OptionError, match="NearStart.*q0 per row"):
+        arm.solve_batch([T, T], q0=np.stack([_start(0.1), _start(0.2)]), constraints=[NearStart()])
+
+
+@pytest.mark.parametrize("plan", ["follow", "global"])
+def test_a_path_resolves_it_from_its_start(plan):
+    arm, T = _ur5()
+    path = arm.solve_path([T, T], _start(0.1), constraints=[NearStart()], plan=plan)
+    assert path.success.all() and np.all(np.abs(path.q[:, 0] - Q[0]) < 1e-6)
+    path = arm.solve_path([T, T], _start(1.0), constraints=[NearStart()], plan=plan)
+    assert not path.success.any()
+
+
+def test_several_tips_over_a_shared_torso_resolve_it_from_q0_not_a_chains_start():
+    """TALOS's hands over a shared torso: the descent starts from each chain's answer, and
+    the constraint is the call's, resolved from its q0 (it was resolved from that start:
+    a success with the torso 0.5 rad from q0's value)."""
+    from tests.test_arms import talos
+
+    robot = talos()
+    left = robot.tips[0]
+    j = robot.joint_names.index(robot.chain(left).joint_names[0])  # the torso's first joint
+    rng = np.random.default_rng(3)
+    checked = 0
+    for _ in range(4):
+        q = robot.random_q(rng)
+        T = {tip: robot.fk(q, tip) for tip in robot.tips}
+        q0 = np.clip(q + 0.6, robot.lower, robot.upper)
+        r = robot.solve(T, q0=q0, constraints={left: [NearStart()]})
+        if r.success:
+            assert abs(r.q[j] - q0[j]) < REACH, (r.q[j], q0[j])
+            checked += 1
+        else:
+            assert r.status is armik.Status.JOINT_LIMITS or r.status is armik.Status.NOT_CONVERGED
+    assert checked
