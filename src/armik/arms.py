@@ -7,10 +7,8 @@ of ``tips``. Chains that share joints (a torso, a lift) are solved together: one
 holds their union (``armik.model.union``) and the task solver (``armik.solve.tasks``)
 takes one task per tip over every joint at once, with restarts within the budget; the
 configuration is the union's joints in the model's order. Every answer is verified by
-Pinocchio's FK of every tip.
-
-A result is one ``IKResult`` for the whole robot (``armik.arms_joined``): ``q`` over
-every joint, a success when every tip's answer is one, per tip in ``extra``.
+Pinocchio's FK of every tip. A result is one ``IKResult`` for the whole robot
+(``armik.arms_joined``): ``q`` over every joint, a success when every tip's is one.
 """
 
 from __future__ import annotations
@@ -180,7 +178,10 @@ class Arms(ArmsKinematics):
             return each if options.get("prefer") is None else scored(each, options["prefer"])
         # the reference chain's answer may be one the other cannot reach from: together
         try:
-            together = self._solve_together(self._joint(), targets, relative, each.q, options, t0)
+            first = np.clip(each.q, self.lower, self.upper)  # held values: still q0's
+            together = self._solve_together(
+                self._joint(), targets, relative, q0, options, t0, first
+            )
         except OptionError as e:  # an option the chains took and the joint descent does not
             return dataclasses.replace(each, reason=reasons.not_together(each.reason, e.option))
         return together if together.success else each
@@ -238,10 +239,10 @@ class Arms(ArmsKinematics):
             for tip, arm in self._chains.items()
         }
 
-    def _solve_together(self, union: Union, targets: Mapping, relative: dict, q0, options, t0):
+    def _solve_together(self, union: Union, targets, relative: dict, q0, options, t0, first=None):
         """Chains sharing joints: one task per tip on ``union``, the task solver (``relative``:
         each tip's ``Relative`` tasks). ``solver`` names the chains' own solver, which gives
-        the descent its starts."""
+        the descent its starts (from ``first`` where given, else q0)."""
         options = dict(options)
         prefer = options.pop("prefer", None)
         score = None if prefer is None else self._score(prefer)
@@ -261,7 +262,7 @@ class Arms(ArmsKinematics):
         held = at_seed(self._holds(options), self.joint_names, seed) if options else None
         joint = self._on_union(union, options) if "constraints" in options else options
         opts, unbound, budget = self._settings(joint)
-        start = self._start(targets, seed, relative, solver, held)
+        start = self._start(targets, seed if first is None else first, relative, solver, held)
         order = self._permutation
         start = start if order is None else _scatter(start, order)
 

@@ -45,10 +45,9 @@ def per_chain(
     opts = read_options({k: v for k, v in options.items() if k not in _CHAIN_OWN})
     rest = {k: v for k, v in options.items() if k not in _PER_CHAIN}
     if "constraints" in options:  # read: a constraint or several; a ``Hold`` split by chain
-        given = options["constraints"]
-        others = [
-            c for c in ([given] if isinstance(given, Constraint) else given) if type(c) is not Hold
-        ]
+        given = options["constraints"]  # None: none, as on one arm
+        given = [given] if isinstance(given, Constraint) else () if given is None else given
+        others = [c for c in given if type(c) is not Hold]
         if others:
             rest["constraints"] = others
     posture = opts.posture

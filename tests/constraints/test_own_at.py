@@ -107,3 +107,42 @@ def test_several_tips_over_a_shared_torso_resolve_it_from_q0_not_a_chains_start(
         else:
             assert r.status is armik.Status.JOINT_LIMITS or r.status is armik.Status.NOT_CONVERGED
     assert checked
+
+
+def _dual():
+    from tests.test_arms import dual_irb120
+
+    robot = armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
+    q = robot.random_q(np.random.default_rng(2))
+    q[1] = 0.8
+    return robot, q
+
+
+def test_several_tips_take_constraints_none_as_one_arm_does():
+    robot, q = _dual()
+    T = {t: robot.fk(q, t) for t in robot.tips}
+    assert robot.solve(T, constraints=None).success
+
+
+def test_a_relative_task_solved_together_again_starts_from_the_chains_answer_quietly():
+    """Chains apart with a relative task whose chains' answers fail a constraint are solved
+    together again from those answers (clipped into the limits): a q0 within the limits
+    gives no warning that it was clipped, and the constraint holds on a success."""
+    import warnings
+
+    class Below(Constraint):
+        def check(self, arm, Q):
+            return Check(Q[:, 1] < 0.2, armik.Status.JOINT_LIMITS, lambda i: "joint 2 above")
+
+    robot, q = _dual()
+    assert robot.within_limits(q)
+    left, right = robot.tips
+    T = {t: robot.fk(q, t) for t in robot.tips}
+    tasks = [
+        armik.Pose(T[left], frame=left),
+        armik.Relative(right, left, T[left].inverse() * T[right]),
+    ]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", armik.ArmikWarning)
+        r = robot.solve(tasks, q0=q, constraints={left: [Below()]}, iteration_budget=1000)
+    assert not r.success or r.q[1] < 0.2
