@@ -137,6 +137,9 @@ def test_a_shared_torso_takes_a_solver_name():
         assert r.success, r.reason
     with pytest.raises(armik.SolverError, match="unknown solver 'nope'"):
         robot.solve(targets, solver="nope")
+    # a name no chain takes would start no chain from it: refused by name, each chain's why
+    with pytest.raises(armik.SolverError, match="'planar2r' applies to no chain.*exactly 2"):
+        robot.solve(targets, solver="planar2r")
 
 
 def test_a_posture_over_a_shared_torso_moves_the_answer_along_the_tasks_null_space():

@@ -44,8 +44,7 @@ from armik.solve.read import options as read_options
 from armik.solve.single import routed, solve_one
 from armik.solve.stages import run
 from armik.solve.tasks import measure_tasks, solve_tasks
-from armik.solvers.registry import get as get_solver
-from armik.solvers.registry import validate_name
+from armik.solvers.registry import refuse_on_none, validate_name
 from armik.targets.pose import Target, parse_by_tip
 
 if TYPE_CHECKING:
@@ -248,7 +247,7 @@ class Arms(ArmsKinematics):
         score = None if prefer is None else self._score(prefer)
         solver = options.pop("solver", "auto")
         if solver != "auto":
-            get_solver(solver)  # an unknown name refused here, not skipped by ``_start``
+            refuse_on_none(solver, self._chains)  # refused here, not skipped by ``_start``
         tasks: list[Task] = []
         given: list[str] = []  # the tip each task is given by: whose errors it counts in
         for tip, target in targets.items():

@@ -17,7 +17,7 @@ success.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal, NamedTuple
 
@@ -322,6 +322,21 @@ def why_not(
     """None if solver ``name`` applies, else the check that failed."""
     spec = get(name)
     return spec.declines(opts, target=target) or spec.why_not(arm, target, opts)
+
+
+def refuse_on_none(name: str, arms: Mapping[str, ArmModel]) -> None:
+    """A ``SolverError`` unless solver ``name`` applies to at least one of ``arms`` (by
+    name: several chains' starts, where one that takes none of them would be skipped
+    without a word); an unknown name too."""
+    why = {tip: why_not(name, arm) for tip, arm in arms.items()}
+    if why and all(why.values()):
+        said = "; ".join(f"{tip}: {w}" for tip, w in why.items())
+        raise SolverError(
+            f"solver {name!r} applies to no chain of these tips ({said}): it names the "
+            "solver each chain starts from; give one that applies to a chain, or 'auto'",
+            solver=name,
+            candidates=solvers(),
+        )
 
 
 def _needed(form: str) -> str:
