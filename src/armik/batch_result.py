@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast, overload
 
@@ -23,6 +23,7 @@ _WORDS = np.array([s.value for s in Status])
 _NOT_CONVERGED = Status.NOT_CONVERGED.code  # the failure state rows start in (``empty``)
 NO_BRANCH = -1  # ``branch_code``: a row without a branch label
 UNREAD = -2  # ``branch_code``: the branch of the row's q, read by ``brancher`` when first read
+PREFERRED = ", prefer"  # after the solver's name: a batch ranked by a preference (prefer=)
 
 
 @dataclass(frozen=True, eq=False)
@@ -37,8 +38,8 @@ class BatchResult:
       ``orientation_error`` is NaN where it is not measured (position-only targets).
     - ``iterations``, ``restarts`` (N,) per target; ``solver``; ``time`` (s) for the whole
       batch, verification included.
-    - ``reasons``: index -> reason for every target that failed (successes are explained
-      by their errors; see ``reason(i)``).
+    - ``reasons``: index -> reason for every target that failed, and for a success whose
+      words its errors do not give (see ``reason(i)``).
     - ``min_distance`` (N,) m: the distance of the closest checked pair at ``q`` (negative:
       overlapping), NaN where collisions were not checked; ``pair_index`` (N,) the index
       of that pair in ``pair_names`` (-1 where not checked); ``closest_pair(i)`` its names.
@@ -90,6 +91,8 @@ class BatchResult:
     # the codes of UNREAD rows' q (k, dof) in ``branch_names``, which start with its ``labels``
     brancher: Callable[[np.ndarray], np.ndarray] | None = None
     errors: dict[str, np.ndarray] = field(default_factory=dict)  # tip -> (N, 2), several tips
+    # weights on the axes: a success's distances are said as ``solve`` says a weighted one's
+    weighted: bool = False
 
     def __post_init__(self) -> None:
         n = len(self.success)
@@ -185,7 +188,7 @@ class BatchResult:
         text = reasons.verified(said, measured)
         if not math.isnan(apart[0]):
             pos, ori = float(self.position_error[i]), float(self.orientation_error[i])
-            text = reasons.measured_apart(text, pos, ori, not self.region)
+            text = reasons.measured_apart(text, pos, ori, self.weighted or not self.region)
         if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):  # checked
             pair, distance = self.closest_pair(i), float(self._distances[i])
             text = reasons.and_clear(text, pair, distance, self.margin)
@@ -239,7 +242,7 @@ class BatchResult:
                 success=bool(self.success[i]),
                 status=Status.from_code(self.status_code[i]),
                 reason=self.reason(i),
-                solver=self.solver,
+                solver=self.solver.removesuffix(PREFERRED),  # as ``solve`` names it
                 iterations=int(self.iterations[i]),
                 position_error=float(self.position_error[i]),
                 orientation_error=None if math.isnan(ori) else ori,
@@ -291,6 +294,7 @@ class BatchResult:
             branch_names=list(self.branch_names),
             brancher=self.brancher,
             errors={tip: e[picked] for tip, e in self.errors.items()},
+            weighted=self.weighted,
         )
 
     def __iter__(self) -> Iterator[IKResult]:
@@ -341,7 +345,11 @@ class BatchResult:
     def save(self, path: str | Path) -> Path:
         """Write the arrays and the metadata to an ``.npz`` file (no pickles;
         ``armik.batch_file``)."""
-        return batch_file.save(self, path)
+        kept = self
+        if self.weighted and self.region:  # the file keeps no weights: their successes' words
+            said = {i: self.reason(i) for i in np.flatnonzero(self.success).tolist()}
+            kept = replace(self, reasons={**self.reasons, **said})
+        return batch_file.save(kept, path)
 
     @classmethod
     def load(cls, path: str | Path) -> BatchResult:
@@ -393,6 +401,7 @@ class BatchResult:
             cone=None if aim is None else aim.within,
             claim=claim,
             brancher=brancher,
+            weighted=opts.weights is not None,
         )
 
     def put(self, start: int, part: BatchResult) -> None:
@@ -481,14 +490,6 @@ def _interned(names: list[Any], name: Any) -> int:
 
 
 _ARRAYS = (
-    "q",
-    "success",
-    "status_code",
-    "position_error",
-    "orientation_error",
-    "iterations",
-    "restarts",
-    "min_distance",
-    "score",
-    "measured",
+    *("q", "success", "status_code", "position_error", "orientation_error", "iterations"),
+    *("restarts", "min_distance", "score", "measured"),
 )

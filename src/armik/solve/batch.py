@@ -190,7 +190,8 @@ class Chunk(NamedTuple):
         n = len(self.targets)
         aim = self.targets.aim
         branches = _branches(self.arm, spec)
-        out = BatchResult.for_arm(self.arm, n, spec.name, opts, "", opts.margin, aim, branches)
+        claim = reasons.CONVERGED if spec.kind == "numeric" else _closed_form(spec)
+        out = BatchResult.for_arm(self.arm, n, spec.name, opts, claim, opts.margin, aim, branches)
         clear = _clear(opts) if opts.obstacles or opts.self_collision else ()
         solve_chunk(self.arm, spec, self.targets, self.seeds, self.request, opts, clear, out, 0)
         return Rows(**vars(out), start=self.start)
@@ -276,7 +277,7 @@ def solve_chunk(
     if spec.run_batch is None:
         for i in range(len(targets)):
             r = _row(arm, request, targets.target(i), seeds[i])
-            out.put_result(start + i, r)
+            _put(out, start + i, r)
         return
     collisions = bool(clear)
     # C-ordered and writable, as the compiled entries are compiled for (a broadcast or a
@@ -311,7 +312,7 @@ def solve_chunk(
                 r = going_on(arm, again, row)
             else:
                 r = _row(arm, request, targets.target(i), seeds[i])
-            out.put_result(start + i, r)
+            _put(out, start + i, r)
 
 
 @dataclass(frozen=True, eq=False)
@@ -343,6 +344,14 @@ def _branches(arm: ArmModel, spec: SolverSpec) -> Branches | None:
         return None
     h, p = sixr.unflatten.py_func(sixr.flat(arm, family.family, family.classify))[:2]
     return Branches(h, p)
+
+
+def _put(out: BatchResult, i: int, r) -> None:
+    """Row ``i`` of ``out`` as ``solve``'s result ``r``; a success's words kept where its
+    row's numbers do not give them (a spin's angle, a search's words)."""
+    out.put_result(i, r)
+    if r.success and out.reason(i) != r.reason:
+        out.reasons[i] = r.reason
 
 
 def _closed_form(spec: SolverSpec) -> str:

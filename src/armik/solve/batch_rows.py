@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from armik.batch_result import BatchResult
+from armik.batch_result import PREFERRED, BatchResult
 from armik.frozen import frozen
 from armik.request import Request
 from armik.solve.backends import Rows, place
@@ -51,8 +51,18 @@ class RowsChunk(NamedTuple):
             out.reasons[i] = r.reason  # its own words, a success's too (a task list's)
             if bar is not None:
                 bar(i + 1, n)
-        named = names.pop() if len(names) == 1 and self.label == SOLVER else self.label
+        named = _named(names, self.label)
         return Rows(**{**vars(out), "solver": named}, start=self.start)
+
+
+def _named(names: set[str], label: str) -> str:
+    """The batch's solver: the one its rows' results name (``label`` where they name
+    several), with ``PREFERRED`` after it when ``label`` has it (a preference's batch), so
+    that each row names the solver ``solve`` names (``BatchResult``'s rows)."""
+    if len(names) != 1:
+        return label
+    (name,) = names
+    return name + PREFERRED if label.endswith(PREFERRED) else name
 
 
 def solve_rows(
@@ -71,7 +81,7 @@ def solve_rows(
     rows = request.rows or ()
     n = len(rows)
     opts = request.settings
-    label = SOLVER if request.score is None else f"{request.solver}, prefer"
+    label = SOLVER if request.score is None else f"{request.solver}{PREFERRED}"
     bar = make_progress(progress, n, f"{arm.name}/{label}")
     if run_jobs is None:
         out: BatchResult = RowsChunk(arm, tuple(rows), seeds, opts, label, 0)(bar)
