@@ -323,7 +323,7 @@ class BatchResult:
             if np.isnan(apart[:, 0]).all():
                 line += f"; largest error of the solved: {worst:.2g} m"
             else:  # the errors are distances; the verdicts measured the region or weights
-                to = "the region's centre" if self.region else "the target"
+                to = "the target" if self.weighted or not self.region else "the region's centre"
                 line += f"; largest distance to {to} of the solved: {worst:.2g} m"
             ori = self.orientation_error[self.success]
             if not np.isnan(ori).all():

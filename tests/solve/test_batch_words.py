@@ -59,3 +59,24 @@ def test_a_preference_names_the_solver_solve_names():
     _same_words(a, targets, batch, prefer="manipulability")
     on_threads = a.solve_batch(targets, prefer="manipulability", backend="threads", chunk_size=2)
     assert on_threads.solver == batch.solver and on_threads[2].solver == solver
+
+
+@pytest.mark.parametrize("run", [{}, {"backend": "threads", "chunk_size": 1}])
+def test_a_cone_ranked_by_a_preference_is_a_region_in_the_summary_too(run):
+    # rows solved one by one: the batch kept no aim, its summary measured "to the target"
+    a = arm("ur5")
+    targets = _targets(a, 2)[:2]
+    options = {"cone": (0, 0, 1, 0.2), "prefer": "manipulability"}
+    batch = a.solve_batch(targets, **run, **options)
+    assert batch.region and batch.cone == 0.2 and batch.success.all()
+    assert "from the region's centre" in batch[0].reason
+    assert "largest distance to the region's centre of the solved" in batch.summary()
+    _same_words(a, targets, batch, **options)
+
+
+def test_weights_and_bounds_summary_measures_from_the_target():
+    a = arm("ur5")
+    options = {"bounds": (0.01, 0.01, np.inf, 0.1, 0.1, 0.1), "weights": (1, 1, 1, 1, 1, 0.5)}
+    batch = a.solve_batch(_targets(a, 2)[:2], **options)
+    assert batch[0].reason.endswith("from the target")
+    assert "largest distance to the target of the solved" in batch.summary()

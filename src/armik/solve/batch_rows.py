@@ -9,7 +9,7 @@ solved alone from its own seed.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
@@ -42,7 +42,8 @@ class RowsChunk(NamedTuple):
 
     def __call__(self, bar=None) -> Rows:
         n = len(self.targets)
-        out = BatchResult.for_arm(self.arm, n, self.label, self.opts, margin=self.opts.margin)
+        aim = _aim(self.targets)
+        out = BatchResult.for_arm(self.arm, n, self.label, self.opts, "", self.opts.margin, aim)
         names = set()
         for i, row in enumerate(self.targets):
             r = routed(self.arm, row.but(q0=self.seeds[i], t0=time.perf_counter()))
@@ -53,6 +54,12 @@ class RowsChunk(NamedTuple):
                 bar(i + 1, n)
         named = _named(names, self.label)
         return Rows(**{**vars(out), "solver": named}, start=self.start)
+
+
+def _aim(rows: Sequence[Request]):
+    """The aim the rows' targets share (a batch's ``cone=``, ``look_at=``: a region, as
+    ``BatchResult.for_arm`` reads it), None for none."""
+    return getattr(rows[0].target, "aim", None) if rows else None
 
 
 def _named(names: set[str], label: str) -> str:
@@ -91,7 +98,7 @@ def solve_rows(
             RowsChunk(arm, tuple(rows[s : s + chunk]), seeds[s : s + chunk], opts, label, s)
             for s in range(0, n, chunk)
         ]
-        out = BatchResult.for_arm(arm, n, label, opts, margin=opts.margin)
+        out = BatchResult.for_arm(arm, n, label, opts, "", opts.margin, _aim(rows))
         names = place(run_jobs, jobs, workers, out, bar)  # each part named by its rows' solver
         named = names.pop() if len(names) == 1 else label
     bar.close()
