@@ -23,7 +23,15 @@ def _same_words(a: armik.Arm, targets, batch: armik.BatchResult, **options) -> N
         assert batch[i].solver == r.solver, i
 
 
-@pytest.mark.parametrize("run", [{}, {"workers": 2}, {"backend": "serial"}])
+@pytest.mark.parametrize(
+    "run",
+    [
+        {},
+        {"workers": 2},
+        {"backend": "serial"},
+        {"backend": "processes", "workers": 2, "chunk_size": 2},
+    ],
+)
 def test_a_spin_solved_by_the_last_joint_says_its_angle(run):
     # spin_joint: each success's words name the spin its last joint turned through
     a = arm("ur5")
