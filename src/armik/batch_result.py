@@ -38,8 +38,8 @@ class BatchResult:
       ``orientation_error`` is NaN where it is not measured (position-only targets).
     - ``iterations``, ``restarts`` (N,) per target; ``solver``; ``time`` (s) for the whole
       batch, verification included.
-    - ``reasons``: index -> reason for every target that failed, and for a success whose
-      words its errors do not give (see ``reason(i)``).
+    - ``reasons``: index -> reason for every target that failed; ``said``: for a success
+      whose words its errors do not give, ``solve``'s (see ``reason(i)``).
     - ``min_distance`` (N,) m: the distance of the closest checked pair at ``q`` (negative:
       overlapping), NaN where collisions were not checked; ``pair_index`` (N,) the index
       of that pair in ``pair_names`` (-1 where not checked); ``closest_pair(i)`` its names.
@@ -91,8 +91,8 @@ class BatchResult:
     # the codes of UNREAD rows' q (k, dof) in ``branch_names``, which start with its ``labels``
     brancher: Callable[[np.ndarray], np.ndarray] | None = None
     errors: dict[str, np.ndarray] = field(default_factory=dict)  # tip -> (N, 2), several tips
-    # weights on the axes: a success's distances are said as ``solve`` says a weighted one's
-    weighted: bool = False
+    weighted: bool = False  # weights on the axes: a success's distances said as ``solve``'s
+    said: dict[int, str] = field(default_factory=dict)  # successes' words, where kept
 
     def __post_init__(self) -> None:
         n = len(self.success)
@@ -173,8 +173,8 @@ class BatchResult:
     def reason(self, i: int) -> str:
         """Why target ``i`` ended as it did."""
         i = self._index(i)
-        if i in self.reasons:
-            return self.reasons[i]
+        if (kept := self.reasons.get(i, self.said.get(i))) is not None:  # failed, or said
+            return kept
         apart = self._measured[i]
         pos, ori = self.position_error[i], self.orientation_error[i]
         if not math.isnan(apart[0]):  # the verdict measured apart: what it measured first
@@ -261,11 +261,6 @@ class BatchResult:
                 f"index a BatchResult of {n} rows with an int or a list of ints in [-{n}, {n}), "
                 f"a slice or a mask of {n} bools, got {index!r:.80}"
             )
-        reasons = {}
-        if self.reasons:
-            keys = np.fromiter(self.reasons, dtype=np.int64, count=len(self.reasons))
-            for j in np.flatnonzero(np.isin(picked, keys)).tolist():
-                reasons[j] = self.reasons[int(picked[j])]
         return BatchResult(
             q=self.q[picked],
             success=self.success[picked],
@@ -280,7 +275,8 @@ class BatchResult:
             arm=self.arm,
             tol_position=self.tol_position,
             tol_orientation=self.tol_orientation,
-            reasons=reasons,
+            reasons=_of(self.reasons, picked),
+            said=_of(self.said, picked),
             margin=self.margin,
             min_distance=self._distances[picked],
             pair_index=self._pairs[picked],
@@ -345,11 +341,10 @@ class BatchResult:
     def save(self, path: str | Path) -> Path:
         """Write the arrays and the metadata to an ``.npz`` file (no pickles;
         ``armik.batch_file``)."""
-        kept = self
+        said = self.said  # kept as the file's reasons, which it reads first
         if self.weighted and self.region:  # the file keeps no weights: their successes' words
             said = {i: self.reason(i) for i in np.flatnonzero(self.success).tolist()}
-            kept = replace(self, reasons={**self.reasons, **said})
-        return batch_file.save(kept, path)
+        return batch_file.save(replace(self, reasons={**self.reasons, **said}), path)
 
     @classmethod
     def load(cls, path: str | Path) -> BatchResult:
@@ -410,6 +405,7 @@ class BatchResult:
         for name in _ARRAYS:
             getattr(self, name)[start:stop] = getattr(part, name)
         self.reasons.update({start + i: r for i, r in part.reasons.items()})
+        self.said.update({start + i: r for i, r in part.said.items()})
         if part.pair_names and part.pair_names != self.pair_names:
             mine = np.array([self._pair(p) for p in part.pair_names] + [-1], dtype=np.int32)
             self._pairs[start:stop] = mine[part._pairs]  # -1 stays -1
@@ -478,6 +474,14 @@ class BatchResult:
     def _pair(self, pair: tuple[str, str]) -> int:
         """The index of ``pair`` in ``pair_names``, appended when new."""
         return _interned(self.pair_names, tuple(pair))  # given as any sequence of two names
+
+
+def _of(words: dict[int, str], picked: np.ndarray) -> dict[int, str]:
+    """The texts of ``words`` (row -> text) of the rows ``picked``, by their place in it."""
+    if not words:
+        return {}
+    keys = np.fromiter(words, dtype=np.int64, count=len(words))
+    return {j: words[int(picked[j])] for j in np.flatnonzero(np.isin(picked, keys)).tolist()}
 
 
 def _interned(names: list[Any], name: Any) -> int:

@@ -351,7 +351,7 @@ def _put(out: BatchResult, i: int, r) -> None:
     row's numbers do not give them (a spin's angle, a search's words)."""
     out.put_result(i, r)
     if r.success and out.reason(i) != r.reason:
-        out.reasons[i] = r.reason
+        out.said[i] = r.reason
 
 
 def _closed_form(spec: SolverSpec) -> str:
