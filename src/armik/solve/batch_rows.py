@@ -8,6 +8,7 @@ solved alone from its own seed.
 
 from __future__ import annotations
 
+import copy
 import time
 from collections.abc import Callable, Iterable, Sequence
 from typing import TYPE_CHECKING, Any, NamedTuple
@@ -15,6 +16,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from armik.batch_result import PREFERRED, BatchResult
+from armik.errors import ArmikError
 from armik.frozen import frozen
 from armik.request import Request
 from armik.solve.backends import Rows, place
@@ -46,7 +48,10 @@ class RowsChunk(NamedTuple):
         out = BatchResult.for_arm(self.arm, n, self.label, self.opts, "", self.opts.margin, aim)
         names = set()
         for i, row in enumerate(self.targets):
-            r = routed(self.arm, row.but(q0=self.seeds[i], t0=time.perf_counter()))
+            try:
+                r = routed(self.arm, row.but(q0=self.seeds[i], t0=time.perf_counter()))
+            except ArmikError as exc:  # a user's cost or check refused at one row: named
+                raise _at(exc, self.start + i) from None
             out.put_result(i, r)
             names.add(r.solver)
             out.reasons[i] = r.reason  # its own words, a success's too (a task list's)
@@ -54,6 +59,13 @@ class RowsChunk(NamedTuple):
                 bar(i + 1, n)
         named = _named(names, self.label)
         return Rows(**{**vars(out), "solver": named}, start=self.start)
+
+
+def _at(exc: ArmikError, k: int) -> ArmikError:
+    """``exc`` (of its class and fields) saying first that it was raised at target ``k``."""
+    named = copy.copy(exc)
+    named.args = (f"target {k}: {exc}", *exc.args[1:])
+    return named
 
 
 def _aim(rows: Sequence[Request]):
