@@ -44,3 +44,14 @@ def test_a_check_that_raises_at_one_row_names_it():
     options = {"constraints": [Refuses(qs[3])], "hold": {"wrist_3_joint": None}}
     with pytest.raises(armik.OptionError, match=r"^target 3: constraint Refuses: its check"):
         a.solve_batch([a.fk(q) for q in qs], q0=np.array(qs), **options)
+
+
+@pytest.mark.parametrize("run", [{"workers": 1}, {"backend": "processes", "workers": 2}])
+def test_a_solver_without_a_compiled_batch_names_the_row_too(run):
+    # swept solves target by target in every chunk
+    a = arm("panda")
+    qs = [a.random_q(k) for k in range(4)]
+    targets = [a.fk(q) for q in qs]
+    answer = a.solve(targets[1], solver="swept").q
+    with pytest.raises(armik.OptionError, match=r"^target 1: constraint Refuses: its check"):
+        a.solve_batch(targets, solver="swept", constraints=[Refuses(answer)], chunk_size=2, **run)

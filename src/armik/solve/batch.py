@@ -41,7 +41,7 @@ from armik import cpu_time, reasons
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions, of_options
 from armik.constraints.collision import checker
-from armik.errors import ArmikWarning, OptionError
+from armik.errors import ArmikError, ArmikWarning, OptionError
 from armik.request import Request, with_seed
 from armik.solve import backends, batch_rows, forked
 from armik.solve.backends import Rows, place
@@ -276,7 +276,10 @@ def solve_chunk(
     (``_clear``)."""
     if spec.run_batch is None:
         for i in range(len(targets)):
-            r = _row(arm, request, targets.target(i), seeds[i])
+            try:
+                r = _row(arm, request, targets.target(i), seeds[i])
+            except ArmikError as exc:  # a user's check refused at one row: named
+                raise batch_rows.at_row(exc, start + i) from None
             _put(out, start + i, r)
         return
     collisions = bool(clear)

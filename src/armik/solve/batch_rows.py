@@ -51,7 +51,7 @@ class RowsChunk(NamedTuple):
             try:
                 r = routed(self.arm, row.but(q0=self.seeds[i], t0=time.perf_counter()))
             except ArmikError as exc:  # a user's cost or check refused at one row: named
-                raise _at(exc, self.start + i) from None
+                raise at_row(exc, self.start + i) from None
             out.put_result(i, r)
             names.add(r.solver)
             out.reasons[i] = r.reason  # its own words, a success's too (a task list's)
@@ -61,7 +61,7 @@ class RowsChunk(NamedTuple):
         return Rows(**{**vars(out), "solver": named}, start=self.start)
 
 
-def _at(exc: ArmikError, k: int) -> ArmikError:
+def at_row(exc: ArmikError, k: int) -> ArmikError:
     """``exc`` (of its class and fields) saying first that it was raised at target ``k``."""
     named = copy.copy(exc)
     named.args = (f"target {k}: {exc}", *exc.args[1:])
