@@ -38,8 +38,8 @@ class BatchResult:
       ``orientation_error`` is NaN where it is not measured (position-only targets).
     - ``iterations``, ``restarts`` (N,) per target; ``solver``; ``time`` (s) for the whole
       batch, verification included.
-    - ``reasons``: index -> reason for every target that failed; ``said``: for a success
-      whose words its errors do not give, ``solve``'s (see ``reason(i)``).
+    - ``reasons``: index -> each failure's reason; ``said``: a success's words where its
+      errors do not give them (``reason(i)``); ``solvers``: each row's, where rows name several.
     - ``min_distance`` (N,) m: the distance of the closest checked pair at ``q`` (negative:
       overlapping), NaN where collisions were not checked; ``pair_index`` (N,) the index
       of that pair in ``pair_names`` (-1 where not checked); ``closest_pair(i)`` its names.
@@ -93,6 +93,7 @@ class BatchResult:
     errors: dict[str, np.ndarray] = field(default_factory=dict)  # tip -> (N, 2), several tips
     weighted: bool = False  # weights on the axes: a success's distances said as ``solve``'s
     said: dict[int, str] = field(default_factory=dict)  # successes' words, where kept
+    solvers: dict[int, str] = field(default_factory=dict)  # rows' solvers, where several
 
     def __post_init__(self) -> None:
         n = len(self.success)
@@ -242,7 +243,7 @@ class BatchResult:
                 success=bool(self.success[i]),
                 status=Status.from_code(self.status_code[i]),
                 reason=self.reason(i),
-                solver=self.solver.removesuffix(PREFERRED),  # as ``solve`` names it
+                solver=self.solvers.get(i, self.solver.removesuffix(PREFERRED)),  # solve's
                 iterations=int(self.iterations[i]),
                 position_error=float(self.position_error[i]),
                 orientation_error=None if math.isnan(ori) else ori,
@@ -275,8 +276,7 @@ class BatchResult:
             arm=self.arm,
             tol_position=self.tol_position,
             tol_orientation=self.tol_orientation,
-            reasons=_of(self.reasons, picked),
-            said=_of(self.said, picked),
+            **{words: _of(getattr(self, words), picked) for words in _TEXTS},
             margin=self.margin,
             min_distance=self._distances[picked],
             pair_index=self._pairs[picked],
@@ -341,10 +341,9 @@ class BatchResult:
     def save(self, path: str | Path) -> Path:
         """Write the arrays and the metadata to an ``.npz`` file (no pickles;
         ``armik.batch_file``)."""
-        said = self.said  # kept as the file's reasons, which it reads first
         if self.weighted and self.region:  # the file keeps no weights: their successes' words
-            said = {i: self.reason(i) for i in np.flatnonzero(self.success).tolist()}
-        return batch_file.save(replace(self, reasons={**self.reasons, **said}), path)
+            self.said.update({i: self.reason(i) for i in np.flatnonzero(self.success).tolist()})
+        return batch_file.save(replace(self, reasons={**self.reasons, **self.said}), path)
 
     @classmethod
     def load(cls, path: str | Path) -> BatchResult:
@@ -404,8 +403,8 @@ class BatchResult:
         stop = start + len(part)
         for name in _ARRAYS:
             getattr(self, name)[start:stop] = getattr(part, name)
-        self.reasons.update({start + i: r for i, r in part.reasons.items()})
-        self.said.update({start + i: r for i, r in part.said.items()})
+        for words in _TEXTS:  # row -> text
+            getattr(self, words).update({start + i: t for i, t in getattr(part, words).items()})
         if part.pair_names and part.pair_names != self.pair_names:
             mine = np.array([self._pair(p) for p in part.pair_names] + [-1], dtype=np.int32)
             self._pairs[start:stop] = mine[part._pairs]  # -1 stays -1
@@ -493,6 +492,7 @@ def _interned(names: list[Any], name: Any) -> int:
         return len(names) - 1
 
 
+_TEXTS = ("reasons", "said", "solvers")  # the texts kept by row, row -> text
 _ARRAYS = (
     *("q", "success", "status_code", "position_error", "orientation_error", "iterations"),
     *("restarts", "min_distance", "score", "measured"),

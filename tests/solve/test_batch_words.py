@@ -7,6 +7,7 @@ import pinocchio as pin
 import pytest
 
 import armik
+from armik.constraints.base import Check, Constraint
 
 from ..conftest import arm
 
@@ -88,3 +89,24 @@ def test_weights_and_bounds_summary_measures_from_the_target():
     batch = a.solve_batch(_targets(a, 2)[:2], **options)
     assert batch[0].reason.endswith("from the target")
     assert "largest distance to the target of the solved" in batch.summary()
+
+
+class ElbowAbove(Constraint):
+    """The Panda's joint 4 above -2 rad: some rows' answers then come from dls, others from
+    swept, under a preference."""
+
+    def check(self, arm, Q):
+        return Check(Q[:, 3] > -2.0, armik.Status.JOINT_LIMITS, lambda i: "elbow below -2")
+
+
+@pytest.mark.parametrize("run", [{}, {"backend": "threads", "chunk_size": 3}])
+def test_rows_of_several_solvers_each_name_their_own(run):
+    a = arm("panda")
+    targets = [a.fk(a.random_q(k)) for k in range(8)]
+    options = {"prefer": "manipulability", "constraints": [ElbowAbove()]}
+    options.update(iteration_budget=1500, seed=3)
+    batch = a.solve_batch(targets, **run, **options)
+    assert batch.solver == "auto, prefer" and {r.solver for r in batch} == {"dls", "swept"}
+    _same_words(a, targets, batch, **options)
+    picked = batch[[3, 0]]
+    assert [r.solver for r in picked] == [batch[3].solver, batch[0].solver]

@@ -46,18 +46,17 @@ class RowsChunk(NamedTuple):
         n = len(self.targets)
         aim = _aim(self.targets)
         out = BatchResult.for_arm(self.arm, n, self.label, self.opts, "", self.opts.margin, aim)
-        names = set()
         for i, row in enumerate(self.targets):
             try:
                 r = routed(self.arm, row.but(q0=self.seeds[i], t0=time.perf_counter()))
             except ArmikError as exc:  # a user's cost or check refused at one row: named
                 raise at_row(exc, self.start + i) from None
             out.put_result(i, r)
-            names.add(r.solver)
+            out.solvers[i] = r.solver  # dropped by the batch where every row names one
             out.reasons[i] = r.reason  # its own words, a success's too (a task list's)
             if bar is not None:
                 bar(i + 1, n)
-        named = _named(names, self.label)
+        named = _named(set(out.solvers.values()), self.label)
         return Rows(**{**vars(out), "solver": named}, start=self.start)
 
 
@@ -115,6 +114,8 @@ def solve_rows(
         named = names.pop() if len(names) == 1 else label
     bar.close()
     fields = {k: v for k, v in vars(out).items() if k != "start"}
+    if len(set(out.solvers.values())) <= 1:  # one solver: the batch's name says it
+        fields["solvers"] = {}
     return frozen(
         BatchResult, **{**fields, "solver": named, "time": time.perf_counter() - request.t0}
     )
