@@ -69,3 +69,20 @@ def test_a_constraint_of_the_users_script_goes_to_the_workers(client, rows):
     np.testing.assert_array_equal(there.q, here.q)
     assert list(there.status) == list(here.status) and there.success.any()
     assert (there.q[there.success, 1] < 0.0).all()
+
+
+def test_a_closed_client_given_is_named():
+    # Dask raised RuntimeError: IOLoop is closed
+    distributed = pytest.importorskip("distributed")
+    cluster = distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+    )
+    client = distributed.Client(cluster)
+    client.close()
+    cluster.close()
+    a = arm("ur5")
+    T = a.fk_batch(a.random_q(1, n=2))
+    with pytest.raises(armik.InputError, match="client given is not connected .status 'closed'"):
+        a.solve_batch(T, backend=armik_distributed.OnDask(client), progress=False)
+    with pytest.raises(armik.InputError, match="client given is not connected"):
+        armik_distributed.solve_batch(a, T, client=client, progress=False)

@@ -161,6 +161,7 @@ class OnDask:
 
     def __call__(self, jobs: Sequence[Chunk | RowsChunk], workers: int) -> Iterator[BatchResult]:
         client = self.client if self.client is not None else _default_client()
+        _connected(client, "the Dask client given")
         if not jobs:
             return
         blob = pickle.dumps(jobs[0].arm)
@@ -206,10 +207,16 @@ def _default_client():
         raise InputError(
             "no Dask client: pass client= or address= (e.g. tcp://host:8786 or local:2)"
         ) from None
+    return _connected(client, "the default Dask client")  # a failed one stays the default
+
+
+def _connected(client, which: str):
+    """``client``, or ``InputError`` when it is not connected (closed, or its connection
+    failed), where Dask raised its own ``RuntimeError: IOLoop is closed``."""
     status = getattr(client, "status", "running")
-    if status != "running":  # a client whose connection failed stays the default one
+    if status != "running":
         raise InputError(
-            f"the default Dask client is not connected (status {status!r}): pass client= "
+            f"{which} is not connected (status {status!r}): pass a running client= "
             "or address= (e.g. tcp://host:8786 or local:2)"
         )
     return client
