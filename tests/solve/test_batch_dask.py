@@ -75,7 +75,7 @@ def test_a_closed_client_given_is_named():
     # Dask raised RuntimeError: IOLoop is closed
     distributed = pytest.importorskip("distributed")
     cluster = distributed.LocalCluster(
-        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0"
     )
     client = distributed.Client(cluster)
     client.close()
