@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast, overload
 
@@ -23,6 +23,7 @@ _WORDS = np.array([s.value for s in Status])
 _NOT_CONVERGED = Status.NOT_CONVERGED.code  # the failure state rows start in (``empty``)
 NO_BRANCH = -1  # ``branch_code``: a row without a branch label
 UNREAD = -2  # ``branch_code``: the branch of the row's q, read by ``brancher`` when first read
+PREFERRED = ", prefer"  # after the solver's name: a batch ranked by a preference (prefer=)
 
 
 @dataclass(frozen=True, eq=False)
@@ -37,8 +38,8 @@ class BatchResult:
       ``orientation_error`` is NaN where it is not measured (position-only targets).
     - ``iterations``, ``restarts`` (N,) per target; ``solver``; ``time`` (s) for the whole
       batch, verification included.
-    - ``reasons``: index -> reason for every target that failed (successes are explained
-      by their errors; see ``reason(i)``).
+    - ``reasons``: index -> each failure's reason; ``said``: a success's words where its
+      errors do not give them (``reason(i)``); ``solvers``: each row's, where rows name several.
     - ``min_distance`` (N,) m: the distance of the closest checked pair at ``q`` (negative:
       overlapping), NaN where collisions were not checked; ``pair_index`` (N,) the index
       of that pair in ``pair_names`` (-1 where not checked); ``closest_pair(i)`` its names.
@@ -90,6 +91,9 @@ class BatchResult:
     # the codes of UNREAD rows' q (k, dof) in ``branch_names``, which start with its ``labels``
     brancher: Callable[[np.ndarray], np.ndarray] | None = None
     errors: dict[str, np.ndarray] = field(default_factory=dict)  # tip -> (N, 2), several tips
+    weighted: bool = False  # weights on the axes: a success's distances said as ``solve``'s
+    said: dict[int, str] = field(default_factory=dict)  # successes' words, where kept
+    solvers: dict[int, str] = field(default_factory=dict)  # rows' solvers, where several
 
     def __post_init__(self) -> None:
         n = len(self.success)
@@ -170,8 +174,8 @@ class BatchResult:
     def reason(self, i: int) -> str:
         """Why target ``i`` ended as it did."""
         i = self._index(i)
-        if i in self.reasons:
-            return self.reasons[i]
+        if (kept := self.reasons.get(i, self.said.get(i))) is not None:  # failed, or said
+            return kept
         apart = self._measured[i]
         pos, ori = self.position_error[i], self.orientation_error[i]
         if not math.isnan(apart[0]):  # the verdict measured apart: what it measured first
@@ -185,7 +189,7 @@ class BatchResult:
         text = reasons.verified(said, measured)
         if not math.isnan(apart[0]):
             pos, ori = float(self.position_error[i]), float(self.orientation_error[i])
-            text = reasons.measured_apart(text, pos, ori, not self.region)
+            text = reasons.measured_apart(text, pos, ori, self.weighted or not self.region)
         if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):  # checked
             pair, distance = self.closest_pair(i), float(self._distances[i])
             text = reasons.and_clear(text, pair, distance, self.margin)
@@ -239,7 +243,7 @@ class BatchResult:
                 success=bool(self.success[i]),
                 status=Status.from_code(self.status_code[i]),
                 reason=self.reason(i),
-                solver=self.solver,
+                solver=self.solvers.get(i, self.solver.removesuffix(PREFERRED)),  # solve's
                 iterations=int(self.iterations[i]),
                 position_error=float(self.position_error[i]),
                 orientation_error=None if math.isnan(ori) else ori,
@@ -258,11 +262,6 @@ class BatchResult:
                 f"index a BatchResult of {n} rows with an int or a list of ints in [-{n}, {n}), "
                 f"a slice or a mask of {n} bools, got {index!r:.80}"
             )
-        reasons = {}
-        if self.reasons:
-            keys = np.fromiter(self.reasons, dtype=np.int64, count=len(self.reasons))
-            for j in np.flatnonzero(np.isin(picked, keys)).tolist():
-                reasons[j] = self.reasons[int(picked[j])]
         return BatchResult(
             q=self.q[picked],
             success=self.success[picked],
@@ -277,7 +276,7 @@ class BatchResult:
             arm=self.arm,
             tol_position=self.tol_position,
             tol_orientation=self.tol_orientation,
-            reasons=reasons,
+            **{words: _of(getattr(self, words), picked) for words in _TEXTS},
             margin=self.margin,
             min_distance=self._distances[picked],
             pair_index=self._pairs[picked],
@@ -291,6 +290,7 @@ class BatchResult:
             branch_names=list(self.branch_names),
             brancher=self.brancher,
             errors={tip: e[picked] for tip, e in self.errors.items()},
+            weighted=self.weighted,
         )
 
     def __iter__(self) -> Iterator[IKResult]:
@@ -319,7 +319,7 @@ class BatchResult:
             if np.isnan(apart[:, 0]).all():
                 line += f"; largest error of the solved: {worst:.2g} m"
             else:  # the errors are distances; the verdicts measured the region or weights
-                to = "the region's centre" if self.region else "the target"
+                to = "the target" if self.weighted or not self.region else "the region's centre"
                 line += f"; largest distance to {to} of the solved: {worst:.2g} m"
             ori = self.orientation_error[self.success]
             if not np.isnan(ori).all():
@@ -341,7 +341,9 @@ class BatchResult:
     def save(self, path: str | Path) -> Path:
         """Write the arrays and the metadata to an ``.npz`` file (no pickles;
         ``armik.batch_file``)."""
-        return batch_file.save(self, path)
+        if self.weighted and self.region:  # the file keeps no weights: their successes' words
+            self.said.update({i: self.reason(i) for i in np.flatnonzero(self.success).tolist()})
+        return batch_file.save(replace(self, reasons={**self.reasons, **self.said}), path)
 
     @classmethod
     def load(cls, path: str | Path) -> BatchResult:
@@ -393,6 +395,7 @@ class BatchResult:
             cone=None if aim is None else aim.within,
             claim=claim,
             brancher=brancher,
+            weighted=opts.weights is not None,
         )
 
     def put(self, start: int, part: BatchResult) -> None:
@@ -400,7 +403,8 @@ class BatchResult:
         stop = start + len(part)
         for name in _ARRAYS:
             getattr(self, name)[start:stop] = getattr(part, name)
-        self.reasons.update({start + i: r for i, r in part.reasons.items()})
+        for words in _TEXTS:  # row -> text
+            getattr(self, words).update({start + i: t for i, t in getattr(part, words).items()})
         if part.pair_names and part.pair_names != self.pair_names:
             mine = np.array([self._pair(p) for p in part.pair_names] + [-1], dtype=np.int32)
             self._pairs[start:stop] = mine[part._pairs]  # -1 stays -1
@@ -471,6 +475,14 @@ class BatchResult:
         return _interned(self.pair_names, tuple(pair))  # given as any sequence of two names
 
 
+def _of(words: dict[int, str], picked: np.ndarray) -> dict[int, str]:
+    """The texts of ``words`` (row -> text) of the rows ``picked``, by their place in it."""
+    if not words:
+        return {}
+    keys = np.fromiter(words, dtype=np.int64, count=len(words))
+    return {j: words[int(picked[j])] for j in np.flatnonzero(np.isin(picked, keys)).tolist()}
+
+
 def _interned(names: list[Any], name: Any) -> int:
     """The index of ``name`` in ``names``, appended when new."""
     try:
@@ -480,15 +492,8 @@ def _interned(names: list[Any], name: Any) -> int:
         return len(names) - 1
 
 
+_TEXTS = ("reasons", "said", "solvers")  # the texts kept by row, row -> text
 _ARRAYS = (
-    "q",
-    "success",
-    "status_code",
-    "position_error",
-    "orientation_error",
-    "iterations",
-    "restarts",
-    "min_distance",
-    "score",
-    "measured",
+    *("q", "success", "status_code", "position_error", "orientation_error", "iterations"),
+    *("restarts", "min_distance", "score", "measured"),
 )

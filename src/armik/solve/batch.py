@@ -41,7 +41,7 @@ from armik import cpu_time, reasons
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions, of_options
 from armik.constraints.collision import checker
-from armik.errors import ArmikWarning, OptionError
+from armik.errors import ArmikError, ArmikWarning, OptionError
 from armik.request import Request, with_seed
 from armik.solve import backends, batch_rows, forked
 from armik.solve.backends import Rows, place
@@ -190,7 +190,8 @@ class Chunk(NamedTuple):
         n = len(self.targets)
         aim = self.targets.aim
         branches = _branches(self.arm, spec)
-        out = BatchResult.for_arm(self.arm, n, spec.name, opts, "", opts.margin, aim, branches)
+        claim = reasons.CONVERGED if spec.kind == "numeric" else _closed_form(spec)
+        out = BatchResult.for_arm(self.arm, n, spec.name, opts, claim, opts.margin, aim, branches)
         clear = _clear(opts) if opts.obstacles or opts.self_collision else ()
         solve_chunk(self.arm, spec, self.targets, self.seeds, self.request, opts, clear, out, 0)
         return Rows(**vars(out), start=self.start)
@@ -275,8 +276,11 @@ def solve_chunk(
     (``_clear``)."""
     if spec.run_batch is None:
         for i in range(len(targets)):
-            r = _row(arm, request, targets.target(i), seeds[i])
-            out.put_result(start + i, r)
+            try:
+                r = _row(arm, request, targets.target(i), seeds[i])
+            except ArmikError as exc:  # a user's check refused at one row: named
+                raise batch_rows.at_row(exc, start + i) from None
+            _put(out, start + i, r)
         return
     collisions = bool(clear)
     # C-ordered and writable, as the compiled entries are compiled for (a broadcast or a
@@ -311,7 +315,7 @@ def solve_chunk(
                 r = going_on(arm, again, row)
             else:
                 r = _row(arm, request, targets.target(i), seeds[i])
-            out.put_result(start + i, r)
+            _put(out, start + i, r)
 
 
 @dataclass(frozen=True, eq=False)
@@ -343,6 +347,14 @@ def _branches(arm: ArmModel, spec: SolverSpec) -> Branches | None:
         return None
     h, p = sixr.unflatten.py_func(sixr.flat(arm, family.family, family.classify))[:2]
     return Branches(h, p)
+
+
+def _put(out: BatchResult, i: int, r) -> None:
+    """Row ``i`` of ``out`` as ``solve``'s result ``r``; a success's words kept where its
+    row's numbers do not give them (a spin's angle, a search's words)."""
+    out.put_result(i, r)
+    if r.success and out.reason(i) != r.reason:
+        out.said[i] = r.reason
 
 
 def _closed_form(spec: SolverSpec) -> str:

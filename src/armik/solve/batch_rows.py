@@ -8,13 +8,15 @@ solved alone from its own seed.
 
 from __future__ import annotations
 
+import copy
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from armik.batch_result import BatchResult
+from armik.batch_result import PREFERRED, BatchResult
+from armik.errors import ArmikError
 from armik.frozen import frozen
 from armik.request import Request
 from armik.solve.backends import Rows, place
@@ -42,17 +44,43 @@ class RowsChunk(NamedTuple):
 
     def __call__(self, bar=None) -> Rows:
         n = len(self.targets)
-        out = BatchResult.for_arm(self.arm, n, self.label, self.opts, margin=self.opts.margin)
-        names = set()
+        aim = _aim(self.targets)
+        out = BatchResult.for_arm(self.arm, n, self.label, self.opts, "", self.opts.margin, aim)
         for i, row in enumerate(self.targets):
-            r = routed(self.arm, row.but(q0=self.seeds[i], t0=time.perf_counter()))
+            try:
+                r = routed(self.arm, row.but(q0=self.seeds[i], t0=time.perf_counter()))
+            except ArmikError as exc:  # a user's cost or check refused at one row: named
+                raise at_row(exc, self.start + i) from None
             out.put_result(i, r)
-            names.add(r.solver)
+            out.solvers[i] = r.solver  # dropped by the batch where every row names one
             out.reasons[i] = r.reason  # its own words, a success's too (a task list's)
             if bar is not None:
                 bar(i + 1, n)
-        named = names.pop() if len(names) == 1 and self.label == SOLVER else self.label
+        named = _named(set(out.solvers.values()), self.label)
         return Rows(**{**vars(out), "solver": named}, start=self.start)
+
+
+def at_row(exc: ArmikError, k: int) -> ArmikError:
+    """``exc`` (of its class and fields) saying first that it was raised at target ``k``."""
+    named = copy.copy(exc)
+    named.args = (f"target {k}: {exc}", *exc.args[1:])
+    return named
+
+
+def _aim(rows: Sequence[Request]):
+    """The aim the rows' targets share (a batch's ``cone=``, ``look_at=``: a region, as
+    ``BatchResult.for_arm`` reads it), None for none."""
+    return getattr(rows[0].target, "aim", None) if rows else None
+
+
+def _named(names: set[str], label: str) -> str:
+    """The batch's solver: the one its rows' results name (``label`` where they name
+    several), with ``PREFERRED`` after it when ``label`` has it (a preference's batch), so
+    that each row names the solver ``solve`` names (``BatchResult``'s rows)."""
+    if len(names) != 1:
+        return label
+    (name,) = names
+    return name + PREFERRED if label.endswith(PREFERRED) else name
 
 
 def solve_rows(
@@ -71,7 +99,7 @@ def solve_rows(
     rows = request.rows or ()
     n = len(rows)
     opts = request.settings
-    label = SOLVER if request.score is None else f"{request.solver}, prefer"
+    label = SOLVER if request.score is None else f"{request.solver}{PREFERRED}"
     bar = make_progress(progress, n, f"{arm.name}/{label}")
     if run_jobs is None:
         out: BatchResult = RowsChunk(arm, tuple(rows), seeds, opts, label, 0)(bar)
@@ -81,11 +109,13 @@ def solve_rows(
             RowsChunk(arm, tuple(rows[s : s + chunk]), seeds[s : s + chunk], opts, label, s)
             for s in range(0, n, chunk)
         ]
-        out = BatchResult.for_arm(arm, n, label, opts, margin=opts.margin)
+        out = BatchResult.for_arm(arm, n, label, opts, "", opts.margin, _aim(rows))
         names = place(run_jobs, jobs, workers, out, bar)  # each part named by its rows' solver
         named = names.pop() if len(names) == 1 else label
     bar.close()
     fields = {k: v for k, v in vars(out).items() if k != "start"}
+    if len(set(out.solvers.values())) <= 1:  # one solver: the batch's name says it
+        fields["solvers"] = {}
     return frozen(
         BatchResult, **{**fields, "solver": named, "time": time.perf_counter() - request.t0}
     )

@@ -26,8 +26,12 @@ not armik's own travels too (``SolverOnWorker``), registered on each worker as i
 
 from __future__ import annotations
 
+import copyreg
 import hashlib
+import importlib
 import pickle
+import sys
+import types
 from collections.abc import Iterator, Sequence
 from functools import lru_cache
 from typing import TYPE_CHECKING, cast
@@ -46,6 +50,19 @@ from armik.solvers import registry
 from armik.solvers.registry import SolverSpec
 
 DEFAULT_CHUNK = 2048  # targets per task: a task should take tens of milliseconds at least
+
+
+def _by_name(module: types.ModuleType) -> tuple:
+    """The package ``armik`` pickled as its name, imported again where it is read."""
+    return importlib.import_module, (module.__name__,)
+
+
+# ``armik``'s module is of its own class (``armik._Package``), which a pickler handles as no
+# module: a user's constraint or ``prefer=`` function of a script, pickled by value with the
+# ``armik`` its code reads, did not travel ("cannot pickle '_Package' object")
+_PACKAGE = type(sys.modules[__name__.partition(".")[0]])
+if _PACKAGE is not types.ModuleType:
+    copyreg.pickle(_PACKAGE, _by_name)
 
 
 def _import_distributed():
@@ -144,6 +161,7 @@ class OnDask:
 
     def __call__(self, jobs: Sequence[Chunk | RowsChunk], workers: int) -> Iterator[BatchResult]:
         client = self.client if self.client is not None else _default_client()
+        _connected(client, "the Dask client given")
         if not jobs:
             return
         blob = pickle.dumps(jobs[0].arm)
@@ -189,10 +207,16 @@ def _default_client():
         raise InputError(
             "no Dask client: pass client= or address= (e.g. tcp://host:8786 or local:2)"
         ) from None
+    return _connected(client, "the default Dask client")  # a failed one stays the default
+
+
+def _connected(client, which: str):
+    """``client``, or ``InputError`` when it is not connected (closed, or its connection
+    failed), where Dask raised its own ``RuntimeError: IOLoop is closed``."""
     status = getattr(client, "status", "running")
-    if status != "running":  # a client whose connection failed stays the default one
+    if status != "running":
         raise InputError(
-            f"the default Dask client is not connected (status {status!r}): pass client= "
+            f"{which} is not connected (status {status!r}): pass a running client= "
             "or address= (e.g. tcp://host:8786 or local:2)"
         )
     return client
