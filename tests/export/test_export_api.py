@@ -186,6 +186,8 @@ def test_a_failed_export_leaves_no_folder_it_made(tmp_path):
     "options, words",
     [
         ({"out": 5}, "out must be a folder's path"),
+        ({"out": "ur5\0ik"}, "null character"),
+        ({"out": Path("ur5\0ik")}, "null character"),
         ({"ikfast": "yes"}, "ikfast must be True or False, got 'yes'"),
         ({"tol_orientation": 1e-300}, "tol_orientation=1e-300 is below .* at least 1e-12 rad"),
         ({"tol_position": 5e-13}, "tol_position=5e-13 is below .* at least 1e-12 m"),

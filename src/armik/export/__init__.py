@@ -101,9 +101,17 @@ def export(
     exported closed form, ``OptionError`` when ``out`` is a file or cannot be written."""
     model = model_of(arm)
     _check_name(name)
-    if out is not None and not isinstance(out, (str, os.PathLike)):
+    path = os.fspath(out) if isinstance(out, (str, os.PathLike)) else None
+    if out is not None and not isinstance(path, str):  # a bytes path is no folder here
         raise OptionError(
             f"out must be a folder's path (a str or a Path) or None, got {out!r}",
+            option="out",
+            value=out,
+        )
+    if path is not None and "\0" in path:  # no file system takes one
+        raise OptionError(
+            f"out={path!r} holds a null character, which no path can: give a folder's "
+            "path without one",
             option="out",
             value=out,
         )
