@@ -185,7 +185,7 @@ def _write(folder: Path, files: dict[str, str]) -> None:
             # O_EXCL: a new file, with the mode (umask applied) open() gives any file
             fd = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
             written[folder / file] = temporary
-            with os.fdopen(fd, "w") as stream:
+            with os.fdopen(fd, "w", encoding="utf-8") as stream:  # not the locale's
                 stream.write(text)
         for target, temporary in written.items():
             os.replace(temporary, target)

@@ -67,8 +67,11 @@ class Rows:
 
 
 def _comment(text: str) -> str:
-    """``text`` wrapped for a C comment's lines (indented by three spaces after the first)."""
-    return "\n   ".join(textwrap.wrap(text.replace("*/", "* /"), 86))
+    """``text`` wrapped for a C comment's lines (indented by three spaces after the first),
+    in ASCII: a name from the URDF that is not is written with Python's escapes, so that the
+    files are the same bytes whatever the locale and compiler read them as."""
+    plain = text.replace("*/", "* /").encode("ascii", "backslashreplace").decode("ascii")
+    return "\n   ".join(textwrap.wrap(plain, 86))
 
 
 def header(
