@@ -17,7 +17,7 @@ from armik.export import FAMILIES
 from armik.solvers import registry
 from armik.tools.cli import main
 from tests.export.build import CFLAGS, HERE, compilers, run
-from tests.solvers.closed_form.random_arms import load_arm
+from tests.solvers.closed_form.random_arms import load_arm, random_urdf
 
 
 def test_files_returned_and_written(tmp_path):
@@ -110,6 +110,23 @@ def test_two_solvers_link_into_one_library(tmp_path):
     assert exported == {"ur5_ik", "ur5_fk", "abb_irb120_ik", "abb_irb120_fk"}
 
 
+def test_names_beyond_ascii_are_written_as_escapes(tmp_path):
+    """The URDF's names go into the files' comments in ASCII, so the files are the same
+    bytes under any locale (an ASCII one raised UnicodeEncodeError midway and left the
+    temporaries) and compile with every warning an error."""
+    cc, _ = compilers()
+    text = random_urdf("three_parallel", np.random.default_rng(0))
+    text = text.replace('<robot name="random_6r">', '<robot name="bras_soudé_焊接">')
+    arm = armik.load_string(text.replace('"tool"', '"outil_é"'), base="world", tip="outil_é")
+    files = armik.export(arm, "bras", tmp_path, ikfast=True)
+    for name, source in files.items():
+        assert source.isascii(), name
+        assert (tmp_path / name).read_bytes() == source.encode("ascii")
+    assert "bras_soud\\xe9_\\u710a\\u63a5" in files["bras_ik.c"]
+    assert sorted(os.listdir(tmp_path)) == sorted(files)  # no temporary left
+    run(cc, *CFLAGS, "-c", str(tmp_path / "bras_ik.c"), "-o", str(tmp_path / "bras.o"))
+
+
 def _bundled_exports() -> list[str]:
     """The bundled arms with a closed form to export (a 7R arm: joint 7 held)."""
     names = []
@@ -186,6 +203,8 @@ def test_a_failed_export_leaves_no_folder_it_made(tmp_path):
     "options, words",
     [
         ({"out": 5}, "out must be a folder's path"),
+        ({"out": "ur5\0ik"}, "null character"),
+        ({"out": Path("ur5\0ik")}, "null character"),
         ({"ikfast": "yes"}, "ikfast must be True or False, got 'yes'"),
         ({"tol_orientation": 1e-300}, "tol_orientation=1e-300 is below .* at least 1e-12 rad"),
         ({"tol_position": 5e-13}, "tol_position=5e-13 is below .* at least 1e-12 m"),

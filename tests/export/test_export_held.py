@@ -34,6 +34,10 @@ def test_header_takes_the_held_joint(panda):
     assert "#define PANDA_IK_DOF 7" in header and "#define PANDA_IK_HELD_JOINT 6" in header
     assert "int panda_ik(const double T[16], double held, double q[][PANDA_IK_DOF]);" in header
     assert solver.held == 6
+    words = " ".join(header.split())  # the header's comment, its lines joined
+    held = "(up to 1e-12 outside one it is taken as on it; else, or when it is not finite, -1)"
+    assert held in words
+    assert "a singular target gives no more solutions than a regular one next to it" in words
 
 
 def test_fk_is_pinocchios(panda):

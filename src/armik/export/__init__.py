@@ -101,9 +101,17 @@ def export(
     exported closed form, ``OptionError`` when ``out`` is a file or cannot be written."""
     model = model_of(arm)
     _check_name(name)
-    if out is not None and not isinstance(out, (str, os.PathLike)):
+    path = os.fspath(out) if isinstance(out, (str, os.PathLike)) else None
+    if out is not None and not isinstance(path, str):  # a bytes path is no folder here
         raise OptionError(
             f"out must be a folder's path (a str or a Path) or None, got {out!r}",
+            option="out",
+            value=out,
+        )
+    if path is not None and "\0" in path:  # no file system takes one
+        raise OptionError(
+            f"out={path!r} holds a null character, which no path can: give a folder's "
+            "path without one",
             option="out",
             value=out,
         )
@@ -177,7 +185,7 @@ def _write(folder: Path, files: dict[str, str]) -> None:
             # O_EXCL: a new file, with the mode (umask applied) open() gives any file
             fd = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
             written[folder / file] = temporary
-            with os.fdopen(fd, "w") as stream:
+            with os.fdopen(fd, "w", encoding="utf-8") as stream:  # not the locale's
                 stream.write(text)
         for target, temporary in written.items():
             os.replace(temporary, target)
