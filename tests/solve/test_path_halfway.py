@@ -1,0 +1,61 @@
+"""The steps of a path judged by one rule in both plans (``ladder._jumps``): a small,
+straight joint motion past a singularity is continuous, a flip within the step is not,
+whether the path is followed or planned."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from ..conftest import arm
+
+
+def _half(Ta: pin.SE3, Tb: pin.SE3) -> pin.SE3:
+    """The pose halfway: the translation's mean, the rotation halfway along its geodesic."""
+    w = pin.log3(Ta.rotation.T @ Tb.rotation)
+    return pin.SE3(Ta.rotation @ pin.exp3(0.5 * w), 0.5 * (Ta.translation + Tb.translation))
+
+
+@pytest.mark.parametrize("start", [True, False])
+@pytest.mark.parametrize("prefer", [None, "nearest"])
+def test_a_small_straight_motion_past_the_wrist_singularity_is_continuous(start, prefer):
+    """Every joint of a UR5 moves 0.02 rad a waypoint, wrist 2 passing 2 mrad from pi:
+    the pose halfway between two waypoints has its solutions swing wrist 1 by more than
+    max_joint_step (the global plan called the step a hidden jump, following did not check),
+    but the joints moved straight keep the tip as near the path there as elsewhere. Both
+    plans go through, from q0 and from any start."""
+    ur5 = arm("ur5")
+    q = np.array([-3.60087364, -6.21539958, 1.98408923, 4.79639694, 3.11335642, 5.80784677])
+    path_q = [q + 0.02 * k for k in range(8)]
+    poses = [ur5.fk(x) for x in path_q]
+    # the swing the check sees halfway between waypoints 1 and 2: every solution far away
+    middle = 0.5 * (path_q[1] + path_q[2])
+    near = [
+        np.abs(ur5.kinematics.nearest_equivalent(np.asarray(r.q), middle) - middle).max()
+        for r in ur5.solve_all(_half(poses[1], poses[2]), q0=middle)
+        if r.success
+    ]
+    assert min(near) > 0.5
+    q0 = path_q[0] if start else None
+    for plan in ("follow", "global"):
+        r = ur5.solve_path(poses, q0, prefer=prefer, plan=plan)
+        assert r.success.all(), (plan, r.summary())
+        for T, x in zip(poses, r.q):
+            assert np.abs(pin.log6(T.actInv(ur5.fk(x))).vector).max() <= 1e-6
+        assert np.abs(np.diff(r.q, axis=0)).max() <= 0.5
+
+
+def test_following_reports_the_jump_the_global_plan_reports():
+    """A UR5 step whose wrist 2 goes from 0.2 to -0.2 rad through the singularity, wrist 1
+    turned 0.1: within max_joint_step, but halfway the wrist swings. Following went on as
+    if it were continuous; now both plans, from q0, say it is a jump, by the same rule."""
+    ur5 = arm("ur5")
+    qa = np.array([0.3, -1.2, 1.5, -1.0, 0.2, 0.4])
+    qb = qa + np.array([0.0, 0.0, 0.0, 0.1, -0.4, 0.0])
+    poses = [ur5.fk(qa), ur5.fk(qb)]
+    for plan in ("follow", "global"):
+        r = ur5.solve_path(poses, qa, max_joint_step=0.5, plan=plan)
+        assert r.success.tolist() == [True, False], (plan, r.summary())
+        assert r.status[1] == "discontinuous"
+        assert "hide" in r[1].reason
