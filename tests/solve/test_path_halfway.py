@@ -4,6 +4,8 @@ whether the path is followed or planned."""
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -59,3 +61,75 @@ def test_following_reports_the_jump_the_global_plan_reports():
         assert r.success.tolist() == [True, False], (plan, r.summary())
         assert r.status[1] == "discontinuous"
         assert "hide" in r[1].reason
+
+
+def _every_turn(arm, q: np.ndarray) -> list[np.ndarray]:
+    """``q`` at every turn of each joint (2 pi apart) within the limits."""
+    out = []
+    for k in itertools.product(range(-2, 3), repeat=len(q)):
+        c = q + 2.0 * np.pi * np.array(k)
+        if (c >= arm.lower - 1e-9).all() and (c <= arm.upper + 1e-9).all():
+            out.append(c)
+    return out
+
+
+def test_a_step_is_checked_halfway_at_the_turn_the_plan_takes():
+    """UR5 waypoints with wrist 3 at its upper limit (2 pi), the elbow swinging 0.25 rad a
+    waypoint, planned from any start: the plan checked a step from a rung at one turn and
+    took it at another (shoulder pan, wrists 2 and 3 a turn apart), where halfway wrist 3
+    leaves its limit (the waypoint after a break called converged). Every success's step
+    now has a solution halfway within max_joint_step of both ends, within the limits (each
+    solution of ``solve_all`` at every turn)."""
+    ur5 = arm("ur5")
+    Q = np.array(
+        [
+            [
+                -6.0449362002668305,
+                4.235107433011836,
+                0.9989569989199284,
+                -1.8615394208543612,
+                -0.3361943940998727,
+                6.28318530718,
+            ],
+            [
+                -5.896481693333798,
+                4.250424626020186,
+                0.7514022648267725,
+                -1.8843203396406347,
+                -0.47375309510165353,
+                6.28318530718,
+            ],
+            [
+                -5.748228286509616,
+                4.263052106424951,
+                0.5003712274177362,
+                -1.908750415459228,
+                -0.6059031021214577,
+                6.28318530718,
+            ],
+            [
+                -5.602569669668831,
+                4.275764969155315,
+                0.24919626815147933,
+                -1.9317156765496752,
+                -0.741346007994039,
+                6.106085808359209,
+            ],
+        ]
+    )  # wrist 3 at 2 pi (its upper limit) on the first three
+    poses = [ur5.fk(x) for x in Q]
+    r = ur5.solve_path(poses, None, max_joint_step=0.5, plan="global")
+    checked = 0
+    for i in range(1, len(poses)):
+        if not r.success[i] or r.status[i - 1] not in ("converged", "discontinuous"):
+            continue  # a success's step from the answer the path went on from
+        qa, qb = np.asarray(r.q[i - 1]), np.asarray(r.q[i])
+        H = _half(ur5.fk(qa), ur5.fk(qb))
+        halfway = [
+            c for s in ur5.solve_all(H) if s.success for c in _every_turn(ur5, np.asarray(s.q))
+        ]
+        assert any(
+            (np.abs(c - qa) <= 0.5).all() and (np.abs(c - qb) <= 0.5).all() for c in halfway
+        ), (i, qa, qb)
+        checked += 1
+    assert checked >= 1

@@ -228,30 +228,36 @@ def _turns(arm: ArmModel, r: IKResult, turn: Turning) -> list[IKResult]:
 def _checked(arm, half: _Halfway, args: tuple, node, weight):
     """``kernel.plan(*args, forbidden, node, weight)`` where no step taken hides a jump: the
     steps taken are checked, and where one fails, every other step onto its waypoint too;
-    those that fail are forbidden and the path planned again, until the steps taken pass.
-    Returns the plan and the forbidden edges' codes."""
+    those that fail are forbidden and the path planned again, until the steps taken pass,
+    each at the turn taken (at its limit a joint may leave it halfway at one turn, not at
+    another). Returns the plan and the forbidden edges' codes."""
     B, offs, start, has_q0, lower, upper, periodic, step = args
     forbidden: set[int] = set()
-    clean: set[int] = set()
+    clean: set[tuple[int, bytes]] = set()  # (edge code, the step's start as taken)
+
+    def fresh(code: np.ndarray, Qa: np.ndarray) -> np.ndarray:
+        keys = zip(code.tolist(), Qa)
+        return np.array([c not in forbidden and (c, q.tobytes()) not in clean for c, q in keys])
+
     while True:
         got = kernel.plan(*args, np.array(sorted(forbidden), dtype=np.int64), node, weight)  # type: ignore[call-arg]
         rung, Q, broken = got[:3]
         i, a, code = _steps(rung, broken, has_q0, len(B))
-        new = np.array([c not in clean and c not in forbidden for c in code.tolist()], bool)
-        i, a, code = i[new], a[new], code[new]
         Qa = np.where((a < 0)[:, None], start, Q[np.maximum(i - 1, 0)])
+        new = fresh(code, Qa).astype(bool).reshape(-1)
+        i, code, Qa = i[new], code[new], Qa[new]
         jumped = _jumps(arm, half, i, Qa, Q[i], start, step)
-        clean.update(code[~jumped].tolist())
+        clean.update(zip(code[~jumped].tolist(), (q.tobytes() for q in Qa[~jumped])))
         if not jumped.any():
             return got, forbidden
         forbidden.update(code[jumped].tolist())
         for w in np.unique(i[jumped]).tolist():  # the other ways onto the waypoint
             Qa, Qb, code = _onto(w, B, offs, start, (lower, upper, periodic), step)
-            fresh = np.array([c not in clean and c not in forbidden for c in code.tolist()], bool)
-            at = np.full(int(fresh.sum()), w)
-            bad = _jumps(arm, half, at, Qa[fresh], Qb[fresh], start, step)
-            forbidden.update(code[fresh][bad].tolist())
-            clean.update(code[fresh][~bad].tolist())
+            new = fresh(code, Qa).astype(bool).reshape(-1)
+            at = np.full(int(new.sum()), w)
+            bad = _jumps(arm, half, at, Qa[new], Qb[new], start, step)
+            forbidden.update(code[new][bad].tolist())
+            clean.update(zip(code[new][~bad].tolist(), (q.tobytes() for q in Qa[new][~bad])))
 
 
 def _onto(w: int, B, offs, start, limits, step):
