@@ -352,14 +352,13 @@ def _chord(arm: ArmModel, Qa, Qb, rotations: bool, step: np.ndarray) -> np.ndarr
     more than ``BEND`` of ``step``, and the straight joint motion keeps the tip, halfway,
     within ``CHORD`` of the step's tip motion of the pose halfway between the ends' poses
     (Pinocchio's FK; a rotation weighed by the arm's reach; ``rotations`` False: positions
-    only). Such a step, as on a finely sampled path, hides no jump where it passes beside a
-    singularity and the poses halfway have their solutions swing: its tip stays as near the
-    path as anywhere else. A flip between branches, or a line that leaves the workspace
-    between its waypoints, moves the joints further or the tip off the path."""
+    only). Such a step (a finely sampled path) hides no jump beside a singularity where the
+    solutions halfway swing: its tip stays as near the path as anywhere else. A flip, or a
+    line out of the workspace between waypoints, moves joints further or the tip off it."""
     small = (np.abs(Qb - Qa) <= BEND * step).all(axis=1)
     if not small.any():
         return small
-    n = len(Qa)
+    Qa, Qb, n = Qa[small], Qb[small], int(small.sum())
     H = _tips(arm, np.vstack((Qa, Qb, 0.5 * (Qa + Qb))))
     R, p = H[:, :3, :3], H[:, :3, 3]
     P, Rh = _halfway(p[:n], R[:n], p[n : 2 * n], R[n : 2 * n] if rotations else None)
@@ -369,7 +368,8 @@ def _chord(arm: ArmModel, Qa, Qb, rotations: bool, step: np.ndarray) -> np.ndarr
         reach = arm.reach if np.isfinite(arm.reach) else 1.0
         off = off + reach * _angle(Rh, R[2 * n :])
         size = size + reach * _angle(R[:n], R[n : 2 * n])
-    return small & (off <= CHORD * size + STEP_EDGE)  # the same pose: no motion
+    small[small] = off <= CHORD * size + STEP_EDGE  # the same pose: no motion
+    return small
 
 
 def _tips(arm: ArmModel, Q: np.ndarray) -> np.ndarray:
