@@ -5,6 +5,7 @@ whether the path is followed or planned."""
 from __future__ import annotations
 
 import itertools
+import math
 
 import numpy as np
 import pinocchio as pin
@@ -133,3 +134,20 @@ def test_a_step_is_checked_halfway_at_the_turn_the_plan_takes():
         ), (i, qa, qb)
         checked += 1
     assert checked >= 1
+
+
+def test_the_move_from_q0_is_held_to_the_step_alone():
+    """One waypoint, the shoulder turned half a turn from q0 and a bound of 10 rad: a
+    point-to-point move. The line between q0's pose and the waypoint passes next to the
+    shoulder's axis, where the poses have no solution; q0's pose is where the arm is, not
+    a pose of the path, so neither plan judges the move along that line (the global plan
+    called it a hidden jump)."""
+    ur5 = arm("ur5")
+    q0 = np.array([0.0, -1.2, 1.5, -1.0, 1.0, 0.4])
+    T = ur5.fk(q0 + np.array([math.pi, 0, 0, 0, 0, 0]))
+    middle = _half(ur5.fk(q0), T)
+    assert not any(r.success for r in ur5.solve_all(middle))  # out of reach halfway
+    for plan in ("follow", "global"):
+        r = ur5.solve_path([T], q0, max_joint_step=10.0, plan=plan)
+        assert r.success.all(), (plan, r.summary())
+        assert np.abs(pin.log6(T.actInv(ur5.fk(r.q[0]))).vector).max() <= 1e-6

@@ -231,7 +231,7 @@ def _checked(arm, half: _Halfway, args: tuple, node, weight):
     those that fail are forbidden and the path planned again, until the steps taken pass,
     each at the turn taken (at its limit a joint may leave it halfway at one turn, not at
     another). Returns the plan and the forbidden edges' codes."""
-    B, offs, start, has_q0, lower, upper, periodic, step = args
+    B, offs, start, _, lower, upper, periodic, step = args
     forbidden: set[int] = set()
     clean: set[tuple[int, bytes]] = set()  # (edge code, the step's start as taken)
 
@@ -242,7 +242,7 @@ def _checked(arm, half: _Halfway, args: tuple, node, weight):
     while True:
         got = kernel.plan(*args, np.array(sorted(forbidden), dtype=np.int64), node, weight)  # type: ignore[call-arg]
         rung, Q, broken = got[:3]
-        i, a, code = _steps(rung, broken, has_q0, len(B))
+        i, a, code = _steps(rung, broken, len(B))
         Qa = np.where((a < 0)[:, None], start, Q[np.maximum(i - 1, 0)])
         new = fresh(code, Qa).astype(bool).reshape(-1)
         i, code, Qa = i[new], code[new], Qa[new]
@@ -279,14 +279,14 @@ def _onto(w: int, B, offs, start, limits, step):
     return Qa[ka], Qb[ka, kb], (a[ka] + 1) * len(B) + b[kb]
 
 
-def _steps(rung: np.ndarray, broken: np.ndarray, has_q0: bool, n_rungs: int):
-    """(waypoint, rung before it (-1: q0), edge code) of each step the plan takes between
-    adjacent waypoints: not onto a waypoint where every path breaks (a jump, reported), nor
+def _steps(rung: np.ndarray, broken: np.ndarray, n_rungs: int):
+    """(waypoint, rung before it, edge code) of each step the plan takes between adjacent
+    waypoints: not onto a waypoint where every path breaks (a jump, reported), nor
     across one without a solution (reported as its own failure)."""
     before = np.concatenate(([-1], rung[:-1]))
     take = (rung >= 0) & ~broken
     take[1:] &= rung[:-1] >= 0
-    take[:1] &= has_q0  # no step onto the first waypoint without q0 (none on an empty path)
+    take[:1] = False  # the move from q0 (where the arm is, no pose of the path): bound only
     i = np.flatnonzero(take)
     return i, before[i], (before[i] + 1) * n_rungs + rung[i]  # kernel.edge_code
 
@@ -409,13 +409,13 @@ def every(arm: ArmModel, solver: str, targets: TargetBatch, opts) -> SolverSpec:
 def hidden_steps(arm, out: BatchResult, targets: TargetBatch, start, step, half) -> None:
     """A followed path's steps judged as the global plan judges the steps it takes
     (``_jumps``): each success from the answer the path went on from (the row before it, a
-    success or a jump; ``start`` onto the first, None: the first is free); a step that hides
+    success or a jump; not the move from ``start``, held to the step alone); a step that hides
     a jump makes its success ``discontinuous``. ``half``: (solver, opts, held, turn), the
     poses halfway solved as the global plan solves them (``every``), only where a step is
     not small and straight (``_chord``)."""
     went = out.success | (out.status_code == Status.DISCONTINUOUS.code)
     i = np.flatnonzero(out.success)
-    i = i[np.concatenate(([start is not None], went[:-1]))[i]]
+    i = i[np.concatenate(([False], went[:-1]))[i]]  # from q0: held to the step only
     if not len(i):
         return
     Qa = out.q[np.maximum(i - 1, 0)].copy()
