@@ -151,3 +151,22 @@ def test_the_move_from_q0_is_held_to_the_step_alone():
         r = ur5.solve_path([T], q0, max_joint_step=10.0, plan=plan)
         assert r.success.all(), (plan, r.summary())
         assert np.abs(pin.log6(T.actInv(ur5.fk(r.q[0]))).vector).max() <= 1e-6
+
+
+def test_a_bound_that_lets_every_joint_flip_looks_for_no_hidden_jump():
+    """Two waypoints, the shoulder turned 3 rad between them, the line between their poses
+    next to the shoulder's axis (no solution there): with ``max_joint_step=10`` every joint
+    may flip within a step, so no jump can hide and both plans go through, from q0 and from
+    any start; with a bound of 3.1 rad, below a half turn, the step hides one."""
+    ur5 = arm("ur5")
+    q = np.array([0.0, -1.2, 1.5, -1.0, 1.0, 0.4])
+    poses = [ur5.fk(q), ur5.fk(q + np.array([3.0, 0, 0, 0, 0, 0]))]
+    assert not any(r.success for r in ur5.solve_all(_half(*poses)))  # out of reach halfway
+    for plan in ("follow", "global"):
+        for start in (q, None):
+            r = ur5.solve_path(poses, start, max_joint_step=10.0, plan=plan)
+            assert r.success.all(), (plan, r.summary())
+            for T, x in zip(poses, r.q):
+                assert np.abs(pin.log6(T.actInv(ur5.fk(x))).vector).max() <= 1e-6
+        tight = ur5.solve_path(poses, q, max_joint_step=3.1, plan=plan)
+        assert tight.status.tolist() == ["converged", "discontinuous"], (plan, tight.summary())

@@ -37,6 +37,14 @@ class _Halfway(NamedTuple):
     turn: Turning
 
 
+def _loose(arm, step: np.ndarray) -> bool:
+    """Whether ``step`` lets every joint flip within one step (half a turn, a prismatic
+    joint its whole travel): no jump can hide between two waypoints, and none is looked
+    for (a sequence of point-to-point moves, ``max_joint_step=10``)."""
+    flip = np.where(arm.prismatic, arm.upper - arm.lower, np.pi)
+    return bool((np.asarray(step) >= flip).all())
+
+
 def _may_miss(half: _Halfway) -> bool:
     """Whether the solution nearest a seed ``_nearest`` finds may miss one nearer: a sweep
     over a joint (the 7R arm's), a search, a numeric solver; not a complete closed form,

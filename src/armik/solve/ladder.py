@@ -52,7 +52,7 @@ from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
 from armik.request import Request
 from armik.result import IKResult
-from armik.solve.halfway import _descended, _Halfway, _may_miss, _nearest
+from armik.solve.halfway import _descended, _Halfway, _loose, _may_miss, _nearest
 from armik.solve.prefer import continuous_turned, turns
 from armik.solve.turning import ANY, Turning
 from armik.solvers import registry
@@ -297,8 +297,8 @@ def _jumps(arm, half: _Halfway, i, Qa, Qb, q0, step) -> np.ndarray:
     their steps by. None where the straight joint motion keeps the tip on the path
     (``_chord``); else checked halfway (``BEND``, ``DEPTH``), every step of a round in one
     call of the solver."""
-    if not len(i):
-        return np.zeros(0, dtype=bool)
+    if not len(i) or _loose(arm, step):  # every flip within the bound: none hides
+        return np.zeros(len(i), dtype=bool)
     targets = half.targets
     Pb = targets.positions[i]
     Pa = targets.positions[np.maximum(i - 1, 0)]
