@@ -457,3 +457,15 @@ def left_out_fails(tip: str, why: str) -> str:
     """A constraint given by ``tip``, a tip given no target on chains that share no joint,
     failing at the values its chain keeps from q0: its check's ``why``."""
     return f"tip {tip!r}, given no target, keeps q0's values, where {why}"
+
+
+def hidden_step(start: str) -> str:
+    """Why a followed waypoint is a jump: its step from ``start`` is within max_joint_step,
+    but the straight joint motion leaves the path and no solution halfway lies near the
+    step's middle (a flip)."""
+    return (
+        f"the step from {start} is within max_joint_step but hides a jump between the "
+        "waypoints (halfway, no solution lies near the step's middle and the joints moved "
+        "straight leave the path: a flip across a singularity, a joint limit or the edge of "
+        'the workspace): add waypoints here, or plan="global" to go round it'
+    )

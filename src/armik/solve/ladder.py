@@ -17,7 +17,11 @@ from q0 as every other; without q0 the path may start on any rung.
 
 A step within the bound may still hide a jump between its waypoints (a wrist swinging
 through half a turn near a singularity, a joint out of its limits or the pose out of reach
-halfway). Each step the plan takes is checked halfway, on the pose with the translation
+halfway). Each step the plan takes is judged by the rule a followed path's steps are
+judged by too (``_jumps``, ``hidden_steps``): a small, straight step passes (``_chord``:
+no joint over ``BEND`` of the bound, the tip of the joints moved straight within ``CHORD``
+of the step's motion of the pose halfway: beside a singularity the solutions halfway
+swing, the motion does not); any other is checked halfway, on the pose with the translation
 halved and the rotation halved along its geodesic: the solver's solution there nearest the
 step's middle must lie within ``max_joint_step`` of both ends, as it must if a waypoint
 were added halfway (a sweep's or a search's solver, which may miss the nearest, is helped
@@ -37,35 +41,30 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-from typing import NamedTuple, cast
 
 import numpy as np
 import pinocchio as pin
 
 from armik import reasons
 from armik.batch_result import BatchResult
-from armik.errors import ArmikError
-from armik.frozen import frozen
 from armik.kernel import ladder as kernel
 from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
 from armik.request import Request
 from armik.result import IKResult
+from armik.solve.halfway import _descended, _Halfway, _loose, _may_miss, _nearest
 from armik.solve.prefer import continuous_turned, turns
-from armik.solve.rungs import every_answer, unwrapped
 from armik.solve.turning import ANY, Turning
 from armik.solvers import registry
 from armik.solvers.registry import SolverSpec
 from armik.status import Status
-from armik.targets.aim import Aim
 from armik.targets.batch import TargetBatch
-from armik.targets.pose import Target
-from armik.verify.measure import measure_batch
 
 TIE = 1e-6  # with a preference: the motion's weight beside the scores, a tie-break
 BEND = 0.125  # of max_joint_step: a halfway solution this far off the middle: halves checked
 DEPTH = 3  # rounds of halving at most: the poses at 1/2, then 1/4 and 3/4, then the eighths
 STEP_EDGE = 1e-9  # rad or m: a planned step this far over max_joint_step is on it
+CHORD = 1 / 32  # of a step's tip motion: the straight joint motion's tip this far off halfway
 
 
 def plan(
@@ -226,45 +225,39 @@ def _turns(arm: ArmModel, r: IKResult, turn: Turning) -> list[IKResult]:
     return [dataclasses.replace(r, q=q) for q in Q]
 
 
-class _Halfway(NamedTuple):
-    """How a step's halfway poses are solved (``_nearest``): by ``spec`` with ``opts`` on
-    ``targets``' aim, or where ``held`` (the path's request) holds a joint, as its rungs
-    were, each answer turned as ``turn`` allows."""
-
-    spec: SolverSpec
-    opts: SolverSettings
-    targets: TargetBatch
-    held: Request | None
-    turn: Turning
-
-
 def _checked(arm, half: _Halfway, args: tuple, node, weight):
     """``kernel.plan(*args, forbidden, node, weight)`` where no step taken hides a jump: the
     steps taken are checked, and where one fails, every other step onto its waypoint too;
-    those that fail are forbidden and the path planned again, until the steps taken pass.
-    Returns the plan and the forbidden edges' codes."""
-    B, offs, start, has_q0, lower, upper, periodic, step = args
+    those that fail are forbidden and the path planned again, until the steps taken pass,
+    each at the turn taken (at its limit a joint may leave it halfway at one turn, not at
+    another). Returns the plan and the forbidden edges' codes."""
+    B, offs, start, _, lower, upper, periodic, step = args
     forbidden: set[int] = set()
-    clean: set[int] = set()
+    clean: set[tuple[int, bytes]] = set()  # (edge code, the step's start as taken)
+
+    def fresh(code: np.ndarray, Qa: np.ndarray) -> np.ndarray:
+        keys = zip(code.tolist(), Qa)
+        return np.array([c not in forbidden and (c, q.tobytes()) not in clean for c, q in keys])
+
     while True:
         got = kernel.plan(*args, np.array(sorted(forbidden), dtype=np.int64), node, weight)  # type: ignore[call-arg]
         rung, Q, broken = got[:3]
-        i, a, code = _steps(rung, broken, has_q0, len(B))
-        new = np.array([c not in clean and c not in forbidden for c in code.tolist()], bool)
-        i, a, code = i[new], a[new], code[new]
+        i, a, code = _steps(rung, broken, len(B))
         Qa = np.where((a < 0)[:, None], start, Q[np.maximum(i - 1, 0)])
+        new = fresh(code, Qa).astype(bool).reshape(-1)
+        i, code, Qa = i[new], code[new], Qa[new]
         jumped = _jumps(arm, half, i, Qa, Q[i], start, step)
-        clean.update(code[~jumped].tolist())
+        clean.update(zip(code[~jumped].tolist(), (q.tobytes() for q in Qa[~jumped])))
         if not jumped.any():
             return got, forbidden
         forbidden.update(code[jumped].tolist())
         for w in np.unique(i[jumped]).tolist():  # the other ways onto the waypoint
             Qa, Qb, code = _onto(w, B, offs, start, (lower, upper, periodic), step)
-            fresh = np.array([c not in clean and c not in forbidden for c in code.tolist()], bool)
-            at = np.full(int(fresh.sum()), w)
-            bad = _jumps(arm, half, at, Qa[fresh], Qb[fresh], start, step)
-            forbidden.update(code[fresh][bad].tolist())
-            clean.update(code[fresh][~bad].tolist())
+            new = fresh(code, Qa).astype(bool).reshape(-1)
+            at = np.full(int(new.sum()), w)
+            bad = _jumps(arm, half, at, Qa[new], Qb[new], start, step)
+            forbidden.update(code[new][bad].tolist())
+            clean.update(zip(code[new][~bad].tolist(), (q.tobytes() for q in Qa[new][~bad])))
 
 
 def _onto(w: int, B, offs, start, limits, step):
@@ -286,24 +279,26 @@ def _onto(w: int, B, offs, start, limits, step):
     return Qa[ka], Qb[ka, kb], (a[ka] + 1) * len(B) + b[kb]
 
 
-def _steps(rung: np.ndarray, broken: np.ndarray, has_q0: bool, n_rungs: int):
-    """(waypoint, rung before it (-1: q0), edge code) of each step the plan takes between
-    adjacent waypoints: not onto a waypoint where every path breaks (a jump, reported), nor
+def _steps(rung: np.ndarray, broken: np.ndarray, n_rungs: int):
+    """(waypoint, rung before it, edge code) of each step the plan takes between adjacent
+    waypoints: not onto a waypoint where every path breaks (a jump, reported), nor
     across one without a solution (reported as its own failure)."""
     before = np.concatenate(([-1], rung[:-1]))
     take = (rung >= 0) & ~broken
     take[1:] &= rung[:-1] >= 0
-    take[:1] &= has_q0  # no step onto the first waypoint without q0 (none on an empty path)
+    take[:1] = False  # the move from q0 (where the arm is, no pose of the path): bound only
     i = np.flatnonzero(take)
     return i, before[i], (before[i] + 1) * n_rungs + rung[i]  # kernel.edge_code
 
 
 def _jumps(arm, half: _Halfway, i, Qa, Qb, q0, step) -> np.ndarray:
     """Whether a jump hides in each step ``Qa[k]`` -> ``Qb[k]`` onto waypoint ``i[k]``
-    (from the waypoint before, or from ``q0`` at waypoint 0): checked halfway (``BEND``,
-    ``DEPTH``), every step of a round in one call of the solver."""
-    if not len(i):
-        return np.zeros(0, dtype=bool)
+    (from the waypoint before, or from ``q0`` at waypoint 0): the rule both plans judge
+    their steps by. None where the straight joint motion keeps the tip on the path
+    (``_chord``); else checked halfway (``BEND``, ``DEPTH``), every step of a round in one
+    call of the solver."""
+    if not len(i) or _loose(arm, step):  # every flip within the bound: none hides
+        return np.zeros(len(i), dtype=bool)
     targets = half.targets
     Pb = targets.positions[i]
     Pa = targets.positions[np.maximum(i - 1, 0)]
@@ -322,6 +317,12 @@ def _jumps(arm, half: _Halfway, i, Qa, Qb, q0, step) -> np.ndarray:
     jumped = np.zeros(len(i), dtype=bool)
     which = np.arange(len(i))
     for _ in range(DEPTH):
+        curved = ~_chord(arm, Qa, Qb, Rb is not None, step)  # a small straight motion
+        if not curved.any():
+            break
+        which, Qa, Qb, Pa, Pb = which[curved], Qa[curved], Qb[curved], Pa[curved], Pb[curved]
+        if Ra is not None and Rb is not None:
+            Ra, Rb = Ra[curved], Rb[curved]
         P, R = _halfway(Pa, Ra, Pb, Rb)
         middle = 0.5 * (Qa + Qb)
         q = _nearest(arm, half, P, R, middle)
@@ -346,44 +347,99 @@ def _jumps(arm, half: _Halfway, i, Qa, Qb, q0, step) -> np.ndarray:
     return jumped
 
 
-def _may_miss(half: _Halfway) -> bool:
-    """Whether the solution nearest a seed ``_nearest`` finds may miss one nearer: a sweep
-    over a joint (the 7R arm's), a search, a numeric solver; not a complete closed form,
-    whose every branch is at hand, nor a held joint's rungs (solved as they were)."""
-    spec = half.spec
-    incomplete = spec.kind == "numeric" or not spec.complete or spec.sweep is not None
-    return half.held is None and incomplete
+def _chord(arm: ArmModel, Qa, Qb, rotations: bool, step: np.ndarray) -> np.ndarray:
+    """Whether each step ``Qa[k]`` -> ``Qb[k]`` is small and straight: no joint moves by
+    more than ``BEND`` of ``step``, and the straight joint motion keeps the tip, halfway,
+    within ``CHORD`` of the step's tip motion of the pose halfway between the ends' poses
+    (Pinocchio's FK; a rotation weighed by the arm's reach; ``rotations`` False: positions
+    only). Such a step (a finely sampled path) hides no jump beside a singularity where the
+    solutions halfway swing: its tip stays as near the path as anywhere else. A flip, or a
+    line out of the workspace between waypoints, moves joints further or the tip off it."""
+    small = (np.abs(Qb - Qa) <= BEND * step).all(axis=1)
+    if not small.any():
+        return small
+    Qa, Qb, n = Qa[small], Qb[small], int(small.sum())
+    H = _tips(arm, np.vstack((Qa, Qb, 0.5 * (Qa + Qb))))
+    R, p = H[:, :3, :3], H[:, :3, 3]
+    P, Rh = _halfway(p[:n], R[:n], p[n : 2 * n], R[n : 2 * n] if rotations else None)
+    off = np.linalg.norm(p[2 * n :] - P, axis=1)
+    size = np.linalg.norm(p[n : 2 * n] - p[:n], axis=1)
+    if rotations and Rh is not None:
+        reach = arm.reach if np.isfinite(arm.reach) else 1.0
+        off = off + reach * _angle(Rh, R[2 * n :])
+        size = size + reach * _angle(R[:n], R[n : 2 * n])
+    small[small] = off <= CHORD * size + STEP_EDGE  # the same pose: no motion
+    return small
 
 
-def _descended(arm, half: _Halfway, P, R, seeds, q, rows, ends) -> np.ndarray:
-    """For ``rows`` of the halfway poses, one local descent of the numeric solver from the
-    step's middle (``seeds``), no restarts: where its answer is on the pose (Pinocchio's FK,
-    ``_reached``), within the limits and within the step of both ends (``ends``: the ends
-    and the step), it is the halfway solution (written into ``q``) and no jump hides there.
-    Returns the rows so found. The sweep's branches at a few values of its joint may pass
-    by a solution the self-motion holds next to the step (an arm along a joint limit)."""
-    Qa, Qb, step = ends
-    found = np.zeros(len(seeds), dtype=bool)
-    opts = frozen(type(half.opts), **{**half.opts.__dict__, "max_restarts": 0})
-    aim = half.targets.aim
-    for k in np.flatnonzero(rows).tolist():
-        target = Target(P[k].copy(), None if R is None else R[k].copy(), aim=aim)
-        try:
-            spec = registry.choose("auto", arm, target, opts)
-        except ArmikError:
-            return found
-        if spec.kind != "numeric":
-            return found
-        got = spec.run(arm, target, seeds[k].copy(), opts, False)
-        for i in range(len(got)):
-            c = arm.nearest_equivalent(got.q[i], seeds[k])
-            inside = bool(((c >= arm.lower - 1e-9) & (c <= arm.upper + 1e-9)).all())
-            close = bool((np.abs(c - Qa[k]) <= step).all() and (np.abs(c - Qb[k]) <= step).all())
-            Pk, Rk = P[k : k + 1], None if R is None else R[k : k + 1]
-            if inside and close and _reached(arm, c[None], Pk, Rk, half.opts, aim)[0]:
-                q[k], found[k] = c, True
-                break
-    return found
+def _tips(arm: ArmModel, Q: np.ndarray) -> np.ndarray:
+    """(N, 4, 4): the tip's placement at each row of ``Q`` by Pinocchio's FK."""
+    model, data, fid = arm.model, arm.data, arm.tip_frame_id
+    rows = Q if model.nq == arm.dof else [arm.to_pin(q) for q in Q]
+    H = np.empty((len(Q), 4, 4))
+    for k, qp in enumerate(rows):
+        pin.forwardKinematics(model, data, qp)
+        H[k] = pin.updateFramePlacement(model, data, fid).homogeneous
+    return H
+
+
+def _angle(Ra: np.ndarray, Rb: np.ndarray) -> np.ndarray:
+    """The angle (rad) of each rotation from ``Ra[k]`` to ``Rb[k]``, exact near zero."""
+    D = np.einsum("kji,kjl->kil", Ra, Rb) - np.eye(3)
+    f = np.linalg.norm(D.reshape(len(D), 9), axis=1) / (2.0 * np.sqrt(2.0))
+    return np.asarray(2.0 * np.arcsin(np.minimum(f, 1.0)))
+
+
+def every(arm: ArmModel, solver: str, targets: TargetBatch, opts) -> SolverSpec:
+    """The solver of every solution at a path's waypoints, as ``solve_all`` chooses it (a
+    search where one is not complete); with "auto" on a 7R arm whose joint 7 can be held,
+    its sweep; a numeric solver the user names gives them itself."""
+    first = targets.target(0) if len(targets) else None
+    spec = registry.choose(solver, arm, first, opts, True)
+    if spec.kind == "numeric" and solver == "auto":
+        swept = (
+            s
+            for s in registry.sweeps()
+            if (s.declines(opts, target=first) or s.why_not(arm, first, opts)) is None
+        )
+        spec = next(swept, spec)
+    return spec
+
+
+def hidden_steps(arm, out: BatchResult, targets: TargetBatch, start, step, half) -> None:
+    """A followed path's steps judged as the global plan judges the steps it takes
+    (``_jumps``): each success from the answer the path went on from (the row before it, a
+    success or a jump; not the move from ``start``, held to the step alone); a step that hides
+    a jump makes its success ``discontinuous``. ``half``: (solver, opts, held, turn), the
+    poses halfway solved as the global plan solves them (``every``), only where a step is
+    not small and straight (``_chord``)."""
+    went = out.success | (out.status_code == Status.DISCONTINUOUS.code)
+    i = np.flatnonzero(out.success)
+    i = i[np.concatenate(([False], went[:-1]))[i]]  # from q0: held to the step only
+    if not len(i):
+        return
+    Qa = out.q[np.maximum(i - 1, 0)].copy()
+    Qa[i == 0] = start
+    Qb = out.q[i]
+    step = np.asarray(step, dtype=float)
+    curved = ~_chord(arm, Qa, Qb, targets.rotations is not None, step)
+    if not curved.any():
+        return
+    i, Qa, Qb = i[curved], Qa[curved], Qb[curved]
+    solver, opts, held, turn = half
+    by = _Halfway(every(arm, solver, targets, opts), opts, targets, held, turn)
+    jumped = _jumps(arm, by, i, Qa, Qb, start, step)
+    for k in i[jumped].tolist():
+        measured = reasons.measured(
+            float(out.position_error[k]),
+            float(out.orientation_error[k]),
+            out.tol_position,
+            out.tol_orientation,
+        )
+        whence = "q0 (the start)" if k == 0 else "the previous waypoint's answer"
+        out.success[k] = False
+        out.status_code[k] = Status.DISCONTINUOUS.code
+        out.reasons[k] = reasons.jump(reasons.hidden_step(whence), "the followed answer", measured)
 
 
 def _halfway(Pa, Ra, Pb, Rb):
@@ -409,62 +465,6 @@ def _halfway(Pa, Ra, Pb, Rb):
     for k in np.flatnonzero(c < 1e-3):  # t near pi: u from the log, not from sin(t)
         H[k] = pin.exp3(0.5 * pin.log3(D[k]))
     return P, np.einsum("kij,kjl->kil", Ra, H)
-
-
-def _nearest(arm, half: _Halfway, P, R, seeds) -> np.ndarray:
-    """Per pose (with the path's aim), the solution nearest its seed, each angle turned
-    nearest it within the limits; a row of NaN where there is none. An answer not claimed
-    exact counts where its FK is within the tolerances (a least-squares answer on the edge
-    of the workspace). With a held joint, the verified answers of the held problem."""
-    spec, opts, aim = half.spec, half.opts, half.targets.aim
-    if half.held is not None:
-        return _nearest_held(arm, half, P, R, seeds)
-    if spec.run_batch is not None and R is not None:  # the compiled batch: one call
-        got = spec.run_batch(arm, TargetBatch(P, R, aim), seeds, opts)
-        q = np.array(got.q, dtype=float)
-        ok = got.claim == Status.CONVERGED.code
-        ok[~ok] = _reached(arm, q[~ok], P[~ok], R[~ok], opts, aim)
-    else:
-        q = np.full_like(seeds, np.nan)
-        for k, seed in enumerate(seeds):
-            Pk, Rk = P[k : k + 1], None if R is None else R[k : k + 1]
-            target = Target(Pk[0].copy(), None if Rk is None else Rk[0].copy(), aim=aim)
-            got = spec.run(arm, target, seed.copy(), opts, True)
-            for i in range(len(got)):
-                c = arm.nearest_equivalent(got.q[i], seed)
-                nearer = not np.abs(q[k] - seed).max() <= np.abs(c - seed).max()  # NaN: none yet
-                if nearer and (got.claimed(i) or _reached(arm, c[None], Pk, Rk, opts, aim)[0]):
-                    q[k] = c
-        ok = ~np.isnan(q).any(axis=1)
-    ok &= ((q >= arm.lower - 1e-9) & (q <= arm.upper + 1e-9)).all(axis=1)
-    q[~ok] = np.nan
-    return q
-
-
-def _nearest_held(arm, half: _Halfway, P, R, seeds) -> np.ndarray:
-    """``_nearest`` where the path holds a joint: each pose's verified answers as the
-    rungs are found (``rungs.every_answer``: the held joint at its value, a 6R chain), the
-    nearest its seed among them turned as the path turns its rungs."""
-    held = cast(Request, half.held)
-    q = np.full_like(seeds, np.nan)
-    for k, seed in enumerate(seeds):
-        target = Target(P[k].copy(), None if R is None else R[k].copy(), aim=half.targets.aim)
-        for r in every_answer(arm, held, target, seed, half.spec.name):
-            if not r.success:
-                continue
-            c = np.asarray(unwrapped(arm, r, seed, half.turn).q)
-            if not np.abs(q[k] - seed).max() <= np.abs(c - seed).max():  # NaN: none yet
-                q[k] = c
-    return q
-
-
-def _reached(arm, Q, P, R, opts: SolverSettings, aim: Aim | None = None) -> np.ndarray:
-    """Whether the FK of each row of ``Q`` is on its pose within the tolerances, as the
-    verdict measures it (``verify.measure.measure_batch``): with ``aim``, the position and
-    the tip's axis within its cone, not the rotation beside it."""
-    if not len(Q):
-        return np.zeros(0, dtype=bool)
-    return measure_batch(arm, Q, TargetBatch(P, R, aim), opts).pose_ok
 
 
 def _since(i, rung, broken, has_q0, first, forbidden, onto) -> str | None:

@@ -19,7 +19,9 @@ status ``discontinuous`` (``success=False``) and the reason names the joint and 
 the jump, and whether the pose is reachable without it at all; ``q`` then holds the
 answer with the smallest jump found, and the path goes on from it. A waypoint that cannot
 be reached keeps its own status (``unreachable``, ...), and the next waypoint starts from
-the last answer that was reached.
+the last answer that was reached. Last, each step is judged as the global plan judges the
+steps it takes (``ladder.hidden_steps``): a success whose step hides a jump between the
+waypoints is ``discontinuous`` too.
 """
 
 from __future__ import annotations
@@ -106,17 +108,7 @@ def solve_path(
     out = BatchResult.for_arm(arm, n, spec.name, opts, margin=opts.margin, aim=batch.aim)
     if plan == "global":
         # every solution: what solve_all would run (a search where one is not complete)
-        first = batch.target(0) if n else None
-        every = registry.choose(solver, arm, first, opts, True)
-        # "auto" on a 7R arm whose joint 7 can be held: its sweep; a numeric solver the
-        # user names gives the rungs itself, its answers tracked (``rungs.tracked``)
-        if every.kind == "numeric" and solver == "auto":
-            swept = (
-                s
-                for s in registry.sweeps()
-                if (s.declines(opts, target=first) or s.why_not(arm, first, opts)) is None
-            )
-            every = next(swept, every)
+        every = ladder.every(arm, solver, batch, opts)
         # not every solution: a sweep's, a numeric solver's, a swivel's, a search's
         if every.kind == "numeric" or not every.complete or every.parameter is not None:
             followed = BatchResult.for_arm(
@@ -157,6 +149,8 @@ def solve_path(
     chooser = None if score is None else _chooser(arm, score, q_prev, request, turn)
     used = _walk(arm, batch, q_prev, step, request, local, out, chooser, q0 is None, turn)
     ladder.held_to_step(arm, out, None if q0 is None else q_prev, step)
+    half = (solver, opts, request if opts.hold is not None else None, turn)
+    ladder.hidden_steps(arm, out, batch, None if q0 is None else q_prev, step, half)
     refuse_broken(arm, out, turn)
     label = used if held_auto and used is not None else out.solver
     out = frozen(BatchResult, **{**vars(out), "solver": label, "time": time.perf_counter() - t0})

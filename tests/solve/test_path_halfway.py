@@ -1,0 +1,172 @@
+"""The steps of a path judged by one rule in both plans (``ladder._jumps``): a small,
+straight joint motion past a singularity is continuous, a flip within the step is not,
+whether the path is followed or planned."""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from ..conftest import arm
+
+
+def _half(Ta: pin.SE3, Tb: pin.SE3) -> pin.SE3:
+    """The pose halfway: the translation's mean, the rotation halfway along its geodesic."""
+    w = pin.log3(Ta.rotation.T @ Tb.rotation)
+    return pin.SE3(Ta.rotation @ pin.exp3(0.5 * w), 0.5 * (Ta.translation + Tb.translation))
+
+
+@pytest.mark.parametrize("start", [True, False])
+@pytest.mark.parametrize("prefer", [None, "nearest"])
+def test_a_small_straight_motion_past_the_wrist_singularity_is_continuous(start, prefer):
+    """Every joint of a UR5 moves 0.02 rad a waypoint, wrist 2 passing 2 mrad from pi:
+    the pose halfway between two waypoints has its solutions swing wrist 1 by more than
+    max_joint_step (the global plan called the step a hidden jump, following did not check),
+    but the joints moved straight keep the tip as near the path there as elsewhere. Both
+    plans go through, from q0 and from any start."""
+    ur5 = arm("ur5")
+    q = np.array([-3.60087364, -6.21539958, 1.98408923, 4.79639694, 3.11335642, 5.80784677])
+    path_q = [q + 0.02 * k for k in range(8)]
+    poses = [ur5.fk(x) for x in path_q]
+    # the swing the check sees halfway between waypoints 1 and 2: every solution far away
+    middle = 0.5 * (path_q[1] + path_q[2])
+    near = [
+        np.abs(ur5.kinematics.nearest_equivalent(np.asarray(r.q), middle) - middle).max()
+        for r in ur5.solve_all(_half(poses[1], poses[2]), q0=middle)
+        if r.success
+    ]
+    assert min(near) > 0.5
+    q0 = path_q[0] if start else None
+    for plan in ("follow", "global"):
+        r = ur5.solve_path(poses, q0, prefer=prefer, plan=plan)
+        assert r.success.all(), (plan, r.summary())
+        for T, x in zip(poses, r.q):
+            assert np.abs(pin.log6(T.actInv(ur5.fk(x))).vector).max() <= 1e-6
+        assert np.abs(np.diff(r.q, axis=0)).max() <= 0.5
+
+
+def test_following_reports_the_jump_the_global_plan_reports():
+    """A UR5 step whose wrist 2 goes from 0.2 to -0.2 rad through the singularity, wrist 1
+    turned 0.1: within max_joint_step, but halfway the wrist swings. Following went on as
+    if it were continuous; now both plans, from q0, say it is a jump, by the same rule."""
+    ur5 = arm("ur5")
+    qa = np.array([0.3, -1.2, 1.5, -1.0, 0.2, 0.4])
+    qb = qa + np.array([0.0, 0.0, 0.0, 0.1, -0.4, 0.0])
+    poses = [ur5.fk(qa), ur5.fk(qb)]
+    for plan in ("follow", "global"):
+        r = ur5.solve_path(poses, qa, max_joint_step=0.5, plan=plan)
+        assert r.success.tolist() == [True, False], (plan, r.summary())
+        assert r.status[1] == "discontinuous"
+        assert "hide" in r[1].reason
+
+
+def _every_turn(arm, q: np.ndarray) -> list[np.ndarray]:
+    """``q`` at every turn of each joint (2 pi apart) within the limits."""
+    out = []
+    for k in itertools.product(range(-2, 3), repeat=len(q)):
+        c = q + 2.0 * np.pi * np.array(k)
+        if (c >= arm.lower - 1e-9).all() and (c <= arm.upper + 1e-9).all():
+            out.append(c)
+    return out
+
+
+def test_a_step_is_checked_halfway_at_the_turn_the_plan_takes():
+    """UR5 waypoints with wrist 3 at its upper limit (2 pi), the elbow swinging 0.25 rad a
+    waypoint, planned from any start: the plan checked a step from a rung at one turn and
+    took it at another (shoulder pan, wrists 2 and 3 a turn apart), where halfway wrist 3
+    leaves its limit (the waypoint after a break called converged). Every success's step
+    now has a solution halfway within max_joint_step of both ends, within the limits (each
+    solution of ``solve_all`` at every turn)."""
+    ur5 = arm("ur5")
+    Q = np.array(
+        [
+            [
+                -6.0449362002668305,
+                4.235107433011836,
+                0.9989569989199284,
+                -1.8615394208543612,
+                -0.3361943940998727,
+                6.28318530718,
+            ],
+            [
+                -5.896481693333798,
+                4.250424626020186,
+                0.7514022648267725,
+                -1.8843203396406347,
+                -0.47375309510165353,
+                6.28318530718,
+            ],
+            [
+                -5.748228286509616,
+                4.263052106424951,
+                0.5003712274177362,
+                -1.908750415459228,
+                -0.6059031021214577,
+                6.28318530718,
+            ],
+            [
+                -5.602569669668831,
+                4.275764969155315,
+                0.24919626815147933,
+                -1.9317156765496752,
+                -0.741346007994039,
+                6.106085808359209,
+            ],
+        ]
+    )  # wrist 3 at 2 pi (its upper limit) on the first three
+    poses = [ur5.fk(x) for x in Q]
+    r = ur5.solve_path(poses, None, max_joint_step=0.5, plan="global")
+    checked = 0
+    for i in range(1, len(poses)):
+        if not r.success[i] or r.status[i - 1] not in ("converged", "discontinuous"):
+            continue  # a success's step from the answer the path went on from
+        qa, qb = np.asarray(r.q[i - 1]), np.asarray(r.q[i])
+        H = _half(ur5.fk(qa), ur5.fk(qb))
+        halfway = [
+            c for s in ur5.solve_all(H) if s.success for c in _every_turn(ur5, np.asarray(s.q))
+        ]
+        assert any(
+            (np.abs(c - qa) <= 0.5).all() and (np.abs(c - qb) <= 0.5).all() for c in halfway
+        ), (i, qa, qb)
+        checked += 1
+    assert checked >= 1
+
+
+def test_the_move_from_q0_is_held_to_the_step_alone():
+    """One waypoint, the shoulder turned half a turn from q0 and a bound of 10 rad: a
+    point-to-point move. The line between q0's pose and the waypoint passes next to the
+    shoulder's axis, where the poses have no solution; q0's pose is where the arm is, not
+    a pose of the path, so neither plan judges the move along that line (the global plan
+    called it a hidden jump)."""
+    ur5 = arm("ur5")
+    q0 = np.array([0.0, -1.2, 1.5, -1.0, 1.0, 0.4])
+    T = ur5.fk(q0 + np.array([math.pi, 0, 0, 0, 0, 0]))
+    middle = _half(ur5.fk(q0), T)
+    assert not any(r.success for r in ur5.solve_all(middle))  # out of reach halfway
+    for plan in ("follow", "global"):
+        r = ur5.solve_path([T], q0, max_joint_step=10.0, plan=plan)
+        assert r.success.all(), (plan, r.summary())
+        assert np.abs(pin.log6(T.actInv(ur5.fk(r.q[0]))).vector).max() <= 1e-6
+
+
+def test_a_bound_that_lets_every_joint_flip_looks_for_no_hidden_jump():
+    """Two waypoints, the shoulder turned 3 rad between them, the line between their poses
+    next to the shoulder's axis (no solution there): with ``max_joint_step=10`` every joint
+    may flip within a step, so no jump can hide and both plans go through, from q0 and from
+    any start; with a bound of 3.1 rad, below a half turn, the step hides one."""
+    ur5 = arm("ur5")
+    q = np.array([0.0, -1.2, 1.5, -1.0, 1.0, 0.4])
+    poses = [ur5.fk(q), ur5.fk(q + np.array([3.0, 0, 0, 0, 0, 0]))]
+    assert not any(r.success for r in ur5.solve_all(_half(*poses)))  # out of reach halfway
+    for plan in ("follow", "global"):
+        for start in (q, None):
+            r = ur5.solve_path(poses, start, max_joint_step=10.0, plan=plan)
+            assert r.success.all(), (plan, r.summary())
+            for T, x in zip(poses, r.q):
+                assert np.abs(pin.log6(T.actInv(ur5.fk(x))).vector).max() <= 1e-6
+        tight = ur5.solve_path(poses, q, max_joint_step=3.1, plan=plan)
+        assert tight.status.tolist() == ["converged", "discontinuous"], (plan, tight.summary())
