@@ -111,3 +111,31 @@ def test_view_path_starts_where_armik_path_does(tmp_path):
         _solve_paths(
             ur5, argparse.Namespace(**{**vars(args), "path": str(tmp_path / "bad.npz")}), []
         )
+
+
+def test_view_path_without_q0_starts_free_as_armik_path(tmp_path):
+    # without a start (no --q0, no 'q0' in the file) `armik view --path` started its followed
+    # plan at the middle of the limits, so a first waypoint farther than --max-joint-step
+    # from it was 'discontinuous', where `armik path` solves it free
+    import argparse
+
+    from armik.tools.cli.view import _solve_paths
+
+    ur5 = arm("ur5")
+    q = ur5.random_q(3)
+    q[0] = 2.5  # far from the middle in joint 1
+    T = ur5.fk(q).homogeneous
+    poses = np.repeat(T[None], 4, axis=0)
+    poses[:, 1, 3] += np.linspace(0.0, 0.03, 4)
+    np.save(tmp_path / "line.npy", poses)
+    args = argparse.Namespace(
+        path=str(tmp_path / "line.npy"), q0=None, plan=["follow", "global"],
+        max_joint_step=0.5, solver="auto",
+    )  # fmt: skip
+    shown = _solve_paths(ur5, args, [])
+    out = str(tmp_path / "f.npz")
+    assert main(["path", "ur5", args.path, "--max-joint-step", "0.5", "-o", out]) == 0
+    written = BatchResult.load(out)
+    assert written.success.all()
+    assert np.array_equal(shown["follow"].q, written.q)
+    assert shown["follow"].success.all() and shown["global"].success.all()
