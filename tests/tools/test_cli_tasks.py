@@ -279,3 +279,22 @@ def test_held_joints_and_a_counted_budget(capsys):
     assert code == 2 and "--hold gives joint 'wrist_3_joint' twice" in err
     code, _, err = run(capsys, "solve", "ur5", "--xyz", *words(p), "--hold", "wrist_3_joint=x")
     assert code == 2 and "must be a number" in err
+
+
+def test_position_only_with_bounds_drops_the_rotation_on_one_tip(capsys):
+    # --rpy with --bounds and --position-only on one tip was refused (exit 2) in Python's
+    # words (position_only=True, armik.Position(p)); on several tips, and without --rpy, the
+    # same flags solve the position within its box: so does one tip now
+    ur5 = arm("ur5")
+    T = ur5.fk(np.array([0.3, -1.1, 1.4, -0.6, -1.5, 0.9]))
+    box = ["0.01", "0.02", "0.005", "0", "0", "0"]
+    xyz = ("--xyz", *words(T.translation))
+    rpy = ("--rpy", "3.0", "0.4", "-1.0")  # an orientation the answer need not have
+    flags = ("--bounds", *box, "--position-only", "--json")
+    code, out, err = run(capsys, "solve", "ur5", *xyz, *rpy, *flags)
+    assert code == 0, err
+    got = json.loads(out)["results"][0]
+    reached = ur5.fk(np.array(got["q"])).translation - T.translation
+    assert got["success"] and np.all(np.abs(reached) <= np.array([0.01, 0.02, 0.005]) + 1e-6)
+    code, out, _ = run(capsys, "solve", "ur5", *xyz, *flags)  # the same as without --rpy
+    assert code == 0 and json.loads(out)["results"][0]["q"] == got["q"]
