@@ -139,3 +139,26 @@ def test_view_path_without_q0_starts_free_as_armik_path(tmp_path):
     assert written.success.all()
     assert np.array_equal(shown["follow"].q, written.q)
     assert shown["follow"].success.all() and shown["global"].success.all()
+
+
+def test_errors_name_the_flags_that_fix_them(tmp_path, capsys):
+    # a refusal's fix was named in Python's words, none of which the command line takes:
+    # plan='follow', arm.with_locked({name: value}), hold={joint: value}, iteration_budget
+    poses, _ = _spun(4)
+    np.save(tmp_path / "w.npy", poses)
+    out = str(tmp_path / "o.npz")
+    held = ["--hold", "shoulder_pan_joint=0.2"]
+    cases = [
+        (["path", "ur5", str(tmp_path / "w.npy"), "-o", out, "--plan", "global", *held],
+         ["--plan follow", "--lock NAME=VALUE"]),
+        (["solve", "ur5", "--xyz", "0.4", "0.2", "0.3", "--swivel", "0.3"],
+         ["--hold NAME=VALUE"]),
+        (["solve", "ur5", "--xyz", "0.4", "0.2", "0.3", "--iterations", "0"],
+         ["--iterations must be >= 1"]),
+    ]  # fmt: skip
+    for argv, said in cases:
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("armik: error: ") and err.count("\n") == 1
+        assert all(words in err for words in said), err
+        assert not any(w in err for w in ("plan='", "with_locked", "hold={", "iteration_budget"))

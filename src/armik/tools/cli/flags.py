@@ -160,9 +160,10 @@ def add_lock_option(c: argparse.ArgumentParser) -> None:
 def for_cli(message: str) -> str:
     """An error's words for the command line: Python's ``tip=``, ``base=``, ``obstacles=``
     and ``self_collision=`` are the flags ``--tip``, ``--base``, ``--obstacles`` and
-    ``--self-collision`` here, a 2-vector ``--xy``, and ``package_dirs=`` the variable
-    ``ROS_PACKAGE_PATH``. A target read from a file (``target 3: ...``: batch, path) came
-    from no flag: its words stay."""
+    ``--self-collision`` here, a 2-vector ``--xy``, ``package_dirs=`` the variable
+    ``ROS_PACKAGE_PATH``, ``plan=`` ``--plan``, ``iteration_budget`` ``--iterations``, and
+    the fixes ``arm.with_locked`` and ``hold=`` the flags ``--lock`` and ``--hold``. A target
+    read from a file (``target 3: ...``: batch, path) came from no flag: its words stay."""
     if not re.match(r"target \d+: ", message):
         message = message.replace(
             "a 2-vector target needs a planar arm", "--xy needs a planar arm"
@@ -184,4 +185,9 @@ def for_cli(message: str) -> str:
             "with armik.load(..., package_dirs=[...])",
             "in the environment variable ROS_PACKAGE_PATH=DIR[:DIR...]",
         )
+        .replace("plan='global'", "--plan global")
+        .replace("plan='follow'", "--plan follow")
+        .replace("arm.with_locked({name: value})", "--lock NAME=VALUE")
+        .replace("hold={joint: value}", "--hold NAME=VALUE")
+        .replace("iteration_budget", "--iterations")
     )
