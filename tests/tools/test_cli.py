@@ -286,3 +286,19 @@ def test_compile_prints_its_times_in_one_column(capsys, monkeypatch):
     rows = out.splitlines()[:-1]
     assert code == 0 and len(rows) == 3
     assert len({row.index("0.50 s") for row in rows}) == 1, out
+
+
+def test_ctrl_c_is_one_line_and_exit_130(capsys, monkeypatch):
+    # Ctrl-C in a long command (a reach map, a batch) printed Python's traceback of the
+    # KeyboardInterrupt from wherever the solve was
+    from armik.tools.cli import many
+
+    def interrupted(args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(many, "cmd_batch", interrupted)
+    try:
+        code, out, err = run(capsys, "batch", "ur5", "targets.npy", "-o", "out.npz")
+    except KeyboardInterrupt:
+        pytest.fail("Ctrl-C left main as a KeyboardInterrupt: a traceback")
+    assert code == 130 and out == "" and err == "armik: interrupted\n"
