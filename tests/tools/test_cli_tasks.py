@@ -298,3 +298,14 @@ def test_position_only_with_bounds_drops_the_rotation_on_one_tip(capsys):
     assert got["success"] and np.all(np.abs(reached) <= np.array([0.01, 0.02, 0.005]) + 1e-6)
     code, out, _ = run(capsys, "solve", "ur5", *xyz, *flags)  # the same as without --rpy
     assert code == 0 and json.loads(out)["results"][0]["q"] == got["q"]
+
+
+def test_look_at_the_xyz_point_is_refused_in_the_flags_words(capsys):
+    # refused in Python's words: "LookAt point ... is where Position puts the frame itself
+    # ... give the frame's position a box (bounds=)"
+    xyz = ("--xyz", "0.4", "0.2", "0.3")
+    code, _, err = run(capsys, "solve", "ur5", *xyz, "--axis", "0", "0", "1", "--look-at", *xyz[1:])
+    assert code == 2 and err.count("\n") == 1
+    assert "--look-at [0.4, 0.2, 0.3] is where --xyz puts the tip" in err
+    assert "(--bounds BX BY BZ 0 0 0)" in err
+    assert not any(w in err for w in ("LookAt", "Position", "bounds="))

@@ -162,7 +162,8 @@ def for_cli(message: str) -> str:
     and ``self_collision=`` are the flags ``--tip``, ``--base``, ``--obstacles`` and
     ``--self-collision`` here, a 2-vector ``--xy``, ``package_dirs=`` the variable
     ``ROS_PACKAGE_PATH``, ``plan=`` ``--plan``, ``iteration_budget`` ``--iterations``, and
-    the fixes ``arm.with_locked`` and ``hold=`` the flags ``--lock`` and ``--hold``. A target
+    the fixes ``arm.with_locked`` and ``hold=`` the flags ``--lock`` and ``--hold``, a
+    ``LookAt`` at a ``Position``'s point ``--look-at`` at the ``--xyz`` point. A target
     read from a file (``target 3: ...``: batch, path) came from no flag: its words stay."""
     if not re.match(r"target \d+: ", message):
         message = message.replace(
@@ -190,4 +191,9 @@ def for_cli(message: str) -> str:
         .replace("arm.with_locked({name: value})", "--lock NAME=VALUE")
         .replace("hold={joint: value}", "--hold NAME=VALUE")
         .replace("iteration_budget", "--iterations")
+        .replace("LookAt point ", "--look-at ")  # --look-at at the --xyz point
+        .replace("is where Position puts the frame itself", "is where --xyz puts the tip")
+        .replace(
+            "frame's position a box (bounds=)", "tip's position a box (--bounds BX BY BZ 0 0 0)"
+        )
     )
