@@ -302,3 +302,15 @@ def test_ctrl_c_is_one_line_and_exit_130(capsys, monkeypatch):
     except KeyboardInterrupt:
         pytest.fail("Ctrl-C left main as a KeyboardInterrupt: a traceback")
     assert code == 130 and out == "" and err == "armik: interrupted\n"
+
+
+@pytest.mark.parametrize("command", ["batch", "path"])
+def test_help_names_no_flag_the_command_lacks(capsys, command):
+    # batch's and path's --bounds help told how --bounds reads with --axis, a flag of solve's
+    with pytest.raises(SystemExit) as exc:
+        main([command, "--help"])
+    out = capsys.readouterr().out
+    assert exc.value.code == 0 and "--bounds BX BY BZ" in out and "--axis" not in out
+    with pytest.raises(SystemExit):
+        main(["solve", "--help"])
+    assert "with --axis, the position's box" in " ".join(capsys.readouterr().out.split())

@@ -11,8 +11,9 @@ import argparse
 import re
 
 
-def add_solve_options(c: argparse.ArgumentParser) -> None:
-    """The options of a solve as flags (``solve`` and ``batch``)."""
+def add_solve_options(c: argparse.ArgumentParser, axis: bool = False) -> None:
+    """The options of a solve as flags (``solve``, ``batch`` and ``path``; ``axis``: the
+    command takes ``--axis``, which ``--bounds`` reads in its own way)."""
     c.add_argument(
         "--tip-offset",
         nargs=3,
@@ -33,8 +34,8 @@ def add_solve_options(c: argparse.ArgumentParser) -> None:
         type=float,
         metavar=("BX", "BY", "BZ", "BRX", "BRY", "BRZ"),
         help="a region around the target: each component of the error in the target frame "
-        "within +- its bound (m, rad); inf frees it (TRAC-IK's bounds); with --axis, the "
-        "position's box (base frame) and 0 0 0 for the rotation",
+        "within +- its bound (m, rad); inf frees it (TRAC-IK's bounds)"
+        + ("; with --axis, the position's box (base frame) and 0 0 0 for the rotation" * axis),
     )
     c.add_argument("--position-only", action="store_true", help="ignore the target's orientation")
     c.add_argument(

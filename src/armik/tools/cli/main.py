@@ -222,7 +222,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
     c.add_argument("--all", action="store_true", help="print every solution found")
     c.add_argument("--q0", nargs="+", type=float, help="seed joint values (rad, m)")
-    add_solve_options(c)
+    add_solve_options(c, axis=True)
     c.add_argument("--json", action="store_true", help="machine-readable output")
 
     command(
