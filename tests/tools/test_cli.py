@@ -314,3 +314,12 @@ def test_help_names_no_flag_the_command_lacks(capsys, command):
     with pytest.raises(SystemExit):
         main(["solve", "--help"])
     assert "with --axis, the position's box" in " ".join(capsys.readouterr().out.split())
+
+
+@pytest.mark.parametrize(
+    "flags", [["--arms", "ur5", "--solvers", ","], ["--arms", ""]], ids=["solvers", "arms"]
+)
+def test_bench_refuses_an_empty_list_of_names(capsys, flags):
+    # no solver name ended in a ZeroDivisionError traceback, no arm name in an empty table
+    code, out, err = run(capsys, "bench", "-n", "2", *flags)
+    assert code == 2 and out == "" and err.startswith("armik: error: give at least one")
