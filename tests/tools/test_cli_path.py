@@ -162,3 +162,20 @@ def test_errors_name_the_flags_that_fix_them(tmp_path, capsys):
         assert err.startswith("armik: error: ") and err.count("\n") == 1
         assert all(words in err for words in said), err
         assert not any(w in err for w in ("plan='", "with_locked", "hold={", "iteration_budget"))
+
+
+def test_a_refused_option_is_named_by_its_flag(tmp_path, capsys):
+    # the refusal began with the library's keyword: max_joint_step, chunk_size, tip_offset
+    poses, _ = _spun(3)
+    np.save(tmp_path / "w.npy", poses)
+    out = str(tmp_path / "o.npz")
+    for argv, said in [
+        (["path", "ur5", str(tmp_path / "w.npy"), "-o", out, "--max-joint-step", "-1"],
+         "--max-joint-step must be positive"),
+        (["batch", "ur5", str(tmp_path / "w.npy"), "-o", out, "--chunk-size", "0"],
+         "--chunk-size must be a whole number"),
+        (["solve", "ur5", "--xyz", "0.4", "0.2", "0.3", "--tip-offset", "nan", "0", "0"],
+         "--tip-offset [nan, 0.0, 0.0] is not finite"),
+    ]:  # fmt: skip
+        assert main(argv) == 2
+        assert capsys.readouterr().err.startswith(f"armik: error: {said}")

@@ -158,14 +158,31 @@ def add_lock_option(c: argparse.ArgumentParser) -> None:
     )
 
 
+# options a refusal starts with, and the flag that gives each on the command line
+_LEADING_OPTIONS = {
+    "max_joint_step": "--max-joint-step",
+    "chunk_size": "--chunk-size",
+    "tip_offset": "--tip-offset",
+    "dt": "--dt",
+    "acceleration_limits": "--acceleration-limit",
+    "velocity_limits": "--velocity-limit",
+}
+
+
 def for_cli(message: str) -> str:
     """An error's words for the command line: Python's ``tip=``, ``base=``, ``obstacles=``
     and ``self_collision=`` are the flags ``--tip``, ``--base``, ``--obstacles`` and
     ``--self-collision`` here, a 2-vector ``--xy``, ``package_dirs=`` the variable
     ``ROS_PACKAGE_PATH``, ``plan=`` ``--plan``, ``iteration_budget`` ``--iterations``, and
     the fixes ``arm.with_locked`` and ``hold=`` the flags ``--lock`` and ``--hold``, a
-    ``LookAt`` at a ``Position``'s point ``--look-at`` at the ``--xyz`` point. A target
+    ``LookAt`` at a ``Position``'s point ``--look-at`` at the ``--xyz`` point, and a
+    refusal that starts with an option (``max_joint_step must ...``) starts with its flag. A
+    target
     read from a file (``target 3: ...``: batch, path) came from no flag: its words stay."""
+    for keyword, flag in _LEADING_OPTIONS.items():  # "max_joint_step must be ...": its flag
+        if message.startswith(keyword + " "):
+            message = flag + message[len(keyword) :]
+    message = message.replace("e.g. dt=0.002", "e.g. --dt 0.002")
     if not re.match(r"target \d+: ", message):
         message = message.replace(
             "a 2-vector target needs a planar arm", "--xy needs a planar arm"
