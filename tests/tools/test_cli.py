@@ -286,3 +286,40 @@ def test_compile_prints_its_times_in_one_column(capsys, monkeypatch):
     rows = out.splitlines()[:-1]
     assert code == 0 and len(rows) == 3
     assert len({row.index("0.50 s") for row in rows}) == 1, out
+
+
+def test_ctrl_c_is_one_line_and_exit_130(capsys, monkeypatch):
+    # Ctrl-C in a long command (a reach map, a batch) printed Python's traceback of the
+    # KeyboardInterrupt from wherever the solve was
+    from armik.tools.cli import many
+
+    def interrupted(args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(many, "cmd_batch", interrupted)
+    try:
+        code, out, err = run(capsys, "batch", "ur5", "targets.npy", "-o", "out.npz")
+    except KeyboardInterrupt:
+        pytest.fail("Ctrl-C left main as a KeyboardInterrupt: a traceback")
+    assert code == 130 and out == "" and err == "armik: interrupted\n"
+
+
+@pytest.mark.parametrize("command", ["batch", "path"])
+def test_help_names_no_flag_the_command_lacks(capsys, command):
+    # batch's and path's --bounds help told how --bounds reads with --axis, a flag of solve's
+    with pytest.raises(SystemExit) as exc:
+        main([command, "--help"])
+    out = capsys.readouterr().out
+    assert exc.value.code == 0 and "--bounds BX BY BZ" in out and "--axis" not in out
+    with pytest.raises(SystemExit):
+        main(["solve", "--help"])
+    assert "with --axis, the position's box" in " ".join(capsys.readouterr().out.split())
+
+
+@pytest.mark.parametrize(
+    "flags", [["--arms", "ur5", "--solvers", ","], ["--arms", ""]], ids=["solvers", "arms"]
+)
+def test_bench_refuses_an_empty_list_of_names(capsys, flags):
+    # no solver name ended in a ZeroDivisionError traceback, no arm name in an empty table
+    code, out, err = run(capsys, "bench", "-n", "2", *flags)
+    assert code == 2 and out == "" and err.startswith("armik: error: give at least one")

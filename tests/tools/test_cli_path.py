@@ -111,3 +111,71 @@ def test_view_path_starts_where_armik_path_does(tmp_path):
         _solve_paths(
             ur5, argparse.Namespace(**{**vars(args), "path": str(tmp_path / "bad.npz")}), []
         )
+
+
+def test_view_path_without_q0_starts_free_as_armik_path(tmp_path):
+    # without a start (no --q0, no 'q0' in the file) `armik view --path` started its followed
+    # plan at the middle of the limits, so a first waypoint farther than --max-joint-step
+    # from it was 'discontinuous', where `armik path` solves it free
+    import argparse
+
+    from armik.tools.cli.view import _solve_paths
+
+    ur5 = arm("ur5")
+    q = ur5.random_q(3)
+    q[0] = 2.5  # far from the middle in joint 1
+    T = ur5.fk(q).homogeneous
+    poses = np.repeat(T[None], 4, axis=0)
+    poses[:, 1, 3] += np.linspace(0.0, 0.03, 4)
+    np.save(tmp_path / "line.npy", poses)
+    args = argparse.Namespace(
+        path=str(tmp_path / "line.npy"), q0=None, plan=["follow", "global"],
+        max_joint_step=0.5, solver="auto",
+    )  # fmt: skip
+    shown = _solve_paths(ur5, args, [])
+    out = str(tmp_path / "f.npz")
+    assert main(["path", "ur5", args.path, "--max-joint-step", "0.5", "-o", out]) == 0
+    written = BatchResult.load(out)
+    assert written.success.all()
+    assert np.array_equal(shown["follow"].q, written.q)
+    assert shown["follow"].success.all() and shown["global"].success.all()
+
+
+def test_errors_name_the_flags_that_fix_them(tmp_path, capsys):
+    # a refusal's fix was named in Python's words, none of which the command line takes:
+    # plan='follow', arm.with_locked({name: value}), hold={joint: value}, iteration_budget
+    poses, _ = _spun(4)
+    np.save(tmp_path / "w.npy", poses)
+    out = str(tmp_path / "o.npz")
+    held = ["--hold", "shoulder_pan_joint=0.2"]
+    cases = [
+        (["path", "ur5", str(tmp_path / "w.npy"), "-o", out, "--plan", "global", *held],
+         ["--plan follow", "--lock NAME=VALUE"]),
+        (["solve", "ur5", "--xyz", "0.4", "0.2", "0.3", "--swivel", "0.3"],
+         ["--hold NAME=VALUE"]),
+        (["solve", "ur5", "--xyz", "0.4", "0.2", "0.3", "--iterations", "0"],
+         ["--iterations must be >= 1"]),
+    ]  # fmt: skip
+    for argv, said in cases:
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("armik: error: ") and err.count("\n") == 1
+        assert all(words in err for words in said), err
+        assert not any(w in err for w in ("plan='", "with_locked", "hold={", "iteration_budget"))
+
+
+def test_a_refused_option_is_named_by_its_flag(tmp_path, capsys):
+    # the refusal began with the library's keyword: max_joint_step, chunk_size, tip_offset
+    poses, _ = _spun(3)
+    np.save(tmp_path / "w.npy", poses)
+    out = str(tmp_path / "o.npz")
+    for argv, said in [
+        (["path", "ur5", str(tmp_path / "w.npy"), "-o", out, "--max-joint-step", "-1"],
+         "--max-joint-step must be positive"),
+        (["batch", "ur5", str(tmp_path / "w.npy"), "-o", out, "--chunk-size", "0"],
+         "--chunk-size must be a whole number"),
+        (["solve", "ur5", "--xyz", "0.4", "0.2", "0.3", "--tip-offset", "nan", "0", "0"],
+         "--tip-offset [nan, 0.0, 0.0] is not finite"),
+    ]:  # fmt: skip
+        assert main(argv) == 2
+        assert capsys.readouterr().err.startswith(f"armik: error: {said}")

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import re
 
+import pytest
+
 from tests.tools.cli_run import run
 
 
@@ -44,7 +46,7 @@ def test_servo_refuses_bad_input_with_one_line(capsys):
         (["--seconds", "0"], "--seconds must be a positive"),
         (["--circle", "-0.1"], "--circle must be a finite radius"),
         (["--q0", "1", "2"], "q0 must have 6 values"),
-        (["--acceleration-limit", "-3"], "acceleration_limits"),
+        (["--acceleration-limit", "-3"], "--acceleration-limit must be positive"),
         # not finite, or more ticks than the demo makes: one line, not a traceback or a hang
         (["--seconds", "inf"], "--seconds must be a positive finite number"),
         (["--hz", "inf"], "--hz must be a positive finite number"),
@@ -65,3 +67,19 @@ def test_servo_help_gives_a_prismatic_joints_units(capsys):
     assert code == 0
     assert "rad/s on every joint, m/s on a prismatic one" in text
     assert "rad/s^2 on every joint, m/s^2 on a prismatic one" in text
+
+
+@pytest.mark.parametrize(
+    ("flag", "value", "said"),
+    [
+        ("--dt", "0", "--dt must be the tick's period"),
+        ("--acceleration-limit", "-1", "--acceleration-limit must be positive"),
+        ("--velocity-limit", "0", "--velocity-limit must be positive"),
+    ],
+)
+def test_a_refused_value_is_named_by_its_flag(capsys, flag, value, said):
+    # the refusal began with the servo's keyword (dt, acceleration_limits, velocity_limits)
+    # and gave the fix as dt=0.002, none of which the command takes
+    code, _, err = run(capsys, "servo", "ur5", "--seconds", "0.01", flag, value)
+    assert code == 2 and err.startswith(f"armik: error: {said}"), err
+    assert "dt=" not in err and "_limits" not in err

@@ -279,3 +279,33 @@ def test_held_joints_and_a_counted_budget(capsys):
     assert code == 2 and "--hold gives joint 'wrist_3_joint' twice" in err
     code, _, err = run(capsys, "solve", "ur5", "--xyz", *words(p), "--hold", "wrist_3_joint=x")
     assert code == 2 and "must be a number" in err
+
+
+def test_position_only_with_bounds_drops_the_rotation_on_one_tip(capsys):
+    # --rpy with --bounds and --position-only on one tip was refused (exit 2) in Python's
+    # words (position_only=True, armik.Position(p)); on several tips, and without --rpy, the
+    # same flags solve the position within its box: so does one tip now
+    ur5 = arm("ur5")
+    T = ur5.fk(np.array([0.3, -1.1, 1.4, -0.6, -1.5, 0.9]))
+    box = ["0.01", "0.02", "0.005", "0", "0", "0"]
+    xyz = ("--xyz", *words(T.translation))
+    rpy = ("--rpy", "3.0", "0.4", "-1.0")  # an orientation the answer need not have
+    flags = ("--bounds", *box, "--position-only", "--json")
+    code, out, err = run(capsys, "solve", "ur5", *xyz, *rpy, *flags)
+    assert code == 0, err
+    got = json.loads(out)["results"][0]
+    reached = ur5.fk(np.array(got["q"])).translation - T.translation
+    assert got["success"] and np.all(np.abs(reached) <= np.array([0.01, 0.02, 0.005]) + 1e-6)
+    code, out, _ = run(capsys, "solve", "ur5", *xyz, *flags)  # the same as without --rpy
+    assert code == 0 and json.loads(out)["results"][0]["q"] == got["q"]
+
+
+def test_look_at_the_xyz_point_is_refused_in_the_flags_words(capsys):
+    # refused in Python's words: "LookAt point ... is where Position puts the frame itself
+    # ... give the frame's position a box (bounds=)"
+    xyz = ("--xyz", "0.4", "0.2", "0.3")
+    code, _, err = run(capsys, "solve", "ur5", *xyz, "--axis", "0", "0", "1", "--look-at", *xyz[1:])
+    assert code == 2 and err.count("\n") == 1
+    assert "--look-at [0.4, 0.2, 0.3] is where --xyz puts the tip" in err
+    assert "(--bounds BX BY BZ 0 0 0)" in err
+    assert not any(w in err for w in ("LookAt", "Position", "bounds="))

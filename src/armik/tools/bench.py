@@ -194,7 +194,9 @@ def run(
     for name in peers:
         _check(name in PEERS, "peers", name, f"peers are {', '.join(PEERS)}")
     rows = []
-    solvers = list(solvers)
+    solvers, arms = list(solvers), list(arms)
+    _check(bool(arms), "arms", arms, "give at least one arm (a bundled name or a URDF path)")
+    _check(bool(solvers or peers), "solvers", solvers, "give at least one solver or peer")
     for name in arms:
         arm = load(name) if tip is None else load(name, tip=tip)
         poses = targets(arm, n, seed)

@@ -249,8 +249,8 @@ def add_view_command(command) -> None:
         nargs="+",
         type=float,
         help="the configuration --path starts from (rad, m), in place of the file's 'q0'; "
-        "default: the file's 'q0', else the middle of the limits, or for the global plan "
-        "any branch",
+        "default: the file's 'q0', else none, the first waypoint free (followed: solved "
+        "from the middle of the limits; global: any branch), as armik path",
     )
     c.add_argument(
         "--servo",

@@ -11,8 +11,9 @@ import argparse
 import re
 
 
-def add_solve_options(c: argparse.ArgumentParser) -> None:
-    """The options of a solve as flags (``solve`` and ``batch``)."""
+def add_solve_options(c: argparse.ArgumentParser, axis: bool = False) -> None:
+    """The options of a solve as flags (``solve``, ``batch`` and ``path``; ``axis``: the
+    command takes ``--axis``, which ``--bounds`` reads in its own way)."""
     c.add_argument(
         "--tip-offset",
         nargs=3,
@@ -33,8 +34,8 @@ def add_solve_options(c: argparse.ArgumentParser) -> None:
         type=float,
         metavar=("BX", "BY", "BZ", "BRX", "BRY", "BRZ"),
         help="a region around the target: each component of the error in the target frame "
-        "within +- its bound (m, rad); inf frees it (TRAC-IK's bounds); with --axis, the "
-        "position's box (base frame) and 0 0 0 for the rotation",
+        "within +- its bound (m, rad); inf frees it (TRAC-IK's bounds)"
+        + ("; with --axis, the position's box (base frame) and 0 0 0 for the rotation" * axis),
     )
     c.add_argument("--position-only", action="store_true", help="ignore the target's orientation")
     c.add_argument(
@@ -157,12 +158,31 @@ def add_lock_option(c: argparse.ArgumentParser) -> None:
     )
 
 
+# options a refusal starts with, and the flag that gives each on the command line
+_LEADING_OPTIONS = {
+    "max_joint_step": "--max-joint-step",
+    "chunk_size": "--chunk-size",
+    "tip_offset": "--tip-offset",
+    "dt": "--dt",
+    "acceleration_limits": "--acceleration-limit",
+    "velocity_limits": "--velocity-limit",
+}
+
+
 def for_cli(message: str) -> str:
     """An error's words for the command line: Python's ``tip=``, ``base=``, ``obstacles=``
     and ``self_collision=`` are the flags ``--tip``, ``--base``, ``--obstacles`` and
-    ``--self-collision`` here, a 2-vector ``--xy``, and ``package_dirs=`` the variable
-    ``ROS_PACKAGE_PATH``. A target read from a file (``target 3: ...``: batch, path) came
-    from no flag: its words stay."""
+    ``--self-collision`` here, a 2-vector ``--xy``, ``package_dirs=`` the variable
+    ``ROS_PACKAGE_PATH``, ``plan=`` ``--plan``, ``iteration_budget`` ``--iterations``, and
+    the fixes ``arm.with_locked`` and ``hold=`` the flags ``--lock`` and ``--hold``, a
+    ``LookAt`` at a ``Position``'s point ``--look-at`` at the ``--xyz`` point, and a
+    refusal that starts with an option (``max_joint_step must ...``) starts with its flag. A
+    target
+    read from a file (``target 3: ...``: batch, path) came from no flag: its words stay."""
+    for keyword, flag in _LEADING_OPTIONS.items():  # "max_joint_step must be ...": its flag
+        if message.startswith(keyword + " "):
+            message = flag + message[len(keyword) :]
+    message = message.replace("e.g. dt=0.002", "e.g. --dt 0.002")
     if not re.match(r"target \d+: ", message):
         message = message.replace(
             "a 2-vector target needs a planar arm", "--xy needs a planar arm"
@@ -183,5 +203,15 @@ def for_cli(message: str) -> str:
         .replace(  # Pinocchio reads the variable; the command line has no package_dirs=
             "with armik.load(..., package_dirs=[...])",
             "in the environment variable ROS_PACKAGE_PATH=DIR[:DIR...]",
+        )
+        .replace("plan='global'", "--plan global")
+        .replace("plan='follow'", "--plan follow")
+        .replace("arm.with_locked({name: value})", "--lock NAME=VALUE")
+        .replace("hold={joint: value}", "--hold NAME=VALUE")
+        .replace("iteration_budget", "--iterations")
+        .replace("LookAt point ", "--look-at ")  # --look-at at the --xyz point
+        .replace("is where Position puts the frame itself", "is where --xyz puts the tip")
+        .replace(
+            "frame's position a box (bounds=)", "tip's position a box (--bounds BX BY BZ 0 0 0)"
         )
     )

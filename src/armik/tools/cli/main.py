@@ -40,6 +40,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except ArmikError as exc:
         print(f"armik: error: {for_cli(str(exc))}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:  # Ctrl-C: one line, the shell's code for SIGINT (armik view: 0)
+        print("armik: interrupted", file=sys.stderr)
+        return 130
     except BrokenPipeError:
         # The reader went away (armik info panda | head -1): stop quietly. Point stdout at
         # devnull so that the interpreter's final flush does not raise again.
@@ -219,7 +222,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
     c.add_argument("--all", action="store_true", help="print every solution found")
     c.add_argument("--q0", nargs="+", type=float, help="seed joint values (rad, m)")
-    add_solve_options(c)
+    add_solve_options(c, axis=True)
     c.add_argument("--json", action="store_true", help="machine-readable output")
 
     command(

@@ -59,8 +59,11 @@ def flag_targets(args: argparse.Namespace, options: dict, several: bool) -> list
                 file=sys.stderr,
             )
     rotations = given["rpy"] or given["quat"]
-    # several tips drop the orientation for --position-only here: no option says it there
-    posed = bool(rotations) and not (several and options.get("position_only"))
+    # several tips drop the orientation for --position-only here: no option says it there;
+    # nor one with --bounds (a pose's region is a Pose task, whose rotation the option
+    # would drop): the position within the box, as without --rpy
+    dropped = options.get("position_only") and (several or bounds is not None)
+    posed = bool(rotations) and not dropped
     targets: list[object] = []
     for i in range(n):
         xyz = np.array(given["xyz"][i], dtype=float)

@@ -73,14 +73,16 @@ def cmd_view(args: argparse.Namespace) -> int:
 
 def _solve_paths(arm, args: argparse.Namespace, obstacles: list) -> dict:
     """Each ``--plan``'s ``solve_path`` over the waypoints of ``--path``, clear of
-    ``obstacles``."""
+    ``obstacles``, from the start ``armik path`` takes (without one, the first waypoint
+    free: a followed plan solves it from the middle of the limits, a global one on any
+    branch)."""
     poses, in_file = read_targets_file(args.path)
     q0 = path_start(args.path, in_file, args.q0)  # as armik path reads the file
     clear = {"obstacles": obstacles} if obstacles else {}
     return {
         plan: arm.solve_path(
             poses,
-            arm.middle if q0 is None and plan == "follow" else q0,
+            q0,
             max_joint_step=args.max_joint_step,
             plan=plan,
             solver=args.solver,
