@@ -21,7 +21,6 @@ from armik.problem.tasks.base import (
     unit,
 )
 from armik.targets.pose import _vector
-from armik.tolerances import LOOK_AT
 
 SIGHT = 1e-6  # m: a frame nearer its point than this has no line of sight to aim along
 
@@ -50,17 +49,18 @@ class LookAt(Task):
         """The unit line of sight in the base frame and the distance to the point."""
         v = self.point - T.translation
         distance = float(np.linalg.norm(v))
-        return (v / distance if distance > LOOK_AT else v), distance
+        return (v / distance if distance > SIGHT else v), distance
 
     def residual(self, T: pin.SE3) -> np.ndarray:
+        # no rows on the point (within SIGHT, as the compiled rows): a restart leaves it
         d, distance = self._sight(T)
-        if distance <= LOOK_AT:
+        if distance <= SIGHT:
             return np.zeros(3)
         return cone.residual(self.axis, T.rotation.T @ d, self.within)
 
     def jacobian(self, T: pin.SE3, J: np.ndarray) -> np.ndarray:
         d, distance = self._sight(T)
-        if distance <= LOOK_AT:
+        if distance <= SIGHT:
             return np.zeros((3, J.shape[1]))
         R = T.rotation
         w = R.T @ d
