@@ -268,7 +268,7 @@ def at_start(checks: tuple[Constraint, ...], arm: ArmModel, q0: object) -> tuple
     an ``OptionError`` naming the constraint."""
     own = [c for c in checks if type(c).at is not Constraint.at]  # the base's: itself
     if not own:
-        return checks
+        return _boxes_read(checks, arm)
     q = np.asarray(arm.middle if q0 is None else q0, dtype=float)
     if q.ndim == 2 and len(q) and np.all(q == q[0]):
         q = q[0]
@@ -281,4 +281,16 @@ def at_start(checks: tuple[Constraint, ...], arm: ArmModel, q0: object) -> tuple
             value=own[0],
         )
     seed = np.clip(arm.check_q(q, "q0"), arm.lower, arm.upper)  # as the seed will be
-    return tuple([c if type(c).at is Constraint.at else c.at(arm, seed) for c in checks])
+    at = tuple([c if type(c).at is Constraint.at else c.at(arm, seed) for c in checks])
+    return _boxes_read(at, arm)
+
+
+def _boxes_read(checks: tuple[Constraint, ...], arm: ArmModel) -> tuple[Constraint, ...]:
+    """``checks``, each box of a user's class read once (``_boxed``: a malformed one, its
+    shape, order or a NaN, an ``OptionError`` naming the class) on every route, as the task
+    solver, which steps within it, reads it: a route that never steps within it refuses it
+    all the same, where it took it silently."""
+    for c in checks:
+        if getattr(type(c).box, "_armik_checked", False):
+            c.box(arm)
+    return checks
