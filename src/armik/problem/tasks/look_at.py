@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
+from armik.errors import TargetError
 from armik.kernel.problem import LOOK_POINT
 from armik.problem.tasks import cone
 from armik.problem.tasks.base import (
@@ -21,6 +22,7 @@ from armik.problem.tasks.base import (
     unit,
 )
 from armik.targets.pose import _vector
+from armik.tolerances import MAX_POSITION
 
 SIGHT = 1e-6  # m: a frame nearer its point than this has no line of sight to aim along
 
@@ -37,6 +39,12 @@ class LookAt(Task):
         frame: str | None = None,
     ) -> None:
         self.point = _vector(point, 3, "LookAt point")
+        if not np.abs(self.point).max() <= MAX_POSITION:  # its sight from the tip overflows
+            raise TargetError(
+                f"LookAt point {self.point.tolist()} is beyond {MAX_POSITION:g} m from the "
+                "base: give it in metres; a point that far away is a direction: say it with "
+                "armik.Axis(axis, direction)"
+            )
         self.axis = unit(axis, "LookAt axis")
         self.within = check_angle(within, "LookAt within")
         self.frame = check_frame(frame)
