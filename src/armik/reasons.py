@@ -457,3 +457,10 @@ def left_out_fails(tip: str, why: str) -> str:
     """A constraint given by ``tip``, a tip given no target on chains that share no joint,
     failing at the values its chain keeps from q0: its check's ``why``."""
     return f"tip {tip!r}, given no target, keeps q0's values, where {why}"
+
+
+def outside_own_box(name: str, joint: str, value: float, lower: float, upper: float) -> str:
+    """An answer outside the box of a user's constraint class ``name`` (its ``box``), at
+    ``joint``: a route that does not step within the box found it, and the check refuses
+    it as the task solver's steps would have kept it out."""
+    return f"constraint {name}: {joint} at {value:.6g}, outside its box [{lower:.6g}, {upper:.6g}]"

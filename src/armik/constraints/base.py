@@ -21,8 +21,10 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from armik import reasons
 from armik.errors import ArmikError, OptionError
 from armik.status import Status
+from armik.tolerances import LIMIT_TOL
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
@@ -117,8 +119,8 @@ def _checked(own: Callable[..., object]) -> Callable[..., Check]:
             ok = got.ok
             if type(ok) is np.ndarray and ok.dtype == np.bool_ and ok.shape == (len(Q),):
                 if isinstance(got.status, Status) and got.status is not Status.CONVERGED:
-                    return _said(self, got)  # its shape as it should be
-        return _said(self, _read(self, got, len(Q)))
+                    return _in_box(self, arm, Q, _said(self, got))  # its shape as it should be
+        return _in_box(self, arm, Q, _said(self, _read(self, got, len(Q))))
 
     check._armik_checked = True  # type: ignore[attr-defined]
     return check
@@ -161,6 +163,34 @@ def _boxed(own: Callable[..., object]) -> Callable[..., tuple[np.ndarray, np.nda
 
     box._armik_checked = True  # type: ignore[attr-defined]
     return box
+
+
+def _in_box(constraint: Constraint, arm: ArmModel, Q: np.ndarray, got: Check) -> Check:
+    """``got``, with the answers outside the constraint's own box (a user's class with a
+    ``box``) failing too, in its status: the task solver steps within the box, the other
+    routes never read it, and an answer they found outside it was a success."""
+    if not getattr(type(constraint).box, "_armik_checked", False):
+        return got
+    box = constraint.box(arm)
+    if box is None:
+        return got
+    lower, upper = box
+    Q = np.asarray(Q, dtype=float)
+    inside = np.asarray(((Q >= lower - LIMIT_TOL) & (Q <= upper + LIMIT_TOL)).all(axis=1))
+    if inside.all():
+        return got
+    name, why = type(constraint).__name__, got.why
+
+    def outside(i: int) -> str:
+        if inside[i]:
+            return why(i)
+        q = Q[i]
+        j = int(np.flatnonzero(~((q >= lower - LIMIT_TOL) & (q <= upper + LIMIT_TOL)))[0])
+        return reasons.outside_own_box(
+            name, arm.joint_names[j], float(q[j]), float(lower[j]), float(upper[j])
+        )
+
+    return got._replace(ok=got.ok & inside, why=outside)
 
 
 def _resolved(own: Callable[..., object]) -> Callable[..., Constraint]:
