@@ -244,3 +244,31 @@ def test_a_look_at_point_beyond_a_million_metres_is_refused_by_name(far):
     F = ur5.fk(r.q)
     sight = point - F.translation
     assert float(F.rotation[:, 2] @ sight) >= np.linalg.norm(sight) * np.cos(2e-6)
+
+
+@pytest.mark.parametrize("spin", [0.0, np.inf])
+def test_an_aimed_target_with_a_held_joint_takes_rotation_bounds_of_zero_or_inf(spin):
+    """A held joint the compiled path cannot hold sends an aimed target to the task solver
+    as the tasks it lowers from (``read_aim.aimed_tasks``): rotation bounds of inf, which say
+    nothing beside a cone as 0 says nothing, were read as more than those tasks say and the
+    solve refused, naming a 7-joint arm's closed form."""
+    ur5 = bundled("ur5")
+    q = ur5.random_q(2)
+    T = ur5.fk(q)
+    p, z = T.translation, T.rotation[:, 2]
+    point = p + 0.3 * z
+    hold = {"shoulder_pan_joint": float(q[0])}
+    bounds = (0.05,) * 3 + (spin,) * 3
+    for aim, along in (
+        ({"look_at": point, "cone": (0, 0, 1, 0.0)}, None),
+        ({"toward": z, "cone": (0, 0, 1, 0.01)}, z),
+    ):
+        r = ur5.solve(p, q0=ur5.middle, bounds=bounds, hold=hold, **aim, **BUDGET)
+        assert r.success, r.reason
+        F = ur5.fk(r.q)
+        assert abs(r.q[0] - q[0]) <= 1e-9
+        assert np.all(np.abs(F.translation - p) <= 0.05 + 1e-6)
+        sight = point - F.translation if along is None else along
+        within = aim["cone"][3]
+        cos = float(F.rotation[:, 2] @ sight) / np.linalg.norm(sight)
+        assert cos >= np.cos(within + 2e-6)
