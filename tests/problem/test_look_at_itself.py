@@ -4,6 +4,7 @@ itself says so, failed by the verdict where an answer stands on the point."""
 from __future__ import annotations
 
 import numpy as np
+import pinocchio as pin
 import pytest
 
 import armik
@@ -165,3 +166,31 @@ def test_the_compiled_verdict_refuses_a_tip_within_a_micrometre_of_its_point():
             assert not r.success or look.measure(F, 1e-6, 1e-6).within, r.reason
             if not r.success and np.linalg.norm(point - F.translation) <= 1e-6:
                 assert r.orientation_error == pytest.approx(np.pi)
+
+
+def test_a_seed_within_a_micrometre_of_the_point_moves_off_it_and_finds_an_answer():
+    """A seed whose tip stands 5e-7 m behind the point, its axis on it: the compiled rows
+    measure pi there (no line of sight within ``SIGHT``, the verdict's distance) and restart,
+    on ``solve`` and ``solve_batch``; the answer found looks at the point from more than a
+    micrometre, by an FK of the test's own. The rows took it as aimed beyond 1e-9
+    m and claimed convergence at once: a failure, no restart tried."""
+    from armik.kernel.region import SIGHT
+    from armik.problem.tasks.look_at import SIGHT as MEASURED
+
+    assert SIGHT == MEASURED
+    ur5 = bundled("ur5")
+    for k in (1, 4):
+        q = ur5.random_q(k)
+        T = ur5.fk(q)
+        point = T.translation + 5e-7 * T.rotation[:, 2]
+        look = [armik.LookAt(point)]
+        found = [ur5.solve(look, q0=q, solver=s, iteration_budget=2000) for s in ("auto", "qp")]
+        batch = ur5.solve_batch([look, look], q0=q, workers=1, iteration_budget=2000)
+        found += [batch[i] for i in range(len(batch))]
+        for r in found:
+            assert r.success, r.reason
+            F = pin.SE3(ur5.fk(r.q))
+            sight = point - F.translation
+            distance = float(np.linalg.norm(sight))
+            assert distance > 1e-6
+            assert float(F.rotation[:, 2] @ sight) >= distance * np.cos(2e-6)

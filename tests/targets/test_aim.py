@@ -188,3 +188,87 @@ def test_rotation_bounds_beside_an_aim_are_refused_not_dropped_unread():
     for rotation in ((0.0, 0.0, 0.0), (np.inf, np.inf, np.inf)):
         r = ur5.solve(X, q0=q, cone=(0, 0, 1, 0.5), bounds=(0.01, 0.01, 0.01, *rotation))
         assert r.success, r.reason
+
+
+def test_huge_cone_and_toward_keywords_are_their_direction_without_a_numpy_warning():
+    """``cone=`` and ``toward=`` with components whose squares overflow are read as their
+    direction, as ``armik.Axis`` reads one: they were refused as no "non-zero" axis, with a
+    numpy overflow warning."""
+    import warnings
+
+    from armik.targets.aim import aim_of
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for huge, plain in (
+            ((1e308, 1e308, 0.0), (1.0, 1.0, 0.0)),
+            ((-1.7e308, 1.7e308, 1.7e308), (-1.0, 1.0, 1.0)),
+            ((0.0, 0.0, 1e200), (0.0, 0.0, 1.0)),
+        ):
+            unit = np.array(plain) / np.linalg.norm(plain)
+            aim = aim_of(cone=(*huge, 0.1))
+            assert np.allclose(aim.axis, unit, atol=1e-15) and aim.within == 0.1
+            along = aim_of(cone=(0, 0, 1, 0.1), toward=huge)
+            assert np.allclose(along.toward, unit, atol=1e-15)
+            assert np.allclose(along.toward, armik.Axis((0, 0, 1), huge).direction, atol=1e-15)
+        for zero in ((0.0, 0.0, 0.0), (1e-10, 0.0, 0.0)):
+            with pytest.raises(armik.OptionError, match="non-zero"):
+                aim_of(cone=(*zero, 0.1))
+            with pytest.raises(armik.OptionError, match="non-zero"):
+                aim_of(cone=(0, 0, 1, 0.1), toward=zero)
+
+
+@pytest.mark.parametrize("far", [(2e6, 0.0, 0.0), (1e200, 1e200, 0.0), (0.0, -1e160, 0.0)])
+def test_a_look_at_point_beyond_a_million_metres_is_refused_by_name(far):
+    """A point farther than a target position may be (1e6 m a coordinate) is refused in both
+    spellings: at 1e160 m and beyond, the line of sight from the tip overflowed, the verdict
+    measured it as no direction at all, any axis "looking at" it, and ``[Position(p, box),
+    LookAt(far)]`` was a success with the tool's axis 1.5 rad off the point."""
+    import warnings
+
+    ur5 = bundled("ur5")
+    p = ur5.fk(ur5.random_q(1)).translation
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(armik.TargetError, match="LookAt point .* beyond 1e\\+06 m"):
+            ur5.solve([armik.Position(p, bounds=(0.1,) * 3), armik.LookAt(far)])
+        with pytest.raises(armik.OptionError, match="look_at .* beyond 1e\\+06 m") as got:
+            ur5.solve(p, look_at=far, cone=(0, 0, 1, 0.0), bounds=(0.1,) * 3 + (0,) * 3)
+        assert got.value.option == "look_at"
+        with pytest.raises(armik.OptionError, match="look_at .* beyond 1e\\+06 m"):
+            ur5.solve(p, look_at=tuple(map(float, far)), cone=(0, 0, 1, 0.0))
+    # a point a million metres away is taken, and looked at
+    point = np.array([1e6, 0.0, 0.0])
+    r = ur5.solve([armik.Position(p, bounds=(0.1,) * 3), armik.LookAt(point)], **BUDGET)
+    assert r.success, r.reason
+    F = ur5.fk(r.q)
+    sight = point - F.translation
+    assert float(F.rotation[:, 2] @ sight) >= np.linalg.norm(sight) * np.cos(2e-6)
+
+
+@pytest.mark.parametrize("spin", [0.0, np.inf])
+def test_an_aimed_target_with_a_held_joint_takes_rotation_bounds_of_zero_or_inf(spin):
+    """A held joint the compiled path cannot hold sends an aimed target to the task solver
+    as the tasks it lowers from (``read_aim.aimed_tasks``): rotation bounds of inf, which say
+    nothing beside a cone as 0 says nothing, were read as more than those tasks say and the
+    solve refused, naming a 7-joint arm's closed form."""
+    ur5 = bundled("ur5")
+    q = ur5.random_q(2)
+    T = ur5.fk(q)
+    p, z = T.translation, T.rotation[:, 2]
+    point = p + 0.3 * z
+    hold = {"shoulder_pan_joint": float(q[0])}
+    bounds = (0.05,) * 3 + (spin,) * 3
+    for aim, along in (
+        ({"look_at": point, "cone": (0, 0, 1, 0.0)}, None),
+        ({"toward": z, "cone": (0, 0, 1, 0.01)}, z),
+    ):
+        r = ur5.solve(p, q0=ur5.middle, bounds=bounds, hold=hold, **aim, **BUDGET)
+        assert r.success, r.reason
+        F = ur5.fk(r.q)
+        assert abs(r.q[0] - q[0]) <= 1e-9
+        assert np.all(np.abs(F.translation - p) <= 0.05 + 1e-6)
+        sight = point - F.translation if along is None else along
+        within = aim["cone"][3]
+        cos = float(F.rotation[:, 2] @ sight) / np.linalg.norm(sight)
+        assert cos >= np.cos(within + 2e-6)

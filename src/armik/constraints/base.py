@@ -21,8 +21,10 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from armik import reasons
 from armik.errors import ArmikError, OptionError
 from armik.status import Status
+from armik.tolerances import LIMIT_TOL
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
@@ -117,8 +119,8 @@ def _checked(own: Callable[..., object]) -> Callable[..., Check]:
             ok = got.ok
             if type(ok) is np.ndarray and ok.dtype == np.bool_ and ok.shape == (len(Q),):
                 if isinstance(got.status, Status) and got.status is not Status.CONVERGED:
-                    return _said(self, got)  # its shape as it should be
-        return _said(self, _read(self, got, len(Q)))
+                    return _in_box(self, arm, Q, _said(self, got))  # its shape as it should be
+        return _in_box(self, arm, Q, _said(self, _read(self, got, len(Q))))
 
     check._armik_checked = True  # type: ignore[attr-defined]
     return check
@@ -161,6 +163,34 @@ def _boxed(own: Callable[..., object]) -> Callable[..., tuple[np.ndarray, np.nda
 
     box._armik_checked = True  # type: ignore[attr-defined]
     return box
+
+
+def _in_box(constraint: Constraint, arm: ArmModel, Q: np.ndarray, got: Check) -> Check:
+    """``got``, with the answers outside the constraint's own box (a user's class with a
+    ``box``) failing too, in its status: the task solver steps within the box, the other
+    routes never read it, and an answer they found outside it was a success."""
+    if not getattr(type(constraint).box, "_armik_checked", False):
+        return got
+    box = constraint.box(arm)
+    if box is None:
+        return got
+    lower, upper = box
+    Q = np.asarray(Q, dtype=float)
+    inside = np.asarray(((Q >= lower - LIMIT_TOL) & (Q <= upper + LIMIT_TOL)).all(axis=1))
+    if inside.all():
+        return got
+    name, why = type(constraint).__name__, got.why
+
+    def outside(i: int) -> str:
+        if inside[i]:
+            return why(i)
+        q = Q[i]
+        j = int(np.flatnonzero(~((q >= lower - LIMIT_TOL) & (q <= upper + LIMIT_TOL)))[0])
+        return reasons.outside_own_box(
+            name, arm.joint_names[j], float(q[j]), float(lower[j]), float(upper[j])
+        )
+
+    return got._replace(ok=got.ok & inside, why=outside)
 
 
 def _resolved(own: Callable[..., object]) -> Callable[..., Constraint]:
@@ -268,7 +298,7 @@ def at_start(checks: tuple[Constraint, ...], arm: ArmModel, q0: object) -> tuple
     an ``OptionError`` naming the constraint."""
     own = [c for c in checks if type(c).at is not Constraint.at]  # the base's: itself
     if not own:
-        return checks
+        return _boxes_read(checks, arm)
     q = np.asarray(arm.middle if q0 is None else q0, dtype=float)
     if q.ndim == 2 and len(q) and np.all(q == q[0]):
         q = q[0]
@@ -281,4 +311,16 @@ def at_start(checks: tuple[Constraint, ...], arm: ArmModel, q0: object) -> tuple
             value=own[0],
         )
     seed = np.clip(arm.check_q(q, "q0"), arm.lower, arm.upper)  # as the seed will be
-    return tuple([c if type(c).at is Constraint.at else c.at(arm, seed) for c in checks])
+    at = tuple([c if type(c).at is Constraint.at else c.at(arm, seed) for c in checks])
+    return _boxes_read(at, arm)
+
+
+def _boxes_read(checks: tuple[Constraint, ...], arm: ArmModel) -> tuple[Constraint, ...]:
+    """``checks``, each box of a user's class read once (``_boxed``: a malformed one, its
+    shape, order or a NaN, an ``OptionError`` naming the class) on every route, as the task
+    solver, which steps within it, reads it: a route that never steps within it refuses it
+    all the same, where it took it silently."""
+    for c in checks:
+        if getattr(type(c).box, "_armik_checked", False):
+            c.box(arm)
+    return checks

@@ -29,7 +29,6 @@ from armik.kernel.error import to_target
 from armik.kernel.fk import forward, jacobian_local
 from armik.kernel.problem import LOOK_TOWARD, NO_LOOK
 from armik.kernel.se3 import jlog3, log3
-from armik.tolerances import LOOK_AT
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
@@ -163,6 +162,10 @@ def _cone_rows(M, J, a, cone, e, A, n):
 
 
 _SMALL = 1e-12  # |a x w| below this: a and w (anti)parallel, as ``tasks.cone`` reads it
+# m: a tip nearer its point than this has no line of sight (a move of a micrometre turns it
+# any way): ``armik.problem.tasks.look_at.SIGHT``, where the verdict refuses it (a test
+# holds the two equal), so that a seed there restarts rather than claiming convergence
+SIGHT = 1e-6
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -172,8 +175,9 @@ def _look_rows(R, p, x, toward, J, a, cone, e, A, n):
     (``j``, ``v``: J's angular and linear rows); with ``toward``, around the unit direction
     ``x``: ``w = R^T x``, no position's part (L infinite in dw). With ``c = a x w``,
     ``s = |c|``, ``k = a . w``: ``dc = a x dw``, ``ds = c . dc / s``,
-    ``dtheta = k ds - s (a . dw)``. No rows where the tip is at the point, and the angle
-    there is pi, as the verdict measures it: no axis looks at a point from itself."""
+    ``dtheta = k ds - s (a . dw)``. No rows where the tip is at the point (within
+    ``SIGHT``), and the angle there is pi, as the verdict measures it: no axis looks at a
+    point from itself."""
     if toward:
         d0, d1, d2, L, far = x[0], x[1], x[2], 1.0, math.inf
     else:
@@ -181,7 +185,7 @@ def _look_rows(R, p, x, toward, J, a, cone, e, A, n):
         L = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
         far = L
     h = w0 = w1 = w2 = c0 = c1 = c2 = s = k = 0.0
-    if L > LOOK_AT:
+    if L > SIGHT:
         w0 = (R[0, 0] * d0 + R[1, 0] * d1 + R[2, 0] * d2) / L
         w1 = (R[0, 1] * d0 + R[1, 1] * d1 + R[2, 1] * d2) / L
         w2 = (R[0, 2] * d0 + R[1, 2] * d1 + R[2, 2] * d2) / L
@@ -189,7 +193,7 @@ def _look_rows(R, p, x, toward, J, a, cone, e, A, n):
     if h <= 0.0:
         _inside(e, A, n)
         # on the point: no line of sight, no axis aimed (the verdict's pi), no rows to leave
-        return math.pi if L <= LOOK_AT else 0.0
+        return math.pi if L <= SIGHT else 0.0
     near = s < _SMALL  # (anti)parallel: at the axis r = a x w itself, as ``_cone_rows``
     f = (1.0 if k > 0.0 else 0.0) if near else h / s
     e[3], e[4], e[5] = -c0 * f, -c1 * f, -c2 * f

@@ -43,7 +43,10 @@ def aimed_tasks(tgt: Target, aim: Aim, options: dict) -> tuple[Problem | None, d
         refuse_freed(aim, SimpleNamespace(position_only=True, weights=None))
     bounds = options.get("bounds")
     box = None if bounds is None else np.asarray(bounds, dtype=float)
-    if options.get("weights") is not None or (box is not None and box[3:].any()):
+    # the rotation's bounds 0 or inf say nothing beside the cone (``refuse_freed``): not more
+    if options.get("weights") is not None or (
+        box is not None and (np.isfinite(box[3:]) & (box[3:] != 0.0)).any()
+    ):
         return None, options
     rest = {k: v for k, v in options.items() if k not in ("bounds", "position_only")}
     at = Position(tgt.position, None if box is None else box[:3])

@@ -20,6 +20,7 @@ import numpy as np
 
 from armik.checked import numbers
 from armik.errors import OptionError
+from armik.tolerances import MAX_POSITION
 
 Vector = tuple[float, float, float]
 
@@ -90,16 +91,37 @@ _BOTH = "look_at and toward both say where the cone points: give one of them"
 def _cone(value: object) -> tuple[float, float, float, float]:
     """(ax, ay, az, within): a non-zero axis (made unit) and an angle in [0, pi]."""
     c = numbers(value)
-    length = float(np.linalg.norm(c[:3])) if c.shape == (4,) else math.nan
-    if not (np.isfinite(c).all() and 1e-9 < length < math.inf and 0.0 <= c[3] <= math.pi):
+    length = _length(c[:3]) if c.shape == (4,) and np.isfinite(c).all() else math.nan
+    if not (1e-9 < length and 0.0 <= c[3] <= math.pi):  # (NaN: not numbers, not finite)
         raise OptionError(
             "cone must be (ax, ay, az, within): a non-zero axis of the tip frame and an angle "
             f"within [0, pi] rad (say it with armik.Position and armik.Axis); got {value!r}",
             option="cone",
             value=value,
         )
-    a = c[:3] / length
+    a = _unit(c[:3])
     return (float(a[0]), float(a[1]), float(a[2]), float(c[3]))
+
+
+_HUGE = 1e150  # a component beyond this: the sum of squares may overflow, the vector scaled
+
+
+def _length(v: np.ndarray) -> float:
+    """The length of a finite vector (inf beyond a float's range), scaled first where its
+    squares overflow, as ``armik.Axis`` reads it (``problem.tasks.base.unit``): (1e308,
+    1e308, 0) is a direction, not a zero or an infinite one, and no numpy warning."""
+    big = float(np.abs(v).max())
+    return big * float(np.linalg.norm(v / big)) if big > _HUGE else float(np.linalg.norm(v))
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    """The finite vector ``v`` (longer than 1e-9) made unit, scaled first where its squares
+    overflow."""
+    big = float(np.abs(v).max())
+    if big > _HUGE:
+        v = v / big
+    out: np.ndarray = v / np.linalg.norm(v)
+    return out
 
 
 def _sight(name: str, value: object) -> Vector:
@@ -111,14 +133,21 @@ def _sight(name: str, value: object) -> Vector:
         and type(value[1]) is float
         and type(value[2]) is float
         and math.isfinite(value[0] + value[1] + value[2])
-        and (name == "look_at" or abs(value[0] ** 2 + value[1] ** 2 + value[2] ** 2 - 1) < 1e-12)
+        and (
+            -MAX_POSITION <= value[0] <= MAX_POSITION
+            and -MAX_POSITION <= value[1] <= MAX_POSITION
+            and -MAX_POSITION <= value[2] <= MAX_POSITION
+            if name == "look_at"
+            # (products, not ** 2: a float's ** overflows into an OverflowError)
+            else abs(value[0] * value[0] + value[1] * value[1] + value[2] * value[2] - 1) < 1e-12
+        )
     ):
         return value  # type: ignore[return-value]
     p = numbers(value)
-    length = float(np.linalg.norm(p)) if p.shape == (3,) else math.nan
-    if not (np.isfinite(p).all() and math.isfinite(length)) or (
-        name == "toward" and not length > 1e-9
-    ):
+    length = _length(p) if p.shape == (3,) and np.isfinite(p).all() else math.nan
+    if name == "look_at" and length == length and not np.abs(p).max() <= MAX_POSITION:
+        raise OptionError(_far("look_at", p.tolist()), option=name, value=value)
+    if not (length == length and (name == "look_at" or length > 1e-9)):  # NaN: not numbers
         what = "a point (px, py, pz) in m" if name == "look_at" else "a non-zero direction"
         raise OptionError(
             f"{name} must be {what}, base frame (say it with armik.LookAt or armik.Axis); "
@@ -127,8 +156,17 @@ def _sight(name: str, value: object) -> Vector:
             value=value,
         )
     if name == "toward":
-        p = p / length
+        p = _unit(p)
     return (float(p[0]), float(p[1]), float(p[2]))
+
+
+def _far(what: str, point: list) -> str:
+    """Why a look-at point beyond ``MAX_POSITION`` is refused: its line of sight from the
+    tip overflows, and measured as no direction at all any axis "looks at" it."""
+    return (
+        f"{what} {point} is beyond {MAX_POSITION:g} m from the base: give it in metres; a "
+        "point that far away is a direction: say it with toward=(dx, dy, dz) (armik.Axis)"
+    )
 
 
 def refuse_freed(aim: Aim, opts, aimed: bool = True) -> None:

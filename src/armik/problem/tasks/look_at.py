@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
+from armik.errors import TargetError
 from armik.kernel.problem import LOOK_POINT
 from armik.problem.tasks import cone
 from armik.problem.tasks.base import (
@@ -21,7 +22,7 @@ from armik.problem.tasks.base import (
     unit,
 )
 from armik.targets.pose import _vector
-from armik.tolerances import LOOK_AT
+from armik.tolerances import MAX_POSITION
 
 SIGHT = 1e-6  # m: a frame nearer its point than this has no line of sight to aim along
 
@@ -38,6 +39,12 @@ class LookAt(Task):
         frame: str | None = None,
     ) -> None:
         self.point = _vector(point, 3, "LookAt point")
+        if not np.abs(self.point).max() <= MAX_POSITION:  # its sight from the tip overflows
+            raise TargetError(
+                f"LookAt point {self.point.tolist()} is beyond {MAX_POSITION:g} m from the "
+                "base: give it in metres; a point that far away is a direction: say it with "
+                "armik.Axis(axis, direction)"
+            )
         self.axis = unit(axis, "LookAt axis")
         self.within = check_angle(within, "LookAt within")
         self.frame = check_frame(frame)
@@ -50,17 +57,18 @@ class LookAt(Task):
         """The unit line of sight in the base frame and the distance to the point."""
         v = self.point - T.translation
         distance = float(np.linalg.norm(v))
-        return (v / distance if distance > LOOK_AT else v), distance
+        return (v / distance if distance > SIGHT else v), distance
 
     def residual(self, T: pin.SE3) -> np.ndarray:
+        # no rows on the point (within SIGHT, as the compiled rows): a restart leaves it
         d, distance = self._sight(T)
-        if distance <= LOOK_AT:
+        if distance <= SIGHT:
             return np.zeros(3)
         return cone.residual(self.axis, T.rotation.T @ d, self.within)
 
     def jacobian(self, T: pin.SE3, J: np.ndarray) -> np.ndarray:
         d, distance = self._sight(T)
-        if distance <= LOOK_AT:
+        if distance <= SIGHT:
             return np.zeros((3, J.shape[1]))
         R = T.rotation
         w = R.T @ d
