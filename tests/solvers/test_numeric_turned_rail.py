@@ -57,3 +57,18 @@ def test_the_centre_comes_from_the_turn_that_brings_the_rail_nearest():
 
     gantry = armik.load_string(GANTRY.replace("RAIL", "10")).with_limits({"px": (0.0, np.inf)})
     assert len(rails.TURNING(gantry.kinematics)) == 0
+
+
+def test_a_large_batch_s_centres_are_found_in_chunks_as_one_by_one():
+    arm = _arm()
+    kin = arm.kinematics
+    joints = rails.UNLIMITED(kin)
+    rng = np.random.default_rng(0)
+    Q = np.array([arm.random_q(rng) for _ in range(rails.CHUNK + 5)])
+    Q[:, 1] = rng.uniform(-400.0, 400.0, len(Q))
+    P = np.array([arm.fk(q).translation for q in Q])
+    Q0 = np.zeros_like(Q)
+    many = rails.centres_many(kin, P, Q0, joints)
+    assert many.shape == (len(Q), 1)
+    for i in (0, rails.CHUNK - 1, rails.CHUNK, len(Q) - 1):
+        assert many[i] == pytest.approx(rails.centres(kin, P[i], Q0[i], joints), abs=1e-9)

@@ -42,6 +42,7 @@ def _unlimited(arm: ArmModel) -> np.ndarray:
 UNLIMITED: Derived[np.ndarray] = Derived("unlimited prismatic joints", _unlimited)
 
 SWEEP = 32  # configurations of the turning joints before a rail tried for its centre
+CHUNK = 1024  # rows of a batch whose centres are found together
 
 
 def _turning(arm: ArmModel) -> np.ndarray:
@@ -97,6 +98,12 @@ def centres_many(arm: ArmModel, P: np.ndarray, Q0: np.ndarray, joints: np.ndarra
     m = len(P)
     if not len(turning) or m == 0:
         return _centres_at(arm, P, Q0, joints)[0]
+    if m > CHUNK:  # (1 + SWEEP) (1 + k) placements a row: a few MB at a time
+        parts = [
+            centres_many(arm, P[i : i + CHUNK], Q0[i : i + CHUNK], joints)
+            for i in range(0, m, CHUNK)
+        ]
+        return np.concatenate(parts)
     Q0 = np.asarray(Q0, dtype=float)
     swept = np.repeat(Q0[:, None, :], 1 + SWEEP, axis=1)  # (m, 1 + SWEEP, n), row 0: q0
     swept[:, 1:, turning] = _sweep(arm, turning)
