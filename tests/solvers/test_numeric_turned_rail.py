@@ -53,6 +53,11 @@ def test_the_centre_comes_from_the_turn_that_brings_the_rail_nearest():
     p = arm.fk(np.array([1.5, 300.0, 0.3])).translation
     q0 = np.zeros(3)
     assert abs(rails.centres(kin, p, q0, joints)[0] - 300.0) < 0.5
+    # a target within pi m of q0's rail: q0's centre, nothing swept
+    near = arm.fk(np.array([0.01, 2.0, 0.0])).translation
+    x, miss = rails._centres_at(kin, near[None], q0[None], joints)
+    assert miss[0] < rails.FAR
+    assert rails.centres(kin, near, q0, joints)[0] == x[0, 0]
     from .numeric.test_long_rail import GANTRY
 
     gantry = armik.load_string(GANTRY.replace("RAIL", "10")).with_limits({"px": (0.0, np.inf)})

@@ -12,9 +12,9 @@ the prismatic joints' values, each moving it along its axis (in the base frame a
 that the kernel's FK at q0 and at q0 with each such joint moved gives that centre by one
 small least-squares solve, clipped into a one-sided limit (a batch's rows in one FK call). Where
 turning joints come before a rail (``TURNING``: a telescope on a turntable), they turn it:
-the centre is the one of q0's and of ``SWEEP`` configurations of those joints whose rails
-bring the tip nearest. The first attempt still starts at q0, and every other arm's chain is
-the one it always had.
+where q0's rails pass more than ``FAR`` from the target, the centre is the one of q0's and
+of ``SWEEP`` configurations of those joints whose rails bring the tip nearest. The first
+attempt still starts at q0, and every other arm's chain is the one it always had.
 """
 
 from __future__ import annotations
@@ -43,6 +43,9 @@ UNLIMITED: Derived[np.ndarray] = Derived("unlimited prismatic joints", _unlimite
 
 SWEEP = 32  # configurations of the turning joints before a rail tried for its centre
 CHUNK = 1024  # rows of a batch whose centres are found together
+# m: q0's rails passing farther than this from the target are swept for a nearer turn (half
+# the restart box's width: nearer, the descent closes the gap in a few steps)
+FAR = np.pi
 
 
 def _turning(arm: ArmModel) -> np.ndarray:
@@ -90,29 +93,32 @@ def centres(arm: ArmModel, p_t: np.ndarray, q0: np.ndarray, joints: np.ndarray) 
 
 def centres_many(arm: ArmModel, P: np.ndarray, Q0: np.ndarray, joints: np.ndarray) -> np.ndarray:
     """``centres`` of positions ``P`` (m, 3) from joint values ``Q0`` (m, n), (m, k); on an
-    arm whose turning joints come before a rail (``TURNING``), the best of those from q0
-    and from ``SWEEP`` configurations of those joints (the rest at q0): the one whose rails
-    bring the tip nearest (a rail turned away from the target at q0 reached it nowhere
-    near the box, and a target 300 m along it was never solved)."""
+    arm whose turning joints come before a rail (``TURNING``), where q0's rails pass more
+    than ``FAR`` from the target, the best of q0's and those from ``SWEEP`` configurations
+    of those joints (the rest at q0): the one whose rails bring the tip nearest (a rail
+    turned away from the target at q0 reached it nowhere near the box, and a target 300 m
+    along it was never solved)."""
+    x, miss = _centres_at(arm, P, Q0, joints)
     turning = TURNING(arm)
+    far = np.flatnonzero(miss > FAR) if len(turning) else miss[:0]
+    for i in range(0, len(far), CHUNK):  # (1 + SWEEP) (1 + k) placements a row
+        rows = far[i : i + CHUNK]
+        x[rows] = _swept(
+            arm,
+            np.asarray(P, dtype=float)[rows],
+            np.asarray(Q0, dtype=float)[rows],
+            joints,
+            turning,
+        )
+    return x
+
+
+def _swept(arm: ArmModel, P: np.ndarray, Q0: np.ndarray, joints: np.ndarray, turning: np.ndarray):
+    """``centres_many``'s centres of rows ``P``, ``Q0`` over the sweep of ``turning``."""
     m = len(P)
-    if not len(turning) or m == 0:
-        return _centres_at(arm, P, Q0, joints)[0]
-    if m > CHUNK:  # (1 + SWEEP) (1 + k) placements a row: a few MB at a time
-        parts = [
-            centres_many(arm, P[i : i + CHUNK], Q0[i : i + CHUNK], joints)
-            for i in range(0, m, CHUNK)
-        ]
-        return np.concatenate(parts)
-    Q0 = np.asarray(Q0, dtype=float)
     swept = np.repeat(Q0[:, None, :], 1 + SWEEP, axis=1)  # (m, 1 + SWEEP, n), row 0: q0
     swept[:, 1:, turning] = _sweep(arm, turning)
-    x, miss = _centres_at(
-        arm,
-        np.repeat(np.asarray(P, dtype=float), 1 + SWEEP, axis=0),
-        swept.reshape(-1, arm.dof),
-        joints,
-    )
+    x, miss = _centres_at(arm, np.repeat(P, 1 + SWEEP, axis=0), swept.reshape(-1, arm.dof), joints)
     best = miss.reshape(m, 1 + SWEEP).argmin(axis=1)  # q0's where it is as near as any
     return x.reshape(m, 1 + SWEEP, len(joints))[np.arange(m), best]
 
