@@ -10,7 +10,10 @@ for those joints is as wide as before, ``2 pi``, but centred on the values that,
 joints at q0, bring the tip nearest the target's position: the tip's position is affine in
 the prismatic joints' values, each moving it along its axis (in the base frame at q0), so
 that the kernel's FK at q0 and at q0 with each such joint moved gives that centre by one
-small least-squares solve, clipped into a one-sided limit (a batch's rows in one FK call). The first
+small least-squares solve, clipped into a one-sided limit (a batch's rows in one FK call). Where
+turning joints come before a rail (``TURNING``: a telescope on a turntable), they turn it:
+where q0's rails pass more than ``FAR`` from the target, the centre is the one of q0's and
+of ``SWEEP`` configurations of those joints whose rails bring the tip nearest. The first
 attempt still starts at q0, and every other arm's chain is the one it always had.
 """
 
@@ -38,6 +41,35 @@ def _unlimited(arm: ArmModel) -> np.ndarray:
 # the driving joints that slide without a limit on one side at least (often none)
 UNLIMITED: Derived[np.ndarray] = Derived("unlimited prismatic joints", _unlimited)
 
+SWEEP = 32  # configurations of the turning joints before a rail tried for its centre
+CHUNK = 1024  # rows of a batch whose centres are found together
+# m: q0's rails passing farther than this from the target are swept for a nearer turn (half
+# the restart box's width: nearer, the descent closes the gap in a few steps)
+FAR = np.pi
+
+
+def _turning(arm: ArmModel) -> np.ndarray:
+    """The turning driving joints that come before an unlimited rail (``UNLIMITED``): they
+    turn it (joints are numbered from the base)."""
+    rails_ = UNLIMITED(arm)
+    if not len(rails_):
+        return rails_
+    ch = arm.kernel_chain.chain
+    before = np.arange(arm.dof) < rails_.max()
+    return np.flatnonzero(before & (ch.kind != PRISMATIC))
+
+
+# the turning joints that turn an unlimited rail (often none: a gantry's come after it)
+TURNING: Derived[np.ndarray] = Derived("turning joints before a rail", _turning)
+
+
+def _sweep(arm: ArmModel, turning: np.ndarray) -> np.ndarray:
+    """(SWEEP, len(turning)): values of ``turning`` spread over the restart box (the first
+    points of the kernel's Halton table)."""
+    ch = arm.kernel_chain.chain
+    rows = ch.halton[np.arange(SWEEP) % len(ch.halton)][:, turning]
+    return ch.sample_lo[turning] + ch.sample_span[turning] * rows
+
 
 def _box_places(arm: ArmModel) -> tuple[np.ndarray, np.ndarray]:
     """Where ``kernel.chain.flatten`` writes the restart box (``Chain.sample_lo``, then
@@ -60,13 +92,46 @@ def centres(arm: ArmModel, p_t: np.ndarray, q0: np.ndarray, joints: np.ndarray) 
 
 
 def centres_many(arm: ArmModel, P: np.ndarray, Q0: np.ndarray, joints: np.ndarray) -> np.ndarray:
-    """``centres`` of positions ``P`` (m, 3) from joint values ``Q0`` (m, n), (m, k): the
+    """``centres`` of positions ``P`` (m, 3) from joint values ``Q0`` (m, n), (m, k); on an
+    arm whose turning joints come before a rail (``TURNING``), where q0's rails pass more
+    than ``FAR`` from the target, the best of q0's and those from ``SWEEP`` configurations
+    of those joints (the rest at q0): the one whose rails bring the tip nearest (a rail
+    turned away from the target at q0 reached it nowhere near the box, and a target 300 m
+    along it was never solved)."""
+    x, miss = _centres_at(arm, P, Q0, joints)
+    turning = TURNING(arm)
+    far = np.flatnonzero(miss > FAR) if len(turning) else miss[:0]
+    for i in range(0, len(far), CHUNK):  # (1 + SWEEP) (1 + k) placements a row
+        rows = far[i : i + CHUNK]
+        x[rows] = _swept(
+            arm,
+            np.asarray(P, dtype=float)[rows],
+            np.asarray(Q0, dtype=float)[rows],
+            joints,
+            turning,
+        )
+    return x
+
+
+def _swept(arm: ArmModel, P: np.ndarray, Q0: np.ndarray, joints: np.ndarray, turning: np.ndarray):
+    """``centres_many``'s centres of rows ``P``, ``Q0`` over the sweep of ``turning``."""
+    m = len(P)
+    swept = np.repeat(Q0[:, None, :], 1 + SWEEP, axis=1)  # (m, 1 + SWEEP, n), row 0: q0
+    swept[:, 1:, turning] = _sweep(arm, turning)
+    x, miss = _centres_at(arm, np.repeat(P, 1 + SWEEP, axis=0), swept.reshape(-1, arm.dof), joints)
+    best = miss.reshape(m, 1 + SWEEP).argmin(axis=1)  # q0's where it is as near as any
+    return x.reshape(m, 1 + SWEEP, len(joints))[np.arange(m), best]
+
+
+def _centres_at(arm: ArmModel, P: np.ndarray, Q0: np.ndarray, joints: np.ndarray):
+    """(centres, distances): ``centres`` of positions ``P`` (m, 3) from joint values ``Q0``
+    (m, n), (m, k), and how far from ``P`` the rails at them bring the tip (m,): the
     tip's position is affine in the prismatic joints' values, ``base + C x``, so that the
     kernel's FK (``kernel.fk_many``) at q0 with those joints at 0, then each at 1 m, gives
     it (exact moves, whatever q0's values along the rails: 1e17 m plus 1 m is 1e17 m)."""
     m, k = len(P), len(joints)
     if m == 0:
-        return np.empty((0, k))
+        return np.empty((0, k)), np.empty(0)
     Q = np.repeat(np.asarray(Q0, dtype=float)[:, None, :], 1 + k, axis=1)  # (m, 1 + k, n)
     Q[:, :, joints] = np.vstack([np.zeros(k), np.eye(k)])
     out = np.empty((m * (1 + k), 4, 4))
@@ -87,7 +152,9 @@ def centres_many(arm: ArmModel, P: np.ndarray, Q0: np.ndarray, joints: np.ndarra
             V, Vn = Vt[:rank].T, Vt[rank:].T
             x[i] = V @ ((U[:, :rank].T @ r[i]) / sv[:rank]) + Vn @ (Vn.T @ x0[i])
     ch = arm.kernel_chain.chain
-    return np.clip(x, ch.lower[joints], ch.upper[joints])
+    x = np.clip(x, ch.lower[joints], ch.upper[joints])
+    miss = np.linalg.norm(r - np.einsum("mkd,mk->md", C, x), axis=1)
+    return x, miss
 
 
 def toward(arm: ArmModel, p_t: np.ndarray, q0: np.ndarray, joints: np.ndarray) -> Flat:
