@@ -469,6 +469,8 @@ def hidden_step(start: str) -> str:
         "straight leave the path: a flip across a singularity, a joint limit or the edge of "
         'the workspace): add waypoints here, or plan="global" to go round it'
     )
+
+
 def outside_own_box(name: str, joint: str, value: float, lower: float, upper: float) -> str:
     """An answer outside the box of a user's constraint class ``name`` (its ``box``), at
     ``joint``: a route that does not step within the box found it, and the check refuses
