@@ -457,3 +457,14 @@ def left_out_fails(tip: str, why: str) -> str:
     """A constraint given by ``tip``, a tip given no target on chains that share no joint,
     failing at the values its chain keeps from q0: its check's ``why``."""
     return f"tip {tip!r}, given no target, keeps q0's values, where {why}"
+
+
+def weighted_region_apart(reason: str, pos: float, ori: float | None) -> str:
+    """``measured_apart`` of a region (bounds, an aim) with weights on its axes: the
+    verdict measured the weighted distances outside the region; the distances reported are
+    to the region's centre, its free components left out."""
+    rot = "" if ori is None or ori != ori else f", {ori:.3g} rad"
+    return (
+        f"{reason} (on the weighted axes); the tip is {pos:.3g} m{rot} from the region's "
+        "centre, free components apart"
+    )
