@@ -468,3 +468,16 @@ def weighted_region_apart(reason: str, pos: float, ori: float | None) -> str:
         f"{reason} (on the weighted axes); the tip is {pos:.3g} m{rot} from the region's "
         "centre, free components apart"
     )
+
+
+def held_link(link: str, joints: tuple[str, ...], tip: str) -> str:
+    """A checked link whose own ``joints`` are no joints of the chain to ``tip``: they keep
+    the values the chain was loaded with, the chain's joints only carry it."""
+    shown = ", ".join(joints[:3]) + (", ..." if len(joints) > 3 else "")
+    return (
+        f"link {link!r} is held: its joints ({shown}) are none of this chain's and keep the "
+        "values it was loaded with, so no answer moves that link, the chain's joints only "
+        "carry it; lock them where the link is clear when loading the chain: "
+        f"armik.load(urdf, tip={tip!r}, locked={{{joints[0]!r}: value}}) "
+        "(docs/several-tips.md)"
+    )
