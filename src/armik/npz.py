@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -33,9 +34,10 @@ def load(
     """(meta without its "format", the arrays ``keys`` or all) of a file ``save`` wrote with
     this ``format``; ``InputError`` saying the file is not ``what`` otherwise."""
     try:
+        kind = _kind(path)
+        if kind:  # numpy would read it as a pickle, or as one array
+            raise ValueError(f"{kind}, not an .npz archive")
         z = np.load(path, allow_pickle=False)
-        if not isinstance(z, np.lib.npyio.NpzFile):  # a .npy array: no archive of ours
-            raise ValueError(f"one {type(z).__name__}, not an .npz archive")
         with z:
             meta = json.loads(str(z["meta"]))
             if meta.get("format") != format:
@@ -45,3 +47,27 @@ def load(
         raise InputError(f"{str(path)!r} is not {what} ({exc})") from None
     meta.pop("format")
     return meta, arrays
+
+
+_ZIP = b"PK\x03\x04"  # an .npz archive is a zip file: it begins with these bytes
+
+
+def _kind(path: str | Path) -> str:
+    """What the file at ``path`` is where it is no zip archive ("" where it is one, or
+    ``path`` is an open file, which numpy reads)."""
+    if not isinstance(path, (str, os.PathLike)):
+        return ""
+    with open(path, "rb") as f:
+        head = f.read(512)
+    if head.startswith(_ZIP):
+        return ""
+    if not head:
+        return "an empty file"
+    if head.startswith(b"\x93NUMPY"):
+        return "one array (.npy)"
+    try:
+        head.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        if exc.start < len(head) - 4:  # not a character cut at the 512th byte
+            return "a binary file of another format"
+    return "a text file"
