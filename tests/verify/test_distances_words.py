@@ -7,6 +7,8 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+import armik
+
 from ..conftest import arm
 
 # z free: the distances leave it out, so they are no distance to the target
@@ -46,3 +48,24 @@ def test_weights_alone_still_say_the_target():
     T = ur5.fk(ur5.random_q(np.random.default_rng(2)))
     r = ur5.solve(T, weights=(1, 1, 1, 1, 1, 0.5))
     assert r.success and r.reason.endswith("from the target"), r.reason
+
+
+@pytest.mark.parametrize("region", [False, True])
+def test_every_answer_with_obstacles_says_its_distances_before_its_closest_pair(region):
+    """``solve_all`` with obstacles checks collisions before the distances are measured:
+    its words say them in ``solve``'s order, what the verdict measured, the distances,
+    then the closest pair."""
+    ur5 = arm("ur5")
+    far = armik.Sphere(0.05, (2.0, 0.0, 0.0))
+    kw = dict(weights=WEIGHTS, obstacles=[far], **({"bounds": BOUNDS} if region else {}))
+    T = _target(ur5) if region else ur5.fk(ur5.random_q(np.random.default_rng(2)))
+    rs = ur5.solve_all(T, **kw)
+    one = ur5.solve(T, **kw)
+    assert len(rs) and one.success
+    for r in [*rs, one]:
+        said, clear, pair = r.reason.partition("; collision-free: closest ")
+        assert clear and pair.endswith("(margin 0 m)"), r.reason
+        assert said.endswith(
+            f"{r.position_error:.3g} m, {r.orientation_error:.3g} rad from "
+            + ("the region's centre, free components apart" if region else "the target")
+        ), r.reason

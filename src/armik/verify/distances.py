@@ -68,13 +68,24 @@ def _words(reason: str, pos: float, ori: float | None, weighted: bool, region: b
     return reasons.measured_apart(reason, pos, ori, weighted)
 
 
+_CLEAR = "; " + reasons.clear(None, 0.0, 0.0).partition(":")[0] + ":"  # "; collision-free:"
+
+
+def _cleared(reason: str, pos: float, ori: float | None, weighted: bool, region: bool) -> str:
+    """``_words`` of a success whose collision check spoke first (``solve_all`` with
+    obstacles): the distances said after what the verdict measured, as ``solve`` says
+    them, its closest pair after them."""
+    measured, clear, rest = reason.partition(_CLEAR)
+    return _words(measured, pos, ori, weighted, region) + clear + rest
+
+
 def _apart(r: IKResult, pos: float, ori: float | None, weighted: bool, region: bool) -> IKResult:
     return dataclasses.replace(
         r,
         position_error=pos,
         orientation_error=ori,
         # a success's words say both; a failure's say why it failed
-        reason=_words(r.reason, pos, ori, weighted, region) if r.success else r.reason,
+        reason=_cleared(r.reason, pos, ori, weighted, region) if r.success else r.reason,
         extra={**r.extra, "measured": (r.position_error, r.orientation_error)},
     )
 
