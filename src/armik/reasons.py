@@ -476,8 +476,8 @@ def held_link(link: str, joints: tuple[str, ...], tip: str) -> str:
     shown = ", ".join(joints[:3]) + (", ..." if len(joints) > 3 else "")
     return (
         f"link {link!r} is held: its joints ({shown}) are none of this chain's and keep the "
-        "values it was loaded with, so no answer moves that link, the chain's joints only "
-        "carry it; lock them where the link is clear when loading the chain: "
+        "values it was loaded with, so an answer moves that link only as the joints that "
+        "carry it move; lock them where the link is clear when loading the chain: "
         f"armik.load(urdf, tip={tip!r}, locked={{{joints[0]!r}: value}}) "
         "(docs/several-tips.md)"
     )

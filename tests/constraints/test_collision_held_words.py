@@ -51,3 +51,14 @@ def test_a_collision_of_the_chains_own_links_says_nothing_held():
     d, pair = ur5.min_distance(q, self_collision=True)
     assert d < 0
     assert type(pair) is tuple  # no held link: a plain pair
+
+
+def test_an_obstacle_on_a_held_link_says_nothing_held():
+    """The chain clears an obstacle by moving the joints that carry the held link."""
+    arm = _talos()
+    q = arm.middle.copy()
+    q[:2] = (0.6, 0.0)  # the torso turned: the held hand out of the leg
+    hand = arm.fk(q, frame=HAND).translation
+    d, pair = arm.min_distance(q, obstacles=[armik.Sphere(0.02, tuple(hand))])
+    assert d < 0 and pair[0].startswith("gripper_right") and pair[1].startswith("obstacles")
+    assert type(pair) is tuple

@@ -2,8 +2,9 @@
 chain (another arm's, cut off where the chain was loaded) keeps their loaded values, and
 only the chain's joints above them move it (TALOS's left arm's chain carries the right
 arm on its torso joints). A checked pair holding such a link says so in a collision's
-words, with the fix (``locked=`` where the chain is loaded, docs/several-tips.md): no
-answer of the chain's moves that link out of the way. The pair is checked all the same.
+words, with the fix (``locked=`` where the chain is loaded, docs/several-tips.md): the
+chain's answers move it only as the joints that carry it move, so a self-collision pair
+of it may stay whatever they do. The pair is checked all the same.
 """
 
 from __future__ import annotations
@@ -43,13 +44,13 @@ def held_joints(arm, joints: list[int], body: list[int]) -> tuple[tuple[str, ...
 
 def named(names: list[str], held: tuple, pairs: list, tip: str) -> list:
     """The names of ``pairs`` (object indices into ``names``; ``held``: each of the arm's
-    objects' held joints, none for an obstacle beyond them): a ``Pair`` with its note
-    where a link of it is held, else the plain tuple."""
+    objects' held joints; an obstacle's index is beyond them): a ``Pair`` with its note
+    where a link of a self-collision pair is held, else the plain tuple (an obstacle is
+    cleared by moving the joints that carry the link)."""
     out: list = []
     for a, b in pairs:
-        notes = [
-            reasons.held_link(names[i], held[i], tip) for i in (a, b) if i < len(held) and held[i]
-        ]
+        mine = a < len(held) and b < len(held)  # not an obstacle's pair
+        notes = [reasons.held_link(names[i], held[i], tip) for i in (a, b) if mine and held[i]]
         out.append(Pair(names[a], names[b], "; ".join(notes)) if notes else (names[a], names[b]))
     return out
 
