@@ -52,7 +52,7 @@ def with_distances(arm: ArmModel, results: list[IKResult], target, opts: SolverS
     distance = plain(opts)
     at = centred(target)
     weighted = opts.weights is not None
-    region = opts.bounds is not None or target.aim is not None
+    region = opts.bounds is not None or getattr(target, "aim", None) is not None
     out = []
     for r in results:
         m = measure(arm, r.q, at, distance)
