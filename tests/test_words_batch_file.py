@@ -69,3 +69,15 @@ def test_a_file_that_is_no_saved_batch_says_what_it_is(tmp_path, content, kind):
     said = str(info.value)
     assert str(path) in said and f"({kind}, not an .npz archive)" in said, said
     assert "pickle" not in said
+
+
+@pytest.mark.parametrize("path", [5, None, 3.5])
+def test_a_path_that_is_no_path_is_refused_by_value(path):
+    b = _batch()
+    for call, verb in (
+        (lambda: b.save(path), "save to"),
+        (lambda: armik.BatchResult.load(path), "load from"),
+    ):
+        with pytest.raises(armik.InputError) as info:
+            call()
+        assert f"cannot {verb} {path!r}: give a file's path" in str(info.value)

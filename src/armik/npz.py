@@ -15,7 +15,7 @@ from armik.errors import InputError
 def save(path: str | Path, meta: dict, arrays: dict[str, np.ndarray]) -> Path:
     """Write ``arrays`` and ``meta`` (JSON, with its "format") to ``path``; ``InputError``
     naming the path when it cannot be written (a missing folder, a folder, no permission)."""
-    path = Path(path)
+    path = Path(_path(path, "save to"))
     try:
         with open(path, "wb") as f:
             # arg-type: numpy's stubs let the ** fill savez's allow_pickle, a bool
@@ -33,6 +33,8 @@ def load(
 ) -> tuple[dict, dict[str, np.ndarray]]:
     """(meta without its "format", the arrays ``keys`` or all) of a file ``save`` wrote with
     this ``format``; ``InputError`` saying the file is not ``what`` otherwise."""
+    if not hasattr(path, "read"):  # an open file numpy reads, else a path
+        _path(path, "load from")
     try:
         kind = _kind(path)
         if kind:  # numpy would read it as a pickle, or as one array
@@ -47,6 +49,13 @@ def load(
         raise InputError(f"{str(path)!r} is not {what} ({exc})") from None
     meta.pop("format")
     return meta, arrays
+
+
+def _path(path: object, verb: str):
+    """``path`` where it is a file's path (a str, a ``pathlib.Path``), else ``InputError``."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputError(f"cannot {verb} {path!r}: give a file's path (a str or a pathlib.Path)")
+    return path
 
 
 _ZIP = b"PK\x03\x04"  # an .npz archive is a zip file: it begins with these bytes
