@@ -8,6 +8,7 @@ with ``armik.kernel``, which every package holding compiled code imports first.
 
 from __future__ import annotations
 
+import copyreg as _copyreg
 import sys as _sys
 import types as _types
 from typing import TYPE_CHECKING
@@ -126,6 +127,19 @@ class _Package(_types.ModuleType):
 
 
 _sys.modules[__name__].__class__ = _Package
+
+
+def _by_name(module: _types.ModuleType) -> tuple[_Any, tuple[str]]:
+    """The package pickled as its name, imported again where it is read."""
+    import importlib
+
+    return importlib.import_module, (module.__name__,)
+
+
+# a pickler handles the package, of its own class, as no module: a user's function of a
+# script (a constraint, a ``prefer=`` cost), pickled by value with the ``armik`` its code
+# reads, travels to a process pool or a Dask worker by the package's name
+_copyreg.pickle(_Package, _by_name)
 
 __all__ = [
     "Arms",

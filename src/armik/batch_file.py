@@ -35,6 +35,8 @@ def save(result: Any, path: str | Path) -> Path:
         "branch_names": list(result.branch_names),
         "statuses": _WORDS,
         "pair_names": [list(p) for p in result.pair_names],
+        "weighted": result.weighted,
+        "error_tips": list(result.errors),  # several tips: each tip's errors, in order
     }
     arrays = dict(
         q=result.q,
@@ -52,8 +54,26 @@ def save(result: Any, path: str | Path) -> Path:
         score=result.score,
         measured=result.measured,
         branch_code=result.branch_codes(),  # every row's, none left to read from its q
+        **_texts("said", result.said),  # a success's words (``reasons`` holds them too)
+        **_texts("solver", result.solvers),
+        **{f"errors_{k}": e for k, e in enumerate(result.errors.values())},
     )
     return npz.save(path, meta, arrays)
+
+
+def _texts(name: str, texts: dict[int, str]) -> dict[str, np.ndarray]:
+    """A row -> text field as two arrays, the rows and their texts."""
+    keys = np.array(sorted(texts), dtype=np.int64)
+    texts_of = np.array([texts[k] for k in keys.tolist()], dtype=str)
+    return {f"{name}_index": keys, f"{name}_text": texts_of}
+
+
+def _read(arrays: dict, name: str) -> dict[int, str]:
+    """A row -> text field ``_texts`` wrote (empty from files written before it was kept)."""
+    if f"{name}_index" not in arrays:
+        return {}
+    rows, texts = arrays[f"{name}_index"].tolist(), arrays[f"{name}_text"]
+    return {int(k): str(t) for k, t in zip(rows, texts)}
 
 
 def fields(path: str | Path) -> dict[str, Any]:
@@ -61,6 +81,7 @@ def fields(path: str | Path) -> dict[str, Any]:
     ``InputError`` if it is not one."""
     meta, arrays = npz.load(path, FORMAT, "a batch result written by BatchResult.save")
     codes = np.array([Status(w).code for w in meta["statuses"]], dtype=np.int8)
+    said = _read(arrays, "said")
     return dict(
         q=arrays["q"],
         success=arrays["success"],
@@ -76,9 +97,11 @@ def fields(path: str | Path) -> dict[str, Any]:
         tol_position=float(meta["tol_position"]),
         tol_orientation=float(meta["tol_orientation"]),
         margin=float(meta.get("margin", 0.0)),
-        reasons={
-            int(k): str(t) for k, t in zip(arrays["reason_index"].tolist(), arrays["reason_text"])
-        },
+        reasons={k: t for k, t in _read(arrays, "reason").items() if said.get(k) != t},
+        said=said,  # saved in ``reasons`` too, for files read by armik before it was kept
+        solvers=_read(arrays, "solver"),  # absent from files before it was kept
+        weighted=bool(meta.get("weighted", False)),  # absent from files before it was kept
+        errors={tip: arrays[f"errors_{k}"] for k, tip in enumerate(meta.get("error_tips", []))},
         min_distance=arrays.get("min_distance"),  # absent from files of armik <= 0.x
         pair_index=arrays.get("pair_index"),
         pair_names=[tuple(p) for p in meta.get("pair_names", [])],

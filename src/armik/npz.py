@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -14,7 +15,7 @@ from armik.errors import InputError
 def save(path: str | Path, meta: dict, arrays: dict[str, np.ndarray]) -> Path:
     """Write ``arrays`` and ``meta`` (JSON, with its "format") to ``path``; ``InputError``
     naming the path when it cannot be written (a missing folder, a folder, no permission)."""
-    path = Path(path)
+    path = Path(_path(path, "save to"))
     try:
         with open(path, "wb") as f:
             # arg-type: numpy's stubs let the ** fill savez's allow_pickle, a bool
@@ -32,10 +33,13 @@ def load(
 ) -> tuple[dict, dict[str, np.ndarray]]:
     """(meta without its "format", the arrays ``keys`` or all) of a file ``save`` wrote with
     this ``format``; ``InputError`` saying the file is not ``what`` otherwise."""
+    if not hasattr(path, "read"):  # an open file numpy reads, else a path
+        _path(path, "load from")
     try:
+        kind = _kind(path)
+        if kind:  # numpy would read it as a pickle, or as one array
+            raise ValueError(f"{kind}, not an .npz archive")
         z = np.load(path, allow_pickle=False)
-        if not isinstance(z, np.lib.npyio.NpzFile):  # a .npy array: no archive of ours
-            raise ValueError(f"one {type(z).__name__}, not an .npz archive")
         with z:
             meta = json.loads(str(z["meta"]))
             if meta.get("format") != format:
@@ -45,3 +49,34 @@ def load(
         raise InputError(f"{str(path)!r} is not {what} ({exc})") from None
     meta.pop("format")
     return meta, arrays
+
+
+def _path(path: object, verb: str):
+    """``path`` where it is a file's path (a str, a ``pathlib.Path``), else ``InputError``."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputError(f"cannot {verb} {path!r}: give a file's path (a str or a pathlib.Path)")
+    return path
+
+
+_ZIP = b"PK\x03\x04"  # an .npz archive is a zip file: it begins with these bytes
+
+
+def _kind(path: str | Path) -> str:
+    """What the file at ``path`` is where it is no zip archive ("" where it is one, or
+    ``path`` is an open file, which numpy reads)."""
+    if not isinstance(path, (str, os.PathLike)):
+        return ""
+    with open(path, "rb") as f:
+        head = f.read(512)
+    if head.startswith(_ZIP):
+        return ""
+    if not head:
+        return "an empty file"
+    if head.startswith(b"\x93NUMPY"):
+        return "one array (.npy)"
+    try:
+        head.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        if exc.start < len(head) - 4:  # not a character cut at the 512th byte
+            return "a binary file of another format"
+    return "a text file"

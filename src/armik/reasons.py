@@ -476,3 +476,25 @@ def outside_own_box(name: str, joint: str, value: float, lower: float, upper: fl
     ``joint``: a route that does not step within the box found it, and the check refuses
     it as the task solver's steps would have kept it out."""
     return f"constraint {name}: {joint} at {value:.6g}, outside its box [{lower:.6g}, {upper:.6g}]"
+def weighted_region_apart(reason: str, pos: float, ori: float | None) -> str:
+    """``measured_apart`` of a region (bounds, an aim) with weights on its axes: the
+    verdict measured the weighted distances outside the region; the distances reported are
+    to the region's centre, its free components left out."""
+    rot = "" if ori is None or ori != ori else f", {ori:.3g} rad"
+    return (
+        f"{reason} (on the weighted axes); the tip is {pos:.3g} m{rot} from the region's "
+        "centre, free components apart"
+    )
+
+
+def held_link(link: str, joints: tuple[str, ...], tip: str) -> str:
+    """A checked link whose own ``joints`` are no joints of the chain to ``tip``: they keep
+    the values the chain was loaded with, the chain's joints only carry it."""
+    shown = ", ".join(joints[:3]) + (", ..." if len(joints) > 3 else "")
+    return (
+        f"link {link!r} is held: its joints ({shown}) are none of this chain's and keep the "
+        "values it was loaded with, so an answer moves that link only as the joints that "
+        "carry it move; lock them where the link is clear when loading the chain: "
+        f"armik.load(urdf, tip={tip!r}, locked={{{joints[0]!r}: value}}) "
+        "(docs/several-tips.md)"
+    )

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from armik import reasons
+from armik.constraints import carried
 from armik.constraints.base import Check, Constraint
 from armik.constraints.collision import checker
 from armik.constraints.shapes import Shape, check_obstacles, flag, margin_of
@@ -68,10 +69,17 @@ def distances(found: list[tuple[float, Any]], margin: float) -> Check:
     return Check(
         np.array([d >= margin for d, _ in found], dtype=bool),
         Status.COLLISION,
-        lambda i: reasons.in_collision(found[i][1], found[i][0], margin),
+        lambda i: _in_collision(found[i][1], found[i][0], margin),
         lambda i, reason: reasons.and_clear(reason, found[i][1], found[i][0], margin),
         lambda i: {"min_distance": found[i][0], "closest_pair": found[i][1]},
     )
+
+
+def _in_collision(pair, distance: float, margin: float) -> str:
+    """A collision's words, and what they say of a held link in ``pair`` (``carried``)."""
+    said = carried.note(pair)
+    text = reasons.in_collision(pair, distance, margin)
+    return f"{text}; {said}" if said else text
 
 
 def collision_check(check, Q, margin: float) -> Check:

@@ -23,6 +23,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
+from armik.constraints import carried
 from armik.constraints.bounds import ordered_bounds, ordered_bounds_many
 from armik.constraints.shapes import Shape, check_obstacles, convex_hull, flag, margin_of, solid
 from armik.constraints.srdf import Pair
@@ -47,6 +48,7 @@ class ArmGeometry:
     # objects a mimic joint off the chain moves with its driver on it, placed by the whole
     # model at each q (``model.mimic_frames.followed_objects``): the cut model holds them still
     followed: tuple = ()
+    held: tuple = ()  # each object's held joints where the chain carries it (``carried``)
 
 
 def arm_geometry(arm: ArmModel) -> ArmGeometry:
@@ -83,7 +85,9 @@ def _build_geometry(arm: ArmModel) -> ArmGeometry:
         )
     links = tuple(full.frames[o.parentFrame].name for o in geom.geometryObjects)
     followed = mimic_frames.followed_objects(arm, geom)
-    body, parent = _bodies(arm, [o.parentJoint for o in geom.geometryObjects])
+    joints = [o.parentJoint for o in geom.geometryObjects]
+    body, parent = _bodies(arm, joints)
+    held = carried.held_joints(arm, joints, body)
     if chain.locked_joints:
         _, geom = reduce_model(full, list(chain.locked_joints), chain.q_ref, geom)
     for o, link in zip(geom.geometryObjects, links):
@@ -113,6 +117,7 @@ def _build_geometry(arm: ArmModel) -> ArmGeometry:
         candidates=tuple(candidates),
         self_pairs=self_pairs,
         followed=followed,
+        held=held,
     )
 
 
@@ -191,7 +196,7 @@ class Checker:
             model.addCollisionPair(pin.CollisionPair(a, b))
         self.arm = arm
         self.model = model
-        self.pair_names = [(names[a], names[b]) for a, b in pairs]
+        self.pair_names = carried.named(names, g.held, pairs, arm.tip)
         self._local = threading.local()
         # bounds: each link object's sphere (its centre in its joint's frame) and capsule,
         # each obstacle's box (a half space: a box reaching far below its plane), in the base

@@ -6,7 +6,9 @@ armik says so, once per part and process: "armik: compiling the numeric solvers 
 machine (once; about 25 s on a quiet 2-core machine); `armik compile dls qp batch tasks`
 builds it ahead of time" (``COMMANDS``: the parts of ``armik compile`` that build it). On a
 terminal the line counts the seconds and ends with the time taken. A call served from the
-cache says nothing; the FK check, which compiles with a solve, says nothing of its own.
+cache says nothing; the FK check, which compiles with a solve, says nothing of its own,
+nor does the conversion of joint values to Pinocchio's (an arm with continuous joints: its
+first call of anything), which compiles in well under a second.
 
 numba announces only real compilations ("numba:compile" events, not cache loads); the
 first outermost one of an armik function in a burst names the part. How long it takes is
@@ -40,6 +42,7 @@ ENVIRONMENT = "ARMIK_COMPILE_NOTICE"  # "0": no notice
 # benchmarks/compile_time.py on an empty cache of this project's 2-core machine, rounded up)
 PARTS = (
     ("armik.kernel.measure", "the forward-kinematics check", 2),
+    ("armik.kernel.coordinates", "the joint-value conversion", 1),
     ("armik.kernel.fk_many", "the batch forward kinematics", 3),
     ("armik.kernel.ladder", "the global path plan", 10),
     ("armik.kernel.task_rows", "the task solver's descent", 10),
@@ -66,6 +69,7 @@ PARTS = (
     ("armik", "armik's compiled code", 5),
 )
 _CHECK = PARTS[0][1]  # the forward-kinematics check
+_CONVERSION = PARTS[1][1]  # joint values to Pinocchio's: said by no line of its own
 # what each part's line tells to run to build it ahead of time: ``armik compile``'s parts
 # (``armik.precompile.PARTS``) whose calls compile it; where none is named, every part
 _NUMERIC = "dls qp batch tasks"  # a solve, a batch, a tip-only task list lower to its entries
@@ -133,6 +137,8 @@ class _Notice(event.Listener):
         if not module.startswith("armik"):
             return
         what, seconds = part_of(module)
+        if what == _CONVERSION:  # under a second: within another part's line or none
+            return
         key = record_key(what, f"{module}.{getattr(func, '__qualname__', '')}")
         with self.lock:
             if self.closing is not None:
@@ -240,7 +246,7 @@ def in_background(module: str, name: str) -> None:
     compiles in a helper process and that calls run as Python until it is done
     (``kernel.tier``)."""
     what, seconds = part_of(module)
-    if os.environ.get(ENVIRONMENT, "1") == "0" or what in _BACKGROUND:
+    if os.environ.get(ENVIRONMENT, "1") == "0" or what in _BACKGROUND or what == _CONVERSION:
         return
     if what == _CHECK and _BACKGROUND:  # it compiles with the solve said before: one line
         return

@@ -26,12 +26,8 @@ not armik's own travels too (``SolverOnWorker``), registered on each worker as i
 
 from __future__ import annotations
 
-import copyreg
 import hashlib
-import importlib
 import pickle
-import sys
-import types
 from collections.abc import Iterator, Sequence
 from functools import lru_cache
 from typing import TYPE_CHECKING, cast
@@ -50,19 +46,6 @@ from armik.solvers import registry
 from armik.solvers.registry import SolverSpec
 
 DEFAULT_CHUNK = 2048  # targets per task: a task should take tens of milliseconds at least
-
-
-def _by_name(module: types.ModuleType) -> tuple:
-    """The package ``armik`` pickled as its name, imported again where it is read."""
-    return importlib.import_module, (module.__name__,)
-
-
-# ``armik``'s module is of its own class (``armik._Package``), which a pickler handles as no
-# module: a user's constraint or ``prefer=`` function of a script, pickled by value with the
-# ``armik`` its code reads, did not travel ("cannot pickle '_Package' object")
-_PACKAGE = type(sys.modules[__name__.partition(".")[0]])
-if _PACKAGE is not types.ModuleType:
-    copyreg.pickle(_PACKAGE, _by_name)
 
 
 def _import_distributed():

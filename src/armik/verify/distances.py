@@ -51,20 +51,41 @@ def with_distances(arm: ArmModel, results: list[IKResult], target, opts: SolverS
     distances to ``target`` (Pinocchio's FK), the verdict's measure kept as ``measured``."""
     distance = plain(opts)
     at = centred(target)
+    weighted = opts.weights is not None
+    region = opts.bounds is not None or getattr(target, "aim", None) is not None
     out = []
     for r in results:
         m = measure(arm, r.q, at, distance)
-        out.append(_apart(r, m.position_error, m.orientation_error, opts.weights is not None))
+        out.append(_apart(r, m.position_error, m.orientation_error, weighted, region))
     return out
 
 
-def _apart(r: IKResult, pos: float, ori: float | None, weighted: bool) -> IKResult:
+def _words(reason: str, pos: float, ori: float | None, weighted: bool, region: bool) -> str:
+    """A success's reason measured apart: the verdict's words, then the distances, to the
+    region's centre (its free components left out) where the target is a region."""
+    if weighted and region:
+        return reasons.weighted_region_apart(reason, pos, ori)
+    return reasons.measured_apart(reason, pos, ori, weighted)
+
+
+_CLEAR = "; " + reasons.clear(None, 0.0, 0.0).partition(":")[0] + ":"  # "; collision-free:"
+
+
+def _cleared(reason: str, pos: float, ori: float | None, weighted: bool, region: bool) -> str:
+    """``_words`` of a success whose collision check spoke first (``solve_all`` with
+    obstacles): the distances said after what the verdict measured, as ``solve`` says
+    them, its closest pair after them."""
+    measured, clear, rest = reason.partition(_CLEAR)
+    return _words(measured, pos, ori, weighted, region) + clear + rest
+
+
+def _apart(r: IKResult, pos: float, ori: float | None, weighted: bool, region: bool) -> IKResult:
     return dataclasses.replace(
         r,
         position_error=pos,
         orientation_error=ori,
         # a success's words say both; a failure's say why it failed
-        reason=reasons.measured_apart(r.reason, pos, ori, weighted) if r.success else r.reason,
+        reason=_cleared(r.reason, pos, ori, weighted, region) if r.success else r.reason,
         extra={**r.extra, "measured": (r.position_error, r.orientation_error)},
     )
 
@@ -84,7 +105,10 @@ def fields_apart(fields: dict, pos: float, ori: float | None, weighted: bool) ->
 
 
 def _said_apart(said: tuple, pos: float, ori: float | None, weighted: bool) -> str:
-    return reasons.measured_apart(said[0](*said[1]), pos, ori, weighted)
+    # ``said``: ``verify.verdict.success_reason`` and its arguments, whose seventh says
+    # whether the verdict measured a region
+    region = len(said[1]) > 6 and bool(said[1][6])
+    return _words(said[0](*said[1]), pos, ori, weighted, region)
 
 
 def batch_distances(arm: ArmModel, Q: np.ndarray, targets: TargetBatch, opts: SolverSettings):
