@@ -189,7 +189,10 @@ class BatchResult:
         text = reasons.verified(said, measured)
         if not math.isnan(apart[0]):
             pos, ori = float(self.position_error[i]), float(self.orientation_error[i])
-            text = reasons.measured_apart(text, pos, ori, self.weighted or not self.region)
+            if self.weighted and self.region:  # solve's words (``verify.distances._words``)
+                text = reasons.weighted_region_apart(text, pos, ori)
+            else:
+                text = reasons.measured_apart(text, pos, ori, self.weighted or not self.region)
         if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):  # checked
             pair, distance = self.closest_pair(i), float(self._distances[i])
             text = reasons.and_clear(text, pair, distance, self.margin)
@@ -319,7 +322,7 @@ class BatchResult:
             if np.isnan(apart[:, 0]).all():
                 line += f"; largest error of the solved: {worst:.2g} m"
             else:  # the errors are distances; the verdicts measured the region or weights
-                to = "the target" if self.weighted or not self.region else "the region's centre"
+                to = "the region's centre" if self.region else "the target"
                 line += f"; largest distance to {to} of the solved: {worst:.2g} m"
             ori = self.orientation_error[self.success]
             if not np.isnan(ori).all():

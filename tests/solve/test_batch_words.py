@@ -51,7 +51,7 @@ def test_weights_and_bounds_say_the_distance_as_solve_does(tmp_path):
     options = {"bounds": (0.01, 0.01, np.inf, 0.1, 0.1, 0.1), "weights": (1, 1, 1, 1, 1, 0.5)}
     batch = a.solve_batch(targets, **options)
     assert batch.success[:-1].all()
-    assert batch[0].reason.endswith("from the target")  # solve's, with weights
+    assert batch[0].reason.endswith("from the region's centre, free components apart")
     _same_words(a, targets, batch, **options)
     loaded = armik.BatchResult.load(batch.save(tmp_path / "weighted.npz"))
     assert [loaded.reason(i) for i in range(len(batch))] == [r.reason for r in batch]
@@ -83,12 +83,12 @@ def test_a_cone_ranked_by_a_preference_is_a_region_in_the_summary_too(run):
     _same_words(a, targets, batch, **options)
 
 
-def test_weights_and_bounds_summary_measures_from_the_target():
+def test_weights_and_bounds_summary_measures_from_the_regions_centre():
     a = arm("ur5")
     options = {"bounds": (0.01, 0.01, np.inf, 0.1, 0.1, 0.1), "weights": (1, 1, 1, 1, 1, 0.5)}
     batch = a.solve_batch(_targets(a, 2)[:2], **options)
-    assert batch[0].reason.endswith("from the target")
-    assert "largest distance to the target of the solved" in batch.summary()
+    assert batch[0].reason.endswith("from the region's centre, free components apart")
+    assert "largest distance to the region's centre of the solved" in batch.summary()
 
 
 class ElbowAbove(Constraint):
