@@ -9,6 +9,7 @@ from pathlib import Path
 import coal
 import numpy as np
 import pinocchio as pin
+import pytest
 
 import armik
 from armik.servo.streams import START, violations
@@ -132,3 +133,52 @@ def test_a_panda_pair_inside_the_margin_never_comes_nearer():
     D = _distances(model, geom, pairs, pad, np.vstack([q0, rec.q]))
     assert _never_nearer(D, 0.05) >= 1
     assert np.ptp(rec.q, axis=0).max() > 0.3  # it moved
+
+
+def test_a_pair_inside_the_margin_keeps_its_row_before_fast_pairs():
+    """TALOS's torso and upper arms inside a 3 cm margin, every joint at 6 rad/s: the
+    fingertips' pairs, 0.8 m off but needing 3.6 rad of each joint to stop, are more urgent
+    by gap less braking distance, and before they took all 16 rows, the pairs inside the
+    margin none. A pair inside the margin keeps its row before any outside it."""
+    robot = _talos()
+    q0 = robot.middle
+    servo = robot.servo(q0, dt=DT, self_collision=True, margin=0.03)
+    rows = servo._union._collisions
+    fast = np.full(robot.dof, 6.0)
+    C = rows.at(q0, 1.0, fast, np.full(robot.dof, 5.0))
+    d = 0.03 - C[:, -1] / rows.gain
+    named = {frozenset((rows.names[a], rows.names[b])) for a, b in rows.pairs if b >= 0}
+    assert len(C) == 16 and np.sum(d < 0.03) == 2
+    for arm in ("arm_left_2_link", "arm_right_2_link"):
+        assert frozenset(("torso_2_link", arm)) in named
+
+
+def test_a_pair_no_joint_moves_takes_no_row_and_is_said_once(monkeypatch):
+    """A pair whose row is all zeros (no joint the servo commands moves it) gives the step
+    nothing: it takes no row from the others, and inside the margin an ``ArmikWarning``
+    names it, once."""
+    robot = _talos()
+    q0 = robot.middle
+    servo = robot.servo(q0, dt=DT, self_collision=True, margin=0.03)
+    rows = servo._union._collisions
+    closing = type(rows)._closing
+
+    def still(self, found):  # the torso and its left upper arm held still
+        C = closing(self, found)
+        for i, (_, a, b, _) in enumerate(found):
+            if {self.names[a], self.names[b] if b >= 0 else ""} == {
+                "torso_2_link",
+                "arm_left_2_link",
+            }:
+                C[i] = 0.0
+        return C
+
+    monkeypatch.setattr(type(rows), "_closing", still)
+    with pytest.warns(armik.ArmikWarning, match="torso_2_link and arm_left_2_link") as said:
+        C = rows.at(q0)
+        rows.at(q0)
+    assert len([w for w in said if "arm_left_2_link" in str(w.message)]) == 1
+    assert np.all(np.abs(C[:, :-1]).sum(axis=1) > 0)
+    named = {frozenset((rows.names[a], rows.names[b])) for a, b in rows.pairs if b >= 0}
+    assert frozenset(("torso_2_link", "arm_right_2_link")) in named
+    assert frozenset(("torso_2_link", "arm_left_2_link")) not in named

@@ -19,19 +19,21 @@ points' Jacobians read, on the URDF's whole model (``armik.model.mimic_frames``)
 from __future__ import annotations
 
 import heapq
+import warnings
 
 import numpy as np
 import pinocchio as pin
 
 from armik.constraints import collision
 from armik.constraints.shapes import check_obstacles
-from armik.errors import CollisionError
+from armik.errors import ArmikWarning, CollisionError
 from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
 from armik.servo.box import SAFE
 from armik.servo.layout import AMAX, MAX_ROWS, RATE, V
 
 ACTIVE = 0.05  # m beyond the margin: pairs nearer than this give a row
+INSIDE = 1e6  # m off the urgency of a pair inside the margin (more than any braking distance)
 
 
 class CollisionRows:
@@ -52,6 +54,7 @@ class CollisionRows:
         self.followed = collision.arm_geometry(arm).followed
         self.follower = {i: joint for i, joint, _ in self.followed}
         self.full = arm.chain.full.createData() if self.followed else None
+        self.said: set[tuple[str, str]] = set()  # pairs inside the margin no joint moves
 
     def at(
         self,
@@ -84,18 +87,26 @@ class CollisionRows:
         slow = urgency(v, amax)
         kept: list[tuple[float, int, float, np.ndarray]] = []  # (-urgency, k, d, C)
         for k in near[np.argsort(bound[near])].tolist():
-            if len(kept) == MAX_ROWS and bound[k] - ahead >= -kept[0][0]:
+            full = len(kept) == MAX_ROWS  # (a pair inside the margin is measured)
+            if full and bound[k] >= self.margin and bound[k] - ahead >= -kept[0][0]:
                 break
             r = pin.computeDistance(gm, gd, k)
             d = r.min_distance
             self.nearest = min(self.nearest, d)
-            if d >= reach or (len(kept) == MAX_ROWS and d - ahead >= -kept[0][0]):
+            if d >= reach or (full and d >= self.margin and d - ahead >= -kept[0][0]):
                 continue
             pair = gm.collisionPairs[k]
             Jd = self._point(pair.second, np.array(r.getNearestPoint2()))
             Jd -= self._point(pair.first, np.array(r.getNearestPoint1()))
             C = np.array(r.normal) @ Jd
+            if not C.any():  # no joint moves the pair: no row (said once inside the margin)
+                if d < self.margin:
+                    objects = gm.geometryObjects
+                    still(self.said, objects[pair.first].name, objects[pair.second].name, d)
+                continue
             u = d if slow is None else d - float(np.abs(C) @ slow)
+            if d < self.margin:  # inside the margin: its row before any pair outside it
+                u -= INSIDE
             if len(kept) < MAX_ROWS:
                 heapq.heappush(kept, (-u, k, d, C))
             elif u < -kept[0][0]:
@@ -126,6 +137,21 @@ class CollisionRows:
         v[1] -= rz * w[0] - rx * w[2]
         v[2] -= rx * w[1] - ry * w[0]
         return v
+
+
+def still(said: set[tuple[str, str]], a: str, b: str, d: float) -> None:
+    """An ``ArmikWarning``, once a pair, that ``a`` and ``b`` are ``d`` m apart, inside the
+    margin, and no joint moves them apart: no row can keep them from it."""
+    if (a, b) in said:
+        return
+    said.add((a, b))
+    warnings.warn(
+        f"{a} and {b} are {d:.4g} m apart, inside the collision margin, and no joint the "
+        "servo commands moves them apart: no row keeps them apart (move the obstacle, or "
+        "lower margin=)",
+        ArmikWarning,
+        stacklevel=2,
+    )
 
 
 def ahead(state: np.ndarray, length: float) -> float:

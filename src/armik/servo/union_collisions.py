@@ -27,10 +27,11 @@ import numpy as np
 import pinocchio as pin
 
 from armik.arms_links import Links
+from armik.constraints.collision import obstacle_name
 from armik.constraints.shapes import check_obstacles
 from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
-from armik.servo.collisions import ACTIVE, RATE, asked, margin_of, urgency
+from armik.servo.collisions import ACTIVE, INSIDE, RATE, asked, margin_of, still, urgency
 from armik.servo.layout import MAX_ROWS
 
 
@@ -81,6 +82,7 @@ class UnionCollisions:
         self.request.gjk_tolerance = 1e-9
         self.nearest = math.inf  # m: the nearest pair's distance at the last ``at``
         self.pairs: list[tuple[int, int]] = []  # each row's pair (an obstacle's: -1 - it)
+        self.said: set[tuple[str, str]] = set()  # pairs inside the margin no joint moves
 
     def at(
         self,
@@ -161,11 +163,20 @@ class UnionCollisions:
                 f for f in found if f[0] - share[f[1]] - (f[2] >= 0) * share[max(f[2], 0)] <= last
             ]
         C = self._closing(found)
-        if slow is not None and len(found) > MAX_ROWS:
-            urgent = np.array([f[0] for f in found]) - np.abs(C) @ slow
-            pick = np.argsort(urgent, kind="stable")[:MAX_ROWS]
-        else:
-            pick = np.arange(min(len(found), MAX_ROWS))
+        # the most urgent, each pair inside the margin before any outside it; a pair no
+        # joint moves takes no row (said once where it is inside the margin)
+        d = np.array([f[0] for f in found])
+        urgent = d - INSIDE * (d < self.margin)
+        if slow is not None:
+            urgent -= np.abs(C) @ slow
+        moved = C.any(axis=1)
+        if not moved.all():
+            for i in np.flatnonzero(~moved & (d < self.margin)).tolist():
+                a, b = found[i][1:3]
+                other = self.names[b] if b >= 0 else obstacle_name(-1 - b, self.shapes[-1 - b])
+                still(self.said, self.names[a], other, found[i][0])
+            urgent[~moved] = math.inf
+        pick = np.argsort(urgent, kind="stable")[: min(MAX_ROWS, int(moved.sum()))]
         self.pairs = [found[i][1:3] for i in pick.tolist()]
         K = len(pick)
         self.rows[:K, :-1] = C[pick]
