@@ -37,7 +37,10 @@ short lever's row had given way by 1e-5 m a tick; relative to
 the damped normal matrix's Frobenius norm, a bound on its largest eigenvalue) and the box
 QP is solved again, one row a pass: the boxes stay hard (the joint, velocity, acceleration
 and braking limits always hold), a row holds to about 1 / WEIGHT of its size where the
-boxes leave room for it.
+boxes leave room for it. The braking row of a pair inside the margin is held ``FIRM`` times more
+firmly still: a step braking every joint meets every braking row at once, and weighed
+alike against the others' rows, TALOS's torso and right upper arm, 14.1 mm apart inside a
+3 cm margin, its hands sent at each other, came 2.1 um nearer.
 """
 
 from __future__ import annotations
@@ -55,6 +58,7 @@ from armik.servo.layout import RATE
 WEIGHT = 1e6
 PASSES = 16  # rows added at most (two a pair: its damper, its braking)
 SHORT = 1e-12  # rad: a row short by less is met
+FIRM = 1e2  # a braking row inside the margin held this much more firmly than the others
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -148,7 +152,7 @@ def with_rows(C, b, w, a, dt, Hl, xf, lb, ub, dq, act, Hp, Gi, gp, xp, unit, isc
             norm2 = 0.0  # each row as a unit one: held alike however long its levers
             for i in range(n):
                 norm2 += _coefficient(C, r, K, i, w, a, dt) ** 2
-            wr = weight / norm2
+            wr = weight / norm2 * (FIRM if r >= K and b[r - K] > 0.0 else 1.0)
             br = _bound(C, b, r, K, w, a, dt)
             for i in range(n):
                 ci = _coefficient(C, r, K, i, w, a, dt)
