@@ -47,7 +47,7 @@ class CollisionRows:
         self.arm, self.margin, self.gain, self.active = arm, margin, gain, active
         self.check = check
         self.data = arm.model.createData()
-        self.rows = np.zeros((MAX_ROWS, arm.dof + 1))
+        self.rows = np.zeros((MAX_ROWS, 2 * arm.dof + 1))  # C, b, then the levers
         self.nearest = float("inf")  # m: the nearest pair's distance at the last ``at``
         # objects below a mimic joint off the chain that follows its driver on it: placed,
         # and their points' Jacobians read, on the whole model (the cut one holds them still)
@@ -62,6 +62,7 @@ class CollisionRows:
         ahead: float = 0.0,
         v: np.ndarray | None = None,
         amax: np.ndarray | None = None,
+        levers: bool = False,
     ) -> np.ndarray:
         """The rows at q (rad, m) of the ``MAX_ROWS`` most urgent pairs within reach
         (``ahead`` m farther: ``ahead``'s) at most, most urgent first: a pair's urgency is
@@ -73,7 +74,7 @@ class CollisionRows:
         near = np.flatnonzero(bound < reach)
         self.nearest = float("inf")
         if near.size == 0:
-            return self.rows[:0]
+            return self.rows[:0] if levers else self.rows[:0, : arm.dof + 1]
         model, gm = arm.model, check.model
         gd = check.geometry_data()
         qp = arm.to_pin(q)
@@ -85,7 +86,7 @@ class CollisionRows:
         # known: no bound left below the least urgent of them by more than ``ahead`` (a
         # bound on any pair's braking distance)
         slow = urgency(v, amax)
-        kept: list[tuple[float, int, float, np.ndarray]] = []  # (-urgency, k, d, C)
+        kept: list[tuple[float, int, float, np.ndarray, np.ndarray]] = []  # (-urgency, k, ...)
         for k in near[np.argsort(bound[near])].tolist():
             full = len(kept) == MAX_ROWS  # (a pair inside the margin is measured)
             if full and bound[k] >= self.margin and bound[k] - ahead >= -kept[0][0]:
@@ -104,18 +105,22 @@ class CollisionRows:
                     objects = gm.geometryObjects
                     still(self.said, objects[pair.first].name, objects[pair.second].name, d)
                 continue
+            lever = np.sqrt(np.sum(Jd * Jd, axis=0))  # (how fast each joint parts them)
             u = d if slow is None else d - float(np.abs(C) @ slow)
             if d < self.margin:  # inside the margin: its row before any pair outside it
                 u -= INSIDE
             if len(kept) < MAX_ROWS:
-                heapq.heappush(kept, (-u, k, d, C))
+                heapq.heappush(kept, (-u, k, d, C, lever))
             elif u < -kept[0][0]:
-                heapq.heapreplace(kept, (-u, k, d, C))
+                heapq.heapreplace(kept, (-u, k, d, C, lever))
         kept.sort(key=lambda e: (-e[0], e[1]))
-        for K, (_, _, d, C) in enumerate(kept):
-            self.rows[K, :-1] = C
-            self.rows[K, -1] = -self.gain * (d - self.margin)
-        return self.rows[: len(kept)]
+        n = arm.dof
+        for K, (_, _, d, C, lever) in enumerate(kept):
+            self.rows[K, :n] = C
+            self.rows[K, n] = -self.gain * (d - self.margin)
+            self.rows[K, n + 1 :] = lever
+        K = len(kept)
+        return self.rows[:K] if levers else self.rows[:K, : n + 1]
 
     def _point(self, i: int, p: np.ndarray) -> np.ndarray:
         """The 3 x dof Jacobian of the world point p fixed to geometry object i."""
