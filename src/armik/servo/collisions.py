@@ -19,19 +19,21 @@ points' Jacobians read, on the URDF's whole model (``armik.model.mimic_frames``)
 from __future__ import annotations
 
 import heapq
+import warnings
 
 import numpy as np
 import pinocchio as pin
 
 from armik.constraints import collision
 from armik.constraints.shapes import check_obstacles
-from armik.errors import CollisionError
+from armik.errors import ArmikWarning, CollisionError
 from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
 from armik.servo.box import SAFE
 from armik.servo.layout import AMAX, MAX_ROWS, RATE, V
 
 ACTIVE = 0.05  # m beyond the margin: pairs nearer than this give a row
+INSIDE = 1e6  # m off the urgency of a pair inside the margin (more than any braking distance)
 
 
 class CollisionRows:
@@ -45,13 +47,14 @@ class CollisionRows:
         self.arm, self.margin, self.gain, self.active = arm, margin, gain, active
         self.check = check
         self.data = arm.model.createData()
-        self.rows = np.zeros((MAX_ROWS, arm.dof + 1))
+        self.rows = np.zeros((MAX_ROWS, 2 * arm.dof + 1))  # C, b, then the levers
         self.nearest = float("inf")  # m: the nearest pair's distance at the last ``at``
         # objects below a mimic joint off the chain that follows its driver on it: placed,
         # and their points' Jacobians read, on the whole model (the cut one holds them still)
         self.followed = collision.arm_geometry(arm).followed
         self.follower = {i: joint for i, joint, _ in self.followed}
         self.full = arm.chain.full.createData() if self.followed else None
+        self.said: set[tuple[str, str]] = set()  # pairs inside the margin no joint moves
 
     def at(
         self,
@@ -59,6 +62,7 @@ class CollisionRows:
         ahead: float = 0.0,
         v: np.ndarray | None = None,
         amax: np.ndarray | None = None,
+        levers: bool = False,
     ) -> np.ndarray:
         """The rows at q (rad, m) of the ``MAX_ROWS`` most urgent pairs within reach
         (``ahead`` m farther: ``ahead``'s) at most, most urgent first: a pair's urgency is
@@ -70,7 +74,7 @@ class CollisionRows:
         near = np.flatnonzero(bound < reach)
         self.nearest = float("inf")
         if near.size == 0:
-            return self.rows[:0]
+            return self.rows[:0] if levers else self.rows[:0, : arm.dof + 1]
         model, gm = arm.model, check.model
         gd = check.geometry_data()
         qp = arm.to_pin(q)
@@ -82,29 +86,41 @@ class CollisionRows:
         # known: no bound left below the least urgent of them by more than ``ahead`` (a
         # bound on any pair's braking distance)
         slow = urgency(v, amax)
-        kept: list[tuple[float, int, float, np.ndarray]] = []  # (-urgency, k, d, C)
+        kept: list[tuple[float, int, float, np.ndarray, np.ndarray]] = []  # (-urgency, k, ...)
         for k in near[np.argsort(bound[near])].tolist():
-            if len(kept) == MAX_ROWS and bound[k] - ahead >= -kept[0][0]:
+            full = len(kept) == MAX_ROWS  # (a pair inside the margin is measured)
+            if full and bound[k] >= self.margin and bound[k] - ahead >= -kept[0][0]:
                 break
             r = pin.computeDistance(gm, gd, k)
             d = r.min_distance
             self.nearest = min(self.nearest, d)
-            if d >= reach or (len(kept) == MAX_ROWS and d - ahead >= -kept[0][0]):
+            if d >= reach or (full and d >= self.margin and d - ahead >= -kept[0][0]):
                 continue
             pair = gm.collisionPairs[k]
             Jd = self._point(pair.second, np.array(r.getNearestPoint2()))
             Jd -= self._point(pair.first, np.array(r.getNearestPoint1()))
             C = np.array(r.normal) @ Jd
+            if not C.any():  # no joint moves the pair: no row (said once inside the margin)
+                if d < self.margin:
+                    objects = gm.geometryObjects
+                    still(self.said, objects[pair.first].name, objects[pair.second].name, d)
+                continue
+            lever = np.sqrt(np.sum(Jd * Jd, axis=0))  # (how fast each joint parts them)
             u = d if slow is None else d - float(np.abs(C) @ slow)
+            if d < self.margin:  # inside the margin: its row before any pair outside it
+                u -= INSIDE
             if len(kept) < MAX_ROWS:
-                heapq.heappush(kept, (-u, k, d, C))
+                heapq.heappush(kept, (-u, k, d, C, lever))
             elif u < -kept[0][0]:
-                heapq.heapreplace(kept, (-u, k, d, C))
+                heapq.heapreplace(kept, (-u, k, d, C, lever))
         kept.sort(key=lambda e: (-e[0], e[1]))
-        for K, (_, _, d, C) in enumerate(kept):
-            self.rows[K, :-1] = C
-            self.rows[K, -1] = -self.gain * (d - self.margin)
-        return self.rows[: len(kept)]
+        n = arm.dof
+        for K, (_, _, d, C, lever) in enumerate(kept):
+            self.rows[K, :n] = C
+            self.rows[K, n] = -self.gain * (d - self.margin)
+            self.rows[K, n + 1 :] = lever
+        K = len(kept)
+        return self.rows[:K] if levers else self.rows[:K, : n + 1]
 
     def _point(self, i: int, p: np.ndarray) -> np.ndarray:
         """The 3 x dof Jacobian of the world point p fixed to geometry object i."""
@@ -126,6 +142,21 @@ class CollisionRows:
         v[1] -= rz * w[0] - rx * w[2]
         v[2] -= rx * w[1] - ry * w[0]
         return v
+
+
+def still(said: set[tuple[str, str]], a: str, b: str, d: float) -> None:
+    """An ``ArmikWarning``, once a pair, that ``a`` and ``b`` are ``d`` m apart, inside the
+    margin, and no joint moves them apart: no row can keep them from it."""
+    if (a, b) in said:
+        return
+    said.add((a, b))
+    warnings.warn(
+        f"{a} and {b} are {d:.4g} m apart, inside the collision margin, and no joint the "
+        "servo commands moves them apart: no row keeps them apart (move the obstacle, or "
+        "lower margin=)",
+        ArmikWarning,
+        stacklevel=2,
+    )
 
 
 def ahead(state: np.ndarray, length: float) -> float:

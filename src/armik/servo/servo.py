@@ -60,7 +60,7 @@ class Commanded:
             return self._no_rows
         state = self._state
         reach = ahead(state, self._cfg[k.CURVE])
-        return self._collisions.at(state[k.Q], reach, state[k.V], state[k.AMAX])
+        return self._collisions.at(state[k.Q], reach, state[k.V], state[k.AMAX], levers=True)
 
     @property
     def velocity_limits(self) -> np.ndarray:
@@ -171,7 +171,7 @@ class Servo(Commanded):
         self._cfg[k.CURVE] = curvature([arm])
         self._names = arm.joint_names
         self._collisions = rows_for(arm, obstacles, self_collision, margin, self.dt)
-        self._no_rows = np.zeros((0, n + 1))
+        self._no_rows = np.zeros((0, 2 * n + 1))
 
     def step(self, target: object) -> ServoStep:
         """The command one tick later, toward ``target`` (anything ``Arm.solve`` takes for

@@ -259,7 +259,8 @@ def step_within(E0, A0, E1, A1, rows, active, rank, scale, moved, whole, rows_cb
     them counted in the singular value, each at its ``scale``: ``tick.stack``'s, at most
     ``rank`` of them independent at any q: ``tick.rank_bound``'s), from
     E1, A1 where the target ``moved`` since the last tick, within every limit and the
-    collision rows ``rows_cb`` (K, n + 1: C, then b, for C dq >= b).
+    collision rows ``rows_cb`` (K, 2 n + 1: C, then b, for C dq >= b, then each pair's
+    levers, ``armik.servo.rows``).
     With ``whole`` a desired step beyond a joint's velocity limit is scaled as a whole
     (the tip keeps its line), else the box QP leaves the others to make up for it (a
     slow lift under two arms). ``stalled``: q is a local minimum of the error within the
@@ -366,8 +367,8 @@ def step_within(E0, A0, E1, A1, rows, active, rank, scale, moved, whole, rows_cb
             dq[i] = min(max(xo[i], lb[i]), ub[i])
     blocked = False
     if rows_cb.shape[0] > 0:
-        C, b = rows_cb[:, :n], rows_cb[:, n]
-        blocked = with_rows(C, b, v_prev, state[AMAX], dt, Hl, xf, lb, ub, dq, act, Hm, Gi, g, x,
+        C, b, L = rows_cb[:, :n], rows_cb[:, n], rows_cb[:, n + 1 :]
+        blocked = with_rows(C, b, L, v_prev, state[AMAX], dt, Hl, xf, lb, ub, dq, act, Hm, Gi, g, x,
                             tmp, iv, M6[4:6], W[16:19])  # fmt: skip
     # which bound held the step back most
     worst, joint, bound = 0.0, -1, 0

@@ -110,7 +110,7 @@ class UnionServo(Commanded):
             gain, tol_position, tol_orientation,
         )  # fmt: skip
         self._cfg[k.CURVE] = curvature(arms)
-        self._no_rows = np.zeros((0, n + 1))
+        self._no_rows = np.zeros((0, 2 * n + 1))
         self._collisions = union_rows(
             arms,  # type: ignore[arg-type]
             self._cols,

@@ -27,10 +27,11 @@ import numpy as np
 import pinocchio as pin
 
 from armik.arms_links import Links
+from armik.constraints.collision import obstacle_name
 from armik.constraints.shapes import check_obstacles
 from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
-from armik.servo.collisions import ACTIVE, RATE, asked, margin_of, urgency
+from armik.servo.collisions import ACTIVE, INSIDE, RATE, asked, margin_of, still, urgency
 from armik.servo.layout import MAX_ROWS
 
 
@@ -74,13 +75,14 @@ class UnionCollisions:
         }
         self.follower = {k: follower[o] for k, o in enumerate(self.objects) if o in follower}
         self._levers()
-        self.rows = np.zeros((MAX_ROWS, n + 1))
+        self.rows = np.zeros((MAX_ROWS, 2 * n + 1))  # C, b, then the levers
         self.request = coal.DistanceRequest()
         # witness points to 1e-9: at coal's default (1e-6) a face's normal turned the row
         # 3e-5 off the distance's derivative, the hands side by side
         self.request.gjk_tolerance = 1e-9
         self.nearest = math.inf  # m: the nearest pair's distance at the last ``at``
         self.pairs: list[tuple[int, int]] = []  # each row's pair (an obstacle's: -1 - it)
+        self.said: set[tuple[str, str]] = set()  # pairs inside the margin no joint moves
 
     def at(
         self,
@@ -88,9 +90,11 @@ class UnionCollisions:
         ahead: float = 0.0,
         v: np.ndarray | None = None,
         amax: np.ndarray | None = None,
+        levers: bool = False,
     ) -> np.ndarray:
         """The rows at the union's joint values q (rad, m), most urgent first, at most
-        ``MAX_ROWS``: (K, n + 1), C then b for ``C dq >= b``; ``ahead`` m farther than
+        ``MAX_ROWS``: (K, n + 1), C then b for ``C dq >= b`` (with ``levers``, (K, 2 n + 1):
+        then each joint's lever, ``armik.servo.rows``); ``ahead`` m farther than
         ``ACTIVE`` beyond the margin (``collisions.ahead``). A pair's urgency is its gap to
         the margin less its braking distance at the velocities v (rad/s, m/s) and the
         acceleration limits ``amax`` (``collisions.urgency``; none given: at rest)."""
@@ -160,19 +164,30 @@ class UnionCollisions:
             found = [
                 f for f in found if f[0] - share[f[1]] - (f[2] >= 0) * share[max(f[2], 0)] <= last
             ]
-        C = self._closing(found)
-        if slow is not None and len(found) > MAX_ROWS:
-            urgent = np.array([f[0] for f in found]) - np.abs(C) @ slow
-            pick = np.argsort(urgent, kind="stable")[:MAX_ROWS]
-        else:
-            pick = np.arange(min(len(found), MAX_ROWS))
+        C, L = self._closing(found)
+        # the most urgent, each pair inside the margin before any outside it; a pair no
+        # joint moves takes no row (said once where it is inside the margin)
+        d = np.array([f[0] for f in found])
+        urgent = d - INSIDE * (d < self.margin)
+        if slow is not None:
+            urgent -= np.abs(C) @ slow
+        moved = C.any(axis=1)
+        if not moved.all():
+            for i in np.flatnonzero(~moved & (d < self.margin)).tolist():
+                a, b = found[i][1:3]
+                other = self.names[b] if b >= 0 else obstacle_name(-1 - b, self.shapes[-1 - b])
+                still(self.said, self.names[a], other, found[i][0])
+            urgent[~moved] = math.inf
+        pick = np.argsort(urgent, kind="stable")[: min(MAX_ROWS, int(moved.sum()))]
         self.pairs = [found[i][1:3] for i in pick.tolist()]
         K = len(pick)
-        self.rows[:K, :-1] = C[pick]
-        self.rows[:K, -1] = [-self.gain * (found[i][0] - self.margin) for i in pick.tolist()]
-        return self.rows[:K]
+        n = self.n
+        self.rows[:K, :n] = C[pick]
+        self.rows[:K, n] = [-self.gain * (found[i][0] - self.margin) for i in pick.tolist()]
+        self.rows[:K, n + 1 :] = L[pick]
+        return self.rows[:K] if levers else self.rows[:K, : n + 1]
 
-    def _closing(self, found: list) -> np.ndarray:
+    def _closing(self, found: list) -> tuple[np.ndarray, np.ndarray]:
         """(len(found), n): each pair's row, n . (J_p2 - J_p1), its witness points'
         Jacobians from their chains', the union's columns, all pairs at once."""
         P = len(found)
@@ -197,7 +212,8 @@ class UnionCollisions:
                     r[side, i] = np.asarray(p) - origin
         w, lin = J[:, :, 3:], J[:, :, :3]  # v + w x r, each point
         point = lin + np.cross(w, r[:, :, :, None], axisa=2, axisb=2, axisc=2)
-        return np.einsum("pi,pin->pn", normal, point[1] - point[0])
+        apart = point[1] - point[0]  # (each joint's lever: how fast it parts the points)
+        return np.einsum("pi,pin->pn", normal, apart), np.linalg.norm(apart, axis=1)
 
     def _joint(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
         """Object k's joint Jacobian (6 x its chain's joints, at the joint's origin, in
