@@ -189,10 +189,8 @@ class BatchResult:
         text = reasons.verified(said, measured)
         if not math.isnan(apart[0]):
             pos, ori = float(self.position_error[i]), float(self.orientation_error[i])
-            if self.weighted and self.region:  # solve's words (``verify.distances._words``)
-                text = reasons.weighted_region_apart(text, pos, ori)
-            else:
-                text = reasons.measured_apart(text, pos, ori, self.weighted or not self.region)
+            weighted = self.weighted or not self.region  # solve's words (``verify.distances``)
+            text = reasons.measured_apart(text, pos, ori, weighted, self.region)
         if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):  # checked
             pair, distance = self.closest_pair(i), float(self._distances[i])
             text = reasons.and_clear(text, pair, distance, self.margin)
@@ -344,8 +342,6 @@ class BatchResult:
     def save(self, path: str | Path) -> Path:
         """Write the arrays and the metadata to an ``.npz`` file (no pickles;
         ``armik.batch_file``)."""
-        if self.weighted and self.region:  # the file keeps no weights: their successes' words
-            self.said.update({i: self.reason(i) for i in np.flatnonzero(self.success).tolist()})
         return batch_file.save(replace(self, reasons={**self.reasons, **self.said}), path)
 
     @classmethod

@@ -311,14 +311,14 @@ def _tol_text(tol: float) -> str:
 _TOL_TEXT: dict[float, str] = {}
 
 
-def measured_apart(reason: str, pos: float, ori: float | None, weighted: bool) -> str:
+def measured_apart(reason: str, pos: float, ori: float | None, weighted: bool, region: bool) -> str:
     """A result whose verdict measured other than the distances to the target (weights on
     the axes, a region): its reason, then those distances, what ``position_error`` and
-    ``orientation_error`` report."""
+    ``orientation_error`` report (to a region's centre, its free components left out)."""
     rot = "" if ori is None or ori != ori else f", {ori:.3g} rad"
-    if weighted:
-        return f"{reason} (on the weighted axes); the tip is {pos:.3g} m{rot} from the target"
-    return f"{reason}; the tip is {pos:.3g} m{rot} from the region's centre, free components apart"
+    said = f"{reason} (on the weighted axes)" if weighted else reason
+    to = "the region's centre, free components apart" if region else "the target"
+    return f"{said}; the tip is {pos:.3g} m{rot} from {to}"
 
 
 def tasks_apart(reason: str, pos: float, ori: float | None) -> str:
@@ -460,9 +460,7 @@ def left_out_fails(tip: str, why: str) -> str:
 
 
 def hidden_step(start: str) -> str:
-    """Why a followed waypoint is a jump: its step from ``start`` is within max_joint_step,
-    but the straight joint motion leaves the path and no solution halfway lies near the
-    step's middle (a flip)."""
+    """Why a followed waypoint within max_joint_step of ``start`` is a jump (a flip)."""
     return (
         f"the step from {start} is within max_joint_step but hides a jump between the "
         "waypoints (halfway, no solution lies near the step's middle and the joints moved "
@@ -472,19 +470,8 @@ def hidden_step(start: str) -> str:
 
 
 def outside_own_box(name: str, joint: str, value: float, lower: float, upper: float) -> str:
-    """An answer outside the box of a user's constraint class ``name`` (its ``box``), at
-    ``joint``: a route that does not step within the box found it, and the check refuses
-    it as the task solver's steps would have kept it out."""
+    """An answer outside the ``box`` of a user's constraint class ``name``, at ``joint``."""
     return f"constraint {name}: {joint} at {value:.6g}, outside its box [{lower:.6g}, {upper:.6g}]"
-def weighted_region_apart(reason: str, pos: float, ori: float | None) -> str:
-    """``measured_apart`` of a region (bounds, an aim) with weights on its axes: the
-    verdict measured the weighted distances outside the region; the distances reported are
-    to the region's centre, its free components left out."""
-    rot = "" if ori is None or ori != ori else f", {ori:.3g} rad"
-    return (
-        f"{reason} (on the weighted axes); the tip is {pos:.3g} m{rot} from the region's "
-        "centre, free components apart"
-    )
 
 
 def held_link(link: str, joints: tuple[str, ...], tip: str) -> str:

@@ -63,9 +63,7 @@ def with_distances(arm: ArmModel, results: list[IKResult], target, opts: SolverS
 def _words(reason: str, pos: float, ori: float | None, weighted: bool, region: bool) -> str:
     """A success's reason measured apart: the verdict's words, then the distances, to the
     region's centre (its free components left out) where the target is a region."""
-    if weighted and region:
-        return reasons.weighted_region_apart(reason, pos, ori)
-    return reasons.measured_apart(reason, pos, ori, weighted)
+    return reasons.measured_apart(reason, pos, ori, weighted, region or not weighted)
 
 
 _CLEAR = "; " + reasons.clear(None, 0.0, 0.0).partition(":")[0] + ":"  # "; collision-free:"
@@ -100,7 +98,9 @@ def fields_apart(fields: dict, pos: float, ori: float | None, weighted: bool) ->
     if said is not None:
         fields["_reason"] = (_said_apart, (said, pos, ori, weighted))
     else:
-        fields["reason"] = reasons.measured_apart(fields["reason"], pos, ori, weighted)
+        fields["reason"] = reasons.measured_apart(
+            fields["reason"], pos, ori, weighted, not weighted
+        )
     return measured
 
 
