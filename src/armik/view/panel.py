@@ -42,6 +42,18 @@ def slider_range(robot: Robot, k: int) -> tuple[float, float]:
     return float(lo), float(max(hi, lo + 1e-9))
 
 
+def slider_value(robot: Robot, k: int, value: float) -> float:
+    """Joint ``k`` at ``value`` on its slider: a continuous joint's angle wrapped into
+    [-pi, pi] (the same pose, where clipping would show another), else clipped."""
+    lo, hi = slider_range(robot, k)
+    continuous = not robot.prismatic[k] and not (
+        math.isfinite(robot.lower[k]) or math.isfinite(robot.upper[k])
+    )
+    if continuous and math.isfinite(value):
+        value = math.remainder(value, 2 * math.pi)  # in [-pi, pi]
+    return float(np.clip(value, lo, hi))
+
+
 class Panel:
     """The panel of one viewer. The callbacks run on viser's threads: ``on_joints(q)`` when
     a slider moves, ``on_solver(name)``, ``on_prefer(name)``, ``on_ghosts(bool)``,
@@ -100,7 +112,7 @@ class Panel:
             for k, name in enumerate(robot.joint_names):
                 lo, hi = slider_range(robot, k)
                 unit = "m" if robot.prismatic[k] else "rad"
-                value = float(np.clip(robot.middle[k], lo, hi))
+                value = slider_value(robot, k, float(robot.middle[k]))
                 self.sliders.append(
                     gui.add_slider(f"{name} ({unit})", lo, hi, (hi - lo) / 1000, value)
                 )
@@ -129,11 +141,11 @@ class Panel:
     # the getter, which mypy then reads as a read-only property.
 
     def set_q(self, q: np.ndarray) -> None:
-        """Move the sliders to ``q`` (clipped into their ranges); the server's own changes
-        call no callback (``from_user``)."""
+        """Move the sliders to ``q`` (``slider_value``: a continuous joint's angle wrapped,
+        any other clipped into its range); the server's own changes call no callback
+        (``from_user``)."""
         for k, s in enumerate(self.sliders):
-            lo, hi = slider_range(self._robot, k)
-            s.value = float(np.clip(q[k], lo, hi))  # type: ignore[misc]
+            s.value = slider_value(self._robot, k, float(q[k]))  # type: ignore[misc]
 
     def show_result(self, r: IKResult, what: str, tol: tuple = (1e-6, 1e-6)) -> None:
         """Fill the answer rows from ``r``; ``what`` says what was solved."""
