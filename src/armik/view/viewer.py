@@ -32,7 +32,7 @@ from armik.view import follow, regions, server
 from armik.view.ghosts import MAX_GHOSTS, Ghosts
 from armik.view.nodes import BodyNodes, pose_of, wxyz_position
 from armik.view.panel import Panel
-from armik.view.paths import PathPlayer, check_paths, draw_trace
+from armik.view.paths import PathPlayer, check_fps, check_paths, draw_trace
 from armik.view.robot import Robot
 from armik.view.scenery import REACHED, UNREACHED, draw_obstacle, draw_reach
 from armik.view.targets import dragged, gizmo_pose, per_tip, tasks_of
@@ -277,7 +277,7 @@ class Viewer:
                 f"the batch result holds configurations of shape {batch_result.q.shape[1:]}, "
                 f"not ({self.robot.dof},) of {self.robot.name!r}: play a result of this arm"
             )
-        fps = _check_fps(fps)
+        fps = check_fps(fps)
         n = len(batch_result)
         if n:
             draw_trace(self._server.scene, self.robot, batch_result)
@@ -300,7 +300,7 @@ class Viewer:
         ``play(fps)``, ``remove()``), also ``viewer.paths``; raises ``InputError`` for
         paths of another robot or of different lengths."""
         paths = check_paths(self.robot, paths)
-        rate = None if fps is None else _check_fps(fps)
+        rate = None if fps is None else check_fps(fps)
         with self._lock:
             if self.paths is not None:
                 self.paths.remove()
@@ -487,13 +487,3 @@ class Viewer:
             found = []
         self.solutions = found = found[:MAX_GHOSTS]
         self._ghosts.draw(found)
-
-
-def _check_fps(fps: object) -> float:
-    try:
-        rate = float(fps)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        rate = math.nan
-    if not (math.isfinite(rate) and rate > 0):
-        raise OptionError(f"fps must be a number > 0, got {fps!r}", option="fps", value=fps)
-    return rate
