@@ -35,7 +35,8 @@ class Follower:
     ``frame()`` steps toward them. ``tips``: the tips in order (one arm: its one tip)."""
 
     def __init__(self, arm: object, q0: np.ndarray, tips: tuple[str, ...], **options: object):
-        self.arm, self.tips = arm, tips
+        self.arm, self.tips, self.options = arm, tips, options
+        self._lock = threading.Lock()  # a frame's ticks, or a restart, at a time
         self.servo = arm.servo(q0, **options)  # type: ignore[attr-defined]
         self.steps_a_frame = max(1, round(FRAME / self.servo.dt))
         self.targets: dict[str, object] = {}
@@ -54,21 +55,30 @@ class Follower:
                 if tip not in self.targets:
                     self.targets[tip] = self.arm.fk(q, tip)  # type: ignore[attr-defined]
 
+    def restart(self, q: np.ndarray) -> None:
+        """The robot was put at ``q`` by other means (``show``, the sliders, a solve): the
+        servo starts again from there, at rest, its options kept, and waits for the next
+        ``aim``; a frame begun before returns a step that is no longer ``last``."""
+        with self._lock:
+            self.servo = self.arm.servo(q, **self.options)  # type: ignore[attr-defined]
+            self.moving, self.last = False, None
+
     def frame(self) -> ServoStep | None:
         """One frame's ticks toward the targets: the last step, or None with no target or
         once a step came to rest on target, or as near as it gets (stalled, out of reach),
         until ``aim`` moves a target."""
-        if not self.moving:
-            return None
-        by_tip = isinstance(self.servo, ArmsServo)  # several tips: one target each
-        target = self.targets if by_tip else self.targets[self.tips[0]]
-        for _ in range(self.steps_a_frame):
-            step = self.servo.step(target)
-            if step.status in _AT_REST and np.abs(step.dq).max() < STILL:
-                self.moving = False
-                break
-        self.last = step
-        return step
+        with self._lock:
+            if not self.moving:
+                return None
+            by_tip = isinstance(self.servo, ArmsServo)  # several tips: one target each
+            target = self.targets if by_tip else self.targets[self.tips[0]]
+            for _ in range(self.steps_a_frame):
+                step = self.servo.step(target)
+                if step.status in _AT_REST and np.abs(step.dq).max() < STILL:
+                    self.moving = False
+                    break
+            self.last = step
+            return step
 
 
 def run(follower: Follower, draw: Callable[[ServoStep], None], stop: threading.Event) -> None:

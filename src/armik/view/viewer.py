@@ -226,6 +226,8 @@ class Viewer:
                 gizmo.wxyz, gizmo.position = wxyz_position(self.robot.fk(q, tip).homogeneous)
                 self._marks[tip].color = REACHED
             self.panel.show_note("joints set (FK)")
+            if self._follower is not None:  # the servo mode goes on from the arm shown
+                self._follower.restart(q)
 
     def set_target(self, T: object, q0: object = None) -> IKResult:
         """Solve for target ``T`` from ``q0`` (default: the configuration shown) with the
@@ -249,6 +251,8 @@ class Viewer:
             self.targets, self.result = dict(targets), r
             if r.success:
                 self._put(r.q, False)
+                if self._follower is not None:  # set_target in the servo mode
+                    self._follower.restart(r.q)
             else:
                 self._draw_regions()
             verified = self.robot.tip_results(r, self._tol)
@@ -363,10 +367,11 @@ class Viewer:
     def _followed(self, step) -> None:
         """Draw the servo's step (a frame of the servo mode)."""
         with self._lock:
-            if self._closed.is_set():
-                return
-            self._put(step.q, False)
-            self.panel.show_note(f"servo: {step.status}", step.reason)
+            last = None if self._follower is None else self._follower.last
+            if self._closed.is_set() or last is None or step is not last:
+                return  # closed, or the servo restarted since this step
+            self._put(last.q, False)
+            self.panel.show_note(f"servo: {last.status}", last.reason)
 
     def wait(self) -> None:
         """Block until Ctrl-C or ``close()`` from another thread, then close."""
