@@ -140,6 +140,11 @@ def test_a_failed_tip_is_marked_and_named(viewer, cell):
     assert viewer._marks["l_tool0"].color == (40, 170, 70)
     assert viewer.panel.tip_errors["r_tool0"].value.endswith("(failed)")
     assert "r_tool0" in viewer.panel.reason.value
+    # the next answer leaves the right tip out: its row holds no numbers of the failed one
+    r = viewer.set_target({"l_tool0": cell.fk(q, "l_tool0")})
+    assert r.success and "r_tool0" not in r.extra["errors"]
+    assert viewer.panel.tip_errors["r_tool0"].value == "no target"
+    assert viewer._marks["r_tool0"].color == (40, 170, 70)
 
 
 def test_task_lists_per_tip_draw_each_tips_regions(viewer, cell):

@@ -153,11 +153,14 @@ class Panel:
         for attr, handle in self._fields.items():
             value = r.extra.get("score") if attr == "score" else getattr(r, attr)
             handle.value = _text(attr, value)  # type: ignore[misc]
-        for tip, (ok, (pos, ori)) in self._robot.tip_results(r, tol).items():
-            if tip not in self.tip_errors:  # one tip: the rows above say it
+        results = self._robot.tip_results(r, tol)
+        for tip, row in self.tip_errors.items():  # several tips (one: the rows above say it)
+            if tip not in results:  # not solved by this answer: no numbers of an older one
+                row.value = "no target"  # type: ignore[misc]
                 continue
+            ok, (pos, ori) = results[tip]
             text = f"{_text('position_error', pos)}, {_text('orientation_error', ori)}"
-            self.tip_errors[tip].value = text if ok else f"{text} (failed)"  # type: ignore[misc]
+            row.value = text if ok else f"{text} (failed)"  # type: ignore[misc]
         self.reason.value = "" if r.success else r.reason  # type: ignore[misc]
 
     def show_note(self, what: str, reason: str = "") -> None:
