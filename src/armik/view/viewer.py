@@ -94,7 +94,7 @@ class Viewer:
         elif robot.several:
             self._q = np.clip(robot.check_q(q), robot.lower, robot.upper)
         else:
-            self._q = robot.chains[robot.tips[0]].seed(q)
+            self._q = robot.chains[robot.tips[0]].seed(robot.check_q(q))  # named q
         self.targets: dict[str, object] = {}
         self.result: IKResult | None = None
         self.solutions: list[IKResult] = []
