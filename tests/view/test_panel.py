@@ -1,14 +1,17 @@
-"""The panel's sliders say the configuration drawn: a continuous joint's angle beyond pi is
-wrapped onto its [-pi, pi] slider (the same pose), not clipped to another angle."""
+"""The panel says what is drawn and solved: a continuous joint's angle beyond pi is wrapped
+onto its [-pi, pi] slider (the same pose), not clipped to another angle; a preference the
+viewer was opened with is named in the dropdown and can be chosen again."""
 
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 import armik
+from armik.view.panel import GIVEN
 
 from ..conftest import arm
 
@@ -30,3 +33,33 @@ def test_a_continuous_joint_beyond_pi_is_wrapped_on_its_slider():
         viewer._slid(slid)  # another slider touched: every slider's value is set
         moved = a.fk(viewer.q)
         assert np.allclose(moved.homogeneous, drawn.homogeneous, rtol=0.0, atol=1e-12)
+
+
+def _choose(handle, value) -> None:
+    """What a browser's choice does: the handle's callbacks with an event from a client."""
+    event = SimpleNamespace(client=object(), target=SimpleNamespace(value=value))
+    for callback in handle._impl.update_cb:
+        callback(event)
+
+
+def test_a_preference_of_the_viewers_own_is_shown_and_chosen_again():
+    """A viewer opened with prefer=armik.Posture(...) says so in the dropdown, not "none";
+    choosing it again after another solves with that posture once more."""
+    a = arm("abb_irb120")
+    posture = armik.Posture(a.middle)
+    with armik.view(a, port=0, open_browser=False, prefer=posture) as viewer:
+        assert viewer.panel.prefer.value == GIVEN and GIVEN in viewer.panel.prefer.options
+        T = a.fk(a.random_q(3))
+        r = viewer.set_target(T)
+        assert viewer.panel._fields["score"].value == f"{r.extra['score']:.3g}"
+        _choose(viewer.panel.prefer, "none")
+        assert "prefer" not in viewer.options
+        seed = viewer.q
+        _choose(viewer.panel.prefer, GIVEN)
+        assert viewer.options["prefer"] is posture
+        want = a.solve(T, q0=seed, prefer=posture)  # re-solved from the arm shown
+        assert np.array_equal(viewer.result.q, want.q)
+        assert viewer.result.extra["score"] == want.extra["score"]
+    with armik.view(a, port=0, open_browser=False, prefer="nearest") as viewer:
+        assert viewer.panel.prefer.value == "nearest"
+        assert GIVEN not in viewer.panel.prefer.options

@@ -32,6 +32,8 @@ FIELDS = (
 
 #: The preferences the panel offers ("none": the first verified answer).
 PREFERENCES = ("none", "nearest", "manipulability", "limits")
+#: The choice of a viewer opened with its own preference (an ``armik.Posture``, a function).
+GIVEN = "as given (prefer=)"
 
 
 def slider_range(robot: Robot, k: int) -> tuple[float, float]:
@@ -71,9 +73,9 @@ class Panel:
         on_solver: Callable[[str], None],
         on_ghosts: Callable[[bool], None],
         on_position_only: Callable[[bool], None],
-        on_prefer: Callable[[str], None] | None = None,
+        on_prefer: Callable[[object], None] | None = None,
         on_follow: Callable[[bool], None] | None = None,
-        prefer: str = "none",
+        prefer: object = "none",
     ) -> None:
         self._robot = robot
         with gui.add_folder("IK answer"):
@@ -89,9 +91,12 @@ class Panel:
             self.solver = gui.add_dropdown(
                 "solver", choices, initial_value=solver if solver in choices else "auto"
             )
-            self.prefer = gui.add_dropdown(
-                "prefer", PREFERENCES, initial_value=prefer if prefer in PREFERENCES else "none"
-            )
+            # a preference of the viewer's own (not a name) is a choice of its own
+            named = prefer is None or (isinstance(prefer, str) and prefer in PREFERENCES)
+            self._given = None if named else prefer
+            ranks: tuple[str, ...] = PREFERENCES if named else (*PREFERENCES, GIVEN)
+            first = str(prefer or "none") if named else GIVEN
+            self.prefer = gui.add_dropdown("prefer", ranks, initial_value=first)
             self.ghosts = gui.add_checkbox(
                 "all solutions",
                 False,
@@ -127,8 +132,10 @@ class Panel:
         for s in self.sliders:
             s.on_update(from_user(lambda _value: on_joints(self.slider_q())))
         self.solver.on_update(from_user(on_solver))
-        if on_prefer is not None:
-            self.prefer.on_update(from_user(on_prefer))
+        if on_prefer is not None:  # GIVEN: the viewer's own preference back
+            self.prefer.on_update(
+                from_user(lambda name: on_prefer(self._given if name == GIVEN else name))
+            )
         self.ghosts.on_update(from_user(on_ghosts))
         self.position_only.on_update(from_user(on_position_only))
         if on_follow is not None:

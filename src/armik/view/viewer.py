@@ -164,7 +164,7 @@ class Viewer:
             on_position_only=self._toggled_position_only,
             on_prefer=self._chose_prefer,
             on_follow=self._toggled_follow,
-            prefer=str(self.options.get("prefer") or "none"),
+            prefer=self.options.get("prefer"),
         )
         self.show(self._q)
 
@@ -451,7 +451,7 @@ class Viewer:
             except ArmikError as exc:
                 self.panel.show_note(f"solver {name!r} refused the target", str(exc))
 
-    def _chose_prefer(self, name: str) -> None:
+    def _chose_prefer(self, name: object) -> None:
         with self._lock:
             if name == "none":
                 self.options.pop("prefer", None)
