@@ -192,3 +192,20 @@ def test_chains_sharing_a_torso_are_solved_together():
         for tip in robot.tips:  # the torso turned both arms: each tip where it was asked
             assert np.allclose(robot.fk(v.q, tip).translation, targets[tip], atol=1e-6)
             assert np.allclose(v._tip_frames[tip].position, targets[tip], atol=1e-6)
+
+
+def test_a_preference_the_shared_joints_refuse_is_said_in_the_panel():
+    """manipulability over a shared torso is refused (one tip's measure): the panel says
+    why, the dropdown and the solves stay with the preference there was."""
+    robot = armik.load(torso_urdf("revolute"), tips=["l_tool", "r_tool"])
+    q = robot.random_q(13)
+    targets = {tip: robot.fk(q, tip).translation for tip in robot.tips}
+    with armik.view(robot, port=0, open_browser=False) as v:
+        assert v.set_target(targets).success
+        event = SimpleNamespace(client=object(), target=SimpleNamespace(value="manipulability"))
+        for callback in v.panel.prefer._impl.update_cb:  # as a browser's choice calls them
+            callback(event)
+        assert "prefer" not in v.options and v.panel.prefer.value == "none"
+        assert v.panel.message.value == "prefer 'manipulability' refused"
+        assert "shared by several tips" in v.panel.reason.value
+        assert v.set_target(targets).success  # the next solve is not refused

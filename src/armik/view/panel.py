@@ -170,6 +170,13 @@ class Panel:
             row.value = text if ok else f"{text} (failed)"  # type: ignore[misc]
         self.reason.value = "" if r.success else r.reason  # type: ignore[misc]
 
+    def refused_prefer(self, before: object, what: str, reason: str) -> None:
+        """A preference chosen was refused: the dropdown back at ``before`` (the viewer's
+        preference, None: "none"), and why in the panel."""
+        named = before is None or (isinstance(before, str) and before in PREFERENCES)
+        self.prefer.value = str(before or "none") if named else GIVEN  # type: ignore[misc]
+        self.show_note(what, reason)
+
     def show_note(self, what: str, reason: str = "") -> None:
         """No answer to show (FK from the sliders, a waypoint, an error): say what instead."""
         self.message.value = what  # type: ignore[misc]

@@ -453,12 +453,15 @@ class Viewer:
 
     def _chose_prefer(self, name: object) -> None:
         with self._lock:
-            if name == "none":
+            before = self.options.pop("prefer", None)
+            self.options.update({} if name == "none" else {"prefer": name})
+            try:
+                if self.targets:
+                    self._solve(self.targets, None, place=False)
+            except ArmikError as exc:  # manipulability over shared joints: as it was
                 self.options.pop("prefer", None)
-            else:
-                self.options["prefer"] = name
-            if self.targets:
-                self._solve(self.targets, None, place=False)
+                self.options.update({} if before is None else {"prefer": before})
+                self.panel.refused_prefer(before, f"prefer {name!r} refused", str(exc))
 
     def _toggled_position_only(self, on: bool) -> None:
         self._position_only = bool(on)
