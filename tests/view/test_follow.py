@@ -155,3 +155,9 @@ def test_in_the_servo_mode_the_servo_goes_on_from_the_arm_shown(viewer):
         step = follower.frame() or follower.last
         at = follower.servo.q if step is None else step.q
         assert np.abs(at - q).max() < 0.05, move
+    # show may put the arm outside its limits (FK): the servo goes on from within them
+    q = a.middle.copy()
+    q[0] = a.upper[0] + 0.5
+    viewer.show(q)
+    assert np.array_equal(viewer.q, q)
+    assert np.array_equal(viewer._follower.servo.q, np.clip(q, a.lower, a.upper))

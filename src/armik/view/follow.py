@@ -57,10 +57,13 @@ class Follower:
 
     def restart(self, q: np.ndarray) -> None:
         """The robot was put at ``q`` by other means (``show``, the sliders, a solve): the
-        servo starts again from there, at rest, its options kept, and waits for the next
-        ``aim``; a frame begun before returns a step that is no longer ``last``."""
+        servo starts again from there (clipped into the joint limits, which a servo never
+        leaves), at rest, its options kept, and waits for the next ``aim``; a frame begun
+        before returns a step that is no longer ``last``."""
+        arm = self.arm
+        q = np.clip(q, arm.lower, arm.upper)  # type: ignore[attr-defined]
         with self._lock:
-            self.servo = self.arm.servo(q, **self.options)  # type: ignore[attr-defined]
+            self.servo = arm.servo(q, **self.options)  # type: ignore[attr-defined]
             self.moving, self.last = False, None
 
     def frame(self) -> ServoStep | None:
