@@ -161,3 +161,7 @@ def test_in_the_servo_mode_the_servo_goes_on_from_the_arm_shown(viewer):
     viewer.show(q)
     assert np.array_equal(viewer.q, q)
     assert np.array_equal(viewer._follower.servo.q, np.clip(q, a.lower, a.upper))
+    viewer.follow(False)  # the servo box ticked with the arm shown outside its limits
+    viewer._toggled_follow(True)
+    assert viewer.panel.follow.value is True and viewer._follower is not None
+    assert np.array_equal(viewer._follower.servo.q, np.clip(q, a.lower, a.upper))

@@ -30,13 +30,16 @@ _AT_REST = (ServoStatus.ON_TARGET, ServoStatus.STALLED, ServoStatus.OUT_OF_REACH
 
 class Follower:
     """The servo of ``arm`` (an ``Arm``, or an ``Arms``: its chains side by side or their
-    union) from ``q0``, with ``Arm.servo``'s options (``dt``, ``velocity_limits``,
-    ``acceleration_limits``, ``obstacles``, ...). ``aim({tip: target})`` sets targets,
-    ``frame()`` steps toward them. ``tips``: the tips in order (one arm: its one tip)."""
+    union) from ``q0`` (clipped into the joint limits: the viewer may show a configuration
+    outside them, a servo never leaves them), with ``Arm.servo``'s options (``dt``,
+    ``velocity_limits``, ``acceleration_limits``, ``obstacles``, ...). ``aim({tip:
+    target})`` sets targets, ``frame()`` steps toward them. ``tips``: the tips in order
+    (one arm: its one tip)."""
 
     def __init__(self, arm: object, q0: np.ndarray, tips: tuple[str, ...], **options: object):
         self.arm, self.tips, self.options = arm, tips, options
         self._lock = threading.Lock()  # a frame's ticks, or a restart, at a time
+        q0 = np.clip(q0, arm.lower, arm.upper)  # type: ignore[attr-defined]
         self.servo = arm.servo(q0, **options)  # type: ignore[attr-defined]
         self.steps_a_frame = max(1, round(FRAME / self.servo.dt))
         self.targets: dict[str, object] = {}
