@@ -63,3 +63,17 @@ def test_a_preference_of_the_viewers_own_is_shown_and_chosen_again():
     with armik.view(a, port=0, open_browser=False, prefer="nearest") as viewer:
         assert viewer.panel.prefer.value == "nearest"
         assert GIVEN not in viewer.panel.prefer.options
+
+
+def test_the_target_row_says_what_was_solved():
+    """A drag says "dragged target"; choosing a solver or a preference solves the target
+    again and says so, not that it was dragged."""
+    a = arm("abb_irb120")
+    with armik.view(a, port=0, open_browser=False) as viewer:
+        viewer.set_target(a.fk(a.random_q(4)))
+        assert viewer.panel.message.value == "target"
+        _choose(viewer.panel.solver, "dls")
+        assert viewer.result.solver == "dls"
+        assert viewer.panel.message.value == "target, with solver 'dls'"
+        _choose(viewer.panel.prefer, "nearest")
+        assert viewer.panel.message.value == "target, with the preference chosen"

@@ -238,13 +238,13 @@ class Viewer:
         succeeds (a failure is shown in the panel, the target marked red). Raises what the
         solve raises for malformed input, ``InputError`` for a robot's targets not given
         per tip."""
-        return self._solve(per_tip(T, self.robot), q0, place=True)
+        return self._solve(per_tip(T, self.robot), q0, "target")
 
     def _solve(
-        self, targets: dict[str, object], q0: object, place: bool, held: tuple = ()
+        self, targets: dict[str, object], q0: object, what: str, held: tuple = ()
     ) -> IKResult:
-        """Solve ``targets`` and show the answer; the gizmos of ``held`` (being dragged)
-        stay where the user holds them."""
+        """Solve ``targets`` and show the answer (``what``: the panel's "target" row); the
+        gizmos of ``held`` (being dragged) stay where the user holds them."""
         with self._lock:
             seed: object = self._q if q0 is None else q0
             r = self.robot.solve(targets, seed, self.solver, self.options)
@@ -262,7 +262,7 @@ class Viewer:
                     self._place_gizmo(tip, ok if tip in targets else None)
                 elif tip in verified:
                     self._marks[tip].color = REACHED if verified[tip][0] else UNREACHED
-            self.panel.show_result(r, "target" if place else "dragged target", self._tol)
+            self.panel.show_result(r, what, self._tol)
             if self._ghosts_on:
                 self._draw_ghosts(seed)
             return r
@@ -429,7 +429,7 @@ class Viewer:
                     self._follower.aim(targets)
                     continue
                 try:
-                    self._solve(targets, None, place=False, held=tuple(moved))
+                    self._solve(targets, None, "dragged target", held=tuple(moved))
                 except ArmikError as exc:
                     self.panel.show_note("target refused", str(exc))
 
@@ -447,7 +447,7 @@ class Viewer:
             if not self.targets:
                 return
             try:
-                self._solve(self.targets, None, place=False)
+                self._solve(self.targets, None, f"target, with solver {name!r}")
             except ArmikError as exc:
                 self.panel.show_note(f"solver {name!r} refused the target", str(exc))
 
@@ -457,7 +457,7 @@ class Viewer:
             self.options.update({} if name == "none" else {"prefer": name})
             try:
                 if self.targets:
-                    self._solve(self.targets, None, place=False)
+                    self._solve(self.targets, None, "target, with the preference chosen")
             except ArmikError as exc:  # manipulability over shared joints: as it was
                 self.options.pop("prefer", None)
                 self.options.update({} if before is None else {"prefer": before})
