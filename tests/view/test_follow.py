@@ -134,3 +134,34 @@ def test_in_the_servo_mode_a_drag_aims_the_servo_and_solves_nothing(viewer):
     assert viewer.panel.follow.value is False
     _drag(viewer, T)
     assert viewer.result is not None  # off again: a drag solves
+
+
+def test_in_the_servo_mode_the_servo_goes_on_from_the_arm_shown(viewer):
+    """``show`` (the sliders) or ``set_target`` puts the arm elsewhere: the next drag is
+    followed from there, not from where the servo had left the arm (a jump back)."""
+    a = viewer.arm
+    viewer.follow(dt=0.004)
+    for k, move in enumerate(("show", "set_target")):
+        q = a.middle + BENT + np.array([0.8, 0.3, -0.3, 0.5, 0.2, 0.2]) * (1 - 2 * k)
+        if move == "show":
+            viewer.show(q)
+        else:
+            assert viewer.set_target(a.fk(q), q0=q).success
+            q = viewer.q
+        _drag(viewer, a.fk(q + 0.01))  # a small drag near the arm shown
+        follower = viewer._follower
+        assert follower is not None
+        # every frame so far (the mode's thread runs them too) heads from q to q + 0.01
+        step = follower.frame() or follower.last
+        at = follower.servo.q if step is None else step.q
+        assert np.abs(at - q).max() < 0.05, move
+    # show may put the arm outside its limits (FK): the servo goes on from within them
+    q = a.middle.copy()
+    q[0] = a.upper[0] + 0.5
+    viewer.show(q)
+    assert np.array_equal(viewer.q, q)
+    assert np.array_equal(viewer._follower.servo.q, np.clip(q, a.lower, a.upper))
+    viewer.follow(False)  # the servo box ticked with the arm shown outside its limits
+    viewer._toggled_follow(True)
+    assert viewer.panel.follow.value is True and viewer._follower is not None
+    assert np.array_equal(viewer._follower.servo.q, np.clip(q, a.lower, a.upper))

@@ -117,6 +117,16 @@ def test_bad_paths_are_refused_with_the_fix(viewer, plans):
     player = viewer.play_paths(plans)
     with pytest.raises(armik.InputError, match="0..59"):
         player.show(N)
+    # a waypoint that is no whole number, a rate that is no number > 0: armik's errors
+    for bad in (2.5, "3", True):
+        with pytest.raises(armik.InputError, match=f"waypoint {bad!r} is not one of 0..59"):
+            player.show(bad)  # type: ignore[arg-type]
+    player.show(np.int64(3))
+    assert player.index == 3
+    for fps in (0, "fast", math.nan):
+        with pytest.raises(armik.OptionError, match="fps must be a number > 0"):
+            player.play(fps=fps)  # type: ignore[arg-type]
+    assert player.index == 3  # refused before walking
 
 
 @pytest.fixture

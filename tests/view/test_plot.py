@@ -102,3 +102,21 @@ def test_plot_names_a_folder_path_and_writes_the_png_it_returns(tmp_path):
     assert out == tmp_path / "shot.png" and out.is_file()
     with pytest.raises(armik.OptionError, match=r"others\[0\]"):
         armik.plot(ur5, q, tmp_path / "o.png", others=[1, 2])
+
+
+def test_plot_names_a_path_others_or_an_angle_it_cannot_take(tmp_path):
+    """Each in an armik error naming it, where matplotlib or pathlib raised a TypeError."""
+    ur5 = armik.load("ur5")
+    q = ur5.middle
+    bad = [({"path": 5}, "path must be a file name"),
+           ({"others": 5}, "others must be a list"),
+           ({"others": ur5.solve(ur5.fk(q))}, "others must be a list"),
+           ({"elev": "a"}, "elev must be an angle"),
+           ({"azim": float("nan")}, "azim must be an angle")]  # fmt: skip
+    for kwargs, words in bad:
+        where = kwargs.pop("path", tmp_path / "bad.png")
+        with pytest.raises(armik.OptionError, match=words):
+            armik.plot(ur5, q, where, **kwargs)
+    assert not list(tmp_path.iterdir())  # refused before anything was written
+    out = armik.plot(ur5, q, str(tmp_path / "ok.png"), others=np.array([q]), elev=np.float64(10))
+    assert out.is_file()

@@ -140,6 +140,11 @@ def test_a_failed_tip_is_marked_and_named(viewer, cell):
     assert viewer._marks["l_tool0"].color == (40, 170, 70)
     assert viewer.panel.tip_errors["r_tool0"].value.endswith("(failed)")
     assert "r_tool0" in viewer.panel.reason.value
+    # the next answer leaves the right tip out: its row holds no numbers of the failed one
+    r = viewer.set_target({"l_tool0": cell.fk(q, "l_tool0")})
+    assert r.success and "r_tool0" not in r.extra["errors"]
+    assert viewer.panel.tip_errors["r_tool0"].value == "no target"
+    assert viewer._marks["r_tool0"].color == (40, 170, 70)
 
 
 def test_task_lists_per_tip_draw_each_tips_regions(viewer, cell):
@@ -187,3 +192,20 @@ def test_chains_sharing_a_torso_are_solved_together():
         for tip in robot.tips:  # the torso turned both arms: each tip where it was asked
             assert np.allclose(robot.fk(v.q, tip).translation, targets[tip], atol=1e-6)
             assert np.allclose(v._tip_frames[tip].position, targets[tip], atol=1e-6)
+
+
+def test_a_preference_the_shared_joints_refuse_is_said_in_the_panel():
+    """manipulability over a shared torso is refused (one tip's measure): the panel says
+    why, the dropdown and the solves stay with the preference there was."""
+    robot = armik.load(torso_urdf("revolute"), tips=["l_tool", "r_tool"])
+    q = robot.random_q(13)
+    targets = {tip: robot.fk(q, tip).translation for tip in robot.tips}
+    with armik.view(robot, port=0, open_browser=False) as v:
+        assert v.set_target(targets).success
+        event = SimpleNamespace(client=object(), target=SimpleNamespace(value="manipulability"))
+        for callback in v.panel.prefer._impl.update_cb:  # as a browser's choice calls them
+            callback(event)
+        assert "prefer" not in v.options and v.panel.prefer.value == "none"
+        assert v.panel.message.value == "prefer 'manipulability' refused"
+        assert "shared by several tips" in v.panel.reason.value
+        assert v.set_target(targets).success  # the next solve is not refused

@@ -285,6 +285,9 @@ def test_bad_input_is_refused_with_the_fix(viewer):
         armik.view(a, port=0, open_browser=False, solver="nope")
     with pytest.raises(armik.InputError, match="armik.load"):
         armik.view("abb_irb120", port=0, open_browser=False)
+    with pytest.raises(armik.OptionError, match=r"^q must have 6 values") as caught:
+        armik.view(a, port=0, open_browser=False, q=[0.0, 1.0])  # the keyword, not q0
+    assert caught.value.option == "q"
 
 
 def test_the_panel_prefers_and_shows_the_score():

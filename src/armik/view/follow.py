@@ -30,12 +30,16 @@ _AT_REST = (ServoStatus.ON_TARGET, ServoStatus.STALLED, ServoStatus.OUT_OF_REACH
 
 class Follower:
     """The servo of ``arm`` (an ``Arm``, or an ``Arms``: its chains side by side or their
-    union) from ``q0``, with ``Arm.servo``'s options (``dt``, ``velocity_limits``,
-    ``acceleration_limits``, ``obstacles``, ...). ``aim({tip: target})`` sets targets,
-    ``frame()`` steps toward them. ``tips``: the tips in order (one arm: its one tip)."""
+    union) from ``q0`` (clipped into the joint limits: the viewer may show a configuration
+    outside them, a servo never leaves them), with ``Arm.servo``'s options (``dt``,
+    ``velocity_limits``, ``acceleration_limits``, ``obstacles``, ...). ``aim({tip:
+    target})`` sets targets, ``frame()`` steps toward them. ``tips``: the tips in order
+    (one arm: its one tip)."""
 
     def __init__(self, arm: object, q0: np.ndarray, tips: tuple[str, ...], **options: object):
-        self.arm, self.tips = arm, tips
+        self.arm, self.tips, self.options = arm, tips, options
+        self._lock = threading.Lock()  # a frame's ticks, or a restart, at a time
+        q0 = np.clip(q0, arm.lower, arm.upper)  # type: ignore[attr-defined]
         self.servo = arm.servo(q0, **options)  # type: ignore[attr-defined]
         self.steps_a_frame = max(1, round(FRAME / self.servo.dt))
         self.targets: dict[str, object] = {}
@@ -54,21 +58,33 @@ class Follower:
                 if tip not in self.targets:
                     self.targets[tip] = self.arm.fk(q, tip)  # type: ignore[attr-defined]
 
+    def restart(self, q: np.ndarray) -> None:
+        """The robot was put at ``q`` by other means (``show``, the sliders, a solve): the
+        servo starts again from there (clipped into the joint limits, which a servo never
+        leaves), at rest, its options kept, and waits for the next ``aim``; a frame begun
+        before returns a step that is no longer ``last``."""
+        arm = self.arm
+        q = np.clip(q, arm.lower, arm.upper)  # type: ignore[attr-defined]
+        with self._lock:
+            self.servo = arm.servo(q, **self.options)  # type: ignore[attr-defined]
+            self.moving, self.last = False, None
+
     def frame(self) -> ServoStep | None:
         """One frame's ticks toward the targets: the last step, or None with no target or
         once a step came to rest on target, or as near as it gets (stalled, out of reach),
         until ``aim`` moves a target."""
-        if not self.moving:
-            return None
-        by_tip = isinstance(self.servo, ArmsServo)  # several tips: one target each
-        target = self.targets if by_tip else self.targets[self.tips[0]]
-        for _ in range(self.steps_a_frame):
-            step = self.servo.step(target)
-            if step.status in _AT_REST and np.abs(step.dq).max() < STILL:
-                self.moving = False
-                break
-        self.last = step
-        return step
+        with self._lock:
+            if not self.moving:
+                return None
+            by_tip = isinstance(self.servo, ArmsServo)  # several tips: one target each
+            target = self.targets if by_tip else self.targets[self.tips[0]]
+            for _ in range(self.steps_a_frame):
+                step = self.servo.step(target)
+                if step.status in _AT_REST and np.abs(step.dq).max() < STILL:
+                    self.moving = False
+                    break
+            self.last = step
+            return step
 
 
 def run(follower: Follower, draw: Callable[[ServoStep], None], stop: threading.Event) -> None:

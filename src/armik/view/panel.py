@@ -32,6 +32,8 @@ FIELDS = (
 
 #: The preferences the panel offers ("none": the first verified answer).
 PREFERENCES = ("none", "nearest", "manipulability", "limits")
+#: The choice of a viewer opened with its own preference (an ``armik.Posture``, a function).
+GIVEN = "as given (prefer=)"
 
 
 def slider_range(robot: Robot, k: int) -> tuple[float, float]:
@@ -40,6 +42,18 @@ def slider_range(robot: Robot, k: int) -> tuple[float, float]:
     lo = robot.lower[k] if math.isfinite(robot.lower[k]) else -span
     hi = robot.upper[k] if math.isfinite(robot.upper[k]) else span
     return float(lo), float(max(hi, lo + 1e-9))
+
+
+def slider_value(robot: Robot, k: int, value: float) -> float:
+    """Joint ``k`` at ``value`` on its slider: a continuous joint's angle wrapped into
+    [-pi, pi] (the same pose, where clipping would show another), else clipped."""
+    lo, hi = slider_range(robot, k)
+    continuous = not robot.prismatic[k] and not (
+        math.isfinite(robot.lower[k]) or math.isfinite(robot.upper[k])
+    )
+    if continuous and math.isfinite(value):
+        value = math.remainder(value, 2 * math.pi)  # in [-pi, pi]
+    return float(np.clip(value, lo, hi))
 
 
 class Panel:
@@ -59,9 +73,9 @@ class Panel:
         on_solver: Callable[[str], None],
         on_ghosts: Callable[[bool], None],
         on_position_only: Callable[[bool], None],
-        on_prefer: Callable[[str], None] | None = None,
+        on_prefer: Callable[[object], None] | None = None,
         on_follow: Callable[[bool], None] | None = None,
-        prefer: str = "none",
+        prefer: object = "none",
     ) -> None:
         self._robot = robot
         with gui.add_folder("IK answer"):
@@ -77,9 +91,12 @@ class Panel:
             self.solver = gui.add_dropdown(
                 "solver", choices, initial_value=solver if solver in choices else "auto"
             )
-            self.prefer = gui.add_dropdown(
-                "prefer", PREFERENCES, initial_value=prefer if prefer in PREFERENCES else "none"
-            )
+            # a preference of the viewer's own (not a name) is a choice of its own
+            named = prefer is None or (isinstance(prefer, str) and prefer in PREFERENCES)
+            self._given = None if named else prefer
+            ranks: tuple[str, ...] = PREFERENCES if named else (*PREFERENCES, GIVEN)
+            first = str(prefer or "none") if named else GIVEN
+            self.prefer = gui.add_dropdown("prefer", ranks, initial_value=first)
             self.ghosts = gui.add_checkbox(
                 "all solutions",
                 False,
@@ -100,7 +117,7 @@ class Panel:
             for k, name in enumerate(robot.joint_names):
                 lo, hi = slider_range(robot, k)
                 unit = "m" if robot.prismatic[k] else "rad"
-                value = float(np.clip(robot.middle[k], lo, hi))
+                value = slider_value(robot, k, float(robot.middle[k]))
                 self.sliders.append(
                     gui.add_slider(f"{name} ({unit})", lo, hi, (hi - lo) / 1000, value)
                 )
@@ -115,8 +132,10 @@ class Panel:
         for s in self.sliders:
             s.on_update(from_user(lambda _value: on_joints(self.slider_q())))
         self.solver.on_update(from_user(on_solver))
-        if on_prefer is not None:
-            self.prefer.on_update(from_user(on_prefer))
+        if on_prefer is not None:  # GIVEN: the viewer's own preference back
+            self.prefer.on_update(
+                from_user(lambda name: on_prefer(self._given if name == GIVEN else name))
+            )
         self.ghosts.on_update(from_user(on_ghosts))
         self.position_only.on_update(from_user(on_position_only))
         if on_follow is not None:
@@ -129,11 +148,11 @@ class Panel:
     # the getter, which mypy then reads as a read-only property.
 
     def set_q(self, q: np.ndarray) -> None:
-        """Move the sliders to ``q`` (clipped into their ranges); the server's own changes
-        call no callback (``from_user``)."""
+        """Move the sliders to ``q`` (``slider_value``: a continuous joint's angle wrapped,
+        any other clipped into its range); the server's own changes call no callback
+        (``from_user``)."""
         for k, s in enumerate(self.sliders):
-            lo, hi = slider_range(self._robot, k)
-            s.value = float(np.clip(q[k], lo, hi))  # type: ignore[misc]
+            s.value = slider_value(self._robot, k, float(q[k]))  # type: ignore[misc]
 
     def show_result(self, r: IKResult, what: str, tol: tuple = (1e-6, 1e-6)) -> None:
         """Fill the answer rows from ``r``; ``what`` says what was solved."""
@@ -141,12 +160,22 @@ class Panel:
         for attr, handle in self._fields.items():
             value = r.extra.get("score") if attr == "score" else getattr(r, attr)
             handle.value = _text(attr, value)  # type: ignore[misc]
-        for tip, (ok, (pos, ori)) in self._robot.tip_results(r, tol).items():
-            if tip not in self.tip_errors:  # one tip: the rows above say it
+        results = self._robot.tip_results(r, tol)
+        for tip, row in self.tip_errors.items():  # several tips (one: the rows above say it)
+            if tip not in results:  # not solved by this answer: no numbers of an older one
+                row.value = "no target"  # type: ignore[misc]
                 continue
+            ok, (pos, ori) = results[tip]
             text = f"{_text('position_error', pos)}, {_text('orientation_error', ori)}"
-            self.tip_errors[tip].value = text if ok else f"{text} (failed)"  # type: ignore[misc]
+            row.value = text if ok else f"{text} (failed)"  # type: ignore[misc]
         self.reason.value = "" if r.success else r.reason  # type: ignore[misc]
+
+    def refused_prefer(self, before: object, what: str, reason: str) -> None:
+        """A preference chosen was refused: the dropdown back at ``before`` (the viewer's
+        preference, None: "none"), and why in the panel."""
+        named = before is None or (isinstance(before, str) and before in PREFERENCES)
+        self.prefer.value = str(before or "none") if named else GIVEN  # type: ignore[misc]
+        self.show_note(what, reason)
 
     def show_note(self, what: str, reason: str = "") -> None:
         """No answer to show (FK from the sliders, a waypoint, an error): say what instead."""

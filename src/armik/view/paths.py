@@ -10,6 +10,8 @@ in the panel steps every ghost, its marks at the flagged waypoints.
 
 from __future__ import annotations
 
+import math
+import numbers
 import threading
 import time
 from collections.abc import Mapping
@@ -18,7 +20,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from armik.batch_result import BatchResult
-from armik.errors import InputError
+from armik.errors import InputError, OptionError
 from armik.status import Status
 from armik.view.ghosts import GHOST_COLORS
 from armik.view.nodes import BodyNodes
@@ -45,6 +47,17 @@ def draw_trace(scene, robot: Robot, batch: BatchResult) -> None:
             segments = np.stack([points[:-1], points[1:]], axis=1)
             scene.add_line_segments(f"{name}/line", segments, (120, 120, 120),
                                     thickness=0.004 * s)  # fmt: skip
+
+
+def check_fps(fps: object) -> float:
+    """``fps`` as a rate > 0 (frames a second); ``OptionError`` naming it otherwise."""
+    try:
+        rate = float(fps)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        rate = math.nan
+    if not (math.isfinite(rate) and rate > 0):
+        raise OptionError(f"fps must be a number > 0, got {fps!r}", option="fps", value=fps)
+    return rate
 
 
 def check_paths(robot: Robot, paths: object) -> dict[str, BatchResult]:
@@ -146,8 +159,10 @@ class PathPlayer:
     def show(self, i: int) -> None:
         """Every ghost at waypoint ``i`` (0-based), its label and panel row saying the
         waypoint's status (and the reason of a failure)."""
-        if not 0 <= i < self.n:
-            raise InputError(f"waypoint {i} is not one of 0..{self.n - 1}")
+        whole = isinstance(i, numbers.Integral) and not isinstance(i, bool)
+        if not whole or not 0 <= i < self.n:
+            raise InputError(f"waypoint {i!r} is not one of 0..{self.n - 1} (a whole number)")
+        i = int(i)
         robot = self._robot
         with self._lock, self._server.atomic():
             self.index = i
@@ -166,11 +181,13 @@ class PathPlayer:
             self.slider.value = i  # type: ignore[misc]
 
     def play(self, fps: float = 30.0) -> None:
-        """Walk every waypoint in order, ``fps`` a second; blocks until the last."""
+        """Walk every waypoint in order, ``fps`` a second; blocks until the last.
+        ``OptionError`` for an ``fps`` that is no number > 0."""
+        rate = check_fps(fps)
         for i in range(self.n):
             self.show(i)
             if i + 1 < self.n:
-                time.sleep(1.0 / fps)
+                time.sleep(1.0 / rate)
 
     def remove(self) -> None:
         """Take the ghosts, traces, marks and slider off the page (once)."""

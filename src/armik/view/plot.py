@@ -3,12 +3,15 @@ beside it (the branches of ``solve_all``), drawn with matplotlib into a PNG or a
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import math
+import numbers
+import os
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 import numpy as np
 
-from armik.errors import InputError, ViewerError
+from armik.errors import InputError, OptionError, ViewerError
 from armik.model.arm_model import ArmModel, model_of
 from armik.problem.problem import as_problem
 from armik.problem.tasks import Pose, Position
@@ -42,9 +45,12 @@ def plot(
     Writes a PNG to ``path`` and returns its ``Path``, or draws into the matplotlib 3D
     ``ax`` given and returns it. Needs matplotlib (``pip install "armik[plot]"``, in
     ``armik[view]`` too); raises ``InputError`` for a bad ``q``, a PNG in a folder that does
-    not exist, an ``ax`` that is not a 3D axes, or neither path nor ax.
+    not exist, an ``ax`` that is not a 3D axes, or neither path nor ax; ``OptionError`` for
+    a ``path`` that is no file name, ``others`` that are no list, an angle that is no
+    number.
     """
     arm = model_of(arm)
+    _check_plain(path, others, elev, azim)
     if path is None and ax is None:
         raise InputError("plot needs a path for the PNG (plot(arm, q, 'arm.png')) or an ax")
     if ax is not None and getattr(ax, "name", None) != "3d":
@@ -107,6 +113,33 @@ def plot(
     except OSError as exc:
         raise InputError(f"plot: cannot write {str(path)!r}: {exc.strerror or exc}") from None
     return path
+
+
+def _check_plain(path: object, others: object, elev: object, azim: object) -> None:
+    """``OptionError`` naming ``path``, ``others``, ``elev`` or ``azim`` given in a form
+    ``plot`` cannot take (before matplotlib raises a bare ``TypeError`` about it)."""
+    if path is not None and not isinstance(path, (str, os.PathLike)):
+        raise OptionError(
+            f"plot's path must be a file name (a str or a Path), got {path!r}: "
+            "plot(arm, q, 'arm.png')",
+            option="path",
+            value=path,
+        )
+    if isinstance(others, (str, bytes, IKResult)) or not isinstance(others, Iterable):
+        raise OptionError(
+            f"others must be a list of configurations or IKResults, got {others!r}: "
+            "wrap one in a list, others=[q]",
+            option="others",
+            value=others,
+        )
+    for name, angle in (("elev", elev), ("azim", azim)):
+        number = isinstance(angle, numbers.Real) and not isinstance(angle, bool)
+        if not number or not math.isfinite(float(angle)):  # type: ignore[arg-type]
+            raise OptionError(
+                f"{name} must be an angle in degrees (a finite number), got {angle!r}",
+                option=name,
+                value=angle,
+            )
 
 
 def _marks(target: object, arm: ArmModel) -> list[tuple[np.ndarray, np.ndarray | None]]:

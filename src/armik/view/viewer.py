@@ -32,7 +32,7 @@ from armik.view import follow, regions, server
 from armik.view.ghosts import MAX_GHOSTS, Ghosts
 from armik.view.nodes import BodyNodes, pose_of, wxyz_position
 from armik.view.panel import Panel
-from armik.view.paths import PathPlayer, check_paths, draw_trace
+from armik.view.paths import PathPlayer, check_fps, check_paths, draw_trace
 from armik.view.robot import Robot
 from armik.view.scenery import REACHED, UNREACHED, draw_obstacle, draw_reach
 from armik.view.targets import dragged, gizmo_pose, per_tip, tasks_of
@@ -94,7 +94,7 @@ class Viewer:
         elif robot.several:
             self._q = np.clip(robot.check_q(q), robot.lower, robot.upper)
         else:
-            self._q = robot.chains[robot.tips[0]].seed(q)
+            self._q = robot.chains[robot.tips[0]].seed(robot.check_q(q))  # named q
         self.targets: dict[str, object] = {}
         self.result: IKResult | None = None
         self.solutions: list[IKResult] = []
@@ -164,7 +164,7 @@ class Viewer:
             on_position_only=self._toggled_position_only,
             on_prefer=self._chose_prefer,
             on_follow=self._toggled_follow,
-            prefer=str(self.options.get("prefer") or "none"),
+            prefer=self.options.get("prefer"),
         )
         self.show(self._q)
 
@@ -226,6 +226,8 @@ class Viewer:
                 gizmo.wxyz, gizmo.position = wxyz_position(self.robot.fk(q, tip).homogeneous)
                 self._marks[tip].color = REACHED
             self.panel.show_note("joints set (FK)")
+            if self._follower is not None:  # the servo mode goes on from the arm shown
+                self._follower.restart(q)
 
     def set_target(self, T: object, q0: object = None) -> IKResult:
         """Solve for target ``T`` from ``q0`` (default: the configuration shown) with the
@@ -236,19 +238,21 @@ class Viewer:
         succeeds (a failure is shown in the panel, the target marked red). Raises what the
         solve raises for malformed input, ``InputError`` for a robot's targets not given
         per tip."""
-        return self._solve(per_tip(T, self.robot), q0, place=True)
+        return self._solve(per_tip(T, self.robot), q0, "target")
 
     def _solve(
-        self, targets: dict[str, object], q0: object, place: bool, held: tuple = ()
+        self, targets: dict[str, object], q0: object, what: str, held: tuple = ()
     ) -> IKResult:
-        """Solve ``targets`` and show the answer; the gizmos of ``held`` (being dragged)
-        stay where the user holds them."""
+        """Solve ``targets`` and show the answer (``what``: the panel's "target" row); the
+        gizmos of ``held`` (being dragged) stay where the user holds them."""
         with self._lock:
             seed: object = self._q if q0 is None else q0
             r = self.robot.solve(targets, seed, self.solver, self.options)
             self.targets, self.result = dict(targets), r
             if r.success:
                 self._put(r.q, False)
+                if self._follower is not None:  # set_target in the servo mode
+                    self._follower.restart(r.q)
             else:
                 self._draw_regions()
             verified = self.robot.tip_results(r, self._tol)
@@ -258,7 +262,7 @@ class Viewer:
                     self._place_gizmo(tip, ok if tip in targets else None)
                 elif tip in verified:
                     self._marks[tip].color = REACHED if verified[tip][0] else UNREACHED
-            self.panel.show_result(r, "target" if place else "dragged target", self._tol)
+            self.panel.show_result(r, what, self._tol)
             if self._ghosts_on:
                 self._draw_ghosts(seed)
             return r
@@ -277,7 +281,7 @@ class Viewer:
                 f"the batch result holds configurations of shape {batch_result.q.shape[1:]}, "
                 f"not ({self.robot.dof},) of {self.robot.name!r}: play a result of this arm"
             )
-        fps = _check_fps(fps)
+        fps = check_fps(fps)
         n = len(batch_result)
         if n:
             draw_trace(self._server.scene, self.robot, batch_result)
@@ -300,7 +304,7 @@ class Viewer:
         ``play(fps)``, ``remove()``), also ``viewer.paths``; raises ``InputError`` for
         paths of another robot or of different lengths."""
         paths = check_paths(self.robot, paths)
-        rate = None if fps is None else _check_fps(fps)
+        rate = None if fps is None else check_fps(fps)
         with self._lock:
             if self.paths is not None:
                 self.paths.remove()
@@ -363,10 +367,11 @@ class Viewer:
     def _followed(self, step) -> None:
         """Draw the servo's step (a frame of the servo mode)."""
         with self._lock:
-            if self._closed.is_set():
-                return
-            self._put(step.q, False)
-            self.panel.show_note(f"servo: {step.status}", step.reason)
+            last = None if self._follower is None else self._follower.last
+            if self._closed.is_set() or last is None or step is not last:
+                return  # closed, or the servo restarted since this step
+            self._put(last.q, False)
+            self.panel.show_note(f"servo: {last.status}", last.reason)
 
     def wait(self) -> None:
         """Block until Ctrl-C or ``close()`` from another thread, then close."""
@@ -424,7 +429,7 @@ class Viewer:
                     self._follower.aim(targets)
                     continue
                 try:
-                    self._solve(targets, None, place=False, held=tuple(moved))
+                    self._solve(targets, None, "dragged target", held=tuple(moved))
                 except ArmikError as exc:
                     self.panel.show_note("target refused", str(exc))
 
@@ -442,18 +447,21 @@ class Viewer:
             if not self.targets:
                 return
             try:
-                self._solve(self.targets, None, place=False)
+                self._solve(self.targets, None, f"target, with solver {name!r}")
             except ArmikError as exc:
                 self.panel.show_note(f"solver {name!r} refused the target", str(exc))
 
-    def _chose_prefer(self, name: str) -> None:
+    def _chose_prefer(self, name: object) -> None:
         with self._lock:
-            if name == "none":
+            before = self.options.pop("prefer", None)
+            self.options.update({} if name == "none" else {"prefer": name})
+            try:
+                if self.targets:
+                    self._solve(self.targets, None, "target, with the preference chosen")
+            except ArmikError as exc:  # manipulability over shared joints: as it was
                 self.options.pop("prefer", None)
-            else:
-                self.options["prefer"] = name
-            if self.targets:
-                self._solve(self.targets, None, place=False)
+                self.options.update({} if before is None else {"prefer": before})
+                self.panel.refused_prefer(before, f"prefer {name!r} refused", str(exc))
 
     def _toggled_position_only(self, on: bool) -> None:
         self._position_only = bool(on)
@@ -487,13 +495,3 @@ class Viewer:
             found = []
         self.solutions = found = found[:MAX_GHOSTS]
         self._ghosts.draw(found)
-
-
-def _check_fps(fps: object) -> float:
-    try:
-        rate = float(fps)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        rate = math.nan
-    if not (math.isfinite(rate) and rate > 0):
-        raise OptionError(f"fps must be a number > 0, got {fps!r}", option="fps", value=fps)
-    return rate
