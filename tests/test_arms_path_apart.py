@@ -90,7 +90,9 @@ def test_a_path_never_jumps_over_a_row_another_tip_fails(two):
     model, geom = _whole(text)
     left, right = robot.tips
     q = np.tile(robot.middle, (5, 1))
-    q[:, robot._columns[left]] += 0.2 * np.arange(5)[:, None]  # 0.2 rad a waypoint, each joint
+    # 0.2 rad a waypoint, each joint, from 1.2 off the middle: nearer the middle (elbow and
+    # wrist singular) the tool's straight line between some waypoints leaves the reach
+    q[:, robot._columns[left]] += 1.2 + 0.2 * np.arange(5)[:, None]
     rows = {tip: [robot.fk(x, tip) for x in q] for tip in robot.tips}
     rows[right][2] = pin.SE3(np.eye(3), np.array([3.0, -0.5, 0.3]))  # out of reach
     step = 0.3
