@@ -65,14 +65,7 @@ def test_talos_torso_and_upper_arms_inside_the_margin_never_come_nearer(ticks):
     middle = 0.5 * (at[left] + at[right])
     goal = {left: middle + [0.0, -0.05, 0.0], right: middle + [0.0, 0.05, 0.0]}
     stream = [{t: at[t] + min(1.0, k / ticks) * (goal[t] - at[t]) for t in at} for k in range(1000)]
-    amax = np.full(robot.dof, 5.0)
-    servo = robot.servo(q0, dt=DT, self_collision=True, margin=0.03, acceleration_limits=amax)
-    rec = servo.track(stream)
-    over = violations(
-        q0, rec.q, robot.lower, robot.upper, servo.velocity_limits, servo.acceleration_limits,
-        DT,
-    )  # fmt: skip
-    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    rec = _tracked_within_limits(robot, q0, stream)
     assert np.abs(rec.dq).max() > 1.0  # fast beside the torso
     model, geom, pairs, to_pin = _torso_and_arm_pairs(robot)
     D = _distances(model, geom, pairs, to_pin, np.vstack([q0, rec.q]))
@@ -207,6 +200,15 @@ def test_talos_pairs_inside_the_margin_never_come_nearer_under_wandering_targets
             vel[t] = 0.98 * vel[t] + rng.normal(0.0, 0.01, 3)
             pos[t] = pos[t] + vel[t] * DT * 10
         stream.append({t: pos[t].copy() for t in at})
+    rec = _tracked_within_limits(robot, q0, stream)
+    model, geom, pairs, to_pin = _torso_and_arm_pairs(robot)
+    D = _distances(model, geom, pairs, to_pin, np.vstack([q0, rec.q]))
+    assert _never_nearer(D, 0.03) == 2
+
+
+def _tracked_within_limits(robot, q0, stream):
+    """The record of TALOS's servo (3 cm margin, 5 rad/s^2) tracking ``stream``, every
+    position, velocity and acceleration limit held."""
     amax = np.full(robot.dof, 5.0)
     servo = robot.servo(q0, dt=DT, self_collision=True, margin=0.03, acceleration_limits=amax)
     rec = servo.track(stream)
@@ -215,6 +217,4 @@ def test_talos_pairs_inside_the_margin_never_come_nearer_under_wandering_targets
         DT,
     )  # fmt: skip
     assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
-    model, geom, pairs, to_pin = _torso_and_arm_pairs(robot)
-    D = _distances(model, geom, pairs, to_pin, np.vstack([q0, rec.q]))
-    assert _never_nearer(D, 0.03) == 2
+    return rec
