@@ -81,3 +81,13 @@ def test_a_path_that_is_no_path_is_refused_by_value(path):
         with pytest.raises(armik.InputError) as info:
             call()
         assert f"cannot {verb} {path!r}: give a file's path" in str(info.value)
+
+
+def test_a_truncated_saved_batch_is_named_not_a_zip_error(tmp_path):
+    """Half of a saved batch (an archive's signature, no directory): an ``InputError``
+    naming the file, not ``zipfile.BadZipFile``."""
+    whole = _batch().save(tmp_path / "whole.npz")
+    cut = tmp_path / "cut.npz"
+    cut.write_bytes(whole.read_bytes()[: len(whole.read_bytes()) // 2])
+    with pytest.raises(armik.InputError, match="cut.npz"):
+        armik.BatchResult.load(cut)

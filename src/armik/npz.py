@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -45,7 +46,7 @@ def load(
             if meta.get("format") != format:
                 raise KeyError("format")
             arrays = {k: z[k] for k in (keys or z.files) if k != "meta"}
-    except (OSError, ValueError, KeyError) as exc:
+    except (OSError, ValueError, KeyError, zipfile.BadZipFile) as exc:  # truncated: the last
         raise InputError(f"{str(path)!r} is not {what} ({exc})") from None
     meta.pop("format")
     return meta, arrays

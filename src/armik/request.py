@@ -94,8 +94,8 @@ def but_options(opts: Options, **changes: object) -> Options:
     return frozen(Options, **{**opts.__dict__, **changes})
 
 
-def resolved(opts: Options, arm: ArmModel, q0: object) -> Options:
+def resolved(opts: Options, arm: ArmModel, q0: object, rows: bool = False) -> Options:
     """``opts`` with a user's own constraints resolved for this call from its start ``q0``
     (``armik.constraints.base.at_start``): ``opts`` itself where none has an ``at``."""
-    checks = at_start(opts.checks, arm, q0)
+    checks = at_start(opts.checks, arm, q0, rows)
     return opts if checks is opts.checks else but_options(opts, checks=checks)

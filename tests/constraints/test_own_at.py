@@ -146,3 +146,21 @@ def test_a_relative_task_solved_together_again_starts_from_the_chains_answer_qui
         warnings.simplefilter("error", armik.ArmikWarning)
         r = robot.solve(tasks, q0=q, constraints={left: [Below()]}, iteration_budget=1000)
     assert not r.success or r.q[1] < 0.2
+
+
+@pytest.mark.parametrize("q0", [[[0.1] * 6, [0.2] * 5], "middle", [[0.1] * 6, [0.2] * 6]])
+def test_a_q0_that_is_no_configuration_is_named_as_without_the_constraint(q0):
+    """Ragged, text or a batch's rows given to ``solve``: ``q0``'s own words (a raw numpy
+    ``ValueError`` before), never a batch's on a single solve."""
+    arm, T = _ur5()
+    with pytest.raises(armik.OptionError, match="q0 must") as info:
+        arm.solve(T, q0=q0, constraints=[NearStart()])
+    assert "per row" not in str(info.value)
+
+
+def test_a_held_joints_route_resolves_it_from_q0():
+    """``hold=`` on a 6-joint arm (the task solver, started from the compiled centre's
+    answer): the centre's verdict checked it unresolved (an ``OptionError``)."""
+    arm, T = _ur5()
+    r = arm.solve(T, q0=_start(0.1), hold={"wrist_3_joint": float(Q[5])}, constraints=[NearStart()])
+    assert r.success and abs(r.q[0] - Q[0]) < 1e-6, r.reason

@@ -110,3 +110,14 @@ def test_rows_of_several_solvers_each_name_their_own(run):
     _same_words(a, targets, batch, **options)
     picked = batch[[3, 0]]
     assert [r.solver for r in picked] == [batch[3].solver, batch[0].solver]
+
+
+def test_a_batch_ranked_by_a_preference_keeps_its_successes_words_apart_from_failures():
+    """Rows solved one by one (``prefer=``): a success's words are in ``said``, only the
+    failures' in ``reasons``, as a compiled batch's."""
+    a = arm("ur5")
+    targets = _targets(a, 2)[:2] + [pin.SE3(np.eye(3), np.array([3.0, 0.0, 0.0]))]
+    batch = a.solve_batch(targets, prefer="manipulability", workers=1)
+    assert batch.success.tolist() == [True, True, False]
+    assert set(batch.reasons) == {2} and set(batch.said) == {0, 1}
+    assert batch.reason(0) == a.solve(targets[0], prefer="manipulability").reason

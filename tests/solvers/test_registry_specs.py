@@ -38,6 +38,8 @@ GOOD = dict(
         ("solves", {"position_only"}),
         ("needs", frozenset({"spn"})),
         ("enforces", [int]),
+        ("sweep", "joint 7"),
+        ("parameter", "swivel"),
     ],
 )
 def test_a_field_given_wrong_is_refused_by_name_and_nothing_registered(field, value):

@@ -291,25 +291,32 @@ def satisfied(arm: ArmModel, constraints: tuple[Constraint, ...], q: np.ndarray)
     return True
 
 
-def at_start(checks: tuple[Constraint, ...], arm: ArmModel, q0: object) -> tuple[Constraint, ...]:
+def at_start(
+    checks: tuple[Constraint, ...], arm: ArmModel, q0: object, rows: bool = False
+) -> tuple[Constraint, ...]:
     """``checks`` resolved for one call from its start ``q0`` (None: the middle of the
-    limits; a batch's one row for every target), each by its own ``at``; ``checks`` itself
-    where none has one. A batch with a start per row has no one start to resolve them from:
-    an ``OptionError`` naming the constraint."""
+    limits; ``rows``: a batch's, one row for every target, or one per row that are all the
+    same), each by its own ``at``; ``checks`` itself where none has one. A batch with
+    different starts per row has no one start to resolve them from: an ``OptionError``
+    naming the constraint; a q0 that is no configuration, ``ArmModel.check_q``'s."""
     own = [c for c in checks if type(c).at is not Constraint.at]  # the base's: itself
     if not own:
         return _boxes_read(checks, arm)
-    q = np.asarray(arm.middle if q0 is None else q0, dtype=float)
-    if q.ndim == 2 and len(q) and np.all(q == q[0]):
-        q = q[0]
-    if q.ndim != 1:
-        raise OptionError(
-            f"constraint {type(own[0]).__name__} is resolved from the start (its at(arm, "
-            f"seed)), and this batch gives a q0 per row: give one q0 for every row, or solve "
-            f"the rows one by one",
-            option="constraints",
-            value=own[0],
-        )
+    q = arm.middle if q0 is None else q0
+    if rows and q0 is not None:
+        try:
+            Q = np.asarray(q0, dtype=float)
+        except (TypeError, ValueError):  # ragged, or not numbers: ``check_q`` names it
+            Q = np.zeros(0)
+        if Q.ndim == 2 and not (len(Q) and (Q == Q[0]).all()):
+            raise OptionError(
+                f"constraint {type(own[0]).__name__} is resolved from the start (its at(arm, "
+                f"seed)), and this batch gives a different q0 per row: give one q0 for every "
+                f"row, or solve the rows one by one",
+                option="constraints",
+                value=own[0],
+            )
+        q = Q[0] if Q.ndim == 2 else q
     seed = np.clip(arm.check_q(q, "q0"), arm.lower, arm.upper)  # as the seed will be
     at = tuple([c if type(c).at is Constraint.at else c.at(arm, seed) for c in checks])
     return _boxes_read(at, arm)

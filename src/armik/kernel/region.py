@@ -29,6 +29,7 @@ from armik.kernel.error import to_target
 from armik.kernel.fk import forward, jacobian_local
 from armik.kernel.problem import LOOK_TOWARD, NO_LOOK
 from armik.kernel.se3 import jlog3, log3
+from armik.tolerances import SIGHT
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
@@ -162,10 +163,6 @@ def _cone_rows(M, J, a, cone, e, A, n):
 
 
 _SMALL = 1e-12  # |a x w| below this: a and w (anti)parallel, as ``tasks.cone`` reads it
-# m: a tip nearer its point than this has no line of sight (a move of a micrometre turns it
-# any way): ``armik.problem.tasks.look_at.SIGHT``, where the verdict refuses it (a test
-# holds the two equal), so that a seed there restarts rather than claiming convergence
-SIGHT = 1e-6
 
 
 @njit(cache=True, nogil=True, inline="always")

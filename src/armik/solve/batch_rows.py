@@ -53,7 +53,7 @@ class RowsChunk(NamedTuple):
                 raise at_row(exc, self.start + i) from None
             out.put_result(i, r)
             out.solvers[i] = r.solver  # dropped by the batch where every row names one
-            out.reasons[i] = r.reason  # its own words, a success's too (a task list's)
+            (out.said if r.success else out.reasons)[i] = r.reason  # its own words, a success's
             if bar is not None:
                 bar(i + 1, n)
         named = _named(set(out.solvers.values()), self.label)

@@ -35,7 +35,7 @@ from armik.problem.problem import (
 )
 from armik.problem.scores import fit_posture, parse_score
 from armik.problem.tasks import Pose, Position, Task
-from armik.request import Request, resolved
+from armik.request import Request, but_options, resolved
 from armik.solve.read_aim import (
     AIM_NAMES,
     AIM_OF_TASKS,
@@ -132,7 +132,7 @@ def read(
         key = None if key is None else (key, aim[0], aim[1], aim[2] is None, aim[3] is None)
         if aim.point is not None:  # [Position(p), LookAt(p)]'s refusal
             refuse_looking_from_target(target.position, aim, opts)
-    opts = resolved(opts, arm, q0) if opts.checks and problem is None else opts  # own: at q0
+    opts = resolved(opts, arm, q0) if opts.checks else opts  # a user's own: at q0
     # built as the tuple it is (``Request``'s own ``__new__`` is a Python call: every solve)
     return _new(
         Request, (target, q0, solver, opts, key, seed, every, t0, score, problem, None, None)
@@ -195,10 +195,12 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
         key = None if key is None else (key, aim.shape)
         if aim.point is not None:  # [Position(p), LookAt(p)]'s refusal
             refuse_looking_from_target(targets.positions, aim, opts)  # type: ignore[attr-defined]
-    opts = resolved(opts, arm, q0) if opts.checks else opts  # a user's own: at the one q0
+    opts = resolved(opts, arm, q0, True) if opts.checks else opts  # a user's own: the one q0's
     if rows is None:
         return Request(targets, q0, solver, opts, key, seed, False, t0)
-    each = tuple(read(arm, row, q0 if opts.checks else None, solver, options) for row in rows)
+    each = tuple(read(arm, row, None, solver, options) for row in rows)
+    if opts.checks:  # each row's own: resolved from the batch's start, not the middle
+        each = tuple([r.but(opts=but_options(r.opts, checks=opts.checks)) for r in each])
     score = parse_score(options["prefer"]) if ranked else None
     return Request(None, q0, solver, opts, key, seed, False, t0, score, rows=each)
 
@@ -288,8 +290,7 @@ def _held_global(options: dict) -> OptionError:
 
 
 def _by_rows(arm, rows: tuple, q0, solver: str, options: dict, t0: float, score):
-    """(request, local) of a path solved waypoint by waypoint, each ``rows``' own request
-    (read as ``solve`` reads it), the followed path's."""
+    """(request, local) of a path followed waypoint by waypoint, each ``rows``' own."""
     opts, key, seed = settings(arm, options)
     path = Request(None, q0, solver, opts, key, seed, False, t0, score, rows=rows)
     return path, path
@@ -372,8 +373,8 @@ def _not_taken(name: str, several_tips: bool) -> str:
 
 
 def _held_apart(arm: ArmModel, options: dict) -> bool:
-    """Whether ``options`` hold joints the compiled path cannot (it holds one joint of a
-    7-joint arm): the task solver holds them, as box rows of its steps."""
+    """Whether ``options`` hold joints only the task solver holds (the compiled path: one
+    joint of a 7-joint arm)."""
     if "hold" not in options and "constraints" not in options:
         return False
     held = (spelled(options) if "constraints" in options else options).get("hold")

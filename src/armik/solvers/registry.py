@@ -237,6 +237,8 @@ def _wrong_field(spec: SolverSpec) -> tuple[str, str] | None:
         ("solves", forms, _forms(spec.solves)),
         ("needs", forms, _forms(spec.needs)),
         ("enforces", "a frozenset of Constraint classes", _classes(spec.enforces)),
+        ("sweep", "None or a registry.Sweep", spec.sweep is None or isinstance(spec.sweep, Sweep)),
+        ("parameter", "None or a registry.Parameter", _optional_of(spec.parameter, Parameter)),
     )
     return next(((field, takes) for field, takes, ok in checks if not ok), None)
 
@@ -247,6 +249,10 @@ def _is_int(value: object) -> bool:
 
 def _optional(value: object) -> bool:
     return value is None or callable(value)
+
+
+def _optional_of(value: object, kind: type) -> bool:
+    return value is None or isinstance(value, kind)
 
 
 def _forms(value: object) -> bool:

@@ -20,7 +20,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.problem.tasks.cone import angle
-from armik.problem.tasks.look_at import SIGHT
+from armik.tolerances import SIGHT
 
 
 def region_errors(

@@ -22,9 +22,7 @@ from armik.problem.tasks.base import (
     unit,
 )
 from armik.targets.pose import _vector
-from armik.tolerances import MAX_POSITION
-
-SIGHT = 1e-6  # m: a frame nearer its point than this has no line of sight to aim along
+from armik.tolerances import MAX_POSITION, SIGHT
 
 
 class LookAt(Task):
