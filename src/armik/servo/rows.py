@@ -32,11 +32,12 @@ With g = d - margin:
 - inside the margin (by ``DEPTH`` in full, in proportion nearer it) the braking row also
   counts each joint's lever L_i (``|J_p2 - J_p1|``'s column: how fast the joint parts the
   witness points, which bounds how fast it turns C_i) growing over the braking turn s_i =
-  v_i^2 / (2 a_i): ``L_i s_i^2 / 2`` more, bounded over the acceleration box by its chord
-  as above. Counted with this tick's |C_i| alone, a shoulder turning past where the pair
-  is widest along it (its C_i through zero) grew it as it braked, and TALOS's torso and
-  right upper arm, 14.1 mm apart inside a 3 cm margin, came 37 um nearer under targets
-  wandering at random.
+  v_i^2 / (2 a_i): ``L_i (s_i(v)^2 - s_i(w)^2) / 2`` more, its growth beyond the braking
+  turn at this tick's velocity w_i, bounded over the acceleration box by a chord
+  (``bent``; not the full ``L_i s_i^2 / 2``, which the tests below did not need). Counted
+  with this tick's |C_i| alone, a shoulder turning past where the pair is widest along it
+  (its C_i through zero) grew it as it braked, and TALOS's torso and right upper arm,
+  14.1 mm apart inside a 3 cm margin, came 37 um nearer under targets wandering at random.
 
 The box QP's step (``tick``) is kept where it meets every row. Otherwise the most violated
 row (by its shortfall over its norm; a row of zeros, a pair no joint moves, never) joins

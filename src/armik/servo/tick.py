@@ -297,11 +297,11 @@ def _at_minimum(ch, table, tasks, ws, q, E, A, rows, Ep, Ap, scp, fixed, free, M
 @njit(cache=True, nogil=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def tick(target, mem, imem, rows_cb):
     """One tick on the servo's memory (``armik.servo.layout``) toward ``target``, within the
-    collision rows ``rows_cb`` (K, n + 1: C, then b, for C dq >= b): ``state``'s joint
-    values and velocity advanced by one step, ``out`` saying what limited it. ``target``:
-    a table (tasks, ``COLUMNS``), or a 4x4 pose H, its table written here where it is one
-    the target parser keeps exactly as given (``kernel.single.plain_pose``). Returns False,
-    having done nothing, for any other H (the parser then reads it).
+    collision rows ``rows_cb`` (K, 2 n + 1: C, then b, then the levers L, for C dq >= b):
+    ``state``'s joint values and velocity advanced by one step, ``out`` saying what limited
+    it. ``target``: a table (tasks, ``COLUMNS``), or a 4x4 pose H, its table written here
+    where it is one the target parser keeps exactly as given (``kernel.single.plain_pose``).
+    Returns False, having done nothing, for any other H (the parser then reads it).
 
     One compiled function for both: each entry would otherwise optimise and emit the
     whole tick's machine code again (numba links a callee's code into every caller)."""

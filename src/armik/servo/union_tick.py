@@ -260,9 +260,9 @@ def chain_floats(n, N):
 @njit(cache=True, nogil=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
 def tick(mem, imem, rows_cb):
     """One tick of the union's state in ``mem`` toward every tip's target, within the
-    collision rows ``rows_cb`` (K, n + 1: C, then b, for C dq >= b). Returns -1, or,
-    having done nothing, the first tip whose pose H[t] is not one the target parser keeps
-    as given (the caller parses it)."""
+    collision rows ``rows_cb`` (K, 2 n + 1: C, then b, then the levers L, for C dq >= b).
+    Returns -1, or, having done nothing, the first tip whose pose H[t] is not one the target
+    parser keeps as given (the caller parses it)."""
     n, tips, most = imem[0], imem[1], imem[2]
     (state, cfg, out, out2, lasts, tables, H, fixed, ranks, packed, buf), ints = _carve(mem, imem)
     last_counts, counts, at, kinds, maps, ib = ints
