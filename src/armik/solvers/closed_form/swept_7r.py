@@ -36,7 +36,8 @@ from armik.solvers.answers import Answers
 from armik.solvers.claims import claim
 from armik.solvers.closed_form import sixr, sixr_answers
 from armik.solvers.closed_form import spherical_wrist as spherical
-from armik.solvers.closed_form.subproblems import SINGLE, cross, mat, mv, norm, rot, vec
+from armik.solvers.closed_form import subproblems as sp
+from armik.solvers.closed_form.subproblems import mat, rot, vec
 from armik.solvers.closed_form.swept_dips import DIP_STEPS as DIP_STEPS
 from armik.solvers.closed_form.swept_dips import narrow
 from armik.solvers.closed_form.swept_geometry import Swept as Swept
@@ -44,7 +45,7 @@ from armik.solvers.closed_form.swept_geometry import classify as classify
 from armik.solvers.registry import SolverSpec, Sweep, register
 from armik.status import Status
 from armik.targets.pose import Target
-from armik.tolerances import ANGLE_TOL
+from armik.tolerances import ANGLE_TOL, LIMIT_TOL
 
 SWEEP = 128  # values of joint 7 tried after q0's, spread over its range
 FAMILY = "swept_7r"
@@ -160,16 +161,16 @@ def in_line(h, p, q0, lower, upper, labelled, out, n):
             continue  # a singular row: the kernel's free joint kept (the exported C's too)
         for i in range(3):  # axes (1, 3), (2, 4), (3, 5); (4, 6) is the kernel's wrist
             j = i + 2  # their angle turns with joint i + 1 alone: read cheaply first
-            if norm(cross(vec(h[i]), mv(rot(vec(h[i + 1]), out[r, i + 1]), vec(h[j])))) > SINGLE:
+            turned = sp.mv(rot(vec(h[i + 1]), out[r, i + 1]), vec(h[j]))
+            if sp.norm(sp.cross(vec(h[i]), turned)) > sp.SINGLE:
                 continue
-            P, D = _lines(h, p, out[r])
-            c = np.linalg.norm(np.cross(D[i], D[j]))
-            far = np.linalg.norm(np.cross(P[j] - P[i], D[i]))
-            lo, hi = lower - sixr.LIMIT_TOL, upper + sixr.LIMIT_TOL
-            outside = not (lo[i] <= out[r, i] <= hi[i] and lo[j] <= out[r, j] <= hi[j])
-            if c > SINGLE or far > SINGLE or not outside and (c > IN_LINE or far > IN_LINE):
+            (Pi, Di), (Pj, Dj), T = _line(h, p, out[r], i), _line(h, p, out[r], j), LIMIT_TOL
+            c, far = sp.norm(sp.cross(Di, Dj)), sp.norm(sp.cross(sp.sub(Pj, Pi), Di))
+            outside = not lower[i] - T <= out[r, i] <= upper[i] + T
+            outside = outside or not lower[j] - T <= out[r, j] <= upper[j] + T
+            if c > sp.SINGLE or far > sp.SINGLE or not outside and (c > IN_LINE or far > IN_LINE):
                 continue
-            s = 1.0 if D[i] @ D[j] > 0.0 else -1.0
+            s = 1.0 if sp.dot(Di, Dj) > 0.0 else -1.0
             t = _split_at(out[r, i], out[r, j], s, q0[i], lower, upper, i, j)
             out[r, j] = out[r, j] + s * (out[r, i] - t)
             out[r, i] = t
@@ -184,8 +185,10 @@ def in_line(h, p, q0, lower, upper, labelled, out, n):
     for r in range(n):
         same = False
         for k in range(m):
-            if np.abs(out[r, :6] - out[k, :6]).max() <= 1e-9 and out[r, 6] == out[k, 6]:
-                same = True
+            gap = 0.0
+            for col in range(6):
+                gap = max(gap, abs(out[r, col] - out[k, col]))
+            same = same or (gap <= 1e-9 and out[r, 6] == out[k, 6])
         if not same:
             out[m] = out[r]
             m += 1
@@ -193,17 +196,13 @@ def in_line(h, p, q0, lower, upper, labelled, out, n):
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
-def _lines(h, p, q):
-    """A point on and the direction of each of the chain's axes at ``q`` (first 6)."""
-    P, D = np.empty((6, 3)), np.empty((6, 3))
-    R = np.eye(3)
-    o = p[0].copy()
-    for k in range(6):
-        P[k] = o
-        D[k] = R @ h[k]
-        R = R @ mat_array(rot(vec(h[k]), q[k]))
-        o = o + R @ p[k + 1]
-    return P, D
+def _line(h, p, q, k):
+    """A point on and the direction of the chain's axis ``k`` at ``q``."""
+    R, o = rot(vec(h[0]), 0.0), vec(p[0])
+    for m in range(k):
+        R = sp.mm(R, rot(vec(h[m]), q[m]))
+        o = sp.add(o, sp.mv(R, vec(p[m + 1])))
+    return o, sp.mv(R, vec(h[k]))
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
