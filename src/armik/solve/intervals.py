@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armik.errors import OptionError, listing
+from armik.errors import JointError, OptionError, listing
 from armik.model.arm_model import ArmModel
 from armik.solvers import registry
 from armik.targets.pose import Target, parsed
@@ -124,6 +124,14 @@ def _parameter(arm: ArmModel, tgt: Target, over: str, seed: np.ndarray):
             if spec.sweep is not None and spec.why_not(arm, tgt, None) is None:
                 lo, hi = spec.sweep.range(arm, float(seed[k]))
                 return spec, spec.sweep.at_value, float(lo), float(hi)
+    known = {s.parameter.option for s in registry.declaring()}  # type: ignore[union-attr]
+    if over not in arm.joint_names and over not in known:
+        raise JointError(
+            f"intervals: unknown joint {over!r} of arm {arm.name!r}; its joints: "
+            f"{listing(arm.joint_names)}; or an option: {listing(sorted(known)) or 'none'}",
+            joint=over,
+            candidates=arm.joint_names,
+        )
     options = [
         s.parameter.option  # type: ignore[union-attr]
         for s in registry.declaring()

@@ -23,8 +23,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass
-from operator import itemgetter
 from typing import cast
 
 import numpy as np
@@ -33,58 +31,24 @@ from numba import njit
 from armik.kernel.measure import split_pose
 from armik.kernel.single import plain_pose, plain_seed
 from armik.model.arm_model import ArmModel
-from armik.model.geometry import Axes, axis_lines
 from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers
 from armik.solvers.claims import claim
 from armik.solvers.closed_form import sixr, sixr_answers
 from armik.solvers.closed_form import spherical_wrist as spherical
+from armik.solvers.closed_form import subproblems as sp
 from armik.solvers.closed_form.subproblems import mat, rot, vec
+from armik.solvers.closed_form.swept_dips import DIP_STEPS as DIP_STEPS
+from armik.solvers.closed_form.swept_dips import narrow
+from armik.solvers.closed_form.swept_geometry import Swept as Swept
+from armik.solvers.closed_form.swept_geometry import classify as classify
 from armik.solvers.registry import SolverSpec, Sweep, register
 from armik.status import Status
 from armik.targets.pose import Target
+from armik.tolerances import ANGLE_TOL, LIMIT_TOL
 
 SWEEP = 128  # values of joint 7 tried after q0's, spread over its range
 FAMILY = "swept_7r"
-
-
-@dataclass(frozen=True)
-class Swept:
-    """A 7R arm read as joints 6 to 1 from the tip (a 6R chain) and joint 7's axis line in
-    the tip frame at q = 0."""
-
-    geo: sixr.Chain6R
-    variant: int  # spherical.kernel's: 0 axes 2, 3 parallel, 1 axes 1, 2 meeting
-    c: np.ndarray  # a point on joint 7's axis (tip frame at q = 0), m
-    u: np.ndarray  # joint 7's unit axis (tip frame)
-
-    @property
-    def description(self) -> str:
-        return f"joint 7 held, joints 6 to 1 read from the tip: {self.geo.description}"
-
-
-def classify(arm: ArmModel, ax: Axes | None = None) -> Swept | str:
-    """The geometry the swept solver sweeps over (see the module), or the reason this 7R arm is not
-    in the class: joint 7 held, joints 6 to 1 read from the tip form a spherical wrist."""
-    why = sixr.not_revolute(arm, 7)
-    if why is not None:
-        return why
-    ax = ax or axis_lines(arm)
-    Rt = ax.tip_rotation.T
-    t = ax.tip_position
-    order = (5, 4, 3, 2, 1, 0)  # joints 6 to 1
-    reversed_axes = Axes(
-        np.array([Rt @ (ax.points[j] - t) for j in order]),
-        np.array([-(Rt @ ax.directions[j]) for j in order]),
-        np.ones(6, dtype=bool),
-        -(Rt @ t),
-        Rt.copy(),
-    )
-    geo = spherical.classify_axes(reversed_axes)
-    if isinstance(geo, str):
-        return f"with joint 7 held, joints 6 to 1 from the tip are not a spherical wrist: {geo}"
-    variant = 0 if geo.variant == "parallel_23" else 1
-    return Swept(geo, variant, Rt @ (ax.points[6] - t), Rt @ ax.directions[6])
 
 
 def geometry(arm: ArmModel) -> Swept | str:
@@ -163,6 +127,7 @@ def first_held(h, p, R_tip0, variant, c, u, R, pos, q0r, lower, upper, q7, lo, h
         n, _ = spherical.kernel(
             h, p, R_tip0, mat(R_inv), vec(p_inv), q0r, lower, upper, variant, unlabelled, rows
         )
+        n = in_line(h, p, q0r, lower, upper, unlabelled, rows, n)
         if k == 0:
             n_first = n
         if n > 0 and not int(rows[0, 6]) & sixr.LS:
@@ -173,6 +138,94 @@ def first_held(h, p, R_tip0, variant, c, u, R, pos, q0r, lower, upper, q7, lo, h
             if inside:
                 return theta, rows[:n], True
     return q7, first[:n_first], False
+
+
+# sin of the angle between two axes, and m between their lines: in line (the structure's
+# tolerance); up to ``sp2``'s SINGLE its split of the two is noise (rounding's square root)
+IN_LINE = ANGLE_TOL
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def in_line(h, p, q0, lower, upper, labelled, out, n):
+    """The kernel's ``n`` rows of the reversed chain (``h``, ``p``) in ``out`` where two axes
+    one joint apart lie in one line (the Panda's joints 3 and 5 at joint 4 = 0): only their
+    sum turns the tip, split by the closed form's rounding (``IN_LINE``; near it by noise,
+    ``SINGLE``: a row it leaves outside the limits). The first (in the reversed chain's
+    order) is kept at q0's value, or the nearest that keeps both within their limits, the
+    other takes the rest, the row singular; the rows packed again (``sixr.pack``), a row the
+    same as one before it dropped. Returns the count. A row the kernel calls singular keeps
+    its free joint, as the exported C does (axes 4 and 6 are its wrist)."""
+    moved = False
+    for r in range(n):
+        if int(out[r, 6]) & (sixr.LS | sixr.SINGULAR):
+            continue  # a singular row: the kernel's free joint kept (the exported C's too)
+        for i in range(3):  # axes (1, 3), (2, 4), (3, 5); (4, 6) is the kernel's wrist
+            j = i + 2  # their angle turns with joint i + 1 alone: read cheaply first
+            turned = sp.mv(rot(vec(h[i + 1]), out[r, i + 1]), vec(h[j]))
+            if sp.norm(sp.cross(vec(h[i]), turned)) > sp.SINGLE:
+                continue
+            (Pi, Di), (Pj, Dj), T = _line(h, p, out[r], i), _line(h, p, out[r], j), LIMIT_TOL
+            c, far = sp.norm(sp.cross(Di, Dj)), sp.norm(sp.cross(sp.sub(Pj, Pi), Di))
+            outside = not lower[i] - T <= out[r, i] <= upper[i] + T
+            outside = outside or not lower[j] - T <= out[r, j] <= upper[j] + T
+            if c > sp.SINGLE or far > sp.SINGLE or not outside and (c > IN_LINE or far > IN_LINE):
+                continue
+            s = 1.0 if sp.dot(Di, Dj) > 0.0 else -1.0
+            t = _split_at(out[r, i], out[r, j], s, q0[i], lower, upper, i, j)
+            out[r, j] = out[r, j] + s * (out[r, i] - t)
+            out[r, i] = t
+            out[r, 6] = float(int(out[r, 6]) | sixr.SINGULAR)
+            moved = True
+    if not moved:
+        return n
+    sixr.nearest_equivalents(out, n, q0, lower, upper)
+    W = out[:n].copy()
+    sixr.pack(W, n, q0, lower, upper, h, p, labelled, out)
+    m = 0
+    for r in range(n):
+        same = False
+        for k in range(m):
+            gap = 0.0
+            for col in range(6):
+                gap = max(gap, abs(out[r, col] - out[k, col]))
+            same = same or (gap <= 1e-9 and out[r, 6] == out[k, 6])
+        if not same:
+            out[m] = out[r]
+            m += 1
+    return m
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def _line(h, p, q, k):
+    """A point on and the direction of the chain's axis ``k`` at ``q``."""
+    R, o = rot(vec(h[0]), 0.0), vec(p[0])
+    for m in range(k):
+        R = sp.mm(R, rot(vec(h[m]), q[m]))
+        o = sp.add(o, sp.mv(R, vec(p[m + 1])))
+    return o, sp.mv(R, vec(h[k]))
+
+
+@njit(cache=True, no_cfunc_wrapper=True)
+def _split_at(qi, qj, s, ti, lower, upper, i, j):
+    """Joint i's value nearest ``ti`` at which joint j = qj + s (qi - value) lies within
+    its limits, turns by 2 pi allowed (joint i within its own, or within pi of ``ti``
+    without them); ``ti`` itself where none does."""
+    lo, hi = max(lower[i], ti - math.pi), min(upper[i], ti + math.pi)
+    if math.isfinite(lower[i]) and math.isfinite(upper[i]):
+        lo, hi = lower[i], upper[i]
+    if not (math.isfinite(lower[j]) and math.isfinite(upper[j])):
+        return min(max(ti, lo), hi)
+    c = qj + s * qi  # joint j = c - s t (+ 2 pi k) at joint i = t
+    a, b = (c - upper[j], c - lower[j]) if s > 0 else (lower[j] - c, upper[j] - c)
+    best = ti
+    gap = math.inf
+    for m in range(math.ceil((lo - b) / sixr.TWO_PI), math.floor((hi - a) / sixr.TWO_PI) + 1):
+        x0, x1 = max(a + sixr.TWO_PI * m, lo), min(b + sixr.TWO_PI * m, hi)
+        if x0 <= x1:
+            t = min(max(ti, x0), x1)
+            if abs(t - ti) < gap:
+                best, gap = t, abs(t - ti)
+    return best
 
 
 def held_reason(theta: float, singular: bool) -> str:
@@ -329,6 +382,7 @@ def _rows_at_pose(sw: Swept, R, pos, q0: np.ndarray, arm: ArmModel, labelled: np
             sw.geo.h, sw.geo.p, sw.geo.R_tip0, mat(R_inv), vec(p_inv), q0r, lor, hir,
             sw.variant, labelled, out,
         )  # fmt: skip
+        n = in_line(sw.geo.h, sw.geo.p, q0r, lor, hir, labelled, out, n)
         rows = np.empty((n, 12))
         rows[:, :6] = out[:n, 5::-1]  # joints 1 to 6 again
         rows[:, 6] = theta
@@ -338,9 +392,7 @@ def _rows_at_pose(sw: Swept, R, pos, q0: np.ndarray, arm: ArmModel, labelled: np
     return rows_at
 
 
-NARROW_DIPS = 4  # dips of the limit violation between swept values searched, least first
 GOLDEN = 0.6180339887498949
-DIP_STEPS = 16  # golden-section steps in a dip of the limit violation
 
 
 def golden_search(
@@ -370,60 +422,15 @@ def golden_search(
             fd = tried[-1][0]
 
 
-def golden(fn: Callable[[float], float], a: float, b: float, steps: int, until: float = -math.inf):
-    """(fn(x), x) at each value ``golden_search`` tries."""
-    out: list[tuple[float, float]] = []
-    for x in golden_search(a, b, steps, out, until):
-        out.append((fn(x), x))
-    return out
-
-
-def dip_within(violation: Callable[[float], float], a: float, b: float) -> float | None:
-    """A value of [a, b] where ``violation`` (a branch's limit violation, 0 within the
-    limits, inf where it is not reached) is 0, the first a golden-section search of its
-    dip tried (``DIP_STEPS`` steps); None where it stays above 0. Here and in the
-    preference's sweep (``armik.solve.prefer``)."""
-    least, x = min(golden(violation, a, b, DIP_STEPS, until=0.0), key=itemgetter(0))
-    return x if least <= 0.0 else None
-
-
 def _narrow(arm: ArmModel, sw: Swept, R, pos, q0: np.ndarray):
     """Where no swept value of joint 7 gave a row within the limits: (theta, rows, True) at
-    a value where one is, in an interval narrower than the sweep's cells, else None. The
-    least limit violation of the exact rows at each cell's centre; where it dips between
-    cells without reaching 0 there, a search of the dip for a value where it does
-    (``dip_within``: the ``NARROW_DIPS`` least dips, the value nearest q0's joint 7 kept)."""
+    a value where one is, in an interval narrower than the sweep's cells, else None: the
+    dips of the exact rows' least limit violation searched (``swept_dips.narrow``)."""
     lo7, hi7 = sweep_range(arm, float(q0[6]))
     rows_at = _rows_at_pose(sw, R, pos, q0, arm)
-    lower, upper = arm.lower - sixr.LIMIT_TOL, arm.upper + sixr.LIMIT_TOL
-
-    def violation(theta: float) -> float:
-        rows = rows_at(theta)
-        Q = rows[(rows[:, 7].astype(np.int64) & sixr.LS) == 0, :7]
-        if not len(Q):
-            return math.inf
-        return max(float(np.maximum(lower - Q, Q - upper).max(axis=1).min()), 0.0)
-
-    width = (hi7 - lo7) / SWEEP
-    x = [lo7 + (k + 0.5) * width for k in range(SWEEP)]
-    f = [violation(t) for t in x]
-    dips = [
-        (f[k], k)
-        for k in range(SWEEP)
-        if 0.0 < f[k] < math.inf
-        and f[k] <= (f[k - 1] if k else math.inf)
-        and f[k] <= (f[k + 1] if k + 1 < SWEEP else math.inf)
-    ]
-    found = []
-    for _, k in sorted(dips)[:NARROW_DIPS]:
-        a, b = (x[k - 1] if k else lo7), (x[k + 1] if k + 1 < SWEEP else hi7)
-        theta = dip_within(violation, a, b)
-        if theta is not None:
-            found.append(theta)
-    if not found:
-        return None
-    theta = min(found, key=lambda t: abs(t - float(q0[6])))
-    return theta, rows_at(theta), True
+    near = float(q0[6])
+    theta = narrow(rows_at, lo7, hi7, arm.lower, arm.upper, SWEEP, near, golden_search)
+    return None if theta is None else (theta, rows_at(theta), True)
 
 
 def run(
