@@ -203,9 +203,10 @@ def test_a_preference_the_shared_joints_refuse_is_said_in_the_panel():
     with armik.view(robot, port=0, open_browser=False) as v:
         assert v.set_target(targets).success
         event = SimpleNamespace(client=object(), target=SimpleNamespace(value="manipulability"))
-        for callback in v.panel.prefer._impl.update_cb:  # as a browser's choice calls them
+        v.panel.prefer.value = "manipulability"  # a browser's choice sets it, then calls them
+        for callback in v.panel.prefer._impl.update_cb:
             callback(event)
-        assert "prefer" not in v.options and v.panel.prefer.value == "none"
+        assert "prefer" not in v.options and v.panel.prefer.value == "none"  # put back
         assert v.panel.message.value == "prefer 'manipulability' refused"
         assert "shared by several tips" in v.panel.reason.value
         assert v.set_target(targets).success  # the next solve is not refused

@@ -64,6 +64,9 @@ def flag_targets(args: argparse.Namespace, options: dict, several: bool) -> list
     # would drop): the position within the box, as without --rpy
     dropped = options.get("position_only") and (several or bounds is not None)
     posed = bool(rotations) and not dropped
+    # a box with --position-only and a rotation: the box in the target's frame (--bounds'
+    # help), the rotation free
+    freed = bool(rotations) and bool(dropped) and bounds is not None
     targets: list[object] = []
     for i in range(n):
         xyz = np.array(given["xyz"][i], dtype=float)
@@ -75,7 +78,7 @@ def flag_targets(args: argparse.Namespace, options: dict, several: bool) -> list
             else:
                 toward = given["toward"][i]
                 targets.append(_point_and_axis(xyz, given["axis"][i], toward, within, box))
-        elif posed:
+        elif posed or freed:
             if given["rpy"]:
                 pose: object = pin.SE3(pin.rpy.rpyToMatrix(*given["rpy"][i]), xyz)
             else:
@@ -83,14 +86,17 @@ def flag_targets(args: argparse.Namespace, options: dict, several: bool) -> list
             if bounds is None:
                 targets.append(pose)
             else:
-                targets.append([Pose(pose, bounds=bounds, weights=options.get("weights"))])
+                box6 = (*bounds[:3], math.inf, math.inf, math.inf) if freed else bounds
+                targets.append([Pose(pose, bounds=box6, weights=options.get("weights"))])
         elif several and bounds is not None:
             targets.append([Position(xyz, bounds=bounds[:3])])
         else:
             targets.append(xyz)
-    if posed and bounds is not None:
+    if (posed or freed) and bounds is not None:
         options.pop("bounds", None)
         options.pop("weights", None)
+    if freed:
+        options.pop("position_only", None)
     if box is not None:  # in the Position: the weights go on to the library (``for_flags``)
         options.pop("bounds", None)
     if several:  # said by the targets (a Position with bounds, a position for a pose)
