@@ -21,7 +21,6 @@ import numpy as np
 from armik import reasons
 from armik.constraints.base import Check, Constraint
 from armik.errors import JointError, OptionError, listing
-from armik.model.lock_values import beyond_turns
 from armik.model.mimic import not_a_joint
 from armik.status import Status
 from armik.tolerances import LIMIT_TOL
@@ -117,8 +116,6 @@ class Hold(Constraint):
                 f"[{lo:.10g}, {hi:.10g}] {unit}: give a value within them",
                 joint=self.joint,
             )
-        if not arm.prismatic[k]:  # 170 on a continuous joint: degrees by mistake
-            beyond_turns("hold:", self.joint, arm.joint_types[k], value, lo, hi)
         return Hold(self.joint, min(max(value, lo), hi))
 
     def box(self, arm: ArmModel) -> tuple[np.ndarray, np.ndarray]:

@@ -19,10 +19,9 @@ import pinocchio as pin
 from armik.errors import FrameError, JointError, OptionError, URDFError, closest, listing
 from armik.model import mimic as _mimic
 from armik.model.default_tip import default_tip
-from armik.model.lock_values import NOT_NUMBERS, locked_value
 from armik.model.mimic import Mimic
 from armik.model.urdf import URDFInfo
-from armik.tolerances import MAX_LENGTH, MAX_LIMIT
+from armik.tolerances import LIMIT_TOL, MAX_LENGTH, MAX_LIMIT
 
 log = logging.getLogger(__name__)
 
@@ -224,6 +223,44 @@ def _locked_joint(full: pin.Model, jname: str) -> int:
     return jid
 
 
+# Values that float() reads but that are no joint value: text, complex, bools (True is 1)
+_NOT_NUMBERS = (str, bytes, complex, bool, np.bool_)
+
+
+def locked_value(full: pin.Model, info: URDFInfo, jid: int, value: object) -> float:
+    """``value`` as the float a joint is locked at (rad or m). Raises ``JointError`` naming
+    the joint, the value and the limits when it is not a finite number or lies outside the
+    joint's URDF limits (a continuous joint, or a side without a limit, takes any value)."""
+    jname = full.names[jid]
+    try:
+        # never parse text, drop an imaginary part, or read True as 1 rad
+        if isinstance(value, _NOT_NUMBERS) or np.iscomplexobj(value):  # type: ignore[arg-type]
+            raise TypeError
+        number = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError, OverflowError):  # OverflowError: an int beyond 1e308
+        number = math.nan
+    if not math.isfinite(number):
+        raise JointError(
+            f"locked value for {jname!r} must be a finite number (rad or m), got {value!r}",
+            joint=jname,
+        )
+    joint = full.joints[jid]
+    if joint.nq != 1 or jname in info.unset_limits:  # continuous, or limits "0 0"
+        return number
+    lo = float(full.lowerPositionLimit[joint.idx_q])
+    hi = float(full.upperPositionLimit[joint.idx_q])
+    lo = lo if lo >= -MAX_LIMIT else -math.inf  # beyond MAX_LIMIT: free on that side
+    hi = hi if hi <= MAX_LIMIT else math.inf
+    if not lo - LIMIT_TOL <= number <= hi + LIMIT_TOL:
+        unit = "m" if info.joint_types.get(jname) == "prismatic" else "rad"
+        raise JointError(
+            f"locked value {number:.10g} {unit} for {jname!r} is outside its URDF limits "
+            f"[{lo:.10g}, {hi:.10g}] {unit}: lock it at a value within them",
+            joint=jname,
+        )
+    return number
+
+
 def frame_id(model: pin.Model, name: str) -> int:
     """The id of frame ``name``, a link's frame before a joint's of the same name; raises
     ``KeyError`` (``getFrameId`` would return ``nframes`` for an unknown name)."""
@@ -389,7 +426,7 @@ def check_limit_value(jname: str, value: object) -> float:
     """A joint limit given to ``with_limits`` as a float (rad or m; +-inf: no limit on
     that side); raises ``JointError`` naming the joint otherwise."""
     try:
-        if isinstance(value, NOT_NUMBERS) or np.iscomplexobj(value):  # type: ignore[arg-type]
+        if isinstance(value, _NOT_NUMBERS) or np.iscomplexobj(value):  # type: ignore[arg-type]
             raise TypeError
         out = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError, OverflowError):

@@ -28,7 +28,6 @@ from armik.constraints.hold import Hold
 from armik.errors import OptionError, SolverError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
-from armik.model.lock_values import arm_limits
 from armik.request import Request, with_seed
 from armik.solvers import registry
 from armik.solvers.answers import Answers
@@ -82,9 +81,7 @@ def locked_arm(arm: ArmModel, name: str, value: float):
     key = (name, value)
     sub = kept.get(key)
     if sub is None:
-        k = arm.joint_names.index(name)  # the value is within the arm's limits (``Hold.at``)
-        with arm_limits({name: (float(arm.lower[k]), float(arm.upper[k]))}):
-            sub = arm.with_locked({name: value})
+        sub = arm.with_locked({name: value})
         kept[key] = sub
         if len(kept) > KEPT:
             kept.popitem(last=False)
