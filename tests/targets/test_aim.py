@@ -6,6 +6,7 @@ them."""
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
@@ -272,3 +273,21 @@ def test_an_aimed_target_with_a_held_joint_takes_rotation_bounds_of_zero_or_inf(
         within = aim["cone"][3]
         cos = float(F.rotation[:, 2] @ sight) / np.linalg.norm(sight)
         assert cos >= np.cos(within + 2e-6)
+
+
+@pytest.mark.parametrize("spin", [math.nan, -math.inf, 0.1])
+def test_an_aimed_target_with_a_held_joint_refuses_rotation_bounds_that_are_no_bounds(spin):
+    """NaN, -inf, or a finite width beside the aim: refused by name with a held joint as
+    without one (NaN and -inf were read as saying nothing, dropped, and solved)."""
+    ur5 = bundled("ur5")
+    T = ur5.fk(ur5.random_q(2))
+    p, z = T.translation, T.rotation[:, 2]
+    for hold in ({"shoulder_pan_joint": 0.3}, {}):
+        with pytest.raises(armik.OptionError, match="bounds"):
+            ur5.solve(
+                p,
+                bounds=(0.05,) * 3 + (spin,) * 3,
+                look_at=p + 0.3 * z,
+                cone=(0, 0, 1, 0.0),
+                hold=hold or None,
+            )

@@ -28,8 +28,8 @@ def in_radians(checked: dict[str, tuple[float, float]], arm: Any) -> dict[str, t
             rad = tuple(math.radians(v) if math.isfinite(v) else v for v in (lo, hi))
             raise JointError(
                 f"limits for {jname!r}: {far[0]:g} rad is {abs(far[0]) / (2 * math.pi):.3g} "
-                f"turns of a {arm.joint_types[k]} joint, beyond +-{bound:.4g} rad (4 turns "
-                "each way): "
+                f"turns of a {arm.joint_types[k]} joint, beyond +-{bound:.4g} rad "
+                f"({bound / (2 * math.pi):.3g} turns each way, its own limits or 4): "
                 f"radians are meant; for ({lo:g}, {hi:g}) degrees give ({rad[0]:.6g}, "
                 f"{rad[1]:.6g}), and -inf/inf for a joint that turns without a limit",
                 joint=jname,

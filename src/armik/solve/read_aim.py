@@ -42,10 +42,14 @@ def aimed_tasks(tgt: Target, aim: Aim, options: dict) -> tuple[Problem | None, d
     if options.get("position_only"):  # as the compiled path refuses it: the aim measured
         refuse_freed(aim, SimpleNamespace(position_only=True, weights=None))
     bounds = options.get("bounds")
-    box = None if bounds is None else np.asarray(bounds, dtype=float)
-    # the rotation's bounds 0 or inf say nothing beside the cone (``refuse_freed``): not more
+    try:
+        box = None if bounds is None else np.asarray(bounds, dtype=float)
+    except (TypeError, ValueError):  # not numbers: the options' checks name it
+        return None, options
+    # the rotation's bounds 0 or +inf say nothing beside the cone (``refuse_freed``); any
+    # other (a width, NaN, -inf, not six) goes on to the options' checks, which name it
     if options.get("weights") is not None or (
-        box is not None and (np.isfinite(box[3:]) & (box[3:] != 0.0)).any()
+        box is not None and (box.shape != (6,) or not np.isin(box[3:], (0.0, np.inf)).all())
     ):
         return None, options
     rest = {k: v for k, v in options.items() if k not in ("bounds", "position_only")}

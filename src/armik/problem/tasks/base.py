@@ -169,7 +169,7 @@ def _read(name: str, own: Callable[..., Any]) -> Callable[..., Any]:
             return got
         try:
             out = np.asarray(got, dtype=float)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):  # 10**400: no float
             out = None
         if out is None or out.shape != shape:
             given = f"shape {np.shape(got)}" if out is not None else repr(got)
@@ -208,7 +208,7 @@ def check_bounds(bounds: object, n: int, what: str) -> np.ndarray:
     naming the value otherwise."""
     try:
         arr = np.array(bounds, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # 10**400: no float
         raise TargetError(f"{what} must be {n} numbers (m or rad), got {bounds!r}") from None
     if arr.shape != (n,):
         raise TargetError(f"{what} must be {n} numbers (m or rad), got {bounds!r}")
@@ -231,7 +231,7 @@ def check_weights(weights: object, n: int, what: str) -> np.ndarray:
     """``weights`` as n finite numbers >= 0, not all 0; ``TargetError`` otherwise."""
     try:
         arr = np.array(weights, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # 10**400: no float
         raise TargetError(f"{what} must be {n} numbers >= 0, got {weights!r}") from None
     if arr.shape != (n,) or not np.isfinite(arr).all() or (arr < 0).any() or not arr.any():
         raise TargetError(
@@ -244,7 +244,7 @@ def unit(vector: object, what: str) -> np.ndarray:
     """``vector`` as a unit 3-vector; ``TargetError`` for a zero-length or non-finite one."""
     try:
         arr = np.array(vector, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # 10**400: no float
         raise TargetError(f"{what} must be 3 numbers, got {vector!r}") from None
     if arr.shape != (3,) or not np.isfinite(arr).all():
         raise TargetError(f"{what} must be 3 finite numbers, got {vector!r}")
@@ -261,7 +261,7 @@ def check_angle(within: object, what: str) -> float:
     """``within`` as an angle in [0, pi] rad; ``TargetError`` otherwise."""
     try:
         angle = float(within)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # 10**400: no float
         raise TargetError(f"{what} must be an angle in rad, got {within!r}") from None
     if not 0.0 <= angle <= math.pi:
         raise TargetError(f"{what} must lie in [0, pi] rad, got {within!r}")
