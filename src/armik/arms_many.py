@@ -30,6 +30,7 @@ from armik.arms_options import check_held, held_apart
 from armik.arms_prefer import combined, is_cost
 from armik.arms_rows import empty, row_named, solve_rows
 from armik.batch_result import BatchResult
+from armik.constraints.base import own
 from armik.errors import OptionError, TargetError
 from armik.problem.problem import relative_tasks
 from armik.problem.settings import SolverSettings
@@ -175,6 +176,7 @@ def solve_path(
     start = arms.middle if q0 is None else _seeds(arms, q0, 1)[0]
     step = _step(arms, max_joint_step)
     opts = _read(options)
+    _refuse_resolved(options.get("constraints"))
     prefer = options.get("prefer")
     if _independent(arms, waypoints):
         if is_cost(prefer):
@@ -477,3 +479,20 @@ def _joined(
         )
     object.__setattr__(out, "time", elapsed)
     return out
+
+
+def _refuse_resolved(given: object) -> None:
+    """An ``OptionError`` for a user's constraint resolved from the start (its own
+    ``at(arm, seed)``) on a path of several tips, whose rows are solved again from the
+    waypoint before, where it would be resolved again (not from the path's q0)."""
+    items = given.values() if isinstance(given, Mapping) else [given]
+    for c in [c for x in items for c in (x if isinstance(x, (list, tuple)) else [x])]:
+        if own(c):
+            raise OptionError(
+                f"constraint {type(c).__name__} is resolved from the start (its at(arm, "
+                "seed)), and a path of several tips solves rows again from the waypoint "
+                "before: not yet taken here; solve each chain's path, "
+                "robot.chain(tip).solve_path(..., constraints=[...])",
+                option="constraints",
+                value=c,
+            )

@@ -127,7 +127,7 @@ def test_several_tips_take_constraints_none_as_one_arm_does():
 def test_a_relative_task_solved_together_again_starts_from_the_chains_answer_quietly():
     """Chains apart with a relative task whose chains' answers fail a constraint are solved
     together again from those answers (clipped into the limits): a q0 within the limits
-    gives no warning that it was clipped, and the constraint holds on a success."""
+    gives no warning that it was clipped (it warned, the failing answer taken for q0)."""
     import warnings
 
     class Below(Constraint):
@@ -145,7 +145,7 @@ def test_a_relative_task_solved_together_again_starts_from_the_chains_answer_qui
     with warnings.catch_warnings():
         warnings.simplefilter("error", armik.ArmikWarning)
         r = robot.solve(tasks, q0=q, constraints={left: [Below()]}, iteration_budget=1000)
-    assert not r.success or r.q[1] < 0.2
+    assert not r.success or r.q[1] < 0.2  # and on a success the constraint holds
 
 
 @pytest.mark.parametrize("q0", [[[0.1] * 6, [0.2] * 5], "middle", [[0.1] * 6, [0.2] * 6]])
@@ -164,3 +164,36 @@ def test_a_held_joints_route_resolves_it_from_q0():
     arm, T = _ur5()
     r = arm.solve(T, q0=_start(0.1), hold={"wrist_3_joint": float(Q[5])}, constraints=[NearStart()])
     assert r.success and abs(r.q[0] - Q[0]) < 1e-6, r.reason
+
+
+def test_a_path_followed_by_the_task_solver_keeps_it_resolved_from_q0():
+    """``hold=`` on a 6-joint arm: each waypoint solved as ``solve`` solves it, from the
+    answer before; the task solver resolved the constraint again there, and waypoints with
+    joint 1 0.6 and 0.8 rad from q0's were successes."""
+    arm, _ = _ur5()
+    poses = []
+    for i in range(5):
+        q = Q.copy()
+        q[0] += 0.2 * i
+        poses.append(arm.fk(q))
+    p = arm.solve_path(poses, Q, constraints=[NearStart()], hold={"wrist_3_joint": float(Q[5])})
+    assert p.success[:2].all()
+    for i in range(5):
+        assert not p.success[i] or abs(p.q[i, 0] - Q[0]) < REACH, (i, p.q[i, 0])
+
+
+def test_a_path_of_several_tips_refuses_it_by_name():
+    """A path of several tips solves rows again from the waypoint before, where it would be
+    resolved again: refused by name, not resolved from each waypoint."""
+    robot, q = _dual()
+    rows = {t: [robot.fk(q, t)] * 2 for t in robot.tips}
+    with pytest.raises(armik.OptionError, match="NearStart is resolved from the start"):
+        robot.solve_path(rows, q, constraints={robot.tips[0]: [NearStart()]})
+
+
+@pytest.mark.parametrize("q0", [np.full((2, 6), np.nan), np.zeros((0, 6)), [[10**400] * 6] * 2])
+def test_a_batch_q0_that_is_no_configuration_is_named_as_such(q0):
+    arm, T = _ur5()
+    with pytest.raises(armik.OptionError, match="q0") as info:
+        arm.solve_batch([T, T], q0=q0, constraints=[NearStart()])
+    assert "different q0 per row" not in str(info.value)

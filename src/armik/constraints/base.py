@@ -306,9 +306,9 @@ def at_start(
     if rows and q0 is not None:
         try:
             Q = np.asarray(q0, dtype=float)
-        except (TypeError, ValueError):  # ragged, or not numbers: ``check_q`` names it
+        except (TypeError, ValueError, OverflowError):  # not numbers: ``check_q`` names it
             Q = np.zeros(0)
-        if Q.ndim == 2 and not (len(Q) and (Q == Q[0]).all()):
+        if Q.ndim == 2 and len(Q) > 1 and not np.array_equal(Q, Q[[0] * len(Q)], equal_nan=True):
             raise OptionError(
                 f"constraint {type(own[0]).__name__} is resolved from the start (its at(arm, "
                 f"seed)), and this batch gives a different q0 per row: give one q0 for every "
@@ -316,7 +316,7 @@ def at_start(
                 option="constraints",
                 value=own[0],
             )
-        q = Q[0] if Q.ndim == 2 else q
+        q = Q[0] if Q.ndim == 2 and len(Q) else q
     seed = np.clip(arm.check_q(q, "q0"), arm.lower, arm.upper)  # as the seed will be
     at = tuple([c if type(c).at is Constraint.at else c.at(arm, seed) for c in checks])
     return _boxes_read(at, arm)
@@ -331,3 +331,10 @@ def _boxes_read(checks: tuple[Constraint, ...], arm: ArmModel) -> tuple[Constrai
         if getattr(type(c).box, "_armik_checked", False):
             c.box(arm)
     return checks
+
+
+def own(c: object) -> bool:
+    """Whether ``c`` is a constraint of a user's own class with its own ``at`` (read through
+    this module's wrappers): resolved from the call's start where the call is read
+    (``at_start``), never again below (``solve/tasks.py`` tests it inline)."""
+    return bool(getattr(getattr(type(c), "at", None), "_armik_checked", False))

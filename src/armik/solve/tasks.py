@@ -283,9 +283,9 @@ def solve_tasks(
         if unmoved is not None:
             return unmoved
     reference = q.copy() if reference is None else reference
-    # the constraints at the call's start (a held joint's value; not a restart's or the
-    # chains' start), their box the step's rows, the checks beyond the limits run at the end
-    constraints = tuple([c.at(arm, reference) for c in problem.constraints])
+    # at the call's start (a user's own ``at`` where the call was read: ``base.own``, inline)
+    given, read = problem.constraints, "_armik_checked"
+    constraints = tuple([c if hasattr(type(c).at, read) else c.at(arm, reference) for c in given])
     box = box_of(arm, constraints)
     checked = tuple([c for c in constraints if type(c) is not JointLimits])
     if centre is not None:
