@@ -28,3 +28,22 @@ def test_an_error_pickles_with_its_message_and_fields(error):
     assert type(back) is type(error)
     assert str(back) == str(error) and back.args == error.args
     assert vars(back) == vars(error)
+
+
+@pytest.mark.parametrize(
+    ("call", "meant"),
+    [
+        (lambda a, T: a.solve(T, max_iterations=5, tol_pos=1e-3), "'tol_position'"),
+        (lambda a, T: a.solve(T, solver="dsl"), "'dls'"),
+        (lambda a, T: a.solve(T, hold={"elbow": 0.1}), "'elbow_joint'"),
+        (lambda a, T: a.with_limits({"elbow": (0, 1)}), "'elbow_joint'"),
+    ],
+)
+def test_a_typo_of_an_option_a_solver_or_a_joint_is_answered_with_the_name_meant(call, meant):
+    """As a typo of a tip, a frame or a locked joint was: the unknown name, the closest
+    names ("did you mean"), then every name."""
+    import armik
+
+    a = armik.load("ur5")
+    with pytest.raises(armik.ArmikError, match=f"did you mean [^?]*{meant}"):
+        call(a, a.fk(a.middle))

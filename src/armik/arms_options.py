@@ -11,7 +11,7 @@ import numpy as np
 
 from armik.constraints.base import Constraint
 from armik.constraints.hold import Hold
-from armik.errors import JointError, OptionError, listing
+from armik.errors import JointError, OptionError, did_you_mean, listing
 from armik.model.arm_model import ArmModel
 from armik.problem.scores import Posture, fit_posture
 from armik.solve.read import options as read_options
@@ -62,7 +62,8 @@ def per_chain(
             )
             raise JointError(
                 why
-                or f"hold: unknown joint {joint!r}; the joints of tips {list(chains)}: "
+                or f"hold: unknown joint {joint!r}; {did_you_mean(joint, joint_names)}the "
+                f"joints of tips {list(chains)}: "
                 f"{listing(joint_names)}",
                 joint=joint,
                 candidates=joint_names,

@@ -15,7 +15,7 @@ from armik.constraints.clear import Collisions, collision_options, of_options
 from armik.constraints.hold import Hold
 from armik.constraints.limits import JointLimits
 from armik.constraints.shapes import Shape
-from armik.errors import OptionError, listing
+from armik.errors import OptionError, did_you_mean, listing
 from armik.problem.budget import Budget
 from armik.problem.scores import Posture
 from armik.problem.settings import SolverSettings
@@ -94,7 +94,9 @@ class Options(SolverSettings):
         for key in kwargs:
             if key not in _NAMES:
                 raise OptionError(
-                    f"unknown option {key!r}; options: {listing(sorted(_LISTED))}", option=key
+                    f"unknown option {key!r}; {did_you_mean(key, _LISTED)}options: "
+                    f"{listing(sorted(_LISTED))}",
+                    option=key,
                 )
         values = dict(kwargs)
         for key, most, unit in _BOUNDED:

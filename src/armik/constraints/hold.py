@@ -20,7 +20,7 @@ import numpy as np
 
 from armik import reasons
 from armik.constraints.base import Check, Constraint
-from armik.errors import JointError, OptionError, listing
+from armik.errors import JointError, OptionError, did_you_mean, listing
 from armik.model.mimic import not_a_joint
 from armik.status import Status
 from armik.tolerances import LIMIT_TOL
@@ -71,7 +71,8 @@ class Hold(Constraint):
         why = self.not_free(arm)
         if why is None:
             why = (
-                f"hold: unknown joint {self.joint!r}; the arm's joints: {listing(arm.joint_names)}"
+                f"hold: unknown joint {self.joint!r}; {did_you_mean(self.joint, arm.joint_names)}"
+                f"the arm's joints: {listing(arm.joint_names)}"
             )
         raise JointError(why, joint=self.joint, candidates=arm.joint_names)
 

@@ -19,7 +19,7 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
-from armik.errors import JointError, URDFError, listing
+from armik.errors import JointError, URDFError, did_you_mean, listing
 from armik.model.urdf import URDFInfo
 from armik.tolerances import LIMIT_TOL, MAX_LIMIT
 
@@ -247,7 +247,8 @@ def not_a_joint(arm, name: str) -> str:
             f"mimics {arm.info.mimic.get(name)!r}, which does not move on this arm's chain: it "
             f"is held at {fixed[name]:g} there, a fixed transform"
         )
-    return "is not on this arm's chain"
+    close = did_you_mean(name, arm.joint_names).strip()
+    return "is not on this arm's chain" + (f" ({close})" if close else "")
 
 
 def joint_map(arm) -> tuple[tuple, list[int], tuple[np.ndarray, np.ndarray]]:

@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Literal, NamedTuple
 
 import numpy as np
 
-from armik.errors import SolverError, listing
+from armik.errors import SolverError, did_you_mean, listing
 from armik.model.derived import Derived
 from armik.problem.settings import (
     SolverSettings,
@@ -304,7 +304,8 @@ def get(name: str) -> SolverSpec:
         return _REGISTRY[name]
     except KeyError:
         raise SolverError(
-            f"unknown solver {name!r}; registered: {listing(solvers())} or 'auto'",
+            f"unknown solver {name!r}; {did_you_mean(name, solvers())}registered: "
+            f"{listing(solvers())} or 'auto'",
             solver=name,
             candidates=solvers(),
         ) from None
