@@ -221,3 +221,27 @@ def test_names_c_reserves_are_refused(name, tmp_path, capsys):
         armik.export(armik.load("ur5"), name)
     assert main(["export", "ur5", "--name", name, "--out", str(tmp_path / "o")]) == 2
     assert "reserved" in capsys.readouterr().err and not (tmp_path / "o").exists()
+
+
+def test_the_files_own_macros_stand_whatever_the_build_defines(tmp_path):
+    """A build that defines ``DOF``, ``HELD``, ``MAX_ROWS`` or another of the solver file's
+    own macro names (``-DHELD=3``, common words in a robot's project) compiles it without a
+    warning: the file undefines each before its own (it failed, "HELD" redefined)."""
+    c, _ = compilers()
+    given = ["DOF=2", "HELD=3", "MAX_ROWS=1", "FREE_SWEEP=0", "EQUAL_LINKS=9"]
+    given += ["SP_GRID=1", "SP_STARTS=1"]
+    for name in ("planar_2link", "ur5", "panda", "kinova"):
+        armik.export(armik.load(name), name, tmp_path)
+        source, obj = str(tmp_path / f"{name}_ik.c"), str(tmp_path / "x.o")
+        run(
+            c,
+            "-std=c99",
+            "-Wall",
+            "-Wextra",
+            "-Werror",
+            *[f"-D{d}" for d in given],
+            "-c",
+            source,
+            "-o",
+            obj,
+        )

@@ -24,7 +24,9 @@ from armik.solvers.closed_form import subproblems_56 as sp56
 TEXT = r"""
 static const double RT_LEAD = @LEAD@, RT_TOUCH = @TOUCH@, RT_MERGE = @MERGE@;
 static const double RT_SAME = @SAME@;
+#undef SP_GRID  /* this file's own, whatever the build defines */
 #define SP_GRID @GRID@
+#undef SP_STARTS
 #define SP_STARTS @STARTS@
 
 static inline IK_UNUSED double pmax(double a, double b) { return b > a ? b : a; }

@@ -73,7 +73,11 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
         "SINGULAR_TOL": planar2r.SINGULAR_TOL,
     }
     equal = abs(geo.l1 - geo.l2) < planar2r.ZERO_LENGTH
-    text = c_source.constants(names) + f"\n#define EQUAL_LINKS {int(equal)}\n" + ROWS
+    text = (
+        c_source.constants(names)
+        + f"\n#undef EQUAL_LINKS\n#define EQUAL_LINKS {int(equal)}\n"
+        + ROWS
+    )
     summary = (
         f"a planar 2-link arm (links {geo.l1:.6g} m and {geo.l2:.6g} m, "
         f"{plane.axes_words(list(arm.joint_names)).removeprefix('all ')})"

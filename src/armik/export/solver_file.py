@@ -431,6 +431,8 @@ def source(name: str, arm: ArmModel, ax: Axes, rows: Rows, opts: SolverSettings)
     tie_order = range(arm.dof - 1, -1, -1) if rows.reversed else range(arm.dof)
     defines = "\n".join(
         [
+            # this file's own macros, whatever the build defines (a user's -DHELD=...)
+            "#undef DOF\n#undef MAX_ROWS\n#undef HELD\n#undef FREE_SWEEP",
             f"#define DOF {up}_IK_DOF",
             f"#define MAX_ROWS {rows.max_rows}",
             f"#define HELD {-1 if rows.held is None else rows.held}  /* a held joint's index */",
