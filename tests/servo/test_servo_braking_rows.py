@@ -17,6 +17,17 @@ import armik
 from armik.servo.streams import START, violations
 
 DT = 0.002
+
+
+def assert_within_limits(arm, servo, rec, q0) -> None:
+    """Every tick of ``rec`` from ``q0`` within ``arm``'s position limits and ``servo``'s
+    velocity and acceleration limits."""
+    over = violations(
+        q0, rec.q, arm.lower, arm.upper, servo.velocity_limits, servo.acceleration_limits, DT
+    )
+    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+
+
 MARGIN = 0.01
 SHARE = Path(str(metadata.distribution("example-robot-data").locate_file("cmeel.prefix")))
 TALOS = SHARE / "share/example-robot-data/robots/talos_data"
@@ -76,19 +87,22 @@ def _torso_and_arm_pairs(robot: armik.Arms) -> tuple[pin.Model, pin.GeometryMode
     return union.model, geom, pairs, union.to_pin
 
 
-def _hands_to_each_other(ticks: int, total: int) -> tuple[armik.Arms, object, object]:
-    """TALOS's hands led in ``ticks`` ticks to where the other is, over ``total`` ticks,
-    self-collision on: (the robot, its servo, the record)."""
-    robot = _talos()
+def hands_stream(robot: armik.Arms, ticks: int, total: int) -> list[dict]:
+    """TALOS's hands from ``robot.middle`` led in ``ticks`` ticks to 5 cm either side of
+    their middle (where the other is), ``total`` ticks in all."""
     left, right = robot.tips
-    q0 = robot.middle
-    at = {t: robot.fk(q0, t).translation for t in robot.tips}
+    at = {t: robot.fk(robot.middle, t).translation for t in robot.tips}
     middle = 0.5 * (at[left] + at[right])
     goal = {left: middle + [0.0, -0.05, 0.0], right: middle + [0.0, 0.05, 0.0]}
     share = [min(1.0, k / ticks) for k in range(total)]
-    stream = [{t: at[t] + s * (goal[t] - at[t]) for t in at} for s in share]
-    servo = robot.servo(q0, dt=DT, self_collision=True, margin=MARGIN)
-    return robot, servo, servo.track(stream)
+    return [{t: at[t] + s * (goal[t] - at[t]) for t in at} for s in share]
+
+
+def _hands_to_each_other(ticks: int, total: int) -> tuple[armik.Arms, object, object]:
+    """``hands_stream`` tracked, self-collision on: (the robot, its servo, the record)."""
+    robot = _talos()
+    servo = robot.servo(robot.middle, dt=DT, self_collision=True, margin=MARGIN)
+    return robot, servo, servo.track(hands_stream(robot, ticks, total))
 
 
 def test_the_hands_over_the_torso_keep_every_pair_at_the_margin():
@@ -99,11 +113,7 @@ def test_the_hands_over_the_torso_keep_every_pair_at_the_margin():
     passed 0.55 mm inside it, every joint at its acceleration limit), within every limit."""
     robot, servo, rec = _hands_to_each_other(750, 1000)
     q0 = robot.middle
-    over = violations(
-        q0, rec.q, robot.lower, robot.upper, servo.velocity_limits, servo.acceleration_limits,
-        DT,
-    )  # fmt: skip
-    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    assert_within_limits(robot, servo, rec, q0)
     model, geom, pairs, to_pin = _torso_and_arm_pairs(robot)
     assert _nearest(model, geom, pairs, to_pin, [q0]) > MARGIN + 0.003
     near = _nearest(model, geom, pairs, to_pin, rec.q)
@@ -120,11 +130,7 @@ def test_the_hands_sent_at_each_other_at_once_brake_in_time():
     robot, servo, rec = _hands_to_each_other(1, 250)
     q0 = robot.middle
     assert np.abs(rec.dq).max() > 1.5  # fast
-    over = violations(
-        q0, rec.q, robot.lower, robot.upper, servo.velocity_limits, servo.acceleration_limits,
-        DT,
-    )  # fmt: skip
-    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    assert_within_limits(robot, servo, rec, q0)
     model, geom, pairs, to_pin = _torso_and_arm_pairs(robot)
     assert _nearest(model, geom, pairs, to_pin, rec.q) >= MARGIN - 1e-5
 
@@ -144,10 +150,7 @@ def test_an_arm_arriving_fast_stops_before_the_margin():
     assert np.abs(arm.servo(q0, dt=DT).track([target] * 800).dq).max() > 3.0  # unhindered
     servo = arm.servo(q0, dt=DT, obstacles=[ball], margin=MARGIN)
     rec = servo.track([target] * 800)
-    over = violations(
-        q0, rec.q, arm.lower, arm.upper, servo.velocity_limits, servo.acceleration_limits, DT
-    )
-    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    assert_within_limits(arm, servo, rec, q0)
     first = list(rec.status).index("obstacle")  # braking for the ball, still far off: said so
     assert arm.min_distance(rec.q[first], [ball])[0] > MARGIN + 0.05
     assert "could stop" in rec.reason[first]

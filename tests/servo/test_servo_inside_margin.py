@@ -12,12 +12,14 @@ import pinocchio as pin
 import pytest
 
 import armik
-from armik.servo.streams import START, violations
+from armik.servo.streams import START
 from tests.servo.test_servo_braking_rows import (
     DT,
     _hulls,
     _talos,
     _torso_and_arm_pairs,
+    assert_within_limits,
+    hands_stream,
 )
 
 TOLERANCE = 1e-6  # m: coal's on the hulls, far below the falls measured before
@@ -59,18 +61,13 @@ def test_talos_torso_and_upper_arms_inside_the_margin_never_come_nearer(ticks):
     12.3 mm; sent at once, the braking row of the pair with the right arm, held no more
     firmly than the rows it competed with, let it come 2.1 um nearer."""
     robot = _talos()
-    left, right = robot.tips
     q0 = robot.middle
-    at = {t: robot.fk(q0, t).translation for t in robot.tips}
-    middle = 0.5 * (at[left] + at[right])
-    goal = {left: middle + [0.0, -0.05, 0.0], right: middle + [0.0, 0.05, 0.0]}
-    stream = [{t: at[t] + min(1.0, k / ticks) * (goal[t] - at[t]) for t in at} for k in range(1000)]
-    rec = _tracked_within_limits(robot, q0, stream)
+    rec = _tracked_within_limits(robot, q0, hands_stream(robot, ticks, 1000))
     assert np.abs(rec.dq).max() > 1.0  # fast beside the torso
     model, geom, pairs, to_pin = _torso_and_arm_pairs(robot)
     D = _distances(model, geom, pairs, to_pin, np.vstack([q0, rec.q]))
     assert _never_nearer(D, 0.03) == 2  # the torso with each upper arm
-    apart = np.linalg.norm(at[left] - at[right])
+    apart = np.linalg.norm(np.subtract(*[robot.fk(q0, t).translation for t in robot.tips]))
     hands = [robot.fk(rec.q[-1], t).translation for t in robot.tips]
     assert np.linalg.norm(hands[0] - hands[1]) < apart - 0.1  # the hands still came on
 
@@ -88,10 +85,7 @@ def test_a_ur5_beside_a_ball_inside_the_margin_never_comes_nearer():
     targets = [pin.SE3(T0.rotation, T0.translation + x) for x in led + sent]
     servo = arm.servo(q0, dt=DT, obstacles=[ball], margin=0.05)
     rec = servo.track(targets)
-    over = violations(
-        q0, rec.q, arm.lower, arm.upper, servo.velocity_limits, servo.acceleration_limits, DT
-    )
-    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    assert_within_limits(arm, servo, rec, q0)
     model = pin.buildModelFromUrdf(arm.source)
     geom = _hulls(model, Path(arm.source))
     other = (coal.Sphere(0.03), coal.Transform3s(np.eye(3), centre))
@@ -111,10 +105,7 @@ def test_a_panda_pair_inside_the_margin_never_comes_nearer():
         np.array([0.0, 0.25 * np.sin(k / 150), -0.1 * (1 - np.cos(k / 150))]) for k in range(1500)
     ]
     rec = servo.track([pin.SE3(T0.rotation, T0.translation + x) for x in arc])
-    over = violations(
-        q0, rec.q, arm.lower, arm.upper, servo.velocity_limits, servo.acceleration_limits, DT
-    )
-    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    assert_within_limits(arm, servo, rec, q0)
     check = servo._collisions.check  # the servo's own pairs, named on the hulls
     model = pin.buildModelFromUrdf(arm.source)
     geom = _hulls(model, Path(arm.source))
@@ -212,9 +203,5 @@ def _tracked_within_limits(robot, q0, stream):
     amax = np.full(robot.dof, 5.0)
     servo = robot.servo(q0, dt=DT, self_collision=True, margin=0.03, acceleration_limits=amax)
     rec = servo.track(stream)
-    over = violations(
-        q0, rec.q, robot.lower, robot.upper, servo.velocity_limits, servo.acceleration_limits,
-        DT,
-    )  # fmt: skip
-    assert over == {"position": 0.0, "velocity": 0.0, "acceleration": 0.0}
+    assert_within_limits(robot, servo, rec, q0)
     return rec
