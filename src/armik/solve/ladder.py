@@ -242,11 +242,11 @@ def _checked(arm, half: _Halfway, args: tuple, node, weight):
     while True:
         got = kernel.plan(*args, np.array(sorted(forbidden), dtype=np.int64), node, weight)  # type: ignore[call-arg]
         rung, Q, broken = got[:3]
-        i, a, code = _steps(rung, broken, len(B))
-        Qa = np.where((a < 0)[:, None], start, Q[np.maximum(i - 1, 0)])
+        i, _, code = _steps(rung, broken, len(B))
+        Qa = Q[i - 1]  # never from q0: ``_steps`` leaves that move to the bound
         new = fresh(code, Qa).astype(bool).reshape(-1)
         i, code, Qa = i[new], code[new], Qa[new]
-        jumped = _jumps(arm, half, i, Qa, Q[i], start, step)
+        jumped = _jumps(arm, half, i, Qa, Q[i], step)
         clean.update(zip(code[~jumped].tolist(), (q.tobytes() for q in Qa[~jumped])))
         if not jumped.any():
             return got, forbidden
@@ -255,7 +255,7 @@ def _checked(arm, half: _Halfway, args: tuple, node, weight):
             Qa, Qb, code = _onto(w, B, offs, start, (lower, upper, periodic), step)
             new = fresh(code, Qa).astype(bool).reshape(-1)
             at = np.full(int(new.sum()), w)
-            bad = _jumps(arm, half, at, Qa[new], Qb[new], start, step)
+            bad = _jumps(arm, half, at, Qa[new], Qb[new], step)
             forbidden.update(code[new][bad].tolist())
             clean.update(zip(code[new][~bad].tolist(), (q.tobytes() for q in Qa[new][~bad])))
 
@@ -291,29 +291,20 @@ def _steps(rung: np.ndarray, broken: np.ndarray, n_rungs: int):
     return i, before[i], (before[i] + 1) * n_rungs + rung[i]  # kernel.edge_code
 
 
-def _jumps(arm, half: _Halfway, i, Qa, Qb, q0, step) -> np.ndarray:
-    """Whether a jump hides in each step ``Qa[k]`` -> ``Qb[k]`` onto waypoint ``i[k]``
-    (from the waypoint before, or from ``q0`` at waypoint 0): the rule both plans judge
-    their steps by. None where the straight joint motion keeps the tip on the path
+def _jumps(arm, half: _Halfway, i, Qa, Qb, step) -> np.ndarray:
+    """Whether a jump hides in each step ``Qa[k]`` -> ``Qb[k]`` onto waypoint ``i[k]`` > 0
+    from the waypoint before (the move from q0 is held to the step alone): the rule both
+    plans judge their steps by. None where the straight joint motion keeps the tip on the path
     (``_chord``); else checked halfway (``BEND``, ``DEPTH``), every step of a round in one
     call of the solver."""
     if not len(i) or _loose(arm, step):  # every flip within the bound: none hides
         return np.zeros(len(i), dtype=bool)
     targets = half.targets
-    Pb = targets.positions[i]
-    Pa = targets.positions[np.maximum(i - 1, 0)]
+    Pa, Pb = targets.positions[i - 1], targets.positions[i]
     rotations = targets.rotations
     Ra = Rb = None
     if rotations is not None:
-        Ra, Rb = rotations[np.maximum(i - 1, 0)], rotations[i]
-    first = i == 0  # the first step: from q0's own pose
-    if first.any():
-        T0 = arm.fk(q0)
-        Pa = Pa.copy()
-        Pa[first] = T0.translation
-        if Ra is not None:
-            Ra = Ra.copy()
-            Ra[first] = T0.rotation
+        Ra, Rb = rotations[i - 1], rotations[i]
     jumped = np.zeros(len(i), dtype=bool)
     which = np.arange(len(i))
     for _ in range(DEPTH):
@@ -406,10 +397,10 @@ def every(arm: ArmModel, solver: str, targets: TargetBatch, opts) -> SolverSpec:
     return spec
 
 
-def hidden_steps(arm, out: BatchResult, targets: TargetBatch, start, step, half) -> None:
+def hidden_steps(arm, out: BatchResult, targets: TargetBatch, step, half) -> None:
     """A followed path's steps judged as the global plan judges the steps it takes
     (``_jumps``): each success from the answer the path went on from (the row before it, a
-    success or a jump; not the move from ``start``, held to the step alone); a step that hides
+    success or a jump; not the move from q0, held to the step alone); a step that hides
     a jump makes its success ``discontinuous``. ``half``: (solver, opts, held, turn), the
     poses halfway solved as the global plan solves them (``every``), only where a step is
     not small and straight (``_chord``)."""
@@ -418,9 +409,7 @@ def hidden_steps(arm, out: BatchResult, targets: TargetBatch, start, step, half)
     i = i[np.concatenate(([False], went[:-1]))[i]]  # from q0: held to the step only
     if not len(i):
         return
-    Qa = out.q[np.maximum(i - 1, 0)].copy()
-    Qa[i == 0] = start
-    Qb = out.q[i]
+    Qa, Qb = out.q[i - 1], out.q[i]
     step = np.asarray(step, dtype=float)
     curved = ~_chord(arm, Qa, Qb, targets.rotations is not None, step)
     if not curved.any():
@@ -428,7 +417,7 @@ def hidden_steps(arm, out: BatchResult, targets: TargetBatch, start, step, half)
     i, Qa, Qb = i[curved], Qa[curved], Qb[curved]
     solver, opts, held, turn = half
     by = _Halfway(every(arm, solver, targets, opts), opts, targets, held, turn)
-    jumped = _jumps(arm, by, i, Qa, Qb, start, step)
+    jumped = _jumps(arm, by, i, Qa, Qb, step)
     for k in i[jumped].tolist():
         measured = reasons.measured(
             float(out.position_error[k]),
@@ -436,10 +425,10 @@ def hidden_steps(arm, out: BatchResult, targets: TargetBatch, start, step, half)
             out.tol_position,
             out.tol_orientation,
         )
-        whence = "q0 (the start)" if k == 0 else "the previous waypoint's answer"
         out.success[k] = False
         out.status_code[k] = Status.DISCONTINUOUS.code
-        out.reasons[k] = reasons.jump(reasons.hidden_step(whence), "the followed answer", measured)
+        hidden = reasons.hidden_step("the previous waypoint's answer")
+        out.reasons[k] = reasons.jump(hidden, "the followed answer", measured)
 
 
 def _halfway(Pa, Ra, Pb, Rb):

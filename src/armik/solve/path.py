@@ -150,7 +150,7 @@ def solve_path(
     used = _walk(arm, batch, q_prev, step, request, local, out, chooser, q0 is None, turn)
     ladder.held_to_step(arm, out, None if q0 is None else q_prev, step)
     half = (solver, opts, request if opts.hold is not None else None, turn)
-    ladder.hidden_steps(arm, out, batch, None if q0 is None else q_prev, step, half)
+    ladder.hidden_steps(arm, out, batch, step, half)
     refuse_broken(arm, out, turn)
     label = used if held_auto and used is not None else out.solver
     out = frozen(BatchResult, **{**vars(out), "solver": label, "time": time.perf_counter() - t0})
