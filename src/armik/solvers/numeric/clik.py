@@ -45,6 +45,9 @@ def run(
     limit = opts.max_iterations
     if opts.iteration_budget is not None:
         limit, deadline = min(limit, opts.iteration_budget), math.inf
+    # the damping relative to the weighted rows: at a singular pose 1e-12 beside rows
+    # weighted 1e3 was below rounding and the system singular (LinAlgError)
+    damp = DAMP * float(pb.settings.w.max()) ** 2 * np.eye(6)
     it = 0
     for it in range(limit + 1):
         if converged(pb, s):
@@ -53,7 +56,7 @@ def run(
         if it == limit or cpu_time.thread_time() > deadline:
             break
         A, e = s.A, s.e
-        v = A.T @ np.linalg.solve(A @ A.T + DAMP * np.eye(6), e)
+        v = A.T @ np.linalg.solve(A @ A.T + damp, e)
         qn = pin.integrate(arm.model, s.qp, v * DT)
         arm.clip_pin(qn)
         s = evaluate(pb, qn)

@@ -56,6 +56,9 @@ from armik.targets.pose import Target
 
 _EYE = np.eye(3)  # read only by the kernel
 _FLOAT = np.dtype(float)
+# the largest ratio of two weights the iteration steers by (``steering_weights``): at 1e3
+# every one of 300 Panda and UR5 poses was solved with 1e3 on the position or the rotation
+STEER_RATIO = 1e3
 _CONVERGED = Status.CONVERGED
 _CONVERGED_CODE = _CONVERGED.code  # read once: a property
 _halton = halton  # the restart table (kept under its old name for readers and tests)
@@ -158,6 +161,20 @@ def _timeout_ns(timeout: float) -> int:
     return min(int(timeout * 1e9), 2**62)
 
 
+def steering_weights(w: np.ndarray) -> np.ndarray:
+    """The weights the iteration steers by: ``w`` scaled to a smallest positive weight of 1,
+    so that the lightest rows stay well above the damping's floor (LAMBDA_MIN), and a ratio
+    above STEER_RATIO brought down to STEER_RATIO by a power (their order and zeros kept).
+    Beyond it the heavy rows' curvature swamps the light ones': the damping and the stall
+    test see only the heavy rows, and a reachable full pose went unsolved (1e6 on the
+    rotation: 4 of 300 Panda poses after 1000 restarts each)."""
+    w = w / w[w > 0.0].min()
+    top = float(w.max())
+    if top > STEER_RATIO:
+        w = w ** (math.log(STEER_RATIO) / math.log(top))
+    return w
+
+
 def settings(
     opts: SolverSettings,
     position_only: bool,
@@ -170,8 +187,7 @@ def settings(
     size."""
     # only the ratios matter to the task: the smallest measured weight is 1, so that the
     # lightest rows stay well above the damping's floor (LAMBDA_MIN)
-    w = opts.weight_vector(position_only)
-    w = w / w[w > 0.0].min()
+    w = steering_weights(opts.weight_vector(position_only))
     full_task = opts.weights is None and not (opts.position_only or position_only)
     region = opts.bounds is not None or aim is not None
     bounds = np.array(opts.region_bounds)
