@@ -97,6 +97,13 @@ def not_converged(why: str, best: str) -> str:
     return f"no solution within {why}; best found: {best}; the target may be out of reach"
 
 
+def best_errors(pos: float | None, ori: float | None) -> str:
+    """The errors of a failure's best attempt, each only where the task measures it (None:
+    that part not asked, where a 0 would read as reached)."""
+    said = [] if pos is None else [f"position error {pos:.3g} m"]
+    return ", ".join(said + ([] if ori is None else [f"orientation error {ori:.3g} rad"]))
+
+
 def resting_on_limits(reason: str, joints: list[str]) -> str:
     """A failure's ``reason`` with the joints its best configuration rests on a limit of
     (``constraints.limits.on_limits``), where any does."""

@@ -17,7 +17,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
-from armik import cpu_time
+from armik import cpu_time, reasons
 from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
 from armik.solvers.answers import Answers, one
@@ -60,7 +60,9 @@ def run(
         qn = pin.integrate(arm.model, s.qp, v * DT)
         arm.clip_pin(qn)
         s = evaluate(pb, qn)
-    why = f"CLIK did not converge: position error {s.pos:.3g} m, orientation error {s.rot:.3g} rad"
+    w = pb.settings.w
+    best = reasons.best_errors(s.pos if w[:3].any() else None, s.rot if w[3:].any() else None)
+    why = f"CLIK did not converge: {best}"
     q = arm.nearest_equivalent(arm.from_pin(s.qp), q0)
     return one(q, Status.NOT_CONVERGED, why, iterations=it)
 

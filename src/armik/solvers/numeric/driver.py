@@ -391,9 +391,10 @@ def _not_converged(
         why = f"the restart limit (max_restarts={opts.max_restarts})"
     else:
         why = reasons.budget(opts.timeout, opts.iteration_budget, f"{restarts} restarts")
-    errors = f"position error {err[0]:.3g} m"
-    if sf[3:6].any():  # some rotation weight
-        errors += f", orientation error {err[1]:.3g} rad"
+    # each part where some weight measures it
+    errors = reasons.best_errors(
+        err[0] if sf[:3].any() else None, err[1] if sf[3:6].any() else None
+    )
     if region:  # the kernel measured the distances outside the region
         errors = reasons.outside_region(errors)
     return reasons.not_converged(why, errors)
