@@ -285,13 +285,16 @@ def moved(joint: str, size: float, unit: str, start: str, step: float) -> str:
 def _pair_text(pair: tuple[str, str] | None, distance: float) -> str:
     if pair is None:
         return "no pair to check"
-    gap = f"{distance:.3g} m apart" if distance >= 0 else f"overlapping by {-distance:.3g} m"
-    return f"{pair[0]} and {pair[1]} {gap}"
+    gap = f"{distance:.3g} m apart" if distance > 0 else f"overlapping by {-distance:.3g} m"
+    return f"{pair[0]} and {pair[1]} {gap if distance != 0 else 'touching'}"
 
 
 def in_collision(pair: tuple[str, str] | None, distance: float, margin: float) -> str:
-    """A verified answer whose closest checked pair is nearer than ``margin`` (m)."""
-    return f"in collision: {_pair_text(pair, distance)} (margin {margin:g} m)"
+    """A verified answer whose closest checked pair is nearer than ``margin`` (m): in
+    collision where it overlaps (``distance`` the depth, negative) or touches, else apart
+    but closer than the margin."""
+    said = "in collision" if distance <= 0 else "closer than the margin"
+    return f"{said}: {_pair_text(pair, distance)} (margin {margin:g} m)"
 
 
 def clear(pair: tuple[str, str] | None, distance: float, margin: float) -> str:

@@ -150,8 +150,9 @@ def still(said: set[tuple[str, str]], a: str, b: str, d: float) -> None:
     if (a, b) in said:
         return
     said.add((a, b))
+    gap = f"{d:.4g} m apart" if d > 0 else f"overlapping by {-d:.4g} m"  # d < 0: the depth
     warnings.warn(
-        f"{a} and {b} are {d:.4g} m apart, inside the collision margin, and no joint the "
+        f"{a} and {b} are {gap}, inside the collision margin, and no joint the "
         "servo commands moves them apart: no row keeps them apart (move the obstacle, or "
         "lower margin=)",
         ArmikWarning,
