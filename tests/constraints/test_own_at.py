@@ -6,6 +6,7 @@ through)."""
 from __future__ import annotations
 
 import numpy as np
+import pinocchio as pin
 import pytest
 
 import armik
@@ -124,10 +125,18 @@ def test_several_tips_take_constraints_none_as_one_arm_does():
     assert robot.solve(T, constraints=None).success
 
 
+def _relative_tasks(robot, q, left_task):
+    left, right = robot.tips
+    T = {t: robot.fk(q, t) for t in robot.tips}
+    return T, [left_task(T[left], left), armik.Relative(right, left, T[left].inverse() * T[right])]
+
+
 def test_a_relative_task_solved_together_again_starts_from_the_chains_answer_quietly():
     """Chains apart with a relative task whose chains' answers fail a constraint are solved
     together again from those answers (clipped into the limits): a q0 within the limits
-    gives no warning that it was clipped (it warned, the failing answer taken for q0)."""
+    gives no warning that it was clipped (it warned, the failing answer taken for q0). No
+    answer within the limits holds this constraint: the call fails, and says so (the
+    together solve checks it: unchecked, it returned q0's branch as a success)."""
     import warnings
 
     class Below(Constraint):
@@ -136,16 +145,50 @@ def test_a_relative_task_solved_together_again_starts_from_the_chains_answer_qui
 
     robot, q = _dual()
     assert robot.within_limits(q)
-    left, right = robot.tips
-    T = {t: robot.fk(q, t) for t in robot.tips}
-    tasks = [
-        armik.Pose(T[left], frame=left),
-        armik.Relative(right, left, T[left].inverse() * T[right]),
-    ]
+    _, tasks = _relative_tasks(robot, q, lambda T, tip: armik.Pose(T, frame=tip))
     with warnings.catch_warnings():
         warnings.simplefilter("error", armik.ArmikWarning)
-        r = robot.solve(tasks, q0=q, constraints={left: [Below()]}, iteration_budget=1000)
-    assert not r.success or r.q[1] < 0.2  # and on a success the constraint holds
+        r = robot.solve(tasks, q0=q, constraints={robot.tips[0]: [Below()]}, iteration_budget=1000)
+    assert not r.success and r.status is armik.Status.JOINT_LIMITS, r.reason
+
+
+def test_a_relative_task_solved_together_again_holds_the_constraint():
+    """The left tip given a position only: its chain's answer from q0 is q0 itself, joint 2
+    at 0.8 rad, which the constraint refuses, and the right tip cannot reach its relative
+    pose from the chain's answer that holds it; solved together, the answer holds the
+    constraint and both tasks, by Pinocchio."""
+
+    class Above(Constraint):
+        def check(self, arm, Q):
+            return Check(Q[:, 1] > 1.0, armik.Status.JOINT_LIMITS, lambda i: "joint 2 below")
+
+    robot, q = _dual()
+    assert q[1] < 1.0  # q0 fails the constraint
+    left, right = robot.tips
+    T, tasks = _relative_tasks(robot, q, lambda T, tip: armik.Position(T.translation, frame=tip))
+    r = robot.solve(tasks, q0=q, constraints={left: [Above()]}, iteration_budget=1000)
+    assert r.success and r.reason.startswith("every task holds"), r.reason  # together
+    assert r.q[1] > 1.0
+    reached = {t: _pinocchio_tip(r.q, t) for t in robot.tips}
+    assert np.linalg.norm(reached[left].translation - T[left].translation) < 1e-6
+    relative = T[left].inverse() * T[right]
+    apart = pin.log6(reached[left].actInv(reached[right]).actInv(relative)).vector
+    assert np.linalg.norm(apart) < 2e-6
+
+
+def _pinocchio_tip(q, tip: str) -> pin.SE3:
+    """``tip``'s pose at the dual IRB 120's joints ``q`` by Pinocchio, on the URDF's whole model
+    (its root, the base, is the world)."""
+    from tests.test_arms import dual_irb120
+
+    model = pin.buildModelFromXML(dual_irb120())
+    data = model.createData()
+    full = pin.neutral(model)
+    names = [f"{side}joint_{i}" for side in ("l_", "r_") for i in range(1, 7)]
+    for name, value in zip(names, q):
+        full[model.joints[model.getJointId(name)].idx_q] = value
+    pin.framesForwardKinematics(model, data, full)
+    return data.oMf[model.getFrameId(tip)].copy()
 
 
 @pytest.mark.parametrize("q0", [[[0.1] * 6, [0.2] * 5], "middle", [[0.1] * 6, [0.2] * 6]])
