@@ -71,10 +71,11 @@ def check_failed(measured_text: str) -> str:
 
 def beyond_reach(distance: float, reach: float) -> str:
     """Why a target ``distance`` m from the first joint is out of reach (the proof a
-    search's miss needs)."""
+    search's miss needs); by how much where the two read alike to 4 digits."""
+    by = f" (by {distance - reach:.3g} m)" if f"{distance:.4g}" == f"{reach:.4g}" else ""
     return (
         f"target is {distance:.4g} m from the first joint, beyond the arm's reach of at "
-        f"most {reach:.4g} m"
+        f"most {reach:.4g} m{by}"
     )
 
 
