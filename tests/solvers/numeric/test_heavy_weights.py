@@ -45,3 +45,22 @@ def test_any_weight_ratio_solves_a_reachable_pose(name, solver, ratio):
             assert np.linalg.norm(err.linear) <= TOL["solve"]
             assert np.linalg.norm(err.angular) <= TOL["solve"]
             assert a.within_limits(np.asarray(r.q), tol=0.0)
+
+
+@pytest.mark.parametrize("solver", ["dls", "qp"])
+def test_heavy_weights_still_choose_what_an_unreachable_pose_trades(solver):
+    """Wrist limits that leave the pose out of reach: 1e6 on the position keeps the
+    position and gives up orientation, 1e6 on the rotation the other way round."""
+    a = arm("ur5").with_limits({"wrist_3_joint": (-0.2, 0.2), "wrist_2_joint": (0.5, 1.0)})
+    q = arm("ur5").random_q(3)
+    q[4], q[5] = 0.7, 1.0  # outside the narrowed limits
+    target = pinocchio_tip("ur5", q)
+    found = {}
+    for heavy, w in (("position", (1e6,) * 3 + (1,) * 3), ("rotation", (1,) * 3 + (1e6,) * 3)):
+        r = a.solve(target, q0=a.middle, solver=solver, weights=w, max_restarts=50, seed=0)
+        assert not r.success and r.status.value == "not_converged"
+        reached = pinocchio_tip("ur5", r.q)
+        rot = np.linalg.norm(pin.log3(reached.rotation.T @ target.rotation))
+        found[heavy] = (np.linalg.norm(reached.translation - target.translation), rot)
+    assert found["position"][0] < 1e-5 < found["rotation"][0]
+    assert found["rotation"][1] < found["position"][1]
