@@ -35,6 +35,7 @@ from armik.tolerances import ANGLE_TOL, DISTANCE_TOL
 
 CLOSED_FORM = "closed form (spherical shoulder: joints 6 to 1 as a spherical wrist)"
 FAMILY = "spherical_shoulder"
+FAR = 10.0  # of the arm's size: axes 6 and 5 meeting further away are refused (``_far_meeting``)
 
 
 def classify(arm: ArmModel, ax: Axes | None = None) -> sixr.Chain6R | str:
@@ -70,6 +71,21 @@ def reversed_chain(geo: sixr.Chain6R) -> sixr.Chain6R:
     return sixr.Chain6R(geo.kind, geo.variant, h, p, Rt, geo.description)
 
 
+def _far_meeting(ax: Axes, shoulder: np.ndarray) -> str:
+    """Why axes 6 and 5 meet too far away for the closed form, or "". Nearly parallel, they
+    meet ``FAR`` times the arm's size away or more, and the rows lose digits with the cube of
+    that distance (the Panda with joint 6 held at 1e-3 rad: 88 m, rows 3e-7 m off)."""
+    c, _ = meeting_point(ax.points[4:], ax.directions[4:])
+    span = max(float(np.linalg.norm(x - shoulder)) for x in (*ax.points, ax.tip_position))
+    away = float(np.linalg.norm(c - shoulder))
+    if away <= FAR * max(span, DISTANCE_TOL):
+        return ""
+    return (
+        f"axes 6 and 5 meet {fmt(away)} m from the shoulder, more than {FAR:g} times the "
+        f"arm's size ({fmt(span)} m): nearly parallel, the closed form would lose digits there"
+    )
+
+
 def classify_axes(ax: Axes) -> sixr.Chain6R | str:
     """The spherical-shoulder geometry of six revolute axis lines, or why not."""
     P, H = ax.points, ax.directions
@@ -91,6 +107,10 @@ def classify_axes(ax: Axes) -> sixr.Chain6R | str:
             f"a spherical shoulder at {np.round(s, 6).tolist()} m, but joints 6 to 1 read "
             f"from the tip (axis 1 there is joint 6) are not a spherical wrist: {back}"
         )
+    if back.variant == "meeting_12":
+        far = _far_meeting(ax, s)
+        if far:
+            return far
     way = "axes 5 and 4 parallel" if back.variant == "parallel_23" else "axes 6 and 5 meet"
     text = f"spherical shoulder at {np.round(s, 6).tolist()} m, {way}"
     mine = reversed_chain(back)
