@@ -120,6 +120,30 @@ def test_lock_on_the_chain(capsys):
     assert code == 0 and "wrist_1_joint" not in data["joints"] and len(data["joints"]) == 4
 
 
+def test_export_takes_lock_as_load_does(capsys, tmp_path):
+    # armik export had no --lock: the Panda with joint 7 locked, a 6R arm armik.export
+    # writes, could not be exported from the command line
+    import armik
+
+    code, out, err = run(
+        capsys,
+        "export",
+        "panda",
+        "--lock",
+        "panda_joint7=0.3",
+        "--name",
+        "p6",
+        "--out",
+        str(tmp_path),
+    )
+    assert code == 0, err
+    arm = armik.load("panda", locked={"panda_joint7": 0.3})
+    files = armik.export(arm, "p6", tmp_path / "from_python")
+    assert "#define P6_IK_DOF 6" in files["p6_ik.h"]
+    for name, text in files.items():
+        assert (tmp_path / name).read_text() == text
+
+
 class _nullcontext:
     def __enter__(self):
         return None

@@ -187,7 +187,6 @@ def add_export_command(command) -> None:
         c,
         base="base frame (default: URDF root)",
         tip="tip frame (default: as armik info chooses it)",
-        lock=False,
     )
     c.add_argument("--name", required=True, help="the solver's name N, a C identifier")
     c.add_argument("--out", required=True, help="directory to write the files into")
