@@ -202,6 +202,23 @@ def test_solve_flags_are_the_python_options(capsys):
     assert code == 0 and json.loads(out)["results"][0]["orientation_error"] is None
 
 
+def test_solve_takes_tol_as_batch_and_path_do(capsys):
+    # --tol was batch's and path's only: armik solve refused it as an unrecognized argument
+    import numpy as np
+    import pinocchio as pin
+
+    import armik
+
+    args = ["--xyz", "0.4", "0.2", "0.3", "--rpy", "3.1", "0.1", "0", "--solver", "dls"]
+    code, out, err = run(capsys, "solve", "ur5", *args, "--tol", "1e-3", "--json")
+    assert code == 0, err
+    got = json.loads(out)["results"][0]
+    T = pin.SE3(pin.rpy.rpyToMatrix(3.1, 0.1, 0.0), np.array([0.4, 0.2, 0.3]))
+    r = armik.load("ur5").solve(T, solver="dls", tol_position=1e-3, tol_orientation=1e-3)
+    assert got["success"] and got["q"] == r.q.tolist() and got["reason"] == r.reason
+    assert "(tol 0.001)" in got["reason"]
+
+
 def test_parsing_imports_none_of_the_library():
     """``armik --help`` and a command's parsing import no solver, no numba and no Pinocchio:
     a command's own module is imported when it runs."""
