@@ -210,7 +210,6 @@ def add_view_command(command) -> None:
         "them): the whole robot, a gizmo per tip",
         repeat_tip=True,
         tips=True,
-        lock=False,
     )
     c.add_argument("--port", type=int, default=8080, help="port to serve on (8080; 0: any free)")
     c.add_argument(
