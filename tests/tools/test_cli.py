@@ -219,6 +219,16 @@ def test_solve_takes_tol_as_batch_and_path_do(capsys):
     assert "(tol 0.001)" in got["reason"]
 
 
+def test_version(capsys):
+    # armik --version was an unrecognized argument
+    import armik
+
+    with pytest.raises(SystemExit) as exc:
+        main(["--version"])
+    assert exc.value.code == 0
+    assert capsys.readouterr().out == f"armik {armik.__version__}\n"
+
+
 def test_parsing_imports_none_of_the_library():
     """``armik --help`` and a command's parsing import no solver, no numba and no Pinocchio:
     a command's own module is imported when it runs."""
