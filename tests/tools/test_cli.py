@@ -337,6 +337,9 @@ def test_compile_prints_its_times_in_one_column(capsys, monkeypatch):
     rows = out.splitlines()[:-1]
     assert code == 0 and len(rows) == 3
     assert len({row.index("0.50 s") for row in rows}) == 1, out
+    assert out.splitlines()[-1].startswith("compiled 3 parts in ")
+    code, out, _ = run(capsys, "compile", "planar2r")  # one part, not "1 parts"
+    assert code == 0 and out.splitlines()[-1].startswith("compiled 1 part in "), out
 
 
 def test_ctrl_c_is_one_line_and_exit_130(capsys, monkeypatch):
