@@ -282,7 +282,7 @@ def add_servo_command(command) -> None:
         default=0.1,
         metavar="R",
         help="radius (m) of the circle in the base's y-z plane through the tip, the "
-        "orientation held (0.1)",
+        "orientation held (0.1); a planar arm's in its own plane, as positions",
     )
     c.add_argument("--hz", type=float, default=0.5, help="turns of the circle a second (0.5)")
     c.add_argument("--seconds", type=float, default=2.0, help="length of the circle, s (2)")
