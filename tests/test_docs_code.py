@@ -64,9 +64,15 @@ def test_the_blocks_of_a_page_run(page, tmp_path, monkeypatch):
     ran = 0
     for block in blocks(page.read_text(), page.name):
         if block.not_run is None:
-            run(block.code, str(page), namespace, block.line)
+            printed = run(block.code, str(page), namespace, block.line)
             ran += 1
+            # numpy 2 prints a scalar in a list as np.str_('converged'): print .tolist()
+            shown = _NUMPY_SCALAR.search(printed)
+            assert not shown, f"{page.name}:{block.line}: prints {shown.group(0)}...)"
     assert ran, f"{page.name}: every block is marked not-run"
+
+
+_NUMPY_SCALAR = re.compile(r"np\.\w+\(")
 
 
 _NUMBER = re.compile(r"[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?")

@@ -102,7 +102,7 @@ def test_a_compiling_first_call_says_so_once_and_a_cached_one_says_nothing(tmp_p
 def test_compile_command_and_bad_names(capsys):
     assert main(["compile", "clik"]) == 0
     out = capsys.readouterr().out
-    assert "clik" in out and "compiled 1 parts" in out
+    assert "clik" in out and "compiled 1 part in" in out
     assert main(["compile", "nothing"]) == 2
     assert "unknown part 'nothing'" in capsys.readouterr().err
     with pytest.raises(OptionError, match="unknown part 'warp'.*parts: 'dls'"):

@@ -120,6 +120,30 @@ def test_lock_on_the_chain(capsys):
     assert code == 0 and "wrist_1_joint" not in data["joints"] and len(data["joints"]) == 4
 
 
+def test_export_takes_lock_as_load_does(capsys, tmp_path):
+    # armik export had no --lock: the Panda with joint 7 locked, a 6R arm armik.export
+    # writes, could not be exported from the command line
+    import armik
+
+    code, out, err = run(
+        capsys,
+        "export",
+        "panda",
+        "--lock",
+        "panda_joint7=0.3",
+        "--name",
+        "p6",
+        "--out",
+        str(tmp_path),
+    )
+    assert code == 0, err
+    arm = armik.load("panda", locked={"panda_joint7": 0.3})
+    files = armik.export(arm, "p6", tmp_path / "from_python")
+    assert "#define P6_IK_DOF 6" in files["p6_ik.h"]
+    for name, text in files.items():
+        assert (tmp_path / name).read_text() == text
+
+
 class _nullcontext:
     def __enter__(self):
         return None
@@ -176,6 +200,33 @@ def test_solve_flags_are_the_python_options(capsys):
     assert got["success"] and got["q"] == r.q.tolist()
     code, out, _ = run(capsys, "solve", "ur5", *args, "--position-only", "--json")
     assert code == 0 and json.loads(out)["results"][0]["orientation_error"] is None
+
+
+def test_solve_takes_tol_as_batch_and_path_do(capsys):
+    # --tol was batch's and path's only: armik solve refused it as an unrecognized argument
+    import numpy as np
+    import pinocchio as pin
+
+    import armik
+
+    args = ["--xyz", "0.4", "0.2", "0.3", "--rpy", "3.1", "0.1", "0", "--solver", "dls"]
+    code, out, err = run(capsys, "solve", "ur5", *args, "--tol", "1e-3", "--json")
+    assert code == 0, err
+    got = json.loads(out)["results"][0]
+    T = pin.SE3(pin.rpy.rpyToMatrix(3.1, 0.1, 0.0), np.array([0.4, 0.2, 0.3]))
+    r = armik.load("ur5").solve(T, solver="dls", tol_position=1e-3, tol_orientation=1e-3)
+    assert got["success"] and got["q"] == r.q.tolist() and got["reason"] == r.reason
+    assert "(tol 0.001)" in got["reason"]
+
+
+def test_version(capsys):
+    # armik --version was an unrecognized argument
+    import armik
+
+    with pytest.raises(SystemExit) as exc:
+        main(["--version"])
+    assert exc.value.code == 0
+    assert capsys.readouterr().out == f"armik {armik.__version__}\n"
 
 
 def test_parsing_imports_none_of_the_library():
@@ -286,6 +337,9 @@ def test_compile_prints_its_times_in_one_column(capsys, monkeypatch):
     rows = out.splitlines()[:-1]
     assert code == 0 and len(rows) == 3
     assert len({row.index("0.50 s") for row in rows}) == 1, out
+    assert out.splitlines()[-1].startswith("compiled 3 parts in ")
+    code, out, _ = run(capsys, "compile", "planar2r")  # one part, not "1 parts"
+    assert code == 0 and out.splitlines()[-1].startswith("compiled 1 part in "), out
 
 
 def test_ctrl_c_is_one_line_and_exit_130(capsys, monkeypatch):

@@ -83,3 +83,15 @@ def test_a_refused_value_is_named_by_its_flag(capsys, flag, value, said):
     code, _, err = run(capsys, "servo", "ur5", "--seconds", "0.01", flag, value)
     assert code == 2 and err.startswith(f"armik: error: {said}"), err
     assert "dt=" not in err and "_limits" not in err
+
+
+def test_servo_on_a_planar_arm_circles_in_its_plane(capsys):
+    # planar_2link moves in the base's x-y plane: the circle in the y-z plane, the tool's
+    # turn held, left it (0.2 m off at its top, out_of_reach) and could never be tracked
+    code, out, err = run(capsys, "servo", "planar_2link", "--seconds", "1")
+    assert code == 0, err
+    assert _number(r"circle: 500 ticks .*?last ([0-9.e+-]+) m", out) < 1e-5
+    assert _number(r"circle: .*?largest ([0-9.e+-]+) m", out) < 0.05
+    assert "orientation free" in out and "out_of_reach" not in out
+    excess = re.search(r"position ([0-9.e+-]+), velocity ([0-9.e+-]+), acceleration (\S+)", out)
+    assert [float(v) for v in excess.groups()] == [0.0, 0.0, 0.0]

@@ -161,3 +161,27 @@ def test_view_obstacles_are_drawn_and_avoided(tmp_path, monkeypatch):
     finally:
         monkeypatch.undo()
         viewer.close()
+
+
+def test_view_takes_lock_as_the_other_commands_do(tmp_path, monkeypatch):
+    """``--lock`` was refused by ``armik view`` alone of the commands that load an arm."""
+    import armik
+    from armik.tools.cli.main import main
+    from armik.view.viewer import Viewer
+
+    from ..test_arms import dual_irb120
+
+    served: list[Viewer] = []
+    monkeypatch.setattr(Viewer, "wait", lambda self: served.append(self))
+    lock = ["--lock", "panda_joint7=0.3"]
+    assert main(["view", "panda", *lock, "--port", "0", "--no-browser"]) == 0
+    urdf = tmp_path / "cell.urdf"
+    urdf.write_text(dual_irb120())
+    tips = ["--tips", "l_tool0", "r_tool0", "--lock", "l_joint_6=0.5"]
+    assert main(["view", str(urdf), *tips, "--port", "0", "--no-browser"]) == 0
+    one, two = served
+    assert one.robot.dof == 6 and one.robot.source.locked["panda_joint7"] == 0.3
+    assert "panda_joint7" not in one.robot.joint_names
+    cell = armik.load(urdf, tips=["l_tool0", "r_tool0"], locked={"l_joint_6": 0.5})
+    assert "l_joint_6" not in cell.joint_names
+    assert two.robot.source.joint_names == cell.joint_names

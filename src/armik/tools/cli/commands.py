@@ -187,7 +187,6 @@ def add_export_command(command) -> None:
         c,
         base="base frame (default: URDF root)",
         tip="tip frame (default: as armik info chooses it)",
-        lock=False,
     )
     c.add_argument("--name", required=True, help="the solver's name N, a C identifier")
     c.add_argument("--out", required=True, help="directory to write the files into")
@@ -211,7 +210,6 @@ def add_view_command(command) -> None:
         "them): the whole robot, a gizmo per tip",
         repeat_tip=True,
         tips=True,
-        lock=False,
     )
     c.add_argument("--port", type=int, default=8080, help="port to serve on (8080; 0: any free)")
     c.add_argument(
@@ -284,7 +282,7 @@ def add_servo_command(command) -> None:
         default=0.1,
         metavar="R",
         help="radius (m) of the circle in the base's y-z plane through the tip, the "
-        "orientation held (0.1)",
+        "orientation held (0.1); a planar arm's in its own plane, as positions",
     )
     c.add_argument("--hz", type=float, default=0.5, help="turns of the circle a second (0.5)")
     c.add_argument("--seconds", type=float, default=2.0, help="length of the circle, s (2)")

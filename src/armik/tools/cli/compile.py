@@ -17,5 +17,5 @@ def cmd_compile(args: argparse.Namespace) -> int:
     width = max(map(len, took), default=0)  # one column: three_parallel_general is 22
     for name, seconds in took.items():
         print(f"  {name:<{width}} {seconds:7.2f} s")
-    print(f"compiled {len(took)} parts in {wall:.1f} s")
+    print(f"compiled {len(took)} part{'' if len(took) == 1 else 's'} in {wall:.1f} s")
     return 0

@@ -114,11 +114,10 @@ def add_arm_arguments(
     tip: str = "tip frame",
     repeat_tip: bool = False,
     tips: bool = False,
-    lock: bool = True,
 ) -> None:
     """The arm a command works on: ``robot``, ``--base`` and ``--tip`` (their help texts
     ``base`` and ``tip``; ``repeat_tip``: ``--tip`` repeatable, for several tips of one
-    robot; ``tips``: ``--tips A B`` as well), and ``--lock`` unless ``lock`` is False."""
+    robot; ``tips``: ``--tips A B`` as well), and ``--lock``."""
     c.add_argument("robot", help="bundled robot name or path to a URDF file")
     c.add_argument("--base", help=base)
     c.add_argument("--tip", action="append" if repeat_tip else _OneTip, help=tip)
@@ -129,8 +128,7 @@ def add_arm_arguments(
             metavar="TIP",
             help="several tips at once: --tips A B is --tip A --tip B",
         )
-    if lock:
-        add_lock_option(c)
+    add_lock_option(c)
 
 
 class _OneTip(argparse.Action):

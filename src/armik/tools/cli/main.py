@@ -11,6 +11,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import NoReturn
 
+from armik import __version__
 from armik.errors import ArmikError, ArmikWarning
 from armik.tools.cli.commands import (
     add_compile_command,
@@ -97,6 +98,7 @@ def _positive_int(text: str) -> int:
 
 def _parser() -> argparse.ArgumentParser:
     p = _Parser(prog="armik", description="Inverse kinematics for URDF robot arms.")
+    p.add_argument("--version", action="version", version=f"armik {__version__}")
     sub = p.add_subparsers(title="commands", parser_class=_Parser)
 
     def command(name: str, helptext: str, example: str, func) -> argparse.ArgumentParser:
@@ -222,6 +224,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--solver", default="auto", help="solver name or 'auto' (default)")
     c.add_argument("--all", action="store_true", help="print every solution found")
     c.add_argument("--q0", nargs="+", type=float, help="seed joint values (rad, m)")
+    c.add_argument("--tol", type=float, help="success tolerance, m and rad (1e-6)")
     add_solve_options(c, axis=True)
     c.add_argument("--json", action="store_true", help="machine-readable output")
 

@@ -59,11 +59,18 @@ def cmd_servo(args: argparse.Namespace) -> int:
             value=args.seconds,
         )
     T0 = arm.fk(q0)
-    stream = circle(T0, ticks, dt, args.circle, args.hz)
+    plane = arm.kinematics.plane
+    if plane is not None and abs(plane.normal[0]) > 1.0 - 1e-9:
+        plane = None  # a planar arm in the base's y-z plane: the circle below is in it
+    if plane is None:
+        stream: list = circle(T0, ticks, dt, args.circle, args.hz)
+    else:  # off a planar arm's plane: in it instead, as positions (the tool's turn follows)
+        stream = _in_plane(plane, T0.translation, ticks, dt, args.circle, args.hz)
     legs = [("circle", stream)]
     if args.jump is not None:
-        end = stream[-1]
-        legs.append(("jump", [moved(end, np.array(args.jump))] * max(1, round(1.5 / dt))))
+        jump = np.array(args.jump)
+        end = stream[-1] + jump if plane is not None else moved(stream[-1], jump)
+        legs.append(("jump", [end] * max(1, round(1.5 / dt))))
     print(
         f"{arm.name}: {arm.kinematics.dof} joints, dt {dt * 1e3:g} ms; q0 "
         + " ".join(f"{v:.4g}" for v in q0)
@@ -93,6 +100,22 @@ def cmd_servo(args: argparse.Namespace) -> int:
     return 0
 
 
+def _in_plane(plane, tip: np.ndarray, ticks: int, dt: float, radius: float, hz: float) -> list:
+    """A circle of ``radius`` m in a planar arm's plane through the tip, at ``hz`` turns a
+    second, as positions: its centre ``radius`` from the tip toward the first joint's axis,
+    so that it stays within the reach of an arm that starts stretched."""
+    inward = plane.to_3d(plane.joint_origins[0]) - tip
+    inward -= (inward @ plane.normal) * plane.normal
+    size = float(np.linalg.norm(inward))
+    inward = inward / size if size > 1e-9 else plane.y
+    along = np.cross(plane.normal, inward)
+    out = []
+    for k in range(1, ticks + 1):
+        a = 2.0 * math.pi * hz * k * dt
+        out.append(tip + radius * (math.sin(a) * along + (1.0 - math.cos(a)) * inward))
+    return out
+
+
 def _report(label: str, steps: list, dt: float) -> None:
     errors = np.array([s.position_error for s in steps], dtype=float)
     rms = float(np.sqrt(np.mean(errors**2)))
@@ -100,8 +123,10 @@ def _report(label: str, steps: list, dt: float) -> None:
     for s in steps:
         counts[s.status.value] = counts.get(s.status.value, 0) + 1
     said = ", ".join(f"{k} {v}" for k, v in sorted(counts.items(), key=lambda kv: -kv[1]))
+    turn = steps[-1].orientation_error
+    turned = "orientation free" if turn is None else f"orientation error last {turn:.2e} rad"
     print(
         f"{label}: {len(steps)} ticks ({len(steps) * dt:g} s); position error RMS {rms:.2e} m, "
-        f"largest {errors.max():.2e} m, last {errors[-1]:.2e} m, orientation error last "
-        f"{steps[-1].orientation_error:.2e} rad\n  ticks by status: {said}"
+        f"largest {errors.max():.2e} m, last {errors[-1]:.2e} m, {turned}"
+        f"\n  ticks by status: {said}"
     )

@@ -13,7 +13,7 @@ from armik.arm import Arm, load
 from armik.arms import Arms
 from armik.constraints.shapes_file import read_shapes
 from armik.errors import InputError
-from armik.tools.cli.arms import load_arm
+from armik.tools.cli.arms import load_arm, locked_joints
 from armik.tools.cli.many import path_start, read_targets_file
 
 
@@ -32,7 +32,8 @@ def cmd_view(args: argparse.Namespace) -> int:
                     f"--path takes the waypoints of one tip, got {len(tips)} tips {tips}: "
                     "give one --tip (or none)"
                 )
-            robot: Arm | Arms = load(args.robot, base=args.base, tips=tips)
+            locked = locked_joints(args.lock)
+            robot: Arm | Arms = load(args.robot, base=args.base, tips=tips, locked=locked)
         else:
             args.tip = tips or None  # --tips A alone is --tip A
             robot = load_arm(args)
