@@ -8,7 +8,12 @@ with ``success=False``.
 from __future__ import annotations
 
 import difflib
+import os
+import sys
+import warnings
 from collections.abc import Callable, Iterable
+
+_PACKAGE = os.path.dirname(os.path.abspath(__file__)) + os.sep
 
 
 class ArmikError(Exception):
@@ -32,6 +37,16 @@ def _rebuilt(
 
 class ArmikWarning(UserWarning):
     """Warnings armik emits (for example a seed clipped into the joint limits)."""
+
+
+def warn(message: str) -> None:
+    """An ``ArmikWarning`` said at the caller's line: the first frame outside armik, however
+    deep the route that found it (a fixed ``stacklevel`` named one of armik's own lines on
+    every route but the one it was counted on)."""
+    frame, level = sys._getframe(0), 1
+    while frame.f_back is not None and frame.f_code.co_filename.startswith(_PACKAGE):
+        frame, level = frame.f_back, level + 1
+    warnings.warn(message, ArmikWarning, stacklevel=level)
 
 
 class InputError(ArmikError, ValueError):

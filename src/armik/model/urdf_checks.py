@@ -9,11 +9,10 @@ from __future__ import annotations
 
 import math
 import re
-import warnings
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 
-from armik.errors import ArmikWarning, URDFError, listing
+from armik.errors import URDFError, listing, warn
 from armik.tolerances import MAX_LENGTH, MAX_LIMIT
 
 # Pinocchio's parser recursed about 2 KB of stack per link and crashed at 4000 links on an
@@ -232,7 +231,7 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
                     + (": make it a continuous joint" if jtype == "revolute" else "")
                 )
                 notes.append(msg)
-                warnings.warn(msg, ArmikWarning, stacklevel=5)
+                warn(msg)
             if lower > upper:
                 raise URDFError(
                     f"{what} in {path!r} has lower limit {lower} > upper limit {upper}: "
@@ -247,7 +246,7 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
                     "Arm.with_limits"
                 )
                 notes.append(msg)
-                warnings.warn(msg, ArmikWarning, stacklevel=5)
+                warn(msg)
             elif lower == upper:
                 notes.append(f"joint {name!r}: lower = upper = {lower:g}, the joint is pinned")
         elif limit is not None:
@@ -401,7 +400,7 @@ def _axis(joint: ET.Element, name: str, jtype: str, path: str) -> tuple[float, b
             f"joint {name!r} has a non-unit axis xyz={text!r} (norm {_norm(norm)}); armik "
             "normalises it (the rotation is about the unit axis)"
         )
-    warnings.warn(msg, ArmikWarning, stacklevel=6)
+    warn(msg)
     return norm, True
 
 

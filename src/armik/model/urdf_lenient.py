@@ -26,11 +26,10 @@ else still fails with the strict parser's reason and line (as urdfdom refuses it
 from __future__ import annotations
 
 import re
-import warnings
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 
-from armik.errors import ArmikWarning, URDFError
+from armik.errors import URDFError
 from armik.model.urdf_tail import after_root
 
 # The namespace given to prefixes the file never declares: elements in it are dropped.
@@ -98,7 +97,7 @@ def forgiving_parse(
     if warn:
         for note in notes:
             # user -> armik.load -> read_urdf -> read_urdf_string -> here
-            warnings.warn(note, ArmikWarning, stacklevel=5)
+            warn(note)
     return root, notes
 
 

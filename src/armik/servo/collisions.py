@@ -19,14 +19,13 @@ points' Jacobians read, on the URDF's whole model (``armik.model.mimic_frames``)
 from __future__ import annotations
 
 import heapq
-import warnings
 
 import numpy as np
 import pinocchio as pin
 
 from armik.constraints import collision
 from armik.constraints.shapes import check_obstacles
-from armik.errors import ArmikWarning, CollisionError
+from armik.errors import CollisionError, warn
 from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
 from armik.servo.box import SAFE
@@ -151,12 +150,10 @@ def still(said: set[tuple[str, str]], a: str, b: str, d: float) -> None:
         return
     said.add((a, b))
     gap = f"{d:.4g} m apart" if d > 0 else f"overlapping by {-d:.4g} m"  # d < 0: the depth
-    warnings.warn(
+    warn(
         f"{a} and {b} are {gap}, inside the collision margin, and no joint the "
         "servo commands moves them apart: no row keeps them apart (move the obstacle, or "
-        "lower margin=)",
-        ArmikWarning,
-        stacklevel=2,
+        "lower margin=)"
     )
 
 

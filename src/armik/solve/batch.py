@@ -30,7 +30,6 @@ import dataclasses
 import os
 import sys
 import time
-import warnings
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, NamedTuple
@@ -41,7 +40,7 @@ from armik import cpu_time, reasons
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions, of_options
 from armik.constraints.collision import checker
-from armik.errors import ArmikError, ArmikWarning, OptionError
+from armik.errors import ArmikError, OptionError, warn
 from armik.request import Request, with_seed
 from armik.solve import backends, batch_rows, forked
 from armik.solve.backends import Rows, place
@@ -379,10 +378,10 @@ def _row(arm: ArmModel, request: Request, target, seed: np.ndarray):
     return run(arm, request.but(target=target, q0=seed, t0=time.perf_counter()))
 
 
-def batch_seeds(arm: ArmModel, q0: object, n: int, stacklevel: int = 4) -> np.ndarray:
+def batch_seeds(arm: ArmModel, q0: object, n: int) -> np.ndarray:
     """(n, dof) seeds: mid-limits, one configuration for every target, or one per target.
     Seeds outside the limits are clipped into them with one ``ArmikWarning``, said at the
-    caller ``stacklevel`` frames up (``Arm.solve_batch``'s: the user's line, not armik's)."""
+    user's line."""
     if q0 is None:
         return np.broadcast_to(arm.middle, (n, arm.dof))
     try:
@@ -409,11 +408,9 @@ def batch_seeds(arm: ArmModel, q0: object, n: int, stacklevel: int = 4) -> np.nd
     outside = ((q < arm.lower) | (q > arm.upper)).any(axis=1)
     if outside.any():
         i = int(np.flatnonzero(outside)[0])
-        warnings.warn(
+        warn(
             f"q0 outside the joint limits was clipped into them for {int(outside.sum())} "
-            f"target(s); the first, target {i}: " + "; ".join(arm.limit_violations(q[i])),
-            ArmikWarning,
-            stacklevel=stacklevel,
+            f"target(s); the first, target {i}: " + "; ".join(arm.limit_violations(q[i]))
         )
         q = np.clip(q, arm.lower, arm.upper)
     return q

@@ -274,7 +274,7 @@ def solve_batch(
     on_dask = OnDask(client if own is None else own)
     try:
         if request.rows is not None:  # no compiled form: each row's request, as locally
-            seeds = batch_seeds(arm, request.q0, len(request.rows), stacklevel=3)
+            seeds = batch_seeds(arm, request.q0, len(request.rows))
             return solve_rows(arm, request, seeds, progress, on_dask, int(chunk))
         return local_solve_batch(arm, request, 1, int(chunk), progress, on_dask)
     finally:

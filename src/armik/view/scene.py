@@ -16,13 +16,12 @@ from __future__ import annotations
 import io
 import logging
 import os
-import warnings
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 
-from armik.errors import ArmikWarning
+from armik.errors import warn
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.model.urdf import urdf_text
@@ -45,7 +44,7 @@ def _build(arm: ArmModel) -> Body:
     except Exception as exc:  # yourdfpy is stricter than armik's reader on some files
         first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         note = f"the URDF's visuals cannot be read ({first})"
-        warnings.warn(f"{arm.name}: {note}; drawing the stick figure", ArmikWarning, stacklevel=3)
+        warn(f"{arm.name}: {note}; drawing the stick figure")
         return stick_body(arm, note)
     if missing:
         more = f" ({len(missing) - 1} more meshes missing)" if len(missing) > 1 else ""
@@ -54,11 +53,7 @@ def _build(arm: ArmModel) -> Body:
             fix = 'pip install "armik[view]", whose pycollada reads .dae meshes'
         else:
             fix = "check the path, or the package's folder in ROS_PACKAGE_PATH"
-        warnings.warn(
-            f"{arm.name}: {note}; drawing the stick figure instead ({fix})",
-            ArmikWarning,
-            stacklevel=3,
-        )
+        warn(f"{arm.name}: {note}; drawing the stick figure instead ({fix})")
         return stick_body(arm, note)
     if not parts:
         log.info("arm %r: the URDF has no visual geometry; drawing the stick figure", arm.name)
