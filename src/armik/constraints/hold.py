@@ -113,7 +113,7 @@ class Hold(Constraint):
             unit = "m" if arm.prismatic[k] else "rad"
             # the limits to as many digits as tell them from a value just outside
             raise JointError(
-                f"hold: {value!r} {unit} is outside joint {self.joint!r}'s limits "
+                f"hold: {value!r} {unit} is outside joint {self.joint!r}, whose limits are "
                 f"[{lo:.10g}, {hi:.10g}] {unit}: give a value within them",
                 joint=self.joint,
             )
