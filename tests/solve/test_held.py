@@ -338,3 +338,21 @@ def test_a_held_value_within_limits_with_limits_widened_is_solved_there():
     narrow = armik.load("panda").with_limits({"panda_joint1": (-1.0, 1.0)})
     with pytest.raises(JointError, match=r"'panda_joint1', whose limits are \[-1, 1\]"):
         narrow.solve(T, hold={"panda_joint1": 2.0})
+
+
+@pytest.mark.parametrize(
+    "joint, words",
+    [
+        ("panda_finger_joint1", "'panda_finger_joint1' is not on this arm's chain from"),
+        ("panda_joint8", "'panda_joint8' is a fixed joint: it has no value to hold"),
+    ],
+)
+def test_a_held_joint_of_the_urdf_off_the_chain_is_named_as_such(joint, words):
+    """A finger off the Panda's chain, its fixed flange joint: said as such, not as an
+    unknown joint with a joint of the chain suggested for it."""
+    arm = armik.load("panda")
+    T = arm.fk(arm.middle)
+    for how in ({"hold": {joint: 0.01}}, {"constraints": [armik.Hold(joint, 0.01)]}):
+        with pytest.raises(JointError, match=words) as info:
+            arm.solve(T, **how)
+        assert "unknown" not in str(info.value) and info.value.joint == joint
