@@ -69,3 +69,43 @@ def test_a_tip_left_out_holds_its_own_constraints_at_the_values_it_keeps():
             assert r.q[k] == value and r.success == (value <= 0.0)
             if not r.success:
                 assert "'r_tool0'" in r.reason and r.status is armik.Status.UNREACHABLE
+
+
+def test_a_held_joint_of_the_urdf_on_no_chain_is_named_as_such():
+    """TALOS's leg joint, on neither hand's chain, and a fixed joint: said as such, not as
+    an unknown joint with a joint of a chain suggested for it."""
+    from .test_arms import talos
+
+    robot = talos()
+    info = robot.chain(robot.tips[0]).kinematics.info
+    fixed = next(name for name, kind in info.joint_types.items() if kind == "fixed")
+    q = robot.middle
+    T = {tip: robot.fk(q, tip) for tip in robot.tips}
+    for joint, words in (
+        ("leg_left_1_joint", "'leg_left_1_joint' is on none of the chains of tips"),
+        (fixed, f"{fixed!r} is a fixed joint: it has no value to hold"),
+    ):
+        with pytest.raises(armik.JointError, match=words) as err:
+            robot.solve(T, q0=q, hold={joint: 0.0})
+        assert "unknown" not in str(err.value) and err.value.joint == joint
+
+
+def test_a_shared_joint_locked_after_with_limits_is_checked_against_those_limits():
+    """TALOS's torso, shared by both hands: locked within limits widened past its URDF's
+    1.309 rad on both chains (and pickled so), refused outside limits narrowed."""
+    import pickle
+
+    from .test_arms import talos
+
+    robot = talos()
+    wide = robot.with_limits({"torso_1_joint": (-1.5, 1.5)}).with_locked({"torso_1_joint": 1.4})
+    assert wide.dof == robot.dof - 1 and "torso_1_joint" not in wide.joint_names
+    for tip in wide.tips:
+        assert dict(wide.chain(tip).locked) == {"torso_1_joint": 1.4}
+    copy = pickle.loads(pickle.dumps(wide))
+    q = wide.random_q(5)
+    for tip in wide.tips:
+        assert copy.fk(q, tip).isApprox(wide.fk(q, tip), 1e-14)
+    narrow = robot.with_limits({"torso_1_joint": (-0.5, 0.5)})
+    with pytest.raises(armik.JointError, match=r"outside its limits \(given by with_limits\)"):
+        narrow.with_locked({"torso_1_joint": 1.0})

@@ -16,8 +16,19 @@ def test_status_reads_as_its_word_and_round_trips_its_code():
     assert Status.CONVERGED not in FAILURE_RANK
 
 
+def test_a_status_from_a_bad_word_is_an_armik_error_naming_the_statuses():
+    with pytest.raises(armik.OptionError, match="status 'ok' is none of armik's statuses") as e:
+        armik.Status("ok")
+    assert "'converged', 'unreachable'" in str(e.value) and e.value.value == "ok"
+    with pytest.raises(armik.OptionError, match="did you mean 'converged'"):
+        armik.Status("CONVERGED")
+    with pytest.raises(armik.InputError, match="status None"):
+        armik.Status(None)
+    assert armik.Status("collision") is armik.Status.COLLISION
+
+
 def test_unknown_status_word_is_refused_with_the_list():
-    with pytest.raises(ValueError, match="converged, unreachable"):
+    with pytest.raises(ValueError, match="'converged', 'unreachable'"):
         Status.parse("done")
     with pytest.raises(ValueError, match="not_converged"):
         IKResult(

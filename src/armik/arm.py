@@ -24,6 +24,7 @@ from armik.model import frames
 from armik.model.arm_model import ArmModel
 from armik.model.catalogue import CATALOGUE, entry
 from armik.model.reduce import check_frames, check_locked, check_offset, check_package_dirs
+from armik.model.relock import relocked
 from armik.model.urdf import URDFInfo, read_urdf, read_urdf_string
 from armik.of_model import OfModel
 from armik.servo.servo import start as start_servo
@@ -287,8 +288,8 @@ class Recipe:
     srdf: str | None = None
 
     def locked_model(self, locked: object, example: str) -> ArmModel:
-        """This recipe's arm model with ``locked``'s joints (name -> rad or m) locked too, their
-        replaced limits dropped; ``example``: a joint for the error to name."""
+        """This recipe's arm model with ``locked``'s joints (name -> rad or m) locked too, within
+        their replaced limits; ``example``: a joint for the error to name."""
         new = check_locked(locked)
         if new is None:
             raise JointError(
@@ -296,27 +297,26 @@ class Recipe:
                 f"{{{example!r}: 0.0}}; got None",
                 joint="None",
             )
-        locking = {**self.locked, **new}
-        kept = tuple(x for x in self.limits if x[0] not in new)
-        return replace(self, locked=locking, limits=kept).build_model()
+        return replace(self, locked={**self.locked, **new}).build_model()
 
     def build_model(self) -> ArmModel:
         """The arm model this recipe builds (how an ``ArmModel`` unpickles)."""
         return self.build().kinematics
 
     def build(self) -> Arm:
+        own = {name: (lo, hi) for name, lo, hi in self.limits}  # a joint's locked since too
         arm = (load if self.text is None else load_string)(
             self.source if self.text is None else self.text,
             base=self.base,
             tip=self.tip,
-            locked=self.locked or None,
+            locked={name: v for name, v in self.locked.items() if name not in own} or None,
             tip_offset=self.tip_offset,
             package_dirs=self.package_dirs or None,
             srdf=self.srdf,
         )
-        if self.limits:
-            arm = arm.with_limits({name: (lo, hi) for name, lo, hi in self.limits})
-        return arm
+        model = relocked(arm.kinematics.with_limits(own), self.locked, own)
+        model._recipe = self
+        return Arm(model)
 
 
 class Arm:
@@ -401,9 +401,9 @@ class Arm:
         """A new arm with the joints of ``locked`` (name -> rad or m) locked at those values,
         on or off the chain, besides those this arm already locks (a joint locked again takes
         the new value). Built from the arm's recipe, as ``armik.load`` would; the limits
-        replaced by ``with_limits`` are kept for the joints that stay free. Raises
-        ``JointError`` as ``armik.load`` does: an unknown joint, a value that is not
-        finite or lies outside the joint's URDF limits, no moving joint left."""
+        replaced by ``with_limits`` hold the locked values and the joints that stay free.
+        ``JointError`` as ``armik.load``: an unknown joint, a value that is not finite or
+        lies outside the joint's limits (``with_limits``' or the URDF's), no joint left."""
         return Arm(self.kinematics.with_locked(locked))
 
     # -- solving --------------------------------------------------------------------------

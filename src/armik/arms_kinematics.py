@@ -19,7 +19,9 @@ import numpy as np
 import pinocchio as pin
 
 from armik import arms_collision, checked
+from armik.arms_options import chain_constraints
 from armik.arms_tasks import placing
+from armik.constraints.base import own
 from armik.constraints.srdf import Pair
 from armik.errors import ArmikWarning, FrameError, JointError, OptionError, TargetError
 from armik.model import frames
@@ -102,6 +104,36 @@ class ArmsKinematics:
         """A new robot with the joints of ``locked`` (name -> rad or m) locked at those
         values on every chain (``Arm.with_locked``: on or off a chain, its errors)."""
         return self._rebuilt({tip: arm.with_locked(locked) for tip, arm in self._facades.items()})
+
+    def _one_start(self, options: dict, q0: object) -> None:
+        """An ``OptionError`` for a user's constraint resolved from the start (its own
+        ``at``) on a chain whose joints a batch's q0 sets differently row to row, as
+        ``Arm.solve_batch`` refuses it (``constraints.base.at_start``): chains solved apart
+        refused it in their own batch, chains solved together resolved it from each row's
+        q0. A q0 that is no rows of configurations is left to the batch's own words."""
+        given = chain_constraints(options, self.tips)
+        if not given or q0 is None or isinstance(q0, (str, bytes)):
+            return
+        if np.iscomplexobj(q0):  # type: ignore[arg-type]
+            return
+        try:
+            Q = np.asarray(q0, dtype=float)
+        except (TypeError, ValueError, OverflowError):
+            return
+        if Q.ndim != 2 or len(Q) < 2 or Q.shape[1] != self.dof:
+            return
+        for tip, items in given.items():
+            resolved = [c for c in items if own(c)]
+            rows = Q[:, self._columns[tip]]
+            if resolved and not np.array_equal(rows, rows[[0] * len(rows)], equal_nan=True):
+                raise OptionError(
+                    f"constraint {type(resolved[0]).__name__} (constraints[{tip!r}]) is "
+                    "resolved from the start (its at(arm, seed)), and this batch gives a "
+                    "different q0 per row on that chain's joints: give one q0 for every row, "
+                    "or solve the rows one by one",
+                    option="constraints",
+                    value=resolved[0],
+                )
 
     def _rebuilt(self, chains: dict[str, Any]) -> Any:
         """A robot of this type over ``chains`` (tip -> ``Arm``), as ``armik.load`` builds."""

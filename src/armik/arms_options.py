@@ -60,6 +60,7 @@ def per_chain(
             why = next(
                 filter(None, (Hold(joint, value).not_free(a) for a in chains.values())), None
             )
+            why = why or _off_chains(joint, chains)
             raise JointError(
                 why
                 or f"hold: unknown joint {joint!r}; {did_you_mean(joint, joint_names)}the "
@@ -79,6 +80,20 @@ def per_chain(
             cols = columns[tip]
             out[tip]["prefer"] = Posture(prefer.q_ref[cols], prefer.weights[cols])
     return out
+
+
+def _off_chains(joint: str, chains: Mapping[str, ArmModel]) -> str | None:
+    """Why ``joint``, a joint of the URDF on none of ``chains``, cannot be held: a fixed
+    joint, or off every chain; None for any other name."""
+    arm = next(iter(chains.values()))
+    kind = arm.info.joint_types.get(joint)
+    if kind is None or kind == "fixed":
+        return Hold(joint).off_chain(arm)
+    return (
+        f"hold: joint {joint!r} is on none of the chains of tips {list(chains)}: off them, "
+        f"it is a fixed transform at its neutral value; set that with "
+        f"robot.with_locked({{{joint!r}: value}})"
+    )
 
 
 def at_seed(each: dict[str, dict], joint_names: Sequence[str], seed: np.ndarray) -> dict:

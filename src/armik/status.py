@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from enum import Enum
 
+from armik.errors import OptionError, did_you_mean, listing
+
 
 class Status(str, Enum):
     CONVERGED = "converged"  # verified: within tolerance and within the limits
@@ -31,12 +33,19 @@ class Status(str, Enum):
 
     @classmethod
     def parse(cls, value: object) -> Status:
-        """A ``Status`` from itself or its word; ValueError listing the words otherwise."""
-        try:
-            return cls(value)
-        except ValueError:
-            words = ", ".join(s.value for s in cls)
-            raise ValueError(f"status must be one of {words}; got {value!r}") from None
+        """A ``Status`` from itself or its word; ``OptionError`` listing the words otherwise."""
+        return cls(value)
+
+    @classmethod
+    def _missing_(cls, value: object) -> Status:
+        # ``Status("ok")``: an armik error naming the statuses, not the enum's bare ValueError
+        words = [s.value for s in cls]
+        raise OptionError(
+            f"status {value!r} is none of armik's statuses; {did_you_mean(value, words)}they are "
+            f"{listing(words)}, each also armik.Status.<WORD> (armik.Status.CONVERGED, ...)",
+            option="status",
+            value=value,
+        )
 
 
 _BY_CODE: tuple[Status, ...] = tuple(Status)  # code = position in the declaration

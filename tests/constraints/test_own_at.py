@@ -240,3 +240,28 @@ def test_a_batch_q0_that_is_no_configuration_is_named_as_such(q0):
     with pytest.raises(armik.OptionError, match="q0") as info:
         arm.solve_batch([T, T], q0=q0, constraints=[NearStart()])
     assert "different q0 per row" not in str(info.value)
+
+
+def test_several_tips_over_a_shared_torso_refuse_a_start_per_row_as_one_arm_does():
+    """TALOS's hands over a shared torso solve a batch row by row, where the constraint was
+    resolved from each row's q0 (chains apart and one arm refuse it): refused by name. One
+    start given on every row resolves it from that start; rows that differ only on another
+    chain's joints leave the constrained chain one start."""
+    from tests.test_arms import talos
+
+    robot = talos()
+    left, right = robot.tips
+    q = robot.random_q(np.random.default_rng(3))
+    T = {tip: [robot.fk(q, tip)] * 2 for tip in robot.tips}
+    far = np.clip(q + 0.6, robot.lower, robot.upper)
+    with pytest.raises(armik.OptionError, match=r"NearStart \(constraints\[.*q0 per row"):
+        robot.solve_batch(T, q0=np.stack([q, far]), constraints={left: [NearStart()]})
+    j = robot.joint_names.index(robot.chain(left).joint_names[0])  # the torso's first joint
+    same = robot.solve_batch(T, q0=np.stack([q, q]), constraints={left: [NearStart()]})
+    assert same.success.all() and (np.abs(same.q[:, j] - q[j]) < REACH).all()
+    other = q.copy()
+    only_right = [robot.joint_names.index(n) for n in robot.chain(right).joint_names[2:]]
+    assert not {robot.joint_names[i] for i in only_right} & set(robot.shared)
+    other[only_right] = far[only_right]
+    rows = robot.solve_batch(T, q0=np.stack([q, other]), constraints={left: [NearStart()]})
+    assert rows.success.all() and (np.abs(rows.q[:, j] - q[j]) < REACH).all()

@@ -159,8 +159,8 @@ def test_with_locked_adds_locks_and_keeps_the_other_limits():
     b = a.with_locked({"panda_joint2": -0.5})  # added to the lock already there
     assert dict(b.locked) == {"panda_joint7": 0.3, "panda_joint2": -0.5}
     assert b.dof == 5 and b.lower[0] == -1.0
-    c = b.with_locked({"panda_joint7": -0.2})  # locked again: the new value
-    assert c.locked["panda_joint7"] == -0.2 and c.dof == 5
+    c = b.with_locked({"panda_joint7": 0.8})  # locked again: the new value, within (0, 1)
+    assert c.locked["panda_joint7"] == 0.8 and c.dof == 5
     assert not c.fk(c.middle).isApprox(b.fk(b.middle), 1e-6)
 
 
@@ -250,3 +250,37 @@ def test_a_mimic_joint_on_the_chain_can_be_locked(tmp_path):
         [math.cos(0.25) + 0.8 * math.cos(0.75), math.sin(0.25) + 0.8 * math.sin(0.75), 0.0],
         atol=1e-12,
     )
+
+
+def test_a_lock_after_with_limits_is_checked_against_those_limits():
+    full = arm("panda")
+    # widened past the URDF's 2.8973 rad: a value within them locks, at that value
+    wide = full.with_limits({"panda_joint7": (-3.2, 3.2)}).with_locked({"panda_joint7": 3.1})
+    assert dict(wide.locked) == {"panda_joint7": 3.1} and wide.dof == 6
+    q = wide.random_q(4)
+    cfg = dict(zip(wide.joint_names, q), panda_joint7=3.1)
+    assert close(wide.fk(q), pinocchio_fk("panda", cfg, wide.base), TOL["fk_exact"])
+    copy = pickle.loads(pickle.dumps(wide))  # rebuilt from its recipe, the lock kept
+    assert dict(copy.locked) == {"panda_joint7": 3.1} and copy.fk(q).isApprox(wide.fk(q), 1e-14)
+    # narrowed: a value within the URDF's limits but outside the arm's own is refused
+    narrow = full.with_limits({"panda_joint7": (-1.0, 1.0), "panda_joint1": (-0.5, 0.5)})
+    with pytest.raises(JointError, match=r"2 rad for 'panda_joint7' is outside its limits"):
+        narrow.with_locked({"panda_joint7": 2.0})
+    locked = narrow.with_locked({"panda_joint7": 0.5})  # the other joint keeps its limits
+    assert locked.lower[0] == -0.5 and locked.upper[0] == 0.5
+    again = locked.with_locked({"panda_joint7": -0.9})  # locked again: the same limits hold
+    assert again.locked["panda_joint7"] == -0.9
+    with pytest.raises(JointError, match=r"outside its limits \(given by with_limits\) \[-1, 1\]"):
+        locked.with_locked({"panda_joint7": 1.5})
+
+
+def test_a_continuous_joint_given_limits_locks_at_any_turn_within_them():
+    a = arm("kinova").with_limits({"j2s6s200_joint_1": (-1.0, 1.0)})
+    turns = -0.5 + 4 * math.pi  # an encoder's reading two turns on from -0.5 rad
+    b = a.with_locked({"j2s6s200_joint_1": turns})
+    assert b.locked["j2s6s200_joint_1"] == turns
+    q = b.random_q(3)
+    cfg = dict(zip(b.joint_names, q), j2s6s200_joint_1=-0.5)
+    assert close(b.fk(q), pinocchio_fk("kinova", cfg, b.base), TOL["fk_exact"])
+    with pytest.raises(JointError, match="outside its limits"):
+        a.with_locked({"j2s6s200_joint_1": 2.5})  # no turn of 2.5 rad lies within them

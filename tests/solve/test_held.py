@@ -10,6 +10,7 @@ import pytest
 
 import armik
 from armik.errors import InputError, JointError, OptionError
+from armik.model.catalogue import CATALOGUE
 from armik.model.random_arms import iiwa_like_urdf
 
 from ..conftest import write_urdf
@@ -315,3 +316,43 @@ def test_a_held_value_outside_the_limits_is_told_in_the_joints_unit_and_digits()
     name, beyond = scara.joint_names[k], float(scara.upper[k]) + 0.01
     with pytest.raises(JointError, match=rf"{beyond!r} m is outside .* m: give"):
         scara.solve(scara.fk(scara.middle), hold={name: beyond})
+
+
+def test_a_held_value_within_limits_with_limits_widened_is_solved_there():
+    arm = armik.load("panda").with_limits({"panda_joint1": (-3.2, 3.2)})  # URDF's: 2.8973
+    q = np.array([3.0, -0.3, 0.2, -2.0, 0.1, 1.5, 0.4])
+    model = pin.buildModelFromUrdf(str(CATALOGUE["panda"].urdf_path()))
+    data = model.createData()
+
+    def fk(values):  # Pinocchio on the whole URDF (its root is the base), the fingers at 0
+        qp = pin.neutral(model)
+        qp[:7] = values
+        pin.framesForwardKinematics(model, data, qp)
+        return data.oMf[model.getFrameId(arm.tip, pin.BODY)]
+
+    T = arm.fk(q)
+    assert fk(q).isApprox(T, 1e-12)
+    r = arm.solve(T, hold={"panda_joint1": 3.0})
+    assert r.success, r.reason
+    assert r.q[0] == 3.0 and np.linalg.norm(pin.log6(fk(r.q).inverse() * T).vector) < 1e-9
+    narrow = armik.load("panda").with_limits({"panda_joint1": (-1.0, 1.0)})
+    with pytest.raises(JointError, match=r"'panda_joint1', whose limits are \[-1, 1\]"):
+        narrow.solve(T, hold={"panda_joint1": 2.0})
+
+
+@pytest.mark.parametrize(
+    "joint, words",
+    [
+        ("panda_finger_joint1", "'panda_finger_joint1' is not on this arm's chain from"),
+        ("panda_joint8", "'panda_joint8' is a fixed joint: it has no value to hold"),
+    ],
+)
+def test_a_held_joint_of_the_urdf_off_the_chain_is_named_as_such(joint, words):
+    """A finger off the Panda's chain, its fixed flange joint: said as such, not as an
+    unknown joint with a joint of the chain suggested for it."""
+    arm = armik.load("panda")
+    T = arm.fk(arm.middle)
+    for how in ({"hold": {joint: 0.01}}, {"constraints": [armik.Hold(joint, 0.01)]}):
+        with pytest.raises(JointError, match=words) as info:
+            arm.solve(T, **how)
+        assert "unknown" not in str(info.value) and info.value.joint == joint

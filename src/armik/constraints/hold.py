@@ -68,7 +68,7 @@ class Hold(Constraint):
         no joint of the arm (``not_free``), or naming the arm's joints."""
         if self.joint in arm.joint_names:
             return arm.joint_names.index(self.joint)
-        why = self.not_free(arm)
+        why = self.not_free(arm) or self.off_chain(arm)
         if why is None:
             why = (
                 f"hold: unknown joint {self.joint!r}; {did_you_mean(self.joint, arm.joint_names)}"
@@ -103,6 +103,20 @@ class Hold(Constraint):
             return f"hold: joint {name!r} {not_a_joint(arm, name)}; leave it out of hold="
         return None
 
+    def off_chain(self, arm: ArmModel) -> str | None:
+        """Why the held joint, a joint of ``arm``'s URDF, cannot be held: a fixed joint, or a
+        moving joint off the chain; None for any other name."""
+        name, kind = self.joint, arm.info.joint_types.get(self.joint)
+        if kind == "fixed":
+            return f"hold: joint {name!r} is a fixed joint: it has no value to hold"
+        if kind is None:
+            return None
+        return (
+            f"hold: joint {name!r} is not on this arm's chain from {arm.base!r} to "
+            f"{arm.tip!r} (joints {listing(arm.joint_names)}): off it, it is a fixed "
+            f"transform at its neutral value; set that with arm.with_locked({{{name!r}: value}})"
+        )
+
     def at(self, arm: ArmModel, seed: np.ndarray) -> Hold:
         """The hold at its value (the seed's where it has none), which must lie within the
         joint's limits (clipped to them within ``LIMIT_TOL``)."""
@@ -113,7 +127,7 @@ class Hold(Constraint):
             unit = "m" if arm.prismatic[k] else "rad"
             # the limits to as many digits as tell them from a value just outside
             raise JointError(
-                f"hold: {value!r} {unit} is outside joint {self.joint!r}'s limits "
+                f"hold: {value!r} {unit} is outside joint {self.joint!r}, whose limits are "
                 f"[{lo:.10g}, {hi:.10g}] {unit}: give a value within them",
                 joint=self.joint,
             )

@@ -32,20 +32,12 @@ from armik.model.geometry import Plane, find_plane
 from armik.model.limit_units import in_radians
 from armik.model.reduce import check_limits, reduce_chain
 from armik.model.urdf import URDFInfo
+from armik.model.value_checks import violation
 from armik.tolerances import LIMIT_TOL, MAX_LIMIT
 
 TWO_PI = 2.0 * math.pi
 _FLOAT = np.dtype(float)
 _le = operator.le
-
-
-def _violation(name: str, v: float, lo: float, hi: float) -> str:
-    """Joint ``name`` at ``v`` outside [``lo``, ``hi``], in words: the value and the limits to
-    six digits; how far past which limit where six digits would hide it."""
-    if float(f"{lo:.6g}") <= float(f"{v:.6g}") <= float(f"{hi:.6g}"):  # (False for NaN)
-        side, limit, by = ("upper", hi, v - hi) if v > hi else ("lower", lo, lo - v)
-        return f"{name} is {by:.2g} past its {side} limit {limit:.6g}"  # 1e-09 past 2.87979
-    return f"{name} = {v:.6g} outside [{lo:.6g}, {hi:.6g}]"
 
 
 class ArmModel:
@@ -66,12 +58,13 @@ class ArmModel:
         locked: Mapping[str, float],
         tip_offset: tuple[float, float, float] | None,
         source: str,
+        limits: Mapping[str, tuple[float, float]] | None = None,  # a locked value's, if given
     ) -> None:
         self.name = name
         self.source = source
         self.info = info
         chain = reduce_chain(
-            full, info, name=name, base=base, tip=tip, locked=locked, tip_offset=tip_offset
+            full, info, locked, limits or {}, name=name, base=base, tip=tip, tip_offset=tip_offset
         )
         self.base, self.tip, self.tip_reason = chain.base, chain.tip, chain.tip_reason
         self.model = chain.model
@@ -388,7 +381,7 @@ class ArmModel:
         values = np.asarray(q, dtype=float).tolist()  # plain floats: numpy per joint is slow
         lower, upper, _ = self._limit_lists
         return [
-            _violation(name, v, lo, hi)
+            violation(name, v, lo, hi)
             for name, v, lo, hi in zip(self.joint_names, values, lower, upper)
             if not lo - tol <= v <= hi + tol
         ]

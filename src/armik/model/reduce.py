@@ -21,7 +21,8 @@ from armik.model import mimic as _mimic
 from armik.model.default_tip import default_tip
 from armik.model.mimic import Mimic
 from armik.model.urdf import URDFInfo
-from armik.tolerances import LIMIT_TOL, MAX_LENGTH, MAX_LIMIT
+from armik.model.value_checks import NOT_NUMBERS, locked_value
+from armik.tolerances import MAX_LENGTH, MAX_LIMIT
 
 log = logging.getLogger(__name__)
 
@@ -55,11 +56,12 @@ class ReducedChain:
 def reduce_chain(
     full: pin.Model,
     info: URDFInfo,
+    locked: Mapping[str, float],
+    limits: Mapping[str, tuple[float, float]],
     *,
     name: str,
     base: str | None,
     tip: str | None,
-    locked: Mapping[str, float],
     tip_offset: tuple[float, float, float] | None,
 ) -> ReducedChain:
     """The chain of ``full`` from ``base`` (default: the URDF's root link) to ``tip``
@@ -67,7 +69,9 @@ def reduce_chain(
     its neutral one; a joint of the chain named in ``locked`` becomes a fixed transform at
     that value (rad or m), and the chain keeps the other joints. Raises ``FrameError`` or
     ``JointError`` naming the frame or joint: an unknown locked joint, a locked value that is
-    not finite or lies outside the joint's URDF limits, every joint of the chain locked."""
+    not finite or lies outside the joint's limits (``limits``' (lower, upper) where it names
+    the joint, the arm's own from ``with_limits``; else the URDF's), every joint of the
+    chain locked."""
     frames = [f.name for f in full.frames if f.name != "universe"]
     base = base if base is not None else info.root_link
     base_id = lookup_frame(full, base, "base", frames)
@@ -101,7 +105,7 @@ def reduce_chain(
     values: dict[str, float] = {}
     for jname, value in locked.items():
         jid = _locked_joint(full, jname)
-        number = locked_value(full, info, jid, value)
+        number = locked_value(full, info, jid, value, limits.get(jname))
         set_joint(full, q_ref, jid, number)
         values[jname] = number
     held = [j for j in path if full.names[j] in values]
@@ -221,44 +225,6 @@ def _locked_joint(full: pin.Model, jname: str) -> int:
         message = f"locked joint {jname!r} {hint}joints: {listing(all_joints)}"
         raise JointError(message, joint=jname, candidates=all_joints)
     return jid
-
-
-# Values that float() reads but that are no joint value: text, complex, bools (True is 1)
-_NOT_NUMBERS = (str, bytes, complex, bool, np.bool_)
-
-
-def locked_value(full: pin.Model, info: URDFInfo, jid: int, value: object) -> float:
-    """``value`` as the float a joint is locked at (rad or m). Raises ``JointError`` naming
-    the joint, the value and the limits when it is not a finite number or lies outside the
-    joint's URDF limits (a continuous joint, or a side without a limit, takes any value)."""
-    jname = full.names[jid]
-    try:
-        # never parse text, drop an imaginary part, or read True as 1 rad
-        if isinstance(value, _NOT_NUMBERS) or np.iscomplexobj(value):  # type: ignore[arg-type]
-            raise TypeError
-        number = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError, OverflowError):  # OverflowError: an int beyond 1e308
-        number = math.nan
-    if not math.isfinite(number):
-        raise JointError(
-            f"locked value for {jname!r} must be a finite number (rad or m), got {value!r}",
-            joint=jname,
-        )
-    joint = full.joints[jid]
-    if joint.nq != 1 or jname in info.unset_limits:  # continuous, or limits "0 0"
-        return number
-    lo = float(full.lowerPositionLimit[joint.idx_q])
-    hi = float(full.upperPositionLimit[joint.idx_q])
-    lo = lo if lo >= -MAX_LIMIT else -math.inf  # beyond MAX_LIMIT: free on that side
-    hi = hi if hi <= MAX_LIMIT else math.inf
-    if not lo - LIMIT_TOL <= number <= hi + LIMIT_TOL:
-        unit = "m" if info.joint_types.get(jname) == "prismatic" else "rad"
-        raise JointError(
-            f"locked value {number:.10g} {unit} for {jname!r} is outside its URDF limits "
-            f"[{lo:.10g}, {hi:.10g}] {unit}: lock it at a value within them",
-            joint=jname,
-        )
-    return number
 
 
 def frame_id(model: pin.Model, name: str) -> int:
@@ -426,7 +392,7 @@ def check_limit_value(jname: str, value: object) -> float:
     """A joint limit given to ``with_limits`` as a float (rad or m; +-inf: no limit on
     that side); raises ``JointError`` naming the joint otherwise."""
     try:
-        if isinstance(value, _NOT_NUMBERS) or np.iscomplexobj(value):  # type: ignore[arg-type]
+        if isinstance(value, NOT_NUMBERS) or np.iscomplexobj(value):  # type: ignore[arg-type]
             raise TypeError
         out = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError, OverflowError):

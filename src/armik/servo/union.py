@@ -27,8 +27,8 @@ import pinocchio as pin
 from armik.checked import configuration
 from armik.errors import OptionError, TargetError
 from armik.frozen import frozen
-from armik.model.arm_model import _violation
 from armik.model.union import Union
+from armik.model.value_checks import violation as _violation
 from armik.servo import layout as k
 from armik.servo.fixed import never_moved, structural_ranks
 from armik.servo.limits import (
