@@ -11,7 +11,6 @@ and ``intervals`` of one chain's self-motion (``armik.solve.intervals``).
 from __future__ import annotations
 
 import difflib
-import warnings
 from collections.abc import Mapping
 from typing import Any, cast
 
@@ -23,7 +22,7 @@ from armik.arms_options import chain_constraints
 from armik.arms_tasks import placing
 from armik.constraints.base import own
 from armik.constraints.srdf import Pair
-from armik.errors import ArmikWarning, FrameError, JointError, OptionError, TargetError
+from armik.errors import FrameError, JointError, OptionError, TargetError, warn
 from armik.model import frames
 from armik.model.arm_model import ArmModel
 from armik.model.reduce import check_limits
@@ -185,11 +184,7 @@ class ArmsKinematics:
             for text in arm.limit_violations(q[self._columns[tip]])
         )
         where = "q0" if row is None else f"q0's row {row}"
-        warnings.warn(
-            f"{where} outside the joint limits was clipped into them: " + "; ".join(said),
-            ArmikWarning,
-            stacklevel=4,
-        )
+        warn(f"{where} outside the joint limits was clipped into them: " + "; ".join(said))
         return np.clip(q, self.lower, self.upper)
 
     def split(self, q: object) -> dict[str, np.ndarray]:

@@ -11,7 +11,6 @@ from __future__ import annotations
 import math
 import operator
 import threading
-import warnings
 from collections.abc import Mapping
 from dataclasses import replace
 from functools import cached_property
@@ -22,7 +21,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.checked import configuration
-from armik.errors import ArmikWarning, InputError, JointError, OptionError, listing
+from armik.errors import InputError, JointError, OptionError, listing, warn
 from armik.kernel.chain import KernelChain
 from armik.kernel.coordinates import pin_configuration
 from armik.kernel.fk_many import fk_many
@@ -409,11 +408,9 @@ class ArmModel:
                 return q0 if q0.flags.writeable else q0.copy()
         q = self.check_q(q0, "q0")
         if not self.within_limits(q):
-            warnings.warn(
+            warn(
                 "q0 outside the joint limits was clipped into them: "
-                + "; ".join(self.limit_violations(q)),
-                ArmikWarning,
-                stacklevel=3,
+                + "; ".join(self.limit_violations(q))
             )
             q = np.clip(q, self.lower, self.upper)
         return q if q.flags.writeable and q.flags.c_contiguous else np.array(q)

@@ -29,6 +29,7 @@ import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 
+from armik import errors
 from armik.errors import URDFError
 from armik.model.urdf_tail import after_root
 
@@ -96,8 +97,7 @@ def forgiving_parse(
     notes = _notes(forgiven, where)
     if warn:
         for note in notes:
-            # user -> armik.load -> read_urdf -> read_urdf_string -> here
-            warn(note)
+            errors.warn(note)
     return root, notes
 
 
