@@ -170,3 +170,26 @@ def test_a_bound_that_lets_every_joint_flip_looks_for_no_hidden_jump():
                 assert np.abs(pin.log6(T.actInv(ur5.fk(x))).vector).max() <= 1e-6
         tight = ur5.solve_path(poses, q, max_joint_step=3.1, plan=plan)
         assert tight.status.tolist() == ["converged", "discontinuous"], (plan, tight.summary())
+
+
+@pytest.mark.parametrize("hold", [None, {"wrist_3_joint": None}])
+def test_a_path_followed_by_rows_is_checked_halfway(hold):
+    """UR5 positions, the shoulder turned 2.5 rad between two waypoints: the line between
+    them passes by the shoulder's axis, where no solution lies within a bound of 3 rad of
+    both ends. A held wrist 3 follows the path row by row through the task solver, which
+    went on as if the step were continuous; both routes now say it hides a jump, and with
+    a bound that lets every joint flip both go through, on their positions by FK."""
+    ur5 = arm("ur5")
+    q = np.array([0.48, -1.97, -0.823, -1.577, 6.125, 1.668])
+    P = np.array([ur5.fk(q).translation, ur5.fk(q + np.array([2.5, 0, 0, 0, 0, 0])).translation])
+    held = {} if hold is None else {"hold": hold}
+    tight = ur5.solve_path(P, q, max_joint_step=3.0, **held)
+    assert tight.status.tolist() == ["converged", "discontinuous"], tight.summary()
+    assert "hide" in tight[1].reason
+    loose = ur5.solve_path(P, q, max_joint_step=10.0, **held)
+    assert loose.success.all(), loose.summary()
+    for p, x in zip(P, loose.q):
+        assert np.linalg.norm(ur5.fk(x).translation - p) <= 1e-6
+        if hold is not None:
+            assert x[5] == pytest.approx(q[5], abs=1e-9)
+    assert (tight.solver == "tasks") == (hold is not None)

@@ -6,15 +6,20 @@ held, each pose solved as the path's rungs are (``_nearest_held``)."""
 
 from __future__ import annotations
 
+import dataclasses
 from typing import NamedTuple, cast
 
 import numpy as np
+import pinocchio as pin
 
 from armik.errors import ArmikError
 from armik.frozen import frozen
 from armik.problem.settings import SolverSettings
+from armik.problem.tasks.base import replaced
+from armik.problem.tasks.pose import Pose
 from armik.request import Request
 from armik.solve.rungs import every_answer, unwrapped
+from armik.solve.single import routed
 from armik.solve.turning import Turning
 from armik.solvers import registry
 from armik.solvers.registry import SolverSpec
@@ -123,13 +128,29 @@ def _nearest_held(arm, half: _Halfway, P, R, seeds) -> np.ndarray:
     q = np.full_like(seeds, np.nan)
     for k, seed in enumerate(seeds):
         target = Target(P[k].copy(), None if R is None else R[k].copy(), aim=half.targets.aim)
-        for r in every_answer(arm, held, target, seed, half.spec.name):
+        if held.rows is not None:  # a path by rows: as its rows are solved
+            answers = [routed(arm, _row_at(held.rows[0], target, seed))]
+        else:
+            answers = every_answer(arm, held, target, seed, half.spec.name)
+        for r in answers:
             if not r.success:
                 continue
             c = np.asarray(unwrapped(arm, r, seed, half.turn).q)
             if not np.abs(q[k] - seed).max() <= np.abs(c - seed).max():  # NaN: none yet
                 q[k] = c
     return q
+
+
+def _row_at(row: Request, target: Target, seed: np.ndarray) -> Request:
+    """A path by rows' request (``row``: one whose task is the tip's pose or position,
+    ``armik.solve.path``) with that task moved onto ``target``, from ``seed``."""
+    problem = row.problem
+    task = problem.tasks[0]
+    if isinstance(task, Pose):
+        moved = replaced(task, T=pin.SE3(target.rotation, target.position))
+    else:
+        moved = replaced(task, p=np.array(target.position, dtype=float))
+    return row.but(problem=dataclasses.replace(problem, tasks=(moved,)), q0=seed, score=None)
 
 
 def _reached(arm, Q, P, R, opts: SolverSettings, aim: Aim | None = None) -> np.ndarray:
