@@ -193,3 +193,56 @@ def test_a_path_followed_by_rows_is_checked_halfway(hold):
         if hold is not None:
             assert x[5] == pytest.approx(q[5], abs=1e-9)
     assert (tight.solver == "tasks") == (hold is not None)
+
+
+@pytest.mark.parametrize(
+    "qa, qb",
+    [
+        (
+            [2.877, 0.492, -0.47, -1.393, 2.094, 3.728, -2.473],
+            [2.897, 1.027, -0.528, -1.747, 1.695, 3.286, -2.571],
+        ),
+        (
+            [-2.472, 0.187, -1.981, -2.201, 0.45, 1.147, -0.421],
+            [-2.553, -0.611, -1.089, -1.502, 1.199, 0.691, -0.611],
+        ),
+    ],
+)
+def test_a_panda_step_with_a_solution_halfway_near_both_ends_is_continuous(qa, qb):
+    """Two Panda waypoints, every joint within 0.9 rad of the first: the halfway pose has
+    a solution within max_joint_step (1 rad) of both answers, found by a descent from an
+    end, but not as the solution nearest the step's middle (the sweep's and one descent
+    from the middle missed it): the step was called a hidden jump. Both plans now go
+    through, on the poses by FK, within the bound."""
+    panda = arm("panda")
+    qa, qb = np.array(qa), np.array(qb)
+    poses = [panda.fk(qa), panda.fk(qb)]
+    for plan in ("follow", "global"):
+        r = panda.solve_path(poses, qa, max_joint_step=1.0, plan=plan)
+        assert r.success.all(), (plan, r.summary())
+        for T, x in zip(poses, r.q):
+            assert np.abs(pin.log6(T.actInv(panda.fk(x))).vector).max() <= 1e-6
+        a, b = np.asarray(r.q[0]), np.asarray(r.q[1])
+        assert np.abs(b - a).max() <= 1.0
+        H = _half(*poses)  # a solution there within the bound of both answers
+        found = [panda.solve(H, q0=x, solver="dls", max_restarts=0) for x in (a, b)]
+        assert any(
+            s.success
+            and np.abs(pin.log6(H.actInv(panda.fk(s.q))).vector).max() <= 1e-6
+            and np.abs(np.asarray(s.q) - a).max() <= 1.0
+            and np.abs(np.asarray(s.q) - b).max() <= 1.0
+            for s in found
+        )
+
+
+def test_a_panda_step_whose_halfway_solutions_are_far_hides_a_jump():
+    """Beside the case above, a step of the Panda whose halfway pose has no solution near
+    both ends (none within 1.6 rad of both from 40 seeds about the middle) stays a hidden
+    jump in both plans."""
+    panda = arm("panda")
+    qa = np.array([1.943, 1.525, -0.015, -0.696, -0.894, 1.503, 1.632])
+    qb = np.array([2.478, 0.858, 0.465, -0.07, -1.439, 1.635, 1.882])
+    for plan in ("follow", "global"):
+        r = panda.solve_path([panda.fk(qa), panda.fk(qb)], qa, max_joint_step=1.0, plan=plan)
+        assert r.status.tolist() == ["converged", "discontinuous"], (plan, r.summary())
+        assert "hide" in r[1].reason

@@ -1,8 +1,9 @@
 """The solutions halfway along a planned or followed step (``armik.solve.ladder``'s check
 of the steps a path takes): each halfway pose solved by the path's solver, the solution
 nearest the step's middle kept (``_nearest``); a sweep's or a search's, which may pass by
-the nearest, helped by one numeric descent from the middle (``_descended``); with a joint
-held, each pose solved as the path's rungs are (``_nearest_held``)."""
+the nearest, helped by numeric descents from the middle and the ends (``_descended``);
+with a joint held, each pose solved as the path's rungs are (``_nearest_held``), a path
+followed row by row as its rows are (``_row_at``)."""
 
 from __future__ import annotations
 
@@ -60,10 +61,11 @@ def _may_miss(half: _Halfway) -> bool:
 
 
 def _descended(arm, half: _Halfway, P, R, seeds, q, rows, ends) -> np.ndarray:
-    """For ``rows`` of the halfway poses, one local descent of the numeric solver from the
-    step's middle (``seeds``), no restarts: where its answer is on the pose (Pinocchio's FK,
-    ``_reached``), within the limits and within the step of both ends (``ends``: the ends
-    and the step), it is the halfway solution (written into ``q``) and no jump hides there.
+    """For ``rows`` of the halfway poses, one local descent of the numeric solver from
+    ``seeds`` (the step's middle, or one of its ends), no restarts: where its answer is on
+    the pose (Pinocchio's FK, ``_reached``), within the limits and within the step of both
+    ends (``ends``: the ends and the step), it is the halfway solution (written into ``q``)
+    and no jump hides there.
     Returns the rows so found. The sweep's branches at a few values of its joint may pass
     by a solution the self-motion holds next to the step (an arm along a joint limit)."""
     Qa, Qb, step = ends
