@@ -460,3 +460,33 @@ def _with(q: np.ndarray, cols: np.ndarray, part: np.ndarray) -> np.ndarray:
     out = np.array(q, dtype=float)
     out[cols] = part
     return out
+
+
+def test_a_loop_over_a_shared_torso_anchored_by_a_posture_returns_to_its_start():
+    """TALOS, both hands along a circle of 5 cm radius in 40 waypoints back to the start:
+    each followed step is the least joint motion onto the pose, which drifts along the
+    self-motion (docs/paths.md: 0.044 rad after a lap); a posture preference at q0 brings
+    the joints back onto q0, every answer on its poses by FK and every step within the
+    bound."""
+    robot = talos()
+    union = robot._union
+    q0 = robot.middle
+    n = 40
+    circle = [
+        np.array([0.0, np.sin(2 * np.pi * k / n), 1 - np.cos(2 * np.pi * k / n)])
+        for k in range(n + 1)
+    ]
+    ways = {
+        tip: [
+            pin.SE3(union.fk(q0, tip).rotation, union.fk(q0, tip).translation + 0.05 * c)
+            for c in circle
+        ]
+        for tip in robot.tips
+    }
+    b = robot.solve_path(ways, q0, max_joint_step=0.1, prefer=armik.Posture(q0))
+    assert b.success.all(), b.summary()
+    assert np.abs(np.diff(np.vstack([q0, b.q]), axis=0)).max() <= 0.1 + 1e-12
+    for i in range(n + 1):
+        for tip in robot.tips:
+            assert np.abs(pin.log6(ways[tip][i].actInv(union.fk(b.q[i], tip))).vector).max() <= 1e-6
+    assert np.abs(b.q[-1] - q0).max() <= 1e-6
