@@ -206,13 +206,18 @@ def test_a_path_followed_by_rows_is_checked_halfway(hold):
             [-2.472, 0.187, -1.981, -2.201, 0.45, 1.147, -0.421],
             [-2.553, -0.611, -1.089, -1.502, 1.199, 0.691, -0.611],
         ),
+        (  # joint 4 at its limit: the descents from the middle and the ends stall on it
+            [0.609, -0.926, 2.2664, -0.1279, 1.3405, 0.942, -2.3083],
+            [1.0912, -1.0016, 2.0384, -0.0698, 0.8029, 0.6119, -1.9365],
+        ),
     ],
 )
 def test_a_panda_step_with_a_solution_halfway_near_both_ends_is_continuous(qa, qb):
     """Two Panda waypoints, every joint within 0.9 rad of the first: the halfway pose has
-    a solution within max_joint_step (1 rad) of both answers, found by a descent from an
-    end, but not as the solution nearest the step's middle (the sweep's and one descent
-    from the middle missed it): the step was called a hidden jump. Both plans now go
+    a solution within max_joint_step (1 rad) of both answers, found by descents from the
+    ends and from about the middle, but not as the solution nearest the step's middle
+    (the sweep's and one descent from the middle missed it): the step was called a
+    hidden jump. Both plans now go
     through, on the poses by FK, within the bound."""
     panda = arm("panda")
     qa, qb = np.array(qa), np.array(qb)
@@ -225,7 +230,10 @@ def test_a_panda_step_with_a_solution_halfway_near_both_ends_is_continuous(qa, q
         a, b = np.asarray(r.q[0]), np.asarray(r.q[1])
         assert np.abs(b - a).max() <= 1.0
         H = _half(*poses)  # a solution there within the bound of both answers
-        found = [panda.solve(H, q0=x, solver="dls", max_restarts=0) for x in (a, b)]
+        rng = np.random.default_rng(1)
+        seeds = [a, b] + [0.5 * (a + b) + rng.normal(0.0, 0.3, 7) for _ in range(40)]
+        seeds = [np.clip(x, panda.lower, panda.upper) for x in seeds]
+        found = [panda.solve(H, q0=x, solver="dls", max_restarts=0) for x in seeds]
         assert any(
             s.success
             and np.abs(pin.log6(H.actInv(panda.fk(s.q))).vector).max() <= 1e-6

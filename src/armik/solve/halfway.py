@@ -92,6 +92,20 @@ def _descended(arm, half: _Halfway, P, R, seeds, q, rows, ends) -> np.ndarray:
     return found
 
 
+SPREAD = 6  # descents from about the middle beside those from it and from both ends
+
+
+def _starts(arm, middle: np.ndarray, Qa: np.ndarray, Qb: np.ndarray, step: np.ndarray):
+    """Where ``_descended`` starts, in turn: the step's middle, each end, then ``SPREAD``
+    points about the middle (within half the step, fixed: the same every call) inside
+    the limits: a descent from the middle may stall on a joint limit, where the
+    self-motion holds a solution near both ends further along."""
+    yield from (middle, Qa, Qb)
+    offsets = np.random.default_rng(0).uniform(-0.5, 0.5, (SPREAD, arm.dof))
+    for d in offsets:
+        yield np.clip(middle + d * step, arm.lower, arm.upper)
+
+
 def _nearest(arm, half: _Halfway, P, R, seeds) -> np.ndarray:
     """Per pose (with the path's aim), the solution nearest its seed, each angle turned
     nearest it within the limits; a row of NaN where there is none. An answer not claimed
