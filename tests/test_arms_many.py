@@ -417,3 +417,76 @@ def test_a_tip_left_out_keeps_q0_clipped_into_the_limits(cell, robot):
             r = call()
         assert r.success and robot.within_limits(r.q, tol=0.0)
         assert r.q[j] == robot.upper[j]
+
+
+def test_a_path_over_a_shared_torso_reports_a_jump_hidden_between_waypoints():
+    """TALOS, both hands from one configuration to one within 0.9 rad of it on every joint:
+    the step is within max_joint_step (1 rad), but halfway along the right hand's straight
+    tool line its chain's solutions swing the wrist by more than that (a descent from 200
+    seeds about the step finds none within 1 rad of both ends). The path of several tips,
+    solved row by row, called it converged; it is a hidden jump now, naming the hand, as
+    the hand's own chain reports it. With a bound that lets every joint flip it goes
+    through, each hand on its pose by FK."""
+    robot = talos()
+    union, right = robot._union, robot.tips[1]
+    q = np.array([-0.748, 0.175, 0.121, 0.789, 1.543, -2.103, -0.322, 0.946, -0.421, 0.11])
+    q = np.concatenate((q, [-1.892, -1.408, -0.186, 0.289, 0.965, 0.048]))
+    q2 = np.array([-1.309, -0.262, 0.524, 0.937, 0.812, -2.223, -0.36, 0.334, 0.001, -0.524])
+    q2 = np.concatenate((q2, [-2.088, -1.378, -0.311, 0.445, 1.393, 0.698]))
+    ways = {tip: [union.fk(q, tip), union.fk(q2, tip)] for tip in robot.tips}
+    b = robot.solve_path(ways, q, max_joint_step=1.0)
+    assert b.status.tolist() == ["converged", "discontinuous"], b.summary()
+    assert b.reason(1).startswith(f"{right}: ") and "hide" in b.reason(1)
+    cols = robot._columns[right]
+    Ta, Tb = ways[right]
+    H = pin.SE3(
+        Ta.rotation @ pin.exp3(0.5 * pin.log3(Ta.rotation.T @ Tb.rotation)),
+        0.5 * (Ta.translation + Tb.translation),
+    )
+    there = robot.chain(right).solve(H)  # reachable halfway, but not near both ends
+    assert there.success
+    assert np.abs(pin.log6(H.actInv(union.fk(_with(q, cols, there.q), right))).vector).max() < 1e-6
+    assert max(np.abs(there.q - b.q[0][cols]).max(), np.abs(there.q - b.q[1][cols]).max()) > 1.0
+    loose = robot.solve_path(ways, q, max_joint_step=10.0)
+    assert loose.success.all(), loose.summary()
+    for i in range(2):
+        for tip in robot.tips:
+            err = pin.log6(ways[tip][i].actInv(union.fk(loose.q[i], tip))).vector
+            assert np.abs(err).max() <= 1e-6
+
+
+def _with(q: np.ndarray, cols: np.ndarray, part: np.ndarray) -> np.ndarray:
+    """``q`` with its columns ``cols`` replaced by ``part``."""
+    out = np.array(q, dtype=float)
+    out[cols] = part
+    return out
+
+
+def test_a_loop_over_a_shared_torso_anchored_by_a_posture_returns_to_its_start():
+    """TALOS, both hands along a circle of 5 cm radius in 40 waypoints back to the start:
+    each followed step is the least joint motion onto the pose, which drifts along the
+    self-motion (docs/paths.md: 0.044 rad after a lap); a posture preference at q0 brings
+    the joints back onto q0, every answer on its poses by FK and every step within the
+    bound."""
+    robot = talos()
+    union = robot._union
+    q0 = robot.middle
+    n = 40
+    circle = [
+        np.array([0.0, np.sin(2 * np.pi * k / n), 1 - np.cos(2 * np.pi * k / n)])
+        for k in range(n + 1)
+    ]
+    ways = {
+        tip: [
+            pin.SE3(union.fk(q0, tip).rotation, union.fk(q0, tip).translation + 0.05 * c)
+            for c in circle
+        ]
+        for tip in robot.tips
+    }
+    b = robot.solve_path(ways, q0, max_joint_step=0.1, prefer=armik.Posture(q0))
+    assert b.success.all(), b.summary()
+    assert np.abs(np.diff(np.vstack([q0, b.q]), axis=0)).max() <= 0.1 + 1e-12
+    for i in range(n + 1):
+        for tip in robot.tips:
+            assert np.abs(pin.log6(ways[tip][i].actInv(union.fk(b.q[i], tip))).vector).max() <= 1e-6
+    assert np.abs(b.q[-1] - q0).max() <= 1e-6

@@ -7,14 +7,14 @@ compiled path, on every core) or path, and the rows joined: a row succeeds when 
 tip's does, its status is the first failing tip's, its errors the worst tip's, its reason
 names each tip that failed. Other robots (a shared torso, relative tasks) are solved row by
 row with ``Arms.solve``; a path then seeds each waypoint with the previous answer and
-reports a larger move than ``max_joint_step`` as ``discontinuous``, naming the joint. A
+reports a larger move than ``max_joint_step`` as ``discontinuous``, naming the joint, and
+a jump hidden between two waypoints too, naming the tip (``armik.arms_steps``). A
 cost of the whole configuration (a callable ``prefer=``, ``armik.arms_prefer``) is a
 batch's row by row too, and refused on a path of chains that share no joint.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
 from collections.abc import Mapping, Sequence
@@ -22,19 +22,18 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from armik import reasons
 from armik.arms_apart import facade
 from armik.arms_collision import between, clear_rows
 from armik.arms_joined import held_rows, left_out
 from armik.arms_options import check_held, held_apart
 from armik.arms_prefer import combined, is_cost
 from armik.arms_rows import empty, row_named, solve_rows
+from armik.arms_steps import held, hidden_steps
 from armik.batch_result import BatchResult
 from armik.constraints.base import own
 from armik.errors import OptionError, TargetError
 from armik.problem.problem import relative_tasks
 from armik.problem.settings import SolverSettings
-from armik.result import IKResult
 from armik.solve import backends
 from armik.solve.batch import DEFAULT_CHUNK
 from armik.solve.ladder import STEP_EDGE
@@ -208,6 +207,7 @@ def solve_path(
         found = clear_rows(arms, out, between(arms, options, waypoints))  # the answers together
         if not out.success.all():  # the rows after a failed one: from the success before it
             _follow(arms, out, waypoints, start, step, options, q0 is None, set(found))
+            hidden_steps(arms, out, waypoints, step, opts)  # the rows solved again too
         return _timed(out, t0)
     if plan != "follow":
         raise OptionError(
@@ -218,6 +218,7 @@ def solve_path(
         )
     out = empty(arms, n, "arms, path", opts)
     _follow(arms, out, waypoints, start, step, options, q0 is None)
+    hidden_steps(arms, out, waypoints, step, opts)
     return _timed(out, t0)
 
 
@@ -245,32 +246,11 @@ def _follow(arms, out, waypoints, start, step, options, free: bool, again=None) 
         if redo:
             r = _solved(arms, waypoints, i, q_prev, options)
             if r.success and not (free and i == 0):  # without q0 the first is free
-                r = _held(arms, r, q_prev, step, first=i == 0)
+                r = held(arms, r, q_prev, step, first=i == 0)
             out.put_result(i, r)
         jump = again is not None and out.status_code[i] == _JUMP
         if out.success[i] or jump:
             q_prev, free = np.array(out.q[i]), False
-
-
-def _held(arms: Arms, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: bool):
-    """``r``, or ``r`` reported ``discontinuous`` when a joint moves by more than its step."""
-    moved = np.abs(np.asarray(r.q) - q_prev)
-    j = int(np.argmax(moved / step))
-    if moved[j] <= step[j]:
-        return r
-    start = "q0 (the start)" if first else "the previous waypoint's answer"
-    unit = "m" if arms.prismatic[j] else "rad"
-    move = reasons.moved(arms.joint_names[j], moved[j], unit, start, step[j])
-    return dataclasses.replace(
-        r,
-        success=False,
-        status=Status.DISCONTINUOUS,
-        reason=reasons.jump(
-            reasons.jump_found(move),
-            "that answer",
-            f"position error {r.position_error:.3g} m",
-        ),
-    )
 
 
 def _rows(arms: Arms, targets: object, call: str) -> int:

@@ -170,3 +170,87 @@ def test_a_bound_that_lets_every_joint_flip_looks_for_no_hidden_jump():
                 assert np.abs(pin.log6(T.actInv(ur5.fk(x))).vector).max() <= 1e-6
         tight = ur5.solve_path(poses, q, max_joint_step=3.1, plan=plan)
         assert tight.status.tolist() == ["converged", "discontinuous"], (plan, tight.summary())
+
+
+@pytest.mark.parametrize("hold", [None, {"wrist_3_joint": None}])
+def test_a_path_followed_by_rows_is_checked_halfway(hold):
+    """UR5 positions, the shoulder turned 2.5 rad between two waypoints: the line between
+    them passes by the shoulder's axis, where no solution lies within a bound of 3 rad of
+    both ends. A held wrist 3 follows the path row by row through the task solver, which
+    went on as if the step were continuous; both routes now say it hides a jump, and with
+    a bound that lets every joint flip both go through, on their positions by FK."""
+    ur5 = arm("ur5")
+    q = np.array([0.48, -1.97, -0.823, -1.577, 6.125, 1.668])
+    P = np.array([ur5.fk(q).translation, ur5.fk(q + np.array([2.5, 0, 0, 0, 0, 0])).translation])
+    held = {} if hold is None else {"hold": hold}
+    tight = ur5.solve_path(P, q, max_joint_step=3.0, **held)
+    assert tight.status.tolist() == ["converged", "discontinuous"], tight.summary()
+    assert "hide" in tight[1].reason
+    loose = ur5.solve_path(P, q, max_joint_step=10.0, **held)
+    assert loose.success.all(), loose.summary()
+    for p, x in zip(P, loose.q):
+        assert np.linalg.norm(ur5.fk(x).translation - p) <= 1e-6
+        if hold is not None:
+            assert x[5] == pytest.approx(q[5], abs=1e-9)
+    assert (tight.solver == "tasks") == (hold is not None)
+
+
+@pytest.mark.parametrize(
+    "qa, qb",
+    [
+        (
+            [2.877, 0.492, -0.47, -1.393, 2.094, 3.728, -2.473],
+            [2.897, 1.027, -0.528, -1.747, 1.695, 3.286, -2.571],
+        ),
+        (
+            [-2.472, 0.187, -1.981, -2.201, 0.45, 1.147, -0.421],
+            [-2.553, -0.611, -1.089, -1.502, 1.199, 0.691, -0.611],
+        ),
+        (  # joint 4 at its limit: the descents from the middle and the ends stall on it
+            [0.609, -0.926, 2.2664, -0.1279, 1.3405, 0.942, -2.3083],
+            [1.0912, -1.0016, 2.0384, -0.0698, 0.8029, 0.6119, -1.9365],
+        ),
+    ],
+)
+def test_a_panda_step_with_a_solution_halfway_near_both_ends_is_continuous(qa, qb):
+    """Two Panda waypoints, every joint within 0.9 rad of the first: the halfway pose has
+    a solution within max_joint_step (1 rad) of both answers, found by descents from the
+    ends and from about the middle, but not as the solution nearest the step's middle
+    (the sweep's and one descent from the middle missed it): the step was called a
+    hidden jump. Both plans now go
+    through, on the poses by FK, within the bound."""
+    panda = arm("panda")
+    qa, qb = np.array(qa), np.array(qb)
+    poses = [panda.fk(qa), panda.fk(qb)]
+    for plan in ("follow", "global"):
+        r = panda.solve_path(poses, qa, max_joint_step=1.0, plan=plan)
+        assert r.success.all(), (plan, r.summary())
+        for T, x in zip(poses, r.q):
+            assert np.abs(pin.log6(T.actInv(panda.fk(x))).vector).max() <= 1e-6
+        a, b = np.asarray(r.q[0]), np.asarray(r.q[1])
+        assert np.abs(b - a).max() <= 1.0
+        H = _half(*poses)  # a solution there within the bound of both answers
+        rng = np.random.default_rng(1)
+        seeds = [a, b] + [0.5 * (a + b) + rng.normal(0.0, 0.3, 7) for _ in range(40)]
+        seeds = [np.clip(x, panda.lower, panda.upper) for x in seeds]
+        found = [panda.solve(H, q0=x, solver="dls", max_restarts=0) for x in seeds]
+        assert any(
+            s.success
+            and np.abs(pin.log6(H.actInv(panda.fk(s.q))).vector).max() <= 1e-6
+            and np.abs(np.asarray(s.q) - a).max() <= 1.0
+            and np.abs(np.asarray(s.q) - b).max() <= 1.0
+            for s in found
+        )
+
+
+def test_a_panda_step_whose_halfway_solutions_are_far_hides_a_jump():
+    """Beside the case above, a step of the Panda whose halfway pose has no solution near
+    both ends (none within 1.6 rad of both from 40 seeds about the middle) stays a hidden
+    jump in both plans."""
+    panda = arm("panda")
+    qa = np.array([1.943, 1.525, -0.015, -0.696, -0.894, 1.503, 1.632])
+    qb = np.array([2.478, 0.858, 0.465, -0.07, -1.439, 1.635, 1.882])
+    for plan in ("follow", "global"):
+        r = panda.solve_path([panda.fk(qa), panda.fk(qb)], qa, max_joint_step=1.0, plan=plan)
+        assert r.status.tolist() == ["converged", "discontinuous"], (plan, r.summary())
+        assert "hide" in r[1].reason

@@ -1,20 +1,26 @@
 """The solutions halfway along a planned or followed step (``armik.solve.ladder``'s check
 of the steps a path takes): each halfway pose solved by the path's solver, the solution
 nearest the step's middle kept (``_nearest``); a sweep's or a search's, which may pass by
-the nearest, helped by one numeric descent from the middle (``_descended``); with a joint
-held, each pose solved as the path's rungs are (``_nearest_held``)."""
+the nearest, helped by numeric descents from the middle and the ends (``_descended``);
+with a joint held, each pose solved as the path's rungs are (``_nearest_held``), a path
+followed row by row as its rows are (``_row_at``)."""
 
 from __future__ import annotations
 
+import dataclasses
 from typing import NamedTuple, cast
 
 import numpy as np
+import pinocchio as pin
 
 from armik.errors import ArmikError
 from armik.frozen import frozen
 from armik.problem.settings import SolverSettings
+from armik.problem.tasks.base import replaced
+from armik.problem.tasks.pose import Pose
 from armik.request import Request
 from armik.solve.rungs import every_answer, unwrapped
+from armik.solve.single import routed
 from armik.solve.turning import Turning
 from armik.solvers import registry
 from armik.solvers.registry import SolverSpec
@@ -55,10 +61,11 @@ def _may_miss(half: _Halfway) -> bool:
 
 
 def _descended(arm, half: _Halfway, P, R, seeds, q, rows, ends) -> np.ndarray:
-    """For ``rows`` of the halfway poses, one local descent of the numeric solver from the
-    step's middle (``seeds``), no restarts: where its answer is on the pose (Pinocchio's FK,
-    ``_reached``), within the limits and within the step of both ends (``ends``: the ends
-    and the step), it is the halfway solution (written into ``q``) and no jump hides there.
+    """For ``rows`` of the halfway poses, one local descent of the numeric solver from
+    ``seeds`` (the step's middle, or one of its ends), no restarts: where its answer is on
+    the pose (Pinocchio's FK, ``_reached``), within the limits and within the step of both
+    ends (``ends``: the ends and the step), it is the halfway solution (written into ``q``)
+    and no jump hides there.
     Returns the rows so found. The sweep's branches at a few values of its joint may pass
     by a solution the self-motion holds next to the step (an arm along a joint limit)."""
     Qa, Qb, step = ends
@@ -83,6 +90,20 @@ def _descended(arm, half: _Halfway, P, R, seeds, q, rows, ends) -> np.ndarray:
                 q[k], found[k] = c, True
                 break
     return found
+
+
+SPREAD = 6  # descents from about the middle beside those from it and from both ends
+
+
+def _starts(arm, middle: np.ndarray, Qa: np.ndarray, Qb: np.ndarray, step: np.ndarray):
+    """Where ``_descended`` starts, in turn: the step's middle, each end, then ``SPREAD``
+    points about the middle (within half the step, fixed: the same every call) inside
+    the limits: a descent from the middle may stall on a joint limit, where the
+    self-motion holds a solution near both ends further along."""
+    yield from (middle, Qa, Qb)
+    offsets = np.random.default_rng(0).uniform(-0.5, 0.5, (SPREAD, arm.dof))
+    for d in offsets:
+        yield np.clip(middle + d * step, arm.lower, arm.upper)
 
 
 def _nearest(arm, half: _Halfway, P, R, seeds) -> np.ndarray:
@@ -123,13 +144,29 @@ def _nearest_held(arm, half: _Halfway, P, R, seeds) -> np.ndarray:
     q = np.full_like(seeds, np.nan)
     for k, seed in enumerate(seeds):
         target = Target(P[k].copy(), None if R is None else R[k].copy(), aim=half.targets.aim)
-        for r in every_answer(arm, held, target, seed, half.spec.name):
+        if held.rows is not None:  # a path by rows: as its rows are solved
+            answers = [routed(arm, _row_at(held.rows[0], target, seed))]
+        else:
+            answers = every_answer(arm, held, target, seed, half.spec.name)
+        for r in answers:
             if not r.success:
                 continue
             c = np.asarray(unwrapped(arm, r, seed, half.turn).q)
             if not np.abs(q[k] - seed).max() <= np.abs(c - seed).max():  # NaN: none yet
                 q[k] = c
     return q
+
+
+def _row_at(row: Request, target: Target, seed: np.ndarray) -> Request:
+    """A path by rows' request (``row``: one whose task is the tip's pose or position,
+    ``armik.solve.path``) with that task moved onto ``target``, from ``seed``."""
+    problem = row.problem
+    task = problem.tasks[0]
+    if isinstance(task, Pose):
+        moved = replaced(task, T=pin.SE3(target.rotation, target.position))
+    else:
+        moved = replaced(task, p=np.array(target.position, dtype=float))
+    return row.but(problem=dataclasses.replace(problem, tasks=(moved,)), q0=seed, score=None)
 
 
 def _reached(arm, Q, P, R, opts: SolverSettings, aim: Aim | None = None) -> np.ndarray:

@@ -22,17 +22,18 @@ judged by too (``_jumps``, ``hidden_steps``): a small, straight step passes (``_
 no joint over ``BEND`` of the bound, the tip of the joints moved straight within ``CHORD``
 of the step's motion of the pose halfway: beside a singularity the solutions halfway
 swing, the motion does not); any other is checked halfway, on the pose with the translation
-halved and the rotation halved along its geodesic: the solver's solution there nearest the
-step's middle must lie within ``max_joint_step`` of both ends, as it must if a waypoint
-were added halfway (a sweep's or a search's solver, which may miss the nearest, is helped
-by one numeric descent from the middle: ``_descended``). Where that solution bends more
-than ``BEND`` of the bound away from the step's middle, both halves are checked the same
-way, ``DEPTH`` rounds at most. A step that fails is taken out, with every other step onto
-its waypoint that fails, and the path is planned again until every step taken passes; a
-waypoint that every path reaches only through such a step is ``discontinuous``. Only the
-steps taken are checked, each round in one compiled call. With a joint held (``hold=``)
-the halfway poses are solved as the rungs are, the joint held (``rungs.every_answer``),
-one by one: the solver alone would check the looser problem with the joint free.
+halved and the rotation halved along its geodesic: a solution there must lie within
+``max_joint_step`` of both ends, as it must if a waypoint were added halfway: the solver's
+nearest the step's middle, or for a sweep's or a search's solver, which may miss it, one
+found by numeric descents from the middle, each end and about the middle (``_descended``,
+``_starts``). Where that solution bends more than ``BEND`` of the bound away from the
+step's middle, both halves are checked the same way, ``DEPTH`` rounds at most. A step that
+fails is taken out, with every other step onto its waypoint that fails, and the path is
+planned again until every step taken passes; a waypoint that every path reaches only
+through such a step is ``discontinuous``. Only the steps taken are checked, each round in
+one compiled call. With a joint held (``hold=``) the halfway poses are solved as the rungs
+are, the joint held (``rungs.every_answer``), one by one: the solver alone would check the
+looser problem with the joint free.
 Collisions, when asked for, act through the rungs: ``solve_all`` with the same options
 marks a colliding branch failed, and a failed branch is no rung.
 """
@@ -52,7 +53,7 @@ from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
 from armik.request import Request
 from armik.result import IKResult
-from armik.solve.halfway import _descended, _Halfway, _loose, _may_miss, _nearest
+from armik.solve.halfway import _descended, _Halfway, _loose, _may_miss, _nearest, _starts
 from armik.solve.prefer import continuous_turned, turns
 from armik.solve.turning import ANY, Turning
 from armik.solvers import registry
@@ -318,8 +319,9 @@ def _jumps(arm, half: _Halfway, i, Qa, Qb, step) -> np.ndarray:
         middle = 0.5 * (Qa + Qb)
         q = _nearest(arm, half, P, R, middle)
         near = (np.abs(q - Qa) <= step).all(axis=1) & (np.abs(q - Qb) <= step).all(axis=1)
-        if not near.all() and _may_miss(half):  # a sweep's or a search's: descend too
-            near |= _descended(arm, half, P, R, middle, q, ~near, (Qa, Qb, step))
+        for seeds in _starts(arm, middle, Qa, Qb, step) if _may_miss(half) else ():
+            if not near.all():  # descend too: the solution nearest the middle may be far
+                near |= _descended(arm, half, P, R, seeds, q, ~near, (Qa, Qb, step))
         far = ~near  # NaN (no solution) too
         jumped[which[far]] = True
         bend = np.max(np.abs(q - middle) / step, axis=1)

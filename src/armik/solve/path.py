@@ -38,6 +38,8 @@ from armik.batch_result import BatchResult
 from armik.errors import OptionError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
+from armik.problem.tasks.pose import Pose
+from armik.problem.tasks.position import Position
 from armik.request import Request
 from armik.result import IKResult
 from armik.solve import ladder, rungs
@@ -49,7 +51,7 @@ from armik.solve.stages import run
 from armik.solve.turning import ANY, Turning, refuse_broken, turning
 from armik.solvers import registry
 from armik.status import Status
-from armik.targets.batch import parse_targets
+from armik.targets.batch import TargetBatch, parse_targets
 from armik.targets.pose import Target
 
 DEFAULT_MAX_JOINT_STEP = 0.5  # rad (or m for a prismatic joint) between two waypoints
@@ -179,11 +181,50 @@ def _followed_rows(arm: ArmModel, request: Request, step: np.ndarray) -> BatchRe
         names.add(r.solver)
         if r.success:
             q_prev = np.array(r.q)
-    ladder.held_to_step(arm, out, None if request.q0 is None else arm.seed(request.q0), step)
+    start = None if request.q0 is None else arm.seed(request.q0)
+    ladder.held_to_step(arm, out, start, step)
+    targets = _row_poses(arm, rows)
+    if targets is not None:  # each step judged as the other paths' (halfway._row_at)
+        half = (request.solver, opts, request, turning(arm, request.opts, arm.seed(request.q0)))
+        ladder.hidden_steps(arm, out, targets, step, half)
     label = names.pop() if len(names) == 1 else out.solver
     return frozen(
         BatchResult, **{**vars(out), "solver": label, "time": time.perf_counter() - request.t0}
     )
+
+
+def _row_poses(arm: ArmModel, rows: Sequence[Request]) -> TargetBatch | None:
+    """The tip's poses (or positions) of a path by rows where each row asks for one, alike
+    but for where (the same task, bounds and weights): the poses its steps are judged
+    halfway along; None for other task lists."""
+    tasks = [row.problem.tasks[0] for row in rows if row.problem and len(row.problem.tasks) == 1]
+    if not tasks or len(tasks) != len(rows):
+        return None
+    first = tasks[0]
+    alike = (
+        type(t) is type(first)
+        and isinstance(t, (Pose, Position))
+        and t.frame in (None, arm.tip)
+        and np.array_equal(t.bounds, first.bounds)
+        and np.array_equal(getattr(t, "weights", ()), getattr(first, "weights", ()))
+        for t in tasks
+    )
+    if not all(alike):
+        return None
+    held = len(rows[0].settings.hold or ())
+    if _pinned(first) > arm.dof - held:  # halfway off the poses the held arm reaches
+        return None
+    if isinstance(first, Position):
+        return TargetBatch(np.array([t.p for t in tasks]), None)
+    P = np.array([t.T.translation for t in tasks])
+    return TargetBatch(P, np.array([t.T.rotation for t in tasks]))
+
+
+def _pinned(task: Pose | Position) -> int:
+    """How many components of its pose (or position) ``task`` pins (neither free by an
+    infinite bound nor weighted 0)."""
+    free = task._free if isinstance(task, Pose) else task.bounds
+    return int(np.isfinite(free).sum())
 
 
 def _walk(
