@@ -36,6 +36,7 @@ PACKAGE = Path(__file__).resolve().parent
 _COMPILED = re.compile(r"^from numba import [^\n]*\bnjit\b", re.MULTILINE)  # compiles code
 # a "from" import of the package, on one line or in parentheses: the module, the names
 _CONSTANT = re.compile(r"[A-Z][A-Z0-9_]*")
+_ADDRESS = re.compile(r" at 0x[0-9a-fA-F]+")
 _IMPORT = re.compile(r"^from (armik(?:\.\w+)*) import (\([^)]*\)|[^\n]*)", re.MULTILINE)
 
 
@@ -188,8 +189,10 @@ class Entries(_NUMBA_FILES):  # type: ignore[valid-type, misc]
 
     def _entry_path(self, key: tuple) -> str:
         # the signature and the CPU name the file, so that a later compile of the same
-        # entry (after an edit) replaces it; the header tells which sources it holds
-        digest = hashlib.sha256(repr(key[:2]).encode()).hexdigest()[:24]
+        # entry (after an edit) replaces it; the header tells which sources it holds. No
+        # address (a function's type names its object's): the same name in every process
+        named = _ADDRESS.sub("", repr(key[:2]))
+        digest = hashlib.sha256(named.encode()).hexdigest()[:24]
         return os.path.join(self._cache_path, f"{self._base}.{digest}.nbc")
 
 
