@@ -11,6 +11,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+from numba import njit
 from numba.core import types
 from numba.core.registry import cpu_target
 
@@ -329,3 +330,14 @@ def test_an_entry_saved_from_other_sources_is_not_loaded(tmp_path):
     where = {"cache_path": str(tmp_path), "filename_base": "f-1.py311"}
     files(**where, source_stamp="other sources").save(key, ("other code",))
     assert files(**where, source_stamp=cache._impl.locator.get_source_stamp()).load(key) is None
+
+
+def test_armik_functions_alone_are_cached_a_file_per_entry():
+    assert type(forward._cache._cache_file) is compiled_cache.Entries
+    assert type(solve_into._cache._cache_file) is compiled_cache.Entries
+
+    @njit(cache=True)
+    def other(x):  # not armik's: cached as numba caches it
+        return x
+
+    assert type(other._cache._cache_file) is not compiled_cache.Entries
