@@ -11,6 +11,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+from numba import njit
+from numba.core import types
 from numba.core.registry import cpu_target
 
 import armik  # noqa: F401  (registers the locators)
@@ -285,3 +287,57 @@ def test_armik_compile_refuses_names_that_are_no_part_names_by_value():
     for names in (3, [["dls"]], b"dls", [None]):
         with pytest.raises(armik.OptionError, match=r"names must be a part's name.*got"):
             armik.compile(names)  # type: ignore[arg-type]
+
+
+def test_two_processes_saving_one_function_at_once_keep_both_entries(tmp_path):
+    """Two processes compiling one function for two signatures at once (``armik compile``'s
+    two, a helper and the program it serves), forced here: the second saves its entry
+    whole while the first is writing its own, at each write of the first's in turn. A
+    later process loads each signature's own code."""
+    cache = forward._cache
+    codegen = cpu_target.target_context.codegen()
+    keys = [cache._index_key((t,), codegen) for t in (types.float64, types.int64)]
+    codes = [("code for", str(k[0])) for k in keys]
+    files = type(cache._cache_file)
+    stamp = cache._impl.locator.get_source_stamp()
+
+    class Interrupted(files):  # type: ignore[misc, valid-type]
+        def _open_for_write(self, path):
+            if self.writes == self.interrupted_at:
+                files(**where).save(keys[1], codes[1])  # the second process, all of it
+            self.writes += 1
+            return super()._open_for_write(path)
+
+    for at in range(3):  # numba's save writes twice (its index, then the code)
+        folder = tmp_path / str(at)
+        folder.mkdir()
+        where = {"cache_path": str(folder), "filename_base": "f-1.py311", "source_stamp": stamp}
+        first = Interrupted(**where)
+        first.writes, first.interrupted_at = 0, at
+        first.save(keys[0], codes[0])
+        if first.writes <= at:  # the second saves after the first
+            files(**where).save(keys[1], codes[1])
+        later = files(**where)
+        assert [later.load(k) for k in keys] == codes, at
+
+
+def test_an_entry_saved_from_other_sources_is_not_loaded(tmp_path):
+    """An entry's file is named after its signature and CPU, not its sources: another
+    version's save of the same entry replaces it, and is then compiled again here."""
+    cache = forward._cache
+    key = cache._index_key((types.float64,), cpu_target.target_context.codegen())
+    files = type(cache._cache_file)
+    where = {"cache_path": str(tmp_path), "filename_base": "f-1.py311"}
+    files(**where, source_stamp="other sources").save(key, ("other code",))
+    assert files(**where, source_stamp=cache._impl.locator.get_source_stamp()).load(key) is None
+
+
+def test_armik_functions_alone_are_cached_a_file_per_entry():
+    assert type(forward._cache._cache_file) is compiled_cache.Entries
+    assert type(solve_into._cache._cache_file) is compiled_cache.Entries
+
+    @njit(cache=True)
+    def other(x):  # not armik's: cached as numba caches it
+        return x
+
+    assert type(other._cache._cache_file) is not compiled_cache.Entries

@@ -12,7 +12,8 @@ fresh clone or checkout of the same commit, a copied tree, a restored CI cache);
 itself still refuses an entry compiled by another numba or for another CPU (its index
 keys each entry by the CPU's name and features). The cache stays where numba puts it
 (``NUMBA_CACHE_DIR``, else the source tree's ``__pycache__``, else the user's cache
-directory); only the stamp differs.
+directory); only the stamp differs, and each entry is a file of its own (``Entries``), so
+that processes compiling the same function at once keep each other's entries.
 
 Imported by ``armik/kernel/__init__.py``, which each package holding compiled modules
 (``kernel``, ``constraints``, ``servo``, ``solvers.closed_form``) imports first: numba
@@ -23,6 +24,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import pickle
 import re
 import sys
 from functools import cache
@@ -34,6 +36,7 @@ PACKAGE = Path(__file__).resolve().parent
 _COMPILED = re.compile(r"^from numba import [^\n]*\bnjit\b", re.MULTILINE)  # compiles code
 # a "from" import of the package, on one line or in parentheses: the module, the names
 _CONSTANT = re.compile(r"[A-Z][A-Z0-9_]*")
+_ADDRESS = re.compile(r" at 0x[0-9a-fA-F]+")
 _IMPORT = re.compile(r"^from (armik(?:\.\w+)*) import (\([^)]*\)|[^\n]*)", re.MULTILINE)
 
 
@@ -136,6 +139,75 @@ def _stamped(base: type) -> type:
     return Stamped
 
 
+# numba's class of a function's cache files (``_register`` puts ``_files`` in its place)
+_NUMBA_FILES = getattr(caching.IndexDataCacheFile, "numba_files", caching.IndexDataCacheFile)
+
+
+class Entries(_NUMBA_FILES):  # type: ignore[valid-type, misc]
+    """The cache files of one armik function: a file for each entry (a signature on a CPU),
+    named after it and holding its key, where numba keeps an index of them all. numba's
+    save reads the index, adds its entry, writes it back and numbers its data file after
+    the entries it read: two processes compiling the function at once (``armik compile``'s
+    two, a helper and the program it serves) lost one's entry, or named one's code under
+    the other's signature. Here a save writes its own file only (aside, then renamed into
+    place), and a load takes a file only if it holds the key asked for, compiled from the
+    same sources by the same numba."""
+
+    def __init__(self, cache_path: str, filename_base: str, source_stamp: str) -> None:
+        super().__init__(cache_path, filename_base, source_stamp)
+        self._base = filename_base
+
+    def save(self, key: tuple, data: object) -> None:
+        header, payload = self._dump(self._header(key)), self._dump(data)
+        with self._open_for_write(self._entry_path(key)) as f:
+            f.write(header)  # read alone by ``holds``
+            f.write(payload)
+        caching._cache_log("[cache] entry saved to %r", self._entry_path(key))
+
+    def load(self, key: tuple) -> object:
+        path = self._entry_path(key)
+        try:
+            with open(path, "rb") as f:
+                if pickle.load(f) != self._header(key):
+                    return None
+                data = pickle.loads(f.read())
+        except Exception:  # none, or not whole: compiled again
+            return None
+        caching._cache_log("[cache] entry loaded from %r", path)
+        return data
+
+    def holds(self, key: tuple) -> bool:
+        """Whether the cache holds ``key``'s entry (its file's header read, not its code)."""
+        try:
+            with open(self._entry_path(key), "rb") as f:
+                return bool(pickle.load(f) == self._header(key))
+        except Exception:
+            return False
+
+    def _header(self, key: tuple) -> tuple:
+        return self._version, self._source_stamp, key
+
+    def _entry_path(self, key: tuple) -> str:
+        # the signature and the CPU name the file, so that a later compile of the same
+        # entry (after an edit) replaces it; the header tells which sources it holds. No
+        # address (a function's type names its object's): the same name in every process
+        named = _ADDRESS.sub("", repr(key[:2]))
+        digest = hashlib.sha256(named.encode()).hexdigest()[:24]
+        return os.path.join(self._cache_path, f"{self._base}.{digest}.nbc")
+
+
+def _files(numba_files: type):
+    """What numba builds a function's cache files with: ``Entries`` for armik's functions
+    (stamped by ``_stamp``), numba's own class for every other."""
+
+    def files(cache_path: str, filename_base: str, source_stamp: object):
+        kind = Entries if source_stamp == _stamp() else numba_files
+        return kind(cache_path, filename_base, source_stamp)
+
+    files.numba_files = numba_files  # type: ignore[attr-defined]
+    return files
+
+
 def _numba(name: str):
     """numba's class ``name`` (older releases spell it with a leading underscore)."""
     return getattr(caching, name, None) or getattr(caching, f"_{name}")
@@ -158,6 +230,8 @@ def _register() -> tuple:
     locators = tuple(_stamped(base) for base in bases)
     if not any(c.__name__ == locators[0].__name__ for c in classes):  # once, if reloaded
         classes[:0] = list(locators)
+    # what numba's Cache builds a function's files with, when the function is decorated
+    caching.IndexDataCacheFile = _files(_NUMBA_FILES)  # type: ignore[misc]
     return locators
 
 

@@ -9,9 +9,9 @@ those calls load.
 numba compiles on one core, so the parts are shared out to one process per core: on two
 cores in two fixed lists that share little compiled code (``_HALVES``), on more longest
 first, the numeric solvers' parts, which share most of their compiled code, to one process
-one after another (``_TOGETHER``). Two processes may write the same cache index at
-once and one entry can be lost, so the calling process then runs every part itself: from
-the cache that takes a fraction of a second, and it compiles again whatever was lost.
+one after another (``_TOGETHER``). The calling process then runs every part itself
+(``load``): from the cache that takes a fraction of a second. Processes saving the same
+function at once keep each other's entries (``compiled_cache.Entries``).
 """
 
 from __future__ import annotations
@@ -403,7 +403,7 @@ def _no_notice() -> Iterator[None]:
 def _compile(names: Sequence[str], jobs: int, bar, load: bool) -> dict:
     if jobs > 1 and len(names) > 1 and _spawn_starts():
         took = _in_processes(names, min(jobs, len(names)), bar)
-        for name in names:  # from the cache now; compiles what a concurrent write lost
+        for name in names:  # from the cache now
             if name not in took:  # a process that died (killed, out of memory): here
                 took[name] = _timed(name)
             elif load:

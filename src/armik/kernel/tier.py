@@ -234,13 +234,13 @@ def _large(args: tuple) -> bool:
 
 
 def cached(dispatcher: Dispatcher, types: tuple) -> bool:
-    """Whether numba's cache holds ``dispatcher`` for ``types``: its index only, not the
-    code (numba's own lookup, through attributes numba does not document: anything
+    """Whether numba's cache holds ``dispatcher`` for ``types``: its entry's header only,
+    not the code (numba's own key, through attributes numba does not document: anything
     unexpected counts as cached, so that numba's own call goes on)."""
     try:
         cache = dispatcher._cache  # type: ignore[attr-defined]
         key = cache._index_key(types, dispatcher.targetctx.codegen())  # type: ignore[attr-defined]
-        return key in cache._cache_file._load_index()
+        return bool(cache._cache_file.holds(key))  # ``compiled_cache.Entries``
     except Exception:
         return True
 
