@@ -1,20 +1,21 @@
-"""The exported swept 7R solver (the Panda, joint 7 held) where joints 3 and 5 lie in one
-line (joint 4 = 0, its limits widened to hold it): every row ``solve_all(T, hold=)`` gives,
-each reaching the target by Pinocchio's FK. Only the pair's sum turns the tip; both keep
-joint 5 at the middle of its limits, or the value nearest it that keeps joint 3 within its
-own, where the closed form's split was its rounding's."""
+"""The exported swept 7R solver (joint 7 held) where joints 3 and 5 lie in one line (joint
+4 = 0: the Panda's limits widened to hold it, the iiwa's stretched elbow): every row
+``solve_all(T, hold=)`` gives, each reaching the target by Pinocchio's FK. Only the pair's
+sum turns the tip; both keep joint 5 at the middle of its limits, or the value nearest it
+that keeps joint 3 within its own, where the closed form's split was its rounding's."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
+import armik
 from tests.export.build import Solver
 from tests.export.test_export_c import reached
 from tests.export.test_export_held import same_as_held_solve_all
 from tests.solvers.test_swept_in_line import CASES, panda_shifted, panda_wide
 
-LOADS = {"wide": panda_wide, "shifted": panda_shifted}
+LOADS = {"wide": panda_wide, "shifted": panda_shifted, "iiwa": lambda: armik.load("kuka_iiwa14")}
 # m and rad: at joint 4 = 0 the elbow of the chain solved from the tip is at a double root,
 # which rounding moves by about 1e-8 rad (the square root of double precision)
 REACHED = 1e-7

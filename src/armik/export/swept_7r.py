@@ -74,14 +74,15 @@ static double split_at(double qa, double qb, double sgn, double ti, int a, int b
    Panda's joints 3 and 5 at joint 4 = 0): only their sum turns the tip, split by the
    closed form's rounding (within IN_LINE; within IK_SINGLE, a row it leaves outside the
    limits). The first (in the reversed chain's order) is set to Q0's value, or the nearest
-   that keeps both within their limits, the other takes the rest (swept_7r.in_line). */
-static void in_line(double W[][DOF], double C[][DOF], double S[][DOF], int n, const double *Q0)
+   that keeps both within their limits, the other takes the rest (swept_7r.in_line), once
+   the free joints' values are chosen. */
+static void in_line(double W[][DOF], double C[][DOF], double S[][DOF], int n)
 {
     double q[6], t, sgn, c, far;
     vec3 Pi, Di, Pj, Dj;
     int r, i, k, a, b, outside, split;
     for (r = 0; r < n; r++) {
-        for (k = 0; k < 6; k++) q[k] = nearest(W[r][5 - k], Q0[5 - k], LO[5 - k], HI[5 - k]);
+        for (k = 0; k < 6; k++) q[k] = nearest(W[r][5 - k], MID[5 - k], LO[5 - k], HI[5 - k]);
         split = 0;
         for (i = 0; i < 3; i++) {  /* axes (1, 3), (2, 4), (3, 5); (4, 6) is the wrist */
             if (norm(cross(LINE_H[i], mv(rot(LINE_H[i + 1], q[i + 1]), LINE_H[i + 2])))
@@ -98,7 +99,7 @@ static void in_line(double W[][DOF], double C[][DOF], double S[][DOF], int n, co
             if (c > IK_SINGLE || far > IK_SINGLE || (!outside && (c > IN_LINE || far > IN_LINE)))
                 continue;
             sgn = dot(Di, Dj) > 0.0 ? 1.0 : -1.0;
-            t = split_at(q[i], q[i + 2], sgn, Q0[a], a, b);
+            t = split_at(q[i], q[i + 2], sgn, MID[a], a, b);
             q[i + 2] = q[i + 2] + sgn * (q[i] - t);
             q[i] = t;
             split = 1;
@@ -125,7 +126,6 @@ static int rows(mat3 R, vec3 pos, double held, const double *Q0, int *mask, doub
         for (j = 0; j < 3; j++) Ri.m[3 * i + j] = R6.m[3 * j + i];
     pi = neg(mv(Ri, p_end));
     n = reversed_rows(Ri, pi, Q0, mask, W, C, S);
-    in_line(W, C, S, n, Q0);
     for (i = 0; i < n; i++) {
         W[i][HELD] = held;
         C[i][HELD] = c7;
@@ -149,4 +149,4 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
     text = f"{names}\n{lines}" + spherical_wrist.reversed_text(sw.geo) + IN_LINE + ROWS
     summary = f"a 7R arm with joint 7 held at an argument ({sw.description})"
     sweep = tuple(5 - j for j in spherical_wrist.FREE)  # the reversed chain's, as it sweeps
-    return Rows(text, 8, SNAP, summary, held=HELD, sweep=sweep, reversed=True)
+    return Rows(text, 8, SNAP, summary, held=HELD, sweep=sweep, reversed=True, settle="in_line")

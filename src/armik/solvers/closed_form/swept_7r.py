@@ -153,12 +153,12 @@ def in_line(h, p, q0, lower, upper, labelled, out, n):
     ``SINGLE``: a row it leaves outside the limits). The first (in the reversed chain's
     order) is kept at q0's value, or the nearest that keeps both within their limits, the
     other takes the rest, the row singular; the rows packed again (``sixr.pack``), a row the
-    same as one before it dropped. Returns the count. A row the kernel calls singular keeps
-    its free joint, as the exported C does (axes 4 and 6 are its wrist)."""
+    same as one before it dropped. Returns the count. A row the kernel calls singular is
+    split too (the iiwa's stretched elbow is at joint 4 = 0); axes 4 and 6 are its wrist."""
     moved = False
     for r in range(n):
-        if int(out[r, 6]) & (sixr.LS | sixr.SINGULAR):
-            continue  # a singular row: the kernel's free joint kept (the exported C's too)
+        if int(out[r, 6]) & sixr.LS:
+            continue  # not reached: no split makes it so
         for i in range(3):  # axes (1, 3), (2, 4), (3, 5); (4, 6) is the kernel's wrist
             j = i + 2  # their angle turns with joint i + 1 alone: read cheaply first
             turned = sp.mv(rot(vec(h[i + 1]), out[r, i + 1]), vec(h[j]))
