@@ -38,38 +38,6 @@ static void axis_line(const double *qr, int k, vec3 *point, vec3 *dir)
     *dir = mv(R, LINE_H[k]);
 }
 
-/* Joint a's value nearest ti at which joint b = qb + sgn (qa - value) lies within its
-   limits, turns by 2 pi allowed (joint a within its own, or within pi of ti without
-   them); ti itself where none does (swept_7r._split_at). */
-static double split_at(double qa, double qb, double sgn, double ti, int a, int b)
-{
-    const double two_pi = 2.0 * IK_PI;
-    double lo = LO[a] > ti - IK_PI ? LO[a] : ti - IK_PI;
-    double hi = HI[a] < ti + IK_PI ? HI[a] : ti + IK_PI;
-    double c = qb + sgn * qa, x, y, x0, x1, t, best = ti, gap = HUGE_VAL;
-    long m, last;
-    if (isfinite(LO[a]) && isfinite(HI[a])) {
-        lo = LO[a];
-        hi = HI[a];
-    }
-    if (!(isfinite(LO[b]) && isfinite(HI[b]))) return ti < lo ? lo : (ti > hi ? hi : ti);
-    x = sgn > 0.0 ? c - HI[b] : LO[b] - c;  /* joint b = c - sgn t (+ 2 pi m) at joint a = t */
-    y = sgn > 0.0 ? c - LO[b] : HI[b] - c;
-    last = (long)floor((hi - x) / two_pi);
-    for (m = (long)ceil((lo - y) / two_pi); m <= last; m++) {
-        x0 = x + two_pi * m > lo ? x + two_pi * m : lo;
-        x1 = y + two_pi * m < hi ? y + two_pi * m : hi;
-        if (x0 <= x1) {
-            t = ti < x0 ? x0 : (ti > x1 ? x1 : ti);
-            if (fabs(t - ti) < gap) {
-                best = t;
-                gap = fabs(t - ti);
-            }
-        }
-    }
-    return best;
-}
-
 /* Rows 0 to n - 1 where two axes of the reversed chain one joint apart lie in one line (the
    Panda's joints 3 and 5 at joint 4 = 0): only their sum turns the tip, split by the
    closed form's rounding (within IN_LINE; within IK_SINGLE, a row it leaves outside the
