@@ -81,7 +81,31 @@ def test_cli(tmp_path, capsys):
     assert main(["export", "ur5", "--name", "t", "--out", str(out), *tight]) == 0
     assert "to 1e-09 m and 2e-09 rad" in (out / "t_ik.h").read_text()
     assert main(["export", "ur5", "--name", "t", "--out", str(out), "--tol-position", "-1"]) == 2
-    assert "tol_position must be > 0" in capsys.readouterr().err
+    assert "armik: error: --tol-position must be > 0" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    "flags, words",
+    [
+        (["--name", "1x"], "--name must be a C identifier"),
+        (["--name", "_x"], "--name '_x' is reserved"),
+        (["--tol-orientation", "nan"], "--tol-orientation must be finite"),
+        (["--tol-position", "1e-13"], "--tol-position 1e-13 is below"),
+    ],
+)
+def test_cli_errors_name_the_flag(flags, words, tmp_path, capsys):
+    """A refusal of an argument of ``armik.export`` names the flag that gave it, not the
+    Python keyword (``tol_position``, ``name=``), which the command line has not."""
+    argv = ["export", "ur5", "--name", "t", "--out", str(tmp_path / "o"), *flags]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert f"armik: error: {words}" in err and "tol_" not in err
+
+
+def test_cli_error_of_out_names_the_flag(tmp_path, capsys):
+    (tmp_path / "file").write_text("")
+    assert main(["export", "ur5", "--name", "t", "--out", str(tmp_path / "file")]) == 2
+    assert f"armik: error: --out {str(tmp_path / 'file')!r} cannot" in capsys.readouterr().err
 
 
 def test_cli_prints_the_paths_written(tmp_path, capsys, monkeypatch):

@@ -118,3 +118,18 @@ def test_targets_at_and_near_the_line_keep_their_configuration(seed):
         q[3] = rng.choice([0.0, 1e-12, -1e-10, 1e-9, -1e-8, 1e-6])
         if a.within_limits(q):
             assert _found(a, q, [2, 4]), q.tolist()
+
+
+def test_the_iiwas_stretched_elbow_keeps_every_shoulder():
+    """The iiwa's joints 3 and 5 in line at joint 4 = 0 are its elbow stretched, which the
+    closed form calls singular: the split is still made, so that the configuration of the
+    target (but for the split) is among the successes, as at the Panda's. The first is one
+    whose split the closed form left outside joint 3's limits."""
+    a = armik.load("kuka_iiwa14")
+    rng = np.random.default_rng(4)
+    first = [-0.746773, 0.149062, -2.147778, 0.0, -1.166115, -1.126557, 2.588474]
+    for k in range(30):
+        q = np.array(first) if k == 0 else a.random_q(rng)
+        q[3] = (0.0, 1e-12, -1e-12)[k % 3]
+        if abs(q[1]) > 1e-3:  # joint 2 at 0 too puts joint 1 in the line
+            assert _found(a, q, [2, 4]), q.tolist()

@@ -28,7 +28,7 @@ import math
 import textwrap
 from dataclasses import dataclass
 
-from armik.export import c_source, fk_code
+from armik.export import c_source, fk_code, free_sweep
 from armik.kernel.descent import DUPLICATE_TOL
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes
@@ -55,7 +55,10 @@ class Rows:
     value, ``..., const double *Q0, int *mask, W, C, S)``: a free joint at Q0's value, its
     bit set in ``*mask``); where no row at the middle of the limits is verified, the first
     free joint's other values are tried as ``sixr.FREE_SWEEP`` does, nearest the middle
-    first, and the first value that gives a verified row is kept."""
+    first, and the first value that gives a verified row is kept. ``settle``: the C name of
+    a pass over the rows once the free joints' values are chosen (``static void
+    settle(double W[][DOF], double C[][DOF], double S[][DOF], int n)``, before the rows are
+    judged again: the swept 7R arm's split of two joints in line), else empty."""
 
     text: str
     max_rows: int
@@ -64,6 +67,7 @@ class Rows:
     held: int | None = None
     sweep: tuple[int, ...] = ()
     reversed: bool = False
+    settle: str = ""
 
 
 def _comment(text: str) -> str:
@@ -347,60 +351,15 @@ HELD_CHECK = """    if (!(LO[HELD] - LIMIT_TOL <= held && held <= HI[HELD] + LIM
 ROWS = """    n = rows(R, p, @HELD_ARG@W, C, S);
     judge(n, W, C, S, R, p, key, &taken);"""
 
-SWEEP_ROWS = "    n = sweep(R, p, @HELD_ARG@W, C, S, key, &taken);"
 
-# the rows of a family with free joints (``Rows.sweep``): at the middle of the limits, else
-# at the first of the free joint's other values that gives a verified row, as
-# ``spherical_wrist.kernel`` and ``three_parallel.kernel`` sweep it
-SWEEP = """
-/* The first free joint's index in the order the closed form sweeps them. */
-static int swept_joint(int mask)
-{
-@ORDER@
-}
-
-/* The rows at the middle of the limits, judged; where a joint is free there and none is
-   verified, the rows at the free joint's other values (FREE_SWEEP over a turn within its
-   limits, nearest the middle first: +step, -step, +2 step, ...), the first that gives a
-   verified row kept. Returns the number of rows, judged (bit r of *taken: row r refused). */
-static int sweep(mat3 R, vec3 p, @HELD_PARAM@double W[][DOF], double C[][DOF],
-                 double S[][DOF], double *key, int *taken)
-{
-    double seed[DOF], step = 2.0 * IK_PI / FREE_SWEEP, lo, hi, value;
-    int mask = 0, unused = 0, n, m, j, k;
-    n = rows(R, p, @HELD_ARG@MID, &mask, W, C, S);
-    if (judge(n, W, C, S, R, p, key, taken) > 0 || mask == 0 || n == 0) return n;
-    j = swept_joint(mask);
-    lo = LO[j] > MID[j] - IK_PI ? LO[j] : MID[j] - IK_PI;
-    hi = HI[j] < MID[j] + IK_PI ? HI[j] : MID[j] + IK_PI;
-    for (k = 0; k < DOF; k++) seed[k] = MID[k];
-    for (k = 1; k <= FREE_SWEEP; k++) {
-        value = MID[j] + (k % 2 ? step * ((k + 1) / 2) : -step * (k / 2));
-        if (!(lo <= value && value <= hi)) continue;
-        seed[j] = value;
-        m = rows(R, p, @HELD_ARG@seed, &unused, W, C, S);
-        *taken = 0;
-        if (judge(m, W, C, S, R, p, key, taken) > 0) return m;
-    }
-    return 0;  /* no value gives a verified row */
-}
-"""
-
-
-def _sweep(order: tuple[int, ...]) -> str:
-    """``SWEEP``'s function choosing the joint to sweep from the free joints' bits."""
-    *first, last = order
-    lines = [f"    if (mask & (1 << {j})) return {j};" for j in first]
-    return "\n".join([*lines, f"    return {last};"])
-
-
-def _common(name: str, held: int | None, order: tuple[int, ...] = ()) -> str:
+def _common(name: str, held: int | None, order: tuple[int, ...] = (), settle: str = "") -> str:
     """``COMMON`` for solver ``name``, with the held joint's argument when there is one and
-    the sweep over a free joint when ``order`` names the free joints (``Rows.sweep``)."""
+    the sweep over a free joint when ``order`` names the free joints (``Rows.sweep``), its
+    rows settled by ``settle`` when named (``Rows.settle``)."""
     text = COMMON.replace("@NAME@", name)
     if order:
-        text = text.replace("@SWEEP_FN@", SWEEP.replace("@ORDER@", _sweep(order)))
-        text = text.replace("@ROWS@", SWEEP_ROWS)
+        text = text.replace("@SWEEP_FN@", free_sweep.source(order, settle))
+        text = text.replace("@ROWS@", free_sweep.ROWS)
     else:
         text = text.replace("@SWEEP_FN@", "").replace("@ROWS@", ROWS)
     parts = ("double held, ", HELD_CHECK, "held, ") if held is not None else ("", "", "")
@@ -463,6 +422,6 @@ def source(name: str, arm: ArmModel, ax: Axes, rows: Rows, opts: SolverSettings)
         fk_code.source(ax),
         PUT,
         rows.text,
-        _common(name, rows.held, rows.sweep).replace("@ORIENTATION@", test),
+        _common(name, rows.held, rows.sweep, rows.settle).replace("@ORIENTATION@", test),
     ]
     return "\n".join(parts)

@@ -47,7 +47,7 @@ def rows(arm: ArmModel, ax: Axes) -> Rows:
     names = {f"h{i + 1}": h[i] for i in range(6)}
     names.update({f"p{i}": p[i] for i in (0, 1, 2, 3, 6)})
     names["R_TIP0"] = geo.R_tip0
-    text = c_source.constants(names) + "\nenum { J3 = 3 };  /* joint 4's column */\n"
+    text = c_source.constants(names) + "\nenum { J3 = 3, J5 = 5 };  /* joints 4 and 6 */\n"
     text += c_subproblems_56.source(sp5=True) + WRIST + ROWS
     summary = f"a 6R arm with a spherical wrist, general first axes ({geo.description})"
     return Rows(text, 8, SNAP, summary)

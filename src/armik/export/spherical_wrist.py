@@ -15,15 +15,49 @@ from armik.solvers.closed_form import subproblems as sp
 from armik.solvers.closed_form.sixr import SNAP, Chain6R
 
 WRIST = r"""
+/* Joint a's value nearest ti at which joint b = qb + sgn (qa - value) lies within its
+   limits, turns by 2 pi allowed (joint a within its own, or within pi of ti without
+   them); ti itself where none does (line_split.split_at). */
+static double split_at(double qa, double qb, double sgn, double ti, int a, int b)
+{
+    const double two_pi = 2.0 * IK_PI;
+    double lo = LO[a] > ti - IK_PI ? LO[a] : ti - IK_PI;
+    double hi = HI[a] < ti + IK_PI ? HI[a] : ti + IK_PI;
+    double c = qb + sgn * qa, x, y, x0, x1, t, best = ti, gap = HUGE_VAL;
+    long m, last;
+    if (isfinite(LO[a]) && isfinite(HI[a])) {
+        lo = LO[a];
+        hi = HI[a];
+    }
+    if (!(isfinite(LO[b]) && isfinite(HI[b]))) return ti < lo ? lo : (ti > hi ? hi : ti);
+    x = sgn > 0.0 ? c - HI[b] : LO[b] - c;  /* joint b = c - sgn t (+ 2 pi m) at joint a = t */
+    y = sgn > 0.0 ? c - LO[b] : HI[b] - c;
+    last = (long)floor((hi - x) / two_pi);
+    for (m = (long)ceil((lo - y) / two_pi); m <= last; m++) {
+        x0 = x + two_pi * m > lo ? x + two_pi * m : lo;
+        x1 = y + two_pi * m < hi ? y + two_pi * m : hi;
+        if (x0 <= x1) {
+            t = ti < x0 ? x0 : (ti > x1 ? x1 : ti);
+            if (fabs(t - ti) < gap) {
+                best = t;
+                gap = fabs(t - ti);
+            }
+        }
+    }
+    return best;
+}
+
 /* The (up to 2) wrist solutions for a placed wrist centre, appended to W; joint 4 free
-   (axes 4 and 6 in line) at Q0's value, its bit set in *mask. */
+   (axes 4 and 6 in line) at Q0's value, or the value nearest it that keeps joint 6 within
+   its limits, its bit set in *mask. */
 static int wrist(mat3 R03, mat3 R06, const double *Q0, int *mask, double q[6], double c[6],
                  double s[6], double W[][DOF], double C[][DOF], double S[][DOF], int n)
 {
-    mat3 R36 = mtm(R03, R06), R6;
-    double a[2], b[2], ca[2], sa[2], cb[2], sb[2];
+    mat3 R36 = mtm(R03, R06), R45;
+    double a[2], b[2], ca[2], sa[2], cb[2], sb[2], sgn, t;
     int nw = sp2cs(mv(R36, h6), h6, neg(h4), h5, Q0[J3], a, b, ca, sa, cb, sb), i;
-    if (nw == -1) {
+    int free4 = nw == -1;
+    if (free4) {
         nw = 1;
         *mask |= 1 << J3;
     }
@@ -34,8 +68,20 @@ static int wrist(mat3 R03, mat3 R06, const double *Q0, int *mask, double q[6], d
         s[3] = sa[i];
         c[4] = cb[i];
         s[4] = sb[i];
-        R6 = mtm(mm(rot_cs(h4, c[3], s[3]), rot_cs(h5, c[4], s[4])), R36);
-        q[5] = sp1cs(h5, mv(R6, h5), h6, &c[5], &s[5]);
+        R45 = mm(rot_cs(h4, c[3], s[3]), rot_cs(h5, c[4], s[4]));
+        q[5] = sp1cs(h5, mv(mtm(R45, R36), h5), h6, &c[5], &s[5]);
+        if (free4) {  /* only q4 + q6 (q4 - q6 with the axes opposed) turns the tool */
+            sgn = dot(h4, mv(R45, h6)) > 0.0 ? 1.0 : -1.0;
+            t = split_at(q[3], q[5], sgn, Q0[J3], J3, J5);
+            if (t != q[3]) {
+                q[5] = q[5] + sgn * (q[3] - t);
+                q[3] = t;
+                c[3] = cos(t);
+                s[3] = sin(t);
+                c[5] = cos(q[5]);
+                s[5] = sin(q[5]);
+            }
+        }
         n = put_row(W, C, S, n, q, c, s);
     }
     return n;
@@ -151,11 +197,12 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
 FREE = (0, 2, 1, 3)
 
 
-def chain_text(geo: Chain6R, joints: tuple[int, ...] = FREE) -> str:
+def chain_text(geo: Chain6R, joints: tuple[int, ...] = FREE, last: int = 5) -> str:
     """The constants of the chain ``geo`` (a spherical-wrist ``Chain6R``, either variant)
     and the C of its ``wrist`` and ``rows``; ``joints``: the arm's indices of the chain's
     joints 1, 3, 2 and 4 (``J0``, ``J2``, ``J1``, ``J3``: a free joint's value is read from
-    the seed ``Q0`` and its bit set in ``*mask`` at them)."""
+    the seed ``Q0`` and its bit set in ``*mask`` at them); ``last``: the arm's index of the
+    chain's joint 6 (``J5``: its limits bound a free joint 4's value)."""
     h, p = geo.h, geo.p
     names = {f"h{i + 1}": h[i] for i in range(6)}
     names.update({f"p{i}": p[i] for i in (0, 2, 3, 6)})
@@ -168,7 +215,7 @@ def chain_text(geo: Chain6R, joints: tuple[int, ...] = FREE) -> str:
     else:
         body = MEETING_12
     j0, j2, j1, j3 = joints
-    free = f"enum {{ J0 = {j0}, J1 = {j1}, J2 = {j2}, J3 = {j3} }};  /* the free joints */\n"
+    free = f"enum {{ J0 = {j0}, J1 = {j1}, J2 = {j2}, J3 = {j3}, J5 = {last} }};  /* free */\n"
     if body is MEETING_12:  # m: joint 2 free there (spherical_wrist.STRAIGHT)
         free += f"static const double STRAIGHT = {c_source.num(spherical_wrist.STRAIGHT)};\n"
     return c_source.constants(names) + "\n" + free + c_source.KEEP_NEARER + WRIST + body
@@ -195,7 +242,7 @@ def reversed_text(geo: Chain6R) -> str:
     1): its ``reversed_rows`` solve it for T^-1 and write each row in the arm's order
     (``put_reversed``), a free joint's value read from the seed ``Q0`` in the arm's order."""
     chain = (
-        chain_text(geo, tuple(5 - j for j in FREE))
+        chain_text(geo, tuple(5 - j for j in FREE), last=0)
         .replace("put_row(", "put_reversed(")
         .replace("static int rows(", "static int reversed_rows(")
     )

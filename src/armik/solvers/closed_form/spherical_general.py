@@ -97,7 +97,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             cd = MISSED
             got = add(add(mv(rot(h1, q1), p1), mv(mm(rot(h1, q1), rot(h2, q2)), p2)), mv(R03, p3))
             v0 = norm(sub(got, p16))
-        n = _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, f, cd, v0, 0.0, W, n)
+        n = _wrist(R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, f, cd, v0, 0.0, W, n)
     sixr.nearest_equivalents(W, n, q0, lower, upper)
     return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out)
 

@@ -33,6 +33,7 @@ from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, angle_between, axis_lines, fmt, meeting_point
 from armik.solvers.closed_form import sixr
 from armik.solvers.closed_form.family import Family
+from armik.solvers.closed_form.line_split import split_at
 from armik.solvers.closed_form.sixr import LS, SHOULDER_OFFSET, SINGULAR, WRIST_ORIENTATION
 from armik.solvers.closed_form.sixr_judged import GENERAL, UNLABELLED, judged, split
 from armik.solvers.closed_form.subproblems import (
@@ -109,15 +110,18 @@ def classify_axes(ax: Axes) -> sixr.Chain6R | str:
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
-def _wrist(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, W, n):
+def _wrist(R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag, cd, v0, v1, W, n):
     """Append the (up to 2) wrist solutions for a placed wrist centre to the kernel's rows
     ``W`` (``sixr``'s layout); returns the count."""
-    return _wrist_free(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, W, n)[0]
+    return _wrist_free(R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag, cd, v0, v1, W, n)[
+        0
+    ]
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
-def _wrist_free(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, W, n):
-    """``_wrist``: (the count, whether q4 was free: axes 4 and 6 in line)."""
+def _wrist_free(R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag, cd, v0, v1, W, n):
+    """``_wrist``: (the count, whether q4 was free: axes 4 and 6 in line). A free q4 is at
+    q0's value, or the value nearest it that keeps q6 within its limits."""
     R36 = mtm(R03, R06)
     a0, a1, b0, b1, nw, lsw = sp2(mv(R36, h6), h6, neg(h4), h5, q0[3])
     sing = False
@@ -126,8 +130,12 @@ def _wrist_free(R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd, v0, v1, W, n):
     for iw in range(nw):
         q4 = a0 if iw == 0 else a1
         q5 = b0 if iw == 0 else b1
-        R6 = mtm(mm(rot(h4, q4), rot(h5, q5)), R36)
-        q6, _ = sp1(h5, mv(R6, h5), h6)
+        R45 = mm(rot(h4, q4), rot(h5, q5))
+        q6, _ = sp1(h5, mv(mtm(R45, R36), h5), h6)
+        if sing:  # only q4 + q6 (q4 - q6 with the axes opposed) turns the tool
+            s = 1.0 if dot(h4, mv(R45, h6)) > 0.0 else -1.0
+            t = split_at(q4, q6, s, q0[3], lower, upper, 3, 5)
+            q4, q6 = t, q6 + s * (q4 - t)
         f = flag
         c = cd
         if lsw:
@@ -225,7 +233,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 q2, _ = sp1(u, v, h2)
                 R03 = mm(mm(R1, rot(h2, q2)), R3)
                 n, sing = _wrist_free(
-                    R03, R06, h4, h5, h6, q0, q1, q2, q3, flag3, cd3, w0, w1,
+                    R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag3, cd3, w0, w1,
                     W, n,
                 )  # fmt: skip
                 free |= 2 if sing else 0
@@ -260,8 +268,8 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 if norm(cross(h2, u)) <= STRAIGHT and miss <= STRAIGHT:
                     R03 = mm(R12, rot(h3, e))
                     n, sing = _wrist_free(
-                        R03, R06, h4, h5, h6, q0, q1, q2, e, flag3 | SINGULAR, cd3, w0, w1,
-                        W, n,
+                        R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, e, flag3 | SINGULAR,
+                        cd3, w0, w1, W, n,
                     )  # fmt: skip
                     free |= 8 | (2 if sing else 0)
                     continue
@@ -280,7 +288,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 q2 = b0 if i12 == 0 else b1
                 R03 = mm(mm(rot(h1, q1), rot(h2, q2)), R3)
                 n, sing = _wrist_free(
-                    R03, R06, h4, h5, h6, q0, q1, q2, q3, flag, cd3, w0, w1,
+                    R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag, cd3, w0, w1,
                     W, n,
                 )  # fmt: skip
                 free |= 2 if sing else 0

@@ -37,6 +37,7 @@ from armik.solvers.claims import claim
 from armik.solvers.closed_form import sixr, sixr_answers
 from armik.solvers.closed_form import spherical_wrist as spherical
 from armik.solvers.closed_form import subproblems as sp
+from armik.solvers.closed_form.line_split import split_at
 from armik.solvers.closed_form.subproblems import mat, rot, vec
 from armik.solvers.closed_form.swept_dips import DIP_STEPS as DIP_STEPS
 from armik.solvers.closed_form.swept_dips import narrow
@@ -153,12 +154,12 @@ def in_line(h, p, q0, lower, upper, labelled, out, n):
     ``SINGLE``: a row it leaves outside the limits). The first (in the reversed chain's
     order) is kept at q0's value, or the nearest that keeps both within their limits, the
     other takes the rest, the row singular; the rows packed again (``sixr.pack``), a row the
-    same as one before it dropped. Returns the count. A row the kernel calls singular keeps
-    its free joint, as the exported C does (axes 4 and 6 are its wrist)."""
+    same as one before it dropped. Returns the count. A row the kernel calls singular is
+    split too (the iiwa's stretched elbow is at joint 4 = 0); axes 4 and 6 are its wrist."""
     moved = False
     for r in range(n):
-        if int(out[r, 6]) & (sixr.LS | sixr.SINGULAR):
-            continue  # a singular row: the kernel's free joint kept (the exported C's too)
+        if int(out[r, 6]) & sixr.LS:
+            continue  # not reached: no split makes it so
         for i in range(3):  # axes (1, 3), (2, 4), (3, 5); (4, 6) is the kernel's wrist
             j = i + 2  # their angle turns with joint i + 1 alone: read cheaply first
             turned = sp.mv(rot(vec(h[i + 1]), out[r, i + 1]), vec(h[j]))
@@ -171,7 +172,7 @@ def in_line(h, p, q0, lower, upper, labelled, out, n):
             if c > sp.SINGLE or far > sp.SINGLE or not outside and (c > IN_LINE or far > IN_LINE):
                 continue
             s = 1.0 if sp.dot(Di, Dj) > 0.0 else -1.0
-            t = _split_at(out[r, i], out[r, j], s, q0[i], lower, upper, i, j)
+            t = split_at(out[r, i], out[r, j], s, q0[i], lower, upper, i, j)
             out[r, j] = out[r, j] + s * (out[r, i] - t)
             out[r, i] = t
             out[r, 6] = float(int(out[r, 6]) | sixr.SINGULAR)
@@ -203,29 +204,6 @@ def _line(h, p, q, k):
         R = sp.mm(R, rot(vec(h[m]), q[m]))
         o = sp.add(o, sp.mv(R, vec(p[m + 1])))
     return o, sp.mv(R, vec(h[k]))
-
-
-@njit(cache=True, no_cfunc_wrapper=True)
-def _split_at(qi, qj, s, ti, lower, upper, i, j):
-    """Joint i's value nearest ``ti`` at which joint j = qj + s (qi - value) lies within
-    its limits, turns by 2 pi allowed (joint i within its own, or within pi of ``ti``
-    without them); ``ti`` itself where none does."""
-    lo, hi = max(lower[i], ti - math.pi), min(upper[i], ti + math.pi)
-    if math.isfinite(lower[i]) and math.isfinite(upper[i]):
-        lo, hi = lower[i], upper[i]
-    if not (math.isfinite(lower[j]) and math.isfinite(upper[j])):
-        return min(max(ti, lo), hi)
-    c = qj + s * qi  # joint j = c - s t (+ 2 pi k) at joint i = t
-    a, b = (c - upper[j], c - lower[j]) if s > 0 else (lower[j] - c, upper[j] - c)
-    best = ti
-    gap = math.inf
-    for m in range(math.ceil((lo - b) / sixr.TWO_PI), math.floor((hi - a) / sixr.TWO_PI) + 1):
-        x0, x1 = max(a + sixr.TWO_PI * m, lo), min(b + sixr.TWO_PI * m, hi)
-        if x0 <= x1:
-            t = min(max(ti, x0), x1)
-            if abs(t - ti) < gap:
-                best, gap = t, abs(t - ti)
-    return best
 
 
 def held_reason(theta: float, singular: bool) -> str:
