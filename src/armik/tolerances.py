@@ -28,13 +28,6 @@ MAX_WEIGHT = 1e6
 ROTATION_TOL = 1e-6
 LAST_ROW_TOL = 1e-12
 
-# Solutions: two rows of a closed form this close in every joint (rad or m) are one root
-# that rounding split (a double root at a singular target: ~1e-8 apart), listed once;
-# further apart they are two solutions, each exact (the iiwa with joint 6 held, joint 5 at
-# 1e-5 rad: two 6.5e-5 rad apart). A numeric solver's answers are one within its own
-# DUPLICATE_TOL (armik.kernel.descent), wider: they stop anywhere within the tolerance.
-SAME_ROOT = 1e-6
-
 # Verification: a tolerance below MIN_TOLERANCE is below what double precision can check
 # (the FK's own rounding reaches 1e-15 on a metre-long arm), so it is refused.
 MIN_TOLERANCE = 1e-12  # m or rad

@@ -20,12 +20,11 @@ from armik.batch_result import BatchResult
 from armik.constraints.base import satisfied
 from armik.constraints.limits import on_limits
 from armik.frozen import frozen
-from armik.kernel.descent import DUPLICATE_TOL
 from armik.result import IKResult
 from armik.solvers.answers import Answers
 from armik.solvers.claims import Claim
 from armik.status import Status
-from armik.tolerances import LIMIT_TOL, SAME_ROOT
+from armik.tolerances import LIMIT_TOL
 from armik.verify.distances import batch_distances, with_distances
 from armik.verify.measure import BatchMeasure, Measure, measure, measure_batch, measure_many
 from armik.verify.verdicts import Verdicts, tied
@@ -208,9 +207,7 @@ def ranked(found: Verdicts, solver: str, seed, all_solutions: bool, t0: float):
     order = found.order(seed)
     if not all_solutions:
         return found.results(order[:1], solver, time.perf_counter() - t0)
-    # a closed form labels its rows with their branches, each exact: one only where
-    # rounding split a root; a numeric solver's stop anywhere within the tolerance
-    order = found.once(order, DUPLICATE_TOL if found.answers.branch is None else SAME_ROOT)
+    order = found.once(order)
     branch = found.answers.branch
     labels = numbered([None] * n if branch is None else [branch[i] for i in order])
     return found.results(order, solver, time.perf_counter() - t0, labels)

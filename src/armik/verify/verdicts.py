@@ -263,10 +263,10 @@ class Verdicts:
         verified = sum(ok)  # first: the successes, nearest the seed first (ties: ``tied``)
         return tied(order[:verified], keys, self.answers.q.shape[1]) + order[verified:]
 
-    def once(self, order: list[int], tol: float = DUPLICATE_TOL) -> list[int]:
-        """``order`` without a success within ``tol`` of one before it in every joint: the
-        same solution, which a closed form can find twice at a double root (two rows 1e-8
-        apart at a singular target: ``tolerances.SAME_ROOT``), listed once."""
+    def once(self, order: list[int]) -> list[int]:
+        """``order`` without a success within ``DUPLICATE_TOL`` of one before it in every
+        joint: the same solution, which a closed form can find twice at a double root (two
+        rows 1e-8 apart at a singular target), listed once."""
         good = (self.status == _CONVERGED).tolist()  # one pass, no call a row
         ok = [i for i in order if good[i]]
         if len(ok) < 2:
@@ -276,15 +276,15 @@ class Verdicts:
         first = S[:, 0]
         by = np.argsort(first, kind="stable")
         ranked = first[by]
-        lo = np.searchsorted(ranked, first - tol, side="right")
-        hi = np.searchsorted(ranked, first + tol, side="left")
-        if np.all(hi - lo <= 1):  # each row alone within tol in joint 1
+        lo = np.searchsorted(ranked, first - DUPLICATE_TOL, side="right")
+        hi = np.searchsorted(ranked, first + DUPLICATE_TOL, side="left")
+        if np.all(hi - lo <= 1):  # each row alone within DUPLICATE_TOL in joint 1
             return order
         kept = np.zeros(len(ok), dtype=bool)
         twice = set()
         for a in range(len(ok)):
             near = [b for b in by[lo[a] : hi[a]].tolist() if b < a and kept[b]]
-            if near and np.any(np.abs(S[near] - S[a]).max(axis=1) < tol):
+            if near and np.any(np.abs(S[near] - S[a]).max(axis=1) < DUPLICATE_TOL):
                 twice.add(ok[a])
             else:
                 kept[a] = True

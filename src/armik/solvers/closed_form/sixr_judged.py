@@ -34,10 +34,11 @@ import math
 import numpy as np
 from numba import njit
 
+from armik.kernel.descent import DUPLICATE_TOL
 from armik.kernel.measure import fk_checks_beside
 from armik.solvers.closed_form.sixr import LS, NOT_FOUND, branch_bits, unflatten
 from armik.status import FAILURE_RANK, Status
-from armik.tolerances import LIMIT_TOL, SAME_ROOT
+from armik.tolerances import LIMIT_TOL
 
 MEASURED = 11  # columns 11-13: position error (m), orientation error (rad, NaN), > 0 within
 STATUS = 14  # the row's status code
@@ -189,7 +190,7 @@ def _holds(rows, i, tol_p, tol_r, rot):
 @njit(cache=True, nogil=True, no_cfunc_wrapper=True)
 def _once(rows, n, later, tol_p, tol_r, rot):
     """(n, later) of the first ``n`` measured rows without a row whose measure holds within
-    ``SAME_ROOT`` in every joint of an earlier such row (a double root the kernel found
+    ``DUPLICATE_TOL`` in every joint of an earlier such row (a double root the kernel found
     twice, 1e-8 apart at a singular target: one solution, listed once), the others moved up
     in their order; ``later``'s bits follow them."""
     kept = 0
@@ -202,7 +203,7 @@ def _once(rows, n, later, tol_p, tol_r, rot):
                 if not moved >> k & 1 and _holds(rows, k, tol_p, tol_r, rot):
                     twice = True
                     for j in range(6):
-                        if not abs(rows[i, j] - rows[k, j]) < SAME_ROOT:
+                        if not abs(rows[i, j] - rows[k, j]) < DUPLICATE_TOL:
                             twice = False
                             break
                     if twice:
