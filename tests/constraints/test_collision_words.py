@@ -50,3 +50,5 @@ def test_the_servo_says_an_overlapping_pair_overlaps():
         collisions.still(set(), "a", "b", -0.002)
     with pytest.warns(armik.ArmikWarning, match="a and b are 0.004 m apart, inside"):
         collisions.still(set(), "a", "b", 0.004)
+    with pytest.warns(armik.ArmikWarning, match="a and b are touching, inside"):  # not "-0 m"
+        collisions.still(set(), "a", "b", 0.0)

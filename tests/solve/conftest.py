@@ -1,13 +1,13 @@
-"""The solve tests' fixture: a local Dask cluster of two worker processes (``client``), one
-per test process: each worker's start, imports and loads of compiled code are paid once, not
-once a module (some 20 s of CPU a run)."""
+"""The solve tests' fixture: a local Dask cluster of two worker processes, one per module that
+asks for it (``client``). Not one a session: its workers would outlive their modules, and the
+tests that count a run's child processes (``test_forked.py``) would count them."""
 
 from __future__ import annotations
 
 import pytest
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def client():
     distributed = pytest.importorskip("distributed", reason="Dask is the optional cluster extra")
     cluster = distributed.LocalCluster(

@@ -254,3 +254,25 @@ def test_a_panda_step_whose_halfway_solutions_are_far_hides_a_jump():
         r = panda.solve_path([panda.fk(qa), panda.fk(qb)], qa, max_joint_step=1.0, plan=plan)
         assert r.status.tolist() == ["converged", "discontinuous"], (plan, r.summary())
         assert "hide" in r[1].reason
+
+
+def test_a_held_paths_step_with_a_solution_halfway_near_its_ends_is_continuous():
+    # the Panda held at joints 1 and 7, positions (the task solver's rows): the halfway
+    # answer nearest the step's middle lies 1.03 rad from one end, one found from an end
+    # lies within the bound of both; it was called a hidden jump
+    panda = arm("panda")
+    hold = {"panda_joint1": None, "panda_joint7": None}
+    qa = np.array([-2.4035, -0.1753, -2.4381, -0.566, 2.4433, 2.2248, -1.0084])
+    qb = np.array([-2.4035, -0.8306, -2.3177, -1.1828, 1.9386, 2.6199, -1.0084])
+    P = np.array([panda.fk(qa).translation, panda.fk(qb).translation])
+    got = panda.solve_path(P, qa, max_joint_step=1.0, hold=hold)
+    assert got.status.tolist() == ["converged", "converged"], got.reason(1)
+    a, b = np.asarray(got.q[0]), np.asarray(got.q[1])
+    halfway = panda.solve(0.5 * (P[0] + P[1]), q0=a, hold=hold)  # a solution near both ends
+    assert halfway.success
+    assert np.abs(halfway.q - a).max() <= 1.0 and np.abs(halfway.q - b).max() <= 1.0
+    model = panda.model  # on the halfway point by Pinocchio
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, panda.kinematics.to_pin(halfway.q))
+    placed = panda.kinematics.T_base_world * data.oMf[model.getFrameId(panda.tip)]
+    assert np.linalg.norm(placed.translation - 0.5 * (P[0] + P[1])) < 1e-6

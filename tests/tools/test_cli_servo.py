@@ -95,3 +95,28 @@ def test_servo_on_a_planar_arm_circles_in_its_plane(capsys):
     assert "orientation free" in out and "out_of_reach" not in out
     excess = re.search(r"position ([0-9.e+-]+), velocity ([0-9.e+-]+), acceleration (\S+)", out)
     assert [float(v) for v in excess.groups()] == [0.0, 0.0, 0.0]
+
+
+def test_servo_on_a_two_joint_arm_in_the_y_z_plane_circles_as_positions(capsys, tmp_path):
+    # in the base's y-z plane, the circle held the tool's turn, which two joints cannot
+    # while the tip goes round: 0.15 m off, never tracked
+    urdf = tmp_path / "yz.urdf"
+    urdf.write_text(YZ_TWO_LINK)
+    code, out, err = run(capsys, "servo", str(urdf), "--q0", "0.3", "0.6", "--seconds", "1")
+    assert code == 0, err
+    assert _number(r"circle: 500 ticks .*?last ([0-9.e+-]+) m", out) < 1e-5
+    assert "orientation free" in out
+
+
+YZ_TWO_LINK = """<?xml version="1.0"?>
+<robot name="yz2">
+  <link name="base"/><link name="l1"/><link name="l2"/><link name="tip"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+    <origin xyz="0 0 0"/><axis xyz="1 0 0"/>
+    <limit lower="-3" upper="3" effort="1" velocity="2"/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>
+    <origin xyz="0 0 1.0"/><axis xyz="1 0 0"/>
+    <limit lower="-3" upper="3" effort="1" velocity="2"/></joint>
+  <joint name="t" type="fixed"><parent link="l2"/><child link="tip"/>
+    <origin xyz="0 0 0.8"/></joint>
+</robot>"""

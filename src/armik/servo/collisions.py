@@ -149,7 +149,8 @@ def still(said: set[tuple[str, str]], a: str, b: str, d: float) -> None:
     if (a, b) in said:
         return
     said.add((a, b))
-    gap = f"{d:.4g} m apart" if d > 0 else f"overlapping by {-d:.4g} m"  # d < 0: the depth
+    # d < 0: the depth
+    gap = f"{d:.4g} m apart" if d > 0 else "touching" if d == 0 else f"overlapping by {-d:.4g} m"
     warn(
         f"{a} and {b} are {gap}, inside the collision margin, and no joint the "
         "servo commands moves them apart: no row keeps them apart (move the obstacle, or "

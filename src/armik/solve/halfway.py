@@ -136,6 +136,23 @@ def _nearest(arm, half: _Halfway, P, R, seeds) -> np.ndarray:
     return q
 
 
+def _from_ends(arm, half: _Halfway, P, R, q, near, ends: tuple) -> None:
+    """With a held joint, each pose not yet ``near`` solved again from each end of its step
+    (``ends``: Qa, Qb, the bound), as the held problem is solved: the answer nearest the
+    middle can be off the step's route where one nearest an end is on it (a Panda held at
+    joints 1 and 7, positions). ``q`` and ``near`` updated in place."""
+    Qa, Qb, step = ends
+    for seeds in (Qa, Qb) if half.held is not None else ():
+        redo = np.flatnonzero(~near)
+        if not len(redo):
+            return
+        got = _nearest(arm, half, P[redo], None if R is None else R[redo], seeds[redo])
+        ok = (np.abs(got - Qa[redo]) <= step).all(axis=1)
+        ok &= (np.abs(got - Qb[redo]) <= step).all(axis=1)
+        q[redo[ok]] = got[ok]
+        near[redo[ok]] = True
+
+
 def _nearest_held(arm, half: _Halfway, P, R, seeds) -> np.ndarray:
     """``_nearest`` where the path holds a joint: each pose's verified answers as the
     rungs are found (``rungs.every_answer``: the held joint at its value, a 6R chain), the

@@ -53,7 +53,15 @@ from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
 from armik.request import Request
 from armik.result import IKResult
-from armik.solve.halfway import _descended, _Halfway, _loose, _may_miss, _nearest, _starts
+from armik.solve.halfway import (
+    _descended,
+    _from_ends,
+    _Halfway,
+    _loose,
+    _may_miss,
+    _nearest,
+    _starts,
+)
 from armik.solve.prefer import continuous_turned, turns
 from armik.solve.turning import ANY, Turning
 from armik.solvers import registry
@@ -322,6 +330,7 @@ def _jumps(arm, half: _Halfway, i, Qa, Qb, step) -> np.ndarray:
         for seeds in _starts(arm, middle, Qa, Qb, step) if _may_miss(half) else ():
             if not near.all():  # descend too: the solution nearest the middle may be far
                 near |= _descended(arm, half, P, R, seeds, q, ~near, (Qa, Qb, step))
+        _from_ends(arm, half, P, R, q, near, (Qa, Qb, step))  # a held joint's: from each end
         far = ~near  # NaN (no solution) too
         jumped[which[far]] = True
         bend = np.max(np.abs(q - middle) / step, axis=1)

@@ -60,8 +60,8 @@ def cmd_servo(args: argparse.Namespace) -> int:
         )
     T0 = arm.fk(q0)
     plane = arm.kinematics.plane
-    if plane is not None and abs(plane.normal[0]) > 1.0 - 1e-9:
-        plane = None  # a planar arm in the base's y-z plane: the circle below is in it
+    if plane is not None and abs(plane.normal[0]) > 1.0 - 1e-9 and arm.kinematics.dof >= 3:
+        plane = None  # in the base's y-z plane, with a joint for the tool's turn: the circle
     if plane is None:
         stream: list = circle(T0, ticks, dt, args.circle, args.hz)
     else:  # off a planar arm's plane: in it instead, as positions (the tool's turn follows)
