@@ -377,3 +377,24 @@ def test_bench_refuses_an_empty_list_of_names(capsys, flags):
     # no solver name ended in a ZeroDivisionError traceback, no arm name in an empty table
     code, out, err = run(capsys, "bench", "-n", "2", *flags)
     assert code == 2 and out == "" and err.startswith("armik: error: give at least one")
+
+
+@pytest.mark.parametrize("command", ["solve", "batch", "path"])
+@pytest.mark.parametrize("tol", ["-1", "0", "nan"])
+def test_a_bad_tol_names_the_flag(capsys, tmp_path, command, tol):
+    # the keyword's words ("tol_position must be > 0") named neither the flag nor the
+    # orientation's tolerance it sets too
+    points = tmp_path / "points.npy"
+    import numpy as np
+
+    np.save(points, np.array([[0.4, 0.1, 0.3], [0.4, 0.12, 0.3]]))
+    where = {
+        "solve": ["--xyz", "0.4", "0.1", "0.3"],
+        "batch": [str(points), "-o", str(tmp_path / "out.npz")],
+        "path": [str(points), "-o", str(tmp_path / "out.npz")],
+    }[command]
+    code, out, err = run(capsys, command, "ur5", *where, f"--tol={tol}")
+    assert code == 2
+    assert err.strip().splitlines() == [
+        f"armik: error: --tol must be a positive number of m and rad, got {float(tol):g}"
+    ]

@@ -54,6 +54,12 @@ def solve_options(args: argparse.Namespace) -> dict:
     if args.timeout is not None:
         options["timeout"] = args.timeout
     if getattr(args, "tol", None) is not None:
+        if not (args.tol > 0 and math.isfinite(args.tol)):  # the keywords' words name neither
+            raise OptionError(
+                f"--tol must be a positive number of m and rad, got {args.tol:g}",
+                option="--tol",
+                value=args.tol,
+            )
         options["tol_position"] = options["tol_orientation"] = args.tol
     if args.iterations is not None:
         options["iteration_budget"] = args.iterations
