@@ -63,3 +63,14 @@ def test_a_clipped_q0_over_several_tips_is_said_at_the_callers_line():
     ):
         for w in _said(call):
             assert w.filename == __file__, (w.filename, str(w.message))
+
+
+def test_a_path_held_row_by_row_says_a_clipped_q0_once():
+    # the path by rows read its q0 three times (its first seed, the move from the start,
+    # the turns), and said the clipped q0 each time
+    ur5 = arm("ur5")
+    T = ur5.fk(ur5.middle + 0.1)
+    P = [T.translation, T.translation + [0.0, 0.01, 0.0]]
+    said = _said(lambda: ur5.solve_path(P, UR5_Q0_OUTSIDE, hold={"wrist_3_joint": None}))
+    assert len(said) == 1, [str(w.message) for w in said]
+    assert said[0].filename == __file__

@@ -170,7 +170,8 @@ def _followed_rows(arm: ArmModel, request: Request, step: np.ndarray) -> BatchRe
     ``step`` (``ladder.held_to_step``: a larger move is ``discontinuous``, never silent);
     a score ranks each waypoint's answers as ``solve``'s does."""
     rows = request.rows or ()
-    q_prev = arm.seed(request.q0)
+    seed = arm.seed(request.q0)  # read once: a q0 outside the limits is said once
+    q_prev = seed.copy()
     opts = request.settings
     out = BatchResult.for_arm(arm, len(rows), "tasks", opts, margin=opts.margin)
     names = set()
@@ -181,11 +182,10 @@ def _followed_rows(arm: ArmModel, request: Request, step: np.ndarray) -> BatchRe
         names.add(r.solver)
         if r.success:
             q_prev = np.array(r.q)
-    start = None if request.q0 is None else arm.seed(request.q0)
-    ladder.held_to_step(arm, out, start, step)
+    ladder.held_to_step(arm, out, None if request.q0 is None else seed, step)
     targets = _row_poses(arm, rows)
     if targets is not None:  # each step judged as the other paths' (halfway._row_at)
-        half = (request.solver, opts, request, turning(arm, request.opts, arm.seed(request.q0)))
+        half = (request.solver, opts, request, turning(arm, request.opts, seed))
         ladder.hidden_steps(arm, out, targets, step, half)
     label = names.pop() if len(names) == 1 else out.solver
     return frozen(
