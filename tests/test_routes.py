@@ -59,7 +59,14 @@ def _floors():
         pytest.skip(f"{ROUTE} is not beside the checkout: calls up are not counted")
     spec = importlib.util.spec_from_file_location("shared_route", ROUTE)
     route = importlib.util.module_from_spec(spec)  # type: ignore[arg-type]
-    spec.loader.exec_module(route)  # type: ignore[union-attr]
+    # route.py puts the checkout's src first on sys.path when it loads: this process, and
+    # every process it starts after (a Dask cluster's workers, the compile tests'), would
+    # import armik from there, beside the installed one, and compile it all again
+    path = list(sys.path)
+    try:
+        spec.loader.exec_module(route)  # type: ignore[union-attr]
+    finally:
+        sys.path[:] = path
     route.SRC = str(Path(__file__).resolve().parents[1] / "src")
     return route.floor
 
@@ -124,3 +131,11 @@ def test_a_warm_route_makes_no_call_up(label, setup, call):
     finally:
         sys.setprofile(None)
     assert not up, f"{label}: {len(up)} calls up, the first {up[:3]}"
+
+
+def test_reading_the_route_tool_leaves_sys_path_as_it_was():
+    # this process's later imports, and the processes it starts (their sys.path is this
+    # one's), import the armik under test, not the checkout's src beside it
+    before = list(sys.path)
+    _floors()
+    assert sys.path == before

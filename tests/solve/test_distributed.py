@@ -39,6 +39,17 @@ def test_cluster_gives_the_local_answers(client, name):
     assert remote.solver == local.solver and remote.arm == name
 
 
+def test_the_workers_run_the_armik_this_process_runs(client):
+    # a worker importing another copy (a source tree put first on sys.path) would find
+    # none of this one's compiled code and compile it all again
+    def where() -> str:
+        import armik as here
+
+        return here.__file__
+
+    assert set(client.run(where).values()) == {armik.__file__}
+
+
 def test_each_worker_builds_the_arm_once(client):
     a = arm("ur5")
     T = _targets("ur5", 10)
