@@ -1,13 +1,15 @@
-"""The solve tests' fixture: a local Dask cluster of two worker processes, one per module that
-asks for it (``client``). Not one a session: its workers would outlive their modules, and the
-tests that count a run's child processes (``test_forked.py``) would count them."""
+"""The solve tests' fixture: a local Dask cluster of two worker processes (``client``), one
+a test process, started by the first test that asks for it and kept to the end of the run:
+its workers start Python, import armik and load the compiled solvers once, not once a
+module. Tests that count their own child processes (``test_forked.py``) leave its workers
+out."""
 
 from __future__ import annotations
 
 import pytest
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def client():
     distributed = pytest.importorskip("distributed", reason="Dask is the optional cluster extra")
     cluster = distributed.LocalCluster(
