@@ -235,12 +235,22 @@ def test_compiled_functions_make_no_c_callback_wrapper():
     assert wrapped == []
 
 
-ONE_PART = textwrap.dedent(
+# The task solver's rows alone (``task_rows.stacked``: ``_stack``, which ``descend`` calls,
+# with every FK caller in it), compiled in a process of its own from an empty cache: the
+# dispatchers it compiles are typed there, and count their signatures
+STACKED_ALONE = textwrap.dedent(
     """
-    import sys
-    from armik import precompile
+    import armik
     from armik.kernel import fk
-    precompile.PARTS[sys.argv[1]]()
+    from armik.kernel.task_rows import stacked
+    from armik.solve.task_table import task_table
+    from armik.solve.tasks import frame_ids
+    arm = armik.load("panda")
+    q = arm.middle
+    T = arm.fk(q, "panda_link4").inverse() * arm.fk(q)
+    tasks = (armik.Relative("panda_hand", "panda_link4", T),)
+    table = task_table(arm.kinematics, tasks, frame_ids(arm.kinematics, tasks))
+    stacked(*table.chains, table.R_t, table.p_t, table.params, table.ints, q)
     print(len(fk.forward.signatures), len(fk.jacobian_local.signatures))
     """
 )
@@ -253,7 +263,7 @@ def test_the_task_solver_compiles_the_fk_once(tmp_path):
     environ = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path), "ARMIK_COMPILE_HELPER": "0"}
     environ["PYTHONPATH"] = os.pathsep.join(sys.path)
     done = subprocess.run(
-        [sys.executable, "-c", ONE_PART, "tasks"],
+        [sys.executable, "-c", STACKED_ALONE],
         env=environ,
         capture_output=True,
         text=True,
