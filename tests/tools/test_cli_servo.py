@@ -120,3 +120,25 @@ YZ_TWO_LINK = """<?xml version="1.0"?>
   <joint name="t" type="fixed"><parent link="l2"/><child link="tip"/>
     <origin xyz="0 0 0.8"/></joint>
 </robot>"""
+
+
+def test_an_arm_without_a_bundled_start_circles_from_one_with_room(capsys):
+    # the iiwa's middle is its zeros, stretched straight up: the circle started at a
+    # singularity and ended 3 cm off (RMS 6.5 cm), velocity-limited
+    code, out, err = run(capsys, "servo", "kuka_iiwa14", "--seconds", "1")
+    assert code == 0, err
+    q0 = [float(v) for v in re.search(r"q0 (.*)", out).group(1).split()]
+    assert any(abs(v) > 0.1 for v in q0)  # not the middle
+    assert _number(r"circle: 500 ticks .*?last ([0-9.e+-]+) m", out) < 1e-5
+    assert _number(r"circle: .*?RMS ([0-9.e+-]+) m", out) < 5e-3
+
+
+def test_an_arm_of_five_joints_circles_as_positions(capsys):
+    # the SO-101 cannot hold the tool's full orientation round the circle: it held it, and
+    # ended 6 mm off after an RMS of 7 cm, acceleration-limited on 986 of 1000 ticks
+    code, out, err = run(capsys, "servo", "so101", "--seconds", "1", "--jump", "0", "0.05", "0")
+    assert code == 0, err
+    assert "orientation free" in out
+    assert _number(r"circle: 500 ticks .*?last ([0-9.e+-]+) m", out) < 1e-5
+    assert _number(r"circle: .*?RMS ([0-9.e+-]+) m", out) < 5e-3
+    assert _number(r"jump: 750 ticks .*?last ([0-9.e+-]+) m", out) < 1e-5

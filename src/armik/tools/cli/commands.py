@@ -274,7 +274,8 @@ def add_servo_command(command) -> None:
         type=float,
         metavar="Q",
         help="start joint values (rad, m), within the limits (default: a bundled arm's "
-        "start with room around the tip, else the middle of the limits)",
+        "start with room around the tip, else the best-conditioned of the middle of the "
+        "limits and 64 seeded configurations within the middle half of each joint's range)",
     )
     c.add_argument(
         "--circle",
@@ -282,7 +283,8 @@ def add_servo_command(command) -> None:
         default=0.1,
         metavar="R",
         help="radius (m) of the circle in the base's y-z plane through the tip, the "
-        "orientation held (0.1); a planar arm's in its own plane, as positions",
+        "orientation held (0.1); a planar arm's in its own plane, and an arm of fewer than "
+        "6 joints', as positions",
     )
     c.add_argument("--hz", type=float, default=0.5, help="turns of the circle a second (0.5)")
     c.add_argument("--seconds", type=float, default=2.0, help="length of the circle, s (2)")

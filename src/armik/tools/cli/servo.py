@@ -9,12 +9,14 @@ import math
 import time
 
 import numpy as np
+import pinocchio as pin
 
 from armik.errors import OptionError
 from armik.servo.streams import START, circle, moved, violations
 from armik.tools.cli.arms import load_arm
 
 MAX_TICKS = 1_000_000  # the circle's targets are made before the first tick
+STARTS = 64  # seeded configurations the default start is chosen among, besides the middle
 
 
 def cmd_servo(args: argparse.Namespace) -> int:
@@ -24,7 +26,7 @@ def cmd_servo(args: argparse.Namespace) -> int:
     elif arm.name in START and arm.kinematics.dof == len(START[arm.name]):
         q0 = START[arm.name]
     else:
-        q0 = arm.middle
+        q0 = _start_with_room(arm)
     for flag, value in (("--seconds", args.seconds), ("--hz", args.hz)):
         if not 0.0 < value < math.inf:
             raise OptionError(
@@ -66,10 +68,12 @@ def cmd_servo(args: argparse.Namespace) -> int:
         stream: list = circle(T0, ticks, dt, args.circle, args.hz)
     else:  # off a planar arm's plane: in it instead, as positions (the tool's turn follows)
         stream = _in_plane(plane, T0.translation, ticks, dt, args.circle, args.hz)
+    if plane is None and arm.kinematics.dof < 6:  # no full pose along the circle: positions
+        stream = [T.translation for T in stream]
     legs = [("circle", stream)]
     if args.jump is not None:
-        jump = np.array(args.jump)
-        end = stream[-1] + jump if plane is not None else moved(stream[-1], jump)
+        last = stream[-1]
+        end = moved(last, np.array(args.jump)) if isinstance(last, pin.SE3) else last + args.jump
         legs.append(("jump", [end] * max(1, round(1.5 / dt))))
     print(
         f"{arm.name}: {arm.kinematics.dof} joints, dt {dt * 1e3:g} ms; q0 "
@@ -98,6 +102,26 @@ def cmd_servo(args: argparse.Namespace) -> int:
         + ", ".join(f"{k} {v:.1e}" for k, v in over.items())
     )
     return 0
+
+
+def _start_with_room(arm) -> np.ndarray:
+    """The best-conditioned of the middle of the limits and ``STARTS`` seeded configurations
+    within the middle half of each joint's range (a turn about the middle where it has no
+    limits): the largest smallest singular value of the tip's Jacobian, its position rows
+    on an arm of fewer than 6 joints. The middle is often stretched or folded (an iiwa's
+    zeros, a SCARA's straight elbow), where a circle cannot start."""
+    lo, hi = arm.lower.copy(), arm.upper.copy()
+    free = ~(np.isfinite(lo) & np.isfinite(hi))
+    lo[free], hi[free] = arm.middle[free] - math.pi, arm.middle[free] + math.pi
+    quarter = 0.25 * (hi - lo)
+    rng = np.random.default_rng(0)
+    starts = [arm.middle, *(lo + quarter + 2.0 * quarter * rng.random((STARTS, len(lo))))]
+    rows = slice(0, 6) if arm.kinematics.dof >= 6 else slice(0, 3)
+
+    def room(q: np.ndarray) -> float:
+        return float(np.linalg.svd(arm.jacobian(q)[rows], compute_uv=False)[-1])
+
+    return max(starts, key=room)
 
 
 def _in_plane(plane, tip: np.ndarray, ticks: int, dt: float, radius: float, hz: float) -> list:
