@@ -130,3 +130,20 @@ def test_a_spin_sweep_s_plan_goes_where_following_goes():
         assert abs(w[1]) <= 1e-6 and abs(w[2]) <= 1e-6
         assert ur5.within_limits(x) and np.abs(x - prev).max() <= 0.3 + 1e-9
         prev = x
+
+
+def test_a_7r_waypoint_every_branch_of_which_collides_says_collision():
+    # the Panda's rungs are its swept branches: where none was clear, the waypoint took the
+    # first swept failure, "joint_limits" with q outside the limits, where solve, solve_all
+    # and plan="follow" all say the tool is in the ball (or the hand in the base)
+    arm = conftest.arm("panda")
+    T_ball = arm.fk(arm.random_q(2))
+    ball = {"obstacles": [armik.Sphere(0.03, tuple(T_ball.translation))]}
+    T_self = arm.fk(arm.random_q(0))  # the hand inside link 0
+    for T, options in ((T_ball, ball), (T_self, {"self_collision": True})):
+        every = arm.solve_all(T, **options)
+        assert {r.status for r in every} == {"collision"}
+        for q0 in (every[0].q, None):
+            r = arm.solve_path([T], q0, plan="global", **options)[0]
+            assert r.status == "collision" and not r.success, r.reason
+            assert arm.within_limits(r.q)

@@ -80,11 +80,12 @@ def held(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -> 
     held_joint = request.opts.hold is not None
     rungs = []
     for i in range(len(batch)):
-        found: list = []
         own = reached(followed, i)
+        # where nothing reaches the waypoint, its failure is the followed path's (as solve
+        # and plan="follow" say it: a collision, not the limits one sweep value breaks)
+        found: list = [followed[i] if own is None else own]
         if own is not None:
-            theta = float(own.q[j])
-            found.append(own)  # where joint 7 admits no closed form exactly there
+            theta = float(own.q[j])  # where joint 7 admits no closed form exactly there
         target = batch.target(i)
         values = (
             [theta] if held_joint else np.concatenate((np.clip(theta + HELD_OFFSETS, lo, hi), grid))
