@@ -74,3 +74,20 @@ def test_a_path_held_row_by_row_says_a_clipped_q0_once():
     said = _said(lambda: ur5.solve_path(P, UR5_Q0_OUTSIDE, hold={"wrist_3_joint": None}))
     assert len(said) == 1, [str(w.message) for w in said]
     assert said[0].filename == __file__
+
+
+@pytest.mark.parametrize("score", ["nearest", "limits", "manipulability"])
+@pytest.mark.parametrize(("name", "every"), [("ur5", False), ("ur5", True), ("panda", False)])
+def test_a_preference_says_a_clipped_q0_once(score, name, every):
+    # the rank stage read q0, and each stage under it (the search's load, its run, the
+    # descents near q0) read it again: said two to four times
+    a = arm(name)
+    T = a.fk(a.middle + 0.1)
+    q0 = a.middle.copy()
+    q0[2] = 4.0  # beyond joint 3's limits on both arms
+    call = a.solve_all if every else a.solve
+    said = _said(lambda: call(T, q0=q0, prefer=score))
+    assert len(said) == 1, [str(w.message) for w in said]
+    assert said[0].filename == __file__
+    if name == "panda":  # a position's search too
+        assert len(_said(lambda: a.solve(T.translation, q0=q0, prefer=score))) == 1

@@ -37,7 +37,6 @@ def preferred(arm: ArmModel, req: Request):
     best first); see the module."""
     target, q0, solver, _, _, _, every, t0, score, problem = req[:10]
     opts = req.settings
-    plain = req.but(score=None, problem=None)
     # a full pose (read parsed the target): what the swept search and the descent hold
     pose = (
         problem is None
@@ -45,7 +44,9 @@ def preferred(arm: ArmModel, req: Request):
         and getattr(target, "aim", None) is None  # a cone: a region
         and _plain_pose(opts)
     )
-    seed = arm.seed(q0)
+    seed = arm.seed(q0)  # read once: a q0 outside the limits is said once, clipped
+    # every stage below reads the clipped seed (q0 None stays None: no start was given)
+    plain = req.but(score=None, problem=None, **({} if q0 is None else {"q0": seed}))
     turn = turning(arm, req.opts, seed)  # the turns of an answer its constraints allow
     swept = None
     if pose and (solver == "auto" or registry.get(solver).sweep is not None):
