@@ -259,3 +259,12 @@ def test_a_target_built_by_hand_whose_rotation_is_no_rotation_is_refused_by_solv
     for call in (arm.solve, arm.solve_all, lambda t: arm.solve_batch([t])):
         with pytest.raises(TargetError, match="orthonormal|determinant"):
             call(target)
+
+
+def test_two_positions_in_one_target_are_named_as_several_targets():
+    # read as (position, rotation), they were refused for the rotation's shape (3,) alone
+    p = np.array([0.4, 0.1, 0.3])
+    for two in ([p, p + 0.01], (p, p + 0.01), [list(p), list(p)]):
+        with pytest.raises(TargetError, match="4 numbers .*two positions are several targets"):
+            parse_target(two)
+    assert parse_target((p, [0.0, 0.0, 0.0, 1.0])).rotation is not None  # a pose still

@@ -343,9 +343,12 @@ def _rotation(value: object) -> np.ndarray:
         return arr
     if arr.shape == (4,):
         return _rotation_from_quat(arr)
+    two = (
+        "; two positions are several targets: Arm.solve_batch(targets)" if arr.shape == (3,) else ""
+    )
     raise TargetError(
         f"the rotation of (position, rotation) has shape {arr.shape}: give a quaternion "
-        "of 4 numbers (x, y, z, w), a 3x3 rotation matrix or a scipy Rotation"
+        "of 4 numbers (x, y, z, w), a 3x3 rotation matrix or a scipy Rotation" + two
     )
 
 
