@@ -165,7 +165,7 @@ def test_errors_name_the_flags_that_fix_them(tmp_path, capsys):
 
 
 def test_a_refused_option_is_named_by_its_flag(tmp_path, capsys):
-    # the refusal began with the library's keyword: max_joint_step, chunk_size, tip_offset
+    # the refusal began with the library's keyword: max_joint_step, chunk_size, tip_offset,
     poses, _ = _spun(3)
     np.save(tmp_path / "w.npy", poses)
     out = str(tmp_path / "o.npz")
@@ -176,6 +176,13 @@ def test_a_refused_option_is_named_by_its_flag(tmp_path, capsys):
          "--chunk-size must be a whole number"),
         (["solve", "ur5", "--xyz", "0.4", "0.2", "0.3", "--tip-offset", "nan", "0", "0"],
          "--tip-offset [nan, 0.0, 0.0] is not finite"),
+        # they said timeout, seed and margin
+        (["solve", "ur5", "--xyz", "0.4", "0.2", "0.3", "--timeout", "0"],
+         "--timeout must be > 0"),
+        (["batch", "ur5", str(tmp_path / "w.npy"), "-o", out, "--seed", "-1"],
+         "--seed must be >= 0"),
+        (["path", "ur5", str(tmp_path / "w.npy"), "-o", out, "--margin", "-1"],
+         "--margin must be a distance"),
     ]:  # fmt: skip
         assert main(argv) == 2
         assert capsys.readouterr().err.startswith(f"armik: error: {said}")

@@ -164,6 +164,9 @@ _LEADING_OPTIONS = {
     "dt": "--dt",
     "acceleration_limits": "--acceleration-limit",
     "velocity_limits": "--velocity-limit",
+    "timeout": "--timeout",
+    "seed": "--seed",
+    "margin": "--margin",
 }
 
 
