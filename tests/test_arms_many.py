@@ -455,6 +455,35 @@ def test_a_path_over_a_shared_torso_reports_a_jump_hidden_between_waypoints():
             assert np.abs(err).max() <= 1e-6
 
 
+def test_a_path_of_flat_task_lists_is_checked_halfway_as_one_of_poses_by_tip():
+    """The TALOS step above given as rows of flat task lists, each hand's Pose naming its
+    frame: the same request as the mapping tip -> poses. The steps of such rows were not
+    judged halfway (called converged); now both spellings give the same answers and report
+    the same hidden jump, and with a bound that lets every joint flip go through alike."""
+    robot = talos()
+    union = robot._union
+    q = np.array([-0.748, 0.175, 0.121, 0.789, 1.543, -2.103, -0.322, 0.946, -0.421, 0.11])
+    q = np.concatenate((q, [-1.892, -1.408, -0.186, 0.289, 0.965, 0.048]))
+    q2 = np.array([-1.309, -0.262, 0.524, 0.937, 0.812, -2.223, -0.36, 0.334, 0.001, -0.524])
+    q2 = np.concatenate((q2, [-2.088, -1.378, -0.311, 0.445, 1.393, 0.698]))
+    ways = {tip: [union.fk(q, tip), union.fk(q2, tip)] for tip in robot.tips}
+    flat = [[armik.Pose(ways[tip][i], frame=tip) for tip in robot.tips] for i in range(2)]
+    for step in (1.0, 10.0):
+        by_tip = robot.solve_path(ways, q, max_joint_step=step)
+        by_rows = robot.solve_path(flat, q, max_joint_step=step)
+        assert by_rows.status.tolist() == by_tip.status.tolist(), by_rows.summary()
+        assert [by_rows.reason(i) for i in range(2)] == [by_tip.reason(i) for i in range(2)]
+        assert np.array_equal(by_rows.q, by_tip.q)
+    assert by_tip.success.all()
+    tight = robot.solve_path(flat, q, max_joint_step=1.0)
+    assert tight.status.tolist() == ["converged", "discontinuous"], tight.summary()
+    assert "hide" in tight.reason(1)
+    for i in range(2):  # the loose path's answers on each hand's pose by Pinocchio
+        for tip in robot.tips:
+            err = pin.log6(ways[tip][i].actInv(union.fk(by_rows.q[i], tip))).vector
+            assert np.abs(err).max() <= 1e-6
+
+
 def _with(q: np.ndarray, cols: np.ndarray, part: np.ndarray) -> np.ndarray:
     """``q`` with its columns ``cols`` replaced by ``part``."""
     out = np.array(q, dtype=float)
