@@ -185,7 +185,11 @@ def _followed_rows(arm: ArmModel, request: Request, step: np.ndarray) -> BatchRe
     ladder.held_to_step(arm, out, None if request.q0 is None else seed, step)
     targets = _row_poses(arm, rows)
     if targets is not None:  # each step judged as the other paths' (halfway._row_at)
-        half = (request.solver, opts, request, turning(arm, request.opts, seed))
+        turn = turning(arm, request.opts, seed)
+        if _reached_held(arm, rows):
+            half = (request.solver, opts, request, turn)
+        else:  # halfway off the poses the held arm reaches: judged on the arm free
+            half = ("auto", dataclasses.replace(opts, hold=None), None, turn)
         ladder.hidden_steps(arm, out, targets, step, half)
     label = names.pop() if len(names) == 1 else out.solver
     return frozen(
@@ -211,13 +215,28 @@ def _row_poses(arm: ArmModel, rows: Sequence[Request]) -> TargetBatch | None:
     )
     if not all(alike):
         return None
-    held = len(rows[0].settings.hold or ())
-    if _pinned(first) > arm.dof - held:  # halfway off the poses the held arm reaches
-        return None
+    if not _reached_held(arm, rows) and (first.bounds.any() or _weighed(first)):
+        return None  # judged free only where exact: a looser task's halfway is looser
     if isinstance(first, Position):
         return TargetBatch(np.array([t.p for t in tasks]), None)
     P = np.array([t.T.translation for t in tasks])
     return TargetBatch(P, np.array([t.T.rotation for t in tasks]))
+
+
+def _reached_held(arm: ArmModel, rows: Sequence[Request]) -> bool:
+    """Whether the held arm of a path by rows (``hold=``) reaches the poses near its rows':
+    its free joints as many as the components each row's task pins. Else (a UR5 held at a
+    joint, full poses) the pose halfway along a step is off the poses it reaches, and the
+    step is judged on the arm free: any configuration of the held arm is one of the free
+    arm's, so where none of these lies within the step of both ends, no held one does."""
+    held = len(rows[0].settings.hold or ())
+    return _pinned(rows[0].problem.tasks[0]) <= arm.dof - held
+
+
+def _weighed(task: Pose | Position) -> bool:
+    """Whether ``task`` weighs its components other than alike (a Pose's ``weights``)."""
+    weights = getattr(task, "weights", None)
+    return weights is not None and bool((weights != 1.0).any())
 
 
 def _pinned(task: Pose | Position) -> int:
