@@ -5,6 +5,7 @@ a path reported, naming the joint; bad input named."""
 
 from __future__ import annotations
 
+import itertools
 import multiprocessing
 import operator
 import pickle
@@ -16,6 +17,8 @@ import pinocchio as pin
 import pytest
 
 import armik
+from armik.arms_many import _read
+from armik.arms_steps import hidden_steps
 from armik.constraints.base import Check, Constraint
 from armik.errors import FrameError, OptionError, TargetError
 
@@ -482,6 +485,44 @@ def test_a_path_of_flat_task_lists_is_checked_halfway_as_one_of_poses_by_tip():
         for tip in robot.tips:
             err = pin.log6(ways[tip][i].actInv(union.fk(by_rows.q[i], tip))).vector
             assert np.abs(err).max() <= 1e-6
+
+
+@pytest.mark.parametrize(
+    "loosened",
+    [
+        {"position_only": True},
+        {"weights": [1, 1, 1, 0.5, 0.5, 0.5]},
+        {"bounds": [0, 0, 0, 0, 0, np.inf]},
+    ],
+)
+def test_a_path_of_independent_chains_judges_its_steps_halfway_under_a_loosened_task(
+    cell, loosened
+):
+    """The left IRB120's shoulder turned 3 rad between two waypoints (max_joint_step 3.1):
+    halfway, the tool's position is out of reach (1000 restarts end 6 cm off). A robot's
+    path judges its rows' steps tip by tip (``arms_steps.hidden_steps``: the rows solved
+    again after a failed row, or a collision between the chains) and skipped every step
+    under ``position_only``, ``weights`` or ``bounds``; it judges them under the loosened
+    task now, as the chain's own path does."""
+    left = cell.tips[0]
+    cols = cell._columns[left]
+    q = cell.middle.copy()
+    q[cols] = [-2.713, 0.168, 1.018, 1.764, -2.083, 4.99]
+    q2 = q.copy()
+    q2[cols[0]] += 3.0
+    ways = {tip: [cell.fk(q, tip), cell.fk(q2, tip)] for tip in cell.tips}
+    out = cell.solve_path(ways, q, max_joint_step=10.0, **loosened)  # no jump can hide
+    assert out.success.all(), out.summary()
+    for i, tip in itertools.product(range(2), cell.tips):  # on the positions by Pinocchio
+        assert np.linalg.norm(cell.fk(out.q[i], tip).translation - ways[tip][i].translation) < 1e-6
+    hidden_steps(cell, out, ways, np.full(cell.dof, 3.1), _read(loosened))
+    assert out.status.tolist() == ["converged", "discontinuous"]
+    assert out.reason(1).startswith(f"{left}: ") and "hide" in out.reason(1)
+    alone = cell.chain(left).solve_path(ways[left], q[cols], max_joint_step=3.1, **loosened)
+    assert alone.status.tolist() == ["converged", "discontinuous"]
+    middle = 0.5 * (ways[left][0].translation + ways[left][1].translation)
+    there = cell.chain(left).solve(middle)  # the position halfway: out of reach
+    assert not there.success and there.position_error > 0.01
 
 
 def _with(q: np.ndarray, cols: np.ndarray, part: np.ndarray) -> np.ndarray:

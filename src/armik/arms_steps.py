@@ -23,6 +23,7 @@ from armik.request import but_options
 from armik.result import IKResult
 from armik.solve import ladder
 from armik.solve.read import options as read_options
+from armik.solve.rungs import free_spin, spun_batch
 from armik.solve.turning import ANY
 from armik.status import Status
 from armik.targets.batch import parse_targets
@@ -54,20 +55,27 @@ def hidden_steps(
 ) -> None:
     """Each success of ``out`` whose step from the row the path went on from hides a jump
     for some tip's chain made ``discontinuous``, in place, the reason naming the tip. Tips
-    given poses or positions only (a task list, a ``Relative`` task, has no pose halfway);
-    the halfway poses solved with ``opts``' tolerances, the chain free (a held joint is
-    looser there: a jump may pass, none is made up); none where ``opts`` loosen the task
-    (``position_only``, ``weights``, ``bounds``), which the halfway poses would not."""
-    if opts.position_only or opts.weights is not None or opts.bounds is not None:
-        return  # halfway solved as full poses: a step a looser task makes passes, never fails
-    tols = {"tol_position": opts.tol_position, "tol_orientation": opts.tol_orientation}
-    plain = but_options(read_options({}), **tols)
+    given poses or positions only (a task list, a ``Relative`` task, has no pose halfway:
+    not judged); the halfway poses solved with ``opts``' tolerances and the task's
+    loosening (``position_only``, ``weights``, ``bounds``: measured as one arm's path
+    measures them, a spin the bounds free turned as its path turns it), the chain free (a
+    held joint is looser there: a jump may pass, none is made up)."""
+    task = {
+        "tol_position": opts.tol_position,
+        "tol_orientation": opts.tol_orientation,
+        "position_only": opts.position_only,
+        "weights": opts.weights,
+        "bounds": opts.bounds,
+    }
+    plain = but_options(read_options({}), **task)
+    spin = None if opts.bounds is None else free_spin(opts.bounds)
     for tip, rows in waypoints.items():
+        chain, cols = arms._chains[tip], arms._columns[tip]
         try:
-            targets = parse_targets(rows, arms._chains[tip])
+            targets = parse_targets(rows, chain)
         except ArmikError:
             continue
-        chain, cols = arms._chains[tip], arms._columns[tip]
+        targets = spun_batch(chain, targets, out.q[0, cols], spin)  # as its own path's
         part = BatchResult.for_arm(chain, len(out), out.solver, plain)
         part.q[:] = out.q[:, cols]
         part.success[:] = out.success
