@@ -488,6 +488,47 @@ def test_a_path_of_flat_task_lists_is_checked_halfway_as_one_of_poses_by_tip():
 
 
 @pytest.mark.parametrize(
+    "loosened", [{"weights": [1, 1, 1, 0.5, 0.5, 0.5]}, {"bounds": [0.001] * 3 + [0.01] * 3}]
+)
+def test_a_hand_given_a_loosened_pose_is_judged_halfway_as_its_chain_is(loosened):
+    """The TALOS step above, the right hand given armik.Pose(T, weights=...) or
+    Pose(T, bounds=...) (as flat task lists, or the mapping tip -> tasks): a tip given
+    tasks was not judged halfway, and the hidden jump was called converged. Each such tip's
+    poses are read as one arm reads them (the weights or bounds beside them), and the step
+    is judged as the hand's own path judges it: a hidden jump; with a bound that lets
+    every joint flip both spellings go through, each hand on its pose by FK."""
+    robot = talos()
+    union, (left, right) = robot._union, robot.tips
+    q = np.array([-0.748, 0.175, 0.121, 0.789, 1.543, -2.103, -0.322, 0.946, -0.421, 0.11])
+    q = np.concatenate((q, [-1.892, -1.408, -0.186, 0.289, 0.965, 0.048]))
+    q2 = np.array([-1.309, -0.262, 0.524, 0.937, 0.812, -2.223, -0.36, 0.334, 0.001, -0.524])
+    q2 = np.concatenate((q2, [-2.088, -1.378, -0.311, 0.445, 1.393, 0.698]))
+    ways = {tip: [union.fk(q, tip), union.fk(q2, tip)] for tip in robot.tips}
+    rows = [
+        [armik.Pose(ways[left][i], frame=left), armik.Pose(ways[right][i], frame=right, **loosened)]
+        for i in range(2)
+    ]
+    by_tip = {tip: [row[k] for row in rows] for k, tip in enumerate(robot.tips)}
+    cols = robot._columns[right]
+    alone = robot.chain(right).solve_path(
+        [armik.Pose(T, **loosened) for T in ways[right]], q[cols], max_joint_step=1.0
+    )
+    assert alone.status.tolist() == ["converged", "discontinuous"]
+    bound = np.array(loosened.get("bounds", [0.0] * 6)) + 1e-6
+    for spelled in (rows, by_tip):
+        tight = robot.solve_path(spelled, q, max_joint_step=1.0)
+        assert tight.status.tolist() == ["converged", "discontinuous"], tight.summary()
+        assert tight.reason(1).startswith(f"{right}: ") and "hide" in tight.reason(1)
+        loose = robot.solve_path(spelled, q, max_joint_step=10.0)
+        assert loose.success.all(), loose.summary()
+        for i in range(2):
+            err = pin.log6(ways[left][i].actInv(union.fk(loose.q[i], left))).vector
+            assert np.abs(err).max() <= 1e-6
+            err = pin.log6(ways[right][i].actInv(union.fk(loose.q[i], right))).vector
+            assert (np.abs(err) <= bound).all()
+
+
+@pytest.mark.parametrize(
     "loosened",
     [
         {"position_only": True},
