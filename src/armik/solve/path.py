@@ -38,6 +38,7 @@ from armik.batch_result import BatchResult
 from armik.errors import OptionError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
+from armik.problem.problem import lower
 from armik.problem.tasks.pose import Pose
 from armik.problem.tasks.position import Position
 from armik.request import Request
@@ -189,7 +190,9 @@ def _followed_rows(arm: ArmModel, request: Request, step: np.ndarray) -> BatchRe
         if _reached_held(arm, rows):
             half = (request.solver, opts, request, turn)
         else:  # halfway off the poses the held arm reaches: judged on the arm free
-            half = ("auto", dataclasses.replace(opts, hold=None), None, turn)
+            free = dataclasses.replace(opts, hold=None, **_said(arm, rows[0]))
+            targets = spun_batch(arm, targets, seed, free_spin(free.bounds))
+            half = ("auto", free, None, turn)
         ladder.hidden_steps(arm, out, targets, step, half)
     label = names.pop() if len(names) == 1 else out.solver
     return frozen(
@@ -215,8 +218,8 @@ def _row_poses(arm: ArmModel, rows: Sequence[Request]) -> TargetBatch | None:
     )
     if not all(alike):
         return None
-    if not _reached_held(arm, rows) and (first.bounds.any() or _weighed(first)):
-        return None  # judged free only where exact: a looser task's halfway is looser
+    if not _reached_held(arm, rows) and lower(rows[0].problem, arm.tip) is None:
+        return None  # judged on the arm free as its compiled form: none for this task
     if isinstance(first, Position):
         return TargetBatch(np.array([t.p for t in tasks]), None)
     P = np.array([t.T.translation for t in tasks])
@@ -233,10 +236,11 @@ def _reached_held(arm: ArmModel, rows: Sequence[Request]) -> bool:
     return _pinned(rows[0].problem.tasks[0]) <= arm.dof - held
 
 
-def _weighed(task: Pose | Position) -> bool:
-    """Whether ``task`` weighs its components other than alike (a Pose's ``weights``)."""
-    weights = getattr(task, "weights", None)
-    return weights is not None and bool((weights != 1.0).any())
+def _said(arm: ArmModel, row: Request) -> dict:
+    """The options a row's task says beside its pose (``lower``: a ``Pose``'s bounds and
+    weights), which the arm free is judged under halfway."""
+    lowered = lower(row.problem, arm.tip) if row.problem is not None else None
+    return {} if lowered is None else lowered[1]
 
 
 def _pinned(task: Pose | Position) -> int:
