@@ -5,6 +5,7 @@ a path reported, naming the joint; bad input named."""
 
 from __future__ import annotations
 
+import itertools
 import multiprocessing
 import operator
 import pickle
@@ -16,6 +17,8 @@ import pinocchio as pin
 import pytest
 
 import armik
+from armik.arms_many import _read
+from armik.arms_steps import hidden_steps
 from armik.constraints.base import Check, Constraint
 from armik.errors import FrameError, OptionError, TargetError
 
@@ -453,6 +456,114 @@ def test_a_path_over_a_shared_torso_reports_a_jump_hidden_between_waypoints():
         for tip in robot.tips:
             err = pin.log6(ways[tip][i].actInv(union.fk(loose.q[i], tip))).vector
             assert np.abs(err).max() <= 1e-6
+
+
+def test_a_path_of_flat_task_lists_is_checked_halfway_as_one_of_poses_by_tip():
+    """The TALOS step above given as rows of flat task lists, each hand's Pose naming its
+    frame: the same request as the mapping tip -> poses. The steps of such rows were not
+    judged halfway (called converged); now both spellings give the same answers and report
+    the same hidden jump, and with a bound that lets every joint flip go through alike."""
+    robot = talos()
+    union = robot._union
+    q = np.array([-0.748, 0.175, 0.121, 0.789, 1.543, -2.103, -0.322, 0.946, -0.421, 0.11])
+    q = np.concatenate((q, [-1.892, -1.408, -0.186, 0.289, 0.965, 0.048]))
+    q2 = np.array([-1.309, -0.262, 0.524, 0.937, 0.812, -2.223, -0.36, 0.334, 0.001, -0.524])
+    q2 = np.concatenate((q2, [-2.088, -1.378, -0.311, 0.445, 1.393, 0.698]))
+    ways = {tip: [union.fk(q, tip), union.fk(q2, tip)] for tip in robot.tips}
+    flat = [[armik.Pose(ways[tip][i], frame=tip) for tip in robot.tips] for i in range(2)]
+    for step in (1.0, 10.0):
+        by_tip = robot.solve_path(ways, q, max_joint_step=step)
+        by_rows = robot.solve_path(flat, q, max_joint_step=step)
+        assert by_rows.status.tolist() == by_tip.status.tolist(), by_rows.summary()
+        assert [by_rows.reason(i) for i in range(2)] == [by_tip.reason(i) for i in range(2)]
+        assert np.array_equal(by_rows.q, by_tip.q)
+    assert by_tip.success.all()
+    tight = robot.solve_path(flat, q, max_joint_step=1.0)
+    assert tight.status.tolist() == ["converged", "discontinuous"], tight.summary()
+    assert "hide" in tight.reason(1)
+    for i in range(2):  # the loose path's answers on each hand's pose by Pinocchio
+        for tip in robot.tips:
+            err = pin.log6(ways[tip][i].actInv(union.fk(by_rows.q[i], tip))).vector
+            assert np.abs(err).max() <= 1e-6
+
+
+@pytest.mark.parametrize(
+    "loosened", [{"weights": [1, 1, 1, 0.5, 0.5, 0.5]}, {"bounds": [0.001] * 3 + [0.01] * 3}]
+)
+def test_a_hand_given_a_loosened_pose_is_judged_halfway_as_its_chain_is(loosened):
+    """The TALOS step above, the right hand given armik.Pose(T, weights=...) or
+    Pose(T, bounds=...) (as flat task lists, or the mapping tip -> tasks): a tip given
+    tasks was not judged halfway, and the hidden jump was called converged. Each such tip's
+    poses are read as one arm reads them (the weights or bounds beside them), and the step
+    is judged as the hand's own path judges it: a hidden jump; with a bound that lets
+    every joint flip both spellings go through, each hand on its pose by FK."""
+    robot = talos()
+    union, (left, right) = robot._union, robot.tips
+    q = np.array([-0.748, 0.175, 0.121, 0.789, 1.543, -2.103, -0.322, 0.946, -0.421, 0.11])
+    q = np.concatenate((q, [-1.892, -1.408, -0.186, 0.289, 0.965, 0.048]))
+    q2 = np.array([-1.309, -0.262, 0.524, 0.937, 0.812, -2.223, -0.36, 0.334, 0.001, -0.524])
+    q2 = np.concatenate((q2, [-2.088, -1.378, -0.311, 0.445, 1.393, 0.698]))
+    ways = {tip: [union.fk(q, tip), union.fk(q2, tip)] for tip in robot.tips}
+    rows = [
+        [armik.Pose(ways[left][i], frame=left), armik.Pose(ways[right][i], frame=right, **loosened)]
+        for i in range(2)
+    ]
+    by_tip = {tip: [row[k] for row in rows] for k, tip in enumerate(robot.tips)}
+    cols = robot._columns[right]
+    alone = robot.chain(right).solve_path(
+        [armik.Pose(T, **loosened) for T in ways[right]], q[cols], max_joint_step=1.0
+    )
+    assert alone.status.tolist() == ["converged", "discontinuous"]
+    bound = np.array(loosened.get("bounds", [0.0] * 6)) + 1e-6
+    for spelled in (rows, by_tip):
+        tight = robot.solve_path(spelled, q, max_joint_step=1.0)
+        assert tight.status.tolist() == ["converged", "discontinuous"], tight.summary()
+        assert tight.reason(1).startswith(f"{right}: ") and "hide" in tight.reason(1)
+        loose = robot.solve_path(spelled, q, max_joint_step=10.0)
+        assert loose.success.all(), loose.summary()
+        for i in range(2):
+            err = pin.log6(ways[left][i].actInv(union.fk(loose.q[i], left))).vector
+            assert np.abs(err).max() <= 1e-6
+            err = pin.log6(ways[right][i].actInv(union.fk(loose.q[i], right))).vector
+            assert (np.abs(err) <= bound).all()
+
+
+@pytest.mark.parametrize(
+    "loosened",
+    [
+        {"position_only": True},
+        {"weights": [1, 1, 1, 0.5, 0.5, 0.5]},
+        {"bounds": [0, 0, 0, 0, 0, np.inf]},
+    ],
+)
+def test_a_path_of_independent_chains_judges_its_steps_halfway_under_a_loosened_task(
+    cell, loosened
+):
+    """The left IRB120's shoulder turned 3 rad between two waypoints (max_joint_step 3.1):
+    halfway, the tool's position is out of reach (1000 restarts end 6 cm off). A robot's
+    path judges its rows' steps tip by tip (``arms_steps.hidden_steps``: the rows solved
+    again after a failed row, or a collision between the chains) and skipped every step
+    under ``position_only``, ``weights`` or ``bounds``; it judges them under the loosened
+    task now, as the chain's own path does."""
+    left = cell.tips[0]
+    cols = cell._columns[left]
+    q = cell.middle.copy()
+    q[cols] = [-2.713, 0.168, 1.018, 1.764, -2.083, 4.99]
+    q2 = q.copy()
+    q2[cols[0]] += 3.0
+    ways = {tip: [cell.fk(q, tip), cell.fk(q2, tip)] for tip in cell.tips}
+    out = cell.solve_path(ways, q, max_joint_step=10.0, **loosened)  # no jump can hide
+    assert out.success.all(), out.summary()
+    for i, tip in itertools.product(range(2), cell.tips):  # on the positions by Pinocchio
+        assert np.linalg.norm(cell.fk(out.q[i], tip).translation - ways[tip][i].translation) < 1e-6
+    hidden_steps(cell, out, ways, np.full(cell.dof, 3.1), _read(loosened))
+    assert out.status.tolist() == ["converged", "discontinuous"]
+    assert out.reason(1).startswith(f"{left}: ") and "hide" in out.reason(1)
+    alone = cell.chain(left).solve_path(ways[left], q[cols], max_joint_step=3.1, **loosened)
+    assert alone.status.tolist() == ["converged", "discontinuous"]
+    middle = 0.5 * (ways[left][0].translation + ways[left][1].translation)
+    there = cell.chain(left).solve(middle)  # the position halfway: out of reach
+    assert not there.success and there.position_error > 0.01
 
 
 def _with(q: np.ndarray, cols: np.ndarray, part: np.ndarray) -> np.ndarray:

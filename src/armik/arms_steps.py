@@ -15,17 +15,21 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
+from pinocchio import SE3
 
 from armik import reasons
 from armik.batch_result import BatchResult
 from armik.errors import ArmikError
+from armik.problem.problem import as_problem, lower
+from armik.problem.tasks import Task
 from armik.request import but_options
 from armik.result import IKResult
 from armik.solve import ladder
 from armik.solve.read import options as read_options
+from armik.solve.rungs import free_spin, spun_batch
 from armik.solve.turning import ANY
 from armik.status import Status
-from armik.targets.batch import parse_targets
+from armik.targets.batch import TargetBatch, parse_targets
 
 
 def held(arms: Any, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: bool):
@@ -54,20 +58,27 @@ def hidden_steps(
 ) -> None:
     """Each success of ``out`` whose step from the row the path went on from hides a jump
     for some tip's chain made ``discontinuous``, in place, the reason naming the tip. Tips
-    given poses or positions only (a task list, a ``Relative`` task, has no pose halfway);
-    the halfway poses solved with ``opts``' tolerances, the chain free (a held joint is
-    looser there: a jump may pass, none is made up); none where ``opts`` loosen the task
-    (``position_only``, ``weights``, ``bounds``), which the halfway poses would not."""
-    if opts.position_only or opts.weights is not None or opts.bounds is not None:
-        return  # halfway solved as full poses: a step a looser task makes passes, never fails
-    tols = {"tol_position": opts.tol_position, "tol_orientation": opts.tol_orientation}
-    plain = but_options(read_options({}), **tols)
+    given poses or positions, or a pose as a task (``_poses``; other tasks, a ``Relative``,
+    have no pose halfway: not judged); the halfway poses solved with ``opts``' tolerances
+    and the task's loosening (``position_only``, ``weights``, ``bounds``: measured as one arm's path
+    measures them, a spin the bounds free turned as its path turns it), the chain free (a
+    held joint is looser there: a jump may pass, none is made up)."""
+    task = {
+        "tol_position": opts.tol_position,
+        "tol_orientation": opts.tol_orientation,
+        "position_only": opts.position_only,
+        "weights": opts.weights,
+        "bounds": opts.bounds,
+    }
     for tip, rows in waypoints.items():
-        try:
-            targets = parse_targets(rows, arms._chains[tip])
-        except ArmikError:
-            continue
         chain, cols = arms._chains[tip], arms._columns[tip]
+        read = _poses(chain, tip, rows)
+        if read is None:
+            continue
+        targets, said = read
+        plain = but_options(read_options({}), **{**task, **said})
+        spin = None if plain.bounds is None else free_spin(plain.bounds)
+        targets = spun_batch(chain, targets, out.q[0, cols], spin)  # as its own path's
         part = BatchResult.for_arm(chain, len(out), out.solver, plain)
         part.q[:] = out.q[:, cols]
         part.success[:] = out.success
@@ -80,3 +91,25 @@ def hidden_steps(
             out.success[k] = False
             out.status_code[k] = Status.DISCONTINUOUS.code
             out.reasons[k] = f"{tip}: {part.reasons[k]}"
+
+
+def _poses(chain, tip: str, rows) -> tuple[TargetBatch, dict] | None:
+    """(poses, what the tasks say beside them) of a tip's rows: its poses or positions as
+    given; a task of each row's lowered as one arm's ``solve`` lowers it (``lower``: a
+    ``Pose`` with bounds or weights, the bounds and weights said) where every row says the
+    same beside a pose, or a position; None for other tasks (a ``Relative``, several)."""
+    try:
+        return parse_targets(rows, chain), {}
+    except ArmikError:
+        pass
+    problems = [as_problem(row) if isinstance(row, (Task, list, tuple)) else None for row in rows]
+    lowered = [None if p is None else lower(p, tip) for p in problems]
+    if not lowered or any(x is None or not isinstance(x[0], (SE3, np.ndarray)) for x in lowered):
+        return None
+    said = lowered[0][1]  # type: ignore[index]
+    if any(x[1] != said for x in lowered):  # type: ignore[index]
+        return None
+    try:
+        return parse_targets([x[0] for x in lowered], chain), said  # type: ignore[index]
+    except ArmikError:
+        return None

@@ -98,7 +98,26 @@ def rows_by_tip(chains: Mapping[str, ArmModel], rows: object) -> Any:
             )
         for tip, tasks in each.items():
             out.setdefault(tip, []).append(tasks)
-    return out
+    return {tip: _plain(tip, tasks) for tip, tasks in out.items()}
+
+
+def _plain(tip: str, rows: list[list[Task]]) -> list:
+    """A tip's rows as the mapping spells them where each is one exact pose, or each one
+    exact position, of the tip (no bounds, no weights): its poses (``pinocchio.SE3``) or
+    positions, the same request as ``{tip: poses}`` (solved, and its steps judged halfway,
+    alike); else its rows of tasks."""
+    if all(len(r) == 1 and _exact(r[0], tip, Pose) for r in rows):
+        return [pin.SE3(cast(Pose, r[0]).T) for r in rows]
+    if all(len(r) == 1 and _exact(r[0], tip, Position) for r in rows):
+        return [cast(Position, r[0]).p.copy() for r in rows]
+    return rows
+
+
+def _exact(task: Task, tip: str, kind: type) -> bool:
+    """Whether ``task`` is of exactly ``kind``, on ``tip``, with no bounds and no weights."""
+    weights = getattr(task, "weights", None)
+    plain = weights is None or bool((weights == 1.0).all())
+    return type(task) is kind and task.frame == tip and not task.bounds.any() and plain
 
 
 def _tasks(row: object) -> bool:

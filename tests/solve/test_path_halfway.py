@@ -11,6 +11,8 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+import armik
+
 from ..conftest import arm
 
 
@@ -276,3 +278,64 @@ def test_a_held_paths_step_with_a_solution_halfway_near_its_ends_is_continuous()
     pin.framesForwardKinematics(model, data, panda.kinematics.to_pin(halfway.q))
     placed = panda.kinematics.T_base_world * data.oMf[model.getFrameId(panda.tip)]
     assert np.linalg.norm(placed.translation - 0.5 * (P[0] + P[1])) < 1e-6
+
+
+def test_a_held_ur5_path_of_poses_is_judged_halfway_on_the_arm_free():
+    """A UR5 held at wrist 3 (``hold=``: the task solver, row by row) through the wrist flip
+    above: wrist 2 from 0.2 to -0.2 rad, wrist 3 unchanged. The held arm reaches neither the
+    pose halfway nor any near it, and its steps were not judged halfway: the step was called
+    converged. It is judged on the arm free now (every held configuration is one of the free
+    arm's): no solution there lies within max_joint_step of both ends, a hidden jump. A
+    held path moving every free joint by up to 0.3 rad a waypoint away from singularities
+    stays converged, each answer on its pose by FK, wrist 3 where it was held."""
+    ur5 = arm("ur5")
+    hold = {"wrist_3_joint": None}
+    qa = np.array([0.3, -1.2, 1.5, -1.0, 0.2, 0.4])
+    qb = qa + np.array([0.0, 0.0, 0.0, 0.1, -0.4, 0.0])
+    poses = [ur5.fk(qa), ur5.fk(qb)]
+    got = ur5.solve_path(poses, qa, hold=hold)
+    assert got.status.tolist() == ["converged", "discontinuous"], got.summary()
+    assert "hide" in got.reason(1)
+    a, b = np.asarray(got.q[0]), np.asarray(got.q[1])
+    assert np.abs(a - qa).max() < 1e-6 and np.abs(b - qb).max() < 1e-6
+    H = _half(*poses)  # every solution halfway, on it by FK, far from one end or the other
+    every = [np.asarray(r.q) for r in ur5.solve_all(H) if r.success]
+    assert len(every) == 8
+    for x in every:
+        assert np.abs(pin.log6(H.actInv(ur5.fk(x))).vector).max() <= 1e-6
+        x = ur5.kinematics.nearest_equivalent(x, 0.5 * (a + b))
+        assert max(np.abs(x - a).max(), np.abs(x - b).max()) > 0.5
+    d = np.array([0.25, -0.2, 0.3, 0.25, -0.3, 0.0])
+    Q = [np.array([0.3, -1.2, 1.5, -1.0, 1.2, 0.4]) + k * d for k in range(4)]
+    smooth = [ur5.fk(x) for x in Q]
+    fine = ur5.solve_path(smooth, Q[0], hold=hold)
+    assert fine.success.all(), fine.summary()
+    for T, x in zip(smooth, fine.q):
+        assert np.abs(pin.log6(T.actInv(ur5.fk(x))).vector).max() <= 1e-6
+        assert x[5] == pytest.approx(0.4, abs=1e-9)
+
+
+@pytest.mark.parametrize(
+    "loosened, hidden",
+    [({"weights": [1, 1, 1, 0.5, 0.5, 0.5]}, True), ({"bounds": [0.001] * 3 + [0.01] * 3}, False)],
+)
+def test_a_held_ur5_path_of_loosened_poses_is_judged_halfway_as_the_arm_free(loosened, hidden):
+    """The held wrist flip above given as armik.Pose(T, weights=...) or Pose(T, bounds=...):
+    such rows were not judged halfway (converged). Judged on the arm free under the same
+    weights or bounds (the region halfway the free arm reaches holds every held answer
+    there), the held path says what the free arm's path says: with the weights a hidden
+    jump; bounds of 10 mrad let the free arm pass the flip halfway, and the held step is
+    continuous, each answer within its bounds by FK and wrist 3 where it was held."""
+    ur5 = arm("ur5")
+    qa = np.array([0.3, -1.2, 1.5, -1.0, 0.2, 0.4])
+    qb = qa + np.array([0.0, 0.0, 0.0, 0.1, -0.4, 0.0])
+    poses = [ur5.fk(qa), ur5.fk(qb)]
+    rows = [armik.Pose(T, **loosened) for T in poses]
+    held = ur5.solve_path(rows, qa, hold={"wrist_3_joint": None})
+    free = ur5.solve_path(rows, qa)
+    want = ["converged", "discontinuous"] if hidden else ["converged", "converged"]
+    assert held.status.tolist() == free.status.tolist() == want, held.summary()
+    bound = np.array(loosened.get("bounds", [0.0] * 6)) + 1e-6
+    for T, x in zip(poses, held.q):
+        assert (np.abs(pin.log6(T.actInv(ur5.fk(x))).vector) <= bound).all()
+        assert x[5] == pytest.approx(0.4, abs=1e-9)

@@ -43,6 +43,26 @@ class _Halfway(NamedTuple):
     turn: Turning
 
 
+def within(Q: np.ndarray, Qa: np.ndarray, Qb: np.ndarray, step: np.ndarray) -> np.ndarray:
+    """Whether each configuration of ``Q`` (a row, or rows) lies within ``step`` of both
+    ends of its step, ``Qa`` and ``Qb``, on every joint (NaN: no solution, not within):
+    the rule a step's solution halfway is held to."""
+    return (np.abs(Q - Qa) <= step).all(axis=-1) & (np.abs(Q - Qb) <= step).all(axis=-1)
+
+
+def searched(arm, half: _Halfway, P, R, q, near, middle, ends: tuple) -> None:
+    """The solutions halfway not yet ``near`` both ends (``ends``: Qa, Qb, the bound)
+    looked for again where the solver's nearest the middle may miss one: numeric descents
+    from the middle, each end and about the middle (``_starts``, ``_descended``), and with
+    a held joint the held problem solved from each end (``_from_ends``). ``q`` and
+    ``near`` updated in place."""
+    Qa, Qb, step = ends
+    for seeds in _starts(arm, middle, Qa, Qb, step) if _may_miss(half) else ():
+        if not near.all():  # descend too: the solution nearest the middle may be far
+            near |= _descended(arm, half, P, R, seeds, q, ~near, ends)
+    _from_ends(arm, half, P, R, q, near, ends)  # a held joint's: from each end
+
+
 def _loose(arm, step: np.ndarray) -> bool:
     """Whether ``step`` lets every joint flip within one step (half a turn, a prismatic
     joint its whole travel): no jump can hide between two waypoints, and none is looked
@@ -84,7 +104,7 @@ def _descended(arm, half: _Halfway, P, R, seeds, q, rows, ends) -> np.ndarray:
         for i in range(len(got)):
             c = arm.nearest_equivalent(got.q[i], seeds[k])
             inside = bool(((c >= arm.lower - 1e-9) & (c <= arm.upper + 1e-9)).all())
-            close = bool((np.abs(c - Qa[k]) <= step).all() and (np.abs(c - Qb[k]) <= step).all())
+            close = bool(within(c, Qa[k], Qb[k], step))
             Pk, Rk = P[k : k + 1], None if R is None else R[k : k + 1]
             if inside and close and _reached(arm, c[None], Pk, Rk, half.opts, aim)[0]:
                 q[k], found[k] = c, True
@@ -147,8 +167,7 @@ def _from_ends(arm, half: _Halfway, P, R, q, near, ends: tuple) -> None:
         if not len(redo):
             return
         got = _nearest(arm, half, P[redo], None if R is None else R[redo], seeds[redo])
-        ok = (np.abs(got - Qa[redo]) <= step).all(axis=1)
-        ok &= (np.abs(got - Qb[redo]) <= step).all(axis=1)
+        ok = within(got, Qa[redo], Qb[redo], step)
         q[redo[ok]] = got[ok]
         near[redo[ok]] = True
 

@@ -53,15 +53,7 @@ from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
 from armik.request import Request
 from armik.result import IKResult
-from armik.solve.halfway import (
-    _descended,
-    _from_ends,
-    _Halfway,
-    _loose,
-    _may_miss,
-    _nearest,
-    _starts,
-)
+from armik.solve.halfway import _Halfway, _loose, _nearest, searched, within
 from armik.solve.prefer import continuous_turned, turns
 from armik.solve.turning import ANY, Turning
 from armik.solvers import registry
@@ -326,11 +318,8 @@ def _jumps(arm, half: _Halfway, i, Qa, Qb, step) -> np.ndarray:
         P, R = _halfway(Pa, Ra, Pb, Rb)
         middle = 0.5 * (Qa + Qb)
         q = _nearest(arm, half, P, R, middle)
-        near = (np.abs(q - Qa) <= step).all(axis=1) & (np.abs(q - Qb) <= step).all(axis=1)
-        for seeds in _starts(arm, middle, Qa, Qb, step) if _may_miss(half) else ():
-            if not near.all():  # descend too: the solution nearest the middle may be far
-                near |= _descended(arm, half, P, R, seeds, q, ~near, (Qa, Qb, step))
-        _from_ends(arm, half, P, R, q, near, (Qa, Qb, step))  # a held joint's: from each end
+        near = within(q, Qa, Qb, step)
+        searched(arm, half, P, R, q, near, middle, (Qa, Qb, step))  # where it may miss one
         far = ~near  # NaN (no solution) too
         jumped[which[far]] = True
         bend = np.max(np.abs(q - middle) / step, axis=1)

@@ -38,6 +38,7 @@ from armik.batch_result import BatchResult
 from armik.errors import OptionError
 from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
+from armik.problem.problem import lower
 from armik.problem.tasks.pose import Pose
 from armik.problem.tasks.position import Position
 from armik.request import Request
@@ -185,7 +186,13 @@ def _followed_rows(arm: ArmModel, request: Request, step: np.ndarray) -> BatchRe
     ladder.held_to_step(arm, out, None if request.q0 is None else seed, step)
     targets = _row_poses(arm, rows)
     if targets is not None:  # each step judged as the other paths' (halfway._row_at)
-        half = (request.solver, opts, request, turning(arm, request.opts, seed))
+        turn = turning(arm, request.opts, seed)
+        if _reached_held(arm, rows):
+            half = (request.solver, opts, request, turn)
+        else:  # halfway off the poses the held arm reaches: judged on the arm free
+            free = dataclasses.replace(opts, hold=None, **_said(arm, rows[0]))
+            targets = spun_batch(arm, targets, seed, free_spin(free.bounds))
+            half = ("auto", free, None, turn)
         ladder.hidden_steps(arm, out, targets, step, half)
     label = names.pop() if len(names) == 1 else out.solver
     return frozen(
@@ -211,13 +218,29 @@ def _row_poses(arm: ArmModel, rows: Sequence[Request]) -> TargetBatch | None:
     )
     if not all(alike):
         return None
-    held = len(rows[0].settings.hold or ())
-    if _pinned(first) > arm.dof - held:  # halfway off the poses the held arm reaches
-        return None
+    if not _reached_held(arm, rows) and lower(rows[0].problem, arm.tip) is None:
+        return None  # judged on the arm free as its compiled form: none for this task
     if isinstance(first, Position):
         return TargetBatch(np.array([t.p for t in tasks]), None)
     P = np.array([t.T.translation for t in tasks])
     return TargetBatch(P, np.array([t.T.rotation for t in tasks]))
+
+
+def _reached_held(arm: ArmModel, rows: Sequence[Request]) -> bool:
+    """Whether the held arm of a path by rows (``hold=``) reaches the poses near its rows':
+    its free joints as many as the components each row's task pins. Else (a UR5 held at a
+    joint, full poses) the pose halfway along a step is off the poses it reaches, and the
+    step is judged on the arm free: any configuration of the held arm is one of the free
+    arm's, so where none of these lies within the step of both ends, no held one does."""
+    held = len(rows[0].settings.hold or ())
+    return _pinned(rows[0].problem.tasks[0]) <= arm.dof - held
+
+
+def _said(arm: ArmModel, row: Request) -> dict:
+    """The options a row's task says beside its pose (``lower``: a ``Pose``'s bounds and
+    weights), which the arm free is judged under halfway."""
+    lowered = lower(row.problem, arm.tip) if row.problem is not None else None
+    return {} if lowered is None else lowered[1]
 
 
 def _pinned(task: Pose | Position) -> int:
