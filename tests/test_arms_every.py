@@ -85,23 +85,28 @@ def test_a_relative_region_is_measured_as_the_task_measures_it(cell, whole):
         assert np.abs(e[:5]).max() < 1e-6 and abs(e[5]) <= 0.1 + 1e-6
 
 
-def test_a_position_of_the_reference_lists_the_combinations_at_one_sampled_orientation(cell, whole):
-    """A position of the left tip: its answers are a continuum; every combination of the
-    chains' answers at one orientation (the chains solved at once) is listed, the reason
-    saying so, each at the position and holding the relative pose on Pinocchio's FK."""
+@pytest.mark.parametrize("flat", [False, True])
+def test_a_position_of_the_reference_lists_the_combinations_at_one_sampled_orientation(
+    cell, whole, flat
+):
+    """A position of the left tip (a point, or a flat list's ``Position``): its answers are
+    a continuum; every combination of the chains' answers at one orientation (the chains
+    solved first) is listed, the reason saying so, each at the position and holding the
+    relative pose on Pinocchio's FK."""
     q = cell.random_q(np.random.default_rng(8))
     T_l, T_r = cell.fk(q, LEFT), cell.fk(q, RIGHT)
     rel = armik.Relative(RIGHT, LEFT, T_l.actInv(T_r))
-    every = cell.solve_all({LEFT: T_l.translation, RIGHT: rel})
+    p = T_l.translation
+    every = cell.solve_all([armik.Position(p, frame=LEFT), rel] if flat else {LEFT: p, RIGHT: rel})
     assert len(every) > 1 and all(r.success for r in every)
     assert all("held at one orientation" in r.reason for r in every)
     L0, R0 = _placed(whole, cell, every[0].q)
     for r in every:
         L, R = _placed(whole, cell, r.q)
-        assert np.linalg.norm(L.translation - T_l.translation) < 1e-6
+        assert np.linalg.norm(L.translation - p) < 1e-6
         assert np.allclose(L.rotation, L0.rotation, atol=1e-9)  # one orientation, sampled
         assert np.linalg.norm(_relative_error(L, R, rel.pose.T)) < 1e-6
-    at = pin.SE3(L0.rotation, T_l.translation)
+    at = pin.SE3(L0.rotation, p)
     assert len(every) == _count(cell.chain(LEFT), at) * _count(cell.chain(RIGHT), at * rel.pose.T)
 
 
@@ -160,3 +165,12 @@ def test_a_reference_out_of_reach_is_one_failure_naming_it(cell):
     far = pin.SE3(T_l.rotation, np.array([5.0, 0.0, 0.0]))
     (failed,) = cell.solve_all({LEFT: far, RIGHT: armik.Relative(RIGHT, LEFT, T_l.actInv(T_r))})
     assert not failed.success and f"{LEFT}: unreachable" in failed.reason
+
+
+def test_a_bad_target_is_named_by_its_tip_as_solve_names_it(cell):
+    q = cell.random_q(np.random.default_rng(8))
+    T_l, T_r = cell.fk(q, LEFT), cell.fk(q, RIGHT)
+    for other in (T_r, armik.Relative(RIGHT, LEFT, T_l.actInv(T_r))):
+        for call in (cell.solve, cell.solve_all):
+            with pytest.raises(armik.TargetError, match=f"the target of tip '{LEFT}'"):
+                call({LEFT: [1.0, 2.0], RIGHT: other})  # a 2-vector on arms not planar

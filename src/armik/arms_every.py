@@ -38,8 +38,9 @@ from armik.arms_options import held_apart
 from armik.arms_prefer import is_cost, order, ranked
 from armik.arms_tasks import absolute, solve_order
 from armik.problem.problem import as_problem
+from armik.problem.tasks import Position
 from armik.result import IKResult
-from armik.targets.pose import Target, parsed
+from armik.targets.pose import Target, parse_by_tip
 
 MAX_COMBINATIONS = 256  # answers at most: the nearest q0 (the best) of every chain's verified ones
 
@@ -55,6 +56,9 @@ def solve_all(arms: Any, targets: Mapping[str, object], q0: object = None, **opt
 def _every(arms: Any, targets: Mapping[str, object], q0: object = None, **options: Any):
     t0 = time.perf_counter()
     relative = arms._check_targets(targets)
+    # each tip's pose or position parsed once, a bad one named by its tip (as ``solve``)
+    poses = {tip: v for tip, v in targets.items() if as_problem(v) is None}
+    targets = {**targets, **parse_by_tip(poses, arms._chains)}
     if arms._union is not None:
         return [one_answer(arms._solve(targets, q0, dict(options)), "share joints")]
     if relative:
@@ -149,15 +153,21 @@ def _combinations(arms: Any, targets, relative: dict, tips, q0, options: dict, t
 
 def _positions(arms: Any, targets, relative: dict) -> dict[str, np.ndarray]:
     """Each reference tip (another's ``Relative`` is relative to it) whose target is a
-    position on a chain of more than 3 joints, whose answers are a continuum of
-    orientations: its point."""
+    position (any spelling, or one exact ``Position`` task on it) on a chain of more than 3
+    joints, whose answers are a continuum of orientations: its point."""
     out = {}
     for tip in sorted({t.relative_to for rel in relative.values() for t in rel}):
-        given = targets.get(tip)
-        if arms._chains[tip].dof > 3 and type(given) in _PLAIN and as_problem(given) is None:
-            target = parsed(given, arms._chains[tip])
-            if target.rotation is None and target.aim is None and not target.planar:
-                out[tip] = target.position
+        given, arm = targets.get(tip), arms._chains[tip]
+        if arm.dof <= 3 or given is None:
+            continue
+        problem = as_problem(given)  # None: a ``Target`` (parsed in ``_every``)
+        if type(given) is Target:
+            if given.rotation is None and given.aim is None and not given.planar:
+                out[tip] = given.position
+        elif problem is not None and len(problem.tasks) == 1 and type(problem.tasks[0]) is Position:
+            task = problem.tasks[0]
+            if task.frame in (None, tip) and not task.bounds.any():
+                out[tip] = task.p
     return out
 
 
@@ -185,7 +195,6 @@ SAMPLED = (
     "solved first: the answers of a position are a continuum, these are every combination "
     "of the chains' own answers at that orientation"
 )
-_PLAIN = (np.ndarray, list, tuple, pin.SE3, Target)  # spellings of a position
 
 
 def _nearest(combos: list[dict[str, IKResult]], seeds) -> list[dict[str, IKResult]]:
