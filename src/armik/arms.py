@@ -27,7 +27,7 @@ from armik.arms_kinematics import ArmsKinematics
 from armik.arms_options import at_seed, chain_constraints, held_apart, per_chain, refuse_own_checks
 from armik.arms_prefer import is_cost, ranked, scored
 from armik.arms_servo import ArmsServo
-from armik.arms_tasks import absolute, as_tasks, by_tip, on, placed, rows_by_tip
+from armik.arms_tasks import absolute, as_tasks, by_tip, on, placed, rows_by_tip, solve_order
 from armik.constraints.on_chain import OnChain
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.frozen import frozen
@@ -156,7 +156,7 @@ class Arms(ArmsKinematics):
             }
             r = joined(self.tips, results, seeds, time.perf_counter() - t0)
             return r if prefer is None else scored(r, prefer)
-        order = _in_order(targets, relative)
+        order = solve_order(targets, relative)
         if order is None:  # tips placed relative to each other in a cycle: all at once
             return self._solve_together(self._joint(), targets, relative, q0, options, t0)
         if is_cost(options.get("prefer")):  # the cost's whole configuration: no chain's
@@ -383,7 +383,7 @@ class Arms(ArmsKinematics):
         orders go in a random order (a restart: another chain sets the torso)."""
         q = q.copy()
         fixed = np.zeros(self.dof, dtype=bool)
-        order = (_in_order(targets, relative) if relative else None) or list(targets)
+        order = (solve_order(targets, relative) if relative else None) or list(targets)
         if rng is not None and not relative:
             order = [order[i] for i in rng.permutation(len(order))]
         for tip in order:
@@ -468,21 +468,6 @@ def _relative(targets: Mapping[str, object], chains: Mapping[str, ArmModel]) -> 
 
 
 _PLAIN = (np.ndarray, pin.SE3, Target)  # target types that hold no task: skipped unread
-
-
-def _in_order(targets: Mapping[str, object], relative: dict) -> list[str] | None:
-    """The tips, each after the tips their ``Relative`` tasks (``relative``) are relative
-    to; None when they are relative to each other in a cycle."""
-    after = {tip: {t.relative_to for t in rel} for tip, rel in relative.items()}
-    order: list[str] = []
-    pending = list(targets)
-    while pending:
-        ready = [t for t in pending if not (after.get(t, set()) & set(pending) - {t})]
-        if not ready:
-            return None
-        order += ready
-        pending = [t for t in pending if t not in ready]
-    return order
 
 
 def _scatter(q: np.ndarray, order: np.ndarray) -> np.ndarray:

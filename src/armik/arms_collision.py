@@ -24,11 +24,9 @@ import numpy as np
 import pinocchio as pin
 
 from armik import arms_every, checked, reasons
-from armik.arms_apart import facade
-from armik.arms_joined import held, joined, left_out
+from armik.arms_joined import held, left_out
 from armik.arms_links import UNBOUNDED, Links
-from armik.arms_options import held_apart
-from armik.arms_tasks import absolute, by_tip
+from armik.arms_tasks import by_tip
 from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions
 from armik.constraints.collision import BOUND_SLACK, _unmoved, obstacle_name
@@ -252,56 +250,9 @@ def clear_or_other(arms: Any, r: IKResult, targets: object, q0: object, options:
     if found.success or found.status is not Status.COLLISION:
         return found
     each = by_tip(arms._chains, targets)
-    relative = arms._check_targets(each)
-    if relative:  # one answer a chain's answer before: each combination of them tried
-        return _in_turn(arms, found, each, relative, q0, options, asked)
     seed = None if q0 is None else arms._seed(q0)
     others = kept(arms, arms_every.solve_all(arms, each, seed, **options), asked)
     return others[0] if others and others[0].success else found
-
-
-MOST_IN_TURN = 64  # combinations of the chains' answers tried for tips placed relatively
-
-
-def _in_turn(arms, found: IKResult, targets, relative: dict, q0, options: dict, asked):
-    """Tips placed relative to each other on chains that share no joint, ``found`` (their
-    answer, ``Arms.solve``'s) a collision between the chains: each chain's answers
-    (``solve_all``) in turn, a relative tip's target placed by the answers of the chains
-    before it (as ``Arms.solve`` places it by theirs), nearest q0 first; the first
-    combination clear of the collisions ``asked``, else ``found``."""
-    order: list[str] = []
-    pending = list(targets)
-    while pending:  # each tip after those its Relative tasks are relative to
-        ready = [
-            t
-            for t in pending
-            if not {r.relative_to for r in relative.get(t, [])} - {t} & set(pending)
-        ]
-        if not ready or options.get("prefer") is not None:
-            return found  # a cycle (solved at once: one answer), or a ranking of its own
-        order += ready
-        pending = [t for t in pending if t not in ready]
-    seeds = arms._middle_seeds if q0 is None else arms.split(arms._seed(q0))
-    solver = options.get("solver", "auto")
-    held = arms._holds({k: v for k, v in options.items() if k != "solver"})
-    chains = arms._chains
-    seeds = held_apart(seeds, held, chains, targets)  # a tip left out: its held joints
-    combos: list[dict[str, IKResult]] = [{}]
-    for tip in order:
-        grown = []
-        for done in combos:
-            target = targets[tip]
-            if tip in relative:
-                at = {t: arm.fk(done[t].q if t in done else seeds[t]) for t, arm in chains.items()}
-                target = absolute(target, at)
-            arm = facade(arms, tip, held[tip])
-            answers = arm.solve_all(target, q0=seeds[tip], solver=solver, **held[tip])
-            grown += [{**done, tip: r} for r in answers if r.success]
-        combos = grown[:MOST_IN_TURN]
-    start = np.concatenate([seeds[t] for t in arms.tips])
-    results = [joined(arms.tips, done, seeds, found.time) for done in combos]
-    results.sort(key=lambda r: float(np.linalg.norm(r.q - start)))
-    return next((r for r in (clear(arms, r, asked) for r in results) if r.success), found)
 
 
 def kept(

@@ -6,25 +6,41 @@ form: every branch); the robot's answers are their combinations, each joined as
 ``Arms.solve`` joins one (``armik.arms_joined``): successes first, nearest q0, or with
 ``prefer=`` best first by the robot's score of each, which each carries
 (``armik.arms_prefer``). Where a tip has no verified answer, the one joined result of
-each tip's best says which failed. Chains that share joints, or tips placed relative to
-each other, are solved together by the task solver, which finds one answer: ``solve_all``
-gives that one.
+each tip's best says which failed.
+
+A tip placed relative to another (``armik.Relative``) on such chains is a pose in the base
+once the reference chain's answer is chosen: each answer of the reference chain in turn
+(``in_turn``), the relative tip's own ``solve_all`` at that answer's placement times the
+relative pose, every combination listed. A reference tip given no target keeps q0's
+values, one placement. A reference tip at a position (on more than 3 joints) has a
+continuum of orientations: the chains are solved first (``Arms.solve``), then every
+combination at the orientation that answer has is listed, each reason saying so. Chains
+that share joints, tips placed relative to each other in a cycle, and relative tips no
+combination of the chains' own answers holds are solved together by the task solver,
+which finds one answer: ``solve_all`` gives that one, its reason saying so
+(``one_answer``).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import time
 from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
+import pinocchio as pin
 
 from armik.arms_apart import facade, viewed
 from armik.arms_joined import held, joined, left_out
 from armik.arms_options import held_apart
 from armik.arms_prefer import is_cost, order, ranked
+from armik.arms_tasks import absolute, solve_order
+from armik.problem.problem import as_problem
+from armik.problem.tasks import Position
 from armik.result import IKResult
+from armik.targets.pose import Target, parse_by_tip
 
 MAX_COMBINATIONS = 256  # answers at most: the nearest q0 (the best) of every chain's verified ones
 
@@ -40,8 +56,13 @@ def solve_all(arms: Any, targets: Mapping[str, object], q0: object = None, **opt
 def _every(arms: Any, targets: Mapping[str, object], q0: object = None, **options: Any):
     t0 = time.perf_counter()
     relative = arms._check_targets(targets)
-    if arms._union is not None or relative:
-        return [arms.solve(targets, q0=q0, **options)]
+    # each tip's pose or position parsed once, a bad one named by its tip (as ``solve``)
+    poses = {tip: v for tip, v in targets.items() if as_problem(v) is None}
+    targets = {**targets, **parse_by_tip(poses, arms._chains)}
+    if arms._union is not None:
+        return [one_answer(arms._solve(targets, q0, dict(options)), "share joints")]
+    if relative:
+        return in_turn(arms, targets, relative, q0, options, t0)
     seeds = arms._middle_seeds if q0 is None else arms.split(q0)
     held = arms._holds(options)
     seeds = held_apart(seeds, held, arms._chains, targets)  # a tip left out: its holds
@@ -75,3 +96,128 @@ def _every(arms: Any, targets: Mapping[str, object], q0: object = None, **option
     ]
     results.sort(key=lambda r: float(np.linalg.norm(r.q - reference)))
     return results[:MAX_COMBINATIONS]
+
+
+def in_turn(arms: Any, targets, relative: dict, q0: object, options: dict, t0: float):
+    """Every answer of tips placed relative to each other (``relative``: each tip's
+    ``Relative`` tasks) on chains that share no joint: each chain's ``solve_all`` in turn,
+    the reference chains first, a relative tip's target placed by the answers of the
+    chains before it (``arms_tasks.absolute``, as ``Arms.solve`` places it); the verified
+    combinations, nearest q0 first or best first by ``prefer=``. A reference tip at a
+    position: at one sampled orientation (``_sampled``). Where none is verified, the
+    chains at once: ``Arms.solve``'s one answer, or its failure."""
+    tips = solve_order(targets, relative)
+    if tips is None:  # relative to each other in a cycle: the chains at once, one answer
+        return [one_answer(arms._solve(targets, q0, dict(options)), "cycle")]
+    prefer = options.get("prefer")
+    if is_cost(prefer):  # refused as ``Arms.solve`` refuses it, by name
+        arms._score(prefer)
+    points = _positions(arms, targets, relative)
+    if points:
+        return _sampled(arms, targets, relative, points, q0, options, t0)
+    listed = _combinations(arms, targets, relative, tips, q0, options, t0)
+    return listed or [one_answer(arms._solve(targets, q0, dict(options)), "none")]
+
+
+def _combinations(arms: Any, targets, relative: dict, tips, q0, options: dict, t0: float):
+    """``in_turn``'s combinations, the chains solved in the order ``tips``; [] where none
+    is verified."""
+    seeds = arms._middle_seeds if q0 is None else arms.split(q0)
+    held = arms._holds(options)
+    seeds = held_apart(seeds, held, arms._chains, targets)
+    combos: list[dict[str, IKResult]] = [{}]
+    for tip in tips:
+        grown = []
+        arm = facade(arms, tip, held[tip])
+        for done in combos:
+            target = targets[tip]
+            if tip in relative:
+                target = absolute(target, arms._placements(done, seeds))
+            found = arm.solve_all(target, q0=seeds[tip], **held[tip])
+            grown += [{**done, tip: r} for r in found if r.success]
+        if not grown:
+            return []
+        combos = _nearest(grown, seeds)[:MAX_COMBINATIONS]
+    elapsed = time.perf_counter() - t0
+    prefer = options.get("prefer")
+    if prefer is None:
+        return [joined(arms.tips, done, seeds, elapsed) for done in combos]
+    listed = []  # each chain's answers scored: the robot's score of each
+    choices = [tuple(done[t] for t in targets) for done in combos]
+    for value, choice in order(prefer, choices):
+        r = joined(arms.tips, dict(zip(targets, choice)), seeds, elapsed)
+        r.extra["score"] = value
+        listed.append(r)
+    return listed
+
+
+def _positions(arms: Any, targets, relative: dict) -> dict[str, np.ndarray]:
+    """Each reference tip (another's ``Relative`` is relative to it) whose target is a
+    position (any spelling, or one exact ``Position`` task on it) on a chain of more than 3
+    joints, whose answers are a continuum of orientations: its point."""
+    out = {}
+    for tip in sorted({t.relative_to for rel in relative.values() for t in rel}):
+        given, arm = targets.get(tip), arms._chains[tip]
+        if arm.dof <= 3 or given is None:
+            continue
+        problem = as_problem(given)  # None: a ``Target`` (parsed in ``_every``)
+        if type(given) is Target:
+            if given.rotation is None and given.aim is None and not given.planar:
+                out[tip] = given.position
+        elif problem is not None and len(problem.tasks) == 1 and type(problem.tasks[0]) is Position:
+            task = problem.tasks[0]
+            if task.frame in (None, tip) and not task.bounds.any():
+                out[tip] = task.p
+    return out
+
+
+def _sampled(arms: Any, targets, relative: dict, points: dict, q0, options: dict, t0: float):
+    """Reference tips at positions (``points``): ``Arms.solve``'s answer, then every
+    combination with those tips at its orientations (a pose each: that position, the
+    answer's orientation), each result's reason saying the orientation is one sample of a
+    continuum; that one answer where none is verified, its failure where it fails."""
+    one = arms._solve(targets, q0, dict(options))
+    if not one.success:
+        return [one]
+    pinned = {**targets}
+    for tip, point in points.items():
+        pinned[tip] = pin.SE3(arms.fk(one.q, tip).rotation, point)
+    tips = solve_order(pinned, relative)
+    listed = _combinations(arms, pinned, relative, tips, q0, options, t0)
+    if not listed:
+        return [one_answer(one, "none")]
+    said = f"; {SAMPLED.format(tips=list(points))}"
+    return [dataclasses.replace(r, reason=r.reason + said) for r in listed]
+
+
+SAMPLED = (
+    "the position target of {tips} held at one orientation, that of the chains' answer "
+    "solved first: the answers of a position are a continuum, these are every combination "
+    "of the chains' own answers at that orientation"
+)
+
+
+def _nearest(combos: list[dict[str, IKResult]], seeds) -> list[dict[str, IKResult]]:
+    """``combos`` (tip -> its answer) nearest their tips' seeds first (ties: as given)."""
+
+    def distance(done: dict[str, IKResult]) -> float:
+        return float(np.sqrt(sum(np.sum((r.q - seeds[t]) ** 2) for t, r in done.items())))
+
+    return sorted(combos, key=distance)
+
+
+_ONE = {
+    "share joints": "chains that share joints are solved together by the task solver",
+    "cycle": "tips placed relative to each other in a cycle are solved together by the task solver",
+    "none": "no combination of the chains' own answers held every tip; the chains at once "
+    "(the task solver)",
+}
+
+
+def one_answer(r: IKResult, why: str) -> IKResult:
+    """``r``, the one answer of the chains solved at once, its reason saying that
+    ``solve_all`` lists one answer there, not every solution (``why``: a key of ``_ONE``)."""
+    if not r.success:
+        return r
+    said = f"{r.reason}; solve_all lists this one answer: {_ONE[why]}, which finds one"
+    return dataclasses.replace(r, reason=said)

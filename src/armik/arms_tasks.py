@@ -185,3 +185,18 @@ def absolute(target: object, placements: Mapping[str, pin.SE3]) -> object:
             t = Pose(placements[ref] * t.pose.T, bounds=t.pose.bounds, weights=t.pose.weights)
         tasks.append(t)
     return tasks
+
+
+def solve_order(targets: Mapping[str, object], relative: dict) -> list[str] | None:
+    """The tips, each after the tips their ``Relative`` tasks (``relative``) are relative
+    to; None when they are relative to each other in a cycle."""
+    after = {tip: {t.relative_to for t in rel} for tip, rel in relative.items()}
+    order: list[str] = []
+    pending = list(targets)
+    while pending:
+        ready = [t for t in pending if not (after.get(t, set()) & set(pending) - {t})]
+        if not ready:
+            return None
+        order += ready
+        pending = [t for t in pending if t not in ready]
+    return order
