@@ -37,7 +37,10 @@ class KernelRow(NamedTuple):
     +- its bound (inf: free) and weighted; with ``cone >= 0`` the rotation rows are the
     frame's ``axis`` within ``cone`` rad of the target's image of it, or, with ``look``
     (``kernel.problem.LOOK_POINT``, ``LOOK_TOWARD``), of the line to the point ``sight`` or
-    the direction ``sight``."""
+    the direction ``sight``. What its true distance counts (``Task.centre``'s measure, a
+    servo tick's errors): the components ``held`` (None: those of finite ``bounds``; a
+    weight of 0 frees a row, not its distance) of the ``parts`` it has (position, rotation:
+    a position has no rotation to report, an axis no position)."""
 
     R_t: np.ndarray
     p_t: np.ndarray
@@ -47,12 +50,14 @@ class KernelRow(NamedTuple):
     axis: tuple[float, float, float] | np.ndarray = (0.0, 0.0, 1.0)
     look: int = NO_LOOK
     sight: tuple[float, float, float] | np.ndarray = (0.0, 0.0, 0.0)
+    held: np.ndarray | None = None
+    parts: tuple[bool, bool] = (True, True)
 
 
 def cone_row(axis: np.ndarray, within: float, look: int, sight: np.ndarray) -> KernelRow:
     """The ``KernelRow`` of a frame's axis within a cone of a direction or of the line to
-    a point (``Axis``, ``LookAt``): the position free."""
-    return KernelRow(_EYE, _ZERO, _FREE, _ONES, within, axis, look, sight)
+    a point (``Axis``, ``LookAt``): the position free, and no part of its distance."""
+    return KernelRow(_EYE, _ZERO, _FREE, _ONES, within, axis, look, sight, parts=(False, True))
 
 
 _EYE, _ZERO, _ONES, _FREE = np.eye(3), np.zeros(3), np.ones(6), np.full(6, math.inf)

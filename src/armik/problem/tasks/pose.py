@@ -48,8 +48,10 @@ class Pose(Task):
         self.frame = check_frame(frame)
         self.bounds = np.zeros(6) if bounds is None else check_bounds(bounds, 6, "Pose bounds")
         self.weights = np.ones(6) if weights is None else check_weights(weights, 6, "weights")
-        # a weight of 0 frees its axis as an infinite bound does
+        # a weight of 0 frees its axis as an infinite bound does, not its distance (None:
+        # ``KernelRow``'s, the components ``_free`` holds)
         self._free = np.where(self.weights == 0.0, math.inf, self.bounds)
+        self._held = None if self.weights.all() else np.isfinite(self.bounds)
 
     @classmethod
     def of(cls, target: Target, frame: str | None) -> Pose:
@@ -60,6 +62,7 @@ class Pose(Task):
         self.T = pin.SE3(target.rotation, target.position)
         self.frame = frame
         self.bounds, self.weights, self._free = np.zeros(6), np.ones(6), np.zeros(6)
+        self._held = None
         return self
 
     @property
@@ -83,7 +86,9 @@ class Pose(Task):
         return np.where(active[:, None], self.weights[:, None] * rows, 0.0)
 
     def kernel_row(self) -> KernelRow:
-        return KernelRow(self.T.rotation, self.T.translation, self._free, self.weights)
+        return KernelRow(
+            self.T.rotation, self.T.translation, self._free, self.weights, held=self._held
+        )
 
     def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
         outside = dead_zone(self.twist(T), self._free)[0]  # the distance from the region
@@ -98,7 +103,7 @@ class Pose(Task):
         if self.weights.all():
             return centre
         bounds = scaled(self.bounds, 0.0)
-        return replaced(centre, bounds=bounds, weights=np.ones(6), _free=bounds)
+        return replaced(centre, bounds=bounds, weights=np.ones(6), _free=bounds, _held=None)
 
     def shrunk(self, factor: float) -> Task:
         if math.isfinite(factor) and not self.bounds.any():  # an exact pose: no region

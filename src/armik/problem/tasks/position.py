@@ -44,7 +44,9 @@ class Position(Task):
 
     def kernel_row(self) -> KernelRow:
         # the target's rotation the identity: the box in the base frame; the rotation free
-        return KernelRow(_EYE, self.p, np.concatenate([self.bounds, _FREE]), _ONES)
+        return KernelRow(
+            _EYE, self.p, np.concatenate([self.bounds, _FREE]), _ONES, parts=(True, False)
+        )
 
     def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
         pos = float(np.linalg.norm(self.residual(T)))
