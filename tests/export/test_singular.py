@@ -156,3 +156,23 @@ def test_near_a_wrist_singularity_the_configuration_comes_back(name, tmp_path):
         expected = verified_answers(arm, T, None)
         assert len(Q) == len(expected)
         assert all(wrapped_distance(a, b) < 1e-7 for a, b in zip(Q, expected))
+
+
+def test_both_roots_of_an_elbow_almost_stretched_come_back(tmp_path):
+    """An elbow bent 6e-5 to 9e-5 rad, which the merge of a double root takes for
+    stretched: the root and its mirror lie 1e-4 rad or more apart, two solutions, both
+    returned as ``solve_all`` returns them (``keep_nearer`` kept one)."""
+    arm = armik.load("ur5")
+    solver = Solver(arm, "elbow", tmp_path)
+    rng = np.random.default_rng(9)
+    for k in range(8):
+        q = arm.random_q(rng)
+        q[2] = (-1) ** k * rng.uniform(6e-5, 9e-5)
+        T = arm.fk(q).homogeneous
+        n, Q = solver.ik_count(T, None)
+        Q = Q[:n]
+        check_solutions(arm, Q, T)
+        assert min(wrapped_distance(row, q) for row in Q) < 1e-6
+        expected = verified_answers(arm, T, None)
+        assert len(Q) == len(expected)
+        assert all(wrapped_distance(a, b) < 1e-7 for a, b in zip(Q, expected))

@@ -246,7 +246,7 @@ static inline IK_UNUSED double elbow_extreme(vec3 p1, vec3 p2, vec3 k, double t)
     return cos(t - phi) >= 0.0 ? phi : wrap(phi + IK_PI);
 }
 
-/* The elbow's roots as the closed forms solve them (sixr.elbow_roots): sp3's count (-1, 1
+/* The elbow's roots as the closed forms solve them (elbow_pair.elbow_roots): sp3's count (-1, 1
    or 2) returned, how many roots to solve in *roots. Where rounding split a stretched or
    folded elbow's double root into one (1, not least squares), its mirror about the extreme
    beside it is t[1], both exact: both solved (2; 1 where the mirror is the root itself),
@@ -376,13 +376,13 @@ static inline IK_UNUSED int sp2cs(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double fre
 )
 
 
-# The C of ``sixr.keep_nearer`` (after the limits ``LO``, ``HI``, ``SNAP`` and ``TIE``): of a
+# The C of ``elbow_pair.keep_nearer`` (after the limits ``LO``, ``HI``, ``SNAP`` and ``TIE``): of a
 # merged elbow root's rows and its mirror's, the better of each pair kept. Joints 1 to 6 of
 # the chain the family solves are columns 0 to 5 (in the arm's order when it is read from the
 # tip; a held seventh joint is written after).
 KEEP_NEARER = r"""
 /* |c - ref| for c the value of angle v (by whole turns) nearest ref within [lo, hi] (up to
-   SNAP past a limit counts as on it); INFINITY when no turn of it is (sixr._from_ref). */
+   SNAP past a limit counts as on it); INFINITY when no turn of it is (elbow_pair._from_ref). */
 static IK_UNUSED double from_ref(double v, double ref, double lo, double hi)
 {
     const double two_pi = 2.0 * IK_PI;
@@ -396,17 +396,30 @@ static IK_UNUSED double from_ref(double v, double ref, double lo, double hi)
 }
 
 /* Rows [a, b) solved from a merged elbow root and rows [b, c) from its mirror (both exact,
-   the same branches in the same order): of each pair the row with fewer joints outside the
-   limits, then with the elbow (column e) nearer Q0's within its limits by more than TIE, is
-   left in [a, b); returns b, the row count. Where the counts differ the first rows are kept
-   (sixr.keep_nearer). */
+   the same branches in the same order): of each pair within DUPLICATE_TOL of each other in
+   every joint (one solution) the row with fewer joints outside the limits, then with the
+   elbow (column e) nearer Q0's within its limits by more than TIE, is left in [a, b); a
+   pair further apart is two solutions, the mirror's row kept after [a, b). Returns the row
+   count; where the counts differ the first rows are kept (elbow_pair.keep_nearer). */
 static IK_UNUSED int keep_nearer(double W[][DOF], double C[][DOF], double S[][DOF], int a,
                                  int b, int c, int e, const double *Q0)
 {
-    int i, j, out_a, out_b;
+    int i, j, out_a, out_b, n = b, apart;
     double d_a, d_b;
     if (c - b != b - a) return b;
     for (i = 0; i < b - a; i++) {
+        apart = 0;
+        for (j = 0; j < 6; j++)
+            if (fabs(wrap(W[a + i][j] - W[b + i][j])) >= DUPLICATE_TOL) apart = 1;
+        if (apart) {  /* rows from [b, c) move down to n <= b + i */
+            for (j = 0; j < DOF; j++) {
+                W[n][j] = W[b + i][j];
+                C[n][j] = C[b + i][j];
+                S[n][j] = S[b + i][j];
+            }
+            n++;
+            continue;
+        }
         out_a = out_b = 0;
         for (j = 0; j < 6; j++) {
             out_a += from_ref(W[a + i][j], Q0[j], LO[j], HI[j]) == INFINITY;
@@ -421,6 +434,6 @@ static IK_UNUSED int keep_nearer(double W[][DOF], double C[][DOF], double S[][DO
                 S[a + i][j] = S[b + i][j];
             }
     }
-    return b;
+    return n;
 }
 """

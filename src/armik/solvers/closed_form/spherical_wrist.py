@@ -31,7 +31,7 @@ from numba import njit
 from armik.kernel.single import plain_pose, plain_seed
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, angle_between, axis_lines, fmt, meeting_point
-from armik.solvers.closed_form import sixr
+from armik.solvers.closed_form import elbow_pair, sixr
 from armik.solvers.closed_form.family import Family
 from armik.solvers.closed_form.line_split import split_at
 from armik.solvers.closed_form.sixr import LS, SHOULDER_OFFSET, SINGULAR, WRIST_ORIENTATION
@@ -218,7 +218,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             R1 = rot(h1, q1)
             v = sub(mtv(R1, p16), p1)
             nv = norm(v)
-            c0, c1, n3, ls3, roots = sixr.elbow_roots(p3, neg(p2), h3, nv, q0[2])
+            c0, c1, n3, ls3, roots = elbow_pair.elbow_roots(p3, neg(p2), h3, nv, q0[2])
             flag3, cd3, w0, w1 = flag1, cd1, v0, v1
             if n3 == -1:
                 flag3 |= SINGULAR
@@ -245,10 +245,10 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 )  # fmt: skip
                 free |= 2 if sing else 0
             if n3 == 1 and roots == 2:  # a merged root and its mirror: the better kept
-                n = sixr.keep_nearer(W, start, mid, n, q0, lower, upper)
+                n = elbow_pair.keep_nearer(W, start, mid, n, q0, lower, upper)
     else:  # axes 1 and 2 meet (p_12 = 0)
         n16 = norm(p16)
-        c0, c1, n3, ls3, roots = sixr.elbow_roots(p3, neg(p2), h3, n16, q0[2])
+        c0, c1, n3, ls3, roots = elbow_pair.elbow_roots(p3, neg(p2), h3, n16, q0[2])
         flag3, cd3, w0, w1 = 0, 0, 0.0, 0.0
         if n3 == -1:
             flag3 |= SINGULAR
@@ -301,7 +301,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 )  # fmt: skip
                 free |= 2 if sing else 0
         if n3 == 1 and roots == 2:  # a merged root and its mirror: the better kept
-            n = sixr.keep_nearer(W, start, mid, n, q0, lower, upper)
+            n = elbow_pair.keep_nearer(W, start, mid, n, q0, lower, upper)
     sixr.nearest_equivalents(W, n, q0, lower, upper)
     return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out), free
 

@@ -30,7 +30,7 @@ from numba import njit
 from armik.kernel.single import plain_pose, plain_seed
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, angle_between, axis_lines, fmt, meeting_point
-from armik.solvers.closed_form import sixr
+from armik.solvers.closed_form import elbow_pair, sixr
 from armik.solvers.closed_form.family import Family
 from armik.solvers.closed_form.sixr import LS, ORIENTATION, SHOULDER_OFFSET, SINGULAR
 from armik.solvers.closed_form.sixr_judged import GENERAL, UNLABELLED, judged, split
@@ -248,7 +248,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             q234, _ = sp1(x, mv(R234, x), h2)
             v = sub(sub(mtv(R1, p16), p1), mv(R234, p4))
             nv = norm(v)
-            c0, c1, n3, ls3, roots = sixr.elbow_roots(p3, neg(p2), h3, nv, q0[2])
+            c0, c1, n3, ls3, roots = elbow_pair.elbow_roots(p3, neg(p2), h3, nv, q0[2])
             flag3, cd3, w0, w1 = flag6, cd5, v0, v1
             if n3 == -1:
                 flag3 |= SINGULAR
@@ -268,7 +268,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 q4 = s4 * (q234 - q2 - s3 * q3)
                 n = sixr.put_row(W, n, q1, q2, q3, q4, q5, q6, flag3, cd3, w0, w1)
             if n3 == 1 and roots == 2:  # a merged root and its mirror: the better kept
-                n = sixr.keep_nearer(W, start, start + 1, n, q0, lower, upper)
+                n = elbow_pair.keep_nearer(W, start, start + 1, n, q0, lower, upper)
     sixr.nearest_equivalents(W, n, q0, lower, upper)
     return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out), free
 
