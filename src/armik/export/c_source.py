@@ -15,7 +15,14 @@ import math
 
 import numpy as np
 
-from armik.solvers.closed_form.subproblems import DEGENERATE, ELBOW, EPS, SINGLE
+from armik.solvers.closed_form.subproblems import (
+    DEGENERATE,
+    ELBOW,
+    EPS,
+    NEAR_AXIS,
+    ON_AXIS,
+    SINGLE,
+)
 
 
 def num(x: float) -> str:
@@ -80,6 +87,8 @@ static const double IK_EPS = @EPS@;
 static const double IK_SINGLE = @SINGLE@;
 static const double IK_DEGENERATE = @DEGENERATE@;
 static const double IK_ELBOW = @ELBOW@;
+static const double IK_ON_AXIS IK_UNUSED = @ON_AXIS@;  /* the families that solve near axes */
+static const double IK_NEAR_AXIS = @NEAR_AXIS@;
 
 static inline IK_UNUSED vec3 add(vec3 a, vec3 b)
 { vec3 r = {{a.v[0] + b.v[0], a.v[1] + b.v[1], a.v[2] + b.v[2]}}; return r; }
@@ -237,7 +246,7 @@ static inline IK_UNUSED double elbow_extreme(vec3 p1, vec3 p2, vec3 k, double t)
     return cos(t - phi) >= 0.0 ? phi : wrap(phi + IK_PI);
 }
 
-/* The elbow's roots as the closed forms solve them (sixr.elbow_roots): sp3's count (-1, 1
+/* The elbow's roots as the closed forms solve them (elbow_pair.elbow_roots): sp3's count (-1, 1
    or 2) returned, how many roots to solve in *roots. Where rounding split a stretched or
    folded elbow's double root into one (1, not least squares), its mirror about the extreme
    beside it is t[1], both exact: both solved (2; 1 where the mirror is the root itself),
@@ -285,18 +294,30 @@ static inline IK_UNUSED int elbow_roots_cs(vec3 p1, vec3 p2, vec3 k, double d, d
     return n;
 }
 
-/* SP2: (a[i], b[i]) with rot(k1, a) p1 = rot(k2, b) p2, -1 when p1 lies on k1 (a = free),
-   with their cosines and sines (ca, sa, cb, sb) from SP1's (no libm call but the free
-   angle's). */
-static inline IK_UNUSED int sp2cs(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double free_, double a[2],
-                        double b[2], double ca[2], double sa[2], double cb[2], double sb[2])
+/* Whether the roots (t0, t1, n) of sp3 or sp4 carry rounding only: two, at least
+   IK_NEAR_AXIS apart (subproblems.sure). */
+static inline IK_UNUSED int sure(int n, double t0, double t1)
 {
-    double n1 = norm(p1), n2 = norm(p2), k12, den, c1, c2, alpha, beta, g2, g;
+    return n == 2 && fabs(wrap(t0 - t1)) >= IK_NEAR_AXIS;
+}
+
+/* SP2: (a[i], b[i]) with rot(k1, a) p1 = rot(k2, b) p2, -1 when p1 lies on k1 within
+   on_axis (a = free), with their cosines and sines (ca, sa, cb, sb) from SP1's (no libm
+   call but the free angle's). Below IK_SINGLE, nearer an axis than IK_NEAR_AXIS both pairs
+   are kept and a is free where that moves the equation by no more than on_axis
+   (subproblems.sp2_on). */
+static inline IK_UNUSED int sp2cs_on(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double free_,
+                                     double on_axis, double a[2], double b[2], double ca[2],
+                                     double sa[2], double cb[2], double sb[2])
+{
+    double n1 = norm(p1), n2 = norm(p2), k12, den, c1, c2, alpha, beta, g2, g, s1, s2, e;
     vec3 u1 = scale(p1, 1.0 / n1), u2 = scale(p2, 1.0 / n2), base, k1xk2, c;
+    int near, i;
     a[1] = b[1] = 0.0;
     ca[1] = cb[1] = 1.0;
     sa[1] = sb[1] = 0.0;
-    if (norm(cross(k1, u1)) <= IK_SINGLE) {
+    s1 = norm(cross(k1, u1));
+    if (s1 <= on_axis) {
         a[0] = free_;
         ca[0] = cos(free_);
         sa[0] = sin(free_);
@@ -309,33 +330,59 @@ static inline IK_UNUSED int sp2cs(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double fre
     c2 = dot(k2, u2);
     alpha = (c1 - k12 * c2) / den;
     beta = (c2 - k12 * c1) / den;
-    g2 = (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * k12) / den;
+    s2 = norm(cross(k2, u2));
+    near = on_axis < IK_SINGLE && (s1 < s2 ? s1 : s2) < IK_NEAR_AXIS;
+    if (!near) {
+        g2 = (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * k12) / den;
+    } else if (s2 <= s1) {  /* c near k2: 1 - c2^2 from the cross product */
+        e = c1 - k12 * c2;
+        g2 = (s2 * s2 * den - e * e) / (den * den);
+    } else {
+        e = c2 - k12 * c1;
+        g2 = (s1 * s1 * den - e * e) / (den * den);
+    }
     g = g2 > 0.0 ? sqrt(g2) : 0.0;
     base = add(scale(k1, alpha), scale(k2, beta));
     k1xk2 = cross(k1, k2);
     c = add(base, scale(k1xk2, g));
     a[0] = sp1cs(u1, c, k1, &ca[0], &sa[0]);
     b[0] = sp1cs(u2, c, k2, &cb[0], &sb[0]);
-    if (g < 1e-9) return 1;
+    if (g < 1e-9 && !near) return 1;
     c = sub(base, scale(k1xk2, g));
     a[1] = sp1cs(u1, c, k1, &ca[1], &sa[1]);
     b[1] = sp1cs(u2, c, k2, &cb[1], &sb[1]);
+    if (near && s1 < IK_NEAR_AXIS)  /* a read to rounding / s1: free_ where as good */
+        for (i = 0; i < 2; i++)
+            if (s1 * fabs(wrap(free_ - a[i])) <= on_axis) {
+                a[i] = free_;
+                ca[i] = cos(free_);
+                sa[i] = sin(free_);
+            }
     return 2;
+}
+
+/* sp2cs_on with p1 on k1 within IK_SINGLE (subproblems.sp2). */
+static inline IK_UNUSED int sp2cs(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double free_, double a[2],
+                        double b[2], double ca[2], double sa[2], double cb[2], double sb[2])
+{
+    return sp2cs_on(p1, p2, k1, k2, free_, IK_SINGLE, a, b, ca, sa, cb, sb);
 }
 """.replace("@EPS@", num(EPS))
     .replace("@SINGLE@", num(SINGLE))
+    .replace("@ON_AXIS@", num(ON_AXIS))
+    .replace("@NEAR_AXIS@", num(NEAR_AXIS))
     .replace("@DEGENERATE@", num(DEGENERATE))
     .replace("@ELBOW@", num(ELBOW))
 )
 
 
-# The C of ``sixr.keep_nearer`` (after the limits ``LO``, ``HI``, ``SNAP`` and ``TIE``): of a
+# The C of ``elbow_pair.keep_nearer`` (after the limits ``LO``, ``HI``, ``SNAP`` and ``TIE``): of a
 # merged elbow root's rows and its mirror's, the better of each pair kept. Joints 1 to 6 of
 # the chain the family solves are columns 0 to 5 (in the arm's order when it is read from the
 # tip; a held seventh joint is written after).
 KEEP_NEARER = r"""
 /* |c - ref| for c the value of angle v (by whole turns) nearest ref within [lo, hi] (up to
-   SNAP past a limit counts as on it); INFINITY when no turn of it is (sixr._from_ref). */
+   SNAP past a limit counts as on it); INFINITY when no turn of it is (elbow_pair._from_ref). */
 static IK_UNUSED double from_ref(double v, double ref, double lo, double hi)
 {
     const double two_pi = 2.0 * IK_PI;
@@ -349,17 +396,30 @@ static IK_UNUSED double from_ref(double v, double ref, double lo, double hi)
 }
 
 /* Rows [a, b) solved from a merged elbow root and rows [b, c) from its mirror (both exact,
-   the same branches in the same order): of each pair the row with fewer joints outside the
-   limits, then with the elbow (column e) nearer Q0's within its limits by more than TIE, is
-   left in [a, b); returns b, the row count. Where the counts differ the first rows are kept
-   (sixr.keep_nearer). */
+   the same branches in the same order): of each pair within DUPLICATE_TOL of each other in
+   every joint (one solution) the row with fewer joints outside the limits, then with the
+   elbow (column e) nearer Q0's within its limits by more than TIE, is left in [a, b); a
+   pair further apart is two solutions, the mirror's row kept after [a, b). Returns the row
+   count; where the counts differ the first rows are kept (elbow_pair.keep_nearer). */
 static IK_UNUSED int keep_nearer(double W[][DOF], double C[][DOF], double S[][DOF], int a,
                                  int b, int c, int e, const double *Q0)
 {
-    int i, j, out_a, out_b;
+    int i, j, out_a, out_b, n = b, apart;
     double d_a, d_b;
     if (c - b != b - a) return b;
     for (i = 0; i < b - a; i++) {
+        apart = 0;
+        for (j = 0; j < 6; j++)
+            if (fabs(wrap(W[a + i][j] - W[b + i][j])) >= DUPLICATE_TOL) apart = 1;
+        if (apart) {  /* rows from [b, c) move down to n <= b + i */
+            for (j = 0; j < DOF; j++) {
+                W[n][j] = W[b + i][j];
+                C[n][j] = C[b + i][j];
+                S[n][j] = S[b + i][j];
+            }
+            n++;
+            continue;
+        }
         out_a = out_b = 0;
         for (j = 0; j < 6; j++) {
             out_a += from_ref(W[a + i][j], Q0[j], LO[j], HI[j]) == INFINITY;
@@ -374,6 +434,6 @@ static IK_UNUSED int keep_nearer(double W[][DOF], double C[][DOF], double S[][DO
                 S[a + i][j] = S[b + i][j];
             }
     }
-    return b;
+    return n;
 }
 """

@@ -1,7 +1,7 @@
 """An elbow stretched or folded at a joint limit: of the two roots rounding splits the
 double root into (both exact), the closed forms keep, branch by branch, the row with fewer
-joints outside the limits, then with the elbow nearer q0's (``sixr.mirror_root``,
-``sixr.keep_nearer``), so that solve from q0 = q gives q back."""
+joints outside the limits, then with the elbow nearer q0's (``elbow_pair.mirror_root``,
+``elbow_pair.keep_nearer``), so that solve from q0 = q gives q back."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from armik.solvers.closed_form import sixr
+from armik.solvers.closed_form import elbow_pair
 from armik.solvers.closed_form.subproblems import elbow_extreme, mv, norm, rot, sub
 
 from ...conftest import arm
@@ -79,9 +79,9 @@ def test_mirror_root_and_keep_nearer():
     def span(a):
         return norm(sub(mv(rot(k, a), p1), p2))
 
-    assert sixr.mirror_root(p1, p2, k, e + t) == pytest.approx(e - t, abs=1e-12)
+    assert elbow_pair.mirror_root(p1, p2, k, e + t) == pytest.approx(e - t, abs=1e-12)
     assert span(e + t) == pytest.approx(span(e - t), abs=1e-15)  # both roots of one span
-    assert sixr.mirror_root(p1, p2, k, e) == e
+    assert elbow_pair.mirror_root(p1, p2, k, e) == e
     q0 = np.array([0.0, 0.5, e, 0.0, 0.0, 0.0])
     lower, upper = np.full(6, -3.0), np.full(6, 3.0)
     W = np.zeros((2, 11))
@@ -91,15 +91,15 @@ def test_mirror_root_and_keep_nearer():
     # joint 2's lower limit at q0's value: the first row lies 3e-7 past it (beyond
     # sixr.SNAP), the second kept
     lower[1] = 0.5
-    assert sixr.keep_nearer(W, 0, 1, 2, q0, lower, upper) == 1
+    assert elbow_pair.keep_nearer(W, 0, 1, 2, q0, lower, upper) == 1
     assert W[0, 1] == 0.5 + 3e-7 and W[0, 6] == 7.0
     # both within the limits, as near q0 (to TIE): the first kept
     W[0, :7] = [0.0, 0.5 + 1e-7, e + t, 0.0, 0.0, 0.0, 0.0]
     W[1, :7] = [0.0, 0.5 + 1e-7, e - t, 0.0, 0.0, 0.0, 7.0]
-    assert sixr.keep_nearer(W, 0, 1, 2, q0, np.full(6, -3.0), upper) == 1
+    assert elbow_pair.keep_nearer(W, 0, 1, 2, q0, np.full(6, -3.0), upper) == 1
     assert W[0, 6] == 0.0
     # counts that differ: the first rows kept as they are
-    assert sixr.keep_nearer(W, 0, 1, 1, q0, lower, upper) == 1
+    assert elbow_pair.keep_nearer(W, 0, 1, 1, q0, lower, upper) == 1
 
 
 def test_elbow_roots():
@@ -112,11 +112,11 @@ def test_elbow_roots():
 
     # a span a hair short of the extreme: one root (subproblems.elbow merges them), its
     # mirror solved too
-    c0, c1, n, ls, roots = sixr.elbow_roots(p1, p2, k, span(e + t), 9.0)
+    c0, c1, n, ls, roots = elbow_pair.elbow_roots(p1, p2, k, span(e + t), 9.0)
     assert (n, ls, roots) == (1, False, 2)
     assert sorted([c0, c1]) == pytest.approx([e - t, e + t], abs=1e-9)
     # regular roots as they are; every turn spans it: one root, the free value's
-    c0, c1, n, ls, roots = sixr.elbow_roots(p1, p2, k, span(e + 0.5), 9.0)
+    c0, c1, n, ls, roots = elbow_pair.elbow_roots(p1, p2, k, span(e + 0.5), 9.0)
     assert (n, roots) == (2, 2)
-    c0, c1, n, ls, roots = sixr.elbow_roots(p1, (0.0, 0.0, 0.0), k, norm(p1), 9.0)
+    c0, c1, n, ls, roots = elbow_pair.elbow_roots(p1, (0.0, 0.0, 0.0), k, norm(p1), 9.0)
     assert (c0, n, roots) == (9.0, -1, 1)

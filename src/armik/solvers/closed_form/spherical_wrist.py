@@ -31,12 +31,14 @@ from numba import njit
 from armik.kernel.single import plain_pose, plain_seed
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, angle_between, axis_lines, fmt, meeting_point
-from armik.solvers.closed_form import sixr
+from armik.solvers.closed_form import elbow_pair, sixr
 from armik.solvers.closed_form.family import Family
 from armik.solvers.closed_form.line_split import split_at
 from armik.solvers.closed_form.sixr import LS, SHOULDER_OFFSET, SINGULAR, WRIST_ORIENTATION
 from armik.solvers.closed_form.sixr_judged import GENERAL, UNLABELLED, judged, split
 from armik.solvers.closed_form.subproblems import (
+    ON_AXIS,
+    SINGLE,
     add,
     cross,
     dot,
@@ -53,8 +55,10 @@ from armik.solvers.closed_form.subproblems import (
     scale,
     sp1,
     sp2,
+    sp2_on,
     sp4,
     sub,
+    sure,
     vec,
 )
 from armik.tolerances import ANGLE_TOL, DISTANCE_TOL
@@ -113,17 +117,19 @@ def classify_axes(ax: Axes) -> sixr.Chain6R | str:
 def _wrist(R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag, cd, v0, v1, W, n):
     """Append the (up to 2) wrist solutions for a placed wrist centre to the kernel's rows
     ``W`` (``sixr``'s layout); returns the count."""
-    return _wrist_free(R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag, cd, v0, v1, W, n)[
-        0
-    ]
+    got = _wrist_free(
+        R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag, cd, v0, v1, W, n, SINGLE
+    )
+    return got[0]
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
-def _wrist_free(R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag, cd, v0, v1, W, n):
-    """``_wrist``: (the count, whether q4 was free: axes 4 and 6 in line). A free q4 is at
-    q0's value, or the value nearest it that keeps q6 within its limits."""
+def _wrist_free(R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag, cd, v0, v1, W, n, on):
+    """``_wrist``: (the count, whether q4 was free: axes 4 and 6 in line within ``on`` rad,
+    ``sp2_on``'s). A free q4 is at q0's value, or the value nearest it that keeps q6 within
+    its limits."""
     R36 = mtm(R03, R06)
-    a0, a1, b0, b1, nw, lsw = sp2(mv(R36, h6), h6, neg(h4), h5, q0[3])
+    a0, a1, b0, b1, nw, lsw = sp2_on(mv(R36, h6), h6, neg(h4), h5, q0[3], on)
     sing = False
     if nw == -1:
         nw, sing = 1, True
@@ -212,7 +218,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             R1 = rot(h1, q1)
             v = sub(mtv(R1, p16), p1)
             nv = norm(v)
-            c0, c1, n3, ls3, roots = sixr.elbow_roots(p3, neg(p2), h3, nv, q0[2])
+            c0, c1, n3, ls3, roots = elbow_pair.elbow_roots(p3, neg(p2), h3, nv, q0[2])
             flag3, cd3, w0, w1 = flag1, cd1, v0, v1
             if n3 == -1:
                 flag3 |= SINGULAR
@@ -224,6 +230,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 if cd3 == 0:
                     cd3, w1 = sixr.elbow_code(p2, p3, h3, c0, nv)
                     w0 = nv
+            on = ON_AXIS if sure(n1, a0, a1) and sure(n3, c0, c1) else SINGLE
             start = mid = n
             for i3 in range(roots):
                 q3 = c0 if i3 == 0 else c1
@@ -234,14 +241,14 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 R03 = mm(mm(R1, rot(h2, q2)), R3)
                 n, sing = _wrist_free(
                     R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag3, cd3, w0, w1,
-                    W, n,
+                    W, n, on,
                 )  # fmt: skip
                 free |= 2 if sing else 0
             if n3 == 1 and roots == 2:  # a merged root and its mirror: the better kept
-                n = sixr.keep_nearer(W, start, mid, n, q0, lower, upper)
+                n = elbow_pair.keep_nearer(W, start, mid, n, q0, lower, upper)
     else:  # axes 1 and 2 meet (p_12 = 0)
         n16 = norm(p16)
-        c0, c1, n3, ls3, roots = sixr.elbow_roots(p3, neg(p2), h3, n16, q0[2])
+        c0, c1, n3, ls3, roots = elbow_pair.elbow_roots(p3, neg(p2), h3, n16, q0[2])
         flag3, cd3, w0, w1 = 0, 0, 0.0, 0.0
         if n3 == -1:
             flag3 |= SINGULAR
@@ -269,7 +276,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                     R03 = mm(R12, rot(h3, e))
                     n, sing = _wrist_free(
                         R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, e, flag3 | SINGULAR,
-                        cd3, w0, w1, W, n,
+                        cd3, w0, w1, W, n, SINGLE,
                     )  # fmt: skip
                     free |= 8 | (2 if sing else 0)
                     continue
@@ -287,13 +294,14 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 q1 = a0 if i12 == 0 else a1
                 q2 = b0 if i12 == 0 else b1
                 R03 = mm(mm(rot(h1, q1), rot(h2, q2)), R3)
+                on = ON_AXIS if sure(n3, c0, c1) and sure(n12, a0, a1) else SINGLE
                 n, sing = _wrist_free(
                     R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag, cd3, w0, w1,
-                    W, n,
+                    W, n, on,
                 )  # fmt: skip
                 free |= 2 if sing else 0
         if n3 == 1 and roots == 2:  # a merged root and its mirror: the better kept
-            n = sixr.keep_nearer(W, start, mid, n, q0, lower, upper)
+            n = elbow_pair.keep_nearer(W, start, mid, n, q0, lower, upper)
     sixr.nearest_equivalents(W, n, q0, lower, upper)
     return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out), free
 

@@ -30,11 +30,13 @@ from numba import njit
 from armik.kernel.single import plain_pose, plain_seed
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, angle_between, axis_lines, fmt, meeting_point
-from armik.solvers.closed_form import sixr
+from armik.solvers.closed_form import elbow_pair, sixr
 from armik.solvers.closed_form.family import Family
 from armik.solvers.closed_form.sixr import LS, ORIENTATION, SHOULDER_OFFSET, SINGULAR
 from armik.solvers.closed_form.sixr_judged import GENERAL, UNLABELLED, judged, split
 from armik.solvers.closed_form.subproblems import (
+    NEAR_AXIS,
+    ON_AXIS,
     SINGLE,
     add,
     cross,
@@ -49,8 +51,10 @@ from armik.solvers.closed_form.subproblems import (
     rot,
     scale,
     sp1,
+    sp2_on,
     sp4,
     sub,
+    sure,
     vec,
     wrap,
 )
@@ -187,6 +191,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
     p16 = sub(sub(pos, mv(R06, p6)), p0)
     d1 = dot(h2, add(add(p1, p2), add(p3, p4)))
     a0, a1, n1, ls1 = sp4(h2, p16, neg(h1), d1)
+    clean = sure(n1, a0, a1)  # q1 carries rounding only: no double root, not free
     flag1, cd1, v0, v1 = 0, 0, 0.0, 0.0
     if n1 == -1:
         n1, a0 = 1, q0[0]
@@ -202,7 +207,15 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
         q1 = a0 if i1 == 0 else a1
         R1 = rot(h1, q1)
         M = mtm(R1, R06)
-        b0, b1, n5, ls5 = sp4(h2, h6, h5, dot(h2, mv(M, h6)))
+        a = mtv(M, h2)
+        # the wrist's distance from its singularity (rad), as sp2 measures it
+        off = norm(cross(h6, scale(a, 1.0 / norm(a))))
+        near = clean and ON_AXIS < off < NEAR_AXIS
+        if near:  # sp4 reads q5 from a cosine ~ 1, SP2 from the cross product: q6 = e_i
+            e0, e1, b0, b1, n5, ls5 = sp2_on(a, h2, h6, neg(h5), q0[5], ON_AXIS)
+        else:
+            b0, b1, n5, ls5 = sp4(h2, h6, h5, dot(h2, mv(M, h6)))
+            e0 = e1 = 0.0
         flag5, cd5 = flag1, cd1
         if n5 == -1:
             n5, b0 = 1, q0[4]
@@ -214,10 +227,11 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
         for i5 in range(n5):
             q5 = b0 if i5 == 0 else b1
             R5 = rot(h5, q5)
-            a = mtv(M, h2)
             b = mtv(R5, h2)
             flag6 = flag5
-            if norm(cross(a, h6)) < SINGLE or norm(cross(b, h6)) < SINGLE:
+            if near:
+                q6 = e0 if i5 == 0 else e1
+            elif off < SINGLE or norm(cross(b, h6)) < SINGLE:
                 # wrist singular: q6 and q2 + q3 + q4 trade off; q6 stays at q0 unless the
                 # wrist point is then out of the elbow's reach
                 q6 = q0[5]
@@ -234,7 +248,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             q234, _ = sp1(x, mv(R234, x), h2)
             v = sub(sub(mtv(R1, p16), p1), mv(R234, p4))
             nv = norm(v)
-            c0, c1, n3, ls3, roots = sixr.elbow_roots(p3, neg(p2), h3, nv, q0[2])
+            c0, c1, n3, ls3, roots = elbow_pair.elbow_roots(p3, neg(p2), h3, nv, q0[2])
             flag3, cd3, w0, w1 = flag6, cd5, v0, v1
             if n3 == -1:
                 flag3 |= SINGULAR
@@ -254,7 +268,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 q4 = s4 * (q234 - q2 - s3 * q3)
                 n = sixr.put_row(W, n, q1, q2, q3, q4, q5, q6, flag3, cd3, w0, w1)
             if n3 == 1 and roots == 2:  # a merged root and its mirror: the better kept
-                n = sixr.keep_nearer(W, start, start + 1, n, q0, lower, upper)
+                n = elbow_pair.keep_nearer(W, start, start + 1, n, q0, lower, upper)
     sixr.nearest_equivalents(W, n, q0, lower, upper)
     return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out), free
 

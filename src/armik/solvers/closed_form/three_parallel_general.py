@@ -27,7 +27,7 @@ from numba import njit
 from armik.kernel.single import plain_pose, plain_seed
 from armik.model.arm_model import ArmModel
 from armik.model.geometry import Axes, angle_between, axis_lines, fmt
-from armik.solvers.closed_form import sixr
+from armik.solvers.closed_form import elbow_pair, sixr
 from armik.solvers.closed_form.family import Family
 from armik.solvers.closed_form.sixr import LS, SINGULAR
 from armik.solvers.closed_form.sixr_judged import GENERAL, UNLABELLED, judged, split
@@ -125,7 +125,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
         q14, _ = sp1(x, mv(R14, x), h2)
         v = sub(sub(mtv(R1, p16), p1), mv(R14, add(p4, mv(R5, p5))))
         nv = norm(v)
-        c0, c1, n3, ls3, roots = sixr.elbow_roots(p3, neg(p2), h3, nv, q0[2])
+        c0, c1, n3, ls3, roots = elbow_pair.elbow_roots(p3, neg(p2), h3, nv, q0[2])
         f3, cd3, w0, w1 = f6, 0, 0.0, 0.0
         if n3 == -1 or (n3 == 1 and not ls3):
             f3 |= SINGULAR  # every turn spans it, or stretched or folded
@@ -140,7 +140,7 @@ def kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
             q4 = s4 * (q14 - q2 - s3 * q3)
             n = sixr.put_row(W, n, q1, q2, q3, q4, q5, q6, f3, cd3, w0, w1)
         if n3 == 1 and roots == 2:  # a merged root and its mirror: the better kept
-            n = sixr.keep_nearer(W, start, start + 1, n, q0, lower, upper)
+            n = elbow_pair.keep_nearer(W, start, start + 1, n, q0, lower, upper)
     sixr.nearest_equivalents(W, n, q0, lower, upper)
     return n, sixr.pack(W, n, q0, lower, upper, h, p, labelled, out)
 
