@@ -49,3 +49,19 @@ def test_weights_too_far_apart_refused_as_solve_refuses_them():
         servo.track([T0, far])
     np.testing.assert_array_equal(servo.q, q0)  # nothing commanded
     servo.step(armik.Pose(T0, weights=(1, 1, 1, 1e-6, 1e-6, 1e-6)))
+
+
+def test_equal_weights_step_as_none_and_too_large_ones_are_refused():
+    """Equal weights (a task's default) step as no weights do, whatever their value; equal
+    but above ``MAX_WEIGHT`` they are refused as ``solve`` refuses them."""
+    ur5, q0 = load("ur5"), START["ur5"]
+    T = ur5.fk(q0 + 0.05)
+    plain = ur5.servo(q0).track([T] * 20)
+    for w in (1.0, 2.5, 1e6):
+        got = ur5.servo(q0).track([armik.Pose(T, weights=(w,) * 6)] * 20)
+        np.testing.assert_array_equal(got.q, plain.q)
+    with pytest.raises(armik.TargetError, match="weights must be") as served:
+        ur5.servo(q0).step(armik.Pose(T, weights=(1e7,) * 6))
+    with pytest.raises(armik.OptionError, match="weights must be") as solved:
+        ur5.solve(armik.Pose(T, weights=(1e7,) * 6), max_iterations=5)
+    assert str(served.value) == str(solved.value)
