@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any, cast, overload
 
 import numpy as np
 
-from armik import batch_file, reasons
+from armik import batch_file, batch_summary, reasons
 from armik.problem.settings import SolverSettings
 from armik.result import IKResult
 from armik.status import Status
@@ -303,39 +303,7 @@ class BatchResult:
 
     def summary(self) -> str:
         """One line: how many were solved, by status, the time and the throughput."""
-        n = len(self)
-        name = f"{self.arm}/{self.solver}" if self.arm else self.solver
-        if n == 0:
-            return f"{name}: 0 targets"
-        solved = int(self.success.sum())
-        counts = ", ".join(f"{k} {v}" for k, v in self.counts().items())
-        rate = n / self.time if self.time > 0 else math.inf
-        line = (
-            f"{name}: {solved}/{n} solved ({100.0 * solved / n:.2f} %; {counts}) in "
-            f"{self.time:.3g} s, {rate:,.0f} targets/s"
-        )
-        if solved:
-            worst = self.position_error[self.success].max()
-            apart = self._measured[self.success]  # NaN where the distances were measured
-            if np.isnan(apart[:, 0]).all():
-                line += f"; largest error of the solved: {worst:.2g} m"
-            else:  # the errors are distances; the verdicts measured the region or weights
-                to = "the region's centre" if self.region else "the target"
-                line += f"; largest distance to {to} of the solved: {worst:.2g} m"
-            ori = self.orientation_error[self.success]
-            if not np.isnan(ori).all():
-                line += f", {np.nanmax(ori):.2g} rad"
-            if not np.isnan(apart[:, 0]).all():
-                line += f" (the verdicts measured at most {np.nanmax(apart[:, 0]):.2g} m"
-                rot = "" if np.isnan(apart[:, 1]).all() else f", {np.nanmax(apart[:, 1]):.2g} rad"
-                line += f"{rot})"
-            d = self._distances[self.success]
-            if not np.isnan(d).all():
-                k = int(np.nanargmin(d))
-                pair = self.closest_pair(int(np.flatnonzero(self.success)[k]))
-                names = "" if pair is None else f" ({pair[0]} / {pair[1]})"
-                line += f"; smallest clearance of the solved: {d[k]:.3g} m{names}"
-        return line
+        return batch_summary.summary(self)
 
     # -- files ------------------------------------------------------------------------
 
