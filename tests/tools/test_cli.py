@@ -415,3 +415,10 @@ def test_python_dash_m_armik_runs_the_command():
     done = subprocess.run([*run, "no_such_command"], capture_output=True, text=True)
     assert done.returncode == 2 and "invalid choice: 'no_such_command'" in done.stderr
     assert "(see 'armik --help')" in done.stderr
+    # imported, as a walk over armik's modules imports it: nothing runs, nothing exits
+    done = subprocess.run(
+        [sys.executable, "-c", "import armik.__main__, sys; print('armik.tools' in sys.modules)"],
+        capture_output=True,
+        text=True,
+    )
+    assert (done.returncode, done.stdout) == (0, "False\n"), done.stderr
