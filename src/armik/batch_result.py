@@ -49,7 +49,8 @@ class BatchResult:
       ``position_error`` and ``orientation_error`` are the distances all the same. NaN
       where the verdict measured the distances themselves (``armik.verify.distances``).
     - ``region``, ``cone``: the targets are regions (bounds, an aim) and the aim's cone (rad,
-      None: no aim), so that a success's ``reason(i)`` says what ``solve``'s says.
+      None: no aim), ``free``: (position, rotation) left wholly free by weights of 0 or
+      infinite bounds, so that a success's ``reason(i)`` says what ``solve``'s says.
     - ``errors``: on several tips (``armik.Arms``), tip -> (N, 2) each row's distances to
       that tip's target (position m, orientation rad, NaN where not measured), as
       ``Arms.solve``'s ``errors[tip]``; empty for one arm.
@@ -82,6 +83,7 @@ class BatchResult:
     score: np.ndarray | None = None  # (N,) with prefer=; NaN filled when None is given
     region: bool = False  # the targets are regions (bounds, a cone): errors lie outside them
     cone: float | None = None  # rad: the targets' aim's cone (a batch shares one), None: no aim
+    free: tuple[bool, bool] = (False, False)  # (position, rotation): every component free
     measured: np.ndarray | None = None  # (N, 2) the verdict's errors; NaN filled when None
     # a success's claim before its verdict's words, as ``solve`` says it ("{}": its
     # restarts; a numeric solver's ``reasons.CONVERGED``), or "" for none
@@ -180,17 +182,18 @@ class BatchResult:
         pos, ori = self.position_error[i], self.orientation_error[i]
         if not math.isnan(apart[0]):  # the verdict measured apart: what it measured first
             pos, ori = apart[0], apart[1]
-        tol_p, tol_r = self.tol_position, self.tol_orientation
+        tol_p, tol_r, free = self.tol_position, self.tol_orientation, self.free
+        said_pos, said_ori = None if free[0] else pos, None if free[1] or ori != ori else ori
         if self.region:  # inside it for a success; NaN: no orientation measured (a position)
-            measured = reasons.region(pos, None if ori != ori else ori, tol_p, tol_r, self.cone)
+            measured = reasons.region(said_pos, said_ori, tol_p, tol_r, self.cone)
         else:
-            measured = reasons.measured(pos, ori, tol_p, tol_r)
+            measured = reasons.measured(said_pos, said_ori, tol_p, tol_r)
         said = self.claim.format(int(self.restarts[i])) if self.claim and self.success[i] else None
         text = reasons.verified(said, measured)
         if not math.isnan(apart[0]):
             pos, ori = float(self.position_error[i]), float(self.orientation_error[i])
             weighted = self.weighted or not self.region  # solve's words (``verify.distances``)
-            text = reasons.measured_apart(text, pos, ori, weighted, self.region)
+            text = reasons.measured_apart(text, pos, ori, weighted, self.region, free)
         if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):  # checked
             pair, distance = self.closest_pair(i), float(self._distances[i])
             text = reasons.and_clear(text, pair, distance, self.margin)
@@ -285,6 +288,7 @@ class BatchResult:
             score=self._scores[picked],
             region=self.region,
             cone=self.cone,
+            free=self.free,
             measured=self._measured[picked],
             claim=self.claim,
             branch_code=self._codes[picked],
@@ -360,6 +364,7 @@ class BatchResult:
             margin=margin,
             region=opts.bounds is not None or aim is not None,
             cone=None if aim is None else aim.within,
+            free=opts.left_free(False, aim is not None),
             claim=claim,
             brancher=brancher,
             weighted=opts.weights is not None,

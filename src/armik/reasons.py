@@ -6,13 +6,13 @@ them (a target beyond reach, a budget run out)."""
 from __future__ import annotations
 
 
-def measured(pos: float, ori: float | None, tol_p: float, tol_r: float) -> str:
+def measured(pos: float | None, ori: float | None, tol_p: float, tol_r: float) -> str:
     """'position error 1e-07 m (tol 1e-05), orientation error ...': a measure in words
-    (``ori`` None or NaN, as batches hold it: not measured)."""
-    text = f"position error {pos:.3g} m{_tol_text(tol_p)}"
-    if ori is None or ori != ori:
-        return text
-    return f"{text}, orientation error {ori:.3g} rad{_tol_text(tol_r)}"
+    (``pos`` None, ``ori`` None or NaN, as batches hold it: not measured, that part free)."""
+    said = [] if pos is None else [f"position error {pos:.3g} m{_tol_text(tol_p)}"]
+    if ori is not None and ori == ori:
+        said.append(f"orientation error {ori:.3g} rad{_tol_text(tol_r)}")
+    return ", ".join(said) or "no component measured (every one free)"
 
 
 def outside_region(measured_text: str) -> str:
@@ -21,21 +21,40 @@ def outside_region(measured_text: str) -> str:
     return f"outside the region: {measured_text}"
 
 
-def region(pos: float, ori: float | None, tol_p: float, tol_r: float, cone: float | None) -> str:
+def region(
+    pos: float | None, ori: float | None, tol_p: float, tol_r: float, cone: float | None
+) -> str:
     """A measure of a target with a region (bounds, an aim): its errors are the distances
     outside it, within the tolerances "inside the region", else "outside" (NaN: not
-    placed). With an aim (``cone``: its angle, rad) the orientation error is the tip axis'
-    angle outside its cone: "within its cone", or the axis' angle from its direction."""
-    inside = pos <= tol_p and (ori is None or ori <= tol_r)  # False for NaN
+    placed; ``pos`` None: the position free, not said). With an aim (``cone``: its angle,
+    rad) the orientation error is the tip axis' angle outside its cone: "within its cone",
+    or the axis' angle from its direction."""
+    inside = (pos is None or pos <= tol_p) and (ori is None or ori <= tol_r)  # NaN: False
     where = "inside" if inside else "outside"
     if cone is None or ori is None or ori != ori:
         return f"{where} the region: {measured(pos, ori, tol_p, tol_r)}"
-    text = f"{where} the region: {measured(pos, None, tol_p, tol_r)}"
+    said = [] if pos is None else [measured(pos, None, tol_p, tol_r)]
     if ori <= tol_r:
-        return f"{text}, the tip's axis within its cone of {cone:.3g} rad"
-    return (
-        f"{text}, the tip's axis {ori + cone:.3g} rad from its direction, outside its cone of "
-        f"{cone:.3g} rad{_tol_text(tol_r)}"
+        said.append(f"the tip's axis within its cone of {cone:.3g} rad")
+    else:
+        said.append(f"{_off_axis(ori, cone)}{_tol_text(tol_r)}")
+    return f"{where} the region: {', '.join(said)}"
+
+
+def _off_axis(ori: float, cone: float) -> str:
+    """The tip's axis ``ori`` rad outside its ``cone`` (rad), in words."""
+    outside = f", outside its cone of {cone:.3g} rad" if cone > 0 else ""
+    return f"the tip's axis {ori + cone:.3g} rad from its direction{outside}"
+
+
+def best_outside(pos: float | None, ori: float | None, cone: float | None) -> str:
+    """A failure's best attempt against a region: the distances outside it, each part
+    where measured (None: free); with an aim (``cone``, rad) the tip axis' angle."""
+    if cone is None or ori is None:
+        return outside_region(best_errors(pos, ori))
+    axis = _off_axis(ori, cone) if ori > 0 else f"the tip's axis within its cone of {cone:.3g} rad"
+    return outside_region(
+        ", ".join(([] if pos is None else [f"position error {pos:.3g} m"]) + [axis])
     )
 
 
@@ -249,14 +268,19 @@ def _tol_text(tol: float) -> str:
 _TOL_TEXT: dict[float, str] = {}
 
 
-def measured_apart(reason: str, pos: float, ori: float | None, weighted: bool, region: bool) -> str:
+def measured_apart(
+    reason: str, pos: float, ori: float | None, weighted: bool, region: bool, free=(0, 0)
+) -> str:
     """A result whose verdict measured other than the distances to the target (weights on
     the axes, a region): its reason, then those distances, what ``position_error`` and
-    ``orientation_error`` report (to a region's centre, its free components left out)."""
-    rot = "" if ori is None or ori != ori else f", {ori:.3g} rad"
+    ``orientation_error`` report (to a region's centre, its free components left out: a
+    part wholly free, ``free`` (position, rotation), is 0 there and not said)."""
     said = f"{reason} (on the weighted axes)" if weighted else reason
     to = "the region's centre, free components apart" if region else "the target"
-    return f"{said}; the tip is {pos:.3g} m{rot} from {to}"
+    parts = [] if region and free[0] else [f"{pos:.3g} m"]
+    if ori is not None and ori == ori and not (region and free[1]):
+        parts.append(f"{ori:.3g} rad")
+    return f"{said}; the tip is {', '.join(parts)} from {to}" if parts else said
 
 
 def tasks_apart(reason: str, pos: float, ori: float | None) -> str:

@@ -53,6 +53,10 @@ class Measure:
     tol_orientation: float
     region: bool = False  # the errors are the distances outside the target's bounds
     cone: float | None = None  # rad: the aim's cone; the orientation error lies outside it
+    free: tuple[bool, bool] = (
+        False,
+        False,
+    )  # (position, rotation): not said (``SolverSettings.left_free``)
 
     @property
     def pose_ok(self) -> bool:
@@ -64,7 +68,8 @@ class Measure:
         return self.pose_ok and not self.violations
 
     def describe(self) -> str:
-        pos, ori = self.position_error, self.orientation_error
+        pos = None if self.free[0] else self.position_error
+        ori = None if self.free[1] else self.orientation_error
         if self.region:
             return reasons.region(pos, ori, self.tol_position, self.tol_orientation, self.cone)
         return reasons.measured(pos, ori, self.tol_position, self.tol_orientation)
@@ -156,6 +161,7 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: SolverSettings) 
         tol_orientation=opts.tol_orientation,
         region=region,
         cone=None if aim is None else aim.within,
+        free=opts.left_free(target.rotation is None, aim is not None),
     )
 
 
@@ -202,6 +208,7 @@ def measure_many(
         opts.tol_orientation,
         measure_rot,
         False,
+        free=opts.left_free(target.rotation is None, False),
     )
 
 
@@ -228,6 +235,7 @@ def _region_many(arm: ArmModel, qs: list[np.ndarray], target: Target, opts: Solv
         measure_rot,
         True,
         None if target.aim is None else target.aim.within,
+        opts.left_free(position_only, target.aim is not None),
     )
 
 
@@ -254,6 +262,10 @@ class BatchMeasure:
     rotation: bool = True  # the orientation is measured (else NaN throughout)
     region: bool = False  # the errors are the distances outside the target's region
     cone: float | None = None  # rad: the aim's cone; the orientation error lies outside it
+    free: tuple[bool, bool] = (
+        False,
+        False,
+    )  # (position, rotation): not said (``SolverSettings.left_free``)
 
     @classmethod
     def of(cls, measures: list[Measure]) -> BatchMeasure:
@@ -271,6 +283,7 @@ class BatchMeasure:
             rotation,
             first.region,
             first.cone,
+            first.free,
         )
 
     @property
@@ -369,4 +382,5 @@ def measure_batch(
     within_limits(Q, ch.lower, ch.upper, LIMIT_TOL, inside)
     tol_p, tol_r = opts.tol_position, opts.tol_orientation
     cone = None if aim is None else aim.within
-    return BatchMeasure(out[:, 0], out[:, 1], inside, tol_p, tol_r, rotation, region, cone)
+    free = opts.left_free(position_only, aim is not None)
+    return BatchMeasure(out[:, 0], out[:, 1], inside, tol_p, tol_r, rotation, region, cone, free)
