@@ -364,7 +364,9 @@ class BatchResult:
             margin=margin,
             region=opts.bounds is not None or aim is not None,
             cone=None if aim is None else aim.within,
-            free=opts.left_free(False, aim is not None),
+            free=(False, False)
+            if opts.weights is None and opts.bounds is None
+            else opts.left_free(False, aim is not None),
             claim=claim,
             brancher=brancher,
             weighted=opts.weights is not None,

@@ -274,11 +274,12 @@ def measured_apart(
     """A result whose verdict measured other than the distances to the target (weights on
     the axes, a region): its reason, then those distances, what ``position_error`` and
     ``orientation_error`` report (to a region's centre, its free components left out: a
-    part wholly free, ``free`` (position, rotation), is 0 there and not said)."""
+    part wholly free, ``free`` (position, rotation), is 0 there and not said; one a
+    weight of 0 freed is a distance all the same, said)."""
     said = f"{reason} (on the weighted axes)" if weighted else reason
     to = "the region's centre, free components apart" if region else "the target"
-    parts = [] if region and free[0] else [f"{pos:.3g} m"]
-    if ori is not None and ori == ori and not (region and free[1]):
+    parts = [] if region and free[0] and pos == 0.0 else [f"{pos:.3g} m"]
+    if ori is not None and ori == ori and not (region and free[1] and ori == 0.0):
         parts.append(f"{ori:.3g} rad")
     return f"{said}; the tip is {', '.join(parts)} from {to}" if parts else said
 

@@ -130,3 +130,31 @@ def test_bounds_that_free_the_rotation_say_no_orientation_error_of_0():
     for reason in said:
         assert "inside the region: position error" in reason, reason
         assert "orientation error" not in reason and " rad" not in reason, reason
+
+
+def test_the_task_solvers_region_that_frees_the_position_says_no_0_m():
+    """A joint held on a 6-joint arm (the task solver): bounds inf on x, y and z said 'the
+    tip is 0 m, 0.139 rad from the region's centre'; weights of 0 on the position leave
+    its distance, a true one, said."""
+    ur5 = arm("ur5")
+    q = ur5.random_q(np.random.default_rng(3))
+    T = ur5.fk(q)
+    held = {"hold": {"wrist_3_joint": float(q[5]) - 0.3}, "q0": ur5.middle}
+    r = ur5.solve(T, bounds=(np.inf, np.inf, np.inf, 0.5, 0.5, 0.5), **held)
+    assert r.success and r.position_error == 0.0, r.reason
+    assert " 0 m" not in r.reason and f"the tip is {r.orientation_error:.3g} rad from" in r.reason
+    r = ur5.solve(T, weights=(0, 0, 0, 1, 1, 1), **held)
+    far = np.linalg.norm(ur5.fk(r.q).translation - T.translation)  # by Pinocchio
+    assert r.success and far > 0.01 and f"the tip is {far:.3g} m, " in r.reason, r.reason
+
+
+def test_a_pose_tasks_weights_that_free_the_position_keep_its_distance_said():
+    """``armik.Pose(T, weights=(0, 0, 0, 1, 1, 1))`` is a region of bounds 0: its distance
+    to the position is a true one, said, where bounds inf would leave a 0 unsaid."""
+    ur5 = arm("ur5")
+    T = ur5.fk(ur5.random_q(np.random.default_rng(3)))
+    got, said = _successes(ur5, [armik.Pose(T, weights=(0, 0, 0, 1, 1, 1))])
+    far = np.linalg.norm(ur5.fk(got[0].q).translation - T.translation)  # by Pinocchio
+    assert far > 0.1 and f"the tip is {far:.3g} m, " in said[0], said[0]
+    for reason in said:
+        assert "position error" not in reason and "the tip is " in reason, reason

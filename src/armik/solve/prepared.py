@@ -208,7 +208,8 @@ class Plan:
         # a region (bounds, a cone): measured by ``verify.region``, as the general path does
         self.region = (opts.region_bounds, w, aim and aim.cone) if region else None
         self.cone = None if aim is None else aim.within  # what a success's words name
-        self.free = opts.left_free(position, aim is not None)  # and leave out
+        plain = opts.weights is None and opts.bounds is None  # (and leave out)
+        self.free = (False, False) if plain else opts.left_free(position, aim is not None)
         self.tol_p, self.tol_r = opts.tol_position, opts.tol_orientation
         # its every row solved, measured and judged in one compiled call
         judging = getattr(self.run_pose, "judging", None)

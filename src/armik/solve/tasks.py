@@ -425,7 +425,7 @@ def _result(
             weighted = type(tasks[0]) is Pose and not tasks[0].weights.all()  # said alone
             frames = tasks[0].frames if len(tasks) == 1 else ()
             if frames in ((None,), (arm.tip,)):  # the tip's
-                reason = reasons.measured_apart(reason, pos, ori, weighted, True)  # a region
+                reason = reasons.measured_apart(reason, pos, ori, weighted, True, tasks[0].free())
             elif len(frames) == 1:  # one task on another frame: that frame's
                 reason = reasons.frame_apart(reason, str(tasks[0].frame), pos, ori, weighted)
             else:

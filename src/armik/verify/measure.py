@@ -41,6 +41,7 @@ from armik.tolerances import LIMIT_TOL
 from armik.verify.region import region_error, region_errors
 
 _EYE = np.eye(3)  # read only by the kernel
+_SAID = (False, False)  # no part left free: read without a call on the plain routes
 _FLOAT = np.dtype(float)
 
 
@@ -161,7 +162,9 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: SolverSettings) 
         tol_orientation=opts.tol_orientation,
         region=region,
         cone=None if aim is None else aim.within,
-        free=opts.left_free(target.rotation is None, aim is not None),
+        free=_SAID
+        if opts.weights is None and opts.bounds is None
+        else opts.left_free(target.rotation is None, aim is not None),
     )
 
 
@@ -208,7 +211,7 @@ def measure_many(
         opts.tol_orientation,
         measure_rot,
         False,
-        free=opts.left_free(target.rotation is None, False),
+        free=_SAID if opts.weights is None else opts.left_free(target.rotation is None, False),
     )
 
 
@@ -382,5 +385,9 @@ def measure_batch(
     within_limits(Q, ch.lower, ch.upper, LIMIT_TOL, inside)
     tol_p, tol_r = opts.tol_position, opts.tol_orientation
     cone = None if aim is None else aim.within
-    free = opts.left_free(position_only, aim is not None)
+    free = (
+        _SAID
+        if opts.weights is None and opts.bounds is None
+        else opts.left_free(position_only, aim is not None)
+    )
     return BatchMeasure(out[:, 0], out[:, 1], inside, tol_p, tol_r, rotation, region, cone, free)

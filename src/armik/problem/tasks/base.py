@@ -133,6 +133,16 @@ class Task(ABC):
         measure (``measured``). Itself where the two are one."""
         return self.shrunk(0.0)
 
+    def free(self) -> tuple[bool, bool]:
+        """(position, rotation): whether this task leaves every component of each free (its
+        infinite bounds; a direction alone, a look-at's or an axis's, holds no position),
+        the distance to its centre 0 there whatever the answer: words leave that 0 out."""
+        bounds = getattr(self, "bounds", None)
+        if bounds is None:
+            return (True, False)
+        inf = np.isinf(np.asarray(bounds, dtype=float))
+        return (bool(inf[:3].all()), len(inf) == 6 and bool(inf[3:].all()))
+
     def rim(self, count: int) -> list[Task]:
         """Exact tasks at ``count`` points spread around the rim of the region, just inside
         it (each answer of one answers this task): where the region's centre is out of
