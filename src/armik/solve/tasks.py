@@ -224,10 +224,10 @@ def _total(errors: list[TaskError]) -> float:
 def _describe(tasks, errors: list[TaskError]) -> str:
     parts = []
     for t, e in zip(tasks, errors):
-        words = []
-        if e.position is not None:
+        words, free = [], t.free()  # a part wholly free: its 0 not said
+        if e.position is not None and not free[0]:
             words.append(f"{e.position:.3g} m")
-        if e.orientation is not None:
+        if e.orientation is not None and not free[1]:
             words.append(f"{e.orientation:.3g} rad")
         parts.append(
             f"{type(t).__name__} {' and '.join(words)} {'held' if e.within else 'outside'}"

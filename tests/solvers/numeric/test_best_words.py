@@ -93,3 +93,18 @@ def test_bounds_that_free_a_part_leave_it_unsaid_in_a_failure(bounds, said, unsa
     for reason in _failures(a, T, bounds=bounds):
         assert said in reason and unsaid not in reason, reason
         assert " 0 m" not in reason and " 0 rad" not in reason, reason
+
+
+def test_the_task_solvers_closest_leaves_out_a_part_its_weights_free():
+    """A pose whose position weights are 0 beside a look-at the task solver takes: its
+    closest said 'Pose 0 m and 0.215 rad outside', the 0 m of nothing asked."""
+    a = arm("ur5")
+    T = a.fk(a.random_q(3))
+    tasks = [
+        armik.Pose(T, weights=(0, 0, 0, 1, 1, 1)),
+        armik.LookAt((1, 1, 1), frame="wrist_2_link"),
+    ]
+    r = a.solve(tasks, q0=a.middle, max_restarts=0, max_iterations=2)
+    assert not r.success and "closest: Pose " in r.reason, r.reason
+    pose = r.reason.split("closest: Pose ")[1].split(",")[0]
+    assert pose.endswith(" rad outside") and " m" not in pose, r.reason
