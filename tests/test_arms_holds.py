@@ -109,3 +109,36 @@ def test_a_shared_joint_locked_after_with_limits_is_checked_against_those_limits
     narrow = robot.with_limits({"torso_1_joint": (-0.5, 0.5)})
     with pytest.raises(armik.JointError, match=r"outside its limits \(given by with_limits\)"):
         narrow.with_locked({"torso_1_joint": 1.0})
+
+
+@pytest.mark.parametrize("joint", ["arm_left_4_joint", "arm_right_4_joint"])
+def test_a_joint_of_one_chain_locked_after_with_limits_is_checked_against_them(joint):
+    """TALOS's elbow, on one hand's chain only, locked 0.2 rad past its URDF limit within
+    limits widened past it: the other chain, which locks it off its chain, checked it
+    against the URDF's and refused it. Narrowed limits still refuse a value outside them."""
+    import pickle
+
+    from .test_arms import talos
+
+    robot = talos()
+    k = robot.joint_names.index(joint)
+    lo, hi = float(robot.lower[k]), float(robot.upper[k])
+    wide = robot.with_limits({joint: (lo - 0.3, hi + 0.3)})
+    locked = wide.with_locked({joint: hi + 0.2})
+    assert joint not in locked.joint_names and locked.dof == robot.dof - 1
+    for tip in locked.tips:
+        assert dict(locked.chain(tip).locked)[joint] == hi + 0.2
+    q = wide.middle.copy()
+    q[k] = hi + 0.2
+    free = [n for n in wide.joint_names if n != joint]
+    q_locked = q[[wide.joint_names.index(n) for n in free]]
+    copy = pickle.loads(pickle.dumps(locked))
+    for tip in robot.tips:  # the other chain's placement does not move with the joint
+        assert locked.fk(q_locked, tip).isApprox(wide.fk(q, tip), 1e-12)
+        assert copy.fk(q_locked, tip).isApprox(wide.fk(q, tip), 1e-12)
+    narrow = robot.with_limits({joint: (lo + 0.1, hi - 0.1)})
+    for value in (hi - 0.05, hi + 0.2):
+        with pytest.raises(armik.JointError, match=rf"'{joint}' is outside its limits \(given"):
+            narrow.with_locked({joint: value})
+    with pytest.raises(armik.JointError, match=rf"'{joint}' is outside its limits \(given"):
+        wide.with_locked({joint: hi + 0.4})

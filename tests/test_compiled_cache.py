@@ -341,3 +341,29 @@ def test_armik_functions_alone_are_cached_a_file_per_entry():
         return x
 
     assert type(other._cache._cache_file) is not compiled_cache.Entries
+
+
+def test_flush_removes_the_functions_own_entries(tmp_path):
+    """numba's flush empties its index, which armik's entries (a file each) do not read:
+    every entry stayed and was loaded again after the flush."""
+    cache = forward._cache
+    codegen = cpu_target.target_context.codegen()
+    keys = [cache._index_key((t,), codegen) for t in (types.float64, types.int64)]
+    stamp = cache._impl.locator.get_source_stamp()
+    files = type(cache._cache_file)
+    flushed = files(str(tmp_path), "m.f-1.py311", stamp)
+    other = files(str(tmp_path), "m.f-10.py311", stamp)  # another function, a longer name
+    for k in keys:
+        flushed.save(k, ("code", str(k[0])))
+        other.save(k, ("other", str(k[0])))
+    (tmp_path / "m.f-1.py311.1.nbc").write_bytes(b"numba's own")  # not an entry of armik's
+    assert len(os.listdir(tmp_path)) == 5
+    flushed.flush()
+    assert [flushed.load(k) for k in keys] == [None, None]
+    assert [other.load(k) for k in keys] == [("other", str(k[0])) for k in keys]
+    assert sorted(os.listdir(tmp_path)) == sorted(
+        ["m.f-1.py311.1.nbc", *(os.path.basename(other._entry_path(k)) for k in keys)]
+    )
+    assert not list(tmp_path.glob("*.nbi"))  # no index written either
+    flushed.flush()  # nothing left: nothing to do
+    files(str(tmp_path / "none"), "m.f-1.py311", stamp).flush()  # no folder: nothing to do

@@ -314,7 +314,7 @@ class Recipe:
             package_dirs=self.package_dirs or None,
             srdf=self.srdf,
         )
-        model = relocked(arm.kinematics.with_limits(own), self.locked, own)
+        model = relocked(arm.kinematics, self.locked, own)  # own: its free joints' limits too
         model._recipe = self
         return Arm(model)
 

@@ -204,7 +204,6 @@ class Arms(ArmsKinematics):
         ``workers``, ``chunk_size``, ``progress`` and ``backend`` as ``Arm.solve_batch``'s
         (``backend`` runs chunks of rows where they are solved one by one)."""
         refuse_own_checks(options, self.tips)
-        self._one_start(options, q0)  # for a constraint resolved from it, as Arm's batch
         targets = rows_by_tip(self._chains, targets)  # rows of flat task lists: by tip
         return arms_many.solve_batch(self, targets, q0=q0, **options)
 

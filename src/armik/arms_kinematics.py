@@ -93,10 +93,12 @@ class ArmsKinematics:
         """A copy of this robot with some joint limits replaced (name -> (lower, upper), rad
         or m), on every chain that holds the joint (``Arm.with_limits``)."""
         given = check_limits(limits, self._joint_index)
-        chains = {
-            tip: arm.with_limits({n: v for n, v in given.items() if n in arm.joint_names})
-            for tip, arm in self._facades.items()
-        }
+        chains = {}
+        for tip, arm in self._facades.items():
+            on = {n: v for n, v in given.items() if n in arm.joint_names}
+            # the others' kept too: a lock of one on this chain is checked against them
+            off = {n: v for n, v in given.items() if n not in on}
+            chains[tip] = type(arm)(arm.kinematics.with_limits(on, others=off))
         return self._rebuilt(chains)
 
     def with_locked(self, locked: Mapping[str, float]):

@@ -101,7 +101,8 @@ def solve_batch(
     t0 = time.perf_counter()
     n = _rows(arms, targets, "solve_batch")
     targets = _in_tips_order(arms, targets)
-    seeds = _seeds(arms, q0, n)
+    seeds = _seeds(arms, q0, n)  # its shape first: a constraint's words were said before
+    arms._one_start(options, q0)  # for a constraint resolved from it, as Arm's batch
     opts = _read(options)
     prefer = options.get("prefer")
     if _independent(arms, targets) and not is_cost(prefer):

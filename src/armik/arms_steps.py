@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 from pinocchio import SE3
 
-from armik import reasons
+from armik import path_reasons
 from armik.batch_result import BatchResult
 from armik.errors import ArmikError
 from armik.problem.problem import as_problem, lower
@@ -40,13 +40,13 @@ def held(arms: Any, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: bo
         return r
     start = "q0 (the start)" if first else "the previous waypoint's answer"
     unit = "m" if arms.prismatic[j] else "rad"
-    move = reasons.moved(arms.joint_names[j], moved[j], unit, start, step[j])
+    move = path_reasons.moved(arms.joint_names[j], moved[j], unit, start, step[j])
     return dataclasses.replace(
         r,
         success=False,
         status=Status.DISCONTINUOUS,
-        reason=reasons.jump(
-            reasons.jump_found(move),
+        reason=path_reasons.jump(
+            path_reasons.jump_found(move),
             "that answer",
             f"position error {r.position_error:.3g} m",
         ),

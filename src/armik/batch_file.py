@@ -31,6 +31,7 @@ def save(result: Any, path: str | Path) -> Path:
         "margin": result.margin,
         "region": result.region,
         "cone": result.cone,
+        "free": list(result.free),
         "claim": result.claim,
         "branch_names": list(result.branch_names),
         "statuses": _WORDS,
@@ -108,6 +109,7 @@ def fields(path: str | Path) -> dict[str, Any]:
         score=arrays.get("score"),  # absent from files written before preferences
         region=bool(meta.get("region", False)),  # absent from files before regions
         cone=_cone(meta.get("cone")),  # absent from files before it was kept
+        free=tuple(bool(f) for f in meta.get("free", (False, False))),  # absent before too
         measured=arrays.get("measured"),  # absent from files before it was kept
         claim=str(meta.get("claim", "")),  # absent from files before it was kept
         branch_code=arrays.get("branch_code"),  # absent from files before it was kept

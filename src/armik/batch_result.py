@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any, cast, overload
 
 import numpy as np
 
-from armik import batch_file, reasons
+from armik import batch_file, batch_summary, reasons
 from armik.problem.settings import SolverSettings
 from armik.result import IKResult
 from armik.status import Status
@@ -49,7 +49,8 @@ class BatchResult:
       ``position_error`` and ``orientation_error`` are the distances all the same. NaN
       where the verdict measured the distances themselves (``armik.verify.distances``).
     - ``region``, ``cone``: the targets are regions (bounds, an aim) and the aim's cone (rad,
-      None: no aim), so that a success's ``reason(i)`` says what ``solve``'s says.
+      None: no aim), ``free``: (position, rotation) left wholly free by weights of 0 or
+      infinite bounds, so that a success's ``reason(i)`` says what ``solve``'s says.
     - ``errors``: on several tips (``armik.Arms``), tip -> (N, 2) each row's distances to
       that tip's target (position m, orientation rad, NaN where not measured), as
       ``Arms.solve``'s ``errors[tip]``; empty for one arm.
@@ -82,6 +83,7 @@ class BatchResult:
     score: np.ndarray | None = None  # (N,) with prefer=; NaN filled when None is given
     region: bool = False  # the targets are regions (bounds, a cone): errors lie outside them
     cone: float | None = None  # rad: the targets' aim's cone (a batch shares one), None: no aim
+    free: tuple[bool, bool] = (False, False)  # (position, rotation): every component free
     measured: np.ndarray | None = None  # (N, 2) the verdict's errors; NaN filled when None
     # a success's claim before its verdict's words, as ``solve`` says it ("{}": its
     # restarts; a numeric solver's ``reasons.CONVERGED``), or "" for none
@@ -180,17 +182,18 @@ class BatchResult:
         pos, ori = self.position_error[i], self.orientation_error[i]
         if not math.isnan(apart[0]):  # the verdict measured apart: what it measured first
             pos, ori = apart[0], apart[1]
-        tol_p, tol_r = self.tol_position, self.tol_orientation
+        tol_p, tol_r, free = self.tol_position, self.tol_orientation, self.free
+        said_pos, said_ori = None if free[0] else pos, None if free[1] or ori != ori else ori
         if self.region:  # inside it for a success; NaN: no orientation measured (a position)
-            measured = reasons.region(pos, None if ori != ori else ori, tol_p, tol_r, self.cone)
+            measured = reasons.region(said_pos, said_ori, tol_p, tol_r, self.cone)
         else:
-            measured = reasons.measured(pos, ori, tol_p, tol_r)
+            measured = reasons.measured(said_pos, said_ori, tol_p, tol_r)
         said = self.claim.format(int(self.restarts[i])) if self.claim and self.success[i] else None
         text = reasons.verified(said, measured)
         if not math.isnan(apart[0]):
             pos, ori = float(self.position_error[i]), float(self.orientation_error[i])
             weighted = self.weighted or not self.region  # solve's words (``verify.distances``)
-            text = reasons.measured_apart(text, pos, ori, weighted, self.region)
+            text = reasons.measured_apart(text, pos, ori, weighted, self.region, free)
         if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):  # checked
             pair, distance = self.closest_pair(i), float(self._distances[i])
             text = reasons.and_clear(text, pair, distance, self.margin)
@@ -285,6 +288,7 @@ class BatchResult:
             score=self._scores[picked],
             region=self.region,
             cone=self.cone,
+            free=self.free,
             measured=self._measured[picked],
             claim=self.claim,
             branch_code=self._codes[picked],
@@ -303,39 +307,7 @@ class BatchResult:
 
     def summary(self) -> str:
         """One line: how many were solved, by status, the time and the throughput."""
-        n = len(self)
-        name = f"{self.arm}/{self.solver}" if self.arm else self.solver
-        if n == 0:
-            return f"{name}: 0 targets"
-        solved = int(self.success.sum())
-        counts = ", ".join(f"{k} {v}" for k, v in self.counts().items())
-        rate = n / self.time if self.time > 0 else math.inf
-        line = (
-            f"{name}: {solved}/{n} solved ({100.0 * solved / n:.2f} %; {counts}) in "
-            f"{self.time:.3g} s, {rate:,.0f} targets/s"
-        )
-        if solved:
-            worst = self.position_error[self.success].max()
-            apart = self._measured[self.success]  # NaN where the distances were measured
-            if np.isnan(apart[:, 0]).all():
-                line += f"; largest error of the solved: {worst:.2g} m"
-            else:  # the errors are distances; the verdicts measured the region or weights
-                to = "the region's centre" if self.region else "the target"
-                line += f"; largest distance to {to} of the solved: {worst:.2g} m"
-            ori = self.orientation_error[self.success]
-            if not np.isnan(ori).all():
-                line += f", {np.nanmax(ori):.2g} rad"
-            if not np.isnan(apart[:, 0]).all():
-                line += f" (the verdicts measured at most {np.nanmax(apart[:, 0]):.2g} m"
-                rot = "" if np.isnan(apart[:, 1]).all() else f", {np.nanmax(apart[:, 1]):.2g} rad"
-                line += f"{rot})"
-            d = self._distances[self.success]
-            if not np.isnan(d).all():
-                k = int(np.nanargmin(d))
-                pair = self.closest_pair(int(np.flatnonzero(self.success)[k]))
-                names = "" if pair is None else f" ({pair[0]} / {pair[1]})"
-                line += f"; smallest clearance of the solved: {d[k]:.3g} m{names}"
-        return line
+        return batch_summary.summary(self)
 
     # -- files ------------------------------------------------------------------------
 
@@ -392,6 +364,9 @@ class BatchResult:
             margin=margin,
             region=opts.bounds is not None or aim is not None,
             cone=None if aim is None else aim.within,
+            free=(False, False)
+            if opts.weights is None and opts.bounds is None
+            else opts.left_free(False, aim is not None),
             claim=claim,
             brancher=brancher,
             weighted=opts.weights is not None,

@@ -176,6 +176,22 @@ class Entries(_NUMBA_FILES):  # type: ignore[valid-type, misc]
         caching._cache_log("[cache] entry loaded from %r", path)
         return data
 
+    def flush(self) -> None:
+        """Remove this function's entries (and any a write left aside): numba's flush
+        empties an index, which armik's entries do not read, and left every entry behind."""
+        own = re.compile(re.escape(self._base) + r"\.[0-9a-f]{24}\.nbc(\.tmp\.[0-9a-f]+)?")
+        try:
+            names = os.listdir(self._cache_path)
+        except FileNotFoundError:
+            return
+        for name in names:
+            if own.fullmatch(name):
+                try:
+                    os.unlink(os.path.join(self._cache_path, name))
+                except FileNotFoundError:  # removed by another process meanwhile
+                    pass
+        caching._cache_log("[cache] entries of %r removed", self._base)
+
     def holds(self, key: tuple) -> bool:
         """Whether the cache holds ``key``'s entry (its file's header read, not its code)."""
         try:

@@ -6,13 +6,13 @@ them (a target beyond reach, a budget run out)."""
 from __future__ import annotations
 
 
-def measured(pos: float, ori: float | None, tol_p: float, tol_r: float) -> str:
+def measured(pos: float | None, ori: float | None, tol_p: float, tol_r: float) -> str:
     """'position error 1e-07 m (tol 1e-05), orientation error ...': a measure in words
-    (``ori`` None or NaN, as batches hold it: not measured)."""
-    text = f"position error {pos:.3g} m{_tol_text(tol_p)}"
-    if ori is None or ori != ori:
-        return text
-    return f"{text}, orientation error {ori:.3g} rad{_tol_text(tol_r)}"
+    (``pos`` None, ``ori`` None or NaN, as batches hold it: not measured, that part free)."""
+    said = [] if pos is None else [f"position error {pos:.3g} m{_tol_text(tol_p)}"]
+    if ori is not None and ori == ori:
+        said.append(f"orientation error {ori:.3g} rad{_tol_text(tol_r)}")
+    return ", ".join(said) or "no component measured (every one free)"
 
 
 def outside_region(measured_text: str) -> str:
@@ -21,21 +21,40 @@ def outside_region(measured_text: str) -> str:
     return f"outside the region: {measured_text}"
 
 
-def region(pos: float, ori: float | None, tol_p: float, tol_r: float, cone: float | None) -> str:
+def region(
+    pos: float | None, ori: float | None, tol_p: float, tol_r: float, cone: float | None
+) -> str:
     """A measure of a target with a region (bounds, an aim): its errors are the distances
     outside it, within the tolerances "inside the region", else "outside" (NaN: not
-    placed). With an aim (``cone``: its angle, rad) the orientation error is the tip axis'
-    angle outside its cone: "within its cone", or the axis' angle from its direction."""
-    inside = pos <= tol_p and (ori is None or ori <= tol_r)  # False for NaN
+    placed; ``pos`` None: the position free, not said). With an aim (``cone``: its angle,
+    rad) the orientation error is the tip axis' angle outside its cone: "within its cone",
+    or the axis' angle from its direction."""
+    inside = (pos is None or pos <= tol_p) and (ori is None or ori <= tol_r)  # NaN: False
     where = "inside" if inside else "outside"
     if cone is None or ori is None or ori != ori:
         return f"{where} the region: {measured(pos, ori, tol_p, tol_r)}"
-    text = f"{where} the region: {measured(pos, None, tol_p, tol_r)}"
+    said = [] if pos is None else [measured(pos, None, tol_p, tol_r)]
     if ori <= tol_r:
-        return f"{text}, the tip's axis within its cone of {cone:.3g} rad"
-    return (
-        f"{text}, the tip's axis {ori + cone:.3g} rad from its direction, outside its cone of "
-        f"{cone:.3g} rad{_tol_text(tol_r)}"
+        said.append(f"the tip's axis within its cone of {cone:.3g} rad")
+    else:
+        said.append(f"{_off_axis(ori, cone)}{_tol_text(tol_r)}")
+    return f"{where} the region: {', '.join(said)}"
+
+
+def _off_axis(ori: float, cone: float) -> str:
+    """The tip's axis ``ori`` rad outside its ``cone`` (rad), in words."""
+    outside = f", outside its cone of {cone:.3g} rad" if cone > 0 else ""
+    return f"the tip's axis {ori + cone:.3g} rad from its direction{outside}"
+
+
+def best_outside(pos: float | None, ori: float | None, cone: float | None) -> str:
+    """A failure's best attempt against a region: the distances outside it, each part
+    where measured (None: free); with an aim (``cone``, rad) the tip axis' angle."""
+    if cone is None or ori is None:
+        return outside_region(best_errors(pos, ori))
+    axis = _off_axis(ori, cone) if ori > 0 else f"the tip's axis within its cone of {cone:.3g} rad"
+    return outside_region(
+        ", ".join(([] if pos is None else [f"position error {pos:.3g} m"]) + [axis])
     )
 
 
@@ -72,11 +91,17 @@ def check_failed(measured_text: str) -> str:
 def beyond_reach(distance: float, reach: float) -> str:
     """Why a target ``distance`` m from the first joint is out of reach (the proof a
     search's miss needs); by how much where the two read alike to 4 digits."""
-    by = f" (by {distance - reach:.3g} m)" if f"{distance:.4g}" == f"{reach:.4g}" else ""
     return (
         f"target is {distance:.4g} m from the first joint, beyond the arm's reach of at "
-        f"most {reach:.4g} m{by}"
+        f"most {reach:.4g} m{by_how_much(distance, reach, 4)}"
     )
+
+
+def by_how_much(a: float, b: float, digits: int) -> str:
+    """' (by 2e-06 m)': how far apart two lengths are where they read alike to ``digits``
+    digits (a comparison of them would read false), else nothing."""
+    alike = f"{a:.{digits}g}" == f"{b:.{digits}g}"
+    return f" (by {abs(a - b):.3g} m)" if alike else ""
 
 
 def unreachable(distance: float, reach: float) -> str:
@@ -196,91 +221,12 @@ def ranked_first(reason: str, score: str, said: str, count: int, variant: bool) 
     return f"{reason}; prefer={score}: {said}, ranked among {count} verified{turned}"
 
 
-def best_within_step(reason: str, score: str, said: str, count: int) -> str:
-    """A path's waypoint: the best by the preference ``score`` of ``count`` answers within
-    max_joint_step of the previous one."""
-    return f"{reason}; prefer={score}: {said}, the best of {count} answers within max_joint_step"
-
-
 def tips_beyond(beyond: dict[str, str], others: list[str], status: str, reason: str) -> str:
     """Several tips, some beyond reach (tip -> why), the ``others`` solved without them."""
     said = "; ".join(f"tip {tip!r}: {why}" for tip, why in beyond.items())
     if others:
         said += f"; the other tips {others}, solved without it: {status} ({reason})"
     return said
-
-
-def through(reason: str, poses: int) -> str:
-    """A waypoint reached continuously through ``poses`` intermediate poses."""
-    return f"{reason}; reached through {poses} intermediate poses"
-
-
-def jump_found(move: str) -> str:
-    """Why a waypoint is a jump: the answer found makes ``move`` (``moved``)."""
-    return f"the answer found {move}: add waypoints here or raise max_joint_step"
-
-
-def continuous_but(move: str) -> str:
-    """Why a waypoint is a jump: continuous motion reaches it, but in too large a step."""
-    return f"the motion to it is continuous but {move}: add waypoints here or raise max_joint_step"
-
-
-def not_continuous(move: str, poses: int) -> str:
-    """Why a waypoint is a jump: no continuous motion through ``poses`` poses reaches it."""
-    return (
-        f"the nearest answer found {move}, and no continuous motion through {poses} "
-        "intermediate poses reaches it (a singularity, a joint limit or a branch change on "
-        "the way)"
-    )
-
-
-def every_path_breaks(
-    every: bool, first: bool, hidden: bool, smallest: tuple[str, float, str, float] | None
-) -> str:
-    """Why a planned path's waypoint is a jump (``every``: over every solution, else the
-    answers found; ``first``: from q0): a jump hidden inside every step (``hidden``)
-    and/or the smallest possible one (joint, size, unit, max_joint_step)."""
-    before = "every solution of" if every else "every answer found at"
-    start = "q0 (the start)" if first else f"{before} the waypoint before"
-    found = "" if every else "through the answers found "
-    return f"every path {found}breaks here: from {start}, {_jumps(hidden, smallest)}"
-
-
-def _jumps(hidden: bool, smallest: tuple[str, float, str, float] | None) -> str:
-    """Why every step onto a waypoint is a jump: one hidden inside every step and/or the
-    smallest possible one."""
-    why = []
-    if hidden:
-        why.append(
-            "every step within max_joint_step hides a jump between the waypoints (halfway, "
-            "no solution lies near the step's middle: a singularity, a joint limit or the "
-            "edge of the workspace crossed)"
-        )
-    if smallest is not None:
-        joint, size, unit, step = smallest
-        why.append(
-            f"the smallest {'other ' if hidden else ''}possible jump moves "
-            f"{joint} by {size:.3g} {unit} (max_joint_step {step:g})"
-        )
-    return "; ".join(why)
-
-
-def planned_over(move: str) -> str:
-    """Why a planned waypoint is a jump after all: the plan's step to it makes ``move``
-    (``moved``), over the bound the plan is held to."""
-    return f"the plan's step to it {move}, over the bound: no path planned within it"
-
-
-def jump(why: str, answer: str, measured_text: str) -> str:
-    """A waypoint reached only by a move larger than ``max_joint_step`` (``discontinuous``):
-    ``why`` in words, ``answer`` what q is, ``measured_text`` its measure."""
-    return f"reachable only by a jump: {why}; q is {answer}, verified: {measured_text}"
-
-
-def moved(joint: str, size: float, unit: str, start: str, step: float) -> str:
-    """A step beside its bound: 'moves panda_joint5 by 1.44 rad from the previous
-    waypoint's answer (max_joint_step 0.3)'."""
-    return f"moves {joint} by {size:.3g} {unit} from {start} (max_joint_step {step:g})"
 
 
 def _pair_text(pair: tuple[str, str] | None, distance: float) -> str:
@@ -322,14 +268,20 @@ def _tol_text(tol: float) -> str:
 _TOL_TEXT: dict[float, str] = {}
 
 
-def measured_apart(reason: str, pos: float, ori: float | None, weighted: bool, region: bool) -> str:
+def measured_apart(
+    reason: str, pos: float, ori: float | None, weighted: bool, region: bool, free=(0, 0)
+) -> str:
     """A result whose verdict measured other than the distances to the target (weights on
     the axes, a region): its reason, then those distances, what ``position_error`` and
-    ``orientation_error`` report (to a region's centre, its free components left out)."""
-    rot = "" if ori is None or ori != ori else f", {ori:.3g} rad"
+    ``orientation_error`` report (to a region's centre, its free components left out: a
+    part wholly free, ``free`` (position, rotation), is 0 there and not said; one a
+    weight of 0 freed is a distance all the same, said)."""
     said = f"{reason} (on the weighted axes)" if weighted else reason
     to = "the region's centre, free components apart" if region else "the target"
-    return f"{said}; the tip is {pos:.3g} m{rot} from {to}"
+    parts = [] if region and free[0] and pos == 0.0 else [f"{pos:.3g} m"]
+    if ori is not None and ori == ori and not (region and free[1] and ori == 0.0):
+        parts.append(f"{ori:.3g} rad")
+    return f"{said}; the tip is {', '.join(parts)} from {to}" if parts else said
 
 
 def tasks_apart(reason: str, pos: float, ori: float | None) -> str:
@@ -399,26 +351,6 @@ def not_together(reason: str, option: object) -> str:
     )
 
 
-def every_path_since_breaks(
-    every: bool,
-    since: str,
-    hidden: bool,
-    smallest: tuple[str, float, str, float] | None,
-) -> str:
-    """``every_path_breaks`` where a solution of the waypoint before that the plan does not
-    reach goes on to this one within the bound: every path from ``since`` (the plan's last
-    break, or its start) without a jump breaks here, and one through that solution breaks
-    on its way to it."""
-    why = _jumps(hidden, smallest)
-    found = "" if every else "through the answers found "
-    other = "solution" if every else "answer found"
-    return (
-        f"every path {found}from {since} without a jump breaks here (one through another "
-        f"{other} of the waypoint before goes on here, but breaks on its way there): from "
-        f"every {other} so reached at the waypoint before, {why}"
-    )
-
-
 def height_unreachable(distance: float, tol: float) -> str:
     """A target ``distance`` m (along the turning joints' common axis) from every height a
     chain whose turning axes are all parallel reaches within its limits, beyond ``tol``
@@ -468,16 +400,6 @@ def left_out_fails(tip: str, why: str) -> str:
     """A constraint given by ``tip``, a tip given no target on chains that share no joint,
     failing at the values its chain keeps from q0: its check's ``why``."""
     return f"tip {tip!r}, given no target, keeps q0's values, where {why}"
-
-
-def hidden_step(start: str) -> str:
-    """Why a followed waypoint within max_joint_step of ``start`` is a jump (a flip)."""
-    return (
-        f"the step from {start} is within max_joint_step but hides a jump between the "
-        "waypoints (halfway, no solution lies near the step's middle and the joints moved "
-        "straight leave the path: a flip across a singularity, a joint limit or the edge of "
-        'the workspace): add waypoints here, or plan="global" to go round it'
-    )
 
 
 def outside_own_box(name: str, joint: str, value: float, lower: float, upper: float) -> str:

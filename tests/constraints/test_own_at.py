@@ -265,3 +265,17 @@ def test_several_tips_over_a_shared_torso_refuse_a_start_per_row_as_one_arm_does
     other[only_right] = far[only_right]
     rows = robot.solve_batch(T, q0=np.stack([q, other]), constraints={left: [NearStart()]})
     assert rows.success.all() and (np.abs(rows.q[:, j] - q[j]) < REACH).all()
+
+
+@pytest.mark.parametrize("shared", [False, True])
+def test_several_tips_name_a_q0_of_the_wrong_row_count_as_a_q0(shared):
+    """Two rows of q0 that differ, for three targets: the shape error, where the rows were
+    read first and the constraint resolved from the start said they differ."""
+    from tests.test_arms import talos
+
+    robot, q = (talos(), None) if shared else _dual()
+    q = robot.random_q(np.random.default_rng(3)) if q is None else q
+    far = np.clip(q + 0.6, robot.lower, robot.upper)
+    T = {tip: [robot.fk(q, tip)] * 3 for tip in robot.tips}
+    with pytest.raises(armik.OptionError, match=r"q0 must be None.*\(3, \d+\), got shape \(2,"):
+        robot.solve_batch(T, q0=np.stack([q, far]), constraints={robot.tips[0]: [NearStart()]})

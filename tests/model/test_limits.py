@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import armik
-from armik.errors import JointError
+from armik.errors import ArmikWarning, JointError
 from armik.model.limit_units import MAX_ANGLE
 
 from ..conftest import arm, two_link_urdf, write_urdf
@@ -69,7 +69,8 @@ def test_a_mimic_joint_is_named_as_one(tmp_path):
 
 def test_a_multi_turn_joint_of_its_urdf_may_be_narrowed(tmp_path):
     text = two_link_urdf().replace('lower="-3.14159" upper="3.14159"', 'lower="-60" upper="60"', 1)
-    a = armik.load(write_urdf(tmp_path, text), tip="tip")
+    with pytest.warns(ArmikWarning, match="'j1' has limits \\[-60, 60\\] rad, beyond four turns"):
+        a = armik.load(write_urdf(tmp_path, text), tip="tip")
     assert a.kinematics.upper[0] == 60.0  # its own limits, beyond four turns
     assert a.with_limits({"j1": (-50.0, 50.0)}).kinematics.upper[0] == 50.0
     with pytest.raises(JointError, match="'j1'.*61 rad"):

@@ -13,7 +13,15 @@ import spatialmath as sm
 from scipy.spatial.transform import Rotation
 
 import armik
-from armik.errors import ArmikError, FrameError, JointError, OptionError, SolverError, TargetError
+from armik.errors import (
+    ArmikError,
+    ArmikWarning,
+    FrameError,
+    JointError,
+    OptionError,
+    SolverError,
+    TargetError,
+)
 from armik.targets.pose import parse_target
 
 from ..conftest import arm, write_urdf
@@ -377,7 +385,9 @@ def test_largest_accepted_limits_keep_the_arithmetic_finite(tmp_path):
         joint("j3", "l2", "l3", xyz="0.3 0 0", axis='<axis xyz="0 1 0"/>', limit=big),
         joint("tool_joint", "l3", "tool", jtype="fixed", xyz="0.2 0 0"),
     )
-    a = armik.load(write_urdf(tmp_path, text))
+    with pytest.warns(ArmikWarning, match="beyond four turns") as said:
+        a = armik.load(write_urdf(tmp_path, text))
+    assert sorted(str(w.message).split("'")[1] for w in said) == ["j1", "j3"]  # not in m
     assert np.isfinite(a.random_q(1)).all()
     target = a.fk(np.array([0.3, 0.5, -0.2]))
     for solver in ("dls", "qp"):

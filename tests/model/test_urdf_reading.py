@@ -505,3 +505,27 @@ def test_bundled_names_stay_catalogue_names():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         assert armik.load("double_pendulum").name == "double_pendulum"
+
+
+def test_revolute_limits_in_degrees_load_with_a_warning_naming_them(tmp_path):
+    """``<limit lower="-170" upper="170">`` on a revolute joint, degrees by mistake: ROS
+    loads it, and so does armik, but it loaded silently a joint of 27 turns each way."""
+    text = arm3(limit2='<limit lower="-170" upper="120" effort="1" velocity="1"/>')
+    with pytest.warns(ArmikWarning) as said:
+        a = load_text(tmp_path, text)
+    words = [str(w.message) for w in said if "four turns" in str(w.message)]
+    assert len(words) == 1, [str(w.message) for w in said]
+    assert "'j2'" in words[0] and "[-170, 120] rad" in words[0] and "radians" in words[0]
+    assert f'lower="{math.radians(-170):.6g}" upper="{math.radians(120):.6g}"' in words[0]
+    assert (a.lower[1], a.upper[1]) == (-170.0, 120.0)  # loaded as written, as ROS does
+    assert words[0] in a.info.notes
+    # four turns each way and less, another joint type, or a huge value: no such word
+    for limit2, jtype2 in (
+        ('<limit lower="-25" upper="25" effort="1" velocity="1"/>', "revolute"),
+        ('<limit lower="-170" upper="170" effort="1" velocity="1"/>', "prismatic"),
+        ('<limit lower="-1e16" upper="2" effort="1" velocity="1"/>', "revolute"),
+    ):
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            load_text(tmp_path, arm3(limit2=limit2, jtype2=jtype2), f"{jtype2}{limit2[14:17]}.urdf")
+        assert not [w for w in said if "four turns" in str(w.message)], limit2

@@ -69,3 +69,92 @@ def test_every_answer_with_obstacles_says_its_distances_before_its_closest_pair(
             f"{r.position_error:.3g} m, {r.orientation_error:.3g} rad from "
             + ("the region's centre, free components apart" if region else "the target")
         ), r.reason
+
+
+def _successes(a, target, **options):
+    """The reasons of a success by solve, solve_all, a batch row and a loaded batch."""
+    import tempfile
+    from pathlib import Path
+
+    rows = a.solve_batch([target, target], q0=a.middle, **options)
+    got = [a.solve(target, q0=a.middle, **options), a.solve_all(target, q0=a.middle, **options)[0]]
+    assert all(r.success for r in got) and rows.success.all(), [r.reason for r in got]
+    with tempfile.TemporaryDirectory() as folder:
+        back = armik.BatchResult.load(rows.save(Path(folder) / "rows.npz"))
+    assert back.reason(1) == rows.reason(1)
+    return got, [r.reason for r in got] + [rows.reason(0), back.reason(1)]
+
+
+def test_weights_that_free_the_position_say_no_position_error_of_0():
+    """weights=(0, 0, 0, 1, 1, 1): it said 'position error 0 m (tol 1e-06), orientation
+    error ... (on the weighted axes); the tip is 1.14 m ... from the target'."""
+    ur5 = arm("ur5")
+    T = ur5.fk(ur5.random_q(np.random.default_rng(3)))
+    got, said = _successes(ur5, T, weights=(0, 0, 0, 1, 1, 1))
+    r = got[0]
+    far = np.linalg.norm(ur5.fk(r.q).translation - T.translation)  # by Pinocchio
+    assert far > 0.1 and r.position_error == pytest.approx(far, abs=1e-12)
+    for reason in said:
+        head, _, tail = reason.partition("; the tip is ")
+        assert "position error" not in head and "orientation error" in head, reason
+        assert "(on the weighted axes)" in head and tail.endswith("from the target"), reason
+    assert f"the tip is {far:.3g} m," in said[0]
+
+
+@pytest.mark.parametrize(
+    "target",
+    [
+        lambda a, T: ([armik.LookAt((0.3, 0.2, 0.1))], {}),
+        lambda a, T: ([armik.Axis((0, 0, 1), (1, 0, 0))], {}),
+        lambda a, T: (T, {"bounds": (np.inf, np.inf, np.inf, 0.1, 0.1, 0.1)}),
+    ],
+)
+def test_a_region_that_frees_the_position_says_no_position_error_of_0(target):
+    """A look-at, an axis, or bounds inf on x, y and z: it said 'inside the region:
+    position error 0 m ...; the tip is 0 m, ... rad from the region's centre'."""
+    ur5 = arm("ur5")
+    T = ur5.fk(ur5.random_q(np.random.default_rng(3)))
+    given, options = target(ur5, T)
+    got, said = _successes(ur5, given, **options)
+    for reason in said:
+        assert "inside the region: " in reason and " 0 m" not in reason, reason
+        assert "position error" not in reason and "the tip is " in reason, reason
+    assert got[0].position_error == 0.0  # the distance, free components apart: none left
+
+
+def test_bounds_that_free_the_rotation_say_no_orientation_error_of_0():
+    ur5 = arm("ur5")
+    T = ur5.fk(ur5.random_q(np.random.default_rng(3)))
+    T = pin.SE3(T.rotation, T.translation + np.array([0.03, 0.0, 0.0]))
+    got, said = _successes(ur5, T, bounds=(0.05, 0.01, 0.01, np.inf, np.inf, np.inf))
+    for reason in said:
+        assert "inside the region: position error" in reason, reason
+        assert "orientation error" not in reason and " rad" not in reason, reason
+
+
+def test_the_task_solvers_region_that_frees_the_position_says_no_0_m():
+    """A joint held on a 6-joint arm (the task solver): bounds inf on x, y and z said 'the
+    tip is 0 m, 0.139 rad from the region's centre'; weights of 0 on the position leave
+    its distance, a true one, said."""
+    ur5 = arm("ur5")
+    q = ur5.random_q(np.random.default_rng(3))
+    T = ur5.fk(q)
+    held = {"hold": {"wrist_3_joint": float(q[5]) - 0.3}, "q0": ur5.middle}
+    r = ur5.solve(T, bounds=(np.inf, np.inf, np.inf, 0.5, 0.5, 0.5), **held)
+    assert r.success and r.position_error == 0.0, r.reason
+    assert " 0 m" not in r.reason and f"the tip is {r.orientation_error:.3g} rad from" in r.reason
+    r = ur5.solve(T, weights=(0, 0, 0, 1, 1, 1), **held)
+    far = np.linalg.norm(ur5.fk(r.q).translation - T.translation)  # by Pinocchio
+    assert r.success and far > 0.01 and f"the tip is {far:.3g} m, " in r.reason, r.reason
+
+
+def test_a_pose_tasks_weights_that_free_the_position_keep_its_distance_said():
+    """``armik.Pose(T, weights=(0, 0, 0, 1, 1, 1))`` is a region of bounds 0: its distance
+    to the position is a true one, said, where bounds inf would leave a 0 unsaid."""
+    ur5 = arm("ur5")
+    T = ur5.fk(ur5.random_q(np.random.default_rng(3)))
+    got, said = _successes(ur5, [armik.Pose(T, weights=(0, 0, 0, 1, 1, 1))])
+    far = np.linalg.norm(ur5.fk(got[0].q).translation - T.translation)  # by Pinocchio
+    assert far > 0.1 and f"the tip is {far:.3g} m, " in said[0], said[0]
+    for reason in said:
+        assert "position error" not in reason and "the tip is " in reason, reason

@@ -141,8 +141,12 @@ class ArmModel:
             np.where(np.isfinite(lo_c), lo_c + math.pi, hi_c - math.pi),
         )
 
-    def with_limits(self, limits: Mapping[str, tuple[float, float]]) -> ArmModel:
-        """A copy of this arm with some joint limits replaced (name -> (lower, upper))."""
+    def with_limits(
+        self, limits: Mapping[str, tuple[float, float]], others: Mapping[str, tuple] = {}
+    ) -> ArmModel:
+        """A copy of this arm with some joint limits replaced (name -> (lower, upper));
+        ``others``: joints off its chain, checked by the chains that hold them (several
+        tips), whose limits its recipe keeps for a lock of them."""
         checked = in_radians(check_limits(limits, self.joint_index), self)
         lower, upper = self.lower.copy(), self.upper.copy()
         for jname, (lo, hi) in checked.items():
@@ -161,8 +165,9 @@ class ArmModel:
         clone._local = threading.local()
         clone._derived = {}
         if self._recipe is not None:
-            kept = tuple(x for x in self._recipe.limits if x[0] not in checked)
-            new = tuple((n, lo, hi) for n, (lo, hi) in checked.items())
+            every = {**others, **checked}
+            kept = tuple(x for x in self._recipe.limits if x[0] not in every)
+            new = tuple((n, lo, hi) for n, (lo, hi) in every.items())
             clone._recipe = replace(self._recipe, limits=kept + new)
         return clone
 

@@ -16,24 +16,25 @@ def relocked(
 ) -> ArmModel:
     """``arm`` with the joints of ``locked`` (name -> rad or m) it leaves free locked too,
     their values checked against ``limits`` (name -> (lower, upper), rad or m) where it
-    names them, else against the URDF's; the joints left free keep ``limits``. ``arm``
-    itself when it locks every one already. Raises ``JointError`` as ``armik.load`` does."""
+    names them (a joint off the chain too: another chain's, on several tips), else against
+    the URDF's; the joints left free given ``limits``. Raises ``JointError`` as
+    ``armik.load`` does."""
     new = {name: value for name, value in locked.items() if name not in arm.locked}
-    if not new:
-        return arm
-    chain = arm.chain
-    out = ArmModel(
-        chain.full,
-        arm.info,
-        name=arm.name,
-        base=arm.base,
-        tip=arm.tip,
-        locked={**arm.locked, **new},
-        tip_offset=arm.tip_offset,
-        source=arm.source,
-        limits=limits,
-    )
-    out.package_dirs, out.disabled_pairs = arm.package_dirs, arm.disabled_pairs
-    out.tip_reason = arm.tip_reason
-    free = {name: pair for name, pair in limits.items() if name in out.joint_names}
-    return out.with_limits(free) if free else out
+    if new:
+        chain = arm.chain
+        out = ArmModel(
+            chain.full,
+            arm.info,
+            name=arm.name,
+            base=arm.base,
+            tip=arm.tip,
+            locked={**arm.locked, **new},
+            tip_offset=arm.tip_offset,
+            source=arm.source,
+            limits=limits,
+        )
+        out.package_dirs, out.disabled_pairs = arm.package_dirs, arm.disabled_pairs
+        out.tip_reason = arm.tip_reason
+        arm = out
+    free = {name: pair for name, pair in limits.items() if name in arm.joint_names}
+    return arm.with_limits(free) if free else arm

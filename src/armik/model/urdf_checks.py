@@ -13,6 +13,7 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 
 from armik.errors import URDFError, listing, warn
+from armik.model.limit_units import MAX_ANGLE
 from armik.tolerances import MAX_LENGTH, MAX_LIMIT
 
 # Pinocchio's parser recursed about 2 KB of stack per link and crashed at 4000 links on an
@@ -238,6 +239,10 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
                     "swap them in the <limit> element",
                     path=path,
                 )
+            degrees = _degrees(name, jtype, lower, upper, huge)
+            if degrees is not None:
+                notes.append(degrees)
+                warn(degrees)
             if unlimited:
                 unset.add(name)
                 msg = (
@@ -284,6 +289,20 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
         mimic_factors=factors,
     )
     return info, changed
+
+
+def _degrees(name: str, jtype: str, lower: float, upper: float, huge: list) -> str | None:
+    """A revolute joint's limits beyond four turns each way, degrees by the look of them
+    (ROS loads them all the same), in words; None for others (``huge`` ones are said
+    apart, read as no limit)."""
+    if jtype != "revolute" or huge or max(abs(lower), abs(upper)) <= MAX_ANGLE:
+        return None
+    rad = math.radians(lower), math.radians(upper)
+    return (
+        f"joint {name!r} has limits [{lower:g}, {upper:g}] rad, beyond four turns each way "
+        f"(+-{MAX_ANGLE:.4g} rad): URDF limits are radians; for degrees write "
+        f'lower="{rad[0]:.6g}" upper="{rad[1]:.6g}"'
+    )
 
 
 def _soft_limits(

@@ -144,6 +144,18 @@ class SolverSettings:
                 )
         return w
 
+    def left_free(self, position_target: bool, aimed: bool) -> tuple[bool, bool]:
+        """(position, rotation): whether weights of 0 and infinite bounds leave every
+        component of each free, its error 0 whatever the answer: a result's words leave it
+        out, where a "0" would read as reached (a look-at, ``weights=(0, 0, 0, 1, 1, 1)``).
+        An aim (``aimed``) measures the rotation: the tip's axis in its cone."""
+        if self.weights is None and self.bounds is None:
+            return (False, False)
+        w = self.weight_vector(position_target)
+        if self.bounds is not None:
+            w = w * np.isfinite(np.array(self.bounds, dtype=float))
+        return (not w[:3].any(), not aimed and not w[3:].any())
+
 
 def spin_of(bounds: tuple[float, ...] | None) -> tuple[int, float] | None:
     """(k, half-width): the one rotation component of the target frame the bounds free

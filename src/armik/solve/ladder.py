@@ -46,7 +46,7 @@ import itertools
 import numpy as np
 import pinocchio as pin
 
-from armik import reasons
+from armik import path_reasons, reasons
 from armik.batch_result import BatchResult
 from armik.kernel import ladder as kernel
 from armik.model.arm_model import ArmModel
@@ -184,7 +184,7 @@ def held_to_step(arm: ArmModel, out: BatchResult, start: np.ndarray | None, step
             if not (moved <= step + STEP_EDGE).all():  # NaN too
                 j = int(np.nanargmax(moved / step))
                 unit = "m" if arm.prismatic[j] else "rad"
-                move = reasons.moved(arm.joint_names[j], float(moved[j]), unit, whence, step[j])
+                move = path_reasons.moved(arm.joint_names[j], moved.item(j), unit, whence, step[j])
                 measured = reasons.measured(
                     float(out.position_error[i]),
                     float(out.orientation_error[i]),
@@ -193,8 +193,8 @@ def held_to_step(arm: ArmModel, out: BatchResult, start: np.ndarray | None, step
                 )
                 out.success[i] = False
                 out.status_code[i] = Status.DISCONTINUOUS.code
-                out.reasons[i] = reasons.jump(
-                    reasons.planned_over(move), "the planned answer", measured
+                out.reasons[i] = path_reasons.jump(
+                    path_reasons.planned_over(move), "the planned answer", measured
                 )
         if out.success[i] or out.status_code[i] == Status.DISCONTINUOUS.code:
             prev, whence = q, "the previous waypoint's answer"
@@ -427,8 +427,8 @@ def hidden_steps(arm, out: BatchResult, targets: TargetBatch, step, half) -> Non
         )
         out.success[k] = False
         out.status_code[k] = Status.DISCONTINUOUS.code
-        hidden = reasons.hidden_step("the previous waypoint's answer")
-        out.reasons[k] = reasons.jump(hidden, "the followed answer", measured)
+        hidden = path_reasons.hidden_step("the previous waypoint's answer")
+        out.reasons[k] = path_reasons.jump(hidden, "the followed answer", measured)
 
 
 def _halfway(Pa, Ra, Pb, Rb):
@@ -478,10 +478,10 @@ def _broken(arm, r: IKResult, j, size, step, hidden: bool, first, every, out, si
         r,
         success=False,
         status=Status.DISCONTINUOUS,
-        reason=reasons.jump(
-            reasons.every_path_breaks(every, first, hidden, smallest)
+        reason=path_reasons.jump(
+            path_reasons.every_path_breaks(every, first, hidden, smallest)
             if since is None
-            else reasons.every_path_since_breaks(every, since, hidden, smallest),
+            else path_reasons.every_path_since_breaks(every, since, hidden, smallest),
             "the planned answer",
             measured,
         ),

@@ -33,7 +33,7 @@ from collections.abc import Sequence
 import numpy as np
 import pinocchio as pin
 
-from armik import reasons
+from armik import path_reasons
 from armik.batch_result import BatchResult
 from armik.errors import OptionError
 from armik.frozen import frozen
@@ -363,7 +363,7 @@ def _near(
             q = np.array(s.q)
         if ok:
             if _jump(s.q, q_prev, step) <= 1.0:
-                return dataclasses.replace(s, reason=reasons.through(s.reason, k - 1))
+                return dataclasses.replace(s, reason=path_reasons.through(s.reason, k - 1))
             continuous = s
             break
         k *= 2
@@ -372,17 +372,17 @@ def _near(
     j = int(np.argmax(moved / step))
     unit = "m" if arm.prismatic[j] else "rad"
     start = "q0 (the start)" if first else "the previous waypoint's answer"
-    move = reasons.moved(arm.joint_names[j], moved[j], unit, start, step[j])
+    move = path_reasons.moved(arm.joint_names[j], moved[j], unit, start, step[j])
     if continuous is not None:
-        why = reasons.continuous_but(move)
+        why = path_reasons.continuous_but(move)
     else:
-        why = reasons.not_continuous(move, MAX_SUBSTEPS - 1)
+        why = path_reasons.not_continuous(move, MAX_SUBSTEPS - 1)
     measured = f"position error {best.position_error:.3g} m"
     return dataclasses.replace(
         best,
         success=False,
         status=Status.DISCONTINUOUS,
-        reason=reasons.jump(why, "that answer", measured),
+        reason=path_reasons.jump(why, "that answer", measured),
     )
 
 

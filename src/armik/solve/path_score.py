@@ -15,7 +15,7 @@ import time
 import numpy as np
 import pinocchio as pin
 
-from armik import reasons
+from armik import path_reasons, reasons
 from armik.model.arm_model import ArmModel
 from armik.problem.scores import Score
 from armik.problem.settings import SolverSettings
@@ -79,7 +79,7 @@ def preferred(
     return IKResult(
         **{
             **{f: getattr(best, f) for f in _FIELDS},
-            "reason": reasons.best_within_step(
+            "reason": path_reasons.best_within_step(
                 best.reason, score.name, score.words(values[k]), len(within)
             ),
             "time": r.time,

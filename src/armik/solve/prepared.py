@@ -208,6 +208,8 @@ class Plan:
         # a region (bounds, a cone): measured by ``verify.region``, as the general path does
         self.region = (opts.region_bounds, w, aim and aim.cone) if region else None
         self.cone = None if aim is None else aim.within  # what a success's words name
+        plain = opts.weights is None and opts.bounds is None  # (and leave out)
+        self.free = (False, False) if plain else opts.left_free(position, aim is not None)
         self.tol_p, self.tol_r = opts.tol_position, opts.tol_orientation
         # its every row solved, measured and judged in one compiled call
         judging = getattr(self.run_pose, "judging", None)
@@ -325,8 +327,9 @@ class Plan:
             inside = self.arm._within(q.tolist())
         ori = ori if self.measure_rot else None
         fields = claimed_verdict(
-            self.arm, got, pos, ori, inside, self.tol_p, self.tol_r, region is not None, self.cone
-        )
+            self.arm, got, pos, ori, inside, self.tol_p, self.tol_r, region is not None, self.cone,
+            self.free,
+        )  # fmt: skip
         if fields is None or not fields["success"]:  # the next row may pass: every row
             answers = self._refused(got, H, q0, seed, xy)
             return self._finish(answers, H, q0, opts, t0, False, xy, aim)[0]

@@ -224,10 +224,10 @@ def _total(errors: list[TaskError]) -> float:
 def _describe(tasks, errors: list[TaskError]) -> str:
     parts = []
     for t, e in zip(tasks, errors):
-        words = []
-        if e.position is not None:
+        words, free = [], t.free()  # a part wholly free: its 0 not said
+        if e.position is not None and not free[0]:
             words.append(f"{e.position:.3g} m")
-        if e.orientation is not None:
+        if e.orientation is not None and not free[1]:
             words.append(f"{e.orientation:.3g} rad")
         parts.append(
             f"{type(t).__name__} {' and '.join(words)} {'held' if e.within else 'outside'}"
@@ -425,7 +425,7 @@ def _result(
             weighted = type(tasks[0]) is Pose and not tasks[0].weights.all()  # said alone
             frames = tasks[0].frames if len(tasks) == 1 else ()
             if frames in ((None,), (arm.tip,)):  # the tip's
-                reason = reasons.measured_apart(reason, pos, ori, weighted, True)  # a region
+                reason = reasons.measured_apart(reason, pos, ori, weighted, True, tasks[0].free())
             elif len(frames) == 1:  # one task on another frame: that frame's
                 reason = reasons.frame_apart(reason, str(tasks[0].frame), pos, ori, weighted)
             else:

@@ -56,34 +56,35 @@ def with_distances(arm: ArmModel, results: list[IKResult], target, opts: SolverS
     out = []
     for r in results:
         m = measure(arm, r.q, at, distance)
-        out.append(_apart(r, m.position_error, m.orientation_error, weighted, region))
+        out.append(_apart(r, m.position_error, m.orientation_error, weighted, region, m.free))
     return out
 
 
-def _words(reason: str, pos: float, ori: float | None, weighted: bool, region: bool) -> str:
+def _words(reason: str, pos, ori, weighted: bool, region: bool, free=(False, False)) -> str:
     """A success's reason measured apart: the verdict's words, then the distances, to the
-    region's centre (its free components left out) where the target is a region."""
-    return reasons.measured_apart(reason, pos, ori, weighted, region or not weighted)
+    region's centre (its free components left out; ``free``: a part wholly free, not
+    said) where the target is a region."""
+    return reasons.measured_apart(reason, pos, ori, weighted, region or not weighted, free)
 
 
 _CLEAR = "; " + reasons.clear(None, 0.0, 0.0).partition(":")[0] + ":"  # "; collision-free:"
 
 
-def _cleared(reason: str, pos: float, ori: float | None, weighted: bool, region: bool) -> str:
+def _cleared(reason: str, pos, ori, weighted: bool, region: bool, free: tuple) -> str:
     """``_words`` of a success whose collision check spoke first (``solve_all`` with
     obstacles): the distances said after what the verdict measured, as ``solve`` says
     them, its closest pair after them."""
     measured, clear, rest = reason.partition(_CLEAR)
-    return _words(measured, pos, ori, weighted, region) + clear + rest
+    return _words(measured, pos, ori, weighted, region, free) + clear + rest
 
 
-def _apart(r: IKResult, pos: float, ori: float | None, weighted: bool, region: bool) -> IKResult:
+def _apart(r: IKResult, pos, ori, weighted: bool, region: bool, free: tuple) -> IKResult:
     return dataclasses.replace(
         r,
         position_error=pos,
         orientation_error=ori,
         # a success's words say both; a failure's say why it failed
-        reason=_cleared(r.reason, pos, ori, weighted, region) if r.success else r.reason,
+        reason=_cleared(r.reason, pos, ori, weighted, region, free) if r.success else r.reason,
         extra={**r.extra, "measured": (r.position_error, r.orientation_error)},
     )
 
@@ -106,9 +107,10 @@ def fields_apart(fields: dict, pos: float, ori: float | None, weighted: bool) ->
 
 def _said_apart(said: tuple, pos: float, ori: float | None, weighted: bool) -> str:
     # ``said``: ``verify.verdict.success_reason`` and its arguments, whose seventh says
-    # whether the verdict measured a region
+    # whether the verdict measured a region, the ninth the parts left free
     region = len(said[1]) > 6 and bool(said[1][6])
-    return _words(said[0](*said[1]), pos, ori, weighted, region)
+    free = said[1][8] if len(said[1]) > 8 else (False, False)
+    return _words(said[0](*said[1]), pos, ori, weighted, region, free)
 
 
 def batch_distances(arm: ArmModel, Q: np.ndarray, targets: TargetBatch, opts: SolverSettings):

@@ -41,6 +41,7 @@ from armik.tolerances import LIMIT_TOL
 from armik.verify.region import region_error, region_errors
 
 _EYE = np.eye(3)  # read only by the kernel
+_SAID = (False, False)  # no part left free: read without a call on the plain routes
 _FLOAT = np.dtype(float)
 
 
@@ -53,6 +54,10 @@ class Measure:
     tol_orientation: float
     region: bool = False  # the errors are the distances outside the target's bounds
     cone: float | None = None  # rad: the aim's cone; the orientation error lies outside it
+    free: tuple[bool, bool] = (
+        False,
+        False,
+    )  # (position, rotation): not said (``SolverSettings.left_free``)
 
     @property
     def pose_ok(self) -> bool:
@@ -64,7 +69,8 @@ class Measure:
         return self.pose_ok and not self.violations
 
     def describe(self) -> str:
-        pos, ori = self.position_error, self.orientation_error
+        pos = None if self.free[0] else self.position_error
+        ori = None if self.free[1] else self.orientation_error
         if self.region:
             return reasons.region(pos, ori, self.tol_position, self.tol_orientation, self.cone)
         return reasons.measured(pos, ori, self.tol_position, self.tol_orientation)
@@ -156,6 +162,9 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: SolverSettings) 
         tol_orientation=opts.tol_orientation,
         region=region,
         cone=None if aim is None else aim.within,
+        free=_SAID
+        if opts.weights is None and opts.bounds is None
+        else opts.left_free(target.rotation is None, aim is not None),
     )
 
 
@@ -202,6 +211,7 @@ def measure_many(
         opts.tol_orientation,
         measure_rot,
         False,
+        free=_SAID if opts.weights is None else opts.left_free(target.rotation is None, False),
     )
 
 
@@ -228,6 +238,7 @@ def _region_many(arm: ArmModel, qs: list[np.ndarray], target: Target, opts: Solv
         measure_rot,
         True,
         None if target.aim is None else target.aim.within,
+        opts.left_free(position_only, target.aim is not None),
     )
 
 
@@ -254,6 +265,10 @@ class BatchMeasure:
     rotation: bool = True  # the orientation is measured (else NaN throughout)
     region: bool = False  # the errors are the distances outside the target's region
     cone: float | None = None  # rad: the aim's cone; the orientation error lies outside it
+    free: tuple[bool, bool] = (
+        False,
+        False,
+    )  # (position, rotation): not said (``SolverSettings.left_free``)
 
     @classmethod
     def of(cls, measures: list[Measure]) -> BatchMeasure:
@@ -271,6 +286,7 @@ class BatchMeasure:
             rotation,
             first.region,
             first.cone,
+            first.free,
         )
 
     @property
@@ -369,4 +385,9 @@ def measure_batch(
     within_limits(Q, ch.lower, ch.upper, LIMIT_TOL, inside)
     tol_p, tol_r = opts.tol_position, opts.tol_orientation
     cone = None if aim is None else aim.within
-    return BatchMeasure(out[:, 0], out[:, 1], inside, tol_p, tol_r, rotation, region, cone)
+    free = (
+        _SAID
+        if opts.weights is None and opts.bounds is None
+        else opts.left_free(position_only, aim is not None)
+    )
+    return BatchMeasure(out[:, 0], out[:, 1], inside, tol_p, tol_r, rotation, region, cone, free)

@@ -134,6 +134,7 @@ def decide(
         tol_orientation=m.tol_orientation,
         region=m.region,
         cone=m.cone,
+        free=m.free,
     )
     for i in np.flatnonzero(~ok).tolist():  # the rare failures get their words
         out.words[i] = _failure_words(arm, out, m, i, opts, positions)
@@ -160,6 +161,7 @@ def decide_one(arm: ArmModel, answers: Answers, m: Measure, opts: SolverSettings
         region=m.region,
         extra=None,
         cone=m.cone,
+        free=m.free,
     )
 
 
@@ -269,14 +271,16 @@ def seed_distance(q: np.ndarray, seed: np.ndarray) -> float:
 
 
 def success_reason(
-    claim_reason, claim_args, pos, ori, tol_p, tol_r, region=False, cone=None
+    claim_reason, claim_args, pos, ori, tol_p, tol_r, region=False, cone=None, free=(0, 0)
 ) -> str:
     """The reason of a success from its parts: the claim's reason is ``claim_reason``
     itself, or ``claim_reason(*claim_args)`` when it is a function (results of prepared
     solves write their reason on first read, see ``IKResult``); ``region``: the errors are
-    the distances outside the target's region (``cone``: its aim's angle, rad)."""
+    the distances outside the target's region (``cone``: its aim's angle, rad); ``free``:
+    (position, rotation) left free, not said (``SolverSettings.left_free``)."""
     if callable(claim_reason):
         claim_reason = claim_reason(*claim_args)
+    pos, ori = None if free[0] else pos, None if free[1] else ori
     if region:
         return reasons.verified(claim_reason, reasons.region(pos, ori, tol_p, tol_r, cone))
     return reasons.verified(claim_reason, reasons.measured(pos, ori, tol_p, tol_r))
@@ -297,6 +301,7 @@ def claimed_verdict(
     tol_r: float,
     region: bool = False,
     cone: float | None = None,
+    free: tuple = (False, False),
 ) -> dict | None:
     """``verdict`` of a prepared runner's claimed answer ``got`` from its measure (``ori``
     None where the orientation is not measured; ``inside``: within the limits; ``region``:
@@ -311,7 +316,7 @@ def claimed_verdict(
     its, rs, branch, singular = got.iterations, got.restarts, got.branch, got.singular
     why = (got.reason, got.reason_args)
     return _claimed(
-        arm, q, its, rs, branch, singular, pos, ori, inside, tol_p, tol_r, why, region, cone
+        arm, q, its, rs, branch, singular, pos, ori, inside, tol_p, tol_r, why, region, cone, free
     )
 
 
@@ -341,7 +346,21 @@ def claimed_rows(
 
 
 def _claimed(
-    arm, q, its, rs, branch, singular, pos, ori, inside, tol_p, tol_r, why, region, cone=None
+    arm,
+    q,
+    its,
+    rs,
+    branch,
+    singular,
+    pos,
+    ori,
+    inside,
+    tol_p,
+    tol_r,
+    why,
+    region,
+    cone=None,
+    free=(False, False),
 ):
     """The fields of a claimed answer's result but ``solver`` and ``time``, by the rule
     (``status_of`` a claim): a success within the tolerances and the limits,
@@ -350,7 +369,8 @@ def _claimed(
     ok = inside and pos <= tol_p and (ori is None or ori <= tol_r)
     status = _DECIDED[1][1 if ok else 0][1 if inside else 0]
     if status is _SUCCESS:
-        reason: tuple = (success_reason, (why[0], why[1], pos, ori, tol_p, tol_r, region, cone))
+        said = (why[0], why[1], pos, ori, tol_p, tol_r, region, cone, free)
+        reason: tuple = (success_reason, said)
     elif status is _OUTSIDE:
         reason = (limits_reason, (arm, q))
     else:

@@ -45,6 +45,7 @@ class Verdicts:
     region: bool = False  # the errors are the distances outside the target's region
     extra: list[dict] | None = None  # per row, what its result keeps (a collision check)
     cone: float | None = None  # rad: the aim's cone, the orientation error outside it
+    free: tuple[bool, bool] = (False, False)  # (position, rotation): every component free
 
     def __len__(self) -> int:
         return len(self.words)
@@ -63,8 +64,9 @@ class Verdicts:
 
     def measured(self, i: int) -> str:
         """Row i's errors in words."""
-        ori = self.orientation_error.item(i) if self.rotation else None
-        pos, tol_p, tol_r = self.position_error.item(i), self.tol_position, self.tol_orientation
+        ori = self.orientation_error.item(i) if self.rotation and not self.free[1] else None
+        pos = None if self.free[0] else self.position_error.item(i)  # free: its 0 not said
+        tol_p, tol_r = self.tol_position, self.tol_orientation
         if self.region:
             return reasons.region(pos, ori, tol_p, tol_r, self.cone)
         return reasons.measured(pos, ori, tol_p, tol_r)

@@ -246,3 +246,31 @@ def test_a_target_made_on_the_elbow_limit_near_the_fold(limit):
         assert r.success and np.abs(r.q - q).max() < 1e-6, (q, r.q, r.status)
         assert a.within_limits(r.q)
         assert any(s.success and np.abs(s.q - q).max() < 1e-6 for s in a.solve_all(p))
+
+
+@pytest.mark.parametrize(
+    ("distance", "said"),
+    [
+        (L1 + L2 + 2e-6, "beyond the reach l1 + l2 = 1.8 m (by 2e-06 m)"),
+        (L1 - L2 - 2e-7, "closer than |l1 - l2| = 0.2 m (by 2e-07 m)"),
+        (L1 + L2 + 1e-3, "beyond the reach l1 + l2 = 1.8 m;"),  # apart: no "by"
+    ],
+)
+def test_a_target_out_of_reach_by_a_hair_says_by_how_much(distance, said):
+    """2e-6 m past the 2-link arm's reach, beyond tol_position: it said 'target at distance
+    1.8 m from the shoulder is too far: beyond the reach l1 + l2 = 1.8 m'."""
+    r = arm("planar_2link").solve([distance, 0.0], solver="planar2r", tol_position=1e-9)
+    assert r.status == "unreachable" and said in r.reason, r.reason
+    assert r.position_error == pytest.approx(abs(distance - (L1 + L2 if distance > 1 else 0.2)))
+
+
+def test_an_elbow_short_by_a_hair_says_by_how_much():
+    """The 6R closed forms' elbow span, 2e-7 m too long under a tolerance of 1e-9 m: it
+    said 'the elbow must span 0.82597 m, at most 0.82597 m is reachable'."""
+    ur5 = arm("ur5")
+    T = ur5.fk(np.array([0.3, -1.0, 0.0, -0.5, 1.2, 0.4]))  # joint 3 at 0: the elbow stretched
+    out = T.translation - ur5.kinematics.first_joint_origin
+    far = pin.SE3(T.rotation, T.translation + 2e-7 * out / np.linalg.norm(out))
+    said = [r.reason for r in ur5.solve_all(far, solver="three_parallel", tol_position=1e-9)]
+    short = [s for s in said if "span 0.82597 m, at most 0.82597 m is reachable" in s]
+    assert short and all("(by 2e-07 m)" in s for s in short), said

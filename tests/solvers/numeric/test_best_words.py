@@ -6,6 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import armik
+
 from ...conftest import arm
 
 
@@ -35,3 +37,74 @@ def test_a_target_beyond_reach_by_a_hair_says_by_how_much(solver):
     assert "at most 1.8 m (by 1.1e-06 m)" in r.reason, r.reason
     near = a.solve([1.8 + 0.5e-6, 0.0], q0=np.array([0.3, 0.4]), solver=solver)
     assert near.success and near.position_error <= 1e-6  # within tol_position: reached
+
+
+INF = np.inf
+LOOK = (0.3, 0.2, 0.1)
+
+
+def _failures(a, target, **options):
+    """The reason of a failed solve, batch row and solve_all answer of ``target``."""
+    few = dict(q0=a.middle, max_iterations=1, max_restarts=0, **options)
+    rows = a.solve_batch([target, target], **few)
+    got = [a.solve(target, **few), rows[0], a.solve_all(target, **few)[0]]
+    assert not any(r.success for r in got), [r.reason for r in got]
+    return [r.reason for r in got] + [rows.reason(1)]
+
+
+@pytest.mark.parametrize("solver", ["dls", "qp"])
+def test_a_look_at_failure_says_the_axis_angle_not_a_position_error_of_0(solver):
+    """A look-at frees the position: it said 'best found: outside the region: position
+    error 0 m, orientation error 0.473 rad', the 0 m of nothing asked."""
+    a = arm("ur5")
+    for said in _failures(a, [armik.LookAt(LOOK)], solver=solver):
+        assert "position error" not in said and "orientation error" not in said, said
+        angle = float(said.split("the tip's axis ")[1].split(" rad from its direction")[0])
+        assert 0.1 < angle < np.pi, said  # the line of sight's angle, measured below
+    r = a.solve([armik.LookAt(LOOK)], q0=a.middle, max_iterations=1, max_restarts=0)
+    assert f"the tip's axis {r.orientation_error:.3g} rad from its direction;" in r.reason
+    placed = a.fk(r.q)  # the angle by Pinocchio: the tool's z axis to the line of sight
+    sight = np.array(LOOK) - placed.translation
+    cos = placed.rotation[:, 2] @ sight / np.linalg.norm(sight)
+    assert np.arccos(np.clip(cos, -1, 1)) == pytest.approx(r.orientation_error, abs=1e-9)
+
+
+def test_a_look_at_within_a_cone_says_the_axis_and_its_cone():
+    a = arm("ur5")
+    T = a.fk(a.random_q(5))
+    for said in _failures(a, T, look_at=LOOK, cone=(0, 0, 1, 0.1)):
+        assert "position error" in said and "outside its cone of 0.1 rad" in said, said
+        assert "orientation error" not in said
+
+
+@pytest.mark.parametrize(
+    ("bounds", "said", "unsaid"),
+    [
+        ((INF, INF, INF, 0.1, 0.1, 0.1), "outside the region: orientation error", "position"),
+        ((0.1, 0.1, 0.1, INF, INF, INF), "outside the region: position error", "orientation"),
+        ((INF, 0.1, 0.1, 0.1, INF, 0.1), "position error", "no such words"),
+    ],
+)
+def test_bounds_that_free_a_part_leave_it_unsaid_in_a_failure(bounds, said, unsaid):
+    """Infinite bounds on every component of the position (or rotation) said its error 0,
+    as if reached; a part with one component held is said."""
+    a = arm("ur5")
+    T = a.fk(a.random_q(5))
+    for reason in _failures(a, T, bounds=bounds):
+        assert said in reason and unsaid not in reason, reason
+        assert " 0 m" not in reason and " 0 rad" not in reason, reason
+
+
+def test_the_task_solvers_closest_leaves_out_a_part_its_weights_free():
+    """A pose whose position weights are 0 beside a look-at the task solver takes: its
+    closest said 'Pose 0 m and 0.215 rad outside', the 0 m of nothing asked."""
+    a = arm("ur5")
+    T = a.fk(a.random_q(3))
+    tasks = [
+        armik.Pose(T, weights=(0, 0, 0, 1, 1, 1)),
+        armik.LookAt((1, 1, 1), frame="wrist_2_link"),
+    ]
+    r = a.solve(tasks, q0=a.middle, max_restarts=0, max_iterations=2)
+    assert not r.success and "closest: Pose " in r.reason, r.reason
+    pose = r.reason.split("closest: Pose ")[1].split(",")[0]
+    assert pose.endswith(" rad outside") and " m" not in pose, r.reason

@@ -138,6 +138,19 @@ class Task(ABC):
         measure (``measured``). Itself where the two are one."""
         return self.shrunk(0.0)
 
+    def free(self) -> tuple[bool, bool]:
+        """(position, rotation): whether this task leaves every component of each free (an
+        infinite bound or a weight of 0; a direction alone, a look-at's or an axis's, holds
+        no position), its error 0 there whatever the answer: words leave that 0 out."""
+        bounds = getattr(self, "bounds", None)
+        if bounds is None:
+            return (True, False)
+        free = np.isinf(np.asarray(bounds, dtype=float))
+        weights = getattr(self, "weights", None)
+        if weights is not None:
+            free = free | (np.asarray(weights, dtype=float) == 0.0)
+        return (bool(free[:3].all()), len(free) == 6 and bool(free[3:].all()))
+
     def rim(self, count: int) -> list[Task]:
         """Exact tasks at ``count`` points spread around the rim of the region, just inside
         it (each answer of one answers this task): where the region's centre is out of

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from armik import reasons
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.model.geometry import Axes, Plane, angle_between, axis_lines, fmt
@@ -203,10 +204,11 @@ def _reason(code: float, v0: float, v1: float, branch: str | None) -> str:
     if code == kernel.OFF_PLANE:
         return f"target is {v0:.6g} m off the arm's plane of motion"
     if code == kernel.TOO_FAR:
-        where = f"too far: beyond the reach l1 + l2 = {v1:.6g} m"
+        where = f"too far: beyond the reach l1 + l2 = {v1:.6g} m{reasons.by_how_much(v0, v1, 6)}"
         return f"target at distance {v0:.6g} m from the shoulder is {where}; {_CLOSEST}"
     if code == kernel.DEAD_ZONE:
-        where = f"inside the inner dead zone: closer than |l1 - l2| = {v1:.6g} m"
+        by = reasons.by_how_much(v0, v1, 6)
+        where = f"inside the inner dead zone: closer than |l1 - l2| = {v1:.6g} m{by}"
         return f"target at distance {v0:.6g} m from the shoulder is {where}; {_CLOSEST}"
     if code == kernel.TILTED:
         return (

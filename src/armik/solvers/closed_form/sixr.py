@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from armik import reasons
 from armik.model.arm_model import ArmModel
 from armik.model.derived import DerivedBy
 from armik.model.geometry import Axes
@@ -322,15 +323,12 @@ def reason(code: int, val: tuple[float, float] | np.ndarray, family: str) -> str
             f"{b:.6g} m: it lies inside the cylinder the arm cannot enter; q is the closest "
             "configuration"
         )
-    if code == TOO_FAR:
+    if code in (TOO_FAR, TOO_CLOSE):
+        far = code == TOO_FAR
         return (
-            f"target too far: the elbow must span {a:.6g} m, at most {b:.6g} m is "
-            "reachable; q is the closest configuration"
-        )
-    if code == TOO_CLOSE:
-        return (
-            f"target too close: the elbow must span {a:.6g} m, at least {b:.6g} m is "
-            "needed; q is the closest configuration"
+            f"target too {'far' if far else 'close'}: the elbow must span {a:.6g} m, at "
+            f"{'most' if far else 'least'} {b:.6g} m is {'reachable' if far else 'needed'}"
+            f"{reasons.by_how_much(a, b, 6)}; q is the closest configuration"
         )
     if code in (WRIST_ORIENTATION, ORIENTATION):
         return (

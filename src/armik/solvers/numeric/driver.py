@@ -391,13 +391,15 @@ def _not_converged(
         why = f"the restart limit (max_restarts={opts.max_restarts})"
     else:
         why = reasons.budget(opts.timeout, opts.iteration_budget, f"{restarts} restarts")
-    # each part where some weight measures it
-    errors = reasons.best_errors(
-        err[0] if sf[:3].any() else None, err[1] if sf[3:6].any() else None
-    )
+    # each part where a weight measures it and a finite bound holds it (an aim: the cone)
+    kept = sf[:6] * np.isfinite(sf[11:17]) if region else sf[:6]
+    cone = None if sf[20] == NO_CONE else float(sf[20])
+    pos, ori = err[0] if kept[:3].any() else None, err[1]
+    if not (kept[3:].any() or cone is not None):
+        ori = None
     if region:  # the kernel measured the distances outside the region
-        errors = reasons.outside_region(errors)
-    return reasons.not_converged(why, errors)
+        return reasons.not_converged(why, reasons.best_outside(pos, ori, cone))
+    return reasons.not_converged(why, reasons.best_errors(pos, ori))
 
 
 def run_numeric_batch(

@@ -1,0 +1,49 @@
+"""A ``BatchResult``'s one line: how many were solved, by status, the time and the
+throughput, the largest errors (or distances) of the solved and their smallest clearance."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from armik.batch_result import BatchResult
+
+
+def summary(batch: BatchResult) -> str:
+    """One line: how many were solved, by status, the time and the throughput."""
+    n = len(batch)
+    name = f"{batch.arm}/{batch.solver}" if batch.arm else batch.solver
+    if n == 0:
+        return f"{name}: 0 targets"
+    solved = int(batch.success.sum())
+    counts = ", ".join(f"{k} {v}" for k, v in batch.counts().items())
+    rate = n / batch.time if batch.time > 0 else math.inf
+    line = (
+        f"{name}: {solved}/{n} solved ({100.0 * solved / n:.2f} %; {counts}) in "
+        f"{batch.time:.3g} s, {rate:,.0f} targets/s"
+    )
+    if solved:
+        worst = batch.position_error[batch.success].max()
+        apart = batch._measured[batch.success]  # NaN where the distances were measured
+        if np.isnan(apart[:, 0]).all():
+            line += f"; largest error of the solved: {worst:.2g} m"
+        else:  # the errors are distances; the verdicts measured the region or weights
+            to = "the region's centre" if batch.region else "the target"
+            line += f"; largest distance to {to} of the solved: {worst:.2g} m"
+        ori = batch.orientation_error[batch.success]
+        if not np.isnan(ori).all():
+            line += f", {np.nanmax(ori):.2g} rad"
+        if not np.isnan(apart[:, 0]).all():
+            line += f" (the verdicts measured at most {np.nanmax(apart[:, 0]):.2g} m"
+            rot = "" if np.isnan(apart[:, 1]).all() else f", {np.nanmax(apart[:, 1]):.2g} rad"
+            line += f"{rot})"
+        d = batch._distances[batch.success]
+        if not np.isnan(d).all():
+            k = int(np.nanargmin(d))
+            pair = batch.closest_pair(int(np.flatnonzero(batch.success)[k]))
+            names = "" if pair is None else f" ({pair[0]} / {pair[1]})"
+            line += f"; smallest clearance of the solved: {d[k]:.3g} m{names}"
+    return line
