@@ -117,7 +117,9 @@ def _exact(task: Task, tip: str, kind: type) -> bool:
     """Whether ``task`` is of exactly ``kind``, on ``tip``, with no bounds and no weights."""
     weights = getattr(task, "weights", None)
     plain = weights is None or bool((weights == 1.0).all())
-    return type(task) is kind and task.frame == tip and not task.bounds.any() and plain
+    bounds = getattr(task, "bounds", None)
+    loose = bounds is not None and bool(bounds.any())
+    return type(task) is kind and task.frame == tip and not loose and plain
 
 
 def _tasks(row: object) -> bool:

@@ -187,12 +187,13 @@ def _followed_rows(arm: ArmModel, request: Request, step: np.ndarray) -> BatchRe
     targets = _row_poses(arm, rows)
     if targets is not None:  # each step judged as the other paths' (halfway._row_at)
         turn = turning(arm, request.opts, seed)
-        if _reached_held(arm, rows):
-            half = (request.solver, opts, request, turn)
-        else:  # halfway off the poses the held arm reaches: judged on the arm free
-            free = dataclasses.replace(opts, hold=None, **_said(arm, rows[0]))
-            targets = spun_batch(arm, targets, seed, free_spin(free.bounds))
-            half = ("auto", free, None, turn)
+        held: Request | None = request  # the held rows' halfway solved held
+        judged, solver = opts, request.solver
+        if not _reached_held(arm, rows):  # halfway off the poses it reaches: the arm free
+            judged = dataclasses.replace(opts, hold=None, **_said(arm, rows[0]))
+            targets = spun_batch(arm, targets, seed, free_spin(judged.bounds))
+            held, solver = None, "auto"
+        half = (solver, judged, held, turn)
         ladder.hidden_steps(arm, out, targets, step, half)
     label = names.pop() if len(names) == 1 else out.solver
     return frozen(
