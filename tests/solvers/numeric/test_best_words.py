@@ -108,3 +108,43 @@ def test_the_task_solvers_closest_leaves_out_a_part_its_weights_free():
     assert not r.success and "closest: Pose " in r.reason, r.reason
     pose = r.reason.split("closest: Pose ")[1].split(",")[0]
     assert pose.endswith(" rad outside") and " m" not in pose, r.reason
+
+
+def test_the_closest_task_says_every_part_a_task_measures():
+    # a task with no bounds of its own (a Relative's are its pose's, a user's has none) was
+    # read as freeing its position: "closest: Relative 0.407 rad outside" for a 4.86 m miss
+    import pinocchio as pin
+
+    from armik.problem.tasks.base import Task, TaskError
+
+    class Height(Task):
+        """The tip at height h (its z only)."""
+
+        def __init__(self, h):
+            self.h = h
+
+        @property
+        def rows(self):
+            return 1
+
+        def residual(self, T):
+            return np.array([T.translation[2] - self.h])
+
+        def jacobian(self, T, J):
+            return (T.rotation @ J[:3])[2:3]
+
+        def measure(self, T, tol_position, tol_orientation):
+            d = abs(T.translation[2] - self.h)
+            return TaskError(position=d, orientation=None, within=d <= tol_position)
+
+    ur5 = arm("ur5")
+    budget = {"q0": ur5.middle, "max_restarts": 0, "max_iterations": 5}
+    far = pin.SE3(np.eye(3), np.array([5.0, 0.0, 0.0]))
+    r = ur5.solve([armik.Relative("tool0", "base_link", far)], **budget)
+    pos, ori = r.extra["task_errors"][0].position, r.extra["task_errors"][0].orientation
+    assert not r.success and pos > 4.0
+    assert f"Relative {pos:.3g} m and {ori:.3g} rad outside" in r.reason, r.reason
+    look = armik.LookAt((1, 1, 1), frame="wrist_2_link")
+    r = ur5.solve([Height(5.0), look], **{**budget, "max_iterations": 3})
+    height = r.extra["task_errors"][0].position
+    assert not r.success and f"Height {height:.3g} m outside" in r.reason, r.reason

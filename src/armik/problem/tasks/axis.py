@@ -48,6 +48,9 @@ class Axis(Task):
         w = T.rotation.T @ self.direction
         return cone.jacobian(self.axis, w, cone.skew(w) @ J[3:], self.within)
 
+    def free(self) -> tuple[bool, bool]:
+        return (True, False)  # a direction alone holds no position
+
     def kernel_row(self) -> KernelRow:
         return cone_row(self.axis, self.within, LOOK_TOWARD, self.direction)
 

@@ -140,11 +140,12 @@ class Task(ABC):
 
     def free(self) -> tuple[bool, bool]:
         """(position, rotation): whether this task leaves every component of each free (an
-        infinite bound or a weight of 0; a direction alone, a look-at's or an axis's, holds
-        no position), its error 0 there whatever the answer: words leave that 0 out."""
+        infinite bound or a weight of 0), its error 0 there whatever the answer: words
+        leave that 0 out. A task with no bounds (a user's own) frees nothing; a direction
+        alone (``Axis``, ``LookAt``) says its own."""
         bounds = getattr(self, "bounds", None)
         if bounds is None:
-            return (True, False)
+            return (False, False)
         free = np.isinf(np.asarray(bounds, dtype=float))
         weights = getattr(self, "weights", None)
         if weights is not None:

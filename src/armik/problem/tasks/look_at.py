@@ -74,6 +74,9 @@ class LookAt(Task):
         dd = (np.eye(3) - np.outer(d, d)) / distance @ (-R @ J[:3])
         return cone.jacobian(self.axis, w, cone.skew(w) @ J[3:] + R.T @ dd, self.within)
 
+    def free(self) -> tuple[bool, bool]:
+        return (True, False)  # a direction alone holds no position
+
     def kernel_row(self) -> KernelRow:
         return cone_row(self.axis, self.within, LOOK_POINT, self.point)
 

@@ -69,6 +69,9 @@ class Relative(Task):
         reads the second frame as the reference)."""
         return self.pose.kernel_row()
 
+    def free(self) -> tuple[bool, bool]:
+        return self.pose.free()  # its bounds and weights are its pose's
+
     def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
         return self.pose.measure(T, tol_position, tol_orientation)
 
