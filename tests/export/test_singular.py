@@ -136,28 +136,6 @@ def test_a_span_along_the_free_axis_as_in_solve_all(tmp_path):
     assert at_middle >= 8
 
 
-@pytest.mark.parametrize("name", ["ur5", "abb_irb120"])
-def test_near_a_wrist_singularity_the_configuration_comes_back(name, tmp_path):
-    """A wrist 3e-9 to 1e-7 rad off its singularity is solved, not taken as singular, as
-    ``solve_all`` solves it: the rows reach the target (the singular rows, joint 4 or 6
-    at the middle, missed it by up to that much), the target's own configuration among
-    them, and they are ``solve_all``'s."""
-    arm = armik.load(name)
-    solver = Solver(arm, "near", tmp_path)
-    rng = np.random.default_rng(8)
-    for k in range(8):
-        q = arm.random_q(rng)
-        q[4] = (-1) ** k * 10 ** rng.uniform(-8.5, -7.0)
-        T = arm.fk(q).homogeneous
-        n, Q = solver.ik_count(T, None)
-        Q = Q[:n]
-        check_solutions(arm, Q, T)
-        assert min(wrapped_distance(row, q) for row in Q) < 1e-6
-        expected = verified_answers(arm, T, None)
-        assert len(Q) == len(expected)
-        assert all(wrapped_distance(a, b) < 1e-7 for a, b in zip(Q, expected))
-
-
 def test_both_roots_of_an_elbow_almost_stretched_come_back(tmp_path):
     """An elbow bent 6e-5 to 9e-5 rad, which the merge of a double root takes for
     stretched: the root and its mirror lie 1e-4 rad or more apart, two solutions, both

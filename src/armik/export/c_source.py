@@ -15,14 +15,7 @@ import math
 
 import numpy as np
 
-from armik.solvers.closed_form.subproblems import (
-    DEGENERATE,
-    ELBOW,
-    EPS,
-    NEAR_AXIS,
-    ON_AXIS,
-    SINGLE,
-)
+from armik.solvers.closed_form.subproblems import DEGENERATE, ELBOW, EPS, SINGLE
 
 
 def num(x: float) -> str:
@@ -87,8 +80,6 @@ static const double IK_EPS = @EPS@;
 static const double IK_SINGLE = @SINGLE@;
 static const double IK_DEGENERATE = @DEGENERATE@;
 static const double IK_ELBOW = @ELBOW@;
-static const double IK_ON_AXIS IK_UNUSED = @ON_AXIS@;  /* the families that solve near axes */
-static const double IK_NEAR_AXIS = @NEAR_AXIS@;
 
 static inline IK_UNUSED vec3 add(vec3 a, vec3 b)
 { vec3 r = {{a.v[0] + b.v[0], a.v[1] + b.v[1], a.v[2] + b.v[2]}}; return r; }
@@ -294,30 +285,18 @@ static inline IK_UNUSED int elbow_roots_cs(vec3 p1, vec3 p2, vec3 k, double d, d
     return n;
 }
 
-/* Whether the roots (t0, t1, n) of sp3 or sp4 carry rounding only: two, at least
-   IK_NEAR_AXIS apart (subproblems.sure). */
-static inline IK_UNUSED int sure(int n, double t0, double t1)
+/* SP2: (a[i], b[i]) with rot(k1, a) p1 = rot(k2, b) p2, -1 when p1 lies on k1 (a = free),
+   with their cosines and sines (ca, sa, cb, sb) from SP1's (no libm call but the free
+   angle's). */
+static inline IK_UNUSED int sp2cs(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double free_, double a[2],
+                        double b[2], double ca[2], double sa[2], double cb[2], double sb[2])
 {
-    return n == 2 && fabs(wrap(t0 - t1)) >= IK_NEAR_AXIS;
-}
-
-/* SP2: (a[i], b[i]) with rot(k1, a) p1 = rot(k2, b) p2, -1 when p1 lies on k1 within
-   on_axis (a = free), with their cosines and sines (ca, sa, cb, sb) from SP1's (no libm
-   call but the free angle's). Below IK_SINGLE, nearer an axis than IK_NEAR_AXIS both pairs
-   are kept and a is free where that moves the equation by no more than on_axis
-   (subproblems.sp2_on). */
-static inline IK_UNUSED int sp2cs_on(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double free_,
-                                     double on_axis, double a[2], double b[2], double ca[2],
-                                     double sa[2], double cb[2], double sb[2])
-{
-    double n1 = norm(p1), n2 = norm(p2), k12, den, c1, c2, alpha, beta, g2, g, s1, s2, e;
+    double n1 = norm(p1), n2 = norm(p2), k12, den, c1, c2, alpha, beta, g2, g;
     vec3 u1 = scale(p1, 1.0 / n1), u2 = scale(p2, 1.0 / n2), base, k1xk2, c;
-    int near, i;
     a[1] = b[1] = 0.0;
     ca[1] = cb[1] = 1.0;
     sa[1] = sb[1] = 0.0;
-    s1 = norm(cross(k1, u1));
-    if (s1 <= on_axis) {
+    if (norm(cross(k1, u1)) <= IK_SINGLE) {
         a[0] = free_;
         ca[0] = cos(free_);
         sa[0] = sin(free_);
@@ -330,47 +309,21 @@ static inline IK_UNUSED int sp2cs_on(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double 
     c2 = dot(k2, u2);
     alpha = (c1 - k12 * c2) / den;
     beta = (c2 - k12 * c1) / den;
-    s2 = norm(cross(k2, u2));
-    near = on_axis < IK_SINGLE && (s1 < s2 ? s1 : s2) < IK_NEAR_AXIS;
-    if (!near) {
-        g2 = (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * k12) / den;
-    } else if (s2 <= s1) {  /* c near k2: 1 - c2^2 from the cross product */
-        e = c1 - k12 * c2;
-        g2 = (s2 * s2 * den - e * e) / (den * den);
-    } else {
-        e = c2 - k12 * c1;
-        g2 = (s1 * s1 * den - e * e) / (den * den);
-    }
+    g2 = (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * k12) / den;
     g = g2 > 0.0 ? sqrt(g2) : 0.0;
     base = add(scale(k1, alpha), scale(k2, beta));
     k1xk2 = cross(k1, k2);
     c = add(base, scale(k1xk2, g));
     a[0] = sp1cs(u1, c, k1, &ca[0], &sa[0]);
     b[0] = sp1cs(u2, c, k2, &cb[0], &sb[0]);
-    if (g < 1e-9 && !near) return 1;
+    if (g < 1e-9) return 1;
     c = sub(base, scale(k1xk2, g));
     a[1] = sp1cs(u1, c, k1, &ca[1], &sa[1]);
     b[1] = sp1cs(u2, c, k2, &cb[1], &sb[1]);
-    if (near && s1 < IK_NEAR_AXIS)  /* a read to rounding / s1: free_ where as good */
-        for (i = 0; i < 2; i++)
-            if (s1 * fabs(wrap(free_ - a[i])) <= on_axis) {
-                a[i] = free_;
-                ca[i] = cos(free_);
-                sa[i] = sin(free_);
-            }
     return 2;
-}
-
-/* sp2cs_on with p1 on k1 within IK_SINGLE (subproblems.sp2). */
-static inline IK_UNUSED int sp2cs(vec3 p1, vec3 p2, vec3 k1, vec3 k2, double free_, double a[2],
-                        double b[2], double ca[2], double sa[2], double cb[2], double sb[2])
-{
-    return sp2cs_on(p1, p2, k1, k2, free_, IK_SINGLE, a, b, ca, sa, cb, sb);
 }
 """.replace("@EPS@", num(EPS))
     .replace("@SINGLE@", num(SINGLE))
-    .replace("@ON_AXIS@", num(ON_AXIS))
-    .replace("@NEAR_AXIS@", num(NEAR_AXIS))
     .replace("@DEGENERATE@", num(DEGENERATE))
     .replace("@ELBOW@", num(ELBOW))
 )

@@ -32,7 +32,7 @@ static int rows(mat3 R, vec3 pos, double W[][DOF], double C[][DOF], double S[][D
             s[j] = sin(q[j]);
         }
         R03 = mm(mm(rot_cs(h1, c[0], s[0]), rot_cs(h2, c[1], s[1])), rot_cs(h3, c[2], s[2]));
-        n = wrist(R03, R06, MID, &mask, q, c, s, W, C, S, n, IK_SINGLE);
+        n = wrist(R03, R06, MID, &mask, q, c, s, W, C, S, n);
     }
     return n;
 }

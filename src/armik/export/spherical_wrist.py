@@ -48,15 +48,14 @@ static double split_at(double qa, double qb, double sgn, double ti, int a, int b
 }
 
 /* The (up to 2) wrist solutions for a placed wrist centre, appended to W; joint 4 free
-   (axes 4 and 6 in line within on rad, sp2cs_on's) at Q0's value, or the value nearest it
-   that keeps joint 6 within its limits, its bit set in *mask. */
+   (axes 4 and 6 in line) at Q0's value, or the value nearest it that keeps joint 6 within
+   its limits, its bit set in *mask. */
 static int wrist(mat3 R03, mat3 R06, const double *Q0, int *mask, double q[6], double c[6],
-                 double s[6], double W[][DOF], double C[][DOF], double S[][DOF], int n,
-                 double on)
+                 double s[6], double W[][DOF], double C[][DOF], double S[][DOF], int n)
 {
     mat3 R36 = mtm(R03, R06), R45;
     double a[2], b[2], ca[2], sa[2], cb[2], sb[2], sgn, t;
-    int nw = sp2cs_on(mv(R36, h6), h6, neg(h4), h5, Q0[J3], on, a, b, ca, sa, cb, sb), i;
+    int nw = sp2cs(mv(R36, h6), h6, neg(h4), h5, Q0[J3], a, b, ca, sa, cb, sb), i;
     int free4 = nw == -1;
     if (free4) {
         nw = 1;
@@ -95,7 +94,7 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
 {
     mat3 R06 = mmt(R, R_TIP0), R1, R3, R03;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), v;
-    double t1[2], t3[2], q[6], c[6], s[6], on;
+    double t1[2], t3[2], q[6], c[6], s[6];
     int n1, n3, roots, i1, i3, start, mid, n = 0;
     n1 = sp4(h2, p16, neg(h1), D1, t1);
     if (n1 == -1) {  /* wrist centre on axis 1 */
@@ -115,8 +114,6 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
             t3[0] = Q0[J2];
             *mask |= 1 << J2;
         }
-        /* no double root before the wrist: its angles carry rounding only */
-        on = sure(n1, t1[0], t1[1]) && sure(n3, t3[0], t3[1]) ? IK_ON_AXIS : IK_SINGLE;
         start = mid = n;
         for (i3 = 0; i3 < roots; i3++) {
             if (i3 == 1) mid = n;
@@ -126,7 +123,7 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
             R3 = rot_cs(h3, c[2], s[2]);
             q[1] = sp1cs(add(p2, mv(R3, p3)), v, h2, &c[1], &s[1]);
             R03 = mm(mm(R1, rot_cs(h2, c[1], s[1])), R3);
-            n = wrist(R03, R06, Q0, mask, q, c, s, W, C, S, n, on);
+            n = wrist(R03, R06, Q0, mask, q, c, s, W, C, S, n);
         }
         if (roots > n3)  /* a merged root and its mirror: the better rows of the two */
             n = keep_nearer(W, C, S, start, mid, n, J2, Q0);
@@ -141,7 +138,7 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
 {
     mat3 R06 = mmt(R, R_TIP0), R1, R3;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), u;
-    double t3[2], a[2], b[2], ca[2], sa[2], cb[2], sb[2], q[6], c[6], s[6], e, on;
+    double t3[2], a[2], b[2], ca[2], sa[2], cb[2], sb[2], q[6], c[6], s[6], e;
     int n3, roots, n12, i3, i, start, mid, n = 0;
     n3 = elbow_roots(p3, neg(p2), h3, norm(p16), t3, &roots);
     if (n3 == -1) {
@@ -166,8 +163,7 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
                 c[2] = cos(e);
                 s[2] = sin(e);
                 *mask |= 1 << J1;
-                n = wrist(mm(R1, rot_cs(h3, c[2], s[2])), R06, Q0, mask, q, c, s, W, C, S, n,
-                          IK_SINGLE);
+                n = wrist(mm(R1, rot_cs(h3, c[2], s[2])), R06, Q0, mask, q, c, s, W, C, S, n);
                 continue;
             }
         }
@@ -187,8 +183,7 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
             c[1] = cb[i];
             s[1] = sb[i];
             R1 = mm(rot_cs(h1, c[0], s[0]), rot_cs(h2, c[1], s[1]));
-            on = sure(n3, t3[0], t3[1]) && sure(n12, a[0], a[1]) ? IK_ON_AXIS : IK_SINGLE;
-            n = wrist(mm(R1, R3), R06, Q0, mask, q, c, s, W, C, S, n, on);
+            n = wrist(mm(R1, R3), R06, Q0, mask, q, c, s, W, C, S, n);
         }
     }
     if (roots > n3)  /* a merged root and its mirror: the better rows of the two */

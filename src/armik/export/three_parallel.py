@@ -43,11 +43,9 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
 {
     mat3 R06 = mmt(R, R_TIP0), R1, M, R5, R234;
     vec3 p16 = sub(sub(pos, mv(R06, p6)), p0), a, b, v;
-    double t1[2], t5[2], t3[2], q[6], c[6], s[6], q234, c234, s234, turn, ca, sa, sg, off;
-    double t6[2], c6[2], s6[2], c5[2], s5[2];
-    int n1, n5, n3, roots, i1, i5, i3, n = 0, clean, near;
+    double t1[2], t5[2], t3[2], q[6], c[6], s[6], q234, c234, s234, turn, ca, sa, sg;
+    int n1, n5, n3, roots, i1, i5, i3, n = 0;
     n1 = sp4(h2, p16, neg(h1), D1, t1);
-    clean = sure(n1, t1[0], t1[1]);  /* q1 carries rounding only */
     if (n1 == -1) {  /* wrist point on axis 1 */
         n1 = 1;
         t1[0] = Q0[0];
@@ -59,23 +57,16 @@ static int rows(mat3 R, vec3 pos, const double *Q0, int *mask, double W[][DOF],
         s[0] = sin(q[0]);
         R1 = rot_cs(h1, c[0], s[0]);
         M = mtm(R1, R06);
-        a = mtv(M, h2);
-        off = norm(cross(h6, scale(a, 1.0 / norm(a))));  /* off the wrist singularity */
-        near = clean && IK_ON_AXIS < off && off < IK_NEAR_AXIS;
-        if (near)  /* q5 from the cross product, not from a cosine ~ 1 */
-            n5 = sp2cs_on(a, h2, h6, neg(h5), Q0[5], IK_ON_AXIS, t6, t5, c6, s6, c5, s5);
-        else
-            n5 = sp4(h2, h6, h5, dot(h2, mv(M, h6)), t5);
+        n5 = sp4(h2, h6, h5, dot(h2, mv(M, h6)), t5);
         if (n5 == -1) { n5 = 1; t5[0] = Q0[4]; }
         for (i5 = 0; i5 < n5; i5++) {
             q[4] = t5[i5];
             c[4] = cos(q[4]);
             s[4] = sin(q[4]);
             R5 = rot_cs(h5, c[4], s[4]);
+            a = mtv(M, h2);
             b = mtv(R5, h2);
-            if (near) {
-                q[5] = t6[i5];
-            } else if (off < IK_SINGLE || norm(cross(b, h6)) < IK_SINGLE) {
+            if (norm(cross(a, h6)) < IK_SINGLE || norm(cross(b, h6)) < IK_SINGLE) {
                 /* wrist singular: q6 kept at the seed's value unless the wrist point is then
                    out of the elbow's reach */
                 q[5] = Q0[5];

@@ -37,8 +37,6 @@ from armik.solvers.closed_form.line_split import split_at
 from armik.solvers.closed_form.sixr import LS, SHOULDER_OFFSET, SINGULAR, WRIST_ORIENTATION
 from armik.solvers.closed_form.sixr_judged import GENERAL, UNLABELLED, judged, split
 from armik.solvers.closed_form.subproblems import (
-    ON_AXIS,
-    SINGLE,
     add,
     cross,
     dot,
@@ -55,10 +53,8 @@ from armik.solvers.closed_form.subproblems import (
     scale,
     sp1,
     sp2,
-    sp2_on,
     sp4,
     sub,
-    sure,
     vec,
 )
 from armik.tolerances import ANGLE_TOL, DISTANCE_TOL
@@ -117,19 +113,17 @@ def classify_axes(ax: Axes) -> sixr.Chain6R | str:
 def _wrist(R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag, cd, v0, v1, W, n):
     """Append the (up to 2) wrist solutions for a placed wrist centre to the kernel's rows
     ``W`` (``sixr``'s layout); returns the count."""
-    got = _wrist_free(
-        R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag, cd, v0, v1, W, n, SINGLE
-    )
-    return got[0]
+    return _wrist_free(R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag, cd, v0, v1, W, n)[
+        0
+    ]
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
-def _wrist_free(R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag, cd, v0, v1, W, n, on):
-    """``_wrist``: (the count, whether q4 was free: axes 4 and 6 in line within ``on`` rad,
-    ``sp2_on``'s). A free q4 is at q0's value, or the value nearest it that keeps q6 within
-    its limits."""
+def _wrist_free(R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag, cd, v0, v1, W, n):
+    """``_wrist``: (the count, whether q4 was free: axes 4 and 6 in line). A free q4 is at
+    q0's value, or the value nearest it that keeps q6 within its limits."""
     R36 = mtm(R03, R06)
-    a0, a1, b0, b1, nw, lsw = sp2_on(mv(R36, h6), h6, neg(h4), h5, q0[3], on)
+    a0, a1, b0, b1, nw, lsw = sp2(mv(R36, h6), h6, neg(h4), h5, q0[3])
     sing = False
     if nw == -1:
         nw, sing = 1, True
@@ -230,7 +224,6 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 if cd3 == 0:
                     cd3, w1 = sixr.elbow_code(p2, p3, h3, c0, nv)
                     w0 = nv
-            on = ON_AXIS if sure(n1, a0, a1) and sure(n3, c0, c1) else SINGLE
             start = mid = n
             for i3 in range(roots):
                 q3 = c0 if i3 == 0 else c1
@@ -241,7 +234,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 R03 = mm(mm(R1, rot(h2, q2)), R3)
                 n, sing = _wrist_free(
                     R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag3, cd3, w0, w1,
-                    W, n, on,
+                    W, n,
                 )  # fmt: skip
                 free |= 2 if sing else 0
             if n3 == 1 and roots == 2:  # a merged root and its mirror: the better kept
@@ -276,7 +269,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                     R03 = mm(R12, rot(h3, e))
                     n, sing = _wrist_free(
                         R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, e, flag3 | SINGULAR,
-                        cd3, w0, w1, W, n, SINGLE,
+                        cd3, w0, w1, W, n,
                     )  # fmt: skip
                     free |= 8 | (2 if sing else 0)
                     continue
@@ -294,10 +287,9 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
                 q1 = a0 if i12 == 0 else a1
                 q2 = b0 if i12 == 0 else b1
                 R03 = mm(mm(rot(h1, q1), rot(h2, q2)), R3)
-                on = ON_AXIS if sure(n3, c0, c1) and sure(n12, a0, a1) else SINGLE
                 n, sing = _wrist_free(
                     R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag, cd3, w0, w1,
-                    W, n, on,
+                    W, n,
                 )  # fmt: skip
                 free |= 2 if sing else 0
         if n3 == 1 and roots == 2:  # a merged root and its mirror: the better kept

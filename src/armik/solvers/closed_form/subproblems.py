@@ -16,11 +16,7 @@ no exact solution exists and the returned angle(s) solve it in the least-squares
   with rot(k1, theta1) p1 = rot(k2, theta2) p2, k1 not parallel to k2; up to 2 pairs.
   LS: p1, p2 of different lengths are normalised; where the two circles miss, the pair
   nearest to meeting. ``n = -1``: p1 lies on k1 (within ``SINGLE``), so theta1 is free and
-  set to ``free``; theta2 follows. ``sp2_on(p1, p2, k1, k2, free, on_axis)``: within
-  ``on_axis`` instead; at ``ON_AXIS`` (inputs that carry rounding only), nearer an axis than
-  ``NEAR_AXIS`` both pairs are kept (they lie across it), and theta1, which rounding then
-  moves by 1e-16 over p1's distance from k1, is ``free`` where that moves the equation by
-  no more than ``ON_AXIS``.
+  set to ``free``; theta2 follows.
 - SP3 ``sp3(p1, p2, k, d) -> (t0, t1, n, ls)``: |rot(k, theta) p1 - p2| = d; up to 2.
   LS: minimises | |rot(k, theta) p1 - p2| - d |.
 - Elbow ``elbow(p1, p2, k, d) -> (t0, t1, n, ls)``: SP3 at an elbow, whose two roots are one
@@ -47,16 +43,6 @@ from armik.tolerances import DISTANCE_TOL
 
 EPS = 1e-12
 SINGLE = 1e-7
-# rad: a unit vector this near the axis it turns about turns with it by no angle rounding
-# (1e-16) can tell: its angle is free. Above it the angle is solved (to 1e-16 over the
-# distance: 1e-7 rad at 1e-9), where keeping it at a seed's value would move the tip by as
-# much as the distance: the target's own configuration was missed 1e-9 to 1e-7 off a wrist
-# singularity, its rows off the target by that much. Vectors solved from a double root
-# carry rounding's square root (1e-8 and more at an exactly singular target): ``SINGLE``.
-ON_AXIS = 1e-11
-# rad: a vector nearer its axis than this has 1 - cos of its angle read from the cross
-# product: from the cosine, rounding (1e-16) leaves its square root (1e-8 rad).
-NEAR_AXIS = 1e-3
 DEGENERATE = 1e-9  # SP4's h . rot(k, theta) p varies by less than this (m): theta is free
 # m: an elbow whose span this small a change makes a double root is stretched or folded:
 # the closed forms take axis lines within DISTANCE_TOL as meeting, so they cannot tell it
@@ -293,38 +279,20 @@ def _sp3(p1, p2, k, d, merge):
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
-def sure(n, t0, t1):
-    """Whether the roots (t0, t1, n) of ``sp3`` or ``sp4`` carry rounding only: two, at
-    least ``NEAR_AXIS`` apart (rounding moves a root by 1e-16 over half the gap; a double
-    root by its square root)."""
-    return n == 2 and abs(wrap(t0 - t1)) >= NEAR_AXIS
-
-
-@njit(cache=True, no_cfunc_wrapper=True)
 def sp2(p1, p2, k1, k2, free):
     """(theta1, theta2) with rot(k1, theta1) p1 = rot(k2, theta2) p2.
 
     Returns (a0, a1, b0, b1, n, ls): the pairs (a0, b0) and (a1, b1). n = -1: p1 lies along
-    k1 (within ``SINGLE``), theta1 is free and set to ``free``, theta2 follows.
+    k1, theta1 is free and set to ``free``, theta2 follows.
     """
-    return sp2_on(p1, p2, k1, k2, free, SINGLE)
-
-
-@njit(cache=True, no_cfunc_wrapper=True)
-def sp2_on(p1, p2, k1, k2, free, on_axis):
-    """``sp2`` with p1 taken as on k1 within ``on_axis`` (rad): ``ON_AXIS`` where p1 and p2
-    carry rounding only, ``SINGLE`` where they come from a double root (rounding's square
-    root). Below ``SINGLE``, nearer an axis than ``NEAR_AXIS`` both pairs are kept and
-    theta1 is ``free`` where that moves the equation by no more than ``on_axis``."""
     n1, n2 = norm(p1), norm(p2)
     ls = abs(n1 - n2) > EPS * max(n1, n2, 1.0)
     u1 = scale(p1, 1.0 / n1)
     u2 = scale(p2, 1.0 / n2)
-    s1 = norm(cross(k1, u1))
-    if s1 <= on_axis:  # p1 on k1: any theta1 keeps it (nearly) still
+    if norm(cross(k1, u1)) <= SINGLE:  # p1 on k1: any theta1 keeps it (nearly) still
         target = mv(rot(k1, free), u1)
         th, _ = sp1(u2, target, k2)
-        # p1 lies within on_axis of k1, so an exact solution misses by less than that.
+        # p1 lies within SINGLE of k1, so an exact solution misses by less than that.
         miss = norm(sub(mv(rot(k2, th), u2), target))
         return free, 0.0, th, 0.0, -1, ls or miss > 10.0 * SINGLE
     k12 = dot(k1, k2)
@@ -333,14 +301,7 @@ def sp2_on(p1, p2, k1, k2, free, on_axis):
     c2 = dot(k2, u2)
     alpha = (c1 - k12 * c2) / den
     beta = (c2 - k12 * c1) / den
-    s2 = norm(cross(k2, u2))
-    near = on_axis < SINGLE and min(s1, s2) < NEAR_AXIS
-    if not near:
-        g2 = (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * k12) / den
-    elif s2 <= s1:  # c near k2: 1 - c2^2 from the cross product, not from c2 (cos ~ 1)
-        g2 = (s2 * s2 * den - (c1 - k12 * c2) ** 2) / (den * den)
-    else:
-        g2 = (s1 * s1 * den - (c2 - k12 * c1) ** 2) / (den * den)
+    g2 = (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * k12) / den
     if g2 < 0.0:
         if g2 < -EPS:
             ls = True
@@ -352,13 +313,9 @@ def sp2_on(p1, p2, k1, k2, free, on_axis):
     c = add(base, scale(k1xk2, g))
     a0, _ = sp1(u1, c, k1)
     b0, _ = sp1(u2, c, k2)
-    if g < 1e-9 and not near:
+    if g < 1e-9:
         return a0, 0.0, b0, 0.0, 1, ls
-    # near an axis the two roots lie across it, a turn apart: both kept
     c = sub(base, scale(k1xk2, g))
     a1, _ = sp1(u1, c, k1)
     b1, _ = sp1(u2, c, k2)
-    if near and s1 < NEAR_AXIS:  # theta1 read to rounding / s1: ``free`` where as good
-        a0 = free if s1 * abs(wrap(free - a0)) <= on_axis else a0
-        a1 = free if s1 * abs(wrap(free - a1)) <= on_axis else a1
     return a0, a1, b0, b1, 2, ls

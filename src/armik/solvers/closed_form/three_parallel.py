@@ -35,8 +35,6 @@ from armik.solvers.closed_form.family import Family
 from armik.solvers.closed_form.sixr import LS, ORIENTATION, SHOULDER_OFFSET, SINGULAR
 from armik.solvers.closed_form.sixr_judged import GENERAL, UNLABELLED, judged, split
 from armik.solvers.closed_form.subproblems import (
-    NEAR_AXIS,
-    ON_AXIS,
     SINGLE,
     add,
     cross,
@@ -51,10 +49,8 @@ from armik.solvers.closed_form.subproblems import (
     rot,
     scale,
     sp1,
-    sp2_on,
     sp4,
     sub,
-    sure,
     vec,
     wrap,
 )
@@ -191,7 +187,6 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
     p16 = sub(sub(pos, mv(R06, p6)), p0)
     d1 = dot(h2, add(add(p1, p2), add(p3, p4)))
     a0, a1, n1, ls1 = sp4(h2, p16, neg(h1), d1)
-    clean = sure(n1, a0, a1)  # q1 carries rounding only: no double root, not free
     flag1, cd1, v0, v1 = 0, 0, 0.0, 0.0
     if n1 == -1:
         n1, a0 = 1, q0[0]
@@ -207,15 +202,7 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
         q1 = a0 if i1 == 0 else a1
         R1 = rot(h1, q1)
         M = mtm(R1, R06)
-        a = mtv(M, h2)
-        # the wrist's distance from its singularity (rad), as sp2 measures it
-        off = norm(cross(h6, scale(a, 1.0 / norm(a))))
-        near = clean and ON_AXIS < off < NEAR_AXIS
-        if near:  # sp4 reads q5 from a cosine ~ 1, SP2 from the cross product: q6 = e_i
-            e0, e1, b0, b1, n5, ls5 = sp2_on(a, h2, h6, neg(h5), q0[5], ON_AXIS)
-        else:
-            b0, b1, n5, ls5 = sp4(h2, h6, h5, dot(h2, mv(M, h6)))
-            e0 = e1 = 0.0
+        b0, b1, n5, ls5 = sp4(h2, h6, h5, dot(h2, mv(M, h6)))
         flag5, cd5 = flag1, cd1
         if n5 == -1:
             n5, b0 = 1, q0[4]
@@ -227,11 +214,10 @@ def _kernel(h, p, R_tip0, R, pos, q0, lower, upper, variant, labelled, out):
         for i5 in range(n5):
             q5 = b0 if i5 == 0 else b1
             R5 = rot(h5, q5)
+            a = mtv(M, h2)
             b = mtv(R5, h2)
             flag6 = flag5
-            if near:
-                q6 = e0 if i5 == 0 else e1
-            elif off < SINGLE or norm(cross(b, h6)) < SINGLE:
+            if norm(cross(a, h6)) < SINGLE or norm(cross(b, h6)) < SINGLE:
                 # wrist singular: q6 and q2 + q3 + q4 trade off; q6 stays at q0 unless the
                 # wrist point is then out of the elbow's reach
                 q6 = q0[5]
