@@ -601,3 +601,23 @@ def test_a_loop_over_a_shared_torso_anchored_by_a_posture_returns_to_its_start()
         for tip in robot.tips:
             assert np.abs(pin.log6(ways[tip][i].actInv(union.fk(b.q[i], tip))).vector).max() <= 1e-6
     assert np.abs(b.q[-1] - q0).max() <= 1e-6
+
+
+def test_rows_of_flat_poses_beside_position_only_are_refused_as_solve_refuses_them():
+    # read as bare poses, the rows dropped the Pose tasks' rotation unseen under
+    # position_only=True: every row a success with each tip's rotation 1.1 rad off
+    from armik.errors import OptionError
+    from tests.test_arms import dual_irb120
+
+    left, right = "l_tool0", "r_tool0"
+    cell = armik.load(dual_irb120(), tips=[left, right])
+    q = cell.random_q(np.random.default_rng(8))
+    turn = pin.SE3(pin.utils.rpyToMatrix(1.0, 0.5, 0.0), np.zeros(3))
+    rows = [[armik.Pose(cell.fk(q, t) * turn, frame=t) for t in (left, right)]] * 2
+    for call in (
+        lambda: cell.solve(rows[0], q0=q, position_only=True),
+        lambda: cell.solve_batch(rows, q0=q, position_only=True),
+        lambda: cell.solve_path(rows, q, position_only=True),
+    ):
+        with pytest.raises(OptionError, match="position_only=True drops the rotation"):
+            call()

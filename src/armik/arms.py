@@ -204,7 +204,7 @@ class Arms(ArmsKinematics):
         ``workers``, ``chunk_size``, ``progress`` and ``backend`` as ``Arm.solve_batch``'s
         (``backend`` runs chunks of rows where they are solved one by one)."""
         refuse_own_checks(options, self.tips)
-        targets = rows_by_tip(self._chains, targets)  # rows of flat task lists: by tip
+        targets = rows_by_tip(self._chains, targets, options)  # flat task lists: by tip
         return arms_many.solve_batch(self, targets, q0=q0, **options)
 
     def servo(self, q0: object, **options: object) -> ArmsServo:
@@ -226,7 +226,7 @@ class Arms(ArmsKinematics):
         ``Arm.solve_path``'s) in order from ``q0``, never with a silent jump larger than
         ``max_joint_step`` (``armik.arms_many``)."""
         refuse_own_checks(options, self.tips)
-        waypoints = rows_by_tip(self._chains, poses)
+        waypoints = rows_by_tip(self._chains, poses, options)
         return arms_many.solve_path(
             self, waypoints, q0, max_joint_step=max_joint_step, plan=plan, **options
         )

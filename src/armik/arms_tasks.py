@@ -80,10 +80,12 @@ def in_order(chains: Mapping[str, ArmModel], targets: Mapping) -> Mapping:
     return {t: targets[t] for t in order}
 
 
-def rows_by_tip(chains: Mapping[str, ArmModel], rows: object) -> Any:
+def rows_by_tip(chains: Mapping[str, ArmModel], rows: object, options: Mapping) -> Any:
     """A batch's or a path's rows, each a flat list of tasks naming their frames (``by_tip``'s
-    list), as the mapping tip -> its N rows of tasks; any other spelling as given. A
-    ``TargetError`` names a row whose tips are not the first row's."""
+    list), as the mapping tip -> its N rows of tasks (a tip's exact poses as poses where no
+    option reads a pose otherwise than a task: ``position_only``, ``weights``, ``bounds``);
+    any other spelling as given. A ``TargetError`` names a row whose tips are not the first
+    row's."""
     if not isinstance(rows, (list, tuple)) or not rows:
         return rows
     if not all(isinstance(r, Task) or _tasks(r) for r in rows):
@@ -98,6 +100,10 @@ def rows_by_tip(chains: Mapping[str, ArmModel], rows: object) -> Any:
             )
         for tip, tasks in each.items():
             out.setdefault(tip, []).append(tasks)
+    if any(options.get(k) is not None for k in ("weights", "bounds")) or options.get(
+        "position_only"
+    ):
+        return out  # read against the tasks (a Pose's rotation not dropped unseen)
     return {tip: _plain(tip, tasks) for tip, tasks in out.items()}
 
 
