@@ -157,7 +157,7 @@ def test_demo_and_bench_small(capsys):
     assert code == 0 and "elbow-up" in out and "panda" in out
     # the 2-link solve_all's time is the call's, printed once, not once per solution
     two_link = out.split("panda:")[0]
-    assert two_link.count("ms for the call (2 solutions); the process's first solve") == 1
+    assert two_link.count("ms for the call (2 solutions); its solver's first call") == 1
     assert "ms," not in two_link
     code, out, _ = run(capsys, "bench", "--arms", "ur5", "--solvers", "dls", "-n", "20", "--json")
     rows = json.loads(out)

@@ -283,8 +283,8 @@ def _as_dict(r: IKResult, names: list[str]) -> dict:
     return out
 
 
-# every solve the command line prints is its process's first of that solver
-FIRST = "; the process's first solve: loading or compiling its code counts"
+# every solve the command line prints is its solver's first in the process
+FIRST = "; its solver's first call in this process: loading or compiling its code counts"
 
 
 def print_result(
