@@ -36,10 +36,13 @@ def summary(batch: BatchResult) -> str:
         ori = batch.orientation_error[batch.success]
         if not np.isnan(ori).all():
             line += f", {np.nanmax(ori):.2g} rad"
-        if not np.isnan(apart[:, 0]).all():
-            line += f" (the verdicts measured at most {np.nanmax(apart[:, 0]):.2g} m"
-            rot = "" if np.isnan(apart[:, 1]).all() else f", {np.nanmax(apart[:, 1]):.2g} rad"
-            line += f"{rot})"
+        if not np.isnan(apart[:, 0]).all():  # a part left wholly free measured 0: unsaid
+            free_p, free_r = batch.free
+            said = [] if free_p else [f"{np.nanmax(apart[:, 0]):.2g} m"]
+            if not (free_r or np.isnan(apart[:, 1]).all()):
+                said.append(f"{np.nanmax(apart[:, 1]):.2g} rad")
+            if said:
+                line += f" (the verdicts measured at most {', '.join(said)})"
         d = batch._distances[batch.success]
         if not np.isnan(d).all():
             k = int(np.nanargmin(d))

@@ -158,3 +158,13 @@ def test_a_pose_tasks_weights_that_free_the_position_keep_its_distance_said():
     assert far > 0.1 and f"the tip is {far:.3g} m, " in said[0], said[0]
     for reason in said:
         assert "position error" not in reason and "the tip is " in reason, reason
+
+
+def test_a_batch_summary_leaves_out_what_the_verdicts_measured_of_a_free_part():
+    # its rows' reasons left out the free position; the summary still said "at most 0 m"
+    ur5 = arm("ur5")
+    T = ur5.fk(ur5.random_q(1))
+    b = ur5.solve_batch([T, T], q0=ur5.middle, weights=(0, 0, 0, 1, 1, 1))
+    assert b.success.all()
+    measured = b.summary().partition("(the verdicts measured at most ")[2]
+    assert measured.endswith(" rad)") and " m" not in measured, b.summary()
