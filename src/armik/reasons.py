@@ -5,6 +5,8 @@ them (a target beyond reach, a budget run out)."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 
 def measured(pos: float | None, ori: float | None, tol_p: float, tol_r: float) -> str:
     """'position error 1e-07 m (tol 1e-05), orientation error ...': a measure in words
@@ -284,14 +286,22 @@ def measured_apart(
     return f"{said}; the tip is {', '.join(parts)} from {to}" if parts else said
 
 
-def tasks_apart(reason: str, pos: float, ori: float | None) -> str:
+def tasks_apart(reason: str, pos: float, ori: float | None, tasks: Sequence) -> str:
     """A task list with regions: its reason, then the largest distance of a task's frame
-    to its region's centre, what ``position_error`` and ``orientation_error`` report."""
-    rot = "" if ori is None or ori != ori else f", {ori:.3g} rad"
-    return (
-        f"{reason}; each task's frame is at most {pos:.3g} m{rot} from its region's centre, "
-        "free components apart"
-    )
+    to its region's centre, what ``position_error`` and ``orientation_error`` report; a
+    part every task leaves wholly free (``Task.free``), whose distance is 0, unsaid."""
+    free = [task.free() for task in tasks]
+    said = _parts(pos, ori, all(f[0] for f in free), all(f[1] for f in free))
+    where = "from its region's centre, free components apart"
+    return f"{reason}; each task's frame is at most {said} {where}"
+
+
+def _parts(pos: float, ori: float | None, free_p: bool, free_r: bool) -> str:
+    """'x m, y rad' with a wholly free part (or a rotation not measured) left out."""
+    said = [] if free_p else [f"{pos:.3g} m"]
+    if not (free_r or ori is None or ori != ori):
+        said.append(f"{ori:.3g} rad")
+    return ", ".join(said) or f"{pos:.3g} m"
 
 
 def orientation_unreachable(angle: float, fixed: bool, tol: float) -> str:
@@ -320,17 +330,18 @@ def slides_unreachable(distance: float, tol: float) -> str:
     )
 
 
-def frame_apart(reason: str, frame: str, pos: float, ori: float | None, weighted: bool) -> str:
+def frame_apart(reason: str, task, pos: float, ori: float | None, weighted: bool) -> str:
     """``measured_apart`` for one task on a frame other than the tip: that frame's
-    distance to its target (weighted axes) or to its region's centre."""
-    rot = "" if ori is None or ori != ori else f", {ori:.3g} rad"
-    if weighted:
-        said = f"frame {frame!r} is {pos:.3g} m{rot} from the target"
-        return f"{reason} (on the weighted axes); {said}"
-    return (
-        f"{reason}; frame {frame!r} is {pos:.3g} m{rot} from the region's centre, free "
-        "components apart"
-    )
+    distance to its target (weighted axes) or to its region's centre, a part the task
+    leaves wholly free unsaid (0 whatever the answer) where the distance is the region's."""
+    frame = str(task.frame)
+    if weighted:  # the true distance: a part weighted 0 has one
+        rot = "" if ori is None or ori != ori else f", {ori:.3g} rad"
+        return (
+            f"{reason} (on the weighted axes); frame {frame!r} is {pos:.3g} m{rot} from the target"
+        )
+    said = _parts(pos, ori, *task.free())
+    return f"{reason}; frame {frame!r} is {said} from the region's centre, free components apart"
 
 
 def chains_collide(pair: tuple[str, str] | None, distance: float, margin: float) -> str:

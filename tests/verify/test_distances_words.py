@@ -3,6 +3,8 @@ axes, the region's centre, its free components left out (``armik.verify.distance
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -168,3 +170,23 @@ def test_a_batch_summary_leaves_out_what_the_verdicts_measured_of_a_free_part():
     assert b.success.all()
     measured = b.summary().partition("(the verdicts measured at most ")[2]
     assert measured.endswith(" rad)") and " m" not in measured, b.summary()
+
+
+def test_a_frame_other_than_the_tip_leaves_a_free_position_unsaid():
+    # the task solver said "frame 'wrist_2_link' is 0 m, 0.156 rad from the region's
+    # centre" of a position its bounds left wholly free, as the tip's words no longer do
+    ur5 = arm("ur5")
+    q = ur5.random_q(np.random.default_rng(3))
+    free = (np.inf,) * 3 + (0.1,) * 3
+    shift = np.array([0.3, 0.2, 0.0])
+    tasks = []
+    for frame in ("wrist_2_link", "forearm_link"):
+        T = ur5.fk(q, frame)
+        tasks.append(
+            armik.Pose(pin.SE3(T.rotation, T.translation + shift), frame=frame, bounds=free)
+        )
+    for given in (tasks[:1], tasks):
+        r = ur5.solve(given, q0=ur5.middle)
+        assert r.success, r.reason
+        said = r.reason.rpartition("; ")[2]
+        assert " rad from " in said and not re.search(r"\d m\b", said), r.reason

@@ -427,9 +427,9 @@ def _result(
             if frames in ((None,), (arm.tip,)):  # the tip's
                 reason = reasons.measured_apart(reason, pos, ori, weighted, True, tasks[0].free())
             elif len(frames) == 1:  # one task on another frame: that frame's
-                reason = reasons.frame_apart(reason, str(tasks[0].frame), pos, ori, weighted)
+                reason = reasons.frame_apart(reason, tasks[0], pos, ori, weighted)
             else:
-                reason = reasons.tasks_apart(reason, pos, ori)
+                reason = reasons.tasks_apart(reason, pos, ori, tasks)
     found = Verdicts(
         answers=one(q, Status.NOT_CONVERGED, reason, iterations=iterations, restarts=restarts),
         status=np.array([status.code], dtype=np.int8),
