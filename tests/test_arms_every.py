@@ -174,3 +174,19 @@ def test_a_bad_target_is_named_by_its_tip_as_solve_names_it(cell):
         for call in (cell.solve, cell.solve_all):
             with pytest.raises(armik.TargetError, match=f"the target of tip '{LEFT}'"):
                 call({LEFT: [1.0, 2.0], RIGHT: other})  # a 2-vector on arms not planar
+
+
+def test_a_position_reference_with_a_preference_lists_the_combinations_ranked(cell, whole):
+    # the sample's solve ranked the left chain by the preference and landed on an
+    # orientation the right chain cannot reach from: one "unreachable" where 8 answers exist
+    q = cell.random_q(np.random.default_rng(8))
+    T_l, T_r = cell.fk(q, LEFT), cell.fk(q, RIGHT)
+    rel = armik.Relative(RIGHT, LEFT, T_l.actInv(T_r))
+    targets = {LEFT: T_l.translation, RIGHT: rel}
+    plain = [r for r in cell.solve_all(targets) if r.success]
+    ranked = cell.solve_all(targets, prefer="limits")
+    assert len(ranked) == len(plain) > 1 and all(r.success for r in ranked)
+    for r in ranked:
+        L, R = _placed(whole, cell, r.q)
+        assert np.linalg.norm(L.translation - T_l.translation) < 1e-6
+        assert np.linalg.norm(_relative_error(L, R, rel.pose.T)) < 1e-6

@@ -177,6 +177,9 @@ def _sampled(arms: Any, targets, relative: dict, points: dict, q0, options: dict
     answer's orientation), each result's reason saying the orientation is one sample of a
     continuum; that one answer where none is verified, its failure where it fails."""
     one = arms._solve(targets, q0, dict(options))
+    if not one.success and options.get("prefer") is not None:  # the sample needs an answer,
+        # any: the preference ranks the combinations below (its own best may be out of reach)
+        one = arms._solve(targets, q0, {k: v for k, v in options.items() if k != "prefer"})
     if not one.success:
         return [one]
     pinned = {**targets}
