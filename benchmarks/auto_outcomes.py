@@ -10,7 +10,7 @@ failure.
 
     python benchmarks/auto_outcomes.py irb140 ur5 panda -n 1000
 
-``irb140`` is the ABB IRB 140 that rtb-data ships (tip ``tool0``).
+``irb140`` is the ABB IRB 140 that rtb-data ships, copied in ``tests/data/rtb`` (tip ``tool0``).
 """
 
 from __future__ import annotations
@@ -29,9 +29,7 @@ os.environ.setdefault("ARMIK_FIRST_CALLS", "compile")  # time compiled code, not
 
 def load(robot: str, tip: str | None) -> armik.Arm:
     if robot == "irb140":
-        import rtbdata
-
-        folder = os.path.join(os.path.dirname(rtbdata.__file__), "xacro")
+        folder = os.path.join(os.path.dirname(__file__), "..", "tests", "data", "rtb")
         path = os.path.join(folder, "abb_irb140_description", "urdf", "irb140.urdf")
         return armik.load(path, tip="tool0")
     return armik.load(robot, tip=tip) if tip else armik.load(robot)

@@ -22,10 +22,10 @@ from armik.tools.cli import main
 
 from .. import conftest
 
-rtbdata = pytest.importorskip("rtbdata", reason="rtb-data (the test extra) ships the IRB 140")
-IRB140 = os.path.join(
-    os.path.dirname(rtbdata.__file__), "xacro", "abb_irb140_description", "urdf", "irb140.urdf"
-)
+RTB = os.path.join(
+    os.path.dirname(__file__), "..", "data", "rtb"
+)  # rtb-data's URDFs (README there)
+IRB140 = os.path.join(RTB, "abb_irb140_description", "urdf", "irb140.urdf")
 
 
 @pytest.fixture(scope="module")
@@ -57,7 +57,6 @@ def test_auto_solves_every_reachable_irb140_target(irb140):
         assert every[0].success, every[0].reason
 
 
-RTB = os.path.join(os.path.dirname(rtbdata.__file__), "xacro")
 REAL_ARMS = {  # every 6R arm of rtb-data and example-robot-data a search applies to
     "irb140": (IRB140, "tool0"),
     "irb140QT": (os.path.join(RTB, "abb_irb140_description", "urdf", "irb140QT.urdf"), "tool0"),

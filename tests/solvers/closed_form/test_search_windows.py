@@ -13,10 +13,10 @@ import armik
 from armik.solvers.closed_form import search_q1, sixr, two_parallel
 from armik.solvers.closed_form.subproblems import mat, mmt, mv, sub, vec
 
-rtbdata = pytest.importorskip("rtbdata", reason="rtb-data (the test extra) ships the IRB 140")
-IRB140 = os.path.join(
-    os.path.dirname(rtbdata.__file__), "xacro", "abb_irb140_description", "urdf", "irb140.urdf"
-)
+RTB = os.path.join(
+    os.path.dirname(__file__), "..", "..", "data", "rtb"
+)  # rtb-data's (README there)
+IRB140 = os.path.join(RTB, "abb_irb140_description", "urdf", "irb140.urdf")
 
 
 @pytest.fixture(scope="module")
