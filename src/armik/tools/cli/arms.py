@@ -283,8 +283,9 @@ def _as_dict(r: IKResult, names: list[str]) -> dict:
     return out
 
 
-# every solve the command line prints is its solver's first in the process
-FIRST = "; its solver's first call in this process: loading or compiling its code counts"
+# every solve the command line prints is its solver's first in the process: loading its
+# compiled code counts, or it ran as Python while a helper compiled it (armik.kernel.tier)
+FIRST = "; its solver's first call in this process, not a warm call's time (armik bench)"
 
 
 def print_result(
