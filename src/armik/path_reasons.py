@@ -72,6 +72,20 @@ def planned_over(move: str) -> str:
     return f"the plan's step to it {move}, over the bound: no path planned within it"
 
 
+VERIFIED = "verified by forward kinematics: "
+
+
+def verified(reason: str, measured_text: str) -> str:
+    """What a success's ``reason`` says after "verified by forward kinematics: " (its
+    verdict's measure, a region's or the weighted axes' with the distances, a part left
+    wholly free unsaid); ``measured_text`` where it says none."""
+    for said in (VERIFIED, ", verified: "):  # a success's words, or a jump's (``jump``)
+        at = reason.find(said)
+        if at >= 0:
+            return reason[at + len(said) :]
+    return measured_text
+
+
 def jump(why: str, answer: str, measured_text: str) -> str:
     """A waypoint reached only by a move larger than ``max_joint_step`` (``discontinuous``):
     ``why`` in words, ``answer`` what q is, ``measured_text`` its measure."""

@@ -185,11 +185,14 @@ def held_to_step(arm: ArmModel, out: BatchResult, start: np.ndarray | None, step
                 j = int(np.nanargmax(moved / step))
                 unit = "m" if arm.prismatic[j] else "rad"
                 move = path_reasons.moved(arm.joint_names[j], moved.item(j), unit, whence, step[j])
-                measured = reasons.measured(
-                    float(out.position_error[i]),
-                    float(out.orientation_error[i]),
-                    out.tol_position,
-                    out.tol_orientation,
+                measured = path_reasons.verified(
+                    out.reason(i),
+                    reasons.measured(
+                        float(out.position_error[i]),
+                        float(out.orientation_error[i]),
+                        out.tol_position,
+                        out.tol_orientation,
+                    ),
                 )
                 out.success[i] = False
                 out.status_code[i] = Status.DISCONTINUOUS.code
@@ -467,8 +470,11 @@ def _since(i, rung, broken, has_q0, first, forbidden, onto) -> str | None:
 
 
 def _broken(arm, r: IKResult, j, size, step, hidden: bool, first, every, out, since=None):
-    measured = reasons.measured(
-        r.position_error, r.orientation_error, out.tol_position, out.tol_orientation
+    measured = path_reasons.verified(
+        r.reason,
+        reasons.measured(
+            r.position_error, r.orientation_error, out.tol_position, out.tol_orientation
+        ),
     )
     smallest = None
     if j >= 0:

@@ -378,7 +378,7 @@ def _near(
         why = path_reasons.continuous_but(move)
     else:
         why = path_reasons.not_continuous(move, MAX_SUBSTEPS - 1)
-    measured = f"position error {best.position_error:.3g} m"
+    measured = path_reasons.verified(best.reason, f"position error {best.position_error:.3g} m")
     return dataclasses.replace(
         best,
         success=False,
