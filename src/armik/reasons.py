@@ -271,7 +271,7 @@ _TOL_TEXT: dict[float, str] = {}
 
 
 def measured_apart(
-    reason: str, pos: float, ori: float | None, weighted: bool, region: bool, free=(0, 0)
+    reason: str, pos: float, ori: float | None, weighted: bool, region: bool, free=(False, False)
 ) -> str:
     """A result whose verdict measured other than the distances to the target (weights on
     the axes, a region): its reason, then those distances, what ``position_error`` and
@@ -280,10 +280,8 @@ def measured_apart(
     weight of 0 freed is a distance all the same, said)."""
     said = f"{reason} (on the weighted axes)" if weighted else reason
     to = "the region's centre, free components apart" if region else "the target"
-    parts = [] if region and free[0] and pos == 0.0 else [f"{pos:.3g} m"]
-    if ori is not None and ori == ori and not (region and free[1] and ori == 0.0):
-        parts.append(f"{ori:.3g} rad")
-    return f"{said}; the tip is {', '.join(parts)} from {to}" if parts else said
+    parts = _parts(pos, ori, region and free[0] and pos == 0.0, region and free[1] and ori == 0.0)
+    return f"{said}; the tip is {parts} from {to}" if parts else said
 
 
 def tasks_apart(reason: str, pos: float, ori: float | None, tasks: Sequence) -> str:
@@ -291,17 +289,18 @@ def tasks_apart(reason: str, pos: float, ori: float | None, tasks: Sequence) -> 
     to its region's centre, what ``position_error`` and ``orientation_error`` report; a
     part every task leaves wholly free (``Task.free``), whose distance is 0, unsaid."""
     free = [task.free() for task in tasks]
-    said = _parts(pos, ori, all(f[0] for f in free), all(f[1] for f in free))
+    said = _parts(pos, ori, all(f[0] for f in free), all(f[1] for f in free)) or f"{pos:.3g} m"
     where = "from its region's centre, free components apart"
     return f"{reason}; each task's frame is at most {said} {where}"
 
 
 def _parts(pos: float, ori: float | None, free_p: bool, free_r: bool) -> str:
-    """'x m, y rad' with a wholly free part (or a rotation not measured) left out."""
+    """'x m, y rad' with a wholly free part (or a rotation not measured) left out; '' where
+    nothing is left."""
     said = [] if free_p else [f"{pos:.3g} m"]
     if not (free_r or ori is None or ori != ori):
         said.append(f"{ori:.3g} rad")
-    return ", ".join(said) or f"{pos:.3g} m"
+    return ", ".join(said)
 
 
 def orientation_unreachable(angle: float, fixed: bool, tol: float) -> str:
@@ -340,7 +339,7 @@ def frame_apart(reason: str, task, pos: float, ori: float | None, weighted: bool
         return (
             f"{reason} (on the weighted axes); frame {frame!r} is {pos:.3g} m{rot} from the target"
         )
-    said = _parts(pos, ori, *task.free())
+    said = _parts(pos, ori, *task.free()) or f"{pos:.3g} m"
     return f"{reason}; frame {frame!r} is {said} from the region's centre, free components apart"
 
 

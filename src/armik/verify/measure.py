@@ -54,10 +54,8 @@ class Measure:
     tol_orientation: float
     region: bool = False  # the errors are the distances outside the target's bounds
     cone: float | None = None  # rad: the aim's cone; the orientation error lies outside it
-    free: tuple[bool, bool] = (
-        False,
-        False,
-    )  # (position, rotation): not said (``SolverSettings.left_free``)
+    # (position, rotation) left wholly free, not said (``SolverSettings.left_free``)
+    free: tuple[bool, bool] = (False, False)
 
     @property
     def pose_ok(self) -> bool:
@@ -265,10 +263,8 @@ class BatchMeasure:
     rotation: bool = True  # the orientation is measured (else NaN throughout)
     region: bool = False  # the errors are the distances outside the target's region
     cone: float | None = None  # rad: the aim's cone; the orientation error lies outside it
-    free: tuple[bool, bool] = (
-        False,
-        False,
-    )  # (position, rotation): not said (``SolverSettings.left_free``)
+    # (position, rotation) left wholly free, not said (``SolverSettings.left_free``)
+    free: tuple[bool, bool] = (False, False)
 
     @classmethod
     def of(cls, measures: list[Measure]) -> BatchMeasure:

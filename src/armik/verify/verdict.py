@@ -271,7 +271,7 @@ def seed_distance(q: np.ndarray, seed: np.ndarray) -> float:
 
 
 def success_reason(
-    claim_reason, claim_args, pos, ori, tol_p, tol_r, region=False, cone=None, free=(0, 0)
+    claim_reason, claim_args, pos, ori, tol_p, tol_r, region=False, cone=None, free=(False, False)
 ) -> str:
     """The reason of a success from its parts: the claim's reason is ``claim_reason``
     itself, or ``claim_reason(*claim_args)`` when it is a function (results of prepared
