@@ -83,13 +83,8 @@ def _every(arms: Any, targets: Mapping[str, object], q0: object = None, **option
         return [joined(arms.tips, best, seeds, elapsed)]
     tips = list(good)
     choices = itertools.product(*(good[tip] for tip in tips))
-    if prefer is not None:  # each chain's answers scored: the robot's score of each
-        listed = []
-        for value, choice in order(prefer, list(choices))[:MAX_COMBINATIONS]:
-            r = joined(arms.tips, dict(zip(tips, choice)), seeds, elapsed)
-            r.extra["score"] = value
-            listed.append(r)
-        return listed
+    if prefer is not None:
+        return _scored(arms, prefer, tips, list(choices), seeds, elapsed)
     reference = np.concatenate([seeds[tip] for tip in arms.tips])
     results: list[IKResult] = [
         joined(arms.tips, dict(zip(tips, choice)), seeds, elapsed) for choice in choices
@@ -142,10 +137,17 @@ def _combinations(arms: Any, targets, relative: dict, tips, q0, options: dict, t
     prefer = options.get("prefer")
     if prefer is None:
         return [joined(arms.tips, done, seeds, elapsed) for done in combos]
-    listed = []  # each chain's answers scored: the robot's score of each
     choices = [tuple(done[t] for t in targets) for done in combos]
-    for value, choice in order(prefer, choices):
-        r = joined(arms.tips, dict(zip(targets, choice)), seeds, elapsed)
+    return _scored(arms, prefer, list(targets), choices, seeds, elapsed)
+
+
+def _scored(arms: Any, prefer, tips: list, choices: list, seeds, elapsed: float) -> list:
+    """The combinations ``choices`` (an answer per tip of ``tips``) joined, best first by
+    ``prefer`` (each chain's answers scored: the robot's score of each), at most
+    ``MAX_COMBINATIONS``."""
+    listed = []
+    for value, choice in order(prefer, choices)[:MAX_COMBINATIONS]:
+        r = joined(arms.tips, dict(zip(tips, choice)), seeds, elapsed)
         r.extra["score"] = value
         listed.append(r)
     return listed
