@@ -142,7 +142,7 @@ class ArmModel:
         )
 
     def with_limits(
-        self, limits: Mapping[str, tuple[float, float]], others: Mapping[str, tuple] = {}
+        self, limits: Mapping[str, tuple[float, float]], others: Mapping[str, tuple] | None = None
     ) -> ArmModel:
         """A copy of this arm with some joint limits replaced (name -> (lower, upper));
         ``others``: joints off its chain, checked by the chains that hold them (several
@@ -165,7 +165,7 @@ class ArmModel:
         clone._local = threading.local()
         clone._derived = {}
         if self._recipe is not None:
-            every = {**others, **checked}
+            every = {**(others or {}), **checked}
             kept = tuple(x for x in self._recipe.limits if x[0] not in every)
             new = tuple((n, lo, hi) for n, (lo, hi) in every.items())
             clone._recipe = replace(self._recipe, limits=kept + new)
