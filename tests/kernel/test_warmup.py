@@ -4,11 +4,8 @@ the answers are those of a single process."""
 
 from __future__ import annotations
 
-import importlib
 import json
 import os
-import pkgutil
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -16,9 +13,9 @@ from pathlib import Path
 import numpy as np
 
 import armik
-import armik.kernel
 from armik.kernel import measure as check
 from armik.kernel import problem, step, tier, warmup
+from tests.kernel import seeded_cache
 
 # A fresh interpreter on a cache without the kernel's entries, descent, steps and share (see
 # ``_seed_with_callees``): a first dls solve and batch, then what compiled.
@@ -49,28 +46,9 @@ COLD_MODULES = ("armik.kernel.descent", "armik.kernel.single", "armik.kernel.ent
 
 
 def _seed_with_callees(cache: Path) -> None:
-    """Copy into ``cache`` (a ``NUMBA_CACHE_DIR``) this process's cache entries of the
-    kernel's compiled functions but those the cold solve compiles itself."""
-    from numba.core.caching import UserProvidedCacheLocator
-    from numba.core.registry import CPUDispatcher
-
+    """Seed ``cache`` with the kernel's entries but those the cold solve compiles itself."""
     cold = {step.dls, step.qp, check.placement_check, *(d for d, _ in warmup._parts()[1])}
-    for info in pkgutil.iter_modules(armik.kernel.__path__, "armik.kernel."):
-        module = importlib.import_module(info.name)
-        for d in vars(module).values():
-            if not isinstance(d, CPUDispatcher) or d.py_func.__module__ != info.name:
-                continue
-            here = getattr(d._cache, "_cache_path", None)  # numba's names, not public API
-            if d in cold or info.name in COLD_MODULES or here is None:
-                continue
-            here = Path(here)
-            index = d._cache._cache_file._index_name
-            there = cache / UserProvidedCacheLocator.get_suitable_cache_subpath(
-                d.py_func.__code__.co_filename
-            )
-            for path in here.glob(index[: -len(".nbi")] + ".*"):
-                there.mkdir(parents=True, exist_ok=True)
-                shutil.copy2(path, there / path.name)
+    seeded_cache.seed(cache, lambda d, module: d in cold or module in COLD_MODULES)
 
 
 def test_cold_first_solve_loads_the_helpers_step(tmp_path):
