@@ -8,6 +8,7 @@ floors: it sits beside the project's checkout, as in CI)."""
 
 from __future__ import annotations
 
+import functools
 import importlib.util
 import sys
 from pathlib import Path
@@ -52,9 +53,16 @@ MODULES = {
 ROUTE = Path(__file__).resolve().parents[1].parent / "shared" / "tools" / "route.py"
 
 
+@functools.cache
 def _floors():
     """``route.py``'s floor of a module (1 + the highest floor it imports at module level),
-    read from this checkout's sources."""
+    read from this checkout's sources: once a test process, as the tool reads them once a
+    run (its floors are kept as they are found; read again, each row parsed every module)."""
+    return _read_route().floor
+
+
+def _read_route():
+    """``route.py`` loaded, its sources this checkout's."""
     if not ROUTE.is_file():
         pytest.skip(f"{ROUTE} is not beside the checkout: calls up are not counted")
     spec = importlib.util.spec_from_file_location("shared_route", ROUTE)
@@ -68,7 +76,7 @@ def _floors():
     finally:
         sys.path[:] = path
     route.SRC = str(Path(__file__).resolve().parents[1] / "src")
-    return route.floor
+    return route
 
 
 def _route(setup: str, call: str) -> tuple[int, int, set[str]]:
@@ -137,5 +145,5 @@ def test_reading_the_route_tool_leaves_sys_path_as_it_was():
     # this process's later imports, and the processes it starts (their sys.path is this
     # one's), import the armik under test, not the checkout's src beside it
     before = list(sys.path)
-    _floors()
+    _read_route()
     assert sys.path == before
