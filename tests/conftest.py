@@ -67,6 +67,17 @@ def rng() -> np.random.Generator:
     return np.random.default_rng(1234)
 
 
+@pytest.fixture(scope="session")
+def after_parts():
+    """What solves add to the compiled functions in a new process after some parts of
+    ``armik compile`` (``tests/kernel/after_parts.py``)."""
+    from tests.kernel.after_parts import After
+
+    after = After()
+    yield after
+    after.close()
+
+
 def frame_position(arm, q, frame: str) -> np.ndarray:
     """The position of ``frame`` at ``q`` in the arm's base frame (Pinocchio's FK)."""
     m = arm.kinematics

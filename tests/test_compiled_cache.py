@@ -244,26 +244,15 @@ def test_every_command_a_notice_names_is_parts_armik_compile_has():
         assert all(part in PARTS for part in words[2:]), (what, words)
 
 
-def test_the_tasks_part_builds_a_tip_only_task_list():
+def test_the_tasks_part_builds_a_tip_only_task_list(after_parts):
     """After ``armik compile tasks`` alone, a task list on the tip alone (a position, with an
     axis: what the numeric solver's entry solves) needs no compiled function more."""
-    from tests.kernel.test_compile import AFTER_PARTS
-
     uses = (
         "a = armik.load('kinova')\nT = a.fk(a.middle)\n"
         "a.solve([armik.Position(T.translation)])\n"
         "a.solve([armik.Position(T.translation), armik.Axis((0, 0, 1), T.rotation[:, 2], 0.05)])\n"
     )
-    environ = {**os.environ, "ARMIK_FIRST_CALLS": "compile", "ARMIK_COMPILE_HELPER": "0"}
-    environ["PYTHONPATH"] = os.pathsep.join(sys.path)
-    done = subprocess.run(
-        [sys.executable, "-c", AFTER_PARTS, "tasks", uses],
-        env=environ,
-        capture_output=True,
-        text=True,
-        check=True,
-    )
-    assert done.stdout.strip().splitlines()[-1] == "[]", done.stdout
+    assert after_parts.new("tasks", uses) == []
 
 
 def test_armik_compile_gives_no_notice_of_its_own_parts(monkeypatch):

@@ -280,42 +280,6 @@ def test_the_task_solver_compiles_the_fk_once(tmp_path):
     assert done.stdout.split() == ["1", "1"]
 
 
-# A process that compiled only some parts (``armik compile PART``), then solves as a user of
-# those parts does: every compiled function it calls was built by the parts, so nothing new
-# is loaded from the cache (with an empty cache: nothing compiles at the first solve).
-AFTER_PARTS = textwrap.dedent(
-    """
-    import importlib, pkgutil, sys
-    import numpy as np
-    import pinocchio as pin
-    from numba.core.registry import CPUDispatcher
-    import armik
-    from armik import precompile
-    from armik.constraints.limits import JointLimits
-
-    modules = []
-    for info in pkgutil.walk_packages(armik.__path__, "armik."):
-        if not info.name.startswith(("armik.view", "armik.tools")):
-            modules.append(importlib.import_module(info.name))
-
-    def signatures():
-        return {
-            (f"{m.__name__}.{name}", str(s))
-            for m in modules
-            for name, v in vars(m).items()
-            if isinstance(v, CPUDispatcher) and v.py_func.__module__ == m.__name__
-            for s in v.signatures
-        }
-
-    for part in sys.argv[1].split():
-        precompile.PARTS[part]()
-    built = signatures()
-    B = {"iteration_budget": 50}
-    exec(sys.argv[2])
-    print(sorted({name for name, _ in signatures() - built}))
-    """
-)
-
 _SOLVES = """
 for name in ARMS:
     arm = armik.load(name)
@@ -387,18 +351,10 @@ _AFTER = [
 
 
 @pytest.mark.parametrize(("parts", "uses"), _AFTER, ids=[p for p, _ in _AFTER])
-def test_a_part_compiled_alone_builds_everything_its_solves_call(parts, uses):
+def test_a_part_compiled_alone_builds_everything_its_solves_call(after_parts, parts, uses):
     # `armik compile dls` did not build the batch FK that a SCARA's rails and heights place
     # restarts with (about 3 s at its first solve), nor the FK check of a target out of
     # reach; a closed form's part not the check of its unreachable answers; no part the
-    # joint values of an arm with continuous joints
-    environ = {**os.environ, "ARMIK_FIRST_CALLS": "compile", "ARMIK_COMPILE_HELPER": "0"}
-    environ["PYTHONPATH"] = os.pathsep.join(sys.path)
-    done = subprocess.run(
-        [sys.executable, "-c", AFTER_PARTS, parts, uses],
-        env=environ,
-        capture_output=True,
-        text=True,
-        check=True,
-    )
-    assert done.stdout.strip().splitlines()[-1] == "[]"
+    # joint values of an arm with continuous joints (each case a process of its own:
+    # tests/kernel/after_parts.py)
+    assert after_parts.new(parts, uses) == []
