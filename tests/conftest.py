@@ -168,9 +168,10 @@ def pytest_collection_modifyitems(session, config, items) -> None:
 
 
 def pytest_runtest_setup(item) -> None:
-    """Under pytest-xdist, the workers that did not take the tour wait for it: its processes
-    take every core, and a test run beside it would compile again the kernels it is
-    compiling (measured: docs/compile-time.md)."""
+    """Under pytest-xdist, the workers that did not take the tour wait for it to have
+    compiled (it loads and counts what it compiled after): its processes take every core,
+    and a test run beside them would compile again the kernels they are compiling
+    (measured: docs/compile-time.md)."""
     if not hasattr(item.config, "workerinput") or item.name == TOUR:
         return
     if not any(other.name == TOUR for other in item.session.items):

@@ -1,5 +1,5 @@
-"""A numba cache seeded with this process's entries of the kernel's compiled functions, for a
-test that compiles on an empty cache in a process of its own: what it is not about (the FK,
+"""A numba cache seeded with this process's entries of armik's compiled functions, for a test
+that compiles on a cache of its own in a process of its own: what it is not about (the FK,
 the region's rows, the linear algebra) is loaded there when the suite's cache holds it (the
 tour has filled it) instead of compiled again; with nothing in the suite's cache, the test
 compiles everything, as on an empty one."""
@@ -12,23 +12,30 @@ import shutil
 from collections.abc import Callable
 from pathlib import Path
 
-import armik.kernel
 
-
-def seed(cache: Path, compiled_there: Callable[[object, str], bool]) -> None:
+def seed(
+    cache: Path,
+    compiled_there: Callable[[object, str], bool],
+    packages: tuple[str, ...] = ("armik.kernel",),
+) -> None:
     """Copy into ``cache`` (a ``NUMBA_CACHE_DIR``) this process's cache entries of every
-    compiled function of ``armik.kernel`` but those ``compiled_there(dispatcher, module)``
-    says the test's process compiles itself."""
+    compiled function of ``packages`` but those ``compiled_there(dispatcher, module)`` says
+    the test's processes compile themselves."""
     from numba.core.caching import UserProvidedCacheLocator
     from numba.core.registry import CPUDispatcher
 
-    for info in pkgutil.iter_modules(armik.kernel.__path__, "armik.kernel."):
-        module = importlib.import_module(info.name)
+    modules = [
+        info.name
+        for package in packages
+        for info in pkgutil.iter_modules(importlib.import_module(package).__path__, package + ".")
+    ]
+    for name in modules:
+        module = importlib.import_module(name)
         for d in vars(module).values():
-            if not isinstance(d, CPUDispatcher) or d.py_func.__module__ != info.name:
+            if not isinstance(d, CPUDispatcher) or d.py_func.__module__ != name:
                 continue
             here = getattr(d._cache, "_cache_path", None)  # numba's names, not public API
-            if here is None or compiled_there(d, info.name):
+            if here is None or compiled_there(d, name):
                 continue
             index = d._cache._cache_file._index_name
             there = cache / UserProvidedCacheLocator.get_suitable_cache_subpath(
