@@ -315,7 +315,8 @@ def companion(h, p, R_tip0, R, pos, cut, K, state):
     _loop(h, p, R_tip0, R9, P3, cut, LH, LR, LT)
     Lc, Rc = np.empty((14, 3, 3, 3)), np.empty((14, 3, 3))
     _sides(LH, LR, LT, Lc, Rc)
-    Lc[:, 2, 2, 2] -= Rc[:, 2, 2]  # the right side's constant moves left
+    for n in range(14):  # the right side's constant moves left (a loop: no shape error)
+        Lc[n, 2, 2, 2] -= Rc[n, 2, 2]
     Q = np.empty((14, 8))
     for n in range(14):
         for c in range(8):

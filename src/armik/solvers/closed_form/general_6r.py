@@ -75,6 +75,8 @@ TRIES, GIVE_UP = 12, 1e-3  # Newton steps after which a seed this far from the t
 EXACT = 1e-11  # m and rad: a polished configuration this close to the target is an answer
 SAME = 1e-6  # rad: answers this close (each joint, modulo 2 pi) are one
 LENGTH = 0.1  # m: the shift along axis 6 that keeps the point on it off axis 5
+# ``sixr.onto_limits``'s put, typed: the literals False and True compiled it twice
+CHECK, PUT = np.bool_(False), np.bool_(True)
 
 
 def classify(arm: ArmModel, ax: Axes | None = None) -> sixr.Chain6R | str:
@@ -280,7 +282,7 @@ def onto_limits(h, p, R_tip0, R, pos, W, n, lower, upper):
     solution is: the Panda's joint 1 5e-7 rad past its limit was put on it, a success."""
     J, A, e, x, q = np.empty((6, 6)), np.empty((6, 6)), np.empty(6), np.empty(6), np.empty(6)
     for r in range(n):
-        if not sixr.onto_limits(W, r, lower, upper, False):
+        if not sixr.onto_limits(W, r, lower, upper, CHECK):
             continue
         for j in range(6):
             q[j], x[j] = W[r, j], 1.0 / math.sqrt(6.0)
@@ -308,7 +310,7 @@ def onto_limits(h, p, R_tip0, R, pos, W, n, lower, upper):
             for j in range(6):
                 x[j] /= grown
         if smallest < SNAP_RANK * math.sqrt(size):
-            sixr.onto_limits(W, r, lower, upper, True)
+            sixr.onto_limits(W, r, lower, upper, PUT)
 
 
 @njit(cache=True, no_cfunc_wrapper=True)

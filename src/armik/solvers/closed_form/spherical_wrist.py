@@ -65,6 +65,8 @@ CLOSED_FORM = "closed form (spherical wrist)"
 # meeting); that costs no more than this, where SP2 at two nearly tangent circles loses more
 STRAIGHT = 1e-11
 FAMILY = "spherical_wrist"
+# joints 4 and 6 (0-based) for ``split_at``, typed: literals compiled it a second time
+J4, J6 = np.int64(3), np.int64(5)
 
 
 def classify(arm: ArmModel, ax: Axes | None = None) -> sixr.Chain6R | str:
@@ -134,7 +136,7 @@ def _wrist_free(R03, R06, h4, h5, h6, q0, lower, upper, q1, q2, q3, flag, cd, v0
         q6, _ = sp1(h5, mv(mtm(R45, R36), h5), h6)
         if sing:  # only q4 + q6 (q4 - q6 with the axes opposed) turns the tool
             s = 1.0 if dot(h4, mv(R45, h6)) > 0.0 else -1.0
-            t = split_at(q4, q6, s, q0[3], lower, upper, 3, 5)
+            t = split_at(q4, q6, s, q0[3], lower, upper, J4, J6)
             q4, q6 = t, q6 + s * (q4 - t)
         f = flag
         c = cd

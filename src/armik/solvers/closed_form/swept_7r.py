@@ -191,7 +191,8 @@ def in_line(h, p, q0, lower, upper, labelled, out, n):
                 gap = max(gap, abs(out[r, col] - out[k, col]))
             same = same or (gap <= 1e-9 and out[r, 6] == out[k, 6])
         if not same:
-            out[m] = out[r]
+            for col in range(out.shape[1]):  # a loop: no shape-mismatch error to compile
+                out[m, col] = out[r, col]
             m += 1
     return m
 
