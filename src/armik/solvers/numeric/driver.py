@@ -151,10 +151,11 @@ def _looking(packed: tuple[np.ndarray, np.ndarray], sight: tuple[float, float, f
     return sf, packed[1]
 
 
-_LOOK_POINT = slice(21, 24)  # in ``problem.pack_settings``' floats
+# slots of ``problem.pack_settings``' floats and ints (``unpack`` reads them back)
+_WEIGHTS, _BOUNDS, _CONE, _LOOK_POINT = slice(0, 6), slice(11, 17), 20, slice(21, 24)
+_MAX_RESTARTS, _TIMEOUT_NS, _ITERATION_BUDGET = 3, 5, 6
 # an arm's packed settings, (budget, (floats, ints)) under what else they are built from
 PACKED: Derived[dict[tuple, tuple]] = Derived("packed numeric settings", lambda _: {})
-_MAX_RESTARTS, _TIMEOUT_NS, _ITERATION_BUDGET = 3, 5, 6  # in ``problem.pack_settings``' ints
 
 
 def _timeout_ns(timeout: float) -> int:
@@ -392,8 +393,8 @@ def _not_converged(
     else:
         why = reasons.budget(opts.timeout, opts.iteration_budget, f"{restarts} restarts")
     # each part where a weight measures it and a finite bound holds it (an aim: the cone)
-    kept = sf[:6] * np.isfinite(sf[11:17]) if region else sf[:6]
-    cone = None if sf[20] == NO_CONE else float(sf[20])
+    kept = sf[_WEIGHTS] * np.isfinite(sf[_BOUNDS]) if region else sf[_WEIGHTS]
+    cone = None if sf[_CONE] == NO_CONE else float(sf[_CONE])
     pos, ori = err[0] if kept[:3].any() else None, err[1]
     if not (kept[3:].any() or cone is not None):
         ori = None
