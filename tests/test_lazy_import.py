@@ -28,8 +28,8 @@ def test_import_armik_loads_nothing_else():
 
 
 def test_every_public_name_resolves_to_its_module_object():
-    from armik.arm import load
     from armik.errors import ArmikError
+    from armik.loading import load
     from armik.precompile import compile
     from armik.problem import Pose
 

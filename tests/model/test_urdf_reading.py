@@ -5,6 +5,7 @@ and the fix."""
 from __future__ import annotations
 
 import math
+import pickle
 import re
 import warnings
 
@@ -309,3 +310,24 @@ def test_revolute_limits_in_degrees_load_with_a_warning_naming_them(tmp_path):
             warnings.simplefilter("always")
             load_text(tmp_path, arm3(limit2=limit2, jtype2=jtype2), f"{jtype2}{limit2[14:17]}.urdf")
         assert not [w for w in said if "four turns" in str(w.message)], limit2
+
+
+def test_what_reading_a_urdf_notes_is_said_at_load_not_again_when_the_arm_is_rebuilt(tmp_path):
+    """An arm is rebuilt from its URDF when it is unpickled (a worker process) and by
+    ``with_locked``; the notes of the first reading (degrees, limits of 0 0, a non-unit axis)
+    are said once, at ``load``, and the rebuilt arm carries the same ``info.notes``."""
+    text = arm3(limit2='<limit lower="-170" upper="120" effort="1" velocity="1"/>')
+    text = text.replace('<limit lower="-2" upper="2"', '<limit lower="0" upper="0"', 1)
+    text = text.replace('<axis xyz="0 0 1"/>', '<axis xyz="0 0 1.0001"/>', 1)
+    for load in (lambda: load_text(tmp_path, text), lambda: armik.load_string(text)):
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            a = load()
+        first = sorted(str(w.message) for w in said if issubclass(w.category, ArmikWarning))
+        assert len(first) == 3, first  # degrees, 0 0, the axis
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            again = [pickle.loads(pickle.dumps(a)), a.with_locked({"j3": 0.1})]
+        assert [str(w.message) for w in said] == []
+        for b in again:
+            assert b.info.notes == a.info.notes and len(a.info.notes) >= 3

@@ -80,7 +80,7 @@ class ArmModel:
         self._setup_joints(info)
         self._local = threading.local()
         self._derived: dict[Any, Any] = {}  # ``armik.model.derived``: what modules keep
-        self._recipe: Any = None  # how ``armik.load`` built it (``armik.arm.Recipe``), to pickle
+        self._recipe: Any = None  # how it was loaded (``armik.loading.Recipe``), to pickle
         # objects of the URDF's collision geometry left out: a chain's within a robot, those
         # another chain moves (``armik.arms_apart``)
         self.left_out: frozenset[str] = frozenset()

@@ -10,11 +10,12 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from armik.arm import Arm, load
+from armik.arm import Arm
 from armik.constraints.shapes_file import read_shapes
 from armik.errors import FrameError, InputError, OptionError
 from armik.kernel import warmup
 from armik.kernel.problem import STEP_DLS
+from armik.loading import load
 from armik.model.arm_model import ArmModel
 from armik.model.catalogue import CATALOGUE, entry
 from armik.model.urdf import read_urdf, read_urdf_string

@@ -10,9 +10,9 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from armik.arm import load
 from armik.arms import Arms
 from armik.errors import InputError, OptionError
+from armik.loading import load
 from armik.solvers import registry
 from armik.tools.cli.arms import frame_tree, locked_joints, print_result, solve_options
 from armik.tools.cli.targets import flag_targets, for_flags, task_errors, task_names
