@@ -4,15 +4,54 @@ throughput, the largest errors (or distances) of the solved and their smallest c
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from armik.batch_result import BatchResult
+
+class Summarised(Protocol):
+    """What the line reads of a batch (``armik.batch_result.BatchResult``, which imports
+    this module: a protocol, not that class, so neither stands on the other)."""
+
+    # properties: a frozen dataclass's fields are read-only
+    @property
+    def arm(self) -> str: ...
+
+    @property
+    def solver(self) -> str: ...
+
+    @property
+    def time(self) -> float: ...
+
+    @property
+    def region(self) -> bool: ...
+
+    @property
+    def free(self) -> tuple[bool, bool]: ...
+
+    @property
+    def success(self) -> np.ndarray: ...
+
+    @property
+    def position_error(self) -> np.ndarray: ...
+
+    @property
+    def orientation_error(self) -> np.ndarray: ...
+
+    @property
+    def _measured(self) -> np.ndarray: ...
+
+    @property
+    def _distances(self) -> np.ndarray: ...
+
+    def __len__(self) -> int: ...
+
+    def counts(self) -> dict[str, int]: ...
+
+    def closest_pair(self, i: int) -> tuple[str, str] | None: ...
 
 
-def summary(batch: BatchResult) -> str:
+def summary(batch: Summarised) -> str:
     """One line: how many were solved, by status, the time and the throughput."""
     n = len(batch)
     name = f"{batch.arm}/{batch.solver}" if batch.arm else batch.solver
