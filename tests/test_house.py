@@ -158,3 +158,17 @@ def test_type_only_imports_count_as_imports(tmp_path):
         "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from armik.arm import Arm\n"
     )
     assert _imports(path, "armik.m", _modules()) == {"armik.arm"}
+
+
+def test_the_kernel_takes_plain_arrays():
+    """``kernel/`` reads no arm model and no Pinocchio model: the model is read into arrays
+    below it (``model/chain_arrays.py``, ``model/frame_chains.py``)."""
+    graph, kernel = _graph(), "armik.kernel"
+    above = {
+        m: sorted(d for d in deps if d.startswith(("armik.model", "armik.solve")))
+        for m, deps in graph.items()
+        if m.startswith(kernel + ".")
+    }
+    assert not {m: d for m, d in above.items() if d}
+    for path in (SRC / "armik" / "kernel").glob("*.py"):
+        assert "import pinocchio" not in path.read_text(encoding="utf-8"), path.name
