@@ -309,9 +309,7 @@ def _one_pose(rows: object) -> str:
         return ""
     if isinstance(rows[0], (int, float, np.number)) and len(rows) in (3, 7):
         return f"one {type(rows).__name__} of {len(rows)} numbers"
-    shapes = [
-        np.shape(row) if isinstance(row, (list, tuple, np.ndarray)) else () for row in rows[:4]
-    ]
+    shapes = [_shape(row) for row in rows[:4]]
     if len(rows) == 4 and shapes == [(4,)] * 4:
         return "one 4x4 matrix"
     if len(rows) == 2 and shapes == [(3,), (4,)]:
@@ -320,6 +318,17 @@ def _one_pose(rows: object) -> str:
 
 
 _ONE_POSE = ((4, 4), (7,), (3,))  # an array of one of these shapes is one target
+
+
+def _shape(row: object) -> tuple[int, ...]:
+    """``row``'s shape as an array's; () for a ragged one (a row's ``(position,
+    quaternion)``: a pose of a tip's rows, not one pose's row)."""
+    if not isinstance(row, (list, tuple, np.ndarray)):
+        return ()
+    try:
+        return np.shape(row)
+    except ValueError:  # numpy refuses ragged nesting
+        return ()
 
 
 def _seeds(arms: Arms, q0: object, n: int) -> np.ndarray:
