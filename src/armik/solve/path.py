@@ -132,7 +132,7 @@ def solve_path(
             else:
                 found = rungs.tracked(arm, batch, q_prev, every.name, followed, request)
         else:
-            found = rungs.every_branch(arm, batch, q_prev, every.name, request)
+            found = rungs.every_branch(arm, batch, q_prev, every.name, request, step)
         out = BatchResult.for_arm(arm, n, every.name, opts, margin=opts.margin, aim=batch.aim)
         start = None if q0 is None else q_prev
         # with a preference, the continuous path of the best summed score (ladder.TIE)

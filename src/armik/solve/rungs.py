@@ -1,7 +1,9 @@
 """Where a global plan's rungs come from (``armik.solve.ladder``): the answers at each
 waypoint that a path may pass through.
 
-- A closed form: every branch of ``solve_all`` at every waypoint (``every_branch``).
+- A closed form: every branch of ``solve_all`` at every waypoint (``every_branch``); at a
+  singular waypoint, its singular rows solved again so that their free angle continues
+  the waypoints beside it (``armik.solve.singular_rungs``).
 - A 7R arm whose joint 7 the swept closed form holds: every branch at joint 7 values about
   the followed path's and on a grid over its range, and the followed answers (``held``);
   with a joint held (``hold=``), every branch at its value.
@@ -37,6 +39,7 @@ from armik.model.arm_model import ArmModel
 from armik.problem.settings import spin_of
 from armik.request import Request
 from armik.result import IKResult
+from armik.solve.singular_rungs import continued
 from armik.solve.stages import run
 from armik.solve.turning import ANY, Turning, turning
 from armik.solvers.closed_form.spin import nearest_spin
@@ -51,10 +54,20 @@ BREAKS = 8  # breaks of the followed path reseeded at most (the first ones)
 SAME = 1e-6  # rad or m: a track this near another's answer has merged with it
 
 
-def every_branch(arm: ArmModel, batch, q_prev: np.ndarray, solver: str, request) -> list:
-    """Each waypoint's ``solve_all`` results by ``solver`` (a pose as a 4x4 array takes the
-    prepared path)."""
-    return [every_answer(arm, request, batch.target(i), q_prev, solver) for i in range(len(batch))]
+def every_branch(
+    arm: ArmModel, batch, q_prev: np.ndarray, solver: str, request, step: np.ndarray
+) -> list:
+    """Each waypoint's ``solve_all`` results by ``solver`` from ``q_prev`` (a pose as a 4x4
+    array takes the prepared path); at a singular waypoint, with its singular rows solved
+    again so that their free angle continues the waypoints beside it
+    (``singular_rungs.continued``; ``step``: the path's ``max_joint_step`` per joint)."""
+    targets = [batch.target(i) for i in range(len(batch))]
+    found = [every_answer(arm, request, target, q_prev, solver) for target in targets]
+
+    def solve(i: int, seed: np.ndarray) -> list:
+        return every_answer(arm, request, targets[i], seed, solver)
+
+    return continued(arm, found, q_prev, step, solve)
 
 
 def every_answer(arm: ArmModel, request: Request, target, q: np.ndarray, solver: str) -> list:
