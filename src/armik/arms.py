@@ -345,7 +345,7 @@ class Arms(ArmsKinematics):
         ``solve_tasks``), or None; an ``OptionError`` where it means nothing over several tips."""
         if isinstance(prefer, Posture):  # one value a joint of the robot, said so
             fit_posture(prefer.q_ref.size, self.joint_names, "the robot", "prefer")
-        score = parse_score(prefer)
+        score = parse_score(prefer, self)
         if score is None:
             return None
         if self._union is None:

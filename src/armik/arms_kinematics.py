@@ -25,6 +25,7 @@ from armik.constraints.srdf import Pair
 from armik.errors import FrameError, JointError, OptionError, TargetError, warn
 from armik.model import frames
 from armik.model.arm_model import ArmModel
+from armik.model.limit_units import degrees_note
 from armik.model.reduce import check_limits
 from armik.model.union import Union
 from armik.solve.intervals import Intervals, intervals
@@ -186,7 +187,8 @@ class ArmsKinematics:
             for text in arm.limit_violations(q[self._columns[tip]])
         )
         where = "q0" if row is None else f"q0's row {row}"
-        warn(f"{where} outside the joint limits was clipped into them: " + "; ".join(said))
+        said_all = "; ".join(said) + degrees_note(q, self)
+        warn(f"{where} outside the joint limits was clipped into them: {said_all}")
         return np.clip(q, self.lower, self.upper)
 
     def split(self, q: object) -> dict[str, np.ndarray]:
