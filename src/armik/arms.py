@@ -108,7 +108,9 @@ class Arms(ArmsKinematics):
         return (Arms, (self._facades,))  # its chains as their recipes: a backend's jobs carry it
 
     def __repr__(self) -> str:
-        return f"Arms(tips={list(self.tips)}, dof={self.dof})"
+        offsets = self.tip_offsets
+        said = f", tip_offsets={offsets}" if offsets else ""
+        return f"Arms(tips={list(self.tips)}, dof={self.dof}{said})"
 
     def solve(self, targets: Mapping[str, object], *, q0: object = None, **options) -> IKResult:
         """Every tip at its target (any target form ``Arm.solve`` takes, or a task list),

@@ -68,6 +68,13 @@ class ArmsKinematics:
         return next(iter(self._chains.values())).base
 
     @property
+    def tip_offsets(self) -> dict[str, tuple[float, float, float]]:
+        """Each tip's tool point offset (``Arm.tip_offset``, m in the tip's frame), for the
+        tips that have one."""
+        chains = self._chains.items()
+        return {tip: arm.tip_offset for tip, arm in chains if arm.tip_offset is not None}
+
+    @property
     def neutral(self) -> np.ndarray:
         """Each joint's neutral value (``Arm.neutral``), in the order of ``joint_names``."""
         return self._by_joint(lambda arm: arm.neutral)
