@@ -116,7 +116,11 @@ def __getattr__(name: str) -> _Any:  # a module, a function or a class, at its f
 
 
 def __dir__() -> list[str]:
-    return sorted({*globals(), *_WHERE})
+    """The public names and the module's own dunders (``__version__``, ``__doc__``): not
+    this file's imports (``TYPE_CHECKING``, ``annotations``), its private names, nor the
+    subpackages an import sets as attributes (``armik.model``)."""
+    own = (n for n in globals() if n.startswith("__") and n.endswith("__"))
+    return sorted({*own, *_WHERE})
 
 
 class _Package(_types.ModuleType):

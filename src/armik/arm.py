@@ -41,13 +41,15 @@ class Arm:
 
     Attributes (read-only): ``name``, ``source`` (the URDF's path, or "<string>"),
     ``dof``, ``joint_names``, ``joint_types``, ``lower``, ``upper`` (rad or m; -inf/+inf
-    for continuous joints), ``neutral``, ``middle``, ``base``, ``tip``, ``tip_reason``
+    for continuous joints), ``neutral``, ``middle``, ``base``, ``tip``, ``tip_offset``
+    (the tool point's offset from ``tip``, m in its frame, where ``fk`` and targets place
+    it; None for none: ``load``'s, or the catalogue's for its tip), ``tip_reason``
     (how the tip was chosen when none was given), ``locked`` (every joint locked by
     value, on or off the chain, name -> rad or m), ``info`` (what the URDF says: its tree,
     and ``info.notes`` on how it was read), ``model`` (the reduced Pinocchio model, not
     to be modified) and ``kinematics``, the arm model everything else reads
-    (``armik.model.arm_model.ArmModel``: the tip offset, the joints locked on the chain,
-    Pinocchio coordinates, the compiled chain, ...).
+    (``armik.model.arm_model.ArmModel``: the joints locked on the chain, Pinocchio
+    coordinates, the compiled chain, ...).
     """
 
     __slots__ = ("kinematics",)
@@ -63,6 +65,7 @@ class Arm:
     middle = OfModel[np.ndarray]()
     base = OfModel[str]()
     tip = OfModel[str]()
+    tip_offset = OfModel[tuple[float, float, float] | None]()
     tip_reason = OfModel[str]()
     locked = OfModel[Mapping[str, float]]()
     info = OfModel[URDFInfo]()

@@ -108,7 +108,9 @@ class Arms(ArmsKinematics):
         return (Arms, (self._facades,))  # its chains as their recipes: a backend's jobs carry it
 
     def __repr__(self) -> str:
-        return f"Arms(tips={list(self.tips)}, dof={self.dof})"
+        offsets = self.tip_offsets
+        said = f", tip_offsets={offsets}" if offsets else ""
+        return f"Arms(tips={list(self.tips)}, dof={self.dof}{said})"
 
     def solve(self, targets: Mapping[str, object], *, q0: object = None, **options) -> IKResult:
         """Every tip at its target (any target form ``Arm.solve`` takes, or a task list),
@@ -345,7 +347,7 @@ class Arms(ArmsKinematics):
         ``solve_tasks``), or None; an ``OptionError`` where it means nothing over several tips."""
         if isinstance(prefer, Posture):  # one value a joint of the robot, said so
             fit_posture(prefer.q_ref.size, self.joint_names, "the robot", "prefer")
-        score = parse_score(prefer)
+        score = parse_score(prefer, self)
         if score is None:
             return None
         if self._union is None:

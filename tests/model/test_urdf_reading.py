@@ -59,15 +59,52 @@ def test_huge_and_tilted_axes_are_normalised_and_fk_stays_rigid(tmp_path, rng):
             assert np.abs(T.homogeneous - b.fk(q).homogeneous).max() < 1e-12
 
 
-def test_a_nearly_unit_axis_warns_with_a_norm_that_is_not_one(tmp_path):
-    # six digits of (1, 2, 3) / sqrt(14): norm 0.9999999, which "%.6g" printed as 1
+def said_norms(texts: list[str]) -> list[float]:
+    return [float(re.search(r"norm ([0-9.e+-]+)", t).group(1)) for t in texts if "norm" in t]
+
+
+def test_a_unit_axis_rounded_to_six_digits_is_normalised_with_a_note_only(tmp_path, rng):
+    """Six digits of (1, 2, 3) / sqrt(14), norm 0.9999999 (romeo.urdf's hands: 0.9999998),
+    warned 'non-unit axis' on every such joint. It is normalised as before, said by a note
+    whose norm is not printed as 1 ("%.6g" printed 0.9999999 as 1)."""
     axis = "0.267261 0.534522 0.801784"
     norm = math.hypot(*map(float, axis.split()))
-    with pytest.warns(ArmikWarning, match="'j2'") as seen:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ArmikWarning)
         a = load_text(tmp_path, arm3(axis2=axis))
-    for text in [str(w.message) for w in seen] + list(a.info.notes):
-        said = float(re.search(r"norm ([0-9.e+-]+)", text).group(1))
-        assert said != 1.0 and abs(said - norm) < 1e-9, text
+    notes = [n for n in a.info.notes if "'j2'" in n and "axis" in n]
+    assert len(notes) == 1 and "rounded" in notes[0], a.info.notes
+    assert [abs(said - norm) < 1e-9 and said != 1.0 for said in said_norms(notes)] == [True]
+    unit = " ".join(repr(float(v) / norm) for v in axis.split())
+    exact = load_text(tmp_path, arm3(axis2=unit), "unit.urdf")
+    for _ in range(10):  # normalised: the rotation about the written axis made unit
+        q = rng.uniform(-2, 2, 3)
+        assert np.abs(a.fk(q).homogeneous - exact.fk(q).homogeneous).max() < 1e-12
+
+
+@pytest.mark.parametrize("scale", [1.0 - 2e-5, 1.0 + 2e-5])
+def test_an_axis_beyond_rounding_warns_with_a_norm_that_is_not_one(tmp_path, scale):
+    """2e-5 off unit is no rounding of six digits: the warning stays, its norm exact."""
+    axis = " ".join(f"{v * scale:.9f}" for v in (0.6, 0.0, 0.8))
+    norm = math.hypot(*map(float, axis.split()))
+    with pytest.warns(ArmikWarning, match="'j2' has a non-unit axis") as seen:
+        a = load_text(tmp_path, arm3(axis2=axis))
+    texts = [str(w.message) for w in seen] + [n for n in a.info.notes if "'j2'" in n]
+    assert len(said_norms(texts)) == 2 and "ROS reading" in texts[-1], texts
+    assert all(said != 1.0 and abs(said - norm) < 1e-9 for said in said_norms(texts)), texts
+
+
+def test_romeos_hands_load_without_an_axis_warning():
+    """Six warnings 'non-unit axis ... norm 0.9999998076' for romeo.urdf, tip LHand."""
+    from importlib.metadata import distribution
+
+    share = distribution("example-robot-data").locate_file("cmeel.prefix/share")
+    path = share / "example-robot-data/robots/romeo_description/urdf/romeo.urdf"
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        a = armik.load(str(path), tip="LHand")
+    assert not [w for w in seen if "axis" in str(w.message)], [str(w.message) for w in seen]
+    assert sum("rounded to its digits" in n for n in a.info.notes) == 6, a.info.notes
 
 
 # -- 2. non-unit prismatic axis: the ROS reading, said out loud ---------------------------

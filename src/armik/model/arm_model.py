@@ -28,7 +28,7 @@ from armik.kernel.fk_many import fk_many
 from armik.model import mimic as _mimic
 from armik.model.chain_arrays import build_chain
 from armik.model.geometry import Plane, find_plane
-from armik.model.limit_units import in_radians
+from armik.model.limit_units import degrees_note, in_radians
 from armik.model.reduce import check_limits, reduce_chain
 from armik.model.urdf import URDFInfo
 from armik.model.value_checks import violation
@@ -416,6 +416,7 @@ class ArmModel:
             warn(
                 "q0 outside the joint limits was clipped into them: "
                 + "; ".join(self.limit_violations(q))
+                + degrees_note(q, self)
             )
             q = np.clip(q, self.lower, self.upper)
         return q if q.flags.writeable and q.flags.c_contiguous else np.array(q)

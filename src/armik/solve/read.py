@@ -33,7 +33,7 @@ from armik.problem.problem import (
     refuse_looking_from_target,
     refuse_tip_frame_weights,
 )
-from armik.problem.scores import fit_posture, parse_score
+from armik.problem.scores import fit_reference, parse_score
 from armik.problem.tasks import Pose, Position, Task
 from armik.request import Request, but_options, resolved
 from armik.solve.read_aim import (
@@ -69,7 +69,7 @@ def read(
         options = spelled(options)
     if "prefer" in options:
         options = dict(options)
-        score = parse_score(options.pop("prefer"))
+        score = parse_score(options.pop("prefer"), arm)
     aim = None
     if "cone" in options or "look_at" in options or "toward" in options:
         aim, options = keyword_aim(options)
@@ -201,7 +201,7 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     each = tuple(read(arm, row, None, solver, options) for row in rows)
     if opts.checks:  # each row's own: resolved from the batch's start, not the middle
         each = tuple([r.but(opts=but_options(r.opts, checks=opts.checks)) for r in each])
-    score = parse_score(options["prefer"]) if ranked else None
+    score = parse_score(options["prefer"]) if ranked else None  # each row said it
     return Request(None, q0, solver, opts, key, seed, False, t0, score, rows=each)
 
 
@@ -218,7 +218,7 @@ def read_path(
     check_plan(plan)
     score = None
     if "prefer" in options:  # the path's score, not a setting
-        score = parse_score(options["prefer"])
+        score = parse_score(options["prefer"], arm)
         options = {k: v for k, v in options.items() if k != "prefer"}
     if "budget" in options:  # as its options, which each rung's solve narrows
         options = spelled(options)
@@ -461,7 +461,7 @@ def _fitted(arm: ArmModel, opts: Options) -> Options:
     """``opts`` once what they say of the joints fits ``arm`` (a secondary posture: one
     value per joint), whichever solver then runs."""
     if opts.posture is not None:
-        fit_posture(len(opts.posture[0]), arm.joint_names, option="secondary")
+        fit_reference(opts.posture[0], arm, "secondary")
     return opts
 
 

@@ -126,6 +126,8 @@ def cmd_info(args: argparse.Namespace) -> int:
     print(f"{arm.name}: {arm.dof} joints from {arm.base!r} to {arm.tip!r}  ({arm.source})")
     if arm.tip_reason != "given":
         print(f"  tip: {arm.tip_reason}")
+    if arm.tip_offset is not None:
+        print(f"  {offset_words(arm.tip, arm.tip_offset)}")
     for note in arm.info.notes:
         print(f"  note: {note}")
     for jname, value in arm.locked.items():
@@ -348,3 +350,9 @@ def cmd_demo(args: argparse.Namespace) -> int:
     print_result(panda, r)
     ok &= r.success
     return 0 if ok else 1
+
+
+def offset_words(tip: str, offset: tuple[float, float, float]) -> str:
+    """The tool point a tip offset adds, in words: what fk gives and targets place."""
+    xyz = ", ".join(f"{v:g}" for v in offset)
+    return f"tip offset: ({xyz}) m in the frame of {tip!r}: the tool point fk gives, targets place"
