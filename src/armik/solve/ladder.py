@@ -54,6 +54,7 @@ from armik.problem.settings import SolverSettings
 from armik.request import Request
 from armik.result import IKResult
 from armik.solve.halfway import _Halfway, _loose, _nearest, searched, within
+from armik.solve.ladder_breaks import broken_at, went_on_from
 from armik.solve.prefer import continuous_turned, turns
 from armik.solve.turning import ANY, Turning
 from armik.solvers import registry
@@ -139,9 +140,9 @@ def plan(
             # the answers found
             every = spec.kind != "numeric" and spec.complete and spec.parameter is None
             onto = _onto(i, B, offs, start, args[4:7], step)[2]
-            r = _broken(
+            r = broken_at(
                 arm, r, j, float(size[i]), float(step[j]), bool(hidden[i]), first, every, out,
-                _since(i, rung, broken, q0 is not None, first, forbidden, onto),
+                went_on_from(i, rung, broken, q0 is not None, first, forbidden, onto),
             )  # fmt: skip
             out.reasons[i] = r.reason
         out.put_result(i, r)  # a success's reason is the row's, written when read
@@ -457,38 +458,3 @@ def _halfway(Pa, Ra, Pb, Rb):
     for k in np.flatnonzero(c < 1e-3):  # t near pi: u from the log, not from sin(t)
         H[k] = pin.exp3(0.5 * pin.log3(D[k]))
     return P, np.einsum("kij,kjl->kil", Ra, H)
-
-
-def _since(i, rung, broken, has_q0, first, forbidden, onto) -> str | None:
-    """Where a path that breaks at ``i`` went on from without a jump (the plan's last break
-    or its start), where a solution of the waypoint before that the plan does not reach
-    goes on to ``i`` in a step no jump hides in (``onto``: the steps' codes); else None."""
-    if first or rung[i - 1] < 0 or not np.isin(onto, list(forbidden), invert=True).any():
-        return None
-    b = [k for k in range(i) if broken[k] and rung[k] >= 0]
-    return f"waypoint {b[-1]}" if b else ("q0" if has_q0 else "its start")
-
-
-def _broken(arm, r: IKResult, j, size, step, hidden: bool, first, every, out, since=None):
-    measured = path_reasons.verified(
-        r.reason,
-        reasons.measured(
-            r.position_error, r.orientation_error, out.tol_position, out.tol_orientation
-        ),
-    )
-    smallest = None
-    if j >= 0:
-        unit = "m" if arm.prismatic[j] else "rad"
-        smallest = (arm.joint_names[j], size, unit, step)
-    return dataclasses.replace(
-        r,
-        success=False,
-        status=Status.DISCONTINUOUS,
-        reason=path_reasons.jump(
-            path_reasons.every_path_breaks(every, first, hidden, smallest)
-            if since is None
-            else path_reasons.every_path_since_breaks(every, since, hidden, smallest),
-            "the planned answer",
-            measured,
-        ),
-    )
