@@ -20,9 +20,10 @@ through half a turn near a singularity, a joint out of its limits or the pose ou
 halfway). Each step the plan takes is judged by the rule a followed path's steps are
 judged by too (``_jumps``, ``hidden_steps``): a small, straight step passes (``_chord``:
 no joint over ``BEND`` of the bound, the tip of the joints moved straight within ``CHORD``
-of the step's motion of the pose halfway: beside a singularity the solutions halfway
-swing, the motion does not); any other is checked halfway, on the pose with the translation
-halved and the rotation halved along its geodesic: a solution there must lie within
+of the step's motion of the pose halfway, ``straight``: beside a singularity the solutions
+halfway swing, the motion does not); any other is checked halfway, on the pose with the
+translation halved and the rotation halved along its geodesic (``poses_halfway``): a
+solution there must lie within
 ``max_joint_step`` of both ends, as it must if a waypoint were added halfway: the solver's
 nearest the step's middle, or for a sweep's or a search's solver, which may miss it, one
 found by numeric descents from the middle, each end and about the middle (``_descended``,
@@ -319,7 +320,7 @@ def _jumps(arm, half: _Halfway, i, Qa, Qb, step) -> np.ndarray:
         which, Qa, Qb, Pa, Pb = which[curved], Qa[curved], Qb[curved], Pa[curved], Pb[curved]
         if Ra is not None and Rb is not None:
             Ra, Rb = Ra[curved], Rb[curved]
-        P, R = _halfway(Pa, Ra, Pb, Rb)
+        P, R = poses_halfway(Pa, Ra, Pb, Rb)
         middle = 0.5 * (Qa + Qb)
         q = _nearest(arm, half, P, R, middle)
         near = within(q, Qa, Qb, step)
@@ -344,27 +345,37 @@ def _jumps(arm, half: _Halfway, i, Qa, Qb, step) -> np.ndarray:
 
 def _chord(arm: ArmModel, Qa, Qb, rotations: bool, step: np.ndarray) -> np.ndarray:
     """Whether each step ``Qa[k]`` -> ``Qb[k]`` is small and straight: no joint moves by
-    more than ``BEND`` of ``step``, and the straight joint motion keeps the tip, halfway,
-    within ``CHORD`` of the step's tip motion of the pose halfway between the ends' poses
-    (Pinocchio's FK; a rotation weighed by the arm's reach; ``rotations`` False: positions
-    only). Such a step (a finely sampled path) hides no jump beside a singularity where the
-    solutions halfway swing: its tip stays as near the path as anywhere else. A flip, or a
-    line out of the workspace between waypoints, moves joints further or the tip off it."""
+    more than ``BEND`` of ``step``, and the straight joint motion keeps the tip on its way
+    (``straight``: a rotation weighed by the arm's reach; ``rotations`` False: positions
+    only)."""
     small = (np.abs(Qb - Qa) <= BEND * step).all(axis=1)
     if not small.any():
         return small
-    Qa, Qb, n = Qa[small], Qb[small], int(small.sum())
-    H = _tips(arm, np.vstack((Qa, Qb, 0.5 * (Qa + Qb))))
+    Qa, Qb = Qa[small], Qb[small]
+    reach = (arm.reach if np.isfinite(arm.reach) else 1.0) if rotations else None
+    small[small] = straight(_tips(arm, np.vstack((Qa, Qb, 0.5 * (Qa + Qb)))), reach)
+    return small
+
+
+def straight(H: np.ndarray, reach: float | None) -> np.ndarray:
+    """Whether each of n straight joint motions keeps its placement on its way: ``H``
+    (3n, 4, 4, Pinocchio's FK) the placements at the motions' starts, at their ends, then
+    halfway along them; each halfway placement within ``CHORD`` of its motion of the pose
+    halfway between its ends' (``poses_halfway``; a rotation weighed at ``reach``, None:
+    positions only). A small such step (a finely sampled path) hides no jump beside a
+    singularity where the solutions halfway swing: the placement stays as near the path
+    as anywhere else; a flip, or a line out of the workspace between waypoints, moves the
+    placement off it."""
+    n = len(H) // 3
     R, p = H[:, :3, :3], H[:, :3, 3]
-    P, Rh = _halfway(p[:n], R[:n], p[n : 2 * n], R[n : 2 * n] if rotations else None)
+    P, Rh = poses_halfway(p[:n], R[:n], p[n : 2 * n], None if reach is None else R[n : 2 * n])
     off = np.linalg.norm(p[2 * n :] - P, axis=1)
     size = np.linalg.norm(p[n : 2 * n] - p[:n], axis=1)
-    if rotations and Rh is not None:
-        reach = arm.reach if np.isfinite(arm.reach) else 1.0
-        off = off + reach * _angle(Rh, R[2 * n :])
-        size = size + reach * _angle(R[:n], R[n : 2 * n])
-    small[small] = off <= CHORD * size + STEP_EDGE  # the same pose: no motion
-    return small
+    if reach is not None and Rh is not None:  # both turns in one call: off, then the step's
+        turns = _angle(np.concatenate((Rh, R[:n])), np.concatenate((R[2 * n :], R[n : 2 * n])))
+        off = off + reach * turns[:n]
+        size = size + reach * turns[n:]
+    return np.asarray(off <= CHORD * size + STEP_EDGE)  # the same pose: no motion
 
 
 def _tips(arm: ArmModel, Q: np.ndarray) -> np.ndarray:
@@ -435,7 +446,7 @@ def hidden_steps(arm, out: BatchResult, targets: TargetBatch, step, half) -> Non
         out.reasons[k] = path_reasons.jump(hidden, "the followed answer", measured)
 
 
-def _halfway(Pa, Ra, Pb, Rb):
+def poses_halfway(Pa, Ra, Pb, Rb):
     """The poses halfway: the translations' mean, the rotations halfway along their
     geodesic (positions only when ``Rb`` is None)."""
     P = 0.5 * (Pa + Pb)
