@@ -54,15 +54,22 @@ def held(arms: Any, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: bo
 
 
 def hidden_steps(
-    arms: Any, out: BatchResult, waypoints: Mapping[str, Any], step: np.ndarray, opts
+    arms: Any,
+    out: BatchResult,
+    waypoints: Mapping[str, Any],
+    step: np.ndarray,
+    opts,
+    went: np.ndarray | None = None,
 ) -> None:
-    """Each success of ``out`` whose step from the row the path went on from hides a jump
-    for some tip's chain made ``discontinuous``, in place, the reason naming the tip. Tips
-    given poses or positions, or a pose as a task (``_poses``; other tasks, a ``Relative``,
-    have no pose halfway: not judged); the halfway poses solved with ``opts``' tolerances
-    and the task's loosening (``position_only``, ``weights``, ``bounds``: measured as one arm's path
-    measures them, a spin the bounds free turned as its path turns it), the chain free (a
-    held joint is looser there: a jump may pass, none is made up)."""
+    """Each success of ``out`` whose step from the row the path went on from (``went``:
+    the rows it went on from; None: each success or jump, as one arm's path goes on) hides
+    a jump for some tip's chain made ``discontinuous``, in place, the reason naming the
+    tip. Tips given poses or positions, or a pose as a task (``_poses``; other tasks, a
+    ``Relative``, have no pose halfway: not judged); the halfway poses solved with
+    ``opts``' tolerances and the task's loosening (``position_only``, ``weights``,
+    ``bounds``: measured as one arm's path measures them, a spin the bounds free turned as
+    its path turns it), the chain free (a held joint is looser there: a jump may pass, none
+    is made up)."""
     task = {
         "tol_position": opts.tol_position,
         "tol_orientation": opts.tol_orientation,
@@ -70,6 +77,8 @@ def hidden_steps(
         "weights": opts.weights,
         "bounds": opts.bounds,
     }
+    if went is None:  # read before any step is judged: a jump found here is gone on from
+        went = out.success | (out.status_code == Status.DISCONTINUOUS.code)
     for tip, rows in waypoints.items():
         chain, cols = arms._chains[tip], arms._columns[tip]
         read = _poses(chain, tip, rows)
@@ -86,7 +95,7 @@ def hidden_steps(
         errors = out.errors.get(tip)
         part.position_error[:] = out.position_error if errors is None else errors[:, 0]
         part.orientation_error[:] = out.orientation_error if errors is None else errors[:, 1]
-        ladder.hidden_steps(chain, part, targets, step[cols], ("auto", plain, None, ANY))
+        ladder.hidden_steps(chain, part, targets, step[cols], ("auto", plain, None, ANY), went)
         for k in np.flatnonzero(out.success & ~part.success).tolist():
             out.success[k] = False
             out.status_code[k] = Status.DISCONTINUOUS.code

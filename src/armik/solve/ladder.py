@@ -412,14 +412,15 @@ def every(arm: ArmModel, solver: str, targets: TargetBatch, opts) -> SolverSpec:
     return spec
 
 
-def hidden_steps(arm, out: BatchResult, targets: TargetBatch, step, half) -> None:
+def hidden_steps(arm, out: BatchResult, targets: TargetBatch, step, half, went=None) -> None:
     """A followed path's steps judged as the global plan judges the steps it takes
-    (``_jumps``): each success from the answer the path went on from (the row before it, a
-    success or a jump; not the move from q0, held to the step alone); a step that hides
-    a jump makes its success ``discontinuous``. ``half``: (solver, opts, held, turn), the
-    poses halfway solved as the global plan solves them (``every``), only where a step is
-    not small and straight (``_chord``)."""
-    went = out.success | (out.status_code == Status.DISCONTINUOUS.code)
+    (``_jumps``): each success from the answer the path went on from (the row before it,
+    ``went``: a success or a jump where None; not the move from q0, held to the step
+    alone); a step that hides a jump makes its success ``discontinuous``. ``half``:
+    (solver, opts, held, turn), the poses halfway solved as the global plan solves them
+    (``every``), only where a step is not small and straight (``_chord``)."""
+    if went is None:  # as one arm's path goes on: from a success or a jump
+        went = out.success | (out.status_code == Status.DISCONTINUOUS.code)
     i = np.flatnonzero(out.success)
     i = i[np.concatenate(([False], went[:-1]))[i]]  # from q0: held to the step only
     if not len(i):
