@@ -220,7 +220,7 @@ def solve_path(
         )
     out = empty(arms, n, "arms, path", opts)
     _follow(arms, out, waypoints, start, step, options, q0 is None)
-    hidden_steps(arms, out, waypoints, step, opts)
+    hidden_steps(arms, out, waypoints, step, opts, out.success.copy())  # on from successes
     return _timed(out, t0)
 
 

@@ -5,7 +5,10 @@ as one arm's path judges them (``armik.solve.ladder``).
 A hidden jump is looked for tip by tip, on each tip's chain (its columns of the rows), by
 the rule one arm's path is judged by (``ladder.hidden_steps``): a step whose chain has no
 solution at the halfway pose within the step of both ends has none for the robot either,
-since the robot's configuration there would hold one for that chain.
+since the robot's configuration there would hold one for that chain. A tip whose rows are
+no poses of its chain (a ``Relative``, a ``Position`` within bounds, several tasks) is
+judged by the same rule on the whole robot, every tip's target moved halfway
+(``armik.arms_halfway``).
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ from typing import Any
 import numpy as np
 from pinocchio import SE3
 
-from armik import path_reasons
+from armik import arms_halfway, path_reasons
 from armik.batch_result import BatchResult
 from armik.errors import ArmikError
 from armik.problem.problem import as_problem, lower
@@ -54,15 +57,23 @@ def held(arms: Any, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: bo
 
 
 def hidden_steps(
-    arms: Any, out: BatchResult, waypoints: Mapping[str, Any], step: np.ndarray, opts
+    arms: Any,
+    out: BatchResult,
+    waypoints: Mapping[str, Any],
+    step: np.ndarray,
+    opts,
+    went: np.ndarray | None = None,
 ) -> None:
-    """Each success of ``out`` whose step from the row the path went on from hides a jump
-    for some tip's chain made ``discontinuous``, in place, the reason naming the tip. Tips
-    given poses or positions, or a pose as a task (``_poses``; other tasks, a ``Relative``,
-    have no pose halfway: not judged); the halfway poses solved with ``opts``' tolerances
-    and the task's loosening (``position_only``, ``weights``, ``bounds``: measured as one arm's path
-    measures them, a spin the bounds free turned as its path turns it), the chain free (a
-    held joint is looser there: a jump may pass, none is made up)."""
+    """Each success of ``out`` whose step from the row the path went on from (``went``:
+    the rows it went on from; None: each success or jump, as one arm's path goes on) hides
+    a jump for some tip's chain made ``discontinuous``, in place, the reason naming the
+    tip. Tips given poses or positions, or a pose as a task (``_poses``), on their chains:
+    the halfway poses solved with ``opts``' tolerances and the task's loosening
+    (``position_only``, ``weights``, ``bounds``: measured as one arm's path measures them, a
+    spin the bounds free turned as its path turns it), the chain free (a held joint is
+    looser there: a jump may pass, none is made up). Tips given other tasks (a
+    ``Relative``, a ``Position`` within bounds, several tasks): the steps still successes
+    judged on the robot (``arms_halfway.hidden_steps``), the reason naming those tips."""
     task = {
         "tol_position": opts.tol_position,
         "tol_orientation": opts.tol_orientation,
@@ -70,10 +81,14 @@ def hidden_steps(
         "weights": opts.weights,
         "bounds": opts.bounds,
     }
+    if went is None:  # read before any step is judged: a jump found here is gone on from
+        went = out.success | (out.status_code == Status.DISCONTINUOUS.code)
+    unread = []  # tips whose rows are no poses of their chains: judged on the robot
     for tip, rows in waypoints.items():
         chain, cols = arms._chains[tip], arms._columns[tip]
         read = _poses(chain, tip, rows)
         if read is None:
+            unread.append(tip)
             continue
         targets, said = read
         plain = but_options(read_options({}), **{**task, **said})
@@ -86,11 +101,13 @@ def hidden_steps(
         errors = out.errors.get(tip)
         part.position_error[:] = out.position_error if errors is None else errors[:, 0]
         part.orientation_error[:] = out.orientation_error if errors is None else errors[:, 1]
-        ladder.hidden_steps(chain, part, targets, step[cols], ("auto", plain, None, ANY))
+        ladder.hidden_steps(chain, part, targets, step[cols], ("auto", plain, None, ANY), went)
         for k in np.flatnonzero(out.success & ~part.success).tolist():
             out.success[k] = False
             out.status_code[k] = Status.DISCONTINUOUS.code
             out.reasons[k] = f"{tip}: {part.reasons[k]}"
+    if unread:
+        arms_halfway.hidden_steps(arms, out, waypoints, step, opts, unread, went)
 
 
 def _poses(chain, tip: str, rows) -> tuple[TargetBatch, dict] | None:
