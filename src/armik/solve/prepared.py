@@ -301,7 +301,7 @@ class Plan:
         if got is None:
             return None
         if type(got) is not Claim:  # claims other than converged: the general verdict
-            return self._finish(got, H, q0, opts, t0, False, xy, aim)[0]
+            return self._finish(got, H, q0, opts, t0, False, xy, aim, target)[0]
         q = got.q
         data, R_w, p_w = self.arm.tip_views()  # this thread's
         pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
@@ -332,7 +332,7 @@ class Plan:
         )  # fmt: skip
         if fields is None or not fields["success"]:  # the next row may pass: every row
             answers = self._refused(got, H, q0, seed, xy)
-            return self._finish(answers, H, q0, opts, t0, False, xy, aim)[0]
+            return self._finish(answers, H, q0, opts, t0, False, xy, aim, target)[0]
         fields["solver"], fields["time"] = self.solver, time.perf_counter() - t0
         if apart is None:
             return IKResult._from_fields(fields)
@@ -462,8 +462,10 @@ class Plan:
             placements.append(place(model, data, frame).homogeneous)
         return np.array(placements) if placements else np.empty((0, 4, 4))
 
-    def _finish(self, answers: Answers, H, q0, opts, t0: float, every: bool, xy=None, aim=None):
-        if xy is not None:  # as the user gave it: the closed form reads it as given
+    def _finish(self, answers: Answers, H, q0, opts, t0, every, xy=None, aim=None, given=None):
+        if type(given) is Target:  # parsed at the door (a plain one: ``_plain``): not again
+            target = given
+        elif xy is not None:  # as the user gave it: the closed form reads it as given
             target = parse_target(np.array(xy), self.arm)
         else:
             target = parse_target(H[:3, 3].copy() if self.position else H, self.arm)
