@@ -18,6 +18,7 @@ import pytest
 
 import armik
 from armik.arms_many import _read
+from armik.arms_many_read import read_rows
 from armik.arms_steps import hidden_steps
 from armik.constraints.base import Check, Constraint
 from armik.errors import FrameError, OptionError, TargetError
@@ -556,7 +557,7 @@ def test_a_path_of_independent_chains_judges_its_steps_halfway_under_a_loosened_
     assert out.success.all(), out.summary()
     for i, tip in itertools.product(range(2), cell.tips):  # on the positions by Pinocchio
         assert np.linalg.norm(cell.fk(out.q[i], tip).translation - ways[tip][i].translation) < 1e-6
-    hidden_steps(cell, out, ways, np.full(cell.dof, 3.1), _read(loosened))
+    hidden_steps(cell, out, read_rows(cell, ways), np.full(cell.dof, 3.1), _read(loosened))
     assert out.status.tolist() == ["converged", "discontinuous"]
     assert out.reason(1).startswith(f"{left}: ") and "hide" in out.reason(1)
     alone = cell.chain(left).solve_path(ways[left], q[cols], max_joint_step=3.1, **loosened)

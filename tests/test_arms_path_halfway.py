@@ -14,6 +14,7 @@ import pytest
 import armik
 import armik.arms_halfway
 from armik.arms_many import _read
+from armik.arms_many_read import read_rows
 from armik.arms_steps import hidden_steps
 from armik.solve.halfway import within
 
@@ -117,7 +118,7 @@ def test_a_bounded_position_step_that_hides_a_jump_is_discontinuous(cell, bounds
     for rows in (exact, within_bounds):
         out = cell.solve_path(ways, q, max_joint_step=10.0)  # no jump can hide: at q, q2
         assert out.success.all() and np.allclose(out.q, [q, q2], atol=1e-6), out.summary()
-        hidden_steps(cell, out, {**ways, left: rows}, step, _read({}))
+        hidden_steps(cell, out, read_rows(cell, {**ways, left: rows}), step, _read({}))
         assert out.status.tolist() == ["converged", "discontinuous"], out.summary()
         assert out.reason(1).startswith(f"{left}: reachable only by a jump: the step from")
         assert "hides a jump between the waypoints" in out.reason(1)

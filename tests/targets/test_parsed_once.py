@@ -3,8 +3,8 @@ take the parsed ``Target`` (``armik.targets.pose.parsed``), never the raw value 
 
 The parsers are counted by the targets each call reads (``parse_target`` one,
 ``parse_by_tip`` one per tip, ``parse_targets`` one per row; a ``TargetBatch`` read
-already, none), wherever armik calls them; a task's pose was read when the task was
-built."""
+already, none), wherever armik calls them: a route of several tips reads each of the
+user's targets exactly once; a task's pose was read when the task was built."""
 
 from __future__ import annotations
 
@@ -20,6 +20,7 @@ import armik.arms  # noqa: F401  (imported before the fixture patches its parser
 import armik.targets.batch as batch_module
 import armik.targets.pose as pose_module
 from tests.conftest import arm as bundled
+from tests.test_arms import dual_irb120
 
 
 @pytest.fixture
@@ -158,6 +159,90 @@ def test_several_tips_parse_their_targets_once(reads, robot):
         r = arms.solve(targets, iteration_budget=3000)
         assert r.success, r.reason
         assert reads() == len(arms.tips)
+
+
+ROBOTS = ["shared joints", "independent"]  # the Panda's hand and link 5; two IRB 120s
+
+
+def _robot(kind: str) -> tuple[armik.Arms, np.ndarray]:
+    """A robot of two tips and a configuration its targets are placed at."""
+    if kind == "shared joints":
+        robot = armik.load("panda", tips=["panda_hand", "panda_link5"])
+        return robot, robot.middle + 0.1
+    robot = armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
+    return robot, robot.random_q(np.random.default_rng(3))
+
+
+@pytest.mark.parametrize("kind", ROBOTS)
+def test_every_solve_of_several_tips_reads_each_target_once(reads, kind):
+    """One pose per tip: read once on every route of ``solve`` and ``solve_all`` (held
+    joints, which a 5-joint chain holds by the task solver, a pose spelled as a position
+    and a quaternion); tasks, a flat list of them and a relative task: their poses were
+    read when they were built, none again. Before, a held joint read the chain's pose
+    again, ``solve_all`` read the poses twice, a flat list read its poses again."""
+    robot, q = _robot(kind)
+    a, b = robot.tips
+    T = {tip: robot.fk(q, tip) for tip in robot.tips}
+    held = {robot.chain(b).joint_names[0]: float(q[robot.joint_names.index(
+        robot.chain(b).joint_names[0])])}  # fmt: skip
+    spelled = {t: (X.translation, pin.Quaternion(X.rotation).coeffs()) for t, X in T.items()}
+    relative = armik.Relative(b, a, T[a].actInv(T[b]))
+    pose_a, pose_b = armik.Pose(T[a], frame=a), armik.Pose(T[b], frame=b)  # read here
+    reads()
+    for call, read in (
+        (lambda: robot.solve(T), 2),
+        (lambda: robot.solve(T, q0=q), 2),
+        (lambda: robot.solve(spelled, hold=held, iteration_budget=3000), 2),
+        (lambda: robot.solve(T, prefer="nearest", q0=q), 2),
+        (lambda: robot.solve_all(T), 2),
+        (lambda: robot.solve_all(T, hold=held), 2),
+        (lambda: robot.solve({a: pose_a, b: T[b].translation}), 1),
+        (lambda: robot.solve([pose_a, pose_b]), 0),
+        (lambda: robot.solve([pose_a, relative]), 0),
+        (lambda: robot.solve([pose_a, relative], hold=held), 0),
+        (lambda: robot.solve_all([pose_a, relative]), 0),
+    ):
+        call()
+        assert reads() == read
+
+
+@pytest.mark.parametrize("kind", ROBOTS)
+def test_every_batch_and_path_of_several_tips_reads_each_target_once(reads, kind):
+    """N rows per tip: each of the 2 N targets read once, in each tip's rows or each row,
+    whether the rows are solved by each chain's own batch and path or row by row (held
+    joints, a cost of the whole configuration); rows of tasks, a flat list each or with a
+    relative task: none. Before, a path read every waypoint again to judge its steps, and
+    rows solved again read theirs again."""
+    robot, q = _robot(kind)
+    a, b = robot.tips
+    n = 3
+    shifted = [pin.SE3(np.eye(3), np.array([0.0, 0.01 * k, 0.0])) for k in range(n)]
+    way = {tip: [s * robot.fk(q, tip) for s in shifted] for tip in robot.tips}
+    array = {tip: np.array([X.homogeneous for X in rows]) for tip, rows in way.items()}
+    held = {robot.chain(b).joint_names[0]: None}
+    cost = {"prefer": lambda x: float(np.sum(x**2))}
+    reads()
+    for call in (
+        lambda: robot.solve_batch(way, workers=1, progress=False),
+        lambda: robot.solve_batch(array, q0=q, workers=1, progress=False),
+        lambda: robot.solve_batch(way, q0=q, hold=held, workers=1, progress=False),
+        lambda: robot.solve_batch(way, q0=q, workers=1, progress=False, **cost),
+        lambda: robot.solve_path(way, q),
+        lambda: robot.solve_path(array, q, max_joint_step=0.5),
+        lambda: robot.solve_path(way, q, hold=held),
+    ):
+        call()
+        assert reads() == 2 * n
+    flat = [[armik.Pose(way[a][k], frame=a), armik.Pose(way[b][k], frame=b)] for k in range(n)]
+    related = [
+        [armik.Pose(way[a][k], frame=a), armik.Relative(b, a, way[a][k].actInv(way[b][k]))]
+        for k in range(n)
+    ]
+    reads()  # the tasks read their poses when built
+    for rows in (flat, related):
+        robot.solve_batch(rows, workers=1, progress=False)
+        robot.solve_path(rows, q)
+        assert reads() == 0
 
 
 def test_a_tips_bad_target_is_named_by_its_tip():
