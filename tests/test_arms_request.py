@@ -2,7 +2,7 @@
 ``ArmsRequest`` (``armik.arms_request``): ``Arms.solve``, each row of a batch or a path,
 ``solve_all``'s search and a path's judge halfway solve a row from it
 (``Arms._solve_row``), never through ``Arms.solve`` again, with the answers ``Arms.solve``
-gives that row."""
+gives that row; and options given as one-shot iterators are read in full everywhere."""
 
 from __future__ import annotations
 
@@ -148,3 +148,59 @@ def test_the_request_is_read_once_and_travels():
     assert read_request(arms, {}) is read_request(arms, {})
     with pytest.raises(armik.OptionError, match="unknown option 'max_iteration'"):
         read_request(arms, {"max_iteration": 3})
+
+
+@pytest.mark.parametrize("robot", ["panda", "cell"])
+def test_a_constraint_given_as_an_iterator_holds_on_every_route(robot):
+    """A tip's constraints given as a one-shot iterator (``iter([c])``, a generator) were
+    read by the first reader only: the chains' solves then held none, and an answer that
+    violates the constraint was a success. Every route takes them in full now."""
+    arms = _panda() if robot == "panda" else _cell()
+    q = arms.random_q(np.random.default_rng(7))
+    T = {tip: arms.fk(q, tip) for tip in arms.tips}
+    tip = arms.tips[0]
+    rows = {t: [X] for t, X in T.items()}
+    calls = {
+        "solve": lambda own: [arms.solve(T, constraints=own, iteration_budget=300)],
+        "solve_all": lambda own: list(arms.solve_all(T, constraints=own, iteration_budget=300)),
+        "solve_batch": lambda own: list(
+            arms.solve_batch(rows, constraints=own, iteration_budget=300)
+        ),
+        "solve_path": lambda own: list(
+            arms.solve_path(rows, q, constraints=own, iteration_budget=300)
+        ),
+    }
+    for name, call in calls.items():
+        for own in ({tip: [Never()]}, {tip: iter([Never()])}, {tip: (c for c in [Never()])}):
+            results = call(own)
+            assert results and not any(r.success for r in results), (name, own)
+
+
+def test_a_held_joint_given_as_an_iterator_of_constraints_is_held():
+    """``constraints=iter([armik.Hold(joint, value)])`` on several tips: the flat list was
+    read by the check that refuses a user's own constraint there, and the joint went
+    free; it is held now, on every route."""
+    arms = _cell()
+    q = arms.random_q(np.random.default_rng(8))
+    T = {tip: arms.fk(q, tip) for tip in arms.tips}
+    joint = arms.chain(arms.tips[0]).joint_names[0]
+    j = arms.joint_names.index(joint)
+    value = float(q[j]) + 0.3
+    for given in ([armik.Hold(joint, value)], iter([armik.Hold(joint, value)])):
+        r = arms.solve({arms.tips[1]: T[arms.tips[1]]}, constraints=given)
+        assert r.success and r.q[j] == value, r.reason
+    other = arms.tips[1]
+    b = arms.solve_batch({other: [T[other]]}, constraints=iter([armik.Hold(joint, value)]))
+    assert b.success[0] and b.q[0, j] == value
+
+
+def test_a_servo_takes_obstacles_given_as_an_iterator_on_every_chain():
+    """Two UR5s' servo, ``obstacles=iter([sphere])``: each chain's servo read the options
+    in turn, and the second found the iterator spent (no obstacle); both keep it now."""
+    robot = armik.load(dual("ur5"), tips=["l_tool0", "r_tool0"])
+    sphere = armik.Sphere(0.05, (0.0, 0.0, 3.0))
+    for given in ([sphere], iter([sphere])):
+        servo = robot.servo(robot.middle, obstacles=given)
+        for tip in robot.tips:
+            pairs = servo.servo(tip)._collisions.check.pair_names
+            assert any("Sphere" in b for _, b in pairs), (tip, given)

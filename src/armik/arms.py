@@ -41,6 +41,7 @@ from armik.result import IKResult
 from armik.solutions import Solutions
 from armik.solve.read import options as read_options
 from armik.solve.read import read
+from armik.solve.replayable import replayable
 from armik.solve.single import routed
 from armik.solve.stages import run
 from armik.solve.tasks import measure_tasks, solve_tasks
@@ -109,7 +110,7 @@ class Arms(ArmsKinematics):
         """Every tip at its target (any target form ``Arm.solve`` takes, or a task list),
         each chain by its own solver; one ``IKResult`` for the robot (module docstring)."""
         # the options read once (``armik.arms_request``), then the targets: one row
-        request = read_request(self, options) if options else self._bare
+        request = read_request(self, replayable(options)) if options else self._bare
         if request is None:
             request = read_request(self, options)
         if q0 is not None:  # the whole q0, its bad joints named: not one chain's part of it
@@ -206,7 +207,7 @@ class Arms(ArmsKinematics):
     ) -> Solutions:
         """Every answer for one target per tip, best first (``armik.arms_every``), as
         ``Arm.solve_all`` gives them: a ``Solutions``."""
-        request = read_request(self, options)
+        request = read_request(self, replayable(options) if options else options)
         if q0 is not None:
             q0 = self._seed(q0)  # clipped into the limits, as Arm's seed
         parsed, relative = self._parsed(targets)
@@ -220,6 +221,7 @@ class Arms(ArmsKinematics):
         chain's own batch where the chains are independent (``armik.arms_many``);
         ``workers``, ``chunk_size``, ``progress`` and ``backend`` as ``Arm.solve_batch``'s
         (``backend`` runs chunks of rows where they are solved one by one)."""
+        options = replayable(options) if options else options
         refuse_own_checks(options, self.tips)
         targets = rows_by_tip(self._chains, targets, options)  # flat task lists: by tip
         return arms_many.solve_batch(self, targets, q0=q0, **options)
@@ -228,7 +230,7 @@ class Arms(ArmsKinematics):
         """A servo for every tip at once, one target per tip a tick (``step({tip: target})``),
         each chain its own ``Servo`` with ``Arm.servo``'s options (``armik.arms_servo``);
         chains that share joints one step over their union (``armik.servo.union``)."""
-        return ArmsServo(self, q0, **options)
+        return ArmsServo(self, q0, **(replayable(options) if options else options))
 
     def solve_path(
         self,
@@ -242,6 +244,7 @@ class Arms(ArmsKinematics):
         """Waypoints per tip (``poses``: tip -> N waypoints, or N flat task lists; named as
         ``Arm.solve_path``'s) in order from ``q0``, never with a silent jump larger than
         ``max_joint_step`` (``armik.arms_many``)."""
+        options = replayable(options) if options else options
         refuse_own_checks(options, self.tips)
         waypoints = rows_by_tip(self._chains, poses, options)
         return arms_many.solve_path(

@@ -7,8 +7,8 @@ the judge of a path's steps halfway) and ``solve_all``'s searches solve a row fr
 keyword options again. It is picklable: a batch's chunks of rows carry it to threads,
 processes and a Dask cluster.
 
-- ``options``: the options as given, which the checks between chains that share no
-  joint read (``armik.arms_collision``);
+- ``options``: the options as given (replayable: ``armik.solve.replayable``), which the
+  checks between chains that share no joint read (``armik.arms_collision``);
 - ``solver``: the name each chain's solver is asked by ("auto");
 - ``prefer``: the preference as given (a callable cost of the whole configuration too);
 - ``each``: each tip's own options (``arms_options.per_chain``: the held joints its chain
@@ -72,7 +72,7 @@ class ArmsRequest(NamedTuple):
 
 
 def read_request(arms: Any, options: dict[str, Any]) -> ArmsRequest:
-    """The request of ``options`` (an ``Arms`` call's) on ``arms``: refused by
+    """The request of ``options`` (an ``Arms`` call's, replayable) on ``arms``: refused by
     name where an option is not one or cannot apply; that of a call without options read
     once and kept with the robot."""
     if options:
