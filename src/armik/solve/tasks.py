@@ -35,7 +35,7 @@ from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.model.frames import named
-from armik.problem.problem import Problem, as_problem, check_said_twice, lower, refuse_beside_tasks
+from armik.problem.problem import Problem
 from armik.problem.scores import Posture, Score
 from armik.problem.settings import SolverSettings
 from armik.problem.tasks import Pose, Task, TaskError
@@ -442,50 +442,6 @@ def _result(
         extra=[extra],
     )
     return found.checked(arm, checked).result(0, SOLVER, time.perf_counter() - t0)
-
-
-def task_problems(targets: object) -> list[Problem] | None:
-    """The problems of a batch of tasks or task lists; None for the other batch spellings."""
-    if type(targets) not in (list, tuple) or not targets:
-        return None
-    first = targets[0]  # type: ignore[index]
-    if not isinstance(first, Task) and not (
-        type(first) in (list, tuple) and any(isinstance(t, Task) for t in first)
-    ):
-        return None
-    problems = []
-    for i, row in enumerate(targets):  # type: ignore[arg-type,var-annotated]
-        try:
-            problem = as_problem(row)
-        except TargetError as error:  # a row that is no task list: said with its number
-            raise TargetError(f"target {i}: {error}") from None
-        if problem is None:
-            raise TargetError(
-                f"target {i} is {row!r}: a batch of tasks holds a task or a list of tasks in "
-                "every row"
-            )
-        problems.append(problem)
-    return problems
-
-
-def lower_all(
-    problems: list[Problem], options: dict, tip: str | None = None
-) -> tuple[list, dict] | None:
-    """(targets, options) of the compiled batch when every problem lowers to the same
-    options and aim (``problem.lower``; a batch shares one: ``TargetBatch.aim``), else None."""
-    targets, said = [], None  # the options and the aim every problem lowers to
-    weights = options.get("weights")
-    for lowered in (lower(problem, tip, weights) for problem in problems):
-        each = None if lowered is None else (lowered[1], getattr(lowered[0], "aim", None))
-        if each is None or (said is not None and each != said):
-            return None
-        targets.append(lowered[0])  # type: ignore[index]
-        said = each
-    check_said_twice(options, said[0] if said else {})
-    if "position_only" in options or "bounds" in options:
-        for problem in problems:
-            refuse_beside_tasks(problem, options)
-    return targets, {**options, **(said[0] if said else {})}
 
 
 def box_of(arm: ArmModel, constraints: tuple[Constraint, ...]) -> tuple[np.ndarray, np.ndarray]:
