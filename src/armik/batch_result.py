@@ -49,8 +49,9 @@ class BatchResult:
       ``position_error`` and ``orientation_error`` are the distances all the same. NaN
       where the verdict measured the distances themselves (``armik.verify.distances``).
     - ``region``, ``cone``: the targets are regions (bounds, an aim) and the aim's cone (rad,
-      None: no aim), ``free``: (position, rotation) left wholly free by weights of 0 or
-      infinite bounds, so that a success's ``reason(i)`` says what ``solve``'s says.
+      None: no aim), ``looks_at``: the aim looks at a point, ``free``: (position, rotation)
+      left wholly free by weights of 0 or infinite bounds, so that a success's
+      ``reason(i)`` says what ``solve``'s says.
     - ``errors``: on several tips (``armik.Arms``), tip -> (N, 2) each row's distances to
       that tip's target (position m, orientation rad, NaN where not measured), as
       ``Arms.solve``'s ``errors[tip]``; empty for one arm.
@@ -83,6 +84,7 @@ class BatchResult:
     score: np.ndarray | None = None  # (N,) with prefer=; NaN filled when None is given
     region: bool = False  # the targets are regions (bounds, a cone): errors lie outside them
     cone: float | None = None  # rad: the targets' aim's cone (a batch shares one), None: no aim
+    looks_at: bool = False  # the aim looks at a point (its words: the line to the point)
     free: tuple[bool, bool] = (False, False)  # (position, rotation): every component free
     measured: np.ndarray | None = None  # (N, 2) the verdict's errors; NaN filled when None
     # a success's claim before its verdict's words, as ``solve`` says it ("{}": its
@@ -184,8 +186,9 @@ class BatchResult:
             pos, ori = apart[0], apart[1]
         tol_p, tol_r, free = self.tol_position, self.tol_orientation, self.free
         said_pos, said_ori = None if free[0] else pos, None if free[1] or ori != ori else ori
+        cone = None if self.cone is None else reasons.Cone(self.cone, self.looks_at)
         if self.region:  # inside it for a success; NaN: no orientation measured (a position)
-            measured = reasons.region(said_pos, said_ori, tol_p, tol_r, self.cone)
+            measured = reasons.region(said_pos, said_ori, tol_p, tol_r, cone)
         else:
             measured = reasons.measured(said_pos, said_ori, tol_p, tol_r)
         said = self.claim.format(int(self.restarts[i])) if self.claim and self.success[i] else None
@@ -193,7 +196,7 @@ class BatchResult:
         if not math.isnan(apart[0]):
             pos, ori = float(self.position_error[i]), float(self.orientation_error[i])
             weighted = self.weighted or not self.region  # solve's words (``verify.distances``)
-            text = reasons.measured_apart(text, pos, ori, weighted, self.region, free)
+            text = reasons.measured_apart(text, pos, ori, weighted, self.region, free, cone)
         if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):  # checked
             pair, distance = self.closest_pair(i), float(self._distances[i])
             text = reasons.and_clear(text, pair, distance, self.margin)
@@ -288,6 +291,7 @@ class BatchResult:
             score=self._scores[picked],
             region=self.region,
             cone=self.cone,
+            looks_at=self.looks_at,
             free=self.free,
             measured=self._measured[picked],
             claim=self.claim,
@@ -364,6 +368,7 @@ class BatchResult:
             margin=margin,
             region=opts.bounds is not None or aim is not None,
             cone=None if aim is None else aim.within,
+            looks_at=aim is not None and aim.point is not None,
             free=(False, False)
             if opts.weights is None and opts.bounds is None
             else opts.left_free(False, aim is not None),

@@ -8,6 +8,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from armik.reasons import Cone
+
 if TYPE_CHECKING:
     from armik.batch_result import BatchResult
 
@@ -28,13 +30,15 @@ def summary(batch: BatchResult) -> str:
     if solved:
         worst = batch.position_error[batch.success].max()
         apart = batch._measured[batch.success]  # NaN where the distances were measured
-        if np.isnan(apart[:, 0]).all():
+        ori = batch.orientation_error[batch.success]
+        if batch.cone is not None:  # an aim's, in its terms
+            line += _aimed(batch, worst, ori)
+        elif np.isnan(apart[:, 0]).all():
             line += f"; largest error of the solved: {worst:.2g} m"
         else:  # the errors are distances; the verdicts measured the region or weights
             to = "the region's centre" if batch.region else "the target"
             line += f"; largest distance to {to} of the solved: {worst:.2g} m"
-        ori = batch.orientation_error[batch.success]
-        if not np.isnan(ori).all():
+        if batch.cone is None and not np.isnan(ori).all():
             line += f", {np.nanmax(ori):.2g} rad"
         if not np.isnan(apart[:, 0]).all():  # a part left wholly free measured 0: unsaid
             free_p, free_r = batch.free
@@ -50,3 +54,17 @@ def summary(batch: BatchResult) -> str:
             names = "" if pair is None else f" ({pair[0]} / {pair[1]})"
             line += f"; smallest clearance of the solved: {d[k]:.3g} m{names}"
     return line
+
+
+def _aimed(batch: BatchResult, worst: float, ori: np.ndarray) -> str:
+    """The largest distances of the solved of a batch whose targets have an aim: the tip's
+    to the region's centre (a position left wholly free, or none, unsaid), its axis' angle
+    from its direction or the line to the point."""
+    sight = Cone(batch.cone or 0.0, batch.looks_at).sight
+    axis = f"{np.nanmax(ori):.2g} rad from {sight}"
+    if worst != worst or (batch.free[0] and worst == 0.0):
+        return f"; largest distance of the solved: the tip's axis {axis}"
+    return (
+        f"; largest distances of the solved: the tip {worst:.2g} m from the region's centre, "
+        f"its axis {axis}"
+    )

@@ -47,7 +47,7 @@ from armik.result import IKResult
 from armik.solvers import registry
 from armik.solvers.answers import Answers
 from armik.solvers.claims import Claim
-from armik.targets.aim import Aim
+from armik.targets.aim import Aim, cone_words
 from armik.targets.pose import Target, parse_target
 from armik.verify.distances import fields_apart
 from armik.verify.judged import Judged
@@ -207,7 +207,7 @@ class Plan:
             self.fk_apart = fk_check_frame(w, flags, arm.lower, arm.upper)  # several answers
         # a region (bounds, a cone): measured by ``verify.region``, as the general path does
         self.region = (opts.region_bounds, w, aim and aim.cone) if region else None
-        self.cone = None if aim is None else aim.within  # what a success's words name
+        self.cone = cone_words(aim)  # what a success's words name
         plain = opts.weights is None and opts.bounds is None  # (and leave out)
         self.free = (False, False) if plain else opts.left_free(position, aim is not None)
         self.tol_p, self.tol_r = opts.tol_position, opts.tol_orientation

@@ -425,7 +425,7 @@ def _result(
             weighted = type(tasks[0]) is Pose and not tasks[0].weights.all()  # said alone
             frames = tasks[0].frames if len(tasks) == 1 else ()
             if frames in ((None,), (arm.tip,)):  # the tip's
-                reason = reasons.measured_apart(reason, pos, ori, weighted, True, tasks[0].free())
+                reason = reasons.tip_apart(reason, tasks[0], pos, ori, weighted)
             elif len(frames) == 1:  # one task on another frame: that frame's
                 reason = reasons.frame_apart(reason, tasks[0], pos, ori, weighted)
             else:

@@ -23,6 +23,7 @@ from armik.frozen import frozen
 from armik.model.arm_model import ArmModel
 from armik.problem.settings import SolverSettings
 from armik.result import IKResult
+from armik.targets.aim import cone_words
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 from armik.verify.measure import BatchMeasure, measure, measure_batch
@@ -52,39 +53,44 @@ def with_distances(arm: ArmModel, results: list[IKResult], target, opts: SolverS
     distance = plain(opts)
     at = centred(target)
     weighted = opts.weights is not None
-    region = opts.bounds is not None or getattr(target, "aim", None) is not None
+    aim = getattr(target, "aim", None)
+    region = opts.bounds is not None or aim is not None
+    cone = cone_words(aim)
     out = []
     for r in results:
         m = measure(arm, r.q, at, distance)
-        out.append(_apart(r, m.position_error, m.orientation_error, weighted, region, m.free))
+        pos, ori = m.position_error, m.orientation_error
+        out.append(_apart(r, pos, ori, weighted, region, m.free, cone))
     return out
 
 
-def _words(reason: str, pos, ori, weighted: bool, region: bool, free=(False, False)) -> str:
+def _words(
+    reason: str, pos, ori, weighted: bool, region: bool, free=(False, False), cone=None
+) -> str:
     """A success's reason measured apart: the verdict's words, then the distances, to the
     region's centre (its free components left out; ``free``: a part wholly free, not
-    said) where the target is a region."""
-    return reasons.measured_apart(reason, pos, ori, weighted, region or not weighted, free)
+    said) where the target is a region, in an aim's terms where it has one (``cone``)."""
+    return reasons.measured_apart(reason, pos, ori, weighted, region or not weighted, free, cone)
 
 
 _CLEAR = "; " + reasons.clear(None, 0.0, 0.0).partition(":")[0] + ":"  # "; collision-free:"
 
 
-def _cleared(reason: str, pos, ori, weighted: bool, region: bool, free: tuple) -> str:
+def _cleared(reason: str, pos, ori, weighted: bool, region: bool, free: tuple, cone) -> str:
     """``_words`` of a success whose collision check spoke first (``solve_all`` with
     obstacles): the distances said after what the verdict measured, as ``solve`` says
     them, its closest pair after them."""
     measured, clear, rest = reason.partition(_CLEAR)
-    return _words(measured, pos, ori, weighted, region, free) + clear + rest
+    return _words(measured, pos, ori, weighted, region, free, cone) + clear + rest
 
 
-def _apart(r: IKResult, pos, ori, weighted: bool, region: bool, free: tuple) -> IKResult:
+def _apart(r: IKResult, pos, ori, weighted: bool, region: bool, free: tuple, cone) -> IKResult:
+    said = _cleared(r.reason, pos, ori, weighted, region, free, cone) if r.success else r.reason
     return dataclasses.replace(
         r,
         position_error=pos,
         orientation_error=ori,
-        # a success's words say both; a failure's say why it failed
-        reason=_cleared(r.reason, pos, ori, weighted, region, free) if r.success else r.reason,
+        reason=said,  # a success's words say both; a failure's say why it failed
         extra={**r.extra, "measured": (r.position_error, r.orientation_error)},
     )
 
@@ -107,10 +113,11 @@ def fields_apart(fields: dict, pos: float, ori: float | None, weighted: bool) ->
 
 def _said_apart(said: tuple, pos: float, ori: float | None, weighted: bool) -> str:
     # ``said``: ``verify.verdict.success_reason`` and its arguments, whose seventh says
-    # whether the verdict measured a region, the ninth the parts left free
+    # whether the verdict measured a region, the eighth its aim, the ninth the parts free
     region = len(said[1]) > 6 and bool(said[1][6])
+    cone = said[1][7] if len(said[1]) > 7 else None
     free = said[1][8] if len(said[1]) > 8 else (False, False)
-    return _words(said[0](*said[1]), pos, ori, weighted, region, free)
+    return _words(said[0](*said[1]), pos, ori, weighted, region, free, cone)
 
 
 def batch_distances(arm: ArmModel, Q: np.ndarray, targets: TargetBatch, opts: SolverSettings):

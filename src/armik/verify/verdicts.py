@@ -44,7 +44,7 @@ class Verdicts:
     tol_orientation: float
     region: bool = False  # the errors are the distances outside the target's region
     extra: list[dict] | None = None  # per row, what its result keeps (a collision check)
-    cone: float | None = None  # rad: the aim's cone, the orientation error outside it
+    cone: reasons.Cone | None = None  # the aim's cone, the orientation error outside it
     free: tuple[bool, bool] = (False, False)  # (position, rotation): every component free
 
     def __len__(self) -> int:
