@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 from pinocchio import SE3
 
-from armik import path_reasons
+from armik import path_reasons, reasons
 from armik.batch_result import BatchResult
 from armik.errors import ArmikError
 from armik.problem.problem import as_problem, lower
@@ -48,7 +48,7 @@ def held(arms: Any, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: bo
         reason=path_reasons.jump(
             path_reasons.jump_found(move),
             "that answer",
-            f"position error {r.position_error:.3g} m",
+            reasons.best_errors(r.position_error, r.orientation_error),
         ),
     )
 

@@ -35,7 +35,8 @@ class BatchResult:
     - ``status`` (N,) words (``converged``, ``unreachable``, ...), as in ``IKResult``;
       stored as the small integer codes ``status_code`` (``Status.code``).
     - ``position_error`` (N,) m and ``orientation_error`` (N,) rad, measured on ``q``;
-      ``orientation_error`` is NaN where it is not measured (position-only targets).
+      each NaN where the target has no such part (a position's orientation, an
+      ``armik.Axis``'s or ``armik.LookAt``'s position).
     - ``iterations``, ``restarts`` (N,) per target; ``solver``; ``time`` (s) for the whole
       batch, verification included.
     - ``reasons``: index -> each failure's reason; ``said``: a success's words where its
@@ -195,6 +196,7 @@ class BatchResult:
         text = reasons.verified(said, measured)
         if not math.isnan(apart[0]):
             pos, ori = float(self.position_error[i]), float(self.orientation_error[i])
+            pos = None if pos != pos else pos  # NaN: a target that holds no position
             weighted = self.weighted or not self.region  # solve's words (``verify.distances``)
             text = reasons.measured_apart(text, pos, ori, weighted, self.region, free, cone)
         if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):  # checked
@@ -230,6 +232,7 @@ class BatchResult:
         if isinstance(index, (int, np.integer)) and not isinstance(index, (bool, np.bool_)):
             i = self._index(index)
             ori, code = float(self.orientation_error[i]), int(self.branch_codes(np.array([i]))[0])
+            position = float(self.position_error[i])  # NaN: a target with no position
             extra: dict[str, Any] = {"index": i, "batch_time": self.time}
             if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):
                 extra["min_distance"] = float(self._distances[i])
@@ -241,9 +244,9 @@ class BatchResult:
                 extra["measured"] = (pos, None if math.isnan(rot) else rot)
             if self.errors:  # several tips: each tip's, as ``Arms.solve`` gives them
                 extra["errors"] = {
-                    tip: (float(e[i, 0]), None if math.isnan(e[i, 1]) else float(e[i, 1]))
+                    tip: tuple(None if math.isnan(x) else x for x in e[i].tolist())
                     for tip, e in self.errors.items()
-                    if not math.isnan(e[i, 0])
+                    if not np.isnan(e[i]).all()
                 }
             return IKResult(
                 q=self.q[i],
@@ -252,7 +255,7 @@ class BatchResult:
                 reason=self.reason(i),
                 solver=self.solvers.get(i, self.solver.removesuffix(PREFERRED)),  # solve's
                 iterations=int(self.iterations[i]),
-                position_error=float(self.position_error[i]),
+                position_error=None if math.isnan(position) else position,
                 orientation_error=None if math.isnan(ori) else ori,
                 time=self.time / max(len(self), 1),
                 restarts=int(self.restarts[i]),
@@ -438,7 +441,7 @@ class BatchResult:
         if apart is not None:
             self._measured[i] = (apart[0], math.nan if apart[1] is None else apart[1])
         for tip, (pos, ori) in (r.extra.get("errors") or {}).items():  # several tips
-            self.tip_errors(tip)[i] = (pos, math.nan if ori is None else ori)
+            self.tip_errors(tip)[i] = tuple(math.nan if e is None else e for e in (pos, ori))
         if r.success:
             self.reasons.pop(i, None)  # a row solved again: its earlier failure's words go
         else:

@@ -328,11 +328,12 @@ def _aim_apart(pos: float | None, ori: float | None, free_p: bool, cone: Cone) -
     return f"{where}, its axis {axis}" if axis else where
 
 
-def tasks_apart(reason: str, pos: float, ori: float | None, tasks: Sequence) -> str:
+def tasks_apart(reason: str, pos: float | None, ori: float | None, tasks: Sequence) -> str:
     """A task list with regions: its reason, then the largest distance of a task's frame
     to its region's centre, what ``position_error`` and ``orientation_error`` report; a
     part every task leaves wholly free (``Task.free``), whose distance is 0, unsaid."""
-    free = [task.free() for task in tasks]
+    free = [task.free() for task in tasks]  # (pos None: no task holds a position, all free)
+    pos = pos or 0.0
     said = _parts(pos, ori, all(f[0] for f in free), all(f[1] for f in free)) or f"{pos:.3g} m"
     where = "from its region's centre, free components apart"
     return f"{reason}; each task's frame is at most {said} {where}"
@@ -379,7 +380,7 @@ def tip_apart(reason: str, task, pos: float | None, ori: float | None, weighted:
     return measured_apart(reason, pos, ori, weighted, True, task.free(), task.cone_words())
 
 
-def frame_apart(reason: str, task, pos: float, ori: float | None, weighted: bool) -> str:
+def frame_apart(reason: str, task, pos: float | None, ori: float | None, weighted: bool) -> str:
     """``measured_apart`` for one task on a frame other than the tip: that frame's
     distance to its target (weighted axes) or to its region's centre, a part the task
     leaves wholly free unsaid (0 whatever the answer) where the distance is the region's;
@@ -388,6 +389,7 @@ def frame_apart(reason: str, task, pos: float, ori: float | None, weighted: bool
     cone = task.cone_words()
     if cone is not None and ori is not None:
         return f"{reason}; frame {frame!r} has its axis {ori:.3g} rad from {cone.sight}"
+    pos = pos or 0.0  # (None: a task that holds no position, which an aim's words say)
     if weighted:  # the true distance: a part weighted 0 has one
         rot = "" if ori is None or ori != ori else f", {ori:.3g} rad"
         return (

@@ -421,7 +421,7 @@ def _result(
         positions = [e.position for e in apart if e.position is not None]
         orientations = [e.orientation for e in apart if e.orientation is not None]
         if status is Status.CONVERGED:  # several tasks: the largest of their frames'
-            ori, pos = max(orientations) if orientations else None, max(positions, default=0.0)
+            ori, pos = max(orientations) if orientations else None, max(positions, default=None)
             weighted = type(tasks[0]) is Pose and not tasks[0].weights.all()  # said alone
             frames = tasks[0].frames if len(tasks) == 1 else ()
             if frames in ((None,), (arm.tip,)):  # the tip's
@@ -433,7 +433,7 @@ def _result(
     found = Verdicts(
         answers=one(q, Status.NOT_CONVERGED, reason, iterations=iterations, restarts=restarts),
         status=np.array([status.code], dtype=np.int8),
-        position_error=np.array([max(positions, default=0.0)]),
+        position_error=np.array([max(positions, default=math.nan)]),
         orientation_error=np.array([max(orientations) if orientations else math.nan]),
         rotation=bool(orientations),
         words=[reason],
@@ -441,7 +441,10 @@ def _result(
         tol_orientation=opts.tol_orientation,
         extra=[extra],
     )
-    return found.checked(arm, checked).result(0, SOLVER, time.perf_counter() - t0)
+    r = found.checked(arm, checked).result(0, SOLVER, time.perf_counter() - t0)
+    if not positions:  # no task holds a position (an axis, a look-at): no distance to one
+        r.__dict__["position_error"] = None
+    return r
 
 
 def box_of(arm: ArmModel, constraints: tuple[Constraint, ...]) -> tuple[np.ndarray, np.ndarray]:

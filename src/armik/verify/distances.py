@@ -6,7 +6,9 @@ region. A result reports the true distances all the same: ``position_error`` (m)
 tip's distance to the target's position, ``orientation_error`` (rad) the geodesic angle to
 its rotation (None where the target has none or ``position_only`` ignores it), or to the
 direction an axis should point along; a component a region leaves free (an infinite
-bound) is no part of the target and does not count. What the
+bound) is no part of the target and does not count. A target that holds no position (an
+aim whose bounds free x, y and z: ``armik.Axis``, ``armik.LookAt`` alone) has no
+``position_error`` (None; NaN in a batch), as the servo and the task solver say. What the
 verdict measured is kept under its own name, ``IKResult.measured`` (``extra["measured"]``,
 a batch's ``measured`` columns), and a success's reason says both.
 """
@@ -39,6 +41,15 @@ def plain(opts: SolverSettings) -> SolverSettings:
     return frozen(type(opts), **{**opts.__dict__, **changes})
 
 
+def holds_no_position(opts: SolverSettings, aim: object) -> bool:
+    """Whether a target with ``aim`` (None: none) holds no position: its bounds free x, y
+    and z beside the aim, what ``armik.Axis`` and ``armik.LookAt`` alone lower to. A pose
+    whose bounds free its position is 0 m from it, in no component; an aim replaces the
+    rotation, and with the position free nothing of a pose is left."""
+    b = opts.bounds
+    return aim is not None and b is not None and b[0] == b[1] == b[2] == math.inf
+
+
 def centred(target: Target) -> Target:
     """``target`` with its aim 0 wide: the angle of the tip's axis to the direction it
     should point along is its distance (the target's rotation otherwise an artefact of the
@@ -56,10 +67,11 @@ def with_distances(arm: ArmModel, results: list[IKResult], target, opts: SolverS
     aim = getattr(target, "aim", None)
     region = opts.bounds is not None or aim is not None
     cone = cone_words(aim)
+    no_position = holds_no_position(opts, aim)
     out = []
     for r in results:
         m = measure(arm, r.q, at, distance)
-        pos, ori = m.position_error, m.orientation_error
+        pos, ori = None if no_position else m.position_error, m.orientation_error
         out.append(_apart(r, pos, ori, weighted, region, m.free, cone))
     return out
 
@@ -126,4 +138,6 @@ def batch_distances(arm: ArmModel, Q: np.ndarray, targets: TargetBatch, opts: So
     if aim is not None:
         targets = TargetBatch(targets.positions, targets.rotations, aim.centred())
     m: BatchMeasure = measure_batch(arm, Q, targets, plain(opts))
+    if holds_no_position(opts, aim):
+        return np.full(len(Q), math.nan), m.orientation_error
     return m.position_error, m.orientation_error

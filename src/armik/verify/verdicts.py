@@ -321,11 +321,11 @@ class Verdicts:
             branch=r.branch,
             singular=r.singular,
         )
-        ori = r.orientation_error
+        pos, ori = r.position_error, r.orientation_error
         return cls(
             answers=answers,
             status=np.array([r.status.code], dtype=np.int8),
-            position_error=np.array([r.position_error]),
+            position_error=np.array([np.nan if pos is None else pos]),
             orientation_error=np.array([np.nan if ori is None else ori]),
             rotation=ori is not None,
             words=[r.reason],
