@@ -198,7 +198,10 @@ class BatchResult:
             pos, ori = float(self.position_error[i]), float(self.orientation_error[i])
             pos = None if pos != pos else pos  # NaN: a target that holds no position
             weighted = self.weighted or not self.region  # solve's words (``verify.distances``)
-            text = reasons.measured_apart(text, pos, ori, weighted, self.region, free, cone)
+            if self.errors:  # several tips: the worst tip's measure, every tip's distance
+                text = reasons.tips_apart(text, pos, ori)
+            else:
+                text = reasons.measured_apart(text, pos, ori, weighted, self.region, free, cone)
         if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):  # checked
             pair, distance = self.closest_pair(i), float(self._distances[i])
             text = reasons.and_clear(text, pair, distance, self.margin)

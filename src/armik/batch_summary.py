@@ -37,6 +37,8 @@ def summary(batch: BatchResult) -> str:
             line += f"; largest error of the solved: {worst:.2g} m"
         else:  # the errors are distances; the verdicts measured the region or weights
             to = "the region's centre" if batch.region else "the target"
+            if batch.errors:  # several tips: each tip's, a region's centre where it has one
+                to = "their targets (a region's centre where one has it)"
             line += f"; largest distance to {to} of the solved: {worst:.2g} m"
         if batch.cone is None and not np.isnan(ori).all():
             line += f", {np.nanmax(ori):.2g} rad"

@@ -328,6 +328,18 @@ def _aim_apart(pos: float | None, ori: float | None, free_p: bool, cone: Cone) -
     return f"{where}, its axis {axis}" if axis else where
 
 
+def tips_apart(reason: str, pos: float | None, ori: float | None) -> str:
+    """A row of several tips some of whose verdicts measured other than the distances (a
+    tip's region, weights): its reason (the worst tip's measure), then the largest of the
+    tips' distances to their targets, what ``position_error`` and ``orientation_error``
+    report (None, NaN: no tip's target holds that part)."""
+    parts = _parts(pos or 0.0, ori, pos is None or pos != pos, False)
+    return (
+        f"{reason}, the worst of what the tips' verdicts measured; every tip is at most "
+        f"{parts} from its target (a region's centre where it has one, free components apart)"
+    )
+
+
 def tasks_apart(reason: str, pos: float | None, ori: float | None, tasks: Sequence) -> str:
     """A task list with regions: its reason, then the largest distance of a task's frame
     to its region's centre, what ``position_error`` and ``orientation_error`` report; a
