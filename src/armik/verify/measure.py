@@ -237,7 +237,7 @@ def _region_many(arm: ArmModel, qs: list[np.ndarray], target: Target, opts: Solv
         opts.tol_orientation,
         measure_rot,
         True,
-        cone_words(target.aim),
+        None if target.aim is None else cone_words(target.aim),
         opts.left_free(position_only, target.aim is not None),
     )
 
@@ -382,7 +382,7 @@ def measure_batch(
     inside = np.empty(n, dtype=np.bool_)
     within_limits(Q, ch.lower, ch.upper, LIMIT_TOL, inside)
     tol_p, tol_r = opts.tol_position, opts.tol_orientation
-    cone = cone_words(aim)
+    cone = None if aim is None else cone_words(aim)
     free = (
         _SAID
         if opts.weights is None and opts.bounds is None

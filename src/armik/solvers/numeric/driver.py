@@ -289,7 +289,7 @@ def run_numeric(
     flat = rails.toward(arm, p_t[0], q0, rails_) if len(rails_) else arm.kernel_chain.flat
     entry(*flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
     return kernel_answers(
-        arm, target.position, q0, opts, sf, info[0], out_q[0], err[0], region, cone_words(aim)
+        arm, target.position, q0, opts, sf, info[0], out_q[0], err[0], region, aim
     )
 
 
@@ -298,10 +298,10 @@ def converged_reason(restarts: int) -> str:
 
 
 def kernel_answers(
-    arm: ArmModel, position, q0, opts: SolverSettings, sf, info, out_q, err, region: bool, cone=None
+    arm: ArmModel, position, q0, opts: SolverSettings, sf, info, out_q, err, region: bool, aim=None
 ) -> Answers:
     """The answers of one target from the kernel's outputs (see ``descent.solve_one``);
-    ``region``: the target has one (bounds or an aim); ``cone``: its aim, in words."""
+    ``region``: the target has one (bounds or an aim); ``aim``: its aim, or None."""
     claim, found, iterations, restarts, out_of_budget = info.tolist()
     if claim == _descent.CONVERGED:
         reason = converged_reason(restarts)
@@ -315,7 +315,7 @@ def kernel_answers(
     if claim == _descent.UNREACHABLE:
         distance = math.dist(np.asarray(position).tolist(), arm.first_joint_origin.tolist())
         return one(q0.copy(), Status.UNREACHABLE, reasons.unreachable(distance, arm.reach))
-    why = _not_converged(opts, sf, bool(out_of_budget), restarts, err, region, cone)
+    why = _not_converged(opts, sf, bool(out_of_budget), restarts, err, region, cone_words(aim))
     return one(out_q[0], Status.NOT_CONVERGED, why, iterations=iterations, restarts=restarts)
 
 
@@ -338,7 +338,6 @@ def pose_runner(
     sf, si = packed_settings(arm, opts, position_only, 1, step, aim)
     warmup.prepare(step.kind)  # once per plan
     region = opts.bounds is not None or aim is not None
-    cone = cone_words(aim)
     entry = POSE_ENTRIES[step.kind]
     packed, kind, halton_ = arm.kernel_chain.flat
     unlimited = rails.UNLIMITED(arm)
@@ -370,7 +369,7 @@ def pose_runner(
             restarts = int(info[3])
             got = (out_q[0], int(info[2]), restarts, None, False, converged_reason, (restarts,))
             return claim(got)
-        return kernel_answers(arm, H[:3, 3], q0, opts, sf, info, out_q, err, region, cone)
+        return kernel_answers(arm, H[:3, 3], q0, opts, sf, info, out_q, err, region, aim)
 
     run_pose.one_only = True  # type: ignore[attr-defined]  # solve_all: the general path
     return run_pose
@@ -443,7 +442,7 @@ def run_numeric_batch(
             got = rails.batch_kernel(
                 arm, sf, si, R_t[rows], p_t[rows], q0[rows], seeds[rows], step.kind
             )
-            return _worded(arm, opts, sf, p_t, q0, rows, got, refusals, region, cone_words(aim))
+            return _worded(arm, opts, sf, p_t, q0, rows, got, refusals, region, aim)
     out_q = np.empty((n_targets, 1, dof))
     info = np.empty((n_targets, 5), dtype=np.int64)
     err = np.empty((n_targets, 2))
@@ -454,7 +453,7 @@ def run_numeric_batch(
     entry(*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
     if (info[:, 0] == _descent.NOT_CONVERGED).any():  # in the single solve's words
         got = (out_q, info, err)
-        return _worded(arm, opts, sf, p_t, q0, range(n_targets), got, {}, region, cone_words(aim))
+        return _worded(arm, opts, sf, p_t, q0, range(n_targets), got, {}, region, aim)
     return Answers(
         q=out_q[:, 0],
         claim=info[:, 0].astype(np.int8),
@@ -463,7 +462,7 @@ def run_numeric_batch(
     )
 
 
-def _worded(arm: ArmModel, opts, sf, p_t, q0, rows, got, refusals, region: bool, cone) -> Answers:
+def _worded(arm: ArmModel, opts, sf, p_t, q0, rows, got, refusals, region: bool, aim) -> Answers:
     """A batch's answers, the kernel's (``got``: out_q, info, err) for ``rows``, the others
     refused (``refusals``: {row: why}, q0 kept); where a row failed, every row in words: a
     solved one's as the single solve's (``kernel_answers``), a success's the verdict's."""
@@ -476,7 +475,7 @@ def _worded(arm: ArmModel, opts, sf, p_t, q0, rows, got, refusals, region: bool,
     for k, i in enumerate(rows):
         if failed:
             one_ = kernel_answers(
-                arm, p_t[i], q0[i], opts, sf, info[k], out_q[k], err[k], region, cone
+                arm, p_t[i], q0[i], opts, sf, info[k], out_q[k], err[k], region, aim
             )
             words[i] = "" if one_.claimed(0) else one_.reason(0)
         q[i], claim[i], iterations[i], restarts[i] = out_q[k, 0], info[k, 0], info[k, 2], info[k, 3]
