@@ -20,7 +20,7 @@ from collections.abc import Mapping
 import numpy as np
 import pinocchio as pin
 
-from armik.errors import OptionError, TargetError
+from armik.errors import OptionError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.options import Options, spelled
@@ -46,7 +46,8 @@ from armik.solve.read_aim import (
     task_aim,
     tasks_aim,
 )
-from armik.solve.tasks import SOLVER, lower_all, task_problems
+from armik.solve.task_lists import lower_all, not_lowered_globally, task_problems
+from armik.solve.tasks import SOLVER
 from armik.targets.aim import refuse_freed, refuse_without_direction
 from armik.targets.batch import parse_targets
 from armik.targets.pose import MAX_POSITION, Target, checked, is_rotation, parsed
@@ -236,13 +237,7 @@ def read_path(
             if plan == "global":
                 if lowered is not None:
                     raise _held_global(options)
-                raise TargetError(
-                    "plan='global' plans over every solution at each waypoint, and the task "
-                    "lists given have no compiled form (the task solver gives one answer "
-                    "each): give plan='follow', or tasks the compiled path has a form for (a "
-                    "pose with bounds or weights, a position, a tip axis along a direction "
-                    "or within a cone of it, a look-at at one point, the same in every row)"
-                )
+                raise not_lowered_globally()
             rows = tuple(read(arm, list(p.tasks), q0, solver, options) for p in problems)
             return _by_rows(arm, rows, q0, solver, options, t0, score)
         poses, options = lowered
