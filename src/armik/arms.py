@@ -39,8 +39,9 @@ from armik.problem.scores import Manipulability, Posture, Score, fit_posture, pa
 from armik.problem.tasks import Pose, Relative, Task
 from armik.result import IKResult
 from armik.solutions import Solutions
-from armik.solve.read import check_options, read
 from armik.solve.read import options as read_options
+from armik.solve.read import read
+from armik.solve.refused import check_options
 from armik.solve.single import routed, solve_one
 from armik.solve.stages import run
 from armik.solve.tasks import measure_tasks, solve_tasks
