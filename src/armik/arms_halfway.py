@@ -28,7 +28,7 @@ from typing import Any, NamedTuple, cast
 import numpy as np
 import pinocchio as pin
 
-from armik import path_reasons, reasons
+from armik import path_reasons
 from armik.batch_result import BatchResult
 from armik.errors import ArmikError
 from armik.problem.problem import as_problem
@@ -91,15 +91,7 @@ def hidden_steps(
             continue
         if not _hides(judge, rows[k - 1], rows[k], Qa, Qb, DEPTH):
             continue
-        measured = path_reasons.verified(
-            out.reason(k),
-            reasons.measured(
-                float(out.position_error[k]),
-                float(out.orientation_error[k]),
-                out.tol_position,
-                out.tol_orientation,
-            ),
-        )
+        measured = path_reasons.row_verified(out, k)
         out.success[k] = False
         out.status_code[k] = Status.DISCONTINUOUS.code
         hidden = path_reasons.hidden_step("the previous waypoint's answer")

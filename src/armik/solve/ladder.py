@@ -187,15 +187,7 @@ def held_to_step(arm: ArmModel, out: BatchResult, start: np.ndarray | None, step
                 j = int(np.nanargmax(moved / step))
                 unit = "m" if arm.prismatic[j] else "rad"
                 move = path_reasons.moved(arm.joint_names[j], moved.item(j), unit, whence, step[j])
-                measured = path_reasons.verified(
-                    out.reason(i),
-                    reasons.measured(
-                        float(out.position_error[i]),
-                        float(out.orientation_error[i]),
-                        out.tol_position,
-                        out.tol_orientation,
-                    ),
-                )
+                measured = path_reasons.row_verified(out, i)
                 out.success[i] = False
                 out.status_code[i] = Status.DISCONTINUOUS.code
                 out.reasons[i] = path_reasons.jump(
