@@ -40,8 +40,7 @@ from armik.request import Request
 from armik.result import IKResult
 from armik.solutions import Solutions
 from armik.solve.read import options as read_options
-from armik.solve.read import read
-from armik.solve.replayable import replayable
+from armik.solve.read import read, replayable
 from armik.solve.single import routed
 from armik.solve.stages import run
 from armik.solve.tasks import measure_tasks, solve_tasks

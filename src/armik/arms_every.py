@@ -14,7 +14,9 @@ once the reference chain's answer is chosen: each answer of the reference chain 
 relative pose, every combination listed. A reference tip given no target keeps q0's
 values, one placement. A reference tip at a position (on more than 3 joints) has a
 continuum of orientations: the chains are solved first (``Arms.solve``), then every
-combination at the orientation that answer has is listed, each reason saying so. Chains
+combination at the orientation that answer has is listed, each reason saying so; one
+whose target leaves its placement free otherwise (a region, an aim, a weight of 0) at the
+placements its own answers found, a sample of the continuum, each reason saying so too. Chains
 that share joints, tips placed relative to each other in a cycle, and relative tips no
 combination of the chains' own answers holds are solved together by the task solver,
 which finds one answer: ``solve_all`` gives that one, its reason saying so
@@ -38,7 +40,7 @@ from armik.arms_prefer import is_cost, order, ranked
 from armik.arms_request import read_request, score_of
 from armik.arms_tasks import absolute, solve_order
 from armik.problem.problem import as_problem
-from armik.problem.tasks import Position
+from armik.problem.tasks import Pose, Position, Relative
 from armik.result import IKResult
 from armik.targets.pose import Target
 
@@ -98,8 +100,10 @@ def in_turn(arms: Any, request: Any, targets, relative: dict, q0: object, t0: fl
     the reference chains first, a relative tip's target placed by the answers of the
     chains before it (``arms_tasks.absolute``, as ``Arms.solve`` places it); the verified
     combinations, nearest q0 first or best first by ``prefer=``. A reference tip at a
-    position: at one sampled orientation (``_sampled``). Where none is verified, the
-    chains at once: ``Arms.solve``'s one answer, or its failure."""
+    position: at one sampled orientation (``_sampled``); one whose target leaves its
+    placement free otherwise: at its own answers' placements, a sample each reason names
+    (``_said_free``). Where none is verified, the chains at once: ``Arms.solve``'s one
+    answer, or its failure."""
     tips = solve_order(targets, relative)
     if tips is None:  # relative to each other in a cycle: the chains at once, one answer
         return [one_answer(arms._answer(request, targets, relative, q0, t0), "cycle")]
@@ -109,7 +113,9 @@ def in_turn(arms: Any, request: Any, targets, relative: dict, q0: object, t0: fl
     if points:
         return _sampled(arms, request, targets, relative, points, q0, t0)
     listed = _combinations(arms, request, targets, relative, tips, q0, t0)
-    return listed or [one_answer(arms._answer(request, targets, relative, q0, t0), "none")]
+    if not listed:
+        return [one_answer(arms._answer(request, targets, relative, q0, t0), "none")]
+    return _said_free(listed, _placed_freely(arms, targets, relative, request.options))
 
 
 def _combinations(arms: Any, request: Any, targets, relative: dict, tips, q0, t0: float):
@@ -171,6 +177,48 @@ def _positions(arms: Any, targets, relative: dict) -> dict[str, np.ndarray]:
     return out
 
 
+def _placed_freely(arms: Any, targets, relative: dict, options: dict) -> list[str]:
+    """The reference tips (another's ``Relative`` is relative to them) whose target leaves
+    their placement free within a continuum: a region (bounds), an aim (a cone, an axis, a
+    look-at), a weight of 0, a position (``_positions``: on more than 3 joints), in the
+    target or the call's options. A full pose held exactly, or no target (q0's values),
+    fixes it."""
+    weights, bounds = options.get("weights"), options.get("bounds")
+    freed = (
+        bool(options.get("position_only"))
+        or any(k in options for k in ("cone", "look_at", "toward"))
+        or (weights is not None and 0 in tuple(weights))
+        or (bounds is not None and any(b != 0 for b in tuple(bounds)))
+    )
+    out = []
+    for tip in sorted({t.relative_to for rel in relative.values() for t in rel}):
+        given = targets.get(tip)
+        if given is None:
+            continue
+        if freed or not _exact(given, tip, arms._chains[tip].dof):
+            out.append(tip)
+    return out
+
+
+def _exact(given: object, tip: str, dof: int) -> bool:
+    """Whether ``given`` (a tip's target: parsed, or a task list) fixes the tip's
+    placement: a full pose, exactly (a position on 3 joints or fewer: its few answers)."""
+    if type(given) is Target:
+        return given.aim is None and (given.rotation is not None or dof <= 3)
+    problem = as_problem(given)
+    on = [t for t in problem.tasks if t.frame in (None, tip)] if problem is not None else []
+    if len(on) != 1:
+        return False
+    (task,) = on
+    if type(task) is Position:
+        return dof <= 3 and not task.bounds.any()
+    if isinstance(task, Relative):  # its placement its reference's, held as this pose is
+        task = task.pose
+    if isinstance(task, Pose):
+        return not task.bounds.any() and bool(task.weights.all())
+    return False
+
+
 def _sampled(arms: Any, request: Any, targets, relative: dict, points: dict, q0, t0: float):
     """Reference tips at positions (``points``): ``Arms.solve``'s answer, then every
     combination with those tips at its orientations (a pose each: that position, the
@@ -191,6 +239,17 @@ def _sampled(arms: Any, request: Any, targets, relative: dict, points: dict, q0,
     if not listed:
         return [one_answer(one, "none")]
     said = f"; {SAMPLED.format(tips=list(points))}"
+    listed = [dataclasses.replace(r, reason=r.reason + said) for r in listed]
+    free = _placed_freely(arms, targets, relative, request.options)
+    return _said_free(listed, [tip for tip in free if tip not in points])
+
+
+def _said_free(listed: list[IKResult], free: list[str]) -> list[IKResult]:
+    """``listed`` (every combination at the placements its reference tips' answers found),
+    each reason saying so of the tips ``free`` whose target leaves that placement free."""
+    if not free:
+        return listed
+    said = f"; {FREED.format(tips=free)}"
     return [dataclasses.replace(r, reason=r.reason + said) for r in listed]
 
 
@@ -198,6 +257,11 @@ SAMPLED = (
     "the position target of {tips} held at one orientation, that of the chains' answer "
     "solved first: the answers of a position are a continuum, these are every combination "
     "of the chains' own answers at that orientation"
+)
+FREED = (
+    "the target of {tips} leaves its placement free within a continuum (a region, an aim, a "
+    "weight of 0): these are every combination of the chains' own answers at the placements "
+    "its own answers found, a sample of that continuum"
 )
 
 

@@ -28,7 +28,7 @@ from typing import Any, NamedTuple, cast
 import numpy as np
 import pinocchio as pin
 
-from armik import path_reasons, reasons
+from armik import path_reasons
 from armik.arms_request import ArmsRequest, read_request
 from armik.batch_result import BatchResult
 from armik.problem.problem import as_problem
@@ -36,7 +36,7 @@ from armik.problem.settings import SolverSettings
 from armik.problem.tasks import Pose, Position, Relative, Task
 from armik.problem.tasks.base import replaced
 from armik.solve.halfway import _loose, within
-from armik.solve.ladder import BEND, DEPTH, STEP_EDGE, poses_halfway, straight
+from armik.solve.ladder import BEND, DEPTH, STEP_EDGE, judged_from, poses_halfway, straight
 from armik.solve.rungs import free_spin
 from armik.solvers.closed_form.spin import nearest_spin
 from armik.status import Status
@@ -86,21 +86,13 @@ def hidden_steps(
     spin = None if opts.bounds is None else free_spin(opts.bounds)
     descent = {"max_restarts": 0, "max_iterations": DESCENT}
     judge = _Judge(arms, step, read_request(arms, {**options, **descent}), spin)
-    for k in (np.flatnonzero(out.success[1:] & went[:-1]) + 1).tolist():  # not from q0
-        Qa, Qb = out.q[k - 1], out.q[k]
+    for k, j in zip(*(x.tolist() for x in judged_from(out, went))):
+        Qa, Qb = out.q[j], out.q[k]
         if not (np.abs(Qb - Qa) <= step + STEP_EDGE).all():  # no within of both ends
             continue
-        if not _hides(judge, rows[k - 1], rows[k], Qa, Qb, DEPTH):
+        if not _hides(judge, rows[j], rows[k], Qa, Qb, DEPTH):
             continue
-        measured = path_reasons.verified(
-            out.reason(k),
-            reasons.measured(
-                float(out.position_error[k]),
-                float(out.orientation_error[k]),
-                out.tol_position,
-                out.tol_orientation,
-            ),
-        )
+        measured = path_reasons.row_verified(out, k)
         out.success[k] = False
         out.status_code[k] = Status.DISCONTINUOUS.code
         hidden = path_reasons.hidden_step("the previous waypoint's answer")

@@ -345,7 +345,7 @@ def _joined(
     out.q[:] = seeds
     out.success[:] = True
     out.status_code[:] = _CONVERGED
-    out.position_error[:] = 0.0
+    out.position_error[:] = math.nan  # (NaN where no tip's target holds a position)
     out.iterations[:] = 0
     out.restarts[:] = 0
     for tip in reversed(list(parts)):  # the first failing tip's status wins

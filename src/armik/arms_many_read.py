@@ -15,7 +15,7 @@ import numpy as np
 
 from armik.arms_rows import at, row_named
 from armik.errors import OptionError, TargetError
-from armik.solve.tasks import task_problems
+from armik.solve.task_lists import task_problems
 from armik.targets.batch import TargetBatch, parse_targets
 from armik.tolerances import LIMIT_TOL
 

@@ -7,7 +7,7 @@ the judge of a path's steps halfway) and ``solve_all``'s searches solve a row fr
 keyword options again. It is picklable: a batch's chunks of rows carry it to threads,
 processes and a Dask cluster.
 
-- ``options``: the options as given (replayable: ``armik.solve.replayable``), which the
+- ``options``: the options as given (replayable: ``armik.solve.read.replayable``), which the
   checks between chains that share no joint read (``armik.arms_collision``);
 - ``solver``: the name each chain's solver is asked by ("auto");
 - ``prefer``: the preference as given (a callable cost of the whole configuration too);
@@ -36,8 +36,8 @@ from armik.arms_options import chain_constraints, per_chain, refuse_own_checks
 from armik.constraints.on_chain import OnChain
 from armik.errors import OptionError
 from armik.problem.scores import Manipulability, Posture, Score, fit_posture, parse_score
-from armik.solve.read import check_options
 from armik.solve.read import options as read_options
+from armik.solve.refused import check_options
 from armik.solvers.registry import refuse_on_none, validate_name
 
 if TYPE_CHECKING:

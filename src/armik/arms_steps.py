@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 from pinocchio import SE3
 
-from armik import arms_halfway, path_reasons
+from armik import arms_halfway, path_reasons, reasons
 from armik.batch_result import BatchResult
 from armik.problem.problem import as_problem, as_target, lower
 from armik.problem.tasks import Task
@@ -44,15 +44,16 @@ def held(arms: Any, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: bo
     start = "q0 (the start)" if first else "the previous waypoint's answer"
     unit = "m" if arms.prismatic[j] else "rad"
     move = path_reasons.moved(arms.joint_names[j], moved[j], unit, start, step[j])
+    # what the verdicts measured (the worst tip's), the distances beside where they differ
+    apart = r.measured
+    said = reasons.best_errors(*(apart or (r.position_error, r.orientation_error)))
+    if apart is not None:
+        said = reasons.tips_apart(said, r.position_error, r.orientation_error)
     return dataclasses.replace(
         r,
         success=False,
         status=Status.DISCONTINUOUS,
-        reason=path_reasons.jump(
-            path_reasons.jump_found(move),
-            "that answer",
-            f"position error {r.position_error:.3g} m",
-        ),
+        reason=path_reasons.jump(path_reasons.jump_found(move), "that answer", said),
     )
 
 

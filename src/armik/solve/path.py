@@ -33,7 +33,7 @@ from collections.abc import Sequence
 import numpy as np
 import pinocchio as pin
 
-from armik import path_reasons
+from armik import path_reasons, reasons
 from armik.batch_result import BatchResult
 from armik.errors import OptionError
 from armik.frozen import frozen
@@ -378,7 +378,9 @@ def _near(
         why = path_reasons.continuous_but(move)
     else:
         why = path_reasons.not_continuous(move, MAX_SUBSTEPS - 1)
-    measured = path_reasons.verified(best.reason, f"position error {best.position_error:.3g} m")
+    measured = path_reasons.verified(
+        best.reason, reasons.best_errors(best.position_error, best.orientation_error)
+    )
     return dataclasses.replace(
         best,
         success=False,

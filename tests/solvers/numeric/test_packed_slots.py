@@ -1,5 +1,5 @@
 """The numeric driver writes and reads the packed kernel settings by slot (a call's look-at
-point, the budget, the failure words' weights, bounds and cone): each slot is the field
+point, the budget, the failure words' weights and bounds): each slot is the field
 ``unpack`` reads back, so a field added to ``pack_settings`` cannot shift them unseen."""
 
 from __future__ import annotations
@@ -36,12 +36,11 @@ def test_each_slot_the_driver_names_is_the_field_unpack_reads():
     floats = [
         (driver._WEIGHTS, back.w),
         (driver._BOUNDS, back.bounds),
-        (driver._CONE, back.cone),
         (driver._LOOK_POINT, back.look_point),
     ]
     for slot, field in floats:
         assert np.array_equal(sf[slot], field)
-    assert np.array_equal(sf[driver._BOUNDS], st.bounds) and sf[driver._CONE] == st.cone
+    assert np.array_equal(sf[driver._BOUNDS], st.bounds)
     assert si[driver._MAX_RESTARTS] == st.max_restarts == back.max_restarts
     assert si[driver._TIMEOUT_NS] == st.timeout_ns == back.timeout_ns
     assert si[driver._ITERATION_BUDGET] == st.iteration_budget == back.iteration_budget

@@ -304,7 +304,8 @@ def print_result(
         unit = "m" if jtype == "prismatic" else f"rad ({math.degrees(value):9.4f} deg)"
         print(f"{indent}  {name:<22} {value: .9f} {unit}")
     ori = "n/a" if r.orientation_error is None else f"{r.orientation_error:.2e} rad"
-    print(f"{indent}FK error : position {r.position_error:.2e} m, orientation {ori}")
+    pos = "n/a" if r.position_error is None else f"{r.position_error:.2e} m"
+    print(f"{indent}FK error : position {pos}, orientation {ori}")
     for tip, errors in r.extra.get("errors", {}).items():  # several tips: each tip's
         pos, tip_ori = (
             "n/a" if e is None else f"{e:.2e} {u}" for e, u in zip(errors, ("m", "rad"))
