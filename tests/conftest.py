@@ -92,6 +92,11 @@ def write_urdf(tmp_path, text: str, name: str = "robot.urdf"):
     return path
 
 
+def load_text(tmp_path, text: str, name: str = "robot.urdf", **kw) -> armik.Arm:
+    """The arm a URDF's text describes, read from a file as a user's would be."""
+    return armik.load(write_urdf(tmp_path, text, name), **kw)
+
+
 def two_link_urdf(
     *,
     l1: float = 1.0,

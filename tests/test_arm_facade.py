@@ -12,7 +12,8 @@ from armik.model.arm_model import ArmModel, model_of
 PUBLIC = {
     # what the arm is
     "name", "source", "dof", "joint_names", "joint_types", "lower", "upper", "neutral",
-    "middle", "base", "tip", "tip_reason", "locked", "info", "model", "kinematics",
+    "middle", "base", "tip", "tip_offset", "tip_reason", "locked", "info", "model",
+    "kinematics",
     # its kinematics
     "fk", "fk_batch", "jacobian", "random_q", "within_limits", "frames",
     # variants
@@ -51,6 +52,34 @@ def test_the_facade_reads_its_model():
         arm.dof = 3  # read-only: the model says how many joints there are
     assert repr(arm).startswith("Arm('panda', dof=6")
     assert repr(kin).startswith("ArmModel('panda', dof=6")
+
+
+def test_a_tool_offset_is_said_by_the_arm_the_robot_and_armik_info(capsys):
+    """The double pendulum's catalogue tip carries a 0.2 m tool point: fk included it, but
+    ``Arm`` had no ``tip_offset`` and ``armik info`` said only 'to 'link2''."""
+    from armik.tools.cli import main
+
+    arm = armik.load("double_pendulum")
+    assert arm.tip == "link2" and arm.tip_offset == (0.0, 0.0, 0.2)
+    q = arm.random_q(3)
+    bare = armik.load("double_pendulum", tip_offset=(0, 0, 0))  # link2's own frame
+    tool = bare.fk(q).act(np.array(arm.tip_offset))
+    np.testing.assert_allclose(arm.fk(q).translation, tool, atol=1e-12)
+    with pytest.raises(AttributeError):
+        arm.tip_offset = None  # read-only: the model's
+    assert "tip_offset=(0.0, 0.0, 0.2)" in repr(arm)
+    assert armik.load("ur5").tip_offset is None
+    assert armik.load("ur5", tip_offset=(0, 0, 0.1)).tip_offset == (0.0, 0.0, 0.1)
+    assert main(["info", "double_pendulum"]) == 0
+    assert "tip offset: (0, 0, 0.2) m in the frame of 'link2'" in capsys.readouterr().out
+    assert main(["info", "ur5"]) == 0
+    assert "tip offset" not in capsys.readouterr().out
+    robot = armik.load("double_pendulum", tips=["link1", "link2"])
+    assert robot.tip_offsets == {"link2": (0.0, 0.0, 0.2)}
+    assert "tip_offsets={'link2': (0.0, 0.0, 0.2)}" in repr(robot)
+    assert main(["info", "double_pendulum", "--tip", "link1", "--tip", "link2"]) == 0
+    out = capsys.readouterr().out
+    assert out.count("tip offset:") == 1 and "in the frame of 'link2'" in out
 
 
 def test_variants_are_facades_of_new_models():

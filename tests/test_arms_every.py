@@ -190,3 +190,55 @@ def test_a_position_reference_with_a_preference_lists_the_combinations_ranked(ce
         L, R = _placed(whole, cell, r.q)
         assert np.linalg.norm(L.translation - T_l.translation) < 1e-6
         assert np.linalg.norm(_relative_error(L, R, rel.pose.T)) < 1e-6
+
+
+def _free_references(T_l: pin.SE3):
+    """(the left tip's target, options) that leave its placement free within a continuum:
+    a region, a spin, an axis beside a position, in a cone, a look-at, an axis alone,
+    bounds and weights given as options."""
+    z = T_l.rotation[:, 2]
+    return [
+        (armik.Pose(T_l, bounds=(0.01, 0.01, 0.01, 0, 0, 0)), {}),
+        (armik.Pose(T_l, bounds=(0, 0, 0, 0, 0, np.inf)), {}),
+        (armik.Position(T_l.translation, bounds=(0.01,) * 3), {}),
+        ([armik.Position(T_l.translation), armik.Axis((0, 0, 1), z)], {}),
+        ([armik.Position(T_l.translation), armik.Axis((0, 0, 1), z, 0.1)], {}),
+        ([armik.Position(T_l.translation), armik.LookAt(T_l.translation + 0.3 * z)], {}),
+        (armik.Axis((0, 0, 1), z), {}),
+        (T_l, {"bounds": (0, 0, 0, 0, 0, 0.2)}),
+    ]
+
+
+def test_a_reference_whose_target_leaves_its_placement_free_says_it_is_a_sample(cell, whole):
+    """A region, a cone, an axis, a look-at of the left tip: every combination is listed at
+    the placements the left chain's own answers found, one sample of the continuum the
+    target allows, and each reason says so, as a position's says its orientation is one
+    sample. They said nothing of it. Each holds the relative pose on Pinocchio's FK."""
+    q = cell.random_q(np.random.default_rng(8))
+    T_l, T_r = cell.fk(q, LEFT), cell.fk(q, RIGHT)
+    rel = armik.Relative(RIGHT, LEFT, T_l.actInv(T_r))
+    for given, options in _free_references(T_l):
+        every = cell.solve_all({LEFT: given, RIGHT: rel}, q0=q, **options)
+        assert every and all(r.success for r in every), every[0].reason
+        for r in every:
+            assert "the target of ['l_tool0'] leaves its placement free" in r.reason, r.reason
+            assert "a sample of that continuum" in r.reason
+            L, R = _placed(whole, cell, r.q)
+            e = _relative_error(L, R, rel.pose.T)  # (the options' spin bound every tip's)
+            assert np.abs(e[:5]).max() < 1e-6 and abs(e[5]) <= (0.2 if options else 0) + 1e-6
+
+
+def test_a_reference_held_exactly_says_no_sample(cell):
+    """A full pose, as a target, a ``Pose`` task or with weights all non-zero: every
+    combination there is, none a sample."""
+    q = cell.random_q(np.random.default_rng(8))
+    T_l, T_r = cell.fk(q, LEFT), cell.fk(q, RIGHT)
+    rel = armik.Relative(RIGHT, LEFT, T_l.actInv(T_r))
+    for given, options in [
+        (T_l, {}),
+        (armik.Pose(T_l), {}),
+        (T_l, {"weights": (1, 1, 1, 2, 2, 2)}),
+    ]:
+        every = cell.solve_all({LEFT: given, RIGHT: rel}, q0=q, **options)
+        assert every and all(r.success for r in every)
+        assert not any("sample" in r.reason or "free" in r.reason for r in every), every[0].reason

@@ -62,3 +62,30 @@ def test_a_target_built_by_hand_whose_rotation_is_no_rotation_is_refused_by_name
     bad = armik.Target(T[left].translation.copy(), 2.0 * T[left].rotation)
     with pytest.raises(armik.TargetError, match=f"tip {left!r}.*not orthonormal"):
         talos.solve({**T, left: bad})
+
+
+def test_a_tips_rows_of_position_and_quaternion_are_a_batch_and_a_path_as_on_one_arm():
+    """``{tip: [(xyz, quat), ...]}`` is N poses per tip, as ``Arm.solve_batch`` reads a
+    list of them (a ragged row crashed in numpy); one ``(xyz, quat)`` per tip is refused as
+    one pose."""
+    import pinocchio as pin
+
+    robot = armik.load(dual("ur5"), tips=["l_tool0", "r_tool0"])
+    rng = np.random.default_rng(3)
+    qs = [robot.middle + rng.uniform(-0.2, 0.2, robot.dof) for _ in range(2)]
+    rows = {
+        t: [(robot.fk(q, t).translation, pin.Quaternion(robot.fk(q, t).rotation).coeffs())
+            for q in qs]
+        for t in robot.tips
+    }  # fmt: skip
+    batch = robot.solve_batch(rows, q0=qs[0])
+    path = robot.solve_path(rows, qs[0])
+    for rs in (list(batch), path):
+        assert [r.success for r in rs] == [True, True]
+        for r, q in zip(rs, qs):
+            for t in robot.tips:
+                assert np.allclose(
+                    robot.fk(r.q, t).homogeneous, robot.fk(q, t).homogeneous, atol=1e-6
+                )
+    with pytest.raises(armik.TargetError, match=r"one \(position, quaternion\)"):
+        robot.solve_batch({t: rows[t][0] for t in robot.tips})

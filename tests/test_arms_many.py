@@ -18,6 +18,7 @@ import pytest
 
 import armik
 from armik.arms_many import _read
+from armik.arms_many_read import read_rows
 from armik.arms_steps import hidden_steps
 from armik.constraints.base import Check, Constraint
 from armik.errors import FrameError, OptionError, TargetError
@@ -556,7 +557,7 @@ def test_a_path_of_independent_chains_judges_its_steps_halfway_under_a_loosened_
     assert out.success.all(), out.summary()
     for i, tip in itertools.product(range(2), cell.tips):  # on the positions by Pinocchio
         assert np.linalg.norm(cell.fk(out.q[i], tip).translation - ways[tip][i].translation) < 1e-6
-    hidden_steps(cell, out, ways, np.full(cell.dof, 3.1), _read(loosened))
+    hidden_steps(cell, out, read_rows(cell, ways), np.full(cell.dof, 3.1), _read(loosened))
     assert out.status.tolist() == ["converged", "discontinuous"]
     assert out.reason(1).startswith(f"{left}: ") and "hide" in out.reason(1)
     alone = cell.chain(left).solve_path(ways[left], q[cols], max_joint_step=3.1, **loosened)
@@ -564,6 +565,23 @@ def test_a_path_of_independent_chains_judges_its_steps_halfway_under_a_loosened_
     middle = 0.5 * (ways[left][0].translation + ways[left][1].translation)
     there = cell.chain(left).solve(middle)  # the position halfway: out of reach
     assert not there.success and there.position_error > 0.01
+
+
+def test_a_path_over_a_shared_torso_judges_the_step_after_a_jump():
+    """TALOS, both hands: Q_A to Q_B hides a jump within max_joint_step 1.0; with a random
+    configuration between them (a jump, row 1), the row after it reaches the same answer
+    and must not be called converged: each row after a jump is judged too (a row whose
+    step was left unjudged was a false success)."""
+    robot = talos()
+    q_a = np.array([-0.748, 0.175, 0.121, 0.789, 1.543, -2.103, -0.322, 0.946, -0.421, 0.11,
+                    -1.892, -1.408, -0.186, 0.289, 0.965, 0.048])  # fmt: skip
+    q_b = np.array([-1.309, -0.262, 0.524, 0.937, 0.812, -2.223, -0.36, 0.334, 0.001, -0.524,
+                    -2.088, -1.378, -0.311, 0.445, 1.393, 0.698])  # fmt: skip
+    q_j = robot.random_q(np.random.default_rng(4))
+    for qs in ([q_a, q_b], [q_a, q_j, q_b]):
+        ways = {tip: [robot.fk(q, tip) for q in qs] for tip in robot.tips}
+        b = robot.solve_path(ways, q_a, max_joint_step=1.0)
+        assert b.status.tolist()[-1] == "discontinuous", (len(qs), b.summary())
 
 
 def _with(q: np.ndarray, cols: np.ndarray, part: np.ndarray) -> np.ndarray:

@@ -47,16 +47,14 @@ def _modules() -> dict[str, Path]:
 
 
 def _imports(path: Path, name: str, mods: dict) -> set[str]:
-    """The armik modules ``path`` imports at module level (TYPE_CHECKING blocks aside)."""
+    """The armik modules ``path`` imports at module level, its type-only imports (the
+    TYPE_CHECKING blocks) included: a type names what a module stands on as well."""
     tree = ast.parse(path.read_text(encoding="utf-8"))
     package = name if path.name == "__init__.py" else name.rpartition(".")[0]
     found: set[str] = set()
 
     def visit(nodes) -> None:
         for node in nodes:
-            if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
-                visit(node.orelse)
-                continue
             if isinstance(node, ast.Import):
                 found.update(a.name for a in node.names)
             elif isinstance(node, ast.ImportFrom):
@@ -150,3 +148,27 @@ def test_modules_and_readme_stay_short():
 def test_the_cycle_check_can_fail():
     assert _cycle({"a": {"b"}, "b": {"c"}, "c": {"a"}}) == ["a", "b", "c", "a"]
     assert _cycle({"a": {"b"}, "b": set()}) is None
+
+
+def test_type_only_imports_count_as_imports(tmp_path):
+    """A module that names another's type under TYPE_CHECKING stands on it: a circle through
+    such an import is a circle."""
+    path = tmp_path / "m.py"
+    path.write_text(
+        "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from armik.arm import Arm\n"
+    )
+    assert _imports(path, "armik.m", _modules()) == {"armik.arm"}
+
+
+def test_the_kernel_takes_plain_arrays():
+    """``kernel/`` reads no arm model and no Pinocchio model: the model is read into arrays
+    below it (``model/chain_arrays.py``, ``model/frame_chains.py``)."""
+    graph, kernel = _graph(), "armik.kernel"
+    above = {
+        m: sorted(d for d in deps if d.startswith(("armik.model", "armik.solve")))
+        for m, deps in graph.items()
+        if m.startswith(kernel + ".")
+    }
+    assert not {m: d for m, d in above.items() if d}
+    for path in (SRC / "armik" / "kernel").glob("*.py"):
+        assert "import pinocchio" not in path.read_text(encoding="utf-8"), path.name

@@ -28,8 +28,8 @@ def test_import_armik_loads_nothing_else():
 
 
 def test_every_public_name_resolves_to_its_module_object():
-    from armik.arm import load
     from armik.errors import ArmikError
+    from armik.loading import load
     from armik.precompile import compile
     from armik.problem import Pose
 
@@ -39,6 +39,15 @@ def test_every_public_name_resolves_to_its_module_object():
     assert armik.load is load and armik.ArmikError is ArmikError and armik.Pose is Pose
     assert armik.compile is compile
     assert isinstance(armik.collision, types.ModuleType) and callable(armik.view)
+
+
+def test_dir_lists_the_public_names_only():
+    """dir(armik) listed TYPE_CHECKING and annotations (this file's imports), its private
+    names and every subpackage imported so far."""
+    armik.load("planar_2link").solve([1.2, 0.5])  # imports armik.model, armik.solve, ...
+    listed = {n for n in dir(armik) if not (n.startswith("__") and n.endswith("__"))}
+    assert listed == set(armik.__all__), listed ^ set(armik.__all__)
+    assert "__version__" in dir(armik) and "__doc__" in dir(armik)
 
 
 def test_an_unknown_name_is_an_attribute_error():

@@ -16,7 +16,7 @@ from typing import Any as _Any  # private: the package namespace is its API
 
 if TYPE_CHECKING:  # what the names below are, for type checkers; imported at first use
     from armik import collision, view
-    from armik.arm import Arm, load, load_string
+    from armik.arm import Arm
     from armik.arms import Arms
     from armik.batch_result import BatchResult
     from armik.constraints.clear import Collisions
@@ -36,6 +36,7 @@ if TYPE_CHECKING:  # what the names below are, for type checkers; imported at fi
         ViewerError,
     )
     from armik.export import export
+    from armik.loading import load, load_string
     from armik.model.catalogue import robots
     from armik.precompile import compile
     from armik.problem import Axis, LookAt, Pose, Position, Posture, Relative
@@ -54,7 +55,8 @@ __version__ = "0.1.0"
 _WHERE: dict[str, tuple[str, str | None]] = {
     "collision": ("armik.collision", None),
     "view": ("armik.view", None),  # the package, callable: ``armik.view(arm)``
-    **{n: ("armik.arm", n) for n in ("Arm", "load", "load_string")},
+    "Arm": ("armik.arm", "Arm"),
+    **{n: ("armik.loading", n) for n in ("load", "load_string")},
     "Arms": ("armik.arms", "Arms"),
     "BatchResult": ("armik.batch_result", "BatchResult"),
     "Collisions": ("armik.constraints.clear", "Collisions"),
@@ -114,7 +116,11 @@ def __getattr__(name: str) -> _Any:  # a module, a function or a class, at its f
 
 
 def __dir__() -> list[str]:
-    return sorted({*globals(), *_WHERE})
+    """The public names and the module's own dunders (``__version__``, ``__doc__``): not
+    this file's imports (``TYPE_CHECKING``, ``annotations``), its private names, nor the
+    subpackages an import sets as attributes (``armik.model``)."""
+    own = (n for n in globals() if n.startswith("__") and n.endswith("__"))
+    return sorted({*own, *_WHERE})
 
 
 class _Package(_types.ModuleType):

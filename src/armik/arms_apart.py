@@ -16,15 +16,23 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 from armik.arms_links import moved_elsewhere
 from armik.constraints.base import Constraint
 from armik.constraints.clear import Collisions
 from armik.model.arm_model import ArmModel
+from armik.model.union import Union
 
-if TYPE_CHECKING:
-    from armik.arms_kinematics import ArmsKinematics
+
+class Chains(Protocol):
+    """What ``chains`` reads and keeps of a robot (``armik.arms_kinematics.ArmsKinematics``,
+    which stands on this module through its collisions: a protocol, not that class)."""
+
+    tips: tuple[str, ...]
+    _chains: dict[str, ArmModel]
+    _union: Union | None  # the chains in one model where they share joints
+    _apart: dict[str, ArmModel] | None
 
 
 def asks(options: Mapping[str, Any] | None) -> bool:
@@ -38,9 +46,7 @@ def asks(options: Mapping[str, Any] | None) -> bool:
     return isinstance(items, (list, tuple)) and any(isinstance(c, Collisions) for c in items)
 
 
-def chains(
-    arms: ArmsKinematics, each: Mapping[str, Mapping[str, Any]] | None
-) -> dict[str, ArmModel]:
+def chains(arms: Chains, each: Mapping[str, Mapping[str, Any]] | None) -> dict[str, ArmModel]:
     """The model each chain's solve with its options ``each`` (tip -> options) takes:
     ``arms._chains`` unless they check collisions on chains that share no joint (then
     ``arms._apart``, built on the first such solve)."""

@@ -14,7 +14,9 @@ once the reference chain's answer is chosen: each answer of the reference chain 
 relative pose, every combination listed. A reference tip given no target keeps q0's
 values, one placement. A reference tip at a position (on more than 3 joints) has a
 continuum of orientations: the chains are solved first (``Arms.solve``), then every
-combination at the orientation that answer has is listed, each reason saying so. Chains
+combination at the orientation that answer has is listed, each reason saying so; one
+whose target leaves its placement free otherwise (a region, an aim, a weight of 0) at the
+placements its own answers found, a sample of the continuum, each reason saying so too. Chains
 that share joints, tips placed relative to each other in a cycle, and relative tips no
 combination of the chains' own answers holds are solved together by the task solver,
 which finds one answer: ``solve_all`` gives that one, its reason saying so
@@ -26,7 +28,6 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import time
-from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -36,37 +37,37 @@ from armik.arms_apart import facade, viewed
 from armik.arms_joined import held, joined, left_out
 from armik.arms_options import held_apart
 from armik.arms_prefer import is_cost, order, ranked
+from armik.arms_request import read_request, score_of
 from armik.arms_tasks import absolute, solve_order
 from armik.problem.problem import as_problem
-from armik.problem.tasks import Position
+from armik.problem.tasks import Pose, Position, Relative
 from armik.result import IKResult
-from armik.targets.pose import Target, parse_by_tip
+from armik.targets.pose import Target
 
 MAX_COMBINATIONS = 256  # answers at most: the nearest q0 (the best) of every chain's verified ones
 
 
-def solve_all(arms: Any, targets: Mapping[str, object], q0: object = None, **options: Any):
-    """Every answer of ``arms`` (an ``armik.Arms``) for one target per tip, best first; a
-    tip left out holds its constraints at the values it keeps (``arms_joined.held``)."""
-    found = _every(arms, targets, q0, **options)
-    checks = left_out(arms, options, targets)
+def solve_all(arms: Any, request: Any, targets: dict, relative: dict, q0: object = None):
+    """Every answer of ``arms`` (an ``armik.Arms``) for one target per tip (parsed, with
+    their ``relative`` tasks: ``Arms._parsed``'s), as ``request`` (an ``ArmsRequest``)
+    asks, best first; a tip left out holds its constraints at the values it keeps
+    (``arms_joined.held``)."""
+    found = _every(arms, request, targets, relative, q0)
+    checks = left_out(arms, request.options, targets)
     return [held(arms, r, checks) for r in found] if checks else found
 
 
-def _every(arms: Any, targets: Mapping[str, object], q0: object = None, **options: Any):
+def _every(arms: Any, request: Any, targets: dict, relative: dict, q0: object):
     t0 = time.perf_counter()
-    relative = arms._check_targets(targets)
-    # each tip's pose or position parsed once, a bad one named by its tip (as ``solve``)
-    poses = {tip: v for tip, v in targets.items() if as_problem(v) is None}
-    targets = {**targets, **parse_by_tip(poses, arms._chains)}
     if arms._union is not None:
-        return [one_answer(arms._solve(targets, q0, dict(options)), "share joints")]
+        one = arms._answer(request, targets, relative, q0, t0)
+        return [one_answer(one, "share joints")]
     if relative:
-        return in_turn(arms, targets, relative, q0, options, t0)
+        return in_turn(arms, request, targets, relative, q0, t0)
     seeds = arms._middle_seeds if q0 is None else arms.split(q0)
-    held = arms._holds(options)
+    held = request.chains_options(arms.tips)
     seeds = held_apart(seeds, held, arms._chains, targets)  # a tip left out: its holds
-    prefer = options.get("prefer")
+    prefer = request.prefer
     if is_cost(prefer):  # a cost of the whole configuration: ranked over the combinations
         reference = arms.middle if q0 is None else np.asarray(q0, dtype=float)
         return ranked(
@@ -93,32 +94,35 @@ def _every(arms: Any, targets: Mapping[str, object], q0: object = None, **option
     return results[:MAX_COMBINATIONS]
 
 
-def in_turn(arms: Any, targets, relative: dict, q0: object, options: dict, t0: float):
+def in_turn(arms: Any, request: Any, targets, relative: dict, q0: object, t0: float):
     """Every answer of tips placed relative to each other (``relative``: each tip's
     ``Relative`` tasks) on chains that share no joint: each chain's ``solve_all`` in turn,
     the reference chains first, a relative tip's target placed by the answers of the
     chains before it (``arms_tasks.absolute``, as ``Arms.solve`` places it); the verified
     combinations, nearest q0 first or best first by ``prefer=``. A reference tip at a
-    position: at one sampled orientation (``_sampled``). Where none is verified, the
-    chains at once: ``Arms.solve``'s one answer, or its failure."""
+    position: at one sampled orientation (``_sampled``); one whose target leaves its
+    placement free otherwise: at its own answers' placements, a sample each reason names
+    (``_said_free``). Where none is verified, the chains at once: ``Arms.solve``'s one
+    answer, or its failure."""
     tips = solve_order(targets, relative)
     if tips is None:  # relative to each other in a cycle: the chains at once, one answer
-        return [one_answer(arms._solve(targets, q0, dict(options)), "cycle")]
-    prefer = options.get("prefer")
-    if is_cost(prefer):  # refused as ``Arms.solve`` refuses it, by name
-        arms._score(prefer)
+        return [one_answer(arms._answer(request, targets, relative, q0, t0), "cycle")]
+    if is_cost(request.prefer):  # refused as ``Arms.solve`` refuses it, by name
+        score_of(arms, request.prefer)
     points = _positions(arms, targets, relative)
     if points:
-        return _sampled(arms, targets, relative, points, q0, options, t0)
-    listed = _combinations(arms, targets, relative, tips, q0, options, t0)
-    return listed or [one_answer(arms._solve(targets, q0, dict(options)), "none")]
+        return _sampled(arms, request, targets, relative, points, q0, t0)
+    listed = _combinations(arms, request, targets, relative, tips, q0, t0)
+    if not listed:
+        return [one_answer(arms._answer(request, targets, relative, q0, t0), "none")]
+    return _said_free(listed, _placed_freely(arms, targets, relative, request.options))
 
 
-def _combinations(arms: Any, targets, relative: dict, tips, q0, options: dict, t0: float):
+def _combinations(arms: Any, request: Any, targets, relative: dict, tips, q0, t0: float):
     """``in_turn``'s combinations, the chains solved in the order ``tips``; [] where none
     is verified."""
     seeds = arms._middle_seeds if q0 is None else arms.split(q0)
-    held = arms._holds(options)
+    held = request.chains_options(arms.tips)
     seeds = held_apart(seeds, held, arms._chains, targets)
     combos: list[dict[str, IKResult]] = [{}]
     for tip in tips:
@@ -134,7 +138,7 @@ def _combinations(arms: Any, targets, relative: dict, tips, q0, options: dict, t
             return []
         combos = _nearest(grown, seeds)[:MAX_COMBINATIONS]
     elapsed = time.perf_counter() - t0
-    prefer = options.get("prefer")
+    prefer = request.prefer
     if prefer is None:
         return [joined(arms.tips, done, seeds, elapsed) for done in combos]
     choices = [tuple(done[t] for t in targets) for done in combos]
@@ -173,25 +177,79 @@ def _positions(arms: Any, targets, relative: dict) -> dict[str, np.ndarray]:
     return out
 
 
-def _sampled(arms: Any, targets, relative: dict, points: dict, q0, options: dict, t0: float):
+def _placed_freely(arms: Any, targets, relative: dict, options: dict) -> list[str]:
+    """The reference tips (another's ``Relative`` is relative to them) whose target leaves
+    their placement free within a continuum: a region (bounds), an aim (a cone, an axis, a
+    look-at), a weight of 0, a position (``_positions``: on more than 3 joints), in the
+    target or the call's options. A full pose held exactly, or no target (q0's values),
+    fixes it."""
+    weights, bounds = options.get("weights"), options.get("bounds")
+    freed = (
+        bool(options.get("position_only"))
+        or any(k in options for k in ("cone", "look_at", "toward"))
+        or (weights is not None and 0 in tuple(weights))
+        or (bounds is not None and any(b != 0 for b in tuple(bounds)))
+    )
+    out = []
+    for tip in sorted({t.relative_to for rel in relative.values() for t in rel}):
+        given = targets.get(tip)
+        if given is None:
+            continue
+        if freed or not _exact(given, tip, arms._chains[tip].dof):
+            out.append(tip)
+    return out
+
+
+def _exact(given: object, tip: str, dof: int) -> bool:
+    """Whether ``given`` (a tip's target: parsed, or a task list) fixes the tip's
+    placement: a full pose, exactly (a position on 3 joints or fewer: its few answers)."""
+    if type(given) is Target:
+        return given.aim is None and (given.rotation is not None or dof <= 3)
+    problem = as_problem(given)
+    on = [t for t in problem.tasks if t.frame in (None, tip)] if problem is not None else []
+    if len(on) != 1:
+        return False
+    (task,) = on
+    if type(task) is Position:
+        return dof <= 3 and not task.bounds.any()
+    if isinstance(task, Relative):  # its placement its reference's, held as this pose is
+        task = task.pose
+    if isinstance(task, Pose):
+        return not task.bounds.any() and bool(task.weights.all())
+    return False
+
+
+def _sampled(arms: Any, request: Any, targets, relative: dict, points: dict, q0, t0: float):
     """Reference tips at positions (``points``): ``Arms.solve``'s answer, then every
     combination with those tips at its orientations (a pose each: that position, the
     answer's orientation), each result's reason saying the orientation is one sample of a
     continuum; that one answer where none is verified, its failure where it fails."""
-    one = arms._solve(targets, q0, dict(options))
-    if not one.success and options.get("prefer") is not None:  # the sample needs an answer,
-        # any: the preference ranks the combinations below (its own best may be out of reach)
-        one = arms._solve(targets, q0, {k: v for k, v in options.items() if k != "prefer"})
+    one = arms._answer(request, targets, relative, q0, time.perf_counter())
+    if not one.success and request.prefer is not None:  # the sample needs an answer, any:
+        # the preference ranks the combinations below (its own best may be out of reach)
+        unranked = {k: v for k, v in request.options.items() if k != "prefer"}
+        one = arms._answer(read_request(arms, unranked), targets, relative, q0, time.perf_counter())
     if not one.success:
         return [one]
     pinned = {**targets}
     for tip, point in points.items():
         pinned[tip] = pin.SE3(arms.fk(one.q, tip).rotation, point)
     tips = solve_order(pinned, relative)
-    listed = _combinations(arms, pinned, relative, tips, q0, options, t0)
+    listed = _combinations(arms, request, pinned, relative, tips, q0, t0)
     if not listed:
         return [one_answer(one, "none")]
     said = f"; {SAMPLED.format(tips=list(points))}"
+    listed = [dataclasses.replace(r, reason=r.reason + said) for r in listed]
+    free = _placed_freely(arms, targets, relative, request.options)
+    return _said_free(listed, [tip for tip in free if tip not in points])
+
+
+def _said_free(listed: list[IKResult], free: list[str]) -> list[IKResult]:
+    """``listed`` (every combination at the placements its reference tips' answers found),
+    each reason saying so of the tips ``free`` whose target leaves that placement free."""
+    if not free:
+        return listed
+    said = f"; {FREED.format(tips=free)}"
     return [dataclasses.replace(r, reason=r.reason + said) for r in listed]
 
 
@@ -199,6 +257,11 @@ SAMPLED = (
     "the position target of {tips} held at one orientation, that of the chains' answer "
     "solved first: the answers of a position are a continuum, these are every combination "
     "of the chains' own answers at that orientation"
+)
+FREED = (
+    "the target of {tips} leaves its placement free within a continuum (a region, an aim, a "
+    "weight of 0): these are every combination of the chains' own answers at the placements "
+    "its own answers found, a sample of that continuum"
 )
 
 

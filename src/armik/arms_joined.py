@@ -29,7 +29,8 @@ def joined(tips, results: dict[str, IKResult], seeds, elapsed: float) -> IKResul
     parts, failed, errors = [], [], {}
     solvers: dict[str, None] = {}  # the solvers' names, in order, once each
     iterations = restarts = 0
-    position, orientation, singular = 0.0, None, False
+    position: float | None = None  # None: no tip's target holds a position
+    orientation, singular = None, False
     measured = False  # some tip's request measured other than its distances (a region)
     near = None  # the closest pair some tip's collision check found: (distance, pair)
     for tip in tips:
@@ -46,7 +47,7 @@ def joined(tips, results: dict[str, IKResult], seeds, elapsed: float) -> IKResul
         errors[tip] = (pos, ori)
         iterations += d["iterations"]
         restarts += d["restarts"]
-        if pos > position:
+        if pos is not None and (position is None or pos > position):
             position = pos
         if ori is not None and (orientation is None or ori > orientation):
             orientation = ori

@@ -25,6 +25,7 @@ from armik.constraints.srdf import Pair
 from armik.errors import FrameError, JointError, OptionError, TargetError, warn
 from armik.model import frames
 from armik.model.arm_model import ArmModel
+from armik.model.limit_units import degrees_note
 from armik.model.reduce import check_limits
 from armik.model.union import Union
 from armik.solve.intervals import Intervals, intervals
@@ -65,6 +66,13 @@ class ArmsKinematics:
     def base(self) -> str:
         """The frame every chain starts from (``Arm.base``)."""
         return next(iter(self._chains.values())).base
+
+    @property
+    def tip_offsets(self) -> dict[str, tuple[float, float, float]]:
+        """Each tip's tool point offset (``Arm.tip_offset``, m in the tip's frame), for the
+        tips that have one."""
+        chains = self._chains.items()
+        return {tip: arm.tip_offset for tip, arm in chains if arm.tip_offset is not None}
 
     @property
     def neutral(self) -> np.ndarray:
@@ -186,7 +194,8 @@ class ArmsKinematics:
             for text in arm.limit_violations(q[self._columns[tip]])
         )
         where = "q0" if row is None else f"q0's row {row}"
-        warn(f"{where} outside the joint limits was clipped into them: " + "; ".join(said))
+        said_all = "; ".join(said) + degrees_note(q, self)
+        warn(f"{where} outside the joint limits was clipped into them: {said_all}")
         return np.clip(q, self.lower, self.upper)
 
     def split(self, q: object) -> dict[str, np.ndarray]:

@@ -31,6 +31,7 @@ def save(result: Any, path: str | Path) -> Path:
         "margin": result.margin,
         "region": result.region,
         "cone": result.cone,
+        "looks_at": result.looks_at,
         "free": list(result.free),
         "claim": result.claim,
         "branch_names": list(result.branch_names),
@@ -109,6 +110,7 @@ def fields(path: str | Path) -> dict[str, Any]:
         score=arrays.get("score"),  # absent from files written before preferences
         region=bool(meta.get("region", False)),  # absent from files before regions
         cone=_cone(meta.get("cone")),  # absent from files before it was kept
+        looks_at=bool(meta.get("looks_at", False)),  # absent from files before it was kept
         free=tuple(bool(f) for f in meta.get("free", (False, False))),  # absent before too
         measured=arrays.get("measured"),  # absent from files before it was kept
         claim=str(meta.get("claim", "")),  # absent from files before it was kept

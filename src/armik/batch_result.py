@@ -35,7 +35,8 @@ class BatchResult:
     - ``status`` (N,) words (``converged``, ``unreachable``, ...), as in ``IKResult``;
       stored as the small integer codes ``status_code`` (``Status.code``).
     - ``position_error`` (N,) m and ``orientation_error`` (N,) rad, measured on ``q``;
-      ``orientation_error`` is NaN where it is not measured (position-only targets).
+      each NaN where the target has no such part (a position's orientation, an
+      ``armik.Axis``'s or ``armik.LookAt``'s position).
     - ``iterations``, ``restarts`` (N,) per target; ``solver``; ``time`` (s) for the whole
       batch, verification included.
     - ``reasons``: index -> each failure's reason; ``said``: a success's words where its
@@ -49,8 +50,9 @@ class BatchResult:
       ``position_error`` and ``orientation_error`` are the distances all the same. NaN
       where the verdict measured the distances themselves (``armik.verify.distances``).
     - ``region``, ``cone``: the targets are regions (bounds, an aim) and the aim's cone (rad,
-      None: no aim), ``free``: (position, rotation) left wholly free by weights of 0 or
-      infinite bounds, so that a success's ``reason(i)`` says what ``solve``'s says.
+      None: no aim), ``looks_at``: the aim looks at a point, ``free``: (position, rotation)
+      left wholly free by weights of 0 or infinite bounds, so that a success's
+      ``reason(i)`` says what ``solve``'s says.
     - ``errors``: on several tips (``armik.Arms``), tip -> (N, 2) each row's distances to
       that tip's target (position m, orientation rad, NaN where not measured), as
       ``Arms.solve``'s ``errors[tip]``; empty for one arm.
@@ -83,6 +85,7 @@ class BatchResult:
     score: np.ndarray | None = None  # (N,) with prefer=; NaN filled when None is given
     region: bool = False  # the targets are regions (bounds, a cone): errors lie outside them
     cone: float | None = None  # rad: the targets' aim's cone (a batch shares one), None: no aim
+    looks_at: bool = False  # the aim looks at a point (its words: the line to the point)
     free: tuple[bool, bool] = (False, False)  # (position, rotation): every component free
     measured: np.ndarray | None = None  # (N, 2) the verdict's errors; NaN filled when None
     # a success's claim before its verdict's words, as ``solve`` says it ("{}": its
@@ -184,16 +187,21 @@ class BatchResult:
             pos, ori = apart[0], apart[1]
         tol_p, tol_r, free = self.tol_position, self.tol_orientation, self.free
         said_pos, said_ori = None if free[0] else pos, None if free[1] or ori != ori else ori
+        cone = None if self.cone is None else reasons.Cone(self.cone, self.looks_at)
         if self.region:  # inside it for a success; NaN: no orientation measured (a position)
-            measured = reasons.region(said_pos, said_ori, tol_p, tol_r, self.cone)
+            measured = reasons.region(said_pos, said_ori, tol_p, tol_r, cone)
         else:
             measured = reasons.measured(said_pos, said_ori, tol_p, tol_r)
         said = self.claim.format(int(self.restarts[i])) if self.claim and self.success[i] else None
         text = reasons.verified(said, measured)
         if not math.isnan(apart[0]):
             pos, ori = float(self.position_error[i]), float(self.orientation_error[i])
+            pos = None if pos != pos else pos  # NaN: a target that holds no position
             weighted = self.weighted or not self.region  # solve's words (``verify.distances``)
-            text = reasons.measured_apart(text, pos, ori, weighted, self.region, free)
+            if self.errors:  # several tips: the worst tip's measure, every tip's distance
+                text = reasons.tips_apart(text, pos, ori)
+            else:
+                text = reasons.measured_apart(text, pos, ori, weighted, self.region, free, cone)
         if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):  # checked
             pair, distance = self.closest_pair(i), float(self._distances[i])
             text = reasons.and_clear(text, pair, distance, self.margin)
@@ -227,6 +235,7 @@ class BatchResult:
         if isinstance(index, (int, np.integer)) and not isinstance(index, (bool, np.bool_)):
             i = self._index(index)
             ori, code = float(self.orientation_error[i]), int(self.branch_codes(np.array([i]))[0])
+            position = float(self.position_error[i])  # NaN: a target with no position
             extra: dict[str, Any] = {"index": i, "batch_time": self.time}
             if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):
                 extra["min_distance"] = float(self._distances[i])
@@ -238,9 +247,9 @@ class BatchResult:
                 extra["measured"] = (pos, None if math.isnan(rot) else rot)
             if self.errors:  # several tips: each tip's, as ``Arms.solve`` gives them
                 extra["errors"] = {
-                    tip: (float(e[i, 0]), None if math.isnan(e[i, 1]) else float(e[i, 1]))
+                    tip: tuple(None if math.isnan(x) else x for x in e[i].tolist())
                     for tip, e in self.errors.items()
-                    if not math.isnan(e[i, 0])
+                    if not np.isnan(e[i]).all()
                 }
             return IKResult(
                 q=self.q[i],
@@ -249,7 +258,7 @@ class BatchResult:
                 reason=self.reason(i),
                 solver=self.solvers.get(i, self.solver.removesuffix(PREFERRED)),  # solve's
                 iterations=int(self.iterations[i]),
-                position_error=float(self.position_error[i]),
+                position_error=None if math.isnan(position) else position,
                 orientation_error=None if math.isnan(ori) else ori,
                 time=self.time / max(len(self), 1),
                 restarts=int(self.restarts[i]),
@@ -288,6 +297,7 @@ class BatchResult:
             score=self._scores[picked],
             region=self.region,
             cone=self.cone,
+            looks_at=self.looks_at,
             free=self.free,
             measured=self._measured[picked],
             claim=self.claim,
@@ -364,6 +374,7 @@ class BatchResult:
             margin=margin,
             region=opts.bounds is not None or aim is not None,
             cone=None if aim is None else aim.within,
+            looks_at=aim is not None and aim.point is not None,
             free=(False, False)
             if opts.weights is None and opts.bounds is None
             else opts.left_free(False, aim is not None),
@@ -433,7 +444,7 @@ class BatchResult:
         if apart is not None:
             self._measured[i] = (apart[0], math.nan if apart[1] is None else apart[1])
         for tip, (pos, ori) in (r.extra.get("errors") or {}).items():  # several tips
-            self.tip_errors(tip)[i] = (pos, math.nan if ori is None else ori)
+            self.tip_errors(tip)[i] = tuple(math.nan if e is None else e for e in (pos, ori))
         if r.success:
             self.reasons.pop(i, None)  # a row solved again: its earlier failure's words go
         else:

@@ -4,15 +4,65 @@ throughput, the largest errors (or distances) of the solved and their smallest c
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from armik.batch_result import BatchResult
+from armik.reasons import Cone
 
 
-def summary(batch: BatchResult) -> str:
+class Summarised(Protocol):
+    """What the line reads of a batch (``armik.batch_result.BatchResult``, which imports
+    this module: a protocol, not that class, so neither stands on the other)."""
+
+    # properties: a frozen dataclass's fields are read-only
+    @property
+    def arm(self) -> str: ...
+
+    @property
+    def solver(self) -> str: ...
+
+    @property
+    def time(self) -> float: ...
+
+    @property
+    def region(self) -> bool: ...
+
+    @property
+    def free(self) -> tuple[bool, bool]: ...
+
+    @property
+    def success(self) -> np.ndarray: ...
+
+    @property
+    def position_error(self) -> np.ndarray: ...
+
+    @property
+    def orientation_error(self) -> np.ndarray: ...
+
+    @property
+    def cone(self) -> float | None: ...
+
+    @property
+    def looks_at(self) -> bool: ...
+
+    @property
+    def errors(self) -> dict[str, np.ndarray]: ...
+
+    @property
+    def _measured(self) -> np.ndarray: ...
+
+    @property
+    def _distances(self) -> np.ndarray: ...
+
+    def __len__(self) -> int: ...
+
+    def counts(self) -> dict[str, int]: ...
+
+    def closest_pair(self, i: int) -> tuple[str, str] | None: ...
+
+
+def summary(batch: Summarised) -> str:
     """One line: how many were solved, by status, the time and the throughput."""
     n = len(batch)
     name = f"{batch.arm}/{batch.solver}" if batch.arm else batch.solver
@@ -28,13 +78,17 @@ def summary(batch: BatchResult) -> str:
     if solved:
         worst = batch.position_error[batch.success].max()
         apart = batch._measured[batch.success]  # NaN where the distances were measured
-        if np.isnan(apart[:, 0]).all():
+        ori = batch.orientation_error[batch.success]
+        if batch.cone is not None:  # an aim's, in its terms
+            line += _aimed(batch, worst, ori)
+        elif np.isnan(apart[:, 0]).all():
             line += f"; largest error of the solved: {worst:.2g} m"
         else:  # the errors are distances; the verdicts measured the region or weights
             to = "the region's centre" if batch.region else "the target"
+            if batch.errors:  # several tips: each tip's, a region's centre where it has one
+                to = "their targets (a region's centre where one has it)"
             line += f"; largest distance to {to} of the solved: {worst:.2g} m"
-        ori = batch.orientation_error[batch.success]
-        if not np.isnan(ori).all():
+        if batch.cone is None and not np.isnan(ori).all():
             line += f", {np.nanmax(ori):.2g} rad"
         if not np.isnan(apart[:, 0]).all():  # a part left wholly free measured 0: unsaid
             free_p, free_r = batch.free
@@ -50,3 +104,17 @@ def summary(batch: BatchResult) -> str:
             names = "" if pair is None else f" ({pair[0]} / {pair[1]})"
             line += f"; smallest clearance of the solved: {d[k]:.3g} m{names}"
     return line
+
+
+def _aimed(batch: Summarised, worst: float, ori: np.ndarray) -> str:
+    """The largest distances of the solved of a batch whose targets have an aim: the tip's
+    to the region's centre (a position left wholly free, or none, unsaid), its axis' angle
+    from its direction or the line to the point."""
+    sight = Cone(batch.cone or 0.0, batch.looks_at).sight
+    axis = f"{np.nanmax(ori):.2g} rad from {sight}"
+    if worst != worst or (batch.free[0] and worst == 0.0):
+        return f"; largest distance of the solved: the tip's axis {axis}"
+    return (
+        f"; largest distances of the solved: the tip {worst:.2g} m from the region's centre, "
+        f"its axis {axis}"
+    )

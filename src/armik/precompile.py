@@ -29,12 +29,13 @@ from typing import Any
 import numpy as np
 from pinocchio import SE3
 
-from armik.arm import Arm, load, load_string
+from armik.arm import Arm
 from armik.constraints.collision import checker
 from armik.constraints.limits import JointLimits
 from armik.constraints.shapes import Box, HalfSpace, Sphere
 from armik.errors import OptionError, listing
 from armik.kernel.tier import compiling
+from armik.loading import load, load_string
 from armik.model.random_arms import random_urdf
 from armik.problem.tasks import Axis, Position
 from armik.solve.progress import make_progress

@@ -6,6 +6,7 @@ them (a target beyond reach, a budget run out)."""
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import NamedTuple
 
 
 def measured(pos: float | None, ori: float | None, tol_p: float, tol_r: float) -> str:
@@ -23,41 +24,62 @@ def outside_region(measured_text: str) -> str:
     return f"outside the region: {measured_text}"
 
 
+class Cone(NamedTuple):
+    """An aim as its words name it: the cone's angle (rad) and what the tip's axis points
+    along, the line to a point (``at_point``: a look-at) or a direction."""
+
+    within: float
+    at_point: bool = False
+
+    @property
+    def sight(self) -> str:
+        return "the line to the point" if self.at_point else "its direction"
+
+
 def region(
-    pos: float | None, ori: float | None, tol_p: float, tol_r: float, cone: float | None
+    pos: float | None, ori: float | None, tol_p: float, tol_r: float, cone: Cone | None
 ) -> str:
     """A measure of a target with a region (bounds, an aim): its errors are the distances
     outside it, within the tolerances "inside the region", else "outside" (NaN: not
-    placed; ``pos`` None: the position free, not said). With an aim (``cone``: its angle,
-    rad) the orientation error is the tip axis' angle outside its cone: "within its cone",
-    or the axis' angle from its direction."""
+    placed; ``pos`` None: the position free, not said). With an aim (``cone``) the
+    orientation error is the tip axis' angle outside its cone, said in the aim's terms
+    (``_axis``); an aim whose position is free is no region: its axis alone is said."""
     inside = (pos is None or pos <= tol_p) and (ori is None or ori <= tol_r)  # NaN: False
     where = "inside" if inside else "outside"
     if cone is None or ori is None or ori != ori:
         return f"{where} the region: {measured(pos, ori, tol_p, tol_r)}"
-    said = [] if pos is None else [measured(pos, None, tol_p, tol_r)]
-    if ori <= tol_r:
-        said.append(f"the tip's axis within its cone of {cone:.3g} rad")
-    else:
-        said.append(f"{_off_axis(ori, cone)}{_tol_text(tol_r)}")
-    return f"{where} the region: {', '.join(said)}"
+    if pos is None:
+        return _axis(ori, cone, tol_r)
+    return f"{where} the region: {measured(pos, None, tol_p, tol_r)}, {_axis(ori, cone, tol_r)}"
 
 
-def _off_axis(ori: float, cone: float) -> str:
-    """The tip's axis ``ori`` rad outside its ``cone`` (rad), in words."""
-    outside = f", outside its cone of {cone:.3g} rad" if cone > 0 else ""
-    return f"the tip's axis {ori + cone:.3g} rad from its direction{outside}"
+def _axis(ori: float, cone: Cone, tol_r: float) -> str:
+    """The tip's axis ``ori`` rad outside its cone, in words: "within its cone of 0.1 rad
+    around its direction", or its angle from the direction (the line to the point) where
+    that is the measure: outside the cone, or a cone 0 wide."""
+    if ori <= tol_r and cone.within > 0.0:
+        return f"the tip's axis within its cone of {cone.within:.3g} rad around {cone.sight}"
+    return f"{_off_axis(ori, cone)}{_tol_text(tol_r)}"
 
 
-def best_outside(pos: float | None, ori: float | None, cone: float | None) -> str:
+def _off_axis(ori: float, cone: Cone) -> str:
+    """The tip's axis ``ori`` rad outside its ``cone``, in words: its angle from the
+    direction (the line to the point)."""
+    outside = f", outside its cone of {cone.within:.3g} rad" if cone.within > 0 else ""
+    return f"the tip's axis {ori + cone.within:.3g} rad from {cone.sight}{outside}"
+
+
+def best_outside(pos: float | None, ori: float | None, cone: Cone | None) -> str:
     """A failure's best attempt against a region: the distances outside it, each part
-    where measured (None: free); with an aim (``cone``, rad) the tip axis' angle."""
+    where measured (None: free); with an aim (``cone``) the tip axis' angle, an aim whose
+    position is free no region."""
     if cone is None or ori is None:
         return outside_region(best_errors(pos, ori))
-    axis = _off_axis(ori, cone) if ori > 0 else f"the tip's axis within its cone of {cone:.3g} rad"
-    return outside_region(
-        ", ".join(([] if pos is None else [f"position error {pos:.3g} m"]) + [axis])
-    )
+    if ori > 0:
+        axis = _off_axis(ori, cone)
+    else:
+        axis = f"the tip's axis within its cone of {cone.within:.3g} rad around {cone.sight}"
+    return axis if pos is None else outside_region(f"position error {pos:.3g} m, {axis}")
 
 
 CONVERGED = "converged after {} restart(s)"  # a numeric solver's claim: its restarts
@@ -271,24 +293,59 @@ _TOL_TEXT: dict[float, str] = {}
 
 
 def measured_apart(
-    reason: str, pos: float, ori: float | None, weighted: bool, region: bool, free=(False, False)
+    reason: str,
+    pos: float | None,
+    ori: float | None,
+    weighted: bool,
+    region: bool,
+    free=(False, False),
+    cone: Cone | None = None,
 ) -> str:
     """A result whose verdict measured other than the distances to the target (weights on
     the axes, a region): its reason, then those distances, what ``position_error`` and
     ``orientation_error`` report (to a region's centre, its free components left out: a
     part wholly free, ``free`` (position, rotation), is 0 there and not said; one a
-    weight of 0 freed is a distance all the same, said)."""
+    weight of 0 freed is a distance all the same, said); with an aim (``cone``), in its
+    terms (``_aim_apart``)."""
     said = f"{reason} (on the weighted axes)" if weighted else reason
+    if cone is not None:
+        return said + _aim_apart(pos, ori, free[0], cone)
     to = "the region's centre, free components apart" if region else "the target"
-    parts = _parts(pos, ori, region and free[0] and pos == 0.0, region and free[1] and ori == 0.0)
+    free_p = pos is None or (region and free[0] and pos == 0.0)
+    parts = _parts(pos or 0.0, ori, free_p, region and free[1] and ori == 0.0)
     return f"{said}; the tip is {parts} from {to}" if parts else said
 
 
-def tasks_apart(reason: str, pos: float, ori: float | None, tasks: Sequence) -> str:
+def _aim_apart(pos: float | None, ori: float | None, free_p: bool, cone: Cone) -> str:
+    """'; the tip is x m from the region's centre, free components apart, its axis y rad
+    from its direction': the distances of a target with an aim. A position it has not
+    (None) or leaves wholly free (0) unsaid, the axis then alone, where its cone has a
+    width: 0 wide, the verdict's words said that angle already."""
+    axis = "" if ori is None or ori != ori else f"{ori:.3g} rad from {cone.sight}"
+    if pos is None or (free_p and pos == 0.0):
+        return f"; the tip's axis is {axis}" if axis and cone.within > 0.0 else ""
+    where = f"; the tip is {pos:.3g} m from the region's centre, free components apart"
+    return f"{where}, its axis {axis}" if axis else where
+
+
+def tips_apart(reason: str, pos: float | None, ori: float | None) -> str:
+    """A row of several tips some of whose verdicts measured other than the distances (a
+    tip's region, weights): its reason (the worst tip's measure), then the largest of the
+    tips' distances to their targets, what ``position_error`` and ``orientation_error``
+    report (None, NaN: no tip's target holds that part)."""
+    parts = _parts(pos or 0.0, ori, pos is None or pos != pos, False)
+    return (
+        f"{reason}, the worst of what the tips' verdicts measured; every tip is at most "
+        f"{parts} from its target (a region's centre where it has one, free components apart)"
+    )
+
+
+def tasks_apart(reason: str, pos: float | None, ori: float | None, tasks: Sequence) -> str:
     """A task list with regions: its reason, then the largest distance of a task's frame
     to its region's centre, what ``position_error`` and ``orientation_error`` report; a
     part every task leaves wholly free (``Task.free``), whose distance is 0, unsaid."""
-    free = [task.free() for task in tasks]
+    free = [task.free() for task in tasks]  # (pos None: no task holds a position, all free)
+    pos = pos or 0.0
     said = _parts(pos, ori, all(f[0] for f in free), all(f[1] for f in free)) or f"{pos:.3g} m"
     where = "from its region's centre, free components apart"
     return f"{reason}; each task's frame is at most {said} {where}"
@@ -329,11 +386,22 @@ def slides_unreachable(distance: float, tol: float) -> str:
     )
 
 
-def frame_apart(reason: str, task, pos: float, ori: float | None, weighted: bool) -> str:
+def tip_apart(reason: str, task, pos: float | None, ori: float | None, weighted: bool) -> str:
+    """``measured_apart`` for one task on the tip (``Task``): its region's, a part it
+    leaves wholly free unsaid, an aim's in the aim's terms."""
+    return measured_apart(reason, pos, ori, weighted, True, task.free(), task.cone_words())
+
+
+def frame_apart(reason: str, task, pos: float | None, ori: float | None, weighted: bool) -> str:
     """``measured_apart`` for one task on a frame other than the tip: that frame's
     distance to its target (weighted axes) or to its region's centre, a part the task
-    leaves wholly free unsaid (0 whatever the answer) where the distance is the region's."""
+    leaves wholly free unsaid (0 whatever the answer) where the distance is the region's;
+    an aim's (an axis alone) its axis' angle from its direction."""
     frame = str(task.frame)
+    cone = task.cone_words()
+    if cone is not None and ori is not None:
+        return f"{reason}; frame {frame!r} has its axis {ori:.3g} rad from {cone.sight}"
+    pos = pos or 0.0  # (None: a task that holds no position, which an aim's words say)
     if weighted:  # the true distance: a part weighted 0 has one
         rot = "" if ori is None or ori != ori else f", {ori:.3g} rad"
         return (

@@ -20,7 +20,8 @@ class IKResult:
 
     ``q``: joint values (rad, m), one per joint, read-only. ``success`` is True only if the
     FK errors are within tolerance and every joint is within its limits. ``position_error``
-    (m) and ``orientation_error`` (rad, geodesic; for a target with an aim, the tip axis'
+    (m; None for a target that holds no position: an ``armik.Axis`` or ``armik.LookAt``
+    alone) and ``orientation_error`` (rad, geodesic; for a target with an aim, the tip axis'
     angle to its direction; None for a position-only target without one) are
     the distances of ``q``'s tip to the target; where the request measured other than
     them (weights, a region), ``measured`` gives what its verdict measured. ``time`` (s)
@@ -33,7 +34,7 @@ class IKResult:
     reason: str
     solver: str
     iterations: int
-    position_error: float
+    position_error: float | None
     orientation_error: float | None
     time: float
     branch: str | None = None
@@ -119,11 +120,12 @@ class IKResult:
 
     def __repr__(self) -> str:
         ori = "n/a" if self.orientation_error is None else f"{self.orientation_error:.2e} rad"
+        pos = "n/a" if self.position_error is None else f"{self.position_error:.2e} m"
         branch = f", branch={self.branch!r}" if self.branch else ""
         return (
             f"IKResult(success={self.success}, status={self.status.value!r}, solver="
             f"{self.solver!r}{branch}, q={np.round(self.q, 6).tolist()}, "
-            f"position_error={self.position_error:.2e} m, orientation_error={ori}, "
+            f"position_error={pos}, orientation_error={ori}, "
             f"iterations={self.iterations}, time={self.time * 1e3:.3f} ms, "
             f"reason={self.reason!r})"
         )

@@ -25,7 +25,7 @@ NAME = "toy2r"
 ROOT = Path(__file__).resolve().parents[2]
 ARM = "planar_2link"  # two revolute joints about z, l1 = 1.0 m, l2 = 0.8 m (robots/)
 L1, L2 = 1.0, 0.8
-WRONG = {"on": False}  # True: the elbow-down branch is off by 0.1 rad and still claimed
+WRONG = {"on": False}  # True: the elbow-up branch is off by 0.1 rad and still claimed
 
 
 def why_not(arm, target=None, _opts=None):
@@ -49,10 +49,11 @@ def run(arm, target, q0, opts, all_solutions):
         q = np.array([[math.atan2(y, x), 0.0 if c > 0 else math.pi]])
         return Answers.of(q, [Status.UNREACHABLE], [f"{r:.3g} m is out of reach"], 2)
     rows = []
-    for sign, label in ((1.0, "elbow-up"), (-1.0, "elbow-down")):
+    # elbow-up: the elbow left of the line to the target seen from +z (armik's planar2r)
+    for sign, label in ((-1.0, "elbow-up"), (1.0, "elbow-down")):
         q2 = sign * math.acos(c)
         q1 = math.atan2(y, x) - math.atan2(L2 * math.sin(q2), L1 + L2 * math.cos(q2))
-        if WRONG["on"] and label == "elbow-down":
+        if WRONG["on"] and label == "elbow-up":
             q1 += 0.1
         q1 = math.remainder(q1, 2 * math.pi)  # its 2 pi turn within the limits, +-pi
         rows.append(((q1, q2), label))
@@ -159,7 +160,7 @@ def test_a_position_an_obstacle_and_a_preference(family):
     assert clear.solver == NAME
     _verified(arm, clear, T)
     assert clear.q[1] < 0 and clear.extra["min_distance"] > 0
-    # a preference ranks the family's verified branches: elbow-down, though farther
+    # a preference ranks the family's verified branches: elbow-up, though farther
     ranked = arm.solve(T.translation, q0=q, prefer=armik.Posture(np.array([0.0, -1.0])))
     assert ranked.solver == NAME and ranked.q[1] < 0
     _verified(arm, ranked, T)
@@ -224,17 +225,17 @@ def test_held_joints(family):
 
 
 def test_a_wrong_answer_is_a_failure(family):
-    """The family claims a wrong elbow-down branch converged: the verdict measures it and
+    """The family claims a wrong elbow-up branch converged: the verdict measures it and
     refuses it on every route, and goes on to the branch that holds."""
     arm = bundled(ARM)
     WRONG["on"] = True
-    q = np.array([0.3, -1.2])  # elbow-down: the wrong branch is the nearest
+    q = np.array([0.3, -1.2])  # elbow-up: the wrong branch is the nearest
     p = arm.fk(q).translation
     found = arm.solve_all(p, q0=q)
-    down = [a for a in found if a.branch == "elbow-down"][0]
-    assert not down.success and "position error" in down.reason
+    up = [a for a in found if a.branch == "elbow-up"][0]
+    assert not up.success and "position error" in up.reason
     r = arm.solve(p, q0=q)
-    assert r.success and r.branch == "elbow-up"
+    assert r.success and r.branch == "elbow-down"
     np.testing.assert_allclose(arm.fk(r.q).translation, p, atol=1e-9)
     res = arm.solve_batch([p, p], q0=[q, q], workers=1)
     assert res.success.all() and (res.q[:, 1] > 0).all()

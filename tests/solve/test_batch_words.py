@@ -79,7 +79,9 @@ def test_a_cone_ranked_by_a_preference_is_a_region_in_the_summary_too(run):
     batch = a.solve_batch(targets, **run, **options)
     assert batch.region and batch.cone == 0.2 and batch.success.all()
     assert "from the region's centre" in batch[0].reason
-    assert "largest distance to the region's centre of the solved" in batch.summary()
+    said = batch.summary().partition("largest distances of the solved: the tip ")[2]
+    assert " m from the region's centre, its axis " in said, batch.summary()
+    assert said.partition(" (")[0].endswith(" rad from its direction"), batch.summary()
     _same_words(a, targets, batch, **options)
 
 

@@ -29,7 +29,7 @@ def _why_not(arm, _target=None, _opts=None):
 
 
 def _run(arm, target, q0, opts, every):
-    """The elbow-up branch of the position, joint 1 turned by 2 pi beyond the limits: the
+    """The elbow-down branch of the position, joint 1 turned by 2 pi beyond the limits: the
     same pose, an answer outside them, claimed converged (it keeps no limits)."""
     x, y = float(target.position[0]), float(target.position[1])
     c = (x * x + y * y - 1.0 - 0.64) / 1.6

@@ -113,15 +113,19 @@ def test_weights_that_free_the_position_say_no_position_error_of_0():
 )
 def test_a_region_that_frees_the_position_says_no_position_error_of_0(target):
     """A look-at, an axis, or bounds inf on x, y and z: it said 'inside the region:
-    position error 0 m ...; the tip is 0 m, ... rad from the region's centre'."""
+    position error 0 m ...; the tip is 0 m, ... rad from the region's centre'. An aim
+    alone says its axis in its own terms, no region (tests/verify/test_aim_words.py)."""
     ur5 = arm("ur5")
     T = ur5.fk(ur5.random_q(np.random.default_rng(3)))
     given, options = target(ur5, T)
     got, said = _successes(ur5, given, **options)
+    aimed = not options
     for reason in said:
-        assert "inside the region: " in reason and " 0 m" not in reason, reason
-        assert "position error" not in reason and "the tip is " in reason, reason
-    assert got[0].position_error == 0.0  # the distance, free components apart: none left
+        assert " 0 m" not in reason and "position error" not in reason, reason
+        assert ("inside the region: " in reason) != aimed, reason
+        assert "the tip is " in reason or aimed, reason
+    # the distance, free components apart: none left; an aim alone holds no position
+    assert got[0].position_error == (None if aimed else 0.0)
 
 
 def test_bounds_that_free_the_rotation_say_no_orientation_error_of_0():

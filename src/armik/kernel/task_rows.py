@@ -1,5 +1,5 @@
 """The task solver's descent, compiled: Levenberg-Marquardt on the stacked rows of a table of
-tasks, each on a frame of its own (``armik.kernel.frame_chains``).
+tasks, each on a frame of its own (``armik.model.frame_chains``).
 
 A task's six rows are ``region._evaluate_region``'s for its frame's chain: a pose within
 bounds (weights, free axes), a position within a box (the target's rotation the identity,

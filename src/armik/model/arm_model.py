@@ -28,7 +28,7 @@ from armik.kernel.fk_many import fk_many
 from armik.model import mimic as _mimic
 from armik.model.chain_arrays import build_chain
 from armik.model.geometry import Plane, find_plane
-from armik.model.limit_units import in_radians
+from armik.model.limit_units import degrees_note, in_radians
 from armik.model.reduce import check_limits, reduce_chain
 from armik.model.urdf import URDFInfo
 from armik.model.value_checks import violation
@@ -80,7 +80,7 @@ class ArmModel:
         self._setup_joints(info)
         self._local = threading.local()
         self._derived: dict[Any, Any] = {}  # ``armik.model.derived``: what modules keep
-        self._recipe: Any = None  # how ``armik.load`` built it (``armik.arm.Recipe``), to pickle
+        self._recipe: Any = None  # how it was loaded (``armik.loading.Recipe``), to pickle
         # objects of the URDF's collision geometry left out: a chain's within a robot, those
         # another chain moves (``armik.arms_apart``)
         self.left_out: frozenset[str] = frozenset()
@@ -416,6 +416,7 @@ class ArmModel:
             warn(
                 "q0 outside the joint limits was clipped into them: "
                 + "; ".join(self.limit_violations(q))
+                + degrees_note(q, self)
             )
             q = np.clip(q, self.lower, self.upper)
         return q if q.flags.writeable and q.flags.c_contiguous else np.array(q)

@@ -15,8 +15,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
-from armik.errors import FrameError, OptionError, closest, listing
+from armik.errors import FrameError, OptionError, closest, listing, warn
 from armik.model import mimic_frames
+from armik.model.limit_units import degrees_note
 
 if TYPE_CHECKING:
     from armik.model.arm_model import ArmModel
@@ -105,14 +106,29 @@ def frame_and_reference(frame: str | None, reference: str | None) -> tuple[str |
 
 def placement(arm: ArmModel, q: object, frame: str | None = None) -> pin.SE3:
     """``T_base_frame`` at joint values ``q`` (rad, m): the tip's by default."""
+    q = in_radians(arm, q, "fk")
     if frame is None or frame == arm.tip:
-        return arm.fk(q)  # type: ignore[arg-type]
+        return arm.fk_pin(arm.to_pin(q))
     fid = frame_id(arm, frame)
     whole = mimic_frames.full_frame(arm, frame)
     if whole is not None:
         return mimic_frames.placement(arm, q, whole)
-    pin.framesForwardKinematics(arm.model, arm.data, arm.to_pin(arm.check_q(q)))
+    pin.framesForwardKinematics(arm.model, arm.data, arm.to_pin(q))
     return arm.T_base_world * arm.data.oMf[fid]
+
+
+def in_radians(arm: ArmModel, q: object, what: str) -> np.ndarray:
+    """``q`` checked (``ArmModel.check_q``), with an ``ArmikWarning`` where a value reads as
+    degrees (``limit_units.degrees_note``). A value merely outside the limits is said by
+    nothing: fk and the Jacobian need no limits (a workspace study, limits a URDF has
+    wrong); but no joint with limits holds a value beyond them and four turns, and the pose
+    of one, taken for a target, would carry the mistake on unsaid."""
+    q = arm.check_q(q)
+    note = degrees_note(q, arm)
+    if note:
+        shown = ", ".join(f"{v:g}" for v in q.tolist())
+        warn(f"{what} at q [{shown}]{note}")
+    return q
 
 
 def jacobian(
@@ -123,14 +139,14 @@ def jacobian(
     axes at its origin (``"base"``). Zero columns for joints that do not move it."""
     frame, reference = frame_and_reference(frame, reference)
     if frame is None or frame == arm.tip:
-        return arm.jacobian(q, reference)  # type: ignore[arg-type]
+        return arm.jacobian(in_radians(arm, q, "jacobian"), reference)
     fid = frame_id(arm, frame)
     kind = pin.LOCAL if reference == "local" else pin.LOCAL_WORLD_ALIGNED
     whole = mimic_frames.full_frame(arm, frame)
     if whole is not None:
-        J = mimic_frames.jacobian(arm, q, whole, kind)
+        J = mimic_frames.jacobian(arm, in_radians(arm, q, "jacobian"), whole, kind)
     else:
-        qp = arm.to_pin(arm.check_q(q))
+        qp = arm.to_pin(in_radians(arm, q, "jacobian"))
         J = pin.computeFrameJacobian(arm.model, arm.data, qp, fid, kind).reshape(6, arm.dof)
     if reference == "local":
         return J.copy()

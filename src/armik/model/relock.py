@@ -1,6 +1,6 @@
 """Joints of an arm locked within the arm's own limits: the chain cut again from the URDF's
 model the arm was cut from, each locked value checked against the limits ``with_limits``
-gave the joint (wider or narrower than the URDF's). ``armik.arm.Recipe`` builds an arm
+gave the joint (wider or narrower than the URDF's). ``armik.loading.Recipe`` builds an arm
 with every joint ``with_limits`` reached left free, gives it its limits, then locks those
 joints here."""
 

@@ -25,6 +25,10 @@ MAX_DEPTH = 1000
 MAX_MOVING = 256
 AXIS_MIN_NORM = 1e-6
 AXIS_UNIT_TOL = 1e-9  # |norm - 1| below this is a unit axis already
+# |norm - 1| up to this is a unit axis written to a few digits, normalised without a word but
+# a note: six significant digits move each component of a unit axis by at most 5e-7, its
+# norm by at most sqrt(3) * 5e-7 < 1e-6 (romeo.urdf's hands: 0.9999998); beyond, a warning
+AXIS_ROUNDED_TOL = 1e-5
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 MOVING = ("revolute", "continuous", "prismatic", "floating", "planar")
 _NUMBER = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
@@ -182,8 +186,10 @@ def inspect(root: ET.Element, path: str) -> tuple[URDFInfo, bool]:
             norm, moved = _axis(joint, name, jtype, path)
             changed |= moved
             if moved:
+                rounded = abs(norm - 1.0) <= AXIS_ROUNDED_TOL
+                how = "a unit axis rounded to its digits" if rounded else "ROS reading"
                 notes.append(
-                    f"joint {name!r}: axis norm {_norm(norm)} read as the unit axis (ROS reading)"
+                    f"joint {name!r}: axis norm {_norm(norm)} read as the unit axis ({how})"
                 )
         limit = joint.find("limit")
         if limit is not None:
@@ -383,8 +389,9 @@ def _depth(root: str, joints: dict[str, JointXML], n_links: int, path: str) -> i
 
 
 def _axis(joint: ET.Element, name: str, jtype: str, path: str) -> tuple[float, bool]:
-    """Check the joint's axis and write it back as a unit vector. Returns the norm as
-    written and whether the element was changed."""
+    """Check the joint's axis and write it back as a unit vector, with a warning unless it
+    is a unit axis rounded (``AXIS_ROUNDED_TOL``). Returns the norm as written and whether
+    the element was changed."""
     elem = joint.find("axis")
     if elem is None:
         return 1.0, False  # the URDF default, (1, 0, 0)
@@ -407,6 +414,8 @@ def _axis(joint: ET.Element, name: str, jtype: str, path: str) -> tuple[float, b
         return norm, False
     unit = [c / norm for c in v]
     elem.set("xyz", " ".join(repr(c) for c in unit))
+    if abs(norm - 1.0) <= AXIS_ROUNDED_TOL:  # a rounded unit axis: said by its note only
+        return norm, True
     if jtype == "prismatic":
         msg = (
             f"joint {name!r} has a non-unit axis xyz={text!r} (norm {_norm(norm)}); armik reads "

@@ -12,12 +12,14 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Sequence
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
 
-from armik.errors import OptionError
+from armik.errors import OptionError, warn
 from armik.model.arm_model import ArmModel  # a score reads the arm (its Jacobian, limits)
+from armik.model.limit_units import degrees_note
 
 
 class Score(ABC):
@@ -215,6 +217,23 @@ class Posture(Score):
         return 2.0 * self.weights * (q - self.q_ref)
 
 
+def said_in_degrees(q_ref: object, arm: Any, option: str) -> None:
+    """An ``ArmikWarning`` where a posture's reference for ``arm`` (one value per joint)
+    reads as degrees (``limit_units.degrees_note``): the joints named, in radians."""
+    values = np.asarray(q_ref, dtype=float).tolist()
+    note = degrees_note(values, arm)
+    if note:
+        shown = ", ".join(f"{v:g}" for v in values)
+        warn(f"{option}=Posture(q_ref): q_ref [{shown}]{note}")
+
+
+def fit_reference(q_ref: Sequence[float], arm: ArmModel, option: str) -> None:
+    """``fit_posture`` of a posture's reference to ``arm``'s joints, then said where it
+    reads as degrees (``said_in_degrees``)."""
+    fit_posture(len(q_ref), arm.joint_names, option=option)
+    said_in_degrees(q_ref, arm, option)
+
+
 def fit_posture(
     count: int, joints: Sequence[str] | int, whose: str = "the arm", option: str = "prefer"
 ) -> None:
@@ -263,9 +282,13 @@ _NAMED: dict[str, Callable[[], Score]] = {
 }
 
 
-def parse_score(value: object) -> Score | None:
-    """``prefer=``'s value as a ``Score``; None for None. ``OptionError`` otherwise."""
+def parse_score(value: object, arm: object = None) -> Score | None:
+    """``prefer=``'s value as a ``Score``; None for None. ``OptionError`` otherwise. A
+    ``Posture`` for ``arm`` (an arm's model or a robot) whose reference reads as degrees
+    is said (``said_in_degrees``)."""
     if value is None or isinstance(value, Score):
+        if arm is not None and isinstance(value, Posture):
+            said_in_degrees(value.q_ref, arm, "prefer")
         return value
     if isinstance(value, str):
         if value in _NAMED:

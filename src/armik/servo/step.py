@@ -39,8 +39,6 @@ from armik.servo.layout import (
     LAM_MIN,
     LO,
     MAX_ROWS,
-    ORI_ERR,
-    POS_ERR,
     PULL,
     REST,
     SIGMA,
@@ -58,6 +56,7 @@ from armik.servo.singular import smallest_singular
 ON_TARGET, TRACKING, JOINT_LIMIT, VELOCITY_LIMIT, ACCELERATION_LIMIT = range(5)
 SINGULARITY, OUT_OF_REACH, OBSTACLE, STALLED = 5, 6, 7, 8
 BRAKED = 10.0  # tolerances: slowing to stop on a target farther than this is reported
+SLOWING = 0.5  # a brake below this: the step slowed to stop on the target (``status_code``)
 # The Gauss-Newton step leaves out the error times the rows' second derivatives, about
 # the curvature length (``servo.curvature``) times the error. Where the joints cannot
 # remove the error, these terms outweigh A^T A and the step overshoots a minimum the
@@ -390,9 +389,11 @@ def step_within(E0, A0, E1, A1, rows, active, rank, scale, moved, whole, rows_cb
 
 
 @njit(cache=True, nogil=True, inline="always")
-def status_code(within, far, held, cfg, out):
+def status_code(within, far, held, cfg, out, measured_p, measured_r):
     """out[CODE], out[JOINT], out[SIGMA], out[CONFLICT]: what limited the tick, from
-    ``step_within``'s answer ``held`` and the distances in out."""
+    ``step_within``'s answer ``held`` and what the tasks measure where the command is
+    (``measured_p`` m, ``measured_r`` rad: a region's distance outside it, the weighted
+    rows', as the on-target decision reads them; read where the step slowed, SLOWING)."""
     sigma, brake, scale, slowest, joint, bound, blocked, conflict, stalled = held
     code, who = TRACKING, joint
     if within:
@@ -412,9 +413,7 @@ def status_code(within, far, held, cfg, out):
         code, who = VELOCITY_LIMIT, slowest
     elif sigma < cfg[SIGMA_EPS]:
         code, who = SINGULARITY, -1
-    elif brake < 0.5 and (  # (an error not measured is NaN: compares false)
-        out[POS_ERR] > BRAKED * cfg[TOL_P] or out[ORI_ERR] > BRAKED * cfg[TOL_R]
-    ):
+    elif brake < SLOWING and (measured_p > BRAKED * cfg[TOL_P] or measured_r > BRAKED * cfg[TOL_R]):
         code, who = ACCELERATION_LIMIT, -1
     elif stalled:
         code, who = STALLED, -1

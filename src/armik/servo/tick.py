@@ -58,7 +58,7 @@ from armik.servo.layout import (
     carve,
 )
 from armik.servo.minimum import PROBE, curvature_column, first_order, no_descent
-from armik.servo.step import scratch, status_code, step_within
+from armik.servo.step import SLOWING, scratch, status_code, step_within
 from armik.servo.step import take as _take
 
 # (m, rad) a row's error below this is met, its correction none: the FK's rounding is a
@@ -355,15 +355,16 @@ def tick(target, mem, imem, rows_cb):
     # the true distances the command leaves (the FK at the new joint values)
     forward(ch, q, R, p, ws.geo[0], ws.geo[1])
     # on target where the arm was and where the command is: a moving arm told to stop
-    # where it is passes through it, unable to stop within one tick
-    if within:
+    # where it is passes through it, unable to stop within one tick; slowing to stop on
+    # the target while what the tasks measure there is still far from it
+    if within or held[1] < SLOWING:
         reg_p, reg_r = regions(table, tasks, ws)
-        within = reg_p <= cfg[TOL_P] and reg_r <= cfg[TOL_R]
+        within = within and reg_p <= cfg[TOL_P] and reg_r <= cfg[TOL_R]
     origin, reach_ = reach(ch)
     far = distances(table, R, p, origin, reach_, cfg[REACH_SLACK], ws.m3[1], ws.v3[2], out)
     for t in range(tasks):  # this target, the next tick's last
         for c in range(COLUMNS):
             last[t, c] = table[t, c]
     cfg[LAST] = tasks
-    status_code(within, far, held, cfg, out)
+    status_code(within, far, held, cfg, out, reg_p, reg_r)
     return True

@@ -44,7 +44,7 @@ from armik.servo.layout import (
     Q,
 )
 from armik.servo.minimum import PROBE, curvature_column, first_order, no_descent
-from armik.servo.step import scratch, scratch_size, status_code, step_within
+from armik.servo.step import SLOWING, scratch, scratch_size, status_code, step_within
 from armik.servo.tick import equal, pose_row, rank_bound, regions, stack, views
 
 # ints: n, tips, the most joint values and the most joints of a chain, the lengths of
@@ -310,6 +310,8 @@ def tick(mem, imem, rows_cb):
     # the true distances the command leaves (each chain's FK at the new joint values)
     far = False
     pos = ori = -1.0
+    slowing = held[1] < SLOWING
+    reg_p = reg_r = 0.0  # what the tasks measure where the command is (``tick.tick``)
     for t in range(tips):
         cols = maps[at[2, t] : at[2, t + 1]]
         nt = cols.shape[0]
@@ -326,9 +328,10 @@ def tick(mem, imem, rows_cb):
         table = tables[t * MAX_TASKS : t * MAX_TASKS + k]
         M, v = ws.m3[1], ws.v3[2]  # scratch
         far = distances(table, R, p, origin, reach_, cfg[REACH_SLACK], M, v, out2) or far
-        if within:  # and where the command is (``tick.tick``)
+        if within or slowing:  # and where the command is (``tick.tick``)
             rp, rr = regions(table, k, ws)
-            within = rp <= cfg[TOL_P] and rr <= cfg[TOL_R]
+            within = within and rp <= cfg[TOL_P] and rr <= cfg[TOL_R]
+            reg_p, reg_r = max(reg_p, rp), max(reg_r, rr)
         if not math.isnan(out2[POS_ERR]):
             pos = max(pos, out2[POS_ERR])
         if not math.isnan(out2[ORI_ERR]):
@@ -339,5 +342,5 @@ def tick(mem, imem, rows_cb):
         last_counts[t] = k
     out[POS_ERR] = pos if pos >= 0.0 else math.nan
     out[ORI_ERR] = ori if ori >= 0.0 else math.nan
-    status_code(within, far, held, cfg, out)
+    status_code(within, far, held, cfg, out, reg_p, reg_r)
     return -1

@@ -41,6 +41,7 @@ from armik.batch_result import BatchResult
 from armik.constraints.clear import Collisions, of_options
 from armik.constraints.collision import checker
 from armik.errors import ArmikError, OptionError, warn
+from armik.model.limit_units import degrees_note
 from armik.request import Request, with_seed
 from armik.solve import backends, batch_rows, forked
 from armik.solve.backends import Rows, place
@@ -410,7 +411,9 @@ def batch_seeds(arm: ArmModel, q0: object, n: int) -> np.ndarray:
         i = int(np.flatnonzero(outside)[0])
         warn(
             f"q0 outside the joint limits was clipped into them for {int(outside.sum())} "
-            f"target(s); the first, target {i}: " + "; ".join(arm.limit_violations(q[i]))
+            f"target(s); the first, target {i}: "
+            + "; ".join(arm.limit_violations(q[i]))
+            + degrees_note(q[i], arm)
         )
         q = np.clip(q, arm.lower, arm.upper)
     return q

@@ -20,9 +20,10 @@ through half a turn near a singularity, a joint out of its limits or the pose ou
 halfway). Each step the plan takes is judged by the rule a followed path's steps are
 judged by too (``_jumps``, ``hidden_steps``): a small, straight step passes (``_chord``:
 no joint over ``BEND`` of the bound, the tip of the joints moved straight within ``CHORD``
-of the step's motion of the pose halfway: beside a singularity the solutions halfway
-swing, the motion does not); any other is checked halfway, on the pose with the translation
-halved and the rotation halved along its geodesic: a solution there must lie within
+of the step's motion of the pose halfway, ``straight``: beside a singularity the solutions
+halfway swing, the motion does not); any other is checked halfway, on the pose with the
+translation halved and the rotation halved along its geodesic (``poses_halfway``): a
+solution there must lie within
 ``max_joint_step`` of both ends, as it must if a waypoint were added halfway: the solver's
 nearest the step's middle, or for a sweep's or a search's solver, which may miss it, one
 found by numeric descents from the middle, each end and about the middle (``_descended``,
@@ -54,6 +55,7 @@ from armik.problem.settings import SolverSettings
 from armik.request import Request
 from armik.result import IKResult
 from armik.solve.halfway import _Halfway, _loose, _nearest, searched, within
+from armik.solve.ladder_breaks import broken_at, went_on_from
 from armik.solve.prefer import continuous_turned, turns
 from armik.solve.turning import ANY, Turning
 from armik.solvers import registry
@@ -139,9 +141,9 @@ def plan(
             # the answers found
             every = spec.kind != "numeric" and spec.complete and spec.parameter is None
             onto = _onto(i, B, offs, start, args[4:7], step)[2]
-            r = _broken(
+            r = broken_at(
                 arm, r, j, float(size[i]), float(step[j]), bool(hidden[i]), first, every, out,
-                _since(i, rung, broken, q0 is not None, first, forbidden, onto),
+                went_on_from(i, rung, broken, q0 is not None, first, forbidden, onto),
             )  # fmt: skip
             out.reasons[i] = r.reason
         out.put_result(i, r)  # a success's reason is the row's, written when read
@@ -185,15 +187,7 @@ def held_to_step(arm: ArmModel, out: BatchResult, start: np.ndarray | None, step
                 j = int(np.nanargmax(moved / step))
                 unit = "m" if arm.prismatic[j] else "rad"
                 move = path_reasons.moved(arm.joint_names[j], moved.item(j), unit, whence, step[j])
-                measured = path_reasons.verified(
-                    out.reason(i),
-                    reasons.measured(
-                        float(out.position_error[i]),
-                        float(out.orientation_error[i]),
-                        out.tol_position,
-                        out.tol_orientation,
-                    ),
-                )
+                measured = path_reasons.row_verified(out, i)
                 out.success[i] = False
                 out.status_code[i] = Status.DISCONTINUOUS.code
                 out.reasons[i] = path_reasons.jump(
@@ -295,7 +289,7 @@ def _steps(rung: np.ndarray, broken: np.ndarray, n_rungs: int):
     return i, before[i], (before[i] + 1) * n_rungs + rung[i]  # kernel.edge_code
 
 
-def _jumps(arm, half: _Halfway, i, Qa, Qb, step) -> np.ndarray:
+def _jumps(arm, half: _Halfway, i, Qa, Qb, step, a=None) -> np.ndarray:
     """Whether a jump hides in each step ``Qa[k]`` -> ``Qb[k]`` onto waypoint ``i[k]`` > 0
     from the waypoint before (the move from q0 is held to the step alone): the rule both
     plans judge their steps by. None where the straight joint motion keeps the tip on the path
@@ -303,12 +297,12 @@ def _jumps(arm, half: _Halfway, i, Qa, Qb, step) -> np.ndarray:
     call of the solver."""
     if not len(i) or _loose(arm, step):  # every flip within the bound: none hides
         return np.zeros(len(i), dtype=bool)
-    targets = half.targets
-    Pa, Pb = targets.positions[i - 1], targets.positions[i]
+    targets, a = half.targets, i - 1 if a is None else a  # ``a``: the rows stepped from
+    Pa, Pb = targets.positions[a], targets.positions[i]
     rotations = targets.rotations
     Ra = Rb = None
     if rotations is not None:
-        Ra, Rb = rotations[i - 1], rotations[i]
+        Ra, Rb = rotations[a], rotations[i]
     jumped = np.zeros(len(i), dtype=bool)
     which = np.arange(len(i))
     for _ in range(DEPTH):
@@ -318,7 +312,7 @@ def _jumps(arm, half: _Halfway, i, Qa, Qb, step) -> np.ndarray:
         which, Qa, Qb, Pa, Pb = which[curved], Qa[curved], Qb[curved], Pa[curved], Pb[curved]
         if Ra is not None and Rb is not None:
             Ra, Rb = Ra[curved], Rb[curved]
-        P, R = _halfway(Pa, Ra, Pb, Rb)
+        P, R = poses_halfway(Pa, Ra, Pb, Rb)
         middle = 0.5 * (Qa + Qb)
         q = _nearest(arm, half, P, R, middle)
         near = within(q, Qa, Qb, step)
@@ -343,27 +337,37 @@ def _jumps(arm, half: _Halfway, i, Qa, Qb, step) -> np.ndarray:
 
 def _chord(arm: ArmModel, Qa, Qb, rotations: bool, step: np.ndarray) -> np.ndarray:
     """Whether each step ``Qa[k]`` -> ``Qb[k]`` is small and straight: no joint moves by
-    more than ``BEND`` of ``step``, and the straight joint motion keeps the tip, halfway,
-    within ``CHORD`` of the step's tip motion of the pose halfway between the ends' poses
-    (Pinocchio's FK; a rotation weighed by the arm's reach; ``rotations`` False: positions
-    only). Such a step (a finely sampled path) hides no jump beside a singularity where the
-    solutions halfway swing: its tip stays as near the path as anywhere else. A flip, or a
-    line out of the workspace between waypoints, moves joints further or the tip off it."""
+    more than ``BEND`` of ``step``, and the straight joint motion keeps the tip on its way
+    (``straight``: a rotation weighed by the arm's reach; ``rotations`` False: positions
+    only)."""
     small = (np.abs(Qb - Qa) <= BEND * step).all(axis=1)
     if not small.any():
         return small
-    Qa, Qb, n = Qa[small], Qb[small], int(small.sum())
-    H = _tips(arm, np.vstack((Qa, Qb, 0.5 * (Qa + Qb))))
+    Qa, Qb = Qa[small], Qb[small]
+    reach = (arm.reach if np.isfinite(arm.reach) else 1.0) if rotations else None
+    small[small] = straight(_tips(arm, np.vstack((Qa, Qb, 0.5 * (Qa + Qb)))), reach)
+    return small
+
+
+def straight(H: np.ndarray, reach: float | None) -> np.ndarray:
+    """Whether each of n straight joint motions keeps its placement on its way: ``H``
+    (3n, 4, 4, Pinocchio's FK) the placements at the motions' starts, at their ends, then
+    halfway along them; each halfway placement within ``CHORD`` of its motion of the pose
+    halfway between its ends' (``poses_halfway``; a rotation weighed at ``reach``, None:
+    positions only). A small such step (a finely sampled path) hides no jump beside a
+    singularity where the solutions halfway swing: the placement stays as near the path
+    as anywhere else; a flip, or a line out of the workspace between waypoints, moves the
+    placement off it."""
+    n = len(H) // 3
     R, p = H[:, :3, :3], H[:, :3, 3]
-    P, Rh = _halfway(p[:n], R[:n], p[n : 2 * n], R[n : 2 * n] if rotations else None)
+    P, Rh = poses_halfway(p[:n], R[:n], p[n : 2 * n], None if reach is None else R[n : 2 * n])
     off = np.linalg.norm(p[2 * n :] - P, axis=1)
     size = np.linalg.norm(p[n : 2 * n] - p[:n], axis=1)
-    if rotations and Rh is not None:
-        reach = arm.reach if np.isfinite(arm.reach) else 1.0
-        off = off + reach * _angle(Rh, R[2 * n :])
-        size = size + reach * _angle(R[:n], R[n : 2 * n])
-    small[small] = off <= CHORD * size + STEP_EDGE  # the same pose: no motion
-    return small
+    if reach is not None and Rh is not None:  # both turns in one call: off, then the step's
+        turns = _angle(np.concatenate((Rh, R[:n])), np.concatenate((R[2 * n :], R[n : 2 * n])))
+        off = off + reach * turns[:n]
+        size = size + reach * turns[n:]
+    return np.asarray(off <= CHORD * size + STEP_EDGE)  # the same pose: no motion
 
 
 def _tips(arm: ArmModel, Q: np.ndarray) -> np.ndarray:
@@ -400,27 +404,27 @@ def every(arm: ArmModel, solver: str, targets: TargetBatch, opts) -> SolverSpec:
     return spec
 
 
-def hidden_steps(arm, out: BatchResult, targets: TargetBatch, step, half) -> None:
+def hidden_steps(arm, out: BatchResult, targets: TargetBatch, step, half, went=None) -> None:
     """A followed path's steps judged as the global plan judges the steps it takes
-    (``_jumps``): each success from the answer the path went on from (the row before it, a
-    success or a jump; not the move from q0, held to the step alone); a step that hides
-    a jump makes its success ``discontinuous``. ``half``: (solver, opts, held, turn), the
-    poses halfway solved as the global plan solves them (``every``), only where a step is
-    not small and straight (``_chord``)."""
-    went = out.success | (out.status_code == Status.DISCONTINUOUS.code)
-    i = np.flatnonzero(out.success)
-    i = i[np.concatenate(([False], went[:-1]))[i]]  # from q0: held to the step only
+    (``_jumps``): each success from the answer the path went on from (the row before it,
+    ``went``: a success or a jump where None; not the move from q0, held to the step
+    alone); a step that hides a jump makes its success ``discontinuous``. ``half``:
+    (solver, opts, held, turn), the poses halfway solved as the global plan solves them
+    (``every``), only where a step is not small and straight (``_chord``)."""
+    if went is None:  # as one arm's path goes on: from a success or a jump
+        went = out.success | (out.status_code == Status.DISCONTINUOUS.code)
+    i, a = judged_from(out, went)
     if not len(i):
         return
-    Qa, Qb = out.q[i - 1], out.q[i]
+    Qa, Qb = out.q[a], out.q[i]
     step = np.asarray(step, dtype=float)
     curved = ~_chord(arm, Qa, Qb, targets.rotations is not None, step)
     if not curved.any():
         return
-    i, Qa, Qb = i[curved], Qa[curved], Qb[curved]
+    i, a, Qa, Qb = i[curved], a[curved], Qa[curved], Qb[curved]
     solver, opts, held, turn = half
     by = _Halfway(every(arm, solver, targets, opts), opts, targets, held, turn)
-    jumped = _jumps(arm, by, i, Qa, Qb, step)
+    jumped = _jumps(arm, by, i, Qa, Qb, step, a)
     for k in i[jumped].tolist():
         measured = reasons.measured(
             float(out.position_error[k]),
@@ -434,7 +438,19 @@ def hidden_steps(arm, out: BatchResult, targets: TargetBatch, step, half) -> Non
         out.reasons[k] = path_reasons.jump(hidden, "the followed answer", measured)
 
 
-def _halfway(Pa, Ra, Pb, Rb):
+def judged_from(out: BatchResult, went: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(i, a): each success ``i`` after a success or a jump, and the row ``a`` its step is
+    judged from, the last the path went on from (``went``) before it, across the jumps it
+    did not go on from; none from q0 (held to the step alone) or after a failed row."""
+    n = len(out.success)
+    passed = out.success | (out.status_code == Status.DISCONTINUOUS.code)
+    last = np.maximum.accumulate(np.where(went, np.arange(n), -1))
+    i = np.flatnonzero(out.success[1:] & passed[:-1]) + 1
+    a = last[i - 1]
+    return i[a >= 0], a[a >= 0]
+
+
+def poses_halfway(Pa, Ra, Pb, Rb):
     """The poses halfway: the translations' mean, the rotations halfway along their
     geodesic (positions only when ``Rb`` is None)."""
     P = 0.5 * (Pa + Pb)
@@ -457,38 +473,3 @@ def _halfway(Pa, Ra, Pb, Rb):
     for k in np.flatnonzero(c < 1e-3):  # t near pi: u from the log, not from sin(t)
         H[k] = pin.exp3(0.5 * pin.log3(D[k]))
     return P, np.einsum("kij,kjl->kil", Ra, H)
-
-
-def _since(i, rung, broken, has_q0, first, forbidden, onto) -> str | None:
-    """Where a path that breaks at ``i`` went on from without a jump (the plan's last break
-    or its start), where a solution of the waypoint before that the plan does not reach
-    goes on to ``i`` in a step no jump hides in (``onto``: the steps' codes); else None."""
-    if first or rung[i - 1] < 0 or not np.isin(onto, list(forbidden), invert=True).any():
-        return None
-    b = [k for k in range(i) if broken[k] and rung[k] >= 0]
-    return f"waypoint {b[-1]}" if b else ("q0" if has_q0 else "its start")
-
-
-def _broken(arm, r: IKResult, j, size, step, hidden: bool, first, every, out, since=None):
-    measured = path_reasons.verified(
-        r.reason,
-        reasons.measured(
-            r.position_error, r.orientation_error, out.tol_position, out.tol_orientation
-        ),
-    )
-    smallest = None
-    if j >= 0:
-        unit = "m" if arm.prismatic[j] else "rad"
-        smallest = (arm.joint_names[j], size, unit, step)
-    return dataclasses.replace(
-        r,
-        success=False,
-        status=Status.DISCONTINUOUS,
-        reason=path_reasons.jump(
-            path_reasons.every_path_breaks(every, first, hidden, smallest)
-            if since is None
-            else path_reasons.every_path_since_breaks(every, since, hidden, smallest),
-            "the planned answer",
-            measured,
-        ),
-    )

@@ -47,9 +47,9 @@ from armik.result import IKResult
 from armik.solvers import registry
 from armik.solvers.answers import Answers
 from armik.solvers.claims import Claim
-from armik.targets.aim import Aim
+from armik.targets.aim import Aim, cone_words
 from armik.targets.pose import Target, parse_target
-from armik.verify.distances import fields_apart
+from armik.verify.distances import fields_apart, holds_no_position
 from armik.verify.judged import Judged
 from armik.verify.measure import BatchMeasure, measures_of
 from armik.verify.region import region_error
@@ -63,8 +63,7 @@ from armik.verify.verdict import (
 )
 from armik.verify.verdicts import failure_rank, tied
 
-_FLOAT = np.dtype(float)
-_SE3 = pin.SE3
+_FLOAT, _SE3 = np.dtype(float), pin.SE3
 _NO_PLAN = object()  # remembered: this solver and options have no plan
 _IDENTITY = np.eye(4)  # copied for a position target (a copy costs an eighth of np.eye)
 _SIGHTLESS = (None, None)  # a cone's (point, direction) where the target has no aim
@@ -207,7 +206,8 @@ class Plan:
             self.fk_apart = fk_check_frame(w, flags, arm.lower, arm.upper)  # several answers
         # a region (bounds, a cone): measured by ``verify.region``, as the general path does
         self.region = (opts.region_bounds, w, aim and aim.cone) if region else None
-        self.cone = None if aim is None else aim.within  # what a success's words name
+        self.cone = cone_words(aim)  # what a success's words name
+        self.no_position = holds_no_position(opts, aim)  # its distance None (an Axis alone)
         plain = opts.weights is None and opts.bounds is None  # (and leave out)
         self.free = (False, False) if plain else opts.left_free(position, aim is not None)
         self.tol_p, self.tol_r = opts.tol_position, opts.tol_orientation
@@ -301,7 +301,7 @@ class Plan:
         if got is None:
             return None
         if type(got) is not Claim:  # claims other than converged: the general verdict
-            return self._finish(got, H, q0, opts, t0, False, xy, aim)[0]
+            return self._finish(got, H, q0, opts, t0, False, xy, aim, target)[0]
         q = got.q
         data, R_w, p_w = self.arm.tip_views()  # this thread's
         pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
@@ -332,11 +332,11 @@ class Plan:
         )  # fmt: skip
         if fields is None or not fields["success"]:  # the next row may pass: every row
             answers = self._refused(got, H, q0, seed, xy)
-            return self._finish(answers, H, q0, opts, t0, False, xy, aim)[0]
+            return self._finish(answers, H, q0, opts, t0, False, xy, aim, target)[0]
         fields["solver"], fields["time"] = self.solver, time.perf_counter() - t0
         if apart is None:
             return IKResult._from_fields(fields)
-        d_pos, d_ori = apart[0], apart[1]
+        d_pos, d_ori = None if self.no_position else apart[0], apart[1]
         kept = fields_apart(fields, d_pos, d_ori if self.apart_rot else None, self.weighted)
         r = IKResult._from_fields(fields)
         r.extra["measured"] = kept
@@ -462,8 +462,10 @@ class Plan:
             placements.append(place(model, data, frame).homogeneous)
         return np.array(placements) if placements else np.empty((0, 4, 4))
 
-    def _finish(self, answers: Answers, H, q0, opts, t0: float, every: bool, xy=None, aim=None):
-        if xy is not None:  # as the user gave it: the closed form reads it as given
+    def _finish(self, answers: Answers, H, q0, opts, t0, every, xy=None, aim=None, given=None):
+        if type(given) is Target:  # parsed at the door (a plain one: ``_plain``): not again
+            target = given
+        elif xy is not None:  # as the user gave it: the closed form reads it as given
             target = parse_target(np.array(xy), self.arm)
         else:
             target = parse_target(H[:3, 3].copy() if self.position else H, self.arm)

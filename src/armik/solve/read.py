@@ -15,25 +15,26 @@ from __future__ import annotations
 import itertools
 import math
 import time
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 
 import numpy as np
 import pinocchio as pin
 
-from armik.errors import OptionError, TargetError
+from armik.errors import OptionError
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.options import Options, spelled
 from armik.problem.problem import (
     Problem,
     as_problem,
+    as_target,
     check_said_twice,
     lower,
     refuse_beside_tasks,
     refuse_looking_from_target,
     refuse_tip_frame_weights,
 )
-from armik.problem.scores import fit_posture, parse_score
+from armik.problem.scores import fit_reference, parse_score
 from armik.problem.tasks import Pose, Position, Task
 from armik.request import Request, but_options, resolved
 from armik.solve.read_aim import (
@@ -46,7 +47,8 @@ from armik.solve.read_aim import (
     task_aim,
     tasks_aim,
 )
-from armik.solve.tasks import SOLVER, lower_all, task_problems
+from armik.solve.refused import check_options
+from armik.solve.task_lists import lower_all, not_lowered_globally, task_problems
 from armik.targets.aim import refuse_freed, refuse_without_direction
 from armik.targets.batch import parse_targets
 from armik.targets.pose import MAX_POSITION, Target, checked, is_rotation, parsed
@@ -64,12 +66,14 @@ def read(
                 Request, (target, q0, solver, _DEFAULT, (), 0, every, t0, None, None, None, None)
             )
     t0 = time.perf_counter()
+    if not _OBJECTS.isdisjoint(options):
+        options = replayable(options)
     score = None
     if "budget" in options:  # as its options, which the stages narrow (restarts, shares)
         options = spelled(options)
     if "prefer" in options:
         options = dict(options)
-        score = parse_score(options.pop("prefer"))
+        score = parse_score(options.pop("prefer"), arm)
     aim = None
     if "cone" in options or "look_at" in options or "toward" in options:
         aim, options = keyword_aim(options)
@@ -95,7 +99,7 @@ def read(
                 if aim is not None:  # a call only then: the lowered target's aim is read below
                     aim = aimed_once(target, aim)
                 options = {**options, **said}
-                problem = None
+                problem, target = None, as_target(target) or target  # its values: not again
             elif aim is not None:
                 raise OptionError(AIM_OF_TASKS, option=AIM_NAMES[0], value=aim)
     held = False  # a plain target whose held joints only the task solver holds
@@ -146,6 +150,8 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     together, a preference, a held joint, a swivel angle), each row's own request in
     ``rows``, read as ``solve`` reads it."""
     t0 = time.perf_counter()
+    if not _OBJECTS.isdisjoint(options):
+        options = replayable(options)
     if "budget" in options:  # as its options, which a row's solve may narrow
         options = spelled(options)
     given = options  # a row solved as ``solve`` solves it reads its task list with these
@@ -201,7 +207,7 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
     each = tuple(read(arm, row, None, solver, options) for row in rows)
     if opts.checks:  # each row's own: resolved from the batch's start, not the middle
         each = tuple([r.but(opts=but_options(r.opts, checks=opts.checks)) for r in each])
-    score = parse_score(options["prefer"]) if ranked else None
+    score = parse_score(options["prefer"]) if ranked else None  # each row said it
     return Request(None, q0, solver, opts, key, seed, False, t0, score, rows=each)
 
 
@@ -216,9 +222,11 @@ def read_path(
     unless told to (a waypoint re-solved near the previous answer)."""
     t0 = time.perf_counter()
     check_plan(plan)
+    if not _OBJECTS.isdisjoint(options):
+        options = replayable(options)
     score = None
     if "prefer" in options:  # the path's score, not a setting
-        score = parse_score(options["prefer"])
+        score = parse_score(options["prefer"], arm)
         options = {k: v for k, v in options.items() if k != "prefer"}
     if "budget" in options:  # as its options, which each rung's solve narrows
         options = spelled(options)
@@ -236,13 +244,7 @@ def read_path(
             if plan == "global":
                 if lowered is not None:
                     raise _held_global(options)
-                raise TargetError(
-                    "plan='global' plans over every solution at each waypoint, and the task "
-                    "lists given have no compiled form (the task solver gives one answer "
-                    "each): give plan='follow', or tasks the compiled path has a form for (a "
-                    "pose with bounds or weights, a position, a tip axis along a direction "
-                    "or within a cone of it, a look-at at one point, the same in every row)"
-                )
+                raise not_lowered_globally()
             rows = tuple(read(arm, list(p.tasks), q0, solver, options) for p in problems)
             return _by_rows(arm, rows, q0, solver, options, t0, score)
         poses, options = lowered
@@ -307,69 +309,22 @@ def check_plan(plan: object) -> None:
         )
 
 
-# options of the compiled path a task list says in its tasks instead
-_SAID_BY_TASKS = ("position_only", "weights", "bounds")
-_CONSTRAINTS = ("obstacles", "self_collision")  # not yet for several tips
+# the options that take several objects, as any iterable (a one-shot iterator: ``replayable``)
+_OBJECTS = frozenset(("constraints", "obstacles", "secondary"))
 
 
-def check_options(
-    opts: Options, solver: str, several_tips: bool = False, held: bool = False
-) -> None:
-    """Refuse what a task list cannot take (yet, for ``several_tips``), naming the option
-    and the way round; ``held``: the list is a plain target's, for its held joints."""
-    if solver not in ("auto", SOLVER):
-        what = (
-            "these held joints are held by the task solver (a closed form holds one joint of "
-            "a 7-joint arm)"
-            if held
-            else "a list of tasks is solved by the task solver"
-        )
-        raise OptionError(
-            f"{what}: give solver='auto', got {solver!r}",
-            option="solver",
-            value=solver,
-        )
-    defaults = _DEFAULT
-    refused = _SAID_BY_TASKS + (_CONSTRAINTS if several_tips else ())
-    for name in refused:
-        if getattr(opts, name) != getattr(defaults, name):
-            raise OptionError(_not_taken(name, several_tips), option=name, value=None)
-    if opts.swivel is not None:  # the self-motion of one SRS arm's closed form
-        where, fix = (
-            ("several tips at once (chains that share joints, or a task relating them)",
-             "solve that chain alone, robot.chain(tip).solve(T, swivel=...)")
-            if several_tips
-            else ("these held joints", "hold one joint, or leave swivel= out")
-            if held
-            else ("a list of tasks", "give the pose, arm.solve(T, swivel=...)")
-        )  # fmt: skip
-        raise OptionError(
-            f"swivel={opts.swivel!r} is not taken by the task solver, which solves {where}: "
-            f"the swivel fixes an SRS arm's elbow in its closed form; {fix}",
-            option="swivel",
-            value=opts.swivel,
-        )
-
-
-def _not_taken(name: str, several_tips: bool) -> str:
-    """Why option ``name`` is refused, and the way round: by a task list, or where several
-    tips are solved together (one descent over every joint, by the task solver)."""
-    if not several_tips:
-        return (
-            f"{name} does not apply to a list of tasks: say it in the tasks "
-            "(armik.Pose(T, bounds=..., weights=...), armik.Position)"
-        )
-    if name in _SAID_BY_TASKS:
-        return (
-            f"{name} is not taken where several tips are solved together (chains that share "
-            "joints, or a task relating them: one task per tip): say it in each tip's target, "
-            "{tip: armik.Pose(T, bounds=..., weights=...)} or armik.Position"
-        )
-    return (
-        f"{name} is not taken where several tips are solved together (chains that share "
-        "joints, or a task relating them: the task solver, which checks no collision yet): "
-        "solve each chain alone, robot.chain(tip).solve(..., obstacles=...)"
-    )
+def replayable(options: dict) -> dict:
+    """``options`` with each one-shot iterator (a generator, ``iter([...])``), alone or a
+    tip's in a mapping, read into a tuple: options are read more than once (spelled, then
+    checked, then per chain), and an iterator read once is empty the next time (its
+    constraints or obstacles dropped without a word)."""
+    out = dict(options)
+    for name, value in options.items():
+        if isinstance(value, Iterator):
+            out[name] = tuple(value)
+        elif isinstance(value, Mapping) and any(isinstance(v, Iterator) for v in value.values()):
+            out[name] = {k: tuple(v) if isinstance(v, Iterator) else v for k, v in value.items()}
+    return out
 
 
 def _held_apart(arm: ArmModel, options: dict) -> bool:
@@ -461,7 +416,7 @@ def _fitted(arm: ArmModel, opts: Options) -> Options:
     """``opts`` once what they say of the joints fits ``arm`` (a secondary posture: one
     value per joint), whichever solver then runs."""
     if opts.posture is not None:
-        fit_posture(len(opts.posture[0]), arm.joint_names, option="secondary")
+        fit_reference(opts.posture[0], arm, "secondary")
     return opts
 
 
@@ -492,8 +447,7 @@ def _seed(seed: object) -> int | None:
     return None if seed is None else Options.from_kwargs({"seed": seed}).seed
 
 
-_SE3 = pin.SE3
+_SE3, _new = pin.SE3, tuple.__new__
 # a Target's plain parts: float arrays of 3 and a rotation, the position within MAX_POSITION
 _POINT, _MATRIX, _FLOAT, _FAR = (3,), (3, 3), np.dtype(float), MAX_POSITION**2
-_new = tuple.__new__
 _DEFAULT = Options()  # frozen: shared by every call without options

@@ -1,5 +1,5 @@
 """A list of tasks as the compiled descent's table (``armik.kernel.task_rows``): each task's
-rows (``Task.kernel_row``) on its frame's chain (``armik.kernel.frame_chains``), for any
+rows (``Task.kernel_row``) on its frame's chain (``armik.model.frame_chains``), for any
 number of tasks on any frames of one model: both hands and the torso between them, an
 elbow and the tip, three tasks on one tip, one hand's pose in the other's (a task with
 a second frame, ``armik.Relative``, is placed in that frame's).
@@ -15,9 +15,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from armik.kernel.frame_chains import FrameChains, frame_chains
 from armik.kernel.task_rows import PARAMS, descend
 from armik.model.derived import DerivedBy
+from armik.model.frame_chains import FrameChains, frame_chains
 from armik.problem.tasks import Task
 from armik.problem.tasks.base import KernelRow
 

@@ -35,7 +35,7 @@ from armik.model import mimic_frames
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.model.frames import named
-from armik.problem.problem import Problem, as_problem, check_said_twice, lower, refuse_beside_tasks
+from armik.problem.problem import Problem
 from armik.problem.scores import Posture, Score
 from armik.problem.settings import SolverSettings
 from armik.problem.tasks import Pose, Task, TaskError
@@ -421,11 +421,11 @@ def _result(
         positions = [e.position for e in apart if e.position is not None]
         orientations = [e.orientation for e in apart if e.orientation is not None]
         if status is Status.CONVERGED:  # several tasks: the largest of their frames'
-            ori, pos = max(orientations) if orientations else None, max(positions, default=0.0)
+            ori, pos = max(orientations) if orientations else None, max(positions, default=None)
             weighted = type(tasks[0]) is Pose and not tasks[0].weights.all()  # said alone
             frames = tasks[0].frames if len(tasks) == 1 else ()
             if frames in ((None,), (arm.tip,)):  # the tip's
-                reason = reasons.measured_apart(reason, pos, ori, weighted, True, tasks[0].free())
+                reason = reasons.tip_apart(reason, tasks[0], pos, ori, weighted)
             elif len(frames) == 1:  # one task on another frame: that frame's
                 reason = reasons.frame_apart(reason, tasks[0], pos, ori, weighted)
             else:
@@ -433,7 +433,7 @@ def _result(
     found = Verdicts(
         answers=one(q, Status.NOT_CONVERGED, reason, iterations=iterations, restarts=restarts),
         status=np.array([status.code], dtype=np.int8),
-        position_error=np.array([max(positions, default=0.0)]),
+        position_error=np.array([max(positions, default=math.nan)]),
         orientation_error=np.array([max(orientations) if orientations else math.nan]),
         rotation=bool(orientations),
         words=[reason],
@@ -441,51 +441,10 @@ def _result(
         tol_orientation=opts.tol_orientation,
         extra=[extra],
     )
-    return found.checked(arm, checked).result(0, SOLVER, time.perf_counter() - t0)
-
-
-def task_problems(targets: object) -> list[Problem] | None:
-    """The problems of a batch of tasks or task lists; None for the other batch spellings."""
-    if type(targets) not in (list, tuple) or not targets:
-        return None
-    first = targets[0]  # type: ignore[index]
-    if not isinstance(first, Task) and not (
-        type(first) in (list, tuple) and any(isinstance(t, Task) for t in first)
-    ):
-        return None
-    problems = []
-    for i, row in enumerate(targets):  # type: ignore[arg-type,var-annotated]
-        try:
-            problem = as_problem(row)
-        except TargetError as error:  # a row that is no task list: said with its number
-            raise TargetError(f"target {i}: {error}") from None
-        if problem is None:
-            raise TargetError(
-                f"target {i} is {row!r}: a batch of tasks holds a task or a list of tasks in "
-                "every row"
-            )
-        problems.append(problem)
-    return problems
-
-
-def lower_all(
-    problems: list[Problem], options: dict, tip: str | None = None
-) -> tuple[list, dict] | None:
-    """(targets, options) of the compiled batch when every problem lowers to the same
-    options and aim (``problem.lower``; a batch shares one: ``TargetBatch.aim``), else None."""
-    targets, said = [], None  # the options and the aim every problem lowers to
-    weights = options.get("weights")
-    for lowered in (lower(problem, tip, weights) for problem in problems):
-        each = None if lowered is None else (lowered[1], getattr(lowered[0], "aim", None))
-        if each is None or (said is not None and each != said):
-            return None
-        targets.append(lowered[0])  # type: ignore[index]
-        said = each
-    check_said_twice(options, said[0] if said else {})
-    if "position_only" in options or "bounds" in options:
-        for problem in problems:
-            refuse_beside_tasks(problem, options)
-    return targets, {**options, **(said[0] if said else {})}
+    r = found.checked(arm, checked).result(0, SOLVER, time.perf_counter() - t0)
+    if not positions:  # no task holds a position (an axis, a look-at): no distance to one
+        r.__dict__["position_error"] = None
+    return r
 
 
 def box_of(arm: ArmModel, constraints: tuple[Constraint, ...]) -> tuple[np.ndarray, np.ndarray]:

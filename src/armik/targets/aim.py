@@ -20,6 +20,7 @@ import numpy as np
 
 from armik.checked import numbers
 from armik.errors import OptionError
+from armik.reasons import Cone
 from armik.tolerances import MAX_POSITION
 
 Vector = tuple[float, float, float]
@@ -52,6 +53,15 @@ class Aim(NamedTuple):
     def centred(self) -> Aim:
         """This aim 0 wide: the angle of the axis from its direction is then measured."""
         return self._replace(within=0.0)
+
+
+def cone_words(aim: Aim | None) -> Cone | None:
+    """What a verdict's words name of ``aim`` (None: none): its angle, and whether it
+    looks at a point."""
+    return None if aim is None else _new(Cone, (aim.within, aim.point is not None))
+
+
+_new = tuple.__new__  # (no Python call: the verdicts of a loop of aimed solves)
 
 
 def aim_of(cone: object = None, look_at: object = None, toward: object = None) -> Aim | None:

@@ -23,9 +23,10 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from armik.arm import Arm, load
+from armik.arm import Arm
 from armik.errors import OptionError
 from armik.kernel.tier import compiling
+from armik.loading import load
 from armik.model.catalogue import SPATIAL_ARMS
 from armik.problem.settings import SolverSettings
 from armik.targets.pose import parse_target

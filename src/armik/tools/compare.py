@@ -12,8 +12,9 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from armik.arm import Arm, load, load_string
+from armik.arm import Arm
 from armik.kernel.tier import compiling
+from armik.loading import load, load_string
 from armik.model.random_arms import random_urdf
 from armik.problem.settings import SolverSettings
 from armik.solvers import registry

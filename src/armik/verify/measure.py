@@ -34,7 +34,8 @@ from armik.kernel.measure import (
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.problem.settings import SolverSettings
-from armik.targets.aim import Aim
+from armik.reasons import Cone
+from armik.targets.aim import Aim, cone_words
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 from armik.tolerances import LIMIT_TOL
@@ -43,6 +44,7 @@ from armik.verify.region import region_error, region_errors
 _EYE = np.eye(3)  # read only by the kernel
 _SAID = (False, False)  # no part left free: read without a call on the plain routes
 _FLOAT = np.dtype(float)
+_new = tuple.__new__  # an aim's ``Cone`` without a Python call (every aimed solve)
 
 
 @dataclass(frozen=True)
@@ -53,7 +55,7 @@ class Measure:
     tol_position: float
     tol_orientation: float
     region: bool = False  # the errors are the distances outside the target's bounds
-    cone: float | None = None  # rad: the aim's cone; the orientation error lies outside it
+    cone: Cone | None = None  # the aim's cone; the orientation error lies outside it
     # (position, rotation) left wholly free, not said (``SolverSettings.left_free``)
     free: tuple[bool, bool] = (False, False)
 
@@ -159,7 +161,7 @@ def measure(arm: ArmModel, q: np.ndarray, target: Target, opts: SolverSettings) 
         tol_position=opts.tol_position,
         tol_orientation=opts.tol_orientation,
         region=region,
-        cone=None if aim is None else aim.within,
+        cone=None if aim is None else _new(Cone, (aim.within, aim.point is not None)),
         free=_SAID
         if opts.weights is None and opts.bounds is None
         else opts.left_free(target.rotation is None, aim is not None),
@@ -235,7 +237,7 @@ def _region_many(arm: ArmModel, qs: list[np.ndarray], target: Target, opts: Solv
         opts.tol_orientation,
         measure_rot,
         True,
-        None if target.aim is None else target.aim.within,
+        None if target.aim is None else cone_words(target.aim),
         opts.left_free(position_only, target.aim is not None),
     )
 
@@ -262,7 +264,7 @@ class BatchMeasure:
     tol_orientation: float
     rotation: bool = True  # the orientation is measured (else NaN throughout)
     region: bool = False  # the errors are the distances outside the target's region
-    cone: float | None = None  # rad: the aim's cone; the orientation error lies outside it
+    cone: Cone | None = None  # the aim's cone; the orientation error lies outside it
     # (position, rotation) left wholly free, not said (``SolverSettings.left_free``)
     free: tuple[bool, bool] = (False, False)
 
@@ -380,7 +382,7 @@ def measure_batch(
     inside = np.empty(n, dtype=np.bool_)
     within_limits(Q, ch.lower, ch.upper, LIMIT_TOL, inside)
     tol_p, tol_r = opts.tol_position, opts.tol_orientation
-    cone = None if aim is None else aim.within
+    cone = None if aim is None else cone_words(aim)
     free = (
         _SAID
         if opts.weights is None and opts.bounds is None

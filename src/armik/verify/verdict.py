@@ -276,7 +276,7 @@ def success_reason(
     """The reason of a success from its parts: the claim's reason is ``claim_reason``
     itself, or ``claim_reason(*claim_args)`` when it is a function (results of prepared
     solves write their reason on first read, see ``IKResult``); ``region``: the errors are
-    the distances outside the target's region (``cone``: its aim's angle, rad); ``free``:
+    the distances outside the target's region (``cone``: its aim's, in words); ``free``:
     (position, rotation) left free, not said (``SolverSettings.left_free``)."""
     if callable(claim_reason):
         claim_reason = claim_reason(*claim_args)
@@ -300,12 +300,12 @@ def claimed_verdict(
     tol_p: float,
     tol_r: float,
     region: bool = False,
-    cone: float | None = None,
+    cone: reasons.Cone | None = None,
     free: tuple = (False, False),
 ) -> dict | None:
     """``verdict`` of a prepared runner's claimed answer ``got`` from its measure (``ori``
     None where the orientation is not measured; ``inside``: within the limits; ``region``:
-    the errors are the distances outside the target's region, ``cone``: its aim's angle),
+    the errors are the distances outside the target's region, ``cone``: its aim's),
     without building the ``Answers`` and ``Measure``: a success within the tolerances and
     the limits, ``joint_limits`` outside the limits, else None (the general ``verdict``
     decides: ``check_failed``'s reason needs the target's region). The fields of an

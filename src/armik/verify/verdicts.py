@@ -44,7 +44,7 @@ class Verdicts:
     tol_orientation: float
     region: bool = False  # the errors are the distances outside the target's region
     extra: list[dict] | None = None  # per row, what its result keeps (a collision check)
-    cone: float | None = None  # rad: the aim's cone, the orientation error outside it
+    cone: reasons.Cone | None = None  # the aim's cone, the orientation error outside it
     free: tuple[bool, bool] = (False, False)  # (position, rotation): every component free
 
     def __len__(self) -> int:
@@ -321,11 +321,11 @@ class Verdicts:
             branch=r.branch,
             singular=r.singular,
         )
-        ori = r.orientation_error
+        pos, ori = r.position_error, r.orientation_error
         return cls(
             answers=answers,
             status=np.array([r.status.code], dtype=np.int8),
-            position_error=np.array([r.position_error]),
+            position_error=np.array([np.nan if pos is None else pos]),
             orientation_error=np.array([np.nan if ori is None else ori]),
             rotation=ori is not None,
             words=[r.reason],

@@ -33,26 +33,74 @@ def test_worked_example_both_branches():
         r.branch for r in results
     ) == ["elbow-down", "elbow-up"]
     by_branch = {r.branch: r for r in results}
-    for branch, sign in (("elbow-up", 1.0), ("elbow-down", -1.0)):
+    for branch, sign in (("elbow-up", -1.0), ("elbow-down", 1.0)):
         r = by_branch[branch]
         assert r.success and r.solver == "planar2r" and r.status == "converged"
         np.testing.assert_allclose(r.q, textbook(1.2, 0.5, sign), atol=TOL["closed_form"])
         assert r.position_error < 1e-14
-    assert by_branch["elbow-up"].q[1] > 0 > by_branch["elbow-down"].q[1]
+    assert by_branch["elbow-up"].q[1] < 0 < by_branch["elbow-down"].q[1]
+
+
+def mixed_axes_urdf() -> str:
+    """The 2-link arm with joint 2 turning about -z, joint 1 about +z."""
+    text = two_link_urdf()
+    head, tail = text.split('<joint name="j2"')
+    return head + '<joint name="j2"' + tail.replace('<axis xyz="0 0 1"/>', '<axis xyz="0 0 -1"/>')
+
+
+@pytest.mark.parametrize(
+    "axis, text",
+    [
+        ("0 0 1", two_link_urdf()),
+        ("0 0 -1", two_link_urdf(axis="0 0 -1")),
+        ("0 1 0", two_link_urdf(axis="0 1 0")),
+        ("0 -1 0", two_link_urdf(axis="0 -1 0")),
+        ("0 0 1", mixed_axes_urdf()),
+    ],
+)
+def test_elbow_up_is_left_of_the_line_to_the_target_seen_down_joint_1s_axis(
+    tmp_path, rng, axis, text
+):
+    """'elbow-up' was q2 > 0: on the 2-link arm reaching (1.2, 0.5) its elbow sat below the
+    line from the shoulder to the target. Elbow-up is the elbow on the left of that line seen
+    with joint 1's axis toward the viewer (above it for +z axes and a target to the right),
+    in solve_all, the prepared solve and the vectorised closed form alike."""
+    a = armik.load(write_urdf(tmp_path, text), tip="tip")
+    up = np.array([float(v) for v in axis.split()])  # joint 1's axis in the base frame
+
+    def side(q, target) -> float:  # > 0: the elbow left of shoulder -> target
+        shoulder = a.fk(q, "l1").translation  # link 1's frame is on joint 1's axis
+        elbow = a.fk(q, "l2").translation
+        return float(np.cross(target - shoulder, elbow - shoulder) @ up)
+
+    for _ in range(10):
+        target = a.fk(a.random_q(rng)).translation
+        results = a.solve_all(target, solver="planar2r")
+        assert sorted(r.branch for r in results) == ["elbow-down", "elbow-up"]
+        for r in results:
+            assert r.success and side(r.q, target) * (1 if r.branch == "elbow-up" else -1) > 0
+            assert a.solve(target, q0=r.q).branch == r.branch  # the prepared solve's label
+        xy = a.kinematics.plane.to_2d(target)[None]
+        q_up, q_down, _ = planar2r.solve_many(a.kinematics, xy)
+        assert side(q_up[0], target) > 0 > side(q_down[0], target)
+    if axis == "0 0 1":  # the worked example: the elbow above the line to (1.2, 0.5)
+        r = next(r for r in a.solve_all([1.2, 0.5]) if r.branch == "elbow-up")
+        elbow = a.fk(r.q, "l2").translation
+        assert elbow[1] > 0.5 / 1.2 * elbow[0]
 
 
 def test_solve_picks_branch_nearest_q0():
     a = arm("planar_2link")
-    up = a.solve([1.2, 0.5], q0=[0.0, 1.0])
-    down = a.solve([1.2, 0.5], q0=[1.0, -1.0])
+    up = a.solve([1.2, 0.5], q0=[1.0, -1.0])
+    down = a.solve([1.2, 0.5], q0=[0.0, 1.0])
     assert up.branch == "elbow-up" and down.branch == "elbow-down"
 
 
 def test_joint_limits_exclude_one_branch():
     a = arm("planar_2link").with_limits({"joint2": (0.0, math.pi)})
     with pytest.warns(armik.ArmikWarning, match="clipped"):
-        r = a.solve([1.2, 0.5], q0=[1.0, -1.0])  # q0 prefers elbow-down, limits forbid it
-    assert r.success and r.branch == "elbow-up"
+        r = a.solve([1.2, 0.5], q0=[1.0, -1.0])  # q0 prefers elbow-up, limits forbid it
+    assert r.success and r.branch == "elbow-down"
     results = a.solve_all([1.2, 0.5])
     assert [r.success for r in results] == [True, False]
     assert results[1].status == "joint_limits"
@@ -67,7 +115,7 @@ def test_both_branches_outside_limits():
 def test_wrap_uses_equivalent_angle_within_wide_limits():
     a = arm("planar_2link").with_limits({"joint1": (0.0, 2 * math.pi)})
     r = a.solve([1.2, 0.5], q0=[6.0, 1.0])
-    assert r.success and r.branch == "elbow-up"
+    assert r.success and r.branch == "elbow-down"
     assert r.q[0] == pytest.approx(textbook(1.2, 0.5, 1.0)[0] + 2 * math.pi, abs=1e-12)
 
 
@@ -196,8 +244,8 @@ def test_vectorised_matches_scalar(rng):
         return np.abs(np.arctan2(np.sin(d), np.cos(d))).max()
 
     for i in np.flatnonzero(ok)[:50]:
-        assert wrapped(q_up[i], textbook(*xy[i], 1.0)) < TOL["closed_form"]
-        assert wrapped(q_down[i], textbook(*xy[i], -1.0)) < TOL["closed_form"]
+        assert wrapped(q_up[i], textbook(*xy[i], -1.0)) < TOL["closed_form"]
+        assert wrapped(q_down[i], textbook(*xy[i], 1.0)) < TOL["closed_form"]
     geo = planar2r.geometry(a)
     np.testing.assert_allclose(geo.forward(q_up[ok, 0], q_up[ok, 1]), xy[ok], atol=1e-12)
     np.testing.assert_allclose(geo.forward(q_down[ok, 0], q_down[ok, 1]), xy[ok], atol=1e-12)

@@ -82,7 +82,7 @@ def test_the_plan_is_taken_for_xy_positions_and_poses():
     T = a.fk(np.array([0.4, 1.1]))
     for target in (T.translation[:2].copy(), T.translation.copy(), T, T.homogeneous):
         r = a.solve(target, q0=np.array([0.3, 1.0]))
-        assert r.success and r.solver == "planar2r" and r.branch == "elbow-up"
+        assert r.success and r.solver == "planar2r" and r.branch == "elbow-down"
         assert not decided_by_verdicts(r)  # the prepared path
         assert r.reason.startswith("closed form; verified by forward kinematics")
 
@@ -110,7 +110,7 @@ def test_prepared_is_general_within_joint_limits():
     rng = np.random.default_rng(12)
     base = arm("planar_2link")
     arms = [
-        base.with_limits({"joint2": (0.0, math.pi)}),  # elbow-down outside the limits
+        base.with_limits({"joint2": (0.0, math.pi)}),  # elbow-up outside the limits
         base.with_limits({"joint2": (-0.1, 0.1)}),  # both outside, but near stretched
         base.with_limits({"joint1": (0.0, 2 * math.pi)}),  # 2 pi equivalents
         base.with_limits({"joint1": (-0.5, 0.5), "joint2": (-2.0, 2.0)}),
@@ -194,9 +194,9 @@ def test_a_refused_answer_falls_back_to_every_row():
     lying.takes_xy = True
     plan.run_pose = lying
     xy = np.array([1.2, 0.5])
-    q0 = np.array([0.0, 1.0])  # nearest the elbow-up branch
+    q0 = np.array([0.0, 1.0])  # nearest the elbow-down branch
     r = a.solve(xy, q0=q0)
-    assert r.success and r.branch == "elbow-up"  # the honest row, verified
+    assert r.success and r.branch == "elbow-down"  # the honest row, verified
     assert decided_by_verdicts(r)
     assert_same_result(r, a.solve(parse_target(xy, a.kinematics), q0=q0))
 

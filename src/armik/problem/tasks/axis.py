@@ -21,6 +21,7 @@ from armik.problem.tasks.base import (
     replaced,
     unit,
 )
+from armik.reasons import Cone
 
 RIM = 0.9  # of the cone's angle: a rim direction's tilt, inside the cone by the rest
 
@@ -50,6 +51,9 @@ class Axis(Task):
 
     def free(self) -> tuple[bool, bool]:
         return (True, False)  # a direction alone holds no position
+
+    def cone_words(self) -> Cone:
+        return Cone(self.within)
 
     def kernel_row(self) -> KernelRow:
         return cone_row(self.axis, self.within, LOOK_TOWARD, self.direction)

@@ -25,6 +25,7 @@ import pinocchio as pin
 
 from armik.errors import ArmikError, TargetError
 from armik.kernel.problem import NO_CONE, NO_LOOK
+from armik.reasons import Cone
 from armik.tolerances import MAX_LENGTH
 
 #: A frame's placement ``T_base_frame`` and its LOCAL Jacobian (None where only measured).
@@ -151,6 +152,11 @@ class Task(ABC):
         if weights is not None:
             free = free | (np.asarray(weights, dtype=float) == 0.0)
         return (bool(free[:3].all()), len(free) == 6 and bool(free[3:].all()))
+
+    def cone_words(self) -> Cone | None:
+        """The aim this task's words name its frame's axis by (``reasons.Cone``: an axis
+        within a cone of a direction or of the line to a point), or None: no aim."""
+        return None
 
     def rim(self, count: int) -> list[Task]:
         """Exact tasks at ``count`` points spread around the rim of the region, just inside

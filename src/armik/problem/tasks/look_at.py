@@ -21,6 +21,7 @@ from armik.problem.tasks.base import (
     replaced,
     unit,
 )
+from armik.reasons import Cone
 from armik.targets.pose import _vector
 from armik.tolerances import MAX_POSITION, SIGHT
 
@@ -76,6 +77,9 @@ class LookAt(Task):
 
     def free(self) -> tuple[bool, bool]:
         return (True, False)  # a direction alone holds no position
+
+    def cone_words(self) -> Cone:
+        return Cone(self.within, at_point=True)
 
     def kernel_row(self) -> KernelRow:
         return cone_row(self.axis, self.within, LOOK_POINT, self.point)

@@ -7,8 +7,11 @@ r = |d|, effective link lengths l1, l2 read from the model:
     t1 = atan2(d_y, d_x) - atan2(l2 sin t2, l1 + l2 cos t2)
 
 t1, t2 are the geometric link angles; the joint values follow from the zero-configuration
-offsets and the axis signs: q_i = s_i (t_i - alpha_i). Branch "elbow-up" turns the elbow
-counter-clockwise about its own axis (q2 > 0 on an arm without offsets).
+offsets and the axis signs: q_i = s_i (t_i - alpha_i). Branch "elbow-up" has the elbow to
+the left of the line from the shoulder to the target, seen with joint 1's axis toward the
+viewer (above it for axes along +z and a target to the right): the cross product of
+d and the elbow's offset from A is along joint 1's axis, which is -l1 l2 sin(t2) s1 > 0,
+so t2 s1 < 0 (q2 < 0 on an arm without offsets whose axes point the same way).
 
 The arithmetic is compiled (``planar2r_kernel``), one kernel for the general path (``run``)
 and the prepared solve (``prepare_pose``, for ``armik.solve.prepared``): (x, y), 3-vector
@@ -317,7 +320,7 @@ def solve_many(arm: ArmModel, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
         q = np.arctan2(np.sin(q), np.cos(q))
         q[~reachable] = np.nan
         out.append(q)
-    up_is_plus = geo.s2 > 0
+    up_is_plus = geo.s1 < 0  # elbow-up: t2 s1 < 0 (the module)
     q_up, q_down = out if up_is_plus else out[::-1]
     return q_up, q_down, reachable
 

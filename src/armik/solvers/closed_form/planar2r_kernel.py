@@ -205,11 +205,13 @@ def rows(flat, H, q0, planar, x, y, out):
             _row(flat, q0, out, first, t1, t2, CONVERGED, branch, 1.0, MERGED, 0.0, 0.0)
             n = 1
         else:
-            s2 = flat[S2]
+            s1 = flat[S1]
             for k in range(2):
                 t2 = (1.0 if k == 0 else -1.0) * math.acos(c)
                 t1 = _elbow(flat, heading, t2)
-                branch = UP if s2 * t2 > 0 else DOWN
+                # the elbow left of the shoulder-target line seen down joint 1's axis: the
+                # link turns clockwise about that axis at the elbow (``planar2r``)
+                branch = UP if s1 * t2 < 0 else DOWN
                 _row(flat, q0, out, k, t1, t2, CONVERGED, branch, 0.0, CLOSED_FORM, 0.0, 0.0)
             n = 2
     if flat[ORIENT] != 0.0:

@@ -50,7 +50,7 @@ from armik.solvers.answers import Answers, one
 from armik.solvers.claims import claim
 from armik.solvers.numeric import rails, structure
 from armik.status import Status
-from armik.targets.aim import Aim
+from armik.targets.aim import Aim, cone_words
 from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 
@@ -151,10 +151,11 @@ def _looking(packed: tuple[np.ndarray, np.ndarray], sight: tuple[float, float, f
     return sf, packed[1]
 
 
-_LOOK_POINT = slice(21, 24)  # in ``problem.pack_settings``' floats
+# slots of ``problem.pack_settings``' floats and ints (``unpack`` reads them back)
+_WEIGHTS, _BOUNDS, _LOOK_POINT = slice(0, 6), slice(11, 17), slice(21, 24)
+_MAX_RESTARTS, _TIMEOUT_NS, _ITERATION_BUDGET = 3, 5, 6
 # an arm's packed settings, (budget, (floats, ints)) under what else they are built from
 PACKED: Derived[dict[tuple, tuple]] = Derived("packed numeric settings", lambda _: {})
-_MAX_RESTARTS, _TIMEOUT_NS, _ITERATION_BUDGET = 3, 5, 6  # in ``problem.pack_settings``' ints
 
 
 def _timeout_ns(timeout: float) -> int:
@@ -288,7 +289,9 @@ def run_numeric(
         rails_ = rails.UNLIMITED(arm)
     flat = rails.toward(arm, p_t[0], q0, rails_) if len(rails_) else arm.kernel_chain.flat
     entry(*flat, sf, si, R_t, p_t, q0[None], seeds, out_q, info, err)
-    return kernel_answers(arm, target.position, q0, opts, sf, info[0], out_q[0], err[0], region)
+    return kernel_answers(
+        arm, target.position, q0, opts, sf, info[0], out_q[0], err[0], region, aim
+    )
 
 
 def converged_reason(restarts: int) -> str:
@@ -296,10 +299,10 @@ def converged_reason(restarts: int) -> str:
 
 
 def kernel_answers(
-    arm: ArmModel, position, q0, opts: SolverSettings, sf, info, out_q, err, region: bool
+    arm: ArmModel, position, q0, opts: SolverSettings, sf, info, out_q, err, region: bool, aim=None
 ) -> Answers:
     """The answers of one target from the kernel's outputs (see ``descent.solve_one``);
-    ``region``: the target has one (bounds or an aim)."""
+    ``region``: the target has one (bounds or an aim); ``aim``: its aim, or None."""
     claim, found, iterations, restarts, out_of_budget = info.tolist()
     if claim == _descent.CONVERGED:
         reason = converged_reason(restarts)
@@ -313,7 +316,7 @@ def kernel_answers(
     if claim == _descent.UNREACHABLE:
         distance = math.dist(np.asarray(position).tolist(), arm.first_joint_origin.tolist())
         return one(q0.copy(), Status.UNREACHABLE, reasons.unreachable(distance, arm.reach))
-    why = _not_converged(opts, sf, bool(out_of_budget), restarts, err, region)
+    why = _not_converged(opts, sf, bool(out_of_budget), restarts, err, region, cone_words(aim))
     return one(out_q[0], Status.NOT_CONVERGED, why, iterations=iterations, restarts=restarts)
 
 
@@ -367,7 +370,7 @@ def pose_runner(
             restarts = int(info[3])
             got = (out_q[0], int(info[2]), restarts, None, False, converged_reason, (restarts,))
             return claim(got)
-        return kernel_answers(arm, H[:3, 3], q0, opts, sf, info, out_q, err, region)
+        return kernel_answers(arm, H[:3, 3], q0, opts, sf, info, out_q, err, region, aim)
 
     run_pose.one_only = True  # type: ignore[attr-defined]  # solve_all: the general path
     return run_pose
@@ -383,7 +386,7 @@ def _c_float(a) -> np.ndarray:
 
 
 def _not_converged(
-    opts: SolverSettings, sf: np.ndarray, out_of_budget: bool, restarts: int, err, region: bool
+    opts: SolverSettings, sf: np.ndarray, out_of_budget: bool, restarts: int, err, region, cone
 ) -> str:
     if not out_of_budget and opts.max_restarts == 0:
         why = "one descent from q0 (max_restarts=0: no restarts)"
@@ -392,8 +395,7 @@ def _not_converged(
     else:
         why = reasons.budget(opts.timeout, opts.iteration_budget, f"{restarts} restarts")
     # each part where a weight measures it and a finite bound holds it (an aim: the cone)
-    kept = sf[:6] * np.isfinite(sf[11:17]) if region else sf[:6]
-    cone = None if sf[20] == NO_CONE else float(sf[20])
+    kept = sf[_WEIGHTS] * np.isfinite(sf[_BOUNDS]) if region else sf[_WEIGHTS]
     pos, ori = err[0] if kept[:3].any() else None, err[1]
     if not (kept[3:].any() or cone is not None):
         ori = None
@@ -441,7 +443,7 @@ def run_numeric_batch(
             got = rails.batch_kernel(
                 arm, sf, si, R_t[rows], p_t[rows], q0[rows], seeds[rows], step.kind
             )
-            return _worded(arm, opts, sf, p_t, q0, rows, got, refusals, region)
+            return _worded(arm, opts, sf, p_t, q0, rows, got, refusals, region, aim)
     out_q = np.empty((n_targets, 1, dof))
     info = np.empty((n_targets, 5), dtype=np.int64)
     err = np.empty((n_targets, 2))
@@ -451,7 +453,8 @@ def run_numeric_batch(
     entry = ENTRIES[step.kind]
     entry(*kc.flat, sf, si, R_t, p_t, q0, seeds, out_q, info, err)
     if (info[:, 0] == _descent.NOT_CONVERGED).any():  # in the single solve's words
-        return _worded(arm, opts, sf, p_t, q0, range(n_targets), (out_q, info, err), {}, region)
+        got = (out_q, info, err)
+        return _worded(arm, opts, sf, p_t, q0, range(n_targets), got, {}, region, aim)
     return Answers(
         q=out_q[:, 0],
         claim=info[:, 0].astype(np.int8),
@@ -460,7 +463,7 @@ def run_numeric_batch(
     )
 
 
-def _worded(arm: ArmModel, opts, sf, p_t, q0, rows, got, refusals, region: bool) -> Answers:
+def _worded(arm: ArmModel, opts, sf, p_t, q0, rows, got, refusals, region: bool, aim) -> Answers:
     """A batch's answers, the kernel's (``got``: out_q, info, err) for ``rows``, the others
     refused (``refusals``: {row: why}, q0 kept); where a row failed, every row in words: a
     solved one's as the single solve's (``kernel_answers``), a success's the verdict's."""
@@ -472,7 +475,9 @@ def _worded(arm: ArmModel, opts, sf, p_t, q0, rows, got, refusals, region: bool)
     failed = bool(refusals) or bool((info[:, 0] == _descent.NOT_CONVERGED).any())
     for k, i in enumerate(rows):
         if failed:
-            one_ = kernel_answers(arm, p_t[i], q0[i], opts, sf, info[k], out_q[k], err[k], region)
+            one_ = kernel_answers(
+                arm, p_t[i], q0[i], opts, sf, info[k], out_q[k], err[k], region, aim
+            )
             words[i] = "" if one_.claimed(0) else one_.reason(0)
         q[i], claim[i], iterations[i], restarts[i] = out_q[k, 0], info[k, 0], info[k, 2], info[k, 3]
     reasons_ = tuple(words[i] for i in range(n)) if failed else None

@@ -10,11 +10,12 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from armik.arm import Arm, load
+from armik.arm import Arm
 from armik.constraints.shapes_file import read_shapes
 from armik.errors import FrameError, InputError, OptionError
 from armik.kernel import warmup
 from armik.kernel.problem import STEP_DLS
+from armik.loading import load
 from armik.model.arm_model import ArmModel
 from armik.model.catalogue import CATALOGUE, entry
 from armik.model.urdf import read_urdf, read_urdf_string
@@ -125,6 +126,8 @@ def cmd_info(args: argparse.Namespace) -> int:
     print(f"{arm.name}: {arm.dof} joints from {arm.base!r} to {arm.tip!r}  ({arm.source})")
     if arm.tip_reason != "given":
         print(f"  tip: {arm.tip_reason}")
+    if arm.tip_offset is not None:
+        print(f"  {offset_words(arm.tip, arm.tip_offset)}")
     for note in arm.info.notes:
         print(f"  note: {note}")
     for jname, value in arm.locked.items():
@@ -301,7 +304,8 @@ def print_result(
         unit = "m" if jtype == "prismatic" else f"rad ({math.degrees(value):9.4f} deg)"
         print(f"{indent}  {name:<22} {value: .9f} {unit}")
     ori = "n/a" if r.orientation_error is None else f"{r.orientation_error:.2e} rad"
-    print(f"{indent}FK error : position {r.position_error:.2e} m, orientation {ori}")
+    pos = "n/a" if r.position_error is None else f"{r.position_error:.2e} m"
+    print(f"{indent}FK error : position {pos}, orientation {ori}")
     for tip, errors in r.extra.get("errors", {}).items():  # several tips: each tip's
         pos, tip_ori = (
             "n/a" if e is None else f"{e:.2e} {u}" for e, u in zip(errors, ("m", "rad"))
@@ -347,3 +351,9 @@ def cmd_demo(args: argparse.Namespace) -> int:
     print_result(panda, r)
     ok &= r.success
     return 0 if ok else 1
+
+
+def offset_words(tip: str, offset: tuple[float, float, float]) -> str:
+    """The tool point a tip offset adds, in words: what fk gives and targets place."""
+    xyz = ", ".join(f"{v:g}" for v in offset)
+    return f"tip offset: ({xyz}) m in the frame of {tip!r}: the tool point fk gives, targets place"

@@ -10,11 +10,17 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from armik.arm import load
 from armik.arms import Arms
 from armik.errors import InputError, OptionError
+from armik.loading import load
 from armik.solvers import registry
-from armik.tools.cli.arms import frame_tree, locked_joints, print_result, solve_options
+from armik.tools.cli.arms import (
+    frame_tree,
+    locked_joints,
+    offset_words,
+    print_result,
+    solve_options,
+)
 from armik.tools.cli.targets import flag_targets, for_flags, task_errors, task_names
 
 # options the task solver of chains that share joints does not take (flag -> option)
@@ -59,6 +65,8 @@ def cmd_info_tips(args: argparse.Namespace) -> int:
         arm = robot.chain(tip).kinematics
         auto = registry.choose("auto", arm).name
         print(f"tip {tip!r}: {arm.dof} joints; this chain alone: auto -> {auto}")
+        if arm.tip_offset is not None:
+            print(f"  {offset_words(tip, arm.tip_offset)}")
         print(f"  {'joint':<24} {'type':<11} {'lower':>9} {'upper':>9}")
         for i, (name, jtype) in enumerate(zip(arm.joint_names, arm.joint_types)):
             mark = "  shared" if name in robot.shared else ""

@@ -9,10 +9,11 @@ import sys
 
 import numpy as np
 
-from armik.arm import Arm, load
+from armik.arm import Arm
 from armik.arms import Arms
 from armik.constraints.shapes_file import read_shapes
 from armik.errors import InputError
+from armik.loading import load
 from armik.tools.cli.arms import load_arm, locked_joints
 from armik.tools.cli.many import path_start, read_targets_file
 
