@@ -396,8 +396,11 @@ def _local(local: Request) -> tuple[Request, ...]:
     """The re-solves near the previous answer: ``local`` itself, and for a closed form a
     numeric descent from that answer too. A closed form's answer nearest it can lie on
     another branch where the waypoints pass a singularity (an SRS arm's stretched elbow
-    leaves its swivel angle undefined); the descent moves continuously off it."""
+    leaves its swivel angle undefined); the descent moves continuously off it. Not where
+    the request fixes the closed form's parameter (``swivel=``): no descent keeps it."""
     if local.solver == "auto" or registry.get(local.solver).kind != "analytic":
+        return (local,)
+    if local.opts.swivel is not None:
         return (local,)
     return local, local.but(solver=NUMERIC)
 
