@@ -204,3 +204,28 @@ def test_a_servo_takes_obstacles_given_as_an_iterator_on_every_chain():
         for tip in robot.tips:
             pairs = servo.servo(tip)._collisions.check.pair_names
             assert any("Sphere" in b for _, b in pairs), (tip, given)
+
+
+class _Below(Constraint):
+    """Joint 1 of its chain below 1 rad (a constraint of one tip)."""
+
+    def check(self, arm, Q):
+        return Check(np.asarray(Q)[:, 0] < 1.0, armik.Status.JOINT_LIMITS, lambda i: "joint 1")
+
+
+def test_a_tips_constraint_over_shared_joints_travels_without_a_model():
+    """A request holding a tip's own constraint over shared joints (``OnChain``) pickles
+    without the chain's model: every chunk of a Dask batch carries the request, and each
+    carried the chain's recipe (the whole URDF of an arm read from its text, 113 kB for
+    TALOS) and rebuilt the chain on the worker. The constraint still holds."""
+    with open(armik.load("panda").source) as f:  # read from its text: the recipe holds it
+        arms = armik.load(f.read(), tips=["panda_hand", "panda_link5"])
+    request = read_request(arms, {"constraints": {"panda_hand": [_Below()]}})
+    blob = pickle.dumps(request)
+    assert len(blob) < 4000, len(blob)
+    assert b"ArmModel" not in blob and b"Recipe" not in blob
+    rows = _rows(arms, 6, 3)
+    by_tip = {tip: [row[tip] for row in rows] for tip in arms.tips}
+    got = arms.solve_batch(by_tip, constraints={"panda_hand": [_Below()]}, iteration_budget=2000)
+    assert got.success.any()
+    assert (np.asarray(got.q)[got.success, 0] < 1.0).all()

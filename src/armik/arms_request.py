@@ -139,9 +139,8 @@ def on_union(arms: Any, union: Union, options: dict) -> dict:
     names = union.joint_names
     on = []
     for tip, given in own.items():
-        chain = arms._chains[tip]
-        columns = np.array([names.index(n) for n in chain.joint_names])
-        on += [OnChain(c, tip, chain, columns) for c in given]
+        columns = np.array([names.index(n) for n in arms._chains[tip].joint_names])
+        on += [OnChain(c, tip, columns) for c in given]
     return {**options, "constraints": on}
 
 
