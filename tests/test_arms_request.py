@@ -229,3 +229,21 @@ def test_a_tips_constraint_over_shared_joints_travels_without_a_model():
     got = arms.solve_batch(by_tip, constraints={"panda_hand": [_Below()]}, iteration_budget=2000)
     assert got.success.any()
     assert (np.asarray(got.q)[got.success, 0] < 1.0).all()
+
+
+def test_a_pose_read_at_the_facade_is_not_checked_again_by_a_chains_read(monkeypatch):
+    """Each tip's pose is parsed (and checked) once at the facade; a chain's solve with
+    options reads the request from it without checking its rotation again, as a
+    ``Target`` built by hand is checked (3.6 such checks a solve, 75 Python calls)."""
+    import armik.solve.read as read_module
+
+    arms = _panda()
+    rows = _rows(arms, 2, 5)
+
+    def refused(R):
+        raise AssertionError("a parsed pose checked again")
+
+    monkeypatch.setattr(read_module, "is_rotation", refused)
+    for row in rows:
+        r = arms.solve(row, iteration_budget=2000)
+        assert r.position_error is not None

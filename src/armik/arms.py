@@ -362,7 +362,7 @@ class Arms(ArmsKinematics):
                                      time.perf_counter(), None, None, None, None))  # fmt: skip
             return run(self._chains[tip], request)  # type: ignore[no-any-return]
         arm = arms_apart.model(self, tip, options) if options else self._chains[tip]  # collisions
-        request = read(arm, target, q0, solver, options)
+        request = read(arm, target, q0, solver, options, parsed_already=type(target) is Target)
         if request.score is None and request.problem is None:  # the compiled path's stages
             return run(arm, request)  # type: ignore[no-any-return]
         return routed(arm, request)  # type: ignore[no-any-return]

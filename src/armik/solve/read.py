@@ -55,9 +55,16 @@ from armik.targets.pose import MAX_POSITION, Target, checked, is_rotation, parse
 
 
 def read(
-    arm: ArmModel, target: object, q0: object, solver: str, options: dict, every: bool = False
+    arm: ArmModel,
+    target: object,
+    q0: object,
+    solver: str,
+    options: dict,
+    every: bool = False,
+    parsed_already: bool = False,
 ) -> Request:
-    """The request of ``solve(arm, target, q0, solver, **options)`` (``every``: solve_all)."""
+    """The request of ``solve(arm, target, q0, solver, **options)`` (``every``: solve_all;
+    ``parsed_already``: ``target`` is the parser's ``Target``, its parts checked)."""
     if not options:  # the common call: nothing to read but a plain pose or position
         kind = type(target)
         if kind is _SE3 or kind is np.ndarray:
@@ -83,6 +90,7 @@ def read(
     if (
         kind is not _SE3
         and kind is not np.ndarray
+        and kind is not Target
         and (kind in (list, tuple) or isinstance(target, Task))
     ):
         problem = as_problem(target)
@@ -118,7 +126,7 @@ def read(
         refuse_freed(freed, opts, aimed=False)
     if score is not None and problem is None:  # every answer ranked is to this target
         target = parsed(target, arm)
-    if type(target) is Target:  # one built by hand: its parts checked where not plain
+    if type(target) is Target and not parsed_already:  # built by hand: checked, not plain
         p, R = target.position, target.rotation  # plain: finite float arrays, 3 and 3 x 3
         ok = type(p) is np.ndarray and p.shape == _POINT and p.dtype == _FLOAT
         if R is not None:
