@@ -247,3 +247,23 @@ def test_a_pose_read_at_the_facade_is_not_checked_again_by_a_chains_read(monkeyp
     for row in rows:
         r = arms.solve(row, iteration_budget=2000)
         assert r.position_error is not None
+
+
+@pytest.mark.parametrize("spelled", ["poses", "related", "cost"])
+def test_solve_all_solves_each_chain_without_its_facade(monkeypatch, spelled):
+    """``Arms.solve_all`` lists each chain's answers from the request (its options read
+    once at the facade), not through each chain's ``Arm.solve_all`` again: the same
+    answers, in the same order, as before it was taken away."""
+    robot = _cell()
+    row = _rows(robot, 1, 7)[0]
+    target: object = _related(robot, [row])[0] if spelled == "related" else row
+    options = {"prefer": lambda q: float(np.sum(q**2))} if spelled == "cost" else {}
+    first = robot.solve_all(target, **options)
+    assert len(first) > 1 and first[0].success
+
+    def refused(self, *args, **kwargs):
+        raise AssertionError("a chain solved through Arm.solve_all")
+
+    monkeypatch.setattr(armik.Arm, "solve_all", refused)
+    again = robot.solve_all(target, **options)
+    np.testing.assert_array_equal([r.q for r in again], [r.q for r in first])
