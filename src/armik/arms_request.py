@@ -21,7 +21,8 @@ processes and a Dask cluster.
   budget: ``descent_settings``) where the chains share joints, else None;
 - ``kept``: those of the descent over chains that share no joint, solved together for a
   task relating them (``coupled``), read where a row first needs them and kept for the
-  call's other rows.
+  call's other rows (the request of a call without options is kept with the robot, and
+  these with it: the same for every such call).
 """
 
 from __future__ import annotations
