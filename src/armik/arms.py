@@ -344,8 +344,9 @@ class Arms(ArmsKinematics):
                 r = self._solve_chain(tip, target, q[cols], solver, held[tip] if held else {})
             except ArmikError:  # a task this chain's solver does not take: start as is
                 continue
-            free = ~fixed[cols]
-            q[cols[free]] = r.q[free]
+            free = ~fixed[cols]  # a failed answer may leave the limits: a start within them
+            chain = self._chains[tip]
+            q[cols[free]] = np.clip(r.q, chain.lower, chain.upper)[free]
             fixed[cols] = True
         return q
 
