@@ -44,8 +44,8 @@ from armik.problem.tasks.position import Position
 from armik.request import Request
 from armik.result import IKResult
 from armik.solve import ladder, rungs
+from armik.solve.choice import chosen
 from armik.solve.path_score import preferred
-from armik.solve.prepared import chosen
 from armik.solve.rungs import free_spin, spun, spun_batch, unwrapped
 from armik.solve.single import routed
 from armik.solve.stages import run
