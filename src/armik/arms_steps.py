@@ -33,6 +33,7 @@ from armik.solve.rungs import free_spin, spun_batch
 from armik.solve.turning import ANY
 from armik.status import Status
 from armik.targets.batch import TargetBatch, parse_targets
+from armik.targets.pose import Target
 
 
 def held(arms: Any, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: bool):
@@ -111,6 +112,12 @@ def hidden_steps(
         arms_halfway.hidden_steps(arms, out, waypoints, step, opts, unread, went)
 
 
+def _posed(target: object) -> bool:
+    """Whether a lowered target is a pose or a position (an ``armik.Axis`` exactly along a
+    direction too: a pose whose spin is free), not an aim's."""
+    return isinstance(target, (SE3, np.ndarray)) or (type(target) is Target and target.aim is None)
+
+
 def _poses(chain, tip: str, rows) -> tuple[TargetBatch, dict] | None:
     """(poses, what the tasks say beside them) of a tip's rows: its poses or positions as
     given; a task of each row's lowered as one arm's ``solve`` lowers it (``lower``: a
@@ -122,7 +129,7 @@ def _poses(chain, tip: str, rows) -> tuple[TargetBatch, dict] | None:
         pass
     problems = [as_problem(row) if isinstance(row, (Task, list, tuple)) else None for row in rows]
     lowered = [None if p is None else lower(p, tip) for p in problems]
-    if not lowered or any(x is None or not isinstance(x[0], (SE3, np.ndarray)) for x in lowered):
+    if not lowered or any(x is None or not _posed(x[0]) for x in lowered):
         return None
     said = lowered[0][1]  # type: ignore[index]
     if any(x[1] != said for x in lowered):  # type: ignore[index]

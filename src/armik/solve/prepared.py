@@ -33,6 +33,7 @@ import numpy as np
 import pinocchio as pin
 
 from armik.errors import SolverError
+from armik.frozen import frozen
 from armik.kernel.measure import (
     check_frame,
     fk_check_frame,
@@ -43,6 +44,7 @@ from armik.kernel.measure import (
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.problem.settings import SolverSettings
+from armik.reasons import Cone
 from armik.result import IKResult
 from armik.solve.choice import kind_of
 from armik.solvers import registry
@@ -69,6 +71,7 @@ _SE3 = pin.SE3
 _NO_PLAN = object()  # remembered: this solver and options have no plan
 _IDENTITY = np.eye(4)  # copied for a position target (a copy costs an eighth of np.eye)
 _SIGHTLESS = (None, None)  # a cone's (point, direction) where the target has no aim
+_ALONG = Cone(0.0)  # the words of an ``armik.Axis`` lowered to a pose: its axis' angle
 
 
 def plan_for(
@@ -261,8 +264,11 @@ class Plan:
         H, q0, xy = plain
         if seed is None:
             seed = secrets.randbits(63)
-        # this call's point or direction: the plan is shared by points
-        aim = target.aim if type(target) is Target else None
+        # this call's point or direction: the plan is shared by points; an ``armik.Axis``
+        # lowered to a pose: its axis, what the orientation distance measures
+        aim = along = None
+        if type(target) is Target:
+            aim, along = target.aim, target.along
         sight = None if aim is None else aim.point if aim.point is not None else aim.toward
         if xy is not None:
             got = self.run_pose(H, q0, seed, False, xy)
@@ -273,7 +279,7 @@ class Plan:
         if got is None:
             return None
         if type(got) is not Claim:  # claims other than converged: the general verdict
-            return self._finish(got, H, q0, opts, t0, False, xy, aim)[0]
+            return self._finish(got, H, q0, opts, t0, False, xy, aim, along)[0]
         q = got.q
         data, R_w, p_w = self.arm.tip_views()  # this thread's
         pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
@@ -295,6 +301,7 @@ class Plan:
                 *region,
                 *_SIGHTLESS if aim is None else (aim.point, aim.toward),
                 True,
+                along,
             )
             inside = self.arm._within(q.tolist())
         ori = ori if self.measure_rot else None
@@ -304,12 +311,16 @@ class Plan:
         )  # fmt: skip
         if fields is None or not fields["success"]:  # the next row may pass: every row
             answers = self._refused(got, H, q0, seed, xy)
-            return self._finish(answers, H, q0, opts, t0, False, xy, aim)[0]
+            return self._finish(answers, H, q0, opts, t0, False, xy, aim, along)[0]
         fields["solver"], fields["time"] = self.solver, time.perf_counter() - t0
         if apart is None:
             return IKResult._from_fields(fields)
         d_pos, d_ori = None if self.no_position else apart[0], apart[1]
-        kept = fields_apart(fields, d_pos, d_ori if self.apart_rot else None, self.weighted)
+        said = None  # the words of the distance where it is an axis' angle (``axis_words``)
+        if along is not None or sight is not None:
+            said = self.cone if aim is not None else _ALONG
+        d_ori = d_ori if self.apart_rot else None
+        kept = fields_apart(fields, d_pos, d_ori, self.weighted, said)
         r = IKResult._from_fields(fields)
         r.extra["measured"] = kept
         return r
@@ -416,7 +427,7 @@ class Plan:
         fk_checks(packed, kind, halton, self.fk_apart, H, Q, distances)
         out = []
         for fields, (pos, ori, _) in zip(verified, distances.tolist()):
-            kept = fields_apart(fields, pos, ori if self.apart_rot else None, self.weighted)
+            kept = fields_apart(fields, pos, ori if self.apart_rot else None, self.weighted, None)
             r = IKResult._from_fields(fields)
             r.extra["measured"] = kept
             out.append(r)
@@ -434,12 +445,15 @@ class Plan:
             placements.append(place(model, data, frame).homogeneous)
         return np.array(placements) if placements else np.empty((0, 4, 4))
 
-    def _finish(self, answers: Answers, H, q0, opts, t0: float, every: bool, xy=None, aim=None):
+    def _finish(
+        self, answers: Answers, H, q0, opts, t0: float, every: bool, xy=None, aim=None, along=None
+    ):
         if xy is not None:  # as the user gave it: the closed form reads it as given
             target = parse_target(np.array(xy), self.arm)
         else:
             target = parse_target(H[:3, 3].copy() if self.position else H, self.arm)
-        target = target if aim is None else target.aimed(aim)  # measured as the target asks
+        if aim is not None or along is not None:  # measured as the target asks
+            target = frozen(Target, **{**target.__dict__, "aim": aim, "along": along})
         return finish(self.arm, self.solver, answers, target, opts, q0, every, t0)
 
 
