@@ -12,7 +12,7 @@ import pinocchio as pin
 import pytest
 
 import armik
-from armik.arms import UNION_ITERATIONS
+from armik.arms_request import UNION_ITERATIONS, descent_settings, read_request
 from armik.constraints.hold import HELD_TOL
 from armik.status import Status
 from tests.conftest import whole_placements
@@ -323,17 +323,21 @@ def test_a_flat_list_of_tasks_naming_their_frames_is_the_mapping(cell):
 
 def test_shared_joints_keep_the_settings_of_a_call_without_options_and_read_the_others():
     """The descent's settings of a call without options are read once and kept with the
-    robot; a call with options reads its own, and the kept ones stay as they were."""
+    robot (in the request of such a call); a call with options reads its own, and the kept
+    ones stay as they were."""
     robot = talos()
     q = robot.random_q(np.random.default_rng(5))
     targets = {tip: robot.fk(q, frame=tip) for tip in robot.tips}
     assert robot.solve(targets).success
     kept = robot._plain
     assert kept is not None and kept[0].max_iterations == UNION_ITERATIONS
+    assert robot._bare is not None and robot._bare.together is kept
     r = robot.solve(targets, max_iterations=7, iteration_budget=3000)
     assert r.success, r.reason
-    assert robot._settings({"max_iterations": 7})[0].max_iterations == 7
-    assert robot._plain is kept and robot._settings({}) is kept
+    assert descent_settings(robot, {"max_iterations": 7})[0].max_iterations == 7
+    assert read_request(robot, {"max_iterations": 7}).together[0].max_iterations == 7
+    assert robot._plain is kept and descent_settings(robot, {}) is kept
+    assert read_request(robot, {}) is robot._bare
 
 
 def test_an_aim_keyword_over_shared_joints_is_refused_by_name():

@@ -141,7 +141,7 @@ class Arm:
         """
         if type(solver) is not str:
             validate_name(solver)
-        # ``solve_one``'s route, inline: a warm solve's Python calls are its budget
+        # read, then ``routed``, inline: a warm solve's Python calls are its budget
         request = read(self.kinematics, target, q0, solver, options)  # options read once
         if request.score is None and request.problem is None:  # the compiled path's stages
             return run(self.kinematics, request)  # type: ignore[no-any-return]
@@ -154,7 +154,7 @@ class Arm:
         list of ``IKResult``: ``armik.solutions``)."""
         if type(solver) is not str:
             validate_name(solver)
-        # ``solve_one``'s route, inline, as ``solve``'s
+        # read, then ``routed``, inline, as ``solve``'s
         request = read(self.kinematics, target, q0, solver, options, True)
         if request.score is None and request.problem is None:  # the compiled path's stages
             got = run(self.kinematics, request)

@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from collections.abc import Mapping
-from typing import TYPE_CHECKING, cast
+from collections.abc import Collection, Mapping
+from typing import cast
 
 import numpy as np
 import pinocchio as pin
@@ -24,36 +24,27 @@ import pinocchio as pin
 from armik import arms_apart, arms_collision, arms_every, arms_many, arms_reach, reasons
 from armik.arms_joined import by_tip_errors, joined
 from armik.arms_kinematics import ArmsKinematics
-from armik.arms_options import at_seed, chain_constraints, held_apart, per_chain, refuse_own_checks
+from armik.arms_options import at_seed, held_apart, refuse_own_checks
 from armik.arms_prefer import is_cost, ranked, scored
+from armik.arms_request import ArmsRequest, coupled, read_request, score_of, together_options
 from armik.arms_servo import ArmsServo
 from armik.arms_tasks import absolute, as_tasks, by_tip, on, placed, rows_by_tip, solve_order
-from armik.constraints.on_chain import OnChain
 from armik.errors import ArmikError, FrameError, OptionError, TargetError
 from armik.frozen import frozen
 from armik.model import mimic
 from armik.model.arm_model import ArmModel
 from armik.model.union import Union
 from armik.problem.problem import Problem, as_problem
-from armik.problem.scores import Manipulability, Posture, Score, fit_posture, parse_score
 from armik.problem.tasks import Pose, Relative, Task
+from armik.request import Request
 from armik.result import IKResult
 from armik.solutions import Solutions
 from armik.solve.read import options as read_options
-from armik.solve.read import read
-from armik.solve.refused import check_options
-from armik.solve.single import routed, solve_one
+from armik.solve.read import read, replayable
+from armik.solve.single import routed
 from armik.solve.stages import run
 from armik.solve.tasks import measure_tasks, solve_tasks
-from armik.solvers.registry import refuse_on_none, validate_name
 from armik.targets.pose import Target, parse_by_tip
-
-if TYPE_CHECKING:
-    from armik.constraints.base import Constraint
-    from armik.problem.budget import Budget
-    from armik.problem.settings import SolverSettings
-
-UNION_ITERATIONS = 40  # a restart's descent over chains that share joints (_solve_together)
 
 
 class Arms(ArmsKinematics):
@@ -95,7 +86,8 @@ class Arms(ArmsKinematics):
         # chains sharing no joint in one model, built for the first coupling task, and
         # the column of each of ``joint_names`` in it
         self._coupled: Union | None = None
-        self._plain: tuple | None = None  # ``_settings`` of a call without options
+        self._plain: tuple | None = None  # ``descent_settings`` of a call without options
+        self._bare: ArmsRequest | None = None  # the request of a call without options
         self._permutation: np.ndarray | None = None
         self._apart = None  # each chain's model checking collisions within the robot
         self._checkers = {}  # the robot's collision checkers, one per set of obstacles
@@ -116,57 +108,78 @@ class Arms(ArmsKinematics):
     def solve(self, targets: Mapping[str, object], *, q0: object = None, **options) -> IKResult:
         """Every tip at its target (any target form ``Arm.solve`` takes, or a task list),
         each chain by its own solver; one ``IKResult`` for the robot (module docstring)."""
-        r = self._solve(targets, q0, dict(options) if options else options)
-        return arms_collision.clear_or_other(self, r, targets, q0, options) if options else r
-
-    def _solve(self, targets: Mapping[str, object], q0: object, options: dict) -> IKResult:
-        t0 = time.perf_counter()
-        if "constraints" in options:  # a call only then: the common call has none
-            refuse_own_checks(options, self.tips)
+        # the options read once (``armik.arms_request``), then the targets: one row
+        request = read_request(self, replayable(options)) if options else self._bare
+        if request is None:
+            request = read_request(self, options)
         if q0 is not None:  # the whole q0, its bad joints named: not one chain's part of it
             q0 = self._seed(q0)  # clipped into the limits, as Arm's seed
+        parsed, relative = self._parsed(targets)
+        return self._solve_row(request, parsed, relative, q0)
+
+    def _parsed(
+        self, targets: Mapping[str, object], read: Collection[str] = ()
+    ) -> tuple[dict[str, object], dict[str, list[Relative]]]:
+        """(targets, relative): ``targets`` as given to ``solve`` read once, tip -> a parsed
+        pose or position (a ``Target``) or its tasks, in the robot's order of tips (``read``:
+        tips whose targets are parsed already, rows of a ``TargetBatch``); each tip's
+        ``Relative`` tasks (``_check_targets``)."""
         # a flat list of tasks read by tip; the tips in the robot's order, as the solve's
         if type(targets) is not dict or tuple(targets) != self.tips:  # else as by_tip gives it
             targets = by_tip(self._chains, targets)
         relative = self._check_targets(targets)
-        chains = self._chains
         poses = {t: v for t, v in targets.items() if type(v) in _PLAIN or not as_problem(v)}
-        targets = {**targets, **parse_by_tip(poses, chains)}  # parsed once; task lists as given
+        if read:
+            poses = {t: v for t, v in poses.items() if t not in read}
+        if not poses:  # task lists only: as given
+            return dict(targets), relative
+        return {**targets, **parse_by_tip(poses, self._chains)}, relative  # task lists as given
+
+    def _solve_row(
+        self, request: ArmsRequest, targets: dict, relative: dict, q0: np.ndarray | None
+    ) -> IKResult:
+        """One row: ``targets`` (``_parsed``'s, with their ``relative`` tasks) from ``q0``
+        (checked, or None) as ``request`` asks, what ``solve``, a batch's and a path's rows
+        return: where the chains' first answers collide, the nearest clear combination."""
+        r = self._answer(request, targets, relative, q0, time.perf_counter())
+        if not request.options:
+            return r
+        return arms_collision.clear_or_other(self, r, request, targets, relative, q0)
+
+    def _answer(
+        self, request: ArmsRequest, targets: dict, relative: dict, q0: np.ndarray | None, t0
+    ) -> IKResult:
+        """``_solve_row``'s answer before any check between the chains."""
+        chains = self._chains
         if self._union is not None:
             beyond = {} if relative else arms_reach.beyond_reach(chains, targets)
             if beyond:
-                return arms_reach.reaching(self, beyond, targets, q0, options, t0)
-            return self._solve_together(self._union, targets, relative, q0, options, t0)
+                return arms_reach.reaching(self, beyond, targets, q0, request, t0)
+            return self._solve_together(self._union, targets, relative, q0, request, t0)
         seeds = self._middle_seeds if q0 is None else self.split(q0)
+        solver, prefer, held = request.solver, request.prefer, request.each
         if not relative:  # each chain alone: the common case, kept short
-            solver = options.pop("solver", "auto")  # Arm.solve's route, without its frame
-            if type(solver) is not str:
-                validate_name(solver)
-            prefer = options.get("prefer") if options else None
             if is_cost(prefer):  # a cost of the whole configuration (``arms_prefer``)
-                own = self._holds({**options, "solver": solver})
+                own = request.chains_options(self.tips)
                 start = self.middle if q0 is None else q0
                 seeds = held_apart(seeds, own, chains, targets)
                 return ranked(
                     arms_apart.viewed(self, own), targets, seeds, start, prefer, own, 1, t0
                 )[0]
-            held = self._holds(options) if options else None
-            chains = arms_apart.chains(self, held) if held else chains  # collisions: apart
             seeds = held_apart(seeds, held, chains, targets) if held else seeds
             results = {
-                tip: solve_one(chains[tip], target, seeds[tip], solver, held[tip] if held else {})
+                tip: self._solve_chain(tip, target, seeds[tip], solver, held[tip] if held else {})
                 for tip, target in targets.items()
             }
             r = joined(self.tips, results, seeds, time.perf_counter() - t0)
             return r if prefer is None else scored(r, prefer)
         order = solve_order(targets, relative)
         if order is None:  # tips placed relative to each other in a cycle: all at once
-            return self._solve_together(self._joint(), targets, relative, q0, options, t0)
-        if is_cost(options.get("prefer")):  # the cost's whole configuration: no chain's
-            self._score(options["prefer"])
+            return self._solve_together(self._joint(), targets, relative, q0, request, t0)
+        if is_cost(prefer):  # the cost's whole configuration: no chain's
+            score_of(self, prefer)
         results = {}
-        solver = options.get("solver", "auto")
-        held = self._holds({k: v for k, v in options.items() if k != "solver"})
+        held = held or {tip: {} for tip in self.tips}
         seeds = held_apart(seeds, held, chains, targets)
         for tip in order:
             # a pose relative to a chain already solved is a pose in the base: exactly,
@@ -177,12 +190,12 @@ class Arms(ArmsKinematics):
             results[tip] = self._solve_chain(tip, target, seeds[tip], solver, held[tip])
         each = joined(self.tips, results, seeds, time.perf_counter() - t0)
         if each.success:
-            return each if options.get("prefer") is None else scored(each, options["prefer"])
+            return each if prefer is None else scored(each, prefer)
         # the reference chain's answer may be one the other cannot reach from: together
         try:
             first = np.clip(each.q, self.lower, self.upper)  # held values: still q0's
             together = self._solve_together(
-                self._joint(), targets, relative, q0, options, t0, first
+                self._joint(), targets, relative, q0, request, t0, first
             )
         except OptionError as e:  # an option the chains took and the joint descent does not
             return dataclasses.replace(each, reason=reasons.not_together(each.reason, e.option))
@@ -193,11 +206,12 @@ class Arms(ArmsKinematics):
     ) -> Solutions:
         """Every answer for one target per tip, best first (``armik.arms_every``), as
         ``Arm.solve_all`` gives them: a ``Solutions``."""
-        refuse_own_checks(options, self.tips)
+        request = read_request(self, replayable(options) if options else options)
         if q0 is not None:
             q0 = self._seed(q0)  # clipped into the limits, as Arm's seed
-        found = arms_every.solve_all(self, by_tip(self._chains, targets), q0, **options)
-        asked = arms_collision.between(self, options, targets)
+        parsed, relative = self._parsed(targets)
+        found = arms_every.solve_all(self, request, parsed, relative, q0)
+        asked = arms_collision.between(self, request.options, parsed)
         return Solutions(arms_collision.kept(self, found, asked))
 
     def solve_batch(self, targets: Mapping[str, object], *, q0: object = None, **options):
@@ -206,6 +220,7 @@ class Arms(ArmsKinematics):
         chain's own batch where the chains are independent (``armik.arms_many``);
         ``workers``, ``chunk_size``, ``progress`` and ``backend`` as ``Arm.solve_batch``'s
         (``backend`` runs chunks of rows where they are solved one by one)."""
+        options = replayable(options) if options else options
         refuse_own_checks(options, self.tips)
         targets = rows_by_tip(self._chains, targets, options)  # flat task lists: by tip
         return arms_many.solve_batch(self, targets, q0=q0, **options)
@@ -214,7 +229,7 @@ class Arms(ArmsKinematics):
         """A servo for every tip at once, one target per tip a tick (``step({tip: target})``),
         each chain its own ``Servo`` with ``Arm.servo``'s options (``armik.arms_servo``);
         chains that share joints one step over their union (``armik.servo.union``)."""
-        return ArmsServo(self, q0, **options)
+        return ArmsServo(self, q0, **(replayable(options) if options else options))
 
     def solve_path(
         self,
@@ -228,6 +243,7 @@ class Arms(ArmsKinematics):
         """Waypoints per tip (``poses``: tip -> N waypoints, or N flat task lists; named as
         ``Arm.solve_path``'s) in order from ``q0``, never with a silent jump larger than
         ``max_joint_step`` (``armik.arms_many``)."""
+        options = replayable(options) if options else options
         refuse_own_checks(options, self.tips)
         waypoints = rows_by_tip(self._chains, poses, options)
         return arms_many.solve_path(
@@ -241,16 +257,16 @@ class Arms(ArmsKinematics):
             for tip, arm in self._chains.items()
         }
 
-    def _solve_together(self, union: Union, targets, relative: dict, q0, options, t0, first=None):
+    def _solve_together(
+        self, union: Union, targets, relative: dict, q0, request: ArmsRequest, t0, first=None
+    ):
         """Chains sharing joints: one task per tip on ``union``, the task solver (``relative``:
-        each tip's ``Relative`` tasks). ``solver`` names the chains' own solver, which gives
-        the descent its starts (from ``first`` where given, else q0)."""
-        options = dict(options)
-        prefer = options.pop("prefer", None)
-        score = None if prefer is None else self._score(prefer)
-        solver = options.pop("solver", "auto")
-        if solver != "auto":
-            refuse_on_none(solver, self._chains)  # refused here, not skipped by ``_start``
+        each tip's ``Relative`` tasks). ``request.solver`` names the chains' own solver, which
+        gives the descent its starts (from ``first`` where given, else q0)."""
+        shared = union is self._union  # else chains sharing no joint, a task relating them
+        prefer, solver = request.prefer, request.solver
+        score = request.score if shared or prefer is None else score_of(self, prefer)
+        opts, unbound, budget = request.together if shared else coupled(self, request)  # type: ignore[misc]
         tasks: list[Task] = []
         given: list[str] = []  # the tip each task is given by: whose errors it counts in
         for tip, target in targets.items():
@@ -261,9 +277,8 @@ class Arms(ArmsKinematics):
             given += [tip] * (len(tasks) - len(given))
         seed = self.middle if q0 is None else np.asarray(q0, float)
         # each chain's start (``_start``); None held at q0's value, not a restart's random one
-        held = at_seed(self._holds(options), self.joint_names, seed) if options else None
-        joint = self._on_union(union, options) if "constraints" in options else options
-        opts, unbound, budget = self._settings(joint)
+        held = request.each if shared else together_options(request)
+        held = at_seed(held, self.joint_names, seed) if held else None
         start = self._start(targets, seed if first is None else first, relative, solver, held)
         order = self._permutation
         start = start if order is None else _scatter(start, order)
@@ -302,73 +317,6 @@ class Arms(ArmsKinematics):
         extra = {**r.extra, "errors": errors}  # r's fields are of their types: no __init__
         return frozen(IKResult, **{**r.__dict__, "reason": reason, "extra": extra})
 
-    def _on_union(self, union: Union, options: dict) -> dict:
-        """``options`` over ``union``'s joints: each tip's own constraints (``constraints={tip:
-        [...]}``) read that chain's joints of the union's answers (``OnChain``)."""
-        own = chain_constraints(options, self.tips)
-        if own is None:
-            return options
-        names = union.joint_names
-        on = []
-        for tip, given in own.items():
-            chain = self._chains[tip]
-            columns = np.array([names.index(n) for n in chain.joint_names])
-            on += [OnChain(c, tip, chain, columns) for c in given]
-        return {**options, "constraints": on}
-
-    def _settings(self, options: dict) -> tuple[SolverSettings, tuple[Constraint, ...], Budget]:
-        """(settings, their constraints unbound, their budget): the descent's over every
-        chain's joints, ``options`` read and checked, a descent of ``UNION_ITERATIONS``
-        unless they say otherwise; those of a call without options read once and kept."""
-        if not options and self._plain is not None:
-            return self._plain
-        aimed = next((k for k in ("cone", "look_at", "toward") if k in options), None)
-        if aimed is not None:  # a target's aim: one descent over every joint takes tasks
-            raise OptionError(
-                f"{aimed} is not taken where several tips are solved together (chains that "
-                "share joints, or a task relating them): say it as a task of the tip, "
-                "armik.Axis(..., frame=tip) or armik.LookAt(..., frame=tip)",
-                option=aimed,
-                value=options[aimed],
-            )
-        opts = read_options(options)
-        check_options(opts, "auto", several_tips=True)
-        if "max_iterations" not in options:
-            # short descents, many restarts: over every chain's joints a descent that has not
-            # closed in after 40 steps seldom does (TALOS's hands: 3 misses in 1200 targets
-            # against 11 with the default 100), and one closing in goes on (solve_tasks)
-            opts = dataclasses.replace(opts, max_iterations=UNION_ITERATIONS)
-        found = (opts, opts.constraints, opts.budget)
-        if not options:
-            self._plain = found
-        return found
-
-    def _score(self, prefer: object) -> Score | None:
-        """The score of ``prefer=`` over shared joints (moved along the tasks' null space,
-        ``solve_tasks``), or None; an ``OptionError`` where it means nothing over several tips."""
-        if isinstance(prefer, Posture):  # one value a joint of the robot, said so
-            fit_posture(prefer.q_ref.size, self.joint_names, "the robot", "prefer")
-        score = parse_score(prefer, self)
-        if score is None:
-            return None
-        if self._union is None:
-            raise OptionError(
-                f"prefer={prefer!r} is not available on tips placed relative to each other "
-                "that share no joint: drop prefer=, or solve each chain "
-                "(Arms.chain(tip).solve(..., prefer=...))",
-                option="prefer",
-                value=prefer,
-            )
-        if isinstance(score, Manipulability):
-            raise OptionError(
-                f"prefer='manipulability' over the joints {list(self.shared)} shared by "
-                f"several tips: the measure is of one tip's Jacobian; use 'nearest', "
-                "'limits', armik.Posture(q_ref, weights) or a cost over every joint",
-                option="prefer",
-                value=prefer,
-            )
-        return score
-
     def _start(
         self,
         targets: Mapping[str, object],
@@ -406,18 +354,18 @@ class Arms(ArmsKinematics):
     def _solve_chain(
         self, tip: str, target: object, q0: np.ndarray, solver: str, options: dict
     ) -> IKResult:
-        """One chain's answer by ``solver`` with its own options (``Arm.solve``'s route)."""
+        """One chain's answer by ``solver`` with its own options (``Arm.solve``'s route), its
+        target parsed (a ``Target``: not read again) or its tasks."""
+        if not options and type(target) is Target and target.aim is None:
+            # nothing to read: the request ``read`` gives a plain pose, built as it builds it
+            request = _new(Request, (target, q0, solver, _NO_OPTIONS, (), 0, False,
+                                     time.perf_counter(), None, None, None, None))  # fmt: skip
+            return run(self._chains[tip], request)  # type: ignore[no-any-return]
         arm = arms_apart.model(self, tip, options) if options else self._chains[tip]  # collisions
-        if type(target) is Target and target.rotation is not None and target.aim is None:
-            target = pin.SE3(target.rotation, target.position)  # parsed and checked: a plain pose
         request = read(arm, target, q0, solver, options)
         if request.score is None and request.problem is None:  # the compiled path's stages
             return run(arm, request)  # type: ignore[no-any-return]
         return routed(arm, request)  # type: ignore[no-any-return]
-
-    def _holds(self, options: dict) -> dict[str, dict]:
-        """Each tip's options (``arms_options.per_chain``)."""
-        return per_chain(options, self._chains, self._columns, self.joint_names)
 
     def _check_targets(self, targets: object) -> dict[str, list[Relative]]:
         """Each tip's ``Relative`` tasks, once the targets are checked: a mapping of known
@@ -470,6 +418,10 @@ def _relative(targets: Mapping[str, object], chains: Mapping[str, ArmModel]) -> 
 
 
 _PLAIN = (np.ndarray, pin.SE3, Target)  # target types that hold no task: skipped unread
+
+
+_new = tuple.__new__  # a ``Request`` built as the tuple it is (``armik.solve.read``'s way)
+_NO_OPTIONS = read_options({})  # the validated options of a call without any
 
 
 def _scatter(q: np.ndarray, order: np.ndarray) -> np.ndarray:

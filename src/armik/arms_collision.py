@@ -235,13 +235,16 @@ def _words(arms: Any, pair: Pair | None, d: float, m: float, solved: Mapping) ->
     return reasons.left_collide(pair, d, m, left) if left else reasons.apart_collide(pair, d, m)
 
 
-def clear_or_other(arms: Any, r: IKResult, targets: object, q0: object, options: dict) -> IKResult:
-    """``r`` where ``options`` ask no check between the chains (``between``), else
-    ``clear(arms, r, asked)``, or where the chains' answers collide with each other the
-    nearest clear combination of every chain's answers (``solve_all``'s, ``kept``) for
-    ``targets`` from ``q0`` with ``options`` (``Arms.solve``'s): another branch of one
-    arm often keeps it out of the other's way. Tips placed relative to each other take
-    each chain's answers in turn (``_in_turn``)."""
+def clear_or_other(
+    arms: Any, r: IKResult, request: Any, targets: dict, relative: dict, q0: object
+) -> IKResult:
+    """``r`` where the options of ``request`` (``Arms.solve``'s, an ``ArmsRequest``) ask no
+    check between the chains (``between``), else ``clear(arms, r, asked)``, or where the
+    chains' answers collide with each other the nearest clear combination of every chain's
+    answers (``solve_all``'s, ``kept``) for ``targets`` (parsed, with their ``relative``
+    tasks) from ``q0``: another branch of one arm often keeps it out of the other's way.
+    Tips placed relative to each other take each chain's answers in turn (``_in_turn``)."""
+    options = request.options
     r = held(arms, r, left_out(arms, options, targets))  # a tip left out: its constraints
     asked = between(arms, options, targets)
     if asked is None:
@@ -249,9 +252,7 @@ def clear_or_other(arms: Any, r: IKResult, targets: object, q0: object, options:
     found = clear(arms, r, asked)
     if found.success or found.status is not Status.COLLISION:
         return found
-    each = by_tip(arms._chains, targets)
-    seed = None if q0 is None else arms._seed(q0)
-    others = kept(arms, arms_every.solve_all(arms, each, seed, **options), asked)
+    others = kept(arms, arms_every.solve_all(arms, request, targets, relative, q0), asked)
     return others[0] if others and others[0].success else found
 
 

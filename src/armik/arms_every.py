@@ -28,7 +28,6 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import time
-from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -38,37 +37,37 @@ from armik.arms_apart import facade, viewed
 from armik.arms_joined import held, joined, left_out
 from armik.arms_options import held_apart
 from armik.arms_prefer import is_cost, order, ranked
+from armik.arms_request import read_request, score_of
 from armik.arms_tasks import absolute, solve_order
 from armik.problem.problem import as_problem
 from armik.problem.tasks import Pose, Position, Relative
 from armik.result import IKResult
-from armik.targets.pose import Target, parse_by_tip
+from armik.targets.pose import Target
 
 MAX_COMBINATIONS = 256  # answers at most: the nearest q0 (the best) of every chain's verified ones
 
 
-def solve_all(arms: Any, targets: Mapping[str, object], q0: object = None, **options: Any):
-    """Every answer of ``arms`` (an ``armik.Arms``) for one target per tip, best first; a
-    tip left out holds its constraints at the values it keeps (``arms_joined.held``)."""
-    found = _every(arms, targets, q0, **options)
-    checks = left_out(arms, options, targets)
+def solve_all(arms: Any, request: Any, targets: dict, relative: dict, q0: object = None):
+    """Every answer of ``arms`` (an ``armik.Arms``) for one target per tip (parsed, with
+    their ``relative`` tasks: ``Arms._parsed``'s), as ``request`` (an ``ArmsRequest``)
+    asks, best first; a tip left out holds its constraints at the values it keeps
+    (``arms_joined.held``)."""
+    found = _every(arms, request, targets, relative, q0)
+    checks = left_out(arms, request.options, targets)
     return [held(arms, r, checks) for r in found] if checks else found
 
 
-def _every(arms: Any, targets: Mapping[str, object], q0: object = None, **options: Any):
+def _every(arms: Any, request: Any, targets: dict, relative: dict, q0: object):
     t0 = time.perf_counter()
-    relative = arms._check_targets(targets)
-    # each tip's pose or position parsed once, a bad one named by its tip (as ``solve``)
-    poses = {tip: v for tip, v in targets.items() if as_problem(v) is None}
-    targets = {**targets, **parse_by_tip(poses, arms._chains)}
     if arms._union is not None:
-        return [one_answer(arms._solve(targets, q0, dict(options)), "share joints")]
+        one = arms._answer(request, targets, relative, q0, t0)
+        return [one_answer(one, "share joints")]
     if relative:
-        return in_turn(arms, targets, relative, q0, options, t0)
+        return in_turn(arms, request, targets, relative, q0, t0)
     seeds = arms._middle_seeds if q0 is None else arms.split(q0)
-    held = arms._holds(options)
+    held = request.chains_options(arms.tips)
     seeds = held_apart(seeds, held, arms._chains, targets)  # a tip left out: its holds
-    prefer = options.get("prefer")
+    prefer = request.prefer
     if is_cost(prefer):  # a cost of the whole configuration: ranked over the combinations
         reference = arms.middle if q0 is None else np.asarray(q0, dtype=float)
         return ranked(
@@ -95,7 +94,7 @@ def _every(arms: Any, targets: Mapping[str, object], q0: object = None, **option
     return results[:MAX_COMBINATIONS]
 
 
-def in_turn(arms: Any, targets, relative: dict, q0: object, options: dict, t0: float):
+def in_turn(arms: Any, request: Any, targets, relative: dict, q0: object, t0: float):
     """Every answer of tips placed relative to each other (``relative``: each tip's
     ``Relative`` tasks) on chains that share no joint: each chain's ``solve_all`` in turn,
     the reference chains first, a relative tip's target placed by the answers of the
@@ -107,24 +106,23 @@ def in_turn(arms: Any, targets, relative: dict, q0: object, options: dict, t0: f
     answer, or its failure."""
     tips = solve_order(targets, relative)
     if tips is None:  # relative to each other in a cycle: the chains at once, one answer
-        return [one_answer(arms._solve(targets, q0, dict(options)), "cycle")]
-    prefer = options.get("prefer")
-    if is_cost(prefer):  # refused as ``Arms.solve`` refuses it, by name
-        arms._score(prefer)
+        return [one_answer(arms._answer(request, targets, relative, q0, t0), "cycle")]
+    if is_cost(request.prefer):  # refused as ``Arms.solve`` refuses it, by name
+        score_of(arms, request.prefer)
     points = _positions(arms, targets, relative)
     if points:
-        return _sampled(arms, targets, relative, points, q0, options, t0)
-    listed = _combinations(arms, targets, relative, tips, q0, options, t0)
+        return _sampled(arms, request, targets, relative, points, q0, t0)
+    listed = _combinations(arms, request, targets, relative, tips, q0, t0)
     if not listed:
-        return [one_answer(arms._solve(targets, q0, dict(options)), "none")]
-    return _said_free(listed, _placed_freely(arms, targets, relative, options))
+        return [one_answer(arms._answer(request, targets, relative, q0, t0), "none")]
+    return _said_free(listed, _placed_freely(arms, targets, relative, request.options))
 
 
-def _combinations(arms: Any, targets, relative: dict, tips, q0, options: dict, t0: float):
+def _combinations(arms: Any, request: Any, targets, relative: dict, tips, q0, t0: float):
     """``in_turn``'s combinations, the chains solved in the order ``tips``; [] where none
     is verified."""
     seeds = arms._middle_seeds if q0 is None else arms.split(q0)
-    held = arms._holds(options)
+    held = request.chains_options(arms.tips)
     seeds = held_apart(seeds, held, arms._chains, targets)
     combos: list[dict[str, IKResult]] = [{}]
     for tip in tips:
@@ -140,7 +138,7 @@ def _combinations(arms: Any, targets, relative: dict, tips, q0, options: dict, t
             return []
         combos = _nearest(grown, seeds)[:MAX_COMBINATIONS]
     elapsed = time.perf_counter() - t0
-    prefer = options.get("prefer")
+    prefer = request.prefer
     if prefer is None:
         return [joined(arms.tips, done, seeds, elapsed) for done in combos]
     choices = [tuple(done[t] for t in targets) for done in combos]
@@ -221,27 +219,28 @@ def _exact(given: object, tip: str, dof: int) -> bool:
     return False
 
 
-def _sampled(arms: Any, targets, relative: dict, points: dict, q0, options: dict, t0: float):
+def _sampled(arms: Any, request: Any, targets, relative: dict, points: dict, q0, t0: float):
     """Reference tips at positions (``points``): ``Arms.solve``'s answer, then every
     combination with those tips at its orientations (a pose each: that position, the
     answer's orientation), each result's reason saying the orientation is one sample of a
     continuum; that one answer where none is verified, its failure where it fails."""
-    one = arms._solve(targets, q0, dict(options))
-    if not one.success and options.get("prefer") is not None:  # the sample needs an answer,
-        # any: the preference ranks the combinations below (its own best may be out of reach)
-        one = arms._solve(targets, q0, {k: v for k, v in options.items() if k != "prefer"})
+    one = arms._answer(request, targets, relative, q0, time.perf_counter())
+    if not one.success and request.prefer is not None:  # the sample needs an answer, any:
+        # the preference ranks the combinations below (its own best may be out of reach)
+        unranked = {k: v for k, v in request.options.items() if k != "prefer"}
+        one = arms._answer(read_request(arms, unranked), targets, relative, q0, time.perf_counter())
     if not one.success:
         return [one]
     pinned = {**targets}
     for tip, point in points.items():
         pinned[tip] = pin.SE3(arms.fk(one.q, tip).rotation, point)
     tips = solve_order(pinned, relative)
-    listed = _combinations(arms, pinned, relative, tips, q0, options, t0)
+    listed = _combinations(arms, request, pinned, relative, tips, q0, t0)
     if not listed:
         return [one_answer(one, "none")]
     said = f"; {SAMPLED.format(tips=list(points))}"
     listed = [dataclasses.replace(r, reason=r.reason + said) for r in listed]
-    free = _placed_freely(arms, targets, relative, options)
+    free = _placed_freely(arms, targets, relative, request.options)
     return _said_free(listed, [tip for tip in free if tip not in points])
 
 

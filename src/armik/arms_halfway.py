@@ -28,19 +28,19 @@ from typing import Any, NamedTuple, cast
 import numpy as np
 import pinocchio as pin
 
-from armik import path_reasons, reasons
+from armik import path_reasons
+from armik.arms_request import ArmsRequest, read_request
 from armik.batch_result import BatchResult
-from armik.errors import ArmikError
 from armik.problem.problem import as_problem
 from armik.problem.settings import SolverSettings
 from armik.problem.tasks import Pose, Position, Relative, Task
 from armik.problem.tasks.base import replaced
 from armik.solve.halfway import _loose, within
-from armik.solve.ladder import BEND, DEPTH, STEP_EDGE, poses_halfway, straight
+from armik.solve.ladder import BEND, DEPTH, STEP_EDGE, judged_from, poses_halfway, straight
 from armik.solve.rungs import free_spin
 from armik.solvers.closed_form.spin import nearest_spin
 from armik.status import Status
-from armik.targets.batch import parse_targets
+from armik.targets.batch import TargetBatch
 
 AROUND = 12  # descents from about the step, beside those from its middle and its ends
 # iterations of each descent halfway: one onto a bounded Relative (a region) closes in
@@ -53,11 +53,12 @@ Row = dict[str, Any]  # tip -> a pose (pin.SE3), a position ((3,) array) or a tu
 
 class _Judge(NamedTuple):
     """What every step of one path is judged with: the robot, ``max_joint_step`` per joint,
-    ``Arms.solve``'s options halfway, and the spin the path's bounds free (plain poses)."""
+    the request of the solves halfway (``armik.arms_request``: its options read once), and
+    the spin the path's bounds free (plain poses)."""
 
     arms: Any
     step: np.ndarray
-    options: dict
+    request: ArmsRequest
     spin: int | None
 
 
@@ -84,22 +85,14 @@ def hidden_steps(
             options[name] = getattr(opts, name)
     spin = None if opts.bounds is None else free_spin(opts.bounds)
     descent = {"max_restarts": 0, "max_iterations": DESCENT}
-    judge = _Judge(arms, step, {**options, **descent}, spin)
-    for k in (np.flatnonzero(out.success[1:] & went[:-1]) + 1).tolist():  # not from q0
-        Qa, Qb = out.q[k - 1], out.q[k]
+    judge = _Judge(arms, step, read_request(arms, {**options, **descent}), spin)
+    for k, j in zip(*(x.tolist() for x in judged_from(out, went))):
+        Qa, Qb = out.q[j], out.q[k]
         if not (np.abs(Qb - Qa) <= step + STEP_EDGE).all():  # no within of both ends
             continue
-        if not _hides(judge, rows[k - 1], rows[k], Qa, Qb, DEPTH):
+        if not _hides(judge, rows[j], rows[k], Qa, Qb, DEPTH):
             continue
-        measured = path_reasons.verified(
-            out.reason(k),
-            reasons.measured(
-                float(out.position_error[k]),
-                float(out.orientation_error[k]),
-                out.tol_position,
-                out.tol_orientation,
-            ),
-        )
+        measured = path_reasons.row_verified(out, k)
         out.success[k] = False
         out.status_code[k] = Status.DISCONTINUOUS.code
         hidden = path_reasons.hidden_step("the previous waypoint's answer")
@@ -128,8 +121,9 @@ def _solution(judge: _Judge, row: Row, Qa: np.ndarray, Qb: np.ndarray) -> np.nda
     its seed: one descent from each of ``_seeds`` in turn; None where none is."""
     arms = judge.arms
     spelled = {tip: list(t) if isinstance(t, tuple) else t for tip, t in row.items()}
+    targets, relative = arms._parsed(spelled)  # the row halfway read once, as solve reads it
     for seed in _seeds(arms, Qa, Qb, judge.step):
-        r = arms.solve(spelled, q0=seed, **judge.options)
+        r = arms._solve_row(judge.request, targets, relative, arms._seed(seed))
         if not r.success:
             continue
         q = np.array(r.q, dtype=float)
@@ -194,11 +188,12 @@ def _placement(arms: Any, q: np.ndarray, frame: str, reference: str | None) -> p
 
 
 def _rows(arms: Any, waypoints: Mapping[str, Any]) -> list[Row] | None:
-    """Each row of the path as tip -> its target (``_targets``); None where a tip's rows
-    are not all moved halfway."""
+    """Each row of the path as tip -> its target (``_targets``; ``waypoints``: each tip's
+    rows read once, ``arms_steps.hidden_steps``'); None where a tip's rows are not all
+    moved halfway."""
     each = {}
     for tip, rows in waypoints.items():
-        read = _targets(arms._chains[tip], rows)
+        read = _targets(rows)
         if read is None:
             return None
         each[tip] = read
@@ -206,14 +201,12 @@ def _rows(arms: Any, waypoints: Mapping[str, Any]) -> list[Row] | None:
     return [{tip: targets[i] for tip, targets in each.items()} for i in range(n)]
 
 
-def _targets(chain: Any, rows: Any) -> list | None:
-    """A tip's rows as its poses (``pin.SE3``) or positions where they are those, else its
-    rows of tasks, each a ``Pose``, a ``Position`` or a ``Relative``, alike in every row but
-    for where they hold their frames; None otherwise (another task, an aim)."""
-    try:
-        batch = parse_targets(rows, chain)
-    except ArmikError:  # tasks
-        batch = None
+def _targets(rows: Any) -> list | None:
+    """A tip's rows as its poses (``pin.SE3``) or positions where they are those (a
+    ``TargetBatch``, read once), else its rows of tasks, each a ``Pose``, a ``Position`` or
+    a ``Relative``, alike in every row but for where they hold their frames; None otherwise
+    (another task, an aim, poses and positions together)."""
+    batch = rows if type(rows) is TargetBatch else None
     if batch is not None:
         if batch.aim is not None:
             return None

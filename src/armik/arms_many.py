@@ -6,11 +6,14 @@ no joint, with no ``Relative`` task coupling them, are each solved by their own 
 compiled path, on every core) or path, and the rows joined: a row succeeds when every
 tip's does, its status is the first failing tip's, its errors the worst tip's, its reason
 names each tip that failed. Other robots (a shared torso, relative tasks) are solved row by
-row with ``Arms.solve``; a path then seeds each waypoint with the previous answer and
+row as ``Arms.solve`` solves one (``Arms._solve_row``, from the call's options read once:
+``armik.arms_request``); a path then seeds each waypoint with the previous answer and
 reports a larger move than ``max_joint_step`` as ``discontinuous``, naming the joint, and
 a jump hidden between two waypoints too, naming the tip (``armik.arms_steps``). A
 cost of the whole configuration (a callable ``prefer=``, ``armik.arms_prefer``) is a
-batch's row by row too, and refused on a path of chains that share no joint.
+batch's row by row too, and refused on a path of chains that share no joint. Every target
+is parsed once: each tip's rows where its chain's own batch or path takes them, else each
+row as ``Arms.solve`` parses it; a row solved again, and a path's steps judged, read those.
 """
 
 from __future__ import annotations
@@ -25,13 +28,22 @@ import numpy as np
 from armik.arms_apart import facade
 from armik.arms_collision import between, clear_rows
 from armik.arms_joined import held_rows, left_out
+from armik.arms_many_read import (
+    count_rows,
+    in_tips_order,
+    parsed_rows,
+    read_rows,
+    row_of,
+    row_seeds,
+)
 from armik.arms_options import check_held, held_apart
 from armik.arms_prefer import combined, is_cost
+from armik.arms_request import ArmsRequest, read_request
 from armik.arms_rows import empty, row_named, solve_rows
-from armik.arms_steps import held, hidden_steps
+from armik.arms_steps import held, hidden_steps, stacked
 from armik.batch_result import BatchResult
 from armik.constraints.base import own
-from armik.errors import OptionError, TargetError
+from armik.errors import OptionError
 from armik.problem.problem import relative_tasks
 from armik.problem.settings import SolverSettings
 from armik.solve import backends
@@ -42,8 +54,6 @@ from armik.solve.progress import ProgressArg
 from armik.solve.read import check_plan
 from armik.solve.read import options as read_options
 from armik.status import Status
-from armik.targets.batch import parse_targets
-from armik.tolerances import LIMIT_TOL
 
 
 class Arms(Protocol):
@@ -70,9 +80,9 @@ class Arms(Protocol):
     @property
     def prismatic(self) -> np.ndarray: ...
     def chain(self, tip: str) -> Any: ...
-    def solve(self, targets: Mapping[str, object], *, q0: object = None, **options: Any) -> Any: ...
+    def _parsed(self, targets: Mapping[str, object], read: Any = ()) -> tuple[dict, dict]: ...
+    def _solve_row(self, request: ArmsRequest, targets: dict, relative: dict, q0: Any) -> Any: ...
     def _check_targets(self, targets: object) -> dict: ...
-    def _holds(self, options: dict) -> dict[str, dict]: ...
     def _seed(self, q0: object, row: int | None = None) -> np.ndarray: ...
     def _one_start(self, options: dict, q0: object) -> None: ...
 
@@ -100,20 +110,18 @@ def solve_batch(
     ``chunk_size`` (default 256) on ``workers`` threads (default 1), and ``backend`` raises
     ``OptionError``."""
     t0 = time.perf_counter()
-    n = _rows(arms, targets, "solve_batch")
-    targets = _in_tips_order(arms, targets)
-    seeds = _seeds(arms, q0, n)  # its shape first: a constraint's words were said before
+    n = count_rows(arms, targets, "solve_batch")
+    targets = in_tips_order(arms, targets)
+    seeds = row_seeds(arms, q0, n)  # its shape first: a constraint's words were said before
     arms._one_start(options, q0)  # for a constraint resolved from it, as Arm's batch
     opts = _read(options)
-    prefer = options.get("prefer")
+    request = read_request(arms, options)  # what every row reads of the options
+    prefer = request.prefer
     if _independent(arms, targets) and not is_cost(prefer):
         batch = {"workers": workers, "chunk_size": chunk_size, "progress": progress}
-        each = arms._holds(options)  # each chain's part of the options, as Arms.solve's
+        each = request.chains_options(arms.tips)  # each chain's part, as Arms.solve's
         check_held(arms._chains, each, seeds, arms._columns)  # before any chain's batch
-        read = {  # arrays read before any chain's batch runs, once: their errors first
-            tip: parse_targets(rows, arms._chains[tip]) if type(rows) is np.ndarray else rows
-            for tip, rows in targets.items()
-        }
+        read = read_rows(arms, targets)  # before any chain's batch runs: their errors first
         parts = {
             tip: facade(arms, tip, each[tip]).solve_batch(
                 rows, q0=seeds[:, arms._columns[tip]], backend=backend, **batch, **each[tip]
@@ -126,11 +134,11 @@ def solve_batch(
         # the chains' answers together; a row whose arms collide solved again as
         # ``Arms.solve`` solves it, which tries the other combinations of their answers
         for i in clear_rows(arms, out, between(arms, options, targets)):
-            out.put_result(i, _solved(arms, targets, i, seeds[i], options))
+            out.put_result(i, _solved(arms, request, row_of(arms, read, i), i, seeds[i]))
         return _timed(out, t0)
     run_jobs = None if backend is None else backends.backend(backend)
     threads, size = _whole(workers, "workers", 1), _whole(chunk_size, "chunk_size", DEFAULT_CHUNK)
-    out = solve_rows(arms, targets, seeds, options, opts, size, threads, progress, run_jobs)
+    out = solve_rows(arms, targets, seeds, request, opts, size, threads, progress, run_jobs)
     return _timed(out, t0)
 
 
@@ -172,13 +180,14 @@ def solve_path(
     number or one per joint of ``joint_names``)."""
     t0 = time.perf_counter()
     check_plan(plan)  # a plan that is none: refused as Arm.solve_path refuses it
-    n = _rows(arms, waypoints, "solve_path")
-    waypoints = _in_tips_order(arms, waypoints)
-    start = arms.middle if q0 is None else _seeds(arms, q0, 1)[0]
+    n = count_rows(arms, waypoints, "solve_path")
+    waypoints = in_tips_order(arms, waypoints)
+    start = arms.middle if q0 is None else row_seeds(arms, q0, 1)[0]
     step = _step(arms, max_joint_step)
     opts = _read(options)
     _refuse_resolved(options.get("constraints"))
-    prefer = options.get("prefer")
+    request = read_request(arms, options)  # what every row reads of the options
+    prefer = request.prefer
     if _independent(arms, waypoints):
         if is_cost(prefer):
             raise OptionError(
@@ -190,8 +199,9 @@ def solve_path(
                 option="prefer",
                 value=prefer,
             )
-        each = arms._holds(options)  # each chain's part of the options, as Arms.solve's
+        each = request.chains_options(arms.tips)  # each chain's part, as Arms.solve's
         check_held(arms._chains, each, start[None, :], arms._columns)
+        read = read_rows(arms, waypoints)  # once: each chain's path, the rows again, the judge
         parts = {
             tip: facade(arms, tip, each[tip]).solve_path(
                 rows,
@@ -200,7 +210,7 @@ def solve_path(
                 plan=plan,
                 **each[tip],
             )
-            for tip, rows in waypoints.items()
+            for tip, rows in read.items()
         }
         out = _joined(
             arms, parts, _held_apart(arms, np.tile(start, (n, 1)), each, parts), opts, 0.0, prefer
@@ -208,8 +218,9 @@ def solve_path(
         held_rows(arms, out, left_out(arms, options, waypoints))  # a tip left out: its checks
         found = clear_rows(arms, out, between(arms, options, waypoints))  # the answers together
         if not out.success.all():  # the rows after a failed one: from the success before it
-            _follow(arms, out, waypoints, start, step, options, q0 is None, set(found))
-            hidden_steps(arms, out, waypoints, step, opts)  # the rows solved again too
+            rows = [row_of(arms, read, i) for i in range(n)]
+            _follow(arms, out, rows, start, step, request, q0 is None, set(found))
+            hidden_steps(arms, out, read, step, opts)  # the rows solved again too
         return _timed(out, t0)
     if plan != "follow":
         raise OptionError(
@@ -218,22 +229,25 @@ def solve_path(
             option="plan",
             value=plan,
         )
+    rows = parsed_rows(arms, waypoints, n)  # before any row is solved: their errors first
     out = empty(arms, n, "arms, path", opts)
-    _follow(arms, out, waypoints, start, step, options, q0 is None)
-    hidden_steps(arms, out, waypoints, step, opts, out.success.copy())  # on from successes
+    _follow(arms, out, rows, start, step, request, q0 is None)
+    read = {tip: stacked([targets[tip] for targets, _ in rows]) for tip in waypoints}
+    hidden_steps(arms, out, read, step, opts, out.success.copy())  # on from successes
     return _timed(out, t0)
 
 
-def _solved(arms: Arms, targets: Mapping[str, Any], i: int, q0: object, options: dict) -> Any:
-    """Row ``i`` of ``targets`` (tip -> rows) as ``Arms.solve`` solves it from ``q0``: where
-    the chains' first answers collide, the nearest clear combination of their answers."""
-    row = {tip: rows[i] for tip, rows in targets.items()}
+def _solved(arms: Arms, request: ArmsRequest, row: tuple[dict, dict], i: int, q0) -> Any:
+    """Row ``i`` (``row``: its parsed targets and their relative tasks) as ``Arms.solve``
+    solves it from ``q0`` (checked, as its seed is): where the chains' first answers
+    collide, the nearest clear combination of their answers."""
     with row_named(i):
-        return arms.solve(row, q0=q0, **options)
+        return arms._solve_row(request, row[0], row[1], arms._seed(q0))
 
 
-def _follow(arms, out, waypoints, start, step, options, free: bool, again=None) -> None:
-    """A path's rows (``out``) each solved from the last success before it (``start`` before
+def _follow(arms, out, rows, start, step, request, free: bool, again=None) -> None:
+    """A path's rows (``out``; ``rows``: each row's parsed targets, as ``_solved`` takes
+    them) each solved from the last success before it (``start`` before
     any; ``free``: no q0, the first row from anywhere), a larger move than ``step``
     ``discontinuous``. With ``again`` (each chain's path run from its own answers, the rows
     a check between the chains then failed): those rows, and after a failed row each success
@@ -246,123 +260,13 @@ def _follow(arms, out, waypoints, start, step, options, free: bool, again=None) 
         if not redo and i > after and out.success[i] and not free:
             redo = bool((np.abs(out.q[i] - q_prev) > step + STEP_EDGE).any())
         if redo:
-            r = _solved(arms, waypoints, i, q_prev, options)
+            r = _solved(arms, request, rows[i], i, q_prev)
             if r.success and not (free and i == 0):  # without q0 the first is free
                 r = held(arms, r, q_prev, step, first=i == 0)
             out.put_result(i, r)
         jump = again is not None and out.status_code[i] == _JUMP
         if out.success[i] or jump:
             q_prev, free = np.array(out.q[i]), False
-
-
-def _rows(arms: Arms, targets: object, call: str) -> int:
-    """N, the rows of ``targets`` (tip -> N targets); a ``TargetError`` naming the tip given
-    one pose (the dict ``Arms.solve`` takes) where ``call`` (the method) needs its rows."""
-    if isinstance(targets, Mapping) and not targets:
-        raise TargetError(
-            f"no targets: give each tip's targets, {{tip: targets}} over {list(arms.tips)}"
-        )
-    if not isinstance(targets, Mapping):
-        raise OptionError(
-            f"targets must map tip names {list(arms.tips)} to each tip's targets, or be N "
-            "rows, each a list of tasks naming their frames (armik.Pose(T, frame=tip)), got "
-            f"{type(targets).__name__}",
-            option="targets",
-            value=targets,
-        )
-    arms._check_targets({tip: None for tip in targets})
-    for tip, rows in targets.items():
-        one = _one_pose(rows)
-        if one:
-            raise TargetError(
-                f"Arms.{call}: tip {tip!r} needs a sequence of poses, one per row (N rows), "
-                f"got {one}: give every tip its N poses, {{tip: [pose, ...]}}; Arms.solve "
-                "takes one pose per tip"
-            )
-    sizes = {tip: len(rows) for tip, rows in targets.items()}
-    if len(set(sizes.values())) != 1:
-        raise TargetError(f"every tip needs as many targets as the others, got {sizes}")
-    return next(iter(sizes.values()))
-
-
-def _in_tips_order(arms: Arms, targets: Mapping[str, Any]) -> dict[str, Any]:
-    """``targets`` in the order of ``arms.tips``, as ``Arms.solve`` reads them: the first
-    failing tip's status and the order of the reason's tips are the robot's, not the
-    dict's."""
-    return {tip: targets[tip] for tip in arms.tips if tip in targets}
-
-
-def _one_pose(rows: object) -> str:
-    """What ``rows`` is when it is one pose (a ``pinocchio.SE3``, a 4x4 matrix, a (7,) row
-    or a (3,) position, ``(position, quaternion)``, a task) rather than a tip's N rows;
-    "" otherwise."""
-    if isinstance(rows, (str, bytes)) or not hasattr(rows, "__len__"):
-        many = hasattr(rows, "__iter__") and not isinstance(rows, (str, bytes))
-        return (
-            f"a {type(rows).__name__}, which has no length"
-            if many
-            else f"one {type(rows).__name__}"
-        )
-    if isinstance(rows, np.ndarray):
-        return f"an array of shape {rows.shape}" if rows.shape in _ONE_POSE else ""
-    if not isinstance(rows, (list, tuple)) or not rows:
-        return ""
-    if isinstance(rows[0], (int, float, np.number)) and len(rows) in (3, 7):
-        return f"one {type(rows).__name__} of {len(rows)} numbers"
-    shapes = [_shape(row) for row in rows[:4]]
-    if len(rows) == 4 and shapes == [(4,)] * 4:
-        return "one 4x4 matrix"
-    if len(rows) == 2 and shapes == [(3,), (4,)]:
-        return "one (position, quaternion)"
-    return ""
-
-
-_ONE_POSE = ((4, 4), (7,), (3,))  # an array of one of these shapes is one target
-
-
-def _shape(row: object) -> tuple[int, ...]:
-    """``row``'s shape as an array's; () for a ragged one (a row's ``(position,
-    quaternion)``: a pose of a tip's rows, not one pose's row)."""
-    if not isinstance(row, (list, tuple, np.ndarray)):
-        return ()
-    try:
-        return np.shape(row)
-    except ValueError:  # numpy refuses ragged nesting
-        return ()
-
-
-def _seeds(arms: Arms, q0: object, n: int) -> np.ndarray:
-    """(n, dof) seeds from None, one configuration or one per row."""
-    if q0 is None:
-        return np.tile(arms.middle, (n, 1))
-    try:  # numbers only: a string or a complex value is no configuration
-        if isinstance(q0, (str, bytes)) or np.iscomplexobj(q0):  # type: ignore[arg-type]
-            raise TypeError
-        q = np.asarray(q0, dtype=float)
-    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
-        q = None
-    if q is None or q.shape not in ((arms.dof,), (n, arms.dof)):
-        got = f"shape {q.shape}" if q is not None else f"{q0!r:.80}"
-        raise OptionError(
-            f"q0 must be None, one configuration ({arms.dof} values, one per joint of "
-            f"{list(arms.joint_names)}) or one per target ({n}, {arms.dof}), got {got}",
-            option="q0",
-            value=q0,
-        )
-    if q.shape == (arms.dof,):
-        return np.tile(arms._seed(q), (n, 1))  # clipped into the limits, as Arm's seed
-    if not np.isfinite(q).all():  # the row and the robot's joint, not a chain's part
-        i, j = np.argwhere(~np.isfinite(q))[0]
-        raise OptionError(
-            f"q0 must be finite: row {i} is {q[i].tolist()}, not finite at {arms.joint_names[j]!r}",
-            option="q0",
-            value=q0,
-        )
-    out = q.copy()
-    outside = (q < arms.lower - LIMIT_TOL) | (q > arms.upper + LIMIT_TOL)
-    for i in np.flatnonzero(outside.any(axis=1)).tolist():  # clipped, as Arm's seed
-        out[i] = arms._seed(q[i], i)
-    return out
 
 
 def _step(arms: Arms, max_joint_step: object) -> np.ndarray:

@@ -5,7 +5,7 @@ read once (``armik.solve.read``) for what they hold and spell, however given (``
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -39,9 +39,6 @@ def per_chain(
     prefer = _posture(options.get("prefer"), joint_names)
     if not _PER_CHAIN.intersection(options) and prefer is None:
         return dict.fromkeys(chains, options)
-    given = options.get("constraints")
-    if isinstance(given, Iterator):  # read twice below
-        options = {**options, "constraints": list(given)}
     opts = read_options({k: v for k, v in options.items() if k not in _CHAIN_OWN})
     rest = {k: v for k, v in options.items() if k not in _PER_CHAIN}
     if "constraints" in options:  # read: a constraint or several; a ``Hold`` split by chain

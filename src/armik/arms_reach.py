@@ -15,33 +15,25 @@ import numpy as np
 import pinocchio as pin
 
 from armik import reasons
-from armik.problem.problem import as_problem, lower
+from armik.problem.problem import as_problem, as_target, lower
 from armik.result import IKResult
-from armik.solvers.registry import get as get_solver
 from armik.status import Status
-from armik.targets.pose import Target, parsed
+from armik.targets.pose import Target
 
 
-def reaching(arms: Any, beyond: dict[str, str], targets, q0, options: dict, t0: float):
+def reaching(arms: Any, beyond: dict[str, str], targets, q0, request: Any, t0: float):
     """Tips sharing joints (``arms``, an ``Arms``), some provably beyond reach
-    (``beyond_reach``): the others solved together, the failure naming the tips that
-    cannot reach; with none left, ``options`` read all the same (a bad one refused by name,
-    as where some tip is solved) and the start kept, as a solve that fails leaves it."""
+    (``beyond_reach``): the others solved together as ``request`` (an ``ArmsRequest``)
+    asks, the failure naming the tips that cannot reach; with none left, the start kept, as
+    a solve that fails leaves it, a held value checked within its joint's limits."""
     union = arms._union
     rest = {t: v for t, v in targets.items() if t not in beyond}
     if rest:
-        r = arms._solve_together(union, rest, {}, q0, options, t0)
+        r = arms._solve_together(union, rest, {}, q0, request, t0)
     else:
         q = arms.middle if q0 is None else np.asarray(q0, dtype=float)
-        if options:  # what ``Arms._solve_together`` reads of them, read here
-            options = dict(options)
-            arms._score(options.pop("prefer", None))
-            solver = options.pop("solver", "auto")
-            if solver != "auto":
-                get_solver(solver)
-            arms._holds(options)
-            joint = arms._on_union(union, options) if "constraints" in options else options
-            for c in arms._settings(joint)[1]:
+        if request.options:  # read with the request: its values checked here
+            for c in request.together[1]:
                 c.at(union, q)  # a held value within its joint's limits
         r = IKResult(
             q=q, success=False, status=Status.UNREACHABLE, reason="", solver="task",
@@ -106,11 +98,10 @@ def with_unreachable(
 def exact(target: object, tip: str) -> Target | None:
     """``target`` as the pose or position it says: a ``Target`` (parsed by the facade), or
     a task list of one exact ``Pose`` or ``Position`` on ``tip`` (``problem.lower``'s,
-    without options); None for any other task list (a region, weights, several tasks)."""
+    without options: the task's values, read when it was built, not parsed again); None
+    for any other task list (a region, weights, several tasks)."""
     if type(target) is Target:
         return target
     problem = None if isinstance(target, np.ndarray) else as_problem(target)
     lowered = None if problem is None else lower(problem, tip)
-    if lowered is None or lowered[1] or not isinstance(lowered[0], (pin.SE3, np.ndarray)):
-        return None
-    return parsed(lowered[0])
+    return None if lowered is None or lowered[1] else as_target(lowered[0])

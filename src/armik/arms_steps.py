@@ -14,7 +14,7 @@ judged by the same rule on the whole robot, every tip's target moved halfway
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -22,8 +22,7 @@ from pinocchio import SE3
 
 from armik import arms_halfway, path_reasons, reasons
 from armik.batch_result import BatchResult
-from armik.errors import ArmikError
-from armik.problem.problem import as_problem, lower
+from armik.problem.problem import as_problem, as_target, lower
 from armik.problem.tasks import Task
 from armik.request import but_options
 from armik.result import IKResult
@@ -32,7 +31,7 @@ from armik.solve.read import options as read_options
 from armik.solve.rungs import free_spin, spun_batch
 from armik.solve.turning import ANY
 from armik.status import Status
-from armik.targets.batch import TargetBatch, parse_targets
+from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target
 
 
@@ -61,7 +60,7 @@ def held(arms: Any, r: IKResult, q_prev: np.ndarray, step: np.ndarray, first: bo
 def hidden_steps(
     arms: Any,
     out: BatchResult,
-    waypoints: Mapping[str, Any],
+    waypoints: Mapping[str, TargetBatch | Sequence],
     step: np.ndarray,
     opts,
     went: np.ndarray | None = None,
@@ -69,7 +68,9 @@ def hidden_steps(
     """Each success of ``out`` whose step from the row the path went on from (``went``:
     the rows it went on from; None: each success or jump, as one arm's path goes on) hides
     a jump for some tip's chain made ``discontinuous``, in place, the reason naming the
-    tip. Tips given poses or positions, or a pose as a task (``_poses``), on their chains:
+    tip. ``waypoints``: each tip's rows read once, its poses or positions a ``TargetBatch``
+    (``stacked``), its rows of tasks as given. Tips given poses or positions, or a pose as
+    a task (``_poses``), on their chains:
     the halfway poses solved with ``opts``' tolerances and the task's loosening
     (``position_only``, ``weights``, ``bounds``: measured as one arm's path measures them, a
     spin the bounds free turned as its path turns it), the chain free (a held joint is
@@ -88,7 +89,7 @@ def hidden_steps(
     unread = []  # tips whose rows are no poses of their chains: judged on the robot
     for tip, rows in waypoints.items():
         chain, cols = arms._chains[tip], arms._columns[tip]
-        read = _poses(chain, tip, rows)
+        read = _poses(tip, rows)
         if read is None:
             unread.append(tip)
             continue
@@ -118,15 +119,14 @@ def _posed(target: object) -> bool:
     return isinstance(target, (SE3, np.ndarray)) or (type(target) is Target and target.aim is None)
 
 
-def _poses(chain, tip: str, rows) -> tuple[TargetBatch, dict] | None:
+def _poses(tip: str, rows: TargetBatch | Sequence) -> tuple[TargetBatch, dict] | None:
     """(poses, what the tasks say beside them) of a tip's rows: its poses or positions as
-    given; a task of each row's lowered as one arm's ``solve`` lowers it (``lower``: a
-    ``Pose`` with bounds or weights, the bounds and weights said) where every row says the
-    same beside a pose, or a position; None for other tasks (a ``Relative``, several)."""
-    try:
-        return parse_targets(rows, chain), {}
-    except ArmikError:
-        pass
+    read (a ``TargetBatch``); a task of each row's lowered as one arm's ``solve`` lowers it
+    (``lower``: a ``Pose`` with bounds or weights, the bounds and weights said) where every
+    row says the same beside a pose, or a position, the tasks' values as they read them;
+    None for other tasks (a ``Relative``, several)."""
+    if isinstance(rows, TargetBatch):
+        return rows, {}
     problems = [as_problem(row) if isinstance(row, (Task, list, tuple)) else None for row in rows]
     lowered = [None if p is None else lower(p, tip) for p in problems]
     if not lowered or any(x is None or not _posed(x[0]) for x in lowered):
@@ -134,7 +134,20 @@ def _poses(chain, tip: str, rows) -> tuple[TargetBatch, dict] | None:
     said = lowered[0][1]  # type: ignore[index]
     if any(x[1] != said for x in lowered):  # type: ignore[index]
         return None
-    try:
-        return parse_targets([x[0] for x in lowered], chain), said  # type: ignore[index]
-    except ArmikError:
-        return None
+    batch = stacked([as_target(x[0]) for x in lowered])  # type: ignore[index]
+    return None if type(batch) is not TargetBatch else (batch, said)
+
+
+def stacked(rows: Sequence) -> TargetBatch | Sequence:
+    """A tip's rows, each read once (a parsed ``Target``, or tasks), as its path is judged:
+    its poses, or its positions, as one ``TargetBatch`` (their values as read, not read
+    again); ``rows`` as given where they are tasks, or poses and positions together."""
+    if not rows or any(type(t) is not Target for t in rows):
+        return rows
+    kinds = {t.rotation is None for t in rows}
+    if len(kinds) != 1:  # some with a rotation, some without: no batch has both
+        return rows
+    positions = np.array([t.position for t in rows], dtype=float)
+    if kinds == {True}:
+        return TargetBatch(positions)
+    return TargetBatch(positions, np.array([t.rotation for t in rows], dtype=float))

@@ -9,6 +9,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any, cast
 
+import numpy as np
 import pinocchio as pin
 
 from armik.errors import TargetError
@@ -17,6 +18,7 @@ from armik.model.frames import moves, named, owner
 from armik.problem.problem import as_problem
 from armik.problem.tasks import Pose, Position, Relative, Task
 from armik.problem.tasks.base import replaced
+from armik.targets.batch import TargetBatch
 from armik.targets.pose import Target, parsed
 
 
@@ -82,10 +84,10 @@ def in_order(chains: Mapping[str, ArmModel], targets: Mapping) -> Mapping:
 
 def rows_by_tip(chains: Mapping[str, ArmModel], rows: object, options: Mapping) -> Any:
     """A batch's or a path's rows, each a flat list of tasks naming their frames (``by_tip``'s
-    list), as the mapping tip -> its N rows of tasks (a tip's exact poses as poses where no
-    option reads a pose otherwise than a task: ``position_only``, ``weights``, ``bounds``);
-    any other spelling as given. A ``TargetError`` names a row whose tips are not the first
-    row's."""
+    list), as the mapping tip -> its N rows of tasks (a tip's exact poses as poses, read
+    already, where no option reads a pose otherwise than a task: ``position_only``,
+    ``weights``, ``bounds``); any other spelling as given. A ``TargetError`` names a row
+    whose tips are not the first row's."""
     if not isinstance(rows, (list, tuple)) or not rows:
         return rows
     if not all(isinstance(r, Task) or _tasks(r) for r in rows):
@@ -107,15 +109,17 @@ def rows_by_tip(chains: Mapping[str, ArmModel], rows: object, options: Mapping) 
     return {tip: _plain(tip, tasks) for tip, tasks in out.items()}
 
 
-def _plain(tip: str, rows: list[list[Task]]) -> list:
+def _plain(tip: str, rows: list[list[Task]]) -> TargetBatch | list:
     """A tip's rows as the mapping spells them where each is one exact pose, or each one
-    exact position, of the tip (no bounds, no weights): its poses (``pinocchio.SE3``) or
-    positions, the same request as ``{tip: poses}`` (solved, and its steps judged halfway,
-    alike); else its rows of tasks."""
+    exact position, of the tip (no bounds, no weights): its poses or positions, the same
+    request as ``{tip: poses}`` (solved, and its steps judged halfway, alike), as the
+    ``TargetBatch`` of the tasks' values (read when they were built: not again); else its
+    rows of tasks."""
     if all(len(r) == 1 and _exact(r[0], tip, Pose) for r in rows):
-        return [pin.SE3(cast(Pose, r[0]).T) for r in rows]
+        T = [cast(Pose, r[0]).T for r in rows]
+        return TargetBatch(np.array([X.translation for X in T]), np.array([X.rotation for X in T]))
     if all(len(r) == 1 and _exact(r[0], tip, Position) for r in rows):
-        return [cast(Position, r[0]).p.copy() for r in rows]
+        return TargetBatch(np.array([cast(Position, r[0]).p for r in rows], dtype=float))
     return rows
 
 
@@ -182,7 +186,8 @@ def on(task: Task, tip: str, tips: Sequence[str]) -> Task:
 
 def absolute(target: object, placements: Mapping[str, pin.SE3]) -> object:
     """``target`` with each ``Relative`` task a ``Pose`` in the base, its reference frame
-    at ``placements``; any other target as it is."""
+    at ``placements`` (its bounds and weights kept, the pose not read again); any other
+    target as it is."""
     problem = as_problem(target)
     if problem is None or not any(isinstance(t, Relative) for t in problem.tasks):
         return target
@@ -190,7 +195,7 @@ def absolute(target: object, placements: Mapping[str, pin.SE3]) -> object:
     for t in problem.tasks:
         if isinstance(t, Relative):
             ref = cast(str, t.relative_to)
-            t = Pose(placements[ref] * t.pose.T, bounds=t.pose.bounds, weights=t.pose.weights)
+            t = replaced(t.pose, T=placements[ref] * t.pose.T)
         tasks.append(t)
     return tasks
 

@@ -4,6 +4,10 @@ than ``max_joint_step``, or every path breaking there)."""
 
 from __future__ import annotations
 
+from typing import Any
+
+from armik import reasons
+
 
 def best_within_step(reason: str, score: str, said: str, count: int) -> str:
     """A path's waypoint: the best by the preference ``score`` of ``count`` answers within
@@ -84,6 +88,15 @@ def verified(reason: str, measured_text: str) -> str:
         if at >= 0:
             return reason[at + len(said) :]
     return measured_text
+
+
+def row_verified(rows: Any, k: int) -> str:
+    """``verified`` of row ``k`` of a path's rows (a ``BatchResult``): its measure from its
+    errors and tolerances where its reason says none."""
+    errors = float(rows.position_error[k]), float(rows.orientation_error[k])
+    return verified(
+        rows.reason(k), reasons.measured(*errors, rows.tol_position, rows.tol_orientation)
+    )
 
 
 def jump(why: str, answer: str, measured_text: str) -> str:

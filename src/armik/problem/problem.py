@@ -177,6 +177,20 @@ def lower(
     return None
 
 
+def as_target(lowered: object) -> Target | None:
+    """The target ``lower`` gives as a ``Target``, its values as the task read them when it
+    was built (not parsed again): a ``Pose``'s pose, a ``Position``'s point; a ``Target``
+    itself (an aim); None for anything else."""
+    if type(lowered) is Target:
+        return lowered
+    if isinstance(lowered, pin.SE3):
+        H = lowered.homogeneous  # C-ordered, as the parser's: Pinocchio's rotation is not
+        return Target(H[:3, 3].copy(), H[:3, :3].copy())
+    if type(lowered) is np.ndarray and lowered.shape == (3,):
+        return Target(np.array(lowered, dtype=float))
+    return None
+
+
 def refuse_beside_tasks(problem: Problem, options: dict) -> None:
     """An ``OptionError`` for an option beside a task list the compiled path solves
     (``lower``) that it would read against the tasks: ``position_only=True`` beside a

@@ -45,9 +45,8 @@ from armik.model.limit_units import degrees_note
 from armik.request import Request, with_seed
 from armik.solve import backends, batch_rows, forked
 from armik.solve.backends import Rows, place
-from armik.solve.choice import chosen
 from armik.solve.progress import ProgressArg, make_progress, reporter
-from armik.solve.stages import going_on, run
+from armik.solve.stages import chosen, going_on, run
 from armik.solvers import registry
 from armik.solvers.closed_form import sixr
 from armik.solvers.closed_form.family import Family

@@ -73,10 +73,12 @@ def _loose(arm, step: np.ndarray) -> bool:
 
 def _may_miss(half: _Halfway) -> bool:
     """Whether the solution nearest a seed ``_nearest`` finds may miss one nearer: a sweep
-    over a joint (the 7R arm's), a search, a numeric solver; not a complete closed form,
-    whose every branch is at hand, nor a held joint's rungs (solved as they were)."""
+    over a joint (the 7R arm's), a search, a numeric solver, a closed form at one value of
+    a parameter read from the seed (an SRS arm's swivel); not a complete closed form, whose
+    every branch is at hand, nor a held joint's rungs (solved as they were)."""
     spec = half.spec
     incomplete = spec.kind == "numeric" or not spec.complete or spec.sweep is not None
+    incomplete = incomplete or spec.parameter is not None
     return half.held is None and incomplete
 
 
@@ -96,9 +98,9 @@ def _descended(arm, half: _Halfway, P, R, seeds, q, rows, ends) -> np.ndarray:
         target = Target(P[k].copy(), None if R is None else R[k].copy(), aim=aim)
         try:
             spec = registry.choose("auto", arm, target, opts)
+            if spec.kind != "numeric":  # a closed form's arm (an SRS arm's): descend all the same
+                spec = registry.choose(NUMERIC, arm, target, opts)
         except ArmikError:
-            return found
-        if spec.kind != "numeric":
             return found
         got = spec.run(arm, target, seeds[k].copy(), opts, False)
         for i in range(len(got)):
@@ -112,6 +114,7 @@ def _descended(arm, half: _Halfway, P, R, seeds, q, rows, ends) -> np.ndarray:
     return found
 
 
+NUMERIC = "dls"  # the descent where the arm's own solver is a closed form
 SPREAD = 6  # descents from about the middle beside those from it and from both ends
 
 

@@ -187,15 +187,7 @@ def held_to_step(arm: ArmModel, out: BatchResult, start: np.ndarray | None, step
                 j = int(np.nanargmax(moved / step))
                 unit = "m" if arm.prismatic[j] else "rad"
                 move = path_reasons.moved(arm.joint_names[j], moved.item(j), unit, whence, step[j])
-                measured = path_reasons.verified(
-                    out.reason(i),
-                    reasons.measured(
-                        float(out.position_error[i]),
-                        float(out.orientation_error[i]),
-                        out.tol_position,
-                        out.tol_orientation,
-                    ),
-                )
+                measured = path_reasons.row_verified(out, i)
                 out.success[i] = False
                 out.status_code[i] = Status.DISCONTINUOUS.code
                 out.reasons[i] = path_reasons.jump(
@@ -297,7 +289,7 @@ def _steps(rung: np.ndarray, broken: np.ndarray, n_rungs: int):
     return i, before[i], (before[i] + 1) * n_rungs + rung[i]  # kernel.edge_code
 
 
-def _jumps(arm, half: _Halfway, i, Qa, Qb, step) -> np.ndarray:
+def _jumps(arm, half: _Halfway, i, Qa, Qb, step, a=None) -> np.ndarray:
     """Whether a jump hides in each step ``Qa[k]`` -> ``Qb[k]`` onto waypoint ``i[k]`` > 0
     from the waypoint before (the move from q0 is held to the step alone): the rule both
     plans judge their steps by. None where the straight joint motion keeps the tip on the path
@@ -305,12 +297,12 @@ def _jumps(arm, half: _Halfway, i, Qa, Qb, step) -> np.ndarray:
     call of the solver."""
     if not len(i) or _loose(arm, step):  # every flip within the bound: none hides
         return np.zeros(len(i), dtype=bool)
-    targets = half.targets
-    Pa, Pb = targets.positions[i - 1], targets.positions[i]
+    targets, a = half.targets, i - 1 if a is None else a  # ``a``: the rows stepped from
+    Pa, Pb = targets.positions[a], targets.positions[i]
     rotations = targets.rotations
     Ra = Rb = None
     if rotations is not None:
-        Ra, Rb = rotations[i - 1], rotations[i]
+        Ra, Rb = rotations[a], rotations[i]
     jumped = np.zeros(len(i), dtype=bool)
     which = np.arange(len(i))
     for _ in range(DEPTH):
@@ -421,19 +413,18 @@ def hidden_steps(arm, out: BatchResult, targets: TargetBatch, step, half, went=N
     (``every``), only where a step is not small and straight (``_chord``)."""
     if went is None:  # as one arm's path goes on: from a success or a jump
         went = out.success | (out.status_code == Status.DISCONTINUOUS.code)
-    i = np.flatnonzero(out.success)
-    i = i[np.concatenate(([False], went[:-1]))[i]]  # from q0: held to the step only
+    i, a = judged_from(out, went)
     if not len(i):
         return
-    Qa, Qb = out.q[i - 1], out.q[i]
+    Qa, Qb = out.q[a], out.q[i]
     step = np.asarray(step, dtype=float)
     curved = ~_chord(arm, Qa, Qb, targets.rotations is not None, step)
     if not curved.any():
         return
-    i, Qa, Qb = i[curved], Qa[curved], Qb[curved]
+    i, a, Qa, Qb = i[curved], a[curved], Qa[curved], Qb[curved]
     solver, opts, held, turn = half
     by = _Halfway(every(arm, solver, targets, opts), opts, targets, held, turn)
-    jumped = _jumps(arm, by, i, Qa, Qb, step)
+    jumped = _jumps(arm, by, i, Qa, Qb, step, a)
     for k in i[jumped].tolist():
         measured = reasons.measured(
             float(out.position_error[k]),
@@ -445,6 +436,18 @@ def hidden_steps(arm, out: BatchResult, targets: TargetBatch, step, half, went=N
         out.status_code[k] = Status.DISCONTINUOUS.code
         hidden = path_reasons.hidden_step("the previous waypoint's answer")
         out.reasons[k] = path_reasons.jump(hidden, "the followed answer", measured)
+
+
+def judged_from(out: BatchResult, went: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(i, a): each success ``i`` after a success or a jump, and the row ``a`` its step is
+    judged from, the last the path went on from (``went``) before it, across the jumps it
+    did not go on from; none from q0 (held to the step alone) or after a failed row."""
+    n = len(out.success)
+    passed = out.success | (out.status_code == Status.DISCONTINUOUS.code)
+    last = np.maximum.accumulate(np.where(went, np.arange(n), -1))
+    i = np.flatnonzero(out.success[1:] & passed[:-1]) + 1
+    a = last[i - 1]
+    return i[a >= 0], a[a >= 0]
 
 
 def poses_halfway(Pa, Ra, Pb, Rb):

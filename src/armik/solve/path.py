@@ -10,7 +10,8 @@ limits, so a tool spun through 360 degrees turns on rather than snapping back.
 An answer that would move any joint by more than ``max_joint_step`` from the previous
 answer is not accepted as it is. The waypoint is re-solved near the previous configuration:
 
-1. a local descent from the previous answer, without random restarts;
+1. a local solve from the previous answer, without random restarts: the path's solver,
+   and for a closed form a numeric descent (``dls``) from that answer too;
 2. a continuation: the pose is moved from the previous one to the waypoint through 2, 4,
    ... up to ``MAX_SUBSTEPS`` intermediate poses, each solved locally from the last.
 
@@ -44,11 +45,10 @@ from armik.problem.tasks.position import Position
 from armik.request import Request
 from armik.result import IKResult
 from armik.solve import ladder, rungs
-from armik.solve.choice import chosen
 from armik.solve.path_score import preferred
 from armik.solve.rungs import free_spin, spun, spun_batch, unwrapped
 from armik.solve.single import routed
-from armik.solve.stages import run
+from armik.solve.stages import chosen, run
 from armik.solve.turning import ANY, Turning, refuse_broken, turning
 from armik.solvers import registry
 from armik.status import Status
@@ -58,6 +58,7 @@ from armik.verify.distances import batch_distances
 
 DEFAULT_MAX_JOINT_STEP = 0.5  # rad (or m for a prismatic joint) between two waypoints
 MAX_SUBSTEPS = 64  # finest continuation between two waypoints (intermediate poses)
+NUMERIC = "dls"  # a closed form's waypoint re-solved by descent from the previous answer
 
 
 def solve_path(
@@ -365,11 +366,12 @@ def _near(
     """Re-solve ``target`` near ``q_prev``; the answer if within ``step``, else the smallest
     jump found, reported as discontinuous."""
     candidates = [jumped]
-    r = unwrapped(arm, _at(arm, local, target, q_prev), q_prev, turn)
-    if r.success:
-        if _jump(r.q, q_prev, step) <= 1.0:
-            return r
-        candidates.append(r)
+    for near in _local(local):
+        r = unwrapped(arm, _at(arm, near, target, q_prev), q_prev, turn)
+        if r.success:
+            if _jump(r.q, q_prev, step) <= 1.0:
+                return r
+            candidates.append(r)
     continuous = None  # the continuation's answer, reached in small moves
     T_from = arm.fk(q_prev)
     k = 2
@@ -406,6 +408,16 @@ def _near(
         status=Status.DISCONTINUOUS,
         reason=path_reasons.jump(why, "that answer", measured),
     )
+
+
+def _local(local: Request) -> tuple[Request, ...]:
+    """The re-solves near the previous answer: ``local`` itself, and for a closed form a
+    numeric descent from that answer too. A closed form's answer nearest it can lie on
+    another branch where the waypoints pass a singularity (an SRS arm's stretched elbow
+    leaves its swivel angle undefined); the descent moves continuously off it."""
+    if local.solver == "auto" or registry.get(local.solver).kind != "analytic":
+        return (local,)
+    return local, local.but(solver=NUMERIC)
 
 
 def _between(T_from: pin.SE3, target: Target, k: int) -> list[Target]:

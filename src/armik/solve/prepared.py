@@ -33,7 +33,6 @@ import numpy as np
 import pinocchio as pin
 
 from armik.errors import SolverError
-from armik.frozen import frozen
 from armik.kernel.measure import (
     check_frame,
     fk_check_frame,
@@ -46,7 +45,6 @@ from armik.model.derived import Derived
 from armik.problem.settings import SolverSettings
 from armik.reasons import Cone
 from armik.result import IKResult
-from armik.solve.choice import kind_of
 from armik.solvers import registry
 from armik.solvers.answers import Answers
 from armik.solvers.claims import Claim
@@ -66,8 +64,7 @@ from armik.verify.verdict import (
 )
 from armik.verify.verdicts import failure_rank, tied
 
-_FLOAT = np.dtype(float)
-_SE3 = pin.SE3
+_FLOAT, _SE3 = np.dtype(float), pin.SE3
 _NO_PLAN = object()  # remembered: this solver and options have no plan
 _IDENTITY = np.eye(4)  # copied for a position target (a copy costs an eighth of np.eye)
 _SIGHTLESS = (None, None)  # a cone's (point, direction) where the target has no aim
@@ -103,6 +100,12 @@ def plan_for(
 
 
 _PLANS: Derived[dict] = Derived("prepared solves", lambda _: {})  # read as a key, not called
+
+
+def kind_of(position: bool, aim: Aim | None = None) -> Target:
+    """A target of the kind and aim every target of a plan, a batch or a path has: what
+    the registry's choice reads of them."""
+    return Target(np.zeros(3), None if position else np.eye(3), aim=aim)
 
 
 def _build(arm: ArmModel, solver: str, opts, position: bool, every: bool, aim: Aim | None):
@@ -279,7 +282,7 @@ class Plan:
         if got is None:
             return None
         if type(got) is not Claim:  # claims other than converged: the general verdict
-            return self._finish(got, H, q0, opts, t0, False, xy, aim, along)[0]
+            return self._finish(got, H, q0, opts, t0, False, xy, target)[0]
         q = got.q
         data, R_w, p_w = self.arm.tip_views()  # this thread's
         pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
@@ -311,7 +314,7 @@ class Plan:
         )  # fmt: skip
         if fields is None or not fields["success"]:  # the next row may pass: every row
             answers = self._refused(got, H, q0, seed, xy)
-            return self._finish(answers, H, q0, opts, t0, False, xy, aim, along)[0]
+            return self._finish(answers, H, q0, opts, t0, False, xy, target)[0]
         fields["solver"], fields["time"] = self.solver, time.perf_counter() - t0
         if apart is None:
             return IKResult._from_fields(fields)
@@ -445,15 +448,15 @@ class Plan:
             placements.append(place(model, data, frame).homogeneous)
         return np.array(placements) if placements else np.empty((0, 4, 4))
 
-    def _finish(
-        self, answers: Answers, H, q0, opts, t0: float, every: bool, xy=None, aim=None, along=None
-    ):
-        if xy is not None:  # as the user gave it: the closed form reads it as given
+    def _finish(self, answers: Answers, H, q0, opts, t0, every, xy=None, given=None):
+        # parsed at the door (a plain one: ``_plain``), its aim or axis with it: not again;
+        # a target given otherwise has neither (only a parsed one carries them)
+        if type(given) is Target:
+            target = given
+        elif xy is not None:  # as the user gave it: the closed form reads it as given
             target = parse_target(np.array(xy), self.arm)
         else:
             target = parse_target(H[:3, 3].copy() if self.position else H, self.arm)
-        if aim is not None or along is not None:  # measured as the target asks
-            target = frozen(Target, **{**target.__dict__, "aim": aim, "along": along})
         return finish(self.arm, self.solver, answers, target, opts, q0, every, t0)
 
 

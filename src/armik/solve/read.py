@@ -27,6 +27,7 @@ from armik.options import Options, spelled
 from armik.problem.problem import (
     Problem,
     as_problem,
+    as_target,
     check_said_twice,
     lower,
     refuse_beside_tasks,
@@ -99,7 +100,7 @@ def read(
                 if aim is not None:  # a call only then: the lowered target's aim is read below
                     aim = aimed_once(target, aim)
                 options = {**options, **said}
-                problem = None
+                problem, target = None, as_target(target) or target  # its values: not again
             elif aim is not None:
                 raise OptionError(AIM_OF_TASKS, option=AIM_NAMES[0], value=aim)
     held = False  # a plain target whose held joints only the task solver holds
@@ -449,8 +450,7 @@ def _seed(seed: object) -> int | None:
     return None if seed is None else Options.from_kwargs({"seed": seed}).seed
 
 
-_SE3 = pin.SE3
+_SE3, _new = pin.SE3, tuple.__new__
 # a Target's plain parts: float arrays of 3 and a rotation, the position within MAX_POSITION
 _POINT, _MATRIX, _FLOAT, _FAR = (3,), (3, 3), np.dtype(float), MAX_POSITION**2
-_new = tuple.__new__
 _DEFAULT = Options()  # frozen: shared by every call without options

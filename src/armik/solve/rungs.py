@@ -10,7 +10,8 @@ waypoint that a path may pass through.
 - An arm whose closed form answers at one value of a parameter read from the seed (an SRS
   arm's swivel, the iiwa): every branch at the start's value and at each followed
   answer's, and the followed answers (``beside``); a closed form that may miss answers (a
-  search, a spin's sweep): its answers and the followed ones.
+  search, a spin's sweep): its answers and the followed ones. Beside both, a numeric
+  descent's answers from the start, each waypoint from the one before.
 - Any other arm, by its numeric solver: answers tracked along the path (``tracked``): the
   followed path's own, and from distinct answers of ``solve_all`` at the first waypoint and
   where following breaks, each waypoint solved from the track's answer at the one before,
@@ -52,6 +53,7 @@ HELD_GRID = 6  # values across joint 7's range beside them: other branches, miss
 TRACKS = 8  # answers of solve_all tracked from a waypoint (the first, each break)
 BREAKS = 8  # breaks of the followed path reseeded at most (the first ones)
 SAME = 1e-6  # rad or m: a track this near another's answer has merged with it
+NUMERIC = "dls"  # the descent beside a closed form that gives not every solution
 
 
 def every_branch(
@@ -130,7 +132,25 @@ def beside(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -
         if reseed and not np.array_equal(seed, q_start):
             found += every_answer(arm, request, target, seed, spec.name)
         rungs.append(found)
+    _descended(arm, batch, q_start, request, rungs)
     return rungs
+
+
+def _descended(arm: ArmModel, batch, q_start: np.ndarray, request, rungs: list) -> None:
+    """Add a numeric descent's answers to ``rungs``, each waypoint solved from the one
+    before from the start on: where the closed form's parameter changes along the path
+    (an SRS arm's swivel near a singular shoulder), the answers at the followed one's may
+    drive a joint to its limit where the descent moves on continuously."""
+    local = request.narrowed(max_restarts=0).but(solver=NUMERIC)
+    turn = turning(arm, request.opts, q_start)
+    prev = np.asarray(q_start, dtype=float)
+    for i in range(len(batch)):
+        r = run(arm, local.but(target=batch.target(i), q0=prev, t0=time.perf_counter()))
+        if not r.success:
+            continue  # out of its reach here: it goes on from its last answer
+        r = unwrapped(arm, r, prev, turn)
+        _add(rungs[i], r)
+        prev = np.asarray(r.q)
 
 
 def reached(followed, i: int) -> IKResult | None:

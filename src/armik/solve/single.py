@@ -1,8 +1,6 @@
-"""One target: ``solve`` and ``solve_all`` as the facades (``Arm``, and ``Arms`` for each
-chain) call them.
-
-The keyword options are read once into a request (``armik.solve.read``), which then takes
-one of three routes: the rank stage for a score (``armik.solve.preferred``), the task
+"""One target: the route of a request (``routed``), as the facades (``Arm``, and ``Arms``
+for each chain) take it once they have read the keyword options into one
+(``armik.solve.read``): the rank stage for a score (``armik.solve.preferred``), the task
 solver for a task list without a compiled form (``armik.solve.task_solve``), or the stages
 of the compiled path (``armik.solve.stages``)."""
 
@@ -11,17 +9,8 @@ from __future__ import annotations
 from armik.model.arm_model import ArmModel
 from armik.request import Request
 from armik.solve.preferred import preferred
-from armik.solve.read import read
 from armik.solve.stages import run
 from armik.solve.task_solve import solve_problem
-
-
-def solve_one(
-    arm: ArmModel, target: object, q0: object, solver: str, options: dict, every: bool = False
-):
-    """``Arm.solve(target, q0=q0, solver=solver, **options)`` on ``arm``'s model (with
-    ``every``: ``Arm.solve_all``'s list): its options read into a request, then routed."""
-    return routed(arm, read(arm, target, q0, solver, options, every))
 
 
 def routed(arm: ArmModel, req: Request):

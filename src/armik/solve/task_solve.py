@@ -10,7 +10,7 @@ import time
 import numpy as np
 
 from armik.model.arm_model import ArmModel
-from armik.problem.problem import lower, rims, tightened
+from armik.problem.problem import as_target, lower, rims, tightened
 from armik.problem.scores import Score
 from armik.request import Request
 from armik.result import IKResult
@@ -40,6 +40,7 @@ def centre(arm: ArmModel, problem, req: Request) -> IKResult | None:
     if lowered is None:
         return None
     target, said = lowered
+    target = as_target(target) or target  # the tasks' values as they read them: not again
     base = req.but(solver="auto", every=False, t0=time.perf_counter(), score=None, problem=None)
     hold = req.opts.hold
     if hold is not None and (arm.dof != 7 or len(hold) != 1):  # held apart: the task
@@ -52,7 +53,7 @@ def centre(arm: ArmModel, problem, req: Request) -> IKResult | None:
     for rim in rims(problem, RIM_SAMPLES):
         lowered = lower(rim, arm.tip)
         if lowered is not None:
-            r = run(arm, base.lowered(*lowered))
+            r = run(arm, base.lowered(as_target(lowered[0]) or lowered[0], lowered[1]))
             found += [r] if r.success else []
     seed = arm.seed(req.q0)
     return min(found, key=lambda r: float(np.linalg.norm(r.q - seed)), default=centre)

@@ -265,3 +265,28 @@ def test_swivel_on_other_arms_is_refused_and_a_batch_takes_it():
     assert _same_angles(srs.swivel_of(a.kinematics, batch.q[0]), 0.2, 1e-9)
     with pytest.raises(armik.OptionError, match="full pose"):
         a.solve(a.fk(np.full(7, 0.2)).translation, swivel=0.2)
+
+
+def _through_zero(a: armik.Arm, seed: int, joint: int, n: int = 41) -> np.ndarray:
+    """A straight joint path from ``a.random_q(seed)`` with ``joint`` going 0.2 -> -0.2 rad,
+    passing exactly through 0 at its middle row."""
+    Q = np.repeat(a.random_q(seed)[None], n, 0)
+    Q[:, joint] = np.linspace(0.2, -0.2, n)
+    return Q
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_from_a_stretched_elbow_the_answer_is_next_to_q0(seed):
+    """q0 with the elbow exactly stretched (joint 4 at 0) has no swivel angle of its own
+    (the elbow on the line S-W); a target just past it is answered next to q0, on the side
+    the elbow bends to, not at a swivel angle of 0 a turn of joints away (2.7 rad before)."""
+    a = arm("kuka_iiwa14")
+    Q = _through_zero(a, seed, 3)
+    assert Q[20, 3] == 0.0
+    geo = srs.geometry(a.kinematics).geo
+    one, other = srs_kernel.sides_of(geo, Q[20])
+    assert abs(abs(np.angle(np.exp(1j * (one - other)))) - np.pi) < 0.1  # opposite sides
+    r = a.solve(a.fk(Q[21]), q0=Q[20])
+    assert r.success and r.solver == "srs"
+    assert np.abs(r.q - Q[20]).max() < 0.08
+    assert _pose_error(a, r.q, a.fk(Q[21])) < 1e-9

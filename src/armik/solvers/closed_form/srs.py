@@ -11,7 +11,8 @@ shoulder and the wrist are each three axes meeting in a point, 2 roots each: up 
 branches, every one exact (``srs_kernel.at_swivel``).
 
 - ``solve_all(T, swivel=psi)`` (``armik.solve.parameter``): every branch at psi.
-- ``solve`` and ``solve_all`` without it: q0's swivel angle first, then ``SWEEP`` more
+- ``solve`` and ``solve_all`` without it: q0's swivel angle first (either side of a
+  stretched or folded elbow, ``srs_kernel.sides_of``), then ``SWEEP`` more
   round the circle nearest q0's first, and the branches of the first angle with one
   within the limits. A target whose span no elbow angle makes, or only one beyond joint
   4's limits, is unreachable (a proof: no swivel angle changes the span or joint 4);

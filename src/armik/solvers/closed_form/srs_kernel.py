@@ -68,6 +68,7 @@ COLUMNS = 12
 ROWS = 8
 SWEEP = 64  # swivel angles tried after q0's, spread over the circle
 TINY = 1e-9  # m: an elbow this near the line S-W leaves the swivel no effect
+BEND = 1e-6  # rad: joint 4 turned this far off a stretched elbow puts it ~1e-7 m off S-W
 TWO_PI = 2.0 * math.pi
 
 
@@ -128,6 +129,35 @@ def swivel_of(geo, q):
         return 0.0
     u1, u2 = _basis(ref, vec(h[1]), n)
     return math.atan2(dot(e, u2), dot(e, u1))
+
+
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
+def sides_of(geo, q):
+    """(psi, psi): q's swivel angle twice; where q's elbow is stretched or folded (on the
+    line S-W: its swivel angle is undefined, ``swivel_of`` says 0), the angles of the
+    elbow bent ``BEND`` either way from q: a continuous motion through such an elbow
+    leaves it on one of them (the swivel angle turns by about pi as joint 4 passes)."""
+    E, W = elbow_wrist(geo, q)
+    S = vec(geo[21:24])
+    b, e = sub(W, S), sub(E, S)
+    nb = norm(b)
+    if nb >= TINY and norm(sub(e, scale(b, dot(e, b) / (nb * nb)))) >= TINY:
+        psi = swivel_of(geo, q)
+        return psi, psi
+    bent = q.copy()
+    bent[3] = q[3] + BEND
+    one = swivel_of(geo, bent)
+    bent[3] = q[3] - BEND
+    return one, swivel_of(geo, bent)
+
+
+@njit(cache=True, nogil=True, no_cfunc_wrapper=True)
+def _distance(W, q0):
+    """How far the first row of ``W`` lies from q0 (rad, Euclidean)."""
+    d2 = 0.0
+    for j in range(7):
+        d2 += (W[0, j] - q0[j]) ** 2
+    return math.sqrt(d2)
 
 
 @njit(cache=True, nogil=True, no_cfunc_wrapper=True)
@@ -357,8 +387,18 @@ def swept(geo, R, pos, q0, out):
     first, with a row reached within the limits: (psi, n, found) and its rows in ``out``;
     q0's angle and its rows, found False, when none has one. A target whose shoulder to
     wrist span the elbow cannot make is not swept (no swivel angle changes that span)."""
-    psi0 = swivel_of(geo, q0)
+    psi0, psi1 = sides_of(geo, q0)
     n, found = solve_at(geo, R, pos, psi0, q0, out)
+    if psi1 != psi0:  # a stretched or folded q0: the side whose first row is nearer it
+        other = np.empty_like(out)
+        m, ok = solve_at(geo, R, pos, psi1, q0, other)
+        nearer = n == 0 or (ok and not found)
+        nearer = nearer or (ok == found and _distance(other, q0) < _distance(out, q0))
+        if m > 0 and nearer:
+            psi0, n, found = psi1, m, ok
+            for r in range(m):
+                for c in range(COLUMNS):
+                    out[r, c] = other[r, c]
     if found or n == 0 or int(out[0, 9]) in (sixr.TOO_FAR, sixr.TOO_CLOSE):
         return psi0, n, found
     if not elbow_inside(out, n, geo[42:49], geo[49:56]):
