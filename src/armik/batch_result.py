@@ -189,7 +189,10 @@ class BatchResult:
         if not math.isnan(apart[0]):  # the verdict measured apart: what it measured first
             pos, ori = apart[0], apart[1]
         tol_p, tol_r, free = self.tol_position, self.tol_orientation, self.free
-        said_pos, said_ori = None if free[0] else pos, None if free[1] or ori != ori else ori
+        # a target that holds no position (NaN: an Axis, a LookAt alone, on every tip):
+        # its verdict's 0 m unsaid, as a part left wholly free is
+        unheld = free[0] or self.position_error[i] != self.position_error[i]
+        said_pos, said_ori = None if unheld else pos, None if free[1] or ori != ori else ori
         cone = None if self.cone is None else reasons.Cone(self.cone, self.looks_at)
         if self.region:  # inside it for a success; NaN: no orientation measured (a position)
             measured = reasons.region(said_pos, said_ori, tol_p, tol_r, cone)
