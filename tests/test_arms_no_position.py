@@ -1,15 +1,19 @@
 """Tips whose targets hold no position (``armik.Axis`` alone) on several tips: their words
 say no metres, as one arm's say none for an ``Axis``; the joined rows of a batch or a path
-held NaN for their position and said "nan m", and their verdicts' 0 m."""
+held NaN for their position and said "nan m", and their verdicts' 0 m. A tip beyond reach
+beside such a tip, over shared joints, is refused by name: the largest error over the
+tips compared None with a float and raised ``TypeError``."""
 
 from __future__ import annotations
 
 import re
 
 import numpy as np
+import pinocchio as pin
 import pytest
 
 import armik
+from armik.status import Status
 from tests.test_arms import dual_irb120, talos
 
 METRES = re.compile(r"(\d|nan) m\b")  # a distance or a verdict's measure in metres
@@ -49,3 +53,21 @@ def test_tips_with_no_position_say_no_metres_in_a_batch_or_a_path(robot):
         largest = float(np.nanmax(out.orientation_error))
         assert f"every tip is at most {largest:.3g} rad from its target" in out.reason(0)
         assert f"of the solved: {largest:.2g} rad" in out.summary()
+
+
+def test_a_tip_beyond_reach_beside_an_axis_over_shared_joints_is_refused_by_name():
+    robot = talos()
+    left, right = robot.tips
+    q = robot.random_q(np.random.default_rng(3))
+    T = robot.fk(q, left)
+    far = pin.SE3(T.rotation, T.translation + np.array([3.0, 0.0, 0.0]))
+    axis = armik.Axis((0.0, 0.0, 1.0), robot.fk(q, right).rotation @ np.array([0.0, 0.0, 1.0]))
+    for target in (far, far.translation):
+        r = robot.solve({left: target, right: axis}, q0=q)
+        assert not r.success and r.status is Status.UNREACHABLE
+        assert r.reason.startswith(f"tip {left!r}: target is "), r.reason
+        X = robot.fk(r.q, left)
+        assert r.errors[right][0] is None
+        assert r.position_error == pytest.approx(
+            np.linalg.norm(X.translation - T.translation - [3.0, 0.0, 0.0]), abs=1e-12
+        )
