@@ -215,9 +215,12 @@ def test_a_position_in_a_box_reports_its_distance_to_the_point():
 
 def test_arms_report_each_tips_true_distance_apart_over_shared_joints_and_relative():
     """Two IRB 120s solved apart (a tip's pose with its position free), the Panda's elbow
-    and hand over shared joints (the hand's position free), and a ``Relative`` task, whose
-    target is the relative pose: each tip's errors are its true distances."""
+    and hand over shared joints (the hand's position free, or its spin), and a ``Relative``
+    task, whose target is the relative pose: on ``solve`` and a batch's and a path's rows,
+    each tip's errors are its true distances; ``measured`` the worst tip's measure, the
+    region's by its rule, an exact pose's its distances."""
     free = (INF, INF, INF, 0.0, 0.0, 0.0)
+    spin = (0.0, 0.0, 0.0, 0.0, 0.0, INF)
     cell = armik.load(dual_irb120(), tips=["l_tool0", "r_tool0"])
     q = cell.random_q(np.random.default_rng(3))
     T_l, T_r = cell.fk(q, "l_tool0"), cell.fk(q, "r_tool0")
@@ -225,46 +228,43 @@ def test_arms_report_each_tips_true_distance_apart_over_shared_joints_and_relati
     relative = T_l.actInv(moved)
     panda = armik.load("panda", tips=["panda_link4", "panda_hand"])
     qp = panda.middle + 0.1
-    hand = panda.fk(qp, "panda_hand")
-    hand = pin.SE3(hand.rotation, hand.translation + np.array([0.0, 0.06, 0.03]))
+    elbow, hand = panda.fk(qp, "panda_link4"), panda.fk(qp, "panda_hand")
+    shifted = pin.SE3(hand.rotation, hand.translation + np.array([0.0, 0.06, 0.03]))
+    spun = hand * pin.SE3(pin.exp3(np.array([0.0, 0.0, 0.45])), np.zeros(3))
+    relative_task = armik.Relative("r_tool0", "l_tool0", relative, bounds=free)
+    # (robot, q0, the exact tip and its pose, the region's tip, its task, its pose, bounds,
+    # the frame its target is in: None, the base)
     runs = [
-        (
-            cell,
-            q,
-            {"l_tool0": T_l, "r_tool0": armik.Pose(moved, bounds=free)},
-            "r_tool0",
-            moved,
-            None,
-        ),
-        (
-            cell,
-            q,
-            {
-                "l_tool0": T_l,
-                "r_tool0": armik.Relative("r_tool0", "l_tool0", relative, bounds=free),
-            },
-            "r_tool0",
-            relative,
-            "l_tool0",
-        ),
-        (
-            panda,
-            qp,
-            {
-                "panda_link4": panda.fk(qp, "panda_link4"),
-                "panda_hand": armik.Pose(hand, bounds=free),
-            },
-            "panda_hand",
-            hand,
-            None,
-        ),
-    ]
-    for robot, q0, targets, tip, T, reference in runs:
-        r = robot.solve(targets, q0=q0)
-        assert r.success, r.reason
-        X = robot.fk(r.q, tip)
-        if reference is not None:  # the placement of the tip in the reference's frame
-            X = robot.fk(r.q, reference).actInv(X)
-        pos, ori = _truth(X, T)
-        assert pos > 0.01 and _close(r.errors[tip][0], pos) and _close(r.errors[tip][1], ori)
-        assert r.position_error == max(e[0] for e in r.errors.values())  # the largest
+        (cell, q, ("l_tool0", T_l), "r_tool0", armik.Pose(moved, bounds=free), moved, free, None),
+        (cell, q, ("l_tool0", T_l), "r_tool0", relative_task, relative, free, "l_tool0"),
+        (panda, qp, ("panda_link4", elbow), "panda_hand", armik.Pose(shifted, bounds=free),
+         shifted, free, None),
+        (panda, qp, ("panda_link4", elbow), "panda_hand", armik.Pose(spun, bounds=spin), spun,
+         spin, None),
+    ]  # fmt: skip
+    for robot, q0, (exact, T_exact), tip, task, T, bounds, reference in runs:
+        targets = {exact: T_exact, tip: task}
+        batch = robot.solve_batch({exact: [T_exact] * 2, tip: [task] * 2}, q0=q0, workers=1)
+        path = robot.solve_path({exact: [T_exact] * 2, tip: [task] * 2}, q0)
+        rows = [robot.solve(targets, q0=q0), batch[1], path[1]]
+        for r in rows:
+            assert r.success, r.reason
+            X = robot.fk(r.q, tip)
+            if reference is not None:  # the placement of the tip in the reference's frame
+                X = robot.fk(r.q, reference).actInv(X)
+            pos, ori = _truth(X, T)
+            assert pos > 0.01 or ori > 0.4, (pos, ori)
+            assert _close(r.errors[tip][0], pos) and _close(r.errors[tip][1], ori), r.errors
+            other = _truth(robot.fk(r.q, exact), T_exact)
+            assert _close(r.errors[exact][0], other[0]) and _close(r.errors[exact][1], other[1])
+            assert r.position_error == max(e[0] for e in r.errors.values())  # the largest
+            assert r.orientation_error == max(e[1] for e in r.errors.values())
+            region = _verdict(X, T, {"bounds": bounds})
+            want = (max(region[0], other[0]), max(region[1], other[1]))
+            assert _close(r.measured[0], want[0]) and _close(r.measured[1], want[1]), (
+                r.measured,
+                want,
+            )
+        for out in (batch, path):  # the arrays are the rows'
+            assert tuple(out.errors[tip][1]) == out[1].errors[tip]
+            assert tuple(out.measured[1]) == out[1].measured
