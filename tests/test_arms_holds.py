@@ -142,3 +142,19 @@ def test_a_joint_of_one_chain_locked_after_with_limits_is_checked_against_them(j
             narrow.with_locked({joint: value})
     with pytest.raises(armik.JointError, match=rf"'{joint}' is outside its limits \(given"):
         wide.with_locked({joint: hi + 0.4})
+
+
+def test_a_start_within_the_limits_says_no_clipping():
+    """Over shared joints each chain's answer starts the next chain's solve: a chain's
+    failed answer outside its limits is a start clipped into them, said by no warning (44
+    "q0 outside the joint limits was clipped" warnings on a q0 within them)."""
+    import warnings
+
+    robot = armik.load("panda", tips=["panda_hand", "panda_link5"])
+    Q = robot.random_q(np.random.default_rng(5), n=4)
+    T = {t: robot.fk(Q[3], t) for t in robot.tips}
+    assert robot.within_limits(Q[0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", armik.ArmikWarning)
+        r = robot.solve(T, q0=Q[0], hold={"panda_joint5": float(Q[0, 4])}, iteration_budget=2000)
+    assert robot.within_limits(r.q)

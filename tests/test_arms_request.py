@@ -204,3 +204,66 @@ def test_a_servo_takes_obstacles_given_as_an_iterator_on_every_chain():
         for tip in robot.tips:
             pairs = servo.servo(tip)._collisions.check.pair_names
             assert any("Sphere" in b for _, b in pairs), (tip, given)
+
+
+class _Below(Constraint):
+    """Joint 1 of its chain below 1 rad (a constraint of one tip)."""
+
+    def check(self, arm, Q):
+        return Check(np.asarray(Q)[:, 0] < 1.0, armik.Status.JOINT_LIMITS, lambda i: "joint 1")
+
+
+def test_a_tips_constraint_over_shared_joints_travels_without_a_model():
+    """A request holding a tip's own constraint over shared joints (``OnChain``) pickles
+    without the chain's model: every chunk of a Dask batch carries the request, and each
+    carried the chain's recipe (the whole URDF of an arm read from its text, 113 kB for
+    TALOS) and rebuilt the chain on the worker. The constraint still holds."""
+    with open(armik.load("panda").source) as f:  # read from its text: the recipe holds it
+        arms = armik.load(f.read(), tips=["panda_hand", "panda_link5"])
+    request = read_request(arms, {"constraints": {"panda_hand": [_Below()]}})
+    blob = pickle.dumps(request)
+    assert len(blob) < 4000, len(blob)
+    assert b"ArmModel" not in blob and b"Recipe" not in blob
+    rows = _rows(arms, 6, 3)
+    by_tip = {tip: [row[tip] for row in rows] for tip in arms.tips}
+    got = arms.solve_batch(by_tip, constraints={"panda_hand": [_Below()]}, iteration_budget=2000)
+    assert got.success.any()
+    assert (np.asarray(got.q)[got.success, 0] < 1.0).all()
+
+
+def test_a_pose_read_at_the_facade_is_not_checked_again_by_a_chains_read(monkeypatch):
+    """Each tip's pose is parsed (and checked) once at the facade; a chain's solve with
+    options reads the request from it without checking its rotation again, as a
+    ``Target`` built by hand is checked (3.6 such checks a solve, 75 Python calls)."""
+    import armik.solve.read as read_module
+
+    arms = _panda()
+    rows = _rows(arms, 2, 5)
+
+    def refused(R):
+        raise AssertionError("a parsed pose checked again")
+
+    monkeypatch.setattr(read_module, "is_rotation", refused)
+    for row in rows:
+        r = arms.solve(row, iteration_budget=2000)
+        assert r.position_error is not None
+
+
+@pytest.mark.parametrize("spelled", ["poses", "related", "cost"])
+def test_solve_all_solves_each_chain_without_its_facade(monkeypatch, spelled):
+    """``Arms.solve_all`` lists each chain's answers from the request (its options read
+    once at the facade), not through each chain's ``Arm.solve_all`` again: the same
+    answers, in the same order, as before it was taken away."""
+    robot = _cell()
+    row = _rows(robot, 1, 7)[0]
+    target: object = _related(robot, [row])[0] if spelled == "related" else row
+    options = {"prefer": lambda q: float(np.sum(q**2))} if spelled == "cost" else {}
+    first = robot.solve_all(target, **options)
+    assert len(first) > 1 and first[0].success
+
+    def refused(self, *args, **kwargs):
+        raise AssertionError("a chain solved through Arm.solve_all")
+
+    monkeypatch.setattr(armik.Arm, "solve_all", refused)
+    again = robot.solve_all(target, **options)
+    np.testing.assert_array_equal([r.q for r in again], [r.q for r in first])

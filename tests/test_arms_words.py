@@ -2,7 +2,7 @@
 weights) says what they measured, the worst tip's, and then how far every tip is from its
 target, what ``position_error`` reports. It said "(on the weighted axes); the tip is
 0.0148 m, 1.1e-07 rad from the target" of a box with no weights, as if one tip's weighted
-target, where one arm says the region's centre (``reasons.tips_apart``)."""
+target (``reasons.tips_apart``)."""
 
 from __future__ import annotations
 

@@ -163,9 +163,7 @@ class Arms(ArmsKinematics):
                 own = request.chains_options(self.tips)
                 start = self.middle if q0 is None else q0
                 seeds = held_apart(seeds, own, chains, targets)
-                return ranked(
-                    arms_apart.viewed(self, own), targets, seeds, start, prefer, own, 1, t0
-                )[0]
+                return ranked(self, targets, seeds, start, prefer, own, 1, t0)[0]
             seeds = held_apart(seeds, held, chains, targets) if held else seeds
             results = {
                 tip: self._solve_chain(tip, target, seeds[tip], solver, held[tip] if held else {})
@@ -346,8 +344,9 @@ class Arms(ArmsKinematics):
                 r = self._solve_chain(tip, target, q[cols], solver, held[tip] if held else {})
             except ArmikError:  # a task this chain's solver does not take: start as is
                 continue
-            free = ~fixed[cols]
-            q[cols[free]] = r.q[free]
+            free = ~fixed[cols]  # a failed answer may leave the limits: a start within them
+            chain = self._chains[tip]
+            q[cols[free]] = np.clip(r.q, chain.lower, chain.upper)[free]
             fixed[cols] = True
         return q
 
@@ -362,10 +361,22 @@ class Arms(ArmsKinematics):
                                      time.perf_counter(), None, None, None, None))  # fmt: skip
             return run(self._chains[tip], request)  # type: ignore[no-any-return]
         arm = arms_apart.model(self, tip, options) if options else self._chains[tip]  # collisions
-        request = read(arm, target, q0, solver, options)
+        request = read(arm, target, q0, solver, options, parsed_already=type(target) is Target)
         if request.score is None and request.problem is None:  # the compiled path's stages
             return run(arm, request)  # type: ignore[no-any-return]
         return routed(arm, request)  # type: ignore[no-any-return]
+
+    def _chain_every(
+        self, tip: str, target: object, q0: np.ndarray, solver: str, options: dict
+    ) -> Solutions:
+        """Every answer of one chain by ``solver`` with its own options (``Arm.solve_all``'s
+        route, as ``_solve_chain`` gives one), its target parsed or its tasks."""
+        arm = arms_apart.model(self, tip, options) if options else self._chains[tip]  # collisions
+        parsed = type(target) is Target
+        request = read(arm, target, q0, solver, options, True, parsed_already=parsed)
+        plain = request.score is None and request.problem is None  # the compiled path's stages
+        got = run(arm, request) if plain else routed(arm, request)
+        return got if type(got) is Solutions else Solutions(got)
 
     def _check_targets(self, targets: object) -> dict[str, list[Relative]]:
         """Each tip's ``Relative`` tasks, once the targets are checked: a mapping of known

@@ -36,7 +36,7 @@ class Chains(Protocol):
 
 
 def asks(options: Mapping[str, Any] | None) -> bool:
-    """Whether one chain's ``options`` (``Arms._holds``' part of them) check collisions."""
+    """Whether one chain's ``options`` (``ArmsRequest.each``'s) check collisions."""
     if not options:
         return False
     if options.get("obstacles") is not None or options.get("self_collision"):
@@ -106,23 +106,3 @@ def _without(arm: ArmModel, left_out: frozenset[str]) -> ArmModel:
     if arm._recipe is not None:
         copy._recipe = InRobot(arm._recipe, left_out, arm._recipe.limits)
     return copy
-
-
-def viewed(arms: Any, each: Mapping[str, Mapping[str, Any]]) -> Any:
-    """``arms``, or where its chains' options ``each`` (tip -> options) check collisions,
-    ``arms`` whose ``chain(tip)`` is the ``Arm`` that chain solves as (``facade``): what a
-    search over the chains' answers (``arms_prefer.ranked``) reads of a robot."""
-    return _Viewed(arms, each) if chains(arms, each) is not arms._chains else arms
-
-
-class _Viewed:
-    """``arms`` with each chain as ``facade`` gives it for its options ``each``."""
-
-    def __init__(self, arms: Any, each: Mapping[str, Mapping[str, Any]]) -> None:
-        self._arms, self._each = arms, each
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self._arms, name)
-
-    def chain(self, tip: str) -> Any:
-        return facade(self._arms, tip, self._each[tip])

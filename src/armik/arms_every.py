@@ -33,7 +33,6 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from armik.arms_apart import facade, viewed
 from armik.arms_joined import held, joined, left_out
 from armik.arms_options import held_apart
 from armik.arms_prefer import is_cost, order, ranked
@@ -70,11 +69,10 @@ def _every(arms: Any, request: Any, targets: dict, relative: dict, q0: object):
     prefer = request.prefer
     if is_cost(prefer):  # a cost of the whole configuration: ranked over the combinations
         reference = arms.middle if q0 is None else np.asarray(q0, dtype=float)
-        return ranked(
-            viewed(arms, held), targets, seeds, reference, prefer, held, MAX_COMBINATIONS, t0
-        )
+        return ranked(arms, targets, seeds, reference, prefer, held, MAX_COMBINATIONS, t0)
+    own = _own(request, arms.tips)
     found = {
-        tip: facade(arms, tip, held[tip]).solve_all(target, q0=seeds[tip], **held[tip])
+        tip: arms._chain_every(tip, target, seeds[tip], request.solver, own[tip])
         for tip, target in targets.items()
     }
     good = {tip: [r for r in rs if r.success] for tip, rs in found.items()}
@@ -118,6 +116,11 @@ def in_turn(arms: Any, request: Any, targets, relative: dict, q0: object, t0: fl
     return _said_free(listed, _placed_freely(arms, targets, relative, request.options))
 
 
+def _own(request: Any, tips) -> dict[str, dict]:
+    """Each tip's own options (``ArmsRequest.each``), the solver apart."""
+    return request.each or {tip: {} for tip in tips}
+
+
 def _combinations(arms: Any, request: Any, targets, relative: dict, tips, q0, t0: float):
     """``in_turn``'s combinations, the chains solved in the order ``tips``; [] where none
     is verified."""
@@ -125,14 +128,14 @@ def _combinations(arms: Any, request: Any, targets, relative: dict, tips, q0, t0
     held = request.chains_options(arms.tips)
     seeds = held_apart(seeds, held, arms._chains, targets)
     combos: list[dict[str, IKResult]] = [{}]
+    own = _own(request, arms.tips)
     for tip in tips:
         grown = []
-        arm = facade(arms, tip, held[tip])
         for done in combos:
             target = targets[tip]
             if tip in relative:
                 target = absolute(target, arms._placements(done, seeds))
-            found = arm.solve_all(target, q0=seeds[tip], **held[tip])
+            found = arms._chain_every(tip, target, seeds[tip], request.solver, own[tip])
             grown += [{**done, tip: r} for r in found if r.success]
         if not grown:
             return []

@@ -232,7 +232,8 @@ class ArmsKinematics:
         chain), in its own axes (``reference="local"``) or the base's (``"base"``); zero
         for the joints not on its chain (``armik.model.frames``). Without ``frame``, every
         tip's: {tip: J} in the order of ``tips``."""
-        frame, reference = frames.frame_and_reference(frame, reference)
+        model = self._chains[self.tips[0]].model  # each chain's holds every frame
+        frame, reference = frames.frame_and_reference(frame, reference, model)
         each = self.split(q)
         out = {}
         for tip in self.tips if frame is None else (self._chain_of(frame),):

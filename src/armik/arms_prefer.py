@@ -93,7 +93,8 @@ def ranked(
     """The robot's answers for the callable cost ``fn`` (module docstring), best first, at
     most ``count``, each with its cost as its score; where a tip has no verified answer,
     the one joined result of each tip's best. ``seeds``: each chain's q0; ``reference``:
-    the whole q0; ``options``: each tip's (``Arms._holds``), ``solver`` among them."""
+    the whole q0; ``options``: each tip's (``ArmsRequest.chains_options``: the solver among
+    them where one was given)."""
     cost = Cost(fn)
     current = np.array(reference, dtype=float)
     found: dict[str, list[IKResult]] = {}
@@ -104,7 +105,8 @@ def ranked(
         part = _part(cost, arms, current.copy(), cols, reference, raised)
         try:
             own = {**options[tip], "prefer": part}
-            rs = arms.chain(tip).solve_all(target, q0=seeds[tip], **own)
+            solver = own.pop("solver", "auto")
+            rs = arms._chain_every(tip, target, seeds[tip], solver, own)
         except OptionError:
             if raised:  # the cost's own error, at the whole configuration
                 raise raised[-1] from raised[-1].__cause__

@@ -82,10 +82,13 @@ def with_unreachable(
     others = [t for t in targets if t not in beyond]
     said = reasons.tips_beyond(beyond, others, r.status.value, r.reason)
     kept = {t: errors[t] for t in targets if t in errors}
+    # a tip whose target holds no position or rotation (None: an Axis, a position) has
+    # none to miss; a tip beyond reach holds a position
+    positions = [p for p, _ in kept.values() if p is not None]
     oris = [o for _, o in kept.values() if o is not None]
     return dataclasses.replace(
         r,
-        position_error=max(p for p, _ in kept.values()),
+        position_error=max(positions),
         orientation_error=max(oris) if oris else None,
         success=False,
         status=Status.UNREACHABLE,

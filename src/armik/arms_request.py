@@ -21,7 +21,8 @@ processes and a Dask cluster.
   budget: ``descent_settings``) where the chains share joints, else None;
 - ``kept``: those of the descent over chains that share no joint, solved together for a
   task relating them (``coupled``), read where a row first needs them and kept for the
-  call's other rows.
+  call's other rows (the request of a call without options is kept with the robot, and
+  these with it: the same for every such call).
 """
 
 from __future__ import annotations
@@ -139,9 +140,8 @@ def on_union(arms: Any, union: Union, options: dict) -> dict:
     names = union.joint_names
     on = []
     for tip, given in own.items():
-        chain = arms._chains[tip]
-        columns = np.array([names.index(n) for n in chain.joint_names])
-        on += [OnChain(c, tip, chain, columns) for c in given]
+        columns = np.array([names.index(n) for n in arms._chains[tip].joint_names])
+        on += [OnChain(c, tip, columns) for c in given]
     return {**options, "constraints": on}
 
 

@@ -113,6 +113,12 @@ def hidden_steps(
         arms_halfway.hidden_steps(arms, out, waypoints, step, opts, unread, went)
 
 
+def _posed(target: object) -> bool:
+    """Whether a lowered target is a pose or a position (an ``armik.Axis`` exactly along a
+    direction too: a pose whose spin is free), not an aim's."""
+    return isinstance(target, (SE3, np.ndarray)) or (type(target) is Target and target.aim is None)
+
+
 def _poses(tip: str, rows: TargetBatch | Sequence) -> tuple[TargetBatch, dict] | None:
     """(poses, what the tasks say beside them) of a tip's rows: its poses or positions as
     read (a ``TargetBatch``); a task of each row's lowered as one arm's ``solve`` lowers it
@@ -123,7 +129,7 @@ def _poses(tip: str, rows: TargetBatch | Sequence) -> tuple[TargetBatch, dict] |
         return rows, {}
     problems = [as_problem(row) if isinstance(row, (Task, list, tuple)) else None for row in rows]
     lowered = [None if p is None else lower(p, tip) for p in problems]
-    if not lowered or any(x is None or not isinstance(x[0], (SE3, np.ndarray)) for x in lowered):
+    if not lowered or any(x is None or not _posed(x[0]) for x in lowered):
         return None
     said = lowered[0][1]  # type: ignore[index]
     if any(x[1] != said for x in lowered):  # type: ignore[index]

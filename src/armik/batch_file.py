@@ -33,6 +33,7 @@ def save(result: Any, path: str | Path) -> Path:
         "cone": result.cone,
         "looks_at": result.looks_at,
         "free": list(result.free),
+        "aims": result.aims,
         "claim": result.claim,
         "branch_names": list(result.branch_names),
         "statuses": _WORDS,
@@ -112,6 +113,8 @@ def fields(path: str | Path) -> dict[str, Any]:
         cone=_cone(meta.get("cone")),  # absent from files before it was kept
         looks_at=bool(meta.get("looks_at", False)),  # absent from files before it was kept
         free=tuple(bool(f) for f in meta.get("free", (False, False))),  # absent before too
+        # absent from files before it was kept: an aim's distance was then its axis' angle
+        aims=bool(meta.get("aims", meta.get("cone") is not None)),
         measured=arrays.get("measured"),  # absent from files before it was kept
         claim=str(meta.get("claim", "")),  # absent from files before it was kept
         branch_code=arrays.get("branch_code"),  # absent from files before it was kept

@@ -51,8 +51,10 @@ class BatchResult:
       where the verdict measured the distances themselves (``armik.verify.distances``).
     - ``region``, ``cone``: the targets are regions (bounds, an aim) and the aim's cone (rad,
       None: no aim), ``looks_at``: the aim looks at a point, ``free``: (position, rotation)
-      left wholly free by weights of 0 or infinite bounds, so that a success's
-      ``reason(i)`` says what ``solve``'s says.
+      left wholly free by weights of 0 or infinite bounds, ``aims``: the orientation
+      distance is the tip axis' angle to its direction (an aim at a point or along a
+      direction, an ``armik.Axis``), not the angle to the targets' rotations, so that a
+      success's ``reason(i)`` says what ``solve``'s says.
     - ``errors``: on several tips (``armik.Arms``), tip -> (N, 2) each row's distances to
       that tip's target (position m, orientation rad, NaN where not measured), as
       ``Arms.solve``'s ``errors[tip]``; empty for one arm.
@@ -87,6 +89,7 @@ class BatchResult:
     cone: float | None = None  # rad: the targets' aim's cone (a batch shares one), None: no aim
     looks_at: bool = False  # the aim looks at a point (its words: the line to the point)
     free: tuple[bool, bool] = (False, False)  # (position, rotation): every component free
+    aims: bool = False  # the orientation distance is the tip axis' angle to its direction
     measured: np.ndarray | None = None  # (N, 2) the verdict's errors; NaN filled when None
     # a success's claim before its verdict's words, as ``solve`` says it ("{}": its
     # restarts; a numeric solver's ``reasons.CONVERGED``), or "" for none
@@ -186,7 +189,10 @@ class BatchResult:
         if not math.isnan(apart[0]):  # the verdict measured apart: what it measured first
             pos, ori = apart[0], apart[1]
         tol_p, tol_r, free = self.tol_position, self.tol_orientation, self.free
-        said_pos, said_ori = None if free[0] else pos, None if free[1] or ori != ori else ori
+        # a target that holds no position (NaN: an Axis, a LookAt alone, on every tip):
+        # its verdict's 0 m unsaid, as a part left wholly free is
+        unheld = free[0] or self.position_error[i] != self.position_error[i]
+        said_pos, said_ori = None if unheld else pos, None if free[1] or ori != ori else ori
         cone = None if self.cone is None else reasons.Cone(self.cone, self.looks_at)
         if self.region:  # inside it for a success; NaN: no orientation measured (a position)
             measured = reasons.region(said_pos, said_ori, tol_p, tol_r, cone)
@@ -197,11 +203,11 @@ class BatchResult:
         if not math.isnan(apart[0]):
             pos, ori = float(self.position_error[i]), float(self.orientation_error[i])
             pos = None if pos != pos else pos  # NaN: a target that holds no position
-            weighted = self.weighted or not self.region  # solve's words (``verify.distances``)
             if self.errors:  # several tips: the worst tip's measure, every tip's distance
                 text = reasons.tips_apart(text, pos, ori)
-            else:
-                text = reasons.measured_apart(text, pos, ori, weighted, self.region, free, cone)
+            else:  # solve's words (``verify.distances``)
+                axis = reasons.Cone(self.cone or 0.0, self.looks_at) if self.aims else None
+                text = reasons.measured_apart(text, pos, ori, self.weighted, axis)
         if self._pairs[i] >= 0 or not math.isnan(self._distances[i]):  # checked
             pair, distance = self.closest_pair(i), float(self._distances[i])
             text = reasons.and_clear(text, pair, distance, self.margin)
@@ -299,6 +305,7 @@ class BatchResult:
             cone=self.cone,
             looks_at=self.looks_at,
             free=self.free,
+            aims=self.aims,
             measured=self._measured[picked],
             claim=self.claim,
             branch_code=self._codes[picked],
@@ -358,10 +365,12 @@ class BatchResult:
         margin: float = 0.0,
         aim: Aim | None = None,
         brancher: Callable[[np.ndarray], np.ndarray] | None = None,
+        along: tuple[float, float, float] | None = None,
     ) -> BatchResult:
         """``empty`` rows for n targets of ``arm``, labelled with its joints, tolerances and
         the clearance its successes keep (``claim``: see the field); ``aim``: the targets'
-        aim (a cone: a region, as bounds are, its angle named in a success's reason)."""
+        aim (a cone: a region, as bounds are, its angle named in a success's reason);
+        ``along``: their ``armik.Axis``'s, lowered to poses (``Target.along``)."""
         return cls.empty(
             n,
             arm.dof,
@@ -378,6 +387,7 @@ class BatchResult:
             free=(False, False)
             if opts.weights is None and opts.bounds is None
             else opts.left_free(False, aim is not None),
+            aims=along is not None or (aim is not None and aim.sight is not None),
             claim=claim,
             brancher=brancher,
             weighted=opts.weights is not None,

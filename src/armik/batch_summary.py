@@ -47,6 +47,9 @@ class Summarised(Protocol):
     def looks_at(self) -> bool: ...
 
     @property
+    def aims(self) -> bool: ...
+
+    @property
     def errors(self) -> dict[str, np.ndarray]: ...
 
     @property
@@ -76,23 +79,25 @@ def summary(batch: Summarised) -> str:
         f"{batch.time:.3g} s, {rate:,.0f} targets/s"
     )
     if solved:
-        worst = batch.position_error[batch.success].max()
+        pos = batch.position_error[batch.success]
+        held = ~np.isnan(pos)  # rows whose target holds a position (NaN: an Axis alone)
+        worst = pos[held].max() if held.any() else math.nan
         apart = batch._measured[batch.success]  # NaN where the distances were measured
         ori = batch.orientation_error[batch.success]
-        if batch.cone is not None:  # an aim's, in its terms
+        if batch.aims:  # the axis' angle to its direction: an aim's terms
             line += _aimed(batch, worst, ori)
-        elif np.isnan(apart[:, 0]).all():
-            line += f"; largest error of the solved: {worst:.2g} m"
-        else:  # the errors are distances; the verdicts measured the region or weights
-            to = "the region's centre" if batch.region else "the target"
-            if batch.errors:  # several tips: each tip's, a region's centre where it has one
-                to = "their targets (a region's centre where one has it)"
-            line += f"; largest distance to {to} of the solved: {worst:.2g} m"
-        if batch.cone is None and not np.isnan(ori).all():
-            line += f", {np.nanmax(ori):.2g} rad"
+        else:  # a part no target holds (a position, a rotation) unsaid
+            said = [] if worst != worst else [f"{worst:.2g} m"]
+            if not np.isnan(ori).all():
+                said.append(f"{np.nanmax(ori):.2g} rad")
+            if np.isnan(apart[:, 0]).all():
+                line += f"; largest error of the solved: {', '.join(said)}"
+            else:  # the errors are distances; the verdicts measured the region or weights
+                to = "their targets" if batch.errors else "the target"  # several tips: each's
+                line += f"; largest distance to {to} of the solved: {', '.join(said)}"
         if not np.isnan(apart[:, 0]).all():  # a part left wholly free measured 0: unsaid
             free_p, free_r = batch.free
-            said = [] if free_p else [f"{np.nanmax(apart[:, 0]):.2g} m"]
+            said = [] if free_p or not held.any() else [f"{np.nanmax(apart[held, 0]):.2g} m"]
             if not (free_r or np.isnan(apart[:, 1]).all()):
                 said.append(f"{np.nanmax(apart[:, 1]):.2g} rad")
             if said:
@@ -107,14 +112,13 @@ def summary(batch: Summarised) -> str:
 
 
 def _aimed(batch: Summarised, worst: float, ori: np.ndarray) -> str:
-    """The largest distances of the solved of a batch whose targets have an aim: the tip's
-    to the region's centre (a position left wholly free, or none, unsaid), its axis' angle
-    from its direction or the line to the point."""
+    """The largest distances of the solved of a batch whose targets aim the tip's axis: the
+    tip's to the target (a position it has not unsaid), its axis' angle from its direction
+    or the line to the point."""
     sight = Cone(batch.cone or 0.0, batch.looks_at).sight
     axis = f"{np.nanmax(ori):.2g} rad from {sight}"
-    if worst != worst or (batch.free[0] and worst == 0.0):
+    if worst != worst:
         return f"; largest distance of the solved: the tip's axis {axis}"
     return (
-        f"; largest distances of the solved: the tip {worst:.2g} m from the region's centre, "
-        f"its axis {axis}"
+        f"; largest distances of the solved: the tip {worst:.2g} m from the target, its axis {axis}"
     )

@@ -151,6 +151,8 @@ class Options(SolverSettings):
                         f"{name} must be True or False, got {flag!r}", option=name, value=flag
                     )
                 values[name] = bool(flag)
+        if values.get("bounds") is not None:
+            _refuse_all_free(values)
         collision_options(values)
         if values.get("hold") is not None:
             held = Hold.parse(values["hold"])
@@ -312,6 +314,25 @@ def checked_weights(value: object) -> tuple[float, ...]:
             value=value,
         )
     return tuple(float(v) for v in w)
+
+
+def _refuse_all_free(values: dict[str, Any]) -> None:
+    """An ``OptionError`` where the bounds, with the weights and ``position_only``, leave
+    every component of the pose free: any configuration would hold it, a success that
+    says nothing."""
+    free = np.isinf(values["bounds"])
+    if values.get("weights") is not None:
+        free |= np.asarray(values["weights"]) == 0.0
+    if values.get("position_only"):
+        free[3:] = True
+    if free.all():
+        raise OptionError(
+            f"bounds={values['bounds']!r} leave every component of the pose free (with "
+            "the weights and position_only given): any configuration holds it; bound at "
+            "least one component, or solve for a position (a 3-vector) or a rotation alone",
+            option="bounds",
+            value=values["bounds"],
+        )
 
 
 def _bounds(value: object) -> tuple[float, ...]:

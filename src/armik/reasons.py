@@ -5,7 +5,6 @@ them (a target beyond reach, a budget run out)."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from typing import NamedTuple
 
 
@@ -297,35 +296,31 @@ def measured_apart(
     pos: float | None,
     ori: float | None,
     weighted: bool,
-    region: bool,
-    free=(False, False),
-    cone: Cone | None = None,
+    axis: Cone | None = None,
 ) -> str:
     """A result whose verdict measured other than the distances to the target (weights on
     the axes, a region): its reason, then those distances, what ``position_error`` and
-    ``orientation_error`` report (to a region's centre, its free components left out: a
-    part wholly free, ``free`` (position, rotation), is 0 there and not said; one a
-    weight of 0 freed is a distance all the same, said); with an aim (``cone``), in its
-    terms (``_aim_apart``)."""
+    ``orientation_error`` report: the tip's to the target's position and the angle to its
+    rotation, or, where the orientation distance is the tip axis' angle to its direction
+    (``axis``: an aim at a point or along a direction, an ``armik.Axis``), in those terms
+    (``_aim_apart``); a part the target has not (None, NaN) unsaid."""
     said = f"{reason} (on the weighted axes)" if weighted else reason
-    if cone is not None:
-        return said + _aim_apart(pos, ori, free[0], cone)
-    to = "the region's centre, free components apart" if region else "the target"
-    free_p = pos is None or (region and free[0] and pos == 0.0)
-    parts = _parts(pos or 0.0, ori, free_p, region and free[1] and ori == 0.0)
-    return f"{said}; the tip is {parts} from {to}" if parts else said
+    if axis is not None:
+        return said + _aim_apart(pos, ori, axis)
+    parts = _parts(pos, ori)
+    return f"{said}; the tip is {parts} from the target" if parts else said
 
 
-def _aim_apart(pos: float | None, ori: float | None, free_p: bool, cone: Cone) -> str:
-    """'; the tip is x m from the region's centre, free components apart, its axis y rad
-    from its direction': the distances of a target with an aim. A position it has not
-    (None) or leaves wholly free (0) unsaid, the axis then alone, where its cone has a
-    width: 0 wide, the verdict's words said that angle already."""
-    axis = "" if ori is None or ori != ori else f"{ori:.3g} rad from {cone.sight}"
-    if pos is None or (free_p and pos == 0.0):
-        return f"; the tip's axis is {axis}" if axis and cone.within > 0.0 else ""
-    where = f"; the tip is {pos:.3g} m from the region's centre, free components apart"
-    return f"{where}, its axis {axis}" if axis else where
+def _aim_apart(pos: float | None, ori: float | None, axis: Cone) -> str:
+    """'; the tip is x m from the target, its axis y rad from its direction': the distances
+    of a target that aims the tip's axis. A position it has not (None) unsaid, the axis
+    then alone, where its cone has a width: 0 wide, the verdict's words said that angle
+    already."""
+    said = "" if ori is None or ori != ori else f"{ori:.3g} rad from {axis.sight}"
+    if pos is None or pos != pos:
+        return f"; the tip's axis is {said}" if said and axis.within > 0.0 else ""
+    where = f"; the tip is {pos:.3g} m from the target"
+    return f"{where}, its axis {said}" if said else where
 
 
 def tips_apart(reason: str, pos: float | None, ori: float | None) -> str:
@@ -333,29 +328,25 @@ def tips_apart(reason: str, pos: float | None, ori: float | None) -> str:
     tip's region, weights): its reason (the worst tip's measure), then the largest of the
     tips' distances to their targets, what ``position_error`` and ``orientation_error``
     report (None, NaN: no tip's target holds that part)."""
-    parts = _parts(pos or 0.0, ori, pos is None or pos != pos, False)
+    parts = _parts(pos, ori)
     return (
         f"{reason}, the worst of what the tips' verdicts measured; every tip is at most "
-        f"{parts} from its target (a region's centre where it has one, free components apart)"
+        f"{parts} from its target"
     )
 
 
-def tasks_apart(reason: str, pos: float | None, ori: float | None, tasks: Sequence) -> str:
+def tasks_apart(reason: str, pos: float | None, ori: float | None) -> str:
     """A task list with regions: its reason, then the largest distance of a task's frame
-    to its region's centre, what ``position_error`` and ``orientation_error`` report; a
-    part every task leaves wholly free (``Task.free``), whose distance is 0, unsaid."""
-    free = [task.free() for task in tasks]  # (pos None: no task holds a position, all free)
-    pos = pos or 0.0
-    said = _parts(pos, ori, all(f[0] for f in free), all(f[1] for f in free)) or f"{pos:.3g} m"
-    where = "from its region's centre, free components apart"
-    return f"{reason}; each task's frame is at most {said} {where}"
+    to its target, what ``position_error`` and ``orientation_error`` report (None, NaN:
+    no task holds that part)."""
+    said = _parts(pos, ori) or f"{pos or 0.0:.3g} m"
+    return f"{reason}; each task's frame is at most {said} from its target"
 
 
-def _parts(pos: float, ori: float | None, free_p: bool, free_r: bool) -> str:
-    """'x m, y rad' with a wholly free part (or a rotation not measured) left out; '' where
-    nothing is left."""
-    said = [] if free_p else [f"{pos:.3g} m"]
-    if not (free_r or ori is None or ori != ori):
+def _parts(pos: float | None, ori: float | None) -> str:
+    """'x m, y rad', a part not measured (None, NaN) left out; '' where nothing is left."""
+    said = [] if pos is None or pos != pos else [f"{pos:.3g} m"]
+    if not (ori is None or ori != ori):
         said.append(f"{ori:.3g} rad")
     return ", ".join(said)
 
@@ -387,28 +378,20 @@ def slides_unreachable(distance: float, tol: float) -> str:
 
 
 def tip_apart(reason: str, task, pos: float | None, ori: float | None, weighted: bool) -> str:
-    """``measured_apart`` for one task on the tip (``Task``): its region's, a part it
-    leaves wholly free unsaid, an aim's in the aim's terms."""
-    return measured_apart(reason, pos, ori, weighted, True, task.free(), task.cone_words())
+    """``measured_apart`` for one task on the tip (``Task``): an aim's (an axis, a look-at)
+    in the aim's terms."""
+    return measured_apart(reason, pos, ori, weighted, task.cone_words())
 
 
 def frame_apart(reason: str, task, pos: float | None, ori: float | None, weighted: bool) -> str:
     """``measured_apart`` for one task on a frame other than the tip: that frame's
-    distance to its target (weighted axes) or to its region's centre, a part the task
-    leaves wholly free unsaid (0 whatever the answer) where the distance is the region's;
-    an aim's (an axis alone) its axis' angle from its direction."""
+    distance to its target, an aim's (an axis alone) its axis' angle from its direction."""
     frame = str(task.frame)
     cone = task.cone_words()
     if cone is not None and ori is not None:
         return f"{reason}; frame {frame!r} has its axis {ori:.3g} rad from {cone.sight}"
-    pos = pos or 0.0  # (None: a task that holds no position, which an aim's words say)
-    if weighted:  # the true distance: a part weighted 0 has one
-        rot = "" if ori is None or ori != ori else f", {ori:.3g} rad"
-        return (
-            f"{reason} (on the weighted axes); frame {frame!r} is {pos:.3g} m{rot} from the target"
-        )
-    said = _parts(pos, ori, *task.free()) or f"{pos:.3g} m"
-    return f"{reason}; frame {frame!r} is {said} from the region's centre, free components apart"
+    said = f"{reason} (on the weighted axes)" if weighted else reason
+    return f"{said}; frame {frame!r} is {_parts(pos, ori) or f'{pos or 0.0:.3g} m'} from the target"
 
 
 def chains_collide(pair: tuple[str, str] | None, distance: float, margin: float) -> str:

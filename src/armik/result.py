@@ -20,12 +20,13 @@ class IKResult:
 
     ``q``: joint values (rad, m), one per joint, read-only. ``success`` is True only if the
     FK errors are within tolerance and every joint is within its limits. ``position_error``
-    (m; None for a target that holds no position: an ``armik.Axis`` or ``armik.LookAt``
-    alone) and ``orientation_error`` (rad, geodesic; for a target with an aim, the tip axis'
-    angle to its direction; None for a position-only target without one) are
-    the distances of ``q``'s tip to the target; where the request measured other than
-    them (weights, a region), ``measured`` gives what its verdict measured. ``time`` (s)
-    covers the whole call including verification.
+    (m, to the target's position; None for a target that holds no position: an
+    ``armik.Axis`` or ``armik.LookAt`` alone) and ``orientation_error`` (rad, geodesic to
+    the target's rotation; for a target without a rotation of its own that aims, the tip
+    axis' angle to its direction; None for a position-only target without one) are the
+    true distances of ``q``'s tip to the target, whatever the weights and bounds; where
+    the request measured other than them (weights, a region), ``measured`` gives what its
+    verdict measured. ``time`` (s) covers the whole call including verification.
     """
 
     q: np.ndarray

@@ -57,6 +57,25 @@ def _honest(results) -> None:
     return checked
 
 
+@pytest.mark.parametrize("constraint, name", [(ElbowUp(), "panda"), (ShoulderSide(), "ur5")])
+def test_the_check_over_rows_is_each_answers_own(constraint, name):
+    """The recipe's first test: the check of many rows at once says of each row what it
+    says of that row alone, its reason too (a check that read the rows as one, or another
+    row's values, would differ)."""
+    arm = bundled(name)
+    Q = arm.random_q(np.random.default_rng(3), n=40)
+    kin = arm.kinematics
+    together = constraint.check(kin, Q)
+    ok = np.asarray(together.ok, dtype=bool)
+    assert ok.any() and not ok.all()
+    for i in range(len(Q)):
+        alone = constraint.check(kin, Q[i : i + 1])
+        assert bool(np.asarray(alone.ok)[0]) == ok[i]
+        if not ok[i]:
+            assert together.why(i) == alone.why(0)
+            assert together.status is alone.status
+
+
 @pytest.mark.parametrize(
     "how",
     [

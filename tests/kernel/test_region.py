@@ -82,7 +82,9 @@ def _rows(a, ws, q, target, said, cone=None, bounds=None):
         look, x = LOOK_POINT, np.array(aim.point)
     if aim is not None and aim.toward is not None:
         look, x = LOOK_TOWARD, np.array(aim.toward)
-    p = target.position if aim is not None else target.translation
+    # a parsed ``Target`` (an aim, or an ``Axis`` exactly along a base axis: ``along``), or
+    # a pose
+    p = target.position if hasattr(target, "position") else target.translation
     ws.q[0][:] = q
     evaluate_region(
         a.kernel_chain.flat, np.array(said["bounds"]) if bounds is None else bounds,

@@ -41,11 +41,30 @@ def test_a_frame_by_name(name, frame, reference):
 
 
 def test_the_tip_by_default_and_the_old_spelling():
-    a = bundled("ur5")
+    a = bundled("panda")
     q = a.random_q(4)
     assert a.fk(q, frame=a.tip).isApprox(a.fk(q), 1e-14)
     np.testing.assert_array_equal(a.jacobian(q, "base"), a.jacobian(q, reference="base"))
+    np.testing.assert_array_equal(a.jacobian(q, "local"), a.jacobian(q, reference="local"))
     np.testing.assert_array_equal(a.jacobian(q), a.jacobian(q, frame=a.tip, reference="local"))
+
+
+@pytest.mark.parametrize("several", [False, True])
+def test_the_old_spelling_is_refused_where_a_frame_has_its_name(several):
+    """The UR5 has a frame named ``base``: ``jacobian(q, frame="base")`` could mean it or
+    the old spelling of ``reference="base"``; it answered the tip's Jacobian in the base's
+    axes without a word. Refused by name, each meaning said apart."""
+    a = armik.load("ur5", tips=["tool0", "forearm_link"]) if several else bundled("ur5")
+    q = a.random_q(4)
+    for spelled in ({"frame": "base"}, {}):
+        with pytest.raises(armik.OptionError, match="names a frame of this arm") as e:
+            a.jacobian(q, "base") if not spelled else a.jacobian(q, **spelled)
+        assert "reference='base'" in str(e.value) and e.value.value == "base"
+    J = a.jacobian(q, frame="base", reference="local")  # the frame itself: fixed to the base
+    assert np.abs(J).max() == 0.0
+    tip = a.tips[0] if several else a.tip
+    direct = a.jacobian(q, frame=tip, reference="base")
+    assert np.abs(direct).max() > 0.1
 
 
 def test_bad_names_are_refused_by_name():

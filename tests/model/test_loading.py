@@ -250,7 +250,7 @@ def test_with_limits_and_errors():
 def test_jacobian_base_frame_matches_finite_differences(rng):
     a = arm("ur5")
     q = a.random_q(rng)
-    J = a.jacobian(q, frame="base")
+    J = a.jacobian(q, reference="base")
     h = 1e-6
     for i in range(a.dof):
         dq = np.zeros(a.dof)

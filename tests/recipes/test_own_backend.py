@@ -31,9 +31,9 @@ class BaseTurn(Constraint):
 
 
 def reversed_serial(jobs, workers):
-    """Every job here, the last first; the results handed back in the jobs' order."""
-    done = [job() for job in reversed(jobs)]
-    return done[::-1]
+    """Every job here, the last first, the results handed back in that order: the batch
+    places each by the row it starts at (``backends.Rows``)."""
+    return [job() for job in reversed(jobs)]
 
 
 def process_pool(jobs, workers):

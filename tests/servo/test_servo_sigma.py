@@ -48,7 +48,7 @@ def test_a_planar_arm_is_not_singular_for_the_rows_it_never_moves():
 
 def test_a_position_on_a_spatial_arm_reads_its_position_rows():
     ur5, q0 = load("ur5"), START["ur5"]
-    J = ur5.jacobian(q0, "base")
+    J = ur5.jacobian(q0, reference="base")
     s = ur5.servo(q0).step(ur5.fk(q0).translation + [0.01, 0.0, 0.0])
     assert abs(s.sigma - _true_sigma(J, [0, 1, 2])) < 1e-9
 

@@ -17,6 +17,12 @@ def _targets(a: armik.Arm, n: int) -> list[pin.SE3]:
     return [*poses, pin.SE3(poses[0].rotation, poses[0].translation * 5)]  # out of reach
 
 
+def _distances(X: pin.SE3, T: pin.SE3) -> tuple[float, float]:
+    """The distances of X to T by Pinocchio: (m, rad)."""
+    angle = float(np.linalg.norm(pin.log3(X.rotation.T @ T.rotation)))
+    return float(np.linalg.norm(X.translation - T.translation)), angle
+
+
 def _same_words(a: armik.Arm, targets, batch: armik.BatchResult, **options) -> None:
     for i, t in enumerate(targets):
         r = a.solve(t, **options)
@@ -51,7 +57,10 @@ def test_weights_and_bounds_say_the_distance_as_solve_does(tmp_path):
     options = {"bounds": (0.01, 0.01, np.inf, 0.1, 0.1, 0.1), "weights": (1, 1, 1, 1, 1, 0.5)}
     batch = a.solve_batch(targets, **options)
     assert batch.success[:-1].all()
-    assert batch[0].reason.endswith("from the region's centre, free components apart")
+    X = a.fk(batch.q[0])  # 0.2 m along the free z: by Pinocchio, said as it is
+    far, angle = _distances(X, targets[0])
+    assert batch.position_error[0] == pytest.approx(far, abs=1e-12)
+    assert batch[0].reason.endswith(f"the tip is {far:.3g} m, {angle:.3g} rad from the target")
     _same_words(a, targets, batch, **options)
     loaded = armik.BatchResult.load(batch.save(tmp_path / "weighted.npz"))
     assert [loaded.reason(i) for i in range(len(batch))] == [r.reason for r in batch]
@@ -72,25 +81,31 @@ def test_a_preference_names_the_solver_solve_names():
 
 @pytest.mark.parametrize("run", [{}, {"backend": "threads", "chunk_size": 1}])
 def test_a_cone_ranked_by_a_preference_is_a_region_in_the_summary_too(run):
-    # rows solved one by one: the batch kept no aim, its summary measured "to the target"
+    # rows solved one by one: the batch kept no aim, its summary measured "to the target";
+    # a cone on a pose: its distance is the angle to the pose's rotation, the cone's
+    # measure what the verdicts measured
     a = arm("ur5")
     targets = _targets(a, 2)[:2]
     options = {"cone": (0, 0, 1, 0.2), "prefer": "manipulability"}
     batch = a.solve_batch(targets, **run, **options)
     assert batch.region and batch.cone == 0.2 and batch.success.all()
-    assert "from the region's centre" in batch[0].reason
-    said = batch.summary().partition("largest distances of the solved: the tip ")[2]
-    assert " m from the region's centre, its axis " in said, batch.summary()
-    assert said.partition(" (")[0].endswith(" rad from its direction"), batch.summary()
+    far, angle = _distances(a.fk(batch.q[0]), targets[0])
+    assert batch.orientation_error[0] == pytest.approx(angle, abs=1e-12)
+    said = f"the tip is {far:.3g} m, {angle:.3g} rad from the target; prefer=manipulability"
+    assert said in batch[0].reason
+    assert "the tip's axis within its cone of 0.2 rad" in batch[0].reason
+    said = batch.summary().partition("largest distance to the target of the solved: ")[2]
+    worst = batch.orientation_error.max()
+    assert said.startswith(f"{batch.position_error.max():.2g} m, {worst:.2g} rad"), batch.summary()
     _same_words(a, targets, batch, **options)
 
 
-def test_weights_and_bounds_summary_measures_from_the_regions_centre():
+def test_weights_and_bounds_summary_measures_from_the_target():
     a = arm("ur5")
     options = {"bounds": (0.01, 0.01, np.inf, 0.1, 0.1, 0.1), "weights": (1, 1, 1, 1, 1, 0.5)}
     batch = a.solve_batch(_targets(a, 2)[:2], **options)
-    assert batch[0].reason.endswith("from the region's centre, free components apart")
-    assert "largest distance to the region's centre of the solved" in batch.summary()
+    assert batch[0].reason.endswith(" rad from the target")
+    assert "largest distance to the target of the solved" in batch.summary()
 
 
 class ElbowAbove(Constraint):

@@ -165,3 +165,28 @@ def test_the_cli_takes_bounds(capsys):
     rpy = [f"{v:.12g}" for v in pin.rpy.matrixToRpy(T.rotation)]
     code = main(["solve", "ur5", "--xyz", *xyz, "--rpy", *rpy, "--bounds", *map(str, BOX)])
     assert code == 0, capsys.readouterr()
+
+
+@pytest.mark.parametrize(
+    "spelled",
+    [
+        {"bounds": (math.inf,) * 6},
+        {"bounds": (math.inf,) * 3 + (0.1,) * 3, "weights": (1, 1, 1, 0, 0, 0)},
+        {"bounds": (math.inf,) * 3 + (0.1,) * 3, "position_only": True},
+    ],
+    ids=["inf", "weights", "position_only"],
+)
+def test_bounds_that_free_every_component_are_refused(spelled):
+    """A request whose bounds (with its weights or ``position_only``) free every component
+    holds at any configuration: refused by name, where a target 5 m away was called a
+    success ("no component measured")."""
+    ur5 = armik.load("ur5")
+    far = pin.SE3(np.eye(3), np.array([5.0, 0.0, 0.0]))
+    with pytest.raises(armik.OptionError, match="every component of the pose free") as e:
+        ur5.solve(far, **spelled)
+    assert e.value.option == "bounds"
+    with pytest.raises(armik.OptionError, match="every component of the pose free"):
+        ur5.solve_batch([far, far], **spelled)
+    if "bounds" in spelled and len(spelled) == 1:
+        with pytest.raises(armik.OptionError, match="every component of the pose free"):
+            ur5.solve(armik.Pose(far, bounds=spelled["bounds"]))

@@ -95,3 +95,40 @@ def test_a_followed_descent_is_judged_by_descents_halfway(start, turn):
     assert not [i for i in range(100) if "hides a jump" in p.reason(i)]
     ok = np.flatnonzero(p.success)
     _on_poses(a, p.q[ok], [poses[i] for i in ok])
+
+
+@pytest.mark.parametrize("plan", ["follow", "global"])
+def test_a_path_at_a_fixed_swivel_angle_keeps_it(plan):
+    """``swivel=`` on a path: every answer at that swivel angle (no descent beside the
+    closed form, which would not keep it; one raised that ``swivel=`` is not dls's)."""
+    from armik.solvers.closed_form import srs
+
+    a = arm("kuka_iiwa14")
+    q0 = a.random_q(1)
+    psi = srs.swivel_of(a.kinematics, q0)
+    T = a.fk(q0)
+    line = [pin.SE3(T.rotation, T.translation + [0, 0.01 * k, 0]) for k in range(3)]
+    p = a.solve_path(line, q0, swivel=psi, plan=plan)
+    assert p.success.all(), [p.reason(i) for i in range(3)]
+    for q in p.q:
+        assert abs(srs.swivel_of(a.kinematics, q) - psi) < 1e-9
+    _on_poses(a, p.q, line)
+
+
+@pytest.mark.parametrize("plan", ["follow", "global"])
+def test_a_path_at_a_swivel_angle_away_from_q0_answers_at_it(plan):
+    """The first waypoint at another swivel angle than q0's is a jump (said so), re-solved
+    near q0 at that angle: every answer, a jump's too, at the swivel asked for (the
+    re-solve raised "swivel= is solved by the 'srs' solver, not 'dls'")."""
+    from armik.solvers.closed_form import srs
+
+    a = arm("kuka_iiwa14")
+    q0 = a.middle + 0.2
+    T = a.fk(q0)
+    line = [pin.SE3(T.rotation, T.translation + [0, 0.01 * k, 0]) for k in range(3)]
+    p = a.solve_path(line, q0, swivel=0.3, plan=plan)
+    assert p.success[1] and not p.success[0]
+    assert "jump" in p.reason(0)
+    for q in p.q:
+        assert abs(srs.swivel_of(a.kinematics, q) - 0.3) < 1e-9
+    _on_poses(a, p.q, line)

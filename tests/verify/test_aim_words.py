@@ -102,7 +102,7 @@ def test_an_aim_beside_a_position_says_the_position_and_the_axis():
         assert _measured_words(r.reason) == (
             f"inside the region: position error {r.measured[0]:.3g} m (tol 1e-06), the tip's "
             "axis within its cone of 0.1 rad around its direction; the tip is "
-            f"{far:.3g} m from the region's centre, free components apart, its axis "
+            f"{far:.3g} m from the target, its axis "
             f"{angle:.3g} rad from its direction"
         )
 

@@ -1,9 +1,7 @@
-"""A success measured apart says what its distances are from: with weights on a region's
-axes, the region's centre, its free components left out (``armik.verify.distances``)."""
+"""A success measured apart says what its verdict measured, then its distances to the
+target, whatever the region frees and the weights (``armik.verify.distances``)."""
 
 from __future__ import annotations
-
-import re
 
 import numpy as np
 import pinocchio as pin
@@ -13,7 +11,7 @@ import armik
 
 from ..conftest import arm
 
-# z free: the distances leave it out, so they are no distance to the target
+# z free: the verdict leaves it out, the distances do not
 BOUNDS = (0.01, 0.01, np.inf, 0.1, 0.1, 0.1)
 WEIGHTS = (1, 1, 1, 1, 1, 0.5)
 
@@ -24,25 +22,30 @@ def _target(a) -> pin.SE3:
 
 
 @pytest.mark.parametrize("solver", ["auto", "qp"])
-def test_weights_with_bounds_say_the_regions_centre(solver):
+def test_weights_with_bounds_say_the_distance_to_the_target(solver):
     ur5 = arm("ur5")
     T = _target(ur5)
     r = ur5.solve(T, bounds=BOUNDS, weights=WEIGHTS, solver=solver)
     assert r.success, r.reason
-    # 0.2 m along the free z: the tip is that far from the target, not what is reported
-    assert np.linalg.norm(ur5.fk(r.q).translation - T.translation) > r.position_error + 0.1
-    assert "from the target" not in r.reason, r.reason
-    assert f"{r.position_error:.3g} m" in r.reason
-    assert "from the region's centre, free components apart" in r.reason, r.reason
-    assert "(on the weighted axes)" in r.reason
+    # 0.2 m along the free z: the tip is that far from the target, and that is reported
+    far = np.linalg.norm(ur5.fk(r.q).translation - T.translation)
+    assert far > 0.1 and r.position_error == pytest.approx(far, abs=1e-12)
+    assert r.reason.endswith(
+        f"the tip is {far:.3g} m, {r.orientation_error:.3g} rad from the target"
+    ), r.reason
+    assert "region's centre" not in r.reason and "(on the weighted axes)" in r.reason
 
 
-def test_weights_with_bounds_say_the_regions_centre_on_every_answer():
+def test_weights_with_bounds_say_the_distance_to_the_target_on_every_answer():
     ur5 = arm("ur5")
-    rs = ur5.solve_all(_target(ur5), bounds=BOUNDS, weights=WEIGHTS)
+    T = _target(ur5)
+    rs = ur5.solve_all(T, bounds=BOUNDS, weights=WEIGHTS)
     assert len(rs) and all(r.success for r in rs)
     for r in rs:
-        assert "from the region's centre, free components apart" in r.reason, r.reason
+        far = np.linalg.norm(ur5.fk(r.q).translation - T.translation)
+        assert r.reason.endswith(
+            f"the tip is {far:.3g} m, {r.orientation_error:.3g} rad from the target"
+        )
 
 
 def test_weights_alone_still_say_the_target():
@@ -68,8 +71,7 @@ def test_every_answer_with_obstacles_says_its_distances_before_its_closest_pair(
         said, clear, pair = r.reason.partition("; collision-free: closest ")
         assert clear and pair.endswith("(margin 0 m)"), r.reason
         assert said.endswith(
-            f"{r.position_error:.3g} m, {r.orientation_error:.3g} rad from "
-            + ("the region's centre, free components apart" if region else "the target")
+            f"{r.position_error:.3g} m, {r.orientation_error:.3g} rad from the target"
         ), r.reason
 
 
@@ -113,50 +115,66 @@ def test_weights_that_free_the_position_say_no_position_error_of_0():
 )
 def test_a_region_that_frees_the_position_says_no_position_error_of_0(target):
     """A look-at, an axis, or bounds inf on x, y and z: it said 'inside the region:
-    position error 0 m ...; the tip is 0 m, ... rad from the region's centre'. An aim
-    alone says its axis in its own terms, no region (tests/verify/test_aim_words.py)."""
+    position error 0 m ...; the tip is 0 m, ... rad from the region's centre'. The verdict
+    measured no position: its words say none; the tip's distance to the pose's position is
+    said after them, and an aim alone, which holds no position, says its axis in its own
+    terms, no region (tests/verify/test_aim_words.py)."""
     ur5 = arm("ur5")
     T = ur5.fk(ur5.random_q(np.random.default_rng(3)))
     given, options = target(ur5, T)
     got, said = _successes(ur5, given, **options)
     aimed = not options
     for reason in said:
-        assert " 0 m" not in reason and "position error" not in reason, reason
+        assert "position error" not in reason, reason
         assert ("inside the region: " in reason) != aimed, reason
         assert "the tip is " in reason or aimed, reason
-    # the distance, free components apart: none left; an aim alone holds no position
-    assert got[0].position_error == (None if aimed else 0.0)
+    for r in got:  # an aim alone holds no position; a pose's is its own
+        far = np.linalg.norm(ur5.fk(r.q).translation - T.translation)
+        assert r.position_error == (None if aimed else pytest.approx(far, abs=1e-12))
+        assert aimed or f"the tip is {far:.3g} m, " in r.reason
 
 
 def test_bounds_that_free_the_rotation_say_no_orientation_error_of_0():
+    """The verdict measured no rotation: its words say none; the tip's angle to the pose's
+    rotation is said after them."""
     ur5 = arm("ur5")
     T = ur5.fk(ur5.random_q(np.random.default_rng(3)))
     T = pin.SE3(T.rotation, T.translation + np.array([0.03, 0.0, 0.0]))
     got, said = _successes(ur5, T, bounds=(0.05, 0.01, 0.01, np.inf, np.inf, np.inf))
     for reason in said:
-        assert "inside the region: position error" in reason, reason
-        assert "orientation error" not in reason and " rad" not in reason, reason
+        head, _, tail = reason.partition("; the tip is ")
+        assert "inside the region: position error" in head, reason
+        assert "orientation error" not in head and " rad" not in head, reason
+        assert tail.endswith(" rad from the target"), reason
+    for r in got:
+        truth = np.linalg.norm(pin.log3(ur5.fk(r.q).rotation.T @ T.rotation))
+        assert r.orientation_error == pytest.approx(truth, abs=1e-12)
 
 
-def test_the_task_solvers_region_that_frees_the_position_says_no_0_m():
+def test_the_task_solvers_region_that_frees_the_position_says_its_distance():
     """A joint held on a 6-joint arm (the task solver): bounds inf on x, y and z said 'the
-    tip is 0 m, 0.139 rad from the region's centre'; weights of 0 on the position leave
-    its distance, a true one, said."""
+    tip is 0 m, 0.139 rad from the region's centre'; the tip's distance to the position is
+    said, as with weights of 0 on the position."""
     ur5 = arm("ur5")
     q = ur5.random_q(np.random.default_rng(3))
     T = ur5.fk(q)
     held = {"hold": {"wrist_3_joint": float(q[5]) - 0.3}, "q0": ur5.middle}
-    r = ur5.solve(T, bounds=(np.inf, np.inf, np.inf, 0.5, 0.5, 0.5), **held)
-    assert r.success and r.position_error == 0.0, r.reason
-    assert " 0 m" not in r.reason and f"the tip is {r.orientation_error:.3g} rad from" in r.reason
-    r = ur5.solve(T, weights=(0, 0, 0, 1, 1, 1), **held)
-    far = np.linalg.norm(ur5.fk(r.q).translation - T.translation)  # by Pinocchio
-    assert r.success and far > 0.01 and f"the tip is {far:.3g} m, " in r.reason, r.reason
+    for options in (
+        {"bounds": (np.inf, np.inf, np.inf, 0.5, 0.5, 0.5)},
+        {"weights": (0, 0, 0, 1, 1, 1)},
+    ):
+        r = ur5.solve(T, **options, **held)
+        X = ur5.fk(r.q)  # by Pinocchio
+        far = np.linalg.norm(X.translation - T.translation)
+        angle = np.linalg.norm(pin.log3(X.rotation.T @ T.rotation))
+        assert r.success and far > 0.01, r.reason
+        assert (r.position_error, r.orientation_error) == pytest.approx((far, angle), abs=1e-12)
+        assert f"the tip is {far:.3g} m, {angle:.3g} rad from the target" in r.reason, r.reason
 
 
 def test_a_pose_tasks_weights_that_free_the_position_keep_its_distance_said():
     """``armik.Pose(T, weights=(0, 0, 0, 1, 1, 1))`` is a region of bounds 0: its distance
-    to the position is a true one, said, where bounds inf would leave a 0 unsaid."""
+    to the position is a true one, said, as bounds inf say it."""
     ur5 = arm("ur5")
     T = ur5.fk(ur5.random_q(np.random.default_rng(3)))
     got, said = _successes(ur5, [armik.Pose(T, weights=(0, 0, 0, 1, 1, 1))])
@@ -176,9 +194,9 @@ def test_a_batch_summary_leaves_out_what_the_verdicts_measured_of_a_free_part():
     assert measured.endswith(" rad)") and " m" not in measured, b.summary()
 
 
-def test_a_frame_other_than_the_tip_leaves_a_free_position_unsaid():
+def test_a_frame_other_than_the_tip_says_its_distance_to_its_target():
     # the task solver said "frame 'wrist_2_link' is 0 m, 0.156 rad from the region's
-    # centre" of a position its bounds left wholly free, as the tip's words no longer do
+    # centre" of a position its bounds left wholly free, 0.36 m off
     ur5 = arm("ur5")
     q = ur5.random_q(np.random.default_rng(3))
     free = (np.inf,) * 3 + (0.1,) * 3
@@ -192,8 +210,11 @@ def test_a_frame_other_than_the_tip_leaves_a_free_position_unsaid():
     for given in (tasks[:1], tasks):
         r = ur5.solve(given, q0=ur5.middle)
         assert r.success, r.reason
+        far = max(np.linalg.norm(ur5.fk(r.q, t.frame).translation - t.T.translation) for t in given)
+        assert r.position_error == pytest.approx(far, abs=1e-12) and far > 0.1
         said = r.reason.rpartition("; ")[2]
-        assert " rad from " in said and not re.search(r"\d m\b", said), r.reason
+        to = "the target" if len(given) == 1 else "its target"  # several: each frame's
+        assert said.endswith(f"{far:.3g} m, {r.orientation_error:.3g} rad from {to}"), r.reason
 
 
 @pytest.mark.parametrize("plan", ["follow", "global"])
@@ -204,7 +225,7 @@ def test_a_jump_on_a_path_says_what_its_answer_s_verdict_measured(plan):
     rng = np.random.default_rng(5)
     poses = [ur5.fk(ur5.random_q(rng)) for _ in range(3)]
     free = {
-        "bounds": ((np.inf,) * 3 + (0.1,) * 3, "from the region's centre"),
+        "bounds": ((np.inf,) * 3 + (0.1,) * 3, "; the tip is"),
         "weights": ((0, 0, 0, 1, 1, 1), "(on the weighted axes); the tip is"),
     }
     for option, (value, said) in free.items():
@@ -214,3 +235,4 @@ def test_a_jump_on_a_path_says_what_its_answer_s_verdict_measured(plan):
         for i in jumps:
             verified = p.reason(i).partition(", verified: ")[2]
             assert said in verified and "position error" not in verified, p.reason(i)
+            assert verified.endswith("from the target"), p.reason(i)

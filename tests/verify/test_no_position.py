@@ -64,9 +64,9 @@ def test_an_aim_alone_has_no_position_error_on_every_route_of_one_arm():
 
 
 def test_an_aim_keeps_its_distance_where_its_target_holds_a_position():
-    """Beside a position, or the keyword aim on a pose: the distance to that position, by
-    Pinocchio; a pose whose bounds free its position is 0 m from it, in no component; an
-    aim beside bounds freeing the position holds none."""
+    """Beside a position, or the keyword aim on a pose, or a pose whose bounds free its
+    position: the distance to that position, by Pinocchio; an aim beside bounds freeing
+    the position holds none."""
     ur5 = arm("ur5")
     q = ur5.middle + 0.1
     T = ur5.fk(q)
@@ -76,7 +76,7 @@ def test_an_aim_keeps_its_distance_where_its_target_holds_a_position():
     for given, options, kept in [
         ([armik.Position(T.translation), armik.Axis((0, 0, 1), z, 0.1)], {}, True),
         (T, {"cone": (0, 0, 1, 0.1)}, True),
-        (T, {"bounds": free}, 0.0),
+        (T, {"bounds": free}, True),
         (T.translation, {"cone": (0, 0, 1, 0.1), "toward": tuple(z), "bounds": free}, None),
     ]:
         r = ur5.solve(given, q0=q + 0.05, **options)

@@ -4,7 +4,8 @@ the same words on one arm (``Arm.fk(q, frame=...)``) and on several tips (``Arms
 A frame is named by ``frame``, the axes its Jacobian is expressed in by ``reference``
 ("local": the frame's own; "base": the base frame's, at the frame's origin). The old
 spelling ``jacobian(q, "base")`` (the tip's Jacobian in base axes) still means that when
-``reference`` is not given: ``frame_and_reference`` reads it.
+``reference`` is not given and the arm has no frame of that name: ``frame_and_reference``
+reads it.
 """
 
 from __future__ import annotations
@@ -88,11 +89,23 @@ def moves(arm: ArmModel, frame: str) -> bool:
     return bool(model.frames[named(model, str(frame))].parentJoint != 0)
 
 
-def frame_and_reference(frame: str | None, reference: str | None) -> tuple[str | None, str]:
-    """(frame, reference) of a Jacobian call: ``frame="local"`` or ``"base"`` without a
-    ``reference`` is the old spelling of the tip's Jacobian in those axes."""
+def frame_and_reference(
+    frame: str | None, reference: str | None, model: pin.Model
+) -> tuple[str | None, str]:
+    """(frame, reference) of a Jacobian call on ``model``: ``frame="local"`` or ``"base"``
+    without a ``reference`` is the old spelling of the tip's Jacobian in those axes; an
+    ``OptionError`` where ``model`` also has a frame of that name (the UR5's ``base``)."""
     if reference is None:
         if frame in REFERENCES:
+            if model.existFrame(frame):
+                raise OptionError(
+                    f"{frame!r} names a frame of this arm and is the old spelling of "
+                    f"reference={frame!r} (the tip's Jacobian in those axes): say which, "
+                    f"jacobian(q, reference={frame!r}) or jacobian(q, frame={frame!r}, "
+                    "reference='local')",
+                    option="frame",
+                    value=frame,
+                )
             return None, frame  # type: ignore[return-value]
         return frame, "local"
     if reference not in REFERENCES:
@@ -137,7 +150,7 @@ def jacobian(
     """The 6 x dof Jacobian of ``frame`` (the tip's by default), rows (vx, vy, vz, wx,
     wy, wz): its twist in its own axes (``reference="local"``) or in the base frame's
     axes at its origin (``"base"``). Zero columns for joints that do not move it."""
-    frame, reference = frame_and_reference(frame, reference)
+    frame, reference = frame_and_reference(frame, reference, arm.model)
     if frame is None or frame == arm.tip:
         return arm.jacobian(in_radians(arm, q, "jacobian"), reference)
     fid = frame_id(arm, frame)

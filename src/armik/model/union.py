@@ -87,6 +87,10 @@ class Union:
         self._derived: dict = {}  # ``armik.model.derived``: what modules keep (frame chains)
         self._chains = tuple(chains)
 
+    def chain_of(self, tip: str):
+        """The chain of ``tip`` (its ``ArmModel``) among those this union joins."""
+        return next(chain for chain in self._chains if chain.tip == tip)
+
     @property
     def data(self) -> pin.Data:
         data = getattr(self._local, "data", None)

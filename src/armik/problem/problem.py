@@ -172,7 +172,8 @@ def lower(
     if type(task) is Axis:  # a direction alone: the position free, the axis in its cone
         free = (math.inf,) * 3 + (0.0,) * 3
         R = _onto(task.axis, task.direction)
-        return Target(np.zeros(3), R, aim=_cone(task)), {"bounds": free}
+        aim = _cone(task)
+        return Target(np.zeros(3), R, aim=aim, along=aim.axis), {"bounds": free}
     return None
 
 
@@ -279,12 +280,13 @@ def _point_and_axis(a: Task, b: Task, based: bool = False) -> tuple[object, dict
         said = {"bounds": (*a.bounds.tolist(), 0.0, 0.0, 0.0)} if a.bounds.any() else {}
         return Target(a.p.copy(), np.eye(3), aim=aim), said
     R = _onto(b.axis, b.direction)
+    aim = _cone(b)  # the rotation the lowering's choice: its distance the axis' (``along``)
     along = [k for k, x in enumerate(b.axis.tolist()) if abs(x) == 1.0]
     if b.within == 0.0 and len(along) == 1:
         bounds = [0.0] * 6
         bounds[3 + along[0]] = math.inf
-        return pin.SE3(R, a.p.copy()), {"bounds": tuple(bounds)}
-    return Target(a.p.copy(), R, aim=_cone(b)), {}
+        return Target(a.p.copy(), R, along=aim.axis), {"bounds": tuple(bounds)}
+    return Target(a.p.copy(), R, aim=aim, along=aim.axis), {}
 
 
 def _point_and_look(a: Task, b: Task) -> tuple[object, dict] | None:

@@ -2,12 +2,11 @@
 reports (``ServoStep.position_error``, ``orientation_error``) and whether a position target
 lies beyond the arm's reach.
 
-They are what ``solve`` reports (``armik.verify.distances``, docs/tolerances.md): the error
-twist ``R_t^T (p - p_t)``, ``log3(R_t^T R)`` in the components a task holds (``HELD``: a
-finite bound, whatever its weight); a component a region frees does not count, so a pose
-whose rotation is all free reports 0 rad. A part a task does not have (``PARTS``: a
-position's rotation, an axis' position) is not measured (NaN); an aim's is the angle of the
-tip's axis from its direction.
+They are what ``solve`` reports (``armik.verify.distances``, docs/tolerances.md): the
+frame's distance to the task's position and the geodesic angle to its rotation, whatever
+its bounds (an infinite one included) and weights. A part a task does not have
+(``PARTS``: a position's rotation, an axis' position) is not measured (NaN); an aim's is
+the angle of the tip's axis from its direction.
 """
 
 from __future__ import annotations
@@ -18,12 +17,10 @@ import numpy as np
 from numba import njit
 
 from armik.kernel.problem import LOOK_POINT, LOOK_TOWARD
-from armik.kernel.se3 import log3
 from armik.servo.layout import (
     AXIS,
     BOUNDS,
     CONE,
-    HELD,
     LOOK,
     ORI_ERR,
     PARTS,
@@ -44,62 +41,34 @@ def _measured(row, k):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _held(row, k):
-    """How many of the components k, k + 1, k + 2 the task's distance counts."""
-    return (row[HELD + k] != 0.0) + (row[HELD + k + 1] != 0.0) + (row[HELD + k + 2] != 0.0)
-
-
-@njit(cache=True, nogil=True, inline="always")
 def _position(row, p):
-    """The length of the held components of ``R_t^T (p - p_t)`` (m)."""
+    """The distance of p from the task's position, |p - p_t| (m)."""
     d0, d1, d2 = p[0] - row[POS], p[1] - row[POS + 1], p[2] - row[POS + 2]
-    if _held(row, 0) == 3:  # the length in the target frame is the base frame's
-        return math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-    s = 0.0
-    for i in range(3):
-        if row[HELD + i] != 0.0:  # (R_t^T d)_i; the table holds R_t row by row
-            x = row[ROT + i] * d0 + row[ROT + 3 + i] * d1 + row[ROT + 6 + i] * d2
-            s += x * x
-    return math.sqrt(s)
+    return math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _rotation(row, R, M, v):
-    """The length of the held components of ``log3(R_t^T R)`` (rad); M (3, 3) and v (3,)
-    scratch."""
-    held = _held(row, 3)
-    if held == 0:
-        return 0.0
-    if held == 3:  # the angle of R_t^T R, from its trace and skew part
-        tr = sx = sy = sz = 0.0
-        for i in range(3):
-            for k in range(3):
-                tr += row[ROT + 3 * k + i] * R[k, i]
-        for k in range(3):  # M[2,1]-M[1,2], M[0,2]-M[2,0], M[1,0]-M[0,1], M = R_t^T R
-            rk0, rk1, rk2 = row[ROT + 3 * k], row[ROT + 3 * k + 1], row[ROT + 3 * k + 2]
-            sx += rk2 * R[k, 1] - rk1 * R[k, 2]
-            sy += rk0 * R[k, 2] - rk2 * R[k, 0]
-            sz += rk1 * R[k, 0] - rk0 * R[k, 1]
-        s = 0.5 * math.sqrt(sx * sx + sy * sy + sz * sz)
-        return math.atan2(s, 0.5 * (tr - 1.0))
+def _rotation(row, R):
+    """The geodesic angle of R from the task's rotation, |log3(R_t^T R)| (rad): from the
+    trace and the skew part of R_t^T R."""
+    tr = sx = sy = sz = 0.0
     for i in range(3):
-        for j in range(3):
-            M[i, j] = (
-                row[ROT + i] * R[0, j] + row[ROT + 3 + i] * R[1, j] + row[ROT + 6 + i] * R[2, j]
-            )
-    log3(M, v)
-    s = 0.0
-    for i in range(3):
-        if row[HELD + 3 + i] != 0.0:
-            s += v[i] * v[i]
-    return math.sqrt(s)
+        for k in range(3):
+            tr += row[ROT + 3 * k + i] * R[k, i]
+    for k in range(3):  # M[2,1]-M[1,2], M[0,2]-M[2,0], M[1,0]-M[0,1], M = R_t^T R
+        rk0, rk1, rk2 = row[ROT + 3 * k], row[ROT + 3 * k + 1], row[ROT + 3 * k + 2]
+        sx += rk2 * R[k, 1] - rk1 * R[k, 2]
+        sy += rk0 * R[k, 2] - rk2 * R[k, 0]
+        sz += rk1 * R[k, 0] - rk0 * R[k, 1]
+    s = 0.5 * math.sqrt(sx * sx + sy * sy + sz * sz)
+    return math.atan2(s, 0.5 * (tr - 1.0))
 
 
 @njit(cache=True, nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]
-def distances(table, R, p, origin, reach_, slack, M, v, out):
+def distances(table, R, p, origin, reach_, slack, out):
     """out[POS_ERR], out[ORI_ERR]: the largest true distances to the tasks' targets (NaN
     where no task has that part); returns whether a position target is beyond the arm's
-    reach. M (3, 3) and v (3,): scratch."""
+    reach."""
     pos = ori = -1.0
     far = False
     for t in range(table.shape[0]):
@@ -115,7 +84,7 @@ def distances(table, R, p, origin, reach_, slack, M, v, out):
             if math.sqrt(x0 * x0 + x1 * x1 + x2 * x2) > reach_ + math.sqrt(b) + slack:
                 far = True
         if cone < 0.0 and row[PARTS + 1] != 0.0:
-            ori = max(ori, _rotation(row, R, M, v))
+            ori = max(ori, _rotation(row, R))
         elif cone >= 0.0:  # the angle of the tip's axis from its direction
             look = np.int64(row[LOOK])
             x0, x1, x2 = row[SIGHT], row[SIGHT + 1], row[SIGHT + 2]

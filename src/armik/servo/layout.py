@@ -20,11 +20,11 @@ from numba import njit
 from armik.kernel.chain import Flat
 from armik.kernel.problem import NVEC
 
-# columns of a task's row in a target's table; HELD (6) and PARTS (2), 1.0 or 0.0: what
-# its true distance counts (``KernelRow.held``, ``parts``: ``armik.servo.distances``)
+# columns of a task's row in a target's table; PARTS (2), 1.0 or 0.0: the parts its true
+# distance has (``KernelRow.parts``: ``armik.servo.distances``)
 ROT, POS, BOUNDS, WEIGHTS, CONE, AXIS, LOOK, SIGHT = 0, 9, 12, 18, 24, 25, 28, 29
-HELD, PARTS = 32, 38
-COLUMNS = 40
+PARTS = 32
+COLUMNS = 34
 MAX_TASKS = 4
 MAX_ROWS = 16  # collision rows a tick (``armik.servo.collisions``), the nearest pairs'
 RATE = 10.0  # 1/s: the share of its gap to the margin a pair may close a second (its damper)

@@ -66,10 +66,10 @@ class ServoStep:
     acceleration ``ddq`` (rad/s^2, m/s^2), each the finite difference of the commanded
     values; what limited it (``status``, ``reason``, ``joint``: the joint held back, if
     one was); the true distances to the target after the tick, ``position_error`` (m) and
-    ``orientation_error`` (rad), as ``solve`` reports them: to a region's centre, a
-    component it frees left out (0 where it frees them all), None where the target has no
-    such part (a position's orientation); and ``sigma``, the smallest singular value of the
-    task Jacobian (inf where no row is active)."""
+    ``orientation_error`` (rad), as ``solve`` reports them: to the target's position and
+    rotation whatever its bounds and weights (an aim's: its axis' angle to its direction),
+    None where the target has no such part (a position's orientation); and ``sigma``, the
+    smallest singular value of the task Jacobian (inf where no row is active)."""
 
     # (``reason`` is a property: the words of status and joint, written when read)
 

@@ -27,7 +27,6 @@ from armik.servo.layout import (
     COLUMNS,
     CONE,
     EXACT,
-    HELD,
     LOOK,
     MAX_TASKS,
     PARTS,
@@ -43,11 +42,11 @@ _POSE = np.full(COLUMNS, 0.0)  # a pose's row: exact, every axis weighted
 _POSE[BOUNDS : BOUNDS + 6] = -EXACT
 _POSE[WEIGHTS : WEIGHTS + 6] = 1.0
 _POSE[CONE], _POSE[AXIS + 2], _POSE[LOOK] = NO_CONE, 1.0, NO_LOOK
-_POSE[HELD : HELD + 6] = _POSE[PARTS : PARTS + 2] = 1.0
+_POSE[PARTS : PARTS + 2] = 1.0
 _POSITION = _POSE.copy()  # a position's: the rotation free, and none to report
 _POSITION[ROT : ROT + 9] = np.eye(3).ravel()
 _POSITION[BOUNDS + 3 : BOUNDS + 6] = math.inf
-_POSITION[HELD + 3 : HELD + 6] = _POSITION[PARTS + 1] = 0.0
+_POSITION[PARTS + 1] = 0.0
 
 
 def table(target: object, arm: ArmModel) -> np.ndarray:
@@ -97,7 +96,6 @@ def _row(row: KernelRow) -> np.ndarray:
     out[AXIS : AXIS + 3] = row.axis
     out[LOOK] = row.look
     out[SIGHT : SIGHT + 3] = row.sight
-    out[HELD : HELD + 6] = np.isfinite(row.bounds) if row.held is None else row.held
     out[PARTS], out[PARTS + 1] = row.parts
     return out
 

@@ -41,7 +41,6 @@ from armik.servo.layout import (
     CONE,
     EXACT,
     FIXED,
-    HELD,
     LAST,
     LOOK,
     MAX_TASKS,
@@ -270,7 +269,6 @@ def pose_row(H, row):
     for c in range(6):
         row[BOUNDS + c] = -EXACT
         row[WEIGHTS + c] = 1.0
-        row[HELD + c] = 1.0
     row[CONE], row[AXIS + 2], row[LOOK] = NO_CONE, 1.0, NO_LOOK
     row[PARTS], row[PARTS + 1] = 1.0, 1.0
 
@@ -361,7 +359,7 @@ def tick(target, mem, imem, rows_cb):
         reg_p, reg_r = regions(table, tasks, ws)
         within = within and reg_p <= cfg[TOL_P] and reg_r <= cfg[TOL_R]
     origin, reach_ = reach(ch)
-    far = distances(table, R, p, origin, reach_, cfg[REACH_SLACK], ws.m3[1], ws.v3[2], out)
+    far = distances(table, R, p, origin, reach_, cfg[REACH_SLACK], out)
     for t in range(tasks):  # this target, the next tick's last
         for c in range(COLUMNS):
             last[t, c] = table[t, c]

@@ -326,8 +326,7 @@ def tick(mem, imem, rows_cb):
         origin, reach_ = reach(ch)
         k = counts[t]
         table = tables[t * MAX_TASKS : t * MAX_TASKS + k]
-        M, v = ws.m3[1], ws.v3[2]  # scratch
-        far = distances(table, R, p, origin, reach_, cfg[REACH_SLACK], M, v, out2) or far
+        far = distances(table, R, p, origin, reach_, cfg[REACH_SLACK], out2) or far
         if within or slowing:  # and where the command is (``tick.tick``)
             rp, rr = regions(table, k, ws)
             within = within and rp <= cfg[TOL_P] and rr <= cfg[TOL_R]

@@ -45,9 +45,8 @@ from armik.model.limit_units import degrees_note
 from armik.request import Request, with_seed
 from armik.solve import backends, batch_rows, forked
 from armik.solve.backends import Rows, place
-from armik.solve.prepared import chosen
 from armik.solve.progress import ProgressArg, make_progress, reporter
-from armik.solve.stages import going_on, run
+from armik.solve.stages import chosen, going_on, run
 from armik.solvers import registry
 from armik.solvers.closed_form import sixr
 from armik.solvers.closed_form.family import Family
@@ -114,7 +113,9 @@ def solve_batch(
     chunk = _chunk_size(chunk_size)
     claim = reasons.CONVERGED if spec.kind == "numeric" else _closed_form(spec)  # as solve's
     branches = _branches(arm, spec)
-    out = BatchResult.for_arm(arm, n, spec.name, opts, claim, opts.margin, batch.aim, branches)
+    out = BatchResult.for_arm(
+        arm, n, spec.name, opts, claim, opts.margin, batch.aim, branches, batch.along
+    )
     clear = _clear(opts) if opts.obstacles or opts.self_collision else ()  # none asked: no call
     if clear:  # the pairs in the checker's order, whatever order rows finish in
         out.pair_names.extend(checker(arm, opts.obstacles, opts.self_collision).pair_names)
@@ -191,7 +192,10 @@ class Chunk(NamedTuple):
         aim = self.targets.aim
         branches = _branches(self.arm, spec)
         claim = reasons.CONVERGED if spec.kind == "numeric" else _closed_form(spec)
-        out = BatchResult.for_arm(self.arm, n, spec.name, opts, claim, opts.margin, aim, branches)
+        along = self.targets.along
+        out = BatchResult.for_arm(
+            self.arm, n, spec.name, opts, claim, opts.margin, aim, branches, along
+        )
         clear = _clear(opts) if opts.obstacles or opts.self_collision else ()
         solve_chunk(self.arm, spec, self.targets, self.seeds, self.request, opts, clear, out, 0)
         return Rows(**vars(out), start=self.start)

@@ -44,8 +44,10 @@ class RowsChunk(NamedTuple):
 
     def __call__(self, bar=None) -> Rows:
         n = len(self.targets)
-        aim = _aim(self.targets)
-        out = BatchResult.for_arm(self.arm, n, self.label, self.opts, "", self.opts.margin, aim)
+        aim, along = _carried(self.targets)
+        out = BatchResult.for_arm(
+            self.arm, n, self.label, self.opts, "", self.opts.margin, aim, along=along
+        )
         for i, row in enumerate(self.targets):
             try:
                 r = routed(self.arm, row.but(q0=self.seeds[i], t0=time.perf_counter()))
@@ -67,10 +69,12 @@ def at_row(exc: ArmikError, k: int) -> ArmikError:
     return named
 
 
-def _aim(rows: Sequence[Request]):
-    """The aim the rows' targets share (a batch's ``cone=``, ``look_at=``: a region, as
-    ``BatchResult.for_arm`` reads it), None for none."""
-    return getattr(rows[0].target, "aim", None) if rows else None
+def _carried(rows: Sequence[Request]) -> tuple:
+    """(aim, along): what the rows' targets share (a batch's ``cone=``, ``look_at=``: a
+    region, as ``BatchResult.for_arm`` reads it; an ``armik.Axis`` lowered to poses), None
+    for none."""
+    target = rows[0].target if rows else None
+    return getattr(target, "aim", None), getattr(target, "along", None)
 
 
 def _named(names: set[str], label: str) -> str:
@@ -109,7 +113,8 @@ def solve_rows(
             RowsChunk(arm, tuple(rows[s : s + chunk]), seeds[s : s + chunk], opts, label, s)
             for s in range(0, n, chunk)
         ]
-        out = BatchResult.for_arm(arm, n, label, opts, "", opts.margin, _aim(rows))
+        aim, along = _carried(rows)
+        out = BatchResult.for_arm(arm, n, label, opts, "", opts.margin, aim, along=along)
         names = place(run_jobs, jobs, workers, out, bar)  # each part named by its rows' solver
         named = names.pop() if len(names) == 1 else label
     bar.close()

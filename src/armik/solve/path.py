@@ -46,15 +46,15 @@ from armik.request import Request
 from armik.result import IKResult
 from armik.solve import ladder, rungs
 from armik.solve.path_score import preferred
-from armik.solve.prepared import chosen
 from armik.solve.rungs import free_spin, spun, spun_batch, unwrapped
 from armik.solve.single import routed
-from armik.solve.stages import run
+from armik.solve.stages import chosen, run
 from armik.solve.turning import ANY, Turning, refuse_broken, turning
 from armik.solvers import registry
 from armik.status import Status
 from armik.targets.batch import TargetBatch, parse_targets
 from armik.targets.pose import Target
+from armik.verify.distances import batch_distances
 
 DEFAULT_MAX_JOINT_STEP = 0.5  # rad (or m for a prismatic joint) between two waypoints
 MAX_SUBSTEPS = 64  # finest continuation between two waypoints (intermediate poses)
@@ -95,7 +95,7 @@ def solve_path(
     step = max_step(max_joint_step, arm.joint_names)
     q_prev = arm.seed(q0)
     # a spin the bounds free over a whole turn: each pose at the spin nearest the one before
-    batch = parse_targets(poses, arm)
+    batch = given = parse_targets(poses, arm)
     if opts.bounds is not None:  # no call for a plain path
         batch = spun_batch(arm, batch, q_prev, free_spin(opts.bounds))
     n = len(batch)
@@ -110,14 +110,16 @@ def solve_path(
     held_auto = solver == "auto" and opts.hold is not None
     if not held_auto:
         request, local = request.but(solver=spec.name), local.but(solver=spec.name)
-    out = BatchResult.for_arm(arm, n, spec.name, opts, margin=opts.margin, aim=batch.aim)
+    out = BatchResult.for_arm(
+        arm, n, spec.name, opts, margin=opts.margin, aim=batch.aim, along=batch.along
+    )
     if plan == "global":
         # every solution: what solve_all would run (a search where one is not complete)
         every = ladder.every(arm, solver, batch, opts)
         # not every solution: a sweep's, a numeric solver's, a swivel's, a search's
         if every.kind == "numeric" or not every.complete or every.parameter is not None:
             followed = BatchResult.for_arm(
-                arm, n, spec.name, opts, margin=opts.margin, aim=batch.aim
+                arm, n, spec.name, opts, margin=opts.margin, aim=batch.aim, along=batch.along
             )
             # as plan="follow" solves it: a colliding answer slid clear near the previous one
             walked = request if opts.slide or not opts.collisions else request.narrowed(slide=True)
@@ -135,7 +137,9 @@ def solve_path(
                 found = rungs.tracked(arm, batch, q_prev, every.name, followed, request)
         else:
             found = rungs.every_branch(arm, batch, q_prev, every.name, request, step)
-        out = BatchResult.for_arm(arm, n, every.name, opts, margin=opts.margin, aim=batch.aim)
+        out = BatchResult.for_arm(
+            arm, n, every.name, opts, margin=opts.margin, aim=batch.aim, along=batch.along
+        )
         start = None if q0 is None else q_prev
         # with a preference, the continuous path of the best summed score (ladder.TIE)
         held = request if opts.hold is not None else None  # halfway poses solved held too
@@ -143,6 +147,8 @@ def solve_path(
             arm, every, batch, found, start, step, opts, out, score, q_prev, turn, held
         )
         refuse_broken(arm, out, turn)
+        if batch is not given:
+            _to_given(arm, out, given, opts)
         label = every.name
         if every.sweep is not None and _holds_other(arm, opts, every.sweep.joint):
             # no sweep ran: each rung was solved on the arm with the held joint locked
@@ -157,9 +163,21 @@ def solve_path(
     half = (solver, opts, request if opts.hold is not None else None, turn)
     ladder.hidden_steps(arm, out, batch, step, half)
     refuse_broken(arm, out, turn)
+    if batch is not given:
+        _to_given(arm, out, given, opts)
     label = used if held_auto and used is not None else out.solver
     out = frozen(BatchResult, **{**vars(out), "solver": label, "time": time.perf_counter() - t0})
     return out
+
+
+def _to_given(arm: ArmModel, out: BatchResult, given: TargetBatch, opts) -> None:
+    """The true distances of a path's answers to its poses as given (in ``out``), where
+    it solved them turned about the spin its bounds free (``spun_batch``): a pose's
+    rotation is its own, the turned one the path's choice."""
+    rows = np.flatnonzero(np.isfinite(out.position_error))
+    if len(rows):
+        pos, ori = batch_distances(arm, out.q[rows], given[rows], opts)
+        out.position_error[rows], out.orientation_error[rows] = pos, ori
 
 
 def _holds_other(arm: ArmModel, opts, joint: int) -> bool:
@@ -396,8 +414,11 @@ def _local(local: Request) -> tuple[Request, ...]:
     """The re-solves near the previous answer: ``local`` itself, and for a closed form a
     numeric descent from that answer too. A closed form's answer nearest it can lie on
     another branch where the waypoints pass a singularity (an SRS arm's stretched elbow
-    leaves its swivel angle undefined); the descent moves continuously off it."""
+    leaves its swivel angle undefined); the descent moves continuously off it. Not where
+    the request fixes the closed form's parameter (``swivel=``): no descent keeps it."""
     if local.solver == "auto" or registry.get(local.solver).kind != "analytic":
+        return (local,)
+    if local.opts.swivel is not None:
         return (local,)
     return local, local.but(solver=NUMERIC)
 

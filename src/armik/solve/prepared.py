@@ -43,6 +43,7 @@ from armik.kernel.measure import (
 from armik.model.arm_model import ArmModel
 from armik.model.derived import Derived
 from armik.problem.settings import SolverSettings
+from armik.reasons import Cone
 from armik.result import IKResult
 from armik.solvers import registry
 from armik.solvers.answers import Answers
@@ -67,6 +68,7 @@ _FLOAT, _SE3 = np.dtype(float), pin.SE3
 _NO_PLAN = object()  # remembered: this solver and options have no plan
 _IDENTITY = np.eye(4)  # copied for a position target (a copy costs an eighth of np.eye)
 _SIGHTLESS = (None, None)  # a cone's (point, direction) where the target has no aim
+_ALONG = Cone(0.0)  # the words of an ``armik.Axis`` lowered to a pose: its axis' angle
 
 
 def plan_for(
@@ -100,39 +102,15 @@ def plan_for(
 _PLANS: Derived[dict] = Derived("prepared solves", lambda _: {})  # read as a key, not called
 
 
-def chosen(arm: ArmModel, solver: str, key: tuple | None, opts, position: bool | None, aim=None):
-    """The solver ``registry.choose`` gives for ``opts`` (all but ``seed``; ``key``: their
-    request's, which holds the shape of an aim) and a target of that kind (``position``;
-    None: no target) with ``aim``, "auto"'s kept per arm under ``key`` as a plan is (None:
-    chosen every time): a batch's or a path's."""
-    kind = None if position is None else _KIND[position] if aim is None else _kind(position, aim)
-    if key is None or solver != "auto":  # a solver named: looked up by its name
-        return registry.choose(solver, arm, kind, opts)
-    kept = arm._derived.get(_CHOSEN)  # read as a dict, not through a call: every batch
-    if kept is None or kept["generation"] != registry.generation:
-        kept = arm._derived[_CHOSEN] = {"generation": registry.generation}
-    spec = kept.get((key, position))
-    if spec is None:
-        spec = registry.choose(solver, arm, kind, opts)
-        if len(kept) > 64:
-            kept = arm._derived[_CHOSEN] = {"generation": registry.generation}
-        kept[(key, position)] = spec
-    return spec
-
-
-_CHOSEN: Derived[dict] = Derived("auto's choices", lambda _: {})
-# a target of each kind (True: a position) without an aim: what the registry's choice reads
-_KIND = {True: Target(np.zeros(3)), False: Target(np.zeros(3), np.eye(3))}
-
-
-def _kind(position: bool, aim: Aim | None = None) -> Target:
-    """A target of the kind and aim every target of a plan or a batch has."""
+def kind_of(position: bool, aim: Aim | None = None) -> Target:
+    """A target of the kind and aim every target of a plan, a batch or a path has: what
+    the registry's choice reads of them."""
     return Target(np.zeros(3), None if position else np.eye(3), aim=aim)
 
 
 def _build(arm: ArmModel, solver: str, opts, position: bool, every: bool, aim: Aim | None):
     try:
-        spec = registry.choose(solver, arm, _kind(position, aim), opts, every)
+        spec = registry.choose(solver, arm, kind_of(position, aim), opts, every)
     except SolverError:  # the general path raises it, with its message
         return _NO_PLAN
     if spec.prepare_pose is None:
@@ -289,8 +267,11 @@ class Plan:
         H, q0, xy = plain
         if seed is None:
             seed = secrets.randbits(63)
-        # this call's point or direction: the plan is shared by points
-        aim = target.aim if type(target) is Target else None
+        # this call's point or direction: the plan is shared by points; an ``armik.Axis``
+        # lowered to a pose: its axis, what the orientation distance measures
+        aim = along = None
+        if type(target) is Target:
+            aim, along = target.aim, target.along
         sight = None if aim is None else aim.point if aim.point is not None else aim.toward
         if xy is not None:
             got = self.run_pose(H, q0, seed, False, xy)
@@ -301,7 +282,7 @@ class Plan:
         if got is None:
             return None
         if type(got) is not Claim:  # claims other than converged: the general verdict
-            return self._finish(got, H, q0, opts, t0, False, xy, aim, target)[0]
+            return self._finish(got, H, q0, opts, t0, False, xy, target)[0]
         q = got.q
         data, R_w, p_w = self.arm.tip_views()  # this thread's
         pin.forwardKinematics(self.model, data, q if self.direct else self.arm.to_pin(q))
@@ -323,6 +304,7 @@ class Plan:
                 *region,
                 *_SIGHTLESS if aim is None else (aim.point, aim.toward),
                 True,
+                along,
             )
             inside = self.arm._within(q.tolist())
         ori = ori if self.measure_rot else None
@@ -332,12 +314,16 @@ class Plan:
         )  # fmt: skip
         if fields is None or not fields["success"]:  # the next row may pass: every row
             answers = self._refused(got, H, q0, seed, xy)
-            return self._finish(answers, H, q0, opts, t0, False, xy, aim, target)[0]
+            return self._finish(answers, H, q0, opts, t0, False, xy, target)[0]
         fields["solver"], fields["time"] = self.solver, time.perf_counter() - t0
         if apart is None:
             return IKResult._from_fields(fields)
         d_pos, d_ori = None if self.no_position else apart[0], apart[1]
-        kept = fields_apart(fields, d_pos, d_ori if self.apart_rot else None, self.weighted)
+        said = None  # the words of the distance where it is an axis' angle (``axis_words``)
+        if along is not None or sight is not None:
+            said = self.cone if aim is not None else _ALONG
+        d_ori = d_ori if self.apart_rot else None
+        kept = fields_apart(fields, d_pos, d_ori, self.weighted, said)
         r = IKResult._from_fields(fields)
         r.extra["measured"] = kept
         return r
@@ -444,7 +430,7 @@ class Plan:
         fk_checks(packed, kind, halton, self.fk_apart, H, Q, distances)
         out = []
         for fields, (pos, ori, _) in zip(verified, distances.tolist()):
-            kept = fields_apart(fields, pos, ori if self.apart_rot else None, self.weighted)
+            kept = fields_apart(fields, pos, ori if self.apart_rot else None, self.weighted, None)
             r = IKResult._from_fields(fields)
             r.extra["measured"] = kept
             out.append(r)
@@ -462,14 +448,15 @@ class Plan:
             placements.append(place(model, data, frame).homogeneous)
         return np.array(placements) if placements else np.empty((0, 4, 4))
 
-    def _finish(self, answers: Answers, H, q0, opts, t0, every, xy=None, aim=None, given=None):
-        if type(given) is Target:  # parsed at the door (a plain one: ``_plain``): not again
+    def _finish(self, answers: Answers, H, q0, opts, t0, every, xy=None, given=None):
+        # parsed at the door (a plain one: ``_plain``), its aim or axis with it: not again;
+        # a target given otherwise has neither (only a parsed one carries them)
+        if type(given) is Target:
             target = given
         elif xy is not None:  # as the user gave it: the closed form reads it as given
             target = parse_target(np.array(xy), self.arm)
         else:
             target = parse_target(H[:3, 3].copy() if self.position else H, self.arm)
-        target = target if aim is None else target.aimed(aim)  # measured as the target asks
         return finish(self.arm, self.solver, answers, target, opts, q0, every, t0)
 
 

@@ -55,9 +55,16 @@ from armik.targets.pose import MAX_POSITION, Target, checked, is_rotation, parse
 
 
 def read(
-    arm: ArmModel, target: object, q0: object, solver: str, options: dict, every: bool = False
+    arm: ArmModel,
+    target: object,
+    q0: object,
+    solver: str,
+    options: dict,
+    every: bool = False,
+    parsed_already: bool = False,
 ) -> Request:
-    """The request of ``solve(arm, target, q0, solver, **options)`` (``every``: solve_all)."""
+    """The request of ``solve(arm, target, q0, solver, **options)`` (``every``: solve_all;
+    ``parsed_already``: ``target`` is the parser's ``Target``, its parts checked)."""
     if not options:  # the common call: nothing to read but a plain pose or position
         kind = type(target)
         if kind is _SE3 or kind is np.ndarray:
@@ -83,6 +90,7 @@ def read(
     if (
         kind is not _SE3
         and kind is not np.ndarray
+        and kind is not Target
         and (kind in (list, tuple) or isinstance(target, Task))
     ):
         problem = as_problem(target)
@@ -94,7 +102,8 @@ def read(
                 check_said_twice(options, said)
                 if "position_only" in options or "bounds" in options:  # once read, below
                     beside = (problem, options)
-                if aim is None and type(target) is not Target:  # an Axis exactly along
+                # an Axis exactly along a direction: a pose, its spin free (no aim)
+                if aim is None and (type(target) is not Target or target.aim is None):
                     freed = task_aim(problem)
                 if aim is not None:  # a call only then: the lowered target's aim is read below
                     aim = aimed_once(target, aim)
@@ -118,7 +127,7 @@ def read(
         refuse_freed(freed, opts, aimed=False)
     if score is not None and problem is None:  # every answer ranked is to this target
         target = parsed(target, arm)
-    if type(target) is Target:  # one built by hand: its parts checked where not plain
+    if type(target) is Target and not parsed_already:  # built by hand: checked, not plain
         p, R = target.position, target.rotation  # plain: finite float arrays, 3 and 3 x 3
         ok = type(p) is np.ndarray and p.shape == _POINT and p.dtype == _FLOAT
         if R is not None:
@@ -175,9 +184,10 @@ def read_batch(arm: ArmModel, targets: object, q0: object, solver: str, options:
             targets, options = lowered
             aim = aimed_once(targets, aim)
             freed = None if aim is not None else tasks_aim(problems)
-    if aim is not None:  # every target's: the batch carries it
-        targets = aimed_batch(parse_targets(targets, arm), aim)
-        refuse_without_direction(aim, targets.rotations is not None)
+    if aim is not None or lowered is not None:  # every target's: the batch carries it
+        targets = batch = aimed_batch(targets, arm, aim)
+        if aim is not None:
+            refuse_without_direction(aim, batch.rotations is not None)
     if rows is None and options.get("prefer") is not None:  # each target's answers ranked
         batch = parse_targets(targets, arm)
         rows, ranked = [batch.target(i) for i in range(len(batch))], True
@@ -262,13 +272,14 @@ def read_path(
             rows = tuple(read(arm, t, q0, solver, options) for t in each)
             return _by_rows(arm, rows, q0, solver, options, t0, score)
     opts, key, seed = settings(arm, {**options, "max_restarts": 0})
-    if aim is not None:  # every waypoint's: the path's batch carries it
-        poses = aimed_batch(parse_targets(poses, arm), aim)
-        refuse_without_direction(aim, poses.rotations is not None)
-        refuse_freed(aim, opts)
-        key = None if key is None else (key, aim.shape)
-        if aim.point is not None:  # [Position(p), LookAt(p)]'s refusal, at every waypoint
-            refuse_looking_from_target(poses.positions, aim, opts)
+    if aim is not None or problems is not None:  # every waypoint's: the path carries it
+        poses = batch = aimed_batch(poses, arm, aim)
+        if aim is not None:
+            refuse_without_direction(aim, batch.rotations is not None)
+            refuse_freed(aim, opts)
+            key = None if key is None else (key, aim.shape)
+            if aim.point is not None:  # [Position(p), LookAt(p)]'s refusal, at every waypoint
+                refuse_looking_from_target(batch.positions, aim, opts)
     opts = resolved(opts, arm, q0) if opts.checks else opts  # a user's own: at the path's q0
     local = Request(poses, q0, solver, opts, key, seed, False, t0)
     if plan == "follow" and "slide" not in options:

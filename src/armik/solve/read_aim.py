@@ -1,7 +1,8 @@
 """A target's aim as the facade reads it (``armik.solve.read``): the keywords ``cone=``,
 ``look_at=`` and ``toward=`` (``keyword_aim``), a lowered task list's aim
-(``aimed_once``, ``tasks_aim``), a batch's, and an aimed target as the tasks it lowers from
-(``aimed_tasks``: the task solver's, where it holds joints the compiled path cannot)."""
+(``aimed_once``, ``tasks_aim``), a batch's (``aimed_batch``), and an aimed target as the
+tasks it lowers from (``aimed_tasks``: the task solver's, where it holds joints the
+compiled path cannot)."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ from armik.errors import OptionError
 from armik.problem.problem import Problem, as_problem
 from armik.problem.tasks import Axis, LookAt, Position, Task
 from armik.targets.aim import Aim, aim_of, refuse_freed, refuse_without_direction
-from armik.targets.batch import TargetBatch
+from armik.targets.batch import TargetBatch, parse_targets
 from armik.targets.pose import Target
 
 
@@ -96,6 +97,13 @@ def aimed_once(lowered: object, given: Aim | None) -> Aim | None:
     return aim if aim is not None else given
 
 
-def aimed_batch(batch: TargetBatch, aim: Aim) -> TargetBatch:
-    """``batch`` with every target's ``aim``."""
-    return TargetBatch(batch.positions, batch.rotations, aim)
+def aimed_batch(targets: object, arm, aim: Aim | None) -> TargetBatch:
+    """The targets of a batch or a path, with what every one carries: ``aim`` (the
+    keywords' or the lowered tasks'), and the axis of the ``armik.Axis`` each was lowered
+    from (``Target.along``: a task list lowered alike, ``lower_all``)."""
+    batch = parse_targets(targets, arm)
+    first = targets[0] if type(targets) is list and targets else None
+    along = first.along if type(first) is Target else None
+    if aim is None and along is None:
+        return batch
+    return TargetBatch(batch.positions, batch.rotations, aim, along)

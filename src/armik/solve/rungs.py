@@ -132,7 +132,8 @@ def beside(arm: ArmModel, batch, q_start: np.ndarray, followed, request, spec) -
         if reseed and not np.array_equal(seed, q_start):
             found += every_answer(arm, request, target, seed, spec.name)
         rungs.append(found)
-    _descended(arm, batch, q_start, request, rungs)
+    if request.opts.swivel is None:  # a swivel fixed (``swivel=``): no descent keeps it
+        _descended(arm, batch, q_start, request, rungs)
     return rungs
 
 

@@ -28,7 +28,7 @@ from armik.result import IKResult
 from armik.solve import far, parameter
 from armik.solve.avoid import First, solve_avoiding
 from armik.solve.held import Held, solve_held
-from armik.solve.prepared import plan_for
+from armik.solve.prepared import kind_of, plan_for
 from armik.solvers import registry
 from armik.solvers.registry import SolverSpec
 from armik.targets.pose import Target, parsed
@@ -36,6 +36,31 @@ from armik.verify.verdict import finish
 from armik.verify.verdicts import Verdicts
 
 _SE3 = pin.SE3
+
+
+def chosen(arm: ArmModel, solver: str, key: tuple | None, opts, position: bool | None, aim=None):
+    """The solver ``registry.choose`` gives for ``opts`` (all but ``seed``; ``key``: their
+    request's, which holds the shape of an aim) and a target of that kind (``position``;
+    None: no target) with ``aim``, "auto"'s kept per arm under ``key`` as a plan is (None:
+    chosen every time): a batch's or a path's."""
+    kind = None if position is None else _KIND[position] if aim is None else kind_of(position, aim)
+    if key is None or solver != "auto":  # a solver named: looked up by its name
+        return registry.choose(solver, arm, kind, opts)
+    kept = arm._derived.get(_CHOSEN)  # read as a dict, not through a call: every batch
+    if kept is None or kept["generation"] != registry.generation:
+        kept = arm._derived[_CHOSEN] = {"generation": registry.generation}
+    spec = kept.get((key, position))
+    if spec is None:
+        spec = registry.choose(solver, arm, kind, opts)
+        if len(kept) > 64:
+            kept = arm._derived[_CHOSEN] = {"generation": registry.generation}
+        kept[(key, position)] = spec
+    return spec
+
+
+_CHOSEN: Derived[dict] = Derived("auto's choices", lambda _: {})
+# a target of each kind (True: a position) without an aim: what the registry's choice reads
+_KIND = {True: kind_of(True), False: kind_of(False)}
 
 
 def run(arm: ArmModel, req: Request):

@@ -37,11 +37,13 @@ def lower_all(
     problems: list[Problem], options: dict, tip: str | None = None
 ) -> tuple[list, dict] | None:
     """(targets, options) of the compiled batch when every problem lowers to the same
-    options and aim (``problem.lower``; a batch shares one: ``TargetBatch.aim``), else None."""
-    targets, said = [], None  # the options and the aim every problem lowers to
+    options, aim and axis (``problem.lower``; a batch shares them: ``TargetBatch.aim``,
+    ``along``), else None."""
+    targets, said = [], None  # the options, aim and axis every problem lowers to
     weights = options.get("weights")
     for lowered in (lower(problem, tip, weights) for problem in problems):
-        each = None if lowered is None else (lowered[1], getattr(lowered[0], "aim", None))
+        target = None if lowered is None else lowered[0]
+        each = None if lowered is None else (lowered[1], *_carried(target))
         if each is None or (said is not None and each != said):
             return None
         targets.append(lowered[0])  # type: ignore[index]
@@ -62,3 +64,8 @@ def not_lowered_globally() -> TargetError:
         "position, a tip axis along a direction or within a cone of it, a look-at at one "
         "point, the same in every row)"
     )
+
+
+def _carried(target: object) -> tuple:
+    """(aim, along) of a lowered target (``Target``'s; None for a pose or a position)."""
+    return (getattr(target, "aim", None), getattr(target, "along", None))

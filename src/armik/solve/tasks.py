@@ -429,7 +429,7 @@ def _result(
             elif len(frames) == 1:  # one task on another frame: that frame's
                 reason = reasons.frame_apart(reason, tasks[0], pos, ori, weighted)
             else:
-                reason = reasons.tasks_apart(reason, pos, ori, tasks)
+                reason = reasons.tasks_apart(reason, pos, ori)
     found = Verdicts(
         answers=one(q, Status.NOT_CONVERGED, reason, iterations=iterations, restarts=restarts),
         status=np.array([status.code], dtype=np.int8),

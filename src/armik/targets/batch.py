@@ -40,11 +40,12 @@ if TYPE_CHECKING:
 @dataclass(frozen=True, eq=False)
 class TargetBatch:
     """N desired tip poses in the base frame (m). ``rotations`` is None for positions;
-    ``aim``: every target's (``armik.targets.aim``), or None."""
+    ``aim``, ``along``: every target's (``Target``'s), or None."""
 
     positions: np.ndarray  # (N, 3)
     rotations: np.ndarray | None = None  # (N, 3, 3)
     aim: Aim | None = None
+    along: tuple[float, float, float] | None = None
 
     def __len__(self) -> int:
         return len(self.positions)
@@ -67,14 +68,14 @@ class TargetBatch:
         """Target ``i`` as the ``Target`` that ``Arm.solve`` reads."""
         # Contiguous copies: rows of a view are strided, and compiled code specialises on that.
         R = None if self.rotations is None else np.ascontiguousarray(self.rotations[i])
-        return Target(np.ascontiguousarray(self.positions[i]), R, aim=self.aim)
+        return Target(np.ascontiguousarray(self.positions[i]), R, aim=self.aim, along=self.along)
 
     def __getitem__(self, index: slice | np.ndarray) -> TargetBatch:
         """A sub-batch (a slice or an index array: views where numpy gives views)."""
         if isinstance(index, (int, np.integer)):
             raise TypeError("index a TargetBatch with a slice or an array; .target(i) gives one")
         R = None if self.rotations is None else self.rotations[index]
-        return TargetBatch(self.positions[index], R, self.aim)
+        return TargetBatch(self.positions[index], R, self.aim, self.along)
 
 
 def parse_targets(value: object, arm: ArmModel | None = None) -> TargetBatch:

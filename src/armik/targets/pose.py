@@ -38,13 +38,15 @@ from armik.tolerances import LAST_ROW_TOL, MAX_POSITION, ROTATION_TOL
 @dataclass(frozen=True, eq=False)
 class Target:
     """A desired tip pose in the base frame. ``rotation`` is None for a position target;
-    ``aim``: a tip axis within a cone in place of the whole rotation (``armik.targets.aim``),
-    or None."""
+    ``aim``: a tip axis within a cone in place of the whole rotation (``armik.targets.aim``);
+    ``along``: the tip axis (unit, tip frame) of an ``armik.Axis`` lowered to a pose, whose
+    direction is all its rotation says (``armik.verify.distances``). None: none."""
 
     position: np.ndarray
     rotation: np.ndarray | None = None
     planar_xy: np.ndarray | None = None  # a 2-vector target's point, in plane coordinates
     aim: Aim | None = None
+    along: tuple[float, float, float] | None = None
 
     @property
     def planar(self) -> bool:
@@ -137,8 +139,8 @@ def _read(value: object, arm: object) -> Target:
 def checked(t: Target) -> Target:
     """A ``Target`` built by hand (``armik.Target(position, rotation)``) with its parts
     checked and copied as ``parse_target`` checks a position and a rotation (a 3-vector
-    within ``MAX_POSITION``, a 3x3 rotation snapped within ``ROTATION_TOL``); its aim and
-    plane point kept. ``TargetError`` naming the part that is not."""
+    within ``MAX_POSITION``, a 3x3 rotation snapped within ``ROTATION_TOL``); its plane
+    point, aim and axis kept. ``TargetError`` naming the part that is not."""
     p = _vector(t.position, 3, "target position")
     if t.rotation is None:
         out = _target(_position(p), None)
@@ -150,10 +152,9 @@ def checked(t: Target) -> Target:
                 "or build the target with armik.parse_target((position, rotation))"
             )
         out = _pose(R, p)
-    if t.planar_xy is None and t.aim is None:
-        return out
-    return frozen(Target, position=out.position, rotation=out.rotation,
-                  planar_xy=t.planar_xy, aim=t.aim)  # fmt: skip
+    kept = {"planar_xy": t.planar_xy, "aim": t.aim, "along": t.along}
+    plain = all(v is None for v in kept.values())
+    return out if plain else frozen(Target, **{**out.__dict__, **kept})
 
 
 Spelling = Callable[[Any], object]  # the user's object -> a form ``parse_target`` reads
@@ -444,7 +445,7 @@ def is_rotation(R: np.ndarray) -> bool:
 
 def _target(p: np.ndarray, R: np.ndarray | None) -> Target:
     """``Target(p, R)`` without the frozen ``__init__``'s setattr per field."""
-    return frozen(Target, position=p, rotation=R, planar_xy=None, aim=None)
+    return frozen(Target, position=p, rotation=R, planar_xy=None, aim=None, along=None)
 
 
 def _pose(R: np.ndarray, p: np.ndarray) -> Target:

@@ -61,13 +61,16 @@ def region_error(
     look_at: tuple[float, ...] | None = None,
     toward: tuple[float, ...] | None = None,
     distances: bool = False,
+    along: tuple[float, ...] | None = None,
 ) -> tuple[float, ...]:
     """The position (m) and orientation (rad) error outside the region of one tip placement
     (``R_w`` (3, 3), ``p_w`` (3,), in the world frame) against one target (``R_t``, ``p_t``
     in the base frame); NaN for a non-finite placement. Plain floats past the products and
-    ``log3``: a single solve's check. With ``distances``, the distances to the region's
-    centre follow (``armik.verify.distances``): the components a finite bound holds,
-    unweighted; a cone's axis' angle to its direction."""
+    ``log3``: a single solve's check. With ``distances``, the true distances to the target
+    follow (``armik.verify.distances``): the tip's to its position, and the geodesic angle
+    to its rotation, or where the rotation is not the target's own (a look-at, a direction:
+    ``toward``; ``along``: an ``armik.Axis`` lowered to a pose) the axis' angle to its
+    direction."""
     R_b = T_base_world.rotation
     R = R_b @ R_w
     p = p_w @ R_b.T + T_base_world.translation
@@ -102,16 +105,14 @@ def region_error(
         orientation = max(tilt - cone[3], 0.0)
     if not distances:
         return position, orientation
-    # the components a finite bound holds, written out: comparisons, no call (every solve)
-    b = bounds
-    x, y, z = e[0], e[1], e[2]
-    held = (x * x if b[0] != _INF else 0.0) + (y * y if b[1] != _INF else 0.0)
-    held += z * z if b[2] != _INF else 0.0
-    if cone is None:
+    x, y, z = e[0], e[1], e[2]  # written out: no call (every solve with a region)
+    if along is not None and cone is None:  # the axis' angle (a cone's: ``tilt`` already)
+        a = np.array(along)
+        tilt = angle(R @ a, R_t @ a)
+    elif cone is None:  # the rotation's angle: |log3|
         u, v, w = e[3], e[4], e[5]
-        spun = (u * u if b[3] != _INF else 0.0) + (v * v if b[4] != _INF else 0.0)
-        tilt = math.sqrt(spun + (w * w if b[5] != _INF else 0.0))
-    return position, orientation, math.sqrt(held), tilt
-
-
-_INF = math.inf
+        tilt = math.sqrt(u * u + v * v + w * w)
+    elif look_at is None and toward is None and along is None:  # a cone on a pose
+        u, v, w = pin.log3(R_t.T @ R).tolist()
+        tilt = math.sqrt(u * u + v * v + w * w)
+    return position, orientation, math.sqrt(x * x + y * y + z * z), tilt

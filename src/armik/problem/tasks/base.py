@@ -38,10 +38,9 @@ class KernelRow(NamedTuple):
     +- its bound (inf: free) and weighted; with ``cone >= 0`` the rotation rows are the
     frame's ``axis`` within ``cone`` rad of the target's image of it, or, with ``look``
     (``kernel.problem.LOOK_POINT``, ``LOOK_TOWARD``), of the line to the point ``sight`` or
-    the direction ``sight``. What its true distance counts (``Task.centre``'s measure, a
-    servo tick's errors): the components ``held`` (None: those of finite ``bounds``; a
-    weight of 0 frees a row, not its distance) of the ``parts`` it has (position, rotation:
-    a position has no rotation to report, an axis no position)."""
+    the direction ``sight``. What its true distance has (``Task.centre``'s measure, a
+    servo tick's errors): the ``parts`` (position, rotation: a position has no rotation to
+    report, an axis no position), each whole whatever its bounds and weights."""
 
     R_t: np.ndarray
     p_t: np.ndarray
@@ -51,7 +50,6 @@ class KernelRow(NamedTuple):
     axis: tuple[float, float, float] | np.ndarray = (0.0, 0.0, 1.0)
     look: int = NO_LOOK
     sight: tuple[float, float, float] | np.ndarray = (0.0, 0.0, 0.0)
-    held: np.ndarray | None = None
     parts: tuple[bool, bool] = (True, True)
 
 
@@ -134,9 +132,9 @@ class Task(ABC):
 
     def centre(self) -> Task:
         """The task measuring its frame's true distance to its target: its region shrunk to
-        its centre (``shrunk(0)``), an axis an infinite bound frees left free; what a
-        result's ``position_error`` and ``orientation_error`` report, beside the verdict's
-        measure (``measured``). Itself where the two are one."""
+        its centre (``shrunk(0)``); what a result's ``position_error`` and
+        ``orientation_error`` report, beside the verdict's measure (``measured``). Itself
+        where the two are one."""
         return self.shrunk(0.0)
 
     def free(self) -> tuple[bool, bool]:

@@ -48,10 +48,8 @@ class Pose(Task):
         self.frame = check_frame(frame)
         self.bounds = np.zeros(6) if bounds is None else check_bounds(bounds, 6, "Pose bounds")
         self.weights = np.ones(6) if weights is None else check_weights(weights, 6, "weights")
-        # a weight of 0 frees its axis as an infinite bound does, not its distance (None:
-        # ``KernelRow``'s, the components ``_free`` holds)
+        # a weight of 0 frees its axis as an infinite bound does, not its distance
         self._free = np.where(self.weights == 0.0, math.inf, self.bounds)
-        self._held = None if self.weights.all() else np.isfinite(self.bounds)
 
     @classmethod
     def of(cls, target: Target, frame: str | None) -> Pose:
@@ -62,7 +60,6 @@ class Pose(Task):
         self.T = pin.SE3(target.rotation, target.position)
         self.frame = frame
         self.bounds, self.weights, self._free = np.zeros(6), np.ones(6), np.zeros(6)
-        self._held = None
         return self
 
     @property
@@ -86,9 +83,7 @@ class Pose(Task):
         return np.where(active[:, None], self.weights[:, None] * rows, 0.0)
 
     def kernel_row(self) -> KernelRow:
-        return KernelRow(
-            self.T.rotation, self.T.translation, self._free, self.weights, held=self._held
-        )
+        return KernelRow(self.T.rotation, self.T.translation, self._free, self.weights)
 
     def measure(self, T: pin.SE3, tol_position: float, tol_orientation: float) -> TaskError:
         outside = dead_zone(self.twist(T), self._free)[0]  # the distance from the region
@@ -96,14 +91,13 @@ class Pose(Task):
         return TaskError(pos, ori, pos <= tol_position and ori <= tol_orientation)
 
     def centre(self) -> Task:
-        """``shrunk(0)`` with every weight 1: an axis weighted 0 is measured all the same,
-        the distance of the frame to the target's position (or rotation), as ``Arm.solve``
-        reports it with ``weights=``; only an infinite bound frees a component."""
-        centre = self.shrunk(0.0)
-        if self.weights.all():
-            return centre
-        bounds = scaled(self.bounds, 0.0)
-        return replaced(centre, bounds=bounds, weights=np.ones(6), _free=bounds, _held=None)
+        """The exact pose, every weight 1: the frame's distance to the target's position and
+        the angle to its rotation whatever the bounds (an infinite one included) and the
+        weights, as ``Arm.solve`` reports them; itself where it is exact."""
+        if not self.bounds.any() and self.weights.all():
+            return self
+        zero = np.zeros(6)
+        return replaced(self, bounds=zero, weights=np.ones(6), _free=zero)
 
     def shrunk(self, factor: float) -> Task:
         if math.isfinite(factor) and not self.bounds.any():  # an exact pose: no region

@@ -52,6 +52,11 @@ class Position(Task):
         pos = float(np.linalg.norm(self.residual(T)))
         return TaskError(pos, None, pos <= tol_position)
 
+    def centre(self) -> Task:
+        """The exact point: the frame's distance to it whatever the bounds (an infinite one
+        included), as ``Arm.solve`` reports it; itself where it is exact."""
+        return replaced(self, bounds=np.zeros(3)) if self.bounds.any() else self
+
     def shrunk(self, factor: float) -> Task:
         if math.isfinite(factor) and not self.bounds.any():  # an exact point: no region
             return self

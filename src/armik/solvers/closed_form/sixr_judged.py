@@ -117,6 +117,10 @@ def judged(n, chain, packed, kind, halton, frame, judge, H, rows):
         rows[last, 9 + a] = H[a, 3]
     nj = (frame.shape[0] - 19) // 2
     lower, upper = frame[19 : 19 + nj], frame[19 + nj : 19 + 2 * nj]
+    for i in range(n):  # an unreached row's closest configuration within the limits, as
+        if int(rows[i, 6]) & LS:  # the general path's (``sixr_answers.of_rows``) is
+            for j in range(nj):
+                rows[i, j] = min(max(rows[i, j], lower[j]), upper[j])
     later = np.int64(0)  # bit i: row i claimed outside the limits, measured by ``finish``
     for i in range(n):
         claimed = not int(rows[i, 6]) & LS and int(rows[i, 8]) != NOT_FOUND
