@@ -61,17 +61,25 @@ class _Module:
 
 
 @functools.cache
-def _modules() -> dict[str, _Module]:
-    modules = [_Module(p) for p in sorted(PACKAGE.rglob("*.py"))]
-    return {m.name: m for m in modules}
+def _module(name: str) -> _Module | None:
+    """The package's module ``name`` read (a package by its __init__), or None."""
+    parts = name.split(".")[1:]
+    for path in (
+        PACKAGE.joinpath(*parts).with_suffix(".py"),
+        PACKAGE.joinpath(*parts, "__init__.py"),
+    ):
+        if path.is_file():
+            return _Module(path)
+    return None
 
 
-def _resolve(dotted: str, modules: dict[str, _Module]) -> tuple[_Module, str] | None:
+def _resolve(dotted: str) -> tuple[_Module, str] | None:
     module, _, attr = dotted.rpartition(".")
-    return (modules[module], attr) if module in modules else None
+    found = _module(module) if module.startswith("armik") else None
+    return (found, attr) if found is not None else None
 
 
-def _callee(call: ast.Call, here: _Module, modules: dict[str, _Module]) -> str | None:
+def _callee(call: ast.Call, here: _Module) -> str | None:
     """The dotted name of the compiled function ``call`` calls, else None."""
     f = call.func
     dotted = None
@@ -80,20 +88,20 @@ def _callee(call: ast.Call, here: _Module, modules: dict[str, _Module]) -> str |
     elif isinstance(f, ast.Attribute) and isinstance(f.value, ast.Name):
         if f.value.id in here.imported:
             dotted = f"{here.imported[f.value.id]}.{f.attr}"
-    found = _resolve(dotted, modules) if dotted else None
+    found = _resolve(dotted) if dotted else None
     if found is None or found[1] not in found[0].functions:
         return None
     return dotted
 
 
-def _argument(node: ast.expr, here: _Module, modules: dict[str, _Module]) -> str:
+def _argument(node: ast.expr, here: _Module) -> str:
     """How numba types ``node`` as an argument: 'literal 3' or 'a variable'."""
     value = _literal(node)
     if value is None and isinstance(node, ast.Name):
         if node.id in here.constants:
             value = here.constants[node.id]
         elif node.id in here.imported:
-            found = _resolve(here.imported[node.id], modules)
+            found = _resolve(here.imported[node.id])
             if found is not None:
                 value = found[0].constants.get(found[1])
     return "a variable" if value is None else f"literal {value!r}"
@@ -102,29 +110,31 @@ def _argument(node: ast.expr, here: _Module, modules: dict[str, _Module]) -> str
 def _arguments_of_compiled_calls() -> dict[tuple[str, str], dict[str, list[str]]]:
     """Per compiled callee and argument (its position or keyword), how each call site of
     compiled code passes it, and where."""
-    modules = _modules()
     seen: dict[tuple[str, str], dict[str, list[str]]] = defaultdict(lambda: defaultdict(list))
-    for here in modules.values():
+    compiled = [p for p in sorted(PACKAGE.rglob("*.py")) if "njit" in p.read_text(encoding="utf-8")]
+    for path in compiled:
+        here = _module(_name(path))
+        assert here is not None
         for caller in here.functions.values():
             for call in ast.walk(caller):
                 if not isinstance(call, ast.Call):
                     continue
-                callee = _callee(call, here, modules)
+                callee = _callee(call, here)
                 if callee is None:
                     continue
                 site = f"{here.name}.{caller.name} line {call.lineno}"
                 given = [(str(i), a) for i, a in enumerate(call.args)]
                 given += [(k.arg or "**", k.value) for k in call.keywords]
                 for slot, node in given:
-                    seen[(callee, slot)][_argument(node, here, modules)].append(site)
+                    seen[(callee, slot)][_argument(node, here)].append(site)
     return seen
 
 
 def _inlined(dotted: str) -> bool:
     """Whether the function is inlined where it is called (typed there, never compiled)."""
-    module, _, name = dotted.rpartition(".")
-    found = _modules()[module].functions[name]
-    return "inline" in (_compiled(found) or "")
+    found = _resolve(dotted)
+    assert found is not None
+    return "inline" in (_compiled(found[0].functions[found[1]]) or "")
 
 
 def test_a_compiled_function_takes_one_literal_or_none_at_each_argument():
