@@ -268,3 +268,27 @@ def test_arms_report_each_tips_true_distance_apart_over_shared_joints_and_relati
         for out in (batch, path):  # the arrays are the rows'
             assert tuple(out.errors[tip][1]) == out[1].errors[tip]
             assert tuple(out.measured[1]) == out[1].measured
+
+
+@pytest.mark.parametrize("how", ["bounds", "weights"])
+def test_a_cone_on_a_pose_whose_position_is_free_reports_the_tips_distance(how):
+    """``cone=`` on a pose with its position free holds the pose's position all the same
+    (an ``Axis`` alone holds none): its distance is the tip's, as with the weights; it
+    was None (NaN in a batch) beside the angle to the pose's own rotation."""
+    a = arm("ur5")
+    q = np.array([0.3, -1.2, 1.4, -0.8, 1.1, 0.4])
+    T0 = a.fk(q)
+    T = pin.SE3(T0.rotation @ pin.exp3(np.array([0.3, 0, 0.4])), T0.translation + [0.2, 0.1, 0])
+    freed = {"bounds": (math.inf,) * 3 + (0.0,) * 3} if how == "bounds" else {}
+    weights = {"weights": (0, 0, 0, 1, 1, 1)} if how == "weights" else {}
+    r = a.solve(T, q0=q, cone=(0, 0, 1, 0.6), **freed, **weights)
+    tip = a.fk(r.q)
+    assert r.position_error == pytest.approx(
+        np.linalg.norm(tip.translation - T.translation), abs=1e-12
+    )
+    angle = np.linalg.norm(pin.log3(tip.rotation.T @ T.rotation))
+    assert r.orientation_error == pytest.approx(angle, abs=1e-12)
+    b = a.solve_batch([T, T], q0=q, cone=(0, 0, 1, 0.6), workers=1, **freed, **weights)
+    np.testing.assert_allclose(b.position_error, r.position_error, atol=1e-12)
+    alone = a.solve([armik.Axis((0, 0, 1), T.rotation[:, 2], within=0.6)], q0=q)
+    assert alone.position_error is None  # an Axis alone: no position
