@@ -292,3 +292,34 @@ def test_a_cone_on_a_pose_whose_position_is_free_reports_the_tips_distance(how):
     np.testing.assert_allclose(b.position_error, r.position_error, atol=1e-12)
     alone = a.solve([armik.Axis((0, 0, 1), T.rotation[:, 2], within=0.6)], q0=q)
     assert alone.position_error is None  # an Axis alone: no position
+
+
+@pytest.mark.parametrize(
+    "bounds, moved",
+    [
+        ((math.inf, 0, 0, 0, 0, 0), pin.SE3(np.eye(3), np.array([0.05, 0, 0]))),
+        ((0, 0, 0, 0, 0, math.inf), pin.SE3(pin.exp3(np.array([0, 0, 0.5])), np.zeros(3))),
+    ],
+    ids=["line", "spin"],
+)
+def test_a_followed_jump_says_what_its_verdict_measured(bounds, moved):
+    """A waypoint refused for a hidden jump says, after "verified:", what its verdict
+    measured (``measured``) against the tolerances, and the true distances as distances:
+    it said "position error 0.06 m (tol 1e-06)" of the line's free x, or quoted the
+    distance to the pose spun by the free spin (0.102 rad where the pose is 0.5 rad off)."""
+    ur5 = arm("ur5")
+    qa = np.array([0.3, -1.2, 1.5, -1.0, 0.2, 0.4])
+    qb = qa + np.array([0, 0, 0, 0.1, -0.4, 0])  # a wrist flip hides in this step
+    poses = [ur5.fk(x) * moved for x in (qa, qb)]
+    p = ur5.solve_path(poses, qa, bounds=bounds)
+    assert p.status[1] == "discontinuous"
+    pos, ori = p.measured[1]
+    words = p.reason(1)
+    assert f"position error {pos:.3g} m (tol" in words
+    assert f"orientation error {ori:.3g} rad (tol" in words
+    tip = ur5.fk(p.q[1])
+    d_pos = np.linalg.norm(tip.translation - poses[1].translation)
+    d_ori = np.linalg.norm(pin.log3(tip.rotation.T @ poses[1].rotation))
+    assert p.position_error[1] == pytest.approx(d_pos, abs=1e-12)
+    assert p.orientation_error[1] == pytest.approx(d_ori, abs=1e-12)
+    assert f"the tip is {d_pos:.3g} m, {d_ori:.3g} rad from the target" in words
