@@ -323,3 +323,29 @@ def test_a_followed_jump_says_what_its_verdict_measured(bounds, moved):
     assert p.position_error[1] == pytest.approx(d_pos, abs=1e-12)
     assert p.orientation_error[1] == pytest.approx(d_ori, abs=1e-12)
     assert f"the tip is {d_pos:.3g} m, {d_ori:.3g} rad from the target" in words
+
+
+def test_a_search_going_on_past_obstacles_keeps_the_verdicts_measure():
+    """With obstacles a numeric solve goes on from its first run's row: that row is its
+    verdict's measure again, not its distances, which the result then said as
+    ``measured`` too ((0.0457, 1.169) beside the words' "orientation error 0 rad")."""
+    a = arm("panda")
+    rng = np.random.default_rng(2)
+    for _ in range(2):
+        q = a.random_q(rng)
+        T0 = a.fk(q)
+        T = pin.SE3(
+            T0.rotation @ pin.exp3(rng.normal(size=3) * 0.3),
+            T0.translation + rng.normal(size=3) * 0.03,
+        )
+    options = dict(q0=q, bounds=(0.001, 0.001, 0.001, 0.01, 0.01, math.inf), max_restarts=3)
+    plain = a.solve(T, **options)
+    far = [armik.Sphere(0.05, T0.translation + np.array([0.25, 0, 0]))]
+    clear = a.solve(T, obstacles=far, **options)
+    assert not plain.success and not clear.success  # beyond the region both ways
+    assert clear.measured == pytest.approx(plain.measured, abs=1e-9)
+    assert clear.measured[1] == 0.0  # the spin is free: its part of the region is met
+    tip = a.fk(clear.q)
+    assert clear.orientation_error == pytest.approx(
+        np.linalg.norm(pin.log3(tip.rotation.T @ T.rotation)), abs=1e-12
+    )
