@@ -349,3 +349,19 @@ def test_a_search_going_on_past_obstacles_keeps_the_verdicts_measure():
     assert clear.orientation_error == pytest.approx(
         np.linalg.norm(pin.log3(tip.rotation.T @ T.rotation)), abs=1e-12
     )
+
+
+def test_a_batch_of_an_aim_and_a_pose_names_no_axis():
+    """A row-by-row batch whose rows differ in aiming (a position with an axis, a pose
+    with its rotation free) says its largest distances as distances: it took the first
+    row's aim for all and called the pose's 0.5 rad "its axis 0.5 rad from its direction"."""
+    a = arm("ur5")
+    q = np.array([0.3, -1.2, 1.4, -0.8, 1.1, 0.4])
+    T = a.fk(q)
+    T2 = pin.SE3(T.rotation @ pin.exp3(np.array([0.5, 0, 0])), T.translation)
+    aim = [armik.Position(T.translation), armik.Axis((0, 0, 1), T.rotation[:, 2])]
+    b = a.solve_batch([aim, [armik.Pose(T2, bounds=(0, 0, 0) + (math.inf,) * 3)]], q0=q, workers=1)
+    assert b.success.all() and b.orientation_error[1] == pytest.approx(0.5, abs=1e-9)
+    assert "axis" not in b.summary()
+    alike = a.solve_batch([aim, aim], q0=q, workers=1)
+    assert "axis" in alike.summary()  # every row aims: said in its terms
