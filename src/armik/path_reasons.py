@@ -91,12 +91,24 @@ def verified(reason: str, measured_text: str) -> str:
 
 
 def row_verified(rows: Any, k: int) -> str:
-    """``verified`` of row ``k`` of a path's rows (a ``BatchResult``): its measure from its
-    errors and tolerances where its reason says none."""
-    errors = float(rows.position_error[k]), float(rows.orientation_error[k])
+    """``verified`` of row ``k`` of a path's rows (a ``BatchResult``): where its reason
+    says none, what its verdict measured (``measured``, else its distances)."""
+    apart = rows.measured[k]
+    if apart[0] == apart[0]:  # measured apart (weights, a region): not the distances
+        errors = float(apart[0]), float(apart[1])
+    else:
+        errors = float(rows.position_error[k]), float(rows.orientation_error[k])
     return verified(
         rows.reason(k), reasons.measured(*errors, rows.tol_position, rows.tol_orientation)
     )
+
+
+def result_verified(r: Any, tol_position: float, tol_orientation: float) -> str:
+    """``verified`` of one result ``r``: where its reason says none, what its verdict
+    measured (``r.measured``, else its distances)."""
+    apart = r.measured
+    pos, ori = (r.position_error, r.orientation_error) if apart is None else apart
+    return verified(r.reason, reasons.measured(pos, ori, tol_position, tol_orientation))
 
 
 def jump(why: str, answer: str, measured_text: str) -> str:

@@ -268,3 +268,100 @@ def test_arms_report_each_tips_true_distance_apart_over_shared_joints_and_relati
         for out in (batch, path):  # the arrays are the rows'
             assert tuple(out.errors[tip][1]) == out[1].errors[tip]
             assert tuple(out.measured[1]) == out[1].measured
+
+
+@pytest.mark.parametrize("how", ["bounds", "weights"])
+def test_a_cone_on_a_pose_whose_position_is_free_reports_the_tips_distance(how):
+    """``cone=`` on a pose with its position free holds the pose's position all the same
+    (an ``Axis`` alone holds none): its distance is the tip's, as with the weights; it
+    was None (NaN in a batch) beside the angle to the pose's own rotation."""
+    a = arm("ur5")
+    q = np.array([0.3, -1.2, 1.4, -0.8, 1.1, 0.4])
+    T0 = a.fk(q)
+    T = pin.SE3(T0.rotation @ pin.exp3(np.array([0.3, 0, 0.4])), T0.translation + [0.2, 0.1, 0])
+    freed = {"bounds": (math.inf,) * 3 + (0.0,) * 3} if how == "bounds" else {}
+    weights = {"weights": (0, 0, 0, 1, 1, 1)} if how == "weights" else {}
+    r = a.solve(T, q0=q, cone=(0, 0, 1, 0.6), **freed, **weights)
+    tip = a.fk(r.q)
+    assert r.position_error == pytest.approx(
+        np.linalg.norm(tip.translation - T.translation), abs=1e-12
+    )
+    angle = np.linalg.norm(pin.log3(tip.rotation.T @ T.rotation))
+    assert r.orientation_error == pytest.approx(angle, abs=1e-12)
+    b = a.solve_batch([T, T], q0=q, cone=(0, 0, 1, 0.6), workers=1, **freed, **weights)
+    np.testing.assert_allclose(b.position_error, r.position_error, atol=1e-12)
+    alone = a.solve([armik.Axis((0, 0, 1), T.rotation[:, 2], within=0.6)], q0=q)
+    assert alone.position_error is None  # an Axis alone: no position
+
+
+@pytest.mark.parametrize(
+    "bounds, moved",
+    [
+        ((math.inf, 0, 0, 0, 0, 0), pin.SE3(np.eye(3), np.array([0.05, 0, 0]))),
+        ((0, 0, 0, 0, 0, math.inf), pin.SE3(pin.exp3(np.array([0, 0, 0.5])), np.zeros(3))),
+    ],
+    ids=["line", "spin"],
+)
+def test_a_followed_jump_says_what_its_verdict_measured(bounds, moved):
+    """A waypoint refused for a hidden jump says, after "verified:", what its verdict
+    measured (``measured``) against the tolerances, and the true distances as distances:
+    it said "position error 0.06 m (tol 1e-06)" of the line's free x, or quoted the
+    distance to the pose spun by the free spin (0.102 rad where the pose is 0.5 rad off)."""
+    ur5 = arm("ur5")
+    qa = np.array([0.3, -1.2, 1.5, -1.0, 0.2, 0.4])
+    qb = qa + np.array([0, 0, 0, 0.1, -0.4, 0])  # a wrist flip hides in this step
+    poses = [ur5.fk(x) * moved for x in (qa, qb)]
+    p = ur5.solve_path(poses, qa, bounds=bounds)
+    assert p.status[1] == "discontinuous"
+    pos, ori = p.measured[1]
+    words = p.reason(1)
+    assert f"position error {pos:.3g} m (tol" in words
+    assert f"orientation error {ori:.3g} rad (tol" in words
+    tip = ur5.fk(p.q[1])
+    d_pos = np.linalg.norm(tip.translation - poses[1].translation)
+    d_ori = np.linalg.norm(pin.log3(tip.rotation.T @ poses[1].rotation))
+    assert p.position_error[1] == pytest.approx(d_pos, abs=1e-12)
+    assert p.orientation_error[1] == pytest.approx(d_ori, abs=1e-12)
+    assert f"the tip is {d_pos:.3g} m, {d_ori:.3g} rad from the target" in words
+
+
+def test_a_search_going_on_past_obstacles_keeps_the_verdicts_measure():
+    """With obstacles a numeric solve goes on from its first run's row: that row is its
+    verdict's measure again, not its distances, which the result then said as
+    ``measured`` too ((0.0457, 1.169) beside the words' "orientation error 0 rad")."""
+    a = arm("panda")
+    rng = np.random.default_rng(2)
+    for _ in range(2):
+        q = a.random_q(rng)
+        T0 = a.fk(q)
+        T = pin.SE3(
+            T0.rotation @ pin.exp3(rng.normal(size=3) * 0.3),
+            T0.translation + rng.normal(size=3) * 0.03,
+        )
+    options = dict(q0=q, bounds=(0.001, 0.001, 0.001, 0.01, 0.01, math.inf), max_restarts=3)
+    plain = a.solve(T, **options)
+    far = [armik.Sphere(0.05, T0.translation + np.array([0.25, 0, 0]))]
+    clear = a.solve(T, obstacles=far, **options)
+    assert not plain.success and not clear.success  # beyond the region both ways
+    assert clear.measured == pytest.approx(plain.measured, abs=1e-9)
+    assert clear.measured[1] == 0.0  # the spin is free: its part of the region is met
+    tip = a.fk(clear.q)
+    assert clear.orientation_error == pytest.approx(
+        np.linalg.norm(pin.log3(tip.rotation.T @ T.rotation)), abs=1e-12
+    )
+
+
+def test_a_batch_of_an_aim_and_a_pose_names_no_axis():
+    """A row-by-row batch whose rows differ in aiming (a position with an axis, a pose
+    with its rotation free) says its largest distances as distances: it took the first
+    row's aim for all and called the pose's 0.5 rad "its axis 0.5 rad from its direction"."""
+    a = arm("ur5")
+    q = np.array([0.3, -1.2, 1.4, -0.8, 1.1, 0.4])
+    T = a.fk(q)
+    T2 = pin.SE3(T.rotation @ pin.exp3(np.array([0.5, 0, 0])), T.translation)
+    aim = [armik.Position(T.translation), armik.Axis((0, 0, 1), T.rotation[:, 2])]
+    b = a.solve_batch([aim, [armik.Pose(T2, bounds=(0, 0, 0) + (math.inf,) * 3)]], q0=q, workers=1)
+    assert b.success.all() and b.orientation_error[1] == pytest.approx(0.5, abs=1e-9)
+    assert "axis" not in b.summary()
+    alike = a.solve_batch([aim, aim], q0=q, workers=1)
+    assert "axis" in alike.summary()  # every row aims: said in its terms

@@ -72,9 +72,11 @@ def at_row(exc: ArmikError, k: int) -> ArmikError:
 def _carried(rows: Sequence[Request]) -> tuple:
     """(aim, along): what the rows' targets share (a batch's ``cone=``, ``look_at=``: a
     region, as ``BatchResult.for_arm`` reads it; an ``armik.Axis`` lowered to poses), None
-    for none."""
-    target = rows[0].target if rows else None
-    return getattr(target, "aim", None), getattr(target, "along", None)
+    for none; (None, None) where the rows' targets differ in them (a batch of task lists,
+    an aim beside a pose): its words then name no axis."""
+    carried = [(getattr(r.target, "aim", None), getattr(r.target, "along", None)) for r in rows]
+    first = carried[0] if carried else (None, None)
+    return first if all(c == first for c in carried) else (None, None)
 
 
 def _named(names: set[str], label: str) -> str:

@@ -47,7 +47,7 @@ import itertools
 import numpy as np
 import pinocchio as pin
 
-from armik import path_reasons, reasons
+from armik import path_reasons
 from armik.batch_result import BatchResult
 from armik.kernel import ladder as kernel
 from armik.model.arm_model import ArmModel
@@ -426,12 +426,7 @@ def hidden_steps(arm, out: BatchResult, targets: TargetBatch, step, half, went=N
     by = _Halfway(every(arm, solver, targets, opts), opts, targets, held, turn)
     jumped = _jumps(arm, by, i, Qa, Qb, step, a)
     for k in i[jumped].tolist():
-        measured = reasons.measured(
-            float(out.position_error[k]),
-            float(out.orientation_error[k]),
-            out.tol_position,
-            out.tol_orientation,
-        )
+        measured = path_reasons.row_verified(out, k)  # its verdict's measure, a success's
         out.success[k] = False
         out.status_code[k] = Status.DISCONTINUOUS.code
         hidden = path_reasons.hidden_step("the previous waypoint's answer")

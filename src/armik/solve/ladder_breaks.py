@@ -9,7 +9,7 @@ import dataclasses
 
 import numpy as np
 
-from armik import path_reasons, reasons
+from armik import path_reasons
 from armik.result import IKResult
 from armik.status import Status
 
@@ -29,12 +29,7 @@ def broken_at(arm, r: IKResult, j, size, step, hidden: bool, first, every, out, 
     smallest possible jump moves joint ``j`` by ``size`` (over ``step``; -1: none) and/or a
     jump hides inside every step (``hidden``); ``since``: where a path went on from without
     a jump (``went_on_from``'s), else None."""
-    measured = path_reasons.verified(
-        r.reason,
-        reasons.measured(
-            r.position_error, r.orientation_error, out.tol_position, out.tol_orientation
-        ),
-    )
+    measured = path_reasons.result_verified(r, out.tol_position, out.tol_orientation)
     smallest = None
     if j >= 0:
         unit = "m" if arm.prismatic[j] else "rad"

@@ -159,12 +159,12 @@ def solve_path(
         )
     chooser = None if score is None else _chooser(arm, score, q_prev, request, turn)
     used = _walk(arm, batch, q_prev, step, request, local, out, chooser, q0 is None, turn)
+    if batch is not given:  # before the words of a jump quote them
+        _to_given(arm, out, given, opts)
     ladder.held_to_step(arm, out, None if q0 is None else q_prev, step)
     half = (solver, opts, request if opts.hold is not None else None, turn)
     ladder.hidden_steps(arm, out, batch, step, half)
     refuse_broken(arm, out, turn)
-    if batch is not given:
-        _to_given(arm, out, given, opts)
     label = used if held_auto and used is not None else out.solver
     out = frozen(BatchResult, **{**vars(out), "solver": label, "time": time.perf_counter() - t0})
     return out

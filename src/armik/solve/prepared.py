@@ -50,7 +50,7 @@ from armik.solvers.answers import Answers
 from armik.solvers.claims import Claim
 from armik.targets.aim import Aim, cone_words
 from armik.targets.pose import Target, parse_target
-from armik.verify.distances import fields_apart, holds_no_position
+from armik.verify.distances import fields_apart, frees_position
 from armik.verify.judged import Judged
 from armik.verify.measure import BatchMeasure, measures_of
 from armik.verify.region import region_error
@@ -185,7 +185,9 @@ class Plan:
         # a region (bounds, a cone): measured by ``verify.region``, as the general path does
         self.region = (opts.region_bounds, w, aim and aim.cone) if region else None
         self.cone = cone_words(aim)  # what a success's words name
-        self.no_position = holds_no_position(opts, aim)  # its distance None (an Axis alone)
+        # an Axis or a LookAt alone holds no position (``distances.holds_no_position``):
+        # the bounds free it here, the call's target says whether it is one
+        self.frees_position = frees_position(opts, aim)
         plain = opts.weights is None and opts.bounds is None  # (and leave out)
         self.free = (False, False) if plain else opts.left_free(position, aim is not None)
         self.tol_p, self.tol_r = opts.tol_position, opts.tol_orientation
@@ -318,7 +320,8 @@ class Plan:
         fields["solver"], fields["time"] = self.solver, time.perf_counter() - t0
         if apart is None:
             return IKResult._from_fields(fields)
-        d_pos, d_ori = None if self.no_position else apart[0], apart[1]
+        no_position = self.frees_position and (along is not None or sight is not None)
+        d_pos, d_ori = None if no_position else apart[0], apart[1]
         said = None  # the words of the distance where it is an axis' angle (``axis_words``)
         if along is not None or sight is not None:
             said = self.cone if aim is not None else _ALONG

@@ -44,13 +44,20 @@ def plain(opts: SolverSettings, region: bool) -> SolverSettings:
     return frozen(type(opts), **{**opts.__dict__, "weights": None, "bounds": bounds})
 
 
-def holds_no_position(opts: SolverSettings, aim: object) -> bool:
-    """Whether a target with ``aim`` (None: none) holds no position: its bounds free x, y
-    and z beside the aim, what ``armik.Axis`` and ``armik.LookAt`` alone lower to (an aim
-    replaces the rotation, and with the position free nothing of a pose is left). A pose
-    whose bounds free its position holds it all the same: its distance is the tip's."""
+def frees_position(opts: SolverSettings, aim: object) -> bool:
+    """Whether ``opts``' bounds free x, y and z beside an ``aim`` (None: none)."""
     b = opts.bounds
     return aim is not None and b is not None and b[0] == b[1] == b[2] == math.inf
+
+
+def holds_no_position(opts: SolverSettings, aim: Aim | None, along: tuple | None) -> bool:
+    """Whether a target with ``aim`` (None: none) holds no position: what ``armik.Axis``
+    (``along``: its axis) and ``armik.LookAt`` alone lower to, the aim in place of the
+    rotation and the bounds freeing x, y and z. A pose whose bounds free its position
+    holds it all the same, a cone about one of its axes too: its distance is the tip's."""
+    if not frees_position(opts, aim):
+        return False
+    return along is not None or aim.point is not None or aim.toward is not None  # type: ignore[union-attr]
 
 
 def distance_aim(aim: Aim | None, along: tuple | None) -> Aim | None:
@@ -81,7 +88,7 @@ def with_distances(arm: ArmModel, results: list[IKResult], target, opts: SolverS
     at = target.aimed(distance_aim(aim, along))
     weighted = opts.weights is not None
     said = axis_words(aim, along)
-    no_position = holds_no_position(opts, aim)
+    no_position = holds_no_position(opts, aim, along)
     out = []
     for r in results:
         m = measure(arm, r.q, at, distance)
@@ -138,6 +145,6 @@ def batch_distances(arm: ArmModel, Q: np.ndarray, targets: TargetBatch, opts: So
     m: BatchMeasure = measure_batch(
         arm, Q, at, plain(opts, opts.bounds is not None or aim is not None)
     )
-    if holds_no_position(opts, aim):
+    if holds_no_position(opts, aim, along):
         return np.full(len(Q), math.nan), m.orientation_error
     return m.position_error, m.orientation_error

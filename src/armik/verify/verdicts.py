@@ -311,7 +311,8 @@ class Verdicts:
 
     @classmethod
     def of_result(cls, r: IKResult, tol_position: float, tol_orientation: float) -> Verdicts:
-        """A result's row again (its status the claim), for a search that goes on from it."""
+        """A result's row again (its status the claim), for a search that goes on from it:
+        its verdict's measure (``r.measured`` where it measured apart, else its errors)."""
         answers = one(
             np.array(r.q, dtype=float),
             r.status,
@@ -322,6 +323,10 @@ class Verdicts:
             singular=r.singular,
         )
         pos, ori = r.position_error, r.orientation_error
+        apart = r.extra.get("measured") if r.extra else None
+        if apart is not None:  # the distances are said again after the search
+            pos, ori = apart
+        extra = {k: v for k, v in r.extra.items() if k != "measured"} if r.extra else None
         return cls(
             answers=answers,
             status=np.array([r.status.code], dtype=np.int8),
@@ -331,7 +336,7 @@ class Verdicts:
             words=[r.reason],
             tol_position=tol_position,
             tol_orientation=tol_orientation,
-            extra=[dict(r.extra)] if r.extra else None,
+            extra=[extra] if extra else None,
         )
 
 
