@@ -19,7 +19,7 @@ from armik.problem.settings import SolverSettings
 from armik.problem.tasks.base import replaced
 from armik.problem.tasks.pose import Pose
 from armik.request import Request
-from armik.solve.rungs import every_answer, unwrapped
+from armik.solve.rungs import NUMERIC, every_answer, unwrapped
 from armik.solve.single import routed
 from armik.solve.turning import Turning
 from armik.solvers import registry
@@ -114,7 +114,6 @@ def _descended(arm, half: _Halfway, P, R, seeds, q, rows, ends) -> np.ndarray:
     return found
 
 
-NUMERIC = "dls"  # the descent where the arm's own solver is a closed form
 SPREAD = 6  # descents from about the middle beside those from it and from both ends
 
 

@@ -46,7 +46,7 @@ from armik.request import Request
 from armik.result import IKResult
 from armik.solve import ladder, rungs
 from armik.solve.path_score import preferred
-from armik.solve.rungs import free_spin, spun, spun_batch, unwrapped
+from armik.solve.rungs import NUMERIC, free_spin, spun, spun_batch, unwrapped
 from armik.solve.single import routed
 from armik.solve.stages import chosen, run
 from armik.solve.turning import ANY, Turning, refuse_broken, turning
@@ -58,7 +58,6 @@ from armik.verify.distances import batch_distances
 
 DEFAULT_MAX_JOINT_STEP = 0.5  # rad (or m for a prismatic joint) between two waypoints
 MAX_SUBSTEPS = 64  # finest continuation between two waypoints (intermediate poses)
-NUMERIC = "dls"  # a closed form's waypoint re-solved by descent from the previous answer
 
 
 def solve_path(

@@ -53,7 +53,7 @@ HELD_GRID = 6  # values across joint 7's range beside them: other branches, miss
 TRACKS = 8  # answers of solve_all tracked from a waypoint (the first, each break)
 BREAKS = 8  # breaks of the followed path reseeded at most (the first ones)
 SAME = 1e-6  # rad or m: a track this near another's answer has merged with it
-NUMERIC = "dls"  # the descent beside a closed form that gives not every solution
+NUMERIC = "dls"  # a descent where a closed form misses the continuation (paths, rungs, halfway)
 
 
 def every_branch(
